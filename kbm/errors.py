@@ -1,0 +1,41 @@
+"""Exceptions of the :mod:`kbm` package.
+
+Every error raised on bad input is a subclass of :class:`KBMError`, and its
+message says what to change.  The command line turns them into a one-line
+message and a non-zero exit status.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "KBMError",
+    "ModelError",
+    "UnsupportedTermError",
+    "NonAutonomousError",
+    "OrderError",
+    "ParameterError",
+]
+
+
+class KBMError(Exception):
+    """Base class of every error raised by :mod:`kbm` and :mod:`numerics`."""
+
+
+class ModelError(KBMError, ValueError):
+    """The oscillator definition is not of the form ``x'' + w0^2 x = eps F(x, x')``."""
+
+
+class UnsupportedTermError(ModelError):
+    """``F`` holds a term the averaging cannot expand (it is named in the message)."""
+
+
+class NonAutonomousError(ModelError):
+    """``F`` depends on time ``t`` explicitly, so the averaging does not apply."""
+
+
+class OrderError(KBMError, ValueError):
+    """The requested order of the expansion is not available."""
+
+
+class ParameterError(KBMError, ValueError):
+    """A parameter name is unknown or a value is out of its range."""

@@ -1,0 +1,383 @@
+"""Weakly nonlinear oscillators ``x'' + w0^2 x = eps F(x, x')``, defined once, symbolically.
+
+Every model of the toolkit is an :class:`Oscillator`: the right-hand side ``F``
+is a sympy expression in the symbols ``x``, ``xdot`` (and ``t`` for a driven,
+non-autonomous model) and named parameters; the small parameter is ``mu``
+(the paper's mu, epsilon in the textbooks).  The averaging in :mod:`kbm`
+and the integrators in :mod:`numerics` both start from this one definition.
+
+Built-in models (names used on the command line):
+
+``vdp``               van der Pol, ``F = (1 - x^2) x'``
+``duffing``           Duffing, ``F = -x^3``
+``rayleigh``          Rayleigh, ``F = (1 - x'^2/3) x'`` (its velocity is a van der Pol variable)
+``linear_damping``    ``F = -2 zeta x'``
+``linear_stiffness``  ``F = -kappa x``
+``sedf``              paper eq. (3), self-excited slider: ``F = -(beta x^2 - 1) x' - delta sin(k x)``
+``cdc``               paper eq. (12), constant-damping slider: ``F = -x' - delta sin(k x)``
+
+For ``sedf`` and ``cdc``, ``w0 = Omega``, ``delta = Delta/mu`` and ``k = 2 pi/lam``
+(the scaled KBM form of the paper's physical parameters).  With a stage
+velocity ``v != 0`` the spring pulls with ``Omega^2 (v t - x)``: the model gets
+the drive ``Omega^2 v t`` (not multiplied by ``mu``) on the right-hand side,
+``x'' + w0^2 x = mu F + drive(t)``, and is non-autonomous.
+
+References
+----------
+M. D'Acunto, "Friction force for self-excited systems", eqs. (3), (4), (12).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+from types import MappingProxyType
+
+import sympy as sp
+
+from .errors import ModelError, NonAutonomousError, ParameterError, UnsupportedTermError
+from .symbols import mu, parse, t, x, xdot
+
+__all__ = ["Oscillator", "MODELS", "get_model", "custom_model", "model_names"]
+
+_STATE = {x, xdot, t}
+
+
+def _sorted_names(symbols) -> tuple[str, ...]:
+    return tuple(sorted(s.name for s in symbols))
+
+
+@dataclass(frozen=True)
+class Oscillator:
+    """The oscillator ``x'' + omega0**2 x = mu F(x, xdot[, t]) + drive(t)``.
+
+    Parameters
+    ----------
+    name
+        Short name (used on the command line and in generated files).
+    F
+        The right-hand side divided by the small parameter ``mu``.
+    omega0
+        Linear natural frequency; a positive rational number or a symbol.
+    description
+        One line saying what the model is and where it comes from.
+    physical
+        For models with a physical parametrisation (the paper's eqs. 3, 12):
+        each scaled parameter as an expression in the physical ones, e.g.
+        ``{"delta": Delta/mu, "k": 2*pi/lam}``.
+    defaults
+        Values used for parameters that are not given (e.g. ``Omega = 1``,
+        as in the paper).
+    drive
+        An external force of order one that depends on ``t`` only (the
+        stage's pull ``Omega^2 v t`` of the paper's eq. 3); 0 for the
+        autonomous oscillators the averaging treats.
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        If ``F`` contains ``mu``, ``omega0**2`` is not positive, or a symbol
+        name is reserved.
+
+    Examples
+    --------
+    >>> vdp = get_model("vdp")
+    >>> vdp.F
+    xdot*(1 - x**2)
+    >>> vdp.acceleration()
+    mu*xdot*(1 - x**2) - x
+    """
+
+    name: str
+    F: sp.Expr
+    omega0: sp.Expr = sp.Integer(1)
+    description: str = ""
+    physical: Mapping[str, sp.Expr] = field(default_factory=dict)
+    defaults: Mapping[str, sp.Expr] = field(default_factory=dict)
+    drive: sp.Expr = sp.Integer(0)
+
+    def __post_init__(self) -> None:
+        F = parse(self.F) if not isinstance(self.F, sp.Basic) else self.F
+        w0 = sp.sympify(self.omega0)
+        object.__setattr__(self, "F", sp.sympify(F))
+        object.__setattr__(self, "omega0", w0)
+        drive = sp.sympify(self.drive)
+        object.__setattr__(self, "drive", drive)
+        if drive.free_symbols & {x, xdot, mu}:
+            raise ModelError(f"the drive {drive} of model {self.name!r} must depend on t and "
+                             "parameters only")
+        object.__setattr__(self, "physical", MappingProxyType(dict(self.physical)))
+        object.__setattr__(self, "defaults",
+                           MappingProxyType({k: sp.sympify(v) for k, v in self.defaults.items()}))
+        if mu in self.F.free_symbols:
+            raise ModelError(f"F of model {self.name!r} contains the small parameter mu; "
+                             "write the equation as x'' + omega0^2 x = mu*F with F free of mu")
+        for s in (self.F.free_symbols | w0.free_symbols):
+            if s.name in ("a", "psi"):
+                raise ModelError(f"the symbol {s.name!r} is reserved for the KBM amplitude/phase; "
+                                 "rename that parameter")
+        if w0.free_symbols & _STATE:
+            raise ModelError(f"omega0 = {w0} depends on the state; it must be a constant")
+        if w0.is_number:
+            if not (w0.is_real and w0 > 0):
+                raise ModelError(f"omega0 must be a positive real number (omega0**2 > 0), got omega0 = {w0}")
+        elif not isinstance(w0, sp.Symbol):
+            raise ModelError(f"omega0 must be a positive number or a single symbol, got {w0}")
+
+    # -- structure --------------------------------------------------------------------
+    @property
+    def parameters(self) -> tuple[str, ...]:
+        """Names of the parameters of ``F``, ``omega0`` and the drive (sorted)."""
+        syms = self.F.free_symbols | self.omega0.free_symbols | self.drive.free_symbols
+        return _sorted_names(syms - _STATE)
+
+    @property
+    def is_autonomous(self) -> bool:
+        """``False`` when ``F`` or the drive depends on the time ``t`` explicitly."""
+        return t not in (self.F.free_symbols | self.drive.free_symbols)
+
+    def require_autonomous(self, what: str = "the KBM averaging") -> None:
+        """Raise :class:`NonAutonomousError` if ``F`` depends on ``t``."""
+        if not self.is_autonomous:
+            raise NonAutonomousError(
+                f"{what} needs an autonomous model, but {self.name!r} depends on t explicitly "
+                f"(mu*F + drive = {self.acceleration() + self.omega0**2 * x}); "
+                "set the stage velocity v = 0 or drop the time-dependent term")
+
+    def acceleration(self) -> sp.Expr:
+        """``x''`` as an expression: ``-omega0**2 x + mu F + drive``."""
+        return -self.omega0**2 * x + mu * self.F + self.drive
+
+    def conservative_force(self) -> sp.Expr:
+        """The part of ``mu F`` that depends on ``x`` (and ``t``) only, without the drive."""
+        return mu * self.F.subs(xdot, 0)
+
+    def dissipative_force(self) -> sp.Expr:
+        """The part of ``mu F`` that vanishes at ``x' = 0`` (damping and self-excitation)."""
+        return sp.expand(mu * self.F - self.conservative_force())
+
+    # -- parameters -------------------------------------------------------------------
+    def resolve(self, values: Mapping[str, object] | None = None,
+                *, use_defaults: bool = True) -> dict[str, sp.Expr]:
+        """Map given parameter values (scaled or physical names) to the model's parameters.
+
+        Parameters
+        ----------
+        values
+            Numbers (or sympy expressions, or strings) by name.  Physical names
+            of the paper (``Delta``, ``lam``) are converted with :attr:`physical`,
+            which may need ``mu``.  ``mu`` itself is passed through.
+        use_defaults
+            Fill parameters that are not given from :attr:`defaults`.
+
+        Returns
+        -------
+        dict
+            Values by name of the model's own parameters (and ``mu`` if given).
+
+        Raises
+        ------
+        kbm.errors.ParameterError
+            For an unknown name, a value that is not a finite real number, or a
+            physical parameter given without ``mu``.
+        """
+        values = dict(values or {})
+        known = set(self.parameters) | {"mu"}
+        phys_names: set[str] = set()
+        for expr in self.physical.values():
+            phys_names |= {s.name for s in sp.sympify(expr).free_symbols}
+        out: dict[str, sp.Expr] = {}
+        for name, raw in values.items():
+            if name not in known and name not in phys_names:
+                raise ParameterError(
+                    f"unknown parameter {name!r} for model {self.name!r}; "
+                    f"its parameters are {', '.join(sorted(known | phys_names))}")
+            val = _to_number(name, raw)
+            out[name] = val
+        for scaled, expr in self.physical.items():
+            expr = sp.sympify(expr)
+            need = {s.name for s in expr.free_symbols}
+            given = need & set(out)
+            if scaled in out and given - {"mu"}:
+                raise ParameterError(f"give either {scaled} or {', '.join(sorted(given - {'mu'}))}, "
+                                     "not both")
+            if given - {"mu"} and scaled not in out:
+                missing = need - set(out)
+                if missing:
+                    raise ParameterError(
+                        f"{scaled} = {expr} needs {', '.join(sorted(missing))} as well")
+                out[scaled] = sp.nsimplify(expr.subs({sp.Symbol(n): out[n] for n in need}))
+        for name in list(out):
+            if name in phys_names and name not in known:
+                del out[name]
+        if use_defaults:
+            for name, val in self.defaults.items():
+                out.setdefault(name, val)
+        return out
+
+    def substitute(self, values: Mapping[str, object]) -> "Oscillator":
+        """The same model with some parameters replaced by values (see :meth:`resolve`)."""
+        vals = self.resolve(values, use_defaults=False)
+        subs = {sp.Symbol(k): v for k, v in vals.items() if k != "mu"}
+        return Oscillator(
+            name=self.name,
+            F=self.F.subs(subs),
+            omega0=sp.sympify(self.omega0).subs(subs),
+            description=self.description,
+            physical={k: v for k, v in self.physical.items() if k not in vals},
+            defaults={k: v for k, v in self.defaults.items() if k not in vals},
+            drive=self.drive.subs(subs),
+        )
+
+
+def _to_number(name: str, raw: object) -> sp.Expr:
+    """Read a parameter value exactly: ``"0.1"`` and ``0.1`` both give ``1/10``."""
+    try:
+        if isinstance(raw, float):
+            val = sp.Rational(repr(raw)) if raw == raw and abs(raw) != float("inf") else sp.nan
+        elif isinstance(raw, str):
+            try:
+                val = sp.Rational(raw.strip())
+            except (TypeError, ValueError):
+                val = parse(raw)
+        else:
+            val = sp.sympify(raw)
+    except Exception as exc:  # noqa: BLE001 - reported with the name
+        raise ParameterError(f"parameter {name}: cannot read the value {raw!r} ({exc})") from None
+    if not (isinstance(val, sp.Expr) and val.is_number and val.is_real and val.is_finite):
+        raise ParameterError(f"parameter {name} must be a finite real number, got {raw!r}")
+    return val
+
+
+# ----------------------------------------------------------------------------- built-ins
+_beta, _delta, _k, _Omega, _v = sp.symbols("beta delta k Omega v")
+_zeta, _kappa, _Delta, _lam = sp.symbols("zeta kappa Delta lam")
+
+
+def _vdp() -> Oscillator:
+    return Oscillator("vdp", (1 - x**2) * xdot,
+                      description="van der Pol oscillator x'' - mu (1 - x^2) x' + x = 0")
+
+
+def _duffing() -> Oscillator:
+    return Oscillator("duffing", -x**3, description="Duffing oscillator x'' + x + mu x^3 = 0")
+
+
+def _rayleigh() -> Oscillator:
+    return Oscillator("rayleigh", (1 - xdot**2 / 3) * xdot,
+                      description="Rayleigh oscillator x'' - mu (1 - x'^2/3) x' + x = 0")
+
+
+def _linear_damping() -> Oscillator:
+    return Oscillator("linear_damping", -2 * _zeta * xdot,
+                      description="linearly damped oscillator x'' + 2 mu zeta x' + x = 0 (exact)")
+
+
+def _linear_stiffness() -> Oscillator:
+    return Oscillator("linear_stiffness", -_kappa * x,
+                      description="stiffness perturbation x'' + (1 + mu kappa) x = 0 (exact)")
+
+
+_PHYSICAL = {"delta": _Delta / mu, "k": 2 * sp.pi / _lam}
+
+
+def _sedf() -> Oscillator:
+    return Oscillator(
+        "sedf", -(_beta * x**2 - 1) * xdot - _delta * sp.sin(_k * x), omega0=_Omega,
+        description="self-excited slider on a periodic potential, paper eq. (3) with v = 0: "
+                    "x'' + mu (beta x^2 - 1) x' + Delta sin(2 pi x/lam) + Omega^2 x = 0",
+        physical=_PHYSICAL, defaults={"Omega": 1})
+
+
+def _cdc() -> Oscillator:
+    return Oscillator(
+        "cdc", -xdot - _delta * sp.sin(_k * x), omega0=_Omega,
+        description="constant-damping slider, paper eq. (12) with v = 0: "
+                    "x'' + mu x' + Delta sin(2 pi x/lam) + Omega^2 x = 0",
+        physical=_PHYSICAL, defaults={"Omega": 1})
+
+
+MODELS = {
+    "vdp": _vdp,
+    "duffing": _duffing,
+    "rayleigh": _rayleigh,
+    "linear_damping": _linear_damping,
+    "linear_stiffness": _linear_stiffness,
+    "sedf": _sedf,
+    "cdc": _cdc,
+}
+
+
+def model_names() -> tuple[str, ...]:
+    """Names of the built-in models."""
+    return tuple(MODELS)
+
+
+def get_model(name: str, params: Mapping[str, object] | None = None) -> Oscillator:
+    """A built-in model, optionally with some parameters set.
+
+    Parameters
+    ----------
+    name
+        One of :func:`model_names`.
+    params
+        Parameter values by name; physical names (``Delta``, ``lam``) are
+        converted to the scaled ones (``delta = Delta/mu``, ``k = 2 pi/lam``),
+        which needs ``mu``.  A stage velocity ``v`` other than 0 (sedf, cdc)
+        adds the spring drive ``Omega^2 v t`` and makes the model
+        non-autonomous: the averaging refuses it, the integrators accept it.
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        For an unknown model name.
+    kbm.errors.ParameterError
+        For an unknown parameter or a bad value.
+
+    Examples
+    --------
+    >>> get_model("sedf", {"beta": 1, "Delta": "3/20", "mu": "1/10", "lam": 1}).F
+    -xdot*(x**2 - 1) - 3*sin(2*pi*x)/2
+    """
+    try:
+        model = MODELS[name]()
+    except KeyError:
+        raise ModelError(f"unknown model {name!r}; the built-in models are "
+                         f"{', '.join(MODELS)} (or give your own F with --rhs)") from None
+    params = dict(params or {})
+    v = params.pop("v", None)
+    if v is not None:
+        if name not in ("sedf", "cdc"):
+            raise ParameterError(f"unknown parameter 'v' for model {name!r}; only the sliders "
+                                 "sedf and cdc have a stage velocity")
+        vv = _to_number("v", v)
+        if vv != 0:
+            model = replace(model, drive=_Omega**2 * vv * t,
+                            description=model.description.replace("with v = 0", f"with v = {vv}"))
+    if params:
+        model = model.substitute(params)
+    return model
+
+
+def custom_model(rhs: str | sp.Expr, *, omega0: object = 1, name: str = "custom") -> Oscillator:
+    """A user's oscillator ``x'' + omega0**2 x = mu F`` from the expression ``F``.
+
+    Parameters
+    ----------
+    rhs
+        ``F`` as a string or sympy expression in ``x``, ``xdot`` and parameters.
+    omega0
+        The linear natural frequency (default 1).
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        If the expression cannot be read or uses ``mu``, ``a`` or ``psi``.
+
+    Examples
+    --------
+    >>> custom_model("-x**3 + (1 - x**2)*xdot").F
+    -x**3 + xdot*(1 - x**2)
+    """
+    return Oscillator(name, parse(rhs), omega0=sp.sympify(omega0),
+                      description=f"user model x'' + {omega0}^2 x = mu ({rhs})")

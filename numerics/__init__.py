@@ -1,0 +1,6 @@
+"""Numerical dynamics of the models defined in :mod:`kbm`.
+
+Direct integration, limit cycles by shooting with Floquet multipliers,
+dissipation per cycle, the paper's sliding (stick-slip) experiments, and the
+comparison of KBM predictions with the true dynamics.
+"""

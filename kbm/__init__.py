@@ -8,12 +8,20 @@ no ``u_n`` holding a first harmonic, so ``a`` is the first-harmonic amplitude.
 
 from .errors import (KBMError, ModelError, NonAutonomousError, OrderError, ParameterError,
                      UnsupportedTermError)
+from .averaging import derive
+from .evaluate import SeriesTruncationError, mpmath_function, numpy_function
+from .latex import latex
+from .limit_cycle import AveragedCycle, LimitCycleSeries, averaged_cycles, limit_cycle_series
 from .models import MODELS, Oscillator, custom_model, get_model, model_names
+from .result import KBMFunctions, KBMResult
 from .symbols import a, mu, parse, psi, t, x, xdot
 
 __all__ = [
     "KBMError", "ModelError", "NonAutonomousError", "OrderError", "ParameterError",
     "UnsupportedTermError",
+    "SeriesTruncationError",
+    "derive", "KBMResult", "KBMFunctions", "numpy_function", "mpmath_function", "latex",
+    "AveragedCycle", "LimitCycleSeries", "averaged_cycles", "limit_cycle_series",
     "MODELS", "Oscillator", "custom_model", "get_model", "model_names",
     "a", "mu", "parse", "psi", "t", "x", "xdot",
 ]

@@ -1,0 +1,330 @@
+"""Fourier series with infinite families of harmonics: the Jacobi-Anger algebra.
+
+For ``F`` containing ``sin(k x)`` or ``cos(k x)`` the KBM recursion meets
+``sin(k a cos psi) = 2 sum_{n>=0} (-1)**n J_{2n+1}(k a) cos((2n+1) psi)`` and
+``cos(k a cos psi) = J_0(k a) + 2 sum_{n>=1} (-1)**n J_{2n}(k a) cos(2n psi)``
+(Jacobi-Anger; Abramowitz & Stegun 9.1.44-45).  A series here is a sum of
+*terms*; a term is ``c(n_1..n_j) cos(h psi)`` or ``... sin(h psi)`` summed over
+the integer indices ``n_i >= l_i`` (none for an ordinary harmonic), with the
+harmonic ``h`` an integer linear form in the indices.  Products of terms add
+indices, so order 2 meets double sums; the coefficient of one harmonic of a
+double sum is a single sum along a lattice line, found exactly with the
+extended Euclidean algorithm.  Nothing is truncated here: truncation happens
+only when a result is evaluated numerically (:mod:`kbm.evaluate`).
+"""
+
+from __future__ import annotations
+
+from math import gcd
+
+import sympy as sp
+
+from .errors import OrderError
+
+__all__ = ["SymFourier", "INDEX", "jacobi_anger"]
+
+#: internal summation indices, renamed to n, m, ... for display
+INDEX = tuple(sp.Symbol(f"_n{i}", integer=True) for i in range(1, 9))
+#: display names of the summation indices
+DISPLAY_INDEX = (sp.Symbol("n", integer=True), sp.Symbol("m", integer=True),
+                 sp.Symbol("j", integer=True))
+
+COS, SIN = 0, 1
+
+
+def _lin(h: sp.Expr, idx: tuple[sp.Symbol, ...]) -> tuple[list[int], int]:
+    """Integer coefficients of the linear form ``h`` in the indices, and its constant."""
+    h = sp.expand(h)
+    coeffs = [int(h.coeff(s)) for s in idx]
+    const = h.subs({s: 0 for s in idx})
+    return coeffs, int(const)
+
+
+def _canon_sign(kind: int, h: sp.Expr, idx, coef: sp.Expr):
+    """Choose the sign of ``h`` (cos even, sin odd) so that equal terms share a key."""
+    coeffs, const = _lin(h, tuple(s for s, _ in idx))
+    lead = next((c for c in coeffs if c), const)
+    if lead < 0:
+        h = -h
+        if kind == SIN:
+            coef = -coef
+    return h, coef
+
+
+def _egcd(p: int, q: int) -> tuple[int, int, int]:
+    """``(g, x, y)`` with ``p x + q y = g = gcd(p, q) >= 0``."""
+    x0, y0, x1, y1 = 1, 0, 0, 1
+    while q:
+        r = p // q
+        p, q = q, p - r * q
+        x0, x1 = x1, x0 - r * x1
+        y0, y1 = y1, y0 - r * y1
+    if p < 0:
+        p, x0, y0 = -p, -x0, -y0
+    return p, x0, y0
+
+
+def _ceil_div(p: int, q: int) -> int:
+    return -((-p) // q)
+
+
+class SymFourier:
+    """Sum of (possibly infinite) families of harmonics with sympy coefficients."""
+
+    __slots__ = ("terms",)
+
+    def __init__(self, terms: dict | None = None):
+        # key: (kind, harmonic expr, ((index, lower), ...)) -> coefficient
+        self.terms = {k: v for k, v in (terms or {}).items() if v != 0}
+
+    # -- construction -----------------------------------------------------------------
+    @classmethod
+    def constant(cls, c: sp.Expr) -> "SymFourier":
+        return cls({(COS, sp.Integer(0), ()): sp.sympify(c)})
+
+    @classmethod
+    def harmonic_term(cls, kind: int, m: int, c: sp.Expr) -> "SymFourier":
+        if kind == SIN and m == 0:
+            return cls()
+        if m < 0:
+            m, c = -m, (-c if kind == SIN else c)
+        return cls({(kind, sp.Integer(m), ()): sp.sympify(c)})
+
+    def is_zero(self) -> bool:
+        return not self.terms
+
+    # -- arithmetic -----------------------------------------------------------------
+    @staticmethod
+    def _put(out: dict, kind: int, h: sp.Expr, idx, c: sp.Expr) -> None:
+        if kind == SIN and not idx and h == 0:
+            return
+        h, c = _canon_sign(kind, h, idx, c)
+        key = (kind, h, idx)
+        out[key] = out[key] + c if key in out else c
+
+    def __add__(self, other: "SymFourier") -> "SymFourier":
+        out = dict(self.terms)
+        for (kind, h, idx), c in other.terms.items():
+            self._put(out, kind, h, idx, c)
+        return SymFourier(_clean(out))
+
+    def __neg__(self) -> "SymFourier":
+        return SymFourier({k: -v for k, v in self.terms.items()})
+
+    def __sub__(self, other: "SymFourier") -> "SymFourier":
+        return self + (-other)
+
+    def scale(self, c: sp.Expr) -> "SymFourier":
+        return SymFourier(_clean({k: sp.expand(v * c) for k, v in self.terms.items()}))
+
+    def scale_q(self, q) -> "SymFourier":
+        q = sp.Rational(q)
+        return SymFourier({k: v * q for k, v in self.terms.items()})
+
+    def __mul__(self, other: "SymFourier") -> "SymFourier":
+        out: dict = {}
+        half = sp.Rational(1, 2)
+        for (k1, h1, i1), c1 in self.terms.items():
+            for (k2, h2, i2), c2 in other.terms.items():
+                if len(i1) + len(i2) > len(INDEX):
+                    raise OrderError("too many nested Bessel sums for this order")
+                # rename the indices of the second factor after those of the first
+                ren = {INDEX[j]: INDEX[len(i1) + j] for j in range(len(i2))}
+                h2r = h2.xreplace(ren)
+                c2r = c2.xreplace(ren)
+                i2r = tuple((ren[s], lo) for s, lo in i2)
+                idx = i1 + i2r
+                c = sp.expand(c1 * c2r * half)
+                if k1 == COS and k2 == COS:
+                    self._put(out, COS, h1 - h2r, idx, c)
+                    self._put(out, COS, h1 + h2r, idx, c)
+                elif k1 == SIN and k2 == SIN:
+                    self._put(out, COS, h1 - h2r, idx, c)
+                    self._put(out, COS, h1 + h2r, idx, -c)
+                elif k1 == SIN and k2 == COS:
+                    self._put(out, SIN, h1 + h2r, idx, c)
+                    self._put(out, SIN, h1 - h2r, idx, c)
+                else:  # cos * sin
+                    self._put(out, SIN, h1 + h2r, idx, c)
+                    self._put(out, SIN, h2r - h1, idx, c)
+        return SymFourier(_clean(out))
+
+    # -- calculus -------------------------------------------------------------------
+    def dpsi(self) -> "SymFourier":
+        out: dict = {}
+        for (kind, h, idx), c in self.terms.items():
+            if kind == COS:
+                self._put(out, SIN, h, idx, sp.expand(-h * c))
+            else:
+                self._put(out, COS, h, idx, sp.expand(h * c))
+        return SymFourier(_clean(out))
+
+    def da(self, a: sp.Symbol) -> "SymFourier":
+        return SymFourier(_clean({k: sp.expand(sp.diff(v, a)) for k, v in self.terms.items()}))
+
+    # -- harmonic balance -------------------------------------------------------------
+    def harmonic(self, m: int) -> tuple[sp.Expr, sp.Expr]:
+        """Coefficients of ``cos(m psi)`` and ``sin(m psi)`` (single sums where infinite)."""
+        cos_parts: list[sp.Expr] = []
+        sin_parts: list[sp.Expr] = []
+        for (kind, h, idx), c in self.terms.items():
+            targets = [(m, 1)] if m == 0 else [(m, 1), (-m, 1 if kind == COS else -1)]
+            for target, sign in targets:
+                val = _line_sum(c, h, idx, target)
+                if val != 0:
+                    (cos_parts if kind == COS else sin_parts).append(sign * val)
+        return sp.Add(*cos_parts), sp.Add(*sin_parts)
+
+    def solve_without_first(self, omega0: sp.Expr) -> "SymFourier":
+        """Solve ``omega0**2 (u'' + u) = self`` term by term, leaving out ``cos/sin psi``.
+
+        Single families lose their points with ``|h| = 1`` (split off as
+        ordinary harmonics); double families keep a ``Piecewise`` that is zero
+        on the lines ``|h| = 1``.
+        """
+        out: dict = {}
+        w2 = omega0**2
+        for (kind, h, idx), c in self.terms.items():
+            if not idx:
+                if h != 1:
+                    self._put(out, kind, h, idx, c / (w2 * (1 - h**2)))
+                continue
+            syms = tuple(s for s, _ in idx)
+            coeffs, const = _lin(h, syms)
+            if len(idx) == 1:
+                (s, lo), p = idx[0], coeffs[0]
+                bad = sorted(n for n in {(1 - const) / p, (-1 - const) / p}
+                             if float(n).is_integer() and n >= lo)
+                if not bad:
+                    self._put(out, kind, h, idx, c / (w2 * (1 - h**2)))
+                    continue
+                top = int(bad[-1])
+                for n in range(lo, top + 1):
+                    hn = int(h.subs(s, n))
+                    if abs(hn) != 1:
+                        cn = c.subs(s, n)
+                        self._put(out, kind, sp.Integer(hn), (), cn / (w2 * (1 - hn**2)))
+                self._put(out, kind, h, ((s, top + 1),), c / (w2 * (1 - h**2)))
+            else:
+                has_line = any(_line_points_exist(h, idx, t) for t in (1, -1))
+                term = c / (w2 * (1 - h**2))
+                if has_line:
+                    term = sp.Piecewise((term, sp.Ne(h**2, 1)), (0, True))
+                self._put(out, kind, h, idx, term)
+        return SymFourier(_clean(out))
+
+    def as_expr(self, psi: sp.Symbol) -> sp.Expr:
+        """The series as a sympy expression with ``Sum`` over display indices."""
+        finite: dict[tuple[int, int], sp.Expr] = {}
+        families = []
+        for (kind, h, idx), c in self.terms.items():
+            if not idx:
+                key = (kind, int(h))
+                finite[key] = finite.get(key, 0) + c
+            else:
+                families.append((kind, h, idx, c))
+        parts = []
+        for (kind, m) in sorted(finite):
+            trig = sp.cos if kind == COS else sp.sin
+            parts.append(tidy(finite[(kind, m)]) * trig(m * psi))
+        for kind, h, idx, c in sorted(families, key=lambda f: (len(f[2]), f[0], sp.default_sort_key(f[1]))):
+            trig = sp.cos if kind == COS else sp.sin
+            ren = {s: DISPLAY_INDEX[i] for i, (s, _) in enumerate(idx)}
+            body = (tidy(c) * trig(h * psi)).xreplace(ren)
+            limits = [(ren[s], lo, sp.oo) for s, lo in idx]
+            parts.append(sp.Sum(body, *limits))
+        return sp.Add(*parts)
+
+
+def _clean(d: dict) -> dict:
+    return {k: v for k, v in d.items() if v != 0}
+
+
+def _line(h: sp.Expr, idx, target: int):
+    """Admissible points of a two-index family where ``h == target``.
+
+    Returns ``None`` if there are none, ``"all"`` if ``h`` is constant and equal
+    to ``target``, else ``(x0, y0, d1, d2, lo, hi)``: the points are
+    ``(n1, n2) = (x0 + d1 s, y0 + d2 s)`` for integer ``s`` in ``[lo, hi]``
+    (``None`` for an unbounded end).  Found with the extended Euclidean algorithm.
+    """
+    syms = tuple(s for s, _ in idx)
+    (p1, p2), q = _lin(h, syms)
+    (s1, l1), (s2, l2) = idx
+    rhs = target - q
+    g, u, w = _egcd(p1, p2)
+    if g == 0:
+        return "all" if rhs == 0 else None
+    if rhs % g:
+        return None
+    k = rhs // g
+    # general solution n1 = u k + (p2/g) s, n2 = w k - (p1/g) s
+    x0, y0, d1, d2 = u * k, w * k, p2 // g, -p1 // g
+    lo, hi = None, None
+    for base, step, low in ((x0, d1, l1), (y0, d2, l2)):
+        if step > 0:  # base + step s >= low
+            b = _ceil_div(low - base, step)
+            lo = b if lo is None else max(lo, b)
+        elif step < 0:
+            b = (base - low) // (-step)
+            hi = b if hi is None else min(hi, b)
+        elif base < low:
+            return None
+    if lo is not None and hi is not None and hi < lo:
+        return None
+    return x0, y0, d1, d2, lo, hi
+
+
+def _line_points_exist(h, idx, target) -> bool:
+    return _line(h, idx, target) is not None
+
+
+def _line_sum(c: sp.Expr, h: sp.Expr, idx, target: int) -> sp.Expr:
+    """Sum of ``c`` over the admissible index points where ``h == target``."""
+    if not idx:
+        return c if h == target else sp.Integer(0)
+    syms = tuple(s for s, _ in idx)
+    coeffs, q = _lin(h, syms)
+    rhs = target - q
+    if len(idx) == 1:
+        (s, lo), p = idx[0], coeffs[0]
+        if p == 0:
+            return sp.Sum(c, (s, lo, sp.oo)) if rhs == 0 else sp.Integer(0)
+        if rhs % p:
+            return sp.Integer(0)
+        n = rhs // p
+        return c.subs(s, n) if n >= lo else sp.Integer(0)
+    if len(idx) != 2:
+        raise OrderError("harmonic balance over three or more nested Bessel sums is not "
+                         "implemented; use order <= 2 for models with sin(k x) or cos(k x)")
+    line = _line(h, idx, target)
+    if line is None:
+        return sp.Integer(0)
+    (s1, l1), (s2, l2) = idx
+    if line == "all":
+        return sp.Sum(c, (s1, l1, sp.oo), (s2, l2, sp.oo))
+    x0, y0, d1, d2, lo, hi = line
+    s = sp.Symbol("_s", integer=True)
+    body = c.xreplace({s1: x0 + d1 * s, s2: y0 + d2 * s})
+    if lo is not None and hi is not None:
+        return sp.Add(*[body.subs(s, j) for j in range(lo, hi + 1)])
+    if hi is not None:  # s <= hi: substitute s -> -s
+        body, lo = body.xreplace({s: -s}), -hi
+    body = body.xreplace({s: INDEX[0]})
+    return sp.Sum(sp.expand(body), (INDEX[0], lo, sp.oo))
+
+
+def tidy(expr: sp.Expr) -> sp.Expr:
+    """A light, deterministic simplification for display: factor rational parts."""
+    expr = sp.expand(expr)
+    return sp.collect(expr, sorted(expr.atoms(sp.besselj), key=sp.default_sort_key),
+                      func=sp.factor)
+
+
+def jacobi_anger(z: sp.Expr) -> tuple[SymFourier, SymFourier]:
+    """``(sin(z cos psi), cos(z cos psi))`` as families of harmonics (A&S 9.1.44-45)."""
+    n = INDEX[0]
+    sin_s = SymFourier({(COS, 2 * n + 1, ((n, 0),)): 2 * (-1)**n * sp.besselj(2 * n + 1, z)})
+    cos_s = SymFourier({(COS, sp.Integer(0), ()): sp.besselj(0, z),
+                        (COS, 2 * n, ((n, 1),)): 2 * (-1)**n * sp.besselj(2 * n, z)})
+    return sin_s, cos_s

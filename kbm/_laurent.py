@@ -1,0 +1,193 @@
+"""Sparse Laurent polynomials with exact rational coefficients.
+
+The coefficients of the Fourier series in the polynomial KBM recursion are
+Laurent polynomials in the amplitude ``a``, the parameters and ``omega0``:
+the recursion divides only by ``2 omega0 a``, ``omega0**2`` and integers, so the
+ring ``Q[g1, 1/g1, ..., gk, 1/gk]`` is closed under every operation it needs and
+all arithmetic stays exact.
+
+A monomial is packed into one Python integer (16 bits per generator, biased),
+so that multiplying monomials is one integer addition.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from math import gcd as _gcd
+
+import sympy as sp
+
+try:  # gmpy2 makes rational arithmetic several times faster
+    from gmpy2 import mpq as _Q
+except ImportError:  # pragma: no cover - gmpy2 is a declared dependency
+    from fractions import Fraction as _Q
+
+__all__ = ["LaurentRing", "Laurent"]
+
+_BITS = 16
+_BIAS = 1 << (_BITS - 1)
+_MASK = (1 << _BITS) - 1
+
+
+class LaurentRing:
+    """The ring of Laurent polynomials in the given generators over Q."""
+
+    __slots__ = ("gens", "ngens", "bias_all", "zero_mono", "_unit")
+
+    def __init__(self, gens: Sequence[sp.Symbol]):
+        self.gens = tuple(gens)
+        self.ngens = len(self.gens)
+        self.bias_all = sum(_BIAS << (_BITS * i) for i in range(self.ngens))
+        self.zero_mono = self.bias_all
+        self._unit = [1 << (_BITS * i) for i in range(self.ngens)]
+
+    def exponent(self, mono: int, i: int) -> int:
+        return ((mono >> (_BITS * i)) & _MASK) - _BIAS
+
+    def monomial(self, exps: Sequence[int]) -> int:
+        m = self.bias_all
+        for i, e in enumerate(exps):
+            if not -_BIAS < e < _BIAS - 1:
+                raise OverflowError("exponent out of range of the packed representation")
+            m += e << (_BITS * i)
+        return m
+
+    def const(self, c) -> "Laurent":
+        c = _Q(c)
+        return Laurent(self, {self.zero_mono: c} if c else {})
+
+    def gen(self, i: int, power: int = 1) -> "Laurent":
+        return Laurent(self, {self.zero_mono + power * self._unit[i]: _Q(1)})
+
+    def from_expr(self, expr: sp.Expr) -> "Laurent":
+        """Convert a sympy polynomial (rational coefficients) in the generators."""
+        expr = sp.expand(sp.sympify(expr))
+        if expr == 0:
+            return Laurent(self, {})
+        poly = sp.Poly(expr, *self.gens) if self.gens else None
+        if poly is None:
+            return self.const(sp.Rational(expr))
+        out: dict[int, object] = {}
+        for exps, c in poly.terms():
+            if not c.is_Rational:
+                raise TypeError(f"coefficient {c} is not rational")
+            out[self.monomial(exps)] = _Q(int(c.p), int(c.q))
+        return Laurent(self, out)
+
+
+class Laurent:
+    """An element of a :class:`LaurentRing` (immutable by convention)."""
+
+    __slots__ = ("ring", "terms")
+
+    def __init__(self, ring: LaurentRing, terms: dict):
+        self.ring = ring
+        self.terms = terms
+
+    def __bool__(self) -> bool:
+        return bool(self.terms)
+
+    def __add__(self, other: "Laurent") -> "Laurent":
+        if not other.terms:
+            return self
+        if not self.terms:
+            return other
+        out = dict(self.terms)
+        for m, c in other.terms.items():
+            v = out.get(m)
+            if v is None:
+                out[m] = c
+            else:
+                v = v + c
+                if v:
+                    out[m] = v
+                else:
+                    del out[m]
+        return Laurent(self.ring, out)
+
+    def __neg__(self) -> "Laurent":
+        return Laurent(self.ring, {m: -c for m, c in self.terms.items()})
+
+    def __sub__(self, other: "Laurent") -> "Laurent":
+        return self + (-other)
+
+    def __mul__(self, other: "Laurent") -> "Laurent":
+        if not self.terms or not other.terms:
+            return Laurent(self.ring, {})
+        b = self.ring.bias_all
+        out: dict[int, object] = {}
+        get = out.get
+        for m1, c1 in self.terms.items():
+            base = m1 - b
+            for m2, c2 in other.terms.items():
+                m = base + m2
+                v = get(m)
+                out[m] = c1 * c2 if v is None else v + c1 * c2
+        return Laurent(self.ring, {m: c for m, c in out.items() if c})
+
+    def scale(self, c) -> "Laurent":
+        c = _Q(c)
+        if not c:
+            return Laurent(self.ring, {})
+        return Laurent(self.ring, {m: v * c for m, v in self.terms.items()})
+
+    def shift(self, i: int, power: int) -> "Laurent":
+        """Multiply by ``gens[i]**power`` (power may be negative)."""
+        d = power * self.ring._unit[i]
+        return Laurent(self.ring, {m + d: c for m, c in self.terms.items()})
+
+    def diff(self, i: int) -> "Laurent":
+        """Partial derivative with respect to ``gens[i]``."""
+        ring = self.ring
+        unit = ring._unit[i]
+        out = {}
+        for m, c in self.terms.items():
+            e = ring.exponent(m, i)
+            if e:
+                out[m - unit] = c * e
+        return Laurent(ring, out)
+
+    def as_primitive_expr(self) -> sp.Expr:
+        """``content * monomial * primitive polynomial``: readable and cheap (no factoring).
+
+        The rational content and the common monomial (lowest power of each
+        generator) are pulled out; the sign is chosen so that the leading term of
+        the remaining polynomial is positive.
+        """
+        if not self.terms:
+            return sp.Integer(0)
+        ring = self.ring
+        lows = [min(ring.exponent(m, i) for m in self.terms) for i in range(ring.ngens)]
+        nums = [int(c.numerator) for c in self.terms.values()]
+        dens = [int(c.denominator) for c in self.terms.values()]
+        g = 0
+        for v in nums:
+            g = _gcd(g, abs(v))
+        lcm = 1
+        for d in dens:
+            lcm = lcm * d // _gcd(lcm, d)
+        lead = self.terms[max(self.terms)]
+        content = sp.Rational(g if lead > 0 else -g, lcm)
+        shifted = self
+        for i, e in enumerate(lows):
+            if e:
+                shifted = shifted.shift(i, -e)
+        inner = shifted.scale(_Q(lcm, 1) / _Q(int(content.p), 1)).as_expr() \
+            if content.p else sp.Integer(0)
+        mono = sp.Mul(*[g_**e for g_, e in zip(ring.gens, lows) if e])
+        return sp.Mul(content, mono, inner)
+
+    def as_expr(self) -> sp.Expr:
+        """The sympy expression (terms in a fixed order, so printing is deterministic)."""
+        ring = self.ring
+        parts = []
+        for m in sorted(self.terms):
+            c = self.terms[m]
+            term = sp.Rational(int(c.numerator), int(c.denominator))
+            for i, g in enumerate(ring.gens):
+                e = ring.exponent(m, i)
+                if e:
+                    term *= g**e
+            parts.append(term)
+        return sp.Add(*parts)

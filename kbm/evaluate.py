@@ -1,0 +1,198 @@
+"""Numerical evaluation of KBM expressions: numpy (vectorised) and mpmath (any precision).
+
+Expressions are compiled once with :func:`sympy.lambdify`; Bessel functions
+become :func:`scipy.special.jv` or :func:`mpmath.besselj`.  The infinite sums
+``Sum(f(n), (n, lo, oo))`` of the Jacobi-Anger algebra are the only place where
+anything is truncated: terms are added in blocks until the largest term of the
+last block is below ``tol`` times the largest partial sum (numpy, default
+``tol = 1e-15``) or until four consecutive terms are below ``10**-(dps + 3)``
+relative (mpmath).  The terms are products of Bessel functions
+``J_m(k a)`` with ``m`` growing linearly in ``n``, which decay faster than
+``(k a / 2)**m / m!``; a sum that has not met its tolerance after
+``max_terms`` terms raises :class:`~kbm.errors.KBMError` with the size of the last
+terms, instead of returning an unconverged number.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import mpmath
+import numpy as np
+import scipy.special
+import sympy as sp
+
+from .errors import KBMError
+
+__all__ = ["numpy_function", "mpmath_function", "DEFAULT_TOL", "SeriesTruncationError"]
+
+#: default relative tolerance of the truncated Bessel sums (numpy)
+DEFAULT_TOL = 1e-15
+
+
+class SeriesTruncationError(KBMError, ArithmeticError):
+    """An infinite Bessel sum did not reach its tolerance within the term budget."""
+
+
+def _outer_sums(expr: sp.Expr) -> list[sp.Sum]:
+    """The Sum nodes of ``expr`` not contained in another Sum (deterministic order)."""
+    found: list[sp.Sum] = []
+
+    def walk(e):
+        if isinstance(e, sp.Sum):
+            if e not in found:
+                found.append(e)
+            return
+        for arg in e.args:
+            walk(arg)
+
+    walk(expr)
+    return found
+
+
+def _split_limits(s: sp.Sum) -> tuple[sp.Expr, tuple]:
+    """``Sum(f, L1, L2, ...)`` -> body ``Sum(f, L1, ...)`` without the last limit, and it."""
+    limits = s.limits
+    if len(limits) == 1:
+        return s.function, limits[0]
+    return sp.Sum(s.function, *limits[:-1]), limits[-1]
+
+
+_NUMPY_MODULES = [{"besselj": scipy.special.jv}, "scipy", "numpy"]
+
+
+def numpy_function(expr: sp.Expr, args: Sequence[sp.Symbol], *, tol: float = DEFAULT_TOL,
+                   max_terms: int = 5000) -> Callable[..., np.ndarray]:
+    """Compile ``expr`` to a vectorised numpy function of ``args``.
+
+    Parameters
+    ----------
+    expr
+        A sympy expression, possibly with ``besselj`` and infinite ``Sum``.
+    args
+        The symbols, in the order the function takes them; arrays broadcast.
+    tol
+        Relative truncation tolerance of the infinite sums.
+    max_terms
+        Term budget of each infinite sum.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> n, z = sp.symbols("n z")
+    >>> f = numpy_function(sp.Sum(z**n / sp.factorial(n), (n, 0, sp.oo)), [z])
+    >>> float(f(1.0))
+    2.718281828459045
+    """
+    args = tuple(args)
+    sums = _outer_sums(expr)
+    holders = [sp.Dummy(f"S{i}") for i in range(len(sums))]
+    outer = expr.xreplace(dict(zip(sums, holders)))
+    with np.errstate(all="ignore"):
+        f_outer = sp.lambdify(args + tuple(holders), outer, modules=_NUMPY_MODULES)
+    inner = []
+    for s in sums:
+        body, (n, lo, hi) = _split_limits(s)
+        body_f = numpy_function(body, args + (n,), tol=tol, max_terms=max_terms)
+        if hi != sp.oo:
+            inner.append(("finite", body_f, int(lo), int(hi)))
+        else:
+            inner.append(("inf", body_f, int(lo), None))
+
+    def f(*vals):
+        if len(vals) != len(args):
+            raise TypeError(f"expected {len(args)} arguments ({', '.join(map(str, args))}), "
+                            f"got {len(vals)}")
+        with np.errstate(all="ignore"):
+            arrs = [np.asarray(v, dtype=float) for v in vals]
+            sums_val = [_np_sum(kind, g, lo, hi, arrs, tol, max_terms)
+                        for kind, g, lo, hi in inner]
+            out = np.asarray(f_outer(*arrs, *sums_val), dtype=float)
+        shape = np.broadcast_shapes(out.shape, *[v.shape for v in arrs])
+        return out if out.shape == shape else np.broadcast_to(out, shape).copy()
+
+    f.__doc__ = f"numpy function of ({', '.join(map(str, args))}) for {expr}"
+    return f
+
+
+def _np_sum(kind, g, lo, hi, arrs, tol, max_terms):
+    shape = np.broadcast_shapes(*[np.shape(v) for v in arrs]) if arrs else ()
+    expand = (slice(None),) + (None,) * len(shape)
+    if kind == "finite":
+        n = np.arange(lo, hi + 1)[expand]
+        return np.sum(np.broadcast_to(g(*arrs, n), (n.shape[0],) + shape), axis=0)
+    total = np.zeros(shape)
+    biggest = np.zeros(shape)
+    block = 24
+    start = lo
+    used = 0
+    while True:
+        n = np.arange(start, start + block)[expand]
+        terms = np.broadcast_to(g(*arrs, n), (block,) + shape)
+        terms = np.where(np.isfinite(terms), terms, np.nan)
+        total = total + np.sum(terms, axis=0)
+        partial = np.abs(total)
+        biggest = np.maximum(biggest, np.max(np.abs(terms), axis=0))
+        biggest = np.maximum(biggest, partial)
+        tail = np.max(np.abs(terms[-block // 4:]), axis=0)
+        used += block
+        if np.any(np.isnan(total)):
+            raise SeriesTruncationError("an infinite Bessel sum produced NaN (an argument is "
+                                        "out of range or not finite)")
+        if np.all(tail <= tol * np.maximum(biggest, 1e-300)):
+            return total
+        if used >= max_terms:
+            raise SeriesTruncationError(
+                f"an infinite Bessel sum did not converge to rel. tol {tol:g} within "
+                f"{max_terms} terms (last terms up to {float(np.max(tail)):.3e}); "
+                "the argument k*a is probably too large")
+        start += block
+        block = min(2 * block, max_terms - used) or 1
+
+
+def mpmath_function(expr: sp.Expr, args: Sequence[sp.Symbol], *,
+                    max_terms: int = 20000) -> Callable[..., mpmath.mpf]:
+    """Compile ``expr`` to a scalar mpmath function (working precision ``mpmath.mp.dps``).
+
+    Infinite sums are added term by term until four consecutive terms are below
+    ``10**-(mp.dps + 3)`` relative to the largest partial sum.
+    """
+    args = tuple(args)
+    sums = _outer_sums(expr)
+    holders = [sp.Dummy(f"S{i}") for i in range(len(sums))]
+    outer = expr.xreplace(dict(zip(sums, holders)))
+    f_outer = sp.lambdify(args + tuple(holders), outer, modules="mpmath")
+    inner = []
+    for s in sums:
+        body, (n, lo, hi) = _split_limits(s)
+        inner.append((mpmath_function(body, args + (n,), max_terms=max_terms), int(lo),
+                      None if hi == sp.oo else int(hi)))
+
+    def f(*vals):
+        vals = [mpmath.mpmathify(v) for v in vals]
+        sums_val = [_mp_sum(g, lo, hi, vals, max_terms) for g, lo, hi in inner]
+        return f_outer(*vals, *sums_val)
+
+    return f
+
+
+def _mp_sum(g, lo, hi, vals, max_terms):
+    if hi is not None:
+        return mpmath.fsum(g(*vals, n) for n in range(lo, hi + 1))
+    eps = mpmath.mpf(10) ** (-(mpmath.mp.dps + 3))
+    total = mpmath.mpf(0)
+    biggest = mpmath.mpf(0)
+    small = 0
+    n = lo
+    while True:
+        term = g(*vals, n)
+        total += term
+        biggest = max(biggest, abs(total), abs(term))
+        small = small + 1 if abs(term) <= eps * biggest else 0
+        if small >= 4 and n - lo >= 8:
+            return total
+        n += 1
+        if n - lo > max_terms:
+            raise SeriesTruncationError(
+                f"an infinite Bessel sum did not converge at {mpmath.mp.dps} digits within "
+                f"{max_terms} terms (last term {mpmath.nstr(term, 5)})")

@@ -1,0 +1,216 @@
+"""The result of a KBM derivation: an immutable record of sympy expressions."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .models import Oscillator
+from .symbols import a, mu, psi
+
+__all__ = ["KBMResult", "KBMFunctions"]
+
+
+@dataclass(frozen=True)
+class KBMFunctions:
+    """Compiled numerical functions of a :class:`KBMResult`.
+
+    Every function takes its variables first and then the remaining model
+    parameters, positionally, in the order of :attr:`params`:
+
+    - ``A[n](a, *params)``, ``B[n](a, *params)``, ``u[n](a, psi, *params)``;
+    - ``amplitude_rate(a, mu, *params, order=None)`` = ``sum_{n<=order} mu**n A_n``;
+    - ``phase_rate(a, mu, *params, order=None)`` = ``omega0 + sum mu**n B_n``;
+    - ``displacement(a, psi, mu, *params, order=None)`` = ``a cos psi + sum mu**n u_n``.
+
+    With ``backend="numpy"`` they broadcast over arrays; with ``"mpmath"`` they
+    take scalars and compute at ``mpmath.mp.dps`` digits.
+    """
+
+    backend: str
+    order: int
+    params: tuple[str, ...]
+    A: tuple[Callable, ...]
+    B: tuple[Callable, ...]
+    u: tuple[Callable, ...]
+
+    def amplitude_rate(self, a, mu, *params, order: int | None = None):
+        N = self.order if order is None else order
+        return _series_sum([self.A[n](a, *params) for n in range(1, N + 1)], mu, 1)
+
+    def phase_rate(self, a, mu, *params, order: int | None = None):
+        N = self.order if order is None else order
+        return _series_sum([self.B[n](a, *params) for n in range(0, N + 1)], mu, 0)
+
+    def displacement(self, a, psi, mu, *params, order: int | None = None):
+        N = self.order if order is None else order
+        return _series_sum([self.u[n](a, psi, *params) for n in range(0, N + 1)], mu, 0)
+
+
+def _series_sum(values, mu, first):
+    total = 0
+    for n, v in enumerate(values, start=first):
+        total = total + mu**n * v
+    return total
+
+
+@dataclass(frozen=True)
+class KBMResult:
+    """KBM expansion ``x = sum mu**n u[n]``, ``a' = sum mu**n A[n]``, ``psi' = sum mu**n B[n]``.
+
+    Attributes
+    ----------
+    model
+        The oscillator (with any substituted parameter values).
+    order
+        The highest power of ``mu`` kept.
+    A, B, u
+        Tuples indexed by order ``0..order``: ``A[0] = 0``, ``B[0] = omega0``,
+        ``u[0] = a cos(psi)``.  ``A[n]``, ``B[n]`` depend on ``a`` (and
+        parameters); ``u[n]`` on ``a`` and ``psi`` and holds no first harmonic,
+        so ``a`` is the first-harmonic amplitude of ``x``.
+    exact
+        ``True`` when everything is exact rational algebra (polynomial ``F``);
+        ``False`` when infinite Bessel sums appear (they are exact as written
+        and truncated only on numerical evaluation).
+    """
+
+    model: Oscillator
+    order: int
+    A: tuple[sp.Expr, ...]
+    B: tuple[sp.Expr, ...]
+    u: tuple[sp.Expr, ...]
+    exact: bool = True
+
+    def __post_init__(self) -> None:
+        for name in ("A", "B", "u"):
+            seq = getattr(self, name)
+            if len(seq) != self.order + 1:
+                raise ValueError(f"{name} must have order + 1 = {self.order + 1} entries")
+        for n, un in enumerate(self.u[1:], start=1):
+            if _first_harmonic_present(un):
+                raise ValueError(f"u[{n}] contains a first harmonic, against the convention")
+
+    # -- sums over orders ---------------------------------------------------------------
+    def amplitude_rate(self, order: int | None = None) -> sp.Expr:
+        """``da/dt = sum_{n=1}^{order} mu**n A_n(a)``."""
+        N = self._order(order)
+        return sp.Add(*[mu**n * self.A[n] for n in range(1, N + 1)])
+
+    def phase_rate(self, order: int | None = None) -> sp.Expr:
+        """``dpsi/dt = omega0 + sum_{n=1}^{order} mu**n B_n(a)``."""
+        N = self._order(order)
+        return sp.Add(*[mu**n * self.B[n] for n in range(0, N + 1)])
+
+    def displacement(self, order: int | None = None) -> sp.Expr:
+        """``x(a, psi) = a cos(psi) + sum_{n=1}^{order} mu**n u_n(a, psi)``."""
+        N = self._order(order)
+        return sp.Add(*[mu**n * self.u[n] for n in range(0, N + 1)])
+
+    @property
+    def params(self) -> tuple[str, ...]:
+        """Names of the parameters left symbolic in the result (sorted)."""
+        syms = set()
+        for seq in (self.A, self.B, self.u):
+            for e in seq:
+                syms |= sp.sympify(e).free_symbols
+        return tuple(sorted(s.name for s in syms if s not in (a, psi, mu)))
+
+    def functions(self, backend: str = "numpy", *, tol: float | None = None) -> KBMFunctions:
+        """Compile every ``A_n``, ``B_n``, ``u_n`` (see :class:`KBMFunctions`).
+
+        Parameters
+        ----------
+        backend
+            ``"numpy"`` (vectorised; Bessel functions from :mod:`scipy.special`)
+            or ``"mpmath"`` (arbitrary precision, scalars).
+        tol
+            Relative truncation tolerance of infinite Bessel sums (numpy only;
+            default :data:`kbm.evaluate.DEFAULT_TOL`).
+        """
+        from . import evaluate
+        from .errors import KBMError
+
+        pars = tuple(sp.Symbol(p) for p in self.params)
+        if backend == "numpy":
+            def comp(e, args):
+                return evaluate.numpy_function(sp.sympify(e), args,
+                                               tol=tol or evaluate.DEFAULT_TOL)
+        elif backend == "mpmath":
+            def comp(e, args):
+                return evaluate.mpmath_function(sp.sympify(e), args)
+        else:
+            raise KBMError(f"unknown backend {backend!r}; use 'numpy' or 'mpmath'")
+        return KBMFunctions(
+            backend=backend, order=self.order, params=self.params,
+            A=tuple(comp(e, (a, *pars)) for e in self.A),
+            B=tuple(comp(e, (a, *pars)) for e in self.B),
+            u=tuple(comp(e, (a, psi, *pars)) for e in self.u),
+        )
+
+    # -- output -------------------------------------------------------------------------
+    def to_json(self) -> dict:
+        """``model``, ``order``, ``A``, ``B``, ``u`` (lists indexed by order, entry 0 null).
+
+        Every entry is a string that :func:`kbm.parse` (or ``sympy.sympify`` with
+        :data:`kbm.symbols.PARSE_LOCALS`) reads back to the same expression.
+        """
+        def strs(seq):
+            return [None] + [sp.sstr(e, order="lex") for e in seq[1:]]
+        return {"model": self.model.name, "order": self.order, "omega0": str(self.model.omega0),
+                "F": sp.sstr(self.model.F, order="lex"), "exact": self.exact,
+                "A": strs(self.A), "B": strs(self.B), "u": strs(self.u)}
+
+    def pretty(self) -> str:
+        """A plain-text summary, one line per quantity."""
+        w2 = sp.sstr(self.model.omega0**2)
+        lines = [f"KBM expansion of {self.model.name}: x'' + {w2}*x = mu*({self.model.F}), "
+                 f"order {self.order}"]
+        for n in range(1, self.order + 1):
+            lines.append(f"A_{n} = {sp.sstr(self.A[n], order='lex')}")
+        for n in range(1, self.order + 1):
+            lines.append(f"B_{n} = {sp.sstr(self.B[n], order='lex')}")
+        for n in range(1, self.order + 1):
+            lines.append(f"u_{n} = {sp.sstr(self.u[n], order='lex')}")
+        return "\n".join(lines)
+
+    def latex(self, width: int = 90) -> str:
+        """The expansion as a LaTeX ``align*`` block (paper notation, broken lines)."""
+        from .latex import equation_lines, latex
+
+        eqs = [r"x &= a\cos\psi" + "".join(rf" + \mu^{{{n}}} u_{{{n}}}(a,\psi)"
+                                              for n in range(1, self.order + 1))]
+        eqs.append(r"\dot a &= " + " + ".join(rf"\mu^{{{n}}} A_{{{n}}}(a)"
+                                               for n in range(1, self.order + 1)))
+        eqs.append(r"\dot\psi &= " + latex(self.B[0]) + "".join(
+            rf" + \mu^{{{n}}} B_{{{n}}}(a)" for n in range(1, self.order + 1)))
+        for name, seq in (("A", self.A), ("B", self.B), ("u", self.u)):
+            for n in range(1, self.order + 1):
+                arg = "(a,\\psi)" if name == "u" else "(a)"
+                eqs.append(equation_lines(f"{name}_{{{n}}}{arg}", seq[n], width))
+        return "\\begin{align*}\n" + " \\\\\n".join(eqs) + "\n\\end{align*}"
+
+    def _repr_latex_(self) -> str:
+        return "$\\displaystyle " + self.latex().replace("align*", "aligned") + "$"
+
+    def _order(self, order: int | None) -> int:
+        if order is None:
+            return self.order
+        if not 0 <= order <= self.order:
+            from .errors import OrderError
+            raise OrderError(f"order {order} is outside 0..{self.order} of this result")
+        return order
+
+
+def _first_harmonic_present(expr: sp.Expr) -> bool:
+    """Whether a finite (non-Sum) cos(psi) or sin(psi) term is present."""
+    expr = sp.expand(expr)
+    for term in sp.Add.make_args(expr):
+        if isinstance(term, sp.Sum):
+            continue
+        for f in sp.Mul.make_args(term):
+            if isinstance(f, (sp.cos, sp.sin)) and f.args[0] in (psi, -psi):
+                return True
+    return False

@@ -191,6 +191,14 @@ class SymFourier:
                 continue
             syms = tuple(s for s, _ in idx)
             coeffs, const = _lin(h, syms)
+            if len(idx) == 2 and coeffs[0] == -coeffs[1] != 0:
+                # the harmonic depends on n1 - n2 only: resum along diagonals, so that
+                # each harmonic gets one coefficient (an inner sum) and |h| = 1 is a point
+                for k2, h2, idx2, c2 in _diagonalize(kind, h, idx, c):
+                    part = SymFourier({(k2, h2, idx2): c2}).solve_without_first(omega0)
+                    for key, val in part.terms.items():
+                        self._put(out, key[0], key[1], key[2], val)
+                continue
             if len(idx) == 1:
                 (s, lo), p = idx[0], coeffs[0]
                 bad = sorted(n for n in {(1 - const) / p, (-1 - const) / p}
@@ -234,6 +242,29 @@ class SymFourier:
             limits = [(ren[s], lo, sp.oo) for s, lo in idx]
             parts.append(sp.Sum(body, *limits))
         return sp.Add(*parts)
+
+
+#: bound index of the inner sums made by :func:`_diagonalize`
+INNER = sp.Symbol("m", integer=True)
+
+
+def _diagonalize(kind: int, h: sp.Expr, idx, c: sp.Expr):
+    """Rewrite a double family whose harmonic depends on ``d = n1 - n2`` as single families in d.
+
+    ``sum_{n1>=l1, n2>=l2} c(n1, n2) trig((p (n1 - n2) + q) psi)`` becomes
+    ``sum_{d >= l1-l2} trig((p d + q) psi) sum_{m>=l2} c(m + d, m)`` plus
+    ``sum_{e >= l2-l1+1} trig((q - p e) psi) sum_{m>=l1} c(m, m + e)``.
+    """
+    (s1, l1), (s2, l2) = idx
+    d = INDEX[0]
+    (p1, _), q = _lin(h, (s1, s2))
+    d0 = l1 - l2
+    pieces = []
+    inner_a = sp.Sum(sp.expand(c.xreplace({s1: INNER + d, s2: INNER})), (INNER, l2, sp.oo))
+    pieces.append((kind, p1 * d + q, ((d, d0),), inner_a))
+    inner_b = sp.Sum(sp.expand(c.xreplace({s1: INNER, s2: INNER + d})), (INNER, l1, sp.oo))
+    pieces.append((kind, q - p1 * d, ((d, 1 - d0),), inner_b))
+    return pieces
 
 
 def _clean(d: dict) -> dict:
@@ -317,8 +348,11 @@ def _line_sum(c: sp.Expr, h: sp.Expr, idx, target: int) -> sp.Expr:
 def tidy(expr: sp.Expr) -> sp.Expr:
     """A light, deterministic simplification for display: factor rational parts."""
     expr = sp.expand(expr)
-    return sp.collect(expr, sorted(expr.atoms(sp.besselj), key=sp.default_sort_key),
-                      func=sp.factor)
+    if expr.has(sp.Sum):
+        expr = expr.replace(lambda e: isinstance(e, sp.Sum),
+                            lambda e: sp.Sum(tidy(e.function), *e.limits))
+    atoms = sorted(expr.atoms(sp.besselj) | expr.atoms(sp.Sum), key=sp.default_sort_key)
+    return sp.collect(expr, atoms, func=sp.factor)
 
 
 def jacobi_anger(z: sp.Expr) -> tuple[SymFourier, SymFourier]:

@@ -64,44 +64,69 @@ class PolyFourier:
                            {m: v.scale(q) for m, v in self.sin.items()})
 
     def __mul__(self, other: "PolyFourier") -> "PolyFourier":
-        cos: dict[int, Laurent] = {}
-        sin: dict[int, Laurent] = {}
-
-        def put(d, m, v):
-            if m in d:
-                d[m] = d[m] + v
-            else:
-                d[m] = v
-
+        # Product-to-sum formulas, accumulated in place on raw term dicts:
         # cos m cos n = (cos(m-n) + cos(m+n))/2 ; sin m sin n = (cos(m-n) - cos(m+n))/2
         # sin m cos n = (sin(m+n) + sin(m-n))/2
+        ring = self.ring
+        bias = ring.bias_all
+        cos: dict[int, dict] = {}
+        sin: dict[int, dict] = {}
+
+        def product(t1: dict, t2: dict) -> dict:
+            out: dict = {}
+            get = out.get
+            for m1, c1 in t1.items():
+                base = m1 - bias
+                for m2, c2 in t2.items():
+                    m = base + m2
+                    v = get(m)
+                    out[m] = c1 * c2 if v is None else v + c1 * c2
+            return out
+
+        def acc(d: dict, m: int, prod: dict, sign: int) -> None:
+            tgt = d.get(m)
+            if tgt is None:
+                d[m] = dict(prod) if sign > 0 else {k: -v for k, v in prod.items()}
+                return
+            get = tgt.get
+            if sign > 0:
+                for k, v in prod.items():
+                    w = get(k)
+                    tgt[k] = v if w is None else w + v
+            else:
+                for k, v in prod.items():
+                    w = get(k)
+                    tgt[k] = -v if w is None else w - v
+
         for m, c1 in self.cos.items():
+            t1 = c1.terms
             for n, c2 in other.cos.items():
-                v = (c1 * c2).scale(_HALF)
-                put(cos, abs(m - n), v)
-                put(cos, m + n, v)
+                pr = product(t1, c2.terms)
+                acc(cos, abs(m - n), pr, 1)
+                acc(cos, m + n, pr, 1)
             for n, s2 in other.sin.items():
-                v = (c1 * s2).scale(_HALF)
-                put(sin, m + n, v)
-                d = n - m
-                if d > 0:
-                    put(sin, d, v)
-                elif d < 0:
-                    put(sin, -d, -v)
+                pr = product(t1, s2.terms)
+                acc(sin, m + n, pr, 1)
+                if n != m:
+                    acc(sin, abs(n - m), pr, 1 if n > m else -1)
         for m, s1 in self.sin.items():
+            t1 = s1.terms
             for n, c2 in other.cos.items():
-                v = (s1 * c2).scale(_HALF)
-                put(sin, m + n, v)
-                d = m - n
-                if d > 0:
-                    put(sin, d, v)
-                elif d < 0:
-                    put(sin, -d, -v)
+                pr = product(t1, c2.terms)
+                acc(sin, m + n, pr, 1)
+                if m != n:
+                    acc(sin, abs(m - n), pr, 1 if m > n else -1)
             for n, s2 in other.sin.items():
-                v = (s1 * s2).scale(_HALF)
-                put(cos, abs(m - n), v)
-                put(cos, m + n, -v)
-        return PolyFourier(self.ring, cos, sin)
+                pr = product(t1, s2.terms)
+                acc(cos, abs(m - n), pr, 1)
+                acc(cos, m + n, pr, -1)
+        half = _HALF
+
+        def finish(d: dict) -> dict:
+            return {m: Laurent(ring, {k: v * half for k, v in t.items() if v})
+                    for m, t in d.items()}
+
+        return PolyFourier(ring, finish(cos), finish(sin))
 
     # -- calculus -------------------------------------------------------------------
     def dpsi(self) -> "PolyFourier":

@@ -91,6 +91,21 @@ class Product(Node):
 
     def _make(self, n: int):
         acc = self._zero()
+        if self._l is self._r:  # a square: use the symmetry of the Cauchy product
+            lo = self._ll
+            for j in range(lo, n - lo + 1):
+                k = n - j
+                if k < j:
+                    break
+                c = self._l.coeff(j)
+                if c.is_zero():
+                    continue
+                d = self._l.coeff(k)
+                if d.is_zero():
+                    continue
+                p = c * d
+                acc = acc + (p if k == j else p.scale_q(2))
+            return acc
         for j in range(self._ll, n - self._lr + 1):
             lc = self._l.coeff(j)
             if lc.is_zero():

@@ -1,0 +1,94 @@
+"""Time the symbolic KBM engine against the naive sympy route, in the same run.
+
+Run: ``python benchmarks/bench_engine.py [--quick]``
+
+Prints wall-clock times of
+
+- ``derive("vdp", N)`` for N = 2, 4, 8, 12 (target: N = 12 under 3 s),
+- ``limit_cycle_series("vdp", N)`` for N = 12, 24, 40 (target: mu**24 under 5 s),
+- ``derive("sedf", 2)`` with symbolic beta, delta, k, Omega (target: under 5 s),
+- the ``kbm derive vdp --order 12`` command line (including interpreter start-up),
+
+and, as the baseline, the textbook route for van der Pol at order 2: the
+secular conditions as ``sympy.integrate`` over psi and ``u_n`` by ``sympy.dsolve``,
+with the ratio of the two times.  Each timing is the best of ``repeat`` runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+import time
+
+import sympy as sp
+
+from kbm import derive, limit_cycle_series
+
+
+def best_of(fn, repeat: int) -> float:
+    best = float("inf")
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def naive_vdp_order2() -> tuple[sp.Expr, sp.Expr]:
+    """Bogoliubov-Mitropolsky order 2 for van der Pol the way it is done by hand in sympy."""
+    a, psi, eps = sp.symbols("a psi epsilon", positive=True)
+    th = sp.Function("u1")
+    F = lambda x, v: (1 - x**2) * v  # noqa: E731
+    x0, v0 = a * sp.cos(psi), -a * sp.sin(psi)
+    f0 = F(x0, v0)
+    A1 = -sp.integrate(f0 * sp.sin(psi), (psi, 0, 2 * sp.pi)) / (2 * sp.pi)
+    B1 = -sp.integrate(f0 * sp.cos(psi), (psi, 0, 2 * sp.pi)) / (2 * sp.pi * a)
+    rhs = sp.expand(f0 + 2 * A1 * sp.sin(psi) + 2 * a * B1 * sp.cos(psi))
+    sol = sp.dsolve(sp.Eq(th(psi).diff(psi, 2) + th(psi), rhs), th(psi))
+    u1 = sol.rhs.subs({s: 0 for s in sol.rhs.free_symbols if s.name.startswith("C")})
+    x1 = x0 + eps * u1
+    v1 = (sp.diff(x1, a) * eps * A1 + sp.diff(x1, psi) * (1 + eps * B1))
+    f1 = sp.expand(sp.diff(F(x1, v1), eps).subs(eps, 0))
+    extra = sp.expand(-(A1 * sp.diff(A1, a) - a * B1**2) * sp.cos(psi)
+                      + (2 * A1 * B1 + a * A1 * sp.diff(B1, a)) * sp.sin(psi)
+                      - 2 * A1 * sp.diff(u1, a, psi) - 2 * B1 * sp.diff(u1, psi, 2))
+    R = f1 + extra
+    A2 = -sp.integrate(R * sp.sin(psi), (psi, 0, 2 * sp.pi)) / (2 * sp.pi)
+    B2 = -sp.integrate(R * sp.cos(psi), (psi, 0, 2 * sp.pi)) / (2 * sp.pi * a)
+    return sp.simplify(A2), sp.simplify(B2)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="one repetition, skip order 40")
+    ap.add_argument("--repeat", type=int, default=3)
+    ns = ap.parse_args()
+    rep = 1 if ns.quick else ns.repeat
+    rows = []
+    for N in (2, 4, 8, 12):
+        rows.append((f"derive vdp order {N}", best_of(lambda N=N: derive("vdp", N), rep),
+                     3.0 if N == 12 else None))
+    for N in ((12, 24) if ns.quick else (12, 24, 40)):
+        rows.append((f"series vdp to mu^{N}",
+                     best_of(lambda N=N: limit_cycle_series("vdp", N), 1 if N == 40 else rep),
+                     5.0 if N == 24 else None))
+    rows.append(("derive sedf order 2 (symbolic)", best_of(lambda: derive("sedf", 2), rep), 5.0))
+    cmd = [sys.executable, "-m", "kbm.cli", "derive", "vdp", "--order", "12", "--json"]
+    rows.append(("CLI kbm derive vdp --order 12",
+                 best_of(lambda: subprocess.run(cmd, check=True, capture_output=True), rep),
+                 None))
+    t_naive = best_of(naive_vdp_order2, 1)
+    t_ours = best_of(lambda: derive("vdp", 2), rep)
+    print(f"{'case':38s} {'time [s]':>10s} {'target [s]':>11s}  verdict")
+    for name, t, target in rows:
+        verdict = "" if target is None else ("ok" if t < target else "MISSED")
+        tg = "" if target is None else f"{target:.1f}"
+        print(f"{name:38s} {t:10.3f} {tg:>11s}  {verdict}")
+    print(f"\nbaseline: naive sympy integrate/dsolve, vdp order 2: {t_naive:.3f} s")
+    print(f"engine,                              vdp order 2: {t_ours:.4f} s")
+    print(f"speed-up ratio (baseline / engine): {t_naive / t_ours:.0f}x")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,41 @@
+"""``kbm derivations``: regenerate the LaTeX files of ``derivations/``."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+
+def register(sub) -> None:
+    p = sub.add_parser("derivations", help="regenerate the LaTeX derivations (byte-stable)",
+                       description="Write the engine's derivations (sedf, cdc, van der Pol, "
+                                   "Duffing, limit-cycle series, errata table) as LaTeX.")
+    p.add_argument("--out", default="derivations", help="folder (default: derivations)")
+    p.add_argument("--no-evidence", action="store_true",
+                   help="leave out the errata table (it needs numerical limit cycles)")
+    p.add_argument("--pdf", action="store_true", help="also run pdflatex on main.tex")
+    p.set_defaults(func=run)
+
+
+def errata_rows():
+    """The errata table rows with numerical evidence (imports :mod:`numerics`)."""
+    from numerics.errata import errata_rows as rows
+
+    return rows()
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..derivations import write_derivations
+
+    rows = () if args.no_evidence else errata_rows()
+    paths = write_derivations(args.out, rows)
+    for p in paths:
+        print(p)
+    if args.pdf:
+        from ..derivations import compile_pdf
+
+        pdf = compile_pdf(Path(args.out) / "main.tex")
+        print(pdf)
+    sys.stdout.flush()
+    return 0

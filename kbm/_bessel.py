@@ -349,10 +349,19 @@ def tidy(expr: sp.Expr) -> sp.Expr:
     """A light, deterministic simplification for display: factor rational parts."""
     expr = sp.expand(expr)
     if expr.has(sp.Sum):
-        expr = expr.replace(lambda e: isinstance(e, sp.Sum),
-                            lambda e: sp.Sum(tidy(e.function), *e.limits))
+        expr = expr.replace(lambda e: isinstance(e, sp.Sum), _pull_constants)
     atoms = sorted(expr.atoms(sp.besselj) | expr.atoms(sp.Sum), key=sp.default_sort_key)
     return sp.collect(expr, atoms, func=sp.factor)
+
+
+def _pull_constants(s: sp.Sum) -> sp.Expr:
+    """``Sum(c f(n))`` -> ``c Sum(f(n))`` for factors ``c`` free of the summation indices."""
+    body = tidy(s.function)
+    idx = {lim[0] for lim in s.limits}
+    outside, inside = [], []
+    for f in sp.Mul.make_args(body):
+        (inside if f.free_symbols & idx else outside).append(f)
+    return sp.Mul(*outside) * sp.Sum(sp.Mul(*inside), *s.limits)
 
 
 def jacobi_anger(z: sp.Expr) -> tuple[SymFourier, SymFourier]:

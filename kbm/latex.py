@@ -109,7 +109,7 @@ def _brace(tex: str, i: int) -> int:
 
 
 def visible_width(tex: str) -> float:
-    """A rough estimate of the printed width of ``tex`` in characters.
+    r"""A rough estimate of the printed width of ``tex`` in characters.
 
     ``\frac{x}{y}`` counts as the wider of ``x`` and ``y``, scripts count 0.7,
     spacing and ``\left``/``\right`` nothing, a command such as ``\beta`` one.

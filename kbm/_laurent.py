@@ -62,17 +62,23 @@ class LaurentRing:
 
     def from_expr(self, expr: sp.Expr) -> "Laurent":
         """Convert a sympy polynomial (rational coefficients) in the generators."""
-        expr = sp.expand(sp.sympify(expr))
-        if expr == 0:
+        expr = sp.together(sp.sympify(expr))
+        num, den = sp.fraction(expr)
+        num = sp.expand(num)
+        if num == 0:
             return Laurent(self, {})
-        poly = sp.Poly(expr, *self.gens) if self.gens else None
-        if poly is None:
+        if not self.gens:
             return self.const(sp.Rational(expr))
+        dpoly = sp.Poly(den, *self.gens)
+        if len(dpoly.terms()) != 1:
+            raise TypeError(f"{den} is not a monomial: not a Laurent polynomial")
+        (dexps, dc), = dpoly.terms()
         out: dict[int, object] = {}
-        for exps, c in poly.terms():
+        for exps, c in sp.Poly(num, *self.gens).terms():
+            c = c / dc
             if not c.is_Rational:
                 raise TypeError(f"coefficient {c} is not rational")
-            out[self.monomial(exps)] = _Q(int(c.p), int(c.q))
+            out[self.monomial([e - d for e, d in zip(exps, dexps)])] = _Q(int(c.p), int(c.q))
         return Laurent(self, out)
 
 

@@ -184,21 +184,24 @@ def _tidy_sums(expr: sp.Expr) -> sp.Expr:
 
 # ----------------------------------------------------------------------------- F along the series
 def _is_polynomial(model: Oscillator) -> bool:
+    """Whether the exact algebra applies: F polynomial in x, xdot with coefficients that are
+    Laurent polynomials in the parameters over Q, and omega0 rational or a symbol."""
     F = sp.expand(model.F)
     try:
         poly = sp.Poly(F, x, xdot)
     except sp.PolynomialError:
         return False
-    params = (F.free_symbols | model.omega0.free_symbols) - {x, xdot}
+    w0 = model.omega0
+    if not (w0.is_Symbol or w0.is_Rational):
+        return False
+    params = sorted((F.free_symbols | w0.free_symbols) - {x, xdot}, key=lambda s: s.name)
+    ring = LaurentRing([a, *params])
     for c in poly.coeffs():
         try:
-            sp.Poly(c, *params) if params else sp.Rational(c)
-        except (sp.PolynomialError, TypeError):
+            ring.from_expr(c)
+        except (TypeError, sp.PolynomialError, sp.GeneratorsNeeded):
             return False
-        if not all(v.is_Rational for v in (sp.Poly(c, *params).coeffs() if params else [c])):
-            return False
-    w0 = model.omega0
-    return w0.is_Symbol or w0.is_Rational
+    return True
 
 
 class _Builder:
@@ -388,7 +391,8 @@ def _derive_raw(model, order, params=None, *, last_u: bool = True):
     if not polynomial and order > MAX_ORDER_TRIG:
         raise OrderError(
             f"order {order} is not available for {model.name!r}: with sin(k x) or cos(k x) in F "
-            f"the Bessel-series algebra goes to order {MAX_ORDER_TRIG} (polynomial F: any order)")
+            f"(or coefficients that are not rational, such as pi) the symbolic algebra goes to "
+            f"order {MAX_ORDER_TRIG}; polynomial F with rational coefficients: any order")
     alg = _PolyAlgebra(model) if polynomial else _SymAlgebra(model)
     return model, alg, _recursion(alg, F, order, last_u)
 

@@ -4,3 +4,6 @@ Direct integration, limit cycles by shooting with Floquet multipliers,
 dissipation per cycle, the paper's sliding (stick-slip) experiments, and the
 comparison of KBM predictions with the true dynamics.
 """
+
+from .cycle import Dissipation, LimitCycle, limit_cycle
+from .errors import ConvergenceError, IntegrationError, NoCycleError, NumericsError

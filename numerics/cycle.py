@@ -1,0 +1,390 @@
+"""Limit cycles of ``x'' + omega0^2 x = mu F(x, x')`` by shooting, with Floquet multipliers.
+
+The periodic orbit is a fixed point of the Poincare return map on the section
+``x' = 0, x > 0`` (crossed with ``x'`` decreasing, i.e. at a maximum of ``x``).
+Newton's method on the return map ``P(x0)`` uses ``P'(x0) = Phi_11(T)`` from the
+variational equations (``x'(T) = 0`` on the section, so the change of the return
+time drops out).  On the converged orbit one more integration gives the
+monodromy matrix ``Phi(T)`` (its eigenvalues are the Floquet multipliers; one is
+1 for an autonomous system), ``int div f dt`` (Liouville: ``det Phi(T) =
+exp(int div f)``), the dissipation ``Gamma`` (paper eqs. 10-11) as extra states,
+and the energy balance ``E(0) - E(T) - Gamma`` as an accuracy check.
+
+References
+----------
+M. D'Acunto, "Friction force for self-excited systems", eqs. (3), (10)-(12).
+T. S. Parker and L. O. Chua, *Practical Numerical Algorithms for Chaotic Systems*,
+Springer (1989), ch. 5 (shooting for periodic orbits).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from kbm.errors import NonAutonomousError
+from kbm.models import Oscillator
+
+from ._compile import CompiledModel, compile_model
+from .errors import ConvergenceError, IntegrationError, NoCycleError
+
+__all__ = ["Dissipation", "LimitCycle", "limit_cycle", "STIFF_THRESHOLD"]
+
+#: above this value of (largest Jacobian eigenvalue) x (period) the implicit Radau method is used
+STIFF_THRESHOLD = 300.0
+
+
+@dataclass(frozen=True)
+class Dissipation:
+    """Energy gain and loss over one cycle (paper eqs. 10-11): ``total = factor*plus - minus``.
+
+    For the SEDF (and van der Pol, ``beta = 1``) ``gamma_plus = mu int x^2 x'^2 dt``,
+    ``gamma_minus = mu int x'^2 dt`` and ``total = beta gamma_plus - gamma_minus``.
+    """
+
+    total: float
+    gamma_plus: float
+    gamma_minus: float
+    plus_factor: float = 1.0
+
+
+@dataclass(frozen=True)
+class LimitCycle:
+    """A periodic orbit of the full equation, with its checks.
+
+    Attributes
+    ----------
+    success, message
+        Whether Newton converged to a periodic orbit, and how (or why not).
+    period, frequency
+        ``T`` and ``2 pi/T``.
+    amplitude_max
+        Maximum of ``x`` on the orbit (the section point).
+    amplitude_first_harmonic
+        ``|(2/T) int x e^{-i w t} dt|``: what KBM's amplitude ``a`` predicts.
+    harmonics
+        Complex Fourier coefficients ``c_m`` of ``x(t) = sum_m c_m e^{i m w t}``,
+        ``m = 0..len-1`` (time origin at the section point).
+    t, x, xdot
+        Samples of one period.
+    floquet_multipliers
+        Eigenvalues of the monodromy matrix, the trivial one (closest to 1) first.
+    stable
+        ``|non-trivial multiplier| < 1``.
+    liouville
+        ``(det Phi(T), exp(int div f dt))``: equal by Liouville's formula.
+    dissipation
+        :class:`Dissipation` over one period.
+    energy_residual
+        ``E(0) - E(T) - Gamma``: zero up to integration error.
+    iterations, residual, history
+        Newton iterations, final ``|P(x0) - x0|``, and the residual of each iteration.
+    method
+        The integrator used (``"DOP853"`` or ``"Radau"``).
+    params
+        The parameter values used (floats).
+    digits
+        ``None`` for double precision; the number of digits for :func:`limit_cycle`
+        with ``digits=`` (then ``period_mp``, ``amplitude_max_mp``,
+        ``amplitude_first_harmonic_mp`` hold mpmath numbers).
+    """
+
+    success: bool
+    message: str
+    model: str
+    params: Mapping[str, float]
+    period: float
+    frequency: float
+    amplitude_max: float
+    amplitude_first_harmonic: float
+    harmonics: np.ndarray
+    t: np.ndarray
+    x: np.ndarray
+    xdot: np.ndarray
+    floquet_multipliers: tuple[complex, complex]
+    stable: bool
+    liouville: tuple[float, float]
+    dissipation: Dissipation
+    energy_residual: float
+    iterations: int
+    residual: float
+    history: tuple[float, ...]
+    method: str
+    digits: int | None = None
+    mp: Mapping[str, object] = field(default_factory=dict)
+
+    def to_json(self) -> dict:
+        """The keys of ``kbm cycle --json`` (numbers as strings when ``digits`` is set)."""
+        def num(name, value):
+            if self.digits is not None and name in self.mp:
+                import mpmath
+                return mpmath.nstr(self.mp[name], self.digits, min_fixed=-1, max_fixed=1)
+            return float(value)
+
+        return {
+            "model": self.model,
+            "params": {k: float(v) for k, v in sorted(self.params.items())},
+            "success": self.success,
+            "message": self.message,
+            "period": num("period", self.period),
+            "frequency": num("frequency", self.frequency),
+            "amplitude_max": num("amplitude_max", self.amplitude_max),
+            "amplitude_first_harmonic": num("amplitude_first_harmonic",
+                                            self.amplitude_first_harmonic),
+            "floquet_multipliers": [float(m.real) if abs(m.imag) < 1e-300 else
+                                    [float(m.real), float(m.imag)]
+                                    for m in self.floquet_multipliers],
+            "stable": self.stable,
+            "dissipation": {"total": self.dissipation.total,
+                            "gamma_plus": self.dissipation.gamma_plus,
+                            "gamma_minus": self.dissipation.gamma_minus},
+            "energy_residual": self.energy_residual,
+            "iterations": self.iterations,
+            "residual": self.residual,
+            "method": self.method,
+            "digits": self.digits,
+        }
+
+
+# ----------------------------------------------------------------------------- helpers
+def _maximum_event(t, y):
+    return y[1]
+
+
+_maximum_event.direction = -1  # x' goes from + to -: a maximum of x
+
+
+def _choose_method(cm: CompiledModel, x0: float, period: float, method: str) -> str:
+    if method != "auto":
+        return method
+    probe = max(cm.stiffness(x0, 0.0), cm.stiffness(0.0, cm.omega0 * x0),
+                cm.stiffness(0.5 * x0, 0.5 * cm.omega0 * x0))
+    return "Radau" if probe * period > STIFF_THRESHOLD else "DOP853"
+
+
+def _solve(cm, y0, t_end, method, rtol, atol, ext, dense=False, events=None, max_step=np.inf):
+    fun = cm.rhs_ext if ext else cm.rhs
+    kwargs = {}
+    if method in ("Radau", "BDF", "LSODA") and not ext:
+        kwargs["jac"] = cm.jac
+    with np.errstate(all="ignore"):
+        sol = solve_ivp(fun, (0.0, t_end), y0, method=method, rtol=rtol, atol=atol,
+                        dense_output=dense, events=events, max_step=max_step, **kwargs)
+    if sol.status < 0:
+        raise IntegrationError(f"{method} failed at t = {sol.t[-1]:.6g}: {sol.message}")
+    if not np.all(np.isfinite(sol.y[:, -1])):
+        raise IntegrationError(f"the state became non-finite at t = {sol.t[-1]:.6g}")
+    return sol
+
+
+def _transient(cm: CompiledModel, x_start: float, method: str, rtol: float,
+               max_time: float) -> tuple[float, float, list[float]]:
+    """Integrate until successive maxima of x settle; returns (x_max, period estimate, maxima)."""
+    ev = _maximum_event
+    y = [x_start, 0.0]
+    maxima: list[float] = []
+    times: list[float] = []
+    t0 = 0.0
+    chunk = 40 * 2 * math.pi / cm.omega0
+    big = 1e6 * max(1.0, abs(x_start))
+    while t0 < max_time:
+        def blowup(t, yy):
+            return big - abs(yy[0]) - abs(yy[1])
+        blowup.terminal = True
+        sol = _solve(cm, y, chunk, method, rtol, rtol * 1e-2, ext=False, events=[ev, blowup])
+        if sol.t_events[1].size:
+            raise NoCycleError(
+                f"no limit cycle: the amplitude grows without bound (|x| + |x'| > {big:.3g} at "
+                f"t = {t0 + sol.t_events[1][0]:.6g}; last maxima of x: "
+                f"{', '.join(f'{m:.4g}' for m in maxima[-3:]) or 'none'})")
+        for te, ye in zip(sol.t_events[0], sol.y_events[0]):
+            if ye[0] > 0:
+                maxima.append(float(ye[0]))
+                times.append(t0 + float(te))
+        y = sol.y[:, -1]
+        t0 += chunk
+        if len(maxima) >= 6:
+            m = np.array(maxima[-6:])
+            if m[-1] < 1e-8 * max(maxima[0], 1e-300):
+                break
+            rel = np.max(np.abs(np.diff(m))) / m[-1]
+            if rel < 1e-7:
+                break
+        if maxima and maxima[-1] < 1e-9 * max(abs(x_start), 1e-300):
+            break
+    if not maxima or maxima[-1] < 1e-8 * max(abs(x_start), maxima[0]):
+        last = maxima[-1] if maxima else float(np.hypot(*y))
+        raise NoCycleError(
+            f"no limit cycle: the motion decays to rest (max x fell from "
+            f"{maxima[0] if maxima else abs(x_start):.4g} to {last:.3g} by t = {t0:.6g})")
+    if len(times) < 3:
+        raise NoCycleError(f"no limit cycle found by t = {max_time:.6g}: fewer than three "
+                           f"maxima of x ({len(times)})")
+    # one period may contain several local maxima: pick the return to the largest
+    return _period_from_maxima(maxima, times)
+
+
+def _period_from_maxima(maxima, times):
+    m = np.array(maxima)
+    tt = np.array(times)
+    last_big = int(np.argmax(m[len(m) // 2:]) + len(m) // 2)
+    xb = m[last_big]
+    prev = [i for i in range(last_big) if abs(m[i] - xb) < 1e-3 * abs(xb) + 1e-12]
+    if not prev:
+        period = tt[-1] - tt[-2]
+    else:
+        period = tt[last_big] - tt[prev[-1]]
+    return float(xb), float(period), list(maxima)
+
+
+def _return_map(cm, x0, period, method, rtol, atol, dense=False):
+    """Integrate the extended system from (x0, 0) over ~1.3 periods; returns the crossing
+    of the section closest to x0 after half a period, with the solution object."""
+    y0 = [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]
+    sol = _solve(cm, y0, 1.35 * period, method, rtol, atol, ext=True, dense=dense,
+                 events=[_maximum_event])
+    te, ye = sol.t_events[0], sol.y_events[0]
+    ok = [(abs(y[0] - x0), t, y) for t, y in zip(te, ye) if t > 0.5 * period and y[0] > 0]
+    if not ok:
+        raise ConvergenceError(
+            f"the orbit from x0 = {x0:.10g} did not return to the section x' = 0, x > 0 within "
+            f"{1.35 * period:.6g} time units (period estimate {period:.6g})")
+    _, T, yT = min(ok, key=lambda r: (r[0], r[1]))
+    return float(T), np.asarray(yT, dtype=float), sol
+
+
+def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = None, *,
+                guess: tuple[float, float] | None = None, digits: int | None = None,
+                rtol: float = 1e-12, atol: float | None = None, method: str = "auto",
+                max_iter: int = 25, x_start: float = 1.0, max_time: float | None = None,
+                n_samples: int = 1024, n_harmonics: int = 16) -> LimitCycle:
+    """The limit cycle of an autonomous model, by shooting on ``x' = 0, x > 0``.
+
+    Parameters
+    ----------
+    model
+        An :class:`~kbm.models.Oscillator` or a built-in name.
+    params
+        Parameter values (physical names such as ``Delta``, ``lam`` or the
+        scaled ones), including ``mu``.
+    guess
+        ``(amplitude, period)``, e.g. the KBM prediction; without it a transient
+        from ``x = x_start, x' = 0`` is integrated until the maxima settle.
+    digits
+        If given (up to ~50), also compute period and amplitudes with an
+        mpmath Taylor-series integrator to this many digits
+        (:func:`numerics.highprec.limit_cycle_mp`).
+    rtol, atol
+        Integrator tolerances (default ``atol = rtol``).
+    method
+        ``"auto"`` (DOP853, or Radau when the problem is stiff: largest Jacobian
+        eigenvalue times period above :data:`STIFF_THRESHOLD`), or any
+        :func:`scipy.integrate.solve_ivp` method.
+    max_iter
+        Bound on Newton iterations.
+
+    Returns
+    -------
+    LimitCycle
+        With ``success = False`` and a message when Newton stalls above the
+        integration accuracy but the orbit is still closed to ``1e-6``.
+
+    Raises
+    ------
+    kbm.errors.NonAutonomousError
+        For a driven model (``v != 0``).
+    numerics.errors.NoCycleError
+        If the transient grows without bound or decays to rest.
+    numerics.errors.ConvergenceError
+        If Newton's method fails (residual history in the message).
+
+    Examples
+    --------
+    >>> c = limit_cycle("vdp", {"mu": 1})
+    >>> round(c.period, 8), round(c.amplitude_max, 8)
+    (6.66328686, 2.00861986)
+    """
+    cm = compile_model(model, params)
+    if not cm.autonomous:
+        raise NonAutonomousError(f"limit cycles need an autonomous model; {cm.name!r} has an "
+                                 "explicit time dependence (stage velocity v != 0); use "
+                                 "numerics.slide for the driven slider")
+    atol = rtol if atol is None else atol
+    T_lin = 2 * math.pi / cm.omega0
+    if max_time is None:
+        mu = abs(cm.values.get("mu", 1.0)) or 1.0
+        max_time = min(max(200 * T_lin, 60.0 / mu), 2e5)
+    if guess is not None:
+        x0, period = float(guess[0]), float(guess[1])
+        if not (np.isfinite(x0) and np.isfinite(period) and period > 0 and x0 > 0):
+            raise ConvergenceError(f"bad initial guess (amplitude, period) = {guess}")
+        meth = _choose_method(cm, x0, period, method)
+    else:
+        meth = _choose_method(cm, abs(x_start), T_lin, method)
+        x0, period, _ = _transient(cm, x_start, meth, max(rtol, 1e-10), max_time)
+        meth = _choose_method(cm, x0, period, method)
+    history: list[float] = []
+    it = 0
+    floor = 50 * max(rtol, atol) * max(1.0, abs(x0))
+    step = float("inf")
+    while True:
+        it += 1
+        T, yT, _ = _return_map(cm, x0, period, meth, rtol, atol)
+        res = yT[0] - x0
+        history.append(abs(res))
+        deriv = yT[2] - 1.0
+        if deriv == 0 or not np.isfinite(deriv):
+            raise ConvergenceError(f"the return map has slope 1 at x0 = {x0:.10g} (a "
+                                   "non-hyperbolic cycle); Newton cannot proceed")
+        step = -res / deriv
+        x0 = x0 + step
+        period = T
+        if abs(step) < floor or abs(res) < floor:
+            break
+        if it >= max_iter:
+            raise ConvergenceError(
+                f"Newton on the return map did not converge in {max_iter} iterations; "
+                f"residuals |P(x0) - x0|: {', '.join(f'{r:.2e}' for r in history[-6:])}")
+        if x0 <= 0 or not np.isfinite(x0):
+            raise ConvergenceError(f"Newton left the section (x0 = {x0:.6g}); residuals "
+                                   f"{', '.join(f'{r:.2e}' for r in history)}")
+    # final pass on the converged orbit
+    T, yT, sol = _return_map(cm, x0, period, meth, rtol, atol, dense=True)
+    residual = abs(yT[0] - x0)
+    Phi = np.array([[yT[2], yT[4]], [yT[3], yT[5]]])
+    mults = np.linalg.eigvals(Phi)
+    order = np.argsort(np.abs(mults - 1.0))
+    trivial, other = complex(mults[order[0]]), complex(mults[order[1]])
+    det = float(np.linalg.det(Phi))
+    liou = float(math.exp(yT[6]))
+    gp, gm = float(yT[7]), float(yT[8])
+    total = cm.plus_factor * gp - gm
+    e0 = float(cm.energy(x0, 0.0))
+    e1 = float(cm.energy(yT[0], yT[1]))
+    tt = np.linspace(0.0, T, n_samples, endpoint=False)
+    ys = sol.sol(tt)
+    xs, vs = ys[0], ys[1]
+    coeffs = np.fft.rfft(xs) / n_samples
+    harmonics = coeffs[:n_harmonics].copy()
+    harmonics[1:] *= 1.0  # c_m for m >= 1 (c_{-m} = conj)
+    first = 2 * abs(coeffs[1])
+    success = residual < 1e3 * floor
+    msg = (f"converged in {it} Newton iterations ({meth}, rtol {rtol:g}); "
+           f"|P(x0) - x0| = {residual:.2e}; trivial multiplier {trivial.real:.12f}")
+    if not success:
+        msg = (f"Newton stalled: |P(x0) - x0| = {residual:.2e} after {it} iterations "
+               f"(floor {floor:.1e})")
+    return LimitCycle(
+        success=bool(success), message=msg, model=cm.name, params=dict(cm.values),
+        period=float(T), frequency=2 * math.pi / float(T), amplitude_max=float(x0),
+        amplitude_first_harmonic=float(first), harmonics=harmonics, t=tt, x=xs, xdot=vs,
+        floquet_multipliers=(trivial, other), stable=bool(abs(other) < 1.0),
+        liouville=(det, liou),
+        dissipation=Dissipation(total=float(total), gamma_plus=gp, gamma_minus=gm,
+                                plus_factor=cm.plus_factor),
+        energy_residual=float(e0 - e1 - total), iterations=it, residual=float(residual),
+        history=tuple(history), method=meth, digits=None)

@@ -7,3 +7,4 @@ comparison of KBM predictions with the true dynamics.
 
 from .cycle import Dissipation, LimitCycle, limit_cycle
 from .errors import ConvergenceError, IntegrationError, NoCycleError, NumericsError
+from .sweep import SweepPoint, grid, sweep

@@ -64,6 +64,7 @@ class CompiledModel:
     plus_factor: float
     stiffness: Callable
     autonomous: bool
+    acceleration_expr: sp.Expr
 
 
 def _split_dissipation(model: Oscillator) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
@@ -156,4 +157,4 @@ def compile_model(model: Oscillator | str, params: Mapping[str, object] | None =
         name=model.name, values=fvals, omega0=w0, acc=f_acc, rhs=rhs, rhs_ext=f_ext, jac=jac,
         energy=lambda xv, vv: np.asarray(f_energy(xv, vv), dtype=float),
         dissipation_expr=factor * plus - minus, plus_factor=factor_v, stiffness=stiffness,
-        autonomous=model.is_autonomous)
+        autonomous=model.is_autonomous, acceleration_expr=acc)

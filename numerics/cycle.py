@@ -24,9 +24,9 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import solve_ivp
+from scipy.integrate import odeint, solve_ivp
 
-from kbm.errors import NonAutonomousError
+from kbm.errors import KBMError, NonAutonomousError
 from kbm.models import Oscillator
 
 from ._compile import CompiledModel, compile_model
@@ -122,7 +122,7 @@ class LimitCycle:
         def num(name, value):
             if self.digits is not None and name in self.mp:
                 import mpmath
-                return mpmath.nstr(self.mp[name], self.digits, min_fixed=-1, max_fixed=1)
+                return mpmath.nstr(self.mp[name], self.digits, strip_zeros=False)
             return float(value)
 
         return {
@@ -241,20 +241,88 @@ def _period_from_maxima(maxima, times):
     return float(xb), float(period), list(maxima)
 
 
-def _return_map(cm, x0, period, method, rtol, atol, dense=False):
-    """Integrate the extended system from (x0, 0) over ~1.3 periods; returns the crossing
-    of the section closest to x0 after half a period, with the solution object."""
-    y0 = [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]
-    sol = _solve(cm, y0, 1.35 * period, method, rtol, atol, ext=True, dense=dense,
-                 events=[_maximum_event])
-    te, ye = sol.t_events[0], sol.y_events[0]
-    ok = [(abs(y[0] - x0), t, y) for t, y in zip(te, ye) if t > 0.5 * period and y[0] > 0]
-    if not ok:
-        raise ConvergenceError(
-            f"the orbit from x0 = {x0:.10g} did not return to the section x' = 0, x > 0 within "
-            f"{1.35 * period:.6g} time units (period estimate {period:.6g})")
-    _, T, yT = min(ok, key=lambda r: (r[0], r[1]))
-    return float(T), np.asarray(yT, dtype=float), sol
+def _flow(cm: CompiledModel, y0, times, method: str, rtol: float, atol: float) -> np.ndarray:
+    """States of the extended system at ``times`` (``times[0] = 0``), shape (len(times), 9)."""
+    times = np.asarray(times, dtype=float)
+    if method == "LSODA":
+        with np.errstate(all="ignore"):
+            ys, info = odeint(cm.rhs_ext, y0, times, tfirst=True, rtol=rtol, atol=atol,
+                              full_output=True, mxstep=500000)
+        if info["message"] != "Integration successful.":
+            raise IntegrationError(f"LSODA failed before t = {times[-1]:.6g}: {info['message']}")
+    else:
+        sol = _solve(cm, y0, float(times[-1]), method, rtol, atol, ext=True, dense=True)
+        ys = sol.sol(times).T
+        ys[-1] = sol.y[:, -1]
+    if not np.all(np.isfinite(ys[-1])):
+        raise IntegrationError(f"the state became non-finite before t = {times[-1]:.6g}")
+    return ys
+
+
+def _newton(cm, x0, T, method, rtol, atol, max_iter, floor):
+    """Newton's method on ``(x(T) - x0, x'(T)) = 0`` for the unknowns ``(x0, T)``."""
+    history: list[float] = []
+    it = 0
+    while True:
+        it += 1
+        yT = _flow(cm, [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], [0.0, T], method,
+                   rtol, atol)[-1]
+        r = np.array([yT[0] - x0, yT[1]])
+        history.append(float(np.max(np.abs(r))))
+        acc = cm.acc(T, yT[0], yT[1])
+        J = np.array([[yT[2] - 1.0, yT[1]], [yT[3], acc]])
+        try:
+            dx, dT = np.linalg.solve(J, -r)
+        except np.linalg.LinAlgError:
+            raise ConvergenceError(f"singular Newton matrix at x0 = {x0:.10g}, T = {T:.10g} "
+                                   "(non-hyperbolic cycle or x' = 0 is not a transversal "
+                                   "section there)") from None
+        # damp steps that would leave the section or reverse time
+        lam = 1.0
+        while (x0 + lam * dx <= 0 or T + lam * dT <= 0) and lam > 1e-3:
+            lam /= 2
+        x0, T = x0 + lam * dx, T + lam * dT
+        if max(abs(dx) / max(1.0, abs(x0)), abs(dT) / T) < floor or history[-1] < floor:
+            return x0, T, it, history
+        if it >= max_iter or not (np.isfinite(x0) and np.isfinite(T)):
+            raise ConvergenceError(
+                f"Newton on the return map did not converge in {it} iterations; residuals "
+                f"|(x(T) - x0, x'(T))|: {', '.join(f'{h:.2e}' for h in history[-6:])}; "
+                f"last x0 = {x0:.10g}, T = {T:.10g}")
+
+
+def _check_nontrivial(cm, converged, meth, rtol, atol, scale) -> None:
+    """Reject a 'cycle' that is an equilibrium or whose trivial multiplier is not 1."""
+    x0, T, it, history = converged
+    if x0 < 1e-6 * max(1.0, abs(scale)):
+        raise ConvergenceError(f"Newton converged to the equilibrium (x0 = {x0:.3g}), not to a "
+                               "cycle")
+    yT = _flow(cm, [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], [0.0, T], meth, rtol, atol)[-1]
+    mults = np.linalg.eigvals(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]))
+    if np.min(np.abs(mults - 1.0)) > 1e-5:
+        raise ConvergenceError(f"the orbit found (x0 = {x0:.6g}, T = {T:.6g}) has no Floquet "
+                               f"multiplier 1 ({mults[0]:.6g}, {mults[1]:.6g}): not a cycle")
+
+
+def _kbm_guess(model, params) -> tuple[float, float] | None:
+    """The stable first-order KBM cycle with the largest amplitude, as (amplitude, period)."""
+    try:
+        from kbm import averaged_cycles, derive
+        from kbm.models import get_model
+
+        m = get_model(model) if isinstance(model, str) else model
+        vals = m.resolve(dict(params or {}))
+        res = derive(m, 1)
+        need = {p: vals[p] for p in res.params if p in vals}
+        if len(need) != len(res.params) or "mu" not in vals:
+            return None
+        cycles = [c for c in averaged_cycles(res, {"mu": vals["mu"], **need}) if c.stable]
+    except KBMError:
+        return None
+    if not cycles:
+        return None
+    c = max(cycles, key=lambda c: c.amplitude)
+    return c.amplitude, c.period
 
 
 def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = None, *,
@@ -272,8 +340,10 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
         Parameter values (physical names such as ``Delta``, ``lam`` or the
         scaled ones), including ``mu``.
     guess
-        ``(amplitude, period)``, e.g. the KBM prediction; without it a transient
-        from ``x = x_start, x' = 0`` is integrated until the maxima settle.
+        ``(amplitude, period)`` to start Newton from.  Without it, the stable
+        first-order KBM cycle is tried first (largest amplitude), and if Newton
+        does not converge from there, a transient from ``x = x_start, x' = 0``
+        is integrated until the maxima of ``x`` settle.
     digits
         If given (up to ~50), also compute period and amplitudes with an
         mpmath Taylor-series integrator to this many digits
@@ -281,9 +351,11 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
     rtol, atol
         Integrator tolerances (default ``atol = rtol``).
     method
-        ``"auto"`` (DOP853, or Radau when the problem is stiff: largest Jacobian
-        eigenvalue times period above :data:`STIFF_THRESHOLD`), or any
-        :func:`scipy.integrate.solve_ivp` method.
+        ``"auto"``: LSODA (ODEPACK), which switches between Adams (non-stiff) and
+        BDF (stiff) by itself; or any :func:`scipy.integrate.solve_ivp` method
+        (``"DOP853"``, ``"Radau"``, ...).  The transient, when needed, uses
+        DOP853, or Radau when the largest Jacobian eigenvalue times the period
+        exceeds :data:`STIFF_THRESHOLD`.
     max_iter
         Bound on Newton iterations.
 
@@ -312,49 +384,56 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
     if not cm.autonomous:
         raise NonAutonomousError(f"limit cycles need an autonomous model; {cm.name!r} has an "
                                  "explicit time dependence (stage velocity v != 0); use "
-                                 "numerics.slide for the driven slider")
+                                 "`kbm slide` for the driven slider")
     atol = rtol if atol is None else atol
     T_lin = 2 * math.pi / cm.omega0
     if max_time is None:
         mu = abs(cm.values.get("mu", 1.0)) or 1.0
         max_time = min(max(200 * T_lin, 60.0 / mu), 2e5)
-    if guess is not None:
-        x0, period = float(guess[0]), float(guess[1])
+    meth = "LSODA" if method == "auto" else method
+    floor = 1e3 * max(rtol, atol)
+    source = "guess"
+    start = guess
+    if start is None:
+        start = _kbm_guess(model, params)
+        source = "KBM first-order averaged cycle"
+    converged = None
+    if start is not None:
+        x0, period = float(start[0]), float(start[1])
         if not (np.isfinite(x0) and np.isfinite(period) and period > 0 and x0 > 0):
-            raise ConvergenceError(f"bad initial guess (amplitude, period) = {guess}")
-        meth = _choose_method(cm, x0, period, method)
-    else:
-        meth = _choose_method(cm, abs(x_start), T_lin, method)
-        x0, period, _ = _transient(cm, x_start, meth, max(rtol, 1e-10), max_time)
-        meth = _choose_method(cm, x0, period, method)
-    history: list[float] = []
-    it = 0
-    floor = 50 * max(rtol, atol) * max(1.0, abs(x0))
-    step = float("inf")
-    while True:
-        it += 1
-        T, yT, _ = _return_map(cm, x0, period, meth, rtol, atol)
-        res = yT[0] - x0
-        history.append(abs(res))
-        deriv = yT[2] - 1.0
-        if deriv == 0 or not np.isfinite(deriv):
-            raise ConvergenceError(f"the return map has slope 1 at x0 = {x0:.10g} (a "
-                                   "non-hyperbolic cycle); Newton cannot proceed")
-        step = -res / deriv
-        x0 = x0 + step
-        period = T
-        if abs(step) < floor or abs(res) < floor:
-            break
-        if it >= max_iter:
-            raise ConvergenceError(
-                f"Newton on the return map did not converge in {max_iter} iterations; "
-                f"residuals |P(x0) - x0|: {', '.join(f'{r:.2e}' for r in history[-6:])}")
-        if x0 <= 0 or not np.isfinite(x0):
-            raise ConvergenceError(f"Newton left the section (x0 = {x0:.6g}); residuals "
-                                   f"{', '.join(f'{r:.2e}' for r in history)}")
-    # final pass on the converged orbit
-    T, yT, sol = _return_map(cm, x0, period, meth, rtol, atol, dense=True)
-    residual = abs(yT[0] - x0)
+            raise ConvergenceError(f"bad initial guess (amplitude, period) = {start}")
+        try:
+            converged = _newton(cm, x0, period, meth, rtol, atol, max_iter, floor)
+            _check_nontrivial(cm, converged, meth, rtol, atol, x0)
+        except (ConvergenceError, IntegrationError):
+            if guess is not None:
+                raise
+            converged = None
+    if converged is None:
+        source = "transient"
+        tmeth = _choose_method(cm, abs(x_start), T_lin, "auto" if method in ("auto", "LSODA")
+                               else method)
+        x0, period, _ = _transient(cm, x_start, tmeth, max(rtol, 1e-10), max_time)
+        converged = _newton(cm, x0, period, meth, rtol, atol, max_iter, floor)
+    x0, T, it, history = converged
+    # final pass on the converged orbit: samples, monodromy, dissipation
+    tt = np.linspace(0.0, T, n_samples + 1)
+    ys = _flow(cm, [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], tt, meth, rtol, atol)
+    yT = ys[-1]
+    residual = float(max(abs(yT[0] - x0), abs(yT[1])))
+    xs, vs = ys[:-1, 0], ys[:-1, 1]
+    tt = tt[:-1]
+    if source != "transient" and x0 < np.max(xs) - 1e-6 * max(1.0, abs(x0)):
+        # the guess led to a point that is not the maximum of x: restart at the maximum
+        i = int(np.argmax(xs))
+        converged = _newton(cm, float(xs[i]), T, meth, rtol, atol, max_iter, floor)
+        x0, T, it2, h2 = converged
+        it, history = it + it2, history + h2
+        tt = np.linspace(0.0, T, n_samples + 1)
+        ys = _flow(cm, [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], tt, meth, rtol, atol)
+        yT = ys[-1]
+        residual = float(max(abs(yT[0] - x0), abs(yT[1])))
+        xs, vs, tt = ys[:-1, 0], ys[:-1, 1], tt[:-1]
     Phi = np.array([[yT[2], yT[4]], [yT[3], yT[5]]])
     mults = np.linalg.eigvals(Phi)
     order = np.argsort(np.abs(mults - 1.0))
@@ -365,18 +444,19 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
     total = cm.plus_factor * gp - gm
     e0 = float(cm.energy(x0, 0.0))
     e1 = float(cm.energy(yT[0], yT[1]))
-    tt = np.linspace(0.0, T, n_samples, endpoint=False)
-    ys = sol.sol(tt)
-    xs, vs = ys[0], ys[1]
     coeffs = np.fft.rfft(xs) / n_samples
     harmonics = coeffs[:n_harmonics].copy()
-    harmonics[1:] *= 1.0  # c_m for m >= 1 (c_{-m} = conj)
     first = 2 * abs(coeffs[1])
+    mp: dict = {}
+    if digits is not None:
+        from .highprec import limit_cycle_mp
+
+        mp = limit_cycle_mp(cm.acceleration_expr, int(digits), x0, T)
     success = residual < 1e3 * floor
-    msg = (f"converged in {it} Newton iterations ({meth}, rtol {rtol:g}); "
-           f"|P(x0) - x0| = {residual:.2e}; trivial multiplier {trivial.real:.12f}")
+    msg = (f"converged in {it} Newton iterations from the {source} ({meth}, rtol {rtol:g}); "
+           f"|(x(T) - x0, x'(T))| = {residual:.2e}; trivial multiplier {trivial.real:.12f}")
     if not success:
-        msg = (f"Newton stalled: |P(x0) - x0| = {residual:.2e} after {it} iterations "
+        msg = (f"Newton stalled: |(x(T) - x0, x'(T))| = {residual:.2e} after {it} iterations "
                f"(floor {floor:.1e})")
     return LimitCycle(
         success=bool(success), message=msg, model=cm.name, params=dict(cm.values),
@@ -387,4 +467,5 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
         dissipation=Dissipation(total=float(total), gamma_plus=gp, gamma_minus=gm,
                                 plus_factor=cm.plus_factor),
         energy_residual=float(e0 - e1 - total), iterations=it, residual=float(residual),
-        history=tuple(history), method=meth, digits=None)
+        history=tuple(history), method=meth, digits=None if digits is None else int(digits),
+        mp=mp)

@@ -1,0 +1,60 @@
+"""``kbm cycle``: the limit cycle of the full equation (shooting, Floquet multipliers)."""
+
+from __future__ import annotations
+
+import argparse
+
+from ._common import add_param_option, emit_json, parse_params
+
+
+def register(sub) -> None:
+    p = sub.add_parser("cycle", help="limit cycle of the full equation by shooting",
+                       description="Find the periodic orbit of x'' + omega0^2 x = mu F(x, x') "
+                                   "by Newton's method on the return map to x' = 0, x > 0, "
+                                   "with Floquet multipliers and the dissipation per cycle "
+                                   "(paper eqs. 10-11).")
+    p.add_argument("model", nargs="?", help="built-in model (vdp, rayleigh, sedf, ...)")
+    p.add_argument("--rhs", metavar="EXPR", help="your own F instead of a built-in model")
+    p.add_argument("--omega0", default="1", help="linear frequency for --rhs (default 1)")
+    add_param_option(p)
+    p.add_argument("--digits", type=int, default=None,
+                   help="also compute period and amplitudes to N digits (mpmath Taylor series)")
+    p.add_argument("--rtol", type=float, default=1e-12, help="integrator tolerance (1e-12)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from numerics import limit_cycle
+
+    from ..errors import ParameterError
+    from .derive import model_from_args
+
+    if args.digits is not None and not 1 <= args.digits <= 200:
+        raise ParameterError(f"--digits must be between 1 and 200, got {args.digits}")
+    if not 1e-15 <= args.rtol <= 1e-3:
+        raise ParameterError(f"--rtol must be between 1e-15 and 1e-3, got {args.rtol}")
+    params = parse_params(args.param)
+    ns = argparse.Namespace(**{**vars(args), "param": [p for p in args.param
+                                                      if p.split("=")[0].strip() == "v"]})
+    model = model_from_args(ns)
+    params.pop("v", None)
+    cyc = limit_cycle(model, params, digits=args.digits, rtol=args.rtol)
+    data = cyc.to_json()
+    if args.json:
+        emit_json(data)
+        return 0 if cyc.success else 1
+    w = args.digits or 12
+    print(f"limit cycle of {data['model']} ({', '.join(f'{k}={v:g}' for k, v in data['params'].items())})")
+    for key in ("period", "frequency", "amplitude_max", "amplitude_first_harmonic"):
+        val = data[key]
+        print(f"  {key:26s} {val if isinstance(val, str) else format(val, f'.{w}g')}")
+    m = cyc.floquet_multipliers
+    print(f"  {'floquet multipliers':26s} {m[0].real:.12f} (trivial), {m[1].real:.6e} "
+          f"({'stable' if cyc.stable else 'UNSTABLE'})")
+    d = cyc.dissipation
+    print(f"  {'dissipation Gamma':26s} {d.total:.3e} (Gamma+ {d.gamma_plus:.6g}, "
+          f"Gamma- {d.gamma_minus:.6g})")
+    print(f"  {'energy residual':26s} {cyc.energy_residual:.3e}")
+    print(f"  {cyc.message}")
+    return 0 if cyc.success else 1

@@ -182,7 +182,7 @@ def _solve(cm, y0, t_end, method, rtol, atol, ext, dense=False, events=None, max
 
 
 def _transient(cm: CompiledModel, x_start: float, method: str, rtol: float,
-               max_time: float) -> tuple[float, float, list[float]]:
+               max_time: float, x_max: float) -> tuple[float, float, list[float]]:
     """Integrate until successive maxima of x settle; returns (x_max, period estimate, maxima)."""
     ev = _maximum_event
     y = [x_start, 0.0]
@@ -190,7 +190,7 @@ def _transient(cm: CompiledModel, x_start: float, method: str, rtol: float,
     times: list[float] = []
     t0 = 0.0
     chunk = 40 * 2 * math.pi / cm.omega0
-    big = 1e6 * max(1.0, abs(x_start))
+    big = x_max
     while t0 < max_time:
         def blowup(t, yy):
             return big - abs(yy[0]) - abs(yy[1])
@@ -329,6 +329,7 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
                 guess: tuple[float, float] | None = None, digits: int | None = None,
                 rtol: float = 1e-12, atol: float | None = None, method: str = "auto",
                 max_iter: int = 25, x_start: float = 1.0, max_time: float | None = None,
+                x_max: float | None = None,
                 n_samples: int = 1024, n_harmonics: int = 16) -> LimitCycle:
     """The limit cycle of an autonomous model, by shooting on ``x' = 0, x > 0``.
 
@@ -358,6 +359,10 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
         exceeds :data:`STIFF_THRESHOLD`.
     max_iter
         Bound on Newton iterations.
+    x_start, max_time, x_max
+        Start of the transient, its time limit, and the size ``|x| + |x'|`` above
+        which the motion counts as growing without bound (default
+        ``1000 max(1, |x_start|)``; raise it for cycles larger than that).
 
     Returns
     -------
@@ -413,7 +418,8 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
         source = "transient"
         tmeth = _choose_method(cm, abs(x_start), T_lin, "auto" if method in ("auto", "LSODA")
                                else method)
-        x0, period, _ = _transient(cm, x_start, tmeth, max(rtol, 1e-10), max_time)
+        x0, period, _ = _transient(cm, x_start, tmeth, max(rtol, 1e-10), max_time,
+                                   x_max if x_max is not None else 1e3 * max(1.0, abs(x_start)))
         converged = _newton(cm, x0, period, meth, rtol, atol, max_iter, floor)
     x0, T, it, history = converged
     # final pass on the converged orbit: samples, monodromy, dissipation

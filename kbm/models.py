@@ -29,6 +29,7 @@ M. D'Acunto, "Friction force for self-excited systems", eqs. (3), (4), (12).
 
 from __future__ import annotations
 
+import numbers
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
@@ -233,7 +234,8 @@ class Oscillator:
 def _to_number(name: str, raw: object) -> sp.Expr:
     """Read a parameter value exactly: ``"0.1"`` and ``0.1`` both give ``1/10``."""
     try:
-        if isinstance(raw, float):
+        if isinstance(raw, numbers.Real) and not isinstance(raw, (int, sp.Basic)):
+            raw = float(raw)  # also numpy floats
             val = sp.Rational(repr(raw)) if raw == raw and abs(raw) != float("inf") else sp.nan
         elif isinstance(raw, str):
             try:

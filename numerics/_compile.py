@@ -19,7 +19,7 @@ from kbm.errors import ParameterError
 from kbm.models import Oscillator, get_model
 from kbm.symbols import mu as MU, t as T, x as X, xdot as V
 
-__all__ = ["CompiledModel", "compile_model"]
+__all__ = ["CompiledModel", "ModelTemplate", "compile_model", "model_template"]
 
 
 @dataclass(frozen=True)
@@ -88,73 +88,111 @@ def _split_dissipation(model: Oscillator) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     return plus_e, minus_e, factor
 
 
-def compile_model(model: Oscillator | str, params: Mapping[str, object] | None = None
-                  ) -> CompiledModel:
-    """Lambdify ``model`` at the given parameter values (physical or scaled names).
+@dataclass(frozen=True)
+class ModelTemplate:
+    """The model's numerical functions with the parameter values as trailing arguments.
+
+    Lambdifying is the expensive step; a template is built once per model and
+    bound to many parameter sets by :func:`compile_model` (as in a sweep).
+    """
+
+    model: Oscillator
+    names: tuple[str, ...]
+    f_ext: Callable
+    f_acc: Callable
+    f_jac: Callable
+    f_energy: Callable
+    f_w0: Callable
+    f_factor: Callable
+    dissipation_expr: sp.Expr
+
+
+def model_template(model: Oscillator | str, v: object | None = None) -> ModelTemplate:
+    """Lambdify ``model`` once, parameters (and ``mu``) as arguments."""
+    if isinstance(model, str):
+        model = get_model(model, {"v": v} if v is not None else None)
+    names = tuple(sorted(set(model.parameters) | {"mu"}))
+    P = [sp.Symbol(n) for n in names]
+    acc = model.acceleration()
+    dadx, dadv = sp.diff(acc, X), sp.diff(acc, V)
+    plus, minus, factor = _split_dissipation(model)
+    s = sp.Dummy("s")
+    cons = model.conservative_force().subs(X, s)
+    if cons.has(T):
+        U = model.omega0**2 * X**2 / 2
+    else:
+        U = model.omega0**2 * X**2 / 2 - sp.integrate(cons, (s, 0, X), conds="none")
+    energy_expr = V**2 / 2 + U
+    y = sp.symbols("y0:9")
+    es = {X: y[0], V: y[1]}
+    jx, jv = dadx.subs(es), dadv.subs(es)
+    ext = [y[1], acc.subs(es), y[3], jx * y[2] + jv * y[3], y[5], jx * y[4] + jv * y[5], jv,
+           plus.subs(es), minus.subs(es)]
+    return ModelTemplate(
+        model=model, names=names,
+        f_ext=sp.lambdify((T, y, *P), ext, modules="math", cse=True),
+        f_acc=sp.lambdify((T, X, V, *P), acc, modules="math"),
+        f_jac=sp.lambdify((T, X, V, *P), [[0, 1], [dadx, dadv]], modules="numpy"),
+        f_energy=sp.lambdify((X, V, *P), energy_expr, modules="numpy"),
+        f_w0=sp.lambdify(P, model.omega0, modules="math"),
+        f_factor=sp.lambdify(P, factor, modules="math"),
+        dissipation_expr=factor * plus - minus)
+
+
+def compile_model(model: Oscillator | str, params: Mapping[str, object] | None = None, *,
+                  template: ModelTemplate | None = None) -> CompiledModel:
+    """Numerical functions of ``model`` at the given parameter values (physical or scaled names).
+
+    Parameters
+    ----------
+    template
+        A :class:`ModelTemplate` of the same model, to skip the lambdification.
 
     Raises
     ------
     kbm.errors.ParameterError
         If a parameter is missing or not a finite real number.
     """
+    params = dict(params or {})
     if isinstance(model, str):
-        p = dict(params or {})
-        v = p.pop("v", None)
+        v = params.pop("v", None)
         model = get_model(model, {"v": v} if v is not None else None)
-        params = p
-    vals = model.resolve(params or {})
-    missing = [p for p in model.parameters if p not in vals]
-    if "mu" not in vals:
-        missing.insert(0, "mu")
+    if template is None or template.model.name != model.name \
+            or template.model.F != model.F or template.model.drive != model.drive:
+        template = model_template(model)
+    vals = model.resolve(params)
+    missing = [p for p in template.names if p not in vals]
     if missing:
         raise ParameterError(f"model {model.name!r} needs values for {', '.join(missing)} "
                              f"(e.g. --param {missing[0]}=0.1)")
-    subs = {sp.Symbol(k): v for k, v in vals.items()}
-    fvals = {k: float(v) for k, v in vals.items()}
-    for k, v in fvals.items():
-        if not np.isfinite(v):
-            raise ParameterError(f"parameter {k} = {v} is not finite")
-    acc = model.acceleration().subs(subs)
-    w0 = float(model.omega0.subs(subs))
-    dadx, dadv = sp.diff(acc, X), sp.diff(acc, V)
-    plus, minus, factor = _split_dissipation(model)
-    plus, minus = plus.subs(subs), minus.subs(subs)
-    factor_v = float(factor.subs(subs))
-    # potential of the conservative part
-    s = sp.Dummy("s")
-    cons = model.conservative_force().subs(subs).subs(X, s)
-    if cons.has(T):
-        U = w0**2 * X**2 / 2
-    else:
-        U = w0**2 * X**2 / 2 - sp.integrate(cons, (s, 0, X))
-    energy_expr = V**2 / 2 + U
-
-    y = sp.symbols("y0:9")
-    ext_subs = {X: y[0], V: y[1]}
-    a_ext = acc.subs(ext_subs)
-    jx, jv = dadx.subs(ext_subs), dadv.subs(ext_subs)
-    ext = [y[1], a_ext,
-           y[3], jx * y[2] + jv * y[3],
-           y[5], jx * y[4] + jv * y[5],
-           jv,
-           plus.subs(ext_subs), minus.subs(ext_subs)]
-    f_ext = sp.lambdify((T, y), ext, modules="math", cse=True)
-    f_acc = sp.lambdify((T, X, V), acc, modules="math")
-    f_jac = sp.lambdify((T, X, V), [[0, 1], [dadx, dadv]], modules="numpy")
-    f_energy = sp.lambdify((X, V), energy_expr, modules="numpy")
+    fvals = {k: float(vals[k]) for k in template.names}
+    for k, val in fvals.items():
+        if not np.isfinite(val):
+            raise ParameterError(f"parameter {k} = {val} is not finite")
+    pv = tuple(fvals[k] for k in template.names)
+    f_ext, f_acc, f_jac, f_en = template.f_ext, template.f_acc, template.f_jac, template.f_energy
 
     def rhs(t, yy):
-        return [yy[1], f_acc(t, yy[0], yy[1])]
+        return [yy[1], f_acc(t, yy[0], yy[1], *pv)]
+
+    def rhs_ext(t, yy):
+        return f_ext(t, yy, *pv)
+
+    def acc(t, xx, vv):
+        return f_acc(t, xx, vv, *pv)
 
     def jac(t, yy):
-        return np.array(f_jac(t, yy[0], yy[1]), dtype=float)
+        return np.array(f_jac(t, yy[0], yy[1], *pv), dtype=float)
 
     def stiffness(xv, vv):
-        J = np.array(f_jac(0.0, xv, vv), dtype=float)
+        J = np.array(f_jac(0.0, xv, vv, *pv), dtype=float)
         return float(np.max(np.abs(np.linalg.eigvals(J))))
 
+    subs = {sp.Symbol(k): v for k, v in vals.items()}
     return CompiledModel(
-        name=model.name, values=fvals, omega0=w0, acc=f_acc, rhs=rhs, rhs_ext=f_ext, jac=jac,
-        energy=lambda xv, vv: np.asarray(f_energy(xv, vv), dtype=float),
-        dissipation_expr=factor * plus - minus, plus_factor=factor_v, stiffness=stiffness,
-        autonomous=model.is_autonomous, acceleration_expr=acc)
+        name=model.name, values=fvals, omega0=float(template.f_w0(*pv)), acc=acc, rhs=rhs,
+        rhs_ext=rhs_ext, jac=jac,
+        energy=lambda xv, vv: np.asarray(f_en(xv, vv, *pv), dtype=float),
+        dissipation_expr=template.dissipation_expr.subs(subs),
+        plus_factor=float(template.f_factor(*pv)), stiffness=stiffness,
+        autonomous=model.is_autonomous, acceleration_expr=model.acceleration().subs(subs))

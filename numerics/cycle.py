@@ -329,7 +329,7 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
                 guess: tuple[float, float] | None = None, digits: int | None = None,
                 rtol: float = 1e-12, atol: float | None = None, method: str = "auto",
                 max_iter: int = 25, x_start: float = 1.0, max_time: float | None = None,
-                x_max: float | None = None,
+                x_max: float | None = None, template=None,
                 n_samples: int = 1024, n_harmonics: int = 16) -> LimitCycle:
     """The limit cycle of an autonomous model, by shooting on ``x' = 0, x > 0``.
 
@@ -359,6 +359,9 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
         exceeds :data:`STIFF_THRESHOLD`.
     max_iter
         Bound on Newton iterations.
+    template
+        A :class:`numerics._compile.ModelTemplate` of the model (skips lambdifying;
+        used by :func:`numerics.sweep`).
     x_start, max_time, x_max
         Start of the transient, its time limit, and the size ``|x| + |x'|`` above
         which the motion counts as growing without bound (default
@@ -385,7 +388,7 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
     >>> round(c.period, 8), round(c.amplitude_max, 8)
     (6.66328686, 2.00861986)
     """
-    cm = compile_model(model, params)
+    cm = compile_model(model, params, template=template)
     if not cm.autonomous:
         raise NonAutonomousError(f"limit cycles need an autonomous model; {cm.name!r} has an "
                                  "explicit time dependence (stage velocity v != 0); use "

@@ -10,8 +10,8 @@ equation:
 - eq. (6): ``dpsi/dt`` at ``a`` vs the true frequency ``2 pi/T``;
 - eq. (7): the root ``a*`` of the amplitude equation (closest to the true ``a``)
   vs the true first-harmonic amplitude, and the sign of its slope (stability);
-- eq. (8): the third-harmonic amplitude of ``mu f`` (printed) or ``mu u_1``
-  (corrected) vs that of the true cycle;
+- eq. (8): the third-harmonic amplitude of ``mu f + mu^2 g`` (printed) or
+  ``mu u_1 + mu^2 u_2`` (corrected) vs that of the true cycle;
 - eq. (9): the mean of ``mu^2 g`` (printed) or ``mu^2 u_2`` (corrected) vs the mean of
   the true ``x``;
 - eq. (10) over eqs. (5)-(9): the dissipation ``Gamma`` per cycle over the orbit
@@ -157,14 +157,14 @@ def errata_evidence(cases: Sequence[tuple[str, Mapping[str, float]]] = CASES,
         r_c, s_c = _root(lambda s: co_rate(s, *pv), a_true)
         row("7", "amplitude a* (root of da/dt)", r_p, r_c, a_true)
         row("7", "stable (1) / unstable (0)", float(s_p < 0), float(s_c < 0), float(cyc.stable))
-        # eq. 8
-        f_p = m * fn(paper.f(), True)(a_true, psi, *pv)
-        f_c = m * fn(paper.corrected("8"), True)(a_true, psi, *pv)
-        row("8", "third-harmonic amplitude of mu u_1 at the true a", _harmonic(f_p, 3),
-            _harmonic(f_c, 3), 2 * abs(cyc.harmonics[3]))
-        # eq. 9
+        # eq. 8 (with eq. 9, which adds no third harmonic in either version)
         g_p = m**2 * fn(paper.g(), True)(a_true, psi, *pv) * np.ones_like(psi)
         g_c = m**2 * fn(paper.corrected("9"), True)(a_true, psi, *pv) * np.ones_like(psi)
+        f_p = m * fn(paper.f(), True)(a_true, psi, *pv) + g_p
+        f_c = m * fn(paper.corrected("8"), True)(a_true, psi, *pv) + g_c
+        row("8", "third harmonic of mu u_1 + mu^2 u_2 at the true a", _harmonic(f_p, 3),
+            _harmonic(f_c, 3), 2 * abs(cyc.harmonics[3]))
+        # eq. 9
         row("9", "mean of x (mu^2 u_2 at the true a)", float(np.mean(g_p)),
             float(np.mean(g_c)), float(np.mean(cyc.x)))
         # eq. 10 over the reconstructed orbits

@@ -46,14 +46,35 @@ def grid(**axes: Sequence[object]) -> list[dict[str, object]]:
     return [dict(zip(names, combo)) for combo in itertools.product(*axes.values())]
 
 
-def _one(args) -> SweepPoint:
-    model, fixed, p, kwargs = args
-    params = {**fixed, **p}
-    try:
-        cyc = limit_cycle(model, params, **kwargs)
-        return SweepPoint(params=p, cycle=_strip(cyc))
-    except KBMError as exc:
-        return SweepPoint(params=p, cycle=None, error=str(exc))
+def _chunk(args) -> list[SweepPoint]:
+    """A contiguous run of points in one process: one template, continuation of guesses."""
+    from ._compile import model_template
+
+    model, fixed, pts, kwargs, continuation = args
+    template = model_template(model) if not isinstance(model, str) or "v" not in fixed \
+        else None
+    out = []
+    guess = kwargs.pop("guess", None)
+    for p in pts:
+        params = {**fixed, **p}
+        try:
+            cyc = limit_cycle(model, params, template=template, guess=guess, **kwargs)
+            out.append(SweepPoint(params=p, cycle=_strip(cyc)))
+            if continuation and cyc.success and cyc.stable:
+                guess = (cyc.amplitude_max, cyc.period)
+        except KBMError as exc:
+            # a continuation guess may be what failed: retry from the KBM/transient start
+            if guess is not None and continuation:
+                try:
+                    cyc = limit_cycle(model, params, template=template, **kwargs)
+                    out.append(SweepPoint(params=p, cycle=_strip(cyc)))
+                    guess = (cyc.amplitude_max, cyc.period) if cyc.stable else None
+                    continue
+                except KBMError as exc2:
+                    exc = exc2
+            out.append(SweepPoint(params=p, cycle=None, error=str(exc)))
+            guess = None
+    return out
 
 
 def _strip(c: LimitCycle) -> LimitCycle:
@@ -80,7 +101,7 @@ def _bar(done: int, total: int, t0: float) -> None:
 def sweep(model, points: Iterable[Mapping[str, object]], *,
           fixed: Mapping[str, object] | None = None, workers: int | None = None,
           progress: bool | None = None, chunksize: int | None = None,
-          **cycle_kwargs) -> list[SweepPoint]:
+          continuation: bool = True, **cycle_kwargs) -> list[SweepPoint]:
     """Limit cycles for many parameter sets, on all cores, in input order.
 
     Parameters
@@ -93,6 +114,12 @@ def sweep(model, points: Iterable[Mapping[str, object]], *,
         Processes (default: the number of CPUs); 1 runs in this process.
     progress
         Show a progress bar on standard error (default: when more than 50 points).
+    chunksize
+        Points per task; a task runs its points in order in one process.
+    continuation
+        Start each point's Newton iteration from the previous (stable) cycle of
+        its task: order the points so that neighbours are close (as
+        :func:`grid` does).
     cycle_kwargs
         Passed to :func:`numerics.limit_cycle` (``rtol``, ``guess``, ...).
 
@@ -105,26 +132,27 @@ def sweep(model, points: Iterable[Mapping[str, object]], *,
     --------
     >>> pts = sweep("vdp", grid(mu=[0.5, 1.0]), workers=1)
     >>> [round(p.cycle.period, 6) for p in pts]
-    [6.38502, 6.663287]
+    [6.380676, 6.663287]
     """
     pts = [dict(p) for p in points]
     fixed = dict(fixed or {})
-    jobs = [(model, fixed, p, cycle_kwargs) for p in pts]
-    total = len(jobs)
+    total = len(pts)
     show = total > 50 if progress is None else progress
     workers = workers or os.cpu_count() or 1
+    size = chunksize or max(1, min(64, -(-total // (4 * workers))))
+    chunks = [pts[i:i + size] for i in range(0, total, size)]
+    jobs = [(model, fixed, c, dict(cycle_kwargs), continuation) for c in chunks]
     t0 = time.perf_counter()
     out: list[SweepPoint] = []
-    if workers == 1 or total < 4:
-        for i, job in enumerate(jobs, 1):
-            out.append(_one(job))
+    if workers == 1 or len(chunks) == 1:
+        for job in jobs:
+            out.extend(_chunk(job))
             if show:
-                _bar(i, total, t0)
+                _bar(len(out), total, t0)
         return out
-    chunksize = chunksize or max(1, min(64, total // (8 * workers) or 1))
     with ProcessPoolExecutor(max_workers=workers) as ex:
-        for i, res in enumerate(ex.map(_one, jobs, chunksize=chunksize), 1):
-            out.append(res)
-            if show and (i % max(1, total // 200) == 0 or i == total):
-                _bar(i, total, t0)
+        for res in ex.map(_chunk, jobs):
+            out.extend(res)
+            if show:
+                _bar(len(out), total, t0)
     return out

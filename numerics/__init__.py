@@ -8,3 +8,6 @@ comparison of KBM predictions with the true dynamics.
 from .cycle import Dissipation, LimitCycle, limit_cycle
 from .errors import ConvergenceError, IntegrationError, NoCycleError, NumericsError
 from .sweep import SweepPoint, grid, sweep
+from .compare import Comparison, Prediction, compare, kbm_prediction, paper_prediction
+from .convergence import ConvergenceStudy, convergence_study, predicted_orders
+from .errata import ErratumEvidence, errata_evidence

@@ -1,0 +1,135 @@
+"""KBM predictions against the true limit cycle: convergence orders, dissipation, CLI."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from kbm.cli import main
+from numerics.compare import compare
+from numerics.convergence import convergence_study, fit_slope, predicted_orders
+
+SEDF_SMALL = {"mu": 0.05, "Delta": 0.1, "beta": 1, "lam": 1}
+
+
+@pytest.fixture(scope="module")
+def vdp_study():
+    return convergence_study("vdp", [0.025, 0.05, 0.1], orders=(1, 2, 3))
+
+
+@pytest.fixture(scope="module")
+def sedf_study():
+    return convergence_study("sedf", [0.025, 0.05, 0.1], orders=(1, 2),
+                             fixed={"delta": 2, "beta": 1, "k": "2*pi"})
+
+
+def test_predicted_orders_vdp_parity():
+    """Time reversal x(t; -eps) = x(-t; eps) of van der Pol (A_even = B_odd = 0) rounds the
+    generic orders up to the parity of each quantity (numerics.convergence docstring)."""
+    got = [predicted_orders("vdp", N) for N in (1, 2, 3, 4)]
+    assert [g["amplitude"] for g in got] == [2, 2, 4, 4]
+    assert [g["frequency"] for g in got] == [2, 4, 4, 6]
+    assert [g["dissipation"] for g in got] == [3, 3, 5, 5]
+    sedf = predicted_orders("sedf", 2)
+    assert (sedf["amplitude"], sedf["frequency"], sedf["dissipation"]) == (2, 3, 3)
+
+
+def test_fit_slope_exact_power():
+    """The fit recovers the exponent of err = 3 eps^2.5 exactly."""
+    eps = np.array([0.01, 0.02, 0.04])
+    assert fit_slope(eps, 3 * eps**2.5) == pytest.approx(2.5, abs=1e-12)
+
+
+@pytest.mark.parametrize("key", ["amplitude", "amplitude_max", "frequency", "harmonic3",
+                                 "floquet_exponent", "dissipation"])
+def test_vdp_slopes_match_theory(vdp_study, key):
+    """Log-log slope of each error of KBM orders 1-3 for van der Pol equals the predicted
+    order (Bogoliubov & Mitropolsky ch. 1; derivation in numerics.convergence)."""
+    for N in (1, 2, 3):
+        assert vdp_study.slopes[(N, key)] == pytest.approx(vdp_study.predicted[(N, key)],
+                                                           abs=0.15), (N, key)
+
+
+@pytest.mark.parametrize("key", ["amplitude", "frequency", "harmonic3", "floquet_exponent",
+                                 "dissipation", "amplitude_max"])
+def test_sedf_slopes_match_theory(sedf_study, key):
+    """sedf (paper eq. 3) at fixed delta = Delta/mu = 2, beta = 1, lam = 1: the errors of
+    KBM orders 1 and 2 fall at the predicted (generic) orders N, N + 1."""
+    for N in (1, 2):
+        assert sedf_study.slopes[(N, key)] == pytest.approx(sedf_study.predicted[(N, key)],
+                                                            abs=0.4), (N, key)
+
+
+def test_true_cycle_dissipation_zero(vdp_study, sedf_study):
+    """Paper eq. (10): Gamma over the true cycle is zero (energy balance), to integration
+    accuracy, while Gamma over the first-order KBM orbit is not."""
+    for s in (vdp_study, sedf_study):
+        assert np.max(s.numeric_dissipation) < 1e-9
+        assert np.min(s.errors[(1, "dissipation")]) > 1e-6
+
+
+def test_kbm_dissipation_shrinks_with_order(vdp_study):
+    """Gamma over the reconstructed orbit shrinks with eps at order N + 1 (N + 2 for odd N
+    of van der Pol), and with the order at fixed eps."""
+    e = vdp_study.errors
+    for i in range(3):
+        assert e[(1, "dissipation")][i] > e[(2, "dissipation")][i] > e[(3, "dissipation")][i]
+
+
+def test_sedf_order2_beats_order1_small_delta():
+    """sedf, mu = 0.05, beta = 1, Delta = 0.1 (Delta/mu = 2): the second-order amplitude,
+    frequency and maximum are closer to the true cycle than the first-order ones."""
+    c = compare("sedf", SEDF_SMALL, orders=(1, 2))
+    p1, p2 = c.predictions
+    for key in ("amplitude", "frequency", "amplitude_max", "harmonic3", "dissipation"):
+        assert c.relative_error(p2, key) < c.relative_error(p1, key) / 3, key
+    assert c.relative_error(p2, "amplitude") < 1e-4
+
+
+def test_vdp_first_order_cycle_values():
+    """van der Pol, first order: a* = 2, omega* = 1, multiplier exp(-2 pi mu) (textbook);
+    the true cycle at mu = 0.1 has the first-harmonic amplitude 2 + mu^2/64 + O(mu^4)
+    (kbm.limit_cycle_series)."""
+    c = compare("vdp", {"mu": 0.1}, orders=(1,))
+    p = c.predictions[0]
+    assert p.amplitude == pytest.approx(2.0, abs=1e-12)
+    assert p.frequency == 1.0
+    assert p.floquet_multiplier == pytest.approx(math.exp(-2 * math.pi * 0.1), rel=1e-12)
+    assert c.numeric.amplitude_first_harmonic == pytest.approx(2 + 0.01 / 64, abs=1e-7)
+    assert p.harmonics[3] == pytest.approx(0.1 * 8 / 32, rel=1e-10)
+
+
+def test_paper_row_far_from_truth_at_small_delta():
+    """The paper's eqs. (6)-(9) as printed miss the true cycle even where KBM is valid
+    (mu = 0.05, Delta = 0.1): eq. (7) puts Delta J_1(k a) in the amplitude equation."""
+    c = compare("sedf", SEDF_SMALL, orders=(2,), paper=True)
+    pp, pk = c.predictions
+    assert pp.order == 0 and pp.success
+    assert c.relative_error(pp, "amplitude") > 100 * c.relative_error(pk, "amplitude")
+
+
+def test_cli_compare_json(capsys):
+    """``kbm compare vdp --json`` has the documented keys and the textbook first-order
+    values."""
+    assert main(["compare", "vdp", "--param", "mu=0.1", "--orders", "1,3", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["model"] == "vdp" and out["params"] == {"mu": 0.1}
+    for k in ("period", "frequency", "amplitude_first_harmonic", "amplitude_max",
+              "dissipation"):
+        assert k in out["numeric"]
+    assert [r["order"] for r in out["kbm"]] == [1, 3]
+    for r in out["kbm"]:
+        for k in ("amplitude", "amplitude_max", "frequency", "dissipation",
+                  "floquet_multiplier"):
+            assert isinstance(r[k], float)
+    assert out["kbm"][0]["amplitude"] == pytest.approx(2.0)
+    assert abs(out["numeric"]["dissipation"]) < 1e-9
+
+
+def test_cli_compare_bad_orders(capsys):
+    """A bad --orders is a one-line error with exit status 2."""
+    assert main(["compare", "vdp", "--param", "mu=0.1", "--orders", "0"]) == 2
+    assert "orders" in capsys.readouterr().err

@@ -362,7 +362,7 @@ def derive(model: Oscillator | str, order: int, params: dict | None = None) -> K
     --------
     >>> res = derive("vdp", 2)
     >>> res.A[1]
-    -a*(a - 2)*(a + 2)/8
+    -a*(a**2 - 4)/8
     >>> res.B[2]
     -7*a**4/256 + a**2/8 - 1/8
     """

@@ -339,7 +339,7 @@ def get_model(name: str, params: Mapping[str, object] | None = None) -> Oscillat
     Examples
     --------
     >>> get_model("sedf", {"beta": 1, "Delta": "3/20", "mu": "1/10", "lam": 1}).F
-    -xdot*(x**2 - 1) - 3*sin(2*pi*x)/2
+    xdot*(1 - x**2) - 3*sin(2*pi*x)/2
     """
     try:
         model = MODELS[name]()

@@ -26,8 +26,7 @@ __all__ = ["SymFourier", "INDEX", "jacobi_anger"]
 #: internal summation indices, renamed to n, m, ... for display
 INDEX = tuple(sp.Symbol(f"_n{i}", integer=True) for i in range(1, 9))
 #: display names of the summation indices
-DISPLAY_INDEX = (sp.Symbol("n", integer=True), sp.Symbol("m", integer=True),
-                 sp.Symbol("j", integer=True))
+DISPLAY_INDEX = (sp.Symbol("n"), sp.Symbol("m"), sp.Symbol("j"))
 
 COS, SIN = 0, 1
 
@@ -245,7 +244,7 @@ class SymFourier:
 
 
 #: bound index of the inner sums made by :func:`_diagonalize`
-INNER = sp.Symbol("m", integer=True)
+INNER = sp.Symbol("m")
 
 
 def _diagonalize(kind: int, h: sp.Expr, idx, c: sp.Expr):

@@ -87,3 +87,16 @@ def test_console_script_entry_point():
     proc = subprocess.run([sys.executable, "-m", "kbm.cli", "derive", "vdp", "--order", "0"],
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2 and "order" in proc.stderr and "Traceback" not in proc.stderr
+
+
+def test_json_round_trip_is_exact_for_bessel_sums(capsys):
+    """Every JSON string of the sedf order-2 expansion (nested Bessel sums included) reads
+    back with kbm.parse to exactly the engine's expression."""
+    from kbm import derive
+
+    code, out, _ = run_cli(capsys, "derive", "sedf", "--order", "2", "--json")
+    data = json.loads(out)
+    res = derive("sedf", 2)
+    for key, seq in (("A", res.A), ("B", res.B), ("u", res.u)):
+        for n in (1, 2):
+            assert parse(data[key][n]) == seq[n], (key, n)

@@ -19,10 +19,20 @@ def register(sub) -> None:
 
 
 def errata_rows():
-    """The errata table rows with numerical evidence (imports :mod:`numerics`)."""
-    from numerics.errata import errata_rows as rows
+    """The errata of :data:`kbm.paper.ERRATA` with numerical evidence from :mod:`numerics`."""
+    from numerics.errata import errata_evidence
 
-    return rows()
+    from ..derivations import ErratumRow
+    from ..paper import ERRATA
+
+    evidence = errata_evidence()
+    rows = []
+    for e in ERRATA:
+        eq = {"6": ("6",), "7": ("7",), "8": ("8",), "9": ("9", "10")}[e.equation]
+        ev = tuple((r.equation, r.case, r.quantity, r.printed, r.corrected, r.numeric)
+                   for r in evidence if r.equation in eq)
+        rows.append(ErratumRow(e.equation, e.quantity, e.printed, e.difference, ev))
+    return rows
 
 
 def run(args: argparse.Namespace) -> int:

@@ -108,7 +108,7 @@ def validity_map(mu: Sequence[float] = DEFAULT_GRID["mu"],
                  beta: Sequence[float] = DEFAULT_GRID["beta"], *,
                  orders: Sequence[int] = (1, 2), lam: float = 1.0,
                  workers: int | None = None, progress: bool | None = None,
-                 swept=None) -> ValidityMap:
+                 swept=None, x_start: float = 4.0) -> ValidityMap:
     """Relative errors of KBM orders for the SEDF on the grid ``mu x Delta x beta``.
 
     Parameters
@@ -119,6 +119,10 @@ def validity_map(mu: Sequence[float] = DEFAULT_GRID["mu"],
         KBM orders (at most 2 for the SEDF).
     workers, progress
         Passed to :func:`numerics.sweep`.
+    x_start
+        Start of the transient when Newton from the first-order KBM cycle fails
+        (:func:`numerics.limit_cycle`); from the default ``x = 1`` the SEDF with
+        ``Delta = 3`` falls into a side well of the potential instead of the cycle.
     swept
         The result of that sweep, if already computed (the grid order of
         :func:`numerics.grid` with axes ``beta, mu, Delta``).
@@ -141,7 +145,7 @@ def validity_map(mu: Sequence[float] = DEFAULT_GRID["mu"],
     pts = grid(beta=axes["beta"], mu=axes["mu"], Delta=axes["Delta"])
     if swept is None:
         swept = sweep("sedf", pts, fixed={"lam": lam}, workers=workers, progress=progress,
-                      continuation=False)
+                      continuation=False, x_start=x_start)
     orders = tuple(sorted(int(n) for n in orders))
     res = _derive("sedf", orders[-1])
     fns = res.functions("numpy")

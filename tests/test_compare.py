@@ -133,3 +133,13 @@ def test_cli_compare_bad_orders(capsys):
     """A bad --orders is a one-line error with exit status 2."""
     assert main(["compare", "vdp", "--param", "mu=0.1", "--orders", "0"]) == 2
     assert "orders" in capsys.readouterr().err
+
+
+def test_cli_convergence_json(capsys):
+    """``kbm compare vdp --convergence`` fits the textbook order 2 of the first-order
+    frequency error (omega = 1 - mu^2/16 + ...)."""
+    assert main(["compare", "vdp", "--convergence", "0.05,0.1", "--orders", "1",
+                 "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["predicted"]["1:frequency"] == 2
+    assert out["slopes"]["1:frequency"] == pytest.approx(2.0, abs=0.05)

@@ -21,6 +21,18 @@ def register(sub) -> None:
     p.add_argument("--orders", default="1,2", help="comma-separated KBM orders (default 1,2)")
     p.add_argument("--paper", action="store_true",
                    help="add the paper's eqs. (5)-(9) as printed (sedf only)")
+    p.add_argument("--x-start", type=float, default=None, metavar="X",
+                   help="start of the transient if Newton from the KBM cycle fails")
+    p.add_argument("--convergence", metavar="MU1,MU2,...",
+                   help="convergence study: errors of each order for these values of mu, with "
+                        "the other parameters (scaled names, e.g. delta) fixed; prints fitted "
+                        "log-log slopes and predicted orders")
+    p.add_argument("--errata", action="store_true",
+                   help="numerical evidence for the errata of the paper's eqs. (6)-(9) "
+                        "(sedf; small Delta/mu case and the paper's Fig. 3 case)")
+    p.add_argument("--validity", action="store_true",
+                   help="sedf validity map of KBM orders 1, 2 over the default (mu, Delta, "
+                        "beta) grid (a sweep on all cores, a few minutes)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=run)
 
@@ -43,6 +55,42 @@ def run(args: argparse.Namespace) -> int:
     from numerics.compare import compare
 
     params = parse_params(args.param)
+    if args.errata:
+        from numerics.errata import errata_evidence, evidence_table
+
+        rows = errata_evidence()
+        if args.json:
+            emit_json([r.to_json() for r in rows])
+        else:
+            print(evidence_table(rows))
+        return 0
+    if args.validity:
+        from numerics.validity import validity_map
+
+        vm = validity_map(orders=_orders(args.orders))
+        if args.json:
+            emit_json(vm.to_json())
+        else:
+            print(vm.table())
+        return 0
+    if args.convergence:
+        from numerics.convergence import convergence_study
+
+        if not args.model:
+            raise ModelError("--convergence needs a built-in model name")
+        try:
+            eps = [float(v) for v in args.convergence.split(",") if v.strip()]
+        except ValueError:
+            raise ModelError(f"--convergence takes comma-separated numbers, got "
+                             f"{args.convergence!r}") from None
+        kw = {} if args.x_start is None else {"x_start": args.x_start}
+        study = convergence_study(args.model, eps, orders=_orders(args.orders), fixed=params,
+                                  **kw)
+        if args.json:
+            emit_json(study.to_json())
+        else:
+            print(study.table())
+        return 0
     if args.model and args.rhs:
         raise ModelError("give either a model name or --rhs, not both")
     if args.rhs:
@@ -51,7 +99,8 @@ def run(args: argparse.Namespace) -> int:
         model = args.model
     else:
         raise ModelError("name a model (e.g. vdp) or give --rhs EXPR")
-    comp = compare(model, params, orders=_orders(args.orders), paper=args.paper)
+    kw = {} if args.x_start is None else {"x_start": args.x_start}
+    comp = compare(model, params, orders=_orders(args.orders), paper=args.paper, **kw)
     if args.json:
         emit_json(comp.to_json())
     else:

@@ -11,3 +11,7 @@ from .sweep import SweepPoint, grid, sweep
 from .compare import Comparison, Prediction, compare, kbm_prediction, paper_prediction
 from .convergence import ConvergenceStudy, convergence_study, predicted_orders
 from .errata import ErratumEvidence, errata_evidence
+from .claims import Claim, check_claims
+from .potential import SaddleNode, potential, saddle_node, slip_energy
+from .sliding import SlideResult, slide
+from .stickslip import Slip, StickSlip, analyze

@@ -1,0 +1,71 @@
+"""All figures of the project, by name: the paper's Figs. 2-6 and the KBM comparison.
+
+``FIGURES`` maps a name to a function ``f(out_dir) -> list[Path]``;
+:func:`write_figures` runs them (all, or those named).  matplotlib is imported
+lazily inside the drawing modules (Agg backend), never by :mod:`kbm`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from pathlib import Path
+
+from kbm.errors import KBMError
+
+__all__ = ["FIGURES", "write_figures"]
+
+
+def _paper(name: str) -> Callable[[Path], list[Path]]:
+    def run(out_dir: Path) -> list[Path]:
+        from . import paper
+
+        return getattr(paper, name)(Path(out_dir))
+    run.__doc__ = f"numerics.figures.paper.{name}"
+    return run
+
+
+def _comparison(name: str) -> Callable[[Path], list[Path]]:
+    def run(out_dir: Path) -> list[Path]:
+        from . import comparison
+
+        return getattr(comparison, name)(Path(out_dir))
+    run.__doc__ = f"numerics.figures.comparison.{name}"
+    return run
+
+
+#: every figure by name
+FIGURES: dict[str, Callable[[Path], list[Path]]] = {
+    "fig2_potential": _paper("fig2_potential"),
+    "fig3_phase_portraits": _paper("fig3_phase_portraits"),
+    "fig4_sliding": _paper("fig4_sliding"),
+    "fig5_sedf_vs_cdc": _paper("fig5_sedf_vs_cdc"),
+    "fig6_kinetic_friction": _paper("fig6_kinetic_friction"),
+    "convergence": _comparison("convergence_figure"),
+    "validity_map": _comparison("validity_figure"),
+    "phase_fig3_kbm": _comparison("phase_fig3_figure"),
+    "phase_small_kbm": _comparison("phase_small_figure"),
+}
+
+
+def write_figures(out_dir: str | Path, only: Iterable[str] | None = None,
+                  progress: Callable[[str], None] | None = None) -> list[Path]:
+    """Write the figures named in ``only`` (default: all) into ``out_dir``.
+
+    Raises
+    ------
+    kbm.errors.KBMError
+        For an unknown figure name (the known names are listed).
+    """
+    names = list(FIGURES) if only is None else list(only)
+    unknown = [n for n in names if n not in FIGURES]
+    if unknown:
+        raise KBMError(f"unknown figure(s) {', '.join(unknown)}; the figures are "
+                       f"{', '.join(FIGURES)}")
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    paths: list[Path] = []
+    for n in names:
+        if progress:
+            progress(n)
+        paths.extend(FIGURES[n](out))
+    return paths

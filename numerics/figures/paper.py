@@ -1,0 +1,146 @@
+"""The paper's Figs. 2-6, recomputed (mu = 0.1, Omega = 1, lambda = 1 as the paper states).
+
+Each function writes a PNG (and a PDF) with the parameters in the title and
+returns the paths.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ..claims import FIG4, FIG5
+from ..potential import potential
+from ..sliding import slide
+
+__all__ = ["fig2_potential", "fig3_phase_portraits", "fig4_sliding", "fig5_sedf_vs_cdc",
+           "fig6_kinetic_friction"]
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _save(fig, out_dir: Path, name: str) -> list[Path]:
+    out_dir.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for ext in ("png", "pdf"):
+        p = out_dir / f"{name}.{ext}"
+        fig.savefig(p, dpi=130, bbox_inches="tight", metadata={"CreationDate": None}
+                    if ext == "pdf" else {"Software": None})
+        paths.append(p)
+    _plt().close(fig)
+    return paths
+
+
+def fig2_potential(out_dir: Path) -> list[Path]:
+    """Fig. 2: U(x, 0) of eq. (4) for lambda = 1 and several Delta."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(6, 4))
+    x = np.linspace(-4, 4, 2001)
+    for D in (0.5, 1.5, 3.0):
+        ax.plot(x, potential(x, 0.0, Delta=D, lam=1.0, Omega=1.0), label=rf"$\Delta = {D:g}$")
+    ax.set_xlabel("$x$")
+    ax.set_ylabel("$U(x, 0)$")
+    ax.set_title(r"Fig. 2: $U = \Omega^2 x^2/2 - (\lambda/2\pi)\Delta\cos(2\pi x/\lambda)$, "
+                 r"$\lambda = 1$, $\Omega = 1$", fontsize=9)
+    ax.legend()
+    return _save(fig, out_dir, "fig2_potential")
+
+
+def fig3_phase_portraits(out_dir: Path) -> list[Path]:
+    """Fig. 3: phase portraits of the undriven SEDF, Delta = 1.5, several beta (the true
+    limit cycles by shooting, and a transient from x = 0.1)."""
+    from ..cycle import limit_cycle
+    from ..sliding import slide as _slide
+
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(6, 5))
+    for beta in (0.1, 0.25, 0.5, 1.0):
+        c = limit_cycle("sedf", {"mu": 0.1, "Delta": 1.5, "lam": 1, "beta": beta})
+        line, = ax.plot(np.append(c.x, c.x[0]), np.append(c.xdot, c.xdot[0]), lw=1.2,
+                        label=rf"$\beta = {beta:g}$ (T = {c.period:.3f})")
+        tr = _slide("sedf", {"mu": 0.1, "Delta": 1.5, "beta": beta, "v": 0.0}, t_end=60.0,
+                    x0=0.1)
+        ax.plot(tr.x, tr.xdot, lw=0.4, alpha=0.5, color=line.get_color())
+    ax.plot([0.1], [0.0], "k>", ms=6)
+    ax.set_xlabel("$x$")
+    ax.set_ylabel(r"$\dot x$")
+    ax.set_title(r"Fig. 3: undriven SEDF, $\Delta = 1.5$, $\mu = 0.1$, $\Omega = 1$, "
+                 r"$\lambda = 1$ (transients from $x = 0.1$)", fontsize=9)
+    ax.legend(fontsize=8)
+    return _save(fig, out_dir, "fig3_phase_portraits")
+
+
+def fig4_sliding(out_dir: Path) -> list[Path]:
+    """Fig. 4: SEDF sliding, Delta = 3, beta = 1, v = 0.1: phase space (A) and series (B)."""
+    plt = _plt()
+    r = slide("sedf", FIG4, t_end=300.0)
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4))
+    a1.plot(r.x, r.xdot, lw=0.6)
+    a1.set_xlabel("$x$")
+    a1.set_ylabel(r"$\dot x$")
+    a1.set_title("(A) phase space")
+    a2.plot(r.t, r.x, lw=0.8, label="$x$")
+    a2.plot(r.t, FIG4["v"] * r.t, "k--", lw=0.6, label="stage $vt$")
+    a2.set_xlabel("$t$")
+    a2.legend(fontsize=8)
+    a2.set_title("(B) time series")
+    fig.suptitle(r"Fig. 4: SEDF, $\Delta = 3$, $\beta = 1$, $v = 0.1$, $\mu = 0.1$, "
+                 r"$\Omega = 1$, $\lambda = 1$, start at the origin", fontsize=10)
+    return _save(fig, out_dir, "fig4_sliding")
+
+
+def fig5_sedf_vs_cdc(out_dir: Path) -> list[Path]:
+    """Fig. 5: SEDF vs CDC, Delta = 3, beta = 1, v = 0.01: positions and friction force."""
+    plt = _plt()
+    cdc_p = {k: v for k, v in FIG5.items() if k != "beta"}
+    s = slide("sedf", FIG5, t_end=1500.0)
+    c = slide("cdc", cdc_p, t_end=1500.0)
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
+    a1.plot(c.t, c.x, lw=0.8, label="CDC (eq. 12)")
+    a1.plot(s.t, s.x, lw=0.8, label="SEDF (eq. 3)")
+    a1.plot(s.t, FIG5["v"] * s.t, "k--", lw=0.5, label="stage $vt$")
+    a1.set_ylabel("$x$")
+    a1.legend(fontsize=8)
+    a2.plot(c.t, c.force, lw=0.6, label=f"CDC, peak {c.force.max():.3f}")
+    a2.plot(s.t, s.force, lw=0.6, label=f"SEDF, peak {s.force.max():.3f}")
+    a2.set_ylabel(r"friction force $\Omega^2(vt - x)$")
+    a2.set_xlabel("$t$")
+    a2.legend(fontsize=8)
+    fig.suptitle(r"Fig. 5: SEDF vs CDC, $\Delta = 3$, $\beta = 1$, $v = 0.01$, $\mu = 0.1$, "
+                 r"$\Omega = 1$, $\lambda = 1$", fontsize=10)
+    return _save(fig, out_dir, "fig5_sedf_vs_cdc")
+
+
+def fig6_kinetic_friction(out_dir: Path) -> list[Path]:
+    """Fig. 6: kinetic friction (running mean of the spring force over one potential
+    period of the stage) of the SEDF vs time; region I while |x| <= 1/sqrt(beta)."""
+    plt = _plt()
+    r = slide("sedf", FIG5, t_end=1500.0)
+    win = FIG5["lam"] / FIG5["v"]
+    n = max(1, int(round(win / (r.t[1] - r.t[0]))))
+    kern = np.ones(n) / n
+    mean = np.convolve(r.force, kern, mode="same")
+    fig, ax = plt.subplots(figsize=(9, 4))
+    ax.plot(r.t, r.force, lw=0.4, alpha=0.5, label="spring force")
+    ax.plot(r.t, mean, lw=1.5, label=rf"running mean over $\lambda/v = {win:g}$")
+    xb = 1 / math.sqrt(FIG5["beta"])
+    inside = np.abs(r.x) <= xb
+    t_out = r.t[np.argmax(~inside & (r.t > 0))] if np.any(~inside) else r.t[-1]
+    ax.axvspan(0, t_out, color="0.9", zorder=0)
+    ax.text(0.5 * t_out, ax.get_ylim()[1] * 0.9, "I", ha="center")
+    ax.text(0.5 * (t_out + r.t[-1]), ax.get_ylim()[1] * 0.9, "II", ha="center")
+    ax.set_xlabel("$t$")
+    ax.set_ylabel("friction force")
+    ax.set_title(r"Fig. 6: SEDF kinetic friction, $\Delta = 3$, $\beta = 1$, $v = 0.01$; "
+                 r"I: $|x| \leq 1/\sqrt{\beta}$ until $t = $" + f"{t_out:.0f}", fontsize=9)
+    ax.legend(fontsize=8)
+    return _save(fig, out_dir, "fig6_kinetic_friction")

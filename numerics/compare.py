@@ -172,7 +172,7 @@ class Comparison:
         return err / abs(numeric_value(self.numeric, key))
 
     def to_json(self) -> dict:
-        """The keys of ``kbm compare --json``."""
+        """The keys of ``kbm compare --json`` (``None`` for a number that does not exist)."""
         c = self.numeric
         numeric = {"period": c.period, "frequency": c.frequency,
                    "amplitude_first_harmonic": c.amplitude_first_harmonic,
@@ -180,6 +180,8 @@ class Comparison:
                    "floquet_multiplier": numeric_value(c, "floquet_multiplier"),
                    "harmonic3": numeric_value(c, "harmonic3"),
                    "gamma_minus": c.dissipation.gamma_minus,
+                   "harmonics": [float(2 * abs(h)) if m else float(abs(h))
+                                 for m, h in enumerate(c.harmonics[:8])],
                    "stable": c.stable, "success": c.success, "message": c.message}
         kbm_rows, paper = [], None
         for p in self.predictions:
@@ -194,7 +196,7 @@ class Comparison:
                "kbm": kbm_rows}
         if paper is not None:
             out["paper"] = paper
-        return out
+        return _finite(out)
 
     def table(self) -> str:
         """A plain-text table: each quantity, the true value, and each prediction with its
@@ -228,6 +230,17 @@ class Comparison:
 
 
 # ----------------------------------------------------------------------------- helpers
+def _finite(obj):
+    """NaN and infinities -> None, so that the JSON output is strict JSON."""
+    if isinstance(obj, dict):
+        return {k: _finite(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_finite(v) for v in obj]
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
 def _model(model: Oscillator | str) -> Oscillator:
     return get_model(model) if isinstance(model, str) else model
 

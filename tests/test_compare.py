@@ -186,3 +186,19 @@ def test_averaged_cycles_keeps_roots_with_positive_frequency():
     root = brentq(lambda s: f.amplitude_rate(s, 0.1, *pars, order=2), 2.0, 2.3)
     cycles = averaged_cycles(res, {"mu": 0.1, **vals}, order=2)
     assert any(abs(c.amplitude - root) < 1e-9 and c.stable for c in cycles)
+
+
+def test_cli_failed_order_is_strict_json(capsys):
+    """Paper eq. (3) at Delta = 3, beta = 1 (the paper's Fig. 4 potential, v = 0): order 1
+    has a cycle, order 2 none (its averaged frequency is negative at a root); the JSON output
+    stays strict JSON with null for the missing numbers."""
+    def no_nan(token):
+        raise ValueError(f"non-standard JSON constant {token}")
+
+    assert main(["compare", "sedf", "-p", "mu=0.1", "-p", "Delta=3", "-p", "beta=1",
+                 "-p", "lam=1", "--x-start", "3", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out, parse_constant=no_nan)
+    o1, o2 = out["kbm"]
+    assert o1["success"] and o1["amplitude"] == pytest.approx(2.0)
+    assert not o2["success"] and o2["amplitude"] is None
+    assert out["numeric"]["amplitude_first_harmonic"] == pytest.approx(2.0537, abs=1e-3)

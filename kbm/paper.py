@@ -5,12 +5,12 @@ D'Acunto writes the second KBM approximation of the SEDF (eq. 3 with ``v = 0``,
 
 - eq. (5): ``x = a cos psi + mu f(a, psi) + mu^2 g(a, psi)``;
 - eq. (6): ``psi = [1 - mu^2 (1 - beta a^2/4)(1/3 - beta a^2/4)] t + psi_0``;
-- eq. (7): ``a' = mu [a/2 (1 - beta a^2/4) + (Delta/mu) J_1(k a)]
-  + mu^2 [k Delta^2/(2 mu) J_0(k a) J_1(k a)]``;
-- eq. (8): ``f = -(beta a^3/32) sin 3 psi
-  + (Delta/mu) sum_{n != 1} (-1)^n J_{2n+1}(k a) cos((2n+1) psi)``;
-- eq. (9): ``g = -(k Delta^2/mu) J_0(k a) J_1(k a)
-  - 2 a (1 - beta a^2/4)(1/3 - beta a^2/4) cos psi``.
+- eq. (7): ``a' = mu [a/2 (1 - beta a^2/4) + (Delta/mu) J_1(k a)] +
+  mu^2 [k Delta^2/(2 mu) J_0(k a) J_1(k a)]``;
+- eq. (8): ``f = -(beta a^3/32) sin 3 psi +
+  (Delta/mu) sum_{n != 1} (-1)^n J_{2n+1}(k a) cos((2n+1) psi)``;
+- eq. (9): ``g = -(k Delta^2/mu) J_0(k a) J_1(k a) -
+  2 a (1 - beta a^2/4)(1/3 - beta a^2/4) cos psi``.
 
 This module holds these expressions in one place, in the symbols ``mu``,
 ``beta``, ``Delta``, ``k``, ``a``, ``psi`` (physical parameters; the scaled
@@ -44,7 +44,7 @@ summation range of eq. (8), printed ``n != 1``, is read as ``n = 0, 2, 3, ...``
 References
 ----------
 M. D'Acunto, "Friction force for self-excited systems", eqs. (3), (5)-(9).
-N. N. Bogoliubov and Y. A. Mitropolsky, *Asymptotic Methods in the Theory of
+Bogoliubov, N. N. and Mitropolsky, Y. A., *Asymptotic Methods in the Theory of
 Non-Linear Oscillations* (1961), ch. 1, sec. 2.
 
 Examples

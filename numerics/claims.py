@@ -81,8 +81,7 @@ def check_claims(t_end: float = 1500.0) -> list[Claim]:
         "the slip of the SEDF is a single jump, the CDC oscillates before stabilising",
         f"first slip crossing wells: SEDF {wells_s} well(s) with {osc_s} velocity reversals; "
         f"CDC {wells_c} well(s) with {osc_c} velocity reversals; fraction of time stuck "
-        f"(|x'| <= 5 v): SEDF {stuck_s:.2f}, CDC {stuck_c:.2f} (the SEDF keeps oscillating "
-        f"on its limit cycle in the well instead of sticking)",
+        f"(|x'| <= 5 v): SEDF {stuck_s:.2f}, CDC {stuck_c:.2f}",
         "holds" if osc_s < osc_c else "does not hold",
         {"reversals_sedf": osc_s, "reversals_cdc": osc_c, "wells_sedf": wells_s,
          "wells_cdc": wells_c, "stuck_sedf": stuck_s, "stuck_cdc": stuck_c}))

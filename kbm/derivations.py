@@ -194,7 +194,7 @@ $\beta=1$, $\lambda=1$), where the expansion is valid, and the paper's Fig.~3 ca
 ($\mu=0.1$, $\Delta=1.5$, $\beta=1$, $\lambda=1$)."""]
     verdicts = []
     for r in rows:
-        out.append(f"\subsection*{{Eq.~({r.equation}): ${r.quantity}$}}")
+        out.append(rf"\subsection*{{Eq.~({r.equation}): ${r.quantity}$}}")
         out.append("As printed:")
         lhs = {"6": r"\dot\psi", "7": r"\dot a", "8": "f(a,\\psi)", "9": "g(a,\\psi)"}[
             r.equation]

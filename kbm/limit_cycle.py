@@ -90,7 +90,9 @@ def averaged_cycles(result: KBMResult, values: Mapping[str, object], *,
     -------
     tuple of AveragedCycle
         In increasing amplitude; empty when the averaged equation has no cycle
-        (e.g. pure damping).
+        (e.g. pure damping).  Roots where the averaged frequency
+        ``omega0 + sum mu**n B_n`` is not positive are left out: the truncated
+        expansion has broken down there.
 
     Examples
     --------
@@ -125,9 +127,10 @@ def averaged_cycles(result: KBMResult, values: Mapping[str, object], *,
     for root in sorted(roots):
         slope = float(df(root, m, *pars))
         omega = float(phase(root, m, *pars))
-        if omega <= 0:
-            raise KBMError(f"the averaged frequency at a* = {root:.6g} is {omega:.6g} <= 0: "
-                           "mu is too large for this expansion")
+        if not omega > 0:
+            # the truncated phase equation gives no rotation here: the expansion has
+            # broken down at this amplitude, so this root is not a cycle it predicts
+            continue
         T = 2 * np.pi / omega
         cycles.append(AveragedCycle(order=N, amplitude=float(root), frequency=omega, period=T,
                                     dA_da=slope, stable=slope < 0,

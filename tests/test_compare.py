@@ -165,12 +165,6 @@ def test_compare_custom_model_rayleigh_velocity():
     assert c.relative_error(p3, "amplitude") < c.relative_error(p1, "amplitude") / 100
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "KBM engine: kbm.averaged_cycles raises KBMError for the whole order when any root of "
-    "the averaged amplitude equation has a non-positive averaged frequency.  sedf, mu = 0.1, "
-    "Delta = 3 (delta = 30), beta = 1, order 2: roots a = 0.8807 (omega = -1.666), 1.308, "
-    "2.1408 (stable, omega = 1.1755), 2.92, 3.23, ...; the stable root near the true cycle "
-    "(a = 2.0537) is lost with the others.  Reported to the engine owner."))
 def test_averaged_cycles_keeps_roots_with_positive_frequency():
     """The order-2 averaged amplitude equation of the SEDF at Delta = 3 has a stable root at
     a = 2.1408 (sign change of sum mu^n A_n found by an independent scan here); the
@@ -202,3 +196,14 @@ def test_cli_failed_order_is_strict_json(capsys):
     assert o1["success"] and o1["amplitude"] == pytest.approx(2.0)
     assert o2["success"] == (o2["amplitude"] is not None)
     assert out["numeric"]["amplitude_first_harmonic"] == pytest.approx(2.0537, abs=1e-3)
+
+
+@pytest.mark.slow
+def test_vdp_order4_slopes():
+    """van der Pol, KBM order 4 on mu = 0.05, 0.1, 0.2 (at mu = 0.025 the frequency error,
+    ~1e-13, is at the shooting accuracy): amplitude 4, frequency 6, third harmonic and
+    Floquet exponent 5, as predicted.  (max x and Gamma, predicted 4 and 5, have small
+    leading coefficients and show the next power on this range.)"""
+    s = convergence_study("vdp", [0.05, 0.1, 0.2], orders=(4,))
+    for key in ("amplitude", "frequency", "harmonic3", "floquet_exponent"):
+        assert s.slopes[(4, key)] == pytest.approx(s.predicted[(4, key)], abs=0.25), key

@@ -1,0 +1,1 @@
+"""Independent references used by the tests (never by the package)."""

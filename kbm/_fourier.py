@@ -155,10 +155,11 @@ class PolyFourier:
         return PolyFourier(self.ring, cos, sin)
 
     def as_expr(self, psi: sp.Symbol) -> sp.Expr:
-        """The sympy expression, harmonics in increasing order."""
+        """The sympy expression, harmonics in increasing order, each coefficient as
+        content x monomial x primitive polynomial (deterministic, no factoring)."""
         parts = []
         for m in sorted(self.cos):
-            parts.append(self.cos[m].as_expr() * sp.cos(m * psi))
+            parts.append(self.cos[m].as_primitive_expr() * sp.cos(m * psi))
         for m in sorted(self.sin):
-            parts.append(self.sin[m].as_expr() * sp.sin(m * psi))
+            parts.append(self.sin[m].as_primitive_expr() * sp.sin(m * psi))
         return sp.Add(*parts)

@@ -98,12 +98,7 @@ class _PolyAlgebra:
         return c.as_primitive_expr() if c else sp.Integer(0)
 
     def series_expr(self, f: PolyFourier) -> sp.Expr:
-        parts = []
-        for m in sorted(f.cos):
-            parts.append(f.cos[m].as_primitive_expr() * sp.cos(m * psi))
-        for m in sorted(f.sin):
-            parts.append(f.sin[m].as_primitive_expr() * sp.sin(m * psi))
-        return sp.Add(*parts)
+        return f.as_expr(psi)
 
     def trig(self, *args):  # pragma: no cover - guarded by _is_polynomial
         raise UnsupportedTermError("sin/cos in the polynomial algebra")

@@ -297,7 +297,14 @@ def _check_nontrivial(cm, converged, meth, rtol, atol, scale) -> None:
     if x0 < 1e-6 * max(1.0, abs(scale)):
         raise ConvergenceError(f"Newton converged to the equilibrium (x0 = {x0:.3g}), not to a "
                                "cycle")
-    yT = _flow(cm, [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], [0.0, T], meth, rtol, atol)[-1]
+    ys = _flow(cm, [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], np.linspace(0.0, T, 65), meth,
+               rtol, atol)
+    spread = float(np.ptp(ys[:, 0]))
+    if spread < 1e-6 * max(1.0, abs(x0)):
+        raise NoCycleError(f"no limit cycle: the motion settles to rest at x = {x0:.6g} (an "
+                           f"equilibrium of the potential; x varies by {spread:.2e} over "
+                           f"T = {T:.4g}); start elsewhere (x_start) to look for a cycle")
+    yT = ys[-1]
     mults = np.linalg.eigvals(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]))
     if np.min(np.abs(mults - 1.0)) > 1e-5:
         raise ConvergenceError(f"the orbit found (x0 = {x0:.6g}, T = {T:.6g}) has no Floquet "
@@ -413,7 +420,7 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
         try:
             converged = _newton(cm, x0, period, meth, rtol, atol, max_iter, floor)
             _check_nontrivial(cm, converged, meth, rtol, atol, x0)
-        except (ConvergenceError, IntegrationError):
+        except (ConvergenceError, IntegrationError, NoCycleError):
             if guess is not None:
                 raise
             converged = None
@@ -424,6 +431,7 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
         x0, period, _ = _transient(cm, x_start, tmeth, max(rtol, 1e-10), max_time,
                                    x_max if x_max is not None else 1e3 * max(1.0, abs(x_start)))
         converged = _newton(cm, x0, period, meth, rtol, atol, max_iter, floor)
+        _check_nontrivial(cm, converged, meth, rtol, atol, x0)
     x0, T, it, history = converged
     # final pass on the converged orbit: samples, monodromy, dissipation
     tt = np.linspace(0.0, T, n_samples + 1)

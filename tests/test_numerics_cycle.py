@@ -150,3 +150,15 @@ def test_cli_cycle_json(capsys):
                  "--param", "lam=1"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "decays to rest" in err[0]
+
+
+def test_rest_in_a_side_well_is_not_a_cycle():
+    """SEDF with Delta = 3 (mu = 0.1, beta = 1) has a stable rest point in a side well of the
+    potential (x = 1.8914) next to its limit cycle: from x = 1 the motion settles there and
+    the answer is NoCycleError (not a 'cycle' of zero amplitude); from x = 3 the cycle."""
+    p = {"mu": 0.1, "Delta": 3, "beta": 1, "lam": 1}
+    with pytest.raises(NoCycleError, match="settles to rest at x = 1.891"):
+        limit_cycle("sedf", p, x_start=1.0)
+    c = limit_cycle("sedf", p, x_start=3.0)
+    assert c.success and abs(c.floquet_multipliers[0] - 1) < 1e-6
+    assert c.amplitude_first_harmonic > 2.0

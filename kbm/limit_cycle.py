@@ -152,6 +152,18 @@ class LimitCycleSeries:
     def omega_expr(self) -> sp.Expr:
         return sp.Add(*[c * mu**n for n, c in enumerate(self.omega)])
 
+    def latex(self, width: int = 90) -> str:
+        """Both series as a LaTeX ``align*`` block (long lines broken)."""
+        from .latex import equation_lines
+
+        o = f" + O(\\mu^{{{self.order + 1}}})"
+        return ("\\begin{align*}\n" + equation_lines(r"\omega^*", self.omega_expr(), width) + o
+                + " \\\\\n" + equation_lines(r"a^*", self.amplitude_expr(), width) + o
+                + "\n\\end{align*}")
+
+    def _repr_latex_(self) -> str:
+        return "$\\displaystyle " + self.latex().replace("align*", "aligned") + "$"
+
 
 def limit_cycle_series(model, order: int, *, root: object | None = None) -> LimitCycleSeries:
     """Exact ``mu``-series of the limit-cycle amplitude and frequency (polynomial ``F``).

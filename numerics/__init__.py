@@ -15,3 +15,4 @@ from .claims import Claim, check_claims
 from .potential import SaddleNode, potential, saddle_node, slip_energy
 from .sliding import SlideResult, slide
 from .stickslip import Slip, StickSlip, analyze
+from .integrate import integrate

@@ -207,7 +207,7 @@ class Oscillator:
                 if missing:
                     raise ParameterError(
                         f"{scaled} = {expr} needs {', '.join(sorted(missing))} as well")
-                out[scaled] = sp.nsimplify(expr.subs({sp.Symbol(n): out[n] for n in need}))
+                out[scaled] = sp.sympify(expr.subs({sp.Symbol(n): out[n] for n in need}))
         for name in list(out):
             if name in phys_names and name not in known:
                 del out[name]

@@ -9,6 +9,7 @@ and the potential energy, for given parameter values.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from collections import OrderedDict
 from dataclasses import dataclass
 from typing import Callable
 
@@ -108,9 +109,29 @@ class ModelTemplate:
 
 
 def model_template(model: Oscillator | str, v: object | None = None) -> ModelTemplate:
-    """Lambdify ``model`` once, parameters (and ``mu``) as arguments."""
+    """Lambdify ``model`` once, parameters (and ``mu``) as arguments.
+
+    Templates are kept in a small LRU cache keyed by the model's symbolic content
+    (``F``, ``omega0``, drive): a cached template is the same function of the same
+    expressions, so the cache changes the time, never the result.
+    """
     if isinstance(model, str):
         model = get_model(model, {"v": v} if v is not None else None)
+    key = (model.name, sp.srepr(model.F), sp.srepr(model.omega0), sp.srepr(model.drive))
+    tpl = _TEMPLATES.get(key)
+    if tpl is None:
+        tpl = _build_template(model)
+        _TEMPLATES[key] = tpl
+        while len(_TEMPLATES) > 32:
+            _TEMPLATES.popitem(last=False)
+    return tpl
+
+
+#: memo of lambdified templates (bounded; it changes the time, never the result)
+_TEMPLATES: "OrderedDict[tuple, ModelTemplate]" = OrderedDict()
+
+
+def _build_template(model: Oscillator) -> ModelTemplate:
     names = tuple(sorted(set(model.parameters) | {"mu"}))
     P = [sp.Symbol(n) for n in names]
     acc = model.acceleration()

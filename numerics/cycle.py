@@ -314,12 +314,12 @@ def _check_nontrivial(cm, converged, meth, rtol, atol, scale) -> None:
 def _kbm_guess(model, params) -> tuple[float, float] | None:
     """The stable first-order KBM cycle with the largest amplitude, as (amplitude, period)."""
     try:
-        from kbm import averaged_cycles, derive
+        from kbm import averaged_cycles
         from kbm.models import get_model
 
         m = get_model(model) if isinstance(model, str) else model
         vals = m.resolve(dict(params or {}))
-        res = derive(m, 1)
+        res = _first_order(m)
         need = {p: vals[p] for p in res.params if p in vals}
         if len(need) != len(res.params) or "mu" not in vals:
             return None
@@ -330,6 +330,23 @@ def _kbm_guess(model, params) -> tuple[float, float] | None:
         return None
     c = max(cycles, key=lambda c: c.amplitude)
     return c.amplitude, c.period
+
+
+#: memo of first-order KBM derivations used as initial guesses (bounded; time only)
+_FIRST_ORDER: dict = {}
+
+
+def _first_order(m):
+    import sympy as sp
+
+    from kbm import derive
+
+    key = (m.name, sp.srepr(m.F), sp.srepr(m.omega0))
+    if key not in _FIRST_ORDER:
+        if len(_FIRST_ORDER) >= 32:
+            _FIRST_ORDER.pop(next(iter(_FIRST_ORDER)))
+        _FIRST_ORDER[key] = derive(m, 1)
+    return _FIRST_ORDER[key]
 
 
 def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = None, *,

@@ -15,7 +15,6 @@ only when a result is evaluated numerically (:mod:`kbm.evaluate`).
 
 from __future__ import annotations
 
-from math import gcd
 
 import sympy as sp
 

@@ -26,7 +26,6 @@ with Laurent-polynomial coefficients (:mod:`kbm._fourier`), any order;
 
 from __future__ import annotations
 
-from collections.abc import Callable
 
 import sympy as sp
 
@@ -34,7 +33,7 @@ from . import _bessel
 from ._fourier import PolyFourier
 from ._laurent import LaurentRing, _Q
 from ._series import Const, Leaf, Node, Product, Scaled, Sum, TrigOf
-from .errors import ModelError, OrderError, UnsupportedTermError
+from .errors import OrderError, UnsupportedTermError
 from .models import Oscillator, get_model
 from .result import KBMResult
 from .symbols import a, psi, x, xdot

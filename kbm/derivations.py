@@ -21,10 +21,9 @@ from pathlib import Path
 import sympy as sp
 
 from .averaging import derive
-from .latex import equation_lines, latex, series_lines
+from .latex import equation_lines, series_lines
 from .limit_cycle import limit_cycle_series
 from .models import get_model
-from .symbols import a, mu, psi
 
 __all__ = ["BANNER", "DerivationFile", "build_files", "write_derivations", "REGENERATE"]
 
@@ -161,7 +160,6 @@ class ErratumRow:
 
 def _num(v: float) -> str:
     """Numbers of the evidence tables: 4 significant digits, noise-level values as 0."""
-    import math
 
     if v != v:
         return "--"

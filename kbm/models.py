@@ -36,7 +36,7 @@ from types import MappingProxyType
 
 import sympy as sp
 
-from .errors import ModelError, NonAutonomousError, ParameterError, UnsupportedTermError
+from .errors import ModelError, NonAutonomousError, ParameterError
 from .symbols import mu, parse, t, x, xdot
 
 __all__ = ["Oscillator", "MODELS", "get_model", "custom_model", "model_names"]

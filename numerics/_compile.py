@@ -18,7 +18,7 @@ import sympy as sp
 
 from kbm.errors import ParameterError
 from kbm.models import Oscillator, get_model
-from kbm.symbols import mu as MU, t as T, x as X, xdot as V
+from kbm.symbols import t as T, x as X, xdot as V
 
 __all__ = ["CompiledModel", "ModelTemplate", "compile_model", "model_template"]
 

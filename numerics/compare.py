@@ -41,7 +41,7 @@ import sympy as sp
 
 from kbm.errors import KBMError, ParameterError
 from kbm.models import Oscillator, get_model
-from kbm.symbols import a as A_SYM, mu as MU, psi as PSI, x as X, xdot as V
+from kbm.symbols import x as X, xdot as V
 
 from .cycle import LimitCycle, limit_cycle
 

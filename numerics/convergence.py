@@ -54,9 +54,9 @@ import numpy as np
 import sympy as sp
 
 from kbm.models import Oscillator, get_model
-from kbm.symbols import x as X, xdot as V
+from kbm.symbols import xdot as V
 
-from .compare import ERROR_KEYS, Comparison, compare, numeric_value
+from .compare import ERROR_KEYS, Comparison, compare
 
 __all__ = ["FIT_KEYS", "predicted_orders", "time_reversal_symmetric", "ConvergenceStudy",
            "convergence_study", "fit_slope"]

@@ -174,7 +174,6 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
     Gp, Gm, W = ys[2], ys[3], ys[4]
     G = beta * Gp - Gm if model == "sedf" else Gp
     Dk = p["Delta"]
-    Up = -Dk / k * np.cos(k * xs)
     yend = sol.y[:, -1]
     G_end = beta * yend[2] - yend[3] if model == "sedf" else yend[2]
     resid = yend[4] - (yend[1]**2 / 2 - v0**2 / 2) - (-Dk / k * math.cos(k * yend[0])

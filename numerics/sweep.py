@@ -62,7 +62,7 @@ def _chunk(args) -> list[SweepPoint]:
             out.append(SweepPoint(params=p, cycle=_strip(cyc)))
             if continuation and cyc.success and cyc.stable:
                 guess = (cyc.amplitude_max, cyc.period)
-        except KBMError as exc:
+        except KBMError:
             # a continuation guess may be what failed: retry from the KBM/transient start
             if guess is not None and continuation:
                 try:

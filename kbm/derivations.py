@@ -56,12 +56,12 @@ def _kbm_section(title: str, intro: str, res, orders_u: int | None = None,
     subs = dict(subs or {})
     out = [f"\\subsection*{{{title}}}\n", intro.strip() + "\n"]
     N = res.order
-    for n in range(1, N + 1):
-        out.append(_block(f"A_{{{n}}}(a)", res.A[n].subs(subs)))
-    for n in range(1, N + 1):
-        out.append(_block(f"B_{{{n}}}(a)", res.B[n].subs(subs)))
-    for n in range(1, (orders_u or N) + 1):
-        out.append(_block(f"u_{{{n}}}(a,\\psi)", res.u[n].subs(subs)))
+    out.append(_align([equation_lines(f"A_{{{n}}}(a)", res.A[n].subs(subs), _W)
+                       for n in range(1, N + 1)]))
+    out.append(_align([equation_lines(f"B_{{{n}}}(a)", res.B[n].subs(subs), _W)
+                       for n in range(1, N + 1)]))
+    out.append(_align([equation_lines(f"u_{{{n}}}(a,\\psi)", res.u[n].subs(subs), _W)
+                       for n in range(1, (orders_u or N) + 1)]))
     return "\n".join(out)
 
 
@@ -137,8 +137,8 @@ Andersen \& Geer (1982): $\omega^* = 1 - \frac{{\mu^2}}{{16}} + \frac{{17\mu^4}}
     for name in ("vdp", "rayleigh"):
         s = limit_cycle_series(name, order)
         lines.append(f"\\subsection*{{{name}}}")
-        lines.append(_align([equation_lines(r"\omega^*", s.omega_expr(), _W),
-                             equation_lines(r"a^*", s.amplitude_expr(), _W)]))
+        lines.append(_align([equation_lines(r"\omega^*", s.omega_expr(), _W, "rev-lex"),
+                             equation_lines(r"a^*", s.amplitude_expr(), _W, "rev-lex")]))
     return DerivationFile("series.tex", "\n".join(lines) + "\n")
 
 

@@ -82,10 +82,10 @@ def latex(expr: sp.Expr, **settings) -> str:
     return KBMLatexPrinter(settings).doprint(expr)
 
 
-def _terms(expr: sp.Expr) -> list[sp.Expr]:
+def _terms(expr: sp.Expr, order: str = "lex") -> list[sp.Expr]:
     printer = KBMLatexPrinter()
     if isinstance(expr, sp.Add):
-        return list(printer._as_ordered_terms(expr, order="lex"))
+        return list(printer._as_ordered_terms(expr, order=order))
     return [expr]
 
 
@@ -172,10 +172,10 @@ def _bracketed(head: str, add: sp.Expr, tail: str, width: int) -> list[str]:
     return out
 
 
-def _pieces(expr: sp.Expr, width: int) -> list[str]:
+def _pieces(expr: sp.Expr, width: int, order: str = "lex") -> list[str]:
     """Signed LaTeX pieces of ``expr``: its top-level terms, long ones split inside."""
     pieces: list[str] = []
-    for term in _terms(sp.sympify(expr)):
+    for term in _terms(sp.sympify(expr), order):
         tex = latex(term)
         if visible_width(tex) <= width:
             pieces.append(tex)
@@ -230,13 +230,14 @@ def _join(lhs: str, lines: list[str]) -> str:
     return out
 
 
-def equation_lines(lhs: str, expr: sp.Expr, width: int = 90) -> str:
+def equation_lines(lhs: str, expr: sp.Expr, width: int = 90, order: str = "lex") -> str:
     """``lhs &= ...`` for an ``align`` environment, broken into lines of ~``width`` chars.
 
     Top-level terms are packed greedily; a single term longer than ``width`` that
     is an infinite sum is printed as ``\\sum [`` body terms ``]`` over several lines.
+    ``order="rev-lex"`` puts the terms of a power series in increasing powers.
     """
-    return _join(lhs, _pack(_pieces(expr, width), width))
+    return _join(lhs, _pack(_pieces(expr, width, order), width))
 
 
 def series_lines(lhs: str, lead: sp.Expr, orders: list[tuple[int, sp.Expr]],

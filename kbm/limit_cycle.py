@@ -157,8 +157,9 @@ class LimitCycleSeries:
         from .latex import equation_lines
 
         o = f" + O(\\mu^{{{self.order + 1}}})"
-        return ("\\begin{align*}\n" + equation_lines(r"\omega^*", self.omega_expr(), width) + o
-                + " \\\\\n" + equation_lines(r"a^*", self.amplitude_expr(), width) + o
+        return ("\\begin{align*}\n"
+                + equation_lines(r"\omega^*", self.omega_expr(), width, "rev-lex") + o
+                + " \\\\\n" + equation_lines(r"a^*", self.amplitude_expr(), width, "rev-lex") + o
                 + "\n\\end{align*}")
 
     def _repr_latex_(self) -> str:

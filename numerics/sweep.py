@@ -62,7 +62,8 @@ def _chunk(args) -> list[SweepPoint]:
             out.append(SweepPoint(params=p, cycle=_strip(cyc)))
             if continuation and cyc.success and cyc.stable:
                 guess = (cyc.amplitude_max, cyc.period)
-        except KBMError:
+        except KBMError as exc:
+            error = str(exc)
             # a continuation guess may be what failed: retry from the KBM/transient start
             if guess is not None and continuation:
                 try:
@@ -71,8 +72,8 @@ def _chunk(args) -> list[SweepPoint]:
                     guess = (cyc.amplitude_max, cyc.period) if cyc.stable else None
                     continue
                 except KBMError as exc2:
-                    exc = exc2
-            out.append(SweepPoint(params=p, cycle=None, error=str(exc)))
+                    error = str(exc2)
+            out.append(SweepPoint(params=p, cycle=None, error=error))
             guess = None
     return out
 

@@ -11,7 +11,8 @@ from .errors import (KBMError, ModelError, NonAutonomousError, OrderError, Param
 from .averaging import derive
 from .evaluate import SeriesTruncationError, mpmath_function, numpy_function
 from .latex import latex
-from .limit_cycle import AveragedCycle, LimitCycleSeries, averaged_cycles, limit_cycle_series
+from .limit_cycle import (AveragedCycle, AveragedRates, LimitCycleSeries, averaged_cycles,
+                          averaged_rates, limit_cycle_series)
 from .models import MODELS, Oscillator, custom_model, get_model, model_names
 from .result import KBMFunctions, KBMResult
 from .symbols import a, mu, parse, psi, t, x, xdot
@@ -21,7 +22,8 @@ __all__ = [
     "UnsupportedTermError",
     "SeriesTruncationError",
     "derive", "KBMResult", "KBMFunctions", "numpy_function", "mpmath_function", "latex",
-    "AveragedCycle", "LimitCycleSeries", "averaged_cycles", "limit_cycle_series",
+    "AveragedCycle", "AveragedRates", "LimitCycleSeries", "averaged_cycles", "averaged_rates",
+    "limit_cycle_series",
     "MODELS", "Oscillator", "custom_model", "get_model", "model_names",
     "a", "mu", "parse", "psi", "t", "x", "xdot",
 ]

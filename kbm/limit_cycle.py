@@ -13,7 +13,7 @@ series in ``mu`` (:func:`limit_cycle_series`): with ``a* = a_0 + sum_j c_j mu**j
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,7 +23,8 @@ from .errors import KBMError, OrderError, ParameterError
 from .result import KBMResult
 from .symbols import a, mu
 
-__all__ = ["AveragedCycle", "averaged_cycles", "LimitCycleSeries", "limit_cycle_series"]
+__all__ = ["AveragedCycle", "AveragedRates", "averaged_cycles", "averaged_rates",
+           "LimitCycleSeries", "limit_cycle_series"]
 
 
 @dataclass(frozen=True)
@@ -101,41 +102,78 @@ def averaged_cycles(result: KBMResult, values: Mapping[str, object], *,
     >>> round(c.amplitude, 12), c.stable
     (2.0, True)
     """
-    from scipy.optimize import brentq
+    return averaged_rates(result, order=order).cycles(values, a_max=a_max, n_grid=n_grid)
 
-    N = result._order(order)
-    m, pars = _values(result, values)
-    rate = sp.Add(*[mu**n * result.A[n] for n in range(1, N + 1)])
+
+@dataclass(frozen=True)
+class AveragedRates:
+    """The averaged equations of a derivation as numerical functions of ``(a, mu, *params)``.
+
+    Lambdifying is the costly step of :func:`averaged_cycles`; an
+    ``AveragedRates`` is built once (:func:`averaged_rates`) and evaluated for
+    many parameter values (as the limit-cycle guesses of a sweep do).
+
+    Attributes
+    ----------
+    order, params
+        The truncation order and the names of the parameters after ``mu``.
+    rate, slope, frequency
+        ``A(a) = sum_{n<=order} mu**n A_n(a)``, ``dA/da`` and
+        ``omega0 + sum mu**n B_n(a)`` (vectorised in ``a``).
+    """
+
+    order: int
+    params: tuple[str, ...]
+    rate: Callable
+    slope: Callable
+    frequency: Callable
+    result: KBMResult
+
+    def cycles(self, values: Mapping[str, object], *, a_max: float = 20.0,
+               n_grid: int = 4000) -> tuple[AveragedCycle, ...]:
+        """The cycles ``0 < a* <= a_max`` at ``values``; see :func:`averaged_cycles`."""
+        from scipy.optimize import brentq
+
+        m, pars = _values(self.result, values)
+        f, df, phase = self.rate, self.slope, self.frequency
+        grid = np.linspace(a_max / n_grid, a_max, n_grid)
+        g = f(grid, m, *pars) / grid
+        if not np.all(np.isfinite(g)):
+            bad = grid[~np.isfinite(g)][0]
+            raise KBMError(f"the averaged amplitude equation is not finite at a = {bad:.6g}")
+        sg = np.sign(g)
+        roots = list(grid[sg == 0])
+        for i in np.nonzero(sg[:-1] * sg[1:] < 0)[0]:
+            roots.append(brentq(lambda s: float(f(s, m, *pars)) / s, grid[i], grid[i + 1],
+                                xtol=1e-15, rtol=1e-14))
+        cycles = []
+        for root in sorted(roots):
+            slope = float(df(root, m, *pars))
+            omega = float(phase(root, m, *pars))
+            if not omega > 0:
+                # the truncated phase equation gives no rotation here: the expansion has
+                # broken down at this amplitude, so this root is not a cycle it predicts
+                continue
+            T = 2 * np.pi / omega
+            cycles.append(AveragedCycle(order=self.order, amplitude=float(root),
+                                        frequency=omega, period=T, dA_da=slope,
+                                        stable=slope < 0,
+                                        floquet_multiplier=float(np.exp(T * slope))))
+        return tuple(cycles)
+
+
+def averaged_rates(result: KBMResult, *, order: int | None = None) -> AveragedRates:
+    """Lambdify the averaged equations of ``result`` up to ``order`` (default: all)."""
     from .evaluate import numpy_function
 
-    pars_sym = [sp.Symbol(p) for p in result.params]
-    f = numpy_function(rate, [a, mu, *pars_sym])
-    df = numpy_function(sp.diff(rate, a), [a, mu, *pars_sym])
-    phase = numpy_function(sp.Add(*[mu**n * result.B[n] for n in range(0, N + 1)]),
-                           [a, mu, *pars_sym])
-    grid = np.linspace(a_max / n_grid, a_max, n_grid)
-    g = f(grid, m, *pars) / grid
-    if not np.all(np.isfinite(g)):
-        bad = grid[~np.isfinite(g)][0]
-        raise KBMError(f"the averaged amplitude equation is not finite at a = {bad:.6g}")
-    sg = np.sign(g)
-    roots = list(grid[sg == 0])
-    for i in np.nonzero(sg[:-1] * sg[1:] < 0)[0]:
-        roots.append(brentq(lambda s: float(f(s, m, *pars)) / s, grid[i], grid[i + 1],
-                            xtol=1e-15, rtol=1e-14))
-    cycles = []
-    for root in sorted(roots):
-        slope = float(df(root, m, *pars))
-        omega = float(phase(root, m, *pars))
-        if not omega > 0:
-            # the truncated phase equation gives no rotation here: the expansion has
-            # broken down at this amplitude, so this root is not a cycle it predicts
-            continue
-        T = 2 * np.pi / omega
-        cycles.append(AveragedCycle(order=N, amplitude=float(root), frequency=omega, period=T,
-                                    dA_da=slope, stable=slope < 0,
-                                    floquet_multiplier=float(np.exp(T * slope))))
-    return tuple(cycles)
+    N = result._order(order)
+    rate = sp.Add(*[mu**n * result.A[n] for n in range(1, N + 1)])
+    args = [a, mu, *[sp.Symbol(p) for p in result.params]]
+    return AveragedRates(
+        order=N, params=tuple(result.params), result=result,
+        rate=numpy_function(rate, args), slope=numpy_function(sp.diff(rate, a), args),
+        frequency=numpy_function(sp.Add(*[mu**n * result.B[n] for n in range(0, N + 1)]),
+                                 args))
 
 
 @dataclass(frozen=True)

@@ -51,6 +51,13 @@ class CompiledModel:
         ``stiffness(x, v)``: the largest modulus of the Jacobian's eigenvalues.
     autonomous
         Whether the model has no explicit time dependence.
+    template, pvec
+        The :class:`ModelTemplate` and the parameter values in its order
+        (``template.names``), for :func:`template_flow`.
+    exact_values
+        The parameter values as given (exact where they were exact).
+    acceleration_expr, dissipation_expr
+        Symbolic acceleration and dissipation integrand at these values (properties).
     """
 
     name: str
@@ -61,11 +68,25 @@ class CompiledModel:
     rhs_ext: Callable
     jac: Callable
     energy: Callable
-    dissipation_expr: sp.Expr
     plus_factor: float
     stiffness: Callable
     autonomous: bool
-    acceleration_expr: sp.Expr
+    template: ModelTemplate
+    pvec: tuple[float, ...]
+    exact_values: Mapping[str, object]
+
+    @property
+    def acceleration_expr(self) -> sp.Expr:
+        """The acceleration at these parameter values, symbolic in ``t, x, x'``."""
+        return self.template.model.acceleration().subs(self._subs())
+
+    @property
+    def dissipation_expr(self) -> sp.Expr:
+        """The integrand of the dissipation ``Gamma`` at these parameter values."""
+        return self.template.dissipation_expr.subs(self._subs())
+
+    def _subs(self) -> dict:
+        return {sp.Symbol(k): v for k, v in self.exact_values.items()}
 
 
 def _split_dissipation(model: Oscillator) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
@@ -106,6 +127,8 @@ class ModelTemplate:
     f_w0: Callable
     f_factor: Callable
     dissipation_expr: sp.Expr
+    ext_exprs: tuple[sp.Expr, ...] = ()
+    ext_symbols: tuple[sp.Symbol, ...] = ()
 
 
 def model_template(model: Oscillator | str, v: object | None = None) -> ModelTemplate:
@@ -151,13 +174,37 @@ def _build_template(model: Oscillator) -> ModelTemplate:
            plus.subs(es), minus.subs(es)]
     return ModelTemplate(
         model=model, names=names,
-        f_ext=sp.lambdify((T, y, *P), ext, modules="math", cse=True),
-        f_acc=sp.lambdify((T, X, V, *P), acc, modules="math"),
-        f_jac=sp.lambdify((T, X, V, *P), [[0, 1], [dadx, dadv]], modules="numpy"),
-        f_energy=sp.lambdify((X, V, *P), energy_expr, modules="numpy"),
+        f_ext=sp.lambdify((T, y, *P), ext, modules=["math", "scipy"], cse=True),
+        f_acc=sp.lambdify((T, X, V, *P), acc, modules=["math", "scipy"]),
+        f_jac=sp.lambdify((T, X, V, *P), [[0, 1], [dadx, dadv]], modules=["numpy", "scipy"]),
+        f_energy=sp.lambdify((X, V, *P), energy_expr, modules=["numpy", "scipy", "mpmath"]),
         f_w0=sp.lambdify(P, model.omega0, modules="math"),
         f_factor=sp.lambdify(P, factor, modules="math"),
-        dissipation_expr=factor * plus - minus)
+        dissipation_expr=factor * plus - minus, ext_exprs=tuple(ext), ext_symbols=tuple(y))
+
+
+def template_flow(template: ModelTemplate):
+    """The compiled DOP853 flow of the template's extended system, or ``None``.
+
+    See :mod:`numerics._jit`; memoised per template (it changes the time, never
+    the result).
+    """
+    key = id(template)
+    hit = _FLOWS.get(key)
+    if hit is not None and hit[0] is template:
+        return hit[1]
+    from ._jit import jit_flow
+
+    fl = jit_flow(template.ext_exprs, T, template.ext_symbols,
+                  [sp.Symbol(n) for n in template.names])
+    _FLOWS[key] = (template, fl)
+    while len(_FLOWS) > 32:
+        _FLOWS.pop(next(iter(_FLOWS)))
+    return fl
+
+
+#: memo of compiled flows by template (bounded; time only)
+_FLOWS: dict = {}
 
 
 def compile_model(model: Oscillator | str, params: Mapping[str, object] | None = None, *,
@@ -209,11 +256,10 @@ def compile_model(model: Oscillator | str, params: Mapping[str, object] | None =
         J = np.array(f_jac(0.0, xv, vv, *pv), dtype=float)
         return float(np.max(np.abs(np.linalg.eigvals(J))))
 
-    subs = {sp.Symbol(k): v for k, v in vals.items()}
     return CompiledModel(
         name=model.name, values=fvals, omega0=float(template.f_w0(*pv)), acc=acc, rhs=rhs,
         rhs_ext=rhs_ext, jac=jac,
         energy=lambda xv, vv: np.asarray(f_en(xv, vv, *pv), dtype=float),
-        dissipation_expr=template.dissipation_expr.subs(subs),
         plus_factor=float(template.f_factor(*pv)), stiffness=stiffness,
-        autonomous=model.is_autonomous, acceleration_expr=model.acceleration().subs(subs))
+        autonomous=model.is_autonomous, template=template, pvec=pv,
+        exact_values=dict(vals))

@@ -241,22 +241,55 @@ def _period_from_maxima(maxima, times):
     return float(xb), float(period), list(maxima)
 
 
-def _flow(cm: CompiledModel, y0, times, method: str, rtol: float, atol: float) -> np.ndarray:
-    """States of the extended system at ``times`` (``times[0] = 0``), shape (len(times), 9)."""
-    times = np.asarray(times, dtype=float)
-    if method == "LSODA":
+#: name of the compiled integrator in results and messages
+JIT_METHOD = "DOP853 (compiled)"
+
+
+def _flow(cm: CompiledModel, y0, t_end: float, n_out: int, method: str, rtol: float,
+          atol: float) -> np.ndarray:
+    """States of the extended system at ``t_k = k t_end/n_out``, shape ``(n_out + 1, 9)``."""
+    t_end = float(t_end)
+    if method == JIT_METHOD:
+        from ._compile import template_flow
+
+        res = template_flow(cm.template)(y0, t_end, cm.pvec, rtol, atol, n_out)
+        if res.status:
+            raise IntegrationError(f"{method} failed before t = {t_end:.6g} after {res.steps} "
+                                   f"steps: {_JIT_MESSAGES[res.status]}")
+        ys = res.y
+    elif method == "LSODA":
+        times = np.linspace(0.0, t_end, n_out + 1)
         with np.errstate(all="ignore"):
             ys, info = odeint(cm.rhs_ext, y0, times, tfirst=True, rtol=rtol, atol=atol,
                               full_output=True, mxstep=500000)
         if info["message"] != "Integration successful.":
-            raise IntegrationError(f"LSODA failed before t = {times[-1]:.6g}: {info['message']}")
+            raise IntegrationError(f"LSODA failed before t = {t_end:.6g}: {info['message']}")
     else:
-        sol = _solve(cm, y0, float(times[-1]), method, rtol, atol, ext=True, dense=True)
+        times = np.linspace(0.0, t_end, n_out + 1)
+        sol = _solve(cm, y0, t_end, method, rtol, atol, ext=True, dense=True)
         ys = sol.sol(times).T
         ys[-1] = sol.y[:, -1]
     if not np.all(np.isfinite(ys[-1])):
-        raise IntegrationError(f"the state became non-finite before t = {times[-1]:.6g}")
+        raise IntegrationError(f"the state became non-finite before t = {t_end:.6g}")
     return ys
+
+
+_JIT_MESSAGES = {1: "the step limit (10^6) was reached",
+                 2: "the step size fell below the time resolution",
+                 3: "the state became non-finite"}
+
+
+def _shooting_method(cm: CompiledModel, x0: float, period: float, method: str) -> str:
+    """``"auto"``: the compiled DOP853 when available and the cycle is not stiff, else LSODA."""
+    if method != "auto":
+        return method
+    from ._compile import template_flow
+
+    if cm.template is None or template_flow(cm.template) is None:
+        return "LSODA"
+    probe = max(cm.stiffness(x0, 0.0), cm.stiffness(0.0, cm.omega0 * x0),
+                cm.stiffness(0.5 * x0, 0.5 * cm.omega0 * x0))
+    return "LSODA" if probe * period > STIFF_THRESHOLD else JIT_METHOD
 
 
 def _newton(cm, x0, T, method, rtol, atol, max_iter, floor):
@@ -265,7 +298,7 @@ def _newton(cm, x0, T, method, rtol, atol, max_iter, floor):
     it = 0
     while True:
         it += 1
-        yT = _flow(cm, [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], [0.0, T], method,
+        yT = _flow(cm, [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], T, 1, method,
                    rtol, atol)[-1]
         r = np.array([yT[0] - x0, yT[1]])
         history.append(float(np.max(np.abs(r))))
@@ -297,8 +330,7 @@ def _check_nontrivial(cm, converged, meth, rtol, atol, scale) -> None:
     if x0 < 1e-6 * max(1.0, abs(scale)):
         raise ConvergenceError(f"Newton converged to the equilibrium (x0 = {x0:.3g}), not to a "
                                "cycle")
-    ys = _flow(cm, [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], np.linspace(0.0, T, 65), meth,
-               rtol, atol)
+    ys = _flow(cm, [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], T, 64, meth, rtol, atol)
     spread = float(np.ptp(ys[:, 0]))
     if spread < 1e-6 * max(1.0, abs(x0)):
         raise NoCycleError(f"no limit cycle: the motion settles to rest at x = {x0:.6g} (an "
@@ -314,16 +346,15 @@ def _check_nontrivial(cm, converged, meth, rtol, atol, scale) -> None:
 def _kbm_guess(model, params) -> tuple[float, float] | None:
     """The stable first-order KBM cycle with the largest amplitude, as (amplitude, period)."""
     try:
-        from kbm import averaged_cycles
         from kbm.models import get_model
 
         m = get_model(model) if isinstance(model, str) else model
         vals = m.resolve(dict(params or {}))
-        res = _first_order(m)
-        need = {p: vals[p] for p in res.params if p in vals}
-        if len(need) != len(res.params) or "mu" not in vals:
+        rates = _first_order(m)
+        need = {p: vals[p] for p in rates.params if p in vals}
+        if len(need) != len(rates.params) or "mu" not in vals:
             return None
-        cycles = [c for c in averaged_cycles(res, {"mu": vals["mu"], **need}) if c.stable]
+        cycles = [c for c in rates.cycles({"mu": vals["mu"], **need}) if c.stable]
     except KBMError:
         return None
     if not cycles:
@@ -332,20 +363,20 @@ def _kbm_guess(model, params) -> tuple[float, float] | None:
     return c.amplitude, c.period
 
 
-#: memo of first-order KBM derivations used as initial guesses (bounded; time only)
+#: memo of first-order KBM averaged equations used as initial guesses (bounded; time only)
 _FIRST_ORDER: dict = {}
 
 
 def _first_order(m):
     import sympy as sp
 
-    from kbm import derive
+    from kbm import averaged_rates, derive
 
     key = (m.name, sp.srepr(m.F), sp.srepr(m.omega0))
     if key not in _FIRST_ORDER:
         if len(_FIRST_ORDER) >= 32:
             _FIRST_ORDER.pop(next(iter(_FIRST_ORDER)))
-        _FIRST_ORDER[key] = derive(m, 1)
+        _FIRST_ORDER[key] = averaged_rates(derive(m, 1))
     return _FIRST_ORDER[key]
 
 
@@ -367,8 +398,9 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
     guess
         ``(amplitude, period)`` to start Newton from.  Without it, the stable
         first-order KBM cycle is tried first (largest amplitude), and if Newton
-        does not converge from there, a transient from ``x = x_start, x' = 0``
-        is integrated until the maxima of ``x`` settle.
+        does not converge from there, transients from ``x = a_KBM`` (the
+        first-order amplitude, when there is one) and from ``x = x_start``,
+        ``x' = 0`` are integrated until the maxima of ``x`` settle.
     digits
         If given (up to ~50), also compute period and amplitudes with an
         mpmath Taylor-series integrator to this many digits
@@ -376,11 +408,15 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
     rtol, atol
         Integrator tolerances (default ``atol = rtol``).
     method
-        ``"auto"``: LSODA (ODEPACK), which switches between Adams (non-stiff) and
-        BDF (stiff) by itself; or any :func:`scipy.integrate.solve_ivp` method
-        (``"DOP853"``, ``"Radau"``, ...).  The transient, when needed, uses
-        DOP853, or Radau when the largest Jacobian eigenvalue times the period
-        exceeds :data:`STIFF_THRESHOLD`.
+        ``"auto"``: DOP853 compiled with numba (:mod:`numerics._jit`) when the
+        cycle is not stiff (largest Jacobian eigenvalue times the period below
+        :data:`STIFF_THRESHOLD`) and the model compiles, else LSODA (ODEPACK),
+        which switches between Adams (non-stiff) and BDF (stiff) by itself.
+        Or name one: ``"DOP853 (compiled)"``, ``"LSODA"``, or any
+        :func:`scipy.integrate.solve_ivp` method (``"DOP853"``, ``"Radau"``, ...).
+        The transient, when needed, uses scipy's DOP853, or Radau when the
+        largest Jacobian eigenvalue times the period exceeds
+        :data:`STIFF_THRESHOLD`.
     max_iter
         Bound on Newton iterations.
     template
@@ -422,7 +458,6 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
     if max_time is None:
         mu = abs(cm.values.get("mu", 1.0)) or 1.0
         max_time = min(max(200 * T_lin, 60.0 / mu), 2e5)
-    meth = "LSODA" if method == "auto" else method
     floor = 1e3 * max(rtol, atol)
     source = "guess"
     start = guess
@@ -434,6 +469,7 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
         x0, period = float(start[0]), float(start[1])
         if not (np.isfinite(x0) and np.isfinite(period) and period > 0 and x0 > 0):
             raise ConvergenceError(f"bad initial guess (amplitude, period) = {start}")
+        meth = _shooting_method(cm, x0, period, method)
         try:
             converged = _newton(cm, x0, period, meth, rtol, atol, max_iter, floor)
             _check_nontrivial(cm, converged, meth, rtol, atol, x0)
@@ -442,29 +478,52 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
                 raise
             converged = None
     if converged is None:
-        source = "transient"
-        tmeth = _choose_method(cm, abs(x_start), T_lin, "auto" if method in ("auto", "LSODA")
-                               else method)
-        x0, period, _ = _transient(cm, x_start, tmeth, max(rtol, 1e-10), max_time,
-                                   x_max if x_max is not None else 1e3 * max(1.0, abs(x_start)))
-        converged = _newton(cm, x0, period, meth, rtol, atol, max_iter, floor)
-        _check_nontrivial(cm, converged, meth, rtol, atol, x0)
+        # transients: from the KBM amplitude when there is one (a cycle may coexist with
+        # stable equilibria that a start at x_start falls into), then from x_start
+        starts = [float(x_start)]
+        if guess is None and start is not None and abs(float(start[0]) - x_start) > 1e-3:
+            starts.insert(0, float(start[0]))
+        failures: list[tuple[float, Exception]] = []
+        for xs in starts:
+            try:
+                tmeth = _choose_method(cm, abs(xs), T_lin,
+                                       "auto" if method in ("auto", "LSODA", JIT_METHOD)
+                                       else method)
+                x0, period, _ = _transient(cm, xs, tmeth, max(rtol, 1e-10), max_time,
+                                           x_max if x_max is not None
+                                           else 1e3 * max(1.0, abs(x_start)))
+                meth = _shooting_method(cm, x0, period, method)
+                found = _newton(cm, x0, period, meth, rtol, atol, max_iter, floor)
+                _check_nontrivial(cm, found, meth, rtol, atol, x0)
+            except (ConvergenceError, IntegrationError, NoCycleError) as exc:
+                failures.append((xs, exc))
+            else:
+                converged, source = found, f"transient from x = {xs:.6g}"
+                break
+        if converged is None:
+            xs, exc = failures[-1]
+            if len(failures) == 1:
+                raise exc
+            raise type(exc)("; ".join(f"from x = {s:.6g} (x' = 0): {e}" for s, e in failures)) \
+                from exc
     x0, T, it, history = converged
     # final pass on the converged orbit: samples, monodromy, dissipation
     tt = np.linspace(0.0, T, n_samples + 1)
-    ys = _flow(cm, [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], tt, meth, rtol, atol)
+    ys = _flow(cm, [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], T, n_samples, meth, rtol,
+               atol)
     yT = ys[-1]
     residual = float(max(abs(yT[0] - x0), abs(yT[1])))
     xs, vs = ys[:-1, 0], ys[:-1, 1]
     tt = tt[:-1]
-    if source != "transient" and x0 < np.max(xs) - 1e-6 * max(1.0, abs(x0)):
+    if not source.startswith("transient") and x0 < np.max(xs) - 1e-6 * max(1.0, abs(x0)):
         # the guess led to a point that is not the maximum of x: restart at the maximum
         i = int(np.argmax(xs))
         converged = _newton(cm, float(xs[i]), T, meth, rtol, atol, max_iter, floor)
         x0, T, it2, h2 = converged
         it, history = it + it2, history + h2
         tt = np.linspace(0.0, T, n_samples + 1)
-        ys = _flow(cm, [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], tt, meth, rtol, atol)
+        ys = _flow(cm, [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], T, n_samples, meth, rtol,
+                   atol)
         yT = ys[-1]
         residual = float(max(abs(yT[0] - x0), abs(yT[1])))
         xs, vs, tt = ys[:-1, 0], ys[:-1, 1], tt[:-1]

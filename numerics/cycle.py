@@ -281,11 +281,16 @@ _JIT_MESSAGES = {1: "the step limit (10^6) was reached",
 
 def _shooting_method(cm: CompiledModel, x0: float, period: float, method: str) -> str:
     """``"auto"``: the compiled DOP853 when available and the cycle is not stiff, else LSODA."""
-    if method != "auto":
-        return method
     from ._compile import template_flow
 
-    if cm.template is None or template_flow(cm.template) is None:
+    if method == JIT_METHOD and template_flow(cm.template) is None:
+        raise IntegrationError(f"the compiled integrator is not available for {cm.name!r} "
+                               "(numba not installed, KBM_NO_JIT set, or a function of the "
+                               "model without a math-module form); use method='auto' or "
+                               "'LSODA'")
+    if method != "auto":
+        return method
+    if template_flow(cm.template) is None:
         return "LSODA"
     probe = max(cm.stiffness(x0, 0.0), cm.stiffness(0.0, cm.omega0 * x0),
                 cm.stiffness(0.5 * x0, 0.5 * cm.omega0 * x0))

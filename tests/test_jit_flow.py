@@ -146,3 +146,34 @@ def test_generated_source_is_independent_of_hash_seed():
     tp = model_template("sedf")
     assert rhs_source(tp.ext_exprs, TIME, tp.ext_symbols,
                       [sp.Symbol(n) for n in tp.names]) + "\n" == outs.pop()
+
+
+def test_cli_method_option(capsys):
+    """`kbm cycle --method compiled` and `--method LSODA` give the same van der Pol cycle
+    (mu = 0.5) to 1e-9."""
+    import json
+
+    from kbm.cli import main
+
+    out = {}
+    for meth in ("compiled", "LSODA"):
+        assert main(["cycle", "vdp", "--param", "mu=0.5", "--method", meth, "--json"]) == 0
+        out[meth] = json.loads(capsys.readouterr().out)
+    assert out["compiled"]["method"] == JIT_METHOD and out["LSODA"]["method"] == "LSODA"
+    assert abs(out["compiled"]["period"] - out["LSODA"]["period"]) < 1e-9
+    assert abs(out["compiled"]["amplitude_max"] - out["LSODA"]["amplitude_max"]) < 1e-9
+
+
+def test_compiled_method_unavailable_is_a_clear_error(monkeypatch, capsys):
+    """Asking for the compiled integrator where there is none: an IntegrationError naming
+    the way out, and on the command line one line and exit status 2."""
+    from kbm.cli import main
+
+    monkeypatch.setenv("KBM_NO_JIT", "1")
+    m = custom_model("(1 - x**2)*xdot - x**3/5", name="vdp-nojit-2")
+    with pytest.raises(IntegrationError, match="method='auto' or 'LSODA'"):
+        limit_cycle(m, {"mu": 0.3}, method=JIT_METHOD)
+    code = main(["cycle", "--rhs", "(1 - x**2)*xdot - x**3/5", "--param", "mu=0.3",
+                 "--method", "compiled"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1 and "LSODA" in err

@@ -20,12 +20,17 @@ def register(sub) -> None:
     p.add_argument("--digits", type=int, default=None,
                    help="also compute period and amplitudes to N digits (mpmath Taylor series)")
     p.add_argument("--rtol", type=float, default=1e-12, help="integrator tolerance (1e-12)")
+    p.add_argument("--method", default="auto",
+                   choices=["auto", "compiled", "LSODA", "DOP853", "Radau", "BDF"],
+                   help="integrator of the shooting: auto (compiled DOP853 unless stiff, then "
+                        "LSODA), compiled (DOP853 compiled with numba), or a scipy method")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from numerics import limit_cycle
+    from numerics.cycle import JIT_METHOD
 
     from ..errors import ParameterError
     from .derive import model_from_args
@@ -39,7 +44,8 @@ def run(args: argparse.Namespace) -> int:
                                                       if p.split("=")[0].strip() == "v"]})
     model = model_from_args(ns)
     params.pop("v", None)
-    cyc = limit_cycle(model, params, digits=args.digits, rtol=args.rtol)
+    method = JIT_METHOD if args.method == "compiled" else args.method
+    cyc = limit_cycle(model, params, digits=args.digits, rtol=args.rtol, method=method)
     data = cyc.to_json()
     if args.json:
         emit_json(data)

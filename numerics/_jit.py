@@ -41,7 +41,7 @@ import sympy as sp
 __all__ = ["jit_flow", "jit_available", "cache_dir", "FlowResult"]
 
 #: version of the generated source (part of the file's hash)
-_VERSION = "1"
+_VERSION = "2"
 
 _STEPPER = r'''
 from scipy.integrate._ivp import dop853_coefficients as _dc
@@ -64,10 +64,10 @@ def _norm(v, scale):
 
 @njit(cache=True)
 def flow(y0, t_end, p, rtol, atol, n_out, max_steps):
-    """States at t_k = k t_end / n_out, k = 0..n_out; status 0 ok, 1 step limit,
-    2 step size underflow, 3 non-finite state; and the number of steps."""
+    """States at t_k = k t_end / n_out, k = 0..n_out (NaN after a failure); status 0 ok,
+    1 step limit, 2 step size underflow, 3 non-finite state; and the number of steps."""
     n = y0.shape[0]
-    out = np.empty((n_out + 1, n))
+    out = np.full((n_out + 1, n), np.nan)
     out[0, :] = y0
     y = y0.copy()
     K = np.zeros((_NS + 1, n))
@@ -212,8 +212,11 @@ def jit_available() -> bool:
 
 
 def rhs_source(exprs: Sequence[sp.Expr], t: sp.Symbol, y: Sequence[sp.Symbol],
-               params: Sequence[sp.Symbol]) -> str:
+               params: Sequence[sp.Symbol], n_state: int = 2) -> str:
     """Python source of ``rhs(t, y, p, out)`` that writes ``exprs`` into ``out``.
+
+    Called with ``len(y) == n_state`` it evaluates only the first ``n_state``
+    expressions (the state alone, e.g. for transients); with the full ``y``, all.
 
     Raises
     ------
@@ -226,13 +229,22 @@ def rhs_source(exprs: Sequence[sp.Expr], t: sp.Symbol, y: Sequence[sp.Symbol],
     ren.update({yi: sp.Symbol(f"y_{i}") for i, yi in enumerate(y)})
     ren.update({pi: sp.Symbol(f"p_{i}") for i, pi in enumerate(params)})
     exprs = [sp.sympify(e).xreplace(ren) for e in exprs]
-    repl, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("w_"), order="canonical")
     pr = PythonCodePrinter({"fully_qualified_modules": True, "strict": True})
+
+    def block(es, indent):
+        repl, reduced = sp.cse(es, symbols=sp.numbered_symbols("w_"), order="canonical")
+        return ([f"{indent}{pr.doprint(s)} = {pr.doprint(e)}" for s, e in repl]
+                + [f"{indent}out[{i}] = {pr.doprint(e)}" for i, e in enumerate(reduced)])
+
     lines = ["@njit(cache=True)", "def rhs(t_, y, p, out):"]
-    lines += [f"    y_{i} = y[{i}]" for i in range(len(y))]
     lines += [f"    p_{i} = p[{i}]" for i in range(len(params))]
-    lines += [f"    {pr.doprint(s)} = {pr.doprint(e)}" for s, e in repl]
-    lines += [f"    out[{i}] = {pr.doprint(e)}" for i, e in enumerate(reduced)]
+    lines += [f"    y_{i} = y[{i}]" for i in range(n_state)]
+    if n_state < len(y):
+        lines += [f"    if y.shape[0] == {n_state}:"]
+        lines += block(exprs[:n_state], "        ")
+        lines += ["        return"]
+        lines += [f"    y_{i} = y[{i}]" for i in range(n_state, len(y))]
+    lines += block(exprs, "    ")
     return "\n".join(lines) + "\n"
 
 
@@ -281,8 +293,10 @@ def jit_flow(exprs: Sequence[sp.Expr], t: sp.Symbol, y: Sequence[sp.Symbol],
     callable or None
         ``flow(y0, t_end, p, rtol, atol, n_out=1, max_steps=10**6)`` returning a
         :class:`FlowResult` with ``y`` of shape ``(n_out + 1, len(y0))`` at
-        ``t_k = k t_end/n_out``.  The first call in a new cache folder compiles
-        (a few seconds); later calls and processes reuse the machine code.
+        ``t_k = k t_end/n_out`` (rows not reached are NaN).  ``y0`` holds all
+        the states, or only the first two (then only those are integrated).
+        The first call in a new cache folder compiles (a few seconds); later
+        calls and processes reuse the machine code.
     """
     if not jit_available():
         return None

@@ -37,6 +37,10 @@ __all__ = ["Dissipation", "LimitCycle", "limit_cycle", "STIFF_THRESHOLD"]
 #: above this value of (largest Jacobian eigenvalue) x (period) the implicit Radau method is used
 STIFF_THRESHOLD = 300.0
 
+#: the same bound for the compiled explicit DOP853 (its steps are cheap, and on stiff van der
+#: Pol cycles it is more accurate than LSODA; see ``benchmarks/bench_cycle.py``)
+JIT_STIFF_THRESHOLD = 1e5
+
 
 @dataclass(frozen=True)
 class Dissipation:
@@ -161,9 +165,7 @@ _maximum_event.direction = -1  # x' goes from + to -: a maximum of x
 def _choose_method(cm: CompiledModel, x0: float, period: float, method: str) -> str:
     if method != "auto":
         return method
-    probe = max(cm.stiffness(x0, 0.0), cm.stiffness(0.0, cm.omega0 * x0),
-                cm.stiffness(0.5 * x0, 0.5 * cm.omega0 * x0))
-    return "Radau" if probe * period > STIFF_THRESHOLD else "DOP853"
+    return "Radau" if _stiffness(cm, x0) * period > STIFF_THRESHOLD else "DOP853"
 
 
 def _solve(cm, y0, t_end, method, rtol, atol, ext, dense=False, events=None, max_step=np.inf):
@@ -216,8 +218,125 @@ def _transient(cm: CompiledModel, x_start: float, method: str, rtol: float,
                 break
         if maxima and maxima[-1] < 1e-9 * max(abs(x_start), 1e-300):
             break
+    return _settled(maxima, times, x_start, t0, max_time, y)
+
+
+def _transient_compiled(cm: CompiledModel, x_start: float, rtol: float, max_time: float,
+                        x_max: float) -> tuple[float, float, list[float]]:
+    """:func:`_transient` through the compiled flow: the state is sampled 128 times per
+    linear period; each maximum of ``x`` is bracketed between samples, located by cubic
+    Hermite interpolation of ``x'`` (slopes ``x''`` from the model) and refined by
+    Newton's method on ``x'(t) = 0`` with the flow itself."""
+    from ._compile import template_flow
+
+    fl = template_flow(cm.template)
+    T_lin = 2 * math.pi / cm.omega0
+    per = 128
+    chunk_periods = 20
+    h = T_lin / per
+    y = np.array([x_start, 0.0])
+    maxima: list[float] = []
+    times: list[float] = []
+    t0 = 0.0
+    # slow relaxation oscillations (period >> 2 pi/omega0) get up to 20 max_time to show
+    # six maxima
+    while t0 < max_time or (len(maxima) < 8 and t0 < 20 * max_time):
+        res = fl(y, chunk_periods * T_lin, cm.pvec, rtol, rtol * 1e-2, chunk_periods * per,
+                 2 * 10**5)
+        ys = res.y
+        size = np.abs(ys[:, 0]) + np.abs(ys[:, 1])
+        over = np.nonzero(~(size <= x_max))[0]
+        n_ok = int(over[0]) if over.size else len(ys)
+        xs, vs = ys[:n_ok, 0], ys[:n_ok, 1]
+        for i in np.nonzero((vs[:-1] > 0) & (vs[1:] <= 0))[0]:
+            t_c, x_c = _hermite_maximum(cm, xs[i], vs[i], xs[i + 1], vs[i + 1], h)
+            if x_c > 0:
+                t_r, x_r = _refine_maximum(cm, fl, ys[i], t_c, h, rtol)
+                if np.isfinite(x_r):
+                    t_c, x_c = t_r, x_r
+                maxima.append(x_c)
+                times.append(t0 + i * h + t_c)
+        if over.size:
+            i = int(over[0])
+            growing = (len(maxima) >= 3 and maxima[-1] > maxima[-2] > maxima[-3]
+                       and size[i - 1] > 0.1 * x_max)
+            if res.status == 1 and growing:
+                raise NoCycleError(
+                    f"no limit cycle: the amplitude grows without bound (|x| + |x'| reached "
+                    f"{size[i - 1]:.3g} by t = {t0 + (i - 1) * h:.6g}, where the step limit of "
+                    f"the compiled integrator stopped it; last maxima of x: "
+                    f"{', '.join(f'{m:.4g}' for m in maxima[-3:])})")
+            if res.status == 1 and np.all(np.isfinite(ys[i - 1])) and size[i - 1] < x_max:
+                raise IntegrationError(
+                    f"{JIT_METHOD}: the step limit (2e5 per {chunk_periods} linear periods) "
+                    f"was reached by t = {t0 + (i - 1) * h:.6g} with |x| + |x'| = "
+                    f"{size[i - 1]:.3g}; the transient is too stiff for an explicit method "
+                    "(use method='LSODA')")
+            raise NoCycleError(
+                f"no limit cycle: the amplitude grows without bound (|x| + |x'| > {x_max:.3g} "
+                f"at t = {t0 + i * h:.6g}; last maxima of x: "
+                f"{', '.join(f'{m:.4g}' for m in maxima[-3:]) or 'none'})")
+        y = ys[-1].copy()
+        t0 += chunk_periods * T_lin
+        if len(maxima) >= 6:
+            m = np.array(maxima[-6:])
+            if m[-1] < 1e-8 * max(maxima[0], 1e-300):
+                break
+            if np.max(np.abs(np.diff(m))) / m[-1] < 1e-7:
+                break
+        if maxima and maxima[-1] < 1e-9 * max(abs(x_start), 1e-300):
+            break
+        if not maxima and np.hypot(*y) < 1e-9 * max(abs(x_start), 1e-300):
+            break
+    return _settled(maxima, times, x_start, t0, max_time, y)
+
+
+def _hermite_maximum(cm, x0, v0, x1, v1, h) -> tuple[float, float]:
+    """The zero of ``x'`` in ``[0, h]`` and ``x`` there, by cubic Hermite interpolation."""
+    a0, a1 = cm.acc(0.0, x0, v0), cm.acc(0.0, x1, v1)
+    # x'(s) on s in [0, 1] (time s h): Hermite cubic with values v0, v1 and slopes h a0, h a1
+    c = np.array([2 * v0 - 2 * v1 + h * a0 + h * a1, -3 * v0 + 3 * v1 - 2 * h * a0 - h * a1,
+                  h * a0, v0])
+    roots = [r.real for r in np.roots(c) if abs(r.imag) < 1e-12 and -1e-9 <= r.real <= 1 + 1e-9]
+    s = min(roots) if roots else v0 / (v0 - v1)
+    s = min(max(s, 0.0), 1.0)
+    # x(s): integrate the cubic for x' and correct with the end value (quartic)
+    xs = x0 + h * (c[0] * s**4 / 4 + c[1] * s**3 / 3 + c[2] * s**2 / 2 + c[3] * s)
+    x_end = x0 + h * (c[0] / 4 + c[1] / 3 + c[2] / 2 + c[3])
+    return s * h, float(xs + s * (x1 - x_end))
+
+
+def _refine_maximum(cm, fl, y_i, s, h, rtol) -> tuple[float, float]:
+    """The zero of ``x'`` in ``(0, h]`` after the sample ``y_i`` (where ``x' > 0``, and
+    ``x' <= 0`` at ``h``): safeguarded Newton's method (bisection when a step leaves the
+    bracket) with the compiled flow, ``x''`` as the derivative, from the interpolated ``s``.
+    Returns ``(s, x(s))``, or ``(nan, nan)`` if the flow fails."""
+    lo, hi = 0.0, h
+    s = s if 0.0 < s <= h else 0.5 * h
+    x_c = float("nan")
+    for _ in range(80):
+        res = fl(y_i[:2], s, cm.pvec, rtol, rtol * 1e-2, 1, 10**4)
+        if res.status:
+            return float("nan"), float("nan")
+        x_c, v_c = res.y[-1]
+        if v_c > 0:
+            lo = s
+        else:
+            hi = s
+        a_c = cm.acc(0.0, x_c, v_c)
+        new = s - v_c / a_c if a_c != 0 else 0.5 * (lo + hi)
+        if not lo < new < hi:
+            new = 0.5 * (lo + hi)
+        if abs(new - s) <= 1e-15 * max(1.0, h) or hi - lo <= 1e-15 * max(1.0, h):
+            break
+        s = new
+    return s, float(x_c)
+
+
+def _settled(maxima, times, x_start, t0, max_time, y):
+    """The verdict of a transient: decay to rest, too few maxima, or (x_max, period)."""
     if not maxima or maxima[-1] < 1e-8 * max(abs(x_start), maxima[0]):
-        last = maxima[-1] if maxima else float(np.hypot(*y))
+        last = maxima[-1] if maxima else float(np.hypot(*y[:2]))
         raise NoCycleError(
             f"no limit cycle: the motion decays to rest (max x fell from "
             f"{maxima[0] if maxima else abs(x_start):.4g} to {last:.3g} by t = {t0:.6g})")
@@ -245,14 +364,23 @@ def _period_from_maxima(maxima, times):
 JIT_METHOD = "DOP853 (compiled)"
 
 
+#: bound on the compiled integrator's steps over one period inside Newton's method
+NEWTON_MAX_STEPS = 5 * 10**4
+
+
 def _flow(cm: CompiledModel, y0, t_end: float, n_out: int, method: str, rtol: float,
-          atol: float) -> np.ndarray:
-    """States of the extended system at ``t_k = k t_end/n_out``, shape ``(n_out + 1, 9)``."""
+          atol: float, max_steps: int = 10**6, steps: list | None = None) -> np.ndarray:
+    """States of the extended system at ``t_k = k t_end/n_out``, shape ``(n_out + 1, 9)``.
+
+    ``steps``, if given, receives the compiled integrator's step count.
+    """
     t_end = float(t_end)
     if method == JIT_METHOD:
         from ._compile import template_flow
 
-        res = template_flow(cm.template)(y0, t_end, cm.pvec, rtol, atol, n_out)
+        res = template_flow(cm.template)(y0, t_end, cm.pvec, rtol, atol, n_out, max_steps)
+        if steps is not None:
+            steps.append(res.steps)
         if res.status:
             raise IntegrationError(f"{method} failed before t = {t_end:.6g} after {res.steps} "
                                    f"steps: {_JIT_MESSAGES[res.status]}")
@@ -274,7 +402,7 @@ def _flow(cm: CompiledModel, y0, t_end: float, n_out: int, method: str, rtol: fl
     return ys
 
 
-_JIT_MESSAGES = {1: "the step limit (10^6) was reached",
+_JIT_MESSAGES = {1: "the step limit was reached",
                  2: "the step size fell below the time resolution",
                  3: "the state became non-finite"}
 
@@ -292,19 +420,38 @@ def _shooting_method(cm: CompiledModel, x0: float, period: float, method: str) -
         return method
     if template_flow(cm.template) is None:
         return "LSODA"
-    probe = max(cm.stiffness(x0, 0.0), cm.stiffness(0.0, cm.omega0 * x0),
-                cm.stiffness(0.5 * x0, 0.5 * cm.omega0 * x0))
-    return "LSODA" if probe * period > STIFF_THRESHOLD else JIT_METHOD
+    return "LSODA" if _stiffness(cm, x0) * period > JIT_STIFF_THRESHOLD else JIT_METHOD
+
+
+def _compiled_transient(cm: CompiledModel, x_start: float, T_lin: float, method: str) -> bool:
+    """Whether the transient from ``x_start`` runs through the compiled flow."""
+    from ._compile import template_flow
+
+    if method not in ("auto", JIT_METHOD) or template_flow(cm.template) is None:
+        return False
+    return method == JIT_METHOD or _stiffness(cm, abs(x_start)) * T_lin < JIT_STIFF_THRESHOLD
+
+
+def _stiffness(cm: CompiledModel, x0: float) -> float:
+    """The largest Jacobian eigenvalue modulus at three points of a circle of radius x0."""
+    return max(cm.stiffness(x0, 0.0), cm.stiffness(0.0, cm.omega0 * x0),
+               cm.stiffness(0.5 * x0, 0.5 * cm.omega0 * x0))
 
 
 def _newton(cm, x0, T, method, rtol, atol, max_iter, floor):
     """Newton's method on ``(x(T) - x0, x'(T)) = 0`` for the unknowns ``(x0, T)``."""
     history: list[float] = []
     it = 0
+    budget = NEWTON_MAX_STEPS
     while True:
         it += 1
+        steps: list[int] = []
         yT = _flow(cm, [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], T, 1, method,
-                   rtol, atol)[-1]
+                   rtol, atol, max_steps=budget, steps=steps)[-1]
+        if it == 1 and steps:
+            # later iterates near the cycle need about as many steps as the first: many
+            # more means Newton has wandered into a stiff region
+            budget = min(NEWTON_MAX_STEPS, max(5000, 50 * steps[0]))
         r = np.array([yT[0] - x0, yT[1]])
         history.append(float(np.max(np.abs(r))))
         acc = cm.acc(T, yT[0], yT[1])
@@ -315,13 +462,20 @@ def _newton(cm, x0, T, method, rtol, atol, max_iter, floor):
             raise ConvergenceError(f"singular Newton matrix at x0 = {x0:.10g}, T = {T:.10g} "
                                    "(non-hyperbolic cycle or x' = 0 is not a transversal "
                                    "section there)") from None
-        # damp steps that would leave the section or reverse time
-        lam = 1.0
+        # damp steps that would leave the section, reverse time, or change x0 or T by
+        # more than half (a far start then walks instead of jumping into stiff regions)
+        lam = min(1.0, 0.5 * max(1.0, abs(x0)) / max(abs(dx), 1e-300),
+                  0.5 * T / max(abs(dT), 1e-300))
         while (x0 + lam * dx <= 0 or T + lam * dT <= 0) and lam > 1e-3:
             lam /= 2
         x0, T = x0 + lam * dx, T + lam * dT
         if max(abs(dx) / max(1.0, abs(x0)), abs(dT) / T) < floor or history[-1] < floor:
             return x0, T, it, history
+        if len(history) >= 5 and all(b > a for a, b in zip(history[-5:], history[-4:])):
+            raise ConvergenceError(
+                f"Newton on the return map diverges: the residual |(x(T) - x0, x'(T))| grew "
+                f"four times in a row ({', '.join(f'{h:.2e}' for h in history[-5:])}); "
+                f"last x0 = {x0:.10g}, T = {T:.10g}")
         if it >= max_iter or not (np.isfinite(x0) and np.isfinite(T)):
             raise ConvergenceError(
                 f"Newton on the return map did not converge in {it} iterations; residuals "
@@ -491,12 +645,15 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
         failures: list[tuple[float, Exception]] = []
         for xs in starts:
             try:
-                tmeth = _choose_method(cm, abs(xs), T_lin,
-                                       "auto" if method in ("auto", "LSODA", JIT_METHOD)
-                                       else method)
-                x0, period, _ = _transient(cm, xs, tmeth, max(rtol, 1e-10), max_time,
-                                           x_max if x_max is not None
-                                           else 1e3 * max(1.0, abs(x_start)))
+                big = x_max if x_max is not None else 1e3 * max(1.0, abs(x_start))
+                if _compiled_transient(cm, xs, T_lin, method):
+                    x0, period, _ = _transient_compiled(cm, xs, max(rtol, 1e-10), max_time,
+                                                        big)
+                else:
+                    tmeth = _choose_method(cm, abs(xs), T_lin,
+                                           "auto" if method in ("auto", "LSODA", JIT_METHOD)
+                                           else method)
+                    x0, period, _ = _transient(cm, xs, tmeth, max(rtol, 1e-10), max_time, big)
                 meth = _shooting_method(cm, x0, period, method)
                 found = _newton(cm, x0, period, meth, rtol, atol, max_iter, floor)
                 _check_nontrivial(cm, found, meth, rtol, atol, x0)

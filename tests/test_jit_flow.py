@@ -177,3 +177,44 @@ def test_compiled_method_unavailable_is_a_clear_error(monkeypatch, capsys):
                  "--method", "compiled"])
     err = capsys.readouterr().err.strip()
     assert code == 2 and len(err.splitlines()) == 1 and "LSODA" in err
+
+
+@pytest.mark.parametrize("model, params", [
+    ("vdp", {"mu": 0.5}), ("vdp", {"mu": 5}), ("vdp", {"mu": 100}), ("rayleigh", {"mu": 2}),
+    ("sedf", {"mu": 0.3, "Delta": 0.5, "lam": 1, "beta": 1}),
+])
+def test_compiled_transient_settles_on_the_shooting_cycle(model, params):
+    """The compiled transient from x = 0.5 (maxima bracketed by samples, refined by Newton on
+    x' = 0 with the flow) lands on the maximum and period that shooting converges to."""
+    from numerics.cycle import _transient_compiled
+
+    c = limit_cycle(model, params)
+    cm = compile_model(model, params)
+    x_max, period, maxima = _transient_compiled(cm, 0.5, 1e-10, 2e3, 1e3)
+    assert abs(x_max - c.amplitude_max) < 1e-8 * c.amplitude_max
+    assert abs(period - c.period) < 1e-7 * c.period
+
+
+@pytest.mark.parametrize("mu", [50.0, 100.0])
+def test_relaxation_oscillation_dorodnitsyn(mu):
+    """van der Pol at large mu through the compiled integrator: Dorodnitsyn's asymptotic
+    period T = (3 - 2 ln 2) mu + 3 alpha mu^(-1/3) - (2/3) ln(mu)/mu + O(1/mu), alpha =
+    2.338107 (first zero of Ai(-z)) (A. A. Dorodnitsyn 1947; J. Grasman, Asymptotic Methods
+    for Relaxation Oscillations, 1987, ch. 1), and the trivial multiplier is 1 to 1e-8."""
+    c = limit_cycle("vdp", {"mu": mu})
+    assert c.method == JIT_METHOD and c.success
+    alpha = 2.338107410459767
+    T = (3 - 2 * math.log(2)) * mu + 3 * alpha * mu ** (-1 / 3) - 2 / 3 * math.log(mu) / mu
+    assert abs(c.period - T) < 2.0 / mu
+    assert abs(c.floquet_multipliers[0] - 1) < 1e-8
+    det, liouville = c.liouville
+    assert abs(det - liouville) < 1e-8 * max(1.0, abs(liouville))
+
+
+@pytest.mark.slow
+def test_relaxation_oscillation_compiled_equals_lsoda():
+    """van der Pol mu = 50: the compiled DOP853 and LSODA (BDF) shootings agree on the period
+    to 1e-9 relative."""
+    a = limit_cycle("vdp", {"mu": 50})
+    b = limit_cycle("vdp", {"mu": 50}, method="LSODA")
+    assert abs(a.period - b.period) < 1e-9 * a.period

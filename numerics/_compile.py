@@ -16,7 +16,7 @@ from typing import Callable
 import numpy as np
 import sympy as sp
 
-from kbm.errors import ParameterError
+from kbm.errors import ModelError, ParameterError
 from kbm.models import Oscillator, get_model
 from kbm.symbols import t as T, x as X, xdot as V
 
@@ -159,6 +159,14 @@ def _build_template(model: Oscillator) -> ModelTemplate:
     P = [sp.Symbol(n) for n in names]
     acc = model.acceleration()
     dadx, dadv = sp.diff(acc, X), sp.diff(acc, V)
+    for name, d in (("x", dadx), ("x'", dadv)):
+        if d.has(sp.Derivative, sp.DiracDelta):
+            raise ModelError(
+                f"model {model.name!r}: the derivative of the acceleration with respect to "
+                f"{name} has no closed form ({d}); the variational equations (Floquet "
+                "multipliers, Newton) need a smooth F: replace non-differentiable terms such "
+                "as sign(xdot) or Abs(xdot) by smooth ones, e.g. tanh(xdot/0.01) or "
+                "sqrt(xdot**2 + 0.01**2)")
     plus, minus, factor = _split_dissipation(model)
     s = sp.Dummy("s")
     cons = model.conservative_force().subs(X, s)
@@ -172,6 +180,18 @@ def _build_template(model: Oscillator) -> ModelTemplate:
     jx, jv = dadx.subs(es), dadv.subs(es)
     ext = [y[1], acc.subs(es), y[3], jx * y[2] + jv * y[3], y[5], jx * y[4] + jv * y[5], jv,
            plus.subs(es), minus.subs(es)]
+    from sympy.printing.codeprinter import PrintMethodNotImplementedError
+
+    try:
+        return _lambdify_template(model, names, P, acc, dadx, dadv, energy_expr, ext, factor,
+                                  plus, minus, y)
+    except (PrintMethodNotImplementedError, NameError, TypeError) as exc:
+        raise ModelError(f"model {model.name!r} cannot be turned into numerical functions: "
+                         f"{' '.join(str(exc).split()[:30])}") from None
+
+
+def _lambdify_template(model, names, P, acc, dadx, dadv, energy_expr, ext, factor, plus,
+                       minus, y) -> ModelTemplate:
     return ModelTemplate(
         model=model, names=names,
         f_ext=sp.lambdify((T, y, *P), ext, modules=["math", "scipy"], cse=True),

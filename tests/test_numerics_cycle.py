@@ -162,3 +162,17 @@ def test_rest_in_a_side_well_is_not_a_cycle():
     c = limit_cycle("sedf", p, x_start=3.0)
     assert c.success and abs(c.floquet_multipliers[0] - 1) < 1e-6
     assert c.amplitude_first_harmonic > 2.0
+
+
+def test_non_smooth_model_is_a_clear_error(capsys):
+    """F with sign(x') (Coulomb friction) has no classical variational equations: a
+    ModelError that names the smooth replacement, and one line with exit 2 on the CLI."""
+    from kbm.errors import ModelError
+    from kbm.models import custom_model
+
+    with pytest.raises(ModelError, match="tanh"):
+        limit_cycle(custom_model("-sign(xdot) + (1 - x**2)*xdot"), {"mu": 0.5})
+    assert main(["cycle", "--rhs", "-Abs(xdot)*xdot + (1 - x**2)*xdot", "--param",
+                 "mu=0.5"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "smooth" in err[0]

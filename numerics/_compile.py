@@ -183,24 +183,19 @@ def _build_template(model: Oscillator) -> ModelTemplate:
     from sympy.printing.codeprinter import PrintMethodNotImplementedError
 
     try:
-        return _lambdify_template(model, names, P, acc, dadx, dadv, energy_expr, ext, factor,
-                                  plus, minus, y)
+        return ModelTemplate(
+            model=model, names=names,
+            f_ext=sp.lambdify((T, y, *P), ext, modules=["math", "scipy"], cse=True),
+            f_acc=sp.lambdify((T, X, V, *P), acc, modules=["math", "scipy"]),
+            f_jac=sp.lambdify((T, X, V, *P), [[0, 1], [dadx, dadv]],
+                              modules=["numpy", "scipy"]),
+            f_energy=sp.lambdify((X, V, *P), energy_expr, modules=["numpy", "scipy", "mpmath"]),
+            f_w0=sp.lambdify(P, model.omega0, modules="math"),
+            f_factor=sp.lambdify(P, factor, modules="math"),
+            dissipation_expr=factor * plus - minus, ext_exprs=tuple(ext), ext_symbols=tuple(y))
     except (PrintMethodNotImplementedError, NameError, TypeError) as exc:
         raise ModelError(f"model {model.name!r} cannot be turned into numerical functions: "
                          f"{' '.join(str(exc).split()[:30])}") from None
-
-
-def _lambdify_template(model, names, P, acc, dadx, dadv, energy_expr, ext, factor, plus,
-                       minus, y) -> ModelTemplate:
-    return ModelTemplate(
-        model=model, names=names,
-        f_ext=sp.lambdify((T, y, *P), ext, modules=["math", "scipy"], cse=True),
-        f_acc=sp.lambdify((T, X, V, *P), acc, modules=["math", "scipy"]),
-        f_jac=sp.lambdify((T, X, V, *P), [[0, 1], [dadx, dadv]], modules=["numpy", "scipy"]),
-        f_energy=sp.lambdify((X, V, *P), energy_expr, modules=["numpy", "scipy", "mpmath"]),
-        f_w0=sp.lambdify(P, model.omega0, modules="math"),
-        f_factor=sp.lambdify(P, factor, modules="math"),
-        dissipation_expr=factor * plus - minus, ext_exprs=tuple(ext), ext_symbols=tuple(y))
 
 
 def template_flow(template: ModelTemplate):

@@ -279,6 +279,11 @@ class FlowResult:
     def __init__(self, y: np.ndarray, status: int, steps: int):
         self.y, self.status, self.steps = y, status, steps
 
+    @property
+    def message(self) -> str:
+        """What the status means (empty when the integration succeeded)."""
+        return _MESSAGES.get(self.status, "")
+
 
 _MESSAGES = {1: "the step limit was reached", 2: "the step size fell below the time resolution",
              3: "the state became non-finite"}
@@ -323,5 +328,4 @@ def jit_flow(exprs: Sequence[sp.Expr], t: sp.Symbol, y: Sequence[sp.Symbol],
                                 int(n_out), int(max_steps))
         return FlowResult(out, int(status), int(steps))
 
-    flow.message = _MESSAGES  # type: ignore[attr-defined]
     return flow

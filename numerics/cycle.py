@@ -383,7 +383,7 @@ def _flow(cm: CompiledModel, y0, t_end: float, n_out: int, method: str, rtol: fl
             steps.append(res.steps)
         if res.status:
             raise IntegrationError(f"{method} failed before t = {t_end:.6g} after {res.steps} "
-                                   f"steps: {_JIT_MESSAGES[res.status]}")
+                                   f"steps: {res.message}")
         ys = res.y
     elif method == "LSODA":
         times = np.linspace(0.0, t_end, n_out + 1)
@@ -400,11 +400,6 @@ def _flow(cm: CompiledModel, y0, t_end: float, n_out: int, method: str, rtol: fl
     if not np.all(np.isfinite(ys[-1])):
         raise IntegrationError(f"the state became non-finite before t = {t_end:.6g}")
     return ys
-
-
-_JIT_MESSAGES = {1: "the step limit was reached",
-                 2: "the step size fell below the time resolution",
-                 3: "the state became non-finite"}
 
 
 def _shooting_method(cm: CompiledModel, x0: float, period: float, method: str) -> str:
@@ -568,14 +563,14 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
         Integrator tolerances (default ``atol = rtol``).
     method
         ``"auto"``: DOP853 compiled with numba (:mod:`numerics._jit`) when the
-        cycle is not stiff (largest Jacobian eigenvalue times the period below
-        :data:`STIFF_THRESHOLD`) and the model compiles, else LSODA (ODEPACK),
-        which switches between Adams (non-stiff) and BDF (stiff) by itself.
-        Or name one: ``"DOP853 (compiled)"``, ``"LSODA"``, or any
-        :func:`scipy.integrate.solve_ivp` method (``"DOP853"``, ``"Radau"``, ...).
-        The transient, when needed, uses scipy's DOP853, or Radau when the
-        largest Jacobian eigenvalue times the period exceeds
-        :data:`STIFF_THRESHOLD`.
+        model compiles and the cycle is not too stiff (largest Jacobian
+        eigenvalue times the period below :data:`JIT_STIFF_THRESHOLD`), else
+        LSODA (ODEPACK), which switches between Adams (non-stiff) and BDF
+        (stiff) by itself.  Or name one: ``"DOP853 (compiled)"``, ``"LSODA"``,
+        or any :func:`scipy.integrate.solve_ivp` method (``"DOP853"``,
+        ``"Radau"``, ...).  The transient, when needed, runs through the
+        compiled flow under the same rule; otherwise through scipy's DOP853,
+        or Radau when the stiffness exceeds :data:`STIFF_THRESHOLD`.
     max_iter
         Bound on Newton iterations.
     template
@@ -643,9 +638,9 @@ def limit_cycle(model: Oscillator | str, params: Mapping[str, object] | None = N
         if guess is None and start is not None and abs(float(start[0]) - x_start) > 1e-3:
             starts.insert(0, float(start[0]))
         failures: list[tuple[float, Exception]] = []
+        big = x_max if x_max is not None else 1e3 * max(1.0, abs(x_start))
         for xs in starts:
             try:
-                big = x_max if x_max is not None else 1e3 * max(1.0, abs(x_start))
                 if _compiled_transient(cm, xs, T_lin, method):
                     x0, period, _ = _transient_compiled(cm, xs, max(rtol, 1e-10), max_time,
                                                         big)

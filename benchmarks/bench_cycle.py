@@ -37,7 +37,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import fsolve
 
 from numerics import grid, limit_cycle, sweep
-from numerics._compile import compile_model
+from numerics.flow import compile_model
 
 
 def timed(fn, repeat=3):

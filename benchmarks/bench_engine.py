@@ -74,7 +74,7 @@ def main() -> None:
                      best_of(lambda N=N: limit_cycle_series("vdp", N), 1 if N == 40 else rep),
                      5.0 if N == 24 else None))
     rows.append(("derive sedf order 2 (symbolic)", best_of(lambda: derive("sedf", 2), rep), 5.0))
-    cmd = [sys.executable, "-m", "kbm.cli", "derive", "vdp", "--order", "12", "--json"]
+    cmd = [sys.executable, "-m", "numerics.cli", "derive", "vdp", "--order", "12", "--json"]
     rows.append(("CLI kbm derive vdp --order 12",
                  best_of(lambda: subprocess.run(cmd, check=True, capture_output=True), rep),
                  None))

@@ -30,22 +30,62 @@ M. D'Acunto, "Friction force for self-excited systems", eqs. (3), (4), (12).
 from __future__ import annotations
 
 import numbers
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field, replace
-from types import MappingProxyType
 
 import sympy as sp
 
 from .errors import ModelError, NonAutonomousError, ParameterError
 from .symbols import mu, parse, t, x, xdot
 
-__all__ = ["Oscillator", "MODELS", "get_model", "custom_model", "model_names"]
+__all__ = ["Oscillator", "BoundModel", "FrozenMap", "MODELS", "SLIDERS", "bind", "get_model",
+           "custom_model", "parameter_value",
+           "model_names"]
 
 _STATE = {x, xdot, t}
 
 
 def _sorted_names(symbols) -> tuple[str, ...]:
     return tuple(sorted(s.name for s in symbols))
+
+
+class FrozenMap(Mapping):
+    """A read-only, hashable mapping (items kept in the order given).
+
+    Used for the mappings held by frozen model objects, so that an
+    :class:`Oscillator` or a :class:`BoundModel` can be a dictionary key.
+    """
+
+    __slots__ = ("_items", "_dict")
+
+    def __init__(self, items: Mapping | None = None):
+        d = dict(items or {})
+        object.__setattr__(self, "_dict", d)
+        object.__setattr__(self, "_items", tuple(d.items()))
+
+    def __getitem__(self, key):
+        return self._dict[key]
+
+    def __iter__(self) -> Iterator:
+        return iter(self._dict)
+
+    def __len__(self) -> int:
+        return len(self._dict)
+
+    def __hash__(self) -> int:
+        return hash(frozenset(self._items))
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, Mapping) and dict(self._items) == dict(other.items())
+
+    def __repr__(self) -> str:
+        return f"FrozenMap({self._dict!r})"
+
+    def __setattr__(self, name, value):
+        raise AttributeError("FrozenMap is read-only")
+
+    def __reduce__(self):
+        return (FrozenMap, (self._dict,))
 
 
 @dataclass(frozen=True)
@@ -73,6 +113,10 @@ class Oscillator:
         An external force of order one that depends on ``t`` only (the
         stage's pull ``Omega^2 v t`` of the paper's eq. 3); 0 for the
         autonomous oscillators the averaging treats.
+    gain_factor
+        A parameter that multiplies every energy-supplying term of the
+        dissipation integrand (the paper's eq. 11, ``Gamma = beta Gamma_+ -
+        Gamma_-``, has ``gain_factor = beta``); 1 when there is none.
 
     Raises
     ------
@@ -96,6 +140,7 @@ class Oscillator:
     physical: Mapping[str, sp.Expr] = field(default_factory=dict)
     defaults: Mapping[str, sp.Expr] = field(default_factory=dict)
     drive: sp.Expr = sp.Integer(0)
+    gain_factor: sp.Expr = sp.Integer(1)
 
     def __post_init__(self) -> None:
         F = parse(self.F) if not isinstance(self.F, sp.Basic) else self.F
@@ -107,9 +152,10 @@ class Oscillator:
         if drive.free_symbols & {x, xdot, mu}:
             raise ModelError(f"the drive {drive} of model {self.name!r} must depend on t and "
                              "parameters only")
-        object.__setattr__(self, "physical", MappingProxyType(dict(self.physical)))
+        object.__setattr__(self, "physical", FrozenMap(self.physical))
         object.__setattr__(self, "defaults",
-                           MappingProxyType({k: sp.sympify(v) for k, v in self.defaults.items()}))
+                           FrozenMap({k: sp.sympify(v) for k, v in self.defaults.items()}))
+        object.__setattr__(self, "gain_factor", sp.sympify(self.gain_factor))
         if mu in self.F.free_symbols:
             raise ModelError(f"F of model {self.name!r} contains the small parameter mu; "
                              "write the equation as x'' + omega0^2 x = mu*F with F free of mu")
@@ -157,6 +203,52 @@ class Oscillator:
         """The part of ``mu F`` that vanishes at ``x' = 0`` (damping and self-excitation)."""
         return sp.expand(mu * self.F - self.conservative_force())
 
+    def dissipation_parts(self) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+        """The dissipation integrand ``-D x'`` split by the sign of its terms' coefficients.
+
+        ``D`` is :meth:`dissipative_force`; returns ``(plus, minus, factor)`` with
+        ``-D x' = factor*plus - minus`` (paper eqs. 10-11: ``Gamma = beta Gamma_+ -
+        Gamma_-``).  ``factor`` is :attr:`gain_factor` when it divides every
+        positive term, else 1.
+
+        Examples
+        --------
+        >>> get_model("sedf").dissipation_parts()
+        (mu*x**2*xdot**2, mu*xdot**2, beta)
+        """
+        integrand = sp.expand(-self.dissipative_force() * xdot)
+        plus, minus = [], []
+        for term in sp.Add.make_args(integrand):
+            coeff = term.as_coeff_Mul()[0]
+            (plus if coeff > 0 else minus).append(term)
+        plus_e, minus_e = sp.Add(*plus), -sp.Add(*minus)
+        g = self.gain_factor
+        if g != 1 and plus and all(sp.expand(term / g).free_symbols.isdisjoint(g.free_symbols)
+                                   for term in plus):
+            return sp.expand(plus_e / g), minus_e, g
+        return plus_e, minus_e, sp.Integer(1)
+
+    def with_stage_velocity(self, v: object) -> "Oscillator":
+        """The driven variant pulled by a stage at velocity ``v`` (paper eq. 3).
+
+        The spring ``Omega^2 (x - v t)`` adds the drive ``omega0^2 v t``; ``v = 0``
+        returns the model unchanged.
+
+        Raises
+        ------
+        kbm.errors.ParameterError
+            If ``v`` is not a finite real number.
+        """
+        vv = parameter_value("v", v)
+        if vv == 0:
+            return self
+        return replace(self, drive=self.omega0**2 * vv * t,
+                       description=self.description.replace("with v = 0", f"with v = {vv}"))
+
+    def bind(self, values: Mapping[str, object] | None = None) -> "BoundModel":
+        """This model with its parameter values resolved once (see :class:`BoundModel`)."""
+        return BoundModel.of(self, values)
+
     # -- parameters -------------------------------------------------------------------
     def resolve(self, values: Mapping[str, object] | None = None,
                 *, use_defaults: bool = True) -> dict[str, sp.Expr]:
@@ -193,7 +285,7 @@ class Oscillator:
                 raise ParameterError(
                     f"unknown parameter {name!r} for model {self.name!r}; "
                     f"its parameters are {', '.join(sorted(known | phys_names))}")
-            val = _to_number(name, raw)
+            val = parameter_value(name, raw)
             out[name] = val
         for scaled, expr in self.physical.items():
             expr = sp.sympify(expr)
@@ -228,10 +320,104 @@ class Oscillator:
             physical={k: v for k, v in self.physical.items() if k not in vals},
             defaults={k: v for k, v in self.defaults.items() if k not in vals},
             drive=self.drive.subs(subs),
+            gain_factor=self.gain_factor.subs(subs),
         )
 
 
-def _to_number(name: str, raw: object) -> sp.Expr:
+@dataclass(frozen=True)
+class BoundModel:
+    """A model with its parameter values resolved and validated once.
+
+    Created at the boundary of the library (:func:`bind`, :meth:`Oscillator.bind`)
+    and passed to every numerical function, so that a parameter set is read once,
+    has an identity (it is hashable) and prints the same way everywhere.
+
+    Attributes
+    ----------
+    model
+        The :class:`Oscillator` (symbolic; its drive holds a stage velocity).
+    values
+        Exact values by name: the model's own (scaled) parameters, ``mu`` when
+        given, and the defaults (:meth:`Oscillator.resolve`).
+
+    Examples
+    --------
+    >>> b = bind("sedf", {"mu": "0.1", "Delta": 1.5, "beta": 1, "lam": 1})
+    >>> b.floats["delta"], b.mu
+    (15.0, 0.1)
+    >>> hash(b) == hash(bind("sedf", {"mu": 0.1, "delta": 15, "beta": 1, "lam": 1}))
+    True
+    """
+
+    model: Oscillator
+    values: FrozenMap
+
+    @classmethod
+    def of(cls, model: Oscillator, values: Mapping[str, object] | None = None) -> "BoundModel":
+        """Resolve ``values`` for ``model`` (:meth:`Oscillator.resolve`)."""
+        return cls(model, FrozenMap(dict(sorted(model.resolve(values).items()))))
+
+    @property
+    def name(self) -> str:
+        """The model's name."""
+        return self.model.name
+
+    @property
+    def floats(self) -> dict[str, float]:
+        """The values as floats."""
+        return {k: float(v) for k, v in self.values.items()}
+
+    @property
+    def mu(self) -> float | None:
+        """The small parameter, or ``None`` if it was not given."""
+        return float(self.values["mu"]) if "mu" in self.values else None
+
+    def missing(self, names=None) -> list[str]:
+        """Names among ``names`` (default: the model's parameters and ``mu``) without a value."""
+        names = (*self.model.parameters, "mu") if names is None else names
+        return [n for n in names if n not in self.values]
+
+    def require(self, names=None, *, what: str = "this computation") -> "BoundModel":
+        """Raise :class:`ParameterError` naming what is missing; returns ``self``."""
+        miss = self.missing(names)
+        if miss:
+            raise ParameterError(f"{what} for model {self.name!r} needs values for "
+                                 f"{', '.join(miss)} (e.g. params={{{miss[0]!r}: 0.1}})")
+        return self
+
+    def subs(self) -> dict[sp.Symbol, sp.Expr]:
+        """``{Symbol(name): value}`` for substitution into the model's expressions."""
+        return {sp.Symbol(k): v for k, v in self.values.items()}
+
+
+def bind(model: "Oscillator | str | BoundModel", params: Mapping[str, object] | None = None,
+         ) -> BoundModel:
+    """A :class:`BoundModel` from a model (or built-in name) and parameter values.
+
+    A stage velocity ``v`` among ``params`` (sliders ``sedf``, ``cdc``) selects the
+    driven variant (:meth:`Oscillator.with_stage_velocity`).  A model that is
+    already bound is returned as is (then ``params`` must be empty).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For unknown names or values that are not finite real numbers.
+    """
+    if isinstance(model, BoundModel):
+        if params:
+            raise ParameterError("the model is already bound to parameter values; pass "
+                                 "params=None")
+        return model
+    params = dict(params or {})
+    if isinstance(model, str):
+        v = params.pop("v", None)
+        model = get_model(model, None if v is None else {"v": v})
+    elif "v" in params and "v" not in model.parameters:
+        model = _drive_variant(model, params.pop("v"))
+    return BoundModel.of(model, params)
+
+
+def parameter_value(name: str, raw: object) -> sp.Expr:
     """Read a parameter value exactly: ``"0.1"`` and ``0.1`` both give ``1/10``."""
     try:
         if isinstance(raw, numbers.Real) and not isinstance(raw, (int, sp.Basic)):
@@ -288,7 +474,7 @@ def _sedf() -> Oscillator:
         "sedf", -(_beta * x**2 - 1) * xdot - _delta * sp.sin(_k * x), omega0=_Omega,
         description="self-excited slider on a periodic potential, paper eq. (3) with v = 0: "
                     "x'' + mu (beta x^2 - 1) x' + Delta sin(2 pi x/lam) + Omega^2 x = 0",
-        physical=_PHYSICAL, defaults={"Omega": 1})
+        physical=_PHYSICAL, defaults={"Omega": 1}, gain_factor=_beta)
 
 
 def _cdc() -> Oscillator:
@@ -297,6 +483,17 @@ def _cdc() -> Oscillator:
         description="constant-damping slider, paper eq. (12) with v = 0: "
                     "x'' + mu x' + Delta sin(2 pi x/lam) + Omega^2 x = 0",
         physical=_PHYSICAL, defaults={"Omega": 1})
+
+
+#: the built-in models that have a stage (their spring can be pulled at a velocity v)
+SLIDERS = ("sedf", "cdc")
+
+
+def _drive_variant(model: Oscillator, v: object) -> Oscillator:
+    if model.name not in SLIDERS:
+        raise ParameterError(f"unknown parameter 'v' for model {model.name!r}; only the "
+                             f"sliders {' and '.join(SLIDERS)} have a stage velocity")
+    return model.with_stage_velocity(v)
 
 
 MODELS = {
@@ -349,13 +546,7 @@ def get_model(name: str, params: Mapping[str, object] | None = None) -> Oscillat
     params = dict(params or {})
     v = params.pop("v", None)
     if v is not None:
-        if name not in ("sedf", "cdc"):
-            raise ParameterError(f"unknown parameter 'v' for model {name!r}; only the sliders "
-                                 "sedf and cdc have a stage velocity")
-        vv = _to_number("v", v)
-        if vv != 0:
-            model = replace(model, drive=_Omega**2 * vv * t,
-                            description=model.description.replace("with v = 0", f"with v = {vv}"))
+        model = _drive_variant(model, v)
     if params:
         model = model.substitute(params)
     return model

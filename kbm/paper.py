@@ -64,7 +64,8 @@ import sympy as sp
 from .symbols import a, mu, psi
 
 __all__ = ["mu", "beta", "Delta", "k", "a", "psi", "n", "phase_rate", "amplitude_rate",
-           "f", "g", "displacement", "Erratum", "ERRATA", "corrected"]
+           "f", "g", "displacement", "Erratum", "ERRATA", "corrected", "FIXED", "fig3", "FIG4",
+           "FIG5", "POINTS", "ERRATA_CASES", "COMPARISON_CASES"]
 
 beta, Delta, k = sp.symbols("beta Delta k")
 #: summation index of eq. (8)
@@ -147,6 +148,9 @@ class Erratum:
         What differs, in words.
     evidence
         The measured quantity that shows it (a key of :func:`numerics.errata_evidence`).
+    evidence_equations
+        The equations whose numerical evidence rows belong to this erratum (default:
+        its own equation; eq. (9)'s waveform also shows in eq. (10)'s dissipation).
     """
 
     equation: str
@@ -154,6 +158,7 @@ class Erratum:
     printed: sp.Expr
     difference: str
     evidence: str
+    evidence_equations: tuple[str, ...] = ()
 
     @property
     def corrected(self) -> sp.Expr:
@@ -179,5 +184,40 @@ ERRATA: tuple[Erratum, ...] = (
     Erratum("9", "g = u_2", g(),
             "u_2 has neither a constant nor a first harmonic; its terms are third and "
             "higher harmonics",
-            "mean"),
+            "mean", ("9", "10")),
+)
+
+
+# ----------------------------------------------------------------------------- parameter sets
+#: the paper's fixed parameters (section 3): mu = 0.1, Omega = 1, lambda = 1
+FIXED = {"mu": 0.1, "Omega": 1.0, "lam": 1.0}
+
+def fig3(beta: float) -> dict[str, float]:
+    """The parameters of the paper's Fig. 3 (undriven SEDF, ``Delta = 1.5``) at ``beta``."""
+    return {"mu": 0.1, "Delta": 1.5, "beta": float(beta), "lam": 1.0}
+
+
+#: Fig. 4: SEDF, Delta = 3, beta = 1, pulled at v = 0.1
+FIG4 = {"mu": 0.1, "Delta": 3.0, "beta": 1.0, "v": 0.1, "lam": 1.0, "Omega": 1.0}
+
+#: Fig. 5 (and 6): SEDF and CDC, Delta = 3, beta = 1, v = 0.01
+FIG5 = {"mu": 0.1, "Delta": 3.0, "beta": 1.0, "v": 0.01, "lam": 1.0, "Omega": 1.0}
+
+#: the paper's undriven parameters in the (mu, Delta) plane (Figs. 3-6)
+POINTS = ((0.1, 1.5), (0.1, 3.0))
+
+#: the errata evidence cases: where the expansion is valid, and the paper's Fig. 3
+ERRATA_CASES = (
+    ("small Delta/mu", {"mu": 0.05, "Delta": 0.1, "beta": 1.0, "lam": 1.0}),
+    ("paper Fig. 3", {"mu": 0.1, "Delta": 1.5, "beta": 1.0, "lam": 1.0}),
+)
+
+#: the comparison cases of the main job: (label, model, parameters)
+COMPARISON_CASES = (
+    ("van der Pol, mu = 0.1", "vdp", {"mu": 0.1}),
+    ("van der Pol, mu = 1", "vdp", {"mu": 1}),
+    ("SEDF small Delta/mu (mu = 0.05, Delta = 0.1, beta = 1)", "sedf",
+     {"mu": 0.05, "Delta": 0.1, "beta": 1, "lam": 1}),
+    ("SEDF paper Fig. 3 (mu = 0.1, Delta = 1.5, beta = 1)", "sedf", fig3(1)),
+    ("SEDF paper Fig. 3 (mu = 0.1, Delta = 1.5, beta = 0.25)", "sedf", fig3(0.25)),
 )

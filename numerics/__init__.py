@@ -1,28 +1,31 @@
 """Numerical dynamics of the models defined in :mod:`kbm`.
 
-Direct integration, limit cycles by shooting with Floquet multipliers,
-dissipation per cycle, the paper's sliding (stick-slip) experiments, and the
-comparison of KBM predictions with the true dynamics.
+Built in floors, each importing only the ones below it (``tests/test_layering.py``):
+
+1. :mod:`numerics.flow` — the model turned into numbers and trajectories;
+2. :mod:`numerics.cycles` — true limit cycles (shooting, Floquet multipliers,
+   high precision, sweeps);
+3. :mod:`numerics.comparison` — approximations against the true cycles;
+4. :mod:`numerics.paper` — the reproduction of D'Acunto's paper;
+5. :mod:`numerics.cli` — the ``kbm`` command line (on top of :mod:`kbm` and all of these).
 """
 
-from .claims import Claim, check_claims
-from .compare import Comparison, Prediction, compare, kbm_prediction, paper_prediction
-from .convergence import ConvergenceStudy, convergence_study, predicted_orders
-from .cycle import Dissipation, LimitCycle, limit_cycle
-from .errata import ErratumEvidence, errata_evidence
-from .errors import ConvergenceError, IntegrationError, NoCycleError, NumericsError
-from .integrate import integrate
-from .potential import SaddleNode, potential, saddle_node, slip_energy
-from .sliding import SlideResult, slide
-from .stickslip import Slip, StickSlip, analyze
-from .sweep import SweepPoint, grid, sweep
+from numerics._memo import clear_caches
+from numerics.comparison import (Comparison, ConvergenceStudy, Prediction, compare,
+                                 convergence_study, kbm_prediction, predicted_orders)
+from numerics.cycles import Dissipation, LimitCycle, SweepPoint, grid, limit_cycle, sweep
+from numerics.errors import ConvergenceError, IntegrationError, NoCycleError, NumericsError
+from numerics.flow import Method, integrate
+from numerics.paper import (Claim, ErratumEvidence, SaddleNode, SlideResult, Slip, StickSlip,
+                            analyze, check_claims, errata_evidence, paper_prediction,
+                            potential, saddle_node, slide, slip_energy)
 
 __all__ = [
-    "integrate", "limit_cycle", "LimitCycle", "Dissipation", "sweep", "grid", "SweepPoint",
-    "compare", "Comparison", "Prediction", "kbm_prediction", "paper_prediction",
+    "integrate", "Method", "limit_cycle", "LimitCycle", "Dissipation", "sweep", "grid",
+    "SweepPoint", "compare", "Comparison", "Prediction", "kbm_prediction", "paper_prediction",
     "convergence_study", "ConvergenceStudy", "predicted_orders",
     "errata_evidence", "ErratumEvidence",
     "slide", "SlideResult", "analyze", "StickSlip", "Slip",
     "potential", "saddle_node", "SaddleNode", "slip_energy", "check_claims", "Claim",
-    "NumericsError", "NoCycleError", "ConvergenceError", "IntegrationError",
+    "NumericsError", "NoCycleError", "ConvergenceError", "IntegrationError", "clear_caches",
 ]

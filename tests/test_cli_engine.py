@@ -10,7 +10,7 @@ import pytest
 import sympy as sp
 
 from kbm import parse
-from kbm.cli import main
+from numerics.cli import main
 
 
 def run_cli(capsys, *argv):
@@ -83,8 +83,8 @@ def test_errors_are_one_line_and_exit_2(capsys, argv, needle):
 
 
 def test_console_script_entry_point():
-    """``python -m kbm.cli`` runs the same command line (exit status passed through)."""
-    proc = subprocess.run([sys.executable, "-m", "kbm.cli", "derive", "vdp", "--order", "0"],
+    """``python -m numerics.cli`` runs the same command line (exit status passed through)."""
+    proc = subprocess.run([sys.executable, "-m", "numerics.cli", "derive", "vdp", "--order", "0"],
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2 and "order" in proc.stderr and "Traceback" not in proc.stderr
 

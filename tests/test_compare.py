@@ -8,9 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from kbm.cli import main
-from numerics.compare import compare
-from numerics.convergence import convergence_study, fit_slope, predicted_orders
+from numerics.cli import main
+from numerics.comparison import compare, convergence_study, fit_slope, predicted_orders
+from numerics.paper import paper_prediction
 
 SEDF_SMALL = {"mu": 0.05, "Delta": 0.1, "beta": 1, "lam": 1}
 
@@ -28,7 +28,7 @@ def sedf_study():
 
 def test_predicted_orders_vdp_parity():
     """Time reversal x(t; -eps) = x(-t; eps) of van der Pol (A_even = B_odd = 0) rounds the
-    generic orders up to the parity of each quantity (numerics.convergence docstring)."""
+    generic orders up to the parity of each quantity (numerics.comparison.convergence docstring)."""
     got = [predicted_orders("vdp", N) for N in (1, 2, 3, 4)]
     assert [g["amplitude"] for g in got] == [2, 2, 4, 4]
     assert [g["frequency"] for g in got] == [2, 4, 4, 6]
@@ -47,7 +47,7 @@ def test_fit_slope_exact_power():
                                  "floquet_exponent", "dissipation"])
 def test_vdp_slopes_match_theory(vdp_study, key):
     """Log-log slope of each error of KBM orders 1-3 for van der Pol equals the predicted
-    order (Bogoliubov & Mitropolsky ch. 1; derivation in numerics.convergence)."""
+    order (Bogoliubov & Mitropolsky ch. 1; derivation in numerics.comparison.convergence)."""
     for N in (1, 2, 3):
         assert vdp_study.slopes[(N, key)] == pytest.approx(vdp_study.predicted[(N, key)],
                                                            abs=0.15), (N, key)
@@ -105,9 +105,9 @@ def test_vdp_first_order_cycle_values():
 def test_paper_row_far_from_truth_at_small_delta():
     """The paper's eqs. (6)-(9) as printed miss the true cycle even where KBM is valid
     (mu = 0.05, Delta = 0.1): eq. (7) puts Delta J_1(k a) in the amplitude equation."""
-    c = compare("sedf", SEDF_SMALL, orders=(2,), paper=True)
+    c = compare("sedf", SEDF_SMALL, orders=(2,), extra=[paper_prediction])
     pp, pk = c.predictions
-    assert pp.order == 0 and pp.success
+    assert pp.source == "paper" and pp.order == 0 and pp.success
     assert c.relative_error(pp, "amplitude") > 100 * c.relative_error(pk, "amplitude")
 
 
@@ -148,7 +148,7 @@ def test_cli_convergence_json(capsys):
 def test_time_reversal_symmetry_detection():
     """F(x, -x') = -F(x, x') for van der Pol and Rayleigh, not for the SEDF (its potential
     force -delta sin(k x) is even in x') nor for Duffing."""
-    from numerics.convergence import time_reversal_symmetric
+    from numerics.comparison.convergence import time_reversal_symmetric
 
     assert time_reversal_symmetric("vdp") and time_reversal_symmetric("rayleigh")
     assert not time_reversal_symmetric("sedf") and not time_reversal_symmetric("duffing")

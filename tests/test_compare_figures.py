@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from numerics.figures.comparison import COMPARISON_FIGURES, comparison_figures
+from numerics.paper.figures.comparison import COMPARISON_FIGURES, comparison_figures
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
@@ -23,6 +23,6 @@ def test_comparison_figures_written(tmp_path):
 
 @pytest.mark.slow
 def test_comparison_figures_full(tmp_path):
-    """The full-size figures (validity grid of numerics.validity.DEFAULT_GRID)."""
+    """The full-size figures (validity grid of numerics.paper.validity.DEFAULT_GRID)."""
     paths = comparison_figures(tmp_path)
     assert all(p.stat().st_size > 10_000 for p in paths)

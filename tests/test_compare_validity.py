@@ -1,10 +1,10 @@
-"""The SEDF validity map of KBM orders 1 and 2 (numerics.validity), on a small grid."""
+"""The SEDF validity map of KBM orders 1 and 2 (numerics.paper.validity), on a small grid."""
 
 from __future__ import annotations
 
 import pytest
 
-from numerics.validity import validity_map
+from numerics.paper.validity import validity_map
 
 
 @pytest.fixture(scope="module")

@@ -16,7 +16,7 @@ DERIV = ROOT / "derivations"
 
 def _regenerate(out: Path, seed: str) -> dict[str, bytes]:
     env = dict(os.environ, PYTHONHASHSEED=seed)
-    subprocess.run([sys.executable, "-m", "kbm.cli", "derivations", "--out", str(out)],
+    subprocess.run([sys.executable, "-m", "numerics.cli", "derivations", "--out", str(out)],
                    check=True, capture_output=True, env=env, timeout=900, cwd=ROOT)
     return {p.name: p.read_bytes() for p in sorted(out.glob("*.tex"))}
 

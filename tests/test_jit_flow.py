@@ -1,4 +1,4 @@
-"""The compiled DOP853 flow (numerics._jit) against independent references.
+"""The compiled DOP853 flow (numerics.flow.jit) against independent references.
 
 References: the exact solution of the damped linear oscillator and its fundamental
 matrix; scipy's own DOP853 (same tableau, independent code) on the same extended
@@ -20,10 +20,10 @@ from scipy.integrate import solve_ivp
 
 from kbm.models import custom_model
 from numerics import IntegrationError, limit_cycle
-from numerics._compile import compile_model, model_template, template_flow
+from numerics.flow import (JIT_METHOD, Method, compile_model, extended_state, flow,
+                           model_template, template_flow)
 from kbm.symbols import t as TIME
-from numerics._jit import jit_flow, rhs_source
-from numerics.cycle import JIT_METHOD, _flow
+from numerics.flow.jit import jit_flow, rhs_source
 
 pytest.importorskip("numba")
 
@@ -52,7 +52,7 @@ def test_linear_damping_exact_solution_and_fundamental_matrix(mu, x0, t_end):
     interpolation)."""
     m = custom_model("-xdot", name="linear-damping")
     cm = compile_model(m, {"mu": mu})
-    ys = _flow(cm, [x0, 0.0, *E0, 0.0, 0.0, 0.0], t_end, 10, JIT_METHOD, 1e-12, 1e-12)
+    ys = flow(cm, [x0, 0.0, *E0, 0.0, 0.0, 0.0], t_end, 10, Method.COMPILED, 1e-12, 1e-12)
     t = np.linspace(0.0, t_end, 11)
     ref = _linear_exact(mu, x0, t)
     assert np.max(np.abs(ys[:, :6] - ref.T)) < 1e-9 * max(1.0, x0)
@@ -73,7 +73,7 @@ def test_compiled_flow_equals_scipy_dop853(mu, beta, Delta, x0, t_end):
     p = {"mu": mu, "beta": beta, "Delta": Delta, "lam": 1.0}
     cm = compile_model("sedf", p)
     y0 = [x0, 0.0, *E0, 0.0, 0.0, 0.0]
-    ours = _flow(cm, y0, t_end, 1, JIT_METHOD, 1e-12, 1e-12)[-1]
+    ours = flow(cm, y0, t_end, 1, Method.COMPILED, 1e-12, 1e-12)[-1]
     ref = solve_ivp(cm.rhs_ext, (0.0, t_end), y0, method="DOP853", rtol=1e-13,
                     atol=1e-13).y[:, -1]
     assert np.max(np.abs(ours - ref) / (1.0 + np.abs(ref))) < 1e-9
@@ -108,7 +108,7 @@ def test_step_limit_and_blow_up_are_reported():
     m = custom_model("x**3", name="escape")
     cm = compile_model(m, {"mu": 1})
     with pytest.raises(IntegrationError, match="before t = 20"):
-        _flow(cm, [3.0, 0.0, *E0, 0.0, 0.0, 0.0], 20.0, 1, JIT_METHOD, 1e-12, 1e-12)
+        flow(cm, [3.0, 0.0, *E0, 0.0, 0.0, 0.0], 20.0, 1, Method.COMPILED, 1e-12, 1e-12)
 
 
 def test_models_without_math_equivalent_fall_back_to_lsoda():
@@ -134,8 +134,8 @@ def test_no_jit_environment_variable(monkeypatch):
 def test_generated_source_is_independent_of_hash_seed():
     """The printed right-hand side (and so its cache file name) is the same bytes whatever
     PYTHONHASHSEED is."""
-    code = ("import sympy as sp; from numerics._compile import model_template; "
-            "from numerics._jit import rhs_source; from kbm.symbols import t; "
+    code = ("import sympy as sp; from numerics.flow.compiled import model_template; "
+            "from numerics.flow.jit import rhs_source; from kbm.symbols import t; "
             "tp = model_template('sedf'); "
             "print(rhs_source(tp.ext_exprs, t, tp.ext_symbols, "
             "[sp.Symbol(n) for n in tp.names]))")
@@ -153,7 +153,7 @@ def test_cli_method_option(capsys):
     (mu = 0.5) to 1e-9."""
     import json
 
-    from kbm.cli import main
+    from numerics.cli import main
 
     out = {}
     for meth in ("compiled", "LSODA"):
@@ -167,7 +167,7 @@ def test_cli_method_option(capsys):
 def test_compiled_method_unavailable_is_a_clear_error(monkeypatch, capsys):
     """Asking for the compiled integrator where there is none: an IntegrationError naming
     the way out, and on the command line one line and exit status 2."""
-    from kbm.cli import main
+    from numerics.cli import main
 
     monkeypatch.setenv("KBM_NO_JIT", "1")
     m = custom_model("(1 - x**2)*xdot - x**3/5", name="vdp-nojit-2")
@@ -186,11 +186,11 @@ def test_compiled_method_unavailable_is_a_clear_error(monkeypatch, capsys):
 def test_compiled_transient_settles_on_the_shooting_cycle(model, params):
     """The compiled transient from x = 0.5 (maxima bracketed by samples, refined by Newton on
     x' = 0 with the flow) lands on the maximum and period that shooting converges to."""
-    from numerics.cycle import _transient_compiled
+    from numerics.cycles import transient
 
     c = limit_cycle(model, params)
     cm = compile_model(model, params)
-    x_max, period, maxima = _transient_compiled(cm, 0.5, 1e-10, 2e3, 1e3)
+    x_max, period, maxima = transient(cm, 0.5, Method.COMPILED, 1e-10, 2e3, 1e3)
     assert abs(x_max - c.amplitude_max) < 1e-8 * c.amplitude_max
     assert abs(period - c.period) < 1e-7 * c.period
 

@@ -12,7 +12,7 @@ from hypothesis import given, settings, strategies as st
 from scipy.integrate import solve_ivp
 
 from kbm import NonAutonomousError
-from kbm.cli import main
+from numerics.cli import main
 from numerics import ConvergenceError, NoCycleError, limit_cycle
 
 # van der Pol, mu = 1: published period and maximum amplitude (e.g. Strogatz, Nonlinear

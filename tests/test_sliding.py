@@ -11,9 +11,9 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from kbm import ParameterError
-from kbm.cli import main
+from numerics.cli import main
 from numerics import analyze, saddle_node, slide
-from numerics.potential import potential
+from numerics.paper.potential import potential
 
 
 @settings(max_examples=6)

@@ -1,4 +1,4 @@
-"""numerics.sweep: input order kept, failed points reported (not raised), results equal to
+"""numerics.cycles.sweep: input order kept, failed points reported (not raised), results equal to
 one-by-one limit_cycle calls."""
 
 from __future__ import annotations

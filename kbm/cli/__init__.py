@@ -1,9 +1,11 @@
-"""The ``kbm`` command line.
+"""The symbolic commands of the ``kbm`` command line: ``derive`` and ``series``.
 
 One sub-command per module of this package, each defining ``register(subparsers)``
-(which adds its parser and sets ``func``).  Errors of the package become a
-one-line message on standard error and exit status 2; the symbolic core is
-imported by every command, :mod:`numerics` only by the commands that integrate.
+(which adds its parser and sets ``func``).  The console script ``kbm`` is
+:func:`numerics.cli.main`, which adds these commands and the numerical ones on
+top of both packages (so that :mod:`kbm` never imports :mod:`numerics`);
+:func:`main` here runs the symbolic commands alone.  Errors of the package become
+a one-line message on standard error and exit status 2.
 """
 
 from __future__ import annotations
@@ -11,37 +13,40 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
-from ..errors import KBMError
+from kbm.errors import KBMError
 
-__all__ = ["main", "build_parser"]
+__all__ = ["main", "build_parser", "register_commands", "run_command", "COMMANDS"]
 
-#: sub-command modules, in the order ``kbm --help`` lists them
-COMMANDS = ("derive", "series", "cycle", "compare", "slide", "figures", "derivations", "reproduce")
+#: the symbolic sub-command modules, in the order ``kbm --help`` lists them
+COMMANDS = ("derive", "series")
+
+DESCRIPTION = "Krylov-Bogoliubov-Mitropolsky averaging to any order, checked numerically."
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser with every available sub-command."""
-    parser = argparse.ArgumentParser(
-        prog="kbm",
-        description="Krylov-Bogoliubov-Mitropolsky averaging to any order, checked numerically.")
+def register_commands(sub, package: str, names: Sequence[str]) -> None:
+    """Import ``package.NAME`` for each name and let it register its parser.
+
+    A command module that fails to import is an error (raised), never a silent skip.
+    """
+    for name in names:
+        importlib.import_module(f"{package}.{name}").register(sub)
+
+
+def build_parser(extra: Callable[[object], None] | None = None) -> argparse.ArgumentParser:
+    """The argument parser with the symbolic commands (and those ``extra(sub)`` adds)."""
+    parser = argparse.ArgumentParser(prog="kbm", description=DESCRIPTION)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
-    for name in COMMANDS:
-        try:
-            module = importlib.import_module(f"{__name__}.{name}")
-        except ModuleNotFoundError as exc:
-            if exc.name == f"{__name__}.{name}":
-                continue  # that command is not part of this build
-            raise
-        module.register(sub)
+    register_commands(sub, __name__, COMMANDS)
+    if extra is not None:
+        extra(sub)
     return parser
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status."""
-    parser = build_parser()
+def run_command(parser: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> int:
+    """Parse ``argv`` and run the command; returns the exit status."""
     args = parser.parse_args(argv)
     try:
         status = args.func(args)
@@ -58,6 +63,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
     return int(status or 0)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the symbolic commands; returns the exit status."""
+    return run_command(build_parser(), argv)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -9,7 +9,7 @@ from typing import Any
 
 from ..errors import ParameterError
 
-__all__ = ["add_param_option", "parse_params", "emit_json"]
+__all__ = ["add_param_option", "parse_params", "emit_json", "add_model_arguments", "model_spec"]
 
 
 def add_param_option(parser: argparse.ArgumentParser) -> None:
@@ -36,3 +36,32 @@ def emit_json(obj: Any) -> None:
     """Print ``obj`` as JSON (keys in a fixed order, as built)."""
     json.dump(obj, sys.stdout, indent=2, allow_nan=True)
     sys.stdout.write("\n")
+
+
+def add_model_arguments(parser: argparse.ArgumentParser,
+                        models: str = "vdp, rayleigh, sedf, cdc, ...") -> None:
+    """Add the model name, ``--rhs`` and ``--omega0`` arguments."""
+    parser.add_argument("model", nargs="?", help=f"built-in model ({models})")
+    parser.add_argument("--rhs", metavar="EXPR", help="your own F (in x, xdot and parameters) "
+                        "instead of a built-in model")
+    parser.add_argument("--omega0", default="1", help="linear frequency for --rhs (default 1)")
+
+
+def model_spec(args: argparse.Namespace):
+    """The model named on the command line (a built-in name) or the user's ``--rhs`` model.
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        If neither or both are given.
+    """
+    from ..errors import ModelError
+    from ..models import custom_model
+
+    if args.model and getattr(args, "rhs", None):
+        raise ModelError("give either a model name or --rhs, not both")
+    if getattr(args, "rhs", None):
+        return custom_model(args.rhs, omega0=args.omega0 if args.omega0 else 1)
+    if not args.model:
+        raise ModelError("name a model (e.g. vdp) or give --rhs EXPR")
+    return args.model

@@ -30,13 +30,12 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-__all__ = ["ErratumEvidence", "errata_evidence", "CASES"]
+from kbm.paper import ERRATA_CASES
+
+__all__ = ["ErratumEvidence", "errata_evidence", "errata_rows", "evidence_table", "CASES"]
 
 #: (name, physical parameters of sedf)
-CASES: tuple[tuple[str, Mapping[str, float]], ...] = (
-    ("small Delta/mu", {"mu": 0.05, "Delta": 0.1, "beta": 1.0, "lam": 1.0}),
-    ("paper Fig. 3", {"mu": 0.1, "Delta": 1.5, "beta": 1.0, "lam": 1.0}),
-)
+CASES = ERRATA_CASES
 
 
 @dataclass(frozen=True)
@@ -127,13 +126,14 @@ def errata_evidence(cases: Sequence[tuple[str, Mapping[str, float]]] = CASES,
     from kbm import paper
     from kbm.evaluate import numpy_function
 
-    from .compare import compare
+    from numerics.comparison import compare
+    from numerics.paper.printed import paper_prediction
 
     syms = [paper.mu, paper.beta, paper.Delta, paper.k]
     out: list[ErratumEvidence] = []
     psi = np.linspace(0.0, 2 * np.pi, n_samples, endpoint=False)
     for name, params in cases:
-        comp = compare("sedf", params, orders=(2,), paper=True)
+        comp = compare("sedf", params, orders=(2,), extra=[paper_prediction])
         cyc = comp.numeric
         pv = [float(params["mu"]), float(params["beta"]), float(params["Delta"]),
               2 * np.pi / float(params.get("lam", 1.0))]
@@ -168,8 +168,8 @@ def errata_evidence(cases: Sequence[tuple[str, Mapping[str, float]]] = CASES,
         row("9", "mean of x (mu^2 u_2 at the true a)", float(np.mean(g_p)),
             float(np.mean(g_c)), float(np.mean(cyc.x)))
         # eq. 10 over the reconstructed orbits
-        pp = next(p for p in comp.predictions if p.order == 0)
-        pk = next(p for p in comp.predictions if p.order == 2)
+        pp = next(p for p in comp.predictions if p.source == "paper")
+        pk = next(p for p in comp.predictions if p.source == "kbm" and p.order == 2)
         gm = cyc.dissipation.gamma_minus
         row("10", "Gamma/Gamma_- over the reconstructed cycle",
             pp.dissipation / gm if pp.success else np.nan,
@@ -185,3 +185,23 @@ def evidence_table(rows: Sequence[ErratumEvidence]) -> str:
         lines.append(f"{r.case:<16}{r.equation:<5}{r.quantity:<52}{r.printed:>14.6g}"
                      f"{r.corrected:>14.6g}{r.numeric:>14.6g}")
     return "\n".join(lines)
+
+
+def errata_rows(evidence: Sequence[ErratumEvidence] | None = None) -> list:
+    """The errata of :data:`kbm.paper.ERRATA` with their numerical evidence, as the rows of
+    the errata table of :func:`kbm.derivations.write_derivations`.
+
+    Each erratum collects the evidence rows of the equations it names
+    (:attr:`kbm.paper.Erratum.evidence_equations`, default its own).
+    """
+    from kbm.derivations import ErratumRow
+    from kbm.paper import ERRATA
+
+    evidence = errata_evidence() if evidence is None else evidence
+    rows = []
+    for e in ERRATA:
+        eqs = e.evidence_equations or (e.equation,)
+        ev = tuple((r.equation, r.case, r.quantity, r.printed, r.corrected, r.numeric)
+                   for r in evidence if r.equation in eqs)
+        rows.append(ErratumRow(e.equation, e.quantity, e.printed, e.difference, ev))
+    return rows

@@ -11,9 +11,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..claims import FIG4, FIG5
-from ..potential import potential
-from ..sliding import slide
+from kbm.paper import FIG4, FIG5
+from numerics.paper.potential import potential
+from numerics.paper.sliding import slide
 
 __all__ = ["fig2_potential", "fig3_phase_portraits", "fig4_sliding", "fig5_sedf_vs_cdc",
            "fig6_kinetic_friction"]
@@ -58,8 +58,8 @@ def fig2_potential(out_dir: Path) -> list[Path]:
 def fig3_phase_portraits(out_dir: Path) -> list[Path]:
     """Fig. 3: phase portraits of the undriven SEDF, Delta = 1.5, several beta (the true
     limit cycles by shooting, and a transient from x = 0.1)."""
-    from ..cycle import limit_cycle
-    from ..sliding import slide as _slide
+    from numerics.cycles.shooting import limit_cycle
+    from numerics.paper.sliding import slide as _slide
 
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6, 5))

@@ -24,14 +24,15 @@ from scipy.integrate import solve_ivp
 
 from kbm.errors import ParameterError
 from kbm.models import get_model
+from kbm.paper import FIXED
 from kbm.symbols import t as T, x as X, xdot as V
 
-from .errors import IntegrationError
+from numerics.errors import IntegrationError
 
 __all__ = ["SlideResult", "slide", "PAPER"]
 
 #: the paper's fixed parameters (section 3): mu = 0.1, Omega = 1, lambda = 1
-PAPER = {"mu": 0.1, "Omega": 1.0, "lam": 1.0}
+PAPER = FIXED
 
 
 @dataclass(frozen=True)

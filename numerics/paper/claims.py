@@ -13,16 +13,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .potential import saddle_node
-from .sliding import slide
-from .stickslip import analyze
+from kbm.paper import FIG4, FIG5
 
-__all__ = ["Claim", "check_claims", "FIG5", "FIG4"]
+from numerics.paper.potential import saddle_node
+from numerics.paper.sliding import slide
+from numerics.paper.stickslip import analyze
 
-#: Fig. 5 of the paper: SEDF vs CDC, Delta = 3, beta = 1, v = 0.01 (mu = 0.1, Omega = 1)
-FIG5 = {"mu": 0.1, "Delta": 3.0, "beta": 1.0, "v": 0.01, "lam": 1.0, "Omega": 1.0}
-#: Fig. 4 of the paper: SEDF, Delta = 3, beta = 1, v = 0.1
-FIG4 = {"mu": 0.1, "Delta": 3.0, "beta": 1.0, "v": 0.1, "lam": 1.0, "Omega": 1.0}
+__all__ = ["Claim", "check_claims"]
 
 
 @dataclass(frozen=True)

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from ._common import add_param_option, emit_json, parse_params
+from kbm.cli._common import (add_model_arguments, add_param_option, emit_json, model_spec,
+                             parse_params)
 
 
 def register(sub) -> None:
@@ -14,9 +15,7 @@ def register(sub) -> None:
                     "(first-harmonic amplitude, maximum of x, frequency, third harmonic, "
                     "Floquet multiplier, dissipation over the reconstructed cycle) with the "
                     "cycle computed by shooting.")
-    p.add_argument("model", nargs="?", help="built-in model (vdp, rayleigh, sedf, cdc, ...)")
-    p.add_argument("--rhs", metavar="EXPR", help="your own F (in x, xdot and parameters)")
-    p.add_argument("--omega0", default="1", help="linear frequency for --rhs (default 1)")
+    add_model_arguments(p)
     add_param_option(p)
     p.add_argument("--orders", default="1,2", help="comma-separated KBM orders (default 1,2)")
     p.add_argument("--paper", action="store_true",
@@ -38,7 +37,7 @@ def register(sub) -> None:
 
 
 def _orders(text: str) -> list[int]:
-    from ..errors import OrderError
+    from kbm.errors import OrderError
 
     try:
         out = [int(s) for s in text.split(",") if s.strip()]
@@ -50,13 +49,13 @@ def _orders(text: str) -> list[int]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..errors import ModelError
-    from ..models import custom_model
-    from numerics.compare import compare
+    from kbm.errors import ModelError
+    from numerics.comparison import compare
+    from numerics.paper import paper_prediction
 
     params = parse_params(args.param)
     if args.errata:
-        from numerics.errata import errata_evidence, evidence_table
+        from numerics.paper.errata import errata_evidence, evidence_table
 
         rows = errata_evidence()
         if args.json:
@@ -65,7 +64,7 @@ def run(args: argparse.Namespace) -> int:
             print(evidence_table(rows))
         return 0
     if args.validity:
-        from numerics.validity import validity_map
+        from numerics.paper.validity import validity_map
 
         vm = validity_map(orders=_orders(args.orders))
         if args.json:
@@ -74,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
             print(vm.table())
         return 0
     if args.convergence:
-        from numerics.convergence import convergence_study
+        from numerics.comparison.convergence import convergence_study
 
         if not args.model:
             raise ModelError("--convergence needs a built-in model name")
@@ -91,16 +90,9 @@ def run(args: argparse.Namespace) -> int:
         else:
             print(study.table())
         return 0
-    if args.model and args.rhs:
-        raise ModelError("give either a model name or --rhs, not both")
-    if args.rhs:
-        model = custom_model(args.rhs, omega0=args.omega0)
-    elif args.model:
-        model = args.model
-    else:
-        raise ModelError("name a model (e.g. vdp) or give --rhs EXPR")
     kw = {} if args.x_start is None else {"x_start": args.x_start}
-    comp = compare(model, params, orders=_orders(args.orders), paper=args.paper, **kw)
+    comp = compare(model_spec(args), params, orders=_orders(args.orders),
+                   extra=[paper_prediction] if args.paper else (), **kw)
     if args.json:
         emit_json(comp.to_json())
     else:

@@ -16,7 +16,7 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from numerics.figures import FIGURES, write_figures
+    from numerics.paper.figures import FIGURES, write_figures
 
     if args.list:
         print("\n".join(FIGURES))

@@ -9,7 +9,6 @@ and the potential energy, for given parameter values.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from collections import OrderedDict
 from dataclasses import dataclass
 from typing import Callable
 
@@ -17,10 +16,21 @@ import numpy as np
 import sympy as sp
 
 from kbm.errors import ModelError, ParameterError
-from kbm.models import Oscillator, get_model
+from kbm.models import BoundModel, Oscillator, bind, get_model
 from kbm.symbols import t as T, x as X, xdot as V
 
-__all__ = ["CompiledModel", "ModelTemplate", "compile_model", "model_template"]
+from numerics._memo import memo
+
+__all__ = ["CompiledModel", "ModelTemplate", "compile_model", "model_template",
+           "template_flow", "extended_state", "N_EXTENDED"]
+
+#: size of the extended state ``(x, v, Phi11, Phi21, Phi12, Phi22, int div f, G_plus, G_minus)``
+N_EXTENDED = 9
+
+
+def extended_state(x0: float, v0: float = 0.0) -> list[float]:
+    """The extended initial state at ``(x0, v0)``: identity fundamental matrix, zero integrals."""
+    return [float(x0), float(v0), 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]
 
 
 @dataclass(frozen=True)
@@ -56,6 +66,8 @@ class CompiledModel:
         (``template.names``), for :func:`template_flow`.
     exact_values
         The parameter values as given (exact where they were exact).
+    bound
+        The :class:`kbm.models.BoundModel` these functions evaluate.
     acceleration_expr, dissipation_expr
         Symbolic acceleration and dissipation integrand at these values (properties).
     """
@@ -74,6 +86,7 @@ class CompiledModel:
     template: ModelTemplate
     pvec: tuple[float, ...]
     exact_values: Mapping[str, object]
+    bound: BoundModel
 
     @property
     def acceleration_expr(self) -> sp.Expr:
@@ -87,27 +100,6 @@ class CompiledModel:
 
     def _subs(self) -> dict:
         return {sp.Symbol(k): v for k, v in self.exact_values.items()}
-
-
-def _split_dissipation(model: Oscillator) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
-    """``-D x'`` with D the dissipative force, split by the sign of its terms' coefficients.
-
-    Returns ``(plus, minus, factor)`` with ``-D x' = factor*plus - minus``; a
-    parameter ``beta`` that multiplies the whole positive part is pulled out
-    (the paper's eq. 11: ``Gamma = beta Gamma_+ - Gamma_-``).
-    """
-    integrand = sp.expand(-model.dissipative_force() * V)
-    plus, minus = [], []
-    for term in sp.Add.make_args(integrand):
-        coeff = term.as_coeff_Mul()[0]
-        (plus if coeff > 0 else minus).append(term)
-    plus_e, minus_e = sp.Add(*plus), -sp.Add(*minus)
-    factor = sp.Integer(1)
-    beta = sp.Symbol("beta")
-    if plus and all(beta in t.free_symbols and sp.degree(t, beta) == 1 for t in plus):
-        factor = beta
-        plus_e = sp.expand(plus_e / beta)
-    return plus_e, minus_e, factor
 
 
 @dataclass(frozen=True)
@@ -131,27 +123,21 @@ class ModelTemplate:
     ext_symbols: tuple[sp.Symbol, ...] = ()
 
 
-def model_template(model: Oscillator | str, v: object | None = None) -> ModelTemplate:
+def model_template(model: Oscillator | str) -> ModelTemplate:
     """Lambdify ``model`` once, parameters (and ``mu``) as arguments.
 
-    Templates are kept in a small LRU cache keyed by the model's symbolic content
-    (``F``, ``omega0``, drive): a cached template is the same function of the same
-    expressions, so the cache changes the time, never the result.
+    Memoised by the model (hashable; :func:`numerics._memo.memo`): a cached
+    template is the same function of the same expressions, so the memo changes
+    the time, never the result.
     """
     if isinstance(model, str):
-        model = get_model(model, {"v": v} if v is not None else None)
-    key = (model.name, sp.srepr(model.F), sp.srepr(model.omega0), sp.srepr(model.drive))
-    tpl = _TEMPLATES.get(key)
-    if tpl is None:
-        tpl = _build_template(model)
-        _TEMPLATES[key] = tpl
-        while len(_TEMPLATES) > 32:
-            _TEMPLATES.popitem(last=False)
-    return tpl
+        model = get_model(model)
+    return _template(model)
 
 
-#: memo of lambdified templates (bounded; it changes the time, never the result)
-_TEMPLATES: "OrderedDict[tuple, ModelTemplate]" = OrderedDict()
+@memo(maxsize=32)
+def _template(model: Oscillator) -> ModelTemplate:
+    return _build_template(model)
 
 
 def _build_template(model: Oscillator) -> ModelTemplate:
@@ -167,7 +153,7 @@ def _build_template(model: Oscillator) -> ModelTemplate:
                 "multipliers, Newton) need a smooth F: replace non-differentiable terms such "
                 "as sign(xdot) or Abs(xdot) by smooth ones, e.g. tanh(xdot/0.01) or "
                 "sqrt(xdot**2 + 0.01**2)")
-    plus, minus, factor = _split_dissipation(model)
+    plus, minus, factor = model.dissipation_parts()
     s = sp.Dummy("s")
     cons = model.conservative_force().subs(X, s)
     if cons.has(T):
@@ -201,33 +187,34 @@ def _build_template(model: Oscillator) -> ModelTemplate:
 def template_flow(template: ModelTemplate):
     """The compiled DOP853 flow of the template's extended system, or ``None``.
 
-    See :mod:`numerics._jit`; memoised per template (it changes the time, never
-    the result).
+    See :mod:`numerics.flow.jit`; memoised per template and per the state of the
+    ``KBM_NO_JIT`` switch (it changes the time, never the result).
     """
-    key = id(template)
-    hit = _FLOWS.get(key)
-    if hit is not None and hit[0] is template:
-        return hit[1]
-    from ._jit import jit_flow
+    from numerics.flow.jit import jit_available
 
-    fl = jit_flow(template.ext_exprs, T, template.ext_symbols,
-                  [sp.Symbol(n) for n in template.names])
-    _FLOWS[key] = (template, fl)
-    while len(_FLOWS) > 32:
-        _FLOWS.pop(next(iter(_FLOWS)))
-    return fl
+    return _template_flow(template, jit_available())
 
 
-#: memo of compiled flows by template (bounded; time only)
-_FLOWS: dict = {}
+@memo(maxsize=32)
+def _template_flow(template: ModelTemplate, enabled: bool):
+    if not enabled:
+        return None
+    from numerics.flow.jit import jit_flow
+
+    return jit_flow(template.ext_exprs, T, template.ext_symbols,
+                    [sp.Symbol(n) for n in template.names])
 
 
-def compile_model(model: Oscillator | str, params: Mapping[str, object] | None = None, *,
+def compile_model(model: Oscillator | str | BoundModel,
+                  params: Mapping[str, object] | None = None, *,
                   template: ModelTemplate | None = None) -> CompiledModel:
     """Numerical functions of ``model`` at the given parameter values (physical or scaled names).
 
     Parameters
     ----------
+    model, params
+        A bound model, or a model (or built-in name) and its parameter values
+        (:func:`kbm.models.bind`).
     template
         A :class:`ModelTemplate` of the same model, to skip the lambdification.
 
@@ -236,18 +223,12 @@ def compile_model(model: Oscillator | str, params: Mapping[str, object] | None =
     kbm.errors.ParameterError
         If a parameter is missing or not a finite real number.
     """
-    params = dict(params or {})
-    if isinstance(model, str):
-        v = params.pop("v", None)
-        model = get_model(model, {"v": v} if v is not None else None)
-    if template is None or template.model.name != model.name \
-            or template.model.F != model.F or template.model.drive != model.drive:
+    bound = bind(model, params)
+    model = bound.model
+    if template is None or template.model != model:
         template = model_template(model)
-    vals = model.resolve(params)
-    missing = [p for p in template.names if p not in vals]
-    if missing:
-        raise ParameterError(f"model {model.name!r} needs values for {', '.join(missing)} "
-                             f"(e.g. --param {missing[0]}=0.1)")
+    vals = bound.values
+    bound.require(template.names, what="the numerical functions")
     fvals = {k: float(vals[k]) for k in template.names}
     for k, val in fvals.items():
         if not np.isfinite(val):
@@ -277,4 +258,4 @@ def compile_model(model: Oscillator | str, params: Mapping[str, object] | None =
         energy=lambda xv, vv: np.asarray(f_en(xv, vv, *pv), dtype=float),
         plus_factor=float(template.f_factor(*pv)), stiffness=stiffness,
         autonomous=model.is_autonomous, template=template, pvec=pv,
-        exact_values=dict(vals))
+        exact_values=dict(vals), bound=bound)

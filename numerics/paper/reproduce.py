@@ -1,30 +1,31 @@
-"""``kbm reproduce``: the main job.
+"""The main job as a library function: :func:`reproduce`.
 
 Regenerates the derivations (LaTeX, and the PDF when pdflatex is installed),
 computes the analytic-versus-numeric tables for the paper's cases and for
 small-parameter cases, runs the paper's sliding experiments and checks its
-claims, writes every figure, and prints a summary.  Progress goes to standard
-error, one line per stage, with the time each took.
+claims, writes every figure, and writes a summary.  ``kbm reproduce`` calls it.
 """
 
 from __future__ import annotations
 
-import argparse
 import json
 import shutil
 import sys
 import time
 from pathlib import Path
 
+from kbm.derivations import compile_pdf, write_derivations
+from kbm.paper import COMPARISON_CASES
 
-def register(sub) -> None:
-    p = sub.add_parser("reproduce", help="the main job: derivations, tables, figures, summary",
-                       description="Regenerate the derivations, compare KBM with the true "
-                                   "limit cycles for the paper's and small-parameter cases, "
-                                   "run the paper's sliding experiments, write all figures.")
-    p.add_argument("--out", default="out", help="output folder (default: out)")
-    p.add_argument("--no-pdf", action="store_true", help="do not run pdflatex")
-    p.set_defaults(func=run)
+from numerics.comparison import compare, convergence_study
+from numerics.paper.claims import check_claims
+from numerics.paper.errata import errata_evidence, errata_rows, evidence_table
+from numerics.paper.figures import FIGURES, write_figures
+from numerics.paper.figures.comparison import validity_figure
+from numerics.paper.printed import paper_prediction
+from numerics.paper.validity import validity_map
+
+__all__ = ["reproduce"]
 
 
 class _Progress:
@@ -48,31 +49,31 @@ def _md_table(header: list[str], rows: list[list[str]]) -> str:
     return "\n".join(out) + "\n"
 
 
-#: the comparison cases of the main job: (label, model, parameters)
-CASES = (
-    ("van der Pol, mu = 0.1", "vdp", {"mu": 0.1}),
-    ("van der Pol, mu = 1", "vdp", {"mu": 1}),
-    ("SEDF small Delta/mu (mu = 0.05, Delta = 0.1, beta = 1)", "sedf",
-     {"mu": 0.05, "Delta": 0.1, "beta": 1, "lam": 1}),
-    ("SEDF paper Fig. 3 (mu = 0.1, Delta = 1.5, beta = 1)", "sedf",
-     {"mu": 0.1, "Delta": 1.5, "beta": 1, "lam": 1}),
-    ("SEDF paper Fig. 3 (mu = 0.1, Delta = 1.5, beta = 0.25)", "sedf",
-     {"mu": 0.1, "Delta": 1.5, "beta": 0.25, "lam": 1}),
-)
+def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
+    """The main job: errata evidence, derivations (and PDF), KBM versus the true cycles,
+    convergence orders, the validity map, the sliding experiments and claims, every
+    figure, and a summary.
 
+    Progress goes to standard error, one line per stage, with the time each took.
 
-def run(args: argparse.Namespace) -> int:
-    from ..derivations import compile_pdf, write_derivations
-    from .derivations import errata_rows
+    Parameters
+    ----------
+    out
+        Output folder: ``derivations/``, ``tables/``, ``figures/``, ``summary.md``.
+    pdf
+        Run pdflatex on the derivations when it is installed.
 
-    out = Path(args.out)
+    Returns
+    -------
+    pathlib.Path
+        The summary file (its text is also printed).
+    """
+    out = Path(out)
     (out / "tables").mkdir(parents=True, exist_ok=True)
     prog = _Progress(7)
     summary: list[str] = ["# kbm reproduce: summary", ""]
 
     prog.stage("errata: the paper's eqs. (6)-(9) against the engine and the true cycles")
-    from numerics.errata import errata_evidence, evidence_table
-
     evidence = errata_evidence()
     rows = [[r.equation, r.case, r.quantity, f"{r.printed:.6g}", f"{r.corrected:.6g}",
              f"{r.numeric:.6g}",
@@ -91,34 +92,30 @@ def run(args: argparse.Namespace) -> int:
     prog.done(f"{wins}/{total} comparisons favour the corrected formulas")
 
     prog.stage("derivations: LaTeX from the engine (and the PDF)")
-    paths = write_derivations(out / "derivations", errata_rows())
+    paths = write_derivations(out / "derivations", errata_rows(evidence))
     detail = f"{len(paths)} files in {out / 'derivations'}"
-    if not args.no_pdf and shutil.which("pdflatex"):
-        pdf = compile_pdf(out / "derivations" / "main.tex")
-        detail += f"; PDF {pdf}"
-        summary += [f"Derivations (PDF): {pdf}", ""]
-    elif not args.no_pdf:
+    if pdf and shutil.which("pdflatex"):
+        pdf_path = compile_pdf(out / "derivations" / "main.tex")
+        detail += f"; PDF {pdf_path}"
+        summary += [f"Derivations (PDF): {pdf_path}", ""]
+    elif pdf:
         detail += "; pdflatex not installed, no PDF (Debian: texlive-latex-base)"
     prog.done(detail)
 
     prog.stage("KBM versus the true limit cycles")
-    from numerics import compare
-
     comp_md, comp_json = [], []
-    for label, model, params in CASES:
+    for label, model, params in COMPARISON_CASES:
         c = compare(model, params, orders=(1, 2) if model == "sedf" else (1, 2, 3, 4),
-                    paper=(model == "sedf"))
+                    extra=[paper_prediction] if model == "sedf" else ())
         comp_md += [f"### {label}", "", "```", c.table(), "```", ""]
         comp_json.append({"case": label, **c.to_json()})
     comp_text = "\n".join(comp_md)
     (out / "tables" / "comparison.md").write_text(comp_text)
     (out / "tables" / "comparison.json").write_text(json.dumps(comp_json, indent=2) + "\n")
     summary += ["## KBM versus numerics", "", comp_text]
-    prog.done(f"{len(CASES)} cases")
+    prog.done(f"{len(COMPARISON_CASES)} cases")
 
     prog.stage("convergence orders of the KBM errors")
-    from numerics import convergence_study
-
     conv = [convergence_study("vdp", [0.025, 0.05, 0.1], orders=(1, 2, 3)),
             convergence_study("sedf", [0.025, 0.05, 0.1], orders=(1, 2),
                               fixed={"delta": 2, "beta": 1, "k": "2*pi"})]
@@ -128,8 +125,6 @@ def run(args: argparse.Namespace) -> int:
     prog.done()
 
     prog.stage("validity map of KBM orders 1 and 2 for the SEDF (sweep on all cores)")
-    from numerics.validity import validity_map
-
     vm = validity_map(progress=False)
     vm_text = vm.table()
     (out / "tables" / "validity.md").write_text("```\n" + vm_text + "\n```\n")
@@ -139,8 +134,6 @@ def run(args: argparse.Namespace) -> int:
     prog.done()
 
     prog.stage("the paper's sliding experiments and claims (SEDF versus CDC)")
-    from numerics import check_claims
-
     claims = check_claims()
     claims_md = _md_table(["claim", "the paper says", "measured", "verdict"],
                           [c.row() for c in claims])
@@ -149,9 +142,6 @@ def run(args: argparse.Namespace) -> int:
     prog.done(", ".join(f"{c.key}: {c.verdict}" for c in claims))
 
     prog.stage("figures")
-    from numerics.figures import FIGURES, write_figures
-    from numerics.figures.comparison import validity_figure
-
     figs = write_figures(out / "figures", [n for n in FIGURES if n != "validity_map"],
                          progress=lambda n: print(f"      {n}", file=sys.stderr, flush=True))
     figs += validity_figure(out / "figures", vmap=vm)  # reuse the sweep of stage 5
@@ -163,5 +153,5 @@ def run(args: argparse.Namespace) -> int:
     print(text)
     print(f"\nwritten: {out}/summary.md, {out}/tables/, {out}/figures/, {out}/derivations/ "
           f"(total {time.perf_counter() - prog.t0:.0f} s)")
-    return 0
+    return out / "summary.md"
 

@@ -17,19 +17,19 @@ __all__ = ["FIGURES", "write_figures"]
 
 def _paper(name: str) -> Callable[[Path], list[Path]]:
     def run(out_dir: Path) -> list[Path]:
-        from . import paper
+        from numerics.paper.figures import paper
 
         return getattr(paper, name)(Path(out_dir))
-    run.__doc__ = f"numerics.figures.paper.{name}"
+    run.__doc__ = f"numerics.paper.figures.paper.{name}"
     return run
 
 
 def _comparison(name: str) -> Callable[[Path], list[Path]]:
     def run(out_dir: Path) -> list[Path]:
-        from . import comparison
+        from numerics.paper.figures import comparison
 
         return getattr(comparison, name)(Path(out_dir))
-    run.__doc__ = f"numerics.figures.comparison.{name}"
+    run.__doc__ = f"numerics.paper.figures.comparison.{name}"
     return run
 
 

@@ -12,14 +12,19 @@ from __future__ import annotations
 import itertools
 import os
 import sys
-import time
 from collections.abc import Iterable, Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+
+import numpy as np
+from tqdm import tqdm
 
 from kbm.errors import KBMError
+from kbm.models import bind
 
-from .cycle import LimitCycle, limit_cycle
+from numerics.cycles.result import LimitCycle
+from numerics.cycles.shooting import limit_cycle
+from numerics.flow import model_template
 
 __all__ = ["SweepPoint", "sweep", "grid"]
 
@@ -48,11 +53,9 @@ def grid(**axes: Sequence[object]) -> list[dict[str, object]]:
 
 def _chunk(args) -> list[SweepPoint]:
     """A contiguous run of points in one process: one template, continuation of guesses."""
-    from ._compile import model_template
-
     model, fixed, pts, kwargs, continuation = args
-    template = model_template(model) if not isinstance(model, str) or "v" not in fixed \
-        else None
+    # one lambdified template for the whole chunk (the driven variant when v is fixed)
+    template = model_template(bind(model, {"v": fixed["v"]} if "v" in fixed else None).model)
     out = []
     guess = kwargs.pop("guess", None)
     for p in pts:
@@ -80,23 +83,8 @@ def _chunk(args) -> list[SweepPoint]:
 
 def _strip(c: LimitCycle) -> LimitCycle:
     """Drop the orbit samples (keeps inter-process traffic small)."""
-    from dataclasses import replace
-    import numpy as np
-
     empty = np.empty(0)
     return replace(c, t=empty, x=empty, xdot=empty)
-
-
-def _bar(done: int, total: int, t0: float) -> None:
-    frac = done / total
-    n = int(30 * frac)
-    el = time.perf_counter() - t0
-    eta = el / frac - el if frac > 0 else float("nan")
-    sys.stderr.write(f"\r[{'#' * n}{'.' * (30 - n)}] {done}/{total}  {el:6.1f} s  "
-                     f"eta {eta:6.1f} s")
-    sys.stderr.flush()
-    if done == total:
-        sys.stderr.write("\n")
 
 
 def sweep(model, points: Iterable[Mapping[str, object]], *,
@@ -143,17 +131,17 @@ def sweep(model, points: Iterable[Mapping[str, object]], *,
     size = chunksize or max(1, min(64, -(-total // (4 * workers))))
     chunks = [pts[i:i + size] for i in range(0, total, size)]
     jobs = [(model, fixed, c, dict(cycle_kwargs), continuation) for c in chunks]
-    t0 = time.perf_counter()
     out: list[SweepPoint] = []
-    if workers == 1 or len(chunks) == 1:
-        for job in jobs:
-            out.extend(_chunk(job))
-            if show:
-                _bar(len(out), total, t0)
-        return out
-    with ProcessPoolExecutor(max_workers=workers) as ex:
-        for res in ex.map(_chunk, jobs):
-            out.extend(res)
-            if show:
-                _bar(len(out), total, t0)
+    with tqdm(total=total, disable=not show, file=sys.stderr, unit="cycle",
+              desc=f"sweep {getattr(model, 'name', model)}") as bar:
+        if workers == 1 or len(chunks) == 1:
+            for job in jobs:
+                res = _chunk(job)
+                out.extend(res)
+                bar.update(len(res))
+            return out
+        with ProcessPoolExecutor(max_workers=workers) as ex:
+            for res in ex.map(_chunk, jobs):
+                out.extend(res)
+                bar.update(len(res))
     return out

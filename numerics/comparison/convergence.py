@@ -53,10 +53,12 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from kbm import derive
 from kbm.models import Oscillator, get_model
 from kbm.symbols import xdot as V
 
-from .compare import ERROR_KEYS, Comparison, compare
+from numerics.comparison.comparison import Comparison, compare
+from numerics.comparison.prediction import ERROR_KEYS
 
 __all__ = ["FIT_KEYS", "predicted_orders", "time_reversal_symmetric", "ConvergenceStudy",
            "convergence_study", "fit_slope"]
@@ -126,13 +128,13 @@ class ConvergenceStudy:
         KBM orders compared.
     errors
         ``errors[(N, key)]``: absolute errors ``|predicted - true|`` along ``eps``
-        (``key`` in :data:`numerics.compare.ERROR_KEYS`).
+        (``key`` in :data:`numerics.comparison.comparison.ERROR_KEYS`).
     slopes, predicted
         ``slopes[(N, key)]``: fitted slope; ``predicted[(N, key)]``: the theory's order.
     numeric_dissipation
         ``|Gamma|`` of the true cycle at each ``eps`` (zero to integration accuracy).
     comparisons
-        The :class:`~numerics.compare.Comparison` at each ``eps``.
+        The :class:`~numerics.comparison.comparison.Comparison` at each ``eps``.
     """
 
     model: str
@@ -193,11 +195,9 @@ def convergence_study(model: str, eps: Sequence[float], *, orders: Sequence[int]
     >>> round(s.slopes[(1, "frequency")])
     2
     """
-    from .compare import _derive
-
     fixed = dict(fixed or {})
     orders = tuple(sorted(int(n) for n in orders))
-    res = _derive(model, orders[-1])
+    res = derive(model, orders[-1])
     fns = res.functions("numpy")
     comps = []
     for e in eps:

@@ -20,11 +20,13 @@ from pathlib import Path
 
 import numpy as np
 
+from kbm.paper import POINTS
+
 __all__ = ["COMPARISON_FIGURES", "comparison_figures", "convergence_figure",
            "validity_figure", "phase_fig3_figure", "phase_small_figure"]
 
 #: the paper's parameters, marked on the validity map (mu, Delta)
-PAPER_POINTS = ((0.1, 1.5), (0.1, 3.0))
+PAPER_POINTS = POINTS
 
 
 def _plt():
@@ -48,7 +50,7 @@ def _save(fig, out_dir: Path, name: str) -> Path:
 # ----------------------------------------------------------------------------- convergence
 def convergence_figure(out_dir: Path, *, quick: bool = False) -> list[Path]:
     """Log-log errors of each KBM order against ``mu`` with the predicted slopes."""
-    from ..convergence import convergence_study
+    from numerics.comparison.convergence import convergence_study
 
     plt = _plt()
     eps = [0.025, 0.05, 0.1] if quick else [0.0125, 0.025, 0.05, 0.1, 0.2]
@@ -90,7 +92,7 @@ def convergence_figure(out_dir: Path, *, quick: bool = False) -> list[Path]:
 # ----------------------------------------------------------------------------- validity
 def validity_figure(out_dir: Path, *, quick: bool = False, vmap=None) -> list[Path]:
     """Relative error of KBM orders 1, 2 over ``(mu, Delta)`` per ``beta``, 1 % contour."""
-    from ..validity import validity_map
+    from numerics.paper.validity import validity_map
 
     plt = _plt()
     if vmap is None:
@@ -154,7 +156,7 @@ def _portrait(ax, comp, title):
             continue
         col, ls = styles.get(p.order, ("C5", "--"))
         ax.plot(np.append(p.x, p.x[0]), np.append(p.xdot, p.xdot[0]), ls, color=col, lw=1.4,
-                label=p.label if p.order else "paper eqs. 5-9", zorder=2)
+                label=p.label if p.source != "paper" else "paper eqs. 5-9", zorder=2)
     ax.set_title(title, fontsize=9)
     ax.set_xlabel("x")
     ax.set_ylabel("dx/dt")
@@ -166,7 +168,7 @@ def _portrait(ax, comp, title):
 def _deviation(ax, comp, with_paper=False):
     th0, r0 = _radius(comp.numeric.x, comp.numeric.xdot)
     for p in comp.predictions:
-        if not p.success or (p.order == 0 and not with_paper):
+        if not p.success or (p.source == "paper" and not with_paper):
             continue
         th, r = _radius(p.x, p.xdot)
         ax.plot(th0, np.interp(th0, th, r, period=2 * np.pi) - r0, label=p.label)
@@ -186,14 +188,15 @@ def _radius(x, v):
 
 def phase_fig3_figure(out_dir: Path, *, quick: bool = False) -> list[Path]:
     """KBM orders 1, 2 and the paper's formulas vs the numerical cycle, paper Fig. 3."""
-    from ..compare import compare
+    from numerics.comparison import compare
+    from numerics.paper.printed import paper_prediction
 
     plt = _plt()
     betas = (0.5, 1.0) if quick else (0.1, 0.25, 0.5, 1.0)
     fig, axes = plt.subplots(2, len(betas), figsize=(4.2 * len(betas), 8.4), squeeze=False)
     for j, b in enumerate(betas):
         comp = compare("sedf", {"mu": 0.1, "Delta": 1.5, "beta": b, "lam": 1}, orders=(1, 2),
-                       paper=True)
+                       extra=[paper_prediction])
         _portrait(axes[0][j], comp, f"Delta = 1.5, mu = 0.1, beta = {b:g}")
         _deviation(axes[1][j], comp)
     axes[0][0].legend(fontsize=7, loc="lower left")
@@ -206,7 +209,8 @@ def phase_fig3_figure(out_dir: Path, *, quick: bool = False) -> list[Path]:
 
 def phase_small_figure(out_dir: Path, *, quick: bool = False) -> list[Path]:
     """Small-``Delta`` cases where KBM is accurate: portraits and radial deviations."""
-    from ..compare import compare
+    from numerics.comparison import compare
+    from numerics.paper.printed import paper_prediction
 
     plt = _plt()
     cases = [("sedf", {"mu": 0.05, "Delta": 0.1, "beta": 1, "lam": 1}, (1, 2)),

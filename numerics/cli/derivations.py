@@ -18,32 +18,16 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def errata_rows():
-    """The errata of :data:`kbm.paper.ERRATA` with numerical evidence from :mod:`numerics`."""
-    from numerics.errata import errata_evidence
-
-    from ..derivations import ErratumRow
-    from ..paper import ERRATA
-
-    evidence = errata_evidence()
-    rows = []
-    for e in ERRATA:
-        eq = {"6": ("6",), "7": ("7",), "8": ("8",), "9": ("9", "10")}[e.equation]
-        ev = tuple((r.equation, r.case, r.quantity, r.printed, r.corrected, r.numeric)
-                   for r in evidence if r.equation in eq)
-        rows.append(ErratumRow(e.equation, e.quantity, e.printed, e.difference, ev))
-    return rows
-
-
 def run(args: argparse.Namespace) -> int:
-    from ..derivations import write_derivations
+    from kbm.derivations import write_derivations
+    from numerics.paper import errata_rows
 
     rows = () if args.no_evidence else errata_rows()
     paths = write_derivations(args.out, rows)
     for p in paths:
         print(p)
     if args.pdf:
-        from ..derivations import compile_pdf
+        from kbm.derivations import compile_pdf
 
         pdf = compile_pdf(Path(args.out) / "main.tex")
         print(pdf)

@@ -2,8 +2,8 @@
 
 :func:`validity_map` computes the true limit cycle of the SEDF (paper eq. 3,
 ``v = 0``, ``Omega = 1``, ``lam = 1``) on a grid of ``(mu, Delta, beta)`` with
-:func:`numerics.sweep` (all cores) and, at each point, the cycle predicted by
-KBM orders 1 and 2 (:func:`numerics.compare.kbm_prediction`, the root closest to
+:func:`numerics.cycles.sweep` (all cores) and, at each point, the cycle predicted by
+KBM orders 1 and 2 (:func:`numerics.comparison.comparison.kbm_prediction`, the root closest to
 the true first-harmonic amplitude).  The error of a point is the largest of the
 relative errors of the first-harmonic amplitude, the maximum of ``x`` and the
 frequency.  The small parameter of the expansion is ``mu`` at fixed
@@ -17,6 +17,11 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+
+from kbm import derive
+
+from numerics.comparison.prediction import kbm_prediction, numeric_value
+from numerics.cycles.sweep import grid, sweep
 
 __all__ = ["ValidityPoint", "ValidityMap", "validity_map", "DEFAULT_GRID", "VALIDITY_KEYS"]
 
@@ -118,7 +123,7 @@ def validity_map(mu: Sequence[float] = DEFAULT_GRID["mu"],
     orders
         KBM orders (at most 2 for the SEDF).
     workers, progress
-        Passed to :func:`numerics.sweep`.
+        Passed to :func:`numerics.cycles.sweep`.
     x_start
         Start of the transient when Newton from the first-order KBM cycle fails
         (:func:`numerics.limit_cycle`); from the default ``x = 1`` the SEDF with
@@ -137,8 +142,6 @@ def validity_map(mu: Sequence[float] = DEFAULT_GRID["mu"],
     >>> vm.points[0].error(2) < vm.points[0].error(1) < 1e-2
     True
     """
-    from .compare import _derive, kbm_prediction, numeric_value
-    from .sweep import grid, sweep
 
     axes = {"mu": tuple(float(v) for v in mu), "Delta": tuple(float(v) for v in Delta),
             "beta": tuple(float(v) for v in beta)}
@@ -147,7 +150,7 @@ def validity_map(mu: Sequence[float] = DEFAULT_GRID["mu"],
         swept = sweep("sedf", pts, fixed={"lam": lam}, workers=workers, progress=progress,
                       continuation=False, x_start=x_start)
     orders = tuple(sorted(int(n) for n in orders))
-    res = _derive("sedf", orders[-1])
+    res = derive("sedf", orders[-1])
     fns = res.functions("numpy")
     out = []
     for sp_ in swept:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ._common import add_param_option, emit_json, parse_params
+from kbm.cli._common import add_param_option, emit_json, parse_params
 
 
 def register(sub) -> None:
@@ -25,9 +25,9 @@ def register(sub) -> None:
 def run(args: argparse.Namespace) -> int:
     from numerics import analyze, slide
 
-    from ..models import _to_number
+    from kbm.models import parameter_value
 
-    params = {k: float(_to_number(k, v)) for k, v in parse_params(args.param).items()}
+    params = {k: float(parameter_value(k, v)) for k, v in parse_params(args.param).items()}
     res = slide(args.model, params, args.t_end, rtol=args.rtol)
     a = analyze(res)
     data = a.to_json()

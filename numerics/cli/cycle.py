@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from ._common import add_param_option, emit_json, parse_params
+from kbm.cli._common import (add_model_arguments, add_param_option, emit_json, model_spec,
+                             parse_params)
 
 
 def register(sub) -> None:
@@ -13,9 +14,7 @@ def register(sub) -> None:
                                    "by Newton's method on the return map to x' = 0, x > 0, "
                                    "with Floquet multipliers and the dissipation per cycle "
                                    "(paper eqs. 10-11).")
-    p.add_argument("model", nargs="?", help="built-in model (vdp, rayleigh, sedf, ...)")
-    p.add_argument("--rhs", metavar="EXPR", help="your own F instead of a built-in model")
-    p.add_argument("--omega0", default="1", help="linear frequency for --rhs (default 1)")
+    add_model_arguments(p)
     add_param_option(p)
     p.add_argument("--digits", type=int, default=None,
                    help="also compute period and amplitudes to N digits (mpmath Taylor series)")
@@ -29,23 +28,15 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from kbm.errors import ParameterError
     from numerics import limit_cycle
-    from numerics.cycle import JIT_METHOD
-
-    from ..errors import ParameterError
-    from .derive import model_from_args
 
     if args.digits is not None and not 1 <= args.digits <= 200:
         raise ParameterError(f"--digits must be between 1 and 200, got {args.digits}")
     if not 1e-15 <= args.rtol <= 1e-3:
         raise ParameterError(f"--rtol must be between 1e-15 and 1e-3, got {args.rtol}")
-    params = parse_params(args.param)
-    ns = argparse.Namespace(**{**vars(args), "param": [p for p in args.param
-                                                      if p.split("=")[0].strip() == "v"]})
-    model = model_from_args(ns)
-    params.pop("v", None)
-    method = JIT_METHOD if args.method == "compiled" else args.method
-    cyc = limit_cycle(model, params, digits=args.digits, rtol=args.rtol, method=method)
+    cyc = limit_cycle(model_spec(args), parse_params(args.param), digits=args.digits,
+                      rtol=args.rtol, method=args.method)
     data = cyc.to_json()
     if args.json:
         emit_json(data)

@@ -24,7 +24,7 @@ import sympy as sp
 
 from kbm.symbols import t as TIME, x as X, xdot as V
 
-from .errors import ConvergenceError, IntegrationError
+from numerics.errors import ConvergenceError, IntegrationError
 
 __all__ = ["TaylorSystem", "limit_cycle_mp"]
 

@@ -1,0 +1,33 @@
+"""The ``kbm`` command line: the symbolic commands of :mod:`kbm.cli` and the numerical ones.
+
+This package sits on top of both :mod:`kbm` and :mod:`numerics` (the console
+script ``kbm`` is :func:`main`).  Each command module only parses its arguments,
+calls one library function and prints; a command module that fails to import
+is an error, not a missing command.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Sequence
+
+from kbm.cli import build_parser as _build_symbolic, register_commands, run_command
+
+__all__ = ["main", "build_parser", "COMMANDS"]
+
+#: the numerical sub-command modules, listed after ``derive`` and ``series``
+COMMANDS = ("cycle", "compare", "slide", "figures", "derivations", "reproduce")
+
+
+def build_parser():
+    """The parser of every ``kbm`` command."""
+    return _build_symbolic(lambda sub: register_commands(sub, __name__, COMMANDS))
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the ``kbm`` command line; returns the exit status."""
+    return run_command(build_parser(), argv)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,18 @@
+"""Floor 3 of :mod:`numerics`: approximations of limit cycles against the true ones.
+
+- :mod:`numerics.comparison.prediction`: what an approximation predicts
+  (:class:`Prediction`, :func:`kbm_prediction`) and the true values
+  (:func:`numeric_value`);
+- :mod:`numerics.comparison.comparison`: :func:`compare`, :class:`Comparison`;
+- :mod:`numerics.comparison.convergence`: errors against ``mu`` with fitted slopes.
+"""
+
+from numerics.comparison.comparison import Comparison, ExtraPrediction, compare
+from numerics.comparison.convergence import (ConvergenceStudy, convergence_study, fit_slope,
+                                             predicted_orders)
+from numerics.comparison.prediction import (ERROR_KEYS, Prediction, kbm_prediction,
+                                            numeric_value, reconstruct)
+
+__all__ = ["Comparison", "compare", "ExtraPrediction", "Prediction", "kbm_prediction",
+           "numeric_value", "reconstruct", "ERROR_KEYS", "ConvergenceStudy",
+           "convergence_study", "fit_slope", "predicted_orders"]

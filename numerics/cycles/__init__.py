@@ -1,0 +1,19 @@
+"""Floor 2 of :mod:`numerics`: true limit cycles.
+
+- :mod:`numerics.cycles.result`: :class:`LimitCycle`, :class:`Dissipation`;
+- :mod:`numerics.cycles.transient`: settling on a cycle from a start;
+- :mod:`numerics.cycles.guess`: starting guesses from the averaged equations;
+- :mod:`numerics.cycles.shooting`: :func:`limit_cycle` (Newton on the return map,
+  Floquet multipliers, dissipation per cycle);
+- :mod:`numerics.cycles.highprec`: cycles to 30 digits and more (mpmath Taylor);
+- :mod:`numerics.cycles.sweep`: many cycles on all cores.
+"""
+
+from numerics.cycles.highprec import limit_cycle_mp
+from numerics.cycles.result import Dissipation, LimitCycle
+from numerics.cycles.shooting import limit_cycle
+from numerics.cycles.sweep import SweepPoint, grid, sweep
+from numerics.cycles.transient import transient
+
+__all__ = ["LimitCycle", "Dissipation", "limit_cycle", "limit_cycle_mp", "transient",
+           "sweep", "grid", "SweepPoint"]

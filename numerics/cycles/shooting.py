@@ -1,0 +1,288 @@
+"""Limit cycles of ``x'' + omega0^2 x = mu F(x, x')`` by shooting, with Floquet multipliers.
+
+The periodic orbit is a fixed point of the Poincare return map on the section
+``x' = 0, x > 0`` (crossed with ``x'`` decreasing, i.e. at a maximum of ``x``).
+Newton's method on the return map ``P(x0)`` uses ``P'(x0) = Phi_11(T)`` from the
+variational equations (``x'(T) = 0`` on the section, so the change of the return
+time drops out).  On the converged orbit one more integration gives the
+monodromy matrix ``Phi(T)`` (its eigenvalues are the Floquet multipliers; one is
+1 for an autonomous system), ``int div f dt`` (Liouville: ``det Phi(T) =
+exp(int div f)``), the dissipation ``Gamma`` (paper eqs. 10-11) as extra states,
+and the energy balance ``E(0) - E(T) - Gamma`` as an accuracy check.
+
+References
+----------
+M. D'Acunto, "Friction force for self-excited systems", eqs. (3), (10)-(12).
+T. S. Parker and L. O. Chua, *Practical Numerical Algorithms for Chaotic Systems*,
+Springer (1989), ch. 5 (shooting for periodic orbits).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+import numpy as np
+
+from kbm.errors import NonAutonomousError
+from kbm.models import BoundModel, Oscillator, bind
+
+from numerics.cycles.guess import kbm_guess
+from numerics.cycles.highprec import limit_cycle_mp
+from numerics.cycles.result import Dissipation, LimitCycle
+from numerics.cycles.transient import transient
+from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
+from numerics.flow import (Method, ModelTemplate, choose_method, compile_model, extended_state,
+                           flow)
+
+__all__ = ["limit_cycle", "NEWTON_MAX_STEPS"]
+
+#: bound on the compiled integrator's steps over one period inside Newton's method
+NEWTON_MAX_STEPS = 5 * 10**4
+
+
+def _newton(cm, x0, T, method, rtol, atol, max_iter, floor):
+    """Newton's method on ``(x(T) - x0, x'(T)) = 0`` for the unknowns ``(x0, T)``."""
+    history: list[float] = []
+    it = 0
+    budget = NEWTON_MAX_STEPS
+    while True:
+        it += 1
+        steps: list[int] = []
+        yT = flow(cm, extended_state(x0), T, 1, method, rtol, atol, max_steps=budget,
+                  steps=steps)[-1]
+        if it == 1 and steps:
+            # later iterates near the cycle need about as many steps as the first: many
+            # more means Newton has wandered into a stiff region
+            budget = min(NEWTON_MAX_STEPS, max(5000, 50 * steps[0]))
+        r = np.array([yT[0] - x0, yT[1]])
+        history.append(float(np.max(np.abs(r))))
+        acc = cm.acc(T, yT[0], yT[1])
+        J = np.array([[yT[2] - 1.0, yT[1]], [yT[3], acc]])
+        try:
+            dx, dT = np.linalg.solve(J, -r)
+        except np.linalg.LinAlgError:
+            raise ConvergenceError(f"singular Newton matrix at x0 = {x0:.10g}, T = {T:.10g} "
+                                   "(non-hyperbolic cycle or x' = 0 is not a transversal "
+                                   "section there)") from None
+        # damp steps that would leave the section, reverse time, or change x0 or T by
+        # more than half (a far start then walks instead of jumping into stiff regions)
+        lam = min(1.0, 0.5 * max(1.0, abs(x0)) / max(abs(dx), 1e-300),
+                  0.5 * T / max(abs(dT), 1e-300))
+        while (x0 + lam * dx <= 0 or T + lam * dT <= 0) and lam > 1e-3:
+            lam /= 2
+        x0, T = x0 + lam * dx, T + lam * dT
+        if max(abs(dx) / max(1.0, abs(x0)), abs(dT) / T) < floor or history[-1] < floor:
+            return x0, T, it, history
+        if len(history) >= 5 and all(b > a for a, b in zip(history[-5:], history[-4:])):
+            raise ConvergenceError(
+                f"Newton on the return map diverges: the residual |(x(T) - x0, x'(T))| grew "
+                f"four times in a row ({', '.join(f'{h:.2e}' for h in history[-5:])}); "
+                f"last x0 = {x0:.10g}, T = {T:.10g}")
+        if it >= max_iter or not (np.isfinite(x0) and np.isfinite(T)):
+            raise ConvergenceError(
+                f"Newton on the return map did not converge in {it} iterations; residuals "
+                f"|(x(T) - x0, x'(T))|: {', '.join(f'{h:.2e}' for h in history[-6:])}; "
+                f"last x0 = {x0:.10g}, T = {T:.10g}")
+
+
+def _check_nontrivial(cm, converged, meth, rtol, atol, scale) -> None:
+    """Reject a 'cycle' that is an equilibrium or whose trivial multiplier is not 1."""
+    x0, T, it, history = converged
+    if x0 < 1e-6 * max(1.0, abs(scale)):
+        raise ConvergenceError(f"Newton converged to the equilibrium (x0 = {x0:.3g}), not to a "
+                               "cycle")
+    ys = flow(cm, extended_state(x0), T, 64, meth, rtol, atol)
+    spread = float(np.ptp(ys[:, 0]))
+    if spread < 1e-6 * max(1.0, abs(x0)):
+        raise NoCycleError(f"no limit cycle: the motion settles to rest at x = {x0:.6g} (an "
+                           f"equilibrium of the potential; x varies by {spread:.2e} over "
+                           f"T = {T:.4g}); start elsewhere (x_start) to look for a cycle")
+    yT = ys[-1]
+    mults = np.linalg.eigvals(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]))
+    if np.min(np.abs(mults - 1.0)) > 1e-5:
+        raise ConvergenceError(f"the orbit found (x0 = {x0:.6g}, T = {T:.6g}) has no Floquet "
+                               f"multiplier 1 ({mults[0]:.6g}, {mults[1]:.6g}): not a cycle")
+
+
+def limit_cycle(model: Oscillator | str | BoundModel, params: Mapping[str, object] | None = None,
+                *, guess: tuple[float, float] | None = None, digits: int | None = None,
+                rtol: float = 1e-12, atol: float | None = None, method: Method | str = "auto",
+                max_iter: int = 25, x_start: float = 1.0, max_time: float | None = None,
+                x_max: float | None = None, template: ModelTemplate | None = None,
+                n_samples: int = 1024, n_harmonics: int = 16) -> LimitCycle:
+    """The limit cycle of an autonomous model, by shooting on ``x' = 0, x > 0``.
+
+    Parameters
+    ----------
+    model
+        An :class:`~kbm.models.Oscillator`, a built-in name, or a
+        :class:`~kbm.models.BoundModel` (then ``params`` is ``None``).
+    params
+        Parameter values (physical names such as ``Delta``, ``lam`` or the
+        scaled ones), including ``mu``.
+    guess
+        ``(amplitude, period)`` to start Newton from.  Without it, the stable
+        first-order KBM cycle is tried first (largest amplitude), and if Newton
+        does not converge from there, transients from ``x = a_KBM`` (the
+        first-order amplitude, when there is one) and from ``x = x_start``,
+        ``x' = 0`` are integrated until the maxima of ``x`` settle.
+    digits
+        If given (up to ~50), also compute period and amplitudes with an
+        mpmath Taylor-series integrator to this many digits
+        (:func:`numerics.cycles.highprec.limit_cycle_mp`).
+    rtol, atol
+        Integrator tolerances (default ``atol = rtol``).
+    method
+        A :class:`numerics.flow.Method` or its name.  ``"auto"``: DOP853
+        compiled with numba (:mod:`numerics.flow.jit`) when the model compiles
+        and the cycle is not too stiff (largest Jacobian eigenvalue times the
+        period below :data:`numerics.flow.JIT_STIFF_THRESHOLD`), else LSODA
+        (ODEPACK), which switches between Adams (non-stiff) and BDF (stiff) by
+        itself.  Or name one: ``"compiled"``, ``"LSODA"``, or any
+        :func:`scipy.integrate.solve_ivp` method (``"DOP853"``, ``"Radau"``,
+        ...).  The transient, when needed, runs through the compiled flow under
+        the same rule; otherwise through scipy's DOP853, or Radau when the
+        stiffness exceeds :data:`numerics.flow.STIFF_THRESHOLD`
+        (:func:`numerics.flow.choose_method`).
+    max_iter
+        Bound on Newton iterations.
+    template
+        A :class:`numerics.flow.compiled.ModelTemplate` of the model (skips lambdifying;
+        used by :func:`numerics.cycles.sweep`).
+    x_start, max_time, x_max
+        Start of the transient, its time limit, and the size ``|x| + |x'|`` above
+        which the motion counts as growing without bound (default
+        ``1000 max(1, |x_start|)``; raise it for cycles larger than that).
+
+    Returns
+    -------
+    LimitCycle
+        With ``success = False`` and a message when Newton stalls above the
+        integration accuracy but the orbit is still closed to ``1e-6``.
+
+    Raises
+    ------
+    kbm.errors.NonAutonomousError
+        For a driven model (``v != 0``).
+    numerics.errors.NoCycleError
+        If the transient grows without bound or decays to rest.
+    numerics.errors.ConvergenceError
+        If Newton's method fails (residual history in the message).
+
+    Examples
+    --------
+    >>> c = limit_cycle("vdp", {"mu": 1})
+    >>> round(c.period, 8), round(c.amplitude_max, 8)
+    (6.66328686, 2.00861986)
+    """
+    bound = bind(model, params)
+    cm = compile_model(bound, template=template)
+    method = Method.parse(method)
+    if not cm.autonomous:
+        raise NonAutonomousError(f"limit cycles need an autonomous model; {cm.name!r} has an "
+                                 "explicit time dependence (stage velocity v != 0); use "
+                                 "`kbm slide` for the driven slider")
+    atol = rtol if atol is None else atol
+    T_lin = 2 * math.pi / cm.omega0
+    if max_time is None:
+        mu = abs(cm.values.get("mu", 1.0)) or 1.0
+        max_time = min(max(200 * T_lin, 60.0 / mu), 2e5)
+    floor = 1e3 * max(rtol, atol)
+    source = "guess"
+    start = guess
+    if start is None:
+        start = kbm_guess(bound)
+        source = "KBM first-order averaged cycle"
+    converged = None
+    if start is not None:
+        x0, period = float(start[0]), float(start[1])
+        if not (np.isfinite(x0) and np.isfinite(period) and period > 0 and x0 > 0):
+            raise ConvergenceError(f"bad initial guess (amplitude, period) = {start}")
+        meth = choose_method(cm, method, "shooting", x0, period)
+        try:
+            converged = _newton(cm, x0, period, meth, rtol, atol, max_iter, floor)
+            _check_nontrivial(cm, converged, meth, rtol, atol, x0)
+        except (ConvergenceError, IntegrationError, NoCycleError):
+            if guess is not None:
+                raise
+            converged = None
+    if converged is None:
+        # transients: from the KBM amplitude when there is one (a cycle may coexist with
+        # stable equilibria that a start at x_start falls into), then from x_start
+        starts = [float(x_start)]
+        if guess is None and start is not None and abs(float(start[0]) - x_start) > 1e-3:
+            starts.insert(0, float(start[0]))
+        failures: list[tuple[float, Exception]] = []
+        big = x_max if x_max is not None else 1e3 * max(1.0, abs(x_start))
+        for xs in starts:
+            try:
+                tmeth = choose_method(cm, method, "transient", abs(xs), T_lin)
+                x0, period, _ = transient(cm, xs, tmeth, max(rtol, 1e-10), max_time, big)
+                meth = choose_method(cm, method, "shooting", x0, period)
+                found = _newton(cm, x0, period, meth, rtol, atol, max_iter, floor)
+                _check_nontrivial(cm, found, meth, rtol, atol, x0)
+            except (ConvergenceError, IntegrationError, NoCycleError) as exc:
+                failures.append((xs, exc))
+            else:
+                converged, source = found, f"transient from x = {xs:.6g}"
+                break
+        if converged is None:
+            xs, exc = failures[-1]
+            if len(failures) == 1:
+                raise exc
+            raise type(exc)("; ".join(f"from x = {s:.6g} (x' = 0): {e}" for s, e in failures)) \
+                from exc
+    x0, T, it, history = converged
+    # final pass on the converged orbit: samples, monodromy, dissipation
+    tt = np.linspace(0.0, T, n_samples + 1)
+    ys = flow(cm, extended_state(x0), T, n_samples, meth, rtol, atol)
+    yT = ys[-1]
+    residual = float(max(abs(yT[0] - x0), abs(yT[1])))
+    xs, vs = ys[:-1, 0], ys[:-1, 1]
+    tt = tt[:-1]
+    if not source.startswith("transient") and x0 < np.max(xs) - 1e-6 * max(1.0, abs(x0)):
+        # the guess led to a point that is not the maximum of x: restart at the maximum
+        i = int(np.argmax(xs))
+        converged = _newton(cm, float(xs[i]), T, meth, rtol, atol, max_iter, floor)
+        x0, T, it2, h2 = converged
+        it, history = it + it2, history + h2
+        tt = np.linspace(0.0, T, n_samples + 1)
+        ys = flow(cm, extended_state(x0), T, n_samples, meth, rtol, atol)
+        yT = ys[-1]
+        residual = float(max(abs(yT[0] - x0), abs(yT[1])))
+        xs, vs, tt = ys[:-1, 0], ys[:-1, 1], tt[:-1]
+    Phi = np.array([[yT[2], yT[4]], [yT[3], yT[5]]])
+    mults = np.linalg.eigvals(Phi)
+    order = np.argsort(np.abs(mults - 1.0))
+    trivial, other = complex(mults[order[0]]), complex(mults[order[1]])
+    det = float(np.linalg.det(Phi))
+    liou = float(math.exp(yT[6]))
+    gp, gm = float(yT[7]), float(yT[8])
+    total = cm.plus_factor * gp - gm
+    e0 = float(cm.energy(x0, 0.0))
+    e1 = float(cm.energy(yT[0], yT[1]))
+    coeffs = np.fft.rfft(xs) / n_samples
+    harmonics = coeffs[:n_harmonics].copy()
+    first = 2 * abs(coeffs[1])
+    mp: dict = {}
+    if digits is not None:
+        mp = limit_cycle_mp(cm.acceleration_expr, int(digits), x0, T)
+    success = residual < 1e3 * floor
+    msg = (f"converged in {it} Newton iterations from the {source} ({meth.label}, rtol "
+           f"{rtol:g}); "
+           f"|(x(T) - x0, x'(T))| = {residual:.2e}; trivial multiplier {trivial.real:.12f}")
+    if not success:
+        msg = (f"Newton stalled: |(x(T) - x0, x'(T))| = {residual:.2e} after {it} iterations "
+               f"(floor {floor:.1e})")
+    return LimitCycle(
+        success=bool(success), message=msg, model=cm.name, params=dict(cm.values),
+        period=float(T), frequency=2 * math.pi / float(T), amplitude_max=float(x0),
+        amplitude_first_harmonic=float(first), harmonics=harmonics, t=tt, x=xs, xdot=vs,
+        floquet_multipliers=(trivial, other), stable=bool(abs(other) < 1.0),
+        liouville=(det, liou),
+        dissipation=Dissipation(total=float(total), gamma_plus=gp, gamma_minus=gm,
+                                plus_factor=cm.plus_factor),
+        energy_residual=float(e0 - e1 - total), iterations=it, residual=float(residual),
+        history=tuple(history), method=meth.label, digits=None if digits is None else int(digits),
+        mp=mp)

@@ -1,0 +1,21 @@
+"""Floor 1 of :mod:`numerics`: a model turned into numbers and trajectories.
+
+- :mod:`numerics.flow.compiled`: the model's numerical functions at bound
+  parameter values (:class:`CompiledModel`), lambdified once per model
+  (:class:`ModelTemplate`);
+- :mod:`numerics.flow.jit`: the extended flow printed from the model's
+  expressions and compiled with numba (an adaptive DOP853);
+- :mod:`numerics.flow.integrate`: the method enum, the one stiffness policy and
+  the doors :func:`flow`, :func:`solve`, :func:`integrate`.
+"""
+
+from numerics.flow.compiled import (N_EXTENDED, CompiledModel, ModelTemplate, compile_model,
+                                    extended_state, model_template, template_flow)
+from numerics.flow.integrate import (JIT_METHOD, JIT_STIFF_THRESHOLD, STIFF_THRESHOLD, Method,
+                                     choose_method, flow, integrate, solve, stiffness)
+from numerics.flow.jit import FlowResult, jit_available, jit_flow
+
+__all__ = ["CompiledModel", "ModelTemplate", "compile_model", "model_template", "template_flow",
+           "extended_state", "N_EXTENDED", "Method", "choose_method", "flow", "solve",
+           "integrate", "stiffness", "STIFF_THRESHOLD", "JIT_STIFF_THRESHOLD", "JIT_METHOD",
+           "FlowResult", "jit_available", "jit_flow"]

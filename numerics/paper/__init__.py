@@ -1,0 +1,25 @@
+"""The paper's wing: M. D'Acunto, "Friction force for self-excited systems", reproduced.
+
+Sits on top of everything generic in :mod:`numerics`:
+
+- :mod:`numerics.paper.printed`: the paper's eqs. (5)-(9) as printed, as a
+  predicted cycle;
+- :mod:`numerics.paper.errata`: numerical evidence for each erratum;
+- :mod:`numerics.paper.potential`, :mod:`numerics.paper.sliding`,
+  :mod:`numerics.paper.stickslip`, :mod:`numerics.paper.claims`: the driven
+  slider (eqs. 3, 12), its stick-slip analysis and the paper's claims;
+- :mod:`numerics.paper.validity`: where classical KBM holds for the SEDF;
+- :mod:`numerics.paper.reproduce`: the main job (:func:`reproduce`);
+- :mod:`numerics.paper.figures`: every figure, by name.
+"""
+
+from numerics.paper.claims import Claim, check_claims
+from numerics.paper.errata import ErratumEvidence, errata_evidence, errata_rows
+from numerics.paper.potential import SaddleNode, potential, saddle_node, slip_energy
+from numerics.paper.printed import paper_prediction
+from numerics.paper.sliding import SlideResult, slide
+from numerics.paper.stickslip import Slip, StickSlip, analyze
+
+__all__ = ["paper_prediction", "errata_evidence", "errata_rows", "ErratumEvidence", "slide",
+           "SlideResult", "analyze", "StickSlip", "Slip", "potential", "saddle_node",
+           "SaddleNode", "slip_energy", "check_claims", "Claim"]

@@ -22,6 +22,12 @@ velocity ``v != 0`` the spring pulls with ``Omega^2 (v t - x)``: the model gets
 the drive ``Omega^2 v t`` (not multiplied by ``mu``) on the right-hand side,
 ``x'' + w0^2 x = mu F + drive(t)``, and is non-autonomous.
 
+Parameter values are read by :mod:`kbm.values` and bound to a model once by
+:mod:`kbm.bound` (:func:`bind`, re-exported here).  This module is longer than
+the project's ~350-line guide because it holds the model type together with the
+catalogue of built-in models that instantiate it (half of it docstrings); the two
+change together.
+
 References
 ----------
 M. D'Acunto, "Friction force for self-excited systems", eqs. (3), (4), (12).
@@ -29,63 +35,23 @@ M. D'Acunto, "Friction force for self-excited systems", eqs. (3), (4), (12).
 
 from __future__ import annotations
 
-import numbers
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 
 import sympy as sp
 
 from .errors import ModelError, NonAutonomousError, ParameterError
 from .symbols import mu, parse, t, x, xdot
+from .values import FrozenMap, parameter_value
 
 __all__ = ["Oscillator", "BoundModel", "FrozenMap", "MODELS", "SLIDERS", "bind", "get_model",
-           "custom_model", "parameter_value",
-           "model_names"]
+           "custom_model", "parameter_value", "model_names"]
 
 _STATE = {x, xdot, t}
 
 
 def _sorted_names(symbols) -> tuple[str, ...]:
     return tuple(sorted(s.name for s in symbols))
-
-
-class FrozenMap(Mapping):
-    """A read-only, hashable mapping (items kept in the order given).
-
-    Used for the mappings held by frozen model objects, so that an
-    :class:`Oscillator` or a :class:`BoundModel` can be a dictionary key.
-    """
-
-    __slots__ = ("_items", "_dict")
-
-    def __init__(self, items: Mapping | None = None):
-        d = dict(items or {})
-        object.__setattr__(self, "_dict", d)
-        object.__setattr__(self, "_items", tuple(d.items()))
-
-    def __getitem__(self, key):
-        return self._dict[key]
-
-    def __iter__(self) -> Iterator:
-        return iter(self._dict)
-
-    def __len__(self) -> int:
-        return len(self._dict)
-
-    def __hash__(self) -> int:
-        return hash(frozenset(self._items))
-
-    def __eq__(self, other) -> bool:
-        return isinstance(other, Mapping) and dict(self._items) == dict(other.items())
-
-    def __repr__(self) -> str:
-        return f"FrozenMap({self._dict!r})"
-
-    def __setattr__(self, name, value):
-        raise AttributeError("FrozenMap is read-only")
-
-    def __reduce__(self):
-        return (FrozenMap, (self._dict,))
 
 
 @dataclass(frozen=True)
@@ -246,7 +212,9 @@ class Oscillator:
                        description=self.description.replace("with v = 0", f"with v = {vv}"))
 
     def bind(self, values: Mapping[str, object] | None = None) -> "BoundModel":
-        """This model with its parameter values resolved once (see :class:`BoundModel`)."""
+        """This model with its parameter values resolved once (:class:`kbm.bound.BoundModel`)."""
+        from .bound import BoundModel  # kbm.bound builds on this module
+
         return BoundModel.of(self, values)
 
     # -- parameters -------------------------------------------------------------------
@@ -324,117 +292,6 @@ class Oscillator:
         )
 
 
-@dataclass(frozen=True)
-class BoundModel:
-    """A model with its parameter values resolved and validated once.
-
-    Created at the boundary of the library (:func:`bind`, :meth:`Oscillator.bind`)
-    and passed to every numerical function, so that a parameter set is read once,
-    has an identity (it is hashable) and prints the same way everywhere.
-
-    Attributes
-    ----------
-    model
-        The :class:`Oscillator` (symbolic; its drive holds a stage velocity).
-    values
-        Exact values by name: the model's own (scaled) parameters, ``mu`` when
-        given, and the defaults (:meth:`Oscillator.resolve`).
-
-    Examples
-    --------
-    >>> b = bind("sedf", {"mu": "0.1", "Delta": 1.5, "beta": 1, "lam": 1})
-    >>> b.floats["delta"], b.mu
-    (15.0, 0.1)
-    >>> hash(b) == hash(bind("sedf", {"mu": 0.1, "delta": 15, "beta": 1, "lam": 1}))
-    True
-    """
-
-    model: Oscillator
-    values: FrozenMap
-
-    @classmethod
-    def of(cls, model: Oscillator, values: Mapping[str, object] | None = None) -> "BoundModel":
-        """Resolve ``values`` for ``model`` (:meth:`Oscillator.resolve`)."""
-        return cls(model, FrozenMap(dict(sorted(model.resolve(values).items()))))
-
-    @property
-    def name(self) -> str:
-        """The model's name."""
-        return self.model.name
-
-    @property
-    def floats(self) -> dict[str, float]:
-        """The values as floats."""
-        return {k: float(v) for k, v in self.values.items()}
-
-    @property
-    def mu(self) -> float | None:
-        """The small parameter, or ``None`` if it was not given."""
-        return float(self.values["mu"]) if "mu" in self.values else None
-
-    def missing(self, names=None) -> list[str]:
-        """Names among ``names`` (default: the model's parameters and ``mu``) without a value."""
-        names = (*self.model.parameters, "mu") if names is None else names
-        return [n for n in names if n not in self.values]
-
-    def require(self, names=None, *, what: str = "this computation") -> "BoundModel":
-        """Raise :class:`ParameterError` naming what is missing; returns ``self``."""
-        miss = self.missing(names)
-        if miss:
-            raise ParameterError(f"{what} for model {self.name!r} needs values for "
-                                 f"{', '.join(miss)} (e.g. params={{{miss[0]!r}: 0.1}})")
-        return self
-
-    def subs(self) -> dict[sp.Symbol, sp.Expr]:
-        """``{Symbol(name): value}`` for substitution into the model's expressions."""
-        return {sp.Symbol(k): v for k, v in self.values.items()}
-
-
-def bind(model: "Oscillator | str | BoundModel", params: Mapping[str, object] | None = None,
-         ) -> BoundModel:
-    """A :class:`BoundModel` from a model (or built-in name) and parameter values.
-
-    A stage velocity ``v`` among ``params`` (sliders ``sedf``, ``cdc``) selects the
-    driven variant (:meth:`Oscillator.with_stage_velocity`).  A model that is
-    already bound is returned as is (then ``params`` must be empty).
-
-    Raises
-    ------
-    kbm.errors.ParameterError
-        For unknown names or values that are not finite real numbers.
-    """
-    if isinstance(model, BoundModel):
-        if params:
-            raise ParameterError("the model is already bound to parameter values; pass "
-                                 "params=None")
-        return model
-    params = dict(params or {})
-    if isinstance(model, str):
-        v = params.pop("v", None)
-        model = get_model(model, None if v is None else {"v": v})
-    elif "v" in params and "v" not in model.parameters:
-        model = _drive_variant(model, params.pop("v"))
-    return BoundModel.of(model, params)
-
-
-def parameter_value(name: str, raw: object) -> sp.Expr:
-    """Read a parameter value exactly: ``"0.1"`` and ``0.1`` both give ``1/10``."""
-    try:
-        if isinstance(raw, numbers.Real) and not isinstance(raw, (int, sp.Basic)):
-            raw = float(raw)  # also numpy floats
-            val = sp.Rational(repr(raw)) if raw == raw and abs(raw) != float("inf") else sp.nan
-        elif isinstance(raw, str):
-            try:
-                val = sp.Rational(raw.strip())
-            except (TypeError, ValueError):
-                val = parse(raw)
-        else:
-            val = sp.sympify(raw)
-    except Exception as exc:  # noqa: BLE001 - reported with the name
-        raise ParameterError(f"parameter {name}: cannot read the value {raw!r} ({exc})") from None
-    if not (isinstance(val, sp.Expr) and val.is_number and val.is_real and val.is_finite):
-        raise ParameterError(f"parameter {name} must be a finite real number, got {raw!r}")
-    return val
 
 
 # ----------------------------------------------------------------------------- built-ins
@@ -574,3 +431,7 @@ def custom_model(rhs: str | sp.Expr, *, omega0: object = 1, name: str = "custom"
     """
     return Oscillator(name, parse(rhs), omega0=sp.sympify(omega0),
                       description=f"user model x'' + {omega0}^2 x = mu ({rhs})")
+
+
+# the bound model builds on everything above; re-exported here for one import path
+from .bound import BoundModel, bind  # noqa: E402

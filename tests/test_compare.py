@@ -182,10 +182,13 @@ def test_averaged_cycles_keeps_roots_with_positive_frequency():
     assert any(abs(c.amplitude - root) < 1e-9 and c.stable for c in cycles)
 
 
-def test_cli_failed_order_is_strict_json(capsys):
-    """Paper eq. (3) at Delta = 3, beta = 1 (the paper's Fig. 4 potential, v = 0): order 1
-    has a cycle; order 2 has none while kbm.averaged_cycles refuses the order (see the xfail
-    above), and then the JSON output stays strict JSON with null for the missing numbers."""
+def test_cli_compare_json_is_strict_at_the_paper_potential(capsys):
+    """Paper eq. (3) at Delta = 3, beta = 1 (the paper's Fig. 4 potential, v = 0), where
+    classical KBM is outside its range (delta = Delta/mu = 30): the JSON output is strict
+    JSON (no NaN/Infinity tokens), order 1 gives the van der Pol amplitude a* = 2 exactly
+    (A_1 = a/2 (1 - beta a^2/4): the potential only shifts the frequency, B&M ch. 1), and
+    each reported relative error equals |predicted - true|/|true| recomputed here from the
+    printed numbers."""
     def no_nan(token):
         raise ValueError(f"non-standard JSON constant {token}")
 
@@ -193,9 +196,15 @@ def test_cli_failed_order_is_strict_json(capsys):
                  "-p", "lam=1", "--x-start", "3", "--json"]) == 0
     out = json.loads(capsys.readouterr().out, parse_constant=no_nan)
     o1, o2 = out["kbm"]
-    assert o1["success"] and o1["amplitude"] == pytest.approx(2.0)
-    assert o2["success"] == (o2["amplitude"] is not None)
-    assert out["numeric"]["amplitude_first_harmonic"] == pytest.approx(2.0537, abs=1e-3)
+    true_a = out["numeric"]["amplitude_first_harmonic"]
+    assert o1["success"] and o1["amplitude"] == pytest.approx(2.0, abs=1e-12)
+    assert true_a == pytest.approx(2.0537, abs=1e-3)
+    for row in (o1, o2):
+        if row["success"]:
+            assert row["relative_error"]["amplitude"] == pytest.approx(
+                abs(row["amplitude"] - true_a) / true_a, rel=1e-12)
+        else:
+            assert row["amplitude"] is None or math.isfinite(row["amplitude"])
 
 
 @pytest.mark.slow

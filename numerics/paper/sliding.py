@@ -68,6 +68,12 @@ class SlideResult:
     method: str
     rtol: float
     sol: object = field(repr=False, compare=False)
+    gain_factor: float = 1.0
+
+    def gamma_at(self, t: float) -> float:
+        """The dissipation ``Gamma(t) = factor*Gamma_+ - Gamma_-`` (paper eq. 11) at time ``t``."""
+        y = self.sol.sol(t)
+        return float(self.gain_factor * y[2] - y[3])
 
     def window(self, t0: float, t1: float) -> np.ndarray:
         """Boolean mask of the samples in ``[t0, t1]``."""
@@ -141,14 +147,13 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
                              f"(e.g. --param {missing[0]}=1)")
     subs = {sp.Symbol(k): val for k, val in vals.items()}
     acc = m.acceleration().subs(subs)
-    Om, v, mu = p["Omega"], p.get("v", 0.0), p["mu"]
+    Om, v = p["Omega"], p.get("v", 0.0)
     k = 2 * math.pi / p["lam"]
-    beta = p.get("beta", 0.0)
     spring = Om**2 * (v * T - X)
-    if model == "sedf":
-        gp, gm = mu * X**2 * V**2, mu * V**2
-    else:
-        gp, gm = mu * V**2, sp.Integer(0)
+    # the dissipation integrand factor*Gamma_+ - Gamma_- declared by the model (paper eq. 11)
+    plus, minus, factor = m.dissipation_parts()
+    gp, gm = plus.subs(subs), minus.subs(subs)
+    beta = float(factor.subs(subs))
     y = sp.symbols("y0:6")
     es = {X: y[0], V: y[1]}
     f = sp.lambdify((T, y), [y[1], acc.subs(es), gp.subs(es), gm.subs(es),
@@ -173,12 +178,13 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
     ys = sol.sol(tt)
     xs, vs = ys[0], ys[1]
     Gp, Gm, W = ys[2], ys[3], ys[4]
-    G = beta * Gp - Gm if model == "sedf" else Gp
+    G = beta * Gp - Gm
     Dk = p["Delta"]
     yend = sol.y[:, -1]
-    G_end = beta * yend[2] - yend[3] if model == "sedf" else yend[2]
+    G_end = beta * yend[2] - yend[3]
     resid = yend[4] - (yend[1]**2 / 2 - v0**2 / 2) - (-Dk / k * math.cos(k * yend[0])
                                                       + Dk / k * math.cos(k * x0)) - G_end
     return SlideResult(model=model, params=p, t=tt, x=xs, xdot=vs, force=Om**2 * (v * tt - xs),
                        gamma_plus=Gp, gamma_minus=Gm, gamma=G, work=W,
-                       energy_residual=float(resid), method=method, rtol=rtol, sol=sol)
+                       energy_residual=float(resid), method=method, rtol=rtol, sol=sol,
+                       gain_factor=beta)

@@ -92,12 +92,6 @@ class StickSlip:
                 "delta_W": self.delta_W, "criterion": self.criterion}
 
 
-def _gamma_at(res: SlideResult, t: float) -> float:
-    y = res.sol.sol(t)
-    beta = res.params.get("beta", 0.0)
-    return float(beta * y[2] - y[3]) if res.model == "sedf" else float(y[2])
-
-
 def analyze(res: SlideResult, *, window: tuple[float, float] | None = None,
             v_threshold: float | None = None) -> StickSlip:
     """Slips, static and kinetic friction, and the dissipation of a driven run.
@@ -144,21 +138,20 @@ def analyze(res: SlideResult, *, window: tuple[float, float] | None = None,
         slips.append(Slip(t_start=ts, t_end=te,
                           wells=int(round(xe_ / lam) - round(xs_ / lam)),
                           peak_force=peak,
-                          energy_dissipated=_gamma_at(res, te) - _gamma_at(res, ts),
+                          energy_dissipated=res.gamma_at(te) - res.gamma_at(ts),
                           x_start=xs_, x_end=xe_))
     mask = res.window(t0, t1)
     Fw = F[mask]
     y0, y1 = res.sol.sol(t0), res.sol.sol(t1)
     gp, gm = float(y1[2] - y0[2]), float(y1[3] - y0[3])
-    beta = p.get("beta", 0.0)
-    gamma = beta * gp - gm if res.model == "sedf" else gp
+    gamma = res.gain_factor * gp - gm
     sn = saddle_node(p["Delta"], lam, Om, n_wells=1)
     kinetic = float(np.trapezoid(Fw, res.t[mask]) / (res.t[mask][-1] - res.t[mask][0])) \
         if mask.sum() > 1 else float("nan")
     return StickSlip(
         model=res.model, params=dict(p), window=(t0, t1), slips=tuple(slips),
         static_friction=tuple(s.peak_force for s in slips), kinetic_friction=kinetic,
-        peak_force=float(np.max(Fw)), gamma_plus=gp if res.model == "sedf" else gp,
+        peak_force=float(np.max(Fw)), gamma_plus=gp,
         gamma_minus=gm, gamma=float(gamma), energy_residual=res.energy_residual,
         delta_W=None if sn is None else sn.delta_W[0],
         criterion=(f"slipping while |x'| > {vth:.4g}; runs closer than one natural period "

@@ -1,6 +1,6 @@
 """A directive that renders the ``kbm`` command line's help, one literal block per command.
 
-``.. kbm-cli-help::`` calls :func:`kbm.cli.build_parser` and prints each
+``.. kbm-cli-help::`` calls :func:`numerics.cli.build_parser` (the console script) and prints each
 sub-command's ``format_help()`` (deterministic: argparse output, fixed width).
 """
 
@@ -15,7 +15,7 @@ class CliHelp(Directive):
 
     def run(self):
         os.environ["COLUMNS"] = "90"
-        from kbm.cli import build_parser
+        from numerics.cli import build_parser
 
         parser = build_parser()
         out = []

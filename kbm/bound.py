@@ -50,7 +50,7 @@ class BoundModel:
     @classmethod
     def of(cls, model: Oscillator, values: Mapping[str, object] | None = None) -> "BoundModel":
         """Resolve ``values`` for ``model`` (:meth:`Oscillator.resolve`)."""
-        return cls(model, FrozenMap(dict(sorted(model.resolve(values).items()))))
+        return cls(model, FrozenMap(model.resolve(values)))
 
     @property
     def name(self) -> str:

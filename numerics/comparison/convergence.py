@@ -112,7 +112,7 @@ def fit_slope(eps: Sequence[float], err: Sequence[float]) -> float:
     return float(np.polyfit(np.log(e[ok]), np.log(r[ok]), 1)[0])
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class ConvergenceStudy:
     """Errors of KBM predictions along ``eps`` and their fitted slopes.
 

@@ -29,7 +29,7 @@ from numerics.flow import model_template
 __all__ = ["SweepPoint", "sweep", "grid"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class SweepPoint:
     """One point of a sweep: its parameters and the cycle, or why there is none."""
 

@@ -38,6 +38,8 @@ from typing import Callable
 import numpy as np
 import sympy as sp
 
+from numerics._memo import memo
+
 __all__ = ["jit_flow", "jit_available", "cache_dir", "FlowResult"]
 
 #: version of the generated source (part of the file's hash)
@@ -115,15 +117,11 @@ def rhs_source(exprs: Sequence[sp.Expr], t: sp.Symbol, y: Sequence[sp.Symbol],
     return "\n".join(lines) + "\n"
 
 
-#: generated modules loaded in this process, by source hash (time only)
-_MODULES: dict[str, object] = {}
-
-
+@memo(maxsize=64)
 def _load(source: str):
+    """Import the generated module of ``source`` (written to the cache folder under the
+    SHA-256 of the source; memoised per source: time only)."""
     digest = hashlib.sha256(source.encode()).hexdigest()[:20]
-    mod = _MODULES.get(digest)
-    if mod is not None:
-        return mod
     name = f"kbm_flow_{digest}"
     path = cache_dir() / f"{name}.py"
     if not path.exists() or path.read_text() != source:
@@ -134,7 +132,6 @@ def _load(source: str):
     mod = importlib.util.module_from_spec(spec)
     sys.modules[name] = mod
     spec.loader.exec_module(mod)
-    _MODULES[digest] = mod
     return mod
 
 

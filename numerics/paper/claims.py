@@ -22,7 +22,7 @@ from numerics.paper.stickslip import analyze
 __all__ = ["Claim", "check_claims"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Claim:
     """One claim of the paper, measured."""
 

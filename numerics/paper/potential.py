@@ -47,7 +47,7 @@ def potential(x, L, *, Delta: float, lam: float = 1.0, Omega: float = 1.0):
     return Omega**2 * (x - L)**2 / 2 - Delta / k * np.cos(k * x)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class SaddleNode:
     """The loss of the stick state and the quasi-static slip that follows.
 

@@ -35,7 +35,7 @@ __all__ = ["SlideResult", "slide", "PAPER"]
 PAPER = FIXED
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class SlideResult:
     """A driven simulation: time series, the dissipation states and the energy audit.
 

@@ -43,7 +43,7 @@ class Slip:
                 "peak_force": self.peak_force, "energy_dissipated": self.energy_dissipated}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class StickSlip:
     """Friction measures of one run over a window ``[t0, t1]``.
 

@@ -36,7 +36,7 @@ DEFAULT_GRID: Mapping[str, tuple[float, ...]] = {
 }
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class ValidityPoint:
     """One grid point: parameters, the true cycle's numbers and each order's errors.
 
@@ -65,7 +65,7 @@ class ValidityPoint:
         return float(self.errors.get(order, {}).get("max", np.nan))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class ValidityMap:
     """Relative errors of KBM orders over a parameter grid (see :func:`validity_map`)."""
 

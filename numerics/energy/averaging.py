@@ -111,7 +111,7 @@ class AveragedEnergy:
         """``x(eps, phi_j) = sum_{n<=order} mu**n x_n(eps, phi_j)`` on the ``phi`` grid."""
         N = self.order if order is None else order
         c = sum(self.mu**n * self.x[n] for n in range(0, N + 1))
-        return np.tensordot(C.chebvander(self._u(eps), c.shape[0] - 1), c, axes=(0, 0))
+        return np.tensordot(C.chebvander(float(self._u(eps)), c.shape[0] - 1)[0], c, axes=(0, 0))
 
     def roots(self, order: int | None = None) -> np.ndarray:
         """Roots of the averaged rate inside the interval."""

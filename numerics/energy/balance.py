@@ -28,7 +28,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
-from scipy.optimize import brentq
 
 from kbm.symbols import x as _x, xdot as _xdot
 
@@ -114,6 +113,27 @@ def _scan_energies(a: Annulus, n: int, energy_max: float) -> tuple[np.ndarray, b
     return lo + np.geomspace(1e-8 * span, span, n), False
 
 
+def _newton(fun, lo, hi, sign_lo, max_iter: int = 60) -> np.ndarray:
+    """Roots of ``Gamma`` in the brackets ``(lo, hi)``: Newton with the orbit-integral
+    slope, bisection when a step leaves the bracket (vectorised over the brackets)."""
+    lo, hi = lo.astype(float), hi.astype(float)
+    E = 0.5 * (lo + hi)
+    for k in range(max_iter):
+        gam, slope = fun(E)[:2]
+        neg_side = np.sign(gam) == sign_lo        # the root lies above E
+        lo = np.where(neg_side, E, lo)
+        hi = np.where(neg_side, hi, E)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = E - gam / slope
+        ok = (step > lo) & (step < hi)
+        new = np.where(ok, step, 0.5 * (lo + hi))
+        done = np.abs(new - E) <= 8 * np.finfo(float).eps * np.maximum(1.0, np.abs(E))
+        E = new
+        if np.all(done) or np.all(hi - lo <= 4 * np.finfo(float).eps * np.abs(hi)):
+            break
+    return E
+
+
 def balance_cycles(portrait: Portrait, *, n_scan: int = 96, energy_max: float | None = None,
                    n_theta: int = 256, tol: float = 1e-13) -> tuple[BalanceCycle, ...]:
     """Every root of ``Gamma(E)`` on every annulus of ``portrait``, sorted by energy.
@@ -150,19 +170,18 @@ def balance_cycles(portrait: Portrait, *, n_scan: int = 96, energy_max: float | 
         fun = gamma_function(a, hvf, tol=tol)
         top = energy_max if energy_max is not None else 1e4 * (1 + abs(a.energy_min))
         E, _ = _scan_energies(a, n_scan, top)
-        gam = fun(E)[0]
+        gam = gamma_function(a, tol=1e-9)(E)[0]
         well = len(a.wells) == 1
         s = np.sign(gam / (E - a.energy_min) if well else gam)
-        roots = [float(e) for e, v in zip(E, s) if v == 0]
-        for i in np.nonzero(s[:-1] * s[1:] < 0)[0]:
-            roots.append(brentq(lambda e: float(fun(np.array([e]))[0][0]), E[i], E[i + 1],
-                                xtol=1e-15 * max(1.0, abs(E[i])), rtol=4 * np.finfo(float).eps))
-        if not roots:
+        exact = E[s == 0]
+        idx = np.nonzero(s[:-1] * s[1:] < 0)[0]
+        R = _newton(fun, E[idx], E[idx + 1], s[idx]) if len(idx) else np.zeros(0)
+        R = np.sort(np.concatenate([exact, R]))
+        if not len(R):
             continue
-        R = np.array(sorted(roots))
         _, slope, T, err = fun(R)
         xm, xp = a.turning_points(R)
-        orb = sample_orbits(a, R, n_theta, period=T)
+        orb = sample_orbits(a, R, n_theta, period=T, rtol=1e-12)
         harm = orb.harmonics(16)
         for k, e in enumerate(R):
             out.append(BalanceCycle(

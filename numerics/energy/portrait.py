@@ -128,18 +128,23 @@ class Annulus:
                 if not np.any(short):
                     break
                 far[short] *= 2.0
-        for _ in range(200):
-            mid = 0.5 * (lo + hi)
-            if np.all((mid == lo) | (mid == hi)):
+        g = self._fun[0]
+        sgn = 1.0 if increasing else -1.0
+        xk = 0.5 * (lo + hi)
+        for k in range(100):
+            r = G(xk) - E
+            left = sgn * r > 0           # the root lies left of xk
+            hi = np.where(left, xk, hi)
+            lo = np.where(left, lo, xk)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                step = xk - r / g(xk)
+            ok = (step > lo) & (step < hi) & (k >= 4)
+            new = np.where(ok, step, 0.5 * (lo + hi))
+            done = np.abs(new - xk) <= 4 * np.finfo(float).eps * np.maximum(1.0, np.abs(xk))
+            xk = new
+            if np.all(done & ok) or np.all((lo == hi) | (np.nextafter(lo, hi) == hi)):
                 break
-            up = G(mid) < E
-            if increasing:
-                lo = np.where(up, mid, lo)
-                hi = np.where(up, hi, mid)
-            else:
-                hi = np.where(up, mid, hi)
-                lo = np.where(up, lo, mid)
-        return 0.5 * (lo + hi)
+        return xk
 
     def turning_points(self, E) -> tuple[np.ndarray, np.ndarray]:
         """``(x-(E), x+(E))``, the solutions of ``G(x) = E`` bounding the orbit (vectorised)."""

@@ -155,7 +155,7 @@ def split_conservative(model: Oscillator | str, params: Mapping[str, object] | N
     >>> s.g
     x + 3*sin(2*pi*x)/2
     >>> s.h
-    -xdot*(x**2 - 1)
+    -x**2*xdot + xdot
     """
     if isinstance(model, str):
         model = get_model(model)

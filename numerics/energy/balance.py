@@ -31,10 +31,9 @@ import sympy as sp
 
 from kbm.symbols import x as _x, xdot as _xdot
 
-from .orbits import sample_orbits
 from .portrait import Annulus, Portrait
 
-__all__ = ["BalanceCycle", "balance_cycles", "gamma_function"]
+__all__ = ["BalanceCycle", "balance_cycles", "gamma_function", "harmonics"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,7 +78,7 @@ class BalanceCycle:
         return float(2 * abs(self.harmonics[1]))
 
 
-def gamma_function(annulus: Annulus, hv=None, *, tol: float = 1e-13):
+def gamma_function(annulus: Annulus, hv=None, *, tol: float = 1e-12):
     """``E -> (Gamma(E), dGamma/dE(E), T(E), error)`` on one annulus, vectorised.
 
     Parameters
@@ -113,6 +112,44 @@ def _scan_energies(a: Annulus, n: int, energy_max: float) -> tuple[np.ndarray, b
     return lo + np.geomspace(1e-8 * span, span, n), False
 
 
+def harmonics(annulus: Annulus, E, n_harmonics: int = 16, *, n_nodes: int = 512) -> np.ndarray:
+    """Fourier coefficients ``c_m`` of ``x(t)`` on the orbits of energies ``E`` (time 0 at ``x+``).
+
+    With ``x = c - r cos s`` the time from ``x-`` is ``t(s) = int_0^s ds'/sq``; the
+    cosine series of the even periodic ``1/sq`` (a DCT of the midpoint samples)
+    integrates exactly, and ``c_m = (-1)**m (2/T) int_0^pi x cos(m omega t(s)) ds/sq``
+    has a smooth even periodic integrand: the midpoint rule is spectrally accurate.
+
+    Returns
+    -------
+    numpy.ndarray
+        Complex (real-valued) array of shape ``(len(E), n_harmonics)``.
+    """
+    from scipy.fft import dct
+
+    G = annulus._fun[2]
+    E = np.atleast_1d(np.asarray(E, float))
+    xm, xp = annulus.turning_points(E)
+    c, r = 0.5 * (xp + xm), 0.5 * (xp - xm)
+    n = n_nodes
+    s = (np.arange(n) + 0.5) * np.pi / n
+    xs = c[:, None] - r[:, None] * np.cos(s)
+    rs = r[:, None] * np.sin(s)
+    inv_sq = 1 / np.sqrt(2 * np.maximum((E[:, None] - G(xs)) / rs**2, np.finfo(float).tiny))
+    a = dct(inv_sq, type=2, axis=-1) / n
+    a[:, 0] /= 2
+    k = np.arange(1, n)
+    t = a[:, :1] * s + (a[:, 1:] / k) @ np.sin(np.outer(k, s))
+    T = 2 * np.pi * a[:, 0]
+    omega = 2 * np.pi / T
+    m = np.arange(n_harmonics)
+    w = np.pi / n
+    cm = (2 / T)[:, None] * w * np.einsum("es,ems->em", xs * inv_sq,
+                                          np.cos(m[None, :, None] * (omega[:, None] * t)[:, None, :]))
+    cm[:, 0] /= 2
+    return (cm * (-1.0) ** m).astype(complex)
+
+
 def _newton(fun, lo, hi, sign_lo, max_iter: int = 60) -> np.ndarray:
     """Roots of ``Gamma`` in the brackets ``(lo, hi)``: Newton with the orbit-integral
     slope, bisection when a step leaves the bracket (vectorised over the brackets)."""
@@ -135,7 +172,7 @@ def _newton(fun, lo, hi, sign_lo, max_iter: int = 60) -> np.ndarray:
 
 
 def balance_cycles(portrait: Portrait, *, n_scan: int = 96, energy_max: float | None = None,
-                   n_theta: int = 256, tol: float = 1e-13) -> tuple[BalanceCycle, ...]:
+                   n_theta: int = 256, tol: float = 1e-12) -> tuple[BalanceCycle, ...]:
     """Every root of ``Gamma(E)`` on every annulus of ``portrait``, sorted by energy.
 
     Parameters
@@ -181,8 +218,7 @@ def balance_cycles(portrait: Portrait, *, n_scan: int = 96, energy_max: float | 
             continue
         _, slope, T, err = fun(R)
         xm, xp = a.turning_points(R)
-        orb = sample_orbits(a, R, n_theta, period=T, rtol=1e-12)
-        harm = orb.harmonics(16)
+        harm = harmonics(a, R, 16, n_nodes=n_theta)
         for k, e in enumerate(R):
             out.append(BalanceCycle(
                 annulus=a, energy=float(e), dgamma_dE=float(slope[k]), period=float(T[k]),

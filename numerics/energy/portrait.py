@@ -140,7 +140,7 @@ class Annulus:
                 step = xk - r / g(xk)
             ok = (step > lo) & (step < hi) & (k >= 4)
             new = np.where(ok, step, 0.5 * (lo + hi))
-            done = np.abs(new - xk) <= 4 * np.finfo(float).eps * np.maximum(1.0, np.abs(xk))
+            done = np.abs(new - xk) <= 32 * np.finfo(float).eps * np.maximum(1.0, np.abs(xk))
             xk = new
             if np.all(done & ok) or np.all((lo == hi) | (np.nextafter(lo, hi) == hi)):
                 break
@@ -152,7 +152,7 @@ class Annulus:
         return (self._solve(E, lo_out, lo_in, increasing=False),
                 self._solve(E, hi_in, hi_out, increasing=True))
 
-    def orbit_integrals(self, E, integrands, *, tol: float = 1e-13, n_start: int = 32,
+    def orbit_integrals(self, E, integrands, *, tol: float = 1e-12, n_start: int = 32,
                         n_max: int = 1 << 16) -> tuple[list, np.ndarray, int, bool]:
         """Integrals ``int_0^pi f(x(s), v+(s), sqrt(2 q(s))) ds`` over the upper half orbit.
 
@@ -210,7 +210,7 @@ class Annulus:
             last, I0 = worst, I1
         return I1, err, n, bool(worst <= tol)
 
-    def quadrature(self, E, *, gamma: bool = False, tol: float = 1e-13,
+    def quadrature(self, E, *, gamma: bool = False, tol: float = 1e-12,
                    n_start: int = 32, n_max: int = 1 << 16) -> Quadrature:
         """``T(E)`` and optionally ``Gamma(E) = oint h v dt`` (see :meth:`orbit_integrals`).
 
@@ -233,7 +233,7 @@ class Annulus:
         gam = vals[1] if gamma else np.zeros_like(vals[0])
         return Quadrature(vals[0], gam, err, n, ok)
 
-    def period(self, E, tol: float = 1e-13) -> np.ndarray:
+    def period(self, E, tol: float = 1e-12) -> np.ndarray:
         """``T(E)``, vectorised (see :meth:`quadrature`)."""
         return self.quadrature(E, tol=tol).period
 

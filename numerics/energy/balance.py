@@ -59,6 +59,12 @@ class BalanceCycle:
         Complex ``c_m`` of ``x = sum_m c_m e^{i m omega t}``, ``m = 0..15``, time 0 at ``x+``.
     error : float
         Estimated relative error of the orbit quadratures.
+    separatrix_margin : float
+        Distance of ``E*`` to the nearest separatrix energy bounding the annulus,
+        over ``mu oint |h v| dt`` (the scale of the energy's swing over one
+        cycle); ``inf`` without bounding separatrix.  Below about 1 the cycle's
+        energy swings across the separatrix within a period and the expansion in
+        ``mu`` beyond first order is not to be trusted.
     """
 
     annulus: Annulus
@@ -71,6 +77,7 @@ class BalanceCycle:
     x_max: float
     harmonics: np.ndarray
     error: float
+    separatrix_margin: float = float("inf")
 
     @property
     def amplitude_first_harmonic(self) -> float:
@@ -202,6 +209,7 @@ def balance_cycles(portrait: Portrait, *, n_scan: int = 96, energy_max: float | 
     def hvf(x, v):
         return np.broadcast_to(np.asarray(hv(x, v), float), np.broadcast(x, v).shape)
 
+    split_h = portrait.functions[3]
     out = []
     for a in portrait.annuli:
         fun = gamma_function(a, hvf, tol=tol)
@@ -219,11 +227,18 @@ def balance_cycles(portrait: Portrait, *, n_scan: int = 96, energy_max: float | 
         _, slope, T, err = fun(R)
         xm, xp = a.turning_points(R)
         harm = harmonics(a, R, 16, n_nodes=n_theta)
+        swing = a.orbit_integrals(R, [lambda x, v, sq: (np.abs(split_h(x, v)) + np.abs(
+            split_h(x, -v))) * v / sq])[0][0] * abs(mu)
+        seps = [e for e, is_sep in ((a.energy_min, len(a.wells) > 1),
+                                    (a.energy_max, a.bounded)) if is_sep]
+        dist = np.min([np.abs(R - e) for e in seps], axis=0) if seps else np.full(len(R), np.inf)
+        margin = dist / np.maximum(swing, 1e-300)
         for k, e in enumerate(R):
             out.append(BalanceCycle(
                 annulus=a, energy=float(e), dgamma_dE=float(slope[k]), period=float(T[k]),
                 stable=bool(mu * slope[k] < 0),
                 floquet_multiplier=float(np.exp(mu * slope[k])), x_min=float(xm[k]),
-                x_max=float(xp[k]), harmonics=harm[k], error=float(err[k])))
+                x_max=float(xp[k]), harmonics=harm[k], error=float(err[k]),
+                separatrix_margin=float(margin[k])))
     out.sort(key=lambda c: (c.energy, c.x_max))
     return tuple(out)

@@ -69,6 +69,11 @@ class PredictedCycle:
         (time 0 at the maximum of the conservative orbit).
     error : float
         Estimate of the numerical (not asymptotic) relative error.
+    separatrix_margin : float
+        Distance of the cycle's energy to the nearest bounding separatrix over
+        the energy's swing ``mu oint |h v| dt`` in one period (``inf`` when none).
+        Below ~1 the expansion beyond first order breaks down (the orders do not
+        improve on each other); see :class:`~numerics.energy.balance.BalanceCycle`.
     """
 
     amplitude_max: float
@@ -83,12 +88,13 @@ class PredictedCycle:
     floquet_multiplier: float
     harmonics: np.ndarray = field(repr=False)
     error: float = 0.0
+    separatrix_margin: float = float("inf")
 
     def to_json(self) -> dict:
         """Strict-JSON dict (non-finite numbers become ``None``)."""
         out = {k: _num(getattr(self, k)) for k in
                ("amplitude_max", "amplitude_min", "amplitude_first_harmonic", "period",
-                "frequency", "energy", "floquet_multiplier", "error")}
+                "frequency", "energy", "floquet_multiplier", "error", "separatrix_margin")}
         out.update(stable=bool(self.stable), annulus=self.annulus, order=int(self.order),
                    harmonics=[[_num(c.real), _num(c.imag)] for c in self.harmonics])
         return out
@@ -191,7 +197,7 @@ def _refine(c1, mu, order, n_energy, rate_order):
     xmax, xmin = _extrema(xw)
     return PredictedCycle(xmax, xmin, float(2 * abs(harm[1])), T, freq, eps, slope < 0,
                           a.label, order, float(np.exp(T * slope)), _readonly(harm[:16]),
-                          float(av.error))
+                          float(av.error), c1.separatrix_margin)
 
 
 def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: int = 1,
@@ -269,7 +275,7 @@ def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: 
             cycles.append(PredictedCycle(
                 c.x_max, c.x_min, c.amplitude_first_harmonic, c.period, 2 * np.pi / c.period,
                 c.energy, c.stable, c.annulus.label, 1, c.floquet_multiplier,
-                _readonly(c.harmonics), c.error))
+                _readonly(c.harmonics), c.error, c.separatrix_margin))
         else:
             p = _refine(c, split.mu, int(order), n_energy, rate_order)
             if p is not None:

@@ -100,3 +100,24 @@ def test_period_error_convergence_in_mu():
     assert _slope(mus, e1) == pytest.approx(2.0, abs=0.2)
     assert _slope(mus, e2) > 3.0
     assert np.all(np.abs(e2) < np.abs(e1))
+
+
+def test_asymmetric_side_well_cycle():
+    """Delta = 1.5, beta = 1.3: an unstable cycle inside each side well (x in (0.648, 1.068))
+    besides the stable outer one; the side-well cycle at x > 0 agrees with shooting to 1e-5
+    (order 1) and 1e-8 (order 2) in max x and period, and the mirror cycle is its negative."""
+    pars = {"mu": 0.1, "Delta": 1.5, "beta": 1.3, "lam": 1}
+    p1 = predict_cycles("sedf", pars, order=1)
+    p2 = predict_cycles("sedf", pars, order=2)
+    labels = sorted(c.annulus for c in p1.cycles)
+    assert labels == ["outer", "side well at x=+0.898", "side well at x=-0.898"]
+    right = [next(c for c in p.cycles if c.annulus == "side well at x=+0.898") for p in (p1, p2)]
+    left = next(c for c in p1.cycles if c.annulus == "side well at x=-0.898")
+    assert left.amplitude_max == pytest.approx(-right[0].amplitude_min, abs=1e-12)
+    assert not right[0].stable and not right[1].stable
+    true = numerics.limit_cycle("sedf", pars, guess=(right[0].amplitude_max, right[0].period))
+    assert true.success and not true.stable and np.min(true.x) > 0
+    for c, tol in zip(right, (1e-5, 1e-8)):
+        assert abs(c.amplitude_max - true.amplitude_max) < tol
+        assert abs(c.period - true.period) < 10 * tol
+        assert abs(c.floquet_multiplier - true.floquet_multipliers[1].real) < tol

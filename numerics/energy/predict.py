@@ -257,16 +257,20 @@ def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: 
                                 "no isolated cycle (h = 0)", **info)
     first = balance_cycles(portrait)
     if not first:
-        signs = set()
+        pos, neg = [], []
         for a in portrait.annuli:
             E, _ = _scan_energies(a, 32, 1e4 * (1 + abs(a.energy_min)))
-            signs |= set(np.sign(gamma_function(a)(E)[0]).tolist())
-        if signs <= {-1.0, 0.0}:
+            sg = np.sign(gamma_function(a, tol=1e-9)(E)[0])
+            (pos if np.sum(sg > 0) > np.sum(sg < 0) else neg).append(a.label)
+        if not pos:
             reason = "Gamma(E) < 0 on every annulus: every orbit loses energy"
-        elif signs <= {1.0, 0.0}:
+        elif not neg:
             reason = "Gamma(E) > 0 on every annulus: every orbit gains energy"
         else:
-            reason = "no sign change of Gamma(E) resolved on the scanned energies"
+            reason = ("no root of Gamma(E) on any annulus: orbits gain energy in "
+                      f"{', '.join(pos)} and lose it in {', '.join(neg)}, so the motion "
+                      "approaches a separatrix or an equilibrium (no isolated cycle of "
+                      "the averaged equation)")
         return EnergyPrediction(cycles=(), reason=reason, **info)
     odd = sp.expand(split.h + split.h.subs(_xdot, -_xdot)) == 0
     cycles = []

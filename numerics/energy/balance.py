@@ -157,13 +157,13 @@ def harmonics(annulus: Annulus, E, n_harmonics: int = 16, *, n_nodes: int = 512)
     return (cm * (-1.0) ** m).astype(complex)
 
 
-def _newton(fun, lo, hi, sign_lo, max_iter: int = 60) -> np.ndarray:
+def _newton(fun, lo, hi, sign_lo, max_iter: int = 40) -> np.ndarray:
     """Roots of ``Gamma`` in the brackets ``(lo, hi)``: Newton with the orbit-integral
     slope, bisection when a step leaves the bracket (vectorised over the brackets)."""
     lo, hi = lo.astype(float), hi.astype(float)
     E = 0.5 * (lo + hi)
     for k in range(max_iter):
-        gam, slope = fun(E)[:2]
+        gam, slope, _, err = fun(E)
         neg_side = np.sign(gam) == sign_lo        # the root lies above E
         lo = np.where(neg_side, E, lo)
         hi = np.where(neg_side, hi, E)
@@ -171,9 +171,9 @@ def _newton(fun, lo, hi, sign_lo, max_iter: int = 60) -> np.ndarray:
             step = E - gam / slope
         ok = (step > lo) & (step < hi)
         new = np.where(ok, step, 0.5 * (lo + hi))
-        done = np.abs(new - E) <= 8 * np.finfo(float).eps * np.maximum(1.0, np.abs(E))
+        small = np.abs(new - E) <= 1e-14 * np.maximum(1.0, np.abs(E))
         E = new
-        if np.all(done) or np.all(hi - lo <= 4 * np.finfo(float).eps * np.abs(hi)):
+        if np.all(small) or np.all(hi - lo <= 1e-14 * np.maximum(1.0, np.abs(hi))):
             break
     return E
 
@@ -215,7 +215,7 @@ def balance_cycles(portrait: Portrait, *, n_scan: int = 96, energy_max: float | 
         fun = gamma_function(a, hvf, tol=tol)
         top = energy_max if energy_max is not None else 1e4 * (1 + abs(a.energy_min))
         E, _ = _scan_energies(a, n_scan, top)
-        gam = gamma_function(a, tol=1e-9)(E)[0]
+        gam = gamma_function(a, tol=1e-7)(E)[0]
         well = len(a.wells) == 1
         s = np.sign(gam / (E - a.energy_min) if well else gam)
         exact = E[s == 0]

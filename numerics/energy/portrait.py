@@ -205,7 +205,7 @@ class Annulus:
             worst = float(np.max(err))
             # stop at the tolerance, at n_max, or on the rounding plateau (E - G(x) loses
             # digits in shallow wells: the estimate then stops decreasing)
-            if worst <= tol or 2 * n > n_max or (n >= 2048 and worst > 0.25 * last):
+            if worst <= tol or 2 * n > n_max or (n >= 256 and worst > 0.25 * last):
                 break
             last, I0 = worst, I1
         return I1, err, n, bool(worst <= tol)

@@ -169,7 +169,7 @@ def _newton(fun, lo, hi, sign_lo, max_iter: int = 40) -> np.ndarray:
         hi = np.where(neg_side, hi, E)
         with np.errstate(divide="ignore", invalid="ignore"):
             step = E - gam / slope
-        ok = (step > lo) & (step < hi)
+        ok = (step >= lo) & (step <= hi)
         new = np.where(ok, step, 0.5 * (lo + hi))
         small = np.abs(new - E) <= 1e-14 * np.maximum(1.0, np.abs(E))
         E = new

@@ -130,7 +130,16 @@ class Annulus:
                 far[short] *= 2.0
         g = self._fun[0]
         sgn = 1.0 if increasing else -1.0
-        xk = 0.5 * (lo + hi)
+        # start from the inverse of a table of the monotone G, with its cell as the bracket
+        xt = np.linspace(float(np.min(lo)), float(np.max(hi)), 257)
+        Gt = G(xt)
+        if not increasing:
+            xt, Gt = xt[::-1], Gt[::-1]
+        Gt = np.maximum.accumulate(Gt)
+        i = np.clip(np.searchsorted(Gt, E), 1, len(xt) - 1)
+        cell = np.sort(np.stack([xt[i - 1], xt[i]]), axis=0)
+        lo, hi = np.maximum(lo, cell[0]), np.minimum(hi, cell[1])
+        xk = np.clip(np.interp(E, Gt, xt), lo, hi)
         for k in range(100):
             r = G(xk) - E
             left = sgn * r > 0           # the root lies left of xk
@@ -138,7 +147,7 @@ class Annulus:
             lo = np.where(left, lo, xk)
             with np.errstate(divide="ignore", invalid="ignore"):
                 step = xk - r / g(xk)
-            ok = (step > lo) & (step < hi) & (k >= 4)
+            ok = (step >= lo) & (step <= hi)
             new = np.where(ok, step, 0.5 * (lo + hi))
             done = np.abs(new - xk) <= 32 * np.finfo(float).eps * np.maximum(1.0, np.abs(xk))
             xk = new

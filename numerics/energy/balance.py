@@ -59,6 +59,11 @@ class BalanceCycle:
         Complex ``c_m`` of ``x = sum_m c_m e^{i m omega t}``, ``m = 0..15``, time 0 at ``x+``.
     error : float
         Estimated relative error of the orbit quadratures.
+    period_sensitivity : float
+        ``mu oint |h v| dt |dT/dE| / T``: the relative change of the period across
+        the energy's swing in one cycle.  The expansion in ``mu`` assumes it small;
+        above about 1 (near a separatrix, or an orbit crawling through a nearly flat
+        stretch of ``G``) the higher orders stop improving on the first.
     separatrix_margin : float
         Distance of ``E*`` to the nearest separatrix energy bounding the annulus,
         over ``mu oint |h v| dt`` (the scale of the energy's swing over one
@@ -78,6 +83,7 @@ class BalanceCycle:
     harmonics: np.ndarray
     error: float
     separatrix_margin: float = float("inf")
+    period_sensitivity: float = 0.0
 
     @property
     def amplitude_first_harmonic(self) -> float:
@@ -233,12 +239,18 @@ def balance_cycles(portrait: Portrait, *, n_scan: int = 96, energy_max: float | 
                                     (a.energy_max, a.bounded)) if is_sep]
         dist = np.min([np.abs(R - e) for e in seps], axis=0) if seps else np.full(len(R), np.inf)
         margin = dist / np.maximum(swing, 1e-300)
+        dE = 1e-5 * np.maximum(1.0, np.abs(R))
+        dE = np.minimum(dE, 0.25 * (R - a.energy_min))
+        if a.bounded:
+            dE = np.minimum(dE, 0.25 * (a.energy_max - R))
+        Tpm = a.period(np.concatenate([R - dE, R + dE]))
+        sens = swing * np.abs(Tpm[len(R):] - Tpm[:len(R)]) / (2 * dE) / T
         for k, e in enumerate(R):
             out.append(BalanceCycle(
                 annulus=a, energy=float(e), dgamma_dE=float(slope[k]), period=float(T[k]),
                 stable=bool(mu * slope[k] < 0),
                 floquet_multiplier=float(np.exp(mu * slope[k])), x_min=float(xm[k]),
                 x_max=float(xp[k]), harmonics=harm[k], error=float(err[k]),
-                separatrix_margin=float(margin[k])))
+                separatrix_margin=float(margin[k]), period_sensitivity=float(sens[k])))
     out.sort(key=lambda c: (c.energy, c.x_max))
     return tuple(out)

@@ -20,12 +20,6 @@ from kbm.errors import OrderError
 from numerics.energy import average, phase_portrait, predict_cycles
 
 
-def _kbm_functions(name, order):
-    r = kbm.derive(name, order)
-    f = r.functions()
-    return r, f
-
-
 @pytest.mark.parametrize("name", ["vdp", "rayleigh"])
 @pytest.mark.parametrize("mu", [0.05, 0.2, 0.5])
 def test_linear_g_equals_kbm_cycles(name, mu):

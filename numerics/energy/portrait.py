@@ -25,13 +25,13 @@ S. Coppola and R. H. Rand, Acta Mechanica 81 (1990); paper eq. (10) for Gamma.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
-from kbm.conservative import ConservativeSplit, NotConfiningError
+from kbm.conservative import ConservativeSplit
+
+from ._zeros import _bracket, _zeros
 
 __all__ = ["Equilibrium", "Annulus", "Portrait", "phase_portrait", "Quadrature"]
 
@@ -281,39 +281,6 @@ class Portrait:
     def outer(self) -> Annulus:
         """The annulus reaching infinity."""
         return next(a for a in self.annuli if not a.bounded)
-
-
-def _bracket(g: Callable, split: ConservativeSplit) -> float:
-    L = 1.0
-    for _ in range(60):
-        far = np.linspace(L, 4 * L, 4001)
-        if np.all(g(far) > 0) and np.all(g(-far) < 0):
-            return L
-        L *= 2.0
-    raise NotConfiningError(f"g(x) = {split.g} keeps changing sign out to |x| = {L:.3g}: "
-                            "the potential does not confine")
-
-
-def _zeros(g: Callable, L: float) -> list[tuple[float, int]]:
-    n = 4096
-    prev = None
-    while True:
-        xs = np.linspace(-L, L, n + 1)
-        gs = g(xs)
-        idx = np.nonzero(np.sign(gs[:-1]) * np.sign(gs[1:]) < 0)[0]
-        exact = np.nonzero(gs == 0)[0]
-        count = len(idx) + len(exact)
-        if count == prev or n >= 1 << 22:
-            break
-        prev, n = count, 2 * n
-    out = []
-    for i in idx:
-        z = brentq(lambda s: float(g(np.array(s))), xs[i], xs[i + 1], xtol=1e-15, rtol=1e-15)
-        out.append((z, 1 if gs[i + 1] > gs[i] else -1))
-    for i in exact:
-        if 0 < i < n:
-            out.append((xs[i], 1 if gs[i + 1] > gs[i - 1] else -1))
-    return sorted(out)
 
 
 def _label(wells, top, scale) -> str:

@@ -112,3 +112,16 @@ def test_no_cycle_reasons():
     assert json.loads(json.dumps(P.to_json(), allow_nan=False))["cycles"] == []
     with pytest.raises(OrderError):
         predict_cycles("vdp", {"mu": 0.1}, order=0)
+
+
+@pytest.mark.parametrize("name", ["vdp", "rayleigh"])
+@pytest.mark.parametrize("order", [2, 3])
+def test_predict_cycles_kbm_convention(name, order):
+    """predict_cycles(order=N, rate_order=N) is KBM order N for linear g: first-harmonic
+    amplitude, frequency and multiplier equal kbm.averaged_cycles to 1e-9."""
+    mu = 0.3
+    (c,) = predict_cycles(name, {"mu": mu}, order=order, rate_order=order).cycles
+    (k,) = kbm.averaged_cycles(kbm.derive(name, order), {"mu": mu})
+    assert c.amplitude_first_harmonic == pytest.approx(k.amplitude, abs=1e-9)
+    assert c.frequency == pytest.approx(k.frequency, abs=1e-9)
+    assert c.floquet_multiplier == pytest.approx(k.floquet_multiplier, abs=1e-9)

@@ -1,0 +1,213 @@
+"""Split an autonomous oscillator into a conservative force and a small damping.
+
+For strongly nonlinear (energy-balance) averaging the equation of a model,
+``x'' = -omega0**2 x + mu F(x, x')``, is written at given parameter values as
+
+``x'' = -g(x) + mu h(x, x')``,  ``g(x) = -x''(x, x' = 0)``,
+``h(x, x') = (x''(x, x') - x''(x, 0))/mu``,
+
+so that ``h`` vanishes at ``x' = 0``; the potential is ``G(x) = int_0^x g``.
+The whole conservative force ``g`` (e.g. the slider's ``Omega**2 x + Delta
+sin(k x)``) is kept at order one, only ``h`` is a perturbation.
+
+References
+----------
+S. Coppola and R. H. Rand, "Averaging using elliptic functions: approximation
+of limit cycles", Acta Mechanica 81 (1990) 125-142.
+S. B. Yuste and J. D. Bejarano, "Extension and improvement to the
+Krylov-Bogoliubov methods using elliptic functions", Int. J. Control 49 (1989).
+N. N. Bogoliubov and Y. A. Mitropolsky, *Asymptotic Methods in the Theory of
+Non-Linear Oscillations*, chapter on systems close to non-linear conservative ones.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+
+import numpy as np
+import sympy as sp
+
+from .errors import ModelError, ParameterError
+from .models import Oscillator, get_model
+from .symbols import mu, parse, t, x, xdot
+
+__all__ = ["ConservativeSplit", "NotConfiningError", "split_conservative"]
+
+
+class NotConfiningError(ModelError):
+    """The potential ``G(x)`` does not grow to infinity on both sides: orbits escape."""
+
+
+@dataclass(frozen=True)
+class ConservativeSplit:
+    """``x'' = -g(x) + mu h(x, xdot)`` at fixed parameter values.
+
+    Attributes
+    ----------
+    model : kbm.models.Oscillator
+        The model split.
+    g : sympy.Expr
+        The conservative force, in ``x`` only.
+    h : sympy.Expr
+        The perturbation divided by ``mu``, in ``x`` and ``xdot``; zero at ``xdot = 0``.
+    G : sympy.Expr
+        The potential ``int_0^x g`` (or the user's ``V(x) - V(0)``).
+    mu : float
+        The small parameter.
+    params : Mapping[str, float]
+        The values of the model's parameters used (scaled names, floats).
+    user_potential : bool
+        Whether ``G`` came from the ``potential`` argument.
+    """
+
+    model: Oscillator
+    g: sp.Expr
+    h: sp.Expr
+    G: sp.Expr
+    mu: float
+    params: Mapping[str, float] = field(default_factory=dict)
+    user_potential: bool = False
+
+    @property
+    def conservative(self) -> bool:
+        """``True`` when ``h`` is identically zero (every orbit is periodic)."""
+        return sp.expand(self.h) == 0
+
+    def numpy_functions(self) -> tuple[Callable, Callable, Callable, Callable]:
+        """``(g, dg/dx, G, h)`` as vectorised numpy functions.
+
+        Returns
+        -------
+        tuple of callable
+            ``g(x)``, ``g'(x)``, ``G(x)`` and ``h(x, v)``; each broadcasts and
+            returns float arrays of the broadcast shape.
+        """
+        def vec1(expr):
+            f = sp.lambdify(x, expr, "numpy")
+            return lambda z: np.broadcast_to(np.asarray(f(z), dtype=float), np.shape(z)) + 0.0
+
+        hf = sp.lambdify((x, xdot), self.h, "numpy")
+
+        def h(z, v):
+            zz, vv = np.broadcast_arrays(np.asarray(z, float), np.asarray(v, float))
+            return np.broadcast_to(np.asarray(hf(zz, vv), dtype=float), zz.shape) + 0.0
+
+        return vec1(self.g), vec1(sp.diff(self.g, x)), vec1(self.G), h
+
+
+def _check_confining(G: sp.Expr, g: sp.Expr, model: Oscillator) -> None:
+    Gf = sp.lambdify(x, G, "numpy")
+    gf = sp.lambdify(x, g, "numpy")
+    inner = np.linspace(-100.0, 100.0, 20001)
+    with np.errstate(all="ignore"):
+        ref = float(np.max(np.abs(np.broadcast_to(Gf(inner), inner.shape))))
+        far = np.array([1e4, 1e5, 1e6])
+        Gp = np.broadcast_to(Gf(far), far.shape)
+        Gm = np.broadcast_to(Gf(-far), far.shape)
+        gp, gm = float(gf(1e6)), float(gf(-1e6))
+    ok = (np.all(np.isfinite(Gp)) and np.all(np.isfinite(Gm))
+          and min(Gp[-1], Gm[-1]) > 100.0 * (1.0 + ref) and gp > 0 and gm < 0
+          and np.all(np.diff(Gp) > 0) and np.all(np.diff(Gm) > 0))
+    if not ok:
+        raise NotConfiningError(
+            f"the conservative force g(x) = {g} of model {model.name!r} does not confine: "
+            f"its potential G(x) = {G} does not grow to +infinity on both sides, so there "
+            "are unbounded orbits (rotations or escapes) and no outer period annulus; give "
+            "a restoring linear part (e.g. Omega > 0 in params) or a confining `potential`")
+
+
+def split_conservative(model: Oscillator | str, params: Mapping[str, object] | None = None,
+                       *, potential: str | sp.Expr | None = None) -> ConservativeSplit:
+    """Split ``model`` at ``params`` into ``g(x)``, ``h(x, xdot)`` and ``G(x)``.
+
+    Parameters
+    ----------
+    model : kbm.models.Oscillator or str
+        The oscillator or a built-in name.
+    params : Mapping[str, object], optional
+        Values of ``mu`` and of every parameter (physical names such as
+        ``Delta``, ``lam`` are converted by :meth:`Oscillator.resolve`).
+    potential : str or sympy.Expr, optional
+        A potential ``V(x)``; then ``g = V'`` and ``x''(x, 0) + V'(x)`` must
+        vanish.  Default: ``G = int_0^x g`` computed by sympy.
+
+    Returns
+    -------
+    ConservativeSplit
+
+    Raises
+    ------
+    kbm.errors.NonAutonomousError
+        For a driven model (stage velocity ``v != 0``).
+    kbm.errors.ParameterError
+        If ``mu`` is missing or zero, or a parameter has no value.
+    kbm.errors.ModelError
+        If ``potential`` does not match the model's force, or ``G`` cannot be
+        integrated in closed form (then pass ``potential``).
+    NotConfiningError
+        If ``G`` does not grow to infinity on both sides.
+
+    Examples
+    --------
+    >>> s = split_conservative("sedf", {"mu": 0.1, "Delta": 1.5, "beta": 1, "lam": 1})
+    >>> s.g
+    x + 3*sin(2*pi*x)/2
+    >>> s.h
+    -x**2*xdot + xdot
+    """
+    if isinstance(model, str):
+        model = get_model(model)
+    model.require_autonomous("the energy-balance averaging")
+    vals = model.resolve(params)
+    if "mu" not in vals:
+        raise ParameterError("the energy-balance averaging needs a value of mu in params "
+                             "(e.g. params={'mu': 0.1})")
+    mu_val = vals["mu"]
+    if mu_val == 0:
+        raise ParameterError("mu = 0 in params: there is no perturbation to average; give "
+                             "mu != 0")
+    subs = {sp.Symbol(k): v for k, v in vals.items() if k != "mu"}
+    acc = model.acceleration().subs(subs)
+    missing = sorted(s.name for s in acc.free_symbols - {x, xdot, mu, t})
+    if missing:
+        raise ParameterError(f"give values for {', '.join(missing)} in params "
+                             f"(e.g. params={{'{missing[0]}': 1, ...}})")
+    acc0 = acc.subs(xdot, 0)
+    h = sp.expand((acc - acc0) / mu)
+    if mu in h.free_symbols or mu in acc0.free_symbols:
+        # mu*F with F(x, 0) != 0 stays in g at its value
+        pass
+    h = h.subs(mu, mu_val)
+    g_model = sp.expand(-acc0.subs(mu, mu_val))
+    if potential is not None:
+        V = parse(potential) if not isinstance(potential, sp.Basic) else potential
+        V = V.subs(subs)
+        extra = V.free_symbols - {x}
+        if extra:
+            raise ModelError(f"the potential {V} depends on {', '.join(sorted(map(str, extra)))}; "
+                             "it must be a function of x and the model's parameters only")
+        g = sp.diff(V, x)
+        rest = sp.simplify(g - g_model)
+        if rest != 0:
+            raise ModelError(
+                f"the potential's force V'(x) = {g} differs from the model's force at xdot = 0, "
+                f"g(x) = {g_model}, by {rest}; the remainder must vanish at xdot = 0: change "
+                "`potential` so that V'(x) = g(x), or leave potential=None")
+        G = sp.simplify(V - V.subs(x, 0))
+        user = True
+    else:
+        g = g_model
+        G = sp.integrate(g, (x, 0, x))
+        if G.has(sp.Integral):
+            raise ModelError(f"sympy cannot integrate g(x) = {g} in closed form; pass its "
+                             "antiderivative as `potential`")
+        G = sp.expand(G)
+        user = False
+    if sp.expand(h.subs(xdot, 0)) != 0:  # pragma: no cover - by construction
+        raise ModelError("the perturbation h does not vanish at xdot = 0")
+    _check_confining(G, g, model)
+    fvals = {k: float(v) for k, v in vals.items() if k != "mu"}
+    return ConservativeSplit(model=model, g=g, h=h, G=G, mu=float(mu_val),
+                             params=MappingProxyType(fvals), user_potential=user)

@@ -1,0 +1,20 @@
+"""Strongly nonlinear (energy-balance) averaging about the conservative orbits.
+
+The model is split as ``x'' = -g(x) + mu h(x, x')`` (:mod:`kbm.conservative`);
+the whole conservative force ``g`` (e.g. the slider's ``Omega**2 x + Delta
+sin(k x)``) is kept, only ``h`` is averaged.  :func:`predict_cycles` lists every
+cycle on every period annulus of ``x'' + g(x) = 0``.
+"""
+
+from .averaging import AveragedEnergy, average
+from .balance import BalanceCycle, balance_cycles, gamma_function
+from .orbits import SampledOrbits, sample_orbits
+from .portrait import Annulus, Equilibrium, Portrait, Quadrature, phase_portrait
+from .predict import EnergyPrediction, PredictedCycle, predict_cycles
+
+__all__ = [
+    "predict_cycles", "PredictedCycle", "EnergyPrediction",
+    "phase_portrait", "Portrait", "Annulus", "Equilibrium", "Quadrature",
+    "balance_cycles", "BalanceCycle", "gamma_function",
+    "average", "AveragedEnergy", "sample_orbits", "SampledOrbits",
+]

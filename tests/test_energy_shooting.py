@@ -1,0 +1,139 @@
+"""Energy-averaging predictions against the true limit cycles of the slider (paper parameters).
+
+The reference is the periodic orbit found by shooting (``numerics.limit_cycle``,
+Newton on the return map with a DOP853 flow at rtol 1e-12), started from a
+plain scipy transient where Newton from the prediction does not converge:
+independent of the averaging.  mu = 0.1, Omega = 1, lam = 1.
+"""
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import numerics
+from numerics.energy import predict_cycles
+
+CASES = [(1.5, 1.0), (3.0, 1.0), (1.5, 0.25)]
+
+
+def _true_cycle(D, beta, mu, guess):
+    pars = {"mu": mu, "Delta": D, "beta": beta, "lam": 1}
+    try:
+        return numerics.limit_cycle("sedf", pars, guess=guess)
+    except numerics.NumericsError:
+        pass
+    # a transient from the predicted maximum, then shooting from where it settles
+
+    def f(_, y):
+        return [y[1], -mu * (beta * y[0] ** 2 - 1) * y[1] - D * np.sin(2 * np.pi * y[0]) - y[0]]
+
+    def turn(_, y):
+        return y[1]
+    turn.direction = -1
+    sol = solve_ivp(f, (0, 60 / mu), [guess[0], 0.0], rtol=1e-11, atol=1e-12, events=turn)
+    te, ye = sol.t_events[0], sol.y_events[0]
+    top = ye[:, 0] > 0
+    return numerics.limit_cycle("sedf", pars, guess=(ye[top][-1, 0], np.diff(te[top])[-1]))
+
+
+_cache: dict = {}
+
+
+def _data(D, beta, mu=0.1):
+    key = (D, beta, mu)
+    if key not in _cache:
+        pars = {"mu": mu, "Delta": D, "beta": beta, "lam": 1}
+        p1 = predict_cycles("sedf", pars, order=1)
+        p2 = predict_cycles("sedf", pars, order=2)
+        # the cycle around the origin (the largest one the shooting's section x' = 0, x > 0 sees)
+        c1 = max(p1.cycles, key=lambda c: c.amplitude_max)
+        c2 = max(p2.cycles, key=lambda c: c.amplitude_max)
+        true = _true_cycle(D, beta, mu, (c1.amplitude_max, c1.period))
+        _cache[key] = (c1, c2, true)
+    return _cache[key]
+
+
+@pytest.mark.parametrize("D,beta", CASES)
+def test_first_order_amplitude_within_1e3(D, beta):
+    """Order 1 (energy balance Gamma(E*) = 0): max x within 1e-3 of the true cycle; stable."""
+    c1, _, true = _data(D, beta)
+    assert true.success and true.stable
+    assert abs(c1.amplitude_max - true.amplitude_max) < 1e-3
+    assert abs(c1.amplitude_min + true.amplitude_max) < 1e-3  # odd symmetry of sedf
+    assert c1.stable
+
+
+@pytest.mark.parametrize("D,beta", [
+    (1.5, 1.0), (1.5, 0.25),
+    pytest.param(3.0, 1.0, marks=pytest.mark.xfail(
+        strict=True, reason="E* is 0.12 energy swings from the separatrix: the mu-expansion "
+                            "breaks down beyond first order (period_sensitivity 1.2 > 1)")),
+])
+def test_second_order_improves_period(D, beta):
+    """Order 2 has a smaller period error than order 1 (and smaller first-harmonic error)."""
+    c1, c2, true = _data(D, beta)
+    assert abs(c2.period - true.period) < abs(c1.period - true.period)
+    assert (abs(c2.amplitude_first_harmonic - true.amplitude_first_harmonic)
+            < abs(c1.amplitude_first_harmonic - true.amplitude_first_harmonic))
+
+
+def test_validity_indicators():
+    """The breakdown at Delta = 3 is flagged: separatrix_margin < 1 and period_sensitivity > 1
+    there, both on the good side at Delta = 1.5 (beta = 1, 0.25)."""
+    c3 = _data(3.0, 1.0)[0]
+    assert c3.separatrix_margin < 1 and c3.period_sensitivity > 1
+    for beta in (1.0, 0.25):
+        c = _data(1.5, beta)[0]
+        assert c.separatrix_margin > 1 and c.period_sensitivity < 0.5
+
+
+def _slope(mus, errs):
+    return np.polyfit(np.log(mus), np.log(np.abs(errs)), 1)[0]
+
+
+def test_period_error_convergence_in_mu():
+    """Delta = 1.5, beta = 1, mu = 0.1, 0.05, 0.025: period error ~ mu^2 at order 1 and
+    ~ mu^4 at order 2 (h odd in x' makes M_2 = Theta_3 = 0, so one order is gained)."""
+    mus = np.array([0.1, 0.05, 0.025])
+    e1, e2 = [], []
+    for mu in mus:
+        c1, c2, true = _data(1.5, 1.0, mu)
+        e1.append(c1.period - true.period)
+        e2.append(c2.period - true.period)
+    assert _slope(mus, e1) == pytest.approx(2.0, abs=0.2)
+    assert _slope(mus, e2) > 3.0
+    assert np.all(np.abs(e2) < np.abs(e1))
+
+
+def test_asymmetric_side_well_cycle():
+    """Delta = 1.5, beta = 1.3: an unstable cycle inside each side well (x in (0.648, 1.068))
+    besides the stable outer one; the side-well cycle at x > 0 agrees with shooting to 1e-5
+    (order 1) and 1e-8 (order 2) in max x and period, and the mirror cycle is its negative."""
+    pars = {"mu": 0.1, "Delta": 1.5, "beta": 1.3, "lam": 1}
+    p1 = predict_cycles("sedf", pars, order=1)
+    p2 = predict_cycles("sedf", pars, order=2)
+    labels = sorted(c.annulus for c in p1.cycles)
+    assert labels == ["outer", "side well at x=+0.898", "side well at x=-0.898"]
+    right = [next(c for c in p.cycles if c.annulus == "side well at x=+0.898") for p in (p1, p2)]
+    left = next(c for c in p1.cycles if c.annulus == "side well at x=-0.898")
+    assert left.amplitude_max == pytest.approx(-right[0].amplitude_min, abs=1e-12)
+    assert not right[0].stable and not right[1].stable
+    true = numerics.limit_cycle("sedf", pars, guess=(right[0].amplitude_max, right[0].period))
+    assert true.success and not true.stable and np.min(true.x) > 0
+    for c, tol in zip(right, (1e-5, 1e-8)):
+        assert abs(c.amplitude_max - true.amplitude_max) < tol
+        assert abs(c.period - true.period) < 10 * tol
+        assert abs(c.floquet_multiplier - true.floquet_multipliers[1].real) < tol
+
+
+def test_outer_cycle_beta_13_flagged():
+    """Delta = 1.5, beta = 1.3, outer cycle: the orbit crawls past the nearly flat stretch of
+    G near x = 1.76 (g ~ 0.25); period_sensitivity > 1 flags it, and indeed order 2 is not
+    better than order 1 there (first order still within 1e-3 in max x)."""
+    pars = {"mu": 0.1, "Delta": 1.5, "beta": 1.3, "lam": 1}
+    c1, c2 = (next(c for c in predict_cycles("sedf", pars, order=n).cycles
+                   if c.annulus == "outer") for n in (1, 2))
+    assert c1.period_sensitivity > 1
+    true = numerics.limit_cycle("sedf", pars, guess=(c1.amplitude_max, c1.period))
+    assert abs(c1.amplitude_max - true.amplitude_max) < 1e-3
+    assert abs(c2.period - true.period) > abs(c1.period - true.period)

@@ -3,6 +3,8 @@
 Built in floors, each importing only the ones below it (``tests/test_layering.py``):
 
 1. :mod:`numerics.flow` — the model turned into numbers and trajectories;
+   :mod:`numerics.energy` — the strongly nonlinear (energy-balance) averaging about
+   the conservative orbits, numerical by nature, on top of the flow;
 2. :mod:`numerics.cycles` — true limit cycles (shooting, Floquet multipliers,
    high precision, sweeps);
 3. :mod:`numerics.comparison` — approximations against the true cycles;
@@ -13,7 +15,8 @@ Built in floors, each importing only the ones below it (``tests/test_layering.py
 from numerics._memo import clear_caches
 from numerics.comparison import (Comparison, ConvergenceStudy, Prediction, compare,
                                  convergence_study, kbm_prediction, predicted_orders)
-from numerics.cycles import Dissipation, LimitCycle, SweepPoint, grid, limit_cycle, sweep
+from numerics.cycles import (Dissipation, LimitCycle, SweepPoint, grid, limit_cycle,
+                             limit_cycles, sweep)
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError, NumericsError
 from numerics.flow import Method, integrate
 from numerics.paper import (Claim, ErratumEvidence, SaddleNode, SlideResult, Slip, StickSlip,
@@ -21,7 +24,7 @@ from numerics.paper import (Claim, ErratumEvidence, SaddleNode, SlideResult, Sli
                             potential, saddle_node, slide, slip_energy)
 
 __all__ = [
-    "integrate", "Method", "limit_cycle", "LimitCycle", "Dissipation", "sweep", "grid",
+    "integrate", "Method", "limit_cycle", "limit_cycles", "LimitCycle", "Dissipation", "sweep", "grid",
     "SweepPoint", "compare", "Comparison", "Prediction", "kbm_prediction", "paper_prediction",
     "convergence_study", "ConvergenceStudy", "predicted_orders",
     "errata_evidence", "ErratumEvidence",

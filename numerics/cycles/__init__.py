@@ -2,18 +2,21 @@
 
 - :mod:`numerics.cycles.result`: :class:`LimitCycle`, :class:`Dissipation`;
 - :mod:`numerics.cycles.transient`: settling on a cycle from a start;
-- :mod:`numerics.cycles.guess`: starting guesses from the averaged equations;
+- :mod:`numerics.cycles.guess`: starting guesses from the averaged equations
+  (classical KBM and the energy balance about the conservative orbit);
 - :mod:`numerics.cycles.shooting`: :func:`limit_cycle` (Newton on the return map,
-  Floquet multipliers, dissipation per cycle);
+  Floquet multipliers, dissipation per cycle) and :func:`limit_cycles` (every
+  predicted cycle, stable and unstable, confirmed by shooting);
 - :mod:`numerics.cycles.highprec`: cycles to 30 digits and more (mpmath Taylor);
 - :mod:`numerics.cycles.sweep`: many cycles on all cores.
 """
 
 from numerics.cycles.highprec import limit_cycle_mp
 from numerics.cycles.result import Dissipation, LimitCycle
-from numerics.cycles.shooting import limit_cycle
+from numerics.cycles.shooting import CycleList, limit_cycle, limit_cycles
 from numerics.cycles.sweep import SweepPoint, grid, sweep
 from numerics.cycles.transient import transient
 
-__all__ = ["LimitCycle", "Dissipation", "limit_cycle", "limit_cycle_mp", "transient",
+__all__ = ["LimitCycle", "Dissipation", "limit_cycle", "limit_cycles", "CycleList",
+           "limit_cycle_mp", "transient",
            "sweep", "grid", "SweepPoint"]

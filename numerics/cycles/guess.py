@@ -1,8 +1,14 @@
-"""Starting guesses for the shooting: the one place where :mod:`numerics.cycles` asks the engine.
+"""Starting guesses for the shooting: the one place where :mod:`numerics.cycles` asks the
+analysis.
 
-:func:`kbm_guess` is the stable cycle of the first-order KBM averaged equations
-with the largest amplitude (:func:`kbm.averaged_rates`), as ``(amplitude,
-period)``.  The averaged equations are derived once per model (memoised).
+- :func:`kbm_guess`: the stable cycle of the first-order KBM averaged equations
+  with the largest amplitude (:func:`kbm.averaged_rates`), as ``(amplitude,
+  period)``; the averaged equations are derived once per model (memoised), so
+  this costs ~0.1 ms;
+- :func:`energy_guesses`: the stable cycles of the energy-balance averaging about
+  the conservative orbit (:func:`numerics.energy.predict_cycles`, order 1), as
+  ``(x_max, period)``, largest first: right where the potential is strong and
+  classical KBM fails (the paper's ``Delta = 3``), at ~50-150 ms.
 """
 
 from __future__ import annotations
@@ -12,8 +18,9 @@ from kbm.errors import KBMError
 from kbm.models import BoundModel, Oscillator
 
 from numerics._memo import memo
+from numerics.energy import predict_cycles
 
-__all__ = ["kbm_guess"]
+__all__ = ["kbm_guess", "energy_guesses"]
 
 
 @memo(maxsize=32)
@@ -40,3 +47,18 @@ def kbm_guess(bound: BoundModel) -> tuple[float, float] | None:
         return None
     c = max(cycles, key=lambda c: c.amplitude)
     return c.amplitude, c.period
+
+
+def energy_guesses(bound: BoundModel, *, stable_only: bool = True) -> list[tuple[float, float]]:
+    """The first-order energy-balance cycles as ``(x_max, period)``, largest ``x_max`` first.
+
+    Empty when the model cannot be split into a confining conservative part and a
+    perturbation, or has no cycle (:func:`numerics.energy.predict_cycles`).
+    """
+    try:
+        pred = predict_cycles(bound.model, dict(bound.values), order=1)
+    except KBMError:
+        return []
+    cycles = [c for c in pred.cycles if c.stable or not stable_only]
+    cycles.sort(key=lambda c: -abs(c.amplitude_max))
+    return [(c.amplitude_max, c.period) for c in cycles]

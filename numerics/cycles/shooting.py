@@ -21,21 +21,23 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from dataclasses import dataclass
 
 import numpy as np
 
 from kbm.errors import NonAutonomousError
 from kbm.models import BoundModel, Oscillator, bind
 
-from numerics.cycles.guess import kbm_guess
+from numerics.cycles.guess import energy_guesses, kbm_guess
 from numerics.cycles.highprec import limit_cycle_mp
 from numerics.cycles.result import Dissipation, LimitCycle
 from numerics.cycles.transient import transient
+from numerics.energy import predict_cycles
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.flow import (Method, ModelTemplate, choose_method, compile_model, extended_state,
-                           flow)
+                           flow, solve)
 
-__all__ = ["limit_cycle", "NEWTON_MAX_STEPS"]
+__all__ = ["limit_cycle", "limit_cycles", "CycleList", "NEWTON_MAX_STEPS"]
 
 #: bound on the compiled integrator's steps over one period inside Newton's method
 NEWTON_MAX_STEPS = 5 * 10**4
@@ -69,7 +71,7 @@ def _newton(cm, x0, T, method, rtol, atol, max_iter, floor):
         # more than half (a far start then walks instead of jumping into stiff regions)
         lam = min(1.0, 0.5 * max(1.0, abs(x0)) / max(abs(dx), 1e-300),
                   0.5 * T / max(abs(dT), 1e-300))
-        while (x0 + lam * dx <= 0 or T + lam * dT <= 0) and lam > 1e-3:
+        while ((x0 + lam * dx) * x0 <= 0 or T + lam * dT <= 0) and lam > 1e-3:
             lam /= 2
         x0, T = x0 + lam * dx, T + lam * dT
         if max(abs(dx) / max(1.0, abs(x0)), abs(dT) / T) < floor or history[-1] < floor:
@@ -89,7 +91,7 @@ def _newton(cm, x0, T, method, rtol, atol, max_iter, floor):
 def _check_nontrivial(cm, converged, meth, rtol, atol, scale) -> None:
     """Reject a 'cycle' that is an equilibrium or whose trivial multiplier is not 1."""
     x0, T, it, history = converged
-    if x0 < 1e-6 * max(1.0, abs(scale)):
+    if abs(x0) < 1e-6 * max(1.0, abs(scale)):
         raise ConvergenceError(f"Newton converged to the equilibrium (x0 = {x0:.3g}), not to a "
                                "cycle")
     ys = flow(cm, extended_state(x0), T, 64, meth, rtol, atol)
@@ -122,11 +124,15 @@ def limit_cycle(model: Oscillator | str | BoundModel, params: Mapping[str, objec
         Parameter values (physical names such as ``Delta``, ``lam`` or the
         scaled ones), including ``mu``.
     guess
-        ``(amplitude, period)`` to start Newton from.  Without it, the stable
-        first-order KBM cycle is tried first (largest amplitude), and if Newton
-        does not converge from there, transients from ``x = a_KBM`` (the
-        first-order amplitude, when there is one) and from ``x = x_start``,
-        ``x' = 0`` are integrated until the maxima of ``x`` settle.
+        ``(x_max, period)`` to start Newton from (``x_max`` the maximum of ``x`` on
+        the cycle, negative for a cycle in a side well at ``x < 0``); if Newton does
+        not converge from it, once more from the point where the orbit from
+        ``(x_max, 0)`` first returns to ``x' = 0``.  Without it the starts are
+        (:mod:`numerics.cycles.guess`): the stable first-order KBM cycle of largest
+        amplitude; then the stable cycles of the energy-balance averaging about the
+        conservative orbit (:func:`numerics.energy.predict_cycles`, right where
+        the potential is strong); then transients from the predicted amplitudes and
+        from ``x = x_start``, ``x' = 0``, integrated until the maxima of ``x`` settle.
     digits
         If given (up to ~50), also compute period and amplitudes with an
         mpmath Taylor-series integrator to this many digits
@@ -161,6 +167,10 @@ def limit_cycle(model: Oscillator | str | BoundModel, params: Mapping[str, objec
         With ``success = False`` and a message when Newton stalls above the
         integration accuracy but the orbit is still closed to ``1e-6``.
 
+    See Also
+    --------
+    limit_cycles : every cycle (stable and unstable) the predictions point to.
+
     Raises
     ------
     kbm.errors.NonAutonomousError
@@ -178,63 +188,198 @@ def limit_cycle(model: Oscillator | str | BoundModel, params: Mapping[str, objec
     """
     bound = bind(model, params)
     cm = compile_model(bound, template=template)
-    method = Method.parse(method)
+    st = _settings(cm, method, rtol, atol, max_iter, max_time, x_max, x_start)
+    converged, meth, source = _find_orbit(cm, bound, guess, float(x_start), st)
+    return _final_pass(cm, converged, meth, source, st, digits, n_samples, n_harmonics)
+
+
+def limit_cycles(model: Oscillator | str | BoundModel, params: Mapping[str, object] | None = None,
+                 *, order: int = 1, potential=None, **cycle_kwargs) -> list[LimitCycle]:
+    """Every limit cycle the energy-balance averaging predicts, each confirmed by shooting.
+
+    Each predicted cycle (stable and unstable, on every period annulus;
+    :func:`numerics.energy.predict_cycles`) starts :func:`limit_cycle`; cycles that
+    shoot to the same orbit are reported once.  A prediction that does not lead to a
+    cycle is left out (its failure is in the ``failures`` attribute of the list).
+
+    Parameters
+    ----------
+    order, potential
+        Passed to :func:`numerics.energy.predict_cycles`.
+    cycle_kwargs
+        Passed to :func:`limit_cycle` (``rtol``, ``method``, ...).
+
+    Returns
+    -------
+    CycleList
+        A list of :class:`LimitCycle` sorted by ``amplitude_max``, with the attributes
+        ``predictions`` (the :class:`numerics.energy.EnergyPrediction`) and
+        ``failures`` (``(predicted cycle, error message)`` pairs).
+
+    Examples
+    --------
+    >>> cs = limit_cycles("vdp", {"mu": 0.5})
+    >>> [round(c.amplitude_max, 6) for c in cs], cs[0].stable
+    ([2.00472], True)
+    """
+    bound = bind(model, params)
+    pred = predict_cycles(bound.model, dict(bound.values), order=order, potential=potential)
+    found = CycleList(predictions=pred)
+    for p in pred.cycles:
+        try:
+            c = limit_cycle(bound, guess=(p.amplitude_max, p.period), **cycle_kwargs)
+        except (ConvergenceError, IntegrationError, NoCycleError) as exc:
+            found.failures.append((p, str(exc)))
+            continue
+        if not any(_same_orbit(c, d) for d in found):
+            found.append(c)
+            found.predicted.append(p)
+    order_ = sorted(range(len(found)), key=lambda i: found[i].amplitude_max)
+    return CycleList([found[i] for i in order_], predictions=pred,
+                     predicted=[found.predicted[i] for i in order_], failures=found.failures)
+
+
+class CycleList(list):
+    """A list of :class:`LimitCycle` with the predictions that led to them.
+
+    Attributes
+    ----------
+    predictions
+        The :class:`numerics.energy.EnergyPrediction` the search started from.
+    predicted
+        For each cycle, the :class:`numerics.energy.PredictedCycle` that led to it.
+    failures
+        ``(predicted cycle, error message)`` for each prediction that led to no cycle.
+    """
+
+    def __init__(self, items=(), *, predictions=None, predicted=None, failures=None):
+        super().__init__(items)
+        self.predictions = predictions
+        self.predicted: list = list(predicted or [])
+        self.failures: list = list(failures or [])
+
+
+def _same_orbit(a: LimitCycle, b: LimitCycle) -> bool:
+    return (abs(a.period - b.period) <= 1e-6 * b.period
+            and abs(a.amplitude_max - b.amplitude_max) <= 1e-6 * max(1.0, abs(b.amplitude_max)))
+
+
+@dataclass(frozen=True)
+class _Settings:
+    method: Method
+    rtol: float
+    atol: float
+    max_iter: int
+    max_time: float
+    x_max: float
+    floor: float
+    T_lin: float
+
+
+def _settings(cm, method, rtol, atol, max_iter, max_time, x_max, x_start) -> _Settings:
     if not cm.autonomous:
         raise NonAutonomousError(f"limit cycles need an autonomous model; {cm.name!r} has an "
                                  "explicit time dependence (stage velocity v != 0); use "
-                                 "`kbm slide` for the driven slider")
+                                 "numerics.slide for the driven slider")
     atol = rtol if atol is None else atol
     T_lin = 2 * math.pi / cm.omega0
     if max_time is None:
         mu = abs(cm.values.get("mu", 1.0)) or 1.0
         max_time = min(max(200 * T_lin, 60.0 / mu), 2e5)
-    floor = 1e3 * max(rtol, atol)
-    source = "guess"
-    start = guess
-    if start is None:
-        start = kbm_guess(bound)
-        source = "KBM first-order averaged cycle"
-    converged = None
-    if start is not None:
-        x0, period = float(start[0]), float(start[1])
-        if not (np.isfinite(x0) and np.isfinite(period) and period > 0 and x0 > 0):
-            raise ConvergenceError(f"bad initial guess (amplitude, period) = {start}")
-        meth = choose_method(cm, method, "shooting", x0, period)
+    big = x_max if x_max is not None else 1e3 * max(1.0, abs(x_start))
+    return _Settings(Method.parse(method), rtol, atol, max_iter, max_time, big,
+                     1e3 * max(rtol, atol), T_lin)
+
+
+def _check_guess(start) -> tuple[float, float]:
+    x0, period = float(start[0]), float(start[1])
+    if not (np.isfinite(x0) and np.isfinite(period) and period > 0 and x0 != 0):
+        raise ConvergenceError(f"bad initial guess (x_max, period) = {tuple(start)}: need a "
+                               "finite x_max != 0 and a period > 0")
+    return x0, period
+
+
+def _shoot(cm, x0: float, period: float, st: _Settings):
+    """Newton from ``(x0, period)``, then the non-triviality check; ``(converged, method)``."""
+    meth = choose_method(cm, st.method, "shooting", abs(x0), period)
+    converged = _newton(cm, x0, period, meth, st.rtol, st.atol, st.max_iter, st.floor)
+    _check_nontrivial(cm, converged, meth, st.rtol, st.atol, x0)
+    return converged, meth
+
+
+def _return_point(cm, x0: float, period: float, st: _Settings) -> tuple[float, float]:
+    """Where the orbit from ``(x0, 0)`` first returns to ``x' = 0`` going down, and when.
+
+    A start whose period is off (near a separatrix the period depends strongly on
+    the amplitude) is replaced by a point of the return map with its own return time.
+    """
+    def section(t, y):
+        return y[1]
+    section.direction = -1  # x' from + to -: a maximum of x
+    scipy_ok = st.method not in (Method.AUTO, Method.COMPILED, Method.LSODA)
+    meth = choose_method(cm, st.method if scipy_ok else Method.AUTO, "integrate", abs(x0),
+                         period, v0=0.0)
+    sol = solve(cm, [x0, 0.0], 3.0 * period, meth, max(st.rtol, 1e-10),
+                max(st.rtol, 1e-10) * 1e-2, events=[section], dense=False)
+    times = [float(t) for t in sol.t_events[0] if t > 0.05 * period]
+    if not times:
+        raise NoCycleError(f"the orbit from x = {x0:.6g} (x' = 0) does not return to x' = 0 "
+                           f"within {3 * period:.4g}")
+    i = [float(t) for t in sol.t_events[0]].index(times[0])
+    return float(sol.y_events[0][i][0]), times[0]
+
+
+def _starts(bound: BoundModel, guess, x_start: float):
+    """The starting guesses in order: ``(label, (x_max, period) or None, transient x)``."""
+    if guess is not None:
+        yield "guess", _check_guess(guess), None
+        return
+    kg = kbm_guess(bound)
+    if kg is not None:
+        yield "KBM first-order averaged cycle", kg, None
+    eg = energy_guesses(bound)
+    for x, T in eg:
+        yield "energy-balance cycle", (x, T), None
+    seen = []
+    for x in [*(x for x, _ in eg), *([kg[0]] if kg else []), x_start]:
+        if all(abs(x - y) > 1e-3 for y in seen):
+            seen.append(x)
+            yield f"transient from x = {x:.6g}", None, x
+
+
+def _find_orbit(cm, bound: BoundModel, guess, x_start: float, st: _Settings):
+    """Converge on a periodic orbit from the first start that works."""
+    failures: list[tuple[str, Exception]] = []
+    for label, start, xs in _starts(bound, guess, x_start):
         try:
-            converged = _newton(cm, x0, period, meth, rtol, atol, max_iter, floor)
-            _check_nontrivial(cm, converged, meth, rtol, atol, x0)
-        except (ConvergenceError, IntegrationError, NoCycleError):
-            if guess is not None:
-                raise
-            converged = None
-    if converged is None:
-        # transients: from the KBM amplitude when there is one (a cycle may coexist with
-        # stable equilibria that a start at x_start falls into), then from x_start
-        starts = [float(x_start)]
-        if guess is None and start is not None and abs(float(start[0]) - x_start) > 1e-3:
-            starts.insert(0, float(start[0]))
-        failures: list[tuple[float, Exception]] = []
-        big = x_max if x_max is not None else 1e3 * max(1.0, abs(x_start))
-        for xs in starts:
-            try:
-                tmeth = choose_method(cm, method, "transient", abs(xs), T_lin)
-                x0, period, _ = transient(cm, xs, tmeth, max(rtol, 1e-10), max_time, big)
-                meth = choose_method(cm, method, "shooting", x0, period)
-                found = _newton(cm, x0, period, meth, rtol, atol, max_iter, floor)
-                _check_nontrivial(cm, found, meth, rtol, atol, x0)
-            except (ConvergenceError, IntegrationError, NoCycleError) as exc:
-                failures.append((xs, exc))
+            if start is not None:
+                x0, period = start
+                try:
+                    converged, meth = _shoot(cm, x0, period, st)
+                except (ConvergenceError, IntegrationError, NoCycleError):
+                    x1, T1 = _return_point(cm, x0, period, st)
+                    converged, meth = _shoot(cm, x1, T1, st)
+                    label += " (after one return)"
             else:
-                converged, source = found, f"transient from x = {xs:.6g}"
-                break
-        if converged is None:
-            xs, exc = failures[-1]
-            if len(failures) == 1:
-                raise exc
-            raise type(exc)("; ".join(f"from x = {s:.6g} (x' = 0): {e}" for s, e in failures)) \
-                from exc
+                tmeth = choose_method(cm, st.method, "transient", abs(xs), st.T_lin)
+                x0, period, _ = transient(cm, xs, tmeth, max(st.rtol, 1e-10), st.max_time,
+                                          st.x_max)
+                converged, meth = _shoot(cm, x0, period, st)
+        except (ConvergenceError, IntegrationError, NoCycleError) as exc:
+            failures.append((label, exc))
+            continue
+        return converged, meth, label
+    label, exc = failures[-1]
+    if len(failures) == 1:
+        raise exc
+    transients = [(lb, e) for lb, e in failures if lb.startswith("transient")] or failures
+    raise type(exc)("; ".join(f"{lb}: {e}" for lb, e in transients)) from exc
+
+
+def _final_pass(cm, converged, meth, source, st: _Settings, digits, n_samples, n_harmonics):
+    """One more integration of the converged orbit: samples, monodromy, dissipation."""
+    rtol, atol, floor = st.rtol, st.atol, st.floor
     x0, T, it, history = converged
-    # final pass on the converged orbit: samples, monodromy, dissipation
     tt = np.linspace(0.0, T, n_samples + 1)
     ys = flow(cm, extended_state(x0), T, n_samples, meth, rtol, atol)
     yT = ys[-1]
@@ -244,7 +389,7 @@ def limit_cycle(model: Oscillator | str | BoundModel, params: Mapping[str, objec
     if not source.startswith("transient") and x0 < np.max(xs) - 1e-6 * max(1.0, abs(x0)):
         # the guess led to a point that is not the maximum of x: restart at the maximum
         i = int(np.argmax(xs))
-        converged = _newton(cm, float(xs[i]), T, meth, rtol, atol, max_iter, floor)
+        converged = _newton(cm, float(xs[i]), T, meth, rtol, atol, st.max_iter, floor)
         x0, T, it2, h2 = converged
         it, history = it + it2, history + h2
         tt = np.linspace(0.0, T, n_samples + 1)

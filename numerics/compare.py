@@ -325,7 +325,7 @@ def kbm_prediction(result, values: Mapping[str, object], order: int | None = Non
     Prediction
         ``success = False`` (and a message) when the averaged equation has no cycle.
     """
-    from kbm.limit_cycle import averaged_cycles
+    from kbm import averaged_cycles
 
     N = result.order if order is None else int(order)
     model = result.model

@@ -10,8 +10,7 @@ import pytest
 import sympy as sp
 
 from kbm import (AveragedRates, KBMError, KBMResult, OrderError, ParameterError,
-                 averaged_cycles, averaged_rates, custom_model, derive, get_model,
-                 limit_cycle_series)
+                 averaged_cycles, averaged_rates, custom_model, derive, limit_cycle_series)
 from kbm.averaging import RawExpansion, run_recursion
 from kbm.errors import AveragedCycleError, ExpansionError, SeriesTruncationError
 from kbm.symbols import a, psi

@@ -13,6 +13,8 @@ only users, and :mod:`numerics` never imports it.
 - :mod:`~kbm.algebra.bessel_fourier`: infinite Jacobi-Anger families of
   harmonics, and :class:`~kbm.algebra.bessel_fourier.SymAlgebra` (``F`` with
   ``sin(k x)``, ``cos(k x)``);
+- :mod:`~kbm.algebra.lattice`: the integer lattice lines along which a harmonic of
+  a double Bessel family is collected (extended Euclid);
 - :mod:`~kbm.algebra.lazy_series`: lazy power series in the small parameter and
   the :class:`~kbm.algebra.lazy_series.Builder` that evaluates ``F`` along
   ``x = sum mu**n X_n``.

@@ -15,7 +15,9 @@ truncated here: truncation happens only when a result is evaluated numerically
 
 :class:`SymAlgebra` offers these series to the recursion through the
 :class:`~kbm.algebra.base.FourierAlgebra` protocol; :func:`tidy` and
-:func:`tidy_sums` put its coefficients in display form.
+:func:`tidy_sums` put its coefficients in display form.  (The series, its
+display and its adapter change together, so they stay in one module of a little
+over 350 lines; the lattice arithmetic is apart.)
 """
 
 from __future__ import annotations

@@ -6,15 +6,17 @@ averaging writes ``x = a cos(psi) + sum_n mu**n u_n(a, psi)`` with
 no ``u_n`` holding a first harmonic, so ``a`` is the first-harmonic amplitude.
 """
 
+from importlib.metadata import PackageNotFoundError, version as _version
+
 from .errors import (KBMError, ModelError, NonAutonomousError, OrderError, ParameterError,
-                     UnsupportedTermError)
+                     SeriesTruncationError, UnsupportedTermError)
 from .averaging import derive
-from .evaluate import SeriesTruncationError, mpmath_function, numpy_function
+from .averaged import AveragedCycle, AveragedRates, averaged_cycles, averaged_rates
+from .evaluate import mpmath_function, numpy_function
 from .latex import latex
-from .limit_cycle import (AveragedCycle, AveragedRates, LimitCycleSeries, averaged_cycles,
-                          averaged_rates, limit_cycle_series)
 from .models import MODELS, Oscillator, custom_model, get_model, model_names
 from .result import KBMFunctions, KBMResult
+from .series import LimitCycleSeries, limit_cycle_series
 from .symbols import a, mu, parse, psi, t, x, xdot
 
 __all__ = [
@@ -28,4 +30,7 @@ __all__ = [
     "a", "mu", "parse", "psi", "t", "x", "xdot",
 ]
 
-__version__ = "0.1.0"
+try:  # the version lives in pyproject.toml only
+    __version__ = _version("kbm")
+except PackageNotFoundError:  # pragma: no cover - running from a tree that is not installed
+    __version__ = "0+unknown"

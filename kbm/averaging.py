@@ -19,164 +19,41 @@ harmonic (secular terms) gives ``A_n = -R_n^{sin 1}/(2 omega0)``,
 ``B_n = -R_n^{cos 1}/(2 omega0 a)``, and ``u_n`` follows harmonic by harmonic.
 
 Polynomial ``F`` is treated with exact rational arithmetic on Fourier series
-with Laurent-polynomial coefficients (:mod:`kbm._fourier`), any order;
-``F`` with ``sin(k x)``, ``cos(k x)`` with the Jacobi-Anger algebra of
-:mod:`kbm._bessel`, order <= 2 (the Bessel sums stay symbolic).
+with Laurent-polynomial coefficients (:mod:`kbm.algebra.poly_fourier`), any
+order; ``F`` with ``sin(k x)``, ``cos(k x)`` with the Jacobi-Anger algebra of
+:mod:`kbm.algebra.bessel_fourier`, order <= 2 (the Bessel sums stay symbolic).
+The recursion below sees either one only through the
+:class:`~kbm.algebra.base.FourierAlgebra` protocol, and ``F`` only as the lazy
+series of :mod:`kbm.algebra.lazy_series`.
+
+:func:`derive` is the public entry; :func:`run_recursion` is the internal one
+(results kept in the algebra's own types), used by the exact limit-cycle
+series of :mod:`kbm.series`.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 
 import sympy as sp
 
-from . import _bessel
-from ._fourier import PolyFourier
-from ._laurent import LaurentRing, _Q
-from ._series import Const, Leaf, Node, Product, Scaled, Sum, TrigOf
+from .algebra.base import FourierAlgebra
+from .algebra.bessel_fourier import SymAlgebra
+from .algebra.laurent import LaurentRing
+from .algebra.lazy_series import Builder, Leaf, trig_argument_message, unsupported_message
+from .algebra.poly_fourier import PolyAlgebra
 from .errors import OrderError, UnsupportedTermError
 from .models import Oscillator, get_model
 from .result import KBMResult
 from .symbols import a, psi, x, xdot
 
-__all__ = ["derive", "MAX_ORDER_TRIG"]
+__all__ = ["derive", "run_recursion", "RawExpansion", "MAX_ORDER_TRIG"]
 
 #: highest order available for F with sin(k x) or cos(k x)
 MAX_ORDER_TRIG = 2
 
 
-# ----------------------------------------------------------------------------- algebras
-class _PolyAlgebra:
-    """Exact arithmetic for polynomial F: Laurent coefficients in (a, parameters)."""
-
-    def __init__(self, model: Oscillator):
-        params = sorted((model.F.free_symbols | model.omega0.free_symbols) - {x, xdot},
-                        key=lambda s: s.name)
-        self.ring = LaurentRing([a, *params])
-        w0 = model.omega0
-        if w0.is_Symbol:
-            i = self.ring.gens.index(w0)
-            self.w0 = self.ring.gen(i)
-            self.w0inv = self.ring.gen(i, -1)
-        else:
-            self.w0 = self.ring.const(_Q(int(w0.p), int(w0.q)))
-            self.w0inv = self.ring.const(_Q(int(w0.q), int(w0.p)))
-        self.a_inv = self.ring.gen(0, -1)
-
-    def zero(self) -> PolyFourier:
-        return PolyFourier(self.ring)
-
-    def const(self, expr: sp.Expr) -> PolyFourier:
-        return PolyFourier.constant(self.ring, self.ring.from_expr(expr))
-
-    def coef(self, expr: sp.Expr):
-        return self.ring.from_expr(expr)
-
-    def x0(self) -> PolyFourier:
-        return PolyFourier(self.ring, {1: self.ring.gen(0)})
-
-    def scale(self, f: PolyFourier, c) -> PolyFourier:
-        return f.scale(c)
-
-    def dpsi(self, f):
-        return f.dpsi()
-
-    def da(self, f):
-        return f.da()
-
-    def secular(self, R: PolyFourier):
-        c1, s1 = R.harmonic(1)
-        half = _Q(-1, 2)
-        A = (s1 * self.w0inv).scale(half)
-        B = (c1 * self.w0inv * self.a_inv).scale(half)
-        return A, B
-
-    def solve(self, R: PolyFourier) -> PolyFourier:
-        return R.solve_without_first(self.w0inv * self.w0inv)
-
-    def coef_expr(self, c) -> sp.Expr:
-        return c.as_primitive_expr() if c else sp.Integer(0)
-
-    def series_expr(self, f: PolyFourier) -> sp.Expr:
-        return f.as_expr(psi)
-
-    def trig(self, *args):  # pragma: no cover - guarded by _is_polynomial
-        raise UnsupportedTermError("sin/cos in the polynomial algebra")
-
-
-class _SymAlgebra:
-    """sympy coefficients and infinite Jacobi-Anger families of harmonics."""
-
-    def __init__(self, model: Oscillator):
-        self.w0 = model.omega0
-
-    def zero(self):
-        return _bessel.SymFourier()
-
-    def const(self, expr):
-        return _bessel.SymFourier.constant(expr)
-
-    def coef(self, expr):
-        return sp.sympify(expr)
-
-    def x0(self):
-        return _bessel.SymFourier.harmonic_term(_bessel.COS, 1, a)
-
-    def scale(self, f, c):
-        return f.scale(c)
-
-    def dpsi(self, f):
-        return f.dpsi()
-
-    def da(self, f):
-        return f.da(a)
-
-    def secular(self, R):
-        c1, s1 = R.harmonic(1)
-        return -s1 / (2 * self.w0), -c1 / (2 * self.w0 * a)
-
-    def solve(self, R):
-        return R.solve_without_first(self.w0)
-
-    def coef_expr(self, c) -> sp.Expr:
-        return _tidy_sums(c)
-
-    def series_expr(self, f) -> sp.Expr:
-        return f.as_expr(psi)
-
-    def trig(self, kind: str, c: sp.Expr):
-        """Fourier series of ``f^(m)(c a cos psi)``, m = 0..3, for f = sin or cos."""
-        s, co = _bessel.jacobi_anger(c * a)
-        seq = [s, co, -s, -co]  # sin, sin', sin'', sin'''
-        return seq if kind == "sin" else seq[1:] + seq[:1]
-
-
-def _tidy_sums(expr: sp.Expr) -> sp.Expr:
-    """Rename summation indices to n, merge sums with equal limits, tidy the rest."""
-    expr = sp.expand(expr)
-    sums: dict[tuple, list[sp.Expr]] = {}
-    rest = []
-    for term in sp.Add.make_args(expr):
-        coeff, sm = sp.Integer(1), None
-        for f in sp.Mul.make_args(term):
-            if isinstance(f, sp.Sum) and sm is None:
-                sm = f
-            else:
-                coeff *= f
-        if sm is None:
-            rest.append(term)
-            continue
-        limits = sm.limits
-        ren = {lim[0]: _bessel.DISPLAY_INDEX[i] for i, lim in enumerate(limits)}
-        body = sm.function.xreplace(ren) * coeff
-        key = tuple((ren[l[0]], l[1], l[2]) for l in limits)
-        sums.setdefault(key, []).append(body)
-    out = [_bessel.tidy(sp.Add(*rest))]
-    for key in sorted(sums, key=sp.default_sort_key):
-        out.append(sp.Sum(_bessel.tidy(sp.Add(*sums[key])), *key))
-    return sp.Add(*out)
-
-
-# ----------------------------------------------------------------------------- F along the series
+# ----------------------------------------------------------------------------- guards
 def _is_polynomial(model: Oscillator) -> bool:
     """Whether the exact algebra applies: F polynomial in x, xdot with coefficients that are
     Laurent polynomials in the parameters over Q, and omega0 rational or a symbol."""
@@ -198,96 +75,6 @@ def _is_polynomial(model: Oscillator) -> bool:
     return True
 
 
-class _Builder:
-    """Turns F into a tree of lazy series nodes over one algebra."""
-
-    def __init__(self, alg, X: Leaf, V: Leaf):
-        self.alg, self.X, self.V = alg, X, V
-        self.zero = alg.zero
-        self._pow: dict[tuple, Node] = {}
-        self._delta: Node | None = None
-
-    def power(self, key, base: Node, e: int, low: int = 0) -> Node:
-        if e == 1:
-            return base
-        k = (key, e)
-        if k not in self._pow:
-            half = self.power(key, base, e // 2, low)
-            node = Product(self.zero, half, half, low * (e // 2), low * (e // 2))
-            if e % 2:
-                node = Product(self.zero, node, base, low * (e - 1), low)
-            self._pow[k] = node
-        return self._pow[k]
-
-    def delta(self) -> Node:
-        if self._delta is None:
-            X = self.X
-
-            class _Delta(Node):
-                def _make(inner, n):
-                    return self.zero() if n == 0 else X.coeff(n)
-
-            self._delta = _Delta(self.zero)
-        return self._delta
-
-    def build(self, expr: sp.Expr) -> Node:
-        if expr == x:
-            return self.X
-        if expr == xdot:
-            return self.V
-        if not expr.has(x, xdot):
-            return Const(self.zero, self.alg.const(expr))
-        if expr.is_Add:
-            return Sum(self.zero, [self.build(t) for t in expr.args])
-        if expr.is_Mul:
-            const = [f for f in expr.args if not f.has(x, xdot)]
-            var = [f for f in expr.args if f.has(x, xdot)]
-            node = self.build(var[0])
-            for f in var[1:]:
-                node = Product(self.zero, node, self.build(f))
-            if const:
-                c = self.alg.coef(sp.Mul(*const))
-                node = Scaled(self.zero, node, lambda s, c=c: self.alg.scale(s, c))
-            return node
-        if expr.is_Pow and expr.exp.is_Integer and expr.exp > 0:
-            return self.power(expr.base, self.build(expr.base), int(expr.exp))
-        if isinstance(expr, (sp.sin, sp.cos)):
-            return self.trig(expr)
-        raise UnsupportedTermError(_unsupported_message(expr))
-
-    def trig(self, expr: sp.Expr) -> Node:
-        arg = sp.expand(expr.args[0])
-        c = arg.coeff(x)
-        rest = sp.expand(arg - c * x)
-        if c == 0 or c.has(x, xdot) or rest.has(x, xdot):
-            raise UnsupportedTermError(
-                f"the term {expr} is not supported: sin and cos must have an argument "
-                "linear in x (k*x + phase), without xdot")
-        if rest != 0:  # sin(c x + d) = sin(c x) cos d + cos(c x) sin d, etc.
-            f = type(expr)
-            if f is sp.sin:
-                new = sp.sin(c * x) * sp.cos(rest) + sp.cos(c * x) * sp.sin(rest)
-            else:
-                new = sp.cos(c * x) * sp.cos(rest) - sp.sin(c * x) * sp.sin(rest)
-            return self.build(sp.expand(new))
-        kind = "sin" if isinstance(expr, sp.sin) else "cos"
-        derivs = self.alg.trig(kind, c)
-        delta = self.delta()
-
-        def powers(m: int, delta=delta) -> Node:
-            return self.power("__delta__", delta, m, low=1)
-
-        def weight(m: int, c=c):
-            return c**m / sp.factorial(m)
-
-        return TrigOf(self.zero, derivs, powers, weight)
-
-
-def _unsupported_message(term: sp.Expr) -> str:
-    return (f"the term {term} of F is not supported: F must be a polynomial in x and xdot, "
-            "possibly times sin(k*x) or cos(k*x); rewrite or approximate that term")
-
-
 def _check_terms(F: sp.Expr) -> None:
     """Name the first unsupported term before any algebra is done."""
     def walk(e):
@@ -303,15 +90,13 @@ def _check_terms(F: sp.Expr) -> None:
             if e.exp.is_Integer and e.exp > 0:
                 walk(e.base)
                 return
-            raise UnsupportedTermError(_unsupported_message(e))
+            raise UnsupportedTermError(unsupported_message(e))
         if isinstance(e, (sp.sin, sp.cos)):
             arg = sp.expand(e.args[0])
             if arg.has(xdot) or not arg.is_polynomial(x) or sp.Poly(arg, x).degree() != 1:
-                raise UnsupportedTermError(
-                    f"the term {e} of F is not supported: sin and cos must have an argument "
-                    "linear in x (k*x + phase), without xdot")
+                raise UnsupportedTermError(trig_argument_message(e))
             return
-        raise UnsupportedTermError(_unsupported_message(e))
+        raise UnsupportedTermError(unsupported_message(e))
     walk(F)
 
 
@@ -360,18 +145,58 @@ def derive(model: Oscillator | str, order: int, params: dict | None = None) -> K
     >>> res.B[2]
     -7*a**4/256 + a**2/8 - 1/8
     """
-    model, alg, (A, B, U) = _derive_raw(model, order, params)
+    raw = run_recursion(model, order, params)
+    alg = raw.algebra
     return KBMResult(
-        model=model, order=order,
-        A=(sp.Integer(0), *[alg.coef_expr(c) for c in A]),
-        B=(model.omega0, *[alg.coef_expr(c) for c in B]),
-        u=(a * sp.cos(psi), *[alg.series_expr(f) for f in U]),
-        exact=isinstance(alg, _PolyAlgebra),
+        model=raw.model, order=order,
+        A=(sp.Integer(0), *[alg.coef_expr(c) for c in raw.A]),
+        B=(raw.model.omega0, *[alg.coef_expr(c) for c in raw.B]),
+        u=(a * sp.cos(psi), *[alg.series_expr(f) for f in raw.u]),
+        exact=raw.exact,
     )
 
 
-def _derive_raw(model, order, params=None, *, last_u: bool = True):
-    """Validate the input and run the recursion; results stay in the algebra's types."""
+@dataclass(frozen=True)
+class RawExpansion:
+    """The KBM recursion's output before display: coefficients in the algebra's own types.
+
+    Attributes
+    ----------
+    model
+        The oscillator, parameters substituted.
+    order
+        The order ``N`` of the recursion.
+    algebra
+        The :class:`~kbm.algebra.base.FourierAlgebra` that ran it.
+    A, B
+        ``A_1..A_N`` and ``B_1..B_N`` (so ``A[n - 1]`` is ``A_n``), coefficients of
+        ``algebra``: for the exact algebra :class:`~kbm.algebra.laurent.Laurent`
+        polynomials in ``a`` and the parameters.
+    u
+        ``u_1..u_N`` (series of ``algebra``); ``u_N`` is left out when the
+        recursion was run with ``last_u=False``.
+    """
+
+    model: Oscillator
+    order: int
+    algebra: FourierAlgebra
+    A: tuple
+    B: tuple
+    u: tuple
+
+    @property
+    def exact(self) -> bool:
+        """Whether the coefficients are exact rational algebra (polynomial ``F``)."""
+        return self.algebra.exact
+
+
+def run_recursion(model: Oscillator | str, order: int, params: dict | None = None, *,
+                  last_u: bool = True) -> RawExpansion:
+    """Validate the input, choose the algebra and run the recursion to ``order``.
+
+    The arguments and errors are those of :func:`derive`; ``last_u=False`` skips
+    the last (most costly) ``u_N`` when only the rates are needed.
+    """
     if isinstance(model, str):
         model = get_model(model)
     if params:
@@ -387,17 +212,20 @@ def _derive_raw(model, order, params=None, *, last_u: bool = True):
             f"order {order} is not available for {model.name!r}: with sin(k x) or cos(k x) in F "
             f"(or coefficients that are not rational, such as pi) the symbolic algebra goes to "
             f"order {MAX_ORDER_TRIG}; polynomial F with rational coefficients: any order")
-    alg = _PolyAlgebra(model) if polynomial else _SymAlgebra(model)
-    return model, alg, _recursion(alg, F, order, last_u)
+    alg: FourierAlgebra = PolyAlgebra(model) if polynomial else SymAlgebra(model)
+    A, B, U = _recursion(alg, F, order, last_u)
+    return RawExpansion(model=model, order=order, algebra=alg, A=tuple(A), B=tuple(B),
+                        u=tuple(U))
 
 
-def _recursion(alg, F: sp.Expr, order: int, last_u: bool = True):
+def _recursion(alg: FourierAlgebra, F: sp.Expr, order: int, last_u: bool = True):
+    """``A_1..A_N``, ``B_1..B_N``, ``u_1..u_N`` (lists) by harmonic balance, order by order."""
     zero = alg.zero
     x0 = alg.x0()
     v0 = alg.scale(alg.dpsi(x0), alg.w0)
     X = Leaf(zero, x0)
     V = Leaf(zero, v0)
-    Fnode = _Builder(alg, X, V).build(F)
+    Fnode = Builder(alg, X, V).build(F)
     A: list = []
     B: list = []
     U: list = []

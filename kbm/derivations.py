@@ -14,6 +14,8 @@ an optional argument, which the ``kbm derivations`` command fills from
 
 from __future__ import annotations
 
+import shutil
+import subprocess
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -21,9 +23,10 @@ from pathlib import Path
 import sympy as sp
 
 from .averaging import derive
+from .errors import KBMError
 from .latex import equation_lines, series_lines
-from .limit_cycle import limit_cycle_series
 from .models import get_model
+from .series import limit_cycle_series
 
 __all__ = ["BANNER", "DerivationFile", "build_files", "write_derivations", "REGENERATE"]
 
@@ -271,16 +274,11 @@ def compile_pdf(main_tex: str | Path, *, runs: int = 2, timeout: float = 300) ->
         If pdflatex is not installed or the compilation fails (with the log's
         first error line).
     """
-    import shutil
-    import subprocess
-
-    from .errors import KBMError
-
     main_tex = Path(main_tex)
     exe = shutil.which("pdflatex")
     if exe is None:
         raise KBMError("pdflatex is not installed; install TeX Live (Debian: texlive-latex-base "
-                       "texlive-latex-recommended) or run without --pdf")
+                       "texlive-latex-recommended) or do without the PDF")
     for _ in range(runs):
         proc = subprocess.run([exe, "-interaction=nonstopmode", "-halt-on-error", main_tex.name],
                               cwd=main_tex.parent, capture_output=True, text=True,

@@ -14,6 +14,9 @@ __all__ = [
     "NonAutonomousError",
     "OrderError",
     "ParameterError",
+    "AveragedCycleError",
+    "ExpansionError",
+    "SeriesTruncationError",
 ]
 
 
@@ -39,3 +42,17 @@ class OrderError(KBMError, ValueError):
 
 class ParameterError(KBMError, ValueError):
     """A parameter name is unknown or a value is out of its range."""
+
+
+class AveragedCycleError(KBMError, ValueError):
+    """The averaged equations have no limit cycle of the kind asked for: none isolated,
+    several where one was expected, or one that is not hyperbolic."""
+
+
+class ExpansionError(KBMError, ValueError):
+    """A :class:`~kbm.KBMResult` was given coefficients that break the expansion's
+    invariants (``order + 1`` entries each, no first harmonic in any ``u_n``)."""
+
+
+class SeriesTruncationError(KBMError, ArithmeticError):
+    """An infinite Bessel sum did not reach its tolerance within the term budget."""

@@ -9,8 +9,8 @@ last block is below ``tol`` times the largest partial sum (numpy, default
 relative (mpmath).  The terms are products of Bessel functions
 ``J_m(k a)`` with ``m`` growing linearly in ``n``, which decay faster than
 ``(k a / 2)**m / m!``; a sum that has not met its tolerance after
-``max_terms`` terms raises :class:`~kbm.errors.KBMError` with the size of the last
-terms, instead of returning an unconverged number.
+``max_terms`` terms raises :class:`~kbm.errors.SeriesTruncationError` with the size of
+the last terms, instead of returning an unconverged number.
 """
 
 from __future__ import annotations
@@ -22,16 +22,12 @@ import numpy as np
 import scipy.special
 import sympy as sp
 
-from .errors import KBMError
+from .errors import SeriesTruncationError
 
-__all__ = ["numpy_function", "mpmath_function", "DEFAULT_TOL", "SeriesTruncationError"]
+__all__ = ["numpy_function", "mpmath_function", "DEFAULT_TOL"]
 
 #: default relative tolerance of the truncated Bessel sums (numpy)
 DEFAULT_TOL = 1e-15
-
-
-class SeriesTruncationError(KBMError, ArithmeticError):
-    """An infinite Bessel sum did not reach its tolerance within the term budget."""
 
 
 def _outer_sums(expr: sp.Expr) -> list[sp.Sum]:

@@ -7,6 +7,9 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from . import evaluate
+from .errors import ExpansionError, OrderError, ParameterError
+from .latex import equation_lines, latex
 from .models import Oscillator
 from .symbols import a, mu, psi
 
@@ -88,25 +91,26 @@ class KBMResult:
         for name in ("A", "B", "u"):
             seq = getattr(self, name)
             if len(seq) != self.order + 1:
-                raise ValueError(f"{name} must have order + 1 = {self.order + 1} entries")
+                raise ExpansionError(f"{name} must have order + 1 = {self.order + 1} entries")
         for n, un in enumerate(self.u[1:], start=1):
             if _first_harmonic_present(un):
-                raise ValueError(f"u[{n}] contains a first harmonic, against the convention")
+                raise ExpansionError(f"u[{n}] contains a first harmonic, against the "
+                                     "convention")
 
     # -- sums over orders ---------------------------------------------------------------
     def amplitude_rate(self, order: int | None = None) -> sp.Expr:
         """``da/dt = sum_{n=1}^{order} mu**n A_n(a)``."""
-        N = self._order(order)
+        N = self.resolve_order(order)
         return sp.Add(*[mu**n * self.A[n] for n in range(1, N + 1)])
 
     def phase_rate(self, order: int | None = None) -> sp.Expr:
         """``dpsi/dt = omega0 + sum_{n=1}^{order} mu**n B_n(a)``."""
-        N = self._order(order)
+        N = self.resolve_order(order)
         return sp.Add(*[mu**n * self.B[n] for n in range(0, N + 1)])
 
     def displacement(self, order: int | None = None) -> sp.Expr:
         """``x(a, psi) = a cos(psi) + sum_{n=1}^{order} mu**n u_n(a, psi)``."""
-        N = self._order(order)
+        N = self.resolve_order(order)
         return sp.Add(*[mu**n * self.u[n] for n in range(0, N + 1)])
 
     @property
@@ -130,9 +134,6 @@ class KBMResult:
             Relative truncation tolerance of infinite Bessel sums (numpy only;
             default :data:`kbm.evaluate.DEFAULT_TOL`).
         """
-        from . import evaluate
-        from .errors import KBMError
-
         pars = tuple(sp.Symbol(p) for p in self.params)
         if backend == "numpy":
             def comp(e, args):
@@ -142,7 +143,7 @@ class KBMResult:
             def comp(e, args):
                 return evaluate.mpmath_function(sp.sympify(e), args)
         else:
-            raise KBMError(f"unknown backend {backend!r}; use 'numpy' or 'mpmath'")
+            raise ParameterError(f"unknown backend {backend!r}; use 'numpy' or 'mpmath'")
         return KBMFunctions(
             backend=backend, order=self.order, params=self.params,
             A=tuple(comp(e, (a, *pars)) for e in self.A),
@@ -178,8 +179,6 @@ class KBMResult:
 
     def latex(self, width: int = 90) -> str:
         """The expansion as a LaTeX ``align*`` block (paper notation, broken lines)."""
-        from .latex import equation_lines, latex
-
         eqs = [r"x &= a\cos\psi" + "".join(rf" + \mu^{{{n}}} u_{{{n}}}(a,\psi)"
                                               for n in range(1, self.order + 1))]
         eqs.append(r"\dot a &= " + " + ".join(rf"\mu^{{{n}}} A_{{{n}}}(a)"
@@ -195,11 +194,18 @@ class KBMResult:
     def _repr_latex_(self) -> str:
         return "$\\displaystyle " + self.latex().replace("align*", "aligned") + "$"
 
-    def _order(self, order: int | None) -> int:
+    def resolve_order(self, order: int | None) -> int:
+        """The truncation order to use: ``order`` checked against ``0..self.order``, or
+        :attr:`order` for ``None``.
+
+        Raises
+        ------
+        kbm.errors.OrderError
+            If ``order`` is outside ``0..self.order``.
+        """
         if order is None:
             return self.order
         if not 0 <= order <= self.order:
-            from .errors import OrderError
             raise OrderError(f"order {order} is outside 0..{self.order} of this result")
         return order
 

@@ -11,6 +11,8 @@ from collections.abc import Iterable, Mapping
 
 import sympy as sp
 
+from .errors import ModelError
+
 __all__ = ["x", "xdot", "t", "a", "psi", "mu", "symbol", "parse", "PARSE_LOCALS"]
 
 #: displacement of the oscillator
@@ -69,8 +71,6 @@ def parse(text: str | sp.Basic, extra: Iterable[str] = ()) -> sp.Expr:
     >>> parse("a/2*(1 - beta*a**2/4)")
     a*(-a**2*beta/4 + 1)/2
     """
-    from .errors import ModelError
-
     if isinstance(text, sp.Basic):
         return text
     loc = dict(PARSE_LOCALS)

@@ -20,8 +20,8 @@ import pytest
 import sympy as sp
 from hypothesis import given, settings, strategies as st
 
-from kbm import (NonAutonomousError, OrderError, UnsupportedTermError, custom_model, derive,
-                 get_model)
+from kbm import (ModelError, NonAutonomousError, OrderError, UnsupportedTermError, custom_model,
+                 derive, get_model)
 
 sys.path.insert(0, str(Path(__file__).parent))
 from reference.numerical_kbm import numerical_kbm  # noqa: E402
@@ -239,5 +239,5 @@ def test_order_and_autonomy_errors():
         derive("sedf", 3)
     with pytest.raises(NonAutonomousError):
         derive(get_model("sedf", {"v": "0.1"}), 1)
-    with pytest.raises(Exception, match="omega0"):
+    with pytest.raises(ModelError, match="omega0"):
         custom_model("x", omega0=-2)

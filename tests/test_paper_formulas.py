@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -12,13 +14,60 @@ from kbm.evaluate import numpy_function
 SYMS = [paper.mu, paper.beta, paper.Delta, paper.k]
 
 
+def _J(n, z):
+    return sp.besselj(n, z)
+
+
 def test_errata_rows():
-    """ERRATA has one frozen row per printed formula, eqs. (6)-(9), with the printed
-    expression of kbm.paper."""
+    """ERRATA has one frozen row per printed formula, eqs. (6)-(9), in that order."""
     assert [e.equation for e in paper.ERRATA] == ["6", "7", "8", "9"]
-    assert paper.ERRATA[0].printed == paper.phase_rate()
-    with pytest.raises(Exception):
+    with pytest.raises(dataclasses.FrozenInstanceError):
         paper.ERRATA[0].equation = "5"
+
+
+def test_printed_eq6_and_eq7_against_a_second_reading():
+    """The printed eqs. (6) and (7) of kbm.paper equal the paper's formulas read again and
+    typed here multiplied out: (1 - beta a^2/4)(1/3 - beta a^2/4) = 1/3 - beta a^2/3 +
+    beta^2 a^4/16, and (7) term by term."""
+    mu, beta, D, k, a = paper.mu, paper.beta, paper.Delta, paper.k, paper.a
+    eq6 = 1 - mu**2 / 3 + mu**2 * beta * a**2 / 3 - mu**2 * beta**2 * a**4 / 16
+    eq7 = (mu * a / 2 - mu * beta * a**3 / 8 + D * _J(1, k * a)
+           + mu * k * D**2 / 2 * _J(0, k * a) * _J(1, k * a))
+    rows = {e.equation: e.printed for e in paper.ERRATA}
+    assert sp.expand(rows["6"] - eq6) == 0
+    assert sp.expand(rows["7"] - eq7) == 0
+
+
+def test_printed_eq8_and_eq9_against_a_second_reading():
+    """The printed f and g of kbm.paper equal the paper's eqs. (8), (9) read again: the sum
+    of (8) over all n >= 0 minus its n = 1 term (the printed "n != 1"), and (9) multiplied
+    out; compared numerically (the sums are infinite)."""
+    mu, beta, D, k, a, psi = paper.mu, paper.beta, paper.Delta, paper.k, paper.a, paper.psi
+    n = sp.Symbol("n", integer=True, nonnegative=True)
+    term = (-1)**n * _J(2 * n + 1, k * a) * sp.cos((2 * n + 1) * psi)
+    eq8 = (-beta * a**3 / 32 * sp.sin(3 * psi)
+           + D / mu * (sp.Sum(term, (n, 0, sp.oo)) + _J(3, k * a) * sp.cos(3 * psi)))
+    eq9 = (-k * D**2 / mu * _J(0, k * a) * _J(1, k * a)
+           - 2 * a * (sp.Rational(1, 3) - beta * a**2 / 3 + beta**2 * a**4 / 16) * sp.cos(psi))
+    rows = {e.equation: e.printed for e in paper.ERRATA}
+    psis = np.linspace(0, 2 * np.pi, 17)
+    for hand, printed in ((eq8, rows["8"]), (eq9, rows["9"])):
+        args = [paper.a, paper.psi, *SYMS]
+        want = numpy_function(hand, args)(1.3, psis, 0.1, 0.7, 0.2, 2 * np.pi)
+        got = numpy_function(printed, args)(1.3, psis, 0.1, 0.7, 0.2, 2 * np.pi)
+        np.testing.assert_allclose(got, want, rtol=1e-13, atol=1e-15)
+
+
+def test_corrected_eq6_is_the_textbook_van_der_pol_frequency_without_potential():
+    """Without the potential (Delta = 0) the corrected eq. (6) is the van der Pol frequency
+    1 + mu^2 B_2 with B_2 = -(1 - beta a^2 + 7 beta^2 a^4/32)/8 (Bogoliubov & Mitropolsky
+    ch. 1, typed here; for beta = 1 the -1/8 + a^2/8 - 7 a^4/256 of the engine's tests), and
+    it differs from the printed eq. (6)."""
+    mu, beta, a = paper.mu, paper.beta, paper.a
+    textbook = 1 - mu**2 * (1 - beta * a**2 + sp.Rational(7, 32) * beta**2 * a**4) / 8
+    row = paper.ERRATA[0]
+    assert sp.expand(row.corrected.subs(paper.Delta, 0).doit() - textbook) == 0
+    assert sp.expand(row.printed.subs(paper.Delta, 0) - textbook) != 0
 
 
 def test_eq6_vdp_frequency_on_the_cycle():

@@ -24,7 +24,7 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..limit_cycle import limit_cycle_series
+    from ..series import limit_cycle_series
     from .derive import model_from_args
 
     model = model_from_args(args)

@@ -1,21 +1,31 @@
 """Finite real Fourier series in the phase ``psi`` with exact Laurent coefficients.
 
 ``f(psi) = sum_m c_m cos(m psi) + s_m sin(m psi)``, ``m >= 0``, each ``c_m``, ``s_m``
-a :class:`~kbm._laurent.Laurent` polynomial in ``a``, the parameters and
+a :class:`~kbm.algebra.laurent.Laurent` polynomial in ``a``, the parameters and
 ``omega0``.  This is the representation of the polynomial KBM recursion:
 products use the product-to-sum formulas, ``d/dpsi`` acts on the harmonic
 index, ``d/da`` on the coefficients.  No integration over ``psi`` is ever done.
+
+:class:`PolyAlgebra` offers these series to the recursion through the
+:class:`~kbm.algebra.base.FourierAlgebra` protocol.
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import sympy as sp
 
-from ._laurent import Laurent, LaurentRing, _Q
+from ..errors import UnsupportedTermError
+from ..symbols import a, psi, x, xdot
+from .laurent import Laurent, LaurentRing, Q
 
-__all__ = ["PolyFourier"]
+if TYPE_CHECKING:  # the models sit above the algebra; only their type is named here
+    from ..models import Oscillator
 
-_HALF = _Q(1, 2)
+__all__ = ["PolyFourier", "PolyAlgebra", "ring_generators"]
+
+_HALF = Q(1, 2)
 
 
 class PolyFourier:
@@ -148,9 +158,9 @@ class PolyFourier:
 
     def solve_without_first(self, omega0_sq_inv: Laurent) -> "PolyFourier":
         """Solve ``omega0**2 (u'' + u) = self`` harmonic by harmonic, dropping ``m = 1``."""
-        cos = {m: c.scale(_Q(1, 1 - m * m)) * omega0_sq_inv for m, c in self.cos.items()
+        cos = {m: c.scale(Q(1, 1 - m * m)) * omega0_sq_inv for m, c in self.cos.items()
                if m != 1}
-        sin = {m: c.scale(_Q(1, 1 - m * m)) * omega0_sq_inv for m, c in self.sin.items()
+        sin = {m: c.scale(Q(1, 1 - m * m)) * omega0_sq_inv for m, c in self.sin.items()
                if m != 1}
         return PolyFourier(self.ring, cos, sin)
 
@@ -163,3 +173,75 @@ class PolyFourier:
         for m in sorted(self.sin):
             parts.append(self.sin[m].as_primitive_expr() * sp.sin(m * psi))
         return sp.Add(*parts)
+
+
+# ----------------------------------------------------------------------------- the adapter
+def ring_generators(model: Oscillator) -> list[sp.Symbol]:
+    """``[a, *parameters]``: the generators of the Laurent ring of ``model`` (parameters
+    sorted by name, ``omega0`` among them when it is a symbol)."""
+    params = sorted((model.F.free_symbols | model.omega0.free_symbols) - {x, xdot},
+                    key=lambda s: s.name)
+    return [a, *params]
+
+
+class PolyAlgebra:
+    """Exact arithmetic for polynomial F: Laurent coefficients in (a, parameters).
+
+    Implements :class:`~kbm.algebra.base.FourierAlgebra` with series
+    :class:`PolyFourier` and coefficients :class:`~kbm.algebra.laurent.Laurent`.
+    """
+
+    exact = True
+
+    def __init__(self, model: Oscillator):
+        self.ring = LaurentRing(ring_generators(model))
+        w0 = model.omega0
+        if w0.is_Symbol:
+            i = self.ring.gens.index(w0)
+            self.w0 = self.ring.gen(i)
+            self.w0inv = self.ring.gen(i, -1)
+        else:
+            self.w0 = self.ring.const(Q(int(w0.p), int(w0.q)))
+            self.w0inv = self.ring.const(Q(int(w0.q), int(w0.p)))
+        self.a_inv = self.ring.gen(0, -1)
+
+    def zero(self) -> PolyFourier:
+        return PolyFourier(self.ring)
+
+    def const(self, expr: sp.Expr) -> PolyFourier:
+        return PolyFourier.constant(self.ring, self.ring.from_expr(expr))
+
+    def coef(self, expr: sp.Expr) -> Laurent:
+        return self.ring.from_expr(expr)
+
+    def x0(self) -> PolyFourier:
+        return PolyFourier(self.ring, {1: self.ring.gen(0)})
+
+    def scale(self, f: PolyFourier, c: Laurent) -> PolyFourier:
+        return f.scale(c)
+
+    def dpsi(self, f: PolyFourier) -> PolyFourier:
+        return f.dpsi()
+
+    def da(self, f: PolyFourier) -> PolyFourier:
+        return f.da()
+
+    def secular(self, R: PolyFourier) -> tuple[Laurent, Laurent]:
+        c1, s1 = R.harmonic(1)
+        half = Q(-1, 2)
+        A = (s1 * self.w0inv).scale(half)
+        B = (c1 * self.w0inv * self.a_inv).scale(half)
+        return A, B
+
+    def solve(self, R: PolyFourier) -> PolyFourier:
+        return R.solve_without_first(self.w0inv * self.w0inv)
+
+    def coef_expr(self, c: Laurent) -> sp.Expr:
+        return c.as_primitive_expr() if c else sp.Integer(0)
+
+    def series_expr(self, f: PolyFourier) -> sp.Expr:
+        return f.as_expr(psi)
+
+    def trig(self, kind: str, c: sp.Expr) -> list[PolyFourier]:  # pragma: no cover
+        # unreachable: derive() sends F with sin/cos to the Bessel algebra
+        raise UnsupportedTermError("sin/cos in the polynomial algebra")

@@ -9,61 +9,51 @@ the integer indices ``n_i >= l_i`` (none for an ordinary harmonic), with the
 harmonic ``h`` an integer linear form in the indices.  Products of terms add
 indices, so order 2 meets double sums; the coefficient of one harmonic of a
 double sum is a single sum along a lattice line, found exactly with the
-extended Euclidean algorithm.  Nothing is truncated here: truncation happens
-only when a result is evaluated numerically (:mod:`kbm.evaluate`).
+extended Euclidean algorithm (:mod:`~kbm.algebra.lattice`).  Nothing is
+truncated here: truncation happens only when a result is evaluated numerically
+(:mod:`kbm.evaluate`).
+
+:class:`SymAlgebra` offers these series to the recursion through the
+:class:`~kbm.algebra.base.FourierAlgebra` protocol; :func:`tidy` and
+:func:`tidy_sums` put its coefficients in display form.  (The series, its
+display and its adapter change together, so they stay in one module of a little
+over 350 lines; the lattice arithmetic is apart.)
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
 
 import sympy as sp
 
-from .errors import OrderError
+from ..errors import OrderError
+from ..symbols import a, psi
+from .lattice import line_points_exist, line_sum, linear_form
 
-__all__ = ["SymFourier", "INDEX", "jacobi_anger"]
+if TYPE_CHECKING:  # the models sit above the algebra; only their type is named here
+    from ..models import Oscillator
+
+__all__ = ["SymFourier", "SymAlgebra", "jacobi_anger", "tidy", "tidy_sums",
+           "INDEX", "DISPLAY_INDEX", "COS", "SIN"]
 
 #: internal summation indices, renamed to n, m, ... for display
 INDEX = tuple(sp.Symbol(f"_n{i}", integer=True) for i in range(1, 9))
 #: display names of the summation indices
 DISPLAY_INDEX = (sp.Symbol("n"), sp.Symbol("m"), sp.Symbol("j"))
 
+#: the two kinds of term: ``c cos(h psi)`` and ``c sin(h psi)``
 COS, SIN = 0, 1
-
-
-def _lin(h: sp.Expr, idx: tuple[sp.Symbol, ...]) -> tuple[list[int], int]:
-    """Integer coefficients of the linear form ``h`` in the indices, and its constant."""
-    h = sp.expand(h)
-    coeffs = [int(h.coeff(s)) for s in idx]
-    const = h.subs({s: 0 for s in idx})
-    return coeffs, int(const)
 
 
 def _canon_sign(kind: int, h: sp.Expr, idx, coef: sp.Expr):
     """Choose the sign of ``h`` (cos even, sin odd) so that equal terms share a key."""
-    coeffs, const = _lin(h, tuple(s for s, _ in idx))
+    coeffs, const = linear_form(h, tuple(s for s, _ in idx))
     lead = next((c for c in coeffs if c), const)
     if lead < 0:
         h = -h
         if kind == SIN:
             coef = -coef
     return h, coef
-
-
-def _egcd(p: int, q: int) -> tuple[int, int, int]:
-    """``(g, x, y)`` with ``p x + q y = g = gcd(p, q) >= 0``."""
-    x0, y0, x1, y1 = 1, 0, 0, 1
-    while q:
-        r = p // q
-        p, q = q, p - r * q
-        x0, x1 = x1, x0 - r * x1
-        y0, y1 = y1, y0 - r * y1
-    if p < 0:
-        p, x0, y0 = -p, -x0, -y0
-    return p, x0, y0
-
-
-def _ceil_div(p: int, q: int) -> int:
-    return -((-p) // q)
 
 
 class SymFourier:
@@ -168,7 +158,7 @@ class SymFourier:
         for (kind, h, idx), c in self.terms.items():
             targets = [(m, 1)] if m == 0 else [(m, 1), (-m, 1 if kind == COS else -1)]
             for target, sign in targets:
-                val = _line_sum(c, h, idx, target)
+                val = line_sum(c, h, idx, target, INDEX[0])
                 if val != 0:
                     (cos_parts if kind == COS else sin_parts).append(sign * val)
         return sp.Add(*cos_parts), sp.Add(*sin_parts)
@@ -188,7 +178,7 @@ class SymFourier:
                     self._put(out, kind, h, idx, c / (w2 * (1 - h**2)))
                 continue
             syms = tuple(s for s, _ in idx)
-            coeffs, const = _lin(h, syms)
+            coeffs, const = linear_form(h, syms)
             if len(idx) == 2 and coeffs[0] == -coeffs[1] != 0:
                 # the harmonic depends on n1 - n2 only: resum along diagonals, so that
                 # each harmonic gets one coefficient (an inner sum) and |h| = 1 is a point
@@ -212,7 +202,7 @@ class SymFourier:
                         self._put(out, kind, sp.Integer(hn), (), cn / (w2 * (1 - hn**2)))
                 self._put(out, kind, h, ((s, top + 1),), c / (w2 * (1 - h**2)))
             else:
-                has_line = any(_line_points_exist(h, idx, t) for t in (1, -1))
+                has_line = any(line_points_exist(h, idx, t) for t in (1, -1))
                 term = c / (w2 * (1 - h**2))
                 if has_line:
                     term = sp.Piecewise((term, sp.Ne(h**2, 1)), (0, True))
@@ -255,7 +245,7 @@ def _diagonalize(kind: int, h: sp.Expr, idx, c: sp.Expr):
     """
     (s1, l1), (s2, l2) = idx
     d = INDEX[0]
-    (p1, _), q = _lin(h, (s1, s2))
+    (p1, _), q = linear_form(h, (s1, s2))
     d0 = l1 - l2
     pieces = []
     inner_a = sp.Sum(sp.expand(c.xreplace({s1: INNER + d, s2: INNER})), (INNER, l2, sp.oo))
@@ -267,80 +257,6 @@ def _diagonalize(kind: int, h: sp.Expr, idx, c: sp.Expr):
 
 def _clean(d: dict) -> dict:
     return {k: v for k, v in d.items() if v != 0}
-
-
-def _line(h: sp.Expr, idx, target: int):
-    """Admissible points of a two-index family where ``h == target``.
-
-    Returns ``None`` if there are none, ``"all"`` if ``h`` is constant and equal
-    to ``target``, else ``(x0, y0, d1, d2, lo, hi)``: the points are
-    ``(n1, n2) = (x0 + d1 s, y0 + d2 s)`` for integer ``s`` in ``[lo, hi]``
-    (``None`` for an unbounded end).  Found with the extended Euclidean algorithm.
-    """
-    syms = tuple(s for s, _ in idx)
-    (p1, p2), q = _lin(h, syms)
-    (s1, l1), (s2, l2) = idx
-    rhs = target - q
-    g, u, w = _egcd(p1, p2)
-    if g == 0:
-        return "all" if rhs == 0 else None
-    if rhs % g:
-        return None
-    k = rhs // g
-    # general solution n1 = u k + (p2/g) s, n2 = w k - (p1/g) s
-    x0, y0, d1, d2 = u * k, w * k, p2 // g, -p1 // g
-    lo, hi = None, None
-    for base, step, low in ((x0, d1, l1), (y0, d2, l2)):
-        if step > 0:  # base + step s >= low
-            b = _ceil_div(low - base, step)
-            lo = b if lo is None else max(lo, b)
-        elif step < 0:
-            b = (base - low) // (-step)
-            hi = b if hi is None else min(hi, b)
-        elif base < low:
-            return None
-    if lo is not None and hi is not None and hi < lo:
-        return None
-    return x0, y0, d1, d2, lo, hi
-
-
-def _line_points_exist(h, idx, target) -> bool:
-    return _line(h, idx, target) is not None
-
-
-def _line_sum(c: sp.Expr, h: sp.Expr, idx, target: int) -> sp.Expr:
-    """Sum of ``c`` over the admissible index points where ``h == target``."""
-    if not idx:
-        return c if h == target else sp.Integer(0)
-    syms = tuple(s for s, _ in idx)
-    coeffs, q = _lin(h, syms)
-    rhs = target - q
-    if len(idx) == 1:
-        (s, lo), p = idx[0], coeffs[0]
-        if p == 0:
-            return sp.Sum(c, (s, lo, sp.oo)) if rhs == 0 else sp.Integer(0)
-        if rhs % p:
-            return sp.Integer(0)
-        n = rhs // p
-        return c.subs(s, n) if n >= lo else sp.Integer(0)
-    if len(idx) != 2:
-        raise OrderError("harmonic balance over three or more nested Bessel sums is not "
-                         "implemented; use order <= 2 for models with sin(k x) or cos(k x)")
-    line = _line(h, idx, target)
-    if line is None:
-        return sp.Integer(0)
-    (s1, l1), (s2, l2) = idx
-    if line == "all":
-        return sp.Sum(c, (s1, l1, sp.oo), (s2, l2, sp.oo))
-    x0, y0, d1, d2, lo, hi = line
-    s = sp.Symbol("_s", integer=True)
-    body = c.xreplace({s1: x0 + d1 * s, s2: y0 + d2 * s})
-    if lo is not None and hi is not None:
-        return sp.Add(*[body.subs(s, j) for j in range(lo, hi + 1)])
-    if hi is not None:  # s <= hi: substitute s -> -s
-        body, lo = body.xreplace({s: -s}), -hi
-    body = body.xreplace({s: INDEX[0]})
-    return sp.Sum(sp.expand(body), (INDEX[0], lo, sp.oo))
 
 
 def tidy(expr: sp.Expr) -> sp.Expr:
@@ -369,3 +285,83 @@ def jacobi_anger(z: sp.Expr) -> tuple[SymFourier, SymFourier]:
     cos_s = SymFourier({(COS, sp.Integer(0), ()): sp.besselj(0, z),
                         (COS, 2 * n, ((n, 1),)): 2 * (-1)**n * sp.besselj(2 * n, z)})
     return sin_s, cos_s
+
+
+# ----------------------------------------------------------------------------- the adapter
+def tidy_sums(expr: sp.Expr) -> sp.Expr:
+    """Rename summation indices to n, merge sums with equal limits, tidy the rest."""
+    expr = sp.expand(expr)
+    sums: dict[tuple, list[sp.Expr]] = {}
+    rest = []
+    for term in sp.Add.make_args(expr):
+        coeff, sm = sp.Integer(1), None
+        for f in sp.Mul.make_args(term):
+            if isinstance(f, sp.Sum) and sm is None:
+                sm = f
+            else:
+                coeff *= f
+        if sm is None:
+            rest.append(term)
+            continue
+        limits = sm.limits
+        ren = {lim[0]: DISPLAY_INDEX[i] for i, lim in enumerate(limits)}
+        body = sm.function.xreplace(ren) * coeff
+        key = tuple((ren[l[0]], l[1], l[2]) for l in limits)
+        sums.setdefault(key, []).append(body)
+    out = [tidy(sp.Add(*rest))]
+    for key in sorted(sums, key=sp.default_sort_key):
+        out.append(sp.Sum(tidy(sp.Add(*sums[key])), *key))
+    return sp.Add(*out)
+
+
+class SymAlgebra:
+    """sympy coefficients and infinite Jacobi-Anger families of harmonics.
+
+    Implements :class:`~kbm.algebra.base.FourierAlgebra` with series
+    :class:`SymFourier` and sympy expressions as coefficients.
+    """
+
+    exact = False
+
+    def __init__(self, model: Oscillator):
+        self.w0 = model.omega0
+
+    def zero(self) -> SymFourier:
+        return SymFourier()
+
+    def const(self, expr: sp.Expr) -> SymFourier:
+        return SymFourier.constant(expr)
+
+    def coef(self, expr: sp.Expr) -> sp.Expr:
+        return sp.sympify(expr)
+
+    def x0(self) -> SymFourier:
+        return SymFourier.harmonic_term(COS, 1, a)
+
+    def scale(self, f: SymFourier, c: sp.Expr) -> SymFourier:
+        return f.scale(c)
+
+    def dpsi(self, f: SymFourier) -> SymFourier:
+        return f.dpsi()
+
+    def da(self, f: SymFourier) -> SymFourier:
+        return f.da(a)
+
+    def secular(self, R: SymFourier) -> tuple[sp.Expr, sp.Expr]:
+        c1, s1 = R.harmonic(1)
+        return -s1 / (2 * self.w0), -c1 / (2 * self.w0 * a)
+
+    def solve(self, R: SymFourier) -> SymFourier:
+        return R.solve_without_first(self.w0)
+
+    def coef_expr(self, c: sp.Expr) -> sp.Expr:
+        return tidy_sums(c)
+
+    def series_expr(self, f: SymFourier) -> sp.Expr:
+        return f.as_expr(psi)
+
+    def trig(self, kind: str, c: sp.Expr) -> list[SymFourier]:
+        """Fourier series of ``f^(m)(c a cos psi)``, m = 0..3, for f = sin or cos."""
+        s, co = jacobi_anger(c * a)
+        seq = [s, co, -s, -co]  # sin, sin', sin'', sin'''
+        return seq if kind == "sin" else seq[1:] + seq[:1]

@@ -13,17 +13,17 @@ so that multiplying monomials is one integer addition.
 from __future__ import annotations
 
 from collections.abc import Sequence
-
 from math import gcd as _gcd
 
 import sympy as sp
 
+# Q: the exact rational number type of the coefficients (gmpy2.mpq, else fractions.Fraction).
 try:  # gmpy2 makes rational arithmetic several times faster
-    from gmpy2 import mpq as _Q
+    from gmpy2 import mpq as Q
 except ImportError:  # pragma: no cover - gmpy2 is a declared dependency
-    from fractions import Fraction as _Q
+    from fractions import Fraction as Q
 
-__all__ = ["LaurentRing", "Laurent"]
+__all__ = ["LaurentRing", "Laurent", "Q"]
 
 _BITS = 16
 _BIAS = 1 << (_BITS - 1)
@@ -54,11 +54,11 @@ class LaurentRing:
         return m
 
     def const(self, c) -> "Laurent":
-        c = _Q(c)
+        c = Q(c)
         return Laurent(self, {self.zero_mono: c} if c else {})
 
     def gen(self, i: int, power: int = 1) -> "Laurent":
-        return Laurent(self, {self.zero_mono + power * self._unit[i]: _Q(1)})
+        return Laurent(self, {self.zero_mono + power * self._unit[i]: Q(1)})
 
     def from_expr(self, expr: sp.Expr) -> "Laurent":
         """Convert a sympy polynomial (rational coefficients) in the generators."""
@@ -78,7 +78,7 @@ class LaurentRing:
             c = c / dc
             if not c.is_Rational:
                 raise TypeError(f"coefficient {c} is not rational")
-            out[self.monomial([e - d for e, d in zip(exps, dexps)])] = _Q(int(c.p), int(c.q))
+            out[self.monomial([e - d for e, d in zip(exps, dexps)])] = Q(int(c.p), int(c.q))
         return Laurent(self, out)
 
 
@@ -133,7 +133,7 @@ class Laurent:
         return Laurent(self.ring, {m: c for m, c in out.items() if c})
 
     def scale(self, c) -> "Laurent":
-        c = _Q(c)
+        c = Q(c)
         if not c:
             return Laurent(self.ring, {})
         return Laurent(self.ring, {m: v * c for m, v in self.terms.items()})
@@ -179,7 +179,7 @@ class Laurent:
         for i, e in enumerate(lows):
             if e:
                 shifted = shifted.shift(i, -e)
-        inner = shifted.scale(_Q(lcm, 1) / _Q(int(content.p), 1)).as_expr() \
+        inner = shifted.scale(Q(lcm, 1) / Q(int(content.p), 1)).as_expr() \
             if content.p else sp.Integer(0)
         mono = sp.Mul(*[g_**e for g_, e in zip(ring.gens, lows) if e])
         return sp.Mul(content, mono, inner)

@@ -1,0 +1,183 @@
+"""Exact ``mu``-series of the limit cycle of the averaged equations (polynomial ``F``).
+
+A limit cycle of the KBM approximation is a positive root ``a*`` of
+``A(a) = sum_{n>=1} mu**n A_n(a)`` (:mod:`kbm.averaged`).  For polynomial ``F``
+the root and the frequency ``omega* = omega0 + sum mu**n B_n(a*)`` are expanded
+here as exact series in ``mu``: with ``a* = a_0 + sum_j c_j mu**j``,
+``A_1(a_0) = 0``, every ``c_j`` solves a linear equation with the coefficient
+``A_1'(a_0)``, so the series exists when the first-order cycle is hyperbolic.
+The rates come from :func:`kbm.averaging.run_recursion` in exact rational
+arithmetic; no ``u_n`` beyond the last one needed is computed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .algebra.laurent import Q
+from .averaging import run_recursion
+from .errors import AveragedCycleError, OrderError, ParameterError
+from .latex import equation_lines
+from .symbols import a, mu
+
+__all__ = ["LimitCycleSeries", "limit_cycle_series"]
+
+
+@dataclass(frozen=True)
+class LimitCycleSeries:
+    """Exact series ``a* = sum amplitude[n] mu**n``, ``omega* = sum omega[n] mu**n``."""
+
+    order: int
+    amplitude: tuple[sp.Expr, ...]
+    omega: tuple[sp.Expr, ...]
+
+    def amplitude_expr(self) -> sp.Expr:
+        """``a* = sum_n amplitude[n] mu**n`` (truncated)."""
+        return sp.Add(*[c * mu**n for n, c in enumerate(self.amplitude)])
+
+    def omega_expr(self) -> sp.Expr:
+        """``omega* = sum_n omega[n] mu**n`` (truncated)."""
+        return sp.Add(*[c * mu**n for n, c in enumerate(self.omega)])
+
+    def latex(self, width: int = 90) -> str:
+        """Both series as a LaTeX ``align*`` block (long lines broken)."""
+        o = f" + O(\\mu^{{{self.order + 1}}})"
+        return ("\\begin{align*}\n"
+                + equation_lines(r"\omega^*", self.omega_expr(), width, "rev-lex") + o
+                + " \\\\\n" + equation_lines(r"a^*", self.amplitude_expr(), width, "rev-lex") + o
+                + "\n\\end{align*}")
+
+    def _repr_latex_(self) -> str:
+        return "$\\displaystyle " + self.latex().replace("align*", "aligned") + "$"
+
+
+def limit_cycle_series(model, order: int, *, root: object | None = None) -> LimitCycleSeries:
+    """Exact ``mu``-series of the limit-cycle amplitude and frequency (polynomial ``F``).
+
+    Parameters
+    ----------
+    model
+        A model or built-in name; ``F`` must be polynomial (exact rational algebra).
+    order
+        Highest power of ``mu`` in both series (needs ``A_1..A_{order+1}`` and
+        ``B_1..B_order``).
+    root
+        The first-order amplitude ``a_0`` (a positive root of ``A_1``); default:
+        the only positive root, an error if there are several.
+
+    Returns
+    -------
+    LimitCycleSeries
+        ``amplitude[n]``, ``omega[n]``: exact coefficients of ``mu**n``.
+
+    Examples
+    --------
+    >>> s = limit_cycle_series("vdp", 4)
+    >>> s.omega
+    (1, 0, -1/16, 0, 17/3072)
+    >>> s.amplitude[:3]
+    (2, 0, 1/64)
+    """
+    if not isinstance(order, int) or isinstance(order, bool) or order < 0:
+        raise OrderError(f"the series order must be an integer >= 0, got {order!r}")
+    raw = run_recursion(model, order + 1, last_u=False)
+    if not raw.exact:
+        raise OrderError("exact limit-cycle series need a polynomial F; use averaged_cycles "
+                         "for the Bessel models")
+    # the exact algebra's coefficients are Laurent polynomials: expanded sympy polynomials
+    A = [None] + [c.as_expr() for c in raw.A]
+    B = [raw.model.omega0] + [c.as_expr() for c in raw.B]
+    A1 = sp.expand(A[1])
+    a0 = _first_order_root(A1, root)
+    N = order
+    exact_q = a0.is_Rational and all(sp.Poly(sp.expand(e), a).domain.is_QQ
+                                     or sp.Poly(sp.expand(e), a).domain.is_ZZ
+                                     for e in A[1:] + B)
+
+    def num(v):
+        v = sp.expand(v)
+        return Q(int(v.p), int(v.q)) if exact_q else v
+
+    def taylor(expr):  # at least to k = 1: A_1'(a0) is needed even for order 0
+        p = sp.Poly(sp.expand(expr), a)
+        out, k_fact = [], 1
+        for k in range(max(N, 1) + 1):
+            out.append(num(p.eval(a0) / k_fact))
+            p = p.diff(a)
+            k_fact *= k + 1
+        return out
+
+    TA = [None] + [taylor(A[n]) for n in range(1, N + 2)]
+    TB = [taylor(B[n]) for n in range(0, N + 1)]
+    zero = num(sp.Integer(0))
+    one = num(sp.Integer(1))
+    slope = TA[1][1]
+    if slope == 0:
+        raise AveragedCycleError(f"A_1'(a0) = 0 at a0 = {a0}: the cycle is not hyperbolic "
+                                 "and has no regular series in mu")
+
+    def mul(p, q):
+        r = [zero] * (N + 1)
+        for i, pi in enumerate(p):
+            if pi == 0:
+                continue
+            for j in range(N + 1 - i):
+                if q[j] != 0:
+                    r[i + j] = r[i + j] + pi * q[j]
+        return r if exact_q else [sp.expand(v) for v in r]
+
+    def powers_of(c):
+        pw = [[one] + [zero] * N]
+        for _ in range(N):
+            pw.append(mul(pw[-1], c))
+        return pw
+
+    c = [zero] * (N + 1)  # a* - a0 = sum_j c[j] mu**j
+    for j in range(1, N + 1):
+        # coefficient of mu**j in sum_n mu**(n-1) A_n(a0 + delta), the c_j term left out
+        pw = powers_of(c)
+        total = zero
+        for n in range(1, j + 2):
+            for k in range(N + 1):
+                total = total + TA[n][k] * pw[k][j - (n - 1)]
+        c[j] = -total / slope if exact_q else sp.radsimp(sp.expand(-total / slope))
+    pw = powers_of(c)
+    omega = [zero] * (N + 1)
+    for n in range(N + 1):
+        for k in range(N + 1):
+            for j in range(N + 1 - n):
+                omega[n + j] = omega[n + j] + TB[n][k] * pw[k][j]
+
+    def out(v):
+        if exact_q:
+            return sp.Rational(int(v.numerator), int(v.denominator))
+        return sp.radsimp(sp.expand(v))
+
+    return LimitCycleSeries(order=N, amplitude=(a0, *[out(v) for v in c[1:]]),
+                            omega=tuple(out(v) for v in omega))
+
+
+def _first_order_root(A1: sp.Expr, root: object | None) -> sp.Expr:
+    """``a_0``: the given ``root`` checked against ``A_1``, or the only positive root of ``A_1``."""
+    if A1 == 0:
+        raise AveragedCycleError("A_1 = 0: the first-order amplitude equation has no isolated "
+                                 "cycle")
+    free = sorted(map(str, A1.free_symbols - {a}))
+    if free:
+        example = ", ".join(f"{p!r}: 1" for p in free)
+        raise ParameterError(f"A_1 = {A1} has parameters {free}; give them values for an exact "
+                             f"series (e.g. get_model(name, {{{example}}}) or "
+                             f"model.substitute({{{example}}}))")
+    if root is None:
+        cands = sorted((r for r in sp.roots(sp.Poly(A1, a)).keys() if r.is_positive),
+                       key=float)
+        if len(cands) != 1:
+            raise AveragedCycleError(f"A_1 = {A1} has {len(cands)} positive roots {cands}; "
+                                     "choose one with root=")
+        return cands[0]
+    a0 = sp.nsimplify(root)
+    if sp.simplify(A1.subs(a, a0)) != 0:
+        raise ParameterError(f"a0 = {a0} is not a root of A_1 = {A1}")
+    return a0

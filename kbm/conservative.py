@@ -101,12 +101,17 @@ def _check_confining(G: sp.Expr, g: sp.Expr, model: Oscillator) -> None:
     Gf = sp.lambdify(x, G, "numpy")
     gf = sp.lambdify(x, g, "numpy")
     inner = np.linspace(-100.0, 100.0, 20001)
-    with np.errstate(all="ignore"):
-        ref = float(np.max(np.abs(np.broadcast_to(Gf(inner), inner.shape))))
-        far = np.array([1e4, 1e5, 1e6])
-        Gp = np.broadcast_to(Gf(far), far.shape)
-        Gm = np.broadcast_to(Gf(-far), far.shape)
-        gp, gm = float(gf(1e6)), float(gf(-1e6))
+    try:
+        with np.errstate(all="ignore"):
+            ref = float(np.max(np.abs(np.broadcast_to(Gf(inner), inner.shape))))
+            far = np.array([1e4, 1e5, 1e6])
+            Gp = np.broadcast_to(Gf(far), far.shape)
+            Gm = np.broadcast_to(Gf(-far), far.shape)
+            gp, gm = float(gf(1e6)), float(gf(-1e6))
+    except (NameError, TypeError) as exc:  # a function numpy does not know (e.g. hyper)
+        raise ModelError(
+            f"the potential G(x) = {G} of model {model.name!r} has no numpy form ({exc}); "
+            "give the conservative part's potential explicitly (potential=...)") from None
     ok = (np.all(np.isfinite(Gp)) and np.all(np.isfinite(Gm))
           and min(Gp[-1], Gm[-1]) > 100.0 * (1.0 + ref) and gp > 0 and gm < 0
           and np.all(np.diff(Gp) > 0) and np.all(np.diff(Gm) > 0))

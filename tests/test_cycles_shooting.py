@@ -154,14 +154,20 @@ def test_cli_cycle_json(capsys):
 
 def test_rest_in_a_side_well_is_not_a_cycle():
     """SEDF with Delta = 3 (mu = 0.1, beta = 1) has a stable rest point in a side well of the
-    potential (x = 1.8914) next to its limit cycle: from x = 1 the motion settles there and
-    the answer is NoCycleError (not a 'cycle' of zero amplitude); from x = 3 the cycle."""
+    potential (x = 1.8914, where Omega^2 x + Delta sin(2 pi x) = 0) next to its limit cycle:
+    Newton from a start near it settles there and the answer is NoCycleError (not a 'cycle'
+    of zero amplitude); the default search (classical KBM fails here) finds the cycle from
+    the energy-balance prediction about the conservative orbit (issue 10: x_max ~ 2.0906,
+    T ~ 8.142)."""
     p = {"mu": 0.1, "Delta": 3, "beta": 1, "lam": 1}
     with pytest.raises(NoCycleError, match="settles to rest at x = 1.891"):
-        limit_cycle("sedf", p, x_start=1.0)
-    c = limit_cycle("sedf", p, x_start=3.0)
-    assert c.success and abs(c.floquet_multipliers[0] - 1) < 1e-6
-    assert c.amplitude_first_harmonic > 2.0
+        limit_cycle("sedf", p, guess=(1.9, 6.0))
+    assert 1.89143 + 3 * math.sin(2 * math.pi * 1.89143) == pytest.approx(0, abs=1e-4)
+    c = limit_cycle("sedf", p, x_start=1.0)
+    assert c.success and "energy-balance" in c.message
+    assert c.amplitude_max == pytest.approx(2.0906, abs=1e-4)
+    assert c.period == pytest.approx(8.142, abs=1e-3)
+    assert c.stable and c.energy_residual == pytest.approx(0, abs=1e-10)
 
 
 def test_non_smooth_model_is_a_clear_error(capsys):

@@ -220,7 +220,7 @@ def limit_cycles(model: Oscillator | str | BoundModel, params: Mapping[str, obje
     --------
     >>> cs = limit_cycles("vdp", {"mu": 0.5})
     >>> [round(c.amplitude_max, 6) for c in cs], cs[0].stable
-    ([2.00472], True)
+    ([2.002488], True)
     """
     bound = bind(model, params)
     pred = predict_cycles(bound.model, dict(bound.values), order=order, potential=potential)

@@ -14,7 +14,8 @@ Built in floors, each importing only the ones below it (``tests/test_layering.py
 
 from numerics._memo import clear_caches
 from numerics.comparison import (Comparison, ConvergenceStudy, Prediction, compare,
-                                 convergence_study, kbm_prediction, predicted_orders)
+                                 convergence_study, energy_prediction, kbm_prediction, predict,
+                                 predicted_orders)
 from numerics.cycles import (Dissipation, LimitCycle, SweepPoint, grid, limit_cycle,
                              limit_cycles, sweep)
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError, NumericsError

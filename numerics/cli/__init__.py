@@ -16,7 +16,7 @@ from kbm.cli import build_parser as _build_symbolic, register_commands, run_comm
 __all__ = ["main", "build_parser", "COMMANDS"]
 
 #: the numerical sub-command modules, listed after ``derive`` and ``series``
-COMMANDS = ("cycle", "compare", "slide", "figures", "derivations", "reproduce")
+COMMANDS = ("predict", "cycle", "compare", "slide", "figures", "derivations", "reproduce")
 
 
 def build_parser():

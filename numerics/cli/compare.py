@@ -18,6 +18,9 @@ def register(sub) -> None:
     add_model_arguments(p)
     add_param_option(p)
     p.add_argument("--orders", default="1,2", help="comma-separated KBM orders (default 1,2)")
+    p.add_argument("--energy-orders", default="1,2", metavar="N,...",
+                   help="orders of the averaging about the conservative orbit shown next to "
+                        "KBM (default 1,2; 'none' to leave them out)")
     p.add_argument("--paper", action="store_true",
                    help="add the paper's eqs. (5)-(9) as printed (sedf only)")
     p.add_argument("--x-start", type=float, default=None, metavar="X",
@@ -36,21 +39,21 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def _orders(text: str) -> list[int]:
+def _orders(text: str, flag: str = "--orders") -> list[int]:
     from kbm.errors import OrderError
 
     try:
         out = [int(s) for s in text.split(",") if s.strip()]
     except ValueError:
-        raise OrderError(f"--orders takes comma-separated integers, got {text!r}") from None
+        raise OrderError(f"{flag} takes comma-separated integers, got {text!r}") from None
     if not out or min(out) < 1:
-        raise OrderError(f"--orders must list orders >= 1, got {text!r}")
+        raise OrderError(f"{flag} must list orders >= 1, got {text!r}")
     return out
 
 
 def run(args: argparse.Namespace) -> int:
     from kbm.errors import ModelError
-    from numerics.comparison import compare
+    from numerics.comparison import compare, energy_prediction
     from numerics.paper import paper_prediction
 
     params = parse_params(args.param)
@@ -91,8 +94,10 @@ def run(args: argparse.Namespace) -> int:
             print(study.table())
         return 0
     kw = {} if args.x_start is None else {"x_start": args.x_start}
-    comp = compare(model_spec(args), params, orders=_orders(args.orders),
-                   extra=[paper_prediction] if args.paper else (), **kw)
+    extra = [paper_prediction] if args.paper else []
+    if args.energy_orders.strip().lower() != "none":
+        extra += [energy_prediction(n) for n in _orders(args.energy_orders, "--energy-orders")]
+    comp = compare(model_spec(args), params, orders=_orders(args.orders), extra=extra, **kw)
     if args.json:
         emit_json(comp.to_json())
     else:

@@ -23,26 +23,64 @@ def register(sub) -> None:
                    choices=["auto", "compiled", "LSODA", "DOP853", "Radau", "BDF"],
                    help="integrator of the shooting: auto (compiled DOP853 unless stiff, then "
                         "LSODA), compiled (DOP853 compiled with numba), or a scipy method")
+    p.add_argument("--x-start", type=float, default=1.0, metavar="X",
+                   help="start of the last-resort transient, x = X, x' = 0 (default 1)")
+    p.add_argument("--all", action="store_true",
+                   help="every cycle the energy-balance averaging predicts (stable and "
+                        "unstable, on every annulus), each confirmed by shooting")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
+    import math
+
     from kbm.errors import ParameterError
-    from numerics import limit_cycle
+    from numerics import limit_cycle, limit_cycles
 
     if args.digits is not None and not 1 <= args.digits <= 200:
         raise ParameterError(f"--digits must be between 1 and 200, got {args.digits}")
     if not 1e-15 <= args.rtol <= 1e-3:
         raise ParameterError(f"--rtol must be between 1e-15 and 1e-3, got {args.rtol}")
-    cyc = limit_cycle(model_spec(args), parse_params(args.param), digits=args.digits,
-                      rtol=args.rtol, method=args.method)
-    data = cyc.to_json()
+    if not math.isfinite(args.x_start):
+        raise ParameterError(f"--x-start must be a finite number, got {args.x_start}")
+    kw = dict(digits=args.digits, rtol=args.rtol, method=args.method)
+    if args.all:
+        return _run_all(limit_cycles(model_spec(args), parse_params(args.param), **kw), args)
+    cyc = limit_cycle(model_spec(args), parse_params(args.param), x_start=args.x_start, **kw)
     if args.json:
-        emit_json(data)
+        emit_json(cyc.to_json())
         return 0 if cyc.success else 1
-    w = args.digits or 12
-    print(f"limit cycle of {data['model']} ({', '.join(f'{k}={v:g}' for k, v in data['params'].items())})")
+    _print_cycle(cyc, args.digits)
+    return 0 if cyc.success else 1
+
+
+def _run_all(cycles, args: argparse.Namespace) -> int:
+    pred = cycles.predictions
+    if args.json:
+        rows = [{**c.to_json(), "annulus": p.annulus, "predicted": p.to_json()}
+                for c, p in zip(cycles, cycles.predicted)]
+        emit_json({"model": pred.model, "params": pred.params, "cycles": rows,
+                   "reason": pred.reason,
+                   "failures": [{"predicted": p.to_json(), "error": e}
+                                for p, e in cycles.failures]})
+        return 0 if all(c.success for c in cycles) else 1
+    print(f"{len(cycles)} cycle(s) of {pred.model} from {len(pred.cycles)} predicted by the "
+          "energy balance" + (f" ({pred.reason})" if not pred.cycles else ""))
+    for c, p in zip(cycles, cycles.predicted):
+        print(f"\n[{p.annulus}] predicted x_max {p.amplitude_max:.6g}, T {p.period:.6g}, "
+              f"{'stable' if p.stable else 'unstable'}")
+        _print_cycle(c, args.digits)
+    for p, e in cycles.failures:
+        print(f"\n[{p.annulus}] predicted x_max {p.amplitude_max:.6g}: no cycle found ({e})")
+    return 0 if all(c.success for c in cycles) else 1
+
+
+def _print_cycle(cyc, digits) -> None:
+    data = cyc.to_json()
+    w = digits or 12
+    pars = ", ".join(f"{k}={v:g}" for k, v in data["params"].items())
+    print(f"limit cycle of {data['model']} ({pars})")
     for key in ("period", "frequency", "amplitude_max", "amplitude_first_harmonic"):
         val = data[key]
         print(f"  {key:26s} {val if isinstance(val, str) else format(val, f'.{w}g')}")
@@ -54,4 +92,3 @@ def run(args: argparse.Namespace) -> int:
           f"Gamma- {d.gamma_minus:.6g})")
     print(f"  {'energy residual':26s} {cyc.energy_residual:.3e}")
     print(f"  {cyc.message}")
-    return 0 if cyc.success else 1

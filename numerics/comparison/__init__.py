@@ -3,6 +3,9 @@
 - :mod:`numerics.comparison.prediction`: what an approximation predicts
   (:class:`Prediction`, :func:`kbm_prediction`) and the true values
   (:func:`numeric_value`);
+- :mod:`numerics.comparison.predict`: every cycle an analysis predicts
+  (:func:`predict`: the energy balance about the conservative orbit, or classical
+  KBM), and the energy method as a row of :func:`compare`;
 - :mod:`numerics.comparison.comparison`: :func:`compare`, :class:`Comparison`;
 - :mod:`numerics.comparison.convergence`: errors against ``mu`` with fitted slopes.
 """
@@ -10,9 +13,11 @@
 from numerics.comparison.comparison import Comparison, ExtraPrediction, compare
 from numerics.comparison.convergence import (ConvergenceStudy, convergence_study, fit_slope,
                                              predicted_orders)
+from numerics.comparison.predict import energy_prediction, kbm_cycles, predict
 from numerics.comparison.prediction import (ERROR_KEYS, Prediction, kbm_prediction,
                                             numeric_value, reconstruct)
 
 __all__ = ["Comparison", "compare", "ExtraPrediction", "Prediction", "kbm_prediction",
            "numeric_value", "reconstruct", "ERROR_KEYS", "ConvergenceStudy",
-           "convergence_study", "fit_slope", "predicted_orders"]
+           "convergence_study", "fit_slope", "predicted_orders", "predict", "kbm_cycles",
+           "energy_prediction"]

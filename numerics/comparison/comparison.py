@@ -15,6 +15,7 @@ Non-Linear Oscillations* (1961), ch. 1.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
@@ -115,7 +116,7 @@ class Comparison:
         for key in ERROR_KEYS:
             line = f"{names[key]:<20}{numeric_value(c, key):>16.10g}"
             for p in self.predictions:
-                if not p.success:
+                if not p.success or not math.isfinite(p.value(key)):
                     line += f"{'-':>30}"
                     continue
                 line += f"{p.value(key):>16.10g} ({self.relative_error(p, key):8.1e})"

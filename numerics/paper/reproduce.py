@@ -17,7 +17,7 @@ from pathlib import Path
 from kbm.derivations import compile_pdf, write_derivations
 from kbm.paper import COMPARISON_CASES
 
-from numerics.comparison import compare, convergence_study
+from numerics.comparison import compare, convergence_study, energy_prediction
 from numerics.paper.claims import check_claims
 from numerics.paper.errata import errata_evidence, errata_rows, evidence_table
 from numerics.paper.figures import FIGURES, write_figures
@@ -105,8 +105,9 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     prog.stage("KBM versus the true limit cycles")
     comp_md, comp_json = [], []
     for label, model, params in COMPARISON_CASES:
+        extra = [paper_prediction] if model == "sedf" else []
         c = compare(model, params, orders=(1, 2) if model == "sedf" else (1, 2, 3, 4),
-                    extra=[paper_prediction] if model == "sedf" else ())
+                    extra=extra + [energy_prediction(1), energy_prediction(2)])
         comp_md += [f"### {label}", "", "```", c.table(), "```", ""]
         comp_json.append({"case": label, **c.to_json()})
     comp_text = "\n".join(comp_md)

@@ -109,3 +109,14 @@ def test_no_cycle_is_an_empty_list_with_the_reason():
     """Linear damping loses energy on every orbit: no prediction, nothing to shoot."""
     listed = limit_cycles("linear_damping", {"mu": 0.1, "zeta": 1})
     assert list(listed) == [] and "loses energy" in listed.predictions.reason
+
+
+def test_two_turns_of_a_cycle_are_reported_with_the_minimal_period():
+    """Newton from a start with twice the period converges to two turns of the cycle
+    (x(T) = x0 holds for T = 2 T_min too); the result is the cycle with its minimal period,
+    the same as from the default start."""
+    params = {"mu": 0.1, "Delta": 1.5, "beta": 1, "lam": 1}
+    c = limit_cycle("sedf", params)
+    d = limit_cycle("sedf", params, guess=(2.05, 13.9))
+    assert d.period == pytest.approx(c.period, rel=1e-10)
+    assert d.amplitude_max == pytest.approx(c.amplitude_max, abs=1e-10)

@@ -376,10 +376,33 @@ def _find_orbit(cm, bound: BoundModel, guess, x_start: float, st: _Settings):
     raise type(exc)("; ".join(f"{lb}: {e}" for lb, e in transients)) from exc
 
 
+def _minimal_period(cm, converged, meth, st: _Settings, n: int = 240):
+    """The same orbit with its minimal period: Newton may converge to ``k`` turns of a cycle
+    (``x(T/k) = x0``, ``x'(T/k) = 0`` for ``k = 2, 3, 4``); returns ``(x0, T/k, it, history)``
+    for the smallest such ``k`` confirmed by Newton, else ``converged`` unchanged."""
+    x0, T = converged[0], converged[1]
+    ys = flow(cm, extended_state(x0), T, n, meth, st.rtol, st.atol)
+    scale = 1e-3 * max(1.0, abs(x0))
+    for k in (4, 3, 2):  # a cycle of period T/4 is also one of period T/2: try the shortest
+        j = n // k
+        if max(abs(ys[j, 0] - x0), abs(ys[j, 1])) < scale:
+            try:
+                shorter = _newton(cm, x0, T / k, meth, st.rtol, st.atol, st.max_iter, st.floor)
+                _check_nontrivial(cm, shorter, meth, st.rtol, st.atol, x0)
+            except (ConvergenceError, IntegrationError, NoCycleError):
+                continue
+            return shorter
+    return converged
+
+
 def _final_pass(cm, converged, meth, source, st: _Settings, digits, n_samples, n_harmonics):
     """One more integration of the converged orbit: samples, monodromy, dissipation."""
     rtol, atol, floor = st.rtol, st.atol, st.floor
     x0, T, it, history = converged
+    converged = _minimal_period(cm, converged, meth, st)
+    if converged[1] < T:
+        x0, T, it2, h2 = converged
+        it, history = it + it2, history + h2
     tt = np.linspace(0.0, T, n_samples + 1)
     ys = flow(cm, extended_state(x0), T, n_samples, meth, rtol, atol)
     yT = ys[-1]

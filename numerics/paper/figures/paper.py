@@ -56,25 +56,39 @@ def fig2_potential(out_dir: Path) -> list[Path]:
 
 
 def fig3_phase_portraits(out_dir: Path) -> list[Path]:
-    """Fig. 3: phase portraits of the undriven SEDF, Delta = 1.5, several beta (the true
-    limit cycles by shooting, and a transient from x = 0.1)."""
+    """Fig. 3: phase portraits of the undriven SEDF, Delta = 1.5, several beta: the true
+    limit cycles by shooting, a transient from x = 0.1, and (dashed) the cycle the energy
+    balance predicts: the conservative orbit v = +-sqrt(2 (E* - G(x))) with Gamma(E*) = 0
+    (paper eq. 10 as the cycle condition, :func:`numerics.predict`)."""
+    from kbm.conservative import split_conservative
+    from numerics.comparison.predict import predict
     from numerics.cycles.shooting import limit_cycle
     from numerics.paper.sliding import slide as _slide
 
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6, 5))
     for beta in (0.1, 0.25, 0.5, 1.0):
-        c = limit_cycle("sedf", {"mu": 0.1, "Delta": 1.5, "lam": 1, "beta": beta})
+        params = {"mu": 0.1, "Delta": 1.5, "lam": 1, "beta": beta}
+        c = limit_cycle("sedf", params)
         line, = ax.plot(np.append(c.x, c.x[0]), np.append(c.xdot, c.xdot[0]), lw=1.2,
                         label=rf"$\beta = {beta:g}$ (T = {c.period:.3f})")
         tr = _slide("sedf", {"mu": 0.1, "Delta": 1.5, "beta": beta, "v": 0.0}, t_end=60.0,
                     x0=0.1)
         ax.plot(tr.x, tr.xdot, lw=0.4, alpha=0.5, color=line.get_color())
+        G = split_conservative("sedf", params).numpy_functions()[2]
+        for k, pc in enumerate(q for q in predict("sedf", params).cycles if q.stable):
+            s_ = np.linspace(0.0, np.pi, 400)
+            xs = 0.5 * (pc.amplitude_max + pc.amplitude_min) \
+                - 0.5 * (pc.amplitude_max - pc.amplitude_min) * np.cos(s_)
+            vs = np.sqrt(np.maximum(2 * (pc.energy - G(xs)), 0.0))
+            ax.plot(np.concatenate([xs, xs[::-1]]), np.concatenate([vs, -vs[::-1]]), "k--",
+                    lw=0.7, label="energy balance $\\Gamma(E^*) = 0$" if beta == 1.0 and k == 0
+                    else None)
     ax.plot([0.1], [0.0], "k>", ms=6)
     ax.set_xlabel("$x$")
     ax.set_ylabel(r"$\dot x$")
     ax.set_title(r"Fig. 3: undriven SEDF, $\Delta = 1.5$, $\mu = 0.1$, $\Omega = 1$, "
-                 r"$\lambda = 1$ (transients from $x = 0.1$)", fontsize=9)
+                 r"$\lambda = 1$ (transients from $x = 0.1$; dashed: predicted)", fontsize=9)
     ax.legend(fontsize=8)
     return _save(fig, out_dir, "fig3_phase_portraits")
 

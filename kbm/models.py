@@ -50,6 +50,17 @@ __all__ = ["Oscillator", "BoundModel", "FrozenMap", "MODELS", "SLIDERS", "bind",
 _STATE = {x, xdot, t}
 
 
+def _expr(value: object) -> sp.Expr:
+    """A sympy expression from code or user input: strings through the safe :func:`parse`,
+    numbers and sympy objects as they are (never through ``str()``)."""
+    if isinstance(value, str):
+        return parse(value)
+    try:
+        return sp.sympify(value, strict=True)
+    except sp.SympifyError:
+        raise ModelError(f"cannot read {value!r} as an expression") from None
+
+
 def _sorted_names(symbols) -> tuple[str, ...]:
     return tuple(sorted(s.name for s in symbols))
 
@@ -110,18 +121,18 @@ class Oscillator:
 
     def __post_init__(self) -> None:
         F = parse(self.F) if not isinstance(self.F, sp.Basic) else self.F
-        w0 = sp.sympify(self.omega0)
+        w0 = _expr(self.omega0)
         object.__setattr__(self, "F", sp.sympify(F))
         object.__setattr__(self, "omega0", w0)
-        drive = sp.sympify(self.drive)
+        drive = _expr(self.drive)
         object.__setattr__(self, "drive", drive)
         if drive.free_symbols & {x, xdot, mu}:
             raise ModelError(f"the drive {drive} of model {self.name!r} must depend on t and "
                              "parameters only")
         object.__setattr__(self, "physical", FrozenMap(self.physical))
         object.__setattr__(self, "defaults",
-                           FrozenMap({k: sp.sympify(v) for k, v in self.defaults.items()}))
-        object.__setattr__(self, "gain_factor", sp.sympify(self.gain_factor))
+                           FrozenMap({k: _expr(v) for k, v in self.defaults.items()}))
+        object.__setattr__(self, "gain_factor", _expr(self.gain_factor))
         if mu in self.F.free_symbols:
             raise ModelError(f"F of model {self.name!r} contains the small parameter mu; "
                              "write the equation as x'' + omega0^2 x = mu*F with F free of mu")
@@ -429,7 +440,7 @@ def custom_model(rhs: str | sp.Expr, *, omega0: object = 1, name: str = "custom"
     >>> custom_model("-x**3 + (1 - x**2)*xdot").F
     -x**3 + xdot*(1 - x**2)
     """
-    return Oscillator(name, parse(rhs), omega0=sp.sympify(omega0),
+    return Oscillator(name, parse(rhs), omega0=_expr(omega0),
                       description=f"user model x'' + {omega0}^2 x = mu ({rhs})")
 
 

@@ -20,7 +20,7 @@ from .algebra.laurent import Q
 from .averaging import run_recursion
 from .errors import AveragedCycleError, OrderError, ParameterError
 from .latex import equation_lines
-from .symbols import a, mu
+from .symbols import parse, a, mu
 
 __all__ = ["LimitCycleSeries", "limit_cycle_series"]
 
@@ -177,7 +177,7 @@ def _first_order_root(A1: sp.Expr, root: object | None) -> sp.Expr:
             raise AveragedCycleError(f"A_1 = {A1} has {len(cands)} positive roots {cands}; "
                                      "choose one with root=")
         return cands[0]
-    a0 = sp.nsimplify(root)
+    a0 = sp.nsimplify(parse(root) if isinstance(root, str) else root)
     if sp.simplify(A1.subs(a, a0)) != 0:
         raise ParameterError(f"a0 = {a0} is not a root of A_1 = {A1}")
     return a0

@@ -63,8 +63,8 @@ def parameter_value(name: str, raw: object) -> sp.Expr:
                 val = sp.Rational(raw.strip())
             except (TypeError, ValueError):
                 val = parse(raw)
-        else:
-            val = sp.sympify(raw)
+        else:  # numbers and sympy objects only: strict, never through str()
+            val = sp.sympify(raw, strict=True)
     except Exception as exc:  # noqa: BLE001 - reported with the name
         raise ParameterError(f"parameter {name}: cannot read the value {raw!r} ({exc})") from None
     if not (isinstance(val, sp.Expr) and val.is_number and val.is_real and val.is_finite):

@@ -45,9 +45,29 @@ def build_parser(extra: Callable[[object], None] | None = None) -> argparse.Argu
     return parser
 
 
+#: options whose value is an expression that may start with a minus sign (``--rhs -x**3``)
+EXPRESSION_OPTIONS = ("--rhs", "--potential", "--omega0", "--root")
+
+
+def _join_negative_values(argv: Sequence[str]) -> list[str]:
+    """``["--rhs", "-x**3"]`` -> ``["--rhs=-x**3"]``: argparse would read ``-x**3`` as an option."""
+    out: list[str] = []
+    items = list(argv)
+    i = 0
+    while i < len(items):
+        if (items[i] in EXPRESSION_OPTIONS and i + 1 < len(items)
+                and items[i + 1].startswith("-") and not items[i + 1].startswith("--")):
+            out.append(f"{items[i]}={items[i + 1]}")
+            i += 2
+        else:
+            out.append(items[i])
+            i += 1
+    return out
+
+
 def run_command(parser: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> int:
     """Parse ``argv`` and run the command; returns the exit status."""
-    args = parser.parse_args(argv)
+    args = parser.parse_args(_join_negative_values(sys.argv[1:] if argv is None else argv))
     try:
         status = args.func(args)
     except KBMError as exc:

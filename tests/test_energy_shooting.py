@@ -3,7 +3,9 @@
 The reference is the periodic orbit found by shooting (``numerics.limit_cycle``,
 Newton on the return map with a DOP853 flow at rtol 1e-12), started from a
 plain scipy transient where Newton from the prediction does not converge:
-independent of the averaging.  mu = 0.1, Omega = 1, lam = 1.
+independent of the averaging.  mu = 0.1, Omega = 1, lam = 1.  Order 2 is the
+default position scheme (:mod:`numerics.energy.position`); the energy-angle
+scheme is tested where it differs.
 """
 
 import numpy as np
@@ -48,6 +50,7 @@ def _data(D, beta, mu=0.1):
         # the cycle around the origin (the largest one the shooting's section x' = 0, x > 0 sees)
         c1 = max(p1.cycles, key=lambda c: c.amplitude_max)
         c2 = max(p2.cycles, key=lambda c: c.amplitude_max)
+        assert c2.scheme == "position"
         true = _true_cycle(D, beta, mu, (c1.amplitude_max, c1.period))
         _cache[key] = (c1, c2, true)
     return _cache[key]
@@ -63,18 +66,29 @@ def test_first_order_amplitude_within_1e3(D, beta):
     assert c1.stable
 
 
-@pytest.mark.parametrize("D,beta", [
-    (1.5, 1.0), (1.5, 0.25),
-    pytest.param(3.0, 1.0, marks=pytest.mark.xfail(
-        strict=True, reason="E* is 0.12 energy swings from the separatrix: the mu-expansion "
-                            "breaks down beyond first order (period_sensitivity 1.2 > 1)")),
-])
+@pytest.mark.parametrize("D,beta", CASES)
 def test_second_order_improves_period(D, beta):
-    """Order 2 has a smaller period error than order 1 (and smaller first-harmonic error)."""
+    """Order 2 has a smaller period error than order 1, and smaller first-harmonic, max x
+    and multiplier errors, also at Delta = 3 where E* is 0.12 energy swings above the
+    separatrix (period_sensitivity 1.2): there |dT| drops from 0.21 to < 2e-4."""
     c1, c2, true = _data(D, beta)
-    assert abs(c2.period - true.period) < abs(c1.period - true.period)
-    assert (abs(c2.amplitude_first_harmonic - true.amplitude_first_harmonic)
-            < abs(c1.amplitude_first_harmonic - true.amplitude_first_harmonic))
+    for q in ("period", "amplitude_first_harmonic", "amplitude_max"):
+        assert abs(getattr(c2, q) - getattr(true, q)) < abs(getattr(c1, q) - getattr(true, q))
+    m = true.floquet_multipliers[1].real
+    assert abs(c2.floquet_multiplier - m) < abs(c1.floquet_multiplier - m)
+    assert abs(c2.period - true.period) < 2e-4 and abs(c2.amplitude_max - true.amplitude_max) < 1e-5
+    assert c2.stable
+
+
+def test_energy_angle_breaks_down_at_delta_3():
+    """The energy-angle series at order 2 is worse than order 1 at Delta = 3 (it diverges
+    near the separatrix); the default position scheme is not."""
+    c1, _, true = _data(3.0, 1.0)
+    pars = {"mu": 0.1, "Delta": 3.0, "beta": 1.0, "lam": 1}
+    ea = max(predict_cycles("sedf", pars, order=2, scheme="energy-angle").cycles,
+             key=lambda c: c.amplitude_max)
+    assert ea.scheme == "energy-angle"
+    assert abs(ea.period - true.period) > abs(c1.period - true.period)
 
 
 def test_validity_indicators():
@@ -92,17 +106,20 @@ def _slope(mus, errs):
 
 
 def test_period_error_convergence_in_mu():
-    """Delta = 1.5, beta = 1, mu = 0.1, 0.05, 0.025: period error ~ mu^2 at order 1 and
-    ~ mu^4 at order 2 (h odd in x' makes M_2 = Theta_3 = 0, so one order is gained)."""
+    """Delta = 1.5, beta = 1, mu = 0.1, 0.05, 0.025: period and max x errors ~ mu^2 at
+    order 1 and ~ mu^4 at order 2 (h odd in x': the period is even in mu, and so are the
+    errors of both schemes)."""
     mus = np.array([0.1, 0.05, 0.025])
-    e1, e2 = [], []
+    e1, e2, x2 = [], [], []
     for mu in mus:
         c1, c2, true = _data(1.5, 1.0, mu)
         e1.append(c1.period - true.period)
         e2.append(c2.period - true.period)
+        x2.append(c2.amplitude_max - true.amplitude_max)
     assert _slope(mus, e1) == pytest.approx(2.0, abs=0.2)
-    assert _slope(mus, e2) > 3.0
-    assert np.all(np.abs(e2) < np.abs(e1))
+    assert _slope(mus, e2) == pytest.approx(4.0, abs=0.3)
+    assert _slope(mus, x2) > 3.5
+    assert np.all(np.abs(e2) < 0.01 * np.abs(e1))
 
 
 def test_asymmetric_side_well_cycle():
@@ -126,14 +143,21 @@ def test_asymmetric_side_well_cycle():
         assert abs(c.floquet_multiplier - true.floquet_multipliers[1].real) < tol
 
 
-def test_outer_cycle_beta_13_flagged():
+def test_outer_cycle_beta_13():
     """Delta = 1.5, beta = 1.3, outer cycle: the orbit crawls past the nearly flat stretch of
-    G near x = 1.76 (g ~ 0.25); period_sensitivity > 1 flags it, and indeed order 2 is not
-    better than order 1 there (first order still within 1e-3 in max x)."""
+    G near x = 1.76 (g ~ 0.25); period_sensitivity > 1 flags it, and the energy-angle order 2
+    is worse than order 1 there; the position order 2 improves the period from 2.6e-2 to
+    < 1e-4, and max x, first harmonic and multiplier too."""
     pars = {"mu": 0.1, "Delta": 1.5, "beta": 1.3, "lam": 1}
-    c1, c2 = (next(c for c in predict_cycles("sedf", pars, order=n).cycles
-                   if c.annulus == "outer") for n in (1, 2))
+    c1, c2, ea = (next(c for c in predict_cycles("sedf", pars, order=n, scheme=s).cycles
+                       if c.annulus == "outer")
+                  for n, s in ((1, None), (2, None), (2, "energy-angle")))
     assert c1.period_sensitivity > 1
     true = numerics.limit_cycle("sedf", pars, guess=(c1.amplitude_max, c1.period))
     assert abs(c1.amplitude_max - true.amplitude_max) < 1e-3
-    assert abs(c2.period - true.period) > abs(c1.period - true.period)
+    assert abs(ea.period - true.period) > abs(c1.period - true.period)
+    assert abs(c2.period - true.period) < 1e-4
+    m = true.floquet_multipliers[1].real
+    for q, t in (("amplitude_max", true.amplitude_max), ("floquet_multiplier", m),
+                 ("amplitude_first_harmonic", true.amplitude_first_harmonic)):
+        assert abs(getattr(c2, q) - t) < abs(getattr(c1, q) - t)

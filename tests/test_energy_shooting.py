@@ -10,10 +10,13 @@ scheme is tested where it differs.
 
 import numpy as np
 import pytest
+import sympy as sp
 from scipy.integrate import solve_ivp
 
+import kbm
 import numerics
-from numerics.energy import predict_cycles
+from kbm.conservative import split_conservative
+from numerics.energy import phase_portrait, position_cycle, predict_cycles
 
 CASES = [(1.5, 1.0), (3.0, 1.0), (1.5, 0.25)]
 
@@ -161,3 +164,57 @@ def test_outer_cycle_beta_13():
     for q, t in (("amplitude_max", true.amplitude_max), ("floquet_multiplier", m),
                  ("amplitude_first_harmonic", true.amplitude_first_harmonic)):
         assert abs(getattr(c2, q) - t) < abs(getattr(c1, q) - t)
+
+
+def test_each_integration_gains_an_order():
+    """Delta = 1.5, beta = 1, position scheme after k = 0..4 integrations: the error of the
+    3rd harmonic (the waveform's mirror-asymmetric part) ~ mu**(k+1); the period error
+    ~ mu**2, mu**2, mu**4, mu**4, mu**6 (even in mu: only every other integration shows)."""
+    mus = np.array([0.1, 0.05, 0.025])
+    c3, dT = {k: [] for k in range(5)}, {k: [] for k in range(5)}
+    for mu in mus:
+        c1, _, true = _data(1.5, 1.0, mu)
+        split = split_conservative("sedf", {"mu": mu, "Delta": 1.5, "beta": 1.0, "lam": 1})
+        portrait = phase_portrait(split)
+        a = next(a for a in portrait.annuli if a.label == c1.annulus)
+        hv = sp.lambdify((kbm.x, kbm.xdot), sp.diff(split.h, kbm.xdot), "numpy")
+        for k in range(5):
+            p = position_cycle(a, portrait.functions, hv, mu, c1.energy, k)
+            c3[k].append(abs(p.harmonics[3] - true.harmonics[3]))
+            dT[k].append(p.period - true.period)
+    for k, (lo, hi) in enumerate([(0.8, 1.2), (1.5, 3.0), (2.7, 3.3), (3.7, 4.3), (4.6, 5.4)]):
+        assert lo < _slope(mus, c3[k]) < hi
+        assert _slope(mus, dT[k]) == pytest.approx(2 * (k // 2 + 1), abs=0.4)
+
+
+@pytest.mark.parametrize("D,beta", CASES + [(1.5, 1.3)])
+def test_order_3_against_shooting(D, beta):
+    """Order 3 (three integrations): max x, first harmonic and multiplier within 1e-5,
+    period within 2e-4, at all cases (the outer cycle at beta = 1.3)."""
+    pars = {"mu": 0.1, "Delta": D, "beta": beta, "lam": 1}
+    c = max(predict_cycles("sedf", pars, order=3).cycles, key=lambda c: c.amplitude_max)
+    true = _true_cycle(D, beta, 0.1, (c.amplitude_max, c.period))
+    assert abs(c.amplitude_max - true.amplitude_max) < 1e-5
+    assert abs(c.amplitude_first_harmonic - true.amplitude_first_harmonic) < 1e-5
+    assert abs(c.floquet_multiplier - true.floquet_multipliers[1].real) < 1e-5
+    assert abs(c.period - true.period) < 2e-4
+
+
+def test_delta_3_larger_mu():
+    """Delta = 3: at mu = 0.15 the true cycle passes the saddles at x = +-1.589 barely
+    (period 8.62 against T(E*) = 7.93): order 2 has the period within 5e-3.  At mu = 0.2
+    shooting finds no cycle (the motion settles in a side well); order 1 still predicts one
+    (Gamma does not depend on mu), order 2 reports that its curve cannot pass the saddle."""
+    pars = {"mu": 0.15, "Delta": 3.0, "beta": 1.0, "lam": 1}
+    c1 = max(predict_cycles("sedf", pars, order=1).cycles, key=lambda c: c.amplitude_max)
+    c2 = max(predict_cycles("sedf", pars, order=2).cycles, key=lambda c: c.amplitude_max)
+    true = _true_cycle(3.0, 1.0, 0.15, (c1.amplitude_max, c1.period))
+    assert abs(c1.period - true.period) > 0.5
+    assert abs(c2.period - true.period) < 5e-3
+    pars["mu"] = 0.2
+    with pytest.raises(numerics.NumericsError):
+        _true_cycle(3.0, 1.0, 0.2, (c1.amplitude_max, c1.period))
+    assert any(c.amplitude_max > 2 for c in predict_cycles("sedf", pars, order=1).cycles)
+    P = predict_cycles("sedf", pars, order=2)
+    assert not any(c.amplitude_max > 2 for c in P.cycles)
+    assert "cannot pass the saddle" in P.reason

@@ -165,34 +165,45 @@ def _phi_values(b, s):
 
 
 def _level(annulus, fun, mu, phi_c, eps0, scale):
-    """The level ``eps`` closing the curve for ``phi`` (root of the gain near ``eps0``)."""
+    """The level ``eps`` closing the curve for ``phi``: the root of the gain nearest ``eps0``
+    (levels whose curve stops at a saddle are skipped)."""
     def R(e):
-        return _Curve(annulus, fun, mu, phi_c, e).gain()
+        try:
+            return _Curve(annulus, fun, mu, phi_c, e).gain(), ""
+        except PositionError as err:
+            return np.nan, str(err)
 
-    r0 = R(eps0)
+    r0, why = R(eps0)
     if r0 == 0:
         return eps0
+    prev = dict.fromkeys((-1, 1), (eps0, r0) if np.isfinite(r0) else None)
     step = 1e-3 * scale
-    for _ in range(60):
-        for e in (eps0 - step, eps0 + step):
-            try:
-                r1 = R(e)
-            except PositionError:
+    while step <= 10 * scale:
+        for side in (-1, 1):
+            e = eps0 + side * step
+            r, err = R(e)
+            if not np.isfinite(r):
+                why = why or err
                 continue
-            if np.sign(r1) != np.sign(r0):
-                a, b = sorted((eps0, e))
-                return brentq(R, a, b, xtol=1e-15 * max(1.0, abs(eps0)), rtol=1e-15)
+            p = prev[side]
+            if p is not None and np.sign(r) != np.sign(p[1]):
+                lo, hi = sorted((p[0], e))
+                return brentq(lambda z: R(z)[0], lo, hi, xtol=1e-15 * max(1.0, abs(eps0)),
+                              rtol=1e-15)
+            prev[side] = (e, r)
         step *= 1.6
-        if step > 10 * scale:
-            break
-    raise PositionError("no level closes the curve near the previous iterate")
+    raise PositionError(why or f"no level near {eps0:.6g} closes the curve (the energy gain "
+                        "keeps one sign)")
 
 
 def _run(annulus, fun, hv, mu, E_star, integrations, n, scale):
     phi_c = np.zeros(n // 2 + 1, complex)
     eps = E_star
     for k in range(integrations + 1):
-        eps = _level(annulus, fun, mu, phi_c, eps, scale)
+        try:
+            eps = _level(annulus, fun, mu, phi_c, eps, scale)
+        except PositionError as err:
+            raise PositionError(f"no closed curve after {k} integration(s): {err}") from None
         cur = _Curve(annulus, fun, mu, phi_c, eps)
         if k < integrations:
             phi_c = cur.integrate()

@@ -112,8 +112,9 @@ class _Curve:
         D = eps + phi - G(self.x)
         inner = np.abs(sn) > 0.3
         self.gap = float(np.min(D[inner]) / np.max(D)) if np.any(inner) else 1.0
-        if np.any(D[inner] <= 0):
-            j = int(np.argmin(np.where(inner, D, np.inf)))
+        bad = (inner & (D <= 0)) | (D < -1e-9 * np.max(D))   # rounding only near x-, x+
+        if np.any(bad):
+            j = int(np.argmin(np.where(bad, D, np.inf)))
             raise PositionError(
                 f"the energy E(s) = {eps + phi[j]:.6g} falls below G(x) at x = {self.x[j]:.6g}: "
                 "the approximate cycle cannot pass the saddle there")

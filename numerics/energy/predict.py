@@ -30,7 +30,7 @@ from kbm.conservative import split_conservative
 from kbm.errors import OrderError
 from kbm.symbols import x as _x, xdot as _xdot
 
-from .averaging import average
+from .averaging import _extrema, average
 from .position import PositionError, position_cycle
 from .balance import _scan_energies, balance_cycles, gamma_function
 from .orbits import sample_orbits
@@ -156,25 +156,6 @@ class EnergyPrediction:
                 "order": self.order, "method": "energy averaging",
                 "cycles": [c.to_json() for c in self.cycles], "reason": self.reason,
                 "annuli": list(self.annuli), "equilibria": list(self.equilibria)}
-
-
-def _extrema(x: np.ndarray) -> tuple[float, float]:
-    """Max and min of the trigonometric interpolant of samples ``x`` (Newton on the series)."""
-    n = len(x)
-    c = np.fft.rfft(x) / n
-    m = np.arange(len(c))
-    w = np.where((m == 0) | ((n % 2 == 0) & (m == n // 2)), 1.0, 2.0)
-    out = []
-    for j in (int(np.argmax(x)), int(np.argmin(x))):
-        p = 2 * np.pi * j / n
-        for _ in range(8):
-            e = w * c * np.exp(1j * m * p)
-            d1, d2 = np.real(np.sum(1j * m * e)), np.real(np.sum(-(m**2) * e))
-            if d2 == 0:
-                break
-            p -= d1 / d2
-        out.append(float(np.real(np.sum(w * c * np.exp(1j * m * p)))))
-    return out[0], out[1]
 
 
 def _n_theta(annulus, E) -> int:

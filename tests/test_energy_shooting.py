@@ -95,8 +95,8 @@ def test_energy_angle_breaks_down_at_delta_3():
 
 
 def test_validity_indicators():
-    """The breakdown at Delta = 3 is flagged: separatrix_margin < 1 and period_sensitivity > 1
-    there, both on the good side at Delta = 1.5 (beta = 1, 0.25)."""
+    """The energy-angle breakdown at Delta = 3 is flagged: separatrix_margin < 1 and
+    period_sensitivity > 1 there, both on the good side at Delta = 1.5 (beta = 1, 0.25)."""
     c3 = _data(3.0, 1.0)[0]
     assert c3.separatrix_margin < 1 and c3.period_sensitivity > 1
     for beta in (1.0, 0.25):

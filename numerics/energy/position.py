@@ -122,7 +122,6 @@ class _Curve:
         self.c, self.r = 0.5 * (xp + xm), 0.5 * (xp - xm)
         self.x = self.c - self.r * np.cos(self.s)
         sn = np.sin(self.s)
-        self.sin = sn
         D = eps + phi - G(self.x)
         inner = np.abs(sn) > 0.3
         self.gap = float(np.min(D[inner]) / np.max(D)) if np.any(inner) else 1.0

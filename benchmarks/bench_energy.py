@@ -5,7 +5,8 @@ Run: ``python benchmarks/bench_energy.py [--repeat N]``
 For the slider (sedf, mu = 0.1, Omega = 1, lam = 1) at (Delta, beta) = (1.5, 1),
 (3, 1), (1.5, 0.25) and (1.5, 1.3) (the last with unstable side-well cycles):
 ``numerics.energy.predict_cycles`` at order 1 (target < 50 ms) and order 2
-(target < 1 s), warm (second call, best of ``--repeat``), and
+(target < 1 s; the default position scheme and the energy-angle scheme), warm
+(second call, best of ``--repeat``), and
 ``numerics.limit_cycle`` (warm: its compiled integrator loaded) started from each
 order-1 prediction (cycles with ``max x > 0`` only; "not shot" when Newton from
 the prediction fails, as at Delta = 3 where it lands on the equilibrium x = 1.89).  Prints the times, the ratio shooting/prediction
@@ -37,13 +38,16 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     args = ap.parse_args()
     numerics.limit_cycle("sedf", {"mu": 0.1, "Delta": 1.5, "beta": 1, "lam": 1})  # load the JIT
-    print(f"{'Delta':>5} {'beta':>5} {'order 1':>9} {'order 2':>9} {'shooting':>9} "
-          f"{'ratio':>6}  cycles (annulus: |dx_max| o1, o2; |dT| o1, o2)")
+    print(f"{'Delta':>5} {'beta':>5} {'order 1':>9} {'order 2':>9} {'o2 e-a':>9} "
+          f"{'shooting':>9} {'ratio':>6}  cycles (annulus: |dx_max| o1, o2, o2 e-a; "
+          "|dT| o1, o2, o2 e-a)")
     for D, beta in CASES:
         pars = {"mu": 0.1, "Delta": D, "beta": beta, "lam": 1}
         predict_cycles("sedf", pars, order=1)  # warm: lambdify caches, imports
         t1, p1 = best(lambda: predict_cycles("sedf", pars, order=1), args.repeat)
         t2, p2 = best(lambda: predict_cycles("sedf", pars, order=2), args.repeat)
+        t3, p3 = best(lambda: predict_cycles("sedf", pars, order=2, scheme="energy-angle"),
+                      args.repeat)
         shots = []
         t0 = time.perf_counter()
         for c in p1.cycles:
@@ -57,17 +61,17 @@ def main() -> None:
                 shots.append(None)
         ts = time.perf_counter() - t0
         notes = []
-        by_key = {(c.annulus, c.amplitude_max > 0): c for c in p2.cycles}
+        keys = [{(c.annulus, c.amplitude_max > 0): c for c in p.cycles} for p in (p2, p3)]
         for c1, s in zip(p1.cycles, shots):
-            c2 = by_key.get((c1.annulus, c1.amplitude_max > 0))
-            if s is None or not s.success or c2 is None:
+            cs = [c1] + [k.get((c1.annulus, c1.amplitude_max > 0)) for k in keys]
+            if s is None or not s.success or None in cs:
                 notes.append(f"{c1.annulus}: not shot")
                 continue
-            notes.append(f"{c1.annulus}: {abs(c1.amplitude_max - s.amplitude_max):.1e}, "
-                         f"{abs(c2.amplitude_max - s.amplitude_max):.1e}; "
-                         f"{abs(c1.period - s.period):.1e}, {abs(c2.period - s.period):.1e}")
-        print(f"{D:5.2g} {beta:5.2g} {t1 * 1e3:7.1f}ms {t2 * 1e3:7.1f}ms {ts * 1e3:7.1f}ms "
-              f"{ts / t1:6.1f}  " + " | ".join(notes))
+            dx = ", ".join(f"{abs(c.amplitude_max - s.amplitude_max):.1e}" for c in cs)
+            dT = ", ".join(f"{abs(c.period - s.period):.1e}" for c in cs)
+            notes.append(f"{c1.annulus}: {dx}; {dT}")
+        print(f"{D:5.2g} {beta:5.2g} {t1 * 1e3:7.1f}ms {t2 * 1e3:7.1f}ms {t3 * 1e3:7.1f}ms "
+              f"{ts * 1e3:7.1f}ms {ts / t1:6.1f}  " + " | ".join(notes))
 
 
 if __name__ == "__main__":

@@ -247,3 +247,22 @@ def average(annulus: Annulus, mu: float, order: int, interval: tuple[float, floa
             np.max(spec[:, -4:]) / np.max(spec)]
     return AveragedEnergy(annulus, float(mu), N, (lo, hi), Mc.T.copy(), Tc.T.copy(),
                           np.moveaxis(xc, 1, 0).copy(), float(max(tail)))
+
+
+def _extrema(x: np.ndarray) -> tuple[float, float]:
+    """Max and min of the trigonometric interpolant of samples ``x`` (Newton on the series)."""
+    n = len(x)
+    c = np.fft.rfft(x) / n
+    m = np.arange(len(c))
+    w = np.where((m == 0) | ((n % 2 == 0) & (m == n // 2)), 1.0, 2.0)
+    out = []
+    for j in (int(np.argmax(x)), int(np.argmin(x))):
+        p = 2 * np.pi * j / n
+        for _ in range(8):
+            e = w * c * np.exp(1j * m * p)
+            d1, d2 = np.real(np.sum(1j * m * e)), np.real(np.sum(-(m**2) * e))
+            if d2 == 0:
+                break
+            p -= d1 / d2
+        out.append(float(np.real(np.sum(w * c * np.exp(1j * m * p)))))
+    return out[0], out[1]

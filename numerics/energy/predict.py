@@ -4,8 +4,13 @@
 (:mod:`kbm.conservative`), finds the period annuli of ``x'' + g(x) = 0``
 (:mod:`~numerics.energy.portrait`), the roots of the energy balance
 ``Gamma(E) = 0`` on each (:mod:`~numerics.energy.balance`, order 1) and, for
-``order >= 2``, refines each by averaging in energy-angle variables
-(:mod:`~numerics.energy.averaging`).
+``order >= 2``, refines each either by successive approximation of the energy
+along the cycle in the position variable (``scheme="position"``, the default,
+:mod:`~numerics.energy.position`) or by averaging in energy-angle variables
+(``scheme="energy-angle"``, :mod:`~numerics.energy.averaging`).  Both have
+period errors ``O(mu**(order + 1))`` as ``mu -> 0``; only the position scheme
+stays valid when the energy's swing over a cycle is comparable to its distance
+to a separatrix (the energy-angle series in ``mu`` then diverges).
 
 References
 ----------
@@ -23,9 +28,10 @@ import sympy as sp
 
 from kbm.conservative import split_conservative
 from kbm.errors import OrderError
-from kbm.symbols import xdot as _xdot
+from kbm.symbols import x as _x, xdot as _xdot
 
-from .averaging import average
+from .averaging import _extrema, average
+from .position import PositionError, position_cycle
 from .balance import _scan_energies, balance_cycles, gamma_function
 from .orbits import sample_orbits
 from .portrait import phase_portrait
@@ -57,7 +63,9 @@ class PredictedCycle:
     period, frequency : float
         ``T`` and ``2 pi/T``.
     energy : float
-        ``E*`` (order 1) or ``eps*``, the energy of the averaged variables.
+        ``E*`` (order 1), ``eps*``, the energy of the averaged variables
+        (energy-angle scheme), or the time average of the energy over the
+        computed cycle (position scheme).
     stable : bool
     annulus : str
         The label of the period annulus.
@@ -77,8 +85,12 @@ class PredictedCycle:
     period_sensitivity : float
         ``mu oint |h v| dt |dT/dE| / T`` at the energy-balance root: the relative
         change of the period across one cycle's energy swing.  Above ~1 the
-        mu-expansion beyond first order is not to be trusted (measured: order 2 is
-        worse than order 1 for the sliders at 1.2 and 1.3, better at 0.03-0.46).
+        mu-expansion beyond first order is not to be trusted (measured: energy-angle
+        order 2 is worse than order 1 for the sliders at 1.2 and 1.3, better at
+        0.03-0.46); the position scheme is not affected.
+    scheme : str
+        ``"energy balance"``, ``"position"`` or ``"energy-angle"``: how the cycle was
+        computed.
     """
 
     amplitude_max: float
@@ -95,6 +107,7 @@ class PredictedCycle:
     error: float = 0.0
     separatrix_margin: float = float("inf")
     period_sensitivity: float = 0.0
+    scheme: str = "energy balance"
 
     def to_json(self) -> dict:
         """Strict-JSON dict (non-finite numbers become ``None``)."""
@@ -103,6 +116,7 @@ class PredictedCycle:
                 "frequency", "energy", "floquet_multiplier", "error", "separatrix_margin",
                 "period_sensitivity")}
         out.update(stable=bool(self.stable), annulus=self.annulus, order=int(self.order),
+                   scheme=self.scheme,
                    harmonics=[[_num(c.real), _num(c.imag)] for c in self.harmonics])
         return out
 
@@ -120,7 +134,8 @@ class EnergyPrediction:
     cycles : tuple of PredictedCycle
         Sorted by energy.
     reason : str
-        Why there is no cycle (empty when there are cycles).
+        Why there is no cycle, or why a refinement lost an energy-balance cycle
+        (empty when every energy-balance cycle was refined).
     annuli : tuple of dict
         Label and energy range of every annulus.
     equilibria : tuple of dict
@@ -141,25 +156,6 @@ class EnergyPrediction:
                 "order": self.order, "method": "energy averaging",
                 "cycles": [c.to_json() for c in self.cycles], "reason": self.reason,
                 "annuli": list(self.annuli), "equilibria": list(self.equilibria)}
-
-
-def _extrema(x: np.ndarray) -> tuple[float, float]:
-    """Max and min of the trigonometric interpolant of samples ``x`` (Newton on the series)."""
-    n = len(x)
-    c = np.fft.rfft(x) / n
-    m = np.arange(len(c))
-    w = np.where((m == 0) | ((n % 2 == 0) & (m == n // 2)), 1.0, 2.0)
-    out = []
-    for j in (int(np.argmax(x)), int(np.argmin(x))):
-        p = 2 * np.pi * j / n
-        for _ in range(8):
-            e = w * c * np.exp(1j * m * p)
-            d1, d2 = np.real(np.sum(1j * m * e)), np.real(np.sum(-(m**2) * e))
-            if d2 == 0:
-                break
-            p -= d1 / d2
-        out.append(float(np.real(np.sum(w * c * np.exp(1j * m * p)))))
-    return out[0], out[1]
 
 
 def _n_theta(annulus, E) -> int:
@@ -208,12 +204,23 @@ def _refine(c1, mu, order, n_energy, rate_order):
     xmax, xmin = _extrema(xw)
     return PredictedCycle(xmax, xmin, float(2 * abs(harm[1])), T, freq, eps, slope < 0,
                           a.label, order, float(np.exp(T * slope)), _readonly(harm[:16]),
-                          float(av.error), c1.separatrix_margin, c1.period_sensitivity)
+                          float(av.error), c1.separatrix_margin, c1.period_sensitivity,
+                          "energy-angle")
+
+
+def _position(c1, functions, hv, mu, order):
+    """The cycle after ``order`` integrations of the position scheme (see its module)."""
+    p = position_cycle(c1.annulus, functions, hv, mu, c1.energy, order)
+    T = p.period
+    return PredictedCycle(p.x_max, p.x_min, float(2 * abs(p.harmonics[1])), T, 2 * np.pi / T,
+                          p.mean_energy, p.floquet_multiplier < 1, c1.annulus.label, order,
+                          p.floquet_multiplier, _readonly(p.harmonics), p.error,
+                          c1.separatrix_margin, c1.period_sensitivity, "position")
 
 
 def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: int = 1,
-                   potential=None, n_energy: int = 24,
-                   rate_order: int | None = None) -> EnergyPrediction:
+                   potential=None, n_energy: int = 24, rate_order: int | None = None,
+                   scheme: str | None = None) -> EnergyPrediction:
     """Predict every limit cycle on every period annulus by energy averaging.
 
     Parameters
@@ -224,12 +231,25 @@ def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: 
         ``mu`` and the model's parameters (physical names such as ``Delta``,
         ``lam`` are accepted).
     order : int
-        1: energy balance ``Gamma(E) = 0``; ``>= 2``: averaging to that order in mu.
+        1: energy balance ``Gamma(E) = 0``; ``>= 2``: refined to that order in mu
+        (period error ``O(mu**(order + 1))``; one order more when ``h`` is odd in
+        ``x'`` and ``order`` even, by the symmetry ``t, x', mu -> -t, -x', -mu``).
+        For ``h`` not odd in ``x'``, order 1 is also refined (one integration, or
+        the energy-angle ``rate_order = 2``).
     potential : str or sympy.Expr, optional
         A potential ``V(x)`` for the conservative part (see
         :func:`kbm.conservative.split_conservative`).
     n_energy : int
-        Chebyshev nodes in energy for ``order >= 2``.
+        Chebyshev nodes in energy (energy-angle scheme).
+    scheme : {"position", "energy-angle"}, optional
+        ``"position"`` (default): ``order`` successive integrations of
+        ``dE/dx = mu h(x, x')`` along the cycle, each closed by a generalised
+        energy balance, without expanding in ``mu`` (:mod:`~numerics.energy.position`);
+        valid up to the separatrices.  ``"energy-angle"`` (default when
+        ``rate_order`` is given): the near-identity transformation in
+        energy-angle variables (:mod:`~numerics.energy.averaging`), the KBM
+        normal form for linear ``g``; its series in ``mu`` diverges when
+        ``period_sensitivity`` exceeds about 1.
     rate_order : int, optional
         Order of the averaged rate ``sum mu**n M_n`` whose root gives ``eps*``
         (``order >= 2`` only; default ``order + 1``).  With the first-harmonic
@@ -238,6 +258,7 @@ def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: 
         (the KBM convention) the order-2 period is no better than the order-1 one
         for the sliders; one order more in the rate makes the period error
         ``O(mu**(order + 1))``.  Frequency and waveform use orders ``<= order``.
+        Energy-angle scheme only.
 
     Returns
     -------
@@ -247,13 +268,21 @@ def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: 
     Raises
     ------
     kbm.errors.OrderError
-        If ``order < 1``.
+        If ``order < 1``, or ``rate_order`` is given with the position scheme.
+    ValueError
+        For an unknown ``scheme``.
     kbm.errors.ModelError, kbm.errors.ParameterError
         From the split (non-autonomous model, ``mu`` missing or zero, a
         potential that does not confine).
     """
     if not isinstance(order, (int, np.integer)) or order < 1:
         raise OrderError(f"order must be an integer >= 1, got {order!r}")
+    if scheme is None:
+        scheme = "position" if rate_order is None else "energy-angle"
+    if scheme not in ("position", "energy-angle"):
+        raise ValueError(f"scheme must be 'position' or 'energy-angle', got {scheme!r}")
+    if scheme == "position" and rate_order is not None:
+        raise OrderError("rate_order applies to the energy-angle scheme only")
     rate_order = order + 1 if rate_order is None else int(rate_order)
     if rate_order < order:
         raise OrderError(f"rate_order = {rate_order} must be >= order = {order}")
@@ -284,7 +313,12 @@ def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: 
                       "the averaged equation)")
         return EnergyPrediction(cycles=(), reason=reason, **info)
     odd = sp.expand(split.h + split.h.subs(_xdot, -_xdot)) == 0
-    cycles = []
+    hv = sp.lambdify((_x, _xdot), sp.diff(split.h, _xdot), "numpy")
+
+    def hvf(x, v):
+        return np.broadcast_to(np.asarray(hv(x, v), float), np.broadcast(x, v).shape)
+
+    cycles, lost = [], []
     for c in first:
         if order == 1 and (odd or rate_order == 1):
             cycles.append(PredictedCycle(
@@ -292,10 +326,18 @@ def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: 
                 c.energy, c.stable, c.annulus.label, 1, c.floquet_multiplier,
                 _readonly(c.harmonics), c.error, c.separatrix_margin,
                 c.period_sensitivity))
+        elif scheme == "position":
+            try:
+                cycles.append(_position(c, portrait.functions, hvf, split.mu, int(order)))
+            except PositionError as e:
+                lost.append(f"{c.annulus.label} (x_max {c.x_max:.6g}): {e}")
         else:
             p = _refine(c, split.mu, int(order), n_energy, rate_order)
             if p is not None:
                 cycles.append(p)
+            else:
+                lost.append(f"{c.annulus.label} (x_max {c.x_max:.6g}): the averaged rate "
+                            "has no root near the energy-balance cycle")
     cycles.sort(key=lambda c: (c.energy, c.amplitude_max))
-    reason = "" if cycles else "the averaged rate has no root near the energy-balance cycles"
+    reason = "; ".join(lost)
     return EnergyPrediction(cycles=tuple(cycles), reason=reason, **info)

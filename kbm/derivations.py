@@ -110,7 +110,9 @@ def _cdc_file() -> DerivationFile:
     one = {sp.Symbol("Omega"): 1}
     intro = r"""The paper's eq.~(12) with $v=0$: $\ddot x + \Omega^2 x = \mu F$,
 $F = -\dot x - \delta \sin(kx)$ ($\delta=\Delta/\mu$, $k=2\pi/\lambda$); $\Omega = 1$ below.
-The amplitude decays, $\dot a = -\mu a/2$ at every order here: there is no limit cycle."""
+The amplitude decays at first order, $\dot a = -\mu a/2 + O(\mu^2)$ ($A_2$ below is not
+zero, but it cannot balance $A_1$ for small $\mu$); the energy balance of
+Section~\ref{sec:energy} shows $\Gamma(E)<0$ on every orbit: there is no limit cycle."""
     return DerivationFile("cdc.tex", "\\section{The constant-damping slider (CDC), paper eq.~(12)}\n"
                           + _kbm_section("Order 2", intro, res, subs=one))
 
@@ -168,7 +170,8 @@ def _energy_file() -> DerivationFile:
     period = sp.Integral(2 / v, (x, xm, xp))
     gc, hc, Gc = _energy_split("cdc")
     jump_c = sp.factor(hc.subs(xdot, v) - hc.subs(xdot, -v))
-    body = [r"\section{Averaging about the conservative orbit: the energy balance}",
+    body = [r"\section{Averaging about the conservative orbit: the energy balance}"
+            r"\label{sec:energy}",
             r"""At the paper's parameters ($\mu=0.1$, $\Delta=1.5$ and $3$) the periodic force is
 not small ($\delta=\Delta/\mu=15$, $30$), so the generating motion of the averaging is the
 conservative oscillator itself, $\ddot x + g(x) = 0$, and only the damping is the

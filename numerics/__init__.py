@@ -25,8 +25,9 @@ from numerics.paper import (Claim, ErratumEvidence, SaddleNode, SlideResult, Sli
                             potential, saddle_node, slide, slip_energy)
 
 __all__ = [
-    "integrate", "Method", "limit_cycle", "limit_cycles", "LimitCycle", "Dissipation", "sweep", "grid",
-    "SweepPoint", "compare", "Comparison", "Prediction", "kbm_prediction", "paper_prediction",
+    "integrate", "Method", "limit_cycle", "limit_cycles", "LimitCycle", "Dissipation", "sweep",
+    "grid", "SweepPoint", "compare", "Comparison", "Prediction", "kbm_prediction",
+    "paper_prediction", "predict", "energy_prediction",
     "convergence_study", "ConvergenceStudy", "predicted_orders",
     "errata_evidence", "ErratumEvidence",
     "slide", "SlideResult", "analyze", "StickSlip", "Slip",

@@ -29,8 +29,8 @@ CASES = [(1.5, 1.0), (1.5, 1.3), (3.0, 0.5)]
 def _scan(params) -> list:
     """Cycles found by Newton from a grid of starts and by transients (no predictions)."""
     found = []
-    starts = [(s * x, T) for x in np.linspace(0.3, 3.3, 21) for T in (1.5, 2.5, 3.5, 5.0, 6.5, 8.0, 9.5)
-              for s in (1.0, -1.0)]
+    periods = (1.5, 2.5, 3.5, 5.0, 6.5, 8.0, 9.5)
+    starts = [(s * x, T) for x in np.linspace(0.3, 3.3, 21) for T in periods for s in (1.0, -1.0)]
     for g in starts:
         try:
             c = limit_cycle("sedf", params, guess=g, max_iter=15)

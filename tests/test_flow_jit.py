@@ -20,8 +20,8 @@ from scipy.integrate import solve_ivp
 
 from kbm.models import custom_model
 from numerics import IntegrationError, limit_cycle
-from numerics.flow import (JIT_METHOD, Method, compile_model, extended_state, flow,
-                           model_template, template_flow)
+from numerics.flow import (JIT_METHOD, Method, compile_model, flow, model_template,
+                           template_flow)
 from kbm.symbols import t as TIME
 from numerics.flow.jit import jit_flow, rhs_source
 

@@ -144,21 +144,6 @@ def numeric_value(cycle: LimitCycle, key: str) -> float:
     return float(getattr(cycle, key))
 
 
-def numeric_value(cycle: LimitCycle, key: str) -> float:
-    """The true value of one of :data:`ERROR_KEYS` from a computed :class:`LimitCycle`."""
-    if key == "amplitude":
-        return cycle.amplitude_first_harmonic
-    if key == "harmonic3":
-        return 2 * abs(cycle.harmonics[3])
-    if key == "floquet_multiplier":
-        return float(cycle.floquet_multipliers[1].real)
-    if key == "floquet_exponent":
-        return float(np.log(abs(cycle.floquet_multipliers[1])))
-    if key == "dissipation":
-        return cycle.dissipation.total
-    return float(getattr(cycle, key))
-
-
 def dissipation_functions(model: Oscillator, values: Mapping[str, sp.Expr]):
     """``(plus(x, v), minus(x, v), factor)`` with ``Gamma`` integrand ``factor*plus - minus``
     (:meth:`kbm.models.Oscillator.dissipation_parts`) at the given values."""

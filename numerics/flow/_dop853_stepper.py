@@ -74,8 +74,6 @@ def flow(y0, t_end, p, rtol, atol, n_out, max_steps):
     ynew = np.empty(n)
     fnew = np.empty(n)
     ys = np.empty(n)
-    err3 = np.empty(n)
-    err5 = np.empty(n)
     rejected = False
     while k <= n_out:
         t_next = t_end * k / n_out

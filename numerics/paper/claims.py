@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm.paper import FIG4, FIG5
+from kbm.paper import FIG5
 
 from numerics.paper.potential import saddle_node
 from numerics.paper.sliding import slide

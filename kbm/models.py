@@ -410,7 +410,7 @@ def get_model(name: str, params: Mapping[str, object] | None = None) -> Oscillat
         model = MODELS[name]()
     except KeyError:
         raise ModelError(f"unknown model {name!r}; the built-in models are "
-                         f"{', '.join(MODELS)} (or give your own F with --rhs)") from None
+                         f"{', '.join(MODELS)} (or give your own F with custom_model)") from None
     params = dict(params or {})
     v = params.pop("v", None)
     if v is not None:

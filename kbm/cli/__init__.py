@@ -12,12 +12,13 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
 from collections.abc import Callable, Sequence
 
 from kbm.errors import KBMError
 
-__all__ = ["main", "build_parser", "register_commands", "run_command", "COMMANDS"]
+__all__ = ["main", "build_parser", "register_commands", "run_command", "cli_message", "COMMANDS"]
 
 #: the symbolic sub-command modules, in the order ``kbm --help`` lists them
 COMMANDS = ("derive", "series")
@@ -65,14 +66,32 @@ def _join_negative_values(argv: Sequence[str]) -> list[str]:
     return out
 
 
+#: library wording -> command-line wording in error messages (the library names its
+#: arguments, the command line its flags)
+_TRANSLATIONS = (
+    (re.compile(r"params=\{'(\w+)': ([^}]+)\}"), r"--param \1=\2"),
+    (re.compile(r"values=\{'(\w+)': ([^}]+)\}"), r"--param \1=\2"),
+    (re.compile(r"\bcustom_model\b"), "--rhs EXPR"),
+    (re.compile(r"\(x_start\)"), "(--x-start)"),
+    (re.compile(r"\bpotential=(\.\.\.)?"), "--potential "),
+)
+
+
+def cli_message(message: str) -> str:
+    """An error message of the library in the command line's words, on one line."""
+    msg = " ".join(str(message).split())
+    for pattern, repl in _TRANSLATIONS:
+        msg = pattern.sub(repl, msg)
+    return msg
+
+
 def run_command(parser: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> int:
     """Parse ``argv`` and run the command; returns the exit status."""
     args = parser.parse_args(_join_negative_values(sys.argv[1:] if argv is None else argv))
     try:
         status = args.func(args)
     except KBMError as exc:
-        msg = " ".join(str(exc).split())
-        print(f"kbm {args.command}: error: {msg}", file=sys.stderr)
+        print(f"kbm {args.command}: error: {cli_message(exc)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print(f"kbm {args.command}: interrupted", file=sys.stderr)

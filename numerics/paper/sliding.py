@@ -144,7 +144,7 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
     missing = [q for q in m.parameters if q not in vals and q != "v"]
     if missing:
         raise ParameterError(f"slide {model} needs {', '.join(missing)} "
-                             f"(e.g. --param {missing[0]}=1)")
+                             f"(e.g. params={{{missing[0]!r}: 1}})")
     subs = {sp.Symbol(k): val for k, val in vals.items()}
     acc = m.acceleration().subs(subs)
     Om, v = p["Omega"], p.get("v", 0.0)

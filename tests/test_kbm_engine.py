@@ -11,8 +11,6 @@
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
 
 import mpmath
 import numpy as np
@@ -23,8 +21,7 @@ from hypothesis import given, settings, strategies as st
 from kbm import (ModelError, NonAutonomousError, OrderError, UnsupportedTermError, custom_model,
                  derive, get_model)
 
-sys.path.insert(0, str(Path(__file__).parent))
-from reference.numerical_kbm import numerical_kbm  # noqa: E402
+from reference.numerical_kbm import numerical_kbm
 
 a, psi, eps = sp.symbols("a psi eps")
 x, xdot = sp.symbols("x xdot")

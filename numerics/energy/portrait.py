@@ -151,7 +151,11 @@ class Annulus:
             new = np.where(ok, step, 0.5 * (lo + hi))
             done = np.abs(new - xk) <= 32 * np.finfo(float).eps * np.maximum(1.0, np.abs(xk))
             xk = new
-            if np.all(done & ok) or np.all((lo == hi) | (np.nextafter(lo, hi) == hi)):
+            # per energy: Newton converged, the bracket is down to one ulp (a rounded
+            # Newton step may then leave it forever), or G(x) - E is at the rounding level
+            # of E (near a saddle, where g is small, Newton then wanders among a few ulps)
+            if np.all((done & ok) | (lo == hi) | (np.nextafter(lo, hi) == hi)
+                      | (np.abs(r) <= 4 * np.finfo(float).eps * np.maximum(1.0, np.abs(E)))):
                 break
         return xk
 
@@ -185,6 +189,8 @@ class Annulus:
         error : numpy.ndarray
             Largest relative change of the last doubling, per energy.
         nodes : int
+            Nodes of the last rule (the largest over the energies: each energy is
+            refined on its own until it meets the tolerance).
         converged : bool
         """
         G = self._fun[2]
@@ -192,32 +198,44 @@ class Annulus:
         xm, xp = self.turning_points(E)
         c, r = 0.5 * (xp + xm), 0.5 * (xp - xm)
 
-        def rule(n):
+        def rule(n, k):
             s = (np.arange(n) + 0.5) * np.pi / n
-            xs = c[:, None] - r[:, None] * np.cos(s)
-            rs = r[:, None] * np.sin(s)
-            q = np.maximum((E[:, None] - G(xs)) / rs**2, np.finfo(float).tiny)
+            xs = c[k, None] - r[k, None] * np.cos(s)
+            rs = r[k, None] * np.sin(s)
+            q = np.maximum((E[k, None] - G(xs)) / rs**2, np.finfo(float).tiny)
             sq = np.sqrt(2 * q)
             vals = [f(xs, rs * sq, sq) for f in integrands]
             w = np.pi / n
             return ([w * np.sum(v, axis=1) for v in vals],
                     [w * np.sum(np.abs(v), axis=1) for v in vals])
 
+        # each energy is refined on its own: only those not yet converged get the
+        # doubled rule (near a separatrix or at large E the others would be dragged along)
+        nE = len(E)
+        out = [np.zeros(nE) for _ in integrands]
+        err = np.full(nE, np.inf)
+        last = np.full(nE, np.inf)
+        active = np.arange(nE)
         n = n_start
-        I0, _ = rule(n)
-        last = np.inf
-        while True:
-            I1, S1 = rule(2 * n)
-            err = np.max([np.abs(a - b) / np.maximum(s, 1e-300)
-                          for a, b, s in zip(I1, I0, S1)], axis=0)
+        I0, _ = rule(n, active)
+        n_used = n
+        while len(active):
+            I1, S1 = rule(2 * n, active)
+            e = np.max([np.abs(a - b) / np.maximum(s, 1e-300)
+                        for a, b, s in zip(I1, I0, S1)], axis=0)
             n *= 2
-            worst = float(np.max(err))
+            n_used = n
+            err[active] = e
+            for o, v in zip(out, I1):
+                o[active] = v
             # stop at the tolerance, at n_max, or on the rounding plateau (E - G(x) loses
             # digits in shallow wells: the estimate then stops decreasing)
-            if worst <= tol or 2 * n > n_max or (n >= 256 and worst > 0.25 * last):
-                break
-            last, I0 = worst, I1
-        return I1, err, n, bool(worst <= tol)
+            stop = (e <= tol) | (2 * n > n_max) | ((n >= 256) & (e > 0.25 * last[active]))
+            last[active] = e
+            keep = ~stop
+            active = active[keep]
+            I0 = [v[keep] for v in I1]
+        return out, err, n_used, bool(np.all(err <= tol))
 
     def quadrature(self, E, *, gamma: bool = False, tol: float = 1e-12,
                    n_start: int = 32, n_max: int = 1 << 16) -> Quadrature:

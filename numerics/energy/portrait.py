@@ -25,7 +25,7 @@ S. Coppola and R. H. Rand, Acta Mechanica 81 (1990); paper eq. (10) for Gamma.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -103,6 +103,7 @@ class Annulus:
     wells: tuple
     bounds: tuple
     _fun: tuple = ()
+    _tables: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def bounded(self) -> bool:
@@ -131,11 +132,16 @@ class Annulus:
         g = self._fun[0]
         sgn = 1.0 if increasing else -1.0
         # start from the inverse of a table of the monotone G, with its cell as the bracket
-        xt = np.linspace(float(np.min(lo)), float(np.max(hi)), 257)
-        Gt = G(xt)
-        if not increasing:
-            xt, Gt = xt[::-1], Gt[::-1]
-        Gt = np.maximum.accumulate(Gt)
+        key = (float(np.min(lo)), float(np.max(hi)), increasing)
+        if key not in self._tables:         # kept: the scalar solves of the position scheme
+            if len(self._tables) > 64:      # reuse a few tables thousands of times
+                self._tables.clear()
+            xt = np.linspace(key[0], key[1], 257)
+            Gt = G(xt)
+            if not increasing:
+                xt, Gt = xt[::-1], Gt[::-1]
+            self._tables[key] = (xt, np.maximum.accumulate(Gt))
+        xt, Gt = self._tables[key]
         i = np.clip(np.searchsorted(Gt, E), 1, len(xt) - 1)
         cell = np.sort(np.stack([xt[i - 1], xt[i]]), axis=0)
         lo, hi = np.maximum(lo, cell[0]), np.minimum(hi, cell[1])

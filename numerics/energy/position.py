@@ -190,6 +190,10 @@ def _level(annulus, fun, mu, phi_c, eps0, scale):
     r0, why = R(eps0)
     if r0 == 0:
         return eps0
+    if np.isfinite(r0):
+        e = _secant(R, eps0, r0, scale)
+        if e is not None:
+            return e
     prev = dict.fromkeys((-1, 1), (eps0, r0) if np.isfinite(r0) else None)
     step = 1e-3 * scale
     while step <= 10 * scale:
@@ -208,6 +212,27 @@ def _level(annulus, fun, mu, phi_c, eps0, scale):
         step *= 1.6
     raise PositionError(why or f"no level near {eps0:.6g} closes the curve (the energy gain "
                         "keeps one sign)")
+
+
+def _secant(R, e0, r0, scale):
+    """The root of the gain by the secant method from ``e0`` (None when it does not settle
+    within 12 steps inside ``10 scale``, or a curve is not closed: then the bracket search)."""
+    tiny = 1e-15 * max(1.0, abs(e0))
+    e1 = e0 + max(1e-7 * scale, 1e3 * tiny)
+    r1 = R(e1)[0]
+    for _ in range(12):
+        if not np.isfinite(r1) or r1 == r0:
+            return None
+        e2 = e1 - r1 * (e1 - e0) / (r1 - r0)
+        if not abs(e2 - e0) <= 10 * scale:
+            return None
+        if abs(e2 - e1) <= tiny:
+            return e2
+        e0, r0, e1 = e1, r1, e2
+        r1 = R(e1)[0]
+        if r1 == 0:
+            return e1
+    return None
 
 
 def _run(annulus, fun, hv, mu, E_star, integrations, n, scale):

@@ -31,6 +31,7 @@ import numpy as np
 
 from kbm.conservative import ConservativeSplit
 
+from . import _turning
 from ._zeros import _bracket, _zeros
 
 __all__ = ["Equilibrium", "Annulus", "Portrait", "phase_portrait", "Quadrature"]
@@ -104,6 +105,7 @@ class Annulus:
     bounds: tuple
     _fun: tuple = ()
     _tables: dict = field(default_factory=dict, repr=False, compare=False)
+    _scalar: tuple = ()
 
     @property
     def bounded(self) -> bool:
@@ -116,54 +118,13 @@ class Annulus:
         return (E > self.energy_min) & (E < self.energy_max)
 
     def _solve(self, E, a, b, increasing):
-        _, _, G, _ = self._fun
-        E = np.asarray(E, float)
-        lo = np.full(E.shape, a, float)
-        hi = np.full(E.shape, b, float)
-        if not np.isfinite(b if increasing else a):
-            far = hi if increasing else lo
-            start = max(1.0, abs(a if increasing else b)) * (1 if increasing else -1)
-            far[...] = start
-            for _ in range(200):
-                short = G(far) < E
-                if not np.any(short):
-                    break
-                far[short] *= 2.0
-        g = self._fun[0]
-        sgn = 1.0 if increasing else -1.0
-        # start from the inverse of a table of the monotone G, with its cell as the bracket
-        key = (float(np.min(lo)), float(np.max(hi)), increasing)
-        if key not in self._tables:         # kept: the scalar solves of the position scheme
-            if len(self._tables) > 64:      # reuse a few tables thousands of times
-                self._tables.clear()
-            xt = np.linspace(key[0], key[1], 257)
-            Gt = G(xt)
-            if not increasing:
-                xt, Gt = xt[::-1], Gt[::-1]
-            self._tables[key] = (xt, np.maximum.accumulate(Gt))
-        xt, Gt = self._tables[key]
-        i = np.clip(np.searchsorted(Gt, E), 1, len(xt) - 1)
-        cell = np.sort(np.stack([xt[i - 1], xt[i]]), axis=0)
-        lo, hi = np.maximum(lo, cell[0]), np.minimum(hi, cell[1])
-        xk = np.clip(np.interp(E, Gt, xt), lo, hi)
-        for k in range(100):
-            r = G(xk) - E
-            left = sgn * r > 0           # the root lies left of xk
-            hi = np.where(left, xk, hi)
-            lo = np.where(left, lo, xk)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                step = xk - r / g(xk)
-            ok = (step >= lo) & (step <= hi)
-            new = np.where(ok, step, 0.5 * (lo + hi))
-            done = np.abs(new - xk) <= 32 * np.finfo(float).eps * np.maximum(1.0, np.abs(xk))
-            xk = new
-            # per energy: Newton converged, the bracket is down to one ulp (a rounded
-            # Newton step may then leave it forever), or G(x) - E is at the rounding level
-            # of E (near a saddle, where g is small, Newton then wanders among a few ulps)
-            if np.all((done & ok) | (lo == hi) | (np.nextafter(lo, hi) == hi)
-                      | (np.abs(r) <= 4 * np.finfo(float).eps * np.maximum(1.0, np.abs(E)))):
-                break
-        return xk
+        return _turning.solve(self._fun, self._tables, E, a, b, increasing)
+
+    def _solve1(self, E: float, a: float, b: float, increasing: bool) -> float:
+        """One turning point in Python floats (the math-module ``g``, ``G`` when known)."""
+        if not self._scalar:
+            return float(self._solve(np.array([E]), a, b, increasing)[0])
+        return _turning.solve1(self._scalar, self._fun, self._tables, E, a, b, increasing)
 
     def turning_points(self, E) -> tuple[np.ndarray, np.ndarray]:
         """``(x-(E), x+(E))``, the solutions of ``G(x) = E`` bounding the orbit (vectorised)."""
@@ -318,6 +279,23 @@ def _label(wells, top, scale) -> str:
     return f"band around {len(wells)} wells"
 
 
+def _scalar_functions(split: ConservativeSplit, fun: tuple) -> tuple:
+    """``(g, G)`` lambdified for Python floats (``()`` when the math module cannot, or
+    they disagree with the numpy ones)."""
+    import sympy as sp
+
+    from kbm.symbols import x
+
+    try:
+        g, G = sp.lambdify(x, split.g, "math"), sp.lambdify(x, split.G, "math")
+        z = np.array([-1.7, 0.3, 2.9])
+        ok = all(np.allclose([float(f(v)) for v in z], F(z), rtol=1e-13, atol=1e-13)
+                 for f, F in ((g, fun[0]), (G, fun[2])))
+    except Exception:  # noqa: BLE001 - any failure: the numpy path
+        return ()
+    return (g, G) if ok else ()
+
+
 def phase_portrait(split: ConservativeSplit) -> Portrait:
     """The conservative phase portrait of a split model.
 
@@ -336,6 +314,7 @@ def phase_portrait(split: ConservativeSplit) -> Portrait:
     """
     fun = split.numpy_functions()
     g, dg, G, _ = fun
+    scalar = _scalar_functions(split, fun)
     L = _bracket(g, split)
     zs = _zeros(g, L)
     xs = np.array([z for z, _ in zs])
@@ -354,7 +333,8 @@ def phase_portrait(split: ConservativeSplit) -> Portrait:
         wells = tuple(float(xs[k]) for k in range(i, j + 1) if kinds[k] == "center")
         bottom = max(Gs[k] for k in saddles) if saddles else Gs[i]
         annuli.append(Annulus(_label(wells, top, scale), float(bottom), float(top), wells,
-                              (lo_out, float(xs[i]), float(xs[j]), hi_out), fun))
+                              (lo_out, float(xs[i]), float(xs[j]), hi_out), fun,
+                              _scalar=scalar))
         if not saddles:
             return
         cut = [k for k in saddles if Gs[k] >= bottom - etol]

@@ -88,6 +88,9 @@ class PositionCycle:
     saddle_gap : float
         ``min (E - G(x)) / max (E - G(x))`` away from the turning points: how
         close the curve comes to stopping at a saddle.
+    levels : tuple of float
+        The level ``eps`` closing each iterate (``integrations + 1`` values; the
+        last is ``energy``).
     """
 
     energy: float
@@ -102,6 +105,7 @@ class PositionCycle:
     error: float
     energy_swing: float
     saddle_gap: float
+    levels: tuple = ()
 
 
 class _Curve:
@@ -113,8 +117,8 @@ class _Curve:
         _, _, G, h = fun
         phi, phi_pi = _phi_values(phi_c, self.s)
         lo_out, lo_in, hi_in, hi_out = annulus.bounds
-        xm = float(annulus._solve(np.array([eps]), lo_out, lo_in, increasing=False)[0])
-        xp = float(annulus._solve(np.array([eps + phi_pi]), hi_in, hi_out, increasing=True)[0])
+        xm = annulus._solve1(eps, lo_out, lo_in, increasing=False)
+        xp = annulus._solve1(eps + phi_pi, hi_in, hi_out, increasing=True)
         if not (abs(G(np.array([xm]))[0] - eps) <= 1e-9 * (1 + abs(eps))
                 and abs(G(np.array([xp]))[0] - eps - phi_pi) <= 1e-9 * (1 + abs(eps))):
             raise PositionError(f"no turning point at energies {eps:.6g}, {eps + phi_pi:.6g} "
@@ -235,19 +239,22 @@ def _secant(R, e0, r0, scale):
     return None
 
 
-def _run(annulus, fun, hv, mu, E_star, integrations, n, scale):
+def _run(annulus, fun, hv, mu, E_star, integrations, n, scale, guesses=None):
     phi_c = np.zeros(n // 2 + 1, complex)
     eps = E_star
+    levels = []
     for k in range(integrations + 1):
+        start = guesses[k] if guesses is not None and k < len(guesses) else eps
         try:
-            eps = _level(annulus, fun, mu, phi_c, eps, scale)
+            eps = _level(annulus, fun, mu, phi_c, start, scale)
+            levels.append(eps)
         except PositionError as err:
             raise PositionError(f"no closed curve after {k} integration(s): {err}") from None
         cur = _Curve(annulus, fun, mu, phi_c, eps)
         if k < integrations:
             phi_c = cur.integrate()
     mult = float(np.exp(mu * np.sum(hv(cur.x, cur.v) / cur.w) * cur.ds))
-    return cur, mult
+    return cur, mult, tuple(levels)
 
 
 def _harmonics(cur, m_max=16):
@@ -259,13 +266,18 @@ def _harmonics(cur, m_max=16):
     osc, osc_pi = _phi_values(b, s)
     t = T * s / (2 * np.pi) + osc - (0.5 * T + osc_pi)
     omega = 2 * np.pi / T
-    m = np.arange(m_max)
-    return (np.exp(-1j * np.outer(m, omega * t)) @ (cur.x * inv_w)) * ds / T
+    z = np.exp(-1j * omega * t)         # e^{-i m omega t} = z**m, by repeated products
+    f = (cur.x * inv_w).astype(complex)
+    out = np.empty(m_max, complex)
+    for m in range(m_max):
+        out[m] = np.sum(f)
+        f *= z
+    return out * ds / T
 
 
 def position_cycle(annulus: Annulus, functions, hv, mu: float, energy: float,
                    integrations: int, *, n_start: int = 128, n_max: int = 1 << 14,
-                   tol: float = 1e-11) -> PositionCycle:
+                   tol: float = 1e-11, guesses=None) -> PositionCycle:
     """The cycle of the position scheme after ``integrations`` integrations of ``phi``.
 
     Parameters
@@ -286,6 +298,9 @@ def position_cycle(annulus: Annulus, functions, hv, mu: float, energy: float,
         changes by less than ``tol``).
     tol : float
         Relative tolerance of the period.
+    guesses : sequence of float, optional
+        Starting guesses of the ``integrations + 1`` levels (e.g. ``levels`` of the
+        cycle at a neighbouring ``mu``); default: each level starts from the last.
 
     Returns
     -------
@@ -315,7 +330,8 @@ def position_cycle(annulus: Annulus, functions, hv, mu: float, energy: float,
         scale = min(scale, annulus.energy_max - energy)
     n, prev, err = n_start, None, np.inf
     while True:
-        cur, mult = _run(annulus, functions, hv, mu, energy, integrations, n, scale)
+        cur, mult, levels = _run(annulus, functions, hv, mu, energy, integrations, n, scale,
+                                 guesses)
         if prev is not None:
             err = abs(cur.period - prev) / cur.period
             if err <= tol or 2 * n > n_max:
@@ -326,4 +342,4 @@ def position_cycle(annulus: Annulus, functions, hv, mu: float, energy: float,
     mean_E = float(np.sum(E / cur.w) * cur.ds) / cur.period
     return PositionCycle(float(cur.eps), mean_E, float(xm), float(xp), cur.period, mult,
                          _harmonics(cur), int(integrations), n, float(err),
-                         float(np.max(E) - np.min(E)), cur.gap)
+                         float(np.max(E) - np.min(E)), cur.gap, levels)

@@ -88,9 +88,10 @@ class PositionCycle:
     saddle_gap : float
         ``min (E - G(x)) / max (E - G(x))`` away from the turning points: how
         close the curve comes to stopping at a saddle.
-    levels : tuple of float
-        The level ``eps`` closing each iterate (``integrations + 1`` values; the
-        last is ``energy``).
+    levels : tuple of tuple
+        ``(eps, slope)`` of each iterate (``integrations + 1`` pairs): the level closing
+        it (the last is ``energy``) and the slope of the energy gain there (None when
+        unknown); the warm start of a neighbouring ``mu`` (``guesses``).
     """
 
     energy: float
@@ -182,9 +183,10 @@ def _phi_values(b, s):
     return vals, at_pi
 
 
-def _level(annulus, fun, mu, phi_c, eps0, scale):
+def _level(annulus, fun, mu, phi_c, eps0, scale, slope=None):
     """The level ``eps`` closing the curve for ``phi``: the root of the gain nearest ``eps0``
-    (levels whose curve stops at a saddle are skipped)."""
+    (levels whose curve stops at a saddle are skipped), and the gain's slope there (None
+    after the bracket search).  ``slope``, a guess of that slope, saves the first probe."""
     def R(e):
         try:
             return _Curve(annulus, fun, mu, phi_c, e).gain(), ""
@@ -193,11 +195,11 @@ def _level(annulus, fun, mu, phi_c, eps0, scale):
 
     r0, why = R(eps0)
     if r0 == 0:
-        return eps0
+        return eps0, slope
     if np.isfinite(r0):
-        e = _secant(R, eps0, r0, scale)
-        if e is not None:
-            return e
+        found = _secant(R, eps0, r0, scale, slope)
+        if found is not None:
+            return found
     prev = dict.fromkeys((-1, 1), (eps0, r0) if np.isfinite(r0) else None)
     step = 1e-3 * scale
     while step <= 10 * scale:
@@ -211,31 +213,39 @@ def _level(annulus, fun, mu, phi_c, eps0, scale):
             if p is not None and np.sign(r) != np.sign(p[1]):
                 lo, hi = sorted((p[0], e))
                 return brentq(lambda z: R(z)[0], lo, hi, xtol=1e-15 * max(1.0, abs(eps0)),
-                              rtol=1e-15)
+                              rtol=1e-15), None
             prev[side] = (e, r)
         step *= 1.6
     raise PositionError(why or f"no level near {eps0:.6g} closes the curve (the energy gain "
                         "keeps one sign)")
 
 
-def _secant(R, e0, r0, scale):
-    """The root of the gain by the secant method from ``e0`` (None when it does not settle
-    within 12 steps inside ``10 scale``, or a curve is not closed: then the bracket search)."""
+def _secant(R, e0, r0, scale, slope=None):
+    """``(root, slope)`` of the gain by the secant method from ``e0``, the first step a
+    Newton step with ``slope`` when given (None when it does not settle within 12 steps
+    inside ``10 scale``, or a curve is not closed: then the bracket search)."""
     tiny = 1e-15 * max(1.0, abs(e0))
-    e1 = e0 + max(1e-7 * scale, 1e3 * tiny)
+    if slope is not None and np.isfinite(slope) and slope != 0:
+        d = -r0 / slope
+        if abs(d) <= tiny:
+            return e0, slope
+        e1 = e0 + d
+    else:
+        e1 = e0 + max(1e-7 * scale, 1e3 * tiny)
     r1 = R(e1)[0]
     for _ in range(12):
         if not np.isfinite(r1) or r1 == r0:
             return None
-        e2 = e1 - r1 * (e1 - e0) / (r1 - r0)
+        slope = (r1 - r0) / (e1 - e0)
+        e2 = e1 - r1 / slope
         if not abs(e2 - e0) <= 10 * scale:
             return None
         if abs(e2 - e1) <= tiny:
-            return e2
+            return e2, slope
         e0, r0, e1 = e1, r1, e2
         r1 = R(e1)[0]
         if r1 == 0:
-            return e1
+            return e1, slope
     return None
 
 
@@ -244,10 +254,11 @@ def _run(annulus, fun, hv, mu, E_star, integrations, n, scale, guesses=None):
     eps = E_star
     levels = []
     for k in range(integrations + 1):
-        start = guesses[k] if guesses is not None and k < len(guesses) else eps
+        start, slope = (guesses[k] if guesses is not None and k < len(guesses)
+                        else (eps, None))
         try:
-            eps = _level(annulus, fun, mu, phi_c, start, scale)
-            levels.append(eps)
+            eps, slope = _level(annulus, fun, mu, phi_c, start, scale, slope)
+            levels.append((eps, slope))
         except PositionError as err:
             raise PositionError(f"no closed curve after {k} integration(s): {err}") from None
         cur = _Curve(annulus, fun, mu, phi_c, eps)
@@ -298,9 +309,10 @@ def position_cycle(annulus: Annulus, functions, hv, mu: float, energy: float,
         changes by less than ``tol``).
     tol : float
         Relative tolerance of the period.
-    guesses : sequence of float, optional
-        Starting guesses of the ``integrations + 1`` levels (e.g. ``levels`` of the
-        cycle at a neighbouring ``mu``); default: each level starts from the last.
+    guesses : sequence of tuple, optional
+        ``(level, slope)`` starting guesses of the ``integrations + 1`` levels (the
+        ``levels`` of the cycle at a neighbouring ``mu``); default: each level starts
+        from the last.
 
     Returns
     -------
@@ -337,6 +349,7 @@ def position_cycle(annulus: Annulus, functions, hv, mu: float, energy: float,
             if err <= tol or 2 * n > n_max:
                 break
         prev, n = cur.period, 2 * n
+        guesses = levels            # the next resolution starts from these levels
     E = cur.eps + cur.phi
     xm, xp = cur.c - cur.r, cur.c + cur.r
     mean_E = float(np.sum(E / cur.w) * cur.ds) / cur.period

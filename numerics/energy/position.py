@@ -89,9 +89,8 @@ class PositionCycle:
         ``min (E - G(x)) / max (E - G(x))`` away from the turning points: how
         close the curve comes to stopping at a saddle.
     levels : tuple of tuple
-        ``(eps, slope)`` of each iterate (``integrations + 1`` pairs): the level closing
-        it (the last is ``energy``) and the slope of the energy gain there (None when
-        unknown); the warm start of a neighbouring ``mu`` (``guesses``).
+        ``(eps, slope)`` per iterate: the level closing it and the slope of the energy
+        gain there (or None); the warm start (``guesses``) of a neighbouring ``mu``.
     """
 
     energy: float
@@ -184,9 +183,8 @@ def _phi_values(b, s):
 
 
 def _level(annulus, fun, mu, phi_c, eps0, scale, slope=None):
-    """The level ``eps`` closing the curve for ``phi``: the root of the gain nearest ``eps0``
-    (levels whose curve stops at a saddle are skipped), and the gain's slope there (None
-    after the bracket search).  ``slope``, a guess of that slope, saves the first probe."""
+    """The level ``eps`` closing the curve for ``phi`` (the root of the gain nearest ``eps0``,
+    skipping levels whose curve stops at a saddle) and the gain's slope there (or None)."""
     def R(e):
         try:
             return _Curve(annulus, fun, mu, phi_c, e).gain(), ""
@@ -221,9 +219,8 @@ def _level(annulus, fun, mu, phi_c, eps0, scale, slope=None):
 
 
 def _secant(R, e0, r0, scale, slope=None):
-    """``(root, slope)`` of the gain by the secant method from ``e0``, the first step a
-    Newton step with ``slope`` when given (None when it does not settle within 12 steps
-    inside ``10 scale``, or a curve is not closed: then the bracket search)."""
+    """``(root, slope)`` of the gain by secants from ``e0`` (first step: Newton with ``slope``
+    if given); None if not settled in 12 steps within ``10 scale`` or a curve is open."""
     tiny = 1e-15 * max(1.0, abs(e0))
     if slope is not None and np.isfinite(slope) and slope != 0:
         d = -r0 / slope
@@ -310,9 +307,8 @@ def position_cycle(annulus: Annulus, functions, hv, mu: float, energy: float,
     tol : float
         Relative tolerance of the period.
     guesses : sequence of tuple, optional
-        ``(level, slope)`` starting guesses of the ``integrations + 1`` levels (the
-        ``levels`` of the cycle at a neighbouring ``mu``); default: each level starts
-        from the last.
+        ``(level, slope)`` guesses of the ``integrations + 1`` levels (``levels`` of a
+        neighbouring ``mu``'s cycle); by default each level starts from the last.
 
     Returns
     -------

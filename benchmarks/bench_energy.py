@@ -11,6 +11,12 @@ For the slider (sedf, mu = 0.1, Omega = 1, lam = 1) at (Delta, beta) = (1.5, 1),
 order-1 prediction (cycles with ``max x > 0`` only; "not shot" when Newton from
 the prediction fails, as at Delta = 3 where it lands on the equilibrium x = 1.89).  Prints the times, the ratio shooting/prediction
 and the errors of the predictions against the shot cycles.
+
+Then the map (``--map N``, default 100; 0 skips it): ``numerics.energy.map_predictions``
+of order 2 on an ``N x N`` grid of ``(mu, Delta)`` (``mu`` 0.5 .. 0.005, ``Delta`` 0.001 .. 3,
+geometric; beta = 1 and 0.25) on ``--workers`` processes (target < 60 s each), with
+the time of shooting a sample of the same cycles (``--shots`` points, started from the
+map's prediction) extrapolated to the whole grid.
 """
 
 from __future__ import annotations
@@ -18,8 +24,10 @@ from __future__ import annotations
 import argparse
 import time
 
+import numpy as np
+
 import numerics
-from numerics.energy import predict_cycles
+from numerics.energy import map_predictions, predict_cycles
 
 CASES = [(1.5, 1.0), (3.0, 1.0), (1.5, 0.25), (1.5, 1.3)]
 
@@ -36,6 +44,9 @@ def best(fun, repeat):
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--map", type=int, default=100, help="grid size N of the N x N map")
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--shots", type=int, default=20, help="map points shot for the ratio")
     args = ap.parse_args()
     numerics.limit_cycle("sedf", {"mu": 0.1, "Delta": 1.5, "beta": 1, "lam": 1})  # load the JIT
     print(f"{'Delta':>5} {'beta':>5} {'order 1':>9} {'order 2':>9} {'o2 e-a':>9} "
@@ -72,6 +83,40 @@ def main() -> None:
             notes.append(f"{c1.annulus}: {dx}; {dT}")
         print(f"{D:5.2g} {beta:5.2g} {t1 * 1e3:7.1f}ms {t2 * 1e3:7.1f}ms {t3 * 1e3:7.1f}ms "
               f"{ts * 1e3:7.1f}ms {ts / t1:6.1f}  " + " | ".join(notes))
+    if args.map:
+        bench_map(args.map, args.workers, args.shots)
+
+
+def bench_map(n: int, workers: int, shots: int) -> None:
+    """Time an n x n order-2 map per beta, and shooting a sample of its cycles."""
+    mus = np.geomspace(0.5, 0.005, n)
+    Ds = np.geomspace(0.001, 3.0, n)
+    rng = np.random.default_rng(0)
+    print(f"\norder-2 map of {n} x {n} (mu, Delta) points on {workers} process(es) "
+          "(target < 60 s)")
+    for beta in (1.0, 0.25):
+        t0 = time.perf_counter()
+        out = map_predictions("sedf", {"beta": beta, "lam": 1}, mus, "Delta", Ds, order=2,
+                              workers=workers)
+        tm = time.perf_counter() - t0
+        found = sum(bool(p.cycles) for col in out for p in col)
+        pick = [(i, j) for i, j in zip(rng.integers(0, n, shots), rng.integers(0, n, shots))
+                if out[i][j].cycles]
+        t0, shot = time.perf_counter(), 0
+        for i, j in pick:
+            c = max(out[i][j].cycles, key=lambda c: c.amplitude_max)
+            try:
+                numerics.limit_cycle("sedf", {"mu": mus[j], "Delta": Ds[i], "beta": beta,
+                                              "lam": 1}, guess=(c.amplitude_max, c.period))
+                shot += 1
+            except numerics.NumericsError:
+                pass
+        per_shot = (time.perf_counter() - t0) / max(len(pick), 1)
+        est = per_shot * n * n / workers
+        print(f"beta = {beta:g}: {tm:6.1f} s ({tm / n / n * workers * 1e3:.1f} ms per point "
+              f"per process), {found}/{n * n} points with a cycle; shooting {len(pick)} "
+              f"sampled points ({shot} shot): {per_shot * 1e3:.0f} ms each, estimated "
+              f"{est:.0f} s for the grid on {workers} process(es), ratio {est / tm:.1f}")
 
 
 if __name__ == "__main__":

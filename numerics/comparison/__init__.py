@@ -7,12 +7,16 @@
   (:func:`predict`: the energy balance about the conservative orbit, or classical
   KBM), and the energy method as a row of :func:`compare`;
 - :mod:`numerics.comparison.comparison`: :func:`compare`, :class:`Comparison`;
-- :mod:`numerics.comparison.convergence`: errors against ``mu`` with fitted slopes.
+- :mod:`numerics.comparison.convergence`: errors against ``mu`` with fitted slopes;
+- :mod:`numerics.comparison.fixed_delta`: the same at fixed physical ``Delta``, energy
+  method next to classical KBM.
 """
 
 from numerics.comparison.comparison import Comparison, ExtraPrediction, compare
 from numerics.comparison.convergence import (ConvergenceStudy, convergence_study, fit_slope,
                                              predicted_orders)
+from numerics.comparison.fixed_delta import (FixedDeltaConvergence, FixedDeltaStudy,
+                                             fixed_delta_convergence, fixed_delta_study)
 from numerics.comparison.predict import energy_prediction, kbm_cycles, predict
 from numerics.comparison.prediction import (ERROR_KEYS, Prediction, kbm_prediction,
                                             numeric_value, reconstruct)
@@ -20,4 +24,5 @@ from numerics.comparison.prediction import (ERROR_KEYS, Prediction, kbm_predicti
 __all__ = ["Comparison", "compare", "ExtraPrediction", "Prediction", "kbm_prediction",
            "numeric_value", "reconstruct", "ERROR_KEYS", "ConvergenceStudy",
            "convergence_study", "fit_slope", "predicted_orders", "predict", "kbm_cycles",
-           "energy_prediction"]
+           "energy_prediction", "FixedDeltaStudy", "FixedDeltaConvergence",
+           "fixed_delta_study", "fixed_delta_convergence"]

@@ -25,12 +25,13 @@ S. Coppola and R. H. Rand, Acta Mechanica 81 (1990); paper eq. (10) for Gamma.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from kbm.conservative import ConservativeSplit
 
+from . import _turning
 from ._zeros import _bracket, _zeros
 
 __all__ = ["Equilibrium", "Annulus", "Portrait", "phase_portrait", "Quadrature"]
@@ -103,6 +104,8 @@ class Annulus:
     wells: tuple
     bounds: tuple
     _fun: tuple = ()
+    _tables: dict = field(default_factory=dict, repr=False, compare=False)
+    _scalar: tuple = ()
 
     @property
     def bounded(self) -> bool:
@@ -115,45 +118,13 @@ class Annulus:
         return (E > self.energy_min) & (E < self.energy_max)
 
     def _solve(self, E, a, b, increasing):
-        _, _, G, _ = self._fun
-        E = np.asarray(E, float)
-        lo = np.full(E.shape, a, float)
-        hi = np.full(E.shape, b, float)
-        if not np.isfinite(b if increasing else a):
-            far = hi if increasing else lo
-            start = max(1.0, abs(a if increasing else b)) * (1 if increasing else -1)
-            far[...] = start
-            for _ in range(200):
-                short = G(far) < E
-                if not np.any(short):
-                    break
-                far[short] *= 2.0
-        g = self._fun[0]
-        sgn = 1.0 if increasing else -1.0
-        # start from the inverse of a table of the monotone G, with its cell as the bracket
-        xt = np.linspace(float(np.min(lo)), float(np.max(hi)), 257)
-        Gt = G(xt)
-        if not increasing:
-            xt, Gt = xt[::-1], Gt[::-1]
-        Gt = np.maximum.accumulate(Gt)
-        i = np.clip(np.searchsorted(Gt, E), 1, len(xt) - 1)
-        cell = np.sort(np.stack([xt[i - 1], xt[i]]), axis=0)
-        lo, hi = np.maximum(lo, cell[0]), np.minimum(hi, cell[1])
-        xk = np.clip(np.interp(E, Gt, xt), lo, hi)
-        for k in range(100):
-            r = G(xk) - E
-            left = sgn * r > 0           # the root lies left of xk
-            hi = np.where(left, xk, hi)
-            lo = np.where(left, lo, xk)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                step = xk - r / g(xk)
-            ok = (step >= lo) & (step <= hi)
-            new = np.where(ok, step, 0.5 * (lo + hi))
-            done = np.abs(new - xk) <= 32 * np.finfo(float).eps * np.maximum(1.0, np.abs(xk))
-            xk = new
-            if np.all(done & ok) or np.all((lo == hi) | (np.nextafter(lo, hi) == hi)):
-                break
-        return xk
+        return _turning.solve(self._fun, self._tables, E, a, b, increasing)
+
+    def _solve1(self, E: float, a: float, b: float, increasing: bool) -> float:
+        """One turning point in Python floats (the math-module ``g``, ``G`` when known)."""
+        if not self._scalar:
+            return float(self._solve(np.array([E]), a, b, increasing)[0])
+        return _turning.solve1(self._scalar, self._fun, self._tables, E, a, b, increasing)
 
     def turning_points(self, E) -> tuple[np.ndarray, np.ndarray]:
         """``(x-(E), x+(E))``, the solutions of ``G(x) = E`` bounding the orbit (vectorised)."""
@@ -185,6 +156,8 @@ class Annulus:
         error : numpy.ndarray
             Largest relative change of the last doubling, per energy.
         nodes : int
+            Nodes of the last rule (the largest over the energies: each energy is
+            refined on its own until it meets the tolerance).
         converged : bool
         """
         G = self._fun[2]
@@ -192,32 +165,44 @@ class Annulus:
         xm, xp = self.turning_points(E)
         c, r = 0.5 * (xp + xm), 0.5 * (xp - xm)
 
-        def rule(n):
+        def rule(n, k):
             s = (np.arange(n) + 0.5) * np.pi / n
-            xs = c[:, None] - r[:, None] * np.cos(s)
-            rs = r[:, None] * np.sin(s)
-            q = np.maximum((E[:, None] - G(xs)) / rs**2, np.finfo(float).tiny)
+            xs = c[k, None] - r[k, None] * np.cos(s)
+            rs = r[k, None] * np.sin(s)
+            q = np.maximum((E[k, None] - G(xs)) / rs**2, np.finfo(float).tiny)
             sq = np.sqrt(2 * q)
             vals = [f(xs, rs * sq, sq) for f in integrands]
             w = np.pi / n
             return ([w * np.sum(v, axis=1) for v in vals],
                     [w * np.sum(np.abs(v), axis=1) for v in vals])
 
+        # each energy is refined on its own: only those not yet converged get the
+        # doubled rule (near a separatrix or at large E the others would be dragged along)
+        nE = len(E)
+        out = [np.zeros(nE) for _ in integrands]
+        err = np.full(nE, np.inf)
+        last = np.full(nE, np.inf)
+        active = np.arange(nE)
         n = n_start
-        I0, _ = rule(n)
-        last = np.inf
-        while True:
-            I1, S1 = rule(2 * n)
-            err = np.max([np.abs(a - b) / np.maximum(s, 1e-300)
-                          for a, b, s in zip(I1, I0, S1)], axis=0)
+        I0, _ = rule(n, active)
+        n_used = n
+        while len(active):
+            I1, S1 = rule(2 * n, active)
+            e = np.max([np.abs(a - b) / np.maximum(s, 1e-300)
+                        for a, b, s in zip(I1, I0, S1)], axis=0)
             n *= 2
-            worst = float(np.max(err))
+            n_used = n
+            err[active] = e
+            for o, v in zip(out, I1):
+                o[active] = v
             # stop at the tolerance, at n_max, or on the rounding plateau (E - G(x) loses
             # digits in shallow wells: the estimate then stops decreasing)
-            if worst <= tol or 2 * n > n_max or (n >= 256 and worst > 0.25 * last):
-                break
-            last, I0 = worst, I1
-        return I1, err, n, bool(worst <= tol)
+            stop = (e <= tol) | (2 * n > n_max) | ((n >= 256) & (e > 0.25 * last[active]))
+            last[active] = e
+            keep = ~stop
+            active = active[keep]
+            I0 = [v[keep] for v in I1]
+        return out, err, n_used, bool(np.all(err <= tol))
 
     def quadrature(self, E, *, gamma: bool = False, tol: float = 1e-12,
                    n_start: int = 32, n_max: int = 1 << 16) -> Quadrature:
@@ -294,6 +279,23 @@ def _label(wells, top, scale) -> str:
     return f"band around {len(wells)} wells"
 
 
+def _scalar_functions(split: ConservativeSplit, fun: tuple) -> tuple:
+    """``(g, G)`` lambdified for Python floats (``()`` when the math module cannot, or
+    they disagree with the numpy ones)."""
+    import sympy as sp
+
+    from kbm.symbols import x
+
+    try:
+        g, G = sp.lambdify(x, split.g, "math"), sp.lambdify(x, split.G, "math")
+        z = np.array([-1.7, 0.3, 2.9])
+        ok = all(np.allclose([float(f(v)) for v in z], F(z), rtol=1e-13, atol=1e-13)
+                 for f, F in ((g, fun[0]), (G, fun[2])))
+    except Exception:  # noqa: BLE001 - any failure: the numpy path
+        return ()
+    return (g, G) if ok else ()
+
+
 def phase_portrait(split: ConservativeSplit) -> Portrait:
     """The conservative phase portrait of a split model.
 
@@ -312,6 +314,7 @@ def phase_portrait(split: ConservativeSplit) -> Portrait:
     """
     fun = split.numpy_functions()
     g, dg, G, _ = fun
+    scalar = _scalar_functions(split, fun)
     L = _bracket(g, split)
     zs = _zeros(g, L)
     xs = np.array([z for z, _ in zs])
@@ -330,7 +333,8 @@ def phase_portrait(split: ConservativeSplit) -> Portrait:
         wells = tuple(float(xs[k]) for k in range(i, j + 1) if kinds[k] == "center")
         bottom = max(Gs[k] for k in saddles) if saddles else Gs[i]
         annuli.append(Annulus(_label(wells, top, scale), float(bottom), float(top), wells,
-                              (lo_out, float(xs[i]), float(xs[j]), hi_out), fun))
+                              (lo_out, float(xs[i]), float(xs[j]), hi_out), fun,
+                              _scalar=scalar))
         if not saddles:
             return
         cut = [k for k in saddles if Gs[k] >= bottom - etol]

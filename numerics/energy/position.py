@@ -88,6 +88,9 @@ class PositionCycle:
     saddle_gap : float
         ``min (E - G(x)) / max (E - G(x))`` away from the turning points: how
         close the curve comes to stopping at a saddle.
+    levels : tuple of tuple
+        ``(eps, slope)`` per iterate: the level closing it and the slope of the energy
+        gain there (or None); the warm start (``guesses``) of a neighbouring ``mu``.
     """
 
     energy: float
@@ -102,6 +105,7 @@ class PositionCycle:
     error: float
     energy_swing: float
     saddle_gap: float
+    levels: tuple = ()
 
 
 class _Curve:
@@ -113,8 +117,8 @@ class _Curve:
         _, _, G, h = fun
         phi, phi_pi = _phi_values(phi_c, self.s)
         lo_out, lo_in, hi_in, hi_out = annulus.bounds
-        xm = float(annulus._solve(np.array([eps]), lo_out, lo_in, increasing=False)[0])
-        xp = float(annulus._solve(np.array([eps + phi_pi]), hi_in, hi_out, increasing=True)[0])
+        xm = annulus._solve1(eps, lo_out, lo_in, increasing=False)
+        xp = annulus._solve1(eps + phi_pi, hi_in, hi_out, increasing=True)
         if not (abs(G(np.array([xm]))[0] - eps) <= 1e-9 * (1 + abs(eps))
                 and abs(G(np.array([xp]))[0] - eps - phi_pi) <= 1e-9 * (1 + abs(eps))):
             raise PositionError(f"no turning point at energies {eps:.6g}, {eps + phi_pi:.6g} "
@@ -178,9 +182,9 @@ def _phi_values(b, s):
     return vals, at_pi
 
 
-def _level(annulus, fun, mu, phi_c, eps0, scale):
-    """The level ``eps`` closing the curve for ``phi``: the root of the gain nearest ``eps0``
-    (levels whose curve stops at a saddle are skipped)."""
+def _level(annulus, fun, mu, phi_c, eps0, scale, slope=None):
+    """The level ``eps`` closing the curve for ``phi`` (the root of the gain nearest ``eps0``,
+    skipping levels whose curve stops at a saddle) and the gain's slope there (or None)."""
     def R(e):
         try:
             return _Curve(annulus, fun, mu, phi_c, e).gain(), ""
@@ -189,7 +193,11 @@ def _level(annulus, fun, mu, phi_c, eps0, scale):
 
     r0, why = R(eps0)
     if r0 == 0:
-        return eps0
+        return eps0, slope
+    if np.isfinite(r0):
+        found = _secant(R, eps0, r0, scale, slope)
+        if found is not None:
+            return found
     prev = dict.fromkeys((-1, 1), (eps0, r0) if np.isfinite(r0) else None)
     step = 1e-3 * scale
     while step <= 10 * scale:
@@ -203,26 +211,58 @@ def _level(annulus, fun, mu, phi_c, eps0, scale):
             if p is not None and np.sign(r) != np.sign(p[1]):
                 lo, hi = sorted((p[0], e))
                 return brentq(lambda z: R(z)[0], lo, hi, xtol=1e-15 * max(1.0, abs(eps0)),
-                              rtol=1e-15)
+                              rtol=1e-15), None
             prev[side] = (e, r)
         step *= 1.6
     raise PositionError(why or f"no level near {eps0:.6g} closes the curve (the energy gain "
                         "keeps one sign)")
 
 
-def _run(annulus, fun, hv, mu, E_star, integrations, n, scale):
+def _secant(R, e0, r0, scale, slope=None):
+    """``(root, slope)`` of the gain by secants from ``e0`` (first step: Newton with ``slope``
+    if given); None if not settled in 12 steps within ``10 scale`` or a curve is open."""
+    tiny = 1e-15 * max(1.0, abs(e0))
+    if slope is not None and np.isfinite(slope) and slope != 0:
+        d = -r0 / slope
+        if abs(d) <= tiny:
+            return e0, slope
+        e1 = e0 + d
+    else:
+        e1 = e0 + max(1e-7 * scale, 1e3 * tiny)
+    r1 = R(e1)[0]
+    for _ in range(12):
+        if not np.isfinite(r1) or r1 == r0:
+            return None
+        slope = (r1 - r0) / (e1 - e0)
+        e2 = e1 - r1 / slope
+        if not abs(e2 - e0) <= 10 * scale:
+            return None
+        if abs(e2 - e1) <= tiny:
+            return e2, slope
+        e0, r0, e1 = e1, r1, e2
+        r1 = R(e1)[0]
+        if r1 == 0:
+            return e1, slope
+    return None
+
+
+def _run(annulus, fun, hv, mu, E_star, integrations, n, scale, guesses=None):
     phi_c = np.zeros(n // 2 + 1, complex)
     eps = E_star
+    levels = []
     for k in range(integrations + 1):
+        start, slope = (guesses[k] if guesses is not None and k < len(guesses)
+                        else (eps, None))
         try:
-            eps = _level(annulus, fun, mu, phi_c, eps, scale)
+            eps, slope = _level(annulus, fun, mu, phi_c, start, scale, slope)
+            levels.append((eps, slope))
         except PositionError as err:
             raise PositionError(f"no closed curve after {k} integration(s): {err}") from None
         cur = _Curve(annulus, fun, mu, phi_c, eps)
         if k < integrations:
             phi_c = cur.integrate()
     mult = float(np.exp(mu * np.sum(hv(cur.x, cur.v) / cur.w) * cur.ds))
-    return cur, mult
+    return cur, mult, tuple(levels)
 
 
 def _harmonics(cur, m_max=16):
@@ -234,13 +274,18 @@ def _harmonics(cur, m_max=16):
     osc, osc_pi = _phi_values(b, s)
     t = T * s / (2 * np.pi) + osc - (0.5 * T + osc_pi)
     omega = 2 * np.pi / T
-    m = np.arange(m_max)
-    return (np.exp(-1j * np.outer(m, omega * t)) @ (cur.x * inv_w)) * ds / T
+    z = np.exp(-1j * omega * t)         # e^{-i m omega t} = z**m, by repeated products
+    f = (cur.x * inv_w).astype(complex)
+    out = np.empty(m_max, complex)
+    for m in range(m_max):
+        out[m] = np.sum(f)
+        f *= z
+    return out * ds / T
 
 
 def position_cycle(annulus: Annulus, functions, hv, mu: float, energy: float,
                    integrations: int, *, n_start: int = 128, n_max: int = 1 << 14,
-                   tol: float = 1e-11) -> PositionCycle:
+                   tol: float = 1e-11, guesses=None) -> PositionCycle:
     """The cycle of the position scheme after ``integrations`` integrations of ``phi``.
 
     Parameters
@@ -261,6 +306,9 @@ def position_cycle(annulus: Annulus, functions, hv, mu: float, energy: float,
         changes by less than ``tol``).
     tol : float
         Relative tolerance of the period.
+    guesses : sequence of tuple, optional
+        ``(level, slope)`` guesses of the ``integrations + 1`` levels (``levels`` of a
+        neighbouring ``mu``'s cycle); by default each level starts from the last.
 
     Returns
     -------
@@ -290,15 +338,17 @@ def position_cycle(annulus: Annulus, functions, hv, mu: float, energy: float,
         scale = min(scale, annulus.energy_max - energy)
     n, prev, err = n_start, None, np.inf
     while True:
-        cur, mult = _run(annulus, functions, hv, mu, energy, integrations, n, scale)
+        cur, mult, levels = _run(annulus, functions, hv, mu, energy, integrations, n, scale,
+                                 guesses)
         if prev is not None:
             err = abs(cur.period - prev) / cur.period
             if err <= tol or 2 * n > n_max:
                 break
         prev, n = cur.period, 2 * n
+        guesses = levels            # the next resolution starts from these levels
     E = cur.eps + cur.phi
     xm, xp = cur.c - cur.r, cur.c + cur.r
     mean_E = float(np.sum(E / cur.w) * cur.ds) / cur.period
     return PositionCycle(float(cur.eps), mean_E, float(xm), float(xp), cur.period, mult,
                          _harmonics(cur), int(integrations), n, float(err),
-                         float(np.max(E) - np.min(E)), cur.gap)
+                         float(np.max(E) - np.min(E)), cur.gap, levels)

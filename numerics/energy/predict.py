@@ -208,14 +208,23 @@ def _refine(c1, mu, order, n_energy, rate_order):
                           "energy-angle")
 
 
-def _position(c1, functions, hv, mu, order):
-    """The cycle after ``order`` integrations of the position scheme (see its module)."""
-    p = position_cycle(c1.annulus, functions, hv, mu, c1.energy, order)
+def _position(c1, functions, hv, mu, order, **kwargs):
+    """The cycle after ``order`` integrations of the position scheme (see its module), and
+    the :class:`PositionCycle` (``kwargs`` go to :func:`position_cycle`)."""
+    p = position_cycle(c1.annulus, functions, hv, mu, c1.energy, order, **kwargs)
     T = p.period
     return PredictedCycle(p.x_max, p.x_min, float(2 * abs(p.harmonics[1])), T, 2 * np.pi / T,
                           p.mean_energy, p.floquet_multiplier < 1, c1.annulus.label, order,
                           p.floquet_multiplier, _readonly(p.harmonics), p.error,
-                          c1.separatrix_margin, c1.period_sensitivity, "position")
+                          c1.separatrix_margin, c1.period_sensitivity, "position"), p
+
+
+def _first_order(c):
+    """The energy-balance root ``c`` as a :class:`PredictedCycle`."""
+    return PredictedCycle(c.x_max, c.x_min, c.amplitude_first_harmonic, c.period,
+                          2 * np.pi / c.period, c.energy, c.stable, c.annulus.label, 1,
+                          c.floquet_multiplier, _readonly(c.harmonics), c.error,
+                          c.separatrix_margin, c.period_sensitivity)
 
 
 def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: int = 1,
@@ -321,14 +330,10 @@ def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: 
     cycles, lost = [], []
     for c in first:
         if order == 1 and (odd or rate_order == 1):
-            cycles.append(PredictedCycle(
-                c.x_max, c.x_min, c.amplitude_first_harmonic, c.period, 2 * np.pi / c.period,
-                c.energy, c.stable, c.annulus.label, 1, c.floquet_multiplier,
-                _readonly(c.harmonics), c.error, c.separatrix_margin,
-                c.period_sensitivity))
+            cycles.append(_first_order(c))
         elif scheme == "position":
             try:
-                cycles.append(_position(c, portrait.functions, hvf, split.mu, int(order)))
+                cycles.append(_position(c, portrait.functions, hvf, split.mu, int(order))[0])
             except PositionError as e:
                 lost.append(f"{c.annulus.label} (x_max {c.x_max:.6g}): {e}")
         else:

@@ -9,6 +9,8 @@ Sits on top of everything generic in :mod:`numerics`:
   :mod:`numerics.paper.stickslip`, :mod:`numerics.paper.claims`: the driven
   slider (eqs. 3, 12), its stick-slip analysis and the paper's claims;
 - :mod:`numerics.paper.validity`: where classical KBM holds for the SEDF;
+- :mod:`numerics.paper.methods`: where classical KBM and the energy method hold
+  (:func:`~numerics.paper.methods.methods_map`);
 - :mod:`numerics.paper.reproduce`: the main job (:func:`reproduce`);
 - :mod:`numerics.paper.figures`: every figure, by name.
 """

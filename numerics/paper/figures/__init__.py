@@ -1,4 +1,6 @@
-"""All figures of the project, by name: the paper's Figs. 2-6 and the KBM comparison.
+"""All figures of the project, by name: the paper's Figs. 2-6, the KBM comparison and the
+map of where classical KBM and the energy method hold (``methods_map``, the headline;
+``validity_map`` is kept).
 
 ``FIGURES`` maps a name to a function ``f(out_dir) -> list[Path]``;
 :func:`write_figures` runs them (all, or those named).  matplotlib is imported
@@ -33,6 +35,15 @@ def _comparison(name: str) -> Callable[[Path], list[Path]]:
     return run
 
 
+def _methods(name: str) -> Callable[[Path], list[Path]]:
+    def run(out_dir: Path) -> list[Path]:
+        from numerics.paper.figures import methods
+
+        return getattr(methods, name)(Path(out_dir))
+    run.__doc__ = f"numerics.paper.figures.methods.{name}"
+    return run
+
+
 #: every figure by name
 FIGURES: dict[str, Callable[[Path], list[Path]]] = {
     "fig2_potential": _paper("fig2_potential"),
@@ -40,6 +51,8 @@ FIGURES: dict[str, Callable[[Path], list[Path]]] = {
     "fig4_sliding": _paper("fig4_sliding"),
     "fig5_sedf_vs_cdc": _paper("fig5_sedf_vs_cdc"),
     "fig6_kinetic_friction": _paper("fig6_kinetic_friction"),
+    "methods_map": _methods("methods_figure"),
+    "fixed_delta_convergence": _methods("fixed_delta_figure"),
     "convergence": _comparison("convergence_figure"),
     "validity_map": _comparison("validity_figure"),
     "phase_fig3_kbm": _comparison("phase_fig3_figure"),

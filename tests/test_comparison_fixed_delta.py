@@ -1,0 +1,54 @@
+"""Convergence at fixed physical Delta (numerics.comparison.fixed_delta): the energy
+method's errors fall at the predicted rates, classical KBM's do not fall."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from numerics.comparison.fixed_delta import fixed_delta_study
+
+EPS = (0.1, 0.05, 0.025, 0.0125)
+
+
+@pytest.fixture(scope="module")
+def study():
+    return fixed_delta_study(1.5, 1.0, EPS, energy_orders=(1, 2))
+
+
+def test_energy_period_slopes_match_predicted_orders(study):
+    """SEDF, Delta = 1.5, beta = 1 (h odd in x'): the frequency error of the energy
+    method falls as mu**2 at order 1 and mu**4 at order 2 (fitted slopes within 0.2),
+    and so do max x and the first-harmonic amplitude; the Floquet exponent as mu**3, mu**5."""
+    for row, even, odd in (("energy order 1", 2, 3), ("energy order 2", 4, 5)):
+        for key in ("frequency", "amplitude_max", "amplitude"):
+            assert study.predicted[(row, key)] == even
+            assert abs(study.slopes[(row, key)] - even) < 0.2, (row, key)
+        assert study.predicted[(row, "floquet_exponent")] == odd
+        assert abs(study.slopes[(row, "floquet_exponent")] - odd) < 0.25
+
+
+def test_classical_kbm_does_not_converge_at_fixed_delta(study):
+    """At fixed Delta = 1.5 (delta = Delta/mu grows) the relative errors of classical KBM
+    orders 1 and 2 in frequency and max x stay above 1 % down to mu = 0.0125 (slope ~ 0),
+    while the energy method's order 2 is below 1e-8 there."""
+    for N in (1, 2):
+        for key in ("frequency", "amplitude_max"):
+            rel = study.relative[(f"KBM order {N}", key)]
+            assert np.all(rel > 0.01), (N, key)
+            assert abs(study.slopes[(f"KBM order {N}", key)]) < 0.2
+            assert study.predicted[(f"KBM order {N}", key)] is None
+    assert study.relative[("energy order 2", "frequency")][-1] < 1e-8
+
+
+def test_no_true_cycle_is_reported():
+    """Delta = 3, beta = 1, mu = 0.2: the motion settles on an equilibrium of the
+    potential; the study says so for that mu and fits the others."""
+    s = fixed_delta_study(3.0, 1.0, (0.2, 0.1, 0.05), energy_orders=(1,), kbm_orders=(1,))
+    assert "no true cycle" in s.messages[0] and not any(s.messages[1:])
+    assert np.isnan(s.errors[("energy order 1", "frequency")][0])
+    assert np.isfinite(s.slopes[("energy order 1", "frequency")])
+    text = json.dumps(s.to_json(), allow_nan=False)
+    assert "no true cycle" in text and "Delta = 3" in s.table()

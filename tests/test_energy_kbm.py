@@ -82,7 +82,9 @@ def test_predict_cycles_equals_kbm_first_order():
         assert key in json.loads(js)["cycles"][0]
 
 
-_conservative_g = st.tuples(st.floats(0.2, 3.0), st.floats(0.0, 1.0), st.floats(-0.4, 0.4))
+#: w^2 > |delta| makes g' = w^2 + 3 c3 x^2 + delta cos x > 0: one well (as the test states);
+#: several wells put the outer annulus's interval against a separatrix
+_conservative_g = st.tuples(st.floats(0.7, 3.0), st.floats(0.0, 1.0), st.floats(-0.4, 0.4))
 
 
 @settings(max_examples=8)
@@ -94,7 +96,8 @@ def test_conservative_rates_vanish(coefs):
     model = kbm.custom_model(f"-{c3}*x**3 - {d}*sin(x)", omega0=sp.nsimplify(w))
     s = split_conservative(model, {"mu": 1})
     p = phase_portrait(s)
-    a = p.outer if len(p.annuli) > 1 else p.annuli[0]
+    assert len(p.annuli) == 1
+    a = p.annuli[0]
     lo = a.energy_min + 0.5
     av = average(a, 0.1, 3, (lo, lo + 1.0), n_energy=16, n_theta=64)
     E = np.linspace(lo + 0.1, lo + 0.9, 5)

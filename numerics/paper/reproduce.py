@@ -18,10 +18,13 @@ from kbm.derivations import compile_pdf, write_derivations
 from kbm.paper import COMPARISON_CASES
 
 from numerics.comparison import compare, convergence_study, energy_prediction
+from numerics.comparison.fixed_delta import fixed_delta_convergence
 from numerics.paper.claims import check_claims
 from numerics.paper.errata import errata_evidence, errata_rows, evidence_table
 from numerics.paper.figures import FIGURES, write_figures
 from numerics.paper.figures.comparison import validity_figure
+from numerics.paper.figures.methods import fixed_delta_figure, methods_figure
+from numerics.paper.methods import methods_map
 from numerics.paper.printed import paper_prediction
 from numerics.paper.validity import validity_map
 
@@ -70,7 +73,7 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     """
     out = Path(out)
     (out / "tables").mkdir(parents=True, exist_ok=True)
-    prog = _Progress(7)
+    prog = _Progress(9)
     summary: list[str] = ["# kbm reproduce: summary", ""]
 
     prog.stage("errata: the paper's eqs. (6)-(9) against the engine and the true cycles")
@@ -125,6 +128,26 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     summary += ["## Convergence orders (fitted slope vs predicted)", "", conv_text, ""]
     prog.done()
 
+    prog.stage("averaging about the conservative orbit at fixed Delta: errors against mu")
+    fixed = fixed_delta_convergence()
+    fixed_text = fixed.table()
+    (out / "tables" / "fixed_delta.md").write_text("```\n" + fixed_text + "\n```\n")
+    (out / "tables" / "fixed_delta.json").write_text(
+        json.dumps(fixed.to_json(), indent=2, allow_nan=False) + "\n")
+    summary += ["## Energy method at fixed Delta (fitted slopes; classical KBM cannot "
+                "converge there)", "", "```", fixed_text, "```", ""]
+    prog.done(f"{len(fixed.studies)} (Delta, beta) cases")
+
+    prog.stage("where classical KBM and the energy method hold (sweep on all cores)")
+    mm = methods_map(progress=False)
+    mm_text = mm.table()
+    (out / "tables" / "methods.md").write_text("```\n" + mm_text + "\n```\n")
+    (out / "tables" / "methods.json").write_text(
+        json.dumps(mm.to_json(), indent=2, allow_nan=False) + "\n")
+    summary += ["## Where each method is within 1 % and 1e-3 of the true cycle", "", "```",
+                mm_text, "```", ""]
+    prog.done()
+
     prog.stage("validity map of KBM orders 1 and 2 for the SEDF (sweep on all cores)")
     vm = validity_map(progress=False)
     vm_text = vm.table()
@@ -143,9 +166,13 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     prog.done(", ".join(f"{c.key}: {c.verdict}" for c in claims))
 
     prog.stage("figures")
-    figs = write_figures(out / "figures", [n for n in FIGURES if n != "validity_map"],
+    reused = ("validity_map", "methods_map", "fixed_delta_convergence")
+    figs = write_figures(out / "figures", [n for n in FIGURES if n not in reused],
                          progress=lambda n: print(f"      {n}", file=sys.stderr, flush=True))
-    figs += validity_figure(out / "figures", vmap=vm)  # reuse the sweep of stage 5
+    # the figures of the maps and studies computed above, without computing them again
+    figs += methods_figure(out / "figures", mmap=mm)
+    figs += fixed_delta_figure(out / "figures", conv=fixed)
+    figs += validity_figure(out / "figures", vmap=vm)
     summary += ["## Figures", ""] + [f"- {p}" for p in figs if p.suffix == ".png"] + [""]
     prog.done(f"{len(figs)} files in {out / 'figures'}")
 

@@ -90,9 +90,8 @@ class _Problem:
 
     def dRdp(self, u, R):
         p = float(u[2])
-        h = 1e-6 * max(1.0, abs(p))
-        R1 = self.eval((u[0], u[1], p + h))[0]
-        return (R1 - R) / h
+        h = 1e-6 * max(1.0, abs(p))  # central: R can curve strongly in p (SEDF near 3.2)
+        return (self.eval((u[0], u[1], p + h))[0] - self.eval((u[0], u[1], p - h))[0]) / (2 * h)
 
 
 class _Point:
@@ -175,6 +174,29 @@ def _locate_fold(prob: _Problem, a: _Point, b: _Point, ds: float) -> _Point:
     return best
 
 
+def _homoclinic(recent: list, T0: float, factor: float, n: int = 10) -> str:
+    """Why the branch is taken to end at a separatrix, or ``""``."""
+    T = recent[-1].u[1]
+    if T > factor * T0:
+        return f"the period grew beyond {factor:g} times its start value"
+    if len(recent) <= n:
+        return ""
+    last = recent[-n:]
+    grows = all(b.u[1] > a.u[1] for a, b in zip(last, last[1:]))
+    if grows and all(abs(r.tangent[2]) < 2e-3 for r in last) and T > 1.25 * T0:
+        return (f"the parameter stalls (|dp/ds| < 2e-3 over {n} points) while the period "
+                "grows")
+    return ""
+
+
+def _aitken(ps: list) -> float:
+    """Limit of a geometric sequence from its last three terms (``p - p_h ~ exp(-k T)``)."""
+    if len(ps) < 3:
+        return float(ps[-1])
+    d = ps[2] - 2 * ps[1] + ps[0]
+    return float(ps[2] - (ps[2] - ps[1]) ** 2 / d) if d != 0 else float(ps[2])
+
+
 def _fold(pt: _Point, name: str) -> SpecialPoint:
     m = pt.mults[1].real
     return SpecialPoint("fold", float(pt.u[2]), pt.amp, float(pt.u[1]),
@@ -191,6 +213,7 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
         pt.tangent = -pt.tangent
     points, special = [pt.record()], []
     ds, x_big, T0 = opts["ds"], abs(pt.u[0]), pt.u[1]
+    recent = [pt]
     while True:
         if len(points) >= opts["max_points"]:
             return points, special, f"stopped after max_points = {opts['max_points']} points"
@@ -227,7 +250,7 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
         points.append(new.record())
         x_big = max(x_big, abs(new.u[0]))
         prob.choose(new.u)
-        ds = min(ds * (1.5 if new.iters <= 3 else 0.8 if new.iters >= 6 else 1.0),
+        ds = min(ds * (1.5 if new.iters <= 4 else 0.7 if new.iters >= 7 else 1.0),
                  opts["ds_max"])
         if abs(new.u[0]) < opts["hopf_fraction"] * x_big and new.tangent[0] * new.u[0] < 0:
             a2, b2 = pt.u[0] ** 2, new.u[0] ** 2
@@ -237,11 +260,15 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
                    f"{name} - {name}_H ~ x0^2), period -> {new.u[1]:.6g}")
             special.append(SpecialPoint("hopf", float(pH), 0.0, float(new.u[1]), msg))
             return points, special, msg
-        if new.u[1] > opts["period_factor"] * T0:
-            msg = (f"homoclinic end: the period grew to {new.u[1]:.6g} (from {T0:.6g}) at "
-                   f"{name} = {new.u[2]:.10g}: the cycle approaches a separatrix")
-            special.append(SpecialPoint("homoclinic", float(new.u[2]), new.amp,
-                                        float(new.u[1]), msg))
+        recent.append(new)
+        why = _homoclinic(recent, T0, opts["period_factor"])
+        if why:
+            ph = _aitken([r.u[2] for r in recent[-3:]])
+            msg = (f"homoclinic end: {why} at {name} = {new.u[2]:.10g} (period "
+                   f"{new.u[1]:.6g}, from {T0:.6g}): the cycle approaches a separatrix; "
+                   f"{name} extrapolated to {ph:.10g}")
+            special.append(SpecialPoint("homoclinic", float(ph), new.amp, float(new.u[1]),
+                                        msg))
             return points, special, msg
         pt = new
 

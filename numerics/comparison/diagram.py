@@ -21,7 +21,7 @@ from numerics._json import finite
 from numerics.comparison.branches import AnalyticCurve, energy_branch, kbm_branch
 from numerics.cycles.branch_result import Branch
 from numerics.cycles.continuation import _check_vary, continue_cycles
-from numerics.cycles.shooting import limit_cycles
+from numerics.cycles.shooting import limit_cycle, limit_cycles
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 
 __all__ = ["BranchDiagram", "branch_diagram"]
@@ -79,9 +79,39 @@ def _on_branch(b: Branch, p0: float, x0: float) -> bool:
     return any(abs(q.parameter - p0) < 1e-12 and abs(q.x0 - x0) < 1e-6 for q in pts)
 
 
+def _near(b: Branch, p: float, amp: float, rel: float) -> bool:
+    pts = b.points
+    for q, r in zip(pts, pts[1:]):
+        if min(q.parameter, r.parameter) <= p <= max(q.parameter, r.parameter):
+            w = 0.0 if r.parameter == q.parameter else (p - q.parameter) / (r.parameter -
+                                                                            q.parameter)
+            y = q.amplitude_max + w * (r.amplitude_max - q.amplitude_max)
+            if abs(y - amp) < rel * max(1.0, abs(amp)):
+                return True
+    return False
+
+
+def _more_seeds(model, params, vary, bounds, eb, branches, failures, budget, kw) -> None:
+    """Continue from energy-balance cycles that no branch passes near (``budget`` tries)."""
+    for p, amp, T, _ in eb.points:
+        if budget <= 0:
+            return
+        if any(_near(b, p, amp, 0.05) for b in branches):
+            continue
+        budget -= 1
+        here = {**params, vary: p}
+        try:
+            c = limit_cycle(model, here, guess=(amp, T))
+            if any(_near(b, p, c.amplitude_max, 1e-3) for b in branches):
+                continue
+            branches.append(continue_cycles(model, here, vary, bounds, start=c, **kw))
+        except (NoCycleError, ConvergenceError, IntegrationError) as exc:
+            failures.append(f"predicted cycle x_max = {amp:.6g} at {vary} = {p:g}: {exc}")
+
+
 def branch_diagram(model: Oscillator | str, params: Mapping[str, object] | None, vary: str,
                    bounds: tuple[float, float], *, orders: Sequence[int] = (1,),
-                   energy: bool = True, n_analytic: int = 161,
+                   energy: bool = True, n_analytic: int = 161, extra_seeds: int = 6,
                    **continuation) -> BranchDiagram:
     """Every branch of limit cycles through the start value, and the analytic branches.
 
@@ -96,6 +126,10 @@ def branch_diagram(model: Oscillator | str, params: Mapping[str, object] | None,
         Add the energy-balance branch (order 1).
     n_analytic : int
         Grid points of the analytic branches.
+    extra_seeds : int
+        Bound on the further seeds: energy-balance cycles elsewhere in the range that no
+        branch passes near (within 5% in amplitude) are shot (:func:`limit_cycle` from
+        the prediction) and, if new, continued too (up to this many attempts).
     continuation
         Passed to :func:`~numerics.cycles.continuation.continue_cycles` (``rtol``,
         ``ds_max``, ``max_points``, ...).
@@ -131,6 +165,10 @@ def branch_diagram(model: Oscillator | str, params: Mapping[str, object] | None,
                                             **continuation))
         except (NoCycleError, ConvergenceError, IntegrationError) as exc:
             failures.append(f"cycle x_max = {c.amplitude_max:.6g} at {vary} = {p0:g}: {exc}")
+    if energy:
+        eb = energy_branch(model, params, vary, (lo, hi), n=max(11, n_analytic // 2))
+        _more_seeds(model, params, vary, (lo, hi), eb, branches, failures, extra_seeds,
+                    continuation)
     analytic = []
     for o in orders:
         try:
@@ -139,8 +177,7 @@ def branch_diagram(model: Oscillator | str, params: Mapping[str, object] | None,
         except (ParameterError, ConvergenceError, ValueError) as exc:
             failures.append(f"KBM order {o}: {exc}")
     if energy:
-        analytic.append(energy_branch(model, params, vary, (lo, hi),
-                                      n=max(11, n_analytic // 2)))
+        analytic.append(eb)
     name = model if isinstance(model, str) else model.name
     return BranchDiagram(name, vary, (lo, hi), tuple(branches), tuple(analytic),
                          tuple(failures))

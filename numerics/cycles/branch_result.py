@@ -70,7 +70,8 @@ class SpecialPoint:
     kind : str
         One of :data:`SPECIAL_KINDS`.
     parameter, amplitude, period : float
-        Where it is (``amplitude`` the largest ``x``; 0 at a Hopf end; the period is
+        Where it is (``amplitude`` the largest ``x``; at a Hopf end the ``x`` of the
+        equilibrium the cycle shrinks onto; the period is
         ``inf`` unknown at a homoclinic end: the last period computed is given).
     message : str
         How it was located.

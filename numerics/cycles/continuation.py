@@ -105,6 +105,10 @@ class _Point:
         trivial, other = floquet_multipliers(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]), yT[6])
         self.mults = (trivial, other)
         self.amp = float(max(u[0], np.max(ys[:, 0])))
+        self.x_top = float(ys[int(np.argmax(ys[:, 0])), 0])
+        self.size = self.amp - float(min(u[0], np.min(ys[:, 0])))  # peak to peak of x
+        self.mid = self.amp - 0.5 * self.size
+        self.phi = float(np.max(np.abs(yT[2:6])))  # size of the monodromy matrix
 
     def record(self) -> BranchPoint:
         return BranchPoint(parameter=float(self.u[2]), x0=float(self.u[0]),
@@ -120,9 +124,11 @@ def _correct(prob: _Problem, u_pred, row, target: float, max_iter: int = 8) -> _
     tol_r, tol_u = 1e2 * prob.rtol * scale, 1e1 * prob.rtol * max(scale, u[1], abs(u[2]))
     step = math.inf
     for it in range(max_iter + 1):
-        R, A, yT, ys = prob.eval(u, 16)
+        R, A, yT, ys = prob.eval(u, 32)
         b = prob.dRdp(u, R)
-        if np.max(np.abs(R)) < tol_r and step < tol_u:
+        # the integration error of R grows with the monodromy matrix (near a separatrix)
+        noise = max(1.0, float(np.max(np.abs(yT[2:6]))) * prob.rtol / 1e-8)
+        if np.max(np.abs(R)) < tol_r * noise and step < tol_u * noise:
             return _Point(u, R, A, b, yT, ys, it)
         if it == max_iter:
             break
@@ -155,6 +161,25 @@ def _at_parameter(prob: _Problem, a: _Point, b: _Point, p: float) -> _Point:
     return new
 
 
+def _reanchor(prob: _Problem, pt: _Point) -> _Point:
+    """The same cycle with the section at its largest ``x`` when ``x0`` is only a local
+    maximum: there ``x'' < 0`` keeps the section transversal, where a local maximum can
+    merge with a minimum (``x'' = 0``, a false fold of the section point)."""
+    if pt.amp <= pt.u[0] + 1e-3 * pt.size:  # hysteresis: two nearly equal maxima
+        return pt
+    try:
+        new = _correct(prob, np.array([pt.x_top, pt.u[1], pt.u[2]]), np.array([0.0, 0, 1]),
+                       float(pt.u[2]), max_iter=25)
+    except _FAIL:
+        return pt
+    if new.amp > new.u[0] + 1e-3 * new.size or \
+            abs(new.u[1] - pt.u[1]) > 1e-6 * pt.u[1]:
+        return pt
+    if new.tangent[2] * pt.tangent[2] < 0:
+        new.tangent = -new.tangent
+    return new
+
+
 def _locate_fold(prob: _Problem, a: _Point, b: _Point, ds: float) -> _Point:
     """Secant (Illinois) on ``dp/ds`` along the arc from ``a`` to ``b``."""
     lo, hi, flo, fhi = 0.0, ds, a.tangent[2], b.tangent[2]
@@ -174,11 +199,18 @@ def _locate_fold(prob: _Problem, a: _Point, b: _Point, ds: float) -> _Point:
     return best
 
 
-def _homoclinic(recent: list, T0: float, factor: float, n: int = 10) -> str:
+def _homoclinic(recent: list, T0: float, factor: float, width: float, n: int = 10) -> str:
     """Why the branch is taken to end at a separatrix, or ``""``."""
     T = recent[-1].u[1]
     if T > factor * T0:
         return f"the period grew beyond {factor:g} times its start value"
+    if len(recent) > 2 * n and T > 1.25 * T0:
+        last = recent[-2 * n:]
+        dp = abs(last[-1].u[2] - last[0].u[2])
+        if dp < 1e-3 * width and all(b.u[1] > a.u[1] for a, b in zip(last, last[1:])):
+            return (f"the steps collapse ({2 * n} points moved the parameter by {dp:.1e}) "
+                    f"while the period grows and the monodromy matrix reaches "
+                    f"{last[-1].phi:.3g}")
     if len(recent) <= n:
         return ""
     last = recent[-n:]
@@ -212,12 +244,13 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
     if pt.tangent[2] * direction < 0 or (pt.tangent[2] == 0 and direction < 0):
         pt.tangent = -pt.tangent
     points, special = [pt.record()], []
-    ds, x_big, T0 = opts["ds"], abs(pt.u[0]), pt.u[1]
+    ds, x_big, T0 = opts["ds"], pt.size, pt.u[1]
     recent = [pt]
     while True:
         if len(points) >= opts["max_points"]:
             return points, special, f"stopped after max_points = {opts['max_points']} points"
         try:
+            ds_used = ds
             new = _arc(prob, pt, ds)
             turn = float(new.tangent @ pt.tangent)
             if turn < opts["max_turn"] and ds > opts["ds_min"] * 4:
@@ -246,24 +279,35 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
                 points.append(fp.record())
             except _FAIL:
                 fp = new
-            special.append(_fold(fp, name))
+            if abs(fp.mults[1].real - 1.0) < 1e-5:  # else not a fold (a Hopf end, a section)
+                special.append(_fold(fp, name))
         points.append(new.record())
-        x_big = max(x_big, abs(new.u[0]))
+        new = _reanchor(prob, new)
+        x_big = max(x_big, new.size)
         prob.choose(new.u)
-        ds = min(ds * (1.5 if new.iters <= 4 else 0.7 if new.iters >= 7 else 1.0),
-                 opts["ds_max"])
-        if abs(new.u[0]) < opts["hopf_fraction"] * x_big and new.tangent[0] * new.u[0] < 0:
-            a2, b2 = pt.u[0] ** 2, new.u[0] ** 2
+        small = ds < 0.05 * opts["ds_max"]  # slow Newton near a separatrix: still grow
+        ds = min(ds * (1.5 if new.iters <= 4 else 1.2 if new.iters <= 6 and small else
+                       0.7 if new.iters >= 7 else 1.0), opts["ds_max"])
+        shrink = (pt.size - new.size) / ds_used  # approach a Hopf point in ever shorter steps
+        if shrink > 0 and new.size < 0.25 * x_big:
+            ds = min(ds, max(0.5 * new.size / shrink, 4 * opts["ds_min"]))
+        if new.size < opts["hopf_fraction"] * x_big and new.size < pt.size:
+            a2, b2 = pt.size ** 2, new.size ** 2
             pH = (pt.u[2] * b2 - new.u[2] * a2) / (b2 - a2) if a2 != b2 else new.u[2]
-            msg = (f"Hopf end: the amplitude tends to 0 at {name} = {pH:.8g} (x0 = "
-                   f"{new.u[0]:.3g} at {name} = {new.u[2]:.8g}; extrapolated with "
-                   f"{name} - {name}_H ~ x0^2), period -> {new.u[1]:.6g}")
-            special.append(SpecialPoint("hopf", float(pH), 0.0, float(new.u[1]), msg))
+            msg = (f"Hopf end: the cycle shrinks onto the equilibrium at x = {new.mid:.6g} "
+                   f"at {name} = {pH:.8g} (peak-to-peak {new.size:.3g} at {name} = "
+                   f"{new.u[2]:.8g}; extrapolated with {name} - {name}_H ~ size^2), period "
+                   f"-> {new.u[1]:.6g}")
+            special.append(SpecialPoint("hopf", float(pH), float(new.mid), float(new.u[1]),
+                                        msg))
             return points, special, msg
         recent.append(new)
-        why = _homoclinic(recent, T0, opts["period_factor"])
+        why = _homoclinic(recent, T0, opts["period_factor"], hi - lo)
         if why:
-            ph = _aitken([r.u[2] for r in recent[-3:]])
+            ps = [r.u[2] for r in recent[-3:]]
+            ph = _aitken(ps)
+            if abs(ph - ps[-1]) > 10 * abs(ps[-1] - ps[-2]):  # not geometric: keep the last
+                ph = ps[-1]
             msg = (f"homoclinic end: {why} at {name} = {new.u[2]:.10g} (period "
                    f"{new.u[1]:.6g}, from {T0:.6g}): the cycle approaches a separatrix; "
                    f"{name} extrapolated to {ph:.10g}")

@@ -7,12 +7,17 @@
   (:func:`predict`: the energy balance about the conservative orbit, or classical
   KBM), and the energy method as a row of :func:`compare`;
 - :mod:`numerics.comparison.comparison`: :func:`compare`, :class:`Comparison`;
-- :mod:`numerics.comparison.convergence`: errors against ``mu`` with fitted slopes.
+- :mod:`numerics.comparison.convergence`: errors against ``mu`` with fitted slopes;
+- :mod:`numerics.comparison.branches`: analytic branches of cycles over a parameter
+  (KBM roots and energy balance, with folds); :mod:`numerics.comparison.diagram`:
+  :func:`branch_diagram`, every numerical branch next to them.
 """
 
+from numerics.comparison.branches import AnalyticCurve, AnalyticFold, energy_branch, kbm_branch
 from numerics.comparison.comparison import Comparison, ExtraPrediction, compare
 from numerics.comparison.convergence import (ConvergenceStudy, convergence_study, fit_slope,
                                              predicted_orders)
+from numerics.comparison.diagram import BranchDiagram, branch_diagram
 from numerics.comparison.predict import energy_prediction, kbm_cycles, predict
 from numerics.comparison.prediction import (ERROR_KEYS, Prediction, kbm_prediction,
                                             numeric_value, reconstruct)
@@ -20,4 +25,5 @@ from numerics.comparison.prediction import (ERROR_KEYS, Prediction, kbm_predicti
 __all__ = ["Comparison", "compare", "ExtraPrediction", "Prediction", "kbm_prediction",
            "numeric_value", "reconstruct", "ERROR_KEYS", "ConvergenceStudy",
            "convergence_study", "fit_slope", "predicted_orders", "predict", "kbm_cycles",
-           "energy_prediction"]
+           "energy_prediction", "AnalyticCurve", "AnalyticFold", "kbm_branch", "energy_branch",
+           "BranchDiagram", "branch_diagram"]

@@ -91,3 +91,13 @@ def test_diagram_figure(tmp_path, fold_json):
     paths = diagram_figure(d, tmp_path / "fold")
     assert [p.suffix for p in paths] == [".png", ".pdf"] and all(p.stat().st_size > 1000
                                                                  for p in paths)
+
+
+@pytest.mark.slow
+def test_sedf_branch_figures(tmp_path):
+    from numerics.paper.figures import write_figures
+
+    paths = write_figures(tmp_path, only=["sedf_branches"])
+    assert sorted(p.name for p in paths) == ["sedf_branches_beta.pdf", "sedf_branches_beta.png",
+                                             "sedf_branches_delta.pdf",
+                                             "sedf_branches_delta.png"]

@@ -16,7 +16,8 @@ from kbm.cli import build_parser as _build_symbolic, register_commands, run_comm
 __all__ = ["main", "build_parser", "COMMANDS"]
 
 #: the numerical sub-command modules, listed after ``derive`` and ``series``
-COMMANDS = ("predict", "cycle", "compare", "slide", "figures", "derivations", "reproduce")
+COMMANDS = ("predict", "cycle", "compare", "slide", "figures", "derivations", "reproduce",
+            "branch")
 
 
 def build_parser():

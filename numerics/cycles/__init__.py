@@ -8,9 +8,17 @@
   Floquet multipliers, dissipation per cycle) and :func:`limit_cycles` (every
   predicted cycle, stable and unstable, confirmed by shooting);
 - :mod:`numerics.cycles.highprec`: cycles to 30 digits and more (mpmath Taylor);
-- :mod:`numerics.cycles.sweep`: many cycles on all cores.
+- :mod:`numerics.cycles.sweep`: many cycles on all cores;
+- :mod:`numerics.cycles.floquet`: the non-trivial Floquet multiplier from Liouville's
+  formula (right at any stiffness);
+- :mod:`numerics.cycles.continuation`: branches of cycles in one parameter
+  (:func:`continue_cycles`: pseudo-arclength, folds, Hopf and homoclinic ends;
+  results in :mod:`numerics.cycles.branch_result`).
 """
 
+from numerics.cycles.branch_result import Branch, BranchPoint, SpecialPoint
+from numerics.cycles.continuation import continue_cycles
+from numerics.cycles.floquet import floquet_multipliers, nontrivial_multiplier
 from numerics.cycles.highprec import limit_cycle_mp
 from numerics.cycles.result import Dissipation, LimitCycle
 from numerics.cycles.shooting import CycleList, limit_cycle, limit_cycles
@@ -19,4 +27,5 @@ from numerics.cycles.transient import transient
 
 __all__ = ["LimitCycle", "Dissipation", "limit_cycle", "limit_cycles", "CycleList",
            "limit_cycle_mp", "transient",
-           "sweep", "grid", "SweepPoint"]
+           "sweep", "grid", "SweepPoint", "continue_cycles", "Branch", "BranchPoint",
+           "SpecialPoint", "floquet_multipliers", "nontrivial_multiplier"]

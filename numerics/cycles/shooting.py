@@ -29,6 +29,7 @@ from kbm.errors import NonAutonomousError
 from kbm.models import BoundModel, Oscillator, bind
 
 from numerics.cycles.guess import energy_guesses, kbm_guess
+from numerics.cycles.floquet import floquet_multipliers
 from numerics.cycles.highprec import limit_cycle_mp
 from numerics.cycles.result import Dissipation, LimitCycle
 from numerics.cycles.transient import transient
@@ -421,9 +422,7 @@ def _final_pass(cm, converged, meth, source, st: _Settings, digits, n_samples, n
         residual = float(max(abs(yT[0] - x0), abs(yT[1])))
         xs, vs, tt = ys[:-1, 0], ys[:-1, 1], tt[:-1]
     Phi = np.array([[yT[2], yT[4]], [yT[3], yT[5]]])
-    mults = np.linalg.eigvals(Phi)
-    order = np.argsort(np.abs(mults - 1.0))
-    trivial, other = complex(mults[order[0]]), complex(mults[order[1]])
+    trivial, other = floquet_multipliers(Phi, yT[6])  # non-trivial one from Liouville
     det = float(np.linalg.det(Phi))
     liou = float(math.exp(yT[6]))
     gp, gm = float(yT[7]), float(yT[8])

@@ -57,6 +57,7 @@ FIGURES: dict[str, Callable[[Path], list[Path]]] = {
     "validity_map": _comparison("validity_figure"),
     "phase_fig3_kbm": _comparison("phase_fig3_figure"),
     "phase_small_kbm": _comparison("phase_small_figure"),
+    "sedf_branches": _paper("sedf_branches"),
 }
 
 

@@ -16,7 +16,7 @@ from numerics.paper.potential import potential
 from numerics.paper.sliding import slide
 
 __all__ = ["fig2_potential", "fig3_phase_portraits", "fig4_sliding", "fig5_sedf_vs_cdc",
-           "fig6_kinetic_friction"]
+           "fig6_kinetic_friction", "sedf_branches"]
 
 
 def _plt():
@@ -158,3 +158,11 @@ def fig6_kinetic_friction(out_dir: Path) -> list[Path]:
                  r"I: $|x| \leq 1/\sqrt{\beta}$ until $t = $" + f"{t_out:.0f}", fontsize=9)
     ax.legend(fontsize=8)
     return _save(fig, out_dir, "fig6_kinetic_friction")
+
+
+def sedf_branches(out_dir: Path) -> list[Path]:
+    """The SEDF's branches of cycles against Delta and beta
+    (:func:`numerics.paper.figures.branches.sedf_branches`)."""
+    from numerics.paper.figures.branches import sedf_branches as draw
+
+    return draw(Path(out_dir))

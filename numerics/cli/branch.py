@@ -1,0 +1,100 @@
+"""``kbm branch``: branches of limit cycles in one parameter (continuation, folds, ends)."""
+
+from __future__ import annotations
+
+import argparse
+
+from kbm.cli._common import (add_model_arguments, add_param_option, emit_json, model_spec,
+                             parse_params)
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "branch", help="branches of limit cycles in one parameter (folds, Hopf, homoclinic)",
+        description="Follow every limit cycle found at the start value through the range of "
+                    "one parameter by pseudo-arclength continuation of the shooting solution "
+                    "(stable and unstable cycles, Floquet multipliers at each point), with "
+                    "folds of cycles, Hopf ends and homoclinic ends located, next to the "
+                    "roots of the KBM amplitude equation and of the energy balance.")
+    add_model_arguments(p)
+    add_param_option(p)
+    p.add_argument("--vary", required=True, metavar="NAME=FROM:TO",
+                   help="the parameter and its range, e.g. --vary Delta=0:4; the branch starts "
+                        "at --param NAME=VALUE if given, else at FROM")
+    p.add_argument("--orders", default="1", metavar="N,...",
+                   help="KBM orders of the analytic branches (default 1; 'none' for none)")
+    p.add_argument("--no-energy", action="store_true",
+                   help="leave out the energy-balance branch")
+    p.add_argument("--max-points", type=int, default=400, metavar="N",
+                   help="bound on the points per direction of each branch (default 400)")
+    p.add_argument("--rtol", type=float, default=1e-10, help="integrator tolerance (1e-10)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=run)
+
+
+def _vary(text: str) -> tuple[str, float, float]:
+    from kbm.errors import ParameterError
+
+    name, sep, rng = text.partition("=")
+    lo, sep2, hi = rng.partition(":")
+    try:
+        if not (sep and sep2 and name.strip()):
+            raise ValueError
+        return name.strip(), float(lo), float(hi)
+    except ValueError:
+        raise ParameterError(f"--vary takes NAME=FROM:TO (e.g. Delta=0:4), got {text!r}") \
+            from None
+
+
+def _orders(text: str) -> list[int]:
+    from kbm.errors import OrderError
+
+    if text.strip().lower() == "none":
+        return []
+    try:
+        out = [int(s) for s in text.split(",") if s.strip()]
+    except ValueError:
+        raise OrderError(f"--orders takes comma-separated integers, got {text!r}") from None
+    if not out or min(out) < 1:
+        raise OrderError(f"--orders must list orders >= 1, got {text!r}")
+    return out
+
+
+def run(args: argparse.Namespace) -> int:
+    from kbm.errors import ParameterError
+    from numerics.comparison.diagram import branch_diagram
+
+    name, lo, hi = _vary(args.vary)
+    if not 1e-14 <= args.rtol <= 1e-4:
+        raise ParameterError(f"--rtol must be between 1e-14 and 1e-4, got {args.rtol}")
+    if not 2 <= args.max_points <= 100000:
+        raise ParameterError(f"--max-points must be between 2 and 100000, got "
+                             f"{args.max_points}")
+    d = branch_diagram(model_spec(args), parse_params(args.param), name, (lo, hi),
+                       orders=_orders(args.orders), energy=not args.no_energy,
+                       rtol=args.rtol, max_points=args.max_points)
+    if args.json:
+        emit_json(d.to_json())
+        return 0
+    print(f"{len(d.branches)} branch(es) of limit cycles of {d.model}, {name} from {lo:g} "
+          f"to {hi:g}")
+    for i, b in enumerate(d.branches):
+        pts = b.points
+        print(f"\nbranch {i}: {len(pts)} points, {b.evaluations} integrations of a period")
+        print(f"  {name:>14s} {'amplitude_max':>14s} {'period':>12s} {'multiplier':>12s}")
+        step = max(1, len(pts) // 20)
+        for p in list(pts[::step]) + ([pts[-1]] if (len(pts) - 1) % step else []):
+            print(f"  {p.parameter:14.8g} {p.amplitude_max:14.8g} {p.period:12.8g} "
+                  f"{p.multipliers[1].real:12.4e} {'stable' if p.stable else 'UNSTABLE'}")
+        for s in b.special:
+            print(f"  {s.kind}: {name} = {s.parameter:.10g}, amplitude {s.amplitude:.6g}")
+        for r in b.reasons:
+            print(f"  end: {r}")
+    for c in d.analytic:
+        folds = ", ".join(f"{name} = {f.parameter:.10g} (a = {f.amplitude:.6g})"
+                          for f in c.folds) or "none"
+        print(f"\n{c.method} order {c.order}: {len(c.points)} predicted cycles on the grid; "
+              f"folds: {folds}")
+    for f in d.failures:
+        print(f"\nnot continued: {f}")
+    return 0

@@ -1,0 +1,179 @@
+"""The Newton machinery of the continuation of cycles (:mod:`numerics.cycles.continuation`).
+
+``u = (x0, T, p)``; :class:`_Problem` evaluates ``R(u) = (x(T) - x0, x'(T))`` and its
+Jacobian (variational equations for ``(x0, T)``, a central difference for ``p``);
+:func:`_correct` is Newton's method on ``R = 0`` and one linear condition; :func:`_arc`
+the pseudo-arclength step; :func:`_reanchor`, :func:`_locate_fold` and
+:func:`_at_parameter` place points on the branch.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from kbm.models import bind
+
+from numerics.cycles.branch_result import BranchPoint
+from numerics.cycles.floquet import floquet_multipliers
+from numerics.cycles.shooting import NEWTON_MAX_STEPS
+from numerics.errors import ConvergenceError, IntegrationError
+from numerics.flow import Method, choose_method, compile_model, extended_state, flow
+
+_FAIL = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, ValueError)
+
+
+class _Problem:
+    """``R(u)``, its Jacobian and the bookkeeping of one continuation."""
+
+    def __init__(self, model, params: dict, vary: str, method, rtol: float):
+        self.model, self.params, self.vary = model, params, vary
+        self.requested = Method.parse(method)
+        self.rtol = rtol
+        self.evaluations = 0
+        self._cms: dict[float, object] = {}
+        self.meth = None
+
+    def cm(self, p: float):
+        cm = self._cms.get(p)
+        if cm is None:
+            if len(self._cms) > 64:
+                self._cms.clear()
+            cm = compile_model(bind(self.model, {**self.params, self.vary: p}))
+            self._cms[p] = cm
+        return cm
+
+    def choose(self, u) -> None:
+        cm = self.cm(float(u[2]))
+        self.meth = choose_method(cm, self.requested, "shooting", abs(u[0]), u[1])
+
+    def eval(self, u, n_out: int = 1):
+        """``(R, A = dR/d(x0, T), yT, ys)`` at ``u``."""
+        x0, T, p = float(u[0]), float(u[1]), float(u[2])
+        if not (T > 0 and math.isfinite(x0) and math.isfinite(p)):
+            raise ConvergenceError(f"left the domain: x0 = {x0:.6g}, T = {T:.6g}")
+        cm = self.cm(p)
+        self.evaluations += 1
+        ys = flow(cm, extended_state(x0), T, n_out, self.meth, self.rtol, self.rtol,
+                  max_steps=NEWTON_MAX_STEPS)
+        yT = ys[-1]
+        A = np.array([[yT[2] - 1.0, yT[1]], [yT[3], cm.acc(T, yT[0], yT[1])]])
+        return np.array([yT[0] - x0, yT[1]]), A, yT, ys
+
+    def dRdp(self, u, R):
+        p = float(u[2])
+        h = 1e-6 * max(1.0, abs(p))  # central: R can curve strongly in p (SEDF near 3.2)
+        return (self.eval((u[0], u[1], p + h))[0] - self.eval((u[0], u[1], p - h))[0]) / (2 * h)
+
+
+class _Point:
+    """A converged point with what the continuation needs next."""
+
+    def __init__(self, u, R, A, b, yT, ys, iters):
+        self.u, self.R, self.yT, self.iters = u, R, yT, iters
+        J = np.vstack([np.column_stack([A, b])])
+        t = np.cross(J[0], J[1])
+        self.tangent = t / np.linalg.norm(t)
+        trivial, other = floquet_multipliers(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]), yT[6])
+        self.mults = (trivial, other)
+        self.amp = float(max(u[0], np.max(ys[:, 0])))
+        self.x_top = float(ys[int(np.argmax(ys[:, 0])), 0])
+        self.size = self.amp - float(min(u[0], np.min(ys[:, 0])))  # peak to peak of x
+        self.mid = self.amp - 0.5 * self.size
+        self.phi = float(np.max(np.abs(yT[2:6])))  # size of the monodromy matrix
+
+    def record(self) -> BranchPoint:
+        return BranchPoint(parameter=float(self.u[2]), x0=float(self.u[0]),
+                           period=float(self.u[1]), amplitude_max=self.amp,
+                           multipliers=self.mults, stable=bool(abs(self.mults[1]) < 1.0),
+                           residual=float(np.max(np.abs(self.R))))
+
+
+def _correct(prob: _Problem, u_pred, row, target: float, max_iter: int = 8) -> _Point:
+    """Newton on ``R(u) = 0, row . u = target``."""
+    u = np.array(u_pred, dtype=float)
+    scale = max(1.0, abs(u[0]))
+    tol_r, tol_u = 1e2 * prob.rtol * scale, 1e1 * prob.rtol * max(scale, u[1], abs(u[2]))
+    step = math.inf
+    for it in range(max_iter + 1):
+        R, A, yT, ys = prob.eval(u, 32)
+        b = prob.dRdp(u, R)
+        # the integration error of R grows with the monodromy matrix (near a separatrix)
+        noise = max(1.0, float(np.max(np.abs(yT[2:6]))) * prob.rtol / 1e-8)
+        if np.max(np.abs(R)) < tol_r * noise and step < tol_u * noise:
+            return _Point(u, R, A, b, yT, ys, it)
+        if it == max_iter:
+            break
+        J = np.vstack([np.column_stack([A, b]), row])
+        du = np.linalg.solve(J, -np.append(R, row @ u - target))
+        if abs(du[0]) > 0.5 * abs(u[0]) or abs(du[1]) > 0.5 * u[1]:
+            raise ConvergenceError(f"corrector step too large at p = {u[2]:.8g}")
+        u = u + du
+        step = float(np.max(np.abs(du)))
+    raise ConvergenceError(f"corrector did not converge in {max_iter} iterations at "
+                           f"p = {u[2]:.8g} (|R| = {np.max(np.abs(R)):.2e})")
+
+
+def _arc(prob: _Problem, pt: _Point, ds: float) -> _Point:
+    """Predict ``ds`` along the tangent of ``pt`` and correct on the normal hyperplane."""
+    t = pt.tangent
+    pred = pt.u + ds * t
+    new = _correct(prob, pred, t, float(t @ pred))
+    if new.tangent @ t < 0:
+        new.tangent = -new.tangent
+    return new
+
+
+def _at_parameter(prob: _Problem, a: _Point, b: _Point, p: float) -> _Point:
+    """The point of the branch at ``p`` between ``a`` and ``b`` (``p`` between theirs)."""
+    s = (p - a.u[2]) / (b.u[2] - a.u[2])
+    new = _correct(prob, a.u + s * (b.u - a.u), np.array([0.0, 0.0, 1.0]), p)
+    if new.tangent @ a.tangent < 0:
+        new.tangent = -new.tangent
+    return new
+
+
+def _reanchor(prob: _Problem, pt: _Point) -> _Point:
+    """The same cycle with the section at its largest ``x`` when ``x0`` is only a local
+    maximum: there ``x'' < 0`` keeps the section transversal, where a local maximum can
+    merge with a minimum (``x'' = 0``, a false fold of the section point)."""
+    if pt.amp <= pt.u[0] + 1e-3 * pt.size:  # hysteresis: two nearly equal maxima
+        return pt
+    try:
+        new = _correct(prob, np.array([pt.x_top, pt.u[1], pt.u[2]]), np.array([0.0, 0, 1]),
+                       float(pt.u[2]), max_iter=25)
+    except _FAIL:
+        return pt
+    if new.amp > new.u[0] + 1e-3 * new.size or \
+            abs(new.u[1] - pt.u[1]) > 1e-6 * pt.u[1]:
+        return pt
+    if new.tangent[2] * pt.tangent[2] < 0:
+        new.tangent = -new.tangent
+    return new
+
+
+def _locate_fold(prob: _Problem, a: _Point, b: _Point, ds: float) -> _Point:
+    """Secant (Illinois) on ``dp/ds`` along the arc from ``a`` to ``b``."""
+    lo, hi, flo, fhi = 0.0, ds, a.tangent[2], b.tangent[2]
+    best = b
+    for _ in range(40):
+        s = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
+        if not lo < s < hi:
+            s = 0.5 * (lo + hi)
+        best = _arc(prob, a, s)
+        f = best.tangent[2]
+        if abs(f) < 1e-10 or hi - lo < 1e-12 * ds:
+            break
+        if (f > 0) == (flo > 0):
+            lo, flo, fhi = s, f, fhi / 2
+        else:
+            hi, fhi, flo = s, f, flo / 2
+    return best
+
+
+def _copy(pt: _Point) -> _Point:
+    new = object.__new__(_Point)
+    new.__dict__.update(pt.__dict__)
+    new.tangent = pt.tangent.copy()
+    return new

@@ -1,0 +1,303 @@
+"""Branches of limit cycles: pseudo-arclength continuation of the shooting solution.
+
+The unknowns are ``u = (x0, T, p)``: the section point ``x(0) = x0, x'(0) = 0``, the
+period and the varied parameter.  A periodic orbit solves the two equations
+``R(u) = (x(T) - x0, x'(T)) = 0``; the branch is the curve of solutions.  From a
+point ``u_k`` with unit tangent ``t_k`` (the null vector of ``dR/du``) the predictor
+``u_k + ds t_k`` is corrected by Newton's method on ``R = 0`` together with
+``t_k . (u - u_k - ds t_k) = 0`` (Keller's pseudo-arclength), so folds, where
+``p`` turns back, are passed and unstable cycles are followed like stable ones.
+``dR/d(x0, T)`` comes from the variational equations, ``dR/dp`` from a finite
+difference.  The step ``ds`` grows after easy corrections and is halved after a
+failed one or a sharp turn of the tangent.
+
+Special points, each labelled with its parameter value:
+
+- ``fold``: ``dp/ds`` changes sign (the non-trivial Floquet multiplier passes
+  through +1); located by the secant method on ``dp/ds`` along the branch;
+- ``hopf``: the amplitude tends to 0; ``p`` extrapolated with ``p - p_H ~ x0^2``;
+- ``homoclinic``: the period grows beyond ``period_factor`` times its start value
+  (the cycle reaches a separatrix; the last parameter value is reported);
+- ``end``: the step fell below ``ds_min`` (with the reason).
+
+Every integration is bounded (:data:`numerics.cycles.shooting.NEWTON_MAX_STEPS`),
+every loop too (``max_points``, ``max_iter``, ``ds_min``): the continuation never hangs.
+
+References
+----------
+H. B. Keller, "Numerical solution of bifurcation and nonlinear eigenvalue problems"
+(1977); Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, ch. 10.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+import numpy as np
+
+from kbm.errors import ParameterError
+from kbm.models import BoundModel, Oscillator, bind
+
+from numerics.cycles._arclength import (_FAIL, _arc, _at_parameter, _copy, _correct,
+                                        _locate_fold, _Point, _Problem, _reanchor)
+from numerics.cycles.branch_result import Branch, BranchPoint, SpecialPoint
+from numerics.cycles.result import LimitCycle
+from numerics.cycles.shooting import limit_cycle
+from numerics.errors import ConvergenceError, NoCycleError
+from numerics.flow import Method
+
+__all__ = ["continue_cycles"]
+
+def _homoclinic(recent: list, T0: float, factor: float, width: float, n: int = 10) -> str:
+    """Why the branch is taken to end at a separatrix, or ``""``."""
+    T = recent[-1].u[1]
+    if T > factor * T0:
+        return f"the period grew beyond {factor:g} times its start value"
+    if len(recent) > 2 * n and T > 1.25 * T0:
+        last = recent[-2 * n:]
+        dp = abs(last[-1].u[2] - last[0].u[2])
+        if dp < 1e-3 * width and all(b.u[1] > a.u[1] for a, b in zip(last, last[1:])):
+            return (f"the steps collapse ({2 * n} points moved the parameter by {dp:.1e}) "
+                    f"while the period grows and the monodromy matrix reaches "
+                    f"{last[-1].phi:.3g}")
+    if len(recent) <= n:
+        return ""
+    last = recent[-n:]
+    grows = all(b.u[1] > a.u[1] for a, b in zip(last, last[1:]))
+    if grows and all(abs(r.tangent[2]) < 2e-3 for r in last) and T > 1.25 * T0:
+        return (f"the parameter stalls (|dp/ds| < 2e-3 over {n} points) while the period "
+                "grows")
+    return ""
+
+
+def _aitken(ps: list) -> float:
+    """Limit of a geometric sequence from its last three terms (``p - p_h ~ exp(-k T)``)."""
+    if len(ps) < 3:
+        return float(ps[-1])
+    d = ps[2] - 2 * ps[1] + ps[0]
+    return float(ps[2] - (ps[2] - ps[1]) ** 2 / d) if d != 0 else float(ps[2])
+
+
+def _fold(pt: _Point, name: str) -> SpecialPoint:
+    m = pt.mults[1].real
+    return SpecialPoint("fold", float(pt.u[2]), pt.amp, float(pt.u[1]),
+                        f"fold of cycles at {name} = {pt.u[2]:.10g}: dp/ds = "
+                        f"{pt.tangent[2]:.1e}, non-trivial multiplier {m:.8f}")
+
+
+def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tuple:
+    """Follow the branch from ``first`` in ``direction`` of ``p``; ``(points, special, why)``."""
+    name = prob.vary
+    lo, hi = bounds
+    pt = first
+    if pt.tangent[2] * direction < 0 or (pt.tangent[2] == 0 and direction < 0):
+        pt.tangent = -pt.tangent
+    points, special = [pt.record()], []
+    ds, x_big, T0 = opts["ds"], pt.size, pt.u[1]
+    recent = [pt]
+    while True:
+        if len(points) >= opts["max_points"]:
+            return points, special, f"stopped after max_points = {opts['max_points']} points"
+        try:
+            ds_used = ds
+            new = _arc(prob, pt, ds)
+            turn = float(new.tangent @ pt.tangent)
+            if turn < opts["max_turn"] and ds > opts["ds_min"] * 4:
+                deg = math.degrees(math.acos(max(-1.0, min(1.0, turn))))
+                raise ConvergenceError(f"the tangent turned by {deg:.0f} degrees")
+            if new.u[0] * pt.u[0] <= 0:
+                raise ConvergenceError("the section point changed sign")
+        except _FAIL as exc:
+            ds /= 2
+            if ds < opts["ds_min"]:
+                msg = (f"continuation stopped at {name} = {pt.u[2]:.10g} (x0 = {pt.u[0]:.6g}, "
+                       f"T = {pt.u[1]:.6g}): step below ds_min = {opts['ds_min']:.1e} ({exc})")
+                special.append(SpecialPoint("end", float(pt.u[2]), pt.amp, float(pt.u[1]), msg))
+                return points, special, msg
+            continue
+        if not (lo <= new.u[2] <= hi):
+            edge = hi if new.u[2] > hi else lo
+            try:
+                points.append(_at_parameter(prob, pt, new, edge).record())
+            except _FAIL:
+                pass
+            return points, special, f"reached {name} = {edge:g}"
+        if new.tangent[2] * pt.tangent[2] < 0:
+            try:
+                fp = _locate_fold(prob, pt, new, ds)
+                points.append(fp.record())
+            except _FAIL:
+                fp = new
+            if abs(fp.mults[1].real - 1.0) < 1e-5:  # else not a fold (a Hopf end, a section)
+                special.append(_fold(fp, name))
+        points.append(new.record())
+        new = _reanchor(prob, new)
+        x_big = max(x_big, new.size)
+        prob.choose(new.u)
+        small = ds < 0.05 * opts["ds_max"]  # slow Newton near a separatrix: still grow
+        ds = min(ds * (1.5 if new.iters <= 4 else 1.2 if new.iters <= 6 and small else
+                       0.7 if new.iters >= 7 else 1.0), opts["ds_max"])
+        shrink = (pt.size - new.size) / ds_used  # approach a Hopf point in ever shorter steps
+        if shrink > 0 and new.size < 0.25 * x_big:
+            ds = min(ds, max(0.5 * new.size / shrink, 4 * opts["ds_min"]))
+        if new.size < opts["hopf_fraction"] * x_big and new.size < pt.size:
+            a2, b2 = pt.size ** 2, new.size ** 2
+            pH = (pt.u[2] * b2 - new.u[2] * a2) / (b2 - a2) if a2 != b2 else new.u[2]
+            msg = (f"Hopf end: the cycle shrinks onto the equilibrium at x = {new.mid:.6g} "
+                   f"at {name} = {pH:.8g} (peak-to-peak {new.size:.3g} at {name} = "
+                   f"{new.u[2]:.8g}; extrapolated with {name} - {name}_H ~ size^2), period "
+                   f"-> {new.u[1]:.6g}")
+            special.append(SpecialPoint("hopf", float(pH), float(new.mid), float(new.u[1]),
+                                        msg))
+            return points, special, msg
+        recent.append(new)
+        why = _homoclinic(recent, T0, opts["period_factor"], hi - lo)
+        if why:
+            ps = [r.u[2] for r in recent[-3:]]
+            ph = _aitken(ps)
+            if abs(ph - ps[-1]) > 10 * abs(ps[-1] - ps[-2]):  # not geometric: keep the last
+                ph = ps[-1]
+            msg = (f"homoclinic end: {why} at {name} = {new.u[2]:.10g} (period "
+                   f"{new.u[1]:.6g}, from {T0:.6g}): the cycle approaches a separatrix; "
+                   f"{name} extrapolated to {ph:.10g}")
+            special.append(SpecialPoint("homoclinic", float(ph), new.amp, float(new.u[1]),
+                                        msg))
+            return points, special, msg
+        pt = new
+
+
+def _check_vary(model, params: dict, vary: str, bounds) -> tuple[float, float, float]:
+    lo, hi = (float(b) for b in bounds)
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise ParameterError(f"the range of {vary} must be finite, got {lo:g}:{hi:g}")
+    if not lo < hi:
+        raise ParameterError(f"empty range {lo:g}:{hi:g} for {vary}: give FROM < TO")
+    p0 = float(params[vary]) if vary in params else lo
+    if not lo <= p0 <= hi:
+        raise ParameterError(f"the start value {vary} = {p0:g} is outside the range "
+                             f"{lo:g}:{hi:g}")
+    try:
+        b1 = bind(model, {**params, vary: p0})
+        b2 = bind(model, {**params, vary: p0 + 1e-3 * max(1.0, abs(p0))})
+    except ParameterError as exc:
+        raise ParameterError(f"cannot vary {vary!r}: {exc}") from None
+    if b1.values == b2.values:
+        raise ParameterError(f"parameter {vary!r} does not enter model {b1.name!r} "
+                             f"(its parameters: {', '.join(b1.model.parameters)}, mu)")
+    return lo, hi, p0
+
+
+def continue_cycles(model: Oscillator | str, params: Mapping[str, object] | None, vary: str,
+                    bounds: tuple[float, float], *,
+                    start: LimitCycle | tuple[float, float] | None = None,
+                    directions: tuple[int, ...] = (1, -1), ds: float | None = None,
+                    ds_max: float | None = None, ds_min: float = 1e-7,
+                    max_points: int = 400, rtol: float = 1e-10, method: Method | str = "auto",
+                    period_factor: float = 8.0, hopf_fraction: float = 0.02,
+                    max_turn: float = 0.9) -> Branch:
+    """A branch of limit cycles of ``model`` as the parameter ``vary`` runs over ``bounds``.
+
+    Parameters
+    ----------
+    model : Oscillator or str
+        The model (or a built-in name).
+    params : Mapping or None
+        The other parameter values (physical or scaled names, ``mu``); the value of
+        ``vary`` in it, if any, is where the branch starts (default: ``bounds[0]``).
+    vary : str
+        The parameter to vary: ``mu``, a parameter of the model, or a physical one
+        (``Delta``, bound per point by :func:`kbm.models.bind`).
+    bounds : tuple of float
+        ``(FROM, TO)`` with ``FROM < TO``: the branch stops where it leaves them.
+    start : LimitCycle or tuple of float, optional
+        The cycle to start from, or a guess ``(x_max, period)``; default
+        :func:`numerics.cycles.limit_cycle` at the start value.
+    directions : tuple of int
+        ``1`` follows the branch towards increasing ``vary`` from the start, ``-1``
+        towards decreasing (both by default; the points come in the order of ``vary``
+        at the start).
+    ds, ds_max, ds_min : float
+        First, largest and smallest arclength step in ``(x0, T, p)`` (defaults
+        ``ds_max = max(TO - FROM, 1)/25``, ``ds = ds_max/4``).
+    max_points : int
+        Bound on the points per direction.
+    rtol : float
+        Integrator tolerance (``atol = rtol``).
+    method : Method or str
+        Integrator (:func:`numerics.flow.choose_method`, purpose ``"shooting"``).
+    period_factor : float
+        The branch ends as homoclinic when the period exceeds this multiple of its start.
+    hopf_fraction : float
+        The branch ends at a Hopf point when ``|x0|`` falls below this fraction of its
+        largest value on the branch while decreasing.
+    max_turn : float
+        A step is halved when the cosine of the angle between successive tangents falls
+        below this.
+
+    Returns
+    -------
+    Branch
+        Points with period, amplitude and Floquet multipliers (stable and unstable),
+        and the special points (folds, Hopf and homoclinic ends, failures).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For an unknown parameter, one that does not enter the model, an empty range or
+        a start value outside it.
+    numerics.errors.NoCycleError
+        If there is no cycle to start from.
+
+    Examples
+    --------
+    >>> br = continue_cycles("vdp", {"mu": 0.5}, "mu", (0.5, 1.0), directions=(1,))
+    >>> round(br.points[-1].parameter, 12), round(br.points[-1].period, 6)
+    (1.0, 6.663287)
+    """
+    params = dict(params or {})
+    if isinstance(model, BoundModel):
+        raise ParameterError("continue_cycles needs the model and its parameters separately, "
+                             "not a bound model")
+    lo, hi, p0 = _check_vary(model, params, vary, bounds)
+    if not (0 < rtol < 1e-3):
+        raise ParameterError(f"rtol must be between 0 and 1e-3, got {rtol:g}")
+    prob = _Problem(model, params, vary, method, rtol)
+    if start is None or isinstance(start, LimitCycle):
+        try:
+            c = start or limit_cycle(model, {**params, vary: p0}, rtol=max(rtol, 1e-12))
+        except (NoCycleError, ConvergenceError) as exc:
+            raise NoCycleError(f"no limit cycle at {vary} = {p0:g} to start the branch from "
+                               f"({exc}); start elsewhere (another {vary} in the range) or "
+                               "give a start guess") from None
+        guess = (c.amplitude_max, c.period)
+    else:
+        guess = (float(start[0]), float(start[1]))
+    u0 = np.array([guess[0], guess[1], p0])
+    prob.choose(u0)
+    try:
+        first = _correct(prob, u0, np.array([0.0, 0.0, 1.0]), p0, max_iter=25)
+    except _FAIL as exc:
+        raise NoCycleError(f"no limit cycle at {vary} = {p0:g} near x_max = {guess[0]:.6g}, "
+                           f"T = {guess[1]:.6g} to start the branch from ({exc})") from None
+    dsm = ds_max if ds_max is not None else max(hi - lo, 1.0) / 25
+    opts = dict(ds=ds if ds is not None else dsm / 4, ds_max=dsm, ds_min=ds_min,
+                max_points=int(max_points), period_factor=period_factor,
+                hopf_fraction=hopf_fraction, max_turn=max_turn)
+    points: list[BranchPoint] = []
+    special: list[SpecialPoint] = []
+    reasons: list[str] = []
+    for d in directions:
+        if (d > 0 and p0 >= hi) or (d < 0 and p0 <= lo):
+            continue
+        pts, sp_, why = _follow(prob, _copy(first), d, (lo, hi), opts)
+        reasons.append(why)
+        if d < 0:
+            points = pts[::-1] + points[1:] if points else pts[::-1]
+            special = sp_[::-1] + special
+        else:
+            points = points + (pts[1:] if points else pts)
+            special = special + sp_
+    return Branch(model=model if isinstance(model, str) else model.name, parameter=vary,
+                  params=params, bounds=(lo, hi), points=tuple(points), special=tuple(special),
+                  reasons=tuple(reasons), evaluations=prob.evaluations)

@@ -1,0 +1,128 @@
+"""Bifurcation diagrams of limit cycles: every branch, stable solid, unstable dashed.
+
+:func:`draw_diagram` draws a :class:`numerics.comparison.diagram.BranchDiagram`
+(``amplitude_max`` or ``period`` against the varied parameter) with the special points
+marked (fold: circle, Hopf end: square, homoclinic end: cross, other end: triangle) and
+the analytic branches as small markers; :func:`diagram_figure` writes it to a file;
+:func:`sedf_branches` draws the SEDF's cycles against ``Delta`` (``mu = 0.1``,
+``beta = 1``) and against ``beta`` (``Delta = 1.5``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["draw_diagram", "diagram_figure", "sedf_branches"]
+
+_MARK = {"fold": "o", "hopf": "s", "homoclinic": "X", "end": "^"}
+_ANALYTIC = {"kbm": ("+", 4), "energy": ("x", 3)}
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def draw_diagram(d, ax, quantity: str = "amplitude_max", analytic: bool = True) -> None:
+    """Draw the branches of ``d`` on ``ax``.
+
+    Parameters
+    ----------
+    d : numerics.comparison.diagram.BranchDiagram
+    ax : matplotlib.axes.Axes
+    quantity : {"amplitude_max", "period"}
+        What is plotted against the parameter (the analytic amplitudes are the KBM
+        first-harmonic ``a*`` and the largest ``x`` of the energy-balance orbit).
+    analytic : bool
+        Overlay the analytic branches.
+    """
+    if quantity not in ("amplitude_max", "period"):
+        raise ValueError(f"quantity must be 'amplitude_max' or 'period', got {quantity!r}")
+    for i, b in enumerate(d.branches):
+        p = np.array([q.parameter for q in b.points])
+        y = np.array([getattr(q, quantity) for q in b.points])
+        st = np.array([q.stable for q in b.points])
+        color = f"C{i}"
+        for k in range(len(p) - 1):  # a segment is drawn in the style of its more unstable end
+            ok = st[k] and st[k + 1]
+            ax.plot(p[k:k + 2], y[k:k + 2], color=color, lw=1.6 if ok else 1.2,
+                    ls="-" if ok else "--")
+        for s in b.special:
+            yv = s.amplitude if quantity == "amplitude_max" else s.period
+            ax.plot([s.parameter], [yv], marker=_MARK.get(s.kind, "^"), color="k", ms=7,
+                    mfc="none" if s.kind == "fold" else "k", ls="none")
+    if analytic:
+        for j, c in enumerate(d.analytic):
+            if not c.points:
+                continue
+            arr = np.array([(p, a, T) for p, a, T, _ in c.points], dtype=float)
+            stab = np.array([s for *_, s in c.points], dtype=bool)
+            m, ms = _ANALYTIC.get(c.method, (".", 3))
+            y = arr[:, 1] if quantity == "amplitude_max" else arr[:, 2]
+            col = f"C{j + 3}"
+            ax.plot(arr[stab, 0], y[stab], ls="none", marker=m, ms=ms, color=col,
+                    label=f"{c.method} order {c.order}")
+            ax.plot(arr[~stab, 0], y[~stab], ls="none", marker=m, ms=ms, color=col, alpha=0.4)
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color="k", ls="-", label="stable (continuation)"),
+               Line2D([], [], color="k", ls="--", label="unstable"),
+               *[Line2D([], [], color="k", marker=v, ls="none", label=k,
+                        mfc="none" if k == "fold" else "k")
+                 for k, v in _MARK.items() if any(s.kind == k for b in d.branches
+                                                  for s in b.special)]]
+    h2, _ = ax.get_legend_handles_labels()
+    ax.legend(handles=handles + h2, fontsize=7, loc="best")
+    ax.set_xlabel(d.parameter)
+    ax.set_ylabel("max x" if quantity == "amplitude_max" else "period T")
+    lo, hi = d.bounds
+    ax.set_xlim(lo - 0.02 * (hi - lo), hi + 0.02 * (hi - lo))
+
+
+def _save(fig, path: Path) -> list[Path]:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    out = []
+    for ext in ("png", "pdf"):
+        p = path.with_suffix(f".{ext}")
+        fig.savefig(p, dpi=130, bbox_inches="tight", metadata={"CreationDate": None}
+                    if ext == "pdf" else {"Software": None})
+        out.append(p)
+    _plt().close(fig)
+    return out
+
+
+def diagram_figure(d, path: str | Path, title: str | None = None) -> list[Path]:
+    """Write amplitude and period against the parameter side by side (PNG and PDF)."""
+    plt = _plt()
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    draw_diagram(d, axes[0], "amplitude_max")
+    draw_diagram(d, axes[1], "period", analytic=True)
+    fig.suptitle(title or f"limit cycles of {d.model} against {d.parameter}", fontsize=10)
+    return _save(fig, Path(path))
+
+
+def sedf_branches(out_dir: Path) -> list[Path]:
+    """The SEDF's cycles against ``Delta`` (0 to 4; ``mu = 0.1, beta = 1``) and against
+    ``beta`` (0.05 to 4; ``Delta = 1.5``): every branch through the start value, stable
+    and unstable, with folds and ends, KBM order 1 and the energy balance overlaid."""
+    from numerics.comparison.diagram import branch_diagram
+
+    out_dir = Path(out_dir)
+    d1 = branch_diagram("sedf", {"mu": 0.1, "beta": 1, "lam": 1, "Delta": 0}, "Delta",
+                        (0.0, 4.0), orders=(1,), n_analytic=81)
+    paths = diagram_figure(d1, out_dir / "sedf_branches_delta",
+                           r"SEDF cycles against $\Delta$ ($\mu = 0.1$, $\beta = 1$, "
+                           r"$\lambda = 1$)")
+    d2 = branch_diagram("sedf", {"mu": 0.1, "Delta": 1.5, "lam": 1, "beta": 1}, "beta",
+                        (0.05, 4.0), orders=(1,), n_analytic=81)
+    paths += diagram_figure(d2, out_dir / "sedf_branches_beta",
+                            r"SEDF cycles against $\beta$ ($\mu = 0.1$, $\Delta = 1.5$, "
+                            r"$\lambda = 1$)")
+    return paths

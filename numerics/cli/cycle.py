@@ -83,7 +83,13 @@ def _print_cycle(cyc, digits) -> None:
     print(f"limit cycle of {data['model']} ({pars})")
     for key in ("period", "frequency", "amplitude_max", "amplitude_first_harmonic"):
         val = data[key]
-        print(f"  {key:26s} {val if isinstance(val, str) else format(val, f'.{w}g')}")
+        if isinstance(val, str):
+            print(f"  {key:26s} {val}")
+            continue
+        # never more digits than the accuracy estimate supports
+        n = cyc.significant_digits(key, limit=w)
+        note = f"  (relative accuracy ~{cyc.accuracy[key]:.0e})" if n < w else ""
+        print(f"  {key:26s} {format(val, f'.{n}g')}{note}")
     m = cyc.floquet_multipliers
     print(f"  {'floquet multipliers':26s} {m[0].real:.12f} (trivial), {m[1].real:.6e} "
           f"({'stable' if cyc.stable else 'UNSTABLE'})")

@@ -28,11 +28,12 @@ def _first_order(model: Oscillator) -> AveragedRates:
     return averaged_rates(derive(model, 1))
 
 
-def kbm_guess(bound: BoundModel) -> tuple[float, float] | None:
-    """The stable first-order KBM cycle with the largest amplitude, as ``(amplitude, period)``.
+def kbm_guess(bound: BoundModel, *, stable: bool = True) -> tuple[float, float] | None:
+    """The stable (``stable=False``: unstable) first-order KBM cycle with the largest
+    amplitude, as ``(amplitude, period)``.
 
     ``None`` when the averaging does not apply to the model, a value is missing,
-    or the first-order averaged equation has no stable cycle.
+    or the first-order averaged equation has no cycle of that stability.
     """
     try:
         vals = bound.values
@@ -40,7 +41,7 @@ def kbm_guess(bound: BoundModel) -> tuple[float, float] | None:
         need = {p: vals[p] for p in rates.params if p in vals}
         if len(need) != len(rates.params) or "mu" not in vals:
             return None
-        cycles = [c for c in rates.cycles({"mu": vals["mu"], **need}) if c.stable]
+        cycles = [c for c in rates.cycles({"mu": vals["mu"], **need}) if c.stable == stable]
     except KBMError:
         return None
     if not cycles:

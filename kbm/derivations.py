@@ -24,6 +24,7 @@ import sympy as sp
 
 from .averaging import derive
 from .errors import KBMError
+from .files import output_folder, write_file
 from .latex import equation_lines, latex, series_lines
 from .models import get_model
 from .series import limit_cycle_series
@@ -308,15 +309,15 @@ def build_files(errata: Sequence[ErratumRow] = ()) -> list[DerivationFile]:
 
 
 def write_derivations(out_dir: str | Path, errata: Sequence[ErratumRow] = ()) -> list[Path]:
-    """Write every file of :func:`build_files` into ``out_dir``; returns the paths."""
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    paths = []
-    for f in build_files(errata):
-        p = out / f.name
-        p.write_bytes(f.text.encode("utf-8"))
-        paths.append(p)
-    return paths
+    """Write every file of :func:`build_files` into ``out_dir``; returns the paths.
+
+    Raises
+    ------
+    kbm.errors.OutputError
+        If ``out_dir`` is a file or cannot be written to.
+    """
+    out = output_folder(out_dir, "out_dir")
+    return [write_file(out / f.name, f.text) for f in build_files(errata)]
 
 
 def compile_pdf(main_tex: str | Path, *, runs: int = 2, timeout: float = 300) -> Path:

@@ -148,6 +148,10 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
     if model not in ("sedf", "cdc"):
         raise ParameterError(f"slide needs the slider model 'sedf' or 'cdc', got {model!r}")
     p = _validate(params, t_end)
+    if not 1e-14 <= rtol <= 1e-3:
+        raise ParameterError(f"rtol must be between 1e-14 and 1e-3, got {rtol}")
+    if not (math.isfinite(atol) and atol > 0):
+        raise ParameterError(f"atol must be a positive number, got {atol}")
     if model == "cdc":
         p.pop("beta", None)
     m = get_model(model, {"v": p["v"]} if p.get("v") else None)

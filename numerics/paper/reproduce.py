@@ -98,7 +98,7 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     (out / "tables" / "errata.txt").write_text(evidence_table(evidence) + "\n")
     wins = sum(r[-1] == "corrected" for r in rows if not r[2].startswith("stable"))
     total = sum(1 for r in rows if not r[2].startswith("stable"))
-    summary += ["## Errata (paper eqs. 6-10)", "",
+    summary += ["## Errata (paper eqs. 6-9; eq. 10: the dissipation)", "",
                 f"The corrected formula is closer to the true cycle in {wins} of {total} "
                 "comparisons.", "", errata_md]
     prog.done(f"{wins}/{total} comparisons favour the corrected formulas")

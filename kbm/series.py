@@ -86,7 +86,14 @@ def limit_cycle_series(model, order: int, *, root: object | None = None) -> Limi
         raise OrderError(f"series order {order} is above the limit {MAX_ORDER - 1} (it needs the "
                          f"KBM expansion to order {order + 1}, and that is bounded by "
                          f"{MAX_ORDER}); ask for order <= {MAX_ORDER - 1}")
-    raw = run_recursion(model, order + 1, last_u=False)
+    try:
+        raw = run_recursion(model, order + 1, last_u=False)
+    except OrderError as exc:
+        if "not available" not in str(exc):
+            raise
+        raise OrderError("exact limit-cycle series need a polynomial F with rational "
+                         "coefficients (the Bessel models go to KBM order 2 only); use "
+                         "averaged_cycles for them") from None
     if not raw.exact:
         raise OrderError("exact limit-cycle series need a polynomial F; use averaged_cycles "
                          "for the Bessel models")

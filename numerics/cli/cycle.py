@@ -73,6 +73,8 @@ def _run_all(cycles, args: argparse.Namespace) -> int:
         _print_cycle(c, args.digits)
     for p, e in cycles.failures:
         print(f"\n[{p.annulus}] predicted x_max {p.amplitude_max:.6g}: no cycle found ({e})")
+    if cycles.failures and not cycles:
+        return 1  # cycles were predicted and none was confirmed
     return 0 if all(c.success for c in cycles) else 1
 
 

@@ -42,7 +42,7 @@ def kbm_guess(bound: BoundModel, *, stable: bool = True) -> tuple[float, float] 
         if len(need) != len(rates.params) or "mu" not in vals:
             return None
         cycles = [c for c in rates.cycles({"mu": vals["mu"], **need}) if c.stable == stable]
-    except KBMError:
+    except (KBMError, ArithmeticError, ValueError):
         return None
     if not cycles:
         return None
@@ -58,7 +58,7 @@ def energy_guesses(bound: BoundModel, *, stable_only: bool = True) -> list[tuple
     """
     try:
         pred = predict_cycles(bound.model, dict(bound.values), order=1)
-    except KBMError:
+    except (KBMError, ArithmeticError, ValueError):  # no guess: the transients still run
         return []
     cycles = [c for c in pred.cycles if c.stable or not stable_only]
     cycles.sort(key=lambda c: -abs(c.amplitude_max))

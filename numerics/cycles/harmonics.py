@@ -83,8 +83,9 @@ def _integrals(cm, x0: float, T: float, method: Method, rtol: float, n_harmonics
 
         meth = "LSODA" if method in (Method.LSODA, Method.COMPILED, Method.AUTO) \
             else method.value
+        stol = max(tol, 2.5e-14)  # scipy's floor on rtol
         with np.errstate(all="ignore"):
-            sol = solve_ivp(rhs, (0.0, T), y0, method=meth, rtol=tol, atol=tol)
+            sol = solve_ivp(rhs, (0.0, T), y0, method=meth, rtol=stol, atol=stol)
         if sol.status < 0:
             raise IntegrationError(f"the quadrature of the harmonics failed: {sol.message}")
         yT = sol.y[:, -1]

@@ -64,7 +64,9 @@ def limit_cycle(model: Oscillator | str | BoundModel, params: Mapping[str, objec
         (:mod:`numerics.cycles.guess`): the stable first-order KBM cycle of largest
         amplitude; then the stable cycles of the energy-balance averaging about the
         conservative orbit (:func:`numerics.energy.predict_cycles`, right where
-        the potential is strong); then transients from the predicted amplitudes and
+        the potential is strong); when neither predicts a stable cycle, their
+        unstable cycles (Newton converges to unstable cycles as well: van der Pol
+        with ``mu < 0``); then transients from the predicted amplitudes and
         from ``x = x_start``, ``x' = 0``, integrated until the maxima of ``x`` settle.
     digits
         If given (up to ~50), also compute period and amplitudes with an
@@ -93,12 +95,19 @@ def limit_cycle(model: Oscillator | str | BoundModel, params: Mapping[str, objec
         Start of the transient, its time limit, and the size ``|x| + |x'|`` above
         which the motion counts as growing without bound (default
         ``1000 max(1, |x_start|)``; raise it for cycles larger than that).
+    n_samples, n_harmonics
+        Samples of one period (``t``, ``x``, ``xdot``), and the number of Fourier
+        coefficients, which are integrated along the orbit, not taken from the samples
+        (:mod:`numerics.cycles.harmonics`).
 
     Returns
     -------
     LimitCycle
         With ``success = False`` and a message when Newton stalls above the
-        integration accuracy but the orbit is still closed to ``1e-6``.
+        integration accuracy but the orbit is still closed to ``1e-6``.  Its
+        ``accuracy`` holds the estimated relative errors; a weakly attracting cycle
+        whose double-precision accuracy is worse than ``1e-10`` is recomputed with the
+        Taylor integrator, and the message says so (:mod:`numerics.cycles.finalpass`).
 
     See Also
     --------
@@ -109,7 +118,9 @@ def limit_cycle(model: Oscillator | str | BoundModel, params: Mapping[str, objec
     kbm.errors.NonAutonomousError
         For a driven model (``v != 0``).
     numerics.errors.NoCycleError
-        If the transient grows without bound or decays to rest.
+        If the transient grows without bound or decays to rest, for ``mu = 0`` (a
+        conservative oscillator: no isolated cycle), or when the orbit found is not
+        isolated (non-trivial multiplier 1).
     numerics.errors.ConvergenceError
         If Newton's method fails (residual history in the message).
 

@@ -25,7 +25,7 @@ from numerics.cycles.highprec import limit_cycle_mp
 from numerics.cycles.newton import check_nontrivial, newton
 from numerics.cycles.result import Dissipation, LimitCycle
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
-from numerics.flow import extended_state, flow, stiffness
+from numerics.flow import Method, extended_state, flow, stiffness
 
 __all__ = ["final_pass", "WEAK_ACCURACY", "HIGHPREC_DIGITS"]
 
@@ -57,8 +57,9 @@ def _minimal_period(cm, converged, meth, st, n: int = 240):
 
 
 def _newton_correction(cm, x0, T, meth, rtol, atol) -> tuple[float, float]:
-    """``(|dx0|, |dT|)`` of one Newton step at a tolerance a hundred times smaller."""
-    tight = max(rtol * 1e-2, 1e-14)
+    """``(|dx0|, |dT|)`` of one Newton step at a tolerance a hundred times smaller (not
+    below 1e-14 compiled, 3e-14 otherwise: LSODA refuses smaller ones)."""
+    tight = max(rtol * 1e-2, 1e-14 if meth is Method.COMPILED else 3e-14)
     yT = flow(cm, extended_state(x0), T, 1, meth, tight, atol * tight / rtol)[-1]
     r = np.array([yT[0] - x0, yT[1]])
     J = np.array([[yT[2] - 1.0, yT[1]], [yT[3], cm.acc(T, yT[0], yT[1])]])

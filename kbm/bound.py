@@ -50,7 +50,12 @@ class BoundModel:
     @classmethod
     def of(cls, model: Oscillator, values: Mapping[str, object] | None = None) -> "BoundModel":
         """Resolve ``values`` for ``model`` (:meth:`Oscillator.resolve`)."""
-        return cls(model, FrozenMap(model.resolve(values)))
+        vals = model.resolve(values)
+        w0 = sp.sympify(model.omega0).subs({sp.Symbol(k): v for k, v in vals.items()})
+        if w0.is_number and not (w0.is_real and w0.is_finite and w0 > 0):
+            raise ParameterError(f"the linear frequency omega0 = {model.omega0} of "
+                                 f"{model.name!r} must be > 0, got {w0}")
+        return cls(model, FrozenMap(vals))
 
     @property
     def name(self) -> str:

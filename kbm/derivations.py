@@ -23,7 +23,9 @@ from pathlib import Path
 import sympy as sp
 
 from .averaging import derive
+from .errata_tex import ErratumRow, errata_tex
 from .errors import KBMError
+from .files import output_folder, write_file
 from .latex import equation_lines, latex, series_lines
 from .models import get_model
 from .series import limit_cycle_series
@@ -198,83 +200,8 @@ variables of the conservative orbit (\texttt{numerics.energy.averaging}).""",
     return DerivationFile("energy.tex", "\n".join(body) + "\n")
 
 
-@dataclass(frozen=True)
-class ErratumRow:
-    """One erratum, ready to print: the printed formula, what differs, the evidence.
-
-    ``evidence`` holds ``(equation, case, quantity, printed, corrected, numerical)``
-    tuples (the numerical value from the true limit cycle; ``equation`` is the paper's
-    equation the quantity tests, e.g. ``"10"`` for the dissipation).
-    """
-
-    equation: str
-    quantity: str
-    printed: sp.Expr
-    difference: str
-    evidence: tuple[tuple[str, str, str, float, float, float], ...]
-
-
-def _num(v: float) -> str:
-    """Numbers of the evidence tables: 4 significant digits, noise-level values as 0."""
-
-    if v != v:
-        return "--"
-    if abs(v) < 1e-9:
-        return "0"
-    s = f"{v:.4g}"
-    if "e" in s:
-        m, e = s.split("e")
-        return f"${m}\\times 10^{{{int(e)}}}$"
-    return s
-
-
-def _tex_text(s: str) -> str:
-    return s.replace("_", r"\_").replace("^", r"\^{}").replace("&", r"\&")
-
-
-_CORRECTED_REF = {"6": r"$\dot\psi = 1 + \mu B_1 + \mu^2 B_2$ of Section~1",
-                  "7": r"$\dot a = \mu A_1 + \mu^2 A_2$ of Section~1",
-                  "8": r"$f = u_1$ of Section~1", "9": r"$g = u_2$ of Section~1"}
-
-
 def _errata_file(rows: Sequence[ErratumRow]) -> DerivationFile:
-    out = [r"\section{Errata to the paper's eqs.~(6)--(9)}",
-           r"""For each equation: the formula as printed in the paper, what differs from the
-engine's derivation (Section~1), and the numerical evidence: the quantity the equation
-predicts, from the printed formula, from the corrected one, and from the true limit cycle of
-eq.~(3) (shooting, \texttt{kbm cycle}).  Functions of $a$ are evaluated at the true
-first-harmonic amplitude.  Two cases: \emph{small $\Delta/\mu$} ($\mu=0.05$, $\Delta=0.1$,
-$\beta=1$, $\lambda=1$), where the expansion is valid, and the paper's Fig.~3 case
-($\mu=0.1$, $\Delta=1.5$, $\beta=1$, $\lambda=1$)."""]
-    verdicts = []
-    for r in rows:
-        out.append(rf"\subsection*{{Eq.~({r.equation}): ${r.quantity}$}}")
-        out.append("As printed:")
-        lhs = {"6": r"\dot\psi", "7": r"\dot a", "8": "f(a,\\psi)", "9": "g(a,\\psi)"}[
-            r.equation]
-        out.append(_align([equation_lines(lhs, r.printed, _W)]))
-        out.append(f"Corrected: {_CORRECTED_REF.get(r.equation, 'Section 1')}. "
-                   f"What differs: {_tex_text(r.difference)}.")
-        out.append(r"\begin{center}\small\begin{tabular}{lp{6.2cm}rrr}\toprule")
-        out.append(r"case & quantity & printed & corrected & true \\ \midrule")
-        for eqn, case, q, pr, co, nu in r.evidence:
-            out.append(f"{_tex_text(case)} & {_tex_text(q)} & {_num(pr)} & {_num(co)} & "
-                       f"{_num(nu)} \\\\")
-            if q.startswith("stable"):
-                continue
-            ep, ec = abs(pr - nu), abs(co - nu)
-            verdicts.append((eqn, case, q, ep, ec))
-        out.append(r"\bottomrule\end{tabular}\end{center}")
-    out.append(r"\subsection*{Verdicts}")
-    out.append(r"\begin{center}\small\begin{tabular}{llp{5cm}rrl}\toprule")
-    out.append(r"eq. & case & quantity & $|$printed$-$true$|$ & $|$corrected$-$true$|$ & "
-               r"closer \\ \midrule")
-    for eq, case, q, ep, ec in verdicts:
-        closer = "corrected" if ec < ep else ("printed" if ep < ec else "equal")
-        out.append(f"({eq}) & {_tex_text(case)} & {_tex_text(q)} & {_num(ep)} & {_num(ec)} & "
-                   f"{closer} \\\\")
-    out.append(r"\bottomrule\end{tabular}\end{center}")
-    return DerivationFile("errata.tex", "\n".join(out) + "\n")
+    return DerivationFile("errata.tex", errata_tex(rows, _W))
 
 
 _MAIN = r"""\documentclass[11pt]{article}
@@ -308,15 +235,15 @@ def build_files(errata: Sequence[ErratumRow] = ()) -> list[DerivationFile]:
 
 
 def write_derivations(out_dir: str | Path, errata: Sequence[ErratumRow] = ()) -> list[Path]:
-    """Write every file of :func:`build_files` into ``out_dir``; returns the paths."""
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    paths = []
-    for f in build_files(errata):
-        p = out / f.name
-        p.write_bytes(f.text.encode("utf-8"))
-        paths.append(p)
-    return paths
+    """Write every file of :func:`build_files` into ``out_dir``; returns the paths.
+
+    Raises
+    ------
+    kbm.errors.OutputError
+        If ``out_dir`` is a file or cannot be written to.
+    """
+    out = output_folder(out_dir, "out_dir")
+    return [write_file(out / f.name, f.text) for f in build_files(errata)]
 
 
 def compile_pdf(main_tex: str | Path, *, runs: int = 2, timeout: float = 300) -> Path:

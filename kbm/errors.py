@@ -17,6 +17,7 @@ __all__ = [
     "AveragedCycleError",
     "ExpansionError",
     "SeriesTruncationError",
+    "OutputError",
 ]
 
 
@@ -56,3 +57,8 @@ class ExpansionError(KBMError, ValueError):
 
 class SeriesTruncationError(KBMError, ArithmeticError):
     """An infinite Bessel sum did not reach its tolerance within the term budget."""
+
+
+class OutputError(KBMError, OSError):
+    """An output folder or file cannot be written (the path and the reason are in the
+    message)."""

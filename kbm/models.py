@@ -278,7 +278,14 @@ class Oscillator:
                 if missing:
                     raise ParameterError(
                         f"{scaled} = {expr} needs {', '.join(sorted(missing))} as well")
-                out[scaled] = sp.sympify(expr.subs({sp.Symbol(n): out[n] for n in need}))
+                val = sp.sympify(expr.subs({sp.Symbol(n): out[n] for n in need}))
+                if not (val.is_finite and val.is_real):
+                    zero = sorted(n for n in need if out[n] == 0)
+                    raise ParameterError(
+                        f"{scaled} = {expr} is undefined for "
+                        f"{', '.join(f'{n} = {out[n]}' for n in sorted(need))}"
+                        + (f": give {' and '.join(zero)} != 0" if zero else ""))
+                out[scaled] = val
         for name in list(out):
             if name in phys_names and name not in known:
                 del out[name]
@@ -433,14 +440,27 @@ def custom_model(rhs: str | sp.Expr, *, omega0: object = 1, name: str = "custom"
     Raises
     ------
     kbm.errors.ModelError
-        If the expression cannot be read or uses ``mu``, ``a`` or ``psi``.
+        If the expression cannot be read or uses ``mu``, ``a`` or ``psi``, or
+        ``omega0`` is not a positive number (or an expression in parameters).
 
     Examples
     --------
     >>> custom_model("-x**3 + (1 - x**2)*xdot").F
     -x**3 + xdot*(1 - x**2)
     """
-    return Oscillator(name, parse(rhs), omega0=_expr(omega0),
+    w0 = omega0
+    if isinstance(omega0, str):
+        try:  # a decimal number is read exactly: "1.5" is 3/2
+            w0 = sp.Rational(omega0.strip())
+        except (TypeError, ValueError):
+            w0 = parse(omega0)
+    w0 = _expr(w0)
+    if w0.has(x, xdot):
+        raise ModelError(f"omega0 must not depend on x or xdot, got {omega0!r}")
+    if w0.is_number and not (w0.is_real and w0.is_finite and w0 > 0):
+        raise ModelError(f"omega0 must be a positive number (the linear frequency), got "
+                         f"{omega0!r}")
+    return Oscillator(name, parse(rhs), omega0=w0,
                       description=f"user model x'' + {omega0}^2 x = mu ({rhs})")
 
 

@@ -151,6 +151,8 @@ class Erratum:
     evidence_equations
         The equations whose numerical evidence rows belong to this erratum (default:
         its own equation; eq. (9)'s waveform also shows in eq. (10)'s dissipation).
+    difference_tex
+        ``difference`` typeset for LaTeX (the derivations' errata section).
     """
 
     equation: str
@@ -159,6 +161,7 @@ class Erratum:
     difference: str
     evidence: str
     evidence_equations: tuple[str, ...] = ()
+    difference_tex: str = ""
 
     @property
     def corrected(self) -> sp.Expr:
@@ -171,20 +174,33 @@ ERRATA: tuple[Erratum, ...] = (
             "first-order shift Delta J_1(k a)/a of the potential missing (mu B_1); Delta^2 "
             "terms of B_2 missing; the printed mu^2 term vanishes on beta a^2 = 4, the true "
             "van der Pol part of B_2 there is -1/16",
-            "frequency"),
+            "frequency",
+            difference_tex=r"the first-order shift $\Delta J_1(ka)/a$ of the potential is "
+            r"missing ($\mu B_1$), and so are the $\Delta^2$ terms of $B_2$; the printed "
+            r"$\mu^2$ term vanishes on $\beta a^2 = 4$, where the true van der Pol part of "
+            r"$B_2$ is $-1/16$"),
     Erratum("7", r"\dot a", amplitude_rate(),
             "Delta J_1(k a) is a frequency shift (conservative force, no work per cycle), not "
             "an amplitude rate; the true A_2 is linear in Delta/mu with beta-dependent "
             "coefficients, not k Delta^2 J_0 J_1/(2 mu)",
-            "amplitude"),
+            "amplitude",
+            difference_tex=r"$\Delta J_1(ka)$ is a frequency shift (a conservative force "
+            r"does no work per cycle), not an amplitude rate; the true $A_2$ is linear in "
+            r"$\Delta/\mu$ with $\beta$-dependent coefficients, not "
+            r"$k\Delta^2 J_0 J_1/(2\mu)$"),
     Erratum("8", "f = u_1", f(),
             "factor 1/(2n(n+1)) missing in each potential harmonic; the n = 0 (first-harmonic) "
             "term must not be there and the n = 1 (third-harmonic) term must",
-            "harmonic3"),
+            "harmonic3",
+            difference_tex=r"each potential harmonic lacks the factor $1/(2n(n+1))$; the "
+            r"$n = 0$ (first-harmonic) term must not be there and the $n = 1$ "
+            r"(third-harmonic) term must"),
     Erratum("9", "g = u_2", g(),
             "u_2 has neither a constant nor a first harmonic; its terms are third and "
             "higher harmonics",
-            "mean", ("9", "10")),
+            "mean", ("9", "10"),
+            difference_tex=r"$u_2$ has neither a constant nor a first harmonic; its terms "
+            r"are third and higher harmonics"),
 )
 
 

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .algebra.laurent import Q
-from .averaging import run_recursion
+from .averaging import MAX_ORDER, run_recursion
 from .errors import AveragedCycleError, OrderError, ParameterError
 from .latex import equation_lines
 from .symbols import parse, a, mu
@@ -82,7 +82,18 @@ def limit_cycle_series(model, order: int, *, root: object | None = None) -> Limi
     """
     if not isinstance(order, int) or isinstance(order, bool) or order < 0:
         raise OrderError(f"the series order must be an integer >= 0, got {order!r}")
-    raw = run_recursion(model, order + 1, last_u=False)
+    if order >= MAX_ORDER:
+        raise OrderError(f"series order {order} is above the limit {MAX_ORDER - 1} (it needs the "
+                         f"KBM expansion to order {order + 1}, and that is bounded by "
+                         f"{MAX_ORDER}); ask for order <= {MAX_ORDER - 1}")
+    try:
+        raw = run_recursion(model, order + 1, last_u=False)
+    except OrderError as exc:
+        if "not available" not in str(exc):
+            raise
+        raise OrderError("exact limit-cycle series need a polynomial F with rational "
+                         "coefficients (the Bessel models go to KBM order 2 only); use "
+                         "averaged_cycles for them") from None
     if not raw.exact:
         raise OrderError("exact limit-cycle series need a polynomial F; use averaged_cycles "
                          "for the Bessel models")

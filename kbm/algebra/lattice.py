@@ -103,7 +103,9 @@ def line_sum(c: sp.Expr, h: sp.Expr, idx, target: int, index: sp.Symbol) -> sp.E
         return c.subs(s, n) if n >= lo else sp.Integer(0)
     if len(idx) != 2:
         raise OrderError("harmonic balance over three or more nested Bessel sums is not "
-                         "implemented; use order <= 2 for models with sin(k x) or cos(k x)")
+                         "implemented: a term of F multiplies several sines or cosines of x "
+                         "that do not combine into one; use order 1, or write F with one "
+                         "sine or cosine of x per term")
     points = line(h, idx, target)
     if points is None:
         return sp.Integer(0)

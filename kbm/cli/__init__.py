@@ -101,6 +101,11 @@ def run_command(parser: argparse.ArgumentParser, argv: Sequence[str] | None = No
 
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except OSError as exc:  # a file the command reads or writes: the reason, no traceback
+        where = f" {exc.filename!r}" if exc.filename else ""
+        print(f"kbm {args.command}: error: cannot access{where}: {exc.strerror or exc}",
+              file=sys.stderr)
+        return 2
     return int(status or 0)
 
 

@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 from typing import Any
 
 from ..errors import ParameterError
 
-__all__ = ["add_param_option", "parse_params", "emit_json", "add_model_arguments", "model_spec"]
+__all__ = ["add_param_option", "parse_params", "emit_json", "add_model_arguments", "model_spec",
+           "check_model_flags"]
 
 
 def add_param_option(parser: argparse.ArgumentParser) -> None:
@@ -32,9 +34,22 @@ def parse_params(items: list[str]) -> dict[str, str]:
     return out
 
 
+def _finite(obj: Any) -> Any:
+    """``obj`` with every non-finite float replaced by ``None`` (as
+    ``numerics._json.finite``; kbm does not import numerics)."""
+    if isinstance(obj, dict):
+        return {k: _finite(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_finite(v) for v in obj]
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
 def emit_json(obj: Any) -> None:
-    """Print ``obj`` as JSON (keys in a fixed order, as built)."""
-    json.dump(obj, sys.stdout, indent=2, allow_nan=True)
+    """Print ``obj`` as strict JSON (keys in a fixed order, as built; NaN and infinities
+    become ``null``, so that every JSON parser reads it)."""
+    json.dump(_finite(obj), sys.stdout, indent=2, allow_nan=False)
     sys.stdout.write("\n")
 
 
@@ -44,7 +59,27 @@ def add_model_arguments(parser: argparse.ArgumentParser,
     parser.add_argument("model", nargs="?", help=f"built-in model ({models})")
     parser.add_argument("--rhs", metavar="EXPR", help="your own F (in x, xdot and parameters) "
                         "instead of a built-in model")
-    parser.add_argument("--omega0", default="1", help="linear frequency for --rhs (default 1)")
+    parser.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")
+
+
+def check_model_flags(args: argparse.Namespace) -> None:
+    """A model name or ``--rhs`` (not both, not neither); ``--omega0`` only with ``--rhs``.
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        Naming the flags to change.
+    """
+    from ..errors import ModelError
+
+    rhs = getattr(args, "rhs", None)
+    if args.model and rhs:
+        raise ModelError("give either a model name or --rhs, not both")
+    if not args.model and not rhs:
+        raise ModelError("name a model (e.g. vdp) or give --rhs EXPR")
+    if args.model and getattr(args, "omega0", None) is not None:
+        raise ModelError(f"--omega0 applies to --rhs only; the built-in model {args.model!r} "
+                         "has its own linear frequency (set its parameters with --param)")
 
 
 def model_spec(args: argparse.Namespace):
@@ -53,15 +88,11 @@ def model_spec(args: argparse.Namespace):
     Raises
     ------
     kbm.errors.ModelError
-        If neither or both are given.
+        If neither or both are given, or ``--omega0`` comes with a model name.
     """
-    from ..errors import ModelError
     from ..models import custom_model
 
-    if args.model and getattr(args, "rhs", None):
-        raise ModelError("give either a model name or --rhs, not both")
+    check_model_flags(args)
     if getattr(args, "rhs", None):
-        return custom_model(args.rhs, omega0=args.omega0 if args.omega0 else 1)
-    if not args.model:
-        raise ModelError("name a model (e.g. vdp) or give --rhs EXPR")
+        return custom_model(args.rhs, omega0=1 if args.omega0 is None else args.omega0)
     return args.model

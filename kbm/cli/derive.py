@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ._common import add_param_option, emit_json, parse_params
+from ._common import add_param_option, check_model_flags, emit_json, parse_params
 
 
 def register(sub) -> None:
@@ -15,27 +15,24 @@ def register(sub) -> None:
                    "linear_damping, linear_stiffness, sedf, cdc)")
     p.add_argument("--rhs", metavar="EXPR", help="your own F (in x, xdot and parameters) "
                    "instead of a built-in model")
-    p.add_argument("--omega0", default="1", help="linear frequency for --rhs (default 1)")
+    p.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")
     p.add_argument("--order", "-n", type=int, required=True, help="order N >= 1")
     add_param_option(p)
-    p.add_argument("--json", action="store_true", help="print JSON (strings sympy can parse)")
-    p.add_argument("--latex", action="store_true", help="print LaTeX")
+    fmt = p.add_mutually_exclusive_group()
+    fmt.add_argument("--json", action="store_true", help="print JSON (strings sympy can parse)")
+    fmt.add_argument("--latex", action="store_true", help="print LaTeX")
     p.set_defaults(func=run)
 
 
 def model_from_args(args: argparse.Namespace):
     """The model named on the command line (with ``--param`` values), or the user's ``--rhs``."""
-    from ..errors import ModelError
     from ..models import custom_model, get_model
 
     params = parse_params(args.param)
-    if args.model and getattr(args, "rhs", None):
-        raise ModelError("give either a model name or --rhs, not both")
+    check_model_flags(args)
     if getattr(args, "rhs", None):
-        model = custom_model(args.rhs, omega0=args.omega0 if args.omega0 else 1)
+        model = custom_model(args.rhs, omega0=1 if args.omega0 is None else args.omega0)
         return model.substitute(params) if params else model
-    if not args.model:
-        raise ModelError("name a model (e.g. vdp) or give --rhs EXPR")
     return get_model(args.model, params)
 
 

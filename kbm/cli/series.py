@@ -14,7 +14,7 @@ def register(sub) -> None:
                                    "with exact rational coefficients.")
     p.add_argument("model", nargs="?", help="built-in model with polynomial F (e.g. vdp)")
     p.add_argument("--rhs", metavar="EXPR", help="your own polynomial F")
-    p.add_argument("--omega0", default="1", help="linear frequency for --rhs (default 1)")
+    p.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")
     p.add_argument("--order", "-n", type=int, required=True, help="highest power of mu")
     p.add_argument("--root", default=None, help="first-order amplitude a0 if A_1 has several "
                    "positive roots")

@@ -18,7 +18,7 @@ def register(sub) -> None:
     add_model_arguments(p)
     add_param_option(p)
     p.add_argument("--orders", default="1,2", help="comma-separated KBM orders (default 1,2)")
-    p.add_argument("--energy-orders", default="1,2", metavar="N,...",
+    p.add_argument("--energy-orders", default=None, metavar="N,...",
                    help="orders of the averaging about the conservative orbit shown next to "
                         "KBM (default 1,2; 'none' to leave them out)")
     p.add_argument("--paper", action="store_true",
@@ -51,12 +51,43 @@ def _orders(text: str, flag: str = "--orders") -> list[int]:
     return out
 
 
+def _check_modes(args: argparse.Namespace, params: dict) -> None:
+    """Refuse flags the chosen mode would ignore (no silently dropped option)."""
+    import math
+
+    from kbm.errors import ParameterError
+
+    if args.x_start is not None and not math.isfinite(args.x_start):
+        raise ParameterError(f"--x-start must be a finite number, got {args.x_start}")
+    modes = [f for f, on in (("--errata", args.errata), ("--validity", args.validity),
+                             ("--convergence", args.convergence)) if on]
+    if len(modes) > 1:
+        raise ParameterError(f"{' and '.join(modes)} are separate studies; give one")
+    if not modes:
+        return
+    mode = modes[0]
+    ignored = {"--paper": args.paper, "--energy-orders": args.energy_orders is not None}
+    if mode in ("--errata", "--validity"):
+        ignored.update({"--rhs": args.rhs, "--omega0": args.omega0, "--param": params,
+                        "--x-start": args.x_start is not None,
+                        "a model other than sedf": args.model not in (None, "sedf")})
+    if mode == "--errata":
+        ignored["--orders"] = args.orders != "1,2"
+    used = [name for name, on in ignored.items() if on]
+    if used:
+        what = ("the paper's fixed sedf cases" if mode == "--errata" else
+                "the default sedf grid" if mode == "--validity" else "a built-in model")
+        raise ParameterError(f"{mode} runs on {what} and would ignore {', '.join(used)}; "
+                             f"leave {'it' if len(used) == 1 else 'them'} out")
+
+
 def run(args: argparse.Namespace) -> int:
     from kbm.errors import ModelError
     from numerics.comparison import compare, energy_prediction
     from numerics.paper import paper_prediction
 
     params = parse_params(args.param)
+    _check_modes(args, params)
     if args.errata:
         from numerics.paper.errata import errata_evidence, evidence_table
 
@@ -95,8 +126,9 @@ def run(args: argparse.Namespace) -> int:
         return 0
     kw = {} if args.x_start is None else {"x_start": args.x_start}
     extra = [paper_prediction] if args.paper else []
-    if args.energy_orders.strip().lower() != "none":
-        extra += [energy_prediction(n) for n in _orders(args.energy_orders, "--energy-orders")]
+    energy_orders = "1,2" if args.energy_orders is None else args.energy_orders
+    if energy_orders.strip().lower() != "none":
+        extra += [energy_prediction(n) for n in _orders(energy_orders, "--energy-orders")]
     comp = compare(model_spec(args), params, orders=_orders(args.orders), extra=extra, **kw)
     if args.json:
         emit_json(comp.to_json())

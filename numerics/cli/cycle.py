@@ -73,6 +73,8 @@ def _run_all(cycles, args: argparse.Namespace) -> int:
         _print_cycle(c, args.digits)
     for p, e in cycles.failures:
         print(f"\n[{p.annulus}] predicted x_max {p.amplitude_max:.6g}: no cycle found ({e})")
+    if cycles.failures and not cycles:
+        return 1  # cycles were predicted and none was confirmed
     return 0 if all(c.success for c in cycles) else 1
 
 
@@ -83,7 +85,13 @@ def _print_cycle(cyc, digits) -> None:
     print(f"limit cycle of {data['model']} ({pars})")
     for key in ("period", "frequency", "amplitude_max", "amplitude_first_harmonic"):
         val = data[key]
-        print(f"  {key:26s} {val if isinstance(val, str) else format(val, f'.{w}g')}")
+        if isinstance(val, str):
+            print(f"  {key:26s} {val}")
+            continue
+        # never more digits than the accuracy estimate supports
+        n = cyc.significant_digits(key, limit=w)
+        note = f"  (relative accuracy ~{cyc.accuracy[key]:.0e})" if n < w else ""
+        print(f"  {key:26s} {format(val, f'.{n}g')}{note}")
     m = cyc.floquet_multipliers
     print(f"  {'floquet multipliers':26s} {m[0].real:.12f} (trivial), {m[1].real:.6e} "
           f"({'stable' if cyc.stable else 'UNSTABLE'})")

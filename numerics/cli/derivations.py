@@ -20,7 +20,10 @@ def register(sub) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from kbm.derivations import write_derivations
+    from kbm.files import output_folder
     from numerics.paper import errata_rows
+
+    output_folder(args.out, "--out")  # before any computation
 
     rows = () if args.no_evidence else errata_rows()
     paths = write_derivations(args.out, rows)

@@ -16,11 +16,13 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from kbm.files import output_folder
     from numerics.paper.figures import FIGURES, write_figures
 
     if args.list:
         print("\n".join(FIGURES))
         return 0
+    output_folder(args.out, "--out")  # before any computation
     paths = write_figures(args.out, args.only,
                           progress=lambda n: print(f"  {n} ...", file=sys.stderr, flush=True))
     for p in paths:

@@ -16,7 +16,9 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from kbm.files import output_folder
     from numerics.paper.reproduce import reproduce
 
+    output_folder(args.out, "--out")  # before any computation
     reproduce(args.out, pdf=not args.no_pdf)
     return 0

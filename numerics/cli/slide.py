@@ -44,5 +44,6 @@ def run(args: argparse.Namespace) -> int:
     print(f"  {len(a.slips)} slips ({a.criterion}):")
     for s in a.slips:
         print(f"    t = {s.t_start:9.3f} .. {s.t_end:9.3f}  wells {s.wells:+d}  "
-              f"peak force {s.peak_force:.5g}  dissipated {s.energy_dissipated:.5g}")
+              f"peak force {s.peak_force:.5g}  dissipated {s.energy_dissipated:.5g}"
+              + ("" if s.complete else "  (still slipping at the end)"))
     return 0

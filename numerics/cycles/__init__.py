@@ -6,7 +6,11 @@
   (classical KBM and the energy balance about the conservative orbit);
 - :mod:`numerics.cycles.shooting`: :func:`limit_cycle` (Newton on the return map,
   Floquet multipliers, dissipation per cycle) and :func:`limit_cycles` (every
-  predicted cycle, stable and unstable, confirmed by shooting);
+  predicted cycle, stable and unstable, confirmed by shooting), built on
+  :mod:`numerics.cycles.newton` (Newton's method and its checks) and
+  :mod:`numerics.cycles.finalpass` (the result and its accuracy estimate);
+- :mod:`numerics.cycles.harmonics`: Fourier coefficients by quadrature along the
+  integration (no aliasing of the jumps of relaxation cycles);
 - :mod:`numerics.cycles.highprec`: cycles to 30 digits and more (mpmath Taylor);
 - :mod:`numerics.cycles.sweep`: many cycles on all cores;
 - :mod:`numerics.cycles.floquet`: the non-trivial Floquet multiplier from Liouville's

@@ -28,11 +28,12 @@ def _first_order(model: Oscillator) -> AveragedRates:
     return averaged_rates(derive(model, 1))
 
 
-def kbm_guess(bound: BoundModel) -> tuple[float, float] | None:
-    """The stable first-order KBM cycle with the largest amplitude, as ``(amplitude, period)``.
+def kbm_guess(bound: BoundModel, *, stable: bool = True) -> tuple[float, float] | None:
+    """The stable (``stable=False``: unstable) first-order KBM cycle with the largest
+    amplitude, as ``(amplitude, period)``.
 
     ``None`` when the averaging does not apply to the model, a value is missing,
-    or the first-order averaged equation has no stable cycle.
+    or the first-order averaged equation has no cycle of that stability.
     """
     try:
         vals = bound.values
@@ -40,8 +41,8 @@ def kbm_guess(bound: BoundModel) -> tuple[float, float] | None:
         need = {p: vals[p] for p in rates.params if p in vals}
         if len(need) != len(rates.params) or "mu" not in vals:
             return None
-        cycles = [c for c in rates.cycles({"mu": vals["mu"], **need}) if c.stable]
-    except KBMError:
+        cycles = [c for c in rates.cycles({"mu": vals["mu"], **need}) if c.stable == stable]
+    except (KBMError, ArithmeticError, ValueError):
         return None
     if not cycles:
         return None
@@ -57,7 +58,7 @@ def energy_guesses(bound: BoundModel, *, stable_only: bool = True) -> list[tuple
     """
     try:
         pred = predict_cycles(bound.model, dict(bound.values), order=1)
-    except KBMError:
+    except (KBMError, ArithmeticError, ValueError):  # no guess: the transients still run
         return []
     cycles = [c for c in pred.cycles if c.stable or not stable_only]
     cycles.sort(key=lambda c: -abs(c.amplitude_max))

@@ -6,6 +6,7 @@ results compare by identity (``eq=False``: arrays have no single truth value).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
@@ -66,6 +67,10 @@ class LimitCycle:
         method's name).
     params
         The parameter values used (floats).
+    accuracy
+        Estimated relative errors of ``period``, ``frequency``, ``amplitude_max`` and
+        ``amplitude_first_harmonic`` (from a Newton step and a quadrature at a
+        tolerance a hundred times smaller; see :mod:`numerics.cycles.finalpass`).
     digits
         ``None`` for double precision; the number of digits for :func:`limit_cycle`
         with ``digits=`` (then ``period_mp``, ``amplitude_max_mp``,
@@ -95,6 +100,7 @@ class LimitCycle:
     method: str
     digits: int | None = None
     mp: Mapping[str, object] = field(default_factory=dict)
+    accuracy: Mapping[str, float] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         for name in ("harmonics", "t", "x", "xdot"):
@@ -103,6 +109,15 @@ class LimitCycle:
             object.__setattr__(self, name, arr)
         object.__setattr__(self, "params", FrozenMap(self.params))
         object.__setattr__(self, "mp", FrozenMap(self.mp))
+        object.__setattr__(self, "accuracy", FrozenMap(self.accuracy))
+
+    def significant_digits(self, name: str, limit: int = 12) -> int:
+        """How many significant digits of ``name`` (``"period"``, ``"amplitude_max"``, ...)
+        the accuracy estimate supports (at most ``limit``, at least 1)."""
+        rel = self.accuracy.get(name)
+        if rel is None or not rel > 0:
+            return limit
+        return max(1, min(limit, int(math.floor(-math.log10(rel)))))
 
     def to_json(self) -> dict:
         """The keys of ``kbm cycle --json`` (numbers as strings when ``digits`` is set)."""
@@ -134,4 +149,5 @@ class LimitCycle:
             "residual": self.residual,
             "method": self.method,
             "digits": self.digits,
+            "accuracy": {k: float(v) for k, v in sorted(self.accuracy.items())},
         }

@@ -28,84 +28,16 @@ import numpy as np
 from kbm.errors import NonAutonomousError
 from kbm.models import BoundModel, Oscillator, bind
 
+from numerics.cycles.finalpass import final_pass
 from numerics.cycles.guess import energy_guesses, kbm_guess
-from numerics.cycles.floquet import floquet_multipliers
-from numerics.cycles.highprec import limit_cycle_mp
-from numerics.cycles.result import Dissipation, LimitCycle
+from numerics.cycles.newton import NEWTON_MAX_STEPS, check_nontrivial, newton
+from numerics.cycles.result import LimitCycle
 from numerics.cycles.transient import transient
 from numerics.energy import predict_cycles
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
-from numerics.flow import (Method, ModelTemplate, choose_method, compile_model, extended_state,
-                           flow, solve)
+from numerics.flow import Method, ModelTemplate, choose_method, compile_model, solve
 
 __all__ = ["limit_cycle", "limit_cycles", "CycleList", "NEWTON_MAX_STEPS"]
-
-#: bound on the compiled integrator's steps over one period inside Newton's method
-NEWTON_MAX_STEPS = 5 * 10**4
-
-
-def _newton(cm, x0, T, method, rtol, atol, max_iter, floor):
-    """Newton's method on ``(x(T) - x0, x'(T)) = 0`` for the unknowns ``(x0, T)``."""
-    history: list[float] = []
-    it = 0
-    budget = NEWTON_MAX_STEPS
-    while True:
-        it += 1
-        steps: list[int] = []
-        yT = flow(cm, extended_state(x0), T, 1, method, rtol, atol, max_steps=budget,
-                  steps=steps)[-1]
-        if it == 1 and steps:
-            # later iterates near the cycle need about as many steps as the first: many
-            # more means Newton has wandered into a stiff region
-            budget = min(NEWTON_MAX_STEPS, max(5000, 50 * steps[0]))
-        r = np.array([yT[0] - x0, yT[1]])
-        history.append(float(np.max(np.abs(r))))
-        acc = cm.acc(T, yT[0], yT[1])
-        J = np.array([[yT[2] - 1.0, yT[1]], [yT[3], acc]])
-        try:
-            dx, dT = np.linalg.solve(J, -r)
-        except np.linalg.LinAlgError:
-            raise ConvergenceError(f"singular Newton matrix at x0 = {x0:.10g}, T = {T:.10g} "
-                                   "(non-hyperbolic cycle or x' = 0 is not a transversal "
-                                   "section there)") from None
-        # damp steps that would leave the section, reverse time, or change x0 or T by
-        # more than half (a far start then walks instead of jumping into stiff regions)
-        lam = min(1.0, 0.5 * max(1.0, abs(x0)) / max(abs(dx), 1e-300),
-                  0.5 * T / max(abs(dT), 1e-300))
-        while ((x0 + lam * dx) * x0 <= 0 or T + lam * dT <= 0) and lam > 1e-3:
-            lam /= 2
-        x0, T = x0 + lam * dx, T + lam * dT
-        if max(abs(dx) / max(1.0, abs(x0)), abs(dT) / T) < floor or history[-1] < floor:
-            return x0, T, it, history
-        if len(history) >= 5 and all(b > a for a, b in zip(history[-5:], history[-4:])):
-            raise ConvergenceError(
-                f"Newton on the return map diverges: the residual |(x(T) - x0, x'(T))| grew "
-                f"four times in a row ({', '.join(f'{h:.2e}' for h in history[-5:])}); "
-                f"last x0 = {x0:.10g}, T = {T:.10g}")
-        if it >= max_iter or not (np.isfinite(x0) and np.isfinite(T)):
-            raise ConvergenceError(
-                f"Newton on the return map did not converge in {it} iterations; residuals "
-                f"|(x(T) - x0, x'(T))|: {', '.join(f'{h:.2e}' for h in history[-6:])}; "
-                f"last x0 = {x0:.10g}, T = {T:.10g}")
-
-
-def _check_nontrivial(cm, converged, meth, rtol, atol, scale) -> None:
-    """Reject a 'cycle' that is an equilibrium or whose trivial multiplier is not 1."""
-    x0, T, it, history = converged
-    if abs(x0) < 1e-6 * max(1.0, abs(scale)):
-        raise ConvergenceError(f"Newton converged to the equilibrium (x0 = {x0:.3g}), not to a "
-                               "cycle")
-    ys = flow(cm, extended_state(x0), T, 64, meth, rtol, atol)
-    spread = float(np.ptp(ys[:, 0]))
-    if spread < 1e-6 * max(1.0, abs(x0)):
-        raise NoCycleError(f"no limit cycle: the motion settles to rest at x = {x0:.6g} (an "
-                           f"equilibrium of the potential; x varies by {spread:.2e} over "
-                           f"T = {T:.4g}); start elsewhere (x_start) to look for a cycle")
-    yT = ys[-1]
-    mults = np.linalg.eigvals(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]))
-    if np.min(np.abs(mults - 1.0)) > 1e-5:
-        raise ConvergenceError(f"the orbit found (x0 = {x0:.6g}, T = {T:.6g}) has no Floquet "
-                               f"multiplier 1 ({mults[0]:.6g}, {mults[1]:.6g}): not a cycle")
 
 
 def limit_cycle(model: Oscillator | str | BoundModel, params: Mapping[str, object] | None = None,
@@ -132,7 +64,9 @@ def limit_cycle(model: Oscillator | str | BoundModel, params: Mapping[str, objec
         (:mod:`numerics.cycles.guess`): the stable first-order KBM cycle of largest
         amplitude; then the stable cycles of the energy-balance averaging about the
         conservative orbit (:func:`numerics.energy.predict_cycles`, right where
-        the potential is strong); then transients from the predicted amplitudes and
+        the potential is strong); when neither predicts a stable cycle, their
+        unstable cycles (Newton converges to unstable cycles as well: van der Pol
+        with ``mu < 0``); then transients from the predicted amplitudes and
         from ``x = x_start``, ``x' = 0``, integrated until the maxima of ``x`` settle.
     digits
         If given (up to ~50), also compute period and amplitudes with an
@@ -161,12 +95,19 @@ def limit_cycle(model: Oscillator | str | BoundModel, params: Mapping[str, objec
         Start of the transient, its time limit, and the size ``|x| + |x'|`` above
         which the motion counts as growing without bound (default
         ``1000 max(1, |x_start|)``; raise it for cycles larger than that).
+    n_samples, n_harmonics
+        Samples of one period (``t``, ``x``, ``xdot``), and the number of Fourier
+        coefficients, which are integrated along the orbit, not taken from the samples
+        (:mod:`numerics.cycles.harmonics`).
 
     Returns
     -------
     LimitCycle
         With ``success = False`` and a message when Newton stalls above the
-        integration accuracy but the orbit is still closed to ``1e-6``.
+        integration accuracy but the orbit is still closed to ``1e-6``.  Its
+        ``accuracy`` holds the estimated relative errors; a weakly attracting cycle
+        whose double-precision accuracy is worse than ``1e-10`` is recomputed with the
+        Taylor integrator, and the message says so (:mod:`numerics.cycles.finalpass`).
 
     See Also
     --------
@@ -177,7 +118,9 @@ def limit_cycle(model: Oscillator | str | BoundModel, params: Mapping[str, objec
     kbm.errors.NonAutonomousError
         For a driven model (``v != 0``).
     numerics.errors.NoCycleError
-        If the transient grows without bound or decays to rest.
+        If the transient grows without bound or decays to rest, for ``mu = 0`` (a
+        conservative oscillator: no isolated cycle), or when the orbit found is not
+        isolated (non-trivial multiplier 1).
     numerics.errors.ConvergenceError
         If Newton's method fails (residual history in the message).
 
@@ -189,9 +132,10 @@ def limit_cycle(model: Oscillator | str | BoundModel, params: Mapping[str, objec
     """
     bound = bind(model, params)
     cm = compile_model(bound, template=template)
+    _check_not_conservative(bound, cm)
     st = _settings(cm, method, rtol, atol, max_iter, max_time, x_max, x_start)
     converged, meth, source = _find_orbit(cm, bound, guess, float(x_start), st)
-    return _final_pass(cm, converged, meth, source, st, digits, n_samples, n_harmonics)
+    return final_pass(cm, converged, meth, source, st, digits, n_samples, n_harmonics)
 
 
 def limit_cycles(model: Oscillator | str | BoundModel, params: Mapping[str, object] | None = None,
@@ -277,6 +221,17 @@ class _Settings:
     T_lin: float
 
 
+def _check_not_conservative(bound: BoundModel, cm) -> None:
+    """``mu = 0`` in ``x'' + omega0^2 x = mu F``: a linear oscillator, no isolated cycle."""
+    import sympy as sp
+
+    mu = sp.Symbol("mu")
+    if cm.values.get("mu", 1.0) == 0 and bound.model.acceleration().has(mu):
+        raise NoCycleError("mu = 0 leaves x'' + omega0^2 x = 0, a conservative oscillator: "
+                           "every orbit is periodic, so there is no isolated limit cycle; "
+                           "give mu != 0 (mu < 0 gives the cycle with reversed stability)")
+
+
 def _settings(cm, method, rtol, atol, max_iter, max_time, x_max, x_start) -> _Settings:
     if not cm.autonomous:
         raise NonAutonomousError(f"limit cycles need an autonomous model; {cm.name!r} has an "
@@ -303,8 +258,8 @@ def _check_guess(start) -> tuple[float, float]:
 def _shoot(cm, x0: float, period: float, st: _Settings):
     """Newton from ``(x0, period)``, then the non-triviality check; ``(converged, method)``."""
     meth = choose_method(cm, st.method, "shooting", abs(x0), period)
-    converged = _newton(cm, x0, period, meth, st.rtol, st.atol, st.max_iter, st.floor)
-    _check_nontrivial(cm, converged, meth, st.rtol, st.atol, x0)
+    converged = newton(cm, x0, period, meth, st.rtol, st.atol, st.max_iter, st.floor)
+    check_nontrivial(cm, converged, meth, st.rtol, st.atol, x0)
     return converged, meth
 
 
@@ -341,6 +296,14 @@ def _starts(bound: BoundModel, guess, x_start: float):
     eg = energy_guesses(bound)
     for x, T in eg:
         yield "energy-balance cycle", (x, T), None
+    if kg is None and not eg:
+        # no stable cycle predicted (e.g. van der Pol with mu < 0): Newton does not care
+        # about stability, so start it from the unstable ones
+        ku = kbm_guess(bound, stable=False)
+        if ku is not None:
+            yield "unstable KBM first-order averaged cycle", ku, None
+        for x, T in energy_guesses(bound, stable_only=False):
+            yield "unstable energy-balance cycle", (x, T), None
     seen = []
     for x in [*(x for x, _ in eg), *([kg[0]] if kg else []), x_start]:
         if all(abs(x - y) > 1e-3 for y in seen):
@@ -375,81 +338,3 @@ def _find_orbit(cm, bound: BoundModel, guess, x_start: float, st: _Settings):
         raise exc
     transients = [(lb, e) for lb, e in failures if lb.startswith("transient")] or failures
     raise type(exc)("; ".join(f"{lb}: {e}" for lb, e in transients)) from exc
-
-
-def _minimal_period(cm, converged, meth, st: _Settings, n: int = 240):
-    """The same orbit with its minimal period: Newton may converge to ``k`` turns of a cycle
-    (``x(T/k) = x0``, ``x'(T/k) = 0`` for ``k = 2, 3, 4``); returns ``(x0, T/k, it, history)``
-    for the smallest such ``k`` confirmed by Newton, else ``converged`` unchanged."""
-    x0, T = converged[0], converged[1]
-    ys = flow(cm, extended_state(x0), T, n, meth, st.rtol, st.atol)
-    scale = 1e-3 * max(1.0, abs(x0))
-    for k in (4, 3, 2):  # a cycle of period T/4 is also one of period T/2: try the shortest
-        j = n // k
-        if max(abs(ys[j, 0] - x0), abs(ys[j, 1])) < scale:
-            try:
-                shorter = _newton(cm, x0, T / k, meth, st.rtol, st.atol, st.max_iter, st.floor)
-                _check_nontrivial(cm, shorter, meth, st.rtol, st.atol, x0)
-            except (ConvergenceError, IntegrationError, NoCycleError):
-                continue
-            return shorter
-    return converged
-
-
-def _final_pass(cm, converged, meth, source, st: _Settings, digits, n_samples, n_harmonics):
-    """One more integration of the converged orbit: samples, monodromy, dissipation."""
-    rtol, atol, floor = st.rtol, st.atol, st.floor
-    x0, T, it, history = converged
-    converged = _minimal_period(cm, converged, meth, st)
-    if converged[1] < T:
-        x0, T, it2, h2 = converged
-        it, history = it + it2, history + h2
-    tt = np.linspace(0.0, T, n_samples + 1)
-    ys = flow(cm, extended_state(x0), T, n_samples, meth, rtol, atol)
-    yT = ys[-1]
-    residual = float(max(abs(yT[0] - x0), abs(yT[1])))
-    xs, vs = ys[:-1, 0], ys[:-1, 1]
-    tt = tt[:-1]
-    if not source.startswith("transient") and x0 < np.max(xs) - 1e-6 * max(1.0, abs(x0)):
-        # the guess led to a point that is not the maximum of x: restart at the maximum
-        i = int(np.argmax(xs))
-        converged = _newton(cm, float(xs[i]), T, meth, rtol, atol, st.max_iter, floor)
-        x0, T, it2, h2 = converged
-        it, history = it + it2, history + h2
-        tt = np.linspace(0.0, T, n_samples + 1)
-        ys = flow(cm, extended_state(x0), T, n_samples, meth, rtol, atol)
-        yT = ys[-1]
-        residual = float(max(abs(yT[0] - x0), abs(yT[1])))
-        xs, vs, tt = ys[:-1, 0], ys[:-1, 1], tt[:-1]
-    Phi = np.array([[yT[2], yT[4]], [yT[3], yT[5]]])
-    trivial, other = floquet_multipliers(Phi, yT[6])  # non-trivial one from Liouville
-    det = float(np.linalg.det(Phi))
-    liou = float(math.exp(yT[6]))
-    gp, gm = float(yT[7]), float(yT[8])
-    total = cm.plus_factor * gp - gm
-    e0 = float(cm.energy(x0, 0.0))
-    e1 = float(cm.energy(yT[0], yT[1]))
-    coeffs = np.fft.rfft(xs) / n_samples
-    harmonics = coeffs[:n_harmonics].copy()
-    first = 2 * abs(coeffs[1])
-    mp: dict = {}
-    if digits is not None:
-        mp = limit_cycle_mp(cm.acceleration_expr, int(digits), x0, T)
-    success = residual < 1e3 * floor
-    msg = (f"converged in {it} Newton iterations from the {source} ({meth.label}, rtol "
-           f"{rtol:g}); "
-           f"|(x(T) - x0, x'(T))| = {residual:.2e}; trivial multiplier {trivial.real:.12f}")
-    if not success:
-        msg = (f"Newton stalled: |(x(T) - x0, x'(T))| = {residual:.2e} after {it} iterations "
-               f"(floor {floor:.1e})")
-    return LimitCycle(
-        success=bool(success), message=msg, model=cm.name, params=dict(cm.values),
-        period=float(T), frequency=2 * math.pi / float(T), amplitude_max=float(x0),
-        amplitude_first_harmonic=float(first), harmonics=harmonics, t=tt, x=xs, xdot=vs,
-        floquet_multipliers=(trivial, other), stable=bool(abs(other) < 1.0),
-        liouville=(det, liou),
-        dissipation=Dissipation(total=float(total), gamma_plus=gp, gamma_minus=gm,
-                                plus_factor=cm.plus_factor),
-        energy_residual=float(e0 - e1 - total), iterations=it, residual=float(residual),
-        history=tuple(history), method=meth.label, digits=None if digits is None else int(digits),
-        mp=mp)

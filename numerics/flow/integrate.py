@@ -24,6 +24,7 @@ times one linear period exceeds :data:`STIFF_THRESHOLD` — and then Radau
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping, Sequence
 from enum import Enum
 
@@ -180,10 +181,14 @@ def solve(cm: CompiledModel, y0, t_end: float, method: Method | str, rtol: float
         raise ParameterError(f"solve() runs scipy's integrators, not {meth.label!r}")
     fun = cm.rhs_ext if extended else cm.rhs
     kwargs = {"jac": cm.jac} if meth.implicit and not extended else {}
-    with np.errstate(all="ignore"):
-        sol = solve_ivp(fun, (t_start, t_end), y0, method=meth.value, rtol=rtol, atol=atol,
-                        dense_output=dense, events=events, max_step=max_step, t_eval=t_eval,
-                        **kwargs)
+    try:
+        with np.errstate(all="ignore"):
+            sol = solve_ivp(fun, (t_start, t_end), y0, method=meth.value, rtol=rtol,
+                            atol=atol, dense_output=dense, events=events, max_step=max_step,
+                            t_eval=t_eval, **kwargs)
+    except (ValueError, OverflowError, ZeroDivisionError, np.linalg.LinAlgError) as exc:
+        # a non-finite state inside the method (e.g. the LU factors of Radau)
+        raise IntegrationError(f"{meth.value} failed: {exc}") from None
     if sol.status < 0:
         raise IntegrationError(f"{meth.value} failed at t = {sol.t[-1]:.6g}: {sol.message}")
     if not np.all(np.isfinite(sol.y[:, -1])):
@@ -219,9 +224,13 @@ def flow(cm: CompiledModel, y0, t_end: float, n_out: int, method: Method | str, 
         ys = res.y
     elif meth is Method.LSODA:
         times = np.linspace(0.0, t_end, n_out + 1)
-        with np.errstate(all="ignore"):
-            ys, info = odeint(cm.rhs_ext, y0, times, tfirst=True, rtol=rtol, atol=atol,
-                              full_output=True, mxstep=500000)
+        try:
+            with np.errstate(all="ignore"), warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # the failure is reported from info below
+                ys, info = odeint(cm.rhs_ext, y0, times, tfirst=True, rtol=rtol, atol=atol,
+                                  full_output=True, mxstep=500000)
+        except (ValueError, OverflowError) as exc:  # e.g. a non-finite state inside ODEPACK
+            raise IntegrationError(f"LSODA failed before t = {t_end:.6g}: {exc}") from None
         if info["message"] != "Integration successful.":
             raise IntegrationError(f"LSODA failed before t = {t_end:.6g}: {info['message']}")
     elif meth is Method.AUTO:

@@ -166,7 +166,7 @@ def errata_evidence(cases: Sequence[tuple[str, Mapping[str, float]]] = CASES,
             _harmonic(f_c, 3), 2 * abs(cyc.harmonics[3]))
         # eq. 9
         row("9", "mean of x (mu^2 u_2 at the true a)", float(np.mean(g_p)),
-            float(np.mean(g_c)), float(np.mean(cyc.x)))
+            float(np.mean(g_c)), float(cyc.harmonics[0].real))
         # eq. 10 over the reconstructed orbits
         pp = next(p for p in comp.predictions if p.source == "paper")
         pk = next(p for p in comp.predictions if p.source == "kbm" and p.order == 2)
@@ -203,5 +203,6 @@ def errata_rows(evidence: Sequence[ErratumEvidence] | None = None) -> list:
         eqs = e.evidence_equations or (e.equation,)
         ev = tuple((r.equation, r.case, r.quantity, r.printed, r.corrected, r.numeric)
                    for r in evidence if r.equation in eqs)
-        rows.append(ErratumRow(e.equation, e.quantity, e.printed, e.difference, ev))
+        rows.append(ErratumRow(e.equation, e.quantity, e.printed,
+                               e.difference_tex or e.difference, ev))
     return rows

@@ -31,9 +31,9 @@ __all__ = ["paper_prediction"]
 def _physical(model: Oscillator, vals: Mapping[str, sp.Expr]) -> dict[str, float]:
     """``mu, beta, Delta, k`` of the paper from resolved scaled values (Omega must be 1)."""
     if model.name != "sedf":
-        raise ParameterError("the paper's formulas (eqs. 6-9) are for the sedf model only")
+        raise ParameterError("the paper's formulas (eqs. 5-9) are for the sedf model only")
     if float(vals.get("Omega", 1)) != 1.0:
-        raise ParameterError("the paper's formulas (eqs. 6-9) assume Omega = 1")
+        raise ParameterError("the paper's formulas (eqs. 5-9) assume Omega = 1")
     m = float(vals["mu"])
     return {"mu": m, "beta": float(vals["beta"]), "Delta": float(vals["delta"]) * m,
             "k": float(vals["k"])}
@@ -53,7 +53,7 @@ def paper_prediction(values: Mapping[str, object] | BoundModel, *,
     model = get_model("sedf")
     if isinstance(values, BoundModel):
         if values.name != "sedf":
-            raise ParameterError("the paper's formulas (eqs. 6-9) are for the sedf model only")
+            raise ParameterError("the paper's formulas (eqs. 5-9) are for the sedf model only")
         vals = values.values
     else:
         vals = model.resolve(dict(values))

@@ -15,8 +15,10 @@ import time
 from pathlib import Path
 
 from kbm.derivations import compile_pdf, write_derivations
+from kbm.files import output_folder
 from kbm.paper import COMPARISON_CASES
 
+from numerics._json import finite
 from numerics.comparison import compare, convergence_study, energy_prediction
 from numerics.comparison.fixed_delta import fixed_delta_convergence
 from numerics.paper.claims import check_claims
@@ -46,6 +48,11 @@ class _Progress:
               flush=True)
 
 
+def _strict_json(obj) -> str:
+    """Valid JSON: NaN and infinities as ``null`` (:func:`numerics._json.finite`)."""
+    return json.dumps(finite(obj), indent=2, allow_nan=False)
+
+
 def _md_table(header: list[str], rows: list[list[str]]) -> str:
     out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     out += ["| " + " | ".join(c.replace("|", "\\|") for c in r) + " |" for r in rows]
@@ -70,9 +77,14 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     -------
     pathlib.Path
         The summary file (its text is also printed).
+
+    Raises
+    ------
+    kbm.errors.OutputError
+        If ``out`` is a file or cannot be written to (before any computation).
     """
-    out = Path(out)
-    (out / "tables").mkdir(parents=True, exist_ok=True)
+    out = output_folder(out, "out")
+    output_folder(out / "tables", "out")
     prog = _Progress(9)
     summary: list[str] = ["# kbm reproduce: summary", ""]
 
@@ -89,7 +101,7 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     (out / "tables" / "errata.txt").write_text(evidence_table(evidence) + "\n")
     wins = sum(r[-1] == "corrected" for r in rows if not r[2].startswith("stable"))
     total = sum(1 for r in rows if not r[2].startswith("stable"))
-    summary += ["## Errata (paper eqs. 6-10)", "",
+    summary += ["## Errata (paper eqs. 6-9; eq. 10: the dissipation)", "",
                 f"The corrected formula is closer to the true cycle in {wins} of {total} "
                 "comparisons.", "", errata_md]
     prog.done(f"{wins}/{total} comparisons favour the corrected formulas")
@@ -115,7 +127,7 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
         comp_json.append({"case": label, **c.to_json()})
     comp_text = "\n".join(comp_md)
     (out / "tables" / "comparison.md").write_text(comp_text)
-    (out / "tables" / "comparison.json").write_text(json.dumps(comp_json, indent=2) + "\n")
+    (out / "tables" / "comparison.json").write_text(_strict_json(comp_json) + "\n")
     summary += ["## KBM versus numerics", "", comp_text]
     prog.done(f"{len(COMPARISON_CASES)} cases")
 
@@ -152,7 +164,7 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     vm = validity_map(progress=False)
     vm_text = vm.table()
     (out / "tables" / "validity.md").write_text("```\n" + vm_text + "\n```\n")
-    (out / "tables" / "validity.json").write_text(json.dumps(vm.to_json(), indent=2) + "\n")
+    (out / "tables" / "validity.json").write_text(_strict_json(vm.to_json()) + "\n")
     summary += ["## Validity map (relative error of KBM orders 1, 2)", "", "```", vm_text,
                 "```", ""]
     prog.done()

@@ -29,7 +29,11 @@ from kbm.symbols import t as T, x as X, xdot as V
 
 from numerics.errors import IntegrationError
 
-__all__ = ["SlideResult", "slide", "PAPER"]
+__all__ = ["SlideResult", "slide", "PAPER", "MAX_PERIODS"]
+
+#: bound on the length of a run, in natural periods ``2 pi/Omega`` (a run of this length
+#: takes about half a minute and keeps its dense output in memory)
+MAX_PERIODS = 5_000
 
 #: the paper's fixed parameters (section 3): mu = 0.1, Omega = 1, lambda = 1
 PAPER = FIXED
@@ -99,6 +103,12 @@ def _validate(params: Mapping[str, float], t_end: float) -> dict[str, float]:
         raise ParameterError(f"Delta must be >= 0, got {p['Delta']}")
     if not (math.isfinite(t_end) and t_end > 0):
         raise ParameterError(f"t_end must be a positive number, got {t_end}")
+    periods = t_end * p.get("Omega", 1.0) / (2 * math.pi)
+    if periods > MAX_PERIODS:
+        raise ParameterError(f"t_end = {t_end:g} is {periods:.3g} natural periods 2 pi/Omega; "
+                             f"the limit is {MAX_PERIODS} (t_end <= "
+                             f"{MAX_PERIODS * 2 * math.pi / p.get('Omega', 1.0):.4g}): "
+                             "split a longer run")
     return p
 
 
@@ -126,7 +136,8 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
     Raises
     ------
     kbm.errors.ParameterError
-        For ``lam <= 0``, ``Omega <= 0``, ``v < 0``, ``t_end <= 0``, NaN, etc.
+        For ``lam <= 0``, ``Omega <= 0``, ``v < 0``, ``t_end <= 0``, NaN, etc., or a
+        run longer than :data:`MAX_PERIODS` natural periods.
 
     Examples
     --------
@@ -137,6 +148,10 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
     if model not in ("sedf", "cdc"):
         raise ParameterError(f"slide needs the slider model 'sedf' or 'cdc', got {model!r}")
     p = _validate(params, t_end)
+    if not 1e-14 <= rtol <= 1e-3:
+        raise ParameterError(f"rtol must be between 1e-14 and 1e-3, got {rtol}")
+    if not (math.isfinite(atol) and atol > 0):
+        raise ParameterError(f"atol must be a positive number, got {atol}")
     if model == "cdc":
         p.pop("beta", None)
     m = get_model(model, {"v": p["v"]} if p.get("v") else None)

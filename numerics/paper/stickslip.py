@@ -25,10 +25,69 @@ from numerics.paper.sliding import SlideResult
 
 __all__ = ["Slip", "StickSlip", "analyze"]
 
+#: points per solver step at which |x'| is compared with the threshold (then root finding)
+_SUBDIVISIONS = 8
+
+
+def _fine_grid(sol) -> np.ndarray:
+    """The solver's step points, each step cut into :data:`_SUBDIVISIONS` pieces."""
+    ts = np.asarray(sol.t, dtype=float)
+    frac = np.arange(_SUBDIVISIONS) / _SUBDIVISIONS
+    fine = (ts[:-1, None] + np.diff(ts)[:, None] * frac[None, :]).ravel()
+    return np.append(fine, ts[-1])
+
+
+def _fine_samples(sol, tt: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``x`` and ``x'`` at the times ``tt`` from the dense output."""
+    xs, vs = np.empty(len(tt)), np.empty(len(tt))
+    for i in range(0, len(tt), 200_000):  # bounded memory on long runs
+        y = sol.sol(tt[i:i + 200_000])
+        xs[i:i + 200_000], vs[i:i + 200_000] = y[0], y[1]
+    return xs, vs
+
+
+def _slip_intervals(res: SlideResult, vth: float, Tn: float):
+    """``(t_start, t_end)`` of each slip (``|x'| = vth`` located on the dense output), and
+    the fine grid with ``x`` on it.
+
+    ``|x'| - vth`` is evaluated at :data:`_SUBDIVISIONS` points per solver step (the steps
+    resolve the motion, so no excursion above the threshold hides between them), runs
+    closer than ``Tn`` are merged, and the first and last crossings of each run are
+    found by Brent's method on the dense output (to ~1e-12 in time).  A slip still
+    going at the end of the run ends at the final time.
+    """
+    from scipy.optimize import brentq
+
+    sol = res.sol
+    tt = _fine_grid(sol)
+    xs, vs = _fine_samples(sol, tt)
+    g = np.abs(vs) - vth
+
+    def excess(tau):
+        return abs(float(sol.sol(tau)[1])) - vth
+
+    def root(a, b):
+        return float(brentq(excess, a, b, xtol=1e-13, rtol=4 * np.finfo(float).eps))
+
+    idx = np.nonzero(g > 0)[0]
+    groups: list[list[int]] = []
+    for i in idx:
+        if groups and tt[i] - tt[groups[-1][1]] < Tn:
+            groups[-1][1] = i
+        else:
+            groups.append([i, i])
+    out = []
+    for i0, i1 in groups:
+        ts = float(tt[0]) if i0 == 0 else root(tt[i0 - 1], tt[i0])
+        te = float(tt[-1]) if i1 == len(tt) - 1 else root(tt[i1], tt[i1 + 1])
+        out.append((ts, te))
+    return out, tt, xs
+
 
 @dataclass(frozen=True)
 class Slip:
-    """One slip event."""
+    """One slip event (``complete`` is false for a slip still going at the end of the run,
+    whose ``t_end`` is the final time)."""
 
     t_start: float
     t_end: float
@@ -37,10 +96,12 @@ class Slip:
     energy_dissipated: float
     x_start: float
     x_end: float
+    complete: bool = True
 
     def to_json(self) -> dict:
         return {"t_start": self.t_start, "t_end": self.t_end, "wells": self.wells,
-                "peak_force": self.peak_force, "energy_dissipated": self.energy_dissipated}
+                "peak_force": self.peak_force, "energy_dissipated": self.energy_dissipated,
+                "complete": self.complete}
 
 
 @dataclass(frozen=True, eq=False)
@@ -115,33 +176,25 @@ def analyze(res: SlideResult, *, window: tuple[float, float] | None = None,
     if vth <= 0:
         raise ParameterError(f"v_threshold must be > 0, got {vth}")
     Tn = 2 * math.pi / Om
-    t, xd, F = res.t, res.xdot, res.force
-    active = np.abs(xd) > vth
     slips: list[Slip] = []
-    idx = np.nonzero(active)[0]
-    groups: list[list[int]] = []
-    for i in idx:
-        if groups and t[i] - t[groups[-1][-1]] < Tn:
-            groups[-1].append(i)
-        else:
-            groups.append([i])
-    prev_end = 0
-    for g in groups:
-        i0, i1 = g[0], g[-1]
-        ts, te = float(t[i0]), float(t[i1])
-        seg = F[prev_end:i0 + 1]
-        peak = float(np.max(seg)) if seg.size else float(F[i0])
-        prev_end = i1
+    prev_end = 0.0
+    intervals, t, xf = _slip_intervals(res, vth, Tn)
+    F = Om**2 * (v * t - xf)
+    for ts, te in intervals:
+        stick = (t >= prev_end) & (t <= ts)
+        f_start = float(Om**2 * (v * ts - res.sol.sol(ts)[0]))
+        peak = max(float(np.max(F[stick])) if stick.any() else f_start, f_start)
+        prev_end = te
         if not (t0 <= ts <= t1):
             continue
-        xs_, xe_ = float(res.x[i0]), float(res.x[i1])
+        xs_, xe_ = float(res.sol.sol(ts)[0]), float(res.sol.sol(te)[0])
         slips.append(Slip(t_start=ts, t_end=te,
                           wells=int(round(xe_ / lam) - round(xs_ / lam)),
                           peak_force=peak,
                           energy_dissipated=res.gamma_at(te) - res.gamma_at(ts),
-                          x_start=xs_, x_end=xe_))
+                          x_start=xs_, x_end=xe_, complete=te < float(t[-1])))
     mask = res.window(t0, t1)
-    Fw = F[mask]
+    Fw = res.force[mask]
     y0, y1 = res.sol.sol(t0), res.sol.sol(t1)
     gp, gm = float(y1[2] - y0[2]), float(y1[3] - y0[3])
     gamma = res.gain_factor * gp - gm

@@ -210,7 +210,6 @@ def phase_fig3_figure(out_dir: Path, *, quick: bool = False) -> list[Path]:
 def phase_small_figure(out_dir: Path, *, quick: bool = False) -> list[Path]:
     """Small-``Delta`` cases where KBM is accurate: portraits and radial deviations."""
     from numerics.comparison import compare
-    from numerics.paper.printed import paper_prediction
 
     plt = _plt()
     cases = [("sedf", {"mu": 0.05, "Delta": 0.1, "beta": 1, "lam": 1}, (1, 2)),

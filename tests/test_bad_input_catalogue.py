@@ -1,0 +1,202 @@
+"""A catalogue of bad inputs (issue 16): each gives one line of error, never a traceback or a hang.
+
+Command line: exit status 2 and a last line ``kbm CMD: error: ...`` naming what to change
+(argparse's own errors too), with no traceback, within :data:`LIMIT` seconds.
+Library: a package exception (a subclass of :class:`kbm.errors.KBMError`) of the
+expected type whose message names the API argument or value.
+"""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+
+from kbm import derive, limit_cycle_series
+from kbm.derivations import write_derivations
+from kbm.errors import (KBMError, ModelError, NonAutonomousError, OrderError, OutputError,
+                        ParameterError, UnsupportedTermError)
+from kbm.models import bind, custom_model
+from numerics import limit_cycle, slide
+from numerics.cli import main
+from numerics.errors import NoCycleError
+
+#: seconds any one bad input may take (they all fail fast; the bound catches hangs)
+LIMIT = 20.0
+
+SEDF = ["-p", "mu=0.1", "-p", "beta=1", "-p", "Delta=0.5"]
+
+# (command line, fragment of the error line); "{file}" is an existing regular file
+CLI_CASES = [
+    # derive
+    ("derive", "required: --order"),
+    ("derive vdp --order 0", "integer >= 1"),
+    ("derive vdp --order 31", "above the limit 30"),
+    ("derive vdp --order 1000", "above the limit 30"),
+    ("derive vdp --order x", "invalid int value"),
+    ("derive --order 1", "name a model"),
+    ("derive nosuchmodel --order 1", "nosuchmodel"),
+    ("derive vdp --rhs x --order 1", "not both"),
+    ("derive --rhs __import__('os') --order 1", "not a known function"),
+    ("derive --rhs x**y --order 1", "not supported"),
+    ("derive --rhs sin(xdot) --order 1", "argument linear in x"),
+    ("derive --rhs t*x --order 1", "autonomous"),
+    ("derive --rhs x*sin(x) --order 3", "order 3 is not available"),
+    ("derive vdp --order 1 -p foo=1", "unknown parameter 'foo'"),
+    ("derive vdp --order 1 -p mu", "NAME=VALUE"),
+    ("derive vdp --order 1 -p mu=1 -p mu=2", "given twice"),
+    ("derive vdp --order 1 --omega0 1.5", "--omega0 applies to --rhs only"),
+    ("derive --rhs -x**3 --omega0 0 --order 1", "omega0 must be a positive number"),
+    ("derive --rhs -x**3 --omega0 -1 --order 1", "omega0 must be a positive number"),
+    ("derive --rhs -x**3 --omega0 x --order 1", "must not depend on x"),
+    ("derive vdp --order 1 --json --latex", "not allowed with argument --json"),
+    # series
+    ("series vdp --order -1", "integer >= 0"),
+    ("series vdp --order 30", "above the limit 29"),
+    ("series --rhs sin(x) --order 2", "polynomial F"),
+    ("series vdp --order 2 --root 7", "not a root"),
+    # cycle
+    ("cycle", "name a model"),
+    ("cycle vdp", "needs values for mu"),
+    ("cycle vdp -p mu=0", "no isolated limit cycle"),
+    ("cycle vdp -p mu=nan", "finite real number"),
+    ("cycle vdp -p mu=inf", "finite real number"),
+    ("cycle vdp -p mu=1e300", "failed"),
+    ("cycle vdp -p mu=1 --digits 0", "--digits must be between"),
+    ("cycle vdp -p mu=1 --rtol 0", "--rtol must be between"),
+    ("cycle vdp -p mu=1 --rtol 1", "--rtol must be between"),
+    ("cycle vdp -p mu=1 --x-start nan", "--x-start must be a finite number"),
+    ("cycle vdp -p mu=1 --x-start inf", "--x-start must be a finite number"),
+    ("cycle vdp -p mu=1 --method foo", "invalid choice"),
+    ("cycle vdp -p mu=1 --omega0 2", "--omega0 applies to --rhs only"),
+    ("cycle sedf -p mu=0.1 -p beta=1 -p Delta=0.5 -p Omega=0", "must be > 0"),
+    # compare
+    ("compare vdp", "needs a value of mu"),
+    ("compare vdp -p mu=0.1 --paper", "sedf model only"),
+    ("compare sedf --paper -p lam=0 " + " ".join(SEDF), "give lam != 0"),
+    ("compare sedf --paper -p mu=0 -p beta=1 -p Delta=0.5", "give mu != 0"),
+    ("compare sedf --paper -p Omega=0 " + " ".join(SEDF), "omega0 = Omega"),
+    ("compare vdp -p mu=0.1 --orders 0", "orders >= 1"),
+    ("compare vdp -p mu=0.1 --orders a", "comma-separated integers"),
+    ("compare vdp -p mu=0.1 --orders 50", "above the limit 30"),
+    ("compare vdp -p mu=0.1 --energy-orders 0", "orders >= 1"),
+    ("compare vdp -p mu=0.1 --x-start nan", "--x-start must be a finite number"),
+    ("compare vdp --errata", "would ignore a model other than sedf"),
+    ("compare --errata -p mu=0.1", "would ignore --param"),
+    ("compare --errata --validity", "separate studies"),
+    ("compare --validity --paper", "would ignore --paper"),
+    ("compare vdp -p mu=0.1 --convergence 0.1,0.2 --paper", "would ignore --paper"),
+    ("compare vdp --convergence abc", "comma-separated numbers"),
+    ("compare --convergence 0.1,0.2", "needs a built-in model"),
+    # slide
+    ("slide vdp --t-end 10", "invalid choice"),
+    ("slide cdc", "required: --t-end"),
+    ("slide cdc --t-end 0", "positive number"),
+    ("slide cdc --t-end nan", "positive number"),
+    ("slide cdc -p Delta=1 --t-end 1e7", "the limit is"),
+    ("slide cdc -p Delta=1 --t-end 10 --rtol 0", "rtol must be between"),
+    ("slide cdc -p Delta=1 -p Omega=0 --t-end 10", "Omega must be > 0"),
+    ("slide cdc -p Delta=1 -p lam=0 --t-end 10", "lam must be > 0"),
+    ("slide cdc -p Delta=1 -p v=-1 --t-end 10", "v must be >= 0"),
+    ("slide cdc -p Delta=1 -p mu=0 --t-end 10", "mu must be > 0"),
+    ("slide cdc -p Delta=-1 --t-end 10", "Delta must be >= 0"),
+    ("slide cdc -p foo=1 --t-end 10", "unknown parameter 'foo'"),
+    # predict
+    ("predict vdp -p mu=0.1 --order 0", "integer >= 1"),
+    ("predict vdp -p mu=0.1 --method kbm --order 1000", "above the limit 30"),
+    ("predict vdp -p mu=0.1 --potential __import__('os')", "not a known function"),
+    # output folders
+    ("derivations --no-evidence --out {file}", "is a file, not a folder"),
+    ("derivations --no-evidence --out {file}/sub", "cannot write to --out"),
+    ("figures --out {file}", "is a file, not a folder"),
+    ("reproduce --out {file}", "is a file, not a folder"),
+    ("figures --only nosuchfigure --out {dir}", "unknown figure"),
+    # no command
+    ("", "required: COMMAND"),
+]
+
+
+def _argv(line: str, tmp_path) -> list[str]:
+    f = tmp_path / "a-file"
+    f.write_text("")
+    return [w.replace("{file}", str(f)).replace("{dir}", str(tmp_path / "figs"))
+            for w in line.split()]
+
+
+def _run(argv) -> tuple[int, float]:
+    t0 = time.perf_counter()
+    try:
+        code = main(argv)
+    except SystemExit as exc:  # argparse's own errors
+        code = exc.code
+    return code, time.perf_counter() - t0
+
+
+def test_the_catalogue_has_at_least_60_bad_inputs():
+    assert len(CLI_CASES) + len(API_CASES) >= 60
+    assert len({c[0] for c in CLI_CASES}) == len(CLI_CASES)
+
+
+@pytest.mark.parametrize("line, fragment", CLI_CASES, ids=[c[0] or "(empty)" for c in CLI_CASES])
+def test_bad_command_line_exits_2_with_one_error_line(line, fragment, tmp_path, capsys):
+    code, elapsed = _run(_argv(line, tmp_path))
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert "Traceback" not in err
+    last = err.strip().splitlines()[-1]
+    assert last.startswith("kbm") and ": error: " in last, err
+    assert fragment in last, last
+    assert elapsed < LIMIT
+
+
+def _write_into_file(tmp_path):
+    f = tmp_path / "a-file"
+    f.write_text("")
+    write_derivations(f)
+
+
+# (label, callable, exception type, fragment of the message)
+API_CASES = [
+    ("derive order 0", lambda p: derive("vdp", 0), OrderError, "order"),
+    ("derive order 31", lambda p: derive("vdp", 31), OrderError, "limit 30"),
+    ("derive order 1.5", lambda p: derive("vdp", 1.5), OrderError, "integer"),
+    ("derive unknown model", lambda p: derive("nosuchmodel", 1), ModelError, "nosuchmodel"),
+    ("derive unsupported term", lambda p: derive(custom_model("exp(x)"), 1),
+     UnsupportedTermError, "exp(x)"),
+    ("custom model omega0 0", lambda p: custom_model("-x**3", omega0=0), ModelError, "omega0"),
+    ("custom model code", lambda p: custom_model("__import__('os').system('true')"),
+     ModelError, "not allowed"),
+    ("series order 30", lambda p: limit_cycle_series("vdp", 30), OrderError, "limit 29"),
+    ("bind lam 0", lambda p: bind("sedf", {"mu": 0.1, "beta": 1, "Delta": 1, "lam": 0}),
+     ParameterError, "lam"),
+    ("bind mu 0 with Delta", lambda p: bind("sedf", {"mu": 0, "beta": 1, "Delta": 1, "lam": 1}),
+     ParameterError, "mu != 0"),
+    ("bind Omega 0", lambda p: bind("sedf", {"mu": 0.1, "beta": 1, "Delta": 1, "lam": 1,
+                                              "Omega": 0}), ParameterError, "omega0"),
+    ("bind nan", lambda p: bind("vdp", {"mu": float("nan")}), ParameterError, "finite"),
+    ("limit cycle mu 0", lambda p: limit_cycle("vdp", {"mu": 0}), NoCycleError, "mu = 0"),
+    ("limit cycle missing mu", lambda p: limit_cycle("vdp", {}), ParameterError, "mu"),
+    ("limit cycle bad method", lambda p: limit_cycle("vdp", {"mu": 1}, method="nosuch"),
+     ParameterError, "nosuch"),
+    ("limit cycle driven", lambda p: limit_cycle("sedf", {"mu": 0.1, "beta": 1, "Delta": 1,
+                                                           "lam": 1, "v": 0.1}),
+     NonAutonomousError, "autonomous"),
+    ("slide too long", lambda p: slide("cdc", {"Delta": 1}, t_end=1e7), ParameterError,
+     "the limit is"),
+    ("slide rtol 0", lambda p: slide("cdc", {"Delta": 1}, t_end=10, rtol=0), ParameterError,
+     "rtol"),
+    ("slide not a slider", lambda p: slide("vdp", {"mu": 1}, t_end=10), ParameterError,
+     "sedf"),
+    ("write derivations into a file", _write_into_file, OutputError, "out_dir"),
+]
+
+
+@pytest.mark.parametrize("label, call, exc_type, fragment", API_CASES,
+                         ids=[c[0] for c in API_CASES])
+def test_bad_library_input_raises_a_package_error(label, call, exc_type, fragment, tmp_path):
+    t0 = time.perf_counter()
+    with pytest.raises(exc_type) as info:
+        call(tmp_path)
+    assert isinstance(info.value, KBMError)
+    assert fragment in str(info.value)
+    assert time.perf_counter() - t0 < LIMIT

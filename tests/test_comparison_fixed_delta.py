@@ -52,3 +52,20 @@ def test_no_true_cycle_is_reported():
     assert np.isfinite(s.slopes[("energy order 1", "frequency")])
     text = json.dumps(s.to_json(), allow_nan=False)
     assert "no true cycle" in text and "Delta = 3" in s.table()
+
+
+def test_cli_fixed_delta_and_methods_map_flags(capsys):
+    """``kbm compare --fixed-delta`` prints strict JSON with one study per beta; a wrong
+    value or a flag the study would ignore is a one-line error with exit status 2."""
+    import json
+
+    from numerics.cli import main
+
+    assert main(["compare", "--fixed-delta", "1.5", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out, parse_constant=lambda t: 1 / 0)
+    assert len(out["studies"]) == 3
+    for argv in (["compare", "--fixed-delta", "x"], ["compare", "vdp", "--fixed-delta", "1.5"],
+                 ["compare", "--methods-map", "--paper"]):
+        assert main(argv) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith("kbm compare: error:")

@@ -35,6 +35,14 @@ def register(sub) -> None:
     p.add_argument("--validity", action="store_true",
                    help="sedf validity map of KBM orders 1, 2 over the default (mu, Delta, "
                         "beta) grid (a sweep on all cores, a few minutes)")
+    p.add_argument("--fixed-delta", metavar="DELTA1,...",
+                   help="sedf at these fixed Delta (beta = 1, 0.5, 0.25; mu from 0.2 to 0.005): "
+                        "errors of the energy method's orders and of classical KBM against the "
+                        "true cycles, with fitted log-log slopes")
+    p.add_argument("--methods-map", action="store_true",
+                   help="sedf map over (mu, Delta, beta): where classical KBM and the energy "
+                        "method are within 1 %% and 1e-3 of the true cycle (a sweep on all "
+                        "cores, about a minute)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=run)
 
@@ -60,23 +68,25 @@ def _check_modes(args: argparse.Namespace, params: dict) -> None:
     if args.x_start is not None and not math.isfinite(args.x_start):
         raise ParameterError(f"--x-start must be a finite number, got {args.x_start}")
     modes = [f for f, on in (("--errata", args.errata), ("--validity", args.validity),
-                             ("--convergence", args.convergence)) if on]
+                             ("--convergence", args.convergence),
+                             ("--fixed-delta", args.fixed_delta),
+                             ("--methods-map", args.methods_map)) if on]
     if len(modes) > 1:
         raise ParameterError(f"{' and '.join(modes)} are separate studies; give one")
     if not modes:
         return
     mode = modes[0]
     ignored = {"--paper": args.paper, "--energy-orders": args.energy_orders is not None}
-    if mode in ("--errata", "--validity"):
+    if mode in ("--errata", "--validity", "--fixed-delta", "--methods-map"):
         ignored.update({"--rhs": args.rhs, "--omega0": args.omega0, "--param": params,
                         "--x-start": args.x_start is not None,
                         "a model other than sedf": args.model not in (None, "sedf")})
-    if mode == "--errata":
+    if mode in ("--errata", "--fixed-delta", "--methods-map"):
         ignored["--orders"] = args.orders != "1,2"
     used = [name for name, on in ignored.items() if on]
     if used:
         what = ("the paper's fixed sedf cases" if mode == "--errata" else
-                "the default sedf grid" if mode == "--validity" else "a built-in model")
+                "a built-in model" if mode == "--convergence" else "the default sedf grid")
         raise ParameterError(f"{mode} runs on {what} and would ignore {', '.join(used)}; "
                              f"leave {'it' if len(used) == 1 else 'them'} out")
 
@@ -105,6 +115,32 @@ def run(args: argparse.Namespace) -> int:
             emit_json(vm.to_json())
         else:
             print(vm.table())
+        return 0
+    if args.fixed_delta:
+        from numerics.comparison.fixed_delta import fixed_delta_convergence
+
+        try:
+            deltas = [float(v) for v in args.fixed_delta.split(",") if v.strip()]
+        except ValueError:
+            raise ModelError(f"--fixed-delta takes comma-separated numbers, got "
+                             f"{args.fixed_delta!r}") from None
+        if not deltas or not all(0 < d < 100 for d in deltas):
+            raise ModelError(f"--fixed-delta takes values 0 < Delta < 100, got "
+                             f"{args.fixed_delta!r}")
+        study = fixed_delta_convergence(deltas)
+        if args.json:
+            emit_json(study.to_json())
+        else:
+            print(study.table())
+        return 0
+    if args.methods_map:
+        from numerics.paper.methods import methods_map
+
+        mm = methods_map()
+        if args.json:
+            emit_json(mm.to_json())
+        else:
+            print(mm.table())
         return 0
     if args.convergence:
         from numerics.comparison.convergence import convergence_study

@@ -41,10 +41,18 @@ def _exprs(model, n_harmonics: int):
     n = 3 + 2 * (n_harmonics - 1)
     y = sp.symbols(f"q0:{n}")
     acc = acc.subs({X: y[0], V: y[1]}, simultaneous=True)
-    ks = range(1, n_harmonics)
+    # cos(k w t), sin(k w t) by the angle-addition recurrence from cos(w t), sin(w t): two
+    # trigonometric calls per step instead of 2 (n_harmonics - 1) (the printed code shares
+    # the subexpressions), rounding error ~ k eps
+    c1, s1 = sp.cos(_W * TIME), sp.sin(_W * TIME)
+    cos_k, sin_k = [c1], [s1]
+    for _ in range(2, n_harmonics):
+        c, s_ = cos_k[-1], sin_k[-1]
+        cos_k.append(c * c1 - s_ * s1)
+        sin_k.append(s_ * c1 + c * s1)
     ex = [y[1], acc, y[0]]
-    ex += [y[0] * sp.cos(k * _W * TIME) for k in ks]
-    ex += [y[0] * sp.sin(k * _W * TIME) for k in ks]
+    ex += [y[0] * c for c in cos_k]
+    ex += [y[0] * s_ for s_ in sin_k]
     return ex, y
 
 

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 from typing import Any
 
 from ..errors import ParameterError
+from ..strict_json import finite
 
 __all__ = ["add_param_option", "parse_params", "emit_json", "add_model_arguments", "model_spec",
            "check_model_flags"]
@@ -34,22 +34,10 @@ def parse_params(items: list[str]) -> dict[str, str]:
     return out
 
 
-def _finite(obj: Any) -> Any:
-    """``obj`` with every non-finite float replaced by ``None`` (as
-    ``numerics._json.finite``; kbm does not import numerics)."""
-    if isinstance(obj, dict):
-        return {k: _finite(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_finite(v) for v in obj]
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    return obj
-
-
 def emit_json(obj: Any) -> None:
     """Print ``obj`` as strict JSON (keys in a fixed order, as built; NaN and infinities
     become ``null``, so that every JSON parser reads it)."""
-    json.dump(_finite(obj), sys.stdout, indent=2, allow_nan=False)
+    json.dump(finite(obj), sys.stdout, indent=2, allow_nan=False)
     sys.stdout.write("\n")
 
 

@@ -26,7 +26,7 @@ from kbm.averaged import averaged_rates
 from kbm.errors import KBMError
 from kbm.models import Oscillator, bind
 
-from numerics._json import finite
+from kbm.strict_json import finite
 from numerics.energy import predict_cycles
 from numerics.errors import ConvergenceError
 

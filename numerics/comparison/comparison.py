@@ -23,7 +23,7 @@ from kbm import KBMFunctions, KBMResult, derive
 from kbm.errors import ParameterError
 from kbm.models import BoundModel, Oscillator, bind
 
-from numerics._json import finite
+from kbm.strict_json import finite
 from numerics.comparison.prediction import (ERROR_KEYS, Prediction, kbm_prediction,
                                             numeric_value)
 from numerics.cycles import LimitCycle, limit_cycle

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from kbm.errors import ParameterError
 from kbm.models import Oscillator
 
-from numerics._json import finite
+from kbm.strict_json import finite
 from numerics.comparison.branches import AnalyticCurve, energy_branch, kbm_branch
 from numerics.cycles.branch_result import Branch
 from numerics.cycles.continuation import _check_vary, continue_cycles

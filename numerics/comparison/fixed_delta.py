@@ -37,7 +37,7 @@ import numpy as np
 from kbm import derive
 from kbm.errors import KBMError
 
-from numerics._json import finite
+from kbm.strict_json import finite
 from numerics.comparison.comparison import compare
 from numerics.comparison.convergence import fit_slope
 from numerics.comparison.predict import energy_prediction

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 from kbm.models import FrozenMap
 
-from numerics._json import finite
+from kbm.strict_json import finite
 
 __all__ = ["BranchPoint", "SpecialPoint", "Branch", "SPECIAL_KINDS"]
 

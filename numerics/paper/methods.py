@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from numerics._json import finite
+from kbm.strict_json import finite
 from numerics.comparison.prediction import numeric_value
 from numerics.cycles.sweep import grid, sweep
 from numerics.energy import map_predictions

@@ -18,7 +18,7 @@ from kbm.derivations import compile_pdf, write_derivations
 from kbm.files import output_folder
 from kbm.paper import COMPARISON_CASES
 
-from numerics._json import finite
+from kbm.strict_json import finite
 from numerics.comparison import compare, convergence_study, energy_prediction
 from numerics.comparison.fixed_delta import fixed_delta_convergence
 from numerics.paper.claims import check_claims
@@ -49,7 +49,7 @@ class _Progress:
 
 
 def _strict_json(obj) -> str:
-    """Valid JSON: NaN and infinities as ``null`` (:func:`numerics._json.finite`)."""
+    """Valid JSON: NaN and infinities as ``null`` (:func:`kbm.strict_json.finite`)."""
     return json.dumps(finite(obj), indent=2, allow_nan=False)
 
 

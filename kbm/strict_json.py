@@ -1,4 +1,5 @@
-"""Strict JSON from results: NaN and infinities become ``null`` (shared by every ``to_json``)."""
+"""Strict JSON from results: NaN and infinities become ``null`` (shared by every ``to_json``
+of both packages and by the command line's JSON output)."""
 
 from __future__ import annotations
 

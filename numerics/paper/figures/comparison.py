@@ -81,6 +81,11 @@ def convergence_figure(out_dir: Path, *, quick: bool = False) -> list[Path]:
                           label="|Gamma| true cycle")
             ax.set_title(f"{title}\n{name}", fontsize=9)
             ax.set_xlabel("mu")
+            # label the values of mu used, not the log axis's minor ticks (they overlap)
+            from matplotlib.ticker import NullFormatter
+
+            ax.xaxis.set_minor_formatter(NullFormatter())
+            ax.set_xticks(e, [f"{v:g}" for v in e], fontsize=7)
             ax.set_ylabel("|KBM - numerical|")
             ax.legend(fontsize=7)
             ax.grid(True, which="both", alpha=0.3)
@@ -166,24 +171,26 @@ def _portrait(ax, comp, title):
 
 
 def _deviation(ax, comp, with_paper=False):
-    th0, r0 = _radius(comp.numeric.x, comp.numeric.xdot)
+    """Signed distance of each predicted orbit from the true cycle, along the true cycle's
+    phase t/T (the distance to the nearest point of the prediction's closed curve, positive
+    outside).  A polar angle is not monotonic on cycles that are not star-shaped, which
+    drew stripes."""
+    c = comp.numeric
+    q = np.column_stack([c.x, c.xdot])
+    phase = np.arange(len(q)) / len(q)
     for p in comp.predictions:
         if not p.success or (p.source == "paper" and not with_paper):
             continue
-        th, r = _radius(p.x, p.xdot)
-        ax.plot(th0, np.interp(th0, th, r, period=2 * np.pi) - r0, label=p.label)
+        curve = np.column_stack([p.x, p.xdot])
+        d = np.linalg.norm(q[:, None, :] - curve[None, :, :], axis=2)
+        j = np.argmin(d, axis=1)
+        sign = np.sign(np.hypot(*curve[j].T) - np.hypot(*q.T))
+        ax.plot(phase, sign * d[np.arange(len(q)), j], label=p.label)
     ax.axhline(0, color="k", lw=0.8)
-    ax.set_xlabel("polar angle atan2(-dx/dt, x)")
-    ax.set_ylabel("r_KBM - r_numerical")
-    ax.set_title("radial deviation from the true cycle", fontsize=9)
+    ax.set_xlabel("phase t/T of the true cycle (0 at the maximum of x)")
+    ax.set_ylabel("signed distance to the true cycle")
+    ax.set_title("deviation from the true cycle in the phase plane", fontsize=9)
     ax.legend(fontsize=7)
-
-
-def _radius(x, v):
-    th = np.arctan2(-v, x)
-    r = np.hypot(x, v)
-    order = np.argsort(th)
-    return th[order], r[order]
 
 
 def phase_fig3_figure(out_dir: Path, *, quick: bool = False) -> list[Path]:

@@ -142,10 +142,12 @@ def fig6_kinetic_friction(out_dir: Path) -> list[Path]:
     win = FIG5["lam"] / FIG5["v"]
     n = max(1, int(round(win / (r.t[1] - r.t[0]))))
     kern = np.ones(n) / n
-    mean = np.convolve(r.force, kern, mode="same")
+    # full windows only: a zero-padded window would pull the mean down at both ends
+    mean = np.convolve(r.force, kern, mode="valid")
+    t_mean = r.t[n // 2: n // 2 + mean.size]
     fig, ax = plt.subplots(figsize=(9, 4))
     ax.plot(r.t, r.force, lw=0.4, alpha=0.5, label="spring force")
-    ax.plot(r.t, mean, lw=1.5, label=rf"running mean over $\lambda/v = {win:g}$")
+    ax.plot(t_mean, mean, lw=1.5, label=rf"running mean over $\lambda/v = {win:g}$")
     xb = 1 / math.sqrt(FIG5["beta"])
     inside = np.abs(r.x) <= xb
     t_out = r.t[np.argmax(~inside & (r.t > 0))] if np.any(~inside) else r.t[-1]

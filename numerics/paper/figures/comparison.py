@@ -11,7 +11,7 @@ matplotlib is imported here only, lazily, with the Agg backend.
 - :func:`phase_fig3_figure`: KBM cycles of each order and the paper's formulas
   against the numerical cycle for the paper's Fig. 3 (``Delta = 1.5, mu = 0.1``);
 - :func:`phase_small_figure`: the same where KBM is accurate (small ``Delta``),
-  with the radial deviation from the true cycle.
+  with the deviation from the true cycle along its phase.
 """
 
 from __future__ import annotations
@@ -215,7 +215,7 @@ def phase_fig3_figure(out_dir: Path, *, quick: bool = False) -> list[Path]:
 
 
 def phase_small_figure(out_dir: Path, *, quick: bool = False) -> list[Path]:
-    """Small-``Delta`` cases where KBM is accurate: portraits and radial deviations."""
+    """Small-``Delta`` cases where KBM is accurate: portraits and deviations from the true cycle."""
     from numerics.comparison import compare
 
     plt = _plt()

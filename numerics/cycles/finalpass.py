@@ -38,15 +38,17 @@ WEAK_ACCURACY = 1e-10
 HIGHPREC_DIGITS = 17
 
 
-def _minimal_period(cm, converged, meth, st, n: int = 240):
+def _minimal_period(cm, converged, ys, meth, st):
     """The same orbit with its minimal period: Newton may converge to ``k`` turns of a cycle
-    (``x(T/k) = x0``, ``x'(T/k) = 0`` for ``k = 2, 3, 4``); returns ``(x0, T/k, it, history)``
-    for the smallest such ``k`` confirmed by Newton, else ``converged`` unchanged."""
+    (``x(T/k) = x0``, ``x'(T/k) = 0`` for ``k = 2, 3, 4``).  ``ys`` are the samples of the
+    converged orbit at equal times; a sample near ``T/k`` close to the start makes Newton
+    try ``T/k``.  Returns ``(x0, T/k, it, history)`` for the smallest such ``k`` confirmed
+    by Newton, else ``None``."""
     x0, T = converged[0], converged[1]
-    ys = flow(cm, extended_state(x0), T, n, meth, st.rtol, st.atol)
-    scale = 1e-3 * max(1.0, abs(x0))
+    n = len(ys) - 1
+    scale = 1e-2 * max(1.0, abs(x0))  # a coarse screen: Newton confirms
     for k in (4, 3, 2):  # a cycle of period T/4 is also one of period T/2: try the shortest
-        j = n // k
+        j = round(n / k)
         if max(abs(ys[j, 0] - x0), abs(ys[j, 1])) < scale:
             try:
                 shorter = newton(cm, x0, T / k, meth, st.rtol, st.atol, st.max_iter, st.floor)
@@ -54,7 +56,7 @@ def _minimal_period(cm, converged, meth, st, n: int = 240):
             except (ConvergenceError, IntegrationError, NoCycleError):
                 continue
             return shorter
-    return converged
+    return None
 
 
 def _newton_correction(cm, x0, T, meth, rtol, atol) -> tuple[float, float]:
@@ -111,11 +113,12 @@ def final_pass(cm, converged, meth, source, st, digits, n_samples, n_harmonics) 
     harmonics and the accuracy of the results (see the module's description)."""
     rtol, atol, floor = st.rtol, st.atol, st.floor
     x0, T, it, history = converged
-    converged = _minimal_period(cm, converged, meth, st)
-    if converged[1] < T:
-        x0, T, it2, h2 = converged
-        it, history = it + it2, history + h2
     ys, residual = _samples(cm, x0, T, meth, st, n_samples)
+    shorter = _minimal_period(cm, converged, ys, meth, st)
+    if shorter is not None:  # k turns of the cycle: keep one
+        x0, T, it2, h2 = shorter
+        it, history = it + it2, history + h2
+        ys, residual = _samples(cm, x0, T, meth, st, n_samples)
     if not source.startswith("transient") and x0 < np.max(ys[:-1, 0]) - 1e-6 * max(1.0, abs(x0)):
         # the guess led to a point that is not the maximum of x: restart at the maximum
         i = int(np.argmax(ys[:-1, 0]))

@@ -15,12 +15,23 @@ Built-in models (names used on the command line):
 ``linear_stiffness``  ``F = -kappa x``
 ``sedf``              paper eq. (3), self-excited slider: ``F = -(beta x^2 - 1) x' - delta sin(k x)``
 ``cdc``               paper eq. (12), constant-damping slider: ``F = -x' - delta sin(k x)``
+``sedf_comoving``     the SEDF with its self-excitation attached to the stage: equal to ``sedf``
+                      at ``v = 0``; pulled, ``F = -(beta (x - v t)^2 - 1) x' - delta sin(k x)``
 
 For ``sedf`` and ``cdc``, ``w0 = Omega``, ``delta = Delta/mu`` and ``k = 2 pi/lam``
 (the scaled KBM form of the paper's physical parameters).  With a stage
 velocity ``v != 0`` the spring pulls with ``Omega^2 (v t - x)``: the model gets
 the drive ``Omega^2 v t`` (not multiplied by ``mu``) on the right-hand side,
 ``x'' + w0^2 x = mu F + drive(t)``, and is non-autonomous.
+
+The paper's SEDF measures its self-excitation ``mu (beta x^2 - 1) x'`` by the
+position ``x`` on the substrate, so a slider pulled over many wells meets an ever
+larger damping ``mu beta x^2`` (its friction grows without bound, the paper's Fig. 6)
+and has no steady sliding state.  ``sedf_comoving`` attaches the self-excitation to
+the stage instead (it is measured by the spring's extension ``x - v t``, the
+deflection of a tip from its support), which is invariant under
+``x -> x + lam, t -> t + lam/v`` and so has friction laws
+(:mod:`numerics.sliding`).
 
 Parameter values are read by :mod:`kbm.values` and bound to a model once by
 :mod:`kbm.bound` (:func:`bind`, re-exported here).  This module is longer than
@@ -94,6 +105,11 @@ class Oscillator:
         A parameter that multiplies every energy-supplying term of the
         dissipation integrand (the paper's eq. 11, ``Gamma = beta Gamma_+ -
         Gamma_-``, has ``gain_factor = beta``); 1 when there is none.
+    stage_relative
+        The part of ``F`` that, when a stage pulls the spring at velocity ``v``
+        (:meth:`with_stage_velocity`), depends on the spring's extension ``x - v t``
+        instead of on ``x`` (a self-excitation attached to the stage); 0 for the
+        paper's models, whose ``F`` keeps the substrate position ``x``.
 
     Raises
     ------
@@ -118,6 +134,7 @@ class Oscillator:
     defaults: Mapping[str, sp.Expr] = field(default_factory=dict)
     drive: sp.Expr = sp.Integer(0)
     gain_factor: sp.Expr = sp.Integer(1)
+    stage_relative: sp.Expr = sp.Integer(0)
 
     def __post_init__(self) -> None:
         F = parse(self.F) if not isinstance(self.F, sp.Basic) else self.F
@@ -133,6 +150,12 @@ class Oscillator:
         object.__setattr__(self, "defaults",
                            FrozenMap({k: _expr(v) for k, v in self.defaults.items()}))
         object.__setattr__(self, "gain_factor", _expr(self.gain_factor))
+        rel = _expr(self.stage_relative)
+        object.__setattr__(self, "stage_relative", rel)
+        if rel != 0 and x not in rel.free_symbols:
+            raise ModelError(f"stage_relative = {rel} of model {self.name!r} must be a part of F "
+                             "that depends on x (it is re-evaluated at the spring extension "
+                             "x - v t when the stage moves)")
         if mu in self.F.free_symbols:
             raise ModelError(f"F of model {self.name!r} contains the small parameter mu; "
                              "write the equation as x'' + omega0^2 x = mu*F with F free of mu")
@@ -193,7 +216,10 @@ class Oscillator:
         >>> get_model("sedf").dissipation_parts()
         (mu*x**2*xdot**2, mu*xdot**2, beta)
         """
-        integrand = sp.expand(-self.dissipative_force() * xdot)
+        # powers of sums stay whole (multinomial=False): the stage-attached excitation
+        # beta (x - v t)^2 x'^2 is one energy-supplying term, not three of mixed signs
+        damping = mu * self.F - self.conservative_force()
+        integrand = sp.expand(-damping * xdot, multinomial=False)
         plus, minus = [], []
         for term in sp.Add.make_args(integrand):
             coeff = term.as_coeff_Mul()[0]
@@ -209,17 +235,22 @@ class Oscillator:
         """The driven variant pulled by a stage at velocity ``v`` (paper eq. 3).
 
         The spring ``Omega^2 (x - v t)`` adds the drive ``omega0^2 v t``; ``v = 0``
-        returns the model unchanged.
+        returns the model unchanged; a :class:`sympy.Symbol` keeps ``v`` a parameter.
+        A :attr:`stage_relative` part of ``F`` is re-evaluated at ``x - v t``.
 
         Raises
         ------
         kbm.errors.ParameterError
             If ``v`` is not a finite real number.
         """
-        vv = parameter_value("v", v)
+        # a symbol keeps v a parameter (one compiled template for every stage velocity)
+        vv = v if isinstance(v, sp.Symbol) else parameter_value("v", v)
         if vv == 0:
             return self
-        return replace(self, drive=self.omega0**2 * vv * t,
+        rel = self.stage_relative
+        moved = rel.subs(x, x - vv * t)
+        return replace(self, drive=self.omega0**2 * vv * t, F=self.F - rel + moved,
+                       stage_relative=moved,
                        description=self.description.replace("with v = 0", f"with v = {vv}"))
 
     def bind(self, values: Mapping[str, object] | None = None) -> "BoundModel":
@@ -307,6 +338,7 @@ class Oscillator:
             defaults={k: v for k, v in self.defaults.items() if k not in vals},
             drive=self.drive.subs(subs),
             gain_factor=self.gain_factor.subs(subs),
+            stage_relative=self.stage_relative.subs(subs),
         )
 
 
@@ -360,8 +392,19 @@ def _cdc() -> Oscillator:
         physical=_PHYSICAL, defaults={"Omega": 1})
 
 
+def _sedf_comoving() -> Oscillator:
+    excitation = -(_beta * x**2 - 1) * xdot
+    return Oscillator(
+        "sedf_comoving", excitation - _delta * sp.sin(_k * x), omega0=_Omega,
+        description="self-excited slider with the self-excitation attached to the stage, with "
+                    "v = 0: x'' + mu (beta (x - v t)^2 - 1) x' + Delta sin(2 pi x/lam) "
+                    "+ Omega^2 (x - v t) = 0",
+        physical=_PHYSICAL, defaults={"Omega": 1}, gain_factor=_beta,
+        stage_relative=excitation)
+
+
 #: the built-in models that have a stage (their spring can be pulled at a velocity v)
-SLIDERS = ("sedf", "cdc")
+SLIDERS = ("sedf", "cdc", "sedf_comoving")
 
 
 def _drive_variant(model: Oscillator, v: object) -> Oscillator:
@@ -379,6 +422,7 @@ MODELS = {
     "linear_stiffness": _linear_stiffness,
     "sedf": _sedf,
     "cdc": _cdc,
+    "sedf_comoving": _sedf_comoving,
 }
 
 

@@ -13,7 +13,7 @@ from hypothesis import given, settings, strategies as st
 from kbm import ParameterError
 from numerics.cli import main
 from numerics import analyze, saddle_node, slide
-from numerics.paper.potential import potential
+from numerics.sliding.potential import potential
 
 
 @settings(max_examples=6)

@@ -12,7 +12,7 @@ import pytest
 
 from kbm.errors import ParameterError
 from numerics import analyze, slide
-from numerics.paper.sliding import MAX_PERIODS
+from numerics.sliding.reference import MAX_PERIODS
 
 
 @pytest.fixture(scope="module")

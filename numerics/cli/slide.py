@@ -14,7 +14,9 @@ def register(sub) -> None:
                                    "stick-slip motion (slips, static and kinetic friction, "
                                    "dissipation, energy audit).  Defaults as in the paper: "
                                    "mu = 0.1, Omega = 1, lam = 1.")
-    p.add_argument("model", choices=["sedf", "cdc"], help="sedf (eq. 3) or cdc (eq. 12)")
+    p.add_argument("model", choices=["sedf", "cdc", "sedf_comoving"],
+                   help="sedf (eq. 3), cdc (eq. 12) or sedf_comoving (self-excitation attached "
+                        "to the stage)")
     add_param_option(p)
     p.add_argument("--t-end", type=float, required=True, help="final time T > 0")
     p.add_argument("--rtol", type=float, default=1e-10, help="integrator tolerance")

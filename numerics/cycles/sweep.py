@@ -1,8 +1,9 @@
-"""Many limit cycles at once: a parameter sweep over both cores, with a progress bar.
+"""Many limit cycles at once: a parameter sweep on any executor, with a progress bar.
 
 :func:`sweep` maps :func:`numerics.limit_cycle` over a list (or grid) of
-parameter sets with a process pool.  Results come back in the order of the
-input, whatever the scheduling, and a failed point is a
+parameter sets in chunks (:mod:`numerics.executor`: a local process pool by
+default, or a Dask cluster).  Results come back in the order of the input,
+whatever the scheduling and the executor, and a failed point is a
 :class:`SweepPoint` with ``cycle = None`` and the error message, not an
 exception that loses the rest of the sweep.
 """
@@ -11,17 +12,15 @@ from __future__ import annotations
 
 import itertools
 import os
-import sys
 from collections.abc import Iterable, Mapping, Sequence
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, replace
 
 import numpy as np
-from tqdm import tqdm
 
 from kbm.errors import KBMError
 from kbm.models import bind
 
+from numerics.executor import chunk, map_chunks
 from numerics.cycles.result import LimitCycle
 from numerics.cycles.shooting import limit_cycle
 from numerics.flow import model_template
@@ -90,7 +89,8 @@ def _strip(c: LimitCycle) -> LimitCycle:
 def sweep(model, points: Iterable[Mapping[str, object]], *,
           fixed: Mapping[str, object] | None = None, workers: int | None = None,
           progress: bool | None = None, chunksize: int | None = None,
-          continuation: bool = True, **cycle_kwargs) -> list[SweepPoint]:
+          continuation: bool = True, executor: object | None = None,
+          **cycle_kwargs) -> list[SweepPoint]:
     """Limit cycles for many parameter sets, on all cores, in input order.
 
     Parameters
@@ -100,7 +100,12 @@ def sweep(model, points: Iterable[Mapping[str, object]], *,
     points
         Parameter sets (e.g. from :func:`grid`), merged over ``fixed``.
     workers
-        Processes (default: the number of CPUs); 1 runs in this process.
+        Processes of the default local pool (default: the number of CPUs); 1 runs
+        in this process.
+    executor
+        Where the chunks run (:func:`numerics.executor.map_chunks`): ``None`` (the
+        local pool), a :class:`concurrent.futures.Executor` or a Dask
+        :class:`distributed.Client`; the results are the same on each.
     progress
         Show a progress bar on standard error (default: when more than 50 points).
     chunksize
@@ -125,23 +130,14 @@ def sweep(model, points: Iterable[Mapping[str, object]], *,
     """
     pts = [dict(p) for p in points]
     fixed = dict(fixed or {})
-    total = len(pts)
-    show = total > 50 if progress is None else progress
+    show = len(pts) > 50 if progress is None else progress
     workers = workers or os.cpu_count() or 1
-    size = chunksize or max(1, min(64, -(-total // (4 * workers))))
-    chunks = [pts[i:i + size] for i in range(0, total, size)]
+    chunks = chunk(pts, workers, chunksize)
     jobs = [(model, fixed, c, dict(cycle_kwargs), continuation) for c in chunks]
-    out: list[SweepPoint] = []
-    with tqdm(total=total, disable=not show, file=sys.stderr, unit="cycle",
-              desc=f"sweep {getattr(model, 'name', model)}") as bar:
-        if workers == 1 or len(chunks) == 1:
-            for job in jobs:
-                res = _chunk(job)
-                out.extend(res)
-                bar.update(len(res))
-            return out
-        with ProcessPoolExecutor(max_workers=workers) as ex:
-            for res in ex.map(_chunk, jobs):
-                out.extend(res)
-                bar.update(len(res))
-    return out
+
+    def lost(job, exc):
+        return [SweepPoint(params=p, cycle=None, error=f"task failed: {exc}") for p in job[2]]
+
+    return map_chunks(_chunk, jobs, executor=executor, workers=workers, progress=show,
+                      desc=f"sweep {getattr(model, 'name', model)}", unit="cycle",
+                      sizes=[len(c) for c in chunks], on_error=lost)

@@ -5,9 +5,10 @@ Sits on top of everything generic in :mod:`numerics`:
 - :mod:`numerics.paper.printed`: the paper's eqs. (5)-(9) as printed, as a
   predicted cycle;
 - :mod:`numerics.paper.errata`: numerical evidence for each erratum;
-- :mod:`numerics.paper.potential`, :mod:`numerics.paper.sliding`,
-  :mod:`numerics.paper.stickslip`, :mod:`numerics.paper.claims`: the driven
-  slider (eqs. 3, 12), its stick-slip analysis and the paper's claims;
+- :mod:`numerics.paper.claims`: the paper's claims about the driven sliders
+  (eqs. 3, 12), measured with :mod:`numerics.sliding`;
+- :mod:`numerics.paper.friction`: the paper's question asked over a whole
+  range -- friction laws and maps of SEDF against CDC (:mod:`numerics.sliding`);
 - :mod:`numerics.paper.validity`: where classical KBM holds for the SEDF;
 - :mod:`numerics.paper.methods`: where classical KBM and the energy method hold
   (:func:`~numerics.paper.methods.methods_map`);
@@ -17,10 +18,9 @@ Sits on top of everything generic in :mod:`numerics`:
 
 from numerics.paper.claims import Claim, check_claims
 from numerics.paper.errata import ErratumEvidence, errata_evidence, errata_rows
-from numerics.paper.potential import SaddleNode, potential, saddle_node, slip_energy
 from numerics.paper.printed import paper_prediction
-from numerics.paper.sliding import SlideResult, slide
-from numerics.paper.stickslip import Slip, StickSlip, analyze
+from numerics.sliding import (SaddleNode, SlideResult, Slip, StickSlip, analyze, potential,
+                              saddle_node, slide, slip_energy)
 
 __all__ = ["paper_prediction", "errata_evidence", "errata_rows", "ErratumEvidence", "slide",
            "SlideResult", "analyze", "StickSlip", "Slip", "potential", "saddle_node",

@@ -15,9 +15,9 @@ import numpy as np
 
 from kbm.paper import FIG5
 
-from numerics.paper.potential import saddle_node
-from numerics.paper.sliding import slide
-from numerics.paper.stickslip import analyze
+from numerics.sliding.potential import saddle_node
+from numerics.sliding.reference import slide
+from numerics.sliding.stickslip import analyze
 
 __all__ = ["Claim", "check_claims"]
 

@@ -1,6 +1,6 @@
 """All figures of the project, by name: the paper's Figs. 2-6, the KBM comparison and the
 map of where classical KBM and the energy method hold (``methods_map``, the headline;
-``validity_map`` is kept).
+``validity_map`` is kept), and the friction laws and maps of the sliders.
 
 ``FIGURES`` maps a name to a function ``f(out_dir) -> list[Path]``;
 :func:`write_figures` runs them (all, or those named).  matplotlib is imported
@@ -35,6 +35,15 @@ def _comparison(name: str) -> Callable[[Path], list[Path]]:
     return run
 
 
+def _friction(name: str) -> Callable[[Path], list[Path]]:
+    def run(out_dir: Path) -> list[Path]:
+        from numerics.paper.figures import friction
+
+        return getattr(friction, name)(Path(out_dir))
+    run.__doc__ = f"numerics.paper.figures.friction.{name}"
+    return run
+
+
 def _methods(name: str) -> Callable[[Path], list[Path]]:
     def run(out_dir: Path) -> list[Path]:
         from numerics.paper.figures import methods
@@ -58,6 +67,8 @@ FIGURES: dict[str, Callable[[Path], list[Path]]] = {
     "phase_fig3_kbm": _comparison("phase_fig3_figure"),
     "phase_small_kbm": _comparison("phase_small_figure"),
     "sedf_branches": _paper("sedf_branches"),
+    "friction_laws": _friction("friction_laws"),
+    "friction_maps": _friction("friction_maps"),
 }
 
 

@@ -12,8 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from kbm.paper import FIG4, FIG5
-from numerics.paper.potential import potential
-from numerics.paper.sliding import slide
+from numerics.sliding.potential import potential
+from numerics.sliding.reference import slide
 
 __all__ = ["fig2_potential", "fig3_phase_portraits", "fig4_sliding", "fig5_sedf_vs_cdc",
            "fig6_kinetic_friction", "sedf_branches"]
@@ -63,7 +63,7 @@ def fig3_phase_portraits(out_dir: Path) -> list[Path]:
     from kbm.conservative import split_conservative
     from numerics.comparison.predict import predict
     from numerics.cycles.shooting import limit_cycle
-    from numerics.paper.sliding import slide as _slide
+    from numerics.sliding.reference import slide as _slide
 
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6, 5))

@@ -1,4 +1,9 @@
-"""The paper's driven sliders: SEDF (eq. 3) and CDC (eq. 12) pulled by a stage at velocity v.
+"""The driven sliders, reference path: SEDF (eq. 3) and CDC (eq. 12) pulled at velocity v.
+
+This is the scipy (``solve_ivp``) path with dense output that the paper's experiments
+(:mod:`numerics.paper.claims`, Figs. 4-6) and the event analysis
+(:mod:`numerics.sliding.stickslip`) use; the friction laws run the compiled path of
+:mod:`numerics.sliding.driven`, checked against this one.
 
 ``x'' + D(x, x') + Delta sin(k x) + Omega^2 (x - v t) = 0`` with the damping force
 ``D = mu (beta x^2 - 1) x'`` (SEDF) or ``D = mu x'`` (CDC), ``k = 2 pi/lambda``.
@@ -23,7 +28,7 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 
 from kbm.errors import ParameterError
-from kbm.models import get_model
+from kbm.models import SLIDERS, get_model
 from kbm.paper import FIXED
 from kbm.symbols import t as T, x as X, xdot as V
 
@@ -120,7 +125,8 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
     Parameters
     ----------
     model
-        ``"sedf"`` (paper eq. 3) or ``"cdc"`` (paper eq. 12).
+        ``"sedf"`` (paper eq. 3), ``"cdc"`` (paper eq. 12) or ``"sedf_comoving"``
+        (:mod:`kbm.models`: the self-excitation attached to the stage).
     params
         Physical parameters ``mu, beta, Delta, lam, Omega, v`` (``mu = 0.1``,
         ``Omega = 1``, ``lam = 1`` by default, as in the paper).
@@ -145,14 +151,15 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
     >>> abs(r.energy_residual) < 1e-7
     True
     """
-    if model not in ("sedf", "cdc"):
-        raise ParameterError(f"slide needs the slider model 'sedf' or 'cdc', got {model!r}")
+    if model not in SLIDERS:
+        raise ParameterError(f"slide needs a slider model ({', '.join(SLIDERS)}), "
+                             f"got {model!r}")
     p = _validate(params, t_end)
     if not 1e-14 <= rtol <= 1e-3:
         raise ParameterError(f"rtol must be between 1e-14 and 1e-3, got {rtol}")
     if not (math.isfinite(atol) and atol > 0):
         raise ParameterError(f"atol must be a positive number, got {atol}")
-    if model == "cdc":
+    if "beta" not in get_model(model).parameters:
         p.pop("beta", None)
     m = get_model(model, {"v": p["v"]} if p.get("v") else None)
     vals = m.resolve({k: v for k, v in p.items() if k != "v"})

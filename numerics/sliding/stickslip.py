@@ -20,8 +20,8 @@ import numpy as np
 
 from kbm.errors import ParameterError
 
-from numerics.paper.potential import saddle_node
-from numerics.paper.sliding import SlideResult
+from numerics.sliding.potential import saddle_node
+from numerics.sliding.reference import SlideResult
 
 __all__ = ["Slip", "StickSlip", "analyze"]
 

@@ -1,0 +1,190 @@
+"""``kbm friction``: friction laws and maps of the driven sliders, on local processes or Dask."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+import numpy as np
+
+from kbm.cli._common import add_param_option, emit_json, parse_params
+
+#: the largest grid one command computes
+MAX_POINTS = 100_000
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "friction", help="friction laws and maps of the pulled sliders (SEDF, CDC)",
+        description="The steady sliding state of a slider pulled at velocity v at every point "
+                    "of a grid: mean spring force (kinetic friction), static friction, "
+                    "dissipation per unit distance (which equals the mean force in steady "
+                    "state), fraction of time stuck, wells per slip, regime; against the "
+                    "Prandtl-Tomlinson eta = 2 pi Delta/(Omega^2 lam).  Runs on local "
+                    "processes, or on a Dask cluster with --scheduler.  Defaults: mu = 0.1, "
+                    "Omega = 1, lam = 1 (the paper's).")
+    p.add_argument("model", choices=["sedf_comoving", "cdc", "sedf"],
+                   help="sedf_comoving (SEDF with the self-excitation attached to the stage; "
+                        "has steady states), cdc (eq. 12) or sedf (the paper's eq. 3, whose "
+                        "damping grows with the distance slid: runaway)")
+    add_param_option(p)
+    p.add_argument("--vary", action="append", required=True, metavar="NAME=FROM:TO[:N|:logN]",
+                   help="an axis (repeatable, the last varies fastest): v=1e-3:3:log24 "
+                        "(24 log-spaced), Delta=0.5:3:6 (6 equally spaced), or a list "
+                        "beta=0.5,1,2")
+    p.add_argument("--against", choices=["sedf_comoving", "cdc", "sedf"],
+                   help="a second slider on the same grid (ratios in the JSON and figures)")
+    p.add_argument("--slips", type=int, default=20, metavar="N",
+                   help="slips averaged over in stick-slip (default 20)")
+    p.add_argument("--engine", choices=["compiled", "scipy"], default="compiled",
+                   help="numba-compiled DOP853 (default) or scipy's solve_ivp (reference)")
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="local processes (default: the number of CPUs)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run on the Dask scheduler at ADDRESS (e.g. tcp://host:8786; needs "
+                        "pip install 'kbm[dask]')")
+    p.add_argument("--scheduler-timeout", type=float, default=10.0, metavar="SECONDS",
+                   help="how long to wait for the scheduler (default 10)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.add_argument("--out", metavar="DIR", help="write the figures into DIR")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=run)
+
+
+def parse_axis(text: str) -> tuple[str, np.ndarray]:
+    """``"v=1e-3:3:log24"`` -> ``("v", 24 log-spaced values)``; ``"Delta=0.5:3:6"``,
+    ``"beta=0.5,1,2"``, ``"v=0.1"`` likewise.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Saying the forms --vary takes.
+    """
+    from kbm.errors import ParameterError
+    from numerics.sliding.maps import axis_values
+
+    usage = ("--vary takes NAME=FROM:TO[:N] (N equally spaced, default 8), NAME=FROM:TO:logN "
+             "(N log-spaced) or NAME=A,B,C")
+    name, sep, spec = text.partition("=")
+    name, spec = name.strip(), spec.strip()
+    if not (sep and name and spec):
+        raise ParameterError(f"{usage}; got {text!r}")
+    parts = spec.split(":")
+    try:
+        if len(parts) == 1:
+            listed = np.array([float(x) for x in spec.split(",")])
+        elif len(parts) not in (2, 3):
+            raise ValueError
+        else:
+            lo, hi = float(parts[0]), float(parts[1])
+            count = parts[2].strip() if len(parts) == 3 else "8"
+            log = count.lower().startswith("log")
+            n = int(count[3:] if log else count)
+    except ValueError:
+        raise ParameterError(f"{usage}; got {text!r}") from None
+    if len(parts) == 1:
+        return name, axis_values(name, listed)
+    if not 1 <= n <= MAX_POINTS:
+        raise ParameterError(f"--vary {name}: the number of values must be between 1 and "
+                             f"{MAX_POINTS}, got {n}")
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise ParameterError(f"--vary {name}: FROM and TO must be finite, got {spec!r}")
+    if log and (lo <= 0 or hi <= 0):
+        raise ParameterError(f"--vary {name}: a log range needs FROM, TO > 0, got {spec!r}")
+    values = np.geomspace(lo, hi, n) if log else np.linspace(lo, hi, n)
+    return name, axis_values(name, values)
+
+
+def run(args: argparse.Namespace) -> int:
+    from kbm.errors import ParameterError
+    from kbm.models import parameter_value
+    from numerics.executor import connect
+    from numerics.sliding.friction import FrictionSettings
+    from numerics.sliding.maps import friction_map
+
+    axes: dict[str, np.ndarray] = {}
+    for text in args.vary:
+        name, values = parse_axis(text)
+        if name in axes:
+            raise ParameterError(f"--vary {name} is given twice")
+        axes[name] = values
+    if len(axes) > 2:
+        raise ParameterError(f"--vary takes at most two axes (a map), got {', '.join(axes)}")
+    if args.out:
+        _check_figures(list(axes), args.against)
+    size = int(np.prod([len(v) for v in axes.values()]))
+    if size > MAX_POINTS:
+        raise ParameterError(f"the grid has {size} points; the limit is {MAX_POINTS}")
+    params = {k: float(parameter_value(k, v)) for k, v in parse_params(args.param).items()}
+    params = {"mu": 0.1, "lam": 1.0, "Omega": 1.0, **params}
+    settings = FrictionSettings(slips=args.slips)
+    if args.workers is not None and not 1 <= args.workers <= 1024:
+        raise ParameterError(f"--workers must be between 1 and 1024, got {args.workers}")
+    client = connect(args.scheduler, args.scheduler_timeout) if args.scheduler else None
+    kw = dict(settings=settings, engine=args.engine, executor=client, workers=args.workers,
+              progress=not args.no_progress and not args.json)
+    try:
+        first = friction_map(args.model, params, axes, **kw)
+        second = friction_map(args.against, params, axes, **kw) if args.against else None
+    finally:
+        if client is not None:
+            client.close()
+    if args.json:
+        data = first.to_json()
+        if second is not None:
+            from numerics.sliding.maps import SliderComparison
+
+            comp = SliderComparison(first, second)
+            data["against"] = second.to_json()
+            data["force_ratio"] = comp.force_ratio.tolist()
+            data["dissipation_ratio"] = comp.dissipation_ratio.tolist()
+        emit_json(data)
+    else:
+        for m in (first, second) if second is not None else (first,):
+            _print(m)
+    if args.out:
+        for path in _figures(first, second, Path(args.out)):
+            print(f"wrote {path}")
+    return 0
+
+
+def _print(m) -> None:
+    names = list(m.axes)
+    print(f"\n{m.model}: " + ", ".join(f"{k} = {v:g}" for k, v in m.params.items()))
+    head = "".join(f"{n:>10s}" for n in names)
+    print(f"{head} {'regime':>24s} {'mean F':>10s} {'diss/dist':>10s} {'static':>9s} "
+          f"{'stuck':>6s} {'wells':>6s} {'eta':>6s} steady")
+    for p in m.points:
+        vals = "".join(f"{p.params[n]:10.4g}" for n in names)
+        if not p.ok:
+            print(f"{vals}  failed: {p.error}")
+            continue
+        print(f"{vals} {p.regime:>24s} {p.mean_force:10.5g} {p.dissipation_per_distance:10.5g} "
+              f"{p.static_force:9.4g} {p.stuck_fraction:6.3f} {p.wells_per_slip:6.3g} "
+              f"{p.eta:6.3g} {'yes' if p.steady else 'no'}")
+
+
+def _figures(first, second, out: Path) -> list[Path]:
+    from numerics.paper.figures.friction import law_figure, map_figure
+    from numerics.sliding.maps import SliderComparison
+
+    out.mkdir(parents=True, exist_ok=True)
+    if list(first.axes) == ["v"]:
+        maps = [first] + ([second] if second is not None else [])
+        return [law_figure(maps, out / f"friction_law_{first.model}.png")]
+    names = list(first.axes)
+    return [map_figure(SliderComparison(first, second),
+                       out / f"friction_map_{names[0]}_{names[1]}.png")]
+
+
+def _check_figures(names: list[str], against: str | None) -> None:
+    """``--out`` draws a friction law (``v`` the only axis) or a map (``v`` first of two
+    axes, with ``--against``)."""
+    from kbm.errors import ParameterError
+
+    if names == ["v"] or (len(names) == 2 and names[0] == "v" and against):
+        return
+    raise ParameterError(f"--out draws a friction law (--vary v=... only) or a map (--vary "
+                         f"v=... --vary NAME=... --against MODEL); got axes {', '.join(names)}"
+                         + ("" if against or len(names) == 1 else " without --against"))

@@ -1,0 +1,203 @@
+"""Friction laws and friction maps: the paper's question (does self-excitation lower friction?)
+asked over whole ranges of the stage velocity, the potential strength and the excitability.
+
+- :func:`draw_law` / :func:`law_figure`: the mean friction force (kinetic friction), the
+  static friction and the dissipation per unit distance against ``v`` for one or more
+  sliders on one figure, the regime of each point marked, against the quasi-static static
+  friction ``Delta sqrt(1 - 1/eta^2)``, the one-well slip energy ``Delta W/lam`` and the
+  viscous limit ``mu v``;
+- :func:`map_figure`: a :class:`~numerics.sliding.maps.SliderComparison` on a
+  two-parameter grid: the friction ratio SEDF/CDC (log colour scale, the contour where it is
+  1), the dissipation ratio, and the regimes of both sliders, with the paper's points marked;
+- :func:`friction_laws`, :func:`friction_maps`: the figures of the docs' "Friction laws" page
+  (``kbm figures --only friction_laws friction_maps``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from kbm.paper import FIG4, FIG5
+
+__all__ = ["draw_law", "law_figure", "map_figure", "friction_laws", "friction_maps",
+           "LAW_PARAMS", "LAW_V", "MAP_V", "MAP_DELTA", "MAP_BETA"]
+
+_REGIME_MARK = {"stick-slip": "o", "smooth sliding": "s", "self-oscillating sliding": "^",
+                "oscillating sliding": "v", "runaway": "x"}
+_REGIME_CODE = {"stick-slip": 0, "smooth sliding": 1, "self-oscillating sliding": 2,
+                "oscillating sliding": 3, "runaway": 4, "": 5}
+_LABEL = {"sedf_comoving": "SEDF (stage-attached)", "sedf": "SEDF (paper eq. 3)",
+          "cdc": "CDC (eq. 12)"}
+
+#: the docs' friction laws: the paper's mu, lam, Omega, beta = 1 and its two Delta
+LAW_PARAMS = {"mu": 0.1, "lam": 1.0, "Omega": 1.0, "beta": 1.0}
+LAW_V = np.geomspace(1e-3, 3.0, 24)
+#: the docs' maps
+MAP_V = np.geomspace(3e-3, 3.0, 32)
+MAP_DELTA = np.linspace(0.25, 4.0, 32)
+MAP_BETA = np.geomspace(0.05, 5.0, 32)
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def draw_law(maps, axes) -> None:
+    """Draw friction laws (:class:`~numerics.sliding.maps.FrictionMap` over ``v``) on two axes:
+    forces (mean and static) and dissipation per distance."""
+    ax_f, ax_d = axes
+    for i, m in enumerate(maps):
+        v = m.axes["v"]
+        color = f"C{i}"
+        label = _LABEL.get(m.model, m.model)
+        F, S, D = m.field("mean_force"), m.field("static_force"), m.field("dissipation_per_distance")
+        reg, steady = m.field("regime"), m.field("steady").astype(bool)
+        ax_f.plot(v, np.abs(F), "-", color=color, lw=1.4, label=f"{label}: |mean force|")
+        ax_f.plot(v, S, ":", color=color, lw=1.2, label=f"{label}: static friction")
+        ax_d.plot(v, np.abs(D), "-", color=color, lw=1.4, label=label)
+        for r, mark in _REGIME_MARK.items():
+            sel = reg == r
+            if sel.any():
+                ax_f.plot(v[sel], np.abs(F[sel]), mark, color=color, ms=5,
+                          mfc=color if r == "stick-slip" else "none", ls="none")
+        neg = F < 0
+        if neg.any():
+            ax_f.plot(v[neg], np.abs(F[neg]), "o", color="k", ms=2, ls="none")
+        if (~steady).any():
+            ax_f.plot(v[~steady], np.abs(F[~steady]), "|", color="0.3", ms=10, ls="none")
+    m0 = maps[0]
+    p = dict(m0.params)
+    v = m0.axes["v"]
+    ax_f.plot(v, p.get("mu", 0.1) * v, "k--", lw=0.8, label=r"viscous limit $\mu v$")
+    qs = m0.field("static_quasistatic")
+    if np.isfinite(qs).any():
+        ax_f.axhline(np.nanmax(qs), color="0.5", lw=0.8,
+                     label=r"quasi-static $\Delta\sqrt{1-1/\eta^2}$")
+    for ax in (ax_f, ax_d):
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("stage velocity $v$")
+        ax.grid(True, which="major", alpha=0.3)
+    ax_f.set_ylabel("spring force")
+    ax_d.set_ylabel(r"dissipation per distance $\Gamma/(v\,\Delta t)$")
+    ax_f.legend(fontsize=6, loc="lower right")
+    ax_d.legend(fontsize=6, loc="lower right")
+
+
+def law_figure(maps: Sequence, path: str | Path, title: str = "") -> Path:
+    """Friction laws of one or more sliders (same ``v`` axis) written to ``path``."""
+    plt = _plt()
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
+    draw_law(list(maps), axes)
+    p = maps[0].params
+    eta = maps[0].points[0].eta
+    fig.suptitle(title or (f"friction laws, " + ", ".join(f"{k} = {v:g}" for k, v in p.items())
+                           + f", eta = {eta:.3g}  (filled: stick-slip, open: sliding, "
+                           "triangle: self-oscillating, x: runaway, |: not steady, "
+                           "dot: negative)"), fontsize=7)
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    return path
+
+
+def map_figure(comp, path: str | Path, marks: Sequence[tuple[float, float, str]] = ()) -> Path:
+    """A :class:`~numerics.sliding.maps.SliderComparison` on two axes (the first is ``v``):
+    ratios and regimes, the paper's points ``marks = [(x, y, label)]`` drawn."""
+    from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm
+
+    plt = _plt()
+    names = list(comp.first.axes)
+    if len(names) != 2:
+        raise ValueError(f"a map needs two axes, got {names}")
+    X, Y = comp.first.axes[names[0]], comp.first.axes[names[1]]
+    fig, axs = plt.subplots(1, 4, figsize=(17, 4.2))
+    for ax, data, title in ((axs[0], comp.force_ratio, "mean force ratio SEDF/CDC"),
+                            (axs[1], comp.dissipation_ratio, "dissipation ratio SEDF/CDC")):
+        d = np.abs(np.asarray(data, dtype=float)).T
+        d = np.where(d > 0, d, np.nan)
+        ok = np.isfinite(d)
+        lo, hi = (np.nanmin(d[ok]), np.nanmax(d[ok])) if ok.any() else (0.1, 10)
+        lim = max(1 / lo, hi, 1.01)
+        pc = ax.pcolormesh(X, Y, d, shading="nearest", cmap="RdBu_r",
+                           norm=LogNorm(1 / lim, lim))
+        fig.colorbar(pc, ax=ax)
+        signed = np.asarray(data, dtype=float).T
+        if np.isfinite(signed).sum() > 3:
+            ax.contour(X, Y, signed, levels=[1.0], colors="k", linewidths=1.2)
+        neg = signed < 0
+        if neg.any():
+            xx, yy = np.meshgrid(X, Y)
+            ax.plot(xx[neg], yy[neg], "k.", ms=2)
+        unsteady = ~comp.steady.T
+        if unsteady.any():
+            xx, yy = np.meshgrid(X, Y)
+            ax.plot(xx[unsteady], yy[unsteady], "x", color="0.4", ms=2)
+        ax.set_title(title + " (black line: 1)", fontsize=8)
+    cmap = ListedColormap(["C0", "C1", "C2", "C4", "C3", "0.8"])
+    norm = BoundaryNorm(np.arange(-0.5, 6.5), cmap.N)
+    for ax, m in ((axs[2], comp.first), (axs[3], comp.second)):
+        codes = np.vectorize(lambda r: _REGIME_CODE.get(r, 5))(m.field("regime")).T
+        pc = ax.pcolormesh(X, Y, codes, shading="nearest", cmap=cmap, norm=norm)
+        cb = fig.colorbar(pc, ax=ax, ticks=range(6))
+        cb.ax.set_yticklabels(["stick-slip", "smooth", "self-osc.", "osc.", "runaway",
+                               "failed"], fontsize=6)
+        ax.set_title(f"regime: {_LABEL.get(m.model, m.model)}", fontsize=8)
+    for ax in axs:
+        ax.set_xscale("log")
+        if names[1] == "beta":
+            ax.set_yscale("log")
+        ax.set_xlabel(names[0])
+        ax.set_ylabel(names[1])
+        for x, y, label in marks:
+            ax.plot([x], [y], "*", color="gold", mec="k", ms=11)
+            ax.annotate(label, (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+    fixed = ", ".join(f"{k} = {v:g}" for k, v in comp.first.params.items())
+    fig.suptitle(f"SEDF against CDC over ({names[0]}, {names[1]}), {fixed}; dots: negative "
+                 "friction (the SEDF propels itself), x: not steady", fontsize=8)
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def _paper_marks(y_name: str) -> list[tuple[float, float, str]]:
+    return [(FIG4["v"], FIG4[y_name], "Fig. 4"), (FIG5["v"], FIG5[y_name], "Figs. 5-6")]
+
+
+def friction_laws(out_dir: Path, quick: bool = False) -> list[Path]:
+    """The friction laws of the three sliders at the paper's ``Delta = 1.5`` and ``3``."""
+    from numerics.sliding.maps import friction_law
+
+    v = LAW_V[::4] if quick else LAW_V
+    out = []
+    for Delta in (1.5, 3.0):
+        params = {**LAW_PARAMS, "Delta": Delta}
+        maps = [friction_law(m, params, v, progress=False)
+                for m in ("sedf_comoving", "cdc", "sedf")]
+        out.append(law_figure(maps, Path(out_dir) / f"friction_law_delta{Delta:g}.png"))
+    return out
+
+
+def friction_maps(out_dir: Path, quick: bool = False) -> list[Path]:
+    """The (v, Delta) map at ``beta = 1`` and the (v, beta) map at ``Delta = 3``."""
+    from numerics.sliding.maps import compare_sliders
+
+    step = 4 if quick else 1
+    base = {k: v for k, v in LAW_PARAMS.items() if k != "beta"}
+    vd = compare_sliders({**base, "beta": 1.0}, {"v": MAP_V[::step], "Delta": MAP_DELTA[::step]},
+                         progress=False)
+    vb = compare_sliders({**base, "Delta": 3.0}, {"v": MAP_V[::step], "beta": MAP_BETA[::step]},
+                         progress=False)
+    return [map_figure(vd, Path(out_dir) / "friction_map_v_delta.png", _paper_marks("Delta")),
+            map_figure(vb, Path(out_dir) / "friction_map_v_beta.png", _paper_marks("beta"))]

@@ -1,0 +1,23 @@
+"""The driven sliders and their friction: a floor of :mod:`numerics` above the comparison.
+
+- :mod:`numerics.sliding.potential`: the sliding potential (paper eq. 4), the
+  saddle-node of the stick state and the quasi-static slip energy;
+- :mod:`numerics.sliding.reference`: a driven run through :func:`scipy.integrate.solve_ivp`
+  with dense output (:func:`slide`), and :mod:`numerics.sliding.stickslip`: its slip
+  events located on the dense output (:func:`analyze`);
+- :mod:`numerics.sliding.driven`: the same equations compiled (numba DOP853), run
+  block after block with the impulse, work and dissipation integrals;
+- :mod:`numerics.sliding.friction`: the steady sliding state of one parameter set and
+  its friction measures (:func:`friction_point`), friction laws over the stage velocity
+  (:func:`friction_law`);
+- :mod:`numerics.sliding.maps`: friction maps over two parameters on any executor
+  (:func:`friction_map`), SEDF against CDC.
+"""
+
+from numerics.sliding.driven import DrivenSystem, driven_system
+from numerics.sliding.potential import SaddleNode, potential, saddle_node, slip_energy
+from numerics.sliding.reference import SlideResult, slide
+from numerics.sliding.stickslip import Slip, StickSlip, analyze
+
+__all__ = ["potential", "saddle_node", "SaddleNode", "slip_energy", "slide", "SlideResult",
+           "analyze", "StickSlip", "Slip", "driven_system", "DrivenSystem"]

@@ -23,6 +23,7 @@ from numerics.comparison import compare, convergence_study, energy_prediction
 from numerics.comparison.fixed_delta import fixed_delta_convergence
 from numerics.paper.claims import check_claims
 from numerics.paper.errata import errata_evidence, errata_rows, evidence_table
+from numerics.paper.friction import friction_study
 from numerics.paper.figures import FIGURES, write_figures
 from numerics.paper.figures.comparison import validity_figure
 from numerics.paper.figures.methods import fixed_delta_figure, methods_figure
@@ -177,14 +178,23 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     summary += ["## The paper's claims", "", claims_md]
     prog.done(", ".join(f"{c.key}: {c.verdict}" for c in claims))
 
+    prog.stage("friction laws and maps: does self-excitation lower friction? (all cores)")
+    study = friction_study(size=16, laws=12)
+    (out / "tables" / "friction.md").write_text(study.table())
+    (out / "tables" / "friction.json").write_text(_strict_json(study.to_json()) + "\n")
+    summary += ["## Friction laws and maps (SEDF against CDC; 16 x 16 maps here, 32 x 32 in "
+                "the docs)", "", study.table()]
+    prog.done()
+
     prog.stage("figures")
-    reused = ("validity_map", "methods_map", "fixed_delta_convergence")
+    reused = ("validity_map", "methods_map", "fixed_delta_convergence", "friction")
     figs = write_figures(out / "figures", [n for n in FIGURES if n not in reused],
                          progress=lambda n: print(f"      {n}", file=sys.stderr, flush=True))
     # the figures of the maps and studies computed above, without computing them again
     figs += methods_figure(out / "figures", mmap=mm)
     figs += fixed_delta_figure(out / "figures", conv=fixed)
     figs += validity_figure(out / "figures", vmap=vm)
+    figs += study.figures(out / "figures")
     summary += ["## Figures", ""] + [f"- {p}" for p in figs if p.suffix == ".png"] + [""]
     prog.done(f"{len(figs)} files in {out / 'figures'}")
 

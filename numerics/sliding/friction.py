@@ -19,8 +19,11 @@ block after block until its steady state has been seen long enough, then measure
    natural periods (whole wells again) to where the energy ``E`` returns closest to its
    starting value.
 4. *Steady.*  The mean friction force of the window's two halves agree within
-   ``steady_tol`` (relative), and the stored energy ``E`` changes over the window by
-   less than ``energy_tol`` of the work of the stage.  If not, the window counts as
+   ``steady_tol``, and the stored energy ``E`` changes over the window by less than
+   ``energy_tol`` of the work of the stage; both relative to the larger of the mean force
+   and the energy flow per distance through the non-conservative forces (``(gain G_+ +
+   G_-)/(v Delta t)``; the dissipation itself for the CDC, but for a self-oscillating
+   SEDF, whose net friction may be 0, the energy it both gains and loses).  If not, the window counts as
    transient and one twice as long (twice the slips, or twice the wells) is measured
    after it, at most ``max_doublings`` times.  The paper's SEDF (``sedf``) is never steady: its damping ``mu beta x^2``
    grows with the distance slid.
@@ -39,8 +42,9 @@ stuck, velocity reversals, a model with an energy source), ``oscillating sliding
 
 **Built-in check**: ``v Delta J = Delta Gamma + Delta E`` is exact (power balance), so in
 steady state the dissipation per distance equals ``F_bar`` up to ``Delta E/(v Delta t)``;
-:attr:`FrictionPoint.energy_residual` is ``|F_bar - Gamma/(v Delta t)|/|F_bar|`` and
-:attr:`FrictionPoint.audit` the integration error of the balance.
+:attr:`FrictionPoint.energy_residual` is ``|F_bar - Gamma/(v Delta t)|`` relative to the
+scale of criterion 4 (``|F_bar|`` itself for the CDC), and :attr:`FrictionPoint.audit` the
+integration error of the balance.
 
 Each point is reported against the Prandtl-Tomlinson parameter ``eta = 2 pi Delta/(Omega^2
 lam)`` (stick-slip needs ``eta > 1``) with the quasi-static static friction ``Delta
@@ -88,9 +92,12 @@ class FrictionSettings:
     max_wells, max_periods
         The longest run, in stage periods ``lam/v`` and in natural periods (a point
         that has shown no window by then is an error).
-    max_doublings
+    max_doublings, max_doublings_sliding
         How often a window that is not steady is dropped and one twice as long measured
-        after it; then the point is reported as measured, flagged not steady.
+        after it, with stick-slip and without (sliding windows are short: a mean force
+        that is a small difference of large energy flows, as in the self-oscillating
+        sliding of the SEDF, needs long ones); then the point is reported as measured,
+        flagged not steady.
     samples_per_period
         Samples per period of the oscillation at the bottom of a well,
         ``2 pi/sqrt(Omega^2 + Delta k)``.
@@ -115,6 +122,7 @@ class FrictionSettings:
     max_wells: int = 3000
     max_periods: float = 100_000.0
     max_doublings: int = 2
+    max_doublings_sliding: int = 5
     samples_per_period: int = 16
     steady_tol: float = 0.01
     energy_tol: float = 1e-3
@@ -157,8 +165,9 @@ class FrictionPoint:
     dissipation_per_distance
         ``Delta Gamma/(v Delta t)``.
     energy_residual, audit
-        ``|F_bar - dissipation_per_distance|/|F_bar|``; the power balance's integration
-        error ``|v Delta J - Delta Gamma - Delta E|/Delta Gamma``.
+        ``|F_bar - dissipation_per_distance|`` over the larger of ``|F_bar|`` and the
+        energy flow per distance (criterion 4); the power balance's integration error
+        ``|v Delta J - Delta Gamma - Delta E|/Delta Gamma``.
     stuck_fraction, wells_per_slip, slips
         Fraction of the window stuck; mean wells crossed per slip; slips in the window.
     halves
@@ -330,7 +339,7 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionP
         run.discard()
     slide_wells = max(s.sliding_wells, math.ceil(20 * Tn / Tw))
     extra = max(1, math.ceil(2 * Tn / Tw))
-    need_slips, need_wells, attempt = s.slips, slide_wells, 0
+    need_slips, need_wells, attempt, previous = s.slips, slide_wells, 0, None
     while True:
         run.extend(block)
         done += block
@@ -347,12 +356,16 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionP
         elif tail >= 0 and all(e < tail for _, e in stuck):
             pt = _sliding(run, base, need_wells, extra, dt, s)
         if pt is not None:
-            if pt.steady or last or attempt >= s.max_doublings:
+            cap = s.max_doublings if pt.regime == "stick-slip" else s.max_doublings_sliding
+            if pt.steady or last or attempt >= cap:
                 return _noted(pt, need_slips, done, Tw, s)
             # not steady yet: what was measured counts as transient; twice as long next
             attempt, need_slips, need_wells = attempt + 1, 2 * need_slips, 2 * need_wells
+            previous = pt
             run.discard()
             continue
+        if last and previous is not None:
+            return _noted(previous, need_slips, done, Tw, s)
         if last:
             return FrictionPoint(**base, steps=run.steps,
                                  error=f"no steady state within {done} stage periods lam/v "
@@ -418,22 +431,35 @@ def _window_means(run: _Run, i0: int, i1: int) -> dict:
     dE = float(sys_.energy(y[i1])[0] - sys_.energy(y[i0])[0])
     F = dJ / T
     D = dG / (sys_.v * T)
+    flow = _flow(run, i0, i1) / (sys_.v * T)
     F_s = _force(run)[i0:i1 + 1]
+    scale = max(abs(F), flow)
     return dict(mean_force=float(F), dissipation_per_distance=float(D),
-                energy_residual=float(abs(F - D) / abs(F)) if F else math.inf,
+                energy_residual=float(abs(F - D) / scale) if scale else math.inf,
                 audit=float(abs(sys_.v * dJ - dG - dE) / max(abs(dG), 1e-300)),
                 force_fluctuation=float(np.std(F_s)), peak_force=float(np.max(F_s)),
                 window=(float(y[i0, 2]), float(y[i1, 2])))
 
 
+def _flow(run: _Run, i0: int, i1: int) -> float:
+    """The energy that flows through the non-conservative forces over samples ``i0..i1``,
+    ``gain G_+ + G_-`` (the dissipation of the CDC; for the SEDF the damping and the
+    self-excitation both count, though their difference, the net dissipation, may be 0)."""
+    y, g = run.y, run.system.gain_factor
+    return float(abs(g * (y[i1, 3] - y[i0, 3])) + abs(y[i1, 4] - y[i0, 4]))
+
+
 def _steady(run: _Run, i0: int, im: int, i1: int, s: FrictionSettings) -> tuple[bool, tuple]:
-    """Whether the halves' mean forces agree and the stored energy returns (criterion 4)."""
+    """Whether the halves' mean forces agree and the stored energy returns (criterion 4),
+    both relative to the larger of the mean force and the energy flow per distance."""
     f1 = _window_means(run, i0, im)["mean_force"]
     f2 = _window_means(run, im, i1)["mean_force"]
-    scale = max(abs(f1), abs(f2), 1e-300)
     sys_, y = run.system, run.y
+    T = y[i1, 2] - y[i0, 2]
+    flow = _flow(run, i0, i1)
+    scale = max(abs(f1), abs(f2), flow / (sys_.v * T), 1e-300)
     dE = abs(float(sys_.energy(y[i1])[0] - sys_.energy(y[i0])[0]))
-    work = abs(sys_.v * (y[i1, 6] - y[i0, 6]))
+    work = max(abs(sys_.v * (y[i1, 6] - y[i0, 6])), flow)
     return bool(abs(f1 - f2) <= s.steady_tol * scale and dE <= s.energy_tol * work), (f1, f2)
 
 

@@ -67,8 +67,7 @@ FIGURES: dict[str, Callable[[Path], list[Path]]] = {
     "phase_fig3_kbm": _comparison("phase_fig3_figure"),
     "phase_small_kbm": _comparison("phase_small_figure"),
     "sedf_branches": _paper("sedf_branches"),
-    "friction_laws": _friction("friction_laws"),
-    "friction_maps": _friction("friction_maps"),
+    "friction": _friction("friction_figures"),
 }
 
 

@@ -9,8 +9,8 @@ asked over whole ranges of the stage velocity, the potential strength and the ex
 - :func:`map_figure`: a :class:`~numerics.sliding.maps.SliderComparison` on a
   two-parameter grid: the friction ratio SEDF/CDC (log colour scale, the contour where it is
   1), the dissipation ratio, and the regimes of both sliders, with the paper's points marked;
-- :func:`friction_laws`, :func:`friction_maps`: the figures of the docs' "Friction laws" page
-  (``kbm figures --only friction_laws friction_maps``).
+- :func:`friction_figures`: the figures of the docs' "Friction laws" page
+  (``kbm figures --only friction``), from :func:`numerics.paper.friction.friction_study`.
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ import numpy as np
 
 from kbm.paper import FIG4, FIG5
 
-__all__ = ["draw_law", "law_figure", "map_figure", "friction_laws", "friction_maps",
+__all__ = ["draw_law", "law_figure", "map_figure", "friction_maps_from", "friction_figures",
            "LAW_PARAMS", "LAW_V", "MAP_V", "MAP_DELTA", "MAP_BETA"]
 
 _REGIME_MARK = {"stick-slip": "o", "smooth sliding": "s", "self-oscillating sliding": "^",
@@ -175,29 +175,16 @@ def _paper_marks(y_name: str) -> list[tuple[float, float, str]]:
     return [(FIG4["v"], FIG4[y_name], "Fig. 4"), (FIG5["v"], FIG5[y_name], "Figs. 5-6")]
 
 
-def friction_laws(out_dir: Path, quick: bool = False) -> list[Path]:
-    """The friction laws of the three sliders at the paper's ``Delta = 1.5`` and ``3``."""
-    from numerics.sliding.maps import friction_law
-
-    v = LAW_V[::4] if quick else LAW_V
-    out = []
-    for Delta in (1.5, 3.0):
-        params = {**LAW_PARAMS, "Delta": Delta}
-        maps = [friction_law(m, params, v, progress=False)
-                for m in ("sedf_comoving", "cdc", "sedf")]
-        out.append(law_figure(maps, Path(out_dir) / f"friction_law_delta{Delta:g}.png"))
-    return out
+def friction_maps_from(v_delta, v_beta, out_dir: Path) -> list[Path]:
+    """The (v, Delta) and (v, beta) maps of two :class:`SliderComparison`, the paper's points
+    marked."""
+    return [map_figure(v_delta, Path(out_dir) / "friction_map_v_delta.png",
+                       _paper_marks("Delta")),
+            map_figure(v_beta, Path(out_dir) / "friction_map_v_beta.png", _paper_marks("beta"))]
 
 
-def friction_maps(out_dir: Path, quick: bool = False) -> list[Path]:
-    """The (v, Delta) map at ``beta = 1`` and the (v, beta) map at ``Delta = 3``."""
-    from numerics.sliding.maps import compare_sliders
+def friction_figures(out_dir: Path) -> list[Path]:
+    """The docs' friction laws and maps (:func:`numerics.paper.friction.friction_study`)."""
+    from numerics.paper.friction import friction_study
 
-    step = 4 if quick else 1
-    base = {k: v for k, v in LAW_PARAMS.items() if k != "beta"}
-    vd = compare_sliders({**base, "beta": 1.0}, {"v": MAP_V[::step], "Delta": MAP_DELTA[::step]},
-                         progress=False)
-    vb = compare_sliders({**base, "Delta": 3.0}, {"v": MAP_V[::step], "beta": MAP_BETA[::step]},
-                         progress=False)
-    return [map_figure(vd, Path(out_dir) / "friction_map_v_delta.png", _paper_marks("Delta")),
-            map_figure(vb, Path(out_dir) / "friction_map_v_beta.png", _paper_marks("beta"))]
+    return friction_study().figures(out_dir)

@@ -1,0 +1,93 @@
+"""The paper's physical question over whole ranges: does self-excitation lower friction?
+
+The paper compares the SEDF (eq. 3) with the CDC (eq. 12) at a few points (Figs. 4-6).
+:func:`friction_study` asks the question over the stage velocity, the potential strength and
+the excitability (:mod:`numerics.sliding`):
+
+- the friction laws ``F_bar(v)`` of the three sliders at the paper's ``Delta = 1.5`` and ``3``
+  (``mu = 0.1``, ``beta = 1``, ``lam = 1``, ``Omega = 1``);
+- the maps SEDF/CDC over ``(v, Delta)`` at ``beta = 1`` and over ``(v, beta)`` at
+  ``Delta = 3``, with the stage-attached SEDF (the paper's own SEDF has no steady state:
+  its damping ``mu beta x^2`` grows with the distance slid, :mod:`kbm.models`).
+
+:meth:`FrictionStudy.table` is the table of ``kbm reproduce`` (``tables/friction.md``).
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass
+
+import numpy as np
+
+from numerics.paper.figures.friction import (LAW_PARAMS, LAW_V, MAP_BETA, MAP_DELTA, MAP_V,
+                                             friction_maps_from, law_figure)
+from numerics.sliding.maps import FrictionMap, SliderComparison, compare_sliders, friction_law
+
+__all__ = ["FrictionStudy", "friction_study", "SLIDERS_COMPARED"]
+
+#: the sliders of the friction laws: the stage-attached SEDF, the CDC, the paper's SEDF
+SLIDERS_COMPARED = ("sedf_comoving", "cdc", "sedf")
+
+
+@dataclass(frozen=True, eq=False)
+class FrictionStudy:
+    """Friction laws (by ``Delta``) and the two maps of SEDF against CDC."""
+
+    laws: dict[float, tuple[FrictionMap, ...]]
+    v_delta: SliderComparison
+    v_beta: SliderComparison
+
+    def figures(self, out_dir) -> list:
+        from pathlib import Path
+
+        Path(out_dir).mkdir(parents=True, exist_ok=True)
+        out = [law_figure(maps, Path(out_dir) / f"friction_law_delta{d:g}.png")
+               for d, maps in self.laws.items()]
+        return out + friction_maps_from(self.v_delta, self.v_beta, Path(out_dir))
+
+    def table(self) -> str:
+        """Markdown: the regimes and mean forces of the laws, and the maps' verdicts."""
+        lines = ["| Delta | slider | regimes over v | mean force at v = 1e-3 / 0.1 / 1 | "
+                 "steady points |", "|---|---|---|---|---|"]
+        for d, maps in self.laws.items():
+            for m in maps:
+                reg = Counter(p.regime or "failed" for p in m.points)
+                v = m.axes["v"]
+                F = m.field("mean_force")
+                at = " / ".join(f"{F[int(np.argmin(abs(np.log(v / x))))]:.3g}"
+                                for x in (1e-3, 0.1, 1.0))
+                lines.append(f"| {d:g} | {m.model} | "
+                             + ", ".join(f"{k} {n}" for k, n in sorted(reg.items()))
+                             + f" | {at} | {sum(p.steady for p in m.points)}/{len(m.points)} |")
+        lines += ["", "| map | points compared | steady | SEDF lower friction and dissipation "
+                  "| force ratio SEDF/CDC min .. max |", "|---|---|---|---|---|"]
+        for name, comp in (("(v, Delta), beta = 1", self.v_delta),
+                           ("(v, beta), Delta = 3", self.v_beta)):
+            s = comp.summary()
+            lines.append(f"| {name} | {s['compared']}/{s['points']} | {s['steady']} | "
+                         f"{s['first_better']} ({s['first_better_steady']} steady) | "
+                         f"{s['force_ratio_min']:.3g} .. {s['force_ratio_max']:.3g} |")
+        return "\n".join(lines) + "\n"
+
+    def to_json(self) -> dict:
+        return {"laws": {f"{d:g}": [m.to_json() for m in maps] for d, maps in self.laws.items()},
+                "v_delta": self.v_delta.to_json(), "v_beta": self.v_beta.to_json()}
+
+
+def friction_study(size: int = 32, laws: int = 24, **kwargs) -> FrictionStudy:
+    """The friction laws at ``Delta = 1.5, 3`` (``laws`` velocities from 1e-3 to 3) and the two
+    maps on ``size x size`` grids (every ``32 // size``-th point of the docs' grids)."""
+    step = max(1, len(MAP_V) // size)
+    v = LAW_V if laws >= len(LAW_V) else np.geomspace(LAW_V[0], LAW_V[-1], laws)
+    out = {}
+    for d in (1.5, 3.0):
+        params = {**LAW_PARAMS, "Delta": d}
+        out[d] = tuple(friction_law(m, params, v, progress=False, **kwargs)
+                       for m in SLIDERS_COMPARED)
+    base = {k: val for k, val in LAW_PARAMS.items() if k != "beta"}
+    vd = compare_sliders({**base, "beta": 1.0}, {"v": MAP_V[::step], "Delta": MAP_DELTA[::step]},
+                         progress=False, **kwargs)
+    vb = compare_sliders({**base, "Delta": 3.0}, {"v": MAP_V[::step], "beta": MAP_BETA[::step]},
+                         progress=False, **kwargs)
+    return FrictionStudy(laws=out, v_delta=vd, v_beta=vb)

@@ -230,14 +230,20 @@ def run_recursion(model: Oscillator | str, order: int, params: dict | None = Non
                         u=tuple(U))
 
 
-def _recursion(alg: FourierAlgebra, F: sp.Expr, order: int, last_u: bool = True):
-    """``A_1..A_N``, ``B_1..B_N``, ``u_1..u_N`` (lists) by harmonic balance, order by order."""
+def _recursion(alg: FourierAlgebra, F: sp.Expr, order: int, last_u: bool = True,
+               builder=Builder):
+    """``A_1..A_N``, ``B_1..B_N``, ``u_1..u_N`` (lists) by harmonic balance, order by order.
+
+    ``builder(alg, X, V).build(F)`` makes the lazy series of ``F`` along the leaves
+    ``X``, ``V`` (:class:`~kbm.algebra.lazy_series.Builder`; the numeric backend passes
+    the Taylor expansion of :mod:`kbm.algebra.smooth`).
+    """
     zero = alg.zero
     x0 = alg.x0()
     v0 = alg.scale(alg.dpsi(x0), alg.w0)
     X = Leaf(zero, x0)
     V = Leaf(zero, v0)
-    Fnode = Builder(alg, X, V).build(F)
+    Fnode = builder(alg, X, V).build(F)
     A: list = []
     B: list = []
     U: list = []

@@ -43,7 +43,7 @@ from .smooth_terms import non_smooth_message, non_smooth_term
 from .symbols import x, xdot
 
 __all__ = ["numeric_derive", "NumericExpansion", "DEFAULT_TOL", "MAX_ORDER_NUMERIC",
-           "parse_a_range"]
+           "parse_a_range", "numeric_model"]
 
 #: default tolerance, relative to the size of each order's quantities on the interval
 DEFAULT_TOL = 1e-10
@@ -155,8 +155,18 @@ def parse_a_range(a_range) -> tuple[float, float]:
     return lo, hi
 
 
-def _numeric_model(model: Oscillator | str, params) -> tuple[Oscillator, sp.Expr, float]:
-    """The model with every parameter a number; ``F`` checked smooth; ``omega0`` a float."""
+def numeric_model(model: Oscillator | str, params) -> tuple[Oscillator, sp.Expr, float]:
+    """The model with every parameter a number, ``F`` and ``omega0`` (a float).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Naming the parameters without a value.
+    kbm.errors.UnsupportedTermError
+        For a non-smooth term of ``F`` (naming a smooth replacement).
+    kbm.errors.NonAutonomousError
+        If ``F`` depends on ``t``.
+    """
     if isinstance(model, str):
         model = get_model(model)
     vals = model.resolve(params or {})
@@ -171,7 +181,7 @@ def _numeric_model(model: Oscillator | str, params) -> tuple[Oscillator, sp.Expr
     missing = sorted(s.name for s in (F.free_symbols | model.omega0.free_symbols) - {x, xdot})
     if missing:
         raise ParameterError(
-            f"the numeric backend needs a value for every parameter of {model.name!r}; "
+            f"the evaluated expansion needs a value for every parameter of {model.name!r}; "
             f"missing: {', '.join(missing)} (e.g. params={{{missing[0]!r}: 1}})")
     return model, F, float(model.omega0)
 
@@ -211,7 +221,7 @@ def _chebyshev_tail(values: np.ndarray) -> float:
 def _phase_points(table: TaylorTable, w0: float, lo: float, hi: float, tol: float) -> int:
     """The number of phases at which ``F`` along the unperturbed orbits is resolved."""
     alg_a = chebyshev.points(lo, hi, 5)
-    M = 32
+    M, first_scale = 32, None
     while True:
         psi = 2 * np.pi * np.arange(M) / M
         x0 = alg_a[:, None] * np.cos(psi)[None, :]
@@ -226,9 +236,17 @@ def _phase_points(table: TaylorTable, w0: float, lo: float, hi: float, tol: floa
                 f"(a = {alg_a[r]:.6g}): the numeric backend needs F finite and smooth on "
                 f"the orbits of the a-range [{lo:g}, {hi:g}]; shrink the a-range or change F")
         scale = float(np.max(np.abs(f)))
+        first_scale = scale if first_scale is None else first_scale
         tail = _fourier_tail(f)
         if scale == 0 or tail <= 0.01 * tol * scale:
             return M
+        if 2 * M > MAX_M and (scale > 10 * first_scale
+                              or scale > 1e8 * float(np.median(np.abs(f)))):
+            raise ParameterError(
+                f"F = {table.F} is not bounded on the orbits of the a-range [{lo:g}, {hi:g}]: "
+                f"its largest sampled value grows from {first_scale:.3g} to {scale:.3g} as the "
+                f"phases are refined (32 -> {M}), as at a pole of F on |x| <= a_max, "
+                f"|xdot| <= omega0 a_max; shrink the a-range or change F")
         if 2 * M > MAX_M:
             raise ResolutionError(
                 f"F = {table.F} varies too sharply along the orbits of the a-range "
@@ -321,7 +339,7 @@ def numeric_derive(model: Oscillator | str, order: int, a_range, params: dict | 
     _check_order(order)
     lo, hi = parse_a_range(a_range)
     tol = _check_tol(tol)
-    model, F, w0 = _numeric_model(model, params)
+    model, F, w0 = numeric_model(model, params)
     table = TaylorTable(F)
     try:
         M = _phase_points(table, w0, lo, hi, tol)

@@ -282,13 +282,19 @@ def _run(F, table, w0, lo, hi, P, M, order) -> _Run:
 def _errors(run: _Run):
     """Per order: the scale and the (Chebyshev, Fourier) tails of A_n, B_n, u_n.
 
-    The tails say whether the grid resolves each quantity; what the differentiations
+    The scale of order ``n`` is the largest ``|A_n|``, ``|a B_n|``, ``|u_n|`` on the grid,
+    or that of a lower order if larger.  The tails say whether the grid resolves each
+    quantity; what the differentiations
     in ``a`` amplify is measured by the second grid (:func:`_differences`).
     """
     out = []
     a = run.alg.a
-    for n, (An, Bn, Un) in enumerate(zip(run.A, run.B, run.U), start=1):
-        scale = max(np.max(np.abs(An)), np.max(np.abs(a * Bn)), np.max(np.abs(Un)))
+    floor = 0.0
+    for An, Bn, Un in zip(run.A, run.B, run.U):
+        # an order whose quantities all vanish (A_n of a linear oscillator, ...) holds
+        # rounding noise only: its scale is that of the orders below
+        scale = max(np.max(np.abs(An)), np.max(np.abs(a * Bn)), np.max(np.abs(Un)), floor)
+        floor = scale
         ea, eb = _chebyshev_tail(An[:, None]), _chebyshev_tail(Bn[:, None])
         eu_a, eu_p = _chebyshev_tail(Un), _fourier_tail(Un)
         out.append((float(scale), ea, eb, eu_a, eu_p))
@@ -312,7 +318,8 @@ def numeric_derive(model: Oscillator | str, order: int, a_range, params: dict | 
     params
         A value for every parameter of the model (built-in defaults fill the rest).
     tol
-        Target error relative to the size of each order's quantities on the interval.
+        Target error relative to the size of each order's quantities on the interval
+        (or of a lower order's, when larger).
 
     Returns
     -------

@@ -23,7 +23,7 @@ import time
 
 import sympy as sp
 
-from kbm import derive, limit_cycle_series
+from kbm import custom_model, derive, derive_values, limit_cycle_series, numeric_derive
 
 
 def best_of(fn, repeat: int) -> float:
@@ -74,6 +74,17 @@ def main() -> None:
                      best_of(lambda N=N: limit_cycle_series("vdp", N), 1 if N == 40 else rep),
                      5.0 if N == 24 else None))
     rows.append(("derive sedf order 2 (symbolic)", best_of(lambda: derive("sedf", 2), rep), 5.0))
+    sedf_p = {"beta": 1.0, "delta": 0.5, "k": 2.0}
+    amps = [0.5 + 0.25 * i for i in range(11)]
+    for N in (2, 3, 4):
+        rows.append((f"sedf order {N} evaluated (11 amplitudes)",
+                     best_of(lambda N=N: derive_values("sedf", N, amps, sedf_p), rep), None))
+    tanh = custom_model("-tanh(xdot/0.05) + (1 - x**2)*xdot")
+    for N in (2, 4, 8):
+        rows.append((f"numeric backend vdp order {N}",
+                     best_of(lambda N=N: numeric_derive("vdp", N, (0.1, 4)), rep), None))
+    rows.append(("numeric backend tanh-friction order 3",
+                 best_of(lambda: numeric_derive(tanh, 3, (0.1, 4)), 1), None))
     cmd = [sys.executable, "-m", "numerics.cli", "derive", "vdp", "--order", "12", "--json"]
     rows.append(("CLI kbm derive vdp --order 12",
                  best_of(lambda: subprocess.run(cmd, check=True, capture_output=True), rep),

@@ -9,11 +9,13 @@ no ``u_n`` holding a first harmonic, so ``a`` is the first-harmonic amplitude.
 from importlib.metadata import PackageNotFoundError, version as _version
 
 from .errors import (KBMError, ModelError, NonAutonomousError, OrderError, ParameterError,
-                     SeriesTruncationError, UnsupportedTermError)
+                     ResolutionError, SeriesTruncationError, UnsupportedTermError)
 from .averaging import derive
 from .averaged import AveragedCycle, AveragedRates, averaged_cycles, averaged_rates
 from .evaluate import mpmath_function, numpy_function
 from .latex import latex
+from .numeric_kbm import NumericExpansion, numeric_derive
+from .pointwise import ExpansionValues, derive_values
 from .models import MODELS, Oscillator, custom_model, get_model, model_names
 from .result import KBMFunctions, KBMResult
 from .series import LimitCycleSeries, limit_cycle_series
@@ -22,8 +24,8 @@ from .symbols import a, mu, parse, psi, t, x, xdot
 __all__ = [
     "KBMError", "ModelError", "NonAutonomousError", "OrderError", "ParameterError",
     "UnsupportedTermError",
-    "SeriesTruncationError",
-    "derive", "KBMResult", "KBMFunctions", "numpy_function", "mpmath_function", "latex",
+    "SeriesTruncationError", "ResolutionError",
+    "derive", "derive_values", "ExpansionValues", "numeric_derive", "NumericExpansion", "KBMResult", "KBMFunctions", "numpy_function", "mpmath_function", "latex",
     "AveragedCycle", "AveragedRates", "LimitCycleSeries", "averaged_cycles", "averaged_rates",
     "limit_cycle_series",
     "MODELS", "Oscillator", "custom_model", "get_model", "model_names",

@@ -21,7 +21,10 @@ harmonic (secular terms) gives ``A_n = -R_n^{sin 1}/(2 omega0)``,
 Polynomial ``F`` is treated with exact rational arithmetic on Fourier series
 with Laurent-polynomial coefficients (:mod:`kbm.algebra.poly_fourier`), any
 order; ``F`` with ``sin(k x)``, ``cos(k x)`` with the Jacobi-Anger algebra of
-:mod:`kbm.algebra.bessel_fourier`, order <= 2 (the Bessel sums stay symbolic).
+:mod:`kbm.algebra.bessel_fourier`, order <= 2 (the Bessel sums stay symbolic; from
+order 3 on they are sums over three and more indices with inner sums, not readable, and
+:func:`kbm.pointwise.derive_values` evaluates any order at numeric parameters instead;
+:func:`kbm.numeric_kbm.numeric_derive` takes any smooth ``F``).
 The recursion below sees either one only through the
 :class:`~kbm.algebra.base.FourierAlgebra` protocol, and ``F`` only as the lazy
 series of :mod:`kbm.algebra.lazy_series`.
@@ -49,9 +52,11 @@ from .models import Oscillator, get_model
 from .result import KBMResult
 from .symbols import a, psi, x, xdot
 
-__all__ = ["derive", "run_recursion", "RawExpansion", "MAX_ORDER_TRIG", "MAX_ORDER"]
+__all__ = ["derive", "run_recursion", "RawExpansion", "MAX_ORDER_TRIG", "MAX_ORDER",
+           "symbolic_order_limit"]
 
-#: highest order available for F with sin(k x) or cos(k x)
+#: highest order kept symbolic for F with sin(k x) or cos(k x) (any order is evaluated
+#: at numeric parameters by kbm.pointwise.derive_values)
 MAX_ORDER_TRIG = 2
 
 #: highest order of the expansion at all: the symbolic work grows like order^5 (van der Pol:
@@ -79,6 +84,12 @@ def _is_polynomial(model: Oscillator) -> bool:
         except (TypeError, sp.PolynomialError, sp.GeneratorsNeeded):
             return False
     return True
+
+
+def symbolic_order_limit(model: Oscillator) -> int:
+    """The highest order :func:`derive` gives for ``model``: :data:`MAX_ORDER` for
+    polynomial ``F`` with rational coefficients, :data:`MAX_ORDER_TRIG` otherwise."""
+    return MAX_ORDER if _is_polynomial(model) else MAX_ORDER_TRIG
 
 
 def _check_terms(F: sp.Expr) -> None:
@@ -117,7 +128,8 @@ def derive(model: Oscillator | str, order: int, params: dict | None = None) -> K
     order
         Highest power ``N`` of ``mu`` kept in ``da/dt``, ``dpsi/dt`` and ``x``
         (``A_1..A_N``, ``B_1..B_N``, ``u_1..u_N``).  Any ``N >= 1`` for
-        polynomial ``F``; ``N <= 2`` when ``F`` contains ``sin(k x)`` or ``cos(k x)``.
+        polynomial ``F``; ``N <= 2`` when ``F`` contains ``sin(k x)`` or ``cos(k x)``
+        (any order at numeric parameter values: :func:`kbm.derive_values`).
     params
         Parameter values substituted before the derivation (exact: ``"0.1"``
         is read as ``1/10``).
@@ -221,23 +233,32 @@ def run_recursion(model: Oscillator | str, order: int, params: dict | None = Non
     polynomial = _is_polynomial(model)
     if not polynomial and order > MAX_ORDER_TRIG:
         raise OrderError(
-            f"order {order} is not available for {model.name!r}: with sin(k x) or cos(k x) in F "
-            f"(or coefficients that are not rational, such as pi) the symbolic algebra goes to "
-            f"order {MAX_ORDER_TRIG}; polynomial F with rational coefficients: any order")
+            f"order {order} is not available symbolically for {model.name!r}: with sin(k x) or "
+            f"cos(k x) in F (or coefficients that are not rational, such as pi) the Bessel sums "
+            f"stay symbolic to order {MAX_ORDER_TRIG} (order 3 would need sums over three "
+            f"indices); every order is evaluated at numeric parameters and amplitudes by "
+            f"derive_values(model, order, a, params) (on the command line: --a-range "
+            f"AMIN:AMAX with --param values)")
     alg: FourierAlgebra = PolyAlgebra(model) if polynomial else SymAlgebra(model)
     A, B, U = _recursion(alg, F, order, last_u)
     return RawExpansion(model=model, order=order, algebra=alg, A=tuple(A), B=tuple(B),
                         u=tuple(U))
 
 
-def _recursion(alg: FourierAlgebra, F: sp.Expr, order: int, last_u: bool = True):
-    """``A_1..A_N``, ``B_1..B_N``, ``u_1..u_N`` (lists) by harmonic balance, order by order."""
+def _recursion(alg: FourierAlgebra, F: sp.Expr, order: int, last_u: bool = True,
+               builder=Builder):
+    """``A_1..A_N``, ``B_1..B_N``, ``u_1..u_N`` (lists) by harmonic balance, order by order.
+
+    ``builder(alg, X, V).build(F)`` makes the lazy series of ``F`` along the leaves
+    ``X``, ``V`` (:class:`~kbm.algebra.lazy_series.Builder`; the numeric backend passes
+    the Taylor expansion of :mod:`kbm.algebra.smooth`).
+    """
     zero = alg.zero
     x0 = alg.x0()
     v0 = alg.scale(alg.dpsi(x0), alg.w0)
     X = Leaf(zero, x0)
     V = Leaf(zero, v0)
-    Fnode = Builder(alg, X, V).build(F)
+    Fnode = builder(alg, X, V).build(F)
     A: list = []
     B: list = []
     U: list = []

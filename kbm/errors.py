@@ -17,6 +17,7 @@ __all__ = [
     "AveragedCycleError",
     "ExpansionError",
     "SeriesTruncationError",
+    "ResolutionError",
     "OutputError",
 ]
 
@@ -57,6 +58,11 @@ class ExpansionError(KBMError, ValueError):
 
 class SeriesTruncationError(KBMError, ArithmeticError):
     """An infinite Bessel sum did not reach its tolerance within the term budget."""
+
+
+class ResolutionError(KBMError, ArithmeticError):
+    """The numeric KBM backend did not reach its tolerance within its grid budget (the
+    resolution reached and the tails left are in the message)."""
 
 
 class OutputError(KBMError, OSError):

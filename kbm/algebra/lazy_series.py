@@ -167,9 +167,19 @@ class Tail(Node):
 
 # ----------------------------------------------------------------------------- F along the series
 def unsupported_message(term: sp.Expr) -> str:
-    """The message for a term of F that is not a polynomial times sin/cos."""
-    return (f"the term {term} of F is not supported: F must be a polynomial in x and xdot, "
-            "possibly times sin(k*x) or cos(k*x); rewrite or approximate that term")
+    """The message for a term of F that is not a polynomial times sin/cos.
+
+    A non-smooth term gets its smooth replacement; any other the numeric backend.
+    """
+    from ..smooth_terms import non_smooth_message, non_smooth_term
+
+    bad = non_smooth_term(term)
+    if bad is not None:
+        return non_smooth_message(bad)
+    return (f"the term {term} of F is not supported by the symbolic engine: F must be a "
+            "polynomial in x and xdot, possibly times sin(k*x) or cos(k*x); for any smooth F "
+            "use the numeric backend (numeric_derive, or --numeric --a-range AMIN:AMAX on "
+            "the command line)")
 
 
 def trig_argument_message(term: sp.Expr) -> str:

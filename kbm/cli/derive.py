@@ -1,8 +1,17 @@
-"""``kbm derive``: the KBM expansion of a model to a given order."""
+"""``kbm derive``: the KBM expansion of a model to a given order.
+
+Symbolic where the engine is (polynomial ``F``: any order; ``sin``/``cos`` of ``x``:
+order <= 2); above that, the same expansion evaluated at numeric parameters and the
+amplitudes of ``--a-range`` (:func:`kbm.derive_values`); with ``--numeric``, the numeric
+backend for any smooth ``F`` (:func:`kbm.numeric_derive`).  The two evaluated routes
+print tables.
+"""
 
 from __future__ import annotations
 
 import argparse
+
+import numpy as np
 
 from ._common import add_param_option, check_model_flags, emit_json, parse_params
 
@@ -10,7 +19,10 @@ from ._common import add_param_option, check_model_flags, emit_json, parse_param
 def register(sub) -> None:
     p = sub.add_parser("derive", help="KBM expansion A_n, B_n, u_n to a given order",
                        description="Derive the Krylov-Bogoliubov-Mitropolsky expansion of "
-                                   "x'' + omega0^2 x = mu F(x, x') to order N.")
+                                   "x'' + omega0^2 x = mu F(x, x') to order N: symbolic for "
+                                   "polynomial F (any order) and sin/cos of x (order <= 2); "
+                                   "evaluated at numeric parameters on --a-range above that; "
+                                   "with --numeric for any smooth F.")
     p.add_argument("model", nargs="?", help="built-in model (vdp, duffing, rayleigh, "
                    "linear_damping, linear_stiffness, sedf, cdc)")
     p.add_argument("--rhs", metavar="EXPR", help="your own F (in x, xdot and parameters) "
@@ -18,6 +30,17 @@ def register(sub) -> None:
     p.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")
     p.add_argument("--order", "-n", type=int, required=True, help="order N >= 1")
     add_param_option(p)
+    p.add_argument("--numeric", action="store_true",
+                   help="numeric backend for any smooth F (tanh, exp, ...): tables of A_n, "
+                        "B_n on --a-range with error estimates")
+    p.add_argument("--a-range", metavar="AMIN:AMAX", default=None,
+                   help="amplitudes of the tables (0 < AMIN < AMAX); for --numeric also the "
+                        "interval the expansion is computed on")
+    p.add_argument("--points", type=int, default=9,
+                   help="rows of the tables: equispaced amplitudes of --a-range (default 9)")
+    p.add_argument("--tol", type=float, default=None,
+                   help="tolerance of the evaluated routes (relative; default 1e-10 with "
+                        "--numeric, 1e-14 for the Bessel harmonics)")
     fmt = p.add_mutually_exclusive_group()
     fmt.add_argument("--json", action="store_true", help="print JSON (strings sympy can parse)")
     fmt.add_argument("--latex", action="store_true", help="print LaTeX")
@@ -36,10 +59,100 @@ def model_from_args(args: argparse.Namespace):
     return get_model(args.model, params)
 
 
-def run(args: argparse.Namespace) -> int:
-    from ..averaging import derive
+def _amplitudes(args: argparse.Namespace, why: str) -> tuple[tuple[float, float], np.ndarray]:
+    from ..errors import ParameterError
+    from ..numeric_kbm import parse_a_range
 
-    res = derive(model_from_args(args), args.order)
+    if args.a_range is None:
+        raise ParameterError(f"{why}: give the amplitudes with --a-range AMIN:AMAX "
+                             "(e.g. --a-range 0.1:4) and a value for every parameter "
+                             "(--param NAME=VALUE)")
+    lo, hi = parse_a_range(args.a_range)
+    if args.points < 2:
+        raise ParameterError(f"--points must be >= 2, got {args.points}")
+    return (lo, hi), np.linspace(lo, hi, args.points)
+
+
+def _print_table(title: list[str], a: np.ndarray, cols: dict[str, np.ndarray],
+                 errors: dict[str, float] | None = None) -> None:
+    for line in title:
+        print(line)
+    names = list(cols)
+    print(f"{'a':>10s} " + " ".join(f"{n:>22s}" for n in names))
+    for i, ai in enumerate(a):
+        print(f"{ai:10.6g} " + " ".join(f"{cols[n][i]:22.14e}" for n in names))
+    if errors is not None:
+        print(f"{'error est.':>10s} " + " ".join(f"{errors[n]:22.1e}" for n in names))
+
+
+def _run_numeric(args, model) -> int:
+    from ..errors import ParameterError
+    from ..numeric_kbm import DEFAULT_TOL, numeric_derive
+
+    if args.latex:
+        raise ParameterError("--latex prints symbolic results; --numeric gives tables "
+                             "(drop --latex, or use --json)")
+    (lo, hi), a = _amplitudes(args, "--numeric computes on an amplitude interval")
+    res = numeric_derive(model, args.order, (lo, hi),
+                         tol=DEFAULT_TOL if args.tol is None else args.tol)
+    if args.json:
+        emit_json(res.to_json(a))
+        return 0
+    tab = res.table(a)
+    N = args.order
+    cols = {**{f"A_{n}": tab["A"][n - 1] for n in range(1, N + 1)},
+            **{f"B_{n}": tab["B"][n - 1] for n in range(1, N + 1)}}
+    errs = {**{f"A_{n}": res.A_error[n] for n in range(1, N + 1)},
+            **{f"B_{n}": res.B_error[n] for n in range(1, N + 1)}}
+    P, M = res.resolution
+    _print_table([f"KBM expansion of {res.model.name}: x'' + {res.omega0:g}^2 x = mu*({res.model.F}), "
+                  f"order {N}, numeric backend",
+                  f"grid: {P} Chebyshev points on a in [{lo:g}, {hi:g}] (and a margin), "
+                  f"{M} phases; tol {res.tol:.0e}; error estimates (absolute) in the last row"],
+                 a, cols, errs)
+    return 0
+
+
+def _run_values(args, model, limit: int) -> int:
+    from ..errors import ParameterError
+    from ..pointwise import DEFAULT_TOL, derive_values
+
+    if args.latex:
+        raise ParameterError(f"order {args.order} of {model.name!r} is evaluated, not "
+                             f"symbolic (the Bessel sums stay symbolic to order {limit}); "
+                             "drop --latex, or ask for order <= 2")
+    why = (f"order {args.order} of {model.name!r} is evaluated at numeric values, not kept "
+           f"symbolic (with sin/cos of x the Bessel sums stay symbolic to order {limit}; "
+           f"order 3 would need sums over three indices)")
+    _, a = _amplitudes(args, why)
+    res = derive_values(model, args.order, a, tol=DEFAULT_TOL if args.tol is None else args.tol)
+    if args.json:
+        emit_json(res.to_json())
+        return 0
+    N = args.order
+    cols = {**{f"A_{n}": res.A[n] for n in range(1, N + 1)},
+            **{f"B_{n}": res.B[n] for n in range(1, N + 1)}}
+    _print_table([f"KBM expansion of {res.model.name}: F = {res.model.F}, order {N}",
+                  f"note: {why}.",
+                  f"Jacobi-Anger series with exact a-derivatives, harmonics up to "
+                  f"{res.harmonics} (truncation below {res.tol:.0e} relative)"], a, cols)
+    return 0
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..averaging import MAX_ORDER, derive, symbolic_order_limit
+    from ..errors import ParameterError
+
+    model = model_from_args(args)
+    if args.numeric:
+        return _run_numeric(args, model)
+    limit = symbolic_order_limit(model)
+    if limit < args.order <= MAX_ORDER:
+        return _run_values(args, model, limit)
+    if args.a_range is not None:
+        raise ParameterError("--a-range makes tables of the evaluated routes: use it with "
+                             "--numeric, or with an order above the symbolic limit")
+    res = derive(model, args.order)
     if args.json:
         emit_json(res.to_json())
     elif args.latex:

@@ -1,0 +1,172 @@
+"""Fourier series sampled on a grid: the algebra of the numeric KBM backend.
+
+A series ``f(a, psi)`` is held as its values on the tensor grid of ``P`` Chebyshev
+points ``a_i`` of an amplitude interval (:mod:`~kbm.algebra.chebyshev`) and ``M``
+equispaced phases ``psi_j = 2 pi j/M``; a coefficient ``c(a)`` as its ``P`` values.
+Products are pointwise, ``d/dpsi`` and the harmonic balance (secular terms, ``u_n``)
+act on the discrete Fourier transform in ``psi``, ``d/da`` is the Chebyshev
+differentiation matrix.  Everything is spectrally accurate for analytic functions;
+the resolution ``(P, M)`` is chosen by :mod:`kbm.numeric_kbm`, which also measures
+what was lost (the coefficient tails).
+
+:class:`GridAlgebra` offers the part of :class:`~kbm.algebra.base.FourierAlgebra`
+that the recursion :func:`kbm.averaging._recursion` asks for; there is no symbolic
+display (``coef_expr``, ``series_expr``) and no ``trig``: ``F`` is expanded by
+:mod:`~kbm.algebra.smooth`, whatever its functions.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import chebyshev
+
+__all__ = ["GridSeries", "GridCoef", "GridAlgebra"]
+
+
+class GridCoef:
+    """A coefficient ``c(a)``: its values at the ``P`` amplitudes (false when all zero)."""
+
+    __slots__ = ("values",)
+
+    def __init__(self, values: np.ndarray):
+        self.values = np.asarray(values, dtype=float)
+
+    def __bool__(self) -> bool:
+        return bool(np.any(self.values != 0.0))
+
+
+class GridSeries:
+    """Samples ``f(a_i, psi_j)``, shape ``(P, M)``; ``values is None`` is the exact zero."""
+
+    __slots__ = ("values",)
+
+    def __init__(self, values: np.ndarray | None):
+        self.values = values
+
+    def is_zero(self) -> bool:
+        return self.values is None
+
+    def __add__(self, other: "GridSeries") -> "GridSeries":
+        if other.values is None:
+            return self
+        if self.values is None:
+            return other
+        return GridSeries(self.values + other.values)
+
+    def __neg__(self) -> "GridSeries":
+        return self if self.values is None else GridSeries(-self.values)
+
+    def __sub__(self, other: "GridSeries") -> "GridSeries":
+        return self + (-other)
+
+    def __mul__(self, other: "GridSeries") -> "GridSeries":
+        if self.values is None or other.values is None:
+            return GridSeries(None)
+        return GridSeries(self.values * other.values)
+
+    def scale_q(self, q) -> "GridSeries":
+        return self if self.values is None else GridSeries(self.values * float(q))
+
+    def scale(self, c) -> "GridSeries":
+        """``c f`` for a number or a coefficient (``P`` values, one per amplitude)."""
+        if self.values is None:
+            return self
+        if isinstance(c, GridCoef):
+            return GridSeries(self.values * c.values[:, None])
+        return GridSeries(self.values * float(c))
+
+
+class GridAlgebra:
+    """Series sampled on ``P`` Chebyshev amplitudes of ``[lo, hi]`` times ``M`` phases.
+
+    Parameters
+    ----------
+    omega0
+        The linear frequency (a positive number).
+    lo, hi
+        The amplitude interval, ``0 < lo < hi``.
+    P, M
+        Chebyshev points in ``a`` and phases in ``psi`` (``M`` even).
+    chop
+        Chebyshev coefficients below ``chop`` times the largest are dropped before a
+        differentiation in ``a`` (:meth:`da`).
+    """
+
+    exact = False
+
+    def __init__(self, omega0: float, lo: float, hi: float, P: int, M: int,
+                 chop: float = 1e-14):
+        self.w0 = float(omega0)
+        self.chop = float(chop)
+        self.lo, self.hi, self.P, self.M = float(lo), float(hi), int(P), int(M)
+        self.a = chebyshev.points(lo, hi, P)
+        self.psi = 2 * np.pi * np.arange(M) / M
+        m = np.arange(M // 2 + 1)
+        self._m = m
+        div = self.w0**2 * (1.0 - m.astype(float) ** 2)
+        div[1] = np.inf  # the first harmonic is left out of every u_n
+        self._inv = 1.0 / div
+        self._inv[-1] = 0.0  # the Nyquist mode has no sine partner: dropped
+        self._ik = 1j * m
+        self._ik[-1] = 0.0
+
+    # -- the recursion's vocabulary ----------------------------------------------------
+    def zero(self) -> GridSeries:
+        return GridSeries(None)
+
+    def const(self, value) -> GridSeries:
+        return GridSeries(np.full((self.P, self.M), float(value)))
+
+    def coef(self, value) -> GridCoef:
+        return GridCoef(np.full(self.P, float(value)))
+
+    def x0(self) -> GridSeries:
+        return GridSeries(self.a[:, None] * np.cos(self.psi)[None, :])
+
+    def v0(self) -> GridSeries:
+        """``omega0 dx_0/dpsi = -omega0 a sin(psi)``."""
+        return GridSeries(-self.w0 * self.a[:, None] * np.sin(self.psi)[None, :])
+
+    def scale(self, f: GridSeries, c) -> GridSeries:
+        return f.scale(c)
+
+    def dpsi(self, f: GridSeries) -> GridSeries:
+        if f.values is None:
+            return f
+        spec = np.fft.rfft(f.values, axis=1)
+        # as in da: rounding noise above the bandwidth would be multiplied by m (and by
+        # the differentiations in a that follow), so it is dropped first
+        spec[np.abs(spec) < self.chop * np.max(np.abs(spec))] = 0.0
+        return GridSeries(np.fft.irfft(spec * self._ik, n=self.M, axis=1))
+
+    def da(self, f: GridSeries) -> GridSeries:
+        """``df/da`` by the Chebyshev coefficients, those below ``chop`` times the largest
+        dropped first: differentiation multiplies the rounding noise of mode ``k`` by
+        ``~k**2``, and the recursion differentiates results of earlier
+        differentiations, so noise above the function's own bandwidth must not survive."""
+        if f.values is None:
+            return f
+        c = chebyshev.coefficients(f.values, axis=0)
+        c[np.abs(c) < self.chop * np.max(np.abs(c))] = 0.0
+        d = chebyshev.derivative_coefficients(c, self.lo, self.hi, axis=0)
+        return GridSeries(chebyshev.values(d, axis=0))
+
+    def harmonic1(self, R: GridSeries) -> tuple[np.ndarray, np.ndarray]:
+        """``(r_c, r_s)``: the coefficients of ``cos psi`` and ``sin psi`` of ``R``."""
+        if R.values is None:
+            return np.zeros(self.P), np.zeros(self.P)
+        # project on cos and sin directly: one pass, no full transform
+        c = R.values @ np.cos(self.psi) * (2.0 / self.M)
+        s = R.values @ np.sin(self.psi) * (2.0 / self.M)
+        return c, s
+
+    def secular(self, R: GridSeries) -> tuple[GridCoef, GridCoef]:
+        rc, rs = self.harmonic1(R)
+        return GridCoef(-rs / (2 * self.w0)), GridCoef(-rc / (2 * self.w0 * self.a))
+
+    def solve(self, R: GridSeries) -> GridSeries:
+        if R.values is None:
+            return R
+        spec = np.fft.rfft(R.values, axis=1) * self._inv
+        return GridSeries(np.fft.irfft(spec, n=self.M, axis=1))

@@ -1,0 +1,441 @@
+"""The numeric KBM backend: any smooth ``F``, any order, on an amplitude interval.
+
+For ``x'' + omega0**2 x = mu F(x, x')`` with ``F`` built from any functions numpy and
+scipy evaluate (``tanh(xdot/eps)``, ``exp(-x**2)``, ``1/(1 + x**2)``, a Stribeck
+curve, ...) :func:`numeric_derive` runs the same recursion as :func:`kbm.derive`
+(:func:`kbm.averaging._recursion`: same conventions, no first harmonic in any
+``u_n``, ``A_n = -R_n^{sin 1}/(2 omega0)``, ``B_n = -R_n^{cos 1}/(2 omega0 a)``) on
+*samples*:
+
+- ``psi`` on ``M`` equispaced phases (derivatives, secular terms and ``u_n`` by FFT);
+- ``a`` on ``P`` Chebyshev points of ``[a_min, a_max]`` (derivatives spectrally);
+- ``F(x_0 + Dx, v_0 + Dv)`` by its Taylor series in ``Dx``, ``Dv`` with the partial
+  derivatives of ``F`` taken symbolically and compiled (:mod:`kbm.algebra.smooth`):
+  ``F`` itself is only ever *evaluated*.
+
+The resolution is adaptive: ``M`` starts where the Fourier coefficients of ``F`` along
+the unperturbed orbit at ``a_max`` have fallen below the tolerance, and ``P`` and ``M``
+are doubled until the Chebyshev (in ``a``) and Fourier (in ``psi``) coefficient tails of
+every ``A_n``, ``B_n``, ``u_n`` are below ``tol`` times the size of that order's
+quantities.  Those tails are the reported error estimates; a grid budget that does not
+suffice raises :class:`~kbm.errors.ResolutionError` with the numbers.
+
+The result holds callables ``A[n](a)``, ``B[n](a)``, ``u[n](a, psi)`` (vectorised,
+defined on the interval only) and their error estimates.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from .algebra import chebyshev
+from .algebra.grid_fourier import GridAlgebra
+from .algebra.smooth import TaylorTable
+from .averaging import _recursion
+from .errors import OrderError, ParameterError, ResolutionError, UnsupportedTermError
+from .models import Oscillator, get_model
+from .numeric_functions import AmplitudeFunction, ConstantFunction, WaveFunction
+from .smooth_terms import non_smooth_message, non_smooth_term
+from .symbols import x, xdot
+
+__all__ = ["numeric_derive", "NumericExpansion", "DEFAULT_TOL", "MAX_ORDER_NUMERIC",
+           "parse_a_range", "numeric_model"]
+
+#: default tolerance, relative to the size of each order's quantities on the interval
+DEFAULT_TOL = 1e-10
+#: highest order of the numeric backend (partial derivatives of F up to order - 1)
+MAX_ORDER_NUMERIC = 20
+#: grid budget: Chebyshev points, phases, and their product
+MAX_P, MAX_M, MAX_SAMPLES = 257, 2**15, 2**21
+#: the top fraction of the coefficients read as the tail
+_TAIL = 0.25
+#: how far (a fraction of its width) the grid reaches past each end of the interval
+_MARGIN = 0.1
+
+
+@dataclass(frozen=True, eq=False)
+class NumericExpansion:
+    """The KBM expansion computed numerically on ``a_min <= a <= a_max``.
+
+    Attributes
+    ----------
+    model
+        The oscillator with its parameter values substituted.
+    order
+        The highest order ``N``.
+    a_range
+        ``(a_min, a_max)``.
+    omega0
+        The linear frequency.
+    tol
+        The tolerance asked for (relative to the size of each order's quantities).
+    resolution
+        ``(P, M)``: Chebyshev points in ``a`` and phases in ``psi`` of the final grid.
+    A, B, u
+        Callables indexed by order ``0..N``: ``A[n](a)``, ``B[n](a)``, ``u[n](a, psi)``
+        (numpy broadcasting); ``A[0] = 0``, ``B[0] = omega0``, ``u[0] = a cos(psi)``.
+    A_error, B_error, u_error
+        Estimated absolute errors (largest over the interval; entry 0 is 0): the larger
+        of the coefficient tails of the final grid and the difference from a second grid
+        half as fine again.
+    """
+
+    model: Oscillator
+    order: int
+    a_range: tuple[float, float]
+    omega0: float
+    tol: float
+    resolution: tuple[int, int]
+    A: tuple
+    B: tuple
+    u: tuple
+    A_error: tuple[float, ...]
+    B_error: tuple[float, ...]
+    u_error: tuple[float, ...]
+
+    def table(self, a) -> dict:
+        """``{"a": a, "A": [A_1(a), ...], "B": [B_1(a), ...]}`` as float arrays."""
+        a = np.asarray(a, dtype=float)
+        return {"a": a, "A": [self.A[n](a) for n in range(1, self.order + 1)],
+                "B": [self.B[n](a) for n in range(1, self.order + 1)]}
+
+    def to_json(self, a) -> dict:
+        """The tables at the amplitudes ``a`` and the error estimates, with plain keys."""
+        tab = self.table(a)
+        orders = [str(n) for n in range(1, self.order + 1)]
+        return {
+            "model": self.model.name, "F": sp.sstr(self.model.F, order="lex"),
+            "omega0": self.omega0, "order": self.order, "method": "numeric",
+            "a_range": list(self.a_range), "tol": self.tol,
+            "resolution": {"chebyshev_points": self.resolution[0],
+                           "phases": self.resolution[1]},
+            "a": [float(v) for v in tab["a"]],
+            "A": {k: [float(v) for v in col] for k, col in zip(orders, tab["A"])},
+            "B": {k: [float(v) for v in col] for k, col in zip(orders, tab["B"])},
+            "error": {"A": dict(zip(orders, self.A_error[1:])),
+                      "B": dict(zip(orders, self.B_error[1:])),
+                      "u": dict(zip(orders, self.u_error[1:]))},
+        }
+
+
+# ----------------------------------------------------------------------------- input
+def parse_a_range(a_range) -> tuple[float, float]:
+    """``(a_min, a_max)`` from a pair or a string ``"a_min:a_max"``, checked.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Unless ``0 < a_min < a_max`` are finite numbers.
+    """
+    if isinstance(a_range, str):
+        parts = a_range.split(":")
+        if len(parts) != 2:
+            raise ParameterError(f"the a-range must be 'AMIN:AMAX' (e.g. 0.1:4), got "
+                                 f"{a_range!r}")
+    else:
+        parts = list(a_range) if isinstance(a_range, (tuple, list)) else [a_range]
+        if len(parts) != 2:
+            raise ParameterError(f"a_range must be a pair (a_min, a_max), got {a_range!r}")
+    try:
+        lo, hi = (float(p) for p in parts)
+    except (TypeError, ValueError):
+        raise ParameterError(f"the a-range must be two numbers, got {a_range!r}") from None
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise ParameterError(f"the a-range must be finite, got {lo:g}:{hi:g}")
+    if lo <= 0:
+        raise ParameterError(f"the a-range must lie in a > 0 (a = 0 is the fixed point, "
+                             f"where B_n has a 1/a and the phase is undefined), got "
+                             f"a_min = {lo:g}; start it above 0, e.g. 0.05:{hi:g}")
+    if hi <= lo:
+        raise ParameterError(f"the a-range needs a_min < a_max, got {lo:g}:{hi:g}")
+    return lo, hi
+
+
+def numeric_model(model: Oscillator | str, params) -> tuple[Oscillator, sp.Expr, float]:
+    """The model with every parameter a number, ``F`` and ``omega0`` (a float).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Naming the parameters without a value.
+    kbm.errors.UnsupportedTermError
+        For a non-smooth term of ``F`` (naming a smooth replacement).
+    kbm.errors.NonAutonomousError
+        If ``F`` depends on ``t``.
+    """
+    if isinstance(model, str):
+        model = get_model(model)
+    vals = model.resolve(params or {})
+    vals.pop("mu", None)
+    if vals:
+        model = model.substitute(vals)
+    model.require_autonomous("the KBM averaging")
+    F = model.F
+    bad = non_smooth_term(F)
+    if bad is not None:
+        raise UnsupportedTermError(non_smooth_message(bad))
+    missing = sorted(s.name for s in (F.free_symbols | model.omega0.free_symbols) - {x, xdot})
+    if missing:
+        raise ParameterError(
+            f"the evaluated expansion needs a value for every parameter of {model.name!r}; "
+            f"missing: {', '.join(missing)} (e.g. params={{{missing[0]!r}: 1}})")
+    return model, F, float(model.omega0)
+
+
+def _check_order(order) -> None:
+    if not isinstance(order, int) or isinstance(order, bool) or order < 1:
+        raise OrderError(f"the order must be an integer >= 1, got {order!r}")
+    if order > MAX_ORDER_NUMERIC:
+        raise OrderError(f"order {order} is above the limit {MAX_ORDER_NUMERIC} of the "
+                         f"numeric backend; ask for order <= {MAX_ORDER_NUMERIC}")
+
+
+def _check_tol(tol) -> float:
+    try:
+        tol = float(tol)
+    except (TypeError, ValueError):
+        raise ParameterError(f"tol must be a number, got {tol!r}") from None
+    if not 1e-15 <= tol < 1:
+        raise ParameterError(f"tol must be between 1e-15 and 1 (relative), got {tol:g}")
+    return tol
+
+
+# ----------------------------------------------------------------------------- resolution
+def _fourier_tail(values: np.ndarray) -> float:
+    """Largest |Fourier coefficient| in the top quarter of the harmonics (rows: a, cols: psi)."""
+    M = values.shape[1]
+    spec = np.abs(np.fft.rfft(values, axis=1)) * (2.0 / M)
+    return float(np.max(spec[:, int((1 - _TAIL) * (M // 2)):]))
+
+
+def _chebyshev_tail(values: np.ndarray) -> float:
+    """Largest |Chebyshev coefficient in a| in the top quarter of the degrees."""
+    c = np.abs(chebyshev.coefficients(values, axis=0))
+    return float(np.max(c[int((1 - _TAIL) * (c.shape[0] - 1)):]))
+
+
+def _phase_points(table: TaylorTable, w0: float, lo: float, hi: float, tol: float) -> int:
+    """The number of phases at which ``F`` along the unperturbed orbits is resolved."""
+    alg_a = chebyshev.points(lo, hi, 5)
+    M, first_scale = 32, None
+    while True:
+        psi = 2 * np.pi * np.arange(M) / M
+        x0 = alg_a[:, None] * np.cos(psi)[None, :]
+        v0 = -w0 * alg_a[:, None] * np.sin(psi)[None, :]
+        with np.errstate(all="ignore"):
+            f = np.broadcast_to(np.asarray(table.function(0, 0)(x0, v0), dtype=float),
+                                x0.shape)
+        if not np.all(np.isfinite(f)):
+            r, c = np.argwhere(~np.isfinite(f))[0]
+            raise ParameterError(
+                f"F = {table.F} is not finite at x = {x0[r, c]:.6g}, xdot = {v0[r, c]:.6g} "
+                f"(a = {alg_a[r]:.6g}): the numeric backend needs F finite and smooth on "
+                f"the orbits of the a-range [{lo:g}, {hi:g}]; shrink the a-range or change F")
+        scale = float(np.max(np.abs(f)))
+        first_scale = scale if first_scale is None else first_scale
+        tail = _fourier_tail(f)
+        if scale == 0 or tail <= 0.01 * tol * scale:
+            return M
+        if 2 * M > MAX_M and (scale > 10 * first_scale
+                              or scale > 1e8 * float(np.median(np.abs(f)))):
+            raise ParameterError(
+                f"F = {table.F} is not bounded on the orbits of the a-range [{lo:g}, {hi:g}]: "
+                f"its largest sampled value grows from {first_scale:.3g} to {scale:.3g} as the "
+                f"phases are refined (32 -> {M}), as at a pole of F on |x| <= a_max, "
+                f"|xdot| <= omega0 a_max; shrink the a-range or change F")
+        if 2 * M > MAX_M:
+            raise ResolutionError(
+                f"F = {table.F} varies too sharply along the orbits of the a-range "
+                f"[{lo:g}, {hi:g}]: with M = {M} phases its Fourier coefficients at "
+                f"a = {hi:g} have fallen only to {tail / scale:.1e} of its size (tolerance "
+                f"{tol:.0e}); use a smaller a_max, a smoother F (e.g. a larger eps in "
+                f"tanh(xdot/eps)) or a looser tol")
+        M *= 2
+
+
+@dataclass
+class _Run:
+    P: int
+    M: int
+    alg: GridAlgebra
+    A: list
+    B: list
+    U: list
+
+
+def _run(F, table, w0, lo, hi, P, M, order) -> _Run:
+    alg = GridAlgebra(w0, lo, hi, P, M)
+    A, B, U = _recursion(alg, F, order, True, builder=table.builder)
+    A = [c.values for c in A]
+    B = [c.values for c in B]
+    U = [np.zeros((P, M)) if u.values is None else u.values for u in U]
+    if not all(np.all(np.isfinite(q)) for q in (*A, *B, *U)):
+        raise ResolutionError(f"the numeric expansion of F = {table.F} overflowed on "
+                              f"a in [{lo:g}, {hi:g}] (P = {P}, M = {M}); narrow the a-range")
+    return _Run(P, M, alg, A, B, U)
+
+
+def _errors(run: _Run):
+    """Per order: the scale and the (Chebyshev, Fourier) tails of A_n, B_n, u_n.
+
+    The scale of order ``n`` is the largest ``|A_n|``, ``|a B_n|``, ``|u_n|`` on the grid,
+    or that of a lower order if larger.  The tails say whether the grid resolves each
+    quantity; what the differentiations
+    in ``a`` amplify is measured by the second grid (:func:`_differences`).
+    """
+    out = []
+    a = run.alg.a
+    floor = 0.0
+    for An, Bn, Un in zip(run.A, run.B, run.U):
+        # an order whose quantities all vanish (A_n of a linear oscillator, ...) holds
+        # rounding noise only: its scale is that of the orders below
+        scale = max(np.max(np.abs(An)), np.max(np.abs(a * Bn)), np.max(np.abs(Un)), floor)
+        floor = scale
+        ea, eb = _chebyshev_tail(An[:, None]), _chebyshev_tail(Bn[:, None])
+        eu_a, eu_p = _chebyshev_tail(Un), _fourier_tail(Un)
+        out.append((float(scale), ea, eb, eu_a, eu_p))
+    return out
+
+
+def numeric_derive(model: Oscillator | str, order: int, a_range, params: dict | None = None,
+                   *, tol: float = DEFAULT_TOL) -> NumericExpansion:
+    """KBM expansion of ``x'' + omega0**2 x = mu F(x, x')`` computed numerically, any smooth F.
+
+    Parameters
+    ----------
+    model
+        An :class:`~kbm.models.Oscillator`, a built-in model name, or a model from
+        :func:`kbm.custom_model` (e.g. ``custom_model("-tanh(xdot/0.05)")``).
+    order
+        Highest order ``N`` (``1 <= N <=`` :data:`MAX_ORDER_NUMERIC`).
+    a_range
+        ``(a_min, a_max)`` or ``"a_min:a_max"`` with ``0 < a_min < a_max``: the
+        amplitudes on which ``A_n``, ``B_n``, ``u_n`` are computed.
+    params
+        A value for every parameter of the model (built-in defaults fill the rest).
+    tol
+        Target error relative to the size of each order's quantities on the interval
+        (or of a lower order's, when larger).
+
+    Returns
+    -------
+    NumericExpansion
+        Callables ``A[n]``, ``B[n]``, ``u[n]`` and their error estimates.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For a bad a-range or tol, a missing parameter value, or ``F`` not finite on
+        the orbits of the a-range.
+    kbm.errors.UnsupportedTermError
+        For a non-smooth ``F`` (``sign``, ``Abs``, ...; the smooth replacement is named).
+    kbm.errors.ResolutionError
+        If the grid budget does not reach ``tol`` (the numbers are in the message).
+
+    Examples
+    --------
+    >>> from kbm import custom_model
+    >>> res = numeric_derive(custom_model("(1 - x**2)*xdot"), 2, (0.5, 3))
+    >>> round(res.A[1](2.0), 12), round(res.B[2](2.0), 12)
+    (0.0, -0.0625)
+    """
+    _check_order(order)
+    lo, hi = parse_a_range(a_range)
+    tol = _check_tol(tol)
+    model, F, w0 = numeric_model(model, params)
+    table = TaylorTable(F)
+    try:
+        M = _phase_points(table, w0, lo, hi, tol)
+    except (NameError, TypeError) as exc:  # a function numpy cannot evaluate
+        raise UnsupportedTermError(f"F = {F} cannot be evaluated with numpy/scipy ({exc}); "
+                                   "write F with elementary and special functions") from None
+    # the grid reaches past the interval asked for: the ends of a Chebyshev grid are
+    # where differentiation amplifies errors most
+    clo, chi = lo - min(_MARGIN * (hi - lo), 0.25 * lo), hi + _MARGIN * (hi - lo)
+    P, history = 17, []
+    while True:
+        run = _run(F, table, w0, clo, chi, P, M, order)
+        errs = _errors(run)
+        rel_a = max(max(e[1], e[2], e[3]) / (e[0] or 1) for e in errs)
+        rel_p = max(e[4] / (e[0] or 1) for e in errs)
+        if rel_a <= tol and rel_p <= tol:
+            # a second grid, half as fine again, measures what the tails cannot: the
+            # rounding errors that the differentiations in a amplify
+            check = _run(F, table, w0, clo, chi, P + (P - 1) // 2, M + M // 2, order)
+            diffs = _differences(run, check, lo, hi)
+            rel_a = max(max(d[:2]) / (e[0] or 1) for d, e in zip(diffs, errs))
+            rel_p = max(d[2] / (e[0] or 1) for d, e in zip(diffs, errs))
+            if rel_a <= tol and rel_p <= tol:
+                break
+            rel_a = max(rel_a, rel_p)
+        history.append((P, M, rel_a, rel_p))
+        _check_progress(F, order, lo, hi, tol, history)
+        P, M = (2 * P - 1 if rel_a > tol else P), (2 * M if rel_p > tol else M)
+    return _result(model, order, lo, hi, w0, tol, run, errs, diffs)
+
+
+def _check_progress(F, order, lo, hi, tol, history) -> None:
+    """Raise :class:`ResolutionError` when the next grid is over budget, or when refining
+    ``a`` no longer lowers the tails (the floor of the rounding errors amplified by the
+    differentiations in ``a``)."""
+    P, M, rel_a, rel_p = history[-1]
+    what = (f"the numeric expansion of F = {F} to order {order} on a in [{lo:g}, {hi:g}] "
+            f"did not reach tol = {tol:.0e}")
+    advice = "narrow the a-range, lower the order, smooth F, or loosen tol"
+    if len(history) >= 2:
+        P0, _, rel_a0, _ = history[-2]
+        if P > P0 and rel_a < 1e-6 and rel_a > 0.5 * rel_a0:
+            raise ResolutionError(
+                f"{what}: its Chebyshev tails in a stopped falling at {min(rel_a, rel_a0):.1e} "
+                f"(P = {P0} -> {P} points), the floor of the rounding errors that each "
+                f"differentiation in a amplifies; ask for tol >= {3 * min(rel_a, rel_a0):.0e}, "
+                f"or {advice}")
+    P2, M2 = (2 * P - 1 if rel_a > tol else P), (2 * M if rel_p > tol else M)
+    if P2 > MAX_P or M2 > MAX_M or P2 * M2 > MAX_SAMPLES:
+        where = "psi (Fourier)" if rel_p >= rel_a else "a (Chebyshev)"
+        raise ResolutionError(
+            f"{what} within the grid budget (P = {P} Chebyshev points, M = {M} phases): the "
+            f"coefficient tails in {where} are still {max(rel_a, rel_p):.1e} of the size of "
+            f"the quantities; {advice}")
+
+
+def _differences(run: _Run, check: _Run, lo: float, hi: float
+                 ) -> list[tuple[float, float, float]]:
+    """Per order: the largest differences of A_n, B_n, u_n between two grids on [lo, hi]."""
+    at = np.linspace(lo, hi, 2 * run.P + 1)
+    W1 = chebyshev.barycentric_matrix(run.alg.lo, run.alg.hi, check.P, at)
+    W0 = chebyshev.barycentric_matrix(run.alg.lo, run.alg.hi, run.P, at)
+    h = min(run.M, check.M) // 2
+    out = []
+    for n in range(len(run.A)):
+        dA = float(np.max(np.abs(W1 @ check.A[n] - W0 @ run.A[n])))
+        dB = float(np.max(np.abs(W1 @ check.B[n] - W0 @ run.B[n])))
+        s1 = W1 @ (np.fft.rfft(check.U[n], axis=1) * (2.0 / check.M))
+        s0 = W0 @ (np.fft.rfft(run.U[n], axis=1) * (2.0 / run.M))
+        du = np.sum(np.abs(s1[:, :h] - s0[:, :h]), axis=1) + np.sum(np.abs(s1[:, h:]), axis=1)
+        out.append((dA, dB, float(np.max(du))))
+    return out
+
+
+def _result(model, order, lo, hi, w0, tol, run: _Run, errs, diffs) -> NumericExpansion:
+    M, domain = run.M, (lo, hi, run.alg.lo, run.alg.hi)
+    A = [ConstantFunction("A_0", 0.0)]
+    B = [ConstantFunction("B_0", w0)]
+    U = [ConstantFunction("u_0", 0.0, wave=True)]
+    for n in range(1, order + 1):
+        A.append(AmplitudeFunction(f"A_{n}", *domain, run.A[n - 1].copy()))
+        B.append(AmplitudeFunction(f"B_{n}", *domain, run.B[n - 1].copy()))
+        spec = np.fft.rfft(run.U[n - 1], axis=1) * (2.0 / M)
+        spec[:, 0] *= 0.5
+        spec[:, -1] = 0.0
+        U.append(WaveFunction(f"u_{n}", *domain, spec.real.copy(), -spec.imag.copy()))
+    A_err = [0.0] + [max(e[1], d[0]) for e, d in zip(errs, diffs)]
+    B_err = [0.0] + [max(e[2], d[1]) for e, d in zip(errs, diffs)]
+    u_err = [0.0] + [max(e[3], e[4], d[2]) for e, d in zip(errs, diffs)]
+    return NumericExpansion(model=model, order=order, a_range=(lo, hi), omega0=w0, tol=tol,
+                            resolution=(run.P, run.M), A=tuple(A), B=tuple(B), u=tuple(U),
+                            A_error=tuple(A_err), B_error=tuple(B_err), u_error=tuple(u_err))

@@ -179,10 +179,10 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     prog.done(", ".join(f"{c.key}: {c.verdict}" for c in claims))
 
     prog.stage("friction laws and maps: does self-excitation lower friction? (all cores)")
-    study = friction_study(size=16, laws=12)
+    study = friction_study(size=8, laws=12)
     (out / "tables" / "friction.md").write_text(study.table())
     (out / "tables" / "friction.json").write_text(_strict_json(study.to_json()) + "\n")
-    summary += ["## Friction laws and maps (SEDF against CDC; 16 x 16 maps here, 32 x 32 in "
+    summary += ["## Friction laws and maps (SEDF against CDC; 8 x 8 maps here, 32 x 32 in "
                 "the docs)", "", study.table()]
     prog.done()
 

@@ -135,3 +135,25 @@ def test_cli_bad_input_one_line_and_status_2(argv, words, capsys):
     assert main(["friction", "cdc", "-p", "Delta=3", *argv]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and words in err[0], err
+
+
+def test_friction_figures_and_the_study_table(tmp_path):
+    """The law and map figures are written, and the study's table counts what the maps hold."""
+    from numerics.paper.figures.friction import law_figure, map_figure
+    from numerics.paper.friction import FrictionStudy
+    from numerics.sliding.maps import SliderComparison
+
+    params = {"mu": 0.1, "lam": 1.0, "Delta": 3.0}
+    laws = tuple(friction_map(m, {**params, **({"beta": 1.0} if m != "cdc" else {})},
+                              {"v": [0.5, 3.0]}, settings=FAST, workers=1, progress=False)
+                 for m in ("sedf_comoving", "cdc"))
+    assert law_figure(laws, tmp_path / "law.png").stat().st_size > 10_000
+    comp = compare_sliders({"mu": 0.1, "lam": 1.0, "beta": 1.0},
+                           {"v": [0.5, 3.0], "Delta": [1.0, 3.0]}, settings=FAST, workers=1,
+                           progress=False)
+    assert isinstance(comp, SliderComparison)
+    assert map_figure(comp, tmp_path / "map.png", [(0.5, 3.0, "P")]).stat().st_size > 10_000
+    table = FrictionStudy(laws={3.0: laws}, v_delta=comp, v_beta=comp).table()
+    assert "| 3 | sedf_comoving |" in table and "| 3 | cdc |" in table
+    s = comp.summary()
+    assert f"| {s['compared']}/4 |" in table

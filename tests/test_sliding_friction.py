@@ -133,6 +133,9 @@ def test_regimes_of_the_three_sliders():
     ({**PAPER, "v": float("nan")}, "finite"),
     ({**PAPER}, "stage velocity is missing"),
     ({**PAPER, "v": 0.1, "beta": 1.0}, "unknown parameter 'beta'"),
+    ({**PAPER, "v": 1e-7}, "outside the range of the friction laws"),
+    ({**PAPER, "v": 1e5}, "outside the range of the friction laws"),
+    ({**PAPER, "v": 1e-3, "Delta": 1e6}, "samples of the well's oscillation"),
 ])
 def test_bad_points_are_refused(params, match):
     with pytest.raises(ParameterError, match=match):

@@ -69,7 +69,13 @@ from kbm.errors import KBMError, ParameterError
 
 from numerics.sliding.driven import DrivenSystem, driven_system
 
-__all__ = ["FrictionSettings", "FrictionPoint", "friction_point", "eta", "REGIMES"]
+__all__ = ["FrictionSettings", "FrictionPoint", "friction_point", "eta", "REGIMES", "V_RANGE"]
+
+#: the stage velocities measured, in units of Omega lam (the samples and the run lengths stay
+#: bounded: at most ~2 million samples, 30000 natural periods)
+V_RANGE = (1e-4, 1e3)
+#: the most samples in one stage period (a strong potential at a slow stage)
+MAX_SAMPLES_PER_WELL = 500_000
 
 #: the regimes of a steady sliding state
 REGIMES = ("stick-slip", "smooth sliding", "self-oscillating sliding", "oscillating sliding",
@@ -120,7 +126,7 @@ class FrictionSettings:
     transient_damping: float = 10.0
     sliding_wells: int = 20
     max_wells: int = 3000
-    max_periods: float = 100_000.0
+    max_periods: float = 30_000.0
     max_doublings: int = 2
     max_doublings_sliding: int = 5
     samples_per_period: int = 16
@@ -249,8 +255,9 @@ def friction_point(model: str, params: Mapping[str, object], *,
     Raises
     ------
     kbm.errors.ParameterError
-        For bad parameters or settings.  A run that fails (diverges) is not raised: the
-        point carries the ``error``.
+        For bad parameters or settings, or ``v`` outside :data:`V_RANGE` times ``Omega
+        lam``.  A run that fails (diverges) is not raised: the point carries the
+        ``error``.
 
     Examples
     --------
@@ -261,10 +268,20 @@ def friction_point(model: str, params: Mapping[str, object], *,
     """
     settings = settings or FrictionSettings()
     system = driven_system(model, params, engine=engine, rtol=rtol, atol=atol)
+    scale = system.omega * system.lam
+    lo, hi = V_RANGE
+    if not lo * scale <= system.v <= hi * scale:
+        raise ParameterError(
+            f"v = {system.v:g} is outside the range of the friction laws, {lo:g} to {hi:g} "
+            f"times Omega lam = {scale:g}: below it one stage period lam/v spans more than "
+            "10^5 natural periods (the quasi-static limit: use the saddle-node slip energy, "
+            "numerics.saddle_node), above it the slider slides smoothly with F = mu v")
     base = dict(model=model, params=dict(system.params), eta=eta(system.params),
                 static_quasistatic=_static_quasistatic(system.params))
     try:
         return _measure(system, settings, base)
+    except ParameterError:
+        raise
     except KBMError as exc:
         return FrictionPoint(**base, error=str(exc))
 
@@ -313,6 +330,11 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionP
     Tw = lam / v
     t_fast = 2 * math.pi / math.sqrt(Om**2 + p.get("Delta", 0.0) * k)
     per_well = max(1, math.ceil(Tw / (t_fast / s.samples_per_period)))
+    if per_well > MAX_SAMPLES_PER_WELL:
+        raise ParameterError(
+            f"one stage period lam/v = {Tw:.4g} holds {per_well} samples of the well's "
+            f"oscillation (period {t_fast:.3g}); the limit is {MAX_SAMPLES_PER_WELL}: raise v "
+            "or lower Delta")
     dt = Tw / per_well
     block = max(1, math.ceil(50 * Tn / Tw))  # wells per block: >= 50 natural periods
     skip = math.ceil(max(s.transient_wells * Tw, s.transient_damping / mu) / Tw)

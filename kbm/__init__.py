@@ -16,6 +16,7 @@ from .evaluate import mpmath_function, numpy_function
 from .latex import latex
 from .models import MODELS, Oscillator, custom_model, get_model, model_names
 from .result import KBMFunctions, KBMResult
+from .numeric_series import NumericCycleSeries, numeric_cycle_series
 from .series import LimitCycleSeries, limit_cycle_series
 from .symbols import a, mu, parse, psi, t, x, xdot
 
@@ -25,7 +26,7 @@ __all__ = [
     "SeriesTruncationError",
     "derive", "KBMResult", "KBMFunctions", "numpy_function", "mpmath_function", "latex",
     "AveragedCycle", "AveragedRates", "LimitCycleSeries", "averaged_cycles", "averaged_rates",
-    "limit_cycle_series",
+    "limit_cycle_series", "NumericCycleSeries", "numeric_cycle_series",
     "MODELS", "Oscillator", "custom_model", "get_model", "model_names",
     "a", "mu", "parse", "psi", "t", "x", "xdot",
 ]

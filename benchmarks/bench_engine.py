@@ -4,14 +4,21 @@ Run: ``python benchmarks/bench_engine.py [--quick]``
 
 Prints wall-clock times of
 
-- ``derive("vdp", N)`` for N = 2, 4, 8, 12 (target: N = 12 under 3 s),
-- ``limit_cycle_series("vdp", N)`` for N = 12, 24, 40 (target: mu**24 under 5 s),
+- ``derive("vdp", N)`` for N = 2, 4, 8, 12, 30 (targets: N = 12 under 3 s, N = 30 under 2 s),
+- ``limit_cycle_series("vdp", N)`` for N = 12, 24, 40, 80 (targets: mu**24 under 5 s,
+  mu**40 under 3 s), and ``numeric_cycle_series("vdp", 300)`` (double precision),
 - ``derive("sedf", 2)`` with symbolic beta, delta, k, Omega (target: under 5 s),
 - the ``kbm derive vdp --order 12`` command line (including interpreter start-up),
 
-and, as the baseline, the textbook route for van der Pol at order 2: the
-secular conditions as ``sympy.integrate`` over psi and ``u_n`` by ``sympy.dsolve``,
-with the ratio of the two times.  Each timing is the best of ``repeat`` runs.
+and two baselines in the same run, with the ratios:
+
+- the textbook route for van der Pol at order 2: the secular conditions as
+  ``sympy.integrate`` over psi and ``u_n`` by ``sympy.dsolve``;
+- the specialised exact Lindstedt expansion of van der Pol over ``fractions.Fraction``
+  (``tests/reference/lindstedt_fraction.py``, written straightforwardly: dicts of
+  harmonics, product-to-sum formulas) at mu**40, against the general engine.
+
+Each timing is the best of ``repeat`` runs (one run for the long cases).
 """
 
 from __future__ import annotations
@@ -21,9 +28,15 @@ import subprocess
 import sys
 import time
 
+from pathlib import Path
+
 import sympy as sp
 
 from kbm import custom_model, derive, derive_values, limit_cycle_series, numeric_derive
+from kbm.numeric_series import numeric_cycle_series
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+from reference.lindstedt_fraction import vdp_lindstedt_fraction  # noqa: E402
 
 
 def best_of(fn, repeat: int) -> float:
@@ -66,13 +79,19 @@ def main() -> None:
     ns = ap.parse_args()
     rep = 1 if ns.quick else ns.repeat
     rows = []
-    for N in (2, 4, 8, 12):
-        rows.append((f"derive vdp order {N}", best_of(lambda N=N: derive("vdp", N), rep),
-                     3.0 if N == 12 else None))
-    for N in ((12, 24) if ns.quick else (12, 24, 40)):
+    for N in (2, 4, 8, 12, 30):
+        targets = {12: 3.0, 30: 2.0}
+        rows.append((f"derive vdp order {N}",
+                     best_of(lambda N=N: derive("vdp", N), 1 if N == 30 else rep),
+                     targets.get(N)))
+    for N in ((12, 24, 40) if ns.quick else (12, 24, 40, 80)):
         rows.append((f"series vdp to mu^{N}",
-                     best_of(lambda N=N: limit_cycle_series("vdp", N), 1 if N == 40 else rep),
-                     5.0 if N == 24 else None))
+                     best_of(lambda N=N: limit_cycle_series("vdp", N), 1 if N == 80 else rep),
+                     {24: 5.0, 40: 3.0}.get(N)))
+    t_series40 = min(t for name, t, _ in rows if name == "series vdp to mu^40")
+    if not ns.quick:
+        rows.append(("series vdp to mu^300 (float)",
+                     best_of(lambda: numeric_cycle_series("vdp", 300), 1), 60.0))
     rows.append(("derive sedf order 2 (symbolic)", best_of(lambda: derive("sedf", 2), rep), 5.0))
     sedf_p = {"beta": 1.0, "delta": 0.5, "k": 2.0}
     amps = [0.5 + 0.25 * i for i in range(11)]
@@ -89,8 +108,13 @@ def main() -> None:
     rows.append(("CLI kbm derive vdp --order 12",
                  best_of(lambda: subprocess.run(cmd, check=True, capture_output=True), rep),
                  None))
+    cmd = [sys.executable, "-m", "numerics.cli", "series", "vdp", "--order", "40"]
+    rows.append(("CLI kbm series vdp --order 40",
+                 best_of(lambda: subprocess.run(cmd, check=True, capture_output=True), rep),
+                 3.0))
     t_naive = best_of(naive_vdp_order2, 1)
     t_ours = best_of(lambda: derive("vdp", 2), rep)
+    t_fraction = best_of(lambda: vdp_lindstedt_fraction(40), 1)
     print(f"{'case':38s} {'time [s]':>10s} {'target [s]':>11s}  verdict")
     for name, t, target in rows:
         verdict = "" if target is None else ("ok" if t < target else "MISSED")
@@ -99,6 +123,9 @@ def main() -> None:
     print(f"\nbaseline: naive sympy integrate/dsolve, vdp order 2: {t_naive:.3f} s")
     print(f"engine,                              vdp order 2: {t_ours:.4f} s")
     print(f"speed-up ratio (baseline / engine): {t_naive / t_ours:.0f}x")
+    print(f"\nbaseline: specialised Fraction Lindstedt, vdp mu^40: {t_fraction:.3f} s")
+    print(f"engine (limit_cycle_series),         vdp mu^40: {t_series40:.3f} s")
+    print(f"speed-up ratio (baseline / engine): {t_fraction / t_series40:.1f}x")
 
 
 if __name__ == "__main__":

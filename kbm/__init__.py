@@ -18,6 +18,7 @@ from .numeric_kbm import NumericExpansion, numeric_derive
 from .pointwise import ExpansionValues, derive_values
 from .models import MODELS, Oscillator, custom_model, get_model, model_names
 from .result import KBMFunctions, KBMResult
+from .numeric_series import NumericCycleSeries, numeric_cycle_series
 from .series import LimitCycleSeries, limit_cycle_series
 from .symbols import a, mu, parse, psi, t, x, xdot
 
@@ -27,7 +28,7 @@ __all__ = [
     "SeriesTruncationError", "ResolutionError",
     "derive", "derive_values", "ExpansionValues", "numeric_derive", "NumericExpansion", "KBMResult", "KBMFunctions", "numpy_function", "mpmath_function", "latex",
     "AveragedCycle", "AveragedRates", "LimitCycleSeries", "averaged_cycles", "averaged_rates",
-    "limit_cycle_series",
+    "limit_cycle_series", "NumericCycleSeries", "numeric_cycle_series",
     "MODELS", "Oscillator", "custom_model", "get_model", "model_names",
     "a", "mu", "parse", "psi", "t", "x", "xdot",
 ]

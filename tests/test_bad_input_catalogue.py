@@ -56,7 +56,9 @@ CLI_CASES = [
     ("derive vdp --order 1 --json --latex", "not allowed with argument --json"),
     # series
     ("series vdp --order -1", "integer >= 0"),
-    ("series vdp --order 30", "above the limit 29"),
+    ("series vdp --order 201", "above the limit 200"),
+    ("series vdp --order 30 --method kbm", "above the limit 29"),
+    ("series vdp --order 10 --float --digits 1", "--digits must"),
     ("series --rhs sin(x) --order 2", "polynomial F"),
     ("series vdp --order 2 --root 7", "not a root"),
     # cycle
@@ -170,7 +172,9 @@ API_CASES = [
     ("custom model omega0 0", lambda p: custom_model("-x**3", omega0=0), ModelError, "omega0"),
     ("custom model code", lambda p: custom_model("__import__('os').system('true')"),
      ModelError, "not allowed"),
-    ("series order 30", lambda p: limit_cycle_series("vdp", 30), OrderError, "limit 29"),
+    ("series order 201", lambda p: limit_cycle_series("vdp", 201), OrderError, "limit 200"),
+    ("series order 30 averaged", lambda p: limit_cycle_series("vdp", 30, method="kbm"),
+     OrderError, "limit 29"),
     ("bind lam 0", lambda p: bind("sedf", {"mu": 0.1, "beta": 1, "Delta": 1, "lam": 0}),
      ParameterError, "lam"),
     ("bind mu 0 with Delta", lambda p: bind("sedf", {"mu": 0, "beta": 1, "Delta": 1, "lam": 1}),

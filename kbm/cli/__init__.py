@@ -74,6 +74,10 @@ _TRANSLATIONS = (
     (re.compile(r"\bcustom_model\b"), "--rhs EXPR"),
     (re.compile(r"\(x_start\)"), "(--x-start)"),
     (re.compile(r"\bpotential=(\.\.\.)?"), "--potential "),
+    (re.compile(r"\bmethod='(\w+)'"), r"--method \1"),
+    (re.compile(r"^digits must"), "--digits must"),
+    (re.compile(r"use numeric_cycle_series for"), "use --float for"),
+    (re.compile(r"with digits \(pure-Python mpmath\)"), "with --digits (pure-Python mpmath)"),
 )
 
 

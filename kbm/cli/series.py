@@ -1,4 +1,4 @@
-"""``kbm series``: exact mu-series of the limit-cycle frequency and amplitude."""
+"""``kbm series``: mu-series of the limit-cycle frequency and amplitude, exact or floating."""
 
 from __future__ import annotations
 
@@ -8,27 +8,52 @@ from ._common import add_param_option, emit_json
 
 
 def register(sub) -> None:
-    p = sub.add_parser("series", help="exact mu-series of the limit cycle (polynomial F)",
+    p = sub.add_parser("series", help="mu-series of the limit cycle (polynomial F)",
                        description="Expand the limit-cycle frequency omega* and first-harmonic "
-                                   "amplitude a* of the averaged equations in powers of mu, "
-                                   "with exact rational coefficients.")
+                                   "amplitude a* in powers of mu: exact rationals (to mu^200), or "
+                                   "with --float in floating point to high order (to mu^1000), "
+                                   "with the radius of convergence and Pade resummation.")
     p.add_argument("model", nargs="?", help="built-in model with polynomial F (e.g. vdp)")
     p.add_argument("--rhs", metavar="EXPR", help="your own polynomial F")
     p.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")
     p.add_argument("--order", "-n", type=int, required=True, help="highest power of mu")
     p.add_argument("--root", default=None, help="first-order amplitude a0 if A_1 has several "
                    "positive roots")
+    p.add_argument("--method", choices=("auto", "lindstedt", "kbm"), default="auto",
+                   help="exact route: Lindstedt recursion on the cycle (fast), or the root of "
+                        "the KBM averaged equations (order <= 29); default: the first that "
+                        "applies")
+    p.add_argument("--float", action="store_true", dest="floating",
+                   help="floating-point coefficients (double precision unless --digits), "
+                        "with the nearest singularity and Pade values")
+    p.add_argument("--digits", type=int, default=None,
+                   help="with --float: decimal digits of an mpmath computation (5..1000; slow, "
+                        "order <= 200)")
+    p.add_argument("--at", type=float, action="append", default=[], metavar="MU",
+                   help="with --float: Pade-resummed omega* and a* at this mu (repeatable)")
     add_param_option(p)
     p.add_argument("--json", action="store_true", help="print JSON (rationals as strings)")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..series import limit_cycle_series
+    from ..errors import ParameterError
     from .derive import model_from_args
 
     model = model_from_args(args)
-    s = limit_cycle_series(model, args.order, root=args.root)
+    if not args.floating:
+        if args.digits is not None or args.at:
+            raise ParameterError("--digits and --at go with --float")
+        return _exact(args, model)
+    if args.method != "auto":
+        raise ParameterError("--method chooses the exact route; leave it out with --float")
+    return _floating(args, model)
+
+
+def _exact(args, model) -> int:
+    from ..series import limit_cycle_series
+
+    s = limit_cycle_series(model, args.order, root=args.root, method=args.method)
     if args.json:
         emit_json({"model": model.name, "order": s.order,
                    "omega": [str(c) for c in s.omega],
@@ -36,4 +61,51 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(f"omega* = {s.omega_expr()} + O(mu**{s.order + 1})")
         print(f"a*     = {s.amplitude_expr()} + O(mu**{s.order + 1})")
+    return 0
+
+
+def _floating(args, model) -> int:
+    import mpmath
+
+    from ..numeric_series import numeric_cycle_series
+
+    s = numeric_cycle_series(model, args.order, digits=args.digits, root=args.root)
+    shown = 17 if args.digits is None else args.digits
+
+    def fmt(v) -> str:
+        return mpmath.nstr(mpmath.mpf(v), shown, min_fixed=0, max_fixed=0)
+
+    try:
+        sing = s.singularity()
+    except ValueError:  # too few coefficients for an estimate
+        sing = None
+    pades = {mu: (s.pade(mu, "omega"), s.pade(mu, "amplitude")) for mu in args.at}
+    if args.json:
+        emit_json({
+            "model": model.name, "order": s.order, "digits": args.digits,
+            "variable": s.variable,
+            "omega": [fmt(c) for c in s.omega], "amplitude": [fmt(c) for c in s.amplitude],
+            "singularity": None if sing is None else {
+                "radius": sing.radius, "angle": sing.angle, "radius_last": sing.radius_last,
+                "pole_radius": sing.pole_radius, "pole_angle": sing.pole_angle},
+            "pade": [{"mu": mu, "omega": fmt(w.value), "omega_error": float(w.error),
+                      "amplitude": fmt(a.value), "amplitude_error": float(a.error)}
+                     for mu, (w, a) in pades.items()]})
+        return 0
+    prec = "double precision" if args.digits is None else f"{args.digits} digits"
+    print(f"{model.name}: mu-series to order {s.order} ({prec}), in {s.variable}")
+    for name, coeffs in (("omega*", s.omega), ("a*", s.amplitude)):
+        step = 2 if s.even else 1
+        head = ", ".join(fmt(c) for c in coeffs[:9:step])
+        print(f"{name:7s} coefficients of {s.variable}^k: {head}, ..., "
+              f"[{s.order}] {fmt(coeffs[s.order])}")
+    if sing is not None:
+        pole = "" if sing.pole_radius is None else (
+            f"; nearest Pade pole |{s.variable}| = {sing.pole_radius:.4f} at angle "
+            f"+-{sing.pole_angle:.4f}")
+        print(f"nearest singularities of omega*: |{s.variable}| = {sing.radius:.4f} at angle "
+              f"+-{sing.angle:.4f} rad (ratio estimates extrapolated){pole}")
+    for mu, (w, a) in pades.items():
+        print(f"mu = {mu:g}: Pade omega* = {fmt(w.value)} (+- {mpmath.nstr(w.error, 2)}), "
+              f"a* = {fmt(a.value)} (+- {mpmath.nstr(a.error, 2)})")
     return 0

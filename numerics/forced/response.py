@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from kbm.errors import ParameterError
 from kbm.forced.arclength import trace
 from kbm.forced.result import SlowFlow
 from kbm.forced.steady import fixed_points
@@ -58,10 +59,13 @@ class _Problem:
     def _eval(self, u):
         key = tuple(np.round(u, 15))
         if key != self._key:
-            yT = self.s.flow(u[:2], u[2])[-1]
+            try:
+                yT = self.s.flow(u[:2], u[2])[-1]
+                h = 1e-7 * (1 + abs(u[2]))
+                yh = self.s.flow(u[:2], u[2] + h, extended=False)[-1]
+            except (NumericsError, ParameterError) as exc:  # a failed step of the corrector
+                raise ArithmeticError(str(exc)) from None
             g = yT[:2] - u[:2]
-            h = 1e-7 * (1 + abs(u[2]))
-            yh = self.s.flow(u[:2], u[2] + h, extended=False)[-1]
             dg = (yh[:2] - yT[:2]) / h
             Phi = np.array([[yT[2], yT[4]], [yT[3], yT[5]]])
             self._key, self._val = key, (g, np.column_stack([Phi - np.eye(2), dg]))

@@ -1,0 +1,142 @@
+"""``kbm response``: the frequency-response curve of a forced oscillator, KBM and shooting."""
+
+from __future__ import annotations
+
+import argparse
+
+from kbm.cli._common import add_param_option, emit_json, parse_params
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "response", help="frequency-response curve of a forced oscillator (KBM near a "
+                         "resonance, checked by shooting)",
+        description="x'' + omega0^2 x = mu F(x, x', theta), theta = nu t, "
+                    "nu = (p/q) omega0 + mu sigma: the slow flow of the forced KBM expansion "
+                    "to order N, its fixed points (stable and unstable) followed in sigma with "
+                    "the folds (jump points) and the backbone, next to the true periodic "
+                    "responses of period 2 pi p/nu by shooting and pseudo-arclength "
+                    "continuation with Floquet multipliers.")
+    p.add_argument("model", nargs="?",
+                   help="a forced model (duffing-forced, duffing-super, mathieu, vdp-forced, "
+                        "parametric) or an autonomous one (duffing, vdp, ...) with --forcing")
+    p.add_argument("--rhs", metavar="EXPR",
+                   help="your own F in x, xdot, theta and parameters (instead of a model)")
+    p.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")
+    p.add_argument("--forcing", metavar="EXPR",
+                   help="added to F: a 2 pi-periodic function of theta = nu t, polynomial in "
+                        "x and xdot, e.g. 'h*cos(theta)' or '-h*x*cos(theta)'")
+    p.add_argument("--resonance", metavar="P/Q", default=None,
+                   help="the declared resonance nu ~ (p/q) omega0 (1/1 primary, 1/3 "
+                        "superharmonic, 3 subharmonic, 2 parametric); default the model's")
+    add_param_option(p)
+    p.add_argument("--vary", required=True, metavar="sigma=FROM:TO[:N]",
+                   help="the detuning range and about N points per branch (default 400)")
+    p.add_argument("--order", type=int, default=1, help="KBM order of the analytic curve (1)")
+    p.add_argument("--amax", type=float, default=5.0,
+                   help="largest amplitude searched for steady states (default 5)")
+    p.add_argument("--no-numeric", action="store_true", help="the analytic curve only")
+    p.add_argument("--out", metavar="DIR", help="write the figure response.png into DIR")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=run)
+
+
+def _vary(text: str) -> tuple[float, float, int]:
+    from kbm.errors import ParameterError
+
+    name, sep, rng = text.partition("=")
+    parts = rng.split(":")
+    if name.strip() != "sigma" and sep:
+        raise ParameterError(f"kbm response varies the detuning: --vary sigma=FROM:TO[:N], "
+                             f"not {name.strip()!r}")
+    try:
+        if not sep or len(parts) not in (2, 3):
+            raise ValueError
+        lo, hi = float(parts[0]), float(parts[1])
+        n = int(parts[2]) if len(parts) == 3 else 400
+    except ValueError:
+        raise ParameterError(f"--vary takes sigma=FROM:TO[:N] (e.g. sigma=-1:3:400), got "
+                             f"{text!r}") from None
+    return lo, hi, n
+
+
+def forced_model(args: argparse.Namespace):
+    """The forced model of the command line: a forced built-in, or a model/--rhs with
+    --forcing added."""
+    from kbm.errors import ModelError
+    from kbm.forced import FORCED_MODELS, ForcedOscillator, add_forcing, get_forced_model
+    from kbm.models import custom_model
+
+    if args.model and args.rhs:
+        raise ModelError("give either a model name or --rhs, not both")
+    if not args.model and not args.rhs:
+        raise ModelError("name a forced model (e.g. duffing-forced) or give --rhs EXPR")
+    if args.model and args.omega0 is not None:
+        raise ModelError(f"--omega0 applies to --rhs only, not to the model {args.model!r}")
+    res = args.resonance or "1/1"
+    if args.rhs:
+        from kbm.symbols import parse
+
+        F = parse(args.rhs, extra=("theta",))
+        if args.forcing:
+            F = F + parse(args.forcing, extra=("theta",))
+        w0 = custom_model("x", omega0=1 if args.omega0 is None else args.omega0).omega0
+        return ForcedOscillator("custom", F, w0, res, f"user model mu*({F})")
+    if args.model in FORCED_MODELS:
+        model = get_forced_model(args.model)
+        if args.forcing:
+            from kbm.symbols import parse
+
+            model = ForcedOscillator(model.name, model.F + parse(args.forcing, extra=("theta",)),
+                                     model.omega0, model.resonance, model.description)
+        return model
+    if not args.forcing:
+        raise ModelError(f"the model {args.model!r} has no forcing: add one with --forcing "
+                         "EXPR in theta (e.g. --forcing 'h*cos(theta)'), or use a forced model "
+                         f"({', '.join(FORCED_MODELS)})")
+    return add_forcing(args.model, args.forcing, res, name=f"{args.model}-forced")
+
+
+def run(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from kbm.errors import ParameterError
+    from numerics.forced.diagram import response_diagram
+
+    lo, hi, n = _vary(args.vary)
+    if not 1 <= args.order <= 8:
+        raise ParameterError(f"--order must be between 1 and 8, got {args.order}")
+    if not args.amax > 0:
+        raise ParameterError(f"--amax must be positive, got {args.amax}")
+    model = forced_model(args)
+    d = response_diagram(model, parse_params(args.param), (lo, hi), order=args.order,
+                         n_points=n, resonance=args.resonance,
+                         amplitudes=(1e-3 * args.amax, args.amax), numeric=not args.no_numeric)
+    if args.out:
+        from numerics.forced.figures import plot_response
+
+        plot_response(d, Path(args.out) / "response.png")
+    if args.json:
+        emit_json(d.to_json())
+        return 0
+    print(f"{d.model}, resonance {d.resonance}, KBM order {d.order}: "
+          f"{', '.join(f'{k} = {v:g}' for k, v in d.values.items())}")
+    print(f"  slow flow: da/dt = {d.slow_flow[0]}\n             dphi/dt = {d.slow_flow[1]}")
+    for i, b in enumerate(d.analytic.branches):
+        print(f"  analytic branch {i}: {len(b.sigma)} points, amplitude "
+              f"{b.amplitude.min():.6g} .. {b.amplitude.max():.6g}, "
+              f"{int(b.stable.sum())} stable")
+    for f in d.analytic.folds:
+        print(f"  fold (jump) at sigma = {f.sigma:.10g}, a = {f.amplitude:.8g}")
+    if d.numeric is not None:
+        for i, b in enumerate(d.numeric.branches):
+            print(f"  shooting branch {i}: {len(b)} responses, "
+                  f"{sum(o.stable for o in b)} stable")
+        for o in d.numeric.folds:
+            print(f"  true fold at sigma = {o.sigma:.10g}, a = {o.amplitude:.8g}, "
+                  f"max|x| = {o.amplitude_max:.8g}")
+        for msg in d.numeric.failures:
+            print(f"  not continued: {msg}")
+    if args.out:
+        print(f"  figure: {Path(args.out) / 'response.png'}")
+    return 0

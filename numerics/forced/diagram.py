@@ -36,6 +36,7 @@ class ResponseDiagram:
     numeric: NumericResponse | None
     backbone: tuple[tuple[float, float], ...]
     slow_flow: tuple[str, str]
+    amplitude_window: float = 5.0
 
     def to_json(self) -> dict:
         """``analytic``: [{sigma, amplitude, stable}], ``numeric``: [{sigma, amplitude_max,
@@ -52,7 +53,9 @@ class ResponseDiagram:
             "folds": [{"sigma": f.sigma, "amplitude": f.amplitude}
                       for f in self.analytic.folds],
             "numeric_folds": [{"sigma": o.sigma, "amplitude": o.amplitude,
-                               "amplitude_max": o.amplitude_max}
+                               "amplitude_max": o.amplitude_max,
+                               "kind": "branch point on x = 0"
+                               if o.amplitude_max < 1e-3 * self.amplitude_window else "fold"}
                               for o in (num.folds if num is not None else ())],
             "backbone": [{"sigma": s, "amplitude": av} for s, av in self.backbone],
             "numeric_failures": list(num.failures) if num is not None else [],
@@ -109,4 +112,4 @@ def response_diagram(model: ForcedOscillator | str, values: Mapping[str, object]
                  if np.isfinite(s) and lo <= s <= hi)
     return ResponseDiagram(model.name, res.resonance, order,
                            {k: float(v) for k, v in vals.items()}, (lo, hi), curve, num, bone,
-                           (str(sf.exprs[0]), str(sf.exprs[1])))
+                           (str(sf.exprs[0]), str(sf.exprs[1])), float(amplitudes[1]))

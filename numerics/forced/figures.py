@@ -39,6 +39,10 @@ def _draw(ax, d: ResponseDiagram, color: str, label: str, numeric: bool = True) 
         label = None
     for f in d.analytic.folds:
         ax.plot(f.sigma, f.amplitude, "o", color=color, ms=5, mfc="white")
+    if d.analytic.trivial:
+        tr = np.array(d.analytic.trivial, dtype=float)
+        ax.plot(tr[:, 0], np.where(tr[:, 1] > 0, 0.0, np.nan), "-", color=color, lw=2.5)
+        ax.plot(tr[:, 0], np.where(tr[:, 1] > 0, np.nan, 0.0), "--", color=color, lw=1.2)
     if numeric and d.numeric is not None:
         lab = "shooting (stable / unstable)"
         for b in d.numeric.branches:
@@ -109,6 +113,9 @@ def mathieu_figure(out: Path) -> Path:
             f = sp.lambdify(epsilon, mathieu_transition(tc), "numpy")
             ax.plot(f(eps) * np.ones_like(eps), eps, "--", color=c,
                     label=f"KBM order {n}" if i == 0 else None)
+    fl = _floquet_boundaries(np.linspace(0.1, 0.8, 8))
+    ax.plot(fl[:, 1], fl[:, 0], "ko", ms=4, label="Floquet (trace of monodromy = -2)")
+    ax.plot(fl[:, 2], fl[:, 0], "ko", ms=4)
     ax.set_xlabel(r"$\delta$")
     ax.set_ylabel(r"$\varepsilon$")
     ax.set_title(r"$x'' + (\delta + \varepsilon\cos t)\,x = 0$: the tongue at $\delta = 1/4$",
@@ -119,6 +126,31 @@ def mathieu_figure(out: Path) -> Path:
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path
+
+
+def _floquet_boundaries(eps) -> np.ndarray:
+    """``(eps, delta_low, delta_high)``: where the monodromy matrix of ``x'' + (delta + eps
+    cos t) x = 0`` over ``2 pi`` has trace ``-2`` (the edges of the tongue at 1/4)."""
+    from scipy.integrate import solve_ivp
+    from scipy.optimize import brentq
+    from scipy.special import mathieu_a, mathieu_b
+
+    def trace(d, e):
+        def f(t, y):
+            k = d + e * np.cos(t)
+            return [y[1], -k * y[0], y[3], -k * y[2]]
+
+        s = solve_ivp(f, (0, 2 * np.pi), [1, 0, 0, 1], rtol=1e-11, atol=1e-12, method="DOP853")
+        return s.y[0, -1] + s.y[3, -1] + 2
+
+    rows = []
+    for e in eps:
+        ends = sorted([mathieu_a(1, 2 * e) / 4, mathieu_b(1, 2 * e) / 4])
+        mid = 0.5 * sum(ends)  # inside the tongue: trace < -2
+        lo = brentq(trace, ends[0] - 0.05, mid, args=(e,), xtol=1e-12)
+        hi = brentq(trace, mid, ends[1] + 0.05, args=(e,), xtol=1e-12)
+        rows.append((e, lo, hi))
+    return np.array(rows)
 
 
 def locking_figure(out: Path) -> Path:

@@ -60,3 +60,14 @@ def test_one_line_errors(capsys, argv, words):
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and words in err, err
+
+
+def test_detuning_mode(capsys):
+    d = _json(capsys, ["response", "duffing-forced", *DUFF, "--detuning", "1", "--order", "3",
+                       "--json"])
+    assert [p["stable"] for p in d["analytic"]] == [True, False, True]
+    assert [p["stable"] for p in d["numeric"]] == [True, False, True]
+    for p, q in zip(d["analytic"], d["numeric"]):
+        assert abs(p["amplitude"] - q["amplitude"]) < 1e-3
+    assert main(["response", "duffing-forced", *DUFF]) == 2
+    assert "either --vary" in capsys.readouterr().err

@@ -152,3 +152,21 @@ def test_system_errors():
     with pytest.raises(ConvergenceError, match="no periodic response"):
         periodic_response(ForcedSystem("vdp-forced", {"h": 0.1, "mu": 0.1}), 3.0, (2.0, 0.0),
                           max_iter=3)
+
+
+def test_subharmonic_response_of_period_three_forcing_periods():
+    """Duffing near nu = 3 omega0 (resonance 3): the subharmonic pair (a saddle and a node)
+    of period 6 pi/nu appears at order 2 (weak forcing); shooting finds both, and the
+    order-3 amplitudes are closer (in sum) than the order-2 ones."""
+    from numerics.forced.diagram import steady_states
+
+    m = ForcedOscillator("sub", "-2*zeta*xdot - x**3 + h*cos(theta)", resonance="3")
+    vals = {"mu": 0.04, "zeta": 0.001, "h": 3}
+    s2 = steady_states(m, vals, 1.0, order=2, amplitudes=(1e-3, 3))
+    s3 = steady_states(m, vals, 1.0, order=3, amplitudes=(1e-3, 3), numeric=False)
+    assert [o.stable for o in s2.numeric] == [False, True]
+    nu = 3 + 0.04 * 1.0
+    assert all(abs(o.period - 6 * math.pi / nu) < 1e-12 for o in s2.numeric)
+    e2 = [abs(f.amplitude - o.amplitude) for o, f in zip(s2.numeric, s2.analytic)]
+    e3 = [abs(f.amplitude - o.amplitude) for o, f in zip(s2.numeric, s3.analytic)]
+    assert sum(e3) < sum(e2) / 5 and max(e3) < 1e-4, (e2, e3)

@@ -30,8 +30,10 @@ def register(sub) -> None:
                    help="the declared resonance nu ~ (p/q) omega0 (1/1 primary, 1/3 "
                         "superharmonic, 3 subharmonic, 2 parametric); default the model's")
     add_param_option(p)
-    p.add_argument("--vary", required=True, metavar="sigma=FROM:TO[:N]",
+    p.add_argument("--vary", metavar="sigma=FROM:TO[:N]",
                    help="the detuning range and about N points per branch (default 400)")
+    p.add_argument("--detuning", type=float, metavar="SIGMA",
+                   help="instead of --vary: every steady response at this one detuning")
     p.add_argument("--order", type=int, default=1, help="KBM order of the analytic curve (1)")
     p.add_argument("--amax", type=float, default=5.0,
                    help="largest amplitude searched for steady states (default 5)")
@@ -103,12 +105,17 @@ def run(args: argparse.Namespace) -> int:
     from kbm.errors import ParameterError
     from numerics.forced.diagram import response_diagram
 
-    lo, hi, n = _vary(args.vary)
+    if (args.vary is None) == (args.detuning is None):
+        raise ParameterError("give either --vary sigma=FROM:TO[:N] (a response curve) or "
+                             "--detuning SIGMA (the steady states at one detuning)")
     if not 1 <= args.order <= 8:
         raise ParameterError(f"--order must be between 1 and 8, got {args.order}")
     if not args.amax > 0:
         raise ParameterError(f"--amax must be positive, got {args.amax}")
     model = forced_model(args)
+    if args.detuning is not None:
+        return _run_one(model, args)
+    lo, hi, n = _vary(args.vary)
     d = response_diagram(model, parse_params(args.param), (lo, hi), order=args.order,
                          n_points=n, resonance=args.resonance,
                          amplitudes=(1e-3 * args.amax, args.amax), numeric=not args.no_numeric)
@@ -139,4 +146,36 @@ def run(args: argparse.Namespace) -> int:
             print(f"  not continued: {msg}")
     if args.out:
         print(f"  figure: {Path(args.out) / 'response.png'}")
+    return 0
+
+
+def _run_one(model, args: argparse.Namespace) -> int:
+    import math
+
+    from kbm.errors import ParameterError
+    from numerics.forced.diagram import steady_states
+
+    if not math.isfinite(args.detuning):
+        raise ParameterError(f"--detuning must be a finite number, got {args.detuning}")
+    if args.out:
+        raise ParameterError("--out draws a response curve: use it with --vary")
+    s = steady_states(model, parse_params(args.param), args.detuning, order=args.order,
+                      resonance=args.resonance, amplitudes=(1e-3 * args.amax, args.amax),
+                      numeric=not args.no_numeric)
+    if args.json:
+        emit_json(s.to_json())
+        return 0
+    print(f"{s.model}, resonance {s.resonance}, KBM order {s.order}, sigma = {s.sigma:g}: "
+          f"{len(s.analytic)} steady state(s) with a > 0")
+    for f in s.analytic:
+        print(f"  KBM:      a = {f.amplitude:.10g}, phi = {f.phase:.8g}, "
+              f"{'stable' if f.stable else 'unstable'}")
+    if s.trivial_stable is not None:
+        print(f"  KBM:      a = 0 (trivial), {'stable' if s.trivial_stable else 'unstable'}")
+    for o in s.numeric:
+        mods = ", ".join(f"{abs(m):.6g}" for m in o.multipliers)
+        print(f"  shooting: a = {o.amplitude:.10g}, max|x| = {o.amplitude_max:.8g}, "
+              f"|multipliers| = {mods}, {'stable' if o.stable else 'unstable'}")
+    for msg in s.failures:
+        print(f"  not found: {msg}")
     return 0

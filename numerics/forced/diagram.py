@@ -20,7 +20,7 @@ from kbm.forced.steady import ResponseCurve, backbone, response_curve
 from numerics.forced.response import NumericResponse, numeric_response
 from numerics.forced.system import ForcedSystem
 
-__all__ = ["ResponseDiagram", "response_diagram"]
+__all__ = ["ResponseDiagram", "response_diagram", "SteadyStates", "steady_states"]
 
 
 @dataclass(frozen=True)
@@ -113,3 +113,66 @@ def response_diagram(model: ForcedOscillator | str, values: Mapping[str, object]
     return ResponseDiagram(model.name, res.resonance, order,
                            {k: float(v) for k, v in vals.items()}, (lo, hi), curve, num, bone,
                            (str(sf.exprs[0]), str(sf.exprs[1])), float(amplitudes[1]))
+
+
+@dataclass(frozen=True)
+class SteadyStates:
+    """Every steady response at one detuning: the slow flow's fixed points and, for each,
+    the true periodic response reached from it by shooting."""
+
+    model: str
+    resonance: Resonance
+    order: int
+    sigma: float
+    values: Mapping[str, float]
+    analytic: tuple
+    trivial_stable: bool | None
+    numeric: tuple
+    failures: tuple[str, ...]
+
+    def to_json(self) -> dict:
+        """The keys of :meth:`ResponseDiagram.to_json` at one detuning (no folds)."""
+        an = [{"sigma": f.sigma, "amplitude": f.amplitude, "phase": f.phase,
+               "stable": f.stable} for f in self.analytic]
+        if self.trivial_stable is not None:
+            an.append({"sigma": self.sigma, "amplitude": 0.0, "phase": None,
+                       "stable": self.trivial_stable})
+        return {"model": self.model, "resonance": str(self.resonance), "order": self.order,
+                "parameters": dict(self.values), "sigma": self.sigma, "analytic": an,
+                "numeric": [{"sigma": o.sigma, "amplitude_max": o.amplitude_max,
+                             "amplitude": o.amplitude, "stable": o.stable,
+                             "multipliers": [[m.real, m.imag] for m in o.multipliers]}
+                            for o in self.numeric],
+                "folds": [], "numeric_failures": list(self.failures)}
+
+
+def steady_states(model: ForcedOscillator | str, values: Mapping[str, object], sigma: float,
+                  *, order: int = 1, resonance: Resonance | str | None = None,
+                  amplitudes: tuple[float, float] = (1e-3, 5.0), numeric: bool = True,
+                  rtol: float = 1e-10) -> SteadyStates:
+    """The steady responses at the detuning ``sigma`` (``--detuning``), predicted and true."""
+    from kbm.forced.steady import fixed_points, trivial_stable
+
+    from numerics.errors import NumericsError
+    from numerics.forced.response import guess_from
+    from numerics.forced.shooting import periodic_response
+
+    if isinstance(model, str):
+        model = get_forced_model(model)
+    res = derive_forced(model, order, resonance=resonance)
+    vals = model.resolve(values)
+    sf = res.slow_flow(dict(vals), order=order)
+    fps = tuple(fixed_points(sf, float(sigma), amplitudes))
+    orbits, failures = [], []
+    if numeric:
+        system = ForcedSystem(res.model, vals, resonance=res.resonance, rtol=rtol)
+        for f in fps:
+            try:
+                orbits.append(periodic_response(system, f.sigma,
+                                                guess_from(system, f.amplitude, f.phase,
+                                                           f.sigma)))
+            except NumericsError as exc:
+                failures.append(str(exc))
+    return SteadyStates(model.name, res.resonance, order, float(sigma),
+                        {k: float(v) for k, v in vals.items()}, fps,
+                        trivial_stable(sf, float(sigma)), tuple(orbits), tuple(failures))

@@ -71,3 +71,11 @@ def test_detuning_mode(capsys):
         assert abs(p["amplitude"] - q["amplitude"]) < 1e-3
     assert main(["response", "duffing-forced", *DUFF]) == 2
     assert "either --vary" in capsys.readouterr().err
+
+
+def test_fixed_frequency_names_the_undeclared_resonance(capsys):
+    assert main(["response", "duffing-forced", "--nu", "0.98", "-p", "h=1"]) == 2
+    err = capsys.readouterr().err
+    assert "resonance nu = 1 omega0" in err and "--resonance 1/1" in err
+    d = _json(capsys, ["response", "duffing-forced", "--nu", "0.5", "--order", "2", "--json"])
+    assert d["resonance"] is None and "phi" not in d["A"][1]

@@ -103,3 +103,37 @@ def test_inside_the_tongue_trivial_state_unstable():
     assert trivial_stable(sf, bounds[1] + 0.05) is True
     assert trivial_stable(sf, bounds[1] - 0.05) is False
     assert trivial_stable(sf, bounds[0] - 0.05) is True
+
+
+def _damped_boundary_residual(s, mu, h, z):
+    """tr M + 1 + det M for x'' + 2 mu z x' + (1 + mu h cos nu t) x = 0 over one forcing
+    period (zero when a multiplier is -1: the edge of the principal tongue)."""
+    nu = 2 + mu * s
+
+    def f(t, y):
+        k = 1 + mu * h * np.cos(nu * t)
+        return [y[1], -k * y[0] - 2 * mu * z * y[1], y[3], -k * y[2] - 2 * mu * z * y[3]]
+
+    sol = solve_ivp(f, (0, 2 * np.pi / nu), [1, 0, 0, 1], rtol=1e-12, atol=1e-13,
+                    method="DOP853")
+    M = sol.y[:, -1].reshape(2, 2).T
+    return np.trace(M) + 1 + np.linalg.det(M)
+
+
+def test_damped_tongue_sigma_of_h_against_floquet():
+    """The tongue sigma(h, zeta) of the damped parametric oscillator, symbolic in h and
+    zeta, at orders 1-3 against the Floquet boundary (a multiplier -1); errors fall."""
+    import sympy as sp
+
+    mu, h, z = 0.1, 1.0, 0.1
+    errs = {}
+    for n in (1, 2, 3):
+        curves = transition_curves(derive_forced("parametric", n, {"alpha": 0}))
+        assert {s.name for s in curves[0].sigma.free_symbols} == ({"h", "zeta"} if n == 1
+                                                                   else {"h", "zeta", "mu"})
+        pred = sorted(float(c.sigma.subs({sp.Symbol("h"): h, sp.Symbol("zeta"): z,
+                                          sp.Symbol("mu"): mu})) for c in curves)
+        true = [brentq(_damped_boundary_residual, p - 0.1, p + 0.1, args=(mu, h, z),
+                       xtol=1e-13) for p in pred]
+        errs[n] = max(abs(p - t) for p, t in zip(pred, true))
+    assert errs[2] < errs[1] / 5 and errs[3] < errs[2] / 3, errs

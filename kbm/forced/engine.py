@@ -181,13 +181,18 @@ class _Algebra:
         near = Fraction(1 - m, k) if f > 0 else Fraction(-1 - m, k)
         near = abs(near)
         what = "exactly at" if gap == 0 else f"within {float(gap):.3g} omega0 of"
+        arg = " + ".join(t for t in (_times(m, "psi"), _times(k, "theta")) if t)
         raise SmallDivisorError(
             f"the forcing frequency nu = {self.r} omega0 is {what} the resonance "
-            f"nu = {near} omega0: the harmonic cos({m}*psi + {k}*theta) of R_{n} has the small "
+            f"nu = {near} omega0: the harmonic cos({arg}) of R_{n} has the small "
             f"divisor omega0^2 (1 - ({m} + {k} nu/omega0)^2) and the non-resonant expansion "
             f"breaks down; declare it: resonance='{near.numerator}/{near.denominator}' "
             f"(--resonance {near.numerator}/{near.denominator}) with the detuning "
             f"sigma = (nu - {near} omega0)/mu")
+
+
+def _times(c: int, name: str) -> str:
+    return "" if c == 0 else name if c == 1 else f"-{name}" if c == -1 else f"{c}*{name}"
 
 
 def _recursion(alg: _Algebra, F: sp.Expr, order: int):

@@ -76,7 +76,14 @@ def transition_curves(result: ForcedKBMResult) -> list[TransitionCurve]:
     eq2 = betas[0] - qp * sigma
     roots = sp.solve(eq1, phi)
     per = 2 * sp.pi / res.p
-    phis = sorted({sp.nsimplify(r % per) for r in roots if r.is_real}, key=float)
+    phis = []
+    for r in roots:
+        if r.is_real is False:
+            continue
+        r = sp.nsimplify(r % per) if r.is_number else r  # symbolic roots: kept as solved
+        if r not in phis:
+            phis.append(r)
+    phis.sort(key=lambda r: (not r.is_number, float(r) if r.is_number else 0.0, str(r)))
     out = []
     fk, sk = sp.symbols(f"f1:{N}"), sp.symbols(f"s1:{N}")
     eta = sp.Symbol("eta")

@@ -34,6 +34,10 @@ def register(sub) -> None:
                    help="the detuning range and about N points per branch (default 400)")
     p.add_argument("--detuning", type=float, metavar="SIGMA",
                    help="instead of --vary: every steady response at this one detuning")
+    p.add_argument("--nu", metavar="VALUE",
+                   help="instead of a resonance: a fixed forcing frequency, for the "
+                        "non-resonant expansion (refused, with the resonance named, when a "
+                        "harmonic comes near resonance)")
     p.add_argument("--order", type=int, default=1, help="KBM order of the analytic curve (1)")
     p.add_argument("--amax", type=float, default=5.0,
                    help="largest amplitude searched for steady states (default 5)")
@@ -105,6 +109,8 @@ def run(args: argparse.Namespace) -> int:
     from kbm.errors import ParameterError
     from numerics.forced.diagram import response_diagram
 
+    if args.nu is not None:
+        return _run_nonresonant(args)
     if (args.vary is None) == (args.detuning is None):
         raise ParameterError("give either --vary sigma=FROM:TO[:N] (a response curve) or "
                              "--detuning SIGMA (the steady states at one detuning)")
@@ -178,4 +184,20 @@ def _run_one(model, args: argparse.Namespace) -> int:
               f"|multipliers| = {mods}, {'stable' if o.stable else 'unstable'}")
     for msg in s.failures:
         print(f"  not found: {msg}")
+    return 0
+
+
+def _run_nonresonant(args: argparse.Namespace) -> int:
+    from kbm.errors import ParameterError
+    from kbm.forced import derive_forced
+
+    if args.vary or args.detuning is not None or args.resonance or args.out:
+        raise ParameterError("--nu (a fixed, non-resonant forcing frequency) goes without "
+                             "--vary, --detuning, --resonance and --out")
+    r = derive_forced(forced_model(args), args.order, parse_params(args.param), nu=args.nu)
+    if args.json:
+        emit_json({**r.to_json(), "nu": args.nu})
+        return 0
+    print(f"{r.model.name}, nu = {args.nu} (non-resonant), KBM order {r.order}:")
+    print(f"  da/dt   = {r.amplitude_rate()}\n  dpsi/dt = {r.phase_rate()}")
     return 0

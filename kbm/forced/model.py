@@ -12,14 +12,8 @@ Time dependence that is not periodic through ``theta`` is refused with the reaso
 ``t`` itself (``t*x``, ``exp(t)``), ``theta`` outside ``sin``/``cos`` (``theta*x``) and
 ``sin``/``cos`` of a non-integer multiple of ``theta`` (not 2 pi-periodic).
 
-Built-in forced models (:func:`get_forced_model`):
-
-``duffing-forced``  ``F = -2 zeta x' - alpha x^3 + h cos(theta)`` (Nayfeh & Mook 4.1), 1/1
-``mathieu``         ``F = -x cos(theta)``, ``omega0 = 1/2`` (x'' + (delta + eps cos t) x = 0
-                    near delta = 1/4), 2/1
-``vdp-forced``      ``F = (1 - x^2) x' + h cos(theta)`` (entrainment), 1/1
-``duffing-super``   ``F = -2 zeta x' - alpha x^3 + h cos(theta)``, superharmonic 1/3
-``parametric``      ``F = -2 zeta x' - alpha x^3 - h x cos(theta)``, 2/1
+The built-in forced models are in :mod:`kbm.forced.builtins`; the checks of ``F`` in
+:mod:`kbm.forced.checks`.
 """
 
 from __future__ import annotations
@@ -30,16 +24,15 @@ from fractions import Fraction
 
 import sympy as sp
 
-from ..errors import ModelError, NonAutonomousError, ParameterError, UnsupportedTermError
+from ..errors import ModelError, ParameterError
 from ..models import Oscillator, get_model
-from ..symbols import a, mu, parse, psi, t, x, xdot
+from ..symbols import mu, parse, t, x, xdot
 from ..values import FrozenMap, parameter_value
+from .checks import NonPeriodicError, check_state, check_theta, theta
 
-__all__ = ["ForcedOscillator", "Resonance", "theta", "phi", "sigma", "nu", "get_forced_model",
-           "forced_model_names", "add_forcing", "FORCED_MODELS", "NonPeriodicError"]
+__all__ = ["ForcedOscillator", "Resonance", "theta", "phi", "sigma", "nu", "add_forcing",
+           "NonPeriodicError"]
 
-#: the forcing angle ``theta = nu t``
-theta = sp.Symbol("theta")
 #: the resonant phase ``phi = psi - (q/p) theta``
 phi = sp.Symbol("phi")
 #: the detuning ``sigma``: ``nu = (p/q) omega0 + mu sigma``
@@ -48,10 +41,6 @@ sigma = sp.Symbol("sigma")
 nu = sp.Symbol("nu")
 
 _RESERVED = {"a", "psi", "phi", "sigma", "nu", "t"}
-
-
-class NonPeriodicError(NonAutonomousError):
-    """The time dependence of ``F`` is not a 2 pi-periodic function of ``theta = nu t``."""
 
 
 @dataclass(frozen=True)
@@ -108,64 +97,6 @@ class Resonance:
         return f"{self.p}/{self.q}"
 
 
-def _check_theta(F: sp.Expr, name: str) -> None:
-    """Refuse time dependence that is not 2 pi-periodic in ``theta`` (the reason named)."""
-    if t in F.free_symbols:
-        bad = [term for term in sp.Add.make_args(sp.expand(F)) if term.has(t)]
-        raise NonPeriodicError(
-            f"F of model {name!r} depends on the time t itself ({bad[0]}): a forcing must be "
-            "2*pi-periodic in theta = nu*t, and a term in t (t*x, exp(t)) grows or decays "
-            "instead; write the drive through theta, e.g. h*cos(theta) or x*cos(2*theta)")
-
-    def walk(e: sp.Expr) -> None:
-        if not e.has(theta):
-            return
-        if e == theta:
-            raise NonPeriodicError(
-                f"F of model {name!r} has theta outside sin/cos: a term that grows with "
-                "theta = nu*t is not a periodic forcing; use sin(k*theta), cos(k*theta)")
-        if isinstance(e, (sp.sin, sp.cos)):
-            arg = sp.expand(e.args[0])
-            k = arg.coeff(theta)
-            rest = sp.expand(arg - k * theta)
-            if rest.has(theta) or rest.has(x, xdot) or not k.is_number:
-                raise NonPeriodicError(
-                    f"the term {e} of F is not a periodic forcing: the argument of sin/cos "
-                    "must be k*theta + constant with an integer k")
-            if not k.is_Integer:
-                raise NonPeriodicError(
-                    f"the term {e} of F is not 2*pi-periodic in theta (k = {k} is not an "
-                    "integer); rescale the forcing frequency nu so that every frequency of the "
-                    "drive is an integer multiple of nu")
-            return
-        if e.is_Add or e.is_Mul or (e.is_Pow and e.exp.is_Integer and e.exp > 0):
-            for arg in e.args:
-                walk(arg)
-            return
-        raise NonPeriodicError(
-            f"the term {e} of F is not a periodic forcing: theta = nu*t may enter only through "
-            "sin(k*theta) and cos(k*theta) with integer k (exp, powers of theta, ... are "
-            "not 2*pi-periodic)")
-
-    walk(F)
-
-
-def _check_state(F: sp.Expr, name: str) -> None:
-    """``F`` must be a polynomial in ``x``, ``x'`` (its coefficients may hold theta)."""
-    for term in sp.Add.make_args(sp.expand(F)):
-        for f in sp.Mul.make_args(term):
-            if not f.has(x, xdot):
-                continue
-            if f in (x, xdot) or (f.is_Pow and f.base in (x, xdot) and f.exp.is_Integer
-                                  and f.exp > 0):
-                continue
-            raise UnsupportedTermError(
-                f"the term {f} of F (model {name!r}) is not supported by the forced KBM "
-                "engine: F must be a polynomial in x and xdot whose coefficients are "
-                "trigonometric polynomials in theta (sin(k*x), cos(k*x) are treated by the "
-                "autonomous engine only); expand or approximate that term")
-
-
 @dataclass(frozen=True)
 class ForcedOscillator:
     """``x'' + omega0**2 x = mu F(x, x', theta)``, ``theta = nu t``, ``F`` 2 pi-periodic in theta.
@@ -195,7 +126,7 @@ class ForcedOscillator:
 
     Examples
     --------
-    >>> m = get_forced_model("duffing-forced")
+    >>> m = ForcedOscillator("d", "-2*zeta*xdot - alpha*x**3 + h*cos(theta)")
     >>> m.F
     -alpha*x**3 + h*cos(theta) - 2*xdot*zeta
     >>> m.with_time().F
@@ -224,8 +155,8 @@ class ForcedOscillator:
             if s.name in _RESERVED - {"t"}:
                 raise ModelError(f"the symbol {s.name!r} is reserved (amplitude, phases, "
                                  "detuning and forcing frequency); rename that parameter")
-        _check_theta(F, self.name)
-        _check_state(F, self.name)
+        check_theta(F, self.name)
+        check_state(F, self.name)
         if w0.has(x, xdot, theta, t):
             raise ModelError(f"omega0 = {w0} must be a constant")
         if w0.is_number:
@@ -254,7 +185,8 @@ class ForcedOscillator:
             subs[sp.Symbol(k)] = parameter_value(k, v)
         return ForcedOscillator(self.name, self.F.subs(subs), self.omega0.subs(subs),
                                 self.resonance, self.description,
-                                {k: v for k, v in self.defaults.items() if sp.Symbol(k) not in subs})
+                                {k: v for k, v in self.defaults.items()
+                                 if sp.Symbol(k) not in subs})
 
     def resolve(self, values: Mapping[str, object] | None = None) -> dict[str, sp.Expr]:
         """Exact values of the given parameters (and ``mu``, ``sigma``), defaults filled in."""
@@ -305,55 +237,3 @@ def add_forcing(model: "Oscillator | str", forcing: str | sp.Expr,
                             Resonance.parse(resonance),
                             f"{model.description}, forced with mu*({f})",
                             dict(model.defaults))
-
-
-# ----------------------------------------------------------------------------- built-ins
-_zeta, _alpha, _h = sp.symbols("zeta alpha h")
-
-FORCED_MODELS = {
-    "duffing-forced": lambda: ForcedOscillator(
-        "duffing-forced", -2 * _zeta * xdot - _alpha * x**3 + _h * sp.cos(theta),
-        resonance=Resonance(1, 1),
-        description="Duffing x'' + x = mu (-2 zeta x' - alpha x^3 + h cos nu t), "
-                    "Nayfeh & Mook sec. 4.1.1 (primary resonance)"),
-    "duffing-super": lambda: ForcedOscillator(
-        "duffing-super", -2 * _zeta * xdot - _alpha * x**3 + _h * sp.cos(theta),
-        resonance=Resonance(1, 3),
-        description="Duffing x'' + x = mu (-2 zeta x' - alpha x^3 + h cos nu t) near "
-                    "nu = 1/3 (superharmonic resonance; weak forcing: order >= 3)"),
-    "mathieu": lambda: ForcedOscillator(
-        "mathieu", -x * sp.cos(theta), omega0=sp.Rational(1, 2), resonance=Resonance(2, 1),
-        description="Mathieu x'' + (1/4) x = -mu x cos(nu t), i.e. x'' + (delta + eps cos s) x "
-                    "= 0 with s = nu t, delta = 1/(4 nu^2), eps = mu/nu^2"),
-    "vdp-forced": lambda: ForcedOscillator(
-        "vdp-forced", (1 - x**2) * xdot + _h * sp.cos(theta), resonance=Resonance(1, 1),
-        description="forced van der Pol x'' - mu (1 - x^2) x' + x = mu h cos nu t "
-                    "(entrainment)"),
-    "parametric": lambda: ForcedOscillator(
-        "parametric", -2 * _zeta * xdot - _alpha * x**3 - _h * x * sp.cos(theta),
-        resonance=Resonance(2, 1),
-        description="parametrically excited Duffing x'' + x = mu (-2 zeta x' - alpha x^3 "
-                    "- h x cos nu t), principal parametric resonance"),
-}
-
-
-def forced_model_names() -> tuple[str, ...]:
-    """Names of the built-in forced models."""
-    return tuple(FORCED_MODELS)
-
-
-def get_forced_model(name: str, params: Mapping[str, object] | None = None) -> ForcedOscillator:
-    """A built-in forced model (see the module docstring), optionally with parameters set.
-
-    Raises
-    ------
-    kbm.errors.ModelError
-        For an unknown name (the known ones listed).
-    """
-    try:
-        model = FORCED_MODELS[name]()
-    except KeyError:
-        raise ModelError(f"unknown forced model {name!r}; the built-in forced models are "
-                         f"{', '.join(FORCED_MODELS)} (or add a forcing to any model with "
-                         "--forcing EXPR in theta)") from None
-    return model.substitute(params) if params else model

@@ -11,7 +11,7 @@ import sympy as sp
 
 from ..errors import OrderError, ParameterError
 from ..symbols import a, mu, psi
-from .model import ForcedOscillator, Resonance, phi, sigma, theta
+from .model import ForcedOscillator, Resonance, phi, sigma
 
 __all__ = ["ForcedKBMResult", "SlowFlow"]
 
@@ -92,8 +92,9 @@ class ForcedKBMResult:
         dphi = self.phase_rate(n).subs(known)
         rest = (da.free_symbols | dphi.free_symbols) - {a, phi, sigma}
         if rest:
-            raise ParameterError(f"the slow flow needs values of {', '.join(sorted(s.name for s in rest))}"
-                                 f" (values={{'{sorted(s.name for s in rest)[0]}': ...}})")
+            names = sorted(s.name for s in rest)
+            raise ParameterError(f"the slow flow needs values of {', '.join(names)} "
+                                 f"(values={{'{names[0]}': ...}})")
         return SlowFlow.build(da, dphi, self.resonance, n)
 
     def to_json(self) -> dict:

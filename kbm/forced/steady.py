@@ -167,16 +167,17 @@ def trivial_stable(sf: SlowFlow, sigma: float, eps: float = 1e-6) -> bool | None
     return bool(np.max(np.linalg.eigvals(J).real) < 0)
 
 
-def _on_branches(branches, fp: FixedPoint, per: float) -> bool:
+def _on_branches(branches, fp: FixedPoint) -> bool:
+    """Whether a traced branch passes through ``fp`` (amplitude interpolated in sigma)."""
     for b in branches:
-        s, av, ph = b.sigma, b.amplitude, b.phase
+        s, av = b.sigma, b.amplitude
         for k in range(len(s)):
             if k + 1 < len(s) and (s[k] - fp.sigma) * (s[k + 1] - fp.sigma) <= 0 \
                     and s[k] != s[k + 1]:
                 w = (fp.sigma - s[k]) / (s[k + 1] - s[k])
                 ai = av[k] + w * (av[k + 1] - av[k])
-                gap = abs(ai - fp.amplitude) + abs(av[k + 1] - av[k]) * 0
-                if gap < 1e-3 * (1 + fp.amplitude) + 0.5 * abs(av[k + 1] - av[k]):
+                tol = 1e-3 * (1 + fp.amplitude) + 0.5 * abs(av[k + 1] - av[k])
+                if abs(ai - fp.amplitude) < tol:
                     return True
             elif abs(s[k] - fp.sigma) < 1e-12 and abs(av[k] - fp.amplitude) < 1e-6:
                 return True
@@ -218,7 +219,7 @@ def response_curve(sf: SlowFlow, sigmas: tuple[float, float],
     folds: list[FixedPoint] = []
     for s0 in np.linspace(lo, hi, seeds_at):
         for fp in fixed_points(sf, float(s0), amplitudes):
-            if _on_branches(branches, fp, per):
+            if _on_branches(branches, fp):
                 continue
             u0 = np.array([fp.amplitude, fp.phase, fp.sigma])
             arcs = [trace(G, J, u0, (lo, hi), direction=d, ds=ds, ds_max=4 * ds,

@@ -85,7 +85,6 @@ def transition_curves(result: ForcedKBMResult) -> list[TransitionCurve]:
             phis.append(r)
     phis.sort(key=lambda r: (not r.is_number, float(r) if r.is_number else 0.0, str(r)))
     out = []
-    fk, sk = sp.symbols(f"f1:{N}"), sp.symbols(f"s1:{N}")
     eta = sp.Symbol("eta")
     e1 = sum(mu**n * alphas[n] for n in range(N))
     e2 = sum(mu**n * betas[n] for n in range(N)) - qp * sigma
@@ -113,9 +112,7 @@ def transition_curves(result: ForcedKBMResult) -> list[TransitionCurve]:
                 raise ModelError(f"no solution of the order-{k} transition equations")
             eta_known += mu**k * sp.nsimplify(step[0][f])
             sig_known += mu**k * sp.nsimplify(step[0][s_])
-        sig_mu = sig_known
-        sol = {}
-        out.append(TransitionCurve(phase=p0, sigma=sp.expand(sig_mu.subs(sol)), order=N))
+        out.append(TransitionCurve(phase=p0, sigma=sp.expand(sig_known), order=N))
     return out
 
 

@@ -118,3 +118,19 @@ def test_all_fixed_points_found(s, h, z):
         return  # a near-double root (at a fold): the count is ill-conditioned there
     got = [f.amplitude for f in fixed_points(sf, s, (1e-3, 6), n_a=300)]
     assert len(got) == len(ref) and np.allclose(got, ref, rtol=1e-9), (got, ref)
+
+
+def test_vdp_locked_states_form_a_closed_curve():
+    """Forced van der Pol (h = 0.4): the large-amplitude steady states form a closed curve
+    (traced once, recognised modulo 2 pi in phi) whose folds are the locking boundary
+    (the edges of the stable range found by bisection, numerics.forced.locking)."""
+    from numerics.forced.locking import predicted_boundary
+
+    sf = derive_forced("vdp-forced", 1).slow_flow({"mu": 0.1, "h": 0.4})
+    rc = response_curve(sf, (-0.5, 0.5), (1e-3, 3), n_points=200)
+    closed = [b for b in rc.branches if b.reason == "closed curve"]
+    assert len(closed) == 1 and len(rc.folds) == 2
+    b = closed[0]
+    assert abs(b.sigma[0] - b.sigma[-1]) < 0.02 and abs(b.amplitude[0] - b.amplitude[-1]) < 0.02
+    edge = predicted_boundary(sf, 1.0).sigma
+    assert abs(rc.folds[1].sigma - edge) < 1e-6 and abs(rc.folds[0].sigma + edge) < 1e-6

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["ArcPoint", "Arc", "trace", "tangent", "newton"]
+__all__ = ["ArcPoint", "Arc", "trace", "both_ways", "tangent", "newton"]
 
 
 @dataclass(frozen=True)
@@ -77,7 +77,7 @@ def newton(G: Callable, J: Callable, u: np.ndarray, extra: Callable | None = Non
 def trace(G: Callable, J: Callable, u0: np.ndarray, bounds: tuple[float, float], *,
           direction: float = 1.0, ds: float = 0.02, ds_min: float = 1e-6, ds_max: float = 0.1,
           max_points: int = 2000, inside: Callable[[np.ndarray], bool] | None = None,
-          tol: float = 1e-10) -> Arc:
+          tol: float = 1e-10, periods: np.ndarray | None = None) -> Arc:
     """Follow the curve ``G(u) = 0`` from the solution ``u0`` in one direction.
 
     Parameters
@@ -95,6 +95,9 @@ def trace(G: Callable, J: Callable, u0: np.ndarray, bounds: tuple[float, float],
         Initial, smallest and largest arclength step (adapted to Newton's iterations).
     inside
         Further domain test (e.g. amplitude > 0); the tracing stops outside.
+    periods
+        The period of each component (0 for none, e.g. ``2 pi`` for a phase): a closed
+        curve is recognised modulo these.
 
     Returns
     -------
@@ -138,13 +141,31 @@ def trace(G: Callable, J: Callable, u0: np.ndarray, bounds: tuple[float, float],
                 pass
             reason = f"reached the bound {end:g}"
             break
-        u, t = new, t_new
-        points.append(ArcPoint(u, t))
-        if len(points) > 10 and float(np.linalg.norm(u - points[0].u)) < 0.5 * h:
+        if len(points) > 10 and _passes(points[0].u, u, new, periods):
             reason = "closed curve"
             break
+        u, t = new, t_new
+        points.append(ArcPoint(u, t))
         h = min(ds_max, h * 1.4) if its <= 3 else (h * 0.7 if its > 6 else h)
     return Arc(tuple(points), tuple(folds), reason)
+
+
+def both_ways(run: Callable[[float], Arc]) -> list[Arc]:
+    """``[run(-1)]`` if that arc closed on itself, else ``[run(-1), run(+1)]``."""
+    first = run(-1.0)
+    return [first] if first.reason == "closed curve" else [first, run(1.0)]
+
+
+def _passes(start, u1, u2, periods) -> bool:
+    """Whether the step ``u1 -> u2`` passes the start point (modulo ``periods``)."""
+    s = np.array(start, dtype=float)
+    if periods is not None:
+        per = np.asarray(periods, dtype=float)
+        k = per > 0
+        s[k] = s[k] + per[k] * np.round((u2[k] - s[k]) / per[k])
+    d = u2 - u1
+    w = float(np.clip(np.dot(s - u1, d) / max(float(np.dot(d, d)), 1e-300), 0.0, 1.0))
+    return float(np.linalg.norm(u1 + w * d - s)) < 0.25 * float(np.linalg.norm(d)) + 1e-9
 
 
 def _fold(G, J, u1, u2, t1, t2, tol):

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError
-from .arclength import trace
+from .arclength import both_ways, trace
 from .result import SlowFlow
 
 __all__ = ["FixedPoint", "ResponseBranch", "ResponseCurve", "fixed_points", "response_curve",
@@ -222,10 +222,11 @@ def response_curve(sf: SlowFlow, sigmas: tuple[float, float],
             if _on_branches(branches, fp):
                 continue
             u0 = np.array([fp.amplitude, fp.phase, fp.sigma])
-            arcs = [trace(G, J, u0, (lo, hi), direction=d, ds=ds, ds_max=4 * ds,
-                          ds_min=1e-9 * span, max_points=20 * n_points, inside=inside)
-                    for d in (-1.0, 1.0)]
-            pts = [p.u for p in reversed(arcs[0].points)] + [p.u for p in arcs[1].points[1:]]
+            arcs = both_ways(lambda d: trace(
+                G, J, u0, (lo, hi), direction=d, ds=ds, ds_max=4 * ds, ds_min=1e-9 * span,
+                max_points=20 * n_points, inside=inside, periods=np.array([0.0, per, 0.0])))
+            pts = [p.u for p in reversed(arcs[0].points)] + \
+                [p.u for a in arcs[1:] for p in a.points[1:]]
             U = np.array(pts)
             stable = np.array([max(e.real for e in _eig(sf, *u)) < 0 for u in U])
             branches.append(ResponseBranch(U[:, 2], U[:, 0], U[:, 1] % per, stable,

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.forced.arclength import trace
+from kbm.forced.arclength import both_ways, trace
 from kbm.forced.result import SlowFlow
 from kbm.forced.steady import fixed_points
 
@@ -90,10 +90,10 @@ def continue_response(system: ForcedSystem, start: ForcedOrbit, sigmas: tuple[fl
     def inside(u):
         return bool(np.all(np.isfinite(u)) and abs(u[0]) < amplitude_bound)
 
-    arcs = [trace(prob.G, prob.J, u0, (lo, hi), direction=d, ds=ds, ds_max=2 * ds,
-                  ds_min=1e-7 * span, max_points=4 * n_points, inside=inside, tol=1e-9)
-            for d in (-1.0, 1.0)]
-    us = [p.u for p in reversed(arcs[0].points)] + [p.u for p in arcs[1].points[1:]]
+    arcs = both_ways(lambda d: trace(prob.G, prob.J, u0, (lo, hi), direction=d, ds=ds,
+                                      ds_max=2 * ds, ds_min=1e-7 * span,
+                                      max_points=20 * n_points, inside=inside, tol=1e-9))
+    us = [p.u for p in reversed(arcs[0].points)] + [p.u for a in arcs[1:] for p in a.points[1:]]
     orbits = tuple(orbit_at(system, u[:2], u[2]) for u in us)
     folds = tuple(orbit_at(system, f[:2], f[2]) for a in arcs for f in a.folds)
     return orbits, folds

@@ -1,9 +1,9 @@
 """Figures of forced oscillators: response curves, Mathieu tongues, entrainment.
 
-``python -m numerics.forced.figures DIR`` writes the four figures of ``docs/forced.rst``
+``python -m numerics.forced.figures DIR`` writes the five figures of ``docs/forced.rst``
 (Duffing primary resonance at orders 1 and 2 against shooting, the superharmonic
 resonance, the Mathieu transition curves against scipy's characteristic values and Floquet
-numerics, the van der Pol locking boundary); :func:`plot_response` draws one
+numerics, the van der Pol locking boundary and its closed curve of steady states); :func:`plot_response` draws one
 :class:`~numerics.forced.diagram.ResponseDiagram` (``kbm response --out``).  matplotlib is
 imported lazily (Agg backend).
 """
@@ -18,7 +18,7 @@ import numpy as np
 from numerics.forced.diagram import ResponseDiagram, response_diagram
 
 __all__ = ["plot_response", "duffing_figure", "superharmonic_figure", "mathieu_figure",
-           "locking_figure", "write_all"]
+           "locking_figure", "vdp_response_figure", "write_all"]
 
 
 def _plt():
@@ -193,12 +193,20 @@ def locking_figure(out: Path) -> Path:
     return path
 
 
+def vdp_response_figure(out: Path) -> Path:
+    """The closed curve of forced van der Pol's steady states (h = 0.4, order 2)."""
+    vals = {"mu": 0.1, "h": 0.4}
+    d = response_diagram("vdp-forced", vals, (-0.5, 0.5), order=2, n_points=200,
+                         amplitudes=(1e-3, 3))
+    return plot_response(d, Path(out) / "forced_vdp_response.png")
+
+
 def write_all(out: Path) -> list[Path]:
-    """All four figures of the docs page into ``out``."""
+    """All five figures of the docs page into ``out``."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     return [duffing_figure(out), superharmonic_figure(out), mathieu_figure(out),
-            locking_figure(out)]
+            locking_figure(out), vdp_response_figure(out)]
 
 
 if __name__ == "__main__":  # pragma: no cover

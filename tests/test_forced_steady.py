@@ -134,3 +134,23 @@ def test_vdp_locked_states_form_a_closed_curve():
     assert abs(b.sigma[0] - b.sigma[-1]) < 0.02 and abs(b.amplitude[0] - b.amplitude[-1]) < 0.02
     edge = predicted_boundary(sf, 1.0).sigma
     assert abs(rc.folds[1].sigma - edge) < 1e-6 and abs(rc.folds[0].sigma + edge) < 1e-6
+
+
+@pytest.mark.parametrize("name, vals, sig, order", [
+    ("duffing-forced", {"mu": 0.05, "zeta": 0.1, "alpha": 1, "h": 0.5}, 1.0, 2),
+    ("duffing-forced", {"mu": 0.05, "zeta": 0.1, "alpha": 1, "h": 0.5}, 1.0, 3),
+    ("duffing-forced", {"mu": 0.1, "zeta": 0.05, "alpha": -1, "h": 0.3}, -0.7, 2),
+    ("vdp-forced", {"mu": 0.1, "h": 0.4}, 0.05, 2),
+    ("parametric", {"mu": 0.05, "zeta": 0.05, "alpha": 1, "h": 1}, 0.8, 3),
+])
+def test_scan_finds_every_fixed_point_of_the_resultant(name, vals, sig, order):
+    """The grid scan against elimination by resultants (exact rational arithmetic, every
+    root of a polynomial in a): the same fixed points inside the amplitude window."""
+    from kbm.forced.resultant import fixed_points_resultant
+
+    sf = derive_forced(name, order).slow_flow(vals)
+    exact = [f for f in fixed_points_resultant(sf, sig) if f.amplitude < 4]
+    scan = fixed_points(sf, sig, (1e-3, 4))
+    assert len(exact) >= 2 and len(scan) == len(exact)
+    for f, g in zip(scan, exact):
+        assert abs(f.amplitude - g.amplitude) < 1e-9 and f.stable == g.stable

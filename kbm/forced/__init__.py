@@ -8,6 +8,8 @@
 - :mod:`kbm.forced.result`: :class:`ForcedKBMResult` and the numerical :class:`SlowFlow`;
 - :mod:`kbm.forced.steady`: fixed points of the slow flow, their stability, the
   frequency-response curve, folds and backbone;
+- :mod:`kbm.forced.resultant`: every fixed point of a polynomial slow flow by resultants
+  (the exact check of the scan);
 - :mod:`kbm.forced.tongues`: transition curves (instability tongues) as series;
 - :mod:`kbm.forced.arclength`: the pseudo-arclength continuation shared with
   :mod:`numerics.forced`.

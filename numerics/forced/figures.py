@@ -3,8 +3,9 @@
 ``python -m numerics.forced.figures DIR`` writes the five figures of ``docs/forced.rst``
 (Duffing primary resonance at orders 1 and 2 against shooting, the superharmonic
 resonance, the Mathieu transition curves against scipy's characteristic values and Floquet
-numerics, the van der Pol locking boundary and its closed curve of steady states); :func:`plot_response` draws one
-:class:`~numerics.forced.diagram.ResponseDiagram` (``kbm response --out``).  matplotlib is
+numerics, the van der Pol locking boundary and its closed curve of steady states);
+:func:`plot_response` draws one :class:`~numerics.forced.diagram.ResponseDiagram`
+(``kbm response --out``).  matplotlib is
 imported lazily (Agg backend).
 """
 

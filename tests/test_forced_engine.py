@@ -190,3 +190,35 @@ def test_latex_and_json():
 
     assert sp.expand(parse(js["B"][1], extra=("phi", "sigma")) - r.B[1]) == 0
     assert theta not in r.A[0].free_symbols
+
+
+def test_hard_superharmonic_first_order_is_nayfeh_mook():
+    """x'' + x = mu (-2 zeta x' - alpha x^3) + K cos(nu t), 3 nu = 1 + 3 mu sigma
+    (N&M 4.1.2 with Lambda_NM = Lambda/2, sigma_NM = 3 sigma): A1 = -zeta a +
+    alpha Lambda^3 sin(phi)/8, B1 = 3 alpha (a^2 + 2 Lambda^2)/8 + alpha Lambda^3 cos(phi)/(8a),
+    so that [zeta^2 + (3 sigma - 3 alpha (a^2 + 2 Lambda^2)/8)^2] a^2 = alpha^2 Lambda^6/64."""
+    from kbm.forced import LAMBDA
+
+    r = derive_forced("duffing-super-hard", 1)
+    L = LAMBDA
+    assert sp.expand(r.A[0] - (-Z * a + AL * L**3 * sp.sin(phi) / 8)) == 0
+    assert sp.expand(r.B[0] - (3 * AL * (a**2 + 2 * L**2) / 8
+                               + AL * L**3 * sp.cos(phi) / (8 * a))) == 0
+    assert sp.expand(r.phase_rate(1) - mu * (r.B[0] - 3 * sigma)) == 0
+
+
+def test_hard_subharmonic_first_order():
+    """Near nu = 3: the resonant term of -alpha (y + Lambda cos theta)^3 is
+    -(3/4) alpha Lambda a^2 cos(2 psi - theta) (from 3 y^2 Lambda cos theta)."""
+    from kbm.forced import LAMBDA
+
+    r = derive_forced("duffing-sub-hard", 1)
+    assert sp.expand(r.A[0] - (-Z * a + 3 * LAMBDA * AL * a**2 * sp.sin(3 * phi) / 8)) == 0
+
+
+def test_hard_forcing_refused_at_primary_resonance():
+    m = ForcedOscillator("h", "-x**3", resonance="1/1", hard="K")
+    with pytest.raises(ParameterError, match="weak forcing mu\\*h\\*cos"):
+        derive_forced(m, 1)
+    with pytest.raises(ModelError, match="must be a constant"):
+        ForcedOscillator("h", "-x**3", hard="K*x")

@@ -190,3 +190,28 @@ def test_subharmonic_response_of_period_three_forcing_periods():
     e2 = [abs(f.amplitude - o.amplitude) for o, f in zip(s2.numeric, s2.analytic)]
     e3 = [abs(f.amplitude - o.amplitude) for o, f in zip(s2.numeric, s3.analytic)]
     assert sum(e3) < sum(e2) / 5 and max(e3) < 1e-4, (e2, e3)
+
+
+def test_hard_superharmonic_amplitude_slopes():
+    """Hard superharmonic resonance (K = 1, sigma = 0): orders 1-3 against shooting, slopes
+    ~1, 2, 3 (the response x = y + Lambda cos(nu t): its harmonic at 3 nu is KBM's a)."""
+    t = amplitude_study("duffing-super-hard", {"zeta": 0.02, "alpha": 1, "K": 1}, 0.0,
+                        [0.01, 0.02, 0.04], (1, 2, 3), amplitudes=(1e-3, 3))
+    s = t.slopes
+    assert 0.8 < s[1] < 1.2 and 1.8 < s[2] < 2.3 and 2.6 < s[3] < 3.4, t.to_json()
+
+
+def test_hard_subharmonic_pair_against_shooting():
+    """Hard subharmonic resonance (nu near 3, K = 2): the saddle-node pair of period
+    6 pi/nu; order 3 within 1e-5 of shooting at mu = 0.02, order 1 within 2e-3."""
+    from numerics.forced.diagram import steady_states
+
+    vals = {"mu": 0.02, "zeta": 0.01, "alpha": 1, "K": 2}
+    s1 = steady_states("duffing-sub-hard", vals, 1.0, order=1, amplitudes=(1e-3, 3))
+    s3 = steady_states("duffing-sub-hard", vals, 1.0, order=3, amplitudes=(1e-3, 3),
+                       numeric=False)
+    assert [o.stable for o in s1.numeric] == [False, True]
+    assert all(abs(o.period - 6 * math.pi / 3.02) < 1e-12 for o in s1.numeric)
+    for o, f1, f3 in zip(s1.numeric, s1.analytic, s3.analytic):
+        assert abs(f1.amplitude - o.amplitude) < 2e-3
+        assert abs(f3.amplitude - o.amplitude) < 1e-5

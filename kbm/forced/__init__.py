@@ -17,10 +17,11 @@
 
 from .engine import MAX_ORDER, SmallDivisorError, derive_forced
 from .builtins import FORCED_MODELS, forced_model_names, get_forced_model
-from .model import (ForcedOscillator, NonPeriodicError, Resonance, add_forcing, nu, phi, sigma,
-                    theta)
+from .model import (LAMBDA, ForcedOscillator, NonPeriodicError, Resonance, add_forcing, nu,
+                    phi, sigma, theta)
 from .result import ForcedKBMResult, SlowFlow
 
 __all__ = ["derive_forced", "SmallDivisorError", "MAX_ORDER", "ForcedOscillator", "Resonance",
            "NonPeriodicError", "add_forcing", "get_forced_model", "forced_model_names",
-           "FORCED_MODELS", "ForcedKBMResult", "SlowFlow", "theta", "phi", "sigma", "nu"]
+           "FORCED_MODELS", "ForcedKBMResult", "SlowFlow", "theta", "phi", "sigma", "nu",
+           "LAMBDA"]

@@ -6,6 +6,9 @@
                     near delta = 1/4), 2/1
 ``vdp-forced``      ``F = (1 - x^2) x' + h cos(theta)`` (entrainment), 1/1
 ``parametric``      ``F = -2 zeta x' - alpha x^3 - h x cos(theta)``, 2/1
+``duffing-super-hard``  ``F = -2 zeta x' - alpha x^3`` and the hard forcing ``K cos(theta)``,
+                    1/3 (Nayfeh & Mook 4.1.2)
+``duffing-sub-hard``    the same near ``nu = 3 omega0``, 3/1 (Nayfeh & Mook 4.1.3)
 """
 
 from __future__ import annotations
@@ -20,7 +23,7 @@ from .model import ForcedOscillator, Resonance, theta
 
 __all__ = ["FORCED_MODELS", "forced_model_names", "get_forced_model"]
 
-_zeta, _alpha, _h = sp.symbols("zeta alpha h")
+_zeta, _alpha, _h, _K = sp.symbols("zeta alpha h K")
 
 FORCED_MODELS = {
     "duffing-forced": lambda: ForcedOscillator(
@@ -41,6 +44,17 @@ FORCED_MODELS = {
         "vdp-forced", (1 - x**2) * xdot + _h * sp.cos(theta), resonance=Resonance(1, 1),
         description="forced van der Pol x'' - mu (1 - x^2) x' + x = mu h cos nu t "
                     "(entrainment)"),
+    "duffing-super-hard": lambda: ForcedOscillator(
+        "duffing-super-hard", -2 * _zeta * xdot - _alpha * x**3, resonance=Resonance(1, 3),
+        hard=_K,
+        description="Duffing x'' + x = mu (-2 zeta x' - alpha x^3) + K cos nu t near "
+                    "nu = 1/3 (superharmonic resonance, hard excitation; Nayfeh & Mook "
+                    "4.1.2)"),
+    "duffing-sub-hard": lambda: ForcedOscillator(
+        "duffing-sub-hard", -2 * _zeta * xdot - _alpha * x**3, resonance=Resonance(3, 1),
+        hard=_K,
+        description="Duffing x'' + x = mu (-2 zeta x' - alpha x^3) + K cos nu t near "
+                    "nu = 3 (subharmonic resonance, hard excitation; Nayfeh & Mook 4.1.3)"),
     "parametric": lambda: ForcedOscillator(
         "parametric", -2 * _zeta * xdot - _alpha * x**3 - _h * x * sp.cos(theta),
         resonance=Resonance(2, 1),

@@ -45,9 +45,9 @@ import sympy as sp
 
 from ..algebra.lazy_series import Builder, Leaf
 from ..errors import OrderError, ParameterError
-from ..symbols import psi
+from ..symbols import mu, psi
 from .builtins import get_forced_model
-from .model import ForcedOscillator, Resonance, phi, theta
+from .model import ForcedOscillator, Resonance, phi, sigma, theta
 from .resonant import ResonantAlgebra, SmallDivisorError
 from .result import ForcedKBMResult
 from .two_angle import TwoAngle
@@ -58,12 +58,24 @@ __all__ = ["derive_forced", "SmallDivisorError", "MAX_ORDER"]
 MAX_ORDER = 12
 
 
-def _recursion(alg: ResonantAlgebra, F: sp.Expr, order: int):
+def _recursion(alg: ResonantAlgebra, F: list[sp.Expr], order: int):
+    """``F[k]`` is the coefficient of ``mu**k`` of the right-hand side (a hard forcing makes
+    it depend on ``mu`` through ``nu``)."""
     zero = alg.zero
     x0 = TwoAngle(alg.ring, {(1, 0): alg.ring.gen(0)})
     v0 = alg.L0(x0)
     X, V = Leaf(zero, x0), Leaf(zero, v0)
-    Fnode = Builder(alg, X, V).build(F)
+    builder = Builder(alg, X, V)
+    nodes = [builder.build(Fk) for Fk in F]
+
+    def F_coeff(n: int) -> TwoAngle:
+        out = zero()
+        for k, node in enumerate(nodes[:n + 1]):
+            c = node.coeff(n - k)
+            if not c.is_zero():
+                out = out + c
+        return out
+
     A: list[TwoAngle] = []
     B: list[TwoAngle] = []
     U: list[TwoAngle] = []
@@ -86,7 +98,7 @@ def _recursion(alg: ResonantAlgebra, F: sp.Expr, order: int):
         acc_known = alg.L0(v_known)
         for j in range(1, n):
             acc_known = acc_known + D(j, Vs[n - j])
-        R = Fnode.coeff(n - 1) - acc_known
+        R = F_coeff(n - 1) - acc_known
         An, Bn = alg.secular(R)
         A.append(An)
         B.append(Bn)
@@ -175,8 +187,16 @@ def derive_forced(model: ForcedOscillator | str, order: int, params: dict | None
     else:
         res = Resonance.parse(resonance) if resonance is not None else model.resonance
         ratio = res.ratio
-    alg = ResonantAlgebra(model, res, ratio, tolerance)
-    A, B, U = _recursion(alg, sp.expand(model.F), order)
+    if model.hard != 0 and ratio == 1:
+        raise ParameterError(f"the hard forcing K cos(theta) of {model.name!r} is resonant at "
+                             "nu = omega0 (Lambda = K/(omega0^2 - nu^2) is infinite): at the "
+                             "primary resonance write it as a weak forcing mu*h*cos(theta)")
+    freq = sp.Rational(ratio.numerator, ratio.denominator) * model.omega0 \
+        + (mu * sigma if res is not None else 0)
+    Fmu = sp.Poly(model.shifted(freq), mu)
+    F = [sp.expand(Fmu.coeff_monomial(mu**k)) for k in range(Fmu.degree() + 1)]
+    alg = ResonantAlgebra(model, res, ratio, tolerance, F)
+    A, B, U = _recursion(alg, F, order)
     return ForcedKBMResult(
         model=model, order=order, resonance=res, nu_ratio=ratio,
         A=tuple(_slow_expr(f) for f in A),

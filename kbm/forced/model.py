@@ -31,7 +31,7 @@ from ..values import FrozenMap, parameter_value
 from .checks import NonPeriodicError, check_state, check_theta, theta
 
 __all__ = ["ForcedOscillator", "Resonance", "theta", "phi", "sigma", "nu", "add_forcing",
-           "NonPeriodicError"]
+           "NonPeriodicError", "LAMBDA"]
 
 #: the resonant phase ``phi = psi - (q/p) theta``
 phi = sp.Symbol("phi")
@@ -40,7 +40,10 @@ sigma = sp.Symbol("sigma")
 #: the forcing frequency
 nu = sp.Symbol("nu")
 
-_RESERVED = {"a", "psi", "phi", "sigma", "nu", "t"}
+#: the amplitude ``Lambda = K/(omega0**2 - nu**2)`` of the response to a hard forcing
+LAMBDA = sp.Symbol("Lambda")
+
+_RESERVED = {"a", "psi", "phi", "sigma", "nu", "t", "Lambda"}
 
 
 @dataclass(frozen=True)
@@ -114,6 +117,12 @@ class ForcedOscillator:
         The default declared resonance (``"1/1"``); the analysis may declare another.
     defaults
         Values of parameters that are not given.
+    hard
+        The amplitude ``K`` of a *hard* (order-one) forcing ``K cos(theta)`` on the
+        right-hand side, ``x'' + omega0**2 x = mu F + K cos(theta)``, away from the primary
+        resonance (Nayfeh & Mook 4.1.2-4.1.3: super- and subharmonic resonances).  The
+        averaging shifts ``x = y + Lambda cos(theta)``, ``Lambda = K/(omega0**2 - nu**2)``,
+        and expands ``y``.
 
     Raises
     ------
@@ -139,6 +148,7 @@ class ForcedOscillator:
     resonance: Resonance = Resonance(1, 1)
     description: str = ""
     defaults: Mapping[str, sp.Expr] = field(default_factory=dict)
+    hard: sp.Expr = sp.Integer(0)
 
     def __post_init__(self) -> None:
         F = parse(self.F, extra=("theta",)) if isinstance(self.F, str) else sp.sympify(self.F)
@@ -148,6 +158,11 @@ class ForcedOscillator:
         object.__setattr__(self, "resonance", Resonance.parse(self.resonance))
         object.__setattr__(self, "defaults",
                            FrozenMap({k: sp.sympify(v) for k, v in self.defaults.items()}))
+        K = parse(self.hard) if isinstance(self.hard, str) else sp.sympify(self.hard)
+        object.__setattr__(self, "hard", K)
+        if K.has(x, xdot, theta, t, mu) or any(s.name in _RESERVED for s in K.free_symbols):
+            raise ModelError(f"the hard forcing amplitude K = {K} must be a constant (numbers "
+                             "and parameters, no x, xdot, theta, t, mu or reserved names)")
         if mu in F.free_symbols:
             raise ModelError(f"F of model {self.name!r} contains the small parameter mu; write "
                              "the equation as x'' + omega0^2 x = mu*F with F free of mu")
@@ -169,7 +184,8 @@ class ForcedOscillator:
     @property
     def parameters(self) -> tuple[str, ...]:
         """Names of the parameters of ``F`` and ``omega0`` (sorted)."""
-        syms = (self.F.free_symbols | self.omega0.free_symbols) - {x, xdot, theta}
+        syms = (self.F.free_symbols | self.omega0.free_symbols | self.hard.free_symbols) \
+            - {x, xdot, theta}
         return tuple(sorted(s.name for s in syms))
 
     def substitute(self, values: Mapping[str, object]) -> "ForcedOscillator":
@@ -186,7 +202,7 @@ class ForcedOscillator:
         return ForcedOscillator(self.name, self.F.subs(subs), self.omega0.subs(subs),
                                 self.resonance, self.description,
                                 {k: v for k, v in self.defaults.items()
-                                 if sp.Symbol(k) not in subs})
+                                 if sp.Symbol(k) not in subs}, self.hard.subs(subs))
 
     def resolve(self, values: Mapping[str, object] | None = None) -> dict[str, sp.Expr]:
         """Exact values of the given parameters (and ``mu``, ``sigma``), defaults filled in."""
@@ -214,7 +230,23 @@ class ForcedOscillator:
         """
         model = self.substitute(values) if values else self
         return Oscillator(model.name, model.F.subs(theta, nu * t), omega0=model.omega0,
-                          description=model.description or f"forced model {model.name}")
+                          description=model.description or f"forced model {model.name}",
+                          drive=model.hard * sp.cos(nu * t))
+
+    def hard_response(self, frequency: sp.Expr) -> sp.Expr:
+        """``Lambda = K/(omega0**2 - nu**2)``: the amplitude of the response to the hard
+        forcing at the forcing frequency ``frequency``."""
+        return self.hard / (self.omega0**2 - frequency**2)
+
+    def shifted(self, frequency: sp.Expr) -> sp.Expr:
+        """``F(y + Lambda cos(theta), y' - Lambda nu sin(theta), theta)`` (``Lambda`` the
+        symbol :data:`LAMBDA`, ``nu`` = ``frequency``): the right-hand side of
+        ``y'' + omega0**2 y = mu F`` for ``y = x - Lambda cos(theta)``; ``F`` without a hard
+        forcing."""
+        if self.hard == 0:
+            return self.F
+        return sp.expand(self.F.xreplace({x: x + LAMBDA * sp.cos(theta),
+                                          xdot: xdot - LAMBDA * frequency * sp.sin(theta)}))
 
 
 def add_forcing(model: "Oscillator | str", forcing: str | sp.Expr,

@@ -17,7 +17,7 @@ from sympy.simplify.fu import TR8
 
 from ..algebra.laurent import Laurent, LaurentRing, Q
 from ..errors import ModelError
-from ..symbols import a, x, xdot
+from ..symbols import a, mu, x, xdot
 from .model import ForcedOscillator, Resonance, sigma, theta
 from .two_angle import TwoAngle
 
@@ -32,9 +32,10 @@ class ResonantAlgebra:
     """Two-angle series over Laurent coefficients, with the resonance structure."""
 
     def __init__(self, model: ForcedOscillator, res: Resonance | None, ratio: Fraction,
-                 tolerance: float):
-        gens = sorted((model.F.free_symbols | model.omega0.free_symbols) - {x, xdot, theta},
-                      key=lambda s: s.name)
+                 tolerance: float, F: list[sp.Expr] | None = None):
+        syms = set().union(*[f.free_symbols for f in (F or [model.F])]) \
+            | model.omega0.free_symbols
+        gens = sorted(syms - {x, xdot, theta, sigma, mu}, key=lambda s: s.name)
         self.res, self.r, self.tol = res, ratio, tolerance
         self.ring = LaurentRing([a, *gens, *([sigma] if res else [])])
         w0 = model.omega0

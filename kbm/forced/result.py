@@ -11,7 +11,7 @@ import sympy as sp
 
 from ..errors import OrderError, ParameterError
 from ..symbols import a, mu, psi
-from .model import ForcedOscillator, Resonance, phi, sigma
+from .model import LAMBDA, ForcedOscillator, Resonance, phi, sigma
 
 __all__ = ["ForcedKBMResult", "SlowFlow"]
 
@@ -88,8 +88,14 @@ class ForcedKBMResult:
         n = self._n(order)
         known = {sp.Symbol(k): sp.nsimplify(v, rational=True) if isinstance(v, str)
                  else sp.sympify(v) for k, v in values.items() if k != "sigma"}
-        da = self.amplitude_rate(n).subs(known)
-        dphi = self.phase_rate(n).subs(known)
+        da, dphi = self.amplitude_rate(n), self.phase_rate(n)
+        if self.model.hard != 0:  # Lambda = K/(omega0^2 - nu^2) at nu = nu0 + mu sigma
+            r = self.nu_ratio
+            freq = sp.Rational(r.numerator, r.denominator) * self.model.omega0 \
+                + (mu * sigma if self.resonance is not None else 0)
+            lam = self.model.hard_response(freq)
+            da, dphi = da.subs(LAMBDA, lam), dphi.subs(LAMBDA, lam)
+        da, dphi = da.subs(known), dphi.subs(known)
         rest = (da.free_symbols | dphi.free_symbols) - {a, phi, sigma}
         if rest:
             names = sorted(s.name for s in rest)

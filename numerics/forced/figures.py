@@ -89,9 +89,13 @@ def duffing_figure(out: Path) -> Path:
 
 
 def superharmonic_figure(out: Path) -> Path:
-    vals = {"mu": 0.1, "zeta": 0.02, "alpha": 1, "h": 4}
-    d = response_diagram("duffing-super", vals, (-1.5, 1.5), order=4, amplitudes=(1e-3, 1.5))
-    return plot_response(d, Path(out) / "forced_superharmonic.png")
+    """Hard superharmonic resonance (K cos(nu t), nu near omega0/3), orders 1 and 3."""
+    vals = {"mu": 0.02, "zeta": 0.1, "alpha": 1, "K": 1}
+    d1 = response_diagram("duffing-super-hard", vals, (-0.5, 1.5), order=1, numeric=False,
+                          amplitudes=(1e-3, 3))
+    d3 = response_diagram("duffing-super-hard", vals, (-0.5, 1.5), order=3,
+                          amplitudes=(1e-3, 3))
+    return plot_response(d3, Path(out) / "forced_superharmonic.png", [d1])
 
 
 def mathieu_figure(out: Path) -> Path:

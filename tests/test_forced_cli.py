@@ -79,3 +79,10 @@ def test_fixed_frequency_names_the_undeclared_resonance(capsys):
     assert "resonance nu = 1 omega0" in err and "--resonance 1/1" in err
     d = _json(capsys, ["response", "duffing-forced", "--nu", "0.5", "--order", "2", "--json"])
     assert d["resonance"] is None and "phi" not in d["A"][1]
+
+
+def test_hard_forcing_flag(capsys):
+    d = _json(capsys, ["response", "duffing", "--hard", "K", "--resonance", "1/3", "-p",
+                       "mu=0.02", "-p", "K=1", "--detuning", "0", "--order", "2", "--json"])
+    assert d["resonance"] == "1/3" and len(d["analytic"]) == 1 and len(d["numeric"]) == 1
+    assert abs(d["analytic"][0]["amplitude"] - d["numeric"][0]["amplitude"]) < 1e-3

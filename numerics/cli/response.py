@@ -18,14 +18,19 @@ def register(sub) -> None:
                     "responses of period 2 pi p/nu by shooting and pseudo-arclength "
                     "continuation with Floquet multipliers.")
     p.add_argument("model", nargs="?",
-                   help="a forced model (duffing-forced, duffing-super, mathieu, vdp-forced, "
-                        "parametric) or an autonomous one (duffing, vdp, ...) with --forcing")
+                   help="a forced model (duffing-forced, duffing-super, duffing-super-hard, "
+                        "duffing-sub-hard, mathieu, vdp-forced, parametric) or an autonomous "
+                        "one (duffing, vdp, ...) with --forcing or --hard")
     p.add_argument("--rhs", metavar="EXPR",
                    help="your own F in x, xdot, theta and parameters (instead of a model)")
     p.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")
     p.add_argument("--forcing", metavar="EXPR",
                    help="added to F: a 2 pi-periodic function of theta = nu t, polynomial in "
                         "x and xdot, e.g. 'h*cos(theta)' or '-h*x*cos(theta)'")
+    p.add_argument("--hard", metavar="K",
+                   help="a hard (order-one) forcing K cos(theta) on the right-hand side, "
+                        "x'' + omega0^2 x = mu F + K cos(nu t), for sub- and superharmonic "
+                        "resonances (K a number or parameter name)")
     p.add_argument("--resonance", metavar="P/Q", default=None,
                    help="the declared resonance nu ~ (p/q) omega0 (1/1 primary, 1/3 "
                         "superharmonic, 3 subharmonic, 2 parametric); default the model's")
@@ -68,10 +73,22 @@ def _vary(text: str) -> tuple[float, float, int]:
 
 def forced_model(args: argparse.Namespace):
     """The forced model of the command line: a forced built-in, or a model/--rhs with
-    --forcing added."""
+    --forcing (and --hard) added."""
+    from dataclasses import replace
+
+    model = _base_model(args)
+    if getattr(args, "hard", None):
+        from kbm.symbols import parse
+
+        model = replace(model, hard=model.hard + parse(args.hard))
+    return model
+
+
+def _base_model(args: argparse.Namespace):
     from kbm.errors import ModelError
     from kbm.forced import FORCED_MODELS, ForcedOscillator, add_forcing, get_forced_model
     from kbm.models import custom_model
+    from kbm.symbols import parse
 
     if args.model and args.rhs:
         raise ModelError("give either a model name or --rhs, not both")
@@ -81,8 +98,6 @@ def forced_model(args: argparse.Namespace):
         raise ModelError(f"--omega0 applies to --rhs only, not to the model {args.model!r}")
     res = args.resonance or "1/1"
     if args.rhs:
-        from kbm.symbols import parse
-
         F = parse(args.rhs, extra=("theta",))
         if args.forcing:
             F = F + parse(args.forcing, extra=("theta",))
@@ -91,16 +106,15 @@ def forced_model(args: argparse.Namespace):
     if args.model in FORCED_MODELS:
         model = get_forced_model(args.model)
         if args.forcing:
-            from kbm.symbols import parse
-
             model = ForcedOscillator(model.name, model.F + parse(args.forcing, extra=("theta",)),
-                                     model.omega0, model.resonance, model.description)
+                                     model.omega0, model.resonance, model.description,
+                                     hard=model.hard)
         return model
-    if not args.forcing:
+    if not args.forcing and not getattr(args, "hard", None):
         raise ModelError(f"the model {args.model!r} has no forcing: add one with --forcing "
-                         "EXPR in theta (e.g. --forcing 'h*cos(theta)'), or use a forced model "
-                         f"({', '.join(FORCED_MODELS)})")
-    return add_forcing(args.model, args.forcing, res, name=f"{args.model}-forced")
+                         "EXPR in theta (e.g. --forcing 'h*cos(theta)') or --hard K, or use a "
+                         f"forced model ({', '.join(FORCED_MODELS)})")
+    return add_forcing(args.model, args.forcing or "0", res, name=f"{args.model}-forced")
 
 
 def run(args: argparse.Namespace) -> int:

@@ -137,3 +137,19 @@ def test_damped_tongue_sigma_of_h_against_floquet():
                        xtol=1e-13) for p in pred]
         errs[n] = max(abs(p - t) for p, t in zip(pred, true))
     assert errs[2] < errs[1] / 5 and errs[3] < errs[2] / 3, errs
+
+
+def test_undamped_trivial_state_neutral_outside_unstable_inside():
+    """Without damping the trivial state is a centre outside the tongue (neutral, not
+    'stable') and a saddle inside; the edges at order 3 match the transition curves."""
+    from kbm.forced.steady import trivial_state
+
+    r = derive_forced("mathieu", 3)
+    sf = r.slow_flow({"mu": 0.1})
+    import sympy as sp
+
+    edges = sorted(float(c.sigma.subs(sp.Symbol("mu"), 0.1)) for c in transition_curves(r))
+    assert trivial_state(sf, edges[0] - 0.02) == "neutral"
+    assert trivial_state(sf, edges[0] + 0.02) == "unstable"
+    assert trivial_state(sf, edges[1] - 0.02) == "unstable"
+    assert trivial_state(sf, edges[1] + 0.02) == "neutral"

@@ -132,7 +132,7 @@ def test_parametric_duffing_amplitude_orders():
     for m in mus:
         s = {n: steady_states("parametric", {**vals, "mu": m}, 0.8, order=n,
                               amplitudes=(1e-3, 3), numeric=n == 1) for n in (1, 2, 3)}
-        assert [f.stable for f in s[1].analytic] == [False, True] and s[1].trivial_stable
+        assert [f.stable for f in s[1].analytic] == [False, True] and s[1].trivial == "stable"
         true = [o.amplitude for o in s[1].numeric]
         assert [o.stable for o in s[1].numeric] == [False, True]
         for n in (1, 2, 3):

@@ -98,7 +98,7 @@ def test_parametric_response_has_trivial_branch():
     sf = derive_forced("parametric", 1).slow_flow({"mu": 0.05, "zeta": 0.05, "alpha": 1,
                                                     "h": 1})
     rc = response_curve(sf, (-1.0, 1.5), (1e-3, 3), n_points=200)
-    triv = np.array([(s, st) for s, st in rc.trivial])
+    triv = np.array([(s, st == "stable") for s, st in rc.trivial])
     edge = np.sqrt(1 / 4 - 4 * 0.05**2)
     inside = np.abs(triv[:, 0]) < edge - 1e-2
     outside = np.abs(triv[:, 0]) > edge + 1e-2

@@ -3,9 +3,10 @@
 A fixed point ``(a, phi)`` of ``da/dt = A(a, phi; sigma)``, ``dphi/dt = B(a, phi; sigma)``
 (:class:`~kbm.forced.result.SlowFlow`) is a periodic response of period ``2 pi p/nu``; it
 is stable when both eigenvalues of the Jacobian ``d(A, B)/d(a, phi)`` have negative real
-parts.  At fixed ``sigma`` every fixed point in an amplitude window is found by a scan of
-the torus-like domain ``a`` x ``phi in [0, 2 pi/p)`` (cells where both rates change sign)
-and Newton's method; the frequency-response curve ``a(sigma)`` is then followed from these
+parts (below ``-1e-10 (1 + max |eigenvalue|)``: a centre of a conservative slow flow is
+*neutral*, not stable).  At fixed ``sigma`` every fixed point in an amplitude window is
+found by a scan of the domain ``a`` x ``phi in [0, 2 pi/p)`` (cells where both rates
+change sign) and Newton's method; the frequency-response curve ``a(sigma)`` is then followed from these
 seeds by pseudo-arclength continuation (:mod:`kbm.forced.arclength`), round its folds
 (the jump points).  The trivial state ``a = 0`` of a purely parametric forcing is
 classified by the slow flow linearised in Cartesian coordinates ``a e^{i phi}``.
@@ -23,7 +24,7 @@ from .arclength import both_ways, trace
 from .result import SlowFlow
 
 __all__ = ["FixedPoint", "ResponseBranch", "ResponseCurve", "fixed_points", "response_curve",
-           "backbone", "trivial_stable"]
+           "backbone", "trivial_stable", "trivial_state", "classify"]
 
 
 @dataclass(frozen=True)
@@ -37,8 +38,8 @@ class FixedPoint:
 
     @property
     def stable(self) -> bool:
-        """Both eigenvalues in the open left half-plane."""
-        return max(e.real for e in self.eigenvalues) < 0
+        """Both eigenvalues in the open left half-plane (:func:`classify`)."""
+        return classify(self.eigenvalues) == "stable"
 
 
 @dataclass(frozen=True)
@@ -59,15 +60,24 @@ class ResponseCurve:
     order: int
     branches: tuple[ResponseBranch, ...]
     folds: tuple[FixedPoint, ...]
-    trivial: tuple[tuple[float, bool], ...] = ()
+    trivial: tuple[tuple[float, str], ...] = ()
 
     def points(self) -> list[dict]:
         """``[{"sigma", "amplitude", "stable"}]`` along every branch (the trivial state
         ``a = 0`` included where it exists)."""
         out = [{"sigma": float(s), "amplitude": float(av), "stable": bool(st)}
                for b in self.branches for s, av, st in zip(b.sigma, b.amplitude, b.stable)]
-        out += [{"sigma": s, "amplitude": 0.0, "stable": st} for s, st in self.trivial]
+        out += [{"sigma": s, "amplitude": 0.0, "stable": st == "stable"}
+                for s, st in self.trivial]
         return out
+
+
+def classify(eigenvalues, rel: float = 1e-10) -> str:
+    """``"stable"``, ``"unstable"`` or ``"neutral"`` (largest real part within
+    ``rel (1 + max |eigenvalue|)`` of zero)."""
+    tol = rel * (1 + max(abs(e) for e in eigenvalues))
+    top = max(e.real for e in eigenvalues)
+    return "stable" if top < -tol else "unstable" if top > tol else "neutral"
 
 
 def _eig(sf: SlowFlow, av: float, ph: float, s: float) -> tuple[complex, complex]:
@@ -147,11 +157,13 @@ def fixed_points(sf: SlowFlow, sigma: float, amplitudes: tuple[float, float] = (
     return sorted(found, key=lambda f: f.amplitude)
 
 
-def trivial_stable(sf: SlowFlow, sigma: float, eps: float = 1e-6) -> bool | None:
-    """Stability of ``a = 0`` (``None`` when it is not a steady state: external forcing).
+def trivial_state(sf: SlowFlow, sigma: float, eps: float = 1e-6) -> str | None:
+    """``"stable"``, ``"unstable"`` or ``"neutral"`` for ``a = 0`` (``None`` when it is not a
+    steady state: external forcing).
 
     The Cartesian field ``z = a e^{i phi}`` is linearised by central differences at the
-    origin (the field is odd in ``z`` to the order kept), its eigenvalues decide."""
+    origin (the field is odd in ``z`` to the order kept), its eigenvalues decide
+    (:func:`classify` with the differences' accuracy)."""
     def field(u, v):
         av, ph = math.hypot(u, v), math.atan2(v, u)
         da, dp = (float(np.ravel(r)[0]) for r in sf.rates(av, ph, sigma))
@@ -164,7 +176,13 @@ def trivial_stable(sf: SlowFlow, sigma: float, eps: float = 1e-6) -> bool | None
         return None
     J = np.column_stack([(field(eps, 0) - field(-eps, 0)) / (2 * eps),
                          (field(0, eps) - field(0, -eps)) / (2 * eps)])
-    return bool(np.max(np.linalg.eigvals(J).real) < 0)
+    return classify([complex(e) for e in np.linalg.eigvals(J)], rel=1e-7)
+
+
+def trivial_stable(sf: SlowFlow, sigma: float, eps: float = 1e-6) -> bool | None:
+    """Whether ``a = 0`` is a stable steady state (``None``: not a steady state)."""
+    kind = trivial_state(sf, sigma, eps)
+    return None if kind is None else kind == "stable"
 
 
 def _on_branches(branches, fp: FixedPoint) -> bool:
@@ -228,7 +246,7 @@ def response_curve(sf: SlowFlow, sigmas: tuple[float, float],
             pts = [p.u for p in reversed(arcs[0].points)] + \
                 [p.u for a in arcs[1:] for p in a.points[1:]]
             U = np.array(pts)
-            stable = np.array([max(e.real for e in _eig(sf, *u)) < 0 for u in U])
+            stable = np.array([classify(_eig(sf, *u)) == "stable" for u in U])
             branches.append(ResponseBranch(U[:, 2], U[:, 0], U[:, 1] % per, stable,
                                            "; ".join(a.reason for a in arcs)))
             for arc in arcs:
@@ -237,10 +255,9 @@ def response_curve(sf: SlowFlow, sigmas: tuple[float, float],
                                abs(f[0] - g.amplitude) < 1e-7 for g in folds):
                         folds.append(FixedPoint(float(f[2]), float(f[0]), float(f[1] % per),
                                                 _eig(sf, *f)))
-    trivial: list[tuple[float, bool]] = []
-    if trivial_stable(sf, lo) is not None:
-        trivial = [(float(s), bool(trivial_stable(sf, float(s))))
-                   for s in np.linspace(lo, hi, n_points)]
+    trivial: list[tuple[float, str]] = []
+    if trivial_state(sf, lo) is not None:
+        trivial = [(float(s), trivial_state(sf, float(s))) for s in np.linspace(lo, hi, n_points)]
     return ResponseCurve(sf.order, tuple(branches), tuple(sorted(folds, key=lambda f: f.sigma)),
                          tuple(trivial))
 

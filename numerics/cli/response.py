@@ -153,6 +153,11 @@ def run(args: argparse.Namespace) -> int:
         print(f"  analytic branch {i}: {len(b.sigma)} points, amplitude "
               f"{b.amplitude.min():.6g} .. {b.amplitude.max():.6g}, "
               f"{int(b.stable.sum())} stable")
+    if not d.analytic.branches:
+        print(f"  no steady state with {1e-3 * args.amax:g} < a < {args.amax:g}")
+    for lo_s, hi_s, st in _intervals(d.analytic.trivial):
+        print(f"  trivial state a = 0: {st} for sigma in "
+              f"[{lo_s:.6g}, {hi_s:.6g}]")
     for f in d.analytic.folds:
         print(f"  fold (jump) at sigma = {f.sigma:.10g}, a = {f.amplitude:.8g}")
     if d.numeric is not None:
@@ -160,13 +165,25 @@ def run(args: argparse.Namespace) -> int:
             print(f"  shooting branch {i}: {len(b)} responses, "
                   f"{sum(o.stable for o in b)} stable")
         for o in d.numeric.folds:
-            print(f"  true fold at sigma = {o.sigma:.10g}, a = {o.amplitude:.8g}, "
+            kind = "branch point on x = 0" if o.amplitude_max < 1e-3 * args.amax else "fold"
+            print(f"  true {kind} at sigma = {o.sigma:.10g}, a = {o.amplitude:.8g}, "
                   f"max|x| = {o.amplitude_max:.8g}")
         for msg in d.numeric.failures:
             print(f"  not continued: {msg}")
     if args.out:
         print(f"  figure: {Path(args.out) / 'response.png'}")
     return 0
+
+
+def _intervals(trivial) -> list[tuple[float, float, str]]:
+    """Runs of equal stability of the trivial state: ``(from, to, kind)``."""
+    out: list[tuple[float, float, bool]] = []
+    for s, st in trivial:
+        if out and out[-1][2] == st:
+            out[-1] = (out[-1][0], s, st)
+        else:
+            out.append((s, s, st))
+    return out
 
 
 def _run_one(model, args: argparse.Namespace) -> int:
@@ -190,8 +207,8 @@ def _run_one(model, args: argparse.Namespace) -> int:
     for f in s.analytic:
         print(f"  KBM:      a = {f.amplitude:.10g}, phi = {f.phase:.8g}, "
               f"{'stable' if f.stable else 'unstable'}")
-    if s.trivial_stable is not None:
-        print(f"  KBM:      a = 0 (trivial), {'stable' if s.trivial_stable else 'unstable'}")
+    if s.trivial is not None:
+        print(f"  KBM:      a = 0 (trivial), {s.trivial}")
     for o in s.numeric:
         mods = ", ".join(f"{abs(m):.6g}" for m in o.multipliers)
         print(f"  shooting: a = {o.amplitude:.10g}, max|x| = {o.amplitude_max:.8g}, "

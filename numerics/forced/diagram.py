@@ -126,7 +126,7 @@ class SteadyStates:
     sigma: float
     values: Mapping[str, float]
     analytic: tuple
-    trivial_stable: bool | None
+    trivial: str | None
     numeric: tuple
     failures: tuple[str, ...]
 
@@ -134,9 +134,9 @@ class SteadyStates:
         """The keys of :meth:`ResponseDiagram.to_json` at one detuning (no folds)."""
         an = [{"sigma": f.sigma, "amplitude": f.amplitude, "phase": f.phase,
                "stable": f.stable} for f in self.analytic]
-        if self.trivial_stable is not None:
+        if self.trivial is not None:
             an.append({"sigma": self.sigma, "amplitude": 0.0, "phase": None,
-                       "stable": self.trivial_stable})
+                       "stable": self.trivial == "stable", "kind": self.trivial})
         return {"model": self.model, "resonance": str(self.resonance), "order": self.order,
                 "parameters": dict(self.values), "sigma": self.sigma, "analytic": an,
                 "numeric": [{"sigma": o.sigma, "amplitude_max": o.amplitude_max,
@@ -151,7 +151,7 @@ def steady_states(model: ForcedOscillator | str, values: Mapping[str, object], s
                   amplitudes: tuple[float, float] = (1e-3, 5.0), numeric: bool = True,
                   rtol: float = 1e-10) -> SteadyStates:
     """The steady responses at the detuning ``sigma`` (``--detuning``), predicted and true."""
-    from kbm.forced.steady import fixed_points, trivial_stable
+    from kbm.forced.steady import fixed_points, trivial_state
 
     from numerics.errors import NumericsError
     from numerics.forced.response import guess_from
@@ -175,4 +175,4 @@ def steady_states(model: ForcedOscillator | str, values: Mapping[str, object], s
                 failures.append(str(exc))
     return SteadyStates(model.name, res.resonance, order, float(sigma),
                         {k: float(v) for k, v in vals.items()}, fps,
-                        trivial_stable(sf, float(sigma)), tuple(orbits), tuple(failures))
+                        trivial_state(sf, float(sigma)), tuple(orbits), tuple(failures))

@@ -41,7 +41,7 @@ def _draw(ax, d: ResponseDiagram, color: str, label: str, numeric: bool = True) 
     for f in d.analytic.folds:
         ax.plot(f.sigma, f.amplitude, "o", color=color, ms=5, mfc="white")
     if d.analytic.trivial:
-        tr = np.array(d.analytic.trivial, dtype=float)
+        tr = np.array([(s, st == "stable") for s, st in d.analytic.trivial], dtype=float)
         ax.plot(tr[:, 0], np.where(tr[:, 1] > 0, 0.0, np.nan), "-", color=color, lw=2.5)
         ax.plot(tr[:, 0], np.where(tr[:, 1] > 0, np.nan, 0.0), "--", color=color, lw=1.2)
     if numeric and d.numeric is not None:

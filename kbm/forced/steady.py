@@ -7,8 +7,8 @@ parts (below ``-1e-10 (1 + max |eigenvalue|)``: a centre of a conservative slow 
 *neutral*, not stable).  At fixed ``sigma`` every fixed point in an amplitude window is
 found by a scan of the domain ``a`` x ``phi in [0, 2 pi/p)`` (cells where both rates
 change sign) and Newton's method; the frequency-response curve ``a(sigma)`` is then
-followed from these seeds by pseudo-arclength continuation (:mod:`kbm.forced.arclength`), round its folds
-(the jump points).  The trivial state ``a = 0`` of a purely parametric forcing is
+followed from these seeds by pseudo-arclength continuation (:mod:`kbm.forced.arclength`),
+round its folds (the jump points).  The trivial state ``a = 0`` of a purely parametric forcing is
 classified by the slow flow linearised in Cartesian coordinates ``a e^{i phi}``.
 """
 

@@ -136,7 +136,8 @@ def trace(G: Callable, J: Callable, u0: np.ndarray, bounds: tuple[float, float],
             end = hi if new[-1] > hi else lo
             try:
                 new, _ = newton(G, J, new, lambda v: (v[-1] - end, e_last), tol=tol)
-                points.append(ArcPoint(new, tangent(J(new), t_new)))
+                if float(np.linalg.norm(new - u)) > 1e-9 * (1 + float(np.linalg.norm(u))):
+                    points.append(ArcPoint(new, tangent(J(new), t_new)))
             except (ArithmeticError, np.linalg.LinAlgError):
                 pass
             reason = f"reached the bound {end:g}"

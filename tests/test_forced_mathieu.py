@@ -153,3 +153,13 @@ def test_undamped_trivial_state_neutral_outside_unstable_inside():
     assert trivial_state(sf, edges[0] + 0.02) == "unstable"
     assert trivial_state(sf, edges[1] - 0.02) == "unstable"
     assert trivial_state(sf, edges[1] + 0.02) == "neutral"
+
+
+def test_tongue_opening_at_second_order_is_refused_with_reason():
+    """x'' + x = -mu x cos(t) (delta = 1): no resonant term at first order."""
+    from kbm.errors import ModelError
+    from kbm.forced import ForcedOscillator
+
+    r = derive_forced(ForcedOscillator("m1", "-x*cos(theta)", resonance="1/1"), 3)
+    with pytest.raises(ModelError, match="opens at a higher order"):
+        transition_curves(r)

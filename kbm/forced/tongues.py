@@ -74,6 +74,11 @@ def transition_curves(result: ForcedKBMResult) -> list[TransitionCurve]:
     qp = sp.Rational(res.q, res.p)
     eq1 = alphas[0]
     eq2 = betas[0] - qp * sigma
+    if not eq1.has(phi):
+        raise ModelError(f"the first-order amplitude rate of {result.model.name!r} at the "
+                         f"resonance {res} does not depend on phi (A_1 = {result.A[0]}): this "
+                         "tongue opens at a higher order of mu, which transition_curves does "
+                         "not treat; its edges can be located numerically (Floquet)")
     roots = sp.solve(eq1, phi)
     per = 2 * sp.pi / res.p
     phis = []

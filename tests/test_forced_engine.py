@@ -222,3 +222,10 @@ def test_hard_forcing_refused_at_primary_resonance():
         derive_forced(m, 1)
     with pytest.raises(ModelError, match="must be a constant"):
         ForcedOscillator("h", "-x**3", hard="K*x")
+
+
+def test_fixed_frequency_is_read_safely():
+    with pytest.raises(ParameterError):
+        derive_forced("duffing-forced", 1, nu='__import__("os").getcwd()')
+    with pytest.raises(ParameterError, match="positive"):
+        derive_forced("duffing-forced", 1, nu="-2")

@@ -46,6 +46,7 @@ import sympy as sp
 from ..algebra.lazy_series import Builder, Leaf
 from ..errors import OrderError, ParameterError
 from ..symbols import mu, psi
+from ..values import parameter_value
 from .builtins import get_forced_model
 from .model import ForcedOscillator, Resonance, phi, sigma, theta
 from .resonant import ResonantAlgebra, SmallDivisorError
@@ -151,10 +152,18 @@ def derive_forced(model: ForcedOscillator | str, order: int, params: dict | None
         The slow flow ``da/dt = sum mu**n A_n(a, phi)``, ``dphi/dt = -mu (q/p) sigma +
         sum mu**n B_n(a, phi)`` and the corrections ``u_n(a, psi, theta)``.
 
+    Notes
+    -----
+    A hard forcing (``model.hard = K``: ``x'' + omega0**2 x = mu F + K cos(nu t)``) is
+    averaged for ``y = x - Lambda cos(theta)``, ``Lambda = K/(omega0**2 - nu**2)`` (the
+    symbol ``Lambda`` in the result; :meth:`ForcedKBMResult.slow_flow` puts its value in).
+
     Raises
     ------
     kbm.errors.OrderError
         If ``order`` is not an integer in ``1..MAX_ORDER``.
+    kbm.errors.ParameterError
+        For both a resonance and ``nu``, a bad ``nu``, or a hard forcing at ``nu = omega0``.
     SmallDivisorError
         Non-resonant expansion near an undeclared resonance (the resonance named).
 
@@ -179,7 +188,7 @@ def derive_forced(model: ForcedOscillator | str, order: int, params: dict | None
         if not model.omega0.is_Rational:
             raise ParameterError(f"a fixed forcing frequency needs a numeric omega0, got "
                                  f"{model.omega0}; give its value")
-        nu_val = sp.nsimplify(sp.sympify(str(nu)), rational=True)
+        nu_val = parameter_value("nu", nu)  # read safely and exactly ("0.34" is 17/50)
         if not (nu_val.is_Rational and nu_val > 0):
             raise ParameterError(f"nu must be a positive number, got {nu!r}")
         ratio = Fraction(str(nu_val / model.omega0))

@@ -157,7 +157,8 @@ class ForcedOscillator:
         object.__setattr__(self, "omega0", w0)
         object.__setattr__(self, "resonance", Resonance.parse(self.resonance))
         object.__setattr__(self, "defaults",
-                           FrozenMap({k: sp.sympify(v) for k, v in self.defaults.items()}))
+                           FrozenMap({k: parameter_value(k, v)
+                                      for k, v in self.defaults.items()}))
         K = parse(self.hard) if isinstance(self.hard, str) else sp.sympify(self.hard)
         object.__setattr__(self, "hard", K)
         if K.has(x, xdot, theta, t, mu) or any(s.name in _RESERVED for s in K.free_symbols):

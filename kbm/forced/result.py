@@ -11,6 +11,7 @@ import sympy as sp
 
 from ..errors import OrderError, ParameterError
 from ..symbols import a, mu, psi
+from ..values import parameter_value
 from .model import LAMBDA, ForcedOscillator, Resonance, phi, sigma
 
 __all__ = ["ForcedKBMResult", "SlowFlow"]
@@ -86,8 +87,8 @@ class ForcedKBMResult:
         if "mu" not in values:
             raise ParameterError("the slow flow needs a value of mu (e.g. values={'mu': 0.1})")
         n = self._n(order)
-        known = {sp.Symbol(k): sp.nsimplify(v, rational=True) if isinstance(v, str)
-                 else sp.sympify(v) for k, v in values.items() if k != "sigma"}
+        known = {sp.Symbol(k): parameter_value(k, v) for k, v in values.items()
+                 if k != "sigma"}
         da, dphi = self.amplitude_rate(n), self.phase_rate(n)
         if self.model.hard != 0:  # Lambda = K/(omega0^2 - nu^2) at nu = nu0 + mu sigma
             r = self.nu_ratio

@@ -7,9 +7,11 @@ Built in floors, each importing only the ones below it (``tests/test_layering.py
    the conservative orbits, numerical by nature, on top of the flow;
 2. :mod:`numerics.cycles` — true limit cycles (shooting, Floquet multipliers,
    high precision, sweeps);
-3. :mod:`numerics.comparison` — approximations against the true cycles;
-4. :mod:`numerics.paper` — the reproduction of D'Acunto's paper;
-5. :mod:`numerics.cli` — the ``kbm`` command line (on top of :mod:`kbm` and all of these).
+3. :mod:`numerics.forced` — true periodic responses of forced oscillators (shooting at
+   the fixed period, Floquet multipliers, continuation in the detuning, locking);
+4. :mod:`numerics.comparison` — approximations against the true cycles;
+5. :mod:`numerics.paper` — the reproduction of D'Acunto's paper;
+6. :mod:`numerics.cli` — the ``kbm`` command line (on top of :mod:`kbm` and all of these).
 """
 
 from numerics._memo import clear_caches

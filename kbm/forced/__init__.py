@@ -1,0 +1,27 @@
+"""Forced and parametrically excited oscillators: KBM near a resonance, to any order.
+
+- :mod:`kbm.forced.model`: :class:`ForcedOscillator` (``F`` 2 pi-periodic in
+  ``theta = nu t``, checked by :mod:`kbm.forced.checks`) and :class:`Resonance`;
+- :mod:`kbm.forced.builtins`: the built-in forced models;
+- :mod:`kbm.forced.two_angle`: exact Fourier series in the two angles ``(psi, theta)``;
+- :mod:`kbm.forced.engine`: :func:`derive_forced`, the recursion;
+- :mod:`kbm.forced.result`: :class:`ForcedKBMResult` and the numerical :class:`SlowFlow`;
+- :mod:`kbm.forced.steady`: fixed points of the slow flow, their stability, the
+  frequency-response curve, folds and backbone;
+- :mod:`kbm.forced.resultant`: every fixed point of a polynomial slow flow by resultants
+  (the exact check of the scan);
+- :mod:`kbm.forced.tongues`: transition curves (instability tongues) as series;
+- :mod:`kbm.forced.arclength`: the pseudo-arclength continuation shared with
+  :mod:`numerics.forced`.
+"""
+
+from .engine import MAX_ORDER, SmallDivisorError, derive_forced
+from .builtins import FORCED_MODELS, forced_model_names, get_forced_model
+from .model import (LAMBDA, ForcedOscillator, NonPeriodicError, Resonance, add_forcing, nu,
+                    phi, sigma, theta)
+from .result import ForcedKBMResult, SlowFlow
+
+__all__ = ["derive_forced", "SmallDivisorError", "MAX_ORDER", "ForcedOscillator", "Resonance",
+           "NonPeriodicError", "add_forcing", "get_forced_model", "forced_model_names",
+           "FORCED_MODELS", "ForcedKBMResult", "SlowFlow", "theta", "phi", "sigma", "nu",
+           "LAMBDA"]

@@ -1,0 +1,85 @@
+"""The built-in forced models (names used on the command line), see :mod:`kbm.forced.model`.
+
+``duffing-forced``  ``F = -2 zeta x' - alpha x^3 + h cos(theta)`` (Nayfeh & Mook 4.1), 1/1
+``duffing-super``   the same near ``nu = omega0/3`` (superharmonic), 1/3
+``mathieu``         ``F = -x cos(theta)``, ``omega0 = 1/2`` (x'' + (delta + eps cos t) x = 0
+                    near delta = 1/4), 2/1
+``vdp-forced``      ``F = (1 - x^2) x' + h cos(theta)`` (entrainment), 1/1
+``parametric``      ``F = -2 zeta x' - alpha x^3 - h x cos(theta)``, 2/1
+``duffing-super-hard``  ``F = -2 zeta x' - alpha x^3`` and the hard forcing ``K cos(theta)``,
+                    1/3 (Nayfeh & Mook 4.1.2)
+``duffing-sub-hard``    the same near ``nu = 3 omega0``, 3/1 (Nayfeh & Mook 4.1.3)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import sympy as sp
+
+from ..errors import ModelError
+from ..symbols import x, xdot
+from .model import ForcedOscillator, Resonance, theta
+
+__all__ = ["FORCED_MODELS", "forced_model_names", "get_forced_model"]
+
+_zeta, _alpha, _h, _K = sp.symbols("zeta alpha h K")
+
+FORCED_MODELS = {
+    "duffing-forced": lambda: ForcedOscillator(
+        "duffing-forced", -2 * _zeta * xdot - _alpha * x**3 + _h * sp.cos(theta),
+        resonance=Resonance(1, 1),
+        description="Duffing x'' + x = mu (-2 zeta x' - alpha x^3 + h cos nu t), "
+                    "Nayfeh & Mook sec. 4.1.1 (primary resonance)"),
+    "duffing-super": lambda: ForcedOscillator(
+        "duffing-super", -2 * _zeta * xdot - _alpha * x**3 + _h * sp.cos(theta),
+        resonance=Resonance(1, 3),
+        description="Duffing x'' + x = mu (-2 zeta x' - alpha x^3 + h cos nu t) near "
+                    "nu = 1/3 (superharmonic resonance; weak forcing: order >= 3)"),
+    "mathieu": lambda: ForcedOscillator(
+        "mathieu", -x * sp.cos(theta), omega0=sp.Rational(1, 2), resonance=Resonance(2, 1),
+        description="Mathieu x'' + (1/4) x = -mu x cos(nu t), i.e. x'' + (delta + eps cos s) x "
+                    "= 0 with s = nu t, delta = 1/(4 nu^2), eps = mu/nu^2"),
+    "vdp-forced": lambda: ForcedOscillator(
+        "vdp-forced", (1 - x**2) * xdot + _h * sp.cos(theta), resonance=Resonance(1, 1),
+        description="forced van der Pol x'' - mu (1 - x^2) x' + x = mu h cos nu t "
+                    "(entrainment)"),
+    "duffing-super-hard": lambda: ForcedOscillator(
+        "duffing-super-hard", -2 * _zeta * xdot - _alpha * x**3, resonance=Resonance(1, 3),
+        hard=_K,
+        description="Duffing x'' + x = mu (-2 zeta x' - alpha x^3) + K cos nu t near "
+                    "nu = 1/3 (superharmonic resonance, hard excitation; Nayfeh & Mook "
+                    "4.1.2)"),
+    "duffing-sub-hard": lambda: ForcedOscillator(
+        "duffing-sub-hard", -2 * _zeta * xdot - _alpha * x**3, resonance=Resonance(3, 1),
+        hard=_K,
+        description="Duffing x'' + x = mu (-2 zeta x' - alpha x^3) + K cos nu t near "
+                    "nu = 3 (subharmonic resonance, hard excitation; Nayfeh & Mook 4.1.3)"),
+    "parametric": lambda: ForcedOscillator(
+        "parametric", -2 * _zeta * xdot - _alpha * x**3 - _h * x * sp.cos(theta),
+        resonance=Resonance(2, 1),
+        description="parametrically excited Duffing x'' + x = mu (-2 zeta x' - alpha x^3 "
+                    "- h x cos nu t), principal parametric resonance"),
+}
+
+
+def forced_model_names() -> tuple[str, ...]:
+    """Names of the built-in forced models."""
+    return tuple(FORCED_MODELS)
+
+
+def get_forced_model(name: str, params: Mapping[str, object] | None = None) -> ForcedOscillator:
+    """A built-in forced model (see the module docstring), optionally with parameters set.
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        For an unknown name (the known ones listed).
+    """
+    try:
+        model = FORCED_MODELS[name]()
+    except KeyError:
+        raise ModelError(f"unknown forced model {name!r}; the built-in forced models are "
+                         f"{', '.join(FORCED_MODELS)} (or add a forcing to any model with "
+                         "--forcing EXPR in theta)") from None
+    return model.substitute(params) if params else model

@@ -1,0 +1,272 @@
+"""Oscillators with an explicit periodic forcing: ``x'' + omega0**2 x = mu F(x, x', theta)``.
+
+``theta = nu t`` is the forcing angle and ``F`` is 2 pi-periodic in it: a polynomial in
+``x`` and ``x'`` whose coefficients are trigonometric polynomials in ``theta`` (external
+forcing ``h cos(theta)``, parametric forcing ``x cos(theta)``, both).  The forcing
+frequency is declared near a resonance ``nu = (p/q) omega0 + mu sigma``
+(:class:`Resonance`; ``p/q = 1`` primary, ``1/3`` superharmonic, ``3`` subharmonic,
+``2`` principal parametric); the forced KBM engine (:mod:`kbm.forced.engine`) then
+averages with the resonant phase ``phi = psi - (q/p) theta``.
+
+Time dependence that is not periodic through ``theta`` is refused with the reason:
+``t`` itself (``t*x``, ``exp(t)``), ``theta`` outside ``sin``/``cos`` (``theta*x``) and
+``sin``/``cos`` of a non-integer multiple of ``theta`` (not 2 pi-periodic).
+
+The built-in forced models are in :mod:`kbm.forced.builtins`; the checks of ``F`` in
+:mod:`kbm.forced.checks`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+import sympy as sp
+
+from ..errors import ModelError, ParameterError
+from ..models import Oscillator, get_model
+from ..symbols import mu, parse, t, x, xdot
+from ..values import FrozenMap, parameter_value
+from .checks import NonPeriodicError, check_state, check_theta, theta
+
+__all__ = ["ForcedOscillator", "Resonance", "theta", "phi", "sigma", "nu", "add_forcing",
+           "NonPeriodicError", "LAMBDA"]
+
+#: the resonant phase ``phi = psi - (q/p) theta``
+phi = sp.Symbol("phi")
+#: the detuning ``sigma``: ``nu = (p/q) omega0 + mu sigma``
+sigma = sp.Symbol("sigma")
+#: the forcing frequency
+nu = sp.Symbol("nu")
+
+#: the amplitude ``Lambda = K/(omega0**2 - nu**2)`` of the response to a hard forcing
+LAMBDA = sp.Symbol("Lambda")
+
+_RESERVED = {"a", "psi", "phi", "sigma", "nu", "t", "Lambda"}
+
+
+@dataclass(frozen=True)
+class Resonance:
+    """The declared resonance ``nu = (p/q) omega0 + mu sigma`` (``p``, ``q`` coprime).
+
+    The response's phase is ``psi = (q/p) theta + phi``; the resonant combinations of the
+    two angles are the multiples of ``p psi - q theta = p phi``, and a periodic response has
+    the period ``2 pi p / nu`` (``p`` forcing periods).
+
+    Examples
+    --------
+    >>> Resonance.parse("1/3")
+    Resonance(p=1, q=3)
+    >>> Resonance.parse("2").ratio
+    Fraction(2, 1)
+    """
+
+    p: int
+    q: int
+
+    def __post_init__(self) -> None:
+        for v in (self.p, self.q):
+            if not isinstance(v, int) or isinstance(v, bool) or v < 1:
+                raise ParameterError(f"a resonance p/q needs positive integers, got "
+                                     f"{self.p!r}/{self.q!r}")
+        g = Fraction(self.p, self.q)
+        if (g.numerator, g.denominator) != (self.p, self.q):
+            raise ParameterError(f"write the resonance {self.p}/{self.q} in lowest terms: "
+                                 f"{g.numerator}/{g.denominator}")
+
+    @classmethod
+    def parse(cls, text: "str | Resonance | tuple") -> "Resonance":
+        """From ``"p/q"``, ``"p"``, a pair or a :class:`Resonance`."""
+        if isinstance(text, Resonance):
+            return text
+        if isinstance(text, tuple):
+            return cls(*text)
+        try:
+            r = Fraction(str(text).strip())
+        except (ValueError, ZeroDivisionError):
+            raise ParameterError(f"--resonance takes p/q with positive integers (e.g. 1/1, "
+                                 f"1/3, 2), got {text!r}") from None
+        if r <= 0:
+            raise ParameterError(f"the resonance p/q must be positive, got {text!r}")
+        return cls(r.numerator, r.denominator)
+
+    @property
+    def ratio(self) -> Fraction:
+        """``p/q``: the forcing frequency over ``omega0`` at exact resonance."""
+        return Fraction(self.p, self.q)
+
+    def __str__(self) -> str:
+        return f"{self.p}/{self.q}"
+
+
+@dataclass(frozen=True)
+class ForcedOscillator:
+    """``x'' + omega0**2 x = mu F(x, x', theta)``, ``theta = nu t``, ``F`` 2 pi-periodic in theta.
+
+    Parameters
+    ----------
+    name, description
+        As for :class:`kbm.models.Oscillator`.
+    F
+        The right-hand side over ``mu`` (string or sympy expression in ``x``, ``xdot``,
+        ``theta`` and parameters).
+    omega0
+        The linear frequency: a positive rational number or a symbol.
+    resonance
+        The default declared resonance (``"1/1"``); the analysis may declare another.
+    defaults
+        Values of parameters that are not given.
+    hard
+        The amplitude ``K`` of a *hard* (order-one) forcing ``K cos(theta)`` on the
+        right-hand side, ``x'' + omega0**2 x = mu F + K cos(theta)``, away from the primary
+        resonance (Nayfeh & Mook 4.1.2-4.1.3: super- and subharmonic resonances).  The
+        averaging shifts ``x = y + Lambda cos(theta)``, ``Lambda = K/(omega0**2 - nu**2)``,
+        and expands ``y``.
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        For ``mu`` in ``F``, a reserved name, or a bad ``omega0``.
+    NonPeriodicError
+        For time dependence that is not 2 pi-periodic in ``theta`` (the term named).
+    kbm.errors.UnsupportedTermError
+        For ``F`` that is not polynomial in ``x``, ``xdot``.
+
+    Examples
+    --------
+    >>> m = ForcedOscillator("d", "-2*zeta*xdot - alpha*x**3 + h*cos(theta)")
+    >>> m.F
+    -alpha*x**3 + h*cos(theta) - 2*xdot*zeta
+    >>> m.with_time().F
+    -alpha*x**3 + h*cos(nu*t) - 2*xdot*zeta
+    """
+
+    name: str
+    F: sp.Expr
+    omega0: sp.Expr = sp.Integer(1)
+    resonance: Resonance = Resonance(1, 1)
+    description: str = ""
+    defaults: Mapping[str, sp.Expr] = field(default_factory=dict)
+    hard: sp.Expr = sp.Integer(0)
+
+    def __post_init__(self) -> None:
+        F = parse(self.F, extra=("theta",)) if isinstance(self.F, str) else sp.sympify(self.F)
+        object.__setattr__(self, "F", F)
+        w0 = parse(self.omega0) if isinstance(self.omega0, str) else sp.sympify(self.omega0)
+        object.__setattr__(self, "omega0", w0)
+        object.__setattr__(self, "resonance", Resonance.parse(self.resonance))
+        object.__setattr__(self, "defaults",
+                           FrozenMap({k: parameter_value(k, v)
+                                      for k, v in self.defaults.items()}))
+        K = parse(self.hard) if isinstance(self.hard, str) else sp.sympify(self.hard)
+        object.__setattr__(self, "hard", K)
+        if K.has(x, xdot, theta, t, mu) or any(s.name in _RESERVED for s in K.free_symbols):
+            raise ModelError(f"the hard forcing amplitude K = {K} must be a constant (numbers "
+                             "and parameters, no x, xdot, theta, t, mu or reserved names)")
+        if mu in F.free_symbols:
+            raise ModelError(f"F of model {self.name!r} contains the small parameter mu; write "
+                             "the equation as x'' + omega0^2 x = mu*F with F free of mu")
+        for s in F.free_symbols | w0.free_symbols:
+            if s.name in _RESERVED - {"t"}:
+                raise ModelError(f"the symbol {s.name!r} is reserved (amplitude, phases, "
+                                 "detuning and forcing frequency); rename that parameter")
+        check_theta(F, self.name)
+        check_state(F, self.name)
+        if w0.has(x, xdot, theta, t):
+            raise ModelError(f"omega0 = {w0} must be a constant")
+        if w0.is_number:
+            if not (w0.is_Rational and w0 > 0):
+                raise ModelError(f"omega0 must be a positive rational number (or a symbol) "
+                                 f"for the exact forced averaging, got {w0}")
+        elif not w0.is_Symbol:
+            raise ModelError(f"omega0 must be a positive number or a single symbol, got {w0}")
+
+    @property
+    def parameters(self) -> tuple[str, ...]:
+        """Names of the parameters of ``F`` and ``omega0`` (sorted)."""
+        syms = (self.F.free_symbols | self.omega0.free_symbols | self.hard.free_symbols) \
+            - {x, xdot, theta}
+        return tuple(sorted(s.name for s in syms))
+
+    def substitute(self, values: Mapping[str, object]) -> "ForcedOscillator":
+        """The model with some parameters replaced by exact values (``mu``, ``sigma`` and
+        ``nu`` are not parameters of the model and are ignored)."""
+        subs = {}
+        for k, v in values.items():
+            if k in ("mu", "sigma", "nu"):
+                continue
+            if k not in self.parameters:
+                raise ParameterError(f"unknown parameter {k!r} for model {self.name!r}; its "
+                                     f"parameters are {', '.join(self.parameters) or 'none'}")
+            subs[sp.Symbol(k)] = parameter_value(k, v)
+        return ForcedOscillator(self.name, self.F.subs(subs), self.omega0.subs(subs),
+                                self.resonance, self.description,
+                                {k: v for k, v in self.defaults.items()
+                                 if sp.Symbol(k) not in subs}, self.hard.subs(subs))
+
+    def resolve(self, values: Mapping[str, object] | None = None) -> dict[str, sp.Expr]:
+        """Exact values of the given parameters (and ``mu``, ``sigma``), defaults filled in."""
+        out = {k: parameter_value(k, v) for k, v in (values or {}).items()}
+        for k in out:
+            if k not in self.parameters and k not in ("mu", "sigma"):
+                raise ParameterError(f"unknown parameter {k!r} for model {self.name!r}; its "
+                                     f"parameters are {', '.join(self.parameters) or 'none'} "
+                                     "(and mu, sigma)")
+        for k, v in self.defaults.items():
+            out.setdefault(k, v)
+        return out
+
+    def frequency(self, resonance: Resonance | str | None = None) -> sp.Expr:
+        """``nu = (p/q) omega0 + mu sigma`` as an expression."""
+        r = Resonance.parse(resonance) if resonance is not None else self.resonance
+        return sp.Rational(r.p, r.q) * self.omega0 + mu * sigma
+
+    def with_time(self, values: Mapping[str, object] | None = None) -> Oscillator:
+        """The equivalent non-autonomous :class:`kbm.models.Oscillator` in ``t``.
+
+        ``theta`` becomes ``nu t`` with the forcing frequency ``nu`` a parameter (the
+        numerical side binds ``nu = (p/q) omega0 + mu sigma``); ``values`` are substituted
+        first.
+        """
+        model = self.substitute(values) if values else self
+        return Oscillator(model.name, model.F.subs(theta, nu * t), omega0=model.omega0,
+                          description=model.description or f"forced model {model.name}",
+                          drive=model.hard * sp.cos(nu * t))
+
+    def hard_response(self, frequency: sp.Expr) -> sp.Expr:
+        """``Lambda = K/(omega0**2 - nu**2)``: the amplitude of the response to the hard
+        forcing at the forcing frequency ``frequency``."""
+        return self.hard / (self.omega0**2 - frequency**2)
+
+    def shifted(self, frequency: sp.Expr) -> sp.Expr:
+        """``F(y + Lambda cos(theta), y' - Lambda nu sin(theta), theta)`` (``Lambda`` the
+        symbol :data:`LAMBDA`, ``nu`` = ``frequency``): the right-hand side of
+        ``y'' + omega0**2 y = mu F`` for ``y = x - Lambda cos(theta)``; ``F`` without a hard
+        forcing."""
+        if self.hard == 0:
+            return self.F
+        return sp.expand(self.F.xreplace({x: x + LAMBDA * sp.cos(theta),
+                                          xdot: xdot - LAMBDA * frequency * sp.sin(theta)}))
+
+
+def add_forcing(model: "Oscillator | str", forcing: str | sp.Expr,
+                resonance: Resonance | str = "1/1", *,
+                name: str | None = None) -> ForcedOscillator:
+    """An autonomous model with a periodic forcing added to ``F``: ``F + forcing(x, x', theta)``.
+
+    Examples
+    --------
+    >>> add_forcing("duffing", "h*cos(theta)").F
+    h*cos(theta) - x**3
+    """
+    if isinstance(model, str):
+        model = get_model(model)
+    if not model.is_autonomous:
+        raise NonPeriodicError(f"model {model.name!r} already depends on t; give the periodic "
+                               "part through the forcing in theta instead")
+    f = parse(forcing, extra=("theta",)) if isinstance(forcing, str) else forcing
+    return ForcedOscillator(name or f"{model.name}+forcing", model.F + f, model.omega0,
+                            Resonance.parse(resonance),
+                            f"{model.description}, forced with mu*({f})",
+                            dict(model.defaults))

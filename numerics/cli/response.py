@@ -1,0 +1,234 @@
+"""``kbm response``: the frequency-response curve of a forced oscillator, KBM and shooting."""
+
+from __future__ import annotations
+
+import argparse
+
+from kbm.cli._common import add_param_option, emit_json, parse_params
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "response", help="frequency-response curve of a forced oscillator (KBM near a "
+                         "resonance, checked by shooting)",
+        description="x'' + omega0^2 x = mu F(x, x', theta), theta = nu t, "
+                    "nu = (p/q) omega0 + mu sigma: the slow flow of the forced KBM expansion "
+                    "to order N, its fixed points (stable and unstable) followed in sigma with "
+                    "the folds (jump points) and the backbone, next to the true periodic "
+                    "responses of period 2 pi p/nu by shooting and pseudo-arclength "
+                    "continuation with Floquet multipliers.")
+    p.add_argument("model", nargs="?",
+                   help="a forced model (duffing-forced, duffing-super, duffing-super-hard, "
+                        "duffing-sub-hard, mathieu, vdp-forced, parametric) or an autonomous "
+                        "one (duffing, vdp, ...) with --forcing or --hard")
+    p.add_argument("--rhs", metavar="EXPR",
+                   help="your own F in x, xdot, theta and parameters (instead of a model)")
+    p.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")
+    p.add_argument("--forcing", metavar="EXPR",
+                   help="added to F: a 2 pi-periodic function of theta = nu t, polynomial in "
+                        "x and xdot, e.g. 'h*cos(theta)' or '-h*x*cos(theta)'")
+    p.add_argument("--hard", metavar="K",
+                   help="a hard (order-one) forcing K cos(theta) on the right-hand side, "
+                        "x'' + omega0^2 x = mu F + K cos(nu t), for sub- and superharmonic "
+                        "resonances (K a number or parameter name)")
+    p.add_argument("--resonance", metavar="P/Q", default=None,
+                   help="the declared resonance nu ~ (p/q) omega0 (1/1 primary, 1/3 "
+                        "superharmonic, 3 subharmonic, 2 parametric); default the model's")
+    add_param_option(p)
+    p.add_argument("--vary", metavar="sigma=FROM:TO[:N]",
+                   help="the detuning range and about N points per branch (default 400)")
+    p.add_argument("--detuning", type=float, metavar="SIGMA",
+                   help="instead of --vary: every steady response at this one detuning")
+    p.add_argument("--nu", metavar="VALUE",
+                   help="instead of a resonance: a fixed forcing frequency, for the "
+                        "non-resonant expansion (refused, with the resonance named, when a "
+                        "harmonic comes near resonance)")
+    p.add_argument("--order", type=int, default=1, help="KBM order of the analytic curve (1)")
+    p.add_argument("--amax", type=float, default=5.0,
+                   help="largest amplitude searched for steady states (default 5)")
+    p.add_argument("--no-numeric", action="store_true", help="the analytic curve only")
+    p.add_argument("--out", metavar="DIR", help="write the figure response.png into DIR")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=run)
+
+
+def _vary(text: str) -> tuple[float, float, int]:
+    from kbm.errors import ParameterError
+
+    name, sep, rng = text.partition("=")
+    parts = rng.split(":")
+    if name.strip() != "sigma" and sep:
+        raise ParameterError(f"kbm response varies the detuning: --vary sigma=FROM:TO[:N], "
+                             f"not {name.strip()!r}")
+    try:
+        if not sep or len(parts) not in (2, 3):
+            raise ValueError
+        lo, hi = float(parts[0]), float(parts[1])
+        n = int(parts[2]) if len(parts) == 3 else 400
+    except ValueError:
+        raise ParameterError(f"--vary takes sigma=FROM:TO[:N] (e.g. sigma=-1:3:400), got "
+                             f"{text!r}") from None
+    return lo, hi, n
+
+
+def forced_model(args: argparse.Namespace):
+    """The forced model of the command line: a forced built-in, or a model/--rhs with
+    --forcing (and --hard) added."""
+    from dataclasses import replace
+
+    model = _base_model(args)
+    if getattr(args, "hard", None):
+        from kbm.symbols import parse
+
+        model = replace(model, hard=model.hard + parse(args.hard))
+    return model
+
+
+def _base_model(args: argparse.Namespace):
+    from kbm.errors import ModelError
+    from kbm.forced import FORCED_MODELS, ForcedOscillator, add_forcing, get_forced_model
+    from kbm.models import custom_model
+    from kbm.symbols import parse
+
+    if args.model and args.rhs:
+        raise ModelError("give either a model name or --rhs, not both")
+    if not args.model and not args.rhs:
+        raise ModelError("name a forced model (e.g. duffing-forced) or give --rhs EXPR")
+    if args.model and args.omega0 is not None:
+        raise ModelError(f"--omega0 applies to --rhs only, not to the model {args.model!r}")
+    res = args.resonance or "1/1"
+    if args.rhs:
+        F = parse(args.rhs, extra=("theta",))
+        if args.forcing:
+            F = F + parse(args.forcing, extra=("theta",))
+        w0 = custom_model("x", omega0=1 if args.omega0 is None else args.omega0).omega0
+        return ForcedOscillator("custom", F, w0, res, f"user model mu*({F})")
+    if args.model in FORCED_MODELS:
+        model = get_forced_model(args.model)
+        if args.forcing:
+            model = ForcedOscillator(model.name, model.F + parse(args.forcing, extra=("theta",)),
+                                     model.omega0, model.resonance, model.description,
+                                     hard=model.hard)
+        return model
+    if not args.forcing and not getattr(args, "hard", None):
+        raise ModelError(f"the model {args.model!r} has no forcing: add one with --forcing "
+                         "EXPR in theta (e.g. --forcing 'h*cos(theta)') or --hard K, or use a "
+                         f"forced model ({', '.join(FORCED_MODELS)})")
+    return add_forcing(args.model, args.forcing or "0", res, name=f"{args.model}-forced")
+
+
+def run(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from kbm.errors import ParameterError
+    from numerics.forced.diagram import response_diagram
+
+    if args.nu is not None:
+        return _run_nonresonant(args)
+    if (args.vary is None) == (args.detuning is None):
+        raise ParameterError("give either --vary sigma=FROM:TO[:N] (a response curve) or "
+                             "--detuning SIGMA (the steady states at one detuning)")
+    if not 1 <= args.order <= 8:
+        raise ParameterError(f"--order must be between 1 and 8, got {args.order}")
+    if not args.amax > 0:
+        raise ParameterError(f"--amax must be positive, got {args.amax}")
+    model = forced_model(args)
+    if args.detuning is not None:
+        return _run_one(model, args)
+    lo, hi, n = _vary(args.vary)
+    d = response_diagram(model, parse_params(args.param), (lo, hi), order=args.order,
+                         n_points=n, resonance=args.resonance,
+                         amplitudes=(1e-3 * args.amax, args.amax), numeric=not args.no_numeric)
+    if args.out:
+        from numerics.forced.figures import plot_response
+
+        plot_response(d, Path(args.out) / "response.png")
+    if args.json:
+        emit_json(d.to_json())
+        return 0
+    print(f"{d.model}, resonance {d.resonance}, KBM order {d.order}: "
+          f"{', '.join(f'{k} = {v:g}' for k, v in d.values.items())}")
+    print(f"  slow flow: da/dt = {d.slow_flow[0]}\n             dphi/dt = {d.slow_flow[1]}")
+    for i, b in enumerate(d.analytic.branches):
+        print(f"  analytic branch {i}: {len(b.sigma)} points, amplitude "
+              f"{b.amplitude.min():.6g} .. {b.amplitude.max():.6g}, "
+              f"{int(b.stable.sum())} stable")
+    if not d.analytic.branches:
+        print(f"  no steady state with {1e-3 * args.amax:g} < a < {args.amax:g}")
+    for lo_s, hi_s, st in _intervals(d.analytic.trivial):
+        print(f"  trivial state a = 0: {st} for sigma in "
+              f"[{lo_s:.6g}, {hi_s:.6g}]")
+    for f in d.analytic.folds:
+        print(f"  fold (jump) at sigma = {f.sigma:.10g}, a = {f.amplitude:.8g}")
+    if d.numeric is not None:
+        for i, b in enumerate(d.numeric.branches):
+            print(f"  shooting branch {i}: {len(b)} responses, "
+                  f"{sum(o.stable for o in b)} stable")
+        for o in d.numeric.folds:
+            kind = "branch point on x = 0" if o.amplitude_max < 1e-3 * args.amax else "fold"
+            print(f"  true {kind} at sigma = {o.sigma:.10g}, a = {o.amplitude:.8g}, "
+                  f"max|x| = {o.amplitude_max:.8g}")
+        for msg in d.numeric.failures:
+            print(f"  not continued: {msg}")
+    if args.out:
+        print(f"  figure: {Path(args.out) / 'response.png'}")
+    return 0
+
+
+def _intervals(trivial) -> list[tuple[float, float, str]]:
+    """Runs of equal stability of the trivial state: ``(from, to, kind)``."""
+    out: list[tuple[float, float, bool]] = []
+    for s, st in trivial:
+        if out and out[-1][2] == st:
+            out[-1] = (out[-1][0], s, st)
+        else:
+            out.append((s, s, st))
+    return out
+
+
+def _run_one(model, args: argparse.Namespace) -> int:
+    import math
+
+    from kbm.errors import ParameterError
+    from numerics.forced.diagram import steady_states
+
+    if not math.isfinite(args.detuning):
+        raise ParameterError(f"--detuning must be a finite number, got {args.detuning}")
+    if args.out:
+        raise ParameterError("--out draws a response curve: use it with --vary")
+    s = steady_states(model, parse_params(args.param), args.detuning, order=args.order,
+                      resonance=args.resonance, amplitudes=(1e-3 * args.amax, args.amax),
+                      numeric=not args.no_numeric)
+    if args.json:
+        emit_json(s.to_json())
+        return 0
+    print(f"{s.model}, resonance {s.resonance}, KBM order {s.order}, sigma = {s.sigma:g}: "
+          f"{len(s.analytic)} steady state(s) with a > 0")
+    for f in s.analytic:
+        print(f"  KBM:      a = {f.amplitude:.10g}, phi = {f.phase:.8g}, "
+              f"{'stable' if f.stable else 'unstable'}")
+    if s.trivial is not None:
+        print(f"  KBM:      a = 0 (trivial), {s.trivial}")
+    for o in s.numeric:
+        mods = ", ".join(f"{abs(m):.6g}" for m in o.multipliers)
+        print(f"  shooting: a = {o.amplitude:.10g}, max|x| = {o.amplitude_max:.8g}, "
+              f"|multipliers| = {mods}, {'stable' if o.stable else 'unstable'}")
+    for msg in s.failures:
+        print(f"  not found: {msg}")
+    return 0
+
+
+def _run_nonresonant(args: argparse.Namespace) -> int:
+    from kbm.errors import ParameterError
+    from kbm.forced import derive_forced
+
+    if args.vary or args.detuning is not None or args.resonance or args.out:
+        raise ParameterError("--nu (a fixed, non-resonant forcing frequency) goes without "
+                             "--vary, --detuning, --resonance and --out")
+    r = derive_forced(forced_model(args), args.order, parse_params(args.param), nu=args.nu)
+    if args.json:
+        emit_json({**r.to_json(), "nu": args.nu})
+        return 0
+    print(f"{r.model.name}, nu = {args.nu} (non-resonant), KBM order {r.order}:")
+    print(f"  da/dt   = {r.amplitude_rate()}\n  dpsi/dt = {r.phase_rate()}")
+    return 0

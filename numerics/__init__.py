@@ -1,6 +1,8 @@
 """Numerical dynamics of the models defined in :mod:`kbm`.
 
-Built in floors, each importing only the ones below it (``tests/test_layering.py``):
+Built in floors, each importing only the ones below it (``tests/test_floors.py``); the
+base holds the errors, the memo helper and :mod:`numerics.executor` (any sweep on a local
+process pool, an executor or a Dask cluster):
 
 1. :mod:`numerics.flow` — the model turned into numbers and trajectories;
    :mod:`numerics.energy` — the strongly nonlinear (energy-balance) averaging about
@@ -10,8 +12,10 @@ Built in floors, each importing only the ones below it (``tests/test_layering.py
 3. :mod:`numerics.forced` — true periodic responses of forced oscillators (shooting at
    the fixed period, Floquet multipliers, continuation in the detuning, locking);
 4. :mod:`numerics.comparison` — approximations against the true cycles;
-5. :mod:`numerics.paper` — the reproduction of D'Acunto's paper;
-6. :mod:`numerics.cli` — the ``kbm`` command line (on top of :mod:`kbm` and all of these).
+5. :mod:`numerics.sliding` — the pulled sliders: driven runs (scipy and compiled),
+   stick-slip, steady sliding states, friction laws and maps;
+6. :mod:`numerics.paper` — the reproduction of D'Acunto's paper;
+7. :mod:`numerics.cli` — the ``kbm`` command line (on top of :mod:`kbm` and all of these).
 """
 
 from numerics._memo import clear_caches

@@ -18,7 +18,7 @@ import sympy as sp
 
 from ..errors import UnsupportedTermError
 from ..symbols import a, psi, x, xdot
-from .laurent import Laurent, LaurentRing, Q
+from .laurent import Laurent, LaurentRing, Q, _fmpq
 
 if TYPE_CHECKING:  # the models sit above the algebra; only their type is named here
     from ..models import Oscillator
@@ -26,15 +26,17 @@ if TYPE_CHECKING:  # the models sit above the algebra; only their type is named 
 __all__ = ["PolyFourier", "PolyAlgebra", "ring_generators"]
 
 _HALF = Q(1, 2)
+_HALF_DENSE = _fmpq(1, 2) if _fmpq is not None else None
 
 
 class PolyFourier:
     """A finite Fourier series; ``cos`` and ``sin`` map harmonic ``m`` to a coefficient."""
 
-    __slots__ = ("ring", "cos", "sin")
+    __slots__ = ("ring", "cos", "sin", "_dense_form")
 
     def __init__(self, ring: LaurentRing, cos: dict | None = None, sin: dict | None = None):
         self.ring = ring
+        self._dense_form = None
         self.cos = {m: c for m, c in (cos or {}).items() if c}
         self.sin = {m: c for m, c in (sin or {}).items() if c and m != 0}
 
@@ -74,6 +76,76 @@ class PolyFourier:
                            {m: v.scale(q) for m, v in self.sin.items()})
 
     def __mul__(self, other: "PolyFourier") -> "PolyFourier":
+        if self.ring.dense:
+            return self._mul_dense(other)
+        return self._mul_sparse(other)
+
+    def _dense(self) -> tuple[int, dict, dict]:
+        """``(low, cos, sin)``: every coefficient as an ``fmpq_poly`` in ``a`` times
+        ``a**(low - bias)`` (one-generator rings; ``low`` the lowest packed monomial).
+        Made once per series (a series is immutable) and kept."""
+        if self._dense_form is None:
+            forms = [(k, m, c.dense()) for k, d in ((0, self.cos), (1, self.sin))
+                     for m, c in d.items()]
+            low = min(l for _, _, (l, _) in forms)
+            polys: tuple[dict, dict] = ({}, {})
+            for k, m, (l, p) in forms:
+                polys[k][m] = p.left_shift(l - low) if l > low else p
+            self._dense_form = (low, *polys)
+        return self._dense_form
+
+    def _mul_dense(self, other: "PolyFourier") -> "PolyFourier":
+        """:meth:`__mul__` for one-generator rings: the same product-to-sum formulas on
+        dense ``fmpq_poly`` coefficients (exact, the same result as the sparse product)."""
+        ring = self.ring
+        if self.is_zero() or other.is_zero():
+            return PolyFourier(ring)
+        low1, cos1, sin1 = self._dense()
+        low2, cos2, sin2 = other._dense()
+        cos: dict[int, object] = {}
+        sin: dict[int, object] = {}
+
+        def add(d: dict, m: int, prod) -> None:
+            v = d.get(m)
+            d[m] = prod if v is None else v + prod
+
+        def sub(d: dict, m: int, prod) -> None:
+            v = d.get(m)
+            d[m] = -prod if v is None else v - prod
+
+        for m, c1 in cos1.items():
+            for n, c2 in cos2.items():
+                pr = c1 * c2
+                add(cos, abs(m - n), pr)
+                add(cos, m + n, pr)
+            for n, s2 in sin2.items():
+                pr = c1 * s2
+                add(sin, m + n, pr)
+                if n > m:
+                    add(sin, n - m, pr)
+                elif n < m:
+                    sub(sin, m - n, pr)
+        for m, s1 in sin1.items():
+            for n, c2 in cos2.items():
+                pr = s1 * c2
+                add(sin, m + n, pr)
+                if m > n:
+                    add(sin, m - n, pr)
+                elif m < n:
+                    sub(sin, n - m, pr)
+            for n, s2 in sin2.items():
+                pr = s1 * s2
+                add(cos, abs(m - n), pr)
+                sub(cos, m + n, pr)
+        low = low1 + low2 - ring.bias_all
+        half = _HALF_DENSE
+
+        def finish(d: dict) -> dict:
+            return {m: Laurent.from_dense(ring, low, p * half) for m, p in d.items() if p}
+
+        return PolyFourier(ring, finish(cos), finish(sin))
+
+    def _mul_sparse(self, other: "PolyFourier") -> "PolyFourier":
         # Product-to-sum formulas, accumulated in place on raw term dicts:
         # cos m cos n = (cos(m-n) + cos(m+n))/2 ; sin m sin n = (cos(m-n) - cos(m+n))/2
         # sin m cos n = (sin(m+n) + sin(m-n))/2

@@ -16,6 +16,7 @@ from collections.abc import Sequence
 from math import gcd as _gcd
 
 import sympy as sp
+from sympy.core.add import _addsort
 
 # Q: the exact rational number type of the coefficients (gmpy2.mpq, else fractions.Fraction).
 try:  # gmpy2 makes rational arithmetic several times faster
@@ -24,9 +25,9 @@ except ImportError:  # pragma: no cover - gmpy2 is a declared dependency
     from fractions import Fraction as Q
 
 try:  # python-flint: dense polynomial products in C, for rings of one generator
-    from flint import fmpq as _fmpq, fmpq_poly as _fmpq_poly
+    from flint import fmpq as _fmpq, fmpq_poly as _fmpq_poly, fmpz_poly as _fmpz_poly
 except ImportError:  # pragma: no cover - python-flint is a declared dependency
-    _fmpq = _fmpq_poly = None
+    _fmpq = _fmpq_poly = _fmpz_poly = None
 
 __all__ = ["LaurentRing", "Laurent", "Q", "HAVE_DENSE", "to_dense"]
 
@@ -257,6 +258,10 @@ class Laurent:
     def as_expr(self) -> sp.Expr:
         """The sympy expression (terms in a fixed order, so printing is deterministic)."""
         ring = self.ring
+        if ring.ngens == 1:
+            g = ring.gens[0]
+            return _sum_of_monomials([_monomial_term(self.terms[m], g, ring.exponent(m, 0))
+                                      for m in sorted(self.terms)])
         parts = []
         for m in sorted(self.terms):
             c = self.terms[m]
@@ -267,6 +272,30 @@ class Laurent:
                     term *= g**e
             parts.append(term)
         return sp.Add(*parts)
+
+
+def _monomial_term(c, g: sp.Symbol, e: int) -> sp.Expr:
+    """``c * g**e`` as sympy builds it, without the general product's simplification
+    (the arguments are already canonical: a rational number and a power)."""
+    coeff = sp.Rational(int(c.numerator), int(c.denominator))
+    if not e:
+        return coeff
+    power = g if e == 1 else sp.Pow(g, e)
+    if coeff is sp.S.One:
+        return power
+    return sp.Mul._from_args((coeff, power))
+
+
+def _sum_of_monomials(terms: list) -> sp.Expr:
+    """``sp.Add(*terms)`` for nonzero terms ``c * g**e`` with distinct exponents: nothing
+    combines, so the canonical sum is made directly (the number first, the rest in
+    sympy's canonical order), without asking each new coefficient whether it is zero."""
+    if len(terms) < 2:
+        return terms[0] if terms else sp.Integer(0)
+    numbers = [t for t in terms if t.is_Number]
+    rest = [t for t in terms if not t.is_Number]
+    _addsort(rest)
+    return sp.Add._from_args(numbers + rest, is_commutative=True)
 
 
 # ----------------------------------------------------------------------------- dense form

@@ -12,13 +12,14 @@ index, ``d/da`` on the coefficients.  No integration over ``psi`` is ever done.
 
 from __future__ import annotations
 
+from math import gcd as _gcd
 from typing import TYPE_CHECKING
 
 import sympy as sp
 
 from ..errors import UnsupportedTermError
 from ..symbols import a, psi, x, xdot
-from .laurent import Laurent, LaurentRing, Q, _fmpq
+from .laurent import Laurent, LaurentRing, Q, _fmpq_poly, _fmpz_poly
 
 if TYPE_CHECKING:  # the models sit above the algebra; only their type is named here
     from ..models import Oscillator
@@ -26,7 +27,6 @@ if TYPE_CHECKING:  # the models sit above the algebra; only their type is named 
 __all__ = ["PolyFourier", "PolyAlgebra", "ring_generators"]
 
 _HALF = Q(1, 2)
-_HALF_DENSE = _fmpq(1, 2) if _fmpq is not None else None
 
 
 class PolyFourier:
@@ -80,68 +80,71 @@ class PolyFourier:
             return self._mul_dense(other)
         return self._mul_sparse(other)
 
-    def _dense(self) -> tuple[int, dict, dict]:
-        """``(low, cos, sin)``: every coefficient as an ``fmpq_poly`` in ``a`` times
-        ``a**(low - bias)`` (one-generator rings; ``low`` the lowest packed monomial).
-        Made once per series (a series is immutable) and kept."""
+    def _dense(self) -> tuple[int, int, dict, dict]:
+        """``(low, den, cos, sin)``: every coefficient as an integer ``fmpz_poly`` in ``a``
+        times ``a**(low - bias) / den`` (one-generator rings; ``low`` the lowest packed
+        monomial, ``den`` a common denominator).  Made once per series (a series is
+        immutable) and kept."""
         if self._dense_form is None:
             forms = [(k, m, c.dense()) for k, d in ((0, self.cos), (1, self.sin))
                      for m, c in d.items()]
             low = min(l for _, _, (l, _) in forms)
+            den = 1
+            for _, _, (_, p) in forms:
+                d = int(p.denom())
+                den = den * d // _gcd(den, d)
             polys: tuple[dict, dict] = ({}, {})
             for k, m, (l, p) in forms:
-                polys[k][m] = p.left_shift(l - low) if l > low else p
-            self._dense_form = (low, *polys)
+                q = p.numer() * (den // int(p.denom()))
+                polys[k][m] = q.left_shift(l - low) if l > low else q
+            self._dense_form = (low, den, *polys)
         return self._dense_form
 
     def _mul_dense(self, other: "PolyFourier") -> "PolyFourier":
         """:meth:`__mul__` for one-generator rings: the same product-to-sum formulas on
-        dense ``fmpq_poly`` coefficients (exact, the same result as the sparse product)."""
+        dense integer polynomials over a common denominator (exact, the same result as
+        the sparse product)."""
         ring = self.ring
         if self.is_zero() or other.is_zero():
             return PolyFourier(ring)
-        low1, cos1, sin1 = self._dense()
-        low2, cos2, sin2 = other._dense()
-        cos: dict[int, object] = {}
-        sin: dict[int, object] = {}
-
-        def add(d: dict, m: int, prod) -> None:
-            v = d.get(m)
-            d[m] = prod if v is None else v + prod
-
-        def sub(d: dict, m: int, prod) -> None:
-            v = d.get(m)
-            d[m] = -prod if v is None else v - prod
-
+        low1, den1, cos1, sin1 = self._dense()
+        low2, den2, cos2, sin2 = other._dense()
+        top = max((*cos1, *sin1)) + max((*cos2, *sin2)) + 1
+        zero = _fmpz_poly()
+        cos = [zero] * top  # accumulated by harmonic; halved at the end
+        sin = [zero] * top
         for m, c1 in cos1.items():
             for n, c2 in cos2.items():
                 pr = c1 * c2
-                add(cos, abs(m - n), pr)
-                add(cos, m + n, pr)
+                k = m - n if m > n else n - m
+                cos[k] = cos[k] + pr
+                cos[m + n] = cos[m + n] + pr
             for n, s2 in sin2.items():
                 pr = c1 * s2
-                add(sin, m + n, pr)
+                sin[m + n] = sin[m + n] + pr
                 if n > m:
-                    add(sin, n - m, pr)
+                    sin[n - m] = sin[n - m] + pr
                 elif n < m:
-                    sub(sin, m - n, pr)
+                    sin[m - n] = sin[m - n] - pr
         for m, s1 in sin1.items():
             for n, c2 in cos2.items():
                 pr = s1 * c2
-                add(sin, m + n, pr)
+                sin[m + n] = sin[m + n] + pr
                 if m > n:
-                    add(sin, m - n, pr)
+                    sin[m - n] = sin[m - n] + pr
                 elif m < n:
-                    sub(sin, n - m, pr)
+                    sin[n - m] = sin[n - m] - pr
             for n, s2 in sin2.items():
                 pr = s1 * s2
-                add(cos, abs(m - n), pr)
-                sub(cos, m + n, pr)
+                k = m - n if m > n else n - m
+                cos[k] = cos[k] + pr
+                cos[m + n] = cos[m + n] - pr
         low = low1 + low2 - ring.bias_all
-        half = _HALF_DENSE
+        den = 2 * den1 * den2  # 2: the product-to-sum factor 1/2
 
-        def finish(d: dict) -> dict:
-            return {m: Laurent.from_dense(ring, low, p * half) for m, p in d.items() if p}
+        def finish(polys: list) -> dict:
+            return {m: Laurent.from_dense(ring, low, _fmpq_poly(p, den))
+                    for m, p in enumerate(polys) if p}
 
         return PolyFourier(ring, finish(cos), finish(sin))
 

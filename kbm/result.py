@@ -217,7 +217,8 @@ def _first_harmonic_present(expr: sp.Expr) -> bool:
     the expansion of its argument), so the costly expansion of a large ``u_n`` is done
     only when such a factor occurs somewhere in ``expr``.
     """
-    if not any(sp.expand(f.args[0]) in (psi, -psi) for f in sp.sympify(expr).atoms(sp.cos, sp.sin)):
+    trig = sp.sympify(expr).atoms(sp.cos, sp.sin)
+    if not any(sp.expand(f.args[0]) in (psi, -psi) for f in trig):
         return False
     expr = sp.expand(expr)
     for term in sp.Add.make_args(expr):

@@ -106,7 +106,7 @@ class Laurent:
 
     def __init__(self, ring: LaurentRing, terms: dict | None = None, dense: tuple | None = None):
         self.ring = ring
-        self._terms = terms
+        self._terms = {} if terms is None and dense is None else terms
         self._dense = dense
 
     @classmethod
@@ -310,4 +310,3 @@ def to_dense(terms: dict, low: int):
     for k, v in terms.items():
         nums[k - low] = int(v.numerator) * (den // int(v.denominator))
     return _fmpq_poly(nums, den)
-

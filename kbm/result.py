@@ -211,7 +211,15 @@ class KBMResult:
 
 
 def _first_harmonic_present(expr: sp.Expr) -> bool:
-    """Whether a finite (non-Sum) cos(psi) or sin(psi) term is present."""
+    """Whether a finite (non-Sum) cos(psi) or sin(psi) term is present.
+
+    Expanding never makes a ``cos`` or ``sin`` of ``+-psi`` that was not there (up to
+    the expansion of its argument), so the costly expansion of a large ``u_n`` is done
+    only when such a factor occurs somewhere in ``expr``.
+    """
+    trig = sp.sympify(expr).atoms(sp.cos, sp.sin)
+    if not any(sp.expand(f.args[0]) in (psi, -psi) for f in trig):
+        return False
     expr = sp.expand(expr)
     for term in sp.Add.make_args(expr):
         if isinstance(term, sp.Sum):

@@ -17,12 +17,13 @@ import pytest
 import sympy as sp
 from hypothesis import given, strategies as st
 
+import kbm.algebra.laurent
 import kbm.averaging
 from kbm import custom_model, derive
 from kbm.algebra.base import FourierAlgebra, FourierSeries
 from kbm.algebra.bessel_fourier import COS, SymAlgebra, SymFourier, jacobi_anger
 from kbm.algebra.lattice import egcd, line, line_sum
-from kbm.algebra.laurent import LaurentRing, Q
+from kbm.algebra.laurent import Laurent, LaurentRing, Q
 from kbm.algebra.lazy_series import Builder, Leaf, Product, Tail
 from kbm.algebra.poly_fourier import PolyAlgebra, PolyFourier
 from kbm.models import get_model
@@ -135,6 +136,43 @@ def test_poly_fourier_product_and_calculus_against_sympy(c1, s1, c2, s2):
     for got, want in ((f * g, fe * ge), (f.dpsi(), sp.diff(fe, psi)), (f.da(), sp.diff(fe, a))):
         h = sp.lambdify((a, psi), got.as_expr(psi) - want, "numpy")
         np.testing.assert_allclose(h(*pts), 0, atol=1e-9)
+
+
+one_gen = st.dictionaries(st.integers(-3, 6), st.fractions(max_denominator=9).filter(bool),
+                          max_size=5)
+
+
+def _one_gen_pair(terms):
+    """The same one-generator Laurent polynomial in a dense ring and a sparse one."""
+    dense, sparse = LaurentRing([a]), LaurentRing([a])
+    sparse.dense = False
+    return tuple(Laurent(ring, {ring.monomial([e]): Q(c) for e, c in terms.items()})
+                 for ring in (dense, sparse))
+
+
+@pytest.mark.skipif(not kbm.algebra.laurent.HAVE_DENSE, reason="needs python-flint")
+@given(one_gen, one_gen)
+def test_dense_laurent_arithmetic_is_the_sparse_one_exactly(t1, t2):
+    (p, ps), (q, qs) = _one_gen_pair(t1), _one_gen_pair(t2)
+    assert p.ring.dense and not ps.ring.dense
+    for got, want in ((p * q, ps * qs), (p + q, ps + qs), (p - q, ps - qs),
+                      (p.diff(0), ps.diff(0)), (p.shift(0, -2), ps.shift(0, -2)),
+                      (p.scale(Q(-3, 4)), ps.scale(Q(-3, 4)))):
+        assert got.terms == want.terms
+        assert bool(got) == bool(want)
+        assert sp.srepr(got.as_expr()) == sp.srepr(want.as_expr())
+        assert sp.srepr(got.as_primitive_expr()) == sp.srepr(want.as_primitive_expr())
+
+
+@pytest.mark.skipif(not kbm.algebra.laurent.HAVE_DENSE, reason="needs python-flint")
+def test_dense_fourier_product_is_the_sparse_one_exactly():
+    raw = kbm.averaging.run_recursion("vdp", 6)
+    for f in raw.u:
+        for g in raw.u:
+            dense, sparse = f._mul_dense(g), f._mul_sparse(g)
+            for d1, d2 in ((dense.cos, sparse.cos), (dense.sin, sparse.sin)):
+                assert sorted(d1) == sorted(d2)
+                assert all(d1[m].terms == d2[m].terms for m in d1)
 
 
 # ----------------------------------------------------------------------------- Bessel algebra

@@ -16,6 +16,7 @@ from collections.abc import Sequence
 from math import gcd as _gcd
 
 import sympy as sp
+from sympy.core.add import _addsort
 
 # Q: the exact rational number type of the coefficients (gmpy2.mpq, else fractions.Fraction).
 try:  # gmpy2 makes rational arithmetic several times faster
@@ -23,7 +24,15 @@ try:  # gmpy2 makes rational arithmetic several times faster
 except ImportError:  # pragma: no cover - gmpy2 is a declared dependency
     from fractions import Fraction as Q
 
-__all__ = ["LaurentRing", "Laurent", "Q"]
+try:  # python-flint: dense polynomial products in C, for rings of one generator
+    from flint import fmpq as _fmpq, fmpq_poly as _fmpq_poly, fmpz_poly as _fmpz_poly
+except ImportError:  # pragma: no cover - python-flint is a declared dependency
+    _fmpq = _fmpq_poly = _fmpz_poly = None
+
+__all__ = ["LaurentRing", "Laurent", "Q", "HAVE_DENSE", "to_dense"]
+
+#: whether one-generator Laurent polynomials can be multiplied densely (python-flint)
+HAVE_DENSE = _fmpq_poly is not None
 
 _BITS = 16
 _BIAS = 1 << (_BITS - 1)
@@ -33,11 +42,13 @@ _MASK = (1 << _BITS) - 1
 class LaurentRing:
     """The ring of Laurent polynomials in the given generators over Q."""
 
-    __slots__ = ("gens", "ngens", "bias_all", "zero_mono", "_unit")
+    __slots__ = ("gens", "ngens", "bias_all", "zero_mono", "_unit", "dense")
 
     def __init__(self, gens: Sequence[sp.Symbol]):
         self.gens = tuple(gens)
         self.ngens = len(self.gens)
+        #: whether the elements compute on their dense form (one generator, python-flint)
+        self.dense = HAVE_DENSE and self.ngens == 1
         self.bias_all = sum(_BIAS << (_BITS * i) for i in range(self.ngens))
         self.zero_mono = self.bias_all
         self._unit = [1 << (_BITS * i) for i in range(self.ngens)]
@@ -83,22 +94,64 @@ class LaurentRing:
 
 
 class Laurent:
-    """An element of a :class:`LaurentRing` (immutable by convention)."""
+    """An element of a :class:`LaurentRing` (immutable by convention).
 
-    __slots__ = ("ring", "terms")
+    ``terms`` maps packed monomials to rational coefficients.  In a ring of one
+    generator (with python-flint) the arithmetic runs instead on the dense form
+    ``(low, p)``, the element being ``gens[0]**(low - bias) * p(gens[0])`` with ``p``
+    an ``fmpq_poly``; each form is made from the other on first use and kept.
+    """
 
-    def __init__(self, ring: LaurentRing, terms: dict):
+    __slots__ = ("ring", "_terms", "_dense")
+
+    def __init__(self, ring: LaurentRing, terms: dict | None = None, dense: tuple | None = None):
         self.ring = ring
-        self.terms = terms
+        self._terms = {} if terms is None and dense is None else terms
+        self._dense = dense
+
+    @classmethod
+    def from_dense(cls, ring: LaurentRing, low: int, poly) -> "Laurent":
+        """The element ``gens[0]**(low - bias) * poly(gens[0])`` (one generator)."""
+        return cls(ring, None, (low, poly))
+
+    @property
+    def terms(self) -> dict:
+        """``{packed monomial: rational coefficient}`` (no zero coefficients)."""
+        if self._terms is None:
+            low, poly = self._dense
+            den = int(poly.denom())
+            self._terms = {low + k: Q(int(n), den)
+                           for k, n in enumerate(poly.numer().coeffs()) if n}
+        return self._terms
+
+    def dense(self) -> tuple:
+        """The dense form ``(low, fmpq_poly)`` (rings of one generator only)."""
+        if self._dense is None:
+            terms = self._terms
+            if terms:
+                low = min(terms)
+                self._dense = (low, to_dense(terms, low))
+            else:
+                self._dense = (self.ring.bias_all, _fmpq_poly())
+        return self._dense
 
     def __bool__(self) -> bool:
-        return bool(self.terms)
+        if self._terms is not None:
+            return bool(self._terms)
+        return bool(self._dense[1])
 
     def __add__(self, other: "Laurent") -> "Laurent":
-        if not other.terms:
+        if not other:
             return self
-        if not self.terms:
+        if not self:
             return other
+        if self.ring.dense:
+            (l1, p1), (l2, p2) = self.dense(), other.dense()
+            if l1 > l2:
+                p1, l1 = p1.left_shift(l1 - l2), l2
+            elif l2 > l1:
+                p2 = p2.left_shift(l2 - l1)
+            return Laurent.from_dense(self.ring, l1, p1 + p2)
         out = dict(self.terms)
         for m, c in other.terms.items():
             v = out.get(m)
@@ -113,14 +166,20 @@ class Laurent:
         return Laurent(self.ring, out)
 
     def __neg__(self) -> "Laurent":
+        if self.ring.dense:
+            low, poly = self.dense()
+            return Laurent.from_dense(self.ring, low, -poly)
         return Laurent(self.ring, {m: -c for m, c in self.terms.items()})
 
     def __sub__(self, other: "Laurent") -> "Laurent":
         return self + (-other)
 
     def __mul__(self, other: "Laurent") -> "Laurent":
-        if not self.terms or not other.terms:
+        if not self or not other:
             return Laurent(self.ring, {})
+        if self.ring.dense:
+            (l1, p1), (l2, p2) = self.dense(), other.dense()
+            return Laurent.from_dense(self.ring, l1 + l2 - self.ring.bias_all, p1 * p2)
         b = self.ring.bias_all
         out: dict[int, object] = {}
         get = out.get
@@ -136,16 +195,28 @@ class Laurent:
         c = Q(c)
         if not c:
             return Laurent(self.ring, {})
+        if self.ring.dense:
+            low, poly = self.dense()
+            return Laurent.from_dense(self.ring, low,
+                                      poly * _fmpq(int(c.numerator), int(c.denominator)))
         return Laurent(self.ring, {m: v * c for m, v in self.terms.items()})
 
     def shift(self, i: int, power: int) -> "Laurent":
         """Multiply by ``gens[i]**power`` (power may be negative)."""
         d = power * self.ring._unit[i]
+        if self.ring.dense:
+            low, poly = self.dense()
+            return Laurent.from_dense(self.ring, low + d, poly)
         return Laurent(self.ring, {m + d: c for m, c in self.terms.items()})
 
     def diff(self, i: int) -> "Laurent":
         """Partial derivative with respect to ``gens[i]``."""
         ring = self.ring
+        if ring.dense:
+            # d/dg (g**e p(g)) = g**(e - 1) (e p(g) + g p'(g))
+            low, poly = self.dense()
+            e = low - ring.bias_all
+            return Laurent.from_dense(ring, low - 1, poly * e + poly.derivative().left_shift(1))
         unit = ring._unit[i]
         out = {}
         for m, c in self.terms.items():
@@ -187,6 +258,10 @@ class Laurent:
     def as_expr(self) -> sp.Expr:
         """The sympy expression (terms in a fixed order, so printing is deterministic)."""
         ring = self.ring
+        if ring.ngens == 1:
+            g = ring.gens[0]
+            return _sum_of_monomials([_monomial_term(self.terms[m], g, ring.exponent(m, 0))
+                                      for m in sorted(self.terms)])
         parts = []
         for m in sorted(self.terms):
             c = self.terms[m]
@@ -197,3 +272,41 @@ class Laurent:
                     term *= g**e
             parts.append(term)
         return sp.Add(*parts)
+
+
+def _monomial_term(c, g: sp.Symbol, e: int) -> sp.Expr:
+    """``c * g**e`` as sympy builds it, without the general product's simplification
+    (the arguments are already canonical: a rational number and a power)."""
+    coeff = sp.Rational(int(c.numerator), int(c.denominator))
+    if not e:
+        return coeff
+    power = g if e == 1 else sp.Pow(g, e)
+    if coeff is sp.S.One:
+        return power
+    return sp.Mul._from_args((coeff, power))
+
+
+def _sum_of_monomials(terms: list) -> sp.Expr:
+    """``sp.Add(*terms)`` for nonzero terms ``c * g**e`` with distinct exponents: nothing
+    combines, so the canonical sum is made directly (the number first, the rest in
+    sympy's canonical order), without asking each new coefficient whether it is zero."""
+    if len(terms) < 2:
+        return terms[0] if terms else sp.Integer(0)
+    numbers = [t for t in terms if t.is_Number]
+    rest = [t for t in terms if not t.is_Number]
+    _addsort(rest)
+    return sp.Add._from_args(numbers + rest, is_commutative=True)
+
+
+# ----------------------------------------------------------------------------- dense form
+def to_dense(terms: dict, low: int):
+    """The ``fmpq_poly`` ``p`` with ``terms = a**(low - bias) * p(a)`` (one generator;
+    ``low`` a packed monomial not above any of ``terms``)."""
+    den = 1
+    for v in terms.values():
+        d = int(v.denominator)
+        den = den * d // _gcd(den, d)
+    nums = [0] * (max(terms) - low + 1)
+    for k, v in terms.items():
+        nums[k - low] = int(v.numerator) * (den // int(v.denominator))
+    return _fmpq_poly(nums, den)

@@ -12,13 +12,14 @@ index, ``d/da`` on the coefficients.  No integration over ``psi`` is ever done.
 
 from __future__ import annotations
 
+from math import gcd as _gcd
 from typing import TYPE_CHECKING
 
 import sympy as sp
 
 from ..errors import UnsupportedTermError
 from ..symbols import a, psi, x, xdot
-from .laurent import Laurent, LaurentRing, Q
+from .laurent import Laurent, LaurentRing, Q, _fmpq_poly, _fmpz_poly
 
 if TYPE_CHECKING:  # the models sit above the algebra; only their type is named here
     from ..models import Oscillator
@@ -31,10 +32,11 @@ _HALF = Q(1, 2)
 class PolyFourier:
     """A finite Fourier series; ``cos`` and ``sin`` map harmonic ``m`` to a coefficient."""
 
-    __slots__ = ("ring", "cos", "sin")
+    __slots__ = ("ring", "cos", "sin", "_dense_form")
 
     def __init__(self, ring: LaurentRing, cos: dict | None = None, sin: dict | None = None):
         self.ring = ring
+        self._dense_form = None
         self.cos = {m: c for m, c in (cos or {}).items() if c}
         self.sin = {m: c for m, c in (sin or {}).items() if c and m != 0}
 
@@ -74,6 +76,79 @@ class PolyFourier:
                            {m: v.scale(q) for m, v in self.sin.items()})
 
     def __mul__(self, other: "PolyFourier") -> "PolyFourier":
+        if self.ring.dense:
+            return self._mul_dense(other)
+        return self._mul_sparse(other)
+
+    def _dense(self) -> tuple[int, int, dict, dict]:
+        """``(low, den, cos, sin)``: every coefficient as an integer ``fmpz_poly`` in ``a``
+        times ``a**(low - bias) / den`` (one-generator rings; ``low`` the lowest packed
+        monomial, ``den`` a common denominator).  Made once per series (a series is
+        immutable) and kept."""
+        if self._dense_form is None:
+            forms = [(k, m, c.dense()) for k, d in ((0, self.cos), (1, self.sin))
+                     for m, c in d.items()]
+            low = min(l for _, _, (l, _) in forms)
+            den = 1
+            for _, _, (_, p) in forms:
+                d = int(p.denom())
+                den = den * d // _gcd(den, d)
+            polys: tuple[dict, dict] = ({}, {})
+            for k, m, (l, p) in forms:
+                q = p.numer() * (den // int(p.denom()))
+                polys[k][m] = q.left_shift(l - low) if l > low else q
+            self._dense_form = (low, den, *polys)
+        return self._dense_form
+
+    def _mul_dense(self, other: "PolyFourier") -> "PolyFourier":
+        """:meth:`__mul__` for one-generator rings: the same product-to-sum formulas on
+        dense integer polynomials over a common denominator (exact, the same result as
+        the sparse product)."""
+        ring = self.ring
+        if self.is_zero() or other.is_zero():
+            return PolyFourier(ring)
+        low1, den1, cos1, sin1 = self._dense()
+        low2, den2, cos2, sin2 = other._dense()
+        top = max((*cos1, *sin1)) + max((*cos2, *sin2)) + 1
+        zero = _fmpz_poly()
+        cos = [zero] * top  # accumulated by harmonic; halved at the end
+        sin = [zero] * top
+        for m, c1 in cos1.items():
+            for n, c2 in cos2.items():
+                pr = c1 * c2
+                k = m - n if m > n else n - m
+                cos[k] = cos[k] + pr
+                cos[m + n] = cos[m + n] + pr
+            for n, s2 in sin2.items():
+                pr = c1 * s2
+                sin[m + n] = sin[m + n] + pr
+                if n > m:
+                    sin[n - m] = sin[n - m] + pr
+                elif n < m:
+                    sin[m - n] = sin[m - n] - pr
+        for m, s1 in sin1.items():
+            for n, c2 in cos2.items():
+                pr = s1 * c2
+                sin[m + n] = sin[m + n] + pr
+                if m > n:
+                    sin[m - n] = sin[m - n] + pr
+                elif m < n:
+                    sin[n - m] = sin[n - m] - pr
+            for n, s2 in sin2.items():
+                pr = s1 * s2
+                k = m - n if m > n else n - m
+                cos[k] = cos[k] + pr
+                cos[m + n] = cos[m + n] - pr
+        low = low1 + low2 - ring.bias_all
+        den = 2 * den1 * den2  # 2: the product-to-sum factor 1/2
+
+        def finish(polys: list) -> dict:
+            return {m: Laurent.from_dense(ring, low, _fmpq_poly(p, den))
+                    for m, p in enumerate(polys) if p}
+
+        return PolyFourier(ring, finish(cos), finish(sin))
+
+    def _mul_sparse(self, other: "PolyFourier") -> "PolyFourier":
         # Product-to-sum formulas, accumulated in place on raw term dicts:
         # cos m cos n = (cos(m-n) + cos(m+n))/2 ; sin m sin n = (cos(m-n) - cos(m+n))/2
         # sin m cos n = (sin(m+n) + sin(m-n))/2

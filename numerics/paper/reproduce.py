@@ -86,7 +86,7 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     """
     out = output_folder(out, "out")
     output_folder(out / "tables", "out")
-    prog = _Progress(9)
+    prog = _Progress(10)
     summary: list[str] = ["# kbm reproduce: summary", ""]
 
     prog.stage("errata: the paper's eqs. (6)-(9) against the engine and the true cycles")

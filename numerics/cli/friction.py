@@ -163,6 +163,8 @@ def _print(m) -> None:
         print(f"{vals} {p.regime:>24s} {p.mean_force:10.5g} {p.dissipation_per_distance:10.5g} "
               f"{p.static_force:9.4g} {p.stuck_fraction:6.3f} {p.wells_per_slip:6.3g} "
               f"{p.eta:6.3g} {'yes' if p.steady else 'no'}")
+        if p.note:
+            print(f"{'':{10 * len(names)}s}  ({p.note})")
 
 
 def _figures(first, second, out: Path) -> list[Path]:

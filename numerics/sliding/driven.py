@@ -41,7 +41,8 @@ from numerics._memo import memo
 from numerics.errors import IntegrationError
 from numerics.flow.jit import jit_available, jit_flow
 
-__all__ = ["DrivenSystem", "Block", "driven_system", "ENGINES", "N_STATES"]
+__all__ = ["DrivenSystem", "Block", "driven_system", "slider_equations", "ENGINES",
+           "N_STATES"]
 
 #: the two integration paths: numba-compiled DOP853, and scipy's solve_ivp (reference)
 ENGINES = ("compiled", "scipy")
@@ -267,21 +268,35 @@ def driven_system(model: str, params: Mapping[str, object], *, engine: str = "co
             raise ParameterError(f"{name} must be {what}, got {p[name]:g}")
     if p.get("Delta", 0.0) < 0:
         raise ParameterError(f"Delta must be >= 0, got {p['Delta']:g}")
-    tp = _template(model)
-    base = get_model(model)
-    takes = ["mu", "Delta", "lam", "Omega", "v"] + (["beta"] if "beta" in base.parameters else [])
-    unknown = sorted(set(p) - set(takes) - set(base.parameters))
-    if unknown:
-        raise ParameterError(f"unknown parameter {unknown[0]!r} for the slider {model}; it "
-                             f"takes {', '.join(takes)}")
-    bound = bind(tp.model, p)
-    bound.require(tp.names, what="the driven slider")
-    pvec = tuple(float(bound.values[n]) for n in tp.names)
+    tp, pvec = slider_equations(model, p)
     flow = _compiled(model, jit_available()) if engine == "compiled" else None
     return DrivenSystem(model=model, params=p, engine="compiled" if flow else "scipy",
                         pvec=pvec, gain_factor=float(tp.f_factor(*pvec)),
                         omega=float(tp.f_omega(*pvec)), rtol=float(rtol), atol=float(atol),
                         _flow=flow, _tp=tp)
+
+
+def slider_equations(model: str, params: Mapping[str, float]) -> tuple[_Template, tuple]:
+    """The slider's extended equations (states ``x, x_dot, tau, G_+, G_-, W, J``; every
+    parameter, ``v`` too, an argument) and the parameter vector at the physical values
+    ``params`` (``v = 0`` allowed), shared by :class:`DrivenSystem` and the reference path
+    :func:`numerics.sliding.reference.slide`.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For a parameter the slider does not take, or one it needs and is not given.
+    """
+    tp = _template(model)
+    base = get_model(model)
+    takes = ["mu", "Delta", "lam", "Omega", "v"] + (["beta"] if "beta" in base.parameters else [])
+    unknown = sorted(set(params) - set(takes) - set(base.parameters))
+    if unknown:
+        raise ParameterError(f"unknown parameter {unknown[0]!r} for the slider {model}; it "
+                             f"takes {', '.join(takes)}")
+    bound = bind(tp.model, params)
+    bound.require(tp.names, what="the driven slider")
+    return tp, tuple(float(bound.values[n]) for n in tp.names)
 
 
 def _number(name: str, value: object) -> float:

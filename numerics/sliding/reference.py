@@ -7,8 +7,9 @@ This is the scipy (``solve_ivp``) path with dense output that the paper's experi
 
 ``x'' + D(x, x') + Delta sin(k x) + Omega^2 (x - v t) = 0`` with the damping force
 ``D = mu (beta x^2 - 1) x'`` (SEDF) or ``D = mu x'`` (CDC), ``k = 2 pi/lambda``.
-The model comes from :func:`kbm.get_model` (``"sedf"`` or ``"cdc"`` with ``v``);
-its right-hand side is lambdified once.  Along the trajectory three extra states
+The equations are those of the compiled path,
+:func:`numerics.sliding.driven.slider_equations` (the model of :func:`kbm.get_model`,
+lambdified once per slider with ``v`` a parameter).  Along the trajectory extra states
 are integrated (not sampled): ``Gamma_+ = mu int x^2 x'^2``, ``Gamma_- = mu int x'^2``
 (paper eq. 11; for the CDC ``Gamma = mu int x'^2``), and the work of the spring on
 the slider ``W = int Omega^2 (v t - x) x' dt``.  Energy audit:
@@ -24,15 +25,14 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
-import sympy as sp
 from scipy.integrate import solve_ivp
 
 from kbm.errors import ParameterError
 from kbm.models import SLIDERS, get_model
 from kbm.paper import FIXED
-from kbm.symbols import t as T, x as X, xdot as V
 
 from numerics.errors import IntegrationError
+from numerics.sliding.driven import slider_equations
 
 __all__ = ["SlideResult", "slide", "PAPER", "MAX_PERIODS"]
 
@@ -60,7 +60,8 @@ class SlideResult:
     energy_residual
         ``W - Delta KE - Delta U_periodic - Gamma`` at the end (integration error).
     sol
-        The dense solution (callable ``sol(t)`` for the 6 states).
+        The dense solution (callable ``sol(t)`` for the 7 states ``x, x_dot, t, G_+, G_-,
+        W, J`` of :func:`numerics.sliding.driven.slider_equations`).
     """
 
     model: str
@@ -82,7 +83,7 @@ class SlideResult:
     def gamma_at(self, t: float) -> float:
         """The dissipation ``Gamma(t) = factor*Gamma_+ - Gamma_-`` (paper eq. 11) at time ``t``."""
         y = self.sol.sol(t)
-        return float(self.gain_factor * y[2] - y[3])
+        return float(self.gain_factor * y[3] - y[4])
 
     def window(self, t0: float, t1: float) -> np.ndarray:
         """Boolean mask of the samples in ``[t0, t1]``."""
@@ -161,37 +162,22 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
         raise ParameterError(f"atol must be a positive number, got {atol}")
     if "beta" not in get_model(model).parameters:
         p.pop("beta", None)
-    m = get_model(model, {"v": p["v"]} if p.get("v") else None)
-    vals = m.resolve({k: v for k, v in p.items() if k != "v"})
-    missing = [q for q in m.parameters if q not in vals and q != "v"]
-    if missing:
-        raise ParameterError(f"slide {model} needs {', '.join(missing)} "
-                             f"(e.g. params={{{missing[0]!r}: 1}})")
-    subs = {sp.Symbol(k): val for k, val in vals.items()}
-    acc = m.acceleration().subs(subs)
-    Om, v = p["Omega"], p.get("v", 0.0)
-    k = 2 * math.pi / p["lam"]
-    spring = Om**2 * (v * T - X)
-    # the dissipation integrand factor*Gamma_+ - Gamma_- declared by the model (paper eq. 11)
-    plus, minus, factor = m.dissipation_parts()
-    gp, gm = plus.subs(subs), minus.subs(subs)
-    beta = float(factor.subs(subs))
-    y = sp.symbols("y0:6")
-    es = {X: y[0], V: y[1]}
-    f = sp.lambdify((T, y), [y[1], acc.subs(es), gp.subs(es), gm.subs(es),
-                             (spring * V).subs(es), 0], modules="math")
+    p.setdefault("v", 0.0)
+    # the equations of the compiled path (numerics.sliding.driven), through solve_ivp
+    tp, pvec = slider_equations(model, p)
+    f, beta = tp.f_rhs, float(tp.f_factor(*pvec))
 
     def rhs(t, yy):
-        out = f(t, yy)
-        out[5] = 0.0
-        return out
+        return f(t, yy, *pvec)
 
+    Om, v = p["Omega"], p["v"]
+    k = 2 * math.pi / p["lam"]
     scale = min(2 * math.pi / Om, p["lam"] / max(abs(v), 1e-12),
                 2 * math.pi / math.sqrt(Om**2 + p["Delta"] * k))
     ms = max_step if max_step is not None else scale / 4
     n = n_samples or max(2000, int(20 * t_end * Om / (2 * math.pi)))
     with np.errstate(all="ignore"):
-        sol = solve_ivp(rhs, (0.0, t_end), [x0, v0, 0.0, 0.0, 0.0, 0.0], method=method,
+        sol = solve_ivp(rhs, (0.0, t_end), [x0, v0, 0.0, 0.0, 0.0, 0.0, 0.0], method=method,
                         rtol=rtol, atol=atol, dense_output=True, max_step=ms)
     if sol.status != 0 or not np.all(np.isfinite(sol.y[:, -1])):
         raise IntegrationError(f"{method} failed at t = {sol.t[-1]:.6g}: {sol.message}; the "
@@ -199,12 +185,12 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
     tt = np.linspace(0.0, t_end, n)
     ys = sol.sol(tt)
     xs, vs = ys[0], ys[1]
-    Gp, Gm, W = ys[2], ys[3], ys[4]
+    Gp, Gm, W = ys[3], ys[4], ys[5]
     G = beta * Gp - Gm
     Dk = p["Delta"]
     yend = sol.y[:, -1]
-    G_end = beta * yend[2] - yend[3]
-    resid = yend[4] - (yend[1]**2 / 2 - v0**2 / 2) - (-Dk / k * math.cos(k * yend[0])
+    G_end = beta * yend[3] - yend[4]
+    resid = yend[5] - (yend[1]**2 / 2 - v0**2 / 2) - (-Dk / k * math.cos(k * yend[0])
                                                       + Dk / k * math.cos(k * x0)) - G_end
     return SlideResult(model=model, params=p, t=tt, x=xs, xdot=vs, force=Om**2 * (v * tt - xs),
                        gamma_plus=Gp, gamma_minus=Gm, gamma=G, work=W,

@@ -196,7 +196,7 @@ def analyze(res: SlideResult, *, window: tuple[float, float] | None = None,
     mask = res.window(t0, t1)
     Fw = res.force[mask]
     y0, y1 = res.sol.sol(t0), res.sol.sol(t1)
-    gp, gm = float(y1[2] - y0[2]), float(y1[3] - y0[3])
+    gp, gm = float(y1[3] - y0[3]), float(y1[4] - y0[4])
     gamma = res.gain_factor * gp - gm
     sn = saddle_node(p["Delta"], lam, Om, n_wells=1)
     kinetic = float(np.trapezoid(Fw, res.t[mask]) / (res.t[mask][-1] - res.t[mask][0])) \

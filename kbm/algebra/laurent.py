@@ -180,15 +180,7 @@ class Laurent:
         if self.ring.dense:
             (l1, p1), (l2, p2) = self.dense(), other.dense()
             return Laurent.from_dense(self.ring, l1 + l2 - self.ring.bias_all, p1 * p2)
-        b = self.ring.bias_all
-        out: dict[int, object] = {}
-        get = out.get
-        for m1, c1 in self.terms.items():
-            base = m1 - b
-            for m2, c2 in other.terms.items():
-                m = base + m2
-                v = get(m)
-                out[m] = c1 * c2 if v is None else v + c1 * c2
+        out = term_product(self.terms, other.terms, self.ring.bias_all)
         return Laurent(self.ring, {m: c for m, c in out.items() if c})
 
     def scale(self, c) -> "Laurent":
@@ -272,6 +264,37 @@ class Laurent:
                     term *= g**e
             parts.append(term)
         return sp.Add(*parts)
+
+
+def term_product(t1: dict, t2: dict, bias: int) -> dict:
+    """The product of two raw term dicts (monomial code -> coefficient) of a ring with
+    ``bias_all`` = ``bias``; zero coefficients are kept (the caller filters)."""
+    out: dict = {}
+    get = out.get
+    for m1, c1 in t1.items():
+        base = m1 - bias
+        for m2, c2 in t2.items():
+            m = base + m2
+            v = get(m)
+            out[m] = c1 * c2 if v is None else v + c1 * c2
+    return out
+
+
+def accumulate(d: dict, key, terms: dict, sign: int) -> None:
+    """``d[key] += sign * terms`` on raw term dicts, in place (``sign`` is +1 or -1)."""
+    tgt = d.get(key)
+    if tgt is None:
+        d[key] = dict(terms) if sign > 0 else {m: -c for m, c in terms.items()}
+        return
+    get = tgt.get
+    if sign > 0:
+        for m, c in terms.items():
+            w = get(m)
+            tgt[m] = c if w is None else w + c
+    else:
+        for m, c in terms.items():
+            w = get(m)
+            tgt[m] = -c if w is None else w - c
 
 
 def _monomial_term(c, g: sp.Symbol, e: int) -> sp.Expr:

@@ -19,7 +19,8 @@ import sympy as sp
 
 from ..errors import UnsupportedTermError
 from ..symbols import a, psi, x, xdot
-from .laurent import Laurent, LaurentRing, Q, _fmpq_poly, _fmpz_poly
+from .laurent import (Laurent, LaurentRing, Q, _fmpq_poly, _fmpz_poly, accumulate,
+                      term_product)
 
 if TYPE_CHECKING:  # the models sit above the algebra; only their type is named here
     from ..models import Oscillator
@@ -158,30 +159,9 @@ class PolyFourier:
         sin: dict[int, dict] = {}
 
         def product(t1: dict, t2: dict) -> dict:
-            out: dict = {}
-            get = out.get
-            for m1, c1 in t1.items():
-                base = m1 - bias
-                for m2, c2 in t2.items():
-                    m = base + m2
-                    v = get(m)
-                    out[m] = c1 * c2 if v is None else v + c1 * c2
-            return out
+            return term_product(t1, t2, bias)
 
-        def acc(d: dict, m: int, prod: dict, sign: int) -> None:
-            tgt = d.get(m)
-            if tgt is None:
-                d[m] = dict(prod) if sign > 0 else {k: -v for k, v in prod.items()}
-                return
-            get = tgt.get
-            if sign > 0:
-                for k, v in prod.items():
-                    w = get(k)
-                    tgt[k] = v if w is None else w + v
-            else:
-                for k, v in prod.items():
-                    w = get(k)
-                    tgt[k] = -v if w is None else w - v
+        acc = accumulate
 
         for m, c1 in self.cos.items():
             t1 = c1.terms

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..algebra.laurent import Laurent, LaurentRing, Q
+from ..algebra.laurent import Laurent, LaurentRing, Q, accumulate, term_product
 
 __all__ = ["TwoAngle", "canonical"]
 
@@ -30,21 +30,6 @@ def canonical(m: int, k: int) -> tuple[int, int, int]:
     if m > 0 or (m == 0 and k >= 0):
         return m, k, 1
     return -m, -k, -1
-
-
-def _acc(d: dict, key, terms: dict, sign: int) -> None:
-    """``d[key] += sign * terms`` on raw Laurent term dicts (in place)."""
-    tgt = d.get(key)
-    if tgt is None:
-        d[key] = dict(terms) if sign > 0 else {m: -c for m, c in terms.items()}
-        return
-    get = tgt.get
-    for mono, c in terms.items():
-        w = get(mono)
-        if sign > 0:
-            tgt[mono] = c if w is None else w + c
-        else:
-            tgt[mono] = -c if w is None else w - c
 
 
 class TwoAngle:
@@ -117,41 +102,33 @@ class TwoAngle:
         sin: dict = {}
 
         def product(t1: dict, t2: dict) -> dict:
-            out: dict = {}
-            get = out.get
-            for m1, c1 in t1.items():
-                base = m1 - bias
-                for m2, c2 in t2.items():
-                    m = base + m2
-                    v = get(m)
-                    out[m] = c1 * c2 if v is None else v + c1 * c2
-            return out
+            return term_product(t1, t2, bias)
 
         for (m1, k1), c1 in self.cos.items():
             t1 = c1.terms
             for (m2, k2), c2 in other.cos.items():
                 pr = product(t1, c2.terms)
                 a_, b_, _ = canonical(m1 - m2, k1 - k2)
-                _acc(cos, (a_, b_), pr, 1)
-                _acc(cos, canonical(m1 + m2, k1 + k2)[:2], pr, 1)
+                accumulate(cos, (a_, b_), pr, 1)
+                accumulate(cos, canonical(m1 + m2, k1 + k2)[:2], pr, 1)
             for (m2, k2), s2 in other.sin.items():  # cos A sin B
                 pr = product(t1, s2.terms)
                 a_, b_, sg = canonical(m1 + m2, k1 + k2)
-                _acc(sin, (a_, b_), pr, sg)
+                accumulate(sin, (a_, b_), pr, sg)
                 a_, b_, sg = canonical(m1 - m2, k1 - k2)
-                _acc(sin, (a_, b_), pr, -sg)
+                accumulate(sin, (a_, b_), pr, -sg)
         for (m1, k1), s1 in self.sin.items():
             t1 = s1.terms
             for (m2, k2), c2 in other.cos.items():  # sin A cos B
                 pr = product(t1, c2.terms)
                 a_, b_, sg = canonical(m1 + m2, k1 + k2)
-                _acc(sin, (a_, b_), pr, sg)
+                accumulate(sin, (a_, b_), pr, sg)
                 a_, b_, sg = canonical(m1 - m2, k1 - k2)
-                _acc(sin, (a_, b_), pr, sg)
+                accumulate(sin, (a_, b_), pr, sg)
             for (m2, k2), s2 in other.sin.items():
                 pr = product(t1, s2.terms)
-                _acc(cos, canonical(m1 - m2, k1 - k2)[:2], pr, 1)
-                _acc(cos, canonical(m1 + m2, k1 + k2)[:2], pr, -1)
+                accumulate(cos, canonical(m1 - m2, k1 - k2)[:2], pr, 1)
+                accumulate(cos, canonical(m1 + m2, k1 + k2)[:2], pr, -1)
         ring = self.ring
 
         def finish(d: dict) -> dict:

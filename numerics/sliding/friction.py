@@ -61,7 +61,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
@@ -399,8 +399,9 @@ def _runaway(run: _Run, base: dict, limits: tuple[float, float]) -> FrictionPoin
     """A ``runaway`` point (or a failure) if the run has left every bounded state (criterion 5)."""
     f_limit, damping_limit = limits
     system = run.system
-    F_end = abs(float(_force(run)[-1]))
-    rate = float(system.damping(run.y[-1])[0])
+    last = run.y[-1]
+    F_end = abs(system.omega**2 * (system.v * last[2] - last[0]))
+    rate = float(system.damping(last)[0])
     if F_end <= f_limit and rate <= damping_limit and not run.failure:
         return None
     if F_end > f_limit:
@@ -419,8 +420,6 @@ def _runaway(run: _Run, base: dict, limits: tuple[float, float]) -> FrictionPoin
 def _noted(pt: FrictionPoint, slips: int, done: int, Tw: float,
            s: FrictionSettings) -> FrictionPoint:
     """The point with a note when it is not steady or has fewer slips than asked."""
-    from dataclasses import replace
-
     notes = []
     if pt.regime == "stick-slip" and pt.slips < slips:
         notes.append(f"only {pt.slips} slips by the longest run")

@@ -45,8 +45,7 @@ def axis_values(name: str, values: Sequence[float]) -> np.ndarray:
     kbm.errors.ParameterError
         Naming the axis and the bad value.
     """
-    arr = np.asarray(list(values), dtype=float) if not isinstance(values, np.ndarray) \
-        else values.astype(float)
+    arr = np.asarray(values, dtype=float)
     if arr.ndim != 1 or arr.size == 0:
         raise ParameterError(f"the axis {name} is empty: give at least one value")
     bad = arr[~np.isfinite(arr)]

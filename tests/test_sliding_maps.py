@@ -106,16 +106,18 @@ def test_unreachable_scheduler_is_reported_within_the_timeout():
     assert time.perf_counter() - t0 < 15
 
 
-def test_cli_json_keys(capsys):
-    """``kbm friction MODEL --vary ... --json``: the keys of issue 12, per point."""
+def test_cli_json_keys(capsys, tmp_path):
+    """``kbm friction MODEL --vary ... --json --out DIR``: the keys of issue 12, per point;
+    standard output is the JSON alone (the figure's path goes to standard error)."""
     assert main(["friction", "cdc", "-p", "Delta=3", "--vary", "v=2,4", "--workers", "1",
-                 "--json"]) == 0
+                 "--json", "--out", str(tmp_path)]) == 0
     data = json.loads(capsys.readouterr().out)
     for key in ("axes", "mean_force", "static_force", "dissipation_per_distance",
                 "stuck_fraction", "regime"):
         assert key in data
     assert data["axes"] == {"v": [2.0, 4.0]} and data["regime"] == ["smooth sliding"] * 2
     assert data["static_force"] == [None, None]  # no stick: no static friction
+    assert (tmp_path / "friction_law_cdc.png").exists()
 
 
 @pytest.mark.parametrize("argv, words", [

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -145,7 +146,8 @@ def run(args: argparse.Namespace) -> int:
             _print(m)
     if args.out:
         for path in _figures(first, second, Path(args.out)):
-            print(f"wrote {path}")
+            # with --json, standard output holds the JSON only
+            print(f"wrote {path}", file=sys.stderr if args.json else sys.stdout)
     return 0
 
 

@@ -135,7 +135,8 @@ def map_chunks(fn: Callable[[Any], list], chunks: Sequence[Any], *,
 
             futures = executor.map(fn, list(chunks), pure=False)
             index = {f.key: i for i, f in enumerate(futures)}
-            for f in dask_completed(futures):
+            # the client's own loop: a client made by connect() is not the default one
+            for f in dask_completed(futures, loop=executor.loop):
                 settle(index[f.key], f.result)
         elif executor is None:
             with ProcessPoolExecutor(max_workers=workers) as pool:

@@ -77,6 +77,24 @@ def test_dask_and_the_local_pool_give_identical_maps():
     assert v == [float(a) for a in np.repeat(AXES["v"], 10)]
 
 
+def test_a_scheduler_address_runs_the_map_as_the_command_line_does():
+    """``--scheduler ADDRESS``: :func:`connect` makes a client that is not the default one
+    (as on the command line); the map runs on it and equals the local result."""
+    distributed = pytest.importorskip("distributed")
+    axes = {"v": [0.5, 3.0]}
+    local = friction_map("cdc", {"mu": 0.1, "lam": 1.0, "Delta": 3.0}, axes, settings=FAST,
+                         workers=1, progress=False)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster:
+        client = connect(cluster.scheduler_address, timeout=10)
+        try:
+            remote = friction_map("cdc", {"mu": 0.1, "lam": 1.0, "Delta": 3.0}, axes,
+                                  settings=FAST, executor=client, progress=False)
+        finally:
+            client.close()
+    assert _dump(remote) == _dump(local)
+
+
 def test_a_failing_point_keeps_its_error_and_the_rest_stand():
     """mu = 1e-9 needs a transient of 1e10 time units (10/mu): that point reports it; the
     other point is measured."""

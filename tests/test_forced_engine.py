@@ -137,8 +137,12 @@ def test_non_periodic_time_dependence_refused_with_reason(F, words):
 
 
 def test_other_bad_models():
-    with pytest.raises(UnsupportedTermError, match="sin\\(x\\)"):
-        ForcedOscillator("b", "sin(x)*cos(theta)")
+    with pytest.raises(UnsupportedTermError, match="sin\\(x\\).*numeric forced backend"):
+        derive_forced(ForcedOscillator("b", "sin(x)*cos(theta)"), 1)
+    with pytest.raises(UnsupportedTermError, match="tanh"):
+        ForcedOscillator("b", "-sign(xdot) + cos(theta)")
+    with pytest.raises(UnsupportedTermError, match="nu inside"):
+        ForcedOscillator("b", "sin(nu*x) + cos(theta)")
     with pytest.raises(ModelError, match="small parameter mu"):
         ForcedOscillator("b", "mu*x")
     with pytest.raises(ModelError, match="reserved"):

@@ -37,10 +37,14 @@ class TaylorTable:
     ----------
     F
         A sympy expression in ``x`` and ``xdot`` only (parameters already numbers).
+    extra
+        Further variables of ``F`` (the forcing angle of a forced oscillator), passed to
+        the compiled functions after ``x`` and ``xdot``.
     """
 
-    def __init__(self, F: sp.Expr):
+    def __init__(self, F: sp.Expr, extra: tuple = ()):
         self.F = sp.sympify(F)
+        self.extra = tuple(extra)
         self._expr: dict[tuple[int, int], sp.Expr] = {(0, 0): self.F}
         self._func: dict[tuple[int, int], object] = {}
 
@@ -53,11 +57,12 @@ class TaylorTable:
         return self._expr[key]
 
     def function(self, i: int, j: int):
-        """``F_ij`` compiled for numpy arrays ``(x, xdot)``."""
+        """``F_ij`` compiled for numpy arrays ``(x, xdot, *extra)``."""
         key = (i, j)
         if key not in self._func:
             with np.errstate(all="ignore"):
-                self._func[key] = sp.lambdify((x, xdot), self.expr(i, j), modules=_MODULES)
+                self._func[key] = sp.lambdify((x, xdot, *self.extra), self.expr(i, j),
+                                              modules=_MODULES)
         return self._func[key]
 
     def builder(self, alg, X: Leaf, V: Leaf) -> "SmoothBuilder":

@@ -4,7 +4,10 @@
   ``theta = nu t``, checked by :mod:`kbm.forced.checks`) and :class:`Resonance`;
 - :mod:`kbm.forced.builtins`: the built-in forced models;
 - :mod:`kbm.forced.two_angle`: exact Fourier series in the two angles ``(psi, theta)``;
-- :mod:`kbm.forced.engine`: :func:`derive_forced`, the recursion;
+- :mod:`kbm.forced.engine`: :func:`derive_forced`, the recursion (exact, polynomial ``F``);
+- :mod:`kbm.forced.grid`, :mod:`kbm.forced.numeric`: the same recursion on samples,
+  :func:`numeric_derive_forced` (any smooth ``F``: the slider's ``sin(k x + theta)``), and
+  :func:`forced_expansion`, which picks the engine;
 - :mod:`kbm.forced.result`: :class:`ForcedKBMResult` and the numerical :class:`SlowFlow`;
 - :mod:`kbm.forced.steady`: fixed points of the slow flow, their stability, the
   frequency-response curve, folds and backbone;
@@ -20,8 +23,10 @@ from .builtins import FORCED_MODELS, forced_model_names, get_forced_model
 from .model import (LAMBDA, ForcedOscillator, NonPeriodicError, Resonance, add_forcing, nu,
                     phi, sigma, theta)
 from .result import ForcedKBMResult, SlowFlow
+from .numeric import NumericForcedExpansion, forced_expansion, numeric_derive_forced
 
 __all__ = ["derive_forced", "SmallDivisorError", "MAX_ORDER", "ForcedOscillator", "Resonance",
            "NonPeriodicError", "add_forcing", "get_forced_model", "forced_model_names",
-           "FORCED_MODELS", "ForcedKBMResult", "SlowFlow", "theta", "phi", "sigma", "nu",
+           "FORCED_MODELS", "ForcedKBMResult", "SlowFlow", "numeric_derive_forced",
+           "forced_expansion", "NumericForcedExpansion", "theta", "phi", "sigma", "nu",
            "LAMBDA"]

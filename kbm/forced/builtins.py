@@ -9,6 +9,19 @@
 ``duffing-super-hard``  ``F = -2 zeta x' - alpha x^3`` and the hard forcing ``K cos(theta)``,
                     1/3 (Nayfeh & Mook 4.1.2)
 ``duffing-sub-hard``    the same near ``nu = 3 omega0``, 3/1 (Nayfeh & Mook 4.1.3)
+``slider``          the self-excited slider (``sedf_comoving``) seen from its stage:
+                    ``F = (1 - beta x^2)(x' + nu/k) - delta sin(k x + theta)``,
+                    ``omega0 = Omega``, 1/1 (numeric backend)
+``slider-cdc``      the constant-damping slider (CDC, eq. 12) seen from its stage:
+                    ``F = -(x' + nu/k) - delta sin(k x + theta)``, 1/1 (numeric backend)
+
+The sliders: the paper's eq. (3) with the self-excitation attached to the stage
+(``x'' + mu (beta (X - v t)^2 - 1) X' + Delta sin(k X) + Omega^2 (X - v t) = 0``, ``k =
+2 pi/lam``, ``Delta = mu delta``) written for the spring's extension ``x = X - v t``:
+``x'' + Omega^2 x = mu F`` with the washboard angle ``theta = k v t``, so the forcing
+frequency is ``nu = k v = 2 pi v/lam`` and the stage velocity ``v = nu/k`` enters ``F``.
+Near ``nu = Omega`` the self-oscillation locks to the washboard (1/1), near
+``nu = 2 Omega`` the washboard pumps it parametrically (2/1).
 """
 
 from __future__ import annotations
@@ -24,6 +37,8 @@ from .model import ForcedOscillator, Resonance, theta
 __all__ = ["FORCED_MODELS", "forced_model_names", "get_forced_model"]
 
 _zeta, _alpha, _h, _K = sp.symbols("zeta alpha h K")
+_beta, _delta, _k, _Omega = sp.symbols("beta delta k Omega")
+_nu = sp.Symbol("nu")
 
 FORCED_MODELS = {
     "duffing-forced": lambda: ForcedOscillator(
@@ -60,6 +75,18 @@ FORCED_MODELS = {
         resonance=Resonance(2, 1),
         description="parametrically excited Duffing x'' + x = mu (-2 zeta x' - alpha x^3 "
                     "- h x cos nu t), principal parametric resonance"),
+    "slider": lambda: ForcedOscillator(
+        "slider", (1 - _beta * x**2) * (xdot + _nu / _k) - _delta * sp.sin(_k * x + theta),
+        omega0=_Omega, resonance=Resonance(1, 1), defaults={"Omega": 1, "beta": 1},
+        description="self-excited slider seen from its stage (x = X - v t, theta = k v t, "
+                    "nu = k v): x'' + Omega^2 x = mu ((1 - beta x^2)(x' + v) - delta "
+                    "sin(k x + theta)), the paper's eq. 3 with the self-excitation on the "
+                    "spring's extension"),
+    "slider-cdc": lambda: ForcedOscillator(
+        "slider-cdc", -(xdot + _nu / _k) - _delta * sp.sin(_k * x + theta),
+        omega0=_Omega, resonance=Resonance(1, 1), defaults={"Omega": 1},
+        description="constant-damping slider (eq. 12) seen from its stage: x'' + Omega^2 x "
+                    "= mu (-(x' + v) - delta sin(k x + theta)), nu = k v"),
 }
 
 

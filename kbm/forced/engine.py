@@ -44,11 +44,13 @@ from fractions import Fraction
 import sympy as sp
 
 from ..algebra.lazy_series import Builder, Leaf
-from ..errors import OrderError, ParameterError
+from ..errors import OrderError, ParameterError, UnsupportedTermError
 from ..symbols import mu, psi
 from ..values import parameter_value
 from .builtins import get_forced_model
+from .checks import polynomial_message
 from .model import ForcedOscillator, Resonance, phi, sigma, theta
+from .model import nu as nu_symbol
 from .resonant import ResonantAlgebra, SmallDivisorError
 from .result import ForcedKBMResult
 from .two_angle import TwoAngle
@@ -59,36 +61,44 @@ __all__ = ["derive_forced", "SmallDivisorError", "MAX_ORDER"]
 MAX_ORDER = 12
 
 
-def _recursion(alg: ResonantAlgebra, F: list[sp.Expr], order: int):
-    """``F[k]`` is the coefficient of ``mu**k`` of the right-hand side (a hard forcing makes
-    it depend on ``mu`` through ``nu``)."""
+def forced_recursion(alg, build_terms, order: int):
+    """The recursion over any two-angle algebra (exact or sampled).
+
+    ``alg`` offers ``zero``, ``x0``, ``L0``, ``da``, ``dpsi``, ``sigma_dtheta`` (``sigma
+    d/dtheta``, zero without a resonance), ``secular`` and ``solve``;
+    ``build_terms(X, V)`` returns the right-hand side as pairs ``(k, node)``: the lazy series
+    ``node`` (in ``mu``, along ``x = sum mu**n X_n``) is multiplied by ``mu**k`` (a forcing
+    frequency ``nu = nu0 + mu sigma`` in ``F`` makes it depend on ``mu``).
+
+    Returns the lists ``A_1..A_N``, ``B_1..B_N``, ``u_1..u_N`` in the algebra's types.
+    """
     zero = alg.zero
-    x0 = TwoAngle(alg.ring, {(1, 0): alg.ring.gen(0)})
+    x0 = alg.x0()
     v0 = alg.L0(x0)
     X, V = Leaf(zero, x0), Leaf(zero, v0)
-    builder = Builder(alg, X, V)
-    nodes = [builder.build(Fk) for Fk in F]
+    terms = build_terms(X, V)
 
-    def F_coeff(n: int) -> TwoAngle:
+    def F_coeff(n: int):
         out = zero()
-        for k, node in enumerate(nodes[:n + 1]):
-            c = node.coeff(n - k)
-            if not c.is_zero():
-                out = out + c
+        for k, node in terms:
+            if k <= n:
+                c = node.coeff(n - k)
+                if not c.is_zero():
+                    out = out + c
         return out
 
-    A: list[TwoAngle] = []
-    B: list[TwoAngle] = []
-    U: list[TwoAngle] = []
+    A: list = []
+    B: list = []
+    U: list = []
 
-    def D(j: int, f: TwoAngle) -> TwoAngle:
+    def D(j: int, f):
         out = zero()
         if not A[j - 1].is_zero():
-            out = out + A[j - 1] * f.da()
+            out = out + A[j - 1] * alg.da(f)
         if not B[j - 1].is_zero():
-            out = out + B[j - 1] * f.d_angle(0)
-        if j == 1 and alg.sig is not None:
-            out = out + f.d_angle(1).scale(alg.sig)
+            out = out + B[j - 1] * alg.dpsi(f)
+        if j == 1:
+            out = out + alg.sigma_dtheta(f)
         return out
 
     Xs, Vs = [x0], [v0]
@@ -113,6 +123,16 @@ def _recursion(alg: ResonantAlgebra, F: list[sp.Expr], order: int):
         X.append(un)
         V.append(vn)
     return A, B, U
+
+
+def _recursion(alg: ResonantAlgebra, F: list[sp.Expr], order: int):
+    """``F[k]`` is the coefficient of ``mu**k`` of the right-hand side (a hard forcing or a
+    forcing frequency in ``F`` makes it depend on ``mu``)."""
+    def terms(X, V):
+        builder = Builder(alg, X, V)
+        return [(k, builder.build(Fk)) for k, Fk in enumerate(F)]
+
+    return forced_recursion(alg, terms, order)
 
 
 def _slow_expr(f: TwoAngle) -> sp.Expr:
@@ -179,6 +199,8 @@ def derive_forced(model: ForcedOscillator | str, order: int, params: dict | None
         model = get_forced_model(model)
     if params:
         model = model.substitute(params)
+    if not model.is_polynomial:
+        raise UnsupportedTermError(polynomial_message(model.F, model.name))
     if not isinstance(order, int) or isinstance(order, bool) or not 1 <= order <= MAX_ORDER:
         raise OrderError(f"the order must be an integer from 1 to {MAX_ORDER}, got {order!r}")
     if nu is not None and resonance is not None:
@@ -202,7 +224,7 @@ def derive_forced(model: ForcedOscillator | str, order: int, params: dict | None
                              "primary resonance write it as a weak forcing mu*h*cos(theta)")
     freq = sp.Rational(ratio.numerator, ratio.denominator) * model.omega0 \
         + (mu * sigma if res is not None else 0)
-    Fmu = sp.Poly(model.shifted(freq), mu)
+    Fmu = sp.Poly(sp.expand(model.shifted(freq).subs(nu_symbol, freq)), mu)
     F = [sp.expand(Fmu.coeff_monomial(mu**k)) for k in range(Fmu.degree() + 1)]
     alg = ResonantAlgebra(model, res, ratio, tolerance, F)
     A, B, U = _recursion(alg, F, order)

@@ -2,7 +2,11 @@
 
 ``theta = nu t`` is the forcing angle and ``F`` is 2 pi-periodic in it: a polynomial in
 ``x`` and ``x'`` whose coefficients are trigonometric polynomials in ``theta`` (external
-forcing ``h cos(theta)``, parametric forcing ``x cos(theta)``, both).  The forcing
+forcing ``h cos(theta)``, parametric forcing ``x cos(theta)``, both) for the exact engine
+(:func:`~kbm.forced.derive_forced`), or any smooth function such as the washboard force
+``sin(k x + theta)`` of a slider seen from its moving stage for the numeric backend
+(:func:`~kbm.forced.numeric_derive_forced`).  ``F`` may hold the forcing frequency ``nu``
+polynomially (a stage velocity ``v = nu/k``).  The forcing
 frequency is declared near a resonance ``nu = (p/q) omega0 + mu sigma``
 (:class:`Resonance`; ``p/q = 1`` primary, ``1/3`` superharmonic, ``3`` subharmonic,
 ``2`` principal parametric); the forced KBM engine (:mod:`kbm.forced.engine`) then
@@ -28,7 +32,7 @@ from ..errors import ModelError, ParameterError
 from ..models import Oscillator, get_model
 from ..symbols import mu, parse, t, x, xdot
 from ..values import FrozenMap, parameter_value
-from .checks import NonPeriodicError, check_state, check_theta, theta
+from .checks import NonPeriodicError, check_state, check_theta, is_polynomial, nu, theta
 
 __all__ = ["ForcedOscillator", "Resonance", "theta", "phi", "sigma", "nu", "add_forcing",
            "NonPeriodicError", "LAMBDA"]
@@ -37,9 +41,6 @@ __all__ = ["ForcedOscillator", "Resonance", "theta", "phi", "sigma", "nu", "add_
 phi = sp.Symbol("phi")
 #: the detuning ``sigma``: ``nu = (p/q) omega0 + mu sigma``
 sigma = sp.Symbol("sigma")
-#: the forcing frequency
-nu = sp.Symbol("nu")
-
 #: the amplitude ``Lambda = K/(omega0**2 - nu**2)`` of the response to a hard forcing
 LAMBDA = sp.Symbol("Lambda")
 
@@ -110,7 +111,7 @@ class ForcedOscillator:
         As for :class:`kbm.models.Oscillator`.
     F
         The right-hand side over ``mu`` (string or sympy expression in ``x``, ``xdot``,
-        ``theta`` and parameters).
+        ``theta``, parameters and, polynomially, the forcing frequency ``nu``); smooth.
     omega0
         The linear frequency: a positive rational number or a symbol.
     resonance
@@ -131,7 +132,8 @@ class ForcedOscillator:
     NonPeriodicError
         For time dependence that is not 2 pi-periodic in ``theta`` (the term named).
     kbm.errors.UnsupportedTermError
-        For ``F`` that is not polynomial in ``x``, ``xdot``.
+        For ``F`` that is not smooth in ``x``, ``xdot`` (the smooth replacement named) or
+        not polynomial in ``nu``.
 
     Examples
     --------
@@ -167,7 +169,7 @@ class ForcedOscillator:
         if mu in F.free_symbols:
             raise ModelError(f"F of model {self.name!r} contains the small parameter mu; write "
                              "the equation as x'' + omega0^2 x = mu*F with F free of mu")
-        for s in F.free_symbols | w0.free_symbols:
+        for s in (F.free_symbols - {nu}) | w0.free_symbols:
             if s.name in _RESERVED - {"t"}:
                 raise ModelError(f"the symbol {s.name!r} is reserved (amplitude, phases, "
                                  "detuning and forcing frequency); rename that parameter")
@@ -183,10 +185,16 @@ class ForcedOscillator:
             raise ModelError(f"omega0 must be a positive number or a single symbol, got {w0}")
 
     @property
+    def is_polynomial(self) -> bool:
+        """Whether ``F`` is polynomial in ``x``, ``xdot`` (the exact engine's case); otherwise
+        the numeric backend (:func:`kbm.forced.numeric_derive_forced`) applies."""
+        return is_polynomial(self.F)
+
+    @property
     def parameters(self) -> tuple[str, ...]:
         """Names of the parameters of ``F`` and ``omega0`` (sorted)."""
         syms = (self.F.free_symbols | self.omega0.free_symbols | self.hard.free_symbols) \
-            - {x, xdot, theta}
+            - {x, xdot, theta, nu}
         return tuple(sorted(s.name for s in syms))
 
     def substitute(self, values: Mapping[str, object]) -> "ForcedOscillator":

@@ -92,8 +92,22 @@ class ResonantAlgebra:
                 from None
 
     # -- calculus ------------------------------------------------------------------
+    def x0(self) -> TwoAngle:
+        """``a cos(psi)``."""
+        return TwoAngle(self.ring, {(1, 0): self.ring.gen(0)})
+
     def L0(self, f: TwoAngle) -> TwoAngle:
         return f.d_angle(0).scale(self.w0) + f.d_angle(1).scale(self.nu0)
+
+    def da(self, f: TwoAngle) -> TwoAngle:
+        return f.da()
+
+    def dpsi(self, f: TwoAngle) -> TwoAngle:
+        return f.d_angle(0)
+
+    def sigma_dtheta(self, f: TwoAngle) -> TwoAngle:
+        """``sigma df/dtheta`` (zero without a declared resonance)."""
+        return f.d_angle(1).scale(self.sig) if self.sig is not None else self.zero()
 
     def resonant(self, m: int, k: int) -> tuple[int, int] | None:
         """``(j, s)`` with ``m psi + k theta = s psi + j (p psi - q theta)``, or ``None``."""

@@ -117,14 +117,26 @@ class SlowFlow:
 
     ``rates(a, phi, s)`` returns ``(da/dt, dphi/dt)``; ``jacobian(a, phi, s)`` the 2x3
     matrix of their derivatives with respect to ``(a, phi, sigma)``.  ``exprs`` keeps the
-    two sympy expressions.
+    two sympy expressions (for a numeric expansion, :meth:`from_functions`, two strings
+    that say what they are); ``domain`` is the amplitude interval on which the rates are
+    defined (``None``: every ``a > 0``; outside it they are NaN).
     """
 
-    exprs: tuple[sp.Expr, sp.Expr]
+    exprs: tuple
     resonance: Resonance | None
     order: int
     _rates: Callable
     _jac: Callable
+    domain: tuple[float, float] | None = None
+
+    @classmethod
+    def from_functions(cls, text: tuple[str, str], res: Resonance | None, order: int,
+                       rates: Callable, jacobian: Callable,
+                       domain: tuple[float, float] | None = None) -> "SlowFlow":
+        """A slow flow given by vectorised functions (the numeric forced backend,
+        :mod:`kbm.forced.numeric`): ``rates(a, phi, sigma) -> (da/dt, dphi/dt)`` and
+        ``jacobian(a, phi, sigma) -> 2x3 array``."""
+        return cls(tuple(text), res, order, rates, jacobian, domain)
 
     @classmethod
     def build(cls, da: sp.Expr, dphi: sp.Expr, res: Resonance | None, order: int) -> "SlowFlow":

@@ -19,14 +19,16 @@ def register(sub) -> None:
                     "continuation with Floquet multipliers.")
     p.add_argument("model", nargs="?",
                    help="a forced model (duffing-forced, duffing-super, duffing-super-hard, "
-                        "duffing-sub-hard, mathieu, vdp-forced, parametric) or an autonomous "
-                        "one (duffing, vdp, ...) with --forcing or --hard")
+                        "duffing-sub-hard, mathieu, vdp-forced, parametric, slider, "
+                        "slider-cdc, ...) or an autonomous one (duffing, vdp, ...) with "
+                        "--forcing or --hard")
     p.add_argument("--rhs", metavar="EXPR",
                    help="your own F in x, xdot, theta and parameters (instead of a model)")
     p.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")
     p.add_argument("--forcing", metavar="EXPR",
-                   help="added to F: a 2 pi-periodic function of theta = nu t, polynomial in "
-                        "x and xdot, e.g. 'h*cos(theta)' or '-h*x*cos(theta)'")
+                   help="added to F: a 2 pi-periodic function of theta = nu t, smooth in x "
+                        "and xdot, e.g. 'h*cos(theta)', '-h*x*cos(theta)' or "
+                        "'-d*sin(x + theta)' (not polynomial: numeric backend)")
     p.add_argument("--hard", metavar="K",
                    help="a hard (order-one) forcing K cos(theta) on the right-hand side, "
                         "x'' + omega0^2 x = mu F + K cos(nu t), for sub- and superharmonic "
@@ -46,6 +48,11 @@ def register(sub) -> None:
     p.add_argument("--order", type=int, default=1, help="KBM order of the analytic curve (1)")
     p.add_argument("--amax", type=float, default=5.0,
                    help="largest amplitude searched for steady states (default 5)")
+    p.add_argument("--a-range", metavar="AMIN:AMAX",
+                   help="the amplitude window of the steady states instead of --amax (default "
+                        "0.001*amax:amax); for F not polynomial in x, xdot (slider, "
+                        "slider-cdc, sin(k*x + theta)) also the interval of the numeric "
+                        "forced backend (default 0.05*amax:amax)")
     p.add_argument("--no-numeric", action="store_true", help="the analytic curve only")
     p.add_argument("--out", metavar="DIR", help="write the figure response.png into DIR")
     p.add_argument("--json", action="store_true", help="print JSON")
@@ -133,12 +140,13 @@ def run(args: argparse.Namespace) -> int:
     if not args.amax > 0:
         raise ParameterError(f"--amax must be positive, got {args.amax}")
     model = forced_model(args)
+    args.window = _window(model, args)
     if args.detuning is not None:
         return _run_one(model, args)
     lo, hi, n = _vary(args.vary)
     d = response_diagram(model, parse_params(args.param), (lo, hi), order=args.order,
                          n_points=n, resonance=args.resonance,
-                         amplitudes=(1e-3 * args.amax, args.amax), numeric=not args.no_numeric)
+                         amplitudes=args.window, numeric=not args.no_numeric)
     if args.out:
         from numerics.forced.figures import plot_response
 
@@ -154,7 +162,7 @@ def run(args: argparse.Namespace) -> int:
               f"{b.amplitude.min():.6g} .. {b.amplitude.max():.6g}, "
               f"{int(b.stable.sum())} stable")
     if not d.analytic.branches:
-        print(f"  no steady state with {1e-3 * args.amax:g} < a < {args.amax:g}")
+        print(f"  no steady state with {args.window[0]:g} < a < {args.window[1]:g}")
     for lo_s, hi_s, st in _intervals(d.analytic.trivial):
         print(f"  trivial state a = 0: {st} for sigma in "
               f"[{lo_s:.6g}, {hi_s:.6g}]")
@@ -165,7 +173,8 @@ def run(args: argparse.Namespace) -> int:
             print(f"  shooting branch {i}: {len(b)} responses, "
                   f"{sum(o.stable for o in b)} stable")
         for o in d.numeric.folds:
-            kind = "branch point on x = 0" if o.amplitude_max < 1e-3 * args.amax else "fold"
+            kind = "branch point on x = 0" if o.amplitude_max < 1e-3 * args.window[1] \
+                else "fold"
             print(f"  true {kind} at sigma = {o.sigma:.10g}, a = {o.amplitude:.8g}, "
                   f"max|x| = {o.amplitude_max:.8g}")
         for msg in d.numeric.failures:
@@ -173,6 +182,16 @@ def run(args: argparse.Namespace) -> int:
     if args.out:
         print(f"  figure: {Path(args.out) / 'response.png'}")
     return 0
+
+
+def _window(model, args: argparse.Namespace) -> tuple[float, float]:
+    """The amplitude window: ``--a-range``, or from ``--amax`` (clear of ``a = 0`` for the
+    numeric backend, whose expansion has ``1/a`` terms)."""
+    from kbm.numeric_kbm import parse_a_range
+
+    if args.a_range:
+        return parse_a_range(args.a_range)
+    return ((1e-3 if model.is_polynomial else 0.05) * args.amax, args.amax)
 
 
 def _intervals(trivial) -> list[tuple[float, float, str]]:
@@ -197,7 +216,7 @@ def _run_one(model, args: argparse.Namespace) -> int:
     if args.out:
         raise ParameterError("--out draws a response curve: use it with --vary")
     s = steady_states(model, parse_params(args.param), args.detuning, order=args.order,
-                      resonance=args.resonance, amplitudes=(1e-3 * args.amax, args.amax),
+                      resonance=args.resonance, amplitudes=args.window,
                       numeric=not args.no_numeric)
     if args.json:
         emit_json(s.to_json())

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.forced import ForcedKBMResult, derive_forced
+from kbm.forced import ForcedKBMResult, forced_expansion, get_forced_model
 from kbm.forced.steady import fixed_points, response_curve
 
 from numerics.errors import NoCycleError
@@ -52,8 +52,19 @@ class ConvergenceTable:
                 "slopes": {str(n): s for n, s in self.slopes.items()}}
 
 
-def _result(model, orders, result) -> ForcedKBMResult:
-    return result if result is not None else derive_forced(model, max(orders))
+def _result(model, orders, result, values, amplitudes) -> ForcedKBMResult:
+    """The expansion to the highest order (exact, or numeric on the amplitude window)."""
+    if result is not None:
+        return result
+    return forced_expansion(model, max(orders), dict(values), a_range=amplitudes)
+
+
+def _model(model, res):
+    """The model to integrate: the one given (a numeric expansion holds it with its
+    parameters substituted, which the system would not recognise)."""
+    if isinstance(model, str):
+        return get_forced_model(model)
+    return model if model is not None else res.model
 
 
 def amplitude_study(model, values: Mapping[str, object], sigma: float, mus: Sequence[float],
@@ -70,11 +81,11 @@ def amplitude_study(model, values: Mapping[str, object], sigma: float, mus: Sequ
     numerics.errors.NoCycleError
         If an order has no fixed point in the amplitude window.
     """
-    res = _result(model, orders, result)
+    res = _result(model, orders, result, values, amplitudes)
     true, errs = [], {n: [] for n in orders}
     for m in mus:
         vals = {**values, "mu": m}
-        system = ForcedSystem(res.model, vals, resonance=res.resonance)
+        system = ForcedSystem(_model(model, res), vals, resonance=res.resonance)
         fps = fixed_points(res.slow_flow(vals, order=max(orders)), sigma, amplitudes)
         if not fps:
             raise NoCycleError(f"no fixed point of the order-{max(orders)} slow flow at sigma = "
@@ -102,11 +113,11 @@ def fold_study(model, values: Mapping[str, object], sigmas: tuple[float, float],
     kbm.errors.ParameterError
         If the true or a predicted curve has fewer folds in ``sigmas``.
     """
-    res = _result(model, orders, result)
+    res = _result(model, orders, result, values, amplitudes)
     true, errs = [], {n: [] for n in orders}
     for m in mus:
         vals = {**values, "mu": m}
-        system = ForcedSystem(res.model, vals, resonance=res.resonance)
+        system = ForcedSystem(_model(model, res), vals, resonance=res.resonance)
         nr = numeric_response(system, res.slow_flow(vals, order=max(orders)), sigmas,
                               amplitudes, n_points=200, seeds_at=2)
         if len(nr.folds) <= which:

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.forced import ForcedOscillator, Resonance, derive_forced, get_forced_model
+from kbm.forced import ForcedOscillator, Resonance, forced_expansion, get_forced_model
 from kbm.forced.steady import ResponseCurve, backbone, response_curve
 
 from numerics.forced.response import NumericResponse, numeric_response
@@ -82,7 +82,11 @@ def response_diagram(model: ForcedOscillator | str, values: Mapping[str, object]
     n_points
         About the number of points per branch.
     amplitudes
-        The amplitude window in which the fixed points are sought.
+        The amplitude window in which the fixed points are sought; for ``F`` that is not
+        polynomial in ``x``, ``xdot`` (the slider's ``sin(k x + theta)``) also the interval
+        on which the numeric backend computes the expansion
+        (:func:`kbm.forced.numeric_derive_forced`), so its lower end must stay clear of
+        ``a = 0``.
 
     Raises
     ------
@@ -97,13 +101,13 @@ def response_diagram(model: ForcedOscillator | str, values: Mapping[str, object]
     if not 2 <= n_points <= 100000:
         raise ParameterError(f"the number of points must be between 2 and 100000, got "
                              f"{n_points}")
-    res = derive_forced(model, order, resonance=resonance)
     vals = model.resolve(values)
+    res = forced_expansion(model, order, vals, resonance=resonance, a_range=amplitudes)
     sf = res.slow_flow({k: v for k, v in vals.items()}, order=order)
     curve = response_curve(sf, (lo, hi), amplitudes, n_points=n_points)
     num = None
     if numeric:
-        system = ForcedSystem(res.model, vals, resonance=res.resonance, rtol=rtol)
+        system = ForcedSystem(model, vals, resonance=res.resonance, rtol=rtol)
         num = numeric_response(system, sf, (lo, hi), amplitudes, n_points=n_points)
     amps = np.linspace(amplitudes[0], amplitudes[1], 60)
     with np.errstate(all="ignore"):
@@ -159,13 +163,13 @@ def steady_states(model: ForcedOscillator | str, values: Mapping[str, object], s
 
     if isinstance(model, str):
         model = get_forced_model(model)
-    res = derive_forced(model, order, resonance=resonance)
     vals = model.resolve(values)
+    res = forced_expansion(model, order, vals, resonance=resonance, a_range=amplitudes)
     sf = res.slow_flow(dict(vals), order=order)
     fps = tuple(fixed_points(sf, float(sigma), amplitudes))
     orbits, failures = [], []
     if numeric:
-        system = ForcedSystem(res.model, vals, resonance=res.resonance, rtol=rtol)
+        system = ForcedSystem(model, vals, resonance=res.resonance, rtol=rtol)
         for f in fps:
             try:
                 orbits.append(periodic_response(system, f.sigma,

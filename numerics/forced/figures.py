@@ -206,12 +206,21 @@ def vdp_response_figure(out: Path) -> Path:
     return plot_response(d, Path(out) / "forced_vdp_response.png")
 
 
+def slider_figure(out: Path) -> Path:
+    """The self-excited slider locked to its washboard (the built-in ``slider``: mu = 0.05,
+    delta = 1, k = 1, beta = 1; order 2 by the numeric forced backend, against shooting)."""
+    vals = {"mu": 0.05, "delta": 1, "k": 1, "beta": 1}
+    d = response_diagram("slider", vals, (-0.3, 0.3), order=2, n_points=200,
+                         amplitudes=(0.5, 3))
+    return plot_response(d, Path(out) / "forced_slider_response.png")
+
+
 def write_all(out: Path) -> list[Path]:
-    """All five figures of the docs page into ``out``."""
+    """All six figures of the docs page into ``out``."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     return [duffing_figure(out), superharmonic_figure(out), mathieu_figure(out),
-            locking_figure(out), vdp_response_figure(out)]
+            locking_figure(out), vdp_response_figure(out), slider_figure(out)]
 
 
 if __name__ == "__main__":  # pragma: no cover

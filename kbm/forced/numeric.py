@@ -1,0 +1,563 @@
+"""The numeric forced KBM backend: any smooth ``F(x, x', theta)``, any order, on an
+amplitude interval.
+
+For ``x'' + omega0**2 x = mu F(x, x', theta)`` with ``F`` built from any functions numpy and
+scipy evaluate — the washboard force ``sin(k x + theta)`` of a slider seen from its moving
+stage, ``tanh``, ``exp(-x**2) cos(theta)`` — :func:`numeric_derive_forced` runs the same
+recursion as the exact engine (:func:`kbm.forced.engine.forced_recursion`: same conventions,
+no resonant harmonic in any ``u_n``) on *samples* (:mod:`kbm.forced.grid`):
+
+- ``psi`` and ``theta`` on ``M x N`` equispaced angles (derivatives, the resonant part and
+  ``u_n`` by the two-dimensional FFT);
+- ``a`` on ``P`` Chebyshev points of the interval (derivatives spectrally);
+- the detuning ``sigma`` exactly, as polynomial coefficients;
+- ``F(x_0 + Dx, v_0 + Dv, theta)`` by its Taylor series with the partial derivatives taken
+  symbolically and compiled (:class:`kbm.algebra.smooth.TaylorTable`).
+
+A forcing frequency in ``F`` (a stage velocity ``v = nu/k``) is expanded exactly:
+``nu = nu0 + mu sigma``.  The resolution is adaptive as in the autonomous numeric backend
+(:mod:`kbm.numeric_kbm`): ``M`` and ``N`` start where the Fourier coefficients of ``F``
+along the unperturbed orbit at ``a_max`` have fallen below the tolerance, and ``P``, ``M``,
+``N`` are doubled until the coefficient tails of every ``A_n``, ``B_n``, ``u_n`` are below
+``tol`` times the size of that order's quantities; a second grid half as fine again then
+measures the error that the tails cannot (rounding amplified by the differentiations in
+``a``).  Those are the reported error estimates; a budget that does not suffice raises
+:class:`~kbm.errors.ResolutionError` with the numbers.
+
+The result holds ``A_n(a, phi, sigma)``, ``B_n(a, phi, sigma)`` as Chebyshev series in
+``a`` times Fourier series in ``phi`` times polynomials in ``sigma``, and gives the slow
+flow at a value of ``mu`` as a :class:`~kbm.forced.result.SlowFlow` (the steady states,
+folds and response curves of :mod:`kbm.forced.steady` then apply unchanged).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from math import comb
+
+import numpy as np
+import sympy as sp
+
+from ..algebra import chebyshev
+from ..algebra.lazy_series import Scaled, Tail
+from ..algebra.smooth import TaylorOf, TaylorTable
+from ..errors import ModelError, OrderError, ParameterError, ResolutionError
+from ..numeric_kbm import parse_a_range
+from ..symbols import x, xdot
+from .builtins import get_forced_model
+from .engine import forced_recursion
+from .grid import SampledAlgebra
+from .model import ForcedOscillator, Resonance, nu, theta
+from .result import SlowFlow
+
+__all__ = ["numeric_derive_forced", "forced_expansion", "NumericForcedExpansion", "SlowSeries",
+           "DEFAULT_TOL", "MAX_ORDER_NUMERIC"]
+
+#: default tolerance, relative to the size of each order's quantities on the interval
+DEFAULT_TOL = 1e-9
+#: highest order of the numeric forced backend
+MAX_ORDER_NUMERIC = 8
+#: grid budget: Chebyshev points, phases in psi and in theta, and samples in all
+MAX_P, MAX_M, MAX_N, MAX_SAMPLES = 129, 1024, 256, 2**21
+#: the top fraction of the coefficients read as the tail
+_TAIL = 0.25
+#: how far (a fraction of its width) the grid reaches past each end of the interval
+_MARGIN = 0.1
+
+
+# ----------------------------------------------------------------------------- the result
+@dataclass(frozen=True, eq=False)
+class SlowSeries:
+    """One ``A_n`` or ``B_n``: ``sum_s sigma**s sum_j c_{s,j}(a) exp(i j p phi)``, the
+    ``c_{s,j}`` Chebyshev series on ``[lo, hi]`` (the grid's interval), held as a complex
+    array ``(S, D, 2 J + 1)`` (for ``B_n`` the series of ``a B_n``, smooth where ``B_n``
+    has a ``1/a``, divided by ``a`` on evaluation: ``over_a``); evaluated on ``[a_min, a_max]`` of the expansion and, with
+    the grid's margin, a little beyond (NaN further out)."""
+
+    coef: np.ndarray
+    lo: float
+    hi: float
+    p: int
+    over_a: bool = False
+
+    def __call__(self, a, phi, s, da: int = 0, dphi: int = 0, dsigma: int = 0) -> np.ndarray:
+        """The value (or a partial derivative, ``da <= 1``) at ``(a, phi, sigma)``, arrays
+        broadcast."""
+        if self.over_a:  # the series holds a B_n: B_n = (a B_n)/a, exactly
+            av = np.asarray(a, float)
+            g = self._eval(a, phi, s, 0, dphi, dsigma)
+            if da == 0:
+                return g / av
+            return (self._eval(a, phi, s, 1, dphi, dsigma) - g / av) / av
+        return self._eval(a, phi, s, da, dphi, dsigma)
+
+    def _eval(self, a, phi, s, da: int, dphi: int, dsigma: int) -> np.ndarray:
+        av, ph, sv = np.broadcast_arrays(np.asarray(a, float), np.asarray(phi, float),
+                                         np.asarray(s, float))
+        shape = av.shape
+        av, ph, sv = av.ravel(), ph.ravel(), sv.ravel()
+        c = self.coef
+        scale = 2.0 / (self.hi - self.lo)
+        for _ in range(da):
+            c = np.polynomial.chebyshev.chebder(c, axis=1) * scale
+            if c.shape[1] == 0:
+                return np.zeros(shape)
+        t = (2.0 * av - self.lo - self.hi) / (self.hi - self.lo)
+        inside = np.abs(t) <= 1.0 + 1e-12
+        V = np.polynomial.chebyshev.chebvander(np.clip(t, -1, 1), c.shape[1] - 1)
+        vals = np.einsum("nd,sdj->snj", V, c)
+        J = (c.shape[2] - 1) // 2
+        js = np.arange(-J, J + 1)
+        E = np.exp(1j * self.p * ph[:, None] * js[None, :]) * (1j * self.p * js) ** dphi
+        vals = np.sum(vals * E[None], axis=-1).real  # (S, n)
+        out = np.zeros_like(av)
+        for s_pow in range(dsigma, vals.shape[0]):
+            out += vals[s_pow] * math.perm(s_pow, dsigma) * sv ** (s_pow - dsigma)
+        out[~inside] = np.nan
+        return out.reshape(shape)
+
+
+@dataclass(frozen=True, eq=False)
+class NumericForcedExpansion:
+    """The forced KBM expansion computed numerically on ``a_min <= a <= a_max``.
+
+    Attributes
+    ----------
+    model
+        The forced oscillator with its parameter values substituted.
+    order
+        The highest order ``N``.
+    resonance
+        The declared resonance ``p/q``: ``nu = (p/q) omega0 + mu sigma``.
+    a_range
+        ``(a_min, a_max)``.
+    omega0
+        The linear frequency.
+    tol
+        The tolerance asked for (relative to the size of each order's quantities).
+    resolution
+        ``(P, M, N)``: Chebyshev points in ``a``, phases in ``psi`` and in ``theta``.
+    A, B
+        ``A_1..A_N`` and ``B_1..B_N`` (so ``A[n - 1]`` is ``A_n``) as :class:`SlowSeries`:
+        callables ``A[n - 1](a, phi, sigma)``.
+    A_error, B_error, u_error
+        Estimated absolute errors per order (largest over the interval): the larger of the
+        coefficient tails and the difference from a second grid half as fine again.
+    """
+
+    model: ForcedOscillator
+    order: int
+    resonance: Resonance
+    a_range: tuple[float, float]
+    omega0: float
+    tol: float
+    resolution: tuple[int, int, int]
+    A: tuple[SlowSeries, ...]
+    B: tuple[SlowSeries, ...]
+    A_error: tuple[float, ...]
+    B_error: tuple[float, ...]
+    u_error: tuple[float, ...]
+
+    exact = False
+
+    def _n(self, order: int | None) -> int:
+        n = self.order if order is None else order
+        if not (isinstance(n, int) and 1 <= n <= self.order):
+            raise OrderError(f"order {order!r} is not available: this expansion goes to "
+                             f"order {self.order}")
+        return n
+
+    def slow_flow(self, values, order: int | None = None) -> SlowFlow:
+        """The slow flow ``da/dt = sum mu**n A_n``, ``dphi/dt = -mu (q/p) sigma + sum mu**n
+        B_n`` at ``values["mu"]`` (other entries must be the values the expansion was
+        computed with), truncated at ``order``."""
+        values = dict(values or {})
+        if "mu" not in values:
+            raise ParameterError("the slow flow needs a value of mu (e.g. values={'mu': 0.1})")
+        m = float(sp.sympify(values["mu"]))
+        n = self._n(order)
+        A, B = self.A[:n], self.B[:n]
+        qp = self.resonance.q / self.resonance.p
+
+        def rates(av, ph, s):
+            da = sum(m ** (i + 1) * f(av, ph, s) for i, f in enumerate(A))
+            dp = sum(m ** (i + 1) * f(av, ph, s) for i, f in enumerate(B)) \
+                - m * qp * np.asarray(s, float)
+            return da, dp
+
+        def jacobian(av, ph, s):
+            rows = []
+            for fs, extra in ((A, 0.0), (B, -m * qp)):
+                row = [sum(m ** (i + 1) * f(av, ph, s, da=1) for i, f in enumerate(fs)),
+                       sum(m ** (i + 1) * f(av, ph, s, dphi=1) for i, f in enumerate(fs)),
+                       sum(m ** (i + 1) * f(av, ph, s, dsigma=1) for i, f in enumerate(fs))
+                       + extra]
+                rows.append([float(np.ravel(v)[0]) for v in row])
+            return np.array(rows)
+
+        lo, hi = self.a_range
+        text = (f"sum_(n<={n}) mu^n A_n(a, phi, sigma) (numeric, a in [{lo:g}, {hi:g}])",
+                f"-mu*{self.resonance.q}/{self.resonance.p}*sigma + sum_(n<={n}) mu^n "
+                f"B_n(a, phi, sigma) (numeric)")
+        return SlowFlow.from_functions(text, self.resonance, n, rates, jacobian,
+                                       domain=(self.A[0].lo, self.A[0].hi))
+
+    def to_json(self, a, phi=0.0, s=0.0) -> dict:
+        """``A_n``, ``B_n`` at the amplitudes ``a`` (one ``phi``, ``sigma``) and the error
+        estimates, with plain keys."""
+        a = np.atleast_1d(np.asarray(a, float))
+        orders = [str(n) for n in range(1, self.order + 1)]
+        return {
+            "model": self.model.name, "F": sp.sstr(self.model.F, order="lex"),
+            "omega0": self.omega0, "order": self.order, "resonance": str(self.resonance),
+            "method": "numeric", "a_range": list(self.a_range), "tol": self.tol,
+            "resolution": dict(zip(("chebyshev_points", "phases_psi", "phases_theta"),
+                                   self.resolution)),
+            "a": [float(v) for v in a], "phi": float(phi), "sigma": float(s),
+            "A": {k: [float(v) for v in f(a, phi, s)] for k, f in zip(orders, self.A)},
+            "B": {k: [float(v) for v in f(a, phi, s)] for k, f in zip(orders, self.B)},
+            "error": {"A": dict(zip(orders, self.A_error)), "B": dict(zip(orders, self.B_error)),
+                      "u": dict(zip(orders, self.u_error))},
+        }
+
+
+# ----------------------------------------------------------------------------- the input
+def _numeric_model(model, params, resonance):
+    if isinstance(model, str):
+        model = get_forced_model(model)
+    vals = model.resolve(params or {})
+    vals.pop("mu", None)
+    vals.pop("sigma", None)
+    if vals:
+        model = model.substitute(vals)
+    if model.hard != 0:
+        raise ModelError(f"the numeric forced backend does not take a hard forcing (K = "
+                         f"{model.hard}); write it as a weak forcing mu*h*cos(theta) in F")
+    missing = sorted(s.name for s in (model.F.free_symbols | model.omega0.free_symbols)
+                     - {x, xdot, theta, nu})
+    if missing:
+        raise ParameterError(
+            f"the numeric forced backend needs a value for every parameter of {model.name!r}; "
+            f"missing: {', '.join(missing)} (e.g. params={{{missing[0]!r}: 1}})")
+    w0 = float(model.omega0)
+    if not (math.isfinite(w0) and w0 > 0):
+        raise ParameterError(f"omega0 must be a positive number, got {model.omega0}")
+    res = Resonance.parse(resonance) if resonance is not None else model.resonance
+    return model, res, w0
+
+
+def _parts(F: sp.Expr, nu0: float) -> dict[int, sp.Expr]:
+    """``F`` with ``nu = nu0 + mu sigma``: ``{i: F_i}`` with the term ``(mu sigma)**i F_i``."""
+    if nu not in F.free_symbols:
+        return {0: F}
+    poly = sp.Poly(F, nu)
+    out: dict[int, sp.Expr] = {}
+    for (r,), c in poly.terms():
+        for i in range(r + 1):
+            out[i] = out.get(i, 0) + comb(r, i) * sp.Float(nu0) ** (r - i) * c
+    return {i: sp.expand(e) for i, e in sorted(out.items()) if e != 0}
+
+
+def _check_order(order) -> None:
+    if not isinstance(order, int) or isinstance(order, bool) or order < 1:
+        raise OrderError(f"the order must be an integer >= 1, got {order!r}")
+    if order > MAX_ORDER_NUMERIC:
+        raise OrderError(f"order {order} is above the limit {MAX_ORDER_NUMERIC} of the "
+                         f"numeric forced backend; ask for order <= {MAX_ORDER_NUMERIC}")
+
+
+def _check_tol(tol) -> float:
+    try:
+        tol = float(tol)
+    except (TypeError, ValueError):
+        raise ParameterError(f"tol must be a number, got {tol!r}") from None
+    if not 1e-14 <= tol < 1:
+        raise ParameterError(f"tol must be between 1e-14 and 1 (relative), got {tol:g}")
+    return tol
+
+
+# ----------------------------------------------------------------------------- resolution
+def _tail(values: np.ndarray, axis: int) -> float:
+    """Largest |Fourier coefficient| in the top quarter of the harmonics along ``axis``."""
+    n = values.shape[axis]
+    spec = np.abs(np.fft.rfft(values, axis=axis)) * (2.0 / n)
+    top = np.take(spec, np.arange(int((1 - _TAIL) * (n // 2)), n // 2 + 1), axis=axis)
+    return float(np.max(top)) if top.size else 0.0
+
+
+def _cheb_tail(values: np.ndarray, axis: int) -> float:
+    c = np.abs(chebyshev.coefficients(values, axis=axis))
+    n = c.shape[axis]
+    return float(np.max(np.take(c, np.arange(int((1 - _TAIL) * (n - 1)), n), axis=axis)))
+
+
+def _angles(tables, w0: float, hi: float, tol: float) -> tuple[int, int]:
+    """Phases ``(M, N)`` at which ``F`` along the unperturbed orbit at ``a_max`` is resolved."""
+    M, N, first = 16, 8, None
+    while True:
+        psi = 2 * np.pi * np.arange(M) / M
+        th = 2 * np.pi * np.arange(N) / N
+        x0 = hi * np.cos(psi)[:, None] * np.ones(N)
+        v0 = -w0 * hi * np.sin(psi)[:, None] * np.ones(N)
+        TH = np.ones(M)[:, None] * th[None, :]
+        f = sum(np.broadcast_to(np.asarray(t.function(0, 0)(x0, v0, TH), float), x0.shape)
+                for t in tables.values())
+        f = np.broadcast_to(f, x0.shape)
+        if not np.all(np.isfinite(f)):
+            raise ParameterError(f"F is not finite on the orbit a = {hi:g}; shrink the a-range "
+                                 "or change F")
+        scale = float(np.max(np.abs(f))) or 1.0
+        first = scale if first is None else first
+        exhausted = 2 * M > MAX_M or 2 * N > MAX_N
+        if exhausted and (scale > 10 * first
+                          or scale > 1e8 * (float(np.median(np.abs(f))) or 1.0)):
+            raise ParameterError(
+                f"F = {sum(t.F for t in tables.values())} is not bounded on the orbit "
+                f"a = {hi:g}: its largest sampled value grows from {first:.3g} to {scale:.3g} "
+                f"as the phases are refined, as at a pole of F on |x| <= a_max, |xdot| <= "
+                "omega0 a_max; shrink the a-range or change F")
+        tm, tn = _tail(f, 0), _tail(f, 1)
+        if tm <= 0.01 * tol * scale and tn <= 0.01 * tol * scale:
+            return M, N
+        M, N = (2 * M if tm > 0.01 * tol * scale else M), (2 * N if tn > 0.01 * tol * scale
+                                                              else N)
+        if M > MAX_M or N > MAX_N:
+            raise ResolutionError(
+                f"F varies too sharply along the orbit a = {hi:g}: with {M // 2} x {N // 2} "
+                f"phases its Fourier coefficients have fallen only to "
+                f"{max(tm, tn) / scale:.1e} of its size (tol {tol:.0e}); use a smaller a_max, "
+                "a smoother F or a looser tol")
+
+
+@dataclass
+class _Run:
+    alg: SampledAlgebra
+    A: list
+    aB: list
+    U: list
+
+
+def _run(tables, w0, res, lo, hi, P, M, N, order) -> _Run:
+    alg = SampledAlgebra(w0, res, lo, hi, P, M, N, cap=order - 1)
+    TH = np.broadcast_to(alg.theta[None, None, :], (P, M, N))
+
+    def terms(X, V):
+        zero = alg.zero
+        Dx, Dv = Tail(zero, X), Tail(zero, V)
+
+        def sampler(table):
+            def sample(i: int, j: int):
+                x0, v0 = X.coeff(0).values[0], V.coeff(0).values[0]
+                with np.errstate(all="ignore"):
+                    vals = np.broadcast_to(np.asarray(table.function(i, j)(x0, v0, TH),
+                                                      dtype=float), x0.shape)
+                if not np.all(np.isfinite(vals)):
+                    r, c, l_ = np.argwhere(~np.isfinite(vals))[0]
+                    raise ParameterError(
+                        f"a derivative of F = {table.F} is not finite at x = {x0[r, c, l_]:.6g}"
+                        f", xdot = {v0[r, c, l_]:.6g}, theta = {TH[r, c, l_]:.6g}; the numeric "
+                        "backend needs F smooth and finite on the orbits of the a-range")
+                return alg.sample(vals)
+            return sample
+
+        out = []
+        for i, table in tables.items():
+            node = TaylorOf(zero, sampler(table), Dx, Dv)
+            if i:
+                node = Scaled(zero, node, lambda f, i=i: alg.sigma_power(f, i))
+            out.append((i, node))
+        return out
+
+    A, B, U = forced_recursion(alg, terms, order)
+    As, aBs = [], []
+    for An, Bn in zip(A, B):
+        # A_n and a B_n as slow spectra; B_n = (a B_n)/a is formed in the result
+        sa = _slow(alg, An)
+        sb = _slow(alg, Bn, times_a=True)
+        As.append(sa)
+        aBs.append(sb)
+    Us = [np.zeros((1, P, M, N)) if u.values is None else u.values for u in U]
+    if not all(np.all(np.isfinite(q)) for q in (*As, *aBs, *Us)):
+        raise ResolutionError(f"the numeric forced expansion overflowed on a in [{lo:g}, "
+                              f"{hi:g}] (P = {P}, M = {M}, N = {N}); narrow the a-range")
+    return _Run(alg, As, aBs, Us)
+
+
+def _slow(alg: SampledAlgebra, f, times_a: bool = False) -> np.ndarray:
+    """The coefficients of ``exp(i j p phi)`` of a slow series: ``(S, P, 2 J + 1)``."""
+    J = len(alg.slow)
+    if f.values is None:
+        return np.zeros((alg.cap + 1, alg.P, J), dtype=complex)
+    v = f.values * (alg.a[None, :, None, None] if times_a else 1.0)
+    spec = np.fft.fft2(v, axes=(2, 3)) / (alg.M * alg.N)
+    out = np.zeros((alg.cap + 1, alg.P, J), dtype=complex)
+    for i, (_j, islow, _ip, _im, ik) in enumerate(alg.slow):
+        out[:v.shape[0], :, i] = spec[:, :, islow, ik]
+    return out
+
+
+def _errors(run: _Run):
+    """Per order: the scale and the tails (Chebyshev in ``a``, Fourier in ``psi`` and
+    ``theta``) of ``A_n``, ``a B_n``, ``u_n``."""
+    out, floor = [], 0.0
+    for An, aBn, Un in zip(run.A, run.aB, run.U):
+        scale = max(float(np.max(np.abs(An))), float(np.max(np.abs(aBn))),
+                    float(np.max(np.abs(Un))), floor)
+        floor = scale
+        ta = max(_cheb_tail(An.real, 1), _cheb_tail(An.imag, 1), _cheb_tail(aBn.real, 1),
+                 _cheb_tail(aBn.imag, 1), _cheb_tail(Un, 1))
+        out.append((scale, ta, _tail(Un, 2), _tail(Un, 3)))
+    return out
+
+
+def _differences(run: _Run, check: _Run, lo: float, hi: float) -> list[tuple[float, float]]:
+    """Per order: the largest differences of ``A_n`` and ``a B_n`` between two grids, on
+    ``[lo, hi]`` (the slow harmonics both grids hold)."""
+    at = np.linspace(lo, hi, 2 * run.alg.P + 1)
+    W0 = chebyshev.barycentric_matrix(run.alg.lo, run.alg.hi, run.alg.P, at)
+    W1 = chebyshev.barycentric_matrix(check.alg.lo, check.alg.hi, check.alg.P, at)
+    J0, J1 = run.A[0].shape[-1], check.A[0].shape[-1]
+    J = min(J0, J1)
+    s0, s1 = slice((J0 - J) // 2, (J0 + J) // 2), slice((J1 - J) // 2, (J1 + J) // 2)
+    out = []
+    for n in range(len(run.A)):
+        dA = np.max(np.abs(np.einsum("nP,sPj->snj", W1, check.A[n][..., s1])
+                           - np.einsum("nP,sPj->snj", W0, run.A[n][..., s0])))
+        dB = np.max(np.abs(np.einsum("nP,sPj->snj", W1, check.aB[n][..., s1])
+                           - np.einsum("nP,sPj->snj", W0, run.aB[n][..., s0])))
+        out.append((float(dA), float(dB)))
+    return out
+
+
+def numeric_derive_forced(model: ForcedOscillator | str, order: int, a_range,
+                          params: dict | None = None, *, resonance: Resonance | str | None = None,
+                          tol: float = DEFAULT_TOL) -> NumericForcedExpansion:
+    """Forced KBM expansion near a resonance computed numerically, any smooth ``F``.
+
+    Parameters
+    ----------
+    model
+        A :class:`~kbm.forced.model.ForcedOscillator` or a built-in forced model's name
+        (e.g. ``"slider"``, whose ``F`` holds ``sin(k x + theta)``).
+    order
+        Highest order ``N`` (``1 <= N <=`` :data:`MAX_ORDER_NUMERIC`).
+    a_range
+        ``(a_min, a_max)`` or ``"a_min:a_max"``, ``0 < a_min < a_max``.
+    params
+        A value for every parameter of the model (defaults fill the rest; ``mu`` and
+        ``sigma`` are not needed and are ignored).
+    resonance
+        The declared resonance ``p/q`` (default the model's).
+    tol
+        Target error relative to the size of each order's quantities.
+
+    Returns
+    -------
+    NumericForcedExpansion
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        A bad a-range or tol, a parameter without a value, ``F`` not finite.
+    kbm.errors.ModelError
+        A hard forcing (write it as a weak one).
+    kbm.errors.ResolutionError
+        If the grid budget does not reach ``tol`` (the numbers in the message).
+
+    Examples
+    --------
+    >>> r = numeric_derive_forced("duffing-forced", 1, (0.5, 2),
+    ...                           {"zeta": 0.1, "alpha": 1, "h": 1})
+    >>> round(float(r.A[0](1.0, 0.0, 0.0)), 10)     # A_1 = -zeta a - h sin(phi)/2
+    -0.1
+    """
+    _check_order(order)
+    lo, hi = parse_a_range(a_range)
+    tol = _check_tol(tol)
+    model, res, w0 = _numeric_model(model, params, resonance)
+    nu0 = w0 * res.p / res.q
+    parts = _parts(sp.expand(model.F), nu0)
+    tables = {i: TaylorTable(Fi, extra=(theta,)) for i, Fi in parts.items()}
+    try:
+        M, N = _angles(tables, w0, hi, tol)
+    except (NameError, TypeError) as exc:
+        raise ParameterError(f"F = {model.F} cannot be evaluated with numpy/scipy ({exc})") \
+            from None
+    M, N = max(M, 4 * res.p * order + 8), max(N, 4 * res.q * order + 4)
+    M, N = 2 ** math.ceil(math.log2(M)), 2 ** math.ceil(math.log2(N))
+    clo, chi = lo - min(_MARGIN * (hi - lo), 0.25 * lo), hi + _MARGIN * (hi - lo)
+    P = 17
+    while True:
+        run = _run(tables, w0, res, clo, chi, P, M, N, order)
+        errs = _errors(run)
+        rel = [max(e[i] / (e[0] or 1) for e in errs) for i in (1, 2, 3)]
+        if all(r <= tol for r in rel):
+            check = _run(tables, w0, res, clo, chi, P + (P - 1) // 2, M + M // 2, N + N // 2,
+                         order)
+            diffs = _differences(run, check, lo, hi)
+            worst = max(max(d) / (e[0] or 1) for d, e in zip(diffs, errs))
+            if worst <= tol:
+                break
+            rel = [worst if r <= tol else r for r in rel]
+            rel[0] = max(rel[0], worst)
+        P2 = 2 * P - 1 if rel[0] > tol else P
+        M2 = 2 * M if rel[1] > tol else M
+        N2 = 2 * N if rel[2] > tol else N
+        if (P2, M2, N2) == (P, M, N):
+            P2 = 2 * P - 1
+        if P2 > MAX_P or M2 > MAX_M or N2 > MAX_N or P2 * M2 * N2 > MAX_SAMPLES:
+            raise ResolutionError(
+                f"the numeric forced expansion of F = {model.F} to order {order} on a in "
+                f"[{lo:g}, {hi:g}] did not reach tol = {tol:.0e} within the grid budget "
+                f"(P = {P}, M = {M}, N = {N}): the relative tails are {max(rel):.1e}; narrow "
+                "the a-range, lower the order, smooth F or loosen tol")
+        P, M, N = P2, M2, N2
+    return _result(model, order, res, lo, hi, w0, tol, run, errs, diffs)
+
+
+def _result(model, order, res, lo, hi, w0, tol, run: _Run, errs, diffs):
+    alg = run.alg
+    A, B = [], []
+    for An, aBn in zip(run.A, run.aB):
+        ca = (chebyshev.coefficients(An.real, axis=1)
+              + 1j * chebyshev.coefficients(An.imag, axis=1))
+        cb = (chebyshev.coefficients(aBn.real, axis=1)
+              + 1j * chebyshev.coefficients(aBn.imag, axis=1))
+        A.append(SlowSeries(ca, alg.lo, alg.hi, res.p))
+        B.append(SlowSeries(cb, alg.lo, alg.hi, res.p, over_a=True))
+    A_err = tuple(max(e[1], d[0]) for e, d in zip(errs, diffs))
+    B_err = tuple(max(e[1], d[1]) / lo for e, d in zip(errs, diffs))
+    u_err = tuple(max(e[1], e[2], e[3]) for e in errs)
+    return NumericForcedExpansion(model=model, order=order, resonance=res, a_range=(lo, hi),
+                                  omega0=w0, tol=tol, resolution=(alg.P, alg.M, alg.N),
+                                  A=tuple(A), B=tuple(B), A_error=A_err, B_error=B_err,
+                                  u_error=u_err)
+
+
+def forced_expansion(model: ForcedOscillator | str, order: int, values: dict | None = None, *,
+                     resonance: Resonance | str | None = None, a_range=None,
+                     tol: float = DEFAULT_TOL):
+    """The forced expansion by the engine that applies: exact
+    (:func:`~kbm.forced.derive_forced`, symbolic in the parameters) for ``F`` polynomial in
+    ``x``, ``xdot``; numeric (:func:`numeric_derive_forced` at ``values``, on ``a_range``)
+    otherwise.  Either result has ``model``, ``resonance``, ``order`` and
+    ``slow_flow(values, order)``.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For a non-polynomial ``F`` without an ``a_range``.
+    """
+    from .engine import derive_forced
+
+    if isinstance(model, str):
+        model = get_forced_model(model)
+    if model.is_polynomial:
+        return derive_forced(model, order, resonance=resonance)
+    if a_range is None:
+        raise ParameterError(f"F of {model.name!r} is not polynomial in x, xdot: the numeric "
+                             "forced backend computes the expansion on an amplitude interval; "
+                             "give a_range=(a_min, a_max) (--a-range AMIN:AMAX)")
+    vals = {k: v for k, v in (values or {}).items() if k not in ("mu", "sigma")}
+    return numeric_derive_forced(model, order, a_range, vals, resonance=resonance, tol=tol)

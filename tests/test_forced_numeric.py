@@ -180,3 +180,26 @@ def test_expansion_reports_its_resolution_and_errors(slider3):
     assert all(e < 1e-9 for e in slider3.A_error + slider3.B_error)
     js = slider3.to_json([1.0, 2.0])
     assert set(js["A"]) == {"1", "2", "3"} and js["method"] == "numeric"
+
+
+def test_command_line_slider(tmp_path):
+    """kbm response on a smooth F: the JSON contract of the issue, and one-line refusals."""
+    import json
+    import subprocess
+    import sys
+
+    base = [sys.executable, "-m", "numerics.cli", "response", "slider", "--param", "mu=0.05",
+            "--param", "delta=1", "--param", "k=1"]
+    out = subprocess.run(base + ["--vary", "sigma=-0.3:0.3:40", "--order", "2", "--a-range",
+                                 "0.5:3", "--no-numeric", "--json"],
+                         capture_output=True, text=True, check=True)
+    js = json.loads(out.stdout)
+    assert js["order"] == 2 and js["analytic"] and len(js["folds"]) == 4
+    assert {"sigma", "amplitude", "stable"} <= set(js["analytic"][0])
+    assert all(0.5 <= p["amplitude"] <= 3 for p in js["analytic"])
+    bad = subprocess.run(base + ["--nu", "0.5"], capture_output=True, text=True)
+    assert bad.returncode != 0 and "--resonance" in bad.stderr
+    assert len(bad.stderr.strip().splitlines()) == 1
+    bad = subprocess.run(base + ["--detuning", "0", "--a-range", "0:3"], capture_output=True,
+                         text=True)
+    assert bad.returncode != 0 and "a > 0" in bad.stderr

@@ -244,7 +244,13 @@ def _run_nonresonant(args: argparse.Namespace) -> int:
     if args.vary or args.detuning is not None or args.resonance or args.out:
         raise ParameterError("--nu (a fixed, non-resonant forcing frequency) goes without "
                              "--vary, --detuning, --resonance and --out")
-    r = derive_forced(forced_model(args), args.order, parse_params(args.param), nu=args.nu)
+    model = forced_model(args)
+    if not model.is_polynomial:
+        raise ParameterError(f"--nu (the non-resonant expansion) needs F polynomial in x and "
+                             f"xdot; F of {model.name!r} is not, and its numeric backend "
+                             "works near a declared resonance: use --resonance P/Q with "
+                             "--vary or --detuning instead")
+    r = derive_forced(model, args.order, parse_params(args.param), nu=args.nu)
     if args.json:
         emit_json({**r.to_json(), "nu": args.nu})
         return 0

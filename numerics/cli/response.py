@@ -43,13 +43,14 @@ def register(sub) -> None:
                    help="instead of a resonance: a fixed forcing frequency, for the "
                         "non-resonant expansion (refused, with the resonance named, when a "
                         "harmonic comes near resonance)")
-    p.add_argument("--order", type=int, default=None,
+    p.add_argument("--order", type=int, default=None, metavar="N",
                    help="KBM order of the analytic curve (default 1); with --convergence the "
                         "orders 1..N compared (default 2)")
     p.add_argument("--amax", type=float, default=5.0,
                    help="largest amplitude searched for steady states (default 5)")
     p.add_argument("--no-numeric", action="store_true", help="the analytic curve only")
-    p.add_argument("--out", metavar="DIR", help="write the figure response.png into DIR")
+    p.add_argument("--out", metavar="DIR", help="write the figure response.png into DIR "
+                                                "(convergence.png with --convergence)")
     p.add_argument("--convergence", metavar="MU1,MU2,...",
                    help="convergence study instead of the curve: the error of each KBM order "
                         "1..N against the true periodic response (shooting) for these values "

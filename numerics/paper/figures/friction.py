@@ -99,7 +99,7 @@ def law_figure(maps: Sequence, path: str | Path, title: str = "") -> Path:
     draw_law(list(maps), axes)
     p = maps[0].params
     eta = maps[0].points[0].eta
-    fig.suptitle(title or (f"friction laws, " + ", ".join(f"{k} = {v:g}" for k, v in p.items())
+    fig.suptitle(title or ("friction laws, " + ", ".join(f"{k} = {v:g}" for k, v in p.items())
                            + f", eta = {eta:.3g}  (filled: stick-slip, open: sliding, "
                            "triangle: self-oscillating, x: runaway, |: not steady, "
                            "dot: negative)"), fontsize=7)

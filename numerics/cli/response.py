@@ -45,7 +45,9 @@ def register(sub) -> None:
                    help="instead of a resonance: a fixed forcing frequency, for the "
                         "non-resonant expansion (refused, with the resonance named, when a "
                         "harmonic comes near resonance)")
-    p.add_argument("--order", type=int, default=1, help="KBM order of the analytic curve (1)")
+    p.add_argument("--order", type=int, default=None, metavar="N",
+                   help="KBM order of the analytic curve (default 1); with --convergence the "
+                        "orders 1..N compared (default 2)")
     p.add_argument("--amax", type=float, default=5.0,
                    help="largest amplitude searched for steady states (default 5)")
     p.add_argument("--a-range", metavar="AMIN:AMAX",
@@ -54,12 +56,24 @@ def register(sub) -> None:
                         "slider-cdc, sin(k*x + theta)) also the interval of the numeric "
                         "forced backend (default 0.05*amax:amax)")
     p.add_argument("--no-numeric", action="store_true", help="the analytic curve only")
-    p.add_argument("--out", metavar="DIR", help="write the figure response.png into DIR")
+    p.add_argument("--out", metavar="DIR", help="write the figure response.png into DIR "
+                                                "(convergence.png with --convergence)")
+    p.add_argument("--convergence", metavar="MU1,MU2,...",
+                   help="convergence study instead of the curve: the error of each KBM order "
+                        "1..N against the true periodic response (shooting) for these values "
+                        "of mu (at least 3, positive, distinct), with the fitted slopes of "
+                        "log(error) against log(mu) (expected N): the amplitude at "
+                        "--detuning SIGMA, or the detuning of a fold (jump) in --vary "
+                        "sigma=FROM:TO; with --out, the log-log figure convergence.png")
+    p.add_argument("--fold", type=int, default=None, metavar="K",
+                   help="with --convergence and --vary: the fold studied, counted from the "
+                        "lowest sigma (default 0)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=run)
 
 
-def _vary(text: str) -> tuple[float, float, int]:
+def _vary(text: str) -> tuple[float, float, int | None]:
+    """``sigma=FROM:TO[:N]`` -> ``(FROM, TO, N)``, ``N`` None when not given."""
     from kbm.errors import ParameterError
 
     name, sep, rng = text.partition("=")
@@ -71,7 +85,7 @@ def _vary(text: str) -> tuple[float, float, int]:
         if not sep or len(parts) not in (2, 3):
             raise ValueError
         lo, hi = float(parts[0]), float(parts[1])
-        n = int(parts[2]) if len(parts) == 3 else 400
+        n = int(parts[2]) if len(parts) == 3 else None
     except ValueError:
         raise ParameterError(f"--vary takes sigma=FROM:TO[:N] (e.g. sigma=-1:3:400), got "
                              f"{text!r}") from None
@@ -130,6 +144,13 @@ def run(args: argparse.Namespace) -> int:
     from kbm.errors import ParameterError
     from numerics.forced.diagram import response_diagram
 
+    if args.convergence is not None:
+        return _run_convergence(args)
+    if args.fold is not None:
+        raise ParameterError("--fold chooses the fold of a convergence study: use it with "
+                             "--convergence and --vary")
+    if args.order is None:
+        args.order = 1
     if args.nu is not None:
         return _run_nonresonant(args)
     if (args.vary is None) == (args.detuning is None):
@@ -145,7 +166,7 @@ def run(args: argparse.Namespace) -> int:
         return _run_one(model, args)
     lo, hi, n = _vary(args.vary)
     d = response_diagram(model, parse_params(args.param), (lo, hi), order=args.order,
-                         n_points=n, resonance=args.resonance,
+                         n_points=400 if n is None else n, resonance=args.resonance,
                          amplitudes=args.window, numeric=not args.no_numeric)
     if args.out:
         from numerics.forced.figures import plot_response
@@ -256,4 +277,88 @@ def _run_nonresonant(args: argparse.Namespace) -> int:
         return 0
     print(f"{r.model.name}, nu = {args.nu} (non-resonant), KBM order {r.order}:")
     print(f"  da/dt   = {r.amplitude_rate()}\n  dpsi/dt = {r.phase_rate()}")
+    return 0
+
+
+def _mus(text: str) -> list[float]:
+    """The values of ``--convergence``: at least 3, positive, finite and distinct."""
+    from kbm.errors import ParameterError
+    from numerics.forced.convergence import check_mus
+
+    try:
+        mus = [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise ParameterError(f"--convergence takes comma-separated numbers, got "
+                             f"{text!r}") from None
+    try:
+        return list(check_mus(mus, minimum=3))
+    except ParameterError as exc:
+        raise ParameterError(f"--convergence {text}: {exc}") from None
+
+
+def _run_convergence(args: argparse.Namespace) -> int:
+    """``--convergence``: the order-``N`` error against ``mu`` at one detuning (amplitude)
+    or for one fold (its detuning), with the fitted slopes."""
+    import math
+    import sys
+    from pathlib import Path
+
+    from kbm.errors import ParameterError
+    from kbm.forced import forced_expansion
+    from numerics.forced.convergence import amplitude_study, fold_study
+
+    refused = [name for name, on in (("--nu", args.nu is not None),
+                                     ("--no-numeric", args.no_numeric)) if on]
+    if refused:
+        raise ParameterError(f"--convergence compares with the true responses at the "
+                             f"resonance and cannot go with {' or '.join(refused)}")
+    if (args.vary is None) == (args.detuning is None):
+        raise ParameterError("--convergence needs either --detuning SIGMA (the amplitude "
+                             "there) or --vary sigma=FROM:TO (the detuning of a fold)")
+    if args.detuning is not None and args.fold is not None:
+        raise ParameterError("--fold chooses a fold of the curve: use it with --vary, not "
+                             "--detuning")
+    mus = _mus(args.convergence)
+    order = 2 if args.order is None else args.order
+    if not 1 <= order <= 8:
+        raise ParameterError(f"--order must be between 1 and 8, got {order}")
+    if not args.amax > 0:
+        raise ParameterError(f"--amax must be positive, got {args.amax}")
+    values = parse_params(args.param)
+    if "mu" in values:
+        raise ParameterError(f"--convergence sets mu ({args.convergence}): leave out "
+                             f"--param mu={values['mu']}")
+    model = forced_model(args)
+    amplitudes = _window(model, args)
+    orders = tuple(range(1, order + 1))
+    result = forced_expansion(model, order, values, resonance=args.resonance,
+                              a_range=amplitudes)
+    if args.detuning is not None:
+        if not math.isfinite(args.detuning):
+            raise ParameterError(f"--detuning must be a finite number, got {args.detuning}")
+        table = amplitude_study(model, values, args.detuning, mus, orders,
+                                amplitudes=amplitudes, result=result)
+    else:
+        lo, hi, n = _vary(args.vary)
+        fold = 0 if args.fold is None else args.fold
+        if fold < 0:
+            raise ParameterError(f"--fold counts the folds from 0, got {fold}")
+        kw = {} if n is None else {"n_points": n}
+        if n is not None and not 2 <= n <= 100000:
+            raise ParameterError(f"the number of points must be between 2 and 100000, got {n}")
+        table = fold_study(model, values, (lo, hi), mus, orders, which=fold,
+                           amplitudes=amplitudes, result=result, **kw)
+    figure = None
+    if args.out:
+        from numerics.forced.figures import plot_convergence
+
+        figure = plot_convergence(table, Path(args.out) / "convergence.png")
+    if args.json:
+        emit_json(table.to_json())
+        if figure is not None:
+            print(f"figure: {figure}", file=sys.stderr)
+        return 0
+    print(table.table())
+    if figure is not None:
+        print(f"figure: {figure}")
     return 0

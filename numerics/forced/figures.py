@@ -16,10 +16,11 @@ from pathlib import Path
 
 import numpy as np
 
+from numerics.forced.convergence import ConvergenceTable
 from numerics.forced.diagram import ResponseDiagram, response_diagram
 
-__all__ = ["plot_response", "duffing_figure", "superharmonic_figure", "mathieu_figure",
-           "locking_figure", "vdp_response_figure", "write_all"]
+__all__ = ["duffing_figure", "locking_figure", "mathieu_figure", "plot_convergence",
+           "plot_response", "superharmonic_figure", "vdp_response_figure", "write_all"]
 
 
 def _plt():
@@ -71,6 +72,40 @@ def plot_response(d: ResponseDiagram, path: Path, extra: list[ResponseDiagram] =
     ax.set_ylabel("amplitude $a$ at frequency $(q/p)\\nu$")
     pars = ", ".join(f"{k} = {v:g}" for k, v in d.values.items())
     ax.set_title(f"{d.model}, resonance {d.resonance}: {pars}", fontsize=9)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def plot_convergence(t: ConvergenceTable, path: Path) -> Path:
+    """The errors of each order against ``mu`` on log-log axes, each order's fitted slope in
+    the legend, with a dotted guide line of the expected slope ``N`` through the middle
+    point; written to ``path`` (``kbm response --convergence --out``)."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(5.6, 4.2))
+    mus = np.asarray(t.mus, float)
+    order = np.argsort(mus)
+    mus = mus[order]
+    colors = ["tab:blue", "tab:red", "tab:green", "tab:orange", "tab:purple", "tab:brown",
+              "tab:pink", "tab:olive"]
+    slopes = t.slopes
+    for i, n in enumerate(t.orders):
+        err = np.asarray(t.errors[n], float)[order]
+        c = colors[i % len(colors)]
+        ax.loglog(mus, err, "o-", color=c, ms=5,
+                  label=f"order {n}: slope {slopes[n]:.2f} (expected {n})")
+        ok = np.isfinite(err) & (err > 0)
+        if ok.any():
+            k = np.flatnonzero(ok)[ok.sum() // 2]
+            ax.loglog(mus, err[k] * (mus / mus[k]) ** n, ":", color=c, lw=1)
+    ax.set_xlabel(r"$\mu$")
+    ax.set_ylabel("|order-N prediction - true (shooting)|")
+    pars = ", ".join(f"{k} = {v:g}" for k, v in t.parameters.items())
+    ax.set_title(f"{t.model}, resonance {t.resonance}: {t.quantity}\n{pars}", fontsize=9)
     ax.legend(fontsize=8)
     fig.tight_layout()
     path = Path(path)

@@ -5,7 +5,8 @@
 - :mod:`kbm.forced.builtins`: the built-in forced models;
 - :mod:`kbm.forced.two_angle`: exact Fourier series in the two angles ``(psi, theta)``;
 - :mod:`kbm.forced.engine`: :func:`derive_forced`, the recursion (exact, polynomial ``F``);
-- :mod:`kbm.forced.grid`, :mod:`kbm.forced.numeric`: the same recursion on samples,
+- :mod:`kbm.forced.grid`, :mod:`kbm.forced.numeric`, :mod:`kbm.forced.numeric_result`: the
+  same recursion on samples,
   :func:`numeric_derive_forced` (any smooth ``F``: the slider's ``sin(k x + theta)``), and
   :func:`forced_expansion`, which picks the engine;
 - :mod:`kbm.forced.result`: :class:`ForcedKBMResult` and the numerical :class:`SlowFlow`;

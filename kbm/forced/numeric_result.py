@@ -1,0 +1,172 @@
+"""The result of the numeric forced backend (:mod:`kbm.forced.numeric`): the slow rates as
+Chebyshev series in ``a`` times Fourier series in ``phi`` times polynomials in ``sigma``, and
+the expansion that holds them and gives the slow flow at a value of ``mu``."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from ..errors import OrderError, ParameterError
+from .model import ForcedOscillator, Resonance
+from .result import SlowFlow
+
+__all__ = ["SlowSeries", "NumericForcedExpansion"]
+
+
+@dataclass(frozen=True, eq=False)
+class SlowSeries:
+    """One ``A_n`` or ``B_n``: ``sum_s sigma**s sum_j c_{s,j}(a) exp(i j p phi)``, the
+    ``c_{s,j}`` Chebyshev series on ``[lo, hi]`` (the grid's interval), held as a complex
+    array ``(S, D, 2 J + 1)`` (for ``B_n`` the series of ``a B_n``, smooth where ``B_n``
+    has a ``1/a``, divided by ``a`` on evaluation: ``over_a``); evaluated on ``[a_min, a_max]`` of the expansion and, with
+    the grid's margin, a little beyond (NaN further out)."""
+
+    coef: np.ndarray
+    lo: float
+    hi: float
+    p: int
+    over_a: bool = False
+
+    def __call__(self, a, phi, s, da: int = 0, dphi: int = 0, dsigma: int = 0) -> np.ndarray:
+        """The value (or a partial derivative, ``da <= 1``) at ``(a, phi, sigma)``, arrays
+        broadcast."""
+        if self.over_a:  # the series holds a B_n: B_n = (a B_n)/a, exactly
+            av = np.asarray(a, float)
+            g = self._eval(a, phi, s, 0, dphi, dsigma)
+            if da == 0:
+                return g / av
+            return (self._eval(a, phi, s, 1, dphi, dsigma) - g / av) / av
+        return self._eval(a, phi, s, da, dphi, dsigma)
+
+    def _eval(self, a, phi, s, da: int, dphi: int, dsigma: int) -> np.ndarray:
+        av, ph, sv = np.broadcast_arrays(np.asarray(a, float), np.asarray(phi, float),
+                                         np.asarray(s, float))
+        shape = av.shape
+        av, ph, sv = av.ravel(), ph.ravel(), sv.ravel()
+        c = self.coef
+        scale = 2.0 / (self.hi - self.lo)
+        for _ in range(da):
+            c = np.polynomial.chebyshev.chebder(c, axis=1) * scale
+            if c.shape[1] == 0:
+                return np.zeros(shape)
+        t = (2.0 * av - self.lo - self.hi) / (self.hi - self.lo)
+        inside = np.abs(t) <= 1.0 + 1e-12
+        V = np.polynomial.chebyshev.chebvander(np.clip(t, -1, 1), c.shape[1] - 1)
+        vals = np.einsum("nd,sdj->snj", V, c)
+        J = (c.shape[2] - 1) // 2
+        js = np.arange(-J, J + 1)
+        E = np.exp(1j * self.p * ph[:, None] * js[None, :]) * (1j * self.p * js) ** dphi
+        vals = np.sum(vals * E[None], axis=-1).real  # (S, n)
+        out = np.zeros_like(av)
+        for s_pow in range(dsigma, vals.shape[0]):
+            out += vals[s_pow] * math.perm(s_pow, dsigma) * sv ** (s_pow - dsigma)
+        out[~inside] = np.nan
+        return out.reshape(shape)
+
+
+@dataclass(frozen=True, eq=False)
+class NumericForcedExpansion:
+    """The forced KBM expansion computed numerically on ``a_min <= a <= a_max``.
+
+    Attributes
+    ----------
+    model
+        The forced oscillator with its parameter values substituted.
+    order
+        The highest order ``N``.
+    resonance
+        The declared resonance ``p/q``: ``nu = (p/q) omega0 + mu sigma``.
+    a_range
+        ``(a_min, a_max)``.
+    omega0
+        The linear frequency.
+    tol
+        The tolerance asked for (relative to the size of each order's quantities).
+    resolution
+        ``(P, M, N)``: Chebyshev points in ``a``, phases in ``psi`` and in ``theta``.
+    A, B
+        ``A_1..A_N`` and ``B_1..B_N`` (so ``A[n - 1]`` is ``A_n``) as :class:`SlowSeries`:
+        callables ``A[n - 1](a, phi, sigma)``.
+    A_error, B_error, u_error
+        Estimated absolute errors per order (largest over the interval): the larger of the
+        coefficient tails and the difference from a second grid half as fine again.
+    """
+
+    model: ForcedOscillator
+    order: int
+    resonance: Resonance
+    a_range: tuple[float, float]
+    omega0: float
+    tol: float
+    resolution: tuple[int, int, int]
+    A: tuple[SlowSeries, ...]
+    B: tuple[SlowSeries, ...]
+    A_error: tuple[float, ...]
+    B_error: tuple[float, ...]
+    u_error: tuple[float, ...]
+
+    exact = False
+
+    def _n(self, order: int | None) -> int:
+        n = self.order if order is None else order
+        if not (isinstance(n, int) and 1 <= n <= self.order):
+            raise OrderError(f"order {order!r} is not available: this expansion goes to "
+                             f"order {self.order}")
+        return n
+
+    def slow_flow(self, values, order: int | None = None) -> SlowFlow:
+        """The slow flow ``da/dt = sum mu**n A_n``, ``dphi/dt = -mu (q/p) sigma + sum mu**n
+        B_n`` at ``values["mu"]`` (other entries must be the values the expansion was
+        computed with), truncated at ``order``."""
+        values = dict(values or {})
+        if "mu" not in values:
+            raise ParameterError("the slow flow needs a value of mu (e.g. values={'mu': 0.1})")
+        m = float(sp.sympify(values["mu"]))
+        n = self._n(order)
+        A, B = self.A[:n], self.B[:n]
+        qp = self.resonance.q / self.resonance.p
+
+        def rates(av, ph, s):
+            da = sum(m ** (i + 1) * f(av, ph, s) for i, f in enumerate(A))
+            dp = sum(m ** (i + 1) * f(av, ph, s) for i, f in enumerate(B)) \
+                - m * qp * np.asarray(s, float)
+            return da, dp
+
+        def jacobian(av, ph, s):
+            rows = []
+            for fs, extra in ((A, 0.0), (B, -m * qp)):
+                row = [sum(m ** (i + 1) * f(av, ph, s, da=1) for i, f in enumerate(fs)),
+                       sum(m ** (i + 1) * f(av, ph, s, dphi=1) for i, f in enumerate(fs)),
+                       sum(m ** (i + 1) * f(av, ph, s, dsigma=1) for i, f in enumerate(fs))
+                       + extra]
+                rows.append([float(np.ravel(v)[0]) for v in row])
+            return np.array(rows)
+
+        lo, hi = self.a_range
+        text = (f"sum_(n<={n}) mu^n A_n(a, phi, sigma) (numeric, a in [{lo:g}, {hi:g}])",
+                f"-mu*{self.resonance.q}/{self.resonance.p}*sigma + sum_(n<={n}) mu^n "
+                f"B_n(a, phi, sigma) (numeric)")
+        return SlowFlow.from_functions(text, self.resonance, n, rates, jacobian,
+                                       domain=(self.A[0].lo, self.A[0].hi))
+
+    def to_json(self, a, phi=0.0, s=0.0) -> dict:
+        """``A_n``, ``B_n`` at the amplitudes ``a`` (one ``phi``, ``sigma``) and the error
+        estimates, with plain keys."""
+        a = np.atleast_1d(np.asarray(a, float))
+        orders = [str(n) for n in range(1, self.order + 1)]
+        return {
+            "model": self.model.name, "F": sp.sstr(self.model.F, order="lex"),
+            "omega0": self.omega0, "order": self.order, "resonance": str(self.resonance),
+            "method": "numeric", "a_range": list(self.a_range), "tol": self.tol,
+            "resolution": dict(zip(("chebyshev_points", "phases_psi", "phases_theta"),
+                                   self.resolution)),
+            "a": [float(v) for v in a], "phi": float(phi), "sigma": float(s),
+            "A": {k: [float(v) for v in f(a, phi, s)] for k, f in zip(orders, self.A)},
+            "B": {k: [float(v) for v in f(a, phi, s)] for k, f in zip(orders, self.B)},
+            "error": {"A": dict(zip(orders, self.A_error)), "B": dict(zip(orders, self.B_error)),
+                      "u": dict(zip(orders, self.u_error))},
+        }

@@ -186,21 +186,24 @@ def numeric_model(model: Oscillator | str, params) -> tuple[Oscillator, sp.Expr,
     return model, F, float(model.omega0)
 
 
-def _check_order(order) -> None:
+def check_order(order, limit: int = MAX_ORDER_NUMERIC, backend: str = "numeric backend") -> None:
+    """Refuse an order that is not an integer in ``1..limit`` (:class:`OrderError`)."""
     if not isinstance(order, int) or isinstance(order, bool) or order < 1:
         raise OrderError(f"the order must be an integer >= 1, got {order!r}")
-    if order > MAX_ORDER_NUMERIC:
-        raise OrderError(f"order {order} is above the limit {MAX_ORDER_NUMERIC} of the "
-                         f"numeric backend; ask for order <= {MAX_ORDER_NUMERIC}")
+    if order > limit:
+        raise OrderError(f"order {order} is above the limit {limit} of the {backend}; ask "
+                         f"for order <= {limit}")
 
 
-def _check_tol(tol) -> float:
+def check_tol(tol, smallest: float = 1e-15) -> float:
+    """``tol`` as a float in ``[smallest, 1)`` (else :class:`ParameterError`)."""
     try:
         tol = float(tol)
     except (TypeError, ValueError):
         raise ParameterError(f"tol must be a number, got {tol!r}") from None
-    if not 1e-15 <= tol < 1:
-        raise ParameterError(f"tol must be between 1e-15 and 1 (relative), got {tol:g}")
+    if not smallest <= tol < 1:
+        raise ParameterError(f"tol must be between {smallest:g} and 1 (relative), got "
+                             f"{tol:g}")
     return tol
 
 
@@ -343,9 +346,9 @@ def numeric_derive(model: Oscillator | str, order: int, a_range, params: dict | 
     >>> round(res.A[1](2.0), 12) + 0.0, round(res.B[2](2.0), 12)
     (0.0, -0.0625)
     """
-    _check_order(order)
+    check_order(order)
     lo, hi = parse_a_range(a_range)
-    tol = _check_tol(tol)
+    tol = check_tol(tol)
     model, F, w0 = numeric_model(model, params)
     table = TaylorTable(F)
     try:

@@ -42,8 +42,8 @@ import sympy as sp
 from ..algebra import chebyshev
 from ..algebra.lazy_series import Scaled, Tail
 from ..algebra.smooth import TaylorOf, TaylorTable
-from ..errors import ModelError, OrderError, ParameterError, ResolutionError
-from ..numeric_kbm import parse_a_range
+from ..errors import ModelError, ParameterError, ResolutionError
+from ..numeric_kbm import check_order, check_tol, parse_a_range
 from ..symbols import x, xdot
 from .builtins import get_forced_model
 from .engine import forced_recursion
@@ -101,24 +101,6 @@ def _parts(F: sp.Expr, nu0: float) -> dict[int, sp.Expr]:
         for i in range(r + 1):
             out[i] = out.get(i, 0) + comb(r, i) * sp.Float(nu0) ** (r - i) * c
     return {i: sp.expand(e) for i, e in sorted(out.items()) if e != 0}
-
-
-def _check_order(order) -> None:
-    if not isinstance(order, int) or isinstance(order, bool) or order < 1:
-        raise OrderError(f"the order must be an integer >= 1, got {order!r}")
-    if order > MAX_ORDER_NUMERIC:
-        raise OrderError(f"order {order} is above the limit {MAX_ORDER_NUMERIC} of the "
-                         f"numeric forced backend; ask for order <= {MAX_ORDER_NUMERIC}")
-
-
-def _check_tol(tol) -> float:
-    try:
-        tol = float(tol)
-    except (TypeError, ValueError):
-        raise ParameterError(f"tol must be a number, got {tol!r}") from None
-    if not 1e-14 <= tol < 1:
-        raise ParameterError(f"tol must be between 1e-14 and 1 (relative), got {tol:g}")
-    return tol
 
 
 # ----------------------------------------------------------------------------- resolution
@@ -316,9 +298,9 @@ def numeric_derive_forced(model: ForcedOscillator | str, order: int, a_range,
     >>> round(float(r.A[0](1.0, 0.0, 0.0)), 10)     # A_1 = -zeta a - h sin(phi)/2
     -0.1
     """
-    _check_order(order)
+    check_order(order, MAX_ORDER_NUMERIC, "numeric forced backend")
     lo, hi = parse_a_range(a_range)
-    tol = _check_tol(tol)
+    tol = check_tol(tol, 1e-14)
     model, res, w0 = _numeric_model(model, params, resonance)
     nu0 = w0 * res.p / res.q
     parts = _parts(sp.expand(model.F), nu0)

@@ -10,9 +10,9 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from ..errors import OrderError, ParameterError
+from ..errors import ParameterError
 from .model import ForcedOscillator, Resonance
-from .result import SlowFlow
+from .result import SlowFlow, available_order
 
 __all__ = ["SlowSeries", "NumericForcedExpansion"]
 
@@ -112,11 +112,7 @@ class NumericForcedExpansion:
     exact = False
 
     def _n(self, order: int | None) -> int:
-        n = self.order if order is None else order
-        if not (isinstance(n, int) and 1 <= n <= self.order):
-            raise OrderError(f"order {order!r} is not available: this expansion goes to "
-                             f"order {self.order}")
-        return n
+        return available_order(order, self.order)
 
     def slow_flow(self, values, order: int | None = None) -> SlowFlow:
         """The slow flow ``da/dt = sum mu**n A_n``, ``dphi/dt = -mu (q/p) sigma + sum mu**n

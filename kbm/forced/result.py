@@ -17,6 +17,15 @@ from .model import LAMBDA, ForcedOscillator, Resonance, phi, sigma
 __all__ = ["ForcedKBMResult", "SlowFlow"]
 
 
+def available_order(order: int | None, top: int) -> int:
+    """``order`` (default ``top``) checked to lie in ``1..top``."""
+    n = top if order is None else order
+    if not (isinstance(n, int) and 1 <= n <= top):
+        raise OrderError(f"order {order!r} is not available: this expansion goes to "
+                         f"order {top}")
+    return n
+
+
 @dataclass(frozen=True)
 class ForcedKBMResult:
     """``x = a cos(psi) + sum mu**n u_n(a, psi, theta)`` with the autonomous slow flow
@@ -50,11 +59,7 @@ class ForcedKBMResult:
     exact: bool = True
 
     def _n(self, order: int | None) -> int:
-        n = self.order if order is None else order
-        if not (isinstance(n, int) and 1 <= n <= self.order):
-            raise OrderError(f"order {order!r} is not available: this expansion goes to "
-                             f"order {self.order}")
-        return n
+        return available_order(order, self.order)
 
     def amplitude_rate(self, order: int | None = None) -> sp.Expr:
         """``da/dt = sum_{n<=order} mu**n A_n``."""

@@ -256,7 +256,7 @@ def _rescaled(alphas: list, betas: list, qp: sp.Rational, m: int,
         if len(sol) != 1:
             raise ModelError(f"the centre of the tongue is not determined at mu^{k} "
                              f"({ck} = 0)")
-        known[s[k]] = sp.nsimplify(sol[0])
+        known[s[k]] = sp.expand(sol[0])  # exact (a linear equation)
     centre = sp.expand(c.xreplace(known))
     sig = centre + mu**(m - 1) * sigma
 

@@ -155,11 +155,12 @@ def test_undamped_trivial_state_neutral_outside_unstable_inside():
     assert trivial_state(sf, edges[1] + 0.02) == "neutral"
 
 
-def test_tongue_opening_at_second_order_is_refused_with_reason():
-    """x'' + x = -mu x cos(t) (delta = 1): no resonant term at first order."""
+def test_tongue_opening_at_second_order_is_refused_at_first_order_with_reason():
+    """x'' + x = -mu x cos(t) (delta = 1): no resonant term at first order; the tongue
+    opens at order 2, which order 1 cannot reach (orders >= 2: tests/test_forced_tongues)."""
     from kbm.errors import ModelError
     from kbm.forced import ForcedOscillator
 
-    r = derive_forced(ForcedOscillator("m1", "-x*cos(theta)", resonance="1/1"), 3)
-    with pytest.raises(ModelError, match="opens at a higher order"):
+    r = derive_forced(ForcedOscillator("m1", "-x*cos(theta)", resonance="1/1"), 1)
+    with pytest.raises(ModelError, match="the tongue opens at order 2"):
         transition_curves(r)

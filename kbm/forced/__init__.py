@@ -14,7 +14,8 @@
   frequency-response curve, folds and backbone;
 - :mod:`kbm.forced.resultant`: every fixed point of a polynomial slow flow by resultants
   (the exact check of the scan);
-- :mod:`kbm.forced.tongues`: transition curves (instability tongues) as series;
+- :mod:`kbm.forced.tongues`: transition curves (instability tongues) as series, for
+  tongues opening at any order;
 - :mod:`kbm.forced.arclength`: the pseudo-arclength continuation shared with
   :mod:`numerics.forced`.
 """

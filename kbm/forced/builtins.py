@@ -9,6 +9,10 @@
 ``duffing-super-hard``  ``F = -2 zeta x' - alpha x^3`` and the hard forcing ``K cos(theta)``,
                     1/3 (Nayfeh & Mook 4.1.2)
 ``duffing-sub-hard``    the same near ``nu = 3 omega0``, 3/1 (Nayfeh & Mook 4.1.3)
+``mathieu-2``       ``F = -x cos(theta)``, ``omega0 = 1`` (the Mathieu tongue at delta = 1,
+                    opening at order 2), 1/1
+``mathieu-3``       ``F = -x cos(theta)``, ``omega0 = 3/2`` (the tongue at delta = 9/4,
+                    opening at order 3), 2/3
 ``slider``          the self-excited slider (``sedf_comoving``) seen from its stage:
                     ``F = (1 - beta x^2)(x' + nu/k) - delta sin(k x + theta)``,
                     ``omega0 = Omega``, 1/1 (numeric backend)
@@ -75,6 +79,16 @@ FORCED_MODELS = {
         resonance=Resonance(2, 1),
         description="parametrically excited Duffing x'' + x = mu (-2 zeta x' - alpha x^3 "
                     "- h x cos nu t), principal parametric resonance"),
+    "mathieu-2": lambda: ForcedOscillator(
+        "mathieu-2", -x * sp.cos(theta), omega0=sp.Integer(1), resonance=Resonance(1, 1),
+        description="Mathieu x'' + x = -mu x cos(nu t), i.e. x'' + (delta + eps cos s) x = 0 "
+                    "with s = nu t, delta = 1/nu^2, eps = mu/nu^2: the second tongue "
+                    "(delta = 1, width O(eps^2): order >= 2)"),
+    "mathieu-3": lambda: ForcedOscillator(
+        "mathieu-3", -x * sp.cos(theta), omega0=sp.Rational(3, 2), resonance=Resonance(2, 3),
+        description="Mathieu x'' + (9/4) x = -mu x cos(nu t), i.e. x'' + (delta + eps cos s) x "
+                    "= 0 with s = nu t, delta = 9/(4 nu^2), eps = mu/nu^2: the third tongue "
+                    "(delta = 9/4, width O(eps^3): order >= 3)"),
     "slider": lambda: ForcedOscillator(
         "slider", (1 - _beta * x**2) * (xdot + _nu / _k) - _delta * sp.sin(_k * x + theta),
         omega0=_Omega, resonance=Resonance(1, 1), defaults={"Omega": 1, "beta": 1},

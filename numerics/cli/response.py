@@ -19,9 +19,9 @@ def register(sub) -> None:
                     "continuation with Floquet multipliers.")
     p.add_argument("model", nargs="?",
                    help="a forced model (duffing-forced, duffing-super, duffing-super-hard, "
-                        "duffing-sub-hard, mathieu, vdp-forced, parametric, slider, "
-                        "slider-cdc, ...) or an autonomous one (duffing, vdp, ...) with "
-                        "--forcing or --hard")
+                        "duffing-sub-hard, mathieu, vdp-forced, parametric, mathieu-2, "
+                        "mathieu-3, slider, slider-cdc) or an autonomous one (duffing, vdp, "
+                        "...) with --forcing or --hard")
     p.add_argument("--rhs", metavar="EXPR",
                    help="your own F in x, xdot, theta and parameters (instead of a model)")
     p.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")

@@ -2,8 +2,9 @@
 
 ``python -m numerics.forced.figures DIR`` writes the five figures of ``docs/forced.rst``
 (Duffing primary resonance at orders 1 and 2 against shooting, the superharmonic
-resonance, the Mathieu transition curves against scipy's characteristic values and Floquet
-numerics, the van der Pol locking boundary and its closed curve of steady states);
+resonance, the Mathieu transition curves at delta = 1/4 and 1 against scipy's
+characteristic values and Floquet numerics, the van der Pol locking boundary and its
+closed curve of steady states);
 :func:`plot_response` draws one :class:`~numerics.forced.diagram.ResponseDiagram`
 (``kbm response --out``).  matplotlib is
 imported lazily (Agg backend).
@@ -133,7 +134,8 @@ def superharmonic_figure(out: Path) -> Path:
 
 
 def mathieu_figure(out: Path) -> Path:
-    """Transition curves delta(eps) near delta = 1/4 at orders 1..5 against scipy."""
+    """Transition curves delta(eps) of the tongues at delta = 1/4 (orders 1, 2, 4) and at
+    delta = 1 (``mathieu-2``, opening at order 2: orders 2, 4) against scipy and Floquet."""
     from scipy.special import mathieu_a, mathieu_b
 
     from kbm.forced import derive_forced
@@ -144,22 +146,29 @@ def mathieu_figure(out: Path) -> Path:
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     eps = np.linspace(0, 0.8, 200)
-    ax.plot(mathieu_a(1, 2 * eps) / 4, eps, "k-", lw=2.5, alpha=0.35,
-            label=r"$a_1/4$, $b_1/4$ (scipy)")
-    ax.plot(mathieu_b(1, 2 * eps) / 4, eps, "k-", lw=2.5, alpha=0.35)
-    for n, c in zip((1, 2, 4), ("tab:blue", "tab:orange", "tab:red")):
-        for i, tc in enumerate(transition_curves(derive_forced("mathieu", n))):
-            f = sp.lambdify(epsilon, mathieu_transition(tc), "numpy")
-            ax.plot(f(eps) * np.ones_like(eps), eps, "--", color=c,
-                    label=f"KBM order {n}" if i == 0 else None)
+    for n in (1, 2):
+        ax.plot(mathieu_a(n, 2 * eps) / 4, eps, "k-", lw=2.5, alpha=0.35,
+                label=r"$a_n/4$, $b_n/4$ (scipy)" if n == 1 else None)
+        ax.plot(mathieu_b(n, 2 * eps) / 4, eps, "k-", lw=2.5, alpha=0.35)
+    colors = {1: "tab:blue", 2: "tab:orange", 4: "tab:red"}
+    for model, orders in (("mathieu", (1, 2, 4)), ("mathieu-2", (2, 4))):
+        for n in orders:
+            for i, tc in enumerate(transition_curves(derive_forced(model, n))):
+                f = sp.lambdify(epsilon, mathieu_transition(tc), "numpy")
+                ax.plot(f(eps) * np.ones_like(eps), eps, "--", color=colors[n],
+                        label=f"KBM order {n}" if i == 0 and model == "mathieu" else None)
     fl = _floquet_boundaries(np.linspace(0.1, 0.8, 8))
-    ax.plot(fl[:, 1], fl[:, 0], "ko", ms=4, label="Floquet (trace of monodromy = -2)")
+    ax.plot(fl[:, 1], fl[:, 0], "ko", ms=4, label="Floquet (trace of monodromy = -2, +2)")
     ax.plot(fl[:, 2], fl[:, 0], "ko", ms=4)
+    fl2 = _floquet_boundaries(np.linspace(0.2, 0.8, 7), n=2)
+    ax.plot(fl2[:, 1], fl2[:, 0], "ko", ms=4)
+    ax.plot(fl2[:, 2], fl2[:, 0], "ko", ms=4)
     ax.set_xlabel(r"$\delta$")
     ax.set_ylabel(r"$\varepsilon$")
-    ax.set_title(r"$x'' + (\delta + \varepsilon\cos t)\,x = 0$: the tongue at $\delta = 1/4$",
-                 fontsize=9)
-    ax.legend(fontsize=8)
+    ax.set_title(r"$x'' + (\delta + \varepsilon\cos t)\,x = 0$: the tongues at "
+                 r"$\delta = 1/4$ and $\delta = 1$", fontsize=9)
+    ax.set_ylim(0, 1.1)  # room for the legend above the curves
+    ax.legend(fontsize=8, loc="upper center", ncol=2)
     fig.tight_layout()
     path = Path(out) / "forced_mathieu.png"
     fig.savefig(path, dpi=120)
@@ -167,12 +176,15 @@ def mathieu_figure(out: Path) -> Path:
     return path
 
 
-def _floquet_boundaries(eps) -> np.ndarray:
+def _floquet_boundaries(eps, n: int = 1) -> np.ndarray:
     """``(eps, delta_low, delta_high)``: where the monodromy matrix of ``x'' + (delta + eps
-    cos t) x = 0`` over ``2 pi`` has trace ``-2`` (the edges of the tongue at 1/4)."""
+    cos t) x = 0`` over ``2 pi`` has trace ``-2`` (``n`` odd) or ``+2`` (``n`` even): the
+    edges of the tongue at ``n**2/4``."""
     from scipy.integrate import solve_ivp
     from scipy.optimize import brentq
     from scipy.special import mathieu_a, mathieu_b
+
+    target = 2.0 if n % 2 == 0 else -2.0
 
     def trace(d, e):
         def f(t, y):
@@ -180,12 +192,12 @@ def _floquet_boundaries(eps) -> np.ndarray:
             return [y[1], -k * y[0], y[3], -k * y[2]]
 
         s = solve_ivp(f, (0, 2 * np.pi), [1, 0, 0, 1], rtol=1e-11, atol=1e-12, method="DOP853")
-        return s.y[0, -1] + s.y[3, -1] + 2
+        return s.y[0, -1] + s.y[3, -1] - target
 
     rows = []
     for e in eps:
-        ends = sorted([mathieu_a(1, 2 * e) / 4, mathieu_b(1, 2 * e) / 4])
-        mid = 0.5 * sum(ends)  # inside the tongue: trace < -2
+        ends = sorted([mathieu_a(n, 2 * e) / 4, mathieu_b(n, 2 * e) / 4])
+        mid = 0.5 * sum(ends)  # inside the tongue: |trace| > 2
         lo = brentq(trace, ends[0] - 0.05, mid, args=(e,), xtol=1e-12)
         hi = brentq(trace, mid, ends[1] + 0.05, args=(e,), xtol=1e-12)
         rows.append((e, lo, hi))

@@ -208,17 +208,19 @@ def check_tol(tol, smallest: float = 1e-15) -> float:
 
 
 # ----------------------------------------------------------------------------- resolution
-def _fourier_tail(values: np.ndarray) -> float:
-    """Largest |Fourier coefficient| in the top quarter of the harmonics (rows: a, cols: psi)."""
-    M = values.shape[1]
-    spec = np.abs(np.fft.rfft(values, axis=1)) * (2.0 / M)
-    return float(np.max(spec[:, int((1 - _TAIL) * (M // 2)):]))
+def fourier_tail(values: np.ndarray, axis: int = 1) -> float:
+    """Largest |Fourier coefficient| in the top quarter of the harmonics along ``axis``."""
+    n = values.shape[axis]
+    spec = np.abs(np.fft.rfft(values, axis=axis)) * (2.0 / n)
+    top = np.take(spec, np.arange(int((1 - _TAIL) * (n // 2)), n // 2 + 1), axis=axis)
+    return float(np.max(top)) if top.size else 0.0
 
 
-def _chebyshev_tail(values: np.ndarray) -> float:
-    """Largest |Chebyshev coefficient in a| in the top quarter of the degrees."""
-    c = np.abs(chebyshev.coefficients(values, axis=0))
-    return float(np.max(c[int((1 - _TAIL) * (c.shape[0] - 1)):]))
+def chebyshev_tail(values: np.ndarray, axis: int = 0) -> float:
+    """Largest |Chebyshev coefficient| in the top quarter of the degrees along ``axis``."""
+    c = np.abs(chebyshev.coefficients(values, axis=axis))
+    n = c.shape[axis]
+    return float(np.max(np.take(c, np.arange(int((1 - _TAIL) * (n - 1)), n), axis=axis)))
 
 
 def _phase_points(table: TaylorTable, w0: float, lo: float, hi: float, tol: float) -> int:
@@ -240,7 +242,7 @@ def _phase_points(table: TaylorTable, w0: float, lo: float, hi: float, tol: floa
                 f"the orbits of the a-range [{lo:g}, {hi:g}]; shrink the a-range or change F")
         scale = float(np.max(np.abs(f)))
         first_scale = scale if first_scale is None else first_scale
-        tail = _fourier_tail(f)
+        tail = fourier_tail(f)
         if scale == 0 or tail <= 0.01 * tol * scale:
             return M
         if 2 * M > MAX_M and (scale > 10 * first_scale
@@ -298,8 +300,8 @@ def _errors(run: _Run):
         # rounding noise only: its scale is that of the orders below
         scale = max(np.max(np.abs(An)), np.max(np.abs(a * Bn)), np.max(np.abs(Un)), floor)
         floor = scale
-        ea, eb = _chebyshev_tail(An[:, None]), _chebyshev_tail(Bn[:, None])
-        eu_a, eu_p = _chebyshev_tail(Un), _fourier_tail(Un)
+        ea, eb = chebyshev_tail(An[:, None]), chebyshev_tail(Bn[:, None])
+        eu_a, eu_p = chebyshev_tail(Un), fourier_tail(Un)
         out.append((float(scale), ea, eb, eu_a, eu_p))
     return out
 

@@ -27,7 +27,7 @@ from .algebra.jet_fourier import JetAlgebra
 from .averaging import MAX_ORDER, _check_terms, _recursion
 from .errors import OrderError, ParameterError, ResolutionError
 from .models import Oscillator
-from .numeric_kbm import numeric_model
+from .numeric_kbm import fourier_tail, numeric_model
 from .symbols import x, xdot
 
 __all__ = ["derive_values", "ExpansionValues", "DEFAULT_TOL"]
@@ -139,9 +139,7 @@ def _tails(Us: list[np.ndarray], A, B, a) -> list[tuple[float, float]]:
     """Per order: (scale, Fourier tail of u_n) with the tail the top quarter's largest."""
     out = []
     for An, Bn, Un in zip(A, B, Us):
-        M = Un.shape[-1]
-        spec = np.abs(np.fft.rfft(Un, axis=-1)) * (2.0 / M)
-        tail = float(np.max(spec[..., int(0.75 * (M // 2)):])) if Un.size else 0.0
+        tail = fourier_tail(Un, axis=-1) if Un.size else 0.0
         scale = max(float(np.max(np.abs(An))), float(np.max(np.abs(a * Bn))),
                     float(np.max(np.abs(Un))))
         out.append((scale, tail))

@@ -96,29 +96,30 @@ def check_state(F: sp.Expr, name: str) -> None:
                 "nu may enter F only polynomially") from None
 
 
+def _non_polynomial_factor(F: sp.Expr) -> sp.Expr | None:
+    """The first factor of a term of ``F`` that is not a power of ``x`` or ``xdot`` (and
+    holds them), or ``None``."""
+    for term in sp.Add.make_args(sp.expand(F)):
+        for f in sp.Mul.make_args(term):
+            if not f.has(x, xdot) or f in (x, xdot):
+                continue
+            if f.is_Pow and f.base in (x, xdot) and f.exp.is_Integer and f.exp > 0:
+                continue
+            return f
+    return None
+
+
 def is_polynomial(F: sp.Expr) -> bool:
     """Whether ``F`` is a polynomial in ``x`` and ``xdot`` (coefficients may hold theta):
     the case of the exact forced engine (:func:`kbm.forced.derive_forced`)."""
-    for term in sp.Add.make_args(sp.expand(F)):
-        for f in sp.Mul.make_args(term):
-            if not f.has(x, xdot):
-                continue
-            if f in (x, xdot) or (f.is_Pow and f.base in (x, xdot) and f.exp.is_Integer
-                                  and f.exp > 0):
-                continue
-            return False
-    return True
+    return _non_polynomial_factor(F) is None
 
 
 def polynomial_message(F: sp.Expr, name: str) -> str:
     """Why the exact engine refuses ``F`` and what to use instead."""
-    for term in sp.Add.make_args(sp.expand(F)):
-        for f in sp.Mul.make_args(term):
-            if f.has(x, xdot) and not (f in (x, xdot) or (
-                    f.is_Pow and f.base in (x, xdot) and f.exp.is_Integer and f.exp > 0)):
-                return (f"the term {f} of F (model {name!r}) is not polynomial in x and xdot, "
-                        "so the exact (rational) forced engine does not apply; use the numeric "
-                        "forced backend kbm.forced.numeric_derive_forced(model, order, "
-                        "a_range, params) (on the command line: kbm response with "
-                        "--a-range AMIN:AMAX), which takes any smooth F such as sin(k*x + theta)")
-    return f"F of model {name!r} is not polynomial in x and xdot"
+    f = _non_polynomial_factor(F)
+    return (f"the term {f} of F (model {name!r}) is not polynomial in x and xdot, "
+            "so the exact (rational) forced engine does not apply; use the numeric "
+            "forced backend kbm.forced.numeric_derive_forced(model, order, "
+            "a_range, params) (on the command line: kbm response with "
+            "--a-range AMIN:AMAX), which takes any smooth F such as sin(k*x + theta)")

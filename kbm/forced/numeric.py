@@ -43,10 +43,11 @@ from ..algebra import chebyshev
 from ..algebra.lazy_series import Scaled, Tail
 from ..algebra.smooth import TaylorOf, TaylorTable
 from ..errors import ModelError, ParameterError, ResolutionError
-from ..numeric_kbm import check_order, check_tol, parse_a_range
+from ..numeric_kbm import (check_order, check_tol, chebyshev_tail, fourier_tail,
+                           parse_a_range)
 from ..symbols import x, xdot
 from .builtins import get_forced_model
-from .engine import forced_recursion
+from .engine import derive_forced, forced_recursion
 from .grid import SampledAlgebra
 from .model import ForcedOscillator, Resonance, nu, theta
 from .numeric_result import NumericForcedExpansion, SlowSeries
@@ -60,8 +61,6 @@ DEFAULT_TOL = 1e-9
 MAX_ORDER_NUMERIC = 8
 #: grid budget: Chebyshev points, phases in psi and in theta, and samples in all
 MAX_P, MAX_M, MAX_N, MAX_SAMPLES = 129, 1024, 256, 2**21
-#: the top fraction of the coefficients read as the tail
-_TAIL = 0.25
 #: how far (a fraction of its width) the grid reaches past each end of the interval
 _MARGIN = 0.1
 
@@ -104,20 +103,6 @@ def _parts(F: sp.Expr, nu0: float) -> dict[int, sp.Expr]:
 
 
 # ----------------------------------------------------------------------------- resolution
-def _tail(values: np.ndarray, axis: int) -> float:
-    """Largest |Fourier coefficient| in the top quarter of the harmonics along ``axis``."""
-    n = values.shape[axis]
-    spec = np.abs(np.fft.rfft(values, axis=axis)) * (2.0 / n)
-    top = np.take(spec, np.arange(int((1 - _TAIL) * (n // 2)), n // 2 + 1), axis=axis)
-    return float(np.max(top)) if top.size else 0.0
-
-
-def _cheb_tail(values: np.ndarray, axis: int) -> float:
-    c = np.abs(chebyshev.coefficients(values, axis=axis))
-    n = c.shape[axis]
-    return float(np.max(np.take(c, np.arange(int((1 - _TAIL) * (n - 1)), n), axis=axis)))
-
-
 def _angles(tables, w0: float, hi: float, tol: float) -> tuple[int, int]:
     """Phases ``(M, N)`` at which ``F`` along the unperturbed orbit at ``a_max`` is resolved."""
     M, N, first = 16, 8, None
@@ -143,7 +128,7 @@ def _angles(tables, w0: float, hi: float, tol: float) -> tuple[int, int]:
                 f"a = {hi:g}: its largest sampled value grows from {first:.3g} to {scale:.3g} "
                 f"as the phases are refined, as at a pole of F on |x| <= a_max, |xdot| <= "
                 "omega0 a_max; shrink the a-range or change F")
-        tm, tn = _tail(f, 0), _tail(f, 1)
+        tm, tn = fourier_tail(f, 0), fourier_tail(f, 1)
         if tm <= 0.01 * tol * scale and tn <= 0.01 * tol * scale:
             return M, N
         M, N = (2 * M if tm > 0.01 * tol * scale else M), (2 * N if tn > 0.01 * tol * scale
@@ -231,9 +216,9 @@ def _errors(run: _Run):
         scale = max(float(np.max(np.abs(An))), float(np.max(np.abs(aBn))),
                     float(np.max(np.abs(Un))), floor)
         floor = scale
-        ta = max(_cheb_tail(An.real, 1), _cheb_tail(An.imag, 1), _cheb_tail(aBn.real, 1),
-                 _cheb_tail(aBn.imag, 1), _cheb_tail(Un, 1))
-        out.append((scale, ta, _tail(Un, 2), _tail(Un, 3)))
+        ta = max(chebyshev_tail(An.real, 1), chebyshev_tail(An.imag, 1), chebyshev_tail(aBn.real, 1),
+                 chebyshev_tail(aBn.imag, 1), chebyshev_tail(Un, 1))
+        out.append((scale, ta, fourier_tail(Un, 2), fourier_tail(Un, 3)))
     return out
 
 
@@ -375,8 +360,6 @@ def forced_expansion(model: ForcedOscillator | str, order: int, values: dict | N
     kbm.errors.ParameterError
         For a non-polynomial ``F`` without an ``a_range``.
     """
-    from .engine import derive_forced
-
     if isinstance(model, str):
         model = get_forced_model(model)
     if model.is_polynomial:

@@ -170,6 +170,9 @@ def test_bad_input_is_refused_with_the_reason():
                                                                   "K": 1})
     with pytest.raises(UnsupportedTermError, match="tanh"):
         ForcedOscillator("coulomb", "-sign(xdot) + h*cos(theta)")
+    r = numeric_derive_forced("slider", 1, (0.5, 2), SLIDER)
+    with pytest.raises(ParameterError, match="k = 2 differs"):
+        r.slow_flow({"mu": 0.1, "k": 2})
     with pytest.raises(ParameterError, match="pole"):
         numeric_derive_forced(ForcedOscillator("pole", "1/(x - 1) + cos(theta)"), 1, (0.5, 2))
 

@@ -108,10 +108,13 @@ class TaylorOf(Node):
         for total in range(1, n + 1):
             for i in range(total + 1):
                 j = total - i
+                deriv = self.derivative(i, j)
+                if deriv.is_zero():  # F_ij vanishes (F polynomial of low degree in x, x')
+                    continue
                 mono = self.monomial(i, j).coeff(n)
                 if mono.is_zero():
                     continue
-                term = mono * self.derivative(i, j)
+                term = mono * deriv
                 acc = acc + term.scale_q(sp.Rational(1, factorial(i) * factorial(j)))
         return acc
 
@@ -126,7 +129,10 @@ class SmoothBuilder:
         self.alg, self.X, self.V, self.table = alg, X, V, table
 
     def sample(self, i: int, j: int):
-        """``F_ij(x_0, v_0)`` on the grid, checked to be finite."""
+        """``F_ij(x_0, v_0)`` on the grid, checked to be finite (the exact zero when ``F_ij``
+        vanishes identically)."""
+        if self.table.expr(i, j) == 0:
+            return self.alg.zero()
         x0 = self.X.coeff(0).values
         v0 = self.V.coeff(0).values
         with np.errstate(all="ignore"):

@@ -87,7 +87,7 @@ def _numeric_model(model, params, resonance):
     if not (math.isfinite(w0) and w0 > 0):
         raise ParameterError(f"omega0 must be a positive number, got {model.omega0}")
     res = Resonance.parse(resonance) if resonance is not None else model.resonance
-    return model, res, w0
+    return model, res, w0, {k: float(v) for k, v in vals.items()}
 
 
 def _parts(F: sp.Expr, nu0: float) -> dict[int, sp.Expr]:
@@ -159,6 +159,8 @@ def _run(tables, w0, res, lo, hi, P, M, N, order) -> _Run:
 
         def sampler(table):
             def sample(i: int, j: int):
+                if table.expr(i, j) == 0:
+                    return alg.zero()
                 x0, v0 = X.coeff(0).values[0], V.coeff(0).values[0]
                 with np.errstate(all="ignore"):
                     vals = np.broadcast_to(np.asarray(table.function(i, j)(x0, v0, TH),
@@ -286,7 +288,7 @@ def numeric_derive_forced(model: ForcedOscillator | str, order: int, a_range,
     check_order(order, MAX_ORDER_NUMERIC, "numeric forced backend")
     lo, hi = parse_a_range(a_range)
     tol = check_tol(tol, 1e-14)
-    model, res, w0 = _numeric_model(model, params, resonance)
+    model, res, w0, used = _numeric_model(model, params, resonance)
     nu0 = w0 * res.p / res.q
     parts = _parts(sp.expand(model.F), nu0)
     tables = {i: TaylorTable(Fi, extra=(theta,)) for i, Fi in parts.items()}
@@ -324,10 +326,10 @@ def numeric_derive_forced(model: ForcedOscillator | str, order: int, a_range,
                 f"(P = {P}, M = {M}, N = {N}): the relative tails are {max(rel):.1e}; narrow "
                 "the a-range, lower the order, smooth F or loosen tol")
         P, M, N = P2, M2, N2
-    return _result(model, order, res, lo, hi, w0, tol, run, errs, diffs)
+    return _result(model, order, res, lo, hi, w0, tol, run, errs, diffs, used)
 
 
-def _result(model, order, res, lo, hi, w0, tol, run: _Run, errs, diffs):
+def _result(model, order, res, lo, hi, w0, tol, run: _Run, errs, diffs, used):
     alg = run.alg
     A, B = [], []
     for An, aBn in zip(run.A, run.aB):
@@ -343,7 +345,7 @@ def _result(model, order, res, lo, hi, w0, tol, run: _Run, errs, diffs):
     return NumericForcedExpansion(model=model, order=order, resonance=res, a_range=(lo, hi),
                                   omega0=w0, tol=tol, resolution=(alg.P, alg.M, alg.N),
                                   A=tuple(A), B=tuple(B), A_error=A_err, B_error=B_err,
-                                  u_error=u_err)
+                                  u_error=u_err, parameters=used)
 
 
 def forced_expansion(model: ForcedOscillator | str, order: int, values: dict | None = None, *,

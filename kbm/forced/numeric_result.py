@@ -5,7 +5,8 @@ the expansion that holds them and gives the slow flow at a value of ``mu``."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 
 import numpy as np
 import sympy as sp
@@ -31,9 +32,25 @@ class SlowSeries:
     p: int
     over_a: bool = False
 
+    def __post_init__(self) -> None:
+        # the coefficients of d/da, formed once (Newton and the stability ask for them at
+        # every step)
+        d = np.polynomial.chebyshev.chebder(self.coef, axis=1) * (2.0 / (self.hi - self.lo)) \
+            if self.coef.shape[1] > 1 else np.zeros_like(self.coef)
+        object.__setattr__(self, "_dcoef", d)
+
+    @classmethod
+    def combine(cls, series, weights) -> "SlowSeries":
+        """``sum_i weights[i] series[i]`` (series of one expansion: the same grid)."""
+        first = series[0]
+        coef = sum(w * f.coef for w, f in zip(weights, series))
+        return cls(coef, first.lo, first.hi, first.p, first.over_a)
+
     def __call__(self, a, phi, s, da: int = 0, dphi: int = 0, dsigma: int = 0) -> np.ndarray:
         """The value (or a partial derivative, ``da <= 1``) at ``(a, phi, sigma)``, arrays
         broadcast."""
+        if da not in (0, 1):
+            raise ValueError(f"da must be 0 or 1, got {da}")
         if self.over_a:  # the series holds a B_n: B_n = (a B_n)/a, exactly
             av = np.asarray(a, float)
             g = self._eval(a, phi, s, 0, dphi, dsigma)
@@ -47,12 +64,7 @@ class SlowSeries:
                                          np.asarray(s, float))
         shape = av.shape
         av, ph, sv = av.ravel(), ph.ravel(), sv.ravel()
-        c = self.coef
-        scale = 2.0 / (self.hi - self.lo)
-        for _ in range(da):
-            c = np.polynomial.chebyshev.chebder(c, axis=1) * scale
-            if c.shape[1] == 0:
-                return np.zeros(shape)
+        c = self._dcoef if da else self.coef
         t = (2.0 * av - self.lo - self.hi) / (self.hi - self.lo)
         inside = np.abs(t) <= 1.0 + 1e-12
         V = np.polynomial.chebyshev.chebvander(np.clip(t, -1, 1), c.shape[1] - 1)
@@ -94,6 +106,8 @@ class NumericForcedExpansion:
     A_error, B_error, u_error
         Estimated absolute errors per order (largest over the interval): the larger of the
         coefficient tails and the difference from a second grid half as fine again.
+    parameters
+        The parameter values the expansion was computed with.
     """
 
     model: ForcedOscillator
@@ -108,6 +122,7 @@ class NumericForcedExpansion:
     A_error: tuple[float, ...]
     B_error: tuple[float, ...]
     u_error: tuple[float, ...]
+    parameters: Mapping[str, float] = field(default_factory=dict)
 
     exact = False
 
@@ -116,31 +131,31 @@ class NumericForcedExpansion:
 
     def slow_flow(self, values, order: int | None = None) -> SlowFlow:
         """The slow flow ``da/dt = sum mu**n A_n``, ``dphi/dt = -mu (q/p) sigma + sum mu**n
-        B_n`` at ``values["mu"]`` (other entries must be the values the expansion was
-        computed with), truncated at ``order``."""
+        B_n`` at ``values["mu"]`` (any other parameter given must have the value the
+        expansion was computed with), truncated at ``order``."""
         values = dict(values or {})
         if "mu" not in values:
             raise ParameterError("the slow flow needs a value of mu (e.g. values={'mu': 0.1})")
+        for k, v in values.items():
+            if k in self.parameters and float(sp.sympify(v)) != self.parameters[k]:
+                raise ParameterError(
+                    f"{k} = {v} differs from the value {self.parameters[k]:g} this expansion "
+                    f"was computed with; derive it again with {k} = {v}")
         m = float(sp.sympify(values["mu"]))
         n = self._n(order)
-        A, B = self.A[:n], self.B[:n]
+        weights = [m ** (i + 1) for i in range(n)]
+        A = SlowSeries.combine(self.A[:n], weights)  # one series per rate, summed once
+        B = SlowSeries.combine(self.B[:n], weights)
         qp = self.resonance.q / self.resonance.p
 
         def rates(av, ph, s):
-            da = sum(m ** (i + 1) * f(av, ph, s) for i, f in enumerate(A))
-            dp = sum(m ** (i + 1) * f(av, ph, s) for i, f in enumerate(B)) \
-                - m * qp * np.asarray(s, float)
-            return da, dp
+            return A(av, ph, s), B(av, ph, s) - m * qp * np.asarray(s, float)
 
         def jacobian(av, ph, s):
-            rows = []
-            for fs, extra in ((A, 0.0), (B, -m * qp)):
-                row = [sum(m ** (i + 1) * f(av, ph, s, da=1) for i, f in enumerate(fs)),
-                       sum(m ** (i + 1) * f(av, ph, s, dphi=1) for i, f in enumerate(fs)),
-                       sum(m ** (i + 1) * f(av, ph, s, dsigma=1) for i, f in enumerate(fs))
-                       + extra]
-                rows.append([float(np.ravel(v)[0]) for v in row])
-            return np.array(rows)
+            rows = [[A(av, ph, s, da=1), A(av, ph, s, dphi=1), A(av, ph, s, dsigma=1)],
+                    [B(av, ph, s, da=1), B(av, ph, s, dphi=1),
+                     B(av, ph, s, dsigma=1) - m * qp]]
+            return np.array([[float(np.ravel(v)[0]) for v in row] for row in rows])
 
         lo, hi = self.a_range
         text = (f"sum_(n<={n}) mu^n A_n(a, phi, sigma) (numeric, a in [{lo:g}, {hi:g}])",

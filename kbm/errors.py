@@ -11,8 +11,11 @@ __all__ = [
     "KBMError",
     "ModelError",
     "UnsupportedTermError",
+    "NonFiniteError",
+    "InputSizeError",
     "NonAutonomousError",
     "OrderError",
+    "CostError",
     "ParameterError",
     "AveragedCycleError",
     "ExpansionError",
@@ -34,12 +37,26 @@ class UnsupportedTermError(ModelError):
     """``F`` holds a term the averaging cannot expand (it is named in the message)."""
 
 
+class NonFiniteError(ModelError):
+    """An expression holds ``oo``, ``zoo`` (a division by zero) or ``nan``."""
+
+
+class InputSizeError(ModelError):
+    """An integer literal or power in the input passes the bounds of reading
+    (:data:`kbm.symbols.MAX_DIGITS`, :data:`kbm.symbols.MAX_EXPONENT`)."""
+
+
 class NonAutonomousError(ModelError):
     """``F`` depends on time ``t`` explicitly, so the averaging does not apply."""
 
 
 class OrderError(KBMError, ValueError):
     """The requested order of the expansion is not available."""
+
+
+class CostError(OrderError):
+    """The estimated size of a symbolic expansion is beyond the budget: the message gives
+    the estimate, the budget and the way out (a lower order, the numeric backend)."""
 
 
 class ParameterError(KBMError, ValueError):

@@ -497,7 +497,7 @@ def custom_model(rhs: str | sp.Expr, *, omega0: object = 1, name: str = "custom"
     if isinstance(omega0, str):
         try:  # a decimal number is read exactly: "1.5" is 3/2
             w0 = sp.Rational(omega0.strip())
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, ZeroDivisionError):  # "1/0" is refused by parse
             w0 = parse(omega0)
     w0 = _expr(w0)
     if w0.has(x, xdot):

@@ -7,7 +7,7 @@ from collections.abc import Iterator, Mapping
 
 import sympy as sp
 
-from .errors import ParameterError
+from .errors import NonFiniteError, ParameterError
 from .symbols import parse
 
 __all__ = ["FrozenMap", "parameter_value"]
@@ -61,8 +61,13 @@ def parameter_value(name: str, raw: object) -> sp.Expr:
         elif isinstance(raw, str):
             try:
                 val = sp.Rational(raw.strip())
+            except ZeroDivisionError:
+                val = sp.nan  # "1/0": refused below as not finite
             except (TypeError, ValueError):
-                val = parse(raw)
+                try:
+                    val = parse(raw)
+                except NonFiniteError:
+                    val = sp.nan  # refused below as not finite
         else:  # numbers and sympy objects only: strict, never through str()
             val = sp.sympify(raw, strict=True)
     except Exception as exc:  # noqa: BLE001 - reported with the name

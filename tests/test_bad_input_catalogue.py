@@ -14,14 +14,17 @@ import pytest
 
 from kbm import derive, limit_cycle_series
 from kbm.derivations import write_derivations
-from kbm.errors import (KBMError, ModelError, NonAutonomousError, OrderError, OutputError,
-                        ParameterError, UnsupportedTermError)
+from kbm.errors import (CostError, InputSizeError, KBMError, ModelError, NonAutonomousError,
+                        NonFiniteError, OrderError, OutputError, ParameterError,
+                        UnsupportedTermError)
+from kbm.symbols import parse
 from kbm.models import bind, custom_model
 from numerics import limit_cycle, slide
 from numerics.cli import main
 from numerics.errors import NoCycleError
 
-#: seconds any one bad input may take (they all fail fast; the bound catches hangs)
+#: seconds any one bad input may take (they all fail fast; the bound catches hangs);
+#: issue 21 asks at most 5 s for the inputs that used to hang (TestHangs below)
 LIMIT = 20.0
 
 SEDF = ["-p", "mu=0.1", "-p", "beta=1", "-p", "Delta=0.5"]
@@ -54,6 +57,23 @@ CLI_CASES = [
     ("derive --rhs -x**3 --omega0 -1 --order 1", "omega0 must be a positive number"),
     ("derive --rhs -x**3 --omega0 x --order 1", "must not depend on x"),
     ("derive vdp --order 1 --json --latex", "not allowed with argument --json"),
+    # issue 21: input that hung the process, and non-finite constants
+    ("derive --rhs 9**9**9**9*x --order 1", "exponents above 1000"),
+    ("derive --rhs x**(10**10) --order 2", "exponents above 1000"),
+    ("derive --rhs (x+1)**100000 --order 1", "exponents above 1000"),
+    ("derive --rhs -x**3 --omega0 9**9**9**9 --order 1", "exponents above 1000"),
+    ("derive --rhs (x+1)**200*xdot --order 2", "--numeric"),
+    ("derive --rhs (x+xdot+1)**900 --order 1", "above the budget"),
+    ("derive --rhs zoo*x --order 1", "non-finite constant zoo"),
+    ("derive --rhs oo*xdot --order 1", "non-finite constant oo"),
+    ("derive --rhs nan*x --order 1", "non-finite constant nan"),
+    ("derive --rhs x/0 --order 1", "non-finite constant zoo"),
+    ("derive --rhs 1e400*x --order 1", "overflows to infinity"),
+    ("derive --rhs 1234567890**500*x --order 1", "digits"),
+    ("derive --rhs xdot --omega0 1/0 --order 1", "non-finite"),
+    ("cycle vdp -p mu=1/0", "finite real number"),
+    ("cycle vdp -p mu=zoo", "finite real number"),
+    ("cycle vdp -p mu=10**10**10", "exponents above 1000"),
     # series
     ("series vdp --order -1", "integer >= 0"),
     ("series vdp --order 201", "above the limit 200"),
@@ -172,6 +192,11 @@ API_CASES = [
     ("custom model omega0 0", lambda p: custom_model("-x**3", omega0=0), ModelError, "omega0"),
     ("custom model code", lambda p: custom_model("__import__('os').system('true')"),
      ModelError, "not allowed"),
+    ("parse a tower of powers", lambda p: parse("10**10**10"), InputSizeError, "exponent"),
+    ("parse 2**(2**64)", lambda p: parse("2**(2**64)"), InputSizeError, "above 1000"),
+    ("parse zoo", lambda p: parse("zoo*x"), NonFiniteError, "zoo"),
+    ("derive over budget", lambda p: derive(custom_model("(x + 1)**200*xdot"), 2), CostError,
+     "numeric backend"),
     ("series order 201", lambda p: limit_cycle_series("vdp", 201), OrderError, "limit 200"),
     ("series order 30 averaged", lambda p: limit_cycle_series("vdp", 30, method="kbm"),
      OrderError, "limit 29"),
@@ -208,3 +233,28 @@ def test_bad_library_input_raises_a_package_error(label, call, exc_type, fragmen
     assert isinstance(info.value, KBMError)
     assert fragment in str(info.value)
     assert time.perf_counter() - t0 < LIMIT
+
+
+#: issue 21: inputs that ran past 30 s (the integer was evaluated while the text was read,
+#: or the expansion had no bound); each must now end in one error line within 5 s,
+#: the whole command in a fresh process (imports included)
+HANGS = ["derive --rhs 9**9**9**9*x --order 1", "derive --rhs x**(10**10) --order 2",
+         "derive --rhs (x+1)**100000 --order 1", "derive --rhs (x+1)**200*xdot --order 2",
+         "derive --rhs xdot --omega0 9**9**9**9 --order 1"]
+
+
+@pytest.mark.parametrize("line", HANGS)
+def test_inputs_that_hung_fail_within_5_s_in_a_fresh_process(line):
+    """Issue 21, item 3: a fresh ``python -m numerics.cli`` ends with exit 2 and one error
+    line within 5 s (it ran past 30 s before)."""
+    import subprocess
+    import sys
+
+    t0 = time.perf_counter()
+    proc = subprocess.run([sys.executable, "-m", "numerics.cli", *line.split()],
+                          capture_output=True, text=True, timeout=30)
+    elapsed = time.perf_counter() - t0
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and "error:" in lines[0] and "Traceback" not in proc.stderr
+    assert elapsed < 5.0

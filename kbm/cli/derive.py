@@ -140,12 +140,14 @@ def _run_values(args, model, limit: int) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..averaging import MAX_ORDER, derive, symbolic_order_limit
+    from ..averaging import MAX_ORDER, check_cost, derive, symbolic_order_limit
     from ..errors import ParameterError
 
     model = model_from_args(args)
     if args.numeric:
         return _run_numeric(args, model)
+    if 1 <= args.order <= MAX_ORDER:
+        check_cost(model.F, args.order)  # before anything is expanded
     limit = symbolic_order_limit(model)
     if limit < args.order <= MAX_ORDER:
         return _run_values(args, model, limit)

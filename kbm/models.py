@@ -56,7 +56,8 @@ from .symbols import mu, parse, t, x, xdot
 from .values import FrozenMap, parameter_value
 
 __all__ = ["Oscillator", "BoundModel", "FrozenMap", "MODELS", "SLIDERS", "bind", "get_model",
-           "custom_model", "parameter_value", "model_names"]
+           "custom_model", "check_state_names", "STATE_LIKE_NAMES", "parameter_value",
+           "model_names"]
 
 _STATE = {x, xdot, t}
 
@@ -505,8 +506,41 @@ def custom_model(rhs: str | sp.Expr, *, omega0: object = 1, name: str = "custom"
     if w0.is_number and not (w0.is_real and w0.is_finite and w0 > 0):
         raise ModelError(f"omega0 must be a positive number (the linear frequency), got "
                          f"{omega0!r}")
-    return Oscillator(name, parse(rhs), omega0=w0,
+    F = parse(rhs)
+    check_state_names(F, rhs)
+    return Oscillator(name, F, omega0=w0,
                       description=f"user model x'' + {omega0}^2 x = mu ({rhs})")
+
+
+#: names a user may mean as the state but that would be read as parameters: refused in a
+#: user's F with the state variables named (``v`` is also the stage velocity of the sliders)
+STATE_LIKE_NAMES = ("v", "y", "u", "dx", "xd", "xp", "dxdt", "vel", "velocity", "x_dot",
+                    "xprime", "dotx", "ydot", "X", "Xdot", "xdot_", "xddot")
+
+
+def check_state_names(F: sp.Expr, text: object = None) -> None:
+    """Refuse a user's ``F`` (other than 0) that depends on neither ``x`` nor ``xdot``, or uses a name that
+    reads as a state variable (:data:`STATE_LIKE_NAMES`), naming the state variables.
+
+    Without this, ``"v - v**3/3"`` (Rayleigh's damping meant in the velocity) is read with
+    ``v`` as a parameter: F is then a constant and the averaging answers ``A_1 = 0``
+    silently.
+
+    Raises
+    ------
+    kbm.errors.ModelError
+    """
+    shown = F if text is None else text
+    bad = sorted(s.name for s in F.free_symbols if s.name in STATE_LIKE_NAMES)
+    if bad:
+        raise ModelError(f"F = {shown} uses {', '.join(map(repr, bad))}, which would be read as "
+                         "a parameter: the state variables are x (displacement) and xdot "
+                         "(velocity), and t (time) for a driven model; write e.g. "
+                         "'xdot - xdot**3/3'")
+    if F != 0 and not F.has(x, xdot):  # F = 0 is the harmonic oscillator, exactly
+        raise ModelError(f"F = {shown} depends on neither x nor xdot, so the averaging has "
+                         "nothing to act on: the state variables are x (displacement) and "
+                         "xdot (velocity), e.g. '(1 - x**2)*xdot'")
 
 
 # the bound model builds on everything above; re-exported here for one import path

@@ -41,7 +41,7 @@ CLI_CASES = [
     ("derive nosuchmodel --order 1", "nosuchmodel"),
     ("derive vdp --rhs x --order 1", "not both"),
     ("derive --rhs __import__('os') --order 1", "not a known function"),
-    ("derive --rhs x**y --order 1", "not supported"),
+    ("derive --rhs x**q --order 1", "not supported"),
     ("derive --rhs sin(xdot) --order 1", "argument linear in x"),
     ("derive --rhs t*x --order 1", "autonomous"),
     ("derive --rhs x*sin(x) --order 3", "give the amplitudes with --a-range"),
@@ -57,6 +57,10 @@ CLI_CASES = [
     ("derive --rhs -x**3 --omega0 -1 --order 1", "omega0 must be a positive number"),
     ("derive --rhs -x**3 --omega0 x --order 1", "must not depend on x"),
     ("derive vdp --order 1 --json --latex", "not allowed with argument --json"),
+    # issue 24: F free of the state, names that read as the state
+    ("derive --rhs v-v**3/3 --order 2", "state variables are x (displacement) and xdot"),
+    ("derive --rhs alpha --order 1", "depends on neither x nor xdot"),
+    ("cycle --rhs y*xdot -p mu=0.1", "'y', which would be read as a parameter"),
     # issue 21: input that hung the process, and non-finite constants
     ("derive --rhs 9**9**9**9*x --order 1", "exponents above 1000"),
     ("derive --rhs x**(10**10) --order 2", "exponents above 1000"),

@@ -81,8 +81,8 @@ class BoundModel:
         """Raise :class:`ParameterError` naming what is missing; returns ``self``."""
         miss = self.missing(names)
         if miss:
-            raise ParameterError(f"{what} for model {self.name!r} needs values for "
-                                 f"{', '.join(miss)} (e.g. params={{{miss[0]!r}: 0.1}})")
+            raise ParameterError(f"model {self.name!r} needs values for {', '.join(miss)} "
+                                 f"(e.g. params={{{miss[0]!r}: 0.1}}) for {what}")
         return self
 
     def subs(self) -> dict[sp.Symbol, sp.Expr]:

@@ -35,9 +35,20 @@ def register_commands(sub, package: str, names: Sequence[str]) -> None:
         importlib.import_module(f"{package}.{name}").register(sub)
 
 
+def _version() -> str:
+    """The installed distribution's version (package metadata), or that of the source tree."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("kbm")
+    except PackageNotFoundError:
+        return "(not installed)"
+
+
 def build_parser(extra: Callable[[object], None] | None = None) -> argparse.ArgumentParser:
     """The argument parser with the symbolic commands (and those ``extra(sub)`` adds)."""
     parser = argparse.ArgumentParser(prog="kbm", description=DESCRIPTION)
+    parser.add_argument("--version", action="version", version=f"kbm {_version()}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     register_commands(sub, __name__, COMMANDS)

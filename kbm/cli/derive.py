@@ -23,8 +23,9 @@ def register(sub) -> None:
                                    "polynomial F (any order) and sin/cos of x (order <= 2); "
                                    "evaluated at numeric parameters on --a-range above that; "
                                    "with --numeric for any smooth F.")
-    p.add_argument("model", nargs="?", help="built-in model (vdp, duffing, rayleigh, "
-                   "linear_damping, linear_stiffness, sedf, cdc)")
+    from ..models import model_names
+
+    p.add_argument("model", nargs="?", help=f"built-in model ({', '.join(model_names())})")
     p.add_argument("--rhs", metavar="EXPR", help="your own F (in x, xdot and parameters) "
                    "instead of a built-in model")
     p.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 
+import sympy as sp
+
 from ._common import add_param_option, emit_json
 
 
@@ -59,8 +61,9 @@ def _exact(args, model) -> int:
                    "omega": [str(c) for c in s.omega],
                    "amplitude": [str(c) for c in s.amplitude]})
     else:
-        print(f"omega* = {s.omega_expr()} + O(mu**{s.order + 1})")
-        print(f"a*     = {s.amplitude_expr()} + O(mu**{s.order + 1})")
+        # ascending powers of mu, as a series is read (1 - mu**2/16 + ...)
+        print(f"omega* = {sp.sstr(s.omega_expr(), order='rev-lex')} + O(mu**{s.order + 1})")
+        print(f"a*     = {sp.sstr(s.amplitude_expr(), order='rev-lex')} + O(mu**{s.order + 1})")
     return 0
 
 
@@ -97,8 +100,9 @@ def _floating(args, model) -> int:
     for name, coeffs in (("omega*", s.omega), ("a*", s.amplitude)):
         step = 2 if s.even else 1
         head = ", ".join(fmt(c) for c in coeffs[:9:step])
-        print(f"{name:7s} coefficients of {s.variable}^k: {head}, ..., "
-              f"[{s.order}] {fmt(coeffs[s.order])}")
+        which = "c_0, c_2, c_4, ... (odd powers vanish)" if s.even else "c_0, c_1, c_2, ..."
+        print(f"{name:7s} = sum of c_k mu^k; {which} = {head}, ..., "
+              f"c_{s.order} = {fmt(coeffs[s.order])}")
     if sing is not None:
         pole = "" if sing.pole_radius is None else (
             f"; nearest Pade pole |{s.variable}| = {sing.pole_radius:.4f} at angle "

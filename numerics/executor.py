@@ -12,8 +12,9 @@ chunks to
 - a :class:`distributed.Client` of Dask (the optional extra ``kbm[dask]``): a
   ``LocalCluster`` or a running scheduler (:func:`connect`),
 
-and returns the chunks' results **in input order**, whatever the scheduling: the same
-chunks give the same numbers on every executor.  A chunk whose task fails as a whole
+and returns the chunks' results **in input order**, whatever the scheduling.  The chunks are
+cut by the data (:func:`chunk`), never by the number of workers, so a run gives the same
+bytes on every executor and worker count.  A chunk whose task fails as a whole
 (a worker lost, an unpicklable result) does not lose the others: ``on_error(chunk,
 exc)`` turns it into per-point failures.  Progress is a :mod:`tqdm` bar (terminal or
 notebook) counting points as chunks complete.
@@ -31,7 +32,7 @@ from tqdm.auto import tqdm
 
 from numerics.errors import NumericsError
 
-__all__ = ["map_chunks", "chunk", "connect", "is_dask_client", "SchedulerError"]
+__all__ = ["map_chunks", "chunk", "connect", "is_dask_client", "SchedulerError", "Interrupted"]
 
 T = TypeVar("T")
 
@@ -43,15 +44,68 @@ class SchedulerError(NumericsError):
     """A Dask scheduler could not be reached, or Dask is not installed."""
 
 
-def chunk(items: Sequence[T], workers: int, size: int | None = None,
-          largest: int = 64) -> list[list[T]]:
-    """Cut ``items`` into contiguous chunks: about four per worker, at most ``largest``
-    points each (or ``size`` points each when given)."""
+class Interrupted(KeyboardInterrupt):
+    """A run stopped by Ctrl-C (SIGINT) or SIGTERM, with how far it got.
+
+    Raised by :func:`map_chunks` after the local pool's worker processes are killed (and
+    a Dask run's tasks cancelled); ``finished`` of ``total`` points were done.
+    """
+
+    def __init__(self, finished: int, total: int, unit: str = "point"):
+        super().__init__(finished, total, unit)
+        self.finished, self.total, self.unit = finished, total, unit
+
+    def __str__(self) -> str:
+        return (f"{self.finished} of {self.total} {self.unit}s were finished before the "
+                "interruption; they are not kept")
+
+
+def _worker_init() -> None:  # pragma: no cover - runs in the worker processes
+    """A local pool's worker: it dies with its parent (Linux ``PR_SET_PDEATHSIG``), and it
+    ignores Ctrl-C, which reaches the whole process group: the parent stops the run."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        try:
+            ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+        except OSError:
+            pass
+        if os.getppid() == 1:  # the parent died before prctl took effect
+            os._exit(1)
+
+
+def _kill_pool(pool: ProcessPoolExecutor) -> None:
+    """Kill a local pool's worker processes now (no waiting for running tasks)."""
+    procs = list(getattr(pool, "_processes", {}).values())
+    for proc in procs:
+        try:
+            proc.kill()
+        except (OSError, AttributeError):
+            pass
+    pool.shutdown(wait=False, cancel_futures=True)
+    for proc in procs:
+        proc.join(timeout=1.0)
+
+
+#: chunks a run is cut into by default (about 16: enough to balance a few workers)
+CHUNKS = 16
+
+
+def chunk(items: Sequence[T], size: int | None = None, largest: int = 64) -> list[list[T]]:
+    """Cut ``items`` into contiguous chunks of ``size`` points, by the data alone.
+
+    The default size is ``ceil(len(items) / CHUNKS)``, at most ``largest``: it depends on
+    the number of points only, never on the workers or the executor, so that a chunk's
+    continuation of guesses (and so every number) is the same wherever it runs.
+    """
     n = len(items)
     if size is None:
-        size = max(1, min(largest, -(-n // (4 * max(1, workers)))))
-    if size < 1:
-        raise NumericsError(f"the chunk size must be >= 1, got {size}")
+        size = max(1, min(largest, -(-n // CHUNKS)))
+    if isinstance(size, bool) or not isinstance(size, int) or size < 1:
+        raise NumericsError(f"the chunk size must be an integer >= 1, got {size!r}")
     return [list(items[i:i + size]) for i in range(0, n, size)]
 
 
@@ -124,32 +178,61 @@ def map_chunks(fn: Callable[[Any], list], chunks: Sequence[Any], *,
             results[i] = on_error(chunks[i], exc)
         bar.update(sizes[i])
 
+    done = [0]
+
+    def count(i: int, get: Callable[[], list]) -> None:
+        settle(i, get)
+        done[0] += sizes[i]
+
     with tqdm(total=sum(sizes), disable=not progress, file=sys.stderr, unit=unit,
               desc=desc or None, dynamic_ncols=True) as bar:
         workers = workers or os.cpu_count() or 1
-        if executor is None and (workers == 1 or len(chunks) <= 1):
-            for i, c in enumerate(chunks):
-                settle(i, lambda c=c: fn(c))
-        elif is_dask_client(executor):
-            from distributed import as_completed as dask_completed
+        try:
+            _dispatch(fn, chunks, executor, workers, count)
+        except KeyboardInterrupt:
+            raise Interrupted(done[0], sum(sizes), unit) from None
+    return [item for r in results for item in r]
 
-            futures = executor.map(fn, list(chunks), pure=False)
-            index = {f.key: i for i, f in enumerate(futures)}
+
+def _dispatch(fn, chunks, executor, workers: int, settle) -> None:
+    """Run the chunks where ``executor`` says; on Ctrl-C or SIGTERM the local pool's workers
+    are killed and a Dask run's tasks cancelled before the interruption propagates."""
+    if executor is None and (workers == 1 or len(chunks) <= 1):
+        for i, c in enumerate(chunks):
+            settle(i, lambda c=c: fn(c))
+    elif is_dask_client(executor):
+        from distributed import as_completed as dask_completed
+
+        futures = executor.map(fn, list(chunks), pure=False)
+        index = {f.key: i for i, f in enumerate(futures)}
+        try:
             # the client's own loop: a client made by connect() is not the default one
             for f in dask_completed(futures, loop=executor.loop):
                 settle(index[f.key], f.result)
-        elif executor is None:
-            with ProcessPoolExecutor(max_workers=workers) as pool:
-                _run_pool(pool, fn, chunks, settle)
-        elif isinstance(executor, Executor):
-            _run_pool(executor, fn, chunks, settle)
-        else:
-            raise NumericsError(f"executor must be None, a concurrent.futures.Executor or a "
-                                f"dask.distributed Client, got {type(executor).__name__}")
-    return [item for r in results for item in r]
+        except KeyboardInterrupt:
+            executor.cancel(futures)
+            raise
+    elif executor is None:
+        pool = ProcessPoolExecutor(max_workers=workers, initializer=_worker_init)
+        try:
+            _run_pool(pool, fn, chunks, settle)
+        except BaseException:
+            _kill_pool(pool)
+            raise
+        pool.shutdown(wait=True)
+    elif isinstance(executor, Executor):
+        _run_pool(executor, fn, chunks, settle)
+    else:
+        raise NumericsError(f"executor must be None, a concurrent.futures.Executor or a "
+                            f"dask.distributed Client, got {type(executor).__name__}")
 
 
 def _run_pool(pool: Executor, fn, chunks, settle) -> None:
     futures = {pool.submit(fn, c): i for i, c in enumerate(chunks)}
-    for f in as_completed(futures):
-        settle(futures[f], f.result)
+    try:
+        for f in as_completed(futures):
+            settle(futures[f], f.result)
+    except KeyboardInterrupt:
+        for f in futures:
+            f.cancel()
+        raise

@@ -13,6 +13,7 @@ import pytest
 
 from kbm.strict_json import finite
 from numerics.cli import main
+from numerics.errors import NumericsError
 from numerics.executor import SchedulerError, chunk, connect, map_chunks
 from numerics.sliding.friction import FrictionSettings
 from numerics.sliding.maps import compare_sliders, friction_map
@@ -38,16 +39,24 @@ def _fails_on_three(c):
 
 def test_chunks_keep_order_and_cover_everything():
     items = list(range(23))
-    parts = chunk(items, workers=2)
+    parts = chunk(items)
     assert [i for c in parts for i in c] == items and max(map(len, parts)) <= 64
-    assert chunk(items, workers=2, size=5)[-1] == [20, 21, 22]
+    assert chunk(items, size=5)[-1] == [20, 21, 22]
+
+
+def test_chunks_are_cut_by_the_data_alone():
+    """Issue 21: the cut depends on the number of points only (no worker count to pass)."""
+    assert [len(c) for c in chunk(list(range(100)))] == [7] * 14 + [2]
+    assert [len(c) for c in chunk(list(range(5000)))] == [64] * 78 + [8]
+    with pytest.raises(NumericsError, match="integer >= 1"):
+        chunk([1, 2], size=0)
 
 
 @pytest.mark.parametrize("make", [None, lambda: ThreadPoolExecutor(3)])
 def test_map_chunks_in_input_order_and_failures_per_chunk(make):
     ex = make() if make else None
     try:
-        parts = chunk(list(range(40)), workers=4, size=3)
+        parts = chunk(list(range(40)), size=3)
         assert map_chunks(_square, parts, executor=ex, workers=2) == [i * i for i in range(40)]
         out = map_chunks(_fails_on_three, parts, executor=ex, workers=2,
                          on_error=lambda c, exc: [f"lost: {exc}"] * len(c))

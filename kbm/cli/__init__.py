@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import re
+import signal
 import sys
 from collections.abc import Callable, Sequence
 
@@ -103,14 +104,18 @@ def cli_message(message: str) -> str:
 def run_command(parser: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> int:
     """Parse ``argv`` and run the command; returns the exit status."""
     args = parser.parse_args(_join_negative_values(sys.argv[1:] if argv is None else argv))
+    received: list[int] = []
+    previous = _on_sigterm(received)
     try:
         status = args.func(args)
     except KBMError as exc:
         print(f"kbm {args.command}: error: {cli_message(exc)}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print(f"kbm {args.command}: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM (turned into this below)
+        how = "SIGTERM" if received else "Ctrl-C"
+        detail = f": {exc}" if str(exc) else ""
+        print(f"kbm {args.command}: interrupted ({how}){detail}", file=sys.stderr)
+        return 143 if received else 130
     except BrokenPipeError:  # output piped into e.g. `head`: stop quietly
         import os
 
@@ -121,7 +126,26 @@ def run_command(parser: argparse.ArgumentParser, argv: Sequence[str] | None = No
         print(f"kbm {args.command}: error: cannot access{where}: {exc.strerror or exc}",
               file=sys.stderr)
         return 2
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
     return int(status or 0)
+
+
+def _on_sigterm(received: list[int]):
+    """Let SIGTERM stop a command as Ctrl-C does (the local pool's workers are killed and
+    the finished points counted); returns the previous handler, or ``None`` outside the
+    main thread (where signals cannot be handled)."""
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        return None
+
+    def handler(signum, frame):
+        received.append(signum)
+        raise KeyboardInterrupt
+
+    return signal.signal(signal.SIGTERM, handler)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

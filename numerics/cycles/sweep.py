@@ -132,7 +132,7 @@ def sweep(model, points: Iterable[Mapping[str, object]], *,
     fixed = dict(fixed or {})
     show = len(pts) > 50 if progress is None else progress
     workers = workers or os.cpu_count() or 1
-    chunks = chunk(pts, workers, chunksize)
+    chunks = chunk(pts, chunksize)
     jobs = [(model, fixed, c, dict(cycle_kwargs), continuation) for c in chunks]
 
     def lost(job, exc):

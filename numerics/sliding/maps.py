@@ -177,7 +177,7 @@ def friction_map(model: str, params: Mapping[str, object], axes: Mapping[str, Se
     unique = list(dict.fromkeys(keys))
     settings = settings or FrictionSettings()
     workers = workers or os.cpu_count() or 1
-    chunks = chunk([dict(k) for k in unique], workers, chunksize, largest=16)
+    chunks = chunk([dict(k) for k in unique], chunksize, largest=16)
     jobs = [(model, fixed, c, settings, engine) for c in chunks]
 
     def lost(job, exc):

@@ -1,0 +1,90 @@
+"""Long runs stop at once on Ctrl-C (SIGINT) or SIGTERM and leave no worker behind (issue 21).
+
+Each test starts a real ``kbm friction`` map (768 points, minutes of work) in a fresh
+process, waits until its local pool's worker processes run, signals the parent and
+checks: the exit status, the time to exit (< 2 s), the message (how many points were
+finished) and that no worker outlives the parent (``/proc``; zombies count as gone).
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="uses /proc")
+
+MAP = ["friction", "sedf_comoving", "-p", "beta=1", "--vary", "v=1e-3:3:log48", "--vary",
+       "Delta=0.5:3:16", "--against", "cdc", "--json"]
+
+
+def _children(pid: int) -> list[int]:
+    kids = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                stat = open(f"/proc/{entry}/stat").read()
+            except OSError:
+                continue
+            if int(stat.rsplit(")", 1)[1].split()[1]) == pid:
+                kids.append(int(entry))
+    return kids
+
+
+def _alive(pid: int) -> bool:
+    try:
+        state = open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
+
+
+def _start():
+    proc = subprocess.Popen([sys.executable, "-m", "numerics.cli", *MAP],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        kids = _children(proc.pid)
+        if len(kids) >= 1 and proc.poll() is None:
+            time.sleep(1.0)  # let the workers take their first chunks
+            return proc, _children(proc.pid)
+        time.sleep(0.2)
+    proc.kill()
+    pytest.fail("the map's worker processes did not start within 60 s")
+
+
+@pytest.mark.parametrize("sig, status, how", [(signal.SIGINT, 130, "Ctrl-C"),
+                                              (signal.SIGTERM, 143, "SIGTERM")])
+def test_a_signal_stops_the_map_within_2_s_and_no_worker_outlives_it(sig, status, how):
+    proc, kids = _start()
+    assert kids
+    t0 = time.monotonic()
+    proc.send_signal(sig)
+    try:
+        _, err = proc.communicate(timeout=10)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        pytest.fail("the command did not stop within 10 s of the signal")
+    elapsed = time.monotonic() - t0
+    time.sleep(0.5)
+    assert proc.returncode == status, err
+    assert elapsed < 2.0
+    last = err.strip().splitlines()[-1]
+    assert last.startswith(f"kbm friction: interrupted ({how}): ") and " of 768 points were " \
+        "finished" in last
+    assert [k for k in kids if _alive(k)] == []
+
+
+def test_workers_die_with_a_parent_that_is_killed():
+    """SIGKILL cannot be handled: the workers go by PR_SET_PDEATHSIG."""
+    proc, kids = _start()
+    proc.kill()
+    proc.communicate(timeout=10)
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline and any(_alive(k) for k in kids):
+        time.sleep(0.1)
+    assert [k for k in kids if _alive(k)] == []

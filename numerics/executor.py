@@ -51,13 +51,15 @@ class Interrupted(KeyboardInterrupt):
     a Dask run's tasks cancelled); ``finished`` of ``total`` points were done.
     """
 
-    def __init__(self, finished: int, total: int, unit: str = "point"):
-        super().__init__(finished, total, unit)
-        self.finished, self.total, self.unit = finished, total, unit
+    def __init__(self, finished: int, total: int, unit: str = "point", kept=None):
+        super().__init__(finished, total, unit, kept)
+        self.finished, self.total, self.unit, self.kept = finished, total, unit, kept
 
     def __str__(self) -> str:
-        return (f"{self.finished} of {self.total} {self.unit}s were finished before the "
-                "interruption; they are not kept")
+        head = f"{self.finished} of {self.total} {self.unit}s were finished before the interruption"
+        if self.kept is None:
+            return f"{head}; they are not kept (run with --store FILE to keep them)"
+        return f"{head}; they are kept in {self.kept} (run again with --resume to continue)"
 
 
 def _worker_init() -> None:  # pragma: no cover - runs in the worker processes
@@ -144,7 +146,8 @@ def map_chunks(fn: Callable[[Any], list], chunks: Sequence[Any], *,
                executor: Executor | object | None = None, workers: int | None = None,
                progress: bool = False, desc: str = "", unit: str = "point",
                sizes: Sequence[int] | None = None,
-               on_error: Callable[[Any, BaseException], list] | None = None) -> list:
+               on_error: Callable[[Any, BaseException], list] | None = None,
+               store: object | None = None, definition: str | None = None) -> list:
     """``[fn(c) for c in chunks]`` (concatenated) on an executor, in input order.
 
     Parameters
@@ -164,33 +167,52 @@ def map_chunks(fn: Callable[[Any], list], chunks: Sequence[Any], *,
         A :mod:`tqdm` bar of points (``sizes[i]`` points per chunk, 1 by default).
     on_error
         ``on_error(chunk, exc)`` -> the list that stands for a chunk whose task raised;
-        without it the exception propagates.
+        without it the exception propagates.  Such a chunk is not stored.
+    store, definition
+        A :class:`numerics.store.PointStore` and the text that defines the run: each
+        finished chunk is committed to the store, and the chunks it already holds for
+        this definition (``resume``) are not computed again.
+
+    Raises
+    ------
+    Interrupted
+        On Ctrl-C or SIGTERM, after the workers are stopped, with the count of finished
+        points (and the store that keeps them).
     """
     sizes = list(sizes) if sizes is not None else [1] * len(chunks)
     results: list = [None] * len(chunks)
+    record = None
+    if store is not None:
+        if definition is None:
+            raise NumericsError("a store needs the run's definition (definition=...)")
+        record = store.run(definition, len(chunks))
+        for i, res in record.load().items():
+            if i < len(chunks):
+                results[i] = res
+    todo = [i for i in range(len(chunks)) if results[i] is None]
+    done = [sum(sizes) - sum(sizes[i] for i in todo)]
 
-    def settle(i: int, get: Callable[[], list]) -> None:
+    def settle(j: int, get: Callable[[], list]) -> None:
+        i = todo[j]
         try:
             results[i] = get()
+            if record is not None:
+                record.save(i, results[i])
         except Exception as exc:  # noqa: BLE001 - a lost task becomes per-point failures
             if on_error is None:
                 raise
             results[i] = on_error(chunks[i], exc)
+        done[0] += sizes[i]
         bar.update(sizes[i])
 
-    done = [0]
-
-    def count(i: int, get: Callable[[], list]) -> None:
-        settle(i, get)
-        done[0] += sizes[i]
-
-    with tqdm(total=sum(sizes), disable=not progress, file=sys.stderr, unit=unit,
-              desc=desc or None, dynamic_ncols=True) as bar:
+    with tqdm(total=sum(sizes), initial=done[0], disable=not progress, file=sys.stderr,
+              unit=unit, desc=desc or None, dynamic_ncols=True) as bar:
         workers = workers or os.cpu_count() or 1
         try:
-            _dispatch(fn, chunks, executor, workers, count)
+            _dispatch(fn, [chunks[i] for i in todo], executor, workers, settle)
         except KeyboardInterrupt:
-            raise Interrupted(done[0], sum(sizes), unit) from None
+            raise Interrupted(done[0], sum(sizes), unit,
+                              None if store is None else store.path) from None
     return [item for r in results for item in r]
 
 

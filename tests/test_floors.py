@@ -2,7 +2,7 @@
 
 - :mod:`kbm` (engine and its symbolic commands) never imports :mod:`numerics`;
 - inside :mod:`numerics` a module imports only its own floor and the floors below:
-  base (``errors``, ``_memo``, ``executor``) < ``flow`` < ``energy`` < ``cycles`` <
+  base (``errors``, ``_memo``, ``executor``, ``store``) < ``flow`` < ``energy`` < ``cycles`` <
   ``forced`` < ``comparison`` < ``sliding`` < ``paper`` < ``cli``;
 - only the command line (``numerics.cli``) imports ``kbm.cli``;
 - ``kbm --help`` lists every command, and a command module that fails to import is an
@@ -25,7 +25,7 @@ ROOT = Path(__file__).resolve().parents[1]
 #: the floors of numerics, bottom up (a module's floor is its first package component)
 FLOORS = ("base", "flow", "energy", "cycles", "forced", "comparison", "sliding", "paper",
           "cli")
-BASE = {"errors", "_memo", "executor", "__init__"}
+BASE = {"errors", "_memo", "executor", "store", "__init__"}
 
 
 def _imports(path: Path) -> set[str]:

@@ -47,6 +47,12 @@ def register(sub) -> None:
                         "pip install 'kbm[dask]')")
     p.add_argument("--scheduler-timeout", type=float, default=10.0, metavar="SECONDS",
                    help="how long to wait for the scheduler (default 10)")
+    p.add_argument("--store", metavar="FILE",
+                   help="keep every finished chunk of points in the SQLite file FILE, so that "
+                        "an interrupted map can be resumed")
+    p.add_argument("--resume", action="store_true",
+                   help="with --store: continue the map kept in FILE (only the missing points "
+                        "are computed; the result is the same as an uninterrupted run)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.add_argument("--out", metavar="DIR", help="write the figures into DIR")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -103,6 +109,7 @@ def run(args: argparse.Namespace) -> int:
     from numerics.executor import connect
     from numerics.sliding.friction import FrictionSettings
     from numerics.sliding.maps import friction_map
+    from numerics.store import PointStore
 
     axes: dict[str, np.ndarray] = {}
     for text in args.vary:
@@ -122,15 +129,20 @@ def run(args: argparse.Namespace) -> int:
     settings = FrictionSettings(slips=args.slips)
     if args.workers is not None and not 1 <= args.workers <= 1024:
         raise ParameterError(f"--workers must be between 1 and 1024, got {args.workers}")
+    if args.resume and not args.store:
+        raise ParameterError("--resume continues a map kept by --store FILE: give the file")
+    store = PointStore(args.store, resume=args.resume) if args.store else None
     client = connect(args.scheduler, args.scheduler_timeout) if args.scheduler else None
     kw = dict(settings=settings, engine=args.engine, executor=client, workers=args.workers,
-              progress=not args.no_progress and not args.json)
+              progress=not args.no_progress and not args.json, store=store)
     try:
         first = friction_map(args.model, params, axes, **kw)
         second = friction_map(args.against, params, axes, **kw) if args.against else None
     finally:
         if client is not None:
             client.close()
+        if store is not None:
+            store.close()
     if args.json:
         data = first.to_json()
         if second is not None:

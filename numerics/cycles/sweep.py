@@ -90,7 +90,7 @@ def sweep(model, points: Iterable[Mapping[str, object]], *,
           fixed: Mapping[str, object] | None = None, workers: int | None = None,
           progress: bool | None = None, chunksize: int | None = None,
           continuation: bool = True, executor: object | None = None,
-          **cycle_kwargs) -> list[SweepPoint]:
+          store: object | None = None, **cycle_kwargs) -> list[SweepPoint]:
     """Limit cycles for many parameter sets, on all cores, in input order.
 
     Parameters
@@ -105,7 +105,11 @@ def sweep(model, points: Iterable[Mapping[str, object]], *,
     executor
         Where the chunks run (:func:`numerics.executor.map_chunks`): ``None`` (the
         local pool), a :class:`concurrent.futures.Executor` or a Dask
-        :class:`distributed.Client`; the results are the same on each.
+        :class:`distributed.Client`; the results are the same on each (the chunks are
+        cut by the data, never by the worker count).
+    store
+        A :class:`numerics.store.PointStore` that keeps every finished chunk (and, with
+        ``resume``, skips the chunks it holds).
     progress
         Show a progress bar on standard error (default: when more than 50 points).
     chunksize
@@ -138,6 +142,9 @@ def sweep(model, points: Iterable[Mapping[str, object]], *,
     def lost(job, exc):
         return [SweepPoint(params=p, cycle=None, error=f"task failed: {exc}") for p in job[2]]
 
+    definition = repr(("numerics.cycles.sweep", model, sorted(fixed.items()), chunks,
+                       sorted(cycle_kwargs.items()), continuation))
     return map_chunks(_chunk, jobs, executor=executor, workers=workers, progress=show,
                       desc=f"sweep {getattr(model, 'name', model)}", unit="cycle",
-                      sizes=[len(c) for c in chunks], on_error=lost)
+                      sizes=[len(c) for c in chunks], on_error=lost, store=store,
+                      definition=definition)

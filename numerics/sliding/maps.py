@@ -130,7 +130,8 @@ def _safe_eta(params: Mapping[str, object]) -> float:
 def friction_map(model: str, params: Mapping[str, object], axes: Mapping[str, Sequence[float]],
                  *, settings: FrictionSettings | None = None, engine: str = "compiled",
                  executor: object | None = None, workers: int | None = None,
-                 progress: bool | None = None, chunksize: int | None = None) -> FrictionMap:
+                 progress: bool | None = None, chunksize: int | None = None,
+                 store: object | None = None) -> FrictionMap:
     """Friction measures of ``model`` at every point of the grid of ``axes``.
 
     Parameters
@@ -151,6 +152,10 @@ def friction_map(model: str, params: Mapping[str, object], axes: Mapping[str, Se
         :class:`distributed.Client`.
     progress
         A tqdm bar (default: more than 8 points).
+    store
+        A :class:`numerics.store.PointStore`: every finished chunk is committed to it, and
+        with ``resume`` the chunks it holds are not computed again (the map is the same,
+        byte for byte).
 
     Raises
     ------
@@ -186,8 +191,11 @@ def friction_map(model: str, params: Mapping[str, object], axes: Mapping[str, Se
                 for p in job[2]]
 
     show = len(unique) > 8 if progress is None else progress
+    definition = repr(("numerics.sliding.maps.friction_map", model, sorted(fixed.items()),
+                       chunks, settings, engine))
     res = map_chunks(_chunk, jobs, executor=executor, workers=workers, progress=show,
-                     desc=f"friction {model}", sizes=[len(c) for c in chunks], on_error=lost)
+                     desc=f"friction {model}", sizes=[len(c) for c in chunks], on_error=lost,
+                     store=store, definition=definition)
     found = dict(zip(unique, res))
     return FrictionMap(model=model, params=fixed, axes=ax,
                        points=tuple(found[k] for k in keys))

@@ -81,3 +81,31 @@ def test_a_file_that_is_not_a_store_is_refused(tmp_path):
     bad.write_text("not a database " * 100)
     with pytest.raises(StoreError, match="cannot be used as a store"):
         PointStore(bad)
+
+
+def test_a_map_saved_as_netcdf_reads_back_in_one_line(tmp_path):
+    """``--netcdf FILE``: xarray.open_dataset(FILE) holds the JSON's numbers on the axes."""
+    import json
+
+    xr = pytest.importorskip("xarray")
+    path = tmp_path / "map.nc"
+    proc = _kbm("friction", "cdc", "--vary", "v=0.1:3:3", "--vary", "Delta=1:3:2",
+                "--against", "sedf_comoving", "-p", "beta=1", "--workers", "1", "--json",
+                "--netcdf", str(path))
+    out, err = proc.communicate(timeout=300)
+    assert proc.returncode == 0, err
+    data = json.loads(out)
+    ds = xr.open_dataset(path)
+    assert list(ds.slider.values) == ["cdc", "sedf_comoving"]
+    assert ds.v.values.tolist() == data["axes"]["v"]
+    assert ds.Delta.values.tolist() == data["axes"]["Delta"]
+    first = ds.sel(slider="cdc")
+
+    def nan_for_none(rows):  # JSON has null where netCDF has NaN (no measure: a runaway)
+        return [[float("nan") if v is None else v for v in row] for row in rows]
+
+    import numpy as np
+    np.testing.assert_array_equal(first.mean_force.values, nan_for_none(data["mean_force"]))
+    assert first.regime.values.tolist() == data["regime"]
+    np.testing.assert_array_equal(ds.sel(slider="sedf_comoving").mean_force.values,
+                                  nan_for_none(data["against"]["mean_force"]))

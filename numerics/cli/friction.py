@@ -53,6 +53,10 @@ def register(sub) -> None:
     p.add_argument("--resume", action="store_true",
                    help="with --store: continue the map kept in FILE (only the missing points "
                         "are computed; the result is the same as an uninterrupted run)")
+    p.add_argument("--netcdf", metavar="FILE",
+                   help="also save the map(s) as a netCDF file (xarray.open_dataset(FILE) "
+                        "reads it back; with --against a dimension 'slider' holds both); "
+                        "needs pip install 'kbm[xarray]'")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.add_argument("--out", metavar="DIR", help="write the figures into DIR")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -103,6 +107,22 @@ def parse_axis(text: str) -> tuple[str, np.ndarray]:
     return name, axis_values(name, values)
 
 
+def _save_netcdf(path: str, first, second) -> None:
+    """The map(s) as one netCDF file (netCDF3 through scipy: no compiled netCDF library)."""
+    ds = first.to_xarray()
+    if second is not None:
+        import xarray as xr
+
+        other = second.to_xarray()
+        ds = xr.concat([ds.drop_attrs(), other.drop_attrs()], dim="slider",
+                       combine_attrs="drop")
+        ds = ds.assign_coords(slider=[first.model, second.model])
+        ds.attrs = {"source": "kbm friction (numerics.sliding.maps)",
+                    **{f"param_{k}": float(v) for k, v in first.params.items()}}
+    ds.to_netcdf(path, engine="scipy")
+    print(f"wrote {path}", file=sys.stderr)
+
+
 def run(args: argparse.Namespace) -> int:
     from kbm.errors import ParameterError
     from kbm.models import parameter_value
@@ -143,6 +163,8 @@ def run(args: argparse.Namespace) -> int:
             client.close()
         if store is not None:
             store.close()
+    if args.netcdf:
+        _save_netcdf(args.netcdf, first, second)
     if args.json:
         data = first.to_json()
         if second is not None:

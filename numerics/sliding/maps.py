@@ -24,6 +24,7 @@ import numpy as np
 from kbm.errors import KBMError, ParameterError
 from kbm.models import get_model
 
+from numerics.errors import NumericsError
 from numerics.executor import chunk, map_chunks
 from numerics.sliding.driven import driven_system
 from numerics.sliding.friction import FrictionPoint, FrictionSettings, eta, friction_point
@@ -104,6 +105,38 @@ class FrictionMap:
             arr[:] = [getattr(p, name) for p in self.points]
             out[name] = arr.reshape(self.shape).tolist()
         return out
+
+    def to_xarray(self):
+        """The map as an :class:`xarray.Dataset`: one variable per measure of
+        :data:`MEASURES` (and ``note``, ``error``) on the grid's axes as dimensions and
+        coordinates, the fixed parameters as attributes.  Saved with
+        ``.to_netcdf(path)`` and read back in one line with ``xarray.open_dataset(path)``.
+
+        Raises
+        ------
+        numerics.errors.NumericsError
+            If xarray is not installed (the optional extra ``pip install 'kbm[xarray]'``).
+        """
+        try:
+            import xarray as xr
+        except ImportError:
+            raise NumericsError("a map as an xarray Dataset needs the optional extra: "
+                                "pip install 'kbm[xarray]'") from None
+        dims = list(self.axes)
+        data = {}
+        for name in MEASURES + ("note", "error"):
+            vals = [getattr(p, name) for p in self.points]
+            if name in ("regime", "note", "error"):
+                arr = np.array(["" if v is None else str(v) for v in vals], dtype=str)
+            elif name == "steady":
+                arr = np.array([bool(v) for v in vals], dtype=np.int8)
+            else:
+                arr = np.array([np.nan if v is None else float(v) for v in vals])
+            data[name] = (dims, arr.reshape(self.shape))
+        attrs = {"model": self.model, "source": "kbm friction (numerics.sliding.maps)",
+                 **{f"param_{k}": float(v) for k, v in self.params.items()}}
+        return xr.Dataset(data, coords={k: np.asarray(v) for k, v in self.axes.items()},
+                          attrs=attrs)
 
 
 def _chunk(job) -> list[FrictionPoint]:

@@ -18,7 +18,15 @@ process pool, an executor or a Dask cluster):
 7. :mod:`numerics.cli` — the ``kbm`` command line (on top of :mod:`kbm` and all of these).
 """
 
-from numerics._memo import clear_caches
+import kbm as _kbm
+
+if getattr(_kbm, "__file__", None) is None:  # a bare folder 'kbm' shadows the package
+    raise ImportError(
+        f"'import kbm' found the folder {', '.join(map(str, _kbm.__path__))}, not the kbm "
+        "package: Python's current folder holds a folder named 'kbm' (the clone of the "
+        "project?). Run Python from inside the clone, or from any other folder.")
+
+from numerics._memo import clear_caches  # noqa: E402
 from numerics.comparison import (Comparison, ConvergenceStudy, Prediction, compare,
                                  convergence_study, energy_prediction, kbm_prediction, predict,
                                  predicted_orders)

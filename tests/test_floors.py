@@ -25,7 +25,7 @@ ROOT = Path(__file__).resolve().parents[1]
 #: the floors of numerics, bottom up (a module's floor is its first package component)
 FLOORS = ("base", "flow", "energy", "cycles", "forced", "comparison", "sliding", "paper",
           "cli")
-BASE = {"errors", "_memo", "executor", "store", "__init__"}
+BASE = {"errors", "_memo", "_show", "executor", "store", "__init__"}
 
 
 def _imports(path: Path) -> set[str]:

@@ -60,3 +60,39 @@ def test_missing_values_message_is_grammatical(argv, capsys):
     code, _, err = _out(argv, capsys)
     assert code == 2
     assert "model 'vdp' needs values for mu" in err and "functions needs" not in err
+
+
+def test_result_objects_print_in_one_short_line():
+    """Issue 24 item 9: ``print(limit_cycle(...))`` dumped ~3 KB of sample arrays.  The
+    cycle, a sweep point, a comparison and its predictions, a friction point and map print
+    in one line of a few hundred characters, and a notebook gets an HTML table."""
+    import numerics
+    from numerics.sliding.maps import friction_map
+
+    cyc = numerics.limit_cycle("vdp", {"mu": 1})
+    assert cyc.x.size >= 512
+    text = repr(cyc)
+    assert len(text) < 200 and "\n" not in text
+    assert f"T={cyc.period:.10g}" in text and "stable" in text
+    assert cyc._repr_html_().startswith("<table>")
+    comp = numerics.compare("vdp", {"mu": 0.1})
+    fmap = friction_map("cdc", {"Delta": 3, "mu": 0.1, "lam": 1}, {"v": [0.5, 1.0]},
+                        workers=1, progress=False)
+    swept = numerics.sweep("vdp", numerics.grid(mu=[0.5]), workers=1)[0]
+    for obj in (comp, comp.predictions[0], fmap, fmap.points[0], swept):
+        text = repr(obj)
+        assert len(text) < 300 and "\n" not in text and "array(" not in text, text
+
+
+def test_a_folder_named_kbm_in_the_current_folder_is_named_as_the_cause(tmp_path):
+    """Issue 24 item 4: from the folder that holds a clone named ``kbm``, ``import kbm``
+    finds that folder as a namespace package; ``import numerics`` says so."""
+    import subprocess
+    import sys
+
+    (tmp_path / "kbm" / "kbm").mkdir(parents=True)
+    proc = subprocess.run([sys.executable, "-c", "import kbm, numerics"], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=120,
+                          env={"PATH": "/usr/bin:/bin", "HOME": str(tmp_path)})
+    assert proc.returncode == 1
+    assert "holds a folder named 'kbm'" in proc.stderr.strip().splitlines()[-1]

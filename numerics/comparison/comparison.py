@@ -27,6 +27,7 @@ from kbm.strict_json import finite
 from numerics.comparison.prediction import (ERROR_KEYS, Prediction, kbm_prediction,
                                             numeric_value)
 from numerics.cycles import LimitCycle, limit_cycle
+from numerics._show import num, params_text
 
 __all__ = ["Comparison", "compare", "ExtraPrediction"]
 
@@ -55,6 +56,17 @@ class Comparison:
     params: Mapping[str, float]
     numeric: LimitCycle
     predictions: tuple[Prediction, ...]
+
+    def __repr__(self) -> str:
+        labels = ", ".join(p.label for p in self.predictions)
+        return (f"Comparison({self.model}; {params_text(self.params)}: true T="
+                f"{num(self.numeric.period)}, x_max={num(self.numeric.amplitude_max)}; "
+                f"{labels}; .table() prints the errors)")
+
+    def _repr_html_(self) -> str:
+        from html import escape
+
+        return f"<pre>{escape(self.table())}</pre>"
 
     def error(self, prediction: Prediction, key: str) -> float:
         """Signed error ``predicted - true`` of one quantity (see :data:`ERROR_KEYS`)."""

@@ -42,6 +42,7 @@ from kbm.models import BoundModel, Oscillator
 from kbm.symbols import x as X, xdot as V
 
 from numerics.cycles import LimitCycle
+from numerics._show import num
 
 __all__ = ["Prediction", "ERROR_KEYS", "numeric_value", "kbm_prediction", "reconstruct",
            "cycle_measures", "dissipation_functions"]
@@ -110,6 +111,13 @@ class Prediction:
             arr = np.array(getattr(self, name), dtype=float)
             arr.setflags(write=False)
             object.__setattr__(self, name, arr)
+
+    def __repr__(self) -> str:
+        if not self.success:
+            return f"Prediction({self.label}: failed: {self.message})"
+        return (f"Prediction({self.label}: a*={num(self.amplitude)}, x_max="
+                f"{num(self.amplitude_max)}, T={num(self.period)}, "
+                f"{'stable' if self.stable else 'unstable'})")
 
     def value(self, key: str) -> float:
         """The predicted value of one of :data:`ERROR_KEYS`."""

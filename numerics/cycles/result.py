@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from kbm.models import FrozenMap
+from numerics._show import html_table, num, params_text
 
 __all__ = ["Dissipation", "LimitCycle"]
 
@@ -110,6 +111,28 @@ class LimitCycle:
         object.__setattr__(self, "params", FrozenMap(self.params))
         object.__setattr__(self, "mp", FrozenMap(self.mp))
         object.__setattr__(self, "accuracy", FrozenMap(self.accuracy))
+
+    def _rows(self) -> list[tuple[str, str]]:
+        m = ", ".join(num(abs(z), 6) for z in self.floquet_multipliers)
+        return [("period", num(self.period)), ("amplitude_max", num(self.amplitude_max)),
+                ("first harmonic", num(self.amplitude_first_harmonic)),
+                ("stability", "stable" if self.stable else "unstable"),
+                ("|Floquet multipliers|", m), ("residual", num(self.residual, 2)),
+                ("method", self.method)]
+
+    def __repr__(self) -> str:
+        head = f"LimitCycle({self.model}; {params_text(self.params)}"
+        if not self.success:
+            return f"{head}: failed: {self.message})"
+        rows = dict(self._rows())
+        return (f"{head}: T={rows['period']}, x_max={rows['amplitude_max']}, "
+                f"{rows['stability']}, |multipliers|=({rows['|Floquet multipliers|']}))")
+
+    def _repr_html_(self) -> str:
+        title = f"limit cycle of {self.model} ({params_text(self.params)})"
+        if not self.success:
+            return html_table(title, [("failed", self.message)])
+        return html_table(title, self._rows())
 
     def significant_digits(self, name: str, limit: int = 12) -> int:
         """How many significant digits of ``name`` (``"period"``, ``"amplitude_max"``, ...)

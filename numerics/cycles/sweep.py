@@ -24,6 +24,7 @@ from numerics.executor import chunk, map_chunks
 from numerics.cycles.result import LimitCycle
 from numerics.cycles.shooting import limit_cycle
 from numerics.flow import model_template
+from numerics._show import params_text
 
 __all__ = ["SweepPoint", "sweep", "grid"]
 
@@ -35,6 +36,10 @@ class SweepPoint:
     params: Mapping[str, object]
     cycle: LimitCycle | None
     error: str | None = None
+
+    def __repr__(self) -> str:
+        what = repr(self.cycle) if self.cycle is not None else f"failed: {self.error}"
+        return f"SweepPoint({params_text(self.params)}: {what})"
 
     @property
     def success(self) -> bool:

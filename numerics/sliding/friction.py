@@ -68,6 +68,7 @@ import numpy as np
 from kbm.errors import KBMError, ParameterError
 
 from numerics.sliding.driven import DrivenSystem, driven_system
+from numerics._show import num, params_text
 
 __all__ = ["FrictionSettings", "FrictionPoint", "friction_point", "eta", "REGIMES", "V_RANGE"]
 
@@ -214,6 +215,14 @@ class FrictionPoint:
     def ok(self) -> bool:
         """A measured point (no error)."""
         return self.error is None
+
+    def __repr__(self) -> str:
+        head = f"FrictionPoint({self.model}; {params_text(self.params)}"
+        if self.error:
+            return f"{head}: failed: {self.error})"
+        return (f"{head}: {self.regime or 'no regime'}, mean force {num(self.mean_force, 6)}, "
+                f"static {num(self.static_force, 6)}, stuck {num(self.stuck_fraction, 3)}, "
+                f"{'steady' if self.steady else 'not steady'})")
 
     def to_json(self) -> dict:
         """Every field, JSON-ready (NaN stays NaN; :func:`kbm.strict_json.finite` maps it)."""

@@ -28,6 +28,7 @@ from numerics.errors import NumericsError
 from numerics.executor import chunk, map_chunks
 from numerics.sliding.driven import driven_system
 from numerics.sliding.friction import FrictionPoint, FrictionSettings, eta, friction_point
+from numerics._show import num, params_text
 
 __all__ = ["FrictionMap", "friction_map", "friction_law", "SliderComparison",
            "compare_sliders", "axis_values", "MEASURES"]
@@ -79,6 +80,12 @@ class FrictionMap:
     params: Mapping[str, float]
     axes: Mapping[str, np.ndarray]
     points: tuple[FrictionPoint, ...]
+
+    def __repr__(self) -> str:
+        axes = ", ".join(f"{k}: {len(v)} values {num(v[0], 4)}..{num(v[-1], 4)}"
+                         for k, v in self.axes.items())
+        return (f"FrictionMap({self.model}; {params_text(self.params)}; {axes}; "
+                f"{len(self.failures)} failed; .field(name) gives a measure on the grid)")
 
     @property
     def shape(self) -> tuple[int, ...]:

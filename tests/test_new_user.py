@@ -96,3 +96,24 @@ def test_a_folder_named_kbm_in_the_current_folder_is_named_as_the_cause(tmp_path
                           env={"PATH": "/usr/bin:/bin", "HOME": str(tmp_path)})
     assert proc.returncode == 1
     assert "holds a folder named 'kbm'" in proc.stderr.strip().splitlines()[-1]
+
+
+def test_comparison_table_columns_never_run_together():
+    """Issue 24 item 8: ``0.002160121066 ( 1.7e-03)-0.0001828501289 ( 1.5e-04)`` — a long
+    negative value touched the previous column.  Every entry is now separated by at least
+    two spaces, whatever its length."""
+    import numerics
+
+    table = numerics.compare("sedf", {"mu": 0.05, "Delta": 0.1, "beta": 1, "lam": 1},
+                             orders=(1, 2)).table()
+    body = table.splitlines()[2:-2]
+    assert body and not any(re.search(r"\)\S", line) for line in body), table
+
+
+def test_reproduce_prints_one_screen_not_the_whole_summary():
+    from numerics.paper.reproduce import screen_summary
+
+    summary = ["# kbm", "", "## Errata", *["row"] * 300, "## The paper's claims", "", "x"]
+    claims = "| claim | paper | measured | verdict |\n|---|---|---|---|\n| A | b | c | holds |\n"
+    text = screen_summary(summary, claims)
+    assert len(text.splitlines()) < 15 and "Errata" in text and "A: holds" in text

@@ -131,7 +131,8 @@ class Comparison:
                 if not p.success or not math.isfinite(p.value(key)):
                     line += f"{'-':>30}"
                     continue
-                line += f"{p.value(key):>16.10g} ({self.relative_error(p, key):8.1e})"
+                entry = f"{p.value(key):.10g} ({self.relative_error(p, key):.1e})"
+                line += f"{entry:>30}" if len(entry) <= 28 else f"  {entry}"
             lines.append(line)
         lines.append(f"{'stable':<20}{str(c.stable):>16}" + "".join(
             f"{str(p.stable) if p.success else '-':>30}" for p in self.predictions))

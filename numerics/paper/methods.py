@@ -116,7 +116,7 @@ class MethodsMap:
             pr = p.params
             head = f"{pr['mu']:>6g}{pr['Delta']:>8g}{pr['beta']:>6g}"
             if not p.success:
-                lines.append(f"{head}  no true cycle: {p.message[:90]}")
+                lines.append(f"{head}  no true cycle: {p.message}")
                 continue
             lines.append(f"{head}{p.amplitude:>11.6f}"
                          + "".join(f"{p.errors[m]:>16.2e}" for m in METHODS))

@@ -54,6 +54,19 @@ def _strict_json(obj) -> str:
     return json.dumps(finite(obj), indent=2, allow_nan=False)
 
 
+def screen_summary(summary: list[str], claims_md: str) -> str:
+    """One screen of the main job's results: the sections written (the file holds them
+    whole) and the paper's claims with their verdicts."""
+    sections = [line[3:] for line in summary if line.startswith("## ")]
+    rows = [line for line in claims_md.splitlines() if line.startswith("|")][2:]
+    verdicts = []
+    for row in rows:
+        cells = [c.strip() for c in row.strip("|").split("|")]
+        verdicts.append(f"  {cells[0]}: {cells[-1]}")
+    return "\n".join(["", "summary.md holds:", *[f"  - {s}" for s in sections], "",
+                      "the paper's claims:", *verdicts])
+
+
 def _md_table(header: list[str], rows: list[list[str]]) -> str:
     out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     out += ["| " + " | ".join(c.replace("|", "\\|") for c in r) + " |" for r in rows]
@@ -200,7 +213,7 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
 
     text = "\n".join(summary)
     (out / "summary.md").write_text(text)
-    print(text)
+    print(screen_summary(summary, claims_md))
     print(f"\nwritten: {out}/summary.md, {out}/tables/, {out}/figures/, {out}/derivations/ "
           f"(total {time.perf_counter() - prog.t0:.0f} s)")
     return out / "summary.md"

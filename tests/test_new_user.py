@@ -117,3 +117,39 @@ def test_reproduce_prints_one_screen_not_the_whole_summary():
     claims = "| claim | paper | measured | verdict |\n|---|---|---|---|\n| A | b | c | holds |\n"
     text = screen_summary(summary, claims)
     assert len(text.splitlines()) < 15 and "Errata" in text and "A: holds" in text
+
+
+def test_classical_kbm_far_outside_its_range_says_so(capsys):
+    """Issue 24 item 2: at the paper's strong potential (mu = 0.1, Delta = 3) order-2 KBM
+    lists 12 cycles (the true dynamics has one, ``kbm cycle --all``) with multipliers up
+    to 1e100.  Each carries its term size (corrections against leading terms) and the list
+    a warning; at Delta = 0.1, where KBM is right to 1e-4, neither."""
+    import json
+
+    from numerics.comparison.predict import KBM_TERM_LIMIT
+
+    strong = ["predict", "sedf", "-p", "mu=0.1", "-p", "Delta=3", "-p", "beta=1", "-p", "lam=1",
+              "--order", "2", "--method", "kbm"]
+    code, out, _ = _out(strong + ["--json"], capsys)
+    data = json.loads(out)
+    assert code == 0 and data["method"] == "classical KBM"
+    assert len(data["cycles"]) == 12 and "outside its range for 12 of 12" in data["warning"]
+    assert all(c["term_size"] > KBM_TERM_LIMIT for c in data["cycles"])
+    assert data["params_given"] == {"mu": "0.1", "Delta": "3", "beta": "1", "lam": "1"}
+    code, text, _ = _out(strong, capsys)
+    assert "WARNING: classical KBM is outside its range" in text
+    assert "Delta=3" in text and "delta = Delta/mu = 30" in text and "k = 2*pi/lam" in text
+    weak = ["predict", "sedf", "-p", "mu=0.1", "-p", "Delta=0.1", "-p", "beta=1", "-p",
+            "lam=1", "--order", "2", "--method", "kbm", "--json"]
+    code, out, _ = _out(weak, capsys)
+    data = json.loads(out)
+    assert "warning" not in data and data["cycles"][0]["term_size"] < KBM_TERM_LIMIT
+
+
+def test_cycle_output_speaks_in_the_users_names_and_states_eq_11(capsys):
+    code, out, _ = _out(["cycle", "sedf", "-p", "mu=0.1", "-p", "Delta=1.5", "-p", "beta=1.3",
+                         "-p", "lam=1"], capsys)
+    assert code == 0
+    assert out.startswith("limit cycle of sedf (mu=0.1, Delta=1.5, beta=1.3, lam=1; derived: "
+                          "delta = Delta/mu = 15")
+    assert "= 1.3 Gamma+ - Gamma- (eq. 11;" in out

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from collections.abc import Mapping
 from typing import Any
 
 from ..errors import ParameterError
@@ -84,3 +85,44 @@ def model_spec(args: argparse.Namespace):
     if getattr(args, "rhs", None):
         return custom_model(args.rhs, omega0=1 if args.omega0 is None else args.omega0)
     return args.model
+
+
+def describe_params(model, given: Mapping[str, object], resolved: Mapping[str, object]) -> str:
+    """The parameters in the names the user gave, then the derived scaled ones as such.
+
+    ``-p mu=0.1 -p Delta=3 -p beta=1 -p lam=1`` for the SEDF reads ``mu=0.1, Delta=3,
+    beta=1, lam=1; derived: delta = Delta/mu = 30, k = 2*pi/lam = 6.28319; default:
+    Omega=1`` (the engine works in ``delta``, ``k``; the user wrote ``Delta``, ``lam``).
+    """
+    import sympy as sp
+
+    from ..models import get_model
+
+    if isinstance(model, str):
+        try:
+            model = get_model(model)
+        except Exception:  # noqa: BLE001 - a name the caller resolved otherwise
+            model = None
+    physical = dict(getattr(model, "physical", {}) or {})
+    defaults = dict(getattr(model, "defaults", {}) or {})
+
+    def val(v) -> str:
+        try:
+            return f"{float(v):g}"
+        except (TypeError, ValueError):
+            return str(v)
+
+    parts = [f"{k}={val(resolved.get(k, v))}" if k in resolved else f"{k}={v}"
+             for k, v in given.items()]
+    derived = [f"{k} = {sp.sstr(expr)} = {val(resolved[k])}" for k, expr in physical.items()
+               if k in resolved and k not in given]
+    rest = [f"{k}={val(v)}" for k, v in resolved.items()
+            if k not in given and k not in physical]
+    text = ", ".join(parts)
+    if derived:
+        text += "; derived: " + ", ".join(derived)
+    if rest:
+        names = [r.split("=")[0] for r in rest]
+        word = "default" if all(n in defaults for n in names) else "also"
+        text += f"; {word}: " + ", ".join(rest)
+    return text

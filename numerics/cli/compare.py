@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import (add_model_arguments, add_param_option, emit_json, model_spec,
-                             parse_params)
+from kbm.cli._common import (add_model_arguments, add_param_option, describe_params, emit_json,
+                             model_spec, parse_params)
 
 
 def register(sub) -> None:
@@ -167,7 +167,9 @@ def run(args: argparse.Namespace) -> int:
         extra += [energy_prediction(n) for n in _orders(energy_orders, "--energy-orders")]
     comp = compare(model_spec(args), params, orders=_orders(args.orders), extra=extra, **kw)
     if args.json:
-        emit_json(comp.to_json())
+        emit_json({**comp.to_json(), "params_given": params})
     else:
-        print(comp.table())
+        lines = comp.table().splitlines()
+        lines[0] = f"{comp.model}  {describe_params(model_spec(args), params, comp.params)}"
+        print("\n".join(lines))
     return 0

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import (add_model_arguments, add_param_option, emit_json, model_spec,
-                             parse_params)
+from kbm.cli._common import (add_model_arguments, add_param_option, describe_params, emit_json,
+                             model_spec, parse_params)
 
 
 def register(sub) -> None:
@@ -49,9 +49,9 @@ def run(args: argparse.Namespace) -> int:
         return _run_all(limit_cycles(model_spec(args), parse_params(args.param), **kw), args)
     cyc = limit_cycle(model_spec(args), parse_params(args.param), x_start=args.x_start, **kw)
     if args.json:
-        emit_json(cyc.to_json())
+        emit_json({**cyc.to_json(), "params_given": parse_params(args.param)})
         return 0 if cyc.success else 1
-    _print_cycle(cyc, args.digits)
+    _print_cycle(cyc, args.digits, args)
     return 0 if cyc.success else 1
 
 
@@ -60,7 +60,8 @@ def _run_all(cycles, args: argparse.Namespace) -> int:
     if args.json:
         rows = [{**c.to_json(), "annulus": p.annulus, "predicted": p.to_json()}
                 for c, p in zip(cycles, cycles.predicted)]
-        emit_json({"model": pred.model, "params": pred.params, "cycles": rows,
+        emit_json({"model": pred.model, "params": pred.params,
+                   "params_given": parse_params(args.param), "cycles": rows,
                    "reason": pred.reason,
                    "failures": [{"predicted": p.to_json(), "error": e}
                                 for p, e in cycles.failures]})
@@ -70,7 +71,7 @@ def _run_all(cycles, args: argparse.Namespace) -> int:
     for c, p in zip(cycles, cycles.predicted):
         print(f"\n[{p.annulus}] predicted x_max {p.amplitude_max:.6g}, T {p.period:.6g}, "
               f"{'stable' if p.stable else 'unstable'}")
-        _print_cycle(c, args.digits)
+        _print_cycle(c, args.digits, args)
     for p, e in cycles.failures:
         print(f"\n[{p.annulus}] predicted x_max {p.amplitude_max:.6g}: no cycle found ({e})")
     if cycles.failures and not cycles:
@@ -78,10 +79,10 @@ def _run_all(cycles, args: argparse.Namespace) -> int:
     return 0 if all(c.success for c in cycles) else 1
 
 
-def _print_cycle(cyc, digits) -> None:
+def _print_cycle(cyc, digits, args) -> None:
     data = cyc.to_json()
     w = digits or 12
-    pars = ", ".join(f"{k}={v:g}" for k, v in data["params"].items())
+    pars = describe_params(model_spec(args), parse_params(args.param), data["params"])
     print(f"limit cycle of {data['model']} ({pars})")
     for key in ("period", "frequency", "amplitude_max", "amplitude_first_harmonic"):
         val = data[key]
@@ -96,7 +97,8 @@ def _print_cycle(cyc, digits) -> None:
     print(f"  {'floquet multipliers':26s} {m[0].real:.12f} (trivial), {m[1].real:.6e} "
           f"({'stable' if cyc.stable else 'UNSTABLE'})")
     d = cyc.dissipation
-    print(f"  {'dissipation Gamma':26s} {d.total:.3e} (Gamma+ {d.gamma_plus:.6g}, "
-          f"Gamma- {d.gamma_minus:.6g})")
+    factor = "" if d.plus_factor == 1 else f"{d.plus_factor:g} "
+    print(f"  {'dissipation Gamma':26s} {d.total:.3e} = {factor}Gamma+ - Gamma- (eq. 11; "
+          f"Gamma+ {d.gamma_plus:.6g} gained, Gamma- {d.gamma_minus:.6g} lost)")
     print(f"  {'energy residual':26s} {cyc.energy_residual:.3e}")
     print(f"  {cyc.message}")

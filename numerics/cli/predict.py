@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import (add_model_arguments, add_param_option, emit_json, model_spec,
-                             parse_params)
+from kbm.cli._common import (add_model_arguments, add_param_option, describe_params, emit_json,
+                             model_spec, parse_params)
 
 
 def register(sub) -> None:
@@ -31,22 +31,29 @@ def register(sub) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from numerics.comparison import predict
+    from numerics.comparison.predict import KBM_TERM_LIMIT
 
-    pred = predict(model_spec(args), parse_params(args.param), method=args.method,
-                   order=args.order, potential=args.potential)
+    given = parse_params(args.param)
+    spec = model_spec(args)
+    pred = predict(spec, given, method=args.method, order=args.order, potential=args.potential)
     if args.json:
-        emit_json(pred.to_json())
+        emit_json({**pred.to_json(), "params_given": given})
         return 0
-    pars = ", ".join(f"{k}={v:g}" for k, v in pred.params.items())
+    pars = describe_params(spec, given, pred.params)
     print(f"{pred.model} ({pars}): {len(pred.cycles)} cycle(s) predicted by "
           f"{'energy averaging' if args.method == 'energy' else 'classical KBM'}, order "
           f"{pred.order}")
     if not pred.cycles:
         print(f"  {pred.reason}")
+    if pred.warning:
+        print(f"  WARNING: {pred.warning}")
     for c in pred.cycles:
         print(f"  {'stable  ' if c.stable else 'unstable'}  x in [{c.amplitude_min:.8g}, "
               f"{c.amplitude_max:.8g}]  a1 {c.amplitude_first_harmonic:.8g}  T {c.period:.8g}"
               f"  E {c.energy:.8g}  multiplier {c.floquet_multiplier:.6g}  ({c.annulus})")
+        if c.term_size > KBM_TERM_LIMIT:
+            print(f"            KBM corrections {c.term_size:.2g} of the leading terms: not "
+                  "to be trusted")
         if getattr(c, "period_sensitivity", 0.0) > 1:
             print(f"            period sensitivity {c.period_sensitivity:.2g} > 1: the energy "
                   "swing of one cycle reaches a separatrix; orders > 1 are not reliable here")

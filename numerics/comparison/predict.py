@@ -37,13 +37,35 @@ from kbm.models import BoundModel, Oscillator, bind
 from numerics.comparison.prediction import Prediction, reconstruct
 from numerics.energy import EnergyPrediction, PredictedCycle, predict_cycles
 
-__all__ = ["predict", "kbm_cycles", "energy_prediction", "METHODS"]
+__all__ = ["predict", "kbm_cycles", "energy_prediction", "METHODS", "KBM_TERM_LIMIT"]
 
 #: the analyses :func:`predict` knows
 METHODS = ("energy", "kbm")
 
 #: the annulus label of classical KBM cycles (one family, about the origin)
 KBM_FAMILY = "classical KBM (x = a cos psi + ...)"
+
+#: largest :attr:`~numerics.energy.PredictedCycle.term_size` of a classical KBM cycle that is
+#: presented without a warning: the expansion in mu assumes the frequency shift, the
+#: waveform correction and the ratio of successive orders all small.  Measured at order 2:
+#: van der Pol 0.058 at mu = 0.1 (the order-2 period is right to 6e-7) and 0.58 at mu = 1
+#: (0.6 %); the SEDF at mu = 0.1, Delta = 0.1: 0.105; at Delta = 3: 0.57 to 35 for the 12
+#: predicted cycles, of which the true dynamics has one (``kbm cycle --all``)
+KBM_TERM_LIMIT = 0.5
+
+
+def _term_size(fns, a: float, m: float, pars: list[float], order: int, w0: float) -> float:
+    """The largest relative size of the expansion's corrections at the root ``a``."""
+    psi = np.linspace(0.0, 2 * np.pi, 129)
+    B = [float(fns.B[n](a, *pars)) * m**n for n in range(1, order + 1)]
+    U = [float(np.max(np.abs(np.broadcast_to(fns.u[n](a, psi, *pars), psi.shape)))) * m**n
+         for n in range(1, order + 1)]
+    sizes = [abs(sum(B)) / w0, max(abs(sum(U)), max(U)) / a]
+    for n in range(1, order):
+        for seq in (B, U):
+            if abs(seq[n - 1]) > 1e-14 * max(1.0, abs(seq[n])):
+                sizes.append(abs(seq[n]) / abs(seq[n - 1]))
+    return float(max(sizes))
 
 
 def _readonly(a) -> np.ndarray:
@@ -73,6 +95,7 @@ def kbm_cycles(bound: BoundModel, order: int, *, n_samples: int = 1024,
         G = None
     fns = result.functions("numpy")
     m, pars = float(vals["mu"]), [float(need[p]) for p in result.params]
+    w0 = float(bound.model.omega0.subs(bound.subs()))
     out = []
     for c in cycles:
         def x_of_psi(p, a=c.amplitude):
@@ -82,10 +105,11 @@ def kbm_cycles(bound: BoundModel, order: int, *, n_samples: int = 1024,
         harm = np.fft.rfft(xs) / xs.size
         xmax, xmin = float(np.max(xs)), float(np.min(xs))
         energy = float(G(np.array([xmax]))[0]) if G is not None else math.nan
+        size = _term_size(fns, float(c.amplitude), m, pars, order, w0)
         out.append(PredictedCycle(xmax, xmin, float(c.amplitude), float(c.period),
                                   float(c.frequency), energy, bool(c.stable), KBM_FAMILY,
                                   int(order), float(c.floquet_multiplier),
-                                  _readonly(harm[:16])))
+                                  _readonly(harm[:16]), term_size=size))
     return tuple(out)
 
 
@@ -135,8 +159,18 @@ def predict(model: Oscillator | str | BoundModel, params: Mapping[str, object] |
     cycles = kbm_cycles(bound, int(order))
     reason = "" if cycles else (f"the order-{order} averaged amplitude equation has no root "
                                 "a > 0")
+    bad = [c for c in cycles if not c.term_size <= KBM_TERM_LIMIT]
+    warning = ""
+    if bad:
+        worst = max(c.term_size for c in bad)
+        warning = (f"classical KBM is outside its range for {len(bad)} of {len(cycles)} "
+                   f"cycles: the corrections reach {worst:.3g} of the leading terms (frequency "
+                   f"shift, waveform, ratio of successive orders; the expansion needs them "
+                   f"<< 1, here above {KBM_TERM_LIMIT:g}); those cycles are not to be trusted; "
+                   "use the energy method (--method energy) or kbm cycle --all")
     return EnergyPrediction(model=bound.name, params=bound.floats, order=int(order),
-                            cycles=cycles, reason=reason)
+                            cycles=cycles, reason=reason, method="classical KBM",
+                            warning=warning)
 
 
 def energy_prediction(order: int = 1, **predict_kwargs):

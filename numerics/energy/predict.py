@@ -91,6 +91,12 @@ class PredictedCycle:
     scheme : str
         ``"energy balance"``, ``"position"`` or ``"energy-angle"``: how the cycle was
         computed.
+    term_size : float
+        Classical KBM only (NaN otherwise): the largest of the relative frequency shift
+        ``|sum mu^n B_n|/omega0``, the waveform correction ``max |sum mu^n u_n|/a`` and
+        the ratios ``|mu^n B_n|/|mu^(n-1) B_(n-1)|`` of successive orders at the root.
+        The expansion assumes all of them small; above :data:`KBM_TERM_LIMIT` the cycle
+        is not to be trusted.
     """
 
     amplitude_max: float
@@ -108,6 +114,7 @@ class PredictedCycle:
     separatrix_margin: float = float("inf")
     period_sensitivity: float = 0.0
     scheme: str = "energy balance"
+    term_size: float = math.nan
 
     def to_json(self) -> dict:
         """Strict-JSON dict (non-finite numbers become ``None``)."""
@@ -118,6 +125,8 @@ class PredictedCycle:
         out.update(stable=bool(self.stable), annulus=self.annulus, order=int(self.order),
                    scheme=self.scheme,
                    harmonics=[[_num(c.real), _num(c.imag)] for c in self.harmonics])
+        if math.isfinite(self.term_size):
+            out["term_size"] = self.term_size
         return out
 
 
@@ -149,13 +158,19 @@ class EnergyPrediction:
     reason: str = ""
     annuli: tuple = ()
     equilibria: tuple = ()
+    method: str = "energy averaging"
+    warning: str = ""
 
     def to_json(self) -> dict:
-        """Strict-JSON dict with key ``cycles``."""
-        return {"model": self.model, "params": {k: _num(v) for k, v in self.params.items()},
-                "order": self.order, "method": "energy averaging",
-                "cycles": [c.to_json() for c in self.cycles], "reason": self.reason,
-                "annuli": list(self.annuli), "equilibria": list(self.equilibria)}
+        """Strict-JSON dict with key ``cycles`` (and ``warning`` when the list is not to be
+        trusted)."""
+        out = {"model": self.model, "params": {k: _num(v) for k, v in self.params.items()},
+               "order": self.order, "method": self.method,
+               "cycles": [c.to_json() for c in self.cycles], "reason": self.reason,
+               "annuli": list(self.annuli), "equilibria": list(self.equilibria)}
+        if self.warning:
+            out["warning"] = self.warning
+        return out
 
 
 def _n_theta(annulus, E) -> int:

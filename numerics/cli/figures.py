@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 
 def register(sub) -> None:
@@ -15,6 +16,9 @@ def register(sub) -> None:
     p.add_argument("--only", nargs="*", default=None, metavar="NAME",
                    help="figure names (default: all; see --list)")
     p.add_argument("--list", action="store_true", help="list the figure names and exit")
+    p.add_argument("--friction-size", type=int, default=None, metavar="N",
+                   help="the friction maps on N x N grids (default 8, as kbm reproduce; the "
+                        "docs' figures use 32, which takes several minutes on two cores)")
     p.set_defaults(func=run)
 
 
@@ -25,9 +29,19 @@ def run(args: argparse.Namespace) -> int:
     if args.list:
         print("\n".join(FIGURES))
         return 0
+    from kbm.errors import ParameterError
+    from numerics.paper.figures.friction import friction_figures
+
+    if args.friction_size is not None and not 2 <= args.friction_size <= 32:
+        raise ParameterError(f"--friction-size must be between 2 and 32, got "
+                             f"{args.friction_size}")
     output_folder(args.out, "--out")  # before any computation
-    paths = write_figures(args.out, args.only,
-                          progress=lambda n: print(f"  {n} ...", file=sys.stderr, flush=True))
+    names = list(FIGURES) if args.only is None else list(args.only)
+    say = lambda n: print(f"  {n} ...", file=sys.stderr, flush=True)  # noqa: E731
+    paths = write_figures(args.out, [n for n in names if n != "friction"], progress=say)
+    if "friction" in names:  # the maps on all cores, with progress bars
+        say("friction")
+        paths += friction_figures(Path(args.out), size=args.friction_size, progress=True)
     for p in paths:
         print(p)
     return 0

@@ -75,19 +75,26 @@ class FrictionStudy:
                 "v_delta": self.v_delta.to_json(), "v_beta": self.v_beta.to_json()}
 
 
-def friction_study(size: int = 32, laws: int = 24, **kwargs) -> FrictionStudy:
+#: the study's size in ``kbm reproduce`` and ``kbm figures`` (8 x 8 maps, 12 velocities per
+#: law); the docs' figures use ``size=32, laws=24`` (``kbm figures --friction-size 32``)
+MAIN_JOB_SIZE = {"size": 8, "laws": 12}
+
+
+def friction_study(size: int = 32, laws: int = 24, progress: bool = False,
+                   **kwargs) -> FrictionStudy:
     """The friction laws at ``Delta = 1.5, 3`` (``laws`` velocities from 1e-3 to 3) and the two
-    maps on ``size x size`` grids (every ``32 // size``-th point of the docs' grids)."""
+    maps on ``size x size`` grids (every ``32 // size``-th point of the docs' grids), on all
+    cores (:func:`numerics.sliding.friction_map`), with tqdm bars when ``progress``."""
     step = max(1, len(MAP_V) // size)
     v = LAW_V if laws >= len(LAW_V) else np.geomspace(LAW_V[0], LAW_V[-1], laws)
     out = {}
     for d in (1.5, 3.0):
         params = {**LAW_PARAMS, "Delta": d}
-        out[d] = tuple(friction_law(m, params, v, progress=False, **kwargs)
+        out[d] = tuple(friction_law(m, params, v, progress=progress, **kwargs)
                        for m in SLIDERS_COMPARED)
     base = {k: val for k, val in LAW_PARAMS.items() if k != "beta"}
     vd = compare_sliders({**base, "beta": 1.0}, {"v": MAP_V[::step], "Delta": MAP_DELTA[::step]},
-                         progress=False, **kwargs)
+                         progress=progress, **kwargs)
     vb = compare_sliders({**base, "Delta": 3.0}, {"v": MAP_V[::step], "beta": MAP_BETA[::step]},
-                         progress=False, **kwargs)
+                         progress=progress, **kwargs)
     return FrictionStudy(laws=out, v_delta=vd, v_beta=vb)

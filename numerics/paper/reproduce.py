@@ -23,7 +23,7 @@ from numerics.comparison import compare, convergence_study, energy_prediction
 from numerics.comparison.fixed_delta import fixed_delta_convergence
 from numerics.paper.claims import check_claims
 from numerics.paper.errata import errata_evidence, errata_rows, evidence_table
-from numerics.paper.friction import friction_study
+from numerics.paper.friction import MAIN_JOB_SIZE, friction_study
 from numerics.paper.figures import FIGURES, write_figures
 from numerics.paper.figures.comparison import validity_figure
 from numerics.paper.figures.methods import fixed_delta_figure, methods_figure
@@ -192,7 +192,7 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     prog.done(", ".join(f"{c.key}: {c.verdict}" for c in claims))
 
     prog.stage("friction laws and maps: does self-excitation lower friction? (all cores)")
-    study = friction_study(size=8, laws=12)
+    study = friction_study(**MAIN_JOB_SIZE)
     (out / "tables" / "friction.md").write_text(study.table())
     (out / "tables" / "friction.json").write_text(_strict_json(study.to_json()) + "\n")
     summary += ["## Friction laws and maps (SEDF against CDC; 8 x 8 maps here, 32 x 32 in "

@@ -183,8 +183,11 @@ def friction_maps_from(v_delta, v_beta, out_dir: Path) -> list[Path]:
             map_figure(v_beta, Path(out_dir) / "friction_map_v_beta.png", _paper_marks("beta"))]
 
 
-def friction_figures(out_dir: Path) -> list[Path]:
-    """The docs' friction laws and maps (:func:`numerics.paper.friction.friction_study`)."""
-    from numerics.paper.friction import friction_study
+def friction_figures(out_dir: Path, size: int | None = None,
+                     progress: bool = False) -> list[Path]:
+    """The friction laws and maps (:func:`numerics.paper.friction.friction_study`): the main
+    job's 8 x 8 maps by default (as ``kbm reproduce``), ``size=32`` for the docs' figures."""
+    from numerics.paper.friction import MAIN_JOB_SIZE, friction_study
 
-    return friction_study().figures(out_dir)
+    dims = dict(MAIN_JOB_SIZE) if size is None else {"size": size, "laws": max(12, size * 3 // 4)}
+    return friction_study(progress=progress, **dims).figures(out_dir)

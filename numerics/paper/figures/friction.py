@@ -50,19 +50,36 @@ def _plt():
     return plt
 
 
+def _summary_regime(reg) -> str:
+    kinds = sorted({str(r) or "failed" for r in np.ravel(reg)})
+    return ", ".join(kinds)
+
+
 def draw_law(maps, axes) -> None:
     """Draw friction laws (:class:`~numerics.sliding.maps.FrictionMap` over ``v``) on two axes:
     forces (mean and static) and dissipation per distance."""
     ax_f, ax_d = axes
+    drawn: list[np.ndarray] = [[], []]  # what each panel shows, for limits that clip nothing
+    absent = []
     for i, m in enumerate(maps):
         v = m.axes["v"]
         color = f"C{i}"
         label = _LABEL.get(m.model, m.model)
         F, S, D = m.field("mean_force"), m.field("static_force"), m.field("dissipation_per_distance")
         reg, steady = m.field("regime"), m.field("steady").astype(bool)
+        def shown(y):
+            y = np.abs(np.asarray(y, dtype=float))
+            return y[np.isfinite(y) & (y > 0)]
+
+        if not shown(F).size:  # every point a runaway or failed: no curve, no legend entry
+            absent.append(f"{label}: no steady state at any v ({_summary_regime(reg)})")
+            continue
         ax_f.plot(v, np.abs(F), "-", color=color, lw=1.4, label=f"{label}: |mean force|")
-        ax_f.plot(v, S, ":", color=color, lw=1.2, label=f"{label}: static friction")
+        if shown(S).size:
+            ax_f.plot(v, S, ":", color=color, lw=1.2, label=f"{label}: static friction")
         ax_d.plot(v, np.abs(D), "-", color=color, lw=1.4, label=label)
+        drawn[0] += [shown(F), shown(S)]
+        drawn[1] += [shown(D)]
         for r, mark in _REGIME_MARK.items():
             sel = reg == r
             if sel.any():
@@ -88,8 +105,15 @@ def draw_law(maps, axes) -> None:
         ax.grid(True, which="major", alpha=0.3)
     ax_f.set_ylabel("spring force")
     ax_d.set_ylabel(r"dissipation per distance $\Gamma/(v\,\Delta t)$")
-    ax_f.legend(fontsize=6, loc="lower right")
-    ax_d.legend(fontsize=6, loc="lower right")
+    for ax, parts in ((ax_f, drawn[0]), (ax_d, drawn[1])):
+        vals = np.concatenate(parts) if parts else np.empty(0)
+        if vals.size:  # the data's whole range, with a margin (nothing clipped)
+            lo, hi = ax.get_ylim()
+            ax.set_ylim(min(lo, vals.min() / 2), max(hi, vals.max() * 2))
+    if absent:  # said above the panel, where it hides no curve and no legend
+        ax_f.set_title("; ".join(absent), fontsize=8)
+    ax_f.legend(fontsize=7, loc="lower right")
+    ax_d.legend(fontsize=7, loc="lower right")
 
 
 def law_figure(maps: Sequence, path: str | Path, title: str = "") -> Path:
@@ -120,7 +144,9 @@ def map_figure(comp, path: str | Path, marks: Sequence[tuple[float, float, str]]
     if len(names) != 2:
         raise ValueError(f"a map needs two axes, got {names}")
     X, Y = comp.first.axes[names[0]], comp.first.axes[names[1]]
-    fig, axs = plt.subplots(1, 4, figsize=(17, 4.2))
+    # two by two, so that the labels are readable at a paper's text width
+    fig, axs = plt.subplots(2, 2, figsize=(11, 8.2))
+    axs = axs.ravel()
     for ax, data, title in ((axs[0], comp.force_ratio, "mean force ratio SEDF/CDC"),
                             (axs[1], comp.dissipation_ratio, "dissipation ratio SEDF/CDC")):
         d = np.abs(np.asarray(data, dtype=float)).T
@@ -142,7 +168,7 @@ def map_figure(comp, path: str | Path, marks: Sequence[tuple[float, float, str]]
         if unsteady.any():
             xx, yy = np.meshgrid(X, Y)
             ax.plot(xx[unsteady], yy[unsteady], "x", color="0.4", ms=2)
-        ax.set_title(title + " (black line: 1)", fontsize=8)
+        ax.set_title(title + " (black line: 1)", fontsize=10)
     cmap = ListedColormap(["C0", "C1", "C2", "C4", "C3", "0.8"])
     norm = BoundaryNorm(np.arange(-0.5, 6.5), cmap.N)
     for ax, m in ((axs[2], comp.first), (axs[3], comp.second)):
@@ -150,20 +176,21 @@ def map_figure(comp, path: str | Path, marks: Sequence[tuple[float, float, str]]
         pc = ax.pcolormesh(X, Y, codes, shading="nearest", cmap=cmap, norm=norm)
         cb = fig.colorbar(pc, ax=ax, ticks=range(6))
         cb.ax.set_yticklabels(["stick-slip", "smooth", "self-osc.", "osc.", "runaway",
-                               "failed"], fontsize=6)
-        ax.set_title(f"regime: {_LABEL.get(m.model, m.model)}", fontsize=8)
+                               "failed"], fontsize=9)
+        ax.set_title(f"regime: {_LABEL.get(m.model, m.model)}", fontsize=10)
     for ax in axs:
         ax.set_xscale("log")
         if names[1] == "beta":
             ax.set_yscale("log")
-        ax.set_xlabel(names[0])
-        ax.set_ylabel(names[1])
+        ax.set_xlabel(names[0], fontsize=11)
+        ax.set_ylabel(names[1], fontsize=11)
+        ax.tick_params(labelsize=9)
         for x, y, label in marks:
-            ax.plot([x], [y], "*", color="gold", mec="k", ms=11)
-            ax.annotate(label, (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+            ax.plot([x], [y], "*", color="gold", mec="k", ms=12)
+            ax.annotate(label, (x, y), fontsize=9, xytext=(3, 3), textcoords="offset points")
     fixed = ", ".join(f"{k} = {v:g}" for k, v in comp.first.params.items())
     fig.suptitle(f"SEDF against CDC over ({names[0]}, {names[1]}), {fixed}; dots: negative "
-                 "friction (the SEDF propels itself), x: not steady", fontsize=8)
+                 "friction (the SEDF propels itself), x: not steady", fontsize=10)
     fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=120)

@@ -71,8 +71,14 @@ def draw_diagram(d, ax, quantity: str = "amplitude_max", analytic: bool = True) 
             ax.plot(arr[~stab, 0], y[~stab], ls="none", marker=m, ms=ms, color=col, alpha=0.4)
     from matplotlib.lines import Line2D
 
-    handles = [Line2D([], [], color="k", ls="-", label="stable (continuation)"),
-               Line2D([], [], color="k", ls="--", label="unstable"),
+    # the legend's lines in the colours the branches are drawn in (one branch: its colour;
+    # several: one entry each, and the line styles in grey)
+    style = "C0" if len(d.branches) == 1 else "0.45"
+    branches = ([Line2D([], [], color=f"C{i}", lw=1.6, label=f"branch {i + 1}")
+                 for i in range(len(d.branches))] if len(d.branches) > 1 else [])
+    handles = [*branches,
+               Line2D([], [], color=style, ls="-", lw=1.6, label="stable (continuation)"),
+               Line2D([], [], color=style, ls="--", lw=1.2, label="unstable"),
                *[Line2D([], [], color="k", marker=v, ls="none", label=k,
                         mfc="none" if k == "fold" else "k")
                  for k, v in _MARK.items() if any(s.kind == k for b in d.branches

@@ -34,7 +34,7 @@ def methods_figure(out_dir: Path, *, quick: bool = False, mmap=None) -> list[Pat
                 if quick else methods_map(progress=False))
     mus, Ds = np.array(mmap.axes["mu"]), np.array(mmap.axes["Delta"])
     betas = mmap.axes["beta"]
-    fig, axes = plt.subplots(len(betas), 3, figsize=(15, 4.4 * len(betas)), squeeze=False,
+    fig, axes = plt.subplots(len(betas), 3, figsize=(16, 5.2 * len(betas)), squeeze=False,
                              constrained_layout=True)
     cmap = ListedColormap(["#d9d9d9", "#9ecae1", "#a1d99b", "#fdd49e"])
     names = ["neither within 1 %", "KBM only", "energy only", "both"]
@@ -55,12 +55,12 @@ def methods_figure(out_dir: Path, *, quick: bool = False, mmap=None) -> list[Pat
                 ok = [s for m, s in _SHORT.items() if err[m][r, c] <= 1e-3]
                 lab = "\n".join(" ".join(s for s in ok if s[0] == f) for f in "KE")
                 ax.text(mus[c], Ds[r], lab.strip() or "-", ha="center", va="center",
-                        fontsize=5.5, linespacing=0.9)
+                        fontsize=8, linespacing=0.9)
         for k, n in enumerate(names):
             ax.plot([], [], "s", color=cmap(k), ms=9, label=n)
-        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=4,
+        ax.legend(fontsize=9, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2,
                   handletextpad=0.2, columnspacing=0.8)
-        ax.set_title(f"beta = {b:g}: within 1 % (colour), within 1e-3 (labels)", fontsize=9)
+        ax.set_title(f"beta = {b:g}: within 1 % (colour), within 1e-3 (labels)", fontsize=11)
         for j, (z, title) in enumerate(((kbm, "classical KBM, best of orders 1, 2"),
                                         (en, "energy method, best of orders 1, 2")), start=1):
             ax = axes[i][j]
@@ -71,18 +71,19 @@ def methods_figure(out_dir: Path, *, quick: bool = False, mmap=None) -> list[Pat
             if np.isfinite(lz).sum() >= 4 and len(mus) > 1 and len(Ds) > 1:
                 ax.contour(mus, Ds, np.ma.masked_invalid(lz), levels=[-3, -2], colors="w",
                            linestyles=["--", "-"], linewidths=1.3)
-            ax.set_title(f"{title}, beta = {b:g}", fontsize=9)
+            ax.set_title(f"{title}, beta = {b:g}", fontsize=11)
             fig.colorbar(im, ax=ax, label="log10 relative error")
         for ax in axes[i]:
             ax.set_xscale("log")
             ax.set_yscale("log")
-            ax.set_xlabel("mu")
-            ax.set_ylabel("Delta")
+            ax.set_xlabel("mu", fontsize=11)
+            ax.set_ylabel("Delta", fontsize=11)
+            ax.tick_params(labelsize=10)
             for (m0, D0) in PAPER_POINTS:
                 ax.plot(m0, D0, "r*", ms=12, mec="k")
     fig.suptitle("SEDF: classical KBM (K1, K2) and the energy method (E1, E2) against the "
                  "true cycle; error = max relative error of a, max x, frequency (white: 1 %, "
-                 "dashed: 1e-3; x: no true cycle; star: the paper's parameters)", fontsize=10)
+                 "dashed: 1e-3; x: no true cycle; star: the paper's parameters)", fontsize=11)
     return [_save(fig, out_dir, "methods_map.png")]
 
 

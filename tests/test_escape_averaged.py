@@ -71,6 +71,7 @@ def _mfpt_direct(env):
     return quad(lambda y: inner(y) / (D * I(y)), E0, Eb, limit=200, epsrel=1e-8)[0]
 
 
+@pytest.mark.slow
 def test_mfpt_two_routes():
     """tau from the integrated-by-parts form equals the textbook double integral
     int dy/(sigma^2 p) 2 int p dz (Gardiner, Handbook, 5.2.158) with p = T exp(-E/kT)."""

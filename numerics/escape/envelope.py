@@ -70,11 +70,11 @@ def noise_level(D: object) -> float:
 
 def _integrands(h):
     """Half-orbit integrands (see :meth:`Annulus.orbit_integrals`): ``T``, ``I``,
-    ``Gamma``, ``oint x^2 dt``."""
+    ``Gamma``, ``K = oint x^2 x' dx`` (``dK/dE = oint x^2 dt``)."""
     return [lambda x, v, sq: 2.0 / sq,
             lambda x, v, sq: 2.0 * v * v / sq,
             lambda x, v, sq: (h(x, v) - h(x, -v)) * v / sq,
-            lambda x, v, sq: 2.0 * x * x / sq]
+            lambda x, v, sq: 2.0 * x * x * v * v / sq]
 
 
 @dataclass(frozen=True, eq=False)
@@ -86,8 +86,8 @@ class AnnulusEnvelope:
     annulus : numerics.energy.portrait.Annulus
     lo, hi : float
         The energy interval represented (``hi`` is a cut-off on the outer annulus).
-    action, gamma, x2time, period_ : numpy.polynomial.Chebyshev
-        ``I(E)``, ``Gamma(E)``, ``oint x^2 dt`` and ``T(E)`` (the period has a
+    action, gamma, x2action, period_ : numpy.polynomial.Chebyshev
+        ``I(E)``, ``Gamma(E)``, ``K(E) = oint x^2 x' dx`` and ``T(E)`` (the period has a
         logarithmic singularity at a separatrix: use it for evaluation only).
     log_f : numpy.polynomial.Chebyshev
         ``ln f(E)`` (up to the constant fixed by the gluing).
@@ -100,7 +100,7 @@ class AnnulusEnvelope:
     hi: float
     action: Chebyshev
     gamma: Chebyshev
-    x2time: Chebyshev
+    x2action: Chebyshev
     period_: Chebyshev
     log_f: Chebyshev
     error: float
@@ -158,24 +158,28 @@ class EnergyEnvelope:
 
     def stationary_moment_x2(self) -> float:
         """Stationary ``<x^2>`` from the averaged density on the whole graph of annuli:
-        ``sum_k int f_k(E) oint_k x^2 dt dE / sum_k int f_k(E) T_k(E) dE``."""
-        num = den = 0.0
+        ``sum_k int f_k(E) oint_k x^2 dt dE / sum_k int f_k(E) T_k(E) dE``.
+
+        Both are integrated by parts, ``int T f dE = [I f] - int I f' dE`` and likewise
+        with ``K`` for ``oint x^2 dt = dK/dE``, so that the logarithmic singularities of
+        ``T`` and ``oint x^2 dt`` at the separatrices never enter a quadrature.
+        """
+        sums = [0.0, 0.0]
+        x, w = np.polynomial.legendre.leggauss(200)
         for p in self.pieces:
-            w = np.polynomial.legendre.leggauss(200)
-            E = p.lo + (p.hi - p.lo) * (w[0] + 1) / 2
-            wt = w[1] * (p.hi - p.lo) / 2
+            E = p.lo + (p.hi - p.lo) * (x + 1) / 2
+            wt = w * (p.hi - p.lo) / 2
             f = np.exp(p.log_f(E))
-            num += float(np.sum(wt * f * p.x2time(E)))
-            # int T f dE = [I f] - int I f' dE (T = dI/dE; avoids the log singularity of T)
             dlogf = p.log_f.deriv()(E)
-            den += float(p.action(p.hi) * np.exp(p.log_f(p.hi))
-                         - p.action(p.lo) * np.exp(p.log_f(p.lo))
-                         - np.sum(wt * p.action(E) * f * dlogf))
-        return num / den
+            for i, F in enumerate((p.x2action, p.action)):
+                sums[i] += float(F(p.hi) * np.exp(p.log_f(p.hi))
+                                 - F(p.lo) * np.exp(p.log_f(p.lo))
+                                 - np.sum(wt * F(E) * f * dlogf))
+        return sums[0] / sums[1]
 
 
 def _fit(annulus: Annulus, lo: float, hi: float, h, deg: int):
-    """Chebyshev interpolants of ``T, I, Gamma, oint x^2 dt`` on ``(lo, hi)``."""
+    """Chebyshev interpolants of ``T, I, Gamma, K`` on ``(lo, hi)``."""
     k = np.arange(deg + 1)
     u = np.cos(np.pi * (k + 0.5) / (deg + 1))  # first-kind nodes: interior only
     E = 0.5 * (lo + hi) + 0.5 * (hi - lo) * u

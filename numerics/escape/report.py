@@ -85,10 +85,15 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
                           f"> budget {budget:.3g}; the averaged rate is the answer "
                           "(raise --budget to simulate anyway)")
         return out
+    from ..errors import NumericsError
     from .simulate import simulated_escape
 
-    sim = simulated_escape(env.split, D, esc.saddles, trajectories=trajectories, t_end=run,
-                           dt=h, seed=seed)
+    try:
+        sim = simulated_escape(env.split, D, esc.saddles, trajectories=trajectories,
+                               t_end=run, dt=h, seed=seed)
+    except NumericsError as exc:
+        out["message"] = f"simulation: {exc}"
+        return out
     out.update(rate_simulated=sim.rate, stderr=sim.stderr, escaped=sim.escaped,
                censored=sim.censored)
     return out

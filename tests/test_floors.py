@@ -23,7 +23,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 #: the floors of numerics, bottom up (a module's floor is its first package component)
-FLOORS = ("base", "flow", "energy", "cycles", "forced", "comparison", "sliding", "paper",
+FLOORS = ("base", "flow", "energy", "cycles", "forced", "comparison", "sliding", "escape", "paper",
           "cli")
 BASE = {"errors", "_memo", "_show", "executor", "store", "__init__"}
 

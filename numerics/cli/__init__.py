@@ -17,7 +17,7 @@ __all__ = ["main", "build_parser", "COMMANDS"]
 
 #: the numerical sub-command modules, listed after ``derive`` and ``series``
 COMMANDS = ("predict", "cycle", "compare", "slide", "figures", "derivations", "reproduce",
-            "branch", "friction", "response")
+            "branch", "friction", "response", "escape")
 
 
 def build_parser():

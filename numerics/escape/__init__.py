@@ -1,0 +1,18 @@
+"""Noise on the strongly nonlinear side: energy-envelope stochastic averaging, escape
+rates from the well at the origin (averaged MFPT, Kramers, Mel'nikov-Meshkov),
+phase diffusion of noisy limit cycles.
+
+Convention: ``x'' + ... = sqrt(2 D) xi(t)``, unit mass, ``<xi(t) xi(t')> = delta(t - t')``;
+for linear damping ``mu`` the temperature is ``kT = D/mu``.
+"""
+
+from .envelope import (AnnulusEnvelope, EnergyEnvelope, boltzmann_moment, energy_envelope,
+                       noise_level)
+from .rate import (EscapeRate, averaged_escape, central_well, kramers_low_friction,
+                   melnikov_meshkov_factor, separatrix_action)
+
+__all__ = [
+    "energy_envelope", "EnergyEnvelope", "AnnulusEnvelope", "noise_level", "boltzmann_moment",
+    "averaged_escape", "EscapeRate", "central_well", "kramers_low_friction",
+    "melnikov_meshkov_factor", "separatrix_action",
+]

@@ -1,0 +1,283 @@
+"""Energy-envelope stochastic averaging about the conservative orbits.
+
+The noisy model ``x'' = -g(x) + mu h(x, x') + sqrt(2 D) xi(t)`` (unit mass,
+``<xi(t) xi(t')> = delta(t - t')``) is split as in :mod:`kbm.conservative`.  With
+``H = x'**2/2 + G(x)``, Ito's formula gives
+
+``dH = [mu h x' + D] dt + sqrt(2 D) x' dW``.
+
+Averaged over the conservative orbit of energy ``E`` (Stratonovich-Khasminskii
+limit theorem; Freidlin-Wentzell energy averaging), ``E`` is a one-dimensional
+diffusion ``dE = b(E) dt + sigma(E) dW`` on each period annulus with
+
+``b(E) = [mu Gamma(E) + D T(E)] / T(E)``,   ``sigma**2(E) = 2 D I(E) / T(E)``,
+
+``T(E) = oint dt`` the period, ``I(E) = oint x' dx`` the action (``dI/dE = T``) and
+``Gamma(E) = oint h x' dt`` the work of the perturbation per cycle (paper eq. 10).
+The stationary phase-space density is a function of ``E`` alone on each annulus,
+
+``f(E) = exp( int mu Gamma(E) / (D I(E)) dE )``,
+
+continuous at the separatrix energies where annuli meet (the gluing condition of
+the process on the graph of the Hamiltonian; it follows from zero probability flux
+on a tree).  The density of ``E`` on an annulus is ``T(E) f(E)`` (the period is the
+phase area per unit energy).  For linear damping (``h = -x'``, ``Gamma = -I``)
+``f = exp(-mu E/D) = exp(-E/kT)`` with ``kT = D/mu``: the Boltzmann distribution,
+exactly, which is the check.
+
+References
+----------
+R. L. Stratonovich, *Topics in the Theory of Random Noise*, vol. 2 (1967);
+R. Z. Khasminskii, Theory Probab. Appl. 11 (1966) 390; M. I. Freidlin and
+A. D. Wentzell, *Random Perturbations of Hamiltonian Systems*, Mem. AMS 523 (1994),
+chapter 8 (energy on the graph, gluing conditions); P. Hanggi, P. Talkner and
+M. Borkovec, Rev. Mod. Phys. 62 (1990) 251, section IV.A (energy diffusion).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.polynomial import Chebyshev
+
+from kbm.conservative import ConservativeSplit, split_conservative
+from kbm.errors import ModelError, ParameterError
+
+from ..energy.portrait import Annulus, Portrait, phase_portrait
+
+__all__ = ["EnergyEnvelope", "AnnulusEnvelope", "energy_envelope", "noise_level",
+           "boltzmann_moment"]
+
+
+def noise_level(D: object) -> float:
+    """``D`` as a float, refused when negative or not finite.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+    """
+    try:
+        val = float(D)
+    except (TypeError, ValueError):
+        raise ParameterError(f"D must be a number, got {D!r} (e.g. -p D=0.01)") from None
+    if not math.isfinite(val) or val < 0:
+        raise ParameterError(f"D = {D!r}: the noise intensity must be finite and >= 0 "
+                             "(x'' + ... = sqrt(2 D) xi(t); e.g. -p D=0.01)")
+    return val
+
+
+def _integrands(h):
+    """Half-orbit integrands (see :meth:`Annulus.orbit_integrals`): ``T``, ``I``,
+    ``Gamma``, ``K = oint x^2 x' dx`` (``dK/dE = oint x^2 dt``)."""
+    return [lambda x, v, sq: 2.0 / sq,
+            lambda x, v, sq: 2.0 * v * v / sq,
+            lambda x, v, sq: (h(x, v) - h(x, -v)) * v / sq,
+            lambda x, v, sq: 2.0 * x * x * v * v / sq]
+
+
+@dataclass(frozen=True, eq=False)
+class AnnulusEnvelope:
+    """The averaged energy process on one period annulus, as Chebyshev interpolants.
+
+    Attributes
+    ----------
+    annulus : numerics.energy.portrait.Annulus
+    lo, hi : float
+        The energy interval represented (``hi`` is a cut-off on the outer annulus).
+    action, gamma, x2action, period_ : numpy.polynomial.Chebyshev
+        ``I(E)``, ``Gamma(E)``, ``K(E) = oint x^2 x' dx`` and ``T(E)`` (the period has a
+        logarithmic singularity at a separatrix: use it for evaluation only).
+    log_f : numpy.polynomial.Chebyshev
+        ``ln f(E)`` (up to the constant fixed by the gluing).
+    error : float
+        Largest relative error of the orbit quadratures.
+    """
+
+    annulus: Annulus
+    lo: float
+    hi: float
+    action: Chebyshev
+    gamma: Chebyshev
+    x2action: Chebyshev
+    period_: Chebyshev
+    log_f: Chebyshev
+    error: float
+
+    def __repr__(self) -> str:
+        return f"AnnulusEnvelope({self.annulus.label!r}, E in [{self.lo:.4g}, {self.hi:.4g}])"
+
+
+@dataclass(frozen=True, eq=False)
+class EnergyEnvelope:
+    """Energy-envelope averaging of a noisy model on every period annulus.
+
+    Attributes
+    ----------
+    split : kbm.conservative.ConservativeSplit
+    portrait : numerics.energy.portrait.Portrait
+    D : float
+        The noise intensity.
+    pieces : tuple of AnnulusEnvelope
+        One per annulus, in the portrait's order.
+    """
+
+    split: ConservativeSplit
+    portrait: Portrait
+    D: float
+    pieces: tuple
+
+    def __repr__(self) -> str:
+        return (f"EnergyEnvelope({self.split.model.name}, D={self.D:g}, "
+                f"{len(self.pieces)} annuli)")
+
+    @property
+    def mu(self) -> float:
+        return float(self.split.mu)
+
+    def piece(self, label: str = "central well") -> AnnulusEnvelope:
+        """The annulus with this label (default: the well at the origin)."""
+        for p in self.pieces:
+            if p.annulus.label == label:
+                return p
+        raise ModelError(f"no annulus labelled {label!r}; the annuli are "
+                         f"{[p.annulus.label for p in self.pieces]}")
+
+    def drift(self, E, label: str = "central well") -> np.ndarray:
+        """Ito drift ``b(E) = [mu Gamma + D T]/T`` of the averaged energy."""
+        p = self.piece(label)
+        T = p.annulus.period(np.atleast_1d(np.asarray(E, float)))
+        return (self.mu * p.gamma(E) + self.D * T) / T
+
+    def diffusion(self, E, label: str = "central well") -> np.ndarray:
+        """``sigma**2(E) = 2 D I(E)/T(E)`` of the averaged energy."""
+        p = self.piece(label)
+        T = p.annulus.period(np.atleast_1d(np.asarray(E, float)))
+        return 2 * self.D * p.action(E) / T
+
+    def stationary_moment_x2(self) -> float:
+        """Stationary ``<x^2>`` from the averaged density on the whole graph of annuli:
+        ``sum_k int f_k(E) oint_k x^2 dt dE / sum_k int f_k(E) T_k(E) dE``.
+
+        Both are integrated by parts, ``int T f dE = [I f] - int I f' dE`` and likewise
+        with ``K`` for ``oint x^2 dt = dK/dE``, so that the logarithmic singularities of
+        ``T`` and ``oint x^2 dt`` at the separatrices never enter a quadrature.
+        """
+        sums = [0.0, 0.0]
+        x, w = np.polynomial.legendre.leggauss(200)
+        for p in self.pieces:
+            E = p.lo + (p.hi - p.lo) * (x + 1) / 2
+            wt = w * (p.hi - p.lo) / 2
+            f = np.exp(p.log_f(E))
+            dlogf = p.log_f.deriv()(E)
+            for i, F in enumerate((p.x2action, p.action)):
+                sums[i] += float(F(p.hi) * np.exp(p.log_f(p.hi))
+                                 - F(p.lo) * np.exp(p.log_f(p.lo))
+                                 - np.sum(wt * F(E) * f * dlogf))
+        return sums[0] / sums[1]
+
+
+def _fit(annulus: Annulus, lo: float, hi: float, h, deg: int):
+    """Chebyshev interpolants of ``T, I, Gamma, K`` on ``(lo, hi)``."""
+    k = np.arange(deg + 1)
+    u = np.cos(np.pi * (k + 0.5) / (deg + 1))  # first-kind nodes: interior only
+    E = 0.5 * (lo + hi) + 0.5 * (hi - lo) * u
+    vals, err, _, _ = annulus.orbit_integrals(E, _integrands(h), tol=1e-11)
+    fits = [Chebyshev.fit(E, v, deg, domain=[lo, hi]) for v in vals]
+    return fits, float(np.max(err))
+
+
+def energy_envelope(model, params: dict, D: object, *, deg: int = 64,
+                    outer_span: float = 40.0) -> EnergyEnvelope:
+    """Energy-envelope averaging of ``model`` with noise ``sqrt(2 D) xi``.
+
+    Parameters
+    ----------
+    model : str or kbm.models.Oscillator
+        An autonomous model (the sliders at ``v = 0``).
+    params : dict
+        Its parameters, ``mu`` included (``D`` is taken apart if present).
+    D : float
+        Noise intensity, ``> 0``.
+    deg : int
+        Chebyshev degree per annulus.
+    outer_span : float
+        The outer annulus is cut at ``E_min + outer_span * D/mu`` (``outer_span``
+        thermal energies for linear damping; the density is ``exp(-40)`` there).
+
+    Returns
+    -------
+    EnergyEnvelope
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        ``D <= 0`` or not finite.
+    kbm.errors.ModelError
+        A driven or non-confining model.
+    """
+    D = noise_level(D)
+    if D == 0:
+        raise ParameterError("D = 0: the averaged energy process needs noise; give D > 0")
+    params = {k: v for k, v in dict(params).items() if k != "D"}
+    split = split_conservative(model, params)
+    if split.conservative:
+        raise ModelError("the model has no damping (h = 0): with noise its energy grows "
+                         "without bound and there is no stationary state")
+    portrait = phase_portrait(split)
+    h = split.numpy_functions()[3]
+    mu = float(split.mu)
+    fits = {}
+    for a in portrait.annuli:
+        lo = a.energy_min
+        hi = a.energy_max if a.bounded else lo + outer_span * D / abs(mu)
+        (T, I, Gam, X2), err = _fit(a, lo, hi, h, deg)
+        fits[id(a)] = (a, lo, hi, T, I, Gam, X2, err)
+    # ln f' = mu Gamma/(D I) on each annulus, glued continuously at the vertices
+    pieces = {}
+
+    def rate(item):
+        a, lo, hi, T, I, Gam, X2, err = item
+        k = np.arange(129)
+        E = 0.5 * (lo + hi) + 0.5 * (hi - lo) * np.cos(np.pi * (k + 0.5) / 129)
+        return Chebyshev.fit(E, mu * Gam(E) / (D * I(E)), 128, domain=[lo, hi]).integ()
+
+    def place(a, value_at, at_top):
+        item = fits[id(a)]
+        _, lo, hi, T, I, Gam, X2, err = item
+        L = rate(item)
+        shift = value_at - (L(hi) if at_top else L(lo))
+        pieces[id(a)] = AnnulusEnvelope(a, lo, hi, I, Gam, X2, T, L + shift, err)
+        for child in portrait.annuli:
+            if child is not a and child.bounded and abs(child.energy_max - lo) <= 1e-9 * (
+                    1 + abs(lo)) and set(child.wells) <= set(a.wells):
+                place(child, float((L + shift)(lo)), True)
+
+    place(portrait.outer, 0.0, False)
+    ordered = tuple(pieces[id(a)] for a in portrait.annuli if id(a) in pieces)
+    return EnergyEnvelope(split, portrait, D, ordered)
+
+
+def boltzmann_moment(split: ConservativeSplit, kT: float, power: int = 2) -> float:
+    """``<x**power>`` of the Boltzmann density ``exp(-G(x)/kT)`` by adaptive quadrature.
+
+    Independent of any averaging: the exact stationary density of
+    ``x'' + mu x' + g(x) = sqrt(2 D) xi`` with ``kT = D/mu`` (Gibbs; Risken,
+    *The Fokker-Planck Equation*, section 10.1).
+    """
+    from scipy.integrate import quad
+
+    G = split.numpy_functions()[2]
+    # the confining part dominates: integrate to where G/kT exceeds 60
+    L = 1.0
+    while float(G(np.array(L))) / kT < 60 or float(G(np.array(-L))) / kT < 60:
+        L *= 1.5
+    Gmin = min(float(G(np.array(z))) for z in np.linspace(-L, L, 2001))
+
+    def w(z):
+        return math.exp(-(float(G(np.array(z))) - Gmin) / kT)
+
+    num = quad(lambda z: z**power * w(z), -L, L, limit=400, epsabs=0, epsrel=1e-11)[0]
+    den = quad(w, -L, L, limit=400, epsabs=0, epsrel=1e-11)[0]
+    return num / den

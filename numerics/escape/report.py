@@ -1,0 +1,99 @@
+"""The escape rate from the well at the origin as one JSON-ready report (``kbm escape``)."""
+
+from __future__ import annotations
+
+import math
+
+from kbm.errors import ParameterError
+
+from .envelope import energy_envelope, noise_level
+from .rate import averaged_escape
+
+__all__ = ["escape_report", "MIN_TRAJECTORIES"]
+
+#: the paper's values, used for a slider when not given (as in ``kbm friction``)
+SLIDER_DEFAULTS = {"Omega": "1", "lam": "1"}
+
+#: fewer trajectories give no meaningful standard error
+MIN_TRAJECTORIES = 20
+
+
+def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=None, dt=None,
+                  seed: int = 0, budget: float = 2e9, simulate: bool = True) -> dict:
+    """Averaged, Kramers and (within ``budget``) simulated escape rates.
+
+    Parameters
+    ----------
+    model : str
+    params : dict
+        Parameters with ``D`` (the noise intensity) and ``mu``.
+    trajectories, t_end, dt, seed :
+        The simulation (see :func:`numerics.escape.simulate.simulated_escape`).
+    budget : float
+        Largest expected number of integration steps; beyond it the simulation is
+        refused with the estimate (the rare-event guard).
+    simulate : bool
+        ``False``: the averaged rates only.
+
+    Returns
+    -------
+    dict
+        Keys ``rate_averaged``, ``rate_simulated``, ``stderr``, ``barrier`` and the
+        details (``rate_kramers``, ``rate_melnikov``, ``kT``, ``barrier_over_kT``,
+        ``mfpt_averaged``, ``trajectories``, ``escaped``, ``t_end``, ``dt``, ``seed``,
+        ``estimated_steps``, ``message``).
+    """
+    params = dict(params)
+    if "D" not in params:
+        raise ParameterError("give the noise intensity: -p D=VALUE (x'' + ... = sqrt(2 D) xi)")
+    D = noise_level(params.pop("D"))
+    if D == 0:
+        raise ParameterError("D = 0: without noise nothing escapes the well; give D > 0")
+    if not isinstance(trajectories, int) or trajectories < MIN_TRAJECTORIES:
+        raise ParameterError(f"--trajectories {trajectories}: at least {MIN_TRAJECTORIES} are "
+                             "needed for a meaningful standard error")
+    for name, val in (("t-end", t_end), ("dt", dt)):
+        if val is not None and not (math.isfinite(val) and val > 0):
+            raise ParameterError(f"--{name} must be a positive number, got {val}")
+    if model in ("sedf", "cdc", "sedf_comoving"):
+        for name, val in SLIDER_DEFAULTS.items():
+            params.setdefault(name, val)
+    env = energy_envelope(model, params, D)
+    esc = averaged_escape(env)
+    T0 = 2 * math.pi / esc.omega0
+    h = T0 / 40 if dt is None else float(dt)
+    run = 5 * esc.mfpt if t_end is None else float(t_end)
+    # each trajectory runs until it escapes or t_end: expected time <= min(MFPT, t_end)
+    steps = trajectories * min(esc.mfpt, run) / h
+    out = {
+        "model": model, "params": {k: str(v) for k, v in params.items()}, "D": D,
+        "barrier": esc.barrier, "saddles": list(esc.saddles),
+        "kT": esc.kT, "barrier_over_kT": None if esc.kT is None else esc.barrier / esc.kT,
+        "rate_averaged": esc.rate_averaged, "mfpt_averaged": esc.mfpt,
+        "rate_kramers": esc.rate_kramers, "rate_melnikov": esc.rate_melnikov,
+        "action_at_barrier": esc.action, "omega0": esc.omega0,
+        "rate_simulated": None, "stderr": None, "trajectories": trajectories,
+        "escaped": None, "censored": None, "t_end": run, "dt": h, "seed": seed,
+        "estimated_steps": steps, "message": "",
+    }
+    if not simulate:
+        out["message"] = "simulation not requested (--no-simulation)"
+        return out
+    if steps > budget:
+        out["message"] = (f"simulation refused: about {steps:.3g} steps expected "
+                          f"({trajectories} trajectories x MFPT {esc.mfpt:.3g} / dt {h:.3g}) "
+                          f"> budget {budget:.3g}; the averaged rate is the answer "
+                          "(raise --budget to simulate anyway)")
+        return out
+    from ..errors import NumericsError
+    from .simulate import simulated_escape
+
+    try:
+        sim = simulated_escape(env.split, D, esc.saddles, trajectories=trajectories,
+                               t_end=run, dt=h, seed=seed)
+    except NumericsError as exc:
+        out["message"] = f"simulation: {exc}"
+        return out
+    out.update(rate_simulated=sim.rate, stderr=sim.stderr, escaped=sim.escaped,
+               censored=sim.censored)
+    return out

@@ -17,7 +17,7 @@ __all__ = ["main", "build_parser", "COMMANDS"]
 
 #: the numerical sub-command modules, listed after ``derive`` and ``series``
 COMMANDS = ("predict", "cycle", "compare", "slide", "figures", "derivations", "reproduce",
-            "branch", "friction", "response", "escape")
+            "branch", "friction", "response", "escape", "noise")
 
 
 def build_parser():

@@ -156,6 +156,47 @@ class EnergyEnvelope:
         T = p.annulus.period(np.atleast_1d(np.asarray(E, float)))
         return 2 * self.D * p.action(E) / T
 
+    def partition(self) -> float:
+        """``Z = sum_k int T_k(E) f_k(E) dE``, the normalisation of the stationary density
+        (integrated by parts, ``[I f] - int I f' dE``: no log singularity enters)."""
+        x, w = np.polynomial.legendre.leggauss(200)
+        total = 0.0
+        for p in self.pieces:
+            E = p.lo + (p.hi - p.lo) * (x + 1) / 2
+            wt = w * (p.hi - p.lo) / 2
+            total += float(p.action(p.hi) * np.exp(p.log_f(p.hi))
+                           - p.action(p.lo) * np.exp(p.log_f(p.lo))
+                           - np.sum(wt * p.action(E) * np.exp(p.log_f(E))
+                                    * p.log_f.deriv()(E)))
+        return total
+
+    def stationary_moment_v2(self) -> float:
+        """Stationary ``<x'^2>``: ``sum_k int f_k(E) I_k(E) dE / Z`` (``oint x'^2 dt = oint x'
+        dx = I``; for linear damping it is ``kT``, equipartition)."""
+        x, w = np.polynomial.legendre.leggauss(200)
+        num = 0.0
+        for p in self.pieces:
+            E = p.lo + (p.hi - p.lo) * (x + 1) / 2
+            num += float(np.sum(w * (p.hi - p.lo) / 2 * p.action(E) * np.exp(p.log_f(E))))
+        return num / self.partition()
+
+    def energy_bins(self, edges) -> np.ndarray:
+        """The stationary density of ``E = x'^2/2 + G(x)`` averaged over each bin of ``edges``:
+        ``sum_k int_bin T_k f_k dE / (Z width)``, by parts on each bin (``T = dI/dE``)."""
+        edges = np.asarray(edges, float)
+        x, w = np.polynomial.legendre.leggauss(24)
+        out = np.zeros(edges.size - 1)
+        for p in self.pieces:
+            a = np.clip(edges[:-1], p.lo, p.hi)
+            b = np.clip(edges[1:], p.lo, p.hi)
+            for j in np.nonzero(b > a)[0]:
+                E = a[j] + (b[j] - a[j]) * (x + 1) / 2
+                out[j] += float(p.action(b[j]) * np.exp(p.log_f(b[j]))
+                                - p.action(a[j]) * np.exp(p.log_f(a[j]))
+                                - np.sum(w * (b[j] - a[j]) / 2 * p.action(E)
+                                         * np.exp(p.log_f(E)) * p.log_f.deriv()(E)))
+        return out / (self.partition() * np.diff(edges))
+
     def stationary_moment_x2(self) -> float:
         """Stationary ``<x^2>`` from the averaged density on the whole graph of annuli:
         ``sum_k int f_k(E) oint_k x^2 dt dE / sum_k int f_k(E) T_k(E) dE``.

@@ -1,0 +1,91 @@
+"""``kbm noise``: the stationary state of a noisy model, averaged against simulated."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from kbm.cli._common import add_param_option, emit_json, parse_params
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "noise", help="stationary state with noise sqrt(2 D) xi: averaged against simulated",
+        description="The stationary state of x'' + ... = sqrt(2 D) xi(t) (unit mass, <xi(t) "
+                    "xi(t')> = delta(t - t'); kT = D/mu for linear damping mu): the moments "
+                    "<a^2> (a^2 = x^2 + (x'/omega0)^2) and <x^2> and a density, predicted by "
+                    "stochastic averaging (the amplitude for weakly nonlinear models, the "
+                    "energy envelope for the sliders' strong potential) and estimated from "
+                    "an ensemble of Langevin trajectories (weak order 2, one seed per "
+                    "trajectory spawned from --seed) with standard errors.  A linearly damped "
+                    "model also gets the exact Boltzmann <x^2>.")
+    p.add_argument("model", help="a built-in model (vdp, duffing, rayleigh, linear_damping, "
+                                 "cdc, sedf, sedf_comoving)")
+    add_param_option(p)
+    p.add_argument("--trajectories", type=int, default=100, metavar="N",
+                   help="independent trajectories (default 100; at least 8)")
+    p.add_argument("--t-end", type=float, default=None, metavar="T",
+                   help="averaging time per trajectory after the burn-in (default 400/|mu|)")
+    p.add_argument("--burn-in", type=float, default=None, metavar="T",
+                   help="time discarded first (default 20/|mu|)")
+    p.add_argument("--dt", type=float, default=None, metavar="H",
+                   help="time step (default: the fastest linear period / 50)")
+    p.add_argument("--seed", type=int, default=0, metavar="S",
+                   help="root seed (numpy SeedSequence, one child per trajectory)")
+    p.add_argument("--budget", type=float, default=2e9, metavar="STEPS",
+                   help="largest number of integration steps (default 2e9); beyond it the "
+                        "averaged answer is given alone")
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="worker processes (default: all cores; the numbers do not depend on it)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.add_argument("--out", metavar="DIR", help="write noise-MODEL.png (the averaged density "
+                                                "over the histogram) and noise-MODEL.json")
+    p.set_defaults(func=run)
+
+
+def _num(value, fmt=".6g") -> str:
+    return "--" if value is None else format(value, fmt)
+
+
+def run(args) -> int:
+    from kbm.errors import ParameterError
+    from numerics.thermal.stationary import noise_report
+
+    if args.seed < 0:
+        raise ParameterError(f"--seed must be >= 0, got {args.seed}")
+    params = parse_params(args.param)
+    figure = None
+    if args.out:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        figure = out / f"noise-{args.model}.png"
+    rep = noise_report(args.model, params, trajectories=args.trajectories, t_end=args.t_end,
+                       burn_in=args.burn_in, dt=args.dt, seed=args.seed, budget=args.budget,
+                       workers=args.workers, progress=not args.json, figure=figure)
+    if args.out:
+        from kbm.strict_json import finite
+
+        (Path(args.out) / f"noise-{args.model}.json").write_text(
+            json.dumps(finite(rep), indent=2, allow_nan=False) + "\n")
+    if args.json:
+        emit_json(rep)
+        return 0
+    print(f"stationary state of {args.model} with noise sqrt(2 D) xi, D = {rep['D']:g}")
+    print(f"  averaging: {rep['method'] or '-- (' + rep['message'] + ')'}")
+    print(f"  simulated: {rep['trajectories']} trajectories x t = {rep['t_end']:.6g} after a "
+          f"burn-in of {rep['burn_in']:.6g}, dt = {rep['dt']:.4g}, seed {rep['seed']}")
+    print(f"  {'':6}{'averaged':>12}  {'simulated':>12}  {'stderr':>9}  (avg-sim)/stderr")
+    for key in ("a2", "x2"):
+        m = rep["moments"][key]
+        z = ("--" if m["averaged"] is None or m["simulated"] is None
+             else f"{(m['averaged'] - m['simulated']) / m['stderr']:+.2f}")
+        print(f"  <{key[0]}^2> {_num(m['averaged']):>12}  {_num(m['simulated']):>12}  "
+              f"{_num(m['stderr'], '.2g'):>9}  {z}")
+    if rep["moments"]["x2"]["boltzmann"] is not None:
+        print(f"  Boltzmann <x^2> (exact, exp(-G/kT) by quadrature): "
+              f"{rep['moments']['x2']['boltzmann']:.6g}")
+    if rep["message"] and rep["method"]:
+        print(f"  {rep['message']}")
+    if args.out:
+        print(f"  wrote {figure} and {Path(args.out) / f'noise-{args.model}.json'}")
+    return 0

@@ -1,0 +1,16 @@
+"""Thermal noise: the paper's eq. (1) with ``eta = sqrt(2 D) xi(t)``.
+
+Convention, everywhere: ``x'' + ... = sqrt(2 D) xi(t)`` with ``<xi(t) xi(t')> =
+delta(t - t')`` and unit mass; for linear damping ``mu`` the temperature is
+``kT = D/mu``; ``D = 0`` is the deterministic model.
+
+:mod:`numerics.noise.langevin` compiles a model's Langevin equation (weak order 2);
+:mod:`numerics.noise.ensemble` runs ensembles of trajectories on the executor and
+estimates stationary moments and densities with their standard errors.
+"""
+
+from .langevin import LangevinSystem, langevin_system, noise_intensity, split_noise
+from .seeds import trajectory_states
+
+__all__ = ["LangevinSystem", "langevin_system", "noise_intensity", "split_noise",
+           "trajectory_states"]

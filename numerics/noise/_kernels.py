@@ -1,0 +1,208 @@
+"""Compiled Langevin kernels of :mod:`numerics.noise`, as source appended to a printed model.
+
+This file is read as text and appended to the module that
+:func:`numerics.noise.langevin.langevin_system` prints for a model; that module
+defines, above this text, ``accel(t_, x_, v_, p)`` (the model's ``x''`` without the
+noise), ``spring(t_, x_, v_, p)`` (the spring force ``drive - omega0^2 x``) and
+``energy(x_, v_, p)`` (``x'^2/2 + G(x)``, NaN when the potential has no closed
+form).  numba compiles all of it.
+
+The scheme
+----------
+``x' = v``, ``v' = f(t, x, v) + sigma xi(t)`` with ``sigma = sqrt(2 D)`` and additive
+noise is advanced by the explicit order-2.0 weak scheme of Kloeden and Platen,
+*Numerical Solution of Stochastic Differential Equations* (Springer 1992),
+eq. (15.1.3) (Platen's scheme for additive noise, a stochastic Heun step):
+
+``ybar = y + a(t, y) h + b dW``,  ``y' = y + (a(t, y) + a(t + h, ybar)) h/2 + b dW``
+
+with ``a = (v, f)``, ``b = (0, sigma)`` and ``dW`` the three-point random variable
+``P(dW = +-sqrt(3 h)) = 1/6``, ``P(dW = 0) = 2/3`` (its moments equal the Gaussian's
+up to the fifth, which is what weak order 2 needs; Kloeden & Platen eq. (14.2.8)).
+Two evaluations of ``f`` and one uniform number per step.
+
+Random numbers
+--------------
+xoshiro256** (Blackman and Vigna, ACM TOMS 47 (2021) 36), one generator per
+trajectory, its 256-bit state taken from that trajectory's own
+``numpy.random.SeedSequence`` (:mod:`numerics.noise.seeds`): a trajectory's path
+depends on the root seed and its index only, never on the chunk it runs in.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+_U1 = np.uint64(1)
+_U5 = np.uint64(5)
+_U9 = np.uint64(9)
+_U11 = np.uint64(11)
+_U17 = np.uint64(17)
+_TO_UNIT = 1.0 / 9007199254740992.0  # 2**-53
+
+
+@njit(cache=True)
+def _rotl(x, k):
+    return (x << np.uint64(k)) | (x >> np.uint64(64 - k))
+
+
+@njit(cache=True)
+def _next(s):
+    """The next 64-bit output of xoshiro256** (state ``s``, 4 x uint64, updated)."""
+    result = _rotl(s[1] * _U5, 7) * _U9
+    t = s[1] << _U17
+    s[2] ^= s[0]
+    s[3] ^= s[1]
+    s[1] ^= s[2]
+    s[0] ^= s[3]
+    s[2] ^= t
+    s[3] = _rotl(s[3], 45)
+    return result
+
+
+@njit(cache=True)
+def _uniform(s):
+    """A uniform number in [0, 1) with 53 random bits."""
+    return float(_next(s) >> _U11) * _TO_UNIT
+
+
+@njit(cache=True)
+def _increment(s, root3h):
+    """The three-point weak increment: +-sqrt(3 h) with probability 1/6 each, else 0."""
+    u = _uniform(s)
+    if u < 1.0 / 6.0:
+        return -root3h
+    if u < 1.0 / 3.0:
+        return root3h
+    return 0.0
+
+
+@njit(cache=True)
+def _step(t, x, v, h, sdw, p):
+    """One step of Kloeden-Platen (15.1.3); ``sdw = sigma * dW``."""
+    a0 = accel(t, x, v, p)  # noqa: F821 - defined by the printed model above
+    xb = x + v * h
+    vb = v + a0 * h + sdw
+    a1 = accel(t + h, xb, vb, p)  # noqa: F821
+    return x + 0.5 * (v + vb) * h, v + 0.5 * (a0 + a1) * h + sdw
+
+
+@njit(cache=True)
+def final_states(p, sigma, y0, t0, h, n, states):
+    """The states after ``n`` steps from ``y0[i]`` (``NaN`` once a state is non-finite)."""
+    m = y0.shape[0]
+    out = np.empty((m, 2))
+    r3 = math.sqrt(3.0 * h)
+    for i in range(m):
+        s = states[i].copy()
+        x, v = y0[i, 0], y0[i, 1]
+        for k in range(n):
+            x, v = _step(t0 + k * h, x, v, h, sigma * _increment(s, r3), p)
+            if not (math.isfinite(x) and math.isfinite(v)):
+                x, v = math.nan, math.nan
+                break
+        out[i, 0], out[i, 1] = x, v
+    return out
+
+
+@njit(cache=True)
+def _observe(kind, x, v, w0, p):
+    if kind == 0:
+        return math.sqrt(x * x + (v / w0) ** 2)
+    if kind == 1:
+        return x
+    return energy(x, v, p)  # noqa: F821
+
+
+@njit(cache=True)
+def stationary_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0, kind, lo, hi, nbins):
+    """Per trajectory: the time averages of ``x^2``, ``a^2 = x^2 + (x'/w0)^2``, ``x'^2`` and
+    the spring force over ``n_run`` steps after ``n_burn``, and the fraction of those
+    steps the observable ``kind`` (0: ``a``, 1: ``x``, 2: the energy) spent in each of
+    ``nbins`` equal bins of ``[lo, hi)``.  A diverged trajectory gives NaN rows."""
+    m = y0.shape[0]
+    sums = np.zeros((m, 4))
+    hist = np.zeros((m, nbins))
+    r3 = math.sqrt(3.0 * h)
+    width = (hi - lo) / nbins
+    for i in range(m):
+        s = states[i].copy()
+        x, v = y0[i, 0], y0[i, 1]
+        ok = True
+        for k in range(n_burn):
+            x, v = _step(t0 + k * h, x, v, h, sigma * _increment(s, r3), p)
+            if not (math.isfinite(x) and math.isfinite(v)):
+                ok = False
+                break
+        t1 = t0 + n_burn * h
+        a_x2 = 0.0
+        a_a2 = 0.0
+        a_v2 = 0.0
+        a_f = 0.0
+        if ok:
+            for k in range(n_run):
+                x, v = _step(t1 + k * h, x, v, h, sigma * _increment(s, r3), p)
+                if not (math.isfinite(x) and math.isfinite(v)):
+                    ok = False
+                    break
+                a_x2 += x * x
+                a_v2 += v * v
+                a_a2 += x * x + (v / w0) ** 2
+                a_f += spring(t1 + (k + 1) * h, x, v, p)  # noqa: F821
+                o = _observe(kind, x, v, w0, p)
+                j = int(math.floor((o - lo) / width))
+                if 0 <= j < nbins:
+                    hist[i, j] += 1.0
+        if ok:
+            sums[i, 0] = a_x2 / n_run
+            sums[i, 1] = a_a2 / n_run
+            sums[i, 2] = a_v2 / n_run
+            sums[i, 3] = a_f / n_run
+            for j in range(nbins):
+                hist[i, j] /= n_run
+        else:
+            for c in range(4):
+                sums[i, c] = math.nan
+            for j in range(nbins):
+                hist[i, j] = math.nan
+    return sums, hist
+
+
+@njit(cache=True)
+def first_passages(p, sigma, y0, t0, h, n_max, xl, xr, states):
+    """Per trajectory: the first time ``x <= xl`` or ``x >= xr`` (the step's end; ``n_max h``
+    when it never happens) and whether it happened."""
+    m = y0.shape[0]
+    times = np.empty(m)
+    hit = np.zeros(m, dtype=np.bool_)
+    r3 = math.sqrt(3.0 * h)
+    for i in range(m):
+        s = states[i].copy()
+        x, v = y0[i, 0], y0[i, 1]
+        times[i] = n_max * h
+        for k in range(n_max):
+            x, v = _step(t0 + k * h, x, v, h, sigma * _increment(s, r3), p)
+            if x <= xl or x >= xr or not math.isfinite(x):
+                times[i] = (k + 1) * h
+                hit[i] = True
+                break
+    return times, hit
+
+
+@njit(cache=True)
+def sample_path(p, sigma, y0, t0, h, n, stride, state):
+    """One trajectory's states every ``stride`` steps (``n // stride + 1`` rows)."""
+    rows = n // stride + 1
+    out = np.full((rows, 2), np.nan)
+    s = state.copy()
+    x, v = y0[0], y0[1]
+    out[0, 0], out[0, 1] = x, v
+    r3 = math.sqrt(3.0 * h)
+    for k in range(n):
+        x, v = _step(t0 + k * h, x, v, h, sigma * _increment(s, r3), p)
+        if not (math.isfinite(x) and math.isfinite(v)):
+            break
+        if (k + 1) % stride == 0:
+            out[(k + 1) // stride, 0], out[(k + 1) // stride, 1] = x, v
+    return out

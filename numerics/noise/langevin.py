@@ -1,0 +1,274 @@
+"""A compiled Langevin integrator for any model of the toolkit, driven sliders included.
+
+The noisy model is the paper's eq. (1) with unit mass,
+
+``x'' + omega0^2 x = mu F(x, x'[, t]) + drive(t) + sqrt(2 D) xi(t)``,
+``<xi(t) xi(t')> = delta(t - t')``,
+
+so that for linear damping ``mu`` the temperature is ``kT = D/mu``
+(fluctuation-dissipation; Risken, *The Fokker-Planck Equation*, section 10.1) and
+``D = 0`` is the deterministic model.  The model's expressions (:mod:`kbm` defines
+them once) are printed into a small module with every parameter an argument (the
+stage velocity ``v`` of the sliders too, so one compilation serves a whole friction
+map) and the kernels of :mod:`numerics.noise._kernels`; numba compiles it, and the
+machine code is cached on disk under the SHA-256 of the source
+(:func:`numerics.flow.jit.cache_dir`).  The scheme is Kloeden and Platen's explicit
+order-2.0 weak scheme for additive noise, eq. (15.1.3); its weak order is measured
+in ``tests/test_langevin.py``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import sympy as sp
+
+from kbm.bound import BoundModel, bind
+from kbm.errors import ModelError, ParameterError
+from kbm.models import SLIDERS, Oscillator, get_model
+from kbm.symbols import t as T, x as X, xdot as V
+from kbm.values import parameter_value
+
+from .._memo import memo
+from ..errors import NumericsError
+from ..flow.jit import _announce_compile, _load, jit_available
+from .seeds import trajectory_states
+
+__all__ = ["LangevinSystem", "langevin_system", "noise_intensity", "split_noise"]
+
+#: version of the generated source (part of its hash)
+_VERSION = "1"
+
+_KERNELS = (Path(__file__).with_name("_kernels.py")).read_text()
+_STAGE_V = sp.Symbol("v")
+
+
+def noise_intensity(D: object) -> float:
+    """``D`` as a float; refused when negative, NaN or infinite.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+    """
+    try:
+        value = float(sp.sympify(D)) if isinstance(D, str) else float(D)
+    except (TypeError, ValueError, sp.SympifyError):
+        raise ParameterError(f"D = {D!r} is not a number; give the noise intensity as "
+                             "-p D=VALUE with VALUE >= 0") from None
+    if not math.isfinite(value):
+        raise ParameterError(f"D = {D!r} must be a finite number >= 0 (the noise intensity "
+                             "of sqrt(2 D) xi)")
+    if value < 0:
+        raise ParameterError(f"D = {D!r} is negative; the noise intensity of sqrt(2 D) xi must "
+                             "be >= 0 (D = 0 is the deterministic model)")
+    return value
+
+
+def split_noise(params: Mapping[str, object] | None) -> tuple[dict, float]:
+    """``(params without D, D)`` from a parameter mapping that holds ``D``.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        When ``D`` is missing or not a number ``>= 0``.
+    """
+    params = dict(params or {})
+    if "D" not in params:
+        raise ParameterError("give the noise intensity: -p D=VALUE (x'' + ... = sqrt(2 D) xi, "
+                             "D >= 0)")
+    return params, noise_intensity(params.pop("D"))
+
+
+def _symbolic(model: Oscillator | str) -> Oscillator:
+    """The model with every parameter a symbol (a slider's stage velocity ``v`` too)."""
+    if isinstance(model, str):
+        base = get_model(model)
+        return base.with_stage_velocity(_STAGE_V) if model in SLIDERS else base
+    return model
+
+
+def _potential(model: Oscillator) -> sp.Expr | None:
+    """``G(x) = -int_0^x (x'' at x' = 0, without the drive)``; ``None`` without a closed form."""
+    s = sp.Dummy("s")
+    force = (model.acceleration() - model.drive).subs(V, 0)
+    if T in force.free_symbols:
+        return None
+    G = sp.integrate(-force.subs(X, s), (s, 0, X), conds="none")
+    return None if G.has(sp.Integral) else G
+
+
+def _source(model: Oscillator, names: tuple[str, ...]) -> str:
+    from sympy.printing.pycode import PythonCodePrinter
+
+    ren = {T: sp.Symbol("t_"), X: sp.Symbol("x_"), V: sp.Symbol("v_")}
+    ren.update({sp.Symbol(n): sp.Symbol(f"p_{i}") for i, n in enumerate(names)})
+    pr = PythonCodePrinter({"fully_qualified_modules": True, "strict": True})
+    head = [f"    p_{i} = p[{i}]" for i in range(len(names))]
+
+    def fn(signature: str, expr: sp.Expr) -> list[str]:
+        e = sp.sympify(expr).xreplace(ren)
+        repl, (red,) = sp.cse([e], symbols=sp.numbered_symbols("w_"), order="canonical")
+        return (["@njit(cache=True)", f"def {signature}:"] + head
+                + [f"    {pr.doprint(s)} = {pr.doprint(v)}" for s, v in repl]
+                + [f"    return float({pr.doprint(red)})", "", ""])
+
+    G = _potential(model)
+    lines = fn("accel(t_, x_, v_, p)", model.acceleration())
+    lines += fn("spring(t_, x_, v_, p)", model.drive - model.omega0**2 * X)
+    lines += fn("energy(x_, v_, p)", V**2 / 2 + G if G is not None else sp.nan)
+    return "\n".join(lines)
+
+
+@memo(maxsize=16)
+def _compiled(model: Oscillator, names: tuple[str, ...]):
+    """The compiled module of ``model`` (memoised per model: time only)."""
+    if not jit_available():
+        raise NumericsError("the Langevin integrator needs numba (pip install numba) and "
+                            "KBM_NO_JIT unset")
+    from sympy.printing.codeprinter import PrintMethodNotImplementedError
+
+    try:
+        body = _source(model, names)
+    except PrintMethodNotImplementedError as exc:
+        raise ModelError(f"model {model.name!r} has a term with no math-module equivalent "
+                         f"({exc}); the Langevin integrator cannot compile it") from None
+    source = (f"# generated by numerics.noise.langevin (version {_VERSION}); do not edit\n"
+              "import math\n\nimport numpy as np\nfrom numba import njit\n\n\n" + body
+              + "\n" + _KERNELS)
+    _announce_compile(source)
+    return _load(source)
+
+
+@dataclass(frozen=True)
+class LangevinSystem:
+    """A model at bound parameter values with noise ``sqrt(2 D) xi``, compiled.
+
+    Attributes
+    ----------
+    bound : kbm.bound.BoundModel
+        The model and its parameter values (``mu`` included).
+    D : float
+        The noise intensity.
+    names : tuple of str
+        The compiled module's parameter order.
+    p : tuple of float
+        The parameter values in that order.
+    omega0 : float
+        The linear frequency (``a^2 = x^2 + (x'/omega0)^2``).
+    """
+
+    bound: BoundModel
+    D: float
+    names: tuple
+    p: tuple
+    omega0: float
+    symbolic: Oscillator
+
+    def __repr__(self) -> str:
+        vals = ", ".join(f"{n}={v:g}" for n, v in zip(self.names, self.p))
+        return f"LangevinSystem({self.bound.name}, D={self.D:g}, {vals})"
+
+    @property
+    def sigma(self) -> float:
+        """The noise amplitude ``sqrt(2 D)``."""
+        return math.sqrt(2.0 * self.D)
+
+    @property
+    def kernels(self):
+        """The compiled module (:mod:`numerics.noise._kernels` on this model)."""
+        return _compiled(self.symbolic, self.names)
+
+    def _p(self) -> np.ndarray:
+        return np.asarray(self.p, dtype=float)
+
+    def final_states(self, y0, t_end: float, dt: float, *, seed: int = 0,
+                     first: int = 0) -> np.ndarray:
+        """States at ``t_end`` of trajectories ``first, first+1, ...`` from the rows of ``y0``.
+
+        Parameters
+        ----------
+        y0 : array_like, shape (m, 2)
+        t_end, dt : float
+            ``t_end`` must be a whole number of steps ``dt``.
+        seed : int
+            Root seed; trajectory ``first + i`` uses its own spawned ``SeedSequence``.
+        """
+        n = steps_of(t_end, dt)
+        y0 = np.ascontiguousarray(np.atleast_2d(np.asarray(y0, float)))
+        states = trajectory_states(seed, first, y0.shape[0])
+        return self.kernels.final_states(self._p(), self.sigma, y0, 0.0, float(dt), n, states)
+
+    def path(self, y0, t_end: float, dt: float, *, stride: int = 1, seed: int = 0,
+             index: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        """``(t, y)`` of trajectory ``index`` sampled every ``stride`` steps."""
+        n = steps_of(t_end, dt)
+        states = trajectory_states(seed, index, 1)[0]
+        y = self.kernels.sample_path(self._p(), self.sigma, np.asarray(y0, float), 0.0,
+                                     float(dt), n, int(stride), states)
+        return np.arange(y.shape[0]) * stride * float(dt), y
+
+
+def steps_of(t_end: float, dt: float) -> int:
+    """``t_end/dt`` as a whole number of steps.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        When ``dt`` or ``t_end`` is not positive and finite, or ``t_end/dt`` is not a
+        whole number (to 1e-9).
+    """
+    for name, val in (("t_end", t_end), ("dt", dt)):
+        if not (isinstance(val, (int, float)) and math.isfinite(val) and val > 0):
+            raise ParameterError(f"{name} must be a positive number, got {val!r}")
+    n = round(t_end / dt)
+    if n < 1 or abs(n * dt - t_end) > 1e-9 * t_end:
+        raise ParameterError(f"t_end = {t_end} is not a whole number of steps dt = {dt}")
+    return int(n)
+
+
+def langevin_system(model: Oscillator | str, params: Mapping[str, object] | None = None,
+                    D: object | None = None) -> LangevinSystem:
+    """The compiled noisy model ``x'' = f(t, x, x') + sqrt(2 D) xi``.
+
+    Parameters
+    ----------
+    model : str or kbm.models.Oscillator
+        A built-in name (a slider's stage velocity ``v`` is a parameter) or a model.
+    params : mapping
+        Parameter values, ``mu`` included; ``D`` among them when not given apart.
+    D : float, optional
+        The noise intensity (``>= 0``).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        A missing or bad value (``D < 0``, NaN), or a parameter named ``D`` in the model.
+    kbm.errors.ModelError
+        A model with a term that cannot be compiled.
+    """
+    params = dict(params or {})
+    if D is None:
+        params, D = split_noise(params)
+    else:
+        D = noise_intensity(D)
+        params.pop("D", None)
+    sym = _symbolic(model)
+    if "D" in sym.parameters:
+        raise ParameterError(f"model {sym.name!r} has a parameter named D, the noise intensity's "
+                             "name; rename it")
+    bm = bind(model, params).require(what="a Langevin simulation")
+    names = tuple(sorted(set(sym.parameters) | {"mu"}))
+    floats = bm.floats
+    if _STAGE_V.name in names and _STAGE_V.name not in floats:
+        floats["v"] = float(parameter_value("v", params.get("v", 0)))
+    missing = [n for n in names if n not in floats]
+    if missing:
+        raise ParameterError(f"model {sym.name!r} needs values for {', '.join(missing)} for a "
+                             "Langevin simulation")
+    p = tuple(float(floats[n]) for n in names)
+    w0 = float(sp.sympify(sym.omega0).subs({sp.Symbol(n): v for n, v in zip(names, p)}))
+    return LangevinSystem(bm, float(D), names, p, w0, sym)

@@ -23,8 +23,11 @@ def register(sub) -> None:
                     "dissipation per unit distance (which equals the mean force in steady "
                     "state), fraction of time stuck, wells per slip, regime; against the "
                     "Prandtl-Tomlinson eta = 2 pi Delta/(Omega^2 lam).  Runs on local "
-                    "processes, or on a Dask cluster with --scheduler.  Defaults: mu = 0.1, "
-                    "Omega = 1, lam = 1 (the paper's).")
+                    "processes, or on a Dask cluster with --scheduler.  With thermal noise "
+                    "sqrt(2 D) xi (-p D=VALUE, or --vary D=... or T=... with kT = D/mu) an "
+                    "ensemble of Langevin trajectories per point gives the mean and slip "
+                    "forces with standard errors.  Defaults: mu = 0.1, Omega = 1, lam = 1 "
+                    "(the paper's).")
     p.add_argument("model", choices=["sedf_comoving", "cdc", "sedf"],
                    help="sedf_comoving (SEDF with the self-excitation attached to the stage; "
                         "has steady states), cdc (eq. 12) or sedf (the paper's eq. 3, whose "
@@ -57,6 +60,14 @@ def register(sub) -> None:
                    help="also save the map(s) as a netCDF file (xarray.open_dataset(FILE) "
                         "reads it back; with --against a dimension 'slider' holds both); "
                         "needs pip install 'kbm[xarray]'")
+    p.add_argument("--trajectories", type=int, default=16, metavar="N",
+                   help="with noise (-p D=... or --vary D=/T=...): Langevin trajectories per "
+                        "point (default 16)")
+    p.add_argument("--wells", type=float, default=50, metavar="N",
+                   help="with noise: stage periods lam/v averaged over per trajectory "
+                        "(default 50)")
+    p.add_argument("--seed", type=int, default=0, metavar="S",
+                   help="with noise: root seed (one SeedSequence child per trajectory)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.add_argument("--out", metavar="DIR", help="write the figures into DIR")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -139,7 +150,10 @@ def run(args: argparse.Namespace) -> int:
         axes[name] = values
     if len(axes) > 2:
         raise ParameterError(f"--vary takes at most two axes (a map), got {', '.join(axes)}")
-    if args.out:
+    from numerics.cli._thermal_friction import run_thermal, wanted
+
+    noisy = wanted(parse_params(args.param), axes)
+    if args.out and not noisy:
         _check_figures(list(axes), args.against)
     size = int(np.prod([len(v) for v in axes.values()]))
     if size > MAX_POINTS:
@@ -155,6 +169,14 @@ def run(args: argparse.Namespace) -> int:
     client = connect(args.scheduler, args.scheduler_timeout) if args.scheduler else None
     kw = dict(settings=settings, engine=args.engine, executor=client, workers=args.workers,
               progress=not args.no_progress and not args.json, store=store)
+    if noisy:
+        try:
+            return run_thermal(args, params, axes, store, client)
+        finally:
+            if client is not None:
+                client.close()
+            if store is not None:
+                store.close()
     try:
         first = friction_map(args.model, params, axes, **kw)
         second = friction_map(args.against, params, axes, **kw) if args.against else None

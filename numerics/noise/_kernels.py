@@ -206,3 +206,71 @@ def sample_path(p, sigma, y0, t0, h, n, stride, state):
         if (k + 1) % stride == 0:
             out[(k + 1) // stride, 0], out[(k + 1) // stride, 1] = x, v
     return out
+
+
+@njit(cache=True)
+def slip_stats(p, sigma, y0, t0, h, n_burn, n_run, states, lam, min_gap):
+    """Per trajectory of a pulled slider, over ``n_run`` steps after ``n_burn``: the mean
+    spring force; the slips (a forward crossing of a barrier top ``x = (n + 1/2) lam``
+    more than ``min_gap`` after the previous crossing: a new stick-slip event, not the
+    next well of the same slip) with the sum and the sum of squares of the largest spring
+    force since the previous slip (the slip force); the backward jumps (a backward crossing
+    more than ``min_gap`` after the previous crossing: not the ringing of a slip).  Columns:
+    ``mean force, slips, sum F_slip, sum F_slip^2, backward``; NaN rows for a diverged
+    trajectory."""
+    m = y0.shape[0]
+    out = np.zeros((m, 5))
+    r3 = math.sqrt(3.0 * h)
+    for i in range(m):
+        s = states[i].copy()
+        x, v = y0[i, 0], y0[i, 1]
+        ok = True
+        for k in range(n_burn):
+            x, v = _step(t0 + k * h, x, v, h, sigma * _increment(s, r3), p)
+            if not (math.isfinite(x) and math.isfinite(v)):
+                ok = False
+                break
+        t1 = t0 + n_burn * h
+        well = math.floor(x / lam + 0.5)
+        last = -1e300
+        fmax = -1e300
+        acc = 0.0
+        slips = 0.0
+        s1 = 0.0
+        s2 = 0.0
+        back = 0.0
+        if ok:
+            for k in range(n_run):
+                t = t1 + (k + 1) * h
+                x, v = _step(t - h, x, v, h, sigma * _increment(s, r3), p)
+                if not (math.isfinite(x) and math.isfinite(v)):
+                    ok = False
+                    break
+                f = spring(t, x, v, p)  # noqa: F821
+                acc += f
+                if f > fmax:
+                    fmax = f
+                w = math.floor(x / lam + 0.5)
+                if w > well:
+                    if t - last > min_gap:
+                        slips += 1.0
+                        s1 += fmax
+                        s2 += fmax * fmax
+                    last = t
+                    fmax = f
+                elif w < well:
+                    if t - last > min_gap:
+                        back += 1.0
+                    last = t
+                    fmax = f
+                well = w
+        if ok:
+            out[i, 0] = acc / n_run
+            out[i, 1] = slips
+            out[i, 2] = s1
+            out[i, 3] = s2
+            out[i, 4] = back
+        else:
+            for c in range(5):
+                out[i, c] = math.nan
+    return out

@@ -28,12 +28,15 @@ def check_seed(seed: object) -> int:
     return int(seed)
 
 
-def trajectory_states(seed: int, first: int, count: int) -> np.ndarray:
-    """xoshiro256** states (``count`` x 4, uint64) of trajectories ``first .. first+count-1``."""
+def trajectory_states(seed: int, first: int, count: int, stream: tuple = ()) -> np.ndarray:
+    """xoshiro256** states (``count`` x 4, uint64) of trajectories ``first .. first+count-1``.
+
+    ``stream`` prefixes the spawn key (e.g. a grid point's index: ``SeedSequence(seed,
+    spawn_key=(j, i))`` for trajectory ``i`` of point ``j``)."""
     seed = check_seed(seed)
     out = np.empty((count, 4), dtype=np.uint64)
     for j in range(count):
-        st = np.random.SeedSequence(seed, spawn_key=(first + j,)).generate_state(4, np.uint64)
+        st = np.random.SeedSequence(seed, spawn_key=(*stream, first + j)).generate_state(4, np.uint64)
         if not st.any():  # the one state xoshiro cannot leave (probability 2**-256)
             st[0] = np.uint64(1)
         out[j] = st

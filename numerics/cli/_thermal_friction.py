@@ -1,0 +1,95 @@
+"""``kbm friction ... -p D=VALUE``: the friction laws and maps with thermal noise.
+
+Called by :mod:`numerics.cli.friction` when the noise ``D`` (or the CDC's temperature
+``T = D/mu``) is a parameter or an axis.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from kbm.cli._common import emit_json
+
+
+def wanted(params: dict, axes: dict) -> bool:
+    """Whether the run has noise (``D`` or ``T`` given)."""
+    return bool({"D", "T"} & (set(params) | set(axes)))
+
+
+def run_thermal(args, params: dict, axes: dict, store, client) -> int:
+    from kbm.errors import ParameterError
+    from numerics.thermal.friction import thermal_friction_map
+
+    if args.netcdf:
+        raise ParameterError("--netcdf writes the deterministic maps; with noise use --json")
+    if args.engine != "compiled":
+        raise ParameterError("with noise the Langevin integrator is used; drop --engine")
+    kw = dict(trajectories=args.trajectories, wells=args.wells, seed=args.seed,
+              executor=client, workers=args.workers,
+              progress=not args.no_progress and not args.json, store=store)
+    first = thermal_friction_map(args.model, params, axes, **kw)
+    second = thermal_friction_map(args.against, params, axes, **kw) if args.against else None
+    if args.json:
+        data = first.to_json()
+        if second is not None:
+            data["against"] = second.to_json()
+        emit_json(data)
+    else:
+        for m in (first, second) if second is not None else (first,):
+            _print(m)
+    if args.out:
+        path = _figure(first, second, Path(args.out))
+        print(f"wrote {path}", file=sys.stderr if args.json else sys.stdout)
+    return 0
+
+
+def _print(m) -> None:
+    names = list(m.axes)
+    print(f"\n{m.model} with noise sqrt(2 D) xi: "
+          + ", ".join(f"{k} = {v:g}" for k, v in m.params.items())
+          + f"; {m.trajectories} trajectories x {m.wells:g} stage periods per point, "
+            f"seed {m.seed}")
+    head = "".join(f"{n:>10s}" for n in names if n not in ("D", "T"))
+    print(f"{head}{'D':>10s}{'kT':>9s} {'mean F':>10s} {'+-':>8s} {'slip F':>9s} {'+-':>8s} "
+          f"{'slips':>6s} {'back':>5s}")
+    for p in m.points:
+        vals = "".join(f"{p.params[n]:10.4g}" for n in names if n not in ("D", "T"))
+        kT = "--" if p.kT is None else f"{p.kT:.4g}"
+        if p.error:
+            print(f"{vals}{p.params['D']:10.4g}{kT:>9s}  failed: {p.error}")
+            continue
+        print(f"{vals}{p.params['D']:10.4g}{kT:>9s} {p.mean_force.value:10.5g} "
+              f"{p.mean_force.stderr:8.2g} {p.slip_force.value:9.5g} {p.slip_force.stderr:8.2g} "
+              f"{p.slips:6d} {p.backward:5d}")
+
+
+def _figure(first, second, out: Path) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    out.mkdir(parents=True, exist_ok=True)
+    fig, ax = plt.subplots(figsize=(5.6, 3.8), dpi=150)
+    for m, style in ((first, "-o"), (second, "--s")):
+        if m is None:
+            continue
+        v = np.array([p.params["v"] for p in m.points])
+        D = np.array([p.params["D"] for p in m.points])
+        for j, d in enumerate(np.unique(D)):
+            sel = D == d
+            F = np.array([p.mean_force.value for p, s in zip(m.points, sel) if s])
+            E = np.array([p.mean_force.stderr for p, s in zip(m.points, sel) if s])
+            ax.errorbar(v[sel], F, yerr=2 * E, fmt=style, ms=3, lw=1, color=f"C{j}",
+                        label=f"{m.model}, D = {d:g}")
+    ax.set_xscale("log")
+    ax.set_xlabel("stage velocity $v$")
+    ax.set_ylabel(r"mean spring force $\bar F$ ($\pm 2$ s.e.)")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    path = out / f"thermal_friction_{first.model}.png"
+    fig.savefig(path)
+    plt.close(fig)
+    return path

@@ -26,7 +26,8 @@ def register(sub) -> None:
                    help="longest run per trajectory (default: 5 averaged MFPTs; runs still "
                         "in the well at T are censored)")
     p.add_argument("--dt", type=float, default=None, metavar="H",
-                   help="time step (default: the well's period/40)")
+                   help="time step (default: the well's period/40, smaller where the numerical "
+                        "heating would exceed 1e-3 of kT: numerics.noise.langevin.natural_step)")
     p.add_argument("--seed", type=int, default=0, metavar="S",
                    help="root seed (numpy SeedSequence, one child per trajectory)")
     p.add_argument("--budget", type=float, default=2e9, metavar="STEPS",

@@ -60,8 +60,15 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
             params.setdefault(name, val)
     env = energy_envelope(model, params, D)
     esc = averaged_escape(env)
-    T0 = 2 * math.pi / esc.omega0
-    h = T0 / 40 if dt is None else float(dt)
+    if dt is None:
+        from ..noise.langevin import langevin_system, natural_step
+
+        split = env.split
+        system = langevin_system(split.model, {**{k: float(v) for k, v in split.params.items()},
+                                               "mu": float(split.mu)}, D)
+        h = natural_step(system, per_period=40)
+    else:
+        h = float(dt)
     run = 5 * esc.mfpt if t_end is None else float(t_end)
     # each trajectory runs until it escapes or t_end: expected time <= min(MFPT, t_end)
     steps = trajectories * min(esc.mfpt, run) / h

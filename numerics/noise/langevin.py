@@ -38,7 +38,11 @@ from ..errors import NumericsError
 from ..flow.jit import _announce_compile, _load, jit_available
 from .seeds import trajectory_states
 
-__all__ = ["LangevinSystem", "langevin_system", "noise_intensity", "split_noise"]
+__all__ = ["LangevinSystem", "langevin_system", "noise_intensity", "split_noise", "natural_step",
+           "HEATING_TOLERANCE"]
+
+#: the relative error of the temperature that the default step allows (:func:`natural_step`)
+HEATING_TOLERANCE = 1e-3
 
 #: version of the generated source (part of its hash)
 _VERSION = "1"
@@ -272,3 +276,28 @@ def langevin_system(model: Oscillator | str, params: Mapping[str, object] | None
     p = tuple(float(floats[n]) for n in names)
     w0 = float(sp.sympify(sym.omega0).subs({sp.Symbol(n): v for n, v in zip(names, p)}))
     return LangevinSystem(bm, float(D), names, p, w0, sym)
+
+
+def natural_step(system: LangevinSystem, *, per_period: int = 50,
+                 tolerance: float = HEATING_TOLERANCE) -> float:
+    """The default time step: the smaller of the fastest linear period over ``per_period``
+    and the step whose numerical heating stays below ``tolerance`` of the temperature.
+
+    The scheme's deterministic part (Heun) multiplies the energy of an oscillation of
+    frequency ``w`` by ``|1 + z + z^2/2|^2 = 1 + (w h)^4/4`` per step (``z = i w h``): a
+    heating rate ``(w h)^4/(4 h)`` against the damping rate ``|mu|``, so the stationary
+    temperature is off by about ``(w h)^4/(4 h |mu|)``.  With ``mu = 0.01`` and the CDC's well
+    frequency 4.45 (Delta = 3) the period/40 step gave a 22 % hotter slider and escape
+    rates 2.5 times too high at ``E_b/kT = 8``; hence ``h = (4 |mu| tolerance/w^4)^(1/3)``
+    when it is smaller.
+    """
+    p = system._p()
+    k = system.kernels
+    eps = 1e-6
+    stiff = -(k.accel(0.0, eps, 0.0, p) - k.accel(0.0, -eps, 0.0, p)) / (2 * eps)
+    w = max(system.omega0, math.sqrt(max(stiff, 0.0)))
+    h = 2 * math.pi / w / per_period
+    mu = abs(system.bound.mu or 0.0)
+    if mu > 0:
+        h = min(h, (4 * mu * tolerance / w**4) ** (1 / 3))
+    return h

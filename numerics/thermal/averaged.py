@@ -48,7 +48,7 @@ class AveragedStationary:
     boltzmann_x2 : float or None
         ``<x^2>`` of the Boltzmann density (linear damping only).
     support : (float, float)
-        Where the density lives (its mass outside is below 1e-6).
+        Where the density lives (its mass outside is below 1e-4 on each side).
     bins : callable
         ``bins(edges)``: the density averaged over each bin.
     """
@@ -77,8 +77,8 @@ def _amplitude(model, params: dict, D: float) -> AveragedStationary:
     grid = np.linspace(0.0, hi, 4001)
     dens = np.asarray(sa.density(grid, vals), float)
     cdf = np.cumsum(dens) * (grid[1] - grid[0])
-    top = float(grid[min(np.searchsorted(cdf, 1 - 1e-6) + 1, grid.size - 1)])
-    lo = float(grid[max(np.searchsorted(cdf, 1e-6) - 1, 0)])
+    top = float(grid[min(np.searchsorted(cdf, 1 - 1e-4) + 1, grid.size - 1)])
+    lo = float(grid[max(np.searchsorted(cdf, 1e-4) - 1, 0)])
 
     def bins(edges):
         edges = np.asarray(edges, float)
@@ -103,7 +103,7 @@ def _energy(model, params: dict, D: float, omega0: float) -> AveragedStationary:
     hi = max(p.hi for p in env.pieces)
     grid = np.linspace(lo, hi, 2001)
     cdf = np.cumsum(env.energy_bins(grid) * np.diff(grid))
-    top = float(grid[min(np.searchsorted(cdf, 1 - 1e-6) + 1, grid.size - 1)])
+    top = float(grid[min(np.searchsorted(cdf, 1 - 1e-4) + 1, grid.size - 1)])
     return AveragedStationary(ENERGY, "E", x2, x2 + v2 / omega0**2,
                               _boltzmann(model, params, D), (lo, top), env.energy_bins)
 

@@ -38,7 +38,7 @@ from kbm.errors import ParameterError
 
 from ..executor import map_chunks
 from ..noise.ensemble import Estimate
-from ..noise.langevin import langevin_system, noise_intensity
+from ..noise.langevin import langevin_system, natural_step, noise_intensity
 from ..noise.seeds import check_seed, trajectory_states
 
 __all__ = ["ThermalFrictionPoint", "ThermalFrictionMap", "thermal_friction_point",
@@ -107,12 +107,7 @@ class ThermalFrictionPoint:
 
 def _times(system, v: float, lam: float, wells: float) -> tuple[float, float, float]:
     mu = system.bound.mu
-    p = system._p()
-    k = system.kernels
-    eps = 1e-6
-    stiff = -(k.accel(0.0, eps, 0.0, p) - k.accel(0.0, -eps, 0.0, p)) / (2 * eps)
-    w = max(system.omega0, math.sqrt(max(stiff, 0.0)))
-    h0 = 2 * math.pi / w / STEPS_PER_PERIOD
+    h0 = natural_step(system, per_period=STEPS_PER_PERIOD)
     run = wells * lam / v
     n = max(1, math.ceil(run / h0))
     h = run / n

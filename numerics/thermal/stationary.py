@@ -11,7 +11,7 @@ from kbm.errors import ParameterError
 
 from .averaged import averaged_stationary
 from ..noise.ensemble import MIN_TRAJECTORIES, stationary_ensemble
-from ..noise.langevin import langevin_system, split_noise
+from ..noise.langevin import langevin_system, natural_step, split_noise
 
 __all__ = ["noise_report", "default_times", "STEPS_PER_PERIOD", "DEFAULT_BUDGET"]
 
@@ -27,19 +27,14 @@ SLIDER_DEFAULTS = {"Omega": "1", "lam": "1"}
 
 def default_times(system, t_end: float | None, burn_in: float | None,
                   dt: float | None) -> tuple[float, float, float]:
-    """``(t_end, burn_in, dt)``: ``dt`` = the fastest linear period / 50 (well bottom or
-    ``omega0``), the burn-in 20 and the run 400 relaxation times ``1/|mu|``, each a whole
-    number of steps."""
+    """``(t_end, burn_in, dt)``: ``dt`` from :func:`numerics.noise.langevin.natural_step` (the
+    fastest linear period / 50, smaller when the numerical heating needs it), the burn-in
+    20 and the run 400 relaxation times ``1/|mu|``, each a whole number of steps."""
     mu = system.bound.mu
     if not mu:
         raise ParameterError("mu = 0: without damping the noise heats the oscillator without "
                              "bound and there is no stationary state; give mu != 0")
-    p = system._p()
-    k = system.kernels
-    eps = 1e-6
-    stiff = -(k.accel(0.0, eps, 0.0, p) - k.accel(0.0, -eps, 0.0, p)) / (2 * eps)
-    w = max(system.omega0, math.sqrt(max(stiff, 0.0)))
-    h = 2 * math.pi / w / STEPS_PER_PERIOD if dt is None else float(dt)
+    h = natural_step(system, per_period=STEPS_PER_PERIOD) if dt is None else float(dt)
     if not (math.isfinite(h) and h > 0):
         raise ParameterError(f"--dt must be a positive number, got {dt}")
     run = 400 / abs(mu) if t_end is None else float(t_end)

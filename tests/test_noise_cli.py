@@ -1,0 +1,158 @@
+"""``kbm noise``, ``kbm escape`` with simulation and ``kbm friction -p D=`` (issue 22, part 4).
+
+References: the Boltzmann density ``exp(-G/kT)`` by quadrature for the CDC at rest (paper
+eq. 12 with ``kT = D/mu``; exact, independent of averaging and of the integrator), the
+athermal friction law of :func:`numerics.sliding.friction.friction_point` (DOP853, a
+second integrator) as ``D -> 0``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import pytest
+
+from numerics.sliding.friction import friction_point
+from numerics.thermal.friction import thermal_friction_map
+
+CDC = ["-p", "mu=0.1", "-p", "Delta=3"]
+
+
+def kbm(*args: str, check: bool = True) -> subprocess.CompletedProcess:
+    proc = subprocess.run([sys.executable, "-m", "numerics.cli", *args], capture_output=True,
+                          text=True, timeout=300)
+    if check:
+        assert proc.returncode == 0, proc.stderr
+    return proc
+
+
+def test_noise_json_contract_and_boltzmann():
+    """The JSON keys of issue 22 section 4; the CDC at rest at kT = 1 (several wells
+    visited): simulated <x^2> = Boltzmann within 3 standard errors, and the energy-envelope
+    average = Boltzmann (linear damping: the averaged density is exp(-E/kT) exactly)."""
+    out = kbm("noise", "cdc", *CDC, "-p", "D=0.1", "--trajectories", "32", "--t-end", "1000",
+              "--json").stdout
+    rep = json.loads(out)
+    for key in ("model", "params", "trajectories", "t_end", "seed", "moments", "density"):
+        assert key in rep
+    for m in ("a2", "x2"):
+        assert set(rep["moments"][m]) >= {"averaged", "simulated", "stderr"}
+    x2 = rep["moments"]["x2"]
+    assert abs(x2["simulated"] - x2["boltzmann"]) < 3 * x2["stderr"], x2
+    assert abs(x2["averaged"] - x2["boltzmann"]) < 1e-3 * x2["boltzmann"], x2
+    d = rep["density"]
+    assert d["variable"] == "E"
+    assert len(d["grid"]) == len(d["averaged"]) == len(d["simulated"]) == len(d["stderr"])
+    # the averaged density of E (Boltzmann over the graph of annuli) against the histogram,
+    # bin by bin within 4 standard errors (40 bins: a bin beyond 4 has probability 2.5e-3),
+    # over the bins holding 1 % of the peak or more (in the far tail a bin is visited by
+    # one or two trajectories and its standard error means little)
+    top = max(d["averaged"])
+    z = [abs(a - s) / e for a, s, e in zip(d["averaged"], d["simulated"], d["stderr"])
+         if a > 0.01 * top]
+    assert len(z) > 20 and max(z) < 4, z
+
+
+def test_noise_same_bytes_for_a_seed_on_any_worker_count():
+    args = ["noise", "cdc", *CDC, "-p", "D=0.05", "--trajectories", "8", "--t-end", "50",
+            "--seed", "5", "--json"]
+    one = kbm(*args, "--workers", "1").stdout
+    two = kbm(*args, "--workers", "2").stdout
+    assert one == two
+    other = kbm(*args[:-3], "--seed", "6", "--json").stdout
+    assert other != one
+
+
+def test_noise_driven_slider_has_no_averaged_state():
+    rep = json.loads(kbm("noise", "cdc", *CDC, "-p", "v=0.05", "-p", "D=0.01",
+                         "--trajectories", "8", "--t-end", "40", "--json").stdout)
+    assert rep["moments"]["x2"]["averaged"] is None
+    assert "not autonomous" in rep["message"]
+    assert rep["density"]["variable"] == "x"
+    assert rep["moments"]["x2"]["simulated"] > 0
+
+
+def test_noise_figure(tmp_path):
+    kbm("noise", "cdc", *CDC, "-p", "D=0.05", "--trajectories", "8", "--t-end", "40",
+        "--out", str(tmp_path))
+    assert (tmp_path / "noise-cdc.png").stat().st_size > 10_000
+    assert json.loads((tmp_path / "noise-cdc.json").read_text())["trajectories"] == 8
+
+
+@pytest.mark.parametrize("args, message", [
+    (["-p", "D=-0.1"], "negative"),
+    (["-p", "D=nan"], "finite"),
+    (["-p", "D=0.1", "--trajectories", "2"], "at least 8"),
+    ([], "give the noise intensity"),
+    (["-p", "D=0.1", "--seed", "-3"], "seed"),
+])
+def test_noise_bad_input_one_line(args, message):
+    proc = kbm("noise", "cdc", *CDC, *args, check=False)
+    assert proc.returncode != 0
+    assert message in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1, proc.stderr
+    assert "Traceback" not in proc.stderr
+
+
+def test_noise_rare_event_guard():
+    """Beyond the step budget the simulation is refused with the estimate; the averaged
+    answer stays."""
+    rep = json.loads(kbm("noise", "cdc", *CDC, "-p", "D=0.1", "--budget", "1e5",
+                         "--json").stdout)
+    assert rep["moments"]["x2"]["simulated"] is None
+    assert rep["moments"]["x2"]["averaged"] is not None
+    assert "simulation refused" in rep["message"] and "budget" in rep["message"]
+
+
+def test_escape_json_simulated():
+    """kbm escape's contract with a simulation (the CDC, E_b/kT = 3)."""
+    D = 0.1 * 1.0869519157903051 / 3
+    rep = json.loads(kbm("escape", "cdc", *CDC, "-p", f"D={D}", "--trajectories", "40",
+                         "--json").stdout)
+    for key in ("rate_averaged", "rate_simulated", "stderr", "barrier"):
+        assert rep[key] is not None and rep[key] > 0
+    assert rep["escaped"] + rep["censored"] == 40
+
+
+def test_thermal_friction_joins_the_athermal_law():
+    """As D -> 0 the Langevin friction law joins the athermal one (DOP853, FrictionPoint):
+    the mean spring force over 200 stage periods at v = 0.01 (stick-slip) within the bias of
+    a window that cuts a stick-slip cycle, peak force x wells per cycle / wells."""
+    params = {"mu": 0.1, "Delta": 3.0, "lam": 1.0, "Omega": 1.0}
+    det = friction_point("cdc", {**params, "v": 0.01})
+    m = thermal_friction_map("cdc", {**params, "D": 1e-12}, {"v": [0.01]}, trajectories=4,
+                             wells=200, workers=1)
+    p = m.points[0]
+    bound = det.peak_force * det.wells_per_slip / 200
+    assert abs(p.mean_force.value - det.mean_force) < bound, (p, det.mean_force, bound)
+    assert abs(p.slip_force.value - det.static_force) < 1e-2 * det.static_force
+
+
+def test_thermal_friction_falls_with_temperature_and_is_executor_independent():
+    """Thermally activated slips come earlier: at v = 0.01 the mean and slip forces at
+    kT = 0.1 lie below the kT = 0.01 ones by many standard errors (Sang et al. 2001).
+    One and two workers give the same numbers."""
+    params = {"mu": 0.1, "Delta": 3.0}
+    kw = dict(trajectories=8, wells=20, seed=3)
+    a = thermal_friction_map("cdc", params, {"T": [0.01, 0.1], "v": [0.01]}, workers=1, **kw)
+    b = thermal_friction_map("cdc", params, {"T": [0.01, 0.1], "v": [0.01]}, workers=2, **kw)
+    assert a.to_json() == b.to_json()
+    cold, hot = a.points
+    for f in ("mean_force", "slip_force"):
+        c, h = getattr(cold, f), getattr(hot, f)
+        assert c.value - h.value > 3 * math.hypot(c.stderr, h.stderr), (f, c, h)
+
+
+def test_friction_with_noise_cli():
+    rep = json.loads(kbm("friction", "cdc", "-p", "Delta=3", "-p", "D=0.002", "--vary",
+                         "v=0.05,0.1", "--trajectories", "4", "--wells", "5", "--json").stdout)
+    assert rep["axes"] == {"v": [0.05, 0.1]}
+    assert [p["v"] for p in rep["points"]] == [0.05, 0.1]
+    assert all(p["mean_force"] > 0 and p["mean_force_stderr"] >= 0 for p in rep["points"])
+    assert rep["points"][0]["kT"] == pytest.approx(0.02)
+    bad = kbm("friction", "cdc", "-p", "Delta=3", "-p", "D=0.1", "-p", "T=1", "--vary",
+              "v=0.1", check=False)
+    assert bad.returncode == 2 and "not both" in bad.stderr

@@ -1,0 +1,109 @@
+"""The thermally activated friction laws fitted to simulated thermal friction maps.
+
+* Muser, PRB 84 (2011) 125419: the kinetic friction ``F = a(T) arsinh(v/v_c(T))`` over the
+  crossover from the linear (thermolubric, ``v << v_c``) to the logarithmic regime, with a
+  power law ``a(T) = c T^alpha`` fitted to the per-temperature prefactors;
+* Sang, Dube and Grant, PRL 87 (2001) 174301: the creep law of the slip force, ``F_c - F =
+  c T^a |ln(v/v_c)|^b`` (:func:`numerics.escape.creep.fit_creep`, theory ``a = b = 2/3``).
+
+Every fit is weighted by the standard errors of the simulated points and returns the
+parameters with their standard errors (the covariance of the weighted least squares,
+scaled by the reduced chi-square when it exceeds 1).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import curve_fit
+
+from kbm.errors import ParameterError
+
+__all__ = ["MuserFit", "fit_muser", "temperatures_and_velocities"]
+
+
+@dataclass(frozen=True)
+class MuserFit:
+    """``F = a(T) arsinh(v/v_c(T))`` per temperature and ``a(T) = c T^alpha``.
+
+    Attributes
+    ----------
+    kT : tuple of float
+    a, a_err, v_c, v_c_err : tuple of float
+        Per temperature.
+    alpha, alpha_err : float
+        The exponent of ``a(T)`` (weighted least squares of ``ln a`` against ``ln T``).
+    chi2 : tuple of float
+        Reduced chi-square of each temperature's fit.
+    """
+
+    kT: tuple
+    a: tuple
+    a_err: tuple
+    v_c: tuple
+    v_c_err: tuple
+    alpha: float
+    alpha_err: float
+    chi2: tuple
+
+    def to_json(self) -> dict:
+        return {k: (list(v) if isinstance(v, tuple) else v) for k, v in self.__dict__.items()}
+
+
+def temperatures_and_velocities(tmap) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                                                np.ndarray, np.ndarray]:
+    """``(kT, v, F, F_err, F_slip, F_slip_err)`` of every measured point of a map."""
+    rows = [(p.kT, p.params["v"], p.mean_force.value, p.mean_force.stderr,
+             p.slip_force.value, p.slip_force.stderr) for p in tmap.points if p.error is None]
+    if not rows or rows[0][0] is None:
+        raise ParameterError("the fits need the CDC's temperature kT = D/mu")
+    return tuple(np.array(c, float) for c in zip(*rows))
+
+
+def fit_muser(kT, v, F, F_err) -> MuserFit:
+    """Fit Muser's ``F = a arsinh(v/v_c)`` at each temperature, then ``a = c T^alpha``.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Fewer than two temperatures or three velocities at one of them.
+    """
+    kT, v, F, F_err = (np.asarray(z, float) for z in (kT, v, F, F_err))
+    temps = np.unique(kT)
+    if temps.size < 2:
+        raise ParameterError("Muser's fit needs two temperatures at least")
+    out = {k: [] for k in ("a", "a_err", "v_c", "v_c_err", "chi2")}
+    for T in temps:
+        m = kT == T
+        if np.count_nonzero(m) < 3:
+            raise ParameterError(f"Muser's fit needs three velocities at least at kT = {T:g}")
+        sig = np.maximum(F_err[m], 1e-12)
+
+        def law(z, a, lnvc):
+            return a * np.arcsinh(np.exp(z - lnvc))
+
+        p, cov = curve_fit(law, np.log(v[m]), F[m], p0=(float(np.max(F[m])) / 4,
+                                                        float(np.log(np.min(v[m])))),
+                           sigma=sig, absolute_sigma=True, maxfev=20000)
+        r = (F[m] - law(np.log(v[m]), *p)) / sig
+        dof = max(1, int(np.count_nonzero(m)) - 2)
+        chi2 = float(np.sum(r**2) / dof)
+        cov = cov * max(1.0, chi2)
+        out["a"].append(float(p[0]))
+        out["a_err"].append(float(math.sqrt(cov[0, 0])))
+        out["v_c"].append(float(math.exp(p[1])))
+        out["v_c_err"].append(float(math.exp(p[1]) * math.sqrt(cov[1, 1])))
+        out["chi2"].append(chi2)
+    a, ae = np.array(out["a"]), np.array(out["a_err"])
+    w = (a / ae) ** 2  # var(ln a) = (ae/a)^2
+    X = np.vstack([np.ones_like(temps), np.log(temps)]).T
+    cov = np.linalg.inv(X.T @ (w[:, None] * X))
+    coef = cov @ X.T @ (w * np.log(a))
+    resid = np.log(a) - X @ coef
+    if temps.size > 2:
+        cov = cov * max(1.0, float(np.sum(w * resid**2) / (temps.size - 2)))
+    return MuserFit(tuple(map(float, temps)), tuple(out["a"]), tuple(out["a_err"]),
+                    tuple(out["v_c"]), tuple(out["v_c_err"]), float(coef[1]),
+                    float(math.sqrt(cov[1, 1])), tuple(out["chi2"]))

@@ -200,6 +200,37 @@ variables of the conservative orbit (\texttt{numerics.energy.averaging}).""",
     return DerivationFile("energy.tex", "\n".join(body) + "\n")
 
 
+def _stochastic_file() -> DerivationFile:
+    from .stochastic import stochastic_average
+
+    body = [r"""\section{Stochastic averaging of the amplitude}
+With thermal noise, $\ddot x + \omega_0^2 x = \mu F(x,\dot x) + \sqrt{2D}\,\xi(t)$,
+$\langle\xi(t)\xi(t')\rangle = \delta(t-t')$, unit mass ($k_BT = D/\mu$ for linear
+damping $\mu$), and $D$ of order $\mu$, the amplitude and phase of $x = a\cos\psi$,
+$\psi = \omega_0 t + \varphi$, averaged over $\psi$ (Stratonovich--Khasminskii, first
+order) obey the It\^o equations below ($W_1$, $W_2$ independent Wiener processes).  The
+deterministic parts are $\mu A_1$ and $\mu B_1$ of the KBM expansion; the noise adds the
+It\^o drift $D/(2\omega_0^2 a)$ and the diffusions.  The stationary amplitude density
+$P(a)$ solves the amplitude's Fokker--Planck equation with zero flux."""]
+    cases = [("vdp", "Van der Pol", None), ("rayleigh", "Rayleigh", None),
+             ("linear_damping", r"Linear damping (exact: $\langle a^2\rangle = D/(\mu\zeta)$)",
+              None),
+             ("duffing", "Duffing", None),
+             ("sedf", "SEDF, paper eq.~(3) with $v = 0$", None),
+             ("cdc", "CDC, paper eq.~(12) with $v = 0$", None)]
+    for name, title, _ in cases:
+        st = stochastic_average(name)
+        body.append(f"\\subsection*{{{title}}}")
+        body.append(_align(st.latex().split(" \\\\\n")))
+        if st.log_density is None:
+            reason = st.reason.replace("mu A_1", r"$\mu A_1$")
+            body.append(f"No stationary density: {reason}.")
+    body.append(r"""At the paper's strong potential ($\Delta$ of order one, $\delta = \Delta/\mu$
+large) the amplitude averaging does not apply to the sliders; the energy envelope does
+(\texttt{numerics.escape.envelope}).""")
+    return DerivationFile("stochastic.tex", "\n".join(body) + "\n")
+
+
 def _errata_file(rows: Sequence[ErratumRow]) -> DerivationFile:
     return DerivationFile("errata.tex", errata_tex(rows, _W))
 
@@ -226,7 +257,7 @@ functions $J_m(ka)$ come from the Jacobi--Anger expansion of $\sin(kx)$ and are 
 def build_files(errata: Sequence[ErratumRow] = ()) -> list[DerivationFile]:
     """All generated files, in a fixed order (``main.tex`` last)."""
     files = [_sedf_file(), _cdc_file(), _energy_file(), _vdp_file(), _duffing_file(),
-             _series_file()]
+             _series_file(), _stochastic_file()]
     if errata:
         files.append(_errata_file(errata))
     inputs = "\n".join(f"\\input{{{f.name[:-4]}}}" for f in files)

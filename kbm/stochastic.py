@@ -237,9 +237,11 @@ def stochastic_average(model: Oscillator | str,
     --------
     >>> st = stochastic_average("vdp")
     >>> st.drift_a
-    D/(2*a) - a*mu*(a**2 - 4)/8
+    D/(2*a) + mu*(-a**3/8 + a/2)
     >>> st.log_density
-    -D**(-1.0)*a**4*mu/16 + D**(-1.0)*a**2*mu/2 + log(a)
+    log(a) - a**4*mu/(16*D) + a**2*mu/(2*D)
+    >>> round(st.moment(2, {"mu": 0.05, "D": 0.01}), 6)
+    4.003403
     """
     m = get_model(model) if isinstance(model, str) else model
     if "D" in m.parameters:

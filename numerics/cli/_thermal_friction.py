@@ -52,7 +52,7 @@ def _print(m) -> None:
             f"seed {m.seed}")
     head = "".join(f"{n:>10s}" for n in names if n not in ("D", "T"))
     print(f"{head}{'D':>10s}{'kT':>9s} {'mean F':>10s} {'+-':>8s} {'slip F':>9s} {'+-':>8s} "
-          f"{'slips':>6s} {'back':>5s}")
+          f"{'L slip':>9s} {'+-':>8s} {'slips':>6s} {'back':>5s}")
     for p in m.points:
         vals = "".join(f"{p.params[n]:10.4g}" for n in names if n not in ("D", "T"))
         kT = "--" if p.kT is None else f"{p.kT:.4g}"
@@ -61,7 +61,10 @@ def _print(m) -> None:
             continue
         print(f"{vals}{p.params['D']:10.4g}{kT:>9s} {p.mean_force.value:10.5g} "
               f"{p.mean_force.stderr:8.2g} {p.slip_force.value:9.5g} {p.slip_force.stderr:8.2g} "
+              f"{p.slip_position.value:9.5g} {p.slip_position.stderr:8.2g} "
               f"{p.slips:6d} {p.backward:5d}")
+    print("(slip F: the peak spring force before each slip; L slip: the stage position at the "
+          "slip relative to the well left, v t - n lam)")
 
 
 def _figure(first, second, out: Path) -> Path:

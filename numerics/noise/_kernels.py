@@ -209,17 +209,18 @@ def sample_path(p, sigma, y0, t0, h, n, stride, state):
 
 
 @njit(cache=True)
-def slip_stats(p, sigma, y0, t0, h, n_burn, n_run, states, lam, min_gap):
+def slip_stats(p, sigma, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage):
     """Per trajectory of a pulled slider, over ``n_run`` steps after ``n_burn``: the mean
     spring force; the slips (a forward crossing of a barrier top ``x = (n + 1/2) lam``
     more than ``min_gap`` after the previous crossing: a new stick-slip event, not the
     next well of the same slip) with the sum and the sum of squares of the largest spring
-    force since the previous slip (the slip force); the backward jumps (a backward crossing
-    more than ``min_gap`` after the previous crossing: not the ringing of a slip).  Columns:
-    ``mean force, slips, sum F_slip, sum F_slip^2, backward``; NaN rows for a diverged
-    trajectory."""
+    force since the previous slip (the slip force) and of the stage position at the slip
+    relative to the well left, ``v t - n lam``; the backward jumps (a backward crossing more
+    than ``min_gap`` after the previous crossing: not the ringing of a slip).  Columns:
+    ``mean force, slips, sum F_slip, sum F_slip^2, backward, sum L_slip, sum L_slip^2``; NaN
+    rows for a diverged trajectory."""
     m = y0.shape[0]
-    out = np.zeros((m, 5))
+    out = np.zeros((m, 7))
     r3 = math.sqrt(3.0 * h)
     for i in range(m):
         s = states[i].copy()
@@ -239,6 +240,8 @@ def slip_stats(p, sigma, y0, t0, h, n_burn, n_run, states, lam, min_gap):
         s1 = 0.0
         s2 = 0.0
         back = 0.0
+        l1 = 0.0
+        l2 = 0.0
         if ok:
             for k in range(n_run):
                 t = t1 + (k + 1) * h
@@ -256,6 +259,9 @@ def slip_stats(p, sigma, y0, t0, h, n_burn, n_run, states, lam, min_gap):
                         slips += 1.0
                         s1 += fmax
                         s2 += fmax * fmax
+                        rel = v_stage * t - well * lam
+                        l1 += rel
+                        l2 += rel * rel
                     last = t
                     fmax = f
                 elif w < well:
@@ -270,7 +276,9 @@ def slip_stats(p, sigma, y0, t0, h, n_burn, n_run, states, lam, min_gap):
             out[i, 2] = s1
             out[i, 3] = s2
             out[i, 4] = back
+            out[i, 5] = l1
+            out[i, 6] = l2
         else:
-            for c in range(5):
+            for c in range(7):
                 out[i, c] = math.nan
     return out

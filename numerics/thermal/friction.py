@@ -66,7 +66,13 @@ class ThermalFrictionPoint:
     mean_force : Estimate
         Time- and ensemble-averaged spring force.
     slip_force : Estimate
-        Mean peak spring force before a slip (NaN without slips).
+        Mean peak spring force before a slip (NaN without slips); the peak of a force
+        that fluctuates with ``x``, so above the force at the moment of escape by a few
+        thermal widths ``Omega^2 sqrt(kT)/omega_w``.
+    slip_position : Estimate
+        Mean stage position at a slip relative to the well left, ``v t - n lam``: the
+        quantity of the rate theory (:func:`numerics.escape.creep.slip_force`, whose
+        ``advance`` is ``L_0`` minus it).
     slips, backward : int
         Slips and backward barrier crossings counted over all trajectories.
     trajectories : int
@@ -81,6 +87,7 @@ class ThermalFrictionPoint:
     kT: float | None
     mean_force: Estimate
     slip_force: Estimate
+    slip_position: Estimate
     slips: int
     backward: int
     trajectories: int
@@ -101,6 +108,8 @@ class ThermalFrictionPoint:
         return {"v": self.params["v"], "D": self.params["D"], "kT": self.kT,
                 "mean_force": self.mean_force.value, "mean_force_stderr": self.mean_force.stderr,
                 "slip_force": self.slip_force.value, "slip_force_stderr": self.slip_force.stderr,
+                "slip_position": self.slip_position.value,
+                "slip_position_stderr": self.slip_position.stderr,
                 "slips": self.slips, "backward": self.backward, "t_end": self.t_end,
                 "burn_in": self.burn_in, "dt": self.dt, "error": self.error}
 
@@ -126,7 +135,7 @@ def _point_task(task) -> list:
     states = trajectory_states(seed, 0, trajectories, stream=(index,))
     y0 = np.zeros((trajectories, 2))
     rows = system.kernels.slip_stats(system._p(), system.sigma, y0, 0.0, h, round(burn / h),
-                                     round(run / h), states, lam, 2 * math.pi / Omega)
+                                     round(run / h), states, lam, 2 * math.pi / Omega, v)
     return [(rows.tolist(), run, burn, h)]
 
 
@@ -138,20 +147,24 @@ def _point(model: str, params: dict, rows, run: float, burn: float, h: float, N:
     if not np.all(np.isfinite(rows)):
         bad = int(np.count_nonzero(~np.isfinite(rows[:, 0])))
         nan = Estimate(math.nan, math.nan)
-        return ThermalFrictionPoint(model, params, kT, nan, nan, 0, 0, N, run, burn, h, seed,
+        return ThermalFrictionPoint(model, params, kT, nan, nan, nan, 0, 0, N, run, burn, h, seed,
                                     error=f"{bad} of {N} trajectories diverged (runaway)")
     slips = rows[:, 1]
     total = float(slips.sum())
-    if total > 0:
-        mean = float(rows[:, 2].sum() / total)
-        # ratio estimator over trajectories: the error of sum(s1)/sum(n) (delta method)
-        resid = rows[:, 2] - mean * slips
-        se = float(math.sqrt(N / (N - 1) * np.sum(resid**2)) / total)
-        slip = Estimate(mean, se)
-    else:
-        slip = Estimate(math.nan, math.nan)
-    return ThermalFrictionPoint(model, params, kT, Estimate.of(rows[:, 0]), slip, int(total),
-                                int(rows[:, 4].sum()), N, run, burn, h, seed)
+    slip, position = _ratio(rows[:, 2], slips, N), _ratio(rows[:, 5], slips, N)
+    return ThermalFrictionPoint(model, params, kT, Estimate.of(rows[:, 0]), slip, position,
+                                int(total), int(rows[:, 4].sum()), N, run, burn, h, seed)
+
+
+def _ratio(sums, counts, N: int) -> Estimate:
+    """``sum(sums)/sum(counts)`` over trajectories and its standard error (the ratio
+    estimator's delta method: trajectories are the independent units)."""
+    total = float(np.sum(counts))
+    if total == 0:
+        return Estimate(math.nan, math.nan)
+    mean = float(np.sum(sums) / total)
+    resid = sums - mean * counts
+    return Estimate(mean, float(math.sqrt(N / (N - 1) * np.sum(resid**2)) / total))
 
 
 def thermal_friction_point(model: str, params: Mapping[str, object], *, trajectories: int = 16,

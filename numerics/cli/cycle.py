@@ -55,25 +55,37 @@ def run(args: argparse.Namespace) -> int:
     return 0 if cyc.success else 1
 
 
+#: how a cycle found as the mirror image of another is labelled (odd-symmetric models)
+_MIRROR = "mirror image (x -> -x) of a cycle found"
+
+
 def _run_all(cycles, args: argparse.Namespace) -> int:
     pred = cycles.predictions
     if args.json:
-        rows = [{**c.to_json(), "annulus": p.annulus, "predicted": p.to_json()}
+        rows = [{**c.to_json(), "annulus": _MIRROR if p is None else p.annulus,
+                 "predicted": None if p is None else p.to_json()}
                 for c, p in zip(cycles, cycles.predicted)]
         emit_json({"model": pred.model, "params": pred.params,
                    "params_given": parse_params(args.param), "cycles": rows,
                    "reason": pred.reason,
-                   "failures": [{"predicted": p.to_json(), "error": e}
-                                for p, e in cycles.failures]})
+                   "failures": [{"predicted": p if isinstance(p, str) else p.to_json(),
+                                 "error": e} for p, e in cycles.failures]})
         return 0 if all(c.success for c in cycles) else 1
     print(f"{len(cycles)} cycle(s) of {pred.model} from {len(pred.cycles)} predicted by the "
           "energy balance" + (f" ({pred.reason})" if not pred.cycles else ""))
     for c, p in zip(cycles, cycles.predicted):
-        print(f"\n[{p.annulus}] predicted x_max {p.amplitude_max:.6g}, T {p.period:.6g}, "
-              f"{'stable' if p.stable else 'unstable'}")
+        if p is None:
+            print(f"\n[{_MIRROR}]")
+        else:
+            print(f"\n[{p.annulus}] predicted x_max {p.amplitude_max:.6g}, T {p.period:.6g}, "
+                  f"{'stable' if p.stable else 'unstable'}")
         _print_cycle(c, args.digits, args)
     for p, e in cycles.failures:
-        print(f"\n[{p.annulus}] predicted x_max {p.amplitude_max:.6g}: no cycle found ({e})")
+        if isinstance(p, str):
+            print(f"\n[{p}] no cycle found ({e})")
+        else:
+            print(f"\n[{p.annulus}] predicted x_max {p.amplitude_max:.6g}: no cycle found "
+                  f"({e})")
     if cycles.failures and not cycles:
         return 1  # cycles were predicted and none was confirmed
     return 0 if all(c.success for c in cycles) else 1

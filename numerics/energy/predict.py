@@ -321,20 +321,23 @@ def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: 
                                 "no isolated cycle (h = 0)", **info)
     first = balance_cycles(portrait)
     if not first:
-        pos, neg = [], []
+        pos, neg, searched = [], [], []
         for a in portrait.annuli:
-            E, _ = _scan_energies(a, 32, 1e4 * (1 + abs(a.energy_min)))
+            E, _ = _scan_energies(a, 96, 1e4 * (1 + abs(a.energy_min)))
             sg = np.sign(gamma_function(a, tol=1e-9)(E)[0])
             (pos if np.sum(sg > 0) > np.sum(sg < 0) else neg).append(a.label)
+            searched.append(f"{a.label}: E from {E[0]:.4g} to {E[-1]:.4g}")
+        where = ("searched: Gamma(E) at 96 energies on each annulus (" + "; ".join(searched)
+                 + ") and at every extremum between them that turns towards 0")
         if not pos:
-            reason = "Gamma(E) < 0 on every annulus: every orbit loses energy"
+            reason = f"no root of Gamma(E) found, Gamma < 0 wherever evaluated ({where})"
         elif not neg:
-            reason = "Gamma(E) > 0 on every annulus: every orbit gains energy"
+            reason = f"no root of Gamma(E) found, Gamma > 0 wherever evaluated ({where})"
         else:
-            reason = ("no root of Gamma(E) on any annulus: orbits gain energy in "
+            reason = ("no root of Gamma(E) found: orbits gain energy in "
                       f"{', '.join(pos)} and lose it in {', '.join(neg)}, so the motion "
                       "approaches a separatrix or an equilibrium (no isolated cycle of "
-                      "the averaged equation)")
+                      f"the averaged equation; {where})")
         return EnergyPrediction(cycles=(), reason=reason, **info)
     odd = sp.expand(split.h + split.h.subs(_xdot, -_xdot)) == 0
     hv = sp.lambdify((_x, _xdot), sp.diff(split.h, _xdot), "numpy")

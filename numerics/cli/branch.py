@@ -80,13 +80,19 @@ def run(args: argparse.Namespace) -> int:
           f"to {hi:g}")
     for i, b in enumerate(d.branches):
         pts = b.points
-        print(f"\nbranch {i}: {len(pts)} points, {b.evaluations} integrations of a period")
+        print(f"\nbranch {i}: {len(pts)} points, {b.evaluations} integrations of a period"
+              + (f"; {b.dropped} more passed but not printed (trivial multiplier off 1 by more "
+                 "than 1e-5: not converged)" if b.dropped else ""))
         print(f"  {name:>14s} {'amplitude_max':>14s} {'period':>12s} {'multiplier':>12s}")
         step = max(1, len(pts) // 20)
         for p in list(pts[::step]) + ([pts[-1]] if (len(pts) - 1) % step else []):
             print(f"  {p.parameter:14.8g} {p.amplitude_max:14.8g} {p.period:12.8g} "
                   f"{p.multipliers[1].real:12.4e} {'stable' if p.stable else 'UNSTABLE'}")
         for s in b.special:
+            if s.kind == "homoclinic":
+                print(f"  homoclinic end near {name} = {s.parameter:.6g} (the error bar and "
+                      "how it was found: the end line below)")
+                continue
             print(f"  {s.kind}: {name} = {s.parameter:.10g}, amplitude {s.amplitude:.6g}")
         for r in b.reasons:
             print(f"  end: {r}")

@@ -62,6 +62,7 @@ class BranchDiagram:
             "points": points, "special": special,
             "analytic": {f"{c.method} order {c.order}": c.to_json() for c in self.analytic},
             "branches": [{"reasons": list(b.reasons), "evaluations": b.evaluations,
+                          "dropped": b.dropped,
                           "start": b.points[0].to_json() if b.points else None}
                          for b in self.branches],
             "failures": list(self.failures)})

@@ -110,6 +110,9 @@ class Branch:
         Why the continuation stopped (one per direction followed).
     evaluations : int
         Number of integrations of one period (the cost).
+    dropped : int
+        Points the continuation passed through but did not print: they failed the
+        convergence test (:data:`numerics.cycles.continuation.TRIVIAL_TOL`).
     """
 
     model: str
@@ -120,6 +123,7 @@ class Branch:
     special: tuple[SpecialPoint, ...]
     reasons: tuple[str, ...]
     evaluations: int
+    dropped: int = 0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "params", FrozenMap(self.params))
@@ -135,4 +139,5 @@ class Branch:
                        "bounds": list(self.bounds),
                        "points": [p.to_json() for p in self.points],
                        "special": [s.to_json() for s in self.special],
-                       "reasons": list(self.reasons), "evaluations": self.evaluations})
+                       "reasons": list(self.reasons), "evaluations": self.evaluations,
+                       "dropped": self.dropped})

@@ -180,13 +180,60 @@ def _is_builtin(name: str) -> bool:
     return name in model_names()
 
 
+def _energy_fold(model, params: dict, vary: str, lo: float, hi: float, pair,
+                 pair_at_lo: bool) -> float | None:
+    """The fold of the energy balance: the ``p`` in ``[lo, hi]`` where the extremum of
+    ``q = Gamma`` (``Gamma/(E - E_c)`` in a well) between the merging pair's energies is 0.
+    ``None`` when the bracket does not hold a sign change of that extremum."""
+    from scipy.optimize import brentq, minimize_scalar
+
+    from kbm.conservative import split_conservative
+    from numerics.energy.balance import gamma_function
+    from numerics.energy.portrait import phase_portrait
+
+    e1, e2 = sorted((pair[0].energy, pair[1].energy))
+    width = max(e2 - e1, 1e-9 * max(1.0, abs(e1)))
+
+    def extremum(p):
+        split = split_conservative(model, {**params, vary: float(p)})
+        portrait = phase_portrait(split)
+        ann = next((a for a in portrait.annuli if a.label == pair[0].annulus), None)
+        if ann is None:
+            raise ConvergenceError(f"annulus {pair[0].annulus!r} gone at {vary} = {p}")
+        g = gamma_function(ann, tol=1e-13)
+        well = len(ann.wells) == 1
+        a_lo = max(e1 - 2 * width, ann.energy_min + 1e-12 * max(1.0, abs(ann.energy_min)))
+        a_hi = e2 + 2 * width
+        if ann.bounded:
+            a_hi = min(a_hi, ann.energy_max)
+
+        def q(e):
+            val = g(np.array([e]))[0][0]
+            return val / (e - ann.energy_min) if well else val
+
+        sign = 1.0 if q(a_lo) > 0 else -1.0
+        res = minimize_scalar(lambda e: sign * q(e), bounds=(a_lo, a_hi), method="bounded",
+                              options={"xatol": 1e-14 * max(1.0, abs(a_hi))})
+        return float(res.fun)
+
+    try:
+        f_lo, f_hi = extremum(lo), extremum(hi)
+        if f_lo * f_hi >= 0:
+            return None
+        return float(brentq(extremum, lo, hi, xtol=1e-15, rtol=1e-15))
+    except (KBMError, ValueError, RuntimeError):
+        return None
+
+
 def energy_branch(model: Oscillator | str, params: Mapping[str, object] | None, vary: str,
                   bounds: tuple[float, float], *, n: int = 81) -> AnalyticCurve:
     """Cycles of the energy balance (order 1) over ``vary`` in ``bounds``.
 
-    Folds are located by bisection (to ``1e-8`` of the range) on where the number of
-    predicted cycles changes between grid points; the amplitude is that of the cycle
-    nearest to the merging pair at the last grid point with both.
+    Folds are bracketed by bisection on where the number of predicted cycles changes
+    between grid points, then solved as ``Gamma = dGamma/dE = 0``: the parameter where the
+    extremum of ``Gamma`` between the merging pair touches zero (Brent's method on that
+    extremum's value; :func:`_energy_fold`).  The amplitude is the merging pair's mean at
+    the last grid point with both.
 
     Returns
     -------
@@ -221,8 +268,12 @@ def energy_branch(model: Oscillator | str, params: Mapping[str, object] | None, 
             else:
                 hi = mid
         more = c1 if len(c1) > len(c2) else c2
-        amp = next((0.5 * (x.amplitude_max + y.amplitude_max)
-                    for x, y in zip(more, more[1:]) if x.stable != y.stable
-                    and x.annulus == y.annulus), math.nan)
-        folds.append(AnalyticFold(0.5 * (lo + hi), float(amp)))
+        pair = next(((x, y) for x, y in zip(more, more[1:]) if x.stable != y.stable
+                     and x.annulus == y.annulus), None)
+        amp = math.nan if pair is None else 0.5 * (pair[0].amplitude_max
+                                                   + pair[1].amplitude_max)
+        pf = 0.5 * (lo + hi)
+        if pair is not None:
+            pf = _energy_fold(model, params, vary, lo, hi, pair, len(c1) > len(c2)) or pf
+        folds.append(AnalyticFold(pf, float(amp)))
     return AnalyticCurve("energy", 1, vary, tuple(pts), tuple(folds))

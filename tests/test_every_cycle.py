@@ -63,3 +63,22 @@ def test_both_cycles_beside_the_fold(gap):
     assert lo.amplitude_max == pytest.approx(math.sqrt(1 - r), abs=1e-4)
     assert hi.amplitude_max == pytest.approx(math.sqrt(1 + r), abs=1e-4)
     assert (lo.stable, hi.stable) == (False, True)
+
+
+def test_homotopy_finds_the_cycle_near_the_separatrix_without_symmetry():
+    """Newton from the energy-balance prediction misses the right side-well cycle at
+    (0.1, 1.5, 1.3345) (its basin near the separatrix is narrower than the prediction's
+    error); the homotopy in the dissipative part (no use of the symmetry) finds it, and the
+    symmetry checks it: the same period as the left cycle, x_max = -(left minimum)."""
+    from kbm.bound import bind
+    from numerics.cycles.shooting import _from_smaller_mu
+    from numerics.energy import predict_cycles
+
+    b = bind("sedf", {"mu": 0.1, "Delta": 1.5, "beta": 1.3345, "lam": 1})
+    pred = predict_cycles(b.model, dict(b.values))
+    right = next(c for c in pred.cycles if c.annulus.startswith("side well at x=+"))
+    c = _from_smaller_mu(b, right, {})
+    assert c is not None
+    left = next(d for d in limit_cycles(b) if d.amplitude_max < 0)
+    assert c.period == pytest.approx(left.period, rel=1e-9)
+    assert c.amplitude_max == pytest.approx(-min(left.x), abs=1e-5)

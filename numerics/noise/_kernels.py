@@ -89,6 +89,17 @@ def _step(t, x, v, h, sdw, p):
 
 
 @njit(cache=True)
+def _advance(p, sigma, x, v, t0, h, n, s, r3):
+    """``n`` steps from ``(x, v)`` at ``t0``: ``(x, v, ok)``, ``ok`` false (and the state
+    NaN) once the state is non-finite."""
+    for k in range(n):
+        x, v = _step(t0 + k * h, x, v, h, sigma * _increment(s, r3), p)
+        if not (math.isfinite(x) and math.isfinite(v)):
+            return math.nan, math.nan, False
+    return x, v, True
+
+
+@njit(cache=True)
 def final_states(p, sigma, y0, t0, h, n, states):
     """The states after ``n`` steps from ``y0[i]`` (``NaN`` once a state is non-finite)."""
     m = y0.shape[0]
@@ -96,12 +107,7 @@ def final_states(p, sigma, y0, t0, h, n, states):
     r3 = math.sqrt(3.0 * h)
     for i in range(m):
         s = states[i].copy()
-        x, v = y0[i, 0], y0[i, 1]
-        for k in range(n):
-            x, v = _step(t0 + k * h, x, v, h, sigma * _increment(s, r3), p)
-            if not (math.isfinite(x) and math.isfinite(v)):
-                x, v = math.nan, math.nan
-                break
+        x, v, _ = _advance(p, sigma, y0[i, 0], y0[i, 1], t0, h, n, s, r3)
         out[i, 0], out[i, 1] = x, v
     return out
 
@@ -129,12 +135,7 @@ def stationary_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0, kind, lo, h
     for i in range(m):
         s = states[i].copy()
         x, v = y0[i, 0], y0[i, 1]
-        ok = True
-        for k in range(n_burn):
-            x, v = _step(t0 + k * h, x, v, h, sigma * _increment(s, r3), p)
-            if not (math.isfinite(x) and math.isfinite(v)):
-                ok = False
-                break
+        x, v, ok = _advance(p, sigma, x, v, t0, h, n_burn, s, r3)
         t1 = t0 + n_burn * h
         a_x2 = 0.0
         a_a2 = 0.0
@@ -225,12 +226,7 @@ def slip_stats(p, sigma, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage
     for i in range(m):
         s = states[i].copy()
         x, v = y0[i, 0], y0[i, 1]
-        ok = True
-        for k in range(n_burn):
-            x, v = _step(t0 + k * h, x, v, h, sigma * _increment(s, r3), p)
-            if not (math.isfinite(x) and math.isfinite(v)):
-                ok = False
-                break
+        x, v, ok = _advance(p, sigma, x, v, t0, h, n_burn, s, r3)
         t1 = t0 + n_burn * h
         well = math.floor(x / lam + 0.5)
         last = -1e300

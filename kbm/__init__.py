@@ -20,6 +20,7 @@ from .models import MODELS, Oscillator, custom_model, get_model, model_names
 from .result import KBMFunctions, KBMResult
 from .numeric_series import NumericCycleSeries, numeric_cycle_series
 from .series import LimitCycleSeries, limit_cycle_series
+from .stochastic import StochasticAveraging, stochastic_average
 from .symbols import a, mu, parse, psi, t, x, xdot
 
 __all__ = [
@@ -29,6 +30,7 @@ __all__ = [
     "derive", "derive_values", "ExpansionValues", "numeric_derive", "NumericExpansion", "KBMResult", "KBMFunctions", "numpy_function", "mpmath_function", "latex",
     "AveragedCycle", "AveragedRates", "LimitCycleSeries", "averaged_cycles", "averaged_rates",
     "limit_cycle_series", "NumericCycleSeries", "numeric_cycle_series",
+    "StochasticAveraging", "stochastic_average",
     "MODELS", "Oscillator", "custom_model", "get_model", "model_names",
     "a", "mu", "parse", "psi", "t", "x", "xdot",
 ]

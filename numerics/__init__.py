@@ -34,9 +34,13 @@ from numerics.cycles import (Dissipation, LimitCycle, SweepPoint, grid, limit_cy
                              limit_cycles, sweep)
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError, NumericsError
 from numerics.flow import Method, integrate
+from numerics.noise import langevin_system
+from numerics.noise.ensemble import stationary_ensemble
 from numerics.paper import (Claim, ErratumEvidence, SaddleNode, SlideResult, Slip, StickSlip,
                             analyze, check_claims, errata_evidence, paper_prediction,
                             potential, saddle_node, slide, slip_energy)
+from numerics.thermal import noise_report
+from numerics.thermal.friction import thermal_friction_map
 
 __all__ = [
     "integrate", "Method", "limit_cycle", "limit_cycles", "LimitCycle", "Dissipation", "sweep",
@@ -47,4 +51,5 @@ __all__ = [
     "slide", "SlideResult", "analyze", "StickSlip", "Slip",
     "potential", "saddle_node", "SaddleNode", "slip_energy", "check_claims", "Claim",
     "NumericsError", "NoCycleError", "ConvergenceError", "IntegrationError", "clear_caches",
+    "langevin_system", "stationary_ensemble", "noise_report", "thermal_friction_map",
 ]

@@ -65,6 +65,8 @@ def _print(m) -> None:
               f"{p.slips:6d} {p.backward:5d}")
     print("(slip F: the peak spring force before each slip; L slip: the stage position at the "
           "slip relative to the well left, v t - n lam)")
+    if m.note:
+        print(f"note: {m.note}")
 
 
 def _figure(first, second, out: Path) -> Path:

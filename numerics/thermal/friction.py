@@ -196,6 +196,7 @@ class ThermalFrictionMap:
     trajectories: int
     wells: float
     seed: int
+    note: str = ""
 
     def __repr__(self) -> str:
         return (f"ThermalFrictionMap({self.model}, axes {', '.join(self.axes)}, "
@@ -212,7 +213,7 @@ class ThermalFrictionMap:
         return {"model": self.model, "params": dict(self.params),
                 "axes": {k: list(map(float, v)) for k, v in self.axes.items()},
                 "trajectories": self.trajectories, "wells": self.wells, "seed": self.seed,
-                "points": [p.to_json() for p in self.points]}
+                "note": self.note, "points": [p.to_json() for p in self.points]}
 
 
 def thermal_friction_map(model: str, params: Mapping[str, object],
@@ -276,8 +277,11 @@ def thermal_friction_map(model: str, params: Mapping[str, object],
                       store=store, definition=definition if store is not None else None)
     points = tuple(_point(model, q, r[0], r[1], r[2], r[3], int(trajectories), seed)
                    for q, r in zip(pts, rows))
+    note = ("the paper's SEDF (eq. 3) has no steady sliding state: its damping mu beta x^2 "
+            "grows with the distance slid, so these are averages over the window, not a "
+            "friction law (use sedf_comoving)") if model == "sedf" else ""
     return ThermalFrictionMap(model, base, {k: np.asarray(v, float) for k, v in axes.items()},
-                              points, int(trajectories), float(wells), seed)
+                              points, int(trajectories), float(wells), seed, note)
 
 
 def _chunk_task(tasks) -> list:

@@ -49,4 +49,12 @@ def test_missing_true_cycle_and_strict_json(mmap):
     assert doc["summary"]["1"]["true cycles"] == 5
     assert doc["summary"]["1"]["energy order 2 within 0.01"] == 5
     assert "no true cycle" in mmap.table()
+    assert "nan" not in mmap.table()  # issue 24 item 8: a missing value says why
     assert mmap.array("energy order 2", 1.0).shape == (3, 2)
+
+
+def test_friction_table_says_runaway_instead_of_nan():
+    """Issue 24 item 8: the summary's friction table prints why a slider has no mean force."""
+    from numerics.paper.friction import _force_text
+
+    assert _force_text(float("nan")) == "none (runaway)" and _force_text(1.2345) == "1.23"

@@ -55,7 +55,7 @@ class FrictionStudy:
                 reg = Counter(p.regime or "failed" for p in m.points)
                 v = m.axes["v"]
                 F = m.field("mean_force")
-                at = " / ".join(f"{F[int(np.argmin(abs(np.log(v / x))))]:.3g}"
+                at = " / ".join(_force_text(F[int(np.argmin(abs(np.log(v / x))))])
                                 for x in (1e-3, 0.1, 1.0))
                 lines.append(f"| {d:g} | {m.model} | "
                              + ", ".join(f"{k} {n}" for k, n in sorted(reg.items()))
@@ -98,3 +98,8 @@ def friction_study(size: int = 32, laws: int = 24, progress: bool = False,
     vb = compare_sliders({**base, "Delta": 3.0}, {"v": MAP_V[::step], "beta": MAP_BETA[::step]},
                          progress=progress, **kwargs)
     return FrictionStudy(laws=out, v_delta=vd, v_beta=vb)
+
+
+def _force_text(F: float) -> str:
+    """A mean force, or why there is none (a runaway has no steady sliding state)."""
+    return f"{F:.3g}" if np.isfinite(F) else "none (runaway)"

@@ -119,7 +119,9 @@ class MethodsMap:
                 lines.append(f"{head}  no true cycle: {p.message}")
                 continue
             lines.append(f"{head}{p.amplitude:>11.6f}"
-                         + "".join(f"{p.errors[m]:>16.2e}" for m in METHODS))
+                         + "".join(f"{p.errors[m]:>16.2e}" if np.isfinite(p.errors[m])
+                                   else f"{'no cycle':>16}" for m in METHODS))
+        lines.append("(no cycle: the method predicts no cycle near the true one there)")
         for b, row in self.summary().items():
             lines.append(f"beta = {b}: {row['true cycles']} true cycles; within 1 % / 1e-3: "
                          + ", ".join(f"{m} {row[f'{m} within 0.01']}/{row[f'{m} within 0.001']}"

@@ -177,8 +177,10 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
             msg = (f"homoclinic end: {why} at {name} = {new.u[2]:.10g} (period "
                    f"{new.u[1]:.6g}, from {T0:.6g}): the cycle approaches a separatrix; "
                    f"{where}")
-            special.append(SpecialPoint("homoclinic", float(ph), new.amp, float(new.u[1]),
-                                        msg))
+            # the marker sits on the last printed (converged) point's amplitude and period
+            shown = points[-1] if points else new.record()
+            special.append(SpecialPoint("homoclinic", float(ph), float(shown.amplitude_max),
+                                        float(shown.period), msg))
             return points, special, msg
         pt = new
 

@@ -29,7 +29,8 @@ def _plt():
     return plt
 
 
-def draw_diagram(d, ax, quantity: str = "amplitude_max", analytic: bool = True) -> None:
+def draw_diagram(d, ax, quantity: str = "amplitude_max", analytic: bool = True,
+                 legend: bool = True) -> list:
     """Draw the branches of ``d`` on ``ax``.
 
     Parameters
@@ -41,6 +42,13 @@ def draw_diagram(d, ax, quantity: str = "amplitude_max", analytic: bool = True) 
         first-harmonic ``a*`` and the largest ``x`` of the energy-balance orbit).
     analytic : bool
         Overlay the analytic branches.
+    legend : bool
+        Draw the legend on ``ax`` (else the caller places the returned handles).
+
+    Returns
+    -------
+    list
+        The legend handles.
     """
     if quantity not in ("amplitude_max", "period"):
         raise ValueError(f"quantity must be 'amplitude_max' or 'period', got {quantity!r}")
@@ -84,11 +92,13 @@ def draw_diagram(d, ax, quantity: str = "amplitude_max", analytic: bool = True) 
                  for k, v in _MARK.items() if any(s.kind == k for b in d.branches
                                                   for s in b.special)]]
     h2, _ = ax.get_legend_handles_labels()
-    ax.legend(handles=handles + h2, fontsize=7, loc="best")
+    if legend:
+        ax.legend(handles=handles + h2, fontsize=7, loc="best")
     ax.set_xlabel(d.parameter)
     ax.set_ylabel("max x" if quantity == "amplitude_max" else "period T")
     lo, hi = d.bounds
     ax.set_xlim(lo - 0.02 * (hi - lo), hi + 0.02 * (hi - lo))
+    return handles + h2
 
 
 def _save(fig, path: Path) -> list[Path]:
@@ -108,10 +118,47 @@ def diagram_figure(d, path: str | Path, title: str | None = None) -> list[Path]:
     """Write amplitude and period against the parameter side by side (PNG and PDF)."""
     plt = _plt()
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
-    draw_diagram(d, axes[0], "amplitude_max")
-    draw_diagram(d, axes[1], "period", analytic=True)
+    handles = draw_diagram(d, axes[0], "amplitude_max", legend=False)
+    draw_diagram(d, axes[1], "period", analytic=True, legend=False)
+    _zoom_short_branches(d, axes[0])
+    # one legend for both panels, below them: on a panel it covered data
+    fig.legend(handles=handles, loc="lower center", ncol=min(len(handles), 5), fontsize=8,
+               frameon=False, bbox_to_anchor=(0.5, -0.02))
+    fig.subplots_adjust(bottom=0.24)
     fig.suptitle(title or f"limit cycles of {d.model} against {d.parameter}", fontsize=10)
     return _save(fig, Path(path))
+
+
+def _zoom_short_branches(d, ax) -> None:
+    """An inset that magnifies the branches spanning less than a tenth of the range (the
+    SEDF's side-well cycles in beta, drawn under their end markers at full scale)."""
+    lo, hi = d.bounds
+    short = [i for i, b in enumerate(d.branches) if b.points and (
+        max(q.parameter for q in b.points) - min(q.parameter for q in b.points)
+        < 0.1 * (hi - lo))]
+    if not short:
+        return
+    ins = ax.inset_axes([0.52, 0.5, 0.45, 0.45])
+    ps, ys = [], []
+    for i in short:
+        b = d.branches[i]
+        p = np.array([q.parameter for q in b.points])
+        y = np.array([q.amplitude_max for q in b.points])
+        st = np.array([q.stable for q in b.points])
+        for k in range(len(p) - 1):
+            ok = st[k] and st[k + 1]
+            ins.plot(p[k:k + 2], y[k:k + 2], color=f"C{i}", lw=1.4 if ok else 1.1,
+                     ls="-" if ok else "--")
+        for s in b.special:
+            ins.plot([s.parameter], [s.amplitude], marker=_MARK.get(s.kind, "^"), color="k",
+                     ms=5, mfc="none" if s.kind == "fold" else "k", ls="none")
+        ps += list(p)
+        ys += list(y)
+    pad_p = 0.08 * (max(ps) - min(ps) or 1.0)
+    ins.set_xlim(min(ps) - pad_p, max(ps) + pad_p)
+    ins.tick_params(labelsize=6)
+    ins.set_title(f"branches {', '.join(str(i + 1) for i in short)} magnified", fontsize=7)
+    ax.indicate_inset_zoom(ins, edgecolor="0.5")
 
 
 def sedf_branches(out_dir: Path) -> list[Path]:

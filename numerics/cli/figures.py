@@ -37,11 +37,26 @@ def run(args: argparse.Namespace) -> int:
                              f"{args.friction_size}")
     output_folder(args.out, "--out")  # before any computation
     names = list(FIGURES) if args.only is None else list(args.only)
-    say = lambda n: print(f"  {n} ...", file=sys.stderr, flush=True)  # noqa: E731
+    import time
+
+    stage = ["", time.perf_counter()]
+
+    def say(name: str) -> None:
+        """One line per figure, with the time the previous one took."""
+        now = time.perf_counter()
+        if stage[0]:
+            print(f"  {stage[0]}: {now - stage[1]:.1f} s", file=sys.stderr, flush=True)
+        if name:
+            print(f"  {name} ...", file=sys.stderr, flush=True)
+        stage[:] = [name, now]
+
+    t0 = time.perf_counter()
     paths = write_figures(args.out, [n for n in names if n != "friction"], progress=say)
     if "friction" in names:  # the maps on all cores, with progress bars
         say("friction")
         paths += friction_figures(Path(args.out), size=args.friction_size, progress=True)
+    say("")
+    print(f"  all figures: {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
     for p in paths:
         print(p)
     return 0

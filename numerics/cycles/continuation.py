@@ -203,11 +203,9 @@ def _end_estimate(prob: _Problem, points: list):
     except _FAIL:
         return None
     bound = bind(prob.model, {**prob.params, prob.vary: last.parameter})
-    cm = prob.cm(last.parameter)
     x = ys[:, 0]
     energy = _conservative_energy(bound, last.x0)
     sad, lams = saddles_passed(bound, float(np.min(x)), float(np.max(x)), energy)
-    del cm
     return homoclinic_end([p.parameter for p in points], [p.period for p in points], sad, lams)
 
 

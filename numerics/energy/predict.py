@@ -330,9 +330,11 @@ def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: 
         where = ("searched: Gamma(E) at 96 energies on each annulus (" + "; ".join(searched)
                  + ") and at every extremum between them that turns towards 0")
         if not pos:
-            reason = f"no root of Gamma(E) found, Gamma < 0 wherever evaluated ({where})"
+            reason = (f"no root of Gamma(E) found, Gamma < 0 wherever evaluated: the orbits "
+                      f"there lose energy ({where})")
         elif not neg:
-            reason = f"no root of Gamma(E) found, Gamma > 0 wherever evaluated ({where})"
+            reason = (f"no root of Gamma(E) found, Gamma > 0 wherever evaluated: the orbits "
+                      f"there gain energy ({where})")
         else:
             reason = ("no root of Gamma(E) found: orbits gain energy in "
                       f"{', '.join(pos)} and lose it in {', '.join(neg)}, so the motion "

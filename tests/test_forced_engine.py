@@ -62,8 +62,8 @@ def test_unforced_model_reproduces_autonomous_engine(terms, res, order):
     """F(x, xdot) without theta: the forced recursion gives the autonomous A_n, B_n (the
     resonance declared is irrelevant, sigma drops out)."""
     F = sum(c * x**i * xdot**j for i, j, c in terms)
-    if F == 0:
-        F = -x**3
+    if not sp.sympify(F).has(x, xdot):  # a constant F is refused as user input (issue 24)
+        F = F - x**3
     fr = derive_forced(ForcedOscillator("p", F, resonance=res), order)
     au = derive(custom_model(F), order)
     for n in range(order):

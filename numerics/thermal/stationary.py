@@ -8,7 +8,9 @@ from pathlib import Path
 import numpy as np
 
 from kbm.errors import ParameterError
+from kbm.models import SLIDERS
 
+from ..escape.report import SLIDER_DEFAULTS
 from .averaged import averaged_stationary
 from ..noise.ensemble import MIN_TRAJECTORIES, stationary_ensemble
 from ..noise.langevin import langevin_system, natural_step, split_noise
@@ -21,8 +23,6 @@ STEPS_PER_PERIOD = 50
 DEFAULT_BUDGET = 2e9
 #: histogram bins
 BINS = 40
-#: the paper's values, used for a slider when not given (as in ``kbm friction``)
-SLIDER_DEFAULTS = {"Omega": "1", "lam": "1"}
 
 
 def default_times(system, t_end: float | None, burn_in: float | None,
@@ -88,7 +88,7 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
     """
     params, D = split_noise(params)
     name = model if isinstance(model, str) else model.name
-    if isinstance(model, str) and model in ("sedf", "cdc", "sedf_comoving"):
+    if isinstance(model, str) and model in SLIDERS:
         for k, val in SLIDER_DEFAULTS.items():
             params.setdefault(k, val)
     if not isinstance(trajectories, int) or trajectories < MIN_TRAJECTORIES:

@@ -56,7 +56,9 @@ class Interrupted(KeyboardInterrupt):
         self.finished, self.total, self.unit, self.kept = finished, total, unit, kept
 
     def __str__(self) -> str:
-        head = f"{self.finished} of {self.total} {self.unit}s were finished before the interruption"
+        plural = (self.unit[:-1] + "ies" if self.unit.endswith("y") and self.unit[-2:-1]
+                  not in "aeiou" else self.unit + "s")
+        head = f"{self.finished} of {self.total} {plural} were finished before the interruption"
         if self.kept is None:
             return f"{head}; they are not kept (run with --store FILE to keep them)"
         return f"{head}; they are kept in {self.kept} (run again with --resume to continue)"

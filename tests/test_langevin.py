@@ -156,3 +156,22 @@ def test_model_with_a_parameter_named_D():
     m = custom_model("-D*xdot - x**3")
     with pytest.raises(KBMError, match="named D"):
         langevin_system(m, {"mu": 0.1}, 0.01)
+
+
+def test_ensemble_store_resume_same_bytes(tmp_path):
+    """An ensemble kept in a PointStore and resumed gives the bytes of a run without store
+    (issue 21's contract, for the Langevin ensembles of issue 22)."""
+    from numerics.executor import Interrupted
+    from numerics.store import PointStore
+
+    kw = dict(trajectories=16, t_end=20.0, burn_in=5.0, dt=0.05, seed=4, bins=(0, 4, 8),
+              workers=1)
+    plain = stationary_ensemble("vdp", {"mu": 0.2}, 0.02, **kw)
+    path = tmp_path / "runs.sqlite"
+    with PointStore(path) as store:
+        stationary_ensemble("vdp", {"mu": 0.2}, 0.02, store=store, **kw)
+    with PointStore(path, resume=True) as store:
+        again = stationary_ensemble("vdp", {"mu": 0.2}, 0.02, store=store, **kw)
+    assert (again.x2, again.a2) == (plain.x2, plain.a2)
+    assert again.density.tobytes() == plain.density.tobytes()
+    assert "16 of 20 trajectories were finished" in str(Interrupted(16, 20, "trajectory"))

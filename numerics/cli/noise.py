@@ -37,6 +37,12 @@ def register(sub) -> None:
                         "averaged answer is given alone")
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="worker processes (default: all cores; the numbers do not depend on it)")
+    p.add_argument("--store", metavar="FILE",
+                   help="keep every finished chunk of trajectories in the SQLite file FILE, so "
+                        "that an interrupted run can be resumed")
+    p.add_argument("--resume", action="store_true",
+                   help="with --store: continue the run kept in FILE (the same numbers as an "
+                        "uninterrupted run)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.add_argument("--out", metavar="DIR", help="write noise-MODEL.png (the averaged density "
                                                 "over the histogram) and noise-MODEL.json")
@@ -54,14 +60,24 @@ def run(args) -> int:
     if args.seed < 0:
         raise ParameterError(f"--seed must be >= 0, got {args.seed}")
     params = parse_params(args.param)
+    if args.resume and not args.store:
+        raise ParameterError("--resume continues a run kept by --store FILE: give the file")
     figure = None
     if args.out:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
         figure = out / f"noise-{args.model}.png"
-    rep = noise_report(args.model, params, trajectories=args.trajectories, t_end=args.t_end,
-                       burn_in=args.burn_in, dt=args.dt, seed=args.seed, budget=args.budget,
-                       workers=args.workers, progress=not args.json, figure=figure)
+    from numerics.store import PointStore
+
+    store = PointStore(args.store, resume=args.resume) if args.store else None
+    try:
+        rep = noise_report(args.model, params, trajectories=args.trajectories,
+                           t_end=args.t_end, burn_in=args.burn_in, dt=args.dt, seed=args.seed,
+                           budget=args.budget, workers=args.workers, progress=not args.json,
+                           figure=figure, store=store)
+    finally:
+        if store is not None:
+            store.close()
     if args.out:
         from kbm.strict_json import finite
 

@@ -121,12 +121,47 @@ def diagram_figure(d, path: str | Path, title: str | None = None) -> list[Path]:
     handles = draw_diagram(d, axes[0], "amplitude_max", legend=False)
     draw_diagram(d, axes[1], "period", analytic=True, legend=False)
     _zoom_short_branches(d, axes[0])
+    _period_law_inset(d, axes[1])
     # one legend for both panels, below them: on a panel it covered data
     fig.legend(handles=handles, loc="lower center", ncol=min(len(handles), 5), fontsize=8,
                frameon=False, bbox_to_anchor=(0.5, -0.02))
     fig.subplots_adjust(bottom=0.24)
     fig.suptitle(title or f"limit cycles of {d.model} against {d.parameter}", fontsize=10)
     return _save(fig, Path(path))
+
+
+def _period_law_inset(d, ax) -> None:
+    """For a branch that ends homoclinic with the period law fitted
+    (:mod:`numerics.cycles.homoclinic`): an inset of ``T`` against ``-ln|p_h - p|`` with the
+    line of the computed slope ``k = sum 1/lambda_u`` through the last point, so the
+    logarithmic growth and the end found are seen together.  Drawn for a diagram of one
+    branch only: with several, the inset would cover their curves."""
+    import re
+
+    if len(d.branches) != 1:
+        return
+    for i, b in enumerate(d.branches):
+        end = next((s for s in b.special if s.kind == "homoclinic"), None)
+        m = None if end is None else re.search(r"k = sum 1/lambda_u = ([0-9.eE+-]+)",
+                                               end.message)
+        if m is None or len(b.points) < 6:
+            continue
+        k, ph = float(m.group(1)), end.parameter
+        p = np.array([q.parameter for q in b.points])
+        T = np.array([q.period for q in b.points])
+        near = np.abs(ph - p) < 0.25 * (np.max(p) - np.min(p))
+        if np.count_nonzero(near) < 4:
+            continue
+        u = -np.log(np.abs(ph - p[near]))
+        ins = ax.inset_axes([0.14, 0.48, 0.38, 0.36])
+        ins.plot(u, T[near], "o", ms=2.5, color=f"C{i}")
+        uu = np.linspace(u.min(), u.max(), 2)
+        ins.plot(uu, T[near][-1] + k * (uu - u[-1]), "k--", lw=0.8)
+        ins.set_xlabel(rf"$-\ln|{d.parameter}_h - {d.parameter}|$", fontsize=6)
+        ins.set_ylabel("T", fontsize=6)
+        ins.tick_params(labelsize=5)
+        ins.set_title(f"{d.parameter}_h = {ph:.6g}; slope k = {k:.4g} (computed)", fontsize=6)
+        return
 
 
 def _zoom_short_branches(d, ax) -> None:

@@ -11,6 +11,8 @@ process pool, an executor or a Dask cluster):
    high precision, sweeps);
 3. :mod:`numerics.forced` — true periodic responses of forced oscillators (shooting at
    the fixed period, Floquet multipliers, continuation in the detuning, locking);
+   :mod:`numerics.coupled` — ``N`` coupled oscillators: the compiled ``2N`` flow, periodic
+   orbits with all ``2N`` Floquet multipliers, the locking region averaged against true;
 4. :mod:`numerics.comparison` — approximations against the true cycles;
 5. :mod:`numerics.sliding` — the pulled sliders: driven runs (scipy and compiled),
    stick-slip, steady sliding states, friction laws and maps;

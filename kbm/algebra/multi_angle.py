@@ -1,0 +1,187 @@
+"""Finite real Fourier series in ``n`` angles with exact Laurent coefficients.
+
+``f(psi) = sum_h c_h cos(h . psi) + s_h sin(h . psi)`` over *canonical* integer vectors
+``h`` (the first nonzero entry positive, or ``h = 0``); each coefficient is a
+:class:`~kbm.algebra.laurent.Laurent` polynomial in the amplitudes, the parameters and
+the detunings.  It is the representation of the coupled KBM recursion
+(:mod:`kbm.coupled.engine`): ``psi = (psi_1, ..., psi_N)`` are the phases of the ``N``
+oscillators.  Products use the product-to-sum formulas, ``d/dpsi_l`` acts on the indices
+and ``d/da_l`` on the coefficients; no integral is ever done.  The two-angle series of the
+forced recursion (:mod:`kbm.forced.two_angle`) is the case ``n = 2`` with one of the
+angles the forcing's.
+
+The series satisfies the ring protocol the lazy eps-series of
+:mod:`kbm.algebra.lazy_series` need (``+``, ``-``, ``*``, ``scale``, ``scale_q``,
+``is_zero``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import sympy as sp
+
+from .laurent import Laurent, LaurentRing, Q, accumulate, term_product
+
+__all__ = ["MultiAngle", "canonical"]
+
+_HALF = Q(1, 2)
+
+
+def canonical(h: tuple[int, ...]) -> tuple[tuple[int, ...], int]:
+    """``(h', sign)`` with ``h'`` canonical and ``h . psi = sign (h' . psi)``."""
+    for v in h:
+        if v > 0:
+            return h, 1
+        if v < 0:
+            return tuple(-w for w in h), -1
+    return h, 1
+
+
+def _add(h1: tuple, h2: tuple) -> tuple:
+    return tuple(p + q for p, q in zip(h1, h2))
+
+
+def _sub(h1: tuple, h2: tuple) -> tuple:
+    return tuple(p - q for p, q in zip(h1, h2))
+
+
+class MultiAngle:
+    """A finite Fourier series in ``n`` angles; ``cos``/``sin`` map index tuples to
+    :class:`Laurent` coefficients."""
+
+    __slots__ = ("ring", "n", "cos", "sin")
+
+    def __init__(self, ring: LaurentRing, n: int, cos: dict | None = None,
+                 sin: dict | None = None):
+        self.ring, self.n = ring, n
+        zero = (0,) * n
+        self.cos = {h: c for h, c in (cos or {}).items() if c}
+        self.sin = {h: c for h, c in (sin or {}).items() if c and h != zero}
+
+    # -- construction ---------------------------------------------------------------
+    @classmethod
+    def harmonic(cls, ring: LaurentRing, h: Sequence[int], c: Laurent,
+                 kind: str = "cos") -> "MultiAngle":
+        """``c cos(h . psi)`` (or ``sin``), any sign of ``h``."""
+        h, sign = canonical(tuple(h))
+        if kind == "cos":
+            return cls(ring, len(h), {h: c})
+        return cls(ring, len(h), sin={h: c if sign > 0 else -c})
+
+    def _new(self, cos: dict, sin: dict) -> "MultiAngle":
+        return MultiAngle(self.ring, self.n, cos, sin)
+
+    def is_zero(self) -> bool:
+        return not self.cos and not self.sin
+
+    def harmonics(self) -> set[tuple[int, ...]]:
+        """The index vectors with a nonzero coefficient."""
+        return set(self.cos) | set(self.sin)
+
+    # -- arithmetic -----------------------------------------------------------------
+    def __add__(self, other: "MultiAngle") -> "MultiAngle":
+        if other.is_zero():
+            return self
+        if self.is_zero():
+            return other
+        cos = dict(self.cos)
+        for h, c in other.cos.items():
+            cos[h] = cos[h] + c if h in cos else c
+        sin = dict(self.sin)
+        for h, c in other.sin.items():
+            sin[h] = sin[h] + c if h in sin else c
+        return self._new(cos, sin)
+
+    def __neg__(self) -> "MultiAngle":
+        return self._new({h: -c for h, c in self.cos.items()},
+                         {h: -c for h, c in self.sin.items()})
+
+    def __sub__(self, other: "MultiAngle") -> "MultiAngle":
+        return self + (-other)
+
+    def scale(self, c) -> "MultiAngle":
+        """Multiply by a :class:`Laurent` coefficient or by another series."""
+        if isinstance(c, MultiAngle):
+            return self * c
+        return self._new({h: v * c for h, v in self.cos.items()},
+                         {h: v * c for h, v in self.sin.items()})
+
+    def scale_q(self, q) -> "MultiAngle":
+        """Multiply by a rational number."""
+        return self._new({h: v.scale(q) for h, v in self.cos.items()},
+                         {h: v.scale(q) for h, v in self.sin.items()})
+
+    def __mul__(self, other: "MultiAngle") -> "MultiAngle":
+        # cos A cos B = (cos(A-B) + cos(A+B))/2      sin A sin B = (cos(A-B) - cos(A+B))/2
+        # sin A cos B = (sin(A+B) + sin(A-B))/2      cos A sin B = (sin(A+B) - sin(A-B))/2
+        bias = self.ring.bias_all
+        cos: dict = {}
+        sin: dict = {}
+        for h1, c1 in self.cos.items():
+            t1 = c1.terms
+            for h2, c2 in other.cos.items():
+                pr = term_product(t1, c2.terms, bias)
+                accumulate(cos, canonical(_sub(h1, h2))[0], pr, 1)
+                accumulate(cos, canonical(_add(h1, h2))[0], pr, 1)
+            for h2, s2 in other.sin.items():  # cos A sin B
+                pr = term_product(t1, s2.terms, bias)
+                k, sg = canonical(_add(h1, h2))
+                accumulate(sin, k, pr, sg)
+                k, sg = canonical(_sub(h1, h2))
+                accumulate(sin, k, pr, -sg)
+        for h1, s1 in self.sin.items():
+            t1 = s1.terms
+            for h2, c2 in other.cos.items():  # sin A cos B
+                pr = term_product(t1, c2.terms, bias)
+                k, sg = canonical(_add(h1, h2))
+                accumulate(sin, k, pr, sg)
+                k, sg = canonical(_sub(h1, h2))
+                accumulate(sin, k, pr, sg)
+            for h2, s2 in other.sin.items():
+                pr = term_product(t1, s2.terms, bias)
+                accumulate(cos, canonical(_sub(h1, h2))[0], pr, 1)
+                accumulate(cos, canonical(_add(h1, h2))[0], pr, -1)
+        ring = self.ring
+
+        def finish(d: dict) -> dict:
+            return {h: Laurent(ring, {m: v * _HALF for m, v in t.items() if v})
+                    for h, t in d.items()}
+
+        return self._new(finish(cos), finish(sin))
+
+    # -- calculus -------------------------------------------------------------------
+    def d_angle(self, which: int) -> "MultiAngle":
+        """``d/dpsi_which`` (angles counted from 0)."""
+        cos = {h: c.scale(h[which]) for h, c in self.sin.items() if h[which]}
+        sin = {h: c.scale(-h[which]) for h, c in self.cos.items() if h[which]}
+        return self._new(cos, sin)
+
+    def diff(self, gen: int) -> "MultiAngle":
+        """``d/dg`` for the ring's generator ``gen`` (an amplitude)."""
+        return self._new({h: c.diff(gen) for h, c in self.cos.items()},
+                         {h: c.diff(gen) for h, c in self.sin.items()})
+
+    def split(self, keep: Callable[[tuple], bool]) -> tuple["MultiAngle", "MultiAngle"]:
+        """``(part with keep(h) true, the rest)``."""
+        yes = self._new({h: c for h, c in self.cos.items() if keep(h)},
+                        {h: c for h, c in self.sin.items() if keep(h)})
+        no = self._new({h: c for h, c in self.cos.items() if not keep(h)},
+                       {h: c for h, c in self.sin.items() if not keep(h)})
+        return yes, no
+
+    def map_coefficients(self, fn) -> "MultiAngle":
+        """``fn(h, c)`` applied to every coefficient (the same harmonic kept)."""
+        return self._new({h: fn(h, c) for h, c in self.cos.items()},
+                         {h: fn(h, c) for h, c in self.sin.items()})
+
+    # -- display --------------------------------------------------------------------
+    def as_expr(self, angles: Sequence[sp.Expr]) -> sp.Expr:
+        """The sympy expression in the given angle expressions, harmonics in a fixed order
+        (deterministic, no factoring)."""
+        parts = []
+        for kind, table, fn in (("cos", self.cos, sp.cos), ("sin", self.sin, sp.sin)):
+            for h in sorted(table):
+                arg = sp.Add(*[v * g for v, g in zip(h, angles) if v])
+                parts.append(table[h].as_primitive_expr() * (fn(arg) if any(h) else 1))
+        return sp.Add(*parts)

@@ -1,0 +1,19 @@
+"""Coupled oscillators: ``N`` degrees of freedom, internal resonances, KBM to any order.
+
+- :mod:`kbm.coupled.model`: :class:`CoupledOscillators` (one degree of freedom is ``N = 1``);
+- :mod:`kbm.coupled.resonance`: declared internal resonances and the slow lattice;
+- :mod:`kbm.coupled.engine`: :func:`derive_coupled`, the exact multi-angle recursion;
+- :mod:`kbm.coupled.result`: :class:`CoupledKBMResult` (JSON, LaTeX, numpy slow flow);
+- :mod:`kbm.coupled.builtins`: ``coupled-vdp``, ``duffing-1-3``, ``quadratic-1-2``.
+"""
+
+from .builtins import COUPLED_MODELS, coupled_model_names, get_coupled_model
+from .engine import MAX_DOF_SYMBOLIC, MAX_ORDER, derive_coupled
+from .model import CoupledOscillators, amplitudes, coupled_custom, phases, positions, velocities
+from .resonance import InternalResonance, UndeclaredResonanceError
+from .result import CoupledKBMResult
+
+__all__ = ["CoupledOscillators", "CoupledKBMResult", "InternalResonance",
+           "UndeclaredResonanceError", "derive_coupled", "get_coupled_model",
+           "coupled_model_names", "COUPLED_MODELS", "coupled_custom", "MAX_ORDER",
+           "MAX_DOF_SYMBOLIC", "positions", "velocities", "amplitudes", "phases"]

@@ -1,0 +1,76 @@
+"""The built-in coupled systems (names used on the command line).
+
+``coupled-vdp``    two van der Pol oscillators in 1:1 resonance, dissipatively coupled,
+                   with a detuning written in F (issue 23):
+                   ``F1 = (1 - x1^2) x1' + c (x2' - x1')``,
+                   ``F2 = (1 - x2^2) x2' + c (x1' - x2') - 2 sigma x2``
+``duffing-1-3``    two cubic oscillators in 1:3 internal resonance with a potential
+                   coupling ``V = k x1^3 x2`` and light damping (Nayfeh & Mook 1979,
+                   sec. 6.6): ``F1 = -2 zeta1 x1' - alpha1 x1^3 - 3 k x1^2 x2``,
+                   ``F2 = -2 zeta2 x2' - alpha2 x2^3 - k x1^3``, ``omega = (1, 3)``
+``quadratic-1-2``  two oscillators with quadratic coupling in 1:2 internal resonance
+                   (Nayfeh & Mook 1979, sec. 6.5, free oscillations):
+                   ``F1 = -2 zeta1 x1' - alpha1 x1 x2``, ``F2 = -2 zeta2 x2' - alpha2 x1^2``,
+                   ``omega = (1, 2)``
+"""
+
+from __future__ import annotations
+
+from ..errors import ModelError
+from .model import CoupledOscillators
+
+__all__ = ["COUPLED_MODELS", "get_coupled_model", "coupled_model_names"]
+
+COUPLED_MODELS: dict[str, CoupledOscillators] = {
+    "coupled-vdp": CoupledOscillators(
+        "coupled-vdp",
+        ("(1 - x1**2)*xdot1 + c*(xdot2 - xdot1)",
+         "(1 - x2**2)*xdot2 + c*(xdot1 - xdot2) - 2*sigma*x2"),
+        (1, 1),
+        description="two van der Pol oscillators, dissipative coupling c, detuning sigma of "
+                    "the second (its frequency 1 + mu sigma)",
+        defaults={"c": "0.3", "sigma": "0"}, internal=("1:1",)),
+    "duffing-1-3": CoupledOscillators(
+        "duffing-1-3",
+        ("-2*zeta1*xdot1 - alpha1*x1**3 - 3*k*x1**2*x2",
+         "-2*zeta2*xdot2 - alpha2*x2**3 - k*x1**3"),
+        (1, 3),
+        description="two cubic oscillators in 1:3 internal resonance, potential coupling "
+                    "k x1^3 x2 (Nayfeh & Mook 1979, sec. 6.6)",
+        defaults={"zeta1": "0", "zeta2": "0", "alpha1": "1", "alpha2": "1", "k": "1"},
+        internal=("1:3",)),
+    "quadratic-1-2": CoupledOscillators(
+        "quadratic-1-2",
+        ("-2*zeta1*xdot1 - alpha1*x1*x2", "-2*zeta2*xdot2 - alpha2*x1**2"),
+        (1, 2),
+        description="two oscillators with quadratic coupling in 1:2 internal resonance "
+                    "(Nayfeh & Mook 1979, sec. 6.5)",
+        defaults={"zeta1": "0", "zeta2": "0", "alpha1": "1", "alpha2": "1"},
+        internal=("1:2",)),
+}
+
+
+def coupled_model_names() -> list[str]:
+    """The names of the built-in coupled systems."""
+    return sorted(COUPLED_MODELS)
+
+
+def get_coupled_model(name: str) -> CoupledOscillators:
+    """The built-in system ``name``: a coupled one, or a one-degree-of-freedom model of
+    :mod:`kbm.models` as the case ``N = 1``.
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        For an unknown name (the known ones are listed), or a driven one-degree-of-freedom
+        model.
+    """
+    if name in COUPLED_MODELS:
+        return COUPLED_MODELS[name]
+    from ..models import MODELS, get_model
+
+    if name in MODELS:
+        return CoupledOscillators.from_oscillator(get_model(name))
+    raise ModelError(f"unknown model {name!r}; the built-in coupled systems are "
+                     f"{', '.join(coupled_model_names())} and the one-degree-of-freedom "
+                     f"models are {', '.join(sorted(MODELS))}")

@@ -1,0 +1,352 @@
+"""The KBM recursion for ``N`` coupled oscillators, with internal resonances, to any order.
+
+For ``x_i'' + omega_i**2 x_i = mu F_i(x, x')`` (i = 1..N) the expansion (Bogoliubov &
+Mitropolsky 1961, ch. 5, the multi-frequency case; Nayfeh & Mook 1979, ch. 6) is
+
+``x_i = a_i cos(psi_i) + sum_{n>=1} mu**n u_{i,n}(a, psi)``,
+``da_i/dt = sum mu**n A_{i,n}(a, gamma)``, ``dpsi_i/dt = omega_i + sum mu**n B_{i,n}(a, gamma)``,
+
+where the rates hold only the *slow* harmonics ``k`` of the declared internal resonances
+(``k . omega = 0``: functions of the phase combinations ``gamma_r``), and no ``u_{i,n}``
+holds a harmonic of frequency ``+-omega_i`` — so ``a_i`` is exactly the amplitude of the
+component of ``x_i`` at its own frequency.  With ``L0 = sum_l omega_l d/dpsi_l`` (which
+annihilates the slow harmonics) and ``D_j = sum_l (A_{l,j} d/da_l + B_{l,j} d/dpsi_l)``:
+
+``V_{i,m} = L0 X_{i,m} + sum_{j=1}^m D_j X_{i,m-j}``,
+``[x_i'']_m = L0 V_{i,m} + sum_{j=1}^m D_j V_{i,m-j}``;
+
+at order ``n`` the unknowns of mode ``i`` enter as ``(L0**2 + omega_i**2) u_{i,n} -
+2 omega_i A_{i,n} sin(psi_i) - 2 omega_i a_i B_{i,n} cos(psi_i)``.  The resonant part of
+``R_{i,n}`` (harmonics ``+-e_i + k``, ``k`` slow) is ``P cos(psi_i) + Q sin(psi_i)`` with
+slow ``P``, ``Q``; it gives ``A_{i,n} = -Q/(2 omega_i)``, ``B_{i,n} = -P/(2 omega_i a_i)``,
+and every other harmonic ``h`` is divided by ``omega_i**2 - (h . omega)**2``.  A harmonic
+whose divisor vanishes, or is within ``tolerance`` of vanishing, without a declared
+resonance raises :class:`~kbm.coupled.resonance.UndeclaredResonanceError` with the
+resonance named.  ``N = 1`` is the one-degree-of-freedom recursion of
+:mod:`kbm.averaging`, which this one reproduces exactly.
+
+All arithmetic is exact: ``N``-angle Fourier series (:mod:`kbm.algebra.multi_angle`) with
+Laurent-polynomial coefficients over Q in the amplitudes, the parameters and the detunings.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import sympy as sp
+
+from ..algebra.laurent import Laurent, LaurentRing, Q
+from ..algebra.lazy_series import Const, Leaf, Node, Product, Scaled, Sum
+from ..algebra.multi_angle import MultiAngle
+from ..errors import ModelError, OrderError, UnsupportedTermError
+from ..models import Oscillator
+from .model import CoupledOscillators, amplitudes, positions, velocities
+from .resonance import (InternalResonance, SlowLattice, UndeclaredResonanceError,
+                        declaration, describe, frequency)
+from .result import CoupledKBMResult
+
+__all__ = ["derive_coupled", "MAX_ORDER", "MAX_DOF_SYMBOLIC", "TOLERANCE"]
+
+#: highest order of the coupled expansion (harmonics in N angles grow like order**N)
+MAX_ORDER = 8
+
+#: most degrees of freedom of the exact symbolic expansion (the numerics take more)
+MAX_DOF_SYMBOLIC = 6
+
+#: a harmonic whose frequency is within this fraction of omega_i (and not declared
+#: resonant) is refused as a small divisor
+TOLERANCE = 0.05
+
+
+class CoupledAlgebra:
+    """``N``-angle series over Laurent coefficients, with the resonance structure."""
+
+    def __init__(self, model: CoupledOscillators, lattice: SlowLattice, gens: list[sp.Symbol],
+                 tolerance: float):
+        n = model.dof
+        self.n, self.model, self.lattice, self.tol = n, model, lattice, tolerance
+        self.omega = model.omega0
+        self.ring = LaurentRing([*amplitudes(n), *gens])
+        self.wq = [Q(int(w.p), int(w.q)) for w in self.omega]
+        self.wf = [Fraction(int(w.p), int(w.q)) for w in self.omega]
+        self.a_inv = [self.ring.gen(i, -1) for i in range(n)]
+
+    # -- the ring protocol of the lazy series --------------------------------------------
+    def zero(self) -> MultiAngle:
+        return MultiAngle(self.ring, self.n)
+
+    def const(self, expr: sp.Expr) -> MultiAngle:
+        try:
+            c = self.ring.from_expr(sp.expand(expr))
+        except (TypeError, sp.PolynomialError, sp.GeneratorsNeeded):
+            raise ModelError(f"the coefficient {expr} is not a polynomial in the parameters "
+                             "with rational numbers (a monomial denominator at most); the "
+                             "exact coupled averaging needs rational numbers (no pi, no "
+                             "sqrt, no floats)") from None
+        return MultiAngle(self.ring, self.n, {(0,) * self.n: c})
+
+    def x0(self, i: int) -> MultiAngle:
+        """``a_i cos(psi_i)``."""
+        h = tuple(1 if l == i else 0 for l in range(self.n))
+        return MultiAngle(self.ring, self.n, {h: self.ring.gen(i)})
+
+    def L0(self, f: MultiAngle) -> MultiAngle:
+        out = self.zero()
+        for l, w in enumerate(self.wq):
+            out = out + f.d_angle(l).scale_q(w)
+        return out
+
+    # -- resonance structure ----------------------------------------------------------
+    def _resonant(self, h: tuple, i: int, n: int) -> tuple[tuple, int] | None:
+        """``(k, s)`` with ``h . psi = s (psi_i + k . psi)``, ``k`` slow, or ``None``;
+        raises for an undeclared (near) resonance."""
+        f = frequency(h, self.omega)
+        wi = self.wf[i]
+        s = 1 if f > 0 else -1
+        gap = abs(abs(f) - wi) / wi
+        if gap > self.tol:
+            return None
+        hs = tuple(s * v for v in h)
+        k = tuple(v - (1 if l == i else 0) for l, v in enumerate(hs))
+        if gap == 0 and self.lattice.coords(k) is not None:
+            return k, s
+        self._refuse(k, i, n, gap)
+        return None  # pragma: no cover - _refuse raises
+
+    def _refuse(self, k: tuple, i: int, n: int, gap: Fraction) -> None:
+        what = "exactly" if gap == 0 else f"within {float(gap):.3g} omega{i + 1} of"
+        decl = declaration(k)
+        hint = (f"declare it: --internal {decl} (internal=['{decl}']), with the frequencies "
+                f"in the exact ratio and any detuning written in F"
+                if decl else "a combination resonance of more than two modes, which kbm "
+                             "does not average yet; change the frequencies")
+        raise UndeclaredResonanceError(
+            f"the frequencies omega = ({', '.join(map(str, self.omega))}) satisfy "
+            f"{describe(k)} = {float(frequency(k, self.omega)):.6g}, {what} an internal "
+            f"resonance that was not declared: the harmonic psi{i + 1} + "
+            f"({', '.join(map(str, k))}).psi of R_{i + 1},{n} has a "
+            f"{'vanishing' if gap == 0 else 'small'} divisor and the non-resonant averaging "
+            f"breaks down; {hint}")
+
+    def secular(self, R: MultiAngle, i: int, n: int) -> tuple[MultiAngle, MultiAngle]:
+        """``(A_{i,n}, B_{i,n})``: the resonant part of ``R_{i,n}`` as slow series."""
+        ring = self.ring
+        P, Qs = self.zero(), self.zero()
+        for kind, table in (("cos", R.cos), ("sin", R.sin)):
+            for h, c in table.items():
+                res = self._resonant(h, i, n)
+                if res is None:
+                    continue
+                k, s = res
+                if kind == "cos":  # cos(psi_i + k psi) = cos psi_i cos k - sin psi_i sin k
+                    P = P + MultiAngle.harmonic(ring, k, c, "cos")
+                    Qs = Qs + MultiAngle.harmonic(ring, k, -c, "sin")
+                else:  # sin(h psi) = s sin(psi_i + k psi) = s (sin psi_i cos k + cos psi_i sin k)
+                    cs = c if s > 0 else -c
+                    Qs = Qs + MultiAngle.harmonic(ring, k, cs, "cos")
+                    P = P + MultiAngle.harmonic(ring, k, cs, "sin")
+        half = Q(-1, 2) / self.wq[i]
+        return Qs.scale_q(half), P.scale(self.a_inv[i]).scale_q(half)
+
+    def solve(self, R: MultiAngle, i: int, n: int) -> MultiAngle:
+        """``u_{i,n}``: every non-resonant harmonic over ``omega_i**2 - (h . omega)**2``."""
+        _, rest = R.split(lambda h: self._resonant(h, i, n) is not None)
+        w2 = self.wf[i] ** 2
+
+        def divide(h, c):
+            d = w2 - frequency(h, self.omega) ** 2
+            return c.scale(Q(d.denominator, d.numerator))
+
+        return rest.map_coefficients(divide)
+
+
+class MultiBuilder:
+    """The lazy-series tree of a polynomial ``F_i`` along the leaves ``x_l``, ``xdot_l``."""
+
+    def __init__(self, alg: CoupledAlgebra, leaves: dict):
+        self.alg, self.leaves = alg, leaves
+        self.zero = alg.zero
+        self._pow: dict = {}
+
+    def power(self, base_expr: sp.Expr, e: int) -> Node:
+        if e == 1:
+            return self.build(base_expr)
+        key = (base_expr, e)
+        if key not in self._pow:
+            half = self.power(base_expr, e // 2)
+            node = Product(self.zero, half, half)
+            if e % 2:
+                node = Product(self.zero, node, self.build(base_expr))
+            self._pow[key] = node
+        return self._pow[key]
+
+    def build(self, expr: sp.Expr) -> Node:
+        if expr in self.leaves:
+            return self.leaves[expr]
+        if not expr.free_symbols & set(self.leaves):
+            return Const(self.zero, self.alg.const(expr))
+        if expr.is_Add:
+            return Sum(self.zero, [self.build(term) for term in expr.args])
+        if expr.is_Mul:
+            state = set(self.leaves)
+            const = [f for f in expr.args if not f.free_symbols & state]
+            var = [f for f in expr.args if f.free_symbols & state]
+            node = self.build(var[0])
+            for f in var[1:]:
+                node = Product(self.zero, node, self.build(f))
+            if const:
+                c = self.alg.const(sp.Mul(*const))
+                node = Scaled(self.zero, node, lambda s, c=c: s * c)
+            return node
+        if expr.is_Pow and expr.exp.is_Integer and expr.exp > 0:
+            return self.power(expr.base, int(expr.exp))
+        raise UnsupportedTermError(
+            f"the term {expr} is not supported by the exact coupled averaging: the right-hand "
+            "sides must be polynomials in the state variables (other smooth F: integrate the "
+            "system with kbm cycle, or average one degree of freedom with kbm derive --numeric)")
+
+
+def _recursion(alg: CoupledAlgebra, F: list[list[sp.Expr]], order: int):
+    """``A[i]``, ``B[i]``, ``U[i]``: lists over orders 1..N of mode ``i``'s series.
+
+    ``F[i][k]`` is the coefficient of ``mu**k`` of mode ``i``'s right-hand side.
+    """
+    n = alg.n
+    zero = alg.zero
+    X0 = [alg.x0(i) for i in range(n)]
+    V0 = [alg.L0(x0) for x0 in X0]
+    XL = [Leaf(zero, x0) for x0 in X0]
+    VL = [Leaf(zero, v0) for v0 in V0]
+    leaves = {**dict(zip(positions(n), XL)), **dict(zip(velocities(n), VL))}
+    builder = MultiBuilder(alg, leaves)
+    terms = [[(k, builder.build(sp.expand(Fk))) for k, Fk in enumerate(Fi) if Fk != 0]
+             for Fi in F]
+    A: list[list] = [[] for _ in range(n)]
+    B: list[list] = [[] for _ in range(n)]
+    U: list[list] = [[] for _ in range(n)]
+
+    def F_coeff(i: int, m: int) -> MultiAngle:
+        out = zero()
+        for k, node in terms[i]:
+            if k <= m:
+                c = node.coeff(m - k)
+                if not c.is_zero():
+                    out = out + c
+        return out
+
+    def D(j: int, f: MultiAngle) -> MultiAngle:
+        out = zero()
+        for l in range(n):
+            if not A[l][j - 1].is_zero():
+                out = out + A[l][j - 1] * f.diff(l)
+            if not B[l][j - 1].is_zero():
+                out = out + B[l][j - 1] * f.d_angle(l)
+        return out
+
+    Xs = [[x0] for x0 in X0]
+    Vs = [[v0] for v0 in V0]
+    for m in range(1, order + 1):
+        known, R = [], []
+        for i in range(n):
+            v_known = zero()
+            for j in range(1, m):
+                v_known = v_known + D(j, Xs[i][m - j])
+            acc = alg.L0(v_known)
+            for j in range(1, m):
+                acc = acc + D(j, Vs[i][m - j])
+            known.append(v_known)
+            R.append(F_coeff(i, m - 1) - acc)
+        for i in range(n):
+            Ai, Bi = alg.secular(R[i], i, m)
+            A[i].append(Ai)
+            B[i].append(Bi)
+        for i in range(n):
+            u = alg.solve(R[i], i, m)
+            U[i].append(u)
+            if m < order:
+                v = alg.L0(u) + D(m, X0[i]) + known[i]
+                Xs[i].append(u)
+                Vs[i].append(v)
+                XL[i].append(u)
+                VL[i].append(v)
+    return A, B, U
+
+
+def derive_coupled(model: CoupledOscillators | Oscillator | str, order: int,
+                   params: dict | None = None, *, internal=(),
+                   tolerance: float = TOLERANCE) -> CoupledKBMResult:
+    """KBM expansion of ``x_i'' + omega_i**2 x_i = mu F_i(x, x')`` to order ``order``.
+
+    Parameters
+    ----------
+    model
+        A :class:`~kbm.coupled.model.CoupledOscillators`, a one-degree-of-freedom
+        :class:`~kbm.models.Oscillator` (the case ``N = 1``) or a built-in's name.
+    order
+        Highest power of ``mu`` kept (``A_{i,1..N}``, ``B_{i,1..N}``, ``u_{i,1..N}``).
+    params
+        Exact parameter values substituted first (``"0.1"`` is ``1/10``).
+    internal
+        Internal resonances declared beyond the model's own (``"1:3"``, ``"1:1@2,3"`` or
+        :class:`~kbm.coupled.resonance.InternalResonance`).
+    tolerance
+        A harmonic whose frequency is within this fraction of ``omega_i`` without a
+        declared resonance is refused.
+
+    Returns
+    -------
+    CoupledKBMResult
+
+    Raises
+    ------
+    kbm.errors.OrderError
+        For an order outside ``1..MAX_ORDER``.
+    kbm.coupled.resonance.UndeclaredResonanceError
+        For a (near) resonance that was not declared (it is named).
+    kbm.errors.ModelError
+        For more than :data:`MAX_DOF_SYMBOLIC` degrees of freedom, or right-hand sides that
+        are not polynomials with rational coefficients.
+
+    Examples
+    --------
+    Two van der Pol oscillators in 1:1 resonance, coupled dissipatively:
+
+    >>> r = derive_coupled("coupled-vdp", 1)
+    >>> r.A[0][1]
+    -a1*(a1**2 + 4*c - 4)/8 + a2*c*cos(gamma1)/2
+    """
+    from .builtins import get_coupled_model
+
+    if isinstance(model, str):
+        model = get_coupled_model(model)
+    elif isinstance(model, Oscillator):
+        model = CoupledOscillators.from_oscillator(model)
+    if params:
+        model = model.substitute(params)
+    if internal:
+        model = model.with_internal(internal)
+    if not isinstance(order, int) or isinstance(order, bool) or not 1 <= order <= MAX_ORDER:
+        raise OrderError(f"the order must be an integer from 1 to {MAX_ORDER}, got {order!r}")
+    if model.dof > MAX_DOF_SYMBOLIC:
+        raise ModelError(f"{model.dof} degrees of freedom are above the limit "
+                         f"{MAX_DOF_SYMBOLIC} of the exact symbolic averaging (its Fourier "
+                         f"series are in {model.dof} angles); simulate the system instead "
+                         "(kbm cycle, kbm friction take any N)")
+    n = model.dof
+    F = [[f] for f in model.F]
+    detunings = []
+    for r in model.internal:
+        if r.detuning:  # omega_j -> omega_j + mu sigma, exactly
+            sig = sp.Symbol(r.detuning)
+            detunings.append(sig)
+            xj = positions(n)[r.j - 1]
+            wj = model.omega0[r.j - 1]
+            Fj = F[r.j - 1]
+            Fj[0] = Fj[0] - 2 * wj * sig * xj
+            Fj.append(-sig**2 * xj)
+    syms = set().union(*[f.free_symbols for f in model.F]) - set(model.state)
+    gens = sorted(syms | set(detunings), key=lambda s: s.name)
+    lattice = SlowLattice(n, model.internal)
+    alg = CoupledAlgebra(model, lattice, gens, tolerance)
+    A, B, U = _recursion(alg, F, order)
+    return CoupledKBMResult.from_series(model, order, lattice, A, B, U)

@@ -1,0 +1,248 @@
+"""``N`` weakly coupled oscillators ``x_i'' + omega_i**2 x_i = mu F_i(x, x')``, i = 1..N.
+
+:class:`CoupledOscillators` is the model of :mod:`kbm.coupled`; the state variables are
+``x1, ..., xN`` and ``xdot1, ..., xdotN``.  One degree of freedom is the case ``N = 1``
+(:meth:`CoupledOscillators.from_oscillator` turns a :class:`kbm.models.Oscillator` into
+it, with ``x -> x1``), and the coupled recursion reproduces the one-degree-of-freedom
+expansion exactly there (``tests/test_coupled_engine.py``).
+
+The linear frequencies ``omega_i`` are positive rationals: commensurate frequencies are
+*internal resonances*, which the averaging must know exactly
+(:class:`~kbm.coupled.resonance.InternalResonance`); a detuning is written in ``F`` (as a
+stiffness ``-2 omega_j sigma x_j``) or declared with the resonance.
+"""
+
+from __future__ import annotations
+
+import re
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from ..errors import ModelError, ParameterError
+from ..symbols import mu, parse, t, x, xdot
+from ..values import FrozenMap, parameter_value
+from .resonance import InternalResonance
+
+__all__ = ["CoupledOscillators", "positions", "velocities", "amplitudes", "phases",
+           "MAX_DOF", "coupled_custom"]
+
+_STATE_NAME = re.compile(r"^(x|xdot)\d+$")
+_RESERVED = re.compile(r"^(a|psi|gamma)\d+$")
+
+#: most degrees of freedom a model may have (the compiled flows and shooting are 2N
+#: dimensional; the symbolic averaging has its own, lower, limit)
+MAX_DOF = 256
+
+
+def positions(n: int) -> tuple[sp.Symbol, ...]:
+    """``x1, ..., xn``."""
+    return tuple(sp.Symbol(f"x{i}") for i in range(1, n + 1))
+
+
+def velocities(n: int) -> tuple[sp.Symbol, ...]:
+    """``xdot1, ..., xdotn``."""
+    return tuple(sp.Symbol(f"xdot{i}") for i in range(1, n + 1))
+
+
+def amplitudes(n: int) -> tuple[sp.Symbol, ...]:
+    """``a1, ..., an`` (the KBM amplitudes)."""
+    return tuple(sp.Symbol(f"a{i}") for i in range(1, n + 1))
+
+
+def phases(n: int) -> tuple[sp.Symbol, ...]:
+    """``psi1, ..., psin`` (the KBM phases)."""
+    return tuple(sp.Symbol(f"psi{i}") for i in range(1, n + 1))
+
+
+def _frequency(value: object, i: int) -> sp.Rational:
+    w = parameter_value(f"omega{i}", value) if not isinstance(value, sp.Basic) else value
+    if not (w.is_Rational and w > 0):
+        raise ModelError(f"omega{i} must be a positive rational number (internal resonances "
+                         f"are exact ratios of the frequencies), got {value!r}")
+    return w
+
+
+@dataclass(frozen=True)
+class CoupledOscillators:
+    """The system ``x_i'' + omega_i**2 x_i = mu F_i(x1..xN, xdot1..xdotN)``.
+
+    Parameters
+    ----------
+    name
+        Short name (command line, generated files).
+    F
+        The right-hand sides divided by ``mu``, one per degree of freedom, in
+        ``x1..xN``, ``xdot1..xdotN`` and parameters.
+    omega0
+        The linear frequencies, positive rationals, one per degree of freedom.
+    description
+        One line saying what the model is and where it comes from.
+    defaults
+        Values of parameters that are not given.
+    internal
+        The internal resonances the model is meant to be averaged with (a built-in's own;
+        ``kbm derive --internal`` adds others).
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        For a count of ``F`` and ``omega0`` that differ, ``mu`` or a reserved name in
+        ``F``, a state variable beyond ``N``, a frequency that is not a positive rational,
+        or more than :data:`MAX_DOF` degrees of freedom.
+
+    Examples
+    --------
+    >>> m = CoupledOscillators("two", ("(1 - x1**2)*xdot1 + c*(xdot2 - xdot1)",
+    ...                               "(1 - x2**2)*xdot2 + c*(xdot1 - xdot2)"), (1, 1))
+    >>> m.dof, m.parameters
+    (2, ('c',))
+    """
+
+    name: str
+    F: tuple
+    omega0: tuple
+    description: str = ""
+    defaults: Mapping[str, object] = field(default_factory=dict)
+    internal: tuple = ()
+
+    def __post_init__(self) -> None:
+        if isinstance(self.F, (str, sp.Basic)) or not isinstance(self.F, Sequence):
+            raise ModelError("F must be a sequence of right-hand sides, one per degree of "
+                             "freedom")
+        F = tuple(parse(f) if isinstance(f, str) else sp.sympify(f) for f in self.F)
+        n = len(F)
+        if not 1 <= n <= MAX_DOF:
+            raise ModelError(f"a coupled model has 1 to {MAX_DOF} degrees of freedom, got {n}")
+        w = self.omega0
+        if not isinstance(w, Sequence) or isinstance(w, str):
+            w = (w,)
+        if len(w) != n:
+            raise ModelError(f"{n} right-hand sides but {len(w)} frequencies omega0: give one "
+                             f"frequency per degree of freedom (e.g. --omega0 "
+                             f"{','.join(['1'] * n)})")
+        w = tuple(_frequency(v, i) for i, v in enumerate(w, 1))
+        object.__setattr__(self, "F", F)
+        object.__setattr__(self, "omega0", w)
+        object.__setattr__(self, "defaults",
+                           FrozenMap({k: parameter_value(k, v) if not isinstance(v, sp.Basic)
+                                      else v for k, v in self.defaults.items()}))
+        internal = tuple(r if isinstance(r, InternalResonance) else
+                         InternalResonance.parse(r, n) for r in self.internal)
+        for r in internal:
+            r.check(w)
+        object.__setattr__(self, "internal", internal)
+        state = set(positions(n)) | set(velocities(n))
+        for i, f in enumerate(F, 1):
+            if mu in f.free_symbols:
+                raise ModelError(f"F{i} of {self.name!r} contains the small parameter mu; write "
+                                 "each equation as x_i'' + omega_i^2 x_i = mu*F_i with F_i free "
+                                 "of mu")
+            for s in f.free_symbols - state:
+                if s in (x, xdot) or _STATE_NAME.match(s.name):
+                    raise ModelError(
+                        f"F{i} = {f} uses {s.name!r}, which is not a state variable of a "
+                        f"system of {n} degrees of freedom: the state is "
+                        f"{', '.join(map(str, positions(n)))} and "
+                        f"{', '.join(map(str, velocities(n)))}")
+                if s.name in ("a", "psi", "t") or _RESERVED.match(s.name):
+                    raise ModelError(f"the symbol {s.name!r} in F{i} is reserved for the "
+                                     "amplitudes, phases and time; rename that parameter")
+
+    # -- structure --------------------------------------------------------------------
+    @property
+    def dof(self) -> int:
+        """The number ``N`` of degrees of freedom."""
+        return len(self.F)
+
+    @property
+    def state(self) -> tuple[sp.Symbol, ...]:
+        """``(x1, ..., xN, xdot1, ..., xdotN)``."""
+        return positions(self.dof) + velocities(self.dof)
+
+    @property
+    def parameters(self) -> tuple[str, ...]:
+        """The names of the parameters of the right-hand sides (sorted)."""
+        syms = set().union(*[f.free_symbols for f in self.F]) - set(self.state)
+        return tuple(sorted(s.name for s in syms))
+
+    def substitute(self, params: Mapping[str, object]) -> "CoupledOscillators":
+        """The model with parameter values put in (exact: ``"0.1"`` is ``1/10``).
+
+        Raises
+        ------
+        kbm.errors.ParameterError
+            For a name that is not a parameter of the model.
+        """
+        unknown = sorted(set(params) - set(self.parameters))
+        if unknown:
+            raise ParameterError(f"{', '.join(map(repr, unknown))} is not a parameter of "
+                                 f"{self.name!r} (its parameters: "
+                                 f"{', '.join(self.parameters) or 'none'})")
+        sub = {sp.Symbol(k): parameter_value(k, v) for k, v in params.items()}
+        return CoupledOscillators(self.name, tuple(f.subs(sub) for f in self.F), self.omega0,
+                                  self.description, self.defaults, self.internal)
+
+    def with_internal(self, resonances: Sequence[object]) -> "CoupledOscillators":
+        """The model with further declared internal resonances."""
+        extra = tuple(r if isinstance(r, InternalResonance) else
+                      InternalResonance.parse(r, self.dof) for r in resonances)
+        return CoupledOscillators(self.name, self.F, self.omega0, self.description,
+                                  self.defaults, self.internal + extra)
+
+    def accelerations(self) -> tuple[sp.Expr, ...]:
+        """``x_i'' = -omega_i**2 x_i + mu F_i`` as expressions."""
+        return tuple(-w**2 * xi + mu * f
+                     for w, xi, f in zip(self.omega0, positions(self.dof), self.F))
+
+    @classmethod
+    def from_oscillator(cls, model) -> "CoupledOscillators":
+        """The case ``N = 1`` of a :class:`kbm.models.Oscillator` (``x -> x1``,
+        ``xdot -> xdot1``).
+
+        Raises
+        ------
+        kbm.errors.ModelError
+            For a driven model or a frequency that is not a rational number.
+        """
+        if t in model.F.free_symbols or model.drive != 0:
+            raise ModelError(f"{model.name!r} depends on t; the coupled averaging treats "
+                             "autonomous systems")
+        (x1,), (v1,) = positions(1), velocities(1)
+        return cls(model.name, (model.F.subs({x: x1, xdot: v1}, simultaneous=True),),
+                   (model.omega0,), model.description, dict(model.defaults))
+
+
+def coupled_custom(rhs: Sequence[str], omega0: Sequence[object] | str | None = None, *,
+                   name: str = "custom") -> CoupledOscillators:
+    """A user's system from one right-hand side per degree of freedom.
+
+    ``omega0`` is a list or a comma-separated string (``"1,3"``); default all 1.
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        For mismatched counts (both are named), unreadable expressions, or a right-hand
+        side that uses none of the state variables.
+    """
+    n = len(rhs)
+    if omega0 is None:
+        w: Sequence[object] = ["1"] * n
+    elif isinstance(omega0, str):
+        w = [s.strip() for s in omega0.split(",")]
+    else:
+        w = list(omega0)
+    if len(w) != n:
+        raise ModelError(f"{n} right-hand sides (--rhs) but {len(w)} frequencies (--omega0 "
+                         f"{omega0}): give one frequency per degree of freedom")
+    model = CoupledOscillators(name, tuple(rhs), tuple(w),
+                               description=f"user system of {n} degrees of freedom")
+    state = set(model.state)
+    for i, f in enumerate(model.F, 1):
+        if f != 0 and not (f.free_symbols & state):
+            raise ModelError(f"F{i} = {rhs[i - 1]} depends on none of the state variables "
+                             f"{', '.join(map(str, model.state))}: write the system in them "
+                             "(one --rhs per degree of freedom)")
+    return model

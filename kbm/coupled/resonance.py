@@ -1,0 +1,158 @@
+"""Internal resonances of coupled oscillators and the lattice of slow harmonics.
+
+A resonance ``omega_i : omega_j = p : q`` (``q omega_i = p omega_j``) makes the phase
+combination ``gamma = p psi_j - q psi_i`` slow; the declared resonances generate the
+lattice of *slow* harmonics ``k`` (``k . omega = 0``) that the averaged equations keep
+(Nayfeh & Mook, *Nonlinear Oscillations*, 1979, secs. 6.5-6.6).  A harmonic whose
+frequency ``k . omega`` vanishes (or nearly does) but which is not in the declared
+lattice is an undeclared resonance: :class:`UndeclaredResonanceError` names it.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from fractions import Fraction
+from math import gcd
+
+import sympy as sp
+
+from ..errors import ModelError
+
+__all__ = ["InternalResonance", "SlowLattice", "UndeclaredResonanceError"]
+
+_SYNTAX = re.compile(r"^\s*(\d+)\s*:\s*(\d+)\s*(?:@\s*(\d+)\s*,\s*(\d+)\s*)?$")
+
+
+class UndeclaredResonanceError(ModelError):
+    """A harmonic of the expansion is (nearly) resonant but its resonance was not declared;
+    the message names it and the declaration that would treat it."""
+
+
+@dataclass(frozen=True)
+class InternalResonance:
+    """``omega_i : omega_j = p : q`` between the modes ``i`` and ``j`` (counted from 1).
+
+    ``detuning``: the name of ``sigma`` in ``omega_j = (q/p) omega_i + mu sigma``, or
+    ``None`` when the frequencies are exactly in the ratio (a detuning may then be written
+    in ``F``).
+    """
+
+    i: int
+    j: int
+    p: int
+    q: int
+    detuning: str | None = None
+
+    @classmethod
+    def parse(cls, text: str, dof: int, detuning: str | None = None) -> "InternalResonance":
+        """Read ``"P:Q"`` (modes 1 and 2) or ``"P:Q@I,J"``.
+
+        Raises
+        ------
+        kbm.errors.ModelError
+            For other text, modes out of range or equal, or a zero ratio.
+        """
+        m = _SYNTAX.match(str(text))
+        if not m:
+            raise ModelError(f"cannot read the internal resonance {text!r}: write P:Q for "
+                             "omega_1 : omega_2 = P : Q (e.g. 1:3), or P:Q@I,J for modes I "
+                             "and J")
+        p, q = int(m.group(1)), int(m.group(2))
+        i, j = (int(m.group(3)), int(m.group(4))) if m.group(3) else (1, 2)
+        if p == 0 or q == 0:
+            raise ModelError(f"the internal resonance {text!r} has a zero in its ratio; "
+                             "P and Q are positive integers")
+        if not (1 <= i <= dof and 1 <= j <= dof) or i == j:
+            raise ModelError(f"the internal resonance {text!r} needs two different modes "
+                             f"among 1..{dof}" + (" (a system of one degree of freedom has "
+                                                  "no internal resonance)" if dof == 1 else ""))
+        g = gcd(p, q)
+        return cls(i, j, p // g, q // g, detuning)
+
+    def check(self, omega: tuple) -> None:
+        """Raise :class:`~kbm.errors.ModelError` unless ``omega_i : omega_j = p : q``."""
+        wi, wj = omega[self.i - 1], omega[self.j - 1]
+        if wi * self.q != wj * self.p:
+            raise ModelError(
+                f"omega{self.i} = {wi} and omega{self.j} = {wj} are not in the declared ratio "
+                f"{self.p}:{self.q}: give the frequencies of the exact resonance and the "
+                f"detuning separately (in F as -2*omega{self.j}*sigma*x{self.j}, or as the "
+                f"resonance's detuning)")
+
+    def vector(self, dof: int) -> tuple[int, ...]:
+        """The slow harmonic ``k`` of ``gamma = p psi_j - q psi_i``."""
+        k = [0] * dof
+        k[self.j - 1] += self.p
+        k[self.i - 1] -= self.q
+        return tuple(k)
+
+    def __str__(self) -> str:
+        return f"{self.p}:{self.q}@{self.i},{self.j}"
+
+
+class SlowLattice:
+    """The integer combinations of the declared resonances' vectors.
+
+    ``coords(k)`` gives the integer coordinates of ``k`` in the generators, or ``None``.
+    """
+
+    def __init__(self, dof: int, resonances: tuple[InternalResonance, ...]):
+        self.dof = dof
+        self.generators = tuple(r.vector(dof) for r in resonances)
+        self._memo: dict = {}
+        if self.generators:
+            M = sp.Matrix([list(g) for g in self.generators]).T
+            if M.rank() < len(self.generators):
+                raise ModelError(f"the declared internal resonances "
+                                 f"{', '.join(map(str, resonances))} are not independent: "
+                                 "declare each once")
+            self._M = M
+
+    def coords(self, k: tuple[int, ...]) -> tuple[int, ...] | None:
+        """Integer ``c`` with ``k = sum_r c_r g_r``, or ``None``."""
+        if k in self._memo:
+            return self._memo[k]
+        out = None
+        if not any(k):
+            out = (0,) * len(self.generators)
+        elif self.generators:
+            try:
+                sol, params = self._M.gauss_jordan_solve(sp.Matrix(list(k)))
+            except ValueError:
+                sol = None
+            if sol is not None and not params.shape[0] and all(v.is_Integer for v in sol):
+                out = tuple(int(v) for v in sol)
+        self._memo[k] = out
+        return out
+
+
+def frequency(k: tuple[int, ...], omega: tuple) -> Fraction:
+    """``k . omega`` as an exact fraction."""
+    return sum((Fraction(int(w.p), int(w.q)) * v for v, w in zip(k, omega)), Fraction(0))
+
+
+def describe(k: tuple[int, ...]) -> str:
+    """``k . omega = 0`` written out, e.g. ``3*omega1 - omega2``."""
+    parts = []
+    for idx, v in enumerate(k, 1):
+        if v:
+            mag = "" if abs(v) == 1 else f"{abs(v)}*"
+            parts.append(("-" if v < 0 else "+") + f" {mag}omega{idx}")
+    s = " ".join(parts)
+    return s[2:] if s.startswith("+ ") else "-" + s[2:]
+
+
+def declaration(k: tuple[int, ...]) -> str | None:
+    """The ``--internal`` text of a two-mode resonance vector, or ``None``."""
+    nz = [(i, v) for i, v in enumerate(k, 1) if v]
+    if len(nz) != 2:
+        return None
+    (i, vi), (j, vj) = nz
+    if vi * vj > 0:
+        return None
+    # vi omega_i + vj omega_j = 0  ->  omega_i : omega_j = |vj| : |vi|
+    p, q = abs(vj), abs(vi)
+    g = gcd(p, q)
+    p, q = p // g, q // g
+    return f"{p}:{q}" if (i, j) == (1, 2) else f"{p}:{q}@{i},{j}"

@@ -1,0 +1,196 @@
+"""The result of the coupled KBM recursion: the slow flow of amplitudes and phase combinations.
+
+:class:`CoupledKBMResult` holds, for every degree of freedom ``i`` and order ``n``, the
+rates ``A_{i,n}(a, gamma)``, ``B_{i,n}(a, gamma)`` and the corrections
+``u_{i,n}(a, psi)`` as sympy expressions; the phase combinations ``gamma_r`` of the
+declared internal resonances are named, and their rates follow
+(``gamma_r' = sum_l g_{r,l} psi_l'``, slow because ``g_r . omega = 0``).  It renders
+plain text, JSON and LaTeX, and lambdifies the slow flow.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from ..algebra.multi_angle import MultiAngle
+from ..symbols import mu
+from .model import CoupledOscillators, amplitudes, phases
+from .resonance import SlowLattice
+
+__all__ = ["CoupledKBMResult"]
+
+
+def _lex(e: sp.Expr) -> str:
+    return sp.sstr(e, order="lex")
+
+
+def _slow_expr(f: MultiAngle, lattice: SlowLattice, gammas: tuple) -> sp.Expr:
+    parts = []
+    for kind, table, fn in (("cos", f.cos, sp.cos), ("sin", f.sin, sp.sin)):
+        for h in sorted(table):
+            c = lattice.coords(h)
+            arg = sp.Add(*[ci * g for ci, g in zip(c, gammas) if ci])
+            parts.append(table[h].as_primitive_expr() * (fn(arg) if any(h) else 1))
+    return sp.Add(*parts)
+
+
+@dataclass(frozen=True)
+class CoupledKBMResult:
+    """The KBM expansion of ``N`` coupled oscillators to a given order.
+
+    Attributes
+    ----------
+    model
+        The system (parameters substituted, internal resonances declared).
+    order
+        The highest power of ``mu`` kept.
+    gammas
+        ``((gamma_r, g_r . psi), ...)``: the slow phase combinations and their
+        definitions; empty without internal resonances.
+    A, B, u
+        ``A[i][n]``, ``B[i][n]``, ``u[i][n]`` for mode ``i`` (from 0) and order ``n``,
+        with ``A[i][0] = 0``, ``B[i][0] = omega_i``, ``u[i][0] = a_i cos(psi_i)``.
+    """
+
+    model: CoupledOscillators
+    order: int
+    gammas: tuple
+    A: tuple
+    B: tuple
+    u: tuple
+
+    @classmethod
+    def from_series(cls, model: CoupledOscillators, order: int, lattice: SlowLattice,
+                    A: list, B: list, U: list) -> "CoupledKBMResult":
+        n = model.dof
+        psis = phases(n)
+        gammas = tuple(sp.Symbol(f"gamma{r}") for r in range(1, len(lattice.generators) + 1))
+        defs = tuple((g, sp.Add(*[v * p for v, p in zip(k, psis) if v]))
+                     for g, k in zip(gammas, lattice.generators))
+        a = amplitudes(n)
+        return cls(
+            model=model, order=order, gammas=defs,
+            A=tuple((sp.Integer(0), *[_slow_expr(f, lattice, gammas) for f in A[i]])
+                    for i in range(n)),
+            B=tuple((model.omega0[i], *[_slow_expr(f, lattice, gammas) for f in B[i]])
+                    for i in range(n)),
+            u=tuple((a[i] * sp.cos(psis[i]), *[f.as_expr(psis) for f in U[i]])
+                    for i in range(n)))
+
+    # -- the slow flow ------------------------------------------------------------------
+    def gamma_rate(self, r: int, n: int) -> sp.Expr:
+        """The coefficient of ``mu**n`` (n >= 1) in ``d gamma_r/dt``."""
+        _, comb = self.gammas[r]
+        psis = phases(self.model.dof)
+        return sp.expand(sum((comb.coeff(p) * self.B[i][n] for i, p in enumerate(psis)),
+                             sp.Integer(0)))
+
+    def slow_flow(self, order: int | None = None) -> tuple[sp.Expr, ...]:
+        """``(da_1/dt, ..., da_N/dt, dgamma_1/dt, ...)`` to ``order`` (default all), in
+        ``a``, ``gamma`` and ``mu``."""
+        N = self.order if order is None else order
+        n = self.model.dof
+        rates = [sum((mu**k * self.A[i][k] for k in range(1, N + 1)), sp.Integer(0))
+                 for i in range(n)]
+        rates += [sum((mu**k * self.gamma_rate(r, k) for k in range(1, N + 1)), sp.Integer(0))
+                  for r in range(len(self.gammas))]
+        return tuple(rates)
+
+    def frequencies(self, order: int | None = None) -> tuple[sp.Expr, ...]:
+        """``dpsi_i/dt = omega_i + sum mu**n B_{i,n}`` to ``order``."""
+        N = self.order if order is None else order
+        return tuple(sum((mu**k * self.B[i][k] for k in range(N + 1)), sp.Integer(0))
+                     for i in range(self.model.dof))
+
+    def numpy_slow_flow(self, params: dict | None = None, order: int | None = None
+                        ) -> Callable[[np.ndarray, float], np.ndarray]:
+        """``f(y, mu)`` with ``y = (a_1..a_N, gamma_1..)``: the slow flow as numpy.
+
+        Parameters left symbolic must be given in ``params``.
+
+        Raises
+        ------
+        kbm.errors.ParameterError
+            If a parameter has no value.
+        """
+        from ..errors import ParameterError
+
+        rates = self.slow_flow(order)
+        sub = {sp.Symbol(k): sp.nsimplify(v) if isinstance(v, str) else v
+               for k, v in (params or {}).items()}
+        rates = [r.subs(sub) for r in rates]
+        state = [*amplitudes(self.model.dof), *[g for g, _ in self.gammas]]
+        left = sorted({s.name for r in rates for s in r.free_symbols} - {s.name for s in state}
+                      - {"mu"})
+        if left:
+            raise ParameterError(f"give a value to {', '.join(left)} for the numeric slow "
+                                 "flow")
+        fn = sp.lambdify([state, mu], rates, "numpy")
+
+        def flow(y, mu_value):
+            return np.asarray(fn(list(y), mu_value), dtype=float)
+
+        return flow
+
+    # -- output -----------------------------------------------------------------------
+    def to_json(self) -> dict:
+        """``model``, ``order``, ``omega0``, ``F``, ``internal``, ``gammas`` and ``A``,
+        ``B``, ``u``: per degree of freedom a list indexed by order (entry 0 null), each
+        entry a string :func:`kbm.parse` reads back; ``gamma_rates`` likewise per phase
+        combination."""
+        def strs(seq):
+            return [None] + [_lex(e) for e in seq[1:]]
+        return {
+            "model": self.model.name, "order": self.order, "dof": self.model.dof,
+            "omega0": [str(w) for w in self.model.omega0],
+            "F": [_lex(f) for f in self.model.F],
+            "internal": [str(r) for r in self.model.internal],
+            "gammas": {str(g): _lex(e) for g, e in self.gammas},
+            "exact": True,
+            "A": [strs(Ai) for Ai in self.A],
+            "B": [strs(Bi) for Bi in self.B],
+            "gamma_rates": {str(g): [None] + [_lex(self.gamma_rate(r, k))
+                                              for k in range(1, self.order + 1)]
+                            for r, (g, _) in enumerate(self.gammas)},
+            "u": [strs(ui) for ui in self.u],
+        }
+
+    def pretty(self) -> str:
+        """A plain-text summary, one line per quantity."""
+        m = self.model
+        lines = [f"KBM expansion of {m.name}: {m.dof} degrees of freedom, order {self.order}"]
+        for i, (w, f) in enumerate(zip(m.omega0, m.F), 1):
+            lines.append(f"  x{i}'' + {sp.sstr(w**2)}*x{i} = mu*({_lex(f)})")
+        for g, e in self.gammas:
+            lines.append(f"slow phase {g} = {_lex(e)}")
+        for i in range(m.dof):
+            for k in range(1, self.order + 1):
+                lines.append(f"A_{i + 1},{k} = {_lex(self.A[i][k])}")
+            for k in range(1, self.order + 1):
+                lines.append(f"B_{i + 1},{k} = {_lex(self.B[i][k])}")
+        for r, (g, _) in enumerate(self.gammas):
+            for k in range(1, self.order + 1):
+                lines.append(f"d{g}/dt [mu^{k}] = {_lex(self.gamma_rate(r, k))}")
+        return "\n".join(lines)
+
+    def latex(self) -> str:
+        """The slow flow as a LaTeX ``align*`` block."""
+        from ..latex import latex as to_latex
+
+        m = self.model
+        rows = []
+        for i in range(m.dof):
+            a_i = rf"\dot a_{{{i + 1}}} &= " + " + ".join(
+                rf"\mu^{{{k}}}\left({to_latex(self.A[i][k])}\right)"
+                for k in range(1, self.order + 1))
+            p_i = rf"\dot\psi_{{{i + 1}}} &= {to_latex(m.omega0[i])} + " + " + ".join(
+                rf"\mu^{{{k}}}\left({to_latex(self.B[i][k])}\right)"
+                for k in range(1, self.order + 1))
+            rows += [a_i, p_i]
+        for g, e in self.gammas:
+            rows.append(rf"{sp.latex(g)} &= {sp.latex(e)}")
+        return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"

@@ -1,0 +1,11 @@
+"""Coupled oscillators in time: the compiled 2N flow, periodic orbits with 2N multipliers,
+and the locking of self-excited oscillators.
+
+- :mod:`numerics.coupled.flow`: :func:`coupled_flow` (state, monodromy, divergence);
+- :mod:`numerics.coupled.cycle`: :func:`coupled_cycle`, shooting with Floquet multipliers.
+"""
+
+from .cycle import CoupledCycle, coupled_cycle
+from .flow import CoupledFlow, bind_coupled, coupled_flow
+
+__all__ = ["CoupledCycle", "coupled_cycle", "CoupledFlow", "coupled_flow", "bind_coupled"]

@@ -1,0 +1,229 @@
+"""Periodic orbits of ``N`` coupled oscillators by shooting, with all ``2N`` Floquet multipliers.
+
+The unknowns are the state ``y0`` on the section ``xdot_1 = 0`` (``x_1`` at a maximum) and
+the period ``T``; the residual ``y(T) - y0`` (``2N`` equations for ``2N - 1 + 1``
+unknowns) and its Jacobian ``[Phi(T) - I without the column of xdot_1, f(y(T))]`` come
+from one integration of the extended system (:mod:`numerics.coupled.flow`).  The start is
+the state after a transient (a stable cycle attracts it) or a state given.  The
+multipliers are the eigenvalues of ``Phi(T)``; Liouville's formula
+``det Phi(T) = exp(int_0^T tr J dt)`` is the independent check printed with them.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from kbm.coupled import CoupledOscillators
+from numerics.errors import ConvergenceError, NoCycleError
+from .flow import CoupledFlow, coupled_flow
+
+__all__ = ["CoupledCycle", "coupled_cycle", "section_start"]
+
+
+@dataclass(frozen=True, eq=False)
+class CoupledCycle:
+    """A periodic orbit of a coupled system.
+
+    Attributes
+    ----------
+    model, params
+        The system's name and every parameter's value (``mu`` included).
+    period, frequency
+        ``T`` and ``2 pi/T``.
+    state
+        The orbit's state at the section ``xdot_1 = 0``, ``x_1`` maximal.
+    amplitudes
+        First-harmonic amplitude ``|(2/T) int x_i e^{-i w t} dt|`` of each ``x_i``:
+        what KBM's ``a_i`` predicts.
+    phases
+        Phase of each ``x_i``'s first harmonic minus that of ``x_1`` (radians, in
+        ``(-pi, pi]``): 0 in phase, ``pi`` anti-phase.
+    floquet_multipliers
+        The ``2N`` eigenvalues of the monodromy matrix, the trivial one (closest to 1)
+        first, the others by decreasing modulus.
+    stable
+        Every non-trivial multiplier inside the unit circle.
+    liouville
+        ``(det Phi(T), exp(int tr J dt))``.
+    iterations, residual
+        Newton's iterations and the final ``max |y(T) - y0|``.
+    """
+
+    model: str
+    params: Mapping[str, float]
+    period: float
+    state: np.ndarray
+    amplitudes: np.ndarray
+    phases: np.ndarray
+    floquet_multipliers: np.ndarray
+    stable: bool
+    liouville: tuple[float, float]
+    iterations: int
+    residual: float
+    message: str
+
+    @property
+    def frequency(self) -> float:
+        return 2 * math.pi / self.period
+
+    def to_json(self) -> dict:
+        """JSON-ready: a real multiplier is a number, a complex one ``[re, im]``."""
+        def mult(z):
+            return float(z.real) if z.imag == 0 else [float(z.real), float(z.imag)]
+        return {
+            "model": self.model, "params": dict(self.params), "success": True,
+            "message": self.message, "period": self.period, "frequency": self.frequency,
+            "state": [float(v) for v in self.state],
+            "amplitudes": [float(v) for v in self.amplitudes],
+            "phases": [float(v) for v in self.phases],
+            "floquet_multipliers": [mult(z) for z in self.floquet_multipliers],
+            "floquet_moduli": [float(abs(z)) for z in self.floquet_multipliers],
+            "stable": self.stable,
+            "liouville": {"det_monodromy": self.liouville[0],
+                          "exp_divergence_integral": self.liouville[1]},
+            "iterations": self.iterations, "residual": self.residual,
+        }
+
+
+def section_start(fl: CoupledFlow, y: np.ndarray, t_window: float, samples: int = 4000
+                  ) -> tuple[np.ndarray, float]:
+    """From the state ``y``: the first crossing of ``xdot_1 = 0`` downwards (``x_1`` at a
+    maximum), refined by Newton on the flow, and the time to the next such crossing.
+
+    Raises
+    ------
+    numerics.errors.NoCycleError
+        If ``x_1`` has fewer than two maxima in ``t_window`` (the motion is at rest or
+        too slow).
+    """
+    n = fl.dof
+    ys = fl.states(y, t_window, samples)
+    v1 = ys[:, n]
+    idx = np.nonzero((v1[:-1] > 0) & (v1[1:] <= 0))[0]
+    dt = t_window / samples
+    if len(idx) < 2 or np.ptp(ys[:, 0]) < 1e-8:
+        raise NoCycleError(f"no oscillation to shoot from: x1 has {len(idx)} maxima in "
+                           f"t = {t_window:.4g} after the transient (range of x1 "
+                           f"{np.ptp(ys[:, 0]):.3g}); the system settles to rest or "
+                           "moves too slowly")
+
+    def refine(k: int) -> tuple[np.ndarray, float]:
+        yk, tk = ys[k].copy(), k * dt
+        for _ in range(8):  # Newton in time on xdot_1(t) = 0
+            f = fl.rhs(yk)
+            step = -yk[n] / f[n]
+            if abs(step) < 1e-14:
+                break
+            yk = fl.states(yk, step, 1)[-1] if step > 0 else _backward(fl, yk, step)
+            tk += step
+        return yk, tk
+
+    y0, t0 = refine(idx[0])
+    _, t1 = refine(idx[1])
+    return y0, t1 - t0
+
+
+def _backward(fl: CoupledFlow, y: np.ndarray, step: float) -> np.ndarray:
+    """A short step back in time by a linear extrapolation (steps here are a fraction of
+    the output spacing)."""
+    return y + step * fl.rhs(y)
+
+
+def coupled_cycle(model: CoupledOscillators | str, params: Mapping[str, object] | None = None,
+                  *, start: np.ndarray | None = None, transient: float | None = None,
+                  period: float | None = None, rtol: float = 1e-11, max_iter: int = 30
+                  ) -> CoupledCycle:
+    """A periodic orbit of ``x_i'' + omega_i**2 x_i = mu F_i``, its ``2N`` multipliers.
+
+    Parameters
+    ----------
+    model
+        A :class:`~kbm.coupled.CoupledOscillators` or a built-in name.
+    params
+        Parameter values, ``mu`` included (defaults fill the others).
+    start
+        A state ``(x_1..x_N, xdot_1..xdot_N)`` to start from (default all ``x_i = 1``).
+    transient
+        Time integrated from ``start`` before shooting (default ``20/mu`` within
+        ``[100, 4000]``: a stable cycle attracts at the rate ``mu``); 0 to shoot from
+        ``start`` itself (with ``period``, an unstable cycle).
+    period
+        A guess of the period (default: the return time of ``x_1``'s maximum).
+    rtol
+        Integrator tolerance.
+
+    Raises
+    ------
+    numerics.errors.ConvergenceError
+        If Newton does not converge (the residuals are in the message): after a transient
+        this usually means the motion is quasi-periodic, not locked.
+    numerics.errors.NoCycleError
+        If the motion comes to rest.
+    """
+    fl = coupled_flow(model, params)
+    n = fl.dof
+    mu = fl.values["mu"]
+    y = np.ones(2 * n) if start is None else np.asarray(start, dtype=float).copy()
+    if y.shape != (2 * n,) or not np.all(np.isfinite(y)):
+        raise ConvergenceError(f"the start must be {2 * n} finite numbers (x1..x{n}, "
+                               f"xdot1..xdot{n}), got {start!r}")
+    y[n:] = y[n:] if start is not None else 0.0
+    wmin = min(float(w) for w in fl.model.omega0)
+    t_tr = min(max(100.0, 20.0 / max(abs(mu), 1e-12)), 4000.0) if transient is None \
+        else float(transient)
+    if t_tr > 0:
+        y = fl.states(y, t_tr, 1, rtol=1e-9, atol=1e-11)[-1]
+    y0, T = section_start(fl, y, 6 * 2 * math.pi / wmin)
+    if period is not None:
+        T = float(period)
+    free = [j for j in range(2 * n) if j != n]
+    history: list[float] = []
+    for it in range(1, max_iter + 1):
+        yT, Phi, div = fl.monodromy(y0, T, rtol=rtol)
+        r = yT - y0
+        history.append(float(np.max(np.abs(r))))
+        if history[-1] < 1e-10 * max(1.0, float(np.max(np.abs(y0)))):
+            break
+        M = np.empty((2 * n, 2 * n))
+        M[:, :-1] = Phi[:, free] - np.eye(2 * n)[:, free]
+        M[:, -1] = fl.rhs(yT)
+        try:
+            dz = np.linalg.solve(M, -r)
+        except np.linalg.LinAlgError:
+            raise ConvergenceError(f"singular shooting matrix at T = {T:.10g} (a "
+                                   "non-hyperbolic orbit, or xdot1 = 0 is not transversal "
+                                   "there)") from None
+        lam = min(1.0, 0.3 * T / max(abs(dz[-1]), 1e-300))
+        y0[free] += lam * dz[:-1]
+        T += lam * dz[-1]
+        if len(history) >= 5 and all(b > a for a, b in zip(history[-5:], history[-4:])):
+            break
+    else:
+        it = max_iter
+    if history[-1] >= 1e-8 * max(1.0, float(np.max(np.abs(y0)))):
+        raise ConvergenceError(
+            f"no periodic orbit of {fl.model.name}: Newton's residuals |y(T) - y0| "
+            f"{', '.join(f'{h:.2e}' for h in history[-5:])} after {it} iterations from the "
+            f"state after t = {t_tr:g}; the motion there is probably quasi-periodic (the "
+            "oscillators not locked): compare kbm lock, or give another start")
+    yT, Phi, div = fl.monodromy(y0, T, rtol=rtol)
+    mults = np.linalg.eigvals(Phi)
+    k = int(np.argmin(np.abs(mults - 1.0)))
+    rest = np.delete(mults, k)
+    rest = rest[np.lexsort((rest.imag, -np.abs(rest)))]
+    mults = np.concatenate([[mults[k]], rest])
+    ys = fl.states(y0, T, 512, rtol=rtol)[:-1]
+    c1 = np.fft.rfft(ys[:, :n], axis=0)[1] / 512 * 2
+    amps = np.abs(c1)
+    ph = np.angle(c1 * np.conj(c1[0]))
+    det = float(np.linalg.det(Phi))
+    stable = bool(np.all(np.abs(rest) < 1.0))
+    msg = (f"converged in {it} Newton iterations (DOP853 (compiled), rtol {rtol:g}); "
+           f"|y(T) - y0| = {history[-1]:.2e}; trivial multiplier {mults[0].real:.12f}; "
+           f"det Phi = {det:.10g} against exp(int tr J) = {math.exp(div):.10g} (Liouville)")
+    return CoupledCycle(fl.model.name, dict(fl.values), float(T), y0.copy(), amps, ph, mults,
+                        stable, (det, math.exp(div)), it, history[-1], msg)

@@ -1,0 +1,190 @@
+"""The compiled flow of ``N`` coupled oscillators, with its variational equations.
+
+The state is ``y = (x_1..x_N, xdot_1..xdot_N)`` and the vector field
+``(xdot, -omega**2 x + mu F(x, xdot))`` comes from the one symbolic definition of
+:class:`kbm.coupled.CoupledOscillators`.  The extended system appends the monodromy
+``Phi' = J Phi`` (``2N x 2N``, column by column) and the divergence integral
+``int tr J dt`` (Liouville's formula: ``det Phi(T) = exp(int tr J dt)``), and is
+compiled with the DOP853 stepper of :mod:`numerics.flow.jit` (scipy's ``solve_ivp``
+is the fallback, and the benchmark's baseline).  Systems above
+:data:`MAX_VARIATIONAL_DOF` degrees of freedom are compiled without the variational
+equations (a chain of 64 sliders would need 16384 of them).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+import sympy as sp
+
+from kbm.coupled import CoupledOscillators, get_coupled_model
+from kbm.errors import ParameterError
+from kbm.symbols import mu as mu_symbol
+from kbm.symbols import t as t_symbol
+from kbm.values import parameter_value
+from numerics._memo import memo
+from numerics.flow.jit import jit_flow
+
+__all__ = ["CoupledFlow", "coupled_flow", "MAX_VARIATIONAL_DOF", "bind_coupled"]
+
+#: most degrees of freedom for which the variational equations are compiled
+MAX_VARIATIONAL_DOF = 8
+
+
+def bind_coupled(model: CoupledOscillators | str, params: Mapping[str, object] | None
+                 ) -> tuple[CoupledOscillators, dict[str, float]]:
+    """The model and every parameter's value (``mu`` included), defaults filled in.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For an unknown name, a value that is not a finite number, or a parameter (or
+        ``mu``) without a value.
+    """
+    if isinstance(model, str):
+        model = get_coupled_model(model)
+    params = dict(params or {})
+    names = set(model.parameters) | {"mu"}
+    unknown = sorted(set(params) - names)
+    if unknown:
+        raise ParameterError(f"{', '.join(map(repr, unknown))} is not a parameter of "
+                             f"{model.name!r} (its parameters: {', '.join(sorted(names))})")
+    values = {}
+    for name in sorted(names):
+        if name in params:
+            v = parameter_value(name, params[name])
+        elif name in model.defaults:
+            v = model.defaults[name]
+        else:
+            raise ParameterError(f"give a value to {name} (-p {name}=VALUE); the parameters "
+                                 f"of {model.name!r} are {', '.join(sorted(names))}")
+        if not (v.is_real and v.is_finite):
+            raise ParameterError(f"{name} must be a finite real number, got {params.get(name)}")
+        values[name] = float(v)
+    return model, values
+
+
+@dataclass(frozen=True)
+class CoupledFlow:
+    """A compiled coupled system at given parameter values.
+
+    Attributes
+    ----------
+    model
+        The system.
+    values
+        Every parameter's value, ``mu`` included.
+    dof
+        ``N``.
+    variational
+        Whether the extended system (monodromy and divergence) is compiled.
+    """
+
+    model: CoupledOscillators
+    values: Mapping[str, float]
+    dof: int
+    variational: bool
+    _flow: Callable
+    _p: np.ndarray
+    _rhs: Callable
+
+    def rhs(self, y: np.ndarray) -> np.ndarray:
+        """The vector field at the state ``y`` (2N values)."""
+        return np.asarray(self._rhs(*y, *self._p), dtype=float)
+
+    def states(self, y0, t_end: float, n_out: int, rtol: float = 1e-10,
+               atol: float = 1e-12, max_steps: int = 10**7) -> np.ndarray:
+        """The state at ``n_out + 1`` equally spaced times on ``[0, t_end]``.
+
+        Raises
+        ------
+        numerics.errors.IntegrationError
+            If the integrator fails (the reason and the time are in the message).
+        """
+        from numerics.errors import IntegrationError
+
+        y0 = np.asarray(y0, dtype=float)
+        res = self._flow(y0, t_end, self._p, rtol, atol, n_out, max_steps)
+        if res.status:
+            ok = np.isfinite(res.y[:, 0])
+            reached = t_end * (int(ok.sum()) - 1) / n_out
+            raise IntegrationError(f"the integration of {self.model.name} failed before "
+                                   f"t = {t_end:g} (last output at t = {reached:.6g}): "
+                                   f"{res.message}")
+        return res.y
+
+    def monodromy(self, y0, T: float, rtol: float = 1e-11, atol: float = 1e-12
+                  ) -> tuple[np.ndarray, np.ndarray, float]:
+        """``(y(T), Phi(T), int_0^T tr J dt)`` from one integration of the extended system."""
+        n2 = 2 * self.dof
+        if not self.variational:
+            raise ParameterError(f"the monodromy of {self.dof} degrees of freedom is not "
+                                 f"compiled (limit {MAX_VARIATIONAL_DOF})")
+        ext = np.concatenate([np.asarray(y0, dtype=float), np.eye(n2).ravel(order="F"), [0.0]])
+        yT = self.states(ext, T, 1, rtol, atol)[-1]
+        return yT[:n2], yT[n2:n2 + n2 * n2].reshape((n2, n2), order="F"), float(yT[-1])
+
+
+def coupled_flow(model: CoupledOscillators | str, params: Mapping[str, object] | None = None
+                 ) -> CoupledFlow:
+    """Compile ``model`` (once per model; the parameters are values of one compilation).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        As :func:`bind_coupled`.
+    """
+    model, values = bind_coupled(model, params)
+    fn, rhs, names, variational = _compiled(model)
+    p = np.array([values[n] for n in names], dtype=float)
+    return CoupledFlow(model, values, model.dof, variational, fn, p, rhs)
+
+
+@memo(maxsize=32)
+def _compiled(model: CoupledOscillators):
+    """The compiled flow, a numpy right-hand side and the parameter order (memoised per
+    model: time only)."""
+    n = model.dof
+    state = list(model.state)
+    f = [*state[n:], *model.accelerations()]
+    names = sorted({*model.parameters, "mu"})
+    psyms = [mu_symbol if nm == "mu" else sp.Symbol(nm) for nm in names]
+    variational = n <= MAX_VARIATIONAL_DOF
+    exprs, ys = list(f), list(state)
+    if variational:
+        J = sp.Matrix(f).jacobian(state)
+        n2 = 2 * n
+        phi = sp.Matrix(n2, n2, lambda i, j: sp.Symbol(f"phi_{i}_{j}"))
+        dphi = J * phi
+        exprs += [dphi[i, j] for j in range(n2) for i in range(n2)]
+        ys += [phi[i, j] for j in range(n2) for i in range(n2)]
+        exprs.append(J.trace())
+        ys.append(sp.Symbol("div_"))
+    fn = jit_flow(exprs, t_symbol, ys, psyms, n_state=2 * n)
+    if fn is None:  # pragma: no cover - numba is a declared dependency
+        fn = _scipy_flow(exprs, ys, psyms, 2 * n)
+    rhs = sp.lambdify([*state, *psyms], f, "numpy")
+    return fn, rhs, tuple(names), variational
+
+
+def _scipy_flow(exprs, ys, psyms, n_state):  # pragma: no cover - without numba
+    from scipy.integrate import solve_ivp
+
+    from numerics.flow.jit import FlowResult
+
+    full = sp.lambdify([ys, psyms], exprs, "numpy")
+    part = sp.lambdify([ys[:n_state], psyms], exprs[:n_state], "numpy")
+
+    def flow(y0, t_end, p, rtol, atol, n_out=1, max_steps=10**6):
+        fun = full if len(y0) > n_state else part
+        ts = np.linspace(0.0, t_end, n_out + 1)
+        sol = solve_ivp(lambda t, y: fun(y, p), (0.0, t_end), y0, method="DOP853",
+                        t_eval=ts, rtol=rtol, atol=atol)
+        out = np.full((n_out + 1, len(y0)), np.nan)
+        out[:sol.y.shape[1]] = sol.y.T
+        return FlowResult(out, 0 if sol.success else 2, int(sol.nfev))
+
+    return flow

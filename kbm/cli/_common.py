@@ -43,9 +43,20 @@ def emit_json(obj: Any) -> None:
 
 
 def add_model_arguments(parser: argparse.ArgumentParser,
-                        models: str = "vdp, rayleigh, sedf, cdc, ...") -> None:
-    """Add the model name, ``--rhs`` and ``--omega0`` arguments."""
+                        models: str = "vdp, rayleigh, sedf, cdc, ...", *,
+                        coupled: bool = False) -> None:
+    """Add the model name, ``--rhs`` and ``--omega0`` arguments (``coupled``: ``--rhs`` is
+    repeatable, one per degree of freedom, and ``--omega0`` takes a comma-separated list)."""
     parser.add_argument("model", nargs="?", help=f"built-in model ({models})")
+    if coupled:
+        parser.add_argument("--rhs", metavar="EXPR", action="append",
+                            help="your own F (in x, xdot and parameters) instead of a built-in "
+                                 "model; repeat it for N coupled degrees of freedom, F_i in "
+                                 "x1..xN, xdot1..xdotN")
+        parser.add_argument("--omega0", default=None,
+                            help="linear frequency for --rhs (default 1); comma-separated, one "
+                                 "per degree of freedom, for several")
+        return
     parser.add_argument("--rhs", metavar="EXPR", help="your own F (in x, xdot and parameters) "
                         "instead of a built-in model")
     parser.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")
@@ -83,7 +94,8 @@ def model_spec(args: argparse.Namespace):
 
     check_model_flags(args)
     if getattr(args, "rhs", None):
-        return custom_model(args.rhs, omega0=1 if args.omega0 is None else args.omega0)
+        rhs = args.rhs[0] if isinstance(args.rhs, list) else args.rhs
+        return custom_model(rhs, omega0=1 if args.omega0 is None else args.omega0)
     return args.model
 
 

@@ -25,10 +25,20 @@ def register(sub) -> None:
                                    "with --numeric for any smooth F.")
     from ..models import model_names
 
-    p.add_argument("model", nargs="?", help=f"built-in model ({', '.join(model_names())})")
-    p.add_argument("--rhs", metavar="EXPR", help="your own F (in x, xdot and parameters) "
-                   "instead of a built-in model")
-    p.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")
+    from ..coupled import coupled_model_names
+
+    p.add_argument("model", nargs="?", help=f"built-in model ({', '.join(model_names())}; "
+                   f"coupled: {', '.join(coupled_model_names())})")
+    p.add_argument("--rhs", metavar="EXPR", action="append",
+                   help="your own F (in x, xdot and parameters) instead of a built-in model; "
+                        "repeat it for N coupled degrees of freedom, F_i in x1..xN, "
+                        "xdot1..xdotN")
+    p.add_argument("--omega0", default=None,
+                   help="linear frequency for --rhs (default 1); one per degree of freedom, "
+                        "comma-separated, for several (e.g. 1,3)")
+    p.add_argument("--internal", action="append", default=[], metavar="P:Q",
+                   help="declare the internal resonance omega_1 : omega_2 = P : Q (repeatable; "
+                        "P:Q@I,J between modes I and J); coupled systems only")
     p.add_argument("--order", "-n", type=int, required=True, help="order N >= 1")
     add_param_option(p)
     p.add_argument("--numeric", action="store_true",
@@ -55,7 +65,8 @@ def model_from_args(args: argparse.Namespace):
     params = parse_params(args.param)
     check_model_flags(args)
     if getattr(args, "rhs", None):
-        model = custom_model(args.rhs, omega0=1 if args.omega0 is None else args.omega0)
+        rhs = args.rhs[0] if isinstance(args.rhs, list) else args.rhs
+        model = custom_model(rhs, omega0=1 if args.omega0 is None else args.omega0)
         return model.substitute(params) if params else model
     return get_model(args.model, params)
 
@@ -140,10 +151,59 @@ def _run_values(args, model, limit: int) -> int:
     return 0
 
 
+def is_coupled(args: argparse.Namespace) -> bool:
+    """Whether the command line names a coupled system: several ``--rhs``, several
+    frequencies, ``--internal``, or a coupled built-in."""
+    from ..coupled import COUPLED_MODELS
+
+    rhs = getattr(args, "rhs", None) or []
+    return (len(rhs) > 1 or bool(getattr(args, "internal", None))
+            or (bool(rhs) and "," in str(args.omega0 or ""))
+            or (args.model in COUPLED_MODELS))
+
+
+def coupled_model(args: argparse.Namespace):
+    """The coupled system of the command line: a built-in (coupled, or one degree of
+    freedom as ``N = 1``) or the ``--rhs`` list with ``--omega0``."""
+    from ..coupled import coupled_custom, get_coupled_model
+
+    check_model_flags(args)
+    if args.rhs:
+        return coupled_custom(args.rhs, args.omega0)
+    return get_coupled_model(args.model)
+
+
+def coupled_from_args(args: argparse.Namespace):
+    """:func:`coupled_model` with the ``--param`` values put in; ``--internal`` is declared
+    by the caller."""
+    params = parse_params(args.param)
+    model = coupled_model(args)
+    return model.substitute(params) if params else model
+
+
+def _run_coupled(args: argparse.Namespace) -> int:
+    from ..coupled import derive_coupled
+    from ..errors import ParameterError
+
+    if args.numeric or args.a_range is not None:
+        raise ParameterError("--numeric and --a-range are for one degree of freedom; the "
+                             "coupled expansion is exact for polynomial right-hand sides")
+    res = derive_coupled(coupled_from_args(args), args.order, internal=args.internal)
+    if args.json:
+        emit_json(res.to_json())
+    elif args.latex:
+        print(res.latex())
+    else:
+        print(res.pretty())
+    return 0
+
+
 def run(args: argparse.Namespace) -> int:
     from ..averaging import MAX_ORDER, check_cost, derive, symbolic_order_limit
     from ..errors import ParameterError
 
+    if is_coupled(args):
+        return _run_coupled(args)
     model = model_from_args(args)
     if args.numeric:
         return _run_numeric(args, model)

@@ -88,7 +88,9 @@ class InternalResonance:
         return tuple(k)
 
     def __str__(self) -> str:
-        return f"{self.p}:{self.q}@{self.i},{self.j}"
+        pair = "" if (self.i, self.j) == (1, 2) else f"@{self.i},{self.j}"
+        return f"{self.p}:{self.q}{pair}" + (f" (detuning {self.detuning})"
+                                              if self.detuning else "")
 
 
 class SlowLattice:

@@ -17,7 +17,7 @@ __all__ = ["main", "build_parser", "COMMANDS"]
 
 #: the numerical sub-command modules, listed after ``derive`` and ``series``
 COMMANDS = ("predict", "cycle", "compare", "slide", "figures", "derivations", "reproduce",
-            "branch", "friction", "response", "escape", "noise")
+            "branch", "friction", "response", "escape", "noise", "lock")
 
 
 def build_parser():

@@ -14,8 +14,15 @@ def register(sub) -> None:
                                    "by Newton's method on the return map to x' = 0, x > 0, "
                                    "with Floquet multipliers and the dissipation per cycle "
                                    "(paper eqs. 10-11).")
-    add_model_arguments(p)
+    add_model_arguments(p, "vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, "
+                           "duffing-1-3, quadratic-1-2", coupled=True)
     add_param_option(p)
+    p.add_argument("--start", default=None, metavar="X1,..,XN,V1,..,VN",
+                   help="coupled systems: the state to start from (default x_i = 1, "
+                        "xdot_i = 0)")
+    p.add_argument("--transient", type=float, default=None, metavar="T",
+                   help="coupled systems: time integrated before shooting (default 20/mu "
+                        "within [100, 4000]; 0 shoots from --start itself)")
     p.add_argument("--digits", type=int, default=None,
                    help="also compute period and amplitudes to N digits (mpmath Taylor series)")
     p.add_argument("--rtol", type=float, default=1e-12, help="integrator tolerance (1e-12)")
@@ -35,8 +42,15 @@ def register(sub) -> None:
 def run(args: argparse.Namespace) -> int:
     import math
 
+    from kbm.cli.derive import is_coupled
     from kbm.errors import ParameterError
     from numerics import limit_cycle, limit_cycles
+
+    if is_coupled(args):
+        return _run_coupled(args)
+    if args.start is not None or args.transient is not None:
+        raise ParameterError("--start and --transient are for coupled systems; for one degree "
+                             "of freedom use --x-start")
 
     if args.digits is not None and not 1 <= args.digits <= 200:
         raise ParameterError(f"--digits must be between 1 and 200, got {args.digits}")
@@ -114,3 +128,52 @@ def _print_cycle(cyc, digits, args) -> None:
           f"Gamma+ {d.gamma_plus:.6g} gained, Gamma- {d.gamma_minus:.6g} lost)")
     print(f"  {'energy residual':26s} {cyc.energy_residual:.3e}")
     print(f"  {cyc.message}")
+
+
+def _run_coupled(args: argparse.Namespace) -> int:
+    import math
+
+    from kbm.cli.derive import coupled_model
+    from kbm.errors import ParameterError
+    from numerics.coupled import coupled_cycle
+
+    if args.all or args.digits is not None or args.method != "auto":
+        raise ParameterError("--all, --digits and --method are for one degree of freedom; a "
+                             "coupled system is shot from a transient (--start, --transient)")
+    if not 1e-14 <= args.rtol <= 1e-3:
+        raise ParameterError(f"--rtol must be between 1e-14 and 1e-3, got {args.rtol}")
+    start = None
+    if args.start is not None:
+        try:
+            start = [float(v) for v in args.start.split(",")]
+        except ValueError:
+            raise ParameterError(f"--start takes comma-separated numbers, got "
+                                 f"{args.start!r}") from None
+        if not all(math.isfinite(v) for v in start):
+            raise ParameterError(f"--start must be finite numbers, got {args.start!r}")
+    if args.transient is not None and not (math.isfinite(args.transient)
+                                           and 0 <= args.transient <= 1e6):
+        raise ParameterError(f"--transient must be between 0 and 1e6, got {args.transient}")
+    given = parse_params(args.param)
+    model = coupled_model(args)
+    if start is not None and len(start) != 2 * model.dof:
+        raise ParameterError(f"--start needs {2 * model.dof} numbers (x1..x{model.dof}, "
+                             f"xdot1..xdot{model.dof}), got {len(start)}")
+    cyc = coupled_cycle(model, given, start=start, transient=args.transient,
+                        rtol=max(args.rtol, 1e-13))
+    if args.json:
+        emit_json({**cyc.to_json(), "params_given": given})
+        return 0
+    n = len(cyc.amplitudes)
+    print(f"periodic orbit of {cyc.model} ({', '.join(f'{k}={v:g}' for k, v in cyc.params.items())})")
+    print(f"  {'period':26s} {cyc.period:.12g}")
+    print(f"  {'frequency':26s} {cyc.frequency:.12g}")
+    for i in range(n):
+        print(f"  {f'x{i + 1}: amplitude, phase':26s} {cyc.amplitudes[i]:.10g}, "
+              f"{cyc.phases[i]:+.8f} rad")
+    mults = ", ".join(f"{z.real:.8g}" + (f"{z.imag:+.8g}i" if z.imag else "")
+                      for z in cyc.floquet_multipliers)
+    print(f"  {'floquet multipliers':26s} {mults} "
+          f"({'stable' if cyc.stable else 'UNSTABLE'}; the first is the trivial one)")
+    print(f"  {cyc.message}")
+    return 0

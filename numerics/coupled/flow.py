@@ -30,6 +30,10 @@ from numerics.flow.jit import jit_flow
 
 __all__ = ["CoupledFlow", "coupled_flow", "MAX_VARIATIONAL_DOF", "bind_coupled"]
 
+#: bound on the integrator's steps over one period of the extended system (a Newton iterate
+#: that wandered into a runaway orbit fails fast instead of integrating for minutes)
+MONODROMY_MAX_STEPS = 200_000
+
 #: most degrees of freedom for which the variational equations are compiled
 MAX_VARIATIONAL_DOF = 8
 
@@ -124,7 +128,7 @@ class CoupledFlow:
             raise ParameterError(f"the monodromy of {self.dof} degrees of freedom is not "
                                  f"compiled (limit {MAX_VARIATIONAL_DOF})")
         ext = np.concatenate([np.asarray(y0, dtype=float), np.eye(n2).ravel(order="F"), [0.0]])
-        yT = self.states(ext, T, 1, rtol, atol)[-1]
+        yT = self.states(ext, T, 1, rtol, atol, max_steps=MONODROMY_MAX_STEPS)[-1]
         return yT[:n2], yT[n2:n2 + n2 * n2].reshape((n2, n2), order="F"), float(yT[-1])
 
 

@@ -28,11 +28,12 @@ import sympy as sp
 from kbm.coupled import CoupledOscillators, amplitudes, derive_coupled
 from kbm.errors import ParameterError
 from numerics._memo import memo
-from numerics.errors import ConvergenceError, NoCycleError
+from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from .cycle import coupled_cycle
 from .flow import bind_coupled
 
-__all__ = ["LockingEdge", "averaged_edges", "true_edges", "amplitude_death"]
+__all__ = ["LockingEdge", "LockingRegion", "averaged_edges", "true_edges", "amplitude_death",
+           "locking_region", "plot_locking", "check_lockable"]
 
 
 @dataclass(frozen=True)
@@ -125,8 +126,13 @@ def averaged_edges(model: CoupledOscillators | str, params: Mapping[str, object]
 
 def _averaged_edge(f, jac, y, side, mu, limit) -> LockingEdge:
     def locked(s, y):
+        """The stable locked state at ``s`` continued from ``y`` (a jump to another fixed
+        point, or an unstable one, is not the state followed)."""
         trial = _newton(f, jac, y, s, mu)
-        return trial if trial is not None and np.all(trial[:-1] > 0) else None
+        if trial is None or not np.all(trial[:-1] > 0) or np.max(np.abs(trial - y)) > 0.25:
+            return None
+        ev = np.linalg.eigvals(np.asarray(jac(trial, s, mu), dtype=float))
+        return trial if np.all(ev.real < 0) else None
 
     s, step = 0.0, 0.02
     last = (s, y)
@@ -134,8 +140,11 @@ def _averaged_edge(f, jac, y, side, mu, limit) -> LockingEdge:
         if abs(last[0]) >= limit:
             return LockingEdge(math.copysign(math.inf, side), 0.0, side, tuple(last[1]))
         trial = locked(last[0] + side * step, last[1])
-        if trial is None:
-            break
+        if trial is None:  # past the fold, or too long a step to follow the state
+            if step <= 1e-3:
+                break
+            step /= 2
+            continue
         last = (last[0] + side * step, trial)
         step = min(step * 1.5, 0.1)
     lo, hi = last[0], last[0] + side * step
@@ -198,20 +207,23 @@ def _shoot(model, params, parameter, s, cyc):
     try:
         return coupled_cycle(model, {**dict(params), parameter: s}, start=cyc.state,
                              transient=0, period=cyc.period, max_iter=12)
-    except (ConvergenceError, NoCycleError):
-        return None
+    except (ConvergenceError, NoCycleError, IntegrationError):
+        return None  # no locked cycle found there (Newton left it, or the orbit ran away)
 
 
 def _true_edge(model, params, parameter, base, side, limit, tol, guess) -> LockingEdge:
     s, cyc = 0.0, base
     step = 0.02 if guess is None else max(0.02, 0.3 * abs(guess))
-    while abs(s) < limit:
+    while True:
+        if abs(s) >= limit:
+            return LockingEdge(math.copysign(math.inf, side), 0.0, side, tuple(cyc.state))
         nxt = _shoot(model, params, parameter, s + side * step, cyc)
-        if nxt is None or not nxt.stable:
-            break
+        if nxt is None or not nxt.stable:  # past the edge, or too long a step for Newton
+            if step <= 1e-3:
+                break
+            step /= 2
+            continue
         s, cyc = s + side * step, nxt
-    else:
-        return LockingEdge(math.copysign(math.inf, side), 0.0, side, tuple(cyc.state))
     lo, hi = s, s + side * step
     while abs(hi - lo) > tol:
         mid = 0.5 * (lo + hi)
@@ -249,3 +261,122 @@ def check_lockable(model: CoupledOscillators) -> None:
                              "resonances; the locking region is computed for one phase "
                              "combination (a model with one declared resonance, e.g. "
                              "coupled-vdp)")
+
+
+@dataclass(frozen=True)
+class LockingRegion:
+    """The locking region in ``(c, sigma)``: averaged edges per order and the true ones.
+
+    ``averaged[n]`` and ``true`` are lists of ``(c, sigma)`` pairs, both edges at every
+    ``c``; ``errors`` the true edges' bisection brackets; ``death`` the origin's
+    linearisation at each ``c`` and ``sigma = 0``.
+    """
+
+    model: str
+    params: Mapping[str, float]
+    detuning: str
+    coupling: str
+    averaged: Mapping[int, list]
+    true: list
+    errors: list
+    death: list
+
+    def to_json(self) -> dict:
+        return {
+            "model": self.model, "params": dict(self.params), "detuning": self.detuning,
+            "coupling": self.coupling,
+            "boundary_averaged": {str(n): [list(p) for p in pts]
+                                  for n, pts in self.averaged.items()},
+            "boundary_true": [list(p) for p in self.true],
+            "boundary_true_error": self.errors,
+            "amplitude_death": self.death,
+        }
+
+
+def locking_region(model: CoupledOscillators | str, params: Mapping[str, object],
+                   detuning: tuple[str, float, float], coupling: tuple[str, list] | None = None,
+                   orders: tuple[int, ...] = (1, 2), tol: float = 1e-7) -> LockingRegion:
+    """Both edges of the locking region at every coupling value, averaged and true.
+
+    Parameters
+    ----------
+    model
+        A coupled system with one declared internal resonance.
+    params
+        The other parameters and ``mu``.
+    detuning
+        ``(name, lo, hi)``: the detuning and the interval its edges are looked for in.
+    coupling
+        ``(name, values)``; ``None`` keeps it at its ``params`` value.
+    orders
+        The averaged orders.
+    tol
+        The bisection bracket of the true edges.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For a model without exactly one internal resonance, or an unknown name.
+    """
+    name, lo, hi = detuning
+    bound, values = bind_coupled(model, {**dict(params), name: 0})
+    check_lockable(bound)
+    if coupling is None:
+        cname = next((k for k in ("c", "k", "kappa") if k in bound.parameters and k != name),
+                     "")
+        cvals = [values[cname]] if cname else [float("nan")]
+    else:
+        cname, cvals = coupling
+        if cname not in bound.parameters:
+            raise ParameterError(f"{cname!r} is not a parameter of {bound.name!r}")
+    limit = max(abs(lo), abs(hi))
+    averaged: dict[int, list] = {n: [] for n in orders}
+    true, errors, death = [], [], []
+    for cv in cvals:
+        p = {**dict(params)}
+        if cname:
+            p[cname] = cv
+        guess = {}
+        for n in orders:
+            for e in averaged_edges(bound, p, n, name, limit):
+                if lo <= e.sigma <= hi:
+                    averaged[n].append((cv, e.sigma))
+                    guess[e.side] = e.sigma
+        for e in true_edges(bound, p, name, limit, tol, guess or None):
+            if lo <= e.sigma <= hi:
+                true.append((cv, e.sigma))
+                errors.append(e.error)
+        death.append({"coupling": cv, **amplitude_death(bound, {**p, name: 0})})
+    return LockingRegion(bound.name, {k: v for k, v in values.items() if k != name}, name,
+                         cname, averaged, true, errors, death)
+
+
+def plot_locking(region: LockingRegion, path) -> "object":
+    """The tongue: averaged edges per order as lines, true edges as points."""
+    from pathlib import Path
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    styles = ["C0--", "C1-", "C2-.", "C4:"]
+    for k, (n, pts) in enumerate(sorted(region.averaged.items())):
+        for side in (-1, 1):
+            sel = sorted((c, s) for c, s in pts if s * side > 0)
+            if sel:
+                ax.plot([s for _, s in sel], [c for c, _ in sel], styles[k % 4],
+                        label=f"averaged, order {n}" if side > 0 else None)
+    if region.true:
+        ax.plot([s for _, s in region.true], [c for c, _ in region.true], "ko", ms=4,
+                label="true (fold of the locked cycle)")
+    ax.set_xlabel(f"detuning {region.detuning} (frequency 1 + mu {region.detuning})")
+    ax.set_ylabel(f"coupling {region.coupling}")
+    ax.set_title(f"{region.model}: 1:1 locking region, mu = {region.params.get('mu'):g}")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path

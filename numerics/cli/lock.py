@@ -1,0 +1,110 @@
+"""``kbm lock``: the locking region of coupled self-excited oscillators, averaged against true."""
+
+from __future__ import annotations
+
+import argparse
+
+from kbm.cli._common import add_param_option, emit_json, parse_params
+
+
+def register(sub) -> None:
+    p = sub.add_parser("lock", help="locking region of coupled oscillators: averaged vs true",
+                       description="The edges of the frequency-locking region of a coupled "
+                                   "system with one internal resonance (coupled-vdp): from the "
+                                   "averaged slow flow at orders 1..N (the fold of its locked "
+                                   "fixed point) and from the true locked cycle (where it "
+                                   "ceases to exist, by continuation and bisection).")
+    p.add_argument("model", help="a coupled built-in with one internal resonance "
+                                 "(coupled-vdp)")
+    add_param_option(p)
+    p.add_argument("--vary", action="append", required=True, metavar="NAME=FROM:TO",
+                   help="the detuning and the interval its edges are looked for in (e.g. "
+                        "--vary sigma=-1:1); a second --vary gives the coupling's range "
+                        "(e.g. --vary c=0.05:0.5), else the coupling is the -p value")
+    p.add_argument("--order", "-n", type=int, default=2,
+                   help="highest averaged order (default 2; orders 1..N are given)")
+    p.add_argument("--points", type=int, default=7,
+                   help="coupling values on the second --vary range (default 7)")
+    p.add_argument("--tol", type=float, default=1e-7,
+                   help="bisection bracket of the true edges (default 1e-7)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.add_argument("--out", metavar="DIR", help="write lock.json and the tongue figure lock.png")
+    p.set_defaults(func=run)
+
+
+def _vary(text: str) -> tuple[str, float, float]:
+    import math
+
+    from kbm.errors import ParameterError
+
+    name, sep, rng = text.partition("=")
+    lo, sep2, hi = rng.partition(":")
+    try:
+        a, b = float(lo), float(hi)
+    except ValueError:
+        a = b = math.nan
+    if not sep or not sep2 or not name.strip() or not (math.isfinite(a) and math.isfinite(b)) \
+            or a >= b:
+        raise ParameterError(f"--vary takes NAME=FROM:TO with FROM < TO finite (e.g. "
+                             f"sigma=-1:1), got {text!r}")
+    return name.strip(), a, b
+
+
+def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from kbm.coupled import get_coupled_model
+    from kbm.errors import ParameterError
+    from kbm.files import output_folder, write_file
+    from numerics.coupled.locking import locking_region, plot_locking
+
+    if len(args.vary) > 2:
+        raise ParameterError("give at most two --vary: the detuning, then the coupling")
+    if not 1 <= args.order <= 4:
+        raise ParameterError(f"--order must be 1 to 4, got {args.order}")
+    if not 2 <= args.points <= 200:
+        raise ParameterError(f"--points must be 2 to 200, got {args.points}")
+    if not 1e-12 <= args.tol <= 1e-2:
+        raise ParameterError(f"--tol must be between 1e-12 and 1e-2, got {args.tol}")
+    model = get_coupled_model(args.model)
+    params = parse_params(args.param)
+    det = _vary(args.vary[0])
+    coupling = None
+    if len(args.vary) == 2:
+        cname, clo, chi = _vary(args.vary[1])
+        if cname in params:
+            raise ParameterError(f"{cname} is both varied and given with -p; give one")
+        coupling = (cname, [float(f"{v:.12g}") for v in np.linspace(clo, chi, args.points)])
+    if det[0] in params:
+        raise ParameterError(f"{det[0]} is both varied and given with -p; give one")
+    if det[0] not in model.parameters:
+        raise ParameterError(f"{det[0]!r} is not a parameter of {model.name!r} (its "
+                             f"parameters: {', '.join(model.parameters)})")
+    region = locking_region(model, params, det, coupling, tuple(range(1, args.order + 1)),
+                            args.tol)
+    data = {**region.to_json(), "params_given": params}
+    if args.out:
+        folder = output_folder(args.out)
+        import json
+
+        write_file(folder / "lock.json", json.dumps(data, indent=2) + "\n")
+        plot_locking(region, folder / "lock.png")
+    if args.json:
+        emit_json(data)
+        return 0
+    print(f"locking region of {region.model} ({', '.join(f'{k}={v:g}' for k, v in region.params.items())})")
+    print(f"edges in {region.detuning}:")
+    for cv in sorted({c for c, _ in region.true} | {c for pts in region.averaged.values()
+                                                     for c, _ in pts}):
+        row = [f"  {region.coupling or 'c'} = {cv:.6g}:"]
+        for n, pts in sorted(region.averaged.items()):
+            row.append(f"order {n} " + ", ".join(f"{s:+.8f}" for c, s in pts if c == cv))
+        row.append("true " + ", ".join(f"{s:+.8f}" for c, s in region.true if c == cv))
+        print("  ".join(row))
+    for d in region.death:
+        print(f"  amplitude death at {region.coupling} = {d['coupling']:g}, "
+              f"{region.detuning} = 0: {'yes' if d['dead'] else 'no'} (largest real part of "
+              f"the origin's eigenvalues {d['eigenvalues'][0][0]:+.4g})")
+    if args.out:
+        print(f"wrote {args.out}/lock.json and {args.out}/lock.png")
+    return 0

@@ -140,3 +140,35 @@ def test_bad_input():
         coupled_cycle("coupled-vdp", {"c": 0.3})
     with pytest.raises(ParameterError, match="not a parameter"):
         coupled_cycle("coupled-vdp", {"mu": 0.1, "beta": 1})
+
+
+def test_sedf_dimer_synchronisation():
+    """Two SEDF sliders (paper eq. 3, v = 0) coupled by a spring mu kappa: the in-phase cycle
+    is the single slider's (the spring is not stretched), the anti-phase cycle the single
+    slider's with the stiffness 2 kappa added (x2 = -x1 and the potential is odd), both
+    against the one-degree-of-freedom shooting; the in-phase one is stable, the anti-phase
+    one unstable (mu = 0.1, Delta = 1.5, lam = 1, beta = 1, kappa = 0.5)."""
+    from kbm.models import custom_model
+
+    p = {"mu": 0.1, "Delta": 1.5, "lam": 1, "beta": 1, "kappa": 0.5}
+    inphase = coupled_cycle("sedf-dimer", p, start=[1, 1, 0, 0])
+    anti = coupled_cycle("sedf-dimer", p, start=[1, -1, 0, 0])
+    single = limit_cycle("sedf", {"mu": 0.1, "Delta": 1.5, "lam": 1, "beta": 1})
+    stiff = limit_cycle(custom_model("-(beta*x**2 - 1)*xdot - delta*sin(k*x) - 2*kappa*x"),
+                        {"mu": 0.1, "beta": 1, "delta": 15, "k": 2 * math.pi, "kappa": 0.5})
+    assert inphase.period == pytest.approx(single.period, rel=1e-10)
+    assert anti.period == pytest.approx(stiff.period, rel=1e-10)
+    assert abs(inphase.phases[1]) < 1e-9 and abs(abs(anti.phases[1]) - math.pi) < 1e-9
+    assert inphase.stable and not anti.stable
+    with pytest.raises(ParameterError, match="give either delta or Delta"):
+        coupled_cycle("sedf-dimer", {**p, "delta": 15})
+
+
+def test_sedf_chain_names():
+    from kbm.coupled import get_coupled_model
+    from kbm.errors import ModelError
+
+    assert get_coupled_model("sedf-chain").dof == 4
+    assert get_coupled_model("sedf-chain-16").dof == 16
+    with pytest.raises(ModelError, match="2 to 256"):
+        get_coupled_model("sedf-chain-1")

@@ -8,6 +8,12 @@
                    coupling ``V = k x1^3 x2`` and light damping (Nayfeh & Mook 1979,
                    sec. 6.6): ``F1 = -2 zeta1 x1' - alpha1 x1^3 - 3 k x1^2 x2``,
                    ``F2 = -2 zeta2 x2' - alpha2 x2^3 - k x1^3``, ``omega = (1, 3)``
+``sedf-dimer``     two self-excited sliders of the paper's eq. (3) at rest (v = 0) on the
+                   potential, coupled by a spring ``K = mu kappa``:
+                   ``F_i = -(beta x_i^2 - 1) x_i' - delta sin(k x_i) - kappa (x_i - x_j)``,
+                   ``delta = Delta/mu``, ``k = 2 pi/lam`` (``Omega = 1``)
+``sedf-chain``     ``N`` such sliders in a chain with free ends (``sedf-chain`` is N = 4,
+                   ``sedf-chain-N`` any N up to 256): ``-kappa (2 x_i - x_{i-1} - x_{i+1})``
 ``quadratic-1-2``  two oscillators with quadratic coupling in 1:2 internal resonance
                    (Nayfeh & Mook 1979, sec. 6.5, free oscillations):
                    ``F1 = -2 zeta1 x1' - alpha1 x1 x2``, ``F2 = -2 zeta2 x2' - alpha2 x1^2``,
@@ -19,7 +25,7 @@ from __future__ import annotations
 from ..errors import ModelError
 from .model import CoupledOscillators
 
-__all__ = ["COUPLED_MODELS", "get_coupled_model", "coupled_model_names"]
+__all__ = ["COUPLED_MODELS", "get_coupled_model", "coupled_model_names", "sedf_chain"]
 
 COUPLED_MODELS: dict[str, CoupledOscillators] = {
     "coupled-vdp": CoupledOscillators(
@@ -50,6 +56,36 @@ COUPLED_MODELS: dict[str, CoupledOscillators] = {
 }
 
 
+_SEDF_PHYSICAL = {"delta": "Delta/mu", "k": "2*pi/lam"}
+_SEDF_DEFAULTS = {"beta": "1", "lam": "1", "kappa": "1"}
+
+
+def sedf_chain(n: int, name: str | None = None) -> CoupledOscillators:
+    """``n`` SEDF sliders (paper eq. 3, v = 0) in a chain with free ends, neighbours coupled
+    by springs ``mu kappa``.
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        For ``n`` outside ``2..256``.
+    """
+    if not 2 <= n <= 256:
+        raise ModelError(f"a chain of sliders has 2 to 256 sliders, got {n}")
+    F = []
+    for i in range(1, n + 1):
+        spring = " - ".join(f"kappa*(x{i} - x{j})" for j in (i - 1, i + 1) if 1 <= j <= n)
+        F.append(f"-(beta*x{i}**2 - 1)*xdot{i} - delta*sin(k*x{i}) - {spring}")
+    return CoupledOscillators(
+        name or f"sedf-chain-{n}", tuple(F), (1,) * n,
+        description=f"{n} self-excited sliders (paper eq. 3, v = 0) in a chain with free "
+                    "ends, springs mu*kappa between neighbours",
+        defaults=_SEDF_DEFAULTS, physical=_SEDF_PHYSICAL)
+
+
+COUPLED_MODELS["sedf-dimer"] = sedf_chain(2, "sedf-dimer")
+COUPLED_MODELS["sedf-chain"] = sedf_chain(4, "sedf-chain")
+
+
 def coupled_model_names() -> list[str]:
     """The names of the built-in coupled systems."""
     return sorted(COUPLED_MODELS)
@@ -67,6 +103,8 @@ def get_coupled_model(name: str) -> CoupledOscillators:
     """
     if name in COUPLED_MODELS:
         return COUPLED_MODELS[name]
+    if name.startswith("sedf-chain-") and name[len("sedf-chain-"):].isdigit():
+        return sedf_chain(int(name[len("sedf-chain-"):]))
     from ..models import MODELS, get_model
 
     if name in MODELS:

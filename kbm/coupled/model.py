@@ -82,6 +82,10 @@ class CoupledOscillators:
         One line saying what the model is and where it comes from.
     defaults
         Values of parameters that are not given.
+    physical
+        For models with a physical parametrisation (the SEDF sliders): each scaled parameter
+        as an expression in physical ones and ``mu``, e.g. ``{"delta": Delta/mu,
+        "k": 2*pi/lam}``; :func:`numerics.coupled.bind_coupled` accepts either name.
     internal
         The internal resonances the model is meant to be averaged with (a built-in's own;
         ``kbm derive --internal`` adds others).
@@ -107,6 +111,7 @@ class CoupledOscillators:
     description: str = ""
     defaults: Mapping[str, object] = field(default_factory=dict)
     internal: tuple = ()
+    physical: Mapping[str, object] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if isinstance(self.F, (str, sp.Basic)) or not isinstance(self.F, Sequence):
@@ -134,6 +139,9 @@ class CoupledOscillators:
         for r in internal:
             r.check(w)
         object.__setattr__(self, "internal", internal)
+        object.__setattr__(self, "physical",
+                           FrozenMap({k: parse(v) if isinstance(v, str) else sp.sympify(v)
+                                      for k, v in self.physical.items()}))
         state = set(positions(n)) | set(velocities(n))
         for i, f in enumerate(F, 1):
             if mu in f.free_symbols:
@@ -183,14 +191,15 @@ class CoupledOscillators:
                                  f"{', '.join(self.parameters) or 'none'})")
         sub = {sp.Symbol(k): parameter_value(k, v) for k, v in params.items()}
         return CoupledOscillators(self.name, tuple(f.subs(sub) for f in self.F), self.omega0,
-                                  self.description, self.defaults, self.internal)
+                                  self.description, self.defaults, self.internal,
+                                  self.physical)
 
     def with_internal(self, resonances: Sequence[object]) -> "CoupledOscillators":
         """The model with further declared internal resonances."""
         extra = tuple(r if isinstance(r, InternalResonance) else
                       InternalResonance.parse(r, self.dof) for r in resonances)
         return CoupledOscillators(self.name, self.F, self.omega0, self.description,
-                                  self.defaults, self.internal + extra)
+                                  self.defaults, self.internal + extra, self.physical)
 
     def accelerations(self) -> tuple[sp.Expr, ...]:
         """``x_i'' = -omega_i**2 x_i + mu F_i`` as expressions."""

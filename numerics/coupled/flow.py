@@ -51,17 +51,34 @@ def bind_coupled(model: CoupledOscillators | str, params: Mapping[str, object] |
     if isinstance(model, str):
         model = get_coupled_model(model)
     params = dict(params or {})
+    physical = dict(model.physical)
+    phys_names = sorted({s.name for e in physical.values() for s in e.free_symbols} - {"mu"})
     names = set(model.parameters) | {"mu"}
-    unknown = sorted(set(params) - names)
+    unknown = sorted(set(params) - names - set(phys_names))
     if unknown:
+        extra = f"; or the physical {', '.join(phys_names)}" if phys_names else ""
         raise ParameterError(f"{', '.join(map(repr, unknown))} is not a parameter of "
-                             f"{model.name!r} (its parameters: {', '.join(sorted(names))})")
+                             f"{model.name!r} (its parameters: {', '.join(sorted(names))}"
+                             f"{extra})")
+    given = {k: parameter_value(k, v) for k, v in params.items()}
+    for scaled, expr in physical.items():  # e.g. delta = Delta/mu from Delta and mu
+        needs = {s.name for s in expr.free_symbols}
+        if scaled in given:
+            if needs & (set(given) - {"mu"}):
+                raise ParameterError(f"give either {scaled} or "
+                                     f"{', '.join(sorted(needs - {'mu'}))}, not both")
+            continue
+        if needs - {"mu"} and needs - {"mu"} <= set(given) | set(model.defaults):
+            vals = {sp.Symbol(n): given.get(n, model.defaults.get(n)) for n in needs}
+            if any(v is None for v in vals.values()):
+                raise ParameterError(f"{scaled} = {expr} needs a value of mu (-p mu=VALUE)")
+            given[scaled] = sp.sympify(expr).subs(vals)
     values = {}
     for name in sorted(names):
-        if name in params:
-            v = parameter_value(name, params[name])
+        if name in given:
+            v = sp.sympify(given[name])
         elif name in model.defaults:
-            v = model.defaults[name]
+            v = sp.sympify(model.defaults[name])
         else:
             raise ParameterError(f"give a value to {name} (-p {name}=VALUE); the parameters "
                                  f"of {model.name!r} are {', '.join(sorted(names))}")

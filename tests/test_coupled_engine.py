@@ -68,7 +68,7 @@ VALUES = {
     "duffing-1-3": {"zeta1": sp.Rational(1, 20), "zeta2": sp.Rational(1, 30), "alpha1": 1,
                     "alpha2": sp.Rational(1, 2), "k": sp.Rational(3, 5)},
     "quadratic-1-2": {"zeta1": sp.Rational(1, 10), "zeta2": sp.Rational(1, 5),
-                      "alpha1": sp.Rational(3, 2), "alpha2": sp.Rational(2, 3)},
+                      "alpha1": sp.Rational(3, 2), "alpha2": sp.Rational(2, 3), "h": 0},
 }
 
 
@@ -80,7 +80,7 @@ def test_first_order_is_the_torus_average(name, amp1, amp2, gamma):
     model = get_coupled_model(name)
     vals = {sp.Symbol(k): v for k, v in VALUES[name].items()}
     res = derive_coupled(name, 1, VALUES[name])
-    point = {a1: amp1, a2: amp2, g1: gamma}
+    point = {a1: amp1, a2: amp2, g1: gamma, sp.Symbol("sigma1"): 0}
     for i in range(2):
         A, B = _torus_average(model, vals, (amp1, amp2), gamma, i)
         assert float(res.A[i][1].subs(point)) == pytest.approx(A, abs=1e-12)
@@ -118,16 +118,18 @@ def test_linear_coupling_expands_exactly():
 
 
 def test_quadratic_1_2_is_nayfeh_mook_6_5():
-    """Nayfeh & Mook (1979) sec. 6.5: a1' = -mu1 a1 - alpha1/(4 w1) a1 a2 sin gamma,
+    """Nayfeh & Mook (1979) sec. 6.5 (h = 0): a1' = -mu1 a1 - alpha1/(4 w1) a1 a2 sin gamma,
     a2' = -mu2 a2 + alpha2/(4 w2) a1^2 sin gamma, a1 b1' = alpha1/(4 w1) a1 a2 cos gamma,
     a2 b2' = alpha2/(4 w2) a1^2 cos gamma (their beta_i = psi_i - omega_i t), gamma = psi2 - 2 psi1."""
-    res = derive_coupled("quadratic-1-2", 1)
-    z1, z2, al1, al2 = sp.symbols("zeta1 zeta2 alpha1 alpha2")
+    res = derive_coupled("quadratic-1-2", 1, {"h": 0})  # free oscillations
+    z1, z2, al1, al2, s1 = sp.symbols("zeta1 zeta2 alpha1 alpha2 sigma1")
     w1, w2 = 1, 2
     assert res.gammas[0][1] == sp.Symbol("psi2") - 2 * sp.Symbol("psi1")
     expect_A = [-z1 * a1 - al1 / (4 * w1) * a1 * a2 * sp.sin(g1),
                 -z2 * a2 + al2 / (4 * w2) * a1**2 * sp.sin(g1)]
-    expect_B = [al1 / (4 * w1) * a2 * sp.cos(g1), al2 / (4 * w2) * a1**2 / a2 * sp.cos(g1)]
+    # B_2 holds the detuning: psi2' = 2 + mu sigma1 + ... (omega2 = 2 omega1 + mu sigma1)
+    expect_B = [al1 / (4 * w1) * a2 * sp.cos(g1),
+                al2 / (4 * w2) * a1**2 / a2 * sp.cos(g1) + s1]
     for i in range(2):
         assert sp.expand(res.A[i][1] - expect_A[i]) == 0
         assert sp.expand(res.B[i][1] - expect_B[i]) == 0

@@ -14,16 +14,18 @@
                    ``delta = Delta/mu``, ``k = 2 pi/lam`` (``Omega = 1``)
 ``sedf-chain``     ``N`` such sliders in a chain with free ends (``sedf-chain`` is N = 4,
                    ``sedf-chain-N`` any N up to 256): ``-kappa (2 x_i - x_{i-1} - x_{i+1})``
-``quadratic-1-2``  two oscillators with quadratic coupling in 1:2 internal resonance
-                   (Nayfeh & Mook 1979, sec. 6.5, free oscillations):
-                   ``F1 = -2 zeta1 x1' - alpha1 x1 x2``, ``F2 = -2 zeta2 x2' - alpha2 x1^2``,
-                   ``omega = (1, 2)``
+``quadratic-1-2``  two oscillators with quadratic coupling in 1:2 internal resonance,
+                   ``omega2 = 2 + mu sigma1``, forced near the higher mode,
+                   ``nu = 2 + mu sigma2`` (Nayfeh & Mook 1979, sec. 6.5.1):
+                   ``F1 = -2 zeta1 x1' - alpha1 x1 x2``,
+                   ``F2 = -2 zeta2 x2' - alpha2 x1^2 + h cos(theta)``, ``theta = nu t``
 """
 
 from __future__ import annotations
 
 from ..errors import ModelError
 from .model import CoupledOscillators
+from .resonance import InternalResonance
 
 __all__ = ["COUPLED_MODELS", "get_coupled_model", "coupled_model_names", "sedf_chain"]
 
@@ -47,12 +49,15 @@ COUPLED_MODELS: dict[str, CoupledOscillators] = {
         internal=("1:3",)),
     "quadratic-1-2": CoupledOscillators(
         "quadratic-1-2",
-        ("-2*zeta1*xdot1 - alpha1*x1*x2", "-2*zeta2*xdot2 - alpha2*x1**2"),
+        ("-2*zeta1*xdot1 - alpha1*x1*x2", "-2*zeta2*xdot2 - alpha2*x1**2 + h*cos(theta)"),
         (1, 2),
         description="two oscillators with quadratic coupling in 1:2 internal resonance "
-                    "(Nayfeh & Mook 1979, sec. 6.5)",
-        defaults={"zeta1": "0", "zeta2": "0", "alpha1": "1", "alpha2": "1"},
-        internal=("1:2",)),
+                    "(omega2 = 2 omega1 + mu sigma1), forced near the higher mode "
+                    "(nu = 2 + mu sigma2) (Nayfeh & Mook 1979, sec. 6.5.1)",
+        defaults={"zeta1": "0", "zeta2": "0", "alpha1": "1", "alpha2": "1", "h": "0"},
+        internal=(InternalResonance(1, 2, 1, 2, "sigma1"),
+                  InternalResonance(2, 3, 1, 1, forcing=True)),
+        nu0=2, nu_detuning="sigma2"),
 }
 
 

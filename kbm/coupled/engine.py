@@ -39,6 +39,7 @@ from ..algebra.laurent import Laurent, LaurentRing, Q
 from ..algebra.lazy_series import Const, Leaf, Node, Product, Scaled, Sum
 from ..algebra.multi_angle import MultiAngle
 from ..errors import ModelError, OrderError, UnsupportedTermError
+from ..forced.model import ForcedOscillator
 from ..models import Oscillator
 from .model import CoupledOscillators, amplitudes, positions, velocities
 from .resonance import (InternalResonance, SlowLattice, UndeclaredResonanceError,
@@ -63,27 +64,61 @@ class CoupledAlgebra:
 
     def __init__(self, model: CoupledOscillators, lattice: SlowLattice, gens: list[sp.Symbol],
                  tolerance: float):
-        n = model.dof
-        self.n, self.model, self.lattice, self.tol = n, model, lattice, tolerance
-        self.omega = model.omega0
-        self.ring = LaurentRing([*amplitudes(n), *gens])
+        dof = model.dof
+        self.forced = model.forced
+        n = dof + (1 if self.forced else 0)  # the forcing angle theta is the last one
+        self.n, self.dof, self.model, self.lattice, self.tol = n, dof, model, lattice, tolerance
+        self.omega = model.omega0 + ((model.nu0,) if self.forced else ())
+        self.ring = LaurentRing([*amplitudes(dof), *gens])
+        self.sig = (self.ring.gen(self.ring.gens.index(sp.Symbol(model.nu_detuning)))
+                    if self.forced and model.nu_detuning else None)
         self.wq = [Q(int(w.p), int(w.q)) for w in self.omega]
         self.wf = [Fraction(int(w.p), int(w.q)) for w in self.omega]
-        self.a_inv = [self.ring.gen(i, -1) for i in range(n)]
+        self.a_inv = [self.ring.gen(i, -1) for i in range(dof)]
 
     # -- the ring protocol of the lazy series --------------------------------------------
     def zero(self) -> MultiAngle:
         return MultiAngle(self.ring, self.n)
 
-    def const(self, expr: sp.Expr) -> MultiAngle:
+    def _laurent(self, expr: sp.Expr):
         try:
-            c = self.ring.from_expr(sp.expand(expr))
+            return self.ring.from_expr(sp.expand(expr))
         except (TypeError, sp.PolynomialError, sp.GeneratorsNeeded):
             raise ModelError(f"the coefficient {expr} is not a polynomial in the parameters "
                              "with rational numbers (a monomial denominator at most); the "
                              "exact coupled averaging needs rational numbers (no pi, no "
                              "sqrt, no floats)") from None
-        return MultiAngle(self.ring, self.n, {(0,) * self.n: c})
+
+    def const(self, expr: sp.Expr) -> MultiAngle:
+        """A coefficient free of the state: parameters, and a trigonometric polynomial in the
+        forcing angle ``theta`` for a forced system."""
+        theta = sp.Symbol("theta")
+        zero = (0,) * self.n
+        if not expr.has(theta):
+            return MultiAngle(self.ring, self.n, {zero: self._laurent(expr)})
+        from sympy.simplify.fu import TR8
+
+        out = self.zero()
+        for term in sp.Add.make_args(sp.expand(TR8(expr))):
+            trig = [f for f in sp.Mul.make_args(term) if f.has(theta)]
+            coeff = sp.Mul(*[f for f in sp.Mul.make_args(term) if not f.has(theta)])
+            if len(trig) != 1 or not isinstance(trig[0], (sp.sin, sp.cos)):
+                raise ModelError(f"the term {term} is not a polynomial in the state times "
+                                 "cos or sin of a multiple of theta")
+            f = trig[0]
+            arg = sp.expand(f.args[0])
+            k = arg.coeff(theta)
+            c = sp.expand(arg - k * theta)
+            if not k.is_Integer or c.has(theta):
+                raise ModelError(f"{f}: the forcing enters as cos(k theta + c), sin(k theta + "
+                                 "c) with an integer k (2 pi-periodic in theta)")
+            h = tuple([0] * self.dof + [int(k)])
+            kinds = [("cos", sp.cos(c)), ("sin", -sp.sin(c))] if isinstance(f, sp.cos) \
+                else [("sin", sp.cos(c)), ("cos", sp.sin(c))]
+            for kind, w in kinds:
+                if w != 0:
+                    out = out + MultiAngle.harmonic(self.ring, h, self._laurent(coeff * w), kind)
+        return out
 
     def x0(self, i: int) -> MultiAngle:
         """``a_i cos(psi_i)``."""
@@ -115,15 +150,15 @@ class CoupledAlgebra:
 
     def _refuse(self, k: tuple, i: int, n: int, gap: Fraction) -> None:
         what = "exactly" if gap == 0 else f"within {float(gap):.3g} omega{i + 1} of"
-        decl = declaration(k)
+        decl = declaration(k, self.forced)
         hint = (f"declare it: --internal {decl} (internal=['{decl}']), with the frequencies "
                 f"in the exact ratio and any detuning written in F"
                 if decl else "a combination resonance of more than two modes, which kbm "
                              "does not average yet; change the frequencies")
         raise UndeclaredResonanceError(
             f"the frequencies omega = ({', '.join(map(str, self.omega))}) satisfy "
-            f"{describe(k)} = {float(frequency(k, self.omega)):.6g}, {what} an internal "
-            f"resonance that was not declared: the harmonic psi{i + 1} + "
+            f"{describe(k, self.forced)} = {float(frequency(k, self.omega)):.6g}, {what} an "
+            f"internal resonance that was not declared: the harmonic psi{i + 1} + "
             f"({', '.join(map(str, k))}).psi of R_{i + 1},{n} has a "
             f"{'vanishing' if gap == 0 else 'small'} divisor and the non-resonant averaging "
             f"breaks down; {hint}")
@@ -211,7 +246,7 @@ def _recursion(alg: CoupledAlgebra, F: list[list[sp.Expr]], order: int):
 
     ``F[i][k]`` is the coefficient of ``mu**k`` of mode ``i``'s right-hand side.
     """
-    n = alg.n
+    n = alg.dof
     zero = alg.zero
     X0 = [alg.x0(i) for i in range(n)]
     V0 = [alg.L0(x0) for x0 in X0]
@@ -241,6 +276,8 @@ def _recursion(alg: CoupledAlgebra, F: list[list[sp.Expr]], order: int):
                 out = out + A[l][j - 1] * f.diff(l)
             if not B[l][j - 1].is_zero():
                 out = out + B[l][j - 1] * f.d_angle(l)
+        if j == 1 and alg.sig is not None:  # nu = nu0 + mu sigma: sigma d/dtheta at order 1
+            out = out + f.d_angle(alg.n - 1).scale(alg.sig)
         return out
 
     Xs = [[x0] for x0 in X0]
@@ -272,7 +309,7 @@ def _recursion(alg: CoupledAlgebra, F: list[list[sp.Expr]], order: int):
     return A, B, U
 
 
-def derive_coupled(model: CoupledOscillators | Oscillator | str, order: int,
+def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | str, order: int,
                    params: dict | None = None, *, internal=(),
                    tolerance: float = TOLERANCE) -> CoupledKBMResult:
     """KBM expansion of ``x_i'' + omega_i**2 x_i = mu F_i(x, x')`` to order ``order``.
@@ -319,7 +356,7 @@ def derive_coupled(model: CoupledOscillators | Oscillator | str, order: int,
 
     if isinstance(model, str):
         model = get_coupled_model(model)
-    elif isinstance(model, Oscillator):
+    elif isinstance(model, (Oscillator, ForcedOscillator)):
         model = CoupledOscillators.from_oscillator(model)
     if params:
         model = model.substitute(params)
@@ -344,9 +381,12 @@ def derive_coupled(model: CoupledOscillators | Oscillator | str, order: int,
             Fj = F[r.j - 1]
             Fj[0] = Fj[0] - 2 * wj * sig * xj
             Fj.append(-sig**2 * xj)
-    syms = set().union(*[f.free_symbols for f in model.F]) - set(model.state)
+    syms = set().union(*[f.free_symbols for f in model.F]) - set(model.state) \
+        - {sp.Symbol("theta")}
+    if model.forced and model.nu_detuning:
+        syms.add(sp.Symbol(model.nu_detuning))
     gens = sorted(syms | set(detunings), key=lambda s: s.name)
-    lattice = SlowLattice(n, model.internal)
+    lattice = SlowLattice(n + (1 if model.forced else 0), model.internal)
     alg = CoupledAlgebra(model, lattice, gens, tolerance)
     A, B, U = _recursion(alg, F, order)
     return CoupledKBMResult.from_series(model, order, lattice, A, B, U)

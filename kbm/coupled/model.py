@@ -82,6 +82,11 @@ class CoupledOscillators:
         One line saying what the model is and where it comes from.
     defaults
         Values of parameters that are not given.
+    nu0, nu_detuning
+        A periodic forcing: ``F`` may hold ``cos(k theta)``, ``sin(k theta)`` with
+        ``theta = nu t``, ``nu = nu0 + mu sigma`` (``sigma`` named ``nu_detuning``; ``None``:
+        ``nu = nu0`` exactly).  ``nu0`` is a positive rational; the forcing angle is the
+        mode ``N + 1`` of the resonance declarations (``"1:1@2,F"``: ``omega_2 : nu = 1 : 1``).
     physical
         For models with a physical parametrisation (the SEDF sliders): each scaled parameter
         as an expression in physical ones and ``mu``, e.g. ``{"delta": Delta/mu,
@@ -112,6 +117,8 @@ class CoupledOscillators:
     defaults: Mapping[str, object] = field(default_factory=dict)
     internal: tuple = ()
     physical: Mapping[str, object] = field(default_factory=dict)
+    nu0: object = None
+    nu_detuning: str | None = None
 
     def __post_init__(self) -> None:
         if isinstance(self.F, (str, sp.Basic)) or not isinstance(self.F, Sequence):
@@ -134,16 +141,26 @@ class CoupledOscillators:
         object.__setattr__(self, "defaults",
                            FrozenMap({k: parameter_value(k, v) if not isinstance(v, sp.Basic)
                                       else v for k, v in self.defaults.items()}))
+        nu0 = None
+        if self.nu0 is not None:
+            nu0 = _frequency(self.nu0, "nu0")
+        object.__setattr__(self, "nu0", nu0)
+        forced = nu0 is not None
         internal = tuple(r if isinstance(r, InternalResonance) else
-                         InternalResonance.parse(r, n) for r in self.internal)
+                         InternalResonance.parse(r, n, forced=forced) for r in self.internal)
         for r in internal:
-            r.check(w)
+            r.check(w + ((nu0,) if forced else ()))
         object.__setattr__(self, "internal", internal)
         object.__setattr__(self, "physical",
                            FrozenMap({k: parse(v) if isinstance(v, str) else sp.sympify(v)
                                       for k, v in self.physical.items()}))
         state = set(positions(n)) | set(velocities(n))
+        theta = sp.Symbol("theta")
         for i, f in enumerate(F, 1):
+            if theta in f.free_symbols and not forced:
+                raise ModelError(f"F{i} holds the forcing angle theta but the model has no "
+                                 "forcing frequency: give nu0 (theta = nu t, nu = nu0 + mu "
+                                 "sigma)")
             if mu in f.free_symbols:
                 raise ModelError(f"F{i} of {self.name!r} contains the small parameter mu; write "
                                  "each equation as x_i'' + omega_i^2 x_i = mu*F_i with F_i free "
@@ -155,6 +172,8 @@ class CoupledOscillators:
                         f"system of {n} degrees of freedom: the state is "
                         f"{', '.join(map(str, positions(n)))} and "
                         f"{', '.join(map(str, velocities(n)))}")
+                if s == theta:
+                    continue
                 if s.name in ("a", "psi", "t") or _RESERVED.match(s.name):
                     raise ModelError(f"the symbol {s.name!r} in F{i} is reserved for the "
                                      "amplitudes, phases and time; rename that parameter")
@@ -173,8 +192,18 @@ class CoupledOscillators:
     @property
     def parameters(self) -> tuple[str, ...]:
         """The names of the parameters of the right-hand sides (sorted)."""
-        syms = set().union(*[f.free_symbols for f in self.F]) - set(self.state)
-        return tuple(sorted(s.name for s in syms))
+        syms = set().union(*[f.free_symbols for f in self.F]) - set(self.state) \
+            - {sp.Symbol("theta")}
+        names = {s.name for s in syms}
+        if self.nu_detuning:
+            names.add(self.nu_detuning)
+        names |= {r.detuning for r in self.internal if r.detuning}
+        return tuple(sorted(names))
+
+    @property
+    def forced(self) -> bool:
+        """Whether the system is driven through ``theta = nu t``."""
+        return self.nu0 is not None
 
     def substitute(self, params: Mapping[str, object]) -> "CoupledOscillators":
         """The model with parameter values put in (exact: ``"0.1"`` is ``1/10``).
@@ -184,7 +213,12 @@ class CoupledOscillators:
         kbm.errors.ParameterError
             For a name that is not a parameter of the model.
         """
+        detunings = {self.nu_detuning} | {r.detuning for r in self.internal}
         unknown = sorted(set(params) - set(self.parameters))
+        kept = sorted(set(params) & (detunings - {None}))
+        if kept:
+            raise ParameterError(f"the detuning {', '.join(kept)} stays symbolic in the "
+                                 "averaging (the slow flow is a function of it)")
         if unknown:
             raise ParameterError(f"{', '.join(map(repr, unknown))} is not a parameter of "
                                  f"{self.name!r} (its parameters: "
@@ -192,19 +226,31 @@ class CoupledOscillators:
         sub = {sp.Symbol(k): parameter_value(k, v) for k, v in params.items()}
         return CoupledOscillators(self.name, tuple(f.subs(sub) for f in self.F), self.omega0,
                                   self.description, self.defaults, self.internal,
-                                  self.physical)
+                                  self.physical, self.nu0, self.nu_detuning)
 
     def with_internal(self, resonances: Sequence[object]) -> "CoupledOscillators":
         """The model with further declared internal resonances."""
         extra = tuple(r if isinstance(r, InternalResonance) else
-                      InternalResonance.parse(r, self.dof) for r in resonances)
+                      InternalResonance.parse(r, self.dof, forced=self.forced)
+                      for r in resonances)
         return CoupledOscillators(self.name, self.F, self.omega0, self.description,
-                                  self.defaults, self.internal + extra, self.physical)
+                                  self.defaults, self.internal + extra, self.physical,
+                                  self.nu0, self.nu_detuning)
+
+    def frequencies(self) -> tuple[sp.Expr, ...]:
+        """The linear frequencies with the declared detunings: ``omega_j + mu sigma`` for a
+        resonance ``omega_i : omega_j`` declared with the detuning ``sigma``."""
+        w = list(self.omega0)
+        for r in self.internal:
+            if r.detuning and not r.forcing:
+                w[r.j - 1] = w[r.j - 1] + mu * sp.Symbol(r.detuning)
+        return tuple(w)
 
     def accelerations(self) -> tuple[sp.Expr, ...]:
-        """``x_i'' = -omega_i**2 x_i + mu F_i`` as expressions."""
+        """``x_i'' = -omega_i**2 x_i + mu F_i`` as expressions (``omega_i`` with its declared
+        detuning, :meth:`frequencies`)."""
         return tuple(-w**2 * xi + mu * f
-                     for w, xi, f in zip(self.omega0, positions(self.dof), self.F))
+                     for w, xi, f in zip(self.frequencies(), positions(self.dof), self.F))
 
     @classmethod
     def from_oscillator(cls, model) -> "CoupledOscillators":
@@ -216,12 +262,34 @@ class CoupledOscillators:
         kbm.errors.ModelError
             For a driven model or a frequency that is not a rational number.
         """
+        from ..forced.model import ForcedOscillator
+
+        if isinstance(model, ForcedOscillator):
+            return cls._from_forced(model)
         if t in model.F.free_symbols or model.drive != 0:
             raise ModelError(f"{model.name!r} depends on t; the coupled averaging treats "
                              "autonomous systems")
         (x1,), (v1,) = positions(1), velocities(1)
         return cls(model.name, (model.F.subs({x: x1, xdot: v1}, simultaneous=True),),
                    (model.omega0,), model.description, dict(model.defaults))
+
+
+def _forced_case(cls, model) -> "CoupledOscillators":
+    """``N = 1`` with the forcing angle: ``nu = (p/q) omega0 + mu sigma`` of the declared
+    resonance is ``omega0 : nu = q : p`` between the mode and the forcing."""
+    if model.hard != 0:
+        raise ModelError(f"{model.name!r} has a hard forcing K cos(theta); the coupled "
+                         "averaging takes weak forcing mu F(theta) (use kbm.forced)")
+    res = model.resonance
+    (x1,), (v1,) = positions(1), velocities(1)
+    nu0 = model.omega0 * sp.Rational(res.p, res.q)
+    return cls(model.name, (model.F.subs({x: x1, xdot: v1}, simultaneous=True),),
+               (model.omega0,), model.description, dict(model.defaults),
+               internal=(InternalResonance(1, 2, res.q, res.p, forcing=True),), nu0=nu0,
+               nu_detuning="sigma")
+
+
+CoupledOscillators._from_forced = classmethod(_forced_case)
 
 
 def coupled_custom(rhs: Sequence[str], omega0: Sequence[object] | str | None = None, *,

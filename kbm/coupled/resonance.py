@@ -21,7 +21,7 @@ from ..errors import ModelError
 
 __all__ = ["InternalResonance", "SlowLattice", "UndeclaredResonanceError"]
 
-_SYNTAX = re.compile(r"^\s*(\d+)\s*:\s*(\d+)\s*(?:@\s*(\d+)\s*,\s*(\d+)\s*)?$")
+_SYNTAX = re.compile(r"^\s*(\d+)\s*:\s*(\d+)\s*(?:@\s*(\d+)\s*,\s*(\d+|F)\s*)?$")
 
 
 class UndeclaredResonanceError(ModelError):
@@ -43,10 +43,13 @@ class InternalResonance:
     p: int
     q: int
     detuning: str | None = None
+    forcing: bool = False
 
     @classmethod
-    def parse(cls, text: str, dof: int, detuning: str | None = None) -> "InternalResonance":
-        """Read ``"P:Q"`` (modes 1 and 2) or ``"P:Q@I,J"``.
+    def parse(cls, text: str, dof: int, detuning: str | None = None, *,
+              forced: bool = False) -> "InternalResonance":
+        """Read ``"P:Q"`` (modes 1 and 2) or ``"P:Q@I,J"``; ``J = F`` is the forcing angle of
+        a forced system (``"1:1@2,F"``: ``omega_2 : nu = 1 : 1``).
 
         Raises
         ------
@@ -59,7 +62,14 @@ class InternalResonance:
                              "omega_1 : omega_2 = P : Q (e.g. 1:3), or P:Q@I,J for modes I "
                              "and J")
         p, q = int(m.group(1)), int(m.group(2))
-        i, j = (int(m.group(3)), int(m.group(4))) if m.group(3) else (1, 2)
+        if m.group(4) == "F":
+            if not forced:
+                raise ModelError(f"the resonance {text!r} names the forcing (F), but the system "
+                                 "has no forcing frequency nu0")
+            i, j = int(m.group(3)), dof + 1
+            dof = dof + 1
+        else:
+            i, j = (int(m.group(3)), int(m.group(4))) if m.group(3) else (1, 2)
         if p == 0 or q == 0:
             raise ModelError(f"the internal resonance {text!r} has a zero in its ratio; "
                              "P and Q are positive integers")
@@ -68,14 +78,15 @@ class InternalResonance:
                              f"among 1..{dof}" + (" (a system of one degree of freedom has "
                                                   "no internal resonance)" if dof == 1 else ""))
         g = gcd(p, q)
-        return cls(i, j, p // g, q // g, detuning)
+        return cls(i, j, p // g, q // g, detuning, m.group(4) == "F")
 
     def check(self, omega: tuple) -> None:
         """Raise :class:`~kbm.errors.ModelError` unless ``omega_i : omega_j = p : q``."""
         wi, wj = omega[self.i - 1], omega[self.j - 1]
+        name_j = "nu0" if self.forcing else f"omega{self.j}"
         if wi * self.q != wj * self.p:
             raise ModelError(
-                f"omega{self.i} = {wi} and omega{self.j} = {wj} are not in the declared ratio "
+                f"omega{self.i} = {wi} and {name_j} = {wj} are not in the declared ratio "
                 f"{self.p}:{self.q}: give the frequencies of the exact resonance and the "
                 f"detuning separately (in F as -2*omega{self.j}*sigma*x{self.j}, or as the "
                 f"resonance's detuning)")
@@ -88,7 +99,8 @@ class InternalResonance:
         return tuple(k)
 
     def __str__(self) -> str:
-        pair = "" if (self.i, self.j) == (1, 2) else f"@{self.i},{self.j}"
+        pair = f"@{self.i},F" if self.forcing else \
+            "" if (self.i, self.j) == (1, 2) else f"@{self.i},{self.j}"
         return f"{self.p}:{self.q}{pair}" + (f" (detuning {self.detuning})"
                                               if self.detuning else "")
 
@@ -134,18 +146,20 @@ def frequency(k: tuple[int, ...], omega: tuple) -> Fraction:
     return sum((Fraction(int(w.p), int(w.q)) * v for v, w in zip(k, omega)), Fraction(0))
 
 
-def describe(k: tuple[int, ...]) -> str:
-    """``k . omega = 0`` written out, e.g. ``3*omega1 - omega2``."""
+def describe(k: tuple[int, ...], forced: bool = False) -> str:
+    """``k . omega`` written out, e.g. ``3*omega1 - omega2`` (the last angle of a forced
+    system is ``nu``)."""
     parts = []
     for idx, v in enumerate(k, 1):
         if v:
             mag = "" if abs(v) == 1 else f"{abs(v)}*"
-            parts.append(("-" if v < 0 else "+") + f" {mag}omega{idx}")
+            name = "nu" if forced and idx == len(k) else f"omega{idx}"
+            parts.append(("-" if v < 0 else "+") + f" {mag}{name}")
     s = " ".join(parts)
     return s[2:] if s.startswith("+ ") else "-" + s[2:]
 
 
-def declaration(k: tuple[int, ...]) -> str | None:
+def declaration(k: tuple[int, ...], forced: bool = False) -> str | None:
     """The ``--internal`` text of a two-mode resonance vector, or ``None``."""
     nz = [(i, v) for i, v in enumerate(k, 1) if v]
     if len(nz) != 2:
@@ -157,4 +171,6 @@ def declaration(k: tuple[int, ...]) -> str | None:
     p, q = abs(vj), abs(vi)
     g = gcd(p, q)
     p, q = p // g, q // g
+    if forced and j == len(k):
+        return f"{p}:{q}@{i},F"
     return f"{p}:{q}" if (i, j) == (1, 2) else f"{p}:{q}@{i},{j}"

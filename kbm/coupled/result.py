@@ -67,7 +67,7 @@ class CoupledKBMResult:
     def from_series(cls, model: CoupledOscillators, order: int, lattice: SlowLattice,
                     A: list, B: list, U: list) -> "CoupledKBMResult":
         n = model.dof
-        psis = phases(n)
+        psis = phases(n) + ((sp.Symbol("theta"),) if model.forced else ())
         gammas = tuple(sp.Symbol(f"gamma{r}") for r in range(1, len(lattice.generators) + 1))
         defs = tuple((g, sp.Add(*[v * p for v, p in zip(k, psis) if v]))
                      for g, k in zip(gammas, lattice.generators))
@@ -86,8 +86,10 @@ class CoupledKBMResult:
         """The coefficient of ``mu**n`` (n >= 1) in ``d gamma_r/dt``."""
         _, comb = self.gammas[r]
         psis = phases(self.model.dof)
-        return sp.expand(sum((comb.coeff(p) * self.B[i][n] for i, p in enumerate(psis)),
-                             sp.Integer(0)))
+        rate = sum((comb.coeff(p) * self.B[i][n] for i, p in enumerate(psis)), sp.Integer(0))
+        if n == 1 and self.model.forced and self.model.nu_detuning:
+            rate += comb.coeff(sp.Symbol("theta")) * sp.Symbol(self.model.nu_detuning)
+        return sp.expand(rate)
 
     def slow_flow(self, order: int | None = None) -> tuple[sp.Expr, ...]:
         """``(da_1/dt, ..., da_N/dt, dgamma_1/dt, ...)`` to ``order`` (default all), in

@@ -5,7 +5,7 @@ and the locking of self-excited oscillators.
 - :mod:`numerics.coupled.cycle`: :func:`coupled_cycle`, shooting with Floquet multipliers.
 """
 
-from .cycle import CoupledCycle, coupled_cycle
+from .cycle import CoupledCycle, ForcedCoupledResponse, coupled_cycle, forced_response
 from .flow import CoupledFlow, bind_coupled, coupled_flow
 
-__all__ = ["CoupledCycle", "coupled_cycle", "CoupledFlow", "coupled_flow", "bind_coupled"]
+__all__ = ["CoupledCycle", "coupled_cycle", "ForcedCoupledResponse", "forced_response", "CoupledFlow", "coupled_flow", "bind_coupled"]

@@ -21,7 +21,8 @@ from kbm.coupled import CoupledOscillators
 from numerics.errors import ConvergenceError, NoCycleError
 from .flow import CoupledFlow, coupled_flow
 
-__all__ = ["CoupledCycle", "coupled_cycle", "section_start"]
+__all__ = ["CoupledCycle", "coupled_cycle", "section_start", "ForcedCoupledResponse",
+           "forced_response"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -227,3 +228,107 @@ def coupled_cycle(model: CoupledOscillators | str, params: Mapping[str, object] 
            f"det Phi = {det:.10g} against exp(int tr J) = {math.exp(div):.10g} (Liouville)")
     return CoupledCycle(fl.model.name, dict(fl.values), float(T), y0.copy(), amps, ph, mults,
                         stable, (det, math.exp(div)), it, history[-1], msg)
+
+
+@dataclass(frozen=True, eq=False)
+class ForcedCoupledResponse:
+    """A periodic response of a forced coupled system, of period ``T = m 2 pi/nu``.
+
+    ``amplitudes[i]`` is the amplitude of ``x_i``'s component at the frequency nearest
+    ``omega_i`` among the multiples of ``nu/m`` (what KBM's ``a_i`` predicts); the
+    multipliers are the ``2N`` eigenvalues of ``Phi(T)``.
+    """
+
+    model: str
+    params: Mapping[str, float]
+    nu: float
+    period: float
+    multiple: int
+    state: np.ndarray
+    amplitudes: np.ndarray
+    floquet_multipliers: np.ndarray
+    stable: bool
+    liouville: tuple[float, float]
+    iterations: int
+    residual: float
+
+    def to_json(self) -> dict:
+        def mult(z):
+            return float(z.real) if z.imag == 0 else [float(z.real), float(z.imag)]
+        return {"model": self.model, "params": dict(self.params), "nu": self.nu,
+                "period": self.period, "multiple": self.multiple,
+                "state": [float(v) for v in self.state],
+                "amplitudes": [float(v) for v in self.amplitudes],
+                "floquet_multipliers": [mult(z) for z in self.floquet_multipliers],
+                "stable": self.stable,
+                "liouville": {"det_monodromy": self.liouville[0],
+                              "exp_divergence_integral": self.liouville[1]},
+                "iterations": self.iterations, "residual": self.residual}
+
+
+def forced_response(model: CoupledOscillators | str, params: Mapping[str, object] | None = None,
+                    *, start: np.ndarray | None = None, transient_periods: int | None = None,
+                    rtol: float = 1e-11, max_iter: int = 30) -> ForcedCoupledResponse:
+    """A periodic response of ``x_i'' + omega_i**2 x_i = mu F_i(x, x', nu t)`` by shooting at
+    the fixed period ``T = m 2 pi/nu``, ``m`` the least common denominator of the ratios
+    ``omega_i/nu0`` (``m = 2`` when a mode answers at ``nu/2``).
+
+    The start is the state after ``transient_periods`` periods (default: a time ``20/mu``)
+    from ``start`` (default all ``x_i = 1``); the multipliers are those of the monodromy.
+
+    Raises
+    ------
+    numerics.errors.ConvergenceError
+        If Newton does not converge (the residuals are in the message).
+    kbm.errors.ParameterError
+        For a system without forcing.
+    """
+    from fractions import Fraction
+    from math import lcm
+
+    from kbm.errors import ParameterError
+
+    fl = coupled_flow(model, params)
+    if fl.nu is None:
+        raise ParameterError(f"{fl.model.name!r} has no forcing; its periodic orbits are "
+                             "found by coupled_cycle")
+    n = fl.dof
+    mu, nu = fl.values["mu"], fl.nu
+    ratios = [Fraction(int(w.p), int(w.q)) / Fraction(int(fl.model.nu0.p), int(fl.model.nu0.q))
+              for w in fl.model.omega0]
+    m = lcm(*[r.denominator for r in ratios])
+    T = m * 2 * math.pi / nu
+    y = np.ones(2 * n) if start is None else np.asarray(start, dtype=float).copy()
+    if start is None:
+        y[n:] = 0.0
+    k = transient_periods if transient_periods is not None else \
+        int(min(max(100.0, 20.0 / max(abs(mu), 1e-12)), 4000.0) / T) + 1
+    if k > 0:
+        y = fl.states(y, k * T, k, rtol=1e-9, atol=1e-11)[-1]
+    history: list[float] = []
+    it = 0
+    for it in range(1, max_iter + 1):
+        yT, Phi, div = fl.monodromy(y, T, rtol=rtol)
+        r = yT - y
+        history.append(float(np.max(np.abs(r))))
+        if history[-1] < 1e-10 * max(1.0, float(np.max(np.abs(y)))):
+            break
+        try:
+            y = y + np.linalg.solve(Phi - np.eye(2 * n), -r)
+        except np.linalg.LinAlgError:
+            raise ConvergenceError(f"singular shooting matrix at nu = {nu:.10g} (a multiplier "
+                                   "at 1: a fold or a free phase)") from None
+    if history[-1] >= 1e-8 * max(1.0, float(np.max(np.abs(y)))):
+        raise ConvergenceError(
+            f"no periodic response of period {m} x 2 pi/nu of {fl.model.name}: Newton's "
+            f"residuals {', '.join(f'{h:.2e}' for h in history[-5:])} after {it} iterations")
+    yT, Phi, div = fl.monodromy(y, T, rtol=rtol)
+    mults = np.linalg.eigvals(Phi)
+    mults = mults[np.lexsort((mults.imag, -np.abs(mults)))]
+    samples = 256 * m
+    ys = fl.states(y, T, samples, rtol=rtol)[:-1]
+    spec = np.fft.rfft(ys[:, :n], axis=0) / samples * 2
+    amps = np.array([abs(spec[int(round(float(r) * m)), i]) for i, r in enumerate(ratios)])
+    return ForcedCoupledResponse(fl.model.name, dict(fl.values), nu, T, m, y.copy(), amps,
+                                 mults, bool(np.all(np.abs(mults) < 1.0)),
+                                 (float(np.linalg.det(Phi)), math.exp(div)), it, history[-1])

@@ -112,9 +112,19 @@ class CoupledFlow:
     _p: np.ndarray
     _rhs: Callable
 
-    def rhs(self, y: np.ndarray) -> np.ndarray:
-        """The vector field at the state ``y`` (2N values)."""
-        return np.asarray(self._rhs(*y, *self._p), dtype=float)
+    def rhs(self, y: np.ndarray, t: float = 0.0) -> np.ndarray:
+        """The vector field at the state ``y`` (2N values) and time ``t`` (which only a
+        forced system's field depends on)."""
+        return np.asarray(self._rhs(t, *y, *self._p), dtype=float)
+
+    @property
+    def nu(self) -> float | None:
+        """The forcing frequency ``nu0 + mu sigma`` of a forced system (else ``None``)."""
+        m = self.model
+        if not m.forced:
+            return None
+        sig = self.values.get(m.nu_detuning, 0.0) if m.nu_detuning else 0.0
+        return float(m.nu0) + self.values["mu"] * sig
 
     def states(self, y0, t_end: float, n_out: int, rtol: float = 1e-10,
                atol: float = 1e-12, max_steps: int = 10**7) -> np.ndarray:
@@ -173,6 +183,9 @@ def _compiled(model: CoupledOscillators):
     f = [*state[n:], *model.accelerations()]
     names = sorted({*model.parameters, "mu"})
     psyms = [mu_symbol if nm == "mu" else sp.Symbol(nm) for nm in names]
+    if model.forced:  # theta = nu t, nu = nu0 + mu sigma
+        sig = sp.Symbol(model.nu_detuning) if model.nu_detuning else 0
+        f = [e.subs(sp.Symbol("theta"), (model.nu0 + mu_symbol * sig) * t_symbol) for e in f]
     variational = n <= MAX_VARIATIONAL_DOF
     exprs, ys = list(f), list(state)
     if variational:
@@ -187,7 +200,7 @@ def _compiled(model: CoupledOscillators):
     fn = jit_flow(exprs, t_symbol, ys, psyms, n_state=2 * n)
     if fn is None:  # pragma: no cover - numba is a declared dependency
         fn = _scipy_flow(exprs, ys, psyms, 2 * n)
-    rhs = sp.lambdify([*state, *psyms], f, "numpy")
+    rhs = sp.lambdify([t_symbol, *state, *psyms], f, "numpy")
     return fn, rhs, tuple(names), variational
 
 
@@ -196,13 +209,13 @@ def _scipy_flow(exprs, ys, psyms, n_state):  # pragma: no cover - without numba
 
     from numerics.flow.jit import FlowResult
 
-    full = sp.lambdify([ys, psyms], exprs, "numpy")
-    part = sp.lambdify([ys[:n_state], psyms], exprs[:n_state], "numpy")
+    full = sp.lambdify([t_symbol, ys, psyms], exprs, "numpy")
+    part = sp.lambdify([t_symbol, ys[:n_state], psyms], exprs[:n_state], "numpy")
 
     def flow(y0, t_end, p, rtol, atol, n_out=1, max_steps=10**6):
         fun = full if len(y0) > n_state else part
         ts = np.linspace(0.0, t_end, n_out + 1)
-        sol = solve_ivp(lambda t, y: fun(y, p), (0.0, t_end), y0, method="DOP853",
+        sol = solve_ivp(lambda t, y: fun(t, y, p), (0.0, t_end), y0, method="DOP853",
                         t_eval=ts, rtol=rtol, atol=atol)
         out = np.full((n_out + 1, len(y0)), np.nan)
         out[:sol.y.shape[1]] = sol.y.T

@@ -96,3 +96,13 @@ def test_lock_json_contract_and_figure(tmp_path):
     assert "FROM < TO" in err
     err = kbm("lock", "duffing-1-3", "-p", "mu=0.05", "--vary", "k=0:1", code=2).stderr
     assert "error" in err
+
+
+def test_cycle_of_a_forced_coupled_system():
+    """quadratic-1-2 forced near the higher mode: a response of period 2 x 2 pi/nu with its
+    four multipliers; the saturated a2 is near 2 sqrt 2 (tests/test_coupled_forced.py)."""
+    d = json.loads(kbm("cycle", "quadratic-1-2", "-p", "mu=0.01", "-p", "zeta1=0.5", "-p",
+                       "zeta2=0.5", "-p", "sigma1=0", "-p", "sigma2=1", "-p", "h=30",
+                       "--json").stdout)
+    assert d["multiple"] == 2 and len(d["floquet_multipliers"]) == 4
+    assert abs(d["amplitudes"][1] - 2 * 2**0.5) < 0.2 < d["amplitudes"][0]

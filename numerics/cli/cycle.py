@@ -159,6 +159,8 @@ def _run_coupled(args: argparse.Namespace) -> int:
     if start is not None and len(start) != 2 * model.dof:
         raise ParameterError(f"--start needs {2 * model.dof} numbers (x1..x{model.dof}, "
                              f"xdot1..xdot{model.dof}), got {len(start)}")
+    if model.forced:
+        return _run_forced(model, given, start, args)
     cyc = coupled_cycle(model, given, start=start, transient=args.transient,
                         rtol=max(args.rtol, 1e-13))
     if args.json:
@@ -176,4 +178,34 @@ def _run_coupled(args: argparse.Namespace) -> int:
     print(f"  {'floquet multipliers':26s} {mults} "
           f"({'stable' if cyc.stable else 'UNSTABLE'}; the first is the trivial one)")
     print(f"  {cyc.message}")
+    return 0
+
+
+def _run_forced(model, given, start, args) -> int:
+    import math
+
+    from kbm.errors import ParameterError
+    from numerics.coupled import forced_response
+
+    periods = None
+    if args.transient is not None:
+        periods = int(math.ceil(args.transient / (2 * math.pi)))
+        if args.transient > 0 and periods == 0:
+            raise ParameterError("--transient is rounded up to whole forcing periods")
+    res = forced_response(model, given, start=start, transient_periods=periods,
+                          rtol=max(args.rtol, 1e-13))
+    if args.json:
+        emit_json({**res.to_json(), "success": True, "params_given": given})
+        return 0
+    print(f"periodic response of {res.model} ({', '.join(f'{k}={v:g}' for k, v in res.params.items())})")
+    print(f"  {'forcing frequency nu':26s} {res.nu:.12g}")
+    print(f"  {'period':26s} {res.period:.12g} ({res.multiple} x 2 pi/nu)")
+    for i, a in enumerate(res.amplitudes, 1):
+        print(f"  {f'x{i}: amplitude':26s} {a:.10g}")
+    mults = ", ".join(f"{z.real:.8g}" + (f"{z.imag:+.8g}i" if z.imag else "")
+                      for z in res.floquet_multipliers)
+    print(f"  {'floquet multipliers':26s} {mults} ({'stable' if res.stable else 'UNSTABLE'})")
+    print(f"  Newton: {res.iterations} iterations, |y(T) - y0| = {res.residual:.2e}; det Phi = "
+          f"{res.liouville[0]:.10g} against exp(int tr J) = {res.liouville[1]:.10g} "
+          "(Liouville)")
     return 0

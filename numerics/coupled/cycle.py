@@ -166,6 +166,12 @@ def coupled_cycle(model: CoupledOscillators | str, params: Mapping[str, object] 
         If the motion comes to rest.
     """
     fl = coupled_flow(model, params)
+    if fl.nu is not None:
+        from kbm.errors import ParameterError
+
+        raise ParameterError(f"{fl.model.name!r} is forced (theta = nu t): its periodic "
+                             "responses have the forcing's period and are found by "
+                             "forced_response")
     n = fl.dof
     mu = fl.values["mu"]
     y = np.ones(2 * n) if start is None else np.asarray(start, dtype=float).copy()

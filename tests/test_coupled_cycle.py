@@ -172,3 +172,13 @@ def test_sedf_chain_names():
     assert get_coupled_model("sedf-chain-16").dof == 16
     with pytest.raises(ModelError, match="2 to 256"):
         get_coupled_model("sedf-chain-1")
+
+
+def test_an_equilibrium_is_not_a_cycle():
+    """Shot from far (no transient), Newton lands on an equilibrium of the dimer: refused
+    with the numbers (the motion's range, the multiplier nearest 1)."""
+    from numerics.errors import ConvergenceError
+
+    p = {"mu": 0.1, "Delta": 1.5, "lam": 1, "beta": 1, "kappa": 0.5}
+    with pytest.raises(ConvergenceError, match="equilibrium, not a cycle"):
+        coupled_cycle("sedf-dimer", p, start=[1, -1, 0, 0], transient=0)

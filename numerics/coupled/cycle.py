@@ -220,6 +220,13 @@ def coupled_cycle(model: CoupledOscillators | str, params: Mapping[str, object] 
     yT, Phi, div = fl.monodromy(y0, T, rtol=rtol)
     mults = np.linalg.eigvals(Phi)
     k = int(np.argmin(np.abs(mults - 1.0)))
+    spread = float(np.max(np.ptp(fl.states(y0, T, 64, rtol=rtol)[:, :n], axis=0)))
+    if spread < 1e-6 * max(1.0, float(np.max(np.abs(y0)))) or abs(mults[k] - 1) > 1e-5:
+        raise ConvergenceError(
+            f"Newton converged to an equilibrium, not a cycle, of {fl.model.name} (the state "
+            f"varies by {spread:.2e} over T = {T:.6g}; the multiplier nearest 1 is "
+            f"{abs(mults[k]):.6g}); start nearer the cycle (--start), or let a transient "
+            "bring the motion to it")
     rest = np.delete(mults, k)
     rest = rest[np.lexsort((rest.imag, -np.abs(rest)))]
     mults = np.concatenate([[mults[k]], rest])

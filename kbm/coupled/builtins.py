@@ -8,10 +8,12 @@
                    coupling ``V = k x1^3 x2`` and light damping (Nayfeh & Mook 1979,
                    sec. 6.6): ``F1 = -2 zeta1 x1' - alpha1 x1^3 - 3 k x1^2 x2``,
                    ``F2 = -2 zeta2 x2' - alpha2 x2^3 - k x1^3``, ``omega = (1, 3)``
-``sedf-dimer``     two self-excited sliders of the paper's eq. (3) at rest (v = 0) on the
-                   potential, coupled by a spring ``K = mu kappa``:
-                   ``F_i = -(beta x_i^2 - 1) x_i' - delta sin(k x_i) - kappa (x_i - x_j)``,
-                   ``delta = Delta/mu``, ``k = 2 pi/lam`` (``Omega = 1``)
+``sedf-dimer``     two self-excited sliders of the paper's eq. (3) on the potential,
+                   coupled by a spring ``K = mu kappa``, pulled by the stage at ``v``
+                   (default 0: at rest), the self-excitation attached to the stage as in
+                   ``sedf_comoving``: ``F_i = -(beta (x_i - v t)^2 - 1) x_i' - delta
+                   sin(k x_i) - kappa (x_i - x_j)``, drive ``v t``, ``delta = Delta/mu``,
+                   ``k = 2 pi/lam`` (``Omega = 1``)
 ``sedf-chain``     ``N`` such sliders in a chain with free ends (``sedf-chain`` is N = 4,
                    ``sedf-chain-N`` any N up to 256): ``-kappa (2 x_i - x_{i-1} - x_{i+1})``
 ``quadratic-1-2``  two oscillators with quadratic coupling in 1:2 internal resonance,
@@ -62,7 +64,7 @@ COUPLED_MODELS: dict[str, CoupledOscillators] = {
 
 
 _SEDF_PHYSICAL = {"delta": "Delta/mu", "k": "2*pi/lam"}
-_SEDF_DEFAULTS = {"beta": "1", "lam": "1", "kappa": "1"}
+_SEDF_DEFAULTS = {"beta": "1", "lam": "1", "kappa": "1", "v": "0"}
 
 
 def sedf_chain(n: int, name: str | None = None) -> CoupledOscillators:
@@ -79,12 +81,13 @@ def sedf_chain(n: int, name: str | None = None) -> CoupledOscillators:
     F = []
     for i in range(1, n + 1):
         spring = " - ".join(f"kappa*(x{i} - x{j})" for j in (i - 1, i + 1) if 1 <= j <= n)
-        F.append(f"-(beta*x{i}**2 - 1)*xdot{i} - delta*sin(k*x{i}) - {spring}")
+        F.append(f"-(beta*(x{i} - v*t)**2 - 1)*xdot{i} - delta*sin(k*x{i}) - {spring}")
     return CoupledOscillators(
         name or f"sedf-chain-{n}", tuple(F), (1,) * n,
-        description=f"{n} self-excited sliders (paper eq. 3, v = 0) in a chain with free "
-                    "ends, springs mu*kappa between neighbours",
-        defaults=_SEDF_DEFAULTS, physical=_SEDF_PHYSICAL)
+        description=f"{n} self-excited sliders (paper eq. 3; the self-excitation attached to "
+                    "the stage, as sedf_comoving) in a chain with free ends, springs "
+                    "mu*kappa between neighbours, pulled at v (0: at rest)",
+        defaults=_SEDF_DEFAULTS, physical=_SEDF_PHYSICAL, drive=("v*t",) * n)
 
 
 COUPLED_MODELS["sedf-dimer"] = sedf_chain(2, "sedf-dimer")

@@ -364,6 +364,11 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
         model = model.with_internal(internal)
     if not isinstance(order, int) or isinstance(order, bool) or not 1 <= order <= MAX_ORDER:
         raise OrderError(f"the order must be an integer from 1 to {MAX_ORDER}, got {order!r}")
+    if not model.is_autonomous():
+        raise ModelError(f"{model.name!r} depends on the time t (a drive or a stage that "
+                         "pulls); the averaging treats autonomous systems and periodic "
+                         "forcing through theta: integrate it (kbm cycle at v = 0, kbm "
+                         "friction)")
     if model.dof > MAX_DOF_SYMBOLIC:
         raise ModelError(f"{model.dof} degrees of freedom are above the limit "
                          f"{MAX_DOF_SYMBOLIC} of the exact symbolic averaging (its Fourier "

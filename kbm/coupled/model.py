@@ -87,6 +87,11 @@ class CoupledOscillators:
         ``theta = nu t``, ``nu = nu0 + mu sigma`` (``sigma`` named ``nu_detuning``; ``None``:
         ``nu = nu0`` exactly).  ``nu0`` is a positive rational; the forcing angle is the
         mode ``N + 1`` of the resonance declarations (``"1:1@2,F"``: ``omega_2 : nu = 1 : 1``).
+    drive
+        Order-one forces of time and parameters, one per degree of freedom (the stage's
+        pull ``Omega^2 v t`` of pulled sliders), added to ``x_i''``; empty: none.  ``F``
+        may then hold ``t`` too (a self-excitation attached to the stage); such a model is
+        integrated, not averaged.
     physical
         For models with a physical parametrisation (the SEDF sliders): each scaled parameter
         as an expression in physical ones and ``mu``, e.g. ``{"delta": Delta/mu,
@@ -119,6 +124,7 @@ class CoupledOscillators:
     physical: Mapping[str, object] = field(default_factory=dict)
     nu0: object = None
     nu_detuning: str | None = None
+    drive: tuple = ()
 
     def __post_init__(self) -> None:
         if isinstance(self.F, (str, sp.Basic)) or not isinstance(self.F, Sequence):
@@ -151,6 +157,14 @@ class CoupledOscillators:
         for r in internal:
             r.check(w + ((nu0,) if forced else ()))
         object.__setattr__(self, "internal", internal)
+        drive = tuple(parse(d) if isinstance(d, str) else sp.sympify(d) for d in self.drive)
+        if drive and len(drive) != n:
+            raise ModelError(f"{n} right-hand sides but {len(drive)} drives; give one per "
+                             "degree of freedom")
+        for d in drive:
+            if d.free_symbols & (set(positions(n)) | set(velocities(n)) | {mu}):
+                raise ModelError(f"the drive {d} must depend on t and parameters only")
+        object.__setattr__(self, "drive", drive)
         object.__setattr__(self, "physical",
                            FrozenMap({k: parse(v) if isinstance(v, str) else sp.sympify(v)
                                       for k, v in self.physical.items()}))
@@ -172,9 +186,9 @@ class CoupledOscillators:
                         f"system of {n} degrees of freedom: the state is "
                         f"{', '.join(map(str, positions(n)))} and "
                         f"{', '.join(map(str, velocities(n)))}")
-                if s == theta:
+                if s == theta or s == t:
                     continue
-                if s.name in ("a", "psi", "t") or _RESERVED.match(s.name):
+                if s.name in ("a", "psi") or _RESERVED.match(s.name):
                     raise ModelError(f"the symbol {s.name!r} in F{i} is reserved for the "
                                      "amplitudes, phases and time; rename that parameter")
 
@@ -192,8 +206,8 @@ class CoupledOscillators:
     @property
     def parameters(self) -> tuple[str, ...]:
         """The names of the parameters of the right-hand sides (sorted)."""
-        syms = set().union(*[f.free_symbols for f in self.F]) - set(self.state) \
-            - {sp.Symbol("theta")}
+        syms = set().union(*[f.free_symbols for f in (*self.F, *self.drive)]) \
+            - set(self.state) - {sp.Symbol("theta"), t}
         names = {s.name for s in syms}
         if self.nu_detuning:
             names.add(self.nu_detuning)
@@ -226,7 +240,8 @@ class CoupledOscillators:
         sub = {sp.Symbol(k): parameter_value(k, v) for k, v in params.items()}
         return CoupledOscillators(self.name, tuple(f.subs(sub) for f in self.F), self.omega0,
                                   self.description, self.defaults, self.internal,
-                                  self.physical, self.nu0, self.nu_detuning)
+                                  self.physical, self.nu0, self.nu_detuning,
+                                  tuple(d.subs(sub) for d in self.drive))
 
     def with_internal(self, resonances: Sequence[object]) -> "CoupledOscillators":
         """The model with further declared internal resonances."""
@@ -235,7 +250,7 @@ class CoupledOscillators:
                       for r in resonances)
         return CoupledOscillators(self.name, self.F, self.omega0, self.description,
                                   self.defaults, self.internal + extra, self.physical,
-                                  self.nu0, self.nu_detuning)
+                                  self.nu0, self.nu_detuning, self.drive)
 
     def frequencies(self) -> tuple[sp.Expr, ...]:
         """The linear frequencies with the declared detunings: ``omega_j + mu sigma`` for a
@@ -249,8 +264,18 @@ class CoupledOscillators:
     def accelerations(self) -> tuple[sp.Expr, ...]:
         """``x_i'' = -omega_i**2 x_i + mu F_i`` as expressions (``omega_i`` with its declared
         detuning, :meth:`frequencies`)."""
-        return tuple(-w**2 * xi + mu * f
-                     for w, xi, f in zip(self.frequencies(), positions(self.dof), self.F))
+        drive = self.drive or (0,) * self.dof
+        return tuple(-w**2 * xi + mu * f + d for w, xi, f, d in
+                     zip(self.frequencies(), positions(self.dof), self.F, drive))
+
+    def is_autonomous(self, values: Mapping[str, object] | None = None) -> bool:
+        """Whether the system does not depend on ``t`` explicitly (at ``values``: a stage at
+        ``v = 0`` does not pull)."""
+        exprs = [*self.F, *self.drive]
+        if values:
+            sub = {sp.Symbol(k): v for k, v in values.items()}
+            exprs = [sp.expand(e.subs(sub)) for e in exprs]
+        return not any(e.has(t) for e in exprs)
 
     @classmethod
     def from_oscillator(cls, model) -> "CoupledOscillators":

@@ -28,10 +28,12 @@ def register(sub) -> None:
                     "ensemble of Langevin trajectories per point gives the mean and slip "
                     "forces with standard errors.  Defaults: mu = 0.1, Omega = 1, lam = 1 "
                     "(the paper's).")
-    p.add_argument("model", choices=["sedf_comoving", "cdc", "sedf"],
+    p.add_argument("model",
                    help="sedf_comoving (SEDF with the self-excitation attached to the stage; "
                         "has steady states), cdc (eq. 12) or sedf (the paper's eq. 3, whose "
-                        "damping grows with the distance slid: runaway)")
+                        "damping grows with the distance slid: runaway); or a chain of "
+                        "sedf_comoving sliders coupled by springs mu*kappa: sedf-dimer, "
+                        "sedf-chain-N (friction per slider, --vary v only)")
     add_param_option(p)
     p.add_argument("--vary", action="append", required=True, metavar="NAME=FROM:TO[:N|:logN]",
                    help="an axis (repeatable, the last varies fastest): v=1e-3:3:log24 "
@@ -141,6 +143,14 @@ def run(args: argparse.Namespace) -> int:
     from numerics.sliding.friction import FrictionSettings
     from numerics.sliding.maps import friction_map
     from numerics.store import PointStore
+
+    if args.model.startswith(("sedf-dimer", "sedf-chain")):
+        from numerics.cli._chain_friction import run_chain
+
+        return run_chain(args)
+    if args.model not in ("sedf_comoving", "cdc", "sedf"):
+        raise ParameterError(f"unknown slider {args.model!r}: sedf_comoving, cdc, sedf, or a "
+                             "chain sedf-dimer, sedf-chain-N")
 
     axes: dict[str, np.ndarray] = {}
     for text in args.vary:

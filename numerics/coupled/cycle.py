@@ -172,6 +172,12 @@ def coupled_cycle(model: CoupledOscillators | str, params: Mapping[str, object] 
         raise ParameterError(f"{fl.model.name!r} is forced (theta = nu t): its periodic "
                              "responses have the forcing's period and are found by "
                              "forced_response")
+    if not fl.model.is_autonomous(fl.values):
+        from kbm.errors import ParameterError
+
+        raise ParameterError(f"{fl.model.name!r} depends on t at these parameters (a stage "
+                             "that pulls, v != 0): it has no periodic orbit to shoot for; "
+                             "its friction law is kbm friction")
     n = fl.dof
     mu = fl.values["mu"]
     y = np.ones(2 * n) if start is None else np.asarray(start, dtype=float).copy()

@@ -9,8 +9,6 @@ this process, a local pool and a Dask LocalCluster (seeds spawned per velocity a
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
 import pytest
 
@@ -59,9 +57,17 @@ def test_same_bytes_on_any_executor():
 
 
 def test_cli_chain_and_bad_input():
+    import contextlib
+    import io
+    from types import SimpleNamespace
+
+    from numerics.cli import main
+
     def kbm(*args):
-        return subprocess.run([sys.executable, "-m", "numerics.cli", *args],
-                              capture_output=True, text=True, timeout=300)
+        out, err = io.StringIO(), io.StringIO()
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            status = main(list(args))
+        return SimpleNamespace(returncode=status, stdout=out.getvalue(), stderr=err.getvalue())
 
     out = kbm("friction", "sedf-dimer", "-p", "Delta=3", "-p", "kappa=0", "--vary", "v=0.01",
               "--json")

@@ -165,7 +165,7 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
         if why:
             est = _end_estimate(prob, points)
             if est is not None:
-                ph = est.parameter
+                ph = est.best[0]
                 where = est.text(name)
             else:
                 ps = [r.u[2] for r in recent[-3:]]
@@ -193,7 +193,7 @@ def _converged(pt: _Point) -> bool:
 def _end_estimate(prob: _Problem, points: list):
     """The homoclinic parameter from the period law (:mod:`numerics.cycles.homoclinic`)
     fitted to the converged points, or ``None``."""
-    from numerics.cycles.homoclinic import homoclinic_end, saddles_passed
+    from numerics.cycles.homoclinic import homoclinic_end, refine_by_manifolds, saddles_passed
 
     if len(points) < 6:
         return None
@@ -206,7 +206,11 @@ def _end_estimate(prob: _Problem, points: list):
     x = ys[:, 0]
     energy = _conservative_energy(bound, last.x0)
     sad, lams = saddles_passed(bound, float(np.min(x)), float(np.max(x)), energy)
-    return homoclinic_end([p.parameter for p in points], [p.period for p in points], sad, lams)
+    est = homoclinic_end([p.parameter for p in points], [p.period for p in points], sad, lams)
+    if est is None:
+        return None
+    return refine_by_manifolds(prob.model, {k: v for k, v in prob.params.items()
+                                            if k != prob.vary}, prob.vary, est)
 
 
 def _conservative_energy(bound: BoundModel, x0: float) -> float:

@@ -25,7 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-__all__ = ["HomoclinicEstimate", "homoclinic_end", "period_law_fit", "saddles_passed"]
+__all__ = ["HomoclinicEstimate", "homoclinic_end", "period_law_fit", "saddles_passed",
+           "refine_by_manifolds"]
 
 
 @dataclass(frozen=True)
@@ -51,16 +52,55 @@ class HomoclinicEstimate:
     lambdas: tuple
     k: float
     last: float
+    connection: float | None = None
+    connection_error: float | None = None
 
     def text(self, name: str) -> str:
         digits = max(0, 1 - int(math.floor(math.log10(self.error)))) if self.error > 0 else 10
         sad = ", ".join(f"x = {s:.4g}" for s in self.saddles)
         lam = ", ".join(f"{v:.4g}" for v in self.lambdas)
-        return (f"{name}_h = {self.parameter:.{digits}f} +- {self.error:.{digits}f} (fit of T = -k "
-                f"ln|{name} - {name}_h| + c with k = sum 1/lambda_u = {self.k:.5g} computed at "
-                f"the saddles passed, {sad}, lambda_u = {lam}; from the last converged points, "
-                f"the last at {name} = {self.last:.8g}; error bar: twice the extrapolation "
-                "in the distance to the end)")
+        law = (f"fit of T = -k ln|{name} - {name}_h| + c with k = sum 1/lambda_u = {self.k:.5g} "
+               f"computed at the saddles passed, {sad}, lambda_u = {lam}; from the last "
+               f"converged points, the last at {name} = {self.last:.8g}; error bar: twice the "
+               "extrapolation in the distance to the end")
+        if self.connection is None:
+            return f"{name}_h = {self.parameter:.{digits}f} +- {self.error:.{digits}f} ({law})"
+        return (f"{name}_h = {self.connection:.10f} +- {self.connection_error:.0e} (the saddle "
+                f"connection, by shooting the saddles' manifolds: "
+                "numerics.cycles.manifolds); the period law agrees: "
+                f"{self.parameter:.{digits}f} +- {self.error:.{digits}f} ({law})")
+
+    @property
+    def best(self) -> tuple[float, float]:
+        """``(parameter, error)``: the manifolds' connection when found, else the law's."""
+        if self.connection is not None:
+            return self.connection, self.connection_error
+        return self.parameter, self.error
+
+
+def refine_by_manifolds(model, params, vary: str, est: "HomoclinicEstimate"
+                        ) -> "HomoclinicEstimate":
+    """``est`` with the saddle connection located by shooting the manifolds
+    (:func:`numerics.cycles.manifolds.saddle_connection`) near it, when one is found within
+    three of its error bars (else ``est`` unchanged)."""
+    from dataclasses import replace
+
+    from numerics.cycles.manifolds import saddle_connection
+
+    sad = sorted(est.saddles)
+    pairs = [(sad[-1], sad[0]), (sad[0], sad[-1])] if len(sad) >= 2 else [(sad[0], sad[0])]
+    width = 3 * est.error + 1e-4
+    for x_from, x_to in pairs:
+        for leave in (-1, 1):
+            for arrive in (-1, 1):
+                try:
+                    c = saddle_connection(model, params, vary,
+                                          (est.parameter - width, est.parameter + width),
+                                          x_from, x_to, leave, arrive)
+                except Exception:  # noqa: BLE001 - no connection of this kind here
+                    continue
+                return replace(est, connection=c.parameter, connection_error=c.error)
+    return est
 
 
 def period_law_fit(p, T, k: float, direction: int) -> float:

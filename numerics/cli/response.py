@@ -198,6 +198,11 @@ def run(args: argparse.Namespace) -> int:
                 else "fold"
             print(f"  true {kind} at sigma = {o.sigma:.10g}, a = {o.amplitude:.8g}, "
                   f"max|x| = {o.amplitude_max:.8g}")
+        for sp in d.numeric.special:
+            m = ", ".join(f"{z.real:.6g}" + (f"{z.imag:+.6g}i" if z.imag else "")
+                          for z in sp.orbit.multipliers)
+            print(f"  {sp.kind} at sigma = {sp.orbit.sigma:.10g}, a = {sp.orbit.amplitude:.8g} "
+                  f"(multipliers {m})")
         for msg in d.numeric.failures:
             print(f"  not continued: {msg}")
     if args.out:

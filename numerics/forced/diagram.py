@@ -58,6 +58,7 @@ class ResponseDiagram:
                                if o.amplitude_max < 1e-3 * self.amplitude_window else "fold"}
                               for o in (num.folds if num is not None else ())],
             "backbone": [{"sigma": s, "amplitude": av} for s, av in self.backbone],
+            "special": [sp.to_json() for sp in (num.special if num is not None else ())],
             "numeric_failures": list(num.failures) if num is not None else [],
         }
 

@@ -35,6 +35,7 @@ class NumericResponse:
     folds: tuple[ForcedOrbit, ...]
     evaluations: int
     failures: tuple[str, ...] = ()
+    special: tuple = ()
 
     def points(self) -> list[dict]:
         """``[{"sigma", "amplitude_max", "amplitude", "stable"}]`` along every branch."""
@@ -129,8 +130,14 @@ def numeric_response(system: ForcedSystem, sf: SlowFlow, sigmas: tuple[float, fl
                 continue
             branches.append(b)
             folds.extend(f)
+    from numerics.forced.special import detect_special
+
+    special = []
+    for b in branches:
+        special.extend(detect_special(system, b))
     return NumericResponse(tuple(branches), tuple(sorted(folds, key=lambda o: o.sigma)),
-                           system.evaluations, tuple(failures))
+                           system.evaluations, tuple(failures),
+                           tuple(sorted(special, key=lambda sp: sp.orbit.sigma)))
 
 
 def _known(branches, orb: ForcedOrbit) -> bool:

@@ -1,0 +1,69 @@
+"""Period doublings on a forced branch (numerics.forced.special, issue 25) against plain
+shooting.
+
+The Duffing oscillator x'' + x = mu (-2 zeta x' - alpha x^3 + h cos nu t) at mu = 1,
+zeta = 0.05, alpha = 1, h = 20 (strong forcing) has, on its period-1 branch, responses with
+a multiplier below -1 for nu between 1.17 and 1.50: the continuation's test function
+(1 + lambda_1)(1 + lambda_2) locates the period doublings; the reference is a separate
+scipy solve_ivp shooting (Newton on the period map, the monodromy from its own variational
+equations) with Brent on lambda_min(sigma) + 1.  With a damping that does not depend on the
+state, det Phi = exp(-2 zeta mu T) < 1 (Liouville): no Neimark-Sacker point can occur, and
+none is reported.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+from numerics.forced import ForcedSystem
+from numerics.forced.response import continue_response
+from numerics.forced.shooting import periodic_response
+from numerics.forced.special import detect_special
+
+VALS = {"mu": 1, "zeta": 0.05, "alpha": 1, "h": 20}
+
+
+def _scipy_lambda_min(sigma, y0):
+    nu = 1 + sigma
+    T = 2 * math.pi / nu
+
+    def f(t, Y):
+        x, v = Y[0], Y[1]
+        P = Y[2:].reshape(2, 2)
+        J = np.array([[0.0, 1.0], [-1 - 3 * x * x, -0.1]])
+        return np.concatenate([[v, -x - x**3 - 0.1 * v + 20 * math.cos(nu * t)],
+                               (J @ P).ravel()])
+
+    y = np.array(y0, float)
+    for _ in range(30):
+        s = solve_ivp(f, (0, T), np.concatenate([y, np.eye(2).ravel()]), method="DOP853",
+                      rtol=1e-12, atol=1e-12)
+        yT, P = s.y[:2, -1], s.y[2:, -1].reshape(2, 2)
+        dy = np.linalg.solve(P - np.eye(2), -(yT - y))
+        y = y + dy
+        if np.max(np.abs(dy)) < 1e-12:
+            break
+    return float(np.min(np.linalg.eigvals(P).real))
+
+
+def test_period_doublings_on_a_forced_duffing_branch():
+    system = ForcedSystem("duffing-forced", VALS)
+    y = np.zeros(2)
+    for _ in range(200):  # the attracting response at nu = 2
+        y = system.flow(y, 1.0, extended=False)[-1][:2]
+    start = periodic_response(system, 1.0, y)
+    branch, _ = continue_response(system, start, (-0.6, 1.2), n_points=200)
+    special = detect_special(system, branch)
+    kinds = [sp.kind for sp in special]
+    assert kinds == ["period-doubling", "period-doubling"], kinds
+    for sp in special:
+        assert min(m.real for m in sp.orbit.multipliers) == pytest.approx(-1, abs=1e-6)
+        ref = brentq(lambda s: _scipy_lambda_min(s, sp.orbit.y0) + 1,
+                     sp.orbit.sigma - 0.01, sp.orbit.sigma + 0.01, xtol=1e-12)
+        assert sp.orbit.sigma == pytest.approx(ref, abs=1e-7)
+        assert sp.bracket[1] - sp.bracket[0] < 1e-9

@@ -67,3 +67,55 @@ def test_period_doublings_on_a_forced_duffing_branch():
                      sp.orbit.sigma - 0.01, sp.orbit.sigma + 0.01, xtol=1e-12)
         assert sp.orbit.sigma == pytest.approx(ref, abs=1e-7)
         assert sp.bracket[1] - sp.bracket[0] < 1e-9
+
+
+def _averaged_hopf(order, mu, h, a0, s0):
+    """The Hopf point of the order-n slow flow of the forced van der Pol oscillator (the
+    fixed point, a' = 0 and phi' = 0, where the Jacobian's trace vanishes) nearest the
+    detuning s0, from starts at eight phases."""
+    import sympy as sp
+    from scipy.optimize import fsolve
+
+    from kbm.forced import derive_forced
+
+    a, phi, sig, m = sp.symbols("a phi sigma mu")
+    r = derive_forced("vdp-forced", order)
+    A = sum(m**n * r.A[n - 1] for n in range(1, order + 1)).subs({"h": h, m: mu})
+    P = (-m * sig + sum(m**n * r.B[n - 1] for n in range(1, order + 1))).subs({"h": h, m: mu})
+    tr = sp.Matrix([A, P]).jacobian([a, phi]).trace()
+    eqs = sp.lambdify([[a, phi, sig]], [A, P, tr])
+    roots = []
+    for p0 in np.linspace(-math.pi, math.pi, 8, endpoint=False):
+        z, info, ok, _ = fsolve(lambda z: eqs(z), [a0, p0, s0], xtol=1e-13, full_output=True)
+        if ok == 1 and z[0] > 0 and np.max(np.abs(eqs(z))) < 1e-10:
+            roots.append(z)
+    return min(roots, key=lambda z: abs(z[2] - s0))
+
+
+def test_neimark_sacker_of_the_forced_van_der_pol_against_the_averaged_hopf():
+    """Forced van der Pol, h = 2: at the edges of entrainment the locked response loses
+    stability to a torus (a complex pair through the unit circle); averaged, the slow flow's
+    fixed point has a Hopf bifurcation there.  The true points (continuation + test
+    function) against the averaged ones at orders 1 and 2: errors fall like mu and mu^2."""
+    from kbm.forced import derive_forced
+    from numerics.forced import numeric_response
+
+    errors = {}
+    for mu in (0.05, 0.025):
+        vals = {"mu": mu, "h": 2.0}
+        sf = derive_forced("vdp-forced", 1).slow_flow(vals, order=1)
+        nr = numeric_response(ForcedSystem("vdp-forced", vals), sf, (-2, 2), (1e-3, 4),
+                              n_points=200)
+        ns = [sp.orbit for sp in nr.special if sp.kind == "neimark-sacker"]
+        assert len(ns) == 2 and ns[0].sigma < 0 < ns[1].sigma
+        for o in ns:
+            assert abs(o.multipliers[0]) == pytest.approx(1, abs=1e-7)
+            assert abs(o.multipliers[0].imag) > 1e-3
+            for order in (1, 2):
+                z = _averaged_hopf(order, mu, 2.0, o.amplitude, o.sigma)
+                errors[(order, mu, o.sigma < 0)] = abs(z[2] - o.sigma)
+    for side in (True, False):
+        r1 = errors[(1, 0.05, side)] / errors[(1, 0.025, side)]
+        r2 = errors[(2, 0.05, side)] / errors[(2, 0.025, side)]
+        assert 1.7 < r1 < 2.3 and 3.4 < r2 < 4.6, (side, r1, r2)
+        assert errors[(2, 0.025, side)] < 1e-3

@@ -12,11 +12,24 @@ Run: ``python benchmarks/bench_branch.py``
    the fold (located by the secant method on dp/ds) to the Hopf end, against from scratch.
 
 Both are timed warm (the compiled integrators loaded by a first short run), on one core.
+
+3. AUTO-07p on the SEDF branch of case 1 (issue 25), when the ``auto-07p`` command is installed
+   (Debian's package, with gfortran; the project does not depend on it): orthogonal
+   collocation, NTST = 200, NCOL = 4, from the van der Pol cycle (continued from the Hopf
+   point of the origin in a gain ``s`` up to ``s = 1``) in ``Delta`` from 0 to 4.  Its
+   continuation in ``Delta`` alone is timed (AUTO's own clock around its ``run``), and the
+   ratio to kbm's time of case 1 is printed with where each branch stops.
 """
 
 from __future__ import annotations
 
+import re
+import shutil
+import subprocess
+import tempfile
+import textwrap
 import time
+from pathlib import Path
 
 from kbm import custom_model
 from numerics import limit_cycle
@@ -55,6 +68,85 @@ def case(label, model, params, vary, bounds, **kw):
     return t_branch
 
 
+AUTO_EQUATIONS = textwrap.dedent("""\
+    SUBROUTINE FUNC(NDIM,U,ICP,PAR,IJAC,F,DFDU,DFDP)
+      IMPLICIT NONE
+      INTEGER, INTENT(IN) :: NDIM, ICP(*), IJAC
+      DOUBLE PRECISION, INTENT(IN) :: U(NDIM), PAR(*)
+      DOUBLE PRECISION, INTENT(OUT) :: F(NDIM)
+      DOUBLE PRECISION, INTENT(INOUT) :: DFDU(NDIM,NDIM), DFDP(NDIM,*)
+      DOUBLE PRECISION PI
+      PI = 4.0D0*ATAN(1.0D0)
+      F(1) = U(2)
+      F(2) = -U(1) - PAR(3)*(PAR(4)*U(1)*U(1) - PAR(2))*U(2) - PAR(1)*SIN(2*PI*U(1)/PAR(5))
+    END SUBROUTINE FUNC
+    SUBROUTINE STPNT(NDIM,U,PAR,T)
+      IMPLICIT NONE
+      INTEGER, INTENT(IN) :: NDIM
+      DOUBLE PRECISION, INTENT(INOUT) :: U(NDIM),PAR(*)
+      DOUBLE PRECISION, INTENT(IN) :: T
+      PAR(1) = 0.0D0
+      PAR(2) = -0.1D0
+      PAR(3) = 0.1D0
+      PAR(4) = 1.0D0
+      PAR(5) = 1.0D0
+      U(1) = 0.0D0
+      U(2) = 0.0D0
+    END SUBROUTINE STPNT
+    SUBROUTINE BCND
+    END SUBROUTINE BCND
+    SUBROUTINE ICND
+    END SUBROUTINE ICND
+    SUBROUTINE FOPT
+    END SUBROUTINE FOPT
+    SUBROUTINE PVLS
+    END SUBROUTINE PVLS
+    """)
+
+AUTO_CONSTANTS = textwrap.dedent("""\
+    parnames = {1: 'Delta', 2: 's', 3: 'mu', 4: 'beta', 5: 'lam'}
+    NDIM=   2, IPS =   1, IRS =   0, ILP =   1
+    ICP =  ['s']
+    NTST=  200, NCOL=   4, IAD =   3, ISP =   2, ISW = 1, IPLT= 0, NBC= 0, NINT= 0
+    NMX=  300, NPR=  1000, MXBF=  10, IID =   2, ITMX= 8, ITNW= 5, NWTN= 3, JAC= 0
+    EPSL= 1e-07, EPSU = 1e-07, EPSS =0.0001
+    DS  =   0.01, DSMIN=  1e-05, DSMAX=   0.05, IADS=   1
+    NPAR = 11, THL =  {11: 0.0}, THU =  {}
+    UZSTOP = {'s': 0.5}
+    """)
+
+AUTO_SCRIPT = textwrap.dedent("""\
+    import time
+    eq = run('sedf')
+    po = run(eq('HB1'), IPS=2, ICP=['s', 11], UZR={'s': 1.0}, UZSTOP={'s': 1.0}, NMX=2000)
+    t0 = time.time()
+    br = run(po('UZ1'), IPS=2, ICP=['Delta', 11], UZSTOP={'Delta': 4.0}, NMX=5000)
+    t1 = time.time()
+    b = br[0]
+    print("AUTOTIME", t1 - t0, len(b['Delta']), b['Delta'][-1], b['PERIOD'][-1])
+    """)
+
+
+def auto07p() -> tuple[float, int, float, float] | None:
+    """``(seconds, points, last Delta, last period)`` of AUTO-07p's continuation in Delta, or
+    ``None`` (with the reason printed) when AUTO-07p cannot run here."""
+    if shutil.which("auto-07p") is None or shutil.which("gfortran") is None:
+        print("\nAUTO-07p: not installed (apt-get install auto-07p gfortran); skipped")
+        return None
+    with tempfile.TemporaryDirectory() as tmp:
+        d = Path(tmp)
+        (d / "sedf.f90").write_text(AUTO_EQUATIONS)
+        (d / "c.sedf").write_text(AUTO_CONSTANTS)
+        (d / "run.auto").write_text(AUTO_SCRIPT)
+        out = subprocess.run(["auto-07p", "run.auto"], cwd=d, capture_output=True, text=True,
+                             timeout=900)
+    m = re.search(r"AUTOTIME (\S+) (\d+) (\S+) (\S+)", out.stdout)
+    if not m:
+        print(f"\nAUTO-07p failed: {(out.stdout + out.stderr).strip()[-300:]}")
+        return None
+    return float(m.group(1)), int(m.group(2)), float(m.group(3)), float(m.group(4))
+
+
 def main() -> None:
     t1 = case("SEDF against Delta (mu = 0.1, beta = 1)", "sedf",
               {"mu": 0.1, "beta": 1, "lam": 1, "Delta": 0.0}, "Delta", (0.0, 4.0),
@@ -63,6 +155,12 @@ def main() -> None:
               custom_model("(-nu + x**2 - x**4)*xdot"), {"mu": 0.1, "nu": 0.05}, "nu",
               (0.0, 0.2), ds_max=0.008, max_points=1000)
     print(f"\nunder 5 s: SEDF {t1 < 5}, fold model {t2 < 5}")
+    auto = auto07p()
+    if auto is not None:
+        secs, n, last, period = auto
+        print(f"\nAUTO-07p (NTST = 200, NCOL = 4) on the SEDF branch in Delta: {secs:.2f} s, {n} "
+              f"points, last Delta = {last:.7f} at period {period:.4f}")
+        print(f"  kbm / AUTO-07p time: {t1 / secs:.1f} (faster than AUTO: {t1 < secs})")
 
 
 if __name__ == "__main__":

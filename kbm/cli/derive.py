@@ -188,7 +188,12 @@ def _run_coupled(args: argparse.Namespace) -> int:
     if args.numeric or args.a_range is not None:
         raise ParameterError("--numeric and --a-range are for one degree of freedom; the "
                              "coupled expansion is exact for polynomial right-hand sides")
-    res = derive_coupled(coupled_from_args(args), args.order, internal=args.internal)
+    return _emit(derive_coupled(coupled_from_args(args), args.order, internal=args.internal),
+                 args)
+
+
+def _emit(res, args: argparse.Namespace) -> int:
+    """Print a symbolic result as JSON, LaTeX or plain text."""
     if args.json:
         emit_json(res.to_json())
     elif args.latex:
@@ -215,11 +220,4 @@ def run(args: argparse.Namespace) -> int:
     if args.a_range is not None:
         raise ParameterError("--a-range makes tables of the evaluated routes: use it with "
                              "--numeric, or with an order above the symbolic limit")
-    res = derive(model, args.order)
-    if args.json:
-        emit_json(res.to_json())
-    elif args.latex:
-        print(res.latex())
-    else:
-        print(res.pretty())
-    return 0
+    return _emit(derive(model, args.order), args)

@@ -353,12 +353,9 @@ def locking_region(model: CoupledOscillators | str, params: Mapping[str, object]
 
 def plot_locking(region: LockingRegion, path) -> "object":
     """The tongue: averaged edges per order as lines, true edges as points."""
-    from pathlib import Path
+    from numerics.forced.figures import _plt, _save
 
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = _plt()
     fig, ax = plt.subplots(figsize=(6, 4.2))
     styles = ["C0--", "C1-", "C2-.", "C4:"]
     for k, (n, pts) in enumerate(sorted(region.averaged.items())):
@@ -373,10 +370,4 @@ def plot_locking(region: LockingRegion, path) -> "object":
     ax.set_xlabel(f"detuning {region.detuning} (frequency 1 + mu {region.detuning})")
     ax.set_ylabel(f"coupling {region.coupling}")
     ax.set_title(f"{region.model}: 1:1 locking region, mu = {region.params.get('mu'):g}")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, ax, path)

@@ -15,7 +15,7 @@ import pytest
 from kbm.coupled import derive_coupled
 from numerics.coupled.backbone import averaged_backbone_point, true_backbone_point
 
-VALS = {"zeta1": 0, "zeta2": 0, "alpha1": 1, "alpha2": 1, "k": 1}
+VALS = {"zeta1": 0, "zeta2": 0, "alpha1": 1, "alpha2": 1, "k": 1, "h": 0}
 
 
 @pytest.mark.parametrize("gamma", [0.0, math.pi])
@@ -24,7 +24,7 @@ def test_backbone_against_shooting(gamma):
     errors = {}
     for mu in (0.02, 0.01):
         guess = averaged_backbone_point(results[0], {"mu": mu}, 1.0, gamma, (1e-6, 5))
-        true = true_backbone_point("duffing-1-3", {"mu": mu, **VALS}, 1.0,
+        true = true_backbone_point("duffing-1-3", {"mu": mu, "sigma": 0, **VALS}, 1.0,
                                    guess.a2 * math.cos(gamma), 2 * math.pi / guess.frequency, 3)
         assert abs(math.remainder(true.gamma - gamma, 2 * math.pi)) < 1e-8
         for n, res in enumerate(results, 1):

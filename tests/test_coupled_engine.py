@@ -66,7 +66,7 @@ def _torus_average(model, values, amps, gamma, i, n_s=256):
 VALUES = {
     "coupled-vdp": {"c": sp.Rational(3, 10), "sigma": sp.Rational(1, 7)},
     "duffing-1-3": {"zeta1": sp.Rational(1, 20), "zeta2": sp.Rational(1, 30), "alpha1": 1,
-                    "alpha2": sp.Rational(1, 2), "k": sp.Rational(3, 5)},
+                    "alpha2": sp.Rational(1, 2), "k": sp.Rational(3, 5), "h": 0},
     "quadratic-1-2": {"zeta1": sp.Rational(1, 10), "zeta2": sp.Rational(1, 5),
                       "alpha1": sp.Rational(3, 2), "alpha2": sp.Rational(2, 3), "h": 0},
 }

@@ -5,9 +5,11 @@
                    ``F1 = (1 - x1^2) x1' + c (x2' - x1')``,
                    ``F2 = (1 - x2^2) x2' + c (x1' - x2') - 2 sigma x2``
 ``duffing-1-3``    two cubic oscillators in 1:3 internal resonance with a potential
-                   coupling ``V = k x1^3 x2`` and light damping (Nayfeh & Mook 1979,
-                   sec. 6.6): ``F1 = -2 zeta1 x1' - alpha1 x1^3 - 3 k x1^2 x2``,
-                   ``F2 = -2 zeta2 x2' - alpha2 x2^3 - k x1^3``, ``omega = (1, 3)``
+                   coupling ``V = k x1^3 x2`` and light damping, the second forced near its
+                   frequency (Nayfeh & Mook 1979, secs. 6.6, 6.6.2):
+                   ``F1 = -2 zeta1 x1' - alpha1 x1^3 - 3 k x1^2 x2``,
+                   ``F2 = -2 zeta2 x2' - alpha2 x2^3 - k x1^3 + h cos(theta)``,
+                   ``omega = (1, 3)``, ``nu = 3 + mu sigma`` (``h = 0``: free)
 ``sedf-dimer``     two self-excited sliders of the paper's eq. (3) on the potential,
                    coupled by a spring ``K = mu kappa``, pulled by the stage at ``v``
                    (default 0: at rest), the self-excitation attached to the stage as in
@@ -43,12 +45,15 @@ COUPLED_MODELS: dict[str, CoupledOscillators] = {
     "duffing-1-3": CoupledOscillators(
         "duffing-1-3",
         ("-2*zeta1*xdot1 - alpha1*x1**3 - 3*k*x1**2*x2",
-         "-2*zeta2*xdot2 - alpha2*x2**3 - k*x1**3"),
+         "-2*zeta2*xdot2 - alpha2*x2**3 - k*x1**3 + h*cos(theta)"),
         (1, 3),
         description="two cubic oscillators in 1:3 internal resonance, potential coupling "
-                    "k x1^3 x2 (Nayfeh & Mook 1979, sec. 6.6)",
-        defaults={"zeta1": "0", "zeta2": "0", "alpha1": "1", "alpha2": "1", "k": "1"},
-        internal=("1:3",)),
+                    "k x1^3 x2, the second forced near its frequency, nu = 3 + mu sigma "
+                    "(Nayfeh & Mook 1979, secs. 6.6, 6.6.2; h = 0: free)",
+        defaults={"zeta1": "0", "zeta2": "0", "alpha1": "1", "alpha2": "1", "k": "1",
+                  "h": "0"},
+        internal=("1:3", InternalResonance(2, 3, 1, 1, forcing=True)),
+        nu0=3, nu_detuning="sigma"),
     "quadratic-1-2": CoupledOscillators(
         "quadratic-1-2",
         ("-2*zeta1*xdot1 - alpha1*x1*x2", "-2*zeta2*xdot2 - alpha2*x1**2 + h*cos(theta)"),

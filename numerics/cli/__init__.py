@@ -26,8 +26,21 @@ def build_parser():
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the ``kbm`` command line; returns the exit status."""
-    return run_command(build_parser(), argv)
+    """Run the ``kbm`` command line; returns the exit status.
+
+    Run as the program (``argv`` None) and interrupted (status 130 or 143), it leaves at
+    once after its message: the killed workers' pipes are gone, and the executor's
+    threads, stopped by the interpreter's shutdown, would print an ``OSError`` traceback
+    under the message.
+    """
+    status = run_command(build_parser(), argv)
+    if argv is None and status in (130, 143):
+        import os
+
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(status)
+    return status
 
 
 if __name__ == "__main__":  # pragma: no cover

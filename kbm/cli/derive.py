@@ -13,7 +13,8 @@ import argparse
 
 import numpy as np
 
-from ._common import add_param_option, check_model_flags, emit_json, parse_params
+from ._common import (add_model_arguments, add_param_option, check_model_flags, emit_json,
+                      parse_params)
 
 
 def register(sub) -> None:
@@ -27,15 +28,8 @@ def register(sub) -> None:
 
     from ..coupled import coupled_model_names
 
-    p.add_argument("model", nargs="?", help=f"built-in model ({', '.join(model_names())}; "
-                   f"coupled: {', '.join(coupled_model_names())})")
-    p.add_argument("--rhs", metavar="EXPR", action="append",
-                   help="your own F (in x, xdot and parameters) instead of a built-in model; "
-                        "repeat it for N coupled degrees of freedom, F_i in x1..xN, "
-                        "xdot1..xdotN")
-    p.add_argument("--omega0", default=None,
-                   help="linear frequency for --rhs (default 1); one per degree of freedom, "
-                        "comma-separated, for several (e.g. 1,3)")
+    add_model_arguments(p, f"{', '.join(model_names())}; coupled: "
+                           f"{', '.join(coupled_model_names())}", coupled=True)
     p.add_argument("--internal", action="append", default=[], metavar="P:Q",
                    help="declare the internal resonance omega_1 : omega_2 = P : Q (repeatable; "
                         "P:Q@I,J between modes I and J); coupled systems only")

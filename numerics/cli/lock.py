@@ -33,21 +33,17 @@ def register(sub) -> None:
 
 
 def _vary(text: str) -> tuple[str, float, float]:
+    """``NAME=FROM:TO`` read as ``kbm branch`` reads it, with ``FROM < TO`` finite."""
     import math
 
     from kbm.errors import ParameterError
+    from numerics.cli.branch import _vary as read
 
-    name, sep, rng = text.partition("=")
-    lo, sep2, hi = rng.partition(":")
-    try:
-        a, b = float(lo), float(hi)
-    except ValueError:
-        a = b = math.nan
-    if not sep or not sep2 or not name.strip() or not (math.isfinite(a) and math.isfinite(b)) \
-            or a >= b:
+    name, a, b = read(text)
+    if not (math.isfinite(a) and math.isfinite(b)) or a >= b:
         raise ParameterError(f"--vary takes NAME=FROM:TO with FROM < TO finite (e.g. "
                              f"sigma=-1:1), got {text!r}")
-    return name.strip(), a, b
+    return name, a, b
 
 
 def run(args: argparse.Namespace) -> int:

@@ -127,9 +127,11 @@ AUTO_SCRIPT = textwrap.dedent("""\
     """)
 
 
-def auto07p() -> tuple[float, int, float, float] | None:
-    """``(seconds, points, last Delta, last period)`` of AUTO-07p's continuation in Delta, or
-    ``None`` (with the reason printed) when AUTO-07p cannot run here."""
+def auto07p() -> tuple[float, int, float, float, float] | None:
+    """``(seconds, points, last Delta, last period, wall seconds)`` of AUTO-07p's continuation
+    in Delta (its own clock) and of the whole ``auto-07p run.auto`` (compiling the equations,
+    the Hopf point and the start cycle included), or ``None`` (with the reason printed) when
+    AUTO-07p cannot run here."""
     if shutil.which("auto-07p") is None or shutil.which("gfortran") is None:
         print("\nAUTO-07p: not installed (apt-get install auto-07p gfortran); skipped")
         return None
@@ -138,13 +140,32 @@ def auto07p() -> tuple[float, int, float, float] | None:
         (d / "sedf.f90").write_text(AUTO_EQUATIONS)
         (d / "c.sedf").write_text(AUTO_CONSTANTS)
         (d / "run.auto").write_text(AUTO_SCRIPT)
+        t0 = time.perf_counter()
         out = subprocess.run(["auto-07p", "run.auto"], cwd=d, capture_output=True, text=True,
                              timeout=900)
+        wall = time.perf_counter() - t0
     m = re.search(r"AUTOTIME (\S+) (\d+) (\S+) (\S+)", out.stdout)
     if not m:
         print(f"\nAUTO-07p failed: {(out.stdout + out.stderr).strip()[-300:]}")
         return None
-    return float(m.group(1)), int(m.group(2)), float(m.group(3)), float(m.group(4))
+    return float(m.group(1)), int(m.group(2)), float(m.group(3)), float(m.group(4)), wall
+
+
+def kbm_command() -> tuple[float, float]:
+    """``(seconds, homoclinic end)`` of the whole ``kbm branch`` command on the same branch in a
+    new process (imports, the analytic curves and the figure data included; numba's cache warm
+    from case 1)."""
+    import json
+    import sys
+
+    t0 = time.perf_counter()
+    out = subprocess.run([sys.executable, "-m", "numerics.cli", "branch", "sedf", "-p", "mu=0.1",
+                          "-p", "beta=1", "-p", "lam=1", "--vary", "Delta=0:4", "--json"],
+                         capture_output=True, text=True, timeout=900, check=True)
+    wall = time.perf_counter() - t0
+    special = json.loads(out.stdout)["special"]
+    end = next((s["parameter"] for s in special if s["kind"] == "homoclinic"), float("nan"))
+    return wall, end
 
 
 def main() -> None:
@@ -157,10 +178,15 @@ def main() -> None:
     print(f"\nunder 5 s: SEDF {t1 < 5}, fold model {t2 < 5}")
     auto = auto07p()
     if auto is not None:
-        secs, n, last, period = auto
+        secs, n, last, period, wall = auto
         print(f"\nAUTO-07p (NTST = 200, NCOL = 4) on the SEDF branch in Delta: {secs:.2f} s, {n} "
               f"points, last Delta = {last:.7f} at period {period:.4f}")
-        print(f"  kbm / AUTO-07p time: {t1 / secs:.1f} (faster than AUTO: {t1 < secs})")
+        print(f"  continuation alone, kbm / AUTO-07p time: {t1 / secs:.1f} "
+              f"(faster than AUTO: {t1 < secs})")
+        k_wall, k_end = kbm_command()
+        print(f"  whole command: auto-07p run.auto {wall:.2f} s (compiling, Hopf point, start "
+              f"cycle, branch); kbm branch {k_wall:.2f} s (homoclinic end {k_end:.10f}, the "
+              f"analytic curves included): ratio {k_wall / wall:.2f}")
 
 
 if __name__ == "__main__":

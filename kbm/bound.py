@@ -14,9 +14,9 @@ import sympy as sp
 
 from .errors import ParameterError
 from .models import Oscillator, _drive_variant, get_model
-from .values import FrozenMap
+from .values import FrozenMap, parameter_value
 
-__all__ = ["BoundModel", "bind"]
+__all__ = ["BoundModel", "ParameterLine", "bind"]
 
 
 @dataclass(frozen=True)
@@ -115,3 +115,80 @@ def bind(model: "Oscillator | str | BoundModel", params: Mapping[str, object] | 
     elif "v" in params and "v" not in model.parameters:
         model = _drive_variant(model, params.pop("v"))
     return BoundModel.of(model, params)
+
+
+class ParameterLine:
+    """One model bound along one parameter: ``line(p)`` is ``bind(model, {**params, vary: p})``.
+
+    A continuation binds the model at every value of the varied parameter it tries
+    (thousands on one branch).  :func:`bind` reads the model and all its values
+    each time; a line reads them once, and per value only replaces what depends on
+    ``vary``: its own entry (a parameter of the model, or ``mu``) and the scaled
+    parameters computed from it (``delta = Delta/mu`` when ``Delta`` or ``mu`` is
+    varied and the physical name was given).  The result equals :func:`bind`'s (a
+    test compares them); a stage velocity ``v``, which changes the model itself,
+    goes through :func:`bind` every time.
+
+    Parameters
+    ----------
+    model
+        An :class:`Oscillator` or a built-in name.
+    params
+        The other values; ``vary`` may be among them (it is replaced).
+    vary
+        The parameter that varies (scaled, physical or ``mu``).
+    at
+        A value of ``vary`` at which the model can be bound (checks the names once).
+
+    Examples
+    --------
+    >>> line = ParameterLine("sedf", {"mu": 0.1, "beta": 1, "lam": 1}, "Delta", 1.5)
+    >>> line(3.0) == bind("sedf", {"mu": 0.1, "beta": 1, "lam": 1, "Delta": 3.0})
+    True
+    """
+
+    def __init__(self, model: "Oscillator | str", params: Mapping[str, object] | None,
+                 vary: str, at: float):
+        self.model, self.vary = model, vary
+        self.params = dict(params or {})  # the order of bind's values is kept
+        base = bind(model, {**self.params, vary: at})
+        self.base = base
+        m = base.model
+        self._slow = vary == "v" or isinstance(model, BoundModel)
+        given = {k: parameter_value(k, v) for k, v in self.params.items()
+                 if k not in ("v", vary)}
+        self._given = given
+        self._direct = vary in m.parameters or vary == "mu"
+        self._derived: list[tuple[str, sp.Expr, tuple[str, ...]]] = []
+        for scaled, expr in m.physical.items():
+            expr = sp.sympify(expr)
+            need = tuple(sorted(s.name for s in expr.free_symbols))
+            names = set(given) | {vary}
+            if vary in need and scaled not in given and set(need) & names - {"mu"} \
+                    and set(need) <= names:
+                self._derived.append((scaled, expr, need))
+        #: the names whose values change with ``vary``
+        self.changed = tuple(([vary] if self._direct else [])
+                             + [d[0] for d in self._derived])
+
+    def __call__(self, value: float) -> BoundModel:
+        """The model bound with ``vary = value`` (the other values as given)."""
+        if self._slow:
+            return bind(self.model, {**self.params, self.vary: value})
+        val = parameter_value(self.vary, value)
+        vals = dict(self.base.values)
+        if self._direct:
+            vals[self.vary] = val
+        env = {**self._given, self.vary: val}
+        for scaled, expr, need in self._derived:
+            new = expr.xreplace({sp.Symbol(n): env[n] for n in need})  # exact, as bind's
+            if not (new.is_finite and new.is_real):
+                raise ParameterError(f"{scaled} = {expr} is undefined for {self.vary} = {value}")
+            vals[scaled] = new
+        w0 = sp.sympify(self.base.model.omega0)
+        if w0.free_symbols:
+            w0 = w0.xreplace({sp.Symbol(k): v for k, v in vals.items()})
+            if w0.is_number and not (w0.is_real and w0.is_finite and w0 > 0):
+                raise ParameterError(f"the linear frequency omega0 = {self.base.model.omega0} "
+                                     f"of {self.base.name!r} must be > 0, got {w0}")
+        return BoundModel(self.base.model, FrozenMap(vals))

@@ -13,13 +13,12 @@ import math
 
 import numpy as np
 
-from kbm.models import bind
 
 from numerics.cycles.branch_result import BranchPoint
 from numerics.cycles.floquet import floquet_multipliers
 from numerics.cycles.shooting import NEWTON_MAX_STEPS
 from numerics.errors import ConvergenceError, IntegrationError
-from numerics.flow import Method, choose_method, compile_model, extended_state, flow
+from numerics.flow import CompiledLine, Method, choose_method, extended_state, flow
 
 _FAIL = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, ValueError)
 
@@ -27,20 +26,22 @@ _FAIL = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, ValueError)
 class _Problem:
     """``R(u)``, its Jacobian and the bookkeeping of one continuation."""
 
-    def __init__(self, model, params: dict, vary: str, method, rtol: float):
+    def __init__(self, model, params: dict, vary: str, method, rtol: float, at: float):
         self.model, self.params, self.vary = model, params, vary
         self.requested = Method.parse(method)
         self.rtol = rtol
         self.evaluations = 0
         self._cms: dict[float, object] = {}
         self.meth = None
+        # bound once; per value only what depends on ``vary`` is replaced
+        self.line = CompiledLine(model, params, vary, at)
 
     def cm(self, p: float):
         cm = self._cms.get(p)
         if cm is None:
             if len(self._cms) > 64:
                 self._cms.clear()
-            cm = compile_model(bind(self.model, {**self.params, self.vary: p}))
+            cm = self.line(p)
             self._cms[p] = cm
         return cm
 

@@ -321,7 +321,7 @@ def continue_cycles(model: Oscillator | str, params: Mapping[str, object] | None
     lo, hi, p0 = _check_vary(model, params, vary, bounds)
     if not (0 < rtol < 1e-3):
         raise ParameterError(f"rtol must be between 0 and 1e-3, got {rtol:g}")
-    prob = _Problem(model, params, vary, method, rtol)
+    prob = _Problem(model, params, vary, method, rtol, p0)
     if start is None or isinstance(start, LimitCycle):
         try:
             c = start or limit_cycle(model, {**params, vary: p0}, rtol=max(rtol, 1e-12))

@@ -60,8 +60,13 @@ def _exprs(model, n_harmonics: int):
 def _compiled(template, n_harmonics: int, enabled: bool):
     if not enabled:
         return None
-    ex, y = _exprs(template.model, n_harmonics)
-    return jit_flow(ex, TIME, y, [sp.Symbol(n) for n in template.names] + [_W])
+    n = 3 + 2 * (n_harmonics - 1)
+    y = sp.symbols(f"q0:{n}")
+    # the expressions are a function of the acceleration and n_harmonics: printing them
+    # (seconds for the recurrence's nested products) is done once per cache folder
+    key = f"harmonics|{n_harmonics}|{sp.srepr(template.model.acceleration())}"
+    return jit_flow(lambda: _exprs(template.model, n_harmonics)[0], TIME, y,
+                    [sp.Symbol(n) for n in template.names] + [_W], key=key)
 
 
 def _integrals(cm, x0: float, T: float, method: Method, rtol: float, n_harmonics: int):

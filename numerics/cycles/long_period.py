@@ -25,9 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm.models import bind
 from numerics.errors import ConvergenceError, IntegrationError
-from numerics.flow import Method, compile_model, extended_state, flow
+from numerics.flow import CompiledLine, Method, extended_state, flow
 
 __all__ = ["LongPeriodPoint", "follow_period", "SEGMENT"]
 
@@ -48,16 +47,17 @@ class LongPeriodPoint:
 
 
 class _Segments:
-    def __init__(self, model, params: dict, vary: str, rtol: float):
+    def __init__(self, model, params: dict, vary: str, rtol: float, at: float):
         self.model, self.params, self.vary, self.rtol = model, params, vary, rtol
         self._cms: dict[float, object] = {}
+        self.line = CompiledLine(model, params, vary, at)
 
     def cm(self, p: float):
         cm = self._cms.get(p)
         if cm is None:
             if len(self._cms) > 16:
                 self._cms.clear()
-            cm = compile_model(bind(self.model, {**self.params, self.vary: p}))
+            cm = self.line(p)
             self._cms[p] = cm
         return cm
 
@@ -177,7 +177,7 @@ def follow_period(model, params: dict, vary: str, x0: float, period: float, para
         If the first cycle does not converge; later failures end the list (the points
         found so far are returned, the last one's period short of ``target``).
     """
-    seg = _Segments(model, dict(params), vary, rtol)
+    seg = _Segments(model, dict(params), vary, rtol, parameter)
     M = max(4, math.ceil(period / SEGMENT))
     Y = seg.orbit((x0, 0.0), period, parameter, M)[:-1]
     tau = np.full(M, period / M)

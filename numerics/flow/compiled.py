@@ -21,7 +21,7 @@ from kbm.symbols import t as T, x as X, xdot as V
 
 from numerics._memo import memo
 
-__all__ = ["CompiledModel", "ModelTemplate", "compile_model", "model_template",
+__all__ = ["CompiledLine", "CompiledModel", "ModelTemplate", "compile_model", "model_template",
            "template_flow", "extended_state", "N_EXTENDED"]
 
 #: size of the extended state ``(x, v, Phi11, Phi21, Phi12, Phi22, int div f, G_plus, G_minus)``
@@ -202,7 +202,8 @@ def _template_flow(template: ModelTemplate, enabled: bool):
     from numerics.flow.jit import jit_flow
 
     return jit_flow(template.ext_exprs, T, template.ext_symbols,
-                    [sp.Symbol(n) for n in template.names])
+                    [sp.Symbol(n) for n in template.names],
+                    key=f"extended|{sp.srepr(tuple(template.ext_exprs))}|{template.names}")
 
 
 def compile_model(model: Oscillator | str | BoundModel,
@@ -230,6 +231,12 @@ def compile_model(model: Oscillator | str | BoundModel,
     vals = bound.values
     bound.require(template.names, what="the numerical functions")
     fvals = {k: float(vals[k]) for k in template.names}
+    return _assemble(bound, template, fvals, model.is_autonomous)
+
+
+def _assemble(bound: BoundModel, template: ModelTemplate, fvals: dict[str, float],
+              autonomous: bool) -> CompiledModel:
+    """The :class:`CompiledModel` of ``bound`` from its template and float values."""
     for k, val in fvals.items():
         if not np.isfinite(val):
             raise ParameterError(f"parameter {k} = {val} is not finite")
@@ -253,9 +260,47 @@ def compile_model(model: Oscillator | str | BoundModel,
         return float(np.max(np.abs(np.linalg.eigvals(J))))
 
     return CompiledModel(
-        name=model.name, values=fvals, omega0=float(template.f_w0(*pv)), acc=acc, rhs=rhs,
-        rhs_ext=rhs_ext, jac=jac,
+        name=bound.model.name, values=fvals, omega0=float(template.f_w0(*pv)), acc=acc,
+        rhs=rhs, rhs_ext=rhs_ext, jac=jac,
         energy=lambda xv, vv: np.asarray(f_en(xv, vv, *pv), dtype=float),
         plus_factor=float(template.f_factor(*pv)), stiffness=stiffness,
-        autonomous=model.is_autonomous, template=template, pvec=pv,
-        exact_values=dict(vals), bound=bound)
+        autonomous=autonomous, template=template, pvec=pv,
+        exact_values=dict(bound.values), bound=bound)
+
+
+class CompiledLine:
+    """:func:`compile_model` along one parameter: ``line(p)`` equals
+    ``compile_model(model, {**params, vary: p})``.
+
+    The model is bound (:class:`kbm.bound.ParameterLine`), lambdified and checked once;
+    per value only the entries that depend on ``vary`` are converted, which a
+    continuation does thousands of times.
+
+    Examples
+    --------
+    >>> line = CompiledLine("sedf", {"mu": 0.1, "beta": 1, "lam": 1}, "Delta", 1.5)
+    >>> line(3.0).pvec == compile_model("sedf", {"mu": 0.1, "beta": 1, "lam": 1,
+    ...                                          "Delta": 3.0}).pvec
+    True
+    """
+
+    def __init__(self, model, params: Mapping[str, object] | None, vary: str, at: float):
+        from kbm.bound import ParameterLine
+
+        self.line = ParameterLine(model, params, vary, at)
+        base = self.line.base
+        self.template = model_template(base.model)
+        base.require(self.template.names, what="the numerical functions")
+        self._floats = {k: float(base.values[k]) for k in self.template.names}
+        self._autonomous = base.model.is_autonomous
+
+    def __call__(self, value: float) -> CompiledModel:
+        """The compiled model at ``vary = value``."""
+        bound = self.line(value)
+        if bound.model is not self.line.base.model:  # a stage velocity: the model changed
+            return compile_model(bound)
+        fvals = dict(self._floats)
+        for k in self.line.changed:
+            if k in fvals:
+                fvals[k] = float(bound.values[k])
+        return _assemble(bound, self.template, fvals, self._autonomous)

@@ -1,0 +1,86 @@
+"""A model bound along one parameter (kbm.bound.ParameterLine, numerics.flow.CompiledLine)
+against binding from scratch (kbm.bind, numerics.flow.compile_model), and the keyed source
+of a compiled flow against the source printed from its expressions.
+
+The continuation of cycles binds its model thousands of times along the varied parameter;
+the line is a faster route to the same object, so the reference is the slow route itself:
+the same exact values, in the same order, and the same floats.
+"""
+
+from __future__ import annotations
+
+import pytest
+import sympy as sp
+from hypothesis import given, settings, strategies as st
+
+from kbm.bound import ParameterLine, bind
+from kbm.errors import ParameterError
+from numerics.flow import CompiledLine, compile_model, model_template
+
+SEDF = {"mu": 0.1, "beta": 1, "lam": 1, "Delta": 2}
+
+CASES = [
+    ("sedf", {"mu": 0.1, "beta": 1, "lam": 1}, "Delta"),   # physical name -> delta
+    ("sedf", SEDF, "mu"),                                  # mu, with delta = Delta/mu
+    ("sedf", SEDF, "beta"),                                # a scaled parameter
+    ("sedf", SEDF, "lam"),                                 # k = 2 pi/lam, exact
+    ("sedf", {"mu": 0.1, "beta": 1, "lam": 1, "delta": 2}, "mu"),  # scaled delta stays
+    ("sedf", SEDF, "v"),                                   # the model itself changes
+    ("vdp", {"mu": 0.1}, "mu"),
+    ("cdc", {"mu": 0.1, "lam": 1, "Delta": 2}, "Delta"),
+]
+
+
+@settings(max_examples=40, deadline=None)
+@given(case=st.sampled_from(CASES), value=st.floats(0.05, 4.0))
+def test_line_equals_bind(case, value):
+    model, params, vary = case
+    line = ParameterLine(model, params, vary, 1.0)
+    a, b = line(value), bind(model, {**params, vary: value})
+    assert a == b
+    assert list(a.values.items()) == list(b.values.items())  # the same order: same bytes
+    assert hash(a) == hash(b)
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_compiled_line_equals_compile_model(case):
+    model, params, vary = case
+    line = CompiledLine(model, params, vary, 1.0)
+    for value in (0.3, 1.7, 3.1):
+        a, b = line(value), compile_model(model, {**params, vary: value})
+        assert a.pvec == b.pvec and a.values == b.values and a.omega0 == b.omega0
+        assert a.bound == b.bound and a.autonomous == b.autonomous
+        assert a.acc(0.0, 0.3, -0.2) == b.acc(0.0, 0.3, -0.2)
+
+
+def test_line_refuses_what_bind_refuses():
+    line = ParameterLine("sedf", {"beta": 1, "lam": 1, "Delta": 2}, "mu", 0.1)
+    with pytest.raises(ParameterError, match="undefined"):
+        line(0.0)  # delta = Delta/mu
+    with pytest.raises(ParameterError):
+        bind("sedf", {"beta": 1, "lam": 1, "Delta": 2, "mu": 0.0})
+    with pytest.raises(ParameterError, match="finite"):
+        ParameterLine("vdp", {"mu": 0.1}, "mu", 0.1)(float("nan"))
+
+
+def test_keyed_source_is_the_printed_source(tmp_path, monkeypatch):
+    """The source kept under a key is byte-equal to the one printed from the expressions,
+    and a second process-like call reads it back without printing (exprs not called)."""
+    pytest.importorskip("numba")
+    from numerics.flow import jit as jit_mod
+
+    monkeypatch.setenv("KBM_CACHE_DIR", str(tmp_path))
+    tpl = model_template("vdp")
+    names = [sp.Symbol(n) for n in tpl.names]
+    printed = jit_mod._source_by_key(None, tpl.ext_exprs, sp.Symbol("t"), tpl.ext_symbols,
+                                     names, 2)
+    key = "test|" + sp.srepr(tuple(tpl.ext_exprs))
+    first = jit_mod._source_by_key(key, lambda: tpl.ext_exprs, sp.Symbol("t"),
+                                   tpl.ext_symbols, names, 2)
+
+    def fail():
+        raise AssertionError("the keyed source was printed again")
+
+    again = jit_mod._source_by_key(key, fail, sp.Symbol("t"), tpl.ext_symbols, names, 2)
+    assert printed == first == again
+    assert len(list(tmp_path.glob("kbm_src_*.txt"))) == 1

@@ -153,7 +153,8 @@ def is_coupled(args: argparse.Namespace) -> bool:
     rhs = getattr(args, "rhs", None) or []
     return (len(rhs) > 1 or bool(getattr(args, "internal", None))
             or (bool(rhs) and "," in str(args.omega0 or ""))
-            or (args.model in COUPLED_MODELS))
+            or (args.model in COUPLED_MODELS)
+            or str(args.model or "").startswith("sedf-chain-"))
 
 
 def coupled_model(args: argparse.Namespace):

@@ -106,7 +106,7 @@ def coupled_model_names() -> list[str]:
 
 def get_coupled_model(name: str) -> CoupledOscillators:
     """The built-in system ``name``: a coupled one, or a one-degree-of-freedom model of
-    :mod:`kbm.models` as the case ``N = 1``.
+    :mod:`kbm.models` or :mod:`kbm.forced` as the case ``N = 1``.
 
     Raises
     ------
@@ -118,10 +118,14 @@ def get_coupled_model(name: str) -> CoupledOscillators:
         return COUPLED_MODELS[name]
     if name.startswith("sedf-chain-") and name[len("sedf-chain-"):].isdigit():
         return sedf_chain(int(name[len("sedf-chain-"):]))
+    from ..forced import FORCED_MODELS, get_forced_model
     from ..models import MODELS, get_model
 
     if name in MODELS:
         return CoupledOscillators.from_oscillator(get_model(name))
+    if name in FORCED_MODELS:
+        return CoupledOscillators.from_oscillator(get_forced_model(name))
     raise ModelError(f"unknown model {name!r}; the built-in coupled systems are "
-                     f"{', '.join(coupled_model_names())} and the one-degree-of-freedom "
-                     f"models are {', '.join(sorted(MODELS))}")
+                     f"{', '.join(coupled_model_names())}, the one-degree-of-freedom "
+                     f"models are {', '.join(sorted(MODELS))} and the forced ones "
+                     f"{', '.join(sorted(FORCED_MODELS))}")

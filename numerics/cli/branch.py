@@ -16,7 +16,8 @@ def register(sub) -> None:
                     "(stable and unstable cycles, Floquet multipliers at each point), with "
                     "folds of cycles, Hopf ends and homoclinic ends located, next to the "
                     "roots of the KBM amplitude equation and of the energy balance.")
-    add_model_arguments(p)
+    add_model_arguments(p, "vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, sedf-dimer, "
+                           "...", coupled=True)
     add_param_option(p)
     p.add_argument("--vary", required=True, metavar="NAME=FROM:TO",
                    help="the parameter and its range, e.g. --vary Delta=0:4; the branch starts "
@@ -28,6 +29,9 @@ def register(sub) -> None:
     p.add_argument("--max-points", type=int, default=400, metavar="N",
                    help="bound on the points per direction of each branch (default 400)")
     p.add_argument("--rtol", type=float, default=1e-10, help="integrator tolerance (1e-10)")
+    p.add_argument("--start", metavar="X1,..,XDOT1,..",
+                   help="coupled systems: the state to start from (default: the attracting "
+                        "orbit after a transient from x_i = 1)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=run)
 
@@ -64,7 +68,19 @@ def run(args: argparse.Namespace) -> int:
     from kbm.errors import ParameterError
     from numerics.comparison.diagram import branch_diagram
 
+    from kbm.cli.derive import is_coupled
+
     name, lo, hi = _vary(args.vary)
+    if is_coupled(args):
+        from numerics.cli._coupled_branch import run_coupled_branch
+
+        if args.orders != "1" or args.no_energy:
+            raise ParameterError("--orders and --no-energy are for one degree of freedom; a "
+                                 "coupled branch is the true one (compare kbm derive, kbm lock)")
+        return run_coupled_branch(args, name, lo, hi, "branch")
+    if args.start is not None:
+        raise ParameterError("--start is for coupled systems (a built-in such as coupled-vdp, "
+                             "or several --rhs)")
     if not 1e-14 <= args.rtol <= 1e-4:
         raise ParameterError(f"--rtol must be between 1e-14 and 1e-4, got {args.rtol}")
     if not 2 <= args.max_points <= 100000:

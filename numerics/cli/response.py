@@ -138,12 +138,50 @@ def _base_model(args: argparse.Namespace):
     return add_forcing(args.model, args.forcing or "0", res, name=f"{args.model}-forced")
 
 
+def _run_coupled(args: argparse.Namespace) -> int:
+    """A forced coupled built-in: the true response branch in its detuning."""
+    from kbm.cli.derive import coupled_model
+    from kbm.errors import ParameterError
+    from numerics.cli._coupled_branch import run_coupled_branch
+
+    extra = [f for f, v in (("--rhs", args.rhs), ("--forcing", args.forcing),
+                            ("--hard", args.hard), ("--resonance", args.resonance),
+                            ("--detuning", args.detuning), ("--nu", args.nu),
+                            ("--convergence", args.convergence), ("--out", args.out),
+                            ("--order", args.order), ("--a-range", args.a_range))
+             if v is not None]
+    if extra:
+        raise ParameterError(f"{', '.join(extra)}: not for the coupled system {args.model!r}; "
+                             "its response is the true branch in a detuning (--vary "
+                             "NAME=FROM:TO[:N]); its slow flow is kbm derive")
+    if args.vary is None:
+        raise ParameterError(f"give the detuning range of {args.model!r}: --vary NAME=FROM:TO")
+    model = coupled_model(args)
+    name, sep, rng = args.vary.partition("=")
+    parts = rng.split(":")
+    try:
+        if not sep or len(parts) not in (2, 3):
+            raise ValueError
+        lo, hi = float(parts[0]), float(parts[1])
+        n = int(parts[2]) if len(parts) == 3 else None
+    except ValueError:
+        raise ParameterError(f"--vary takes NAME=FROM:TO[:N] (e.g. "
+                             f"{model.nu_detuning or 'sigma'}=-1:3), got {args.vary!r}") from None
+    args.max_points = n
+    args.rhs = None
+    return run_coupled_branch(args, name.strip(), lo, hi, "response")
+
+
 def run(args: argparse.Namespace) -> int:
     from pathlib import Path
+
+    from kbm.coupled import COUPLED_MODELS
 
     from kbm.errors import ParameterError
     from numerics.forced.diagram import response_diagram
 
+    if args.model in COUPLED_MODELS:
+        return _run_coupled(args)
     if args.convergence is not None:
         return _run_convergence(args)
     if args.fold is not None:

@@ -1,0 +1,73 @@
+"""``kbm branch`` and ``kbm response`` for coupled systems (``N`` degrees of freedom, or a
+built-in of one degree of freedom as ``N = 1``): the true branch by pseudo-arclength
+continuation of the shooting problem (:func:`numerics.coupled.continue_coupled`)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+from kbm.cli._common import emit_json, parse_params
+
+
+def _start(text: str | None, dof: int):
+    from kbm.errors import ParameterError
+
+    if text is None:
+        return None
+    try:
+        start = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise ParameterError(f"--start takes comma-separated numbers, got {text!r}") from None
+    if not all(math.isfinite(v) for v in start) or len(start) != 2 * dof:
+        raise ParameterError(f"--start needs {2 * dof} finite numbers (x1..x{dof}, "
+                             f"xdot1..xdot{dof}), got {text!r}")
+    return start
+
+
+def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float,
+                       what: str) -> int:
+    """Continue the periodic orbits of the command line's coupled system in ``name``."""
+    from kbm.cli.derive import coupled_model
+    from kbm.errors import ParameterError
+    from numerics.coupled.continuation import continue_coupled
+
+    model = coupled_model(args)
+    if what == "response" and not model.forced:
+        raise ParameterError(f"{model.name!r} has no forcing (theta); its branches of cycles "
+                             "are kbm branch")
+    given = parse_params(args.param)
+    start = _start(getattr(args, "start", None), model.dof)
+    max_points = getattr(args, "max_points", None) or 200
+    if not 2 <= max_points <= 100000:
+        raise ParameterError(f"--max-points must be between 2 and 100000, got {max_points}")
+    rtol = max(getattr(args, "rtol", 1e-11) or 1e-11, 1e-13)
+    if not rtol <= 1e-5:
+        raise ParameterError(f"--rtol must be between 1e-13 and 1e-5, got {rtol}")
+    br = continue_coupled(model, given, name, (lo, hi), start=start, max_points=max_points,
+                          rtol=rtol)
+    if args.json:
+        emit_json({**br.to_json(), "params_given": given})
+        return 0
+    kind = "periodic responses" if br.forced else "periodic orbits"
+    print(f"branch of {kind} of {br.model} ({br.dof} degrees of freedom), {name} from "
+          f"{lo:g} to {hi:g}: {len(br.points)} points, {br.evaluations} integrations of a "
+          "period with the monodromy")
+    amp = "  ".join(f"{f'max|x{i + 1}|':>12s}" for i in range(br.dof))
+    print(f"  {name:>14s} {'period':>12s}  {amp}  {'|multiplier| max':>16s}")
+    pts = br.points
+    step = max(1, len(pts) // 20)
+    for p in list(pts[::step]) + ([pts[-1]] if (len(pts) - 1) % step else []):
+        rest = p.floquet_multipliers if br.forced else p.floquet_multipliers[1:]
+        big = max(abs(z) for z in rest)
+        amps = "  ".join(f"{a:12.8g}" for a in p.amplitudes)
+        print(f"  {p.parameter:14.8g} {p.period:12.8g}  {amps}  {big:16.6g} "
+              f"{'stable' if p.stable else 'UNSTABLE'}")
+    for s in br.special:
+        mult = ", ".join(f"{z.real:.6g}" + (f"{z.imag:+.6g}i" if z.imag else "")
+                         for z in s.floquet_multipliers)
+        print(f"  {s.kind}: {name} = {s.parameter:.10g} (bracket {s.bracket[0]:.10g} .. "
+              f"{s.bracket[1]:.10g}); multipliers {mult}")
+    for r in br.reasons:
+        print(f"  end {r}")
+    return 0

@@ -1,0 +1,143 @@
+"""Branches of periodic orbits of coupled systems (numerics.coupled.continuation, issues 23
+and 25) against independent references.
+
+- Two identical van der Pol oscillators with dissipative coupling (coupled-vdp, sigma = 0):
+  on the in-phase orbit x1 = x2 the coupling c (x2' - x1') vanishes, so along the whole
+  branch in c the period is the single van der Pol cycle's, computed by the
+  one-degree-of-freedom shooting (numerics.limit_cycle, separate code).
+- The strongly forced Duffing oscillator x'' + x = mu (-2 zeta x' - alpha x^3 + h cos nu t)
+  (mu = 1, zeta = 0.05, alpha = 1, h = 20) as the case N = 1 of the coupled family: its
+  period-1 responses form a closed branch (an isola) whose period doublings are located
+  against a separate scipy shooting (tests/test_forced_special.py's reference: Newton on
+  the period map with its own variational equations, Brent on lambda_min + 1), and whose
+  folds against the one-degree-of-freedom continuation (numerics.forced).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+from numerics import limit_cycle
+from numerics.coupled.continuation import continue_coupled
+from numerics.cli import main
+
+
+def run_cli(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def _scipy_lambda_min(sigma, y0):
+    nu = 1 + sigma
+    T = 2 * math.pi / nu
+
+    def f(t, Y):
+        x, v = Y[0], Y[1]
+        P = Y[2:].reshape(2, 2)
+        J = np.array([[0.0, 1.0], [-1 - 3 * x * x, -0.1]])
+        return np.concatenate([[v, -x - x**3 - 0.1 * v + 20 * math.cos(nu * t)],
+                               (J @ P).ravel()])
+
+    y = np.array(y0, float)
+    for _ in range(30):
+        s = solve_ivp(f, (0, T), np.concatenate([y, np.eye(2).ravel()]), method="DOP853",
+                      rtol=1e-12, atol=1e-12)
+        yT, P = s.y[:2, -1], s.y[2:, -1].reshape(2, 2)
+        dy = np.linalg.solve(P - np.eye(2), -(yT - y))
+        y = y + dy
+        if np.max(np.abs(dy)) < 1e-12:
+            break
+    return float(np.min(np.linalg.eigvals(P).real))
+
+
+def test_in_phase_branch_is_the_single_van_der_pol_cycle():
+    br = continue_coupled("coupled-vdp", {"mu": 0.1, "sigma": 0, "c": 0.3}, "c", (0.05, 1.0))
+    ref = limit_cycle("vdp", {"mu": 0.1})
+    assert br.points[0].parameter == pytest.approx(0.05, abs=1e-12)
+    assert br.points[-1].parameter == pytest.approx(1.0, abs=1e-12)
+    assert len(br.points) >= 10
+    for p in br.points:
+        assert p.period == pytest.approx(ref.period, rel=1e-8)
+        assert p.amplitudes[0] == pytest.approx(p.amplitudes[1], rel=1e-8)
+        assert abs(p.floquet_multipliers[0] - 1) < 1e-6  # the trivial multiplier first
+        assert p.stable
+    assert br.special == ()
+
+
+@pytest.fixture(scope="module")
+def duffing_isola():
+    return continue_coupled("duffing-forced",
+                            {"mu": 1, "zeta": 0.05, "alpha": 1, "h": 20, "sigma": 1.0},
+                            "sigma", (-0.6, 1.2), max_points=300)
+
+
+def test_forced_duffing_branch_is_closed(duffing_isola):
+    br = duffing_isola
+    assert br.dof == 1 and br.forced
+    assert "closed on itself" in br.reasons[0]
+    sig = [p.parameter for p in br.points]
+    folds = sorted(s.parameter for s in br.special if s.kind == "fold")
+    # the isola's ends are folds, and every point lies between them
+    assert min(sig) >= folds[0] - 1e-6 and max(sig) <= folds[-1] + 1e-6
+    # the folds inside, against the one-degree-of-freedom continuation's 0.77719323020 and
+    # 0.87977159034 (numerics.forced, located there by the same fold test on its own branch)
+    for ref in (0.7771932302, 0.8797715903):
+        assert min(abs(f - ref) for f in folds) < 1e-8
+    for s in br.special:
+        if s.kind == "fold":
+            assert min(abs(z - 1) for z in s.floquet_multipliers) < 1e-5
+
+
+def test_forced_duffing_period_doublings_against_scipy_shooting(duffing_isola):
+    pds = [s for s in duffing_isola.special if s.kind == "period-doubling"]
+    # two pairs: the system is symmetric under (x, t) -> (-x, t + T/2), each orbit has a
+    # partner with the same multipliers at the same sigma
+    assert len(pds) == 4
+    for s in pds:
+        assert min(z.real for z in s.floquet_multipliers) == pytest.approx(-1, abs=1e-6)
+        ref = brentq(lambda q: _scipy_lambda_min(q, s.state) + 1, s.parameter - 0.01,
+                     s.parameter + 0.01, xtol=1e-12)
+        assert s.parameter == pytest.approx(ref, abs=1e-7)
+    assert sorted({round(s.parameter, 6) for s in pds}) == [0.168726, 0.499328]
+
+
+def test_kbm_branch_and_response_take_coupled_systems(capsys):
+    code, out, err = run_cli(capsys, "branch", "coupled-vdp", "-p", "mu=0.1", "-p", "sigma=0", "-p",
+                             "c=0.3", "--vary", "c=0.2:0.4", "--json")
+    assert code == 0, err
+    d = json.loads(out)
+    assert d["dof"] == 2 and not d["forced"]
+    assert len(d["points"][0]["floquet_multipliers"]) == 4
+    code, out, err = run_cli(capsys, "response", "quadratic-1-2", "-p", "mu=0.02", "-p", "zeta1=0.5",
+                             "-p", "zeta2=0.5", "-p", "alpha1=1", "-p", "alpha2=1", "-p",
+                             "sigma1=0", "-p", "h=2", "--vary", "sigma2=0.8:1.2:40", "--json")
+    assert code == 0, err
+    d = json.loads(out)
+    assert d["forced"] and d["parameter"] == "sigma2"
+    # below the threshold mode 1 stays at rest and mode 2 is linear:
+    # a2 = h/(2 omega2 sqrt(zeta2^2 + s^2)) to O(mu) (Nayfeh & Mook 6.5)
+    for p in d["points"]:
+        assert p["amplitudes"][0] < 1e-6
+        lin = 2.0 / (4 * math.hypot(0.5, p["parameter"]))
+        assert p["amplitudes"][1] == pytest.approx(lin, rel=0.05)
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["response", "quadratic-1-2", "-p", "mu=0.02", "--detuning", "1"], "--detuning"),
+    (["response", "coupled-vdp", "-p", "mu=0.1", "--vary", "c=0:1"], "no forcing"),
+    (["branch", "coupled-vdp", "-p", "mu=0.1", "-p", "sigma=0", "--vary", "q=0:1"],
+     "not a parameter"),
+    (["branch", "coupled-vdp", "-p", "mu=0.1", "-p", "sigma=0", "--vary", "c=0:1",
+      "--start", "1,2"], "4 finite numbers"),
+    (["branch", "vdp", "-p", "mu=0.1", "--vary", "mu=0.1:1", "--start", "1,0"], "coupled"),
+])
+def test_coupled_branch_bad_input(capsys, argv, words):
+    code, out, err = run_cli(capsys, *argv)
+    assert code != 0 and words in err and len(err.strip().splitlines()) == 1, err

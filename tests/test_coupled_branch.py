@@ -137,6 +137,8 @@ def test_kbm_branch_and_response_take_coupled_systems(capsys):
     (["branch", "coupled-vdp", "-p", "mu=0.1", "-p", "sigma=0", "--vary", "c=0:1",
       "--start", "1,2"], "4 finite numbers"),
     (["branch", "vdp", "-p", "mu=0.1", "--vary", "mu=0.1:1", "--start", "1,0"], "coupled"),
+    (["branch", "sedf", "-p", "mu=0.1", "--vary", "Delta=0:4", "--follow-period", "0.5"],
+     "--follow-period"),
 ])
 def test_coupled_branch_bad_input(capsys, argv, words):
     code, out, err = run_cli(capsys, *argv)

@@ -55,3 +55,24 @@ def test_twenty_times_the_start_period():
     assert pts[-1].period >= 20 * 2 * math.pi * 1.0006  # 20 x the van der Pol period 6.287
     assert max(q.residual for q in pts) <= 1e-8
     assert abs(pts[-1].parameter - conn.parameter) < 1e-10
+
+
+def test_branch_continues_in_its_period():
+    """continue_cycles(follow_period=F): past the homoclinic end the branch goes on in the
+    period to F times the start's; the parameter converges to the saddle connection of the
+    manifolds' shooting (independent), and the non-trivial multiplier (Liouville, summed
+    over the segments) falls like exp(-|div| T) near the saddles."""
+    from numerics.cycles.continuation import continue_cycles
+
+    br = continue_cycles("sedf", {**P, "Delta": 3.2}, "Delta", (3.2, 4.0), directions=(1,),
+                         follow_period=2.5)
+    T0 = br.points[0].period
+    assert br.points[-1].period >= 2.5 * T0 - 1e-9
+    conn = saddle_connection("sedf", P, "Delta", (3.2, 3.3), 1.58, -1.58, -1, -1)
+    assert abs(br.points[-1].parameter - conn.parameter) < 1e-9
+    end = [s for s in br.special if s.kind == "homoclinic"][0]
+    assert "followed in its period" in end.message
+    long = [q for q in br.points if q.period > 12.0]
+    mults = [abs(q.multipliers[1]) for q in long]
+    assert all(b < a for a, b in zip(mults, mults[1:]))  # stable, ever more strongly
+    assert all(q.stable for q in long)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 
 from kbm.cli._common import (add_model_arguments, add_param_option, emit_json, model_spec,
                              parse_params)
@@ -29,6 +30,10 @@ def register(sub) -> None:
     p.add_argument("--max-points", type=int, default=400, metavar="N",
                    help="bound on the points per direction of each branch (default 400)")
     p.add_argument("--rtol", type=float, default=1e-10, help="integrator tolerance (1e-10)")
+    p.add_argument("--follow-period", type=float, default=None, metavar="FACTOR",
+                   help="at a homoclinic end, follow the cycle in its period (multiple "
+                        "shooting, the parameter free) until the period is FACTOR times the "
+                        "start's (AUTO-07p's standard: 20); the points join the branch")
     p.add_argument("--start", metavar="X1,..,XDOT1,..",
                    help="coupled systems: the state to start from (default: the attracting "
                         "orbit after a transient from x_i = 1)")
@@ -78,6 +83,10 @@ def run(args: argparse.Namespace) -> int:
             raise ParameterError("--orders and --no-energy are for one degree of freedom; a "
                                  "coupled branch is the true one (compare kbm derive, kbm lock)")
         return run_coupled_branch(args, name, lo, hi, "branch")
+    if args.follow_period is not None and not (math.isfinite(args.follow_period)
+                                               and 1 < args.follow_period <= 100):
+        raise ParameterError(f"--follow-period must be a factor between 1 and 100, got "
+                             f"{args.follow_period}")
     if args.start is not None:
         raise ParameterError("--start is for coupled systems (a built-in such as coupled-vdp, "
                              "or several --rhs)")
@@ -88,7 +97,8 @@ def run(args: argparse.Namespace) -> int:
                              f"{args.max_points}")
     d = branch_diagram(model_spec(args), parse_params(args.param), name, (lo, hi),
                        orders=_orders(args.orders), energy=not args.no_energy,
-                       rtol=args.rtol, max_points=args.max_points)
+                       rtol=args.rtol, max_points=args.max_points,
+                       follow_period=args.follow_period)
     if args.json:
         emit_json(d.to_json())
         return 0

@@ -177,12 +177,36 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
             msg = (f"homoclinic end: {why} at {name} = {new.u[2]:.10g} (period "
                    f"{new.u[1]:.6g}, from {T0:.6g}): the cycle approaches a separatrix; "
                    f"{where}")
+            if opts.get("follow_period") and points:
+                msg += _long_period(prob, points, T0, opts["follow_period"])
             # the marker sits on the last printed (converged) point's amplitude and period
             shown = points[-1] if points else new.record()
             special.append(SpecialPoint("homoclinic", float(ph), float(shown.amplitude_max),
                                         float(shown.period), msg))
             return points, special, msg
         pt = new
+
+
+def _long_period(prob: _Problem, points: list, T0: float, factor: float) -> str:
+    """Add the cycles followed in their period beyond ``points[-1]`` to ``factor * T0``;
+    the sentence for the end's message."""
+    from numerics.cycles.long_period import follow_period
+
+    last = points[-1]
+    params = {k: v for k, v in prob.params.items() if k != prob.vary}
+    try:
+        lps = follow_period(prob.model, params, prob.vary, last.x0, last.period,
+                            last.parameter, factor * T0, rtol=min(prob.rtol, 1e-11))
+    except _FAIL as exc:
+        return f"; following the cycle in its period failed: {exc}"
+    for q in lps[1:]:
+        points.append(BranchPoint(parameter=q.parameter, x0=q.x0, period=q.period,
+                                  amplitude_max=q.x0, multipliers=(1.0 + 0j, q.multiplier + 0j),
+                                  stable=bool(abs(q.multiplier) < 1.0), residual=q.residual))
+    end = lps[-1]
+    return (f"; followed in its period (multiple shooting on {end.segments} sections, the "
+            f"parameter free) to T = {end.period:.6g}, {end.period / T0:.1f} times the "
+            f"start's, at {prob.vary} = {end.parameter:.12g}")
 
 
 def _converged(pt: _Point) -> bool:
@@ -254,7 +278,7 @@ def continue_cycles(model: Oscillator | str, params: Mapping[str, object] | None
                     ds_max: float | None = None, ds_min: float = 1e-7,
                     max_points: int = 400, rtol: float = 1e-10, method: Method | str = "auto",
                     period_factor: float = 8.0, hopf_fraction: float = 0.02,
-                    max_turn: float = 0.9) -> Branch:
+                    max_turn: float = 0.9, follow_period: float | None = None) -> Branch:
     """A branch of limit cycles of ``model`` as the parameter ``vary`` runs over ``bounds``.
 
     Parameters
@@ -293,6 +317,12 @@ def continue_cycles(model: Oscillator | str, params: Mapping[str, object] | None
     max_turn : float
         A step is halved when the cosine of the angle between successive tangents falls
         below this.
+    follow_period : float, optional
+        At a homoclinic end, continue the cycle in its period, the parameter free, until the
+        period is this multiple of the period at the start of the branch (multiple shooting
+        on Poincare sections, :func:`numerics.cycles.long_period.follow_period`); the points
+        are added to the branch, with the non-trivial multiplier from Liouville's formula.
+        AUTO-07p's standard is 20.
 
     Returns
     -------
@@ -342,7 +372,8 @@ def continue_cycles(model: Oscillator | str, params: Mapping[str, object] | None
     dsm = ds_max if ds_max is not None else max(hi - lo, 1.0) / 25
     opts = dict(ds=ds if ds is not None else dsm / 4, ds_max=dsm, ds_min=ds_min,
                 max_points=int(max_points), period_factor=period_factor,
-                hopf_fraction=hopf_fraction, max_turn=max_turn, dropped=[0])
+                hopf_fraction=hopf_fraction, max_turn=max_turn, dropped=[0],
+                follow_period=follow_period)
     points: list[BranchPoint] = []
     special: list[SpecialPoint] = []
     reasons: list[str] = []

@@ -37,13 +37,19 @@ SEGMENT = 1.0
 @dataclass(frozen=True)
 class LongPeriodPoint:
     """A cycle of period ``period`` at ``parameter``, its start ``x0`` (``x' = 0``), the
-    segments used and Newton's final residual."""
+    segments used, Newton's final residual and the non-trivial Floquet multiplier.
+
+    The multiplier is ``exp(int_0^T div f dt)`` (Liouville: the trivial one is 1), summed
+    as the logarithms of the segments' monodromy determinants, so that it stays accurate
+    where the monodromy's entries grow like ``exp(lambda_u T)``.
+    """
 
     period: float
     parameter: float
     x0: float
     segments: int
     residual: float
+    multiplier: float = math.nan
 
 
 class _Segments:
@@ -67,11 +73,13 @@ class _Segments:
         return np.array([y[1], cm.acc(0.0, y[0], y[1])])
 
     def step(self, y, h: float, p: float, extended: bool = True):
-        """``(phi_h(y), Phi)`` for one segment."""
+        """``(phi_h(y), Phi)`` for one segment; ``self.divergence`` is set to the integral
+        of the field's divergence over it (extended only)."""
         cm = self.cm(p)
         if extended:
             yT = flow(cm, extended_state(y[0], y[1]), h, 1, Method.COMPILED, self.rtol,
                       self.rtol)[-1]
+            self.divergence = float(yT[6])
             return yT[:2], np.array([[yT[2], yT[4]], [yT[3], yT[5]]])
         yT = flow(cm, [y[0], y[1]], h, 1, Method.COMPILED, self.rtol, self.rtol)[-1]
         return yT[:2], None
@@ -113,12 +121,14 @@ def _newton(seg: _Segments, Y: np.ndarray, tau: np.ndarray, p: float, T: float,
     normals = [f / np.linalg.norm(f) for f in (seg.field(r, p) for r in ref)]
     res = math.inf
     for _ in range(max_iter):
+        logdet = 0.0
         R = np.zeros(n)
         J = np.zeros((n, n))
         dp = 1e-7 * max(1.0, abs(p))
         for j in range(M):
             k = (j + 1) % M
             yj, Phi = seg.step(Y[j], tau[j], p)
+            logdet += seg.divergence  # log det Phi_j (Liouville)
             yp, _ = seg.step(Y[j], tau[j], p + dp, extended=False)
             ym, _ = seg.step(Y[j], tau[j], p - dp, extended=False)
             rows = slice(2 * j, 2 * j + 2)
@@ -136,7 +146,7 @@ def _newton(seg: _Segments, Y: np.ndarray, tau: np.ndarray, p: float, T: float,
             # the residual decides: near the saddles the mesh's points may slide along the
             # orbit at almost no cost (the matrix is nearly singular there), the cycle and
             # p do not
-            return Y, tau, p, res
+            return Y, tau, p, res, logdet
         dz = np.linalg.solve(J, -R)
         # damped: every duration stays above a third of itself, p moves by at most 1e-3
         dt = dz[2 * M:3 * M]
@@ -181,8 +191,8 @@ def follow_period(model, params: dict, vary: str, x0: float, period: float, para
     M = max(4, math.ceil(period / SEGMENT))
     Y = seg.orbit((x0, 0.0), period, parameter, M)[:-1]
     tau = np.full(M, period / M)
-    Y, tau, p, res = _newton(seg, Y, tau, parameter, period, Y.copy(), tol, max_iter)
-    out = [LongPeriodPoint(period, float(p), float(Y[0][0]), M, res)]
+    Y, tau, p, res, logdet = _newton(seg, Y, tau, parameter, period, Y.copy(), tol, max_iter)
+    out = [LongPeriodPoint(period, float(p), float(Y[0][0]), M, res, math.exp(logdet))]
     T, step = period, factor - 1.0
     while T < target:
         T_new = min(target, T * (1 + step))
@@ -191,13 +201,15 @@ def follow_period(model, params: dict, vary: str, x0: float, period: float, para
         w = 1.0 / np.array([np.linalg.norm(seg.field(y, p)) for y in Yr]) ** 2
         guess = taur + (T_new - T) * w / w.sum()
         try:
-            Yn, taun, pn, res = _newton(seg, Yr, guess, p, T_new, Yr.copy(), tol, max_iter)
+            Yn, taun, pn, res, logdet = _newton(seg, Yr, guess, p, T_new, Yr.copy(), tol,
+                                                max_iter)
         except (ConvergenceError, IntegrationError, np.linalg.LinAlgError):
             step /= 2
             if step < 1e-3:
                 break  # the points found so far are returned
             continue
         Y, tau, p, T = Yn, taun, pn, T_new
-        out.append(LongPeriodPoint(T, float(p), float(Y[0][0]), len(Y), res))
+        out.append(LongPeriodPoint(T, float(p), float(Y[0][0]), len(Y), res,
+                                   math.exp(logdet)))
         step = min(1.5 * step, 0.1)
     return out

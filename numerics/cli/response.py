@@ -68,6 +68,9 @@ def register(sub) -> None:
     p.add_argument("--fold", type=int, default=None, metavar="K",
                    help="with --convergence and --vary: the fold studied, counted from the "
                         "lowest sigma (default 0)")
+    p.add_argument("--start", metavar="X1,..,XDOT1,..",
+                   help="coupled systems: the state to start the branch from (default: the "
+                        "attracting response after a transient from x_i = 1)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=run)
 
@@ -182,6 +185,9 @@ def run(args: argparse.Namespace) -> int:
 
     if args.model in COUPLED_MODELS:
         return _run_coupled(args)
+    if args.start is not None:
+        raise ParameterError("--start is for the coupled systems (duffing-1-3, "
+                             "quadratic-1-2, ...)")
     if args.convergence is not None:
         return _run_convergence(args)
     if args.fold is not None:

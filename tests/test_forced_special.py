@@ -119,3 +119,49 @@ def test_neimark_sacker_of_the_forced_van_der_pol_against_the_averaged_hopf():
         r2 = errors[(2, 0.05, side)] / errors[(2, 0.025, side)]
         assert 1.7 < r1 < 2.3 and 3.4 < r2 < 4.6, (side, r1, r2)
         assert errors[(2, 0.025, side)] < 1e-3
+
+
+def test_neimark_sacker_on_the_driven_slider():
+    """The driven slider (the paper's eq. 3 seen from its stage, ``slider``: x'' + x =
+    mu ((1 - x^2)(x' + nu) - delta sin(x + nu t)), k = 1, mu = 0.05, delta = 1): the
+    self-oscillation locked to the washboard loses stability to a torus at the edge of
+    locking.  Located by two continuations with their own test functions (the coupled
+    family's, N = 1, and numerics.forced's), and checked by direct integration (scipy):
+    0.01 inside, the stroboscopic samples converge to the locked response; 0.01 outside,
+    they spread over the torus."""
+    from numerics.coupled.continuation import continue_coupled
+
+    vals = {"mu": 0.05, "delta": 1, "k": 1}
+    br = continue_coupled("slider", {**vals, "sigma": 0.03}, "sigma", (0.03, 0.13))
+    ns = [s for s in br.special if s.kind == "neimark-sacker"]
+    assert len(ns) == 1
+    s_ns = ns[0]
+    assert all(abs(abs(z) - 1) < 1e-8 and abs(z.imag) > 1e-3 for z in s_ns.floquet_multipliers)
+    assert s_ns.bracket[1] - s_ns.bracket[0] < 1e-8
+
+    system = ForcedSystem("slider", vals)
+    first = br.points[0]
+    start = periodic_response(system, first.parameter, np.array(first.state))
+    branch, _ = continue_response(system, start, (0.03, 0.13), n_points=100)
+    other = [q for q in detect_special(system, branch) if q.kind == "neimark-sacker"]
+    assert len(other) == 1 and other[0].orbit.sigma == pytest.approx(s_ns.parameter, abs=1e-8)
+
+    mu = vals["mu"]
+
+    def spread(sig):
+        nu = 1 + mu * sig
+        T = 2 * math.pi / nu
+
+        def f(t, y):
+            return [y[1], -y[0] + mu * ((1 - y[0] ** 2) * (y[1] + nu) - math.sin(y[0] + nu * t))]
+
+        ts = (1500 + np.arange(150)) * T
+        sol = solve_ivp(f, (0, ts[-1]), [1.5, 0.0], t_eval=ts, method="DOP853", rtol=1e-10,
+                        atol=1e-12)
+        return float(np.ptp(sol.y[0]))
+
+    stable_side = [p.stable for p in br.points if p.parameter < s_ns.parameter - 0.005]
+    assert all(stable_side) and not any(p.stable for p in br.points
+                                        if p.parameter > s_ns.parameter + 0.005)
+    assert spread(s_ns.parameter - 0.01) < 1e-6
+    assert spread(s_ns.parameter + 0.01) > 0.5

@@ -364,6 +364,11 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
         model = model.with_internal(internal)
     if not isinstance(order, int) or isinstance(order, bool) or not 1 <= order <= MAX_ORDER:
         raise OrderError(f"the order must be an integer from 1 to {MAX_ORDER}, got {order!r}")
+    if any(f.has(sp.Symbol("nu")) for f in model.F):
+        raise ModelError(f"{model.name!r} holds the forcing frequency nu in F (nu = nu0 + mu "
+                         "sigma puts mu into F): the exact coupled expansion takes F free of "
+                         "nu; its true responses are numerics (kbm response, kbm cycle), its "
+                         "averaging kbm.forced's numeric backend")
     if not model.is_autonomous():
         raise ModelError(f"{model.name!r} depends on the time t (a drive or a stage that "
                          "pulls); the averaging treats autonomous systems and periodic "

@@ -188,6 +188,11 @@ class CoupledOscillators:
                         f"{', '.join(map(str, velocities(n)))}")
                 if s == theta or s == t:
                     continue
+                if s.name == "nu":
+                    if not forced:
+                        raise ModelError(f"F{i} holds the forcing frequency nu but the model "
+                                         "has no forcing: give nu0 (nu = nu0 + mu sigma)")
+                    continue  # the forcing frequency (the sliders' stage velocity nu/k)
                 if s.name in ("a", "psi") or _RESERVED.match(s.name):
                     raise ModelError(f"the symbol {s.name!r} in F{i} is reserved for the "
                                      "amplitudes, phases and time; rename that parameter")
@@ -207,7 +212,7 @@ class CoupledOscillators:
     def parameters(self) -> tuple[str, ...]:
         """The names of the parameters of the right-hand sides (sorted)."""
         syms = set().union(*[f.free_symbols for f in (*self.F, *self.drive)]) \
-            - set(self.state) - {sp.Symbol("theta"), t}
+            - set(self.state) - {sp.Symbol("theta"), sp.Symbol("nu"), t}
         names = {s.name for s in syms}
         if self.nu_detuning:
             names.add(self.nu_detuning)
@@ -282,13 +287,25 @@ class CoupledOscillators:
         """The case ``N = 1`` of a :class:`kbm.models.Oscillator` (``x -> x1``,
         ``xdot -> xdot1``).
 
+        A frequency written with a parameter that has a default (the sliders'
+        ``Omega = 1``) takes that value: the coupled family's frequencies are exact
+        rationals, fixed with the resonances they declare.
+
         Raises
         ------
         kbm.errors.ModelError
             For a driven model or a frequency that is not a rational number.
         """
+        from dataclasses import replace
+
         from ..forced.model import ForcedOscillator
 
+        w0 = sp.sympify(model.omega0)
+        fixed = {s_.name for s_ in w0.free_symbols} & set(model.defaults)
+        if fixed:
+            sub = {sp.Symbol(n): sp.sympify(model.defaults[n]) for n in fixed}
+            model = replace(model, F=model.F.subs(sub), omega0=w0.subs(sub),
+                            defaults={k: v for k, v in model.defaults.items() if k not in fixed})
         if isinstance(model, ForcedOscillator):
             return cls._from_forced(model)
         if t in model.F.free_symbols or model.drive != 0:

@@ -185,7 +185,9 @@ def _compiled(model: CoupledOscillators):
     psyms = [mu_symbol if nm == "mu" else sp.Symbol(nm) for nm in names]
     if model.forced:  # theta = nu t, nu = nu0 + mu sigma
         sig = sp.Symbol(model.nu_detuning) if model.nu_detuning else 0
-        f = [e.subs(sp.Symbol("theta"), (model.nu0 + mu_symbol * sig) * t_symbol) for e in f]
+        nu = model.nu0 + mu_symbol * sig  # also the frequency written in F (a stage velocity)
+        f = [e.subs({sp.Symbol("theta"): nu * t_symbol, sp.Symbol("nu"): nu},
+                    simultaneous=True) for e in f]
     variational = n <= MAX_VARIATIONAL_DOF
     exprs, ys = list(f), list(state)
     if variational:

@@ -23,7 +23,7 @@ __all__ = ["BoundModel", "ParameterLine", "bind"]
 class BoundModel:
     """A model with its parameter values resolved and validated once.
 
-    Created at the boundary of the library (:func:`bind`, :meth:`Oscillator.bind`)
+    Created at the boundary of the library (:func:`bind`, :meth:`BoundModel.of`)
     and passed to every numerical function, so that a parameter set is read once,
     has an identity (it is hashable) and prints the same way everywhere.
 

@@ -34,7 +34,8 @@ deflection of a tip from its support), which is invariant under
 (:mod:`numerics.sliding`).
 
 Parameter values are read by :mod:`kbm.values` and bound to a model once by
-:mod:`kbm.bound` (:func:`bind`, re-exported here).  This module is longer than
+:mod:`kbm.bound` (:func:`kbm.bound.bind`), which builds on this module (never the other
+way round).  This module is longer than
 the project's ~350-line guide because it holds the model type together with the
 catalogue of built-in models that instantiate it (half of it docstrings); the two
 change together.
@@ -55,7 +56,7 @@ from .errors import ModelError, NonAutonomousError, ParameterError
 from .symbols import mu, parse, t, x, xdot
 from .values import FrozenMap, parameter_value
 
-__all__ = ["Oscillator", "BoundModel", "FrozenMap", "MODELS", "SLIDERS", "bind", "get_model",
+__all__ = ["Oscillator", "FrozenMap", "MODELS", "SLIDERS", "get_model",
            "custom_model", "check_state_names", "STATE_LIKE_NAMES", "parameter_value",
            "model_names"]
 
@@ -254,12 +255,6 @@ class Oscillator:
         return replace(self, drive=self.omega0**2 * vv * t, F=self.F - rel + moved,
                        stage_relative=moved,
                        description=self.description.replace("with v = 0", f"with v = {vv}"))
-
-    def bind(self, values: Mapping[str, object] | None = None) -> "BoundModel":
-        """This model with its parameter values resolved once (:class:`kbm.bound.BoundModel`)."""
-        from .bound import BoundModel  # kbm.bound builds on this module
-
-        return BoundModel.of(self, values)
 
     # -- parameters -------------------------------------------------------------------
     def resolve(self, values: Mapping[str, object] | None = None,
@@ -542,6 +537,3 @@ def check_state_names(F: sp.Expr, text: object = None) -> None:
                          "nothing to act on: the state variables are x (displacement) and "
                          "xdot (velocity), e.g. '(1 - x**2)*xdot'")
 
-
-# the bound model builds on everything above; re-exported here for one import path
-from .bound import BoundModel, bind  # noqa: E402

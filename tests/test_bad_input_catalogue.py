@@ -18,7 +18,8 @@ from kbm.errors import (CostError, InputSizeError, KBMError, ModelError, NonAuto
                         NonFiniteError, OrderError, OutputError, ParameterError,
                         UnsupportedTermError)
 from kbm.symbols import parse
-from kbm.models import bind, custom_model
+from kbm.bound import bind
+from kbm.models import custom_model
 from numerics import limit_cycle, slide
 from numerics.cli import main
 from numerics.errors import NoCycleError

@@ -1,5 +1,5 @@
 """A model bound along one parameter (kbm.bound.ParameterLine, numerics.flow.CompiledLine)
-against binding from scratch (kbm.bind, numerics.flow.compile_model), and the keyed source
+against binding from scratch (kbm.bound.bind, numerics.flow.compile_model), and the keyed source
 of a compiled flow against the source printed from its expressions.
 
 The continuation of cycles binds its model thousands of times along the varied parameter;

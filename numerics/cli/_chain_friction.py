@@ -10,7 +10,7 @@ from kbm.cli._common import emit_json, parse_params
 
 def run_chain(args: argparse.Namespace) -> int:
     from kbm.errors import ParameterError
-    from numerics.cli.friction import parse_axis
+    from numerics.cli._axes import parse_axis
     from numerics.coupled.friction import chain_friction_law
     from numerics.executor import connect
 

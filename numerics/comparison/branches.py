@@ -9,7 +9,7 @@
   (:func:`numerics.energy.predict_cycles`, order 1) on the same grid, its folds
   located by bisection on the number of cycles.
 
-``p`` may be any name :func:`kbm.models.bind` accepts (``mu``, a model parameter, a
+``p`` may be any name :func:`kbm.bound.bind` accepts (``mu``, a model parameter, a
 physical one such as ``Delta``): each grid value is bound afresh.
 """
 
@@ -24,7 +24,8 @@ import numpy as np
 from kbm import derive
 from kbm.averaged import averaged_rates
 from kbm.errors import KBMError
-from kbm.models import Oscillator, bind
+from kbm.bound import bind
+from kbm.models import Oscillator
 
 from kbm.strict_json import finite
 from numerics.energy import predict_cycles
@@ -124,7 +125,7 @@ def kbm_branch(model: Oscillator | str, params: Mapping[str, object] | None, var
     model, params
         The model and the other parameter values (``mu`` included).
     vary : str
-        The parameter to vary (any name :func:`kbm.models.bind` accepts).
+        The parameter to vary (any name :func:`kbm.bound.bind` accepts).
     bounds : tuple of float
         ``(FROM, TO)``.
     order : int

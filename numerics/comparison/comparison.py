@@ -21,7 +21,8 @@ from dataclasses import dataclass
 
 from kbm import KBMFunctions, KBMResult, derive
 from kbm.errors import ParameterError
-from kbm.models import BoundModel, Oscillator, bind
+from kbm.bound import BoundModel, bind
+from kbm.models import Oscillator
 
 from kbm.strict_json import finite
 from numerics.comparison.prediction import (ERROR_KEYS, Prediction, kbm_prediction,

@@ -32,7 +32,8 @@ import numpy as np
 from kbm import averaged_cycles, derive
 from kbm.conservative import split_conservative
 from kbm.errors import KBMError, ParameterError
-from kbm.models import BoundModel, Oscillator, bind
+from kbm.bound import BoundModel, bind
+from kbm.models import Oscillator
 
 from numerics.comparison.prediction import Prediction, reconstruct
 from numerics.energy import EnergyPrediction, PredictedCycle, predict_cycles

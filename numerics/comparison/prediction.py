@@ -38,7 +38,8 @@ from scipy.optimize import minimize_scalar
 
 from kbm import KBMFunctions, KBMResult, averaged_cycles
 from kbm.errors import KBMError, ParameterError
-from kbm.models import BoundModel, Oscillator
+from kbm.bound import BoundModel
+from kbm.models import Oscillator
 from kbm.symbols import x as X, xdot as V
 
 from numerics.cycles import LimitCycle
@@ -222,7 +223,7 @@ def kbm_prediction(result: KBMResult, values: Mapping[str, object] | BoundModel,
         A :class:`kbm.KBMResult` (its model may keep parameters symbolic).
     values
         ``mu`` and every parameter of the model (scaled or physical names), or a
-        :class:`~kbm.models.BoundModel` of the same model.
+        :class:`~kbm.bound.BoundModel` of the same model.
     order
         KBM order ``N <= result.order`` (default ``result.order``).
     target_amplitude

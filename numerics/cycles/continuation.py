@@ -37,7 +37,8 @@ from collections.abc import Mapping
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.models import BoundModel, Oscillator, bind
+from kbm.bound import BoundModel, bind
+from kbm.models import Oscillator
 
 from numerics.cycles._arclength import (_FAIL, _arc, _at_parameter, _copy, _correct,
                                         _locate_fold, _Point, _Problem, _reanchor)
@@ -290,7 +291,7 @@ def continue_cycles(model: Oscillator | str, params: Mapping[str, object] | None
         ``vary`` in it, if any, is where the branch starts (default: ``bounds[0]``).
     vary : str
         The parameter to vary: ``mu``, a parameter of the model, or a physical one
-        (``Delta``, bound per point by :func:`kbm.models.bind`).
+        (``Delta``, bound per point by :func:`kbm.bound.bind`).
     bounds : tuple of float
         ``(FROM, TO)`` with ``FROM < TO``: the branch stops where it leaves them.
     start : LimitCycle or tuple of float, optional

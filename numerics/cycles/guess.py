@@ -15,7 +15,8 @@ from __future__ import annotations
 
 from kbm import AveragedRates, averaged_rates, derive
 from kbm.errors import KBMError
-from kbm.models import BoundModel, Oscillator
+from kbm.bound import BoundModel
+from kbm.models import Oscillator
 
 from numerics._memo import memo
 from numerics.energy import predict_cycles

@@ -26,7 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm.errors import KBMError, NonAutonomousError
-from kbm.models import BoundModel, Oscillator, bind
+from kbm.bound import BoundModel, bind
+from kbm.models import Oscillator
 
 from numerics.cycles.finalpass import final_pass
 from numerics.cycles.guess import energy_guesses, kbm_guess
@@ -52,7 +53,7 @@ def limit_cycle(model: Oscillator | str | BoundModel, params: Mapping[str, objec
     ----------
     model
         An :class:`~kbm.models.Oscillator`, a built-in name, or a
-        :class:`~kbm.models.BoundModel` (then ``params`` is ``None``).
+        :class:`~kbm.bound.BoundModel` (then ``params`` is ``None``).
     params
         Parameter values (physical names such as ``Delta``, ``lam`` or the
         scaled ones), including ``mu``.

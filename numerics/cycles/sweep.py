@@ -18,7 +18,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from kbm.errors import KBMError
-from kbm.models import bind
+from kbm.bound import bind
 
 from numerics.executor import chunk, map_chunks
 from numerics.cycles.result import LimitCycle

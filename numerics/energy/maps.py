@@ -34,7 +34,7 @@ import numpy as np
 import sympy as sp
 
 from kbm.conservative import split_conservative
-from kbm.models import bind
+from kbm.bound import bind
 from kbm.symbols import x as _x, xdot as _xdot
 
 from .balance import balance_cycles

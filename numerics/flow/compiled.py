@@ -16,7 +16,8 @@ import numpy as np
 import sympy as sp
 
 from kbm.errors import ModelError, ParameterError
-from kbm.models import BoundModel, Oscillator, bind, get_model
+from kbm.bound import BoundModel, bind
+from kbm.models import Oscillator, get_model
 from kbm.symbols import t as T, x as X, xdot as V
 
 from numerics._memo import memo
@@ -67,7 +68,7 @@ class CompiledModel:
     exact_values
         The parameter values as given (exact where they were exact).
     bound
-        The :class:`kbm.models.BoundModel` these functions evaluate.
+        The :class:`kbm.bound.BoundModel` these functions evaluate.
     acceleration_expr, dissipation_expr
         Symbolic acceleration and dissipation integrand at these values (properties).
     """
@@ -215,7 +216,7 @@ def compile_model(model: Oscillator | str | BoundModel,
     ----------
     model, params
         A bound model, or a model (or built-in name) and its parameter values
-        (:func:`kbm.models.bind`).
+        (:func:`kbm.bound.bind`).
     template
         A :class:`ModelTemplate` of the same model, to skip the lambdification.
 

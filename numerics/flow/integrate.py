@@ -32,7 +32,8 @@ import numpy as np
 from scipy.integrate import odeint, solve_ivp
 
 from kbm.errors import ParameterError
-from kbm.models import BoundModel, Oscillator
+from kbm.bound import BoundModel
+from kbm.models import Oscillator
 
 from numerics.errors import IntegrationError
 from numerics.flow.compiled import CompiledModel, compile_model, template_flow

@@ -20,11 +20,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from numerics.paper.figures.friction import (LAW_PARAMS, LAW_V, MAP_BETA, MAP_DELTA, MAP_V,
-                                             friction_maps_from, law_figure)
 from numerics.sliding.maps import FrictionMap, SliderComparison, compare_sliders, friction_law
 
-__all__ = ["FrictionStudy", "friction_study", "SLIDERS_COMPARED"]
+__all__ = ["FrictionStudy", "friction_study", "SLIDERS_COMPARED", "MAIN_JOB_SIZE",
+           "LAW_PARAMS", "LAW_V", "MAP_V", "MAP_DELTA", "MAP_BETA"]
+
+#: the docs' friction laws: the paper's mu, lam, Omega, beta = 1 and its two Delta
+LAW_PARAMS = {"mu": 0.1, "lam": 1.0, "Omega": 1.0, "beta": 1.0}
+LAW_V = np.geomspace(1e-3, 3.0, 24)
+#: the docs' maps
+MAP_V = np.geomspace(3e-3, 3.0, 32)
+MAP_DELTA = np.linspace(0.25, 4.0, 32)
+MAP_BETA = np.geomspace(0.05, 5.0, 32)
 
 #: the sliders of the friction laws: the stage-attached SEDF, the CDC, the paper's SEDF
 SLIDERS_COMPARED = ("sedf_comoving", "cdc", "sedf")
@@ -32,19 +39,12 @@ SLIDERS_COMPARED = ("sedf_comoving", "cdc", "sedf")
 
 @dataclass(frozen=True, eq=False)
 class FrictionStudy:
-    """Friction laws (by ``Delta``) and the two maps of SEDF against CDC."""
+    """Friction laws (by ``Delta``) and the two maps of SEDF against CDC (their figures:
+    :func:`numerics.paper.figures.friction.study_figures`)."""
 
     laws: dict[float, tuple[FrictionMap, ...]]
     v_delta: SliderComparison
     v_beta: SliderComparison
-
-    def figures(self, out_dir) -> list:
-        from pathlib import Path
-
-        Path(out_dir).mkdir(parents=True, exist_ok=True)
-        out = [law_figure(maps, Path(out_dir) / f"friction_law_delta{d:g}.png")
-               for d, maps in self.laws.items()]
-        return out + friction_maps_from(self.v_delta, self.v_beta, Path(out_dir))
 
     def table(self) -> str:
         """Markdown: the regimes and mean forces of the laws, and the maps' verdicts."""

@@ -20,7 +20,8 @@ from scipy.optimize import brentq
 from kbm import paper
 from kbm.errors import ParameterError
 from kbm.evaluate import numpy_function
-from kbm.models import BoundModel, Oscillator, get_model
+from kbm.bound import BoundModel
+from kbm.models import Oscillator, get_model
 
 from numerics.comparison.prediction import (Prediction, cycle_measures, dissipation_functions,
                                             reconstruct)

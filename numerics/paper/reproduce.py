@@ -26,6 +26,7 @@ from numerics.paper.errata import errata_evidence, errata_rows, evidence_table
 from numerics.paper.friction import MAIN_JOB_SIZE, friction_study
 from numerics.paper.figures import FIGURES, write_figures
 from numerics.paper.figures.comparison import validity_figure
+from numerics.paper.figures.friction import study_figures
 from numerics.paper.figures.methods import fixed_delta_figure, methods_figure
 from numerics.paper.methods import methods_map
 from numerics.paper.printed import paper_prediction
@@ -207,7 +208,7 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     figs += methods_figure(out / "figures", mmap=mm)
     figs += fixed_delta_figure(out / "figures", conv=fixed)
     figs += validity_figure(out / "figures", vmap=vm)
-    figs += study.figures(out / "figures")
+    figs += study_figures(study, out / "figures")
     summary += ["## Figures", ""] + [f"- {p}" for p in figs if p.suffix == ".png"] + [""]
     prog.done(f"{len(figs)} files in {out / 'figures'}")
 

@@ -34,7 +34,8 @@ import numpy as np
 import sympy as sp
 
 from kbm.errors import ParameterError
-from kbm.models import SLIDERS, Oscillator, bind, get_model
+from kbm.bound import bind
+from kbm.models import SLIDERS, Oscillator, get_model
 from kbm.symbols import t as T, x as X, xdot as V
 
 from numerics._memo import memo

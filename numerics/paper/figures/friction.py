@@ -9,8 +9,12 @@ asked over whole ranges of the stage velocity, the potential strength and the ex
 - :func:`map_figure`: a :class:`~numerics.sliding.maps.SliderComparison` on a
   two-parameter grid: the friction ratio SEDF/CDC (log colour scale, the contour where it is
   1), the dissipation ratio, and the regimes of both sliders, with the paper's points marked;
+- :func:`study_figures`: the figures of a :class:`~numerics.paper.friction.FrictionStudy`;
 - :func:`friction_figures`: the figures of the docs' "Friction laws" page
   (``kbm figures --only friction``), from :func:`numerics.paper.friction.friction_study`.
+
+The study (its grids, its computation) is :mod:`numerics.paper.friction`; this module draws
+it and builds on it, never the other way round.
 """
 
 from __future__ import annotations
@@ -21,9 +25,11 @@ from pathlib import Path
 import numpy as np
 
 from kbm.paper import FIG4, FIG5
+from numerics.paper.friction import (LAW_PARAMS, LAW_V, MAIN_JOB_SIZE, MAP_BETA, MAP_DELTA,
+                                     MAP_V, FrictionStudy, friction_study)
 
-__all__ = ["draw_law", "law_figure", "map_figure", "friction_maps_from", "friction_figures",
-           "LAW_PARAMS", "LAW_V", "MAP_V", "MAP_DELTA", "MAP_BETA"]
+__all__ = ["draw_law", "law_figure", "map_figure", "friction_maps_from", "study_figures",
+           "friction_figures", "LAW_PARAMS", "LAW_V", "MAP_V", "MAP_DELTA", "MAP_BETA"]
 
 _REGIME_MARK = {"stick-slip": "o", "smooth sliding": "s", "self-oscillating sliding": "^",
                 "oscillating sliding": "v", "runaway": "x"}
@@ -31,15 +37,6 @@ _REGIME_CODE = {"stick-slip": 0, "smooth sliding": 1, "self-oscillating sliding"
                 "oscillating sliding": 3, "runaway": 4, "": 5}
 _LABEL = {"sedf_comoving": "SEDF (stage-attached)", "sedf": "SEDF (paper eq. 3)",
           "cdc": "CDC (eq. 12)"}
-
-#: the docs' friction laws: the paper's mu, lam, Omega, beta = 1 and its two Delta
-LAW_PARAMS = {"mu": 0.1, "lam": 1.0, "Omega": 1.0, "beta": 1.0}
-LAW_V = np.geomspace(1e-3, 3.0, 24)
-#: the docs' maps
-MAP_V = np.geomspace(3e-3, 3.0, 32)
-MAP_DELTA = np.linspace(0.25, 4.0, 32)
-MAP_BETA = np.geomspace(0.05, 5.0, 32)
-
 
 def _plt():
     import matplotlib
@@ -210,11 +207,17 @@ def friction_maps_from(v_delta, v_beta, out_dir: Path) -> list[Path]:
             map_figure(v_beta, Path(out_dir) / "friction_map_v_beta.png", _paper_marks("beta"))]
 
 
+def study_figures(study: FrictionStudy, out_dir) -> list[Path]:
+    """The law figure of each ``Delta`` and the two maps of ``study``."""
+    Path(out_dir).mkdir(parents=True, exist_ok=True)
+    out = [law_figure(maps, Path(out_dir) / f"friction_law_delta{d:g}.png")
+           for d, maps in study.laws.items()]
+    return out + friction_maps_from(study.v_delta, study.v_beta, Path(out_dir))
+
+
 def friction_figures(out_dir: Path, size: int | None = None,
                      progress: bool = False) -> list[Path]:
     """The friction laws and maps (:func:`numerics.paper.friction.friction_study`): the main
     job's 8 x 8 maps by default (as ``kbm reproduce``), ``size=32`` for the docs' figures."""
-    from numerics.paper.friction import MAIN_JOB_SIZE, friction_study
-
     dims = dict(MAIN_JOB_SIZE) if size is None else {"size": size, "laws": max(12, size * 3 // 4)}
-    return friction_study(progress=progress, **dims).figures(out_dir)
+    return study_figures(friction_study(progress=progress, **dims), out_dir)

@@ -1,0 +1,98 @@
+"""No import circles in kbm and numerics (issue 23: the models' and the paper friction
+figures' circles are settled).
+
+Every ``import`` of the two packages is read from the source (ast), at module level and
+inside functions, and the strongly connected components of the graph are computed
+(Tarjan).  A deferred import inside a function still ties two modules together, so both
+levels are checked; the one circle kept is an algorithm's mutual use: the homotopy of
+``numerics.cycles.shooting`` continues cycles in its parameter, and the continuation starts
+from a shot cycle.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections import defaultdict
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+#: the one circle kept (see the module docstring)
+ALLOWED = {frozenset({"numerics.cycles._arclength", "numerics.cycles.continuation",
+                      "numerics.cycles.shooting"})}
+
+
+def _modules() -> dict[str, Path]:
+    mods = {}
+    for pkg in ("kbm", "numerics"):
+        for f in (ROOT / pkg).rglob("*.py"):
+            name = ".".join(f.relative_to(ROOT).with_suffix("").parts)
+            mods[name.removesuffix(".__init__")] = f
+    return mods
+
+
+def _targets(mods, cur: str, node) -> list[str]:
+    base = cur if mods[cur].name == "__init__.py" else cur.rsplit(".", 1)[0]
+    if isinstance(node, ast.ImportFrom):
+        if node.level:
+            parts = base.split(".")
+            parts = parts[:len(parts) - (node.level - 1)]
+            m = ".".join(parts + ([node.module] if node.module else []))
+        else:
+            m = node.module or ""
+        subs = [f"{m}.{a.name}" for a in node.names if f"{m}.{a.name}" in mods]
+        names = subs if len(subs) == len(node.names) else [m, *subs]
+    else:
+        names = [a.name for a in node.names]
+    out = []
+    for m in names:
+        while m and m not in mods and "." in m:
+            m = m.rsplit(".", 1)[0]
+        if m in mods and m != cur:
+            out.append(m)
+    return out
+
+
+def _circles(deep: bool) -> list[frozenset]:
+    mods = _modules()
+    graph = defaultdict(set)
+    for name, f in mods.items():
+        tree = ast.parse(f.read_text())
+        for node in (ast.walk(tree) if deep else tree.body):
+            if isinstance(node, (ast.Import, ast.ImportFrom)):
+                graph[name].update(_targets(mods, name, node))
+    index, low, stack, on, out = {}, {}, [], set(), []
+
+    def visit(v):  # Tarjan, iterative enough for this graph's depth
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in sorted(graph[v]):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = set()
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.add(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(frozenset(comp))
+
+    for v in sorted(mods):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def test_no_circle_at_module_level():
+    assert _circles(deep=False) == []
+
+
+def test_no_circle_through_deferred_imports():
+    assert set(_circles(deep=True)) <= ALLOWED

@@ -23,7 +23,7 @@ from numerics.errors import NoCycleError
 from numerics.flow import compile_model
 
 
-@pytest.mark.parametrize("mu", [20, 50])
+@pytest.mark.parametrize("mu", [20, pytest.param(50, marks=pytest.mark.slow)])
 def test_first_harmonic_of_relaxation_cycles_matches_taylor_reference(mu):
     c = limit_cycle("vdp", {"mu": mu})
     ref = limit_cycle_mp(compile_model("vdp", {"mu": mu}).acceleration_expr, 16,

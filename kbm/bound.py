@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .errors import ParameterError
+from .family import OscillatorFamily
 from .models import Oscillator, _drive_variant, get_model
 from .values import FrozenMap, parameter_value
 
@@ -30,7 +31,9 @@ class BoundModel:
     Attributes
     ----------
     model
-        The :class:`Oscillator` (symbolic; its drive holds a stage velocity).
+        A member of :class:`kbm.family.OscillatorFamily`: an :class:`Oscillator` (its drive
+        may hold a stage velocity), a :class:`kbm.forced.ForcedOscillator` or a
+        :class:`kbm.coupled.CoupledOscillators` (``bind("coupled-vdp", ...)``).
     values
         Exact values by name: the model's own (scaled) parameters, ``mu`` when
         given, and the defaults (:meth:`Oscillator.resolve`).
@@ -44,13 +47,17 @@ class BoundModel:
     True
     """
 
-    model: Oscillator
+    model: OscillatorFamily
     values: FrozenMap
 
     @classmethod
-    def of(cls, model: Oscillator, values: Mapping[str, object] | None = None) -> "BoundModel":
-        """Resolve ``values`` for ``model`` (:meth:`Oscillator.resolve`)."""
+    def of(cls, model: OscillatorFamily, values: Mapping[str, object] | None = None
+           ) -> "BoundModel":
+        """Resolve ``values`` for ``model`` (its ``resolve``: physical names converted,
+        defaults filled in)."""
         vals = model.resolve(values)
+        if isinstance(model.omega0, tuple):  # several frequencies: rationals > 0 by design
+            return cls(model, FrozenMap(vals))
         w0 = sp.sympify(model.omega0).subs({sp.Symbol(k): v for k, v in vals.items()})
         if w0.is_number and not (w0.is_real and w0.is_finite and w0 > 0):
             raise ParameterError(f"the linear frequency omega0 = {model.omega0} of "
@@ -90,9 +97,13 @@ class BoundModel:
         return {sp.Symbol(k): v for k, v in self.values.items()}
 
 
-def bind(model: "Oscillator | str | BoundModel", params: Mapping[str, object] | None = None,
-         ) -> BoundModel:
+def bind(model: "OscillatorFamily | str | BoundModel",
+         params: Mapping[str, object] | None = None) -> BoundModel:
     """A :class:`BoundModel` from a model (or built-in name) and parameter values.
+
+    Every member of the family binds here: a one-degree-of-freedom model, a forced one, a
+    coupled system (a built-in name of :mod:`kbm.coupled` gives its
+    :class:`~kbm.coupled.CoupledOscillators`).
 
     A stage velocity ``v`` among ``params`` (sliders ``sedf``, ``cdc``) selects the
     driven variant (:meth:`Oscillator.with_stage_velocity`).  A model that is
@@ -110,9 +121,17 @@ def bind(model: "Oscillator | str | BoundModel", params: Mapping[str, object] | 
         return model
     params = dict(params or {})
     if isinstance(model, str):
+        from .coupled.builtins import COUPLED_MODELS, get_coupled_model
+
+        from .forced.builtins import FORCED_MODELS, get_forced_model
+
+        if model in COUPLED_MODELS or model.startswith("sedf-chain-"):
+            return BoundModel.of(get_coupled_model(model), params)
+        if model in FORCED_MODELS:
+            return BoundModel.of(get_forced_model(model), params)
         v = params.pop("v", None)
         model = get_model(model, None if v is None else {"v": v})
-    elif "v" in params and "v" not in model.parameters:
+    elif isinstance(model, Oscillator) and "v" in params and "v" not in model.parameters:
         model = _drive_variant(model, params.pop("v"))
     return BoundModel.of(model, params)
 

@@ -53,6 +53,7 @@ from dataclasses import dataclass, field, replace
 import sympy as sp
 
 from .errors import ModelError, NonAutonomousError, ParameterError
+from .family import OscillatorFamily
 from .symbols import mu, parse, t, x, xdot
 from .values import FrozenMap, parameter_value
 
@@ -79,7 +80,7 @@ def _sorted_names(symbols) -> tuple[str, ...]:
 
 
 @dataclass(frozen=True)
-class Oscillator:
+class Oscillator(OscillatorFamily):
     """The oscillator ``x'' + omega0**2 x = mu F(x, xdot[, t]) + drive(t)``.
 
     Parameters
@@ -179,6 +180,16 @@ class Oscillator:
         """Names of the parameters of ``F``, ``omega0`` and the drive (sorted)."""
         syms = self.F.free_symbols | self.omega0.free_symbols | self.drive.free_symbols
         return _sorted_names(syms - _STATE)
+
+    @property
+    def dof(self) -> int:
+        """One degree of freedom (:class:`kbm.family.OscillatorFamily`)."""
+        return 1
+
+    @property
+    def forced(self) -> bool:
+        """``False``: no forcing angle (a stage drive is ``drive``, not a forcing)."""
+        return False
 
     @property
     def is_autonomous(self) -> bool:

@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from ..errors import ModelError, ParameterError
+from ..family import OscillatorFamily
 from ..symbols import mu, parse, t, x, xdot
 from ..values import FrozenMap, parameter_value
 from .resonance import InternalResonance
@@ -66,7 +67,7 @@ def _frequency(value: object, i: int) -> sp.Rational:
 
 
 @dataclass(frozen=True)
-class CoupledOscillators:
+class CoupledOscillators(OscillatorFamily):
     """The system ``x_i'' + omega_i**2 x_i = mu F_i(x1..xN, xdot1..xdotN)``.
 
     Parameters
@@ -223,6 +224,50 @@ class CoupledOscillators:
     def forced(self) -> bool:
         """Whether the system is driven through ``theta = nu t``."""
         return self.nu0 is not None
+
+    def resolve(self, values: Mapping[str, object] | None = None, *,
+                use_defaults: bool = True) -> dict[str, sp.Expr]:
+        """Exact values of the model's parameters (and ``mu``) from the given ones, physical
+        names converted (``delta = Delta/mu``) and the defaults filled in: the bound form of
+        every member of the family (:func:`kbm.bound.bind`).
+
+        Raises
+        ------
+        kbm.errors.ParameterError
+            For an unknown name, a value that is not a finite number, a scaled and a
+            physical value of the same parameter, or a physical one without ``mu``.
+        """
+        values = dict(values or {})
+        physical = dict(self.physical)
+        phys_names = sorted({s.name for e in physical.values() for s in e.free_symbols}
+                            - {"mu"})
+        names = set(self.parameters) | {"mu"}
+        unknown = sorted(set(values) - names - set(phys_names))
+        if unknown:
+            extra = f"; or the physical {', '.join(phys_names)}" if phys_names else ""
+            raise ParameterError(f"{', '.join(map(repr, unknown))} is not a parameter of "
+                                 f"{self.name!r} (its parameters: {', '.join(sorted(names))}"
+                                 f"{extra})")
+        given = {k: parameter_value(k, v) for k, v in values.items()}
+        for scaled, expr in physical.items():  # e.g. delta = Delta/mu from Delta and mu
+            needs = {s.name for s in expr.free_symbols}
+            if scaled in given:
+                if needs & (set(given) - {"mu"}):
+                    raise ParameterError(f"give either {scaled} or "
+                                         f"{', '.join(sorted(needs - {'mu'}))}, not both")
+                continue
+            if needs - {"mu"} and needs - {"mu"} <= set(given) | set(self.defaults):
+                vals = {sp.Symbol(n): given.get(n, self.defaults.get(n)) for n in needs}
+                if any(v is None for v in vals.values()):
+                    raise ParameterError(f"{scaled} = {expr} needs a value of mu "
+                                         "(-p mu=VALUE)")
+                given[scaled] = sp.sympify(expr).subs(vals)
+        out = {k: v for k, v in given.items() if k in names}
+        if use_defaults:
+            for name, v in self.defaults.items():
+                if name in names:
+                    out.setdefault(name, sp.sympify(v))
+        return out
 
     def substitute(self, params: Mapping[str, object]) -> "CoupledOscillators":
         """The model with parameter values put in (exact: ``"0.1"`` is ``1/10``).

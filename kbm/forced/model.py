@@ -29,6 +29,7 @@ from fractions import Fraction
 import sympy as sp
 
 from ..errors import ModelError, ParameterError
+from ..family import OscillatorFamily
 from ..models import Oscillator, get_model
 from ..symbols import mu, parse, t, x, xdot
 from ..values import FrozenMap, parameter_value
@@ -102,7 +103,7 @@ class Resonance:
 
 
 @dataclass(frozen=True)
-class ForcedOscillator:
+class ForcedOscillator(OscillatorFamily):
     """``x'' + omega0**2 x = mu F(x, x', theta)``, ``theta = nu t``, ``F`` 2 pi-periodic in theta.
 
     Parameters
@@ -183,6 +184,16 @@ class ForcedOscillator:
                                  f"for the exact forced averaging, got {w0}")
         elif not w0.is_Symbol:
             raise ModelError(f"omega0 must be a positive number or a single symbol, got {w0}")
+
+    @property
+    def dof(self) -> int:
+        """One degree of freedom (:class:`kbm.family.OscillatorFamily`)."""
+        return 1
+
+    @property
+    def forced(self) -> bool:
+        """``True``: ``F`` holds the forcing angle ``theta = nu t``."""
+        return True
 
     @property
     def is_polynomial(self) -> bool:

@@ -24,7 +24,6 @@ from kbm.coupled import CoupledOscillators, get_coupled_model
 from kbm.errors import ParameterError
 from kbm.symbols import mu as mu_symbol
 from kbm.symbols import t as t_symbol
-from kbm.values import parameter_value
 from numerics._memo import memo
 from numerics.flow.jit import jit_flow
 
@@ -50,40 +49,17 @@ def bind_coupled(model: CoupledOscillators | str, params: Mapping[str, object] |
     """
     if isinstance(model, str):
         model = get_coupled_model(model)
-    params = dict(params or {})
-    physical = dict(model.physical)
-    phys_names = sorted({s.name for e in physical.values() for s in e.free_symbols} - {"mu"})
+    given = model.resolve(params)  # the family's bound form (kbm.bound)
     names = set(model.parameters) | {"mu"}
-    unknown = sorted(set(params) - names - set(phys_names))
-    if unknown:
-        extra = f"; or the physical {', '.join(phys_names)}" if phys_names else ""
-        raise ParameterError(f"{', '.join(map(repr, unknown))} is not a parameter of "
-                             f"{model.name!r} (its parameters: {', '.join(sorted(names))}"
-                             f"{extra})")
-    given = {k: parameter_value(k, v) for k, v in params.items()}
-    for scaled, expr in physical.items():  # e.g. delta = Delta/mu from Delta and mu
-        needs = {s.name for s in expr.free_symbols}
-        if scaled in given:
-            if needs & (set(given) - {"mu"}):
-                raise ParameterError(f"give either {scaled} or "
-                                     f"{', '.join(sorted(needs - {'mu'}))}, not both")
-            continue
-        if needs - {"mu"} and needs - {"mu"} <= set(given) | set(model.defaults):
-            vals = {sp.Symbol(n): given.get(n, model.defaults.get(n)) for n in needs}
-            if any(v is None for v in vals.values()):
-                raise ParameterError(f"{scaled} = {expr} needs a value of mu (-p mu=VALUE)")
-            given[scaled] = sp.sympify(expr).subs(vals)
     values = {}
     for name in sorted(names):
-        if name in given:
-            v = sp.sympify(given[name])
-        elif name in model.defaults:
-            v = sp.sympify(model.defaults[name])
-        else:
+        if name not in given:
             raise ParameterError(f"give a value to {name} (-p {name}=VALUE); the parameters "
                                  f"of {model.name!r} are {', '.join(sorted(names))}")
+        v = sp.sympify(given[name])
         if not (v.is_real and v.is_finite):
-            raise ParameterError(f"{name} must be a finite real number, got {params.get(name)}")
+            raise ParameterError(f"{name} must be a finite real number, got "
+                                 f"{dict(params or {}).get(name)}")
         values[name] = float(v)
     return model, values
 

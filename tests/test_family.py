@@ -1,0 +1,75 @@
+"""One family of models (issue 23): every model type is a member of
+kbm.family.OscillatorFamily with the number of degrees of freedom and the forcing as
+properties, and every member binds its values through kbm.bound.bind.
+
+References: the definitions themselves (N = len(F), forced = a forcing angle), the
+conversion of a one-degree-of-freedom member to the general form (x -> x1), and the
+coupled numerics' own reading of the values (numerics.coupled.flow.bind_coupled), whose
+floats the bound form must give.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from kbm.bound import bind
+from kbm.coupled import COUPLED_MODELS, CoupledOscillators, get_coupled_model
+from kbm.errors import ParameterError
+from kbm.family import OscillatorFamily
+from kbm.forced import FORCED_MODELS, get_forced_model
+from kbm.models import MODELS, get_model
+from numerics.coupled.flow import bind_coupled
+
+
+@pytest.mark.parametrize("name", sorted(MODELS))
+def test_one_degree_of_freedom_members(name):
+    m = get_model(name)
+    assert isinstance(m, OscillatorFamily) and (m.dof, m.forced) == (1, False)
+
+
+@pytest.mark.parametrize("name", sorted(FORCED_MODELS))
+def test_forced_members(name):
+    m = get_forced_model(name)
+    assert isinstance(m, OscillatorFamily) and (m.dof, m.forced) == (1, True)
+    if m.hard == 0:
+        c = CoupledOscillators.from_oscillator(m)
+        assert (c.dof, c.forced) == (1, True)
+
+
+@pytest.mark.parametrize("name", sorted(COUPLED_MODELS))
+def test_coupled_members(name):
+    m = get_coupled_model(name)
+    assert isinstance(m, OscillatorFamily)
+    assert m.dof == len(m.F) and m.forced == (m.nu0 is not None)
+
+
+VALUES = {"coupled-vdp": {"mu": 0.1, "c": 0.3, "sigma": 0.5},
+          "duffing-1-3": {"mu": 0.02, "sigma": 1, "h": 2},
+          "quadratic-1-2": {"mu": 0.02, "zeta1": 0.5, "zeta2": 0.5, "alpha1": 1, "alpha2": 1,
+                            "sigma1": 0, "sigma2": 1, "h": 2},
+          "sedf-dimer": {"mu": 0.1, "Delta": 1.5},
+          "sedf-chain": {"mu": 0.1, "Delta": 3, "kappa": 0.5}}
+
+
+@pytest.mark.parametrize("name", sorted(VALUES))
+def test_the_bound_form_of_a_coupled_member(name):
+    b = bind(name, VALUES[name])
+    assert b.model == get_coupled_model(name)
+    _, floats = bind_coupled(name, VALUES[name])
+    assert {k: float(v) for k, v in b.values.items()} == floats
+    assert b.missing() == []
+
+
+def test_the_bound_form_of_the_n1_case_equals_the_oscillators():
+    for name, vals in (("vdp", {"mu": "0.1"}), ("duffing", {"mu": 0.2}),
+                       ("rayleigh", {"mu": 0.3})):
+        one = bind(name, vals)
+        gen = bind(CoupledOscillators.from_oscillator(get_model(name)), vals)
+        assert dict(one.values) == dict(gen.values)
+
+
+def test_bad_values_of_a_coupled_member():
+    with pytest.raises(ParameterError, match="not a parameter"):
+        bind("coupled-vdp", {"mu": 0.1, "q": 1})
+    with pytest.raises(ParameterError, match="either delta or Delta"):
+        bind("sedf-dimer", {"mu": 0.1, "Delta": 1.5, "delta": 15})

@@ -43,6 +43,10 @@ def register(sub) -> None:
                         "interval the expansion is computed on")
     p.add_argument("--points", type=int, default=9,
                    help="rows of the tables: equispaced amplitudes of --a-range (default 9)")
+    p.add_argument("--at", metavar="a1=V,a2=V,gamma1=V",
+                   help="coupled systems with --numeric: the amplitudes and slow phases where "
+                        "the first-order rates are evaluated (any smooth F; -p gives every "
+                        "parameter's value)")
     p.add_argument("--tol", type=float, default=None,
                    help="tolerance of the evaluated routes (relative; default 1e-10 with "
                         "--numeric, 1e-14 for the Bessel harmonics)")
@@ -180,11 +184,81 @@ def _run_coupled(args: argparse.Namespace) -> int:
     from ..coupled import derive_coupled
     from ..errors import ParameterError
 
-    if args.numeric or args.a_range is not None:
-        raise ParameterError("--numeric and --a-range are for one degree of freedom; the "
+    if args.numeric:
+        return _run_coupled_numeric(args)
+    if args.a_range is not None or args.at is not None:
+        raise ParameterError("--a-range is for one degree of freedom, --at for --numeric; the "
                              "coupled expansion is exact for polynomial right-hand sides")
     return _emit(derive_coupled(coupled_from_args(args), args.order, internal=args.internal),
                  args)
+
+
+def _run_coupled_numeric(args: argparse.Namespace) -> int:
+    """The first-order rates of a coupled system with any smooth F at one point."""
+    import math
+
+    from ..coupled.numeric import numeric_average
+    from ..errors import ParameterError
+
+    if args.order != 1:
+        raise ParameterError(f"the numeric backend of coupled systems is first order: "
+                             f"--order 1, not {args.order}")
+    if args.latex or args.a_range is not None:
+        raise ParameterError("--latex and --a-range are not for the coupled numeric backend "
+                             "(its rates are numbers at the point --at)")
+    if not args.at:
+        raise ParameterError("give the point: --at a1=1,a2=1,gamma1=0 (the amplitudes and "
+                             "the slow phases of the declared resonances)")
+    point = {}
+    for item in args.at.split(","):
+        name, sep, val = item.partition("=")
+        try:
+            point[name.strip()] = float(val)
+        except ValueError:
+            raise ParameterError(f"--at takes NAME=VALUE,..., got {item!r}") from None
+        if not sep or not math.isfinite(point[name.strip()]):
+            raise ParameterError(f"--at takes NAME=VALUE with a finite value, got {item!r}")
+    na = numeric_average(coupled_model(args), parse_params(args.param),
+                         internal=args.internal)
+    n = na.model.dof
+    names_a = [f"a{i}" for i in range(1, n + 1)]
+    names_g = [f"gamma{r}" for r in range(1, len(na.gammas) + 1)]
+    extra = sorted(set(point) - set(names_a) - set(names_g))
+    missing = [k for k in names_a + names_g if k not in point]
+    if extra or missing:
+        raise ParameterError(f"--at needs exactly {', '.join(names_a + names_g)}"
+                             + (f"; missing {', '.join(missing)}" if missing else "")
+                             + (f"; unknown {', '.join(extra)}" if extra else ""))
+    A, B, tail = na.rates([point[k] for k in names_a], [point[k] for k in names_g])
+    gam = [_combination(g, n) for g in na.gammas]
+    if args.json:
+        emit_json({"model": na.model.name, "order": 1, "numeric": True, "point": point,
+                   "A": [[None, float(A[i])] for i in range(n)],
+                   "B": [[None, float(B[i])] for i in range(n)],
+                   "gammas": [[f"gamma{r + 1}", g] for r, g in enumerate(gam)],
+                   "nodes": na.nodes, "tail": tail})
+        return 0
+    print(f"first-order rates of {na.model.name} at "
+          + ", ".join(f"{k} = {v:g}" for k, v in point.items())
+          + f" (grid {na.nodes}^{len(na.gammas[0]) if na.gammas else n} on the torus; "
+          f"outer coefficients {tail:.1e})")
+    for r, g in enumerate(gam, 1):
+        print(f"  gamma{r} = {g}")
+    for i in range(n):
+        print(f"  A_{i + 1},1 = {A[i]:.15g}    B_{i + 1},1 = {B[i]:.15g}")
+    return 0
+
+
+def _combination(g: tuple[int, ...], n: int) -> str:
+    """``(-3, 1)`` -> ``"psi2 - 3*psi1"`` (the forcing angle of a forced system is
+    ``theta``), positive terms first."""
+    terms = sorted(((v, f"psi{i + 1}" if i < n else "theta") for i, v in enumerate(g) if v),
+                   key=lambda t: -t[0])
+    out = ""
+    for v, name in terms:
+        mag = "" if abs(v) == 1 else f"{abs(v)}*"
+        out += (" - " if v < 0 else " + ") + mag + name if out else ("-" if v < 0 else "") + mag + name
+    return out
 
 
 def _emit(res, args: argparse.Namespace) -> int:

@@ -4,16 +4,20 @@
 - :mod:`kbm.coupled.resonance`: declared internal resonances and the slow lattice;
 - :mod:`kbm.coupled.engine`: :func:`derive_coupled`, the exact multi-angle recursion;
 - :mod:`kbm.coupled.result`: :class:`CoupledKBMResult` (JSON, LaTeX, numpy slow flow);
-- :mod:`kbm.coupled.builtins`: ``coupled-vdp``, ``duffing-1-3``, ``quadratic-1-2``.
+- :mod:`kbm.coupled.builtins`: ``coupled-vdp``, ``duffing-1-3``, ``quadratic-1-2``, the
+  SEDF dimer and chains;
+- :mod:`kbm.coupled.numeric`: :func:`numeric_average`, the first order for any smooth ``F``.
 """
 
 from .builtins import COUPLED_MODELS, coupled_model_names, get_coupled_model
 from .engine import MAX_DOF_SYMBOLIC, MAX_ORDER, derive_coupled
 from .model import CoupledOscillators, amplitudes, coupled_custom, phases, positions, velocities
+from .numeric import NumericAverage, numeric_average
 from .resonance import InternalResonance, UndeclaredResonanceError
 from .result import CoupledKBMResult
 
 __all__ = ["CoupledOscillators", "CoupledKBMResult", "InternalResonance",
            "UndeclaredResonanceError", "derive_coupled", "get_coupled_model",
            "coupled_model_names", "COUPLED_MODELS", "coupled_custom", "MAX_ORDER",
-           "MAX_DOF_SYMBOLIC", "positions", "velocities", "amplitudes", "phases"]
+           "MAX_DOF_SYMBOLIC", "positions", "velocities", "amplitudes", "phases",
+           "numeric_average", "NumericAverage"]

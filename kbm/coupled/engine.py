@@ -237,8 +237,9 @@ class MultiBuilder:
             return self.power(expr.base, int(expr.exp))
         raise UnsupportedTermError(
             f"the term {expr} is not supported by the exact coupled averaging: the right-hand "
-            "sides must be polynomials in the state variables (other smooth F: integrate the "
-            "system with kbm cycle, or average one degree of freedom with kbm derive --numeric)")
+            "sides must be polynomials in the state variables (other smooth F: the first order "
+            "numerically, kbm derive --numeric --at a1=..,a2=..,gamma1=.. with -p values, "
+            "kbm.coupled.numeric_average; the true orbits with kbm cycle)")
 
 
 def _recursion(alg: CoupledAlgebra, F: list[list[sp.Expr]], order: int):

@@ -1,0 +1,227 @@
+"""First-order averaging of coupled systems with any smooth ``F`` (the numeric backend).
+
+For ``x_i'' + omega_i^2 x_i = mu F_i(x, x', theta)`` with ``x_i = a_i cos psi_i``,
+``x_i' = -a_i omega_i sin psi_i``, the first-order rates of the KBM expansion are the
+averages over the fast angles
+
+``A_{i,1} = -<F_i sin psi_i>/omega_i``,  ``B_{i,1} = -<F_i cos psi_i>/(omega_i a_i)``,
+
+where the declared resonances keep their combinations ``gamma_r = g_r . psi`` fixed
+(Bogoliubov & Mitropolsky 1961, ch. 5).  Here ``F_i`` is sampled on an ``M^D`` grid of the
+torus (``D = N``, and one more angle ``theta`` for a forced system), its multi-angle Fourier
+coefficients ``c_k`` come from one FFT, and the averages keep the wavevectors ``q`` of the
+slow lattice (the integer combinations of the ``g_r``):
+
+``<F_i e^{-/+ i psi_i}> = sum_{q in L} c_{q +/- e_i} e^{i q . psi}``,  ``q . psi = sum_r n_r gamma_r``.
+
+For a polynomial ``F`` of degree ``d`` the grid is exact once ``M > 2 (d + 1)``; for a smooth
+``F`` the error falls faster than any power of ``1/M`` (the result states the size of the
+last harmonics kept, and ``tests/test_coupled_numeric.py`` compares with the exact engine and
+with a Bessel closed form).  It is the same expansion as :func:`kbm.coupled.derive_coupled`
+at order 1, for ``F`` that the exact engine does not take (``sin(x1 - x2)``, ``tanh``, ...).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from ..errors import ModelError, ParameterError
+from .builtins import get_coupled_model
+from .model import CoupledOscillators, positions, velocities
+from .resonance import SlowLattice
+
+__all__ = ["NumericAverage", "numeric_average", "DEFAULT_NODES", "MAX_NODES_TOTAL"]
+
+#: grid points per angle (polynomial F of degree below 15 is exact)
+DEFAULT_NODES = 32
+#: bound on the grid's size M^D (memory and time of one evaluation)
+MAX_NODES_TOTAL = 2**21
+
+
+@dataclass(frozen=True)
+class NumericAverage:
+    """The first-order rates of a coupled system at numeric parameter values.
+
+    Call :meth:`rates` with the amplitudes and the slow phases.  ``gammas`` are the slow
+    phase combinations, in the order of the model's declared resonances (as
+    :attr:`kbm.coupled.CoupledKBMResult.gammas`).
+    """
+
+    model: CoupledOscillators
+    values: Mapping[str, float]
+    nodes: int
+    gammas: tuple[tuple[int, ...], ...]
+
+    def rates(self, amplitudes: Sequence[float], gammas: Sequence[float] = ()
+              ) -> tuple[np.ndarray, np.ndarray, float]:
+        """``(A_1, B_1, tail)``: the amplitude and phase rates of every degree of freedom
+        (to be multiplied by ``mu``) and the largest Fourier coefficient on the grid's
+        outer shell (a measure of the truncation; ~1e-16 when the grid resolves ``F``).
+
+        Raises
+        ------
+        kbm.errors.ParameterError
+            For a count of amplitudes or phases that does not match, or an amplitude that
+            is not positive and finite.
+        """
+        m = self.model
+        n = m.dof
+        a = np.asarray(amplitudes, dtype=float)
+        g = np.asarray(gammas, dtype=float)
+        if a.shape != (n,) or not np.all(np.isfinite(a)) or np.any(a <= 0):
+            raise ParameterError(f"give {n} positive amplitudes a1..a{n}, got {list(a)}")
+        if g.shape != (len(self.gammas),) or not np.all(np.isfinite(g)):
+            raise ParameterError(f"give {len(self.gammas)} slow phases (one per declared "
+                                 f"resonance), got {list(g)}")
+        D = n + (1 if m.forced else 0)
+        M = self.nodes
+        ang = 2 * np.pi * np.arange(M) / M
+        grids = np.meshgrid(*([ang] * D), indexing="ij")
+        w = [float(v) for v in m.omega0]
+        xs = [a[i] * np.cos(grids[i]) for i in range(n)]
+        vs = [-a[i] * w[i] * np.sin(grids[i]) for i in range(n)]
+        theta = grids[n] if m.forced else np.zeros_like(grids[0])
+        A = np.empty(n)
+        B = np.empty(n)
+        tail = 0.0
+        shifts = _lattice(self.gammas, D, M)
+        for i in range(n):
+            F = np.broadcast_to(np.asarray(_function(m, i, self.values)(*xs, *vs, theta),
+                                           dtype=float), grids[0].shape)
+            if not np.all(np.isfinite(F)):
+                raise ParameterError(f"F{i + 1} is not finite at the amplitudes {list(a)}")
+            c = np.fft.fftn(F) / F.size
+            tail = max(tail, _outer(c))
+            e = np.zeros(D, dtype=int)
+            e[i] = 1
+            minus = plus = 0j
+            for q, coef in shifts:
+                phase = np.exp(1j * float(np.dot(coef, g))) if len(g) else 1.0
+                minus += c[tuple((q + e) % M)] * phase   # <F e^{-i psi_i}> terms
+                plus += c[tuple((q - e) % M)] * phase    # <F e^{+i psi_i}> terms
+            s_avg = ((plus - minus) / 2j).real       # <F sin psi_i>
+            c_avg = ((minus + plus) / 2).real        # <F cos psi_i>
+            A[i] = -s_avg / w[i]
+            B[i] = -c_avg / (w[i] * a[i])
+        for r in m.internal:  # omega_j = (q/p) omega_i + mu sigma: sigma joins B_j
+            if r.detuning and not r.forcing:
+                B[r.j - 1] += self.values[r.detuning]
+        return A, B, tail
+
+
+    def slow_flow(self, mu: float, amplitudes: Sequence[float], gammas: Sequence[float] = ()
+                  ) -> np.ndarray:
+        """``(a_1', .., a_N', gamma_1', ..)`` at first order: ``mu A_i``, and for each slow
+        phase ``gamma_r = g_r . psi`` its rate ``mu (sum_i g_{r,i} B_i + g_{r,theta} sigma)``
+        (the resonance is exact at ``mu = 0``; ``sigma`` is the forcing's detuning)."""
+        A, B, _ = self.rates(amplitudes, gammas)
+        n = self.model.dof
+        sig = 0.0
+        if self.model.forced and self.model.nu_detuning:
+            sig = self.values.get(self.model.nu_detuning, 0.0)
+        out = [mu * v for v in A]
+        for g in self.gammas:
+            rate = sum(g[i] * B[i] for i in range(n))
+            if self.model.forced:
+                rate += g[n] * sig
+            out.append(mu * rate)
+        return np.array(out)
+
+
+def _outer(c: np.ndarray) -> float:
+    """The largest coefficient with a wavenumber of ``M/2 - 1`` or more in some angle."""
+    M = c.shape[0]
+    k = np.abs(np.fft.fftfreq(M, 1.0 / M))
+    mask = np.zeros(c.shape, dtype=bool)
+    for ax in range(c.ndim):
+        shape = [1] * c.ndim
+        shape[ax] = M
+        mask |= np.broadcast_to((k >= M // 2 - 1).reshape(shape), c.shape)
+    return float(np.max(np.abs(c[mask]))) if mask.any() else 0.0
+
+
+def _lattice(gens: tuple[tuple[int, ...], ...], D: int, M: int):
+    """The wavevectors ``q = sum n_r g_r`` that fit on the grid, with their ``n``."""
+    out = []
+    lim = M // 2 - 2
+    if not gens:
+        return [(np.zeros(D, dtype=int), np.zeros(0))]
+    span = max(1, lim // max(1, min(max(abs(v) for v in g) for g in gens)))
+    for n in itertools.product(range(-span, span + 1), repeat=len(gens)):
+        q = np.zeros(D, dtype=int)
+        for nr, g in zip(n, gens):
+            q += nr * np.asarray(g, dtype=int)
+        if np.max(np.abs(q)) <= lim:
+            out.append((q, np.asarray(n, dtype=float)))
+    return out
+
+
+def _function(model: CoupledOscillators, i: int, values: Mapping[str, float]):
+    n = model.dof
+    sub = {sp.Symbol(k): v for k, v in values.items()}
+    expr = model.F[i].subs(sub)
+    if model.forced:
+        nu = sp.nsimplify(model.nu0) + sp.Symbol("mu") * sp.Symbol(model.nu_detuning or "sigma")
+        expr = expr.subs(sp.Symbol("nu"), nu.subs(sub))
+    args = [*positions(n), *velocities(n), sp.Symbol("theta")]
+    free = expr.free_symbols - set(args)
+    if free:
+        raise ParameterError(f"give values for {', '.join(sorted(s.name for s in free))} "
+                             f"(F{i + 1} = {model.F[i]})")
+    return sp.lambdify(args, expr, modules=["numpy", "scipy"])
+
+
+def numeric_average(model: CoupledOscillators | str, values: Mapping[str, object] | None = None,
+                    *, internal: Sequence[object] = (), nodes: int = DEFAULT_NODES
+                    ) -> NumericAverage:
+    """The first-order averaging of ``model`` at numeric parameter values (any smooth ``F``).
+
+    Parameters
+    ----------
+    model
+        A :class:`~kbm.coupled.CoupledOscillators` or a built-in name.
+    values
+        A value for every parameter that ``F`` holds without a default (``mu`` is not
+        needed; physical names such as ``Delta`` are converted as :func:`kbm.bound.bind`
+        does, then ``mu`` is).
+    internal
+        Further declared resonances (``"1:3"``, ...), as :func:`derive_coupled`'s.
+    nodes
+        Grid points per angle (even, at least 8).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For a grid too small or too large, or a parameter without a value.
+    kbm.errors.ModelError
+        For a model that depends on ``t`` (a pulled stage).
+    """
+    if isinstance(model, str):
+        model = get_coupled_model(model)
+    if internal:
+        model = model.with_internal(internal)
+    # the family's bound form: physical names converted, defaults filled in
+    vals = {k: float(v) for k, v in model.resolve(values).items()}
+    if any(not math.isfinite(v) for v in vals.values()):
+        raise ParameterError("parameter values must be finite")
+    if not model.is_autonomous(vals):
+        raise ModelError(f"{model.name!r} depends on t (a stage that pulls): the averaging "
+                         "treats autonomous or periodically forced systems")
+    if not isinstance(nodes, int) or nodes < 8 or nodes % 2:
+        raise ParameterError(f"nodes must be an even integer >= 8, got {nodes!r}")
+    D = model.dof + (1 if model.forced else 0)
+    if nodes ** D > MAX_NODES_TOTAL:
+        raise ParameterError(f"{nodes}^{D} grid points exceed the limit {MAX_NODES_TOTAL}: "
+                             f"take nodes <= {int(MAX_NODES_TOTAL ** (1 / D)) // 2 * 2}")
+    missing = sorted({r.detuning for r in model.internal
+                      if r.detuning and not r.forcing} - set(vals))
+    if missing:
+        raise ParameterError(f"give values for the detunings {', '.join(missing)}")
+    gens = tuple(SlowLattice(D, model.internal).generators)
+    return NumericAverage(model, vals, nodes, gens)

@@ -143,3 +143,29 @@ def test_kbm_branch_and_response_take_coupled_systems(capsys):
 def test_coupled_branch_bad_input(capsys, argv, words):
     code, out, err = run_cli(capsys, *argv)
     assert code != 0 and words in err and len(err.strip().splitlines()) == 1, err
+
+
+def test_kbm_response_takes_rhs_lists(capsys):
+    """Two identical forced Duffing oscillators with a spring between them, forced alike: the
+    in-phase responses (x1 = x2, the spring idle) are the single forced Duffing's, which the
+    one-degree-of-freedom shooting (numerics.forced, separate code) gives at each sigma."""
+    from numerics.forced import ForcedSystem
+    from numerics.forced.shooting import periodic_response
+
+    argv = ["response", "--rhs", "-2*zeta*xdot1 - x1**3 + h*cos(theta) - k*(x1 - x2)",
+            "--rhs", "-2*zeta*xdot2 - x2**3 + h*cos(theta) - k*(x2 - x1)", "--omega0", "1,1",
+            "--nu0", "1", "-p", "mu=0.1", "-p", "zeta=0.1", "-p", "h=1", "-p", "k=0.5",
+            "-p", "sigma=-1", "--vary", "sigma=-1:0.5:30", "--json"]
+    code, out, err = run_cli(capsys, *argv)
+    assert code == 0, err
+    d = json.loads(out)
+    assert d["forced"] and d["dof"] == 2
+    system = ForcedSystem("duffing-forced", {"mu": 0.1, "zeta": 0.1, "alpha": 1, "h": 1})
+    for p in d["points"][::6]:
+        x1, x2, v1, v2 = p["state"]
+        assert abs(x1 - x2) < 1e-8 and abs(v1 - v2) < 1e-8  # in phase
+        one = periodic_response(system, p["parameter"], np.array([x1, v1]))
+        assert one.amplitude_max == pytest.approx(p["amplitudes"][0], rel=1e-6)
+    i = argv.index("--nu0")
+    code, out, err = run_cli(capsys, *(argv[:i] + argv[i + 2:]))
+    assert code == 2 and "--nu0" in err and len(err.strip().splitlines()) == 1

@@ -380,10 +380,13 @@ CoupledOscillators._from_forced = classmethod(_forced_case)
 
 
 def coupled_custom(rhs: Sequence[str], omega0: Sequence[object] | str | None = None, *,
-                   name: str = "custom") -> CoupledOscillators:
+                   name: str = "custom", nu0: object = None,
+                   detuning: str = "sigma") -> CoupledOscillators:
     """A user's system from one right-hand side per degree of freedom.
 
-    ``omega0`` is a list or a comma-separated string (``"1,3"``); default all 1.
+    ``omega0`` is a list or a comma-separated string (``"1,3"``); default all 1.  With
+    ``nu0`` the right-hand sides may hold the forcing angle ``theta = nu t``,
+    ``nu = nu0 + mu detuning``.
 
     Raises
     ------
@@ -402,7 +405,8 @@ def coupled_custom(rhs: Sequence[str], omega0: Sequence[object] | str | None = N
         raise ModelError(f"{n} right-hand sides (--rhs) but {len(w)} frequencies (--omega0 "
                          f"{omega0}): give one frequency per degree of freedom")
     model = CoupledOscillators(name, tuple(rhs), tuple(w),
-                               description=f"user system of {n} degrees of freedom")
+                               description=f"user system of {n} degrees of freedom",
+                               nu0=nu0, nu_detuning=detuning if nu0 is not None else None)
     state = set(model.state)
     for i, f in enumerate(model.F, 1):
         if f != 0 and not (f.free_symbols & state):

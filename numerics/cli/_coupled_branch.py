@@ -26,13 +26,14 @@ def _start(text: str | None, dof: int):
 
 
 def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float,
-                       what: str) -> int:
-    """Continue the periodic orbits of the command line's coupled system in ``name``."""
+                       what: str, model=None) -> int:
+    """Continue the periodic orbits of the command line's coupled system (or ``model``) in
+    ``name``."""
     from kbm.cli.derive import coupled_model
     from kbm.errors import ParameterError
     from numerics.coupled.continuation import continue_coupled
 
-    model = coupled_model(args)
+    model = coupled_model(args) if model is None else model
     if what == "response" and not model.forced:
         raise ParameterError(f"{model.name!r} has no forcing (theta); its branches of cycles "
                              "are kbm branch")

@@ -22,9 +22,17 @@ def register(sub) -> None:
                         "duffing-sub-hard, mathieu, vdp-forced, parametric, mathieu-2, "
                         "mathieu-3, slider, slider-cdc) or an autonomous one (duffing, vdp, "
                         "...) with --forcing or --hard")
-    p.add_argument("--rhs", metavar="EXPR",
-                   help="your own F in x, xdot, theta and parameters (instead of a model)")
-    p.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")
+    p.add_argument("--rhs", metavar="EXPR", action="append",
+                   help="your own F in x, xdot, theta and parameters (instead of a model); "
+                        "repeat it for N coupled degrees of freedom (F_i in x1..xN, "
+                        "xdot1..xdotN, theta; with --omega0 W1,..,WN and --nu0)")
+    p.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1); "
+                                                  "comma-separated for several --rhs")
+    p.add_argument("--nu0", default=None, metavar="NU0",
+                   help="several --rhs: the forcing frequency nu = NU0 + mu sigma of theta")
+    p.add_argument("--internal", action="append", default=[], metavar="P:Q[@I,J]",
+                   help="several --rhs: declared resonances (P:Q@I,F with the forcing), "
+                        "kept with the model")
     p.add_argument("--forcing", metavar="EXPR",
                    help="added to F: a 2 pi-periodic function of theta = nu t, smooth in x "
                         "and xdot, e.g. 'h*cos(theta)', '-h*x*cos(theta)' or "
@@ -147,19 +155,35 @@ def _run_coupled(args: argparse.Namespace) -> int:
     from kbm.errors import ParameterError
     from numerics.cli._coupled_branch import run_coupled_branch
 
-    extra = [f for f, v in (("--rhs", args.rhs), ("--forcing", args.forcing),
+    extra = [f for f, v in (("--forcing", args.forcing),
                             ("--hard", args.hard), ("--resonance", args.resonance),
                             ("--detuning", args.detuning), ("--nu", args.nu),
                             ("--convergence", args.convergence), ("--out", args.out),
                             ("--order", args.order), ("--a-range", args.a_range))
              if v is not None]
     if extra:
-        raise ParameterError(f"{', '.join(extra)}: not for the coupled system {args.model!r}; "
+        raise ParameterError(f"{', '.join(extra)}: not for the coupled system "
+                             f"{args.model or 'of the --rhs list'!r}; "
                              "its response is the true branch in a detuning (--vary "
                              "NAME=FROM:TO[:N]); its slow flow is kbm derive")
     if args.vary is None:
-        raise ParameterError(f"give the detuning range of {args.model!r}: --vary NAME=FROM:TO")
-    model = coupled_model(args)
+        raise ParameterError("give the range of the detuning (or another parameter): --vary "
+                             "NAME=FROM:TO")
+    if args.rhs:
+        from kbm.coupled import coupled_custom
+
+        if args.model:
+            raise ParameterError("give either a model name or --rhs, not both")
+        if args.nu0 is None:
+            raise ParameterError("--nu0 is needed with several --rhs: the forcing frequency "
+                                 "nu = NU0 + mu sigma of theta")
+        model = coupled_custom(args.rhs, args.omega0, nu0=args.nu0)
+    else:
+        if args.nu0 is not None:
+            raise ParameterError(f"--nu0 is for --rhs lists; {args.model!r} has its own")
+        model = coupled_model(args)
+    if args.internal:
+        model = model.with_internal(args.internal)
     name, sep, rng = args.vary.partition("=")
     parts = rng.split(":")
     try:
@@ -171,8 +195,7 @@ def _run_coupled(args: argparse.Namespace) -> int:
         raise ParameterError(f"--vary takes NAME=FROM:TO[:N] (e.g. "
                              f"{model.nu_detuning or 'sigma'}=-1:3), got {args.vary!r}") from None
     args.max_points = n
-    args.rhs = None
-    return run_coupled_branch(args, name.strip(), lo, hi, "response")
+    return run_coupled_branch(args, name.strip(), lo, hi, "response", model=model)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -183,6 +206,12 @@ def run(args: argparse.Namespace) -> int:
     from kbm.errors import ParameterError
     from numerics.forced.diagram import response_diagram
 
+    if args.rhs is not None and len(args.rhs) > 1:
+        return _run_coupled(args)
+    if args.nu0 is not None or args.internal:
+        raise ParameterError("--nu0 and --internal are for coupled systems (several --rhs)")
+    if args.rhs is not None:
+        args.rhs = args.rhs[0]
     if args.model in COUPLED_MODELS:
         return _run_coupled(args)
     if args.start is not None:

@@ -26,35 +26,13 @@ from scipy.optimize import brentq
 from numerics import limit_cycle
 from numerics.coupled.continuation import continue_coupled
 from numerics.cli import main
+from _references import duffing_lambda_min
 
 
 def run_cli(capsys, *argv):
     code = main(list(argv))
     out, err = capsys.readouterr()
     return code, out, err
-
-
-def _scipy_lambda_min(sigma, y0):
-    nu = 1 + sigma
-    T = 2 * math.pi / nu
-
-    def f(t, Y):
-        x, v = Y[0], Y[1]
-        P = Y[2:].reshape(2, 2)
-        J = np.array([[0.0, 1.0], [-1 - 3 * x * x, -0.1]])
-        return np.concatenate([[v, -x - x**3 - 0.1 * v + 20 * math.cos(nu * t)],
-                               (J @ P).ravel()])
-
-    y = np.array(y0, float)
-    for _ in range(30):
-        s = solve_ivp(f, (0, T), np.concatenate([y, np.eye(2).ravel()]), method="DOP853",
-                      rtol=1e-12, atol=1e-12)
-        yT, P = s.y[:2, -1], s.y[2:, -1].reshape(2, 2)
-        dy = np.linalg.solve(P - np.eye(2), -(yT - y))
-        y = y + dy
-        if np.max(np.abs(dy)) < 1e-12:
-            break
-    return float(np.min(np.linalg.eigvals(P).real))
 
 
 def test_in_phase_branch_is_the_single_van_der_pol_cycle():
@@ -102,7 +80,7 @@ def test_forced_duffing_period_doublings_against_scipy_shooting(duffing_isola):
     assert len(pds) == 4
     for s in pds:
         assert min(z.real for z in s.floquet_multipliers) == pytest.approx(-1, abs=1e-6)
-        ref = brentq(lambda q: _scipy_lambda_min(q, s.state) + 1, s.parameter - 0.01,
+        ref = brentq(lambda q: duffing_lambda_min(q, s.state) + 1, s.parameter - 0.01,
                      s.parameter + 0.01, xtol=1e-12)
         assert s.parameter == pytest.approx(ref, abs=1e-7)
     assert sorted({round(s.parameter, 6) for s in pds}) == [0.168726, 0.499328]

@@ -24,31 +24,9 @@ from numerics.forced import ForcedSystem
 from numerics.forced.response import continue_response
 from numerics.forced.shooting import periodic_response
 from numerics.forced.special import detect_special
+from _references import duffing_lambda_min
 
 VALS = {"mu": 1, "zeta": 0.05, "alpha": 1, "h": 20}
-
-
-def _scipy_lambda_min(sigma, y0):
-    nu = 1 + sigma
-    T = 2 * math.pi / nu
-
-    def f(t, Y):
-        x, v = Y[0], Y[1]
-        P = Y[2:].reshape(2, 2)
-        J = np.array([[0.0, 1.0], [-1 - 3 * x * x, -0.1]])
-        return np.concatenate([[v, -x - x**3 - 0.1 * v + 20 * math.cos(nu * t)],
-                               (J @ P).ravel()])
-
-    y = np.array(y0, float)
-    for _ in range(30):
-        s = solve_ivp(f, (0, T), np.concatenate([y, np.eye(2).ravel()]), method="DOP853",
-                      rtol=1e-12, atol=1e-12)
-        yT, P = s.y[:2, -1], s.y[2:, -1].reshape(2, 2)
-        dy = np.linalg.solve(P - np.eye(2), -(yT - y))
-        y = y + dy
-        if np.max(np.abs(dy)) < 1e-12:
-            break
-    return float(np.min(np.linalg.eigvals(P).real))
 
 
 def test_period_doublings_on_a_forced_duffing_branch():
@@ -63,7 +41,7 @@ def test_period_doublings_on_a_forced_duffing_branch():
     assert kinds == ["period-doubling", "period-doubling"], kinds
     for sp in special:
         assert min(m.real for m in sp.orbit.multipliers) == pytest.approx(-1, abs=1e-6)
-        ref = brentq(lambda s: _scipy_lambda_min(s, sp.orbit.y0) + 1,
+        ref = brentq(lambda s: duffing_lambda_min(s, sp.orbit.y0) + 1,
                      sp.orbit.sigma - 0.01, sp.orbit.sigma + 0.01, xtol=1e-12)
         assert sp.orbit.sigma == pytest.approx(ref, abs=1e-7)
         assert sp.bracket[1] - sp.bracket[0] < 1e-9

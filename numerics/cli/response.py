@@ -85,22 +85,27 @@ def register(sub) -> None:
 
 def _vary(text: str) -> tuple[float, float, int | None]:
     """``sigma=FROM:TO[:N]`` -> ``(FROM, TO, N)``, ``N`` None when not given."""
+    return _vary_named(text, "sigma")[1:]
+
+
+def _vary_named(text: str, allowed: str | None = None) -> tuple[str, float, float, int | None]:
+    """``NAME=FROM:TO[:N]`` -> ``(NAME, FROM, TO, N)``; ``allowed``: the only name taken."""
     from kbm.errors import ParameterError
 
     name, sep, rng = text.partition("=")
     parts = rng.split(":")
-    if name.strip() != "sigma" and sep:
-        raise ParameterError(f"kbm response varies the detuning: --vary sigma=FROM:TO[:N], "
+    if allowed is not None and name.strip() != allowed and sep:
+        raise ParameterError(f"kbm response varies the detuning: --vary {allowed}=FROM:TO[:N], "
                              f"not {name.strip()!r}")
     try:
-        if not sep or len(parts) not in (2, 3):
+        if not sep or not name.strip() or len(parts) not in (2, 3):
             raise ValueError
         lo, hi = float(parts[0]), float(parts[1])
         n = int(parts[2]) if len(parts) == 3 else None
     except ValueError:
-        raise ParameterError(f"--vary takes sigma=FROM:TO[:N] (e.g. sigma=-1:3:400), got "
-                             f"{text!r}") from None
-    return lo, hi, n
+        raise ParameterError(f"--vary takes {allowed or 'NAME'}=FROM:TO[:N] (e.g. "
+                             f"{allowed or 'sigma'}=-1:3:400), got {text!r}") from None
+    return name.strip(), lo, hi, n
 
 
 def forced_model(args: argparse.Namespace):
@@ -184,18 +189,9 @@ def _run_coupled(args: argparse.Namespace) -> int:
         model = coupled_model(args)
     if args.internal:
         model = model.with_internal(args.internal)
-    name, sep, rng = args.vary.partition("=")
-    parts = rng.split(":")
-    try:
-        if not sep or len(parts) not in (2, 3):
-            raise ValueError
-        lo, hi = float(parts[0]), float(parts[1])
-        n = int(parts[2]) if len(parts) == 3 else None
-    except ValueError:
-        raise ParameterError(f"--vary takes NAME=FROM:TO[:N] (e.g. "
-                             f"{model.nu_detuning or 'sigma'}=-1:3), got {args.vary!r}") from None
+    name, lo, hi, n = _vary_named(args.vary)
     args.max_points = n
-    return run_coupled_branch(args, name.strip(), lo, hi, "response", model=model)
+    return run_coupled_branch(args, name, lo, hi, "response", model=model)
 
 
 def run(args: argparse.Namespace) -> int:

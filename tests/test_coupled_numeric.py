@@ -134,3 +134,25 @@ def test_kbm_derive_numeric_at_a_point(capsys):
                          (["--at", "a1=1,a2=x,gamma1=0"], "NAME=VALUE")):
         code, out, err = _cli(capsys, *argv, *extra)
         assert code == 2 and words in err and len(err.strip().splitlines()) == 1, err
+
+
+def test_locking_of_sine_coupled_van_der_pol_oscillators():
+    """Two van der Pol oscillators coupled through sin(x2 - x1) (the exact engine cannot take
+    it): the order-1 locking edges from the numeric backend's slow flow (the same in sigma
+    for every mu) against the true edges (where the locked cycle of the full system ceases
+    to exist, numerics.coupled.locking.true_edges): the error falls like mu."""
+    from numerics.coupled.locking import averaged_edges, true_edges
+
+    m = coupled_custom(["(1 - x1**2)*xdot1 + c*sin(x2 - x1)",
+                        "(1 - x2**2)*xdot2 + c*sin(x1 - x2) - 2*sigma*x2"],
+                       "1,1").with_internal(["1:1"])
+    av = averaged_edges(m, {"mu": 0.05, "c": 0.3}, 1, "sigma", 2.0)
+    assert av[0].sigma == pytest.approx(-av[1].sigma, abs=1e-10)  # symmetric at order 1
+    err = {}
+    for mu in (0.05, 0.025):
+        tr = true_edges(m, {"mu": mu, "c": 0.3}, "sigma", 2.0, 1e-7,
+                        {e.side: e.sigma for e in av})
+        err[mu] = [abs(a.sigma - t.sigma) for a, t in zip(av, tr)]
+    for side in (0, 1):
+        assert 1.8 < err[0.05][side] / err[0.025][side] < 2.2, err
+    assert max(err[0.025]) < 1e-3

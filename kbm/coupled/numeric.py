@@ -25,8 +25,9 @@ from __future__ import annotations
 
 import itertools
 import math
+from functools import lru_cache
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import sympy as sp
@@ -57,6 +58,19 @@ class NumericAverage:
     values: Mapping[str, float]
     nodes: int
     gammas: tuple[tuple[int, ...], ...]
+    functions: tuple = field(default=(), compare=False, repr=False)
+    names: tuple[str, ...] = ()
+
+    def at(self, **values: float) -> "NumericAverage":
+        """The same averaging at other values of some parameters (no new lambdification:
+        the parameters are arguments of the sampled functions)."""
+        from dataclasses import replace
+
+        unknown = sorted(set(values) - set(self.values))
+        if unknown:
+            raise ParameterError(f"{', '.join(unknown)}: not parameters of {self.model.name!r}")
+        return replace(self, values={**dict(self.values),
+                                     **{k: float(v) for k, v in values.items()}})
 
     def rates(self, amplitudes: Sequence[float], gammas: Sequence[float] = ()
               ) -> tuple[np.ndarray, np.ndarray, float]:
@@ -81,30 +95,26 @@ class NumericAverage:
                                  f"resonance), got {list(g)}")
         D = n + (1 if m.forced else 0)
         M = self.nodes
-        ang = 2 * np.pi * np.arange(M) / M
-        grids = np.meshgrid(*([ang] * D), indexing="ij")
+        cos, sin, theta, Q, coefs, outer = _grid(self.gammas, D, M, m.forced)
         w = [float(v) for v in m.omega0]
-        xs = [a[i] * np.cos(grids[i]) for i in range(n)]
-        vs = [-a[i] * w[i] * np.sin(grids[i]) for i in range(n)]
-        theta = grids[n] if m.forced else np.zeros_like(grids[0])
+        xs = [a[i] * cos[i] for i in range(n)]
+        vs = [-a[i] * w[i] * sin[i] for i in range(n)]
+        phase = np.exp(1j * (coefs @ g)) if len(g) else np.ones(len(Q))
+        pv = [self.values[k] for k in self.names]
         A = np.empty(n)
         B = np.empty(n)
         tail = 0.0
-        shifts = _lattice(self.gammas, D, M)
         for i in range(n):
-            F = np.broadcast_to(np.asarray(_function(m, i, self.values)(*xs, *vs, theta),
-                                           dtype=float), grids[0].shape)
+            F = np.broadcast_to(np.asarray(self.functions[i](*xs, *vs, theta, *pv),
+                                           dtype=float), cos[0].shape)
             if not np.all(np.isfinite(F)):
                 raise ParameterError(f"F{i + 1} is not finite at the amplitudes {list(a)}")
             c = np.fft.fftn(F) / F.size
-            tail = max(tail, _outer(c))
+            tail = max(tail, float(np.max(np.abs(c[outer]))) if outer.any() else 0.0)
             e = np.zeros(D, dtype=int)
             e[i] = 1
-            minus = plus = 0j
-            for q, coef in shifts:
-                phase = np.exp(1j * float(np.dot(coef, g))) if len(g) else 1.0
-                minus += c[tuple((q + e) % M)] * phase   # <F e^{-i psi_i}> terms
-                plus += c[tuple((q - e) % M)] * phase    # <F e^{+i psi_i}> terms
+            minus = np.sum(c[tuple(((Q + e) % M).T)] * phase)  # <F e^{-i psi_i}>
+            plus = np.sum(c[tuple(((Q - e) % M).T)] * phase)   # <F e^{+i psi_i}>
             s_avg = ((plus - minus) / 2j).real       # <F sin psi_i>
             c_avg = ((minus + plus) / 2).real        # <F cos psi_i>
             A[i] = -s_avg / w[i]
@@ -134,16 +144,28 @@ class NumericAverage:
         return np.array(out)
 
 
-def _outer(c: np.ndarray) -> float:
-    """The largest coefficient with a wavenumber of ``M/2 - 1`` or more in some angle."""
-    M = c.shape[0]
+@lru_cache(maxsize=16)
+def _grid(gens: tuple[tuple[int, ...], ...], D: int, M: int, forced: bool):
+    """The torus grid's cosines and sines per angle, the forcing angle, the slow lattice's
+    wavevectors ``Q`` with their coordinates, and the mask of the outer shell (memoised per
+    lattice and grid size: time only; the arrays are read-only)."""
+    ang = 2 * np.pi * np.arange(M) / M
+    grids = np.meshgrid(*([ang] * D), indexing="ij")
+    cos = tuple(np.cos(gr) for gr in grids)
+    sin = tuple(np.sin(gr) for gr in grids)
+    theta = grids[-1] if forced else np.zeros_like(grids[0])
     k = np.abs(np.fft.fftfreq(M, 1.0 / M))
-    mask = np.zeros(c.shape, dtype=bool)
-    for ax in range(c.ndim):
-        shape = [1] * c.ndim
+    outer = np.zeros(grids[0].shape, dtype=bool)
+    for ax in range(D):
+        shape = [1] * D
         shape[ax] = M
-        mask |= np.broadcast_to((k >= M // 2 - 1).reshape(shape), c.shape)
-    return float(np.max(np.abs(c[mask]))) if mask.any() else 0.0
+        outer |= np.broadcast_to((k >= M // 2 - 1).reshape(shape), outer.shape)
+    shifts = _lattice(gens, D, M)
+    Q = np.array([q for q, _ in shifts], dtype=int).reshape(-1, D)
+    coefs = np.array([c for _, c in shifts], dtype=float).reshape(len(shifts), -1)
+    for arr in (*cos, *sin, theta, Q, coefs, outer):
+        arr.flags.writeable = False
+    return cos, sin, theta, Q, coefs, outer
 
 
 def _lattice(gens: tuple[tuple[int, ...], ...], D: int, M: int):
@@ -162,19 +184,26 @@ def _lattice(gens: tuple[tuple[int, ...], ...], D: int, M: int):
     return out
 
 
-def _function(model: CoupledOscillators, i: int, values: Mapping[str, float]):
+def _function(model: CoupledOscillators, i: int, names: Sequence[str]):
+    """``F_i(x.., xdot.., theta, *parameters)`` as a numpy function (parameters by
+    ``names``; a forcing frequency ``nu`` written in ``F`` is ``nu0 + mu sigma``)."""
     n = model.dof
-    sub = {sp.Symbol(k): v for k, v in values.items()}
-    expr = model.F[i].subs(sub)
+    expr = model.F[i]
     if model.forced:
         nu = sp.nsimplify(model.nu0) + sp.Symbol("mu") * sp.Symbol(model.nu_detuning or "sigma")
-        expr = expr.subs(sp.Symbol("nu"), nu.subs(sub))
+        expr = expr.subs(sp.Symbol("nu"), nu)
     args = [*positions(n), *velocities(n), sp.Symbol("theta")]
-    free = expr.free_symbols - set(args)
-    if free:
-        raise ParameterError(f"give values for {', '.join(sorted(s.name for s in free))} "
-                             f"(F{i + 1} = {model.F[i]})")
-    return sp.lambdify(args, expr, modules=["numpy", "scipy"])
+    return sp.lambdify(args + [sp.Symbol(k) for k in names], expr,
+                       modules=["numpy", "scipy"])
+
+
+def _needed(model: CoupledOscillators, i: int) -> set[str]:
+    expr = model.F[i]
+    names = {s_.name for s_ in expr.free_symbols} - {s_.name for s_ in (*model.state,)}
+    names -= {"theta"}
+    if "nu" in names:
+        names = (names - {"nu"}) | {"mu", model.nu_detuning or "sigma"}
+    return names
 
 
 def numeric_average(model: CoupledOscillators | str, values: Mapping[str, object] | None = None,
@@ -224,4 +253,10 @@ def numeric_average(model: CoupledOscillators | str, values: Mapping[str, object
     if missing:
         raise ParameterError(f"give values for the detunings {', '.join(missing)}")
     gens = tuple(SlowLattice(D, model.internal).generators)
-    return NumericAverage(model, vals, nodes, gens)
+    need = set().union(*[_needed(model, i) for i in range(model.dof)])
+    free = sorted(need - set(vals))
+    if free:
+        raise ParameterError(f"give values for {', '.join(free)} (-p NAME=VALUE)")
+    names = tuple(sorted(need))
+    fns = tuple(_function(model, i, names) for i in range(model.dof))
+    return NumericAverage(model, vals, nodes, gens, fns, names)

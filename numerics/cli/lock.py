@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_param_option, emit_json, parse_params
+from kbm.cli._common import add_model_arguments, add_param_option, emit_json, parse_params
 
 
 def register(sub) -> None:
@@ -14,8 +14,11 @@ def register(sub) -> None:
                                    "averaged slow flow at orders 1..N (the fold of its locked "
                                    "fixed point) and from the true locked cycle (where it "
                                    "ceases to exist, by continuation and bisection).")
-    p.add_argument("model", help="a coupled built-in with one internal resonance "
-                                 "(coupled-vdp)")
+    add_model_arguments(p, "a coupled built-in with one internal resonance: coupled-vdp",
+                        coupled=True)
+    p.add_argument("--internal", action="append", default=[], metavar="P:Q",
+                   help="with --rhs: the declared resonance (e.g. 1:1); F not polynomial "
+                        "(sin, tanh coupling): the averaged flow is order 1, numeric")
     add_param_option(p)
     p.add_argument("--vary", action="append", required=True, metavar="NAME=FROM:TO",
                    help="the detuning and the interval its edges are looked for in (e.g. "
@@ -49,7 +52,6 @@ def _vary(text: str) -> tuple[str, float, float]:
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from kbm.coupled import get_coupled_model
     from kbm.errors import ParameterError
     from kbm.files import output_folder, write_file
     from numerics.coupled.locking import locking_region, plot_locking
@@ -62,7 +64,11 @@ def run(args: argparse.Namespace) -> int:
         raise ParameterError(f"--points must be 2 to 200, got {args.points}")
     if not 1e-12 <= args.tol <= 1e-2:
         raise ParameterError(f"--tol must be between 1e-12 and 1e-2, got {args.tol}")
-    model = get_coupled_model(args.model)
+    from kbm.cli.derive import coupled_model
+
+    model = coupled_model(args)
+    if args.internal:
+        model = model.with_internal(args.internal)
     params = parse_params(args.param)
     det = _vary(args.vary[0])
     coupling = None

@@ -25,8 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from kbm.coupled import CoupledOscillators, amplitudes, derive_coupled
-from kbm.errors import ParameterError
+from kbm.coupled import CoupledOscillators, amplitudes, derive_coupled, numeric_average
+from kbm.errors import ParameterError, UnsupportedTermError
 from numerics._memo import memo
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from .cycle import coupled_cycle
@@ -53,8 +53,19 @@ class LockingEdge:
 
 @memo(maxsize=16)
 def _slow_flow(model: CoupledOscillators, order: int, fixed: tuple, parameter: str):
-    """Lambdified slow flow ``f(y, sigma, mu)`` and its Jacobian in ``y`` (memoised: time)."""
-    res = derive_coupled(model, order, dict(fixed))
+    """Lambdified slow flow ``f(y, sigma, mu)`` and its Jacobian in ``y`` (memoised: time).
+
+    For a right-hand side that the exact engine does not take (``sin``, ``tanh`` coupling),
+    order 1 comes from the numeric backend (:func:`kbm.coupled.numeric_average`), its
+    Jacobian by central differences."""
+    try:
+        res = derive_coupled(model, order, dict(fixed))
+    except UnsupportedTermError:
+        if order != 1:
+            raise ParameterError(f"the averaged flow of {model.name!r} (F not polynomial) is "
+                                 f"first order only (numeric backend); ask --order 1, not "
+                                 f"{order}") from None
+        return _numeric_flow(model, dict(fixed), parameter)
     rates = res.slow_flow()
     state = [*amplitudes(model.dof), *[g for g, _ in res.gammas]]
     mu, s = sp.Symbol("mu"), sp.Symbol(parameter)
@@ -62,6 +73,31 @@ def _slow_flow(model: CoupledOscillators, order: int, fixed: tuple, parameter: s
     f = sp.lambdify([state, s, mu], list(rates), "numpy")
     jac = sp.lambdify([state, s, mu], J, "numpy")
     return f, jac, len(state)
+
+
+def _numeric_flow(model: CoupledOscillators, fixed: dict, parameter: str):
+    n = model.dof
+    base = numeric_average(model, {**{k: float(v) for k, v in fixed.items()}, parameter: 0.0})
+    m = n + len(base.gammas)
+
+    def f(y, s, mu):
+        y = np.asarray(y, dtype=float)
+        if np.any(y[:n] <= 0):
+            return np.full(m, np.nan)
+        return base.at(**{parameter: float(s)}).slow_flow(mu, y[:n], y[n:])
+
+    def jac(y, s, mu):
+        y = np.asarray(y, dtype=float)
+        J = np.empty((m, m))
+        for k in range(m):
+            h = 1e-6 * max(1.0, abs(y[k]))
+            yp, ym = y.copy(), y.copy()
+            yp[k] += h
+            ym[k] -= h
+            J[:, k] = (f(yp, s, mu) - f(ym, s, mu)) / (2 * h)
+        return J
+
+    return f, jac, m
 
 
 def _newton(f, jac, y, s, mu, tol=1e-13, it=40):

@@ -24,8 +24,9 @@ def register(sub) -> None:
                    help="the detuning and the interval its edges are looked for in (e.g. "
                         "--vary sigma=-1:1); a second --vary gives the coupling's range "
                         "(e.g. --vary c=0.05:0.5), else the coupling is the -p value")
-    p.add_argument("--order", "-n", type=int, default=2,
-                   help="highest averaged order (default 2; orders 1..N are given)")
+    p.add_argument("--order", "-n", type=int, default=None,
+                   help="highest averaged order (default 2, or 1 for F not polynomial; "
+                        "orders 1..N are given)")
     p.add_argument("--points", type=int, default=7,
                    help="coupling values on the second --vary range (default 7)")
     p.add_argument("--tol", type=float, default=1e-7,
@@ -58,17 +59,19 @@ def run(args: argparse.Namespace) -> int:
 
     if len(args.vary) > 2:
         raise ParameterError("give at most two --vary: the detuning, then the coupling")
+    from kbm.cli.derive import coupled_model
+
+    model = coupled_model(args)
+    if args.internal:
+        model = model.with_internal(args.internal)
+    if args.order is None:  # the numeric backend of a smooth F is first order
+        args.order = 2 if all(f.is_polynomial(*model.state) for f in model.F) else 1
     if not 1 <= args.order <= 4:
         raise ParameterError(f"--order must be 1 to 4, got {args.order}")
     if not 2 <= args.points <= 200:
         raise ParameterError(f"--points must be 2 to 200, got {args.points}")
     if not 1e-12 <= args.tol <= 1e-2:
         raise ParameterError(f"--tol must be between 1e-12 and 1e-2, got {args.tol}")
-    from kbm.cli.derive import coupled_model
-
-    model = coupled_model(args)
-    if args.internal:
-        model = model.with_internal(args.internal)
     params = parse_params(args.param)
     det = _vary(args.vary[0])
     coupling = None

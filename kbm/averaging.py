@@ -188,13 +188,17 @@ def _check_terms(F: sp.Expr) -> None:
 
 
 # ----------------------------------------------------------------------------- the recursion
-def derive(model: Oscillator | str, order: int, params: dict | None = None) -> KBMResult:
+def derive(model: "Oscillator | CoupledOscillators | str", order: int,
+           params: dict | None = None) -> "KBMResult | CoupledKBMResult":
     """KBM expansion of ``x'' + omega0**2 x = mu F(x, x')`` to order ``order``.
 
     Parameters
     ----------
     model
-        An :class:`~kbm.models.Oscillator` or the name of a built-in model.
+        An :class:`~kbm.models.Oscillator` or the name of a built-in model; a coupled
+        system (:class:`~kbm.coupled.CoupledOscillators` or a coupled built-in's name) is
+        the same family with ``dof = N``: :func:`kbm.coupled.derive_coupled` expands it and
+        its :class:`~kbm.coupled.CoupledKBMResult` is returned.
     order
         Highest power ``N`` of ``mu`` kept in ``da/dt``, ``dpsi/dt`` and ``x``
         (``A_1..A_N``, ``B_1..B_N``, ``u_1..u_N``).  Any ``N >= 1`` for
@@ -233,6 +237,10 @@ def derive(model: Oscillator | str, order: int, params: dict | None = None) -> K
     >>> res.B[2]
     -7*a**4/256 + a**2/8 - 1/8
     """
+    if _coupled_member(model):  # N degrees of freedom (or a forcing): the general engine
+        from .coupled.engine import derive_coupled
+
+        return derive_coupled(model, order, params)
     raw = run_recursion(model, order, params)
     alg = raw.algebra
     return KBMResult(
@@ -242,6 +250,17 @@ def derive(model: Oscillator | str, order: int, params: dict | None = None) -> K
         u=(a * sp.cos(psi), *[alg.series_expr(f) for f in raw.u]),
         exact=raw.exact,
     )
+
+
+def _coupled_member(model) -> bool:
+    """Whether ``model`` is a coupled system (a :class:`kbm.coupled.CoupledOscillators` or
+    the name of a coupled built-in): :func:`derive` then runs the general engine."""
+    from .coupled.builtins import COUPLED_MODELS
+    from .coupled.model import CoupledOscillators
+
+    if isinstance(model, str):
+        return model in COUPLED_MODELS or model.startswith("sedf-chain-")
+    return isinstance(model, CoupledOscillators)
 
 
 @dataclass(frozen=True)

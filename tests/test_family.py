@@ -73,3 +73,16 @@ def test_bad_values_of_a_coupled_member():
         bind("coupled-vdp", {"mu": 0.1, "q": 1})
     with pytest.raises(ParameterError, match="either delta or Delta"):
         bind("sedf-dimer", {"mu": 0.1, "Delta": 1.5, "delta": 15})
+
+
+def test_derive_takes_every_member():
+    """kbm.derive of a coupled member is the general engine's expansion; of an oscillator,
+    the one-degree-of-freedom engine's (unchanged)."""
+    import kbm
+    from kbm.coupled import derive_coupled
+
+    a = kbm.derive("coupled-vdp", 2)
+    b = derive_coupled("coupled-vdp", 2)
+    assert a.A == b.A and a.B == b.B and a.gammas == b.gammas
+    assert kbm.derive(get_coupled_model("duffing-1-3"), 1).model.dof == 2
+    assert type(kbm.derive("vdp", 2)).__name__ == "KBMResult"

@@ -118,7 +118,7 @@ def get_coupled_model(name: str) -> CoupledOscillators:
         return COUPLED_MODELS[name]
     if name.startswith("sedf-chain-") and name[len("sedf-chain-"):].isdigit():
         return sedf_chain(int(name[len("sedf-chain-"):]))
-    from ..forced import FORCED_MODELS, get_forced_model
+    from ..forced.builtins import FORCED_MODELS, get_forced_model
     from ..models import MODELS, get_model
 
     if name in MODELS:

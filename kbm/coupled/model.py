@@ -58,10 +58,11 @@ def phases(n: int) -> tuple[sp.Symbol, ...]:
     return tuple(sp.Symbol(f"psi{i}") for i in range(1, n + 1))
 
 
-def _frequency(value: object, i: int) -> sp.Rational:
-    w = parameter_value(f"omega{i}", value) if not isinstance(value, sp.Basic) else value
+def _frequency(value: object, i: int | str) -> sp.Rational:
+    name = i if isinstance(i, str) else f"omega{i}"
+    w = parameter_value(name, value) if not isinstance(value, sp.Basic) else value
     if not (w.is_Rational and w > 0):
-        raise ModelError(f"omega{i} must be a positive rational number (internal resonances "
+        raise ModelError(f"{name} must be a positive rational number (internal resonances "
                          f"are exact ratios of the frequencies), got {value!r}")
     return w
 

@@ -54,9 +54,10 @@ def test_no_true_cycle_is_reported():
     assert "no true cycle" in text and "Delta = 3" in s.table()
 
 
-def test_cli_fixed_delta_and_methods_map_flags(capsys):
-    """``kbm compare --fixed-delta`` prints strict JSON with one study per beta; a wrong
-    value or a flag the study would ignore is a one-line error with exit status 2."""
+@pytest.mark.slow  # the whole study again through the command line (24 s); the study
+# itself is checked above, the flags below
+def test_cli_fixed_delta_json(capsys):
+    """``kbm compare --fixed-delta`` prints strict JSON with one study per beta."""
     import json
 
     from numerics.cli import main
@@ -64,6 +65,13 @@ def test_cli_fixed_delta_and_methods_map_flags(capsys):
     assert main(["compare", "--fixed-delta", "1.5", "--json"]) == 0
     out = json.loads(capsys.readouterr().out, parse_constant=lambda t: 1 / 0)
     assert len(out["studies"]) == 3
+
+
+def test_cli_fixed_delta_and_methods_map_flags(capsys):
+    """A wrong value or a flag the study would ignore is a one-line error with exit
+    status 2."""
+    from numerics.cli import main
+
     for argv in (["compare", "--fixed-delta", "x"], ["compare", "vdp", "--fixed-delta", "1.5"],
                  ["compare", "--methods-map", "--paper"]):
         assert main(argv) == 2

@@ -27,7 +27,8 @@ def _scales(vals, n):
                for m in range(1, n + 1))
 
 
-@pytest.mark.parametrize("name", ["sedf", "cdc"])
+# the two models share every code path; sedf (14 s) runs in the slow set
+@pytest.mark.parametrize("name", [pytest.param("sedf", marks=pytest.mark.slow), "cdc"])
 @given(beta=st.floats(0.2, 2.0), delta=st.floats(0.1, 2.0), k=st.floats(0.3, 3.0))
 @settings(max_examples=8, deadline=None, derandomize=True)
 def test_order_2_equals_the_symbolic_bessel_sums(name, beta, delta, k):

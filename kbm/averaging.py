@@ -255,12 +255,10 @@ def derive(model: "Oscillator | CoupledOscillators | str", order: int,
 def _coupled_member(model) -> bool:
     """Whether ``model`` is a coupled system (a :class:`kbm.coupled.CoupledOscillators` or
     the name of a coupled built-in): :func:`derive` then runs the general engine."""
-    from .coupled.builtins import COUPLED_MODELS
+    from .coupled.builtins import is_coupled_name
     from .coupled.model import CoupledOscillators
 
-    if isinstance(model, str):
-        return model in COUPLED_MODELS or model.startswith("sedf-chain-")
-    return isinstance(model, CoupledOscillators)
+    return is_coupled_name(model) or isinstance(model, CoupledOscillators)
 
 
 @dataclass(frozen=True)

@@ -121,11 +121,11 @@ def bind(model: "OscillatorFamily | str | BoundModel",
         return model
     params = dict(params or {})
     if isinstance(model, str):
-        from .coupled.builtins import COUPLED_MODELS, get_coupled_model
+        from .coupled.builtins import get_coupled_model, is_coupled_name
 
         from .forced.builtins import FORCED_MODELS, get_forced_model
 
-        if model in COUPLED_MODELS or model.startswith("sedf-chain-"):
+        if is_coupled_name(model):
             return BoundModel.of(get_coupled_model(model), params)
         if model in FORCED_MODELS:
             return BoundModel.of(get_forced_model(model), params)

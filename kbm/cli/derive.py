@@ -152,13 +152,12 @@ def _run_values(args, model, limit: int) -> int:
 def is_coupled(args: argparse.Namespace) -> bool:
     """Whether the command line names a coupled system: several ``--rhs``, several
     frequencies, ``--internal``, or a coupled built-in."""
-    from ..coupled import COUPLED_MODELS
+    from ..coupled.builtins import is_coupled_name
 
     rhs = getattr(args, "rhs", None) or []
     return (len(rhs) > 1 or bool(getattr(args, "internal", None))
             or (bool(rhs) and "," in str(args.omega0 or ""))
-            or (args.model in COUPLED_MODELS)
-            or str(args.model or "").startswith("sedf-chain-"))
+            or is_coupled_name(args.model))
 
 
 def coupled_model(args: argparse.Namespace):

@@ -31,7 +31,8 @@ from ..errors import ModelError
 from .model import CoupledOscillators
 from .resonance import InternalResonance
 
-__all__ = ["COUPLED_MODELS", "get_coupled_model", "coupled_model_names", "sedf_chain"]
+__all__ = ["COUPLED_MODELS", "get_coupled_model", "coupled_model_names", "sedf_chain",
+           "is_coupled_name"]
 
 COUPLED_MODELS: dict[str, CoupledOscillators] = {
     "coupled-vdp": CoupledOscillators(
@@ -97,6 +98,12 @@ def sedf_chain(n: int, name: str | None = None) -> CoupledOscillators:
 
 COUPLED_MODELS["sedf-dimer"] = sedf_chain(2, "sedf-dimer")
 COUPLED_MODELS["sedf-chain"] = sedf_chain(4, "sedf-chain")
+
+
+def is_coupled_name(name: object) -> bool:
+    """Whether ``name`` names a coupled built-in (``sedf-chain-N`` for any ``N`` included)."""
+    return isinstance(name, str) and (name in COUPLED_MODELS
+                                      or name.startswith("sedf-chain-"))
 
 
 def coupled_model_names() -> list[str]:

@@ -31,22 +31,12 @@ class _Problem:
         self.requested = Method.parse(method)
         self.rtol = rtol
         self.evaluations = 0
-        self._cms: dict[float, object] = {}
         self.meth = None
         # bound once; per value only what depends on ``vary`` is replaced
         self.line = CompiledLine(model, params, vary, at)
 
-    def cm(self, p: float):
-        cm = self._cms.get(p)
-        if cm is None:
-            if len(self._cms) > 64:
-                self._cms.clear()
-            cm = self.line(p)
-            self._cms[p] = cm
-        return cm
-
     def choose(self, u) -> None:
-        cm = self.cm(float(u[2]))
+        cm = self.line(float(u[2]))
         self.meth = choose_method(cm, self.requested, "shooting", abs(u[0]), u[1])
 
     def eval(self, u, n_out: int = 1):
@@ -54,7 +44,7 @@ class _Problem:
         x0, T, p = float(u[0]), float(u[1]), float(u[2])
         if not (T > 0 and math.isfinite(x0) and math.isfinite(p)):
             raise ConvergenceError(f"left the domain: x0 = {x0:.6g}, T = {T:.6g}")
-        cm = self.cm(p)
+        cm = self.line(p)
         self.evaluations += 1
         ys = flow(cm, extended_state(x0), T, n_out, self.meth, self.rtol, self.rtol,
                   max_steps=NEWTON_MAX_STEPS)

@@ -55,27 +55,17 @@ class LongPeriodPoint:
 class _Segments:
     def __init__(self, model, params: dict, vary: str, rtol: float, at: float):
         self.model, self.params, self.vary, self.rtol = model, params, vary, rtol
-        self._cms: dict[float, object] = {}
         self.line = CompiledLine(model, params, vary, at)
-
-    def cm(self, p: float):
-        cm = self._cms.get(p)
-        if cm is None:
-            if len(self._cms) > 16:
-                self._cms.clear()
-            cm = self.line(p)
-            self._cms[p] = cm
-        return cm
 
     def field(self, y, p: float) -> np.ndarray:
         """The vector field ``(x', x'')`` at ``y``."""
-        cm = self.cm(p)
+        cm = self.line(p)
         return np.array([y[1], cm.acc(0.0, y[0], y[1])])
 
     def step(self, y, h: float, p: float, extended: bool = True):
         """``(phi_h(y), Phi)`` for one segment; ``self.divergence`` is set to the integral
         of the field's divergence over it (extended only)."""
-        cm = self.cm(p)
+        cm = self.line(p)
         if extended:
             yT = flow(cm, extended_state(y[0], y[1]), h, 1, Method.COMPILED, self.rtol,
                       self.rtol)[-1]
@@ -89,7 +79,7 @@ class _Segments:
         integrated from its own segment's start (never across the saddles' expansion)."""
         M = len(Y)
         h = T / M
-        cm = self.cm(p)
+        cm = self.line(p)
         out = []
         for t in times:
             j = min(M - 1, int(t // h))
@@ -102,7 +92,7 @@ class _Segments:
     def orbit(self, y0, T: float, p: float, n: int) -> np.ndarray:
         """The states at ``n + 1`` equally spaced times over ``[0, T]``, segment by segment
         (each of at most SEGMENT)."""
-        cm = self.cm(p)
+        cm = self.line(p)
         out = [np.asarray(y0, float)]
         dt = T / n
         for _ in range(n):

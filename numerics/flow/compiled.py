@@ -294,9 +294,19 @@ class CompiledLine:
         base.require(self.template.names, what="the numerical functions")
         self._floats = {k: float(base.values[k]) for k in self.template.names}
         self._autonomous = base.model.is_autonomous
+        self._recent: dict[float, CompiledModel] = {}
 
     def __call__(self, value: float) -> CompiledModel:
-        """The compiled model at ``vary = value``."""
+        """The compiled model at ``vary = value`` (the last 64 values are kept: Newton
+        returns to the same value several times; an equal object, time only)."""
+        cm = self._recent.get(value)
+        if cm is None:
+            if len(self._recent) >= 64:
+                self._recent.clear()
+            cm = self._recent[value] = self._compile(value)
+        return cm
+
+    def _compile(self, value: float) -> CompiledModel:
         bound = self.line(value)
         if bound.model is not self.line.base.model:  # a stage velocity: the model changed
             return compile_model(bound)

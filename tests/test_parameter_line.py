@@ -84,3 +84,25 @@ def test_keyed_source_is_the_printed_source(tmp_path, monkeypatch):
     again = jit_mod._source_by_key(key, fail, sp.Symbol("t"), tpl.ext_symbols, names, 2)
     assert printed == first == again
     assert len(list(tmp_path.glob("kbm_src_*.txt"))) == 1
+
+
+@pytest.mark.parametrize("name, params, vary", [
+    ("coupled-vdp", {"mu": 0.1, "c": 0.3, "sigma": 0.2}, "c"),
+    ("duffing-1-3", {"mu": 0.02, "h": 2, "sigma": 0.5}, "sigma"),
+    ("duffing-forced", {"mu": 1, "zeta": 0.05, "alpha": 1, "h": 20, "sigma": 1}, "mu")])
+def test_coupled_flow_at_equals_a_new_binding(name, params, vary):
+    """CoupledFlow.at (the continuation of coupled orbits moves one value of one
+    compilation) against coupled_flow from scratch: the same values, parameter vector and
+    field."""
+    import numpy as np
+
+    from numerics.coupled.flow import coupled_flow
+
+    base = coupled_flow(name, params)
+    for value in (0.07, 0.9):
+        a, b = base.at(**{vary: value}), coupled_flow(name, {**params, vary: value})
+        assert dict(a.values) == dict(b.values) and np.array_equal(a._p, b._p)
+        y = np.linspace(0.3, 1.2, 2 * a.dof)
+        assert np.array_equal(a.rhs(y, 0.4), b.rhs(y, 0.4))
+    with pytest.raises(ParameterError, match="not among the values"):
+        base.at(Delta=1.0)

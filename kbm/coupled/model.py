@@ -15,6 +15,8 @@ stiffness ``-2 omega_j sigma x_j``) or declared with the resonance.
 from __future__ import annotations
 
 import re
+from fractions import Fraction
+from math import lcm
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -225,6 +227,18 @@ class CoupledOscillators(OscillatorFamily):
     def forced(self) -> bool:
         """Whether the system is driven through ``theta = nu t``."""
         return self.nu0 is not None
+
+    @property
+    def forcing_ratios(self) -> tuple[Fraction, ...]:
+        """``omega_i/nu0`` exactly (a forced system)."""
+        nu0 = Fraction(int(self.nu0.p), int(self.nu0.q))
+        return tuple(Fraction(int(w.p), int(w.q)) / nu0 for w in self.omega0)
+
+    @property
+    def response_periods(self) -> int:
+        """How many forcing periods ``2 pi/nu`` a periodic response spans: the least common
+        denominator of :attr:`forcing_ratios` (2 when a mode answers at ``nu/2``)."""
+        return lcm(*[r.denominator for r in self.forcing_ratios])
 
     def resolve(self, values: Mapping[str, object] | None = None, *,
                 use_defaults: bool = True) -> dict[str, sp.Expr]:

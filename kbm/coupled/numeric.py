@@ -25,8 +25,8 @@ from __future__ import annotations
 
 import itertools
 import math
-from functools import lru_cache
 from collections.abc import Mapping, Sequence
+from functools import lru_cache
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -123,7 +123,6 @@ class NumericAverage:
             if r.detuning and not r.forcing:
                 B[r.j - 1] += self.values[r.detuning]
         return A, B, tail
-
 
     def slow_flow(self, mu: float, amplitudes: Sequence[float], gammas: Sequence[float] = ()
                   ) -> np.ndarray:

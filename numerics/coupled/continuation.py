@@ -29,8 +29,6 @@ import copy
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from fractions import Fraction
-from math import lcm
 
 import numpy as np
 
@@ -127,10 +125,9 @@ class _Problem:
         self.forced = model.forced
         self.evaluations = 0
         if self.forced:
-            w = [Fraction(int(o.p), int(o.q)) / Fraction(int(model.nu0.p), int(model.nu0.q))
-                 for o in model.omega0]
-            self.m = lcm(*[r.denominator for r in w])
+            self.m = model.response_periods
         self._flows: dict[float, object] = {}
+        self._base = None  # compiled once; a model parameter is then a value of it
         #: the unknowns are ``u = scale * v``; steps are taken in ``v`` (each component of
         #: order one along the branch: a weighted arclength, as AUTO-07p's THL/THU)
         self.scale: np.ndarray | None = None
@@ -140,7 +137,12 @@ class _Problem:
         if fl is None:
             if len(self._flows) > 32:
                 self._flows.clear()
-            fl = coupled_flow(self.model, {**self.params, self.vary: p})
+            if self._base is None:
+                self._base = coupled_flow(self.model, {**self.params, self.vary: p})
+            if self.vary in self._base.values:
+                fl = self._base.at(**{self.vary: p})
+            else:  # a physical name (Delta): its scaled values are bound again
+                fl = coupled_flow(self.model, {**self.params, self.vary: p})
             self._flows[p] = fl
         return fl
 

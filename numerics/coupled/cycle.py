@@ -302,9 +302,6 @@ def forced_response(model: CoupledOscillators | str, params: Mapping[str, object
     kbm.errors.ParameterError
         For a system without forcing.
     """
-    from fractions import Fraction
-    from math import lcm
-
     from kbm.errors import ParameterError
 
     fl = coupled_flow(model, params)
@@ -313,9 +310,8 @@ def forced_response(model: CoupledOscillators | str, params: Mapping[str, object
                              "found by coupled_cycle")
     n = fl.dof
     mu, nu = fl.values["mu"], fl.nu
-    ratios = [Fraction(int(w.p), int(w.q)) / Fraction(int(fl.model.nu0.p), int(fl.model.nu0.q))
-              for w in fl.model.omega0]
-    m = lcm(*[r.denominator for r in ratios])
+    ratios = fl.model.forcing_ratios
+    m = fl.model.response_periods
     T = m * 2 * math.pi / nu
     y = np.ones(2 * n) if start is None else np.asarray(start, dtype=float).copy()
     if start is None:

@@ -93,6 +93,26 @@ class CoupledFlow:
         forced system's field depends on)."""
         return np.asarray(self._rhs(t, *y, *self._p), dtype=float)
 
+    def at(self, **values: float) -> "CoupledFlow":
+        """The same compiled system at other values of some of its parameters (the values
+        are arguments of one compilation: nothing is bound or compiled again).
+
+        Raises
+        ------
+        kbm.errors.ParameterError
+            For a name that is not one of :attr:`values` (a physical name such as
+            ``Delta`` is bound by :func:`coupled_flow`).
+        """
+        from dataclasses import replace
+
+        unknown = sorted(set(values) - set(self.values))
+        if unknown:
+            raise ParameterError(f"{', '.join(unknown)}: not among the values of "
+                                 f"{self.model.name!r} ({', '.join(self.values)})")
+        new = {**dict(self.values), **{k: float(v) for k, v in values.items()}}
+        names = sorted(self.values)
+        return replace(self, values=new, _p=np.array([new[n] for n in names], dtype=float))
+
     @property
     def nu(self) -> float | None:
         """The forcing frequency ``nu0 + mu sigma`` of a forced system (else ``None``)."""

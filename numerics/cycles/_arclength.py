@@ -1,7 +1,9 @@
 """The Newton machinery of the continuation of cycles (:mod:`numerics.cycles.continuation`).
 
 ``u = (x0, T, p)``; :class:`_Problem` evaluates ``R(u) = (x(T) - x0, x'(T))`` and its
-Jacobian (variational equations for ``(x0, T)``, a central difference for ``p``);
+Jacobian (variational equations for ``(x0, T)``; for ``p`` the parameter sensitivity
+integrated with them, :mod:`numerics.flow.sensitivity`, or a central difference where the
+compiled flow is not used);
 :func:`_correct` is Newton's method on ``R = 0`` and one linear condition; :func:`_arc`
 the pseudo-arclength step; :func:`_reanchor`, :func:`_locate_fold` and
 :func:`_at_parameter` place points on the branch.
@@ -19,6 +21,7 @@ from numerics.cycles.floquet import floquet_multipliers
 from numerics.cycles.shooting import NEWTON_MAX_STEPS
 from numerics.errors import ConvergenceError, IntegrationError
 from numerics.flow import CompiledLine, Method, choose_method, extended_state, flow
+from numerics.flow.sensitivity import flow_with_sensitivity, sensitivity_flow, sensitivity_state
 
 _FAIL = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, ValueError)
 
@@ -32,27 +35,41 @@ class _Problem:
         self.rtol = rtol
         self.evaluations = 0
         self.meth = None
+        self.sensitive = False
         # bound once; per value only what depends on ``vary`` is replaced
         self.line = CompiledLine(model, params, vary, at)
 
     def choose(self, u) -> None:
         cm = self.line(float(u[2]))
         self.meth = choose_method(cm, self.requested, "shooting", abs(u[0]), u[1])
+        self.sensitive = (self.meth is Method.COMPILED and self.line.rates(float(u[2])) is not None
+                          and sensitivity_flow(cm.template) is not None)
 
-    def eval(self, u, n_out: int = 1):
-        """``(R, A = dR/d(x0, T), yT, ys)`` at ``u``."""
+    def eval(self, u, n_out: int = 1, with_p: bool = False):
+        """``(R, A = dR/d(x0, T), yT, ys)`` at ``u``; with ``with_p`` also ``b = dR/dp``
+        (one integration with the sensitivity, else two more for a central difference)."""
         x0, T, p = float(u[0]), float(u[1]), float(u[2])
         if not (T > 0 and math.isfinite(x0) and math.isfinite(p)):
             raise ConvergenceError(f"left the domain: x0 = {x0:.6g}, T = {T:.6g}")
         cm = self.line(p)
         self.evaluations += 1
-        ys = flow(cm, extended_state(x0), T, n_out, self.meth, self.rtol, self.rtol,
-                  max_steps=NEWTON_MAX_STEPS)
+        sens = with_p and self.sensitive
+        if sens:
+            ys = flow_with_sensitivity(cm, self.line.rates(p), sensitivity_state(x0), T,
+                                       n_out, self.rtol, self.rtol, max_steps=NEWTON_MAX_STEPS)
+        else:
+            ys = flow(cm, extended_state(x0), T, n_out, self.meth, self.rtol, self.rtol,
+                      max_steps=NEWTON_MAX_STEPS)
         yT = ys[-1]
         A = np.array([[yT[2] - 1.0, yT[1]], [yT[3], cm.acc(T, yT[0], yT[1])]])
-        return np.array([yT[0] - x0, yT[1]]), A, yT, ys
+        R = np.array([yT[0] - x0, yT[1]])
+        if not with_p:
+            return R, A, yT, ys
+        b = np.array([yT[9], yT[10]]) if sens else self.dRdp(u)
+        return R, A, b, yT, ys
 
-    def dRdp(self, u, R):
+    def dRdp(self, u):
+        """``dR/dp`` by a central difference (two integrations)."""
         p = float(u[2])
         h = 1e-6 * max(1.0, abs(p))  # central: R can curve strongly in p (SEDF near 3.2)
         return (self.eval((u[0], u[1], p + h))[0] - self.eval((u[0], u[1], p - h))[0]) / (2 * h)
@@ -88,8 +105,7 @@ def _correct(prob: _Problem, u_pred, row, target: float, max_iter: int = 8) -> _
     tol_r, tol_u = 1e2 * prob.rtol * scale, 1e1 * prob.rtol * max(scale, u[1], abs(u[2]))
     step = math.inf
     for it in range(max_iter + 1):
-        R, A, yT, ys = prob.eval(u, 32)
-        b = prob.dRdp(u, R)
+        R, A, b, yT, ys = prob.eval(u, 32, with_p=True)
         # the integration error of R grows with the monodromy matrix (near a separatrix)
         noise = max(1.0, float(np.max(np.abs(yT[2:6]))) * prob.rtol / 1e-8)
         if np.max(np.abs(R)) < tol_r * noise and step < tol_u * noise:

@@ -22,14 +22,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
-import sympy as sp
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from kbm.bound import bind
-from kbm.symbols import x as X
-from kbm.symbols import xdot as V
 from numerics.errors import ConvergenceError
+from numerics.flow import compile_model
 
 __all__ = ["SaddleConnection", "saddle_connection", "connection_gap"]
 
@@ -53,11 +50,18 @@ class SaddleConnection:
 
 
 def _field(model, params: Mapping[str, object]):
-    bound = bind(model, params)
-    f = bound.model.acceleration().subs(bound.subs())
-    acc = sp.lambdify((X, V), f, "math")
-    fx = sp.lambdify((X, V), sp.diff(f, X), "math")
-    fv = sp.lambdify((X, V), sp.diff(f, V), "math")
+    """``acc(x, v)``, ``d acc/dx`` and ``d acc/dv`` of the autonomous model at ``params``
+    (the compiled model's functions: lambdified once per model)."""
+    cm = compile_model(model, params)
+
+    def acc(x, v):
+        return cm.acc(0.0, x, v)
+
+    def fx(x, v):
+        return float(cm.jac(0.0, (x, v))[1, 0])
+
+    def fv(x, v):
+        return float(cm.jac(0.0, (x, v))[1, 1])
     return acc, fx, fv
 
 

@@ -9,7 +9,8 @@ and the potential energy, for given parameter values.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Callable
 
 import numpy as np
@@ -66,9 +67,10 @@ class CompiledModel:
         The :class:`ModelTemplate` and the parameter values in its order
         (``template.names``), for :func:`template_flow`.
     exact_values
-        The parameter values as given (exact where they were exact).
+        The parameter values as given (exact where they were exact; a property).
     bound
-        The :class:`kbm.bound.BoundModel` these functions evaluate.
+        The :class:`kbm.bound.BoundModel` these functions evaluate (a property: a
+        continuation along a parameter binds it only when asked).
     acceleration_expr, dissipation_expr
         Symbolic acceleration and dissipation integrand at these values (properties).
     """
@@ -86,8 +88,17 @@ class CompiledModel:
     autonomous: bool
     template: ModelTemplate
     pvec: tuple[float, ...]
-    exact_values: Mapping[str, object]
-    bound: BoundModel
+    binding: Callable[[], BoundModel] = field(repr=False, compare=False)
+
+    @cached_property
+    def bound(self) -> BoundModel:
+        """The :class:`kbm.bound.BoundModel` these functions evaluate."""
+        return self.binding()
+
+    @property
+    def exact_values(self) -> Mapping[str, object]:
+        """The parameter values as given (exact where they were exact)."""
+        return dict(self.bound.values)
 
     @property
     def acceleration_expr(self) -> sp.Expr:
@@ -232,12 +243,12 @@ def compile_model(model: Oscillator | str | BoundModel,
     vals = bound.values
     bound.require(template.names, what="the numerical functions")
     fvals = {k: float(vals[k]) for k in template.names}
-    return _assemble(bound, template, fvals, model.is_autonomous)
+    return _assemble(lambda: bound, bound.model.name, template, fvals, model.is_autonomous)
 
 
-def _assemble(bound: BoundModel, template: ModelTemplate, fvals: dict[str, float],
-              autonomous: bool) -> CompiledModel:
-    """The :class:`CompiledModel` of ``bound`` from its template and float values."""
+def _assemble(binding: Callable[[], BoundModel], name: str, template: ModelTemplate,
+              fvals: dict[str, float], autonomous: bool) -> CompiledModel:
+    """The :class:`CompiledModel` of ``binding()`` from its template and float values."""
     for k, val in fvals.items():
         if not np.isfinite(val):
             raise ParameterError(f"parameter {k} = {val} is not finite")
@@ -261,12 +272,11 @@ def _assemble(bound: BoundModel, template: ModelTemplate, fvals: dict[str, float
         return float(np.max(np.abs(np.linalg.eigvals(J))))
 
     return CompiledModel(
-        name=bound.model.name, values=fvals, omega0=float(template.f_w0(*pv)), acc=acc,
+        name=name, values=fvals, omega0=float(template.f_w0(*pv)), acc=acc,
         rhs=rhs, rhs_ext=rhs_ext, jac=jac,
         energy=lambda xv, vv: np.asarray(f_en(xv, vv, *pv), dtype=float),
         plus_factor=float(template.f_factor(*pv)), stiffness=stiffness,
-        autonomous=autonomous, template=template, pvec=pv,
-        exact_values=dict(bound.values), bound=bound)
+        autonomous=autonomous, template=template, pvec=pv, binding=binding)
 
 
 class CompiledLine:
@@ -307,11 +317,27 @@ class CompiledLine:
         return cm
 
     def _compile(self, value: float) -> CompiledModel:
-        bound = self.line(value)
-        if bound.model is not self.line.base.model:  # a stage velocity: the model changed
-            return compile_model(bound)
+        new = self.line.floats(value)  # exact rationals without sympy where possible
+        binding = (lambda: self.line(value))
+        if new is None:
+            bound = self.line(value)
+            if bound.model is not self.line.base.model:  # a stage velocity: a new model
+                return compile_model(bound)
+            new = {k: float(bound.values[k]) for k in self.line.changed}
+            binding = (lambda: bound)
         fvals = dict(self._floats)
         for k in self.line.changed:
             if k in fvals:
-                fvals[k] = float(bound.values[k])
-        return _assemble(bound, self.template, fvals, self._autonomous)
+                fvals[k] = new[k]
+        return _assemble(binding, self.line.base.name, self.template, fvals,
+                         self._autonomous)
+
+    def rates(self, value: float) -> np.ndarray | None:
+        """``d pvec/d vary`` at ``vary = value`` in the template's order (the parameter
+        sensitivities' inhomogeneity, :mod:`numerics.flow.sensitivity`), or ``None`` when
+        ``vary`` changes the model itself (a stage velocity)."""
+        try:
+            r = self.line.rates(value)
+        except ParameterError:
+            return None
+        return np.array([r.get(k, 0.0) for k in self.template.names])

@@ -40,8 +40,8 @@ from kbm.errors import ParameterError
 from kbm.bound import BoundModel, bind
 from kbm.models import Oscillator
 
-from numerics.cycles._arclength import (_FAIL, _arc, _at_parameter, _copy, _correct,
-                                        _locate_fold, _Point, _Problem, _reanchor)
+from numerics.cycles._arclength import (_FAIL, TRIVIAL_TOL, _arc, _at_parameter, _copy,
+                                        _correct, _locate_fold, _Point, _Problem, _reanchor)
 from numerics.cycles.branch_result import Branch, BranchPoint, SpecialPoint
 from numerics.cycles.result import LimitCycle
 from numerics.cycles.shooting import limit_cycle
@@ -50,10 +50,6 @@ from numerics.flow import Method
 
 __all__ = ["continue_cycles", "TRIVIAL_TOL"]
 
-#: a printed branch point passes the convergence test |trivial multiplier - 1| <= TRIVIAL_TOL;
-#: near a separatrix the monodromy loses accuracy first (on the SEDF branch in Delta the
-#: last 15 points of 63 had the trivial multiplier off by 1e-5 to 5e-2: they were printed)
-TRIVIAL_TOL = 1e-5
 
 def _homoclinic(recent: list, T0: float, factor: float, width: float, n: int = 10) -> str:
     """Why the branch is taken to end at a separatrix, or ``""``."""
@@ -102,12 +98,13 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
     points, special = [pt.record()], []
     ds, x_big, T0 = opts["ds"], pt.size, pt.u[1]
     recent = [pt]
+    curvature = None  # dt/ds from the last step, for the second-order predictor
     while True:
         if len(points) >= opts["max_points"]:
             return points, special, f"stopped after max_points = {opts['max_points']} points"
         try:
             ds_used = ds
-            new = _arc(prob, pt, ds)
+            new = _arc(prob, pt, ds, curvature)
             turn = float(new.tangent @ pt.tangent)
             if turn < opts["max_turn"] and ds > opts["ds_min"] * 4:
                 deg = math.degrees(math.acos(max(-1.0, min(1.0, turn))))
@@ -116,6 +113,7 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
                 raise ConvergenceError("the section point changed sign")
         except _FAIL as exc:
             ds /= 2
+            curvature = None
             if ds < opts["ds_min"]:
                 msg = (f"continuation stopped at {name} = {pt.u[2]:.10g} (x0 = {pt.u[0]:.6g}, "
                        f"T = {pt.u[1]:.6g}): step below ds_min = {opts['ds_min']:.1e} ({exc})")
@@ -142,7 +140,12 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
             points.append(new.record())
         else:
             opts["dropped"][0] += 1
-        new = _reanchor(prob, new)
+        moved = _reanchor(prob, new)
+        # the curvature of the branch from the last two tangents (none after a re-anchored
+        # section, where the unknowns jumped, or after a fold)
+        curvature = ((new.tangent - pt.tangent) / ds_used
+                     if moved is new and new.tangent[2] * pt.tangent[2] > 0 else None)
+        new = moved
         x_big = max(x_big, new.size)
         prob.choose(new.u)
         small = ds < 0.05 * opts["ds_max"]  # slow Newton near a separatrix: still grow
@@ -229,26 +232,12 @@ def _end_estimate(prob: _Problem, points: list):
         return None
     bound = bind(prob.model, {**prob.params, prob.vary: last.parameter})
     x = ys[:, 0]
-    energy = _conservative_energy(bound, last.x0)
-    sad, lams = saddles_passed(bound, float(np.min(x)), float(np.max(x)), energy)
+    sad, lams = saddles_passed(bound, float(np.min(x)), float(np.max(x)), last.x0)
     est = homoclinic_end([p.parameter for p in points], [p.period for p in points], sad, lams)
     if est is None:
         return None
     return refine_by_manifolds(prob.model, {k: v for k, v in prob.params.items()
                                             if k != prob.vary}, prob.vary, est)
-
-
-def _conservative_energy(bound: BoundModel, x0: float) -> float:
-    """``G(x0)``: the conservative energy of the turning point ``(x0, 0)``."""
-    import sympy as sp
-
-    from kbm.conservative import split_conservative
-
-    try:
-        split = split_conservative(bound.model, dict(bound.values))
-    except Exception:  # noqa: BLE001
-        return math.nan
-    return float(split.G.subs(sp.Symbol("x"), x0))
 
 
 def _check_vary(model, params: dict, vary: str, bounds) -> tuple[float, float, float]:

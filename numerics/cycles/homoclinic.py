@@ -138,17 +138,18 @@ def homoclinic_end(params, periods, saddles, lambdas) -> HomoclinicEstimate | No
                               tuple(lambdas), k, float(p[-1]))
 
 
-def saddles_passed(bound, x_lo: float, x_hi: float, energy: float):
+def saddles_passed(bound, x_lo: float, x_hi: float, x_turn: float):
     """``(saddles, lambdas)``: the saddles of the conservative part whose energy is the
-    separatrix energy nearest ``energy`` and that lie within the cycle's span ``[x_lo,
-    x_hi]`` widened by a tenth, with the unstable eigenvalue of the full linearisation
-    (damping included) at each; ``((), ())`` when the model has no such saddle."""
+    separatrix energy nearest the cycle's (the conservative energy ``G(x_turn)`` of its
+    turning point ``(x_turn, 0)``) and that lie within the cycle's span ``[x_lo, x_hi]``
+    widened by a tenth, with the unstable eigenvalue of the full linearisation (damping
+    included) at each; ``((), ())`` when the model has no such saddle."""
     import sympy as sp
 
     from kbm.conservative import split_conservative
-    from kbm.symbols import x as X, xdot as V
 
     from ..energy.portrait import phase_portrait
+    from ..flow import compile_model
 
     try:
         split = split_conservative(bound.model, dict(bound.values))
@@ -158,14 +159,15 @@ def saddles_passed(bound, x_lo: float, x_hi: float, energy: float):
     sad = [e for e in portrait.equilibria if e.kind == "saddle"]
     if not sad:
         return (), ()
+    energy = float(split.G.subs(sp.Symbol("x"), x_turn))
     Es = min({e.energy for e in sad}, key=lambda E: abs(E - energy))
     pad = 0.1 * (x_hi - x_lo)
     chosen = [e for e in sad if abs(e.energy - Es) <= 1e-9 * max(1.0, abs(Es))
               and x_lo - pad <= e.x <= x_hi + pad]
-    f = bound.model.acceleration().subs(bound.subs())
-    fx, fv = sp.lambdify((X, V), sp.diff(f, X)), sp.lambdify((X, V), sp.diff(f, V))
+    jac = compile_model(bound).jac
     lams = []
     for e in chosen:
-        a, b = float(fx(e.x, 0.0)), float(fv(e.x, 0.0))
+        J = jac(0.0, (e.x, 0.0))
+        a, b = float(J[1, 0]), float(J[1, 1])
         lams.append((b + math.sqrt(b * b + 4 * a)) / 2)
     return tuple(e.x for e in chosen), tuple(lams)

@@ -9,7 +9,8 @@ freedom model at the parameter value ``p``:
 - the unstable manifold of the first is followed forward from ``x_s + eps e_u`` (the
   branch that leaves on the given side), the stable manifold of the second backward from
   ``x_t + eps e_s`` (the branch that arrives from the given side), each to where it first
-  turns (``x' = 0``; scipy's DOP853 with event location, rtol 1e-12);
+  turns (``x' = 0``; DOP853 with the crossing located by Newton on the last step, rtol
+  1e-12: compiled, or scipy's with event location);
 - the turning points differ by ``d(p)``; the connection is the root of ``d``
   (Brent), independent of the continuation and of the period law of
   :mod:`numerics.cycles.homoclinic`.
@@ -26,7 +27,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from numerics.errors import ConvergenceError
-from numerics.flow import compile_model
+from numerics.flow import compile_model, template_flow
 
 __all__ = ["SaddleConnection", "saddle_connection", "connection_gap"]
 
@@ -56,6 +57,7 @@ def _field(model, params: Mapping[str, object]):
 
     def acc(x, v):
         return cm.acc(0.0, x, v)
+    acc.compiled = cm
 
     def fx(x, v):
         return float(cm.jac(0.0, (x, v))[1, 0])
@@ -83,7 +85,17 @@ def _saddle(acc, fx, fv, guess: float) -> tuple[float, float, float]:
 
 def _to_turn(acc, y0, direction: float, t_max: float) -> float:
     """``x`` where the orbit from ``y0`` (forward, or backward for ``direction = -1``) first
-    turns (``x' = 0``)."""
+    turns (``x' = 0``): the compiled DOP853 (:mod:`numerics.flow.jit`) where available,
+    else scipy's, at the same tolerances."""
+    cm = acc.compiled
+    fl = template_flow(cm.template)
+    if fl is not None:
+        x, _, _, status = fl.to_turn(y0, direction, t_max, cm.pvec, 1e-12, 1e-13)
+        if status:
+            raise ConvergenceError(f"the manifold from x = {y0[0]:.6g} did not turn within "
+                                   f"t = {t_max:g}")
+        return x
+
     def rhs(t, y):
         return [direction * y[1], direction * acc(y[0], y[1])]
 

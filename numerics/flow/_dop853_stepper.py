@@ -151,3 +151,103 @@ def flow(y0, t_end, p, rtol, atol, n_out, max_steps):
             h = h_try * max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT) if finite else 0.5 * h_try
             rejected = True
     return out, 0, steps
+
+
+@njit(cache=True)
+def _step2(t, y, h, p, sign, K, ys, ynew, fnew):
+    """One DOP853 step of size ``h`` of the state ``(x, x')`` under ``sign`` times the field
+    (``sign = -1``: backward in time): the stages in ``K``, the new state in ``ynew`` and
+    its field in ``fnew``."""
+    rhs(t, y, p, K[0])  # noqa: F821
+    K[0, 0] *= sign
+    K[0, 1] *= sign
+    for s in range(1, _NS):
+        for i in range(2):
+            acc = 0.0
+            for j in range(s):
+                acc += _A[s, j] * K[j, i]
+            ys[i] = y[i] + h * acc
+        rhs(t + sign * _C[s] * h, ys, p, K[s])  # noqa: F821
+        K[s, 0] *= sign
+        K[s, 1] *= sign
+    for i in range(2):
+        acc = 0.0
+        for j in range(_NS):
+            acc += _B[j] * K[j, i]
+        ynew[i] = y[i] + h * acc
+    rhs(t + sign * h, ynew, p, fnew)  # noqa: F821
+    fnew[0] *= sign
+    fnew[1] *= sign
+    K[_NS, 0] = fnew[0]
+    K[_NS, 1] = fnew[1]
+
+
+@njit(cache=True)
+def to_turn(y0, sign, t_max, p, rtol, atol, max_steps):
+    """Follow ``(x, x')`` from ``y0`` forward (``sign = 1``) or backward (``-1``) in time to
+    where ``x'`` first changes sign; returns ``(x, x', elapsed time, status)`` with status 0
+    at the turn, 1 if there was none within ``t_max`` or ``max_steps``, 3 for a non-finite
+    state.  The step control is :func:`flow`'s; the crossing inside the last step is found
+    by Newton's method on the step length (``d x'/dh = sign * x''``), each iterate one
+    DOP853 step from the start of that step."""
+    y = y0[:2].copy()
+    K = np.zeros((_NS + 1, 2))
+    ys = np.empty(2)
+    ynew = np.empty(2)
+    fnew = np.empty(2)
+    f = np.empty(2)
+    rhs(0.0, y, p, f)  # noqa: F821
+    h = 1e-3 * min(1.0, t_max)
+    t = 0.0
+    rejected = False
+    for _ in range(max_steps):
+        if t >= t_max:
+            break
+        h_try = min(h, t_max - t)
+        _step2(sign * t, y, h_try, p, sign, K, ys, ynew, fnew)
+        e3 = 0.0
+        e5 = 0.0
+        finite = math.isfinite(ynew[0]) and math.isfinite(ynew[1])
+        for i in range(2):
+            sc = atol + max(abs(y[i]), abs(ynew[i])) * rtol
+            a3 = 0.0
+            a5 = 0.0
+            for j in range(_NS + 1):
+                a3 += K[j, i] * _E3[j]
+                a5 += K[j, i] * _E5[j]
+            e3 += (a3 / sc) ** 2
+            e5 += (a5 / sc) ** 2
+        if e5 == 0.0 and e3 == 0.0:
+            err = 0.0
+        else:
+            err = h_try * e5 / math.sqrt((e5 + 0.01 * e3) * 2)
+        if not finite:
+            if h_try < 1e-12:
+                return ynew[0], ynew[1], t, 3
+            h = 0.5 * h_try
+            rejected = True
+            continue
+        if err >= 1.0:
+            h = h_try * max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT)
+            rejected = True
+            continue
+        if (ynew[1] > 0.0) != (y[1] > 0.0) and y[1] != 0.0:
+            # the turn lies in this step: Newton on the length of a step from y
+            tau = h_try * y[1] / (y[1] - ynew[1])
+            for _k in range(30):
+                _step2(sign * t, y, tau, p, sign, K, ys, ynew, fnew)
+                d = ynew[1] / fnew[1]
+                tau -= d
+                if abs(d) <= 1e-15 * max(1.0, tau):
+                    break
+            _step2(sign * t, y, tau, p, sign, K, ys, ynew, fnew)
+            return ynew[0], ynew[1], t + tau, 0
+        factor = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, SAFETY * err ** ERROR_EXPONENT)
+        if rejected:
+            factor = min(1.0, factor)
+        t += h_try
+        y[0] = ynew[0]
+        y[1] = ynew[1]
+        h = h_try * factor
+        rejected = False
+    return y[0], y[1], t, 1

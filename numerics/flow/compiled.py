@@ -8,6 +8,7 @@ and the potential energy, for given parameter values.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -269,7 +270,14 @@ def _assemble(binding: Callable[[], BoundModel], name: str, template: ModelTempl
 
     def stiffness(xv, vv):
         J = np.array(f_jac(0.0, xv, vv, *pv), dtype=float)
-        return float(np.max(np.abs(np.linalg.eigvals(J))))
+        a, b = J[1, 0], J[1, 1]  # J = [[0, 1], [a, b]]: eigenvalues (b +- sqrt(b^2 + 4a))/2
+        disc = b * b + 4.0 * a
+        if not math.isfinite(disc):
+            return float(np.max(np.abs(np.linalg.eigvals(J))))  # raises for a non-finite J
+        if disc < 0:
+            return math.sqrt(-a)  # a complex pair: |lambda|^2 = det J = -a
+        r = math.sqrt(disc)
+        return 0.5 * max(abs(b + r), abs(b - r))
 
     return CompiledModel(
         name=name, values=fvals, omega0=float(template.f_w0(*pv)), acc=acc,

@@ -214,6 +214,9 @@ def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.S
         :class:`FlowResult` with ``y`` of shape ``(n_out + 1, len(y0))`` at
         ``t_k = k t_end/n_out`` (rows not reached are NaN).  ``y0`` holds all
         the states, or only the first two (then only those are integrated).
+        Its attribute ``to_turn(y0, sign, t_max, p, rtol, atol)`` follows the state
+        ``(x, x')`` forward or backward to where ``x'`` first changes sign (an event the
+        flow itself does not locate): ``(x, x', t, status)``.
         The first call in a new cache folder compiles (a few seconds); later
         calls and processes reuse the machine code.
 
@@ -247,4 +250,14 @@ def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.S
                                 int(n_out), int(max_steps))
         return FlowResult(out, int(status), int(steps))
 
+    def to_turn(y0, sign, t_max, p, rtol, atol, max_steps=10**6):
+        """``(x, x', t, status)`` where ``x'`` first changes sign on the orbit of the state
+        ``y0[:2]``, forward (``sign = 1``) or backward (``-1``) in time (the stepper's
+        ``to_turn``: status 0 found, 1 not within ``t_max``, 3 non-finite)."""
+        x, v, t, status = mod.to_turn(np.asarray(y0, dtype=float), float(sign),
+                                      float(t_max), np.asarray(p, dtype=float), float(rtol),
+                                      float(atol), int(max_steps))
+        return float(x), float(v), float(t), int(status)
+
+    flow.to_turn = to_turn
     return flow

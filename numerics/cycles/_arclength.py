@@ -70,7 +70,7 @@ class _Problem:
         R = np.array([yT[0] - x0, yT[1]])
         if not with_p:
             return R, A, yT, ys
-        b = np.array([yT[9], yT[10]]) if sens else self.dRdp(u)
+        b = np.array([yT[7], yT[8]]) if sens else self.dRdp(u)
         return R, A, b, yT, ys
 
     def dRdp(self, u):

@@ -270,7 +270,8 @@ def _assemble(binding: Callable[[], BoundModel], name: str, template: ModelTempl
 
     def stiffness(xv, vv):
         J = np.array(f_jac(0.0, xv, vv, *pv), dtype=float)
-        a, b = J[1, 0], J[1, 1]  # J = [[0, 1], [a, b]]: eigenvalues (b +- sqrt(b^2 + 4a))/2
+        # J = [[0, 1], [a, b]]: eigenvalues (b +- sqrt(b^2 + 4a))/2
+        a, b = float(J[1, 0]), float(J[1, 1])
         disc = b * b + 4.0 * a
         if not math.isfinite(disc):
             return float(np.max(np.abs(np.linalg.eigvals(J))))  # raises for a non-finite J

@@ -11,8 +11,9 @@ with the state (the forward sensitivity equations, e.g. Hairer, Norsett and Wann
 with ``J`` the Jacobian of the field and ``p_k`` the template's parameter values (the
 scaled ones: varying ``Delta`` moves ``delta = Delta/mu`` at the rate ``1/mu``).  The
 rates ``d p_k/d p`` are passed with the values, so one compiled flow serves every
-parameter of the model.  The eleven states are the nine of
-:func:`~numerics.flow.compiled.extended_state` and ``(dx/dp, dx'/dp)``.
+parameter of the model.  The nine states are the first seven of
+:func:`~numerics.flow.compiled.extended_state` (state, fundamental matrix, divergence
+integral; the dissipation integrals are not needed along a branch) and ``(dx/dp, dx'/dp)``.
 
 Only the compiled DOP853 carries them (:func:`sensitivity_flow` is ``None`` otherwise);
 callers fall back to differences.  The equations are checked against central differences
@@ -33,18 +34,18 @@ from numerics.flow.compiled import CompiledModel, ModelTemplate
 
 __all__ = ["N_SENSITIVITY", "sensitivity_flow", "sensitivity_state", "flow_with_sensitivity"]
 
-#: the extended state's nine entries and the sensitivity ``(dx/dp, dx'/dp)``
-N_SENSITIVITY = 11
+#: the state, the fundamental matrix, the divergence integral and ``(dx/dp, dx'/dp)``
+N_SENSITIVITY = 9
 
 
 def sensitivity_state(x0: float, v0: float = 0.0) -> list[float]:
     """The initial state at ``(x0, v0)`` with a fixed start: identity fundamental matrix, zero
-    integrals and zero sensitivity (the start does not move with ``p``)."""
-    return [float(x0), float(v0), 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+    divergence integral and zero sensitivity (the start does not move with ``p``)."""
+    return [float(x0), float(v0), 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]
 
 
 def sensitivity_flow(template: ModelTemplate):
-    """The compiled flow of the eleven states, or ``None`` (no numba, ``KBM_NO_JIT``, or a
+    """The compiled flow of the nine states, or ``None`` (no numba, ``KBM_NO_JIT``, or a
     function of the model without a :mod:`math` form).
 
     Its parameter vector is the template's values followed by their rates
@@ -72,16 +73,16 @@ def _sensitivity_flow(template: ModelTemplate, enabled: bool):
         jx, jv = sp.diff(acc, X).subs(es), sp.diff(acc, V).subs(es)
         forcing = sum((sp.diff(acc, p).subs(es) * r for p, r in zip(names, rates)),
                       sp.Integer(0))
-        ext = [e.xreplace(dict(zip(template.ext_symbols, y))) for e in template.ext_exprs]
-        return ext + [y[10], jx * y[9] + jv * y[10] + forcing]
+        ext = [e.xreplace(dict(zip(template.ext_symbols, y))) for e in template.ext_exprs[:7]]
+        return ext + [y[8], jx * y[7] + jv * y[8] + forcing]
 
     return jit_flow(exprs, T, y, names + rates,
-                    key=f"sensitivity|{sp.srepr(tuple(template.ext_exprs))}|{template.names}")
+                    key=f"sensitivity-9|{sp.srepr(tuple(template.ext_exprs))}|{template.names}")
 
 
 def flow_with_sensitivity(cm: CompiledModel, rates: np.ndarray, y0, t_end: float, n_out: int,
                           rtol: float, atol: float, max_steps: int = 10**6) -> np.ndarray:
-    """States of the eleven-state system at ``t_k = k t_end/n_out``, shape ``(n_out + 1, 11)``.
+    """States of the nine-state system at ``t_k = k t_end/n_out``, shape ``(n_out + 1, 9)``.
 
     ``rates`` are ``d p_k/d p`` in the template's order
     (:meth:`numerics.flow.CompiledLine.rates`).  The caller has checked that

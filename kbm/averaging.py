@@ -39,6 +39,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import math
+from typing import TYPE_CHECKING
 
 import sympy as sp
 
@@ -53,6 +54,9 @@ from .errors import CostError, OrderError, UnsupportedTermError
 from .models import Oscillator, get_model
 from .result import KBMResult
 from .symbols import a, psi, x, xdot
+
+if TYPE_CHECKING:  # the coupled engine imports this module
+    from .coupled import CoupledKBMResult, CoupledOscillators
 
 __all__ = ["derive", "run_recursion", "RawExpansion", "MAX_ORDER_TRIG", "MAX_ORDER", "COST_BUDGET", "expansion_cost", "check_cost",
            "symbolic_order_limit"]

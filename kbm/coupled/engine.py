@@ -35,14 +35,14 @@ from fractions import Fraction
 
 import sympy as sp
 
-from ..algebra.laurent import Laurent, LaurentRing, Q
+from ..algebra.laurent import LaurentRing, Q
 from ..algebra.lazy_series import Const, Leaf, Node, Product, Scaled, Sum
 from ..algebra.multi_angle import MultiAngle
 from ..errors import ModelError, OrderError, UnsupportedTermError
 from ..forced.model import ForcedOscillator
 from ..models import Oscillator
 from .model import CoupledOscillators, amplitudes, positions, velocities
-from .resonance import (InternalResonance, SlowLattice, UndeclaredResonanceError,
+from .resonance import (SlowLattice, UndeclaredResonanceError,
                         declaration, describe, frequency)
 from .result import CoupledKBMResult
 

@@ -28,7 +28,6 @@ coupling in the oscillator linewidth).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -99,7 +98,6 @@ def phase_diffusion(model, params: dict, D: object) -> PhaseDiffusion:
     """
     import kbm
     from kbm.models import get_model
-    from kbm.symbols import mu as mu_sym
 
     D = noise_level(D)
     m = get_model(model) if isinstance(model, str) else model

@@ -33,7 +33,7 @@ from .errors import ModelError, ParameterError
 from .models import Oscillator, get_model
 from .symbols import mu, parse, t, x, xdot
 
-__all__ = ["ConservativeSplit", "NotConfiningError", "split_conservative"]
+__all__ = ["ConservativeSplit", "NotConfiningError", "SplitLine", "split_conservative"]
 
 
 class NotConfiningError(ModelError):
@@ -69,6 +69,12 @@ class ConservativeSplit:
     mu: float
     params: Mapping[str, float] = field(default_factory=dict)
     user_potential: bool = False
+    #: ``(g, g', G, h)`` already lambdified (a :class:`SplitLine` binds them per value); else
+    #: :meth:`numpy_functions` lambdifies the expressions
+    functions: tuple | None = field(default=None, compare=False, repr=False)
+    #: ``(g, G)`` for Python floats and ``dh/dxdot`` (numpy), already lambdified, or ``None``
+    scalar: tuple | None = field(default=None, compare=False, repr=False)
+    h_velocity: Callable | None = field(default=None, compare=False, repr=False)
 
     @property
     def conservative(self) -> bool:
@@ -84,22 +90,51 @@ class ConservativeSplit:
             ``g(x)``, ``g'(x)``, ``G(x)`` and ``h(x, v)``; each broadcasts and
             returns float arrays of the broadcast shape.
         """
-        def vec1(expr):
-            f = sp.lambdify(x, expr, "numpy")
-            return lambda z: np.broadcast_to(np.asarray(f(z), dtype=float), np.shape(z)) + 0.0
-
-        hf = sp.lambdify((x, xdot), self.h, "numpy")
-
-        def h(z, v):
-            zz, vv = np.broadcast_arrays(np.asarray(z, float), np.asarray(v, float))
-            return np.broadcast_to(np.asarray(hf(zz, vv), dtype=float), zz.shape) + 0.0
-
-        return vec1(self.g), vec1(sp.diff(self.g, x)), vec1(self.G), h
+        if self.functions is not None:
+            return self.functions
+        return _vectorised(sp.lambdify(x, self.g, "numpy"),
+                           sp.lambdify(x, sp.diff(self.g, x), "numpy"),
+                           sp.lambdify(x, self.G, "numpy"),
+                           sp.lambdify((x, xdot), self.h, "numpy"))
 
 
-def _check_confining(G: sp.Expr, g: sp.Expr, model: Oscillator) -> None:
-    Gf = sp.lambdify(x, G, "numpy")
-    gf = sp.lambdify(x, g, "numpy")
+    def scalar_functions(self) -> tuple[Callable, Callable]:
+        """``(g, G)`` lambdified with the :mod:`math` module (scalar speed).
+
+        Raises
+        ------
+        NameError, TypeError, sympy.printing.codeprinter.PrintMethodNotImplementedError
+            When a function of ``g`` or ``G`` has no :mod:`math` form.
+        """
+        if self.scalar is not None:
+            return self.scalar
+        return sp.lambdify(x, self.g, "math"), sp.lambdify(x, self.G, "math")
+
+    def h_velocity_function(self) -> Callable:
+        """``dh/dxdot`` as a numpy function of ``(x, xdot)`` (broadcasting)."""
+        if self.h_velocity is not None:
+            return self.h_velocity
+        return sp.lambdify((x, xdot), sp.diff(self.h, xdot), "numpy")
+
+
+def _vectorised(g, dg, G, h) -> tuple[Callable, Callable, Callable, Callable]:
+    """The four functions of :meth:`ConservativeSplit.numpy_functions` from lambdified ones
+    (broadcast, float arrays)."""
+    def vec1(f):
+        return lambda z: np.broadcast_to(np.asarray(f(z), dtype=float), np.shape(z)) + 0.0
+
+    def hv(z, v):
+        zz, vv = np.broadcast_arrays(np.asarray(z, float), np.asarray(v, float))
+        return np.broadcast_to(np.asarray(h(zz, vv), dtype=float), zz.shape) + 0.0
+
+    return vec1(g), vec1(dg), vec1(G), hv
+
+
+def _check_confining(G: sp.Expr, g: sp.Expr, model: Oscillator, Gf=None, gf=None) -> None:
+    """Raise :class:`NotConfiningError` unless ``G`` grows to infinity on both sides (``Gf``,
+    ``gf``: the functions of ``G`` and ``g`` if already lambdified)."""
+    Gf = sp.lambdify(x, G, "numpy") if Gf is None else Gf
+    gf = sp.lambdify(x, g, "numpy") if gf is None else gf
     inner = np.linspace(-100.0, 100.0, 20001)
     try:
         with np.errstate(all="ignore"):
@@ -216,3 +251,99 @@ def split_conservative(model: Oscillator | str, params: Mapping[str, object] | N
     fvals = {k: float(v) for k, v in vals.items() if k != "mu"}
     return ConservativeSplit(model=model, g=g, h=h, G=G, mu=float(mu_val),
                              params=MappingProxyType(fvals), user_potential=user)
+
+
+class SplitLine:
+    """:func:`split_conservative` along one parameter: ``line(p)`` is the split at
+    ``vary = p`` (the other values as given).
+
+    The energy-balance branch of ``kbm branch`` splits its model at some hundred values of
+    one parameter; each split integrates ``g`` and lambdifies five functions.  A line does
+    that once, with the values that move with ``vary`` (:attr:`kbm.bound.ParameterLine.changed`,
+    e.g. ``delta = Delta/mu``) kept as symbols, and per value substitutes them exactly into
+    ``g``, ``h``, ``G`` and binds the lambdified functions.  ``line(p)`` equals
+    ``split_conservative(model, {**params, vary: p})`` in its values (a test compares
+    them); where the shortcut does not apply (``mu`` varied, a ``potential`` given, a
+    potential sympy integrates only piecewise) every value is split from scratch.
+
+    Parameters
+    ----------
+    model, params
+        As for :func:`split_conservative` (``vary`` may be among ``params``).
+    vary
+        The parameter that varies.
+    at
+        A value of ``vary`` at which the model can be bound.
+    potential
+        As for :func:`split_conservative`.
+    """
+
+    def __init__(self, model: Oscillator | str, params: Mapping[str, object] | None,
+                 vary: str, at: float, *, potential: str | sp.Expr | None = None):
+        from .bound import ParameterLine
+
+        if isinstance(model, str):
+            model = get_model(model)
+        model.require_autonomous("the energy-balance averaging")
+        self.model, self.params, self.vary = model, dict(params or {}), vary
+        self.potential = potential
+        self.line = ParameterLine(model, self.params, vary, at)
+        base = self.line.base
+        changed = self.line.changed
+        self._symbolic = None
+        if potential is not None or "mu" in changed or "mu" not in base.values \
+                or base.values["mu"] == 0 or base.model is not model:
+            return
+        mu_val = base.values["mu"]
+        subs = {sp.Symbol(k): v for k, v in base.values.items()
+                if k != "mu" and k not in changed}
+        acc = model.acceleration().subs(subs)
+        syms = tuple(sp.Symbol(k) for k in changed)
+        if acc.free_symbols - {x, xdot, mu, t, *syms}:
+            return  # a missing value: split_conservative names it
+        acc0 = acc.subs(xdot, 0)
+        h = sp.expand((acc - acc0) / mu).subs(mu, mu_val)
+        g = sp.expand(-acc0.subs(mu, mu_val))
+        G = sp.integrate(g, (x, 0, x))
+        if G.has(sp.Integral, sp.Piecewise):
+            return
+        G = sp.expand(G)
+        args = (x, *syms)
+        lam = {k: sp.lambdify(args, e, "numpy")
+               for k, e in (("g", g), ("dg", sp.diff(g, x)), ("G", G))}
+        lam["h"] = sp.lambdify((x, xdot, *syms), h, "numpy")
+        lam["hv"] = sp.lambdify((x, xdot, *syms), sp.diff(h, xdot), "numpy")
+        try:
+            lam["sg"] = sp.lambdify(args, g, "math")
+            lam["sG"] = sp.lambdify(args, G, "math")
+        except Exception:  # noqa: BLE001 - no math form: the consumers fall back to numpy
+            lam["sg"] = lam["sG"] = None
+        self._symbolic = (syms, g, h, G, lam, float(mu_val))
+
+    def __call__(self, value: float) -> ConservativeSplit:
+        """The split at ``vary = value``.
+
+        Raises
+        ------
+        kbm.errors.ParameterError, NotConfiningError, kbm.errors.ModelError
+            As :func:`split_conservative` at that value.
+        """
+        if self._symbolic is None:
+            return split_conservative(self.model, {**self.params, self.vary: value},
+                                      potential=self.potential)
+        syms, g, h, G, lam, mu_val = self._symbolic
+        bound = self.line(value)
+        exact = {s: bound.values[s.name] for s in syms}
+        nums = tuple(float(v) for v in exact.values())
+        gv, hv, Gv = (e.xreplace(exact) for e in (g, h, G))
+        lg, ldg, lG, lh = lam["g"], lam["dg"], lam["G"], lam["h"]
+        functions = _vectorised(lambda z: lg(z, *nums), lambda z: ldg(z, *nums),
+                                lambda z: lG(z, *nums), lambda z, v: lh(z, v, *nums))
+        _check_confining(Gv, gv, self.model, functions[2], functions[0])
+        fvals = {k: float(v) for k, v in bound.values.items() if k != "mu"}
+        sg, sG, lhv = lam["sg"], lam["sG"], lam["hv"]
+        scalar = None if sg is None else (lambda z: sg(z, *nums), lambda z: sG(z, *nums))
+        return ConservativeSplit(model=self.model, g=gv, h=hv, G=Gv, mu=mu_val,
+                                 params=MappingProxyType(fvals), user_potential=False,
+                                 functions=functions, scalar=scalar,
+                                 h_velocity=lambda z, v: lhv(z, v, *nums))

@@ -106,3 +106,53 @@ def test_coupled_flow_at_equals_a_new_binding(name, params, vary):
         assert np.array_equal(a.rhs(y, 0.4), b.rhs(y, 0.4))
     with pytest.raises(ParameterError, match="not among the values"):
         base.at(Delta=1.0)
+
+
+SPLIT_CASES = [
+    ("sedf", {"mu": 0.1, "beta": 1, "lam": 1}, "Delta"),   # delta = Delta/mu symbolic
+    ("sedf", {"mu": 0.1, "lam": 1, "Delta": 2}, "beta"),   # in h only
+    ("sedf", {"mu": 0.1, "beta": 1, "Delta": 2}, "lam"),   # inside sin(k x): piecewise G?
+    ("sedf", {"beta": 1, "lam": 1, "Delta": 2}, "mu"),     # mu: split from scratch
+    ("cdc", {"mu": 0.1, "lam": 1}, "Delta"),
+]
+
+
+@pytest.mark.parametrize("case", SPLIT_CASES)
+def test_split_line_equals_split_conservative(case):
+    """kbm.conservative.SplitLine (the energy branch splits once along the parameter)
+    against split_conservative at each value: the same g, h, G, values and functions."""
+    import numpy as np
+
+    from kbm.conservative import SplitLine, split_conservative
+
+    model, params, vary = case
+    line = SplitLine(model, params, vary, 0.5)
+    z = np.linspace(-3.0, 3.0, 13)
+    for value in (0.3, 1.7, 3.1):
+        a, b = line(value), split_conservative(model, {**params, vary: value})
+        assert (a.g, a.h, a.G, a.mu, dict(a.params)) == (b.g, b.h, b.G, b.mu, dict(b.params))
+        for fa, fb in zip(a.numpy_functions()[:3], b.numpy_functions()[:3]):
+            assert np.allclose(fa(z), fb(z), rtol=1e-13, atol=1e-13)
+        assert np.allclose(a.numpy_functions()[3](z, 0.7), b.numpy_functions()[3](z, 0.7),
+                           rtol=1e-13, atol=1e-13)
+        assert np.allclose(a.h_velocity_function()(z, 0.7), b.h_velocity_function()(z, 0.7),
+                           rtol=1e-13, atol=1e-13)
+        ga, Ga = a.scalar_functions()
+        gb, Gb = b.scalar_functions()
+        assert all(abs(ga(v) - gb(v)) < 1e-12 and abs(Ga(v) - Gb(v)) < 1e-12 for v in z)
+
+
+def test_split_line_refuses_what_split_conservative_refuses():
+    """A potential that stops confining along the line is refused at that value, as from
+    scratch (NotConfiningError)."""
+    from kbm import custom_model
+    from kbm.conservative import NotConfiningError, SplitLine, split_conservative
+
+    model = custom_model("-c*x + (1 - x**2)*xdot", name="softening-c")
+    line = SplitLine(model, {"mu": 0.1}, "c", 0.5)
+    line(5.0)  # g = (1 + mu c) x: confining for c > -10
+    for bad in (-20.0, -30.0):
+        with pytest.raises(NotConfiningError):
+            split_conservative(model, {"mu": 0.1, "c": bad})
+        with pytest.raises(NotConfiningError):
+            line(bad)

@@ -188,16 +188,17 @@ def _energy_fold(model, params: dict, vary: str, lo: float, hi: float, pair,
     ``None`` when the bracket does not hold a sign change of that extremum."""
     from scipy.optimize import brentq, minimize_scalar
 
-    from kbm.conservative import split_conservative
+    from kbm.conservative import SplitLine
     from numerics.energy.balance import gamma_function
     from numerics.energy.portrait import phase_portrait
 
     e1, e2 = sorted((pair[0].energy, pair[1].energy))
     width = max(e2 - e1, 1e-9 * max(1.0, abs(e1)))
 
+    line = SplitLine(model, params, vary, lo)
+
     def extremum(p):
-        split = split_conservative(model, {**params, vary: float(p)})
-        portrait = phase_portrait(split)
+        portrait = phase_portrait(line(float(p)))
         ann = next((a for a in portrait.annuli if a.label == pair[0].annulus), None)
         if ann is None:
             raise ConvergenceError(f"annulus {pair[0].annulus!r} gone at {vary} = {p}")
@@ -241,11 +242,19 @@ def energy_branch(model: Oscillator | str, params: Mapping[str, object] | None, 
     AnalyticCurve
         Method ``"energy"``; ``amplitude`` is the largest ``x`` of the predicted cycle.
     """
+    from kbm.conservative import SplitLine
+
     params = dict(params or {})
+    try:  # split once along the parameter (the values that move with it kept as symbols)
+        line = SplitLine(model, params, vary, float(bounds[0]))
+    except KBMError:
+        line = None
 
     def cycles(p):
         try:
-            return predict_cycles(model, {**params, vary: float(p)}, order=1).cycles
+            split = None if line is None else line(float(p))
+            return predict_cycles(model, {**params, vary: float(p)}, order=1,
+                                  split=split).cycles
         except KBMError:
             return ()
 

@@ -27,9 +27,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import sympy as sp
 
-from kbm.symbols import x as _x, xdot as _xdot
 
 from .portrait import Annulus, Portrait
 
@@ -246,7 +244,7 @@ def balance_cycles(portrait: Portrait, *, n_scan: int = 96, energy_max: float | 
     """
     split = portrait.split
     mu = split.mu
-    hv = sp.lambdify((_x, _xdot), sp.diff(split.h, _xdot), "numpy")
+    hv = split.h_velocity_function()
 
     def hvf(x, v):
         return np.broadcast_to(np.asarray(hv(x, v), float), np.broadcast(x, v).shape)

@@ -282,12 +282,8 @@ def _label(wells, top, scale) -> str:
 def _scalar_functions(split: ConservativeSplit, fun: tuple) -> tuple:
     """``(g, G)`` lambdified for Python floats (``()`` when the math module cannot, or
     they disagree with the numpy ones)."""
-    import sympy as sp
-
-    from kbm.symbols import x
-
     try:
-        g, G = sp.lambdify(x, split.g, "math"), sp.lambdify(x, split.G, "math")
+        g, G = split.scalar_functions()
         z = np.array([-1.7, 0.3, 2.9])
         ok = all(np.allclose([float(f(v)) for v in z], F(z), rtol=1e-13, atol=1e-13)
                  for f, F in ((g, fun[0]), (G, fun[2])))

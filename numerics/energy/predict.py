@@ -26,9 +26,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from kbm.conservative import split_conservative
+from kbm.conservative import ConservativeSplit, split_conservative
 from kbm.errors import OrderError
-from kbm.symbols import x as _x, xdot as _xdot
+from kbm.symbols import xdot as _xdot
 
 from .averaging import _extrema, average
 from .position import PositionError, position_cycle
@@ -244,7 +244,8 @@ def _first_order(c):
 
 def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: int = 1,
                    potential=None, n_energy: int = 24, rate_order: int | None = None,
-                   scheme: str | None = None) -> EnergyPrediction:
+                   scheme: str | None = None, split: ConservativeSplit | None = None
+                   ) -> EnergyPrediction:
     """Predict every limit cycle on every period annulus by energy averaging.
 
     Parameters
@@ -274,6 +275,9 @@ def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: 
         energy-angle variables (:mod:`~numerics.energy.averaging`), the KBM
         normal form for linear ``g``; its series in ``mu`` diverges when
         ``period_sensitivity`` exceeds about 1.
+    split : kbm.conservative.ConservativeSplit, optional
+        The split of ``model`` at ``params`` if already made (e.g. by a
+        :class:`kbm.conservative.SplitLine` along a parameter); else it is made here.
     rate_order : int, optional
         Order of the averaged rate ``sum mu**n M_n`` whose root gives ``eps*``
         (``order >= 2`` only; default ``order + 1``).  With the first-harmonic
@@ -310,7 +314,8 @@ def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: 
     rate_order = order + 1 if rate_order is None else int(rate_order)
     if rate_order < order:
         raise OrderError(f"rate_order = {rate_order} must be >= order = {order}")
-    split = split_conservative(model, params, potential=potential)
+    if split is None:
+        split = split_conservative(model, params, potential=potential)
     portrait = phase_portrait(split)
     info = dict(model=split.model.name, params={"mu": split.mu, **split.params}, order=int(order),
                 annuli=tuple(a.summary() for a in portrait.annuli),
@@ -342,7 +347,7 @@ def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: 
                       f"the averaged equation; {where})")
         return EnergyPrediction(cycles=(), reason=reason, **info)
     odd = sp.expand(split.h + split.h.subs(_xdot, -_xdot)) == 0
-    hv = sp.lambdify((_x, _xdot), sp.diff(split.h, _xdot), "numpy")
+    hv = split.h_velocity_function()
 
     def hvf(x, v):
         return np.broadcast_to(np.asarray(hv(x, v), float), np.broadcast(x, v).shape)

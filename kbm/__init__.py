@@ -10,18 +10,40 @@ from importlib.metadata import PackageNotFoundError, version as _version
 
 from .errors import (KBMError, ModelError, NonAutonomousError, OrderError, ParameterError,
                      ResolutionError, SeriesTruncationError, UnsupportedTermError)
-from .averaging import derive
-from .averaged import AveragedCycle, AveragedRates, averaged_cycles, averaged_rates
-from .evaluate import mpmath_function, numpy_function
-from .latex import latex
-from .numeric_kbm import NumericExpansion, numeric_derive
-from .pointwise import ExpansionValues, derive_values
+from .latex import latex  # eager: the name is also a submodule's
 from .models import MODELS, Oscillator, custom_model, get_model, model_names
-from .result import KBMFunctions, KBMResult
-from .numeric_series import NumericCycleSeries, numeric_cycle_series
-from .series import LimitCycleSeries, limit_cycle_series
-from .stochastic import StochasticAveraging, stochastic_average
 from .symbols import a, mu, parse, psi, t, x, xdot
+
+#: the public names of the heavier modules, imported on first use (PEP 562): ``import kbm``
+#: (and every ``kbm`` command) then costs only what it uses
+_LAZY = {
+    "derive": ".averaging",
+    "AveragedCycle": ".averaged", "AveragedRates": ".averaged",
+    "averaged_cycles": ".averaged", "averaged_rates": ".averaged",
+    "mpmath_function": ".evaluate", "numpy_function": ".evaluate",
+    "NumericExpansion": ".numeric_kbm", "numeric_derive": ".numeric_kbm",
+    "ExpansionValues": ".pointwise", "derive_values": ".pointwise",
+    "KBMFunctions": ".result", "KBMResult": ".result",
+    "NumericCycleSeries": ".numeric_series", "numeric_cycle_series": ".numeric_series",
+    "LimitCycleSeries": ".series", "limit_cycle_series": ".series",
+    "StochasticAveraging": ".stochastic", "stochastic_average": ".stochastic",
+}
+
+
+def __getattr__(name: str):
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'kbm' has no attribute {name!r}")
+    from importlib import import_module
+
+    value = getattr(import_module(module, __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
 
 __all__ = [
     "KBMError", "ModelError", "NonAutonomousError", "OrderError", "ParameterError",

@@ -29,20 +29,42 @@ if getattr(_kbm, "__file__", None) is None:  # a bare folder 'kbm' shadows the p
         "project?). Run Python from inside the clone, or from any other folder.")
 
 from numerics._memo import clear_caches  # noqa: E402
-from numerics.comparison import (Comparison, ConvergenceStudy, Prediction, compare,
-                                 convergence_study, energy_prediction, kbm_prediction, predict,
-                                 predicted_orders)
-from numerics.cycles import (Dissipation, LimitCycle, SweepPoint, grid, limit_cycle,
-                             limit_cycles, sweep)
-from numerics.errors import ConvergenceError, IntegrationError, NoCycleError, NumericsError
-from numerics.flow import Method, integrate
-from numerics.noise import langevin_system
-from numerics.noise.ensemble import stationary_ensemble
-from numerics.paper import (Claim, ErratumEvidence, SaddleNode, SlideResult, Slip, StickSlip,
-                            analyze, check_claims, errata_evidence, paper_prediction,
-                            potential, saddle_node, slide, slip_energy)
-from numerics.thermal import noise_report
-from numerics.thermal.friction import thermal_friction_map
+from numerics.errors import ConvergenceError, IntegrationError, NoCycleError, NumericsError  # noqa: E402,E501
+
+#: the public names, each imported from its module on first use (PEP 562): ``import
+#: numerics`` (and the ``kbm`` command line on top of it) costs only what is used
+_LAZY = {
+    **dict.fromkeys(("Comparison", "ConvergenceStudy", "Prediction", "compare",
+                     "convergence_study", "energy_prediction", "kbm_prediction", "predict",
+                     "predicted_orders"), "numerics.comparison"),
+    **dict.fromkeys(("Dissipation", "LimitCycle", "SweepPoint", "grid", "limit_cycle",
+                     "limit_cycles", "sweep"), "numerics.cycles"),
+    **dict.fromkeys(("Method", "integrate"), "numerics.flow"),
+    "langevin_system": "numerics.noise",
+    "stationary_ensemble": "numerics.noise.ensemble",
+    **dict.fromkeys(("Claim", "ErratumEvidence", "SaddleNode", "SlideResult", "Slip",
+                     "StickSlip", "analyze", "check_claims", "errata_evidence",
+                     "paper_prediction", "potential", "saddle_node", "slide", "slip_energy"),
+                    "numerics.paper"),
+    "noise_report": "numerics.thermal",
+    "thermal_friction_map": "numerics.thermal.friction",
+}
+
+
+def __getattr__(name: str):
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'numerics' has no attribute {name!r}")
+    from importlib import import_module
+
+    value = getattr(import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
 
 __all__ = [
     "integrate", "Method", "limit_cycle", "limit_cycles", "LimitCycle", "Dissipation", "sweep",

@@ -14,7 +14,7 @@ are extrapolated to distance zero, and the error bar is twice that correction.
 
 On the SEDF branch of issue 25 (mu = 0.1, beta = 1, lam = 1, Delta from 0) the two
 saddles at x = +-1.581 (lambda_u = 4.027) give p_h = 3.24941 +- 0.00015; AUTO-07p's last
-point is 3.2494306 (at period 14.7).
+point is 3.2494301 (at period 14.47; ``benchmarks/bench_branch.py``).
 """
 
 from __future__ import annotations

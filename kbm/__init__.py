@@ -12,6 +12,7 @@ from .errors import (KBMError, ModelError, NonAutonomousError, OrderError, Param
                      ResolutionError, SeriesTruncationError, UnsupportedTermError)
 from .latex import latex  # eager: the name is also a submodule's
 from .models import MODELS, Oscillator, custom_model, get_model, model_names
+from ._lazy import lazy_names
 from .symbols import a, mu, parse, psi, t, x, xdot
 
 #: the public names of the heavier modules, imported on first use (PEP 562): ``import kbm``
@@ -29,20 +30,7 @@ _LAZY = {
     "StochasticAveraging": ".stochastic", "stochastic_average": ".stochastic",
 }
 
-
-def __getattr__(name: str):
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module 'kbm' has no attribute {name!r}")
-    from importlib import import_module
-
-    value = getattr(import_module(module, __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+__getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)
 
 
 __all__ = [

@@ -29,7 +29,10 @@ if getattr(_kbm, "__file__", None) is None:  # a bare folder 'kbm' shadows the p
         "project?). Run Python from inside the clone, or from any other folder.")
 
 from numerics._memo import clear_caches  # noqa: E402
-from numerics.errors import ConvergenceError, IntegrationError, NoCycleError, NumericsError  # noqa: E402,E501
+from numerics.errors import (ConvergenceError, IntegrationError, NoCycleError,  # noqa: E402
+                             NumericsError)
+
+from kbm._lazy import lazy_names  # noqa: E402
 
 #: the public names, each imported from its module on first use (PEP 562): ``import
 #: numerics`` (and the ``kbm`` command line on top of it) costs only what is used
@@ -50,21 +53,7 @@ _LAZY = {
     "thermal_friction_map": "numerics.thermal.friction",
 }
 
-
-def __getattr__(name: str):
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module 'numerics' has no attribute {name!r}")
-    from importlib import import_module
-
-    value = getattr(import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
-
+__getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)
 
 __all__ = [
     "integrate", "Method", "limit_cycle", "limit_cycles", "LimitCycle", "Dissipation", "sweep",

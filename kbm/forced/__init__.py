@@ -25,22 +25,14 @@ from .builtins import FORCED_MODELS, forced_model_names, get_forced_model
 from .model import (LAMBDA, ForcedOscillator, NonPeriodicError, Resonance, add_forcing, nu,
                     phi, sigma, theta)
 from .result import ForcedKBMResult, SlowFlow
+from .._lazy import lazy_names
 
 #: the numeric backend's names, imported on first use (PEP 562): it builds on the
 #: one-degree-of-freedom engine, which a forced or coupled model alone does not need
 _LAZY = dict.fromkeys(("NumericForcedExpansion", "forced_expansion", "numeric_derive_forced"),
                       ".numeric")
 
-
-def __getattr__(name: str):
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module 'kbm.forced' has no attribute {name!r}")
-    from importlib import import_module
-
-    value = getattr(import_module(module, __name__), name)
-    globals()[name] = value
-    return value
+__getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)
 
 __all__ = ["derive_forced", "SmallDivisorError", "MAX_ORDER", "ForcedOscillator", "Resonance",
            "NonPeriodicError", "add_forcing", "get_forced_model", "forced_model_names",

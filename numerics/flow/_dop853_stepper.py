@@ -39,6 +39,26 @@ def _norm(v, scale):
 
 
 @njit(cache=True)
+def _error(K, y, ynew, h, rtol, atol, n):
+    """The blended 3rd/5th-order error norm of a step of length ``h > 0`` over the first
+    ``n`` states (< 1: accepted; Hairer, Norsett & Wanner, sec. II.10, as scipy's)."""
+    e3 = 0.0
+    e5 = 0.0
+    for i in range(n):
+        sc = atol + max(abs(y[i]), abs(ynew[i])) * rtol
+        a3 = 0.0
+        a5 = 0.0
+        for j in range(_NS + 1):
+            a3 += K[j, i] * _E3[j]
+            a5 += K[j, i] * _E5[j]
+        e3 += (a3 / sc) ** 2
+        e5 += (a5 / sc) ** 2
+    if e5 == 0.0 and e3 == 0.0:
+        return 0.0
+    return h * e5 / math.sqrt((e5 + 0.01 * e3) * n)
+
+
+@njit(cache=True)
 def flow(y0, t_end, p, rtol, atol, n_out, max_steps):
     """States at t_k = k t_end / n_out, k = 0..n_out (NaN after a failure); status 0 ok,
     1 step limit, 2 step size underflow, 3 non-finite state; and the number of steps."""
@@ -109,21 +129,7 @@ def flow(y0, t_end, p, rtol, atol, n_out, max_steps):
         for i in range(n):
             if not math.isfinite(ynew[i]):
                 finite = False
-        e3 = 0.0
-        e5 = 0.0
-        for i in range(n):
-            sc = atol + max(abs(y[i]), abs(ynew[i])) * rtol
-            a3 = 0.0
-            a5 = 0.0
-            for j in range(_NS + 1):
-                a3 += K[j, i] * _E3[j]
-                a5 += K[j, i] * _E5[j]
-            e3 += (a3 / sc) ** 2
-            e5 += (a5 / sc) ** 2
-        if e5 == 0.0 and e3 == 0.0:
-            err = 0.0
-        else:
-            err = abs(h_try) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
+        err = _error(K, y, ynew, abs(h_try), rtol, atol, n)
         if not finite:
             err = math.inf
         if err < 1.0:
@@ -205,22 +211,8 @@ def to_turn(y0, sign, t_max, p, rtol, atol, max_steps):
             break
         h_try = min(h, t_max - t)
         _step2(sign * t, y, h_try, p, sign, K, ys, ynew, fnew)
-        e3 = 0.0
-        e5 = 0.0
         finite = math.isfinite(ynew[0]) and math.isfinite(ynew[1])
-        for i in range(2):
-            sc = atol + max(abs(y[i]), abs(ynew[i])) * rtol
-            a3 = 0.0
-            a5 = 0.0
-            for j in range(_NS + 1):
-                a3 += K[j, i] * _E3[j]
-                a5 += K[j, i] * _E5[j]
-            e3 += (a3 / sc) ** 2
-            e5 += (a5 / sc) ** 2
-        if e5 == 0.0 and e3 == 0.0:
-            err = 0.0
-        else:
-            err = h_try * e5 / math.sqrt((e5 + 0.01 * e3) * 2)
+        err = _error(K, y, ynew, h_try, rtol, atol, 2)
         if not finite:
             if h_try < 1e-12:
                 return ynew[0], ynew[1], t, 3

@@ -76,3 +76,20 @@ def test_branch_continues_in_its_period():
     mults = [abs(q.multipliers[1]) for q in long]
     assert all(b < a for a, b in zip(mults, mults[1:]))  # stable, ever more strongly
     assert all(q.stable for q in long)
+
+
+@pytest.mark.slow
+def test_branch_from_delta_zero_to_twenty_times_its_period():
+    """Issue 25, the command's path (``kbm branch ... --follow-period 20``): from the van der
+    Pol cycle at Delta = 0 the branch and its continuation in the period reach 20 times the
+    start's period (125.7), the periods rising, the parameter at the manifolds' connection.
+    The multiple shooting can stall from one start (a mesh waiting at the saddles); the
+    branch then restarts it from an earlier point (about 30 s)."""
+    from numerics.cycles.continuation import continue_cycles
+
+    br = continue_cycles("sedf", {**P, "Delta": 0.0}, "Delta", (0.0, 4.0), follow_period=20)
+    T = np.array([q.period for q in br.points])
+    assert T[-1] >= 20 * T[0] - 1e-9 and np.all(np.diff(T) > 0)
+    conn = saddle_connection("sedf", P, "Delta", (3.2, 3.3), 1.58, -1.58, -1, -1)
+    assert abs(br.points[-1].parameter - conn.parameter) < 1e-10
+    assert max(q.residual for q in br.points) < 1e-8

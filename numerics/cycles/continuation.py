@@ -196,13 +196,31 @@ def _long_period(prob: _Problem, points: list, T0: float, factor: float) -> str:
     the sentence for the end's message."""
     from numerics.cycles.long_period import follow_period
 
-    last = points[-1]
     params = {k: v for k, v in prob.params.items() if k != prob.vary}
-    try:
-        lps = follow_period(prob.model, params, prob.vary, last.x0, last.period,
-                            last.parameter, factor * T0, rtol=min(prob.rtol, 1e-11))
-    except _FAIL as exc:
-        return f"; following the cycle in its period failed: {exc}"
+    target = factor * T0
+    # the multiple shooting may stall on the way (its Jacobian nearly singular where the
+    # mesh waits at the saddles); then it starts again from an earlier point of the branch,
+    # whose mesh differs, and the longest continuation is kept
+    lps, error, k = None, None, len(points) - 1
+    for _ in range(3):
+        start = points[k]
+        try:
+            run = follow_period(prob.model, params, prob.vary, start.x0, start.period,
+                                start.parameter, target, rtol=min(prob.rtol, 1e-11))
+        except _FAIL as exc:
+            error = exc
+            run = None
+        if run is not None and (lps is None or run[-1].period > lps[-1].period):
+            lps, k_used = run, k
+        if lps is not None and lps[-1].period >= target:
+            break
+        k = next((i for i in range(k - 1, -1, -1)
+                  if points[i].period <= 0.9 * start.period), None)
+        if k is None:
+            break
+    if lps is None:
+        return f"; following the cycle in its period failed: {error}"
+    del points[k_used + 1:]  # the branch beyond the start is the followed one
     for q in lps[1:]:
         points.append(BranchPoint(parameter=q.parameter, x0=q.x0, period=q.period,
                                   amplitude_max=q.x0, multipliers=(1.0 + 0j, q.multiplier + 0j),

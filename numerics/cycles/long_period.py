@@ -102,10 +102,18 @@ class _Segments:
 
 
 def _newton(seg: _Segments, Y: np.ndarray, tau: np.ndarray, p: float, T: float,
-            ref: np.ndarray, tol: float, max_iter: int):
+            ref: np.ndarray, tol: float, max_iter: int, free_p: bool = True):
     """Newton on the segments with Poincare sections: unknowns ``Y`` (M x 2), the segments'
     durations ``tau`` and ``p``; equations ``Y_{j+1} = phi_{tau_j}(Y_j; p)``, ``Y_j`` on the
-    plane through ``ref_j`` normal to the flow there, and ``sum tau = T``."""
+    plane through ``ref_j`` normal to the flow there, and ``sum tau = T``.
+
+    With ``free_p`` false ``p`` is kept (it has reached its limit ``p_h`` in double
+    precision): the equations are then one more than the unknowns, consistent to within
+    ``|p - p_h|``, and each step is their least-squares solution, of least norm in the
+    directions the matrix does not resolve (rank-revealing QR, LAPACK's ``gelsy``).  Past
+    that point how the period is shared among the segments waiting at the saddles is not
+    determined in double precision either (the matrix's condition number reaches 1e17), and
+    the plain Newton step moves those durations at random."""
     M = len(Y)
     n = 3 * M + 1
     normals = [f / np.linalg.norm(f) for f in (seg.field(r, p) for r in ref)]
@@ -137,7 +145,12 @@ def _newton(seg: _Segments, Y: np.ndarray, tau: np.ndarray, p: float, T: float,
             # orbit at almost no cost (the matrix is nearly singular there), the cycle and
             # p do not
             return Y, tau, p, res, logdet
-        dz = np.linalg.solve(J, -R)
+        if free_p:
+            dz = np.linalg.solve(J, -R)
+        else:
+            from scipy.linalg import lstsq
+
+            dz = np.append(lstsq(J[:, :-1], -R, cond=1e-13, lapack_driver="gelsy")[0], 0.0)
         # damped: every duration stays above a third of itself, p moves by at most 1e-3
         dt = dz[2 * M:3 * M]
         lam = min(1.0, float(np.min(np.where(dt < 0, -(2 / 3) * tau / np.minimum(dt, -1e-300),
@@ -184,6 +197,7 @@ def follow_period(model, params: dict, vary: str, x0: float, period: float, para
     Y, tau, p, res, logdet = _newton(seg, Y, tau, parameter, period, Y.copy(), tol, max_iter)
     out = [LongPeriodPoint(period, float(p), float(Y[0][0]), M, res, math.exp(logdet))]
     T, step = period, factor - 1.0
+    still = 0  # consecutive points at which p moved by less than 1e-12 of itself
     while T < target:
         T_new = min(target, T * (1 + step))
         Yr, taur = _refine(seg, Y, tau, p)
@@ -192,12 +206,13 @@ def follow_period(model, params: dict, vary: str, x0: float, period: float, para
         guess = taur + (T_new - T) * w / w.sum()
         try:
             Yn, taun, pn, res, logdet = _newton(seg, Yr, guess, p, T_new, Yr.copy(), tol,
-                                                max_iter)
+                                                max_iter, free_p=still < 2)
         except (ConvergenceError, IntegrationError, np.linalg.LinAlgError):
             step /= 2
             if step < 1e-3:
                 break  # the points found so far are returned
             continue
+        still = still + 1 if abs(pn - p) <= 1e-12 * max(1.0, abs(p)) else 0
         Y, tau, p, T = Yn, taun, pn, T_new
         out.append(LongPeriodPoint(T, float(p), float(Y[0][0]), len(Y), res,
                                    math.exp(logdet)))

@@ -107,13 +107,15 @@ def _correct(prob: _Problem, u_pred, row, target: float, max_iter: int = 8) -> _
     """Newton on ``R(u) = 0, row . u = target``.
 
     A point is accepted when its residual is below the tolerance and so is the Newton
-    correction computed there (the error of ``u`` to first order): the last evaluation is
-    the accepted point's, with its monodromy matrix, and no evaluation confirms a step
-    already known to be below the tolerance.
+    correction computed there (the error of ``u`` to first order), ``rtol`` times the size
+    of ``u``: the last evaluation is the accepted point's, with its monodromy matrix, and no
+    evaluation confirms a step already known to be below the tolerance.  (With ten times
+    that bound on the correction the periods were off by up to 1.5e-9 on the SEDF branch
+    against cycles shot at rtol 1e-12; with it, 1.4e-11, for 5 % more integrations.)
     """
     u = np.array(u_pred, dtype=float)
     scale = max(1.0, abs(u[0]))
-    tol_r, tol_u = 1e2 * prob.rtol * scale, 1e1 * prob.rtol * max(scale, u[1], abs(u[2]))
+    tol_r, tol_u = 1e2 * prob.rtol * scale, 1e0 * prob.rtol * max(scale, u[1], abs(u[2]))
     for it in range(max_iter + 1):
         R, A, b, yT, ys = prob.eval(u, 32, with_p=True)
         # the integration error of R grows with the monodromy matrix (near a separatrix)

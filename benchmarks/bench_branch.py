@@ -129,7 +129,8 @@ AUTO_SCRIPT = textwrap.dedent("""\
     t1 = time.time()
     b = br[0]
     print("AUTOTIME", t1 - t0, len(b['Delta']), b['Delta'][-1], b['PERIOD'][-1])
-    print("AUTOPOINTS", " ".join(f"{float(d)!r}:{float(T)!r}" for d, T in zip(b["Delta"], b["PERIOD"])))
+    pairs = zip(b["Delta"], b["PERIOD"])
+    print("AUTOPOINTS", " ".join(f"{float(d)!r}:{float(T)!r}" for d, T in pairs))
     """)
 
 

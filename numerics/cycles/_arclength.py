@@ -25,7 +25,8 @@ from numerics.flow.sensitivity import flow_with_sensitivity, sensitivity_flow, s
 
 #: a printed branch point passes the convergence test |trivial multiplier - 1| <= TRIVIAL_TOL;
 #: near a separatrix the monodromy loses accuracy first (on the SEDF branch in Delta the
-#: last 15 points of 63 had the trivial multiplier off by 1e-5 to 5e-2: they were printed)
+#: last 15 points of 63 had the trivial multiplier off by 1e-5 to 5e-2 and were printed,
+#: before this test; the corrector now iterates on until its points pass it)
 TRIVIAL_TOL = 1e-5
 
 _FAIL = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, ValueError)

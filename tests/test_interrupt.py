@@ -88,3 +88,33 @@ def test_workers_die_with_a_parent_that_is_killed():
     while time.monotonic() < deadline and any(_alive(k) for k in kids):
         time.sleep(0.1)
     assert [k for k in kids if _alive(k)] == []
+
+
+def test_interruption_inside_compiled_code_is_an_interruption(capsys):
+    """Ctrl-C while numba's compiled flow runs surfaces as a SystemError ("returned a
+    result with an exception set") whose context is the KeyboardInterrupt: the command
+    still stops with the one-line message and status 130 (a continuation spends most of its
+    time there); any other SystemError is not swallowed."""
+    import argparse
+
+    from kbm.cli import run_command
+
+    def compiled_call_interrupted(args):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt:
+            raise SystemError("CPUDispatcher(flow) returned a result with an exception set")
+
+    def other_failure(args):
+        raise SystemError("a genuine internal error")
+
+    for func, expect in ((compiled_call_interrupted, 130), (other_failure, None)):
+        parser = argparse.ArgumentParser(prog="kbm")
+        parser.set_defaults(func=func, command="branch")
+        if expect is None:
+            with pytest.raises(SystemError, match="genuine"):
+                run_command(parser, [])
+            continue
+        assert run_command(parser, []) == expect
+        err = capsys.readouterr().err.strip().splitlines()
+        assert err == ["kbm branch: interrupted (Ctrl-C)"]

@@ -111,9 +111,14 @@ def run_command(parser: argparse.ArgumentParser, argv: Sequence[str] | None = No
     except KBMError as exc:
         print(f"kbm {args.command}: error: {cli_message(exc)}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM (turned into this below)
+    except (KeyboardInterrupt, SystemError) as exc:  # Ctrl-C, or SIGTERM (turned into this)
+        # inside compiled code (numba) the interruption surfaces as a SystemError ("returned
+        # a result with an exception set") whose context is the KeyboardInterrupt
+        stop = _interruption(exc)
+        if stop is None:
+            raise
         how = "SIGTERM" if received else "Ctrl-C"
-        detail = f": {exc}" if str(exc) else ""
+        detail = f": {stop}" if str(stop) else ""
         print(f"kbm {args.command}: interrupted ({how}){detail}", file=sys.stderr)
         return 143 if received else 130
     except BrokenPipeError:  # output piped into e.g. `head`: stop quietly
@@ -130,6 +135,18 @@ def run_command(parser: argparse.ArgumentParser, argv: Sequence[str] | None = No
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
     return int(status or 0)
+
+
+def _interruption(exc: BaseException) -> KeyboardInterrupt | None:
+    """The KeyboardInterrupt ``exc`` is, or that caused it (through ``__context__`` or
+    ``__cause__``), else ``None``."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return exc
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return None
 
 
 def _on_sigterm(received: list[int]):

@@ -156,3 +156,27 @@ def test_split_line_refuses_what_split_conservative_refuses():
             split_conservative(model, {"mu": 0.1, "c": bad})
         with pytest.raises(NotConfiningError):
             line(bad)
+
+
+def test_energy_branch_with_the_split_line_equals_splitting_each_value(monkeypatch):
+    """numerics.comparison.energy_branch splits the model once along the parameter
+    (SplitLine); against splitting at every value (split_conservative, the line disabled)
+    the predicted cycles of the SEDF's energy balance (paper eq. 3) agree to rounding."""
+    import numpy as np
+
+    import kbm.conservative as cons
+    from kbm.errors import KBMError
+    from numerics.comparison.branches import energy_branch
+
+    params = {"mu": 0.1, "beta": 1, "lam": 1}
+    fast = energy_branch("sedf", params, "Delta", (0.5, 3.5), n=12)
+
+    class Refused(cons.SplitLine):
+        def __init__(self, *args, **kwargs):
+            raise KBMError("no line")
+
+    monkeypatch.setattr(cons, "SplitLine", Refused)
+    slow = energy_branch("sedf", params, "Delta", (0.5, 3.5), n=12)
+    assert len(fast.points) == len(slow.points) > 0
+    assert np.allclose(np.array(fast.points, float), np.array(slow.points, float),
+                       rtol=1e-11, atol=1e-12)

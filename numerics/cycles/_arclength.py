@@ -44,6 +44,22 @@ class _Problem:
         self.sensitive = False
         # bound once; per value only what depends on ``vary`` is replaced
         self.line = CompiledLine(model, params, vary, at)
+        #: the field is odd for every value of ``vary`` (``f(-y) = -f(y)``); ``half`` is set
+        #: when the branch's cycles are symmetric as well (:meth:`use_symmetry`)
+        self.odd = _odd_field(self.line)
+        self.half = False
+
+    def use_symmetry(self, pt: "_Point") -> None:
+        """Shoot half a period from now on when the field is odd and the cycle of ``pt`` is
+        symmetric, ``y(t + T/2) = -y(t)`` (its sample at ``T/2`` is ``-y(0)`` to 1e-6): the
+        branch keeps the symmetry, the half-period problem has the same solutions on it and
+        costs half the integration.  Its monodromy matrix is ``Phi(T/2)^2`` (the Jacobian is
+        even in ``y``)."""
+        if not self.odd or self.half or pt.ys is None or len(pt.ys) % 2 == 0:
+            return
+        mid = pt.ys[(len(pt.ys) - 1) // 2]
+        scale = max(1.0, abs(pt.u[0]))
+        self.half = bool(abs(mid[0] + pt.u[0]) < 1e-6 * scale and abs(mid[1]) < 1e-6 * scale)
 
     def choose(self, u) -> None:
         cm = self.line(float(u[2]))
@@ -51,28 +67,43 @@ class _Problem:
         self.sensitive = (self.meth is Method.COMPILED and self.line.rates(float(u[2])) is not None
                           and sensitivity_flow(cm.template) is not None)
 
-    def eval(self, u, n_out: int = 1, with_p: bool = False):
+    def eval(self, u, n_out: int = 1, with_p: bool = False, full: bool = False):
         """``(R, A = dR/d(x0, T), yT, ys)`` at ``u``; with ``with_p`` also ``b = dR/dp``
-        (one integration with the sensitivity, else two more for a central difference)."""
+        (one integration with the sensitivity, else two more for a central difference).
+
+        In half-period mode (:meth:`use_symmetry`; not with ``full``) ``R = y(T/2) + y(0)``
+        and its derivatives, while ``yT`` and ``ys`` describe the whole period: the end
+        state, ``Phi(T) = Phi(T/2)^2``, twice the divergence integral, and the samples of
+        the second half as minus those of the first.
+        """
         x0, T, p = float(u[0]), float(u[1]), float(u[2])
         if not (T > 0 and math.isfinite(x0) and math.isfinite(p)):
             raise ConvergenceError(f"left the domain: x0 = {x0:.6g}, T = {T:.6g}")
         cm = self.line(p)
         self.evaluations += 1
         sens = with_p and self.sensitive
+        half = self.half and not full
+        span = 0.5 * T if half else T
+        n = max(1, n_out // 2) if half else n_out
         if sens:
-            ys = flow_with_sensitivity(cm, self.line.rates(p), sensitivity_state(x0), T,
-                                       n_out, self.rtol, self.rtol, max_steps=NEWTON_MAX_STEPS)
+            ys = flow_with_sensitivity(cm, self.line.rates(p), sensitivity_state(x0), span,
+                                       n, self.rtol, self.rtol, max_steps=NEWTON_MAX_STEPS)
         else:
-            ys = flow(cm, extended_state(x0), T, n_out, self.meth, self.rtol, self.rtol,
+            ys = flow(cm, extended_state(x0), span, n, self.meth, self.rtol, self.rtol,
                       max_steps=NEWTON_MAX_STEPS)
         yT = ys[-1]
-        A = np.array([[yT[2] - 1.0, yT[1]], [yT[3], cm.acc(T, yT[0], yT[1])]])
-        R = np.array([yT[0] - x0, yT[1]])
+        acc = cm.acc(span, yT[0], yT[1])
+        b = np.array([yT[7], yT[8]]) if sens else None
+        if half:
+            R = np.array([yT[0] + x0, yT[1]])
+            A = np.array([[yT[2] + 1.0, 0.5 * yT[1]], [yT[3], 0.5 * acc]])
+            ys, yT = _whole_period(ys)
+        else:
+            R = np.array([yT[0] - x0, yT[1]])
+            A = np.array([[yT[2] - 1.0, yT[1]], [yT[3], acc]])
         if not with_p:
             return R, A, yT, ys
-        b = np.array([yT[7], yT[8]]) if sens else self.dRdp(u)
-        return R, A, b, yT, ys
+        return R, A, (self.dRdp(u) if b is None else b), yT, ys
 
     def dRdp(self, u):
         """``dR/dp`` by a central difference (two integrations)."""
@@ -81,11 +112,48 @@ class _Problem:
         return (self.eval((u[0], u[1], p + h))[0] - self.eval((u[0], u[1], p - h))[0]) / (2 * h)
 
 
+def _odd_field(line: CompiledLine) -> bool:
+    """Whether the autonomous field is odd, ``x''(-x, -x') = -x''(x, x')``, for every value of
+    the varied parameter (the other values substituted, the varied ones symbols)."""
+    import sympy as sp
+
+    from kbm.symbols import x, xdot
+
+    base = line.line.base
+    model = base.model
+    if not getattr(model, "is_autonomous", False):
+        return False
+    subs = {sp.Symbol(k): v for k, v in base.values.items() if k not in line.line.changed}
+    try:
+        acc = model.acceleration().subs(subs)
+        return sp.expand(acc + acc.subs({x: -x, xdot: -xdot}, simultaneous=True)) == 0
+    except Exception:  # noqa: BLE001 - not decided: the whole period is shot
+        return False
+
+
+def _whole_period(ys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The samples and the end of the whole period from those of the first half of a
+    symmetric cycle, ``y(t + T/2) = -y(t)``: the state of the second half is minus the
+    first's, the monodromy matrix ``Phi(T/2)^2`` and the divergence integral twice the
+    half's (the other entries of the second half's rows are copies, not used)."""
+    second = ys[1:].copy()
+    second[:, :2] *= -1.0
+    whole = np.vstack([ys, second])
+    e = ys[-1]
+    Phi = np.array([[e[2], e[4]], [e[3], e[5]]])
+    M = Phi @ Phi
+    end = whole[-1].copy()
+    end[2:6] = (M[0, 0], M[1, 0], M[0, 1], M[1, 1])
+    end[6] = 2.0 * e[6]
+    whole[-1] = end
+    return whole, end
+
+
 class _Point:
     """A converged point with what the continuation needs next."""
 
     def __init__(self, u, R, A, b, yT, ys, iters):
-        self.u, self.R, self.yT, self.iters = u, R, yT, iters
+        self.u, self.R, self.yT, self.ys, self.iters = u, R, yT, ys, iters
         J = np.vstack([np.column_stack([A, b])])
         t = np.cross(J[0], J[1])
         self.tangent = t / np.linalg.norm(t)

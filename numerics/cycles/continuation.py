@@ -245,7 +245,8 @@ def _end_estimate(prob: _Problem, points: list):
         return None
     last = points[-1]
     try:
-        _, _, _, ys = prob.eval((last.x0, last.period, last.parameter), n_out=400)
+        _, _, _, ys = prob.eval((last.x0, last.period, last.parameter), n_out=400,
+                                full=True)
     except _FAIL:
         return None
     bound = bind(prob.model, {**prob.params, prob.vary: last.parameter})
@@ -377,6 +378,7 @@ def continue_cycles(model: Oscillator | str, params: Mapping[str, object] | None
     except _FAIL as exc:
         raise NoCycleError(f"no limit cycle at {vary} = {p0:g} near x_max = {guess[0]:.6g}, "
                            f"T = {guess[1]:.6g} to start the branch from ({exc})") from None
+    prob.use_symmetry(first)  # half periods from here on, for an odd field's symmetric cycle
     dsm = ds_max if ds_max is not None else max(hi - lo, 1.0) / 25
     opts = dict(ds=ds if ds is not None else dsm / 4, ds_max=dsm, ds_min=ds_min,
                 max_points=int(max_points), period_factor=period_factor,

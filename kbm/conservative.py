@@ -214,13 +214,7 @@ def split_conservative(model: Oscillator | str, params: Mapping[str, object] | N
     if missing:
         raise ParameterError(f"give values for {', '.join(missing)} in params "
                              f"(e.g. params={{'{missing[0]}': 1, ...}})")
-    acc0 = acc.subs(xdot, 0)
-    h = sp.expand((acc - acc0) / mu)
-    if mu in h.free_symbols or mu in acc0.free_symbols:
-        # mu*F with F(x, 0) != 0 stays in g at its value
-        pass
-    h = h.subs(mu, mu_val)
-    g_model = sp.expand(-acc0.subs(mu, mu_val))
+    g_model, h = _force_and_perturbation(acc, mu_val)
     if potential is not None:
         V = parse(potential) if not isinstance(potential, sp.Basic) else potential
         V = V.subs(subs)
@@ -239,11 +233,10 @@ def split_conservative(model: Oscillator | str, params: Mapping[str, object] | N
         user = True
     else:
         g = g_model
-        G = sp.integrate(g, (x, 0, x))
+        G = _potential(g)
         if G.has(sp.Integral):
             raise ModelError(f"sympy cannot integrate g(x) = {g} in closed form; pass its "
                              "antiderivative as `potential`")
-        G = sp.expand(G)
         user = False
     if sp.expand(h.subs(xdot, 0)) != 0:  # pragma: no cover - by construction
         raise ModelError("the perturbation h does not vanish at xdot = 0")
@@ -251,6 +244,20 @@ def split_conservative(model: Oscillator | str, params: Mapping[str, object] | N
     fvals = {k: float(v) for k, v in vals.items() if k != "mu"}
     return ConservativeSplit(model=model, g=g, h=h, G=G, mu=float(mu_val),
                              params=MappingProxyType(fvals), user_potential=user)
+
+
+def _force_and_perturbation(acc: sp.Expr, mu_val) -> tuple[sp.Expr, sp.Expr]:
+    """``(g, h)`` of ``x'' = acc = -g(x) + mu h(x, x')`` at ``mu = mu_val`` (``mu F`` with
+    ``F(x, 0) != 0`` stays in ``g`` at its value)."""
+    acc0 = acc.subs(xdot, 0)
+    h = sp.expand((acc - acc0) / mu).subs(mu, mu_val)
+    return sp.expand(-acc0.subs(mu, mu_val)), h
+
+
+def _potential(g: sp.Expr) -> sp.Expr:
+    """``G = int_0^x g`` expanded (still holding an ``Integral`` where sympy cannot)."""
+    G = sp.integrate(g, (x, 0, x))
+    return G if G.has(sp.Integral) else sp.expand(G)
 
 
 class SplitLine:
@@ -292,7 +299,7 @@ class SplitLine:
         changed = self.line.changed
         self._symbolic = None
         if potential is not None or "mu" in changed or "mu" not in base.values \
-                or base.values["mu"] == 0 or base.model is not model:
+                or base.values["mu"] == 0 or base.model != model:
             return
         mu_val = base.values["mu"]
         subs = {sp.Symbol(k): v for k, v in base.values.items()
@@ -301,13 +308,10 @@ class SplitLine:
         syms = tuple(sp.Symbol(k) for k in changed)
         if acc.free_symbols - {x, xdot, mu, t, *syms}:
             return  # a missing value: split_conservative names it
-        acc0 = acc.subs(xdot, 0)
-        h = sp.expand((acc - acc0) / mu).subs(mu, mu_val)
-        g = sp.expand(-acc0.subs(mu, mu_val))
-        G = sp.integrate(g, (x, 0, x))
+        g, h = _force_and_perturbation(acc, mu_val)
+        G = _potential(g)
         if G.has(sp.Integral, sp.Piecewise):
             return
-        G = sp.expand(G)
         args = (x, *syms)
         lam = {k: sp.lambdify(args, e, "numpy")
                for k, e in (("g", g), ("dg", sp.diff(g, x)), ("G", G))}

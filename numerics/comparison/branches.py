@@ -181,21 +181,19 @@ def _is_builtin(name: str) -> bool:
     return name in model_names()
 
 
-def _energy_fold(model, params: dict, vary: str, lo: float, hi: float, pair,
+def _energy_fold(line, vary: str, lo: float, hi: float, pair,
                  pair_at_lo: bool) -> float | None:
     """The fold of the energy balance: the ``p`` in ``[lo, hi]`` where the extremum of
     ``q = Gamma`` (``Gamma/(E - E_c)`` in a well) between the merging pair's energies is 0.
-    ``None`` when the bracket does not hold a sign change of that extremum."""
+    ``None`` when the bracket does not hold a sign change of that extremum.  ``line`` is
+    the branch's :class:`kbm.conservative.SplitLine` (the model split once along ``vary``)."""
     from scipy.optimize import brentq, minimize_scalar
 
-    from kbm.conservative import SplitLine
     from numerics.energy.balance import gamma_function
     from numerics.energy.portrait import phase_portrait
 
     e1, e2 = sorted((pair[0].energy, pair[1].energy))
     width = max(e2 - e1, 1e-9 * max(1.0, abs(e1)))
-
-    line = SplitLine(model, params, vary, lo)
 
     def extremum(p):
         portrait = phase_portrait(line(float(p)))
@@ -284,6 +282,7 @@ def energy_branch(model: Oscillator | str, params: Mapping[str, object] | None, 
                                                    + pair[1].amplitude_max)
         pf = 0.5 * (lo + hi)
         if pair is not None:
-            pf = _energy_fold(model, params, vary, lo, hi, pair, len(c1) > len(c2)) or pf
+            pf = (_energy_fold(line, vary, lo, hi, pair, len(c1) > len(c2))
+                  if line is not None else None) or pf
         folds.append(AnalyticFold(pf, float(amp)))
     return AnalyticCurve("energy", 1, vary, tuple(pts), tuple(folds))

@@ -7,6 +7,7 @@ object that every numerical function takes.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -205,6 +206,17 @@ class ParameterLine:
         self._rates = [(scaled, sp.lambdify([sp.Symbol(n) for n in need],
                                             sp.diff(expr, sym), "math"), need)
                        for scaled, expr, need in self._derived]
+
+    @functools.cached_property
+    def affine(self) -> bool:
+        """Whether every value that changes is affine in ``vary`` (``delta = Delta/mu`` in
+        ``Delta``, not in ``mu``), with constant :meth:`rates`, and the linear frequency
+        does not change: the values at ``p`` are then those at a reference point plus
+        ``(p - p_ref)`` times the rates (a compiled continuation uses it)."""
+        if self._slow or self._w0 is not None:
+            return False
+        sym = sp.Symbol(self.vary)
+        return all(sp.diff(expr, sym, 2) == 0 for _, expr, _ in self._derived)
 
     def floats(self, value: float) -> dict[str, float] | None:
         """The float values of the names in :attr:`changed` at ``vary = value``, equal to

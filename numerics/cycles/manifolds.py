@@ -27,7 +27,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from numerics.errors import ConvergenceError
-from numerics.flow import compile_model, template_flow
+from numerics.flow import CompiledLine, compile_model, template_flow
 
 __all__ = ["SaddleConnection", "saddle_connection", "connection_gap"]
 
@@ -50,10 +50,12 @@ class SaddleConnection:
     evaluations: int
 
 
-def _field(model, params: Mapping[str, object]):
+def _field(model, params: Mapping[str, object], cm=None):
     """``acc(x, v)``, ``d acc/dx`` and ``d acc/dv`` of the autonomous model at ``params``
-    (the compiled model's functions: lambdified once per model)."""
-    cm = compile_model(model, params)
+    (the compiled model's functions: lambdified once per model; ``cm`` the compiled model
+    at ``params`` when the caller has it)."""
+    if cm is None:
+        cm = compile_model(model, params)
 
     def acc(x, v):
         return cm.acc(0.0, x, v)
@@ -111,13 +113,15 @@ def _to_turn(acc, y0, direction: float, t_max: float) -> float:
 
 
 def connection_gap(model, params: Mapping[str, object], x_from: float, x_to: float,
-                   leave: int, arrive: int, t_max: float = 200.0
+                   leave: int, arrive: int, t_max: float = 200.0, *, compiled=None
                    ) -> tuple[float, float, float]:
     """``(d, x_s, x_t)``: where the unstable manifold of the saddle near ``x_from`` (the
     branch leaving towards ``leave`` = -1, left, or +1, right) first turns, minus where the
     stable manifold of the saddle near ``x_to`` (the branch arriving from ``arrive`` = -1,
-    the left, or +1, the right), followed backward, first turns."""
-    acc, fx, fv = _field(model, params)
+    the left, or +1, the right), followed backward, first turns.  ``compiled``: the
+    compiled model at ``params`` (:class:`numerics.flow.CompiledLine` along a parameter),
+    else compiled here."""
+    acc, fx, fv = _field(model, params, compiled)
     xs, lu, _ = _saddle(acc, fx, fv, x_from)
     xt, _, ls = _saddle(acc, fx, fv, x_to)
     yu = [xs + leave * EPS, leave * EPS * lu]      # eigenvector (1, lambda_u)
@@ -139,11 +143,12 @@ def saddle_connection(model, params: Mapping[str, object], parameter: str,
         message), or a manifold does not reach the section.
     """
     count = [0]
+    line = CompiledLine(model, params, parameter, bracket[0])  # bound once along parameter
 
     def d(p):
         count[0] += 1
         return connection_gap(model, {**dict(params), parameter: p}, x_from, x_to, leave,
-                              arrive)[0]
+                              arrive, compiled=line(p))[0]
 
     lo, hi = bracket
     dlo, dhi = d(lo), d(hi)
@@ -153,6 +158,6 @@ def saddle_connection(model, params: Mapping[str, object], parameter: str,
     root, res = brentq(d, lo, hi, xtol=xtol, rtol=4 * np.finfo(float).eps, full_output=True)
     slope = abs(dhi - dlo) / (hi - lo)
     _, xs, xt = connection_gap(model, {**dict(params), parameter: root}, x_from, x_to, leave,
-                               arrive)
+                               arrive, compiled=line(root))
     return SaddleConnection(float(root), float(xtol + EPS**2 / max(slope, 1e-300) * 10),
                             (xs, xt), count[0])

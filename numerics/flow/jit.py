@@ -151,17 +151,19 @@ def _announce_compile(source: str) -> None:
           f"in {folder})", file=sys.stderr, flush=True)
 
 
-def _source_by_key(key, exprs, t, y, params, n_state) -> str | None:
+def _source_by_key(key, exprs, t, y, params, n_state, extra: str = "") -> str | None:
     """The generated module's source (``None`` if an expression cannot be printed)."""
     from sympy.printing.codeprinter import PrintMethodNotImplementedError
 
     path = None
+    tail = _STEPPER + extra
     if key is not None:
-        digest = hashlib.sha256(f"{_VERSION}|{n_state}|{key}".encode()).hexdigest()[:24]
+        mark = hashlib.sha256(extra.encode()).hexdigest()[:12] if extra else ""
+        digest = hashlib.sha256(f"{_VERSION}|{n_state}|{key}|{mark}".encode()).hexdigest()[:24]
         path = cache_dir() / f"kbm_src_{digest}.txt"
         try:
             text = path.read_text()
-            if text.startswith(_HEADER) and text.endswith(_STEPPER):
+            if text.startswith(_HEADER) and text.endswith(tail):
                 return text
         except OSError:
             pass
@@ -169,7 +171,7 @@ def _source_by_key(key, exprs, t, y, params, n_state) -> str | None:
         src = rhs_source(exprs() if callable(exprs) else exprs, t, y, params, n_state=n_state)
     except PrintMethodNotImplementedError:
         return None
-    source = _HEADER + src + _STEPPER
+    source = _HEADER + src + tail
     if path is not None:
         try:
             tmp = path.with_suffix(f".{os.getpid()}.tmp")
@@ -204,7 +206,7 @@ _MESSAGES = {1: "the step limit was reached", 2: "the step size fell below the t
 
 def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.Symbol,
              y: Sequence[sp.Symbol], params: Sequence[sp.Symbol], n_state: int = 2, *,
-             key: str | None = None) -> Callable | None:
+             key: str | None = None, extra: str = "") -> Callable | None:
     """A compiled flow of ``y' = exprs(t, y, params)``, or ``None`` if it cannot be compiled.
 
     Returns
@@ -229,10 +231,14 @@ def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.S
         SHA-256 and read back by later processes.  ``exprs`` may then be a function that
         builds them, called only when the source is not there yet.  The source is the same
         either way: the key changes the time, never the result.
+    extra
+        More source appended to the module after the stepper (functions that call ``flow``
+        and ``rhs``, compiled with them: e.g. a Newton corrector); the module is the
+        returned flow's attribute ``module``.
     """
     if not jit_available():
         return None
-    source = _source_by_key(key, exprs, t, y, params, n_state)
+    source = _source_by_key(key, exprs, t, y, params, n_state, extra)
     if source is None:
         return None
     _announce_compile(source)
@@ -260,4 +266,5 @@ def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.S
         return float(x), float(v), float(t), int(status)
 
     flow.to_turn = to_turn
+    flow.module = mod
     return flow

@@ -23,6 +23,8 @@ of the flow itself and against the closed form of the linear oscillator in
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import sympy as sp
 
@@ -32,7 +34,11 @@ from numerics._memo import memo
 from numerics.errors import IntegrationError
 from numerics.flow.compiled import CompiledModel, ModelTemplate
 
-__all__ = ["N_SENSITIVITY", "sensitivity_flow", "sensitivity_state", "flow_with_sensitivity"]
+__all__ = ["N_SENSITIVITY", "sensitivity_flow", "sensitivity_state", "flow_with_sensitivity",
+           "shooting_corrector"]
+
+#: the compiled Newton corrector of a branch of cycles, appended to the module (a real file)
+_CORRECTOR = Path(__file__).with_name("_shooting_corrector.py").read_text()
 
 #: the state, the fundamental matrix, the divergence integral and ``(dx/dp, dx'/dp)``
 N_SENSITIVITY = 9
@@ -77,7 +83,16 @@ def _sensitivity_flow(template: ModelTemplate, enabled: bool):
         return ext + [y[8], jx * y[7] + jv * y[8] + forcing]
 
     return jit_flow(exprs, T, y, names + rates,
-                    key=f"sensitivity-9|{sp.srepr(tuple(template.ext_exprs))}|{template.names}")
+                    key=f"sensitivity-9|{sp.srepr(tuple(template.ext_exprs))}|{template.names}",
+                    extra=_CORRECTOR)
+
+
+def shooting_corrector(template: ModelTemplate):
+    """The compiled Newton corrector of a cycle's shooting problem
+    (``numerics/flow/_shooting_corrector.py``: ``shoot_correct``) on the nine-state flow of
+    ``template``, or ``None`` where :func:`sensitivity_flow` is ``None``."""
+    fl = sensitivity_flow(template)
+    return None if fl is None else fl.module.shoot_correct
 
 
 def flow_with_sensitivity(cm: CompiledModel, rates: np.ndarray, y0, t_end: float, n_out: int,

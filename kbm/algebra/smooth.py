@@ -30,38 +30,56 @@ __all__ = ["TaylorTable", "TaylorOf", "SmoothBuilder"]
 _MODULES = ["scipy", "numpy"]
 
 
+def _indices(k: int, total: int):
+    """The multi-indices of ``k`` variables with the sum ``total``, the first index rising
+    (for two variables ``(0, total), (1, total - 1), ...``)."""
+    if k == 1:
+        yield (total,)
+        return
+    for first in range(total + 1):
+        for rest in _indices(k - 1, total - first):
+            yield (first, *rest)
+
+
 class TaylorTable:
-    """The partial derivatives ``F_ij`` of ``F``, differentiated and compiled on demand.
+    """The partial derivatives ``F_beta`` of ``F``, differentiated and compiled on demand.
 
     Parameters
     ----------
     F
-        A sympy expression in ``x`` and ``xdot`` only (parameters already numbers).
+        A sympy expression in ``variables`` only (parameters already numbers).
     extra
         Further variables of ``F`` (the forcing angle of a forced oscillator), passed to
-        the compiled functions after ``x`` and ``xdot``.
+        the compiled functions after ``variables``.
+    variables
+        The variables of the expansion: ``(x, xdot)`` for one degree of freedom,
+        ``(x1, .., xN, xdot1, .., xdotN)`` for ``N`` coupled ones.
     """
 
-    def __init__(self, F: sp.Expr, extra: tuple = ()):
+    def __init__(self, F: sp.Expr, extra: tuple = (), variables: tuple = (x, xdot)):
         self.F = sp.sympify(F)
         self.extra = tuple(extra)
-        self._expr: dict[tuple[int, int], sp.Expr] = {(0, 0): self.F}
-        self._func: dict[tuple[int, int], object] = {}
+        self.variables = tuple(variables)
+        zero = (0,) * len(self.variables)
+        self._expr: dict[tuple[int, ...], sp.Expr] = {zero: self.F}
+        self._func: dict[tuple[int, ...], object] = {}
 
-    def expr(self, i: int, j: int) -> sp.Expr:
-        """``d^(i+j) F / dx^i dxdot^j`` (from the neighbour already known)."""
-        key = (i, j)
+    def expr(self, *beta: int) -> sp.Expr:
+        """``d^|beta| F / d variables^beta`` (from the neighbour already known: the first
+        variable with a non-zero index differentiated last)."""
+        key = tuple(beta)
         if key not in self._expr:
-            self._expr[key] = (sp.diff(self.expr(i - 1, j), x) if i > 0
-                               else sp.diff(self.expr(i, j - 1), xdot))
+            l = next(i for i, b in enumerate(key) if b > 0)
+            prev = key[:l] + (key[l] - 1,) + key[l + 1:]
+            self._expr[key] = sp.diff(self.expr(*prev), self.variables[l])
         return self._expr[key]
 
-    def function(self, i: int, j: int):
-        """``F_ij`` compiled for numpy arrays ``(x, xdot, *extra)``."""
-        key = (i, j)
+    def function(self, *beta: int):
+        """``F_beta`` compiled for numpy arrays ``(*variables, *extra)``."""
+        key = tuple(beta)
         if key not in self._func:
             with np.errstate(all="ignore"):
-                self._func[key] = sp.lambdify((x, xdot, *self.extra), self.expr(i, j),
+                self._func[key] = sp.lambdify((*self.variables, *self.extra), self.expr(*key),
                                               modules=_MODULES)
         return self._func[key]
 
@@ -71,51 +89,59 @@ class TaylorTable:
 
 
 class TaylorOf(Node):
-    """``F(x_0 + Dx, v_0 + Dv)`` as a lazy series in eps (see the module docstring)."""
+    """``F(y_0 + Dy)`` as a lazy series in eps along ``K`` variables (see the module
+    docstring; ``K = 2`` for ``(x, xdot)``, ``2 N`` for ``N`` coupled oscillators).
 
-    def __init__(self, zero, sample, Dx: Node, Dv: Node):
+    ``sample(*beta)`` gives the series ``F_beta(y_0)``; ``deltas`` are the lazy series
+    ``Dy_l`` (without their ``eps**0`` coefficients).
+    """
+
+    def __init__(self, zero, sample, *deltas: Node):
         super().__init__(zero)
-        self._sample = sample  # (i, j) -> the series F_ij(x_0, v_0)
-        self._Dx, self._Dv = Dx, Dv
-        self._mono: dict[tuple[int, int], Node] = {}
-        self._deriv: dict[tuple[int, int], object] = {}
+        self._sample = sample  # beta -> the series F_beta(y_0)
+        self._deltas = deltas
+        self._mono: dict[tuple[int, ...], Node] = {}
+        self._deriv: dict[tuple[int, ...], object] = {}
 
-    def monomial(self, i: int, j: int) -> Node:
-        """``Dx**i Dv**j`` (``i + j >= 1``), its leading ``i + j`` coefficients zero."""
-        key = (i, j)
+    def monomial(self, *beta: int) -> Node:
+        """``prod_l Dy_l**beta_l`` (``|beta| >= 1``), its leading ``|beta|`` coefficients
+        zero: the previous monomial times the last variable with a non-zero index."""
+        key = tuple(beta)
         if key not in self._mono:
-            if i == 0 and j == 1:
-                node = self._Dv
-            elif i == 1 and j == 0:
-                node = self._Dx
-            elif j > 0:
-                node = Product(self._zero, self.monomial(i, j - 1), self._Dv, i + j - 1, 1)
+            total = sum(key)
+            l = max(i for i, b in enumerate(key) if b > 0)
+            if total == 1:
+                node = self._deltas[l]
             else:
-                node = Product(self._zero, self.monomial(i - 1, 0), self._Dx, i - 1, 1)
+                prev = key[:l] + (key[l] - 1,) + key[l + 1:]
+                node = Product(self._zero, self.monomial(*prev), self._deltas[l], total - 1, 1)
             self._mono[key] = node
         return self._mono[key]
 
-    def derivative(self, i: int, j: int):
-        key = (i, j)
+    def derivative(self, *beta: int):
+        key = tuple(beta)
         if key not in self._deriv:
-            self._deriv[key] = self._sample(i, j)
+            self._deriv[key] = self._sample(*key)
         return self._deriv[key]
 
     def _make(self, n: int):
+        k = len(self._deltas)
         if n == 0:
-            return self.derivative(0, 0)
+            return self.derivative(*(0,) * k)
         acc = self._zero()
         for total in range(1, n + 1):
-            for i in range(total + 1):
-                j = total - i
-                deriv = self.derivative(i, j)
-                if deriv.is_zero():  # F_ij vanishes (F polynomial of low degree in x, x')
+            for beta in _indices(k, total):
+                deriv = self.derivative(*beta)
+                if deriv.is_zero():  # F_beta vanishes (F polynomial of low degree)
                     continue
-                mono = self.monomial(i, j).coeff(n)
+                mono = self.monomial(*beta).coeff(n)
                 if mono.is_zero():
                     continue
                 term = mono * deriv
-                acc = acc + term.scale_q(sp.Rational(1, factorial(i) * factorial(j)))
+                weight = 1
+                for b in beta:
+                    weight *= factorial(b)
+                acc = acc + term.scale_q(sp.Rational(1, weight))
         return acc
 
 

@@ -193,15 +193,17 @@ def _run_coupled(args: argparse.Namespace) -> int:
 
 
 def _run_coupled_numeric(args: argparse.Namespace) -> int:
-    """The first-order rates of a coupled system with any smooth F at one point."""
+    """The rates of a coupled system with any smooth F at one point: order 1 by the FFT
+    average on the torus, higher orders by the recursion on jets (kbm.coupled.jets)."""
     import math
 
+    from ..coupled.jets import MAX_ORDER_JETS
     from ..coupled.numeric import numeric_average
     from ..errors import ParameterError
 
-    if args.order != 1:
-        raise ParameterError(f"the numeric backend of coupled systems is first order: "
-                             f"--order 1, not {args.order}")
+    if not 1 <= args.order <= MAX_ORDER_JETS:
+        raise ParameterError(f"the numeric backend of coupled systems takes --order 1 to "
+                             f"{MAX_ORDER_JETS}, not {args.order}")
     if args.latex or args.a_range is not None:
         raise ParameterError("--latex and --a-range are not for the coupled numeric backend "
                              "(its rates are numbers at the point --at)")
@@ -228,23 +230,32 @@ def _run_coupled_numeric(args: argparse.Namespace) -> int:
         raise ParameterError(f"--at needs exactly {', '.join(names_a + names_g)}"
                              + (f"; missing {', '.join(missing)}" if missing else "")
                              + (f"; unknown {', '.join(extra)}" if extra else ""))
-    A, B, tail = na.rates([point[k] for k in names_a], [point[k] for k in names_g])
+    amps, phases = [point[k] for k in names_a], [point[k] for k in names_g]
+    if args.order == 1:
+        A1, B1, tail = na.rates(amps, phases)
+        A = [[float(A1[i])] for i in range(n)]
+        B = [[float(B1[i])] for i in range(n)]
+    else:
+        ex = na.expansion(amps, phases, args.order)
+        A, B, tail = [list(r) for r in ex.A], [list(r) for r in ex.B], ex.tail
     gam = [_combination(g, n) for g in na.gammas]
     if args.json:
-        emit_json({"model": na.model.name, "order": 1, "numeric": True, "point": point,
-                   "A": [[None, float(A[i])] for i in range(n)],
-                   "B": [[None, float(B[i])] for i in range(n)],
+        emit_json({"model": na.model.name, "order": args.order, "numeric": True,
+                   "point": point, "A": [[None, *A[i]] for i in range(n)],
+                   "B": [[None, *B[i]] for i in range(n)],
                    "gammas": [[f"gamma{r + 1}", g] for r, g in enumerate(gam)],
                    "nodes": na.nodes, "tail": tail})
         return 0
-    print(f"first-order rates of {na.model.name} at "
+    what = "first-order rates" if args.order == 1 else f"rates to order {args.order}"
+    print(f"{what} of {na.model.name} at "
           + ", ".join(f"{k} = {v:g}" for k, v in point.items())
           + f" (grid {na.nodes}^{len(na.gammas[0]) if na.gammas else n} on the torus; "
           f"outer coefficients {tail:.1e})")
     for r, g in enumerate(gam, 1):
         print(f"  gamma{r} = {g}")
     for i in range(n):
-        print(f"  A_{i + 1},1 = {A[i]:.15g}    B_{i + 1},1 = {B[i]:.15g}")
+        for m in range(args.order):
+            print(f"  A_{i + 1},{m + 1} = {A[i][m]:.15g}    B_{i + 1},{m + 1} = {B[i][m]:.15g}")
     return 0
 
 

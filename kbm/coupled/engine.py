@@ -42,8 +42,7 @@ from ..errors import ModelError, OrderError, UnsupportedTermError
 from ..forced.model import ForcedOscillator
 from ..models import Oscillator
 from .model import CoupledOscillators, amplitudes, positions, velocities
-from .resonance import (SlowLattice, UndeclaredResonanceError,
-                        declaration, describe, frequency)
+from .resonance import SlowLattice, frequency, resonant_harmonic
 from .result import CoupledKBMResult
 
 __all__ = ["derive_coupled", "MAX_ORDER", "MAX_DOF_SYMBOLIC", "TOLERANCE"]
@@ -134,34 +133,8 @@ class CoupledAlgebra:
     # -- resonance structure ----------------------------------------------------------
     def _resonant(self, h: tuple, i: int, n: int) -> tuple[tuple, int] | None:
         """``(k, s)`` with ``h . psi = s (psi_i + k . psi)``, ``k`` slow, or ``None``;
-        raises for an undeclared (near) resonance."""
-        f = frequency(h, self.omega)
-        wi = self.wf[i]
-        s = 1 if f > 0 else -1
-        gap = abs(abs(f) - wi) / wi
-        if gap > self.tol:
-            return None
-        hs = tuple(s * v for v in h)
-        k = tuple(v - (1 if l == i else 0) for l, v in enumerate(hs))
-        if gap == 0 and self.lattice.coords(k) is not None:
-            return k, s
-        self._refuse(k, i, n, gap)
-        return None  # pragma: no cover - _refuse raises
-
-    def _refuse(self, k: tuple, i: int, n: int, gap: Fraction) -> None:
-        what = "exactly" if gap == 0 else f"within {float(gap):.3g} omega{i + 1} of"
-        decl = declaration(k, self.forced)
-        hint = (f"declare it: --internal {decl} (internal=['{decl}']), with the frequencies "
-                f"in the exact ratio and any detuning written in F"
-                if decl else "a combination resonance of more than two modes, which kbm "
-                             "does not average yet; change the frequencies")
-        raise UndeclaredResonanceError(
-            f"the frequencies omega = ({', '.join(map(str, self.omega))}) satisfy "
-            f"{describe(k, self.forced)} = {float(frequency(k, self.omega)):.6g}, {what} an "
-            f"internal resonance that was not declared: the harmonic psi{i + 1} + "
-            f"({', '.join(map(str, k))}).psi of R_{i + 1},{n} has a "
-            f"{'vanishing' if gap == 0 else 'small'} divisor and the non-resonant averaging "
-            f"breaks down; {hint}")
+        raises for an undeclared (near) resonance (:func:`resonant_harmonic`)."""
+        return resonant_harmonic(h, i, n, self.omega, self.lattice, self.tol, self.forced)
 
     def secular(self, R: MultiAngle, i: int, n: int) -> tuple[MultiAngle, MultiAngle]:
         """``(A_{i,n}, B_{i,n})``: the resonant part of ``R_{i,n}`` as slow series."""
@@ -242,10 +215,13 @@ class MultiBuilder:
             "kbm.coupled.numeric_average; the true orbits with kbm cycle)")
 
 
-def _recursion(alg: CoupledAlgebra, F: list[list[sp.Expr]], order: int):
+def _recursion(alg, F: list[list[sp.Expr]], order: int, builder=None):
     """``A[i]``, ``B[i]``, ``U[i]``: lists over orders 1..N of mode ``i``'s series.
 
-    ``F[i][k]`` is the coefficient of ``mu**k`` of mode ``i``'s right-hand side.
+    ``F[i][k]`` is the coefficient of ``mu**k`` of mode ``i``'s right-hand side.  ``alg`` is
+    the exact :class:`CoupledAlgebra`, or the sampled one of the numeric backend
+    (:mod:`kbm.coupled.jets`); ``builder(alg, leaves)`` makes the lazy series of an ``F``
+    (default :class:`MultiBuilder`, exact polynomials).
     """
     n = alg.dof
     zero = alg.zero
@@ -254,7 +230,7 @@ def _recursion(alg: CoupledAlgebra, F: list[list[sp.Expr]], order: int):
     XL = [Leaf(zero, x0) for x0 in X0]
     VL = [Leaf(zero, v0) for v0 in V0]
     leaves = {**dict(zip(positions(n), XL)), **dict(zip(velocities(n), VL))}
-    builder = MultiBuilder(alg, leaves)
+    builder = (builder or MultiBuilder)(alg, leaves)
     terms = [[(k, builder.build(sp.expand(Fk))) for k, Fk in enumerate(Fi) if Fk != 0]
              for Fi in F]
     A: list[list] = [[] for _ in range(n)]

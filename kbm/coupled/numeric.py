@@ -23,10 +23,10 @@ at order 1, for ``F`` that the exact engine does not take (``sin(x1 - x2)``, ``t
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Mapping, Sequence
 from functools import lru_cache
+from typing import TYPE_CHECKING
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -35,7 +35,10 @@ import sympy as sp
 from ..errors import ModelError, ParameterError
 from .builtins import get_coupled_model
 from .model import CoupledOscillators, positions, velocities
-from .resonance import SlowLattice
+from .resonance import SlowLattice, lattice_on_grid
+
+if TYPE_CHECKING:
+    from .jets import JetExpansion
 
 __all__ = ["NumericAverage", "numeric_average", "DEFAULT_NODES", "MAX_NODES_TOTAL"]
 
@@ -124,13 +127,62 @@ class NumericAverage:
                 B[r.j - 1] += self.values[r.detuning]
         return A, B, tail
 
-    def slow_flow(self, mu: float, amplitudes: Sequence[float], gammas: Sequence[float] = ()
-                  ) -> np.ndarray:
-        """``(a_1', .., a_N', gamma_1', ..)`` at first order: ``mu A_i``, and for each slow
-        phase ``gamma_r = g_r . psi`` its rate ``mu (sum_i g_{r,i} B_i + g_{r,theta} sigma)``
-        (the resonance is exact at ``mu = 0``; ``sigma`` is the forcing's detuning)."""
-        A, B, _ = self.rates(amplitudes, gammas)
+    def expansion(self, amplitudes: Sequence[float], gammas: Sequence[float] = (),
+                  order: int = 2, gradient: bool = False) -> "JetExpansion":
+        """``A_{i,n}``, ``B_{i,n}`` for ``n = 1..order`` at the point, for the same ``F``
+        (:func:`kbm.coupled.jets.jet_expansion`: the exact engine's recursion on Taylor
+        jets in the amplitudes, on this grid of the torus).
+
+        Raises
+        ------
+        kbm.errors.ModelError
+            For a forcing frequency ``nu`` in ``F`` above the first order (it puts ``mu``
+            into ``F``), or an undeclared resonance (named).
+        """
+        from .jets import jet_expansion
+
+        return jet_expansion(self.model, self.values, order, amplitudes, gammas,
+                             nodes=self.nodes, gradient=gradient)
+
+    def slow_flow_jacobian(self, mu: float, amplitudes: Sequence[float],
+                           gammas: Sequence[float] = (), order: int = 2
+                           ) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`slow_flow` at ``order`` (by the jets, every order) and its Jacobian in
+        ``(a_1, .., a_N, gamma_1, ..)``: the amplitude derivatives from the jets, exact, the
+        phase derivatives from the slow Fourier series (no differences)."""
+        n, gens = self.model.dof, self.gammas
+        ex = self.expansion(amplitudes, gammas, order, gradient=True)
+        powers = [mu ** k for k in range(1, order + 1)]
+        f = [sum(p * ex.A[i][k] for k, p in enumerate(powers)) for i in range(n)]
+        J = [[sum(p * ex.dA[i][k][c] for k, p in enumerate(powers))
+              for c in range(n + len(gens))] for i in range(n)]
+        sig = 0.0
+        if self.model.forced and self.model.nu_detuning:
+            sig = self.values.get(self.model.nu_detuning, 0.0)
+        for g in gens:
+            rate = sum(g[i] * sum(p * ex.B[i][k] for k, p in enumerate(powers))
+                       for i in range(n))
+            f.append(rate + (mu * g[n] * sig if self.model.forced else 0.0))
+            J.append([sum(g[i] * sum(p * ex.dB[i][k][c] for k, p in enumerate(powers))
+                          for i in range(n)) for c in range(n + len(gens))])
+        return np.array(f), np.array(J)
+
+    def slow_flow(self, mu: float, amplitudes: Sequence[float], gammas: Sequence[float] = (),
+                  order: int = 1) -> np.ndarray:
+        """``(a_1', .., a_N', gamma_1', ..)``: ``sum_n mu**n A_{i,n}``, and for each slow
+        phase ``gamma_r = g_r . psi`` its rate ``sum_n mu**n sum_i g_{r,i} B_{i,n}`` plus
+        ``mu g_{r,theta} sigma`` (the resonance is exact at ``mu = 0``; ``sigma`` is the
+        forcing's detuning).  Order 1 by the FFT average (:meth:`rates`), above it by
+        :meth:`expansion`."""
         n = self.model.dof
+        if order == 1:
+            A, B, _ = self.rates(amplitudes, gammas)
+        else:
+            ex = self.expansion(amplitudes, gammas, order)
+            A = [sum(mu ** (k - 1) * ex.A[i][k - 1] for k in range(1, order + 1))
+                 for i in range(n)]
+            B = [sum(mu ** (k - 1) * ex.B[i][k - 1] for k in range(1, order + 1))
+                 for i in range(n)]
         sig = 0.0
         if self.model.forced and self.model.nu_detuning:
             sig = self.values.get(self.model.nu_detuning, 0.0)
@@ -159,28 +211,12 @@ def _grid(gens: tuple[tuple[int, ...], ...], D: int, M: int, forced: bool):
         shape = [1] * D
         shape[ax] = M
         outer |= np.broadcast_to((k >= M // 2 - 1).reshape(shape), outer.shape)
-    shifts = _lattice(gens, D, M)
+    shifts = lattice_on_grid(gens, D, M)
     Q = np.array([q for q, _ in shifts], dtype=int).reshape(-1, D)
     coefs = np.array([c for _, c in shifts], dtype=float).reshape(len(shifts), -1)
     for arr in (*cos, *sin, theta, Q, coefs, outer):
         arr.flags.writeable = False
     return cos, sin, theta, Q, coefs, outer
-
-
-def _lattice(gens: tuple[tuple[int, ...], ...], D: int, M: int):
-    """The wavevectors ``q = sum n_r g_r`` that fit on the grid, with their ``n``."""
-    out = []
-    lim = M // 2 - 2
-    if not gens:
-        return [(np.zeros(D, dtype=int), np.zeros(0))]
-    span = max(1, lim // max(1, min(max(abs(v) for v in g) for g in gens)))
-    for n in itertools.product(range(-span, span + 1), repeat=len(gens)):
-        q = np.zeros(D, dtype=int)
-        for nr, g in zip(n, gens):
-            q += nr * np.asarray(g, dtype=int)
-        if np.max(np.abs(q)) <= lim:
-            out.append((q, np.asarray(n, dtype=float)))
-    return out
 
 
 def _function(model: CoupledOscillators, i: int, names: Sequence[str]):

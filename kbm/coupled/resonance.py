@@ -10,11 +10,13 @@ lattice is an undeclared resonance: :class:`UndeclaredResonanceError` names it.
 
 from __future__ import annotations
 
+import itertools
 import re
 from dataclasses import dataclass
 from fractions import Fraction
 from math import gcd
 
+import numpy as np
 import sympy as sp
 
 from ..errors import ModelError
@@ -174,3 +176,57 @@ def declaration(k: tuple[int, ...], forced: bool = False) -> str | None:
     if forced and j == len(k):
         return f"{p}:{q}@{i},F"
     return f"{p}:{q}" if (i, j) == (1, 2) else f"{p}:{q}@{i},{j}"
+
+
+def resonant_harmonic(h: tuple[int, ...], i: int, n: int, omega: tuple, lattice: SlowLattice,
+                      tol: float, forced: bool = False) -> tuple[tuple[int, ...], int] | None:
+    """Whether the harmonic ``h`` of ``R_{i,n}`` (mode ``i``'s equation at order ``n``) is
+    resonant: ``(k, s)`` with ``h . psi = s (psi_i + k . psi)`` and ``k`` on the slow lattice
+    of the declared resonances, or ``None`` when its frequency is more than ``tol`` times
+    ``omega_i`` away from ``+-omega_i``.
+
+    Raises
+    ------
+    UndeclaredResonanceError
+        For a harmonic at (or within ``tol`` of) ``+-omega_i`` whose ``k`` is not declared:
+        the resonance is named with the ``--internal`` that declares it.
+    """
+    f = frequency(h, omega)
+    wi = Fraction(int(omega[i].p), int(omega[i].q))
+    s = 1 if f > 0 else -1
+    gap = abs(abs(f) - wi) / wi
+    if gap > tol:
+        return None
+    hs = tuple(s * v for v in h)
+    k = tuple(v - (1 if l == i else 0) for l, v in enumerate(hs))
+    if gap == 0 and lattice.coords(k) is not None:
+        return k, s
+    what = "exactly" if gap == 0 else f"within {float(gap):.3g} omega{i + 1} of"
+    decl = declaration(k, forced)
+    hint = (f"declare it: --internal {decl} (internal=['{decl}']), with the frequencies "
+            f"in the exact ratio and any detuning written in F"
+            if decl else "a combination resonance of more than two modes, which kbm "
+                         "does not average yet; change the frequencies")
+    raise UndeclaredResonanceError(
+        f"the frequencies omega = ({', '.join(map(str, omega))}) satisfy "
+        f"{describe(k, forced)} = {float(frequency(k, omega)):.6g}, {what} an "
+        f"internal resonance that was not declared: the harmonic psi{i + 1} + "
+        f"({', '.join(map(str, k))}).psi of R_{i + 1},{n} has a "
+        f"{'vanishing' if gap == 0 else 'small'} divisor and the non-resonant averaging "
+        f"breaks down; {hint}")
+
+
+def lattice_on_grid(gens: tuple[tuple[int, ...], ...], D: int, M: int):
+    """The wavevectors ``q = sum n_r g_r`` that fit on the grid, with their ``n``."""
+    out = []
+    lim = M // 2 - 2
+    if not gens:
+        return [(np.zeros(D, dtype=int), np.zeros(0))]
+    span = max(1, lim // max(1, min(max(abs(v) for v in g) for g in gens)))
+    for n in itertools.product(range(-span, span + 1), repeat=len(gens)):
+        q = np.zeros(D, dtype=int)
+        for nr, g in zip(n, gens):
+            q += nr * np.asarray(g, dtype=int)
+        if np.max(np.abs(q)) <= lim:
+            out.append((q, np.asarray(n, dtype=float)))
+    return out

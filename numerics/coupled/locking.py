@@ -56,16 +56,20 @@ def _slow_flow(model: CoupledOscillators, order: int, fixed: tuple, parameter: s
     """Lambdified slow flow ``f(y, sigma, mu)`` and its Jacobian in ``y`` (memoised: time).
 
     For a right-hand side that the exact engine does not take (``sin``, ``tanh`` coupling),
-    order 1 comes from the numeric backend (:func:`kbm.coupled.numeric_average`), its
+    the flow comes from the numeric backend (:func:`kbm.coupled.numeric_average`: the FFT
+    average at order 1, the recursion on jets above, :mod:`kbm.coupled.jets`), its
     Jacobian by central differences."""
     try:
         res = derive_coupled(model, order, dict(fixed))
     except UnsupportedTermError:
-        if order != 1:
-            raise ParameterError(f"the averaged flow of {model.name!r} (F not polynomial) is "
-                                 f"first order only (numeric backend); ask --order 1, not "
+        from kbm.coupled.jets import MAX_ORDER_JETS
+
+        if order > MAX_ORDER_JETS:
+            raise ParameterError(f"the averaged flow of {model.name!r} (F not polynomial) "
+                                 f"comes from the numeric backend, orders 1 to "
+                                 f"{MAX_ORDER_JETS}; ask --order {MAX_ORDER_JETS} at most, not "
                                  f"{order}") from None
-        return _numeric_flow(model, dict(fixed), parameter)
+        return _numeric_flow(model, dict(fixed), parameter, order)
     rates = res.slow_flow()
     state = [*amplitudes(model.dof), *[g for g, _ in res.gammas]]
     mu, s = sp.Symbol("mu"), sp.Symbol(parameter)
@@ -75,19 +79,37 @@ def _slow_flow(model: CoupledOscillators, order: int, fixed: tuple, parameter: s
     return f, jac, len(state)
 
 
-def _numeric_flow(model: CoupledOscillators, fixed: dict, parameter: str):
+def _numeric_flow(model: CoupledOscillators, fixed: dict, parameter: str, order: int = 1):
     n = model.dof
     base = numeric_average(model, {**{k: float(v) for k, v in fixed.items()}, parameter: 0.0})
     m = n + len(base.gammas)
+
+    last: dict = {}
+
+    def both(y, s, mu):
+        """The flow and its Jacobian from one expansion with the jets' derivatives
+        (kbm.coupled.jets; the last point kept: Newton asks for both at the same point)."""
+        key = (tuple(y), float(s), float(mu))
+        if key not in last:
+            last.clear()
+            last[key] = base.at(**{parameter: float(s)}).slow_flow_jacobian(
+                mu, y[:n], y[n:], order)
+        return last[key]
 
     def f(y, s, mu):
         y = np.asarray(y, dtype=float)
         if np.any(y[:n] <= 0):
             return np.full(m, np.nan)
+        if order > 1:
+            return both(y, s, mu)[0]
         return base.at(**{parameter: float(s)}).slow_flow(mu, y[:n], y[n:])
 
     def jac(y, s, mu):
         y = np.asarray(y, dtype=float)
+        if order > 1:  # the jets' derivatives, no differences
+            if np.any(y[:n] <= 0):
+                return np.full((m, m), np.nan)
+            return both(y, s, mu)[1]
         J = np.empty((m, m))
         for k in range(m):
             h = 1e-6 * max(1.0, abs(y[k]))
@@ -164,7 +186,7 @@ def _averaged_edge(f, jac, y, side, mu, limit) -> LockingEdge:
     def locked(s, y):
         """The stable locked state at ``s`` continued from ``y`` (a jump to another fixed
         point, or an unstable one, is not the state followed)."""
-        trial = _newton(f, jac, y, s, mu)
+        trial = _newton(f, jac, y, s, mu, it=15)  # from the state next to it: a few steps
         if trial is None or not np.all(trial[:-1] > 0) or np.max(np.abs(trial - y)) > 0.25:
             return None
         ev = np.linalg.eigvals(np.asarray(jac(trial, s, mu), dtype=float))
@@ -184,7 +206,7 @@ def _averaged_edge(f, jac, y, side, mu, limit) -> LockingEdge:
         last = (last[0] + side * step, trial)
         step = min(step * 1.5, 0.1)
     lo, hi = last[0], last[0] + side * step
-    while abs(hi - lo) > 1e-6:  # ... bracket the fold ...
+    while abs(hi - lo) > 1e-4:  # ... bracket the fold (the augmented Newton ends it) ...
         mid = 0.5 * (lo + hi)
         trial = locked(mid, last[1])
         if trial is None:

@@ -1,0 +1,562 @@
+"""The coupled KBM recursion to any order for any smooth ``F``, at one point of the amplitudes.
+
+:func:`kbm.coupled.derive_coupled` runs the recursion on exact series (polynomial ``F``);
+the first-order numeric backend (:mod:`kbm.coupled.numeric`) averages any smooth ``F`` by
+one FFT on the torus.  Beyond the first order the recursion differentiates in the amplitudes
+(``D_j = sum_l A_{l,j} d/da_l + B_{l,j} d/dpsi_l``), so the numeric backend needs the
+quantities of the lower orders *with* their amplitude derivatives.  Here every quantity is a
+**jet**: its Taylor coefficients in ``Da = a - a*`` at the point ``a*`` up to a degree, each a
+function on the ``M^D`` grid of the torus of the fast angles (``D = N``, one more for the
+forcing angle ``theta``).  Then
+
+- products are pointwise on the grid and Cauchy products of the Taylor coefficients;
+- ``d/da_l`` shifts the coefficients (a jet of degree ``r`` gives one of degree ``r - 1``:
+  every jet carries the degree up to which it is known, and the recursion starts from
+  degree ``order``, which leaves the rates of the last order known at ``Da = 0``);
+- ``d/dpsi_l``, ``L0 = sum omega_l d/dpsi_l``, the resonant part of ``R_{i,n}`` and the
+  division by ``omega_i^2 - (h . omega)^2`` act on the ``D``-dimensional FFT of each
+  coefficient, with the slow lattice of the declared resonances as in the exact engine
+  (:func:`kbm.coupled.resonance.resonant_harmonic`: the same harmonics are resonant, the
+  same undeclared ones refused);
+- ``F(x0 + Dx, v0 + Dv, theta)`` is its Taylor series in the ``2 N`` state variables
+  (:class:`kbm.algebra.smooth.TaylorOf`), the partial derivatives taken symbolically and
+  compiled (:class:`kbm.algebra.smooth.TaylorTable`); their jets in ``Da`` along
+  ``x0_l = a_l cos psi_l``, ``v0_l = -omega_l a_l sin psi_l`` come from higher partial
+  derivatives at ``a*``.
+
+The derivatives in ``a`` are exact (no differences, no interpolation); the only truncation is
+the grid in the angles, exact for a polynomial ``F`` once the grid holds its harmonics (the
+result reports the largest coefficient on the grid's outer shell).  The recursion itself is
+:func:`kbm.coupled.engine._recursion`, the exact engine's, on this algebra.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+import sympy as sp
+
+from ..algebra.lazy_series import Tail
+from ..algebra.smooth import TaylorOf, TaylorTable
+from ..errors import ModelError, OrderError, ParameterError
+from .model import CoupledOscillators, positions, velocities
+from .resonance import (SlowLattice, UndeclaredResonanceError, lattice_on_grid,
+                        resonant_harmonic)
+
+__all__ = ["JetAlgebra", "JetSeries", "JetExpansion", "jet_expansion", "MAX_ORDER_JETS"]
+
+#: highest order of the numeric coupled recursion (the partial derivatives of F up to this
+#: total order are compiled; the harmonics of u_n grow like the order)
+MAX_ORDER_JETS = 6
+
+#: a harmonic's Fourier coefficient below this fraction of the largest counts as absent
+#: (rounding) when an undeclared resonant harmonic is looked for
+PRESENT = 1e-11
+
+
+def _multi_indices(n: int, degree: int) -> list[tuple[int, ...]]:
+    """The multi-indices of ``n`` variables with ``|alpha| <= degree``, by degree."""
+    out = []
+    for total in range(degree + 1):
+        for alpha in itertools.product(range(total + 1), repeat=n):
+            if sum(alpha) == total:
+                out.append(alpha)
+    return out
+
+
+class JetSeries:
+    """Taylor coefficients ``(C, M, .., M)`` in the amplitudes, known to degree ``deg``
+    (``values is None``: zero, known to every degree)."""
+
+    __slots__ = ("alg", "values", "deg")
+
+    def __init__(self, alg: "JetAlgebra", values: np.ndarray | None, deg: int):
+        self.alg, self.values, self.deg = alg, values, deg
+
+    def is_zero(self) -> bool:
+        return self.values is None
+
+    def _new(self, values, deg) -> "JetSeries":
+        return JetSeries(self.alg, values, deg)
+
+    def __add__(self, other: "JetSeries") -> "JetSeries":
+        if other.values is None:
+            return self
+        if self.values is None:
+            return other
+        return self._new(self.values + other.values, min(self.deg, other.deg))
+
+    def __neg__(self) -> "JetSeries":
+        return self if self.values is None else self._new(-self.values, self.deg)
+
+    def __sub__(self, other: "JetSeries") -> "JetSeries":
+        return self + (-other)
+
+    def __mul__(self, other: "JetSeries") -> "JetSeries":
+        if self.values is None or other.values is None:
+            return self._new(None, self.alg.top)
+        deg = min(self.deg, other.deg)
+        f, g = self.values, other.values
+        out = np.zeros_like(f)
+        for p, q, r in self.alg.pairs[deg]:
+            out[r] += f[p] * g[q]
+        return self._new(out, deg)
+
+    def scale_q(self, q) -> "JetSeries":
+        return self if self.values is None else self._new(self.values * float(q), self.deg)
+
+    def scale(self, c) -> "JetSeries":
+        """``c f`` for a number or another jet."""
+        if isinstance(c, JetSeries):
+            return self * c
+        return self.scale_q(c)
+
+    def diff(self, l: int) -> "JetSeries":
+        """``d/da_l``: the coefficients shifted, one degree less."""
+        if self.values is None:
+            return self
+        if self.deg < 1:
+            raise ModelError("internal error of the jet recursion: an amplitude derivative "
+                             "of a jet known to degree 0")
+        out = np.zeros_like(self.values)
+        for src, dst, factor in self.alg.shifts[l]:
+            if self.alg.degree[dst] < self.deg:
+                out[dst] = factor * self.values[src]
+        return self._new(out, self.deg - 1)
+
+    def d_angle(self, l: int) -> "JetSeries":
+        """``d/dpsi_l`` (``l = D - 1``: ``d/dtheta`` of a forced system)."""
+        return self.alg.spectral(self, self.alg.ik[l])
+
+    def value(self) -> np.ndarray:
+        """The grid function at ``a*`` (the coefficient of ``Da**0``)."""
+        if self.values is None:
+            return np.zeros(self.alg.shape)
+        return self.values[0]
+
+
+class JetAlgebra:
+    """The recursion's algebra at the amplitudes ``a*`` on an ``M^D`` torus grid.
+
+    Parameters
+    ----------
+    model
+        The coupled model (values substituted; frequencies exact).
+    lattice
+        The slow lattice of the declared resonances.
+    point
+        The amplitudes ``a*`` (positive).
+    nodes
+        Grid points per angle ``M`` (even).
+    top
+        The jets' degree (the order of the recursion).
+    sigma
+        The forcing detuning's value (``nu = nu0 + mu sigma``), or ``None``.
+    tolerance
+        As the exact engine's: a harmonic within this fraction of ``omega_i`` that is not
+        declared resonant is refused when ``R_{i,n}`` holds it.
+    parameters
+        ``(symbols, values)`` of the parameters of ``F`` (arguments of its compiled
+        derivatives).
+    """
+
+    def __init__(self, model: CoupledOscillators, lattice: SlowLattice, point: Sequence[float],
+                 nodes: int, top: int, sigma: float | None, tolerance: float,
+                 parameters: tuple = ((), ())):
+        self.model, self.lattice, self.tol = model, lattice, tolerance
+        self.parameters = parameters
+        self.dof = N = model.dof
+        self.forced = model.forced
+        self.n = D = N + (1 if self.forced else 0)
+        self.omega = tuple(model.omega0) + ((model.nu0,) if self.forced else ())
+        self.w = np.array([float(v) for v in self.omega])
+        self.point = np.asarray(point, dtype=float)
+        self.M, self.top = int(nodes), int(top)
+        self.sig = sigma
+        self.shape = (self.M,) * D
+        # the multi-indices of the amplitudes and the tables of products and derivatives
+        self.index = _multi_indices(N, self.top)
+        self.degree = [sum(a) for a in self.index]
+        pos = {a: k for k, a in enumerate(self.index)}
+        self.pairs = {}
+        for d in range(self.top + 1):
+            self.pairs[d] = [(pos[a], pos[b], pos[tuple(x + y for x, y in zip(a, b))])
+                             for a in self.index for b in self.index
+                             if sum(a) + sum(b) <= d]
+        self.shifts = []
+        for l in range(N):
+            row = []
+            for a in self.index:
+                up = tuple(v + (1 if k == l else 0) for k, v in enumerate(a))
+                if up in pos:
+                    row.append((pos[up], pos[a], float(up[l])))
+            self.shifts.append(row)
+        self.pos = pos
+        # the angles and the harmonics of the grid
+        ang = 2 * np.pi * np.arange(self.M) / self.M
+        self.angles = np.meshgrid(*([ang] * D), indexing="ij")
+        h1 = np.rint(np.fft.fftfreq(self.M) * self.M).astype(int)
+        self.h = np.meshgrid(*([h1] * D), indexing="ij")
+        nyq = np.zeros(self.shape, dtype=bool)
+        for hl in self.h:
+            nyq |= hl == -self.M // 2
+        self.keep = ~nyq
+        self.freq = sum(hl * w for hl, w in zip(self.h, self.w))
+        self.ik = [np.where(self.keep, 1j * hl, 0.0) for hl in self.h]
+        self.iL0 = np.where(self.keep, 1j * self.freq, 0.0)
+        shell = np.zeros(self.shape, dtype=bool)
+        for hl in self.h:
+            shell |= np.abs(hl) >= self.M // 2 - 1
+        self.shell = shell
+        self._modes = [_mode_table(self.omega, model.internal, self.forced, self.M, self.tol, i)
+                       for i in range(N)]
+
+    # -- the recursion's vocabulary ---------------------------------------------------------
+    def zero(self) -> JetSeries:
+        return JetSeries(self, None, self.top)
+
+    def jet(self, values: np.ndarray, deg: int) -> JetSeries:
+        return JetSeries(self, values, deg)
+
+    def x0(self, i: int) -> JetSeries:
+        """``a_i cos(psi_i)``: ``a*_i cos psi_i + Da_i cos psi_i``."""
+        v = np.zeros((len(self.index),) + self.shape)
+        c = np.cos(self.angles[i])
+        v[0] = self.point[i] * c
+        v[self.pos[tuple(1 if k == i else 0 for k in range(self.dof))]] = c
+        return self.jet(v, self.top)
+
+    def spectral(self, f: JetSeries, mult: np.ndarray) -> JetSeries:
+        if f.values is None:
+            return f
+        axes = tuple(range(1, self.n + 1))
+        spec = np.fft.fftn(f.values, axes=axes)
+        return f._new(np.fft.ifftn(spec * mult, axes=axes).real, f.deg)
+
+    def L0(self, f: JetSeries) -> JetSeries:
+        return self.spectral(f, self.iL0)
+
+    def inverse_amplitude(self, i: int) -> JetSeries:
+        """``1/a_i``: ``sum_k (-Da_i)^k / a*_i^(k+1)``."""
+        v = np.zeros((len(self.index),) + self.shape)
+        for k in range(self.top + 1):
+            alpha = tuple(k if l == i else 0 for l in range(self.dof))
+            v[self.pos[alpha]] = (-1) ** k / self.point[i] ** (k + 1)
+        return self.jet(v, self.top)
+
+    def _spectrum(self, R: JetSeries, i: int, n: int) -> np.ndarray:
+        axes = tuple(range(1, self.n + 1))
+        spec = np.fft.fftn(R.values, axes=axes)
+        _, _, refused, _ = self._modes[i]
+        if refused:
+            big = float(np.max(np.abs(spec))) or 1.0
+            for idx, h in refused:
+                if np.max(np.abs(spec[(slice(None),) + idx])) > PRESENT * big:
+                    resonant_harmonic(h, i, n, self.omega, self.lattice, self.tol,
+                                      self.forced)  # raises, naming the resonance
+        return spec
+
+    def secular(self, R: JetSeries, i: int, n: int) -> tuple[JetSeries, JetSeries]:
+        """``(A_{i,n}, B_{i,n})``: the resonant part ``e^{i psi_i} G + c.c.`` of ``R_{i,n}``,
+        ``G = sum_k c_{psi_i + k} e^{i k . psi}`` slow, gives ``A = Im G / omega_i`` and
+        ``B = -Re G / (omega_i a_i)``."""
+        if R.values is None:
+            return self.zero(), self.zero()
+        spec = self._spectrum(R, i, n)
+        res_h, res_k, _, _ = self._modes[i]
+        G = np.zeros_like(spec)
+        for h, k in zip(res_h, res_k):
+            G[(slice(None),) + k] = spec[(slice(None),) + h]
+        axes = tuple(range(1, self.n + 1))
+        g = np.fft.ifftn(G, axes=axes)
+        wi = self.w[i]
+        A = R._new(g.imag / wi, R.deg)
+        aB = R._new(-g.real / wi, R.deg)
+        return A, aB * self.inverse_amplitude(i)
+
+    def solve(self, R: JetSeries, i: int, n: int) -> JetSeries:
+        """``u_{i,n}``: every non-resonant harmonic over ``omega_i^2 - (h . omega)^2``."""
+        if R.values is None:
+            return R
+        spec = self._spectrum(R, i, n)
+        axes = tuple(range(1, self.n + 1))
+        return R._new(np.fft.ifftn(spec * self._modes[i][3], axes=axes).real, R.deg)
+
+
+@lru_cache(maxsize=64)
+def _mode_table(omega: tuple, internal: tuple, forced: bool, M: int, tol: float, i: int):
+    """For mode ``i`` on the ``M^D`` grid: the resonant harmonics ``h = psi_i + k`` (index of
+    ``h`` and of ``k``), the refused ones (undeclared, within ``tol``) with ``h``, and
+    ``1/(omega_i^2 - (h . omega)^2)`` elsewhere (zero on the resonant ones, the refused ones
+    and the Nyquist modes).  Memoised per frequencies, resonances and grid (time only: the
+    exact classification of :func:`~kbm.coupled.resonance.resonant_harmonic` is slow)."""
+    D = len(omega)
+    lattice = SlowLattice(D, internal)
+    w = np.array([float(v) for v in omega])
+    h1 = np.rint(np.fft.fftfreq(M) * M).astype(int)
+    hs = np.meshgrid(*([h1] * D), indexing="ij")
+    keep = np.ones(hs[0].shape, dtype=bool)
+    for hl in hs:
+        keep &= hl != -M // 2
+    freq = sum(hl * wl for hl, wl in zip(hs, w))
+    wi = w[i]
+    gap = np.abs(np.abs(freq) - wi) / wi
+    res_h, res_k, refused = [], [], []
+    mask = np.zeros(freq.shape, dtype=bool)
+    for idx in np.argwhere((gap <= tol * (1 + 1e-9)) & keep):
+        idx = tuple(int(v) for v in idx)
+        h = tuple(int(hl[idx]) for hl in hs)
+        try:
+            res = resonant_harmonic(h, i, 0, omega, lattice, tol, forced)
+        except UndeclaredResonanceError:
+            refused.append((idx, h))
+            continue
+        if res is None:
+            continue
+        k, sgn = res
+        mask[idx] = True
+        if sgn > 0 and all(abs(v) < M // 2 for v in k):
+            res_h.append(idx)
+            res_k.append(tuple(v % M for v in k))
+    ok = keep & ~mask
+    for idx, _ in refused:
+        ok[idx] = False
+    inv = np.where(ok, 1.0 / np.where(ok, wi**2 - freq**2, 1.0), 0.0)
+    inv.flags.writeable = False
+    return tuple(res_h), tuple(res_k), tuple(refused), inv
+
+
+@lru_cache(maxsize=64)
+def _slow_terms(gens: tuple, D: int, M: int):
+    """The slow lattice's wavevectors on the grid: their indices and coordinates ``n``
+    (``q . psi = n . gamma``); memoised (time only)."""
+    terms = lattice_on_grid(gens, D, M)
+    index = tuple(np.array([int(q[k]) % M for q, _ in terms]) for k in range(D))
+    coords = np.array([c for _, c in terms], dtype=float).reshape(len(terms), -1)
+    return index, coords
+
+
+class JetBuilder:
+    """Makes ``F(x0 + Dx, v0 + Dv, theta)`` as a :class:`~kbm.algebra.smooth.TaylorOf`
+    over the ``2 N`` leaves (the ``builder`` of :func:`kbm.coupled.engine._recursion`)."""
+
+    def __init__(self, alg: JetAlgebra, leaves: dict):
+        self.alg = alg
+        self.names, self.values = alg.parameters
+        n = alg.dof
+        self.vars = (*positions(n), *velocities(n))
+        self.leaves = [leaves[v] for v in self.vars]
+        self.x0 = [alg.point[l] * np.cos(alg.angles[l]) for l in range(n)]
+        self.v0 = [-alg.w[l] * alg.point[l] * np.sin(alg.angles[l]) for l in range(n)]
+        # d x0_l / d a_l and d v0_l / d a_l on the grid
+        self.dx = [np.cos(alg.angles[l]) for l in range(n)]
+        self.dv = [-alg.w[l] * np.sin(alg.angles[l]) for l in range(n)]
+        self.theta = alg.angles[-1] if alg.forced else np.zeros(alg.shape)
+
+    def build(self, expr: sp.Expr):
+        zero = self.alg.zero
+        table = _table(expr, self.vars, (sp.Symbol("theta"), *self.names))
+        deltas = [Tail(zero, leaf) for leaf in self.leaves]
+        return TaylorOf(zero, self._sampler(table), *deltas)
+
+    def _sampler(self, table: TaylorTable):
+        alg = self.alg
+        n = alg.dof
+        args = (*self.x0, *self.v0, self.theta, *self.values)
+
+        def evaluate(beta):
+            if table.expr(*beta) == 0:
+                return None
+            with np.errstate(all="ignore"):
+                vals = np.broadcast_to(np.asarray(table.function(*beta)(*args), dtype=float),
+                                       alg.shape)
+            if not np.all(np.isfinite(vals)):
+                raise ParameterError(
+                    f"F = {table.F} or its derivative of order {list(beta)} is not finite "
+                    f"on the orbit of the amplitudes {list(alg.point)}: the numeric "
+                    "backend needs F smooth and finite there")
+            return vals
+
+        def sample(*beta):
+            """The jet of ``F_beta(x0(a), v0(a), theta)`` in ``Da``: degree ``top`` for
+            ``F`` itself, ``top - |beta| - 1`` for its derivatives (what the monomials of
+            the Taylor series they multiply are known to)."""
+            total = sum(beta)
+            deg = alg.top if total == 0 else max(alg.top - total - 1, 0)
+            out = np.zeros((len(alg.index),) + alg.shape)
+            any_ = False
+            for alpha in alg.index:
+                if sum(alpha) > deg:
+                    break
+                # split alpha_l between the x_l and the v_l derivative
+                for split in itertools.product(*[range(a + 1) for a in alpha]):
+                    delta_x = split
+                    delta_v = tuple(a - s for a, s in zip(alpha, split))
+                    full = tuple(b + d for b, d in zip(beta, (*delta_x, *delta_v)))
+                    vals = evaluate(full)
+                    if vals is None:
+                        continue
+                    w = np.ones(alg.shape)
+                    for l in range(n):
+                        if delta_x[l]:
+                            w = w * self.dx[l] ** delta_x[l] / math.factorial(delta_x[l])
+                        if delta_v[l]:
+                            w = w * self.dv[l] ** delta_v[l] / math.factorial(delta_v[l])
+                    out[alg.pos[alpha]] += vals * w
+                    any_ = True
+            return alg.jet(out, deg) if any_ else alg.zero()
+
+        return sample
+
+
+@lru_cache(maxsize=64)
+def _table(expr: sp.Expr, variables: tuple, extra: tuple) -> TaylorTable:
+    """The partial derivatives of one ``F``, with the parameters as arguments (memoised per
+    expression: time only, the derivatives and their compiled forms are the same)."""
+    return TaylorTable(expr, extra=extra, variables=variables)
+
+
+@dataclass(frozen=True)
+class JetExpansion:
+    """The rates of every order at one point of the amplitudes.
+
+    ``A[i][n - 1]`` and ``B[i][n - 1]`` are ``A_{i,n}``, ``B_{i,n}`` at the amplitudes
+    :attr:`amplitudes` and the slow phases :attr:`gammas` (multiply by ``mu**n``); ``tail`` the
+    largest Fourier coefficient of the rates' grid functions on the grid's outer shell,
+    relative to the largest (a measure of the angle grid's truncation).
+    """
+
+    amplitudes: tuple[float, ...]
+    gammas: tuple[float, ...]
+    order: int
+    A: tuple[tuple[float, ...], ...]
+    B: tuple[tuple[float, ...], ...]
+    tail: float
+    nodes: int
+    dA: tuple | None = None
+    dB: tuple | None = None
+
+
+def _slow_value(alg: JetAlgebra, f: np.ndarray, gens, gammas) -> tuple[float, np.ndarray]:
+    """The slow grid function ``f`` (a function of the combinations ``gamma_r = g_r . psi``
+    only) at the given ``gammas`` by its Fourier series on the slow lattice, and its
+    derivatives in the ``gammas``."""
+    spec = np.fft.fftn(f) / f.size
+    if not gens:
+        return float(spec[(0,) * alg.n].real), np.zeros(0)
+    index, coords = _slow_terms(tuple(gens), alg.n, alg.M)
+    terms = spec[index] * np.exp(1j * (coords @ np.asarray(gammas, dtype=float)))
+    return float(terms.sum().real), (1j * coords * terms[:, None]).sum(axis=0).real
+
+
+def jet_expansion(model: CoupledOscillators, values: Mapping[str, float], order: int,
+                  amplitudes: Sequence[float], gammas: Sequence[float] = (), *,
+                  nodes: int = 32, tolerance: float | None = None,
+                  gradient: bool = False) -> JetExpansion:
+    """``A_{i,n}``, ``B_{i,n}`` for ``n = 1..order`` at one point, for any smooth ``F``.
+
+    Parameters
+    ----------
+    model
+        The coupled model, its internal resonances declared (``model.with_internal``).
+    values
+        A float for every parameter ``F`` holds, and for the declared detunings.
+    order
+        ``1..MAX_ORDER_JETS``.
+    amplitudes, gammas
+        The point: ``N`` positive amplitudes and one slow phase per declared resonance.
+    nodes
+        Grid points per angle (even, at least 8).
+    gradient
+        Also the derivatives of every rate in the amplitudes and the slow phases
+        (:attr:`JetExpansion.dA`, ``dB``): the jets are taken one degree further.
+
+    Raises
+    ------
+    kbm.errors.OrderError
+        For an order out of range.
+    kbm.coupled.resonance.UndeclaredResonanceError
+        For a resonance present in ``F`` that was not declared.
+    kbm.errors.ModelError
+        For a forcing frequency ``nu`` written in ``F`` (it puts ``mu`` into ``F``).
+    """
+    from .engine import TOLERANCE, _recursion
+
+    if not isinstance(order, int) or isinstance(order, bool) or \
+            not 1 <= order <= MAX_ORDER_JETS:
+        raise OrderError(f"the order of the numeric coupled averaging must be an integer "
+                         f"from 1 to {MAX_ORDER_JETS}, got {order!r}")
+    if any(f.has(sp.Symbol("nu")) for f in model.F) and order > 1:
+        raise ModelError(f"{model.name!r} holds the forcing frequency nu in F (nu = nu0 + mu "
+                         "sigma puts mu into F): beyond the first order the numeric coupled "
+                         "averaging takes F free of nu")
+    n = model.dof
+    a = np.asarray(amplitudes, dtype=float)
+    g = np.asarray(gammas, dtype=float)
+    if a.shape != (n,) or not np.all(np.isfinite(a)) or np.any(a <= 0):
+        raise ParameterError(f"give {n} positive amplitudes a1..a{n}, got {list(a)}")
+    if g.shape != (len(model.internal),) or not np.all(np.isfinite(g)):
+        raise ParameterError(f"give {len(model.internal)} slow phases (one per declared "
+                             f"resonance), got {list(g)}")
+    F = [[sp.expand(f)] for f in model.F]
+    for r in model.internal:
+        if r.detuning and not r.forcing:  # omega_j -> omega_j + mu sigma, as the exact engine
+            sig = sp.Symbol(r.detuning)
+            xj = positions(n)[r.j - 1]
+            wj = model.omega0[r.j - 1]
+            F[r.j - 1][0] = F[r.j - 1][0] - 2 * wj * sig * xj
+            F[r.j - 1].append(-sig**2 * xj)
+    # the parameters stay symbols, their values arguments of the compiled derivatives
+    names = sorted({s.name for row in F for f in row for s in f.free_symbols}
+                   - {s.name for s in model.state} - {"theta"})
+    free = [k for k in names if k not in values]
+    if free:
+        raise ParameterError(f"give values for {', '.join(free)} (-p NAME=VALUE)")
+    sigma = None
+    if model.forced and model.nu_detuning:
+        sigma = float(values.get(model.nu_detuning, 0.0))
+    D = n + (1 if model.forced else 0)
+    lattice = SlowLattice(D, model.internal)
+    alg = JetAlgebra(model, lattice, a, nodes, order + (1 if gradient else 0), sigma,
+                     TOLERANCE if tolerance is None else tolerance,
+                     (tuple(sp.Symbol(k) for k in names), tuple(float(values[k]) for k in names)))
+    A, B, U = _recursion(alg, F, order, builder=JetBuilder)
+    gens = lattice.generators
+    unit = [alg.pos[tuple(1 if k == l else 0 for k in range(n))] for l in range(n)]
+
+    def at_point(f: JetSeries):
+        """The value and, with ``gradient``, the derivatives in ``(a, gamma)``."""
+        v, dg = _slow_value(alg, f.value(), gens, g)
+        if not gradient:
+            return v, None
+        da = [0.0 if f.values is None else _slow_value(alg, f.values[k], gens, g)[0]
+              for k in unit]
+        return v, tuple(float(x) for x in (*da, *dg))
+
+    outA, outB, dA, dB = [], [], [], []
+    for i in range(n):
+        ra = [at_point(A[i][m]) for m in range(order)]
+        rb = [at_point(B[i][m]) for m in range(order)]
+        outA.append(tuple(v for v, _ in ra))
+        outB.append(tuple(v for v, _ in rb))
+        dA.append(tuple(d for _, d in ra))
+        dB.append(tuple(d for _, d in rb))
+    # the angle grid's truncation: the outer shell of every u_n (the harmonics of F along
+    # the orbit, and their products), relative to the largest coefficient
+    tail = 0.0
+    for i in range(n):
+        for u in U[i]:
+            if u.values is not None:
+                spec = np.abs(np.fft.fftn(u.values[0]))
+                big = float(np.max(spec))
+                if big > 0:
+                    tail = max(tail, float(np.max(spec[alg.shell])) / big)
+    return JetExpansion(tuple(float(v) for v in a), tuple(float(v) for v in g), order,
+                        tuple(outA), tuple(outB), tail, int(nodes),
+                        tuple(dA) if gradient else None, tuple(dB) if gradient else None)
+

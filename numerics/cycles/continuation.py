@@ -98,13 +98,13 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
     points, special = [pt.record()], []
     ds, x_big, T0 = opts["ds"], pt.size, pt.u[1]
     recent = [pt]
-    curvature = None  # dt/ds from the last step, for the second-order predictor
+    previous = None  # (u, tangent) of the point before, for the cubic predictor
     while True:
         if len(points) >= opts["max_points"]:
             return points, special, f"stopped after max_points = {opts['max_points']} points"
         try:
             ds_used = ds
-            new = _arc(prob, pt, ds, curvature)
+            new = _arc(prob, pt, ds, previous)
             turn = float(new.tangent @ pt.tangent)
             if turn < opts["max_turn"] and ds > opts["ds_min"] * 4:
                 deg = math.degrees(math.acos(max(-1.0, min(1.0, turn))))
@@ -113,7 +113,7 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
                 raise ConvergenceError("the section point changed sign")
         except _FAIL as exc:
             ds /= 2
-            curvature = None
+            previous = None
             if ds < opts["ds_min"]:
                 msg = (f"continuation stopped at {name} = {pt.u[2]:.10g} (x0 = {pt.u[0]:.6g}, "
                        f"T = {pt.u[1]:.6g}): step below ds_min = {opts['ds_min']:.1e} ({exc})")
@@ -141,10 +141,10 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
         else:
             opts["dropped"][0] += 1
         moved = _reanchor(prob, new)
-        # the curvature of the branch from the last two tangents (none after a re-anchored
-        # section, where the unknowns jumped, or after a fold)
-        curvature = ((new.tangent - pt.tangent) / ds_used
-                     if moved is new and new.tangent[2] * pt.tangent[2] > 0 else None)
+        # the point before for the cubic predictor (none after a re-anchored section, where
+        # the unknowns jumped, or after a fold)
+        previous = ((pt.u.copy(), pt.tangent.copy())
+                    if moved is new and new.tangent[2] * pt.tangent[2] > 0 else None)
         new = moved
         x_big = max(x_big, new.size)
         prob.choose(new.u)

@@ -41,3 +41,34 @@ def test_no_connection_is_said():
     lo = connection_gap(MODEL, {"mu": 1, "eps": 0.01, "beta": 1.0, "alpha": -1.0}, 0, 0, 1, 1)
     hi = connection_gap(MODEL, {"mu": 1, "eps": 0.01, "beta": 1.0, "alpha": -0.6}, 0, 0, 1, 1)
     assert lo[0] * hi[0] < 0
+
+
+@pytest.mark.parametrize("params, vary, at, span, x_turn", [
+    # the SEDF (paper eq. 3) at its homoclinic end: the saddles at x = +-1.581
+    ({"mu": 0.1, "beta": 1, "lam": 1}, "Delta", 3.2486, (-2.0976, 2.0976), 2.0976),
+    # the side-well cycle of beta = 1.3 (Delta = 1.5): one saddle inside its span
+    ({"mu": 0.1, "lam": 1, "Delta": 1.5}, "beta", 1.3, (-0.9, -0.3), -0.3),
+    # the double well x'' = x - x^3 + eps(...) x': the saddle at 0
+    ({"mu": 1, "eps": 0.02, "beta": 1.0}, "alpha", -0.8, (-1.4, 1.4), 1.4),
+])
+def test_saddles_from_the_compiled_force_equal_the_portraits(params, vary, at, span, x_turn):
+    """numerics.cycles.homoclinic.saddles_passed: the saddles and their unstable eigenvalues
+    from the compiled force (zeros and quadrature) against the conservative phase portrait
+    (symbolic split and potential)."""
+    import numpy as np
+
+    import numerics.cycles._arclength as arc
+    from kbm.bound import bind
+    from numerics.cycles.homoclinic import saddles_passed
+
+    model = "sedf" if "lam" in params else MODEL
+    prob = arc._Problem(model, params, vary, "auto", 1e-10, at)
+    prob.choose(np.array([max(abs(span[0]), abs(span[1])), 7.0, at]))
+    force = prob.force(at)
+    assert force is not None
+    bound = bind(model, {**params, vary: at})
+    fast = saddles_passed(bound, *span, x_turn, force=force)
+    ref = saddles_passed(bound, *span, x_turn)
+    assert len(fast[0]) == len(ref[0]) >= 1
+    assert np.allclose(fast[0], ref[0], atol=1e-12)
+    assert np.allclose(fast[1], ref[1], rtol=1e-10)

@@ -85,6 +85,21 @@ class _Problem:
         # and the rates, constant along an affine line
         self.p_ref, self.rates_ref = p, rates
 
+    def force(self, p: float):
+        """The vectorised force ``g(x) = -x''(x, 0)`` along the axis at ``vary = p``, compiled
+        with the flow (``accelerations`` of the corrector's module), or ``None`` where the
+        compiled corrector is not used."""
+        if self.kernel is None:
+            return None
+        cm = self.line(p)
+        module = sensitivity_flow(cm.template).module
+        pv = np.concatenate([np.asarray(cm.pvec, dtype=float), self.rates_ref])
+
+        def g(xs):
+            out = -module.accelerations(np.atleast_1d(np.asarray(xs, dtype=float)), pv)
+            return out if np.ndim(xs) else float(out[0])
+        return g
+
     def eval(self, u, n_out: int = 1, with_p: bool = False, full: bool = False):
         """``(R, A = dR/d(x0, T), yT, ys)`` at ``u``; with ``with_p`` also ``b = dR/dp``
         (one integration with the sensitivity, else two more for a central difference).

@@ -251,7 +251,8 @@ def _end_estimate(prob: _Problem, points: list):
         return None
     bound = bind(prob.model, {**prob.params, prob.vary: last.parameter})
     x = ys[:, 0]
-    sad, lams = saddles_passed(bound, float(np.min(x)), float(np.max(x)), last.x0)
+    sad, lams = saddles_passed(bound, float(np.min(x)), float(np.max(x)), last.x0,
+                               force=prob.force(last.parameter))
     est = homoclinic_end([p.parameter for p in points], [p.period for p in points], sad, lams)
     if est is None:
         return None

@@ -138,36 +138,74 @@ def homoclinic_end(params, periods, saddles, lambdas) -> HomoclinicEstimate | No
                               tuple(lambdas), k, float(p[-1]))
 
 
-def saddles_passed(bound, x_lo: float, x_hi: float, x_turn: float):
+def saddles_passed(bound, x_lo: float, x_hi: float, x_turn: float, force=None):
     """``(saddles, lambdas)``: the saddles of the conservative part whose energy is the
     separatrix energy nearest the cycle's (the conservative energy ``G(x_turn)`` of its
     turning point ``(x_turn, 0)``) and that lie within the cycle's span ``[x_lo, x_hi]``
     widened by a tenth, with the unstable eigenvalue of the full linearisation (damping
-    included) at each; ``((), ())`` when the model has no such saddle."""
+    included) at each; ``((), ())`` when the model has no such saddle.
+
+    ``force``, the vectorised force ``g(x) = -x''(x, 0)`` along the axis (the continuation
+    passes its compiled one), skips the symbolic split: the saddles are the zeros of ``g``
+    where it falls (on ``[-L, L]`` over the span and its margin, the grid doubled until the
+    count is stable, as the portrait's), the energies ``G(x) = int_0^x g`` by adaptive
+    quadrature.  Without it they come from the conservative phase portrait
+    (:func:`kbm.conservative.split_conservative`, :func:`numerics.energy.phase_portrait`);
+    both are compared in ``tests/test_manifolds.py``.
+    """
+    from ..flow import compile_model
+
+    pad = 0.1 * (x_hi - x_lo)
+    if force is None:
+        found = _saddles_from_portrait(bound, x_turn)
+    else:
+        found = _saddles_from_force(force, max(abs(x_lo), abs(x_hi)) + pad, x_turn)
+    if not found:
+        return (), ()
+    sad, energy = found
+    Es = min({E for _, E in sad}, key=lambda E: abs(E - energy))
+    chosen = [x for x, E in sad if abs(E - Es) <= 1e-9 * max(1.0, abs(Es))
+              and x_lo - pad <= x <= x_hi + pad]
+    jac = compile_model(bound).jac
+    lams = []
+    for xs in chosen:
+        J = jac(0.0, (xs, 0.0))
+        a, b = float(J[1, 0]), float(J[1, 1])
+        lams.append((b + math.sqrt(b * b + 4 * a)) / 2)
+    return tuple(chosen), tuple(lams)
+
+
+def _saddles_from_portrait(bound, x_turn: float):
+    """``([(x, G(x)) of every saddle], G(x_turn))`` from the conservative phase portrait,
+    or ``None``."""
     import sympy as sp
 
     from kbm.conservative import split_conservative
 
     from ..energy.portrait import phase_portrait
-    from ..flow import compile_model
 
     try:
         split = split_conservative(bound.model, dict(bound.values))
         portrait = phase_portrait(split)
     except Exception:  # noqa: BLE001 - no portrait: no saddle to name
-        return (), ()
-    sad = [e for e in portrait.equilibria if e.kind == "saddle"]
+        return None
+    sad = [(e.x, e.energy) for e in portrait.equilibria if e.kind == "saddle"]
+    return (sad, float(split.G.subs(sp.Symbol("x"), x_turn))) if sad else None
+
+
+def _saddles_from_force(force, L: float, x_turn: float):
+    """``([(x, G(x)) of the saddles on [-L, L]], G(x_turn))`` from the force ``g`` along the
+    axis, ``G = int_0^x g``, or ``None``."""
+    from scipy.integrate import quad
+
+    from ..energy._zeros import _zeros
+
+    sad = [z for z, kind in _zeros(force, L) if kind < 0]
     if not sad:
-        return (), ()
-    energy = float(split.G.subs(sp.Symbol("x"), x_turn))
-    Es = min({e.energy for e in sad}, key=lambda E: abs(E - energy))
-    pad = 0.1 * (x_hi - x_lo)
-    chosen = [e for e in sad if abs(e.energy - Es) <= 1e-9 * max(1.0, abs(Es))
-              and x_lo - pad <= e.x <= x_hi + pad]
-    jac = compile_model(bound).jac
-    lams = []
-    for e in chosen:
-        J = jac(0.0, (e.x, 0.0))
-        a, b = float(J[1, 0]), float(J[1, 1])
-        lams.append((b + math.sqrt(b * b + 4 * a)) / 2)
-    return tuple(e.x for e in chosen), tuple(lams)
+        return None
+
+    def G(x: float) -> float:
+        return quad(lambda s: float(force(s)), 0.0, x, epsabs=1e-14, epsrel=1e-13,
+                    limit=200)[0]
+
+    return [(x, G(x)) for x in sad], G(x_turn)

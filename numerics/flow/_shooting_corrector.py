@@ -165,3 +165,17 @@ def shoot_correct(u0, row, target, pbase, rates, p_ref, half, rtol, n_out, max_s
         for i in range(3):
             u[i] += du[i]
     return 3, max_iter, u, R, A, b, ys, max(abs(R[0]), abs(R[1]))
+
+
+@njit(cache=True)
+def accelerations(xs, p):
+    """``x''`` at the rest points ``(x, 0)`` of the sample ``xs`` (the conservative force
+    along the axis: its zeros are the equilibria, its integral the potential)."""
+    out = np.empty(xs.shape[0])
+    y = np.zeros(2)
+    f = np.zeros(2)
+    for k in range(xs.shape[0]):
+        y[0] = xs[k]
+        rhs(0.0, y, p, f)  # noqa: F821
+        out[k] = f[1]
+    return out

@@ -135,6 +135,17 @@ class ModelTemplate:
     ext_exprs: tuple[sp.Expr, ...] = ()
     ext_symbols: tuple[sp.Symbol, ...] = ()
 
+    def __hash__(self) -> int:
+        """The hash of the fields, computed once (the memos of the compiled flows look a
+        template up at every point of a branch; hashing its expressions took 50 us)."""
+        h = self.__dict__.get("_hash")
+        if h is None:
+            h = hash((self.model, self.names, self.f_ext, self.f_acc, self.f_jac,
+                      self.f_energy, self.f_w0, self.f_factor, self.dissipation_expr,
+                      self.ext_exprs, self.ext_symbols))
+            object.__setattr__(self, "_hash", h)
+        return h
+
 
 def model_template(model: Oscillator | str) -> ModelTemplate:
     """Lambdify ``model`` once, parameters (and ``mu``) as arguments.

@@ -194,9 +194,12 @@ class _Point:
         self.tangent = t / math.sqrt(float(t @ t))
         trivial, other = floquet_multipliers(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]), yT[6])
         self.mults = (trivial, other)
-        self.amp = float(max(u[0], np.max(ys[:, 0])))
-        self.x_top = float(ys[int(np.argmax(ys[:, 0])), 0])
-        self.size = self.amp - float(min(u[0], np.min(ys[:, 0])))  # peak to peak of x
+        # the first and the last sample are the start (x0, 0) and the return to it: x0 stands
+        # for both (the samples are those of the last integration, the point is corrected)
+        inner = ys[1:-1, 0] if len(ys) > 2 else ys[:, 0]
+        self.amp = float(max(u[0], np.max(inner)))
+        self.x_top = float(inner[int(np.argmax(inner))])
+        self.size = self.amp - float(min(u[0], np.min(inner)))  # peak to peak of x
         self.mid = self.amp - 0.5 * self.size
         self.phi = float(np.max(np.abs(yT[2:6])))  # size of the monodromy matrix
 
@@ -217,6 +220,14 @@ def _correct(prob: _Problem, u_pred, row, target: float, max_iter: int = 8) -> _
     that bound on the correction the periods were off by up to 1.5e-9 on the SEDF branch
     against cycles shot at rtol 1e-12; with it, 1.4e-11, for 5 % more integrations.)
 
+    The point returned is ``u`` plus that last correction (Newton converges quadratically:
+    its error is of the order of the correction squared), with the integration at ``u``
+    standing for it: monodromy matrix, samples, tangent, and the residual ``R(u)`` (an upper
+    bound), all off by at most the tolerance.  Near a homoclinic end the period changes
+    700 times faster than the parameter: a point within 1e-9 of the branch in ``(x0, T, p)``
+    had a period off by 1e-7 from the cycle at its own ``p``; with the correction added,
+    within 1e-10.
+
     The compiled corrector (``_correct_compiled``) does the same in one call.
     """
     if prob.kernel is not None:
@@ -231,7 +242,7 @@ def _correct(prob: _Problem, u_pred, row, target: float, max_iter: int = 8) -> _
         J = np.vstack([np.column_stack([A, b]), row])
         du = np.linalg.solve(J, -np.append(R, row @ u - target))
         if np.max(np.abs(R)) < tol_r * noise and np.max(np.abs(du)) < tol_u * noise:
-            pt = _Point(u, R, A, b, yT, ys, it)
+            pt = _Point(u + du, R, A, b, yT, ys, it)
             # near a separatrix the loose tolerance may leave the trivial multiplier off 1:
             # one more iteration there (the point would not pass the printed test)
             if abs(complex(pt.mults[0]) - 1.0) <= TRIVIAL_TOL or it == max_iter:

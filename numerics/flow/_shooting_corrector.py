@@ -66,8 +66,9 @@ def shoot_correct(u0, row, target, pbase, rates, p_ref, half, rtol, n_out, max_s
                   max_iter, trivial_tol):
     """Newton on ``R(u) = 0, row . u = target`` from ``u0``.
 
-    Returns ``(status, it, u, R, A, b, ys, info)``: status 0 converged (the last
-    integration is the point's: ``ys`` its samples, of half the period in half-period
+    Returns ``(status, it, u, R, A, b, ys, info)``: status 0 converged (``u`` with the last
+    Newton correction, already below the tolerance, added; the last integration, at ``u``
+    before it, stands for the point: ``ys`` its samples, of half the period in half-period
     mode), 1 the integration failed (``info`` = the stepper's status, the time reached is
     not known), 2 a step too large, 3 no convergence in ``max_iter`` iterations (``info`` =
     the last ``|R|``), 4 ``u`` left the domain (``T <= 0`` or not finite), 5 a singular
@@ -157,6 +158,8 @@ def shoot_correct(u0, row, target, pbase, rates, p_ref, half, rtol, n_out, max_s
         du_max = max(max(abs(du[0]), abs(du[1])), abs(du[2]))
         if r_max < tol_r * noise and du_max < tol_u * noise:
             if _trivial_distance(m00, m01, m10, m11) <= trivial_tol or it == max_iter:
+                for i in range(3):  # the point with the last correction, known to be small
+                    u[i] += du[i]
                 return 0, it, u, R, A, b, ys, 0.0
         if it == max_iter:
             return 3, it, u, R, A, b, ys, r_max

@@ -17,7 +17,7 @@ import sympy as sp
 
 from .errors import ParameterError
 from .family import OscillatorFamily
-from .models import Oscillator, _drive_variant, get_model
+from .models import MODELS, Oscillator, _drive_variant, get_model
 from .values import FrozenMap, parameter_value
 
 __all__ = ["BoundModel", "ParameterLine", "bind"]
@@ -124,14 +124,15 @@ def bind(model: "OscillatorFamily | str | BoundModel",
         return model
     params = dict(params or {})
     if isinstance(model, str):
-        from .coupled.builtins import get_coupled_model, is_coupled_name
+        if model not in MODELS:  # a one-degree-of-freedom name first: the others import slowly
+            from .coupled.builtins import get_coupled_model, is_coupled_name
 
-        from .forced.builtins import FORCED_MODELS, get_forced_model
+            from .forced.builtins import FORCED_MODELS, get_forced_model
 
-        if is_coupled_name(model):
-            return BoundModel.of(get_coupled_model(model), params)
-        if model in FORCED_MODELS:
-            return BoundModel.of(get_forced_model(model), params)
+            if is_coupled_name(model):
+                return BoundModel.of(get_coupled_model(model), params)
+            if model in FORCED_MODELS:
+                return BoundModel.of(get_forced_model(model), params)
         v = params.pop("v", None)
         model = get_model(model, None if v is None else {"v": v})
     elif isinstance(model, Oscillator) and "v" in params and "v" not in model.parameters:

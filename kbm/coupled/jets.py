@@ -46,7 +46,7 @@ from ..algebra.smooth import TaylorOf, TaylorTable
 from ..errors import ModelError, OrderError, ParameterError
 from .model import CoupledOscillators, positions, velocities
 from .resonance import (SlowLattice, UndeclaredResonanceError, lattice_on_grid,
-                        resonant_harmonic)
+                        resonant_harmonic, slow_point)
 
 __all__ = ["JetAlgebra", "JetSeries", "JetExpansion", "jet_expansion", "MAX_ORDER_JETS"]
 
@@ -496,13 +496,7 @@ def jet_expansion(model: CoupledOscillators, values: Mapping[str, float], order:
                          "sigma puts mu into F): beyond the first order the numeric coupled "
                          "averaging takes F free of nu")
     n = model.dof
-    a = np.asarray(amplitudes, dtype=float)
-    g = np.asarray(gammas, dtype=float)
-    if a.shape != (n,) or not np.all(np.isfinite(a)) or np.any(a <= 0):
-        raise ParameterError(f"give {n} positive amplitudes a1..a{n}, got {list(a)}")
-    if g.shape != (len(model.internal),) or not np.all(np.isfinite(g)):
-        raise ParameterError(f"give {len(model.internal)} slow phases (one per declared "
-                             f"resonance), got {list(g)}")
+    a, g = slow_point(n, len(model.internal), amplitudes, gammas)
     F = [[sp.expand(f)] for f in model.F]
     for r in model.internal:
         if r.detuning and not r.forcing:  # omega_j -> omega_j + mu sigma, as the exact engine

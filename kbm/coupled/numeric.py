@@ -35,7 +35,7 @@ import sympy as sp
 from ..errors import ModelError, ParameterError
 from .builtins import get_coupled_model
 from .model import CoupledOscillators, positions, velocities
-from .resonance import SlowLattice, lattice_on_grid
+from .resonance import SlowLattice, lattice_on_grid, slow_point
 
 if TYPE_CHECKING:
     from .jets import JetExpansion
@@ -89,13 +89,7 @@ class NumericAverage:
         """
         m = self.model
         n = m.dof
-        a = np.asarray(amplitudes, dtype=float)
-        g = np.asarray(gammas, dtype=float)
-        if a.shape != (n,) or not np.all(np.isfinite(a)) or np.any(a <= 0):
-            raise ParameterError(f"give {n} positive amplitudes a1..a{n}, got {list(a)}")
-        if g.shape != (len(self.gammas),) or not np.all(np.isfinite(g)):
-            raise ParameterError(f"give {len(self.gammas)} slow phases (one per declared "
-                                 f"resonance), got {list(g)}")
+        a, g = slow_point(n, len(self.gammas), amplitudes, gammas)
         D = n + (1 if m.forced else 0)
         M = self.nodes
         cos, sin, theta, Q, coefs, outer = _grid(self.gammas, D, M, m.forced)

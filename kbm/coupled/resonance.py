@@ -230,3 +230,24 @@ def lattice_on_grid(gens: tuple[tuple[int, ...], ...], D: int, M: int):
         if np.max(np.abs(q)) <= lim:
             out.append((q, np.asarray(n, dtype=float)))
     return out
+
+
+def slow_point(dof: int, phases: int, amplitudes, gammas) -> tuple[np.ndarray, np.ndarray]:
+    """The amplitudes and slow phases of a point of the slow flow as arrays, checked: ``dof``
+    positive finite amplitudes and ``phases`` finite phases (one per declared resonance).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For a count that does not match, or an amplitude that is not positive and finite.
+    """
+    from ..errors import ParameterError
+
+    a = np.asarray(amplitudes, dtype=float)
+    g = np.asarray(gammas, dtype=float)
+    if a.shape != (dof,) or not np.all(np.isfinite(a)) or np.any(a <= 0):
+        raise ParameterError(f"give {dof} positive amplitudes a1..a{dof}, got {list(a)}")
+    if g.shape != (phases,) or not np.all(np.isfinite(g)):
+        raise ParameterError(f"give {phases} slow phases (one per declared resonance), got "
+                             f"{list(g)}")
+    return a, g

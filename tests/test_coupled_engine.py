@@ -42,6 +42,31 @@ def test_one_degree_of_freedom_is_the_one_dof_recursion(name):
         assert sp.expand(r.B[0][n] - o.B[n].subs(a, a1)) == 0
 
 
+@pytest.mark.parametrize("name, order", [("vdp", 20), ("duffing", 30)])
+def test_one_degree_of_freedom_to_high_orders(name, order):
+    """N = 1 above the coupled limit of 8, to kbm.derive's own limit: the same A_n, B_n."""
+    r = derive_coupled(name, order)
+    o = derive(name, order)
+    a = sp.Symbol("a")
+    for n in range(1, order + 1):
+        assert sp.expand(r.A[0][n] - o.A[n].subs(a, a1)) == 0
+        assert sp.expand(r.B[0][n] - o.B[n].subs(a, a1)) == 0
+
+
+def test_order_limits_depend_on_the_degrees_of_freedom():
+    from kbm.coupled.engine import MAX_ORDER, MAX_ORDER_ONE
+    from kbm.errors import CostError
+
+    with pytest.raises(OrderError, match=f"from 1 to {MAX_ORDER_ONE} for 1 degree of"):
+        derive_coupled("vdp", MAX_ORDER_ONE + 1)
+    with pytest.raises(OrderError, match=f"from 1 to {MAX_ORDER} for 2 degrees of"):
+        derive_coupled("coupled-vdp", MAX_ORDER + 1)
+    # a high degree: refused by the size estimate before any work, as kbm.derive refuses it
+    heavy = CoupledOscillators("heavy", ("(x1 + 1)**40*xdot1",), (1,))
+    with pytest.raises(CostError, match="budget"):
+        derive_coupled(heavy, 30)
+
+
 def _torus_average(model, values, amps, gamma, i, n_s=256):
     """-<F_i sin psi_i>/omega_i and -<F_i cos psi_i>/(omega_i a_i) by quadrature over the
     torus of the declared resonance p psi_2 - q psi_1 = gamma (or both angles)."""

@@ -45,10 +45,15 @@ from .model import CoupledOscillators, amplitudes, positions, velocities
 from .resonance import SlowLattice, frequency, resonant_harmonic
 from .result import CoupledKBMResult
 
-__all__ = ["derive_coupled", "MAX_ORDER", "MAX_DOF_SYMBOLIC", "TOLERANCE"]
+__all__ = ["derive_coupled", "MAX_ORDER", "MAX_ORDER_ONE", "MAX_DOF_SYMBOLIC", "TOLERANCE"]
 
 #: highest order of the coupled expansion (harmonics in N angles grow like order**N)
 MAX_ORDER = 8
+
+#: highest order for one degree of freedom, kbm.derive's (harmonics grow like the order):
+#: the general engine gives the same A_n, B_n as kbm.averaging to order 30 (vdp, duffing,
+#: rayleigh; tests/test_coupled_engine.py), in about four times its time
+MAX_ORDER_ONE = 30
 
 #: most degrees of freedom of the exact symbolic expansion (the numerics take more)
 MAX_DOF_SYMBOLIC = 6
@@ -314,7 +319,10 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
     Raises
     ------
     kbm.errors.OrderError
-        For an order outside ``1..MAX_ORDER``.
+        For an order outside ``1..MAX_ORDER`` (``1..MAX_ORDER_ONE`` for one degree of
+        freedom).
+    kbm.errors.CostError
+        For one degree of freedom, an expansion above :data:`kbm.averaging.COST_BUDGET`.
     kbm.coupled.resonance.UndeclaredResonanceError
         For a (near) resonance that was not declared (it is named).
     kbm.errors.ModelError
@@ -339,8 +347,16 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
         model = model.substitute(params)
     if internal:
         model = model.with_internal(internal)
-    if not isinstance(order, int) or isinstance(order, bool) or not 1 <= order <= MAX_ORDER:
-        raise OrderError(f"the order must be an integer from 1 to {MAX_ORDER}, got {order!r}")
+    limit = MAX_ORDER_ONE if model.dof == 1 else MAX_ORDER
+    if not isinstance(order, int) or isinstance(order, bool) or not 1 <= order <= limit:
+        raise OrderError(f"the order must be an integer from 1 to {limit} for {model.dof} "
+                         f"degree{'s' if model.dof > 1 else ''} of freedom, got {order!r}")
+    if model.dof == 1:  # the one-degree-of-freedom engine's bound on the size, before any work
+        from ..averaging import check_cost
+        from ..symbols import x, xdot
+
+        x1, v1 = positions(1)[0], velocities(1)[0]
+        check_cost(model.F[0].subs({x1: x, v1: xdot}, simultaneous=True), order)
     if any(f.has(sp.Symbol("nu")) for f in model.F):
         raise ModelError(f"{model.name!r} holds the forcing frequency nu in F (nu = nu0 + mu "
                          "sigma puts mu into F): the exact coupled expansion takes F free of "

@@ -352,7 +352,7 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
         raise OrderError(f"the order must be an integer from 1 to {limit} for {model.dof} "
                          f"degree{'s' if model.dof > 1 else ''} of freedom, got {order!r}")
     if model.dof == 1:  # the one-degree-of-freedom engine's bound on the size, before any work
-        from ..averaging import check_cost
+        from ..cost import check_cost
         from ..symbols import x, xdot
 
         x1, v1 = positions(1)[0], velocities(1)[0]

@@ -27,18 +27,43 @@ from numerics.coupled import forced_response
 
 
 @pytest.mark.parametrize("name", ["duffing-forced", "duffing-super", "mathieu", "vdp-forced",
-                                  "parametric", "mathieu-2", "mathieu-3"])
+                                  "parametric", "mathieu-2", "mathieu-3",
+                                  "duffing-super-hard", "duffing-sub-hard"])
 def test_forced_one_dof_is_the_forced_recursion(name):
-    """gamma = q theta - p psi of the coupled engine is -p phi of kbm.forced."""
+    """gamma = q theta - p psi of the coupled engine is -p phi of kbm.forced; with a hard
+    forcing (N&M 4.1.2-4.1.3) both shift x by Lambda cos(theta) (Lambda1 here)."""
     fm = get_forced_model(name)
     f = derive_forced(name, 3)
     c = derive_coupled(fm, 3)
-    phi, g, a, a1 = sp.symbols("phi gamma1 a a1")
+    phi, g, a, a1, lam, lam1 = sp.symbols("phi gamma1 a a1 Lambda Lambda1")
     p = fm.resonance.p
     for n in range(1, 4):
         for mine, theirs in ((c.A[0][n], f.A[n - 1]), (c.B[0][n], f.B[n - 1])):
-            diff = sp.expand(sp.expand_trig(mine.subs(g, -p * phi).subs(a1, a) - theirs))
+            mine = mine.subs(g, -p * phi).subs({a1: a, lam1: lam})
+            diff = sp.expand(sp.expand_trig(mine - theirs))
             assert sp.simplify(diff) == 0, (name, n, diff)
+
+
+def test_hard_forcing_of_coupled_systems():
+    """Two Duffings, the first hard-forced near nu = omega1/3 (superharmonic): N = 2 with
+    the second oscillator uncoupled gives the first's rates of the one-degree-of-freedom
+    forced engine; a hard forcing at its mode's frequency, or without nu0, is refused."""
+    from kbm.coupled import CoupledOscillators
+    from kbm.errors import ModelError, ParameterError
+
+    two = CoupledOscillators("two", ("-2*zeta*xdot1 - alpha*x1**3",
+                                     "-2*zeta*xdot2 - alpha*x2**3"), (1, 2), nu0=sp.Rational(1, 3),
+                             nu_detuning="sigma", internal=("3:1@1,F",), hard=("K", 0))
+    c = derive_coupled(two, 2)
+    f = derive_forced("duffing-super-hard", 2)
+    phi, g, a, a1, lam, lam1 = sp.symbols("phi gamma1 a a1 Lambda Lambda1")
+    for n in (1, 2):
+        mine = c.A[0][n].subs(g, -phi).subs({a1: a, lam1: lam})
+        assert sp.simplify(sp.expand(sp.expand_trig(mine - f.A[n - 1]))) == 0
+    with pytest.raises(ParameterError, match="resonant at nu = omega1"):
+        derive_coupled(CoupledOscillators("r", ("-x1**3",), (1,), nu0=1, hard=("K",)), 1)
+    with pytest.raises(ModelError, match="needs the forcing frequency"):
+        CoupledOscillators("r", ("-x1**3",), (1,), hard=("K",))
 
 
 P = {"zeta1": 0.5, "zeta2": 0.5, "alpha1": 1, "alpha2": 1, "sigma1": 0, "sigma2": 1.0}

@@ -106,6 +106,9 @@ class CoupledAlgebra:
         for term in sp.Add.make_args(sp.expand(TR8(expr))):
             trig = [f for f in sp.Mul.make_args(term) if f.has(theta)]
             coeff = sp.Mul(*[f for f in sp.Mul.make_args(term) if not f.has(theta)])
+            if not trig:  # the mean of a product of forcing terms (a hard forcing's square)
+                out = out + MultiAngle(self.ring, self.n, {zero: self._laurent(term)})
+                continue
             if len(trig) != 1 or not isinstance(trig[0], (sp.sin, sp.cos)):
                 raise ModelError(f"the term {term} is not a polynomial in the state times "
                                  "cos or sin of a multiple of theta")
@@ -291,6 +294,48 @@ def _recursion(alg, F: list[list[sp.Expr]], order: int, builder=None):
     return A, B, U
 
 
+def lambda_symbols(n: int) -> tuple[sp.Symbol, ...]:
+    """``Lambda1, .., LambdaN``: the amplitudes of the responses to a hard forcing."""
+    return tuple(sp.Symbol(f"Lambda{i}") for i in range(1, n + 1))
+
+
+def _hard_shifted(model: CoupledOscillators) -> list[list[sp.Expr]]:
+    """``F_i`` of the shifted state ``y_j = x_j - Lambda_j cos(theta)`` (``Lambda_j`` symbols,
+    ``Lambda_j = K_j/(omega_j^2 - nu^2)``), with ``nu = nu0 + mu sigma`` in the velocities'
+    shift: the coefficients of ``mu**k``, as the one-degree-of-freedom forced engine
+    (:meth:`kbm.forced.ForcedOscillator.shifted`) for ``N = 1``.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For a hard forcing at the frequency of its mode (``Lambda`` infinite).
+    """
+    from ..errors import ParameterError
+
+    n = model.dof
+    theta = sp.Symbol("theta")
+    nu = model.nu0 + (sp.Symbol("mu") * sp.Symbol(model.nu_detuning)
+                      if model.nu_detuning else 0)
+    lams = lambda_symbols(n)
+    shift = {}
+    for j, (k, w) in enumerate(zip(model.hard, model.omega0)):
+        if k == 0:
+            continue
+        if w == model.nu0:
+            raise ParameterError(f"the hard forcing K{j + 1} cos(theta) of {model.name!r} is "
+                                 f"resonant at nu = omega{j + 1} (Lambda = K/(omega^2 - "
+                                 "nu^2) is infinite): write it as a weak forcing "
+                                 "mu*h*cos(theta) in F")
+        shift[positions(n)[j]] = positions(n)[j] + lams[j] * sp.cos(theta)
+        shift[velocities(n)[j]] = velocities(n)[j] - lams[j] * nu * sp.sin(theta)
+    out = []
+    for f in model.F:
+        g = sp.Poly(sp.expand(f.xreplace(shift)), sp.Symbol("mu"))
+        out.append([sp.expand(g.coeff_monomial(sp.Symbol("mu") ** k))
+                    for k in range(g.degree() + 1)])
+    return out
+
+
 def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | str, order: int,
                    params: dict | None = None, *, internal=(),
                    tolerance: float = TOLERANCE) -> CoupledKBMResult:
@@ -373,7 +418,7 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
                          f"series are in {model.dof} angles); simulate the system instead "
                          "(kbm cycle, kbm friction take any N)")
     n = model.dof
-    F = [[f] for f in model.F]
+    F = _hard_shifted(model) if model.hard else [[f] for f in model.F]
     detunings = []
     for r in model.internal:
         if r.detuning:  # omega_j -> omega_j + mu sigma, exactly
@@ -384,8 +429,8 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
             Fj = F[r.j - 1]
             Fj[0] = Fj[0] - 2 * wj * sig * xj
             Fj.append(-sig**2 * xj)
-    syms = set().union(*[f.free_symbols for f in model.F]) - set(model.state) \
-        - {sp.Symbol("theta")}
+    syms = set().union(*[f.free_symbols for row in F for f in row]) - set(model.state) \
+        - {sp.Symbol("theta"), sp.Symbol("mu")}
     if model.forced and model.nu_detuning:
         syms.add(sp.Symbol(model.nu_detuning))
     gens = sorted(syms | set(detunings), key=lambda s: s.name)

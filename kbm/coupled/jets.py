@@ -491,6 +491,10 @@ def jet_expansion(model: CoupledOscillators, values: Mapping[str, float], order:
             not 1 <= order <= MAX_ORDER_JETS:
         raise OrderError(f"the order of the numeric coupled averaging must be an integer "
                          f"from 1 to {MAX_ORDER_JETS}, got {order!r}")
+    if model.hard:
+        raise ModelError(f"{model.name!r} has a hard forcing K cos(theta): the numeric "
+                         "averaging takes weak forcing mu F(theta) (the exact engine takes "
+                         "hard forcing: kbm.coupled.derive_coupled)")
     if any(f.has(sp.Symbol("nu")) for f in model.F) and order > 1:
         raise ModelError(f"{model.name!r} holds the forcing frequency nu in F (nu = nu0 + mu "
                          "sigma puts mu into F): beyond the first order the numeric coupled "

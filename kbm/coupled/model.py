@@ -96,6 +96,12 @@ class CoupledOscillators(OscillatorFamily):
         pull ``Omega^2 v t`` of pulled sliders), added to ``x_i''``; empty: none.  ``F``
         may then hold ``t`` too (a self-excitation attached to the stage); such a model is
         integrated, not averaged.
+    hard
+        The amplitudes ``K_i`` of a *hard* (order-one) forcing ``K_i cos(theta)`` on each
+        degree of freedom (Nayfeh & Mook 1979, sec. 4.1.2-4.1.3: super- and subharmonic
+        resonances); empty: none.  The averaging shifts ``x_i`` by the forced response
+        ``Lambda_i cos(theta)``, ``Lambda_i = K_i/(omega_i^2 - nu^2)`` (the symbols
+        ``Lambda1, ..`` in its results).
     physical
         For models with a physical parametrisation (the SEDF sliders): each scaled parameter
         as an expression in physical ones and ``mu``, e.g. ``{"delta": Delta/mu,
@@ -129,6 +135,7 @@ class CoupledOscillators(OscillatorFamily):
     nu0: object = None
     nu_detuning: str | None = None
     drive: tuple = ()
+    hard: tuple = ()
 
     def __post_init__(self) -> None:
         if isinstance(self.F, (str, sp.Basic)) or not isinstance(self.F, Sequence):
@@ -169,6 +176,19 @@ class CoupledOscillators(OscillatorFamily):
             if d.free_symbols & (set(positions(n)) | set(velocities(n)) | {mu}):
                 raise ModelError(f"the drive {d} must depend on t and parameters only")
         object.__setattr__(self, "drive", drive)
+        hard = tuple(parse(k) if isinstance(k, str) else sp.sympify(k) for k in self.hard)
+        if hard and len(hard) != n:
+            raise ModelError(f"{n} right-hand sides but {len(hard)} hard forcing amplitudes; "
+                             "give one per degree of freedom (0 for none)")
+        if any(k != 0 for k in hard) and not forced:
+            raise ModelError("a hard forcing K_i cos(theta) needs the forcing frequency: give "
+                             "nu0 (theta = nu t, nu = nu0 + mu sigma)")
+        for k in hard:
+            if k.free_symbols & (set(positions(n)) | set(velocities(n))
+                                 | {mu, t, sp.Symbol("theta"), sp.Symbol("nu")}):
+                raise ModelError(f"the hard forcing amplitude {k} must be a constant (numbers "
+                                 "and parameters)")
+        object.__setattr__(self, "hard", hard if any(k != 0 for k in hard) else ())
         object.__setattr__(self, "physical",
                            FrozenMap({k: parse(v) if isinstance(v, str) else sp.sympify(v)
                                       for k, v in self.physical.items()}))
@@ -215,7 +235,7 @@ class CoupledOscillators(OscillatorFamily):
     @property
     def parameters(self) -> tuple[str, ...]:
         """The names of the parameters of the right-hand sides (sorted)."""
-        syms = set().union(*[f.free_symbols for f in (*self.F, *self.drive)]) \
+        syms = set().union(*[f.free_symbols for f in (*self.F, *self.drive, *self.hard)]) \
             - set(self.state) - {sp.Symbol("theta"), sp.Symbol("nu"), t}
         names = {s.name for s in syms}
         if self.nu_detuning:
@@ -306,7 +326,8 @@ class CoupledOscillators(OscillatorFamily):
         return CoupledOscillators(self.name, tuple(f.subs(sub) for f in self.F), self.omega0,
                                   self.description, self.defaults, self.internal,
                                   self.physical, self.nu0, self.nu_detuning,
-                                  tuple(d.subs(sub) for d in self.drive))
+                                  tuple(d.subs(sub) for d in self.drive),
+                                  tuple(k.subs(sub) for k in self.hard))
 
     def with_internal(self, resonances: Sequence[object]) -> "CoupledOscillators":
         """The model with further declared internal resonances."""
@@ -315,7 +336,7 @@ class CoupledOscillators(OscillatorFamily):
                       for r in resonances)
         return CoupledOscillators(self.name, self.F, self.omega0, self.description,
                                   self.defaults, self.internal + extra, self.physical,
-                                  self.nu0, self.nu_detuning, self.drive)
+                                  self.nu0, self.nu_detuning, self.drive, self.hard)
 
     def frequencies(self) -> tuple[sp.Expr, ...]:
         """The linear frequencies with the declared detunings: ``omega_j + mu sigma`` for a
@@ -327,11 +348,13 @@ class CoupledOscillators(OscillatorFamily):
         return tuple(w)
 
     def accelerations(self) -> tuple[sp.Expr, ...]:
-        """``x_i'' = -omega_i**2 x_i + mu F_i`` as expressions (``omega_i`` with its declared
-        detuning, :meth:`frequencies`)."""
+        """``x_i'' = -omega_i**2 x_i + mu F_i + K_i cos(theta)`` as expressions (``omega_i``
+        with its declared detuning, :meth:`frequencies`; ``K_i`` the hard forcing)."""
         drive = self.drive or (0,) * self.dof
-        return tuple(-w**2 * xi + mu * f + d for w, xi, f, d in
-                     zip(self.frequencies(), positions(self.dof), self.F, drive))
+        hard = self.hard or (0,) * self.dof
+        theta = sp.Symbol("theta")
+        return tuple(-w**2 * xi + mu * f + d + k * sp.cos(theta) for w, xi, f, d, k in
+                     zip(self.frequencies(), positions(self.dof), self.F, drive, hard))
 
     def is_autonomous(self, values: Mapping[str, object] | None = None) -> bool:
         """Whether the system does not depend on ``t`` explicitly (at ``values``: a stage at
@@ -379,16 +402,13 @@ class CoupledOscillators(OscillatorFamily):
 def _forced_case(cls, model) -> "CoupledOscillators":
     """``N = 1`` with the forcing angle: ``nu = (p/q) omega0 + mu sigma`` of the declared
     resonance is ``omega0 : nu = q : p`` between the mode and the forcing."""
-    if model.hard != 0:
-        raise ModelError(f"{model.name!r} has a hard forcing K cos(theta); the coupled "
-                         "averaging takes weak forcing mu F(theta) (use kbm.forced)")
     res = model.resonance
     (x1,), (v1,) = positions(1), velocities(1)
     nu0 = model.omega0 * sp.Rational(res.p, res.q)
     return cls(model.name, (model.F.subs({x: x1, xdot: v1}, simultaneous=True),),
                (model.omega0,), model.description, dict(model.defaults),
                internal=(InternalResonance(1, 2, res.q, res.p, forcing=True),), nu0=nu0,
-               nu_detuning="sigma")
+               nu_detuning="sigma", hard=(model.hard,) if model.hard != 0 else ())
 
 
 CoupledOscillators._from_forced = classmethod(_forced_case)

@@ -271,6 +271,10 @@ def numeric_average(model: CoupledOscillators | str, values: Mapping[str, object
     if not model.is_autonomous(vals):
         raise ModelError(f"{model.name!r} depends on t (a stage that pulls): the averaging "
                          "treats autonomous or periodically forced systems")
+    if model.hard:
+        raise ModelError(f"{model.name!r} has a hard forcing K cos(theta): the numeric "
+                         "averaging takes weak forcing mu F(theta) (the exact engine takes "
+                         "hard forcing: kbm.coupled.derive_coupled)")
     if not isinstance(nodes, int) or nodes < 8 or nodes % 2:
         raise ParameterError(f"nodes must be an even integer >= 8, got {nodes!r}")
     D = model.dof + (1 if model.forced else 0)

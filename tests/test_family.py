@@ -31,9 +31,9 @@ def test_one_degree_of_freedom_members(name):
 def test_forced_members(name):
     m = get_forced_model(name)
     assert isinstance(m, OscillatorFamily) and (m.dof, m.forced) == (1, True)
-    if m.hard == 0:
-        c = CoupledOscillators.from_oscillator(m)
-        assert (c.dof, c.forced) == (1, True)
+    c = CoupledOscillators.from_oscillator(m)
+    assert (c.dof, c.forced) == (1, True)
+    assert c.hard == ((m.hard,) if m.hard != 0 else ())  # a hard forcing is kept
 
 
 @pytest.mark.parametrize("name", sorted(COUPLED_MODELS))

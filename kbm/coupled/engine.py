@@ -52,7 +52,7 @@ MAX_ORDER = 8
 
 #: highest order for one degree of freedom, kbm.derive's (harmonics grow like the order):
 #: the general engine gives the same A_n, B_n as kbm.averaging to order 30 (vdp, duffing,
-#: rayleigh; tests/test_coupled_engine.py), in about four times its time
+#: rayleigh; tests/test_coupled_engine.py), in four to six times its time
 MAX_ORDER_ONE = 30
 
 #: most degrees of freedom of the exact symbolic expansion (the numerics take more)

@@ -225,8 +225,9 @@ def _correct(prob: _Problem, u_pred, row, target: float, max_iter: int = 8) -> _
     standing for it: monodromy matrix, samples, tangent, and the residual ``R(u)`` (an upper
     bound), all off by at most the tolerance.  Near a homoclinic end the period changes
     700 times faster than the parameter: a point within 1e-9 of the branch in ``(x0, T, p)``
-    had a period off by 1e-7 from the cycle at its own ``p``; with the correction added,
-    within 1e-10.
+    had a period off by 1.4e-7 (relative) from the cycle shot at its own ``p`` (rtol
+    1e-12); with the correction added, within 6e-9, where shooting from scratch itself
+    loses its accuracy (``tests/test_compiled_corrector.py``).
 
     The compiled corrector (``_correct_compiled``) does the same in one call.
     """

@@ -237,3 +237,27 @@ def test_locking_edges_at_order_2_for_a_sine_coupling():
         assert 1.8 < err1[0.05][side] / err1[0.025][side] < 2.2, err1
         assert 3.0 < err2[0.05][side] / err2[0.025][side] < 5.5, err2
         assert err2[0.05][side] < err1[0.05][side] / 50, (err1, err2)
+
+
+def test_the_grid_is_refined_until_the_outer_coefficients_are_small():
+    """c sin(x2 - x1) at amplitudes where |x2 - x1| reaches 3.6: on 32 points per angle the
+    u_n's outer coefficients are 1e-9 of the largest (J_15(3.6)); the adaptive grid doubles
+    to 64 and agrees with a fixed grid of 128 to rounding.  An unreachable tolerance ends
+    in a ResolutionError with the numbers."""
+    from kbm.errors import ResolutionError
+
+    m = coupled_custom(["(1 - x1**2)*xdot1 + c*sin(x2 - x1)",
+                        "(1 - x2**2)*xdot2 - c*sin(x2 - x1)"]).with_internal(["1:1"])
+    point = ([2.0, 1.8], [2.5])
+    coarse = jet_expansion(m, {"c": 0.3}, 3, *point, adapt=False)
+    assert coarse.nodes == 32 and coarse.tail > 1e-10
+    adaptive = jet_expansion(m, {"c": 0.3}, 3, *point)
+    assert adaptive.nodes > 32 and adaptive.tail <= 1e-10
+    fine = jet_expansion(m, {"c": 0.3}, 3, *point, nodes=128, adapt=False)
+    assert np.allclose(adaptive.A, fine.A, atol=1e-14) and np.allclose(adaptive.B, fine.B,
+                                                                        atol=1e-14)
+    one = coupled_custom(["-delta*sin(k*x1)"])
+    with pytest.raises(ResolutionError, match="outer Fourier coefficients"):
+        jet_expansion(one, {"delta": 1.0, "k": 2.0}, 2, [1.0], [], tol=1e-300)
+    with pytest.raises(ParameterError, match="even integer"):
+        jet_expansion(one, {"delta": 1.0, "k": 2.0}, 2, [1.0], [], nodes=9)

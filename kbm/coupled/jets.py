@@ -43,7 +43,7 @@ import sympy as sp
 
 from ..algebra.lazy_series import Tail
 from ..algebra.smooth import TaylorOf, TaylorTable
-from ..errors import ModelError, OrderError, ParameterError
+from ..errors import ModelError, OrderError, ParameterError, ResolutionError
 from .model import CoupledOscillators, positions, velocities
 from .resonance import (SlowLattice, UndeclaredResonanceError, lattice_on_grid,
                         resonant_harmonic, slow_point)
@@ -53,6 +53,13 @@ __all__ = ["JetAlgebra", "JetSeries", "JetExpansion", "jet_expansion", "MAX_ORDE
 #: highest order of the numeric coupled recursion (the partial derivatives of F up to this
 #: total order are compiled; the harmonics of u_n grow like the order)
 MAX_ORDER_JETS = 6
+
+#: the default bound on the outer Fourier coefficients of the u_n, relative to the largest
+DEFAULT_TAIL = 1e-10
+
+#: the largest adaptive grid: points per angle, and in all
+MAX_NODES_JETS = 256
+MAX_GRID_JETS = 2**18
 
 #: a harmonic's Fourier coefficient below this fraction of the largest counts as absent
 #: (rounding) when an undeclared resonant harmonic is looked for
@@ -457,7 +464,8 @@ def _slow_value(alg: JetAlgebra, f: np.ndarray, gens, gammas) -> tuple[float, np
 def jet_expansion(model: CoupledOscillators, values: Mapping[str, float], order: int,
                   amplitudes: Sequence[float], gammas: Sequence[float] = (), *,
                   nodes: int = 32, tolerance: float | None = None,
-                  gradient: bool = False) -> JetExpansion:
+                  gradient: bool = False, tol: float = DEFAULT_TAIL,
+                  adapt: bool = True) -> JetExpansion:
     """``A_{i,n}``, ``B_{i,n}`` for ``n = 1..order`` at one point, for any smooth ``F``.
 
     Parameters
@@ -471,7 +479,11 @@ def jet_expansion(model: CoupledOscillators, values: Mapping[str, float], order:
     amplitudes, gammas
         The point: ``N`` positive amplitudes and one slow phase per declared resonance.
     nodes
-        Grid points per angle (even, at least 8).
+        Grid points per angle to start with (even, at least 8).
+    tol, adapt
+        With ``adapt``, the grid is doubled while the outer coefficients of the ``u_n``
+        (:attr:`JetExpansion.tail`) exceed ``tol`` times the largest, up to
+        :data:`MAX_NODES_JETS` points per angle and :data:`MAX_GRID_JETS` in all.
     gradient
         Also the derivatives of every rate in the amplitudes and the slow phases
         (:attr:`JetExpansion.dA`, ``dB``): the jets are taken one degree further.
@@ -484,8 +496,11 @@ def jet_expansion(model: CoupledOscillators, values: Mapping[str, float], order:
         For a resonance present in ``F`` that was not declared.
     kbm.errors.ModelError
         For a forcing frequency ``nu`` written in ``F`` (it puts ``mu`` into ``F``).
+    kbm.errors.ResolutionError
+        If the largest grid leaves outer coefficients above ``tol`` (the numbers are in the
+        message).
     """
-    from .engine import TOLERANCE, _recursion
+    from .engine import TOLERANCE
 
     if not isinstance(order, int) or isinstance(order, bool) or \
             not 1 <= order <= MAX_ORDER_JETS:
@@ -519,10 +534,33 @@ def jet_expansion(model: CoupledOscillators, values: Mapping[str, float], order:
     if model.forced and model.nu_detuning:
         sigma = float(values.get(model.nu_detuning, 0.0))
     D = n + (1 if model.forced else 0)
+    if not isinstance(nodes, int) or isinstance(nodes, bool) or nodes < 8 or nodes % 2:
+        raise ParameterError(f"nodes must be an even integer >= 8, got {nodes!r}")
     lattice = SlowLattice(D, model.internal)
-    alg = JetAlgebra(model, lattice, a, nodes, order + (1 if gradient else 0), sigma,
-                     TOLERANCE if tolerance is None else tolerance,
-                     (tuple(sp.Symbol(k) for k in names), tuple(float(values[k]) for k in names)))
+    parameters = (tuple(sp.Symbol(k) for k in names), tuple(float(values[k]) for k in names))
+    M = nodes
+    while True:
+        alg = JetAlgebra(model, lattice, a, M, order + (1 if gradient else 0), sigma,
+                         TOLERANCE if tolerance is None else tolerance, parameters)
+        ex = _on_grid(alg, F, order, gradient, lattice, a, g)
+        if not adapt or ex.tail <= tol:
+            return ex
+        if 2 * M > MAX_NODES_JETS or (2 * M) ** D > MAX_GRID_JETS:
+            raise ResolutionError(
+                f"the outer Fourier coefficients of the u_n are {ex.tail:.1e} of the largest "
+                f"on {M}^{D} grid points, above the tolerance {tol:.0e}, and the next grid "
+                f"would pass the limit of {MAX_NODES_JETS} points per angle and "
+                f"{MAX_GRID_JETS} in all: F has too many harmonics at these amplitudes "
+                f"{[float(v) for v in a]}; take smaller amplitudes or a larger tol")
+        M *= 2
+
+
+def _on_grid(alg: JetAlgebra, F, order: int, gradient: bool, lattice: SlowLattice,
+             a: np.ndarray, g: np.ndarray) -> JetExpansion:
+    """The expansion on one grid (see :func:`jet_expansion`)."""
+    from .engine import _recursion
+
+    n = alg.dof
     A, B, U = _recursion(alg, F, order, builder=JetBuilder)
     gens = lattice.generators
     unit = [alg.pos[tuple(1 if k == l else 0 for k in range(n))] for l in range(n)]
@@ -555,6 +593,6 @@ def jet_expansion(model: CoupledOscillators, values: Mapping[str, float], order:
                 if big > 0:
                     tail = max(tail, float(np.max(spec[alg.shell])) / big)
     return JetExpansion(tuple(float(v) for v in a), tuple(float(v) for v in g), order,
-                        tuple(outA), tuple(outB), tail, int(nodes),
+                        tuple(outA), tuple(outB), tail, int(alg.M),
                         tuple(dA) if gradient else None, tuple(dB) if gradient else None)
 

@@ -26,7 +26,7 @@ import numpy as np
 import sympy as sp
 
 from kbm.coupled import CoupledOscillators, amplitudes, derive_coupled, numeric_average
-from kbm.errors import ParameterError, UnsupportedTermError
+from kbm.errors import ParameterError, ResolutionError, UnsupportedTermError
 from numerics._memo import memo
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from .cycle import coupled_cycle
@@ -92,8 +92,11 @@ def _numeric_flow(model: CoupledOscillators, fixed: dict, parameter: str, order:
         key = (tuple(y), float(s), float(mu))
         if key not in last:
             last.clear()
-            last[key] = base.at(**{parameter: float(s)}).slow_flow_jacobian(
-                mu, y[:n], y[n:], order)
+            try:
+                last[key] = base.at(**{parameter: float(s)}).slow_flow_jacobian(
+                    mu, y[:n], y[n:], order)
+            except ResolutionError:  # Newton wandered to amplitudes F cannot be averaged at
+                last[key] = (np.full(m, np.nan), np.full((m, m), np.nan))
         return last[key]
 
     def f(y, s, mu):

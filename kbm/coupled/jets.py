@@ -207,13 +207,7 @@ class JetAlgebra:
         # the angles and the harmonics of the grid
         ang = 2 * np.pi * np.arange(self.M) / self.M
         self.angles = np.meshgrid(*([ang] * D), indexing="ij")
-        h1 = np.rint(np.fft.fftfreq(self.M) * self.M).astype(int)
-        self.h = np.meshgrid(*([h1] * D), indexing="ij")
-        nyq = np.zeros(self.shape, dtype=bool)
-        for hl in self.h:
-            nyq |= hl == -self.M // 2
-        self.keep = ~nyq
-        self.freq = sum(hl * w for hl, w in zip(self.h, self.w))
+        self.h, self.keep, self.freq = _harmonics(self.omega, self.M)
         self.ik = [np.where(self.keep, 1j * hl, 0.0) for hl in self.h]
         self.iL0 = np.where(self.keep, 1j * self.freq, 0.0)
         shell = np.zeros(self.shape, dtype=bool)
@@ -295,6 +289,23 @@ class JetAlgebra:
         return R._new(np.fft.ifftn(spec * self._modes[i][3], axes=axes).real, R.deg)
 
 
+@lru_cache(maxsize=32)
+def _harmonics(omega: tuple, M: int):
+    """The harmonics ``h`` of the ``M^D`` grid (one integer array per angle), the mask of
+    those off the Nyquist planes, and their frequencies ``h . omega`` (memoised per
+    frequencies and grid: time only; the arrays are read-only)."""
+    D = len(omega)
+    h1 = np.rint(np.fft.fftfreq(M) * M).astype(int)
+    hs = np.meshgrid(*([h1] * D), indexing="ij")
+    keep = np.ones(hs[0].shape, dtype=bool)
+    for hl in hs:
+        keep &= hl != -M // 2
+    freq = sum(hl * float(w) for hl, w in zip(hs, omega))
+    for arr in (*hs, keep, freq):
+        arr.flags.writeable = False
+    return tuple(hs), keep, freq
+
+
 @lru_cache(maxsize=64)
 def _mode_table(omega: tuple, internal: tuple, forced: bool, M: int, tol: float, i: int):
     """For mode ``i`` on the ``M^D`` grid: the resonant harmonics ``h = psi_i + k`` (index of
@@ -302,16 +313,9 @@ def _mode_table(omega: tuple, internal: tuple, forced: bool, M: int, tol: float,
     ``1/(omega_i^2 - (h . omega)^2)`` elsewhere (zero on the resonant ones, the refused ones
     and the Nyquist modes).  Memoised per frequencies, resonances and grid (time only: the
     exact classification of :func:`~kbm.coupled.resonance.resonant_harmonic` is slow)."""
-    D = len(omega)
-    lattice = SlowLattice(D, internal)
-    w = np.array([float(v) for v in omega])
-    h1 = np.rint(np.fft.fftfreq(M) * M).astype(int)
-    hs = np.meshgrid(*([h1] * D), indexing="ij")
-    keep = np.ones(hs[0].shape, dtype=bool)
-    for hl in hs:
-        keep &= hl != -M // 2
-    freq = sum(hl * wl for hl, wl in zip(hs, w))
-    wi = w[i]
+    lattice = SlowLattice(len(omega), internal)
+    hs, keep, freq = _harmonics(omega, M)
+    wi = float(omega[i])
     gap = np.abs(np.abs(freq) - wi) / wi
     res_h, res_k, refused = [], [], []
     mask = np.zeros(freq.shape, dtype=bool)

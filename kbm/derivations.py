@@ -231,6 +231,61 @@ large) the amplitude averaging does not apply to the sliders; the energy envelop
     return DerivationFile("stochastic.tex", "\n".join(body) + "\n")
 
 
+def _coupled_section(title: str, intro: str, res) -> str:
+    """The slow flow of a coupled expansion: ``A_{i,n}``, ``B_{i,n}`` and the rates of the
+    slow phases, one ``align*`` per degree of freedom."""
+    out = [f"\\subsection*{{{title}}}\n", intro.strip() + "\n"]
+    m = res.model
+
+    def shown(e):  # long rates term by term, so that their lines can be broken
+        return sp.expand(e) if len(latex(e)) > 2 * _W else e
+
+    for i in range(m.dof):
+        out.append(_align(
+            [equation_lines(f"A_{{{i + 1},{n}}}", shown(res.A[i][n]), _W)
+             for n in range(1, res.order + 1)]
+            + [equation_lines(f"B_{{{i + 1},{n}}}", shown(res.B[i][n]), _W)
+               for n in range(1, res.order + 1)]))
+    for r, (g, comb) in enumerate(res.gammas):
+        lines = [f"{latex(g)} &= {latex(comb)}"]
+        lines += [equation_lines(f"\\dot{{{latex(g)}}}\\big|_{{\\mu^{{{n}}}}}",
+                                 res.gamma_rate(r, n), _W) for n in range(1, res.order + 1)]
+        out.append(_align(lines))
+    return "\n".join(out)
+
+
+def _coupled_file() -> DerivationFile:
+    from .coupled import derive_coupled
+
+    body = [r"""\section{Coupled oscillators}
+For $\ddot x_i + \omega_i^2 x_i = \mu F_i(x,\dot x,\theta)$, $i = 1..N$, the expansion is
+$x_i = a_i\cos\psi_i + \sum_n\mu^n u_{i,n}$, $\dot a_i = \sum_n\mu^n A_{i,n}$,
+$\dot\psi_i = \omega_i + \sum_n\mu^n B_{i,n}$; with internal resonances the rates are
+functions of the amplitudes and of the slow phase combinations $\gamma_r$ defined below
+(\texttt{kbm.coupled.derive\_coupled}, exact; Bessel functions at the first order for
+$\sin(kx_i)$)."""]
+    cases = [
+        ("coupled-vdp", 2, "Two van der Pol oscillators, dissipative coupling, 1:1",
+         r"$F_1 = (1-x_1^2)\dot x_1 + c(\dot x_2-\dot x_1)$, "
+         r"$F_2 = (1-x_2^2)\dot x_2 + c(\dot x_1-\dot x_2) - 2\sigma x_2$."),
+        ("duffing-1-3", 1, "Cubic oscillators in 1:3 internal resonance (Nayfeh \\& Mook 6.6)",
+         r"$F_1 = -2\zeta_1\dot x_1 - \alpha_1x_1^3 - 3kx_1^2x_2$, "
+         r"$F_2 = -2\zeta_2\dot x_2 - \alpha_2x_2^3 - kx_1^3 + h\cos\theta$, "
+         r"$\omega = (1, 3)$, $\theta = \nu t$, $\nu = 3 + \mu\sigma$."),
+        ("quadratic-1-2", 1, "Quadratic coupling in 1:2 internal resonance (Nayfeh \\& Mook 6.5)",
+         r"$F_1 = -2\zeta_1\dot x_1 - \alpha_1x_1x_2$, "
+         r"$F_2 = -2\zeta_2\dot x_2 - \alpha_2x_1^2 + h\cos\theta$, "
+         r"$\omega_2 = 2 + \mu\sigma_1$, $\nu = 2 + \mu\sigma_2$."),
+        ("sedf-dimer", 1, "Two SEDF sliders at rest, paper eq.~(3), coupled by a spring",
+         r"$F_i = -(\beta x_i^2-1)\dot x_i - \delta\sin(kx_i) - \kappa(x_i-x_j)$, "
+         r"$\delta = \Delta/\mu$, $k = 2\pi/\lambda$, $v = 0$."),
+    ]
+    for name, order, title, intro in cases:
+        body.append(_coupled_section(f"{title}: order {order}", intro,
+                                     derive_coupled(name, order)))
+    return DerivationFile("coupled.tex", "\n".join(body) + "\n")
+
+
 def _errata_file(rows: Sequence[ErratumRow]) -> DerivationFile:
     return DerivationFile("errata.tex", errata_tex(rows, _W))
 
@@ -257,7 +312,7 @@ functions $J_m(ka)$ come from the Jacobi--Anger expansion of $\sin(kx)$ and are 
 def build_files(errata: Sequence[ErratumRow] = ()) -> list[DerivationFile]:
     """All generated files, in a fixed order (``main.tex`` last)."""
     files = [_sedf_file(), _cdc_file(), _energy_file(), _vdp_file(), _duffing_file(),
-             _series_file(), _stochastic_file()]
+             _series_file(), _stochastic_file(), _coupled_file()]
     if errata:
         files.append(_errata_file(errata))
     inputs = "\n".join(f"\\input{{{f.name[:-4]}}}" for f in files)

@@ -17,9 +17,9 @@ freedom in the general form (``x -> x1``), and the general engine gives the same
 as the special one (``tests/test_coupled_engine.py``: :func:`kbm.derive` to order 5, and
 :func:`kbm.forced.derive_forced` to order 3 on every polynomial forced built-in); every
 member binds its parameter values through :func:`kbm.bound.bind`.  The one-degree-of-
-freedom engines stay for what the general one does not do (Bessel sums of ``sin(k x)``,
-orders above :data:`kbm.coupled.MAX_ORDER`, hard forcing) and for the byte-stable
-derivations.
+freedom engines stay for what the general one does not do (the Bessel sums of
+``sin(k x)`` above the first order, :mod:`kbm.coupled.bessel`) and for the byte-stable
+derivations, in their faster one- and two-angle algebras.
 
 This module imports none of its members (they build on it).
 """

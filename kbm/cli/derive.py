@@ -171,14 +171,6 @@ def coupled_model(args: argparse.Namespace):
     return get_coupled_model(args.model)
 
 
-def coupled_from_args(args: argparse.Namespace):
-    """:func:`coupled_model` with the ``--param`` values put in; ``--internal`` is declared
-    by the caller."""
-    params = parse_params(args.param)
-    model = coupled_model(args)
-    return model.substitute(params) if params else model
-
-
 def _run_coupled(args: argparse.Namespace) -> int:
     from ..coupled import derive_coupled
     from ..errors import ParameterError
@@ -188,8 +180,8 @@ def _run_coupled(args: argparse.Namespace) -> int:
     if args.a_range is not None or args.at is not None:
         raise ParameterError("--a-range is for one degree of freedom, --at for --numeric; the "
                              "coupled expansion is exact for polynomial right-hand sides")
-    return _emit(derive_coupled(coupled_from_args(args), args.order, internal=args.internal),
-                 args)
+    return _emit(derive_coupled(coupled_model(args), args.order, parse_params(args.param),
+                                internal=args.internal), args)
 
 
 def _run_coupled_numeric(args: argparse.Namespace) -> int:

@@ -93,7 +93,8 @@ def sedf_chain(n: int, name: str | None = None) -> CoupledOscillators:
         description=f"{n} self-excited sliders (paper eq. 3; the self-excitation attached to "
                     "the stage, as sedf_comoving) in a chain with free ends, springs "
                     "mu*kappa between neighbours, pulled at v (0: at rest)",
-        defaults=_SEDF_DEFAULTS, physical=_SEDF_PHYSICAL, drive=("v*t",) * n)
+        defaults=_SEDF_DEFAULTS, physical=_SEDF_PHYSICAL, drive=("v*t",) * n,
+        internal=tuple(f"1:1@{i},{i + 1}" for i in range(1, n)))
 
 
 COUPLED_MODELS["sedf-dimer"] = sedf_chain(2, "sedf-dimer")

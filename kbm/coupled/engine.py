@@ -41,6 +41,7 @@ from ..algebra.multi_angle import MultiAngle
 from ..errors import ModelError, OrderError, UnsupportedTermError
 from ..forced.model import ForcedOscillator
 from ..models import Oscillator
+from .bessel import _NUMERIC_HINT, JacobiAnger, jacobi_anger_plan
 from .model import CoupledOscillators, amplitudes, positions, velocities
 from .resonance import SlowLattice, frequency, resonant_harmonic
 from .result import CoupledKBMResult
@@ -179,8 +180,8 @@ class CoupledAlgebra:
 class MultiBuilder:
     """The lazy-series tree of a polynomial ``F_i`` along the leaves ``x_l``, ``xdot_l``."""
 
-    def __init__(self, alg: CoupledAlgebra, leaves: dict):
-        self.alg, self.leaves = alg, leaves
+    def __init__(self, alg: CoupledAlgebra, leaves: dict, bessel: JacobiAnger | None = None):
+        self.alg, self.leaves, self.bessel = alg, leaves, bessel
         self.zero = alg.zero
         self._pow: dict = {}
 
@@ -199,6 +200,9 @@ class MultiBuilder:
     def build(self, expr: sp.Expr) -> Node:
         if expr in self.leaves:
             return self.leaves[expr]
+        if self.bessel is not None and isinstance(expr, (sp.sin, sp.cos)) \
+                and expr.free_symbols & set(self.leaves):
+            return self.bessel.series(self.alg, expr)  # Jacobi-Anger, order one
         if not expr.free_symbols & set(self.leaves):
             return Const(self.zero, self.alg.const(expr))
         if expr.is_Add:
@@ -217,10 +221,9 @@ class MultiBuilder:
         if expr.is_Pow and expr.exp.is_Integer and expr.exp > 0:
             return self.power(expr.base, int(expr.exp))
         raise UnsupportedTermError(
-            f"the term {expr} is not supported by the exact coupled averaging: the right-hand "
-            "sides must be polynomials in the state variables (other smooth F: the first order "
-            "numerically, kbm derive --numeric --at a1=..,a2=..,gamma1=.. with -p values, "
-            "kbm.coupled.numeric_average; the true orbits with kbm cycle)")
+            f"the term {expr} is not supported by the exact coupled averaging: it takes "
+            "polynomials in the state and, at order one, sin(c x_i) and cos(c x_i) of one "
+            f"position (Jacobi-Anger); {_NUMERIC_HINT}")
 
 
 def _recursion(alg, F: list[list[sp.Expr]], order: int, builder=None):
@@ -388,6 +391,9 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
         model = get_coupled_model(model)
     elif isinstance(model, (Oscillator, ForcedOscillator)):
         model = CoupledOscillators.from_oscillator(model)
+    stage = model.stage_parameters()
+    model = model.at_rest(params)  # a stage at rest (given or default v = 0) is autonomous
+    params = {k: v for k, v in (params or {}).items() if k not in stage}
     if params:
         model = model.substitute(params)
     if internal:
@@ -407,11 +413,6 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
                          "sigma puts mu into F): the exact coupled expansion takes F free of "
                          "nu; its true responses are numerics (kbm response, kbm cycle), its "
                          "averaging kbm.forced's numeric backend")
-    if not model.is_autonomous():
-        raise ModelError(f"{model.name!r} depends on the time t (a drive or a stage that "
-                         "pulls); the averaging treats autonomous systems and periodic "
-                         "forcing through theta: integrate it (kbm cycle at v = 0, kbm "
-                         "friction)")
     if model.dof > MAX_DOF_SYMBOLIC:
         raise ModelError(f"{model.dof} degrees of freedom are above the limit "
                          f"{MAX_DOF_SYMBOLIC} of the exact symbolic averaging (its Fourier "
@@ -433,8 +434,12 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
         - {sp.Symbol("theta"), sp.Symbol("mu")}
     if model.forced and model.nu_detuning:
         syms.add(sp.Symbol(model.nu_detuning))
+    bessel = jacobi_anger_plan(F, model, order, tolerance)  # sin, cos of positions
     gens = sorted(syms | set(detunings), key=lambda s: s.name)
+    gens += bessel.generators() if bessel else []
     lattice = SlowLattice(n + (1 if model.forced else 0), model.internal)
     alg = CoupledAlgebra(model, lattice, gens, tolerance)
-    A, B, U = _recursion(alg, F, order)
-    return CoupledKBMResult.from_series(model, order, lattice, A, B, U)
+    A, B, U = _recursion(alg, F, order,
+                         builder=lambda al, leaves: MultiBuilder(al, leaves, bessel))
+    result = CoupledKBMResult.from_series(model, order, lattice, A, B, U)
+    return result.with_bessel(bessel.substitution()) if bessel else result

@@ -365,6 +365,43 @@ class CoupledOscillators(OscillatorFamily):
             exprs = [sp.expand(e.subs(sub)) for e in exprs]
         return not any(e.has(t) for e in exprs)
 
+    def stage_parameters(self) -> tuple[str, ...]:
+        """The parameters that every term holding the time ``t`` in ``F`` and the drives
+        holds (the stage velocity ``v`` of the pulled sliders), sorted; empty for an
+        autonomous system."""
+        common = None
+        for e in (*self.F, *self.drive):
+            for term in sp.Add.make_args(sp.expand(e)):
+                if term.has(t):
+                    names = {s.name for s in term.free_symbols}
+                    common = names if common is None else common & names
+        state = {s.name for s in self.state} | {t.name}
+        return tuple(sorted((common or set()) - state))
+
+    def at_rest(self, values: Mapping[str, object] | None = None) -> "CoupledOscillators":
+        """The autonomous system of a stage at rest: the :meth:`stage_parameters` put in
+        at their given (``values``) or default values when that removes ``t``
+        (``sedf-dimer`` at its default ``v = 0``); an autonomous system is returned as it is.
+
+        Raises
+        ------
+        kbm.errors.ModelError
+            When those values leave ``t`` in the system (a stage that pulls).
+        """
+        if self.is_autonomous():
+            return self
+        values = dict(values or {})
+        stage = {p: values.get(p, self.defaults.get(p)) for p in self.stage_parameters()}
+        if any(v is None for v in stage.values()) or not self.is_autonomous(stage):
+            shown = ", ".join(f"{p} = {v}" for p, v in stage.items() if v is not None)
+            raise ModelError(f"{self.name!r} depends on the time t (a stage that pulls"
+                             f"{' at ' + shown if shown else ''}); the averaging treats "
+                             "autonomous systems and periodic forcing through theta: "
+                             + (f"give {' and '.join(f'{p}=0' for p in stage)} or " if stage
+                                else "write a periodic forcing in theta = nu t, or ")
+                             + "integrate it (kbm cycle, kbm friction)")
+        return self.substitute(stage)
+
     @classmethod
     def from_oscillator(cls, model) -> "CoupledOscillators":
         """The case ``N = 1`` of a :class:`kbm.models.Oscillator` (``x -> x1``,

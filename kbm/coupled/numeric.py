@@ -265,12 +265,13 @@ def numeric_average(model: CoupledOscillators | str, values: Mapping[str, object
     if internal:
         model = model.with_internal(internal)
     # the family's bound form: physical names converted, defaults filled in
-    vals = {k: float(v) for k, v in model.resolve(values).items()}
+    exact = model.resolve(values)
+    vals = {k: float(v) for k, v in exact.items()}
     if any(not math.isfinite(v) for v in vals.values()):
         raise ParameterError("parameter values must be finite")
-    if not model.is_autonomous(vals):
-        raise ModelError(f"{model.name!r} depends on t (a stage that pulls): the averaging "
-                         "treats autonomous or periodically forced systems")
+    stage = model.stage_parameters()
+    model = model.at_rest(exact)  # a stage at rest (v = 0) is autonomous
+    vals = {k: v for k, v in vals.items() if k not in stage}
     if model.hard:
         raise ModelError(f"{model.name!r} has a hard forcing K cos(theta): the numeric "
                          "averaging takes weak forcing mu F(theta) (the exact engine takes "

@@ -11,7 +11,7 @@ plain text, JSON and LaTeX, and lambdifies the slow flow.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import sympy as sp
@@ -53,7 +53,9 @@ class CoupledKBMResult:
         definitions; empty without internal resonances.
     A, B, u
         ``A[i][n]``, ``B[i][n]``, ``u[i][n]`` for mode ``i`` (from 0) and order ``n``,
-        with ``A[i][0] = 0``, ``B[i][0] = omega_i``, ``u[i][0] = a_i cos(psi_i)``.
+        with ``A[i][0] = 0``, ``B[i][0] = omega_i``, ``u[i][0] = a_i cos(psi_i)``;
+        ``u[i][n]`` is ``None`` for ``F`` with ``sin``/``cos`` of the state, whose
+        corrections are infinite Bessel series (:mod:`kbm.coupled.bessel`).
     """
 
     model: CoupledOscillators
@@ -80,6 +82,16 @@ class CoupledKBMResult:
                     for i in range(n)),
             u=tuple((a[i] * sp.cos(psis[i]), *[f.as_expr(psis) for f in U[i]])
                     for i in range(n)))
+
+    def with_bessel(self, substitution: dict) -> "CoupledKBMResult":
+        """The rates with the Bessel symbols of :mod:`kbm.coupled.bessel` replaced by
+        ``besselj(n, c a_l)``; the corrections ``u_{i,1}``, infinite Jacobi-Anger series,
+        are not given (``None``)."""
+        def put(rows):
+            return tuple((row[0], *[e.xreplace(substitution) for e in row[1:]])
+                         for row in rows)
+        return replace(self, A=put(self.A), B=put(self.B),
+                       u=tuple((row[0], *[None] * (len(row) - 1)) for row in self.u))
 
     # -- the slow flow ------------------------------------------------------------------
     def gamma_rate(self, r: int, n: int) -> sp.Expr:
@@ -131,7 +143,7 @@ class CoupledKBMResult:
         if left:
             raise ParameterError(f"give a value to {', '.join(left)} for the numeric slow "
                                  "flow")
-        fn = sp.lambdify([state, mu], rates, "numpy")
+        fn = sp.lambdify([state, mu], rates, ["numpy", "scipy"])  # scipy: besselj
 
         def flow(y, mu_value):
             return np.asarray(fn(list(y), mu_value), dtype=float)
@@ -145,7 +157,7 @@ class CoupledKBMResult:
         entry a string :func:`kbm.parse` reads back; ``gamma_rates`` likewise per phase
         combination."""
         def strs(seq):
-            return [None] + [_lex(e) for e in seq[1:]]
+            return [None] + [None if e is None else _lex(e) for e in seq[1:]]
         return {
             "model": self.model.name, "order": self.order, "dof": self.model.dof,
             "omega0": [str(w) for w in self.model.omega0],

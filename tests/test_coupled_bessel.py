@@ -1,0 +1,212 @@
+"""sin(c x_i) and cos(c x_i) in the exact coupled expansion at first order
+(kbm.coupled.bessel, issue 23: the sliders of paper eq. 3 in a chain), against independent
+references.
+
+- N = 1: the one-degree-of-freedom Bessel engine kbm.derive (its own Jacobi-Anger series
+  with lattice sums, kbm.algebra.bessel_fourier) on the paper's SEDF (eq. 3) and CDC
+  (eq. 12) and on products x^p cos(k x), x' sin(k x): equal as expressions.
+- N = 2, 3: the jets (kbm.coupled.jets: F's Taylor series on an FFT grid of the torus,
+  no Bessel function anywhere) on the SEDF dimer and chain at random points (hypothesis),
+  and on a forced slider with a 1:3 internal resonance.
+- The first-order frequency of the dimer's in-phase and anti-phase cycles against
+  shooting (numerics.coupled.cycle): the error falls like mu**2.
+- The cut of the Jacobi-Anger series is exact: raising it changes nothing.
+- A conservative F (the potential and the springs) never changes an amplitude.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import given, settings, strategies as st
+
+import kbm
+from kbm.coupled import coupled_custom, derive_coupled, get_coupled_model
+from kbm.coupled import bessel as bessel_module
+from kbm.coupled.jets import jet_expansion
+from kbm.coupled.model import CoupledOscillators
+from kbm.errors import ModelError, OrderError, UnsupportedTermError
+from kbm.models import custom_model, get_model
+
+A1 = sp.Symbol("a1")
+
+
+@pytest.mark.parametrize("F", ["sedf", "cdc", "(1 - x**2)*xdot - delta*x**2*cos(k*x)",
+                               "-delta*x*cos(k*x) - 2*zeta*xdot",
+                               "(1 - x**2)*xdot - delta*xdot*sin(k*x)",
+                               "-delta*x**3*sin(2*k*x) + xdot"])
+def test_n1_equals_the_bessel_engine(F):
+    """Paper eqs. (3), (12) and products with powers of x and x' (A&S 9.1.44-45)."""
+    model = get_model(F) if F in ("sedf", "cdc") else custom_model(F)
+    one = kbm.derive(model, 1)
+    gen = derive_coupled(CoupledOscillators.from_oscillator(model), 1)
+    sub = {sp.Symbol("a"): A1, sp.Symbol("Omega"): 1}
+    assert sp.simplify(one.A[1].subs(sub) - gen.A[0][1]) == 0
+    assert sp.simplify(one.B[1].subs(sub) - gen.B[0][1]) == 0
+    assert gen.u[0][1] is None  # an infinite series: not given
+
+
+def _rates(result, values):
+    """The first-order rates of ``result`` as a function of (amplitudes, gammas)."""
+    syms = [*sp.symbols(f"a1:{result.model.dof + 1}"), *[g for g, _ in result.gammas]]
+    sub = {sp.Symbol(k): v for k, v in values.items()}
+    exprs = [*[row[1].subs(sub) for row in result.A], *[row[1].subs(sub) for row in result.B]]
+    return sp.lambdify(syms, exprs, ["numpy", "scipy"])
+
+
+DIMER = get_coupled_model("sedf-dimer").at_rest()
+CHAIN3 = get_coupled_model("sedf-chain-3").at_rest()
+DIMER_RATES = _rates(derive_coupled(DIMER, 1), {"delta": 1.3, "k": 2 * math.pi,
+                                                "beta": 1.0, "kappa": 0.7})
+CHAIN_VALUES = {"delta": 0.8, "k": 2 * math.pi / 1.7, "beta": 0.6, "kappa": 1.1}
+CHAIN_RATES = _rates(derive_coupled(CHAIN3, 1), CHAIN_VALUES)
+
+
+@settings(max_examples=15, deadline=None)
+@given(a1=st.floats(0.2, 3.0), a2=st.floats(0.2, 3.0), g=st.floats(-3.1, 3.1))
+def test_dimer_equals_the_jets(a1, a2, g):
+    """The SEDF dimer (paper eq. 3, two sliders, spring mu kappa) at v = 0."""
+    vals = {"delta": 1.3, "k": 2 * math.pi, "beta": 1.0, "kappa": 0.7}
+    jet = jet_expansion(DIMER, vals, 1, [a1, a2], [g])
+    exact = DIMER_RATES(a1, a2, g)
+    numeric = [jet.A[0][0], jet.A[1][0], jet.B[0][0], jet.B[1][0]]
+    assert np.allclose(exact, numeric, rtol=0, atol=1e-11)
+
+
+@settings(max_examples=6, deadline=None)
+@given(a=st.lists(st.floats(0.3, 2.5), min_size=3, max_size=3),
+       g=st.lists(st.floats(-3.1, 3.1), min_size=2, max_size=2))
+def test_chain_of_three_equals_the_jets(a, g):
+    jet = jet_expansion(CHAIN3, CHAIN_VALUES, 1, a, g)
+    exact = CHAIN_RATES(*a, *g)
+    numeric = [*[row[0] for row in jet.A], *[row[0] for row in jet.B]]
+    assert np.allclose(exact, numeric, rtol=0, atol=1e-11)
+
+
+def test_forced_slider_in_internal_resonance_equals_the_jets():
+    """A slider forced at 1:1 and coupled to a mode of frequency 3 (1:3): the bound on the
+    harmonics takes the forcing angle and the frequency ratio into account."""
+    m = coupled_custom(["-delta*sin(k*x1) + (1 - x1**2)*xdot1 + c*x1**2*x2 + h*cos(theta)",
+                        "-2*zeta*xdot2 + c*x1**3 - delta*x2*cos(k*x2)"], "1,3", nu0=1)
+    m = m.with_internal(["1:3", "1:1@1,F"])
+    vals = {"delta": 0.9, "k": 2.3, "c": 0.6, "h": 0.4, "zeta": 0.2, "sigma": 0.3}
+    rates = _rates(derive_coupled(m, 1), vals)
+    for a, g in (([1.2, 0.5], [0.3, -1.1]), ([0.4, 1.6], [2.0, 0.7])):
+        jet = jet_expansion(m, vals, 1, a, g)
+        numeric = [*[row[0] for row in jet.A], *[row[0] for row in jet.B]]
+        assert np.allclose(rates(*a, *g), numeric, rtol=0, atol=1e-11)
+
+
+def test_raising_the_cut_changes_nothing(monkeypatch):
+    m = coupled_custom(["-delta*x1**2*sin(k*x1) + c*x2*xdot1", "-delta*cos(k*x2)*x1**3"],
+                       "1,3").with_internal(["1:3"])
+    base = derive_coupled(m, 1)
+    bound = bessel_module.harmonic_bound
+    monkeypatch.setattr(bessel_module, "harmonic_bound", lambda *a: bound(*a) + 8)
+    more = derive_coupled(m, 1)
+    assert (base.A, base.B) == (more.A, more.B)
+    monkeypatch.setattr(bessel_module, "harmonic_bound", lambda *a: 1)  # too low: differs
+    assert derive_coupled(m, 1).B != base.B
+
+
+@settings(max_examples=10, deadline=None)
+@given(n=st.integers(1, 3), p=st.integers(0, 2), cos=st.booleans())
+def test_a_conservative_force_keeps_the_energy(n, p, cos):
+    """Potential forces (a force of x_i alone: sin, cos of the position times a power, and
+    the symmetric springs of a chain) do no work on average: the first-order rate of the
+    energy sum a_i**2/2 (omega_i = 1) vanishes, and with one slider every A_1 does."""
+    trig = "cos" if cos else "sin"
+    F = []
+    for i in range(1, n + 1):
+        springs = "".join(f" - kappa*(x{i} - x{j})" for j in (i - 1, i + 1) if 1 <= j <= n)
+        F.append(f"-delta*{trig}(k*x{i})*x{i}**{p}{springs}")
+    m = coupled_custom(F, ",".join(["1"] * n))
+    m = m.with_internal([f"1:1@{i},{i + 1}" for i in range(1, n)])
+    r = derive_coupled(m, 1)
+    a = sp.symbols(f"a1:{n + 1}")
+    assert sp.simplify(sum(ai * row[1] for ai, row in zip(a, r.A))) == 0
+    if n == 1:
+        assert r.A[0][1] == 0
+
+
+def test_what_the_bessel_terms_do_not_take():
+    dimer = get_coupled_model("sedf-dimer")
+    with pytest.raises(OrderError, match="order 1, got order 2.*--numeric"):
+        derive_coupled(dimer, 2)
+    pair = coupled_custom(["-delta*sin(k*(x1 - x2))", "-delta*sin(k*(x2 - x1))"], "1,1")
+    with pytest.raises(UnsupportedTermError, match="one\\s+position"):
+        derive_coupled(pair.with_internal(["1:1"]), 1)
+    prod = coupled_custom(["-delta*sin(k*x1)*cos(k*x2)", "xdot2"], "1,1")
+    with pytest.raises(UnsupportedTermError, match="2 factors sin or cos"):
+        derive_coupled(prod.with_internal(["1:1"]), 1)
+    vel = coupled_custom(["-delta*sin(k*xdot1)", "xdot2"], "1,2")
+    with pytest.raises(UnsupportedTermError, match="one\\s+position"):
+        derive_coupled(vel, 1)
+    with pytest.raises(ModelError, match="stage that pulls at v = 0.1.*give v=0"):
+        derive_coupled(dimer, 1, {"v": "0.1"})
+
+
+def test_the_dimer_on_the_command_line(capsys):
+    from numerics.cli import main
+
+    assert main(["derive", "sedf-dimer", "--order", "1", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["A"][0][1] == "a1*(4 - a1**2*beta)/8 + a2*kappa*sin(gamma1)/2" or \
+        sp.simplify(kbm.parse(out["A"][0][1])
+                    - (A1 * (4 - A1**2 * sp.Symbol("beta")) / 8
+                       + sp.Symbol("a2") * sp.Symbol("kappa") * sp.sin(sp.Symbol("gamma1")) / 2)
+                    ) == 0
+    assert "besselj(1, a1*k)" in out["B"][0][1]
+    assert out["u"][0][1] is None
+    # the numeric backend at the default v = 0 (it used to ask for a value of t)
+    assert main(["derive", "sedf-dimer", "--numeric", "--order", "2", "-p", "mu=0.1",
+                 "-p", "Delta=0.15", "--at", "a1=1,a2=1.2,gamma1=0.3", "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)
+    assert rows
+    assert main(["derive", "sedf-dimer", "--order", "1", "-p", "v=0.1"]) != 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "give v=0" in err[0]
+
+
+def _dimer_cycle(mu: float, sign: int):
+    from numerics.coupled.cycle import coupled_cycle
+
+    # in phase (x2 = x1) and anti-phase (x2 = -x1) are invariant: F is odd
+    return coupled_cycle("sedf-dimer", {"mu": mu, "delta": 1.0, "kappa": 0.5, "beta": 1,
+                                        "lam": 1.0}, start=np.array([2.0, 2.0 * sign, 0, 0]))
+
+
+def test_dimer_synchronisation_against_shooting():
+    """The dimer's locked states at v = 0 (delta = 1, kappa = 1/2, beta = 1, k = 2 pi):
+    the first-order slow flow has fixed points at a1 = a2 = 2 with gamma = 0 (in phase)
+    and gamma = pi (anti-phase), frequencies 1 + mu delta J_1(2k)/2 and that plus
+    mu kappa, and Jacobian eigenvalues lambda.  Shooting gives the true cycles: their
+    frequencies agree to O(mu**2) and their Floquet exponents log(m)/(mu T) tend to
+    lambda like mu; the in-phase state is the stable one."""
+    from scipy.special import jv
+
+    r = derive_coupled(get_coupled_model("sedf-dimer"), 1,
+                       {"delta": 1, "kappa": "1/2", "beta": 1})
+    rates = sp.Matrix([e.subs({sp.Symbol("mu"): 1, sp.Symbol("k"): 2 * sp.pi})
+                       for e in r.slow_flow()])
+    y = sp.symbols("a1 a2 gamma1")
+    jac = rates.jacobian(y)
+    for sign, gamma, shift in ((1, 0, 0.0), (-1, sp.pi, 0.5)):
+        point = {y[0]: 2, y[1]: 2, y[2]: gamma}
+        assert all(abs(float(e.subs(point))) < 1e-15 for e in rates)  # a fixed point
+        lam = np.sort_complex(np.linalg.eigvals(np.array(jac.subs(point).evalf(),
+                                                         dtype=float)))
+        freq_err, exp_err = [], []
+        for mu in (0.02, 0.01):
+            c = _dimer_cycle(mu, sign)
+            pred = 1 + mu * (jv(1, 4 * math.pi) / 2 + shift)
+            freq_err.append(abs(c.frequency - pred))
+            m = np.asarray(c.floquet_multipliers[1:], dtype=complex)
+            exp_err.append(np.max(np.abs(np.sort_complex(np.log(m) / (c.period * mu)) - lam)))
+            assert c.stable == (sign == 1)
+        assert 3.5 < freq_err[0] / freq_err[1] < 4.5  # mu**2
+        assert 1.6 < exp_err[0] / exp_err[1] < 2.4 and exp_err[1] < 0.01  # mu

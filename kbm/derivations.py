@@ -231,9 +231,9 @@ large) the amplitude averaging does not apply to the sliders; the energy envelop
     return DerivationFile("stochastic.tex", "\n".join(body) + "\n")
 
 
-def _coupled_section(title: str, intro: str, res) -> str:
+def _coupled_section(title: str, intro: str, res, with_u: bool = False) -> str:
     """The slow flow of a coupled expansion: ``A_{i,n}``, ``B_{i,n}`` and the rates of the
-    slow phases, one ``align*`` per degree of freedom."""
+    slow phases, one ``align*`` per degree of freedom (and the ``u_{i,n}``)."""
     out = [f"\\subsection*{{{title}}}\n", intro.strip() + "\n"]
     m = res.model
 
@@ -245,7 +245,9 @@ def _coupled_section(title: str, intro: str, res) -> str:
             [equation_lines(f"A_{{{i + 1},{n}}}", shown(res.A[i][n]), _W)
              for n in range(1, res.order + 1)]
             + [equation_lines(f"B_{{{i + 1},{n}}}", shown(res.B[i][n]), _W)
-               for n in range(1, res.order + 1)]))
+               for n in range(1, res.order + 1)]
+            + ([equation_lines(f"u_{{{i + 1},{n}}}", res.u[i][n], _W)
+                for n in range(1, res.order + 1)] if with_u else [])))
     for r, (g, comb) in enumerate(res.gammas):
         lines = [f"{latex(g)} &= {latex(comb)}"]
         lines += [equation_lines(f"\\dot{{{latex(g)}}}\\big|_{{\\mu^{{{n}}}}}",
@@ -282,7 +284,7 @@ $\sin(kx_i)$)."""]
     ]
     for name, order, title, intro in cases:
         body.append(_coupled_section(f"{title}: order {order}", intro,
-                                     derive_coupled(name, order)))
+                                     derive_coupled(name, order), name == "sedf-dimer"))
     return DerivationFile("coupled.tex", "\n".join(body) + "\n")
 
 

@@ -16,11 +16,12 @@ the forcing angle's harmonics), lies within ``tol omega_i`` of ``+-omega_i`` onl
 (``r_j = p_j`` for ``j != l``).  So the series are cut above that bound
 (:func:`harmonic_bound`) and the rates are *exact*, each ``J_n(c a_l)`` a symbol of the
 ring until the end; every harmonic that could meet a small divisor is inside the cut and
-is checked as the polynomial ones are.  The corrections ``u_{i,1}`` are infinite series
-and are not given (the one-degree-of-freedom engine :func:`kbm.derive` gives them as
-Bessel sums, the jets :mod:`kbm.coupled.jets` numerically to any order); nor are the
-orders above one, whose products of infinite series are lattice sums
-(:mod:`kbm.algebra.bessel_fourier`, one angle).
+is checked as the polynomial ones are.  The corrections ``u_{i,1}`` are the harmonics up
+to the cut, computed with the rest, plus the series above it, written as sums over the
+harmonic index (:meth:`JacobiAnger.tail`): exact too.  Orders above one are not given:
+their products of infinite series are lattice sums (:mod:`kbm.algebra.bessel_fourier`
+forms them for one angle; the jets :mod:`kbm.coupled.jets` give the rates numerically to
+any order).
 
 References
 ----------
@@ -113,6 +114,45 @@ class JacobiAnger:
             out = out + MultiAngle.harmonic(ring, h, coef.scale(scale), "cos")
         return Const(alg.zero, out)
 
+    def tail(self, alg, row: sp.Expr, i: int, angles: tuple, builder) -> sp.Expr:
+        """The part of ``u_{i,1}`` from the harmonics above the cut: for every term
+        ``R sin(c x_l)`` (``cos``) of ``F_i`` and every harmonic ``r cos(h . psi)``
+        (``sin``) of ``R``, the series ``sum_n J-A_n r cos(h psi +- n psi_l)/2`` over the
+        ``n`` above the cut, each harmonic over its divisor ``omega_i**2 - (h . omega +- n
+        omega_l)**2`` (none vanishes there: the cut is above every resonance).
+
+        ``builder(expr)`` gives the multi-angle series of a polynomial ``R`` at order one;
+        ``angles`` are ``psi_1..psi_N`` (and ``theta``).
+        """
+        m = sp.Symbol("m", integer=True, nonnegative=True)
+        state = alg.model.state
+        omega = [sp.Rational(w) for w in alg.omega]
+        parts = []
+        for term in sp.Add.make_args(sp.expand(row)):
+            trig = trig_of_state(term, set(state))
+            if not trig:
+                continue
+            kind, c, l = _key(trig[0], state)
+            H = self.cuts[(kind, c, l)]
+            n = 2 * m + 1 if kind == "sin" else 2 * m
+            start = (H + 1) // 2 if kind == "sin" else H // 2 + 1
+            ja = 2 * (-1) ** m * sp.besselj(n, c * amplitudes(l + 1)[l])
+            rest = builder(sp.Mul(*[g for g in sp.Mul.make_args(term) if g != trig[0]]))
+            w_i = omega[i]
+            for fn, table in ((sp.cos, rest.cos), (sp.sin, rest.sin)):
+                for h in sorted(table):
+                    r = table[h].as_primitive_expr()
+                    hw = sum((v * w for v, w in zip(h, omega)), sp.Integer(0))
+                    phase = sp.Add(*[v * g for v, g in zip(h, angles) if v])
+                    # cos(h psi) cos(n psi_l) = (cos(h psi + n psi_l) + cos(h psi - n psi_l))/2
+                    # (one term when h = 0); sin likewise
+                    for sign in ((1,) if not any(h) else (1, -1)):
+                        half = 1 if not any(h) else sp.Rational(1, 2)
+                        divisor = sp.factor(w_i**2 - (hw + sign * n * omega[l])**2)
+                        body = r * ja * half * fn(phase + sign * n * angles[l])
+                        parts.append(sp.Sum(body / divisor, (m, start, sp.oo)))
+        return sp.Add(*parts)
+
     def substitution(self) -> dict:
         """``{J symbol: besselj(n, c a_l)}``."""
         a = amplitudes(max((l for _, l, _ in self.symbols), default=0) + 1)
@@ -185,8 +225,8 @@ def jacobi_anger_plan(rows: list[list[sp.Expr]], model, order: int, tol: float
     if order != 1:
         raise OrderError(
             f"the exact coupled averaging takes sin and cos of the state (Bessel functions) "
-            f"at order 1, got order {order}: the corrections u_1 are infinite series "
-            f"(one degree of freedom: kbm derive MODEL --order N gives them as Bessel sums); "
+            f"at order 1, got order {order}: above it products of infinite series make "
+            f"lattice sums (one degree of freedom: kbm derive MODEL --order N forms them); "
             f"{_NUMERIC_HINT}")
     cs = sorted({c for _, c, _ in cuts}, key=sp.default_sort_key)
     symbols = {}

@@ -442,4 +442,14 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
     A, B, U = _recursion(alg, F, order,
                          builder=lambda al, leaves: MultiBuilder(al, leaves, bessel))
     result = CoupledKBMResult.from_series(model, order, lattice, A, B, U)
-    return result.with_bessel(bessel.substitution()) if bessel else result
+    if not bessel:
+        return result
+    angles = tuple(sp.Symbol(f"psi{i}") for i in range(1, n + 1)) \
+        + ((sp.Symbol("theta"),) if model.forced else ())
+    first = MultiBuilder(alg, {**{xi: Leaf(alg.zero, alg.x0(i))
+                                  for i, xi in enumerate(positions(n))},
+                               **{vi: Leaf(alg.zero, alg.L0(alg.x0(i)))
+                                  for i, vi in enumerate(velocities(n))}})
+    tails = [bessel.tail(alg, F[i][0], i, angles, lambda e: first.build(e).coeff(0))
+             for i in range(n)]
+    return result.with_bessel(bessel.substitution(), tails)

@@ -10,7 +10,7 @@ plain text, JSON and LaTeX, and lambdifies the slow flow.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -54,8 +54,8 @@ class CoupledKBMResult:
     A, B, u
         ``A[i][n]``, ``B[i][n]``, ``u[i][n]`` for mode ``i`` (from 0) and order ``n``,
         with ``A[i][0] = 0``, ``B[i][0] = omega_i``, ``u[i][0] = a_i cos(psi_i)``;
-        ``u[i][n]`` is ``None`` for ``F`` with ``sin``/``cos`` of the state, whose
-        corrections are infinite Bessel series (:mod:`kbm.coupled.bessel`).
+        with ``sin``/``cos`` of the state, ``u[i][1]`` holds sums over the harmonic
+        index (the Jacobi-Anger series above its cut, :mod:`kbm.coupled.bessel`).
     """
 
     model: CoupledOscillators
@@ -83,15 +83,16 @@ class CoupledKBMResult:
             u=tuple((a[i] * sp.cos(psis[i]), *[f.as_expr(psis) for f in U[i]])
                     for i in range(n)))
 
-    def with_bessel(self, substitution: dict) -> "CoupledKBMResult":
-        """The rates with the Bessel symbols of :mod:`kbm.coupled.bessel` replaced by
-        ``besselj(n, c a_l)``; the corrections ``u_{i,1}``, infinite Jacobi-Anger series,
-        are not given (``None``)."""
+    def with_bessel(self, substitution: dict, tails: Sequence[sp.Expr]) -> "CoupledKBMResult":
+        """The first order with the Bessel symbols of :mod:`kbm.coupled.bessel` replaced by
+        ``besselj(n, c a_l)``, and each ``u_{i,1}`` completed by ``tails[i]``, the sums over
+        the harmonics above the cut (:meth:`kbm.coupled.bessel.JacobiAnger.tail`)."""
         def put(rows):
             return tuple((row[0], *[e.xreplace(substitution) for e in row[1:]])
                          for row in rows)
+        u = put(self.u)
         return replace(self, A=put(self.A), B=put(self.B),
-                       u=tuple((row[0], *[None] * (len(row) - 1)) for row in self.u))
+                       u=tuple((row[0], row[1] + tail) for row, tail in zip(u, tails)))
 
     # -- the slow flow ------------------------------------------------------------------
     def gamma_rate(self, r: int, n: int) -> sp.Expr:
@@ -157,7 +158,7 @@ class CoupledKBMResult:
         entry a string :func:`kbm.parse` reads back; ``gamma_rates`` likewise per phase
         combination."""
         def strs(seq):
-            return [None] + [None if e is None else _lex(e) for e in seq[1:]]
+            return [None] + [_lex(e) for e in seq[1:]]
         return {
             "model": self.model.name, "order": self.order, "dof": self.model.dof,
             "omega0": [str(w) for w in self.model.omega0],

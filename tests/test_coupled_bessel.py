@@ -4,14 +4,17 @@ references.
 
 - N = 1: the one-degree-of-freedom Bessel engine kbm.derive (its own Jacobi-Anger series
   with lattice sums, kbm.algebra.bessel_fourier) on the paper's SEDF (eq. 3) and CDC
-  (eq. 12) and on products x^p cos(k x), x' sin(k x): equal as expressions.
+  (eq. 12) and on products x^p cos(k x), x' sin(k x): the rates equal as expressions,
+  u_1 numerically.
+- u_{i,1} against FFT quadrature on the torus (the dimer; a forced 1:3 system).
 - N = 2, 3: the jets (kbm.coupled.jets: F's Taylor series on an FFT grid of the torus,
   no Bessel function anywhere) on the SEDF dimer and chain at random points (hypothesis),
   and on a forced slider with a 1:3 internal resonance.
 - The first-order frequency of the dimer's in-phase and anti-phase cycles against
   shooting (numerics.coupled.cycle): the error falls like mu**2.
 - The cut of the Jacobi-Anger series is exact: raising it changes nothing.
-- A conservative F (the potential and the springs) never changes an amplitude.
+- A conservative F (the potential and the springs) leaves sum a_i**2 unchanged at first
+  order (one slider: its amplitude).
 """
 
 from __future__ import annotations
@@ -22,11 +25,13 @@ import math
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import given, settings, strategies as st
+from _coupled_references import cut_sums, rates_function, u_by_fft
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import kbm
-from kbm.coupled import coupled_custom, derive_coupled, get_coupled_model
 from kbm.coupled import bessel as bessel_module
+from kbm.coupled import coupled_custom, derive_coupled, get_coupled_model
 from kbm.coupled.jets import jet_expansion
 from kbm.coupled.model import CoupledOscillators
 from kbm.errors import ModelError, OrderError, UnsupportedTermError
@@ -53,25 +58,17 @@ def test_n1_equals_the_bessel_engine(F):
                                         ("zeta", 0.4))}
     psi = sp.Symbol("psi1")
     for a, p in ((0.7, 0.3), (2.2, 1.9), (3.1, -2.4)):
-        ref = _finite(one.u[1].subs(sub)).subs({**vals, A1: a, sp.Symbol("psi"): p})
-        got = _finite(gen.u[0][1]).subs({**vals, A1: a, psi: p})
+        ref = cut_sums(one.u[1].subs(sub)).subs({**vals, A1: a, sp.Symbol("psi"): p})
+        got = cut_sums(gen.u[0][1]).subs({**vals, A1: a, psi: p})
         assert abs(complex(ref.evalf()) - complex(got.evalf())) < 1e-13
-
-
-def _rates(result, values):
-    """The first-order rates of ``result`` as a function of (amplitudes, gammas)."""
-    syms = [*sp.symbols(f"a1:{result.model.dof + 1}"), *[g for g, _ in result.gammas]]
-    sub = {sp.Symbol(k): v for k, v in values.items()}
-    exprs = [*[row[1].subs(sub) for row in result.A], *[row[1].subs(sub) for row in result.B]]
-    return sp.lambdify(syms, exprs, ["numpy", "scipy"])
 
 
 DIMER = get_coupled_model("sedf-dimer").at_rest()
 CHAIN3 = get_coupled_model("sedf-chain-3").at_rest()
-DIMER_RATES = _rates(derive_coupled(DIMER, 1), {"delta": 1.3, "k": 2 * math.pi,
+DIMER_RATES = rates_function(derive_coupled(DIMER, 1), {"delta": 1.3, "k": 2 * math.pi,
                                                 "beta": 1.0, "kappa": 0.7})
 CHAIN_VALUES = {"delta": 0.8, "k": 2 * math.pi / 1.7, "beta": 0.6, "kappa": 1.1}
-CHAIN_RATES = _rates(derive_coupled(CHAIN3, 1), CHAIN_VALUES)
+CHAIN_RATES = rates_function(derive_coupled(CHAIN3, 1), CHAIN_VALUES)
 
 
 @settings(max_examples=15, deadline=None)
@@ -102,7 +99,7 @@ def test_forced_slider_in_internal_resonance_equals_the_jets():
                         "-2*zeta*xdot2 + c*x1**3 - delta*x2*cos(k*x2)"], "1,3", nu0=1)
     m = m.with_internal(["1:3", "1:1@1,F"])
     vals = {"delta": 0.9, "k": 2.3, "c": 0.6, "h": 0.4, "zeta": 0.2, "sigma": 0.3}
-    rates = _rates(derive_coupled(m, 1), vals)
+    rates = rates_function(derive_coupled(m, 1), vals)
     for a, g in (([1.2, 0.5], [0.3, -1.1]), ([0.4, 1.6], [2.0, 0.7])):
         jet = jet_expansion(m, vals, 1, a, g)
         numeric = [*[row[0] for row in jet.A], *[row[0] for row in jet.B]]
@@ -156,6 +153,11 @@ def test_what_the_bessel_terms_do_not_take():
         derive_coupled(vel, 1)
     with pytest.raises(ModelError, match="stage that pulls at v = 0.1.*give v=0"):
         derive_coupled(dimer, 1, {"v": "0.1"})
+    timed = coupled_custom(["-delta*sin(k*x1 + t)", "xdot2"], "1,2")
+    with pytest.raises(ModelError, match="depends on the time t explicitly"):
+        derive_coupled(timed, 1)  # no parameter switches it off (k = 0 would not)
+    with pytest.raises(UnsupportedTermError, match="float.*0.5 as 1/2"):
+        derive_coupled(coupled_custom(["-sin(0.5*x1)", "xdot2"], "1,2"), 1)
 
 
 def test_the_dimer_on_the_command_line(capsys):
@@ -171,6 +173,10 @@ def test_the_dimer_on_the_command_line(capsys):
     assert "besselj(1, a1*k)" in out["B"][0][1]
     u = kbm.parse(out["u"][0][1])  # the cut series and the sum above it, read back
     assert u.has(sp.Sum) and "besselj(2*m + 1, a1*k)" in out["u"][0][1]
+    assert main(["derive", "sedf-dimer", "--order", "1", "--latex"]) == 0
+    tex = capsys.readouterr().out
+    assert "J_{1}\\!\\left(a_{1} k\\right)" in tex and "u_{1,1} &=" in tex
+    assert "\\sum_{m=1}^{\\infty}" in tex and "x_{2} &= a_{2}\\cos\\psi_{2}" in tex
     # the numeric backend at the default v = 0 (it used to ask for a value of t)
     assert main(["derive", "sedf-dimer", "--numeric", "--order", "2", "-p", "mu=0.1",
                  "-p", "Delta=0.15", "--at", "a1=1,a2=1.2,gamma1=0.3", "--json"]) == 0
@@ -207,6 +213,11 @@ def test_dimer_synchronisation_against_shooting():
     for sign, gamma, shift in ((1, 0, 0.0), (-1, sp.pi, 0.5)):
         point = {y[0]: 2, y[1]: 2, y[2]: gamma}
         assert all(abs(float(e.subs(point))) < 1e-15 for e in rates)  # a fixed point
+        flow = r.numpy_slow_flow({"k": 2 * math.pi})  # scipy's Bessel functions
+        assert np.allclose(flow([2.0, 2.0, float(gamma)], 0.01), 0, atol=1e-15)
+        assert np.allclose(flow([1.5, 2.5, 0.3], 0.01),
+                           [0.01 * float(e.subs({y[0]: 1.5, y[1]: 2.5, y[2]: 0.3}))
+                            for e in rates], rtol=1e-13, atol=0)
         lam = np.sort_complex(np.linalg.eigvals(np.array(jac.subs(point).evalf(),
                                                          dtype=float)))
         freq_err, exp_err = [], []
@@ -219,42 +230,6 @@ def test_dimer_synchronisation_against_shooting():
             assert c.stable == (sign == 1)
         assert 3.5 < freq_err[0] / freq_err[1] < 4.5  # mu**2
         assert 1.6 < exp_err[0] / exp_err[1] < 2.4 and exp_err[1] < 0.01  # mu
-
-
-def _finite(expr: sp.Expr, terms: int = 80) -> sp.Expr:
-    """``expr`` with every sum over the harmonic index cut after ``terms`` terms (the
-    Bessel functions J_n(z) of the tests, z < 10, are below 1e-40 there)."""
-    return expr.replace(lambda e: isinstance(e, sp.Sum),
-                        lambda e: sp.Add(*[e.function.subs(e.limits[0][0], j)
-                                           for j in range(int(e.limits[0][1]),
-                                                          int(e.limits[0][1]) + terms)]))
-
-
-def _u_by_fft(model, vals, a, i, nodes=64):
-    """u_{i,1} by quadrature: F_i on a grid of the torus psi (and theta) at x_j = a_j
-    cos psi_j, its FFT, every harmonic h with h . omega != +-omega_i divided by
-    omega_i**2 - (h . omega)**2 (the resonant ones are the rates'); a function of the
-    angles."""
-    n = model.dof
-    omega = [float(w) for w in model.omega0] + ([float(model.nu0)] if model.forced else [])
-    D = len(omega)
-    grid = np.meshgrid(*[2 * np.pi * np.arange(nodes) / nodes] * D, indexing="ij")
-    args = [a[j] * np.cos(grid[j]) for j in range(n)] \
-        + [-omega[j] * a[j] * np.sin(grid[j]) for j in range(n)]
-    args += [grid[-1]] if model.forced else [np.zeros_like(grid[0])]
-    syms = [*model.state, sp.Symbol("theta")]
-    f = sp.lambdify(syms, model.F[i].subs({sp.Symbol(k): v for k, v in vals.items()}),
-                    ["numpy", "scipy"])
-    coef = np.fft.fftn(f(*args) * np.ones_like(grid[0])) / nodes**D
-    h = np.meshgrid(*[np.fft.fftfreq(nodes, 1 / nodes)] * D, indexing="ij")
-    freq = sum(hj * wj for hj, wj in zip(h, omega))
-    resonant = np.isclose(np.abs(freq), omega[i], rtol=0, atol=1e-12)
-    coef = np.where(resonant, 0, coef / np.where(resonant, 1, omega[i]**2 - freq**2))
-
-    def u(angles):
-        phase = sum(hj * t for hj, t in zip(h, angles))
-        return float(np.real(np.sum(coef * np.exp(1j * phase))))
-    return u
 
 
 @pytest.mark.parametrize("case", ["sedf-dimer", "forced-1-3"])
@@ -278,7 +253,7 @@ def test_u1_equals_fft_quadrature(case):
     sub = {sp.Symbol(k): v for k, v in vals.items()}
     sub.update(dict(zip(sp.symbols(f"a1:{model.dof + 1}"), a)))
     for i in range(model.dof):
-        exact = sp.lambdify(angles, _finite(r.u[i][1]).subs(sub), ["numpy", "scipy"])
-        quad = _u_by_fft(model, vals, a, i)
+        exact = sp.lambdify(angles, cut_sums(r.u[i][1]).subs(sub), ["numpy", "scipy"])
+        quad = u_by_fft(model, vals, a, i)
         for p in points:
             assert abs(exact(*p) - quad(p)) < 1e-11

@@ -167,11 +167,16 @@ def _key(factor: sp.Expr, state: tuple) -> tuple[str, sp.Expr, int]:
     held = [s for s in state if arg.has(s)]
     if len(held) == 1 and held[0] in state[:n]:
         c = sp.simplify(arg / held[0])
+        if c.has(sp.Float):
+            raise UnsupportedTermError(
+                f"the argument of {factor} holds a float: the exact coupled averaging takes "
+                "exact numbers; write it as a fraction (0.5 as 1/2)")
         if not c.free_symbols & set(state) and c != 0:
             return type(factor).__name__, c, state.index(held[0])
     raise UnsupportedTermError(
         f"the term {factor} is not supported by the exact coupled averaging: it takes "
-        "polynomials in the state and, at order one, sin(c x_i) and cos(c x_i) of one "
+        "polynomials in the state and, at order one, sin(c x_i + d) and cos(c x_i + d) "
+        "of one "
         f"position with a constant c (Jacobi-Anger); {_NUMERIC_HINT}")
 
 

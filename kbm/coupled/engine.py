@@ -42,6 +42,7 @@ from ..errors import ModelError, OrderError, UnsupportedTermError
 from ..forced.model import ForcedOscillator
 from ..models import Oscillator
 from .bessel import _NUMERIC_HINT, JacobiAnger, jacobi_anger_plan
+from .constants import opaque_constants, split_phases
 from .model import CoupledOscillators, amplitudes, positions, velocities
 from .resonance import SlowLattice, frequency, resonant_harmonic
 from .result import CoupledKBMResult
@@ -89,10 +90,11 @@ class CoupledAlgebra:
         try:
             return self.ring.from_expr(sp.expand(expr))
         except (TypeError, sp.PolynomialError, sp.GeneratorsNeeded):
+            hint = ("write each float as a fraction (0.1 as 1/10)" if expr.has(sp.Float) else
+                    "a denominator may be a monomial in the parameters at most")
             raise ModelError(f"the coefficient {expr} is not a polynomial in the parameters "
-                             "with rational numbers (a monomial denominator at most); the "
-                             "exact coupled averaging needs rational numbers (no pi, no "
-                             "sqrt, no floats)") from None
+                             "with exact numbers (rationals; constants such as sqrt(2), pi, "
+                             f"cos(phi)): {hint}") from None
 
     def const(self, expr: sp.Expr) -> MultiAngle:
         """A coefficient free of the state: parameters, and a trigonometric polynomial in the
@@ -222,7 +224,8 @@ class MultiBuilder:
             return self.power(expr.base, int(expr.exp))
         raise UnsupportedTermError(
             f"the term {expr} is not supported by the exact coupled averaging: it takes "
-            "polynomials in the state and, at order one, sin(c x_i) and cos(c x_i) of one "
+            "polynomials in the state and, at order one, sin(c x_i + d) and cos(c x_i + d) "
+            "of one "
             f"position (Jacobi-Anger); {_NUMERIC_HINT}")
 
 
@@ -430,20 +433,22 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
             Fj = F[r.j - 1]
             Fj[0] = Fj[0] - 2 * wj * sig * xj
             Fj.append(-sig**2 * xj)
+    F = split_phases(F, positions(n))  # sin(c x + d) = sin(c x) cos d + cos(c x) sin d
+    F, constants = opaque_constants(F, model.state)  # sqrt(2), pi, cos(phi): generators
     syms = set().union(*[f.free_symbols for row in F for f in row]) - set(model.state) \
-        - {sp.Symbol("theta"), sp.Symbol("mu")}
+        - {sp.Symbol("theta"), sp.Symbol("mu")} - set(constants)
     if model.forced and model.nu_detuning:
         syms.add(sp.Symbol(model.nu_detuning))
     bessel = jacobi_anger_plan(F, model, order, tolerance)  # sin, cos of positions
     gens = sorted(syms | set(detunings), key=lambda s: s.name)
-    gens += bessel.generators() if bessel else []
+    gens += sorted(constants, key=lambda s: s.name) + (bessel.generators() if bessel else [])
     lattice = SlowLattice(n + (1 if model.forced else 0), model.internal)
     alg = CoupledAlgebra(model, lattice, gens, tolerance)
     A, B, U = _recursion(alg, F, order,
                          builder=lambda al, leaves: MultiBuilder(al, leaves, bessel))
     result = CoupledKBMResult.from_series(model, order, lattice, A, B, U)
     if not bessel:
-        return result
+        return result.substituted(constants) if constants else result
     angles = tuple(sp.Symbol(f"psi{i}") for i in range(1, n + 1)) \
         + ((sp.Symbol("theta"),) if model.forced else ())
     first = MultiBuilder(alg, {**{xi: Leaf(alg.zero, alg.x0(i))
@@ -452,4 +457,4 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
                                   for i, vi in enumerate(velocities(n))}})
     tails = [bessel.tail(alg, F[i][0], i, angles, lambda e: first.build(e).coeff(0))
              for i in range(n)]
-    return result.with_bessel(bessel.substitution(), tails)
+    return result.substituted({**constants, **bessel.substitution()}, tails)

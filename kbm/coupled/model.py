@@ -366,17 +366,18 @@ class CoupledOscillators(OscillatorFamily):
         return not any(e.has(t) for e in exprs)
 
     def stage_parameters(self) -> tuple[str, ...]:
-        """The parameters that every term holding the time ``t`` in ``F`` and the drives
-        holds (the stage velocity ``v`` of the pulled sliders), sorted; empty for an
-        autonomous system."""
-        common = None
-        for e in (*self.F, *self.drive):
-            for term in sp.Add.make_args(sp.expand(e)):
-                if term.has(t):
-                    names = {s.name for s in term.free_symbols}
-                    common = names if common is None else common & names
-        state = {s.name for s in self.state} | {t.name}
-        return tuple(sorted((common or set()) - state))
+        """The parameters whose value 0 removes the time ``t`` from ``F`` and the drives,
+        where ``t`` enters polynomially (the stage velocity ``v`` of the pulled sliders,
+        ``x - v t``), sorted; empty for an autonomous system, or one whose time dependence
+        no such parameter switches off."""
+        terms = [term for e in (*self.F, *self.drive)
+                 for term in sp.Add.make_args(sp.expand(e)) if term.has(t)]
+        if not terms or not all(term.is_polynomial(t) for term in terms):
+            return ()  # a stage pulls with v t; sin(t) is a time dependence of its own
+        names = set.intersection(*[{s.name for s in term.free_symbols} for term in terms])
+        names -= {s.name for s in self.state} | {t.name}
+        return tuple(sorted(p for p in names
+                            if not any(term.subs(sp.Symbol(p), 0).has(t) for term in terms)))
 
     def at_rest(self, values: Mapping[str, object] | None = None) -> "CoupledOscillators":
         """The autonomous system of a stage at rest: the :meth:`stage_parameters` put in
@@ -394,8 +395,9 @@ class CoupledOscillators(OscillatorFamily):
         stage = {p: values.get(p, self.defaults.get(p)) for p in self.stage_parameters()}
         if any(v is None for v in stage.values()) or not self.is_autonomous(stage):
             shown = ", ".join(f"{p} = {v}" for p, v in stage.items() if v is not None)
-            raise ModelError(f"{self.name!r} depends on the time t (a stage that pulls"
-                             f"{' at ' + shown if shown else ''}); the averaging treats "
+            why = (f" (a stage that pulls{' at ' + shown if shown else ''})" if stage
+                   else " explicitly")
+            raise ModelError(f"{self.name!r} depends on the time t{why}; the averaging treats "
                              "autonomous systems and periodic forcing through theta: "
                              + (f"give {' and '.join(f'{p}=0' for p in stage)} or " if stage
                                 else "write a periodic forcing in theta = nu t, or ")

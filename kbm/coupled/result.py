@@ -83,16 +83,21 @@ class CoupledKBMResult:
             u=tuple((a[i] * sp.cos(psis[i]), *[f.as_expr(psis) for f in U[i]])
                     for i in range(n)))
 
-    def with_bessel(self, substitution: dict, tails: Sequence[sp.Expr]) -> "CoupledKBMResult":
-        """The first order with the Bessel symbols of :mod:`kbm.coupled.bessel` replaced by
-        ``besselj(n, c a_l)``, and each ``u_{i,1}`` completed by ``tails[i]``, the sums over
-        the harmonics above the cut (:meth:`kbm.coupled.bessel.JacobiAnger.tail`)."""
+    def substituted(self, substitution: dict, tails: Sequence[sp.Expr] | None = None
+                    ) -> "CoupledKBMResult":
+        """The expansion with the ring's stand-in symbols put back: the Bessel functions
+        ``besselj(n, c a_l)`` of :mod:`kbm.coupled.bessel` and the constants of
+        :mod:`kbm.coupled.constants`; with ``tails``, each ``u_{i,1}`` is completed by
+        ``tails[i]``, the sums over the harmonics above the Jacobi-Anger cut
+        (:meth:`kbm.coupled.bessel.JacobiAnger.tail`)."""
+        u = self.u
+        if tails is not None:
+            u = tuple((row[0], row[1] + tail, *row[2:]) for row, tail in zip(u, tails))
+
         def put(rows):
             return tuple((row[0], *[e.xreplace(substitution) for e in row[1:]])
                          for row in rows)
-        u = put(self.u)
-        return replace(self, A=put(self.A), B=put(self.B),
-                       u=tuple((row[0], row[1] + tail) for row, tail in zip(u, tails)))
+        return replace(self, A=put(self.A), B=put(self.B), u=put(u))
 
     # -- the slow flow ------------------------------------------------------------------
     def gamma_rate(self, r: int, n: int) -> sp.Expr:
@@ -193,19 +198,32 @@ class CoupledKBMResult:
         return "\n".join(lines)
 
     def latex(self) -> str:
-        """The slow flow as a LaTeX ``align*`` block."""
-        from ..latex import latex as to_latex
+        """The expansion as a LaTeX ``align*`` block: ``x_i``, the slow flow, and each
+        ``A_{i,n}``, ``B_{i,n}``, ``u_{i,n}`` and slow-phase rate, long ones broken into
+        lines (:func:`kbm.latex.equation_lines`)."""
+        from ..latex import equation_lines, latex as to_latex
 
-        m = self.model
+        m, N = self.model, self.order
+        width = 90
+
+        def mus(symbol: str) -> str:
+            return " + ".join(rf"\mu^{{{k}}} {symbol.format(k=k)}" for k in range(1, N + 1))
+
         rows = []
         for i in range(m.dof):
-            a_i = rf"\dot a_{{{i + 1}}} &= " + " + ".join(
-                rf"\mu^{{{k}}}\left({to_latex(self.A[i][k])}\right)"
-                for k in range(1, self.order + 1))
-            p_i = rf"\dot\psi_{{{i + 1}}} &= {to_latex(m.omega0[i])} + " + " + ".join(
-                rf"\mu^{{{k}}}\left({to_latex(self.B[i][k])}\right)"
-                for k in range(1, self.order + 1))
-            rows += [a_i, p_i]
-        for g, e in self.gammas:
+            j = i + 1
+            hard = (rf"\Lambda_{{{j}}}\cos\theta + " if m.hard and m.hard[i] != 0 else "")
+            rows += [rf"x_{{{j}}} &= a_{{{j}}}\cos\psi_{{{j}}} + {hard}"
+                     + mus(f"u_{{{{{j},{{k}}}}}}"),
+                     rf"\dot a_{{{j}}} &= " + mus(f"A_{{{{{j},{{k}}}}}}"),
+                     rf"\dot\psi_{{{j}}} &= {to_latex(m.omega0[i])} + "
+                     + mus(f"B_{{{{{j},{{k}}}}}}")]
+        for i in range(m.dof):
+            for name, table in (("A", self.A), ("B", self.B), ("u", self.u)):
+                rows += [equation_lines(f"{name}_{{{i + 1},{k}}}", table[i][k], width)
+                         for k in range(1, N + 1)]
+        for r, (g, e) in enumerate(self.gammas):
             rows.append(rf"{sp.latex(g)} &= {sp.latex(e)}")
+            rows += [equation_lines(rf"\dot{{{sp.latex(g)}}}\big|_{{\mu^{{{k}}}}}",
+                                    self.gamma_rate(r, k), width) for k in range(1, N + 1)]
         return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"

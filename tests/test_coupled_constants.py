@@ -6,7 +6,8 @@
   value substituted afterwards (exact, order 2).
 - A slider on a shifted potential, sin(k x_i + phi_i), equals the jets (kbm.coupled.jets:
   F's Taylor series on an FFT grid, no Bessel function) at random points, and its
-  correction u_{i,1} the FFT quadrature of tests/test_coupled_bessel.py.
+  correction u_{i,1} the FFT quadrature of tests/_coupled_references.py.
+- A forcing with a phase, h cos(theta + phi), equals its two quadratures.
 """
 
 from __future__ import annotations
@@ -77,3 +78,21 @@ def test_shifted_potential_u1_equals_fft_quadrature():
         quad = u_by_fft(FK, FK_VALUES, a, i, nodes=48)
         for p in ((0.3, 2.0, -1.0), (1.7, -0.4, 2.5)):
             assert abs(exact(*p) - quad(p)) < 1e-11
+
+
+def test_a_forcing_phase_equals_its_two_quadratures():
+    """h cos(theta + phi) = h cos(phi) cos(theta) - h sin(phi) sin(theta): the expansion
+    with the phase equals the one with two forcing amplitudes h1, h2 put in afterwards
+    (a 1:2 internal resonance, forced at 1:1, order 2)."""
+    rhs2 = "-x2**3 - 2*zeta*xdot2 + c*x1**2"
+    with_phase = coupled_custom(["-2*zeta*xdot1 - x1**3 + h*cos(theta + phi) + c*x1*x2",
+                                 rhs2], "1,2", nu0=1).with_internal(["1:2", "1:1@1,F"])
+    two = coupled_custom(["-2*zeta*xdot1 - x1**3 + h1*cos(theta) - h2*sin(theta) + c*x1*x2",
+                          rhs2], "1,2", nu0=1).with_internal(["1:2", "1:1@1,F"])
+    h, phi = sp.symbols("h phi")
+    put = {sp.Symbol("h1"): h * sp.cos(phi), sp.Symbol("h2"): h * sp.sin(phi)}
+    r1, r2 = derive_coupled(with_phase, 2), derive_coupled(two, 2)
+    for rows1, rows2 in ((r1.A, r2.A), (r1.B, r2.B), (r1.u, r2.u)):
+        for row1, row2 in zip(rows1, rows2):
+            for e1, e2 in zip(row1[1:], row2[1:]):
+                assert sp.expand(e2.xreplace(put) - e1) == 0

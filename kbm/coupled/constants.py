@@ -25,8 +25,10 @@ _TIME = {sp.Symbol("theta"), sp.Symbol("t"), sp.Symbol("nu")}
 
 def split_phases(rows: list[list[sp.Expr]], positions: tuple) -> list[list[sp.Expr]]:
     """``rows`` with every ``sin(c x_l + d)``, ``cos(c x_l + d)`` (``d`` free of the state
-    and of time) written as ``sin(c x_l) cos d + cos(c x_l) sin d`` (and likewise)."""
-    state = set(positions)
+    and of time) written as ``sin(c x_l) cos d + cos(c x_l) sin d`` (and likewise); the
+    forcing angle's ``cos(k theta + d)``, ``sin(k theta + d)`` too (a forcing with a phase
+    ``phi``)."""
+    state = set(positions) | {sp.Symbol("theta")}
 
     def is_shifted(e) -> bool:
         if not isinstance(e, (sp.sin, sp.cos)):

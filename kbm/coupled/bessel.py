@@ -37,6 +37,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..algebra.lazy_series import Const
+from ..algebra.multi_angle import MultiAngle
 from ..errors import OrderError, UnsupportedTermError
 from .model import amplitudes
 
@@ -102,8 +103,6 @@ class JacobiAnger:
         """The lazy node of ``factor`` = ``sin(c x_l)`` or ``cos(c x_l)`` at order one: its
         cut Jacobi-Anger series in the angle ``psi_l`` (higher coefficients are never
         asked for: the expansion stops at order one)."""
-        from ..algebra.multi_angle import MultiAngle
-
         kind, c, l = _key(factor, alg.model.state)
         ring = alg.ring
         out = alg.zero()

@@ -225,8 +225,7 @@ class MultiBuilder:
         raise UnsupportedTermError(
             f"the term {expr} is not supported by the exact coupled averaging: it takes "
             "polynomials in the state and, at order one, sin(c x_i + d) and cos(c x_i + d) "
-            "of one "
-            f"position (Jacobi-Anger); {_NUMERIC_HINT}")
+            f"of one position (Jacobi-Anger); {_NUMERIC_HINT}")
 
 
 def _recursion(alg, F: list[list[sp.Expr]], order: int, builder=None):
@@ -449,12 +448,20 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
     result = CoupledKBMResult.from_series(model, order, lattice, A, B, U)
     if not bessel:
         return result.substituted(constants) if constants else result
+    return result.substituted({**constants, **bessel.substitution()},
+                              _bessel_tails(alg, F, bessel))
+
+
+def _bessel_tails(alg: CoupledAlgebra, F: list[list[sp.Expr]], bessel: JacobiAnger
+                  ) -> list[sp.Expr]:
+    """The parts of the ``u_{i,1}`` above the Jacobi-Anger cut
+    (:meth:`kbm.coupled.bessel.JacobiAnger.tail`), one per degree of freedom."""
+    n = alg.dof
     angles = tuple(sp.Symbol(f"psi{i}") for i in range(1, n + 1)) \
-        + ((sp.Symbol("theta"),) if model.forced else ())
+        + ((sp.Symbol("theta"),) if alg.forced else ())
     first = MultiBuilder(alg, {**{xi: Leaf(alg.zero, alg.x0(i))
                                   for i, xi in enumerate(positions(n))},
                                **{vi: Leaf(alg.zero, alg.L0(alg.x0(i)))
                                   for i, vi in enumerate(velocities(n))}})
-    tails = [bessel.tail(alg, F[i][0], i, angles, lambda e: first.build(e).coeff(0))
-             for i in range(n)]
-    return result.substituted({**constants, **bessel.substitution()}, tails)
+    return [bessel.tail(alg, F[i][0], i, angles, lambda e: first.build(e).coeff(0))
+            for i in range(n)]

@@ -34,7 +34,7 @@ from kbm.coupled import bessel as bessel_module
 from kbm.coupled import coupled_custom, derive_coupled, get_coupled_model
 from kbm.coupled.jets import jet_expansion
 from kbm.coupled.model import CoupledOscillators
-from kbm.errors import ModelError, OrderError, UnsupportedTermError
+from kbm.errors import ModelError, OrderError, ParameterError, UnsupportedTermError
 from kbm.models import custom_model, get_model
 
 A1 = sp.Symbol("a1")
@@ -257,3 +257,19 @@ def test_u1_equals_fft_quadrature(case):
         quad = u_by_fft(model, vals, a, i)
         for p in points:
             assert abs(exact(*p) - quad(p)) < 1e-11
+
+
+def test_the_paper_parameters_of_the_dimer():
+    """-p mu, Delta, lam are read as the paper's (eq. 3): delta = Delta/mu, k = 2 pi/lam,
+    as for one slider; k stays a symbol when lam is not given (whatever its default)."""
+    one = kbm.derive("sedf", 1, {"mu": "0.1", "Delta": "1.5"})
+    two = derive_coupled("sedf-dimer", 1, {"mu": "0.1", "Delta": "1.5"})
+    sub = {sp.Symbol("a"): A1, sp.Symbol("Omega"): 1}
+    springs = sp.Symbol("kappa") / 2 - sp.Symbol("a2") * sp.Symbol("kappa") \
+        * sp.cos(sp.Symbol("gamma1")) / (2 * A1)
+    assert sp.simplify(one.B[1].subs(sub) + springs - two.B[0][1]) == 0
+    assert two.B[0][1].has(sp.besselj(1, A1 * sp.Symbol("k")))
+    lam2 = derive_coupled("sedf-dimer", 1, {"lam": 2})
+    assert lam2.B[0][1].has(sp.besselj(1, sp.pi * A1))
+    with pytest.raises(ParameterError, match="needs a value of mu"):
+        derive_coupled("sedf-dimer", 1, {"Delta": "1.5"})

@@ -106,7 +106,10 @@ def bind(model: "OscillatorFamily | str | BoundModel",
 
     Every member of the family binds here: a one-degree-of-freedom model, a forced one, a
     coupled system (a built-in name of :mod:`kbm.coupled` gives its
-    :class:`~kbm.coupled.CoupledOscillators`).
+    :class:`~kbm.coupled.CoupledOscillators`).  A :class:`~kbm.coupled.CoupledOscillators`
+    of one degree of freedom binds as its one-degree-of-freedom form
+    (:meth:`~kbm.coupled.CoupledOscillators.to_oscillator`), so that the engines of one
+    degree of freedom take it.
 
     A stage velocity ``v`` among ``params`` (sliders ``sedf``, ``cdc``) selects the
     driven variant (:meth:`Oscillator.with_stage_velocity`).  A model that is
@@ -137,6 +140,8 @@ def bind(model: "OscillatorFamily | str | BoundModel",
         model = get_model(model, None if v is None else {"v": v})
     elif isinstance(model, Oscillator) and "v" in params and "v" not in model.parameters:
         model = _drive_variant(model, params.pop("v"))
+    elif getattr(model, "dof", 1) == 1 and hasattr(model, "to_oscillator"):
+        model = model.to_oscillator()  # N = 1 of the coupled form: the same system
     return BoundModel.of(model, params)
 
 

@@ -13,7 +13,11 @@ member                                    dof    forced    its engine
 ========================================  =====  ========  ===========================
 
 :meth:`kbm.coupled.CoupledOscillators.from_oscillator` writes a member of one degree of
-freedom in the general form (``x -> x1``), and the general engine gives the same expansion
+freedom in the general form (``x -> x1``) and
+:meth:`~kbm.coupled.CoupledOscillators.to_oscillator` back, so every engine takes either
+form (:func:`kbm.bound.bind` converts an ``N = 1`` system for the engines of one degree of
+freedom, :func:`numerics.coupled.flow.bind_coupled` an oscillator for the coupled ones;
+``tests/test_family.py``), and the general engine gives the same expansion
 as the special one (``tests/test_coupled_engine.py``: :func:`kbm.derive` to order 5, and
 :func:`kbm.forced.derive_forced` to order 3 on every polynomial forced built-in); every
 member binds its parameter values through :func:`kbm.bound.bind`.  The one-degree-of-

@@ -273,3 +273,4 @@ def test_the_paper_parameters_of_the_dimer():
     assert lam2.B[0][1].has(sp.besselj(1, sp.pi * A1))
     with pytest.raises(ParameterError, match="needs a value of mu"):
         derive_coupled("sedf-dimer", 1, {"Delta": "1.5"})
+

@@ -11,13 +11,17 @@ floats the bound form must give.
 from __future__ import annotations
 
 import pytest
+import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from kbm.bound import bind
 from kbm.coupled import COUPLED_MODELS, CoupledOscillators, get_coupled_model
-from kbm.errors import ParameterError
+from kbm.errors import ModelError, ParameterError
 from kbm.family import OscillatorFamily
 from kbm.forced import FORCED_MODELS, get_forced_model
-from kbm.models import MODELS, get_model
+from kbm.models import MODELS, custom_model, get_model
+from kbm.symbols import x, xdot
 from numerics.coupled.flow import bind_coupled
 
 
@@ -86,3 +90,49 @@ def test_derive_takes_every_member():
     assert a.A == b.A and a.B == b.B and a.gammas == b.gammas
     assert kbm.derive(get_coupled_model("duffing-1-3"), 1).model.dof == 2
     assert type(kbm.derive("vdp", 2)).__name__ == "KBMResult"
+
+
+# -- N = 1 in either form: every engine takes both ----------------------------------------
+@pytest.mark.parametrize("name", sorted(MODELS) + sorted(FORCED_MODELS))
+def test_the_two_forms_of_one_degree_of_freedom_convert_both_ways(name):
+    """to_oscillator is the inverse of from_oscillator (x -> x1 -> x): the same F, drive,
+    resonance and hard forcing; a frequency written with a defaulted parameter (the
+    sliders' Omega = 1) comes back as its value."""
+    m = get_model(name) if name in MODELS else get_forced_model(name)
+    back = CoupledOscillators.from_oscillator(m).to_oscillator()
+    assert type(back) is type(m)
+    Omega = sp.Symbol("Omega")
+    one = {Omega: 1}
+    assert back.F == m.F.subs(one) and back.omega0 == sp.sympify(m.omega0).subs(one)
+    if name in MODELS:
+        assert back.drive == m.drive and back.physical == m.physical
+    else:
+        assert back.resonance == m.resonance and back.hard == m.hard
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.tuples(st.integers(-3, 3), st.integers(0, 3), st.integers(0, 2)),
+                min_size=1, max_size=4))
+def test_round_trip_of_a_random_polynomial(terms):
+    F = sum((c * x**i * xdot**j for c, i, j in terms), sp.Integer(0))
+    if not F.free_symbols:  # a constant F is no model (custom_model refuses it)
+        return
+    m = custom_model(F)
+    back = CoupledOscillators.from_oscillator(m).to_oscillator()
+    assert back.F == m.F and back.omega0 == m.omega0
+
+
+def test_every_engine_takes_either_form():
+    """A cycle of one degree of freedom from either form, by either shooting (two codes:
+    numerics.cycles and numerics.coupled): the paper's SEDF (eq. 3) at rest."""
+    from numerics import limit_cycle
+    from numerics.coupled.cycle import coupled_cycle
+
+    sedf = get_model("sedf")
+    general = CoupledOscillators.from_oscillator(sedf)
+    p = {"mu": 0.1, "Delta": 1.5, "beta": 1, "lam": 1}
+    one = limit_cycle(sedf, p)
+    assert limit_cycle(general, p).period == one.period  # the same path, after conversion
+    assert abs(coupled_cycle(sedf, p).period - one.period) < 1e-9  # the other shooting
+    with pytest.raises(ModelError, match="2 degrees of freedom.*coupled_cycle"):
+        limit_cycle(get_coupled_model("coupled-vdp"), {"mu": 0.1})

@@ -413,10 +413,13 @@ class CoupledOscillators(OscillatorFamily):
         ``Omega = 1``) takes that value: the coupled family's frequencies are exact
         rationals, fixed with the resonances they declare.
 
+        A driven model (a stage that pulls, ``drive = Omega^2 v t``) keeps its drive, and
+        :meth:`to_oscillator` is its inverse.
+
         Raises
         ------
         kbm.errors.ModelError
-            For a driven model or a frequency that is not a rational number.
+            For a frequency that is not a rational number.
         """
         from dataclasses import replace
 
@@ -426,16 +429,59 @@ class CoupledOscillators(OscillatorFamily):
         fixed = {s_.name for s_ in w0.free_symbols} & set(model.defaults)
         if fixed:
             sub = {sp.Symbol(n): sp.sympify(model.defaults[n]) for n in fixed}
+            extra = {} if isinstance(model, ForcedOscillator) else \
+                {"drive": model.drive.subs(sub), "stage_relative": model.stage_relative.subs(sub),
+                 "gain_factor": model.gain_factor.subs(sub)}
             model = replace(model, F=model.F.subs(sub), omega0=w0.subs(sub),
-                            defaults={k: v for k, v in model.defaults.items() if k not in fixed})
+                            defaults={k: v for k, v in model.defaults.items() if k not in fixed},
+                            **extra)
         if isinstance(model, ForcedOscillator):
             return cls._from_forced(model)
-        if t in model.F.free_symbols or model.drive != 0:
-            raise ModelError(f"{model.name!r} depends on t; the coupled averaging treats "
-                             "autonomous systems")
         (x1,), (v1,) = positions(1), velocities(1)
         return cls(model.name, (model.F.subs({x: x1, xdot: v1}, simultaneous=True),),
-                   (model.omega0,), model.description, dict(model.defaults))
+                   (model.omega0,), model.description, dict(model.defaults),
+                   physical=dict(model.physical),
+                   drive=(model.drive,) if model.drive != 0 else ())
+
+
+def _to_oscillator(self: CoupledOscillators):
+    """The one-degree-of-freedom representation of an ``N = 1`` system (``x1 -> x``,
+    ``xdot1 -> xdot``): a :class:`kbm.models.Oscillator`, or a
+    :class:`kbm.forced.ForcedOscillator` for a forced one (its resonance ``omega0 : nu``
+    from ``nu0``, its detuning ``sigma``); the inverse of :meth:`from_oscillator`, so that
+    every engine of one degree of freedom takes the system.
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        For more than one degree of freedom (the message names the coupled numerics), or a
+        forcing detuning not named ``sigma``.
+    """
+    from ..forced.model import ForcedOscillator, Resonance
+    from ..models import Oscillator
+
+    if self.dof != 1:
+        raise ModelError(f"{self.name!r} has {self.dof} degrees of freedom and the "
+                         "one-degree-of-freedom engines take one: use the coupled ones "
+                         "(kbm.coupled.derive_coupled; numerics.coupled: coupled_cycle, "
+                         "continue_coupled, forced_response)")
+    (x1,), (v1,) = positions(1), velocities(1)
+    F = self.F[0].subs({x1: x, v1: xdot}, simultaneous=True)
+    if not self.forced:
+        return Oscillator(name=self.name, F=F, omega0=self.omega0[0],
+                          description=self.description, physical=dict(self.physical),
+                          defaults=dict(self.defaults),
+                          drive=self.drive[0] if self.drive else 0)
+    if self.nu_detuning not in (None, "sigma"):
+        raise ModelError(f"{self.name!r} names its forcing detuning {self.nu_detuning!r}; "
+                         "the one-degree-of-freedom forced engine names it sigma")
+    ratio = self.nu0 / self.omega0[0]  # nu = (p/q) omega0 + mu sigma
+    return ForcedOscillator(self.name, F, self.omega0[0],
+                            Resonance(int(ratio.p), int(ratio.q)), self.description,
+                            dict(self.defaults), self.hard[0] if self.hard else 0)
+
+
+CoupledOscillators.to_oscillator = _to_oscillator
 
 
 def _forced_case(cls, model) -> "CoupledOscillators":

@@ -60,6 +60,8 @@ def bind_coupled(model: CoupledOscillators | str, params: Mapping[str, object] |
     """
     if isinstance(model, str):
         model = get_coupled_model(model)
+    elif not isinstance(model, CoupledOscillators):  # a member of one degree of freedom
+        model = CoupledOscillators.from_oscillator(model)
     given = model.resolve(params)  # the family's bound form (kbm.bound)
     names = set(model.parameters) | {"mu"}
     values = {}

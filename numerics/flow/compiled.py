@@ -165,6 +165,8 @@ def _template(model: Oscillator) -> ModelTemplate:
 
 
 def _build_template(model: Oscillator) -> ModelTemplate:
+    if getattr(model, "dof", 1) != 1:
+        model.to_oscillator()  # raises: the engines of one degree of freedom take one
     names = tuple(sorted(set(model.parameters) | {"mu"}))
     P = [sp.Symbol(n) for n in names]
     acc = model.acceleration()

@@ -16,7 +16,7 @@ from fractions import Fraction
 import sympy as sp
 
 from .errors import ParameterError
-from .family import OscillatorFamily
+from .family import OscillatorFamily, one_degree_form
 from .models import MODELS, Oscillator, _drive_variant, get_model
 from .values import FrozenMap, parameter_value
 
@@ -140,8 +140,8 @@ def bind(model: "OscillatorFamily | str | BoundModel",
         model = get_model(model, None if v is None else {"v": v})
     elif isinstance(model, Oscillator) and "v" in params and "v" not in model.parameters:
         model = _drive_variant(model, params.pop("v"))
-    elif getattr(model, "dof", 1) == 1 and hasattr(model, "to_oscillator"):
-        model = model.to_oscillator()  # N = 1 of the coupled form: the same system
+    elif getattr(model, "dof", 1) == 1:
+        model = one_degree_form(model)  # N = 1 of the coupled form: the same system
     return BoundModel.of(model, params)
 
 

@@ -30,7 +30,7 @@ This module imports none of its members (they build on it).
 
 from __future__ import annotations
 
-__all__ = ["OscillatorFamily"]
+__all__ = ["OscillatorFamily", "one_degree_form"]
 
 
 class OscillatorFamily:
@@ -55,3 +55,17 @@ class OscillatorFamily:
     def forced(self) -> bool:
         """Whether ``F`` holds the forcing angle ``theta = nu t``."""
         raise NotImplementedError
+
+
+def one_degree_form(model):
+    """The form of one degree of freedom of a member, for the engines of one degree of
+    freedom: the member itself, or an ``N = 1`` system's
+    :meth:`~kbm.coupled.CoupledOscillators.to_oscillator`.
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        For a system of several degrees of freedom (the message names the coupled engines).
+    """
+    to_oscillator = getattr(model, "to_oscillator", None)
+    return to_oscillator() if to_oscillator is not None else model

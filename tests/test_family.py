@@ -10,6 +10,7 @@ floats the bound form must give.
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 import sympy as sp
 from hypothesis import given, settings
@@ -136,3 +137,16 @@ def test_every_engine_takes_either_form():
     assert abs(coupled_cycle(sedf, p).period - one.period) < 1e-9  # the other shooting
     with pytest.raises(ModelError, match="2 degrees of freedom.*coupled_cycle"):
         limit_cycle(get_coupled_model("coupled-vdp"), {"mu": 0.1})
+
+
+def test_the_forced_engine_takes_either_form():
+    from numerics.forced.system import ForcedSystem
+
+    m = get_forced_model("duffing-forced")
+    vals = {"mu": 0.1, "alpha": 1, "h": 2, "zeta": 0.5}
+    one, general = ForcedSystem(m, vals), ForcedSystem(CoupledOscillators.from_oscillator(m),
+                                                        vals)
+    assert general.model == m and general.values == one.values
+    assert np.array_equal(general.flow([0.2, -0.1], 0.3), one.flow([0.2, -0.1], 0.3))
+    with pytest.raises(ModelError, match="2 degrees of freedom"):
+        ForcedSystem(get_coupled_model("duffing-1-3"), {"mu": 0.1})

@@ -19,6 +19,7 @@ import sympy as sp
 
 from kbm.errors import ModelError, ParameterError
 from kbm.bound import BoundModel, bind
+from kbm.family import one_degree_form
 from kbm.models import Oscillator, get_model
 from kbm.symbols import t as T, x as X, xdot as V
 
@@ -166,7 +167,7 @@ def _template(model: Oscillator) -> ModelTemplate:
 
 def _build_template(model: Oscillator) -> ModelTemplate:
     if getattr(model, "dof", 1) != 1:
-        model.to_oscillator()  # raises: the engines of one degree of freedom take one
+        one_degree_form(model)  # raises: the engines of one degree of freedom take one
     names = tuple(sorted(set(model.parameters) | {"mu"}))
     P = [sp.Symbol(n) for n in names]
     acc = model.acceleration()

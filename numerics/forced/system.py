@@ -16,6 +16,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from kbm.errors import ParameterError
+from kbm.family import one_degree_form
 from kbm.forced import ForcedOscillator, Resonance, get_forced_model
 
 from numerics.errors import IntegrationError
@@ -48,6 +49,7 @@ class ForcedSystem:
                  resonance: Resonance | str | None = None, rtol: float = 1e-10):
         if isinstance(model, str):
             model = get_forced_model(model)
+        model = one_degree_form(model)  # an N = 1 system of the coupled form
         vals = model.resolve(values)
         if "mu" not in vals:
             raise ParameterError("the forced system needs a value of mu (--param mu=0.1)")

@@ -365,6 +365,16 @@ class CoupledOscillators(OscillatorFamily):
             exprs = [sp.expand(e.subs(sub)) for e in exprs]
         return not any(e.has(t) for e in exprs)
 
+    def physical_hint(self, name: str) -> str:
+        """``", or the physical -p Delta=VALUE (delta = Delta/mu)"`` for a scaled parameter
+        with a physical form, for the message that asks for its value; empty otherwise."""
+        expr = self.physical.get(name)
+        if expr is None:
+            return ""
+        inputs = sorted({s.name for s in sp.sympify(expr).free_symbols} - {"mu"})
+        return (f", or the physical {' and '.join(f'-p {n}=VALUE' for n in inputs)}"
+                f" ({name} = {expr})")
+
     def stage_parameters(self) -> tuple[str, ...]:
         """The parameters whose value 0 removes the time ``t`` from ``F`` and the drives,
         where ``t`` enters polynomially (the stage velocity ``v`` of the pulled sliders,

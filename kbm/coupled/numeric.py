@@ -290,10 +290,8 @@ def numeric_average(model: CoupledOscillators | str, values: Mapping[str, object
     need = set().union(*[_needed(model, i) for i in range(model.dof)])
     free = sorted(need - set(vals))
     if free:
-        phys = [f"{n} = {model.physical[n]}" for n in free if n in model.physical]
         raise ParameterError(f"give values for {', '.join(free)} (-p NAME=VALUE"
-                             + (f"; or the physical names, {'; '.join(phys)}" if phys else "")
-                             + ")")
+                             + "".join(model.physical_hint(n) for n in free) + ")")
     names = tuple(sorted(need))
     fns = tuple(_function(model, i, names) for i in range(model.dof))
     return NumericAverage(model, vals, nodes, gens, fns, names)

@@ -37,17 +37,6 @@ MONODROMY_MAX_STEPS = 200_000
 MAX_VARIATIONAL_DOF = 8
 
 
-def _physical_hint(model: CoupledOscillators, name: str) -> str:
-    """``", or the paper's -p Delta=VALUE with mu"`` for a scaled parameter with a physical
-    form (``delta = Delta/mu``); empty otherwise."""
-    expr = model.physical.get(name)
-    if expr is None:
-        return ""
-    inputs = sorted({s.name for s in sp.sympify(expr).free_symbols} - {"mu"})
-    return (f", or the physical {' and '.join(f'-p {n}=VALUE' for n in inputs)}"
-            f" ({name} = {expr})")
-
-
 def bind_coupled(model: CoupledOscillators | str, params: Mapping[str, object] | None
                  ) -> tuple[CoupledOscillators, dict[str, float]]:
     """The model and every parameter's value (``mu`` included), defaults filled in.
@@ -68,7 +57,7 @@ def bind_coupled(model: CoupledOscillators | str, params: Mapping[str, object] |
     for name in sorted(names):
         if name not in given:
             raise ParameterError(f"give a value to {name} (-p {name}=VALUE"
-                                 f"{_physical_hint(model, name)}); the parameters of "
+                                 f"{model.physical_hint(name)}); the parameters of "
                                  f"{model.name!r} are {', '.join(sorted(names))}")
         v = sp.sympify(given[name])
         if not (v.is_real and v.is_finite):

@@ -232,27 +232,11 @@ large) the amplitude averaging does not apply to the sliders; the energy envelop
 
 
 def _coupled_section(title: str, intro: str, res, with_u: bool = False) -> str:
-    """The slow flow of a coupled expansion: ``A_{i,n}``, ``B_{i,n}`` and the rates of the
-    slow phases, one ``align*`` per degree of freedom (and the ``u_{i,n}``)."""
+    """The slow flow of a coupled expansion (and the ``u_{i,n}``): one ``align*`` per degree
+    of freedom and per slow phase (:meth:`kbm.coupled.CoupledKBMResult.latex_groups`)."""
     out = [f"\\subsection*{{{title}}}\n", intro.strip() + "\n"]
-    m = res.model
-
-    def shown(e):  # long rates term by term, so that their lines can be broken
-        return sp.expand(e) if len(latex(e)) > 2 * _W else e
-
-    for i in range(m.dof):
-        out.append(_align(
-            [equation_lines(f"A_{{{i + 1},{n}}}", shown(res.A[i][n]), _W)
-             for n in range(1, res.order + 1)]
-            + [equation_lines(f"B_{{{i + 1},{n}}}", shown(res.B[i][n]), _W)
-               for n in range(1, res.order + 1)]
-            + ([equation_lines(f"u_{{{i + 1},{n}}}", res.u[i][n], _W)
-                for n in range(1, res.order + 1)] if with_u else [])))
-    for r, (g, comb) in enumerate(res.gammas):
-        lines = [f"{latex(g)} &= {latex(comb)}"]
-        lines += [equation_lines(f"\\dot{{{latex(g)}}}\\big|_{{\\mu^{{{n}}}}}",
-                                 res.gamma_rate(r, n), _W) for n in range(1, res.order + 1)]
-        out.append(_align(lines))
+    out += [_align(group) for group in res.latex_groups(_W, with_u=with_u,
+                                                        expand_above=2 * _W)]
     return "\n".join(out)
 
 

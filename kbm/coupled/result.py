@@ -201,7 +201,7 @@ class CoupledKBMResult:
         """The expansion as a LaTeX ``align*`` block: ``x_i``, the slow flow, and each
         ``A_{i,n}``, ``B_{i,n}``, ``u_{i,n}`` and slow-phase rate, long ones broken into
         lines (:func:`kbm.latex.equation_lines`)."""
-        from ..latex import equation_lines, latex as to_latex
+        from ..latex import latex as to_latex
 
         m, N = self.model, self.order
         width = 90
@@ -218,12 +218,34 @@ class CoupledKBMResult:
                      rf"\dot a_{{{j}}} &= " + mus(f"A_{{{{{j},{{k}}}}}}"),
                      rf"\dot\psi_{{{j}}} &= {to_latex(m.omega0[i])} + "
                      + mus(f"B_{{{{{j},{{k}}}}}}")]
-        for i in range(m.dof):
-            for name, table in (("A", self.A), ("B", self.B), ("u", self.u)):
-                rows += [equation_lines(f"{name}_{{{i + 1},{k}}}", table[i][k], width)
-                         for k in range(1, N + 1)]
-        for r, (g, e) in enumerate(self.gammas):
-            rows.append(rf"{sp.latex(g)} &= {sp.latex(e)}")
-            rows += [equation_lines(rf"\dot{{{sp.latex(g)}}}\big|_{{\mu^{{{k}}}}}",
-                                    self.gamma_rate(r, k), width) for k in range(1, N + 1)]
+        for group in self.latex_groups(width):
+            rows += group
         return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"
+
+    def latex_groups(self, width: int = 90, *, with_u: bool = True,
+                     expand_above: int | None = None) -> list[list[str]]:
+        """The ``align`` rows of the expansion in groups: per degree of freedom its
+        ``A_{i,n}``, ``B_{i,n}`` (and ``u_{i,n}``), then per slow phase its definition and
+        rates; each broken into lines of about ``width`` characters, and an expression whose
+        LaTeX is longer than ``expand_above`` expanded first so that it can be broken."""
+        from ..latex import equation_lines, latex as to_latex
+
+        N = self.order
+
+        def shown(e: sp.Expr) -> sp.Expr:
+            long = expand_above is not None and len(to_latex(e)) > expand_above
+            return sp.expand(e) if long else e
+
+        groups = []
+        for i in range(self.model.dof):
+            tables = [("A", self.A), ("B", self.B)] + ([("u", self.u)] if with_u else [])
+            groups.append([equation_lines(f"{name}_{{{i + 1},{k}}}",
+                                          shown(table[i][k]) if name != "u" else table[i][k],
+                                          width)
+                           for name, table in tables for k in range(1, N + 1)])
+        for r, (g, comb) in enumerate(self.gammas):
+            groups.append([f"{to_latex(g)} &= {to_latex(comb)}"]
+                          + [equation_lines(rf"\dot{{{to_latex(g)}}}\big|_{{\mu^{{{k}}}}}",
+                                            self.gamma_rate(r, k), width)
+                             for k in range(1, N + 1)])
+        return groups

@@ -1,6 +1,7 @@
 """Coupled oscillators: ``N`` degrees of freedom, internal resonances, KBM to any order.
 
 - :mod:`kbm.coupled.model`: :class:`CoupledOscillators` (one degree of freedom is ``N = 1``);
+- :mod:`kbm.coupled.forms`: its two forms of one degree of freedom, converted both ways;
 - :mod:`kbm.coupled.resonance`: declared internal resonances and the slow lattice;
 - :mod:`kbm.coupled.engine`: :func:`derive_coupled`, the exact multi-angle recursion;
 - :mod:`kbm.coupled.result`: :class:`CoupledKBMResult` (JSON, LaTeX, numpy slow flow);
@@ -9,6 +10,7 @@
 - :mod:`kbm.coupled.numeric`: :func:`numeric_average`, the first order for any smooth ``F``.
 """
 
+from . import forms  # noqa: F401  (attaches from_oscillator, to_oscillator)
 from .builtins import COUPLED_MODELS, coupled_model_names, get_coupled_model
 from .engine import MAX_DOF_SYMBOLIC, MAX_ORDER, derive_coupled
 from .model import CoupledOscillators, amplitudes, coupled_custom, phases, positions, velocities

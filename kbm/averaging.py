@@ -133,7 +133,9 @@ def derive(model: "Oscillator | CoupledOscillators | str", order: int,
         An :class:`~kbm.models.Oscillator` or the name of a built-in model; a coupled
         system (:class:`~kbm.coupled.CoupledOscillators` or a coupled built-in's name) is
         the same family with ``dof = N``: :func:`kbm.coupled.derive_coupled` expands it and
-        its :class:`~kbm.coupled.CoupledKBMResult` is returned.
+        its :class:`~kbm.coupled.CoupledKBMResult` is returned (for ``N = 1`` with
+        ``sin``/``cos`` of the position above the first order, this engine's lattice sums,
+        in the general form).
     order
         Highest power ``N`` of ``mu`` kept in ``da/dt``, ``dpsi/dt`` and ``x``
         (``A_1..A_N``, ``B_1..B_N``, ``u_1..u_N``).  Any ``N >= 1`` for
@@ -175,6 +177,12 @@ def derive(model: "Oscillator | CoupledOscillators | str", order: int,
     if _coupled_member(model):  # N degrees of freedom (or a forcing): the general engine
         from .coupled.engine import derive_coupled
 
+        one = _one_degree_with_bessel(model, order)
+        if one is not None:  # N = 1, sin/cos of x above order 1: this engine's lattice sums
+            from .coupled.result import CoupledKBMResult
+
+            return CoupledKBMResult.from_one_degree(one, derive(one.to_oscillator(), order,
+                                                                 params))
         return derive_coupled(model, order, params)
     raw = run_recursion(model, order, params)
     alg = raw.algebra
@@ -185,6 +193,20 @@ def derive(model: "Oscillator | CoupledOscillators | str", order: int,
         u=(a * sp.cos(psi), *[alg.series_expr(f) for f in raw.u]),
         exact=raw.exact,
     )
+
+
+def _one_degree_with_bessel(model, order: int):
+    """The coupled system ``model`` when it has one degree of freedom, no forcing and
+    ``sin``/``cos`` of its position, and ``order > 1`` (which the general engine does not
+    take and this one does); otherwise ``None``."""
+    from .coupled.bessel import trig_of_state
+    from .coupled.builtins import get_coupled_model
+
+    m = get_coupled_model(model) if isinstance(model, str) else model
+    if order <= 1 or m.dof != 1 or m.forced or m.hard:
+        return None
+    terms = sp.Add.make_args(sp.expand(m.F[0]))
+    return m if any(trig_of_state(term, set(m.state)) for term in terms) else None
 
 
 def _coupled_member(model) -> bool:

@@ -274,3 +274,24 @@ def test_the_paper_parameters_of_the_dimer():
     with pytest.raises(ParameterError, match="needs a value of mu"):
         derive_coupled("sedf-dimer", 1, {"Delta": "1.5"})
 
+
+
+def test_one_slider_above_the_first_order_in_the_general_form():
+    """N = 1 is a case of the general form at every order kbm.derive takes: the SEDF (paper
+    eq. 3) as CoupledOscillators at order 2 gives kbm.derive's Bessel lattice sums in the
+    general form (a1, psi1), which equal the jets (Taylor series on an FFT grid) at a few
+    amplitudes; derive_coupled alone stops at order 1 and says where to go."""
+    model = get_coupled_model("sedf")
+    r = kbm.derive(model, 2)
+    assert type(r).__name__ == "CoupledKBMResult" and r.to_json()["A"][0][2]
+    vals = {"delta": 1.3, "k": 2.2, "beta": 0.9}
+    sub = {sp.Symbol(k): v for k, v in vals.items()}
+    for a in (0.6, 1.7, 2.9):
+        jet = jet_expansion(model, vals, 2, [a])
+        for n in (1, 2):
+            exact_a = float(cut_sums(r.A[0][n]).subs({**sub, A1: a}).evalf())
+            exact_b = float(cut_sums(r.B[0][n]).subs({**sub, A1: a}).evalf())
+            assert abs(exact_a - jet.A[0][n - 1]) < 1e-11
+            assert abs(exact_b - jet.B[0][n - 1]) < 1e-11
+    with pytest.raises(OrderError, match="kbm.derive\\(model, N\\)"):
+        derive_coupled(model, 2)

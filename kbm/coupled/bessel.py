@@ -230,8 +230,8 @@ def jacobi_anger_plan(rows: list[list[sp.Expr]], model, order: int, tol: float
         raise OrderError(
             f"the exact coupled averaging takes sin and cos of the state (Bessel functions) "
             f"at order 1, got order {order}: above it products of infinite series make "
-            f"lattice sums (one degree of freedom: kbm.derive(model.to_oscillator(), N), "
-            f"kbm derive MODEL --order N, forms them); {_NUMERIC_HINT}")
+            f"lattice sums (for one degree of freedom kbm.derive(model, N) forms them); "
+            f"{_NUMERIC_HINT}")
     cs = sorted({c for _, c, _ in cuts}, key=sp.default_sort_key)
     symbols = {}
     for (kind, c, l), H in sorted(cuts.items(), key=lambda kv: (kv[0][2], cs.index(kv[0][1]),

@@ -83,6 +83,18 @@ class CoupledKBMResult:
             u=tuple((a[i] * sp.cos(psis[i]), *[f.as_expr(psis) for f in U[i]])
                     for i in range(n)))
 
+    @classmethod
+    def from_one_degree(cls, model: CoupledOscillators, one) -> "CoupledKBMResult":
+        """The expansion of an ``N = 1`` system from the one-degree-of-freedom engine's
+        :class:`kbm.result.KBMResult` ``one`` (``a -> a1``, ``psi -> psi1``): the Bessel
+        lattice sums of ``sin``/``cos`` of the position above the first order."""
+        (a1,), (psi1,) = amplitudes(1), phases(1)
+        sub = {sp.Symbol("a"): a1, sp.Symbol("psi"): psi1}
+        return cls(model=model, order=one.order, gammas=(),
+                   A=((sp.Integer(0), *[e.xreplace(sub) for e in one.A[1:]]),),
+                   B=((model.omega0[0], *[e.xreplace(sub) for e in one.B[1:]]),),
+                   u=((a1 * sp.cos(psi1), *[e.xreplace(sub) for e in one.u[1:]]),))
+
     def substituted(self, substitution: dict, tails: Sequence[sp.Expr] | None = None
                     ) -> "CoupledKBMResult":
         """The expansion with the ring's stand-in symbols put back: the Bessel functions

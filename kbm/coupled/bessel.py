@@ -39,6 +39,7 @@ import sympy as sp
 from ..algebra.lazy_series import Const
 from ..algebra.multi_angle import MultiAngle
 from ..errors import OrderError, UnsupportedTermError
+from .constants import linear_argument
 from .model import amplitudes
 
 __all__ = ["JacobiAnger", "jacobi_anger_plan", "harmonic_bound", "trig_of_state"]
@@ -161,22 +162,18 @@ class JacobiAnger:
 def _key(factor: sp.Expr, state: tuple) -> tuple[str, sp.Expr, int]:
     """``(kind, c, l)`` of ``sin(c x_{l+1})``/``cos(c x_{l+1})``, or an error that says what
     the averaging takes."""
-    n = len(state) // 2
-    arg = sp.expand(factor.args[0])
-    held = [s for s in state if arg.has(s)]
-    if len(held) == 1 and held[0] in state[:n]:
-        c = sp.simplify(arg / held[0])
+    form = linear_argument(factor.args[0], state)  # the phase d is split off before
+    if form is not None and form[2] == 0 and form[0] in state[:len(state) // 2]:
+        xl, c, _ = form
         if c.has(sp.Float):
             raise UnsupportedTermError(
                 f"the argument of {factor} holds a float: the exact coupled averaging takes "
                 "exact numbers; write it as a fraction (0.5 as 1/2)")
-        if not c.free_symbols & set(state) and c != 0:
-            return type(factor).__name__, c, state.index(held[0])
+        return type(factor).__name__, c, state.index(xl)
     raise UnsupportedTermError(
         f"the term {factor} is not supported by the exact coupled averaging: it takes "
         "polynomials in the state and, at order one, sin(c x_i + d) and cos(c x_i + d) "
-        "of one "
-        f"position with a constant c (Jacobi-Anger); {_NUMERIC_HINT}")
+        f"of one position with a constant c (Jacobi-Anger); {_NUMERIC_HINT}")
 
 
 def jacobi_anger_plan(rows: list[list[sp.Expr]], model, order: int, tol: float

@@ -18,9 +18,25 @@ from __future__ import annotations
 
 import sympy as sp
 
-__all__ = ["opaque_constants", "split_phases"]
+__all__ = ["opaque_constants", "split_phases", "linear_argument"]
 
 _TIME = {sp.Symbol("theta"), sp.Symbol("t"), sp.Symbol("nu")}
+
+
+def linear_argument(arg: sp.Expr, variables: tuple):
+    """``(v, c, d)`` with ``arg = c v + d`` for one of ``variables``, ``c`` and ``d`` constant
+    (free of the variables and of time), ``c != 0``; ``None`` for any other argument."""
+    arg = sp.expand(arg)
+    held = [v for v in variables if arg.has(v)]
+    if len(held) != 1:
+        return None
+    (v,) = held
+    c = arg.coeff(v)
+    d = sp.expand(arg - c * v)
+    constant = set(variables) | _TIME
+    if c == 0 or c.free_symbols & constant or d.free_symbols & constant:
+        return None
+    return v, c, d
 
 
 def split_phases(rows: list[list[sp.Expr]], positions: tuple) -> list[list[sp.Expr]]:
@@ -28,24 +44,16 @@ def split_phases(rows: list[list[sp.Expr]], positions: tuple) -> list[list[sp.Ex
     and of time) written as ``sin(c x_l) cos d + cos(c x_l) sin d`` (and likewise); the
     forcing angle's ``cos(k theta + d)``, ``sin(k theta + d)`` too (a forcing with a phase
     ``phi``)."""
-    state = set(positions) | {sp.Symbol("theta")}
+    angles = tuple(positions) + (sp.Symbol("theta"),)
 
     def is_shifted(e) -> bool:
         if not isinstance(e, (sp.sin, sp.cos)):
             return False
-        arg = sp.expand(e.args[0])
-        held = arg.free_symbols & state
-        if len(held) != 1:
-            return False
-        (xl,) = held
-        d = sp.expand(arg - arg.coeff(xl) * xl)
-        return d != 0 and not d.free_symbols & (state | _TIME) and not d.has(xl)
+        form = linear_argument(e.args[0], angles)
+        return form is not None and form[2] != 0
 
     def split(e):
-        arg = sp.expand(e.args[0])
-        (xl,) = arg.free_symbols & state
-        c = arg.coeff(xl)
-        d = sp.expand(arg - c * xl)
+        xl, c, d = linear_argument(e.args[0], angles)
         if isinstance(e, sp.sin):
             return sp.sin(c * xl) * sp.cos(d) + sp.cos(c * xl) * sp.sin(d)
         return sp.cos(c * xl) * sp.cos(d) - sp.sin(c * xl) * sp.sin(d)

@@ -25,7 +25,8 @@ order; ``F`` with ``sin(k x)``, ``cos(k x)`` with the Jacobi-Anger algebra of
 order 3 on they are sums over three and more indices with inner sums, not readable, and
 :func:`kbm.pointwise.derive_values` evaluates any order at numeric parameters instead;
 :func:`kbm.numeric_kbm.numeric_derive` takes any smooth ``F``).
-The recursion below sees either one only through the
+The recursion (:func:`kbm.recursion.one_angle_recursion`, the case ``N = 1`` of the one
+recursion :func:`kbm.recursion.kbm_recursion`) sees either one only through the
 :class:`~kbm.algebra.base.FourierAlgebra` protocol, and ``F`` only as the lazy
 series of :mod:`kbm.algebra.lazy_series`.
 
@@ -47,11 +48,12 @@ from sympy.simplify.fu import TR8
 from .algebra.base import FourierAlgebra
 from .algebra.bessel_fourier import SymAlgebra
 from .algebra.laurent import LaurentRing
-from .algebra.lazy_series import Builder, Leaf, trig_argument_message, unsupported_message
+from .algebra.lazy_series import trig_argument_message, unsupported_message
 from .algebra.poly_fourier import PolyAlgebra
 from .cost import COST_BUDGET, check_cost, expansion_cost
 from .errors import OrderError, UnsupportedTermError
 from .models import Oscillator, get_model
+from .recursion import one_angle_recursion
 from .result import KBMResult
 from .symbols import a, psi, x, xdot
 
@@ -122,7 +124,7 @@ def _check_terms(F: sp.Expr) -> None:
     walk(F)
 
 
-# ----------------------------------------------------------------------------- the recursion
+# ----------------------------------------------------------------------------- the expansion
 def derive(model: "Oscillator | CoupledOscillators | str", order: int,
            params: dict | None = None) -> "KBMResult | CoupledKBMResult":
     """KBM expansion of ``x'' + omega0**2 x = mu F(x, x')`` to order ``order``.
@@ -285,59 +287,6 @@ def run_recursion(model: Oscillator | str, order: int, params: dict | None = Non
             f"derive_values(model, order, a, params) (on the command line: --a-range "
             f"AMIN:AMAX with --param values)")
     alg: FourierAlgebra = PolyAlgebra(model) if polynomial else SymAlgebra(model)
-    A, B, U = _recursion(alg, F, order, last_u)
+    A, B, U = one_angle_recursion(alg, F, order, last_u)
     return RawExpansion(model=model, order=order, algebra=alg, A=tuple(A), B=tuple(B),
                         u=tuple(U))
-
-
-def _recursion(alg: FourierAlgebra, F: sp.Expr, order: int, last_u: bool = True,
-               builder=Builder):
-    """``A_1..A_N``, ``B_1..B_N``, ``u_1..u_N`` (lists) by harmonic balance, order by order.
-
-    ``builder(alg, X, V).build(F)`` makes the lazy series of ``F`` along the leaves
-    ``X``, ``V`` (:class:`~kbm.algebra.lazy_series.Builder`; the numeric backend passes
-    the Taylor expansion of :mod:`kbm.algebra.smooth`).
-    """
-    zero = alg.zero
-    x0 = alg.x0()
-    v0 = alg.scale(alg.dpsi(x0), alg.w0)
-    X = Leaf(zero, x0)
-    V = Leaf(zero, v0)
-    Fnode = builder(alg, X, V).build(F)
-    A: list = []
-    B: list = []
-    U: list = []
-
-    def D(j: int, f):  # D_j f = A_j df/da + B_j df/dpsi   (j >= 1)
-        out = zero()
-        if A[j - 1]:
-            out = out + alg.scale(alg.da(f), A[j - 1])
-        if B[j - 1]:
-            out = out + alg.scale(alg.dpsi(f), B[j - 1])
-        return out
-
-    Xs, Vs = [x0], [v0]
-    for n in range(1, order + 1):
-        Fn = Fnode.coeff(n - 1)
-        v_known = zero()
-        for j in range(1, n):
-            v_known = v_known + D(j, Xs[n - j])
-        acc_known = alg.scale(alg.dpsi(v_known), alg.w0)
-        for j in range(1, n):
-            acc_known = acc_known + D(j, Vs[n - j])
-        R = Fn - acc_known
-        An, Bn = alg.secular(R)
-        A.append(An)
-        B.append(Bn)
-        if n == order and not last_u:
-            break
-        un = alg.solve(R)
-        U.append(un)
-        if n == order:
-            break
-        vn = alg.scale(alg.dpsi(un), alg.w0) + D(n, x0) + v_known
-        Xs.append(un)
-        Vs.append(vn)
-        X.append(un)
-        V.append(vn)
-    return A, B, U

@@ -3,7 +3,7 @@
 For ``x'' + omega0**2 x = mu F(x, x')`` with ``F`` built from any functions numpy and
 scipy evaluate (``tanh(xdot/eps)``, ``exp(-x**2)``, ``1/(1 + x**2)``, a Stribeck
 curve, ...) :func:`numeric_derive` runs the same recursion as :func:`kbm.derive`
-(:func:`kbm.averaging._recursion`: same conventions, no first harmonic in any
+(:func:`kbm.recursion.one_angle_recursion`: same conventions, no first harmonic in any
 ``u_n``, ``A_n = -R_n^{sin 1}/(2 omega0)``, ``B_n = -R_n^{cos 1}/(2 omega0 a)``) on
 *samples*:
 
@@ -35,10 +35,10 @@ import sympy as sp
 from .algebra import chebyshev
 from .algebra.grid_fourier import GridAlgebra
 from .algebra.smooth import TaylorTable
-from .averaging import _recursion
 from .errors import OrderError, ParameterError, ResolutionError, UnsupportedTermError
 from .models import Oscillator, get_model
 from .numeric_functions import AmplitudeFunction, ConstantFunction, WaveFunction
+from .recursion import one_angle_recursion
 from .smooth_terms import non_smooth_message, non_smooth_term
 from .symbols import x, xdot
 
@@ -274,7 +274,7 @@ class _Run:
 
 def _run(F, table, w0, lo, hi, P, M, order) -> _Run:
     alg = GridAlgebra(w0, lo, hi, P, M)
-    A, B, U = _recursion(alg, F, order, True, builder=table.builder)
+    A, B, U = one_angle_recursion(alg, F, order, builder=table.builder)
     A = [c.values for c in A]
     B = [c.values for c in B]
     U = [np.zeros((P, M)) if u.values is None else u.values for u in U]

@@ -4,8 +4,8 @@ The symbolic engine keeps the Jacobi-Anger Bessel sums of ``sin(k x)``, ``cos(k 
 to order 2 (:data:`kbm.averaging.MAX_ORDER_TRIG`); from order 3 on they become sums
 over three and more indices with inner sums in their coefficients, which would not be
 readable.  :func:`derive_values` gives every order instead at numeric parameter values
-and amplitudes ``a_q``: the same recursion (:func:`kbm.averaging._recursion`, with the
-same :class:`~kbm.algebra.lazy_series.Builder` of ``F``) over the algebra of
+and amplitudes ``a_q``: the same recursion (:func:`kbm.recursion.one_angle_recursion`, with
+the same :class:`~kbm.algebra.lazy_series.Builder` of ``F``) over the algebra of
 :mod:`kbm.algebra.jet_fourier`, where the Bessel functions are numbers, derivatives in
 ``a`` are exact (Taylor jets) and the one truncation is in the harmonics, chosen so
 that the Jacobi-Anger coefficients left out, ``|J_m(k a)|``, and the Fourier tails of
@@ -24,10 +24,11 @@ import sympy as sp
 from sympy.simplify.fu import TR8
 
 from .algebra.jet_fourier import JetAlgebra
-from .averaging import MAX_ORDER, _check_terms, _recursion
+from .averaging import MAX_ORDER, _check_terms
 from .errors import OrderError, ParameterError, ResolutionError
 from .models import Oscillator
 from .numeric_kbm import fourier_tail, numeric_model
+from .recursion import one_angle_recursion
 from .symbols import x, xdot
 
 __all__ = ["derive_values", "ExpansionValues", "DEFAULT_TOL"]
@@ -199,7 +200,7 @@ def derive_values(model: Oscillator | str, order: int, a, params: dict | None = 
     M = _start_phases(F, float(amps.max()), order, tol)
     while True:
         alg = JetAlgebra(w0, amps, order - 1, M)
-        A, B, U = _recursion(alg, F, order, True)
+        A, B, U = one_angle_recursion(alg, F, order)
         Av = [c.values[:, 0] for c in A]
         Bv = [c.values[:, 0] for c in B]
         Uv = [np.zeros((len(amps), M)) if u.values is None else u.values[:, 0, :] for u in U]

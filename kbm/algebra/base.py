@@ -1,15 +1,32 @@
-"""The contract between the KBM recursion and an algebra of Fourier series.
+"""The contracts between the KBM recursion and its algebras of Fourier series.
 
-The recursion of :mod:`kbm.averaging` never looks inside a Fourier series or a
-coefficient: it asks an *algebra* for the few operations below, and two algebras
-answer them.
+The one recursion (:func:`kbm.recursion.kbm_recursion`) never looks inside a Fourier series
+or a rate: it asks a :class:`RecursionAlgebra` (``N`` modes, an optional forcing angle) for
+the few operations it names.  Its algebras are
+
+- the exact multi-angle algebra of coupled systems
+  (:class:`kbm.coupled.algebra.CoupledAlgebra`: Laurent coefficients, the slow lattice of
+  the declared resonances, Jacobi-Anger at order one);
+- the exact two-angle algebra of a forced oscillator
+  (:class:`kbm.forced.resonant.ResonantAlgebra`);
+- the sampled ones: two angles on a grid (:class:`kbm.forced.grid.SampledAlgebra`) and
+  ``N`` angles with Taylor jets in the amplitudes (:class:`kbm.coupled.jet_algebra.JetAlgebra`);
+- every one-angle :class:`FourierAlgebra` below, through the adapter
+  :class:`kbm.recursion.OneAngle` (the case ``N = 1`` without forcing, whose rates are
+  coefficients ``c(a)`` rather than series).
+
+The one-angle contract :class:`FourierAlgebra` is answered by two exact algebras
 
 - :class:`~kbm.algebra.poly_fourier.PolyAlgebra`: finite Fourier series in
   ``psi`` whose coefficients are exact Laurent polynomials in ``a``, the
   parameters and ``omega0`` (polynomial ``F``; any order);
 - :class:`~kbm.algebra.bessel_fourier.SymAlgebra`: Fourier series with infinite
   Jacobi-Anger families of harmonics and sympy coefficients (``F`` with
-  ``sin(k x)``, ``cos(k x)``; order <= 2).
+  ``sin(k x)``, ``cos(k x)``; order <= 2);
+
+and, without the symbolic display, by the sampled algebras of the one-degree-of-freedom
+numeric backends (:class:`~kbm.algebra.grid_fourier.GridAlgebra`,
+:class:`~kbm.algebra.jet_fourier.JetAlgebra`).
 
 Two kinds of object cross the contract: a *series* ``f(a, psi) = sum_m c_m(a)
 cos(m psi) + s_m(a) sin(m psi)`` (type ``S``, see :class:`FourierSeries`) and a
@@ -23,7 +40,7 @@ from typing import Any, Protocol, TypeVar, runtime_checkable
 
 import sympy as sp
 
-__all__ = ["FourierSeries", "FourierAlgebra"]
+__all__ = ["FourierSeries", "FourierAlgebra", "RecursionAlgebra"]
 
 S = TypeVar("S", bound="FourierSeries")
 C = TypeVar("C")
@@ -127,3 +144,60 @@ class FourierAlgebra(Protocol[S, C]):
         ``g^(m)(k a cos psi)``.  An algebra without them raises
         :class:`~kbm.errors.UnsupportedTermError`.
         """
+
+
+@runtime_checkable
+class RecursionAlgebra(Protocol[S, C]):
+    """What the one KBM recursion (:func:`kbm.recursion.kbm_recursion`) asks of an algebra.
+
+    The series ``S`` are functions of the amplitudes ``a_1..a_N``, the phases
+    ``psi_1..psi_N`` and, for a forced system, the forcing angle ``theta``; the rates ``C``
+    (``A_{i,n}``, ``B_{i,n}``) are what :meth:`secular` returns: slow series for the
+    multi-angle algebras, coefficients ``c(a)`` for the one-angle ones.
+
+    Attributes
+    ----------
+    dof
+        The number ``N`` of modes (degrees of freedom).
+    detuned
+        Whether ``D_1`` holds the detuning term ``sigma d/dtheta`` (``nu = nu0 + mu sigma``
+        near a declared resonance of the forcing).
+    """
+
+    dof: int
+    detuned: bool
+
+    def zero(self) -> S:
+        """The zero series."""
+
+    def x0(self, i: int) -> S:
+        """The leading term ``a_i cos(psi_i)`` of mode ``i``."""
+
+    def L0(self, f: S) -> S:
+        """``L0 f = sum_l omega_l df/dpsi_l (+ nu0 df/dtheta)``: the unperturbed flow."""
+
+    def da(self, f: S, l: int) -> S:
+        """``df/da_l``."""
+
+    def dpsi(self, f: S, l: int) -> S:
+        """``df/dpsi_l``."""
+
+    def sigma_dtheta(self, f: S) -> S:
+        """``sigma df/dtheta`` (asked for only when :attr:`detuned`)."""
+
+    def times(self, c: C, f: S) -> S:
+        """``c f``: a rate times a series."""
+
+    def rate_vanishes(self, c: C) -> bool:
+        """Whether the rate ``c`` is zero (its term of ``D_j`` is skipped)."""
+
+    def secular(self, R: S, i: int, n: int) -> tuple[C, C]:
+        """``(A_{i,n}, B_{i,n})`` that remove the resonant part of ``R_{i,n}``.
+
+        With that part ``P cos(psi_i) + Q sin(psi_i)`` (``P``, ``Q`` slow):
+        ``A_{i,n} = -Q/(2 omega_i)``, ``B_{i,n} = -P/(2 omega_i a_i)``.
+        """
+
+    def solve(self, R: S, i: int, n: int) -> S:
+        """``u_{i,n}``: every non-resonant harmonic ``h`` of ``R_{i,n}`` over
+        ``omega_i**2 - (h . omega)**2``; the resonant ones are left out (the convention)."""

@@ -10,7 +10,7 @@ the resolution ``(P, M)`` is chosen by :mod:`kbm.numeric_kbm`, which also measur
 what was lost (the coefficient tails).
 
 :class:`GridAlgebra` offers the part of :class:`~kbm.algebra.base.FourierAlgebra`
-that the recursion :func:`kbm.averaging._recursion` asks for; there is no symbolic
+that the recursion :func:`kbm.recursion.one_angle_recursion` asks for; there is no symbolic
 display (``coef_expr``, ``series_expr``) and no ``trig``: ``F`` is expanded by
 :mod:`~kbm.algebra.smooth`, whatever its functions.
 """

@@ -84,7 +84,8 @@ class TaylorTable:
         return self._func[key]
 
     def builder(self, alg, X: Leaf, V: Leaf) -> "SmoothBuilder":
-        """The builder :func:`kbm.averaging._recursion` calls (its ``builder`` argument)."""
+        """The builder :func:`kbm.recursion.one_angle_recursion` calls (its ``builder``
+        argument)."""
         return SmoothBuilder(alg, X, V, self)
 
 

@@ -1,4 +1,4 @@
-"""The KBM recursion for ``N`` coupled oscillators, with internal resonances, to any order.
+"""The KBM expansion of ``N`` coupled oscillators, with internal resonances, to any order.
 
 For ``x_i'' + omega_i**2 x_i = mu F_i(x, x')`` (i = 1..N) the expansion (Bogoliubov &
 Mitropolsky 1961, ch. 5, the multi-frequency case; Nayfeh & Mook 1979, ch. 6) is
@@ -22,29 +22,29 @@ slow ``P``, ``Q``; it gives ``A_{i,n} = -Q/(2 omega_i)``, ``B_{i,n} = -P/(2 omeg
 and every other harmonic ``h`` is divided by ``omega_i**2 - (h . omega)**2``.  A harmonic
 whose divisor vanishes, or is within ``tolerance`` of vanishing, without a declared
 resonance raises :class:`~kbm.coupled.resonance.UndeclaredResonanceError` with the
-resonance named.  ``N = 1`` is the one-degree-of-freedom recursion of
-:mod:`kbm.averaging`, which this one reproduces exactly.
+resonance named.  ``N = 1`` reproduces the one-degree-of-freedom expansion of
+:mod:`kbm.averaging` exactly.
 
-All arithmetic is exact: ``N``-angle Fourier series (:mod:`kbm.algebra.multi_angle`) with
-Laurent-polynomial coefficients over Q in the amplitudes, the parameters and the detunings.
+The loop is the one recursion (:func:`kbm.recursion.kbm_recursion`); its algebra here is the
+exact :class:`~kbm.coupled.algebra.CoupledAlgebra`: ``N``-angle Fourier series
+(:mod:`kbm.algebra.multi_angle`) with Laurent-polynomial coefficients over Q in the
+amplitudes, the parameters and the detunings.
 """
 
 from __future__ import annotations
 
-from fractions import Fraction
-
 import sympy as sp
 
-from ..algebra.laurent import LaurentRing, Q
-from ..algebra.lazy_series import Const, Leaf, Node, Product, Scaled, Sum
-from ..algebra.multi_angle import MultiAngle
-from ..errors import ModelError, OrderError, UnsupportedTermError
+from ..algebra.lazy_series import Leaf
+from ..errors import ModelError, OrderError
 from ..forced.model import ForcedOscillator
 from ..models import Oscillator
-from .bessel import _NUMERIC_HINT, JacobiAnger, jacobi_anger_plan
+from ..recursion import kbm_recursion
+from .algebra import CoupledAlgebra, MultiBuilder, coupled_rhs
+from .bessel import JacobiAnger, jacobi_anger_plan
 from .constants import opaque_constants, split_phases
-from .model import CoupledOscillators, amplitudes, positions, velocities
-from .resonance import SlowLattice, frequency, resonant_harmonic
+from .model import CoupledOscillators, positions, velocities
+from .resonance import SlowLattice
 from .result import CoupledKBMResult
 
 __all__ = ["derive_coupled", "MAX_ORDER", "MAX_ORDER_ONE", "MAX_DOF_SYMBOLIC", "TOLERANCE"]
@@ -63,240 +63,6 @@ MAX_DOF_SYMBOLIC = 6
 #: a harmonic whose frequency is within this fraction of omega_i (and not declared
 #: resonant) is refused as a small divisor
 TOLERANCE = 0.05
-
-
-class CoupledAlgebra:
-    """``N``-angle series over Laurent coefficients, with the resonance structure."""
-
-    def __init__(self, model: CoupledOscillators, lattice: SlowLattice, gens: list[sp.Symbol],
-                 tolerance: float):
-        dof = model.dof
-        self.forced = model.forced
-        n = dof + (1 if self.forced else 0)  # the forcing angle theta is the last one
-        self.n, self.dof, self.model, self.lattice, self.tol = n, dof, model, lattice, tolerance
-        self.omega = model.omega0 + ((model.nu0,) if self.forced else ())
-        self.ring = LaurentRing([*amplitudes(dof), *gens])
-        self.sig = (self.ring.gen(self.ring.gens.index(sp.Symbol(model.nu_detuning)))
-                    if self.forced and model.nu_detuning else None)
-        self.wq = [Q(int(w.p), int(w.q)) for w in self.omega]
-        self.wf = [Fraction(int(w.p), int(w.q)) for w in self.omega]
-        self.a_inv = [self.ring.gen(i, -1) for i in range(dof)]
-
-    # -- the ring protocol of the lazy series --------------------------------------------
-    def zero(self) -> MultiAngle:
-        return MultiAngle(self.ring, self.n)
-
-    def _laurent(self, expr: sp.Expr):
-        try:
-            return self.ring.from_expr(sp.expand(expr))
-        except (TypeError, sp.PolynomialError, sp.GeneratorsNeeded):
-            hint = ("write each float as a fraction (0.1 as 1/10)" if expr.has(sp.Float) else
-                    "a denominator may be a monomial in the parameters at most")
-            raise ModelError(f"the coefficient {expr} is not a polynomial in the parameters "
-                             "with exact numbers (rationals; constants such as sqrt(2), pi, "
-                             f"cos(phi)): {hint}") from None
-
-    def const(self, expr: sp.Expr) -> MultiAngle:
-        """A coefficient free of the state: parameters, and a trigonometric polynomial in the
-        forcing angle ``theta`` for a forced system."""
-        theta = sp.Symbol("theta")
-        zero = (0,) * self.n
-        if not expr.has(theta):
-            return MultiAngle(self.ring, self.n, {zero: self._laurent(expr)})
-        from sympy.simplify.fu import TR8
-
-        out = self.zero()
-        for term in sp.Add.make_args(sp.expand(TR8(expr))):
-            trig = [f for f in sp.Mul.make_args(term) if f.has(theta)]
-            coeff = sp.Mul(*[f for f in sp.Mul.make_args(term) if not f.has(theta)])
-            if not trig:  # the mean of a product of forcing terms (a hard forcing's square)
-                out = out + MultiAngle(self.ring, self.n, {zero: self._laurent(term)})
-                continue
-            if len(trig) != 1 or not isinstance(trig[0], (sp.sin, sp.cos)):
-                raise ModelError(f"the term {term} is not a polynomial in the state times "
-                                 "cos or sin of a multiple of theta")
-            f = trig[0]
-            arg = sp.expand(f.args[0])
-            k = arg.coeff(theta)
-            c = sp.expand(arg - k * theta)
-            if not k.is_Integer or c.has(theta):
-                raise ModelError(f"{f}: the forcing enters as cos(k theta + c), sin(k theta + "
-                                 "c) with an integer k (2 pi-periodic in theta)")
-            h = tuple([0] * self.dof + [int(k)])
-            kinds = [("cos", sp.cos(c)), ("sin", -sp.sin(c))] if isinstance(f, sp.cos) \
-                else [("sin", sp.cos(c)), ("cos", sp.sin(c))]
-            for kind, w in kinds:
-                if w != 0:
-                    out = out + MultiAngle.harmonic(self.ring, h, self._laurent(coeff * w), kind)
-        return out
-
-    def x0(self, i: int) -> MultiAngle:
-        """``a_i cos(psi_i)``."""
-        h = tuple(1 if l == i else 0 for l in range(self.n))
-        return MultiAngle(self.ring, self.n, {h: self.ring.gen(i)})
-
-    def L0(self, f: MultiAngle) -> MultiAngle:
-        out = self.zero()
-        for l, w in enumerate(self.wq):
-            out = out + f.d_angle(l).scale_q(w)
-        return out
-
-    # -- resonance structure ----------------------------------------------------------
-    def _resonant(self, h: tuple, i: int, n: int) -> tuple[tuple, int] | None:
-        """``(k, s)`` with ``h . psi = s (psi_i + k . psi)``, ``k`` slow, or ``None``;
-        raises for an undeclared (near) resonance (:func:`resonant_harmonic`)."""
-        return resonant_harmonic(h, i, n, self.omega, self.lattice, self.tol, self.forced)
-
-    def secular(self, R: MultiAngle, i: int, n: int) -> tuple[MultiAngle, MultiAngle]:
-        """``(A_{i,n}, B_{i,n})``: the resonant part of ``R_{i,n}`` as slow series."""
-        ring = self.ring
-        P, Qs = self.zero(), self.zero()
-        for kind, table in (("cos", R.cos), ("sin", R.sin)):
-            for h, c in table.items():
-                res = self._resonant(h, i, n)
-                if res is None:
-                    continue
-                k, s = res
-                if kind == "cos":  # cos(psi_i + k psi) = cos psi_i cos k - sin psi_i sin k
-                    P = P + MultiAngle.harmonic(ring, k, c, "cos")
-                    Qs = Qs + MultiAngle.harmonic(ring, k, -c, "sin")
-                else:  # sin(h psi) = s sin(psi_i + k psi) = s (sin psi_i cos k + cos psi_i sin k)
-                    cs = c if s > 0 else -c
-                    Qs = Qs + MultiAngle.harmonic(ring, k, cs, "cos")
-                    P = P + MultiAngle.harmonic(ring, k, cs, "sin")
-        half = Q(-1, 2) / self.wq[i]
-        return Qs.scale_q(half), P.scale(self.a_inv[i]).scale_q(half)
-
-    def solve(self, R: MultiAngle, i: int, n: int) -> MultiAngle:
-        """``u_{i,n}``: every non-resonant harmonic over ``omega_i**2 - (h . omega)**2``."""
-        _, rest = R.split(lambda h: self._resonant(h, i, n) is not None)
-        w2 = self.wf[i] ** 2
-
-        def divide(h, c):
-            d = w2 - frequency(h, self.omega) ** 2
-            return c.scale(Q(d.denominator, d.numerator))
-
-        return rest.map_coefficients(divide)
-
-
-class MultiBuilder:
-    """The lazy-series tree of a polynomial ``F_i`` along the leaves ``x_l``, ``xdot_l``."""
-
-    def __init__(self, alg: CoupledAlgebra, leaves: dict, bessel: JacobiAnger | None = None):
-        self.alg, self.leaves, self.bessel = alg, leaves, bessel
-        self.zero = alg.zero
-        self._pow: dict = {}
-
-    def power(self, base_expr: sp.Expr, e: int) -> Node:
-        if e == 1:
-            return self.build(base_expr)
-        key = (base_expr, e)
-        if key not in self._pow:
-            half = self.power(base_expr, e // 2)
-            node = Product(self.zero, half, half)
-            if e % 2:
-                node = Product(self.zero, node, self.build(base_expr))
-            self._pow[key] = node
-        return self._pow[key]
-
-    def build(self, expr: sp.Expr) -> Node:
-        if expr in self.leaves:
-            return self.leaves[expr]
-        if self.bessel is not None and isinstance(expr, (sp.sin, sp.cos)) \
-                and expr.free_symbols & set(self.leaves):
-            return self.bessel.series(self.alg, expr)  # Jacobi-Anger, order one
-        if not expr.free_symbols & set(self.leaves):
-            return Const(self.zero, self.alg.const(expr))
-        if expr.is_Add:
-            return Sum(self.zero, [self.build(term) for term in expr.args])
-        if expr.is_Mul:
-            state = set(self.leaves)
-            const = [f for f in expr.args if not f.free_symbols & state]
-            var = [f for f in expr.args if f.free_symbols & state]
-            node = self.build(var[0])
-            for f in var[1:]:
-                node = Product(self.zero, node, self.build(f))
-            if const:
-                c = self.alg.const(sp.Mul(*const))
-                node = Scaled(self.zero, node, lambda s, c=c: s * c)
-            return node
-        if expr.is_Pow and expr.exp.is_Integer and expr.exp > 0:
-            return self.power(expr.base, int(expr.exp))
-        raise UnsupportedTermError(
-            f"the term {expr} is not supported by the exact coupled averaging: it takes "
-            "polynomials in the state and, at order one, sin(c x_i + d) and cos(c x_i + d) "
-            f"of one position (Jacobi-Anger); {_NUMERIC_HINT}")
-
-
-def _recursion(alg, F: list[list[sp.Expr]], order: int, builder=None):
-    """``A[i]``, ``B[i]``, ``U[i]``: lists over orders 1..N of mode ``i``'s series.
-
-    ``F[i][k]`` is the coefficient of ``mu**k`` of mode ``i``'s right-hand side.  ``alg`` is
-    the exact :class:`CoupledAlgebra`, or the sampled one of the numeric backend
-    (:mod:`kbm.coupled.jets`); ``builder(alg, leaves)`` makes the lazy series of an ``F``
-    (default :class:`MultiBuilder`, exact polynomials).
-    """
-    n = alg.dof
-    zero = alg.zero
-    X0 = [alg.x0(i) for i in range(n)]
-    V0 = [alg.L0(x0) for x0 in X0]
-    XL = [Leaf(zero, x0) for x0 in X0]
-    VL = [Leaf(zero, v0) for v0 in V0]
-    leaves = {**dict(zip(positions(n), XL)), **dict(zip(velocities(n), VL))}
-    builder = (builder or MultiBuilder)(alg, leaves)
-    terms = [[(k, builder.build(sp.expand(Fk))) for k, Fk in enumerate(Fi) if Fk != 0]
-             for Fi in F]
-    A: list[list] = [[] for _ in range(n)]
-    B: list[list] = [[] for _ in range(n)]
-    U: list[list] = [[] for _ in range(n)]
-
-    def F_coeff(i: int, m: int) -> MultiAngle:
-        out = zero()
-        for k, node in terms[i]:
-            if k <= m:
-                c = node.coeff(m - k)
-                if not c.is_zero():
-                    out = out + c
-        return out
-
-    def D(j: int, f: MultiAngle) -> MultiAngle:
-        out = zero()
-        for l in range(n):
-            if not A[l][j - 1].is_zero():
-                out = out + A[l][j - 1] * f.diff(l)
-            if not B[l][j - 1].is_zero():
-                out = out + B[l][j - 1] * f.d_angle(l)
-        if j == 1 and alg.sig is not None:  # nu = nu0 + mu sigma: sigma d/dtheta at order 1
-            out = out + f.d_angle(alg.n - 1).scale(alg.sig)
-        return out
-
-    Xs = [[x0] for x0 in X0]
-    Vs = [[v0] for v0 in V0]
-    for m in range(1, order + 1):
-        known, R = [], []
-        for i in range(n):
-            v_known = zero()
-            for j in range(1, m):
-                v_known = v_known + D(j, Xs[i][m - j])
-            acc = alg.L0(v_known)
-            for j in range(1, m):
-                acc = acc + D(j, Vs[i][m - j])
-            known.append(v_known)
-            R.append(F_coeff(i, m - 1) - acc)
-        for i in range(n):
-            Ai, Bi = alg.secular(R[i], i, m)
-            A[i].append(Ai)
-            B[i].append(Bi)
-        for i in range(n):
-            u = alg.solve(R[i], i, m)
-            U[i].append(u)
-            if m < order:
-                v = alg.L0(u) + D(m, X0[i]) + known[i]
-                Xs[i].append(u)
-                Vs[i].append(v)
-                XL[i].append(u)
-                VL[i].append(v)
-    return A, B, U
 
 
 def lambda_symbols(n: int) -> tuple[sp.Symbol, ...]:
@@ -460,8 +226,8 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
     gens += sorted(constants, key=lambda s: s.name) + (bessel.generators() if bessel else [])
     lattice = SlowLattice(n + (1 if model.forced else 0), model.internal)
     alg = CoupledAlgebra(model, lattice, gens, tolerance)
-    A, B, U = _recursion(alg, F, order,
-                         builder=lambda al, leaves: MultiBuilder(al, leaves, bessel))
+    A, B, U = kbm_recursion(alg, coupled_rhs(
+        alg, F, lambda al, leaves: MultiBuilder(al, leaves, bessel)), order)
     result = CoupledKBMResult.from_series(model, order, lattice, A, B, U)
     if not bessel:
         return result.substituted(constants) if constants else result

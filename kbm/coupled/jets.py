@@ -27,7 +27,7 @@ forcing angle ``theta``).  Then
 The derivatives in ``a`` are exact (no differences, no interpolation); the only truncation is
 the grid in the angles, exact for a polynomial ``F`` once the grid holds its harmonics (the
 result reports the largest coefficient on the grid's outer shell).  The recursion itself is
-:func:`kbm.coupled.engine._recursion`, the exact engine's, on this algebra.
+:func:`kbm.recursion.kbm_recursion`, every engine's, on this algebra.
 """
 
 from __future__ import annotations
@@ -44,6 +44,8 @@ import sympy as sp
 from ..algebra.lazy_series import Tail
 from ..algebra.smooth import TaylorOf, TaylorTable
 from ..errors import ModelError, OrderError, ParameterError, ResolutionError
+from ..recursion import SlowRates, kbm_recursion
+from .algebra import coupled_rhs
 from .model import CoupledOscillators, positions, velocities
 from .resonance import (SlowLattice, UndeclaredResonanceError, lattice_on_grid,
                         resonant_harmonic, slow_point)
@@ -147,8 +149,9 @@ class JetSeries:
         return self.values[0]
 
 
-class JetAlgebra:
-    """The recursion's algebra at the amplitudes ``a*`` on an ``M^D`` torus grid.
+class JetAlgebra(SlowRates):
+    """The recursion's algebra at the amplitudes ``a*`` on an ``M^D`` torus grid (the sampled
+    multi-angle :class:`~kbm.algebra.base.RecursionAlgebra`).
 
     Parameters
     ----------
@@ -185,6 +188,7 @@ class JetAlgebra:
         self.point = np.asarray(point, dtype=float)
         self.M, self.top = int(nodes), int(top)
         self.sig = sigma
+        self.detuned = sigma is not None
         self.shape = (self.M,) * D
         # the multi-indices of the amplitudes and the tables of products and derivatives
         self.index = _multi_indices(N, self.top)
@@ -241,6 +245,16 @@ class JetAlgebra:
 
     def L0(self, f: JetSeries) -> JetSeries:
         return self.spectral(f, self.iL0)
+
+    def da(self, f: JetSeries, l: int) -> JetSeries:
+        return f.diff(l)
+
+    def dpsi(self, f: JetSeries, l: int) -> JetSeries:
+        return f.d_angle(l)
+
+    def sigma_dtheta(self, f: JetSeries) -> JetSeries:
+        """``sigma df/dtheta`` (``nu = nu0 + mu sigma``; theta is the last angle)."""
+        return f.d_angle(self.n - 1).scale(self.sig)
 
     def inverse_amplitude(self, i: int) -> JetSeries:
         """``1/a_i``: ``sum_k (-Da_i)^k / a*_i^(k+1)``."""
@@ -354,7 +368,7 @@ def _slow_terms(gens: tuple, D: int, M: int):
 
 class JetBuilder:
     """Makes ``F(x0 + Dx, v0 + Dv, theta)`` as a :class:`~kbm.algebra.smooth.TaylorOf`
-    over the ``2 N`` leaves (the ``builder`` of :func:`kbm.coupled.engine._recursion`)."""
+    over the ``2 N`` leaves (the ``builder`` of :func:`kbm.coupled.algebra.coupled_rhs`)."""
 
     def __init__(self, alg: JetAlgebra, leaves: dict):
         self.alg = alg
@@ -562,10 +576,8 @@ def jet_expansion(model: CoupledOscillators, values: Mapping[str, float], order:
 def _on_grid(alg: JetAlgebra, F, order: int, gradient: bool, lattice: SlowLattice,
              a: np.ndarray, g: np.ndarray) -> JetExpansion:
     """The expansion on one grid (see :func:`jet_expansion`)."""
-    from .engine import _recursion
-
     n = alg.dof
-    A, B, U = _recursion(alg, F, order, builder=JetBuilder)
+    A, B, U = kbm_recursion(alg, coupled_rhs(alg, F, JetBuilder), order)
     gens = lattice.generators
     unit = [alg.pos[tuple(1 if k == l else 0 for k in range(n))] for l in range(n)]
 

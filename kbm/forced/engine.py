@@ -1,4 +1,4 @@
-"""The KBM recursion for a periodically forced oscillator, near a resonance, to any order.
+"""The KBM expansion of a periodically forced oscillator, near a resonance, to any order.
 
 For ``x'' + omega0**2 x = mu F(x, x', theta)``, ``theta = nu t``,
 ``nu = nu0 + mu sigma`` with ``nu0 = (p/q) omega0`` (:class:`~kbm.forced.model.Resonance`):
@@ -27,8 +27,10 @@ Without a declared resonance (``nu`` given, not near one) the same recursion kee
 ``(m, k) = (1, 0)`` secular; a harmonic whose divisor is small (within ``tolerance`` of a
 resonance) is refused with the resonance named (:class:`SmallDivisorError`).
 
-All arithmetic is exact: two-angle Fourier series (:mod:`kbm.forced.two_angle`) with
-Laurent-polynomial coefficients over Q in ``a``, the parameters and ``sigma``.
+The loop is the one recursion (:func:`kbm.recursion.kbm_recursion`, the case ``N = 1`` with a
+forcing angle).  All arithmetic is exact: two-angle Fourier series
+(:mod:`kbm.forced.two_angle`) with Laurent-polynomial coefficients over Q in ``a``, the
+parameters and ``sigma``.
 
 References
 ----------
@@ -43,8 +45,9 @@ from fractions import Fraction
 
 import sympy as sp
 
-from ..algebra.lazy_series import Builder, Leaf
+from ..algebra.lazy_series import Builder
 from ..errors import OrderError, ParameterError, UnsupportedTermError
+from ..recursion import kbm_recursion
 from ..symbols import mu, psi
 from ..values import parameter_value
 from .builtins import get_forced_model
@@ -59,80 +62,6 @@ __all__ = ["derive_forced", "SmallDivisorError", "MAX_ORDER"]
 
 #: highest order of the forced expansion (cost grows quickly with the harmonics of theta)
 MAX_ORDER = 12
-
-
-def forced_recursion(alg, build_terms, order: int):
-    """The recursion over any two-angle algebra (exact or sampled).
-
-    ``alg`` offers ``zero``, ``x0``, ``L0``, ``da``, ``dpsi``, ``sigma_dtheta`` (``sigma
-    d/dtheta``, zero without a resonance), ``secular`` and ``solve``;
-    ``build_terms(X, V)`` returns the right-hand side as pairs ``(k, node)``: the lazy series
-    ``node`` (in ``mu``, along ``x = sum mu**n X_n``) is multiplied by ``mu**k`` (a forcing
-    frequency ``nu = nu0 + mu sigma`` in ``F`` makes it depend on ``mu``).
-
-    Returns the lists ``A_1..A_N``, ``B_1..B_N``, ``u_1..u_N`` in the algebra's types.
-    """
-    zero = alg.zero
-    x0 = alg.x0()
-    v0 = alg.L0(x0)
-    X, V = Leaf(zero, x0), Leaf(zero, v0)
-    terms = build_terms(X, V)
-
-    def F_coeff(n: int):
-        out = zero()
-        for k, node in terms:
-            if k <= n:
-                c = node.coeff(n - k)
-                if not c.is_zero():
-                    out = out + c
-        return out
-
-    A: list = []
-    B: list = []
-    U: list = []
-
-    def D(j: int, f):
-        out = zero()
-        if not A[j - 1].is_zero():
-            out = out + A[j - 1] * alg.da(f)
-        if not B[j - 1].is_zero():
-            out = out + B[j - 1] * alg.dpsi(f)
-        if j == 1:
-            out = out + alg.sigma_dtheta(f)
-        return out
-
-    Xs, Vs = [x0], [v0]
-    for n in range(1, order + 1):
-        v_known = zero()
-        for j in range(1, n):
-            v_known = v_known + D(j, Xs[n - j])
-        acc_known = alg.L0(v_known)
-        for j in range(1, n):
-            acc_known = acc_known + D(j, Vs[n - j])
-        R = F_coeff(n - 1) - acc_known
-        An, Bn = alg.secular(R)
-        A.append(An)
-        B.append(Bn)
-        un = alg.solve(R, n)
-        U.append(un)
-        if n == order:
-            break
-        vn = alg.L0(un) + D(n, x0) + v_known
-        Xs.append(un)
-        Vs.append(vn)
-        X.append(un)
-        V.append(vn)
-    return A, B, U
-
-
-def _recursion(alg: ResonantAlgebra, F: list[sp.Expr], order: int):
-    """``F[k]`` is the coefficient of ``mu**k`` of the right-hand side (a hard forcing or a
-    forcing frequency in ``F`` makes it depend on ``mu``)."""
-    def terms(X, V):
-        builder = Builder(alg, X, V)
-        return [(k, builder.build(Fk)) for k, Fk in enumerate(F)]
-
-    return forced_recursion(alg, terms, order)
 
 
 def _slow_expr(f: TwoAngle) -> sp.Expr:
@@ -227,7 +156,12 @@ def derive_forced(model: ForcedOscillator | str, order: int, params: dict | None
     Fmu = sp.Poly(sp.expand(model.shifted(freq).subs(nu_symbol, freq)), mu)
     F = [sp.expand(Fmu.coeff_monomial(mu**k)) for k in range(Fmu.degree() + 1)]
     alg = ResonantAlgebra(model, res, ratio, tolerance, F)
-    A, B, U = _recursion(alg, F, order)
+
+    def rhs(X, V):  # F[k]: the coefficient of mu**k (a hard forcing or nu in F give them)
+        builder = Builder(alg, X[0], V[0])
+        return [[(k, builder.build(Fk)) for k, Fk in enumerate(F)]]
+
+    (A,), (B,), (U,) = kbm_recursion(alg, rhs, order)  # N = 1 with the forcing angle
     return ForcedKBMResult(
         model=model, order=order, resonance=res, nu_ratio=ratio,
         A=tuple(_slow_expr(f) for f in A),

@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..algebra import chebyshev
+from ..recursion import SlowRates
 from .model import Resonance
 
 __all__ = ["SampledSeries", "SampledAlgebra"]
@@ -90,8 +91,9 @@ class SampledSeries:
         return self.scale_q(c)
 
 
-class SampledAlgebra:
-    """The forced recursion's algebra on a ``P x M x N`` grid (see the module docstring).
+class SampledAlgebra(SlowRates):
+    """The forced recursion's algebra on a ``P x M x N`` grid (see the module docstring): the
+    case ``N = 1`` with a forcing angle of :class:`~kbm.algebra.base.RecursionAlgebra`.
 
     Parameters
     ----------
@@ -113,6 +115,8 @@ class SampledAlgebra:
     """
 
     exact = False
+    dof = 1
+    detuned = True  # a declared resonance: nu = nu0 + mu sigma
 
     def __init__(self, omega0: float, resonance: Resonance, lo: float, hi: float, P: int,
                  M: int, N: int, cap: int, chop: float = 1e-14):
@@ -169,14 +173,14 @@ class SampledAlgebra:
     def zero(self) -> SampledSeries:
         return self._series(None)
 
-    def x0(self) -> SampledSeries:
+    def x0(self, i: int = 0) -> SampledSeries:
         """``a cos(psi)``."""
         return self.sample(self.a[:, None, None] * np.cos(self.psi)[None, :, None])
 
     def L0(self, f: SampledSeries) -> SampledSeries:
         return self._spectral(f, self._iL0, chop=False)
 
-    def dpsi(self, f: SampledSeries) -> SampledSeries:
+    def dpsi(self, f: SampledSeries, l: int = 0) -> SampledSeries:
         return self._spectral(f, self._im)
 
     def sigma_dtheta(self, f: SampledSeries) -> SampledSeries:
@@ -193,7 +197,7 @@ class SampledAlgebra:
         v = np.concatenate([np.zeros((s,) + self._grid), f.values])[:self.cap + 1]
         return self._series(v)
 
-    def da(self, f: SampledSeries) -> SampledSeries:
+    def da(self, f: SampledSeries, l: int = 0) -> SampledSeries:
         """``df/da`` by the Chebyshev coefficients (small ones dropped first)."""
         if f.values is None:
             return f
@@ -213,7 +217,8 @@ class SampledAlgebra:
             Bj.append(-(gp + gm) / (2 * self.w0))
         return np.stack(Aj, axis=-1), np.stack(Bj, axis=-1)
 
-    def secular(self, R: SampledSeries) -> tuple[SampledSeries, SampledSeries]:
+    def secular(self, R: SampledSeries, i: int = 0, n: int = 0
+                ) -> tuple[SampledSeries, SampledSeries]:
         """``(A_n, B_n)``: the resonant part of ``R_n`` as series of the slow harmonics."""
         if R.values is None:
             return self.zero(), self.zero()
@@ -229,6 +234,6 @@ class SampledAlgebra:
         bv = np.fft.ifft2(sb * scale, axes=(2, 3)).real / self.a[None, :, None, None]
         return self._series(av), self._series(bv)
 
-    def solve(self, R: SampledSeries, n: int) -> SampledSeries:
+    def solve(self, R: SampledSeries, i: int, n: int) -> SampledSeries:
         """``u_n``: every non-resonant harmonic over ``omega0**2 - (m omega0 + k nu0)**2``."""
         return self._spectral(R, self._inv, chop=False)

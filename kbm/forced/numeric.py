@@ -4,7 +4,7 @@ amplitude interval.
 For ``x'' + omega0**2 x = mu F(x, x', theta)`` with ``F`` built from any functions numpy and
 scipy evaluate — the washboard force ``sin(k x + theta)`` of a slider seen from its moving
 stage, ``tanh``, ``exp(-x**2) cos(theta)`` — :func:`numeric_derive_forced` runs the same
-recursion as the exact engine (:func:`kbm.forced.engine.forced_recursion`: same conventions,
+recursion as the exact engine (:func:`kbm.recursion.kbm_recursion`: same conventions,
 no resonant harmonic in any ``u_n``) on *samples* (:mod:`kbm.forced.grid`):
 
 - ``psi`` and ``theta`` on ``M x N`` equispaced angles (derivatives, the resonant part and
@@ -45,9 +45,10 @@ from ..algebra.smooth import TaylorOf, TaylorTable
 from ..errors import ModelError, ParameterError, ResolutionError
 from ..numeric_kbm import (check_order, check_tol, chebyshev_tail, fourier_tail,
                            parse_a_range)
+from ..recursion import kbm_recursion
 from ..symbols import x, xdot
 from .builtins import get_forced_model
-from .engine import derive_forced, forced_recursion
+from .engine import derive_forced
 from .grid import SampledAlgebra
 from .model import ForcedOscillator, Resonance, nu, theta
 from .numeric_result import NumericForcedExpansion, SlowSeries
@@ -153,8 +154,9 @@ def _run(tables, w0, res, lo, hi, P, M, N, order) -> _Run:
     alg = SampledAlgebra(w0, res, lo, hi, P, M, N, cap=order - 1)
     TH = np.broadcast_to(alg.theta[None, None, :], (P, M, N))
 
-    def terms(X, V):
+    def terms(XL, VL):
         zero = alg.zero
+        X, V = XL[0], VL[0]
         Dx, Dv = Tail(zero, X), Tail(zero, V)
 
         def sampler(table):
@@ -180,9 +182,9 @@ def _run(tables, w0, res, lo, hi, P, M, N, order) -> _Run:
             if i:
                 node = Scaled(zero, node, lambda f, i=i: alg.sigma_power(f, i))
             out.append((i, node))
-        return out
+        return [out]
 
-    A, B, U = forced_recursion(alg, terms, order)
+    (A,), (B,), (U,) = kbm_recursion(alg, terms, order)  # N = 1 with the forcing angle
     As, aBs = [], []
     for An, Bn in zip(A, B):
         # A_n and a B_n as slow spectra; B_n = (a B_n)/a is formed in the result

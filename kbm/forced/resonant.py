@@ -17,6 +17,7 @@ from sympy.simplify.fu import TR8
 
 from ..algebra.laurent import Laurent, LaurentRing, Q
 from ..errors import ModelError
+from ..recursion import SlowRates
 from ..symbols import a, mu, x, xdot
 from .model import ForcedOscillator, Resonance, sigma, theta
 from .two_angle import TwoAngle
@@ -28,8 +29,11 @@ class SmallDivisorError(ModelError):
     """A harmonic of the expansion is (nearly) resonant but the resonance was not declared."""
 
 
-class ResonantAlgebra:
-    """Two-angle series over Laurent coefficients, with the resonance structure."""
+class ResonantAlgebra(SlowRates):
+    """Two-angle series over Laurent coefficients, with the resonance structure: the case
+    ``N = 1`` with a forcing angle of :class:`~kbm.algebra.base.RecursionAlgebra`."""
+
+    dof = 1
 
     def __init__(self, model: ForcedOscillator, res: Resonance | None, ratio: Fraction,
                  tolerance: float, F: list[sp.Expr] | None = None):
@@ -48,6 +52,7 @@ class ResonantAlgebra:
         self.nu0 = self.w0.scale(Q(ratio.numerator, ratio.denominator))
         self.a_inv = self.ring.gen(0, -1)
         self.sig = self.ring.gen(len(self.ring.gens) - 1) if res else None
+        self.detuned = self.sig is not None
         self.model = model
 
     # -- the ring protocol of the lazy series ------------------------------------------
@@ -92,17 +97,17 @@ class ResonantAlgebra:
                 from None
 
     # -- calculus ------------------------------------------------------------------
-    def x0(self) -> TwoAngle:
+    def x0(self, i: int = 0) -> TwoAngle:
         """``a cos(psi)``."""
         return TwoAngle(self.ring, {(1, 0): self.ring.gen(0)})
 
     def L0(self, f: TwoAngle) -> TwoAngle:
         return f.d_angle(0).scale(self.w0) + f.d_angle(1).scale(self.nu0)
 
-    def da(self, f: TwoAngle) -> TwoAngle:
+    def da(self, f: TwoAngle, l: int = 0) -> TwoAngle:
         return f.da()
 
-    def dpsi(self, f: TwoAngle) -> TwoAngle:
+    def dpsi(self, f: TwoAngle, l: int = 0) -> TwoAngle:
         return f.d_angle(0)
 
     def sigma_dtheta(self, f: TwoAngle) -> TwoAngle:
@@ -120,7 +125,7 @@ class ResonantAlgebra:
         s = m - j * p
         return (j, s) if s in (1, -1) else None
 
-    def secular(self, R: TwoAngle) -> tuple[TwoAngle, TwoAngle]:
+    def secular(self, R: TwoAngle, i: int = 0, n: int = 0) -> tuple[TwoAngle, TwoAngle]:
         """``(A_n, B_n)``: the resonant part of ``R_n`` as slow series."""
         res, _ = R.split(lambda m, k: self.resonant(m, k) is not None)
         ring = self.ring
@@ -139,7 +144,7 @@ class ResonantAlgebra:
         half = Q(-1, 2)
         return Qs.scale(self.w0inv.scale(half)), P.scale((self.w0inv * self.a_inv).scale(half))
 
-    def solve(self, R: TwoAngle, n: int) -> TwoAngle:
+    def solve(self, R: TwoAngle, i: int, n: int) -> TwoAngle:
         """``u_n``: every non-resonant harmonic over ``omega0**2 - (m omega0 + k nu0)**2``."""
         _, rest = R.split(lambda m, k: self.resonant(m, k) is not None)
         w2inv = self.w0inv * self.w0inv

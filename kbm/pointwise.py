@@ -27,8 +27,8 @@ from .algebra.jet_fourier import JetAlgebra
 from .averaging import MAX_ORDER, _check_terms
 from .errors import OrderError, ParameterError, ResolutionError
 from .models import Oscillator
-from .numeric_kbm import fourier_tail, numeric_model
 from .recursion import one_angle_recursion
+from .sampling import fourier_tail, numeric_model
 from .symbols import x, xdot
 
 __all__ = ["derive_values", "ExpansionValues", "DEFAULT_TOL"]

@@ -21,7 +21,7 @@ import numpy as np
 
 from . import chebyshev
 
-__all__ = ["GridSeries", "GridCoef", "GridAlgebra"]
+__all__ = ["Samples", "PhaseGrid", "GridSeries", "GridCoef", "GridAlgebra"]
 
 
 class GridCoef:
@@ -36,8 +36,10 @@ class GridCoef:
         return bool(np.any(self.values != 0.0))
 
 
-class GridSeries:
-    """Samples ``f(a_i, psi_j)``, shape ``(P, M)``; ``values is None`` is the exact zero."""
+class Samples:
+    """Values on a grid, ``values is None`` the exact zero, with the ring operations that act
+    value by value (the sampled series of the one-angle algebras; each gives its product and
+    its scaling by a coefficient)."""
 
     __slots__ = ("values",)
 
@@ -47,26 +49,32 @@ class GridSeries:
     def is_zero(self) -> bool:
         return self.values is None
 
-    def __add__(self, other: "GridSeries") -> "GridSeries":
+    def __add__(self, other):
         if other.values is None:
             return self
         if self.values is None:
             return other
-        return GridSeries(self.values + other.values)
+        return type(self)(self.values + other.values)
 
-    def __neg__(self) -> "GridSeries":
-        return self if self.values is None else GridSeries(-self.values)
+    def __neg__(self):
+        return self if self.values is None else type(self)(-self.values)
 
-    def __sub__(self, other: "GridSeries") -> "GridSeries":
+    def __sub__(self, other):
         return self + (-other)
+
+    def scale_q(self, q):
+        return self if self.values is None else type(self)(self.values * float(q))
+
+
+class GridSeries(Samples):
+    """Samples ``f(a_i, psi_j)``, shape ``(P, M)``; ``values is None`` is the exact zero."""
+
+    __slots__ = ()
 
     def __mul__(self, other: "GridSeries") -> "GridSeries":
         if self.values is None or other.values is None:
             return GridSeries(None)
         return GridSeries(self.values * other.values)
-
-    def scale_q(self, q) -> "GridSeries":
-        return self if self.values is None else GridSeries(self.values * float(q))
 
     def scale(self, c) -> "GridSeries":
         """``c f`` for a number or a coefficient (``P`` values, one per amplitude)."""
@@ -77,7 +85,45 @@ class GridSeries:
         return GridSeries(self.values * float(c))
 
 
-class GridAlgebra:
+class PhaseGrid:
+    """``M`` equispaced phases ``psi_j`` (the last axis of the samples): the harmonic balance
+    of the one-angle sampled algebras.  The first harmonic is left out of every ``u_n``, the
+    Nyquist mode (without a sine partner) is dropped."""
+
+    exact = False
+
+    def _phases(self, omega0: float, M: int) -> None:
+        self.w0 = float(omega0)
+        self.M = int(M)
+        self.psi = 2 * np.pi * np.arange(self.M) / self.M
+        m = np.arange(self.M // 2 + 1).astype(float)
+        div = self.w0**2 * (1.0 - m**2)
+        div[1] = np.inf  # the first harmonic is left out of every u_n
+        self._inv = 1.0 / div
+        self._inv[-1] = 0.0  # the Nyquist mode has no sine partner: dropped
+        self._ik = 1j * m
+        self._ik[-1] = 0.0
+
+    def scale(self, f: Samples, c) -> Samples:
+        """``c f`` for a number or a coefficient."""
+        return f.scale(c)
+
+    def harmonic1(self, R: Samples) -> tuple[np.ndarray, np.ndarray]:
+        """``(r_c, r_s)``: the coefficients of ``cos psi`` and ``sin psi`` of ``R`` (not zero)."""
+        # project on cos and sin directly: one pass, no full transform
+        c = R.values @ np.cos(self.psi) * (2.0 / self.M)
+        s = R.values @ np.sin(self.psi) * (2.0 / self.M)
+        return c, s
+
+    def solve(self, R: Samples) -> Samples:
+        """``u_n``: harmonic ``m != 1`` of ``R_n`` over ``omega0**2 (1 - m**2)``."""
+        if R.values is None:
+            return R
+        spec = np.fft.rfft(R.values, axis=-1) * self._inv
+        return type(R)(np.fft.irfft(spec, n=self.M, axis=-1))
+
+
+class GridAlgebra(PhaseGrid):
     """Series sampled on ``P`` Chebyshev amplitudes of ``[lo, hi]`` times ``M`` phases.
 
     Parameters
@@ -93,23 +139,12 @@ class GridAlgebra:
         differentiation in ``a`` (:meth:`da`).
     """
 
-    exact = False
-
     def __init__(self, omega0: float, lo: float, hi: float, P: int, M: int,
                  chop: float = 1e-14):
-        self.w0 = float(omega0)
+        self._phases(omega0, M)
         self.chop = float(chop)
-        self.lo, self.hi, self.P, self.M = float(lo), float(hi), int(P), int(M)
+        self.lo, self.hi, self.P = float(lo), float(hi), int(P)
         self.a = chebyshev.points(lo, hi, P)
-        self.psi = 2 * np.pi * np.arange(M) / M
-        m = np.arange(M // 2 + 1)
-        self._m = m
-        div = self.w0**2 * (1.0 - m.astype(float) ** 2)
-        div[1] = np.inf  # the first harmonic is left out of every u_n
-        self._inv = 1.0 / div
-        self._inv[-1] = 0.0  # the Nyquist mode has no sine partner: dropped
-        self._ik = 1j * m
-        self._ik[-1] = 0.0
 
     # -- the recursion's vocabulary ----------------------------------------------------
     def zero(self) -> GridSeries:
@@ -127,9 +162,6 @@ class GridAlgebra:
     def v0(self) -> GridSeries:
         """``omega0 dx_0/dpsi = -omega0 a sin(psi)``."""
         return GridSeries(-self.w0 * self.a[:, None] * np.sin(self.psi)[None, :])
-
-    def scale(self, f: GridSeries, c) -> GridSeries:
-        return f.scale(c)
 
     def dpsi(self, f: GridSeries) -> GridSeries:
         if f.values is None:
@@ -152,21 +184,8 @@ class GridAlgebra:
         d = chebyshev.derivative_coefficients(c, self.lo, self.hi, axis=0)
         return GridSeries(chebyshev.values(d, axis=0))
 
-    def harmonic1(self, R: GridSeries) -> tuple[np.ndarray, np.ndarray]:
-        """``(r_c, r_s)``: the coefficients of ``cos psi`` and ``sin psi`` of ``R``."""
-        if R.values is None:
-            return np.zeros(self.P), np.zeros(self.P)
-        # project on cos and sin directly: one pass, no full transform
-        c = R.values @ np.cos(self.psi) * (2.0 / self.M)
-        s = R.values @ np.sin(self.psi) * (2.0 / self.M)
-        return c, s
-
     def secular(self, R: GridSeries) -> tuple[GridCoef, GridCoef]:
+        if R.values is None:
+            return GridCoef(np.zeros(self.P)), GridCoef(np.zeros(self.P))
         rc, rs = self.harmonic1(R)
         return GridCoef(-rs / (2 * self.w0)), GridCoef(-rc / (2 * self.w0 * self.a))
-
-    def solve(self, R: GridSeries) -> GridSeries:
-        if R.values is None:
-            return R
-        spec = np.fft.rfft(R.values, axis=1) * self._inv
-        return GridSeries(np.fft.irfft(spec, n=self.M, axis=1))

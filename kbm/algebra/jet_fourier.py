@@ -29,6 +29,8 @@ from math import comb, factorial
 import numpy as np
 import scipy.special
 
+from .grid_fourier import GridCoef, PhaseGrid, Samples
+
 __all__ = ["JetSeries", "JetCoef", "JetAlgebra", "bessel_jets"]
 
 
@@ -42,49 +44,21 @@ def _jet_mul(f: np.ndarray, g: np.ndarray) -> np.ndarray:
     return out
 
 
-class JetCoef:
+class JetCoef(GridCoef):
     """A coefficient ``c(a)`` as jets at the amplitudes: shape ``(Q, K + 1)``."""
 
-    __slots__ = ("values",)
-
-    def __init__(self, values: np.ndarray):
-        self.values = values
-
-    def __bool__(self) -> bool:
-        return bool(np.any(self.values != 0.0))
+    __slots__ = ()
 
 
-class JetSeries:
+class JetSeries(Samples):
     """Samples in ``psi`` of jets at the amplitudes: shape ``(Q, K + 1, M)``; None is zero."""
 
-    __slots__ = ("values",)
-
-    def __init__(self, values: np.ndarray | None):
-        self.values = values
-
-    def is_zero(self) -> bool:
-        return self.values is None
-
-    def __add__(self, other: "JetSeries") -> "JetSeries":
-        if other.values is None:
-            return self
-        if self.values is None:
-            return other
-        return JetSeries(self.values + other.values)
-
-    def __neg__(self) -> "JetSeries":
-        return self if self.values is None else JetSeries(-self.values)
-
-    def __sub__(self, other: "JetSeries") -> "JetSeries":
-        return self + (-other)
+    __slots__ = ()
 
     def __mul__(self, other: "JetSeries") -> "JetSeries":
         if self.values is None or other.values is None:
             return JetSeries(None)
         return JetSeries(_jet_mul(self.values, other.values))
-
-    def scale_q(self, q) -> "JetSeries":
-        return self if self.values is None else JetSeries(self.values * float(q))
 
     def scale(self, c) -> "JetSeries":
         """``c f`` for a number or a :class:`JetCoef`."""
@@ -114,7 +88,7 @@ def bessel_jets(m_max: int, z: np.ndarray, scale: float, K: int) -> np.ndarray:
     return out
 
 
-class JetAlgebra:
+class JetAlgebra(PhaseGrid):
     """Jacobi-Anger series with jet coefficients at the amplitudes ``a`` (numbers).
 
     Parameters
@@ -129,20 +103,10 @@ class JetAlgebra:
         Phases (even); harmonics ``|m| < M/2`` are kept.
     """
 
-    exact = False
-
     def __init__(self, omega0: float, a: np.ndarray, K: int, M: int):
-        self.w0 = float(omega0)
+        self._phases(omega0, M)
         self.a = np.asarray(a, dtype=float)
-        self.K, self.M = int(K), int(M)
-        self.psi = 2 * np.pi * np.arange(M) / M
-        m = np.arange(M // 2 + 1).astype(float)
-        div = self.w0**2 * (1.0 - m**2)
-        div[1] = np.inf  # no u_n holds a first harmonic
-        self._inv = 1.0 / div
-        self._inv[-1] = 0.0  # the Nyquist mode is dropped
-        self._ik = 1j * m
-        self._ik[-1] = 0.0
+        self.K = int(K)
         # the jet of 1/a at each amplitude: (-1)**p / a**(p + 1)
         p = np.arange(self.K + 1)
         self._inv_a = (-1.0) ** p[None, :] / self.a[:, None] ** (p[None, :] + 1)
@@ -171,9 +135,6 @@ class JetAlgebra:
             out[:, 1, :] = np.cos(self.psi)[None, :]
         return JetSeries(out)
 
-    def scale(self, f: JetSeries, c) -> JetSeries:
-        return f.scale(c)
-
     def dpsi(self, f: JetSeries) -> JetSeries:
         if f.values is None:
             return f
@@ -193,17 +154,10 @@ class JetAlgebra:
         if R.values is None:
             z = np.zeros((len(self.a), self.K + 1))
             return JetCoef(z), JetCoef(z.copy())
-        rc = R.values @ np.cos(self.psi) * (2.0 / self.M)
-        rs = R.values @ np.sin(self.psi) * (2.0 / self.M)
+        rc, rs = self.harmonic1(R)
         A = -rs / (2 * self.w0)
         B = _jet_mul(-rc / (2 * self.w0), self._inv_a)
         return JetCoef(A), JetCoef(B)
-
-    def solve(self, R: JetSeries) -> JetSeries:
-        if R.values is None:
-            return R
-        spec = np.fft.rfft(R.values, axis=2) * self._inv
-        return JetSeries(np.fft.irfft(spec, n=self.M, axis=2))
 
     def trig(self, kind: str, c) -> list[JetSeries]:
         """``[g(c x_0), g'(c x_0), g''(c x_0), g'''(c x_0)]`` for ``g`` = sin or cos, as

@@ -25,10 +25,31 @@ from .bessel import _NUMERIC_HINT, JacobiAnger
 from .model import CoupledOscillators, amplitudes, positions, velocities
 from .resonance import SlowLattice, frequency, resonant_harmonic
 
-__all__ = ["CoupledAlgebra", "MultiBuilder", "coupled_rhs"]
+__all__ = ["CoupledAlgebra", "AngleCalculus", "MultiBuilder", "coupled_rhs"]
 
 
-class CoupledAlgebra(SlowRates):
+class AngleCalculus(SlowRates):
+    """The derivatives of :func:`kbm.recursion.kbm_recursion` for ``N``-angle series that
+    carry them (``f.diff(l)``: ``d/da_l``, ``f.d_angle(l)``: ``d/dpsi_l``), with the forcing
+    angle ``theta`` the last of the algebra's ``n`` angles and the detuning ``sig``: a mixin
+    of the exact :class:`CoupledAlgebra` and the sampled
+    :class:`~kbm.coupled.jet_algebra.JetAlgebra`."""
+
+    n: int
+    sig: object
+
+    def da(self, f, l: int):
+        return f.diff(l)
+
+    def dpsi(self, f, l: int):
+        return f.d_angle(l)
+
+    def sigma_dtheta(self, f):
+        """``sigma df/dtheta`` (``nu = nu0 + mu sigma``)."""
+        return f.d_angle(self.n - 1).scale(self.sig)
+
+
+class CoupledAlgebra(AngleCalculus):
     """``N``-angle series over Laurent coefficients, with the resonance structure (the exact
     multi-angle :class:`~kbm.algebra.base.RecursionAlgebra`)."""
 
@@ -105,16 +126,6 @@ class CoupledAlgebra(SlowRates):
         for l, w in enumerate(self.wq):
             out = out + f.d_angle(l).scale_q(w)
         return out
-
-    def da(self, f: MultiAngle, l: int) -> MultiAngle:
-        return f.diff(l)
-
-    def dpsi(self, f: MultiAngle, l: int) -> MultiAngle:
-        return f.d_angle(l)
-
-    def sigma_dtheta(self, f: MultiAngle) -> MultiAngle:
-        """``sigma df/dtheta`` (``nu = nu0 + mu sigma``; theta is the last angle)."""
-        return f.d_angle(self.n - 1).scale(self.sig)
 
     # -- resonance structure ----------------------------------------------------------
     def _resonant(self, h: tuple, i: int, n: int) -> tuple[tuple, int] | None:

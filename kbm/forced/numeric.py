@@ -43,9 +43,8 @@ from ..algebra import chebyshev
 from ..algebra.lazy_series import Scaled, Tail
 from ..algebra.smooth import TaylorOf, TaylorTable
 from ..errors import ModelError, ParameterError, ResolutionError
-from ..numeric_kbm import (check_order, check_tol, chebyshev_tail, fourier_tail,
-                           parse_a_range)
 from ..recursion import kbm_recursion
+from ..sampling import check_order, check_tol, chebyshev_tail, fourier_tail, parse_a_range
 from ..symbols import x, xdot
 from .builtins import get_forced_model
 from .engine import derive_forced

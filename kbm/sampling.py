@@ -1,0 +1,130 @@
+"""What the sampled (numeric) KBM backends share: their input and their resolution measure.
+
+- the amplitude interval ``a_min:a_max`` (:func:`parse_a_range`), the model with every
+  parameter a number (:func:`numeric_model`), the order and the tolerance
+  (:func:`check_order`, :func:`check_tol`);
+- the coefficient tails that say whether a grid resolves a quantity: the largest Fourier
+  coefficient (in an angle) and the largest Chebyshev coefficient (in the amplitude) in the
+  top quarter (:func:`fourier_tail`, :func:`chebyshev_tail`).
+
+Used by :mod:`kbm.numeric_kbm`, :mod:`kbm.pointwise` and :mod:`kbm.forced.numeric`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import sympy as sp
+
+from .algebra import chebyshev
+from .errors import OrderError, ParameterError, UnsupportedTermError
+from .models import Oscillator, get_model
+from .smooth_terms import non_smooth_message, non_smooth_term
+from .symbols import x, xdot
+
+__all__ = ["parse_a_range", "numeric_model", "check_order", "check_tol", "fourier_tail",
+           "chebyshev_tail"]
+
+#: the top fraction of the coefficients read as the tail
+_TAIL = 0.25
+
+
+def parse_a_range(a_range) -> tuple[float, float]:
+    """``(a_min, a_max)`` from a pair or a string ``"a_min:a_max"``, checked.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Unless ``0 < a_min < a_max`` are finite numbers.
+    """
+    if isinstance(a_range, str):
+        parts = a_range.split(":")
+        if len(parts) != 2:
+            raise ParameterError(f"the a-range must be 'AMIN:AMAX' (e.g. 0.1:4), got "
+                                 f"{a_range!r}")
+    else:
+        parts = list(a_range) if isinstance(a_range, (tuple, list)) else [a_range]
+        if len(parts) != 2:
+            raise ParameterError(f"a_range must be a pair (a_min, a_max), got {a_range!r}")
+    try:
+        lo, hi = (float(p) for p in parts)
+    except (TypeError, ValueError):
+        raise ParameterError(f"the a-range must be two numbers, got {a_range!r}") from None
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise ParameterError(f"the a-range must be finite, got {lo:g}:{hi:g}")
+    if lo <= 0:
+        raise ParameterError(f"the a-range must lie in a > 0 (a = 0 is the fixed point, "
+                             f"where B_n has a 1/a and the phase is undefined), got "
+                             f"a_min = {lo:g}; start it above 0, e.g. 0.05:{hi:g}")
+    if hi <= lo:
+        raise ParameterError(f"the a-range needs a_min < a_max, got {lo:g}:{hi:g}")
+    return lo, hi
+
+
+def numeric_model(model: Oscillator | str, params) -> tuple[Oscillator, sp.Expr, float]:
+    """The model with every parameter a number, ``F`` and ``omega0`` (a float).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Naming the parameters without a value.
+    kbm.errors.UnsupportedTermError
+        For a non-smooth term of ``F`` (naming a smooth replacement).
+    kbm.errors.NonAutonomousError
+        If ``F`` depends on ``t``.
+    """
+    if isinstance(model, str):
+        model = get_model(model)
+    vals = model.resolve(params or {})
+    vals.pop("mu", None)
+    if vals:
+        model = model.substitute(vals)
+    model.require_autonomous("the KBM averaging")
+    F = model.F
+    bad = non_smooth_term(F)
+    if bad is not None:
+        raise UnsupportedTermError(non_smooth_message(bad))
+    missing = sorted(s.name for s in (F.free_symbols | model.omega0.free_symbols) - {x, xdot})
+    if missing:
+        raise ParameterError(
+            f"the evaluated expansion needs a value for every parameter of {model.name!r}; "
+            f"missing: {', '.join(missing)} (e.g. params={{{missing[0]!r}: 1}})")
+    return model, F, float(model.omega0)
+
+
+def check_order(order, limit: int, backend: str = "numeric backend") -> None:
+    """Refuse an order that is not an integer in ``1..limit`` (:class:`OrderError`)."""
+    if not isinstance(order, int) or isinstance(order, bool) or order < 1:
+        raise OrderError(f"the order must be an integer >= 1, got {order!r}")
+    if order > limit:
+        raise OrderError(f"order {order} is above the limit {limit} of the {backend}; ask "
+                         f"for order <= {limit}")
+
+
+def check_tol(tol, smallest: float = 1e-15) -> float:
+    """``tol`` as a float in ``[smallest, 1)`` (else :class:`ParameterError`)."""
+    try:
+        tol = float(tol)
+    except (TypeError, ValueError):
+        raise ParameterError(f"tol must be a number, got {tol!r}") from None
+    if not smallest <= tol < 1:
+        raise ParameterError(f"tol must be between {smallest:g} and 1 (relative), got "
+                             f"{tol:g}")
+    return tol
+
+
+# ----------------------------------------------------------------------------- resolution
+def fourier_tail(values: np.ndarray, axis: int = 1) -> float:
+    """Largest |Fourier coefficient| in the top quarter of the harmonics along ``axis``."""
+    n = values.shape[axis]
+    spec = np.abs(np.fft.rfft(values, axis=axis)) * (2.0 / n)
+    top = np.take(spec, np.arange(int((1 - _TAIL) * (n // 2)), n // 2 + 1), axis=axis)
+    return float(np.max(top)) if top.size else 0.0
+
+
+def chebyshev_tail(values: np.ndarray, axis: int = 0) -> float:
+    """Largest |Chebyshev coefficient| in the top quarter of the degrees along ``axis``."""
+    c = np.abs(chebyshev.coefficients(values, axis=axis))
+    n = c.shape[axis]
+    return float(np.max(np.take(c, np.arange(int((1 - _TAIL) * (n - 1)), n), axis=axis)))

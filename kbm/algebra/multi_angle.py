@@ -18,6 +18,7 @@ The series satisfies the ring protocol the lazy eps-series of
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from functools import lru_cache
 
 import sympy as sp
 
@@ -38,12 +39,13 @@ def canonical(h: tuple[int, ...]) -> tuple[tuple[int, ...], int]:
     return h, 1
 
 
-def _add(h1: tuple, h2: tuple) -> tuple:
-    return tuple(p + q for p, q in zip(h1, h2))
-
-
-def _sub(h1: tuple, h2: tuple) -> tuple:
-    return tuple(p - q for p, q in zip(h1, h2))
+@lru_cache(maxsize=1 << 16)
+def _sum_difference(h1: tuple, h2: tuple) -> tuple[tuple, int, tuple, int]:
+    """``(h+, s+, h-, s-)``: ``h1 + h2`` and ``h1 - h2`` canonical, with their signs
+    (memoised: the same pairs of harmonics recur in every product; time only)."""
+    plus, sp_ = canonical(tuple(p + q for p, q in zip(h1, h2)))
+    minus, sm = canonical(tuple(p - q for p, q in zip(h1, h2)))
+    return plus, sp_, minus, sm
 
 
 class MultiAngle:
@@ -122,26 +124,26 @@ class MultiAngle:
             t1 = c1.terms
             for h2, c2 in other.cos.items():
                 pr = term_product(t1, c2.terms, bias)
-                accumulate(cos, canonical(_sub(h1, h2))[0], pr, 1)
-                accumulate(cos, canonical(_add(h1, h2))[0], pr, 1)
+                plus, _, minus, _ = _sum_difference(h1, h2)
+                accumulate(cos, minus, pr, 1)
+                accumulate(cos, plus, pr, 1)
             for h2, s2 in other.sin.items():  # cos A sin B
                 pr = term_product(t1, s2.terms, bias)
-                k, sg = canonical(_add(h1, h2))
-                accumulate(sin, k, pr, sg)
-                k, sg = canonical(_sub(h1, h2))
-                accumulate(sin, k, pr, -sg)
+                plus, sp_, minus, sm = _sum_difference(h1, h2)
+                accumulate(sin, plus, pr, sp_)
+                accumulate(sin, minus, pr, -sm)
         for h1, s1 in self.sin.items():
             t1 = s1.terms
             for h2, c2 in other.cos.items():  # sin A cos B
                 pr = term_product(t1, c2.terms, bias)
-                k, sg = canonical(_add(h1, h2))
-                accumulate(sin, k, pr, sg)
-                k, sg = canonical(_sub(h1, h2))
-                accumulate(sin, k, pr, sg)
+                plus, sp_, minus, sm = _sum_difference(h1, h2)
+                accumulate(sin, plus, pr, sp_)
+                accumulate(sin, minus, pr, sm)
             for h2, s2 in other.sin.items():
                 pr = term_product(t1, s2.terms, bias)
-                accumulate(cos, canonical(_sub(h1, h2))[0], pr, 1)
-                accumulate(cos, canonical(_add(h1, h2))[0], pr, -1)
+                plus, _, minus, _ = _sum_difference(h1, h2)
+                accumulate(cos, minus, pr, 1)
+                accumulate(cos, plus, pr, -1)
         ring = self.ring
 
         def finish(d: dict) -> dict:

@@ -23,7 +23,9 @@ as the special one (``tests/test_coupled_engine.py``: :func:`kbm.derive` to orde
 member binds its parameter values through :func:`kbm.bound.bind`.  The one-degree-of-
 freedom engines stay for what the general one does not do (the Bessel sums of
 ``sin(k x)`` above the first order, :mod:`kbm.coupled.bessel`) and for the byte-stable
-derivations, in their faster one- and two-angle algebras.
+derivations, in their faster one- and two-angle algebras.  The three engines and their
+numeric backends run one recursion (:func:`kbm.recursion.kbm_recursion`) over the algebra
+protocol :class:`kbm.algebra.base.RecursionAlgebra`: ``N = 1`` and the forcing are its cases.
 
 This module imports none of its members (they build on it).
 """

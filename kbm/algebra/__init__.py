@@ -1,10 +1,15 @@
 """The private algebra wing of :mod:`kbm`: the exact arithmetic under the KBM recursion.
 
-Nothing here is public API; :mod:`kbm.averaging` and :mod:`kbm.series` are its
-only users, and :mod:`numerics` never imports it.
+Nothing here is public API; the engines of :mod:`kbm` use it, and :mod:`numerics` never
+imports it.
 
-- :mod:`~kbm.algebra.base`: the :class:`~kbm.algebra.base.FourierAlgebra`
-  protocol, the vocabulary the recursion asks of an algebra;
+- :mod:`~kbm.algebra.base`: the :class:`~kbm.algebra.base.RecursionAlgebra` protocol, the
+  vocabulary the one recursion (:mod:`kbm.recursion`) asks of an algebra, and the one-angle
+  :class:`~kbm.algebra.base.FourierAlgebra` protocol;
+- :mod:`~kbm.algebra.multi_angle`: finite Fourier series in ``n`` angles with Laurent
+  coefficients (the coupled and the forced algebras);
+- :mod:`~kbm.algebra.grid_fourier`, :mod:`~kbm.algebra.jet_fourier`: series sampled in the
+  phase (the one-angle numeric backends);
 - :mod:`~kbm.algebra.laurent`: Laurent polynomials over Q (the coefficients of
   the polynomial algebra);
 - :mod:`~kbm.algebra.poly_fourier`: finite Fourier series with Laurent

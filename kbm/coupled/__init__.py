@@ -3,7 +3,11 @@
 - :mod:`kbm.coupled.model`: :class:`CoupledOscillators` (one degree of freedom is ``N = 1``);
 - :mod:`kbm.coupled.forms`: its two forms of one degree of freedom, converted both ways;
 - :mod:`kbm.coupled.resonance`: declared internal resonances and the slow lattice;
-- :mod:`kbm.coupled.engine`: :func:`derive_coupled`, the exact multi-angle recursion;
+- :mod:`kbm.coupled.engine`: :func:`derive_coupled`, the exact expansion (the one recursion
+  :func:`kbm.recursion.kbm_recursion` over :mod:`kbm.coupled.algebra`'s
+  :class:`~kbm.coupled.algebra.CoupledAlgebra`);
+- :mod:`kbm.coupled.jets` (over :mod:`kbm.coupled.jet_algebra`): the same recursion for any
+  smooth ``F`` at one point of the amplitudes, any order;
 - :mod:`kbm.coupled.result`: :class:`CoupledKBMResult` (JSON, LaTeX, numpy slow flow);
 - :mod:`kbm.coupled.builtins`: ``coupled-vdp``, ``duffing-1-3``, ``quadratic-1-2``, the
   SEDF dimer and chains;

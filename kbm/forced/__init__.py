@@ -3,8 +3,11 @@
 - :mod:`kbm.forced.model`: :class:`ForcedOscillator` (``F`` 2 pi-periodic in
   ``theta = nu t``, checked by :mod:`kbm.forced.checks`) and :class:`Resonance`;
 - :mod:`kbm.forced.builtins`: the built-in forced models;
-- :mod:`kbm.forced.two_angle`: exact Fourier series in the two angles ``(psi, theta)``;
-- :mod:`kbm.forced.engine`: :func:`derive_forced`, the recursion (exact, polynomial ``F``);
+- :mod:`kbm.forced.two_angle`: exact Fourier series in the two angles ``(psi, theta)`` (the
+  multi-angle series with ``n = 2``), :mod:`kbm.forced.resonant` their algebra;
+- :mod:`kbm.forced.engine`: :func:`derive_forced`, the one recursion
+  (:func:`kbm.recursion.kbm_recursion`, ``N = 1`` with the forcing angle; exact, polynomial
+  ``F``);
 - :mod:`kbm.forced.grid`, :mod:`kbm.forced.numeric`, :mod:`kbm.forced.numeric_result`: the
   same recursion on samples,
   :func:`numeric_derive_forced` (any smooth ``F``: the slider's ``sin(k x + theta)``), and

@@ -1,4 +1,4 @@
-"""The Krylov-Bogoliubov-Mitropolsky recursion, to any order.
+"""The Krylov-Bogoliubov-Mitropolsky expansion of one degree of freedom, to any order.
 
 For ``x'' + omega0**2 x = mu F(x, x')`` the expansion (Bogoliubov & Mitropolsky
 1961, ch. 1, sec. 2) is
@@ -7,16 +7,10 @@ For ``x'' + omega0**2 x = mu F(x, x')`` the expansion (Bogoliubov & Mitropolsky
 ``da/dt = sum_{n>=1} mu**n A_n(a)``, ``dpsi/dt = omega0 + sum_{n>=1} mu**n B_n(a)``,
 
 with the convention that **no** ``u_n`` contains a first harmonic, so that
-``a`` is exactly the amplitude of the first harmonic of ``x``.
-
-With ``D_j = A_j d/da + B_j d/dpsi`` the eps-coefficients of the velocity and
-acceleration are ``V_m = omega0 du_m/dpsi + sum_{j=1}^m D_j u_{m-j}`` and
-``[x'']_m = omega0 dV_m/dpsi + sum_{j=1}^m D_j V_{m-j}``.  At order ``n`` the
-unknowns enter as ``omega0**2 (u_n'' + u_n) - 2 omega0 A_n sin(psi)
-- 2 omega0 a B_n cos(psi)``; with ``R_n`` the coefficient of ``mu**(n-1)`` of
-``F(x, x')`` minus every known term of ``[x'']_n``, removing the first
-harmonic (secular terms) gives ``A_n = -R_n^{sin 1}/(2 omega0)``,
-``B_n = -R_n^{cos 1}/(2 omega0 a)``, and ``u_n`` follows harmonic by harmonic.
+``a`` is exactly the amplitude of the first harmonic of ``x``: removing the first
+harmonic of ``R_n`` gives ``A_n = -R_n^{sin 1}/(2 omega0)``,
+``B_n = -R_n^{cos 1}/(2 omega0 a)``, and ``u_n`` follows harmonic by harmonic (the
+recursion for ``R_n`` is :mod:`kbm.recursion`'s, the case ``N = 1`` without forcing).
 
 Polynomial ``F`` is treated with exact rational arithmetic on Fourier series
 with Laurent-polynomial coefficients (:mod:`kbm.algebra.poly_fourier`), any

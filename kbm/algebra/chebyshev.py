@@ -127,3 +127,15 @@ def derivative_coefficients(coeffs: np.ndarray, lo: float, hi: float,
         d[k - 1] = (d[k + 1] if k + 1 < n else 0.0) + 2.0 * k * c[k]
     d[0] *= 0.5
     return np.moveaxis(d * (2.0 / (hi - lo)), 0, axis)
+
+
+def differentiate(samples: np.ndarray, lo: float, hi: float, axis: int = 0,
+                  chop: float = 0.0) -> np.ndarray:
+    """The derivative of the samples along ``axis`` (Chebyshev points of ``[lo, hi]``) by
+    their coefficients, those below ``chop`` times the largest dropped first: the
+    differentiation multiplies the rounding noise of degree ``k`` by ``~k**2``, and the
+    recursions of the numeric backends differentiate results of earlier differentiations,
+    so noise above the function's own bandwidth must not survive."""
+    c = coefficients(samples, axis=axis)
+    c[np.abs(c) < chop * np.max(np.abs(c))] = 0.0
+    return values(derivative_coefficients(c, lo, hi, axis=axis), axis=axis)

@@ -173,16 +173,11 @@ class GridAlgebra(PhaseGrid):
         return GridSeries(np.fft.irfft(spec * self._ik, n=self.M, axis=1))
 
     def da(self, f: GridSeries) -> GridSeries:
-        """``df/da`` by the Chebyshev coefficients, those below ``chop`` times the largest
-        dropped first: differentiation multiplies the rounding noise of mode ``k`` by
-        ``~k**2``, and the recursion differentiates results of earlier
-        differentiations, so noise above the function's own bandwidth must not survive."""
+        """``df/da`` (:func:`~kbm.algebra.chebyshev.differentiate`, coefficients below
+        ``chop`` times the largest dropped first)."""
         if f.values is None:
             return f
-        c = chebyshev.coefficients(f.values, axis=0)
-        c[np.abs(c) < self.chop * np.max(np.abs(c))] = 0.0
-        d = chebyshev.derivative_coefficients(c, self.lo, self.hi, axis=0)
-        return GridSeries(chebyshev.values(d, axis=0))
+        return GridSeries(chebyshev.differentiate(f.values, self.lo, self.hi, 0, self.chop))
 
     def secular(self, R: GridSeries) -> tuple[GridCoef, GridCoef]:
         if R.values is None:

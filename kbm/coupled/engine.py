@@ -9,15 +9,8 @@ Mitropolsky 1961, ch. 5, the multi-frequency case; Nayfeh & Mook 1979, ch. 6) is
 where the rates hold only the *slow* harmonics ``k`` of the declared internal resonances
 (``k . omega = 0``: functions of the phase combinations ``gamma_r``), and no ``u_{i,n}``
 holds a harmonic of frequency ``+-omega_i`` — so ``a_i`` is exactly the amplitude of the
-component of ``x_i`` at its own frequency.  With ``L0 = sum_l omega_l d/dpsi_l`` (which
-annihilates the slow harmonics) and ``D_j = sum_l (A_{l,j} d/da_l + B_{l,j} d/dpsi_l)``:
-
-``V_{i,m} = L0 X_{i,m} + sum_{j=1}^m D_j X_{i,m-j}``,
-``[x_i'']_m = L0 V_{i,m} + sum_{j=1}^m D_j V_{i,m-j}``;
-
-at order ``n`` the unknowns of mode ``i`` enter as ``(L0**2 + omega_i**2) u_{i,n} -
-2 omega_i A_{i,n} sin(psi_i) - 2 omega_i a_i B_{i,n} cos(psi_i)``.  The resonant part of
-``R_{i,n}`` (harmonics ``+-e_i + k``, ``k`` slow) is ``P cos(psi_i) + Q sin(psi_i)`` with
+component of ``x_i`` at its own frequency (``R_{i,n}``, ``L0`` and ``D_j`` as in
+:mod:`kbm.recursion`).  The resonant part of ``R_{i,n}`` (harmonics ``+-e_i + k``, ``k`` slow) is ``P cos(psi_i) + Q sin(psi_i)`` with
 slow ``P``, ``Q``; it gives ``A_{i,n} = -Q/(2 omega_i)``, ``B_{i,n} = -P/(2 omega_i a_i)``,
 and every other harmonic ``h`` is divided by ``omega_i**2 - (h . omega)**2``.  A harmonic
 whose divisor vanishes, or is within ``tolerance`` of vanishing, without a declared

@@ -11,15 +11,9 @@ where ``A_n``, ``B_n`` hold only the *slow* harmonics ``cos(j (p psi - q theta))
 ``p psi - q theta = p phi`` — and no ``u_n`` holds a *resonant* harmonic
 ``(m, k) = (+-1 + j p, -j q)`` (those of frequency ``+-omega0`` at ``nu = nu0``), so that
 ``a`` is exactly the amplitude of the response's component at the frequency
-``(q/p) nu``.  With ``L0 = omega0 d/dpsi + nu0 d/dtheta`` (which annihilates the slow
-harmonics) and ``D_j = A_j d/da + B_j d/dpsi (+ sigma d/dtheta for j = 1)``:
-
-``V_m = L0 u_m + sum_{j=1}^m D_j u_{m-j}``, ``[x'']_m = L0 V_m + sum_{j=1}^m D_j V_{m-j}``;
-
-at order ``n`` the unknowns enter as ``(L0**2 + omega0**2) u_n - 2 omega0 A_n sin(psi)
-- 2 omega0 a B_n cos(psi)``.  With ``R_n`` the coefficient of ``mu**(n-1)`` of ``F`` minus
-the known part of ``[x'']_n``, its resonant part ``P(p phi) cos(psi) + Q(p phi) sin(psi)``
-gives ``A_n = -Q/(2 omega0)``, ``B_n = -P/(2 omega0 a)`` and every other harmonic is divided
+``(q/p) nu``.  ``L0 = omega0 d/dpsi + nu0 d/dtheta`` annihilates the slow harmonics and
+``D_1`` holds ``sigma d/dtheta`` (the recursion for ``R_n`` is :mod:`kbm.recursion`'s).  The
+resonant part ``P(p phi) cos(psi) + Q(p phi) sin(psi)`` of ``R_n`` gives ``A_n = -Q/(2 omega0)``, ``B_n = -P/(2 omega0 a)`` and every other harmonic is divided
 by ``omega0**2 - (m omega0 + k nu0)**2`` (never zero).  The slow flow is autonomous:
 ``da/dt = sum mu**n A_n(a, phi)``, ``dphi/dt = -mu (q/p) sigma + sum mu**n B_n(a, phi)``.
 

@@ -201,10 +201,7 @@ class SampledAlgebra(SlowRates):
         """``df/da`` by the Chebyshev coefficients (small ones dropped first)."""
         if f.values is None:
             return f
-        c = chebyshev.coefficients(f.values, axis=1)
-        c[np.abs(c) < self.chop * np.max(np.abs(c))] = 0.0
-        d = chebyshev.derivative_coefficients(c, self.lo, self.hi, axis=1)
-        return self._series(chebyshev.values(d, axis=1))
+        return self._series(chebyshev.differentiate(f.values, self.lo, self.hi, 1, self.chop))
 
     def slow_spectrum(self, R: SampledSeries) -> tuple[np.ndarray, np.ndarray]:
         """``(A, a B)`` of the resonant part of ``R`` as coefficients of ``exp(i j p phi)``:

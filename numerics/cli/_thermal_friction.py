@@ -36,7 +36,9 @@ def run_thermal(args, params: dict, axes: dict, store, client) -> int:
             data["against"] = second.to_json()
         emit_json(data)
     else:
-        for m in (first, second) if second is not None else (first,):
+        for i, m in enumerate((first, second) if second is not None else (first,)):
+            if i:
+                print()  # a blank line between the two tables, none before the first
             _print(m)
     if args.out:
         path = _figure(first, second, Path(args.out))
@@ -46,7 +48,7 @@ def run_thermal(args, params: dict, axes: dict, store, client) -> int:
 
 def _print(m) -> None:
     names = list(m.axes)
-    print(f"\n{m.model} with noise sqrt(2 D) xi: "
+    print(f"{m.model} with noise sqrt(2 D) xi: "
           + ", ".join(f"{k} = {v:g}" for k, v in m.params.items())
           + f"; {m.trajectories} trajectories x {m.wells:g} stage periods per point, "
             f"seed {m.seed}")

@@ -71,6 +71,15 @@ def _print(m) -> None:
         print(f"note: {m.note}")
 
 
+def _title(first, second) -> str:
+    """The fixed parameters (the axes and the noise are in the legend) and the ensemble."""
+    fixed = ", ".join(f"{k} = {v:.4g}" for k, v in first.params.items()
+                      if k not in first.axes and k not in ("D", "T"))
+    models = first.model + (f" (o) against {second.model} (s)" if second is not None else "")
+    return (f"{models} with noise sqrt(2 D) xi: {fixed}\n{first.trajectories} trajectories x "
+            f"{first.wells:g} stage periods per point, seed {first.seed}")
+
+
 def _figure(first, second, out: Path) -> Path:
     import matplotlib
 
@@ -85,16 +94,19 @@ def _figure(first, second, out: Path) -> Path:
             continue
         v = np.array([p.params["v"] for p in m.points])
         D = np.array([p.params["D"] for p in m.points])
+        in_T = "T" in m.axes or "T" in m.params  # the noise given as kT = D/mu
         for j, d in enumerate(np.unique(D)):
             sel = D == d
             F = np.array([p.mean_force.value for p, s in zip(m.points, sel) if s])
             E = np.array([p.mean_force.stderr for p, s in zip(m.points, sel) if s])
+            noise = f"kT = {d / m.params['mu']:.4g}" if in_T else f"D = {d:.4g}"
             ax.errorbar(v[sel], F, yerr=2 * E, fmt=style, ms=3, lw=1, color=f"C{j}",
-                        label=f"{m.model}, D = {d:g}")
+                        label=f"{m.model}, {noise}")
     ax.set_xscale("log")
     ax.set_xlabel("stage velocity $v$")
     ax.set_ylabel(r"mean spring force $\bar F$ ($\pm 2$ s.e.)")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=8)
+    ax.set_title(_title(first, second), fontsize=8)
     fig.tight_layout()
     path = out / f"thermal_friction_{first.model}.png"
     fig.savefig(path)

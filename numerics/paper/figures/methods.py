@@ -92,6 +92,12 @@ def methods_figure(out_dir: Path, *, quick: bool = False, mmap=None) -> list[Pat
     return [_save(fig, out_dir, "methods_map.png")]
 
 
+def _short(row: str) -> str:
+    """``"energy order 2"`` -> ``"E2"``, ``"KBM order 1"`` -> ``"K1"`` (as in the methods map)."""
+    kind, _, n = row.split()
+    return ("E" if kind == "energy" else "K") + n
+
+
 def _frame_paper_cells(ax, mus: np.ndarray, Ds: np.ndarray) -> None:
     """A red frame round each grid cell of the paper's parameters (a star there would cover
     the cell's labels); a star where the point is off the grid."""
@@ -120,8 +126,8 @@ def fixed_delta_figure(out_dir: Path, *, quick: bool = False, conv=None) -> list
     keys = [("frequency", "frequency"), ("amplitude_max", "max x"),
             ("floquet_exponent", "Floquet exponent L (dotted: theory - 1, L = O(mu))")]
     studies = conv.studies
-    fig, axes = plt.subplots(len(studies), len(keys), figsize=(4.2 * len(keys),
-                                                                3.3 * len(studies)),
+    fig, axes = plt.subplots(len(studies), len(keys), figsize=(4.8 * len(keys),
+                                                                3.6 * len(studies)),
                              squeeze=False, constrained_layout=True)
     for i, s in enumerate(studies):
         e = np.array(s.eps)
@@ -131,8 +137,8 @@ def fixed_delta_figure(out_dir: Path, *, quick: bool = False, conv=None) -> list
                 rel = s.relative[(row, key)]
                 energy = row.startswith("energy")
                 p = s.predicted[(row, key)]
-                label = (f"{row}: slope {s.slopes[(row, key)]:.2f}"
-                         + (f" (theory {p})" if p is not None else ""))
+                label = (f"{_short(row)}: {s.slopes[(row, key)]:.2f}"
+                         + (f" ({p})" if p is not None else ""))
                 line, = ax.loglog(e, rel, "o-" if energy else "s--", ms=4, label=label)
                 ok = np.isfinite(s.errors[(row, key)])
                 if energy and p is not None and ok.any():
@@ -143,9 +149,11 @@ def fixed_delta_figure(out_dir: Path, *, quick: bool = False, conv=None) -> list
             ax.set_title(f"Delta = {s.Delta:g}, beta = {s.beta:g}: {name}", fontsize=9)
             ax.set_xlabel("mu")
             ax.set_ylabel("relative error")
-            ax.legend(fontsize=6)
+            ax.legend(fontsize=8, title="slope (theory)", title_fontsize=8, loc="lower right",
+                      framealpha=0.85, borderpad=0.3, labelspacing=0.25, handlelength=1.6)
             ax.grid(True, which="both", alpha=0.3)
-    fig.suptitle("Fixed Delta: relative errors; the energy method converges at its predicted "
-                 "orders (dotted; slopes in the legends fitted to the absolute errors), "
-                 "classical KBM (dashed) does not (delta = Delta/mu grows)", fontsize=10)
+    fig.suptitle("Fixed Delta: relative errors against mu.  The energy method (E1-E3, solid) "
+                 "converges at its predicted orders (dotted);\nclassical KBM (K1, K2, dashed) "
+                 "does not, as delta = Delta/mu grows.  Slopes fitted to the absolute errors "
+                 "(theory in parentheses)", fontsize=11)
     return [_save(fig, out_dir, "fixed_delta_convergence.png")]

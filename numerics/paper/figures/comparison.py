@@ -34,10 +34,12 @@ CONTOUR_LEVELS = ((-3, "--"), (-2, "-"))
 CONTOURS = "white contours: solid 1 % error, dashed 1e-3"
 
 
-def error_contours(ax, x: np.ndarray, y: np.ndarray, log_error: np.ndarray) -> None:
-    """The 1 % (solid) and 1e-3 (dashed) contours of ``log10`` relative errors, white."""
+def error_contours(ax, x: np.ndarray, y: np.ndarray, log_error: np.ndarray):
+    """The 1 % (solid) and 1e-3 (dashed) contours of ``log10`` relative errors, white (the
+    styles given explicitly: matplotlib draws negative levels of a one-colour contour
+    dashed by default).  Returns the contour set."""
     levels, styles = zip(*CONTOUR_LEVELS)
-    ax.contour(x, y, np.ma.masked_invalid(log_error), levels=list(levels), colors="w",
+    return ax.contour(x, y, np.ma.masked_invalid(log_error), levels=list(levels), colors="w",
                linestyles=list(styles), linewidths=1.4)
 
 

@@ -71,6 +71,14 @@ def _print(m) -> None:
         print(f"note: {m.note}")
 
 
+def _noise_label(m, D: float) -> str:
+    """The legend of one noise level: ``kT = D/mu`` when the noise was given as ``T`` (an
+    axis or a parameter), else ``D``."""
+    if "T" in m.axes or "T" in m.params:
+        return f"{m.model}, kT = {D / m.params['mu']:.4g}"
+    return f"{m.model}, D = {D:.4g}"
+
+
 def _title(first, second) -> str:
     """The fixed parameters (the axes and the noise are in the legend) and the ensemble."""
     fixed = ", ".join(f"{k} = {v:.4g}" for k, v in first.params.items()
@@ -94,14 +102,12 @@ def _figure(first, second, out: Path) -> Path:
             continue
         v = np.array([p.params["v"] for p in m.points])
         D = np.array([p.params["D"] for p in m.points])
-        in_T = "T" in m.axes or "T" in m.params  # the noise given as kT = D/mu
         for j, d in enumerate(np.unique(D)):
             sel = D == d
             F = np.array([p.mean_force.value for p, s in zip(m.points, sel) if s])
             E = np.array([p.mean_force.stderr for p, s in zip(m.points, sel) if s])
-            noise = f"kT = {d / m.params['mu']:.4g}" if in_T else f"D = {d:.4g}"
             ax.errorbar(v[sel], F, yerr=2 * E, fmt=style, ms=3, lw=1, color=f"C{j}",
-                        label=f"{m.model}, {noise}")
+                        label=_noise_label(m, d))
     ax.set_xscale("log")
     ax.set_xlabel("stage velocity $v$")
     ax.set_ylabel(r"mean spring force $\bar F$ ($\pm 2$ s.e.)")

@@ -82,10 +82,9 @@ def _link(name: str, what: str = "the full table") -> str:
 # ------------------------------------------------------------------------------ sections
 def _claims(claims) -> list[str]:
     held = [c.key for c in claims if c.verdict == "holds"]
-    rest = [f"{c.key} ({c.verdict})" for c in claims if c.verdict != "holds"]
     head = f"{len(held)} of {len(claims)} claims hold: {', '.join(held) or 'none'}"
-    if rest:
-        head += f"; not: {', '.join(rest)}"
+    for verdict in sorted({c.verdict for c in claims} - {"holds"}):
+        head += f"; {verdict}: " + ", ".join(c.key for c in claims if c.verdict == verdict)
     rows = [[c.key, c.verdict, c.paper] for c in claims]
     return ["## The paper's claims", "", _bold(head + "."), "",
             md_table(["claim", "verdict", "the paper says"], rows),

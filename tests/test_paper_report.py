@@ -146,6 +146,7 @@ def test_the_conclusions_count_the_points(report):
                                                               "frequency"))
              for p in comp.predictions}
     best = min(worst, key=worst.get)
-    assert f"van der Pol, mu = 0.1: {best} ({worst[best]:.1e})" in text
+    assert f"The best prediction: {best} in 1 of 1 cases (error at most {worst[best]:.1e})" \
+        in text
     assert "1 of 2 claims hold: stick condition" in text
     assert "closer to the true cycle in 2 of 2 comparisons" in text

@@ -29,7 +29,9 @@ FIGURE_CAPTIONS = {
     "fig4_sliding.png": "The paper's Fig. 4: the SEDF pulled at v = 0.1.",
     "fig5_sedf_vs_cdc.png": "The paper's Fig. 5: SEDF against CDC at v = 0.01.",
     "fig6_kinetic_friction.png": "The paper's Fig. 6: the SEDF's kinetic friction.",
-    "sedf_branches.png": "Branches of SEDF limit cycles (continuation, special points).",
+    "sedf_branches_delta.png": "Branches of SEDF limit cycles against Delta (continuation, "
+                               "special points).",
+    "sedf_branches_beta.png": "Branches of SEDF limit cycles against beta.",
     "kbm_convergence.png": "Errors of the KBM orders against mu (dotted: the predicted "
                            "slopes).",
     "kbm_phase_fig3.png": "The paper's Fig. 3 parameters: KBM cycles and the paper's eqs. "
@@ -127,16 +129,19 @@ def _comparison(cases, figures) -> list[str]:
     labels: list[str] = []
     for _, comp in cases:
         labels += [p.label for p in comp.predictions if p.label not in labels]
-    rows, best = [], []
+    rows, best = [], {}
     for case, comp in cases:
         errs = {p.label: _worst(comp, p) for p in comp.predictions}
         rows.append([case] + [_fmt(errs[lab]) if lab in errs else "-" for lab in labels])
         ok = {k: v for k, v in errs.items() if math.isfinite(v)}
         if ok:
             b = min(ok, key=ok.get)
-            best.append(f"{case}: {b} ({ok[b]:.1e})")
+            best.setdefault(b, []).append(ok[b])
+    head = "The best prediction: " + "; ".join(
+        f"{b} in {len(e)} of {len(cases)} cases (error at most {max(e):.1e})"
+        for b, e in sorted(best.items(), key=lambda t: -len(t[1]))) + "."
     return ["## KBM and the energy method against the true limit cycles", "",
-            _bold("The best prediction of each case: " + "; ".join(best) + "."), "",
+            _bold(head), "",
             f"Each cell: {_ERROR_OF}.", "",
             md_table(["case", *labels], rows), *_figure("kbm_phase_fig3.png", figures),
             *_figure("kbm_phase_small.png", figures),
@@ -265,6 +270,7 @@ def _friction(study, figures) -> list[str]:
                      f"{s['first_better']} of {s['compared']} points compared "
                      f"({s['first_better_steady']} of them steady)")
     head = "Does self-excitation lower friction? " + "; ".join(parts) + "."
+    head = head.replace("? over", "? Over")
     out = ["## Friction laws and maps (SEDF against CDC)", "", _bold(head), "",
            "Maps of 8 x 8 points here (32 x 32 in the docs).", "", study.table()]
     for name in ("friction_law_delta1.5.png", "friction_law_delta3.png",

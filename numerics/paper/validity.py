@@ -116,7 +116,7 @@ class ValidityMap:
         for p in self.points:
             pr = p.params
             if not p.success:
-                lines.append(f"{pr['mu']:>6g}{pr['Delta']:>8g}{pr['beta']:>6g}  "
+                lines.append(f"{pr['mu']:>6g}{pr['Delta']:>8g}{pr['beta']:>6g}  no cycle: "
                              f"{short_reason(p.message)}")
                 continue
             lines.append(f"{pr['mu']:>6g}{pr['Delta']:>8g}{pr['beta']:>6g}{p.amplitude:>11.6f}"

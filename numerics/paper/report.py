@@ -18,7 +18,7 @@ import statistics
 from collections.abc import Sequence
 from pathlib import Path
 
-from numerics.paper.validity import short_reason
+from numerics.paper.validity import VALIDITY_KEYS, short_reason
 
 __all__ = ["summary_markdown", "md_table", "FIGURE_CAPTIONS"]
 
@@ -111,13 +111,10 @@ def _errata(evidence) -> list[str]:
             "[derivations/](derivations/).", ""]
 
 
-_KEYS = ("amplitude", "amplitude_max", "frequency")
-
-
 def _worst(comp, p) -> float:
     if not p.success:
         return math.nan
-    errs = [comp.relative_error(p, k) for k in _KEYS]
+    errs = [comp.relative_error(p, k) for k in VALIDITY_KEYS]
     return max((e for e in errs if math.isfinite(e)), default=math.nan)
 
 

@@ -166,8 +166,9 @@ class KBMResult:
 
     def pretty(self) -> str:
         """A plain-text summary, one line per quantity."""
-        w2 = sp.sstr(self.model.omega0**2)
-        lines = [f"KBM expansion of {self.model.name}: x'' + {w2}*x = mu*({self.model.F}), "
+        w2 = self.model.omega0**2
+        x = "x" if w2 == 1 else f"{sp.sstr(w2)}*x"
+        lines = [f"KBM expansion of {self.model.name}: x'' + {x} = mu*({self.model.F}), "
                  f"order {self.order}"]
         for n in range(1, self.order + 1):
             lines.append(f"A_{n} = {sp.sstr(self.A[n], order='lex')}")

@@ -56,6 +56,33 @@ def test_derive_builtin_latex_and_one_dof_unchanged():
     assert one["A"] == [None, "-a*(a**2 - 4)/8"]  # the one-degree-of-freedom JSON, as before
 
 
+def test_derive_text_says_what_theta_and_the_rates_are():
+    """Issue 40 item 9: the text of ``kbm derive duffing-1-3`` defines the forcing angle,
+    ``theta = nu t`` with ``nu = 3 + mu sigma`` (Nayfeh & Mook 1979 sec. 6.6.2), consistently
+    with its own slow flow: ``gamma2 = theta - psi2`` has the first-order rate
+    ``d nu/d mu - B_2,1``; it says what ``A_i,n`` is, and writes ``x1'' + x1`` (not
+    ``1*x1``), each linear term ``omega_i^2 x_i`` with the frequencies of the JSON."""
+    text = kbm("derive", "duffing-1-3", "-n", "2").stdout
+    d = json.loads(kbm("derive", "duffing-1-3", "-n", "2", "--json").stdout)
+    lines = {ln.split(" = ")[0].strip(): ln.split(" = ", 1)[1] for ln in text.splitlines()
+             if " = " in ln}
+    theta_line = next(ln for ln in text.splitlines() if "theta = nu*t" in ln)
+    nu = parse(theta_line.split("nu = ")[1])
+    mu, sigma = sp.symbols("mu sigma")
+    assert nu.subs(mu, 0) == 3 and parse(d["omega0"][1]) == 3  # omega2 : nu = 1 : 1
+    rate = parse(lines["dgamma2/dt [mu^1]"])
+    assert sp.expand(rate - (sp.diff(nu, mu) - parse(d["B"][1][1]))) == 0
+    assert sp.diff(nu, mu) == sigma
+    assert "da_i/dt = mu*A_i,1 + mu^2*A_i,2" in text
+    assert "A_i,n, B_i,n: mode i, the coefficient of mu^n" in text
+    assert "+ 1*x" not in text
+    for i, w in enumerate(d["omega0"], 1):
+        left = next(k for k in lines if k.startswith(f"x{i}''"))
+        assert parse(left.split("+", 1)[1]) == parse(w) ** 2 * sp.Symbol(f"x{i}")
+    assert kbm("derive", "vdp", "-n", "1").stdout.startswith(
+        "KBM expansion of vdp: x'' + x = mu*(")
+
+
 @pytest.mark.parametrize("args, message", [
     (["--rhs", "-x1**3", "--rhs", "-x2**3", "--omega0", "1,2,3"],
      "2 right-hand sides (--rhs) but 3 frequencies"),

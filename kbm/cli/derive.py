@@ -83,6 +83,11 @@ def _amplitudes(args: argparse.Namespace, why: str) -> tuple[tuple[float, float]
     return (lo, hi), np.linspace(lo, hi, args.points)
 
 
+def _linear(omega0: float) -> str:
+    """The linear term ``x`` (``omega0 = 1``) or ``omega0^2 x``."""
+    return "x" if float(omega0) == 1 else f"{float(omega0):g}^2 x"
+
+
 def _print_table(title: list[str], a: np.ndarray, cols: dict[str, np.ndarray],
                  errors: dict[str, float] | None = None) -> None:
     for line in title:
@@ -115,7 +120,7 @@ def _run_numeric(args, model) -> int:
     errs = {**{f"A_{n}": res.A_error[n] for n in range(1, N + 1)},
             **{f"B_{n}": res.B_error[n] for n in range(1, N + 1)}}
     P, M = res.resolution
-    _print_table([f"KBM expansion of {res.model.name}: x'' + {res.omega0:g}^2 x = mu*({res.model.F}), "
+    _print_table([f"KBM expansion of {res.model.name}: x'' + {_linear(res.omega0)} = mu*({res.model.F}), "
                   f"order {N}, numeric backend",
                   f"grid: {P} Chebyshev points on a in [{lo:g}, {hi:g}] (and a margin), "
                   f"{M} phases; tol {res.tol:.0e}; error estimates (absolute) in the last row"],

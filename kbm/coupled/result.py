@@ -38,6 +38,15 @@ def _slow_expr(f: MultiAngle, lattice: SlowLattice, gammas: tuple) -> sp.Expr:
     return sp.Add(*parts)
 
 
+def _resonance(r) -> str:
+    """``omega1 : omega2 = 1 : 3`` (``nu`` for the forcing), with its detuning
+    (:class:`kbm.coupled.resonance.InternalResonance`)."""
+    j = "nu" if r.forcing else f"omega{r.j}"
+    return (f"omega{r.i} : {j} = {r.p} : {r.q}"
+            + (f" ({j} = {sp.sstr(sp.Rational(r.q, r.p))}*omega{r.i} + mu*{r.detuning})"
+               if r.detuning else ""))
+
+
 @dataclass(frozen=True)
 class CoupledKBMResult:
     """The KBM expansion of ``N`` coupled oscillators to a given order.
@@ -192,20 +201,43 @@ class CoupledKBMResult:
         }
 
     def pretty(self) -> str:
-        """A plain-text summary, one line per quantity."""
-        m = self.model
-        lines = [f"KBM expansion of {m.name}: {m.dof} degrees of freedom, order {self.order}"]
+        """A plain-text summary, one line per quantity: the equations, the forcing angle
+        ``theta``, the form of the solution (what ``A_i,n``, ``B_i,n`` are), the declared
+        resonances and slow phases, then the rates."""
+        m, N = self.model, self.order
+        lines = [f"KBM expansion of {m.name}: {m.dof} degrees of freedom, order {N}"]
         for i, (w, f) in enumerate(zip(m.omega0, m.F), 1):
-            lines.append(f"  x{i}'' + {sp.sstr(w**2)}*x{i} = mu*({_lex(f)})")
+            w2 = w**2
+            hard = m.hard[i - 1] if m.hard else 0
+            lines.append(f"  x{i}'' + {'' if w2 == 1 else sp.sstr(w2) + '*'}x{i} = "
+                         f"mu*({_lex(f)})" + (f" + {sp.sstr(hard)}*cos(theta)" if hard else ""))
+        if m.forced:
+            nu = sp.sstr(m.nu0) + (f" + mu*{m.nu_detuning}" if m.nu_detuning else "")
+            lines.append(f"  forcing angle theta = nu*t, nu = {nu}")
+        def series(name: str) -> str:
+            return " + ".join(f"mu{'' if k == 1 else f'^{k}'}*{name}_i,{k}"
+                              for k in range(1, N + 1))
+        shift = (" + Lambda_i*cos(theta)" if any(k != 0 for k in m.hard) else "")
+        lines += [f"the solution: x_i = a_i*cos(psi_i){shift} + {series('u')} "
+                  "(u_i,n: --json, --latex)",
+                  f"  da_i/dt = {series('A')}",
+                  f"  dpsi_i/dt = omega_i + {series('B')}",
+                  f"  A_i,n, B_i,n: mode i, the coefficient of mu^n; omega = "
+                  f"({', '.join(sp.sstr(w) for w in m.omega0)})"]
+        if shift:
+            lines.append("  Lambda_i = K_i/(omega_i^2 - nu^2): the response to the hard "
+                         "forcing K_i*cos(theta)")
+        if m.internal:
+            lines.append("resonances: " + ", ".join(_resonance(r) for r in m.internal))
         for g, e in self.gammas:
             lines.append(f"slow phase {g} = {_lex(e)}")
         for i in range(m.dof):
-            for k in range(1, self.order + 1):
+            for k in range(1, N + 1):
                 lines.append(f"A_{i + 1},{k} = {_lex(self.A[i][k])}")
-            for k in range(1, self.order + 1):
+            for k in range(1, N + 1):
                 lines.append(f"B_{i + 1},{k} = {_lex(self.B[i][k])}")
         for r, (g, _) in enumerate(self.gammas):
-            for k in range(1, self.order + 1):
+            for k in range(1, N + 1):
                 lines.append(f"d{g}/dt [mu^{k}] = {_lex(self.gamma_rate(r, k))}")
         return "\n".join(lines)
 

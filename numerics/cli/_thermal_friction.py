@@ -36,7 +36,9 @@ def run_thermal(args, params: dict, axes: dict, store, client) -> int:
             data["against"] = second.to_json()
         emit_json(data)
     else:
-        for m in (first, second) if second is not None else (first,):
+        for i, m in enumerate((first, second) if second is not None else (first,)):
+            if i:
+                print()  # a blank line between the two tables, none before the first
             _print(m)
     if args.out:
         path = _figure(first, second, Path(args.out))
@@ -46,7 +48,7 @@ def run_thermal(args, params: dict, axes: dict, store, client) -> int:
 
 def _print(m) -> None:
     names = list(m.axes)
-    print(f"\n{m.model} with noise sqrt(2 D) xi: "
+    print(f"{m.model} with noise sqrt(2 D) xi: "
           + ", ".join(f"{k} = {v:g}" for k, v in m.params.items())
           + f"; {m.trajectories} trajectories x {m.wells:g} stage periods per point, "
             f"seed {m.seed}")
@@ -69,6 +71,23 @@ def _print(m) -> None:
         print(f"note: {m.note}")
 
 
+def _noise_label(m, D: float) -> str:
+    """The legend of one noise level: ``kT = D/mu`` when the noise was given as ``T`` (an
+    axis or a parameter), else ``D``."""
+    if "T" in m.axes or "T" in m.params:
+        return f"{m.model}, kT = {D / m.params['mu']:.4g}"
+    return f"{m.model}, D = {D:.4g}"
+
+
+def _title(first, second) -> str:
+    """The fixed parameters (the axes and the noise are in the legend) and the ensemble."""
+    fixed = ", ".join(f"{k} = {v:.4g}" for k, v in first.params.items()
+                      if k not in first.axes and k not in ("D", "T"))
+    models = first.model + (f" (o) against {second.model} (s)" if second is not None else "")
+    return (f"{models} with noise sqrt(2 D) xi: {fixed}\n{first.trajectories} trajectories x "
+            f"{first.wells:g} stage periods per point, seed {first.seed}")
+
+
 def _figure(first, second, out: Path) -> Path:
     import matplotlib
 
@@ -88,11 +107,12 @@ def _figure(first, second, out: Path) -> Path:
             F = np.array([p.mean_force.value for p, s in zip(m.points, sel) if s])
             E = np.array([p.mean_force.stderr for p, s in zip(m.points, sel) if s])
             ax.errorbar(v[sel], F, yerr=2 * E, fmt=style, ms=3, lw=1, color=f"C{j}",
-                        label=f"{m.model}, D = {d:g}")
+                        label=_noise_label(m, d))
     ax.set_xscale("log")
     ax.set_xlabel("stage velocity $v$")
     ax.set_ylabel(r"mean spring force $\bar F$ ($\pm 2$ s.e.)")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=8)
+    ax.set_title(_title(first, second), fontsize=8)
     fig.tight_layout()
     path = out / f"thermal_friction_{first.model}.png"
     fig.savefig(path)

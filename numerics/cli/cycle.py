@@ -105,6 +105,11 @@ def _run_all(cycles, args: argparse.Namespace) -> int:
     return 0 if all(c.success for c in cycles) else 1
 
 
+#: what the text calls a key of ``--json`` (``amplitude_max`` is the largest x, negative on a
+#: cycle in the left-hand well)
+_LABELS = {"amplitude_max": "x_max (largest x)"}
+
+
 def _print_cycle(cyc, digits, args) -> None:
     data = cyc.to_json()
     w = digits or 12
@@ -112,13 +117,17 @@ def _print_cycle(cyc, digits, args) -> None:
     print(f"limit cycle of {data['model']} ({pars})")
     for key in ("period", "frequency", "amplitude_max", "amplitude_first_harmonic"):
         val = data[key]
+        label = _LABELS.get(key, key)
         if isinstance(val, str):
-            print(f"  {key:26s} {val}")
-            continue
-        # never more digits than the accuracy estimate supports
-        n = cyc.significant_digits(key, limit=w)
-        note = f"  (relative accuracy ~{cyc.accuracy[key]:.0e})" if n < w else ""
-        print(f"  {key:26s} {format(val, f'.{n}g')}{note}")
+            print(f"  {label:26s} {val}")
+        else:
+            # never more digits than the accuracy estimate supports
+            n = cyc.significant_digits(key, limit=w)
+            note = f"  (relative accuracy ~{cyc.accuracy[key]:.0e})" if n < w else ""
+            print(f"  {label:26s} {format(val, f'.{n}g')}{note}")
+        if key == "amplitude_max" and len(cyc.x):
+            print(f"  {'x_min (smallest x)':26s} {float(min(cyc.x)):.6g}  "
+                  f"(of {len(cyc.x)} samples of the orbit)")
     m = cyc.floquet_multipliers
     print(f"  {'floquet multipliers':26s} {m[0].real:.12f} (trivial), {m[1].real:.6e} "
           f"({'stable' if cyc.stable else 'UNSTABLE'})")

@@ -163,7 +163,9 @@ def run(args: argparse.Namespace) -> int:
             data["dissipation_ratio"] = comp.dissipation_ratio.tolist()
         emit_json(data)
     else:
-        for m in (first, second) if second is not None else (first,):
+        for i, m in enumerate((first, second) if second is not None else (first,)):
+            if i:
+                print()  # a blank line between the two tables, none before the first
             _print(m)
     if args.out:
         for path in _figures(first, second, Path(args.out)):
@@ -174,7 +176,7 @@ def run(args: argparse.Namespace) -> int:
 
 def _print(m) -> None:
     names = list(m.axes)
-    print(f"\n{m.model}: " + ", ".join(f"{k} = {v:g}" for k, v in m.params.items()))
+    print(f"{m.model}: " + ", ".join(f"{k} = {v:g}" for k, v in m.params.items()))
     head = "".join(f"{n:>10s}" for n in names)
     print(f"{head} {'regime':>24s} {'mean F':>10s} {'diss/dist':>10s} {'static':>9s} "
           f"{'stuck':>6s} {'wells':>6s} {'eta':>6s} steady")

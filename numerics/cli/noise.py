@@ -49,7 +49,7 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def _num(value, fmt=".6g") -> str:
+def _num(value, fmt="#.6g") -> str:
     return "--" if value is None else format(value, fmt)
 
 
@@ -88,8 +88,10 @@ def run(args) -> int:
         return 0
     print(f"stationary state of {args.model} with noise sqrt(2 D) xi, D = {rep['D']:g}")
     print(f"  averaging: {rep['method'] or '-- (' + rep['message'] + ')'}")
+    # the burn-in is a whole number of steps (numerics.thermal.stationary.default_times)
     print(f"  simulated: {rep['trajectories']} trajectories x t = {rep['t_end']:.6g} after a "
-          f"burn-in of {rep['burn_in']:.6g}, dt = {rep['dt']:.4g}, seed {rep['seed']}")
+          f"burn-in of {rep['burn_in']:.4g} ({round(rep['burn_in'] / rep['dt'])} steps), "
+          f"dt = {rep['dt']:.4g}, seed {rep['seed']}")
     print(f"  {'':6}{'averaged':>12}  {'simulated':>12}  {'stderr':>9}  (avg-sim)/stderr")
     for key in ("a2", "x2"):
         m = rep["moments"][key]
@@ -99,7 +101,7 @@ def run(args) -> int:
               f"{_num(m['stderr'], '.2g'):>9}  {z}")
     if rep["moments"]["x2"]["boltzmann"] is not None:
         print(f"  Boltzmann <x^2> (exact, exp(-G/kT) by quadrature): "
-              f"{rep['moments']['x2']['boltzmann']:.6g}")
+              f"{_num(rep['moments']['x2']['boltzmann'])}")
     if rep["message"] and rep["method"]:
         print(f"  {rep['message']}")
     if args.out:

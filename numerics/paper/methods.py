@@ -26,7 +26,7 @@ from kbm.strict_json import finite
 from numerics.comparison.prediction import numeric_value
 from numerics.cycles.sweep import grid, sweep
 from numerics.energy import map_predictions
-from numerics.paper.validity import VALIDITY_KEYS, validity_map
+from numerics.paper.validity import VALIDITY_KEYS, short_reason, validity_map
 
 __all__ = ["METHODS", "METHODS_GRID", "MethodsPoint", "MethodsMap", "methods_map"]
 
@@ -116,7 +116,7 @@ class MethodsMap:
             pr = p.params
             head = f"{pr['mu']:>6g}{pr['Delta']:>8g}{pr['beta']:>6g}"
             if not p.success:
-                lines.append(f"{head}  no true cycle: {p.message}")
+                lines.append(f"{head}  no true cycle: {short_reason(p.message)}")
                 continue
             lines.append(f"{head}{p.amplitude:>11.6f}"
                          + "".join(f"{p.errors[m]:>16.2e}" if np.isfinite(p.errors[m])

@@ -30,6 +30,7 @@ from numerics.paper.figures.friction import study_figures
 from numerics.paper.figures.methods import fixed_delta_figure, methods_figure
 from numerics.paper.methods import methods_map
 from numerics.paper.printed import paper_prediction
+from numerics.paper.report import md_table, summary_markdown
 from numerics.paper.validity import validity_map
 
 __all__ = ["reproduce"]
@@ -68,10 +69,7 @@ def screen_summary(summary: list[str], claims_md: str) -> str:
                       "the paper's claims:", *verdicts])
 
 
-def _md_table(header: list[str], rows: list[list[str]]) -> str:
-    out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    out += ["| " + " | ".join(c.replace("|", "\\|") for c in r) + " |" for r in rows]
-    return "\n".join(out) + "\n"
+_md_table = md_table
 
 
 def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
@@ -101,7 +99,7 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     out = output_folder(out, "out")
     output_folder(out / "tables", "out")
     prog = _Progress(10)
-    summary: list[str] = ["# kbm reproduce: summary", ""]
+    pdf_path = None
 
     prog.stage("errata: the paper's eqs. (6)-(9) against the engine and the true cycles")
     evidence = errata_evidence()
@@ -116,9 +114,6 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     (out / "tables" / "errata.txt").write_text(evidence_table(evidence) + "\n")
     wins = sum(r[-1] == "corrected" for r in rows if not r[2].startswith("stable"))
     total = sum(1 for r in rows if not r[2].startswith("stable"))
-    summary += ["## Errata (paper eqs. 6-9; eq. 10: the dissipation)", "",
-                f"The corrected formula is closer to the true cycle in {wins} of {total} "
-                "comparisons.", "", errata_md]
     prog.done(f"{wins}/{total} comparisons favour the corrected formulas")
 
     prog.stage("derivations: LaTeX from the engine (and the PDF)")
@@ -127,23 +122,21 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     if pdf and shutil.which("pdflatex"):
         pdf_path = compile_pdf(out / "derivations" / "main.tex")
         detail += f"; PDF {pdf_path}"
-        summary += [f"Derivations (PDF): {pdf_path}", ""]
     elif pdf:
         detail += "; pdflatex not installed, no PDF (Debian: texlive-latex-base)"
     prog.done(detail)
 
     prog.stage("KBM versus the true limit cycles")
-    comp_md, comp_json = [], []
+    comp_md, comp_json, cases = [], [], []
     for label, model, params in COMPARISON_CASES:
         extra = [paper_prediction] if model == "sedf" else []
         c = compare(model, params, orders=(1, 2) if model == "sedf" else (1, 2, 3, 4),
                     extra=extra + [energy_prediction(1), energy_prediction(2)])
         comp_md += [f"### {label}", "", "```", c.table(), "```", ""]
         comp_json.append({"case": label, **c.to_json()})
-    comp_text = "\n".join(comp_md)
-    (out / "tables" / "comparison.md").write_text(comp_text)
+        cases.append((label, c))
+    (out / "tables" / "comparison.md").write_text("\n".join(comp_md))
     (out / "tables" / "comparison.json").write_text(_strict_json(comp_json) + "\n")
-    summary += ["## KBM versus numerics", "", comp_text]
     prog.done(f"{len(COMPARISON_CASES)} cases")
 
     prog.stage("convergence orders of the KBM errors")
@@ -152,36 +145,26 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
                               fixed={"delta": 2, "beta": 1, "k": "2*pi"})]
     conv_text = "\n\n".join("```\n" + c.table() + "\n```" for c in conv)
     (out / "tables" / "convergence.md").write_text(conv_text + "\n")
-    summary += ["## Convergence orders (fitted slope vs predicted)", "", conv_text, ""]
     prog.done()
 
     prog.stage("averaging about the conservative orbit at fixed Delta: errors against mu")
     fixed = fixed_delta_convergence()
-    fixed_text = fixed.table()
-    (out / "tables" / "fixed_delta.md").write_text("```\n" + fixed_text + "\n```\n")
+    (out / "tables" / "fixed_delta.md").write_text("```\n" + fixed.table() + "\n```\n")
     (out / "tables" / "fixed_delta.json").write_text(
         json.dumps(fixed.to_json(), indent=2, allow_nan=False) + "\n")
-    summary += ["## Energy method at fixed Delta (fitted slopes; classical KBM cannot "
-                "converge there)", "", "```", fixed_text, "```", ""]
     prog.done(f"{len(fixed.studies)} (Delta, beta) cases")
 
     prog.stage("where classical KBM and the energy method hold (sweep on all cores)")
     mm = methods_map(progress=False)
-    mm_text = mm.table()
-    (out / "tables" / "methods.md").write_text("```\n" + mm_text + "\n```\n")
+    (out / "tables" / "methods.md").write_text("```\n" + mm.table() + "\n```\n")
     (out / "tables" / "methods.json").write_text(
         json.dumps(mm.to_json(), indent=2, allow_nan=False) + "\n")
-    summary += ["## Where each method is within 1 % and 1e-3 of the true cycle", "", "```",
-                mm_text, "```", ""]
     prog.done()
 
     prog.stage("validity map of KBM orders 1 and 2 for the SEDF (sweep on all cores)")
     vm = validity_map(progress=False)
-    vm_text = vm.table()
-    (out / "tables" / "validity.md").write_text("```\n" + vm_text + "\n```\n")
+    (out / "tables" / "validity.md").write_text("```\n" + vm.table() + "\n```\n")
     (out / "tables" / "validity.json").write_text(_strict_json(vm.to_json()) + "\n")
-    summary += ["## Validity map (relative error of KBM orders 1, 2)", "", "```", vm_text,
-                "```", ""]
     prog.done()
 
     prog.stage("the paper's sliding experiments and claims (SEDF versus CDC)")
@@ -189,15 +172,12 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     claims_md = _md_table(["claim", "the paper says", "measured", "verdict"],
                           [c.row() for c in claims])
     (out / "tables" / "claims.md").write_text(claims_md)
-    summary += ["## The paper's claims", "", claims_md]
     prog.done(", ".join(f"{c.key}: {c.verdict}" for c in claims))
 
     prog.stage("friction laws and maps: does self-excitation lower friction? (all cores)")
     study = friction_study(**MAIN_JOB_SIZE)
     (out / "tables" / "friction.md").write_text(study.table())
     (out / "tables" / "friction.json").write_text(_strict_json(study.to_json()) + "\n")
-    summary += ["## Friction laws and maps (SEDF against CDC; 8 x 8 maps here, 32 x 32 in "
-                "the docs)", "", study.table()]
     prog.done()
 
     prog.stage("figures")
@@ -209,10 +189,12 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     figs += fixed_delta_figure(out / "figures", conv=fixed)
     figs += validity_figure(out / "figures", vmap=vm)
     figs += study_figures(study, out / "figures")
-    summary += ["## Figures", ""] + [f"- {p}" for p in figs if p.suffix == ".png"] + [""]
     prog.done(f"{len(figs)} files in {out / 'figures'}")
 
-    text = "\n".join(summary)
+    text = summary_markdown(out, figs, claims=claims, errata=evidence, cases=cases,
+                            convergence=conv, fixed=fixed, methods=mm, validity=vm,
+                            friction=study, pdf=pdf_path)
+    summary = text.splitlines()
     (out / "summary.md").write_text(text)
     print(screen_summary(summary, claims_md))
     print(f"\nwritten: {out}/summary.md, {out}/tables/, {out}/figures/, {out}/derivations/ "

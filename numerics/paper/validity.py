@@ -13,6 +13,7 @@ frequency.  The small parameter of the expansion is ``mu`` at fixed
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -23,7 +24,8 @@ from kbm import derive
 from numerics.comparison.prediction import kbm_prediction, numeric_value
 from numerics.cycles.sweep import grid, sweep
 
-__all__ = ["ValidityPoint", "ValidityMap", "validity_map", "DEFAULT_GRID", "VALIDITY_KEYS"]
+__all__ = ["ValidityPoint", "ValidityMap", "validity_map", "DEFAULT_GRID", "VALIDITY_KEYS",
+           "short_reason"]
 
 #: the quantities whose relative errors define the error of a point
 VALIDITY_KEYS = ("amplitude", "amplitude_max", "frequency")
@@ -34,6 +36,27 @@ DEFAULT_GRID: Mapping[str, tuple[float, ...]] = {
     "Delta": (0.001, 0.003, 0.01, 0.03, 0.1, 0.3, 1.0, 1.5, 3.0),
     "beta": (0.25, 1.0),
 }
+
+
+_ATTEMPT = re.compile(r"transient from x = ([^:]+): no limit cycle: ")
+
+
+def short_reason(message: str) -> str:
+    """Why a sweep found no cycle, once: the attempts of a message such as ``transient from
+    x = 2: no limit cycle: the motion settles to rest at x = 1.89 (...); start elsewhere
+    ...; transient from x = 4: ...`` become ``the motion settles to rest at x = 1.89
+    (from x = 2, 4)``, distinct reasons joined by ``or``; other messages are returned
+    unchanged."""
+    parts = _ATTEMPT.split(message)
+    if len(parts) < 3 or parts[0].strip(" ;"):
+        return message
+    starts, reasons = parts[1::2], []
+    for text in parts[2::2]:
+        text = text.strip(" ;").replace("; start elsewhere (x_start) to look for a cycle", "")
+        reason = re.sub(r"\s*\([^()]*\)", "", text).strip(" ;")
+        if reason not in reasons:
+            reasons.append(reason)
+    return " or ".join(reasons) + f" (from x = {', '.join(s.strip() for s in starts)})"
 
 
 @dataclass(frozen=True, eq=False)
@@ -93,7 +116,8 @@ class ValidityMap:
         for p in self.points:
             pr = p.params
             if not p.success:
-                lines.append(f"{pr['mu']:>6g}{pr['Delta']:>8g}{pr['beta']:>6g}  {p.message}")
+                lines.append(f"{pr['mu']:>6g}{pr['Delta']:>8g}{pr['beta']:>6g}  no cycle: "
+                             f"{short_reason(p.message)}")
                 continue
             lines.append(f"{pr['mu']:>6g}{pr['Delta']:>8g}{pr['beta']:>6g}{p.amplitude:>11.6f}"
                          + "".join(f"{p.error(N):>12.2e}" for N in self.orders))

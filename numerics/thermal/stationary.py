@@ -141,6 +141,24 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
     return out
 
 
+def _title(rep: dict, name: str, D: float) -> str:
+    """The figure's title: the model, every parameter, the noise ``D``, and for the CDC its
+    temperature ``kT = D/mu`` (:mod:`numerics.thermal`) on a line of their own."""
+    import textwrap
+
+    def value(v: str) -> str:
+        try:
+            return f"{float(v):.4g}"
+        except ValueError:
+            return v
+
+    pars = ", ".join(f"{k} = {value(v)}" for k, v in rep["params"].items())
+    mu = value(rep["params"].get("mu", ""))
+    kT = (f", kT = D/mu = {D / float(mu):.4g}"
+          if name == "cdc" and mu.replace(".", "", 1).isdigit() and float(mu) > 0 else "")
+    return "\n".join(textwrap.wrap(f"{name}: {pars}", 64) + [f"noise D = {D:g}{kT}"])
+
+
 def _figure(path, rep: dict, name: str, D: float) -> None:
     import matplotlib
 
@@ -160,7 +178,7 @@ def _figure(path, rep: dict, name: str, D: float) -> None:
     label = {"a": "amplitude $a$", "x": "$x$", "E": "energy $E$"}[d["variable"]]
     ax.set_xlabel(label)
     ax.set_ylabel("stationary density")
-    ax.set_title(f"{name}, D = {D:g}", fontsize=10)
+    ax.set_title(_title(rep, name, D), fontsize=8)
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path)

@@ -28,6 +28,20 @@ __all__ = ["COMPARISON_FIGURES", "comparison_figures", "convergence_figure",
 #: the paper's parameters, marked on the validity map (mu, Delta)
 PAPER_POINTS = POINTS
 
+#: the error contours of the maps, one convention for every figure: (log10 level, style)
+CONTOUR_LEVELS = ((-3, "--"), (-2, "-"))
+#: what the contours mean, for the figures' titles
+CONTOURS = "white contours: solid 1 % error, dashed 1e-3"
+
+
+def error_contours(ax, x: np.ndarray, y: np.ndarray, log_error: np.ndarray):
+    """The 1 % (solid) and 1e-3 (dashed) contours of ``log10`` relative errors, white (the
+    styles given explicitly: matplotlib draws negative levels of a one-colour contour
+    dashed by default).  Returns the contour set."""
+    levels, styles = zip(*CONTOUR_LEVELS)
+    return ax.contour(x, y, np.ma.masked_invalid(log_error), levels=list(levels), colors="w",
+               linestyles=list(styles), linewidths=1.4)
+
 
 def _plt():
     import matplotlib
@@ -124,8 +138,7 @@ def validity_figure(out_dir: Path, *, quick: bool = False, vmap=None) -> list[Pa
             ax.set_xscale("log")
             ax.set_yscale("log")
             if np.isfinite(z).sum() >= 4 and len(mus) > 1 and len(Ds) > 1:
-                ax.contour(mus, Ds, np.ma.masked_invalid(z), levels=[-2], colors="w",
-                           linewidths=1.5)
+                error_contours(ax, mus, Ds, z)
             bad = np.isnan(err)
             for (r, c) in zip(*np.nonzero(bad)):
                 ax.plot(mus[c], Ds[r], "rx", ms=6)
@@ -135,8 +148,9 @@ def validity_figure(out_dir: Path, *, quick: bool = False, vmap=None) -> list[Pa
             ax.set_xlabel("mu")
             ax.set_ylabel("Delta")
     fig.colorbar(im, ax=axes, label="log10 relative error (max of a, max x, frequency)")
-    fig.suptitle("SEDF: where KBM is accurate (white: 1 % contour; star: the paper's "
-                 "mu = 0.1, Delta = 1.5, 3; x: no cycle, true or KBM)", fontsize=10)
+    fig.suptitle("SEDF: where KBM is accurate\n"
+                 f"{CONTOURS}; star: the paper's mu = 0.1, Delta = 1.5, 3; "
+                 "x: no cycle, true or KBM", fontsize=10)
     return [_save(fig, out_dir, "kbm_validity.png")]
 
 

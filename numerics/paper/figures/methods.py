@@ -14,7 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
-from numerics.paper.figures.comparison import PAPER_POINTS, _edges, _plt, _save
+from numerics.paper.figures.comparison import (CONTOURS, PAPER_POINTS, _edges, _plt, _save,
+                                               error_contours)
 
 __all__ = ["methods_figure", "fixed_delta_figure"]
 
@@ -56,8 +57,11 @@ def methods_figure(out_dir: Path, *, quick: bool = False, mmap=None) -> list[Pat
                 lab = "\n".join(" ".join(s for s in ok if s[0] == f) for f in "KE")
                 ax.text(mus[c], Ds[r], lab.strip() or "-", ha="center", va="center",
                         fontsize=8, linespacing=0.9)
+        _frame_paper_cells(ax, mus, Ds)
         for k, n in enumerate(names):
             ax.plot([], [], "s", color=cmap(k), ms=9, label=n)
+        ax.plot([], [], "s", mfc="none", mec="r", mew=2, ms=9, label="the paper's parameters")
+        ax.plot([], [], "rx", ms=7, label="no true cycle")
         ax.legend(fontsize=9, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2,
                   handletextpad=0.2, columnspacing=0.8)
         ax.set_title(f"beta = {b:g}: within 1 % (colour), within 1e-3 (labels)", fontsize=11)
@@ -69,8 +73,7 @@ def methods_figure(out_dir: Path, *, quick: bool = False, mmap=None) -> list[Pat
             im = ax.pcolormesh(_edges(mus), _edges(Ds), np.ma.masked_invalid(lz), vmin=-10,
                                vmax=0, cmap="viridis", shading="flat")
             if np.isfinite(lz).sum() >= 4 and len(mus) > 1 and len(Ds) > 1:
-                ax.contour(mus, Ds, np.ma.masked_invalid(lz), levels=[-3, -2], colors="w",
-                           linestyles=["--", "-"], linewidths=1.3)
+                error_contours(ax, mus, Ds, lz)
             ax.set_title(f"{title}, beta = {b:g}", fontsize=11)
             fig.colorbar(im, ax=ax, label="log10 relative error")
         for ax in axes[i]:
@@ -79,12 +82,36 @@ def methods_figure(out_dir: Path, *, quick: bool = False, mmap=None) -> list[Pat
             ax.set_xlabel("mu", fontsize=11)
             ax.set_ylabel("Delta", fontsize=11)
             ax.tick_params(labelsize=10)
+        for ax in axes[i][1:]:  # the first panel frames the paper's cells (labels stay clear)
             for (m0, D0) in PAPER_POINTS:
                 ax.plot(m0, D0, "r*", ms=12, mec="k")
     fig.suptitle("SEDF: classical KBM (K1, K2) and the energy method (E1, E2) against the "
-                 "true cycle; error = max relative error of a, max x, frequency (white: 1 %, "
-                 "dashed: 1e-3; x: no true cycle; star: the paper's parameters)", fontsize=11)
+                 "true cycle; error = max relative error of a, max x, frequency\n"
+                 f"{CONTOURS}; x: no true cycle; red star or frame: the paper's parameters",
+                 fontsize=12)
     return [_save(fig, out_dir, "methods_map.png")]
+
+
+def _short(row: str) -> str:
+    """``"energy order 2"`` -> ``"E2"``, ``"KBM order 1"`` -> ``"K1"`` (as in the methods map)."""
+    kind, _, n = row.split()
+    return ("E" if kind == "energy" else "K") + n
+
+
+def _frame_paper_cells(ax, mus: np.ndarray, Ds: np.ndarray) -> None:
+    """A red frame round each grid cell of the paper's parameters (a star there would cover
+    the cell's labels); a star where the point is off the grid."""
+    from matplotlib.patches import Rectangle
+
+    em, eD = _edges(mus), _edges(Ds)
+    for (m0, D0) in PAPER_POINTS:
+        c, r = np.nonzero(np.isclose(mus, m0))[0], np.nonzero(np.isclose(Ds, D0))[0]
+        if len(c) and len(r):
+            c, r = c[0], r[0]
+            ax.add_patch(Rectangle((em[c], eD[r]), em[c + 1] - em[c], eD[r + 1] - eD[r],
+                                   fill=False, ec="r", lw=2, zorder=3))
+        else:
+            ax.plot(m0, D0, "r*", ms=12, mec="k")
 
 
 def fixed_delta_figure(out_dir: Path, *, quick: bool = False, conv=None) -> list[Path]:
@@ -99,8 +126,8 @@ def fixed_delta_figure(out_dir: Path, *, quick: bool = False, conv=None) -> list
     keys = [("frequency", "frequency"), ("amplitude_max", "max x"),
             ("floquet_exponent", "Floquet exponent L (dotted: theory - 1, L = O(mu))")]
     studies = conv.studies
-    fig, axes = plt.subplots(len(studies), len(keys), figsize=(4.2 * len(keys),
-                                                                3.3 * len(studies)),
+    fig, axes = plt.subplots(len(studies), len(keys), figsize=(4.8 * len(keys),
+                                                                3.6 * len(studies)),
                              squeeze=False, constrained_layout=True)
     for i, s in enumerate(studies):
         e = np.array(s.eps)
@@ -110,8 +137,8 @@ def fixed_delta_figure(out_dir: Path, *, quick: bool = False, conv=None) -> list
                 rel = s.relative[(row, key)]
                 energy = row.startswith("energy")
                 p = s.predicted[(row, key)]
-                label = (f"{row}: slope {s.slopes[(row, key)]:.2f}"
-                         + (f" (theory {p})" if p is not None else ""))
+                label = (f"{_short(row)}: {s.slopes[(row, key)]:.2f}"
+                         + (f" ({p})" if p is not None else ""))
                 line, = ax.loglog(e, rel, "o-" if energy else "s--", ms=4, label=label)
                 ok = np.isfinite(s.errors[(row, key)])
                 if energy and p is not None and ok.any():
@@ -122,9 +149,11 @@ def fixed_delta_figure(out_dir: Path, *, quick: bool = False, conv=None) -> list
             ax.set_title(f"Delta = {s.Delta:g}, beta = {s.beta:g}: {name}", fontsize=9)
             ax.set_xlabel("mu")
             ax.set_ylabel("relative error")
-            ax.legend(fontsize=6)
+            ax.legend(fontsize=8, title="slope (theory)", title_fontsize=8, loc="lower right",
+                      framealpha=0.85, borderpad=0.3, labelspacing=0.25, handlelength=1.6)
             ax.grid(True, which="both", alpha=0.3)
-    fig.suptitle("Fixed Delta: relative errors; the energy method converges at its predicted "
-                 "orders (dotted; slopes in the legends fitted to the absolute errors), "
-                 "classical KBM (dashed) does not (delta = Delta/mu grows)", fontsize=10)
+    fig.suptitle("Fixed Delta: relative errors against mu.  The energy method (E1-E3, solid) "
+                 "converges at its predicted orders (dotted);\nclassical KBM (K1, K2, dashed) "
+                 "does not, as delta = Delta/mu grows.  Slopes fitted to the absolute errors "
+                 "(theory in parentheses)", fontsize=11)
     return [_save(fig, out_dir, "fixed_delta_convergence.png")]

@@ -35,6 +35,7 @@ import numpy as np
 from kbm.coupled import CoupledOscillators
 from kbm.errors import ParameterError
 from numerics.coupled.cycle import coupled_cycle, forced_response
+from numerics.cycles.acceptance import accepted, orbit_scale, trivial_ok
 from numerics.coupled.flow import bind_coupled, coupled_flow
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 
@@ -242,8 +243,12 @@ def _correct(prob: _Problem, v_pred, row, target: float, max_iter: int = 10) -> 
         J = prob.jacobian(v, Phi, yT, fl, T)
         M = np.vstack([J, row])
         dv = np.linalg.solve(M, -np.append(R, row @ v - target))
-        scale = max(1.0, float(np.max(np.abs(v * prob.scale)[:2 * prob.n])))
-        if np.max(np.abs(R)) < 1e-9 * scale and np.max(np.abs(dv)) < 1e-8:
+        scale = orbit_scale((v * prob.scale)[:2 * prob.n])
+        # the acceptance standard (numerics.cycles.acceptance), and the accuracy of the
+        # point: a scaled correction below 1e-8
+        if accepted(float(np.max(np.abs(R))), float(np.max(np.abs(dv * prob.scale))),
+                    prob.rtol, scale) and np.max(np.abs(dv)) < 1e-8 \
+                and (prob.forced or trivial_ok(np.linalg.eigvals(Phi))):
             return _Pt(prob, v, R, Phi, yT, fl, T, J)
         if np.max(np.abs(dv)) > 0.5:
             raise ConvergenceError(f"corrector step too large ({np.max(np.abs(dv)):.3g}, "

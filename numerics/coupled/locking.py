@@ -31,6 +31,11 @@ from numerics._memo import memo
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from .cycle import coupled_cycle
 from .flow import bind_coupled
+from .fold import locate_fold
+
+#: the bisection's bracket from which the edge is located as the fold of the locked cycle
+#: (:mod:`numerics.coupled.fold`)
+FOLD_BRACKET = 1e-5
 
 __all__ = ["LockingEdge", "LockingRegion", "averaged_edges", "true_edges", "amplitude_death",
            "locking_region", "plot_locking", "check_lockable"]
@@ -286,7 +291,15 @@ def _true_edge(model, params, parameter, base, side, limit, tol, guess) -> Locki
             continue
         s, cyc = s + side * step, nxt
     lo, hi = s, s + side * step
+    coarse = True
     while abs(hi - lo) > tol:
+        if coarse and abs(hi - lo) <= max(tol, FOLD_BRACKET):
+            coarse = False  # the fold itself, a regular point of the arclength problem
+            fold = locate_fold(model, params, parameter, cyc.state, cyc.period, lo, side,
+                               hi + side * max(abs(hi - lo), 1e-3))
+            if fold is not None and (fold.parameter - lo) * side >= 0 \
+                    and min(abs(z - 1) for z in fold.multipliers[1:]) < 1e-4:
+                return LockingEdge(fold.parameter, fold.error, side, fold.state)
         mid = 0.5 * (lo + hi)
         nxt = _shoot(model, params, parameter, mid, cyc)
         if nxt is not None and nxt.stable:

@@ -4,8 +4,11 @@ The unknowns are the state ``y0`` on the section ``xdot_1 = 0`` (``x_1`` at a ma
 the period ``T``; the residual ``y(T) - y0`` (``2N`` equations for ``2N - 1 + 1``
 unknowns) and its Jacobian ``[Phi(T) - I without the column of xdot_1, f(y(T))]`` come
 from one integration of the extended system (:mod:`numerics.coupled.flow`).  The start is
-the state after a transient (a stable cycle attracts it) or a state given.  The
-multipliers are the eigenvalues of ``Phi(T)``; Liouville's formula
+the state after a transient (a stable cycle attracts it) or a state given.  Newton's
+iterate is accepted by the standard of :mod:`numerics.cycles.acceptance` (its
+Newton loop): past a fold, where only a minimum of the residual is left, it is refused
+with that minimum in the message.  The multipliers are the eigenvalues of ``Phi(T)``;
+Liouville's formula
 ``det Phi(T) = exp(int_0^T tr J dt)`` is the independent check printed with them.
 """
 

@@ -9,8 +9,11 @@ from 0 in both directions:
   fold (``f = 0``, ``det J = 0``) is solved by Newton on the augmented system;
 - **true**: the locked state is a periodic orbit of the full ``2N``-dimensional system
   (:func:`numerics.coupled.coupled_cycle`, continued from the previous orbit); the edge is
-  where it ceases to exist, bracketed by bisection to ``tol``, with the non-trivial
-  multiplier nearest 1 going to 1 there (a saddle-node of cycles) as the check.
+  where it ceases to exist, bracketed by bisection to :data:`FOLD_BRACKET` and located as
+  the fold of the locked cycle (:mod:`numerics.coupled.fold`: the zero of the tangent's
+  parameter component on the pseudo-arclength branch, with the non-trivial multiplier
+  nearest 1 at 1 there, a saddle-node of cycles, as the check); where the cycle is lost
+  otherwise (no fold: a torus bifurcation), the bisection goes on to ``tol``.
 
 The amplitude death of the oscillators (the origin made stable by the coupling) is read
 from the linearisation of the full system at the origin.

@@ -16,6 +16,7 @@ import math
 import numpy as np
 
 
+from numerics.cycles import acceptance as _acceptance
 from numerics.cycles.branch_result import BranchPoint
 from numerics.cycles.floquet import floquet_multipliers
 from numerics.cycles.shooting import NEWTON_MAX_STEPS
@@ -24,11 +25,10 @@ from numerics.flow import CompiledLine, Method, choose_method, extended_state, f
 from numerics.flow.sensitivity import (flow_with_sensitivity, sensitivity_flow, sensitivity_state,
                                        shooting_corrector)
 
-#: a printed branch point passes the convergence test |trivial multiplier - 1| <= TRIVIAL_TOL;
-#: near a separatrix the monodromy loses accuracy first (on the SEDF branch in Delta the
-#: last 15 points of 63 had the trivial multiplier off by 1e-5 to 5e-2 and were printed,
-#: before this test; the corrector now iterates on until its points pass it)
-TRIVIAL_TOL = 1e-5
+#: a printed branch point passes the convergence test |trivial multiplier - 1| <= TRIVIAL_TOL
+#: of the acceptance standard (:mod:`numerics.cycles.acceptance`); the corrector iterates on
+#: until its points pass it
+TRIVIAL_TOL = _acceptance.TRIVIAL_TOL
 
 _FAIL = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, ValueError)
 
@@ -235,7 +235,10 @@ def _correct(prob: _Problem, u_pred, row, target: float, max_iter: int = 8) -> _
         return _correct_compiled(prob, u_pred, row, target, max_iter)
     u = np.array(u_pred, dtype=float)
     scale = max(1.0, abs(u[0]))
-    tol_r, tol_u = 1e2 * prob.rtol * scale, 1e0 * prob.rtol * max(scale, u[1], abs(u[2]))
+    # the acceptance standard's residual bound; the correction's bound, rtol times the size
+    # of u, is tighter than the standard's (sqrt(rtol)): the accuracy of the point
+    tol_r = _acceptance.residual_tolerance(prob.rtol, scale)
+    tol_u = prob.rtol * max(scale, u[1], abs(u[2]))
     for it in range(max_iter + 1):
         R, A, b, yT, ys = prob.eval(u, 32, with_p=True)
         # the integration error of R grows with the monodromy matrix (near a separatrix)

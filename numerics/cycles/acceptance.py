@@ -120,7 +120,7 @@ def no_orbit_message(trace: NewtonTrace, rtol: float, scale: float, what: str = 
 
 def shoot_newton(evaluate: Callable, z0, *, rtol: float, scale: Callable, max_iter: int,
                  damp: Callable | None = None, what: str = "", diverge: int = 5,
-                 noise: Callable | None = None):
+                 noise: Callable | None = None, accuracy: float | None = None):
     """Newton's method on a square shooting problem, ended by the acceptance standard.
 
     Parameters
@@ -143,6 +143,9 @@ def shoot_newton(evaluate: Callable, z0, *, rtol: float, scale: Callable, max_it
         Stop when the residual grew this many times less one in a row.
     noise
         ``state -> factor >= 1`` of the tolerances (default 1).
+    accuracy
+        A caller's bound on the last correction relative to the orbit's scale, on top of
+        the standard (the accuracy of the orbit returned, not its existence).
 
     Returns
     -------
@@ -172,7 +175,8 @@ def shoot_newton(evaluate: Callable, z0, *, rtol: float, scale: Callable, max_it
         corr = float(np.max(np.abs(dz)))
         trace.corrections.append(corr)
         nz = 1.0 if noise is None else noise(state)
-        if accepted(res, corr, rtol, scale(z), nz):
+        if accepted(res, corr, rtol, scale(z), nz) and (
+                accuracy is None or corr <= accuracy * scale(z)):
             return z + dz, it, trace, state
         lam = 1.0 if damp is None else damp(z, dz)
         z = z + lam * dz

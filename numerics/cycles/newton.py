@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from numerics.cycles.acceptance import (RESIDUAL_FACTOR, TRIVIAL_TOL, accepted, orbit_scale,
+                                        residual_tolerance)
 from numerics.errors import ConvergenceError, NoCycleError
 from numerics.flow import extended_state, flow
 
@@ -49,9 +51,22 @@ def newton(cm, x0, T, method, rtol, atol, max_iter, floor):
                   0.5 * T / max(abs(dT), 1e-300))
         while ((x0 + lam * dx) * x0 <= 0 or T + lam * dT <= 0) and lam > 1e-3:
             lam /= 2
-        x0, T = x0 + lam * dx, T + lam * dT
-        if max(abs(dx) / max(1.0, abs(x0)), abs(dT) / T) < floor or history[-1] < floor:
+        # the acceptance standard (numerics.cycles.acceptance) at the iterate, its
+        # correction added, at the floor of this shooting, 1e3 max(rtol, atol) (LSODA and
+        # scipy's implicit methods included); the integration error of R grows with the
+        # monodromy matrix (near a separatrix)
+        noise = max(1.0, float(np.max(np.abs(yT[2:4]))) * rtol / 1e-8)
+        if accepted(history[-1], max(abs(dx), abs(dT)), floor / RESIDUAL_FACTOR,
+                    orbit_scale(x0), noise):
+            return x0 + dx, T + dT, it, history
+        if history[-1] <= residual_tolerance(floor / RESIDUAL_FACTOR, orbit_scale(x0), noise) \
+                and abs(yT[2] - 1.0) <= floor:
+            # a closed orbit whose non-trivial multiplier is 1 to the floor (Phi_11 on the
+            # section): the Newton matrix is singular and the correction meaningless; past a
+            # fold a residual minimum has |Phi_11 - 1| ~ sqrt(distance), far above it.  The
+            # final pass refuses the orbit as not isolated (a conservative system)
             return x0, T, it, history
+        x0, T = x0 + lam * dx, T + lam * dT
         if len(history) >= 5 and all(b > a for a, b in zip(history[-5:], history[-4:])):
             raise ConvergenceError(
                 f"Newton on the return map diverges: the residual |(x(T) - x0, x'(T))| grew "
@@ -78,7 +93,7 @@ def check_nontrivial(cm, converged, meth, rtol, atol, scale) -> None:
                            f"T = {T:.4g}); start elsewhere (x_start) to look for a cycle")
     yT = ys[-1]
     mults = np.linalg.eigvals(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]))
-    if np.min(np.abs(mults - 1.0)) > 1e-5:
+    if np.min(np.abs(mults - 1.0)) > TRIVIAL_TOL:
         raise ConvergenceError(f"the orbit found (x0 = {x0:.6g}, T = {T:.6g}) has no Floquet "
                                f"multiplier 1 ({mults[0]:.6g}, {mults[1]:.6g}): not a cycle")
 

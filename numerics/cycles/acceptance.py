@@ -113,14 +113,14 @@ def no_orbit_message(trace: NewtonTrace, rtol: float, scale: float, what: str = 
     elif math.isfinite(smin):
         fold = f"; the shooting matrix's smallest singular value there is {smin:.2e}"
     return (f"no periodic orbit{' ' + what if what else ''} here: the smallest residual is "
-            f"{r:.2e} (accepted: {tol:.2e}, {RESIDUAL_FACTOR:g} rtol times the orbit's scale "
-            f"{scale:.4g}) at a distance {dist:.2e} from the start{fold}; Newton's residuals "
+            f"{r:.2e} (accepted: {tol:.2e} at the orbit's scale {scale:.4g}) at a distance {dist:.2e} from the start{fold}; Newton's residuals "
             f"{last} after {len(trace.residuals)} iterations")
 
 
 def shoot_newton(evaluate: Callable, z0, *, rtol: float, scale: Callable, max_iter: int,
                  damp: Callable | None = None, what: str = "", diverge: int = 5,
-                 noise: Callable | None = None, accuracy: float | None = None):
+                 noise: Callable | None = None, accuracy: float | None = None,
+                 degenerate: Callable | None = None):
     """Newton's method on a square shooting problem, ended by the acceptance standard.
 
     Parameters
@@ -146,6 +146,10 @@ def shoot_newton(evaluate: Callable, z0, *, rtol: float, scale: Callable, max_it
     accuracy
         A caller's bound on the last correction relative to the orbit's scale, on top of
         the standard (the accuracy of the orbit returned, not its existence).
+    degenerate
+        ``(z, R, state) -> bool``: the iterate is a closed orbit whose shooting matrix is
+        singular (a non-trivial multiplier 1 to the floor: a conservative system), returned
+        as it is for the caller's check of isolation.
 
     Returns
     -------
@@ -161,10 +165,13 @@ def shoot_newton(evaluate: Callable, z0, *, rtol: float, scale: Callable, max_it
     z = np.array(z0, dtype=float)
     start = z.copy()
     trace = NewtonTrace()
+    why = f"Newton did not converge in {max_iter} iterations"
     for it in range(1, max_iter + 1):
         R, M, state = evaluate(z)
         res = float(np.max(np.abs(R)))
         trace.note(res, float(np.max(np.abs(z - start))), M)
+        if degenerate is not None and degenerate(z, R, state):
+            return z, it, trace, state
         try:
             dz = np.linalg.solve(M, -np.asarray(R, dtype=float))
         except np.linalg.LinAlgError:
@@ -181,7 +188,11 @@ def shoot_newton(evaluate: Callable, z0, *, rtol: float, scale: Callable, max_it
         lam = 1.0 if damp is None else damp(z, dz)
         z = z + lam * dz
         h = trace.residuals
-        if not np.all(np.isfinite(z)) or (
-                len(h) >= diverge and all(b > a for a, b in zip(h[-diverge:], h[1 - diverge:]))):
+        if not np.all(np.isfinite(z)):
+            why = f"Newton left the finite numbers after {it} iterations"
             break
-    raise ConvergenceError(no_orbit_message(trace, rtol, scale(z), what))
+        if len(h) >= diverge and all(b > a for a, b in zip(h[-diverge:], h[1 - diverge:])):
+            why = f"Newton diverges: the residual grew {diverge - 1} times in a row"
+            break
+    last = z if np.all(np.isfinite(z)) else start
+    raise ConvergenceError(f"{why}; {no_orbit_message(trace, rtol, scale(last), what)}")

@@ -12,6 +12,11 @@ the one through 1 at a saddle-node of cycles).
 
 The fold is located at the integrator tolerances ``rtol`` and ``rtol/10``; their
 difference, with the bisection bracket, is the stated error.
+
+:func:`true_edges` (the true edges of frequency locking, :mod:`numerics.coupled.locking`)
+follows the locked cycle out in the detuning, brackets its loss by bisection on shooting
+(which accepts no cycle past a fold, :mod:`numerics.cycles.acceptance`) to
+:data:`FOLD_BRACKET`, and takes the fold there as the edge.
 """
 
 from __future__ import annotations
@@ -23,11 +28,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm.coupled import CoupledOscillators
-from numerics.errors import ConvergenceError
+from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from .continuation import _FAIL, _arc, _correct, _locate, _null, _Problem
+from .cycle import coupled_cycle
 from .flow import bind_coupled
 
-__all__ = ["Fold", "locate_fold"]
+__all__ = ["Fold", "locate_fold", "LockingEdge", "true_edges", "FOLD_BRACKET"]
+
+#: the bisection's bracket from which a true locking edge is located as the fold of the
+#: locked cycle
+FOLD_BRACKET = 1e-5
 
 
 @dataclass(frozen=True)
@@ -116,3 +126,77 @@ def locate_fold(model: CoupledOscillators | str, params: Mapping[str, object], v
     n2 = len(pt2.Phi)
     return Fold(p2, err, tuple(float(v) for v in pt2.u[:n2]), float(pt2.T),
                 tuple(complex(z) for z in pt2.mults))
+
+
+@dataclass(frozen=True)
+class LockingEdge:
+    """One edge of the locking region at fixed other parameters.
+
+    ``sigma`` is the edge, ``error`` its uncertainty (the bisection bracket for the true
+    edge, Newton's last step for the averaged one), ``side`` +1 or -1, ``state`` the
+    locked state (slow-flow fixed point or cycle state) just inside.
+    """
+
+    sigma: float
+    error: float
+    side: int
+    state: tuple
+
+
+def true_edges(model: CoupledOscillators | str, params: Mapping[str, object],
+               parameter: str = "sigma", limit: float = 10.0, tol: float = 1e-5,
+               guess: Mapping[int, float] | None = None) -> list[LockingEdge]:
+    """The edges of locking of the full system: where the locked cycle ceases to exist.
+
+    ``guess`` maps a side (-1, +1) to an estimate of its edge (e.g. the averaged one); the
+    continuation then takes large steps up to 90 % of it.
+
+    Raises
+    ------
+    numerics.errors.NoCycleError, numerics.errors.ConvergenceError
+        If there is no locked cycle at ``sigma = 0``.
+    """
+    p0 = {**dict(params), parameter: 0}
+    base = coupled_cycle(model, p0)
+    return [_true_edge(model, params, parameter, base, side, limit, tol,
+                       (guess or {}).get(side)) for side in (-1, 1)]
+
+
+def _shoot(model, params, parameter, s, cyc):
+    try:
+        return coupled_cycle(model, {**dict(params), parameter: s}, start=cyc.state,
+                             transient=0, period=cyc.period, max_iter=12)
+    except (ConvergenceError, NoCycleError, IntegrationError):
+        return None  # no locked cycle found there (Newton left it, or the orbit ran away)
+
+
+def _true_edge(model, params, parameter, base, side, limit, tol, guess) -> LockingEdge:
+    s, cyc = 0.0, base
+    step = 0.02 if guess is None else max(0.02, 0.3 * abs(guess))
+    while True:
+        if abs(s) >= limit:
+            return LockingEdge(math.copysign(math.inf, side), 0.0, side, tuple(cyc.state))
+        nxt = _shoot(model, params, parameter, s + side * step, cyc)
+        if nxt is None or not nxt.stable:  # past the edge, or too long a step for Newton
+            if step <= 1e-3:
+                break
+            step /= 2
+            continue
+        s, cyc = s + side * step, nxt
+    lo, hi = s, s + side * step
+    coarse = True
+    while abs(hi - lo) > tol:
+        if coarse and abs(hi - lo) <= max(tol, FOLD_BRACKET):
+            coarse = False  # the fold itself, a regular point of the arclength problem
+            fold = locate_fold(model, params, parameter, cyc.state, cyc.period, lo, side,
+                               hi + side * max(abs(hi - lo), 1e-3))
+            if fold is not None and (fold.parameter - lo) * side >= 0 \
+                    and min(abs(z - 1) for z in fold.multipliers[1:]) < 1e-4:
+                return LockingEdge(fold.parameter, fold.error, side, fold.state)
+        mid = 0.5 * (lo + hi)
+        nxt = _shoot(model, params, parameter, mid, cyc)
+        if nxt is not None and nxt.stable:
+            lo, cyc = mid, nxt
+        else:
+            hi = mid
+    return LockingEdge(0.5 * (lo + hi), 0.5 * abs(hi - lo), side, tuple(cyc.state))

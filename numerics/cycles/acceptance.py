@@ -113,8 +113,9 @@ def no_orbit_message(trace: NewtonTrace, rtol: float, scale: float, what: str = 
     elif math.isfinite(smin):
         fold = f"; the shooting matrix's smallest singular value there is {smin:.2e}"
     return (f"no periodic orbit{' ' + what if what else ''} here: the smallest residual is "
-            f"{r:.2e} (accepted: {tol:.2e} at the orbit's scale {scale:.4g}) at a distance {dist:.2e} from the start{fold}; Newton's residuals "
-            f"{last} after {len(trace.residuals)} iterations")
+            f"{r:.2e} (accepted: {tol:.2e} at the orbit's scale {scale:.4g}) at a distance "
+            f"{dist:.2e} from the start{fold}; Newton's residuals {last} after "
+            f"{len(trace.residuals)} iterations")
 
 
 def shoot_newton(evaluate: Callable, z0, *, rtol: float, scale: Callable, max_iter: int,
@@ -175,10 +176,10 @@ def shoot_newton(evaluate: Callable, z0, *, rtol: float, scale: Callable, max_it
         try:
             dz = np.linalg.solve(M, -np.asarray(R, dtype=float))
         except np.linalg.LinAlgError:
-            raise ConvergenceError(f"singular shooting matrix ({what or 'the orbit'}: a "
-                                   "non-hyperbolic orbit, or the section is not transversal "
-                                   f"there); {no_orbit_message(trace, rtol, scale(z), what)}"
-                                   ) from None
+            raise ConvergenceError(f"singular shooting matrix{' ' + what if what else ''} "
+                                   "(a non-hyperbolic orbit, or the section is not "
+                                   "transversal there); "
+                                   f"{no_orbit_message(trace, rtol, scale(z), what)}") from None
         corr = float(np.max(np.abs(dz)))
         trace.corrections.append(corr)
         nz = 1.0 if noise is None else noise(state)

@@ -23,7 +23,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
+from kbm.models import custom_model
 from numerics.coupled import coupled_cycle
+from numerics.cycles import continue_cycles, limit_cycle
 from numerics.coupled.locking import true_edges
 from numerics.cycles.acceptance import (RESIDUAL_FACTOR, accepted, correction_tolerance,
                                         residual_tolerance, trivial_ok)
@@ -63,6 +65,23 @@ def test_no_cycle_accepted_past_the_fold():
     assert min(abs(z - 1) for z in inside.floquet_multipliers[1:]) < 1e-4
     with pytest.raises(ConvergenceError, match="no periodic orbit .* smallest residual is"):
         coupled_cycle("coupled-vdp", {**p, "sigma": FOLD + 2e-9}, rtol=1e-12)
+
+
+def test_one_degree_of_freedom_past_its_fold():
+    """x'' + x = mu (nu + x^2 - x^4/4) x': the stable and unstable cycles meet at a fold
+    (the averaged amplitude equation nu/2 + a^2/8 - a^4/64 = 0 has a double root at
+    nu = -1/2 + O(mu)).  Shot from the fold cycle at 1e-9 past the fold the residual falls
+    below the residual bound (6e-10), but the Newton correction does not: refused; 1e-8
+    inside, the cycle is found with a non-trivial multiplier near 1."""
+    model = custom_model("(nu + x**2 - x**4/4)*xdot")
+    br = continue_cycles(model, {"mu": 0.1, "nu": -0.3}, "nu", (-0.7, -0.2))
+    fold = next(s for s in br.special if s.kind == "fold")
+    assert abs(fold.parameter + 0.5) < 1e-4
+    guess = (fold.amplitude, fold.period)
+    with pytest.raises(ConvergenceError, match="a minimum of the residual, not an orbit"):
+        limit_cycle(model, {"mu": 0.1, "nu": fold.parameter - 1e-9}, guess=guess)
+    inside = limit_cycle(model, {"mu": 0.1, "nu": fold.parameter + 1e-8}, guess=guess)
+    assert abs(inside.floquet_multipliers[1] - 1) < 1e-3
 
 
 def _field(y, sigma):

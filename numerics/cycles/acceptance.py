@@ -88,7 +88,8 @@ class NewtonTrace:
 
     residuals: list = field(default_factory=list)
     corrections: list = field(default_factory=list)
-    best: tuple = (math.inf, 0.0, math.nan)  # (residual, distance, smallest singular value)
+    #: (residual, distance, smallest singular value, Newton correction) at the best iterate
+    best: tuple = (math.inf, 0.0, math.nan, math.nan)
 
     def note(self, residual: float, distance: float, matrix: np.ndarray | None) -> None:
         self.residuals.append(float(residual))
@@ -96,15 +97,27 @@ class NewtonTrace:
             smin = math.nan
             if matrix is not None and np.all(np.isfinite(matrix)):
                 smin = float(np.linalg.svd(matrix, compute_uv=False)[-1])
-            self.best = (float(residual), float(distance), smin)
+            self.best = (float(residual), float(distance), smin, math.nan)
+
+    def correction(self, value: float) -> None:
+        """The Newton correction computed at the last iterate noted."""
+        self.corrections.append(float(value))
+        if self.residuals and self.residuals[-1] == self.best[0]:
+            self.best = (*self.best[:3], float(value))
 
 
 def no_orbit_message(trace: NewtonTrace, rtol: float, scale: float, what: str = "",
                      noise: float = 1.0) -> str:
     """"no periodic orbit here: the smallest residual is R at a distance D ...", with the
     numbers of ``trace``."""
-    r, dist, smin = trace.best
+    r, dist, smin, corr = trace.best
     tol = residual_tolerance(rtol, scale, noise)
+    if math.isfinite(corr) and r <= tol:
+        ctol = correction_tolerance(rtol, scale, noise)
+        dist = (f"{dist:.2e} from the start, where Newton's correction is {corr:.2e} "
+                f"(accepted: {ctol:.2e}): a minimum of the residual, not an orbit")
+    else:
+        dist = f"{dist:.2e} from the start"
     last = ", ".join(f"{h:.2e}" for h in trace.residuals[-5:])
     fold = ""
     if math.isfinite(smin) and smin < 1e-2:
@@ -114,7 +127,7 @@ def no_orbit_message(trace: NewtonTrace, rtol: float, scale: float, what: str = 
         fold = f"; the shooting matrix's smallest singular value there is {smin:.2e}"
     return (f"no periodic orbit{' ' + what if what else ''} here: the smallest residual is "
             f"{r:.2e} (accepted: {tol:.2e} at the orbit's scale {scale:.4g}) at a distance "
-            f"{dist:.2e} from the start{fold}; Newton's residuals {last} after "
+            f"{dist}{fold}; Newton's residuals {last} after "
             f"{len(trace.residuals)} iterations")
 
 
@@ -181,7 +194,7 @@ def shoot_newton(evaluate: Callable, z0, *, rtol: float, scale: Callable, max_it
                                    "transversal there); "
                                    f"{no_orbit_message(trace, rtol, scale(z), what)}") from None
         corr = float(np.max(np.abs(dz)))
-        trace.corrections.append(corr)
+        trace.correction(corr)
         nz = 1.0 if noise is None else noise(state)
         if accepted(res, corr, rtol, scale(z), nz) and (
                 accuracy is None or corr <= accuracy * scale(z)):

@@ -2,7 +2,11 @@
 and the locking of self-excited oscillators.
 
 - :mod:`numerics.coupled.flow`: :func:`coupled_flow` (state, monodromy, divergence);
-- :mod:`numerics.coupled.cycle`: :func:`coupled_cycle`, shooting with Floquet multipliers.
+- :mod:`numerics.coupled.cycle`: :func:`coupled_cycle`, shooting with Floquet multipliers
+  (accepted by the standard of :mod:`numerics.cycles.acceptance`);
+- :mod:`numerics.coupled.continuation`: branches in one parameter; :mod:`numerics.coupled.fold`
+  the fold of a branch near a cycle (the true locking edges of
+  :mod:`numerics.coupled.locking`).
 """
 
 from .cycle import CoupledCycle, ForcedCoupledResponse, coupled_cycle, forced_response

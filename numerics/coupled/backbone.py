@@ -23,6 +23,7 @@ import sympy as sp
 from scipy.optimize import brentq
 
 from kbm.coupled import CoupledKBMResult, amplitudes
+from numerics.cycles.acceptance import orbit_scale, shoot_newton
 from numerics.errors import ConvergenceError
 from .flow import coupled_flow
 
@@ -76,21 +77,19 @@ def true_backbone_point(model, values: Mapping[str, object], x1_max: float, x2_g
         If Newton on ``(x_2(0), T)`` does not converge.
     """
     fl = coupled_flow(model, values)
-    x2, T = float(x2_guess), float(period_guess)
-    history = []
-    for _ in range(max_iter):
-        y0 = np.array([x1_max, x2, 0.0, 0.0])
-        yh, Phi, _ = fl.monodromy(y0, T / 2)
-        r = yh[2:4]
-        history.append(float(np.max(np.abs(r))))
-        if history[-1] < 1e-11:
-            break
-        J = np.column_stack([Phi[2:4, 1], fl.rhs(yh)[2:4] / 2])
-        dx2, dT = np.linalg.solve(J, -r)
-        x2, T = x2 + dx2, T + dT
-    else:
-        raise ConvergenceError(f"no reversible orbit through x1 = {x1_max:g}: residuals "
-                               f"{', '.join(f'{h:.1e}' for h in history[-4:])}")
+
+    def evaluate(z):
+        yh, Phi, _ = fl.monodromy(np.array([x1_max, z[0], 0.0, 0.0]), z[1] / 2)
+        return yh[2:4], np.column_stack([Phi[2:4, 1], fl.rhs(yh)[2:4] / 2]), None
+
+    try:  # the acceptance standard of every shooting, the correction below 1e-9 S
+        z, _, _, _ = shoot_newton(evaluate, [float(x2_guess), float(period_guess)],
+                                  rtol=1e-11, scale=lambda z: orbit_scale([x1_max, z[0]]),
+                                  max_iter=max_iter, accuracy=1e-9,
+                                  what=f"reversible through x1 = {x1_max:g}")
+    except ConvergenceError as exc:
+        raise ConvergenceError(f"no reversible orbit through x1 = {x1_max:g}: {exc}") from None
+    x2, T = float(z[0]), float(z[1])
     n_s = 1024
     ys = fl.states(np.array([x1_max, x2, 0.0, 0.0]), T, n_s)[:-1]
     c = np.fft.rfft(ys[:, :2], axis=0) / n_s * 2

@@ -35,6 +35,8 @@ import numpy as np
 from kbm.coupled import CoupledOscillators
 from kbm.errors import ParameterError
 from numerics.coupled.cycle import coupled_cycle, forced_response
+from numerics.cycles.acceptance import accepted, orbit_scale, trivial_ok
+from numerics.cycles.corrector import correct_on_hyperplane
 from numerics.coupled.flow import bind_coupled, coupled_flow
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 
@@ -235,23 +237,31 @@ def _null(J: np.ndarray) -> np.ndarray:
 
 
 def _correct(prob: _Problem, v_pred, row, target: float, max_iter: int = 10) -> _Pt:
-    """Newton on ``R(v) = 0, row . v = target`` (scaled unknowns)."""
-    v = np.array(v_pred, dtype=float)
-    for _ in range(max_iter + 1):
+    """Newton on ``R(v) = 0, row . v = target`` (scaled unknowns), by the corrector shared
+    with one degree of freedom (:func:`numerics.cycles.corrector.correct_on_hyperplane`)."""
+    def evaluate(v):
         R, Phi, yT, fl, T = prob.residual(v)
         J = prob.jacobian(v, Phi, yT, fl, T)
-        M = np.vstack([J, row])
-        dv = np.linalg.solve(M, -np.append(R, row @ v - target))
-        scale = max(1.0, float(np.max(np.abs(v * prob.scale)[:2 * prob.n])))
-        if np.max(np.abs(R)) < 1e-9 * scale and np.max(np.abs(dv)) < 1e-8:
-            return _Pt(prob, v, R, Phi, yT, fl, T, J)
+        return R, J, (Phi, yT, fl, T, J)
+
+    def accept(v, R, dv, data, it):
+        # the acceptance standard (numerics.cycles.acceptance), and the accuracy of the
+        # point: a scaled correction below 1e-8
+        scale = orbit_scale((v * prob.scale)[:2 * prob.n])
+        return bool(accepted(float(np.max(np.abs(R))), float(np.max(np.abs(dv * prob.scale))),
+                             prob.rtol, scale) and np.max(np.abs(dv)) < 1e-8
+                    and (prob.forced or trivial_ok(np.linalg.eigvals(data[0]))))
+
+    def too_large(v, dv):
         if np.max(np.abs(dv)) > 0.5:
-            raise ConvergenceError(f"corrector step too large ({np.max(np.abs(dv)):.3g}, "
-                                   f"scaled) at {prob.vary} = {v[-1] * prob.scale[-1]:.8g}")
-        v = v + dv
-    raise ConvergenceError(f"corrector did not converge in {max_iter} iterations at "
-                           f"{prob.vary} = {v[-1] * prob.scale[-1]:.8g} "
-                           f"(|R| = {np.max(np.abs(R)):.2e})")
+            return (f"corrector step too large ({np.max(np.abs(dv)):.3g}, scaled) at "
+                    f"{prob.vary} = {v[-1] * prob.scale[-1]:.8g}")
+        return None
+
+    v, R, _, (Phi, yT, fl, T, J), _ = correct_on_hyperplane(
+        evaluate, v_pred, row, target, max_iter=max_iter, accept=accept, too_large=too_large,
+        where=lambda v: f"{prob.vary} = {v[-1] * prob.scale[-1]:.8g}")
+    return _Pt(prob, v, R, Phi, yT, fl, T, J)
 
 
 def _arc(prob: _Problem, pt: _Pt, t: np.ndarray, ds: float) -> _Pt:

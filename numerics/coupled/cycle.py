@@ -4,8 +4,11 @@ The unknowns are the state ``y0`` on the section ``xdot_1 = 0`` (``x_1`` at a ma
 the period ``T``; the residual ``y(T) - y0`` (``2N`` equations for ``2N - 1 + 1``
 unknowns) and its Jacobian ``[Phi(T) - I without the column of xdot_1, f(y(T))]`` come
 from one integration of the extended system (:mod:`numerics.coupled.flow`).  The start is
-the state after a transient (a stable cycle attracts it) or a state given.  The
-multipliers are the eigenvalues of ``Phi(T)``; Liouville's formula
+the state after a transient (a stable cycle attracts it) or a state given.  Newton's
+iterate is accepted by the standard of :mod:`numerics.cycles.acceptance` (its
+Newton loop): past a fold, where only a minimum of the residual is left, it is refused
+with that minimum in the message.  The multipliers are the eigenvalues of ``Phi(T)``;
+Liouville's formula
 ``det Phi(T) = exp(int_0^T tr J dt)`` is the independent check printed with them.
 """
 
@@ -19,6 +22,7 @@ import numpy as np
 
 from kbm.coupled import CoupledOscillators
 from numerics.errors import ConvergenceError, NoCycleError
+from numerics.cycles.acceptance import TRIVIAL_TOL, orbit_scale, shoot_newton
 from .flow import CoupledFlow, coupled_flow
 
 __all__ = ["CoupledCycle", "coupled_cycle", "section_start", "ForcedCoupledResponse",
@@ -194,40 +198,36 @@ def coupled_cycle(model: CoupledOscillators | str, params: Mapping[str, object] 
     if period is not None:
         T = float(period)
     free = [j for j in range(2 * n) if j != n]
-    history: list[float] = []
-    for it in range(1, max_iter + 1):
-        yT, Phi, div = fl.monodromy(y0, T, rtol=rtol)
-        r = yT - y0
-        history.append(float(np.max(np.abs(r))))
-        if history[-1] < 1e-10 * max(1.0, float(np.max(np.abs(y0)))):
-            break
+
+    def evaluate(z):
+        y = np.zeros(2 * n)
+        y[free] = z[:-1]
+        yT, Phi, _ = fl.monodromy(y, z[-1], rtol=rtol)
         M = np.empty((2 * n, 2 * n))
         M[:, :-1] = Phi[:, free] - np.eye(2 * n)[:, free]
         M[:, -1] = fl.rhs(yT)
-        try:
-            dz = np.linalg.solve(M, -r)
-        except np.linalg.LinAlgError:
-            raise ConvergenceError(f"singular shooting matrix at T = {T:.10g} (a "
-                                   "non-hyperbolic orbit, or xdot1 = 0 is not transversal "
-                                   "there)") from None
-        lam = min(1.0, 0.3 * T / max(abs(dz[-1]), 1e-300))
-        y0[free] += lam * dz[:-1]
-        T += lam * dz[-1]
-        if len(history) >= 5 and all(b > a for a, b in zip(history[-5:], history[-4:])):
-            break
-    else:
-        it = max_iter
-    if history[-1] >= 1e-8 * max(1.0, float(np.max(np.abs(y0)))):
+        return yT - y, M, None
+
+    def damp(z, dz):
+        return min(1.0, 0.3 * z[-1] / max(abs(dz[-1]), 1e-300))
+
+    try:
+        z, it, trace, _ = shoot_newton(
+            evaluate, np.append(y0[free], T), rtol=rtol, max_iter=max_iter, damp=damp,
+            scale=lambda z: orbit_scale(z[:-1]), what=f"of {fl.model.name}")
+    except ConvergenceError as exc:
         raise ConvergenceError(
-            f"no periodic orbit of {fl.model.name}: Newton's residuals |y(T) - y0| "
-            f"{', '.join(f'{h:.2e}' for h in history[-5:])} after {it} iterations from the "
-            f"state after t = {t_tr:g}; the motion there is probably quasi-periodic (the "
-            "oscillators not locked): compare kbm lock, or give another start")
+            f"{exc}; from the state after t = {t_tr:g}: the motion there is probably "
+            "quasi-periodic (the oscillators not locked), or the parameters are past a fold "
+            "of the locked cycle: compare kbm lock, or give another start") from None
+    y0 = np.zeros(2 * n)
+    y0[free], T = z[:-1], float(z[-1])
     yT, Phi, div = fl.monodromy(y0, T, rtol=rtol)
+    residual = float(np.max(np.abs(yT - y0)))  # at the accepted orbit
     mults = np.linalg.eigvals(Phi)
     k = int(np.argmin(np.abs(mults - 1.0)))
     spread = float(np.max(np.ptp(fl.states(y0, T, 64, rtol=rtol)[:, :n], axis=0)))
-    if spread < 1e-6 * max(1.0, float(np.max(np.abs(y0)))) or abs(mults[k] - 1) > 1e-5:
+    if spread < 1e-6 * max(1.0, float(np.max(np.abs(y0)))) or abs(mults[k] - 1) > TRIVIAL_TOL:
         raise ConvergenceError(
             f"Newton converged to an equilibrium, not a cycle, of {fl.model.name} (the state "
             f"varies by {spread:.2e} over T = {T:.6g}; the multiplier nearest 1 is "
@@ -243,10 +243,10 @@ def coupled_cycle(model: CoupledOscillators | str, params: Mapping[str, object] 
     det = float(np.linalg.det(Phi))
     stable = bool(np.all(np.abs(rest) < 1.0))
     msg = (f"converged in {it} Newton iterations (DOP853 (compiled), rtol {rtol:g}); "
-           f"|y(T) - y0| = {history[-1]:.2e}; trivial multiplier {mults[0].real:.12f}; "
+           f"|y(T) - y0| = {residual:.2e}; trivial multiplier {mults[0].real:.12f}; "
            f"det Phi = {det:.10g} against exp(int tr J) = {math.exp(div):.10g} (Liouville)")
     return CoupledCycle(fl.model.name, dict(fl.values), float(T), y0.copy(), amps, ph, mults,
-                        stable, (det, math.exp(div)), it, history[-1], msg)
+                        stable, (det, math.exp(div)), it, residual, msg)
 
 
 @dataclass(frozen=True, eq=False)
@@ -320,24 +320,19 @@ def forced_response(model: CoupledOscillators | str, params: Mapping[str, object
         int(min(max(100.0, 20.0 / max(abs(mu), 1e-12)), 4000.0) / T) + 1
     if k > 0:
         y = fl.states(y, k * T, k, rtol=1e-9, atol=1e-11)[-1]
-    history: list[float] = []
-    it = 0
-    for it in range(1, max_iter + 1):
-        yT, Phi, div = fl.monodromy(y, T, rtol=rtol)
-        r = yT - y
-        history.append(float(np.max(np.abs(r))))
-        if history[-1] < 1e-10 * max(1.0, float(np.max(np.abs(y)))):
-            break
-        try:
-            y = y + np.linalg.solve(Phi - np.eye(2 * n), -r)
-        except np.linalg.LinAlgError:
-            raise ConvergenceError(f"singular shooting matrix at nu = {nu:.10g} (a multiplier "
-                                   "at 1: a fold or a free phase)") from None
-    if history[-1] >= 1e-8 * max(1.0, float(np.max(np.abs(y)))):
-        raise ConvergenceError(
-            f"no periodic response of period {m} x 2 pi/nu of {fl.model.name}: Newton's "
-            f"residuals {', '.join(f'{h:.2e}' for h in history[-5:])} after {it} iterations")
+    def evaluate(z):
+        yT, Phi, _ = fl.monodromy(z, T, rtol=rtol)
+        return yT - z, Phi - np.eye(2 * n), None
+
+    try:
+        y, it, _, _ = shoot_newton(evaluate, y, rtol=rtol, max_iter=max_iter, scale=orbit_scale,
+                                   what=f"of period {m} x 2 pi/nu of {fl.model.name}",
+                                   diverge=max_iter + 1)
+    except ConvergenceError as exc:
+        raise ConvergenceError(f"{exc} (a multiplier at 1 makes the matrix singular: a fold "
+                               f"at nu = {nu:.10g}, or a free phase)") from None
     yT, Phi, div = fl.monodromy(y, T, rtol=rtol)
+    residual = float(np.max(np.abs(yT - y)))
     mults = np.linalg.eigvals(Phi)
     mults = mults[np.lexsort((mults.imag, -np.abs(mults)))]
     samples = 256 * m
@@ -346,4 +341,4 @@ def forced_response(model: CoupledOscillators | str, params: Mapping[str, object
     amps = np.array([abs(spec[int(round(float(r) * m)), i]) for i, r in enumerate(ratios)])
     return ForcedCoupledResponse(fl.model.name, dict(fl.values), nu, T, m, y.copy(), amps,
                                  mults, bool(np.all(np.abs(mults) < 1.0)),
-                                 (float(np.linalg.det(Phi)), math.exp(div)), it, history[-1])
+                                 (float(np.linalg.det(Phi)), math.exp(div)), it, residual)

@@ -9,8 +9,11 @@ from 0 in both directions:
   fold (``f = 0``, ``det J = 0``) is solved by Newton on the augmented system;
 - **true**: the locked state is a periodic orbit of the full ``2N``-dimensional system
   (:func:`numerics.coupled.coupled_cycle`, continued from the previous orbit); the edge is
-  where it ceases to exist, bracketed by bisection to ``tol``, with the non-trivial
-  multiplier nearest 1 going to 1 there (a saddle-node of cycles) as the check.
+  where it ceases to exist, bracketed by bisection and located as the fold of the locked
+  cycle (:func:`numerics.coupled.fold.true_edges`: the zero of the tangent's
+  parameter component on the pseudo-arclength branch, with the non-trivial multiplier
+  nearest 1 at 1 there, a saddle-node of cycles, as the check); where the cycle is lost
+  otherwise (no fold: a torus bifurcation), the bisection goes on to ``tol``.
 
 The amplitude death of the oscillators (the origin made stable by the coupling) is read
 from the linearisation of the full system at the origin.
@@ -28,27 +31,12 @@ import sympy as sp
 from kbm.coupled import CoupledOscillators, amplitudes, derive_coupled, numeric_average
 from kbm.errors import ParameterError, ResolutionError, UnsupportedTermError
 from numerics._memo import memo
-from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
-from .cycle import coupled_cycle
+from numerics.errors import NoCycleError
 from .flow import bind_coupled
+from .fold import LockingEdge, true_edges
 
 __all__ = ["LockingEdge", "LockingRegion", "averaged_edges", "true_edges", "amplitude_death",
            "locking_region", "plot_locking", "check_lockable"]
-
-
-@dataclass(frozen=True)
-class LockingEdge:
-    """One edge of the locking region at fixed other parameters.
-
-    ``sigma`` is the edge, ``error`` its uncertainty (the bisection bracket for the true
-    edge, Newton's last step for the averaged one), ``side`` +1 or -1, ``state`` the
-    locked state (slow-flow fixed point or cycle state) just inside.
-    """
-
-    sigma: float
-    error: float
-    side: int
-    state: tuple
 
 
 @memo(maxsize=16)
@@ -243,57 +231,6 @@ def _averaged_edge(f, jac, y, side, mu, limit) -> LockingEdge:
     if not (np.isfinite(z).all() and abs(z[-1] - last[0]) < 1e-2):
         return LockingEdge(last[0], abs(step), side, tuple(last[1]))
     return LockingEdge(float(z[-1]), max(dz, 1e-12), side, tuple(z[:-1]))
-
-
-def true_edges(model: CoupledOscillators | str, params: Mapping[str, object],
-               parameter: str = "sigma", limit: float = 10.0, tol: float = 1e-5,
-               guess: Mapping[int, float] | None = None) -> list[LockingEdge]:
-    """The edges of locking of the full system: where the locked cycle ceases to exist.
-
-    ``guess`` maps a side (-1, +1) to an estimate of its edge (e.g. the averaged one); the
-    continuation then takes large steps up to 90 % of it.
-
-    Raises
-    ------
-    numerics.errors.NoCycleError, numerics.errors.ConvergenceError
-        If there is no locked cycle at ``sigma = 0``.
-    """
-    p0 = {**dict(params), parameter: 0}
-    base = coupled_cycle(model, p0)
-    return [_true_edge(model, params, parameter, base, side, limit, tol,
-                       (guess or {}).get(side)) for side in (-1, 1)]
-
-
-def _shoot(model, params, parameter, s, cyc):
-    try:
-        return coupled_cycle(model, {**dict(params), parameter: s}, start=cyc.state,
-                             transient=0, period=cyc.period, max_iter=12)
-    except (ConvergenceError, NoCycleError, IntegrationError):
-        return None  # no locked cycle found there (Newton left it, or the orbit ran away)
-
-
-def _true_edge(model, params, parameter, base, side, limit, tol, guess) -> LockingEdge:
-    s, cyc = 0.0, base
-    step = 0.02 if guess is None else max(0.02, 0.3 * abs(guess))
-    while True:
-        if abs(s) >= limit:
-            return LockingEdge(math.copysign(math.inf, side), 0.0, side, tuple(cyc.state))
-        nxt = _shoot(model, params, parameter, s + side * step, cyc)
-        if nxt is None or not nxt.stable:  # past the edge, or too long a step for Newton
-            if step <= 1e-3:
-                break
-            step /= 2
-            continue
-        s, cyc = s + side * step, nxt
-    lo, hi = s, s + side * step
-    while abs(hi - lo) > tol:
-        mid = 0.5 * (lo + hi)
-        nxt = _shoot(model, params, parameter, mid, cyc)
-        if nxt is not None and nxt.stable:
-            lo, cyc = mid, nxt
-        else:
-            hi = mid
-    return LockingEdge(0.5 * (lo + hi), 0.5 * abs(hi - lo), side, tuple(cyc.state))
 
 
 def amplitude_death(model: CoupledOscillators | str, params: Mapping[str, object]) -> dict:

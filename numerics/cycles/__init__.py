@@ -9,6 +9,10 @@
   predicted cycle, stable and unstable, confirmed by shooting), built on
   :mod:`numerics.cycles.newton` (Newton's method and its checks) and
   :mod:`numerics.cycles.finalpass` (the result and its accuracy estimate);
+- :mod:`numerics.cycles.acceptance`: the one acceptance standard of every shooting
+  (residual relative to the orbit's scale, a small Newton correction, the trivial
+  multiplier) and the Newton loop it ends, shared with :mod:`numerics.coupled` and
+  :mod:`numerics.forced`;
 - :mod:`numerics.cycles.harmonics`: Fourier coefficients by quadrature along the
   integration (no aliasing of the jumps of relaxation cycles);
 - :mod:`numerics.cycles.highprec`: cycles to 30 digits and more (mpmath Taylor);

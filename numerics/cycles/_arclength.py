@@ -16,7 +16,9 @@ import math
 import numpy as np
 
 
+from numerics.cycles import acceptance as _acceptance
 from numerics.cycles.branch_result import BranchPoint
+from numerics.cycles.corrector import correct_on_hyperplane
 from numerics.cycles.floquet import floquet_multipliers
 from numerics.cycles.shooting import NEWTON_MAX_STEPS
 from numerics.errors import ConvergenceError, IntegrationError
@@ -24,11 +26,10 @@ from numerics.flow import CompiledLine, Method, choose_method, extended_state, f
 from numerics.flow.sensitivity import (flow_with_sensitivity, sensitivity_flow, sensitivity_state,
                                        shooting_corrector)
 
-#: a printed branch point passes the convergence test |trivial multiplier - 1| <= TRIVIAL_TOL;
-#: near a separatrix the monodromy loses accuracy first (on the SEDF branch in Delta the
-#: last 15 points of 63 had the trivial multiplier off by 1e-5 to 5e-2 and were printed,
-#: before this test; the corrector now iterates on until its points pass it)
-TRIVIAL_TOL = 1e-5
+#: a printed branch point passes the convergence test |trivial multiplier - 1| <= TRIVIAL_TOL
+#: of the acceptance standard (:mod:`numerics.cycles.acceptance`); the corrector iterates on
+#: until its points pass it
+TRIVIAL_TOL = _acceptance.TRIVIAL_TOL
 
 _FAIL = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, ValueError)
 
@@ -235,26 +236,35 @@ def _correct(prob: _Problem, u_pred, row, target: float, max_iter: int = 8) -> _
         return _correct_compiled(prob, u_pred, row, target, max_iter)
     u = np.array(u_pred, dtype=float)
     scale = max(1.0, abs(u[0]))
-    tol_r, tol_u = 1e2 * prob.rtol * scale, 1e0 * prob.rtol * max(scale, u[1], abs(u[2]))
-    for it in range(max_iter + 1):
+    # the acceptance standard's residual bound; the correction's bound, rtol times the size
+    # of u, is tighter than the standard's (sqrt(rtol)): the accuracy of the point
+    tol_r = _acceptance.residual_tolerance(prob.rtol, scale)
+    tol_u = prob.rtol * max(scale, u[1], abs(u[2]))
+
+    def evaluate(u):
         R, A, b, yT, ys = prob.eval(u, 32, with_p=True)
+        return R, np.column_stack([A, b]), (A, b, yT, ys)
+
+    def accept(u, R, du, data, it):
+        A, b, yT, ys = data
         # the integration error of R grows with the monodromy matrix (near a separatrix)
         noise = max(1.0, float(np.max(np.abs(yT[2:6]))) * prob.rtol / 1e-8)
-        J = np.vstack([np.column_stack([A, b]), row])
-        du = np.linalg.solve(J, -np.append(R, row @ u - target))
-        if np.max(np.abs(R)) < tol_r * noise and np.max(np.abs(du)) < tol_u * noise:
-            pt = _Point(u + du, R, A, b, yT, ys, it)
-            # near a separatrix the loose tolerance may leave the trivial multiplier off 1:
-            # one more iteration there (the point would not pass the printed test)
-            if abs(complex(pt.mults[0]) - 1.0) <= TRIVIAL_TOL or it == max_iter:
-                return pt
-        if it == max_iter:
-            break
+        if not (np.max(np.abs(R)) < tol_r * noise and np.max(np.abs(du)) < tol_u * noise):
+            return False
+        # near a separatrix the loose tolerance may leave the trivial multiplier off 1:
+        # one more iteration there (the point would not pass the printed test)
+        mults = floquet_multipliers(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]), yT[6])
+        return abs(complex(mults[0]) - 1.0) <= TRIVIAL_TOL or it == max_iter
+
+    def too_large(u, du):
         if abs(du[0]) > 0.5 * abs(u[0]) or abs(du[1]) > 0.5 * u[1]:
-            raise ConvergenceError(f"corrector step too large at p = {u[2]:.8g}")
-        u = u + du
-    raise ConvergenceError(f"corrector did not converge in {max_iter} iterations at "
-                           f"p = {u[2]:.8g} (|R| = {np.max(np.abs(R)):.2e})")
+            return f"corrector step too large at p = {u[2]:.8g}"
+        return None
+
+    u, R, du, (A, b, yT, ys), it = correct_on_hyperplane(
+        evaluate, u, row, target, max_iter=max_iter, accept=accept, too_large=too_large,
+        where=lambda u: f"p = {u[2]:.8g}")
+    return _Point(u + du, R, A, b, yT, ys, it)
 
 
 def _correct_compiled(prob: _Problem, u_pred, row, target: float, max_iter: int) -> _Point:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from numerics.cycles.acceptance import RESIDUAL_FACTOR, TRIVIAL_TOL, orbit_scale, shoot_newton
 from numerics.errors import ConvergenceError, NoCycleError
 from numerics.flow import extended_state, flow
 
@@ -20,48 +21,61 @@ NEWTON_MAX_STEPS = 5 * 10**4
 
 
 def newton(cm, x0, T, method, rtol, atol, max_iter, floor):
-    """Newton's method on ``(x(T) - x0, x'(T)) = 0`` for the unknowns ``(x0, T)``."""
-    history: list[float] = []
-    it = 0
-    budget = NEWTON_MAX_STEPS
-    while True:
-        it += 1
+    """Newton's method on ``(x(T) - x0, x'(T)) = 0`` for the unknowns ``(x0, T)``: the
+    shared loop of :func:`numerics.cycles.acceptance.shoot_newton`, its standard at this
+    shooting's floor ``1e3 max(rtol, atol)`` (LSODA and scipy's implicit methods included),
+    the tolerances raised with the monodromy matrix near a separatrix.
+
+    Returns ``(x0, T, iterations, residuals)``.
+    """
+    budget = [NEWTON_MAX_STEPS, True]  # the bound, and whether it is still to be set
+    tol = floor / RESIDUAL_FACTOR  # the standard's rtol: residuals up to ``floor`` times S
+
+    def evaluate(z):
         steps: list[int] = []
-        yT = flow(cm, extended_state(x0), T, 1, method, rtol, atol, max_steps=budget,
+        yT = flow(cm, extended_state(z[0]), z[1], 1, method, rtol, atol, max_steps=budget[0],
                   steps=steps)[-1]
-        if it == 1 and steps:
+        if budget[1] and steps:
+            budget[1] = False
             # later iterates near the cycle need about as many steps as the first: many
             # more means Newton has wandered into a stiff region
-            budget = min(NEWTON_MAX_STEPS, max(5000, 50 * steps[0]))
-        r = np.array([yT[0] - x0, yT[1]])
-        history.append(float(np.max(np.abs(r))))
-        acc = cm.acc(T, yT[0], yT[1])
-        J = np.array([[yT[2] - 1.0, yT[1]], [yT[3], acc]])
-        try:
-            dx, dT = np.linalg.solve(J, -r)
-        except np.linalg.LinAlgError:
-            raise ConvergenceError(f"singular Newton matrix at x0 = {x0:.10g}, T = {T:.10g} "
-                                   "(non-hyperbolic cycle or x' = 0 is not a transversal "
-                                   "section there)") from None
+            budget[0] = min(NEWTON_MAX_STEPS, max(5000, 50 * steps[0]))
+        J = np.array([[yT[2] - 1.0, yT[1]], [yT[3], cm.acc(z[1], yT[0], yT[1])]])
+        return np.array([yT[0] - z[0], yT[1]]), J, yT
+
+    def noise(yT):  # the integration error of R grows with the monodromy matrix
+        return max(1.0, float(np.max(np.abs(yT[2:4]))) * rtol / 1e-8)
+
+    def damp(z, dz):
         # damp steps that would leave the section, reverse time, or change x0 or T by
         # more than half (a far start then walks instead of jumping into stiff regions)
-        lam = min(1.0, 0.5 * max(1.0, abs(x0)) / max(abs(dx), 1e-300),
-                  0.5 * T / max(abs(dT), 1e-300))
-        while ((x0 + lam * dx) * x0 <= 0 or T + lam * dT <= 0) and lam > 1e-3:
+        lam = min(1.0, 0.5 * max(1.0, abs(z[0])) / max(abs(dz[0]), 1e-300),
+                  0.5 * z[1] / max(abs(dz[1]), 1e-300))
+        while ((z[0] + lam * dz[0]) * z[0] <= 0 or z[1] + lam * dz[1] <= 0) and lam > 1e-3:
             lam /= 2
-        x0, T = x0 + lam * dx, T + lam * dT
-        if max(abs(dx) / max(1.0, abs(x0)), abs(dT) / T) < floor or history[-1] < floor:
-            return x0, T, it, history
-        if len(history) >= 5 and all(b > a for a, b in zip(history[-5:], history[-4:])):
-            raise ConvergenceError(
-                f"Newton on the return map diverges: the residual |(x(T) - x0, x'(T))| grew "
-                f"four times in a row ({', '.join(f'{h:.2e}' for h in history[-5:])}); "
-                f"last x0 = {x0:.10g}, T = {T:.10g}")
-        if it >= max_iter or not (np.isfinite(x0) and np.isfinite(T)):
-            raise ConvergenceError(
-                f"Newton on the return map did not converge in {it} iterations; residuals "
-                f"|(x(T) - x0, x'(T))|: {', '.join(f'{h:.2e}' for h in history[-6:])}; "
-                f"last x0 = {x0:.10g}, T = {T:.10g}")
+        return lam
+
+    tight = max(rtol, atol)
+
+    def degenerate(z, R, yT):
+        # a closed orbit to the integrator's own tolerance whose non-trivial multiplier is 1
+        # (Phi_11 on the section): the Newton matrix is singular and the correction
+        # meaningless; the final pass refuses the orbit as not isolated (a conservative
+        # system).  Near a fold Phi_11 is 1 as well, but the residual past it is ~ the
+        # distance (6e-10 at 1e-9 past the fold of nu + x^2 - x^4/4 at mu = 0.1), far
+        # above a closed orbit's (2e-13 for x'' + x^3 = 0 at rtol 1e-12)
+        return bool(np.max(np.abs(R)) <= tight * orbit_scale(z[0]) * noise(yT)
+                    and abs(yT[2] - 1.0) <= 100 * tight)
+
+    try:
+        z, it, trace, _ = shoot_newton(evaluate, [x0, T], rtol=tol, max_iter=max_iter,
+                                       scale=lambda z: orbit_scale(z[0]), damp=damp,
+                                       noise=noise, degenerate=degenerate,
+                                       what="on the return map to x' = 0")
+    except ConvergenceError as exc:
+        raise ConvergenceError(f"{exc}; residuals |(x(T) - x0, x'(T))| from x0 = {x0:.10g}, "
+                               f"T = {T:.10g}") from None
+    return float(z[0]), float(z[1]), it, trace.residuals
 
 
 def check_nontrivial(cm, converged, meth, rtol, atol, scale) -> None:
@@ -78,7 +92,7 @@ def check_nontrivial(cm, converged, meth, rtol, atol, scale) -> None:
                            f"T = {T:.4g}); start elsewhere (x_start) to look for a cycle")
     yT = ys[-1]
     mults = np.linalg.eigvals(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]))
-    if np.min(np.abs(mults - 1.0)) > 1e-5:
+    if np.min(np.abs(mults - 1.0)) > TRIVIAL_TOL:
         raise ConvergenceError(f"the orbit found (x0 = {x0:.6g}, T = {T:.6g}) has no Floquet "
                                f"multiplier 1 ({mults[0]:.6g}, {mults[1]:.6g}): not a cycle")
 

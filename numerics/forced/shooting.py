@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from numerics.cycles.acceptance import orbit_scale, shoot_newton
 from numerics.errors import ConvergenceError
 from numerics.forced.system import ForcedSystem
 
@@ -89,30 +90,26 @@ def periodic_response(system: ForcedSystem, sigma: float, guess, *, tol: float =
                       max_iter: int = 30) -> ForcedOrbit:
     """The periodic response near ``guess = (x(0), x'(0))`` at detuning ``sigma``.
 
+    Newton's iterate is accepted by the standard of :mod:`numerics.cycles.acceptance` at
+    the system's integrator tolerance, with its last correction below ``tol (1 + |y|)``
+    (``2 tol max(1, |y|)``).
+
     Raises
     ------
     numerics.errors.ConvergenceError
         If Newton's method does not converge (the residuals are in the message).
     """
-    y = np.array(guess, dtype=float)
-    hist = []
-    for _ in range(max_iter):
-        ys = system.flow(y, sigma)
-        yT = ys[-1]
-        r = yT[:2] - y
+    def evaluate(y):
+        yT = system.flow(y, sigma)[-1]
         Phi = np.array([[yT[2], yT[4]], [yT[3], yT[5]]])
-        hist.append(float(np.max(np.abs(r))))
-        try:
-            dy = np.linalg.solve(Phi - np.eye(2), -r)
-        except np.linalg.LinAlgError:
-            raise ConvergenceError(f"the monodromy matrix has a multiplier 1 at sigma = "
-                                   f"{sigma:.6g} (a fold): the shooting Jacobian is singular") \
-                from None
-        y = y + dy
-        if np.max(np.abs(dy)) < tol * (1 + np.max(np.abs(y))):
-            return orbit_at(system, y, sigma)
-        if not np.all(np.isfinite(y)) or (len(hist) > 6 and hist[-1] > 10 * hist[0]):
-            break
-    raise ConvergenceError(f"no periodic response found at sigma = {sigma:.6g} from "
-                           f"{tuple(guess)}: Newton residuals "
-                           f"{', '.join(f'{h:.2g}' for h in hist[-5:])}")
+        return yT[:2] - y, Phi - np.eye(2), None
+
+    try:
+        y, _, _, _ = shoot_newton(evaluate, guess, rtol=system.rtol, scale=orbit_scale,
+                                  max_iter=max_iter, accuracy=2 * tol,
+                                  what="of the drive's period")
+    except ConvergenceError as exc:
+        raise ConvergenceError(f"no periodic response found at sigma = {sigma:.6g} from "
+                               f"{tuple(guess)}: {exc} (a multiplier 1 makes the shooting "
+                               "matrix singular: a fold)") from None
+    return orbit_at(system, y, sigma)

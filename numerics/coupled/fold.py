@@ -1,0 +1,202 @@
+"""The fold of a branch of cycles near a given cycle: where a locked cycle ceases to exist.
+
+A bisection on "does shooting at ``p`` find the cycle" ends at the integration floor of
+the residual, not at the fold: past the fold the residual has a minimum ``~ d`` (the
+distance past it), and a bracket can never be tighter than that floor allows.  The fold
+itself is a regular point of the pseudo-arclength problem in ``(y0, T, p)``
+(:mod:`numerics.coupled.continuation`): from the cycle the branch is followed towards the
+fold until the parameter component of its tangent changes sign, and that zero is located
+by bisection on the hyperplanes normal to the chord (AUTO-07p's fold test, Doedel's
+lecture notes sec. 2).  The located point has two unit multipliers (the trivial one and
+the one through 1 at a saddle-node of cycles).
+
+The fold is located at the integrator tolerances ``rtol`` and ``rtol/10``; their
+difference, with the bisection bracket, is the stated error.
+
+:func:`true_edges` (the true edges of frequency locking, :mod:`numerics.coupled.locking`)
+follows the locked cycle out in the detuning, brackets its loss by bisection on shooting
+(which accepts no cycle past a fold, :mod:`numerics.cycles.acceptance`) to
+:data:`FOLD_BRACKET`, and takes the fold there as the edge.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from kbm.coupled import CoupledOscillators
+from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
+from .continuation import _FAIL, _arc, _correct, _locate, _null, _Problem
+from .cycle import coupled_cycle
+from .flow import bind_coupled
+
+__all__ = ["Fold", "locate_fold", "LockingEdge", "true_edges", "FOLD_BRACKET"]
+
+#: the bisection's bracket from which a true locking edge is located as the fold of the
+#: locked cycle
+FOLD_BRACKET = 1e-5
+
+
+@dataclass(frozen=True)
+class Fold:
+    """A located fold: the parameter, its error, the orbit there (state at the section
+    ``xdot_1 = 0``, period) and its ``2N`` multipliers (the trivial one first)."""
+
+    parameter: float
+    error: float
+    state: tuple
+    period: float
+    multipliers: tuple
+
+
+def _fold_once(model: CoupledOscillators, params: dict, vary: str, state, period: float,
+               p0: float, side: int, beyond: float, rtol: float):
+    prob = _Problem(model, params, vary, rtol)
+    n2 = 2 * model.dof
+    prob.scale = np.concatenate([np.full(n2, max(1.0, float(np.max(np.abs(state))))),
+                                 [period], [1.0]])
+    u0 = np.concatenate([np.asarray(state, dtype=float), [period, p0]])
+    row = np.zeros(len(u0))
+    row[-1] = 1.0
+    cur = _correct(prob, u0 / prob.scale, row, p0, max_iter=20)
+    t = _null(cur.J)
+    cur.tangent = t if t[-1] * side > 0 else -t
+    # the branch reaches the fold within |beyond - p0| in p, the state within its root
+    ds = ds0 = min(0.05, max(1e-4, 0.5 * math.sqrt(abs(beyond - p0))))
+    for _ in range(200):
+        try:
+            new = _arc(prob, cur, cur.tangent, ds)
+            if float(new.tangent @ cur.tangent) < 0.9:
+                raise ConvergenceError("the tangent turned too fast")
+        except _FAIL:
+            ds /= 2
+            if ds < 1e-3 * ds0:
+                return None
+            continue
+        if new.tangent[-1] * cur.tangent[-1] < 0:
+            found = _locate(prob, cur, new, "fold", float(cur.tangent[-1]))
+            if found is None:
+                return None
+            pt, bracket = found
+            return pt, bracket
+        if (float(new.u[-1]) - beyond) * side > 0:
+            return None  # no fold before ``beyond``: the cycle ends otherwise there
+        cur = new
+        ds = min(1.5 * ds, ds0)
+    return None
+
+
+def locate_fold(model: CoupledOscillators | str, params: Mapping[str, object], vary: str,
+                state, period: float, p0: float, side: int, beyond: float,
+                rtol: float = 1e-11) -> Fold | None:
+    """The fold of the branch through the cycle ``(state, period)`` at ``vary = p0``, met
+    going ``side`` (+1: towards larger ``vary``) before ``vary = beyond``; ``None`` when
+    there is none (the cycle is lost otherwise, e.g. by a torus bifurcation).
+
+    Parameters
+    ----------
+    model, params
+        The coupled system and its other parameters (``mu`` included).
+    vary
+        The parameter followed.
+    state, period, p0
+        A cycle of the branch at ``vary = p0`` (state at the section ``xdot_1 = 0``).
+    side, beyond
+        The direction, and the parameter value the fold lies before.
+    rtol
+        The integrator tolerance; the fold is located again at ``rtol/10`` for its error.
+    """
+    m, _ = bind_coupled(model, {**dict(params), vary: p0})
+    rest = {k: v for k, v in dict(params).items() if k != vary}
+    out = []
+    for tol in (rtol, rtol / 10):
+        try:
+            got = _fold_once(m, rest, vary, state, period, p0, side, beyond, tol)
+        except _FAIL:
+            got = None
+        if got is None:
+            return None
+        out.append(got)
+    (pt, bracket), (pt2, bracket2) = out
+    p1, p2 = float(pt.u[-1]), float(pt2.u[-1])
+    err = max(abs(p2 - p1), bracket[1] - bracket[0], bracket2[1] - bracket2[0], 1e-15)
+    n2 = len(pt2.Phi)
+    return Fold(p2, err, tuple(float(v) for v in pt2.u[:n2]), float(pt2.T),
+                tuple(complex(z) for z in pt2.mults))
+
+
+@dataclass(frozen=True)
+class LockingEdge:
+    """One edge of the locking region at fixed other parameters.
+
+    ``sigma`` is the edge, ``error`` its uncertainty (the bisection bracket for the true
+    edge, Newton's last step for the averaged one), ``side`` +1 or -1, ``state`` the
+    locked state (slow-flow fixed point or cycle state) just inside.
+    """
+
+    sigma: float
+    error: float
+    side: int
+    state: tuple
+
+
+def true_edges(model: CoupledOscillators | str, params: Mapping[str, object],
+               parameter: str = "sigma", limit: float = 10.0, tol: float = 1e-5,
+               guess: Mapping[int, float] | None = None) -> list[LockingEdge]:
+    """The edges of locking of the full system: where the locked cycle ceases to exist.
+
+    ``guess`` maps a side (-1, +1) to an estimate of its edge (e.g. the averaged one); the
+    continuation then takes large steps up to 90 % of it.
+
+    Raises
+    ------
+    numerics.errors.NoCycleError, numerics.errors.ConvergenceError
+        If there is no locked cycle at ``sigma = 0``.
+    """
+    p0 = {**dict(params), parameter: 0}
+    base = coupled_cycle(model, p0)
+    return [_true_edge(model, params, parameter, base, side, limit, tol,
+                       (guess or {}).get(side)) for side in (-1, 1)]
+
+
+def _shoot(model, params, parameter, s, cyc):
+    try:
+        return coupled_cycle(model, {**dict(params), parameter: s}, start=cyc.state,
+                             transient=0, period=cyc.period, max_iter=12)
+    except (ConvergenceError, NoCycleError, IntegrationError):
+        return None  # no locked cycle found there (Newton left it, or the orbit ran away)
+
+
+def _true_edge(model, params, parameter, base, side, limit, tol, guess) -> LockingEdge:
+    s, cyc = 0.0, base
+    step = 0.02 if guess is None else max(0.02, 0.3 * abs(guess))
+    while True:
+        if abs(s) >= limit:
+            return LockingEdge(math.copysign(math.inf, side), 0.0, side, tuple(cyc.state))
+        nxt = _shoot(model, params, parameter, s + side * step, cyc)
+        if nxt is None or not nxt.stable:  # past the edge, or too long a step for Newton
+            if step <= 1e-3:
+                break
+            step /= 2
+            continue
+        s, cyc = s + side * step, nxt
+    lo, hi = s, s + side * step
+    coarse = True
+    while abs(hi - lo) > tol:
+        if coarse and abs(hi - lo) <= max(tol, FOLD_BRACKET):
+            coarse = False  # the fold itself, a regular point of the arclength problem
+            fold = locate_fold(model, params, parameter, cyc.state, cyc.period, lo, side,
+                               hi + side * max(abs(hi - lo), 1e-3))
+            if fold is not None and (fold.parameter - lo) * side >= 0 \
+                    and min(abs(z - 1) for z in fold.multipliers[1:]) < 1e-4:
+                return LockingEdge(fold.parameter, fold.error, side, fold.state)
+        mid = 0.5 * (lo + hi)
+        nxt = _shoot(model, params, parameter, mid, cyc)
+        if nxt is not None and nxt.stable:
+            lo, cyc = mid, nxt
+        else:
+            hi = mid
+    return LockingEdge(0.5 * (lo + hi), 0.5 * abs(hi - lo), side, tuple(cyc.state))

@@ -137,7 +137,10 @@ def _source(model: Oscillator, names: tuple[str, ...]) -> str:
     lines = fn("accel(t_, x_, v_, p)", acc)
     affine = _affine_in_velocity(model)
     lines += fn("force(t_, x_, p)", acc.subs(V, 0))
-    lines += fn("friction(t_, x_, p)", -sp.diff(acc, V) if affine else sp.nan)
+    gamma = -sp.diff(acc, V) if affine else sp.nan
+    lines += fn("friction(t_, x_, p)", gamma)
+    lines += [f"FRICTION_CONST = {int(affine and not (sp.sympify(gamma).free_symbols & {T, X}))}",
+              "", ""]
     lines += fn("spring(t_, x_, v_, p)", model.drive - model.omega0**2 * X)
     lines += fn("energy(x_, v_, p)", V**2 / 2 + G if G is not None else sp.nan)
     return "\n".join(lines)
@@ -204,8 +207,8 @@ class LangevinSystem:
         """The compiled module (:mod:`numerics.noise._kernels` on this model)."""
         return _compiled(self.symbolic, self.names, self.scheme)
 
-    def _p(self) -> np.ndarray:
-        return np.asarray(self.p, dtype=float)
+    def _p(self) -> tuple:
+        return tuple(float(v) for v in self.p)  # a tuple: the values live in registers
 
     def final_states(self, y0, t_end: float, dt: float, *, seed: int = 0,
                      first: int = 0) -> np.ndarray:

@@ -39,8 +39,12 @@ order 2 to ``O(mu^4)``; the first non-zero correction there is ``q_2``.  ``<x^2>
 takes the second harmonic of ``G_1`` and ``G_2`` (the phase is no longer uniform).
 
 Everything is exact rational algebra on Fourier series in ``psi`` whose coefficients are
-Laurent polynomials in ``a``, ``kappa`` and ``omega0`` (polynomial ``F`` only), done once per model; moments are
-mpmath quadratures of ``P_0 (1 + mu q_1 + mu^2 q_2)``.
+Laurent polynomials in ``a``, ``kappa`` and ``omega0`` (polynomial ``F`` only), done once
+per model (memoised); moments are mpmath quadratures of ``P_0 (1 + mu q_1 + mu^2 q_2)``.
+
+Checks (``tests/test_stochastic_order2.py``): linear damping with a quartic potential,
+whose exact density is Boltzmann's (errors fall like ``mu`` at order 1 and ``mu^3`` at
+order 2); van der Pol against long simulations.
 """
 
 from __future__ import annotations

@@ -102,7 +102,12 @@ def _step_baoab(t, x, v, f, h, sdw, p):
         g = friction(t + 0.5 * h, x, p)  # noqa: F821
     gh = g * h
     e = math.exp(-gh)
-    c = math.sqrt(-math.expm1(-2.0 * gh) / (2.0 * gh)) if gh != 0.0 else 1.0
+    # sqrt((1 - e^2)/(2 g h)) by exp alone (an LLVM intrinsic: hoisted from the loop when g
+    # is constant), its series where the difference would cancel (error below 1e-12)
+    if abs(gh) > 1e-4:
+        c = math.sqrt((1.0 - e * e) / (2.0 * gh))
+    else:
+        c = math.sqrt(1.0 - gh * (1.0 - gh * (2.0 / 3.0 - gh / 3.0)))
     v = e * v + c * sdw
     x = x + 0.5 * h * v
     f = force(t + h, x, p)  # noqa: F821

@@ -1,141 +1,213 @@
-"""Time the Langevin integrator of numerics.noise against baselines, in the same run.
+"""Time the Langevin integrators of numerics.noise against fair baselines, in the same run.
 
-Run: ``python benchmarks/bench_noise.py``
+Run: ``python benchmarks/bench_noise.py [effort]`` (effort 1 by default: about two minutes on
+one core; the standard errors of part 2 fall like ``1/sqrt(effort)``).
 
-The model is the CDC at rest (paper eq. 12 with noise: ``x'' + mu x' + Delta sin(2 pi x)
-+ x = sqrt(2 D) xi``, mu = 0.1, Delta = 3, D = 0.1, kT = 1), one core, warm (compiled
-before the clock starts).
-
-1. **Raw step rate** of the toolkit (Kloeden-Platen order-2.0 weak scheme, two force
-   evaluations and one uniform number per step) against a hand-written numba
-   Euler-Maruyama loop on the same model (one force evaluation and one
-   ``np.random.standard_normal()`` per step).  Target: at least 0.7 of its rate.
-2. **Steps for the same weak error**, on the linear oscillator ``x'' + 2 x' + x =
-   sqrt(2 D) xi`` whose stationary ``<x^2> = D/2`` is exact (Risken sec. 10.1): each
-   scheme's stationary ``<x^2>`` follows exactly from its linear map (the discrete
-   Lyapunov equation), so the step ``h`` each needs for a relative weak error of
-   1e-3 and 1e-4 is found by bisection and the steps per unit time compared.  The
-   toolkit's error at its step is then confirmed by a Monte Carlo run (within 3 standard
-   errors).  Target: at least 3x fewer steps than Euler-Maruyama.
-3. The toolkit against a **pure-numpy vectorised ensemble** (the same scheme, arrays of
-   trajectories advanced together, ``numpy.random.Generator`` for the increments).
+1. **Raw step rate** on the CDC at rest (paper eq. 12 with noise: ``x'' + mu x' + Delta
+   sin(2 pi x) + x = sqrt(2 D) xi``, mu = 0.1, Delta = 3, D = 0.1, kT = 1), one core, warm:
+   the toolkit's kernels (BAOAB, one force evaluation per step, and Kloeden-Platen, two)
+   against hand-written numba loops that use **the same generator** (the toolkit's
+   xoshiro256** and three-point increments, called from the hand loop): a BAOAB loop
+   with the force carried over and an Euler-Maruyama loop.  Target: toolkit BAOAB >= 1x
+   the hand BAOAB loop.  Each scheme's ``<x^2>`` at the timed step is printed against
+   Boltzmann's (exact by quadrature), so that no rate is quoted for a wrong answer.
+2. **Force evaluations for equal weak error** on ``x'' + x = -x' - x^3 + sqrt(2 D) xi``
+   (linear damping, quartic potential, D = kT = 1; ``<x^2>`` exact by quadrature of
+   ``exp(-(x^2/2 + x^4/4)/kT)``): the bias of each scheme's stationary ``<x^2>`` is
+   measured at several steps (ensembles of fixed seeds), fitted as ``c h^2``, and the
+   step giving a relative bias of 1e-4 turned into force evaluations per unit time:
+   BAOAB (1 per step; Leimkuhler & Matthews, Appl. Math. Res. Express 2013, 34),
+   Kloeden-Platen (2 per step), and the Richardson pair of the toolkit's pilot
+   (``step_pair_stats``: ``h`` and ``h/2`` on one Brownian path, ``(4 E_{h/2} - E_h)/3``,
+   3 per ``h``), whose bias is ``O(h^4)`` for BAOAB's even expansion.  Target: >= 3x fewer
+   force evaluations than BAOAB where the Richardson pair applies.
 """
 
 from __future__ import annotations
 
 import math
+import sys
 import time
 
 import numpy as np
 from numba import njit
-from scipy.linalg import solve_discrete_lyapunov
+from scipy.integrate import quad
 
+from kbm.models import custom_model
 from numerics.noise import langevin_system
-from numerics.noise.ensemble import stationary_ensemble
+from numerics.noise.seeds import trajectory_states
 
 MU, DELTA, D = 0.1, 3.0, 0.1
 K = 2 * math.pi
 
 
-@njit(cache=True)
-def _em_cdc(n_traj, n, h, sigma, mu, delta, k, seed):
-    """Hand-written Euler-Maruyama on the CDC: one force evaluation, one normal per step."""
-    np.random.seed(seed)
-    acc = 0.0
-    sq = math.sqrt(h)
-    for _ in range(n_traj):
-        x, v = 0.0, 0.0
-        for _ in range(n):
-            a = -x - mu * v - mu * delta * math.sin(k * x)
-            x, v = x + v * h, v + a * h + sigma * sq * np.random.standard_normal()
-        acc += x * x
-    return acc
+def _boltzmann_x2(G, kT: float) -> float:
+    def w(x):
+        return math.exp(-G(x) / kT)
+
+    opts = dict(epsabs=0, epsrel=1e-12, limit=400)
+    return quad(lambda x: x * x * w(x), -30, 30, **opts)[0] / quad(w, -30, 30, **opts)[0]
 
 
-def _numpy_ensemble(n_traj, n, h, sigma, rng):
-    """The same weak scheme, vectorised over trajectories in numpy."""
-    x = np.zeros(n_traj)
-    v = np.zeros(n_traj)
-    r3 = math.sqrt(3 * h)
-    for _ in range(n):
-        u = rng.random(n_traj)
-        dw = np.where(u < 1 / 6, -r3, np.where(u < 1 / 3, r3, 0.0)) * sigma
-        a0 = -x - MU * v - DELTA * np.sin(K * x)
-        xb = x + v * h
-        vb = v + a0 * h + dw
-        a1 = -xb - MU * vb - DELTA * np.sin(K * xb)
-        x, v = x + 0.5 * (v + vb) * h, v + 0.5 * (a0 + a1) * h + dw
-    return x
+def _hand_loops(inc):
+    """Hand-written loops on the CDC at rest calling the toolkit's generator ``inc``: the
+    final states (for the rate) and the time average of ``x^2`` (for the answer)."""
+
+    @njit(cache=False)
+    def baoab(states, n, h, sigma, mu, delta, k, average):
+        out = np.empty((states.shape[0], 2))
+        r3 = math.sqrt(3.0 * h)
+        e = math.exp(-mu * h)
+        c = math.sqrt((1.0 - e * e) / (2.0 * mu * h))
+        for i in range(states.shape[0]):
+            s = states[i].copy()
+            x, v = 0.0, 0.0
+            f = -x - delta * math.sin(k * x)
+            sx = 0.0
+            for _ in range(n):
+                v += 0.5 * h * f
+                x += 0.5 * h * v
+                v = e * v + c * sigma * inc(s, r3)
+                x += 0.5 * h * v
+                f = -x - delta * math.sin(k * x)
+                v += 0.5 * h * f
+                if average:
+                    sx += x * x
+            out[i, 0], out[i, 1] = (sx / n, 0.0) if average else (x, v)
+        return out
+
+    @njit(cache=False)
+    def euler(states, n, h, sigma, mu, delta, k, average):
+        out = np.empty((states.shape[0], 2))
+        r3 = math.sqrt(3.0 * h)
+        for i in range(states.shape[0]):
+            s = states[i].copy()
+            x, v = 0.0, 0.0
+            sx = 0.0
+            for _ in range(n):
+                a = -x - mu * v - delta * math.sin(k * x)
+                x, v = x + v * h, v + a * h + sigma * inc(s, r3)
+                if average:
+                    sx += x * x
+            out[i, 0], out[i, 1] = (sx / n, 0.0) if average else (x, v)
+        return out
+
+    return baoab, euler
+
+
+def _best_rate(fn, steps: int, repeats: int = 3) -> float:
+    """Steps per second of ``fn()``, the best of ``repeats`` (the machine is shared)."""
+    best = math.inf
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return steps / best
 
 
 def rates() -> None:
-    system = langevin_system("cdc", {"mu": MU, "Delta": DELTA, "lam": 1, "Omega": 1}, D)
-    h, n, m = 0.025, 20000, 64
+    params = {"mu": MU, "Delta": DELTA, "lam": 1, "Omega": 1}
+    exact = _boltzmann_x2(lambda x: x * x / 2 + DELTA / K * (1 - math.cos(K * x)), D / MU)
+    sig = math.sqrt(2 * D)
+    m, t_rate, t_answer = 16, 2000.0, 20000.0
+    st = trajectory_states(1, 0, m)
     y0 = np.zeros((m, 2))
-    system.final_states(y0[:2], 10 * h, h)  # compile / load
-    _em_cdc(2, 10, h, math.sqrt(2 * D), MU, DELTA / MU, K, 1)
-    t0 = time.perf_counter()
-    system.final_states(y0, n * h, h, seed=1)
-    t_kit = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    _em_cdc(m, n, h, math.sqrt(2 * D), MU, DELTA / MU, K, 1)
-    t_em = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    m_np = 4096
-    n_np = 2000
-    _numpy_ensemble(m_np, n_np, h, math.sqrt(2 * D), np.random.default_rng(1))
-    t_np = time.perf_counter() - t0
-    r_kit, r_em, r_np = m * n / t_kit, m * n / t_em, m_np * n_np / t_np
-    print("1. raw step rate on the CDC (one core, warm)")
-    print(f"   toolkit (KP 15.1.3, 2 force evaluations/step): {r_kit / 1e6:8.2f} M steps/s")
-    print(f"   hand-written numba Euler-Maruyama:              {r_em / 1e6:8.2f} M steps/s")
-    print(f"   ratio toolkit/EM = {r_kit / r_em:.2f} (target >= 0.7)")
-    print(f"3. pure-numpy vectorised ensemble (same scheme, {m_np} trajectories): "
-          f"{r_np / 1e6:.2f} M steps/s; toolkit/numpy = {r_kit / r_np:.1f}")
-
-
-def _stationary_error(h: float, scheme: str, gamma: float = 2.0) -> float:
-    A = np.array([[0.0, 1.0], [-1.0, -gamma]])
-    eye = np.eye(2)
-    if scheme == "kp":
-        M = eye + h / 2 * (A + A @ (eye + A * h))
-        c = h / 2 * A @ np.array([0.0, 1.0]) + np.array([0.0, 1.0])
-    else:
-        M = eye + A * h
-        c = np.array([0.0, 1.0])
-    var = solve_discrete_lyapunov(M, np.outer(c, c) * 2 * D * h)[0, 0]
-    return (var - D / gamma) / (D / gamma)
-
-
-def _step_for(target: float, scheme: str) -> float:
-    lo, hi = 1e-6, 0.5
-    for _ in range(100):
-        mid = math.sqrt(lo * hi)
-        if abs(_stationary_error(mid, scheme)) > target:
-            hi = mid
+    kits = {sch: langevin_system("cdc", params, D, sch) for sch in ("baoab", "kp")}
+    hand_baoab, hand_euler = _hand_loops(kits["baoab"].kernels._increment)
+    print(f"1. raw step rate on the CDC at rest (one core, warm, best of 3); Boltzmann <x^2> = "
+          f"{exact:.5f} (kT = 1)")
+    rows = []
+    for name, h in (("toolkit baoab", 0.01), ("toolkit kp", 0.005), ("hand BAOAB", 0.01),
+                    ("hand Euler-Maruyama", 0.0005)):
+        n, n_ans = round(t_rate / h), round(t_answer / h)
+        if name.startswith("toolkit"):
+            s = kits[name.split()[1]]
+            k, p = s.kernels, s._p()
+            k.final_states(p, s.sigma, y0[:2], 0.0, h, 10, st[:2])
+            rate = _best_rate(lambda: k.final_states(p, s.sigma, y0, 0.0, h, n, st), m * n)
+            if name == "toolkit baoab":
+                kit_final = k.final_states(p, s.sigma, y0, 0.0, h, n, st)
+            sums, _ = k.stationary_stats(p, s.sigma, y0, 0.0, h, 0, n_ans, st, s.omega0, 1,
+                                         -5.0, 5.0, 4)
+            x2 = sums[:, 0]
         else:
-            lo = mid
-    return lo
+            fn = hand_baoab if name == "hand BAOAB" else hand_euler
+            fn(st[:2], 10, h, sig, MU, DELTA, K, False)
+            rate = _best_rate(lambda: fn(st, n, h, sig, MU, DELTA, K, False), m * n)
+            if name == "hand BAOAB":
+                same = float(np.max(np.abs(fn(st, n, h, sig, MU, DELTA, K, False) - kit_final)))
+            x2 = fn(st, n_ans, h, sig, MU, DELTA, K, True)[:, 0]
+        rows.append((name, h, rate, x2.mean(), x2.std(ddof=1) / math.sqrt(m)))
+    # the machine is shared: time the two BAOAB loops alternately, best of 5 each
+    s = kits["baoab"]
+    k, p, h = s.kernels, s._p(), 0.01
+    n = round(t_rate / h)
+    best = [math.inf, math.inf]
+    for _ in range(5):
+        for j, fn in enumerate((lambda: k.final_states(p, s.sigma, y0, 0.0, h, n, st),
+                                lambda: hand_baoab(st, n, h, sig, MU, DELTA, K, False))):
+            t0 = time.perf_counter()
+            fn()
+            best[j] = min(best[j], time.perf_counter() - t0)
+    rows[0] = (rows[0][0], h, m * n / best[0], *rows[0][3:])
+    rows[2] = (rows[2][0], h, m * n / best[1], *rows[2][3:])
+    print(f"   {'scheme':22} {'h':>7} {'M steps/s':>10} {'<x^2>':>9}  (<x^2> - exact)/exact")
+    for name, h, rate, x2, se in rows:
+        print(f"   {name:22} {h:7.4g} {rate / 1e6:10.2f} {x2:9.5f}  {x2 / exact - 1:+.2e} "
+              f"+- {se / exact:.0e}")
+    print(f"   the toolkit's BAOAB and the hand BAOAB end in the same states (largest "
+          f"difference {same:g})")
+    print(f"   ratio toolkit BAOAB / hand BAOAB (same generator) = {rows[0][2] / rows[2][2]:.2f}"
+          " (target >= 1)")
+    print(f"   ratio toolkit KP / hand Euler-Maruyama, per step = {rows[1][2] / rows[3][2]:.2f} "
+          "(Euler-Maruyama needs a 20x smaller step)")
 
 
-def steps_for_error() -> None:
-    print("2. steps per unit time for the same weak error of the stationary <x^2> = D/gamma "
-          "(linear oscillator, gamma = 2)")
-    for target in (1e-3, 1e-4):
-        h_kp, h_em = _step_for(target, "kp"), _step_for(target, "em")
-        print(f"   relative error {target:g}: toolkit h = {h_kp:.4g}, Euler-Maruyama h = "
-              f"{h_em:.4g}: {h_kp / h_em:.0f}x fewer steps (target >= 3)")
-    h = 0.2
-    ens = stationary_ensemble("linear_damping", {"mu": 1, "zeta": 1}, D, trajectories=40,
-                              t_end=1e5, burn_in=10.0, dt=h, seed=5, workers=1)
-    exact = D / 2
-    own = exact * (1 + _stationary_error(h, "kp"))
-    z = (ens.x2.value - own) / ens.x2.stderr
-    print(f"   Monte Carlo at h = {h}: <x^2> = {ens.x2.value:.6g} +- {ens.x2.stderr:.2g}; "
-          f"exact {exact:g}, the scheme's own {own:.6g} "
-          f"({z:+.2f} standard errors)")
+def equal_error(effort: float = 1.0) -> None:
+    model = custom_model("-xdot - x**3", name="quartic")
+    kT = 1.0
+    exact = _boltzmann_x2(lambda x: x * x / 2 + x**4 / 4, kT)
+    m = 128
+    t_run = 4000.0 * effort
+    print(f"2. force evaluations for a relative bias of 1e-4 on <x^2> (x'' + x = -x' - x^3 + "
+          f"sqrt(2 kT) xi, kT = 1, exact {exact:.6f}); {m} trajectories x {t_run:g}")
+    fits = {}
+    for scheme in ("baoab", "kp"):
+        s = langevin_system(model, {"mu": 1.0}, kT, scheme)
+        pts = {"plain": [], "richardson": []}
+        for h in ((0.2, 0.3, 0.4) if scheme == "baoab" else (0.1, 0.2, 0.3)):
+            st = trajectory_states(7, 0, m)
+            n, nb = round(t_run / h), round(20 / h)
+            rows = s.kernels.step_pair_stats(s._p(), s.sigma, np.zeros((m, 2)), 0.0, h, nb, n,
+                                             st, s.omega0)
+            plain = rows[:, 0] / exact - 1
+            rich = (4 * rows[:, 2] - rows[:, 0]) / 3 / exact - 1
+            for key, v in (("plain", plain), ("richardson", rich)):
+                b, se = float(v.mean()), float(v.std(ddof=1) / math.sqrt(m))
+                pts[key].append((h, b, se))
+                print(f"   {scheme:5} {key:10} h = {h:4.2f}: bias {b:+.2e} +- {se:.1e}")
+        for key, order, per in (("plain", 2, 1 if scheme == "baoab" else 2),
+                                ("richardson", 4, 3 if scheme == "baoab" else 6)):
+            hs, bs, ses = map(np.asarray, zip(*pts[key]))
+            c = float(np.sum(bs * hs**order / ses**2) / np.sum(hs**(2 * order) / ses**2))
+            c_se = float(1 / math.sqrt(np.sum(hs**(2 * order) / ses**2)))
+            fits[(scheme, key)] = (c, c_se, order, per)
+    print(f"   {'scheme':22} {'bias = c h^p':>22} {'h for 1e-4':>11} {'evals/time':>11}")
+    evals = {}
+    for (scheme, key), (c, c_se, order, per) in fits.items():
+        bound = abs(c) + 2 * c_se  # the fit's upper bound: a conservative step
+        h = (1e-4 / bound) ** (1 / order)
+        evals[(scheme, key)] = per / h
+        print(f"   {scheme + ' ' + key:22} {c:+10.2e} (+-{c_se:.0e}) h^{order} {h:11.4f} "
+              f"{per / h:11.1f}")
+    base = evals[("baoab", "plain")]
+    for k, e in evals.items():
+        if k != ("baoab", "plain"):
+            print(f"   {k[0]} {k[1]}: {base / e:.2f}x fewer force evaluations than BAOAB")
+    print("   (target: >= 3x fewer than BAOAB for the Richardson pair)")
 
 
 if __name__ == "__main__":
+    eff = float(sys.argv[1]) if len(sys.argv) > 1 else 1.0
     rates()
-    steps_for_error()
+    equal_error(eff)

@@ -79,7 +79,7 @@ def _increment(s, root3h):
 
 
 @njit(cache=True)
-def _step(t, x, v, h, sdw, p):
+def _step_kp(t, x, v, h, sdw, p):
     """One step of Kloeden-Platen (15.1.3); ``sdw = sigma * dW``."""
     a0 = accel(t, x, v, p)  # noqa: F821 - defined by the printed model above
     xb = x + v * h
@@ -89,13 +89,60 @@ def _step(t, x, v, h, sdw, p):
 
 
 @njit(cache=True)
+def _step_baoab(t, x, v, f, h, sdw, p):
+    """One BAOAB step (Leimkuhler & Matthews 2013) with a position-dependent friction:
+    ``v' = force(t, x) - gamma(t, x) v + sigma xi`` with the O part solved exactly at the
+    frozen midpoint position; ``f`` is ``force(t, x)`` of the previous step's end (one new
+    force evaluation per step), ``sdw = sigma * dW``."""
+    v = v + 0.5 * h * f
+    x = x + 0.5 * h * v
+    if FRICTION_CONST:  # noqa: F821 - 1 when gamma depends on no state: hoisted from loops
+        g = friction(0.0, 0.0, p)  # noqa: F821 - defined by the printed model above
+    else:
+        g = friction(t + 0.5 * h, x, p)  # noqa: F821
+    gh = g * h
+    e = math.exp(-gh)
+    # sqrt((1 - e^2)/(2 g h)) by exp alone (an LLVM intrinsic: hoisted from the loop when g
+    # is constant), its series where the difference would cancel (error below 1e-12)
+    if abs(gh) > 1e-4:
+        c = math.sqrt((1.0 - e * e) / (2.0 * gh))
+    else:
+        c = math.sqrt(1.0 - gh * (1.0 - gh * (2.0 / 3.0 - gh / 3.0)))
+    v = e * v + c * sdw
+    x = x + 0.5 * h * v
+    f = force(t + h, x, p)  # noqa: F821
+    return x, v + 0.5 * h * f, f
+
+
+@njit(cache=True)
+def _first(t, x, v, p):
+    """The carried force at the start (BAOAB) or 0 (Kloeden-Platen carries nothing)."""
+    if SCHEME == 1:  # noqa: F821 - set by the printed model above
+        return force(t, x, p)  # noqa: F821
+    return 0.0
+
+
+@njit(cache=True)
+def _step(t, x, v, f, h, sdw, p):
+    """One step of the model's scheme (``SCHEME``: 0 Kloeden-Platen, 1 BAOAB): ``(x, v, f)``."""
+    if SCHEME == 1:  # noqa: F821
+        return _step_baoab(t, x, v, f, h, sdw, p)
+    x, v = _step_kp(t, x, v, h, sdw, p)
+    return x, v, f
+
+
+@njit(cache=True)
 def _advance(p, sigma, x, v, t0, h, n, s, r3):
     """``n`` steps from ``(x, v)`` at ``t0``: ``(x, v, ok)``, ``ok`` false (and the state
-    NaN) once the state is non-finite."""
+    NaN) once the state is non-finite (checked every 16 steps: a non-finite state stays
+    non-finite, and the loop stays as tight as a hand-written one)."""
+    f = _first(t0, x, v, p)
     for k in range(n):
-        x, v = _step(t0 + k * h, x, v, h, sigma * _increment(s, r3), p)
-        if not (math.isfinite(x) and math.isfinite(v)):
+        x, v, f = _step(t0 + k * h, x, v, f, h, sigma * _increment(s, r3), p)
+        if (k & 15) == 15 and not math.isfinite(x + v):
             return math.nan, math.nan, False
+    if not math.isfinite(x + v):
+        return math.nan, math.nan, False
     return x, v, True
 
 
@@ -137,14 +184,15 @@ def stationary_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0, kind, lo, h
         x, v = y0[i, 0], y0[i, 1]
         x, v, ok = _advance(p, sigma, x, v, t0, h, n_burn, s, r3)
         t1 = t0 + n_burn * h
+        f = _first(t1, x, v, p) if ok else 0.0
         a_x2 = 0.0
         a_a2 = 0.0
         a_v2 = 0.0
         a_f = 0.0
         if ok:
             for k in range(n_run):
-                x, v = _step(t1 + k * h, x, v, h, sigma * _increment(s, r3), p)
-                if not (math.isfinite(x) and math.isfinite(v)):
+                x, v, f = _step(t1 + k * h, x, v, f, h, sigma * _increment(s, r3), p)
+                if not math.isfinite(x + v):
                     ok = False
                     break
                 a_x2 += x * x
@@ -182,8 +230,9 @@ def first_passages(p, sigma, y0, t0, h, n_max, xl, xr, states):
         s = states[i].copy()
         x, v = y0[i, 0], y0[i, 1]
         times[i] = n_max * h
+        f = _first(t0, x, v, p)
         for k in range(n_max):
-            x, v = _step(t0 + k * h, x, v, h, sigma * _increment(s, r3), p)
+            x, v, f = _step(t0 + k * h, x, v, f, h, sigma * _increment(s, r3), p)
             if x <= xl or x >= xr or not math.isfinite(x):
                 times[i] = (k + 1) * h
                 hit[i] = True
@@ -200,9 +249,10 @@ def sample_path(p, sigma, y0, t0, h, n, stride, state):
     x, v = y0[0], y0[1]
     out[0, 0], out[0, 1] = x, v
     r3 = math.sqrt(3.0 * h)
+    f = _first(t0, x, v, p)
     for k in range(n):
-        x, v = _step(t0 + k * h, x, v, h, sigma * _increment(s, r3), p)
-        if not (math.isfinite(x) and math.isfinite(v)):
+        x, v, f = _step(t0 + k * h, x, v, f, h, sigma * _increment(s, r3), p)
+        if not math.isfinite(x + v):
             break
         if (k + 1) % stride == 0:
             out[(k + 1) // stride, 0], out[(k + 1) // stride, 1] = x, v
@@ -228,6 +278,7 @@ def slip_stats(p, sigma, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage
         x, v = y0[i, 0], y0[i, 1]
         x, v, ok = _advance(p, sigma, x, v, t0, h, n_burn, s, r3)
         t1 = t0 + n_burn * h
+        fk = _first(t1, x, v, p) if ok else 0.0
         well = math.floor(x / lam + 0.5)
         last = -1e300
         fmax = -1e300
@@ -241,8 +292,8 @@ def slip_stats(p, sigma, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage
         if ok:
             for k in range(n_run):
                 t = t1 + (k + 1) * h
-                x, v = _step(t - h, x, v, h, sigma * _increment(s, r3), p)
-                if not (math.isfinite(x) and math.isfinite(v)):
+                x, v, fk = _step(t - h, x, v, fk, h, sigma * _increment(s, r3), p)
+                if not math.isfinite(x + v):
                     ok = False
                     break
                 f = spring(t, x, v, p)  # noqa: F821
@@ -277,4 +328,52 @@ def slip_stats(p, sigma, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage
         else:
             for c in range(7):
                 out[i, c] = math.nan
+    return out
+
+
+@njit(cache=True)
+def _normal_pair(s):
+    """Two independent standard normal numbers (Box-Muller on two uniforms)."""
+    r = math.sqrt(-2.0 * math.log(1.0 - _uniform(s)))
+    phi = 2.0 * math.pi * _uniform(s)
+    return r * math.cos(phi), r * math.sin(phi)
+
+
+@njit(cache=True)
+def step_pair_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0):
+    """Per trajectory: the time averages of ``x^2`` and ``a^2`` after ``n_burn`` steps, over
+    ``n_run`` steps ``h`` and, on the same Brownian path, over ``2 n_run`` steps ``h/2``
+    (Gaussian increments: the two fine ones ``sqrt(h/2) g_1``, ``sqrt(h/2) g_2`` sum to the
+    coarse one, so the two runs stay close and their difference is the step's bias with a
+    small variance).  Columns: ``x^2 (h), a^2 (h), x^2 (h/2), a^2 (h/2)``; NaN rows for a
+    diverged trajectory."""
+    m = y0.shape[0]
+    out = np.zeros((m, 4))
+    hf = 0.5 * h
+    sf = sigma * math.sqrt(hf)
+    for i in range(m):
+        s = states[i].copy()
+        xc, vc = y0[i, 0], y0[i, 1]
+        xf, vf = xc, vc
+        ff = _first(t0, xf, vf, p)
+        fc = ff
+        acc = np.zeros(4)
+        ok = True
+        for k in range(n_burn + n_run):
+            g1, g2 = _normal_pair(s)
+            t = t0 + k * h
+            xf, vf, ff = _step(t, xf, vf, ff, hf, sf * g1, p)
+            xf, vf, ff = _step(t + hf, xf, vf, ff, hf, sf * g2, p)
+            xc, vc, fc = _step(t, xc, vc, fc, h, sf * (g1 + g2), p)
+            if not (math.isfinite(xc) and math.isfinite(vc) and math.isfinite(xf)
+                    and math.isfinite(vf)):
+                ok = False
+                break
+            if k >= n_burn:
+                acc[0] += xc * xc
+                acc[1] += xc * xc + (vc / w0) ** 2
+                acc[2] += xf * xf
+                acc[3] += xf * xf + (vf / w0) ** 2
+        for c in range(4):
+            out[i, c] = acc[c] / n_run if ok else math.nan
     return out

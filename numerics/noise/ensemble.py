@@ -105,8 +105,9 @@ class StationaryEnsemble:
 
 def _stats_task(task) -> list:
     """One chunk of trajectories (module level: it runs in worker processes)."""
-    (model, params, D, first, count, y0, dt, n_burn, n_run, seed, kind, lo, hi, nbins) = task
-    system = langevin_system(model, params, D)
+    (model, params, D, first, count, y0, dt, n_burn, n_run, seed, kind, lo, hi, nbins,
+     scheme) = task
+    system = langevin_system(model, params, D, scheme)
     states = trajectory_states(seed, first, count)
     y = np.ascontiguousarray(np.tile(np.asarray(y0, float), (count, 1)))
     sums, hist = system.kernels.stationary_stats(
@@ -119,7 +120,7 @@ def stationary_ensemble(model, params: dict, D: float, *, trajectories: int, t_e
                         burn_in: float, dt: float, seed: int = 0, variable: str = "a",
                         bins: tuple[float, float, int] = (0.0, 4.0, 40), y0=(0.0, 0.0),
                         executor=None, workers: int | None = None, progress: bool = False,
-                        store=None) -> StationaryEnsemble:
+                        store=None, scheme: str = "kp") -> StationaryEnsemble:
     """Stationary moments and the density of one observable, with standard errors.
 
     Parameters
@@ -145,6 +146,8 @@ def stationary_ensemble(model, params: dict, D: float, *, trajectories: int, t_e
     executor, workers, progress, store :
         As :func:`numerics.executor.map_chunks` (``store`` keeps finished chunks for a
         resumed run).
+    scheme : {"kp", "baoab", "auto"}
+        The integrator (:func:`numerics.noise.langevin.langevin_system`).
 
     Raises
     ------
@@ -163,7 +166,7 @@ def stationary_ensemble(model, params: dict, D: float, *, trajectories: int, t_e
     if not (math.isfinite(lo) and math.isfinite(hi) and hi > lo and nbins >= 1):
         raise ParameterError(f"bins = {bins!r}: need lo < hi (finite) and at least one bin")
     seed = check_seed(seed)
-    system = langevin_system(model, params, D)  # validates before any work starts
+    system = langevin_system(model, params, D, scheme)  # validates before any work starts
     n_run = steps_of(t_end, dt)
     n_burn = 0 if burn_in == 0 else steps_of(burn_in, dt)
     if variable == "E" and not math.isfinite(system.kernels.energy(0.0, 0.0, system._p())):
@@ -171,10 +174,12 @@ def stationary_ensemble(model, params: dict, D: float, *, trajectories: int, t_e
                              "its energy cannot be histogrammed; use variable 'x' or 'a'")
     groups = chunk(list(range(int(trajectories))))
     tasks = [(model, dict(params), float(D), g[0], len(g), tuple(map(float, y0)), float(dt),
-              n_burn, n_run, seed, OBSERVABLES[variable], lo, hi, nbins) for g in groups]
+              n_burn, n_run, seed, OBSERVABLES[variable], lo, hi, nbins, system.scheme)
+             for g in groups]
     definition = repr(("stationary_ensemble", _describe(model), sorted(map(str, params.items())),
                        float(D), int(trajectories), n_run, n_burn, float(dt), seed, variable,
-                       lo, hi, nbins, tuple(map(float, y0))))
+                       lo, hi, nbins, tuple(map(float, y0)))
+                      + (() if system.scheme == "kp" else (system.scheme,)))
     rows = map_chunks(_stats_task, tasks, executor=executor, workers=workers,
                       progress=progress, desc="trajectories", unit="trajectory",
                       sizes=[len(g) for g in groups], store=store,

@@ -73,11 +73,14 @@ def test_warm_and_cold_flows_give_the_same_numbers_as_the_closed_form(tmp_path, 
     np.testing.assert_allclose(a[:, 0], np.cos(1.7 * t), atol=1e-10)
 
 
-def test_the_notice_shows_when_numba_compiles_and_not_when_it_has_the_code(capsys):
+def test_the_notice_shows_when_numba_compiles_and_not_when_it_has_the_code(capsys,
+                                                                           monkeypatch):
     """A function of a module with a notice: the first compilation prints the notice once
-    (on standard error); another compilation of the same module and a call of compiled code
-    print nothing."""
+    (on standard error, here not a terminal: ``KBM_COMPILE_NOTICE=1``); another
+    compilation of the same module and a call of compiled code print nothing; with
+    ``KBM_COMPILE_NOTICE=0``, a new module's compilation prints nothing either."""
     numba = pytest.importorskip("numba")
+    monkeypatch.setenv("KBM_COMPILE_NOTICE", "1")
     name = "kbm_flow_test_notice"
     namespace = {"__name__": name}
     exec("def f(x):\n    return 2 * x\n\ndef g(x):\n    return 3 * x\n", namespace)
@@ -89,6 +92,12 @@ def test_the_notice_shows_when_numba_compiles_and_not_when_it_has_the_code(capsy
     assert first.err == ("kbm: compiling the test's functions with numba (first run; about "
                          f"7 s on two cores, then cached in {_cache()})\n")
     assert f(3.0) == 6.0 and g(1.0) == 3.0
+    assert capsys.readouterr().err == ""
+    monkeypatch.setenv("KBM_COMPILE_NOTICE", "0")
+    other = {"__name__": "kbm_flow_test_notice_off"}
+    exec("def h(x):\n    return 4 * x\n", other)
+    compile_notice(other["__name__"], "nothing", 1)
+    assert numba.njit(other["h"])(1.0) == 4.0
     assert capsys.readouterr().err == ""
 
 

@@ -157,10 +157,24 @@ def compile_notice(module: str, what: str, seconds: float) -> None:
 
     The first run of a command on a new model compiles for tens of seconds; silence there
     looked like a hang (issue 39).  The notice follows numba's own ``numba:compile``
-    event, so it shows whenever numba compiles and never on a warm run.
+    event, so it shows whenever numba compiles and never on a warm run.  It is printed
+    where standard error is a terminal, or where ``KBM_COMPILE_NOTICE=1`` (``0``: never):
+    a log or a test that reads the error stream gets the same lines, cold cache or warm.
     """
     _NOTICES[module] = (what, seconds)
     _listen()
+
+
+def _notice_wanted() -> bool:
+    """Whether to print the first-run notice: ``KBM_COMPILE_NOTICE`` (``1`` or ``0``), else
+    whether standard error is a terminal."""
+    flag = os.environ.get("KBM_COMPILE_NOTICE")
+    if flag is not None:
+        return flag.strip() not in ("", "0")
+    try:
+        return sys.stderr.isatty()
+    except (AttributeError, ValueError):  # a closed or replaced stream
+        return False
 
 
 def _listen() -> None:
@@ -174,7 +188,7 @@ def _listen() -> None:
             func = getattr(ev.data.get("dispatcher"), "py_func", None)
             module = getattr(func, "__module__", "") or ""
             if module in _NOTICED or not (module in _NOTICES or module.startswith(
-                    ("numerics.", "kbm_flow_"))):
+                    ("numerics.", "kbm_flow_"))) or not _notice_wanted():
                 return
             _NOTICED.add(module)
             what, seconds = _NOTICES.get(module, (module, COMPILE_SECONDS["other"]))

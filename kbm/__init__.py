@@ -6,18 +6,19 @@ averaging writes ``x = a cos(psi) + sum_n mu**n u_n(a, psi)`` with
 no ``u_n`` holding a first harmonic, so ``a`` is the first-harmonic amplitude.
 """
 
-from importlib.metadata import PackageNotFoundError, version as _version
-
 from .errors import (KBMError, ModelError, NonAutonomousError, OrderError, ParameterError,
                      ResolutionError, SeriesTruncationError, UnsupportedTermError)
-from .latex import latex  # eager: the name is also a submodule's
-from .models import MODELS, Oscillator, custom_model, get_model, model_names
-from ._lazy import lazy_names
-from .symbols import a, mu, parse, psi, t, x, xdot
+from ._lazy import keep_objects, lazy_names
 
-#: the public names of the heavier modules, imported on first use (PEP 562): ``import kbm``
-#: (and every ``kbm`` command) then costs only what it uses
+#: the public names, imported from their modules on first use (PEP 562): ``import kbm``
+#: (and every ``kbm`` command) then costs only what it uses; sympy is imported by the first
+#: name that needs it (``kbm --version`` and ``kbm --help`` import none)
 _LAZY = {
+    "latex": ".latex",
+    **dict.fromkeys(("MODELS", "Oscillator", "custom_model", "get_model", "model_names"),
+                    ".models"),
+    **dict.fromkeys(("a", "mu", "parse", "psi", "t", "x", "xdot"), ".symbols"),
+    "__version__": "._version",
     "derive": ".averaging",
     "AveragedCycle": ".averaged", "AveragedRates": ".averaged",
     "averaged_cycles": ".averaged", "averaged_rates": ".averaged",
@@ -29,6 +30,9 @@ _LAZY = {
     "LimitCycleSeries": ".series", "limit_cycle_series": ".series",
     "StochasticAveraging": ".stochastic", "stochastic_average": ".stochastic",
 }
+
+#: ``kbm.latex`` is the function, also once the module of the same name is imported
+keep_objects(__name__, ("latex",))
 
 __getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)
 
@@ -44,8 +48,3 @@ __all__ = [
     "MODELS", "Oscillator", "custom_model", "get_model", "model_names",
     "a", "mu", "parse", "psi", "t", "x", "xdot",
 ]
-
-try:  # the version lives in pyproject.toml only
-    __version__ = _version("kbm")
-except PackageNotFoundError:  # pragma: no cover - running from a tree that is not installed
-    __version__ = "0+unknown"

@@ -2,16 +2,19 @@
 
 A package's ``__init__`` lists its heavier names with their modules; ``import kbm`` (and
 every command of the ``kbm`` command line) then costs only what it uses.  A name that is
-also a submodule's (``kbm.latex``) must stay an eager import: importing the submodule would
-set the package attribute to the module.
+also a submodule's (``kbm.latex``, the function and the module) is kept the object by
+:func:`keep_objects`: importing the submodule would otherwise set the package attribute to
+the module.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+import sys
+import types
+from collections.abc import Callable, Iterable, Mapping
 from importlib import import_module
 
-__all__ = ["lazy_names"]
+__all__ = ["lazy_names", "keep_objects"]
 
 
 def lazy_names(package: str, namespace: dict, names: Mapping[str, str]
@@ -31,3 +34,24 @@ def lazy_names(package: str, namespace: dict, names: Mapping[str, str]
         return sorted(set(namespace) | set(names))
 
     return __getattr__, __dir__
+
+
+def keep_objects(package: str, names: Iterable[str]) -> None:
+    """Keep ``package.NAME`` the object ``NAME`` of the submodule ``package.NAME`` when that
+    submodule is imported (the import system sets the package attribute to the module; here
+    the module's own ``NAME`` is stored instead).
+
+    The package's module object gets a subclass of :class:`types.ModuleType` whose
+    ``__setattr__`` does this (a module's ``__class__`` may be assigned, Python >= 3.5).
+    """
+    module = sys.modules[package]
+    kept = frozenset(names)
+
+    class _Package(types.ModuleType):
+        def __setattr__(self, name: str, value: object) -> None:
+            if (name in kept and isinstance(value, types.ModuleType)
+                    and value.__name__ == f"{package}.{name}"):
+                value = getattr(value, name)
+            super().__setattr__(name, value)
+
+    module.__class__ = _Package

@@ -20,13 +20,49 @@ process pool, an executor or a Dask cluster):
 7. :mod:`numerics.cli` — the ``kbm`` command line (on top of :mod:`kbm` and all of these).
 """
 
+import os as _os
+import sys as _sys
+
 import kbm as _kbm
 
+
+# A folder ``kbm`` without ``__init__.py`` (a clone of the project) on an entry of
+# ``sys.path`` is taken for a namespace package where the package itself is reached only
+# through an import hook (setuptools' editable installs by a finder).  The entry is most
+# often ``sys.path[0]``: the folder of the script that runs (``python ../snippet.py`` from
+# elsewhere) or, for ``python -c``, ``-m`` and the prompt, the current folder.
+
+
+def _shadow_where(entry: str) -> str:
+    """Which folder of ``sys.path`` ``entry`` is, in the user's words."""
+    here = _os.getcwd()
+    path = _os.path.abspath(entry or here)
+    first = _os.path.abspath(_sys.path[0] or here) if _sys.path else None
+    script = _sys.argv[0] if _sys.argv and _sys.argv[0] not in ("", "-c", "-m") else ""
+    if path == first and script and _os.path.isfile(script):
+        return f"the folder of the script {script!r} ({path}, Python's first import folder)"
+    if path == here:
+        return f"Python's current folder ({path})"
+    return f"the folder {path} on sys.path"
+
+
+def _shadow_message(folders: list[str]) -> str:
+    """What found the folder(s) ``folders`` instead of the package, and the ways out."""
+    places = []
+    for folder in folders:
+        parent = _os.path.dirname(_os.path.abspath(folder))
+        entry = next((e for e in _sys.path if _os.path.abspath(e or _os.getcwd()) == parent),
+                     parent)
+        places.append(_shadow_where(entry))
+    return (f"'import kbm' found the folder {', '.join(map(str, folders))}, not the kbm "
+            f"package: {'; '.join(places)} holds a folder named 'kbm' (the clone of the "
+            "project?). Reinstall the clone with 'python -m pip install -e CLONE' (it puts "
+            "the clone on Python's path, where the package wins over the bare folder), or "
+            "move the script or run Python from another folder.")
+
+
 if getattr(_kbm, "__file__", None) is None:  # a bare folder 'kbm' shadows the package
-    raise ImportError(
-        f"'import kbm' found the folder {', '.join(map(str, _kbm.__path__))}, not the kbm "
-        "package: Python's current folder holds a folder named 'kbm' (the clone of the "
-        "project?). Run Python from inside the clone, or from any other folder.")
+    raise ImportError(_shadow_message(list(_kbm.__path__)))
 
 from numerics._memo import clear_caches  # noqa: E402
 from numerics.errors import (ConvergenceError, IntegrationError, NoCycleError,  # noqa: E402

@@ -84,20 +84,6 @@ def test_result_objects_print_in_one_short_line():
         assert len(text) < 300 and "\n" not in text and "array(" not in text, text
 
 
-def test_a_folder_named_kbm_in_the_current_folder_is_named_as_the_cause(tmp_path):
-    """Issue 24 item 4: from the folder that holds a clone named ``kbm``, ``import kbm``
-    finds that folder as a namespace package; ``import numerics`` says so."""
-    import subprocess
-    import sys
-
-    (tmp_path / "kbm" / "kbm").mkdir(parents=True)
-    proc = subprocess.run([sys.executable, "-c", "import kbm, numerics"], cwd=tmp_path,
-                          capture_output=True, text=True, timeout=120,
-                          env={"PATH": "/usr/bin:/bin", "HOME": str(tmp_path)})
-    assert proc.returncode == 1
-    assert "holds a folder named 'kbm'" in proc.stderr.strip().splitlines()[-1]
-
-
 def test_comparison_table_columns_never_run_together():
     """Issue 24 item 8: ``0.002160121066 ( 1.7e-03)-0.0001828501289 ( 1.5e-04)`` — a long
     negative value touched the previous column.  Every entry is now separated by at least

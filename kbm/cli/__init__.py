@@ -6,6 +6,11 @@ One sub-command per module of this package, each defining ``register(subparsers)
 top of both packages (so that :mod:`kbm` never imports :mod:`numerics`);
 :func:`main` here runs the symbolic commands alone.  Errors of the package become
 a one-line message on standard error and exit status 2.
+
+A run imports the module of its command only (:func:`lazy_parser`): the other commands
+are listed by their one-line summaries (:data:`SUMMARIES`), so ``kbm --help`` and ``kbm
+--version`` import neither sympy nor numpy.  :func:`build_parser` imports every command
+(the documentation's full help, and the tests).
 """
 
 from __future__ import annotations
@@ -15,14 +20,22 @@ import importlib
 import re
 import signal
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 from kbm.errors import KBMError
 
-__all__ = ["main", "build_parser", "register_commands", "run_command", "cli_message", "COMMANDS"]
+__all__ = ["main", "build_parser", "lazy_parser", "register_commands", "run_command",
+           "cli_message", "COMMANDS", "SUMMARIES"]
 
 #: the symbolic sub-command modules, in the order ``kbm --help`` lists them
 COMMANDS = ("derive", "series")
+
+#: each command's one line in ``kbm --help`` (the ``help`` its module registers; a test
+#: checks they are equal), so that the help imports no command module
+SUMMARIES = {
+    "derive": "KBM expansion A_n, B_n, u_n to a given order",
+    "series": "mu-series of the limit cycle (polynomial F)",
+}
 
 DESCRIPTION = "Krylov-Bogoliubov-Mitropolsky averaging to any order, checked numerically."
 
@@ -37,25 +50,98 @@ def register_commands(sub, package: str, names: Sequence[str]) -> None:
 
 
 def _version() -> str:
-    """The installed distribution's version (package metadata), or that of the source tree."""
-    from importlib.metadata import PackageNotFoundError, version
+    """The installed distribution's version, or ``(not installed)``.
 
-    try:
-        return version("kbm")
-    except PackageNotFoundError:
-        return "(not installed)"
+    Read from the first ``kbm-*.dist-info/METADATA`` on ``sys.path``, the one
+    :func:`importlib.metadata.version` finds, without that module's imports (email
+    parsing: a third of ``kbm --version``'s time).
+    """
+    import os
+
+    for entry in sys.path:
+        try:
+            names = sorted(os.listdir(entry or "."))
+        except OSError:
+            continue
+        for name in names:
+            if name.startswith("kbm-") and name.endswith(".dist-info"):
+                try:
+                    with open(os.path.join(entry or ".", name, "METADATA"),
+                              encoding="utf-8") as fh:
+                        for line in fh:
+                            if line.startswith("Version:"):
+                                return line.split(":", 1)[1].strip()
+                            if not line.strip():
+                                break
+                except OSError:
+                    continue
+    return "(not installed)"
+
+
+class _VersionAction(argparse.Action):
+    """``--version``: the version is read (package metadata) only when asked for."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS,
+                 help="show program's version number and exit"):
+        super().__init__(option_strings=option_strings, dest=dest, default=default, nargs=0,
+                         help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        parser._print_message(f"kbm {_version()}\n", sys.stdout)
+        parser.exit()
+
+
+def _top_parser() -> tuple[argparse.ArgumentParser, object]:
+    """The ``kbm`` parser without commands, and its sub-parsers' action."""
+    parser = argparse.ArgumentParser(prog="kbm", description=DESCRIPTION)
+    parser.add_argument("--version", action=_VersionAction)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+    return parser, sub
 
 
 def build_parser(extra: Callable[[object], None] | None = None) -> argparse.ArgumentParser:
     """The argument parser with the symbolic commands (and those ``extra(sub)`` adds)."""
-    parser = argparse.ArgumentParser(prog="kbm", description=DESCRIPTION)
-    parser.add_argument("--version", action="version", version=f"kbm {_version()}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    sub.required = True
+    parser, sub = _top_parser()
     register_commands(sub, __name__, COMMANDS)
     if extra is not None:
         extra(sub)
     return parser
+
+
+def command_name(argv: Sequence[str]) -> str | None:
+    """The command ``argv`` names: its first word that is not an option (``kbm`` itself
+    takes only ``--help`` and ``--version``, neither with a value)."""
+    for item in argv:
+        if item == "--":
+            return None
+        if not item.startswith("-"):
+            return item
+    return None
+
+
+def lazy_parser(argv: Sequence[str], commands: Mapping[str, tuple[str, str]]
+                ) -> argparse.ArgumentParser:
+    """The parser of the command that ``argv`` names, importing that command's module only.
+
+    ``commands`` maps each command, in the order of ``kbm --help``, to ``(package,
+    summary)``: the named command is registered by ``package.NAME.register``, every other
+    one by its summary alone (``kbm --help`` lists them all; a command name that is not one
+    of them is argparse's usual error).
+    """
+    name = command_name(argv)
+    parser, sub = _top_parser()
+    for cmd, (package, summary) in commands.items():
+        if cmd == name:
+            importlib.import_module(f"{package}.{cmd}").register(sub)
+        else:
+            sub.add_parser(cmd, help=summary, add_help=False)
+    return parser
+
+
+def symbolic_commands() -> dict[str, tuple[str, str]]:
+    """The symbolic commands for :func:`lazy_parser`: name -> (package, summary)."""
+    return {name: (__name__, SUMMARIES[name]) for name in COMMANDS}
 
 
 #: options whose value is an expression that may start with a minus sign (``--rhs -x**3``)
@@ -101,9 +187,17 @@ def cli_message(message: str) -> str:
     return msg
 
 
-def run_command(parser: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> int:
-    """Parse ``argv`` and run the command; returns the exit status."""
-    args = parser.parse_args(_join_negative_values(sys.argv[1:] if argv is None else argv))
+def run_command(parser: argparse.ArgumentParser | Callable[[list[str]], argparse.ArgumentParser],
+                argv: Sequence[str] | None = None) -> int:
+    """Parse ``argv`` and run the command; returns the exit status.
+
+    ``parser`` is the parser, or a function of the arguments that builds it
+    (:func:`lazy_parser`).
+    """
+    argv = _join_negative_values(sys.argv[1:] if argv is None else argv)
+    if not isinstance(parser, argparse.ArgumentParser):
+        parser = parser(argv)
+    args = parser.parse_args(argv)
     received: list[int] = []
     previous = _on_sigterm(received)
     try:
@@ -167,7 +261,7 @@ def _on_sigterm(received: list[int]):
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the symbolic commands; returns the exit status."""
-    return run_command(build_parser(), argv)
+    return run_command(lambda items: lazy_parser(items, symbolic_commands()), argv)
 
 
 if __name__ == "__main__":  # pragma: no cover

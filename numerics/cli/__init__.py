@@ -3,7 +3,8 @@
 This package sits on top of both :mod:`kbm` and :mod:`numerics` (the console
 script ``kbm`` is :func:`main`).  Each command module only parses its arguments,
 calls one library function and prints; a command module that fails to import
-is an error, not a missing command.
+is an error, not a missing command.  A run imports its own command's module only
+(:func:`kbm.cli.lazy_parser`; the others are listed by :data:`SUMMARIES`).
 """
 
 from __future__ import annotations
@@ -11,13 +12,33 @@ from __future__ import annotations
 import sys
 from collections.abc import Sequence
 
-from kbm.cli import build_parser as _build_symbolic, register_commands, run_command
+from kbm.cli import (build_parser as _build_symbolic, lazy_parser, register_commands,
+                     run_command, symbolic_commands)
 
-__all__ = ["main", "build_parser", "COMMANDS"]
+__all__ = ["main", "build_parser", "COMMANDS", "SUMMARIES"]
 
 #: the numerical sub-command modules, listed after ``derive`` and ``series``
 COMMANDS = ("predict", "cycle", "compare", "slide", "figures", "derivations", "reproduce",
             "branch", "friction", "response", "escape", "noise", "lock")
+
+#: each command's line in ``kbm --help`` (the ``help`` its module registers; a test checks
+#: they are equal), so that the help and the version import no command module
+SUMMARIES = {
+    "predict": "limit cycles predicted by averaging (energy balance or KBM)",
+    "cycle": "limit cycle of the full equation by shooting",
+    "compare": "KBM predictions (any order) against the numerical limit cycle",
+    "slide": "driven stick-slip simulation (SEDF or CDC)",
+    "figures": "write the figures (PNG and PDF)",
+    "derivations": "regenerate the LaTeX derivations (byte-stable)",
+    "reproduce": "the main job: derivations, tables, figures, summary",
+    "branch": "branches of limit cycles in one parameter (folds, Hopf, homoclinic)",
+    "friction": "friction laws and maps of the pulled sliders (SEDF, CDC)",
+    "response": "frequency-response curve of a forced oscillator (KBM near a resonance, "
+                "checked by shooting)",
+    "escape": "escape rate from the well at the origin with noise sqrt(2 D) xi",
+    "noise": "stationary state with noise sqrt(2 D) xi: averaged against simulated",
+    "lock": "locking region of coupled oscillators: averaged vs true",
+}
 
 
 def build_parser():
@@ -33,7 +54,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     threads, stopped by the interpreter's shutdown, would print an ``OSError`` traceback
     under the message.
     """
-    status = run_command(build_parser(), argv)
+    commands = {**symbolic_commands(), **{name: (__name__, SUMMARIES[name]) for name in COMMANDS}}
+    status = run_command(lambda items: lazy_parser(items, commands), argv)
     if argv is None and status in (130, 143):
         import os
 

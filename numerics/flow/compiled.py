@@ -230,7 +230,8 @@ def _template_flow(template: ModelTemplate, enabled: bool):
 
     return jit_flow(template.ext_exprs, T, template.ext_symbols,
                     [sp.Symbol(n) for n in template.names],
-                    key=f"extended|{sp.srepr(tuple(template.ext_exprs))}|{template.names}")
+                    key=f"extended|{sp.srepr(tuple(template.ext_exprs))}|{template.names}",
+                    what=f"the flow of {template.model.name}")
 
 
 def compile_model(model: Oscillator | str | BoundModel,

@@ -33,14 +33,17 @@ import sys
 import tempfile
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
-import sympy as sp
 
 from numerics._memo import memo
 
-__all__ = ["jit_flow", "jit_available", "cache_dir", "FlowResult"]
+if TYPE_CHECKING:
+    import sympy as sp
+
+__all__ = ["jit_flow", "jit_available", "cache_dir", "FlowResult", "flow_cache_key",
+           "compile_notice"]
 
 #: version of the generated source (part of the file's hash)
 _VERSION = "3"
@@ -92,6 +95,7 @@ def rhs_source(exprs: Sequence[sp.Expr], t: sp.Symbol, y: Sequence[sp.Symbol],
     sympy.printing.codeprinter.PrintMethodNotImplementedError
         If an expression has no :mod:`math` equivalent.
     """
+    import sympy as sp
     from sympy.printing.pycode import PythonCodePrinter
 
     ren = {t: sp.Symbol("t_")}
@@ -135,20 +139,88 @@ def _load(source: str):
     return mod
 
 
-_ANNOUNCED: list[str] = []
+#: the first-run notice of each module numba compiles: module name -> (what, seconds)
+_NOTICES: dict[str, tuple[str, float]] = {}
+#: the modules whose notice was printed in this process
+_NOTICED: set[str] = set()
+#: whether the listener of numba's compile events is registered
+_LISTENING: list[bool] = []
+#: seconds of a first compilation on two cores, by what is compiled (measured: ``python
+#: benchmarks/bench_startup.py`` prints the cold runs); the notice says "about" these
+COMPILE_SECONDS = {"flow": 20, "shooting": 40, "other": 20}
 
 
-def _announce_compile(source: str) -> None:
-    """One line on a terminal's standard error before numba compiles a flow that is not in
-    the cache yet (the first cycle of a new model takes ~20 s; silence looked like a hang)."""
-    digest = hashlib.sha256(source.encode()).hexdigest()[:20]
-    folder = cache_dir()
-    if (_ANNOUNCED or any(folder.glob(f"__pycache__/kbm_flow_{digest}.*.nbi"))
-            or not sys.stderr.isatty()):
+def compile_notice(module: str, what: str, seconds: float) -> None:
+    """Announce on standard error, once a process, when numba starts compiling a function
+    of ``module`` (not when it loads the function from its cache): ``what`` it compiles
+    and the expected time.
+
+    The first run of a command on a new model compiles for tens of seconds; silence there
+    looked like a hang (issue 39).  The notice follows numba's own ``numba:compile``
+    event, so it shows whenever numba compiles and never on a warm run.  It is printed
+    where standard error is a terminal, or where ``KBM_COMPILE_NOTICE=1`` (``0``: never):
+    a log or a test that reads the error stream gets the same lines, cold cache or warm.
+    """
+    _NOTICES[module] = (what, seconds)
+    _listen()
+
+
+def _notice_wanted() -> bool:
+    """Whether to print the first-run notice: ``KBM_COMPILE_NOTICE`` (``1`` or ``0``), else
+    whether standard error is a terminal."""
+    flag = os.environ.get("KBM_COMPILE_NOTICE")
+    if flag is not None:
+        return flag.strip() not in ("", "0")
+    try:
+        return sys.stderr.isatty()
+    except (AttributeError, ValueError):  # a closed or replaced stream
+        return False
+
+
+def _listen() -> None:
+    """Register the listener of numba's compile events (once a process)."""
+    if _LISTENING:
         return
-    _ANNOUNCED.append(digest)  # once a process: a message only, never a result
-    print(f"compiling the model's flow with numba (first time for this model, ~20 s; cached "
-          f"in {folder})", file=sys.stderr, flush=True)
+    from numba.core import event
+
+    class _Notice(event.Listener):
+        def on_start(self, ev) -> None:
+            func = getattr(ev.data.get("dispatcher"), "py_func", None)
+            module = getattr(func, "__module__", "") or ""
+            if module in _NOTICED or not (module in _NOTICES or module.startswith(
+                    ("numerics.", "kbm_flow_"))) or not _notice_wanted():
+                return
+            _NOTICED.add(module)
+            what, seconds = _NOTICES.get(module, (module, COMPILE_SECONDS["other"]))
+            print(f"kbm: compiling {what} with numba (first run; about {seconds:g} s on two "
+                  f"cores, then cached in {cache_dir()})", file=sys.stderr, flush=True)
+
+        def on_end(self, ev) -> None:
+            pass
+
+    event.register("numba:compile", _Notice())
+    _LISTENING.append(True)
+
+
+def _announce_compile(source: str, what: str = "the model's flow",
+                      seconds: float | None = None) -> None:
+    """The first-run notice of the generated module of ``source`` (:func:`compile_notice`)."""
+    digest = hashlib.sha256(source.encode()).hexdigest()[:20]
+    compile_notice(f"kbm_flow_{digest}", what,
+                   COMPILE_SECONDS["flow"] if seconds is None else seconds)
+
+
+def flow_cache_key(key: str, n_state: int = 2, extra: str = "") -> str:
+    """The name under which a compiled flow's source is cached: the SHA-256 of the model's
+    canonical form ``key`` (the ``srepr`` of its expressions and its parameters' order) and
+    of the compilation's options (the generator's version, the states integrated alone,
+    the extra source compiled with it).
+
+    A warm run reads the source under this name and numba's machine code of that source:
+    no printing of expressions (common subexpressions, renaming) and no compilation.
+    """
+    mark = hashlib.sha256(extra.encode()).hexdigest()[:12] if extra else ""
+    return hashlib.sha256(f"{_VERSION}|{n_state}|{key}|{mark}".encode()).hexdigest()[:24]
 
 
 def _source_by_key(key, exprs, t, y, params, n_state, extra: str = "") -> str | None:
@@ -158,9 +230,7 @@ def _source_by_key(key, exprs, t, y, params, n_state, extra: str = "") -> str | 
     path = None
     tail = _STEPPER + extra
     if key is not None:
-        mark = hashlib.sha256(extra.encode()).hexdigest()[:12] if extra else ""
-        digest = hashlib.sha256(f"{_VERSION}|{n_state}|{key}|{mark}".encode()).hexdigest()[:24]
-        path = cache_dir() / f"kbm_src_{digest}.txt"
+        path = cache_dir() / f"kbm_src_{flow_cache_key(key, n_state, extra)}.txt"
         try:
             text = path.read_text()
             if text.startswith(_HEADER) and text.endswith(tail):
@@ -206,7 +276,8 @@ _MESSAGES = {1: "the step limit was reached", 2: "the step size fell below the t
 
 def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.Symbol,
              y: Sequence[sp.Symbol], params: Sequence[sp.Symbol], n_state: int = 2, *,
-             key: str | None = None, extra: str = "") -> Callable | None:
+             key: str | None = None, extra: str = "", what: str = "the model's flow",
+             seconds: float | None = None) -> Callable | None:
     """A compiled flow of ``y' = exprs(t, y, params)``, or ``None`` if it cannot be compiled.
 
     Returns
@@ -235,13 +306,16 @@ def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.S
         More source appended to the module after the stepper (functions that call ``flow``
         and ``rhs``, compiled with them: e.g. a Newton corrector); the module is the
         returned flow's attribute ``module``.
+    what, seconds
+        The first-run notice: what is compiled and about how long it takes
+        (:func:`compile_notice`; printed only when numba compiles, not when it loads).
     """
     if not jit_available():
         return None
     source = _source_by_key(key, exprs, t, y, params, n_state, extra)
     if source is None:
         return None
-    _announce_compile(source)
+    _announce_compile(source, what, seconds)
     try:
         mod = _load(source)
         fn = mod.flow

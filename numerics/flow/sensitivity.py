@@ -67,7 +67,7 @@ def sensitivity_flow(template: ModelTemplate):
 def _sensitivity_flow(template: ModelTemplate, enabled: bool):
     if not enabled:
         return None
-    from numerics.flow.jit import jit_flow
+    from numerics.flow.jit import COMPILE_SECONDS, jit_flow
 
     names = [sp.Symbol(n) for n in template.names]
     rates = [sp.Symbol(f"rate_{n}") for n in template.names]
@@ -84,7 +84,8 @@ def _sensitivity_flow(template: ModelTemplate, enabled: bool):
 
     return jit_flow(exprs, T, y, names + rates,
                     key=f"sensitivity-9|{sp.srepr(tuple(template.ext_exprs))}|{template.names}",
-                    extra=_CORRECTOR)
+                    extra=_CORRECTOR, what=f"the nine-state flow of {template.model.name} and its "
+                    "Newton corrector (continuation)", seconds=COMPILE_SECONDS["shooting"])
 
 
 def shooting_corrector(template: ModelTemplate):

@@ -1,0 +1,155 @@
+"""Time the ``kbm`` commands as whole processes, start-up included (issue 39), in one run.
+
+Run: ``python benchmarks/bench_startup.py [--rounds 10] [--against OTHER_TREE]``
+
+1. ``kbm --version``, ``kbm --help``, ``kbm derive vdp --order 2`` and ``kbm cycle vdp -p
+   mu=1``, each a new process (``python -m numerics.cli ...`` from the tree of this file),
+   against ``python -c pass``: the median and the smallest of ``--rounds`` runs, the rounds
+   interleaved (one run of each command per round, so that a change of the machine's load
+   falls on all of them alike), every cache warm (one run of each first).  With
+   ``--against OTHER_TREE`` (e.g. a checkout of the previous main) the same commands of that
+   tree run in the same rounds: before and after on the same machine, in one run.
+2. The whole ``kbm branch sedf -p mu=0.1 -p beta=1 -p lam=1 --vary Delta=0:4 --orders none
+   --no-energy --json`` against AUTO-07p's whole run of the same branch (its equations
+   compiled once beforehand, as kbm's numba cache is warm; the start from the Hopf point
+   of the van der Pol oscillator, the continuation in the gain and then in Delta:
+   ``benchmarks/bench_branch.py`` holds the AUTO files), where ``auto-07p`` and
+   ``gfortran`` are installed; otherwise it says so and times kbm alone.
+
+The targets of issue 39: ``--version`` and ``--help`` under 0.15 s, ``cycle vdp`` under
+0.6 s warm, the whole ``branch`` within 2x of AUTO-07p's whole run.  Timings depend on the
+machine and its load (the medians of interleaved rounds are the numbers to compare).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+COMMANDS = {
+    "python -c pass": None,
+    "kbm --version": ["--version"],
+    "kbm --help": ["--help"],
+    "kbm derive vdp --order 2": ["derive", "vdp", "--order", "2"],
+    "kbm cycle vdp -p mu=1": ["cycle", "vdp", "-p", "mu=1"],
+}
+BRANCH = ["branch", "sedf", "-p", "mu=0.1", "-p", "beta=1", "-p", "lam=1", "--vary",
+          "Delta=0:4", "--orders", "none", "--no-energy", "--json"]
+TARGETS = {"kbm --version": 0.15, "kbm --help": 0.15, "kbm cycle vdp -p mu=1": 0.6}
+
+
+def _argv(args: list[str] | None) -> list[str]:
+    if args is None:
+        return [sys.executable, "-c", "pass"]
+    return [sys.executable, "-m", "numerics.cli", *args]
+
+
+def run_once(tree: Path, args: list[str] | None) -> float:
+    """Seconds of one whole process of ``kbm ARGS`` from ``tree`` (its output discarded)."""
+    env = {**os.environ, "PYTHONPATH": str(tree)}
+    t0 = time.perf_counter()
+    proc = subprocess.run(_argv(args), cwd=tree, env=env, capture_output=True, timeout=900)
+    seconds = time.perf_counter() - t0
+    if proc.returncode != 0:
+        raise SystemExit(f"{' '.join(args or [])} failed in {tree}: "
+                         f"{proc.stderr.decode()[-400:]}")
+    return seconds
+
+
+def commands(trees: dict[str, Path], rounds: int) -> None:
+    """Part 1: the interleaved rounds, then a table of median and smallest times."""
+    cases = [(label, name, tree, args) for label, tree in trees.items()
+             for name, args in COMMANDS.items() if not (args is None and label != "this")]
+    for _, _, tree, args in cases:  # warm every cache (numba, generated sources)
+        run_once(tree, args)
+    times: dict[tuple[str, str], list[float]] = {(c[0], c[1]): [] for c in cases}
+    for _ in range(rounds):
+        for label, name, tree, args in cases:
+            times[(label, name)].append(run_once(tree, args))
+    print(f"\n1. whole processes, warm, {rounds} interleaved rounds (seconds)")
+    head = "".join(f"{label + ' median':>16s}{'min':>8s}" for label in trees)
+    print(f"   {'command':30s}{head}  target")
+    for name in COMMANDS:
+        cells = ""
+        for label in trees:
+            ts = times.get((label, name)) or times[("this", name)]
+            cells += f"{statistics.median(ts):16.3f}{min(ts):8.3f}"
+        target = TARGETS.get(name)
+        verdict = ""
+        if target is not None:
+            med = statistics.median(times[("this", name)])
+            verdict = f"  < {target:g} s: {'yes' if med < target else 'no'}"
+        print(f"   {name:30s}{cells}{verdict}")
+
+
+def auto_whole_runs(repeats: int) -> list[float] | None:
+    """Seconds of AUTO-07p's whole ``auto-07p run.auto`` on the SEDF branch, its equations
+    compiled by a first run that is not timed; ``None`` (said) where AUTO cannot run."""
+    if shutil.which("auto-07p") is None or shutil.which("gfortran") is None:
+        print("   AUTO-07p: not installed here (Debian: apt-get install auto-07p gfortran); "
+              "the comparison is skipped")
+        return None
+    sys.path.insert(0, str(Path(__file__).parent))
+    from bench_branch import AUTO_CONSTANTS, AUTO_EQUATIONS, AUTO_SCRIPT
+
+    out = []
+    with tempfile.TemporaryDirectory() as tmp:
+        d = Path(tmp)
+        (d / "sedf.f90").write_text(AUTO_EQUATIONS)
+        (d / "c.sedf").write_text(AUTO_CONSTANTS)
+        (d / "run.auto").write_text(AUTO_SCRIPT)
+        for i in range(repeats + 1):
+            t0 = time.perf_counter()
+            proc = subprocess.run(["auto-07p", "run.auto"], cwd=d, capture_output=True,
+                                  text=True, timeout=900)
+            if "AUTOTIME" not in proc.stdout:
+                print(f"   AUTO-07p failed: {(proc.stdout + proc.stderr).strip()[-300:]}")
+                return None
+            if i:  # the first run compiles the equations
+                out.append(time.perf_counter() - t0)
+    return out
+
+
+def branch(repeats: int) -> None:
+    """Part 2: the whole ``kbm branch`` command against AUTO-07p's whole run."""
+    print(f"\n2. whole kbm branch command against AUTO-07p's whole run ({repeats} runs each)")
+    print(f"   kbm {' '.join(BRANCH)}")
+    run_once(ROOT, BRANCH)  # warm
+    auto = auto_whole_runs(repeats)
+    kbm = [run_once(ROOT, BRANCH) for _ in range(repeats)]
+    print(f"   kbm: median {statistics.median(kbm):.3f} s, min {min(kbm):.3f} s")
+    if auto:
+        ratio = statistics.median(kbm) / statistics.median(auto)
+        print(f"   AUTO-07p: median {statistics.median(auto):.3f} s, min {min(auto):.3f} s; "
+              f"kbm / AUTO {ratio:.2f} (target: within 2x: {'yes' if ratio <= 2 else 'no'})")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--rounds", type=int, default=10, help="rounds of part 1 (10)")
+    parser.add_argument("--branch-runs", type=int, default=5, help="runs of part 2 (5)")
+    parser.add_argument("--against", type=Path, default=None, metavar="TREE",
+                        help="another checkout of the project, timed in the same rounds")
+    parser.add_argument("--no-branch", action="store_true", help="part 1 only")
+    args = parser.parse_args()
+    trees = {"this": ROOT}
+    if args.against is not None:
+        trees["against"] = args.against.resolve()
+    print(f"python {sys.version.split()[0]} on {os.cpu_count()} cores; this tree: {ROOT}"
+          + (f"; against: {trees['against']}" if "against" in trees else ""))
+    commands(trees, args.rounds)
+    if not args.no_branch:
+        branch(args.branch_runs)
+
+
+if __name__ == "__main__":
+    main()

@@ -60,6 +60,8 @@ def run(args) -> int:
         print(f"  simulated:                 rate = {rep['rate_simulated']:.6g} +- "
               f"{rep['stderr']:.2g} ({rep['escaped']}/{rep['trajectories']} escaped by "
               f"t = {rep['t_end']:.6g}, dt = {rep['dt']:.4g}, seed {rep['seed']})")
+    for warning in rep.get("warnings", []):
+        print(f"  WARNING: {warning}")
     if rep["message"]:
         print(f"  {rep['message']}")
     return 0

@@ -40,6 +40,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+import sympy as sp
 from kbm.conservative import ConservativeSplit, split_conservative
 from kbm.errors import ModelError, ParameterError
 
@@ -48,7 +49,13 @@ from ._orbits import graded_orbit_integrals, interior_saddles
 from ._panels import Piecewise, adaptive_panels, gauss_on
 
 __all__ = ["EnergyEnvelope", "AnnulusEnvelope", "energy_envelope", "noise_level",
-           "boltzmann_moment"]
+           "boltzmann_moment", "NoStationaryState", "check_mu"]
+
+
+class NoStationaryState(ModelError):
+    """The noisy model has no stationary state (no damping, ``A_1 = 0``, a drift that does
+    not confine the amplitude or the energy, or a potential that does not confine): raised
+    before any simulation, with the reason."""
 
 
 def noise_level(D: object) -> float:
@@ -66,6 +73,36 @@ def noise_level(D: object) -> float:
         raise ParameterError(f"D = {D!r}: the noise intensity must be finite and >= 0 "
                              "(x'' + ... = sqrt(2 D) xi(t); e.g. -p D=0.01)")
     return val
+
+
+def check_mu(params: dict) -> None:
+    """Refuse ``mu <= 0`` (and a ``D`` that is infinite or NaN) before any work.
+
+    ``mu`` is the small parameter of ``x'' + omega0^2 x = mu F``: ``mu < 0`` turns the
+    damping into a drive (no stationary state), ``mu = 0`` leaves the noise unbalanced.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+    """
+    for key in ("D", "mu"):
+        if key not in params:
+            continue
+        try:
+            val = float(params[key])  # "inf", "nan" included
+        except (TypeError, ValueError):
+            try:
+                val = float(sp.sympify(params[key]))
+            except (TypeError, ValueError, sp.SympifyError):
+                continue  # the parser of the model says what is wrong
+        if not math.isfinite(val):
+            raise ParameterError(f"{key} = {params[key]!r} must be a finite number (e.g. "
+                                 f"-p {key}=0.1)")
+        if key == "mu" and val <= 0:
+            raise ParameterError(
+                f"mu = {params[key]}: the small parameter must be > 0 (x'' + omega0^2 x = mu "
+                "F; mu < 0 turns the damping into a drive and mu = 0 leaves the noise "
+                "unbalanced: no stationary state); give mu > 0")
 
 
 def _integrands(h):
@@ -284,7 +321,7 @@ def energy_envelope(model, params: dict, D: object, *, tol: float = 1e-12,
     params = {k: v for k, v in dict(params).items() if k != "D"}
     split = split_conservative(model, params)
     if split.conservative:
-        raise ModelError("the model has no damping (h = 0): with noise its energy grows "
+        raise NoStationaryState("the model has no damping (h = 0): with noise its energy grows "
                          "without bound and there is no stationary state")
     mu = float(split.mu)
     if not mu > 0:
@@ -313,6 +350,13 @@ def energy_envelope(model, params: dict, D: object, *, tol: float = 1e-12,
                     1 + abs(lo)) and set(child.wells) <= set(a.wells):
                 place(child, float((L + shift)(lo)), True)
 
+    top = built[id(portrait.outer)]
+    if not float(top[6].deriv()(top[2])) < 0:
+        raise NoStationaryState(
+            f"no stationary state: the averaged energy drift mu Gamma(E)/T(E) is not negative "
+            f"at large energy (mu Gamma/(D I) = {float(top[6].deriv()(top[2])):.3g} at E = "
+            f"{top[2]:.4g}): the damping feeds energy in and the noise is not balanced; "
+            "choose parameters whose damping is positive at large amplitude")
     place(portrait.outer, 0.0, False)
     ordered = tuple(pieces[id(a)] for a in portrait.annuli if id(a) in pieces)
     return EnergyEnvelope(split, portrait, D, ordered)

@@ -146,18 +146,29 @@ class KramersSolution:
         starts = [0] if inside[0] else []
         starts += [i + 1 for i in edges if not inside[i]]
         ends = [i for i in edges if inside[i]] + ([grid.size - 1] if inside[-1] else [])
-        t, w = np.polynomial.legendre.leggauss(nodes)
         for i0, i1 in zip(starts, ends):
             a = _root(self.G, E, grid[i0 - 1], grid[i0]) if i0 > 0 else -L
             b = _root(self.G, E, grid[i1], grid[i1 + 1]) if i1 < grid.size - 1 else L
-            # x = (a + b)/2 + (b - a)/2 sin(pi s/2): square-root ends become smooth
-            s = t
-            xs = 0.5 * (a + b) + 0.5 * (b - a) * np.sin(0.5 * np.pi * s)
-            jac = 0.25 * np.pi * (b - a) * np.cos(0.5 * np.pi * s)
-            U = np.sqrt(np.maximum(2 * (E - self.G(xs)), 0.0)) / self.sigma
-            c = C.chebval(xs / L, coefs)
-            total += float(np.sum(w * jac * np.sum(c * band_masses(c.shape[0], U), axis=0)))
+            n, last = nodes, None
+            while True:  # Gauss-Legendre doubled until two rules agree
+                val = self._stretch(coefs, L, E, a, b, n)
+                if last is not None and (abs(val - last) <= 1e-13 or n >= 4096):
+                    break
+                last, n = val, 2 * n
+            total += val
         return total
+
+    def _stretch(self, coefs, L: float, E: float, a: float, b: float, n: int) -> float:
+        """The mass of ``H < E`` over ``a < x < b`` with ``n`` Gauss-Legendre nodes in
+        ``x = (a + b)/2 + (b - a)/2 sin(pi s/2)`` (square-root ends become smooth)."""
+        from numpy.polynomial import chebyshev as C
+
+        t, w = np.polynomial.legendre.leggauss(n)
+        xs = 0.5 * (a + b) + 0.5 * (b - a) * np.sin(0.5 * np.pi * t)
+        jac = 0.25 * np.pi * (b - a) * np.cos(0.5 * np.pi * t)
+        U = np.sqrt(np.maximum(2 * (E - self.G(xs)), 0.0)) / self.sigma
+        c = C.chebval(xs / L, coefs)
+        return float(np.sum(w * jac * np.sum(c * band_masses(c.shape[0], U), axis=0)))
 
     def energy_bins(self, edges) -> np.ndarray:
         """The density of ``E`` averaged over each bin of ``edges``."""
@@ -240,7 +251,7 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         linear damping, else ``<v^2>`` measured by a coarse first solve; ``L`` where
         ``G/sigma^2`` exceeds 45 above its minimum).
     omega0 : float, optional
-        The frequency of ``a^2`` (default ``sqrt(g'(0))``).
+        The frequency of ``a^2`` (default the model's ``omega0``, else ``sqrt(g'(0))``).
     tol : float
         Relative change of ``<a^2>`` at which the Hermite doubling stops.
 
@@ -264,7 +275,10 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         raise ParameterError(f"mu = {mu:g} must be > 0")
     G = split.numpy_functions()[2]
     if omega0 is None:
-        omega0 = math.sqrt(float(split.numpy_functions()[1](np.array(0.0))))
+        w0 = sp.sympify(split.model.omega0).subs({sp.Symbol(k): v
+                                                  for k, v in split.params.items()})
+        omega0 = (float(w0) if w0.is_number
+                  else math.sqrt(float(split.numpy_functions()[1](np.array(0.0)))))
     terms = velocity_terms(split)
     kT = _linear_temperature(terms, D)
     if sigma is not None:
@@ -279,9 +293,9 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         if not (math.isfinite(s2) and s2 > 0):
             raise ModelError(f"the coarse Kramers solve gave <v^2> = {s2}: no stationary "
                              "density (check that the damping confines the motion)")
-        if L is None:  # where the marginal falls below 1e-6 of its peak, and 30 % more
+        if L is None:  # where the marginal falls below 1e-12 of its peak, and 30 % more
             c0 = np.abs(pilot.coef[0])
-            held = np.abs(pilot.x[c0 > 1e-6 * float(np.max(c0))])
+            held = np.abs(pilot.x[c0 > 1e-12 * float(np.max(c0))])
             L = min(half, 1.3 * float(np.max(held)))
         if kT is None and sigma is None:
             s2 = pilot.v2

@@ -80,8 +80,7 @@ class Piecewise:
         """The interpolants of ``fun`` at ``n`` Chebyshev points of each panel."""
         pieces = []
         for a, b in zip(breaks[:-1], breaks[1:]):
-            E = _cheb_points(a, b, n)
-            pieces.append(Chebyshev.fit(E, fun(E), n - 1, domain=[a, b]))
+            pieces.append(_interpolant(np.asarray(fun(_cheb_points(a, b, n)), float), a, b))
         return cls(breaks, pieces)
 
     def gauss(self, n: int = 32) -> tuple[np.ndarray, np.ndarray]:
@@ -102,6 +101,16 @@ def gauss_on(breaks, n: int = 32) -> tuple[np.ndarray, np.ndarray]:
 def _cheb_points(a: float, b: float, n: int = NODES) -> np.ndarray:
     k = np.arange(n)
     return 0.5 * (a + b) + 0.5 * (b - a) * np.cos(np.pi * (k + 0.5) / n)
+
+
+def _interpolant(f: np.ndarray, a: float, b: float) -> Chebyshev:
+    """The Chebyshev interpolant of the values ``f`` at :func:`_cheb_points` of ``[a, b]``
+    (discrete cosine transform: well conditioned however narrow the panel)."""
+    n = f.size
+    theta = np.pi * (np.arange(n) + 0.5) / n
+    coef = (2.0 / n) * np.cos(np.outer(np.arange(n), theta)) @ f
+    coef[0] /= 2
+    return Chebyshev(coef, domain=[a, b])
 
 
 def adaptive_panels(values, lo: float, hi: float, *, singular_lo: bool, singular_hi: bool,
@@ -126,11 +135,10 @@ def adaptive_panels(values, lo: float, hi: float, *, singular_lo: bool, singular
         The break points and, per function, its interpolant on each panel.
     """
     span = hi - lo
-    floor = 1e-14 * max(1.0, abs(lo), abs(hi))
+    floor = 1e-13 * max(1.0, abs(lo), abs(hi))
 
     def fit(a, b):
-        E = _cheb_points(a, b)
-        return [Chebyshev.fit(E, v, NODES - 1, domain=[a, b]) for v in values(E)]
+        return [_interpolant(v, a, b) for v in values(_cheb_points(a, b))]
 
     todo = [(lo, hi)]
     done: dict = {}

@@ -33,7 +33,7 @@ fixed-seed Langevin ensemble within its standard errors.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sps
@@ -100,6 +100,7 @@ class KramersSolution:
     G: object
     omega0: float
     residual: float
+    _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __repr__(self) -> str:
         return (f"KramersSolution(<x^2> = {self.x2:.10g}, <v^2> = {self.v2:.10g}; "
@@ -132,10 +133,8 @@ class KramersSolution:
         (:func:`numerics.fokker_planck._bases.band_masses`); the outer one runs over the
         stretches where ``G < E`` with the substitution that removes the square-root ends.
         """
-        from numpy.polynomial import chebyshev as C
-
         L = float(self.x[0])
-        coefs = C.chebfit(self.x / L, self.coef.T, self.x.size - 1)
+        coefs = self._series()
         grid = np.linspace(-L, L, 4097)
         d = self.G(grid) - E
         inside = d < 0
@@ -157,6 +156,20 @@ class KramersSolution:
                 last, n = val, 2 * n
             total += val
         return total
+
+    def _series(self) -> np.ndarray:
+        """Chebyshev coefficients of every ``c_n`` on ``[-L, L]`` (from the values at the
+        Gauss-Lobatto points by the discrete cosine transform; computed once)."""
+        if "series" not in self._cache:
+            n = self.x.size - 1
+            k = np.arange(n + 1)
+            w = np.where((k == 0) | (k == n), 0.5, 1.0)
+            T = np.cos(np.pi * np.outer(k, k) / n) * w[None, :]
+            c = (2.0 / n) * (T @ self.coef.T)
+            c[0] /= 2
+            c[n] /= 2
+            self._cache["series"] = c
+        return self._cache["series"]
 
     def _stretch(self, coefs, L: float, E: float, a: float, b: float, n: int) -> float:
         """The mass of ``H < E`` over ``a < x < b`` with ``n`` Gauss-Legendre nodes in
@@ -231,7 +244,7 @@ def _half_width(G, scale: float, span: float = 45.0) -> float:
 def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None = None,
                        n_cheb: int | None = None, sigma: float | None = None,
                        L: float | None = None, omega0: float | None = None,
-                       tol: float = 1e-8) -> KramersSolution:
+                       tol: float = 1e-8, max_cost: float = 2e7) -> KramersSolution:
     """The stationary solution of the Kramers equation.
 
     Parameters
@@ -254,6 +267,9 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         The frequency of ``a^2`` (default the model's ``omega0``, else ``sqrt(g'(0))``).
     tol : float
         Relative change of ``<a^2>`` at which the Hermite doubling stops.
+    max_cost : float
+        Largest ``n_hermite * n_cheb^2`` (the nonzeros of the operator, about; the sparse
+        LU's work grows with it): beyond it the solve is refused with the sizes.
 
     Returns
     -------
@@ -303,6 +319,9 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
     scale = s2 if kT is not None else min(s2, D / mu)
     nc = _chebyshev_size(G, scale, half) if n_cheb is None else int(n_cheb)
     nh = (12 if kT is not None else 32) if n_hermite is None else int(n_hermite)
+    if nh * nc**2 > max_cost:
+        raise ModelError(f"the Kramers solve needs {nh} Hermite functions x {nc + 1} Chebyshev "
+                         f"points (cost {nh * nc**2:.3g} > {max_cost:.3g}): not affordable here")
     sol = _solve(split, D, math.sqrt(s2), half, nh, nc, G, omega0)
     while n_hermite is None and kT is None and nh < 128:
         nh *= 2

@@ -103,7 +103,7 @@ def fokker_planck_moments(model, params: dict, D: float, omega0: float,
     else:
         try:
             sol = stationary_kramers(model, {k: v for k, v in params.items() if k != "v"}, D,
-                                     omega0=omega0)
+                                     omega0=omega0, max_cost=2e7 if required else 4e6)
             return {"x2": sol.x2, "a2": sol.a2, "v2": sol.v2, "hermite": sol.coef.shape[0],
                     "chebyshev": sol.x.size, "half_width": float(sol.x[0]),
                     "sigma": sol.sigma, "solution": sol}, ""
@@ -225,8 +225,6 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
         "variable": variable,
         "grid": ens.centres.tolist(), "edges": ens.edges.tolist(),
         "averaged": None if averaged is None else [float(v) for v in averaged],
-        "fokker_planck": (None if fp is None or variable != "E"
-                          else [float(v) for v in fp["solution"].energy_bins(ens.edges)]),
         "simulated": ens.density.tolist(), "stderr": ens.density_stderr.tolist(),
         "outside": ens.outside,
     }

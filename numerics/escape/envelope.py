@@ -96,8 +96,9 @@ def check_mu(params: dict) -> None:
             except (TypeError, ValueError, sp.SympifyError):
                 continue  # the parser of the model says what is wrong
         if not math.isfinite(val):
-            raise ParameterError(f"{key} = {params[key]!r} must be a finite number (e.g. "
-                                 f"-p {key}=0.1)")
+            what = ("finite and >= 0 (the noise intensity of sqrt(2 D) xi)" if key == "D"
+                    else "a finite number > 0")
+            raise ParameterError(f"{key} = {params[key]!r} must be {what}; e.g. -p {key}=0.1")
         if key == "mu" and val <= 0:
             raise ParameterError(
                 f"mu = {params[key]}: the small parameter must be > 0 (x'' + omega0^2 x = mu "

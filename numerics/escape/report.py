@@ -21,7 +21,8 @@ MIN_BARRIER_OVER_KT = 2.0
 
 
 def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=None, dt=None,
-                  seed: int = 0, budget: float = 2e9, simulate: bool = True) -> dict:
+                  seed: int = 0, budget: float = 2e9, simulate: bool = True,
+                  method: str = "averaging") -> dict:
     """Averaged, Kramers and (within ``budget``) simulated escape rates.
 
     Parameters
@@ -36,6 +37,10 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         refused with the estimate (the rare-event guard).
     simulate : bool
         ``False``: the averaged rates only.
+    method : {"averaging", "fokker-planck"}
+        ``"fokker-planck"`` adds ``rate_fokker_planck``: the slowest decay rate of the
+        Kramers equation with a sink past the saddles (:mod:`numerics.fokker_planck.escape`),
+        with ``fokker_planck.sink_error`` and ``fokker_planck.truncation_error``.
 
     Returns
     -------
@@ -46,6 +51,8 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         ``estimated_steps``, ``message``).
     """
     params = dict(params)
+    if method not in ("averaging", "fokker-planck"):
+        raise ParameterError(f"--method {method!r}: choose averaging or fokker-planck")
     check_mu(params)
     if "D" not in params:
         raise ParameterError("give the noise intensity: -p D=VALUE (x'' + ... = sqrt(2 D) xi)")
@@ -86,6 +93,14 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         "escaped": None, "censored": None, "t_end": run, "dt": h, "seed": seed,
         "estimated_steps": steps, "message": "", "warnings": [],
     }
+    if method == "fokker-planck":
+        from ..fokker_planck import kramers_escape
+
+        fp = kramers_escape(model, params, D, esc.saddles)
+        out["rate_fokker_planck"] = fp.rate
+        out["fokker_planck"] = {"sink_error": fp.sink_error,
+                                "truncation_error": fp.truncation_error,
+                                "hermite": fp.hermite, "chebyshev": fp.chebyshev}
     ratio = out["barrier_over_kT"]
     if ratio is not None and ratio < MIN_BARRIER_OVER_KT:
         out["warnings"].append(

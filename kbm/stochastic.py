@@ -112,14 +112,22 @@ class StochasticAveraging:
         vals = {}
         for k, v in dict(params).items():
             try:
-                val = float(sp.sympify(v)) if isinstance(v, str) else float(v)
-            except (sp.SympifyError, TypeError, ValueError):
+                val = float(v)  # "inf" and "nan" are numbers, refused below
+            except (TypeError, ValueError):
+                try:
+                    val = float(sp.sympify(v))
+                except (sp.SympifyError, TypeError, ValueError):
+                    val = None
+            if val is None:
                 raise ParameterError(f"{k} = {v!r} is not a number") from None
             if not math.isfinite(val):
                 raise ParameterError(f"{k} = {v!r} must be a finite number")
             vals[NOISE if k == "D" else sp.Symbol(k)] = sp.Float(val, 30)
         if NOISE not in vals:
             raise ParameterError("give the noise intensity D (x'' + ... = sqrt(2 D) xi)")
+        if mu in vals and not vals[mu] > 0:
+            raise ParameterError(f"mu = {vals[mu]} must be > 0 (mu < 0 turns the damping "
+                                 "into a drive: no stationary density)")
         if not vals[NOISE] > 0:
             raise ParameterError(f"D = {vals[NOISE]} must be > 0 for a stationary density")
         return vals

@@ -33,6 +33,10 @@ def register(sub) -> None:
     p.add_argument("--budget", type=float, default=2e9, metavar="STEPS",
                    help="largest expected number of integration steps (default 2e9)")
     p.add_argument("--no-simulation", action="store_true", help="the averaged rate only")
+    p.add_argument("--method", choices=("averaging", "fokker-planck"), default="averaging",
+                   help="fokker-planck: also the slowest decay rate of the Kramers equation "
+                        "with a sink past the saddles (any damping; with its sink and "
+                        "truncation errors)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=run)
 
@@ -43,7 +47,7 @@ def run(args) -> int:
     params = parse_params(args.param)
     rep = escape_report(args.model, params, trajectories=args.trajectories, t_end=args.t_end,
                         dt=args.dt, seed=args.seed, budget=args.budget,
-                        simulate=not args.no_simulation)
+                        simulate=not args.no_simulation, method=args.method)
     if args.json:
         emit_json(rep)
         return 0
@@ -56,10 +60,17 @@ def run(args) -> int:
     if rep["rate_kramers"] is not None:
         print(f"  Kramers low friction:      rate = {rep['rate_kramers']:.6g}")
         print(f"  Mel'nikov-Meshkov:         rate = {rep['rate_melnikov']:.6g}")
+    if rep.get("rate_fokker_planck") is not None:
+        f = rep["fokker_planck"]
+        print(f"  Fokker-Planck (Kramers eq.): rate = {rep['rate_fokker_planck']:.6g} "
+              f"(+- {f['sink_error']:.2g} sink, +- {f['truncation_error']:.2g} truncation; "
+              f"{f['hermite']} Hermite x {f['chebyshev']} Chebyshev)")
     if rep["rate_simulated"] is not None:
         print(f"  simulated:                 rate = {rep['rate_simulated']:.6g} +- "
               f"{rep['stderr']:.2g} ({rep['escaped']}/{rep['trajectories']} escaped by "
               f"t = {rep['t_end']:.6g}, dt = {rep['dt']:.4g}, seed {rep['seed']})")
+    for warning in rep.get("warnings", []):
+        print(f"  WARNING: {warning}")
     if rep["message"]:
         print(f"  {rep['message']}")
     return 0

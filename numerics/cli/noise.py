@@ -50,6 +50,14 @@ def register(sub) -> None:
                    help="order of the amplitude averaging (default 1; 2 adds the O(mu) and "
                         "O(mu^2) corrections at fixed D/mu, kbm.stochastic_order2; polynomial "
                         "F only)")
+    p.add_argument("--method", choices=("averaging", "fokker-planck"), default="averaging",
+                   help="the prediction beside the simulation: stochastic averaging (default; "
+                        "a model at rest also gets the stationary Fokker-Planck moments when "
+                        "they are affordable), or fokker-planck: the stationary Kramers "
+                        "equation solved numerically, required (an error when the model is "
+                        "driven or its damping is not polynomial in x')")
+    p.add_argument("--no-fokker-planck", action="store_true",
+                   help="skip the Fokker-Planck moments (moments.*.fokker_planck = null)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.add_argument("--out", metavar="DIR", help="write noise-MODEL.png (the averaged density "
                                                 "over the histogram) and noise-MODEL.json")
@@ -119,7 +127,8 @@ def run(args) -> int:
         rep = noise_report(args.model, params, trajectories=args.trajectories,
                            t_end=args.t_end, burn_in=args.burn_in, dt=args.dt, seed=args.seed,
                            budget=args.budget, workers=args.workers, progress=not args.json,
-                           figure=figure, store=store)
+                           figure=figure, store=store, method=args.method,
+                           fokker_planck=not args.no_fokker_planck)
     finally:
         if store is not None:
             store.close()
@@ -139,16 +148,26 @@ def run(args) -> int:
     print(f"  simulated: {rep['trajectories']} trajectories x t = {rep['t_end']:.6g} after a "
           f"burn-in of {rep['burn_in']:.4g} ({round(rep['burn_in'] / rep['dt'])} steps), "
           f"dt = {rep['dt']:.4g}, seed {rep['seed']}")
-    print(f"  {'':6}{'averaged':>12}  {'simulated':>12}  {'stderr':>9}  (avg-sim)/stderr")
+    if rep.get("fokker_planck"):
+        f = rep["fokker_planck"]
+        print(f"  Fokker-Planck: stationary Kramers equation, {f['hermite']} Hermite functions "
+              f"of x' x {f['chebyshev']} Chebyshev points on |x| <= {f['half_width']:.4g}")
+    elif rep.get("fokker_planck_message"):
+        print(f"  Fokker-Planck: -- ({rep['fokker_planck_message']})")
+    print(f"  {'':6}{'averaged':>12}  {'simulated':>12}  {'stderr':>9}  (avg-sim)/stderr"
+          f"  {'Fokker-Planck':>13}")
     for key in ("a2", "x2"):
         m = rep["moments"][key]
         z = ("--" if m["averaged"] is None or m["simulated"] is None
              else f"{(m['averaged'] - m['simulated']) / m['stderr']:+.2f}")
         print(f"  <{key[0]}^2> {_num(m['averaged']):>12}  {_num(m['simulated']):>12}  "
-              f"{_num(m['stderr'], '.2g'):>9}  {z}")
+              f"{_num(m['stderr'], '.2g'):>9}  {z:>16}  "
+              f"{_num(m.get('fokker_planck'), '.10g'):>13}")
     if rep["moments"]["x2"]["boltzmann"] is not None:
         print(f"  Boltzmann <x^2> (exact, exp(-G/kT) by quadrature): "
               f"{_num(rep['moments']['x2']['boltzmann'])}")
+    if rep.get("validity", {}).get("flagged"):
+        print(f"  WARNING: {rep['validity']['advice']}")
     if rep["message"] and rep["method"]:
         print(f"  {rep['message']}")
     if args.out:

@@ -40,15 +40,22 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.polynomial import Chebyshev
-
+import sympy as sp
 from kbm.conservative import ConservativeSplit, split_conservative
 from kbm.errors import ModelError, ParameterError
 
 from ..energy.portrait import Annulus, Portrait, phase_portrait
+from ._orbits import graded_orbit_integrals, interior_saddles
+from ._panels import Piecewise, adaptive_panels, gauss_on
 
 __all__ = ["EnergyEnvelope", "AnnulusEnvelope", "energy_envelope", "noise_level",
-           "boltzmann_moment"]
+           "boltzmann_moment", "NoStationaryState", "check_mu"]
+
+
+class NoStationaryState(ModelError):
+    """The noisy model has no stationary state (no damping, ``A_1 = 0``, a drift that does
+    not confine the amplitude or the energy, or a potential that does not confine): raised
+    before any simulation, with the reason."""
 
 
 def noise_level(D: object) -> float:
@@ -68,6 +75,37 @@ def noise_level(D: object) -> float:
     return val
 
 
+def check_mu(params: dict) -> None:
+    """Refuse ``mu <= 0`` (and a ``D`` that is infinite or NaN) before any work.
+
+    ``mu`` is the small parameter of ``x'' + omega0^2 x = mu F``: ``mu < 0`` turns the
+    damping into a drive (no stationary state), ``mu = 0`` leaves the noise unbalanced.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+    """
+    for key in ("D", "mu"):
+        if key not in params:
+            continue
+        try:
+            val = float(params[key])  # "inf", "nan" included
+        except (TypeError, ValueError):
+            try:
+                val = float(sp.sympify(params[key]))
+            except (TypeError, ValueError, sp.SympifyError):
+                continue  # the parser of the model says what is wrong
+        if not math.isfinite(val):
+            what = ("finite and >= 0 (the noise intensity of sqrt(2 D) xi)" if key == "D"
+                    else "a finite number > 0")
+            raise ParameterError(f"{key} = {params[key]!r} must be {what}; e.g. -p {key}=0.1")
+        if key == "mu" and val <= 0:
+            raise ParameterError(
+                f"mu = {params[key]}: the small parameter must be > 0 (x'' + omega0^2 x = mu "
+                "F; mu < 0 turns the damping into a drive and mu = 0 leaves the noise "
+                "unbalanced: no stationary state); give mu > 0")
+
+
 def _integrands(h):
     """Half-orbit integrands (see :meth:`Annulus.orbit_integrals`): ``T``, ``I``,
     ``Gamma``, ``K = oint x^2 x' dx`` (``dK/dE = oint x^2 dt``)."""
@@ -79,17 +117,19 @@ def _integrands(h):
 
 @dataclass(frozen=True, eq=False)
 class AnnulusEnvelope:
-    """The averaged energy process on one period annulus, as Chebyshev interpolants.
+    """The averaged energy process on one period annulus, as piecewise Chebyshev series.
 
     Attributes
     ----------
     annulus : numerics.energy.portrait.Annulus
     lo, hi : float
         The energy interval represented (``hi`` is a cut-off on the outer annulus).
-    action, gamma, x2action, period_ : numpy.polynomial.Chebyshev
-        ``I(E)``, ``Gamma(E)``, ``K(E) = oint x^2 x' dx`` and ``T(E)`` (the period has a
-        logarithmic singularity at a separatrix: use it for evaluation only).
-    log_f : numpy.polynomial.Chebyshev
+    action, gamma, x2action : numerics.escape._panels.Piecewise
+        ``I(E)``, ``Gamma(E)`` and ``K(E) = oint x^2 x' dx``: interpolants of the exact
+        orbit quadratures on adaptive panels, graded towards a separatrix end.
+    period_ : callable
+        ``T(E)`` by orbit quadrature (logarithmic at a separatrix: never integrated).
+    log_f : numerics.escape._panels.Piecewise
         ``ln f(E)`` (up to the constant fixed by the gluing).
     error : float
         Largest relative error of the orbit quadratures.
@@ -98,15 +138,29 @@ class AnnulusEnvelope:
     annulus: Annulus
     lo: float
     hi: float
-    action: Chebyshev
-    gamma: Chebyshev
-    x2action: Chebyshev
-    period_: Chebyshev
-    log_f: Chebyshev
+    action: Piecewise
+    gamma: Piecewise
+    x2action: Piecewise
+    period_: object
+    log_f: Piecewise
     error: float
 
     def __repr__(self) -> str:
-        return f"AnnulusEnvelope({self.annulus.label!r}, E in [{self.lo:.4g}, {self.hi:.4g}])"
+        return (f"AnnulusEnvelope({self.annulus.label!r}, E in [{self.lo:.4g}, {self.hi:.4g}]"
+                f", {len(self.action.pieces)} panels)")
+
+    def rule(self, a: float | None = None, b: float | None = None, n: int = 24):
+        """Composite Gauss-Legendre nodes and weights on ``[a, b]`` (default the whole
+        range), cut at the panels' break points."""
+        a = self.lo if a is None else max(a, self.lo)
+        b = self.hi if b is None else min(b, self.hi)
+        br = self.action.breaks
+        inner = br[(br > a) & (br < b)]
+        return gauss_on(np.concatenate(([a], inner, [b])), n)
+
+    def boundary(self, F, a: float, b: float) -> float:
+        """``[F f]_a^b`` with ``f = exp(log_f)``."""
+        return float(F(b) * np.exp(self.log_f(b)) - F(a) * np.exp(self.log_f(a)))
 
 
 @dataclass(frozen=True, eq=False)
@@ -121,6 +175,15 @@ class EnergyEnvelope:
         The noise intensity.
     pieces : tuple of AnnulusEnvelope
         One per annulus, in the portrait's order.
+
+    Notes
+    -----
+    Every integral over ``E`` is done by parts, ``int T f dE = [I f] - int I f' dE`` with
+    ``I f' = (mu/D) Gamma f``, so that only ``I``, ``Gamma`` and ``K`` (continuous at a
+    separatrix) enter, on the panels of their interpolants.  For linear damping the sum
+    over the annuli of the boundary terms telescopes (``I`` of the annulus above a
+    separatrix is the sum of the actions of the annuli below) and the result is the
+    phase-space integral of ``exp(-H/kT)``: Boltzmann, to the interpolants' 1e-12.
     """
 
     split: ConservativeSplit
@@ -156,45 +219,42 @@ class EnergyEnvelope:
         T = p.annulus.period(np.atleast_1d(np.asarray(E, float)))
         return 2 * self.D * p.action(E) / T
 
+    def _by_parts(self, p: AnnulusEnvelope, F, a: float, b: float) -> float:
+        """``int_a^b f dF/dE dE = [F f]_a^b - (mu/D) int_a^b F Gamma f / I dE``."""
+        E, w = p.rule(a, b)
+        f = np.exp(p.log_f(E))
+        return p.boundary(F, a, b) - self.mu / self.D * float(
+            np.sum(w * F(E) * p.gamma(E) / p.action(E) * f))
+
     def partition(self) -> float:
         """``Z = sum_k int T_k(E) f_k(E) dE``, the normalisation of the stationary density
-        (integrated by parts, ``[I f] - int I f' dE``: no log singularity enters)."""
-        x, w = np.polynomial.legendre.leggauss(200)
+        (integrated by parts, ``[I f] - (mu/D) int Gamma f dE``: no log singularity enters)."""
         total = 0.0
         for p in self.pieces:
-            E = p.lo + (p.hi - p.lo) * (x + 1) / 2
-            wt = w * (p.hi - p.lo) / 2
-            total += float(p.action(p.hi) * np.exp(p.log_f(p.hi))
-                           - p.action(p.lo) * np.exp(p.log_f(p.lo))
-                           - np.sum(wt * p.action(E) * np.exp(p.log_f(E))
-                                    * p.log_f.deriv()(E)))
+            E, w = p.rule()
+            total += p.boundary(p.action, p.lo, p.hi) - self.mu / self.D * float(
+                np.sum(w * p.gamma(E) * np.exp(p.log_f(E))))
         return total
 
     def stationary_moment_v2(self) -> float:
         """Stationary ``<x'^2>``: ``sum_k int f_k(E) I_k(E) dE / Z`` (``oint x'^2 dt = oint x'
         dx = I``; for linear damping it is ``kT``, equipartition)."""
-        x, w = np.polynomial.legendre.leggauss(200)
         num = 0.0
         for p in self.pieces:
-            E = p.lo + (p.hi - p.lo) * (x + 1) / 2
-            num += float(np.sum(w * (p.hi - p.lo) / 2 * p.action(E) * np.exp(p.log_f(E))))
+            E, w = p.rule()
+            num += float(np.sum(w * p.action(E) * np.exp(p.log_f(E))))
         return num / self.partition()
 
     def energy_bins(self, edges) -> np.ndarray:
         """The stationary density of ``E = x'^2/2 + G(x)`` averaged over each bin of ``edges``:
         ``sum_k int_bin T_k f_k dE / (Z width)``, by parts on each bin (``T = dI/dE``)."""
         edges = np.asarray(edges, float)
-        x, w = np.polynomial.legendre.leggauss(24)
         out = np.zeros(edges.size - 1)
         for p in self.pieces:
             a = np.clip(edges[:-1], p.lo, p.hi)
             b = np.clip(edges[1:], p.lo, p.hi)
             for j in np.nonzero(b > a)[0]:
-                E = a[j] + (b[j] - a[j]) * (x + 1) / 2
-                out[j] += float(p.action(b[j]) * np.exp(p.log_f(b[j]))
-                                - p.action(a[j]) * np.exp(p.log_f(a[j]))
-                                - np.sum(w * (b[j] - a[j]) / 2 * p.action(E)
-                                         * np.exp(p.log_f(E)) * p.log_f.deriv()(E)))
+                out[j] += self._by_parts(p, p.action, float(a[j]), float(b[j]))
         return out / (self.partition() * np.diff(edges))
 
     def stationary_moment_x2(self) -> float:
@@ -205,31 +265,29 @@ class EnergyEnvelope:
         with ``K`` for ``oint x^2 dt = dK/dE``, so that the logarithmic singularities of
         ``T`` and ``oint x^2 dt`` at the separatrices never enter a quadrature.
         """
-        sums = [0.0, 0.0]
-        x, w = np.polynomial.legendre.leggauss(200)
-        for p in self.pieces:
-            E = p.lo + (p.hi - p.lo) * (x + 1) / 2
-            wt = w * (p.hi - p.lo) / 2
-            f = np.exp(p.log_f(E))
-            dlogf = p.log_f.deriv()(E)
-            for i, F in enumerate((p.x2action, p.action)):
-                sums[i] += float(F(p.hi) * np.exp(p.log_f(p.hi))
-                                 - F(p.lo) * np.exp(p.log_f(p.lo))
-                                 - np.sum(wt * F(E) * f * dlogf))
-        return sums[0] / sums[1]
+        num = sum(self._by_parts(p, p.x2action, p.lo, p.hi) for p in self.pieces)
+        return num / self.partition()
 
 
-def _fit(annulus: Annulus, lo: float, hi: float, h, deg: int):
-    """Chebyshev interpolants of ``T, I, Gamma, K`` on ``(lo, hi)``."""
-    k = np.arange(deg + 1)
-    u = np.cos(np.pi * (k + 0.5) / (deg + 1))  # first-kind nodes: interior only
-    E = 0.5 * (lo + hi) + 0.5 * (hi - lo) * u
-    vals, err, _, _ = annulus.orbit_integrals(E, _integrands(h), tol=1e-11)
-    fits = [Chebyshev.fit(E, v, deg, domain=[lo, hi]) for v in vals]
-    return fits, float(np.max(err))
+def _orbit_values(annulus: Annulus, saddles, h, mu: float, D: float):
+    """``E -> [I, Gamma, K, (mu/D) Gamma/I]`` by the spectral orbit quadrature (graded
+    Gauss-Legendre when the orbits pass over ``saddles``), and the largest quadrature
+    error met (a one-element list, updated)."""
+    worst = [0.0]
+
+    def values(E):
+        if len(saddles):
+            I, Gam, K = graded_orbit_integrals(annulus, saddles, E, _integrands(h)[1:])
+        else:
+            vals, err, _, _ = annulus.orbit_integrals(E, _integrands(h)[1:], tol=1e-13)
+            worst[0] = max(worst[0], float(np.max(err)))
+            I, Gam, K = vals
+        return [I, Gam, K, mu * Gam / (D * I)]
+
+    return values, worst
 
 
-def energy_envelope(model, params: dict, D: object, *, deg: int = 64,
+def energy_envelope(model, params: dict, D: object, *, tol: float = 1e-12,
                     outer_span: float = 40.0) -> EnergyEnvelope:
     """Energy-envelope averaging of ``model`` with noise ``sqrt(2 D) xi``.
 
@@ -241,8 +299,8 @@ def energy_envelope(model, params: dict, D: object, *, deg: int = 64,
         Its parameters, ``mu`` included (``D`` is taken apart if present).
     D : float
         Noise intensity, ``> 0``.
-    deg : int
-        Chebyshev degree per annulus.
+    tol : float
+        Relative tolerance of the piecewise interpolants of the orbit integrals.
     outer_span : float
         The outer annulus is cut at ``E_min + outer_span * D/mu`` (``outer_span``
         thermal energies for linear damping; the density is ``exp(-40)`` there).
@@ -254,7 +312,7 @@ def energy_envelope(model, params: dict, D: object, *, deg: int = 64,
     Raises
     ------
     kbm.errors.ParameterError
-        ``D <= 0`` or not finite.
+        ``D <= 0`` or not finite, ``mu <= 0``.
     kbm.errors.ModelError
         A driven or non-confining model.
     """
@@ -264,37 +322,42 @@ def energy_envelope(model, params: dict, D: object, *, deg: int = 64,
     params = {k: v for k, v in dict(params).items() if k != "D"}
     split = split_conservative(model, params)
     if split.conservative:
-        raise ModelError("the model has no damping (h = 0): with noise its energy grows "
+        raise NoStationaryState("the model has no damping (h = 0): with noise its energy grows "
                          "without bound and there is no stationary state")
+    mu = float(split.mu)
+    if not mu > 0:
+        raise ParameterError(f"mu = {mu:g}: the small parameter of x'' = -g(x) + mu h must "
+                             "be > 0 (mu <= 0 turns the damping into a drive); give mu > 0")
     portrait = phase_portrait(split)
     h = split.numpy_functions()[3]
-    mu = float(split.mu)
-    fits = {}
+    built = {}
     for a in portrait.annuli:
         lo = a.energy_min
-        hi = a.energy_max if a.bounded else lo + outer_span * D / abs(mu)
-        (T, I, Gam, X2), err = _fit(a, lo, hi, h, deg)
-        fits[id(a)] = (a, lo, hi, T, I, Gam, X2, err)
+        hi = a.energy_max if a.bounded else lo + outer_span * D / mu
+        values, worst = _orbit_values(a, interior_saddles(a, portrait.equilibria), h, mu, D)
+        breaks, (I, Gam, K, r) = adaptive_panels(
+            values, lo, hi, singular_lo=len(a.wells) > 1, singular_hi=a.bounded, tol=tol)
+        built[id(a)] = (a, lo, hi, Piecewise(breaks, I), Piecewise(breaks, Gam),
+                        Piecewise(breaks, K), Piecewise(breaks, r).integ(), worst[0])
     # ln f' = mu Gamma/(D I) on each annulus, glued continuously at the vertices
     pieces = {}
 
-    def rate(item):
-        a, lo, hi, T, I, Gam, X2, err = item
-        k = np.arange(129)
-        E = 0.5 * (lo + hi) + 0.5 * (hi - lo) * np.cos(np.pi * (k + 0.5) / 129)
-        return Chebyshev.fit(E, mu * Gam(E) / (D * I(E)), 128, domain=[lo, hi]).integ()
-
     def place(a, value_at, at_top):
-        item = fits[id(a)]
-        _, lo, hi, T, I, Gam, X2, err = item
-        L = rate(item)
-        shift = value_at - (L(hi) if at_top else L(lo))
-        pieces[id(a)] = AnnulusEnvelope(a, lo, hi, I, Gam, X2, T, L + shift, err)
+        _, lo, hi, I, Gam, K, L, err = built[id(a)]
+        shift = value_at - float(L(hi) if at_top else L(lo))
+        pieces[id(a)] = AnnulusEnvelope(a, lo, hi, I, Gam, K, a.period, L + shift, err)
         for child in portrait.annuli:
             if child is not a and child.bounded and abs(child.energy_max - lo) <= 1e-9 * (
                     1 + abs(lo)) and set(child.wells) <= set(a.wells):
                 place(child, float((L + shift)(lo)), True)
 
+    top = built[id(portrait.outer)]
+    if not float(top[6].deriv()(top[2])) < 0:
+        raise NoStationaryState(
+            f"no stationary state: the averaged energy drift mu Gamma(E)/T(E) is not negative "
+            f"at large energy (mu Gamma/(D I) = {float(top[6].deriv()(top[2])):.3g} at E = "
+            f"{top[2]:.4g}): the damping feeds energy in and the noise is not balanced; "
+            "choose parameters whose damping is positive at large amplitude")
     place(portrait.outer, 0.0, False)
     ordered = tuple(pieces[id(a)] for a in portrait.annuli if id(a) in pieces)
     return EnergyEnvelope(split, portrait, D, ordered)

@@ -36,6 +36,7 @@ from scipy.integrate import quad
 
 from kbm.errors import ModelError
 
+from ._panels import Piecewise
 from .envelope import EnergyEnvelope
 
 __all__ = ["EscapeRate", "averaged_escape", "separatrix_action", "kramers_low_friction",
@@ -149,16 +150,11 @@ def averaged_escape(env: EnergyEnvelope) -> EscapeRate:
     p = central_well(env)
     E0, Eb = p.lo, p.hi
     mu, D = env.mu, env.D
-    x, w = np.polynomial.legendre.leggauss(160)
-    # inner: J(y) = int_{E0}^y Gamma f dz (Chebyshev antiderivative of Gamma f)
-    k = np.arange(161)
-    Ez = 0.5 * (E0 + Eb) + 0.5 * (Eb - E0) * np.cos(np.pi * (k + 0.5) / 161)
+    # inner: J(y) = int_{E0}^y Gamma f dz, on the panels of the well's interpolants
     ref = float(p.log_f(E0))
-    Gf = np.polynomial.Chebyshev.fit(Ez, p.gamma(Ez) * np.exp(p.log_f(Ez) - ref), 160,
-                                     domain=[E0, Eb])
-    J = Gf.integ(lbnd=E0)
-    y = E0 + (Eb - E0) * (x + 1) / 2
-    wy = w * (Eb - E0) / 2
+    J = Piecewise.sample(p.action.breaks,
+                         lambda z: p.gamma(z) * np.exp(p.log_f(z) - ref)).integ()
+    y, wy = p.rule()
     integrand = 1.0 - mu / D * J(y) / (p.action(y) * np.exp(p.log_f(y) - ref))
     tau = float(np.sum(wy * integrand)) / D
     if not (math.isfinite(tau) and tau > 0):

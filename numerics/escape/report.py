@@ -6,7 +6,7 @@ import math
 
 from kbm.errors import ParameterError
 
-from .envelope import energy_envelope, noise_level
+from .envelope import check_mu, energy_envelope, noise_level
 from .rate import averaged_escape
 
 __all__ = ["escape_report", "MIN_TRAJECTORIES"]
@@ -16,10 +16,13 @@ SLIDER_DEFAULTS = {"Omega": "1", "lam": "1"}
 
 #: fewer trajectories give no meaningful standard error
 MIN_TRAJECTORIES = 20
+#: below this barrier in units of kT the rate formulas do not apply
+MIN_BARRIER_OVER_KT = 2.0
 
 
 def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=None, dt=None,
-                  seed: int = 0, budget: float = 2e9, simulate: bool = True) -> dict:
+                  seed: int = 0, budget: float = 2e9, simulate: bool = True,
+                  method: str = "averaging") -> dict:
     """Averaged, Kramers and (within ``budget``) simulated escape rates.
 
     Parameters
@@ -34,6 +37,10 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         refused with the estimate (the rare-event guard).
     simulate : bool
         ``False``: the averaged rates only.
+    method : {"averaging", "fokker-planck"}
+        ``"fokker-planck"`` adds ``rate_fokker_planck``: the slowest decay rate of the
+        Kramers equation with a sink past the saddles (:mod:`numerics.fokker_planck.escape`),
+        with ``fokker_planck.sink_error`` and ``fokker_planck.truncation_error``.
 
     Returns
     -------
@@ -44,6 +51,9 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         ``estimated_steps``, ``message``).
     """
     params = dict(params)
+    if method not in ("averaging", "fokker-planck"):
+        raise ParameterError(f"--method {method!r}: choose averaging or fokker-planck")
+    check_mu(params)
     if "D" not in params:
         raise ParameterError("give the noise intensity: -p D=VALUE (x'' + ... = sqrt(2 D) xi)")
     D = noise_level(params.pop("D"))
@@ -81,8 +91,23 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         "action_at_barrier": esc.action, "omega0": esc.omega0,
         "rate_simulated": None, "stderr": None, "trajectories": trajectories,
         "escaped": None, "censored": None, "t_end": run, "dt": h, "seed": seed,
-        "estimated_steps": steps, "message": "",
+        "estimated_steps": steps, "message": "", "warnings": [],
     }
+    if method == "fokker-planck":
+        from ..fokker_planck import kramers_escape
+
+        fp = kramers_escape(model, params, D, esc.saddles)
+        out["rate_fokker_planck"] = fp.rate
+        out["fokker_planck"] = {"sink_error": fp.sink_error,
+                                "truncation_error": fp.truncation_error,
+                                "hermite": fp.hermite, "chebyshev": fp.chebyshev}
+    ratio = out["barrier_over_kT"]
+    if ratio is not None and ratio < MIN_BARRIER_OVER_KT:
+        out["warnings"].append(
+            f"E_b/kT = {ratio:.3g} < {MIN_BARRIER_OVER_KT:g}: the barrier is not high against "
+            "the noise, so the escape rate formulas (averaged MFPT, Kramers, Mel'nikov-"
+            "Meshkov) do not apply (they assume E_b >> kT); lower D or use the simulated "
+            "first-passage rate")
     if not simulate:
         out["message"] = "simulation not requested (--no-simulation)"
         return out

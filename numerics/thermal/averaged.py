@@ -24,10 +24,13 @@ from typing import Callable
 
 import numpy as np
 
-from kbm.errors import KBMError
+from kbm.errors import KBMError, ModelError
 from kbm.models import SLIDERS
 
-__all__ = ["AveragedStationary", "averaged_stationary", "AMPLITUDE", "ENERGY"]
+from ..escape.envelope import NoStationaryState
+
+__all__ = ["AveragedStationary", "averaged_stationary", "AMPLITUDE", "ENERGY",
+           "NoStationaryState"]
 
 AMPLITUDE = "amplitude averaging (Stratonovich-Khasminskii, first order)"
 ENERGY = "energy-envelope averaging (Stratonovich-Khasminskii, Freidlin-Wentzell)"
@@ -70,8 +73,17 @@ def _amplitude(model, params: dict, D: float) -> AveragedStationary:
     from kbm.stochastic import stochastic_average
 
     sa = stochastic_average(model, params)
+    name = model if isinstance(model, str) else model.name
+    if sa.log_density is None and not sa.reason.startswith("the integral of A_1"):
+        raise NoStationaryState(f"{name} has no stationary state with noise: {sa.reason} "
+                                "(first-order averaging); add damping, e.g. a positive "
+                                "zeta or mu")
     vals = dict(params, D=D)
-    a2 = float(sa.moment(2, vals))
+    try:
+        a2 = float(sa.moment(2, vals))
+    except ModelError as exc:
+        raise NoStationaryState(f"{name} has no stationary state with noise at these values: "
+                                f"{exc}") from None
     # the support: where P(a) is above 1e-12 of its largest value on a wide grid
     hi = 4.0 * math.sqrt(a2) + 1.0
     grid = np.linspace(0.0, hi, 4001)
@@ -94,9 +106,13 @@ def _amplitude(model, params: dict, D: float) -> AveragedStationary:
 
 
 def _energy(model, params: dict, D: float, omega0: float) -> AveragedStationary:
+    from kbm.conservative import NotConfiningError
     from numerics.escape.envelope import energy_envelope
 
-    env = energy_envelope(model, params, D)
+    try:
+        env = energy_envelope(model, params, D)
+    except NotConfiningError as exc:
+        raise NoStationaryState(f"{model} has no stationary state: {exc}") from None
     x2 = env.stationary_moment_x2()
     v2 = env.stationary_moment_v2()
     lo = min(p.lo for p in env.pieces)
@@ -158,5 +174,7 @@ def averaged_stationary(model, params: dict, D: float, omega0: float,
             return _energy(name, {k: val for k, val in params.items() if k != "v"}, D,
                            omega0), ""
         return _amplitude(model, params, D), ""
+    except NoStationaryState:
+        raise
     except KBMError as exc:
         return None, f"no averaged prediction: {exc}"

@@ -10,12 +10,17 @@ import numpy as np
 from kbm.errors import ParameterError
 from kbm.models import SLIDERS
 
+from ..escape.envelope import check_mu
 from ..escape.report import SLIDER_DEFAULTS
 from .averaged import averaged_stationary
 from ..noise.ensemble import MIN_TRAJECTORIES, stationary_ensemble
 from ..noise.langevin import langevin_system, measured_step, natural_step, split_noise
 
-__all__ = ["noise_report", "default_times", "STEPS_PER_PERIOD", "DEFAULT_BUDGET"]
+__all__ = ["noise_report", "default_times", "validity", "STEPS_PER_PERIOD",
+           "DEFAULT_BUDGET", "Z_FLAG"]
+
+#: a gap |averaged - simulated|/stderr above this is flagged
+Z_FLAG = 4.0
 
 #: steps per period of the fastest linear oscillation (well bottom or omega0)
 STEPS_PER_PERIOD = 50
@@ -51,6 +56,67 @@ def default_times(system, t_end: float | None, burn_in: float | None,
     return run, burn, h
 
 
+def validity(moments: dict) -> dict:
+    """The gap ``(averaged - simulated)/stderr`` of each moment and the flag ``|z| > 4``.
+
+    Returns
+    -------
+    dict
+        ``z`` (per moment, ``None`` when a number is missing), ``flagged`` (bool),
+        ``threshold`` and ``advice`` (what to do when flagged, else ``""``).
+    """
+    z = {}
+    for key, m in moments.items():
+        ok = m.get("averaged") is not None and m.get("simulated") is not None and m.get(
+            "stderr")
+        z[key] = (m["averaged"] - m["simulated"]) / m["stderr"] if ok else None
+    bad = [k for k, v in z.items() if v is not None and abs(v) > Z_FLAG]
+    advice = ""
+    if bad:
+        worst = max(bad, key=lambda k: abs(z[k]))
+        advice = (f"the averaged <{worst[0]}^2> is {z[worst]:+.1f} standard errors from the "
+                  f"simulated one (|z| > {Z_FLAG:g}): the first-order averaging does not hold "
+                  "here (mu or D/mu too large, or a strong nonlinearity); use --order 2 "
+                  "(second-order averaging) or --method fokker-planck (the exact stationary "
+                  "state of a model at rest)")
+    return {"z": z, "flagged": bool(bad), "threshold": Z_FLAG, "advice": advice}
+
+
+#: the method names of ``kbm noise --method``
+METHODS = ("averaging", "fokker-planck")
+FOKKER_PLANCK = "Fokker-Planck (stationary Kramers equation, Hermite x Chebyshev spectral)"
+
+
+def fokker_planck_moments(model, params: dict, D: float, omega0: float,
+                          required: bool = False) -> tuple[dict | None, str]:
+    """``<x^2>``, ``<a^2>`` of the stationary Kramers equation, or ``None`` and why.
+
+    Applies to the one-degree-of-freedom models at rest (a slider at ``v = 0``) whose damping
+    is polynomial in ``x'`` (:mod:`numerics.fokker_planck`).  With ``required`` the reason
+    is raised instead (``--method fokker-planck``).
+    """
+    from kbm.errors import KBMError
+
+    from ..fokker_planck import stationary_kramers
+
+    name = model if isinstance(model, str) else model.name
+    why = ""
+    if name in SLIDERS and float(params.get("v", 0)) != 0:
+        why = "the driven slider (v != 0) is not at rest: no stationary Kramers equation"
+    else:
+        try:
+            sol = stationary_kramers(model, {k: v for k, v in params.items() if k != "v"}, D,
+                                     omega0=omega0, max_cost=2e7 if required else 4e6)
+            return {"x2": sol.x2, "a2": sol.a2, "v2": sol.v2, "hermite": sol.coef.shape[0],
+                    "chebyshev": sol.x.size, "half_width": float(sol.x[0]),
+                    "sigma": sol.sigma, "solution": sol}, ""
+        except KBMError as exc:
+            why = f"no Fokker-Planck solution: {exc}"
+    if required:
+        raise ParameterError(f"--method fokker-planck: {why}")
+    return None, why
+
+
 def _pilot_range(system, burn: float, h: float, seed: int) -> tuple[float, float]:
     """The range of ``x`` visited by trajectory 0 over the burn-in and as long again."""
     span = max(2 * burn, 200 * h)
@@ -65,7 +131,8 @@ def _pilot_range(system, burn: float, h: float, seed: int) -> tuple[float, float
 def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, burn_in=None,
                  dt=None, seed: int = 0, budget: float = DEFAULT_BUDGET, executor=None,
                  workers: int | None = None, progress: bool = False, store=None,
-                 figure: str | Path | None = None) -> dict:
+                 figure: str | Path | None = None, method: str = "averaging",
+                 fokker_planck: bool = True) -> dict:
     """The stationary moments and density: averaged prediction against an ensemble.
 
     Parameters
@@ -81,6 +148,12 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
         estimate and the averaged answer is given alone (the rare-event guard).
     figure : path, optional
         Where to draw the averaged density over the histogram.
+    method : {"averaging", "fokker-planck"}
+        ``"fokker-planck"`` requires the stationary Kramers solution (and raises why when
+        there is none); the averaged numbers are given too.
+    fokker_planck : bool
+        Report ``moments.*.fokker_planck`` for a model at rest (``None`` with the reason in
+        ``fokker_planck_message`` otherwise).
 
     Returns
     -------
@@ -89,6 +162,7 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
         density, steps, message`` (``moments.a2``/``moments.x2`` with ``averaged``,
         ``simulated``, ``stderr``; ``moments.x2.boltzmann`` for linear damping).
     """
+    check_mu(dict(params))
     params, D = split_noise(params)
     name = model if isinstance(model, str) else model.name
     if isinstance(model, str) and model in SLIDERS:
@@ -99,18 +173,31 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
                              "needed for a meaningful standard error")
     system = langevin_system(model, params, D, "auto")
     run, burn, h = default_times(system, t_end, burn_in, dt)
+    if method not in METHODS:
+        raise ParameterError(f"--method {method!r}: choose one of {', '.join(METHODS)}")
     avg, why = averaged_stationary(model, params, D, system.omega0)
+    fp, fp_why = (fokker_planck_moments(model, params, D, system.omega0,
+                                        required=method == "fokker-planck")
+                  if fokker_planck or method == "fokker-planck" else (None, "not requested"))
     steps = trajectories * (run + burn) / h
     out = {
         "model": name, "params": {k: str(v) for k, v in params.items()}, "D": D,
         "trajectories": trajectories, "t_end": run, "burn_in": burn, "dt": h, "seed": seed,
         "method": avg.method if avg else None,
         "moments": {
-            "a2": {"averaged": avg.a2 if avg else None, "simulated": None, "stderr": None},
+            "a2": {"averaged": avg.a2 if avg else None, "simulated": None, "stderr": None,
+                   "fokker_planck": fp["a2"] if fp else None},
             "x2": {"averaged": avg.x2 if avg else None, "simulated": None, "stderr": None,
-                   "boltzmann": avg.boltzmann_x2 if avg else None},
+                   "boltzmann": avg.boltzmann_x2 if avg else None,
+                   "fokker_planck": fp["x2"] if fp else None},
         },
+        "fokker_planck": None if fp is None else {
+            "method": FOKKER_PLANCK, "hermite": fp["hermite"], "chebyshev": fp["chebyshev"],
+            "half_width": fp["half_width"], "sigma": fp["sigma"], "v2": fp["v2"]},
+        "fokker_planck_message": fp_why,
         "density": None, "steps": steps, "message": why, "scheme": system.scheme,
+        "validity": {"z": {"a2": None, "x2": None}, "flagged": False, "threshold": Z_FLAG,
+                     "advice": ""},
     }
     if steps > budget:
         out["message"] = (f"simulation refused: {trajectories} trajectories x "
@@ -131,6 +218,11 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
                               progress=progress, store=store, scheme=system.scheme)
     out["moments"]["a2"].update(simulated=ens.a2.value, stderr=ens.a2.stderr)
     out["moments"]["x2"].update(simulated=ens.x2.value, stderr=ens.x2.stderr)
+    out["validity"] = validity({k: out["moments"][k] for k in ("a2", "x2")})
+    if fp is not None:
+        out["validity"]["z_fokker_planck"] = {
+            k: (fp[k] - out["moments"][k]["simulated"]) / out["moments"][k]["stderr"]
+            for k in ("a2", "x2")}
     averaged = avg.bins(ens.edges) if avg is not None else None
     out["density"] = {
         "variable": variable,

@@ -1,0 +1,10 @@
+"""Fokker-Planck (Kramers) equation of the one-degree-of-freedom models at rest: the
+stationary density (:mod:`.kramers`) and the escape rate from the well at the origin
+(:mod:`.escape`), solved numerically in Hermite functions of the velocity times Chebyshev
+points in the position."""
+
+from .escape import KramersEscape, kramers_escape
+from .kramers import KramersSolution, kramers_operator, stationary_kramers, velocity_terms
+
+__all__ = ["KramersSolution", "kramers_operator", "stationary_kramers", "velocity_terms",
+           "KramersEscape", "kramers_escape"]

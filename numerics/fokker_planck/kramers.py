@@ -1,0 +1,395 @@
+"""The stationary Kramers (Fokker-Planck) equation of a one-degree-of-freedom model at rest,
+solved numerically: a route that owes nothing to averaging or to simulation.
+
+For ``x'' = -g(x) + mu h(x, x') + sqrt(2 D) xi(t)`` the density ``P(x, v)`` obeys
+
+``dP/dt = -v dP/dx + d/dv[(g(x) - mu h(x, v)) P] + D d^2P/dv^2``
+
+(Risken, *The Fokker-Planck Equation*, 2nd ed., ch. 10).  The method is a spectral
+Galerkin-collocation discretisation: Hermite functions of the velocity (Risken's choice,
+sec. 10.3, with the scale ``sigma`` of the velocity set to the measured ``sqrt(<v^2>)``)
+times Chebyshev collocation in the position on ``[-L, L]`` (``L`` where ``G/sigma^2``
+exceeds 45 above its minimum).  Why this and not Risken's matrix continued fractions:
+
+* the damping of the models is nonlinear in ``x`` and ``v`` (van der Pol, Rayleigh, the
+  SEDF), which couples Hermite orders ``n`` to ``n +- 3``: the continued fraction would
+  need blocks of three orders, and the potentials (``x^2/2`` plus a cosine) are neither
+  periodic nor polynomial, so the position operators are dense in any global basis anyway;
+* Chebyshev collocation converges exponentially for the analytic potentials and densities
+  here, and the whole operator is a sparse matrix (block-banded in ``n``) that one sparse
+  LU factorises in about a second; the same matrix gives the escape rate as its smallest
+  nonzero eigenvalue (shift-invert Arnoldi).
+
+The stationary equation's ``n = 0`` block says that the current ``sigma c_1`` is constant;
+it is replaced by ``c_1 = 0`` (no current through the far ends, where the density is below
+``exp(-45)``) at all points but one, and the normalisation ``int c_0 dx = 1``.
+
+Checks (tests/test_fokker_planck.py): for linear damping the solution is the Boltzmann
+density ``exp(-H/kT)`` to 1e-9 (quadrature of ``exp(-G/kT)``); for the van der Pol
+oscillator it agrees with first-order stochastic averaging as ``mu -> 0`` and with a
+fixed-seed Langevin ensemble within its standard errors.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sps
+import sympy as sp
+
+from kbm.conservative import ConservativeSplit, split_conservative
+from kbm.errors import ModelError, ParameterError
+from kbm.symbols import x as X, xdot as V
+
+from ._bases import band_masses, cheb, clenshaw_curtis, hermite_matrices
+
+__all__ = ["KramersSolution", "kramers_operator", "stationary_kramers", "velocity_terms"]
+
+
+def velocity_terms(split: ConservativeSplit) -> list:
+    """``[(k, a_k)]`` with ``mu h(x, v) = sum_k a_k(x) v^k`` (numpy functions of ``x``).
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        When ``h`` is not a polynomial in the velocity.
+    """
+    h = sp.expand(split.mu * split.h)
+    try:
+        poly = sp.Poly(h, V)
+    except sp.PolynomialError:
+        raise ModelError(f"the damping mu h = {h} is not a polynomial in x': the Hermite "
+                         "expansion of the Kramers equation needs one") from None
+    out = []
+    for (k,), coef in zip(poly.monoms(), poly.coeffs()):
+        if coef.free_symbols - {X}:
+            raise ParameterError(f"the damping needs values for {coef.free_symbols - {X}}")
+        f = sp.lambdify(X, coef, "numpy")
+        out.append((int(k), lambda z, f=f: np.broadcast_to(np.asarray(f(z), float),
+                                                           np.shape(z)).copy()))
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class KramersSolution:
+    """The stationary density of the Kramers equation in Hermite-Chebyshev form.
+
+    Attributes
+    ----------
+    x, weights : numpy.ndarray
+        Chebyshev points on ``[-L, L]`` and their Clenshaw-Curtis weights.
+    coef : numpy.ndarray
+        ``c_n(x_i)``, shape ``(N, len(x))``; ``P = sum c_n phi_n(v/sigma)/sigma``.
+    sigma : float
+        The velocity scale of the Hermite functions.
+    G : callable
+        The potential.
+    omega0 : float
+        The linear frequency of ``a^2 = x^2 + (x'/omega0)^2``.
+    residual : float
+        Largest coefficient of the last Hermite order and of the last Chebyshev modes,
+        relative to the largest (the truncation's size).
+    """
+
+    x: np.ndarray
+    weights: np.ndarray
+    coef: np.ndarray
+    sigma: float
+    G: object
+    omega0: float
+    residual: float
+    _cache: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def __repr__(self) -> str:
+        return (f"KramersSolution(<x^2> = {self.x2:.10g}, <v^2> = {self.v2:.10g}; "
+                f"{self.coef.shape[0]} Hermite x {self.x.size} Chebyshev)")
+
+    @property
+    def x2(self) -> float:
+        """``<x^2>``."""
+        return float(np.sum(self.weights * self.x**2 * self.coef[0]))
+
+    @property
+    def v2(self) -> float:
+        """``<v^2> = sigma^2 int (c_0 + sqrt(2) c_2) dx``."""
+        return float(self.sigma**2 * np.sum(self.weights * (self.coef[0]
+                                                            + math.sqrt(2) * self.coef[2])))
+
+    @property
+    def a2(self) -> float:
+        """``<a^2> = <x^2> + <v^2>/omega0^2``."""
+        return self.x2 + self.v2 / self.omega0**2
+
+    def marginal(self) -> np.ndarray:
+        """The density of ``x`` at the points :attr:`x`."""
+        return self.coef[0].copy()
+
+    def mass_below(self, E: float, nodes: int = 64) -> float:
+        """The probability of ``H = v^2/2 + G(x) < E``.
+
+        The inner integral over ``v`` is exact in the Hermite functions
+        (:func:`numerics.fokker_planck._bases.band_masses`); the outer one runs over the
+        stretches where ``G < E`` with the substitution that removes the square-root ends.
+        """
+        L = float(self.x[0])
+        coefs = self._series()
+        grid = np.linspace(-L, L, 4097)
+        d = self.G(grid) - E
+        inside = d < 0
+        if not inside.any():
+            return 0.0
+        total = 0.0
+        edges = np.flatnonzero(np.diff(inside.astype(int)))
+        starts = [0] if inside[0] else []
+        starts += [i + 1 for i in edges if not inside[i]]
+        ends = [i for i in edges if inside[i]] + ([grid.size - 1] if inside[-1] else [])
+        for i0, i1 in zip(starts, ends):
+            a = _root(self.G, E, grid[i0 - 1], grid[i0]) if i0 > 0 else -L
+            b = _root(self.G, E, grid[i1], grid[i1 + 1]) if i1 < grid.size - 1 else L
+            n, last = nodes, None
+            while True:  # Gauss-Legendre doubled until two rules agree
+                val = self._stretch(coefs, L, E, a, b, n)
+                if last is not None and (abs(val - last) <= 1e-13 or n >= 4096):
+                    break
+                last, n = val, 2 * n
+            total += val
+        return total
+
+    def _series(self) -> np.ndarray:
+        """Chebyshev coefficients of every ``c_n`` on ``[-L, L]`` (from the values at the
+        Gauss-Lobatto points by the discrete cosine transform; computed once)."""
+        if "series" not in self._cache:
+            n = self.x.size - 1
+            k = np.arange(n + 1)
+            w = np.where((k == 0) | (k == n), 0.5, 1.0)
+            T = np.cos(np.pi * np.outer(k, k) / n) * w[None, :]
+            c = (2.0 / n) * (T @ self.coef.T)
+            c[0] /= 2
+            c[n] /= 2
+            self._cache["series"] = c
+        return self._cache["series"]
+
+    def _stretch(self, coefs, L: float, E: float, a: float, b: float, n: int) -> float:
+        """The mass of ``H < E`` over ``a < x < b`` with ``n`` Gauss-Legendre nodes in
+        ``x = (a + b)/2 + (b - a)/2 sin(pi s/2)`` (square-root ends become smooth)."""
+        from numpy.polynomial import chebyshev as C
+
+        t, w = np.polynomial.legendre.leggauss(n)
+        xs = 0.5 * (a + b) + 0.5 * (b - a) * np.sin(0.5 * np.pi * t)
+        jac = 0.25 * np.pi * (b - a) * np.cos(0.5 * np.pi * t)
+        U = np.sqrt(np.maximum(2 * (E - self.G(xs)), 0.0)) / self.sigma
+        c = C.chebval(xs / L, coefs)
+        return float(np.sum(w * jac * np.sum(c * band_masses(c.shape[0], U), axis=0)))
+
+    def energy_bins(self, edges) -> np.ndarray:
+        """The density of ``E`` averaged over each bin of ``edges``."""
+        edges = np.asarray(edges, float)
+        M = np.array([self.mass_below(e) for e in edges])
+        return np.diff(M) / np.diff(edges)
+
+
+def _root(G, E, a, b):
+    from scipy.optimize import brentq
+
+    return brentq(lambda z: float(G(np.array(z))) - E, a, b, xtol=1e-15, rtol=1e-15)
+
+
+def kramers_operator(split: ConservativeSplit, D: float, sigma: float, L: float,
+                     n_hermite: int, n_cheb: int):
+    """The Kramers operator as a sparse matrix on ``c[n, i]`` (row ``n * (n_cheb+1) + i``),
+    with the points and weights.
+
+    Returns
+    -------
+    (scipy.sparse.csr_matrix, numpy.ndarray, numpy.ndarray)
+    """
+    terms = velocity_terms(split)
+    kmax = max([k for k, _ in terms], default=1)
+    xs, Dx = cheb(n_cheb, L)
+    g = split.numpy_functions()[0]
+    U, Du = hermite_matrices(n_hermite, kmax + 2)
+    N = n_hermite
+
+    def cut(M):
+        return sps.csr_matrix(M[:N, :N])
+
+    ops = [sps.kron(cut(-sigma * U), sps.csr_matrix(Dx)),
+           sps.kron(cut(Du / sigma), sps.diags(np.asarray(g(xs), float))),
+           sps.kron(cut(Du @ Du * (D / sigma**2)), sps.identity(xs.size))]
+    for k, a in terms:
+        Uk = sps.identity(N + kmax + 2, format="csr")
+        for _ in range(k):
+            Uk = U @ Uk
+        ops.append(sps.kron(cut(-(sigma ** (k - 1)) * (Du @ Uk)), sps.diags(a(xs))))
+    A = ops[0]
+    for op in ops[1:]:
+        A = A + op
+    return A.tocsr(), xs, clenshaw_curtis(n_cheb, L)
+
+
+def _half_width(G, scale: float, span: float = 45.0) -> float:
+    grid = np.linspace(-50, 50, 20001)
+    Gmin = float(np.min(G(grid)))
+    L = 1.0
+    while min(float(G(np.array(L))), float(G(np.array(-L)))) - Gmin < span * scale:
+        L *= 1.1
+        if L > 1e4:
+            raise ModelError("the potential does not confine the noisy motion (G grows too "
+                             "slowly): no stationary density")
+    return L
+
+
+def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None = None,
+                       n_cheb: int | None = None, sigma: float | None = None,
+                       L: float | None = None, omega0: float | None = None,
+                       tol: float = 1e-8, max_cost: float = 2e7) -> KramersSolution:
+    """The stationary solution of the Kramers equation.
+
+    Parameters
+    ----------
+    model : str or kbm.models.Oscillator
+        An autonomous model (a slider at ``v = 0``) whose damping is polynomial in ``x'``.
+    params : dict
+        Its parameters with ``mu`` (``D`` apart).
+    D : float
+        Noise intensity, ``> 0``.
+    n_hermite, n_cheb : int, optional
+        Hermite functions of the velocity and Chebyshev intervals in the position (default:
+        ``n_cheb`` resolves ``exp(-G/sigma^2)`` to 1e-9; ``n_hermite`` is 12 for linear
+        damping, else doubled from 32 until ``<a^2>`` changes by less than ``tol``).
+    sigma, L : float, optional
+        Velocity scale and half-width of the position range (default: ``sigma^2 = kT`` for
+        linear damping, else ``<v^2>`` measured by a coarse first solve; ``L`` where
+        ``G/sigma^2`` exceeds 45 above its minimum).
+    omega0 : float, optional
+        The frequency of ``a^2`` (default the model's ``omega0``, else ``sqrt(g'(0))``).
+    tol : float
+        Relative change of ``<a^2>`` at which the Hermite doubling stops.
+    max_cost : float
+        Largest ``n_hermite * n_cheb^2`` (the nonzeros of the operator, about; the sparse
+        LU's work grows with it): beyond it the solve is refused with the sizes.
+
+    Returns
+    -------
+    KramersSolution
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        ``D <= 0`` or ``mu <= 0``.
+    kbm.errors.ModelError
+        A driven or non-confining model, or a damping not polynomial in ``x'``.
+    """
+    if not (math.isfinite(D) and D > 0):
+        raise ParameterError(f"D = {D}: the Kramers equation needs noise D > 0")
+    params = {k: v for k, v in dict(params).items() if k != "D"}
+    split = split_conservative(model, params)
+    mu = float(split.mu)
+    if not mu > 0:
+        raise ParameterError(f"mu = {mu:g} must be > 0")
+    G = split.numpy_functions()[2]
+    if omega0 is None:
+        w0 = sp.sympify(split.model.omega0).subs({sp.Symbol(k): v
+                                                  for k, v in split.params.items()})
+        omega0 = (float(w0) if w0.is_number
+                  else math.sqrt(float(split.numpy_functions()[1](np.array(0.0)))))
+    terms = velocity_terms(split)
+    kT = _linear_temperature(terms, D)
+    if sigma is not None:
+        s2 = float(sigma) ** 2
+    elif kT is not None:
+        s2 = kT
+    else:  # a coarse solve measures <v^2> and the extent of the density
+        half = _half_width(G, D / mu) if L is None else float(L)
+        pilot = _solve(split, D, math.sqrt(D / mu), half, 32,
+                       _chebyshev_size(G, D / mu, half), G, omega0)
+        s2 = pilot.v2
+        if not (math.isfinite(s2) and s2 > 0):
+            raise ModelError(f"the coarse Kramers solve gave <v^2> = {s2}: no stationary "
+                             "density (check that the damping confines the motion)")
+        if L is None:  # where the marginal falls below 1e-12 of its peak, and 30 % more
+            c0 = np.abs(pilot.coef[0])
+            held = np.abs(pilot.x[c0 > 1e-12 * float(np.max(c0))])
+            L = min(half, 1.3 * float(np.max(held)))
+        if kT is None and sigma is None:
+            s2 = pilot.v2
+    half = _half_width(G, s2) if L is None else float(L)
+    scale = s2 if kT is not None else min(s2, D / mu)
+    nc = _chebyshev_size(G, scale, half) if n_cheb is None else int(n_cheb)
+    nh = (12 if kT is not None else 32) if n_hermite is None else int(n_hermite)
+    if nh * nc**2 > max_cost:
+        raise ModelError(f"the Kramers solve needs {nh} Hermite functions x {nc + 1} Chebyshev "
+                         f"points (cost {nh * nc**2:.3g} > {max_cost:.3g}): not affordable here")
+    sol = _solve(split, D, math.sqrt(s2), half, nh, nc, G, omega0)
+    while n_hermite is None and kT is None and nh < 128:
+        nh *= 2
+        new = _solve(split, D, math.sqrt(s2), half, nh, nc, G, omega0)
+        done = abs(new.a2 - sol.a2) <= tol * abs(new.a2)
+        sol = new
+        if done:
+            break
+    return sol
+
+
+def _linear_temperature(terms, D: float) -> float | None:
+    """``kT = D/c`` when ``mu h = -c v`` with a constant ``c > 0``, else ``None``."""
+    if len(terms) != 1 or terms[0][0] != 1:
+        return None
+    vals = terms[0][1](np.linspace(-3.0, 3.0, 7))
+    c = -float(vals[0])
+    return D / c if c > 0 and np.allclose(vals, vals[0], rtol=0, atol=1e-15) else None
+
+
+def _chebyshev_size(G, s2: float, L: float, target: float = 1e-9) -> int:
+    """Chebyshev intervals that resolve ``exp(-(G - G_min)/sigma^2)`` on ``[-L, L]``."""
+    from numpy.polynomial import chebyshev as C
+
+    n = 64
+    while n < 600:
+        t = np.cos(np.pi * np.arange(n + 1) / n)
+        Gx = G(L * t)
+        f = np.exp(-(Gx - Gx.min()) / s2)
+        c = C.chebfit(t, f, n)
+        if float(np.max(np.abs(c[-8:]))) <= target * float(np.max(np.abs(c))):
+            return int(math.ceil(1.15 * n))
+        n = int(1.2 * n)
+    return 600
+
+
+def _solve(split, D, sigma, half, nh, nc, G, omega0) -> KramersSolution:
+    import scipy.sparse.linalg as spla
+
+    A, xs, w = kramers_operator(split, D, sigma, half, nh, nc)
+    m = xs.size
+    A = _constrained(A, w, nh, m)
+    b = np.zeros(A.shape[0])
+    b[m - 1] = 1.0
+    c = spla.splu(A).solve(b).reshape(nh, m)
+    return KramersSolution(xs, w, c, sigma, G, float(omega0), _residual(c))
+
+
+def _constrained(A, w: np.ndarray, n: int, m: int):
+    """``A`` with its rows replaced: block ``0`` by ``c_1 = 0`` at all points but the last
+    and ``int c_0 dx = 1`` (that row's right-hand side is 1); the two end points of every
+    block n >= 2 by ``c_n(+-L) = 0`` (the density is below ``exp(-45)`` there)."""
+    keep = np.ones(n * m)
+    keep[:m] = 0.0
+    ends = np.concatenate([[k * m, k * m + m - 1] for k in range(2, n)])
+    keep[ends] = 0.0
+    rows = list(range(m - 1)) + [m - 1] * m + list(ends)
+    cols = list(range(m, 2 * m - 1)) + list(range(m)) + list(ends)
+    vals = [1.0] * (m - 1) + list(w) + [1.0] * len(ends)
+    C = sps.csr_matrix((vals, (rows, cols)), shape=A.shape)
+    return (sps.diags(keep) @ A + C).tocsc()
+
+
+def _residual(c: np.ndarray) -> float:
+    from numpy.polynomial import chebyshev as C
+
+    big = float(np.max(np.abs(c)))
+    herm = float(np.max(np.abs(c[-2:])))
+    modes = C.chebfit(np.cos(np.pi * np.arange(c.shape[1]) / (c.shape[1] - 1)), c[0],
+                      c.shape[1] - 1)
+    return max(herm, float(np.max(np.abs(modes[-4:])))) / big

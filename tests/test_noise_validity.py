@@ -1,0 +1,83 @@
+"""Validity flags and bad input of ``kbm noise`` and ``kbm escape`` (issue 36, findings 4
+and 5).
+
+A gap |averaged - simulated|/stderr > 4 is flagged in the JSON and the text with what to
+do; mu <= 0, infinite D and models with no stationary state (no damping: A_1 = 0; an
+anti-damping: the averaged drift does not confine) are refused before any simulation with
+the reason; escape below E_b/kT = 2 warns.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from kbm.errors import ModelError, ParameterError
+from numerics.thermal.stationary import Z_FLAG, noise_report, validity
+
+
+def kbm(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "numerics.cli", *args], capture_output=True,
+                          text=True, timeout=300)
+
+
+def test_validity_flags_a_large_gap():
+    """z = (avg - sim)/stderr per moment; |z| > 4 flagged with the two remedies."""
+    moments = {"a2": {"averaged": 4.0, "simulated": 4.02, "stderr": 0.013},
+               "x2": {"averaged": 2.11486, "simulated": 2.32239, "stderr": 0.0087}}
+    v = validity(moments)
+    assert v["z"]["x2"] == pytest.approx((2.11486 - 2.32239) / 0.0087)
+    assert v["flagged"] and v["threshold"] == Z_FLAG
+    assert "--order 2" in v["advice"] and "--method fokker-planck" in v["advice"]
+    fine = validity({"a2": {"averaged": 1.0, "simulated": 1.01, "stderr": 0.01},
+                     "x2": {"averaged": None, "simulated": 0.5, "stderr": 0.01}})
+    assert not fine["flagged"] and fine["advice"] == "" and fine["z"]["x2"] is None
+
+
+@pytest.mark.parametrize("params, match", [
+    ({"mu": -0.1, "D": 0.01}, "mu = -0.1"),
+    ({"mu": 0, "D": 0.01}, "mu = 0"),
+    ({"mu": 0.1, "D": "inf"}, "finite"),
+])
+def test_bad_numbers_refused(params, match):
+    with pytest.raises(ParameterError, match=match):
+        noise_report("vdp", params, trajectories=8)
+
+
+@pytest.mark.parametrize("model, params, match", [
+    ("duffing", {"mu": 0.1, "D": 0.01}, "A_1 is 0"),
+    ("linear_stiffness", {"mu": 0.1, "kappa": 1, "D": 0.01}, "A_1 is 0"),
+    ("linear_damping", {"mu": 0.1, "zeta": -1, "D": 0.01}, "does not confine"),
+    ("sedf", {"mu": 0.1, "Delta": 2, "beta": -1, "D": 0.01}, "no stationary state"),
+])
+def test_no_stationary_state_refused_before_simulation(model, params, match):
+    """The budget 1 would refuse any simulation with a message: the error comes first."""
+    with pytest.raises(ModelError, match=match):
+        noise_report(model, params, trajectories=8, budget=1, fokker_planck=False)
+
+
+def test_cli_one_line_errors():
+    for args, text in ((("noise", "vdp", "-p", "mu=-0.1", "-p", "D=0.01"), "mu > 0"),
+                       (("noise", "vdp", "-p", "mu=0.1", "-p", "D=inf"), "finite"),
+                       (("escape", "cdc", "-p", "mu=-0.1", "-p", "Delta=2", "-p", "D=0.01"),
+                        "mu > 0")):
+        proc = kbm(*args)
+        assert proc.returncode == 2, proc.stderr
+        assert text in proc.stderr and "not a number" not in proc.stderr
+        assert len(proc.stderr.strip().splitlines()) == 1
+
+
+def test_escape_warns_below_two_kT():
+    """CDC at kT = 2 (E_b/kT = 0.39): the warning in the JSON and the text."""
+    args = ("escape", "cdc", "-p", "mu=0.1", "-p", "Delta=2", "-p", "D=0.2",
+            "--no-simulation")
+    rep = json.loads(kbm(*args, "--json").stdout)
+    assert rep["barrier_over_kT"] < 2 and rep["warnings"]
+    assert "E_b/kT" in rep["warnings"][0]
+    assert "WARNING" in kbm(*args).stdout
+    ok = json.loads(kbm("escape", "cdc", "-p", "mu=0.1", "-p", "Delta=2", "-p", "D=0.02",
+                        "--no-simulation", "--json").stdout)
+    assert ok["barrier_over_kT"] > 2 and ok["warnings"] == []

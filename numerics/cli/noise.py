@@ -68,44 +68,6 @@ def _num(value, fmt="#.6g") -> str:
     return "--" if value is None else format(value, fmt)
 
 
-def _averaged_order(rep: dict, model: str, params: dict, order: int) -> None:
-    """Set ``rep["averaged_order"]``; at ``order`` 2 put the second-order amplitude
-    averaging (:mod:`kbm.stochastic_order2`) into ``moments.*.averaged`` and the averaged
-    density (the first order stays where it does not apply, with the reason)."""
-    from numerics.thermal.averaged import AMPLITUDE
-
-    rep["averaged_order"] = 1 if rep["moments"]["a2"]["averaged"] is not None else None
-    if order == 1 or rep["moments"]["a2"]["averaged"] is None:
-        return
-    if rep["method"] != AMPLITUDE:
-        rep["message"] = ((rep["message"] + "; ") if rep["message"] else "") + (
-            "--order 2 applies to the amplitude averaging only: first order given")
-        return
-    import numpy as np
-
-    from kbm.errors import KBMError
-    from kbm.stochastic_order2 import stochastic_average_order2
-
-    vals = dict(params)
-    try:
-        so = stochastic_average_order2(model, {k: v for k, v in vals.items() if k != "D"})
-        a2, x2 = so.moment(2, vals), so.x2(vals)
-    except KBMError as exc:
-        rep["message"] = ((rep["message"] + "; ") if rep["message"] else "") + (
-            f"no second-order averaging ({exc}): first order given")
-        return
-    rep["averaged_order"] = 2
-    rep["method"] = rep["method"].replace("first order", "second order")
-    rep["moments"]["a2"]["averaged"] = a2
-    rep["moments"]["x2"]["averaged"] = x2
-    if rep["density"] is not None and rep["density"]["averaged"] is not None:
-        edges = np.asarray(rep["density"]["edges"], float)
-        g, w = np.polynomial.legendre.leggauss(16)
-        rep["density"]["averaged"] = [
-            float(np.sum(w * so.density(lo + (hi - lo) * (g + 1) / 2, vals)) / 2)
-            for lo, hi in zip(edges[:-1], edges[1:])]
-
-
 def run(args) -> int:
     from kbm.errors import ParameterError
     from numerics.thermal.stationary import noise_report
@@ -128,11 +90,10 @@ def run(args) -> int:
                            t_end=args.t_end, burn_in=args.burn_in, dt=args.dt, seed=args.seed,
                            budget=args.budget, workers=args.workers, progress=not args.json,
                            figure=figure, store=store, method=args.method,
-                           fokker_planck=not args.no_fokker_planck)
+                           fokker_planck=not args.no_fokker_planck, order=args.order)
     finally:
         if store is not None:
             store.close()
-    _averaged_order(rep, args.model, params, args.order)
     if args.out:
         from kbm.strict_json import finite
 

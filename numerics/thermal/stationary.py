@@ -13,6 +13,7 @@ from kbm.models import SLIDERS
 from ..escape.envelope import check_mu
 from ..escape.report import SLIDER_DEFAULTS
 from .averaged import averaged_stationary
+from .order2 import order2_bins, second_order
 from ..noise.ensemble import MIN_TRAJECTORIES, stationary_ensemble
 from ..noise.langevin import langevin_system, measured_step, natural_step, split_noise
 
@@ -56,8 +57,9 @@ def default_times(system, t_end: float | None, burn_in: float | None,
     return run, burn, h
 
 
-def validity(moments: dict) -> dict:
-    """The gap ``(averaged - simulated)/stderr`` of each moment and the flag ``|z| > 4``.
+def validity(moments: dict, order: int = 1) -> dict:
+    """The gap ``(averaged - simulated)/stderr`` of each moment and the flag ``|z| > 4``
+    (``order``: the averaging's order, named in the advice).
 
     Returns
     -------
@@ -74,11 +76,13 @@ def validity(moments: dict) -> dict:
     advice = ""
     if bad:
         worst = max(bad, key=lambda k: abs(z[k]))
+        remedy = ("use --order 2 (second-order averaging) or --method fokker-planck (the "
+                  "exact stationary state of a model at rest)" if order == 1 else
+                  "use --method fokker-planck (the exact stationary state of a model at rest)")
         advice = (f"the averaged <{worst[0]}^2> is {z[worst]:+.1f} standard errors from the "
-                  f"simulated one (|z| > {Z_FLAG:g}): the first-order averaging does not hold "
-                  "here (mu or D/mu too large, or a strong nonlinearity); use --order 2 "
-                  "(second-order averaging) or --method fokker-planck (the exact stationary "
-                  "state of a model at rest)")
+                  f"simulated one (|z| > {Z_FLAG:g}): the {'first' if order == 1 else 'second'}"
+                  "-order averaging does not hold here (mu or D/mu too large, or a strong "
+                  f"nonlinearity); {remedy}")
     return {"z": z, "flagged": bool(bad), "threshold": Z_FLAG, "advice": advice}
 
 
@@ -132,7 +136,7 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
                  dt=None, seed: int = 0, budget: float = DEFAULT_BUDGET, executor=None,
                  workers: int | None = None, progress: bool = False, store=None,
                  figure: str | Path | None = None, method: str = "averaging",
-                 fokker_planck: bool = True) -> dict:
+                 fokker_planck: bool = True, order: int = 1) -> dict:
     """The stationary moments and density: averaged prediction against an ensemble.
 
     Parameters
@@ -154,13 +158,18 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
     fokker_planck : bool
         Report ``moments.*.fokker_planck`` for a model at rest (``None`` with the reason in
         ``fokker_planck_message`` otherwise).
+    order : {1, 2}
+        The order of the amplitude averaging (:mod:`kbm.stochastic_order2` for 2, where it
+        applies; the first order is kept otherwise, with the reason in ``message``).
 
     Returns
     -------
     dict
         ``model, params, D, trajectories, t_end, burn_in, dt, seed, method, moments,
         density, steps, message`` (``moments.a2``/``moments.x2`` with ``averaged``,
-        ``simulated``, ``stderr``; ``moments.x2.boltzmann`` for linear damping).
+        ``simulated``, ``stderr``; ``moments.x2.boltzmann`` for linear damping),
+        ``averaged_order`` (the order of ``moments.*.averaged``, ``None`` without it) and
+        ``validity`` (the gap to the simulation, flagged beyond ``|z| > 4``).
     """
     check_mu(dict(params))
     params, D = split_noise(params)
@@ -175,7 +184,12 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
     run, burn, h = default_times(system, t_end, burn_in, dt)
     if method not in METHODS:
         raise ParameterError(f"--method {method!r}: choose one of {', '.join(METHODS)}")
+    if order not in (1, 2):
+        raise ParameterError(f"--order {order}: the stochastic averaging is of order 1 or 2")
     avg, why = averaged_stationary(model, params, D, system.omega0)
+    so, so_values, so_why = second_order(model, params, D, avg) if order == 2 else (None, {}, "")
+    if so_why:
+        why = f"{why}; {so_why}" if why else so_why
     fp, fp_why = (fokker_planck_moments(model, params, D, system.omega0,
                                         required=method == "fokker-planck")
                   if fokker_planck or method == "fokker-planck" else (None, "not requested"))
@@ -198,7 +212,13 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
         "density": None, "steps": steps, "message": why, "scheme": system.scheme,
         "validity": {"z": {"a2": None, "x2": None}, "flagged": False, "threshold": Z_FLAG,
                      "advice": ""},
+        "averaged_order": None if avg is None else 1,
     }
+    if so is not None:
+        out["averaged_order"] = 2
+        out["method"] = avg.method.replace("first order", "second order")
+        out["moments"]["a2"]["averaged"] = so.moment(2, so_values)
+        out["moments"]["x2"]["averaged"] = so.x2(so_values)
     if steps > budget:
         out["message"] = (f"simulation refused: {trajectories} trajectories x "
                           f"{(run + burn) / h:.3g} steps = {steps:.3g} steps > budget "
@@ -218,12 +238,14 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
                               progress=progress, store=store, scheme=system.scheme)
     out["moments"]["a2"].update(simulated=ens.a2.value, stderr=ens.a2.stderr)
     out["moments"]["x2"].update(simulated=ens.x2.value, stderr=ens.x2.stderr)
-    out["validity"] = validity({k: out["moments"][k] for k in ("a2", "x2")})
+    out["validity"] = validity({k: out["moments"][k] for k in ("a2", "x2")},
+                               out["averaged_order"] or 1)
     if fp is not None:
         out["validity"]["z_fokker_planck"] = {
             k: (fp[k] - out["moments"][k]["simulated"]) / out["moments"][k]["stderr"]
             for k in ("a2", "x2")}
-    averaged = avg.bins(ens.edges) if avg is not None else None
+    averaged = (order2_bins(so, so_values, ens.edges) if so is not None
+                else avg.bins(ens.edges) if avg is not None else None)
     out["density"] = {
         "variable": variable,
         "grid": ens.centres.tolist(), "edges": ens.edges.tolist(),

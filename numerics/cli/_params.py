@@ -204,7 +204,7 @@ def noise_params(params: Mapping[str, str]) -> tuple[dict[str, str], str | None]
     if D is None:
         raise ParameterError("give the noise intensity: -p D=VALUE (x'' + ... = sqrt(2 D) xi, "
                              "D >= 0) or the temperature -p T=VALUE (T = kT = D/mu)")
-    return {**rest, "D": str(D)}, name
+    return {**rest, "D": params["D"] if name == "D" else repr(float(D))}, name
 
 
 def open_store(path: str | None, resume: bool, what: str = "run"):
@@ -273,3 +273,23 @@ def physical(names: ParameterNames, params: Mapping[str, object],
         (phys,) = [k for k in conv[0] if k != "mu"]
         new_axes[phys] = np.array([float(c[phys]) for c in conv])
     return out, new_axes
+
+
+def noisy_model(model: str, items: Iterable[str]) -> tuple[dict[str, str], str | None]:
+    """The ``-p`` values of ``kbm noise`` and ``kbm escape``: ``model`` a built-in of one
+    degree of freedom, every name one of its (physical or scaled), ``mu``, the stage
+    velocity ``v`` of a slider, and ``D`` or ``T = D/mu``; returns ``(values with D, the
+    noise's name as given)``.
+
+    Raises
+    ------
+    kbm.errors.ModelError, kbm.errors.ParameterError
+        For an unknown model (the built-ins listed) or name (the valid ones listed).
+    """
+    from kbm.models import SLIDERS
+    from kbm.params import lookup
+
+    lookup(model, ("one",))
+    params = given(items)
+    check(model, params, extra=("v",) if model in SLIDERS else (), noise=True)
+    return noise_params(params)

@@ -92,6 +92,7 @@ _TRANSLATIONS = (
      "give at least one --vary, e.g. --vary v=0.01,0.1"),
     (re.compile(r"raise max_wells or max_periods|raise mu, v or max_wells/max_periods"),
      "raise mu or v (a run stops after 3000 stage periods lam/v or 30000 natural periods)"),
+    (re.compile(r"\bgive nu0 \("), "give --nu0 NU0 ("),
     (re.compile(r"\bcustom_model\b"), "--rhs EXPR"),
     (re.compile(r"\(x_start\)"), "(--x-start)"),
     (re.compile(r"\bpotential=(\.\.\.)?"), "--potential "),

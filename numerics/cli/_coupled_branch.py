@@ -26,9 +26,11 @@ def _start(text: str | None, dof: int):
 
 
 def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float,
-                       what: str, model=None) -> int:
+                       what: str, model=None, start_at: float | None = None,
+                       typed: tuple[float, float] | None = None) -> int:
     """Continue the periodic orbits of the command line's coupled system (or ``model``) in
-    ``name``."""
+    ``name`` over ``[lo, hi]``, from ``start_at`` (a range typed downwards, ``typed`` its
+    FROM and TO) unless ``-p NAME`` gives the start."""
     from kbm.cli.derive import coupled_model
     from kbm.errors import ParameterError
     from numerics.coupled.continuation import continue_coupled
@@ -38,6 +40,11 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
         raise ParameterError(f"{model.name!r} has no forcing (theta); its branches of cycles "
                              "are kbm branch")
     given = parse_params(args.param)
+    from numerics.cli._params import check
+
+    check(model, given, [name])
+    run_given = given if start_at is None or name in given else \
+        {**given, name: repr(start_at)}
     start = _start(getattr(args, "start", None), model.dof)
     max_points = getattr(args, "max_points", None) or 200
     if not 2 <= max_points <= 100000:
@@ -45,14 +52,15 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
     rtol = max(getattr(args, "rtol", 1e-11) or 1e-11, 1e-13)
     if not rtol <= 1e-5:
         raise ParameterError(f"--rtol must be between 1e-13 and 1e-5, got {rtol}")
-    br = continue_coupled(model, given, name, (lo, hi), start=start, max_points=max_points,
-                          rtol=rtol)
+    br = continue_coupled(model, run_given, name, (lo, hi), start=start,
+                          max_points=max_points, rtol=rtol)
     if args.json:
         emit_json({**br.to_json(), "params_given": given})
         return 0
     kind = "periodic responses" if br.forced else "periodic orbits"
+    a, b = typed or (lo, hi)
     print(f"branch of {kind} of {br.model} ({br.dof} degrees of freedom), {name} from "
-          f"{lo:g} to {hi:g}: {len(br.points)} points, {br.evaluations} integrations of a "
+          f"{a:g} to {b:g}: {len(br.points)} points, {br.evaluations} integrations of a "
           "period with the monodromy")
     amp = "  ".join(f"{f'max|x{i + 1}|':>12s}" for i in range(br.dof))
     print(f"  {name:>14s} {'period':>12s}  {amp}  {'|multiplier| max':>16s}")

@@ -97,6 +97,14 @@ class Vary:
                                  + f" (the form {form})")
         return self.start, self.stop
 
+    def continuation(self, what: str, *, points: bool = False
+                     ) -> tuple[float, float, float | None]:
+        """``(lo, hi, start)`` of a range for a continuation (``what``): the interval, and
+        FROM as the start where the range runs downwards (``None`` where it runs up: the
+        start is then ``lo``, the default of the continuations)."""
+        a, b = self.interval(what, points=points)
+        return min(a, b), max(a, b), (a if a > b else None)
+
     def bounds(self) -> tuple[float, float]:
         """The interval ``(min, max)`` of a range."""
         return min(self.start, self.stop), max(self.start, self.stop)

@@ -84,28 +84,26 @@ def register(sub) -> None:
 
 
 def _vary(text: str) -> tuple[float, float, int | None]:
-    """``sigma=FROM:TO[:N]`` -> ``(FROM, TO, N)``, ``N`` None when not given."""
-    return _vary_named(text, "sigma")[1:]
+    """``sigma=FROM:TO[:N]`` -> ``(lo, hi, N)``, the interval sorted, ``N`` None when not
+    given (a response curve is the same whichever way the range is typed)."""
+    _, lo, hi, n, _ = _vary_named(text, "sigma")
+    return lo, hi, n
 
 
-def _vary_named(text: str, allowed: str | None = None) -> tuple[str, float, float, int | None]:
-    """``NAME=FROM:TO[:N]`` -> ``(NAME, FROM, TO, N)``; ``allowed``: the only name taken."""
+def _vary_named(text: str, allowed: str | None = None
+                ) -> tuple[str, float, float, int | None, float | None]:
+    """``NAME=FROM:TO[:N]`` -> ``(NAME, lo, hi, N, start)`` by the grammar of
+    :func:`numerics.cli._params.parse_vary`: ``start`` is FROM where the range runs
+    downwards (a continuation starts there); ``allowed``: the only name taken."""
     from kbm.errors import ParameterError
+    from numerics.cli._params import parse_vary
 
-    name, sep, rng = text.partition("=")
-    parts = rng.split(":")
-    if allowed is not None and name.strip() != allowed and sep:
+    v = parse_vary(text)
+    if allowed is not None and v.name != allowed:
         raise ParameterError(f"kbm response varies the detuning: --vary {allowed}=FROM:TO[:N], "
-                             f"not {name.strip()!r}")
-    try:
-        if not sep or not name.strip() or len(parts) not in (2, 3):
-            raise ValueError
-        lo, hi = float(parts[0]), float(parts[1])
-        n = int(parts[2]) if len(parts) == 3 else None
-    except ValueError:
-        raise ParameterError(f"--vary takes {allowed or 'NAME'}=FROM:TO[:N] (e.g. "
-                             f"{allowed or 'sigma'}=-1:3:400), got {text!r}") from None
-    return name.strip(), lo, hi, n
+                             f"not {v.name!r}")
+    lo, hi, start = v.continuation("a response curve", points=True)
+    return v.name, lo, hi, v.count, start
 
 
 def forced_model(args: argparse.Namespace):
@@ -189,9 +187,9 @@ def _run_coupled(args: argparse.Namespace) -> int:
         model = coupled_model(args)
     if args.internal:
         model = model.with_internal(args.internal)
-    name, lo, hi, n = _vary_named(args.vary)
+    name, lo, hi, n, start = _vary_named(args.vary)
     args.max_points = n
-    return run_coupled_branch(args, name, lo, hi, "response", model=model)
+    return run_coupled_branch(args, name, lo, hi, "response", model=model, start_at=start)
 
 
 def run(args: argparse.Namespace) -> int:

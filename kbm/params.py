@@ -229,34 +229,32 @@ def to_physical(names: ParameterNames, values: Mapping[str, object]) -> dict[str
 def noise_from(values: Mapping[str, object]) -> tuple[dict[str, object], sp.Expr | None, str]:
     """``(values without the noise, D, the name given)`` from ``D`` or ``T = D/mu``.
 
-    ``D`` is ``None`` when neither is given.  ``T`` needs ``mu > 0`` (the temperature of
-    the linear damping ``mu x'``).
+    ``D`` is ``None`` when neither is given, and as given (unread) when given as ``D``;
+    ``T`` is read here, and needs ``mu > 0`` (the temperature of the linear damping
+    ``mu x'``).
 
     Raises
     ------
     kbm.errors.ParameterError
-        For both given, a negative value (named as given), or ``T`` without ``mu > 0``.
+        For both given, a negative ``T`` (named ``T``), or ``T`` without ``mu > 0``.
     """
     rest = dict(values)
     if "D" in rest and "T" in rest:
         raise ParameterError("give the noise as D or as T = D/mu, not both")
-    for name in NOISE_NAMES:
-        if name in rest:
-            raw = rest.pop(name)
-            val = parameter_value(name, raw)
-            if val < 0:
-                what = "noise intensity of sqrt(2 D) xi" if name == "D" else \
-                    "temperature kT = D/mu"
-                raise ParameterError(f"{name} = {raw} is negative; the {what} must be >= 0 "
-                                     f"({name} = 0 is the deterministic model)")
-            if name == "D":
-                return rest, val, name
-            if "mu" not in rest:
-                raise ParameterError("T = D/mu needs mu: give -p mu=VALUE, or the noise as "
-                                     "-p D=VALUE")
-            mu = parameter_value("mu", rest["mu"])
-            if not mu > 0:
-                raise ParameterError(f"T = D/mu is the temperature of the damping mu x' and "
-                                     f"needs mu > 0, got mu = {rest['mu']}; give -p D=VALUE")
-            return rest, val * mu, name
+    if "D" in rest:  # read and checked where it is used (its own messages)
+        return rest, rest.pop("D"), "D"
+    if "T" in rest:
+        raw = rest.pop("T")
+        val = parameter_value("T", raw)
+        if val < 0:
+            raise ParameterError(f"T = {raw} is negative; the temperature kT = D/mu must be "
+                                 "finite and >= 0 (T = 0 is the deterministic model)")
+        if "mu" not in rest:
+            raise ParameterError("T = D/mu needs mu: give -p mu=VALUE, or the noise as "
+                                 "-p D=VALUE")
+        mu = parameter_value("mu", rest["mu"])
+        if not mu > 0:
+            raise ParameterError(f"T = D/mu is the temperature of the damping mu x' and "
+                                 f"needs mu > 0, got mu = {rest['mu']}; give -p D=VALUE")
+        return rest, val * mu, "T"
     return rest, None, ""

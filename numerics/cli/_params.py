@@ -212,7 +212,7 @@ def noise_params(params: Mapping[str, str]) -> tuple[dict[str, str], str | None]
     if D is None:
         raise ParameterError("give the noise intensity: -p D=VALUE (x'' + ... = sqrt(2 D) xi, "
                              "D >= 0) or the temperature -p T=VALUE (T = kT = D/mu)")
-    return {**rest, "D": params["D"] if name == "D" else repr(float(D))}, name
+    return {**rest, "D": D if name == "D" else repr(float(D))}, name
 
 
 def open_store(path: str | None, resume: bool, what: str = "run"):

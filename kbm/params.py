@@ -111,8 +111,9 @@ class ParameterNames:
             hint = f" (did you mean {near}?)" if near else ""
             noise = "" if self.noise or name not in NOISE_NAMES else \
                 " (this command has no noise)"
-            raise ParameterError(f"unknown parameter {name!r} for {self.model}{hint}{noise}"
-                                 f" in {flag} {name}=...; its parameters are "
+            what = f"cannot vary {name!r}: " if flag == "--vary" else ""
+            raise ParameterError(f"{what}unknown parameter {name!r} for {self.model}{hint}"
+                                 f"{noise} in {flag} {name}=...; its parameters are "
                                  f"{self.listing()}")
 
     def check_both(self, names: Iterable[str]) -> None:

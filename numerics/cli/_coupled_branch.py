@@ -26,11 +26,9 @@ def _start(text: str | None, dof: int):
 
 
 def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float,
-                       what: str, model=None, start_at: float | None = None,
-                       typed: tuple[float, float] | None = None) -> int:
+                       what: str, model=None) -> int:
     """Continue the periodic orbits of the command line's coupled system (or ``model``) in
-    ``name`` over ``[lo, hi]``, from ``start_at`` (a range typed downwards, ``typed`` its
-    FROM and TO) unless ``-p NAME`` gives the start."""
+    ``name`` over ``[lo, hi]`` (from ``-p NAME=VALUE`` if given, else from ``lo``)."""
     from kbm.cli.derive import coupled_model
     from kbm.errors import ParameterError
     from numerics.coupled.continuation import continue_coupled
@@ -42,9 +40,7 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
     given = parse_params(args.param)
     from numerics.cli._params import check
 
-    check(model, given, [name])
-    run_given = given if start_at is None or name in given else \
-        {**given, name: repr(start_at)}
+    check(model, given, [name], start=True)
     start = _start(getattr(args, "start", None), model.dof)
     max_points = getattr(args, "max_points", None) or 200
     if not 2 <= max_points <= 100000:
@@ -52,15 +48,14 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
     rtol = max(getattr(args, "rtol", 1e-11) or 1e-11, 1e-13)
     if not rtol <= 1e-5:
         raise ParameterError(f"--rtol must be between 1e-13 and 1e-5, got {rtol}")
-    br = continue_coupled(model, run_given, name, (lo, hi), start=start,
+    br = continue_coupled(model, given, name, (lo, hi), start=start,
                           max_points=max_points, rtol=rtol)
     if args.json:
         emit_json({**br.to_json(), "params_given": given})
         return 0
     kind = "periodic responses" if br.forced else "periodic orbits"
-    a, b = typed or (lo, hi)
     print(f"branch of {kind} of {br.model} ({br.dof} degrees of freedom), {name} from "
-          f"{a:g} to {b:g}: {len(br.points)} points, {br.evaluations} integrations of a "
+          f"{lo:g} to {hi:g}: {len(br.points)} points, {br.evaluations} integrations of a "
           "period with the monodromy")
     amp = "  ".join(f"{f'max|x{i + 1}|':>12s}" for i in range(br.dof))
     print(f"  {name:>14s} {'period':>12s}  {amp}  {'|multiplier| max':>16s}")

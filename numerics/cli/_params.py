@@ -15,12 +15,11 @@ the messages are the same everywhere:
       NAME=FROM:TO:logN   N log-spaced values (FROM, TO > 0)
       NAME=A,B,C          the listed values (a single NAME=A is one value)
 
-  **Order.**  A range runs from FROM to TO, whichever is larger: a table lists FROM
-  first, a branch starts at FROM; a search for edges (``kbm lock``) looks in the interval
-  between them.  ``FROM = TO`` is refused for a range (give ``NAME=A`` for one value).
-  One rule, kept in every command, because the direction carries information where it
-  matters (a continuation from the upper end of a range) and costs nothing where it
-  does not.
+  **Order.**  A range is an interval: ``FROM < TO`` in every command, refused
+  otherwise with the range turned round in the message.  One meaning of FROM:TO
+  everywhere (the continuations, the edge searches and the map figures take intervals);
+  where a direction matters it is said otherwise: a branch starts at ``-p NAME=VALUE``
+  (default FROM), and a list ``NAME=C,B,A`` keeps the order typed.
 * a store of finished points (``--store FILE --resume``): :func:`open_store` says when
   the file holds another run and nothing of this one.
 """
@@ -97,14 +96,6 @@ class Vary:
                                  + f" (the form {form})")
         return self.start, self.stop
 
-    def continuation(self, what: str, *, points: bool = False
-                     ) -> tuple[float, float, float | None]:
-        """``(lo, hi, start)`` of a range for a continuation (``what``): the interval, and
-        FROM as the start where the range runs downwards (``None`` where it runs up: the
-        start is then ``lo``, the default of the continuations)."""
-        a, b = self.interval(what, points=points)
-        return min(a, b), max(a, b), (a if a > b else None)
-
     def bounds(self) -> tuple[float, float]:
         """The interval ``(min, max)`` of a range."""
         return min(self.start, self.stop), max(self.start, self.stop)
@@ -146,8 +137,14 @@ def parse_vary(text: str) -> Vary:
     if not (math.isfinite(lo) and math.isfinite(hi)):
         raise ParameterError(f"--vary {name}: FROM and TO must be finite, got {spec!r}")
     if lo == hi and n != 1:
-        raise ParameterError(f"--vary {name}: FROM = TO = {lo:g} is not a range; give one "
-                             f"value as --vary {name}={lo:g}")
+        raise ParameterError(f"--vary {name}: FROM = TO = {lo:g} is an empty range; give "
+                             f"one value as --vary {name}={lo:g}")
+    if lo > hi:
+        tail = "" if len(parts) == 2 else ":" + parts[2].strip()
+        raise ParameterError(f"--vary {text}: an empty range; a range is an interval with "
+                             f"FROM < TO in every command: give --vary {name}={parts[1]}:"
+                             f"{parts[0]}{tail} (a branch starts at -p {name}=VALUE, default "
+                             f"FROM; a list {name}=A,B,C keeps its order)")
     if log and (lo <= 0 or hi <= 0):
         raise ParameterError(f"--vary {name}: a log range needs FROM, TO > 0, got {spec!r}")
     return Vary(name, text, lo, hi, n, log)
@@ -168,9 +165,11 @@ def given(items: Iterable[str]) -> dict[str, str]:
 
 
 def check(model: "object | tuple", params: Mapping[str, object], varied: Iterable[str] = (), *,
-          extra: Iterable[str] = (), noise: bool = False) -> ParameterNames:
+          extra: Iterable[str] = (), noise: bool = False, start: bool = False
+          ) -> ParameterNames:
     """Refuse a name ``model`` does not take (in ``-p`` or ``--vary``), a name given in
-    both, and a scaled name given with its physical one; returns the names.
+    both (unless ``start``: a continuation starts at the ``-p`` value of the name it
+    varies), and a scaled name given with its physical one; returns the names.
 
     Raises
     ------
@@ -188,7 +187,7 @@ def check(model: "object | tuple", params: Mapping[str, object], varied: Iterabl
     varied = list(varied)
     names.check(varied, flag="--vary")
     both = [n for n in varied if n in params]
-    if both:
+    if both and not start:
         raise ParameterError(f"{both[0]} is both varied (--vary) and given (-p); give it once")
     seen = set()
     for n in varied:

@@ -20,9 +20,8 @@ def register(sub) -> None:
                            "...", coupled=True)
     add_param_option(p)
     p.add_argument("--vary", required=True, metavar="NAME=FROM:TO",
-                   help="the parameter and its range, e.g. --vary Delta=0:4 (or Delta=4:0, "
-                        "downwards); the branch starts at --param NAME=VALUE if given, else at "
-                        "FROM")
+                   help="the parameter and its range, e.g. --vary Delta=0:4; the branch starts "
+                        "at --param NAME=VALUE if given, else at FROM")
     p.add_argument("--orders", default="1", metavar="N,...",
                    help="KBM orders of the analytic branches (default 1; 'none' for none)")
     p.add_argument("--no-energy", action="store_true",
@@ -83,7 +82,7 @@ def run(args: argparse.Namespace) -> int:
     from kbm.cli.derive import coupled_model, is_coupled
 
     vary = parse_vary(args.vary)
-    lo, hi, start = vary.continuation("a branch")
+    lo, hi = vary.interval("a branch", points=False)
     name = vary.name
     params = given(args.param)
     if args.model and not args.rhs:
@@ -99,9 +98,7 @@ def run(args: argparse.Namespace) -> int:
                                  "degree of freedom; the coupled continuation locates no "
                                  "homoclinic ends, so there is nothing to follow: drop it")
         model = coupled_model(args)
-        check(model, params, [name])
-        return run_coupled_branch(args, name, lo, hi, "branch", model=model, start_at=start,
-                                  typed=(vary.start, vary.stop))
+        return run_coupled_branch(args, name, lo, hi, "branch", model=model)
     if args.follow_period is not None and not (math.isfinite(args.follow_period)
                                                and 1 < args.follow_period <= 100):
         raise ParameterError(f"--follow-period must be a factor between 1 and 100, got "
@@ -116,14 +113,12 @@ def run(args: argparse.Namespace) -> int:
                              f"{args.max_points}")
     spec = model_spec(args)
     model = lookup(spec, ("one",)) if isinstance(spec, str) else spec
-    check(model, params, [name])
+    check(model, params, [name], start=True)
     if args.follow_period is not None and not _homoclinic_possible(model):
         raise ParameterError(f"--follow-period follows a branch to a homoclinic end, and "
                              f"{model.name} has none: its only equilibrium is the origin, "
                              "which is no saddle (F at x' = 0 does not depend on x); drop it")
-    run_params = dict(params) if start is None or name in params else \
-        {**params, name: repr(start)}
-    d = branch_diagram(spec, run_params, name, (lo, hi),
+    d = branch_diagram(spec, params, name, (lo, hi),
                        orders=_orders(args.orders), energy=not args.no_energy,
                        rtol=args.rtol, max_points=args.max_points,
                        follow_period=args.follow_period)
@@ -132,13 +127,13 @@ def run(args: argparse.Namespace) -> int:
         import sys
 
         print(f"kbm branch: note: --follow-period had nothing to follow: no branch of "
-              f"{d.model} ends at a homoclinic orbit in {name} from {vary.start:g} to "
-              f"{vary.stop:g}", file=sys.stderr)
+              f"{d.model} ends at a homoclinic orbit in {name} from {lo:g} to {hi:g}",
+              file=sys.stderr)
     if args.json:
         emit_json(d.to_json())
         return 0
-    print(f"{len(d.branches)} branch(es) of limit cycles of {d.model}, {name} from "
-          f"{vary.start:g} to {vary.stop:g}")
+    print(f"{len(d.branches)} branch(es) of limit cycles of {d.model}, {name} from {lo:g} "
+          f"to {hi:g}")
     for i, b in enumerate(d.branches):
         pts = b.points
         print(f"\nbranch {i}: {len(pts)} points, {b.evaluations} integrations of a period"

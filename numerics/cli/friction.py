@@ -117,6 +117,8 @@ def run(args: argparse.Namespace) -> int:
     if len(varies) > 2:
         raise ParameterError(f"--vary takes at most two axes (a map), got "
                              f"{', '.join(v.name for v in varies)}")
+    if args.out and not {"D", "T"} & (set(params) | {v.name for v in varies}):
+        _check_figures([v.name for v in varies], args.against)  # before the names' checks
     models = (args.model,) + ((args.against,) if args.against else ())
     names = check(models, params, [v.name for v in varies], extra=("v",), noise=True)
     axes = {v.name: v.values() for v in varies}
@@ -135,8 +137,6 @@ def run(args: argparse.Namespace) -> int:
     from numerics.cli._thermal_friction import run_thermal, wanted
 
     noisy = wanted(fixed, axes)
-    if args.out and not noisy:
-        _check_figures(list(axes), args.against)
     size = int(np.prod([len(v) for v in axes.values()]))
     if size > MAX_POINTS:
         raise ParameterError(f"the grid has {size} points; the limit is {MAX_POINTS}")

@@ -84,17 +84,13 @@ def register(sub) -> None:
 
 
 def _vary(text: str) -> tuple[float, float, int | None]:
-    """``sigma=FROM:TO[:N]`` -> ``(lo, hi, N)``, the interval sorted, ``N`` None when not
-    given (a response curve is the same whichever way the range is typed)."""
-    _, lo, hi, n, _ = _vary_named(text, "sigma")
-    return lo, hi, n
+    """``sigma=FROM:TO[:N]`` -> ``(FROM, TO, N)``, ``N`` None when not given."""
+    return _vary_named(text, "sigma")[1:]
 
 
-def _vary_named(text: str, allowed: str | None = None
-                ) -> tuple[str, float, float, int | None, float | None]:
-    """``NAME=FROM:TO[:N]`` -> ``(NAME, lo, hi, N, start)`` by the grammar of
-    :func:`numerics.cli._params.parse_vary`: ``start`` is FROM where the range runs
-    downwards (a continuation starts there); ``allowed``: the only name taken."""
+def _vary_named(text: str, allowed: str | None = None) -> tuple[str, float, float, int | None]:
+    """``NAME=FROM:TO[:N]`` -> ``(NAME, FROM, TO, N)`` by the grammar of
+    :func:`numerics.cli._params.parse_vary`; ``allowed``: the only name taken."""
     from kbm.errors import ParameterError
     from numerics.cli._params import parse_vary
 
@@ -102,8 +98,8 @@ def _vary_named(text: str, allowed: str | None = None
     if allowed is not None and v.name != allowed:
         raise ParameterError(f"kbm response varies the detuning: --vary {allowed}=FROM:TO[:N], "
                              f"not {v.name!r}")
-    lo, hi, start = v.continuation("a response curve", points=True)
-    return v.name, lo, hi, v.count, start
+    lo, hi = v.interval("a response curve", points=True)
+    return v.name, lo, hi, v.count
 
 
 def forced_model(args: argparse.Namespace):
@@ -187,9 +183,9 @@ def _run_coupled(args: argparse.Namespace) -> int:
         model = coupled_model(args)
     if args.internal:
         model = model.with_internal(args.internal)
-    name, lo, hi, n, start = _vary_named(args.vary)
+    name, lo, hi, n = _vary_named(args.vary)
     args.max_points = n
-    return run_coupled_branch(args, name, lo, hi, "response", model=model, start_at=start)
+    return run_coupled_branch(args, name, lo, hi, "response", model=model)
 
 
 def run(args: argparse.Namespace) -> int:

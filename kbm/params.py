@@ -215,7 +215,8 @@ def to_physical(names: ParameterNames, values: Mapping[str, object]) -> dict[str
         missing = sorted(need - set(values))
         if missing:
             raise ParameterError(f"{key} = {sp.sstr(expr)} needs {', '.join(missing)} to "
-                                 f"give {phys.name}")
+                                 f"give {phys.name}: give "
+                                 + " and ".join(f"-p {m}=VALUE" for m in missing))
         (sol,) = sp.solve(sp.Eq(expr, sp.Symbol("_value")), phys)
         env = {sp.Symbol(n): parameter_value(n, values[n]) for n in need}
         env[sp.Symbol("_value")] = parameter_value(key, raw)

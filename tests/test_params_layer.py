@@ -73,6 +73,18 @@ def test_scaled_delta_gives_the_prandtl_tomlinson_eta(capsys):
     assert scaled["mean_force"] == physical["mean_force"]
 
 
+def test_slide_takes_the_scaled_names(capsys):
+    """kbm slide with -p delta=30 (a KeyError traceback before) is the run with Delta = 3 at
+    mu = 0.1, byte for byte; without mu the conversion asks for it."""
+    base = ["slide", "cdc", "-p", "mu=0.1", "-p", "v=0.1", "--t-end", "10", "--json"]
+    assert main([*base, "-p", "delta=30"]) == 0
+    scaled = capsys.readouterr().out
+    assert main([*base, "-p", "Delta=3"]) == 0
+    assert scaled == capsys.readouterr().out
+    assert main(["slide", "cdc", "-p", "delta=30", "-p", "v=0.1", "--t-end", "10"]) == 2
+    assert "-p mu=VALUE" in _err(capsys)
+
+
 @given(st.fractions(min_value=1, max_value=100), st.fractions(min_value=1, max_value=50),
        st.fractions(min_value="1/100", max_value=1))
 @settings(max_examples=15, deadline=None)

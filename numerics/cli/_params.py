@@ -264,7 +264,7 @@ def physical(names: ParameterNames, params: Mapping[str, object],
     """
     from kbm.params import to_physical
 
-    fixed = {"mu": mu, **params} if "mu" not in axes else dict(params)
+    fixed = {"mu": mu, **params} if "mu" not in axes and mu is not None else dict(params)
     out = {k: v for k, v in to_physical(names, fixed).items()}
     if "mu" not in params and "mu" in out:
         del out["mu"]
@@ -276,6 +276,8 @@ def physical(names: ParameterNames, params: Mapping[str, object],
         if "mu" in axes:
             raise ParameterError(f"{name} = {names.physical[name]} with mu varied: vary the "
                                  f"physical parameter instead")
+        if "mu" not in fixed:
+            raise ParameterError(f"{name} = {names.physical[name]} needs mu: give -p mu=VALUE")
         conv = [to_physical(names, {"mu": fixed["mu"], name: float(x)}) for x in values]
         (phys,) = [k for k in conv[0] if k != "mu"]
         new_axes[phys] = np.array([float(c[phys]) for c in conv])

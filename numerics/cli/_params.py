@@ -143,8 +143,7 @@ def parse_vary(text: str) -> Vary:
         tail = "" if len(parts) == 2 else ":" + parts[2].strip()
         raise ParameterError(f"--vary {text}: an empty range; a range is an interval with "
                              f"FROM < TO in every command: give --vary {name}={parts[1]}:"
-                             f"{parts[0]}{tail} (a branch starts at -p {name}=VALUE, default "
-                             f"FROM; a list {name}=A,B,C keeps its order)")
+                             f"{parts[0]}{tail} (a list {name}=A,B,C keeps the order typed)")
     if log and (lo <= 0 or hi <= 0):
         raise ParameterError(f"--vary {name}: a log range needs FROM, TO > 0, got {spec!r}")
     return Vary(name, text, lo, hi, n, log)
@@ -240,7 +239,8 @@ def open_store(path: str | None, resume: bool, what: str = "run"):
                 others = self._db.execute(count.format("!="), (record.key,)).fetchone()[0]
                 if others:
                     raise StoreError(
-                        f"--resume: {self.path} holds {others} finished chunks of another "
+                        f"--resume: {self.path} holds {others} finished chunk"
+                        f"{'' if others == 1 else 's'} of another "
                         f"{what} (a different model, parameters, grid or settings) and none "
                         f"of this one, so nothing can be resumed; give the same options as "
                         f"the stored {what}, drop --resume to add this one to the file, or "

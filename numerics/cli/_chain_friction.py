@@ -20,11 +20,11 @@ def run_chain(args: argparse.Namespace) -> int:
     from numerics.executor import connect
 
     given_params = given(args.param)
-    names = check(args.model, given_params, [parse_vary(t).name for t in args.vary])
-    axes = [parse_axis(text) for text in args.vary]
-    if len(axes) != 1 or axes[0][0] != "v":
+    if [parse_vary(t).name for t in args.vary] != ["v"]:
         raise ParameterError("a chain's friction law varies the stage velocity only: give one "
                              "--vary v=FROM:TO[:N|:logN]")
+    names = check(args.model, given_params, ["v"])
+    axes = [parse_axis(text) for text in args.vary]
     unused = [flag for flag, on in (("--against", args.against), ("--store", args.store),
                                     ("--netcdf", args.netcdf), ("--out", args.out),
                                     ("--engine scipy", args.engine != "compiled"))

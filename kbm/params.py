@@ -111,10 +111,10 @@ class ParameterNames:
             hint = f" (did you mean {near}?)" if near else ""
             noise = "" if self.noise or name not in NOISE_NAMES else \
                 " (this command has no noise)"
-            what = f"cannot vary {name!r}: " if flag == "--vary" else ""
-            raise ParameterError(f"{what}unknown parameter {name!r} for {self.model}{hint}"
-                                 f"{noise} in {flag} {name}=...; its parameters are "
-                                 f"{self.listing()}")
+            what = (f"cannot vary {name!r}: it is not a parameter of {self.model}"
+                    if flag == "--vary" else f"unknown parameter {name!r} for {self.model}")
+            raise ParameterError(f"{what}{hint}{noise} (in {flag} {name}=...); its parameters "
+                                 f"are {self.listing()}")
 
     def check_both(self, names: Iterable[str]) -> None:
         """Refuse a scaled name given with the physical ones it is computed from

@@ -48,7 +48,7 @@ def test_friction_refuses_unknown_names(bad, near, capsys):
 def test_friction_refuses_unknown_axis(capsys):
     assert main(["friction", "cdc", "-p", "Delta=3", "--vary", "v=0.01",
                  "--vary", "gamma=1,2", "--no-progress"]) == 2
-    assert "unknown parameter 'gamma' for cdc in --vary" in _err(capsys)
+    assert "cannot vary 'gamma': it is not a parameter of cdc" in _err(capsys)
 
 
 # -- item 2: physical and scaled names ---------------------------------------------------

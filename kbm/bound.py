@@ -91,8 +91,15 @@ class BoundModel:
         """Raise :class:`ParameterError` naming what is missing; returns ``self``."""
         miss = self.missing(names)
         if miss:
-            raise ParameterError(f"model {self.name!r} needs values for {', '.join(miss)} "
-                                 f"(e.g. params={{{miss[0]!r}: 0.1}}) for {what}")
+            asked = [_physical_name(self.model, n) for n in miss]
+            forms = [f"{n} = {sp.sstr(sp.sympify(self.model.physical[n]))}" for n in miss
+                     if n in (getattr(self.model, "physical", None) or {})]
+            example = ", ".join(f"{n!r}: 1" if n != "mu" else f"{n!r}: 0.1"
+                                for n in dict.fromkeys(asked))
+            raise ParameterError(f"model {self.name!r} needs values for "
+                                 f"{', '.join(dict.fromkeys(asked))}"
+                                 + f" ({'; '.join(forms + [''])}e.g. params={{{example}}})"
+                                 f" for {what}")
         return self
 
     def subs(self) -> dict[sp.Symbol, sp.Expr]:
@@ -305,6 +312,16 @@ class ParameterLine:
                 raise ParameterError(f"the linear frequency omega0 = {self.base.model.omega0} "
                                      f"of {self.base.name!r} must be > 0, got {w0}")
         return BoundModel(self.base.model, FrozenMap(vals))
+
+
+def _physical_name(model, name: str) -> str:
+    """The physical name a scaled parameter is given by (``delta = Delta/mu`` -> ``Delta``),
+    else the name itself."""
+    expr = (getattr(model, "physical", None) or {}).get(name)
+    if expr is None:
+        return name
+    inputs = sorted(s.name for s in sp.sympify(expr).free_symbols if s.name != "mu")
+    return inputs[0] if len(inputs) == 1 else name
 
 
 def _is_rational(expr: sp.Expr) -> bool:

@@ -167,8 +167,18 @@ def _join_negative_values(argv: Sequence[str]) -> list[str]:
 #: library wording -> command-line wording in error messages (the library names its
 #: arguments, the command line its flags)
 _TRANSLATIONS = (
-    (re.compile(r"params=\{'(\w+)': ([^}]+)\}"), r"--param \1=\2"),
-    (re.compile(r"values=\{'(\w+)': ([^}]+)\}"), r"--param \1=\2"),
+    (re.compile(r"(?:params|values)=\{([^}]+)\}"),
+     lambda m: " ".join(f"--param {k}={v.strip()}" for k, v in
+                        re.findall(r"'(\w+)':\s*([^,]+)", m.group(1)))),
+    (re.compile(r"np\.float64\(([^()]*)\)"), r"\1"),
+    (re.compile(r"\s*\(resume=True\)"), ""),
+    (re.compile(r"make it an axis \(axes=\{'v': \[\.\.\.\]\}\) or fix it"),
+     "give --vary v=... (or -p v=VALUE)"),
+    (re.compile(r"give at least one axis, e\.g\. axes=\{'v': \[0\.01, 0\.1\]\}"),
+     "give at least one --vary, e.g. --vary v=0.01,0.1"),
+    (re.compile(r"raise max_wells or max_periods|raise mu, v or max_wells/max_periods"),
+     "raise mu or v (a run stops after 3000 stage periods lam/v or 30000 natural periods)"),
+    (re.compile(r"\bgive nu0 \("), "give --nu0 NU0 ("),
     (re.compile(r"\bcustom_model\b"), "--rhs EXPR"),
     (re.compile(r"\(x_start\)"), "(--x-start)"),
     (re.compile(r"\bpotential=(\.\.\.)?"), "--potential "),

@@ -56,6 +56,9 @@ def add_model_arguments(parser: argparse.ArgumentParser,
         parser.add_argument("--omega0", default=None,
                             help="linear frequency for --rhs (default 1); comma-separated, one "
                                  "per degree of freedom, for several")
+        parser.add_argument("--nu0", default=None, metavar="NU0",
+                            help="with --rhs holding the forcing angle theta: its frequency "
+                                 "nu = NU0 + mu sigma (theta = nu t)")
         return
     parser.add_argument("--rhs", metavar="EXPR", help="your own F (in x, xdot and parameters) "
                         "instead of a built-in model")
@@ -77,6 +80,9 @@ def check_model_flags(args: argparse.Namespace) -> None:
         raise ModelError("give either a model name or --rhs, not both")
     if not args.model and not rhs:
         raise ModelError("name a model (e.g. vdp) or give --rhs EXPR")
+    if args.model and getattr(args, "nu0", None) is not None:
+        raise ModelError(f"--nu0 applies to --rhs only; the built-in model {args.model!r} "
+                         "has its own forcing frequency")
     if args.model and getattr(args, "omega0", None) is not None:
         raise ModelError(f"--omega0 applies to --rhs only; the built-in model {args.model!r} "
                          "has its own linear frequency (set its parameters with --param)")

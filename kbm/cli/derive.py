@@ -156,11 +156,13 @@ def _run_values(args, model, limit: int) -> int:
 
 def is_coupled(args: argparse.Namespace) -> bool:
     """Whether the command line names a coupled system: several ``--rhs``, several
-    frequencies, ``--internal``, or a coupled built-in."""
+    frequencies, ``--internal``, ``--nu0`` (a forced system in the general form), or a
+    coupled built-in."""
     from ..coupled.builtins import is_coupled_name
 
     rhs = getattr(args, "rhs", None) or []
     return (len(rhs) > 1 or bool(getattr(args, "internal", None))
+            or getattr(args, "nu0", None) is not None
             or (bool(rhs) and "," in str(args.omega0 or ""))
             or is_coupled_name(args.model))
 
@@ -172,7 +174,7 @@ def coupled_model(args: argparse.Namespace):
 
     check_model_flags(args)
     if args.rhs:
-        return coupled_custom(args.rhs, args.omega0)
+        return coupled_custom(args.rhs, args.omega0, nu0=getattr(args, "nu0", None))
     return get_coupled_model(args.model)
 
 

@@ -5,19 +5,26 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import emit_json, parse_params
+from kbm.cli._common import emit_json
+
+#: a mean force per slider below this fraction of the potential's amplitude Delta is
+#: called near zero in the note under the table
+NEAR_ZERO = 0.05
 
 
 def run_chain(args: argparse.Namespace) -> int:
     from kbm.errors import ParameterError
     from numerics.cli._axes import parse_axis
+    from numerics.cli._params import check, given, parse_vary
     from numerics.coupled.friction import chain_friction_law
     from numerics.executor import connect
 
-    axes = [parse_axis(text) for text in args.vary]
-    if len(axes) != 1 or axes[0][0] != "v":
+    given_params = given(args.param)
+    if [parse_vary(t).name for t in args.vary] != ["v"]:
         raise ParameterError("a chain's friction law varies the stage velocity only: give one "
                              "--vary v=FROM:TO[:N|:logN]")
+    names = check(args.model, given_params, ["v"])
+    axes = [parse_axis(text) for text in args.vary]
     unused = [flag for flag, on in (("--against", args.against), ("--store", args.store),
                                     ("--netcdf", args.netcdf), ("--out", args.out),
                                     ("--engine scipy", args.engine != "compiled"))
@@ -29,7 +36,10 @@ def run_chain(args: argparse.Namespace) -> int:
         raise ParameterError(f"--workers must be between 1 and 1024, got {args.workers}")
     if args.seed < 0:
         raise ParameterError(f"--seed must be >= 0, got {args.seed}")
-    params = {"mu": "0.1", **parse_params(args.param)}
+    if "v" in given_params:
+        raise ParameterError("a chain's friction law varies the stage velocity: give it as "
+                             "--vary v=..., not -p v")
+    params = {"mu": "0.1", **given_params}
     client = connect(args.scheduler, args.scheduler_timeout) if args.scheduler else None
     try:
         points = chain_friction_law(args.model, params, axes[0][1], seed=args.seed,
@@ -43,13 +53,41 @@ def run_chain(args: argparse.Namespace) -> int:
                    "points": [p.to_json() for p in points]})
         return 0
     first = points[0]
-    print(f"{first.model}: friction per slider; " + ", ".join(
-        f"{k} = {v:g}" for k, v in first.params.items() if k != "v"))
+    shown = _physical_header(names, first.params, given_params)
+    print(f"{first.model}: friction per slider; {shown}")
     print(f"{'v':>10s} {'mean F':>12s} {'spread':>10s} {'wells':>6s} steady")
     for p in points:
         if p.error:
             print(f"{p.v:10.4g} {'':>12s} {'':>10s} {'':>6s} {p.error}")
         else:
+            why = "" if p.steady else (
+                f" (the halves of the last window of {p.wells} stage periods gave "
+                f"{p.halves[0]:.6g} and {p.halves[1]:.6g}: they differ by more than 1 % "
+                "(0.01 below a force of 1) in the longest window the run makes)")
             print(f"{p.v:10.4g} {p.mean_force:12.6g} {p.spread:10.3g} {p.wells:6d} "
-                  f"{'yes' if p.steady else 'no'}")
+                  f"{'yes' if p.steady else 'no'}{why}")
+    Delta = first.params["delta"] * first.params["mu"]
+    low = [p for p in points if not p.error and p.mean_force < NEAR_ZERO * Delta]
+    if low:
+        print(f"note: at {len(low)} of {len(points)} velocities the mean force per slider is "
+              f"near zero (below {NEAR_ZERO:g} Delta) or negative: each slider's "
+              "self-excitation (negative damping inside |x_i - v t| < 1/sqrt(beta)) pushes "
+              "it ahead of the stage, so the chain feeds the stage instead of resisting it; "
+              "the springs mu*kappa between neighbours keep the sliders out of step "
+              "(spread), where one slider alone would stick and slip (docs/coupled.rst, friction of "
+              "pulled chains)")
     return 0
+
+
+def _physical_header(names, values: dict, typed: dict) -> str:
+    """The chain's parameters in the physical names the user typed (``Delta = 3, lam = 1``
+    for ``delta = 30, k = 2 pi``), then the others, the stage velocity left out."""
+    from kbm.params import to_physical
+
+    vals = {k: v for k, v in values.items() if k != "v"}
+    scaled = [k for k in names.physical if k in vals and k not in typed]
+    shown = to_physical(names, {"mu": vals["mu"], **{k: vals[k] for k in scaled}})
+    out = {"mu": vals["mu"], **{k: float(v) for k, v in shown.items() if k != "mu"}}
+    out.update({k: v for k, v in vals.items() if k not in names.physical and k != "mu"})
+    out.update({k: v for k, v in vals.items() if k in typed})
+    return ", ".join(f"{k} = {float(v):g}" for k, v in out.items())

@@ -28,7 +28,7 @@ def _start(text: str | None, dof: int):
 def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float,
                        what: str, model=None) -> int:
     """Continue the periodic orbits of the command line's coupled system (or ``model``) in
-    ``name``."""
+    ``name`` over ``[lo, hi]`` (from ``-p NAME=VALUE`` if given, else from ``lo``)."""
     from kbm.cli.derive import coupled_model
     from kbm.errors import ParameterError
     from numerics.coupled.continuation import continue_coupled
@@ -38,6 +38,9 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
         raise ParameterError(f"{model.name!r} has no forcing (theta); its branches of cycles "
                              "are kbm branch")
     given = parse_params(args.param)
+    from numerics.cli._params import check
+
+    check(model, given, [name], start=True)
     start = _start(getattr(args, "start", None), model.dof)
     max_points = getattr(args, "max_points", None) or 200
     if not 2 <= max_points <= 100000:
@@ -45,8 +48,8 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
     rtol = max(getattr(args, "rtol", 1e-11) or 1e-11, 1e-13)
     if not rtol <= 1e-5:
         raise ParameterError(f"--rtol must be between 1e-13 and 1e-5, got {rtol}")
-    br = continue_coupled(model, given, name, (lo, hi), start=start, max_points=max_points,
-                          rtol=rtol)
+    br = continue_coupled(model, given, name, (lo, hi), start=start,
+                          max_points=max_points, rtol=rtol)
     if args.json:
         emit_json({**br.to_json(), "params_given": given})
         return 0

@@ -5,8 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from kbm.cli._common import (add_model_arguments, add_param_option, emit_json, model_spec,
-                             parse_params)
+from kbm.cli._common import add_model_arguments, add_param_option, emit_json, model_spec
 
 
 def register(sub) -> None:
@@ -42,17 +41,12 @@ def register(sub) -> None:
 
 
 def _vary(text: str) -> tuple[str, float, float]:
-    from kbm.errors import ParameterError
+    """``NAME=FROM:TO`` as typed (:func:`numerics.cli._params.parse_vary`)."""
+    from numerics.cli._params import parse_vary
 
-    name, sep, rng = text.partition("=")
-    lo, sep2, hi = rng.partition(":")
-    try:
-        if not (sep and sep2 and name.strip()):
-            raise ValueError
-        return name.strip(), float(lo), float(hi)
-    except ValueError:
-        raise ParameterError(f"--vary takes NAME=FROM:TO (e.g. Delta=0:4), got {text!r}") \
-            from None
+    v = parse_vary(text)
+    a, b = v.interval("a branch", points=False)
+    return v.name, a, b
 
 
 def _orders(text: str) -> list[int]:
@@ -69,20 +63,42 @@ def _orders(text: str) -> list[int]:
     return out
 
 
+def _homoclinic_possible(model) -> bool:
+    """Whether a branch of ``model`` can end at a homoclinic orbit: that needs a saddle,
+    an equilibrium ``x'' = 0`` at ``x' = 0`` besides the origin.  Where ``F(x, 0)`` does not
+    depend on ``x`` (van der Pol, Rayleigh: the force at rest is ``-omega0^2 x`` alone), the
+    origin is the only equilibrium, for every parameter value, and it is no saddle."""
+    from kbm.symbols import x, xdot
+
+    return x in model.F.subs(xdot, 0).free_symbols
+
+
 def run(args: argparse.Namespace) -> int:
     from kbm.errors import ParameterError
+    from kbm.params import lookup
+    from numerics.cli._params import check, given, parse_vary
     from numerics.comparison.diagram import branch_diagram
 
-    from kbm.cli.derive import is_coupled
+    from kbm.cli.derive import coupled_model, is_coupled
 
-    name, lo, hi = _vary(args.vary)
+    vary = parse_vary(args.vary)
+    lo, hi = vary.interval("a branch", points=False)
+    name = vary.name
+    params = given(args.param)
+    if args.model and not args.rhs:
+        lookup(args.model, ("one", "coupled"), rhs=True)
     if is_coupled(args):
         from numerics.cli._coupled_branch import run_coupled_branch
 
         if args.orders != "1" or args.no_energy:
             raise ParameterError("--orders and --no-energy are for one degree of freedom; a "
                                  "coupled branch is the true one (compare kbm derive, kbm lock)")
-        return run_coupled_branch(args, name, lo, hi, "branch")
+        if args.follow_period is not None:
+            raise ParameterError("--follow-period follows a homoclinic end of a branch of one "
+                                 "degree of freedom; the coupled continuation locates no "
+                                 "homoclinic ends, so there is nothing to follow: drop it")
+        model = coupled_model(args)
+        return run_coupled_branch(args, name, lo, hi, "branch", model=model)
     if args.follow_period is not None and not (math.isfinite(args.follow_period)
                                                and 1 < args.follow_period <= 100):
         raise ParameterError(f"--follow-period must be a factor between 1 and 100, got "
@@ -95,10 +111,24 @@ def run(args: argparse.Namespace) -> int:
     if not 2 <= args.max_points <= 100000:
         raise ParameterError(f"--max-points must be between 2 and 100000, got "
                              f"{args.max_points}")
-    d = branch_diagram(model_spec(args), parse_params(args.param), name, (lo, hi),
+    spec = model_spec(args)
+    model = lookup(spec, ("one",)) if isinstance(spec, str) else spec
+    check(model, params, [name], start=True)
+    if args.follow_period is not None and not _homoclinic_possible(model):
+        raise ParameterError(f"--follow-period follows a branch to a homoclinic end, and "
+                             f"{model.name} has none: its only equilibrium is the origin, "
+                             "which is no saddle (F at x' = 0 does not depend on x); drop it")
+    d = branch_diagram(spec, params, name, (lo, hi),
                        orders=_orders(args.orders), energy=not args.no_energy,
                        rtol=args.rtol, max_points=args.max_points,
                        follow_period=args.follow_period)
+    followed = any(s.kind == "homoclinic" for b in d.branches for s in b.special)
+    if args.follow_period is not None and not followed:
+        import sys
+
+        print(f"kbm branch: note: --follow-period had nothing to follow: no branch of "
+              f"{d.model} ends at a homoclinic orbit in {name} from {lo:g} to {hi:g}",
+              file=sys.stderr)
     if args.json:
         emit_json(d.to_json())
         return 0

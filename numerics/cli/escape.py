@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from kbm.cli._common import add_param_option, emit_json, parse_params
+from kbm.cli._common import add_param_option, emit_json
 
 
 def register(sub) -> None:
@@ -18,7 +18,8 @@ def register(sub) -> None:
                     "--budget steps the simulation is refused with the estimate and the "
                     "averaged answer is given alone.")
     p.add_argument("model", help="an autonomous model with a well at the origin bounded by "
-                                 "saddles (cdc, sedf at v = 0)")
+                                 "saddles (cdc, sedf at v = 0); the noise as -p D=VALUE or as "
+                                 "the temperature -p T=VALUE (T = kT = D/mu)")
     add_param_option(p)
     p.add_argument("--trajectories", type=int, default=200, metavar="N",
                    help="simulated trajectories (default 200; at least 20)")
@@ -42,12 +43,23 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
+    from kbm.errors import ModelError
+    from kbm.params import names_of
+    from numerics.cli._params import noisy_model
     from numerics.escape.report import escape_report
 
-    params = parse_params(args.param)
-    rep = escape_report(args.model, params, trajectories=args.trajectories, t_end=args.t_end,
-                        dt=args.dt, seed=args.seed, budget=args.budget,
-                        simulate=not args.no_simulation, method=args.method)
+    params, _ = noisy_model(args.model, args.param)
+    try:
+        rep = escape_report(args.model, params, trajectories=args.trajectories,
+                            t_end=args.t_end, dt=args.dt, seed=args.seed, budget=args.budget,
+                            simulate=not args.no_simulation, method=args.method)
+    except ModelError as exc:
+        if "Delta" in names_of(args.model).valid or "(e.g. a larger Delta)" not in str(exc):
+            raise
+        raise ModelError(str(exc).replace(
+            "choose parameters with side wells (e.g. a larger Delta)",
+            f"choose parameters of {args.model} whose potential has a barrier, or a model "
+            "with side wells (cdc, or sedf at v = 0, with Delta large enough)")) from None
     if args.json:
         emit_json(rep)
         return 0

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from kbm.cli._common import add_param_option, emit_json, parse_params
+from kbm.cli._common import add_param_option, emit_json
 from numerics.cli._axes import MAX_POINTS, parse_axis
 
 __all__ = ["register", "run", "parse_axis", "MAX_POINTS"]
@@ -91,46 +91,61 @@ def _save_netcdf(path: str, first, second) -> None:
     print(f"wrote {path}", file=sys.stderr)
 
 
+SLIDERS = ("sedf_comoving", "cdc", "sedf")
+
+
 def run(args: argparse.Namespace) -> int:
-    from kbm.errors import ParameterError
+    from kbm.errors import ModelError, ParameterError
     from kbm.models import parameter_value
+    from kbm.params import closest
+    from numerics.cli._params import check, given, open_store, parse_vary, physical
     from numerics.executor import connect
     from numerics.sliding.friction import FrictionSettings
-    from numerics.sliding.maps import friction_map
-    from numerics.store import PointStore
+    from numerics.sliding.maps import axis_values, friction_map
 
     if args.model.startswith(("sedf-dimer", "sedf-chain")):
         from numerics.cli._chain_friction import run_chain
 
         return run_chain(args)
-    if args.model not in ("sedf_comoving", "cdc", "sedf"):
-        raise ParameterError(f"unknown slider {args.model!r}: sedf_comoving, cdc, sedf, or a "
-                             "chain sedf-dimer, sedf-chain-N")
-
-    axes: dict[str, np.ndarray] = {}
-    for text in args.vary:
-        name, values = parse_axis(text)
-        if name in axes:
-            raise ParameterError(f"--vary {name} is given twice")
-        axes[name] = values
-    if len(axes) > 2:
-        raise ParameterError(f"--vary takes at most two axes (a map), got {', '.join(axes)}")
+    if args.model not in SLIDERS:
+        near = closest(args.model, SLIDERS + ("sedf-dimer", "sedf-chain-8"))
+        raise ModelError(f"unknown slider {args.model!r}"
+                         + (f" (did you mean {near}?)" if near else "")
+                         + ": sedf_comoving, cdc, sedf, or a chain sedf-dimer, sedf-chain-N")
+    params = given(args.param)
+    varies = [parse_vary(text) for text in args.vary]
+    if len(varies) > 2:
+        raise ParameterError(f"--vary takes at most two axes (a map), got "
+                             f"{', '.join(v.name for v in varies)}")
+    if args.out and not {"D", "T"} & (set(params) | {v.name for v in varies}):
+        _check_figures([v.name for v in varies], args.against)  # before the names' checks
+    models = (args.model,) + ((args.against,) if args.against else ())
+    names = check(models, params, [v.name for v in varies], extra=("v",), noise=True)
+    axes = {v.name: v.values() for v in varies}
+    for name in ("T", "D"):  # named as typed (T = D/mu is converted later)
+        values = list(axes.get(name, ()))
+        if name in params:
+            values.append(float(parameter_value(name, params[name])))
+        bad = [x for x in values if x < 0]
+        if bad:
+            what = "the temperature kT = D/mu" if name == "T" else \
+                "the noise intensity of sqrt(2 D) xi"
+            raise ParameterError(f"{name} = {bad[0]:g} is negative; {what} must be >= 0 "
+                                 f"({name} = 0 is the deterministic slider)")
+    fixed, axes = physical(names, params, axes, "0.1")
+    axes = {k: axis_values(k, v) for k, v in axes.items()}
     from numerics.cli._thermal_friction import run_thermal, wanted
 
-    noisy = wanted(parse_params(args.param), axes)
-    if args.out and not noisy:
-        _check_figures(list(axes), args.against)
+    noisy = wanted(fixed, axes)
     size = int(np.prod([len(v) for v in axes.values()]))
     if size > MAX_POINTS:
         raise ParameterError(f"the grid has {size} points; the limit is {MAX_POINTS}")
-    params = {k: float(parameter_value(k, v)) for k, v in parse_params(args.param).items()}
+    params = {k: float(parameter_value(k, v)) for k, v in fixed.items()}
     params = {"mu": 0.1, "lam": 1.0, "Omega": 1.0, **params}
     settings = FrictionSettings(slips=args.slips)
     if args.workers is not None and not 1 <= args.workers <= 1024:
         raise ParameterError(f"--workers must be between 1 and 1024, got {args.workers}")
-    if args.resume and not args.store:
-        raise ParameterError("--resume continues a map kept by --store FILE: give the file")
-    store = PointStore(args.store, resume=args.resume) if args.store else None
+    store = open_store(args.store, args.resume, "map")
     client = connect(args.scheduler, args.scheduler_timeout) if args.scheduler else None
     kw = dict(settings=settings, engine=args.engine, executor=client, workers=args.workers,
               progress=not args.no_progress and not args.json, store=store)
@@ -175,6 +190,8 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _print(m) -> None:
+    from kbm.cli import cli_message
+
     names = list(m.axes)
     print(f"{m.model}: " + ", ".join(f"{k} = {v:g}" for k, v in m.params.items()))
     head = "".join(f"{n:>10s}" for n in names)
@@ -183,13 +200,13 @@ def _print(m) -> None:
     for p in m.points:
         vals = "".join(f"{p.params[n]:10.4g}" for n in names)
         if not p.ok:
-            print(f"{vals}  failed: {p.error}")
+            print(f"{vals}  failed: {cli_message(p.error)}")
             continue
         print(f"{vals} {p.regime:>24s} {p.mean_force:10.5g} {p.dissipation_per_distance:10.5g} "
               f"{p.static_force:9.4g} {p.stuck_fraction:6.3f} {p.wells_per_slip:6.3g} "
               f"{p.eta:6.3g} {'yes' if p.steady else 'no'}")
         if p.note:
-            print(f"{'':{10 * len(names)}s}  ({p.note})")
+            print(f"{'':{10 * len(names)}s}  ({cli_message(p.note)})")
 
 
 def _figures(first, second, out: Path) -> list[Path]:

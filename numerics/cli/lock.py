@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_model_arguments, add_param_option, emit_json, parse_params
+from kbm.cli._common import add_model_arguments, add_param_option, emit_json
+
+#: the names a coupling parameter goes by (the others varied are detunings)
+COUPLINGS = ("c", "k", "kappa")
 
 
 def register(sub) -> None:
@@ -22,8 +25,9 @@ def register(sub) -> None:
     add_param_option(p)
     p.add_argument("--vary", action="append", required=True, metavar="NAME=FROM:TO",
                    help="the detuning and the interval its edges are looked for in (e.g. "
-                        "--vary sigma=-1:1); a second --vary gives the coupling's range "
-                        "(e.g. --vary c=0.05:0.5), else the coupling is the -p value")
+                        "--vary sigma=-1:1); a second --vary gives the coupling's values "
+                        "(c=0.05:0.5 for --points values, c=0.05:0.5:N, or c=0.1,0.2,0.4), "
+                        "else the coupling is the -p value")
     p.add_argument("--order", "-n", type=int, default=None,
                    help="highest averaged order (default 2, or 1 for F not polynomial; "
                         "orders 1..N are given)")
@@ -36,18 +40,24 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def _vary(text: str) -> tuple[str, float, float]:
-    """``NAME=FROM:TO`` read as ``kbm branch`` reads it, with ``FROM < TO`` finite."""
-    import math
-
+def _split(varies, model) -> tuple:
+    """``(detuning, coupling or None)`` among the ``--vary`` (in either order): the
+    coupling is the one named c, k or kappa."""
     from kbm.errors import ParameterError
-    from numerics.cli.branch import _vary as read
 
-    name, a, b = read(text)
-    if not (math.isfinite(a) and math.isfinite(b)) or a >= b:
-        raise ParameterError(f"--vary takes NAME=FROM:TO with FROM < TO finite (e.g. "
-                             f"sigma=-1:1), got {text!r}")
-    return name, a, b
+    couplings = [v for v in varies if v.name in COUPLINGS]
+    detunings = [v for v in varies if v.name not in COUPLINGS]
+    if not detunings:
+        det = next((p for p in model.parameters if p not in COUPLINGS), "sigma")
+        raise ParameterError(f"kbm lock looks for the edges of the locking region in a "
+                             f"detuning: give its interval, --vary {det}=FROM:TO (e.g. "
+                             f"{det}=-1:1)" + (f", with --vary {couplings[0].text} for the "
+                                               f"coupling's values" if couplings else ""))
+    if len(detunings) > 1 or len(couplings) > 1:
+        raise ParameterError("give one --vary for the detuning (its interval) and at most one "
+                             f"for the coupling ({', '.join(COUPLINGS)}); got "
+                             f"{', '.join(v.name for v in varies)}")
+    return detunings[0], (couplings[0] if couplings else None)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -72,19 +82,21 @@ def run(args: argparse.Namespace) -> int:
         raise ParameterError(f"--points must be 2 to 200, got {args.points}")
     if not 1e-12 <= args.tol <= 1e-2:
         raise ParameterError(f"--tol must be between 1e-12 and 1e-2, got {args.tol}")
-    params = parse_params(args.param)
-    det = _vary(args.vary[0])
+    from numerics.cli._params import check, given, parse_vary
+
+    params = given(args.param)
+    varies = [parse_vary(text) for text in args.vary]
+    check(model, params, [v.name for v in varies])
+    dv, cv = _split(varies, model)
+    dv.interval("the search for the edges", points=False)
+    if dv.name == "mu":
+        raise ParameterError("mu is the small parameter, not a detuning: vary the detuning "
+                             "(e.g. --vary sigma=-1:1) and give -p mu=VALUE")
+    det = (dv.name, *dv.bounds())
     coupling = None
-    if len(args.vary) == 2:
-        cname, clo, chi = _vary(args.vary[1])
-        if cname in params:
-            raise ParameterError(f"{cname} is both varied and given with -p; give one")
-        coupling = (cname, [float(f"{v:.12g}") for v in np.linspace(clo, chi, args.points)])
-    if det[0] in params:
-        raise ParameterError(f"{det[0]} is both varied and given with -p; give one")
-    if det[0] not in model.parameters:
-        raise ParameterError(f"{det[0]!r} is not a parameter of {model.name!r} (its "
-                             f"parameters: {', '.join(model.parameters)})")
+    if cv is not None:
+        values = cv.values(default=args.points)
+        coupling = (cv.name, [float(f"{v:.12g}") for v in values])
     region = locking_region(model, params, det, coupling, tuple(range(1, args.order + 1)),
                             args.tol)
     data = {**region.to_json(), "params_given": params}
@@ -97,7 +109,11 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         emit_json(data)
         return 0
-    print(f"locking region of {region.model} ({', '.join(f'{k}={v:g}' for k, v in region.params.items())})")
+    shown = [f"{k}={v:g}" for k, v in region.params.items() if k != (coupling or ("",))[0]]
+    if coupling is not None:
+        cs = coupling[1]
+        shown.append(f"{coupling[0]} from {cs[0]:g} to {cs[-1]:g}, {len(cs)} values")
+    print(f"locking region of {region.model} ({', '.join(shown)})")
     print(f"edges in {region.detuning}:")
     for cv in sorted({c for c, _ in region.true} | {c for pts in region.averaged.values()
                                                      for c, _ in pts}):

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from kbm.cli._common import add_param_option, emit_json, parse_params
+from kbm.cli._common import add_param_option, emit_json
 
 
 def register(sub) -> None:
@@ -20,7 +20,8 @@ def register(sub) -> None:
                     "trajectory spawned from --seed) with standard errors.  A linearly damped "
                     "model also gets the exact Boltzmann <x^2>.")
     p.add_argument("model", help="a built-in model (vdp, duffing, rayleigh, linear_damping, "
-                                 "cdc, sedf, sedf_comoving)")
+                                 "cdc, sedf, sedf_comoving); the noise as -p D=VALUE or as the "
+                                 "temperature -p T=VALUE (T = kT = D/mu)")
     add_param_option(p)
     p.add_argument("--trajectories", type=int, default=100, metavar="N",
                    help="independent trajectories (default 100; at least 8)")
@@ -68,23 +69,28 @@ def _num(value, fmt="#.6g") -> str:
     return "--" if value is None else format(value, fmt)
 
 
+def params_T(items) -> str:
+    """The temperature ``T`` as typed (``-p T=VALUE``)."""
+    from numerics.cli._params import given
+
+    return given(items)["T"]
+
+
 def run(args) -> int:
     from kbm.errors import ParameterError
     from numerics.thermal.stationary import noise_report
 
     if args.seed < 0:
         raise ParameterError(f"--seed must be >= 0, got {args.seed}")
-    params = parse_params(args.param)
-    if args.resume and not args.store:
-        raise ParameterError("--resume continues a run kept by --store FILE: give the file")
+    from numerics.cli._params import noisy_model, open_store
+
+    params, noise = noisy_model(args.model, args.param)
     figure = None
     if args.out:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
         figure = out / f"noise-{args.model}.png"
-    from numerics.store import PointStore
-
-    store = PointStore(args.store, resume=args.resume) if args.store else None
+    store = open_store(args.store, args.resume)
     try:
         rep = noise_report(args.model, params, trajectories=args.trajectories,
                            t_end=args.t_end, burn_in=args.burn_in, dt=args.dt, seed=args.seed,
@@ -102,7 +108,8 @@ def run(args) -> int:
     if args.json:
         emit_json(rep)
         return 0
-    print(f"stationary state of {args.model} with noise sqrt(2 D) xi, D = {rep['D']:g}")
+    temp = f" (T = D/mu = {float(params_T(args.param)):g})" if noise == "T" else ""
+    print(f"stationary state of {args.model} with noise sqrt(2 D) xi, D = {rep['D']:g}{temp}")
     print(f"  averaging: {rep['method'] or '-- (' + rep['message'] + ')'}"
           + (f", order {rep['averaged_order']}" if rep.get("averaged_order") else ""))
     # the burn-in is a whole number of steps (numerics.thermal.stationary.default_times)

@@ -89,23 +89,17 @@ def _vary(text: str) -> tuple[float, float, int | None]:
 
 
 def _vary_named(text: str, allowed: str | None = None) -> tuple[str, float, float, int | None]:
-    """``NAME=FROM:TO[:N]`` -> ``(NAME, FROM, TO, N)``; ``allowed``: the only name taken."""
+    """``NAME=FROM:TO[:N]`` -> ``(NAME, FROM, TO, N)`` by the grammar of
+    :func:`numerics.cli._params.parse_vary`; ``allowed``: the only name taken."""
     from kbm.errors import ParameterError
+    from numerics.cli._params import parse_vary
 
-    name, sep, rng = text.partition("=")
-    parts = rng.split(":")
-    if allowed is not None and name.strip() != allowed and sep:
+    v = parse_vary(text)
+    if allowed is not None and v.name != allowed:
         raise ParameterError(f"kbm response varies the detuning: --vary {allowed}=FROM:TO[:N], "
-                             f"not {name.strip()!r}")
-    try:
-        if not sep or not name.strip() or len(parts) not in (2, 3):
-            raise ValueError
-        lo, hi = float(parts[0]), float(parts[1])
-        n = int(parts[2]) if len(parts) == 3 else None
-    except ValueError:
-        raise ParameterError(f"--vary takes {allowed or 'NAME'}=FROM:TO[:N] (e.g. "
-                             f"{allowed or 'sigma'}=-1:3:400), got {text!r}") from None
-    return name.strip(), lo, hi, n
+                             f"not {v.name!r}")
+    lo, hi = v.interval("a response curve", points=True)
+    return v.name, lo, hi, v.count
 
 
 def forced_model(args: argparse.Namespace):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_param_option, emit_json, parse_params
+from kbm.cli._common import add_param_option, emit_json
 
 
 def register(sub) -> None:
@@ -29,7 +29,12 @@ def run(args: argparse.Namespace) -> int:
 
     from kbm.models import parameter_value
 
-    params = {k: float(parameter_value(k, v)) for k, v in parse_params(args.param).items()}
+    from numerics.cli._params import check, given, physical
+
+    typed = given(args.param)
+    names = check(args.model, typed, extra=("v",))
+    fixed, _ = physical(names, typed, {}, None)
+    params = {k: float(parameter_value(k, v)) for k, v in fixed.items()}
     res = slide(args.model, params, args.t_end, rtol=args.rtol)
     a = analyze(res)
     data = a.to_json()

@@ -1,0 +1,291 @@
+"""The one parameter and option layer (issue 35, items 1, 2, 3, 5, 6; issue 40, items 1, 2, 5,
+6, 7, 8): every command reads ``-p`` and ``--vary`` through :mod:`numerics.cli._params` and
+:mod:`kbm.params`, refuses unknown names with the valid ones listed, converts the paper's
+physical parameters to the scaled ones and back (eqs. 3 and 12: ``delta = Delta/mu``,
+``k = 2 pi/lam``), takes ``D`` or ``T = D/mu`` wherever noise applies, and speaks in
+command-line terms.  Each test is the command as a user types it."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from kbm.errors import ParameterError
+from kbm.params import names_of, noise_from, to_physical
+from numerics.cli import main
+from numerics.cli._params import parse_vary
+
+VALID = ("mu", "Delta", "lam", "delta", "k", "Omega", "D", "T")
+
+
+def _err(capsys) -> str:
+    out = capsys.readouterr()
+    lines = out.err.strip().splitlines()
+    assert len(lines) == 1, out.err
+    return lines[0]
+
+
+# -- issue 35, item 1: kbm friction refuses unknown names, with the valid ones listed -----
+
+@pytest.mark.parametrize("bad, near", [("Mu=1", "mu"), ("omega=2", "Omega"), ("Beta=1", None),
+                                       ("d=0.01", "D"), ("t=0.01", "T")])
+def test_friction_refuses_unknown_names(bad, near, capsys):
+    assert main(["friction", "cdc", "-p", "Delta=3", "-p", bad, "--vary", "v=0.01,0.1",
+                 "--no-progress"]) == 2
+    err = _err(capsys)
+    name = bad.split("=")[0]
+    assert f"unknown parameter '{name}' for cdc" in err
+    assert all(v in err for v in VALID), err
+    assert (f"did you mean {near}?" in err) if near else "did you mean" not in err
+
+
+def test_friction_refuses_unknown_axis(capsys):
+    assert main(["friction", "cdc", "-p", "Delta=3", "--vary", "v=0.01",
+                 "--vary", "gamma=1,2", "--no-progress"]) == 2
+    assert "cannot vary 'gamma': it is not a parameter of cdc" in _err(capsys)
+
+
+# -- item 2: physical and scaled names ---------------------------------------------------
+
+def test_missing_delta_is_asked_for_in_physical_terms(capsys):
+    assert main(["friction", "cdc", "--vary", "v=1e-3:1:log8", "--no-progress"]) == 2
+    err = _err(capsys)
+    assert "--param Delta=" in err and "delta = Delta/mu" in err
+    assert "--param delta=" not in err and "params=" not in err
+
+
+def test_scaled_delta_gives_the_prandtl_tomlinson_eta(capsys):
+    """``-p delta=30`` at the default mu = 0.1 is Delta = 3: eta = 2 pi Delta/(Omega^2 lam)
+    = 6 pi = 18.85 (not 0), and the same forces as ``-p Delta=3``."""
+    argv = ["friction", "cdc", "--vary", "v=0.01", "--json", "--no-progress"]
+    assert main([*argv, "-p", "delta=30"]) == 0
+    scaled = json.loads(capsys.readouterr().out)
+    assert main([*argv, "-p", "Delta=3"]) == 0
+    physical = json.loads(capsys.readouterr().out)
+    assert scaled["eta"][0] == pytest.approx(6 * math.pi, rel=1e-12)
+    assert scaled["params"]["Delta"] == 3.0 and "delta" not in scaled["params"]
+    assert scaled["mean_force"] == physical["mean_force"]
+
+
+def test_slide_takes_the_scaled_names(capsys):
+    """kbm slide with -p delta=30 (a KeyError traceback before) is the run with Delta = 3 at
+    mu = 0.1, byte for byte; without mu the conversion asks for it."""
+    base = ["slide", "cdc", "-p", "mu=0.1", "-p", "v=0.1", "--t-end", "10", "--json"]
+    assert main([*base, "-p", "delta=30"]) == 0
+    scaled = capsys.readouterr().out
+    assert main([*base, "-p", "Delta=3"]) == 0
+    assert scaled == capsys.readouterr().out
+    assert main(["slide", "cdc", "-p", "delta=30", "-p", "v=0.1", "--t-end", "10"]) == 2
+    assert "-p mu=VALUE" in _err(capsys)
+
+
+@given(st.fractions(min_value=1, max_value=100), st.fractions(min_value=1, max_value=50),
+       st.fractions(min_value="1/100", max_value=1))
+@settings(max_examples=15, deadline=None)
+def test_physical_and_scaled_round_trip(Delta, lam, mu):
+    """resolve (physical -> scaled) and to_physical (scaled -> physical) are inverse, exactly
+    (delta = Delta/mu, k = 2 pi/lam)."""
+    from kbm.models import get_model
+
+    model = get_model("cdc")
+    names = names_of(model)
+    scaled = model.resolve({"mu": str(mu), "Delta": str(Delta), "lam": str(lam)},
+                           use_defaults=False)
+    back = to_physical(names, {"mu": scaled["mu"], "delta": scaled["delta"],
+                               "k": scaled["k"]})
+    assert sp.simplify(back["Delta"] - sp.Rational(Delta)) == 0
+    assert sp.simplify(back["lam"] - sp.Rational(lam)) == 0
+
+
+# -- item 3: T = D/mu wherever noise applies ---------------------------------------------
+
+def test_noise_takes_T_as_D_over_mu(capsys):
+    """``-p T=1`` at mu = 0.1 is D = 0.1: the same report, byte for byte, as ``-p D=0.1``."""
+    base = ["noise", "linear_damping", "-p", "mu=0.1", "-p", "zeta=0.5", "--trajectories", "8",
+            "--t-end", "20",
+            "--burn-in", "2", "--json"]
+    assert main([*base, "-p", "T=1"]) == 0
+    by_T = json.loads(capsys.readouterr().out)
+    assert main([*base, "-p", "D=0.1"]) == 0
+    by_D = json.loads(capsys.readouterr().out)
+    assert by_T["D"] == pytest.approx(0.1, rel=1e-15)
+    assert by_T["moments"] == by_D["moments"]
+
+
+def test_escape_takes_T(capsys):
+    base = ["escape", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "--no-simulation", "--json"]
+    assert main([*base, "-p", "T=1"]) == 0
+    by_T = json.loads(capsys.readouterr().out)
+    assert main([*base, "-p", "D=0.1"]) == 0
+    assert by_T == json.loads(capsys.readouterr().out)
+    assert by_T["kT"] == pytest.approx(1.0, rel=1e-12)
+
+
+def test_noise_lists_D_and_T(capsys):
+    assert main(["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "Tx=1"]) == 2
+    err = _err(capsys)
+    assert "D or T = D/mu" in err
+    assert main(["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "D=0.1",
+                 "-p", "T=1"]) == 2
+    assert "D or as T = D/mu, not both" in _err(capsys)
+    assert main(["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3"]) == 2
+    err = _err(capsys)
+    assert "-p D=VALUE" in err and "-p T=VALUE" in err
+
+
+def test_negative_temperature_is_named_T(capsys):
+    assert main(["friction", "cdc", "-p", "Delta=3", "--vary", "v=0.01",
+                 "--vary", "T=-0.01,0.04", "--no-progress"]) == 2
+    err = _err(capsys)
+    assert "T = -0.01 is negative" in err and "D =" not in err
+
+
+def test_noise_from_converts_T_exactly():
+    rest, D, name = noise_from({"mu": "1/10", "T": "3"})
+    assert (D, name, rest) == (sp.Rational(3, 10), "T", {"mu": "1/10"})
+    with pytest.raises(ParameterError, match="needs mu > 0"):
+        noise_from({"mu": "-1", "T": "1"})
+
+
+# -- item 5: kbm derive --nu0 --------------------------------------------------------------
+
+def test_derive_forced_coupled_system_from_the_command_line(capsys):
+    """A forced coupled system with theta in --rhs derives with --nu0: the JSON equals the
+    Python API's (kbm.coupled.derive_coupled of coupled_custom(..., nu0=1))."""
+    from kbm.coupled import coupled_custom, derive_coupled
+
+    rhs = ["-x1**3 + h*cos(theta) - 2*zeta*xdot1", "-2*zeta*xdot2 - x2**3 + c*x1**3"]
+    internal = ["1:3", "1:1@1,F"]
+    argv = ["derive", "--rhs", rhs[0], "--rhs", rhs[1], "--omega0", "1,3",
+            "--internal", internal[0], "--internal", internal[1], "--order", "2", "--json"]
+    assert main(argv) == 2
+    assert "give --nu0 NU0" in _err(capsys)
+    assert main([*argv, "--nu0", "1"]) == 0
+    cli = json.loads(capsys.readouterr().out)
+    api = derive_coupled(coupled_custom(rhs, "1,3", nu0=1), 2, internal=internal).to_json()
+    assert cli == json.loads(json.dumps(api))
+
+
+# -- item 6 and issue 40, item 8: command-line terms ------------------------------------
+
+def test_no_api_words_in_messages():
+    from kbm.cli import cli_message
+
+    for api in ("the stage velocity v is missing: make it an axis (axes={'v': [...]}) or fix "
+                "it", "pass --resume (resume=True) to continue it",
+                "no steady state within 10 stage periods; raise max_wells or max_periods",
+                "no locked state near [np.float64(2.0), np.float64(2.0)] at c = 0",
+                "needs values for Delta, beta (e.g. params={'Delta': 1, 'beta': 1})"):
+        msg = cli_message(api)
+        for word in ("axes=", "resume=True", "max_wells", "np.float64", "params="):
+            assert word not in msg, msg
+    assert "--param Delta=1 --param beta=1" in cli_message(
+        "(e.g. params={'Delta': 1, 'beta': 1})")
+
+
+def test_unknown_model_lists_every_kind_and_rhs_only_where_taken(capsys):
+    assert main(["branch", "sedf-dimmer", "--vary", "mu=0.1:1"]) == 2
+    err = _err(capsys)
+    assert "did you mean sedf-dimer?" in err and "coupled-vdp" in err and "--rhs" in err
+    assert main(["noise", "vdpp", "-p", "D=0.1"]) == 2
+    err = _err(capsys)
+    assert "did you mean vdp?" in err and "--rhs" not in err
+
+
+def test_misspelt_parameter_is_named(capsys):
+    assert main(["branch", "sedf", "-p", "mu=0.1", "-p", "beta=1", "-p", "lamda=1",
+                 "--vary", "Delta=0.5:1"]) == 2
+    err = _err(capsys)
+    assert "unknown parameter 'lamda'" in err and "did you mean lam?" in err
+    assert "cannot vary" not in err
+
+
+def test_escape_hint_fits_the_model(capsys):
+    assert main(["escape", "vdp", "-p", "mu=0.1", "-p", "D=0.1", "--no-simulation"]) == 2
+    assert "larger Delta" not in _err(capsys)
+
+
+def test_noise_help_says_what_dt_is(capsys):
+    with pytest.raises(SystemExit):
+        main(["noise", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "1e-3 of kT" in text and "whole number of steps" in text
+
+
+# -- issue 40, item 1: an option the mode ignores is an error ---------------------------
+
+@pytest.mark.parametrize("argv", [
+    ["branch", "vdp", "--vary", "mu=0.1:1", "--follow-period", "20"],
+    ["branch", "coupled-vdp", "-p", "mu=0.1", "-p", "sigma=0", "--vary", "c=0.05:1",
+     "--follow-period", "5"],
+])
+def test_follow_period_without_a_homoclinic_end_is_refused(argv, capsys):
+    assert main(argv) == 2
+    assert "--follow-period" in _err(capsys)
+
+
+# -- issue 40, item 2: kbm lock ------------------------------------------------------------
+
+def test_lock_with_only_the_coupling_names_the_detuning(capsys):
+    assert main(["lock", "coupled-vdp", "-p", "mu=0.1", "--vary", "c=0.1:0.5"]) == 2
+    err = _err(capsys)
+    assert "--vary sigma=FROM:TO" in err and "at c = 0" not in err and "np." not in err
+
+
+def test_lock_tongue_header_has_the_coupling_range(capsys):
+    assert main(["lock", "coupled-vdp", "-p", "mu=0.1", "--vary", "sigma=-2:2",
+                 "--vary", "c=0.05:0.6", "--points", "2", "--order", "1"]) == 0
+    head = capsys.readouterr().out.splitlines()[0]
+    assert "c=0.3" not in head and "c from 0.05 to 0.6, 2 values" in head
+
+
+# -- issue 40, item 7: one --vary grammar ------------------------------------------------
+
+def test_one_vary_grammar():
+    v = parse_vary("v=1e-3:3:log4")
+    assert np.allclose(v.values(), [1e-3, 0.0144225, 0.208008, 3], rtol=1e-5)
+    assert list(parse_vary("Delta=1:2").values()) == list(np.linspace(1, 2, 8))
+    assert parse_vary("beta=2,0.5,1").values().tolist() == [2, 0.5, 1]
+    assert parse_vary("sigma=-1:1").interval("a branch") == (-1, 1)
+    for bad in ("v=1:1", "v=2:1", "v=0:1:log3", "v", "v=a:b", "v=1:2:3:4", "v=1:2:0"):
+        with pytest.raises(ParameterError, match="--vary"):
+            parse_vary(bad)
+    with pytest.raises(ParameterError, match="runs over an interval"):
+        parse_vary("sigma=-1,1").interval("a branch")
+
+
+@pytest.mark.parametrize("argv", [
+    ["friction", "cdc", "-p", "Delta=3", "--vary", "v=3:1e-3:log8", "--no-progress"],
+    ["lock", "coupled-vdp", "-p", "mu=0.1", "--vary", "sigma=1:-1"],
+    ["branch", "vdp", "--vary", "mu=2:1"],
+    ["response", "duffing-forced", "-p", "mu=0.1", "--vary", "sigma=1:-1"],
+])
+def test_a_range_typed_downwards_is_refused_everywhere(argv, capsys):
+    """The one rule (issue 40, item 7): a range is an interval, FROM < TO, in every command
+    (kbm friction accepted v=3:1e-3 and ran its table downwards; kbm lock refused); the
+    message turns the range round."""
+    assert main(argv) == 2
+    err = _err(capsys)
+    name, spec = argv[argv.index("--vary") + 1].split("=")
+    a, b, *rest = spec.split(":")
+    assert "FROM < TO in every command" in err
+    assert f"--vary {name}={b}:{a}" in err
+
+
+# -- issue 40, item 6: --resume with a store of another run -------------------------------
+
+def test_resume_with_another_run_says_so(tmp_path, capsys):
+    store = str(tmp_path / "map.sqlite")
+    base = ["friction", "cdc", "-p", "Delta=3", "--no-progress", "--json", "--store", store]
+    assert main([*base, "--vary", "v=0.5"]) == 0
+    capsys.readouterr()
+    assert main([*base, "--vary", "v=0.6", "--resume"]) == 2
+    err = _err(capsys)
+    assert "another map" in err and "nothing can be resumed" in err
+    assert main([*base, "--vary", "v=0.5", "--resume"]) == 0

@@ -30,10 +30,11 @@ def register(sub) -> None:
     p.add_argument("--burn-in", type=float, default=None, metavar="T",
                    help="time discarded first (default 20/|mu|)")
     p.add_argument("--dt", type=float, default=None, metavar="H",
-                   help="time step (default: the fastest linear period / 50, smaller when "
-                        "the numerical heating needs it, halved for BAOAB, then halved again "
-                        "while a pilot at dt and dt/2 measures a bias of the moments beyond "
-                        "2e-4)")
+                   help="time step (default: the fastest linear period / 50, smaller where "
+                        "the numerical heating would exceed 1e-3 of kT, halved for BAOAB, then "
+                        "halved again while a pilot at dt and dt/2 measures a bias of the "
+                        "moments beyond 2e-4, and shortened so that --t-end is a whole number "
+                        "of steps; the run prints the step used)")
     p.add_argument("--seed", type=int, default=0, metavar="S",
                    help="root seed (numpy SeedSequence, one child per trajectory)")
     p.add_argument("--budget", type=float, default=2e9, metavar="STEPS",

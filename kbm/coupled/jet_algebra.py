@@ -188,6 +188,8 @@ class JetAlgebra(AngleCalculus):
         for hl in self.h:
             shell |= np.abs(hl) >= self.M // 2 - 1
         self.shell = shell
+        #: the largest Fourier coefficient of the F_i = R_{i,1} on the outer shell
+        self.outer = 0.0
         self._modes = [_mode_table(self.omega, model.internal, self.forced, self.M, self.tol, i)
                        for i in range(N)]
 
@@ -203,7 +205,8 @@ class JetAlgebra(AngleCalculus):
         v = np.zeros((len(self.index),) + self.shape)
         c = np.cos(self.angles[i])
         v[0] = self.point[i] * c
-        v[self.pos[tuple(1 if k == i else 0 for k in range(self.dof))]] = c
+        if self.top:
+            v[self.pos[tuple(1 if k == i else 0 for k in range(self.dof))]] = c
         return self.jet(v, self.top)
 
     def spectral(self, f: JetSeries, mult: np.ndarray) -> JetSeries:
@@ -227,6 +230,9 @@ class JetAlgebra(AngleCalculus):
     def _spectrum(self, R: JetSeries, i: int, n: int) -> np.ndarray:
         axes = tuple(range(1, self.n + 1))
         spec = np.fft.fftn(R.values, axes=axes)
+        if n == 1:  # R_{i,1} = F_i: its largest coefficient on the outer shell
+            outer = spec[0][self.shell] / spec[0].size
+            self.outer = max(self.outer, float(np.max(np.abs(outer))) if outer.size else 0.0)
         _, _, refused, _ = self._modes[i]
         if refused:
             big = float(np.max(np.abs(spec))) or 1.0

@@ -227,38 +227,13 @@ def jet_expansion(model: CoupledOscillators, values: Mapping[str, float], order:
             not 1 <= order <= MAX_ORDER_JETS:
         raise OrderError(f"the order of the numeric coupled averaging must be an integer "
                          f"from 1 to {MAX_ORDER_JETS}, got {order!r}")
-    if model.hard:
-        raise ModelError(f"{model.name!r} has a hard forcing K cos(theta): the numeric "
-                         "averaging takes weak forcing mu F(theta) (the exact engine takes "
-                         "hard forcing: kbm.coupled.derive_coupled)")
-    if any(f.has(sp.Symbol("nu")) for f in model.F) and order > 1:
-        raise ModelError(f"{model.name!r} holds the forcing frequency nu in F (nu = nu0 + mu "
-                         "sigma puts mu into F): beyond the first order the numeric coupled "
-                         "averaging takes F free of nu")
+    F, parameters, sigma = _right_hand_sides(model, values, order)
     n = model.dof
     a, g = slow_point(n, len(model.internal), amplitudes, gammas)
-    F = [[sp.expand(f)] for f in model.F]
-    for r in model.internal:
-        if r.detuning and not r.forcing:  # omega_j -> omega_j + mu sigma, as the exact engine
-            sig = sp.Symbol(r.detuning)
-            xj = positions(n)[r.j - 1]
-            wj = model.omega0[r.j - 1]
-            F[r.j - 1][0] = F[r.j - 1][0] - 2 * wj * sig * xj
-            F[r.j - 1].append(-sig**2 * xj)
-    # the parameters stay symbols, their values arguments of the compiled derivatives
-    names = sorted({s.name for row in F for f in row for s in f.free_symbols}
-                   - {s.name for s in model.state} - {"theta"})
-    free = [k for k in names if k not in values]
-    if free:
-        raise ParameterError(f"give values for {', '.join(free)} (-p NAME=VALUE)")
-    sigma = None
-    if model.forced and model.nu_detuning:
-        sigma = float(values.get(model.nu_detuning, 0.0))
     D = n + (1 if model.forced else 0)
     if not isinstance(nodes, int) or isinstance(nodes, bool) or nodes < 8 or nodes % 2:
         raise ParameterError(f"nodes must be an even integer >= 8, got {nodes!r}")
     lattice = SlowLattice(D, model.internal)
-    parameters = (tuple(sp.Symbol(k) for k in names), tuple(float(values[k]) for k in names))
     M = nodes
     while True:
         alg = JetAlgebra(model, lattice, a, M, order + (1 if gradient else 0), sigma,
@@ -315,3 +290,66 @@ def _on_grid(alg: JetAlgebra, F, order: int, gradient: bool, lattice: SlowLattic
                         tuple(outA), tuple(outB), tail, int(alg.M),
                         tuple(dA) if gradient else None, tuple(dB) if gradient else None)
 
+
+def check_weak(model: CoupledOscillators) -> None:
+    """Refuse a hard forcing ``K cos(theta)`` (the numeric backend takes ``mu F(theta)``)."""
+    if model.hard:
+        raise ModelError(f"{model.name!r} has a hard forcing K cos(theta): the numeric "
+                         "averaging takes weak forcing mu F(theta) (the exact engine takes "
+                         "hard forcing: kbm.coupled.derive_coupled)")
+
+
+def _right_hand_sides(model: CoupledOscillators, values: Mapping[str, float], order: int):
+    """``F[i][k]``, the coefficient of ``mu**k`` of mode ``i`` (a declared detuning
+    ``omega_j -> omega_j + mu sigma`` enters as in the exact engine; at the first order a
+    forcing frequency ``nu`` in ``F`` is ``nu0 + mu sigma``, ``mu`` a parameter), the
+    parameters ``(symbols, values)`` and the forcing detuning's value."""
+    check_weak(model)
+    n = model.dof
+    nu = sp.Symbol("nu")
+    if any(f.has(nu) for f in model.F) and order > 1:
+        raise ModelError(f"{model.name!r} holds the forcing frequency nu in F (nu = nu0 + mu "
+                         "sigma puts mu into F): beyond the first order the numeric coupled "
+                         "averaging takes F free of nu")
+    F = [[sp.expand(f)] for f in model.F]
+    if model.forced and any(f.has(nu) for f in model.F):
+        shift = sp.nsimplify(model.nu0) + sp.Symbol("mu") * sp.Symbol(model.nu_detuning
+                                                                      or "sigma")
+        F = [[sp.expand(f.subs(nu, shift))] for f in model.F]
+    for r in model.internal:
+        if r.detuning and not r.forcing:  # omega_j -> omega_j + mu sigma, as the exact engine
+            sig = sp.Symbol(r.detuning)
+            xj = positions(n)[r.j - 1]
+            wj = model.omega0[r.j - 1]
+            F[r.j - 1][0] = F[r.j - 1][0] - 2 * wj * sig * xj
+            F[r.j - 1].append(-sig**2 * xj)
+    # the parameters stay symbols, their values arguments of the compiled derivatives
+    names = sorted({s.name for row in F for f in row for s in f.free_symbols}
+                   - {s.name for s in model.state} - {"theta"})
+    free = [k for k in names if k not in values]
+    if free:
+        raise ParameterError(f"give values for {', '.join(free)} (-p NAME=VALUE)")
+    sigma = None
+    if model.forced and model.nu_detuning:
+        sigma = float(values.get(model.nu_detuning, 0.0))
+    parameters = (tuple(sp.Symbol(k) for k in names), tuple(float(values[k]) for k in names))
+    return F, parameters, sigma
+
+
+def first_order(model: CoupledOscillators, values: Mapping[str, float],
+                amplitudes: Sequence[float], gammas: Sequence[float], nodes: int
+                ) -> tuple[np.ndarray, np.ndarray, float]:
+    """``(A_1, B_1, outer)`` at one point on the ``nodes^D`` grid: the first order of the
+    same recursion on jets of degree 0 (no amplitude derivatives are needed), and the
+    largest Fourier coefficient of the ``F_i`` on the grid's outer shell (no refinement)."""
+    from .engine import TOLERANCE
+
+    F, parameters, sigma = _right_hand_sides(model, values, 1)
+    a, g = slow_point(model.dof, len(model.internal), amplitudes, gammas)
+    lattice = SlowLattice(model.dof + (1 if model.forced else 0), model.internal)
+    alg = JetAlgebra(model, lattice, a, nodes, 0, sigma, TOLERANCE, parameters)
+    A, B, _ = kbm_recursion(alg, coupled_rhs(alg, F, JetBuilder), 1, last_u=False)
+    gens = lattice.generators
+    rate = [[_slow_value(alg, X[i][0].value(), gens, g)[0] for i in range(model.dof)]
+            for X in (A, B)]
+    return np.array(rate[0]), np.array(rate[1]), alg.outer

@@ -179,15 +179,10 @@ class JetAlgebra(AngleCalculus):
             self.shifts.append(row)
         self.pos = pos
         # the angles and the harmonics of the grid
-        ang = 2 * np.pi * np.arange(self.M) / self.M
-        self.angles = np.meshgrid(*([ang] * D), indexing="ij")
+        self.angles, self.cos, self.sin, self.shell = torus(self.M, D)
         self.h, self.keep, self.freq = _harmonics(self.omega, self.M)
         self.ik = [np.where(self.keep, 1j * hl, 0.0) for hl in self.h]
         self.iL0 = np.where(self.keep, 1j * self.freq, 0.0)
-        shell = np.zeros(self.shape, dtype=bool)
-        for hl in self.h:
-            shell |= np.abs(hl) >= self.M // 2 - 1
-        self.shell = shell
         #: the largest Fourier coefficient of the F_i = R_{i,1} on the outer shell
         self.outer = 0.0
         self._modes = [_mode_table(self.omega, model.internal, self.forced, self.M, self.tol, i)
@@ -203,7 +198,7 @@ class JetAlgebra(AngleCalculus):
     def x0(self, i: int) -> JetSeries:
         """``a_i cos(psi_i)``: ``a*_i cos psi_i + Da_i cos psi_i``."""
         v = np.zeros((len(self.index),) + self.shape)
-        c = np.cos(self.angles[i])
+        c = self.cos[i]
         v[0] = self.point[i] * c
         if self.top:
             v[self.pos[tuple(1 if k == i else 0 for k in range(self.dof))]] = c
@@ -267,6 +262,24 @@ class JetAlgebra(AngleCalculus):
         spec = self._spectrum(R, i, n)
         axes = tuple(range(1, self.n + 1))
         return R._new(np.fft.ifftn(spec * self._modes[i][3], axes=axes).real, R.deg)
+
+
+@lru_cache(maxsize=32)
+def torus(M: int, D: int):
+    """The ``M^D`` grid of the torus: its angles, their cosines and sines (one array per
+    angle), and the mask of its outer shell (a harmonic ``|h_l| >= M/2 - 1`` in some angle).
+    Memoised per grid (time only; the arrays are read-only)."""
+    ang = 2 * np.pi * np.arange(M) / M
+    angles = tuple(np.meshgrid(*([ang] * D), indexing="ij"))
+    cos = tuple(np.cos(a) for a in angles)
+    sin = tuple(np.sin(a) for a in angles)
+    h1 = np.rint(np.fft.fftfreq(M) * M).astype(int)
+    shell = np.zeros((M,) * D, dtype=bool)
+    for hl in np.meshgrid(*([h1] * D), indexing="ij"):
+        shell |= np.abs(hl) >= M // 2 - 1
+    for arr in (*angles, *cos, *sin, shell):
+        arr.flags.writeable = False
+    return angles, cos, sin, shell
 
 
 @lru_cache(maxsize=32)

@@ -59,6 +59,10 @@ MAX_NODES_JETS = 256
 MAX_GRID_JETS = 2**18
 
 
+#: the slow lattice of ``D`` angles and the declared resonances (memoised: time only)
+_lattice = lru_cache(maxsize=64)(SlowLattice)
+
+
 @lru_cache(maxsize=64)
 def _slow_terms(gens: tuple, D: int, M: int):
     """The slow lattice's wavevectors on the grid: their indices and coordinates ``n``
@@ -79,11 +83,11 @@ class JetBuilder:
         n = alg.dof
         self.vars = (*positions(n), *velocities(n))
         self.leaves = [leaves[v] for v in self.vars]
-        self.x0 = [alg.point[l] * np.cos(alg.angles[l]) for l in range(n)]
-        self.v0 = [-alg.w[l] * alg.point[l] * np.sin(alg.angles[l]) for l in range(n)]
+        self.x0 = [alg.point[l] * alg.cos[l] for l in range(n)]
+        self.v0 = [-alg.w[l] * alg.point[l] * alg.sin[l] for l in range(n)]
         # d x0_l / d a_l and d v0_l / d a_l on the grid
-        self.dx = [np.cos(alg.angles[l]) for l in range(n)]
-        self.dv = [-alg.w[l] * np.sin(alg.angles[l]) for l in range(n)]
+        self.dx = list(alg.cos[:n])
+        self.dv = [-alg.w[l] * alg.sin[l] for l in range(n)]
         self.theta = alg.angles[-1] if alg.forced else np.zeros(alg.shape)
 
     def build(self, expr: sp.Expr):
@@ -233,7 +237,7 @@ def jet_expansion(model: CoupledOscillators, values: Mapping[str, float], order:
     D = n + (1 if model.forced else 0)
     if not isinstance(nodes, int) or isinstance(nodes, bool) or nodes < 8 or nodes % 2:
         raise ParameterError(f"nodes must be an even integer >= 8, got {nodes!r}")
-    lattice = SlowLattice(D, model.internal)
+    lattice = _lattice(D, model.internal)
     M = nodes
     while True:
         alg = JetAlgebra(model, lattice, a, M, order + (1 if gradient else 0), sigma,
@@ -300,14 +304,29 @@ def check_weak(model: CoupledOscillators) -> None:
 
 
 def _right_hand_sides(model: CoupledOscillators, values: Mapping[str, float], order: int):
-    """``F[i][k]``, the coefficient of ``mu**k`` of mode ``i`` (a declared detuning
-    ``omega_j -> omega_j + mu sigma`` enters as in the exact engine; at the first order a
-    forcing frequency ``nu`` in ``F`` is ``nu0 + mu sigma``, ``mu`` a parameter), the
+    """``F[i][k]``, the coefficient of ``mu**k`` of mode ``i`` (:func:`_symbolic`), the
     parameters ``(symbols, values)`` and the forcing detuning's value."""
+    F, names = _symbolic(model, order > 1)
+    free = [k for k in names if k not in values]
+    if free:
+        raise ParameterError(f"give values for {', '.join(free)} (-p NAME=VALUE)")
+    sigma = None
+    if model.forced and model.nu_detuning:
+        sigma = float(values.get(model.nu_detuning, 0.0))
+    parameters = (tuple(sp.Symbol(k) for k in names), tuple(float(values[k]) for k in names))
+    return [list(row) for row in F], parameters, sigma
+
+
+@lru_cache(maxsize=64)
+def _symbolic(model: CoupledOscillators, higher: bool):
+    """``F[i][k]`` and the names of the parameters in them: a declared detuning
+    ``omega_j -> omega_j + mu sigma`` enters as in the exact engine; at the first order
+    (``higher`` false) a forcing frequency ``nu`` in ``F`` is ``nu0 + mu sigma``, ``mu`` a
+    parameter.  Memoised per model (time only)."""
     check_weak(model)
     n = model.dof
     nu = sp.Symbol("nu")
-    if any(f.has(nu) for f in model.F) and order > 1:
+    if any(f.has(nu) for f in model.F) and higher:
         raise ModelError(f"{model.name!r} holds the forcing frequency nu in F (nu = nu0 + mu "
                          "sigma puts mu into F): beyond the first order the numeric coupled "
                          "averaging takes F free of nu")
@@ -326,14 +345,7 @@ def _right_hand_sides(model: CoupledOscillators, values: Mapping[str, float], or
     # the parameters stay symbols, their values arguments of the compiled derivatives
     names = sorted({s.name for row in F for f in row for s in f.free_symbols}
                    - {s.name for s in model.state} - {"theta"})
-    free = [k for k in names if k not in values]
-    if free:
-        raise ParameterError(f"give values for {', '.join(free)} (-p NAME=VALUE)")
-    sigma = None
-    if model.forced and model.nu_detuning:
-        sigma = float(values.get(model.nu_detuning, 0.0))
-    parameters = (tuple(sp.Symbol(k) for k in names), tuple(float(values[k]) for k in names))
-    return F, parameters, sigma
+    return tuple(tuple(row) for row in F), tuple(names)
 
 
 def first_order(model: CoupledOscillators, values: Mapping[str, float],
@@ -346,7 +358,7 @@ def first_order(model: CoupledOscillators, values: Mapping[str, float],
 
     F, parameters, sigma = _right_hand_sides(model, values, 1)
     a, g = slow_point(model.dof, len(model.internal), amplitudes, gammas)
-    lattice = SlowLattice(model.dof + (1 if model.forced else 0), model.internal)
+    lattice = _lattice(model.dof + (1 if model.forced else 0), model.internal)
     alg = JetAlgebra(model, lattice, a, nodes, 0, sigma, TOLERANCE, parameters)
     A, B, _ = kbm_recursion(alg, coupled_rhs(alg, F, JetBuilder), 1, last_u=False)
     gens = lattice.generators

@@ -235,8 +235,7 @@ def jet_expansion(model: CoupledOscillators, values: Mapping[str, float], order:
     n = model.dof
     a, g = slow_point(n, len(model.internal), amplitudes, gammas)
     D = n + (1 if model.forced else 0)
-    if not isinstance(nodes, int) or isinstance(nodes, bool) or nodes < 8 or nodes % 2:
-        raise ParameterError(f"nodes must be an even integer >= 8, got {nodes!r}")
+    check_nodes(nodes)
     lattice = _lattice(D, model.internal)
     M = nodes
     while True:
@@ -293,6 +292,12 @@ def _on_grid(alg: JetAlgebra, F, order: int, gradient: bool, lattice: SlowLattic
     return JetExpansion(tuple(float(v) for v in a), tuple(float(v) for v in g), order,
                         tuple(outA), tuple(outB), tail, int(alg.M),
                         tuple(dA) if gradient else None, tuple(dB) if gradient else None)
+
+
+def check_nodes(nodes) -> None:
+    """Refuse a number of grid points per angle that is not an even integer ``>= 8``."""
+    if not isinstance(nodes, int) or isinstance(nodes, bool) or nodes < 8 or nodes % 2:
+        raise ParameterError(f"nodes must be an even integer >= 8, got {nodes!r}")
 
 
 def check_weak(model: CoupledOscillators) -> None:

@@ -37,7 +37,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from .builtins import get_coupled_model
-from .jets import JetExpansion, check_weak, first_order, jet_expansion
+from .jets import JetExpansion, check_nodes, check_weak, first_order, jet_expansion
 from .model import CoupledOscillators
 from .resonance import SlowLattice
 
@@ -201,8 +201,7 @@ def numeric_average(model: CoupledOscillators | str, values: Mapping[str, object
     model = model.at_rest(exact)  # a stage at rest (v = 0) is autonomous
     vals = {k: v for k, v in vals.items() if k not in stage}
     check_weak(model)
-    if not isinstance(nodes, int) or nodes < 8 or nodes % 2:
-        raise ParameterError(f"nodes must be an even integer >= 8, got {nodes!r}")
+    check_nodes(nodes)
     D = model.dof + (1 if model.forced else 0)
     if nodes ** D > MAX_NODES_TOTAL:
         raise ParameterError(f"{nodes}^{D} grid points exceed the limit {MAX_NODES_TOTAL}: "

@@ -44,7 +44,8 @@ from ..algebra.lazy_series import Scaled, Tail
 from ..algebra.smooth import TaylorOf, TaylorTable
 from ..errors import ModelError, ParameterError, ResolutionError
 from ..recursion import kbm_recursion
-from ..sampling import check_order, check_tol, chebyshev_tail, fourier_tail, parse_a_range
+from ..sampling import (check_bounded, check_grid, check_order, check_tol, chebyshev_tail,
+                        fourier_tail, parse_a_range, widened)
 from ..symbols import x, xdot
 from .builtins import get_forced_model
 from .engine import derive_forced
@@ -61,8 +62,6 @@ DEFAULT_TOL = 1e-9
 MAX_ORDER_NUMERIC = 8
 #: grid budget: Chebyshev points, phases in psi and in theta, and samples in all
 MAX_P, MAX_M, MAX_N, MAX_SAMPLES = 129, 1024, 256, 2**21
-#: how far (a fraction of its width) the grid reaches past each end of the interval
-_MARGIN = 0.1
 
 
 # ----------------------------------------------------------------------------- the input
@@ -120,14 +119,8 @@ def _angles(tables, w0: float, hi: float, tol: float) -> tuple[int, int]:
                                  "or change F")
         scale = float(np.max(np.abs(f))) or 1.0
         first = scale if first is None else first
-        exhausted = 2 * M > MAX_M or 2 * N > MAX_N
-        if exhausted and (scale > 10 * first
-                          or scale > 1e8 * (float(np.median(np.abs(f))) or 1.0)):
-            raise ParameterError(
-                f"F = {sum(t.F for t in tables.values())} is not bounded on the orbit "
-                f"a = {hi:g}: its largest sampled value grows from {first:.3g} to {scale:.3g} "
-                f"as the phases are refined, as at a pole of F on |x| <= a_max, |xdot| <= "
-                "omega0 a_max; shrink the a-range or change F")
+        check_bounded(sum(t.F for t in tables.values()), f, first,
+                      2 * M > MAX_M or 2 * N > MAX_N, f"on the orbit a = {hi:g}")
         tm, tn = fourier_tail(f, 0), fourier_tail(f, 1)
         if tm <= 0.01 * tol * scale and tn <= 0.01 * tol * scale:
             return M, N
@@ -300,15 +293,14 @@ def numeric_derive_forced(model: ForcedOscillator | str, order: int, a_range,
             from None
     M, N = max(M, 4 * res.p * order + 8), max(N, 4 * res.q * order + 4)
     M, N = 2 ** math.ceil(math.log2(M)), 2 ** math.ceil(math.log2(N))
-    clo, chi = lo - min(_MARGIN * (hi - lo), 0.25 * lo), hi + _MARGIN * (hi - lo)
+    clo, chi = widened(lo, hi)
     P = 17
     while True:
         run = _run(tables, w0, res, clo, chi, P, M, N, order)
         errs = _errors(run)
         rel = [max(e[i] / (e[0] or 1) for e in errs) for i in (1, 2, 3)]
         if all(r <= tol for r in rel):
-            check = _run(tables, w0, res, clo, chi, P + (P - 1) // 2, M + M // 2, N + N // 2,
-                         order)
+            check = _run(tables, w0, res, clo, chi, *check_grid(P, M, N), order)
             diffs = _differences(run, check, lo, hi)
             worst = max(max(d) / (e[0] or 1) for d, e in zip(diffs, errs))
             if worst <= tol:

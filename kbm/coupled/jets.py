@@ -1,8 +1,10 @@
 """The coupled KBM recursion to any order for any smooth ``F``, at one point of the amplitudes.
 
 :func:`kbm.coupled.derive_coupled` runs the recursion on exact series (polynomial ``F``);
-the first-order numeric backend (:mod:`kbm.coupled.numeric`) averages any smooth ``F`` by
-one FFT on the torus.  Beyond the first order the recursion differentiates in the amplitudes
+this is the one numeric coupled backend for any smooth ``F``, forced or not: the first order
+(:func:`first_order`, behind :func:`kbm.coupled.numeric_average`) is the same recursion on
+jets of degree 0, one FFT of ``F`` on the torus per mode.  Beyond the first order the
+recursion differentiates in the amplitudes
 (``D_j = sum_l A_{l,j} d/da_l + B_{l,j} d/dpsi_l``), so the numeric backend needs the
 quantities of the lower orders *with* their amplitude derivatives.  Here every quantity is a
 **jet**: its Taylor coefficients in ``Da = a - a*`` at the point ``a*`` up to a degree, each a

@@ -40,8 +40,8 @@ import numpy as np
 import sympy as sp
 
 from ..algebra import chebyshev
-from ..algebra.lazy_series import Scaled, Tail
-from ..algebra.smooth import TaylorOf, TaylorTable
+from ..algebra.lazy_series import Scaled
+from ..algebra.smooth import SmoothBuilder, TaylorTable
 from ..errors import ModelError, ParameterError, ResolutionError
 from ..recursion import kbm_recursion
 from ..sampling import (check_bounded, check_grid, check_order, check_tol, chebyshev_tail,
@@ -134,6 +134,23 @@ def _angles(tables, w0: float, hi: float, tol: float) -> tuple[int, int]:
                 "a smoother F or a looser tol")
 
 
+class _Builder(SmoothBuilder):
+    """``F(x_0 + Dx, v_0 + Dv, theta)`` on the two-angle grid: the leaves' samples are the
+    ``sigma**0`` rows."""
+
+    def base(self, leaf):
+        return leaf.coeff(0).values[0]
+
+    def series(self, vals):
+        return self.alg.sample(vals)
+
+    def not_finite(self, i, j, index, x0, v0) -> str:
+        TH = self.extra[0]
+        return (f"a derivative of F = {self.table.F} is not finite at x = {x0[index]:.6g}, "
+                f"xdot = {v0[index]:.6g}, theta = {TH[index]:.6g}; the numeric backend needs "
+                "F smooth and finite on the orbits of the a-range")
+
+
 @dataclass
 class _Run:
     alg: SampledAlgebra
@@ -147,32 +164,11 @@ def _run(tables, w0, res, lo, hi, P, M, N, order) -> _Run:
     TH = np.broadcast_to(alg.theta[None, None, :], (P, M, N))
 
     def terms(XL, VL):
-        zero = alg.zero
-        X, V = XL[0], VL[0]
-        Dx, Dv = Tail(zero, X), Tail(zero, V)
-
-        def sampler(table):
-            def sample(i: int, j: int):
-                if table.expr(i, j) == 0:
-                    return alg.zero()
-                x0, v0 = X.coeff(0).values[0], V.coeff(0).values[0]
-                with np.errstate(all="ignore"):
-                    vals = np.broadcast_to(np.asarray(table.function(i, j)(x0, v0, TH),
-                                                      dtype=float), x0.shape)
-                if not np.all(np.isfinite(vals)):
-                    r, c, l_ = np.argwhere(~np.isfinite(vals))[0]
-                    raise ParameterError(
-                        f"a derivative of F = {table.F} is not finite at x = {x0[r, c, l_]:.6g}"
-                        f", xdot = {v0[r, c, l_]:.6g}, theta = {TH[r, c, l_]:.6g}; the numeric "
-                        "backend needs F smooth and finite on the orbits of the a-range")
-                return alg.sample(vals)
-            return sample
-
         out = []
         for i, table in tables.items():
-            node = TaylorOf(zero, sampler(table), Dx, Dv)
+            node = _Builder(alg, XL[0], VL[0], table, (TH,)).build(table.F)
             if i:
-                node = Scaled(zero, node, lambda f, i=i: alg.sigma_power(f, i))
+                node = Scaled(alg.zero, node, lambda f, i=i: alg.sigma_power(f, i))
             out.append((i, node))
         return [out]
 

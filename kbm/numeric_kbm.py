@@ -39,7 +39,7 @@ from .models import Oscillator
 from .numeric_functions import AmplitudeFunction, ConstantFunction, WaveFunction
 from .recursion import one_angle_recursion
 from .sampling import (chebyshev_tail, check_bounded, check_grid, check_order, check_tol,
-                       fourier_tail, numeric_model, parse_a_range, widened)
+                       comparison_matrices, fourier_tail, numeric_model, parse_a_range, widened)
 
 __all__ = ["numeric_derive", "NumericExpansion", "DEFAULT_TOL", "MAX_ORDER_NUMERIC",
            "parse_a_range", "numeric_model"]
@@ -299,9 +299,7 @@ def _check_progress(F, order, lo, hi, tol, history) -> None:
 def _differences(run: _Run, check: _Run, lo: float, hi: float
                  ) -> list[tuple[float, float, float]]:
     """Per order: the largest differences of A_n, B_n, u_n between two grids on [lo, hi]."""
-    at = np.linspace(lo, hi, 2 * run.P + 1)
-    W1 = chebyshev.barycentric_matrix(run.alg.lo, run.alg.hi, check.P, at)
-    W0 = chebyshev.barycentric_matrix(run.alg.lo, run.alg.hi, run.P, at)
+    W0, W1 = comparison_matrices(lo, hi, run.alg.lo, run.alg.hi, run.P, check.P)
     h = min(run.M, check.M) // 2
     out = []
     for n in range(len(run.A)):

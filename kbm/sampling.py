@@ -8,7 +8,8 @@
   top quarter (:func:`fourier_tail`, :func:`chebyshev_tail`);
 - the resolution loops' common steps: the Chebyshev interval reaching past the one asked for
   (:func:`widened`), the second grid half as fine again that measures what the tails cannot
-  (:func:`check_grid`), and the refusal of an ``F`` whose samples grow without bound as the
+  (:func:`check_grid`) with the matrices that compare the two (:func:`comparison_matrices`),
+  and the refusal of an ``F`` whose samples grow without bound as the
   angles are refined (:func:`check_bounded`).
 
 Used by :mod:`kbm.numeric_kbm`, :mod:`kbm.pointwise` and :mod:`kbm.forced.numeric`.
@@ -28,7 +29,7 @@ from .smooth_terms import non_smooth_message, non_smooth_term
 from .symbols import x, xdot
 
 __all__ = ["parse_a_range", "numeric_model", "check_order", "check_tol", "fourier_tail",
-           "chebyshev_tail", "widened", "check_grid", "check_bounded", "MARGIN"]
+           "chebyshev_tail", "widened", "check_grid", "check_bounded", "comparison_matrices", "MARGIN"]
 
 #: the top fraction of the coefficients read as the tail
 _TAIL = 0.25
@@ -150,6 +151,16 @@ def check_grid(P: int, *angles: int) -> tuple[int, ...]:
     differentiations in ``a`` amplify: ``P + (P - 1)/2`` Chebyshev points (odd stays odd)
     and ``M + M/2`` points per angle."""
     return (P + (P - 1) // 2, *(M + M // 2 for M in angles))
+
+
+def comparison_matrices(lo: float, hi: float, clo: float, chi: float, P0: int, P1: int
+                        ) -> tuple[np.ndarray, np.ndarray]:
+    """The barycentric interpolation matrices of two Chebyshev grids of ``[clo, chi]``
+    (``P0`` and ``P1`` points) at ``2 P0 + 1`` equispaced amplitudes of ``[lo, hi]``, where
+    the grid and its check grid are compared."""
+    at = np.linspace(lo, hi, 2 * P0 + 1)
+    return (chebyshev.barycentric_matrix(clo, chi, P0, at),
+            chebyshev.barycentric_matrix(clo, chi, P1, at))
 
 
 def check_bounded(F, f: np.ndarray, first: float, exhausted: bool, where: str,

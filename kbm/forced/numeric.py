@@ -45,7 +45,7 @@ from ..algebra.smooth import SmoothBuilder, TaylorTable
 from ..errors import ModelError, ParameterError, ResolutionError
 from ..recursion import kbm_recursion
 from ..sampling import (check_bounded, check_grid, check_order, check_tol, chebyshev_tail,
-                        fourier_tail, parse_a_range, widened)
+                        comparison_matrices, fourier_tail, parse_a_range, widened)
 from ..symbols import x, xdot
 from .builtins import get_forced_model
 from .engine import derive_forced
@@ -217,9 +217,7 @@ def _errors(run: _Run):
 def _differences(run: _Run, check: _Run, lo: float, hi: float) -> list[tuple[float, float]]:
     """Per order: the largest differences of ``A_n`` and ``a B_n`` between two grids, on
     ``[lo, hi]`` (the slow harmonics both grids hold)."""
-    at = np.linspace(lo, hi, 2 * run.alg.P + 1)
-    W0 = chebyshev.barycentric_matrix(run.alg.lo, run.alg.hi, run.alg.P, at)
-    W1 = chebyshev.barycentric_matrix(check.alg.lo, check.alg.hi, check.alg.P, at)
+    W0, W1 = comparison_matrices(lo, hi, run.alg.lo, run.alg.hi, run.alg.P, check.alg.P)
     J0, J1 = run.A[0].shape[-1], check.A[0].shape[-1]
     J = min(J0, J1)
     s0, s1 = slice((J0 - J) // 2, (J0 + J) // 2), slice((J1 - J) // 2, (J1 + J) // 2)

@@ -180,9 +180,7 @@ class JetAlgebra(AngleCalculus):
         self.pos = pos
         # the angles and the harmonics of the grid
         self.angles, self.cos, self.sin, self.shell = torus(self.M, D)
-        self.h, self.keep, self.freq = _harmonics(self.omega, self.M)
-        self.ik = [np.where(self.keep, 1j * hl, 0.0) for hl in self.h]
-        self.iL0 = np.where(self.keep, 1j * self.freq, 0.0)
+        self.h, self.keep, self.freq, self.ik, self.iL0 = _harmonics(self.omega, self.M)
         #: the largest Fourier coefficient of the F_i = R_{i,1} on the outer shell
         self.outer = 0.0
         self._modes = [_mode_table(self.omega, model.internal, self.forced, self.M, self.tol, i)
@@ -285,8 +283,9 @@ def torus(M: int, D: int):
 @lru_cache(maxsize=32)
 def _harmonics(omega: tuple, M: int):
     """The harmonics ``h`` of the ``M^D`` grid (one integer array per angle), the mask of
-    those off the Nyquist planes, and their frequencies ``h . omega`` (memoised per
-    frequencies and grid: time only; the arrays are read-only)."""
+    those off the Nyquist planes, their frequencies ``h . omega``, and the multipliers of
+    ``d/dpsi_l`` and ``L0`` (``i h_l`` and ``i h . omega``, zero on the Nyquist planes).
+    Memoised per frequencies and grid (time only; the arrays are read-only)."""
     D = len(omega)
     h1 = np.rint(np.fft.fftfreq(M) * M).astype(int)
     hs = np.meshgrid(*([h1] * D), indexing="ij")
@@ -294,9 +293,11 @@ def _harmonics(omega: tuple, M: int):
     for hl in hs:
         keep &= hl != -M // 2
     freq = sum(hl * float(w) for hl, w in zip(hs, omega))
-    for arr in (*hs, keep, freq):
+    ik = tuple(np.where(keep, 1j * hl, 0.0) for hl in hs)
+    iL0 = np.where(keep, 1j * freq, 0.0)
+    for arr in (*hs, keep, freq, *ik, iL0):
         arr.flags.writeable = False
-    return tuple(hs), keep, freq
+    return tuple(hs), keep, freq, ik, iL0
 
 
 @lru_cache(maxsize=64)
@@ -307,7 +308,7 @@ def _mode_table(omega: tuple, internal: tuple, forced: bool, M: int, tol: float,
     and the Nyquist modes).  Memoised per frequencies, resonances and grid (time only: the
     exact classification of :func:`~kbm.coupled.resonance.resonant_harmonic` is slow)."""
     lattice = SlowLattice(len(omega), internal)
-    hs, keep, freq = _harmonics(omega, M)
+    hs, keep, freq, _, _ = _harmonics(omega, M)
     wi = float(omega[i])
     gap = np.abs(np.abs(freq) - wi) / wi
     res_h, res_k, refused = [], [], []

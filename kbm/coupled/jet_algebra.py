@@ -26,6 +26,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from ..algebra.grid_fourier import Samples
 from ..errors import ModelError
 from .algebra import AngleCalculus
 from .model import CoupledOscillators
@@ -48,33 +49,20 @@ def _multi_indices(n: int, degree: int) -> list[tuple[int, ...]]:
     return out
 
 
-class JetSeries:
+class JetSeries(Samples):
     """Taylor coefficients ``(C, M, .., M)`` in the amplitudes, known to degree ``deg``
     (``values is None``: zero, known to every degree)."""
 
-    __slots__ = ("alg", "values", "deg")
+    __slots__ = ("alg", "deg")
 
     def __init__(self, alg: "JetAlgebra", values: np.ndarray | None, deg: int):
         self.alg, self.values, self.deg = alg, values, deg
 
-    def is_zero(self) -> bool:
-        return self.values is None
+    def _new(self, values, deg=None) -> "JetSeries":
+        return JetSeries(self.alg, values, self.deg if deg is None else deg)
 
-    def _new(self, values, deg) -> "JetSeries":
-        return JetSeries(self.alg, values, deg)
-
-    def __add__(self, other: "JetSeries") -> "JetSeries":
-        if other.values is None:
-            return self
-        if self.values is None:
-            return other
+    def _plus(self, other: "JetSeries") -> "JetSeries":
         return self._new(self.values + other.values, min(self.deg, other.deg))
-
-    def __neg__(self) -> "JetSeries":
-        return self if self.values is None else self._new(-self.values, self.deg)
-
-    def __sub__(self, other: "JetSeries") -> "JetSeries":
-        return self + (-other)
 
     def __mul__(self, other: "JetSeries") -> "JetSeries":
         if self.values is None or other.values is None:
@@ -85,9 +73,6 @@ class JetSeries:
         for p, q, r in self.alg.pairs[deg]:
             out[r] += f[p] * g[q]
         return self._new(out, deg)
-
-    def scale_q(self, q) -> "JetSeries":
-        return self if self.values is None else self._new(self.values * float(q), self.deg)
 
     def scale(self, c) -> "JetSeries":
         """``c f`` for a number or another jet."""

@@ -311,9 +311,9 @@ def check_weak(model: CoupledOscillators) -> None:
 
 
 def _right_hand_sides(model: CoupledOscillators, values: Mapping[str, float], order: int):
-    """``F[i][k]``, the coefficient of ``mu**k`` of mode ``i`` (:func:`_symbolic`), the
+    """``F[i][k]``, the coefficient of ``mu**k`` of mode ``i`` (:func:`symbolic_rhs`), the
     parameters ``(symbols, values)`` and the forcing detuning's value."""
-    F, names = _symbolic(model, order > 1)
+    F, names = symbolic_rhs(model, order > 1)
     free = [k for k in names if k not in values]
     if free:
         raise ParameterError(f"give values for {', '.join(free)} (-p NAME=VALUE)")
@@ -325,7 +325,7 @@ def _right_hand_sides(model: CoupledOscillators, values: Mapping[str, float], or
 
 
 @lru_cache(maxsize=64)
-def _symbolic(model: CoupledOscillators, higher: bool):
+def symbolic_rhs(model: CoupledOscillators, higher: bool):
     """``F[i][k]`` and the names of the parameters in them: a declared detuning
     ``omega_j -> omega_j + mu sigma`` enters as in the exact engine; at the first order
     (``higher`` false) a forcing frequency ``nu`` in ``F`` is ``nu0 + mu sigma``, ``mu`` a

@@ -37,7 +37,8 @@ import numpy as np
 
 from ..errors import ParameterError
 from .builtins import get_coupled_model
-from .jets import JetExpansion, check_nodes, check_weak, first_order, jet_expansion
+from .jets import (JetExpansion, check_nodes, check_weak, first_order, jet_expansion,
+                   symbolic_rhs)
 from .model import CoupledOscillators
 from .resonance import SlowLattice
 
@@ -154,15 +155,6 @@ class NumericAverage:
         return np.array(out)
 
 
-def _needed(model: CoupledOscillators, i: int) -> set[str]:
-    expr = model.F[i]
-    names = {s_.name for s_ in expr.free_symbols} - {s_.name for s_ in (*model.state,)}
-    names -= {"theta"}
-    if "nu" in names:
-        names = (names - {"nu"}) | {"mu", model.nu_detuning or "sigma"}
-    return names
-
-
 def numeric_average(model: CoupledOscillators | str, values: Mapping[str, object] | None = None,
                     *, internal: Sequence[object] = (), nodes: int = DEFAULT_NODES
                     ) -> NumericAverage:
@@ -211,8 +203,7 @@ def numeric_average(model: CoupledOscillators | str, values: Mapping[str, object
     if missing:
         raise ParameterError(f"give values for the detunings {', '.join(missing)}")
     gens = tuple(SlowLattice(D, model.internal).generators)
-    need = set().union(*[_needed(model, i) for i in range(model.dof)])
-    free = sorted(need - set(vals))
+    free = sorted(set(symbolic_rhs(model, False)[1]) - set(vals))
     if free:
         raise ParameterError(f"give values for {', '.join(free)} (-p NAME=VALUE"
                              + "".join(model.physical_hint(n) for n in free) + ")")

@@ -86,6 +86,9 @@ class NumericAverage:
         kbm.errors.ParameterError
             For a count of amplitudes or phases that does not match, or an amplitude that
             is not positive and finite.
+        kbm.coupled.resonance.UndeclaredResonanceError
+            For a harmonic of ``F`` at an exact resonance that was not declared (as
+            :func:`kbm.coupled.derive_coupled`).
         """
         return first_order(self.model, self.values, amplitudes, gammas, self.nodes)
 

@@ -38,8 +38,8 @@ from .errors import ParameterError, ResolutionError, UnsupportedTermError
 from .models import Oscillator
 from .numeric_functions import AmplitudeFunction, ConstantFunction, WaveFunction
 from .recursion import one_angle_recursion
-from .sampling import (chebyshev_tail, check_order, check_tol, fourier_tail, numeric_model,
-                       parse_a_range)
+from .sampling import (chebyshev_tail, check_bounded, check_grid, check_order, check_tol,
+                       comparison_matrices, fourier_tail, numeric_model, parse_a_range, widened)
 
 __all__ = ["numeric_derive", "NumericExpansion", "DEFAULT_TOL", "MAX_ORDER_NUMERIC",
            "parse_a_range", "numeric_model"]
@@ -50,8 +50,6 @@ DEFAULT_TOL = 1e-10
 MAX_ORDER_NUMERIC = 20
 #: grid budget: Chebyshev points, phases, and their product
 MAX_P, MAX_M, MAX_SAMPLES = 257, 2**15, 2**21
-#: how far (a fraction of its width) the grid reaches past each end of the interval
-_MARGIN = 0.1
 
 
 @dataclass(frozen=True, eq=False)
@@ -142,13 +140,8 @@ def _phase_points(table: TaylorTable, w0: float, lo: float, hi: float, tol: floa
         tail = fourier_tail(f)
         if scale == 0 or tail <= 0.01 * tol * scale:
             return M
-        if 2 * M > MAX_M and (scale > 10 * first_scale
-                              or scale > 1e8 * float(np.median(np.abs(f)))):
-            raise ParameterError(
-                f"F = {table.F} is not bounded on the orbits of the a-range [{lo:g}, {hi:g}]: "
-                f"its largest sampled value grows from {first_scale:.3g} to {scale:.3g} as the "
-                f"phases are refined (32 -> {M}), as at a pole of F on |x| <= a_max, "
-                f"|xdot| <= omega0 a_max; shrink the a-range or change F")
+        check_bounded(table.F, f, first_scale, 2 * M > MAX_M,
+                      f"on the orbits of the a-range [{lo:g}, {hi:g}]", f" (32 -> {M})")
         if 2 * M > MAX_M:
             raise ResolutionError(
                 f"F = {table.F} varies too sharply along the orbits of the a-range "
@@ -255,9 +248,7 @@ def numeric_derive(model: Oscillator | str, order: int, a_range, params: dict | 
     except (NameError, TypeError) as exc:  # a function numpy cannot evaluate
         raise UnsupportedTermError(f"F = {F} cannot be evaluated with numpy/scipy ({exc}); "
                                    "write F with elementary and special functions") from None
-    # the grid reaches past the interval asked for: the ends of a Chebyshev grid are
-    # where differentiation amplifies errors most
-    clo, chi = lo - min(_MARGIN * (hi - lo), 0.25 * lo), hi + _MARGIN * (hi - lo)
+    clo, chi = widened(lo, hi)
     P, history = 17, []
     while True:
         run = _run(F, table, w0, clo, chi, P, M, order)
@@ -267,7 +258,7 @@ def numeric_derive(model: Oscillator | str, order: int, a_range, params: dict | 
         if rel_a <= tol and rel_p <= tol:
             # a second grid, half as fine again, measures what the tails cannot: the
             # rounding errors that the differentiations in a amplify
-            check = _run(F, table, w0, clo, chi, P + (P - 1) // 2, M + M // 2, order)
+            check = _run(F, table, w0, clo, chi, *check_grid(P, M), order)
             diffs = _differences(run, check, lo, hi)
             rel_a = max(max(d[:2]) / (e[0] or 1) for d, e in zip(diffs, errs))
             rel_p = max(d[2] / (e[0] or 1) for d, e in zip(diffs, errs))
@@ -308,9 +299,7 @@ def _check_progress(F, order, lo, hi, tol, history) -> None:
 def _differences(run: _Run, check: _Run, lo: float, hi: float
                  ) -> list[tuple[float, float, float]]:
     """Per order: the largest differences of A_n, B_n, u_n between two grids on [lo, hi]."""
-    at = np.linspace(lo, hi, 2 * run.P + 1)
-    W1 = chebyshev.barycentric_matrix(run.alg.lo, run.alg.hi, check.P, at)
-    W0 = chebyshev.barycentric_matrix(run.alg.lo, run.alg.hi, run.P, at)
+    W0, W1 = comparison_matrices(lo, hi, run.alg.lo, run.alg.hi, run.P, check.P)
     h = min(run.M, check.M) // 2
     out = []
     for n in range(len(run.A)):

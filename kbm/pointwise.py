@@ -25,10 +25,10 @@ from sympy.simplify.fu import TR8
 
 from .algebra.jet_fourier import JetAlgebra
 from .averaging import MAX_ORDER, _check_terms
-from .errors import OrderError, ParameterError, ResolutionError
+from .errors import ParameterError, ResolutionError
 from .models import Oscillator
 from .recursion import one_angle_recursion
-from .sampling import fourier_tail, numeric_model
+from .sampling import check_order, check_tol, fourier_tail, numeric_model
 from .symbols import x, xdot
 
 __all__ = ["derive_values", "ExpansionValues", "DEFAULT_TOL"]
@@ -185,13 +185,8 @@ def derive_values(model: Oscillator | str, order: int, a, params: dict | None = 
     >>> bool(abs(v.A[1][0] + 0.5) < 1e-15)         # A_1 = -a/2: the damping alone
     True
     """
-    if not isinstance(order, int) or isinstance(order, bool) or order < 1:
-        raise OrderError(f"the order must be an integer >= 1, got {order!r}")
-    if order > MAX_ORDER:
-        raise OrderError(f"order {order} is above the limit {MAX_ORDER}; ask for order <= "
-                         f"{MAX_ORDER}")
-    if not (isinstance(tol, (int, float)) and 1e-16 <= tol < 1):
-        raise ParameterError(f"tol must be a number between 1e-16 and 1, got {tol!r}")
+    check_order(order, MAX_ORDER, None)
+    tol = check_tol(tol, 1e-16)
     amps = _amplitudes(a)
     model, F, w0 = numeric_model(model, params)
     # as in kbm.averaging: products of sines and cosines become sums

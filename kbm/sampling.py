@@ -5,7 +5,12 @@
   (:func:`check_order`, :func:`check_tol`);
 - the coefficient tails that say whether a grid resolves a quantity: the largest Fourier
   coefficient (in an angle) and the largest Chebyshev coefficient (in the amplitude) in the
-  top quarter (:func:`fourier_tail`, :func:`chebyshev_tail`).
+  top quarter (:func:`fourier_tail`, :func:`chebyshev_tail`);
+- the resolution loops' common steps: the Chebyshev interval reaching past the one asked for
+  (:func:`widened`), the second grid half as fine again that measures what the tails cannot
+  (:func:`check_grid`) with the matrices that compare the two (:func:`comparison_matrices`),
+  and the refusal of an ``F`` whose samples grow without bound as the
+  angles are refined (:func:`check_bounded`).
 
 Used by :mod:`kbm.numeric_kbm`, :mod:`kbm.pointwise` and :mod:`kbm.forced.numeric`.
 """
@@ -24,10 +29,12 @@ from .smooth_terms import non_smooth_message, non_smooth_term
 from .symbols import x, xdot
 
 __all__ = ["parse_a_range", "numeric_model", "check_order", "check_tol", "fourier_tail",
-           "chebyshev_tail"]
+           "chebyshev_tail", "widened", "check_grid", "check_bounded", "comparison_matrices", "MARGIN"]
 
 #: the top fraction of the coefficients read as the tail
 _TAIL = 0.25
+#: how far (a fraction of its width) the Chebyshev grid reaches past each end of the interval
+MARGIN = 0.1
 
 
 def parse_a_range(a_range) -> tuple[float, float]:
@@ -93,13 +100,15 @@ def numeric_model(model: Oscillator | str, params) -> tuple[Oscillator, sp.Expr,
     return model, F, float(model.omega0)
 
 
-def check_order(order, limit: int, backend: str = "numeric backend") -> None:
-    """Refuse an order that is not an integer in ``1..limit`` (:class:`OrderError`)."""
+def check_order(order, limit: int, backend: str | None = "numeric backend") -> None:
+    """Refuse an order that is not an integer in ``1..limit`` (:class:`OrderError`; the
+    message names ``backend`` unless it is ``None``)."""
     if not isinstance(order, int) or isinstance(order, bool) or order < 1:
         raise OrderError(f"the order must be an integer >= 1, got {order!r}")
     if order > limit:
-        raise OrderError(f"order {order} is above the limit {limit} of the {backend}; ask "
-                         f"for order <= {limit}")
+        of = f" of the {backend}" if backend else ""
+        raise OrderError(f"order {order} is above the limit {limit}{of}; ask for order <= "
+                         f"{limit}")
 
 
 def check_tol(tol, smallest: float = 1e-15) -> float:
@@ -128,3 +137,48 @@ def chebyshev_tail(values: np.ndarray, axis: int = 0) -> float:
     c = np.abs(chebyshev.coefficients(values, axis=axis))
     n = c.shape[axis]
     return float(np.max(np.take(c, np.arange(int((1 - _TAIL) * (n - 1)), n), axis=axis)))
+
+
+def widened(lo: float, hi: float) -> tuple[float, float]:
+    """The Chebyshev interval for ``[lo, hi]``: :data:`MARGIN` of its width past each end
+    (at most a quarter of ``lo`` below it): the ends of a Chebyshev grid are where
+    differentiation amplifies errors most."""
+    return lo - min(MARGIN * (hi - lo), 0.25 * lo), hi + MARGIN * (hi - lo)
+
+
+def check_grid(P: int, *angles: int) -> tuple[int, ...]:
+    """The second grid, half as fine again, that measures the rounding errors the
+    differentiations in ``a`` amplify: ``P + (P - 1)/2`` Chebyshev points (odd stays odd)
+    and ``M + M/2`` points per angle."""
+    return (P + (P - 1) // 2, *(M + M // 2 for M in angles))
+
+
+def comparison_matrices(lo: float, hi: float, clo: float, chi: float, P0: int, P1: int
+                        ) -> tuple[np.ndarray, np.ndarray]:
+    """The barycentric interpolation matrices of two Chebyshev grids of ``[clo, chi]``
+    (``P0`` and ``P1`` points) at ``2 P0 + 1`` equispaced amplitudes of ``[lo, hi]``, where
+    the grid and its check grid are compared."""
+    at = np.linspace(lo, hi, 2 * P0 + 1)
+    return (chebyshev.barycentric_matrix(clo, chi, P0, at),
+            chebyshev.barycentric_matrix(clo, chi, P1, at))
+
+
+def check_bounded(F, f: np.ndarray, first: float, exhausted: bool, where: str,
+                  refined: str = "") -> None:
+    """Refuse an ``F`` whose samples ``f`` grow without bound as the angles are refined.
+
+    On the last grid (``exhausted``), a largest sample ten times that of the first grid
+    (``first``), or ``1e8`` times the median, is the sign of a pole of ``F`` on the orbits.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Saying ``where`` (the orbits of the a-range, or the orbit at ``a_max``).
+    """
+    scale = float(np.max(np.abs(f))) or 1.0
+    if exhausted and (scale > 10 * first
+                      or scale > 1e8 * (float(np.median(np.abs(f))) or 1.0)):
+        raise ParameterError(
+            f"F = {F} is not bounded {where}: its largest sampled value grows from "
+            f"{first:.3g} to {scale:.3g} as the phases are refined{refined}, as at a pole of F "
+            "on |x| <= a_max, |xdot| <= omega0 a_max; shrink the a-range or change F")

@@ -156,3 +156,24 @@ def test_locking_of_sine_coupled_van_der_pol_oscillators():
     for side in (0, 1):
         assert 1.8 < err[0.05][side] / err[0.025][side] < 2.2, err
     assert max(err[0.025]) < 1e-3
+
+
+def test_an_undeclared_resonance_is_refused_as_by_the_exact_engine():
+    """The first order is the first order of the one recursion on the sampled algebra
+    (kbm.coupled.jets.first_order): a harmonic of F at an exact internal resonance that
+    was not declared (1:1, (x1 - x2)**3 holds psi2 - psi1) has a vanishing divisor, and the
+    numeric average refuses it as derive_coupled does (Bogoliubov & Mitropolsky 1961,
+    ch. 5: the resonant combination must be kept as a slow phase); declared, it averages."""
+    from kbm.coupled.resonance import UndeclaredResonanceError
+
+    m = coupled_custom(["-c*(x1 - x2)**3", "-c*(x2 - x1)**3"], "1,1")
+    with pytest.raises(UndeclaredResonanceError):
+        derive_coupled(m, 1)
+    with pytest.raises(UndeclaredResonanceError, match="declare"):
+        numeric_average(m, {"c": 0.8}).rates([1.0, 0.5], [])
+    A, B, _ = numeric_average(m.with_internal(["1:1"]), {"c": 0.8}).rates([1.0, 0.5], [0.3])
+    r = derive_coupled(m.with_internal(["1:1"]), 1)
+    sub = {sp.Symbol("c"): 0.8, **dict(zip(amplitudes(2), [1.0, 0.5])),
+           r.gammas[0][0]: 0.3}
+    assert A[0] == pytest.approx(float(r.A[0][1].subs(sub)), abs=1e-12)
+    assert B[1] == pytest.approx(float(r.B[1][1].subs(sub)), abs=1e-12)

@@ -38,8 +38,11 @@ class GridCoef:
 
 class Samples:
     """Values on a grid, ``values is None`` the exact zero, with the ring operations that act
-    value by value (the sampled series of the one-angle algebras; each gives its product and
-    its scaling by a coefficient)."""
+    value by value: the base of every sampled series (the one-angle algebras', the forced
+    grid's :class:`kbm.forced.grid.SampledSeries`, the coupled jets'
+    :class:`kbm.coupled.jet_algebra.JetSeries`).  Each gives its product; one that carries
+    more than its values (a degree, a cap) gives :meth:`_new` and, when a sum is not the sum
+    of the values, :meth:`_plus`."""
 
     __slots__ = ("values",)
 
@@ -49,21 +52,29 @@ class Samples:
     def is_zero(self) -> bool:
         return self.values is None
 
+    def _new(self, values: np.ndarray | None):
+        """A series of the same kind with other values."""
+        return type(self)(values)
+
+    def _plus(self, other):
+        """The sum of two non-zero series."""
+        return self._new(self.values + other.values)
+
     def __add__(self, other):
         if other.values is None:
             return self
         if self.values is None:
             return other
-        return type(self)(self.values + other.values)
+        return self._plus(other)
 
     def __neg__(self):
-        return self if self.values is None else type(self)(-self.values)
+        return self if self.values is None else self._new(-self.values)
 
     def __sub__(self, other):
         return self + (-other)
 
     def scale_q(self, q):
-        return self if self.values is None else type(self)(self.values * float(q))
+        return self if self.values is None else self._new(self.values * float(q))
 
 
 class GridSeries(Samples):

@@ -26,6 +26,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from ..algebra.grid_fourier import Samples
 from ..errors import ModelError
 from .algebra import AngleCalculus
 from .model import CoupledOscillators
@@ -48,33 +49,20 @@ def _multi_indices(n: int, degree: int) -> list[tuple[int, ...]]:
     return out
 
 
-class JetSeries:
+class JetSeries(Samples):
     """Taylor coefficients ``(C, M, .., M)`` in the amplitudes, known to degree ``deg``
     (``values is None``: zero, known to every degree)."""
 
-    __slots__ = ("alg", "values", "deg")
+    __slots__ = ("alg", "deg")
 
     def __init__(self, alg: "JetAlgebra", values: np.ndarray | None, deg: int):
         self.alg, self.values, self.deg = alg, values, deg
 
-    def is_zero(self) -> bool:
-        return self.values is None
+    def _new(self, values, deg=None) -> "JetSeries":
+        return JetSeries(self.alg, values, self.deg if deg is None else deg)
 
-    def _new(self, values, deg) -> "JetSeries":
-        return JetSeries(self.alg, values, deg)
-
-    def __add__(self, other: "JetSeries") -> "JetSeries":
-        if other.values is None:
-            return self
-        if self.values is None:
-            return other
+    def _plus(self, other: "JetSeries") -> "JetSeries":
         return self._new(self.values + other.values, min(self.deg, other.deg))
-
-    def __neg__(self) -> "JetSeries":
-        return self if self.values is None else self._new(-self.values, self.deg)
-
-    def __sub__(self, other: "JetSeries") -> "JetSeries":
-        return self + (-other)
 
     def __mul__(self, other: "JetSeries") -> "JetSeries":
         if self.values is None or other.values is None:
@@ -85,9 +73,6 @@ class JetSeries:
         for p, q, r in self.alg.pairs[deg]:
             out[r] += f[p] * g[q]
         return self._new(out, deg)
-
-    def scale_q(self, q) -> "JetSeries":
-        return self if self.values is None else self._new(self.values * float(q), self.deg)
 
     def scale(self, c) -> "JetSeries":
         """``c f`` for a number or another jet."""
@@ -179,15 +164,10 @@ class JetAlgebra(AngleCalculus):
             self.shifts.append(row)
         self.pos = pos
         # the angles and the harmonics of the grid
-        ang = 2 * np.pi * np.arange(self.M) / self.M
-        self.angles = np.meshgrid(*([ang] * D), indexing="ij")
-        self.h, self.keep, self.freq = _harmonics(self.omega, self.M)
-        self.ik = [np.where(self.keep, 1j * hl, 0.0) for hl in self.h]
-        self.iL0 = np.where(self.keep, 1j * self.freq, 0.0)
-        shell = np.zeros(self.shape, dtype=bool)
-        for hl in self.h:
-            shell |= np.abs(hl) >= self.M // 2 - 1
-        self.shell = shell
+        self.angles, self.cos, self.sin, self.shell = torus(self.M, D)
+        self.h, self.keep, self.freq, self.ik, self.iL0 = _harmonics(self.omega, self.M)
+        #: the largest Fourier coefficient of the F_i = R_{i,1} on the outer shell
+        self.outer = 0.0
         self._modes = [_mode_table(self.omega, model.internal, self.forced, self.M, self.tol, i)
                        for i in range(N)]
 
@@ -201,9 +181,10 @@ class JetAlgebra(AngleCalculus):
     def x0(self, i: int) -> JetSeries:
         """``a_i cos(psi_i)``: ``a*_i cos psi_i + Da_i cos psi_i``."""
         v = np.zeros((len(self.index),) + self.shape)
-        c = np.cos(self.angles[i])
+        c = self.cos[i]
         v[0] = self.point[i] * c
-        v[self.pos[tuple(1 if k == i else 0 for k in range(self.dof))]] = c
+        if self.top:
+            v[self.pos[tuple(1 if k == i else 0 for k in range(self.dof))]] = c
         return self.jet(v, self.top)
 
     def spectral(self, f: JetSeries, mult: np.ndarray) -> JetSeries:
@@ -227,6 +208,9 @@ class JetAlgebra(AngleCalculus):
     def _spectrum(self, R: JetSeries, i: int, n: int) -> np.ndarray:
         axes = tuple(range(1, self.n + 1))
         spec = np.fft.fftn(R.values, axes=axes)
+        if n == 1:  # R_{i,1} = F_i: its largest coefficient on the outer shell
+            outer = spec[0][self.shell] / spec[0].size
+            self.outer = max(self.outer, float(np.max(np.abs(outer))) if outer.size else 0.0)
         _, _, refused, _ = self._modes[i]
         if refused:
             big = float(np.max(np.abs(spec))) or 1.0
@@ -264,10 +248,29 @@ class JetAlgebra(AngleCalculus):
 
 
 @lru_cache(maxsize=32)
+def torus(M: int, D: int):
+    """The ``M^D`` grid of the torus: its angles, their cosines and sines (one array per
+    angle), and the mask of its outer shell (a harmonic ``|h_l| >= M/2 - 1`` in some angle).
+    Memoised per grid (time only; the arrays are read-only)."""
+    ang = 2 * np.pi * np.arange(M) / M
+    angles = tuple(np.meshgrid(*([ang] * D), indexing="ij"))
+    cos = tuple(np.cos(a) for a in angles)
+    sin = tuple(np.sin(a) for a in angles)
+    h1 = np.rint(np.fft.fftfreq(M) * M).astype(int)
+    shell = np.zeros((M,) * D, dtype=bool)
+    for hl in np.meshgrid(*([h1] * D), indexing="ij"):
+        shell |= np.abs(hl) >= M // 2 - 1
+    for arr in (*angles, *cos, *sin, shell):
+        arr.flags.writeable = False
+    return angles, cos, sin, shell
+
+
+@lru_cache(maxsize=32)
 def _harmonics(omega: tuple, M: int):
     """The harmonics ``h`` of the ``M^D`` grid (one integer array per angle), the mask of
-    those off the Nyquist planes, and their frequencies ``h . omega`` (memoised per
-    frequencies and grid: time only; the arrays are read-only)."""
+    those off the Nyquist planes, their frequencies ``h . omega``, and the multipliers of
+    ``d/dpsi_l`` and ``L0`` (``i h_l`` and ``i h . omega``, zero on the Nyquist planes).
+    Memoised per frequencies and grid (time only; the arrays are read-only)."""
     D = len(omega)
     h1 = np.rint(np.fft.fftfreq(M) * M).astype(int)
     hs = np.meshgrid(*([h1] * D), indexing="ij")
@@ -275,9 +278,11 @@ def _harmonics(omega: tuple, M: int):
     for hl in hs:
         keep &= hl != -M // 2
     freq = sum(hl * float(w) for hl, w in zip(hs, omega))
-    for arr in (*hs, keep, freq):
+    ik = tuple(np.where(keep, 1j * hl, 0.0) for hl in hs)
+    iL0 = np.where(keep, 1j * freq, 0.0)
+    for arr in (*hs, keep, freq, *ik, iL0):
         arr.flags.writeable = False
-    return tuple(hs), keep, freq
+    return tuple(hs), keep, freq, ik, iL0
 
 
 @lru_cache(maxsize=64)
@@ -288,7 +293,7 @@ def _mode_table(omega: tuple, internal: tuple, forced: bool, M: int, tol: float,
     and the Nyquist modes).  Memoised per frequencies, resonances and grid (time only: the
     exact classification of :func:`~kbm.coupled.resonance.resonant_harmonic` is slow)."""
     lattice = SlowLattice(len(omega), internal)
-    hs, keep, freq = _harmonics(omega, M)
+    hs, keep, freq, _, _ = _harmonics(omega, M)
     wi = float(omega[i])
     gap = np.abs(np.abs(freq) - wi) / wi
     res_h, res_k, refused = [], [], []

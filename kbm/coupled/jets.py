@@ -1,8 +1,10 @@
 """The coupled KBM recursion to any order for any smooth ``F``, at one point of the amplitudes.
 
 :func:`kbm.coupled.derive_coupled` runs the recursion on exact series (polynomial ``F``);
-the first-order numeric backend (:mod:`kbm.coupled.numeric`) averages any smooth ``F`` by
-one FFT on the torus.  Beyond the first order the recursion differentiates in the amplitudes
+this is the one numeric coupled backend for any smooth ``F``, forced or not: the first order
+(:func:`first_order`, behind :func:`kbm.coupled.numeric_average`) is the same recursion on
+jets of degree 0, one FFT of ``F`` on the torus per mode.  Beyond the first order the
+recursion differentiates in the amplitudes
 (``D_j = sum_l A_{l,j} d/da_l + B_{l,j} d/dpsi_l``), so the numeric backend needs the
 quantities of the lower orders *with* their amplitude derivatives.  Here every quantity is a
 **jet**: its Taylor coefficients in ``Da = a - a*`` at the point ``a*`` up to a degree, each a
@@ -59,6 +61,10 @@ MAX_NODES_JETS = 256
 MAX_GRID_JETS = 2**18
 
 
+#: the slow lattice of ``D`` angles and the declared resonances (memoised: time only)
+_lattice = lru_cache(maxsize=64)(SlowLattice)
+
+
 @lru_cache(maxsize=64)
 def _slow_terms(gens: tuple, D: int, M: int):
     """The slow lattice's wavevectors on the grid: their indices and coordinates ``n``
@@ -79,11 +85,11 @@ class JetBuilder:
         n = alg.dof
         self.vars = (*positions(n), *velocities(n))
         self.leaves = [leaves[v] for v in self.vars]
-        self.x0 = [alg.point[l] * np.cos(alg.angles[l]) for l in range(n)]
-        self.v0 = [-alg.w[l] * alg.point[l] * np.sin(alg.angles[l]) for l in range(n)]
+        self.x0 = [alg.point[l] * alg.cos[l] for l in range(n)]
+        self.v0 = [-alg.w[l] * alg.point[l] * alg.sin[l] for l in range(n)]
         # d x0_l / d a_l and d v0_l / d a_l on the grid
-        self.dx = [np.cos(alg.angles[l]) for l in range(n)]
-        self.dv = [-alg.w[l] * np.sin(alg.angles[l]) for l in range(n)]
+        self.dx = list(alg.cos[:n])
+        self.dv = [-alg.w[l] * alg.sin[l] for l in range(n)]
         self.theta = alg.angles[-1] if alg.forced else np.zeros(alg.shape)
 
     def build(self, expr: sp.Expr):
@@ -227,38 +233,12 @@ def jet_expansion(model: CoupledOscillators, values: Mapping[str, float], order:
             not 1 <= order <= MAX_ORDER_JETS:
         raise OrderError(f"the order of the numeric coupled averaging must be an integer "
                          f"from 1 to {MAX_ORDER_JETS}, got {order!r}")
-    if model.hard:
-        raise ModelError(f"{model.name!r} has a hard forcing K cos(theta): the numeric "
-                         "averaging takes weak forcing mu F(theta) (the exact engine takes "
-                         "hard forcing: kbm.coupled.derive_coupled)")
-    if any(f.has(sp.Symbol("nu")) for f in model.F) and order > 1:
-        raise ModelError(f"{model.name!r} holds the forcing frequency nu in F (nu = nu0 + mu "
-                         "sigma puts mu into F): beyond the first order the numeric coupled "
-                         "averaging takes F free of nu")
+    F, parameters, sigma = _right_hand_sides(model, values, order)
     n = model.dof
     a, g = slow_point(n, len(model.internal), amplitudes, gammas)
-    F = [[sp.expand(f)] for f in model.F]
-    for r in model.internal:
-        if r.detuning and not r.forcing:  # omega_j -> omega_j + mu sigma, as the exact engine
-            sig = sp.Symbol(r.detuning)
-            xj = positions(n)[r.j - 1]
-            wj = model.omega0[r.j - 1]
-            F[r.j - 1][0] = F[r.j - 1][0] - 2 * wj * sig * xj
-            F[r.j - 1].append(-sig**2 * xj)
-    # the parameters stay symbols, their values arguments of the compiled derivatives
-    names = sorted({s.name for row in F for f in row for s in f.free_symbols}
-                   - {s.name for s in model.state} - {"theta"})
-    free = [k for k in names if k not in values]
-    if free:
-        raise ParameterError(f"give values for {', '.join(free)} (-p NAME=VALUE)")
-    sigma = None
-    if model.forced and model.nu_detuning:
-        sigma = float(values.get(model.nu_detuning, 0.0))
     D = n + (1 if model.forced else 0)
-    if not isinstance(nodes, int) or isinstance(nodes, bool) or nodes < 8 or nodes % 2:
-        raise ParameterError(f"nodes must be an even integer >= 8, got {nodes!r}")
-    lattice = SlowLattice(D, model.internal)
-    parameters = (tuple(sp.Symbol(k) for k in names), tuple(float(values[k]) for k in names))
+    check_nodes(nodes)
+    lattice = _lattice(D, model.internal)
     M = nodes
     while True:
         alg = JetAlgebra(model, lattice, a, M, order + (1 if gradient else 0), sigma,
@@ -315,3 +295,80 @@ def _on_grid(alg: JetAlgebra, F, order: int, gradient: bool, lattice: SlowLattic
                         tuple(outA), tuple(outB), tail, int(alg.M),
                         tuple(dA) if gradient else None, tuple(dB) if gradient else None)
 
+
+def check_nodes(nodes) -> None:
+    """Refuse a number of grid points per angle that is not an even integer ``>= 8``."""
+    if not isinstance(nodes, int) or isinstance(nodes, bool) or nodes < 8 or nodes % 2:
+        raise ParameterError(f"nodes must be an even integer >= 8, got {nodes!r}")
+
+
+def check_weak(model: CoupledOscillators) -> None:
+    """Refuse a hard forcing ``K cos(theta)`` (the numeric backend takes ``mu F(theta)``)."""
+    if model.hard:
+        raise ModelError(f"{model.name!r} has a hard forcing K cos(theta): the numeric "
+                         "averaging takes weak forcing mu F(theta) (the exact engine takes "
+                         "hard forcing: kbm.coupled.derive_coupled)")
+
+
+def _right_hand_sides(model: CoupledOscillators, values: Mapping[str, float], order: int):
+    """``F[i][k]``, the coefficient of ``mu**k`` of mode ``i`` (:func:`symbolic_rhs`), the
+    parameters ``(symbols, values)`` and the forcing detuning's value."""
+    F, names = symbolic_rhs(model, order > 1)
+    free = [k for k in names if k not in values]
+    if free:
+        raise ParameterError(f"give values for {', '.join(free)} (-p NAME=VALUE)")
+    sigma = None
+    if model.forced and model.nu_detuning:
+        sigma = float(values.get(model.nu_detuning, 0.0))
+    parameters = (tuple(sp.Symbol(k) for k in names), tuple(float(values[k]) for k in names))
+    return [list(row) for row in F], parameters, sigma
+
+
+@lru_cache(maxsize=64)
+def symbolic_rhs(model: CoupledOscillators, higher: bool):
+    """``F[i][k]`` and the names of the parameters in them: a declared detuning
+    ``omega_j -> omega_j + mu sigma`` enters as in the exact engine; at the first order
+    (``higher`` false) a forcing frequency ``nu`` in ``F`` is ``nu0 + mu sigma``, ``mu`` a
+    parameter.  Memoised per model (time only)."""
+    check_weak(model)
+    n = model.dof
+    nu = sp.Symbol("nu")
+    if any(f.has(nu) for f in model.F) and higher:
+        raise ModelError(f"{model.name!r} holds the forcing frequency nu in F (nu = nu0 + mu "
+                         "sigma puts mu into F): beyond the first order the numeric coupled "
+                         "averaging takes F free of nu")
+    F = [[sp.expand(f)] for f in model.F]
+    if model.forced and any(f.has(nu) for f in model.F):
+        shift = sp.nsimplify(model.nu0) + sp.Symbol("mu") * sp.Symbol(model.nu_detuning
+                                                                      or "sigma")
+        F = [[sp.expand(f.subs(nu, shift))] for f in model.F]
+    for r in model.internal:
+        if r.detuning and not r.forcing:  # omega_j -> omega_j + mu sigma, as the exact engine
+            sig = sp.Symbol(r.detuning)
+            xj = positions(n)[r.j - 1]
+            wj = model.omega0[r.j - 1]
+            F[r.j - 1][0] = F[r.j - 1][0] - 2 * wj * sig * xj
+            F[r.j - 1].append(-sig**2 * xj)
+    # the parameters stay symbols, their values arguments of the compiled derivatives
+    names = sorted({s.name for row in F for f in row for s in f.free_symbols}
+                   - {s.name for s in model.state} - {"theta"})
+    return tuple(tuple(row) for row in F), tuple(names)
+
+
+def first_order(model: CoupledOscillators, values: Mapping[str, float],
+                amplitudes: Sequence[float], gammas: Sequence[float], nodes: int
+                ) -> tuple[np.ndarray, np.ndarray, float]:
+    """``(A_1, B_1, outer)`` at one point on the ``nodes^D`` grid: the first order of the
+    same recursion on jets of degree 0 (no amplitude derivatives are needed), and the
+    largest Fourier coefficient of the ``F_i`` on the grid's outer shell (no refinement)."""
+    from .engine import TOLERANCE
+
+    F, parameters, sigma = _right_hand_sides(model, values, 1)
+    a, g = slow_point(model.dof, len(model.internal), amplitudes, gammas)
+    lattice = _lattice(model.dof + (1 if model.forced else 0), model.internal)
+    alg = JetAlgebra(model, lattice, a, nodes, 0, sigma, TOLERANCE, parameters)
+    A, B, _ = kbm_recursion(alg, coupled_rhs(alg, F, JetBuilder), 1, last_u=False)
+    gens = lattice.generators
+    rate = [[_slow_value(alg, X[i][0].value(), gens, g)[0] for i in range(model.dof)]
+            for X in (A, B)]
+    return np.array(rate[0]), np.array(rate[1]), alg.outer

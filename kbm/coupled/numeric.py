@@ -7,12 +7,18 @@ averages over the fast angles
 ``A_{i,1} = -<F_i sin psi_i>/omega_i``,  ``B_{i,1} = -<F_i cos psi_i>/(omega_i a_i)``,
 
 where the declared resonances keep their combinations ``gamma_r = g_r . psi`` fixed
-(Bogoliubov & Mitropolsky 1961, ch. 5).  Here ``F_i`` is sampled on an ``M^D`` grid of the
-torus (``D = N``, and one more angle ``theta`` for a forced system), its multi-angle Fourier
+(Bogoliubov & Mitropolsky 1961, ch. 5).  They are the first order of the one recursion
+(:func:`kbm.recursion.kbm_recursion`) on the sampled algebra of the numeric backend
+(:class:`kbm.coupled.jet_algebra.JetAlgebra`, jets of degree 0 at the first order;
+:func:`kbm.coupled.jets.first_order`): ``F_i`` is sampled on an ``M^D`` grid of the torus
+(``D = N``, and one more angle ``theta`` for a forced system), its multi-angle Fourier
 coefficients ``c_k`` come from one FFT, and the averages keep the wavevectors ``q`` of the
 slow lattice (the integer combinations of the ``g_r``):
 
 ``<F_i e^{-/+ i psi_i}> = sum_{q in L} c_{q +/- e_i} e^{i q . psi}``,  ``q . psi = sum_r n_r gamma_r``.
+
+Above the first order :meth:`NumericAverage.expansion` runs the same recursion on jets of
+higher degree (:func:`kbm.coupled.jets.jet_expansion`).
 
 For a polynomial ``F`` of degree ``d`` the grid is exact once ``M > 2 (d + 1)``; for a smooth
 ``F`` the error falls faster than any power of ``1/M`` (the result states the size of the
@@ -25,20 +31,16 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from functools import lru_cache
-from typing import TYPE_CHECKING
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
-import sympy as sp
 
-from ..errors import ModelError, ParameterError
+from ..errors import ParameterError
 from .builtins import get_coupled_model
-from .model import CoupledOscillators, positions, velocities
-from .resonance import SlowLattice, lattice_on_grid, slow_point
-
-if TYPE_CHECKING:
-    from .jets import JetExpansion
+from .jets import (JetExpansion, check_nodes, check_weak, first_order, jet_expansion,
+                   symbolic_rhs)
+from .model import CoupledOscillators
+from .resonance import SlowLattice
 
 __all__ = ["NumericAverage", "numeric_average", "DEFAULT_NODES", "MAX_NODES_TOTAL"]
 
@@ -61,8 +63,6 @@ class NumericAverage:
     values: Mapping[str, float]
     nodes: int
     gammas: tuple[tuple[int, ...], ...]
-    functions: tuple = field(default=(), compare=False, repr=False)
-    names: tuple[str, ...] = ()
 
     def at(self, **values: float) -> "NumericAverage":
         """The same averaging at other values of some parameters (no new lambdification:
@@ -86,40 +86,11 @@ class NumericAverage:
         kbm.errors.ParameterError
             For a count of amplitudes or phases that does not match, or an amplitude that
             is not positive and finite.
+        kbm.coupled.resonance.UndeclaredResonanceError
+            For a harmonic of ``F`` at an exact resonance that was not declared (as
+            :func:`kbm.coupled.derive_coupled`).
         """
-        m = self.model
-        n = m.dof
-        a, g = slow_point(n, len(self.gammas), amplitudes, gammas)
-        D = n + (1 if m.forced else 0)
-        M = self.nodes
-        cos, sin, theta, Q, coefs, outer = _grid(self.gammas, D, M, m.forced)
-        w = [float(v) for v in m.omega0]
-        xs = [a[i] * cos[i] for i in range(n)]
-        vs = [-a[i] * w[i] * sin[i] for i in range(n)]
-        phase = np.exp(1j * (coefs @ g)) if len(g) else np.ones(len(Q))
-        pv = [self.values[k] for k in self.names]
-        A = np.empty(n)
-        B = np.empty(n)
-        tail = 0.0
-        for i in range(n):
-            F = np.broadcast_to(np.asarray(self.functions[i](*xs, *vs, theta, *pv),
-                                           dtype=float), cos[0].shape)
-            if not np.all(np.isfinite(F)):
-                raise ParameterError(f"F{i + 1} is not finite at the amplitudes {list(a)}")
-            c = np.fft.fftn(F) / F.size
-            tail = max(tail, float(np.max(np.abs(c[outer]))) if outer.any() else 0.0)
-            e = np.zeros(D, dtype=int)
-            e[i] = 1
-            minus = np.sum(c[tuple(((Q + e) % M).T)] * phase)  # <F e^{-i psi_i}>
-            plus = np.sum(c[tuple(((Q - e) % M).T)] * phase)   # <F e^{+i psi_i}>
-            s_avg = ((plus - minus) / 2j).real       # <F sin psi_i>
-            c_avg = ((minus + plus) / 2).real        # <F cos psi_i>
-            A[i] = -s_avg / w[i]
-            B[i] = -c_avg / (w[i] * a[i])
-        for r in m.internal:  # omega_j = (q/p) omega_i + mu sigma: sigma joins B_j
-            if r.detuning and not r.forcing:
-                B[r.j - 1] += self.values[r.detuning]
-        return A, B, tail
+        return first_order(self.model, self.values, amplitudes, gammas, self.nodes)
 
     def expansion(self, amplitudes: Sequence[float], gammas: Sequence[float] = (),
                   order: int = 2, gradient: bool = False) -> "JetExpansion":
@@ -133,8 +104,6 @@ class NumericAverage:
             For a forcing frequency ``nu`` in ``F`` above the first order (it puts ``mu``
             into ``F``), or an undeclared resonance (named).
         """
-        from .jets import jet_expansion
-
         return jet_expansion(self.model, self.values, order, amplitudes, gammas,
                              nodes=self.nodes, gradient=gradient)
 
@@ -189,52 +158,6 @@ class NumericAverage:
         return np.array(out)
 
 
-@lru_cache(maxsize=16)
-def _grid(gens: tuple[tuple[int, ...], ...], D: int, M: int, forced: bool):
-    """The torus grid's cosines and sines per angle, the forcing angle, the slow lattice's
-    wavevectors ``Q`` with their coordinates, and the mask of the outer shell (memoised per
-    lattice and grid size: time only; the arrays are read-only)."""
-    ang = 2 * np.pi * np.arange(M) / M
-    grids = np.meshgrid(*([ang] * D), indexing="ij")
-    cos = tuple(np.cos(gr) for gr in grids)
-    sin = tuple(np.sin(gr) for gr in grids)
-    theta = grids[-1] if forced else np.zeros_like(grids[0])
-    k = np.abs(np.fft.fftfreq(M, 1.0 / M))
-    outer = np.zeros(grids[0].shape, dtype=bool)
-    for ax in range(D):
-        shape = [1] * D
-        shape[ax] = M
-        outer |= np.broadcast_to((k >= M // 2 - 1).reshape(shape), outer.shape)
-    shifts = lattice_on_grid(gens, D, M)
-    Q = np.array([q for q, _ in shifts], dtype=int).reshape(-1, D)
-    coefs = np.array([c for _, c in shifts], dtype=float).reshape(len(shifts), -1)
-    for arr in (*cos, *sin, theta, Q, coefs, outer):
-        arr.flags.writeable = False
-    return cos, sin, theta, Q, coefs, outer
-
-
-def _function(model: CoupledOscillators, i: int, names: Sequence[str]):
-    """``F_i(x.., xdot.., theta, *parameters)`` as a numpy function (parameters by
-    ``names``; a forcing frequency ``nu`` written in ``F`` is ``nu0 + mu sigma``)."""
-    n = model.dof
-    expr = model.F[i]
-    if model.forced:
-        nu = sp.nsimplify(model.nu0) + sp.Symbol("mu") * sp.Symbol(model.nu_detuning or "sigma")
-        expr = expr.subs(sp.Symbol("nu"), nu)
-    args = [*positions(n), *velocities(n), sp.Symbol("theta")]
-    return sp.lambdify(args + [sp.Symbol(k) for k in names], expr,
-                       modules=["numpy", "scipy"])
-
-
-def _needed(model: CoupledOscillators, i: int) -> set[str]:
-    expr = model.F[i]
-    names = {s_.name for s_ in expr.free_symbols} - {s_.name for s_ in (*model.state,)}
-    names -= {"theta"}
-    if "nu" in names:
-        names = (names - {"nu"}) | {"mu", model.nu_detuning or "sigma"}
-    return names
-
-
 def numeric_average(model: CoupledOscillators | str, values: Mapping[str, object] | None = None,
                     *, internal: Sequence[object] = (), nodes: int = DEFAULT_NODES
                     ) -> NumericAverage:
@@ -272,12 +195,8 @@ def numeric_average(model: CoupledOscillators | str, values: Mapping[str, object
     stage = model.stage_parameters()
     model = model.at_rest(exact)  # a stage at rest (v = 0) is autonomous
     vals = {k: v for k, v in vals.items() if k not in stage}
-    if model.hard:
-        raise ModelError(f"{model.name!r} has a hard forcing K cos(theta): the numeric "
-                         "averaging takes weak forcing mu F(theta) (the exact engine takes "
-                         "hard forcing: kbm.coupled.derive_coupled)")
-    if not isinstance(nodes, int) or nodes < 8 or nodes % 2:
-        raise ParameterError(f"nodes must be an even integer >= 8, got {nodes!r}")
+    check_weak(model)
+    check_nodes(nodes)
     D = model.dof + (1 if model.forced else 0)
     if nodes ** D > MAX_NODES_TOTAL:
         raise ParameterError(f"{nodes}^{D} grid points exceed the limit {MAX_NODES_TOTAL}: "
@@ -287,11 +206,8 @@ def numeric_average(model: CoupledOscillators | str, values: Mapping[str, object
     if missing:
         raise ParameterError(f"give values for the detunings {', '.join(missing)}")
     gens = tuple(SlowLattice(D, model.internal).generators)
-    need = set().union(*[_needed(model, i) for i in range(model.dof)])
-    free = sorted(need - set(vals))
+    free = sorted(set(symbolic_rhs(model, False)[1]) - set(vals))
     if free:
         raise ParameterError(f"give values for {', '.join(free)} (-p NAME=VALUE"
                              + "".join(model.physical_hint(n) for n in free) + ")")
-    names = tuple(sorted(need))
-    fns = tuple(_function(model, i, names) for i in range(model.dof))
-    return NumericAverage(model, vals, nodes, gens, fns, names)
+    return NumericAverage(model, vals, nodes, gens)

@@ -27,35 +27,29 @@ from __future__ import annotations
 import numpy as np
 
 from ..algebra import chebyshev
+from ..algebra.grid_fourier import Samples
 from ..recursion import SlowRates
 from .model import Resonance
 
 __all__ = ["SampledSeries", "SampledAlgebra"]
 
 
-class SampledSeries:
+class SampledSeries(Samples):
     """Samples ``(d + 1, P, M, N)`` (rows: powers of ``sigma``); ``values is None`` is zero.
 
     ``cap`` is the highest power of ``sigma`` kept in products.
     """
 
-    __slots__ = ("values", "cap")
+    __slots__ = ("cap",)
 
     def __init__(self, values: np.ndarray | None, cap: int):
         self.values = values
         self.cap = cap
 
-    def is_zero(self) -> bool:
-        return self.values is None
-
     def _new(self, values: np.ndarray | None) -> "SampledSeries":
         return SampledSeries(values, self.cap)
 
-    def __add__(self, other: "SampledSeries") -> "SampledSeries":
-        if other.values is None:
-            return self
-        if self.values is None:
-            return other
+    def _plus(self, other: "SampledSeries") -> "SampledSeries":
         d1, d2 = self.values.shape[0], other.values.shape[0]
         if d1 == d2:
             return self._new(self.values + other.values)
@@ -63,12 +57,6 @@ class SampledSeries:
         out = big.copy()
         out[:small.shape[0]] += small
         return self._new(out)
-
-    def __neg__(self) -> "SampledSeries":
-        return self if self.values is None else self._new(-self.values)
-
-    def __sub__(self, other: "SampledSeries") -> "SampledSeries":
-        return self + (-other)
 
     def __mul__(self, other: "SampledSeries") -> "SampledSeries":
         if self.values is None or other.values is None:
@@ -80,9 +68,6 @@ class SampledSeries:
             for j in range(min(g.shape[0], deg + 1 - i)):
                 out[i + j] += f[i] * g[j]
         return self._new(out)
-
-    def scale_q(self, q) -> "SampledSeries":
-        return self if self.values is None else self._new(self.values * float(q))
 
     def scale(self, c) -> "SampledSeries":
         """``c f`` for a number or another series."""

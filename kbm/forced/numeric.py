@@ -40,11 +40,12 @@ import numpy as np
 import sympy as sp
 
 from ..algebra import chebyshev
-from ..algebra.lazy_series import Scaled, Tail
-from ..algebra.smooth import TaylorOf, TaylorTable
+from ..algebra.lazy_series import Scaled
+from ..algebra.smooth import SmoothBuilder, TaylorTable
 from ..errors import ModelError, ParameterError, ResolutionError
 from ..recursion import kbm_recursion
-from ..sampling import check_order, check_tol, chebyshev_tail, fourier_tail, parse_a_range
+from ..sampling import (check_bounded, check_grid, check_order, check_tol, chebyshev_tail,
+                        comparison_matrices, fourier_tail, parse_a_range, widened)
 from ..symbols import x, xdot
 from .builtins import get_forced_model
 from .engine import derive_forced
@@ -61,8 +62,6 @@ DEFAULT_TOL = 1e-9
 MAX_ORDER_NUMERIC = 8
 #: grid budget: Chebyshev points, phases in psi and in theta, and samples in all
 MAX_P, MAX_M, MAX_N, MAX_SAMPLES = 129, 1024, 256, 2**21
-#: how far (a fraction of its width) the grid reaches past each end of the interval
-_MARGIN = 0.1
 
 
 # ----------------------------------------------------------------------------- the input
@@ -120,14 +119,8 @@ def _angles(tables, w0: float, hi: float, tol: float) -> tuple[int, int]:
                                  "or change F")
         scale = float(np.max(np.abs(f))) or 1.0
         first = scale if first is None else first
-        exhausted = 2 * M > MAX_M or 2 * N > MAX_N
-        if exhausted and (scale > 10 * first
-                          or scale > 1e8 * (float(np.median(np.abs(f))) or 1.0)):
-            raise ParameterError(
-                f"F = {sum(t.F for t in tables.values())} is not bounded on the orbit "
-                f"a = {hi:g}: its largest sampled value grows from {first:.3g} to {scale:.3g} "
-                f"as the phases are refined, as at a pole of F on |x| <= a_max, |xdot| <= "
-                "omega0 a_max; shrink the a-range or change F")
+        check_bounded(sum(t.F for t in tables.values()), f, first,
+                      2 * M > MAX_M or 2 * N > MAX_N, f"on the orbit a = {hi:g}")
         tm, tn = fourier_tail(f, 0), fourier_tail(f, 1)
         if tm <= 0.01 * tol * scale and tn <= 0.01 * tol * scale:
             return M, N
@@ -139,6 +132,23 @@ def _angles(tables, w0: float, hi: float, tol: float) -> tuple[int, int]:
                 f"phases its Fourier coefficients have fallen only to "
                 f"{max(tm, tn) / scale:.1e} of its size (tol {tol:.0e}); use a smaller a_max, "
                 "a smoother F or a looser tol")
+
+
+class _Builder(SmoothBuilder):
+    """``F(x_0 + Dx, v_0 + Dv, theta)`` on the two-angle grid: the leaves' samples are the
+    ``sigma**0`` rows."""
+
+    def base(self, leaf):
+        return leaf.coeff(0).values[0]
+
+    def series(self, vals):
+        return self.alg.sample(vals)
+
+    def not_finite(self, i, j, index, x0, v0) -> str:
+        TH = self.extra[0]
+        return (f"a derivative of F = {self.table.F} is not finite at x = {x0[index]:.6g}, "
+                f"xdot = {v0[index]:.6g}, theta = {TH[index]:.6g}; the numeric backend needs "
+                "F smooth and finite on the orbits of the a-range")
 
 
 @dataclass
@@ -154,32 +164,11 @@ def _run(tables, w0, res, lo, hi, P, M, N, order) -> _Run:
     TH = np.broadcast_to(alg.theta[None, None, :], (P, M, N))
 
     def terms(XL, VL):
-        zero = alg.zero
-        X, V = XL[0], VL[0]
-        Dx, Dv = Tail(zero, X), Tail(zero, V)
-
-        def sampler(table):
-            def sample(i: int, j: int):
-                if table.expr(i, j) == 0:
-                    return alg.zero()
-                x0, v0 = X.coeff(0).values[0], V.coeff(0).values[0]
-                with np.errstate(all="ignore"):
-                    vals = np.broadcast_to(np.asarray(table.function(i, j)(x0, v0, TH),
-                                                      dtype=float), x0.shape)
-                if not np.all(np.isfinite(vals)):
-                    r, c, l_ = np.argwhere(~np.isfinite(vals))[0]
-                    raise ParameterError(
-                        f"a derivative of F = {table.F} is not finite at x = {x0[r, c, l_]:.6g}"
-                        f", xdot = {v0[r, c, l_]:.6g}, theta = {TH[r, c, l_]:.6g}; the numeric "
-                        "backend needs F smooth and finite on the orbits of the a-range")
-                return alg.sample(vals)
-            return sample
-
         out = []
         for i, table in tables.items():
-            node = TaylorOf(zero, sampler(table), Dx, Dv)
+            node = _Builder(alg, XL[0], VL[0], table, (TH,)).build(table.F)
             if i:
-                node = Scaled(zero, node, lambda f, i=i: alg.sigma_power(f, i))
+                node = Scaled(alg.zero, node, lambda f, i=i: alg.sigma_power(f, i))
             out.append((i, node))
         return [out]
 
@@ -228,9 +217,7 @@ def _errors(run: _Run):
 def _differences(run: _Run, check: _Run, lo: float, hi: float) -> list[tuple[float, float]]:
     """Per order: the largest differences of ``A_n`` and ``a B_n`` between two grids, on
     ``[lo, hi]`` (the slow harmonics both grids hold)."""
-    at = np.linspace(lo, hi, 2 * run.alg.P + 1)
-    W0 = chebyshev.barycentric_matrix(run.alg.lo, run.alg.hi, run.alg.P, at)
-    W1 = chebyshev.barycentric_matrix(check.alg.lo, check.alg.hi, check.alg.P, at)
+    W0, W1 = comparison_matrices(lo, hi, run.alg.lo, run.alg.hi, run.alg.P, check.alg.P)
     J0, J1 = run.A[0].shape[-1], check.A[0].shape[-1]
     J = min(J0, J1)
     s0, s1 = slice((J0 - J) // 2, (J0 + J) // 2), slice((J1 - J) // 2, (J1 + J) // 2)
@@ -300,15 +287,14 @@ def numeric_derive_forced(model: ForcedOscillator | str, order: int, a_range,
             from None
     M, N = max(M, 4 * res.p * order + 8), max(N, 4 * res.q * order + 4)
     M, N = 2 ** math.ceil(math.log2(M)), 2 ** math.ceil(math.log2(N))
-    clo, chi = lo - min(_MARGIN * (hi - lo), 0.25 * lo), hi + _MARGIN * (hi - lo)
+    clo, chi = widened(lo, hi)
     P = 17
     while True:
         run = _run(tables, w0, res, clo, chi, P, M, N, order)
         errs = _errors(run)
         rel = [max(e[i] / (e[0] or 1) for e in errs) for i in (1, 2, 3)]
         if all(r <= tol for r in rel):
-            check = _run(tables, w0, res, clo, chi, P + (P - 1) // 2, M + M // 2, N + N // 2,
-                         order)
+            check = _run(tables, w0, res, clo, chi, *check_grid(P, M, N), order)
             diffs = _differences(run, check, lo, hi)
             worst = max(max(d) / (e[0] or 1) for d, e in zip(diffs, errs))
             if worst <= tol:

@@ -11,8 +11,8 @@ from typing import Any
 from ..errors import ParameterError
 from ..strict_json import finite
 
-__all__ = ["add_param_option", "parse_params", "emit_json", "add_model_arguments", "model_spec",
-           "check_model_flags"]
+__all__ = ["add_param_option", "parse_params", "checked_params", "emit_json",
+           "add_model_arguments", "model_spec", "check_model_flags"]
 
 
 def add_param_option(parser: argparse.ArgumentParser) -> None:
@@ -33,6 +33,40 @@ def parse_params(items: list[str]) -> dict[str, str]:
             raise ParameterError(f"parameter {name!r} is given twice")
         out[name] = value
     return out
+
+
+def checked_params(items: list[str], model: object) -> dict[str, str]:
+    """``-p NAME=VALUE`` options read (:func:`parse_params`) and checked against the names
+    ``model`` takes (:class:`kbm.params.ParameterNames`: ``mu``, the physical names such as
+    ``Delta``, ``lam``, the scaled ones such as ``delta = Delta/mu``, ``k = 2 pi/lam``).
+
+    ``model`` is a model, or a built-in name; a name that is no built-in is left to the
+    command, which names the unknown model.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For an unknown name (the closest valid one and every valid one named, in ``-p``
+        terms), or a scaled name given with the physical one it is computed from.
+    """
+    from ..errors import ModelError
+    from ..params import lookup, names_of
+
+    params = parse_params(items)
+    if isinstance(model, str):
+        try:
+            model = lookup(model)
+        except ModelError:  # the command names the unknown model in its own terms
+            return params
+    from ..models import Oscillator
+
+    names = names_of(model)
+    # a stage velocity v is left to the model, which says what takes one (a slider, in
+    # kbm slide and kbm friction; these commands need the autonomous model)
+    stage = isinstance(model, Oscillator)
+    names.check([n for n in params if not (stage and n == "v")], flag="-p")
+    names.check_both(params)
+    return params
 
 
 def emit_json(obj: Any) -> None:

@@ -13,8 +13,8 @@ import argparse
 
 import numpy as np
 
-from ._common import (add_model_arguments, add_param_option, check_model_flags, emit_json,
-                      parse_params)
+from ._common import (add_model_arguments, add_param_option, check_model_flags,
+                      checked_params, emit_json)
 
 
 def register(sub) -> None:
@@ -60,13 +60,13 @@ def model_from_args(args: argparse.Namespace):
     """The model named on the command line (with ``--param`` values), or the user's ``--rhs``."""
     from ..models import custom_model, get_model
 
-    params = parse_params(args.param)
     check_model_flags(args)
     if getattr(args, "rhs", None):
         rhs = args.rhs[0] if isinstance(args.rhs, list) else args.rhs
         model = custom_model(rhs, omega0=1 if args.omega0 is None else args.omega0)
+        params = checked_params(args.param, model)
         return model.substitute(params) if params else model
-    return get_model(args.model, params)
+    return get_model(args.model, checked_params(args.param, args.model))
 
 
 def _amplitudes(args: argparse.Namespace, why: str) -> tuple[tuple[float, float], np.ndarray]:
@@ -187,7 +187,8 @@ def _run_coupled(args: argparse.Namespace) -> int:
     if args.a_range is not None or args.at is not None:
         raise ParameterError("--a-range is for one degree of freedom, --at for --numeric; the "
                              "coupled expansion is exact for polynomial right-hand sides")
-    return _emit(derive_coupled(coupled_model(args), args.order, parse_params(args.param),
+    model = coupled_model(args)
+    return _emit(derive_coupled(model, args.order, checked_params(args.param, model),
                                 internal=args.internal), args)
 
 
@@ -218,8 +219,8 @@ def _run_coupled_numeric(args: argparse.Namespace) -> int:
             raise ParameterError(f"--at takes NAME=VALUE,..., got {item!r}") from None
         if not sep or not math.isfinite(point[name.strip()]):
             raise ParameterError(f"--at takes NAME=VALUE with a finite value, got {item!r}")
-    na = numeric_average(coupled_model(args), parse_params(args.param),
-                         internal=args.internal)
+    model = coupled_model(args)
+    na = numeric_average(model, checked_params(args.param, model), internal=args.internal)
     n = na.model.dof
     names_a = [f"a{i}" for i in range(1, n + 1)]
     names_g = [f"gamma{r}" for r in range(1, len(na.gammas) + 1)]

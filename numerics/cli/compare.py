@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import (add_model_arguments, add_param_option, describe_params, emit_json,
-                             model_spec, parse_params)
+from kbm.cli._common import (add_model_arguments, add_param_option, checked_params,
+                             describe_params, emit_json, model_spec, parse_params)
 
 
 def register(sub) -> None:
@@ -91,6 +91,33 @@ def _check_modes(args: argparse.Namespace, params: dict) -> None:
                              f"leave {'it' if len(used) == 1 else 'them'} out")
 
 
+def _fixed_scaled(model: str, params: dict) -> dict:
+    """The ``-p`` values of ``--convergence``: the scaled parameters held fixed while
+    ``mu`` takes the listed values (a physical name such as ``Delta`` would move the
+    scaled ``delta = Delta/mu`` with ``mu``, and ``-p mu`` would be overridden).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For ``-p mu`` or a physical name, naming the scaled one to give instead.
+    """
+    from kbm.errors import ParameterError
+    from kbm.params import names_of
+
+    if "mu" in params:
+        raise ParameterError("--convergence gives the values of mu (MU1,MU2,...); leave "
+                             "-p mu out")
+    names = names_of(model)
+    for scaled, expr in names.physical.items():
+        phys = sorted(s.name for s in expr.free_symbols if s.name != "mu")
+        given = [p for p in phys if p in params]
+        if given:
+            raise ParameterError(f"--convergence holds the scaled parameters fixed while mu "
+                                 f"varies; give -p {scaled}=VALUE ({scaled} = {expr}) "
+                                 f"instead of -p {given[0]}")
+    return params
+
+
 def run(args: argparse.Namespace) -> int:
     from kbm.errors import ModelError
     from numerics.comparison import compare, energy_prediction
@@ -147,6 +174,7 @@ def run(args: argparse.Namespace) -> int:
 
         if not args.model:
             raise ModelError("--convergence needs a built-in model name")
+        params = _fixed_scaled(args.model, checked_params(args.param, args.model))
         try:
             eps = [float(v) for v in args.convergence.split(",") if v.strip()]
         except ValueError:
@@ -165,6 +193,7 @@ def run(args: argparse.Namespace) -> int:
     energy_orders = "1,2" if args.energy_orders is None else args.energy_orders
     if energy_orders.strip().lower() != "none":
         extra += [energy_prediction(n) for n in _orders(energy_orders, "--energy-orders")]
+    params = checked_params(args.param, model_spec(args))
     comp = compare(model_spec(args), params, orders=_orders(args.orders), extra=extra, **kw)
     if args.json:
         emit_json({**comp.to_json(), "params_given": params})

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import (add_model_arguments, add_param_option, describe_params, emit_json,
-                             model_spec, parse_params)
+from kbm.cli._common import (add_model_arguments, add_param_option, checked_params,
+                             describe_params, emit_json, model_spec, parse_params)
 
 
 def register(sub) -> None:
@@ -59,11 +59,12 @@ def run(args: argparse.Namespace) -> int:
     if not math.isfinite(args.x_start):
         raise ParameterError(f"--x-start must be a finite number, got {args.x_start}")
     kw = dict(digits=args.digits, rtol=args.rtol, method=args.method)
+    params = checked_params(args.param, model_spec(args))
     if args.all:
-        return _run_all(limit_cycles(model_spec(args), parse_params(args.param), **kw), args)
-    cyc = limit_cycle(model_spec(args), parse_params(args.param), x_start=args.x_start, **kw)
+        return _run_all(limit_cycles(model_spec(args), params, **kw), args)
+    cyc = limit_cycle(model_spec(args), params, x_start=args.x_start, **kw)
     if args.json:
-        emit_json({**cyc.to_json(), "params_given": parse_params(args.param)})
+        emit_json({**cyc.to_json(), "params_given": params})
         return 0 if cyc.success else 1
     _print_cycle(cyc, args.digits, args)
     return 0 if cyc.success else 1
@@ -163,8 +164,8 @@ def _run_coupled(args: argparse.Namespace) -> int:
     if args.transient is not None and not (math.isfinite(args.transient)
                                            and 0 <= args.transient <= 1e6):
         raise ParameterError(f"--transient must be between 0 and 1e6, got {args.transient}")
-    given = parse_params(args.param)
     model = coupled_model(args)
+    given = checked_params(args.param, model)
     if start is not None and len(start) != 2 * model.dof:
         raise ParameterError(f"--start needs {2 * model.dof} numbers (x1..x{model.dof}, "
                              f"xdot1..xdot{model.dof}), got {len(start)}")

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import (add_model_arguments, add_param_option, describe_params, emit_json,
-                             model_spec, parse_params)
+from kbm.cli._common import (add_model_arguments, add_param_option, checked_params,
+                             describe_params, emit_json, model_spec)
 
 
 def register(sub) -> None:
@@ -33,8 +33,8 @@ def run(args: argparse.Namespace) -> int:
     from numerics.comparison import predict
     from numerics.comparison.predict import KBM_TERM_LIMIT
 
-    given = parse_params(args.param)
     spec = model_spec(args)
+    given = checked_params(args.param, spec)
     pred = predict(spec, given, method=args.method, order=args.order, potential=args.potential)
     if args.json:
         emit_json({**pred.to_json(), "params_given": given})

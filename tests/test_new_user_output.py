@@ -20,7 +20,7 @@ def _out(argv, capsys):
 def test_friction_table_starts_with_its_header(capsys):
     """The table begins with the model's line, not a blank one; two tables (``--against``)
     are separated by exactly one blank line."""
-    code, out = _out(["friction", "cdc", "-p", "Delta=3", "-p", "beta=1", "--vary", "v=2,4",
+    code, out = _out(["friction", "cdc", "-p", "Delta=3", "--vary", "v=2,4",
                       "--workers", "1", "--against", "cdc", "--no-progress"], capsys)
     assert code == 0
     lines = out.splitlines()

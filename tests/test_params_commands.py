@@ -109,3 +109,18 @@ def test_convergence_refuses_mu_and_physical_names(capsys):
     assert main([*base, "-p", "Delta=3", "-p", "beta=1", "-p", "lam=1"]) == 2
     err = _err(capsys)
     assert "give -p delta=VALUE (delta = Delta/mu) instead of -p Delta" in err
+
+
+# -- kbm derive and kbm series: the expansion is in powers of mu --------------------------
+
+@pytest.mark.parametrize("argv, says", [
+    (["series", "vdp", "--order", "3", "-p", "mu=1"], "--float --at MU"),
+    (["derive", "vdp", "--order", "1", "-p", "mu=0.3"], "does not depend on it"),
+    (["derive", "sedf", "--order", "1", "-p", "mu=0.3", "-p", "delta=3"],
+     "only converts Delta, lam"),
+])
+def test_mu_that_sets_nothing_is_refused(argv, says, capsys):
+    """``-p mu`` was silently dropped by these commands; it converts a physical name only."""
+    assert main(argv) == 2
+    err = _err(capsys)
+    assert "-p mu sets nothing here" in err and says in err

@@ -56,17 +56,47 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def model_from_args(args: argparse.Namespace):
-    """The model named on the command line (with ``--param`` values), or the user's ``--rhs``."""
+def model_from_args(args: argparse.Namespace, *, series: bool = False):
+    """The model named on the command line (with ``--param`` values), or the user's ``--rhs``.
+
+    The expansion is in powers of ``mu``, so ``-p mu`` only converts a physical name
+    (``Delta`` to ``delta = Delta/mu``); alone it is refused, not ignored (``series``: the
+    message points to ``--float --at MU``).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For an unknown name (:func:`kbm.cli._common.checked_params`) or ``-p mu`` that
+        sets nothing.
+    """
     from ..models import custom_model, get_model
+    from ..params import names_of
 
     check_model_flags(args)
     if getattr(args, "rhs", None):
         rhs = args.rhs[0] if isinstance(args.rhs, list) else args.rhs
         model = custom_model(rhs, omega0=1 if args.omega0 is None else args.omega0)
         params = checked_params(args.param, model)
+        _mu_sets_something(names_of(model), params, series)
         return model.substitute(params) if params else model
-    return get_model(args.model, checked_params(args.param, args.model))
+    params = checked_params(args.param, args.model)
+    model = get_model(args.model, params)
+    _mu_sets_something(names_of(args.model), params, series)
+    return model
+
+
+def _mu_sets_something(names, params: dict, series: bool) -> None:
+    """Refuse ``-p mu`` where no physical name needs it (the expansion is in powers of mu)."""
+    from ..errors import ParameterError
+
+    if "mu" not in params or set(params) & set(names.physical_names):
+        return
+    where = ("kbm series expands in powers of mu; for values at one mu give --float --at MU"
+             if series else "the expansion A_n, B_n, u_n is in powers of mu and does not "
+             "depend on it")
+    phys = names.physical_names
+    use = (f" (-p mu only converts {', '.join(phys)} to the scaled names)" if phys else "")
+    raise ParameterError(f"-p mu sets nothing here: {where}{use}; leave -p mu out")
 
 
 def _amplitudes(args: argparse.Namespace, why: str) -> tuple[tuple[float, float], np.ndarray]:

@@ -42,7 +42,7 @@ def run(args: argparse.Namespace) -> int:
     from ..errors import ParameterError
     from .derive import model_from_args
 
-    model = model_from_args(args)
+    model = model_from_args(args, series=True)
     if not args.floating:
         if args.digits is not None or args.at:
             raise ParameterError("--digits and --at go with --float")

@@ -37,6 +37,7 @@ def phases(n: int) -> tuple[sp.Symbol, ...]:
     """``psi1, ..., psin`` (the KBM phases)."""
     return tuple(sp.Symbol(f"psi{i}") for i in range(1, n + 1))
 
+
 def check_right_hand_sides(F: tuple[sp.Expr, ...], name: str, forced: bool) -> None:
     """Refuse right-hand sides ``F_i`` of a system of ``N = len(F)`` degrees of freedom that
     use a state variable beyond ``N`` (or the single-oscillator ``x``, ``xdot``), ``mu``, a

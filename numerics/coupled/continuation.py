@@ -91,6 +91,7 @@ def _follow(prob: _Problem, first: _Pt, direction: int, bounds, ds: float, ds_ma
         ds = min(ds * 1.5, ds_max)
     return pts, special, reason, False
 
+
 def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, object] | None,
                      vary: str, bounds: tuple[float, float], *, start=None,
                      directions: tuple[int, ...] = (1, -1), ds: float | None = None,

@@ -60,6 +60,7 @@ def _locate(prob: _Problem, a: _Pt, b: _Pt, kind: str, fa: float, tol: float = 1
         return None
     return best, (min(p_lo, p_hi), max(p_lo, p_hi))
 
+
 def _specials(prob: _Problem, a: _Pt, b: _Pt, out: list) -> None:
     fa, fb = _tests(prob, a), _tests(prob, b)
     for kind in ("fold", "period-doubling", "neimark-sacker"):

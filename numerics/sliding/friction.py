@@ -133,6 +133,7 @@ def friction_point(model: str, params: Mapping[str, object], *,
     except KBMError as exc:
         return FrictionPoint(**base, error=str(exc))
 
+
 def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionPoint:
     p = system.params
     v, lam, Om, mu = system.v, system.lam, system.omega, p["mu"]

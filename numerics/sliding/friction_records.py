@@ -25,6 +25,7 @@ __all__ = ["FrictionSettings", "FrictionPoint", "eta", "REGIMES"]
 REGIMES = ("stick-slip", "smooth sliding", "self-oscillating sliding", "oscillating sliding",
            "runaway")
 
+
 @dataclass(frozen=True)
 class FrictionSettings:
     """The steady-state criterion and its run lengths (see the module docstring).

@@ -54,6 +54,7 @@ class _Run:
         self._n += len(new)
         self.steps += blk.steps
 
+
 def _stuck_intervals(mask: np.ndarray, min_len: int) -> list[tuple[int, int]]:
     """``(start, end)`` sample indices of the runs of ``mask`` at least ``min_len`` long."""
     d = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))

@@ -1,6 +1,7 @@
 """Coupled oscillators: ``N`` degrees of freedom, internal resonances, KBM to any order.
 
 - :mod:`kbm.coupled.model`: :class:`CoupledOscillators` (one degree of freedom is ``N = 1``);
+  its symbols ``x_i, xdot_i, a_i, psi_i`` in :mod:`kbm.coupled.variables`;
 - :mod:`kbm.coupled.forms`: its two forms of one degree of freedom, converted both ways;
 - :mod:`kbm.coupled.resonance`: declared internal resonances and the slow lattice;
 - :mod:`kbm.coupled.engine`: :func:`derive_coupled`, the exact expansion (the one recursion

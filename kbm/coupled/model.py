@@ -10,11 +10,13 @@ The linear frequencies ``omega_i`` are positive rationals: commensurate frequenc
 *internal resonances*, which the averaging must know exactly
 (:class:`~kbm.coupled.resonance.InternalResonance`); a detuning is written in ``F`` (as a
 stiffness ``-2 omega_j sigma x_j``) or declared with the resonance.
+
+The symbols ``x_i``, ``xdot_i``, ``a_i``, ``psi_i`` and the check of the right-hand sides'
+names are in :mod:`kbm.coupled.variables` (the symbols importable from here too).
 """
 
 from __future__ import annotations
 
-import re
 from fractions import Fraction
 from math import lcm
 
@@ -25,39 +27,17 @@ import sympy as sp
 
 from ..errors import ModelError, ParameterError
 from ..family import OscillatorFamily
-from ..symbols import mu, parse, t, x, xdot
+from ..symbols import mu, parse, t
 from ..values import FrozenMap, parameter_value
 from .resonance import InternalResonance
+from .variables import amplitudes, check_right_hand_sides, phases, positions, velocities
 
 __all__ = ["CoupledOscillators", "positions", "velocities", "amplitudes", "phases",
            "MAX_DOF", "coupled_custom"]
 
-_STATE_NAME = re.compile(r"^(x|xdot)\d+$")
-_RESERVED = re.compile(r"^(a|psi|gamma)\d+$")
-
 #: most degrees of freedom a model may have (the compiled flows and shooting are 2N
 #: dimensional; the symbolic averaging has its own, lower, limit)
 MAX_DOF = 256
-
-
-def positions(n: int) -> tuple[sp.Symbol, ...]:
-    """``x1, ..., xn``."""
-    return tuple(sp.Symbol(f"x{i}") for i in range(1, n + 1))
-
-
-def velocities(n: int) -> tuple[sp.Symbol, ...]:
-    """``xdot1, ..., xdotn``."""
-    return tuple(sp.Symbol(f"xdot{i}") for i in range(1, n + 1))
-
-
-def amplitudes(n: int) -> tuple[sp.Symbol, ...]:
-    """``a1, ..., an`` (the KBM amplitudes)."""
-    return tuple(sp.Symbol(f"a{i}") for i in range(1, n + 1))
-
-
-def phases(n: int) -> tuple[sp.Symbol, ...]:
-    """``psi1, ..., psin`` (the KBM phases)."""
-    return tuple(sp.Symbol(f"psi{i}") for i in range(1, n + 1))
 
 
 def _frequency(value: object, i: int | str) -> sp.Rational:
@@ -192,34 +172,7 @@ class CoupledOscillators(OscillatorFamily):
         object.__setattr__(self, "physical",
                            FrozenMap({k: parse(v) if isinstance(v, str) else sp.sympify(v)
                                       for k, v in self.physical.items()}))
-        state = set(positions(n)) | set(velocities(n))
-        theta = sp.Symbol("theta")
-        for i, f in enumerate(F, 1):
-            if theta in f.free_symbols and not forced:
-                raise ModelError(f"F{i} holds the forcing angle theta but the model has no "
-                                 "forcing frequency: give nu0 (theta = nu t, nu = nu0 + mu "
-                                 "sigma)")
-            if mu in f.free_symbols:
-                raise ModelError(f"F{i} of {self.name!r} contains the small parameter mu; write "
-                                 "each equation as x_i'' + omega_i^2 x_i = mu*F_i with F_i free "
-                                 "of mu")
-            for s in f.free_symbols - state:
-                if s in (x, xdot) or _STATE_NAME.match(s.name):
-                    raise ModelError(
-                        f"F{i} = {f} uses {s.name!r}, which is not a state variable of a "
-                        f"system of {n} degrees of freedom: the state is "
-                        f"{', '.join(map(str, positions(n)))} and "
-                        f"{', '.join(map(str, velocities(n)))}")
-                if s == theta or s == t:
-                    continue
-                if s.name == "nu":
-                    if not forced:
-                        raise ModelError(f"F{i} holds the forcing frequency nu but the model "
-                                         "has no forcing: give nu0 (nu = nu0 + mu sigma)")
-                    continue  # the forcing frequency (the sliders' stage velocity nu/k)
-                if s.name in ("a", "psi") or _RESERVED.match(s.name):
-                    raise ModelError(f"the symbol {s.name!r} in F{i} is reserved for the "
-                                     "amplitudes, phases and time; rename that parameter")
+        check_right_hand_sides(F, self.name, forced)
 
     # -- structure --------------------------------------------------------------------
     @property

@@ -86,6 +86,7 @@ import sympy as sp
 from ..errors import ModelError
 from ..symbols import a, mu
 from .model import phi, sigma, theta
+from .power_series import series_compose, series_product, series_reciprocal
 from .result import ForcedKBMResult
 
 __all__ = ["TransitionCurve", "transition_curves", "mathieu_transition", "epsilon"]
@@ -334,34 +335,6 @@ def _trunc(expr: sp.Expr, n: int) -> sp.Expr:
     return sp.Add(*[t for t in sp.Add.make_args(expr) if sp.degree(t, mu) <= n])
 
 
-def _mul(u: list, v: list, n: int) -> list:
-    out = [sp.Integer(0)] * n
-    for i, x in enumerate(u[:n]):
-        if x:
-            for j, y in enumerate(v[:n - i]):
-                out[i + j] += x * y
-    return out
-
-
-def _inv(u: list, n: int) -> list:
-    """``1/u`` as a truncated power series (``u[0] != 0``)."""
-    out = [1 / u[0]] + [sp.Integer(0)] * (n - 1)
-    for k in range(1, n):
-        out[k] = -sum(u[j] * out[k - j] for j in range(1, min(k, len(u) - 1) + 1)) / u[0]
-    return out
-
-
-def _compose(u: list, v: list, n: int) -> list:
-    """``u(v(x))`` for ``v[0] = 0`` (truncated)."""
-    out = [sp.Integer(0)] * n
-    power = [sp.Integer(1)] + [sp.Integer(0)] * (n - 1)
-    for k in range(n):
-        if k < len(u):
-            out = [o + u[k] * p for o, p in zip(out, power)]
-        power = _mul(power, v, n)
-    return out
-
-
 def mathieu_transition(curve: TransitionCurve, order: int | None = None) -> sp.Expr:
     """``delta(eps)`` of ``x'' + (delta + eps cos s) x = 0`` from a transition curve of a
     Mathieu model ``F = -x cos(theta)``, expanded through ``eps**order`` (default the
@@ -390,14 +363,14 @@ def mathieu_transition(curve: TransitionCurve, order: int | None = None) -> sp.E
     n = (curve.order if order is None else order) + 1
     sig = sp.Poly(curve.sigma, mu).all_coeffs()[::-1] if curve.sigma.has(mu) else [curve.sigma]
     nu_ = [sp.Rational(curve.nu0)] + [sp.Rational(c) for c in sig] + [sp.Integer(0)] * n
-    inv2 = _inv(_mul(nu_, nu_, n), n)  # 1/nu^2 as a series in mu
+    inv2 = series_reciprocal(series_product(nu_, nu_, n), n)  # 1/nu^2 as a series in mu
     eps_of_mu = [sp.Integer(0)] + inv2[:n - 1]
     # revert eps = e1 mu + e2 mu^2 + ... (e1 = 1/nu0^2): mu = (eps - (e2 mu^2 + ...))/e1,
     # iterated
     e1 = eps_of_mu[1]
     m = [sp.Integer(0), 1 / e1] + [sp.Integer(0)] * (n - 2)
     for _ in range(n):
-        e = _compose(eps_of_mu, m, n)
+        e = series_compose(eps_of_mu, m, n)
         m = [mi - (ei - (1 if i == 1 else 0)) / e1 for i, (mi, ei) in enumerate(zip(m, e))]
-    delta = _compose([curve.omega0**2 * c for c in inv2], m, n)
+    delta = series_compose([curve.omega0**2 * c for c in inv2], m, n)
     return sp.Add(*[c * epsilon**i for i, c in enumerate(delta)])

@@ -3,24 +3,13 @@
 
 Pseudo-arclength continuation (Keller; Doedel, *Lecture notes on numerical analysis of
 nonlinear equations*, sec. 2) of the shooting problem, for ``N = 1`` as for ``N > 1``:
+the steps along the branch and where it ends.  The pieces:
 
-- an autonomous system: unknowns ``u = (y0, T, p)``, equations ``phi_T(y0; p) - y0 = 0``
-  and the phase condition ``xdot_1(0) = 0``;
-- a forced system (``theta = nu t``): unknowns ``u = (y0, p)``, the period
-  ``T = m 2 pi/nu(p)`` fixed by the forcing, equations ``phi_T(y0; p) - y0 = 0``.
-
-The Jacobian holds the monodromy ``Phi - I``, the field at the end (autonomous, for ``T``)
-and a central difference in ``p``; the tangent is its null vector, the corrector Newton's
-method on the hyperplane normal to it.  Every point has all ``2N`` Floquet multipliers.
-
-Special points are located as AUTO-07p does, by a test function that changes sign between
-two points and bisection along the arclength:
-
-- fold: the parameter component of the tangent;
-- period doubling: ``det(Phi + I)`` (a real multiplier through ``-1``);
-- Neimark-Sacker (torus): ``prod_{i<j} (lambda_i lambda_j - 1)`` over the non-trivial
-  multipliers, kept only where the located pair is complex (a real pair ``lambda, 1/lambda``
-  also zeroes it: a neutral saddle, not a bifurcation).
+- :mod:`numerics.coupled.orbit_problem`: the shooting problem in scaled unknowns
+  (``(y0, T, p)`` autonomous, ``(y0, p)`` forced), its Jacobian, tangent and corrector;
+- :mod:`numerics.coupled.special_points`: fold, period doubling and Neimark-Sacker, located
+  as AUTO-07p does (a test function's sign change and bisection along the arclength);
+- :mod:`numerics.coupled.branch_result`: the points, special points and branch returned.
 """
 
 from __future__ import annotations
@@ -28,292 +17,19 @@ from __future__ import annotations
 import copy
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
 
 import numpy as np
 
 from kbm.coupled import CoupledOscillators
 from kbm.errors import ParameterError
+from numerics.coupled.branch_result import CoupledBranch, CoupledBranchPoint, CoupledSpecialPoint
 from numerics.coupled.cycle import coupled_cycle, forced_response
-from numerics.cycles.acceptance import accepted, orbit_scale, trivial_ok
-from numerics.cycles.corrector import correct_on_hyperplane
-from numerics.coupled.flow import bind_coupled, coupled_flow
+from numerics.coupled.flow import bind_coupled
+from numerics.coupled.orbit_problem import _FAIL, _arc, _correct, _null, _Problem, _Pt
+from numerics.coupled.special_points import _distinct, _specials
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 
 __all__ = ["CoupledBranch", "CoupledBranchPoint", "CoupledSpecialPoint", "continue_coupled"]
-
-_FAIL = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, ParameterError)
-
-
-def _mult(z: complex):
-    return float(z.real) if z.imag == 0 else [float(z.real), float(z.imag)]
-
-
-@dataclass(frozen=True)
-class CoupledBranchPoint:
-    """A periodic orbit on a branch: the parameter, the period, the state at the section
-    (autonomous: ``xdot_1 = 0``; forced: ``t = 0``), ``max |x_i|`` over the orbit, the
-    ``2N`` multipliers (autonomous: the trivial one first) and Newton's last residual."""
-
-    parameter: float
-    period: float
-    state: tuple[float, ...]
-    amplitudes: tuple[float, ...]
-    floquet_multipliers: tuple[complex, ...]
-    stable: bool
-    residual: float
-
-    def to_json(self) -> dict:
-        return {"parameter": self.parameter, "period": self.period,
-                "state": list(self.state), "amplitudes": list(self.amplitudes),
-                "floquet_multipliers": [_mult(z) for z in self.floquet_multipliers],
-                "stable": self.stable, "residual": self.residual}
-
-
-@dataclass(frozen=True)
-class CoupledSpecialPoint:
-    """A located special point: ``kind`` is ``fold``, ``period-doubling`` or
-    ``neimark-sacker``; ``bracket`` the final bisection interval of the parameter, ``state``
-    the orbit's state at the section (a symmetric system has its partner orbit's point at
-    the same parameter: both are listed)."""
-
-    kind: str
-    parameter: float
-    period: float
-    amplitudes: tuple[float, ...]
-    floquet_multipliers: tuple[complex, ...]
-    bracket: tuple[float, float]
-    state: tuple[float, ...] = ()
-
-    def to_json(self) -> dict:
-        return {"kind": self.kind, "parameter": self.parameter, "period": self.period,
-                "amplitudes": list(self.amplitudes),
-                "floquet_multipliers": [_mult(z) for z in self.floquet_multipliers],
-                "bracket": list(self.bracket), "state": list(self.state)}
-
-
-@dataclass(frozen=True)
-class CoupledBranch:
-    """A branch of periodic orbits of a coupled system in one parameter.
-
-    ``reasons`` says why each direction ended (the range's end, a collapse of the steps
-    with the numbers, the period's growth, the amplitude's decay to a Hopf point).
-    """
-
-    model: str
-    parameter: str
-    bounds: tuple[float, float]
-    forced: bool
-    dof: int
-    points: tuple[CoupledBranchPoint, ...]
-    special: tuple[CoupledSpecialPoint, ...]
-    reasons: tuple[str, ...]
-    evaluations: int
-
-    def to_json(self) -> dict:
-        return {"model": self.model, "parameter": self.parameter, "bounds": list(self.bounds),
-                "forced": self.forced, "dof": self.dof,
-                "points": [p.to_json() for p in self.points],
-                "special": [s.to_json() for s in self.special],
-                "reasons": list(self.reasons), "evaluations": self.evaluations}
-
-
-class _Problem:
-    """``R(u)``, its Jacobian and the multipliers, for one model and one parameter."""
-
-    def __init__(self, model: CoupledOscillators, params: dict, vary: str, rtol: float):
-        self.model, self.params, self.vary, self.rtol = model, params, vary, rtol
-        self.n = model.dof
-        self.forced = model.forced
-        self.evaluations = 0
-        if self.forced:
-            self.m = model.response_periods
-        self._flows: dict[float, object] = {}
-        self._base = None  # compiled once; a model parameter is then a value of it
-        #: the unknowns are ``u = scale * v``; steps are taken in ``v`` (each component of
-        #: order one along the branch: a weighted arclength, as AUTO-07p's THL/THU)
-        self.scale: np.ndarray | None = None
-
-    def flow(self, p: float):
-        fl = self._flows.get(p)
-        if fl is None:
-            if len(self._flows) > 32:
-                self._flows.clear()
-            if self._base is None:
-                self._base = coupled_flow(self.model, {**self.params, self.vary: p})
-            if self.vary in self._base.values:
-                fl = self._base.at(**{self.vary: p})
-            else:  # a physical name (Delta): its scaled values are bound again
-                fl = coupled_flow(self.model, {**self.params, self.vary: p})
-            self._flows[p] = fl
-        return fl
-
-    def period(self, u: np.ndarray, fl) -> float:
-        return self.m * 2 * math.pi / fl.nu if self.forced else float(u[2 * self.n])
-
-    def residual(self, v: np.ndarray):
-        """``(R, Phi, yT, fl, T)`` at ``u = scale * v``."""
-        n2 = 2 * self.n
-        u = v * self.scale
-        p = float(u[-1])
-        fl = self.flow(p)
-        T = self.period(u, fl)
-        if not (T > 0 and np.all(np.isfinite(u))):
-            raise ConvergenceError(f"left the domain: T = {T:.6g} at {self.vary} = {p:.8g}")
-        self.evaluations += 1
-        yT, Phi, _ = fl.monodromy(u[:n2], T, rtol=self.rtol)
-        R = yT - u[:n2]
-        if not self.forced:
-            R = np.append(R, u[self.n])  # the phase condition xdot_1(0) = 0
-        return R, Phi, yT, fl, T
-
-    def jacobian(self, v: np.ndarray, Phi, yT, fl, T) -> np.ndarray:
-        """``dR/dv`` (the monodromy, the field, a central difference in the parameter)."""
-        n2 = 2 * self.n
-        u = v * self.scale
-        p = float(u[-1])
-        h = 1e-6 * max(1.0, abs(p))
-        vp, vm = v.copy(), v.copy()
-        vp[-1], vm[-1] = (p + h) / self.scale[-1], (p - h) / self.scale[-1]
-        dp = (self.residual(vp)[0] - self.residual(vm)[0]) / (2 * h)
-        rows = len(dp)
-        J = np.zeros((rows, len(u)))
-        J[:n2, :n2] = Phi - np.eye(n2)
-        if not self.forced:
-            J[:n2, n2] = fl.rhs(yT, T)
-            J[n2, self.n] = 1.0
-        J[:, -1] = dp
-        return J * self.scale
-
-    def multipliers(self, Phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """``(all, non-trivial)``: autonomous systems have the trivial one first."""
-        z = np.linalg.eigvals(Phi)
-        if self.forced:
-            z = z[np.lexsort((z.imag, -np.abs(z)))]
-            return z, z
-        k = int(np.argmin(np.abs(z - 1.0)))
-        rest = np.delete(z, k)
-        rest = rest[np.lexsort((rest.imag, -np.abs(rest)))]
-        return np.concatenate([[z[k]], rest]), rest
-
-
-class _Pt:
-    """A converged point: ``u``, the tangent and what the tests need."""
-
-    def __init__(self, prob: _Problem, v, R, Phi, yT, fl, T, J):
-        self.v, self.T = v, T
-        self.u = v * prob.scale
-        self.res = float(np.max(np.abs(R)))
-        self.J = J
-        self.mults, self.rest = prob.multipliers(Phi)
-        self.Phi = Phi
-        n = prob.n
-        ys = fl.states(self.u[:2 * n], T, 512, rtol=prob.rtol)[:-1]
-        self.amps = tuple(_peak(np.abs(ys[:, i])) for i in range(n))
-        self.tangent = _null(J)
-
-    def record(self) -> CoupledBranchPoint:
-        n2 = len(self.Phi)
-        return CoupledBranchPoint(float(self.u[-1]), float(self.T),
-                                  tuple(float(v) for v in self.u[:n2]), self.amps,
-                                  tuple(complex(z) for z in self.mults),
-                                  bool(np.all(np.abs(self.rest) < 1.0)), self.res)
-
-
-def _peak(y: np.ndarray) -> float:
-    """The largest value of a periodic sample, refined by the parabola through the largest
-    sample and its neighbours (error ~ (2 pi/512)^4 of the amplitude)."""
-    k = int(np.argmax(y))
-    a, b, c = y[k - 1], y[k], y[(k + 1) % len(y)]
-    den = a - 2 * b + c
-    return float(b - (a - c) ** 2 / (8 * den)) if den < 0 else float(b)
-
-
-def _null(J: np.ndarray) -> np.ndarray:
-    """The unit null vector of the ``k x (k+1)`` matrix ``J``."""
-    _, _, vt = np.linalg.svd(J)
-    t = vt[-1]
-    return t / np.linalg.norm(t)
-
-
-def _correct(prob: _Problem, v_pred, row, target: float, max_iter: int = 10) -> _Pt:
-    """Newton on ``R(v) = 0, row . v = target`` (scaled unknowns), by the corrector shared
-    with one degree of freedom (:func:`numerics.cycles.corrector.correct_on_hyperplane`)."""
-    def evaluate(v):
-        R, Phi, yT, fl, T = prob.residual(v)
-        J = prob.jacobian(v, Phi, yT, fl, T)
-        return R, J, (Phi, yT, fl, T, J)
-
-    def accept(v, R, dv, data, it):
-        # the acceptance standard (numerics.cycles.acceptance), and the accuracy of the
-        # point: a scaled correction below 1e-8
-        scale = orbit_scale((v * prob.scale)[:2 * prob.n])
-        return bool(accepted(float(np.max(np.abs(R))), float(np.max(np.abs(dv * prob.scale))),
-                             prob.rtol, scale) and np.max(np.abs(dv)) < 1e-8
-                    and (prob.forced or trivial_ok(np.linalg.eigvals(data[0]))))
-
-    def too_large(v, dv):
-        if np.max(np.abs(dv)) > 0.5:
-            return (f"corrector step too large ({np.max(np.abs(dv)):.3g}, scaled) at "
-                    f"{prob.vary} = {v[-1] * prob.scale[-1]:.8g}")
-        return None
-
-    v, R, _, (Phi, yT, fl, T, J), _ = correct_on_hyperplane(
-        evaluate, v_pred, row, target, max_iter=max_iter, accept=accept, too_large=too_large,
-        where=lambda v: f"{prob.vary} = {v[-1] * prob.scale[-1]:.8g}")
-    return _Pt(prob, v, R, Phi, yT, fl, T, J)
-
-
-def _arc(prob: _Problem, pt: _Pt, t: np.ndarray, ds: float) -> _Pt:
-    pred = pt.v + ds * t
-    new = _correct(prob, pred, t, float(t @ pred))
-    if new.tangent @ t < 0:
-        new.tangent = -new.tangent
-    return new
-
-
-def _tests(prob: _Problem, pt: _Pt) -> dict[str, float]:
-    """The test functions at ``pt``: fold, period doubling, Neimark-Sacker."""
-    z = pt.rest
-    ns = 1.0
-    for i in range(len(z)):
-        for j in range(i + 1, len(z)):
-            ns *= (z[i] * z[j] - 1.0)
-    return {"fold": float(pt.tangent[-1]),
-            "period-doubling": float(np.real(np.prod(1.0 + z))),
-            "neimark-sacker": float(np.real(ns))}
-
-
-def _locate(prob: _Problem, a: _Pt, b: _Pt, kind: str, fa: float, tol: float = 1e-11):
-    """Bisection for the zero of test ``kind`` between ``a`` and ``b``, on the hyperplanes
-    normal to the chord ``b - a`` (each meets the branch between them once, where the
-    hyperplanes normal to ``a``'s tangent can miss a sharp fold): ``(the point nearest the
-    zero, (the parameter at both ends of the last bracket))``."""
-    chord = b.v - a.v
-    length = float(np.linalg.norm(chord))
-    d = chord / length
-    lo, hi = 0.0, length
-    p_lo, p_hi = float(a.u[-1]), float(b.u[-1])
-    best = None
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        pred = a.v + mid * d
-        try:
-            pm = _correct(prob, pred, d, float(d @ pred))
-        except _FAIL:
-            break
-        pm.tangent = pm.tangent if pm.tangent @ a.tangent >= 0 else -pm.tangent
-        f = _tests(prob, pm)[kind]
-        best = pm
-        if f * fa > 0:
-            lo, p_lo = mid, float(pm.u[-1])
-        else:
-            hi, p_hi = mid, float(pm.u[-1])
-        if hi - lo < tol:
-            break
-    if best is None:
-        return None
-    return best, (min(p_lo, p_hi), max(p_lo, p_hi))
 
 
 def _follow(prob: _Problem, first: _Pt, direction: int, bounds, ds: float, ds_max: float,
@@ -374,38 +90,6 @@ def _follow(prob: _Problem, first: _Pt, direction: int, bounds, ds: float, ds_ma
             break
         ds = min(ds * 1.5, ds_max)
     return pts, special, reason, False
-
-
-def _specials(prob: _Problem, a: _Pt, b: _Pt, out: list) -> None:
-    fa, fb = _tests(prob, a), _tests(prob, b)
-    for kind in ("fold", "period-doubling", "neimark-sacker"):
-        if fa[kind] * fb[kind] >= 0:
-            continue
-        found = _locate(prob, a, b, kind, fa[kind])
-        if found is None:
-            continue
-        pt, bracket = found
-        if kind == "neimark-sacker":
-            close = [z for z in pt.rest if abs(abs(z) - 1) < 1e-3 and abs(z.imag) > 1e-6]
-            if not close:
-                continue  # a real pair lambda, 1/lambda: a neutral saddle
-        if kind == "period-doubling" and not any(abs(z + 1) < 1e-3 for z in pt.rest):
-            continue
-        out.append(CoupledSpecialPoint(kind, float(pt.u[-1]), float(pt.T), pt.amps,
-                                       tuple(complex(z) for z in pt.mults), bracket,
-                                       tuple(float(v) for v in pt.u[:len(pt.Phi)])))
-
-
-def _distinct(special: list[CoupledSpecialPoint]) -> list[CoupledSpecialPoint]:
-    """Each located point once (a point met again, from the other side of the start or
-    around a closed branch, is dropped)."""
-    out: list[CoupledSpecialPoint] = []
-    for s in special:
-        if not any(o.kind == s.kind
-                   and abs(o.parameter - s.parameter) <= 1e-7 * max(1.0, abs(o.parameter))
-                   and np.max(np.abs(np.subtract(o.state, s.state))) < 1e-4 for o in out):
-            out.append(s)
-    return out
 
 
 def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, object] | None,

@@ -29,7 +29,8 @@ import numpy as np
 
 from kbm.coupled import CoupledOscillators
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
-from .continuation import _FAIL, _arc, _correct, _locate, _null, _Problem
+from .orbit_problem import _FAIL, _arc, _correct, _null, _Problem
+from .special_points import _locate
 from .cycle import coupled_cycle
 from .flow import bind_coupled
 

@@ -12,7 +12,8 @@ them once) are printed into a small module with every parameter an argument (the
 stage velocity ``v`` of the sliders too, so one compilation serves a whole friction
 map) and the kernels of :mod:`numerics.noise._kernels`; numba compiles it, and the
 machine code is cached on disk under the SHA-256 of the source
-(:func:`numerics.flow.jit.cache_dir`).  The scheme is Kloeden and Platen's explicit
+(:func:`numerics.flow.jit.cache_dir`; the printing and compiling:
+:mod:`numerics.noise.codegen`).  The scheme is Kloeden and Platen's explicit
 order-2.0 weak scheme for additive noise, eq. (15.1.3); its weak order is measured
 in ``tests/test_langevin.py``.
 """
@@ -22,20 +23,16 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 import sympy as sp
 
 from kbm.bound import BoundModel, bind
-from kbm.errors import ModelError, ParameterError
-from kbm.models import SLIDERS, Oscillator, get_model
-from kbm.symbols import t as T, x as X, xdot as V
+from kbm.errors import ParameterError
+from kbm.models import Oscillator
 from kbm.values import parameter_value
 
-from .._memo import memo
-from ..errors import NumericsError
-from ..flow.jit import _announce_compile, _load, jit_available
+from .codegen import SCHEMES, _STAGE_V, _compiled, _scheme, _symbolic  # noqa: F401
 from .seeds import trajectory_states
 
 __all__ = ["LangevinSystem", "langevin_system", "noise_intensity", "split_noise", "natural_step",
@@ -47,12 +44,6 @@ HEATING_TOLERANCE = 1e-3
 #: the relative bias of the stationary <x^2> and <a^2> that the measured step allows
 #: (:func:`measured_step`): 0.15 standard errors of a 1000-trajectory default run
 BIAS_TOLERANCE = 2e-4
-
-#: version of the generated source (part of its hash)
-_VERSION = "2"
-
-_KERNELS = (Path(__file__).with_name("_kernels.py")).read_text()
-_STAGE_V = sp.Symbol("v")
 
 
 def noise_intensity(D: object) -> float:
@@ -89,82 +80,6 @@ def split_noise(params: Mapping[str, object] | None) -> tuple[dict, float]:
         raise ParameterError("give the noise intensity: -p D=VALUE (x'' + ... = sqrt(2 D) xi, "
                              "D >= 0)")
     return params, noise_intensity(params.pop("D"))
-
-
-def _symbolic(model: Oscillator | str) -> Oscillator:
-    """The model with every parameter a symbol (a slider's stage velocity ``v`` too)."""
-    if isinstance(model, str):
-        base = get_model(model)
-        return base.with_stage_velocity(_STAGE_V) if model in SLIDERS else base
-    return model
-
-
-def _potential(model: Oscillator) -> sp.Expr | None:
-    """``G(x) = -int_0^x (x'' at x' = 0, without the drive)``; ``None`` without a closed form."""
-    s = sp.Dummy("s")
-    force = (model.acceleration() - model.drive).subs(V, 0)
-    if T in force.free_symbols:
-        return None
-    G = sp.integrate(-force.subs(X, s), (s, 0, X), conds="none")
-    return None if G.has(sp.Integral) else G
-
-
-def _affine_in_velocity(model: Oscillator) -> bool:
-    """Whether ``x''`` is ``force(t, x) - gamma(t, x) x'``: BAOAB's O part is then exact."""
-    return sp.expand(sp.diff(model.acceleration(), V, 2)) == 0
-
-
-SCHEMES = {"kp": 0, "baoab": 1}
-
-
-def _source(model: Oscillator, names: tuple[str, ...]) -> str:
-    from sympy.printing.pycode import PythonCodePrinter
-
-    ren = {T: sp.Symbol("t_"), X: sp.Symbol("x_"), V: sp.Symbol("v_")}
-    ren.update({sp.Symbol(n): sp.Symbol(f"p_{i}") for i, n in enumerate(names)})
-    pr = PythonCodePrinter({"fully_qualified_modules": True, "strict": True})
-    head = [f"    p_{i} = p[{i}]" for i in range(len(names))]
-
-    def fn(signature: str, expr: sp.Expr) -> list[str]:
-        e = sp.sympify(expr).xreplace(ren)
-        repl, (red,) = sp.cse([e], symbols=sp.numbered_symbols("w_"), order="canonical")
-        return (["@njit(cache=True)", f"def {signature}:"] + head
-                + [f"    {pr.doprint(s)} = {pr.doprint(v)}" for s, v in repl]
-                + [f"    return float({pr.doprint(red)})", "", ""])
-
-    G = _potential(model)
-    acc = model.acceleration()
-    lines = fn("accel(t_, x_, v_, p)", acc)
-    affine = _affine_in_velocity(model)
-    lines += fn("force(t_, x_, p)", acc.subs(V, 0))
-    gamma = -sp.diff(acc, V) if affine else sp.nan
-    lines += fn("friction(t_, x_, p)", gamma)
-    lines += [f"FRICTION_CONST = {int(affine and not (sp.sympify(gamma).free_symbols & {T, X}))}",
-              "", ""]
-    lines += fn("spring(t_, x_, v_, p)", model.drive - model.omega0**2 * X)
-    lines += fn("energy(x_, v_, p)", V**2 / 2 + G if G is not None else sp.nan)
-    return "\n".join(lines)
-
-
-@memo(maxsize=16)
-def _compiled(model: Oscillator, names: tuple[str, ...], scheme: str = "kp"):
-    """The compiled module of ``model`` (memoised per model: time only)."""
-    if not jit_available():
-        raise NumericsError("the Langevin integrator needs numba (pip install numba) and "
-                            "KBM_NO_JIT unset")
-    from sympy.printing.codeprinter import PrintMethodNotImplementedError
-
-    try:
-        body = _source(model, names)
-    except PrintMethodNotImplementedError as exc:
-        raise ModelError(f"model {model.name!r} has a term with no math-module equivalent "
-                         f"({exc}); the Langevin integrator cannot compile it") from None
-    source = (f"# generated by numerics.noise.langevin (version {_VERSION}); do not edit\n"
-              "import math\n\nimport numpy as np\nfrom numba import njit\n\n"
-              f"SCHEME = {SCHEMES[scheme]}\n\n\n" + body
-              + "\n" + _KERNELS)
-    _announce_compile(source)
-    return _load(source)
 
 
 @dataclass(frozen=True)
@@ -302,18 +217,6 @@ def langevin_system(model: Oscillator | str, params: Mapping[str, object] | None
     p = tuple(float(floats[n]) for n in names)
     w0 = float(sp.sympify(sym.omega0).subs({sp.Symbol(n): v for n, v in zip(names, p)}))
     return LangevinSystem(bm, float(D), names, p, w0, sym, _scheme(sym, scheme))
-
-
-def _scheme(model: Oscillator, scheme: str) -> str:
-    if scheme not in (*SCHEMES, "auto"):
-        raise ParameterError(f"scheme must be one of kp, baoab, auto, got {scheme!r}")
-    affine = _affine_in_velocity(model)
-    if scheme == "auto":
-        return "baoab" if affine else "kp"
-    if scheme == "baoab" and not affine:
-        raise ParameterError(f"BAOAB needs x'' affine in x' (exact friction step); model "
-                             f"{model.name!r} is not: use scheme 'kp'")
-    return scheme
 
 
 def natural_step(system: LangevinSystem, *, per_period: int = 50,

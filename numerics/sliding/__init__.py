@@ -9,7 +9,8 @@
   block after block with the impulse, work and dissipation integrals;
 - :mod:`numerics.sliding.friction`: the steady sliding state of one parameter set and
   its friction measures (:func:`friction_point`), friction laws over the stage velocity
-  (:func:`friction_law`);
+  (:func:`friction_law`); the window's measures in :mod:`numerics.sliding.window`, the
+  settings and the point in :mod:`numerics.sliding.friction_records`;
 - :mod:`numerics.sliding.maps`: friction maps over two parameters on any executor
   (:func:`friction_map`), SEDF against CDC.
 """

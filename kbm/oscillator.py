@@ -1,0 +1,318 @@
+"""The oscillator type ``x'' + w0^2 x = eps F(x, x') + drive(t)``, defined once, symbolically.
+
+Every model of the toolkit is an :class:`Oscillator`: the right-hand side ``F`` is a sympy
+expression in the symbols ``x``, ``xdot`` (and ``t`` for a driven, non-autonomous model) and
+named parameters; the small parameter is ``mu`` (the paper's mu, epsilon in the textbooks).
+Its structure (conservative and dissipative forces, the dissipation integrand split by sign,
+paper eqs. 10-11), its stage drive (paper eq. 3) and the mapping of physical parameter names
+to scaled ones live here; the built-in models that instantiate it are in :mod:`kbm.models`,
+a user's model in :mod:`kbm.user_model`.
+
+References
+----------
+M. D'Acunto, "Friction force for self-excited systems", eqs. (3), (10)-(12).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+
+import sympy as sp
+
+from .errors import ModelError, NonAutonomousError, ParameterError
+from .family import OscillatorFamily
+from .symbols import mu, parse, t, x, xdot
+from .values import FrozenMap, parameter_value
+
+__all__ = ["Oscillator"]
+
+_STATE = {x, xdot, t}
+
+
+def _expr(value: object) -> sp.Expr:
+    """A sympy expression from code or user input: strings through the safe :func:`parse`,
+    numbers and sympy objects as they are (never through ``str()``)."""
+    if isinstance(value, str):
+        return parse(value)
+    try:
+        return sp.sympify(value, strict=True)
+    except sp.SympifyError:
+        raise ModelError(f"cannot read {value!r} as an expression") from None
+
+
+def _sorted_names(symbols) -> tuple[str, ...]:
+    return tuple(sorted(s.name for s in symbols))
+
+
+@dataclass(frozen=True)
+class Oscillator(OscillatorFamily):
+    """The oscillator ``x'' + omega0**2 x = mu F(x, xdot[, t]) + drive(t)``.
+
+    Parameters
+    ----------
+    name
+        Short name (used on the command line and in generated files).
+    F
+        The right-hand side divided by the small parameter ``mu``.
+    omega0
+        Linear natural frequency; a positive rational number or a symbol.
+    description
+        One line saying what the model is and where it comes from.
+    physical
+        For models with a physical parametrisation (the paper's eqs. 3, 12):
+        each scaled parameter as an expression in the physical ones, e.g.
+        ``{"delta": Delta/mu, "k": 2*pi/lam}``.
+    defaults
+        Values used for parameters that are not given (e.g. ``Omega = 1``,
+        as in the paper).
+    drive
+        An external force of order one that depends on ``t`` only (the
+        stage's pull ``Omega^2 v t`` of the paper's eq. 3); 0 for the
+        autonomous oscillators the averaging treats.
+    gain_factor
+        A parameter that multiplies every energy-supplying term of the
+        dissipation integrand (the paper's eq. 11, ``Gamma = beta Gamma_+ -
+        Gamma_-``, has ``gain_factor = beta``); 1 when there is none.
+    stage_relative
+        The part of ``F`` that, when a stage pulls the spring at velocity ``v``
+        (:meth:`with_stage_velocity`), depends on the spring's extension ``x - v t``
+        instead of on ``x`` (a self-excitation attached to the stage); 0 for the
+        paper's models, whose ``F`` keeps the substrate position ``x``.
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        If ``F`` contains ``mu``, ``omega0**2`` is not positive, or a symbol
+        name is reserved.
+
+    Examples
+    --------
+    >>> from kbm.models import get_model
+    >>> vdp = get_model("vdp")
+    >>> vdp.F
+    xdot*(1 - x**2)
+    >>> vdp.acceleration()
+    mu*xdot*(1 - x**2) - x
+    """
+
+    name: str
+    F: sp.Expr
+    omega0: sp.Expr = sp.Integer(1)
+    description: str = ""
+    physical: Mapping[str, sp.Expr] = field(default_factory=dict)
+    defaults: Mapping[str, sp.Expr] = field(default_factory=dict)
+    drive: sp.Expr = sp.Integer(0)
+    gain_factor: sp.Expr = sp.Integer(1)
+    stage_relative: sp.Expr = sp.Integer(0)
+
+    def __post_init__(self) -> None:
+        F = parse(self.F) if not isinstance(self.F, sp.Basic) else self.F
+        w0 = _expr(self.omega0)
+        object.__setattr__(self, "F", sp.sympify(F))
+        object.__setattr__(self, "omega0", w0)
+        drive = _expr(self.drive)
+        object.__setattr__(self, "drive", drive)
+        if drive.free_symbols & {x, xdot, mu}:
+            raise ModelError(f"the drive {drive} of model {self.name!r} must depend on t and "
+                             "parameters only")
+        object.__setattr__(self, "physical", FrozenMap(self.physical))
+        object.__setattr__(self, "defaults",
+                           FrozenMap({k: _expr(v) for k, v in self.defaults.items()}))
+        object.__setattr__(self, "gain_factor", _expr(self.gain_factor))
+        rel = _expr(self.stage_relative)
+        object.__setattr__(self, "stage_relative", rel)
+        if rel != 0 and x not in rel.free_symbols:
+            raise ModelError(f"stage_relative = {rel} of model {self.name!r} must be a part of F "
+                             "that depends on x (it is re-evaluated at the spring extension "
+                             "x - v t when the stage moves)")
+        if mu in self.F.free_symbols:
+            raise ModelError(f"F of model {self.name!r} contains the small parameter mu; "
+                             "write the equation as x'' + omega0^2 x = mu*F with F free of mu")
+        for s in (self.F.free_symbols | w0.free_symbols):
+            if s.name in ("a", "psi"):
+                raise ModelError(f"the symbol {s.name!r} is reserved for the KBM amplitude/phase; "
+                                 "rename that parameter")
+        if w0.free_symbols & _STATE:
+            raise ModelError(f"omega0 = {w0} depends on the state; it must be a constant")
+        if w0.is_number:
+            if not (w0.is_real and w0 > 0):
+                raise ModelError(f"omega0 must be a positive real number (omega0**2 > 0), got omega0 = {w0}")
+        elif not isinstance(w0, sp.Symbol):
+            raise ModelError(f"omega0 must be a positive number or a single symbol, got {w0}")
+
+    # -- structure --------------------------------------------------------------------
+    @property
+    def parameters(self) -> tuple[str, ...]:
+        """Names of the parameters of ``F``, ``omega0`` and the drive (sorted)."""
+        syms = self.F.free_symbols | self.omega0.free_symbols | self.drive.free_symbols
+        return _sorted_names(syms - _STATE)
+
+    @property
+    def dof(self) -> int:
+        """One degree of freedom (:class:`kbm.family.OscillatorFamily`)."""
+        return 1
+
+    @property
+    def forced(self) -> bool:
+        """``False``: no forcing angle (a stage drive is ``drive``, not a forcing)."""
+        return False
+
+    @property
+    def is_autonomous(self) -> bool:
+        """``False`` when ``F`` or the drive depends on the time ``t`` explicitly."""
+        return t not in (self.F.free_symbols | self.drive.free_symbols)
+
+    def require_autonomous(self, what: str = "the KBM averaging") -> None:
+        """Raise :class:`NonAutonomousError` if ``F`` depends on ``t``."""
+        if not self.is_autonomous:
+            raise NonAutonomousError(
+                f"{what} needs an autonomous model, but {self.name!r} depends on t explicitly "
+                f"(mu*F + drive = {self.acceleration() + self.omega0**2 * x}); "
+                "set the stage velocity v = 0 or drop the time-dependent term (a drive "
+                "periodic in t is treated by kbm.forced: kbm response --forcing EXPR in theta)")
+
+    def acceleration(self) -> sp.Expr:
+        """``x''`` as an expression: ``-omega0**2 x + mu F + drive``."""
+        return -self.omega0**2 * x + mu * self.F + self.drive
+
+    def conservative_force(self) -> sp.Expr:
+        """The part of ``mu F`` that depends on ``x`` (and ``t``) only, without the drive."""
+        return mu * self.F.subs(xdot, 0)
+
+    def dissipative_force(self) -> sp.Expr:
+        """The part of ``mu F`` that vanishes at ``x' = 0`` (damping and self-excitation)."""
+        return sp.expand(mu * self.F - self.conservative_force())
+
+    def dissipation_parts(self) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+        """The dissipation integrand ``-D x'`` split by the sign of its terms' coefficients.
+
+        ``D`` is :meth:`dissipative_force`; returns ``(plus, minus, factor)`` with
+        ``-D x' = factor*plus - minus`` (paper eqs. 10-11: ``Gamma = beta Gamma_+ -
+        Gamma_-``).  ``factor`` is :attr:`gain_factor` when it divides every
+        positive term, else 1.
+
+        Examples
+        --------
+        >>> from kbm.models import get_model
+        >>> get_model("sedf").dissipation_parts()
+        (mu*x**2*xdot**2, mu*xdot**2, beta)
+        """
+        # powers of sums stay whole (multinomial=False): the stage-attached excitation
+        # beta (x - v t)^2 x'^2 is one energy-supplying term, not three of mixed signs
+        damping = mu * self.F - self.conservative_force()
+        integrand = sp.expand(-damping * xdot, multinomial=False)
+        plus, minus = [], []
+        for term in sp.Add.make_args(integrand):
+            coeff = term.as_coeff_Mul()[0]
+            (plus if coeff > 0 else minus).append(term)
+        plus_e, minus_e = sp.Add(*plus), -sp.Add(*minus)
+        g = self.gain_factor
+        if g != 1 and plus and all(sp.expand(term / g).free_symbols.isdisjoint(g.free_symbols)
+                                   for term in plus):
+            return sp.expand(plus_e / g), minus_e, g
+        return plus_e, minus_e, sp.Integer(1)
+
+    def with_stage_velocity(self, v: object) -> "Oscillator":
+        """The driven variant pulled by a stage at velocity ``v`` (paper eq. 3).
+
+        The spring ``Omega^2 (x - v t)`` adds the drive ``omega0^2 v t``; ``v = 0``
+        returns the model unchanged; a :class:`sympy.Symbol` keeps ``v`` a parameter.
+        A :attr:`stage_relative` part of ``F`` is re-evaluated at ``x - v t``.
+
+        Raises
+        ------
+        kbm.errors.ParameterError
+            If ``v`` is not a finite real number.
+        """
+        # a symbol keeps v a parameter (one compiled template for every stage velocity)
+        vv = v if isinstance(v, sp.Symbol) else parameter_value("v", v)
+        if vv == 0:
+            return self
+        rel = self.stage_relative
+        moved = rel.subs(x, x - vv * t)
+        return replace(self, drive=self.omega0**2 * vv * t, F=self.F - rel + moved,
+                       stage_relative=moved,
+                       description=self.description.replace("with v = 0", f"with v = {vv}"))
+
+    # -- parameters -------------------------------------------------------------------
+    def resolve(self, values: Mapping[str, object] | None = None,
+                *, use_defaults: bool = True) -> dict[str, sp.Expr]:
+        """Map given parameter values (scaled or physical names) to the model's parameters.
+
+        Parameters
+        ----------
+        values
+            Numbers (or sympy expressions, or strings) by name.  Physical names
+            of the paper (``Delta``, ``lam``) are converted with :attr:`physical`,
+            which may need ``mu``.  ``mu`` itself is passed through.
+        use_defaults
+            Fill parameters that are not given from :attr:`defaults`.
+
+        Returns
+        -------
+        dict
+            Values by name of the model's own parameters (and ``mu`` if given).
+
+        Raises
+        ------
+        kbm.errors.ParameterError
+            For an unknown name, a value that is not a finite real number, or a
+            physical parameter given without ``mu``.
+        """
+        values = dict(values or {})
+        known = set(self.parameters) | {"mu"}
+        phys_names: set[str] = set()
+        for expr in self.physical.values():
+            phys_names |= {s.name for s in sp.sympify(expr).free_symbols}
+        out: dict[str, sp.Expr] = {}
+        for name, raw in values.items():
+            if name not in known and name not in phys_names:
+                raise ParameterError(
+                    f"unknown parameter {name!r} for model {self.name!r}; "
+                    f"its parameters are {', '.join(sorted(known | phys_names))}")
+            val = parameter_value(name, raw)
+            out[name] = val
+        for scaled, expr in self.physical.items():
+            expr = sp.sympify(expr)
+            need = {s.name for s in expr.free_symbols}
+            given = need & set(out)
+            if scaled in out and given - {"mu"}:
+                raise ParameterError(f"give either {scaled} or {', '.join(sorted(given - {'mu'}))}, "
+                                     "not both")
+            if given - {"mu"} and scaled not in out:
+                missing = need - set(out)
+                if missing:
+                    raise ParameterError(
+                        f"{scaled} = {expr} needs {', '.join(sorted(missing))} as well")
+                val = sp.sympify(expr.subs({sp.Symbol(n): out[n] for n in need}))
+                if not (val.is_finite and val.is_real):
+                    zero = sorted(n for n in need if out[n] == 0)
+                    raise ParameterError(
+                        f"{scaled} = {expr} is undefined for "
+                        f"{', '.join(f'{n} = {out[n]}' for n in sorted(need))}"
+                        + (f": give {' and '.join(zero)} != 0" if zero else ""))
+                out[scaled] = val
+        for name in list(out):
+            if name in phys_names and name not in known:
+                del out[name]
+        if use_defaults:
+            for name, val in self.defaults.items():
+                out.setdefault(name, val)
+        return out
+
+    def substitute(self, values: Mapping[str, object]) -> "Oscillator":
+        """The same model with some parameters replaced by values (see :meth:`resolve`)."""
+        vals = self.resolve(values, use_defaults=False)
+        subs = {sp.Symbol(k): v for k, v in vals.items() if k != "mu"}
+        return Oscillator(
+            name=self.name,
+            F=self.F.subs(subs),
+            omega0=sp.sympify(self.omega0).subs(subs),
+            description=self.description,
+            physical={k: v for k, v in self.physical.items() if k not in vals},
+            defaults={k: v for k, v in self.defaults.items() if k not in vals},
+            drive=self.drive.subs(subs),
+            gain_factor=self.gain_factor.subs(subs),
+            stage_relative=self.stage_relative.subs(subs),
+        )

@@ -1,0 +1,153 @@
+"""A run of the driven slider kept after its transient, and the friction measures of a
+window of it (:mod:`numerics.sliding.friction`, criteria 2-4 and the measures): the stuck
+intervals, the window's mean force, dissipation per distance and power balance, the
+steadiness test of its two halves, and the stick-slip and sliding points.
+
+References
+----------
+M. D'Acunto, eqs. (3), (4), (10)-(12) (the power balance ``v Delta J = Delta Gamma +
+Delta E``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from numerics.sliding.driven import DrivenSystem
+from numerics.sliding.friction_records import FrictionPoint, FrictionSettings
+
+
+class _Run:
+    """The samples kept after the transient (rows ``(x, x_dot, tau, G_+, G_-, W, J)``), in a
+    buffer that doubles when full."""
+
+    def __init__(self, system: DrivenSystem, per_well: int, y0: np.ndarray, steps: int,
+                 t_fast: float):
+        self.system, self.per_well, self.steps, self.t_fast = system, per_well, steps, t_fast
+        self.failure = ""
+        self._buf = np.empty((64 * per_well + 1, len(y0)))
+        self._buf[0] = y0
+        self._n = 1
+
+    @property
+    def y(self) -> np.ndarray:
+        return self._buf[:self._n]
+
+    def discard(self) -> None:
+        """Drop every sample but the last (after the transient)."""
+        self._buf[0] = self._buf[self._n - 1]
+        self._n = 1
+
+    def extend(self, wells: int) -> None:
+        duration = wells * self.system.lam / self.system.v
+        blk = self.system.run(self._buf[self._n - 1], duration, wells * self.per_well,
+                              max_steps=_step_limit(duration, self.t_fast), partial=True)
+        self.failure = blk.message if blk.status else ""
+        new = blk.y[1:][np.isfinite(blk.y[1:, 0])]
+        if self._n + len(new) > len(self._buf):
+            grown = np.empty((2 * (self._n + len(new)), self._buf.shape[1]))
+            grown[:self._n] = self._buf[:self._n]
+            self._buf = grown
+        self._buf[self._n:self._n + len(new)] = new
+        self._n += len(new)
+        self.steps += blk.steps
+
+
+def _stuck_intervals(mask: np.ndarray, min_len: int) -> list[tuple[int, int]]:
+    """``(start, end)`` sample indices of the runs of ``mask`` at least ``min_len`` long."""
+    d = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
+    starts, ends = np.nonzero(d == 1)[0], np.nonzero(d == -1)[0] - 1
+    return [(int(a), int(b)) for a, b in zip(starts, ends) if b - a + 1 >= min_len]
+
+
+def _force(run: _Run) -> np.ndarray:
+    Om2 = run.system.omega**2
+    return Om2 * (run.system.v * run.y[:, 2] - run.y[:, 0])
+
+
+def _window_means(run: _Run, i0: int, i1: int) -> dict:
+    """Mean force, dissipation per distance, residuals over samples ``i0..i1``."""
+    sys_, y = run.system, run.y
+    T = y[i1, 2] - y[i0, 2]
+    dJ = y[i1, 6] - y[i0, 6]
+    dG = float(sys_.gamma(y[i1])[0] - sys_.gamma(y[i0])[0])
+    dE = float(sys_.energy(y[i1])[0] - sys_.energy(y[i0])[0])
+    F = dJ / T
+    D = dG / (sys_.v * T)
+    flow = _flow(run, i0, i1) / (sys_.v * T)
+    F_s = _force(run)[i0:i1 + 1]
+    scale = max(abs(F), flow)
+    return dict(mean_force=float(F), dissipation_per_distance=float(D),
+                energy_residual=float(abs(F - D) / scale) if scale else math.inf,
+                audit=float(abs(sys_.v * dJ - dG - dE) / max(abs(dG), 1e-300)),
+                force_fluctuation=float(np.std(F_s)), peak_force=float(np.max(F_s)),
+                window=(float(y[i0, 2]), float(y[i1, 2])))
+
+
+def _flow(run: _Run, i0: int, i1: int) -> float:
+    """The energy that flows through the non-conservative forces over samples ``i0..i1``,
+    ``gain G_+ + G_-`` (the dissipation of the CDC; for the SEDF the damping and the
+    self-excitation both count, though their difference, the net dissipation, may be 0)."""
+    y, g = run.y, run.system.gain_factor
+    return float(abs(g * (y[i1, 3] - y[i0, 3])) + abs(y[i1, 4] - y[i0, 4]))
+
+
+def _steady(run: _Run, i0: int, im: int, i1: int, s: FrictionSettings) -> tuple[bool, tuple]:
+    """Whether the halves' mean forces agree and the stored energy returns (criterion 4),
+    both relative to the larger of the mean force and the energy flow per distance."""
+    f1 = _window_means(run, i0, im)["mean_force"]
+    f2 = _window_means(run, im, i1)["mean_force"]
+    sys_, y = run.system, run.y
+    T = y[i1, 2] - y[i0, 2]
+    flow = _flow(run, i0, i1)
+    scale = max(abs(f1), abs(f2), flow / (sys_.v * T), 1e-300)
+    dE = abs(float(sys_.energy(y[i1])[0] - sys_.energy(y[i0])[0]))
+    work = max(abs(sys_.v * (y[i1, 6] - y[i0, 6])), flow)
+    return bool(abs(f1 - f2) <= s.steady_tol * scale and dE <= s.energy_tol * work), (f1, f2)
+
+
+def _step_limit(duration: float, t_fast: float) -> int:
+    """At most 2000 steps per fast period (a run that needs more is stiff: a runaway)."""
+    return int(2000 * duration / t_fast) + 100_000
+
+
+def _stick_slip(run: _Run, base: dict, stuck, onsets: list[int], dt: float,
+                s: FrictionSettings) -> FrictionPoint:
+    i0, i1 = onsets[0], onsets[-1]
+    lam = run.system.lam
+    F = _force(run)
+    by_end = {e: a for a, e in stuck}
+    starts = sorted(a for a, _ in stuck)
+    peaks, wells = [], []
+    for j, e in enumerate(onsets[:-1]):
+        a = by_end[e]
+        peaks.append(float(np.max(F[a:e + 1])))
+        nxt = next(st for st in starts if st > e)
+        wells.append(round(run.y[nxt, 0] / lam) - round(run.y[e, 0] / lam))
+    stuck_time = sum(max(0, min(e, i1) - max(a, i0)) for a, e in stuck) * dt
+    m = _window_means(run, i0, i1)
+    steady, halves = _steady(run, i0, onsets[len(onsets) // 2], i1, s)
+    return FrictionPoint(**base, regime="stick-slip", steady=steady, halves=halves,
+                         static_force=float(np.mean(peaks)),
+                         stuck_fraction=float(stuck_time / (m["window"][1] - m["window"][0])),
+                         wells_per_slip=float(np.mean(wells)), slips=len(onsets) - 1,
+                         steps=run.steps, **m)
+
+
+def _sliding(run: _Run, base: dict, wells: int, extra: int, dt: float,
+             s: FrictionSettings) -> FrictionPoint:
+    pw = run.per_well
+    i0 = len(run.y) - 1 - (wells + extra) * pw
+    ends = np.arange(i0 + wells * pw, i0 + (wells + extra) * pw + 1, pw)
+    E = run.system.energy(run.y[ends])
+    i1 = int(ends[np.argmin(np.abs(E - run.system.energy(run.y[i0])[0]))])
+    m = _window_means(run, i0, i1)
+    half = i0 + ((i1 - i0) // pw // 2) * pw
+    steady, halves = _steady(run, i0, half, i1, s)
+    reverses = bool(np.min(run.y[i0:i1 + 1, 1]) < 0)
+    regime = ("smooth sliding" if not reverses else
+              "self-oscillating sliding" if run.system.has_source else "oscillating sliding")
+    return FrictionPoint(**base, regime=regime, steady=steady, halves=halves, stuck_fraction=0.0,
+                         steps=run.steps, **m)

@@ -13,19 +13,24 @@ analysis.
 
 from __future__ import annotations
 
-from kbm import AveragedRates, averaged_rates, derive
+from typing import TYPE_CHECKING
+
 from kbm.errors import KBMError
-from kbm.bound import BoundModel
-from kbm.models import Oscillator
 
 from numerics._memo import memo
-from numerics.energy import predict_cycles
+
+if TYPE_CHECKING:
+    from kbm import AveragedRates
+    from kbm.bound import BoundModel
+    from kbm.models import Oscillator
 
 __all__ = ["kbm_guess", "energy_guesses"]
 
 
 @memo(maxsize=32)
 def _first_order(model: Oscillator) -> AveragedRates:
+    from kbm import averaged_rates, derive  # imported on use (issue 39)
+
     return averaged_rates(derive(model, 1))
 
 
@@ -57,6 +62,8 @@ def energy_guesses(bound: BoundModel, *, stable_only: bool = True) -> list[tuple
     Empty when the model cannot be split into a confining conservative part and a
     perturbation, or has no cycle (:func:`numerics.energy.predict_cycles`).
     """
+    from numerics.energy import predict_cycles  # imported on use: scipy.integrate (issue 39)
+
     try:
         pred = predict_cycles(bound.model, dict(bound.values), order=1)
     except (KBMError, ArithmeticError, ValueError):  # no guess: the transients still run

@@ -5,6 +5,11 @@ compile events."""
 
 from __future__ import annotations
 
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,6 +21,7 @@ from numerics.flow.jit import (_source_by_key, compile_notice, flow_cache_key, j
                                jit_flow)
 from numerics.flow.compiled import model_template
 
+ROOT = Path(__file__).resolve().parents[1]
 X, V = sp.symbols("y0 y1")
 OMEGA = sp.Symbol("omega")
 
@@ -105,3 +111,93 @@ def _cache():
     from numerics.flow.jit import cache_dir
 
     return cache_dir()
+
+
+def test_the_stepper_reads_scipys_dop853_tableau_without_scipy_integrate():
+    """The compiled stepper's Butcher tableau is scipy's ``dop853_coefficients`` value for
+    value (Hairer, Norsett and Wanner, sec. II.10: the method of ``solve_ivp(method=
+    "DOP853")``), read without importing :mod:`scipy.integrate` (half a second, issue 39)."""
+    code = ("import sys; from numerics.flow._dop853_tableau import dop853_coefficients as f; "
+            "m = f(); print('scipy.integrate' in sys.modules, m.N_STAGES, m.A.shape)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, cwd=ROOT).stdout.split(maxsplit=1)
+    assert out[0] == "False"
+    from scipy.integrate._ivp import dop853_coefficients as scipy_dc
+
+    from numerics.flow._dop853_tableau import dop853_coefficients
+
+    ours = dop853_coefficients()
+    assert out[1].strip() == f"{scipy_dc.N_STAGES} {scipy_dc.A.shape}"
+    for name in ("N_STAGES", "A", "B", "C", "E3", "E5", "D"):
+        assert np.array_equal(getattr(ours, name), getattr(scipy_dc, name)), name
+
+
+def test_a_cached_source_with_another_stepper_is_printed_anew(tmp_path, monkeypatch):
+    """A source cached under the key by an older stepper (the key names the model and the
+    options, not the stepper's text) is not reused: the expressions are printed again and
+    the stepper of this version is compiled."""
+    monkeypatch.setenv("KBM_CACHE_DIR", str(tmp_path))
+    key = "harmonic oscillator x'' = -omega^2 x (old stepper)"
+    path = tmp_path / f"kbm_src_{flow_cache_key(key)}.txt"
+    cold = _source_by_key(key, [V, -OMEGA**2 * X], T, [X, V], [OMEGA], 2)
+    path.write_text(cold.replace("dop853_coefficients()", "old_tableau()"))
+    again = _source_by_key(key, [V, -OMEGA**2 * X], T, [X, V], [OMEGA], 2)
+    assert again == cold
+    assert path.read_text() == cold
+
+
+def _cycle_json(cache: Path) -> tuple[str, str]:
+    """``kbm cycle vdp -p mu=1 --json`` in a new process with the cache folder ``cache``:
+    its standard output and the heavy modules it imported."""
+    code = ("import sys, runpy; sys.argv = ['kbm', 'cycle', 'vdp', '-p', 'mu=1', '--json']\n"
+            "try:\n    runpy.run_module('numerics.cli', run_name='__main__')\n"
+            "except SystemExit:\n    pass\n"
+            "print('MODULES', ' '.join(m for m in ('scipy.integrate', 'scipy.optimize', "
+            "'numerics.energy', 'numerics.cycles.continuation', 'numerics.cycles.sweep') "
+            "if m in sys.modules))")
+    env = {**os.environ, "KBM_CACHE_DIR": str(cache), "KBM_COMPILE_NOTICE": "0",
+           "PYTHONPATH": str(ROOT)}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, cwd=ROOT, env=env, timeout=900).stdout
+    body, _, modules = out.rpartition("MODULES")
+    return body, modules.strip()
+
+
+@pytest.mark.slow  # two compilations in a fresh cache: ~20-60 s
+@pytest.mark.skipif(not jit_available(), reason="numba not installed")
+def test_warm_cycle_command_gives_the_cold_runs_bytes(tmp_path):
+    """``kbm cycle vdp -p mu=1 --json`` cold (a new cache folder: printed and compiled) and
+    warm (read back): the same bytes; the van der Pol period at ``mu = 1`` is 6.6632868593
+    (Urabe's value, Mathematical Methods of Nonlinear Oscillations); the compiled path
+    imports neither scipy's integrators nor the energy balance, the continuation or the
+    sweeps, and the warm run not scipy's root finder either (the KBM guess is read back;
+    issue 39)."""
+    cold, cold_modules = _cycle_json(tmp_path)
+    warm, warm_modules = _cycle_json(tmp_path)
+    assert warm == cold
+    assert abs(json.loads(cold)["period"] - 6.6632868593) < 1e-9
+    assert cold_modules == "scipy.optimize"
+    assert warm_modules == ""
+
+
+def test_the_stored_kbm_guess_is_the_computed_one(tmp_path, monkeypatch):
+    """The first-order KBM guess of van der Pol is ``a = 2``, ``T = 2 pi`` (the classical
+    averaging: ``a' = mu a (1 - a^2/4)/2``); read back from the cache folder it is the same
+    floats, and its key changes with the model, the values and the stability sought."""
+    from kbm.bound import bind
+
+    from numerics.cycles import guess
+
+    monkeypatch.setenv("KBM_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(guess, "_root_finder_imported", lambda: False)  # use the cache
+    vdp = bind("vdp", {"mu": 0.5})
+    computed = guess._kbm_guess(vdp, True)
+    assert computed == (2.0, 2 * np.pi)
+    assert guess.kbm_guess(vdp) == computed  # computed and stored
+    assert guess._guess_path(vdp, True).exists()
+    monkeypatch.setattr(guess, "_kbm_guess", lambda *a: pytest.fail("not read back"))
+    assert guess.kbm_guess(vdp) == computed  # read back
+    paths = {guess._guess_path(vdp, True), guess._guess_path(vdp, False),
+             guess._guess_path(bind("vdp", {"mu": 0.25}), True),
+             guess._guess_path(bind("rayleigh", {"mu": 0.5}), True)}
+    assert len(paths) == 4

@@ -24,14 +24,26 @@
   results in :mod:`numerics.cycles.branch_result`).
 """
 
-from numerics.cycles.branch_result import Branch, BranchPoint, SpecialPoint
-from numerics.cycles.continuation import continue_cycles
-from numerics.cycles.floquet import floquet_multipliers, nontrivial_multiplier
-from numerics.cycles.highprec import limit_cycle_mp
-from numerics.cycles.result import Dissipation, LimitCycle
-from numerics.cycles.shooting import CycleList, limit_cycle, limit_cycles
-from numerics.cycles.sweep import SweepPoint, grid, sweep
-from numerics.cycles.transient import transient
+from kbm._lazy import keep_objects, lazy_names
+
+#: the public names, each imported from its module on first use (PEP 562): ``kbm cycle``
+#: imports the shooting, not the continuation, the sweeps or mpmath (issue 39)
+_LAZY = {
+    **dict.fromkeys(("Branch", "BranchPoint", "SpecialPoint"), "numerics.cycles.branch_result"),
+    "continue_cycles": "numerics.cycles.continuation",
+    **dict.fromkeys(("floquet_multipliers", "nontrivial_multiplier"), "numerics.cycles.floquet"),
+    "limit_cycle_mp": "numerics.cycles.highprec",
+    **dict.fromkeys(("Dissipation", "LimitCycle"), "numerics.cycles.result"),
+    **dict.fromkeys(("CycleList", "limit_cycle", "limit_cycles"), "numerics.cycles.shooting"),
+    **dict.fromkeys(("SweepPoint", "grid", "sweep"), "numerics.cycles.sweep"),
+    "transient": "numerics.cycles.transient",
+}
+
+#: ``numerics.cycles.sweep`` and ``.transient`` are the functions, also once the modules of
+#: the same names are imported (as when ``__init__`` imported them eagerly)
+keep_objects(__name__, ("sweep", "transient"))
+
+__getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)
 
 __all__ = ["LimitCycle", "Dissipation", "limit_cycle", "limit_cycles", "CycleList",
            "limit_cycle_mp", "transient",

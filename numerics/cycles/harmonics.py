@@ -23,7 +23,6 @@ import math
 
 import numpy as np
 import sympy as sp
-from scipy.integrate import solve_ivp
 
 from kbm.symbols import t as TIME, x as X, xdot as V
 
@@ -97,6 +96,8 @@ def _integrals(cm, x0: float, T: float, method: Method, rtol: float, n_harmonics
         meth = "LSODA" if method in (Method.LSODA, Method.COMPILED, Method.AUTO) \
             else method.value
         stol = max(tol, 2.5e-14)  # scipy's floor on rtol
+        from scipy.integrate import solve_ivp  # only off the compiled path (issue 39)
+
         with np.errstate(all="ignore"):
             sol = solve_ivp(rhs, (0.0, T), y0, method=meth, rtol=stol, atol=stol)
         if sol.status < 0:

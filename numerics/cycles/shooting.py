@@ -34,7 +34,6 @@ from numerics.cycles.guess import energy_guesses, kbm_guess
 from numerics.cycles.newton import NEWTON_MAX_STEPS, check_nontrivial, newton
 from numerics.cycles.result import LimitCycle
 from numerics.cycles.transient import transient
-from numerics.energy import predict_cycles
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.flow import Method, ModelTemplate, choose_method, compile_model, solve
 
@@ -172,6 +171,8 @@ def limit_cycles(model: Oscillator | str | BoundModel, params: Mapping[str, obje
     >>> [round(c.amplitude_max, 6) for c in cs], cs[0].stable
     ([2.002488], True)
     """
+    from numerics.energy import predict_cycles  # imported on use: scipy.integrate (issue 39)
+
     bound = bind(model, params)
     pred = predict_cycles(bound.model, dict(bound.values), order=order, potential=potential)
     found = CycleList(predictions=pred)

@@ -13,7 +13,9 @@ import math
 import numpy as np
 from numba import njit
 
-from scipy.integrate._ivp import dop853_coefficients as _dc
+from numerics.flow._dop853_tableau import dop853_coefficients
+
+_dc = dop853_coefficients()  # scipy's tableau, without importing scipy.integrate
 
 #: step-size control (Hairer, Norsett & Wanner, sec. II.4; the values of scipy's rk.py)
 SAFETY = 0.9

@@ -29,7 +29,6 @@ from collections.abc import Mapping, Sequence
 from enum import Enum
 
 import numpy as np
-from scipy.integrate import odeint, solve_ivp
 
 from kbm.errors import ParameterError
 from kbm.bound import BoundModel
@@ -177,6 +176,8 @@ def solve(cm: CompiledModel, y0, t_end: float, method: Method | str, rtol: float
     numerics.errors.IntegrationError
         If the integrator fails or the state becomes non-finite (with the time).
     """
+    from scipy.integrate import solve_ivp  # imported on use: the compiled path needs none
+
     meth = Method.parse(method)
     if meth in (Method.AUTO, Method.COMPILED):
         raise ParameterError(f"solve() runs scipy's integrators, not {meth.label!r}")
@@ -224,6 +225,8 @@ def flow(cm: CompiledModel, y0, t_end: float, n_out: int, method: Method | str, 
                                    f"{res.steps} steps: {res.message}")
         ys = res.y
     elif meth is Method.LSODA:
+        from scipy.integrate import odeint
+
         times = np.linspace(0.0, t_end, n_out + 1)
         try:
             with np.errstate(all="ignore"), warnings.catch_warnings():

@@ -152,9 +152,8 @@ def _cycle_json(cache: Path) -> tuple[str, str]:
     code = ("import sys, runpy; sys.argv = ['kbm', 'cycle', 'vdp', '-p', 'mu=1', '--json']\n"
             "try:\n    runpy.run_module('numerics.cli', run_name='__main__')\n"
             "except SystemExit:\n    pass\n"
-            "print('MODULES', ' '.join(m for m in ('scipy.integrate', 'scipy.optimize', "
-            "'numerics.energy', 'numerics.cycles.continuation', 'numerics.cycles.sweep') "
-            "if m in sys.modules))")
+            "print('MODULES', ' '.join(m for m in ('scipy.integrate', 'numerics.energy', "
+            "'numerics.cycles.continuation', 'numerics.cycles.sweep') if m in sys.modules))")
     env = {**os.environ, "KBM_CACHE_DIR": str(cache), "KBM_COMPILE_NOTICE": "0",
            "PYTHONPATH": str(ROOT)}
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
@@ -170,34 +169,9 @@ def test_warm_cycle_command_gives_the_cold_runs_bytes(tmp_path):
     warm (read back): the same bytes; the van der Pol period at ``mu = 1`` is 6.6632868593
     (Urabe's value, Mathematical Methods of Nonlinear Oscillations); the compiled path
     imports neither scipy's integrators nor the energy balance, the continuation or the
-    sweeps, and the warm run not scipy's root finder either (the KBM guess is read back;
-    issue 39)."""
+    sweeps (issue 39)."""
     cold, cold_modules = _cycle_json(tmp_path)
     warm, warm_modules = _cycle_json(tmp_path)
     assert warm == cold
     assert abs(json.loads(cold)["period"] - 6.6632868593) < 1e-9
-    assert cold_modules == "scipy.optimize"
-    assert warm_modules == ""
-
-
-def test_the_stored_kbm_guess_is_the_computed_one(tmp_path, monkeypatch):
-    """The first-order KBM guess of van der Pol is ``a = 2``, ``T = 2 pi`` (the classical
-    averaging: ``a' = mu a (1 - a^2/4)/2``); read back from the cache folder it is the same
-    floats, and its key changes with the model, the values and the stability sought."""
-    from kbm.bound import bind
-
-    from numerics.cycles import guess
-
-    monkeypatch.setenv("KBM_CACHE_DIR", str(tmp_path))
-    monkeypatch.setattr(guess, "_root_finder_imported", lambda: False)  # use the cache
-    vdp = bind("vdp", {"mu": 0.5})
-    computed = guess._kbm_guess(vdp, True)
-    assert computed == (2.0, 2 * np.pi)
-    assert guess.kbm_guess(vdp) == computed  # computed and stored
-    assert guess._guess_path(vdp, True).exists()
-    monkeypatch.setattr(guess, "_kbm_guess", lambda *a: pytest.fail("not read back"))
-    assert guess.kbm_guess(vdp) == computed  # read back
-    paths = {guess._guess_path(vdp, True), guess._guess_path(vdp, False),
-             guess._guess_path(bind("vdp", {"mu": 0.25}), True),
-             guess._guess_path(bind("rayleigh", {"mu": 0.5}), True)}
-    assert len(paths) == 4
+    assert cold_modules == warm_modules == ""

@@ -32,6 +32,12 @@ def test_validity_flags_a_large_gap():
     assert v["z"]["x2"] == pytest.approx((2.11486 - 2.32239) / 0.0087)
     assert v["flagged"] and v["threshold"] == Z_FLAG
     assert "--order 2" in v["advice"] and "--method fokker-planck" in v["advice"]
+    # the energy envelope (a slider) has no second order: only the Fokker-Planck route;
+    # at order 2 the advice no longer names --order 2 either
+    for w in (validity(moments, 1, can_raise_order=False), validity(moments, 2)):
+        assert w["flagged"] and "--order 2" not in w["advice"]
+        assert "--method fokker-planck" in w["advice"]
+    assert "second-order averaging does not hold" in validity(moments, 2)["advice"]
     fine = validity({"a2": {"averaged": 1.0, "simulated": 1.01, "stderr": 0.01},
                      "x2": {"averaged": None, "simulated": 0.5, "stderr": 0.01}})
     assert not fine["flagged"] and fine["advice"] == "" and fine["z"]["x2"] is None

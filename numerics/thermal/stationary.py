@@ -12,7 +12,7 @@ from kbm.models import SLIDERS
 
 from ..escape.envelope import check_mu
 from ..escape.report import SLIDER_DEFAULTS
-from .averaged import averaged_stationary
+from .averaged import AMPLITUDE, averaged_stationary
 from .order2 import order2_bins, second_order
 from ..noise.ensemble import MIN_TRAJECTORIES, stationary_ensemble
 from ..noise.langevin import langevin_system, measured_step, natural_step, split_noise
@@ -57,9 +57,10 @@ def default_times(system, t_end: float | None, burn_in: float | None,
     return run, burn, h
 
 
-def validity(moments: dict, order: int = 1) -> dict:
+def validity(moments: dict, order: int = 1, can_raise_order: bool = True) -> dict:
     """The gap ``(averaged - simulated)/stderr`` of each moment and the flag ``|z| > 4``
-    (``order``: the averaging's order, named in the advice).
+    (``order``: the averaging's order, named in the advice; ``can_raise_order``: whether
+    ``--order 2`` applies, i.e. the amplitude averaging, to be advised).
 
     Returns
     -------
@@ -77,7 +78,8 @@ def validity(moments: dict, order: int = 1) -> dict:
     if bad:
         worst = max(bad, key=lambda k: abs(z[k]))
         remedy = ("use --order 2 (second-order averaging) or --method fokker-planck (the "
-                  "exact stationary state of a model at rest)" if order == 1 else
+                  "exact stationary state of a model at rest)"
+                  if order == 1 and can_raise_order else
                   "use --method fokker-planck (the exact stationary state of a model at rest)")
         advice = (f"the averaged <{worst[0]}^2> is {z[worst]:+.1f} standard errors from the "
                   f"simulated one (|z| > {Z_FLAG:g}): the {'first' if order == 1 else 'second'}"
@@ -239,7 +241,8 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
     out["moments"]["a2"].update(simulated=ens.a2.value, stderr=ens.a2.stderr)
     out["moments"]["x2"].update(simulated=ens.x2.value, stderr=ens.x2.stderr)
     out["validity"] = validity({k: out["moments"][k] for k in ("a2", "x2")},
-                               out["averaged_order"] or 1)
+                               out["averaged_order"] or 1,
+                               avg is not None and avg.method == AMPLITUDE)
     if fp is not None:
         out["validity"]["z_fokker_planck"] = {
             k: (fp[k] - out["moments"][k]["simulated"]) / out["moments"][k]["stderr"]

@@ -156,3 +156,20 @@ def test_upper_locking_edge_at_the_fold_against_scipy():
     assert abs(edge.sigma - ref) < 1e-10, (edge.sigma, edge.error, ref)
     assert abs(edge.sigma - ref) <= 10 * edge.error + 1e-11
     assert edge.error < 1e-9
+
+
+def test_an_equilibrium_on_the_section_is_named_as_rest():
+    """SEDF (paper eq. 3 at v = 0) at mu = 0.2, Delta = 3, beta = 1, lam = 1: every start
+    settles into the side well's equilibrium x_e (Delta sin(2 pi x_e) + x_e = 0, x_e =
+    1.89143), where x'' = 0 on the section x' = 0.  The shooting names the rest point from
+    every start, not a residual minimum or a fold (the equilibrium closes at any T)."""
+    from scipy.optimize import brentq
+
+    from numerics.errors import NoCycleError
+
+    x_e = brentq(lambda x: 3 * np.sin(2 * np.pi * x) + x, 1.8, 2.0)
+    with pytest.raises(NoCycleError) as err:
+        limit_cycle("sedf", {"mu": 0.2, "Delta": 3, "beta": 1, "lam": 1})
+    msg = str(err.value)
+    assert msg.count("settles to rest") == msg.count("transient from x") >= 2
+    assert f"x = {x_e:.6g}" in msg and "fold" not in msg

@@ -64,8 +64,11 @@ def newton(cm, x0, T, method, rtol, atol, max_iter, floor):
         # system).  Near a fold Phi_11 is 1 as well, but the residual past it is ~ the
         # distance (6e-10 at 1e-9 past the fold of nu + x^2 - x^4/4 at mu = 0.1), far
         # above a closed orbit's (2e-13 for x'' + x^3 = 0 at rtol 1e-12)
-        return bool(np.max(np.abs(R)) <= tight * orbit_scale(z[0]) * noise(yT)
-                    and abs(yT[2] - 1.0) <= 100 * tight)
+        closed = bool(np.max(np.abs(R)) <= tight * orbit_scale(z[0]) * noise(yT))
+        # an equilibrium on the section (x' = 0 and x'' = 0 there): the motion rests, every
+        # T closes it and Newton can only wander; check_nontrivial names it
+        rest = abs(cm.acc(z[1], z[0], 0.0)) <= tight * orbit_scale(z[0])
+        return closed and (abs(yT[2] - 1.0) <= 100 * tight or rest)
 
     try:
         z, it, trace, _ = shoot_newton(evaluate, [x0, T], rtol=tol, max_iter=max_iter,

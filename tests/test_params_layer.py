@@ -289,3 +289,15 @@ def test_resume_with_another_run_says_so(tmp_path, capsys):
     err = _err(capsys)
     assert "another map" in err and "nothing can be resumed" in err
     assert main([*base, "--vary", "v=0.5", "--resume"]) == 0
+
+
+def test_against_the_same_model_names_it_once(capsys):
+    """``--against cdc`` on cdc: the valid names are cdc's, said once ("for cdc", not "for
+    cdc or cdc"); against another model, a name of either is valid."""
+    assert main(["friction", "cdc", "-p", "Delta=3", "-p", "Bet=1", "--vary", "v=2,4",
+                 "--against", "cdc"]) == 2
+    err = _err(capsys)
+    assert "for cdc (" in err and "cdc or cdc" not in err
+    assert main(["friction", "sedf", "-p", "Delta=3", "-p", "Bet=1", "--vary", "v=2,4",
+                 "--against", "cdc"]) == 2
+    assert "for sedf or cdc" in _err(capsys)

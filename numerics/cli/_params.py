@@ -178,6 +178,8 @@ def check(model: "object | tuple", params: Mapping[str, object], varied: Iterabl
     models = model if isinstance(model, tuple) else (model,)
     names = names_of(models[0], extra=extra, noise=noise)
     for other in models[1:]:  # --against: a name of either model
+        if other == models[0]:  # --against the same model: its own names
+            continue
         more = names_of(other)
         names = ParameterNames(f"{names.model} or {more.model}",
                                tuple(sorted(set(names.scaled) | set(more.scaled))),

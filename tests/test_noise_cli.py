@@ -76,8 +76,9 @@ def test_noise_driven_slider_has_no_averaged_state():
 
 
 def test_noise_figure(tmp_path):
+    # the figure alone: a given step and no Fokker-Planck solve (both tested elsewhere)
     kbm("noise", "cdc", *CDC, "-p", "D=0.05", "--trajectories", "8", "--t-end", "40",
-        "--out", str(tmp_path))
+        "--dt", "0.02", "--no-fokker-planck", "--out", str(tmp_path))
     assert (tmp_path / "noise-cdc.png").stat().st_size > 10_000
     assert json.loads((tmp_path / "noise-cdc.json").read_text())["trajectories"] == 8
 

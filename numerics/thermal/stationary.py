@@ -32,18 +32,20 @@ BINS = 40
 
 
 def default_times(system, t_end: float | None, burn_in: float | None,
-                  dt: float | None) -> tuple[float, float, float]:
+                  dt: float | None, measure: bool = True) -> tuple[float, float, float]:
     """``(t_end, burn_in, dt)``: ``dt`` from :func:`numerics.noise.langevin.natural_step` (the
     fastest linear period / 50, smaller when the numerical heating needs it), then
     :func:`numerics.noise.langevin.measured_step` (smaller when a pilot at ``dt`` and
-    ``dt/2`` measures a bias of the moments beyond 2e-4), the burn-in
+    ``dt/2`` measures a bias of the moments beyond 2e-4; skipped with ``measure=False``,
+    which gives the largest step the rule can choose), the burn-in
     20 and the run 400 relaxation times ``1/|mu|``, each a whole number of steps."""
     mu = system.bound.mu
     if not mu:
         raise ParameterError("mu = 0: without damping the noise heats the oscillator without "
                              "bound and there is no stationary state; give mu != 0")
-    h = (measured_step(system, natural_step(system, per_period=STEPS_PER_PERIOD))[0]
-         if dt is None else float(dt))
+    h = float(dt) if dt is not None else natural_step(system, per_period=STEPS_PER_PERIOD)
+    if dt is None and measure:
+        h = measured_step(system, h)[0]
     if not (math.isfinite(h) and h > 0):
         raise ParameterError(f"--dt must be a positive number, got {dt}")
     run = 400 / abs(mu) if t_end is None else float(t_end)
@@ -183,7 +185,11 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
         raise ParameterError(f"--trajectories {trajectories}: at least {MIN_TRAJECTORIES} are "
                              "needed for a meaningful standard error")
     system = langevin_system(model, params, D, "auto")
-    run, burn, h = default_times(system, t_end, burn_in, dt)
+    # the budget is checked at the largest step the rule can choose before the pilot that
+    # measures the step runs (a run refused for its size costs no pilot)
+    run, burn, h = default_times(system, t_end, burn_in, dt, measure=False)
+    if trajectories * (run + burn) / h <= budget:
+        run, burn, h = default_times(system, t_end, burn_in, dt)
     if method not in METHODS:
         raise ParameterError(f"--method {method!r}: choose one of {', '.join(METHODS)}")
     if order not in (1, 2):

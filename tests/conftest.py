@@ -29,6 +29,19 @@ SLOW = {
     "tests/test_coupled_bessel.py::test_chain_of_three_equals_the_jets": 85,
     "tests/test_energy_position.py::test_h_not_odd_period_orders": 84,
     "tests/test_forced_special.py::test_neimark_sacker_on_the_driven_slider": 82,
+    # the next ones: seconds in a whole parallel run on a quiet 2-core machine (6:25 for
+    # 1218 tests, 2026-11-26); each has a faster sibling of the same check in the default
+    # run (the noise contract in-process, order 2 against Boltzmann, lower orders, the
+    # other models), so the default run stays under 5 minutes
+    "tests/test_paper_figures.py::test_comparison_figures_written": 13.6,
+    "tests/test_stochastic_order2.py::test_cli_order_two": 12.2,
+    "tests/test_coupled_constants.py::test_shifted_potential_chain_equals_the_jets": 12.1,
+    "tests/test_noise_cli.py::test_noise_figure": 12.0,
+    "tests/test_forced_engine.py::test_linear_forced_oscillator_exact_at_every_order[5]": 10.9,
+    "tests/test_cycle_series.py::test_pade_resummed_series_against_true_cycle[2-1e-11]": 10.5,
+    "tests/test_new_user.py::test_classical_kbm_far_outside_its_range_says_so": 9.7,
+    "tests/test_forced_numerics.py::test_vdp_locking_boundary": 9.1,
+    "tests/test_pointwise.py::test_order_2_equals_the_symbolic_bessel_sums[cdc]": 8.5,
 }
 
 

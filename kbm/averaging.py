@@ -171,14 +171,15 @@ def derive(model: "Oscillator | CoupledOscillators | str", order: int,
     -7*a**4/256 + a**2/8 - 1/8
     """
     if _coupled_member(model):  # N degrees of freedom (or a forcing): the general engine
+        from .coupled.builtins import get_coupled_model
         from .coupled.engine import derive_coupled
 
+        model = get_coupled_model(model) if isinstance(model, str) else model
         one = _one_degree_with_bessel(model, order)
         if one is not None:  # N = 1, sin/cos of x above order 1: this engine's lattice sums
             from .coupled.result import CoupledKBMResult
 
-            return CoupledKBMResult.from_one_degree(one, derive(one.to_oscillator(), order,
-                                                                 params))
+            return CoupledKBMResult.from_one_degree(model, derive(one, order, params))
         return derive_coupled(model, order, params)
     raw = run_recursion(model, order, params)
     alg = raw.algebra
@@ -192,26 +193,32 @@ def derive(model: "Oscillator | CoupledOscillators | str", order: int,
 
 
 def _one_degree_with_bessel(model, order: int):
-    """The coupled system ``model`` when it has one degree of freedom, no forcing and
+    """The case :class:`~kbm.models.Oscillator` of the system ``model`` (its data, in the
+    names of one degree of freedom) when it has one degree of freedom, no forcing and
     ``sin``/``cos`` of its position, and ``order > 1`` (which the general engine does not
     take and this one does); otherwise ``None``."""
     from .coupled.bessel import trig_of_state
-    from .coupled.builtins import get_coupled_model
+    from .oscillator import TO_ONE
 
-    m = get_coupled_model(model) if isinstance(model, str) else model
-    if order <= 1 or m.dof != 1 or m.forced or m.hard:
+    m = model
+    if order <= 1 or m.dof != 1 or m.forced or m.hards:
         return None
-    terms = sp.Add.make_args(sp.expand(m.F[0]))
-    return m if any(trig_of_state(term, set(m.state)) for term in terms) else None
+    terms = sp.Add.make_args(sp.expand(m.rhs[0]))
+    if not any(trig_of_state(term, set(m.state)) for term in terms):
+        return None
+    return Oscillator(m.name, m.rhs[0].xreplace(TO_ONE), m.omegas[0], m.description,
+                      m.physical, m.defaults, m.drives[0] if m.drives else 0, m.gain_factor)
 
 
 def _coupled_member(model) -> bool:
-    """Whether ``model`` is a coupled system (a :class:`kbm.coupled.CoupledOscillators` or
-    the name of a coupled built-in): :func:`derive` then runs the general engine."""
+    """Whether ``model`` is a coupled system (an instance of the one type built as a system,
+    not one of its named cases of one degree of freedom, or the name of a coupled
+    built-in): :func:`derive` then runs the general engine."""
     from .coupled.builtins import is_coupled_name
     from .coupled.model import CoupledOscillators
 
-    return is_coupled_name(model) or isinstance(model, CoupledOscillators)
+    return is_coupled_name(model) or (isinstance(model, CoupledOscillators)
+                                      and model.case == "system")
 
 
 @dataclass(frozen=True)

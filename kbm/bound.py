@@ -16,7 +16,7 @@ from fractions import Fraction
 import sympy as sp
 
 from .errors import ParameterError
-from .family import OscillatorFamily, one_degree_form
+from .family import OscillatorFamily
 from .models import MODELS, Oscillator, _drive_variant, get_model
 from .values import FrozenMap, parameter_value
 
@@ -59,12 +59,11 @@ class BoundModel:
         """Resolve ``values`` for ``model`` (its ``resolve``: physical names converted,
         defaults filled in)."""
         vals = model.resolve(values)
-        if isinstance(model.omega0, tuple):  # several frequencies: rationals > 0 by design
-            return cls(model, FrozenMap(vals))
-        w0 = sp.sympify(model.omega0).subs({sp.Symbol(k): v for k, v in vals.items()})
-        if w0.is_number and not (w0.is_real and w0.is_finite and w0 > 0):
-            raise ParameterError(f"the linear frequency omega0 = {model.omega0} of "
-                                 f"{model.name!r} must be > 0, got {w0}")
+        for w in model.omegas:  # a frequency named by a parameter (the sliders' Omega)
+            w0 = sp.sympify(w).subs({sp.Symbol(k): v for k, v in vals.items()})
+            if w0.is_number and not (w0.is_real and w0.is_finite and w0 > 0):
+                raise ParameterError(f"the linear frequency omega0 = {w} of "
+                                     f"{model.name!r} must be > 0, got {w0}")
         return cls(model, FrozenMap(vals))
 
     @property
@@ -111,12 +110,11 @@ def bind(model: "OscillatorFamily | str | BoundModel",
          params: Mapping[str, object] | None = None) -> BoundModel:
     """A :class:`BoundModel` from a model (or built-in name) and parameter values.
 
-    Every member of the family binds here: a one-degree-of-freedom model, a forced one, a
-    coupled system (a built-in name of :mod:`kbm.coupled` gives its
-    :class:`~kbm.coupled.CoupledOscillators`).  A :class:`~kbm.coupled.CoupledOscillators`
-    of one degree of freedom binds as its one-degree-of-freedom form
-    (:meth:`~kbm.coupled.CoupledOscillators.to_oscillator`), so that the engines of one
-    degree of freedom take it.
+    Every instance of the one model type binds here, as it is: a one-degree-of-freedom
+    model, a forced one, a coupled system (a built-in name of :mod:`kbm.coupled` gives its
+    :class:`~kbm.coupled.CoupledOscillators`); the physical names are turned into the
+    scaled ones by the model's ``resolve`` (:func:`kbm.values.scaled_values` for the
+    general type).
 
     A stage velocity ``v`` among ``params`` (sliders ``sedf``, ``cdc``) selects the
     driven variant (:meth:`Oscillator.with_stage_velocity`).  A model that is
@@ -147,8 +145,6 @@ def bind(model: "OscillatorFamily | str | BoundModel",
         model = get_model(model, None if v is None else {"v": v})
     elif isinstance(model, Oscillator) and "v" in params and "v" not in model.parameters:
         model = _drive_variant(model, params.pop("v"))
-    elif getattr(model, "dof", 1) == 1:
-        model = one_degree_form(model)  # N = 1 of the coupled form: the same system
     return BoundModel.of(model, params)
 
 

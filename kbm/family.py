@@ -1,42 +1,51 @@
-"""The one family of models: ``x_i'' + omega_i^2 x_i = mu F_i(x, x', theta)``, ``i = 1..N``.
+"""The one model type: ``x_i'' + omega_i^2 x_i = mu F_i(x, x', theta) + drive_i(t)``, ``i = 1..N``.
 
-Every model of the package is a member of :class:`OscillatorFamily`, and the number of
-degrees of freedom and the forcing are its properties, not its type:
+Every model of the package is an instance of one type,
+:class:`kbm.coupled.CoupledOscillators` (:mod:`kbm.coupled.model`), which holds the data:
+the right-hand sides ``F_i``, the frequencies ``omega_i``, the forcing angle ``theta = nu
+t`` (``nu = nu0 + mu sigma``, with hard forcings ``K_i cos(theta)``), the stage drive, the
+physical parametrisation and the defaults.  The number ``N`` of degrees of freedom
+(``dof``), the forcing (``forced``) and the stage drive (``drives``) are properties of an
+instance, not types.  The cases of one degree of freedom are subclasses that keep the
+names of one degree of freedom (``F`` in ``x``, ``xdot``; ``omega0``, ``drive``, ``hard``
+scalars), so that the ~200 places that read them, and the byte-stable derivations, are
+unchanged:
 
-========================================  =====  ========  ===========================
-member                                    dof    forced    its engine
-========================================  =====  ========  ===========================
+========================================  =====  ========  ===============================
+instance                                  dof    forced    its engine
+========================================  =====  ========  ===============================
 :class:`kbm.models.Oscillator`            1      no        :func:`kbm.derive` (Bessel
                                                            sums, any order)
 :class:`kbm.forced.ForcedOscillator`      1      yes       :func:`kbm.forced.derive_forced`
 :class:`kbm.coupled.CoupledOscillators`   N      either    :func:`kbm.coupled.derive_coupled`
-========================================  =====  ========  ===========================
+========================================  =====  ========  ===============================
 
-:meth:`kbm.coupled.CoupledOscillators.from_oscillator` writes a member of one degree of
-freedom in the general form (``x -> x1``) and
-:meth:`~kbm.coupled.CoupledOscillators.to_oscillator` back, so every engine takes either
-form (:func:`kbm.bound.bind` converts an ``N = 1`` system for the engines of one degree of
-freedom, :func:`numerics.coupled.flow.bind_coupled` an oscillator for the coupled ones;
-``tests/test_family.py``), and the general engine gives the same expansion
-as the special one (``tests/test_coupled_engine.py``: :func:`kbm.derive` to order 5, and
-:func:`kbm.forced.derive_forced` to order 3 on every polynomial forced built-in); every
-member binds its parameter values through :func:`kbm.bound.bind`.  The one-degree-of-
-freedom engines stay for what the general one does not do (the Bessel sums of
-``sin(k x)`` above the first order, :mod:`kbm.coupled.bessel`) and for the byte-stable
-derivations, in their faster one- and two-angle algebras.  The three engines and their
-numeric backends run one recursion (:func:`kbm.recursion.kbm_recursion`) over the algebra
-protocol :class:`kbm.algebra.base.RecursionAlgebra`: ``N = 1`` and the forcing are its cases.
+No conversion stands between a model and an engine: every engine of ``N`` degrees of
+freedom reads the general accessors (``rhs``, ``omegas``, ``drives``, ``hards``, ``nu0``)
+of any instance, a case ``N = 1`` included (``tests/test_family.py``), and the general
+engine gives the same expansion as the special one (``tests/test_coupled_engine.py``:
+:func:`kbm.derive` to order 5, and :func:`kbm.forced.derive_forced` to order 3 on every
+polynomial forced built-in).  Every instance binds its parameter values through one layer:
+:func:`kbm.values.scaled_values` (re-exported by :mod:`kbm.params`) turns physical names into scaled ones (``delta =
+Delta/mu``) and :func:`kbm.bound.bind` binds them.  The engines of one degree of freedom
+stay for what the general one does not do (the Bessel sums of ``sin(k x)`` above the first
+order, :mod:`kbm.coupled.bessel`) and for the byte-stable derivations, in their faster one-
+and two-angle algebras; all of them run one recursion (:func:`kbm.recursion.kbm_recursion`)
+over the algebra protocol :class:`kbm.algebra.base.RecursionAlgebra`.
 
-This module imports none of its members (they build on it).
+This module imports none of the types (they build on it).
 """
 
 from __future__ import annotations
+
+from .errors import ModelError
 
 __all__ = ["OscillatorFamily", "one_degree_form"]
 
 
 class OscillatorFamily:
-    """The base of every model type: ``dof`` and ``forced`` are properties.
+    """The base of the one model type :class:`kbm.coupled.CoupledOscillators`: ``dof``
+    and ``forced`` are properties.
 
     Examples
     --------
@@ -60,14 +69,17 @@ class OscillatorFamily:
 
 
 def one_degree_form(model):
-    """The form of one degree of freedom of a member, for the engines of one degree of
-    freedom: the member itself, or an ``N = 1`` system's
-    :meth:`~kbm.coupled.CoupledOscillators.to_oscillator`.
+    """The instance itself when it has one degree of freedom (every engine of one degree
+    of freedom takes any such instance as it is).
 
     Raises
     ------
     kbm.errors.ModelError
         For a system of several degrees of freedom (the message names the coupled engines).
     """
-    to_oscillator = getattr(model, "to_oscillator", None)
-    return to_oscillator() if to_oscillator is not None else model
+    if model.dof != 1:
+        raise ModelError(f"{model.name!r} has {model.dof} degrees of freedom and the "
+                         "one-degree-of-freedom engines take one: use the coupled ones "
+                         "(kbm.coupled.derive_coupled; numerics.coupled: coupled_cycle, "
+                         "continue_coupled, forced_response)")
+    return model

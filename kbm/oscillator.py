@@ -1,7 +1,9 @@
 """The oscillator type ``x'' + w0^2 x = eps F(x, x') + drive(t)``, defined once, symbolically.
 
-Every model of the toolkit is an :class:`Oscillator`: the right-hand side ``F`` is a sympy
-expression in the symbols ``x``, ``xdot`` (and ``t`` for a driven, non-autonomous model) and
+:class:`Oscillator` is the case ``N = 1`` without a forcing angle of the one model type
+:class:`kbm.coupled.CoupledOscillators` (its data are that type's, in the state ``x1``,
+``xdot1``; ``F``, ``omega0``, ``drive`` and ``stage_relative`` are their names for one degree
+of freedom, in ``x``, ``xdot``).  The right-hand side ``F`` is a sympy expression in the symbols ``x``, ``xdot`` (and ``t`` for a driven, non-autonomous model) and
 named parameters; the small parameter is ``mu`` (the paper's mu, epsilon in the textbooks).
 Its structure (conservative and dissipative forces, the dissipation integrand split by sign,
 paper eqs. 10-11), its stage drive (paper eq. 3) and the mapping of physical parameter names
@@ -16,18 +18,22 @@ M. D'Acunto, "Friction force for self-excited systems", eqs. (3), (10)-(12).
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import sympy as sp
 
 from .errors import ModelError, NonAutonomousError, ParameterError
-from .family import OscillatorFamily
+from .coupled.model import CoupledOscillators
+from .coupled.variables import positions, velocities
 from .symbols import mu, parse, t, x, xdot
 from .values import FrozenMap, parameter_value
 
-__all__ = ["Oscillator"]
+__all__ = ["Oscillator", "TO_GENERAL", "TO_ONE"]
 
 _STATE = {x, xdot, t}
+(_X1,), (_V1,) = positions(1), velocities(1)
+#: the state of one degree of freedom in the one type's symbols, and back
+TO_GENERAL, TO_ONE = {x: _X1, xdot: _V1}, {_X1: x, _V1: xdot}
 
 
 def _expr(value: object) -> sp.Expr:
@@ -45,9 +51,9 @@ def _sorted_names(symbols) -> tuple[str, ...]:
     return tuple(sorted(s.name for s in symbols))
 
 
-@dataclass(frozen=True)
-class Oscillator(OscillatorFamily):
-    """The oscillator ``x'' + omega0**2 x = mu F(x, xdot[, t]) + drive(t)``.
+class Oscillator(CoupledOscillators):
+    """The oscillator ``x'' + omega0**2 x = mu F(x, xdot[, t]) + drive(t)``: the one type
+    :class:`~kbm.coupled.CoupledOscillators` at ``N = 1``, without a forcing angle.
 
     Parameters
     ----------
@@ -96,40 +102,25 @@ class Oscillator(OscillatorFamily):
     mu*xdot*(1 - x**2) - x
     """
 
-    name: str
-    F: sp.Expr
-    omega0: sp.Expr = sp.Integer(1)
-    description: str = ""
-    physical: Mapping[str, sp.Expr] = field(default_factory=dict)
-    defaults: Mapping[str, sp.Expr] = field(default_factory=dict)
-    drive: sp.Expr = sp.Integer(0)
-    gain_factor: sp.Expr = sp.Integer(1)
-    stage_relative: sp.Expr = sp.Integer(0)
+    case = "one"
 
-    def __post_init__(self) -> None:
-        F = parse(self.F) if not isinstance(self.F, sp.Basic) else self.F
-        w0 = _expr(self.omega0)
-        object.__setattr__(self, "F", sp.sympify(F))
-        object.__setattr__(self, "omega0", w0)
-        drive = _expr(self.drive)
-        object.__setattr__(self, "drive", drive)
+    def __init__(self, name: str, F: object, omega0: object = 1, description: str = "",
+                 physical: Mapping[str, sp.Expr] | None = None,
+                 defaults: Mapping[str, object] | None = None, drive: object = 0,
+                 gain_factor: object = 1, stage_relative: object = 0) -> None:
+        F = sp.sympify(parse(F) if not isinstance(F, sp.Basic) else F)
+        w0, drive, rel = _expr(omega0), _expr(drive), _expr(stage_relative)
         if drive.free_symbols & {x, xdot, mu}:
-            raise ModelError(f"the drive {drive} of model {self.name!r} must depend on t and "
+            raise ModelError(f"the drive {drive} of model {name!r} must depend on t and "
                              "parameters only")
-        object.__setattr__(self, "physical", FrozenMap(self.physical))
-        object.__setattr__(self, "defaults",
-                           FrozenMap({k: _expr(v) for k, v in self.defaults.items()}))
-        object.__setattr__(self, "gain_factor", _expr(self.gain_factor))
-        rel = _expr(self.stage_relative)
-        object.__setattr__(self, "stage_relative", rel)
         if rel != 0 and x not in rel.free_symbols:
-            raise ModelError(f"stage_relative = {rel} of model {self.name!r} must be a part of F "
+            raise ModelError(f"stage_relative = {rel} of model {name!r} must be a part of F "
                              "that depends on x (it is re-evaluated at the spring extension "
                              "x - v t when the stage moves)")
-        if mu in self.F.free_symbols:
-            raise ModelError(f"F of model {self.name!r} contains the small parameter mu; "
+        if mu in F.free_symbols:
+            raise ModelError(f"F of model {name!r} contains the small parameter mu; "
                              "write the equation as x'' + omega0^2 x = mu*F with F free of mu")
-        for s in (self.F.free_symbols | w0.free_symbols):
+        for s in (F.free_symbols | w0.free_symbols):
             if s.name in ("a", "psi"):
                 raise ModelError(f"the symbol {s.name!r} is reserved for the KBM amplitude/phase; "
                                  "rename that parameter")
@@ -140,23 +131,32 @@ class Oscillator(OscillatorFamily):
                 raise ModelError(f"omega0 must be a positive real number (omega0**2 > 0), got omega0 = {w0}")
         elif not isinstance(w0, sp.Symbol):
             raise ModelError(f"omega0 must be a positive number or a single symbol, got {w0}")
+        self._store(name, (F.xreplace(TO_GENERAL),), (w0,), description,
+                    {k: _expr(v) for k, v in (defaults or {}).items()}, (), physical, None,
+                    None, (drive,) if drive != 0 else (), (), _expr(gain_factor),
+                    (rel.xreplace(TO_GENERAL),) if rel != 0 else ())
+        self.__dict__["F"] = F  # the F given, as given (the derivations print it)
 
-    # -- structure --------------------------------------------------------------------
-    @property
-    def parameters(self) -> tuple[str, ...]:
-        """Names of the parameters of ``F``, ``omega0`` and the drive (sorted)."""
-        syms = self.F.free_symbols | self.omega0.free_symbols | self.drive.free_symbols
-        return _sorted_names(syms - _STATE)
+    # -- the names of one degree of freedom -----------------------------------------------
+    @cached_property
+    def F(self) -> sp.Expr:
+        """``F(x, xdot[, t])``: the right-hand side over ``mu``."""
+        return self.rhs[0].xreplace(TO_ONE)
 
     @property
-    def dof(self) -> int:
-        """One degree of freedom (:class:`kbm.family.OscillatorFamily`)."""
-        return 1
+    def omega0(self) -> sp.Expr:
+        """The linear frequency: a positive number or a symbol."""
+        return self.omegas[0]
 
     @property
-    def forced(self) -> bool:
-        """``False``: no forcing angle (a stage drive is ``drive``, not a forcing)."""
-        return False
+    def drive(self) -> sp.Expr:
+        """The order-one drive of ``t`` (a stage's pull ``Omega^2 v t``); 0 for none."""
+        return self.drives[0] if self.drives else sp.Integer(0)
+
+    @property
+    def stage_relative(self) -> sp.Expr:
+        """The part of ``F`` attached to a pulling stage (in ``x``); 0 for none."""
+        return self.relative[0].xreplace(TO_ONE) if self.relative else sp.Integer(0)
 
     @property
     def is_autonomous(self) -> bool:
@@ -231,9 +231,10 @@ class Oscillator(OscillatorFamily):
             return self
         rel = self.stage_relative
         moved = rel.subs(x, x - vv * t)
-        return replace(self, drive=self.omega0**2 * vv * t, F=self.F - rel + moved,
-                       stage_relative=moved,
-                       description=self.description.replace("with v = 0", f"with v = {vv}"))
+        return Oscillator(self.name, self.F - rel + moved, self.omega0,
+                          self.description.replace("with v = 0", f"with v = {vv}"),
+                          self.physical, self.defaults, self.omega0**2 * vv * t,
+                          self.gain_factor, moved)
 
     # -- parameters -------------------------------------------------------------------
     def resolve(self, values: Mapping[str, object] | None = None,

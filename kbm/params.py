@@ -21,10 +21,10 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .errors import ModelError, ParameterError
-from .values import parameter_value
+from .values import parameter_value, scaled_values
 
 __all__ = ["NOISE_NAMES", "ParameterNames", "names_of", "lookup", "builtin_names",
-           "to_physical", "noise_from", "closest"]
+           "to_physical", "noise_from", "closest", "scaled_values"]
 
 #: the noise intensity ``D`` of ``sqrt(2 D) xi`` and the temperature ``T = D/mu``
 NOISE_NAMES = ("D", "T")
@@ -260,3 +260,4 @@ def noise_from(values: Mapping[str, object]) -> tuple[dict[str, object], sp.Expr
                                  f"needs mu > 0, got mu = {rest['mu']}; give -p D=VALUE")
         return rest, val * mu, "T"
     return rest, None, ""
+

@@ -1,4 +1,5 @@
-"""Parameter values: exact reading of user input, and the read-only mapping models hold."""
+"""Parameter values: exact reading of user input, the read-only mapping models hold, and the
+physical names of a model turned into its scaled ones (:func:`scaled_values`)."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import sympy as sp
 from .errors import NonFiniteError, ParameterError
 from .symbols import parse
 
-__all__ = ["FrozenMap", "parameter_value"]
+__all__ = ["FrozenMap", "parameter_value", "scaled_values"]
 
 
 class FrozenMap(Mapping):
@@ -75,3 +76,50 @@ def parameter_value(name: str, raw: object) -> sp.Expr:
     if not (isinstance(val, sp.Expr) and val.is_number and val.is_real and val.is_finite):
         raise ParameterError(f"parameter {name} must be a finite real number, got {raw!r}")
     return val
+
+
+def scaled_values(model, values: Mapping[str, object] | None = None, *,
+                  use_defaults: bool = True) -> dict[str, sp.Expr]:
+    """Exact values of a model's own (scaled) parameters and ``mu`` from the given ones:
+    the physical names converted by the model's ``physical`` map (``delta = Delta/mu``,
+    which needs ``mu``), the defaults filled in.  The bound form of every member of the
+    family (:meth:`kbm.coupled.CoupledOscillators.resolve`, :func:`kbm.bound.bind`).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For an unknown name, a value that is not a finite number, a scaled and a physical
+        value of the same parameter, or a physical one without ``mu``.
+    """
+    values = dict(values or {})
+    physical = dict(model.physical)
+    phys_names = sorted({s.name for e in physical.values() for s in e.free_symbols}
+                        - {"mu"})
+    names = set(model.parameters) | {"mu"}
+    unknown = sorted(set(values) - names - set(phys_names))
+    if unknown:
+        extra = f"; or the physical {', '.join(phys_names)}" if phys_names else ""
+        raise ParameterError(f"{', '.join(map(repr, unknown))} is not a parameter of "
+                             f"{model.name!r} (its parameters: {', '.join(sorted(names))}"
+                             f"{extra})")
+    given = {k: parameter_value(k, v) for k, v in values.items()}
+    for scaled, expr in physical.items():  # e.g. delta = Delta/mu from Delta and mu
+        needs = {s.name for s in expr.free_symbols}
+        if scaled in given:
+            if needs & (set(given) - {"mu"}):
+                raise ParameterError(f"give either {scaled} or "
+                                     f"{', '.join(sorted(needs - {'mu'}))}, not both")
+            continue
+        if needs - {"mu"} and needs - {"mu"} <= set(given) | set(model.defaults):
+            vals = {sp.Symbol(n): given.get(n, model.defaults.get(n)) for n in needs}
+            if any(v is None for v in vals.values()):
+                raise ParameterError(f"{scaled} = {expr} needs a value of mu "
+                                     "(-p mu=VALUE)")
+            given[scaled] = sp.sympify(expr).subs(vals)
+    out = {k: v for k, v in given.items() if k in names}
+    if use_defaults:
+        for name, v in model.defaults.items():
+            if name in names:
+                out.setdefault(name, sp.sympify(v))
+    return out
+

@@ -106,7 +106,7 @@ def test_one_degree_of_freedom_equals_the_bessel_engine(a, delta, k, beta):
     4 against kbm.derive_values (Jacobi-Anger harmonics: J_n(k a))."""
     p = {"beta": beta, "delta": delta, "k": k}
     ref = derive_values("sedf", 4, [a], p)
-    model = CoupledOscillators.from_oscillator(get_model("sedf"))
+    model = get_model("sedf")  # the case N = 1 of the one type, as it is
     ex = jet_expansion(model, p, 4, [a], [], nodes=64)
     for n in range(1, 5):
         scale = 1 + (delta * k + a**2) ** n

@@ -1,11 +1,12 @@
-"""One family of models (issue 23): every model type is a member of
-kbm.family.OscillatorFamily with the number of degrees of freedom and the forcing as
-properties, and every member binds its values through kbm.bound.bind.
+"""One model type (issues 23, 35): every model is an instance of
+kbm.coupled.CoupledOscillators with the number of degrees of freedom and the forcing as
+properties (the one-degree-of-freedom and forced built-ins are its cases N = 1), and every
+instance binds its values through kbm.bound.bind.
 
 References: the definitions themselves (N = len(F), forced = a forcing angle), the
-conversion of a one-degree-of-freedom member to the general form (x -> x1), and the
-coupled numerics' own reading of the values (numerics.coupled.flow.bind_coupled), whose
-floats the bound form must give.
+general form of a case N = 1 written out by hand (x -> x1), and the coupled numerics' own
+reading of the values (numerics.coupled.flow.bind_coupled), whose floats the bound form
+must give.
 """
 
 from __future__ import annotations
@@ -23,22 +24,25 @@ from kbm.family import OscillatorFamily
 from kbm.forced import FORCED_MODELS, get_forced_model
 from kbm.models import MODELS, custom_model, get_model
 from kbm.symbols import x, xdot
+
+X1, V1 = sp.symbols("x1 xdot1")
 from numerics.coupled.flow import bind_coupled
 
 
 @pytest.mark.parametrize("name", sorted(MODELS))
 def test_one_degree_of_freedom_members(name):
     m = get_model(name)
-    assert isinstance(m, OscillatorFamily) and (m.dof, m.forced) == (1, False)
+    assert isinstance(m, CoupledOscillators) and (m.dof, m.forced) == (1, False)
+    assert isinstance(m, OscillatorFamily) and get_coupled_model(name) == m
+    assert m.rhs == (m.F.subs({x: X1, xdot: V1}, simultaneous=True),)
 
 
 @pytest.mark.parametrize("name", sorted(FORCED_MODELS))
 def test_forced_members(name):
     m = get_forced_model(name)
-    assert isinstance(m, OscillatorFamily) and (m.dof, m.forced) == (1, True)
-    c = CoupledOscillators.from_oscillator(m)
-    assert (c.dof, c.forced) == (1, True)
-    assert c.hard == ((m.hard,) if m.hard != 0 else ())  # a hard forcing is kept
+    assert isinstance(m, CoupledOscillators) and (m.dof, m.forced) == (1, True)
+    assert m.hards == ((m.hard,) if m.hard != 0 else ())  # the general names of its data
+    assert m.nu0 == m.omega0 * m.resonance.ratio and m.nu_detuning == "sigma"
 
 
 @pytest.mark.parametrize("name", sorted(COUPLED_MODELS))
@@ -69,8 +73,8 @@ def test_the_bound_form_of_the_n1_case_equals_the_oscillators():
     for name, vals in (("vdp", {"mu": "0.1"}), ("duffing", {"mu": 0.2}),
                        ("rayleigh", {"mu": 0.3})):
         one = bind(name, vals)
-        gen = bind(CoupledOscillators.from_oscillator(get_model(name)), vals)
-        assert dict(one.values) == dict(gen.values)
+        _, floats = bind_coupled(get_model(name), vals)
+        assert {k: float(v) for k, v in one.values.items()} == floats
 
 
 def test_bad_values_of_a_coupled_member():
@@ -93,47 +97,31 @@ def test_derive_takes_every_member():
     assert type(kbm.derive("vdp", 2)).__name__ == "KBMResult"
 
 
-# -- N = 1 in either form: every engine takes both ----------------------------------------
-@pytest.mark.parametrize("name", sorted(MODELS) + sorted(FORCED_MODELS))
-def test_the_two_forms_of_one_degree_of_freedom_convert_both_ways(name):
-    """to_oscillator is the inverse of from_oscillator (x -> x1 -> x): the same F, drive,
-    resonance and hard forcing; a frequency written with a defaulted parameter (the
-    sliders' Omega = 1) comes back as its value."""
-    m = get_model(name) if name in MODELS else get_forced_model(name)
-    back = CoupledOscillators.from_oscillator(m).to_oscillator()
-    assert type(back) is type(m)
-    Omega = sp.Symbol("Omega")
-    one = {Omega: 1}
-    assert back.F == m.F.subs(one) and back.omega0 == sp.sympify(m.omega0).subs(one)
-    if name in MODELS:
-        assert back.drive == m.drive and back.physical == m.physical
-    else:
-        assert back.resonance == m.resonance and back.hard == m.hard
-
-
+# -- N = 1: one type, no conversion -----------------------------------------------------
 @settings(max_examples=25, deadline=None)
 @given(st.lists(st.tuples(st.integers(-3, 3), st.integers(0, 3), st.integers(0, 2)),
                 min_size=1, max_size=4))
-def test_round_trip_of_a_random_polynomial(terms):
+def test_a_case_equals_the_system_written_in_the_general_form(terms):
+    """A random polynomial F as the case N = 1 (custom_model) and as the general type in
+    x1, xdot1 by hand: the same right-hand side, equations of motion and parameters."""
     F = sum((c * x**i * xdot**j for c, i, j in terms), sp.Integer(0))
     if not F.free_symbols:  # a constant F is no model (custom_model refuses it)
         return
     m = custom_model(F)
-    back = CoupledOscillators.from_oscillator(m).to_oscillator()
-    assert back.F == m.F and back.omega0 == m.omega0
+    general = CoupledOscillators("g", (F.subs({x: X1, xdot: V1}, simultaneous=True),), (1,))
+    assert m.rhs == general.rhs and m.accelerations() == general.accelerations()
+    assert m.parameters == general.parameters and m.F == F
 
 
 def test_every_engine_takes_either_form():
-    """A cycle of one degree of freedom from either form, by either shooting (two codes:
-    numerics.cycles and numerics.coupled): the paper's SEDF (eq. 3) at rest."""
+    """A cycle of one degree of freedom by either shooting (two codes: numerics.cycles and
+    numerics.coupled) of the one instance: the paper's SEDF (eq. 3) at rest."""
     from numerics import limit_cycle
     from numerics.coupled.cycle import coupled_cycle
 
     sedf = get_model("sedf")
-    general = CoupledOscillators.from_oscillator(sedf)
     p = {"mu": 0.1, "Delta": 1.5, "beta": 1, "lam": 1}
     one = limit_cycle(sedf, p)
-    assert limit_cycle(general, p).period == one.period  # the same path, after conversion
     assert abs(coupled_cycle(sedf, p).period - one.period) < 1e-9  # the other shooting
     with pytest.raises(ModelError, match="2 degrees of freedom.*coupled_cycle"):
         limit_cycle(get_coupled_model("coupled-vdp"), {"mu": 0.1})
@@ -144,9 +132,8 @@ def test_the_forced_engine_takes_either_form():
 
     m = get_forced_model("duffing-forced")
     vals = {"mu": 0.1, "alpha": 1, "h": 2, "zeta": 0.5}
-    one, general = ForcedSystem(m, vals), ForcedSystem(CoupledOscillators.from_oscillator(m),
-                                                        vals)
-    assert general.model == m and general.values == one.values
-    assert np.array_equal(general.flow([0.2, -0.1], 0.3), one.flow([0.2, -0.1], 0.3))
+    one = ForcedSystem(m, vals)
+    assert one.model is m  # no conversion
+    assert isinstance(one.flow([0.2, -0.1], 0.3), np.ndarray)
     with pytest.raises(ModelError, match="2 degrees of freedom"):
         ForcedSystem(get_coupled_model("duffing-1-3"), {"mu": 0.1})

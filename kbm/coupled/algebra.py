@@ -59,7 +59,7 @@ class CoupledAlgebra(AngleCalculus):
         self.forced = model.forced
         n = dof + (1 if self.forced else 0)  # the forcing angle theta is the last one
         self.n, self.dof, self.model, self.lattice, self.tol = n, dof, model, lattice, tolerance
-        self.omega = model.omega0 + ((model.nu0,) if self.forced else ())
+        self.omega = model.omegas + ((model.nu0,) if self.forced else ())
         self.ring = LaurentRing([*amplitudes(dof), *gens])
         self.sig = (self.ring.gen(self.ring.gens.index(sp.Symbol(model.nu_detuning)))
                     if self.forced and model.nu_detuning else None)

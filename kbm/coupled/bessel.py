@@ -192,7 +192,7 @@ def jacobi_anger_plan(rows: list[list[sp.Expr]], model, order: int, tol: float
     """
     state = model.state
     sset = set(state)
-    omega = model.omega0 + ((model.nu0,) if model.forced else ())
+    omega = model.omegas + ((model.nu0,) if model.forced else ())
     cuts: dict = {}
     for row in rows:
         for f in row:
@@ -219,7 +219,7 @@ def jacobi_anger_plan(rows: list[list[sp.Expr]], model, order: int, tol: float
                 cuts[key] = max(cuts.get(key, 0), harmonic_bound(omega, key[2], d, tol))
     if not cuts:
         return None
-    if model.hard:
+    if model.hards:
         raise UnsupportedTermError(
             f"{model.name!r} has a hard forcing and sin or cos of the state: the shifted "
             f"position x_i + Lambda_i cos(theta) makes a double Bessel series; {_NUMERIC_HINT}")

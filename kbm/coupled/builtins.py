@@ -27,11 +27,14 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from ..errors import ModelError
 from .model import CoupledOscillators
 from .resonance import InternalResonance
 
 __all__ = ["COUPLED_MODELS", "get_coupled_model", "coupled_model_names", "sedf_chain",
+           "coupled_custom",
            "is_coupled_name"]
 
 COUPLED_MODELS: dict[str, CoupledOscillators] = {
@@ -129,11 +132,48 @@ def get_coupled_model(name: str) -> CoupledOscillators:
     from ..forced.builtins import FORCED_MODELS, get_forced_model
     from ..models import MODELS, get_model
 
-    if name in MODELS:
-        return CoupledOscillators.from_oscillator(get_model(name))
+    if name in MODELS:  # the cases N = 1 are members of the one type as they are
+        return get_model(name)
     if name in FORCED_MODELS:
-        return CoupledOscillators.from_oscillator(get_forced_model(name))
+        return get_forced_model(name)
     raise ModelError(f"unknown model {name!r}; the built-in coupled systems are "
                      f"{', '.join(coupled_model_names())}, the one-degree-of-freedom "
                      f"models are {', '.join(sorted(MODELS))} and the forced ones "
                      f"{', '.join(sorted(FORCED_MODELS))}")
+
+
+def coupled_custom(rhs: Sequence[str], omega0: Sequence[object] | str | None = None, *,
+                   name: str = "custom", nu0: object = None,
+                   detuning: str = "sigma") -> CoupledOscillators:
+    """A user's system from one right-hand side per degree of freedom.
+
+    ``omega0`` is a list or a comma-separated string (``"1,3"``); default all 1.  With
+    ``nu0`` the right-hand sides may hold the forcing angle ``theta = nu t``,
+    ``nu = nu0 + mu detuning``.
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        For mismatched counts (both are named), unreadable expressions, or a right-hand
+        side that uses none of the state variables.
+    """
+    n = len(rhs)
+    if omega0 is None:
+        w: Sequence[object] = ["1"] * n
+    elif isinstance(omega0, str):
+        w = [s.strip() for s in omega0.split(",")]
+    else:
+        w = list(omega0)
+    if len(w) != n:
+        raise ModelError(f"{n} right-hand sides (--rhs) but {len(w)} frequencies (--omega0 "
+                         f"{omega0}): give one frequency per degree of freedom")
+    model = CoupledOscillators(name, tuple(rhs), tuple(w),
+                               description=f"user system of {n} degrees of freedom",
+                               nu0=nu0, nu_detuning=detuning if nu0 is not None else None)
+    state = set(model.state)
+    for i, f in enumerate(model.F, 1):
+        if f != 0 and not (f.free_symbols & state):
+            raise ModelError(f"F{i} = {rhs[i - 1]} depends on none of the state variables "
+                             f"{', '.join(map(str, model.state))}: write the system in them "
+                             "(one --rhs per degree of freedom)")
+    return model

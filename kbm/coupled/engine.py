@@ -30,8 +30,6 @@ import sympy as sp
 
 from ..algebra.lazy_series import Leaf
 from ..errors import ModelError, OrderError
-from ..forced.model import ForcedOscillator
-from ..models import Oscillator
 from ..recursion import kbm_recursion
 from .algebra import CoupledAlgebra, MultiBuilder, coupled_rhs
 from .bessel import JacobiAnger, jacobi_anger_plan
@@ -82,7 +80,7 @@ def _hard_shifted(model: CoupledOscillators) -> list[list[sp.Expr]]:
                       if model.nu_detuning else 0)
     lams = lambda_symbols(n)
     shift = {}
-    for j, (k, w) in enumerate(zip(model.hard, model.omega0)):
+    for j, (k, w) in enumerate(zip(model.hards, model.omegas)):
         if k == 0:
             continue
         if w == model.nu0:
@@ -93,7 +91,7 @@ def _hard_shifted(model: CoupledOscillators) -> list[list[sp.Expr]]:
         shift[positions(n)[j]] = positions(n)[j] + lams[j] * sp.cos(theta)
         shift[velocities(n)[j]] = velocities(n)[j] - lams[j] * nu * sp.sin(theta)
     out = []
-    for f in model.F:
+    for f in model.rhs:
         g = sp.Poly(sp.expand(f.xreplace(shift)), sp.Symbol("mu"))
         out.append([sp.expand(g.coeff_monomial(sp.Symbol("mu") ** k))
                     for k in range(g.degree() + 1)])
@@ -117,7 +115,7 @@ def _scaled_values(model: CoupledOscillators, params: dict) -> dict:
     return out
 
 
-def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | str, order: int,
+def derive_coupled(model: CoupledOscillators | str, order: int,
                    params: dict | None = None, *, internal=(),
                    tolerance: float = TOLERANCE) -> CoupledKBMResult:
     """KBM expansion of ``x_i'' + omega_i**2 x_i = mu F_i(x, x')`` to order ``order``.
@@ -167,8 +165,11 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
 
     if isinstance(model, str):
         model = get_coupled_model(model)
-    elif isinstance(model, (Oscillator, ForcedOscillator)):
-        model = CoupledOscillators.from_oscillator(model)
+    fixed = model.with_frequencies(params)  # the sliders' Omega: exact frequencies
+    if fixed is not model:
+        params = {k: v for k, v in (params or {}).items() if k not in model.parameters
+                  or k in fixed.parameters}
+        model = fixed
     stage = model.stage_parameters()
     model = model.at_rest(params)  # a stage at rest (given or default v = 0) is autonomous
     params = {k: v for k, v in (params or {}).items() if k not in stage}
@@ -185,8 +186,8 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
         from ..symbols import x, xdot
 
         x1, v1 = positions(1)[0], velocities(1)[0]
-        check_cost(model.F[0].subs({x1: x, v1: xdot}, simultaneous=True), order)
-    if any(f.has(sp.Symbol("nu")) for f in model.F):
+        check_cost(model.rhs[0].subs({x1: x, v1: xdot}, simultaneous=True), order)
+    if any(f.has(sp.Symbol("nu")) for f in model.rhs):
         raise ModelError(f"{model.name!r} holds the forcing frequency nu in F (nu = nu0 + mu "
                          "sigma puts mu into F): the exact coupled expansion takes F free of "
                          "nu; its true responses are numerics (kbm response, kbm cycle), its "
@@ -197,14 +198,14 @@ def derive_coupled(model: CoupledOscillators | Oscillator | ForcedOscillator | s
                          f"series are in {model.dof} angles); simulate the system instead "
                          "(kbm cycle, kbm friction take any N)")
     n = model.dof
-    F = _hard_shifted(model) if model.hard else [[f] for f in model.F]
+    F = _hard_shifted(model) if model.hards else [[f] for f in model.rhs]
     detunings = []
     for r in model.internal:
         if r.detuning:  # omega_j -> omega_j + mu sigma, exactly
             sig = sp.Symbol(r.detuning)
             detunings.append(sig)
             xj = positions(n)[r.j - 1]
-            wj = model.omega0[r.j - 1]
+            wj = model.omegas[r.j - 1]
             Fj = F[r.j - 1]
             Fj[0] = Fj[0] - 2 * wj * sig * xj
             Fj.append(-sig**2 * xj)

@@ -138,7 +138,7 @@ class JetAlgebra(AngleCalculus):
         self.dof = N = model.dof
         self.forced = model.forced
         self.n = D = N + (1 if self.forced else 0)
-        self.omega = tuple(model.omega0) + ((model.nu0,) if self.forced else ())
+        self.omega = tuple(model.omegas) + ((model.nu0,) if self.forced else ())
         self.w = np.array([float(v) for v in self.omega])
         self.point = np.asarray(point, dtype=float)
         self.M, self.top = int(nodes), int(top)

@@ -233,6 +233,10 @@ def jet_expansion(model: CoupledOscillators, values: Mapping[str, float], order:
             not 1 <= order <= MAX_ORDER_JETS:
         raise OrderError(f"the order of the numeric coupled averaging must be an integer "
                          f"from 1 to {MAX_ORDER_JETS}, got {order!r}")
+    fixed = model.with_frequencies(values)  # the sliders' Omega: exact frequencies
+    if fixed is not model:
+        values = {k: v for k, v in values.items() if k in fixed.parameters}
+        model = fixed
     F, parameters, sigma = _right_hand_sides(model, values, order)
     n = model.dof
     a, g = slow_point(n, len(model.internal), amplitudes, gammas)
@@ -304,7 +308,7 @@ def check_nodes(nodes) -> None:
 
 def check_weak(model: CoupledOscillators) -> None:
     """Refuse a hard forcing ``K cos(theta)`` (the numeric backend takes ``mu F(theta)``)."""
-    if model.hard:
+    if model.hards:
         raise ModelError(f"{model.name!r} has a hard forcing K cos(theta): the numeric "
                          "averaging takes weak forcing mu F(theta) (the exact engine takes "
                          "hard forcing: kbm.coupled.derive_coupled)")
@@ -333,20 +337,20 @@ def symbolic_rhs(model: CoupledOscillators, higher: bool):
     check_weak(model)
     n = model.dof
     nu = sp.Symbol("nu")
-    if any(f.has(nu) for f in model.F) and higher:
+    if any(f.has(nu) for f in model.rhs) and higher:
         raise ModelError(f"{model.name!r} holds the forcing frequency nu in F (nu = nu0 + mu "
                          "sigma puts mu into F): beyond the first order the numeric coupled "
                          "averaging takes F free of nu")
-    F = [[sp.expand(f)] for f in model.F]
-    if model.forced and any(f.has(nu) for f in model.F):
+    F = [[sp.expand(f)] for f in model.rhs]
+    if model.forced and any(f.has(nu) for f in model.rhs):
         shift = sp.nsimplify(model.nu0) + sp.Symbol("mu") * sp.Symbol(model.nu_detuning
                                                                       or "sigma")
-        F = [[sp.expand(f.subs(nu, shift))] for f in model.F]
+        F = [[sp.expand(f.subs(nu, shift))] for f in model.rhs]
     for r in model.internal:
         if r.detuning and not r.forcing:  # omega_j -> omega_j + mu sigma, as the exact engine
             sig = sp.Symbol(r.detuning)
             xj = positions(n)[r.j - 1]
-            wj = model.omega0[r.j - 1]
+            wj = model.omegas[r.j - 1]
             F[r.j - 1][0] = F[r.j - 1][0] - 2 * wj * sig * xj
             F[r.j - 1].append(-sig**2 * xj)
     # the parameters stay symbols, their values arguments of the compiled derivatives

@@ -1,15 +1,24 @@
-"""``N`` weakly coupled oscillators ``x_i'' + omega_i**2 x_i = mu F_i(x, x')``, i = 1..N.
+"""The one model type: ``x_i'' + omega_i**2 x_i = mu F_i(x, x', theta) + drive_i(t)``, i = 1..N.
 
-:class:`CoupledOscillators` is the model of :mod:`kbm.coupled`; the state variables are
-``x1, ..., xN`` and ``xdot1, ..., xdotN``.  One degree of freedom is the case ``N = 1``
-(:meth:`CoupledOscillators.from_oscillator` turns a :class:`kbm.models.Oscillator` into
-it, with ``x -> x1``), and the coupled recursion reproduces the one-degree-of-freedom
-expansion exactly there (``tests/test_coupled_engine.py``).
+:class:`CoupledOscillators` holds every model of the package: the number ``N`` of degrees
+of freedom (:attr:`~CoupledOscillators.dof`), the forcing angle ``theta = nu t``
+(:attr:`~CoupledOscillators.forced`, ``nu = nu0 + mu sigma``) and the stage drive
+(:attr:`~CoupledOscillators.drives`) are properties of its data, not types.  Its general
+accessors are :attr:`~CoupledOscillators.rhs` (the ``F_i`` in ``x1..xN``,
+``xdot1..xdotN``), :attr:`~CoupledOscillators.omegas`, :attr:`~CoupledOscillators.drives`
+and :attr:`~CoupledOscillators.hards`, which every engine of ``N`` degrees of freedom
+reads; ``F``, ``omega0``, ``drive``, ``hard`` are their names for a system built as such.
+The cases ``N = 1`` are subclasses that keep the names of one degree of freedom (``F`` in
+``x``, ``xdot``): :class:`kbm.oscillator.Oscillator` (autonomous, or pulled by a stage)
+and :class:`kbm.forced.ForcedOscillator` (a forcing angle), so that no conversion stands
+between a model and any engine.
 
-The linear frequencies ``omega_i`` are positive rationals: commensurate frequencies are
-*internal resonances*, which the averaging must know exactly
+The linear frequencies ``omega_i`` of a system built here are positive rationals:
+commensurate frequencies are *internal resonances*, which the averaging must know exactly
 (:class:`~kbm.coupled.resonance.InternalResonance`); a detuning is written in ``F`` (as a
-stiffness ``-2 omega_j sigma x_j``) or declared with the resonance.
+stiffness ``-2 omega_j sigma x_j``) or declared with the resonance.  (A case ``N = 1`` may
+name its frequency by a parameter, the sliders' ``Omega``: :meth:`~CoupledOscillators.\
+with_frequencies` puts its value in for the engines that need the number.)
 
 The symbols ``x_i``, ``xdot_i``, ``a_i``, ``psi_i`` and the check of the right-hand sides'
 names are in :mod:`kbm.coupled.variables` (the symbols importable from here too).
@@ -21,23 +30,25 @@ from fractions import Fraction
 from math import lcm
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import sympy as sp
 
 from ..errors import ModelError, ParameterError
-from ..family import OscillatorFamily
+from ..family import OscillatorFamily, one_degree_form
 from ..symbols import mu, parse, t
-from ..values import FrozenMap, parameter_value
+from ..values import FrozenMap, parameter_value, scaled_values
 from .resonance import InternalResonance
 from .variables import amplitudes, check_right_hand_sides, phases, positions, velocities
 
 __all__ = ["CoupledOscillators", "positions", "velocities", "amplitudes", "phases",
-           "MAX_DOF", "coupled_custom"]
+           "MAX_DOF"]
 
 #: most degrees of freedom a model may have (the compiled flows and shooting are 2N
 #: dimensional; the symbolic averaging has its own, lower, limit)
 MAX_DOF = 256
+
+_THETA, _NU = sp.Symbol("theta"), sp.Symbol("nu")
 
 
 def _frequency(value: object, i: int | str) -> sp.Rational:
@@ -49,9 +60,17 @@ def _frequency(value: object, i: int | str) -> sp.Rational:
     return w
 
 
-@dataclass(frozen=True)
+def _exprs(values, n: int, what: str) -> tuple:
+    out = tuple(parse(v) if isinstance(v, str) else sp.sympify(v) for v in values)
+    if out and len(out) != n:
+        raise ModelError(f"{n} right-hand sides but {len(out)} {what}; give one per degree "
+                         "of freedom (0 for none)")
+    return out if any(v != 0 for v in out) else ()
+
+
+@dataclass(frozen=True, init=False)
 class CoupledOscillators(OscillatorFamily):
-    """The system ``x_i'' + omega_i**2 x_i = mu F_i(x1..xN, xdot1..xdotN)``.
+    """The system ``x_i'' + omega_i**2 x_i = mu F_i(x1..xN, xdot1..xdotN, theta)``.
 
     Parameters
     ----------
@@ -59,9 +78,9 @@ class CoupledOscillators(OscillatorFamily):
         Short name (command line, generated files).
     F
         The right-hand sides divided by ``mu``, one per degree of freedom, in
-        ``x1..xN``, ``xdot1..xdotN`` and parameters.
+        ``x1..xN``, ``xdot1..xdotN`` and parameters (:attr:`rhs`).
     omega0
-        The linear frequencies, positive rationals, one per degree of freedom.
+        The linear frequencies, positive rationals, one per degree of freedom (:attr:`omegas`).
     description
         One line saying what the model is and where it comes from.
     defaults
@@ -73,22 +92,27 @@ class CoupledOscillators(OscillatorFamily):
         mode ``N + 1`` of the resonance declarations (``"1:1@2,F"``: ``omega_2 : nu = 1 : 1``).
     drive
         Order-one forces of time and parameters, one per degree of freedom (the stage's
-        pull ``Omega^2 v t`` of pulled sliders), added to ``x_i''``; empty: none.  ``F``
-        may then hold ``t`` too (a self-excitation attached to the stage); such a model is
-        integrated, not averaged.
+        pull ``Omega^2 v t`` of pulled sliders), added to ``x_i''`` (:attr:`drives`); empty:
+        none.  ``F`` may then hold ``t`` too (a self-excitation attached to the stage); such
+        a model is integrated, not averaged.
     hard
         The amplitudes ``K_i`` of a *hard* (order-one) forcing ``K_i cos(theta)`` on each
         degree of freedom (Nayfeh & Mook 1979, sec. 4.1.2-4.1.3: super- and subharmonic
-        resonances); empty: none.  The averaging shifts ``x_i`` by the forced response
-        ``Lambda_i cos(theta)``, ``Lambda_i = K_i/(omega_i^2 - nu^2)`` (the symbols
-        ``Lambda1, ..`` in its results).
+        resonances; :attr:`hards`); empty: none.  The averaging shifts ``x_i`` by the forced
+        response ``Lambda_i cos(theta)``, ``Lambda_i = K_i/(omega_i^2 - nu^2)``.
     physical
         For models with a physical parametrisation (the SEDF sliders): each scaled parameter
         as an expression in physical ones and ``mu``, e.g. ``{"delta": Delta/mu,
-        "k": 2*pi/lam}``; :func:`numerics.coupled.bind_coupled` accepts either name.
+        "k": 2*pi/lam}``; :func:`kbm.bound.bind` accepts either name.
     internal
         The internal resonances the model is meant to be averaged with (a built-in's own;
         ``kbm derive --internal`` adds others).
+    gain_factor
+        A parameter that multiplies every energy-supplying term of the dissipation
+        integrand (the paper's eq. 11: ``beta``); 1 when there is none.
+    stage_relative
+        The parts of ``F_i`` that a pulling stage re-evaluates at the spring's extension
+        (:meth:`kbm.oscillator.Oscillator.with_stage_velocity`); empty: none.
 
     Raises
     ------
@@ -105,91 +129,140 @@ class CoupledOscillators(OscillatorFamily):
     (2, ('c',))
     """
 
-    name: str
-    F: tuple
-    omega0: tuple
-    description: str = ""
-    defaults: Mapping[str, object] = field(default_factory=dict)
-    internal: tuple = ()
-    physical: Mapping[str, object] = field(default_factory=dict)
-    nu0: object = None
-    nu_detuning: str | None = None
-    drive: tuple = ()
-    hard: tuple = ()
+    #: which case of the type a class is: ``"system"`` (named as such), ``"one"``
+    #: (:class:`kbm.models.Oscillator`), ``"forced"`` (:class:`kbm.forced.ForcedOscillator`)
+    case = "system"
 
-    def __post_init__(self) -> None:
-        if isinstance(self.F, (str, sp.Basic)) or not isinstance(self.F, Sequence):
+    name: str
+    rhs: tuple
+    omegas: tuple
+    description: str
+    defaults: FrozenMap
+    internal: tuple
+    physical: FrozenMap
+    nu0: object
+    nu_detuning: str | None
+    drives: tuple
+    hards: tuple
+    gain_factor: sp.Expr
+    relative: tuple
+
+    def __init__(self, name: str, F: Sequence, omega0: Sequence, description: str = "",
+                 defaults: Mapping[str, object] | None = None, internal: Sequence = (),
+                 physical: Mapping[str, object] | None = None, nu0: object = None,
+                 nu_detuning: str | None = None, drive: Sequence = (), hard: Sequence = (),
+                 *, gain_factor: object = 1, stage_relative: Sequence = ()) -> None:
+        if isinstance(F, (str, sp.Basic)) or not isinstance(F, Sequence):
             raise ModelError("F must be a sequence of right-hand sides, one per degree of "
                              "freedom")
-        F = tuple(parse(f) if isinstance(f, str) else sp.sympify(f) for f in self.F)
+        F = tuple(parse(f) if isinstance(f, str) else sp.sympify(f) for f in F)
         n = len(F)
         if not 1 <= n <= MAX_DOF:
             raise ModelError(f"a coupled model has 1 to {MAX_DOF} degrees of freedom, got {n}")
-        w = self.omega0
-        if not isinstance(w, Sequence) or isinstance(w, str):
-            w = (w,)
+        w = (omega0,) if not isinstance(omega0, Sequence) or isinstance(omega0, str) \
+            else omega0
         if len(w) != n:
             raise ModelError(f"{n} right-hand sides but {len(w)} frequencies omega0: give one "
                              f"frequency per degree of freedom (e.g. --omega0 "
                              f"{','.join(['1'] * n)})")
         w = tuple(_frequency(v, i) for i, v in enumerate(w, 1))
-        object.__setattr__(self, "F", F)
-        object.__setattr__(self, "omega0", w)
-        object.__setattr__(self, "defaults",
-                           FrozenMap({k: parameter_value(k, v) if not isinstance(v, sp.Basic)
-                                      else v for k, v in self.defaults.items()}))
-        nu0 = None
-        if self.nu0 is not None:
-            nu0 = _frequency(self.nu0, "nu0")
-        object.__setattr__(self, "nu0", nu0)
         forced = nu0 is not None
+        nu0 = _frequency(nu0, "nu0") if forced else None
         internal = tuple(r if isinstance(r, InternalResonance) else
-                         InternalResonance.parse(r, n, forced=forced) for r in self.internal)
+                         InternalResonance.parse(r, n, forced=forced) for r in internal)
         for r in internal:
             r.check(w + ((nu0,) if forced else ()))
-        object.__setattr__(self, "internal", internal)
-        drive = tuple(parse(d) if isinstance(d, str) else sp.sympify(d) for d in self.drive)
-        if drive and len(drive) != n:
-            raise ModelError(f"{n} right-hand sides but {len(drive)} drives; give one per "
-                             "degree of freedom")
+        drive = _exprs(drive, n, "drives")
+        state = set(positions(n)) | set(velocities(n))
         for d in drive:
-            if d.free_symbols & (set(positions(n)) | set(velocities(n)) | {mu}):
+            if d.free_symbols & (state | {mu}):
                 raise ModelError(f"the drive {d} must depend on t and parameters only")
-        object.__setattr__(self, "drive", drive)
-        hard = tuple(parse(k) if isinstance(k, str) else sp.sympify(k) for k in self.hard)
-        if hard and len(hard) != n:
-            raise ModelError(f"{n} right-hand sides but {len(hard)} hard forcing amplitudes; "
-                             "give one per degree of freedom (0 for none)")
-        if any(k != 0 for k in hard) and not forced:
+        hard = _exprs(hard, n, "hard forcing amplitudes")
+        if hard and not forced:
             raise ModelError("a hard forcing K_i cos(theta) needs the forcing frequency: give "
                              "nu0 (theta = nu t, nu = nu0 + mu sigma)")
         for k in hard:
-            if k.free_symbols & (set(positions(n)) | set(velocities(n))
-                                 | {mu, t, sp.Symbol("theta"), sp.Symbol("nu")}):
+            if k.free_symbols & (state | {mu, t, _THETA, _NU}):
                 raise ModelError(f"the hard forcing amplitude {k} must be a constant (numbers "
                                  "and parameters)")
-        object.__setattr__(self, "hard", hard if any(k != 0 for k in hard) else ())
-        object.__setattr__(self, "physical",
-                           FrozenMap({k: parse(v) if isinstance(v, str) else sp.sympify(v)
-                                      for k, v in self.physical.items()}))
-        check_right_hand_sides(F, self.name, forced)
+        check_right_hand_sides(F, name, forced)
+        self._store(name, F, w, description, defaults, internal, physical, nu0, nu_detuning,
+                    drive, hard, gain_factor, _exprs(stage_relative, n, "stage parts"))
+
+    def _store(self, name, F, omega0, description, defaults, internal, physical, nu0,
+               nu_detuning, drive, hard, gain_factor, relative) -> None:
+        """Set the fields (the constructors of the cases ``N = 1`` check their own data)."""
+        values = {"name": name, "rhs": tuple(F), "omegas": tuple(omega0),
+                  "description": description,
+                  "defaults": FrozenMap({k: v if isinstance(v, sp.Basic)
+                                         else parameter_value(k, v)
+                                         for k, v in (defaults or {}).items()}),
+                  "internal": tuple(internal),
+                  "physical": FrozenMap({k: parse(v) if isinstance(v, str) else sp.sympify(v)
+                                         for k, v in (physical or {}).items()}),
+                  "nu0": nu0, "nu_detuning": nu_detuning, "drives": tuple(drive),
+                  "hards": tuple(hard),
+                  "gain_factor": parse(gain_factor) if isinstance(gain_factor, str)
+                  else sp.sympify(gain_factor), "relative": tuple(relative)}
+        for key, value in values.items():
+            object.__setattr__(self, key, value)
+
+    def _fields(self) -> dict:
+        """The constructor's arguments of the general type, from the fields."""
+        return dict(name=self.name, F=self.rhs, omega0=self.omegas,
+                    description=self.description, defaults=self.defaults,
+                    internal=self.internal, physical=self.physical, nu0=self.nu0,
+                    nu_detuning=self.nu_detuning, drive=self.drives, hard=self.hards,
+                    gain_factor=self.gain_factor, stage_relative=self.relative)
+
+    @classmethod
+    def from_oscillator(cls, model: "CoupledOscillators") -> "CoupledOscillators":
+        """The model itself: a model of one degree of freedom is an instance already."""
+        return model
+
+    def to_oscillator(self) -> "CoupledOscillators":
+        """The model itself (:func:`kbm.family.one_degree_form`: one degree of freedom)."""
+        return one_degree_form(self)
+
+    # -- the names of a system built as such ---------------------------------------------
+    @property
+    def F(self) -> tuple:
+        """The right-hand sides ``F_i`` (:attr:`rhs`)."""
+        return self.rhs
+
+    @property
+    def omega0(self) -> tuple:
+        """The linear frequencies (:attr:`omegas`)."""
+        return self.omegas
+
+    @property
+    def drive(self) -> tuple:
+        """The order-one drives (:attr:`drives`)."""
+        return self.drives
+
+    @property
+    def hard(self) -> tuple:
+        """The hard forcing amplitudes (:attr:`hards`)."""
+        return self.hards
 
     # -- structure --------------------------------------------------------------------
     @property
     def dof(self) -> int:
         """The number ``N`` of degrees of freedom."""
-        return len(self.F)
+        return len(self.rhs)
 
     @property
     def state(self) -> tuple[sp.Symbol, ...]:
-        """``(x1, ..., xN, xdot1, ..., xdotN)``."""
+        """``(x1, ..., xN, xdot1, ..., xdotN)``: the symbols of :attr:`rhs`."""
         return positions(self.dof) + velocities(self.dof)
 
     @property
     def parameters(self) -> tuple[str, ...]:
-        """The names of the parameters of the right-hand sides (sorted)."""
-        syms = set().union(*[f.free_symbols for f in (*self.F, *self.drive, *self.hard)]) \
-            - set(self.state) - {sp.Symbol("theta"), sp.Symbol("nu"), t}
+        """The names of the parameters of the right-hand sides, drives, hard forcings and
+        symbolic frequencies, and the declared detunings (sorted)."""
+        syms = set().union(*[f.free_symbols for f in (*self.rhs, *self.drives, *self.hards,
+                                                      *self.omegas)]) \
+            - set(self.state) - {t} - ({_THETA, _NU} if self.forced else set())
         names = {s.name for s in syms}
         if self.nu_detuning:
             names.add(self.nu_detuning)
@@ -204,8 +277,8 @@ class CoupledOscillators(OscillatorFamily):
     @property
     def forcing_ratios(self) -> tuple[Fraction, ...]:
         """``omega_i/nu0`` exactly (a forced system)."""
-        nu0 = Fraction(int(self.nu0.p), int(self.nu0.q))
-        return tuple(Fraction(int(w.p), int(w.q)) / nu0 for w in self.omega0)
+        ratios = [sp.sympify(w / self.nu0) for w in self.omegas]
+        return tuple(Fraction(int(r.p), int(r.q)) for r in ratios)
 
     @property
     def response_periods(self) -> int:
@@ -213,11 +286,33 @@ class CoupledOscillators(OscillatorFamily):
         denominator of :attr:`forcing_ratios` (2 when a mode answers at ``nu/2``)."""
         return lcm(*[r.denominator for r in self.forcing_ratios])
 
+    def with_frequencies(self, values: Mapping[str, object] | None = None
+                         ) -> "CoupledOscillators":
+        """The model with the parameters of its frequencies put in (from ``values``, else
+        the defaults: the sliders' ``Omega = 1``), for the engines that need exact rational
+        frequencies; the model itself when they are numbers already.
+
+        Raises
+        ------
+        kbm.errors.ModelError
+            For a frequency parameter without a value.
+        """
+        names = sorted({s.name for w in (*self.omegas, self.nu0) if w is not None
+                        for s in sp.sympify(w).free_symbols})
+        if not names:
+            return self
+        values = dict(values or {})
+        missing = [n for n in names if n not in values and n not in self.defaults]
+        if missing:
+            raise ModelError(f"the frequency of {self.name!r} needs a value of "
+                             f"{', '.join(missing)} (-p {missing[0]}=VALUE)")
+        return self.substitute({n: values.get(n, self.defaults.get(n)) for n in names})
+
     def resolve(self, values: Mapping[str, object] | None = None, *,
                 use_defaults: bool = True) -> dict[str, sp.Expr]:
         """Exact values of the model's parameters (and ``mu``) from the given ones, physical
         names converted (``delta = Delta/mu``) and the defaults filled in: the bound form of
-        every member of the family (:func:`kbm.bound.bind`).
+        every member of the family (:func:`kbm.values.scaled_values`, :func:`kbm.bound.bind`).
 
         Raises
         ------
@@ -225,37 +320,7 @@ class CoupledOscillators(OscillatorFamily):
             For an unknown name, a value that is not a finite number, a scaled and a
             physical value of the same parameter, or a physical one without ``mu``.
         """
-        values = dict(values or {})
-        physical = dict(self.physical)
-        phys_names = sorted({s.name for e in physical.values() for s in e.free_symbols}
-                            - {"mu"})
-        names = set(self.parameters) | {"mu"}
-        unknown = sorted(set(values) - names - set(phys_names))
-        if unknown:
-            extra = f"; or the physical {', '.join(phys_names)}" if phys_names else ""
-            raise ParameterError(f"{', '.join(map(repr, unknown))} is not a parameter of "
-                                 f"{self.name!r} (its parameters: {', '.join(sorted(names))}"
-                                 f"{extra})")
-        given = {k: parameter_value(k, v) for k, v in values.items()}
-        for scaled, expr in physical.items():  # e.g. delta = Delta/mu from Delta and mu
-            needs = {s.name for s in expr.free_symbols}
-            if scaled in given:
-                if needs & (set(given) - {"mu"}):
-                    raise ParameterError(f"give either {scaled} or "
-                                         f"{', '.join(sorted(needs - {'mu'}))}, not both")
-                continue
-            if needs - {"mu"} and needs - {"mu"} <= set(given) | set(self.defaults):
-                vals = {sp.Symbol(n): given.get(n, self.defaults.get(n)) for n in needs}
-                if any(v is None for v in vals.values()):
-                    raise ParameterError(f"{scaled} = {expr} needs a value of mu "
-                                         "(-p mu=VALUE)")
-                given[scaled] = sp.sympify(expr).subs(vals)
-        out = {k: v for k, v in given.items() if k in names}
-        if use_defaults:
-            for name, v in self.defaults.items():
-                if name in names:
-                    out.setdefault(name, sp.sympify(v))
-        return out
+        return scaled_values(self, values, use_defaults=use_defaults)
 
     def substitute(self, params: Mapping[str, object]) -> "CoupledOscillators":
         """The model with parameter values put in (exact: ``"0.1"`` is ``1/10``).
@@ -276,25 +341,23 @@ class CoupledOscillators(OscillatorFamily):
                                  f"{self.name!r} (its parameters: "
                                  f"{', '.join(self.parameters) or 'none'})")
         sub = {sp.Symbol(k): parameter_value(k, v) for k, v in params.items()}
-        return CoupledOscillators(self.name, tuple(f.subs(sub) for f in self.F), self.omega0,
-                                  self.description, self.defaults, self.internal,
-                                  self.physical, self.nu0, self.nu_detuning,
-                                  tuple(d.subs(sub) for d in self.drive),
-                                  tuple(k.subs(sub) for k in self.hard))
+        fields = self._fields()
+        for key in ("F", "drive", "hard", "stage_relative"):
+            fields[key] = tuple(e.subs(sub) for e in fields[key])
+        fields["gain_factor"] = self.gain_factor.subs(sub)
+        return CoupledOscillators(**fields)
 
     def with_internal(self, resonances: Sequence[object]) -> "CoupledOscillators":
         """The model with further declared internal resonances."""
         extra = tuple(r if isinstance(r, InternalResonance) else
                       InternalResonance.parse(r, self.dof, forced=self.forced)
                       for r in resonances)
-        return CoupledOscillators(self.name, self.F, self.omega0, self.description,
-                                  self.defaults, self.internal + extra, self.physical,
-                                  self.nu0, self.nu_detuning, self.drive, self.hard)
+        return CoupledOscillators(**{**self._fields(), "internal": self.internal + extra})
 
     def frequencies(self) -> tuple[sp.Expr, ...]:
         """The linear frequencies with the declared detunings: ``omega_j + mu sigma`` for a
         resonance ``omega_i : omega_j`` declared with the detuning ``sigma``."""
-        w = list(self.omega0)
+        w = list(self.omegas)
         for r in self.internal:
             if r.detuning and not r.forcing:
                 w[r.j - 1] = w[r.j - 1] + mu * sp.Symbol(r.detuning)
@@ -303,16 +366,20 @@ class CoupledOscillators(OscillatorFamily):
     def accelerations(self) -> tuple[sp.Expr, ...]:
         """``x_i'' = -omega_i**2 x_i + mu F_i + K_i cos(theta)`` as expressions (``omega_i``
         with its declared detuning, :meth:`frequencies`; ``K_i`` the hard forcing)."""
-        drive = self.drive or (0,) * self.dof
-        hard = self.hard or (0,) * self.dof
-        theta = sp.Symbol("theta")
-        return tuple(-w**2 * xi + mu * f + d + k * sp.cos(theta) for w, xi, f, d, k in
-                     zip(self.frequencies(), positions(self.dof), self.F, drive, hard))
+        drive = self.drives or (0,) * self.dof
+        hard = self.hards or (0,) * self.dof
+        return tuple(-w**2 * xi + mu * f + d + k * sp.cos(_THETA) for w, xi, f, d, k in
+                     zip(self.frequencies(), positions(self.dof), self.rhs, drive, hard))
 
     def is_autonomous(self, values: Mapping[str, object] | None = None) -> bool:
         """Whether the system does not depend on ``t`` explicitly (at ``values``: a stage at
         ``v = 0`` does not pull)."""
-        exprs = [*self.F, *self.drive]
+        return self.autonomous(values)
+
+    def autonomous(self, values: Mapping[str, object] | None = None) -> bool:
+        """Whether the system does not depend on ``t`` explicitly at ``values`` (every
+        instance; :attr:`kbm.models.Oscillator.is_autonomous` is its case ``N = 1``)."""
+        exprs = [*self.rhs, *self.drives]
         if values:
             sub = {sp.Symbol(k): v for k, v in values.items()}
             exprs = [sp.expand(e.subs(sub)) for e in exprs]
@@ -333,7 +400,7 @@ class CoupledOscillators(OscillatorFamily):
         where ``t`` enters polynomially (the stage velocity ``v`` of the pulled sliders,
         ``x - v t``), sorted; empty for an autonomous system, or one whose time dependence
         no such parameter switches off."""
-        terms = [term for e in (*self.F, *self.drive)
+        terms = [term for e in (*self.rhs, *self.drives)
                  for term in sp.Add.make_args(sp.expand(e)) if term.has(t)]
         if not terms or not all(term.is_polynomial(t) for term in terms):
             return ()  # a stage pulls with v t; sin(t) is a time dependence of its own
@@ -352,11 +419,11 @@ class CoupledOscillators(OscillatorFamily):
         kbm.errors.ModelError
             When those values leave ``t`` in the system (a stage that pulls).
         """
-        if self.is_autonomous():
+        if self.autonomous():
             return self
         values = dict(values or {})
         stage = {p: values.get(p, self.defaults.get(p)) for p in self.stage_parameters()}
-        if any(v is None for v in stage.values()) or not self.is_autonomous(stage):
+        if any(v is None for v in stage.values()) or not self.autonomous(stage):
             shown = ", ".join(f"{p} = {v}" for p, v in stage.items() if v is not None)
             why = (f" (a stage that pulls{' at ' + shown if shown else ''})" if stage
                    else " explicitly")
@@ -366,40 +433,3 @@ class CoupledOscillators(OscillatorFamily):
                                 else "write a periodic forcing in theta = nu t, or ")
                              + "integrate it (kbm cycle, kbm friction)")
         return self.substitute(stage)
-
-
-def coupled_custom(rhs: Sequence[str], omega0: Sequence[object] | str | None = None, *,
-                   name: str = "custom", nu0: object = None,
-                   detuning: str = "sigma") -> CoupledOscillators:
-    """A user's system from one right-hand side per degree of freedom.
-
-    ``omega0`` is a list or a comma-separated string (``"1,3"``); default all 1.  With
-    ``nu0`` the right-hand sides may hold the forcing angle ``theta = nu t``,
-    ``nu = nu0 + mu detuning``.
-
-    Raises
-    ------
-    kbm.errors.ModelError
-        For mismatched counts (both are named), unreadable expressions, or a right-hand
-        side that uses none of the state variables.
-    """
-    n = len(rhs)
-    if omega0 is None:
-        w: Sequence[object] = ["1"] * n
-    elif isinstance(omega0, str):
-        w = [s.strip() for s in omega0.split(",")]
-    else:
-        w = list(omega0)
-    if len(w) != n:
-        raise ModelError(f"{n} right-hand sides (--rhs) but {len(w)} frequencies (--omega0 "
-                         f"{omega0}): give one frequency per degree of freedom")
-    model = CoupledOscillators(name, tuple(rhs), tuple(w),
-                               description=f"user system of {n} degrees of freedom",
-                               nu0=nu0, nu_detuning=detuning if nu0 is not None else None)
-    state = set(model.state)
-    for i, f in enumerate(model.F, 1):
-        if f != 0 and not (f.free_symbols & state):
-            raise ModelError(f"F{i} = {rhs[i - 1]} depends on none of the state variables "
-                             f"{', '.join(map(str, model.state))}: write the system in them "
-                             "(one --rhs per degree of freedom)")
-    return model

@@ -87,7 +87,7 @@ class CoupledKBMResult:
             model=model, order=order, gammas=defs,
             A=tuple((sp.Integer(0), *[_slow_expr(f, lattice, gammas) for f in A[i]])
                     for i in range(n)),
-            B=tuple((model.omega0[i], *[_slow_expr(f, lattice, gammas) for f in B[i]])
+            B=tuple((model.omegas[i], *[_slow_expr(f, lattice, gammas) for f in B[i]])
                     for i in range(n)),
             u=tuple((a[i] * sp.cos(psis[i]), *[f.as_expr(psis) for f in U[i]])
                     for i in range(n)))
@@ -101,7 +101,7 @@ class CoupledKBMResult:
         sub = {sp.Symbol("a"): a1, sp.Symbol("psi"): psi1}
         return cls(model=model, order=one.order, gammas=(),
                    A=((sp.Integer(0), *[e.xreplace(sub) for e in one.A[1:]]),),
-                   B=((model.omega0[0], *[e.xreplace(sub) for e in one.B[1:]]),),
+                   B=((model.omegas[0], *[e.xreplace(sub) for e in one.B[1:]]),),
                    u=((a1 * sp.cos(psi1), *[e.xreplace(sub) for e in one.u[1:]]),))
 
     def substituted(self, substitution: dict, tails: Sequence[sp.Expr] | None = None
@@ -187,8 +187,8 @@ class CoupledKBMResult:
             return [None] + [_lex(e) for e in seq[1:]]
         return {
             "model": self.model.name, "order": self.order, "dof": self.model.dof,
-            "omega0": [str(w) for w in self.model.omega0],
-            "F": [_lex(f) for f in self.model.F],
+            "omega0": [str(w) for w in self.model.omegas],
+            "F": [_lex(f) for f in self.model.rhs],
             "internal": [str(r) for r in self.model.internal],
             "gammas": {str(g): _lex(e) for g, e in self.gammas},
             "exact": True,
@@ -206,9 +206,9 @@ class CoupledKBMResult:
         resonances and slow phases, then the rates."""
         m, N = self.model, self.order
         lines = [f"KBM expansion of {m.name}: {m.dof} degrees of freedom, order {N}"]
-        for i, (w, f) in enumerate(zip(m.omega0, m.F), 1):
+        for i, (w, f) in enumerate(zip(m.omegas, m.rhs), 1):
             w2 = w**2
-            hard = m.hard[i - 1] if m.hard else 0
+            hard = m.hards[i - 1] if m.hards else 0
             lines.append(f"  x{i}'' + {'' if w2 == 1 else sp.sstr(w2) + '*'}x{i} = "
                          f"mu*({_lex(f)})" + (f" + {sp.sstr(hard)}*cos(theta)" if hard else ""))
         if m.forced:
@@ -217,13 +217,13 @@ class CoupledKBMResult:
         def series(name: str) -> str:
             return " + ".join(f"mu{'' if k == 1 else f'^{k}'}*{name}_i,{k}"
                               for k in range(1, N + 1))
-        shift = (" + Lambda_i*cos(theta)" if any(k != 0 for k in m.hard) else "")
+        shift = (" + Lambda_i*cos(theta)" if any(k != 0 for k in m.hards) else "")
         lines += [f"the solution: x_i = a_i*cos(psi_i){shift} + {series('u')} "
                   "(u_i,n: --json, --latex)",
                   f"  da_i/dt = {series('A')}",
                   f"  dpsi_i/dt = omega_i + {series('B')}",
                   f"  A_i,n, B_i,n: mode i, the coefficient of mu^n; omega = "
-                  f"({', '.join(sp.sstr(w) for w in m.omega0)})"]
+                  f"({', '.join(sp.sstr(w) for w in m.omegas)})"]
         if shift:
             lines.append("  Lambda_i = K_i/(omega_i^2 - nu^2): the response to the hard "
                          "forcing K_i*cos(theta)")
@@ -256,11 +256,11 @@ class CoupledKBMResult:
         rows = []
         for i in range(m.dof):
             j = i + 1
-            hard = (rf"\Lambda_{{{j}}}\cos\theta + " if m.hard and m.hard[i] != 0 else "")
+            hard = (rf"\Lambda_{{{j}}}\cos\theta + " if m.hards and m.hards[i] != 0 else "")
             rows += [rf"x_{{{j}}} &= a_{{{j}}}\cos\psi_{{{j}}} + {hard}"
                      + mus(f"u_{{{{{j},{{k}}}}}}"),
                      rf"\dot a_{{{j}}} &= " + mus(f"A_{{{{{j},{{k}}}}}}"),
-                     rf"\dot\psi_{{{j}}} &= {to_latex(m.omega0[i])} + "
+                     rf"\dot\psi_{{{j}}} &= {to_latex(m.omegas[i])} + "
                      + mus(f"B_{{{{{j},{{k}}}}}}")]
         for group in self.latex_groups(width):
             rows += group

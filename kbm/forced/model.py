@@ -23,16 +23,19 @@ The built-in forced models are in :mod:`kbm.forced.builtins`; the checks of ``F`
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from functools import cached_property
 from fractions import Fraction
 
 import sympy as sp
 
 from ..errors import ModelError, ParameterError
-from ..family import OscillatorFamily
+from ..coupled.model import CoupledOscillators
+from ..coupled.resonance import InternalResonance
 from ..models import Oscillator, get_model
+from ..oscillator import TO_GENERAL, TO_ONE
 from ..symbols import mu, parse, t, x, xdot
-from ..values import FrozenMap, parameter_value
+from ..values import parameter_value
 from .checks import NonPeriodicError, check_state, check_theta, is_polynomial, nu, theta
 
 __all__ = ["ForcedOscillator", "Resonance", "theta", "phi", "sigma", "nu", "add_forcing",
@@ -102,9 +105,10 @@ class Resonance:
         return f"{self.p}/{self.q}"
 
 
-@dataclass(frozen=True)
-class ForcedOscillator(OscillatorFamily):
-    """``x'' + omega0**2 x = mu F(x, x', theta)``, ``theta = nu t``, ``F`` 2 pi-periodic in theta.
+class ForcedOscillator(CoupledOscillators):
+    """``x'' + omega0**2 x = mu F(x, x', theta)``, ``theta = nu t``, ``F`` 2 pi-periodic in theta:
+    the one type :class:`~kbm.coupled.CoupledOscillators` at ``N = 1`` with a forcing angle
+    (``nu0 = (p/q) omega0``, the detuning ``sigma``, the resonance ``omega0 : nu = q : p``).
 
     Parameters
     ----------
@@ -145,37 +149,27 @@ class ForcedOscillator(OscillatorFamily):
     -alpha*x**3 + h*cos(nu*t) - 2*xdot*zeta
     """
 
-    name: str
-    F: sp.Expr
-    omega0: sp.Expr = sp.Integer(1)
-    resonance: Resonance = Resonance(1, 1)
-    description: str = ""
-    defaults: Mapping[str, sp.Expr] = field(default_factory=dict)
-    hard: sp.Expr = sp.Integer(0)
+    case = "forced"
 
-    def __post_init__(self) -> None:
-        F = parse(self.F, extra=("theta",)) if isinstance(self.F, str) else sp.sympify(self.F)
-        object.__setattr__(self, "F", F)
-        w0 = parse(self.omega0) if isinstance(self.omega0, str) else sp.sympify(self.omega0)
-        object.__setattr__(self, "omega0", w0)
-        object.__setattr__(self, "resonance", Resonance.parse(self.resonance))
-        object.__setattr__(self, "defaults",
-                           FrozenMap({k: parameter_value(k, v)
-                                      for k, v in self.defaults.items()}))
-        K = parse(self.hard) if isinstance(self.hard, str) else sp.sympify(self.hard)
-        object.__setattr__(self, "hard", K)
+    def __init__(self, name: str, F: object, omega0: object = 1,
+                 resonance: "Resonance | str" = Resonance(1, 1), description: str = "",
+                 defaults: Mapping[str, object] | None = None, hard: object = 0) -> None:
+        F = parse(F, extra=("theta",)) if isinstance(F, str) else sp.sympify(F)
+        w0 = parse(omega0) if isinstance(omega0, str) else sp.sympify(omega0)
+        res = Resonance.parse(resonance)
+        K = parse(hard) if isinstance(hard, str) else sp.sympify(hard)
         if K.has(x, xdot, theta, t, mu) or any(s.name in _RESERVED for s in K.free_symbols):
             raise ModelError(f"the hard forcing amplitude K = {K} must be a constant (numbers "
                              "and parameters, no x, xdot, theta, t, mu or reserved names)")
         if mu in F.free_symbols:
-            raise ModelError(f"F of model {self.name!r} contains the small parameter mu; write "
+            raise ModelError(f"F of model {name!r} contains the small parameter mu; write "
                              "the equation as x'' + omega0^2 x = mu*F with F free of mu")
         for s in (F.free_symbols - {nu}) | w0.free_symbols:
             if s.name in _RESERVED - {"t"}:
                 raise ModelError(f"the symbol {s.name!r} is reserved (amplitude, phases, "
                                  "detuning and forcing frequency); rename that parameter")
-        check_theta(F, self.name)
-        check_state(F, self.name)
+        check_theta(F, name)
+        check_state(F, name)
         if w0.has(x, xdot, theta, t):
             raise ModelError(f"omega0 = {w0} must be a constant")
         if w0.is_number:
@@ -184,16 +178,33 @@ class ForcedOscillator(OscillatorFamily):
                                  f"for the exact forced averaging, got {w0}")
         elif not w0.is_Symbol:
             raise ModelError(f"omega0 must be a positive number or a single symbol, got {w0}")
+        self._store(name, (F.xreplace(TO_GENERAL),), (w0,), description,
+                    {k: parameter_value(k, v) for k, v in (defaults or {}).items()},
+                    (InternalResonance(1, 2, res.q, res.p, forcing=True),), {},
+                    w0 * sp.Rational(res.p, res.q), "sigma", (), (K,) if K != 0 else (), 1, ())
+        self.__dict__["F"] = F  # the F given, as given
+
+    # -- the names of one degree of freedom -----------------------------------------------
+    @cached_property
+    def F(self) -> sp.Expr:
+        """``F(x, xdot, theta)``: the right-hand side over ``mu``."""
+        return self.rhs[0].xreplace(TO_ONE)
 
     @property
-    def dof(self) -> int:
-        """One degree of freedom (:class:`kbm.family.OscillatorFamily`)."""
-        return 1
+    def omega0(self) -> sp.Expr:
+        """The linear frequency: a positive rational or a symbol."""
+        return self.omegas[0]
 
     @property
-    def forced(self) -> bool:
-        """``True``: ``F`` holds the forcing angle ``theta = nu t``."""
-        return True
+    def hard(self) -> sp.Expr:
+        """The amplitude ``K`` of the hard forcing ``K cos(theta)``; 0 for none."""
+        return self.hards[0] if self.hards else sp.Integer(0)
+
+    @property
+    def resonance(self) -> Resonance:
+        """The declared resonance ``nu = (p/q) omega0 + mu sigma``."""
+        r = self.internal[0]  # omega0 : nu = q : p
+        return Resonance(r.q, r.p)
 
     @property
     def is_polynomial(self) -> bool:
@@ -203,10 +214,9 @@ class ForcedOscillator(OscillatorFamily):
 
     @property
     def parameters(self) -> tuple[str, ...]:
-        """Names of the parameters of ``F`` and ``omega0`` (sorted)."""
-        syms = (self.F.free_symbols | self.omega0.free_symbols | self.hard.free_symbols) \
-            - {x, xdot, theta, nu}
-        return tuple(sorted(s.name for s in syms))
+        """Names of the parameters of ``F``, ``omega0`` and ``K`` (sorted; the detuning
+        ``sigma`` is the analysis's)."""
+        return tuple(p for p in super().parameters if p != "sigma")
 
     def substitute(self, values: Mapping[str, object]) -> "ForcedOscillator":
         """The model with some parameters replaced by exact values (``mu``, ``sigma`` and
@@ -223,6 +233,11 @@ class ForcedOscillator(OscillatorFamily):
                                 self.resonance, self.description,
                                 {k: v for k, v in self.defaults.items()
                                  if sp.Symbol(k) not in subs}, self.hard.subs(subs))
+
+    def with_hard(self, K: object) -> "ForcedOscillator":
+        """The model with the hard forcing amplitude ``K`` (in place of its own)."""
+        return ForcedOscillator(self.name, self.F, self.omega0, self.resonance,
+                                self.description, self.defaults, K)
 
     def resolve(self, values: Mapping[str, object] | None = None) -> dict[str, sp.Expr]:
         """Exact values of the given parameters (and ``mu``, ``sigma``), defaults filled in."""

@@ -111,7 +111,7 @@ def forced_model(args: argparse.Namespace):
     if getattr(args, "hard", None):
         from kbm.symbols import parse
 
-        model = replace(model, hard=model.hard + parse(args.hard))
+        model = model.with_hard(model.hard + parse(args.hard))
     return model
 
 

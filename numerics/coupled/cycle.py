@@ -176,7 +176,7 @@ def coupled_cycle(model: CoupledOscillators | str, params: Mapping[str, object] 
         raise ParameterError(f"{fl.model.name!r} is forced (theta = nu t): its periodic "
                              "responses have the forcing's period and are found by "
                              "forced_response")
-    if not fl.model.is_autonomous(fl.values):
+    if not fl.model.autonomous(fl.values):
         from kbm.errors import ParameterError
 
         raise ParameterError(f"{fl.model.name!r} depends on t at these parameters (a stage "
@@ -189,7 +189,7 @@ def coupled_cycle(model: CoupledOscillators | str, params: Mapping[str, object] 
         raise ConvergenceError(f"the start must be {2 * n} finite numbers (x1..x{n}, "
                                f"xdot1..xdot{n}), got {start!r}")
     y[n:] = y[n:] if start is not None else 0.0
-    wmin = min(float(w) for w in fl.model.omega0)
+    wmin = min(float(w) for w in fl.model.omegas)
     t_tr = min(max(100.0, 20.0 / max(abs(mu), 1e-12)), 4000.0) if transient is None \
         else float(transient)
     if t_tr > 0:

@@ -49,9 +49,12 @@ def bind_coupled(model: CoupledOscillators | str, params: Mapping[str, object] |
     """
     if isinstance(model, str):
         model = get_coupled_model(model)
-    elif not isinstance(model, CoupledOscillators):  # a member of one degree of freedom
-        model = CoupledOscillators.from_oscillator(model)
     given = model.resolve(params)  # the family's bound form (kbm.bound)
+    fixed = model.with_frequencies(given)  # a frequency named by a parameter: its value
+    if fixed is not model:
+        given = {k: v for k, v in given.items() if k not in model.parameters
+                 or k in fixed.parameters}
+        model = fixed
     names = set(model.parameters) | {"mu"}
     values = {}
     for name in sorted(names):

@@ -26,7 +26,7 @@ from .errors import ModelError, NonAutonomousError, ParameterError
 from .coupled.model import CoupledOscillators
 from .coupled.variables import positions, velocities
 from .symbols import mu, parse, t, x, xdot
-from .values import FrozenMap, parameter_value
+from .values import parameter_value
 
 __all__ = ["Oscillator", "TO_GENERAL", "TO_ONE"]
 

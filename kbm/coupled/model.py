@@ -39,33 +39,13 @@ from ..family import OscillatorFamily, one_degree_form
 from ..symbols import mu, parse, t
 from ..values import FrozenMap, parameter_value, scaled_values
 from .resonance import InternalResonance
-from .variables import amplitudes, check_right_hand_sides, phases, positions, velocities
+from .variables import (MAX_DOF, amplitudes, phases, positions, read_exprs, read_system,
+                        velocities)
 
 __all__ = ["CoupledOscillators", "positions", "velocities", "amplitudes", "phases",
            "MAX_DOF"]
 
-#: most degrees of freedom a model may have (the compiled flows and shooting are 2N
-#: dimensional; the symbolic averaging has its own, lower, limit)
-MAX_DOF = 256
-
 _THETA, _NU = sp.Symbol("theta"), sp.Symbol("nu")
-
-
-def _frequency(value: object, i: int | str) -> sp.Rational:
-    name = i if isinstance(i, str) else f"omega{i}"
-    w = parameter_value(name, value) if not isinstance(value, sp.Basic) else value
-    if not (w.is_Rational and w > 0):
-        raise ModelError(f"{name} must be a positive rational number (internal resonances "
-                         f"are exact ratios of the frequencies), got {value!r}")
-    return w
-
-
-def _exprs(values, n: int, what: str) -> tuple:
-    out = tuple(parse(v) if isinstance(v, str) else sp.sympify(v) for v in values)
-    if out and len(out) != n:
-        raise ModelError(f"{n} right-hand sides but {len(out)} {what}; give one per degree "
-                         "of freedom (0 for none)")
-    return out if any(v != 0 for v in out) else ()
 
 
 @dataclass(frozen=True, init=False)
@@ -152,42 +132,10 @@ class CoupledOscillators(OscillatorFamily):
                  physical: Mapping[str, object] | None = None, nu0: object = None,
                  nu_detuning: str | None = None, drive: Sequence = (), hard: Sequence = (),
                  *, gain_factor: object = 1, stage_relative: Sequence = ()) -> None:
-        if isinstance(F, (str, sp.Basic)) or not isinstance(F, Sequence):
-            raise ModelError("F must be a sequence of right-hand sides, one per degree of "
-                             "freedom")
-        F = tuple(parse(f) if isinstance(f, str) else sp.sympify(f) for f in F)
-        n = len(F)
-        if not 1 <= n <= MAX_DOF:
-            raise ModelError(f"a coupled model has 1 to {MAX_DOF} degrees of freedom, got {n}")
-        w = (omega0,) if not isinstance(omega0, Sequence) or isinstance(omega0, str) \
-            else omega0
-        if len(w) != n:
-            raise ModelError(f"{n} right-hand sides but {len(w)} frequencies omega0: give one "
-                             f"frequency per degree of freedom (e.g. --omega0 "
-                             f"{','.join(['1'] * n)})")
-        w = tuple(_frequency(v, i) for i, v in enumerate(w, 1))
-        forced = nu0 is not None
-        nu0 = _frequency(nu0, "nu0") if forced else None
-        internal = tuple(r if isinstance(r, InternalResonance) else
-                         InternalResonance.parse(r, n, forced=forced) for r in internal)
-        for r in internal:
-            r.check(w + ((nu0,) if forced else ()))
-        drive = _exprs(drive, n, "drives")
-        state = set(positions(n)) | set(velocities(n))
-        for d in drive:
-            if d.free_symbols & (state | {mu}):
-                raise ModelError(f"the drive {d} must depend on t and parameters only")
-        hard = _exprs(hard, n, "hard forcing amplitudes")
-        if hard and not forced:
-            raise ModelError("a hard forcing K_i cos(theta) needs the forcing frequency: give "
-                             "nu0 (theta = nu t, nu = nu0 + mu sigma)")
-        for k in hard:
-            if k.free_symbols & (state | {mu, t, _THETA, _NU}):
-                raise ModelError(f"the hard forcing amplitude {k} must be a constant (numbers "
-                                 "and parameters)")
-        check_right_hand_sides(F, name, forced)
+        F, w, nu0, internal, drive, hard = read_system(name, F, omega0, nu0, internal, drive,
+                                                      hard)
         self._store(name, F, w, description, defaults, internal, physical, nu0, nu_detuning,
-                    drive, hard, gain_factor, _exprs(stage_relative, n, "stage parts"))
+                    drive, hard, gain_factor, read_exprs(stage_relative, len(F), "stage parts"))
 
     def _store(self, name, F, omega0, description, defaults, internal, physical, nu0,
                nu_detuning, drive, hard, gain_factor, relative) -> None:

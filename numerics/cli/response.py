@@ -105,8 +105,6 @@ def _vary_named(text: str, allowed: str | None = None) -> tuple[str, float, floa
 def forced_model(args: argparse.Namespace):
     """The forced model of the command line: a forced built-in, or a model/--rhs with
     --forcing (and --hard) added."""
-    from dataclasses import replace
-
     model = _base_model(args)
     if getattr(args, "hard", None):
         from kbm.symbols import parse

@@ -15,7 +15,7 @@ difference, with the bisection bracket, is the stated error.
 
 :func:`true_edges` (the true edges of frequency locking, :mod:`numerics.coupled.locking`)
 follows the locked cycle out in the detuning, brackets its loss by bisection on shooting
-(which accepts no cycle past a fold, :mod:`numerics.cycles.acceptance`) to
+(which accepts no cycle past a fold, :mod:`numerics.shooting.acceptance`) to
 :data:`FOLD_BRACKET`, and takes the fold there as the edge.
 """
 

@@ -20,8 +20,8 @@ import numpy as np
 
 from kbm.coupled import CoupledOscillators
 from kbm.errors import ParameterError
-from numerics.cycles.acceptance import accepted, orbit_scale, trivial_ok
-from numerics.cycles.corrector import correct_on_hyperplane
+from numerics.shooting.acceptance import accepted, orbit_scale, trivial_ok
+from numerics.shooting.arclength import correct_on_hyperplane
 from numerics.coupled.branch_result import CoupledBranchPoint
 from numerics.coupled.flow import coupled_flow
 from numerics.errors import ConvergenceError, IntegrationError
@@ -150,14 +150,14 @@ def _null(J: np.ndarray) -> np.ndarray:
 
 def _correct(prob: _Problem, v_pred, row, target: float, max_iter: int = 10) -> _Pt:
     """Newton on ``R(v) = 0, row . v = target`` (scaled unknowns), by the corrector shared
-    with one degree of freedom (:func:`numerics.cycles.corrector.correct_on_hyperplane`)."""
+    with one degree of freedom (:func:`numerics.shooting.arclength.correct_on_hyperplane`)."""
     def evaluate(v):
         R, Phi, yT, fl, T = prob.residual(v)
         J = prob.jacobian(v, Phi, yT, fl, T)
         return R, J, (Phi, yT, fl, T, J)
 
     def accept(v, R, dv, data, it):
-        # the acceptance standard (numerics.cycles.acceptance), and the accuracy of the
+        # the acceptance standard (numerics.shooting.acceptance), and the accuracy of the
         # point: a scaled correction below 1e-8
         scale = orbit_scale((v * prob.scale)[:2 * prob.n])
         return bool(accepted(float(np.max(np.abs(R))), float(np.max(np.abs(dv * prob.scale))),

@@ -16,9 +16,9 @@ import math
 import numpy as np
 
 
-from numerics.cycles import acceptance as _acceptance
+from numerics.shooting import acceptance as _acceptance
 from numerics.cycles.branch_result import BranchPoint
-from numerics.cycles.corrector import correct_on_hyperplane
+from numerics.shooting.arclength import correct_on_hyperplane
 from numerics.cycles.floquet import floquet_multipliers
 from numerics.cycles.shooting import NEWTON_MAX_STEPS
 from numerics.errors import ConvergenceError, IntegrationError
@@ -27,7 +27,7 @@ from numerics.flow.sensitivity import (flow_with_sensitivity, sensitivity_flow, 
                                        shooting_corrector)
 
 #: a printed branch point passes the convergence test |trivial multiplier - 1| <= TRIVIAL_TOL
-#: of the acceptance standard (:mod:`numerics.cycles.acceptance`); the corrector iterates on
+#: of the acceptance standard (:mod:`numerics.shooting.acceptance`); the corrector iterates on
 #: until its points pass it
 TRIVIAL_TOL = _acceptance.TRIVIAL_TOL
 

@@ -1,0 +1,169 @@
+"""Pseudo-arclength continuation of periodic orbits: the one driver and its pieces, shared
+by the branches of one degree of freedom (:mod:`numerics.cycles.continuation`), of ``2N``
+dimensions (:mod:`numerics.coupled.continuation`) and the approach to a fold
+(:mod:`numerics.coupled.fold`).
+
+- :func:`correct_on_hyperplane`: Newton's method on ``R(u) = 0`` and one linear condition
+  ``row . u = target`` (the hyperplane normal to the tangent, or a fixed parameter),
+  Keller's bordered system (Doedel, *Lecture notes on numerical analysis of nonlinear
+  equations*, sec. 2).  Each caller gives its residual and Jacobian and its test of a
+  converged point, which is the acceptance standard of
+  :mod:`numerics.shooting.acceptance` with the caller's bound on the correction (the
+  accuracy of the point).  The compiled corrector of one degree of freedom
+  (:mod:`numerics.flow._shooting_corrector`) runs the same iterations in numba;
+- :func:`null_vector` (the tangent) and :func:`predict` (Euler or cubic Hermite);
+- :func:`walk`: the steps along a branch in one direction: a step that fails or turns the
+  tangent too sharply is halved until ``ds_min``; a point past the range's end is replaced
+  by the point at the end; each accepted point is handed to the caller, who records it,
+  looks for special points, says whether the branch ends there and sets the next step.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+import numpy as np
+
+from numerics.errors import ConvergenceError, IntegrationError
+
+__all__ = ["correct_on_hyperplane", "null_vector", "predict", "walk", "FAIL"]
+
+#: the failures of a step after which it is halved (or a bisection stops)
+FAIL = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, ValueError)
+
+
+def correct_on_hyperplane(evaluate: Callable, u0, row, target: float, *, max_iter: int,
+                          accept: Callable, too_large: Callable, where: Callable):
+    """Newton on ``R(u) = 0, row . u = target``.
+
+    Parameters
+    ----------
+    evaluate
+        ``u -> (R, J, data)``: the residual, its Jacobian ``dR/du`` (one row fewer than
+        ``u`` has components) and what the caller keeps of the evaluation.
+    u0, row, target
+        The prediction and the linear condition.
+    max_iter
+        Bound on the corrections.
+    accept
+        ``(u, R, du, data, iteration) -> bool``: whether ``u`` (with the correction ``du``
+        computed there) is a converged point.
+    too_large
+        ``(u, du) -> str | None``: a message when the correction leaves the region where
+        Newton is trusted.
+    where
+        ``u -> str``: the place named in the error message.
+
+    Returns
+    -------
+    ``(u, R, du, data, iteration)`` of the accepted iterate.
+
+    Raises
+    ------
+    numerics.errors.ConvergenceError
+        When a correction is too large, or after ``max_iter`` corrections.
+    numpy.linalg.LinAlgError
+        For a singular bordered matrix.
+    """
+    u = np.array(u0, dtype=float)
+    row = np.asarray(row, dtype=float)
+    R = np.full(1, np.nan)
+    for it in range(max_iter + 1):
+        R, J, data = evaluate(u)
+        du = np.linalg.solve(np.vstack([J, row]), -np.append(R, row @ u - target))
+        if accept(u, R, du, data, it):
+            return u, R, du, data, it
+        if it == max_iter:
+            break
+        msg = too_large(u, du)
+        if msg:
+            raise ConvergenceError(msg)
+        u = u + du
+    raise ConvergenceError(f"corrector did not converge in {max_iter} iterations at {where(u)} "
+                           f"(|R| = {np.max(np.abs(R)):.2e})")
+
+
+def null_vector(J: np.ndarray) -> np.ndarray:
+    """The unit null vector of the ``k x (k+1)`` matrix ``J`` (the branch's tangent)."""
+    _, _, vt = np.linalg.svd(J)
+    t = vt[-1]
+    return t / np.linalg.norm(t)
+
+
+def predict(u: np.ndarray, t: np.ndarray, ds: float, previous=None) -> np.ndarray:
+    """The predictor ``ds`` along the unit tangent ``t`` at ``u``.
+
+    With ``previous``, the unknowns and the unit tangent ``(u_, t_)`` of the point before,
+    it is the cubic Hermite extrapolation through both points with both tangents (in the
+    arclength ``s``, the chord ``h`` between them standing for it):
+    ``u(s) = u + s t + a s^2 + b s^3`` with ``u(-h) = u_``, ``u'(-h) = t_``; its error is of
+    fourth order in the step.
+    """
+    pred = u + ds * t
+    if previous is not None:
+        u_, t_ = previous
+        h = float(np.linalg.norm(u - u_))
+        if h > 0:
+            d1 = u_ - u + h * t
+            d2 = (t_ if t_ @ t > 0 else -t_) - t
+            b = (2 * d1 / h + d2) / h**2
+            a = (d1 + b * h**3) / h**2
+            pred = pred + a * ds**2 + b * ds**3
+    return pred
+
+
+def walk(first, ds: float, *, step: Callable, visit: Callable, collapsed: Callable,
+         ds_min: float, parameter: Callable | None = None, bounds=None,
+         at_edge: Callable | None = None, max_turn: float = 0.9, turn_above: float = 0.0,
+         full: Callable | None = None, failures: tuple = FAIL):
+    """Follow a branch from ``first`` by pseudo-arclength steps; the reason it ends.
+
+    Parameters
+    ----------
+    first
+        The first point (with a unit ``tangent`` oriented in the direction followed).
+    ds
+        The first step.
+    step
+        ``(point, ds) -> point``: predictor and corrector (raises one of ``failures``).
+    visit
+        ``(point, new, ds) -> (current, ds, reason)``: the caller's work at an accepted
+        point ``new``: recording it, special points, the ends of the branch; the point to
+        go on from, the next step and ``reason`` (not empty: the branch ends).
+    collapsed
+        ``(point, error) -> reason``: the step fell below ``ds_min`` at ``point``.
+    parameter, bounds, at_edge
+        The point's parameter and its range; a point outside it ends the branch with
+        ``at_edge(point, new, edge) -> reason`` (the caller places the point at the edge).
+    max_turn, turn_above
+        A step whose tangent's cosine with the last falls below ``max_turn`` is a failed
+        step, while the step is above ``turn_above``.
+    full
+        ``() -> reason or None``: asked before each step (a bound on the points).
+    failures
+        The errors that halve the step.
+    """
+    cur = first
+    while True:
+        why = full() if full is not None else None
+        if why:
+            return why
+        try:
+            new = step(cur, ds)
+            turn = float(new.tangent @ cur.tangent)
+            if turn < max_turn and ds > turn_above:
+                deg = math.degrees(math.acos(max(-1.0, min(1.0, turn))))
+                raise ConvergenceError(f"the tangent turned by {deg:.0f} degrees")
+        except failures as exc:
+            ds /= 2
+            if ds < ds_min:
+                return collapsed(cur, exc)
+            continue
+        if bounds is not None:
+            p = parameter(new)
+            if p < bounds[0] or p > bounds[1]:
+                return at_edge(cur, new, bounds[0] if p < bounds[0] else bounds[1])
+        cur, ds, why = visit(cur, new, ds)
+        if why:
+            return why

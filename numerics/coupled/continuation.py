@@ -3,7 +3,8 @@
 
 Pseudo-arclength continuation (Keller; Doedel, *Lecture notes on numerical analysis of
 nonlinear equations*, sec. 2) of the shooting problem, for ``N = 1`` as for ``N > 1``:
-the steps along the branch and where it ends.  The pieces:
+the steps along the branch are those of the one driver,
+:func:`numerics.shooting.arclength.walk`; here is where the branch ends.  The pieces:
 
 - :mod:`numerics.coupled.orbit_problem`: the shooting problem in scaled unknowns
   (``(y0, T, p)`` autonomous, ``(y0, p)`` forced), its Jacobian, tangent and corrector;
@@ -25,71 +26,66 @@ from kbm.errors import ParameterError
 from numerics.coupled.branch_result import CoupledBranch, CoupledBranchPoint, CoupledSpecialPoint
 from numerics.coupled.cycle import coupled_cycle, forced_response
 from numerics.coupled.flow import bind_coupled
-from numerics.coupled.orbit_problem import _FAIL, _arc, _correct, _null, _Problem, _Pt
+from numerics.coupled.orbit_problem import _arc, _correct, _Problem, _Pt
 from numerics.coupled.special_points import _distinct, _specials
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
+from numerics.shooting.arclength import FAIL as _FAIL
+from numerics.shooting.arclength import null_vector, walk
 
 __all__ = ["CoupledBranch", "CoupledBranchPoint", "CoupledSpecialPoint", "continue_coupled"]
 
 
 def _follow(prob: _Problem, first: _Pt, direction: int, bounds, ds: float, ds_max: float,
             ds_min: float, max_points: int, period_factor: float, hopf_fraction: float):
-    t = _null(first.J)
+    """One direction of the branch by :func:`numerics.shooting.arclength.walk`;
+    ``(points, special points, why it ended, whether it closed on itself)``."""
+    t = null_vector(first.J)
     if t[-1] * direction < 0:
         t = -t
     cur = copy.copy(first)  # the same point, oriented for this direction
     cur.tangent = t
-    pts, special = [cur], []
+    pts, special, closed = [cur], [], []
     amp0 = max(first.amps)
-    reason = f"{max_points} points (--max-points)"
-    while len(pts) < max_points:
+    name = prob.vary
+
+    def at_edge(cur, new, edge):
+        row = np.zeros(len(new.u))
+        row[-1] = 1.0
         try:
-            new = _arc(prob, cur, cur.tangent, ds)
-            turn = float(new.tangent @ cur.tangent)
-            if turn < 0.9:
-                raise ConvergenceError(f"the tangent turned by "
-                                       f"{math.degrees(math.acos(max(-1.0, turn))):.0f} degrees")
-        except _FAIL as exc:
-            ds /= 2
-            if ds < ds_min:
-                reason = (f"the steps collapsed below {ds_min:g} at {prob.vary} = "
-                          f"{cur.u[-1]:.10g} (period {cur.T:.8g}): {exc}")
-                break
-            continue
-        p = float(new.u[-1])
-        if p < bounds[0] or p > bounds[1]:
-            edge = bounds[0] if p < bounds[0] else bounds[1]
-            row = np.zeros(len(new.u))
-            row[-1] = 1.0
-            try:
-                s = (edge - cur.u[-1]) / (new.u[-1] - cur.u[-1])
-                end = _correct(prob, cur.v + s * (new.v - cur.v), row, edge / prob.scale[-1])
-                end.tangent = cur.tangent
-                _specials(prob, cur, end, special)
-                pts.append(end)
-            except _FAIL:
-                pass
-            reason = f"reached {prob.vary} = {edge:g}, the end of the range"
-            break
+            s = (edge - cur.u[-1]) / (new.u[-1] - cur.u[-1])
+            end = _correct(prob, cur.v + s * (new.v - cur.v), row, edge / prob.scale[-1])
+            end.tangent = cur.tangent
+            _specials(prob, cur, end, special)
+            pts.append(end)
+        except _FAIL:
+            pass
+        return f"reached {name} = {edge:g}, the end of the range"
+
+    def visit(cur, new, ds):
         _specials(prob, cur, new, special)
         pts.append(new)
-        cur = new
+        p = float(new.u[-1])
         if len(pts) > 8 and np.linalg.norm(new.v - first.v) < ds \
                 and new.tangent @ pts[0].tangent > 0.9:
-            reason = (f"the branch closed on itself after {len(pts) - 1} points (an isola: "
-                      f"{prob.vary} from {min(q.u[-1] for q in pts):.10g} to "
-                      f"{max(q.u[-1] for q in pts):.10g})")
-            return pts, special, reason, True
+            closed.append(True)
+            return new, ds, (f"the branch closed on itself after {len(pts) - 1} points (an "
+                             f"isola: {name} from {min(q.u[-1] for q in pts):.10g} to "
+                             f"{max(q.u[-1] for q in pts):.10g})")
         if not prob.forced and new.T > period_factor * first.T:
-            reason = (f"the period grew to {new.T:.6g}, {period_factor:g} times its start, at "
-                      f"{prob.vary} = {p:.10g}: a homoclinic end is near")
-            break
+            return new, ds, (f"the period grew to {new.T:.6g}, {period_factor:g} times its "
+                             f"start, at {name} = {p:.10g}: a homoclinic end is near")
         if not prob.forced and max(new.amps) < hopf_fraction * amp0:
-            reason = (f"the amplitude fell to {max(new.amps):.3g} at {prob.vary} = {p:.10g}: "
-                      "the cycle shrinks to an equilibrium (a Hopf end)")
-            break
-        ds = min(ds * 1.5, ds_max)
-    return pts, special, reason, False
+            return new, ds, (f"the amplitude fell to {max(new.amps):.3g} at {name} = "
+                             f"{p:.10g}: the cycle shrinks to an equilibrium (a Hopf end)")
+        return new, min(ds * 1.5, ds_max), ""
+
+    reason = walk(
+        cur, ds, step=lambda c, ds: _arc(prob, c, c.tangent, ds), visit=visit,
+        collapsed=lambda c, exc: (f"the steps collapsed below {ds_min:g} at {name} = "
+                                  f"{c.u[-1]:.10g} (period {c.T:.8g}): {exc}"),
+        ds_min=ds_min, parameter=lambda q: float(q.u[-1]), bounds=bounds, at_edge=at_edge,
+        full=lambda: None if len(pts) < max_points else f"{max_points} points (--max-points)")
+    return pts, special, reason, bool(closed)
 
 
 def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, object] | None,

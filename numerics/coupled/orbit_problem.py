@@ -19,15 +19,12 @@ import math
 import numpy as np
 
 from kbm.coupled import CoupledOscillators
-from kbm.errors import ParameterError
-from numerics.shooting.acceptance import accepted, orbit_scale, trivial_ok
-from numerics.shooting.arclength import correct_on_hyperplane
 from numerics.coupled.branch_result import CoupledBranchPoint
 from numerics.coupled.flow import coupled_flow
-from numerics.errors import ConvergenceError, IntegrationError
-
-#: the failures after which a step is halved (or a bisection stops)
-_FAIL = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, ParameterError)
+from numerics.errors import ConvergenceError
+from numerics.shooting.acceptance import accepted, orbit_scale, trivial_ok
+from numerics.shooting.arclength import correct_on_hyperplane, null_vector, predict
+from numerics.shooting.orbit import multipliers, peak
 
 
 class _Problem:
@@ -99,14 +96,7 @@ class _Problem:
 
     def multipliers(self, Phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(all, non-trivial)``: autonomous systems have the trivial one first."""
-        z = np.linalg.eigvals(Phi)
-        if self.forced:
-            z = z[np.lexsort((z.imag, -np.abs(z)))]
-            return z, z
-        k = int(np.argmin(np.abs(z - 1.0)))
-        rest = np.delete(z, k)
-        rest = rest[np.lexsort((rest.imag, -np.abs(rest)))]
-        return np.concatenate([[z[k]], rest]), rest
+        return multipliers(Phi, autonomous=not self.forced)
 
 
 class _Pt:
@@ -121,8 +111,8 @@ class _Pt:
         self.Phi = Phi
         n = prob.n
         ys = fl.states(self.u[:2 * n], T, 512, rtol=prob.rtol)[:-1]
-        self.amps = tuple(_peak(np.abs(ys[:, i])) for i in range(n))
-        self.tangent = _null(J)
+        self.amps = tuple(peak(np.abs(ys[:, i])) for i in range(n))
+        self.tangent = null_vector(J)
 
     def record(self) -> CoupledBranchPoint:
         n2 = len(self.Phi)
@@ -130,22 +120,6 @@ class _Pt:
                                   tuple(float(v) for v in self.u[:n2]), self.amps,
                                   tuple(complex(z) for z in self.mults),
                                   bool(np.all(np.abs(self.rest) < 1.0)), self.res)
-
-
-def _peak(y: np.ndarray) -> float:
-    """The largest value of a periodic sample, refined by the parabola through the largest
-    sample and its neighbours (error ~ (2 pi/512)^4 of the amplitude)."""
-    k = int(np.argmax(y))
-    a, b, c = y[k - 1], y[k], y[(k + 1) % len(y)]
-    den = a - 2 * b + c
-    return float(b - (a - c) ** 2 / (8 * den)) if den < 0 else float(b)
-
-
-def _null(J: np.ndarray) -> np.ndarray:
-    """The unit null vector of the ``k x (k+1)`` matrix ``J``."""
-    _, _, vt = np.linalg.svd(J)
-    t = vt[-1]
-    return t / np.linalg.norm(t)
 
 
 def _correct(prob: _Problem, v_pred, row, target: float, max_iter: int = 10) -> _Pt:
@@ -177,7 +151,9 @@ def _correct(prob: _Problem, v_pred, row, target: float, max_iter: int = 10) -> 
 
 
 def _arc(prob: _Problem, pt: _Pt, t: np.ndarray, ds: float) -> _Pt:
-    pred = pt.v + ds * t
+    """The pseudo-arclength step ``ds`` along ``t`` from ``pt``, corrected on the hyperplane
+    normal to ``t``."""
+    pred = predict(pt.v, t, ds)
     new = _correct(prob, pred, t, float(t @ pred))
     if new.tangent @ t < 0:
         new.tangent = -new.tangent

@@ -18,7 +18,8 @@ import numpy as np
 
 from numerics.shooting import acceptance as _acceptance
 from numerics.cycles.branch_result import BranchPoint
-from numerics.shooting.arclength import correct_on_hyperplane
+from numerics.shooting.arclength import FAIL as _FAIL
+from numerics.shooting.arclength import correct_on_hyperplane, predict
 from numerics.cycles.floquet import floquet_multipliers
 from numerics.cycles.shooting import NEWTON_MAX_STEPS
 from numerics.errors import ConvergenceError, IntegrationError
@@ -31,7 +32,6 @@ from numerics.flow.sensitivity import (flow_with_sensitivity, sensitivity_flow, 
 #: until its points pass it
 TRIVIAL_TOL = _acceptance.TRIVIAL_TOL
 
-_FAIL = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, ValueError)
 
 
 class _Problem:
@@ -304,25 +304,14 @@ def _arc(prob: _Problem, pt: _Point, ds: float, previous=None) -> _Point:
 
     With ``previous``, the unknowns and the unit tangent ``(u_, t_)`` of the point before,
     the predictor is the cubic Hermite extrapolation through both points with both tangents
-    (in the arclength ``s``, the chord ``h`` between them standing for it):
-    ``u(s) = u + s t + a s^2 + b s^3`` with ``u(-h) = u_``, ``u'(-h) = t_``.  Its error is
-    of fourth order in the step: on the SEDF branch the first Newton step then lands within
-    the tolerance at most points, 272 integrations instead of 380 with the second-order
-    predictor (the curvature from the two tangents) and the same 136 points.  The
+    (:func:`numerics.shooting.arclength.predict`): on the SEDF branch the first Newton step
+    then lands within the tolerance at most points, 272 integrations instead of 380 with the
+    second-order predictor (the curvature from the two tangents) and the same 136 points.  The
     hyperplane is ``t . u = t . u_pt + ds``.
     """
     t = pt.tangent
     target = float(t @ pt.u) + ds
-    pred = pt.u + ds * t
-    if previous is not None:
-        u_, t_ = previous
-        h = float(np.linalg.norm(pt.u - u_))
-        if h > 0:
-            d1 = u_ - pt.u + h * t
-            d2 = (t_ if t_ @ t > 0 else -t_) - t
-            b = (2 * d1 / h + d2) / h**2
-            a = (d1 + b * h**3) / h**2
-            pred = pred + a * ds**2 + b * ds**3
+    pred = predict(pt.u, t, ds, previous)
     new = _correct(prob, pred, t, target)
     if new.tangent @ t < 0:
         new.tangent = -new.tangent

@@ -163,14 +163,8 @@ def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, objec
     except (ConvergenceError, NoCycleError, IntegrationError) as exc:
         raise NoCycleError(f"no periodic orbit of {m.name} at {vary} = {p0:g} to start the "
                            f"branch from: {exc}") from None
-    n2 = 2 * m.dof
-    ys = max(1.0, float(np.max(np.abs(u0[:n2]))))
-    prob.scale = np.concatenate([np.full(n2, ys), [] if m.forced else [u0[n2]],
-                                 [max(hi - lo, 1e-6)]])
-    row = np.zeros(len(u0))
-    row[-1] = 1.0
     try:
-        first = _correct(prob, u0 / prob.scale, row, p0 / prob.scale[-1], max_iter=20)
+        first = prob.start(u0, max(hi - lo, 1e-6))
     except _FAIL as exc:
         raise NoCycleError(f"the orbit at {vary} = {p0:g} does not converge as a branch "
                            f"point: {exc}") from None

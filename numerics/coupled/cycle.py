@@ -138,6 +138,37 @@ def _backward(fl: CoupledFlow, y: np.ndarray, step: float) -> np.ndarray:
     return y + step * fl.rhs(y)
 
 
+def _start_state(n: int, start) -> np.ndarray:
+    """The state to start from: ``start``, or all ``x_i = 1`` at rest."""
+    y = np.ones(2 * n) if start is None else np.asarray(start, dtype=float).copy()
+    if y.shape != (2 * n,) or not np.all(np.isfinite(y)):
+        raise ConvergenceError(f"the start must be {2 * n} finite numbers (x1..x{n}, "
+                               f"xdot1..xdot{n}), got {start!r}")
+    if start is None:
+        y[n:] = 0.0
+    return y
+
+
+def _settling_time(fl: CoupledFlow) -> float:
+    """The transient's default: ``20/mu`` within ``[100, 4000]`` (an attracting orbit draws
+    the motion in at the rate ``mu``)."""
+    return min(max(100.0, 20.0 / max(abs(fl.values["mu"]), 1e-12)), 4000.0)
+
+
+def _shoot(fl: CoupledFlow, y0, T: float, section: int | None, rtol: float, max_iter: int,
+           **kw):
+    """:func:`numerics.shooting.orbit.shoot` on the coupled flow; ``(y0, T, iterations,
+    Phi, divergence integral, residual)`` of the accepted orbit."""
+    def monodromy(y, T):
+        yT, Phi, _ = fl.monodromy(y, T, rtol=rtol)
+        return yT, Phi, None
+
+    y0, T, it, _, _ = shoot(monodromy, y0, T, section=section, rtol=rtol, max_iter=max_iter,
+                            rhs=lambda yT, T: fl.rhs(yT), **kw)
+    yT, Phi, div = fl.monodromy(y0, T, rtol=rtol)
+    return y0, T, it, Phi, div, float(np.max(np.abs(yT - y0)))
+
+
 def coupled_cycle(model: CoupledOscillators | str, params: Mapping[str, object] | None = None,
                   *, start: np.ndarray | None = None, transient: float | None = None,
                   period: float | None = None, rtol: float = 1e-11, max_iter: int = 30
@@ -183,38 +214,22 @@ def coupled_cycle(model: CoupledOscillators | str, params: Mapping[str, object] 
                              "that pulls, v != 0): it has no periodic orbit to shoot for; "
                              "its friction law is kbm friction")
     n = fl.dof
-    mu = fl.values["mu"]
-    y = np.ones(2 * n) if start is None else np.asarray(start, dtype=float).copy()
-    if y.shape != (2 * n,) or not np.all(np.isfinite(y)):
-        raise ConvergenceError(f"the start must be {2 * n} finite numbers (x1..x{n}, "
-                               f"xdot1..xdot{n}), got {start!r}")
-    y[n:] = y[n:] if start is not None else 0.0
+    y = _start_state(n, start)
     wmin = min(float(w) for w in fl.model.omega0)
-    t_tr = min(max(100.0, 20.0 / max(abs(mu), 1e-12)), 4000.0) if transient is None \
-        else float(transient)
+    t_tr = _settling_time(fl) if transient is None else float(transient)
     if t_tr > 0:
         y = fl.states(y, t_tr, 1, rtol=1e-9, atol=1e-11)[-1]
     y0, T = section_start(fl, y, 6 * 2 * math.pi / wmin)
-    if period is not None:
-        T = float(period)
-    def monodromy(y, T):
-        yT, Phi, _ = fl.monodromy(y, T, rtol=rtol)
-        return yT, Phi, None
-
-    def damp(z, dz):
-        return min(1.0, 0.3 * z[-1] / max(abs(dz[-1]), 1e-300))
-
     try:
-        y0, T, it, _, _ = shoot(monodromy, y0, T, section=n, rtol=rtol, max_iter=max_iter,
-                                rhs=lambda yT, T: fl.rhs(yT), damp=damp,
-                                what=f"of {fl.model.name}")
+        y0, T, it, Phi, div, residual = _shoot(
+            fl, y0, T if period is None else float(period), n, rtol, max_iter,
+            damp=lambda z, dz: min(1.0, 0.3 * z[-1] / max(abs(dz[-1]), 1e-300)),
+            what=f"of {fl.model.name}")
     except ConvergenceError as exc:
         raise ConvergenceError(
             f"{exc}; from the state after t = {t_tr:g}: the motion there is probably "
             "quasi-periodic (the oscillators not locked), or the parameters are past a fold "
             "of the locked cycle: compare kbm lock, or give another start") from None
-    yT, Phi, div = fl.monodromy(y0, T, rtol=rtol)
-    residual = float(np.max(np.abs(yT - y0)))  # at the accepted orbit
     mults, rest = multipliers(Phi)
     spread = float(np.max(np.ptp(fl.states(y0, T, 64, rtol=rtol)[:, :n], axis=0)))
     if spread < 1e-6 * max(1.0, float(np.max(np.abs(y0)))) or not trivial_ok(mults[:1]):
@@ -293,31 +308,21 @@ def forced_response(model: CoupledOscillators | str, params: Mapping[str, object
     if fl.nu is None:
         raise ParameterError(f"{fl.model.name!r} has no forcing; its periodic orbits are "
                              "found by coupled_cycle")
-    n = fl.dof
-    mu, nu = fl.values["mu"], fl.nu
+    n, nu = fl.dof, fl.nu
     ratios = fl.model.forcing_ratios
     m = fl.model.response_periods
     T = m * 2 * math.pi / nu
-    y = np.ones(2 * n) if start is None else np.asarray(start, dtype=float).copy()
-    if start is None:
-        y[n:] = 0.0
-    k = transient_periods if transient_periods is not None else \
-        int(min(max(100.0, 20.0 / max(abs(mu), 1e-12)), 4000.0) / T) + 1
+    y = _start_state(n, start)
+    k = transient_periods if transient_periods is not None else int(_settling_time(fl) / T) + 1
     if k > 0:
         y = fl.states(y, k * T, k, rtol=1e-9, atol=1e-11)[-1]
-    def monodromy(y, T):
-        yT, Phi, _ = fl.monodromy(y, T, rtol=rtol)
-        return yT, Phi, None
-
     try:
-        y, _, it, _, _ = shoot(monodromy, y, T, section=None, rtol=rtol, max_iter=max_iter,
-                               what=f"of period {m} x 2 pi/nu of {fl.model.name}",
-                               diverge=max_iter + 1)
+        y, _, it, Phi, div, residual = _shoot(
+            fl, y, T, None, rtol, max_iter, diverge=max_iter + 1,
+            what=f"of period {m} x 2 pi/nu of {fl.model.name}")
     except ConvergenceError as exc:
         raise ConvergenceError(f"{exc} (a multiplier at 1 makes the matrix singular: a fold "
                                f"at nu = {nu:.10g}, or a free phase)") from None
-    yT, Phi, div = fl.monodromy(y, T, rtol=rtol)
-    residual = float(np.max(np.abs(yT - y)))
     mults, _ = multipliers(Phi, autonomous=False)
     samples = 256 * m
     ys = fl.states(y, T, samples, rtol=rtol)[:-1]

@@ -6,9 +6,10 @@ distance past it), and a bracket can never be tighter than that floor allows.  T
 itself is a regular point of the pseudo-arclength problem in ``(y0, T, p)``
 (:mod:`numerics.coupled.continuation`): from the cycle the branch is followed towards the
 fold (the one driver, :func:`numerics.shooting.arclength.walk`) until the parameter
-component of its tangent changes sign, and that zero is located by bisection on the hyperplanes normal to the chord (AUTO-07p's fold test, Doedel's
-lecture notes sec. 2).  The located point has two unit multipliers (the trivial one and
-the one through 1 at a saddle-node of cycles).
+component of its tangent changes sign, and that zero is located by bisection on the
+hyperplanes normal to the chord (AUTO-07p's fold test, Doedel's lecture notes sec. 2).
+The located point has two unit multipliers (the trivial one and the one through 1 at a
+saddle-node of cycles).
 
 The fold is located at the integrator tolerances ``rtol`` and ``rtol/10``; their
 difference, with the bisection bracket, is the stated error.
@@ -31,7 +32,7 @@ from kbm.coupled import CoupledOscillators
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.shooting.arclength import FAIL as _FAIL
 from numerics.shooting.arclength import null_vector, walk
-from .orbit_problem import _arc, _correct, _Problem
+from .orbit_problem import _arc, _Problem
 from .special_points import _locate
 from .cycle import coupled_cycle
 from .flow import bind_coupled
@@ -58,13 +59,7 @@ class Fold:
 def _fold_once(model: CoupledOscillators, params: dict, vary: str, state, period: float,
                p0: float, side: int, beyond: float, rtol: float):
     prob = _Problem(model, params, vary, rtol)
-    n2 = 2 * model.dof
-    prob.scale = np.concatenate([np.full(n2, max(1.0, float(np.max(np.abs(state))))),
-                                 [period], [1.0]])
-    u0 = np.concatenate([np.asarray(state, dtype=float), [period, p0]])
-    row = np.zeros(len(u0))
-    row[-1] = 1.0
-    cur = _correct(prob, u0 / prob.scale, row, p0, max_iter=20)
+    cur = prob.start(np.concatenate([np.asarray(state, dtype=float), [period, p0]]), 1.0)
     t = null_vector(cur.J)
     cur.tangent = t if t[-1] * side > 0 else -t
     # the branch reaches the fold within |beyond - p0| in p, the state within its root

@@ -43,6 +43,16 @@ class _Problem:
         #: order one along the branch: a weighted arclength, as AUTO-07p's THL/THU)
         self.scale: np.ndarray | None = None
 
+    def start(self, u0: np.ndarray, width: float) -> "_Pt":
+        """The first point of a branch: ``u0`` corrected at its parameter, the scales set
+        from it (the states by their largest ``|y0|``, ``T`` by itself, ``p`` by ``width``)."""
+        n2 = 2 * self.n
+        self.scale = np.concatenate([np.full(n2, max(1.0, float(np.max(np.abs(u0[:n2]))))),
+                                     u0[n2:-1], [width]])
+        row = np.zeros(len(u0))
+        row[-1] = 1.0
+        return _correct(self, u0 / self.scale, row, u0[-1] / width, max_iter=20)
+
     def flow(self, p: float):
         fl = self._flows.get(p)
         if fl is None:

@@ -8,7 +8,7 @@ point ``u_k`` with unit tangent ``t_k`` (the null vector of ``dR/du``) the predi
 ``t_k . (u - u_k - ds t_k) = 0`` (Keller's pseudo-arclength), so folds, where
 ``p`` turns back, are passed and unstable cycles are followed like stable ones.
 ``dR/d(x0, T)`` comes from the variational equations, ``dR/dp`` from the parameter
-sensitivity or a finite difference (:mod:`numerics.cycles._arclength`).  The steps are
+sensitivity or a finite difference (:mod:`numerics.cycles.orbit_problem`).  The steps are
 those of the one driver of continuation, :func:`numerics.shooting.arclength.walk`: ``ds``
 grows after easy corrections and is halved after a failed one or a sharp turn of the
 tangent.
@@ -42,7 +42,7 @@ from kbm.errors import ParameterError
 from kbm.bound import BoundModel, bind
 from kbm.models import Oscillator
 
-from numerics.cycles._arclength import (_FAIL, TRIVIAL_TOL, _arc, _at_parameter, _copy,
+from numerics.cycles.orbit_problem import (_FAIL, TRIVIAL_TOL, _arc, _at_parameter, _copy,
                                         _correct, _locate_fold, _Point, _Problem, _reanchor)
 from numerics.cycles.branch_result import Branch, BranchPoint, SpecialPoint
 from numerics.cycles.result import LimitCycle

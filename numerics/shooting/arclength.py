@@ -1,21 +1,14 @@
-"""Pseudo-arclength continuation of periodic orbits: the one driver and its pieces, shared
-by the branches of one degree of freedom (:mod:`numerics.cycles.continuation`), of ``2N``
-dimensions (:mod:`numerics.coupled.continuation`) and the approach to a fold
-(:mod:`numerics.coupled.fold`).
+"""Pseudo-arclength continuation of periodic orbits (Keller; Doedel, *Lecture notes on
+numerical analysis of nonlinear equations*, sec. 2), shared by the branches of
+:mod:`numerics.cycles.continuation` and :mod:`numerics.coupled.continuation` and by the
+approach to a fold (:mod:`numerics.coupled.fold`).
 
-- :func:`correct_on_hyperplane`: Newton's method on ``R(u) = 0`` and one linear condition
-  ``row . u = target`` (the hyperplane normal to the tangent, or a fixed parameter),
-  Keller's bordered system (Doedel, *Lecture notes on numerical analysis of nonlinear
-  equations*, sec. 2).  Each caller gives its residual and Jacobian and its test of a
-  converged point, which is the acceptance standard of
-  :mod:`numerics.shooting.acceptance` with the caller's bound on the correction (the
-  accuracy of the point).  The compiled corrector of one degree of freedom
-  (:mod:`numerics.flow._shooting_corrector`) runs the same iterations in numba;
+- :func:`correct_on_hyperplane`: Newton on ``R(u) = 0`` and ``row . u = target``, each
+  point accepted by the caller's test (the standard of :mod:`numerics.shooting.acceptance`
+  with its bound on the correction); :mod:`numerics.flow._shooting_corrector` is its
+  compiled twin for one degree of freedom;
 - :func:`null_vector` (the tangent) and :func:`predict` (Euler or cubic Hermite);
-- :func:`walk`: the steps along a branch in one direction: a step that fails or turns the
-  tangent too sharply is halved until ``ds_min``; a point past the range's end is replaced
-  by the point at the end; each accepted point is handed to the caller, who records it,
-  looks for special points, says whether the branch ends there and sets the next step.
+- :func:`walk`: the one driver of the steps along a branch.
 """
 
 from __future__ import annotations

@@ -1,12 +1,15 @@
-"""The Newton machinery of the continuation of cycles (:mod:`numerics.cycles.continuation`).
+"""The shooting problem of a branch of limit cycles of one degree of freedom
+(:mod:`numerics.cycles.continuation`; its ``2N`` counterpart is
+:mod:`numerics.coupled.orbit_problem`).
 
 ``u = (x0, T, p)``; :class:`_Problem` evaluates ``R(u) = (x(T) - x0, x'(T))`` and its
 Jacobian (variational equations for ``(x0, T)``; for ``p`` the parameter sensitivity
 integrated with them, :mod:`numerics.flow.sensitivity`, or a central difference where the
 compiled flow is not used);
 :func:`_correct` is Newton's method on ``R = 0`` and one linear condition; :func:`_arc`
-the pseudo-arclength step; :func:`_reanchor`, :func:`_locate_fold` and
-:func:`_at_parameter` place points on the branch.
+the pseudo-arclength step (the corrector and predictor of
+:mod:`numerics.shooting.arclength`, or their compiled twin); :func:`_reanchor`,
+:func:`_locate_fold` and :func:`_at_parameter` place points on the branch.
 """
 
 from __future__ import annotations

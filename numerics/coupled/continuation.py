@@ -16,7 +16,6 @@ the steps along the branch are those of the one driver,
 from __future__ import annotations
 
 import copy
-import math
 from collections.abc import Mapping
 
 import numpy as np
@@ -30,7 +29,7 @@ from numerics.coupled.orbit_problem import _arc, _correct, _Problem, _Pt
 from numerics.coupled.special_points import _distinct, _specials
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.shooting.arclength import FAIL as _FAIL
-from numerics.shooting.arclength import null_vector, walk
+from numerics.shooting.arclength import null_vector, parameter_range, walk
 
 __all__ = ["CoupledBranch", "CoupledBranchPoint", "CoupledSpecialPoint", "continue_coupled"]
 
@@ -138,12 +137,8 @@ def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, objec
         If there is no periodic orbit to start from.
     """
     params = dict(params or {})
-    lo, hi = (float(b) for b in bounds)
-    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-        raise ParameterError(f"the range of {vary} must be FROM < TO, finite; got {lo:g}:{hi:g}")
-    p0 = float(params.pop(vary)) if vary in params else lo
-    if not lo <= p0 <= hi:
-        raise ParameterError(f"the start value {vary} = {p0:g} is outside {lo:g}:{hi:g}")
+    lo, hi, p0 = parameter_range(vary, bounds, params)
+    params.pop(vary, None)
     m, _ = bind_coupled(model, {**params, vary: p0})
     names = set(m.parameters) | {"mu"}
     if vary not in names:

@@ -33,7 +33,6 @@ H. B. Keller, "Numerical solution of bifurcation and nonlinear eigenvalue proble
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 
 import numpy as np
@@ -50,7 +49,7 @@ from numerics.cycles.shooting import limit_cycle
 from numerics.cycles.branch_ends import homoclinic_reason, homoclinic_special
 from numerics.errors import ConvergenceError, NoCycleError
 from numerics.flow import Method
-from numerics.shooting.arclength import walk
+from numerics.shooting.arclength import parameter_range, walk
 
 __all__ = ["continue_cycles", "TRIVIAL_TOL"]
 
@@ -156,15 +155,7 @@ def _converged(pt: _Point) -> bool:
 
 
 def _check_vary(model, params: dict, vary: str, bounds) -> tuple[float, float, float]:
-    lo, hi = (float(b) for b in bounds)
-    if not (math.isfinite(lo) and math.isfinite(hi)):
-        raise ParameterError(f"the range of {vary} must be finite, got {lo:g}:{hi:g}")
-    if not lo < hi:
-        raise ParameterError(f"empty range {lo:g}:{hi:g} for {vary}: give FROM < TO")
-    p0 = float(params[vary]) if vary in params else lo
-    if not lo <= p0 <= hi:
-        raise ParameterError(f"the start value {vary} = {p0:g} is outside the range "
-                             f"{lo:g}:{hi:g}")
+    lo, hi, p0 = parameter_range(vary, bounds, params)
     try:
         b1 = bind(model, {**params, vary: p0})
         b2 = bind(model, {**params, vary: p0 + 1e-3 * max(1.0, abs(p0))})

@@ -18,9 +18,10 @@ from typing import Callable
 
 import numpy as np
 
+from kbm.errors import ParameterError
 from numerics.errors import ConvergenceError, IntegrationError
 
-__all__ = ["correct_on_hyperplane", "null_vector", "predict", "walk", "FAIL"]
+__all__ = ["correct_on_hyperplane", "null_vector", "predict", "walk", "parameter_range", "FAIL"]
 
 #: the failures of a step after which it is halved (or a bisection stops)
 FAIL = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, ValueError)
@@ -160,3 +161,19 @@ def walk(first, ds: float, *, step: Callable, visit: Callable, collapsed: Callab
         cur, ds, why = visit(cur, new, ds)
         if why:
             return why
+
+
+def parameter_range(vary: str, bounds, params) -> tuple[float, float, float]:
+    """``(FROM, TO, start)`` of a branch in ``vary``: ``bounds`` finite with ``FROM < TO``,
+    the start ``params[vary]`` (default ``FROM``) inside them; else a
+    :class:`~kbm.errors.ParameterError` that says what to give."""
+    lo, hi = (float(b) for b in bounds)
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise ParameterError(f"the range of {vary} must be finite, got {lo:g}:{hi:g}")
+    if not lo < hi:
+        raise ParameterError(f"empty range {lo:g}:{hi:g} for {vary}: give FROM < TO")
+    p0 = float(params[vary]) if vary in params else lo
+    if not lo <= p0 <= hi:
+        raise ParameterError(f"the start value {vary} = {p0:g} is outside the range "
+                             f"{lo:g}:{hi:g}")
+    return lo, hi, p0

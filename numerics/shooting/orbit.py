@@ -1,20 +1,13 @@
-"""Newton on the periodic orbit of a ``2N``-dimensional flow: the one shooting of the toolkit.
+"""Newton on the periodic orbit of a ``2N``-dimensional flow: the one shooting of the toolkit
+(Parker and Chua, *Practical Numerical Algorithms for Chaotic Systems*, ch. 5).
 
-The unknowns and equations (Parker and Chua, *Practical Numerical Algorithms for Chaotic
-Systems*, ch. 5):
+- autonomous: the unknowns are ``y0`` on a section (one coordinate held at 0, e.g.
+  ``xdot_1``) and the period ``T``; the shooting matrix is
+  ``[Phi(T) - I without the section's column, f(y(T))]``; for ``N = 1`` on ``x' = 0``,
+  Newton on the return map ``(x(T) - x0, x'(T)) = 0`` in ``(x0, T)``;
+- forced: the period is the drive's; the unknowns are ``y0``, the matrix ``Phi(T) - I``.
 
-- **autonomous** (``section`` the index of the coordinate held at 0 on the section, e.g.
-  ``xdot_1``): the unknowns are the other ``2N - 1`` coordinates of ``y0`` and the period
-  ``T``; the equations ``phi_T(y0) - y0 = 0``; the shooting matrix
-  ``[Phi(T) - I without the section's column, f(y(T))]``;
-- **forced** (``section = None``): the period is fixed by the drive; the unknowns are
-  ``y0``, the matrix ``Phi(T) - I``.
-
-For ``N = 1`` with the section ``x' = 0`` the autonomous case is Newton on the return map
-``(x(T) - x0, x'(T)) = 0`` in ``(x0, T)``.  Newton's iterate is accepted by the standard of
-:mod:`numerics.shooting.acceptance`.  The multipliers of the orbit found are the
-eigenvalues of ``Phi(T)`` (:func:`multipliers`: the trivial one first for an autonomous
-orbit).
+Newton's iterate is accepted by the standard of :mod:`numerics.shooting.acceptance`.
 """
 
 from __future__ import annotations

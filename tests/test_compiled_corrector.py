@@ -1,7 +1,7 @@
 """The compiled Newton corrector of a branch of cycles (numerics/flow/_shooting_corrector.py).
 
 References, none from the compiled corrector: numpy's LAPACK solve and eigenvalues for its
-3x3 solve and trivial multiplier; the Python corrector of numerics.cycles._arclength (the
+3x3 solve and trivial multiplier; the Python corrector of numerics.cycles.orbit_problem (the
 same algorithm on numpy, with the parameter values computed exactly per value) for whole
 branches; limit cycles shot from scratch at rtol 1e-12; the exact values of
 kbm.bound.ParameterLine for the affine parameter vector it assumes.
@@ -16,7 +16,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import numerics.cycles._arclength as arc
+import numerics.cycles.orbit_problem as arc
 from kbm import custom_model
 from kbm.bound import ParameterLine
 from numerics import limit_cycle

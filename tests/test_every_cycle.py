@@ -71,7 +71,7 @@ def test_homotopy_finds_the_cycle_near_the_separatrix_without_symmetry():
     error); the homotopy in the dissipative part (no use of the symmetry) finds it, and the
     symmetry checks it: the same period as the left cycle, x_max = -(left minimum)."""
     from kbm.bound import bind
-    from numerics.cycles.shooting import _from_smaller_mu
+    from numerics.cycles.every_cycle import _from_smaller_mu
     from numerics.energy import predict_cycles
 
     b = bind("sedf", {"mu": 0.1, "Delta": 1.5, "beta": 1.3345, "lam": 1})

@@ -2,7 +2,7 @@
 
 - :mod:`kbm` (engine and its symbolic commands) never imports :mod:`numerics`;
 - inside :mod:`numerics` a module imports only its own floor and the floors below:
-  base (``errors``, ``_memo``, ``executor``, ``store``) < ``flow`` < ``noise`` < ``energy`` < ``cycles`` <
+  base (``errors``, ``_memo``, ``executor``, ``store``) < ``flow`` < ``shooting`` < ``noise`` < ``energy`` < ``cycles`` <
   ``forced`` < ``coupled`` < ``comparison`` < ``sliding`` < ``fokker_planck`` < ``escape`` < ``thermal`` <
   ``paper`` < ``cli``;
 - only the command line (``numerics.cli``) imports ``kbm.cli``;
@@ -24,7 +24,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 #: the floors of numerics, bottom up (a module's floor is its first package component)
-FLOORS = ("base", "flow", "noise", "energy", "cycles", "forced", "coupled", "comparison", "sliding",
+FLOORS = ("base", "flow", "shooting", "noise", "energy", "cycles", "forced", "coupled", "comparison", "sliding",
           "fokker_planck", "escape", "thermal", "paper",
           "cli")
 BASE = {"errors", "_memo", "_show", "executor", "store", "__init__"}

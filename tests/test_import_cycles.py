@@ -4,9 +4,9 @@ figures' circles are settled).
 Every ``import`` of the two packages is read from the source (ast), at module level and
 inside functions, and the strongly connected components of the graph are computed
 (Tarjan).  A deferred import inside a function still ties two modules together, so both
-levels are checked; the one circle kept is an algorithm's mutual use: the homotopy of
-``numerics.cycles.shooting`` continues cycles in its parameter, and the continuation starts
-from a shot cycle.
+levels are checked.  The circle once kept (the homotopy of ``numerics.cycles.shooting``
+continued cycles in its parameter, and the continuation starts from a shot cycle) is gone:
+the homotopy sits in ``numerics.cycles.every_cycle``, above both.
 """
 
 from __future__ import annotations
@@ -17,9 +17,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 
-#: the one circle kept (see the module docstring)
-ALLOWED = {frozenset({"numerics.cycles._arclength", "numerics.cycles.continuation",
-                      "numerics.cycles.shooting"})}
+#: no circle is kept (see the module docstring)
+ALLOWED: set = set()
 
 
 def _modules() -> dict[str, Path]:

@@ -57,7 +57,7 @@ def test_saddles_from_the_compiled_force_equal_the_portraits(params, vary, at, s
     (symbolic split and potential)."""
     import numpy as np
 
-    import numerics.cycles._arclength as arc
+    import numerics.cycles.orbit_problem as arc
     from kbm.bound import bind
     from numerics.cycles.homoclinic import saddles_passed
 

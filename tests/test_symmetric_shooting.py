@@ -1,4 +1,4 @@
-"""Half-period shooting of the symmetric cycles of an odd field (numerics.cycles._arclength).
+"""Half-period shooting of the symmetric cycles of an odd field (numerics.cycles.orbit_problem).
 
 For ``f(-y) = -f(y)`` a cycle with ``y(t + T/2) = -y(t)`` solves ``y(T/2) = -y(0)``; the
 monodromy matrix of the whole period is ``Phi(T/2)^2`` (the Jacobian is even in ``y``).
@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-import numerics.cycles._arclength as arc
+import numerics.cycles.orbit_problem as arc
 from numerics import limit_cycles
 from numerics.cycles.continuation import continue_cycles
 from numerics.flow import Method, extended_state, flow

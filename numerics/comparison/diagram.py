@@ -21,7 +21,8 @@ from kbm.strict_json import finite
 from numerics.comparison.branches import AnalyticCurve, energy_branch, kbm_branch
 from numerics.cycles.branch_result import Branch
 from numerics.cycles.continuation import _check_vary, continue_cycles
-from numerics.cycles.shooting import limit_cycle, limit_cycles
+from numerics.cycles.every_cycle import limit_cycles
+from numerics.cycles.shooting import limit_cycle
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 
 __all__ = ["BranchDiagram", "branch_diagram"]

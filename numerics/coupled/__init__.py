@@ -3,7 +3,7 @@ and the locking of self-excited oscillators.
 
 - :mod:`numerics.coupled.flow`: :func:`coupled_flow` (state, monodromy, divergence);
 - :mod:`numerics.coupled.cycle`: :func:`coupled_cycle`, shooting with Floquet multipliers
-  (accepted by the standard of :mod:`numerics.cycles.acceptance`);
+  (accepted by the standard of :mod:`numerics.shooting.acceptance`);
 - :mod:`numerics.coupled.continuation`: branches in one parameter (the shooting problem and
   its corrector in :mod:`numerics.coupled.orbit_problem`, the special points in
   :mod:`numerics.coupled.special_points`, the records in

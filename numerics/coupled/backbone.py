@@ -23,7 +23,7 @@ import sympy as sp
 from scipy.optimize import brentq
 
 from kbm.coupled import CoupledKBMResult, amplitudes
-from numerics.cycles.acceptance import orbit_scale, shoot_newton
+from numerics.shooting.acceptance import orbit_scale, shoot_newton
 from numerics.errors import ConvergenceError
 from .flow import coupled_flow
 

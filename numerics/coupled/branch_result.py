@@ -6,11 +6,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from numerics.shooting.orbit import multiplier_json
+
 __all__ = ["CoupledBranch", "CoupledBranchPoint", "CoupledSpecialPoint"]
-
-
-def _mult(z: complex):
-    return float(z.real) if z.imag == 0 else [float(z.real), float(z.imag)]
 
 
 @dataclass(frozen=True)
@@ -30,7 +28,7 @@ class CoupledBranchPoint:
     def to_json(self) -> dict:
         return {"parameter": self.parameter, "period": self.period,
                 "state": list(self.state), "amplitudes": list(self.amplitudes),
-                "floquet_multipliers": [_mult(z) for z in self.floquet_multipliers],
+                "floquet_multipliers": [multiplier_json(z) for z in self.floquet_multipliers],
                 "stable": self.stable, "residual": self.residual}
 
 
@@ -52,7 +50,7 @@ class CoupledSpecialPoint:
     def to_json(self) -> dict:
         return {"kind": self.kind, "parameter": self.parameter, "period": self.period,
                 "amplitudes": list(self.amplitudes),
-                "floquet_multipliers": [_mult(z) for z in self.floquet_multipliers],
+                "floquet_multipliers": [multiplier_json(z) for z in self.floquet_multipliers],
                 "bracket": list(self.bracket), "state": list(self.state)}
 
 

@@ -3,7 +3,8 @@
 
 Pseudo-arclength continuation (Keller; Doedel, *Lecture notes on numerical analysis of
 nonlinear equations*, sec. 2) of the shooting problem, for ``N = 1`` as for ``N > 1``:
-the steps along the branch and where it ends.  The pieces:
+the steps along the branch are those of the one driver,
+:func:`numerics.shooting.arclength.walk`; here is where the branch ends.  The pieces:
 
 - :mod:`numerics.coupled.orbit_problem`: the shooting problem in scaled unknowns
   (``(y0, T, p)`` autonomous, ``(y0, p)`` forced), its Jacobian, tangent and corrector;
@@ -15,7 +16,6 @@ the steps along the branch and where it ends.  The pieces:
 from __future__ import annotations
 
 import copy
-import math
 from collections.abc import Mapping
 
 import numpy as np
@@ -25,71 +25,66 @@ from kbm.errors import ParameterError
 from numerics.coupled.branch_result import CoupledBranch, CoupledBranchPoint, CoupledSpecialPoint
 from numerics.coupled.cycle import coupled_cycle, forced_response
 from numerics.coupled.flow import bind_coupled
-from numerics.coupled.orbit_problem import _FAIL, _arc, _correct, _null, _Problem, _Pt
+from numerics.coupled.orbit_problem import _arc, _correct, _Problem, _Pt
 from numerics.coupled.special_points import _distinct, _specials
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
+from numerics.shooting.arclength import FAIL as _FAIL
+from numerics.shooting.arclength import null_vector, parameter_range, walk
 
 __all__ = ["CoupledBranch", "CoupledBranchPoint", "CoupledSpecialPoint", "continue_coupled"]
 
 
 def _follow(prob: _Problem, first: _Pt, direction: int, bounds, ds: float, ds_max: float,
             ds_min: float, max_points: int, period_factor: float, hopf_fraction: float):
-    t = _null(first.J)
+    """One direction of the branch by :func:`numerics.shooting.arclength.walk`;
+    ``(points, special points, why it ended, whether it closed on itself)``."""
+    t = null_vector(first.J)
     if t[-1] * direction < 0:
         t = -t
     cur = copy.copy(first)  # the same point, oriented for this direction
     cur.tangent = t
-    pts, special = [cur], []
+    pts, special, closed = [cur], [], []
     amp0 = max(first.amps)
-    reason = f"{max_points} points (--max-points)"
-    while len(pts) < max_points:
+    name = prob.vary
+
+    def at_edge(cur, new, edge):
+        row = np.zeros(len(new.u))
+        row[-1] = 1.0
         try:
-            new = _arc(prob, cur, cur.tangent, ds)
-            turn = float(new.tangent @ cur.tangent)
-            if turn < 0.9:
-                raise ConvergenceError(f"the tangent turned by "
-                                       f"{math.degrees(math.acos(max(-1.0, turn))):.0f} degrees")
-        except _FAIL as exc:
-            ds /= 2
-            if ds < ds_min:
-                reason = (f"the steps collapsed below {ds_min:g} at {prob.vary} = "
-                          f"{cur.u[-1]:.10g} (period {cur.T:.8g}): {exc}")
-                break
-            continue
-        p = float(new.u[-1])
-        if p < bounds[0] or p > bounds[1]:
-            edge = bounds[0] if p < bounds[0] else bounds[1]
-            row = np.zeros(len(new.u))
-            row[-1] = 1.0
-            try:
-                s = (edge - cur.u[-1]) / (new.u[-1] - cur.u[-1])
-                end = _correct(prob, cur.v + s * (new.v - cur.v), row, edge / prob.scale[-1])
-                end.tangent = cur.tangent
-                _specials(prob, cur, end, special)
-                pts.append(end)
-            except _FAIL:
-                pass
-            reason = f"reached {prob.vary} = {edge:g}, the end of the range"
-            break
+            s = (edge - cur.u[-1]) / (new.u[-1] - cur.u[-1])
+            end = _correct(prob, cur.v + s * (new.v - cur.v), row, edge / prob.scale[-1])
+            end.tangent = cur.tangent
+            _specials(prob, cur, end, special)
+            pts.append(end)
+        except _FAIL:
+            pass
+        return f"reached {name} = {edge:g}, the end of the range"
+
+    def visit(cur, new, ds):
         _specials(prob, cur, new, special)
         pts.append(new)
-        cur = new
+        p = float(new.u[-1])
         if len(pts) > 8 and np.linalg.norm(new.v - first.v) < ds \
                 and new.tangent @ pts[0].tangent > 0.9:
-            reason = (f"the branch closed on itself after {len(pts) - 1} points (an isola: "
-                      f"{prob.vary} from {min(q.u[-1] for q in pts):.10g} to "
-                      f"{max(q.u[-1] for q in pts):.10g})")
-            return pts, special, reason, True
+            closed.append(True)
+            return new, ds, (f"the branch closed on itself after {len(pts) - 1} points (an "
+                             f"isola: {name} from {min(q.u[-1] for q in pts):.10g} to "
+                             f"{max(q.u[-1] for q in pts):.10g})")
         if not prob.forced and new.T > period_factor * first.T:
-            reason = (f"the period grew to {new.T:.6g}, {period_factor:g} times its start, at "
-                      f"{prob.vary} = {p:.10g}: a homoclinic end is near")
-            break
+            return new, ds, (f"the period grew to {new.T:.6g}, {period_factor:g} times its "
+                             f"start, at {name} = {p:.10g}: a homoclinic end is near")
         if not prob.forced and max(new.amps) < hopf_fraction * amp0:
-            reason = (f"the amplitude fell to {max(new.amps):.3g} at {prob.vary} = {p:.10g}: "
-                      "the cycle shrinks to an equilibrium (a Hopf end)")
-            break
-        ds = min(ds * 1.5, ds_max)
-    return pts, special, reason, False
+            return new, ds, (f"the amplitude fell to {max(new.amps):.3g} at {name} = "
+                             f"{p:.10g}: the cycle shrinks to an equilibrium (a Hopf end)")
+        return new, min(ds * 1.5, ds_max), ""
+
+    reason = walk(
+        cur, ds, step=lambda c, ds: _arc(prob, c, c.tangent, ds), visit=visit,
+        collapsed=lambda c, exc: (f"the steps collapsed below {ds_min:g} at {name} = "
+                                  f"{c.u[-1]:.10g} (period {c.T:.8g}): {exc}"),
+        ds_min=ds_min, parameter=lambda q: float(q.u[-1]), bounds=bounds, at_edge=at_edge,
+        full=lambda: None if len(pts) < max_points else f"{max_points} points (--max-points)")
+    return pts, special, reason, bool(closed)
 
 
 def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, object] | None,
@@ -142,12 +137,8 @@ def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, objec
         If there is no periodic orbit to start from.
     """
     params = dict(params or {})
-    lo, hi = (float(b) for b in bounds)
-    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-        raise ParameterError(f"the range of {vary} must be FROM < TO, finite; got {lo:g}:{hi:g}")
-    p0 = float(params.pop(vary)) if vary in params else lo
-    if not lo <= p0 <= hi:
-        raise ParameterError(f"the start value {vary} = {p0:g} is outside {lo:g}:{hi:g}")
+    lo, hi, p0 = parameter_range(vary, bounds, params)
+    params.pop(vary, None)
     m, _ = bind_coupled(model, {**params, vary: p0})
     names = set(m.parameters) | {"mu"}
     if vary not in names:
@@ -167,14 +158,8 @@ def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, objec
     except (ConvergenceError, NoCycleError, IntegrationError) as exc:
         raise NoCycleError(f"no periodic orbit of {m.name} at {vary} = {p0:g} to start the "
                            f"branch from: {exc}") from None
-    n2 = 2 * m.dof
-    ys = max(1.0, float(np.max(np.abs(u0[:n2]))))
-    prob.scale = np.concatenate([np.full(n2, ys), [] if m.forced else [u0[n2]],
-                                 [max(hi - lo, 1e-6)]])
-    row = np.zeros(len(u0))
-    row[-1] = 1.0
     try:
-        first = _correct(prob, u0 / prob.scale, row, p0 / prob.scale[-1], max_iter=20)
+        first = prob.start(u0, max(hi - lo, 1e-6))
     except _FAIL as exc:
         raise NoCycleError(f"the orbit at {vary} = {p0:g} does not converge as a branch "
                            f"point: {exc}") from None

@@ -4,9 +4,10 @@ The unknowns are the state ``y0`` on the section ``xdot_1 = 0`` (``x_1`` at a ma
 the period ``T``; the residual ``y(T) - y0`` (``2N`` equations for ``2N - 1 + 1``
 unknowns) and its Jacobian ``[Phi(T) - I without the column of xdot_1, f(y(T))]`` come
 from one integration of the extended system (:mod:`numerics.coupled.flow`).  The start is
-the state after a transient (a stable cycle attracts it) or a state given.  Newton's
-iterate is accepted by the standard of :mod:`numerics.cycles.acceptance` (its
-Newton loop): past a fold, where only a minimum of the residual is left, it is refused
+the state after a transient (a stable cycle attracts it) or a state given.  The shooting
+is :func:`numerics.shooting.orbit.shoot` (autonomous, or at the drive's period for
+:func:`forced_response`), accepted by the standard of :mod:`numerics.shooting.acceptance`:
+past a fold, where only a minimum of the residual is left, it is refused
 with that minimum in the message.  The multipliers are the eigenvalues of ``Phi(T)``;
 Liouville's formula
 ``det Phi(T) = exp(int_0^T tr J dt)`` is the independent check printed with them.
@@ -22,7 +23,8 @@ import numpy as np
 
 from kbm.coupled import CoupledOscillators
 from numerics.errors import ConvergenceError, NoCycleError
-from numerics.cycles.acceptance import TRIVIAL_TOL, orbit_scale, shoot_newton
+from numerics.shooting.acceptance import trivial_ok
+from numerics.shooting.orbit import multiplier_json, multipliers, shoot
 from .flow import CoupledFlow, coupled_flow
 
 __all__ = ["CoupledCycle", "coupled_cycle", "section_start", "ForcedCoupledResponse",
@@ -77,15 +79,13 @@ class CoupledCycle:
 
     def to_json(self) -> dict:
         """JSON-ready: a real multiplier is a number, a complex one ``[re, im]``."""
-        def mult(z):
-            return float(z.real) if z.imag == 0 else [float(z.real), float(z.imag)]
         return {
             "model": self.model, "params": dict(self.params), "success": True,
             "message": self.message, "period": self.period, "frequency": self.frequency,
             "state": [float(v) for v in self.state],
             "amplitudes": [float(v) for v in self.amplitudes],
             "phases": [float(v) for v in self.phases],
-            "floquet_multipliers": [mult(z) for z in self.floquet_multipliers],
+            "floquet_multipliers": [multiplier_json(z) for z in self.floquet_multipliers],
             "floquet_moduli": [float(abs(z)) for z in self.floquet_multipliers],
             "stable": self.stable,
             "liouville": {"det_monodromy": self.liouville[0],
@@ -138,6 +138,37 @@ def _backward(fl: CoupledFlow, y: np.ndarray, step: float) -> np.ndarray:
     return y + step * fl.rhs(y)
 
 
+def _start_state(n: int, start) -> np.ndarray:
+    """The state to start from: ``start``, or all ``x_i = 1`` at rest."""
+    y = np.ones(2 * n) if start is None else np.asarray(start, dtype=float).copy()
+    if y.shape != (2 * n,) or not np.all(np.isfinite(y)):
+        raise ConvergenceError(f"the start must be {2 * n} finite numbers (x1..x{n}, "
+                               f"xdot1..xdot{n}), got {start!r}")
+    if start is None:
+        y[n:] = 0.0
+    return y
+
+
+def _settling_time(fl: CoupledFlow) -> float:
+    """The transient's default: ``20/mu`` within ``[100, 4000]`` (an attracting orbit draws
+    the motion in at the rate ``mu``)."""
+    return min(max(100.0, 20.0 / max(abs(fl.values["mu"]), 1e-12)), 4000.0)
+
+
+def _shoot(fl: CoupledFlow, y0, T: float, section: int | None, rtol: float, max_iter: int,
+           **kw):
+    """:func:`numerics.shooting.orbit.shoot` on the coupled flow; ``(y0, T, iterations,
+    Phi, divergence integral, residual)`` of the accepted orbit."""
+    def monodromy(y, T):
+        yT, Phi, _ = fl.monodromy(y, T, rtol=rtol)
+        return yT, Phi, None
+
+    y0, T, it, _, _ = shoot(monodromy, y0, T, section=section, rtol=rtol, max_iter=max_iter,
+                            rhs=lambda yT, T: fl.rhs(yT), **kw)
+    yT, Phi, div = fl.monodromy(y0, T, rtol=rtol)
+    return y0, T, it, Phi, div, float(np.max(np.abs(yT - y0)))
+
+
 def coupled_cycle(model: CoupledOscillators | str, params: Mapping[str, object] | None = None,
                   *, start: np.ndarray | None = None, transient: float | None = None,
                   period: float | None = None, rtol: float = 1e-11, max_iter: int = 30
@@ -183,59 +214,30 @@ def coupled_cycle(model: CoupledOscillators | str, params: Mapping[str, object] 
                              "that pulls, v != 0): it has no periodic orbit to shoot for; "
                              "its friction law is kbm friction")
     n = fl.dof
-    mu = fl.values["mu"]
-    y = np.ones(2 * n) if start is None else np.asarray(start, dtype=float).copy()
-    if y.shape != (2 * n,) or not np.all(np.isfinite(y)):
-        raise ConvergenceError(f"the start must be {2 * n} finite numbers (x1..x{n}, "
-                               f"xdot1..xdot{n}), got {start!r}")
-    y[n:] = y[n:] if start is not None else 0.0
+    y = _start_state(n, start)
     wmin = min(float(w) for w in fl.model.omegas)
-    t_tr = min(max(100.0, 20.0 / max(abs(mu), 1e-12)), 4000.0) if transient is None \
-        else float(transient)
+    t_tr = _settling_time(fl) if transient is None else float(transient)
     if t_tr > 0:
         y = fl.states(y, t_tr, 1, rtol=1e-9, atol=1e-11)[-1]
     y0, T = section_start(fl, y, 6 * 2 * math.pi / wmin)
-    if period is not None:
-        T = float(period)
-    free = [j for j in range(2 * n) if j != n]
-
-    def evaluate(z):
-        y = np.zeros(2 * n)
-        y[free] = z[:-1]
-        yT, Phi, _ = fl.monodromy(y, z[-1], rtol=rtol)
-        M = np.empty((2 * n, 2 * n))
-        M[:, :-1] = Phi[:, free] - np.eye(2 * n)[:, free]
-        M[:, -1] = fl.rhs(yT)
-        return yT - y, M, None
-
-    def damp(z, dz):
-        return min(1.0, 0.3 * z[-1] / max(abs(dz[-1]), 1e-300))
-
     try:
-        z, it, trace, _ = shoot_newton(
-            evaluate, np.append(y0[free], T), rtol=rtol, max_iter=max_iter, damp=damp,
-            scale=lambda z: orbit_scale(z[:-1]), what=f"of {fl.model.name}")
+        y0, T, it, Phi, div, residual = _shoot(
+            fl, y0, T if period is None else float(period), n, rtol, max_iter,
+            damp=lambda z, dz: min(1.0, 0.3 * z[-1] / max(abs(dz[-1]), 1e-300)),
+            what=f"of {fl.model.name}")
     except ConvergenceError as exc:
         raise ConvergenceError(
             f"{exc}; from the state after t = {t_tr:g}: the motion there is probably "
             "quasi-periodic (the oscillators not locked), or the parameters are past a fold "
             "of the locked cycle: compare kbm lock, or give another start") from None
-    y0 = np.zeros(2 * n)
-    y0[free], T = z[:-1], float(z[-1])
-    yT, Phi, div = fl.monodromy(y0, T, rtol=rtol)
-    residual = float(np.max(np.abs(yT - y0)))  # at the accepted orbit
-    mults = np.linalg.eigvals(Phi)
-    k = int(np.argmin(np.abs(mults - 1.0)))
+    mults, rest = multipliers(Phi)
     spread = float(np.max(np.ptp(fl.states(y0, T, 64, rtol=rtol)[:, :n], axis=0)))
-    if spread < 1e-6 * max(1.0, float(np.max(np.abs(y0)))) or abs(mults[k] - 1) > TRIVIAL_TOL:
+    if spread < 1e-6 * max(1.0, float(np.max(np.abs(y0)))) or not trivial_ok(mults[:1]):
         raise ConvergenceError(
             f"Newton converged to an equilibrium, not a cycle, of {fl.model.name} (the state "
             f"varies by {spread:.2e} over T = {T:.6g}; the multiplier nearest 1 is "
-            f"{abs(mults[k]):.6g}); start nearer the cycle (--start), or let a transient "
+            f"{abs(mults[0]):.6g}); start nearer the cycle (--start), or let a transient "
             "bring the motion to it")
-    rest = np.delete(mults, k)
-    rest = rest[np.lexsort((rest.imag, -np.abs(rest)))]
-    mults = np.concatenate([[mults[k]], rest])
     ys = fl.states(y0, T, 512, rtol=rtol)[:-1]
     c1 = np.fft.rfft(ys[:, :n], axis=0)[1] / 512 * 2
     amps = np.abs(c1)
@@ -272,13 +274,11 @@ class ForcedCoupledResponse:
     residual: float
 
     def to_json(self) -> dict:
-        def mult(z):
-            return float(z.real) if z.imag == 0 else [float(z.real), float(z.imag)]
         return {"model": self.model, "params": dict(self.params), "nu": self.nu,
                 "period": self.period, "multiple": self.multiple,
                 "state": [float(v) for v in self.state],
                 "amplitudes": [float(v) for v in self.amplitudes],
-                "floquet_multipliers": [mult(z) for z in self.floquet_multipliers],
+                "floquet_multipliers": [multiplier_json(z) for z in self.floquet_multipliers],
                 "stable": self.stable,
                 "liouville": {"det_monodromy": self.liouville[0],
                               "exp_divergence_integral": self.liouville[1]},
@@ -308,33 +308,22 @@ def forced_response(model: CoupledOscillators | str, params: Mapping[str, object
     if fl.nu is None:
         raise ParameterError(f"{fl.model.name!r} has no forcing; its periodic orbits are "
                              "found by coupled_cycle")
-    n = fl.dof
-    mu, nu = fl.values["mu"], fl.nu
+    n, nu = fl.dof, fl.nu
     ratios = fl.model.forcing_ratios
     m = fl.model.response_periods
     T = m * 2 * math.pi / nu
-    y = np.ones(2 * n) if start is None else np.asarray(start, dtype=float).copy()
-    if start is None:
-        y[n:] = 0.0
-    k = transient_periods if transient_periods is not None else \
-        int(min(max(100.0, 20.0 / max(abs(mu), 1e-12)), 4000.0) / T) + 1
+    y = _start_state(n, start)
+    k = transient_periods if transient_periods is not None else int(_settling_time(fl) / T) + 1
     if k > 0:
         y = fl.states(y, k * T, k, rtol=1e-9, atol=1e-11)[-1]
-    def evaluate(z):
-        yT, Phi, _ = fl.monodromy(z, T, rtol=rtol)
-        return yT - z, Phi - np.eye(2 * n), None
-
     try:
-        y, it, _, _ = shoot_newton(evaluate, y, rtol=rtol, max_iter=max_iter, scale=orbit_scale,
-                                   what=f"of period {m} x 2 pi/nu of {fl.model.name}",
-                                   diverge=max_iter + 1)
+        y, _, it, Phi, div, residual = _shoot(
+            fl, y, T, None, rtol, max_iter, diverge=max_iter + 1,
+            what=f"of period {m} x 2 pi/nu of {fl.model.name}")
     except ConvergenceError as exc:
         raise ConvergenceError(f"{exc} (a multiplier at 1 makes the matrix singular: a fold "
                                f"at nu = {nu:.10g}, or a free phase)") from None
-    yT, Phi, div = fl.monodromy(y, T, rtol=rtol)
-    residual = float(np.max(np.abs(yT - y)))
-    mults = np.linalg.eigvals(Phi)
-    mults = mults[np.lexsort((mults.imag, -np.abs(mults)))]
+    mults, _ = multipliers(Phi, autonomous=False)
     samples = 256 * m
     ys = fl.states(y, T, samples, rtol=rtol)[:-1]
     spec = np.fft.rfft(ys[:, :n], axis=0) / samples * 2

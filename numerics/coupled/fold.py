@@ -5,17 +5,18 @@ the residual, not at the fold: past the fold the residual has a minimum ``~ d`` 
 distance past it), and a bracket can never be tighter than that floor allows.  The fold
 itself is a regular point of the pseudo-arclength problem in ``(y0, T, p)``
 (:mod:`numerics.coupled.continuation`): from the cycle the branch is followed towards the
-fold until the parameter component of its tangent changes sign, and that zero is located
-by bisection on the hyperplanes normal to the chord (AUTO-07p's fold test, Doedel's
-lecture notes sec. 2).  The located point has two unit multipliers (the trivial one and
-the one through 1 at a saddle-node of cycles).
+fold (the one driver, :func:`numerics.shooting.arclength.walk`) until the parameter
+component of its tangent changes sign, and that zero is located by bisection on the
+hyperplanes normal to the chord (AUTO-07p's fold test, Doedel's lecture notes sec. 2).
+The located point has two unit multipliers (the trivial one and the one through 1 at a
+saddle-node of cycles).
 
 The fold is located at the integrator tolerances ``rtol`` and ``rtol/10``; their
 difference, with the bisection bracket, is the stated error.
 
 :func:`true_edges` (the true edges of frequency locking, :mod:`numerics.coupled.locking`)
 follows the locked cycle out in the detuning, brackets its loss by bisection on shooting
-(which accepts no cycle past a fold, :mod:`numerics.cycles.acceptance`) to
+(which accepts no cycle past a fold, :mod:`numerics.shooting.acceptance`) to
 :data:`FOLD_BRACKET`, and takes the fold there as the edge.
 """
 
@@ -29,7 +30,9 @@ import numpy as np
 
 from kbm.coupled import CoupledOscillators
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
-from .orbit_problem import _FAIL, _arc, _correct, _null, _Problem
+from numerics.shooting.arclength import FAIL as _FAIL
+from numerics.shooting.arclength import null_vector, walk
+from .orbit_problem import _arc, _Problem
 from .special_points import _locate
 from .cycle import coupled_cycle
 from .flow import bind_coupled
@@ -56,38 +59,28 @@ class Fold:
 def _fold_once(model: CoupledOscillators, params: dict, vary: str, state, period: float,
                p0: float, side: int, beyond: float, rtol: float):
     prob = _Problem(model, params, vary, rtol)
-    n2 = 2 * model.dof
-    prob.scale = np.concatenate([np.full(n2, max(1.0, float(np.max(np.abs(state))))),
-                                 [period], [1.0]])
-    u0 = np.concatenate([np.asarray(state, dtype=float), [period, p0]])
-    row = np.zeros(len(u0))
-    row[-1] = 1.0
-    cur = _correct(prob, u0 / prob.scale, row, p0, max_iter=20)
-    t = _null(cur.J)
+    cur = prob.start(np.concatenate([np.asarray(state, dtype=float), [period, p0]]), 1.0)
+    t = null_vector(cur.J)
     cur.tangent = t if t[-1] * side > 0 else -t
     # the branch reaches the fold within |beyond - p0| in p, the state within its root
-    ds = ds0 = min(0.05, max(1e-4, 0.5 * math.sqrt(abs(beyond - p0))))
-    for _ in range(200):
-        try:
-            new = _arc(prob, cur, cur.tangent, ds)
-            if float(new.tangent @ cur.tangent) < 0.9:
-                raise ConvergenceError("the tangent turned too fast")
-        except _FAIL:
-            ds /= 2
-            if ds < 1e-3 * ds0:
-                return None
-            continue
+    ds0 = min(0.05, max(1e-4, 0.5 * math.sqrt(abs(beyond - p0))))
+    found, steps = [], [0]
+
+    def visit(cur, new, ds):
         if new.tangent[-1] * cur.tangent[-1] < 0:
-            found = _locate(prob, cur, new, "fold", float(cur.tangent[-1]))
-            if found is None:
-                return None
-            pt, bracket = found
-            return pt, bracket
+            found.append(_locate(prob, cur, new, "fold", float(cur.tangent[-1])))
+            return new, ds, "the fold"
         if (float(new.u[-1]) - beyond) * side > 0:
-            return None  # no fold before ``beyond``: the cycle ends otherwise there
-        cur = new
-        ds = min(1.5 * ds, ds0)
-    return None
+            return new, ds, "no fold before beyond"  # the cycle ends otherwise there
+        return new, min(1.5 * ds, ds0), ""
+
+    def full():
+        steps[0] += 1
+        return "200 steps" if steps[0] > 200 else None
+
+    walk(cur, ds0, step=lambda c, ds: _arc(prob, c, c.tangent, ds), visit=visit,
+         collapsed=lambda c, exc: "the steps collapsed", ds_min=1e-3 * ds0, full=full)
+    return found[0] if found else None
 
 
 def locate_fold(model: CoupledOscillators | str, params: Mapping[str, object], vary: str,

@@ -19,15 +19,12 @@ import math
 import numpy as np
 
 from kbm.coupled import CoupledOscillators
-from kbm.errors import ParameterError
-from numerics.cycles.acceptance import accepted, orbit_scale, trivial_ok
-from numerics.cycles.corrector import correct_on_hyperplane
 from numerics.coupled.branch_result import CoupledBranchPoint
 from numerics.coupled.flow import coupled_flow
-from numerics.errors import ConvergenceError, IntegrationError
-
-#: the failures after which a step is halved (or a bisection stops)
-_FAIL = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, ParameterError)
+from numerics.errors import ConvergenceError
+from numerics.shooting.acceptance import accepted, orbit_scale, trivial_ok
+from numerics.shooting.arclength import correct_on_hyperplane, null_vector, predict
+from numerics.shooting.orbit import multipliers, peak
 
 
 class _Problem:
@@ -45,6 +42,16 @@ class _Problem:
         #: the unknowns are ``u = scale * v``; steps are taken in ``v`` (each component of
         #: order one along the branch: a weighted arclength, as AUTO-07p's THL/THU)
         self.scale: np.ndarray | None = None
+
+    def start(self, u0: np.ndarray, width: float) -> "_Pt":
+        """The first point of a branch: ``u0`` corrected at its parameter, the scales set
+        from it (the states by their largest ``|y0|``, ``T`` by itself, ``p`` by ``width``)."""
+        n2 = 2 * self.n
+        self.scale = np.concatenate([np.full(n2, max(1.0, float(np.max(np.abs(u0[:n2]))))),
+                                     u0[n2:-1], [width]])
+        row = np.zeros(len(u0))
+        row[-1] = 1.0
+        return _correct(self, u0 / self.scale, row, u0[-1] / width, max_iter=20)
 
     def flow(self, p: float):
         fl = self._flows.get(p)
@@ -99,14 +106,7 @@ class _Problem:
 
     def multipliers(self, Phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(all, non-trivial)``: autonomous systems have the trivial one first."""
-        z = np.linalg.eigvals(Phi)
-        if self.forced:
-            z = z[np.lexsort((z.imag, -np.abs(z)))]
-            return z, z
-        k = int(np.argmin(np.abs(z - 1.0)))
-        rest = np.delete(z, k)
-        rest = rest[np.lexsort((rest.imag, -np.abs(rest)))]
-        return np.concatenate([[z[k]], rest]), rest
+        return multipliers(Phi, autonomous=not self.forced)
 
 
 class _Pt:
@@ -121,8 +121,8 @@ class _Pt:
         self.Phi = Phi
         n = prob.n
         ys = fl.states(self.u[:2 * n], T, 512, rtol=prob.rtol)[:-1]
-        self.amps = tuple(_peak(np.abs(ys[:, i])) for i in range(n))
-        self.tangent = _null(J)
+        self.amps = tuple(peak(np.abs(ys[:, i])) for i in range(n))
+        self.tangent = null_vector(J)
 
     def record(self) -> CoupledBranchPoint:
         n2 = len(self.Phi)
@@ -132,32 +132,16 @@ class _Pt:
                                   bool(np.all(np.abs(self.rest) < 1.0)), self.res)
 
 
-def _peak(y: np.ndarray) -> float:
-    """The largest value of a periodic sample, refined by the parabola through the largest
-    sample and its neighbours (error ~ (2 pi/512)^4 of the amplitude)."""
-    k = int(np.argmax(y))
-    a, b, c = y[k - 1], y[k], y[(k + 1) % len(y)]
-    den = a - 2 * b + c
-    return float(b - (a - c) ** 2 / (8 * den)) if den < 0 else float(b)
-
-
-def _null(J: np.ndarray) -> np.ndarray:
-    """The unit null vector of the ``k x (k+1)`` matrix ``J``."""
-    _, _, vt = np.linalg.svd(J)
-    t = vt[-1]
-    return t / np.linalg.norm(t)
-
-
 def _correct(prob: _Problem, v_pred, row, target: float, max_iter: int = 10) -> _Pt:
     """Newton on ``R(v) = 0, row . v = target`` (scaled unknowns), by the corrector shared
-    with one degree of freedom (:func:`numerics.cycles.corrector.correct_on_hyperplane`)."""
+    with one degree of freedom (:func:`numerics.shooting.arclength.correct_on_hyperplane`)."""
     def evaluate(v):
         R, Phi, yT, fl, T = prob.residual(v)
         J = prob.jacobian(v, Phi, yT, fl, T)
         return R, J, (Phi, yT, fl, T, J)
 
     def accept(v, R, dv, data, it):
-        # the acceptance standard (numerics.cycles.acceptance), and the accuracy of the
+        # the acceptance standard (numerics.shooting.acceptance), and the accuracy of the
         # point: a scaled correction below 1e-8
         scale = orbit_scale((v * prob.scale)[:2 * prob.n])
         return bool(accepted(float(np.max(np.abs(R))), float(np.max(np.abs(dv * prob.scale))),
@@ -177,7 +161,9 @@ def _correct(prob: _Problem, v_pred, row, target: float, max_iter: int = 10) -> 
 
 
 def _arc(prob: _Problem, pt: _Pt, t: np.ndarray, ds: float) -> _Pt:
-    pred = pt.v + ds * t
+    """The pseudo-arclength step ``ds`` along ``t`` from ``pt``, corrected on the hyperplane
+    normal to ``t``."""
+    pred = predict(pt.v, t, ds)
     new = _correct(prob, pred, t, float(t @ pred))
     if new.tangent @ t < 0:
         new.tangent = -new.tangent

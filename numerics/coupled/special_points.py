@@ -14,7 +14,8 @@ from __future__ import annotations
 import numpy as np
 
 from numerics.coupled.branch_result import CoupledSpecialPoint
-from numerics.coupled.orbit_problem import _FAIL, _correct, _Problem, _Pt
+from numerics.coupled.orbit_problem import _correct, _Problem, _Pt
+from numerics.shooting.arclength import FAIL as _FAIL
 
 
 def _tests(prob: _Problem, pt: _Pt) -> dict[str, float]:

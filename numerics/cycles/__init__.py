@@ -5,14 +5,13 @@
 - :mod:`numerics.cycles.guess`: starting guesses from the averaged equations
   (classical KBM and the energy balance about the conservative orbit);
 - :mod:`numerics.cycles.shooting`: :func:`limit_cycle` (Newton on the return map,
-  Floquet multipliers, dissipation per cycle) and :func:`limit_cycles` (every
-  predicted cycle, stable and unstable, confirmed by shooting), built on
-  :mod:`numerics.cycles.newton` (Newton's method and its checks) and
-  :mod:`numerics.cycles.finalpass` (the result and its accuracy estimate);
-- :mod:`numerics.cycles.acceptance`: the one acceptance standard of every shooting
-  (residual relative to the orbit's scale, a small Newton correction, the trivial
-  multiplier) and the Newton loop it ends, shared with :mod:`numerics.coupled` and
-  :mod:`numerics.forced`;
+  Floquet multipliers, dissipation per cycle), built on :mod:`numerics.cycles.newton`
+  (the case ``N = 1`` of the one shooting, :mod:`numerics.shooting.orbit`, and its
+  checks) and :mod:`numerics.cycles.finalpass` (the result and its accuracy estimate);
+- :mod:`numerics.cycles.every_cycle`: :func:`limit_cycles` (every predicted cycle, stable
+  and unstable, confirmed by shooting);
+- :mod:`numerics.cycles.acceptance`: the one acceptance standard of every shooting, at its
+  earlier address (it lives in :mod:`numerics.shooting.acceptance`);
 - :mod:`numerics.cycles.harmonics`: Fourier coefficients by quadrature along the
   integration (no aliasing of the jumps of relaxation cycles);
 - :mod:`numerics.cycles.highprec`: cycles to 30 digits and more (mpmath Taylor);
@@ -20,8 +19,10 @@
 - :mod:`numerics.cycles.floquet`: the non-trivial Floquet multiplier from Liouville's
   formula (right at any stiffness);
 - :mod:`numerics.cycles.continuation`: branches of cycles in one parameter
-  (:func:`continue_cycles`: pseudo-arclength, folds, Hopf and homoclinic ends;
-  results in :mod:`numerics.cycles.branch_result`).
+  (:func:`continue_cycles`: pseudo-arclength by the one driver of
+  :mod:`numerics.shooting.arclength`, folds, Hopf ends; the shooting problem of a branch
+  in :mod:`numerics.cycles.orbit_problem`, the homoclinic ends in
+  :mod:`numerics.cycles.branch_ends`, results in :mod:`numerics.cycles.branch_result`).
 """
 
 from kbm._lazy import keep_objects, lazy_names
@@ -34,7 +35,8 @@ _LAZY = {
     **dict.fromkeys(("floquet_multipliers", "nontrivial_multiplier"), "numerics.cycles.floquet"),
     "limit_cycle_mp": "numerics.cycles.highprec",
     **dict.fromkeys(("Dissipation", "LimitCycle"), "numerics.cycles.result"),
-    **dict.fromkeys(("CycleList", "limit_cycle", "limit_cycles"), "numerics.cycles.shooting"),
+    **dict.fromkeys(("CycleList", "limit_cycles"), "numerics.cycles.every_cycle"),
+    "limit_cycle": "numerics.cycles.shooting",
     **dict.fromkeys(("SweepPoint", "grid", "sweep"), "numerics.cycles.sweep"),
     "transient": "numerics.cycles.transient",
 }

@@ -7,9 +7,11 @@ point ``u_k`` with unit tangent ``t_k`` (the null vector of ``dR/du``) the predi
 ``u_k + ds t_k`` is corrected by Newton's method on ``R = 0`` together with
 ``t_k . (u - u_k - ds t_k) = 0`` (Keller's pseudo-arclength), so folds, where
 ``p`` turns back, are passed and unstable cycles are followed like stable ones.
-``dR/d(x0, T)`` comes from the variational equations, ``dR/dp`` from a finite
-difference.  The step ``ds`` grows after easy corrections and is halved after a
-failed one or a sharp turn of the tangent.
+``dR/d(x0, T)`` comes from the variational equations, ``dR/dp`` from the parameter
+sensitivity or a finite difference (:mod:`numerics.cycles.orbit_problem`).  The steps are
+those of the one driver of continuation, :func:`numerics.shooting.arclength.walk`: ``ds``
+grows after easy corrections and is halved after a failed one or a sharp turn of the
+tangent.
 
 Special points, each labelled with its parameter value:
 
@@ -17,7 +19,7 @@ Special points, each labelled with its parameter value:
   through +1); located by the secant method on ``dp/ds`` along the branch;
 - ``hopf``: the amplitude tends to 0; ``p`` extrapolated with ``p - p_H ~ x0^2``;
 - ``homoclinic``: the period grows beyond ``period_factor`` times its start value
-  (the cycle reaches a separatrix; the last parameter value is reported);
+  (the cycle reaches a separatrix; :mod:`numerics.cycles.branch_ends`);
 - ``end``: the step fell below ``ds_min`` (with the reason).
 
 Every integration is bounded (:data:`numerics.cycles.shooting.NEWTON_MAX_STEPS`),
@@ -31,7 +33,6 @@ H. B. Keller, "Numerical solution of bifurcation and nonlinear eigenvalue proble
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 
 import numpy as np
@@ -40,45 +41,17 @@ from kbm.errors import ParameterError
 from kbm.bound import BoundModel, bind
 from kbm.models import Oscillator
 
-from numerics.cycles._arclength import (_FAIL, TRIVIAL_TOL, _arc, _at_parameter, _copy,
+from numerics.cycles.orbit_problem import (_FAIL, TRIVIAL_TOL, _arc, _at_parameter, _copy,
                                         _correct, _locate_fold, _Point, _Problem, _reanchor)
 from numerics.cycles.branch_result import Branch, BranchPoint, SpecialPoint
 from numerics.cycles.result import LimitCycle
 from numerics.cycles.shooting import limit_cycle
+from numerics.cycles.branch_ends import homoclinic_reason, homoclinic_special
 from numerics.errors import ConvergenceError, NoCycleError
 from numerics.flow import Method
+from numerics.shooting.arclength import parameter_range, walk
 
 __all__ = ["continue_cycles", "TRIVIAL_TOL"]
-
-
-def _homoclinic(recent: list, T0: float, factor: float, width: float, n: int = 10) -> str:
-    """Why the branch is taken to end at a separatrix, or ``""``."""
-    T = recent[-1].u[1]
-    if T > factor * T0:
-        return f"the period grew beyond {factor:g} times its start value"
-    if len(recent) > 2 * n and T > 1.25 * T0:
-        last = recent[-2 * n:]
-        dp = abs(last[-1].u[2] - last[0].u[2])
-        if dp < 1e-3 * width and all(b.u[1] > a.u[1] for a, b in zip(last, last[1:])):
-            return (f"the steps collapse ({2 * n} points moved the parameter by {dp:.1e}) "
-                    f"while the period grows and the monodromy matrix reaches "
-                    f"{last[-1].phi:.3g}")
-    if len(recent) <= n:
-        return ""
-    last = recent[-n:]
-    grows = all(b.u[1] > a.u[1] for a, b in zip(last, last[1:]))
-    if grows and all(abs(r.tangent[2]) < 2e-3 for r in last) and T > 1.25 * T0:
-        return (f"the parameter stalls (|dp/ds| < 2e-3 over {n} points) while the period "
-                "grows")
-    return ""
-
-
-def _aitken(ps: list) -> float:
-    """Limit of a geometric sequence from its last three terms (``p - p_h ~ exp(-k T)``)."""
-    if len(ps) < 3:
-        return float(ps[-1])
-    d = ps[2] - 2 * ps[1] + ps[0]
-    return float(ps[2] - (ps[2] - ps[1]) ** 2 / d) if d != 0 else float(ps[2])
 
 
 def _fold(pt: _Point, name: str) -> SpecialPoint:
@@ -89,47 +62,42 @@ def _fold(pt: _Point, name: str) -> SpecialPoint:
 
 
 def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tuple:
-    """Follow the branch from ``first`` in ``direction`` of ``p``; ``(points, special, why)``."""
+    """Follow the branch from ``first`` in ``direction`` of ``p`` by the one driver
+    (:func:`numerics.shooting.arclength.walk`); ``(points, special, why)``."""
     name = prob.vary
-    lo, hi = bounds
     pt = first
     if pt.tangent[2] * direction < 0 or (pt.tangent[2] == 0 and direction < 0):
         pt.tangent = -pt.tangent
     points, special = [pt.record()], []
-    ds, x_big, T0 = opts["ds"], pt.size, pt.u[1]
+    x_big, T0 = pt.size, pt.u[1]
     recent = [pt]
-    previous = None  # (u, tangent) of the point before, for the cubic predictor
-    while True:
-        if len(points) >= opts["max_points"]:
-            return points, special, f"stopped after max_points = {opts['max_points']} points"
+    previous = [None]  # (u, tangent) of the point before, for the cubic predictor
+
+    def step(pt, ds):
+        prev, previous[0] = previous[0], None  # a failed step starts the next one afresh
+        new = _arc(prob, pt, ds, prev)
+        if new.u[0] * pt.u[0] <= 0:
+            raise ConvergenceError("the section point changed sign")
+        return new
+
+    def collapsed(pt, exc):
+        msg = (f"continuation stopped at {name} = {pt.u[2]:.10g} (x0 = {pt.u[0]:.6g}, "
+               f"T = {pt.u[1]:.6g}): step below ds_min = {opts['ds_min']:.1e} ({exc})")
+        special.append(SpecialPoint("end", float(pt.u[2]), pt.amp, float(pt.u[1]), msg))
+        return msg
+
+    def at_edge(pt, new, edge):
         try:
-            ds_used = ds
-            new = _arc(prob, pt, ds, previous)
-            turn = float(new.tangent @ pt.tangent)
-            if turn < opts["max_turn"] and ds > opts["ds_min"] * 4:
-                deg = math.degrees(math.acos(max(-1.0, min(1.0, turn))))
-                raise ConvergenceError(f"the tangent turned by {deg:.0f} degrees")
-            if new.u[0] * pt.u[0] <= 0:
-                raise ConvergenceError("the section point changed sign")
-        except _FAIL as exc:
-            ds /= 2
-            previous = None
-            if ds < opts["ds_min"]:
-                msg = (f"continuation stopped at {name} = {pt.u[2]:.10g} (x0 = {pt.u[0]:.6g}, "
-                       f"T = {pt.u[1]:.6g}): step below ds_min = {opts['ds_min']:.1e} ({exc})")
-                special.append(SpecialPoint("end", float(pt.u[2]), pt.amp, float(pt.u[1]), msg))
-                return points, special, msg
-            continue
-        if not (lo <= new.u[2] <= hi):
-            edge = hi if new.u[2] > hi else lo
-            try:
-                points.append(_at_parameter(prob, pt, new, edge).record())
-            except _FAIL:
-                pass
-            return points, special, f"reached {name} = {edge:g}"
+            points.append(_at_parameter(prob, pt, new, edge).record())
+        except _FAIL:
+            pass
+        return f"reached {name} = {edge:g}"
+
+    def visit(pt, new, ds_used):
+        nonlocal x_big
         if new.tangent[2] * pt.tangent[2] < 0:
             try:
-                fp = _locate_fold(prob, pt, new, ds)
+                fp = _locate_fold(prob, pt, new, ds_used)
                 if _converged(fp):
                     points.append(fp.record())
             except _FAIL:
@@ -143,14 +111,14 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
         moved = _reanchor(prob, new)
         # the point before for the cubic predictor (none after a re-anchored section, where
         # the unknowns jumped, or after a fold)
-        previous = ((pt.u.copy(), pt.tangent.copy())
-                    if moved is new and new.tangent[2] * pt.tangent[2] > 0 else None)
+        previous[0] = ((pt.u.copy(), pt.tangent.copy())
+                       if moved is new and new.tangent[2] * pt.tangent[2] > 0 else None)
         new = moved
         x_big = max(x_big, new.size)
         prob.choose(new.u)
-        small = ds < 0.05 * opts["ds_max"]  # slow Newton near a separatrix: still grow
-        ds = min(ds * (1.5 if new.iters <= 4 else 1.2 if new.iters <= 6 and small else
-                       0.7 if new.iters >= 7 else 1.0), opts["ds_max"])
+        small = ds_used < 0.05 * opts["ds_max"]  # slow Newton near a separatrix: still grow
+        ds = min(ds_used * (1.5 if new.iters <= 4 else 1.2 if new.iters <= 6 and small else
+                            0.7 if new.iters >= 7 else 1.0), opts["ds_max"])
         shrink = (pt.size - new.size) / ds_used  # approach a Hopf point in ever shorter steps
         if shrink > 0 and new.size < 0.25 * x_big:
             ds = min(ds, max(0.5 * new.size / shrink, 4 * opts["ds_min"]))
@@ -163,72 +131,22 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
                    f"-> {new.u[1]:.6g}")
             special.append(SpecialPoint("hopf", float(pH), float(new.mid), float(new.u[1]),
                                         msg))
-            return points, special, msg
+            return new, ds, msg
         recent.append(new)
-        why = _homoclinic(recent, T0, opts["period_factor"], hi - lo)
+        why = homoclinic_reason(recent, T0, opts["period_factor"], bounds[1] - bounds[0])
         if why:
-            est = _end_estimate(prob, points)
-            if est is not None:
-                ph = est.best[0]
-                where = est.text(name)
-            else:
-                ps = [r.u[2] for r in recent[-3:]]
-                ph = _aitken(ps)
-                if abs(ph - ps[-1]) > 10 * abs(ps[-1] - ps[-2]):  # not geometric: the last
-                    ph = ps[-1]
-                where = (f"{name} extrapolated to {ph:.6g} (Aitken on the last three points; "
-                         "no saddle to compute the period law from, error unknown)")
-            msg = (f"homoclinic end: {why} at {name} = {new.u[2]:.10g} (period "
-                   f"{new.u[1]:.6g}, from {T0:.6g}): the cycle approaches a separatrix; "
-                   f"{where}")
-            if opts.get("follow_period") and points:
-                msg += _long_period(prob, points, T0, opts["follow_period"])
-            # the marker sits on the last printed (converged) point's amplitude and period
-            shown = points[-1] if points else new.record()
-            special.append(SpecialPoint("homoclinic", float(ph), float(shown.amplitude_max),
-                                        float(shown.period), msg))
-            return points, special, msg
-        pt = new
+            end, msg = homoclinic_special(prob, points, recent, new, T0, why,
+                                          opts.get("follow_period"))
+            special.append(end)
+            return new, ds, msg
+        return new, ds, ""
 
-
-def _long_period(prob: _Problem, points: list, T0: float, factor: float) -> str:
-    """Add the cycles followed in their period beyond ``points[-1]`` to ``factor * T0``;
-    the sentence for the end's message."""
-    from numerics.cycles.long_period import follow_period
-
-    params = {k: v for k, v in prob.params.items() if k != prob.vary}
-    target = factor * T0
-    # the multiple shooting may stall on the way (its Jacobian nearly singular where the
-    # mesh waits at the saddles); then it starts again from an earlier point of the branch,
-    # whose mesh differs, and the longest continuation is kept
-    lps, error, k = None, None, len(points) - 1
-    for _ in range(3):
-        start = points[k]
-        try:
-            run = follow_period(prob.model, params, prob.vary, start.x0, start.period,
-                                start.parameter, target, rtol=min(prob.rtol, 1e-11))
-        except _FAIL as exc:
-            error = exc
-            run = None
-        if run is not None and (lps is None or run[-1].period > lps[-1].period):
-            lps, k_used = run, k
-        if lps is not None and lps[-1].period >= target:
-            break
-        k = next((i for i in range(k - 1, -1, -1)
-                  if points[i].period <= 0.9 * start.period), None)
-        if k is None:
-            break
-    if lps is None:
-        return f"; following the cycle in its period failed: {error}"
-    del points[k_used + 1:]  # the branch beyond the start is the followed one
-    for q in lps[1:]:
-        points.append(BranchPoint(parameter=q.parameter, x0=q.x0, period=q.period,
-                                  amplitude_max=q.x0, multipliers=(1.0 + 0j, q.multiplier + 0j),
-                                  stable=bool(abs(q.multiplier) < 1.0), residual=q.residual))
-    end = lps[-1]
-    return (f"; followed in its period (multiple shooting on {end.segments} sections, the "
-            f"parameter free) to T = {end.period:.6g}, {end.period / T0:.1f} times the "
-            f"start's, at {prob.vary} = {end.parameter:.12g}")
+    why = walk(pt, opts["ds"], step=step, visit=visit, collapsed=collapsed,
+               ds_min=opts["ds_min"], parameter=lambda q: float(q.u[2]), bounds=bounds,
+               at_edge=at_edge, max_turn=opts["max_turn"], turn_above=4 * opts["ds_min"],
+               full=lambda: (f"stopped after max_points = {opts['max_points']} points"
+                             if len(points) >= opts["max_points"] else None))
+    return points, special, why
 
 
 def _converged(pt: _Point) -> bool:
@@ -236,40 +154,8 @@ def _converged(pt: _Point) -> bool:
     return abs(complex(pt.mults[0]) - 1.0) <= TRIVIAL_TOL
 
 
-def _end_estimate(prob: _Problem, points: list):
-    """The homoclinic parameter from the period law (:mod:`numerics.cycles.homoclinic`)
-    fitted to the converged points, or ``None``."""
-    from numerics.cycles.homoclinic import homoclinic_end, refine_by_manifolds, saddles_passed
-
-    if len(points) < 6:
-        return None
-    last = points[-1]
-    try:
-        _, _, _, ys = prob.eval((last.x0, last.period, last.parameter), n_out=400,
-                                full=True)
-    except _FAIL:
-        return None
-    bound = bind(prob.model, {**prob.params, prob.vary: last.parameter})
-    x = ys[:, 0]
-    sad, lams = saddles_passed(bound, float(np.min(x)), float(np.max(x)), last.x0,
-                               force=prob.force(last.parameter))
-    est = homoclinic_end([p.parameter for p in points], [p.period for p in points], sad, lams)
-    if est is None:
-        return None
-    return refine_by_manifolds(prob.model, {k: v for k, v in prob.params.items()
-                                            if k != prob.vary}, prob.vary, est)
-
-
 def _check_vary(model, params: dict, vary: str, bounds) -> tuple[float, float, float]:
-    lo, hi = (float(b) for b in bounds)
-    if not (math.isfinite(lo) and math.isfinite(hi)):
-        raise ParameterError(f"the range of {vary} must be finite, got {lo:g}:{hi:g}")
-    if not lo < hi:
-        raise ParameterError(f"empty range {lo:g}:{hi:g} for {vary}: give FROM < TO")
-    p0 = float(params[vary]) if vary in params else lo
-    if not lo <= p0 <= hi:
-        raise ParameterError(f"the start value {vary} = {p0:g} is outside the range "
-                             f"{lo:g}:{hi:g}")
+    lo, hi, p0 = parameter_range(vary, bounds, params)
     try:
         b1 = bind(model, {**params, vary: p0})
         b2 = bind(model, {**params, vary: p0 + 1e-3 * max(1.0, abs(p0))})

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from numerics.cycles.acceptance import RESIDUAL_FACTOR, TRIVIAL_TOL, orbit_scale, shoot_newton
+from numerics.shooting.acceptance import RESIDUAL_FACTOR, TRIVIAL_TOL, orbit_scale
+from numerics.shooting.orbit import shoot
 from numerics.errors import ConvergenceError, NoCycleError
 from numerics.flow import extended_state, flow
 
@@ -21,9 +22,9 @@ NEWTON_MAX_STEPS = 5 * 10**4
 
 
 def newton(cm, x0, T, method, rtol, atol, max_iter, floor):
-    """Newton's method on ``(x(T) - x0, x'(T)) = 0`` for the unknowns ``(x0, T)``: the
-    shared loop of :func:`numerics.cycles.acceptance.shoot_newton`, its standard at this
-    shooting's floor ``1e3 max(rtol, atol)`` (LSODA and scipy's implicit methods included),
+    """Newton's method on ``(x(T) - x0, x'(T)) = 0`` for the unknowns ``(x0, T)``: the case
+    ``N = 1`` of :func:`numerics.shooting.orbit.shoot` (section ``x' = 0``), its standard at
+    this shooting's floor ``1e3 max(rtol, atol)`` (LSODA and scipy's implicit methods included),
     the tolerances raised with the monodromy matrix near a separatrix.
 
     Returns ``(x0, T, iterations, residuals)``.
@@ -31,17 +32,16 @@ def newton(cm, x0, T, method, rtol, atol, max_iter, floor):
     budget = [NEWTON_MAX_STEPS, True]  # the bound, and whether it is still to be set
     tol = floor / RESIDUAL_FACTOR  # the standard's rtol: residuals up to ``floor`` times S
 
-    def evaluate(z):
+    def monodromy(y, T):
         steps: list[int] = []
-        yT = flow(cm, extended_state(z[0]), z[1], 1, method, rtol, atol, max_steps=budget[0],
+        yT = flow(cm, extended_state(y[0]), T, 1, method, rtol, atol, max_steps=budget[0],
                   steps=steps)[-1]
         if budget[1] and steps:
             budget[1] = False
             # later iterates near the cycle need about as many steps as the first: many
             # more means Newton has wandered into a stiff region
             budget[0] = min(NEWTON_MAX_STEPS, max(5000, 50 * steps[0]))
-        J = np.array([[yT[2] - 1.0, yT[1]], [yT[3], cm.acc(z[1], yT[0], yT[1])]])
-        return np.array([yT[0] - z[0], yT[1]]), J, yT
+        return yT[:2], np.array([[yT[2], yT[4]], [yT[3], yT[5]]]), yT
 
     def noise(yT):  # the integration error of R grows with the monodromy matrix
         return max(1.0, float(np.max(np.abs(yT[2:4]))) * rtol / 1e-8)
@@ -71,14 +71,14 @@ def newton(cm, x0, T, method, rtol, atol, max_iter, floor):
         return closed and (abs(yT[2] - 1.0) <= 100 * tight or rest)
 
     try:
-        z, it, trace, _ = shoot_newton(evaluate, [x0, T], rtol=tol, max_iter=max_iter,
-                                       scale=lambda z: orbit_scale(z[0]), damp=damp,
-                                       noise=noise, degenerate=degenerate,
-                                       what="on the return map to x' = 0")
+        y, T1, it, trace, _ = shoot(monodromy, [x0, 0.0], T, section=1, rtol=tol,
+                                    max_iter=max_iter, damp=damp, noise=noise,
+                                    degenerate=degenerate, what="on the return map to x' = 0",
+                                    rhs=lambda yT, T: (yT[1], cm.acc(T, yT[0], yT[1])))
     except ConvergenceError as exc:
         raise ConvergenceError(f"{exc}; residuals |(x(T) - x0, x'(T))| from x0 = {x0:.10g}, "
                                f"T = {T:.10g}") from None
-    return float(z[0]), float(z[1]), it, trace.residuals
+    return float(y[0]), float(T1), it, trace.residuals
 
 
 def check_nontrivial(cm, converged, meth, rtol, atol, scale) -> None:

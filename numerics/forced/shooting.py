@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from numerics.cycles.acceptance import orbit_scale, shoot_newton
+from numerics.shooting.orbit import peak, shoot
 from numerics.errors import ConvergenceError
 from numerics.forced.system import ForcedSystem
 
@@ -77,37 +77,32 @@ def orbit_at(system: ForcedSystem, y0, sigma: float, yT: np.ndarray | None = Non
     Phi = np.array([[ys[-1, 2], ys[-1, 4]], [ys[-1, 3], ys[-1, 5]]])
     mult = np.linalg.eigvals(Phi)
     liou = abs(float(np.linalg.det(Phi)) - math.exp(ys[-1, 6]))
-    k = int(np.argmax(np.abs(x)))
-    y_l, y_c, y_r = (abs(x[(k - 1) % n]), abs(x[k]), abs(x[(k + 1) % n]))
-    den = y_l - 2 * y_c + y_r
-    peak = y_c - 0.125 * (y_r - y_l) ** 2 / den if den < 0 else y_c
     return ForcedOrbit(float(sigma), system.period(sigma), (float(y0[0]), float(y0[1])),
                        (complex(mult[0]), complex(mult[1])), liou, float(amp), phase,
-                       float(max(peak, y_c)))
+                       peak(np.abs(x)))
 
 
 def periodic_response(system: ForcedSystem, sigma: float, guess, *, tol: float = 1e-11,
                       max_iter: int = 30) -> ForcedOrbit:
     """The periodic response near ``guess = (x(0), x'(0))`` at detuning ``sigma``.
 
-    Newton's iterate is accepted by the standard of :mod:`numerics.cycles.acceptance` at
-    the system's integrator tolerance, with its last correction below ``tol (1 + |y|)``
-    (``2 tol max(1, |y|)``).
+    The forced case of :func:`numerics.shooting.orbit.shoot`; Newton's iterate is accepted
+    by the standard of :mod:`numerics.shooting.acceptance` at the system's integrator
+    tolerance, with its last correction below ``tol (1 + |y|)`` (``2 tol max(1, |y|)``).
 
     Raises
     ------
     numerics.errors.ConvergenceError
         If Newton's method does not converge (the residuals are in the message).
     """
-    def evaluate(y):
+    def monodromy(y, T):
         yT = system.flow(y, sigma)[-1]
-        Phi = np.array([[yT[2], yT[4]], [yT[3], yT[5]]])
-        return yT[:2] - y, Phi - np.eye(2), None
+        return yT[:2], np.array([[yT[2], yT[4]], [yT[3], yT[5]]]), None
 
     try:
-        y, _, _, _ = shoot_newton(evaluate, guess, rtol=system.rtol, scale=orbit_scale,
-                                  max_iter=max_iter, accuracy=2 * tol,
-                                  what="of the drive's period")
+        y, _, _, _, _ = shoot(monodromy, guess, system.period(sigma), section=None,
+                              rtol=system.rtol, max_iter=max_iter, accuracy=2 * tol,
+                              what="of the drive's period")
     except ConvergenceError as exc:
         raise ConvergenceError(f"no periodic response found at sigma = {sigma:.6g} from "
                                f"{tuple(guess)}: {exc} (a multiplier 1 makes the shooting "

@@ -1,12 +1,15 @@
-"""The Newton machinery of the continuation of cycles (:mod:`numerics.cycles.continuation`).
+"""The shooting problem of a branch of limit cycles of one degree of freedom
+(:mod:`numerics.cycles.continuation`; its ``2N`` counterpart is
+:mod:`numerics.coupled.orbit_problem`).
 
 ``u = (x0, T, p)``; :class:`_Problem` evaluates ``R(u) = (x(T) - x0, x'(T))`` and its
 Jacobian (variational equations for ``(x0, T)``; for ``p`` the parameter sensitivity
 integrated with them, :mod:`numerics.flow.sensitivity`, or a central difference where the
 compiled flow is not used);
 :func:`_correct` is Newton's method on ``R = 0`` and one linear condition; :func:`_arc`
-the pseudo-arclength step; :func:`_reanchor`, :func:`_locate_fold` and
-:func:`_at_parameter` place points on the branch.
+the pseudo-arclength step (the corrector and predictor of
+:mod:`numerics.shooting.arclength`, or their compiled twin); :func:`_reanchor`,
+:func:`_locate_fold` and :func:`_at_parameter` place points on the branch.
 """
 
 from __future__ import annotations
@@ -16,9 +19,10 @@ import math
 import numpy as np
 
 
-from numerics.cycles import acceptance as _acceptance
+from numerics.shooting import acceptance as _acceptance
 from numerics.cycles.branch_result import BranchPoint
-from numerics.cycles.corrector import correct_on_hyperplane
+from numerics.shooting.arclength import FAIL as _FAIL
+from numerics.shooting.arclength import correct_on_hyperplane, predict
 from numerics.cycles.floquet import floquet_multipliers
 from numerics.cycles.shooting import NEWTON_MAX_STEPS
 from numerics.errors import ConvergenceError, IntegrationError
@@ -27,11 +31,10 @@ from numerics.flow.sensitivity import (flow_with_sensitivity, sensitivity_flow, 
                                        shooting_corrector)
 
 #: a printed branch point passes the convergence test |trivial multiplier - 1| <= TRIVIAL_TOL
-#: of the acceptance standard (:mod:`numerics.cycles.acceptance`); the corrector iterates on
+#: of the acceptance standard (:mod:`numerics.shooting.acceptance`); the corrector iterates on
 #: until its points pass it
 TRIVIAL_TOL = _acceptance.TRIVIAL_TOL
 
-_FAIL = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, ValueError)
 
 
 class _Problem:
@@ -304,25 +307,14 @@ def _arc(prob: _Problem, pt: _Point, ds: float, previous=None) -> _Point:
 
     With ``previous``, the unknowns and the unit tangent ``(u_, t_)`` of the point before,
     the predictor is the cubic Hermite extrapolation through both points with both tangents
-    (in the arclength ``s``, the chord ``h`` between them standing for it):
-    ``u(s) = u + s t + a s^2 + b s^3`` with ``u(-h) = u_``, ``u'(-h) = t_``.  Its error is
-    of fourth order in the step: on the SEDF branch the first Newton step then lands within
-    the tolerance at most points, 272 integrations instead of 380 with the second-order
-    predictor (the curvature from the two tangents) and the same 136 points.  The
+    (:func:`numerics.shooting.arclength.predict`): on the SEDF branch the first Newton step
+    then lands within the tolerance at most points, 272 integrations instead of 380 with the
+    second-order predictor (the curvature from the two tangents) and the same 136 points.  The
     hyperplane is ``t . u = t . u_pt + ds``.
     """
     t = pt.tangent
     target = float(t @ pt.u) + ds
-    pred = pt.u + ds * t
-    if previous is not None:
-        u_, t_ = previous
-        h = float(np.linalg.norm(pt.u - u_))
-        if h > 0:
-            d1 = u_ - pt.u + h * t
-            d2 = (t_ if t_ @ t > 0 else -t_) - t
-            b = (2 * d1 / h + d2) / h**2
-            a = (d1 + b * h**3) / h**2
-            pred = pred + a * ds**2 + b * ds**3
+    pred = predict(pt.u, t, ds, previous)
     new = _correct(prob, pred, t, target)
     if new.tangent @ t < 0:
         new.tangent = -new.tangent

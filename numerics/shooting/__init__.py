@@ -1,0 +1,11 @@
+"""The one shooting and continuation code of :mod:`numerics`, for ``2N``-dimensional flows
+(``N = 1`` and forcing are cases: autonomous with the period unknown and a phase condition,
+or forced with the period fixed by the drive).
+
+- :mod:`numerics.shooting.acceptance`: the one acceptance standard and its Newton loop;
+- :mod:`numerics.shooting.orbit`: :func:`~numerics.shooting.orbit.shoot`, Newton on a
+  periodic orbit, and the multipliers of the orbit found;
+- :mod:`numerics.shooting.arclength`: pseudo-arclength continuation: the corrector, the
+  tangent, the predictor and :func:`~numerics.shooting.arclength.walk`, the one driver of
+  the steps along a branch.
+"""

@@ -1,0 +1,179 @@
+"""Pseudo-arclength continuation of periodic orbits (Keller; Doedel, *Lecture notes on
+numerical analysis of nonlinear equations*, sec. 2), shared by the branches of
+:mod:`numerics.cycles.continuation` and :mod:`numerics.coupled.continuation` and by the
+approach to a fold (:mod:`numerics.coupled.fold`).
+
+- :func:`correct_on_hyperplane`: Newton on ``R(u) = 0`` and ``row . u = target``, each
+  point accepted by the caller's test (the standard of :mod:`numerics.shooting.acceptance`
+  with its bound on the correction); :mod:`numerics.flow._shooting_corrector` is its
+  compiled twin for one degree of freedom;
+- :func:`null_vector` (the tangent) and :func:`predict` (Euler or cubic Hermite);
+- :func:`walk`: the one driver of the steps along a branch.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+import numpy as np
+
+from kbm.errors import ParameterError
+from numerics.errors import ConvergenceError, IntegrationError
+
+__all__ = ["correct_on_hyperplane", "null_vector", "predict", "walk", "parameter_range", "FAIL"]
+
+#: the failures of a step after which it is halved (or a bisection stops)
+FAIL = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, ValueError)
+
+
+def correct_on_hyperplane(evaluate: Callable, u0, row, target: float, *, max_iter: int,
+                          accept: Callable, too_large: Callable, where: Callable):
+    """Newton on ``R(u) = 0, row . u = target``.
+
+    Parameters
+    ----------
+    evaluate
+        ``u -> (R, J, data)``: the residual, its Jacobian ``dR/du`` (one row fewer than
+        ``u`` has components) and what the caller keeps of the evaluation.
+    u0, row, target
+        The prediction and the linear condition.
+    max_iter
+        Bound on the corrections.
+    accept
+        ``(u, R, du, data, iteration) -> bool``: whether ``u`` (with the correction ``du``
+        computed there) is a converged point.
+    too_large
+        ``(u, du) -> str | None``: a message when the correction leaves the region where
+        Newton is trusted.
+    where
+        ``u -> str``: the place named in the error message.
+
+    Returns
+    -------
+    ``(u, R, du, data, iteration)`` of the accepted iterate.
+
+    Raises
+    ------
+    numerics.errors.ConvergenceError
+        When a correction is too large, or after ``max_iter`` corrections.
+    numpy.linalg.LinAlgError
+        For a singular bordered matrix.
+    """
+    u = np.array(u0, dtype=float)
+    row = np.asarray(row, dtype=float)
+    R = np.full(1, np.nan)
+    for it in range(max_iter + 1):
+        R, J, data = evaluate(u)
+        du = np.linalg.solve(np.vstack([J, row]), -np.append(R, row @ u - target))
+        if accept(u, R, du, data, it):
+            return u, R, du, data, it
+        if it == max_iter:
+            break
+        msg = too_large(u, du)
+        if msg:
+            raise ConvergenceError(msg)
+        u = u + du
+    raise ConvergenceError(f"corrector did not converge in {max_iter} iterations at {where(u)} "
+                           f"(|R| = {np.max(np.abs(R)):.2e})")
+
+
+def null_vector(J: np.ndarray) -> np.ndarray:
+    """The unit null vector of the ``k x (k+1)`` matrix ``J`` (the branch's tangent)."""
+    _, _, vt = np.linalg.svd(J)
+    t = vt[-1]
+    return t / np.linalg.norm(t)
+
+
+def predict(u: np.ndarray, t: np.ndarray, ds: float, previous=None) -> np.ndarray:
+    """The predictor ``ds`` along the unit tangent ``t`` at ``u``.
+
+    With ``previous``, the unknowns and the unit tangent ``(u_, t_)`` of the point before,
+    it is the cubic Hermite extrapolation through both points with both tangents (in the
+    arclength ``s``, the chord ``h`` between them standing for it):
+    ``u(s) = u + s t + a s^2 + b s^3`` with ``u(-h) = u_``, ``u'(-h) = t_``; its error is of
+    fourth order in the step.
+    """
+    pred = u + ds * t
+    if previous is not None:
+        u_, t_ = previous
+        h = float(np.linalg.norm(u - u_))
+        if h > 0:
+            d1 = u_ - u + h * t
+            d2 = (t_ if t_ @ t > 0 else -t_) - t
+            b = (2 * d1 / h + d2) / h**2
+            a = (d1 + b * h**3) / h**2
+            pred = pred + a * ds**2 + b * ds**3
+    return pred
+
+
+def walk(first, ds: float, *, step: Callable, visit: Callable, collapsed: Callable,
+         ds_min: float, parameter: Callable | None = None, bounds=None,
+         at_edge: Callable | None = None, max_turn: float = 0.9, turn_above: float = 0.0,
+         full: Callable | None = None, failures: tuple = FAIL):
+    """Follow a branch from ``first`` by pseudo-arclength steps; the reason it ends.
+
+    Parameters
+    ----------
+    first
+        The first point (with a unit ``tangent`` oriented in the direction followed).
+    ds
+        The first step.
+    step
+        ``(point, ds) -> point``: predictor and corrector (raises one of ``failures``).
+    visit
+        ``(point, new, ds) -> (current, ds, reason)``: the caller's work at an accepted
+        point ``new``: recording it, special points, the ends of the branch; the point to
+        go on from, the next step and ``reason`` (not empty: the branch ends).
+    collapsed
+        ``(point, error) -> reason``: the step fell below ``ds_min`` at ``point``.
+    parameter, bounds, at_edge
+        The point's parameter and its range; a point outside it ends the branch with
+        ``at_edge(point, new, edge) -> reason`` (the caller places the point at the edge).
+    max_turn, turn_above
+        A step whose tangent's cosine with the last falls below ``max_turn`` is a failed
+        step, while the step is above ``turn_above``.
+    full
+        ``() -> reason or None``: asked before each step (a bound on the points).
+    failures
+        The errors that halve the step.
+    """
+    cur = first
+    while True:
+        why = full() if full is not None else None
+        if why:
+            return why
+        try:
+            new = step(cur, ds)
+            turn = float(new.tangent @ cur.tangent)
+            if turn < max_turn and ds > turn_above:
+                deg = math.degrees(math.acos(max(-1.0, min(1.0, turn))))
+                raise ConvergenceError(f"the tangent turned by {deg:.0f} degrees")
+        except failures as exc:
+            ds /= 2
+            if ds < ds_min:
+                return collapsed(cur, exc)
+            continue
+        if bounds is not None:
+            p = parameter(new)
+            if p < bounds[0] or p > bounds[1]:
+                return at_edge(cur, new, bounds[0] if p < bounds[0] else bounds[1])
+        cur, ds, why = visit(cur, new, ds)
+        if why:
+            return why
+
+
+def parameter_range(vary: str, bounds, params) -> tuple[float, float, float]:
+    """``(FROM, TO, start)`` of a branch in ``vary``: ``bounds`` finite with ``FROM < TO``,
+    the start ``params[vary]`` (default ``FROM``) inside them; else a
+    :class:`~kbm.errors.ParameterError` that says what to give."""
+    lo, hi = (float(b) for b in bounds)
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise ParameterError(f"the range of {vary} must be finite, got {lo:g}:{hi:g}")
+    if not lo < hi:
+        raise ParameterError(f"empty range {lo:g}:{hi:g} for {vary}: give FROM < TO")
+    p0 = float(params[vary]) if vary in params else lo
+    if not lo <= p0 <= hi:
+        raise ParameterError(f"the start value {vary} = {p0:g} is outside the range "
+                             f"{lo:g}:{hi:g}")
+    return lo, hi, p0

@@ -8,7 +8,8 @@ right-hand sides come from the one symbolic definition
 
 The paths are advanced by the stochastic Heun scheme for additive noise (Kloeden & Platen,
 *Numerical Solution of SDEs*, eq. 15.1.3, weak order 2) with Gaussian increments, all the
-trajectories of a chunk at once.  Trajectory ``i`` draws its increments from its own
+trajectories of a chunk by one compiled kernel (numba; the model printed into it with
+its values).  Trajectory ``i`` draws its increments from its own
 ``SeedSequence(seed, spawn_key=(*stream, i))`` in blocks of :data:`BLOCK` steps, and the
 chunks are cut by the data (:data:`CHUNK` trajectories), so a run gives the same bytes on any
 executor and worker count.
@@ -27,7 +28,7 @@ from kbm.coupled import CoupledOscillators
 from kbm.errors import ParameterError
 from kbm.symbols import t as t_symbol
 
-__all__ = ["NoisySystem", "noisy_system", "generators", "BLOCK", "CHUNK"]
+__all__ = ["NoisySystem", "noisy_system", "generators", "heun_paths", "BLOCK", "CHUNK"]
 
 #: steps of noise drawn at a time per trajectory (fixed: the streams do not depend on chunks)
 BLOCK = 2048
@@ -131,34 +132,103 @@ def generators(seed: int, first: int, count: int, stream: tuple = ()) -> list:
         seed, spawn_key=(*stream, first + j)))) for j in range(count)]
 
 
-def heun_run(system: NoisySystem, y0: np.ndarray, dt: float, n_steps: int, rngs: list,
-             observe, *, t0: float = 0.0, quiet_lane: bool = False):
-    """Advance the rows of ``y0`` (``m x 2N``) by ``n_steps`` Heun steps; after each step
-    ``observe(k, t, y)`` is called with the states (``2N x m``, plus a last noise-free
-    column when ``quiet_lane``).
+def _source(system: NoisySystem) -> str:
+    """``acc(t, y, out)``: ``x''`` without the noise at the state ``y`` written into ``out``
+    (printed from the model's expressions, common subexpressions shared)."""
+    from sympy.printing.pycode import pycode
 
-    The noise free lane (the deterministic system under the same scheme) lets a caller
-    subtract the scheme's own periodic response from the noisy paths.
-    """
+    n = system.dof
+    state = list(system.model.state)
+    ys = sp.symbols(f"y_0:{2 * n}")
+    sub = dict(zip(state, ys))
+    exprs = [sp.sympify(f).subs({sp.Symbol("theta"): (system.nu or 0.0) * t_symbol})
+             .subs({sp.Symbol(k): v for k, v in system.values.items()}).subs(sub)
+             for f in system.model.accelerations()]
+    reps, reduced = sp.cse(exprs)
+    lines = ["def acc(t, y, out):"]
+    lines += [f"    y_{i} = y[{i}]" for i in range(2 * n)]
+    lines += [f"    {a} = {pycode(b)}" for a, b in reps]
+    lines += [f"    out[{i}] = {pycode(e)}" for i, e in enumerate(reduced)]
+    return "\n".join(lines).replace("math.", "_m_") + "\n"
+
+
+_KERNELS: dict = {}
+
+
+def _kernel(system: NoisySystem):
+    """The compiled Heun stepper of ``system`` (memoised on the printed source)."""
+    import math as _math
+
+    from numba import njit
+
+    src = _source(system)
+    if src in _KERNELS:
+        return _KERNELS[src]
+    env = {f"_m_{k}": getattr(_math, k) for k in dir(_math) if not k.startswith("_")}
+    exec(compile(src, "<kbm spectrum model>", "exec"), env)
+    acc = njit(env["acc"])
+    n = system.dof
+
+    @njit
+    def advance(y, t0, k0, dt, dw, stride, rec):
+        """Heun steps ``k0 .. k0 + len(dw) - 1`` of every row of ``y`` (updated); the state
+        after global step ``k`` with ``(k + 1) % stride == 0`` goes to ``rec[(k + 1) //
+        stride - 1 - k0 // stride]`` when that index is in range."""
+        m = y.shape[0]
+        a0 = np.empty(n)
+        a1 = np.empty(n)
+        yb = np.empty(2 * n)
+        base = k0 // stride
+        for r in range(m):
+            yr = y[r]
+            for k in range(dw.shape[0]):
+                t = t0 + (k0 + k) * dt
+                acc(t, yr, a0)
+                for i in range(n):
+                    yb[i] = yr[i] + dt * yr[n + i]
+                    yb[n + i] = yr[n + i] + dt * a0[i] + dw[k, i, r]
+                acc(t + dt, yb, a1)
+                for i in range(n):
+                    yr[i] = yr[i] + 0.5 * dt * (yr[n + i] + yb[n + i])
+                    yr[n + i] = yr[n + i] + 0.5 * dt * (a0[i] + a1[i]) + dw[k, i, r]
+                g = k0 + k + 1
+                if g % stride == 0:
+                    j = g // stride - 1 - base
+                    if 0 <= j < rec.shape[1]:
+                        for i in range(2 * n):
+                            rec[r, j, i] = yr[i]
+        return y
+
+    _KERNELS[src] = advance
+    return advance
+
+
+def heun_paths(system: NoisySystem, y0: np.ndarray, dt: float, n_steps: int, stride: int,
+               rngs: list, *, quiet_lane: bool = False, t0: float = 0.0) -> np.ndarray:
+    """The states (``rows x n_steps//stride x 2N``) every ``stride`` Heun steps of the rows of
+    ``y0`` driven by the generators ``rngs`` (one per row; a last noise-free row is added
+    when ``quiet_lane``: the deterministic system under the same scheme).
+
+    The increments are drawn in blocks of :data:`BLOCK` steps per trajectory, so a path
+    depends on its own generator only."""
+    advance = _kernel(system)
     n = system.dof
     m = len(rngs)
-    y = np.array(np.asarray(y0, dtype=float).T, dtype=float)  # 2N x (m [+1])
+    y = np.array(np.atleast_2d(np.asarray(y0, dtype=float)), dtype=float)
     if quiet_lane:
-        y = np.concatenate([y, y[:, :1]], axis=1)
+        y = np.concatenate([y, y[:1]], axis=0)
+    rows = y.shape[0]
     amp = math.sqrt(2.0 * system.D * dt)
-    t = t0
-    noise = np.zeros((n, y.shape[1]))
+    n_rec = n_steps // stride
+    rec = np.empty((rows, n_rec, 2 * n))
     for start in range(0, n_steps, BLOCK):
         size = min(BLOCK, n_steps - start)
-        draws = np.stack([g.standard_normal((size, n)) for g in rngs], axis=2)  # size x n x m
-        for k in range(size):
-            noise[:, :m] = amp * draws[k]
-            f0 = system.field(t, y)
-            ybar = y + dt * f0
-            ybar[n:] += noise
-            f1 = system.field(t + dt, ybar)
-            y = y + 0.5 * dt * (f0 + f1)
-            y[n:] += noise
-            t = t0 + (start + k + 1) * dt
-            observe(start + k, t, y)
-    return y
+        dw = np.zeros((size, n, rows))
+        for r, g in enumerate(rngs):
+            dw[:, :, r] = amp * g.standard_normal((size, n))
+        first = start // stride
+        last = (start + size) // stride
+        part = np.empty((rows, last - first, 2 * n))
+        advance(y, float(t0), start, float(dt), dw, int(stride), part)
+        rec[:, first:last] = part
+    return rec

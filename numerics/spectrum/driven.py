@@ -39,17 +39,13 @@ P(t) e`` (``Y(0) = (I - e^{-i w T} M)^-1 Y_p(T)``), so ``S(w) = (2/pi) Re G_xx(w
 orbit, ``Phi``, ``P`` and ``Y`` for every ``w`` are integrated together by the classical
 Runge-Kutta method over one period.
 
-**Simulated.**  An ensemble of the full SDE started on the orbit
-(:func:`numerics.spectrum._sde.heun_run`, one seed per trajectory, on the executor) with a
-noise-free lane run by the same scheme; the PSD of ``x - x_p`` after a burn-in, by
-:func:`numerics.spectrum.psd.ensemble_psd` with its confidence band.
+The simulated PSD and the report are in :mod:`numerics.spectrum.driven_sim`.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.integrate
@@ -58,11 +54,10 @@ import scipy.linalg
 from kbm.errors import ParameterError
 
 from numerics.errors import ConvergenceError
-from ._sde import CHUNK, NoisySystem, generators, heun_run, noisy_system
+from ._sde import NoisySystem
 
-__all__ = ["SteadyState", "ResponseSpectrum", "averaged_flow", "stable_states",
-           "averaged_spectrum", "periodic_orbit", "floquet_spectrum", "response_spectra",
-           "simulate_fluctuations"]
+__all__ = ["SteadyState", "AveragedFlow", "Orbit", "averaged_flow", "stable_states",
+           "averaged_spectrum", "periodic_orbit", "floquet_spectrum", "detuning_name"]
 
 
 @dataclass(frozen=True)
@@ -353,129 +348,14 @@ def floquet_spectrum(system: NoisySystem, orbit: Orbit, omega, mode: int = 0,
     return 2 / math.pi * np.real(Ybar[:, k]), float(Pbar[k, k] / T)
 
 
-# -- simulation -------------------------------------------------------------------------
-_SYSTEMS: dict = {}
-
-
-def _cached_system(model, params, D):
-    key = (repr(model), tuple(sorted(params.items())), D)
-    if key not in _SYSTEMS:
-        _SYSTEMS.clear()
-        _SYSTEMS[key] = noisy_system(model, params, D)
-    return _SYSTEMS[key]
-
-
-def _fluct_task(task) -> list:
-    """One chunk of trajectories: ``x_mode - x_p`` sampled after the burn-in."""
-    model, params, D, y0, dt, n_burn, n_samples, stride, mode, seed, first, count = task
-    system = _cached_system(model, params, D)
-    rngs = generators(seed, first, count)
-    out = np.empty((count, n_samples))
-
-    def observe(j, t, y):
-        if j >= n_burn and (j - n_burn) % stride == stride - 1:
-            i = (j - n_burn) // stride
-            out[:, i] = y[mode, :count] - y[mode, count]
-
-    heun_run(system, np.tile(y0, (count, 1)), dt, n_burn + n_samples * stride, rngs,
-             observe, quiet_lane=True)
-    return [row for row in out]
-
-
-def simulate_fluctuations(model, params: Mapping[str, object], D: float, y0, *, dt: float,
-                          burn_in_steps: int, samples: int, stride: int, mode: int = 0,
-                          trajectories: int = 32, seed: int = 0, workers: int | None = None,
-                          store=None, progress: bool = False) -> np.ndarray:
-    """``x_mode(t) - x_p(t)`` of ``trajectories`` paths of the full SDE started at ``y0``
-    (``trajectories x samples``, sampled every ``stride`` steps after ``burn_in_steps``).
-
-    ``x_p`` is the noise-free lane of the same scheme, so the coherent response is removed
-    to the scheme's accuracy; the chunks (:data:`numerics.spectrum._sde.CHUNK` paths) and
-    the seeds make the array the same on any executor and worker count."""
-    from numerics.executor import chunk, map_chunks
-
-    params = {k: float(v) for k, v in params.items()}
-    idx = list(range(int(trajectories)))
-    groups = chunk(idx, size=CHUNK)
-    y0 = tuple(float(v) for v in y0)
-    tasks = [(model, params, float(D), y0, float(dt), int(burn_in_steps), int(samples),
-              int(stride), int(mode), int(seed), g[0], len(g)) for g in groups]
-    definition = repr(("spectrum.driven", tasks[0][:9], int(seed), int(trajectories)))
-    rows = map_chunks(_fluct_task, tasks, workers=workers, progress=progress,
-                      desc="trajectories", unit="trajectory", sizes=[len(g) for g in groups],
-                      store=store, definition=definition if store is not None else None)
-    return np.array(rows)
-
-
-@dataclass
-class ResponseSpectrum:
-    """The spectra about one stable state at one detuning (``to_json`` for the command)."""
-
-    detuning: float
-    state: SteadyState
-    orbit: Orbit | None
-    omega: np.ndarray
-    averaged: np.ndarray
-    floquet: np.ndarray | None
-    simulated: np.ndarray | None = None
-    lower: np.ndarray | None = None
-    upper: np.ndarray | None = None
-    stderr: np.ndarray | None = None
-    extra: dict = field(default_factory=dict)
-
-    def to_json(self) -> dict:
-        def arr(a):
-            return None if a is None else [float(v) for v in a]
-
-        st = self.state
-        return {"detuning": self.detuning,
-                "state": {"amplitudes": arr(st.amplitudes()), "U": arr(st.U),
-                          "eigenvalues": [[float(e.real), float(e.imag)] for e in
-                                          st.eigenvalues]},
-                "multipliers": None if self.orbit is None else
-                [[float(m.real), float(m.imag)] for m in self.orbit.multipliers],
-                "omega": arr(self.omega), "averaged": arr(self.averaged),
-                "floquet": arr(self.floquet), "simulated": arr(self.simulated),
-                "lower": arr(self.lower), "upper": arr(self.upper),
-                "stderr": arr(self.stderr), **self.extra}
-
-
-def response_spectra(model, params: Mapping[str, object], D: float, detunings: Sequence[float],
-                     *, mode: int = 0, amplitudes: tuple[float, float] = (0.02, 5.0),
-                     omega=None, points: int = 401) -> list[ResponseSpectrum]:
-    """Averaged and Floquet spectra about every stable state at each detuning (no
-    simulation; :func:`simulate_fluctuations` adds it).
-
-    Without ``omega`` the frequencies are ``points`` values on ``Omega +- 6 max|lambda|``.
+def detuning_name(model) -> str:
+    """The forcing detuning's name of a forced model (``sigma`` for the built-ins).
 
     Raises
     ------
     kbm.errors.ParameterError
-        For ``D <= 0``, an unforced model, or a detuning with no stable state (the
-        detuning named).
+        For a model without a forcing detuning.
     """
-    out = []
-    for s in detunings:
-        system = noisy_system(model, {**dict(params), _detuning(model): s}, D)
-        flow = averaged_flow(system)
-        states = stable_states(flow, amplitudes)
-        if not states:
-            raise ParameterError(f"no stable steady state at {_detuning(model)} = {s:g} in "
-                                 f"the amplitude window {amplitudes}: choose another detuning")
-        for st in states:
-            W = flow.Omega[mode]
-            w = omega
-            if w is None:
-                span = 6 * float(np.max(np.abs(st.eigenvalues)))
-                w = np.linspace(W - span, W + span, points)
-            orb = periodic_orbit(flow, st)
-            fl, _ = floquet_spectrum(system, orb, w, mode) if orb.stable else (None, None)
-            out.append(ResponseSpectrum(float(s), st, orb, np.asarray(w, float),
-                                        averaged_spectrum(flow, st, w, mode), fl))
-    return out
-
-
-def _detuning(model) -> str:
     from kbm.coupled import get_coupled_model
 
     m = get_coupled_model(model) if isinstance(model, str) else model

@@ -46,6 +46,7 @@ import sympy as sp
 
 from kbm.errors import ParameterError
 
+from numerics._memo import memo
 from ._sde import CHUNK, generators, heun_paths, noisy_system
 
 __all__ = ["AdlerReduction", "adler_reduction", "stratonovich_rate", "simulate_slips",
@@ -84,23 +85,30 @@ class AdlerReduction:
         return bool(self.drift.min() < 0 < self.drift.max())
 
 
-def _averaged(model, values: dict, order: int, detuning: str):
+@memo(maxsize=16)
+def _averaged_flow(model, fixed: tuple, order: int, detuning: str):
+    """The averaged flow ``f(y, sigma, mu)`` and the amplitude rates' Jacobian (memoised:
+    a derivation per model, fixed values and order)."""
     from kbm.coupled import amplitudes, derive_coupled
 
-    fixed = {k: sp.nsimplify(v, rational=True) for k, v in values.items()
-             if k not in (detuning, "mu")}
-    res = derive_coupled(model, order, fixed)
+    res = derive_coupled(model, order, dict(fixed))
     if len(res.gammas) != 1:
         raise ParameterError(f"{model.name!r} has {len(res.gammas)} phase combinations; the "
                              "slip rate is for one locked pair (coupled-vdp)")
     state = [*amplitudes(model.dof), res.gammas[0][0]]
-    rates = list(res.slow_flow())
-    mu_s, s_s = sp.Symbol("mu"), sp.Symbol(detuning)
-    subs = {mu_s: values["mu"], s_s: values[detuning]}
-    exprs = [sp.sympify(r).subs(subs) for r in rates]
-    f = sp.lambdify([state], exprs, "numpy")
-    J = sp.lambdify([state], sp.Matrix(exprs[:-1]).jacobian(state[:-1]), "numpy")
+    exprs = [sp.sympify(r) for r in res.slow_flow()]
+    args = [state, sp.Symbol(detuning), sp.Symbol("mu")]
+    f = sp.lambdify(args, exprs, "numpy")
+    J = sp.lambdify(args, sp.Matrix(exprs[:-1]).jacobian(state[:-1]), "numpy")
     return f, J
+
+
+def _averaged(model, values: dict, order: int, detuning: str):
+    fixed = tuple(sorted((k, sp.nsimplify(v, rational=True)) for k, v in values.items()
+                         if k not in (detuning, "mu")))
+    f, J = _averaged_flow(model, fixed, order, detuning)
+    s, mu = values[detuning], values["mu"]
+    return (lambda y: f(y, s, mu)), (lambda y: J(y, s, mu))
 
 
 def adler_reduction(model, params: Mapping[str, object], D: float, *, order: int = 1,
@@ -146,38 +154,69 @@ def adler_reduction(model, params: Mapping[str, object], D: float, *, order: int
                           float(math.hypot(c1, s1)))
 
 
+#: the largest grid of :func:`stratonovich_rate`
+MAX_GRID = 2**12
+#: Simpson's step times the largest |g/Q| (relative error about STEP^4/180)
+STEP = 0.1
+
+
+def _interpolate(v: np.ndarray, n: int) -> np.ndarray:
+    """The periodic samples ``v`` on a grid of ``n`` points (zero-padded spectrum)."""
+    c = np.fft.rfft(v)
+    out = np.zeros(n // 2 + 1, dtype=complex)
+    out[:len(c)] = c
+    if len(v) % 2 == 0:
+        out[len(c) - 1] *= 0.5  # split the Nyquist mode between +-
+    return np.fft.irfft(out, n) * (n / len(v))
+
+
+def _logsumexp(a: np.ndarray, axis=None):
+    top = np.max(a, axis=axis, keepdims=True)
+    out = top + np.log(np.sum(np.exp(a - top), axis=axis, keepdims=True))
+    return np.squeeze(out, axis=axis) if axis is not None else float(out.ravel()[0])
+
+
 def stratonovich_rate(gamma: np.ndarray, drift: np.ndarray, diffusion: np.ndarray) -> float:
     """The net slip rate ``J`` of ``d gamma = g dt + sqrt(2 Q) dW`` from ``g`` and ``Q`` on a
     uniform periodic grid of an even number of points (module docstring).
 
-    ``Phi`` is integrated spectrally (the mean of ``g/Q`` times ``x`` plus the FFT
-    antiderivative of the rest), the inner integral by Simpson's rule, the outer (periodic)
-    by the trapezoidal rule."""
+    ``g/Q = m + p'`` (``m`` the mean, ``p`` periodic, its antiderivative by FFT), so
+    ``Phi(s) - Phi(x) = -m (s - x) - (p(s) - p(x))`` exactly on the grid; the inner
+    integral is Simpson's rule on a grid refined by Fourier interpolation until the step
+    is below ``STEP/max|g/Q|`` (at most :data:`MAX_GRID` points), the outer (periodic) the
+    trapezoidal rule, all in logarithms (no overflow deep in the locking region)."""
     g, Q = np.asarray(drift, float), np.asarray(diffusion, float)
     n = len(gamma)
     if n % 2 or n < 8:
         raise ParameterError(f"the grid needs an even number of points >= 8, got {n}")
-    h = 2 * math.pi / n
+    if np.any(Q <= 0):
+        raise ParameterError("the phase diffusion Q must be positive (D > 0)")
     r = g / Q
+    fine = min(MAX_GRID, 2 * math.ceil(math.pi * float(np.max(np.abs(r))) / STEP))
+    if fine > n:
+        r, Q, n = _interpolate(r, fine), _interpolate(Q, fine), fine
+    h = 2 * math.pi / n
     c = np.fft.rfft(r)
+    m = c[0].real / n
     k = np.arange(len(c))
     anti = np.zeros_like(c)
-    anti[1:] = c[1:] / (1j * k[1:])
-    if n % 2 == 0:
-        anti[-1] = 0.0  # the Nyquist mode has no odd part to integrate
-    per = np.fft.irfft(anti, n)
-    per = per - per[0]
-    mean = c[0].real / n
-    x2 = np.arange(2 * n + 1) * h
-    Phi = -(mean * x2 + np.concatenate([per, per, per[:1]]))
-    idx = np.arange(n)[:, None] + np.arange(n + 1)[None, :]
-    E = np.exp(Phi[idx] - Phi[:n, None])
+    anti[1:-1] = c[1:-1] / (1j * k[1:-1])
+    p = np.fft.irfft(anti, n)
+    if m == 0:
+        return 0.0
     w = np.full(n + 1, 2.0)
     w[1::2] = 4.0
     w[0] = w[-1] = 1.0
-    inner = E @ (w * h / 3)
-    denom = np.sum(inner / Q) * h
-    return float(-np.expm1(-2 * math.pi * mean) / denom)
+    logw = np.log(w * h / 3) - m * h * np.arange(n + 1)
+    inner = np.empty(n)
+    cols = np.arange(n + 1)
+    for start in range(0, n, 512):
+        rows = np.arange(start, min(n, start + 512))
+        expo = -(p[(rows[:, None] + cols[None, :]) % n] - p[rows, None]) + logw[None, :]
+        inner[rows] = _logsumexp(expo, axis=1)
+    log_den = _logsumexp(inner - np.log(Q)) + math.log(h)
+    num = -math.expm1(-2 * math.pi * m)
+    return float(math.copysign(math.exp(math.log(abs(num)) - log_den), num))
 
 
 # -- simulation -------------------------------------------------------------------------

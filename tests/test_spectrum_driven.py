@@ -19,7 +19,7 @@ from kbm.errors import ParameterError
 from numerics.spectrum._sde import noisy_system
 from numerics.spectrum.driven import (averaged_flow, averaged_spectrum, floquet_spectrum,
                                       periodic_orbit, stable_states)
-from numerics.spectrum.driven_sim import response_spectra, simulate_fluctuations
+from numerics.spectrum.driven_sim import coherent_part, response_spectra, simulate_fluctuations
 
 LINEAR = {"zeta": 0.5, "alpha": 0, "h": 1}
 
@@ -45,6 +45,20 @@ def test_floquet_route_is_the_exact_linear_spectrum():
     S, var = floquet_spectrum(system, orbit, w)
     np.testing.assert_allclose(S, _exact_linear(w, mu, zeta, D), rtol=1e-7)
     assert var == pytest.approx(D / (2 * mu * zeta), rel=1e-8)
+
+
+def test_floquet_route_two_degrees_of_freedom():
+    """A forced system of two modes (duffing-1-3 made linear and uncoupled: k = alpha = 0):
+    the second mode's Floquet spectrum is its damped oscillator's closed form at omega0 = 3,
+    and the averaged route is within O(mu) of it at the line."""
+    mu, z2, D = 0.1, 0.5, 0.01
+    w = np.linspace(2.8, 3.2, 9)
+    (s,) = response_spectra("duffing-1-3", {"mu": mu, "zeta1": 0.5, "zeta2": z2, "alpha1": 0,
+                                            "alpha2": 0, "k": 0, "h": 1}, D, [0.5], mode=1,
+                            omega=w)
+    exact = (2 * D / math.pi) / ((9 - w**2) ** 2 + (2 * mu * z2 * w) ** 2)
+    np.testing.assert_allclose(s.floquet, exact, rtol=1e-6)
+    np.testing.assert_allclose(s.averaged, exact, rtol=0.1)
 
 
 def test_floquet_multipliers_obey_liouville():
@@ -130,6 +144,20 @@ def test_simulated_psd_matches_floquet_note_parameters():
             continue
         z = (sp.floquet - sp.simulated) / sp.stderr
         assert abs(np.mean(z)) < 0.3 and np.sqrt(np.mean(z**2)) < 1.5
+
+
+def test_coherent_part_recovers_a_periodic_shift():
+    """A known line 0.3 cos(w t) - 0.1 sin(w t) under white noise: recovered within its
+    stderr, and removed (the remainder has no mean profile)."""
+    rng = np.random.default_rng(1)
+    sp, periods, n = 8, 400, 24
+    t = np.arange(sp * periods) * 2 * math.pi / sp
+    dx = 0.3 * np.cos(t) - 0.1 * np.sin(t) + rng.standard_normal((n, t.size))
+    rest, shift = coherent_part(dx, sp, 1)
+    assert abs(shift["cos"] - 0.3) < 4 * shift["stderr"]
+    assert abs(shift["sin"] + 0.1) < 4 * shift["stderr"]
+    assert shift["stderr"] == pytest.approx(math.sqrt(2 * 2 / (sp * periods * n)), rel=0.2)
+    np.testing.assert_allclose(rest.reshape(n, periods, sp).mean(axis=(0, 1)), 0, atol=1e-12)
 
 
 def test_same_bytes_on_any_chunking_and_workers():

@@ -146,3 +146,17 @@ def test_simulated_slips_of_coupled_vdp_match_stratonovich():
     for r in rows:
         s = r["slip_rate"]
         assert abs(s["averaged"] - s["simulated"]) < 3 * s["stderr"] + 0.02 * s["averaged"]
+
+
+def test_slip_counts_resume_from_the_store(tmp_path):
+    """A run kept by a store and resumed gives the same numbers (the chunks are read back)."""
+    from numerics.store import PointStore
+
+    kw = dict(duration=60.0, burn_in=10.0, trajectories=18, seed=4, workers=1)
+    p = {"mu": 0.1, "c": 0.3, "sigma": 0.45}
+    path = tmp_path / "slips.sqlite"
+    with PointStore(path) as store:
+        first = simulate_slips("coupled-vdp", p, 0.02, store=store, **kw)
+    with PointStore(path, resume=True) as store:
+        again = simulate_slips("coupled-vdp", p, 0.02, store=store, **kw)
+    assert first == again

@@ -136,6 +136,9 @@ def _lines_driven(rep, specs) -> list[str]:
         out.append(f"    over {len(s.omega)} bins: (Floquet - simulated)/stderr mean "
                    f"{np.mean(z):+.2f}, rms {np.sqrt(np.mean(z**2)):.2f}; (averaged - "
                    f"simulated)/stderr rms {np.sqrt(np.mean(za**2)):.2f}")
+        cs = s.extra["coherent_shift"]
+        out.append(f"    noise-induced shift of the response at {s.Omega:.5g} (removed before "
+                   f"the PSD): amplitude {cs['amplitude']:.3g} +- {cs['stderr']:.2g}")
         out.append(f"    {s.extra['trajectories']} trajectories x {s.extra['duration']:.6g} "
                    f"after {s.extra['burn_in']:.4g}, dt {s.extra['dt']:.4g}, resolution "
                    f"{s.extra['resolution']:.3g}, seed {s.extra['seed']}")

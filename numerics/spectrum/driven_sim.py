@@ -25,7 +25,7 @@ from ._sde import CHUNK, NoisySystem, generators, heun_paths, noisy_system
 from .driven import (AveragedFlow, Orbit, SteadyState, averaged_flow, averaged_spectrum,
                      detuning_name, floquet_spectrum, periodic_orbit, stable_states)
 
-__all__ = ["ResponseSpectrum", "response_spectra", "simulate_fluctuations",
+__all__ = ["ResponseSpectrum", "response_spectra", "simulate_fluctuations", "coherent_part",
            "STEPS_PER_PERIOD", "RESOLUTION", "MIN_SEGMENTS"]
 
 _SYSTEMS: dict = {}
@@ -173,9 +173,12 @@ def response_spectra(model, params: Mapping[str, object], D: float, detunings: S
 
     The frequencies are ``omega``, or the PSD's bins within ``Omega +- 6 max|lambda|`` when
     simulated, or ``points`` values there.  The simulation (:func:`simulate_fluctuations`)
-    steps ``T/64`` per forcing period, samples ``x`` at least six times per period of
-    ``Omega``, discards ``6/gamma`` (``gamma`` the slowest Floquet decay rate), and resolves
-    ``gamma/8``: Welch segments of ``2 pi 8/gamma``, at least four of them (default eight).
+    takes :data:`STEPS_PER_PERIOD` steps per forcing period, samples ``x`` at least six
+    times per period of ``Omega`` (a whole number of samples per period), discards
+    ``6/gamma`` (whole periods; ``gamma`` the slowest Floquet decay rate), removes the
+    noise-induced shift of the coherent response (:func:`coherent_part`, reported as
+    ``coherent_shift``) and resolves ``gamma/8``: Welch segments of ``2 pi 8/gamma``, at
+    least four of them (default eight).
 
     Raises
     ------
@@ -199,6 +202,8 @@ def response_spectra(model, params: Mapping[str, object], D: float, detunings: S
                                        stride=plan["stride"], mode=mode,
                                        trajectories=trajectories, seed=seed, workers=workers,
                                        store=store, progress=progress)
+            q = int(round(W * flow.period / (2 * math.pi)))
+            dx, shift = coherent_part(dx, plan["per_period"], q)
             sim = ensemble_psd(dx, plan["dt"] * plan["stride"], nperseg=plan["nperseg"])
             keep = np.abs(sim.omega - W) <= span
             w = sim.omega[keep]
@@ -215,7 +220,7 @@ def response_spectra(model, params: Mapping[str, object], D: float, detunings: S
             spec.extra = {"resolution": sim.resolution, "trajectories": int(trajectories),
                           "duration": plan["duration"], "burn_in": plan["burn"] * plan["dt"],
                           "dt": plan["dt"], "sample_step": plan["dt"] * plan["stride"],
-                          "seed": int(seed)}
+                          "seed": int(seed), "coherent_shift": shift}
         out.append(spec)
     return out
 
@@ -238,13 +243,14 @@ def _plan(case: _Case, duration: float | None) -> dict:
     per = STEPS_PER_PERIOD * max(1, int(math.ceil(flow.ratios.max())))
     dt = T / per
     top = max(float(flow.Omega.max()), float(flow.omega0.max()))
-    stride = max(1, int(math.floor(math.pi / (3 * top) / dt)))
+    most = max(1, int(math.floor(math.pi / (3 * top) / dt)))
+    stride = max(d for d in range(1, per + 1) if per % d == 0 and d <= most)
     step = dt * stride
     gamma = float(-np.max(np.log(np.abs(case.orbit.multipliers))) / T)
     want = RESOLUTION * gamma
     nperseg = int(math.ceil(2 * math.pi / (want * step)))
     seg = nperseg * step
-    burn = int(math.ceil(6 / gamma / step)) * stride
+    burn = int(math.ceil(6 / gamma / T)) * per  # whole periods: sample k at phase k/sp
     if duration is None:
         duration = 2 * MIN_SEGMENTS * seg
     if not (isinstance(duration, (int, float)) and duration > 0):
@@ -256,8 +262,29 @@ def _plan(case: _Case, duration: float | None) -> dict:
             f"1/8 of the slowest decay rate {gamma:.3g} at detuning {case.detuning:g}): it "
             f"would give {got:.3g} ({MIN_SEGMENTS} Welch segments); give --duration "
             f">= {MIN_SEGMENTS * seg:.6g}")
-    samples = int(math.floor(duration / step))
+    sp = per // stride
+    samples = int(math.floor(duration / step)) // sp * sp
     return {"dt": dt, "stride": stride, "nperseg": nperseg, "burn": burn, "samples": samples,
-            "duration": samples * step}
+            "duration": samples * step, "per_period": sp}
+
+
+def coherent_part(dx: np.ndarray, per_period: int, harmonic: int) -> tuple[np.ndarray, dict]:
+    """``dx`` without its ensemble- and period-averaged periodic part (the noise-induced
+    shift of the coherent response, an ``O(D)`` effect beyond linear response that would
+    stand as a line at the response frequency), and that shift's harmonic ``harmonic``:
+    ``{"amplitude", "stderr", "cos", "sin"}`` (``dx ~ cos cos(Omega t) + sin sin(Omega t)``,
+    the stderr over trajectories).  The mean removed holds ``1/N`` of the fluctuation power
+    of the bins at the harmonics."""
+    n, m = dx.shape
+    prof = dx.reshape(n, m // per_period, per_period).mean(axis=1)
+    mean = prof.mean(axis=0)
+    k = np.arange(per_period)
+    e = np.exp(-2j * math.pi * harmonic * k / per_period)
+    c = 2 * (prof @ e) / per_period  # per trajectory: dx ~ Re(c e^{i Omega t})
+    cm = c.mean()
+    se = math.sqrt((np.var(c.real, ddof=1) + np.var(c.imag, ddof=1)) / n)
+    return dx - np.tile(mean, m // per_period)[None, :], {
+        "amplitude": float(abs(cm)), "stderr": se, "cos": float(cm.real),
+        "sin": float(-cm.imag)}
 
 

@@ -160,3 +160,13 @@ def test_slip_counts_resume_from_the_store(tmp_path):
     with PointStore(path, resume=True) as store:
         again = simulate_slips("coupled-vdp", p, 0.02, store=store, **kw)
     assert first == again
+
+
+@pytest.mark.parametrize("Q", [1e-9, 1e-6])
+def test_stratonovich_rate_weak_noise_limit(Q):
+    """Q -> 0: Adler's deterministic slip rate sqrt(Delta^2 - K^2)/(2 pi) outside the locking
+    region (1/oint d gamma/g), zero inside."""
+    for Delta, K in ((0.045, 0.03), (0.031, 0.03)):
+        J = stratonovich_rate(GRID, Delta - K * np.sin(GRID), np.full(GRID.size, Q))
+        assert J == pytest.approx(math.sqrt(Delta**2 - K**2) / (2 * math.pi), rel=1e-5)
+    assert stratonovich_rate(GRID, 0.02 - 0.03 * np.sin(GRID), np.full(GRID.size, Q)) < 1e-100

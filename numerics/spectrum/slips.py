@@ -183,8 +183,11 @@ def stratonovich_rate(gamma: np.ndarray, drift: np.ndarray, diffusion: np.ndarra
     ``g/Q = m + p'`` (``m`` the mean, ``p`` periodic, its antiderivative by FFT), so
     ``Phi(s) - Phi(x) = -m (s - x) - (p(s) - p(x))`` exactly on the grid; the inner
     integral is Simpson's rule on a grid refined by Fourier interpolation until the step
-    is below ``STEP/max|g/Q|`` (at most :data:`MAX_GRID` points), the outer (periodic) the
-    trapezoidal rule, all in logarithms (no overflow deep in the locking region)."""
+    is below ``STEP/max|g/Q|``; where that would take more than :data:`MAX_GRID` points
+    (weak noise), ``Phi`` is taken linear in each cell of that grid and integrated exactly,
+    which keeps the deterministic (Laplace) limit ``J -> 1/int dx/g`` outside locking.  The
+    outer integral (periodic) is the trapezoidal rule; all in logarithms (no overflow deep
+    in the locking region)."""
     g, Q = np.asarray(drift, float), np.asarray(diffusion, float)
     n = len(gamma)
     if n % 2 or n < 8:
@@ -192,10 +195,12 @@ def stratonovich_rate(gamma: np.ndarray, drift: np.ndarray, diffusion: np.ndarra
     if np.any(Q <= 0):
         raise ParameterError("the phase diffusion Q must be positive (D > 0)")
     r = g / Q
-    fine = min(MAX_GRID, 2 * math.ceil(math.pi * float(np.max(np.abs(r))) / STEP))
+    need = 2 * math.ceil(math.pi * float(np.max(np.abs(r))) / STEP)
+    fine = min(MAX_GRID, need)
     if fine > n:
         r, Q, n = _interpolate(r, fine), _interpolate(Q, fine), fine
     h = 2 * math.pi / n
+    simpson = need <= MAX_GRID
     c = np.fft.rfft(r)
     m = c[0].real / n
     k = np.arange(len(c))
@@ -207,13 +212,23 @@ def stratonovich_rate(gamma: np.ndarray, drift: np.ndarray, diffusion: np.ndarra
     w = np.full(n + 1, 2.0)
     w[1::2] = 4.0
     w[0] = w[-1] = 1.0
-    logw = np.log(w * h / 3) - m * h * np.arange(n + 1)
+    logw = np.log(w * h / 3)
     inner = np.empty(n)
     cols = np.arange(n + 1)
     for start in range(0, n, 512):
         rows = np.arange(start, min(n, start + 512))
-        expo = -(p[(rows[:, None] + cols[None, :]) % n] - p[rows, None]) + logw[None, :]
-        inner[rows] = _logsumexp(expo, axis=1)
+        expo = -(p[(rows[:, None] + cols[None, :]) % n] - p[rows, None]) \
+            - m * h * cols[None, :]
+        if simpson:
+            inner[rows] = _logsumexp(expo + logw[None, :], axis=1)
+        else:  # Phi linear in each cell, integrated exactly: right in the Laplace limit too
+            a, b = expo[:, :-1], expo[:, 1:]
+            d = b - a
+            small = np.abs(d) < 1e-8
+            safe = np.where(small, 1.0, d)
+            # log(h (e^b - e^a)/(b - a)) = max(a, b) + log(h |1 - e^{-|d|}|/|d|)
+            core = np.where(small, 0.0, np.log(-np.expm1(-np.abs(safe)) / np.abs(safe)))
+            inner[rows] = _logsumexp(np.maximum(a, b) + core + math.log(h), axis=1)
     log_den = _logsumexp(inner - np.log(Q)) + math.log(h)
     num = -math.expm1(-2 * math.pi * m)
     return float(math.copysign(math.exp(math.log(abs(num)) - log_den), num))

@@ -171,7 +171,8 @@ def response_spectra(model, params: Mapping[str, object], D: float, detunings: S
     """Averaged, Floquet and (``simulate``) simulated spectra of ``x_mode`` about every stable
     state at each detuning.
 
-    The frequencies are ``omega``, or the PSD's bins within ``Omega +- 6 max|lambda|`` when
+    The frequencies are ``omega``, or the PSD's bins within ``Omega +- min(6 max|lambda|,
+    Omega/2)`` when
     simulated, or ``points`` values there.  The simulation (:func:`simulate_fluctuations`)
     takes :data:`STEPS_PER_PERIOD` steps per forcing period, samples ``x`` at least six
     times per period of ``Omega`` (a whole number of samples per period), discards
@@ -192,7 +193,9 @@ def response_spectra(model, params: Mapping[str, object], D: float, detunings: S
     for case, plan in zip(cases, plans):
         st, flow, orb = case.state, case.flow, case.orbit
         W = float(flow.Omega[mode])
-        span = 6 * float(np.max(np.abs(st.eigenvalues)))
+        # the line's neighbourhood, away from omega = 0 (Welch removes each segment's mean)
+        # and from the harmonics
+        span = min(6 * float(np.max(np.abs(st.eigenvalues))), 0.5 * W)
         sim = None
         if plan is not None:
             from numerics.spectrum.psd import ensemble_psd

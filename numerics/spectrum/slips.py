@@ -156,6 +156,8 @@ def adler_reduction(model, params: Mapping[str, object], D: float, *, order: int
 
 #: the largest grid of :func:`stratonovich_rate`
 MAX_GRID = 2**12
+#: the grid of the weak-noise rule (Phi linear per cell; relative error about 1e-5)
+WEAK_GRID = 2**11
 #: Simpson's step times the largest |g/Q| (relative error about STEP^4/180)
 STEP = 0.1
 
@@ -184,7 +186,8 @@ def stratonovich_rate(gamma: np.ndarray, drift: np.ndarray, diffusion: np.ndarra
     ``Phi(s) - Phi(x) = -m (s - x) - (p(s) - p(x))`` exactly on the grid; the inner
     integral is Simpson's rule on a grid refined by Fourier interpolation until the step
     is below ``STEP/max|g/Q|``; where that would take more than :data:`MAX_GRID` points
-    (weak noise), ``Phi`` is taken linear in each cell of that grid and integrated exactly,
+    (weak noise), ``Phi`` is taken linear in each cell of a grid of :data:`WEAK_GRID`
+    points and integrated exactly,
     which keeps the deterministic (Laplace) limit ``J -> 1/int dx/g`` outside locking.  The
     outer integral (periodic) is the trapezoidal rule; all in logarithms (no overflow deep
     in the locking region)."""
@@ -196,7 +199,7 @@ def stratonovich_rate(gamma: np.ndarray, drift: np.ndarray, diffusion: np.ndarra
         raise ParameterError("the phase diffusion Q must be positive (D > 0)")
     r = g / Q
     need = 2 * math.ceil(math.pi * float(np.max(np.abs(r))) / STEP)
-    fine = min(MAX_GRID, need)
+    fine = need if need <= MAX_GRID else WEAK_GRID
     if fine > n:
         r, Q, n = _interpolate(r, fine), _interpolate(Q, fine), fine
     h = 2 * math.pi / n

@@ -116,7 +116,7 @@ def noisy_system(model: CoupledOscillators | str, params: Mapping[str, object],
     sub = {sp.Symbol(k): v for k, v in values.items()}
     theta = sp.Symbol("theta")
     exprs = [sp.sympify(e).subs(theta, (nu or 0.0) * t_symbol).subs(sub)
-             for e in model.accelerations()]
+             .subs(sp.Symbol("nu"), nu or 0.0) for e in model.accelerations()]
     state = list(model.state)
     args = [t_symbol, *state]
     acc = tuple(sp.lambdify(args, e, "numpy") for e in exprs)
@@ -142,7 +142,8 @@ def _source(system: NoisySystem) -> str:
     ys = sp.symbols(f"y_0:{2 * n}")
     sub = dict(zip(state, ys))
     exprs = [sp.sympify(f).subs({sp.Symbol("theta"): (system.nu or 0.0) * t_symbol})
-             .subs({sp.Symbol(k): v for k, v in system.values.items()}).subs(sub)
+             .subs({sp.Symbol(k): v for k, v in system.values.items()})
+             .subs(sp.Symbol("nu"), system.nu or 0.0).subs(sub)
              for f in system.model.accelerations()]
     reps, reduced = sp.cse(exprs)
     lines = ["def acc(t, y, out):"]

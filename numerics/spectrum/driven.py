@@ -119,6 +119,7 @@ class AveragedFlow:
 
     @property
     def dof(self) -> int:
+        """``N``."""
         return self.system.dof
 
     def rates(self, U: np.ndarray) -> np.ndarray:
@@ -146,12 +147,13 @@ class AveragedFlow:
         return J
 
     def noise_covariance(self) -> np.ndarray:
-        """``Q = diag(D/Omega_i^2)`` for ``(u, v)``: the averaged noise of the rotating
+        """``Q = diag(D/omega_i^2)`` for ``(u, v)``: the averaged noise of the rotating
         frame."""
         q = self.system.D / self.omega0**2
         return np.diag(np.concatenate([q, q]))
 
     def state(self, U: np.ndarray) -> SteadyState:
+        """The :class:`SteadyState` at the fixed point ``U`` (Jacobian, eigenvalues)."""
         J = self.jacobian(U)
         ev = np.linalg.eigvals(J)
         ev = ev[np.lexsort((ev.real, ev.imag))]

@@ -170,3 +170,26 @@ def test_stratonovich_rate_weak_noise_limit(Q):
         J = stratonovich_rate(GRID, Delta - K * np.sin(GRID), np.full(GRID.size, Q))
         assert J == pytest.approx(math.sqrt(Delta**2 - K**2) / (2 * math.pi), rel=3e-5)
     assert stratonovich_rate(GRID, 0.02 - 0.03 * np.sin(GRID), np.full(GRID.size, Q)) < 1e-100
+
+
+@pytest.mark.parametrize("change, words", [
+    ({"param": ["mu=0.1", "c=0.3", "D=0"]}, "D > 0"),
+    ({"param": ["mu=0.1", "c=0.3", "D=-1"]}, "negative"),
+    ({"param": ["mu=0.1", "c=0.3", "D=0.01", "zeta=1"]}, "unknown parameter 'zeta'"),
+    ({"vary": ["c=0.1:0.3"]}, "vary the detuning sigma"),
+    ({"param": ["mu=0.1", "c=0.3"]}, "noise intensity"),
+])
+def test_run_slips_bad_input(change, words):
+    """Bad input: one line naming what to change (the command prints it and exits 2)."""
+    from argparse import Namespace
+
+    from kbm.errors import KBMError
+    from numerics.cli._spectrum_driven import run_slips
+
+    base = dict(model="coupled-vdp", param=["mu=0.1", "c=0.3", "D=0.01"],
+                vary=["sigma=0.2,0.45"], json=True, out=None, trajectories=8, duration=100.0,
+                seed=0, workers=1, store=None, resume=False, order=1)
+    base.update(change)
+    with pytest.raises(KBMError) as exc:
+        run_slips(Namespace(**base))
+    assert words in str(exc.value) and "\n" not in str(exc.value)

@@ -53,11 +53,14 @@ def _bind(args, kind: str):
                              f"{name}=FROM:TO)")
     check(args.model, params, [v.name] if v else [], noise=True,
           extra=(name,) if kind == "forced" else ())
-    params, _ = noise_params(params)
-    D = float(params.pop("D"))
+    params, noise = noise_params(params)
+    raw = params.pop("D")
+    D = float(parameter_value("D", raw))
     if not (math.isfinite(D) and D > 0):
-        raise ParameterError(f"D = {D:g}: a noise spectrum needs noise; give -p D=VALUE with "
-                             "D > 0 (or the temperature -p T=VALUE > 0)")
+        what = "zero" if D == 0 else "negative" if D < 0 else "not finite"
+        given = " (from T = D/mu)" if noise == "T" else ""
+        raise ParameterError(f"D = {D:g}{given} is {what}: a noise spectrum needs noise; give "
+                             "-p D=VALUE with D > 0 (or the temperature -p T=VALUE > 0)")
     if v is not None:
         values = [float(x) for x in v.values(DEFAULT_DETUNINGS)]
     elif name in params:

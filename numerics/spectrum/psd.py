@@ -29,7 +29,7 @@ from kbm.errors import ParameterError
 
 from ..errors import NumericsError
 
-__all__ = ["PSD", "ensemble_psd", "ResolutionError", "resolution_of"]
+__all__ = ["PSD", "ensemble_psd", "ResolutionError", "resolution_of", "welch_rows", "combine"]
 
 
 class ResolutionError(NumericsError):
@@ -137,8 +137,6 @@ def ensemble_psd(x: np.ndarray, dt: float, *, nperseg: int | None = None,
     >>> bool(abs(p.variance() - 1) < 0.02), bool(abs(p.mean[1:-1].mean() * np.pi / 0.1 - 1) < 0.02)
     (True, True)
     """
-    from scipy import signal, stats
-
     x = np.asarray(x, float)
     if x.ndim == 1:
         x = x[None, :]
@@ -166,7 +164,17 @@ def ensemble_psd(x: np.ndarray, dt: float, *, nperseg: int | None = None,
             f"{resolution_of(nperseg, dt):.4g} (angular; {nperseg} samples per segment): "
             f"its {n} samples at dt = {dt:g} give at best {resolution_of(n, dt):.4g}; "
             f"run at least {nperseg * dt:.6g} long or ask for a coarser resolution")
-    f, p = signal.welch(x, fs=1.0 / dt, window="hann", nperseg=nperseg,
+    omega, p = welch_rows(x, dt, nperseg)
+    return combine(omega, p, resolution_of(nperseg, dt), nperseg, confidence)
+
+
+def welch_rows(x: np.ndarray, dt: float, nperseg: int) -> tuple[np.ndarray, np.ndarray]:
+    """``(omega, rows)``: each row's one-sided Welch PSD per unit angular frequency (Hann,
+    half overlap, segment means removed; the bins at 0 and Nyquist doubled like the others,
+    so that every bin estimates the density)."""
+    from scipy import signal
+
+    f, p = signal.welch(np.atleast_2d(x), fs=1.0 / dt, window="hann", nperseg=nperseg,
                         noverlap=nperseg // 2, detrend="constant", return_onesided=True,
                         scaling="density", axis=-1)
     p = p / (2.0 * math.pi)  # per unit angular frequency
@@ -175,11 +183,22 @@ def ensemble_psd(x: np.ndarray, dt: float, *, nperseg: int | None = None,
     p[:, 0] *= 2.0
     if nperseg % 2 == 0:
         p[:, -1] *= 2.0
-    mean = p.mean(axis=0)
+    return 2.0 * math.pi * f, p
+
+
+def combine(omega: np.ndarray, rows: np.ndarray, resolution: float, nperseg: int,
+            confidence: float = 0.95) -> PSD:
+    """The ensemble :class:`PSD` of per-trajectory estimates ``rows`` (n_trajectories x
+    n_frequencies): their mean, its standard error and the Student band."""
+    from scipy import stats
+
+    rows = np.atleast_2d(np.asarray(rows, float))
+    n_traj = rows.shape[0]
+    mean = rows.mean(axis=0)
     if n_traj > 1:
-        se = p.std(axis=0, ddof=1) / math.sqrt(n_traj)
+        se = rows.std(axis=0, ddof=1) / math.sqrt(n_traj)
         q = float(stats.t.ppf(0.5 + confidence / 2.0, n_traj - 1))
     else:
         se, q = np.zeros_like(mean), 0.0
-    return PSD(2.0 * math.pi * f, mean, np.maximum(mean - q * se, 0.0), mean + q * se, se,
-               resolution_of(nperseg, dt), n_traj, float(confidence), nperseg)
+    return PSD(np.asarray(omega, float), mean, np.maximum(mean - q * se, 0.0), mean + q * se,
+               se, float(resolution), n_traj, float(confidence), int(nperseg))

@@ -206,3 +206,20 @@ def test_run_driven_duration_message_names_the_resolution():
 
     with pytest.raises(ParameterError, match=r"would give [0-9.]+ .*--duration >= "):
         run_driven(_args(duration=500.0))
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["duffing-forced", "-p", "mu=0.05", "-p", "zeta=0.5", "-p", "alpha=1", "-p", "h=2",
+      "-p", "D=0", "--vary", "sigma=0.8"], "needs noise"),
+    (["duffing-forced", "-p", "mu=0.05", "-p", "zeta=0.5", "-p", "alpha=1", "-p", "h=2",
+      "-p", "D=0.001", "--vary", "sigma=0.8", "--duration", "500"], "it would give 0.05"),
+    (["coupled-vdp", "-p", "mu=0.1", "-p", "c=0.3", "-p", "T=-1", "-p", "sigma=0.2"],
+     "negative"),
+])
+def test_kbm_spectrum_exits_2_with_one_line(argv, words, capsys):
+    """The command line: exit status 2 and a one-line message on stderr."""
+    from numerics.cli import main
+
+    assert main(["spectrum", *argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert words in err and "\n" not in err

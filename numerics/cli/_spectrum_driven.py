@@ -35,6 +35,12 @@ def _bind(args, kind: str):
     from kbm.values import parameter_value
     from numerics.cli._params import check, given, noise_params, parse_vary
 
+    if _opt(args, "rhs") or not _opt(args, "model"):
+        names = "duffing-forced, parametric, duffing-1-3, ..." if kind == "forced" else \
+            "coupled-vdp"
+        raise ParameterError(f"the {'response spectra' if kind == 'forced' else 'slip rate'} "
+                             f"take a built-in model ({names}); a custom --rhs is not "
+                             "supported here")
     lookup(args.model, (kind,))
     params = given(_opt(args, "param", []))
     vary = _opt(args, "vary", [])
@@ -97,7 +103,8 @@ def run_driven(args) -> int:
                                                        DEFAULT_TRAJECTORIES)),
                                  duration=_opt(args, "duration"), seed=int(_opt(args, "seed", 0)),
                                  workers=_opt(args, "workers"), store=store,
-                                 progress=not _opt(args, "json", False))
+                                 progress=not _opt(args, "json", False),
+                                 resolution=_opt(args, "resolution"))
     finally:
         if store is not None:
             store.close()

@@ -166,8 +166,8 @@ def response_spectra(model, params: Mapping[str, object], D: float, detunings: S
                      *, mode: int = 0, amplitudes: tuple[float, float] = (0.02, 5.0),
                      omega=None, points: int = 401, simulate: bool = False,
                      trajectories: int = 32, duration: float | None = None, seed: int = 0,
-                     workers: int | None = None, store=None, progress: bool = False
-                     ) -> list[ResponseSpectrum]:
+                     workers: int | None = None, store=None, progress: bool = False,
+                     resolution: float | None = None) -> list[ResponseSpectrum]:
     """Averaged, Floquet and (``simulate``) simulated spectra of ``x_mode`` about every stable
     state at each detuning.
 
@@ -179,7 +179,7 @@ def response_spectra(model, params: Mapping[str, object], D: float, detunings: S
     ``6/gamma`` (whole periods; ``gamma`` the slowest Floquet decay rate), removes the
     noise-induced shift of the coherent response (:func:`coherent_part`, reported as
     ``coherent_shift``) and resolves ``gamma/8``: Welch segments of ``2 pi 8/gamma``, at
-    least four of them (default eight).
+    least four of them (default eight); ``resolution`` asks another.
 
     Raises
     ------
@@ -188,7 +188,8 @@ def response_spectra(model, params: Mapping[str, object], D: float, detunings: S
         ``duration`` too short for the resolution (the resolution it would give named).
     """
     cases = _cases(model, params, D, detunings, mode, amplitudes)
-    plans = [_plan(c, duration) for c in cases] if simulate else [None] * len(cases)
+    plans = [_plan(c, duration, resolution) for c in cases] if simulate else \
+        [None] * len(cases)
     out = []
     for case, plan in zip(cases, plans):
         st, flow, orb = case.state, case.flow, case.orbit
@@ -236,7 +237,7 @@ RESOLUTION = 1 / 8
 MIN_SEGMENTS = 4
 
 
-def _plan(case: _Case, duration: float | None) -> dict:
+def _plan(case: _Case, duration: float | None, resolution: float | None = None) -> dict:
     if case.orbit is None:
         raise ParameterError(f"the averaged stable state at detuning {case.detuning:g} has no "
                              "stable true periodic response near it (too close to a jump?): "
@@ -251,6 +252,13 @@ def _plan(case: _Case, duration: float | None) -> dict:
     step = dt * stride
     gamma = float(-np.max(np.log(np.abs(case.orbit.multipliers))) / T)
     want = RESOLUTION * gamma
+    why = f"1/8 of the slowest decay rate {gamma:.3g} at detuning {case.detuning:g}"
+    if resolution is not None:
+        if not (isinstance(resolution, (int, float)) and math.isfinite(resolution)
+                and resolution > 0):
+            raise ParameterError(f"--resolution must be a positive angular frequency, got "
+                                 f"{resolution!r}")
+        want, why = float(resolution), "as asked"
     nperseg = int(math.ceil(2 * math.pi / (want * step)))
     seg = nperseg * step
     burn = int(math.ceil(6 / gamma / T)) * per  # whole periods: sample k at phase k/sp
@@ -262,9 +270,8 @@ def _plan(case: _Case, duration: float | None) -> dict:
         got = 2 * math.pi / (duration / MIN_SEGMENTS)
         raise ParameterError(
             f"--duration {duration:g} is too short for the resolution {want:.3g} (angular; "
-            f"1/8 of the slowest decay rate {gamma:.3g} at detuning {case.detuning:g}): it "
-            f"would give {got:.3g} ({MIN_SEGMENTS} Welch segments); give --duration "
-            f">= {MIN_SEGMENTS * seg:.6g}")
+            f"{why}): it would give {got:.3g} ({MIN_SEGMENTS} Welch segments); give "
+            f"--duration >= {MIN_SEGMENTS * seg:.6g}")
     sp = per // stride
     samples = int(math.floor(duration / step)) // sp * sp
     return {"dt": dt, "stride": stride, "nperseg": nperseg, "burn": burn, "samples": samples,

@@ -1,0 +1,195 @@
+"""Phase diffusion and linewidth of a noisy self-excited oscillator, by stochastic averaging.
+
+The noisy oscillator of :mod:`kbm.stochastic` (the paper's eq. 1, unit mass),
+
+``x'' + omega0^2 x = mu F(x, x') + sqrt(2 D) xi(t)``,  ``<xi(t) xi(t')> = delta(t - t')``,
+
+written ``x = a cos psi + mu u_1(a, psi) + ...``, ``psi = omega0 t + phi``, obeys after
+averaging over ``psi`` the Ito equations (Stratonovich-Khasminskii; :mod:`kbm.stochastic`)
+
+``da   = [A(a) + D/(2 omega0^2 a)] dt + (sqrt(D)/omega0) dW_1``,
+``dphi = B(a) dt + (sqrt(D)/(omega0 a)) dW_2``,
+
+with ``A = sum_n mu^n A_n``, ``B = sum_n mu^n B_n`` the KBM rates (:func:`kbm.derive`; the
+first order is the Stratonovich-Khasminskii limit, a higher order adds the deterministic
+corrections only) and ``W_1, W_2`` independent.  About a stable cycle ``a*`` (``A(a*) =
+0``, ``A'(a*) < 0``) let ``a = a* + delta``.  Then
+
+* the amplitude relaxes at the rate ``lambda = -A'(a*)``, with the variance
+  ``<delta^2> = D/(2 omega0^2 lambda)`` (Ornstein-Uhlenbeck) and the mean shift
+  ``<delta> = [D/(2 omega0^2 a*) + A''(a*) <delta^2>/2]/lambda``;
+* the phase diffuses, ``var phi(t) = 2 D_phi t``, with ``D_phi = D/(2 omega0^2 a*^2)``
+  (half the variance rate of ``phi``);
+* the frequency depends on the amplitude, ``g = B'(a*)`` (nonisochronicity, Kuramoto's
+  shear), so ``phi' = B(a*) + g delta + ...``: the amplitude noise feeds the phase.  The
+  integral of ``delta``'s autocorrelation is ``2 <delta^2>/lambda``, so ``var phi`` grows at
+  ``2 D_phi + 2 g^2 <delta^2>/lambda``:
+
+  ``D_eff = D_phi + g^2 D_a/lambda^2 = D/(2 omega0^2) [1/a*^2 + g^2/lambda^2]``,
+
+  ``D_a = D/(2 omega0^2)`` (Lax's formula; the factor ``1 + (g a*/lambda)^2`` is Henry's
+  ``1 + alpha^2`` of the laser linewidth);
+* the mean frequency is ``Omega = omega0 + B(a*) + g <delta> + B''(a*) <delta^2>/2`` (the
+  last two terms: the noise-induced shift).
+
+The phase ``psi`` of ``x`` is a Wiener process with drift ``Omega`` and intensity
+``D_eff``, so ``<exp(i k (psi(t+tau) - psi(t)))> = exp(i k Omega tau - k^2 D_eff |tau|)``:
+harmonic ``k`` of the cycle, ``x = sum_k |c_k| cos(k psi + theta_k)``, is a Lorentzian line
+at ``k Omega`` of half width at half maximum ``k^2 D_eff`` that carries the variance
+``|c_k|^2/2``.  These are the linearised (small ``D/mu``) forms; beyond them the averaged
+equations give the long-time phase diffusion exactly as a quadrature over the stationary
+density ``P(a)`` (:attr:`PhaseDiffusion.log_density`; evaluated in
+:mod:`numerics.spectrum.phase_diffusion`).
+
+References
+----------
+M. Lax, Phys. Rev. 160, 290 (1967) (classical noise V: the noise of self-sustained
+oscillators); R. L. Stratonovich, *Topics in the Theory of Random Noise*, vol. 2 (1967),
+ch. 9; Y. Kuramoto, *Chemical Oscillations, Waves, and Turbulence* (1984), sec. 2.3 and
+ch. 5; C. H. Henry, IEEE J. Quantum Electron. 18, 259 (1982).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .averaging import derive
+from .errors import ParameterError
+from .latex import latex
+from .models import Oscillator, get_model
+from .stochastic import NOISE
+from .symbols import a, mu, psi
+
+__all__ = ["PhaseDiffusion", "phase_diffusion"]
+
+
+@dataclass(frozen=True)
+class PhaseDiffusion:
+    """The averaged amplitude-phase diffusion of a noisy self-excited oscillator, symbolic in
+    the amplitude ``a``, ``mu`` and ``D``.
+
+    Attributes
+    ----------
+    model : kbm.models.Oscillator
+    order : int
+        The KBM order of the deterministic rates (the noise terms are of the first order).
+    A, B : sympy.Expr
+        ``sum_n mu^n A_n(a)`` and ``sum_n mu^n B_n(a)`` (``psi' = omega0 + B``).
+    relaxation : sympy.Expr
+        ``lambda(a) = -dA/da``.
+    shear : sympy.Expr
+        ``g(a) = dB/da``.
+    phase_diffusion : sympy.Expr
+        ``D_phi(a) = D/(2 omega0^2 a^2)``: half the variance rate of the phase.
+    amplitude_diffusion : sympy.Expr
+        ``D_a = D/(2 omega0^2)``: half the variance rate of the amplitude.
+    linewidth : sympy.Expr
+        ``D_eff(a) = D_phi + g^2 D_a/lambda^2``: the half width at half maximum of the
+        fundamental (angular), at ``a = a*``.
+    amplitude_shift : sympy.Expr
+        ``<a> - a*`` to first order in ``D``.
+    frequency_shift : sympy.Expr
+        The noise-induced shift of the mean angular frequency, first order in ``D``.
+    displacement : sympy.Expr
+        ``x(a, psi) = a cos psi + sum_n mu^n u_n``: the harmonics' weights.
+    """
+
+    model: Oscillator
+    order: int
+    A: sp.Expr
+    B: sp.Expr
+    relaxation: sp.Expr
+    shear: sp.Expr
+    phase_diffusion: sp.Expr
+    amplitude_diffusion: sp.Expr
+    linewidth: sp.Expr
+    amplitude_shift: sp.Expr
+    frequency_shift: sp.Expr
+    displacement: sp.Expr
+
+    def __repr__(self) -> str:
+        return f"PhaseDiffusion({self.model.name}, order {self.order}: D_eff = {self.linewidth})"
+
+    @property
+    def drift_a(self) -> sp.Expr:
+        """The Ito drift ``A + D/(2 omega0^2 a)`` of the amplitude."""
+        return self.A + NOISE / (2 * self.model.omega0**2 * a)
+
+    @property
+    def parameters(self) -> tuple[str, ...]:
+        """The model's parameter names (besides ``a``, ``mu``, ``D``), sorted."""
+        syms = set().union(*[e.free_symbols for e in (self.A, self.B, self.displacement)])
+        return tuple(sorted(s.name for s in syms - {a, mu, NOISE, psi}))
+
+    def latex(self) -> str:
+        """``align`` lines: ``lambda``, ``g``, ``D_phi`` and ``D_eff`` as functions of ``a``
+        (deterministic: the same bytes whatever ``PYTHONHASHSEED``)."""
+        return " \\\\\n".join([
+            r"\lambda(a) &= " + latex(sp.factor(self.relaxation)),
+            r"g(a) &= " + latex(sp.factor(self.shear)),
+            r"D_\varphi(a) &= " + latex(self.phase_diffusion),
+            r"D_{\mathrm{eff}}(a) &= " + latex(sp.factor(self.linewidth))])
+
+
+def phase_diffusion(model: Oscillator | str, order: int = 1,
+                    params: dict | None = None) -> PhaseDiffusion:
+    """The averaged phase diffusion of ``x'' + omega0^2 x = mu F + sqrt(2 D) xi``.
+
+    Parameters
+    ----------
+    model : str or kbm.models.Oscillator
+        An autonomous model of one degree of freedom.
+    order : {1, 2}
+        KBM order of the deterministic rates ``A``, ``B`` and of ``x(a, psi)``.
+    params : dict, optional
+        Model parameters substituted exactly before the algebra (``mu``, ``D`` stay
+        symbolic).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        An order other than 1 or 2, or a model parameter named ``D``.
+    kbm.errors.NonAutonomousError
+        For a driven model.
+
+    Examples
+    --------
+    Van der Pol: ``lambda(2) = mu``, no shear, ``D_eff = D/8`` at ``a* = 2``:
+
+    >>> pd = phase_diffusion("vdp")
+    >>> pd.relaxation.subs(a, 2), pd.shear, pd.linewidth.subs(a, 2)
+    (mu, 0, D/8)
+
+    A cubic stiffness ``-alpha x^3`` adds the shear ``g = 3 alpha mu a/4``, which widens the
+    line ``1 + (g a/lambda)^2 = 10`` times at ``alpha = 1``:
+
+    >>> from kbm.models import custom_model
+    >>> pd = phase_diffusion(custom_model("(1 - x**2)*xdot - alpha*x**3"), params={"alpha": 1})
+    >>> pd.shear, sp.simplify(pd.linewidth.subs(a, 2) / (NOISE / 8))
+    (3*a*mu/4, 10)
+    """
+    if order not in (1, 2):
+        raise ParameterError(f"order = {order!r}: the phase diffusion is averaged to order 1 or "
+                             "2")
+    m = get_model(model) if isinstance(model, str) else model
+    if "D" in m.parameters:
+        raise ParameterError(f"model {m.name!r} has a parameter named D, the noise intensity's "
+                             "name; rename it")
+    m.require_autonomous("the phase-diffusion averaging")
+    fixed = {k: v for k, v in dict(params or {}).items() if k not in ("mu", "D")}
+    res = derive(m, order, fixed or None)
+    w0 = res.model.omega0
+    A = sp.expand(sum(mu**n * res.A[n] for n in range(1, order + 1)))
+    B = sp.expand(sum(mu**n * res.B[n] for n in range(1, order + 1)))
+    lam = sp.expand(-sp.diff(A, a))
+    g = sp.expand(sp.diff(B, a))
+    d_phi = NOISE / (2 * w0**2 * a**2)
+    d_a = NOISE / (2 * w0**2)
+    var_a = NOISE / (2 * w0**2 * lam)
+    shift_a = (NOISE / (2 * w0**2 * a) + sp.diff(A, a, 2) * var_a / 2) / lam
+    shift_w = g * shift_a + sp.diff(B, a, 2) * var_a / 2
+    x_of = res.u[0] + sum(mu**n * res.u[n] for n in range(1, order + 1))
+    return PhaseDiffusion(res.model, order, A, B, lam, g, d_phi, d_a,
+                          d_phi + g**2 * d_a / lam**2, shift_a, shift_w, x_of)

@@ -1,0 +1,215 @@
+"""``kbm spectrum``: the spectrum of a noisy oscillator, averaged against simulated.
+
+A self-excited model of one degree of freedom (a built-in or ``--rhs``) gets its linewidth
+(phase diffusion with the amplitude-phase coupling), mean frequency and PSD near the
+fundamental (:mod:`numerics.spectrum.result`); a forced model goes to
+:func:`numerics.cli._spectrum_driven.run_driven` (response spectra per detuning) and an
+autonomous coupled one to :func:`numerics.cli._spectrum_driven.run_slips` (phase slips).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from kbm.cli._common import add_model_arguments, add_param_option, emit_json
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "spectrum", help="spectrum of a noisy oscillator: linewidth, response spectra, phase "
+                         "slips (averaged vs simulated)",
+        description="The spectrum of x'' + omega0^2 x = mu F + sqrt(2 D) xi(t) (unit mass, "
+                    "<xi(t) xi(t')> = delta(t - t'); T = D/mu): for a self-excited model the "
+                    "linewidth (HWHM of the fundamental, angular: phase diffusion with the "
+                    "amplitude-phase coupling, Lax), the mean frequency and the PSD of x, by "
+                    "stochastic averaging and from an ensemble of Langevin trajectories "
+                    "(Welch PSD with a confidence band, phase-variance growth, one seed per "
+                    "trajectory spawned from --seed); for a forced model the noise spectra "
+                    "about its stable states; for coupled oscillators the phase-slip rate.")
+    add_model_arguments(p, "vdp, rayleigh, sedf, ...; forced: duffing-forced, ...; coupled: "
+                           "coupled-vdp", coupled=True)
+    add_param_option(p)
+    p.add_argument("--vary", action="append", default=[], metavar="NAME=FROM:TO[:N]",
+                   help="forced: the detuning (e.g. sigma=0.5:1.5); coupled: the detuning; "
+                        "self-excited: D (or T), one run per value (the linewidth-vs-D "
+                        "figure)")
+    p.add_argument("--trajectories", type=int, default=None, metavar="N",
+                   help="independent trajectories (default 64 self-excited, 32 otherwise; at "
+                        "least 8)")
+    p.add_argument("--duration", type=float, default=None, metavar="T",
+                   help="recorded time per trajectory (default: enough for a resolution of a "
+                        "quarter of the averaged linewidth and 100 amplitude relaxation times)")
+    p.add_argument("--resolution", type=float, default=None, metavar="W",
+                   help="self-excited: angular resolution of the PSD (default: the averaged "
+                        "HWHM/4); a --duration shorter than 2 pi/W is refused")
+    p.add_argument("--seed", type=int, default=0, metavar="S",
+                   help="root seed (numpy SeedSequence, one child per trajectory)")
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="worker processes (default: all cores; the numbers do not depend on it)")
+    p.add_argument("--store", metavar="FILE",
+                   help="keep every finished chunk of trajectories in the SQLite file FILE")
+    p.add_argument("--resume", action="store_true",
+                   help="with --store: continue the run kept in FILE (the same numbers as an "
+                        "uninterrupted run)")
+    p.add_argument("--order", type=int, choices=(1, 2), default=1,
+                   help="order of the averaging (default 1; 2 adds the second-order KBM rates "
+                        "mu^2 A_2, mu^2 B_2 to the averaged equations)")
+    p.add_argument("--no-simulation", action="store_true",
+                   help="self-excited: the averaged line alone (simulated entries null)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.add_argument("--out", metavar="DIR", help="write spectrum-NAME-psd.png, "
+                                                "spectrum-NAME-linewidth.png and the JSON")
+    p.set_defaults(func=run)
+
+
+def _kind(args) -> str:
+    """``"forced"``, ``"coupled"`` or ``"one"``."""
+    from kbm.cli.derive import is_coupled
+
+    if args.rhs and len(args.rhs) == 1 and "theta" in args.rhs[0]:
+        return "forced"
+    if args.model and not args.rhs:
+        from kbm.forced import FORCED_MODELS
+
+        if args.model in FORCED_MODELS:
+            return "forced"
+    if is_coupled(args):
+        if args.model and not args.rhs:
+            from kbm.coupled import get_coupled_model
+
+            if get_coupled_model(args.model).forced:
+                return "forced"
+        elif args.nu0 is not None:
+            return "forced"
+        return "coupled"
+    return "one"
+
+
+def _bind(args):
+    """``(model, params without D, D values, noise name)`` of a self-excited run."""
+    import math
+
+    from kbm.cli._common import check_model_flags
+    from kbm.errors import ParameterError
+    from kbm.models import custom_model
+    from kbm.values import parameter_value
+    from numerics.cli._params import check, given, noise_params, noisy_model, parse_vary
+
+    check_model_flags(args)
+    if len(args.vary) > 1:
+        raise ParameterError("--vary takes one range here: the noise, --vary D=FROM:TO[:N]")
+    vary = parse_vary(args.vary[0]) if args.vary else None
+    if vary is not None and vary.name not in ("D", "T"):
+        raise ParameterError(f"--vary {vary.name}: a self-excited model's spectrum varies the "
+                             "noise only: --vary D=FROM:TO[:N] or --vary T=FROM:TO[:N]")
+    items = list(args.param) + ([f"{vary.name}={vary.values(3)[0]!r}"] if vary else [])
+    if args.rhs:
+        model = custom_model(args.rhs[0], omega0=1 if args.omega0 is None else args.omega0)
+        params = given(items)
+        check(model, params, noise=True)
+        params, noise = noise_params(params)
+    else:
+        model = args.model
+        params, noise = noisy_model(model, items)
+    params = dict(params)
+    D0 = float(parameter_value("D", params.pop("D")))
+    if "mu" not in params:
+        raise ParameterError("give the small parameter: -p mu=VALUE")
+    mu = float(parameter_value("mu", params["mu"]))
+    values = [D0]
+    if vary is not None:
+        values = [float(v) * (mu if vary.name == "T" else 1.0) for v in vary.values(3)]
+    for D in values:
+        if not (math.isfinite(D) and D > 0):
+            raise ParameterError(f"D = {D:g}: a linewidth needs noise; give -p D=VALUE with "
+                                 "D > 0 (or the temperature -p T=VALUE > 0)")
+    return model, params, values, noise
+
+
+def run(args) -> int:
+    from kbm.errors import ParameterError
+
+    kind = _kind(args)
+    if kind == "forced":
+        from numerics.cli._spectrum_driven import run_driven
+
+        return run_driven(args)
+    if kind == "coupled":
+        from numerics.cli._spectrum_driven import run_slips
+
+        return run_slips(args)
+    if args.seed < 0:
+        raise ParameterError(f"--seed must be >= 0, got {args.seed}")
+    from numerics.cli._params import open_store
+    from numerics.spectrum.result import DEFAULT_TRAJECTORIES, line_report, write_figures
+
+    model, params, values, _ = _bind(args)
+    store = open_store(args.store, args.resume)
+    reports = []
+    try:
+        for D in values:
+            reports.append(line_report(
+                model, params, D, order=args.order,
+                trajectories=args.trajectories or DEFAULT_TRAJECTORIES,
+                duration=args.duration, resolution=args.resolution, seed=args.seed,
+                workers=args.workers, store=store, progress=not args.json,
+                simulate=not args.no_simulation))
+    finally:
+        if store is not None:
+            store.close()
+    rep = dict(reports[0])
+    if len(reports) > 1:
+        rep["sweep"] = [{"D": r["D"], "linewidth": r["linewidth"], "frequency": r["frequency"]}
+                        for r in reports]
+    name = reports[0]["model"]
+    if args.out:
+        from kbm.strict_json import finite
+
+        out = Path(args.out)
+        rep["figures"] = [str(p) for p in write_figures(reports, out, name)]
+        (out / f"spectrum-{name}.json").write_text(
+            json.dumps(finite(rep), indent=2, allow_nan=False) + "\n")
+    if args.json:
+        emit_json(rep)
+        return 0
+    _print(rep, reports)
+    return 0
+
+
+def _num(v, fmt=".6g") -> str:
+    return "--" if v is None else format(v, fmt)
+
+
+def _print(rep: dict, reports: list[dict]) -> None:
+    th = rep["theory"]
+    print(f"spectrum of {rep['model']} with noise sqrt(2 D) xi, D = {rep['D']:g}, mu = "
+          f"{rep['params'].get('mu', float('nan')):g} (averaging order {rep['order']})")
+    print(f"  averaged cycle a* = {th['amplitude']:.6g}, relaxation lambda = "
+          f"{th['relaxation']:.4g}, shear g = {th['shear']:.4g}: the coupling widens the line "
+          f"{th['enhancement']:.3g} times")
+    if rep.get("simulation"):
+        s = rep["simulation"]
+        print(f"  simulated: {s['trajectories']} trajectories x t = {s['duration']:.6g} after "
+              f"{s['burn_in']:.4g}, dt = {s['dt']:.4g}, PSD resolution {s['resolution']:.3g}, "
+              f"seed {s['seed']}")
+    print(f"  {'':10}{'averaged':>12}  {'linearised':>12}  {'simulated':>12}  {'stderr':>9}  "
+          "(avg-sim)/stderr")
+    for key, label in (("linewidth", "HWHM"), ("frequency", "Omega")):
+        r = rep[key]
+        z = ("--" if r["simulated"] is None or not r["stderr"]
+             else f"{(r['averaged'] - r['simulated']) / r['stderr']:+.2f}")
+        print(f"  {label:10}{_num(r['averaged'], '.8g'):>12}  {_num(r['linearised'], '.8g'):>12}"
+              f"  {_num(r['simulated'], '.8g'):>12}  {_num(r['stderr'], '.2g'):>9}  {z:>16}")
+    lw = rep["linewidth"]
+    if lw.get("fit") is not None:
+        print(f"  Lorentzian fit to the simulated PSD: HWHM = {lw['fit']:.4g} +- "
+              f"{lw['fit_stderr']:.2g}")
+    if rep["frequency"].get("step_bias"):
+        print(f"  the scheme's frequency bias omega0 (omega0 dt)^2/6 = "
+              f"{rep['frequency']['step_bias']:.2g}")
+    for r in reports[1:]:
+        print(f"  D = {r['D']:g}: HWHM averaged {r['linewidth']['averaged']:.6g}, simulated "
+              f"{_num(r['linewidth']['simulated'])} +- {_num(r['linewidth']['stderr'], '.2g')}")
+    for p in rep.get("figures", []):
+        print(f"  wrote {p}")

@@ -1,0 +1,29 @@
+"""Spectra of noisy oscillators: linewidth, phase diffusion and power spectral densities.
+
+The noisy model is the paper's eq. (1) with ``sqrt(2 D) xi(t)`` added (the convention of
+:mod:`numerics.noise`).  Modules:
+
+- :mod:`numerics.spectrum.psd`: the one-sided power spectral density of an ensemble of
+  sampled trajectories (Welch per trajectory, the band from the spread across them);
+- :mod:`numerics.spectrum.phase_diffusion`: the averaged theory of a self-excited
+  oscillator evaluated at the stable cycle (amplitude relaxation rate, phase diffusion,
+  nonisochronicity, effective linewidth, noise-induced frequency shift, the Lorentzian
+  lines of x(t) at the fundamental and its harmonics), from :mod:`kbm.phase_diffusion`;
+- :mod:`numerics.spectrum.linewidth`: the linewidth and mean frequency measured on
+  sampled trajectories (phase of the analytic signal, phase-variance growth, a
+  Lorentzian fit);
+- :mod:`numerics.spectrum.simulate`: ensembles of the full Langevin equation recording
+  x(t) on the executor (one seed per trajectory, ``store``/``resume``);
+- :mod:`numerics.spectrum.result`: the report of ``kbm spectrum`` (averaged against
+  simulated) and its JSON;
+- :mod:`numerics.spectrum.driven`: the linear-response and noise spectra of driven steady
+  states (slow-flow Jacobian and Floquet);
+- :mod:`numerics.spectrum.slips`: the phase-slip rate of noisy locked pairs (noisy Adler
+  equation, Stratonovich's formula);
+- :mod:`numerics.spectrum._sde`: the full noisy system of ``N`` oscillators (forced or
+  coupled) and its ensemble integrator, for the two above.
+"""
+
+from .psd import PSD, ensemble_psd
+
+__all__ = ["PSD", "ensemble_psd"]

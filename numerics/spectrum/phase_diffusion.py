@@ -1,0 +1,303 @@
+"""The averaged line of a noisy self-excited oscillator, evaluated at numbers.
+
+:mod:`kbm.phase_diffusion` gives the averaged Ito equations of amplitude and phase,
+
+``da = [A(a) + D/(2 omega0^2 a)] dt + (sqrt(D)/omega0) dW_1``,
+``dphi = B(a) dt + (sqrt(D)/(omega0 a)) dW_2``,
+
+and their linearisation about the stable cycle ``a*`` (Lax's ``D_eff = D_phi + g^2
+D_a/lambda^2``).  Here they are evaluated at parameter values, and the averaged equations
+are also solved without the linearisation: the amplitude is a one-dimensional diffusion
+with the stationary density ``P(a) = a exp((2 omega0^2/D) int_0^a A)/Z`` and the phase
+increments are ``int B(a) dt`` plus a martingale of variance rate ``D/(omega0^2 a^2)``,
+independent of it.  The long-time phase diffusion is therefore (central limit theorem for
+additive functionals of a one-dimensional diffusion; Pavliotis, *Stochastic Processes and
+Applications* (2014), sec. 3.6)
+
+``D_eff = (D/(2 omega0^2)) <1/a^2> + sigma^2/2``,
+``sigma^2 = int 4 [int_0^a (B - <B>) P]^2/(s P) da``,  ``s = D/omega0^2``,
+
+and the mean angular frequency is ``Omega = omega0 + <B>``, both averages over ``P``.  For
+small ``D/mu`` they reduce to the linearised forms (a test checks it).  ``<1/a^2>`` diverges
+logarithmically at ``a = 0``, where the phase is undefined and the averaging does not hold;
+the integrals start where ``P`` has fallen to ``exp(-60)`` of its peak (for a limit cycle
+that part of ``P`` carries nothing measurable).
+
+The spectrum of ``x`` is a sum of lines at ``k Omega``: a Lorentzian of half width
+``k^2 D_eff`` carrying the coherent power ``<r_k>^2/2`` of harmonic ``k`` (``x = sum_k
+r_k(a) cos(k psi + theta_k)``, from :attr:`kbm.phase_diffusion.PhaseDiffusion.displacement`)
+and a pedestal of half width ``lambda + k^2 D_eff`` carrying ``var(r_k)/2`` (the amplitude
+fluctuations, relaxing at ``lambda``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from kbm.errors import ParameterError
+from kbm.phase_diffusion import phase_diffusion
+from kbm.stochastic import NOISE
+from kbm.symbols import a, mu, psi
+
+from ..errors import NoCycleError
+
+__all__ = ["Line", "LineTheory", "line_theory"]
+
+_GRID = 20001  # quadrature points in a
+_CUT = 60.0  # ln P below its peak where the quadrature stops
+
+
+@dataclass(frozen=True)
+class Line:
+    """One spectral line of ``x``: harmonic ``k`` at ``omega``.
+
+    Attributes
+    ----------
+    k : int
+    omega : float
+        Centre ``k Omega`` (angular).
+    hwhm : float
+        Half width at half maximum ``k^2 D_eff`` (angular).
+    power : float
+        Variance in the Lorentzian (coherent part).
+    pedestal : float
+        Variance in the amplitude-noise pedestal (half width ``lambda + k^2 D_eff``).
+    """
+
+    k: int
+    omega: float
+    hwhm: float
+    power: float
+    pedestal: float
+
+
+@dataclass(frozen=True, eq=False)
+class LineTheory:
+    """The averaged line of a noisy self-excited oscillator at parameter values.
+
+    Attributes
+    ----------
+    name : str
+    order : int
+    mu, D, omega0 : float
+    amplitude : float
+        The stable cycle ``a*`` of ``A(a) = 0``.
+    relaxation, shear : float
+        ``lambda = -A'(a*)`` and ``g = B'(a*)``.
+    phase_diffusion : float
+        ``D_phi = D/(2 omega0^2 a*^2)``.
+    linewidth_linear, frequency_linear : float
+        Lax's ``D_eff`` and ``omega0 + B(a*) +`` the noise-induced shift (linearised).
+    linewidth, frequency : float
+        ``D_eff`` and ``Omega`` from the stationary density (no linearisation).
+    frequency_cycle : float
+        ``omega0 + B(a*)``: the deterministic cycle's frequency at this order.
+    mean_amplitude : float
+        ``<a>`` over ``P``.
+    lines : tuple of Line
+    """
+
+    name: str
+    order: int
+    mu: float
+    D: float
+    omega0: float
+    amplitude: float
+    relaxation: float
+    shear: float
+    phase_diffusion: float
+    linewidth_linear: float
+    frequency_linear: float
+    linewidth: float
+    frequency: float
+    frequency_cycle: float
+    mean_amplitude: float
+    lines: tuple
+
+    def __repr__(self) -> str:
+        return (f"LineTheory({self.name}, mu={self.mu:g}, D={self.D:g}: a* = "
+                f"{self.amplitude:.6g}, HWHM = {self.linewidth:.6g}, Omega = "
+                f"{self.frequency:.8g})")
+
+    @property
+    def enhancement(self) -> float:
+        """``1 + (g a*/lambda)^2``: how many times the shear widens the line."""
+        return 1.0 + (self.shear * self.amplitude / self.relaxation) ** 2
+
+    def psd(self, omega) -> np.ndarray:
+        """The one-sided PSD of ``x`` (angular, integral = variance) on ``omega``."""
+        w = np.asarray(omega, float)
+        out = np.zeros_like(w)
+
+        def lor(c, g):
+            return g / math.pi * (1.0 / ((w - c) ** 2 + g * g) + 1.0 / ((w + c) ** 2 + g * g))
+
+        for ln in self.lines:
+            out += ln.power * lor(ln.omega, ln.hwhm)
+            if ln.pedestal > 0:
+                out += ln.pedestal * lor(ln.omega, self.relaxation + ln.hwhm)
+        return out
+
+    def as_dict(self) -> dict:
+        """Plain numbers for JSON."""
+        return {"amplitude": self.amplitude, "mean_amplitude": self.mean_amplitude,
+                "relaxation": self.relaxation, "shear": self.shear,
+                "phase_diffusion": self.phase_diffusion, "enhancement": self.enhancement,
+                "linewidth_linear": self.linewidth_linear,
+                "frequency_linear": self.frequency_linear,
+                "frequency_cycle": self.frequency_cycle,
+                "lines": [{"k": ln.k, "omega": ln.omega, "hwhm": ln.hwhm, "power": ln.power,
+                           "pedestal": ln.pedestal} for ln in self.lines]}
+
+
+def _numbers(params: Mapping[str, object]) -> dict:
+    out = {}
+    for k, v in params.items():
+        try:
+            out[sp.Symbol(k)] = sp.Float(sp.N(sp.sympify(v), 30), 30)
+        except (TypeError, ValueError, sp.SympifyError):
+            raise ParameterError(f"{k} = {v!r} is not a number") from None
+    return out
+
+
+def _finite(expr, terms: int = 80):
+    """Infinite sums (Jacobi-Anger's Bessel series) cut after ``terms`` terms: ``J_m(k a)``
+    falls faster than any power once ``m > e k a/2``."""
+    def cut(f, *limits):
+        (n, lo, hi), = limits
+        return sp.Sum(f, (n, lo, sp.Min(hi, lo + terms))).doit()
+
+    return expr.replace(lambda e: isinstance(e, sp.Sum), lambda e: cut(e.function, *e.limits))
+
+
+def _fn(expr, subs):
+    e = _finite(sp.sympify(expr).subs(subs))
+    free = e.free_symbols - {a, psi}
+    if free:
+        raise ParameterError(f"give values for {', '.join(sorted(s.name for s in free))}")
+    return sp.lambdify((a, psi), e, modules=["numpy", "scipy"])
+
+
+def _stable_cycle(A, dA, a_max: float = 50.0) -> float:
+    """The smallest positive root of ``A`` with ``A' < 0``."""
+    from scipy.optimize import brentq
+
+    grid = np.concatenate([np.linspace(1e-4, 1.0, 2001)[:-1], np.geomspace(1.0, a_max, 4000)])
+    with np.errstate(all="ignore"):
+        vals = np.asarray(A(grid, 0.0), float) * np.ones_like(grid)
+    for i in range(grid.size - 1):
+        if vals[i] > 0 >= vals[i + 1] and np.isfinite(vals[i] + vals[i + 1]):
+            r = brentq(lambda s: float(A(s, 0.0)), grid[i], grid[i + 1], xtol=1e-14)
+            if float(dA(r, 0.0)) < 0:
+                return r
+    raise NoCycleError("the averaged amplitude equation A(a) = 0 has no stable root a* > 0 "
+                       f"(up to a = {a_max:g}): no limit cycle, so no line to speak of; give "
+                       "a self-excited model or parameters with a stable cycle")
+
+
+def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1,
+                harmonics: int = 3) -> LineTheory:
+    """The averaged linewidth, frequency and lines of ``x`` at parameter values.
+
+    Parameters
+    ----------
+    model : str or kbm.models.Oscillator
+        An autonomous model of one degree of freedom.
+    params : mapping
+        ``mu`` and the model's parameters.
+    D : float
+        Noise intensity of ``sqrt(2 D) xi`` (``> 0``).
+    order : {1, 2}
+        KBM order of the deterministic rates (:func:`kbm.phase_diffusion.phase_diffusion`).
+    harmonics : int
+        How many harmonics get a line.
+
+    Raises
+    ------
+    numerics.errors.NoCycleError
+        No stable cycle of the averaged amplitude equation.
+    kbm.errors.ParameterError
+        ``D <= 0``, ``mu <= 0`` or a missing value.
+
+    Examples
+    --------
+    >>> th = line_theory("vdp", {"mu": 0.1}, 0.001)
+    >>> round(th.amplitude, 12), round(th.linewidth_linear / 0.001, 12)
+    (2.0, 0.125)
+    """
+    if not (isinstance(D, (int, float)) and math.isfinite(D) and D > 0):
+        raise ParameterError(f"D = {D!r}: the linewidth needs noise, D > 0")
+    from kbm.bound import bind
+
+    bm = bind(model, {k: v for k, v in dict(params).items() if k != "D"})
+    bm.require(what="the averaged line")
+    fixed = dict(bm.values)
+    m_val = float(fixed.pop("mu"))
+    if not m_val > 0:
+        raise ParameterError(f"mu = {m_val:g} must be > 0 for a self-excited cycle")
+    pd = phase_diffusion(bm.model, order, fixed or None)
+    subs = {**_numbers(fixed), mu: sp.Float(m_val, 30), NOISE: sp.Float(D, 30)}
+    w0 = float(sp.sympify(pd.model.omega0).subs(subs))
+    A, dA = _fn(pd.A, subs), _fn(-pd.relaxation, subs)
+    B = _fn(pd.B, subs)
+    a_star = _stable_cycle(A, dA)
+    lam = float(pd.relaxation.subs(subs).subs(a, a_star))
+    g = float(pd.shear.subs(subs).subs(a, a_star))
+    d_phi = D / (2 * w0**2 * a_star**2)
+    lw_lin = float(pd.linewidth.subs(subs).subs(a, a_star))
+    f_cyc = w0 + float(B(a_star, 0.0))
+    f_lin = f_cyc + float(pd.frequency_shift.subs(subs).subs(a, a_star))
+
+    # the stationary density on a grid that holds all but exp(-60) of it
+    sig = math.sqrt(D / (2 * w0**2 * lam))
+    hi = a_star + 12 * sig
+    while True:
+        grid = np.linspace(0.0, hi, _GRID)
+        with np.errstate(all="ignore"):
+            Av = np.asarray(A(grid, 0.0), float) * np.ones_like(grid)
+        Av[0] = 0.0 if not np.isfinite(Av[0]) else Av[0]
+        cum = np.concatenate([[0.0], np.cumsum(0.5 * (Av[1:] + Av[:-1]) * np.diff(grid))])
+        with np.errstate(divide="ignore"):
+            lnp = np.log(grid) + 2 * w0**2 * cum / D
+        if lnp[-1] < np.max(lnp) - _CUT or hi > 1e3:
+            break
+        hi *= 1.5
+    keep = lnp > np.max(lnp) - _CUT
+    ag, lnp = grid[keep], lnp[keep]
+    da = ag[1] - ag[0]
+    p = np.exp(lnp - lnp.max())
+    p /= np.trapezoid(p, ag)
+    inv_a2 = float(np.trapezoid(p / ag**2, ag))
+    Bv = np.asarray(B(ag, 0.0), float) * np.ones_like(ag)
+    mean_b = float(np.trapezoid(p * Bv, ag))
+    fp = (Bv - mean_b) * p
+    F = np.concatenate([[0.0], np.cumsum(0.5 * (fp[1:] + fp[:-1]) * da)])
+    s = D / w0**2
+    sigma2 = float(np.trapezoid(4 * F**2 / (s * p), ag))
+    lw = D / (2 * w0**2) * inv_a2 + sigma2 / 2
+    freq = w0 + mean_b
+    mean_a = float(np.trapezoid(p * ag, ag))
+
+    # harmonics of x(a, psi) on a coarser amplitude grid
+    X = _fn(pd.displacement, subs)
+    n_psi = max(64, 8 * harmonics)
+    ps = 2 * math.pi * np.arange(n_psi) / n_psi
+    sub = np.linspace(0, ag.size - 1, min(ag.size, 801)).round().astype(int)
+    aa, pp = ag[sub], p[sub]
+    pp = pp / np.trapezoid(pp, aa)
+    xs = np.asarray(X(aa[:, None], ps[None, :]), float) * np.ones((aa.size, n_psi))
+    c = np.fft.rfft(xs, axis=1) / n_psi
+    lines = []
+    for k in range(1, harmonics + 1):
+        r = 2 * np.abs(c[:, k])
+        m1 = float(np.trapezoid(pp * r, aa))
+        m2 = float(np.trapezoid(pp * r * r, aa))
+        lines.append(Line(k, k * freq, k * k * lw, m1 * m1 / 2, max(m2 - m1 * m1, 0.0) / 2))
+    name = model if isinstance(model, str) else pd.model.name
+    return LineTheory(name, order, m_val, float(D), w0, a_star, lam, g, d_phi, lw_lin, f_lin,
+                      lw, freq, f_cyc, mean_a, tuple(lines))

@@ -1,0 +1,172 @@
+"""The report of ``kbm spectrum`` for a self-excited oscillator: averaged against simulated.
+
+:func:`line_report` evaluates the averaged line (:mod:`numerics.spectrum.phase_diffusion`),
+chooses the run from it (a PSD resolution of a quarter of the averaged half width, lags of
+the phase-variance fit from five amplitude relaxation times), simulates the ensemble
+(:mod:`numerics.spectrum.simulate`) and returns the JSON-ready report whose keys scripts
+depend on:
+
+- ``linewidth: {averaged, simulated, stderr}``: the HWHM of the fundamental (angular);
+- ``frequency: {averaged, simulated, stderr}``: the mean angular frequency;
+- ``psd: {omega, averaged, simulated, lower, upper}``: near the fundamental.
+
+:func:`write_figures` draws the PSD (averaged over the simulated band) and the linewidth
+against ``D`` (matplotlib imported there only).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from kbm.errors import ParameterError
+
+from .linewidth import fit_lorentzian
+from .phase_diffusion import LineTheory, line_theory
+from .simulate import simulate_line
+
+__all__ = ["line_report", "write_figures", "DEFAULT_TRAJECTORIES"]
+
+#: trajectories of a run without --trajectories
+DEFAULT_TRAJECTORIES = 64
+
+
+def default_duration(th: LineTheory) -> float:
+    """A run that resolves the line (resolution HWHM/4) and the phase growth (lags from
+    ``5/lambda`` to ``duration/8``)."""
+    return float(max(8 * math.pi / th.linewidth, 100.0 / th.relaxation))
+
+
+def line_report(model, params: dict, D: float, *, order: int = 1,
+                trajectories: int = DEFAULT_TRAJECTORIES, duration: float | None = None,
+                resolution: float | None = None, seed: int = 0, workers: int | None = None,
+                store=None, progress: bool = False, simulate: bool = True) -> dict:
+    """The averaged and simulated linewidth, frequency and PSD of a self-excited model.
+
+    Parameters
+    ----------
+    model : str or kbm.models.Oscillator
+    params : dict
+        ``mu`` and the model's parameters (``D`` apart).
+    D : float
+        Noise intensity, ``> 0``.
+    order : {1, 2}
+    trajectories, duration, resolution, seed, workers, store, progress :
+        The ensemble (defaults from the averaged line: :func:`default_duration`, a
+        resolution of a quarter of the averaged HWHM).
+    simulate : bool
+        ``False``: the averaged line alone (``simulated`` entries ``None``).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        ``D <= 0`` and other bad values.
+    numerics.errors.NoCycleError
+        No limit cycle: no line.
+    numerics.spectrum.psd.ResolutionError
+        A run too short for the resolution (the message gives the resolution it would give).
+    """
+    if not (isinstance(D, (int, float)) and math.isfinite(D) and D > 0):
+        raise ParameterError(f"D = {D!r}: a linewidth needs noise; give -p D=VALUE with D > 0 "
+                             "(or the temperature -p T=VALUE > 0)")
+    th = line_theory(model, params, D, order=order)
+    G = th.linewidth
+    if resolution is None:
+        resolution = G / 4
+    if duration is None:
+        duration = max(default_duration(th), 2 * math.pi / resolution * 1.001)
+    window = (max(th.frequency - 25 * G, 0.0), th.frequency + 25 * G)
+    rep = {"model": th.name, "kind": "self-excited", "order": order,
+           "params": {k: float(v) for k, v in params.items()}, "D": float(D),
+           "linewidth": {"averaged": G, "simulated": None, "stderr": None,
+                         "linearised": th.linewidth_linear, "fit": None, "fit_stderr": None},
+           "frequency": {"averaged": th.frequency, "simulated": None, "stderr": None,
+                         "linearised": th.frequency_linear, "cycle": th.frequency_cycle,
+                         "step_bias": None},
+           "theory": th.as_dict()}
+    if not simulate:
+        omega = np.linspace(*window, 401)
+        rep["psd"] = {"omega": omega.tolist(), "averaged": th.psd(omega).tolist(),
+                      "simulated": None, "lower": None, "upper": None}
+        return rep
+    sim = simulate_line(model, {k: v for k, v in params.items()}, D,
+                        trajectories=trajectories, duration=float(duration),
+                        burn_in=10.0 / th.relaxation, window=window, resolution=resolution,
+                        tau_min=5.0 / th.relaxation, amplitude=th.amplitude, seed=seed,
+                        workers=workers, store=store, progress=progress)
+    fit = fit_lorentzian(sim.psd, sim.frequency.value, G)
+    rep["linewidth"].update(simulated=sim.linewidth.value, stderr=sim.linewidth.stderr,
+                            fit=fit.hwhm if fit.success else None,
+                            fit_stderr=fit.hwhm_stderr if fit.success else None)
+    rep["frequency"].update(simulated=sim.frequency.value, stderr=sim.frequency.stderr,
+                            step_bias=sim.step_bias)
+    p = sim.psd
+    rep["psd"] = {"omega": p.omega.tolist(), "averaged": th.psd(p.omega).tolist(),
+                  "simulated": p.mean.tolist(), "lower": p.lower.tolist(),
+                  "upper": p.upper.tolist(), "resolution": p.resolution,
+                  "confidence": p.confidence}
+    rep["phase_variance"] = {"tau": sim.taus.tolist(), "m2": sim.m2.tolist(),
+                             "stderr": sim.m2_stderr.tolist()}
+    rep["simulation"] = {"trajectories": sim.trajectories, "duration": sim.duration,
+                         "burn_in": sim.burn_in, "dt": sim.dt, "sample": sim.sample,
+                         "seed": sim.seed, "resolution": p.resolution}
+    return rep
+
+
+def write_figures(reports: list[dict], out: Path, name: str) -> list[Path]:
+    """``spectrum-NAME-psd.png`` (the first report's PSD: averaged over the simulated band)
+    and ``spectrum-NAME-linewidth.png`` (HWHM against D: averaged and linearised curves,
+    simulated points with two standard errors)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out.mkdir(parents=True, exist_ok=True)
+    rep = reports[0]
+    paths = []
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ps = rep["psd"]
+    w = np.asarray(ps["omega"])
+    if ps["simulated"] is not None:
+        ax.fill_between(w, ps["lower"], ps["upper"], color="C0", alpha=0.3,
+                        label=f"simulated, {100 * ps['confidence']:.0f} % band")
+        ax.plot(w, ps["simulated"], color="C0", lw=0.8, label="simulated (Welch)")
+    ax.plot(w, ps["averaged"], color="C3", lw=1.2, label="averaged (Lorentzian)")
+    ax.set_yscale("log")
+    ax.set_xlabel(r"$\omega$")
+    ax.set_ylabel(r"$S_x(\omega)$")
+    ax.set_title(f"{name}: PSD near the fundamental, D = {rep['D']:g}")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    paths.append(out / f"spectrum-{name}-psd.png")
+    fig.savefig(paths[-1], dpi=120)
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    Ds = np.array([r["D"] for r in reports])
+    th = rep["theory"]
+    grid = np.geomspace(Ds.min() / 3, Ds.max() * 3, 50)
+    # D_eff is linear in D at fixed a*, lambda, g (the linearised form)
+    ax.plot(grid, th["linewidth_linear"] / rep["D"] * grid, "k--", lw=1,
+            label="averaged, linearised (Lax)")
+    ax.plot(Ds, [r["linewidth"]["averaged"] for r in reports], "C3o-", ms=4,
+            label="averaged (stationary density)")
+    sim = [(r["D"], r["linewidth"]["simulated"], r["linewidth"]["stderr"]) for r in reports
+           if r["linewidth"]["simulated"] is not None]
+    if sim:
+        d, v, e = map(np.asarray, zip(*sim))
+        ax.errorbar(d, v, yerr=2 * e, fmt="C0s", ms=4, capsize=2, label="simulated (2 stderr)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("D")
+    ax.set_ylabel("HWHM (angular)")
+    ax.set_title(f"{name}: linewidth against D")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    paths.append(out / f"spectrum-{name}-linewidth.png")
+    fig.savefig(paths[-1], dpi=120)
+    plt.close(fig)
+    return paths

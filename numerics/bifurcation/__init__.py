@@ -1,0 +1,22 @@
+"""Two-parameter bifurcation diagrams (issue 38): codim-1 curves continued, codim-2 points
+located, averaged curves beside the true ones.
+
+- :mod:`numerics.bifurcation.result`: :class:`Curve`, :class:`Codim2Point`,
+  :class:`Diagram` (the JSON contract and the figure);
+- :mod:`numerics.bifurcation.curve`: :func:`continue_curve`, pseudo-arclength continuation
+  of a curve of zeros of ``G: R^(n+1) -> R^n`` (converged points, step control, bounds,
+  test functions and their zeros, progress, store and resume).
+"""
+
+from kbm._lazy import lazy_names
+
+_LAZY = {
+    **dict.fromkeys(("Curve", "Codim2Point", "Diagram"), "numerics.bifurcation.result"),
+    **dict.fromkeys(("continue_curve", "CurvePath", "PathPoint", "TestEvent"),
+                    "numerics.bifurcation.curve"),
+}
+
+__getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)
+
+__all__ = ["Curve", "Codim2Point", "Diagram", "continue_curve", "CurvePath", "PathPoint",
+           "TestEvent"]

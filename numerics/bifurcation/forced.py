@@ -53,8 +53,8 @@ from numerics.bifurcation.curve import CurvePath, continue_curve
 from numerics.bifurcation.result import Codim2Point, Curve, Diagram
 from numerics.errors import NumericsError
 
-__all__ = ["DrivenProblem", "Task", "both_ways", "forced_seeds", "forced_true_curves",
-           "averaged_fold_curves", "forced_diagram", "curve_distance", "FD_STEP"]
+__all__ = ["DrivenProblem", "Task", "both_ways", "rates_system", "forced_seeds",
+           "forced_true_curves", "averaged_fold_curves", "forced_diagram", "curve_distance", "FD_STEP"]
 
 #: the central-difference step of the defining systems' Jacobians (relative)
 FD_STEP = 1e-6
@@ -381,18 +381,43 @@ def _averaged_system(forced, values: Mapping[str, float], axes: tuple[str, str],
     da, dph = da.subs(subs), dph.subs(subs)
     mu_e = P[axes.index("mu")] if mu_v is None else mu_v
     da, dph = da / mu_e, dph / mu_e
-    Jm = sp.Matrix([[sp.diff(e, v) for v in (a_s, phi_s)] for e in (da, dph)])
-    det, tr = Jm.det(), Jm.trace()
-    var = (a_s, phi_s, *P)
-    systems = {}
-    for kind, extra in (("fold", det), ("neimark-sacker", tr)):
-        exprs = [da, dph, extra]
-        f = sp.lambdify(var, exprs, "numpy", cse=True)
-        j = sp.lambdify(var, [[sp.diff(e, v) for v in var] for e in exprs], "numpy", cse=True)
-        systems[kind] = (lambda f: lambda z: np.array(f(*z), dtype=float))(f), \
-            (lambda j: lambda z: np.array(j(*z), dtype=float))(j)
-    jac2 = sp.lambdify(var, [list(Jm.row(0)), list(Jm.row(1))], "numpy", cse=True)
+    systems = {kind: rates_system([da, dph], [a_s, phi_s], P, test)
+               for kind, test in (("fold", "det"), ("neimark-sacker", "trace"))}
+    jac2 = sp.lambdify((a_s, phi_s, *P), sp.Matrix([da, dph]).jacobian([a_s, phi_s]).tolist(),
+                       "numpy", cse=True)
     return systems, lambda z: np.array(jac2(*z), dtype=float)
+
+
+def rates_system(rates: Sequence[sp.Expr], state: Sequence[sp.Symbol], P: Sequence[sp.Symbol],
+                 test: str) -> tuple[Callable, Callable]:
+    """``G(z) = (f, det df/dy)`` (``test = "det"``: folds) or ``(f, tr df/dy)``
+    (``"trace"``: Hopf points) of the slow flow ``y' = f(y; p1, p2)``, ``z = (y, p1, p2)``,
+    and its Jacobian: ``df/dz`` exact (lambdified), the test's row by central differences."""
+    var = (*state, *P)
+    F = sp.Matrix(list(rates))
+    f = sp.lambdify(var, list(rates), "numpy", cse=True)
+    jac = sp.lambdify(var, F.jacobian(var).tolist(), "numpy", cse=True)
+    m = len(state)
+
+    def extra(Jz):
+        Jy = Jz[:, :m]
+        return float(np.linalg.det(Jy)) if test == "det" else float(np.trace(Jy))
+
+    def G(z):
+        Jz = np.array(jac(*z), dtype=float)
+        return np.append(np.array(f(*z), dtype=float), extra(Jz))
+
+    def J(z):
+        z = np.asarray(z, dtype=float)
+        Jz = np.array(jac(*z), dtype=float)
+        row = np.empty(len(z))
+        for i in range(len(z)):
+            e = np.zeros(len(z))
+            e[i] = FD_STEP * (1 + abs(z[i]))
+            row[i] = (extra(np.array(jac(*(z + e)), dtype=float))
+                      - extra(np.array(jac(*(z - e)), dtype=float))) / (2 * e[i])
+        return np.vstack([Jz, row])
+    return G, J
 
 
 def averaged_fold_curves(forced, values: Mapping[str, float], axes: tuple[str, str],

@@ -129,10 +129,12 @@ def _seed_axis(axes: tuple[str, str]) -> int:
 
 def coupled_true_folds(model, params: Mapping[str, float], axes: tuple[str, str],
                        ranges: Mapping[str, tuple[float, float]], others: Sequence[float], *,
-                       ds: float = 0.02, max_points: int = 300, progress=None
-                       ) -> tuple[list[Curve], list[Codim2Point]]:
+                       ds: float = 0.02, max_points: int = 300, progress=None,
+                       tasks_out: list | None = None) -> tuple[list[Curve], list[Codim2Point]]:
     """The true fold curves of the locked cycle (the tongue's edges), seeded at the values
-    ``others`` of the axis that is not the detuning."""
+    ``others`` of the axis that is not the detuning; ``tasks_out`` receives the
+    :class:`~numerics.bifurcation.forced.Task` of each curve (its paths' full ``z``, its
+    :class:`LockedCycleFold` as ``problem``)."""
     from numerics.coupled import coupled_cycle
     from numerics.coupled.fold import locate_fold
 
@@ -166,8 +168,9 @@ def coupled_true_folds(model, params: Mapping[str, float], axes: tuple[str, str]
             z0[n2 + s_i], z0[n2 + 1 - s_i] = fold.parameter, o
             if _on_known(z0, tasks, "fold", scale, 5 * ds):
                 continue
+            prob = LockedCycleFold(model, params, axes)  # its own border
             prob.set_border(z0)
-            task = Task("fold", "true", None, z0)
+            task = Task("fold", "true", None, z0, problem=prob)
             tests = {"cusp": lambda z, t, i=n2 + 1 - s_i: float(t[i] / scale[i])}
             try:
                 task.paths = both_ways(prob.G, z0, jac=prob.J, bounds=bounds, scale=scale,
@@ -176,6 +179,8 @@ def coupled_true_folds(model, params: Mapping[str, float], axes: tuple[str, str]
             except NumericsError:
                 continue
             tasks.append(task)
+            if tasks_out is not None:
+                tasks_out.append(task)
             pts = joined(task.paths)
             if len(pts) >= 2:
                 res = max(p.residual for p in (q for path in task.paths for q in path.points))

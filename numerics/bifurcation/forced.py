@@ -169,6 +169,7 @@ class Task:
     order: int | None
     z0: np.ndarray
     paths: list = field(default_factory=list)
+    problem: object = None
 
 
 def both_ways(G, z0, *, jac=None, bounds, scale=None, ds=0.02, ds_max=0.1, max_points=400,
@@ -321,7 +322,7 @@ def forced_true_curves(prob: DrivenProblem, ranges: Mapping[str, tuple[float, fl
     for kind, z0 in seeds:
         if _on_known(np.asarray(z0), tasks, kind, scale, 5 * ds):
             continue
-        task = Task(kind, "true", None, np.asarray(z0, dtype=float))
+        task = Task(kind, "true", None, np.asarray(z0, dtype=float), problem=prob)
         idx = len(tasks)
         tasks.append(task)
         tests = {name: (lambda fn: lambda z: fn(*prob.multipliers(z)))(fn)

@@ -170,3 +170,20 @@ def test_run_driven_json_and_errors(tmp_path, capsys):
         with pytest.raises(ParameterError):
             run_driven(argparse.Namespace(**{**vars(ns), "resume": False, "store": None,
                                              **bad}))
+
+
+def test_forced_vdp_averaged_cusp_and_bogdanov_takens_closed_form():
+    """Forced van der Pol at order 1: with rho = a^2 the response is
+    f(rho) = rho/4 - rho^2/8 + rho^3/64 + sigma^2 rho = h^2/4; the folds f' = 0 meet at the
+    cusp f'' = 0 (rho = 8/3: sigma = +-1/sqrt(12), h = sqrt(32/27)), and the slow flow's
+    trace 1 - rho/2 vanishes on a fold at the Bogdanov-Takens points (rho = 2: sigma = +-1/4,
+    h = 1), where the Hopf (averaged Neimark-Sacker) curves end (Guckenheimer & Holmes
+    1983, sec. 2.1)."""
+    curves, pts = averaged_fold_curves("vdp-forced", {"mu": 0.1}, AXES,
+                                       {"sigma": (-1.5, 1.5), "h": (0.05, 1.5)}, (1,), [1.2])
+    found = {(p.kind, round(p.point[0], 6), round(p.point[1], 6)) for p in pts}
+    c, h = round(1 / math.sqrt(12), 6), round(math.sqrt(32 / 27), 6)
+    assert {("cusp", -c, h), ("cusp", c, h), ("bogdanov-takens", -0.25, 1.0),
+            ("bogdanov-takens", 0.25, 1.0)} <= found
+    hopf = [q for cv in curves if cv.kind == "neimark-sacker" for q in cv.points]
+    assert hopf and min(q[1] for q in hopf) == pytest.approx(1.0, abs=1e-9)

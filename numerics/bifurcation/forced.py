@@ -20,10 +20,12 @@ points are zeros of test functions along the curves, located to convergence:
 
 - **cusp** on a fold curve: the fold curve's tangent has no parameter component (the
   projection of the curve onto the parameter plane turns back; Kuznetsov sec. 8.2);
-- **1:1 resonance** (Bogdanov–Takens of the map) on a fold curve: the other multiplier
+- **Bogdanov–Takens** (the 1:1 resonance of the map, where a fold curve and a
+  Neimark–Sacker curve end on each other) on a fold curve: the other multiplier
   ``det Phi`` at 1; **fold-flip**: at -1;
 - **strong resonances** on a Neimark–Sacker curve: ``e^{+-i theta}`` with ``theta = 0,
-  pi, 2 pi/3, pi/2`` (``tr Phi = 2, -2, -1, 0``: 1:1, 1:2, 1:3, 1:4);
+  pi, 2 pi/3, pi/2`` (``tr Phi = 2, -2, -1, 0``: 1:1 (named ``bogdanov-takens``), 1:2,
+  1:3, 1:4);
 - on a period-doubling curve: 1:2 resonance (``det Phi = 1``) and fold-flip
   (``det Phi = -1``).
 
@@ -54,17 +56,17 @@ from numerics.bifurcation.result import Codim2Point, Curve, Diagram
 from numerics.errors import NumericsError
 
 __all__ = ["DrivenProblem", "Task", "both_ways", "rates_system", "forced_seeds",
-           "forced_true_curves", "averaged_fold_curves", "forced_diagram", "curve_distance", "FD_STEP"]
+           "forced_true_curves", "averaged_fold_curves", "merged", "trimmed", "forced_diagram", "curve_distance", "FD_STEP"]
 
 #: the central-difference step of the defining systems' Jacobians (relative)
 FD_STEP = 1e-6
 #: kinds of codim-1 curves of the stroboscopic map and their test functions
 MAP_TESTS = {
-    "fold": {"1:1 resonance": lambda tr, det: det - 1.0,
+    "fold": {"bogdanov-takens": lambda tr, det: det - 1.0,
              "fold-flip": lambda tr, det: det + 1.0},
     "period-doubling": {"1:2 resonance": lambda tr, det: det - 1.0,
                         "fold-flip": lambda tr, det: det + 1.0},
-    "neimark-sacker": {"1:1 resonance": lambda tr, det: tr - 2.0,
+    "neimark-sacker": {"bogdanov-takens": lambda tr, det: tr - 2.0,
                        "1:2 resonance": lambda tr, det: tr + 2.0,
                        "1:3 resonance": lambda tr, det: tr + 1.0,
                        "1:4 resonance": lambda tr, det: tr},
@@ -207,6 +209,25 @@ def joined(paths: Sequence[CurvePath]) -> np.ndarray:
     return np.array(list(reversed(b)) + a)
 
 
+def trimmed(paths: Sequence[CurvePath], ok: Callable) -> np.ndarray:
+    """:func:`joined` without the end points where ``ok(z)`` fails (a Neimark–Sacker path
+    stopped one point past its Bogdanov–Takens end), that end's located test zero put in
+    their place."""
+    kept = []
+    for path in paths:
+        pts = [p.z for p in path.points]
+        if pts and not ok(pts[-1]):
+            pts = pts[:-1]
+            ends = [e.z for e in path.events if e.name == "bogdanov-takens"]
+            if ends:
+                pts.append(np.asarray(ends[-1]))
+        kept.append(pts)
+    if not kept or not kept[0]:
+        return np.zeros((0, 0))
+    rest = kept[1][1:] if len(kept) > 1 else []
+    return np.array(list(reversed(rest)) + kept[0])
+
+
 def _near_polyline(pt: np.ndarray, line: np.ndarray) -> float:
     """Distance from ``pt`` to the polyline through the rows of ``line``."""
     if len(line) == 0:
@@ -345,7 +366,8 @@ def forced_true_curves(prob: DrivenProblem, ranges: Mapping[str, tuple[float, fl
             continue
         if on_task is not None:
             on_task(idx, task)
-        pts = joined(task.paths)
+        pts = joined(task.paths) if kind != "neimark-sacker" else \
+            trimmed(task.paths, lambda z: abs(prob.multipliers(z)[0]) <= 2)
         if len(pts) < 2:
             continue
         res = max(p.residual for path in task.paths for p in path.points)
@@ -468,15 +490,23 @@ def averaged_fold_curves(forced, values: Mapping[str, float], axes: tuple[str, s
             tests = {"cusp": lambda z, t: float(t[3] / scale[3])} if kind == "fold" else {}
             if kind == "fold":
                 tests["bogdanov-takens"] = lambda z: float(np.trace(jac2(z)))
+            stop = None
+            if kind == "neimark-sacker":
+                tests["bogdanov-takens"] = lambda z: float(np.linalg.det(jac2(z)))
+
+                def stop(pt, path):
+                    return "the eigenvalues became real (det < 0: a neutral saddle)" \
+                        if np.linalg.det(jac2(pt.z)) <= 0 else None
             task = Task(kind, "averaged", n, z0)
             try:
                 task.paths = both_ways(G, z0, jac=J, bounds=bounds, scale=scale, ds=ds,
                                        ds_max=5 * ds, max_points=max_points, tests=tests,
-                                       tol=1e-12)
+                                       stop=stop, tol=1e-12)
             except NumericsError:
                 continue
             tasks.append(task)
-            pts = joined(task.paths)
+            pts = joined(task.paths) if kind != "neimark-sacker" else \
+                trimmed(task.paths, lambda z: np.linalg.det(jac2(z)) > 0)
             if len(pts) >= 2:
                 curves.append(Curve(kind, [tuple(p[2:]) for p in pts], "averaged", n))
 
@@ -514,15 +544,16 @@ def forced_diagram(model, params: Mapping[str, float], axes: tuple[str, str],
     av_curves, av_points = averaged_fold_curves(prob.forced, prob.values, axes, ranges, orders,
                                                 others, ds=ds, max_points=max_points)
     return Diagram(prob.forced.name, dict(prob.values), axes, ranges,
-                   tuple(curves + av_curves), tuple(points + av_points),
+                   tuple(curves + av_curves), tuple(merged(points + av_points)),
                    {"distance": distances(curves, av_curves, points, av_points)})
 
 
 def distances(true: Sequence[Curve], averaged: Sequence[Curve], tp: Sequence[Codim2Point],
               ap: Sequence[Codim2Point]) -> dict:
-    """``{kind: {order: d}}``: the largest distance from a point of the true curves of a
-    kind to the averaged ones of that order (parameter plane), and ``{"cusp": {order:
-    [dp1, dp2]}}`` between the true and averaged cusps."""
+    """``{kind: {order: d}}``: for a curve kind, the largest distance from a point of the
+    true curves of that kind to the averaged ones of the order (the parameter plane); for
+    a codim-2 kind (``cusp``, ``bogdanov-takens``, ...), the largest distance from a true
+    point to the nearest averaged point of that kind and order."""
     out: dict = {}
     for kind in sorted({c.kind for c in true}):
         tpts = [p for c in true if c.kind == kind for p in c.points]
@@ -532,10 +563,27 @@ def distances(true: Sequence[Curve], averaged: Sequence[Curve], tp: Sequence[Cod
                     default=math.nan)
             out.setdefault(kind, {})[str(n)] = d
     for kind in sorted({p.kind for p in tp}):
-        for t in [p for p in tp if p.kind == kind]:
-            for a in ap:
-                if a.kind == kind and math.hypot(a.point[0] - t.point[0],
-                                                 a.point[1] - t.point[1]) < 0.5:
-                    out.setdefault(kind, {})[str(a.detail.get("order"))] = \
-                        [a.point[0] - t.point[0], a.point[1] - t.point[1]]
+        orders = sorted({a.detail.get("order") for a in ap if a.kind == kind})
+        for n in orders:
+            near = [a.point for a in ap if a.kind == kind and a.detail.get("order") == n]
+            d = max(min(math.dist(t.point, q) for q in near) for t in tp if t.kind == kind)
+            out.setdefault(kind, {})[str(n)] = d
+    return out
+
+
+def merged(points: Sequence[Codim2Point], tol: float = 1e-6) -> list[Codim2Point]:
+    """The codim-2 points with the copies found on two curves (a Bogdanov–Takens point
+    ends both a fold and a Neimark–Sacker curve) merged, their curves listed in ``on``."""
+    out: list[Codim2Point] = []
+    for p in points:
+        same = next((q for q in out if q.kind == p.kind and
+                     q.detail.get("method") == p.detail.get("method") and
+                     q.detail.get("order") == p.detail.get("order") and
+                     math.dist(q.point, p.point) < tol * (1 + math.hypot(*p.point))), None)
+        if same is None:
+            out.append(p)
+            continue
+        on = sorted({*str(same.detail.get("on", "")).split(","), str(p.detail.get("on", ""))})
+        out[out.index(same)] = Codim2Point(same.kind, same.point,
+                                           {**dict(same.detail), "on": ",".join(on)})
     return out

@@ -200,7 +200,7 @@ def run_driven(args: argparse.Namespace) -> int:
         For a model that is neither, a wrong parameter name, not two ``--vary``, or no
         ``sigma`` among a forced model's axes.
     """
-    from numerics.bifurcation.forced import distances
+    from numerics.bifurcation.forced import distances, merged
     from numerics.bifurcation.result import Diagram
     from numerics.cli._params import open_store
 
@@ -233,7 +233,7 @@ def run_driven(args: argparse.Namespace) -> int:
     true_c, av_c = [_curve(c) for c in tc], [_curve(c) for c in ac]
     true_p, av_p = [_point(p) for p in tp], [_point(p) for p in ap]
     diagram = Diagram(args.model, values, axes, ranges, tuple(true_c + av_c),
-                      tuple(true_p + av_p),
+                      tuple(merged(true_p + av_p)),
                       {"distance": distances(true_c, av_c, true_p, av_p),
                        "complete": not parts["interrupted"]})
     if getattr(args, "out", None):
@@ -275,6 +275,4 @@ def _summary(d) -> None:
         print(f"  {q.kind} ({tag}) at {a} = {q.point[0]:.8f}, {b} = {q.point[1]:.8f}")
     for kind, per in d.detail.get("distance", {}).items():
         for n, v in per.items():
-            shown = f"{v:.3e}" if isinstance(v, float) else \
-                ", ".join(f"{x:+.3e}" for x in v)
-            print(f"  distance true-averaged order {n} ({kind}): {shown}")
+            print(f"  distance true-averaged order {n} ({kind}): {v:.3e}")

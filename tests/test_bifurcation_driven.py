@@ -180,7 +180,7 @@ def test_forced_vdp_averaged_cusp_and_bogdanov_takens_closed_form():
     h = 1), where the Hopf (averaged Neimark-Sacker) curves end (Guckenheimer & Holmes
     1983, sec. 2.1)."""
     curves, pts = averaged_fold_curves("vdp-forced", {"mu": 0.1}, AXES,
-                                       {"sigma": (-1.5, 1.5), "h": (0.05, 1.5)}, (1,), [1.2])
+                                       {"sigma": (-1.5, 1.5), "h": (0.05, 1.5)}, (1,), [1.2, 0.6])
     found = {(p.kind, round(p.point[0], 6), round(p.point[1], 6)) for p in pts}
     c, h = round(1 / math.sqrt(12), 6), round(math.sqrt(32 / 27), 6)
     assert {("cusp", -c, h), ("cusp", c, h), ("bogdanov-takens", -0.25, 1.0),

@@ -187,3 +187,38 @@ def test_forced_vdp_averaged_cusp_and_bogdanov_takens_closed_form():
             ("bogdanov-takens", 0.25, 1.0)} <= found
     hopf = [q for cv in curves if cv.kind == "neimark-sacker" for q in cv.points]
     assert hopf and min(q[1] for q in hopf) == pytest.approx(1.0, abs=1e-7)
+
+
+def test_run_driven_ctrl_c_keeps_the_paths_and_resume_finishes(tmp_path, capsys, monkeypatch):
+    """Ctrl-C during a true curve: exit 130 with what was found, the path kept in --store;
+    --resume continues it from its last point to the diagram of an uninterrupted run."""
+    import numerics.cli._diagram_driven as dd
+
+    base = dict(model="duffing-forced", param=["mu=0.1", "zeta=0.1", "alpha=1"],
+                vary=["sigma=-1:3", "h=0.05:0.4"], json=True, out=None, order=1)
+    assert dd.run_driven(argparse.Namespace(**base, store=None, resume=False)) == 0
+    full = json.loads(capsys.readouterr().out)
+    calls = {"n": 0}
+
+    def interrupt(self, point, path):
+        calls["n"] += 1
+        if calls["n"] == 12:
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(dd._Progress, "__call__", interrupt)
+    store = str(tmp_path / "d.sqlite")
+    assert dd.run_driven(argparse.Namespace(**base, store=store, resume=False)) == 130
+    part = json.loads(capsys.readouterr().out)
+    assert part["complete"] is False
+    assert 0 < sum(len(c["points"]) for c in part["curves"]) < \
+        sum(len(c["points"]) for c in full["curves"] if c["method"] == "true")
+    monkeypatch.undo()
+    assert dd.run_driven(argparse.Namespace(**base, store=store, resume=True)) == 0
+    done = json.loads(capsys.readouterr().out)
+    assert done["complete"] is True
+    for a, b in zip(done["codim2"], full["codim2"]):
+        assert a["kind"] == b["kind"] and np.allclose(a["point"], b["point"], atol=1e-8)
+    ta = [c for c in done["curves"] if c["method"] == "true"]
+    tb = [c for c in full["curves"] if c["method"] == "true"]
+    assert len(ta) == len(tb) == 1
+    assert all(min(math.dist(p, q) for q in tb[0]["points"]) < 2e-2 for p in ta[0]["points"])

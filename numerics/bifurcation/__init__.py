@@ -5,7 +5,12 @@ located, averaged curves beside the true ones.
   :class:`Diagram` (the JSON contract and the figure);
 - :mod:`numerics.bifurcation.curve`: :func:`continue_curve`, pseudo-arclength continuation
   of a curve of zeros of ``G: R^(n+1) -> R^n`` (converged points, step control, bounds,
-  test functions and their zeros, progress, store and resume).
+  test functions and their zeros, progress, store and resume);
+- :mod:`numerics.bifurcation.forced`: the fold, period-doubling and Neimark–Sacker curves
+  of a forced oscillator's periodic responses (cusp, Bogdanov–Takens, strong resonances),
+  the slow flow's curves at orders 1–3 beside them;
+- :mod:`numerics.bifurcation.coupled`: the locking tongue of coupled self-excited
+  oscillators as the fold curves of the locked cycle, and the averaged tongue.
 """
 
 from kbm._lazy import lazy_names

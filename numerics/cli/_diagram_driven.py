@@ -115,9 +115,38 @@ class _Progress:
         self.bar.close()
 
 
-def _forced_parts(model, values, axes, ranges, order, record, loaded, progress):
-    """The forced diagram's parts, each stored when finished (chunk 0: true curves, 1:
-    averaged curves; 10 + k: the paths of true task k)."""
+class _Records:
+    """``get(key)``/``put(key, record)`` of JSON-able records, kept in one chunk of the
+    :class:`numerics.store.PointStore` of ``--store FILE`` under the run's definition
+    (``None`` store: nothing kept)."""
+
+    def __init__(self, path, resume: bool, definition: str):
+        from numerics.cli._params import open_store
+
+        self.store = open_store(path, resume, "diagram")
+        self.data: dict = {}
+        self.run = None
+        if self.store is not None:
+            self.run = self.store.run(definition, 1)
+            self.data = dict((self.run.load().get(0) or [{}])[0])
+
+    def get(self, key: str):
+        return self.data.get(key)
+
+    def put(self, key: str, record) -> None:
+        self.data[key] = record
+        if self.run is not None:
+            self.run.save(0, [self.data])
+
+    def close(self) -> None:
+        if self.store is not None:
+            self.store.close()
+
+
+def _forced_parts(model, values, axes, ranges, order, store, progress):
+    """The forced diagram's parts, each kept in ``store`` when finished (``true``,
+    ``averaged``), and the paths of true task ``k`` (``task-k``) as they are when it ends or
+    Ctrl-C stops it."""
     from numerics.bifurcation.curve import CurvePath
     from numerics.bifurcation.forced import (DrivenProblem, averaged_fold_curves,
                                              forced_seeds, forced_true_curves)
@@ -126,16 +155,18 @@ def _forced_parts(model, values, axes, ranges, order, record, loaded, progress):
     o_name = axes[1 - axes.index("sigma")]
     lo, hi = ranges[o_name]
     others = list(np.linspace(lo, hi, 4)[1:][::-1])
-    parts = {"true": None, "averaged": None, "interrupted": False}
-    if 0 in loaded:
-        parts["true"] = loaded[0]
-    else:
-        stored = {k - 10: [CurvePath.from_records(r) for r in v] for k, v in loaded.items()
-                  if k >= 10}
+    parts = {"true": store.get("true"), "averaged": store.get("averaged"),
+             "interrupted": False}
+    if parts["true"] is None:
+        stored = {}
+        for k in range(1000):
+            rec = store.get(f"task-{k}")
+            if rec is None:
+                break
+            stored[k] = [CurvePath.from_records(r) for r in rec]
 
         def on_task(idx, task):
-            if record is not None:
-                record.save(10 + idx, [p.to_records() for p in task.paths])
+            store.put(f"task-{idx}", [p.to_records() for p in task.paths])
             if any(p.end == "interrupted" for p in task.paths):
                 parts["interrupted"] = True
 
@@ -145,46 +176,37 @@ def _forced_parts(model, values, axes, ranges, order, record, loaded, progress):
         parts["true"] = [[c.to_json() for c in curves], [p.to_json() for p in points]]
         if parts["interrupted"]:
             return parts
-        if record is not None:
-            record.save(0, parts["true"])
-    if 1 in loaded:
-        parts["averaged"] = loaded[1]
-    else:
+        store.put("true", parts["true"])
+    if parts["averaged"] is None:
         curves, points = averaged_fold_curves(prob.forced, prob.values, axes, ranges,
                                               tuple(range(1, order + 1)), others)
         parts["averaged"] = [[c.to_json() for c in curves], [p.to_json() for p in points]]
-        if record is not None:
-            record.save(1, parts["averaged"])
+        store.put("averaged", parts["averaged"])
     return parts
 
 
-def _coupled_parts(model, values, axes, ranges, order, record, loaded, progress):
+def _coupled_parts(model, values, axes, ranges, order, store, progress):
     from numerics.bifurcation.coupled import (_seed_axis, coupled_averaged_folds,
                                               coupled_true_folds)
 
     o_name = axes[1 - _seed_axis(axes)]
     lo, hi = ranges[o_name]
     others = list(np.linspace(lo, hi, 4)[1:-1])
-    parts = {"true": None, "averaged": None, "interrupted": False}
-    if 0 in loaded:
-        parts["true"] = loaded[0]
-    else:
+    parts = {"true": store.get("true"), "averaged": store.get("averaged"),
+             "interrupted": False}
+    if parts["true"] is None:
         curves, points = coupled_true_folds(model, values, axes, ranges, others,
                                             progress=progress)
         parts["true"] = [[c.to_json() for c in curves], [p.to_json() for p in points]]
         if any("interrupted" in c.detail.get("ends", ()) for c in curves):
             parts["interrupted"] = True
             return parts
-        if record is not None:
-            record.save(0, parts["true"])
-    if 1 in loaded:
-        parts["averaged"] = loaded[1]
-    else:
+        store.put("true", parts["true"])
+    if parts["averaged"] is None:
         curves = coupled_averaged_folds(model, values, axes, ranges,
                                         tuple(range(1, order + 1)), others)
         parts["averaged"] = [[c.to_json() for c in curves], []]
-        if record is not None:
-            record.save(1, parts["averaged"])
+        store.put("averaged", parts["averaged"])
     return parts
 
 
@@ -202,32 +224,26 @@ def run_driven(args: argparse.Namespace) -> int:
     """
     from numerics.bifurcation.forced import distances, merged
     from numerics.bifurcation.result import Diagram
-    from numerics.cli._params import open_store
 
     kind = is_driven(getattr(args, "model", None))
     if kind is None:
         raise ParameterError(f"{getattr(args, 'model', None)!r} is neither a forced nor a "
                              "coupled built-in (e.g. duffing-forced, vdp-forced, coupled-vdp)")
     model, params, values, axes, ranges, order = _setup(args, kind)
-    store = open_store(getattr(args, "store", None), bool(getattr(args, "resume", False)),
-                       "diagram")
-    record, loaded = None, {}
-    if store is not None:
-        definition = json.dumps({"command": "diagram", "model": args.model, "values": values,
-                                 "axes": axes, "ranges": ranges, "order": order},
-                                sort_keys=True)
-        record = store.run(definition, 2)
-        loaded = record.load()
+    definition = json.dumps({"command": "diagram", "model": args.model, "values": values,
+                             "axes": axes, "ranges": ranges, "order": order}, sort_keys=True)
+    store = _Records(getattr(args, "store", None), bool(getattr(args, "resume", False)),
+                     definition)
     progress = _Progress()
     parts_fn = _forced_parts if kind == "forced" else _coupled_parts
     try:
-        parts = parts_fn(model, values, axes, ranges, order, record, loaded, progress)
+        parts = parts_fn(model, values, axes, ranges, order, store, progress)
     except KeyboardInterrupt:
-        parts = {"true": None, "averaged": None, "interrupted": True}
+        parts = {"true": store.get("true"), "averaged": store.get("averaged"),
+                 "interrupted": True}
     finally:
         progress.close()
-        if store is not None:
-            store.close()
+        store.close()
     tc, tp = parts["true"] or ([], [])
     ac, ap = parts["averaged"] or ([], [])
     true_c, av_c = [_curve(c) for c in tc], [_curve(c) for c in ac]

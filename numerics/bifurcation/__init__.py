@@ -8,9 +8,12 @@ located, averaged curves beside the true ones.
   test functions and their zeros, progress, store and resume);
 - :mod:`numerics.bifurcation.forced`: the fold, period-doubling and Neimark–Sacker curves
   of a forced oscillator's periodic responses (cusp, Bogdanov–Takens, strong resonances),
-  the slow flow's curves at orders 1–3 beside them;
+  the slow flow's curves at orders 1–3 beside them
+  (:mod:`numerics.bifurcation.forced_averaged`);
 - :mod:`numerics.bifurcation.coupled`: the locking tongue of coupled self-excited
-  oscillators as the fold curves of the locked cycle, and the averaged tongue.
+  oscillators as the fold curves of the locked cycle, and the averaged tongue;
+- :mod:`numerics.bifurcation.twoway`: what these two share (a curve continued both ways
+  from its seed, codim-2 points named and merged, true-to-averaged distances).
 """
 
 from kbm._lazy import lazy_names

@@ -33,8 +33,9 @@ import numpy as np
 import sympy as sp
 
 from kbm.errors import ParameterError
-from numerics.bifurcation.forced import FD_STEP, Task, both_ways, distances, joined, \
-    rates_system, _codim2, _on_known
+from numerics.bifurcation.forced_averaged import rates_system
+from numerics.bifurcation.twoway import (FD_STEP, Task, both_ways, codim2_points, distances,
+                                         joined, on_known)
 from numerics.bifurcation.result import Codim2Point, Curve, Diagram
 from numerics.errors import NumericsError
 
@@ -166,7 +167,7 @@ def coupled_true_folds(model, params: Mapping[str, float], axes: tuple[str, str]
             z0[:n2 - 1] = np.asarray(fold.state)[prob.free]
             z0[n2 - 1] = fold.period
             z0[n2 + s_i], z0[n2 + 1 - s_i] = fold.parameter, o
-            if _on_known(z0, tasks, "fold", scale, 5 * ds):
+            if on_known(z0, tasks, "fold", scale, 5 * ds):
                 continue
             prob = LockedCycleFold(model, params, axes)  # its own border
             prob.set_border(z0)
@@ -194,7 +195,7 @@ def coupled_true_folds(model, params: Mapping[str, float], axes: tuple[str, str]
                 t = vt[-1] / scale
                 t /= np.linalg.norm(t)
                 return abs(t[-1]) < 1e-3 and abs(t[-2]) < 1e-3
-            points += _codim2(task, (n2, n2 + 1), cusp_ok)
+            points += codim2_points(task, (n2, n2 + 1), cusp_ok)
             if any(p.end == "interrupted" for p in task.paths):
                 return curves, points
     return curves, points
@@ -253,7 +254,7 @@ def coupled_averaged_folds(model, params: Mapping[str, float], axes: tuple[str, 
                 z0 = np.zeros(m + 2)
                 z0[:m] = e.state
                 z0[m + s_i], z0[m + 1 - s_i] = e.sigma, o
-                if _on_known(z0, tasks, "fold", scale, 5 * ds):
+                if on_known(z0, tasks, "fold", scale, 5 * ds):
                     continue
                 task = Task("fold", "averaged", n, z0)
                 try:

@@ -222,7 +222,7 @@ def run_driven(args: argparse.Namespace) -> int:
         For a model that is neither, a wrong parameter name, not two ``--vary``, or no
         ``sigma`` among a forced model's axes.
     """
-    from numerics.bifurcation.forced import distances, merged
+    from numerics.bifurcation.twoway import distances, merged
     from numerics.bifurcation.result import Diagram
 
     kind = is_driven(getattr(args, "model", None))

@@ -24,6 +24,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from numerics.bifurcation.curve import correct
 from numerics.bifurcation.forced import (DrivenProblem, averaged_fold_curves, forced_seeds,
@@ -222,3 +224,64 @@ def test_run_driven_ctrl_c_keeps_the_paths_and_resume_finishes(tmp_path, capsys,
     tb = [c for c in full["curves"] if c["method"] == "true"]
     assert len(ta) == len(tb) == 1
     assert all(min(math.dist(p, q) for q in tb[0]["points"]) < 2e-2 for p in ta[0]["points"])
+
+
+@pytest.mark.slow
+def test_forced_vdp_neimark_sacker_against_one_parameter_bisection():
+    """A point of the true Neimark-Sacker curve of vdp-forced is where kbm response's
+    one-parameter branch at that h has its Neimark-Sacker point (located there by bisection
+    on shooting, numerics.forced.special); the true Bogdanov-Takens points lie within
+    1e-3 of the order-2 averaged ones."""
+    from kbm.forced import derive_forced
+    from numerics.forced import ForcedSystem, numeric_response
+
+    ranges = {"sigma": (-1.5, 1.5), "h": (0.05, 1.5)}
+    prob = DrivenProblem("vdp-forced", {"mu": 0.1}, AXES)
+    seeds = forced_seeds(prob, ranges["sigma"], [1.2, 0.6])
+    tasks, curves, points = forced_true_curves(prob, ranges, seeds)
+    ns = [t for t in tasks if t.kind == "neimark-sacker"]
+    assert len(ns) == 2
+    z = joined(ns[0].paths)[len(joined(ns[0].paths)) // 2]
+    vals = {"mu": 0.1, "h": z[3]}
+    nr = numeric_response(ForcedSystem("vdp-forced", vals),
+                          derive_forced("vdp-forced", 1).slow_flow(vals), ranges["sigma"])
+    located = [sp.orbit.sigma for sp in nr.special if sp.kind == "neimark-sacker"]
+    assert min(abs(s - z[2]) for s in located) < 1e-5
+    _, av = averaged_fold_curves("vdp-forced", {"mu": 0.1}, AXES, ranges, (2,), [1.2, 0.6])
+    bt_true = [p.point for p in points if p.kind == "bogdanov-takens"]
+    bt_av = [p.point for p in av if p.kind == "bogdanov-takens"]
+    assert len(bt_true) >= 2
+    for p in bt_true:
+        assert min(math.dist(p, q) for q in bt_av) < 1e-3
+
+
+@pytest.mark.slow
+def test_duffing_cusp_error_falls_as_mu_to_the_order():
+    """The true cusp's distance to the order-N averaged cusp falls as mu^N: halving mu
+    divides it by about 2^N (orders 1-3)."""
+    err = {}
+    for mu in (0.1, 0.05):
+        vals = {**DUFFING, "mu": mu}
+        prob = DrivenProblem("duffing-forced", vals, AXES)
+        _, _, pts = forced_true_curves(prob, RANGES, forced_seeds(prob, RANGES["sigma"], [0.3]))
+        true = [p.point for p in pts if p.kind == "cusp"][0]
+        _, av = averaged_fold_curves("duffing-forced", vals, AXES, RANGES, (1, 2, 3), [0.3])
+        err[mu] = [math.dist(true, [p.point for p in av if p.kind == "cusp"
+                                    and p.detail["order"] == n][0]) for n in (1, 2, 3)]
+    for n in (1, 2, 3):
+        ratio = err[0.1][n - 1] / err[0.05][n - 1]
+        assert 0.6 * 2**n < ratio < 1.6 * 2**n
+
+
+@settings(max_examples=5, deadline=None)
+@given(zeta=st.floats(0.02, 0.3), alpha=st.floats(0.2, 5.0))
+def test_averaged_cusp_closed_form_property(zeta, alpha):
+    """Property (Nayfeh & Mook eq. 4.1.17): for every damping and hardening, the order-1
+    averaged cusp is (sqrt(3) zeta, sqrt(256 zeta^3/(9 sqrt(3) alpha)))."""
+    sc, hc = _cusp_closed_form(zeta, alpha)
+    _, points = averaged_fold_curves("duffing-forced", {"mu": 0.1, "zeta": zeta, "alpha": alpha},
+                                     AXES, {"sigma": (-1.0, 3.0), "h": (0.3 * hc, 3 * hc)},
+                                     (1,), [2.5 * hc])
+    cusps = [p.point for p in points if p.kind == "cusp"]
+    assert len(cusps) == 1
+    assert cusps[0] == pytest.approx((sc, hc), rel=1e-8)

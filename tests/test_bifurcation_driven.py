@@ -157,13 +157,17 @@ def test_run_driven_json_and_errors(tmp_path, capsys):
 
     ns = argparse.Namespace(model="duffing-forced", param=["mu=0.1", "zeta=0.1", "alpha=1"],
                             vary=["sigma=-1:3", "h=0.05:0.4"], json=True, out=None,
-                            store=str(tmp_path / "d.sqlite"), resume=False, order=1)
+                            store=str(tmp_path / "d"), resume=False, order=1)
     assert run_driven(ns) == 0
     data = json.loads(capsys.readouterr().out)
     kinds = {(c["kind"], c["method"], c["order"]) for c in data["curves"]}
     assert kinds == {("fold", "true", None), ("fold", "averaged", 1)}
     assert {p["kind"] for p in data["codim2"]} == {"cusp"}
     assert all(len(p) == 2 for c in data["curves"] for p in c["points"])
+    from numerics.store import StoreError
+
+    with pytest.raises(StoreError, match="--resume"):  # the run is in the folder already
+        run_driven(ns)
     ns.resume = True  # everything stored: the same diagram again, nothing recomputed
     assert run_driven(ns) == 0
     assert json.loads(capsys.readouterr().out) == data
@@ -208,7 +212,7 @@ def test_run_driven_ctrl_c_keeps_the_paths_and_resume_finishes(tmp_path, capsys,
             raise KeyboardInterrupt
 
     monkeypatch.setattr(dd._Progress, "__call__", interrupt)
-    store = str(tmp_path / "d.sqlite")
+    store = str(tmp_path / "d")
     assert dd.run_driven(argparse.Namespace(**base, store=store, resume=False)) == 130
     part = json.loads(capsys.readouterr().out)
     assert part["complete"] is False

@@ -10,9 +10,9 @@ at orders ``1..--order`` (default 2) (:mod:`numerics.bifurcation.coupled`).
 
 The output is the :class:`numerics.bifurcation.result.Diagram` (``--json``: its JSON, keys
 ``curves`` and ``codim2``; else a summary); ``--out DIR`` writes the figure; the progress
-(points of the true curves) goes to stderr.  With ``--store FILE`` every finished part is
-kept, and the true curves' paths as they are when Ctrl-C stops the run; ``--resume``
-continues them from their last points.
+(points of the true curves) goes to stderr.  With ``--store DIR`` every finished part is
+kept (JSON files in a folder of the run), and the true curves' paths as they are when
+Ctrl-C stops the run; ``--resume`` continues them from their last points.
 """
 
 from __future__ import annotations
@@ -116,31 +116,53 @@ class _Progress:
 
 
 class _Records:
-    """``get(key)``/``put(key, record)`` of JSON-able records, kept in one chunk of the
-    :class:`numerics.store.PointStore` of ``--store FILE`` under the run's definition
-    (``None`` store: nothing kept)."""
+    """``get(key)``/``put(key, record)`` of JSON records in ``--store DIR``: one folder per
+    run (named by the SHA-256 of its definition), one file per key, written atomically (a
+    temporary file renamed); ``get`` answers only with ``--resume``, and without it a folder
+    that holds this run already is refused."""
 
-    def __init__(self, path, resume: bool, definition: str):
-        from numerics.cli._params import open_store
+    def __init__(self, folder, resume: bool, definition: str):
+        import hashlib
+        from pathlib import Path
 
-        self.store = open_store(path, resume, "diagram")
-        self.data: dict = {}
-        self.run = None
-        if self.store is not None:
-            self.run = self.store.run(definition, 1)
-            self.data = dict((self.run.load().get(0) or [{}])[0])
+        from numerics.store import StoreError
+
+        if resume and not folder:
+            raise ParameterError("--resume continues a diagram kept by --store DIR: give the "
+                                 "folder")
+        self.resume = resume
+        self.dir = None
+        if not folder:
+            return
+        self.dir = Path(folder) / hashlib.sha256(definition.encode()).hexdigest()[:16]
+        if self.dir.exists() and any(self.dir.glob("*.json")) and not resume:
+            raise StoreError(f"{folder} holds this diagram's run already ({self.dir.name}): "
+                             "add --resume to continue it, or name another folder")
+        try:
+            self.dir.mkdir(parents=True, exist_ok=True)
+            (self.dir / "definition.txt").write_text(definition + "\n")
+        except OSError as exc:
+            raise StoreError(f"cannot write the store {folder}: {exc}") from None
+
+    def _path(self, key: str):
+        return self.dir / f"{key}.json"
 
     def get(self, key: str):
-        return self.data.get(key)
+        if self.dir is None or not self.resume or not self._path(key).exists():
+            return None
+        return json.loads(self._path(key).read_text())
 
     def put(self, key: str, record) -> None:
-        self.data[key] = record
-        if self.run is not None:
-            self.run.save(0, [self.data])
+        if self.dir is None:
+            return
+        import os
+
+        tmp = self._path(key).with_suffix(".tmp")
+        tmp.write_text(json.dumps(record, sort_keys=True))
+        os.replace(tmp, self._path(key))
 
     def close(self) -> None:
-        if self.store is not None:
-            self.store.close()
+        pass
 
 
 def _forced_parts(model, values, axes, ranges, order, store, progress):
@@ -267,7 +289,7 @@ def run_driven(args: argparse.Namespace) -> int:
     if parts["interrupted"]:
         print("stopped by Ctrl-C: the curves above are what was found"
               + (f"; run again with --resume to continue ({args.store})"
-                 if getattr(args, "store", None) else " (keep them with --store FILE)"),
+                 if getattr(args, "store", None) else " (keep them with --store DIR)"),
               file=sys.stderr)
         return 130
     return 0

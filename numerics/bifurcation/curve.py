@@ -351,7 +351,9 @@ def continue_curve(G: Callable, z0, *, jac: Callable | None = None, tangent=None
                 row = np.zeros_like(w)
                 row[i] = 1.0
                 # from the secant's crossing of the edge: Newton with w_i fixed
-                start = last.z + (value - last.z[i]) / (w[i] - last.z[i]) * (w - last.z)
+                span = w[i] - last.z[i]
+                start = w if abs(span) < 1e-300 else \
+                    last.z + (value - last.z[i]) / span * (w - last.z)
                 try:
                     w, res, k, J = correct(Gw, start, row, value, jac=jw, **kw)
                     w[i] = value

@@ -60,15 +60,19 @@ def _point(rec: dict):
 def _setup(args: argparse.Namespace, kind: str):
     from numerics.cli._params import check, given, parse_vary
 
-    name = args.model
     if kind == "forced":
         from kbm.forced import get_forced_model
 
-        model = get_forced_model(name)
+        model = get_forced_model(args.model)
+    elif getattr(args, "rhs", None):
+        from kbm.cli.derive import coupled_model
+
+        model = coupled_model(args)
     else:
         from kbm.coupled import get_coupled_model
 
-        model = get_coupled_model(name)
+        model = get_coupled_model(args.model)
+    name = model.name
     params = given(getattr(args, "param", None) or [])
     texts = list(getattr(args, "vary", None) or [])
     if len(texts) != 2:
@@ -92,7 +96,8 @@ def _setup(args: argparse.Namespace, kind: str):
     except TypeError:
         raise ParameterError(f"give a number to every parameter of {name} "
                              f"({', '.join(sorted(resolved))})") from None
-    order = getattr(args, "order", None) or _DEFAULT_ORDER[kind]
+    order = getattr(args, "order", None)
+    order = _DEFAULT_ORDER[kind] if order is None else order
     top = 3 if kind == "forced" else 4
     if not 1 <= order <= top:
         raise ParameterError(f"--order must be 1 to {top} for {name}, got {order}")
@@ -116,56 +121,30 @@ class _Progress:
 
 
 class _Records:
-    """``get(key)``/``put(key, record)`` of JSON records in ``--store DIR``: one folder per
-    run (named by the SHA-256 of its definition), one file per key, written atomically (a
-    temporary file renamed); ``get`` answers only with ``--resume``, and without it a folder
-    that holds this run already is refused."""
+    """``get(key)``/``put(key, record)`` of the run's parts and paths in ``--store DIR``
+    (:class:`numerics.bifurcation.store.PathStore`: one folder per run, one JSON file per
+    key written atomically; ``get`` answers only with ``--resume``)."""
 
     def __init__(self, folder, resume: bool, definition: str):
-        import hashlib
-        from pathlib import Path
-
-        from numerics.store import StoreError
+        from numerics.bifurcation.store import PathStore
 
         if resume and not folder:
             raise ParameterError("--resume continues a diagram kept by --store DIR: give the "
                                  "folder")
-        self.resume = resume
-        self.dir = None
-        if not folder:
-            return
-        self.dir = Path(folder) / hashlib.sha256(definition.encode()).hexdigest()[:16]
-        if self.dir.exists() and any(self.dir.glob("*.json")) and not resume:
-            raise StoreError(f"{folder} holds this diagram's run already ({self.dir.name}): "
-                             "add --resume to continue it, or name another folder")
-        try:
-            self.dir.mkdir(parents=True, exist_ok=True)
-            (self.dir / "definition.txt").write_text(definition + "\n")
-        except OSError as exc:
-            raise StoreError(f"cannot write the store {folder}: {exc}") from None
-
-    def _path(self, key: str):
-        return self.dir / f"{key}.json"
+        self.store = PathStore(folder, definition, resume)
 
     def get(self, key: str):
-        if self.dir is None or not self.resume or not self._path(key).exists():
-            return None
-        return json.loads(self._path(key).read_text())
+        rec = self.store.get(key)
+        return None if rec is None else rec["value"]
 
     def put(self, key: str, record) -> None:
-        if self.dir is None:
-            return
-        import os
-
-        tmp = self._path(key).with_suffix(".tmp")
-        tmp.write_text(json.dumps(record, sort_keys=True))
-        os.replace(tmp, self._path(key))
+        self.store.put(key, {"value": record})
 
     def close(self) -> None:
         pass
 
 
-def _forced_parts(model, values, axes, ranges, order, store, progress):
+def _forced_parts(model, values, axes, ranges, order, store, progress, max_points=400):
     """The forced diagram's parts, each kept in ``store`` when finished (``true``,
     ``averaged``), and the paths of true task ``k`` (``task-k``) as they are when it ends or
     Ctrl-C stops it."""
@@ -194,20 +173,22 @@ def _forced_parts(model, values, axes, ranges, order, store, progress):
 
         seeds = forced_seeds(prob, tuple(ranges["sigma"]), others)
         _, curves, points = forced_true_curves(prob, ranges, seeds, progress=progress,
-                                               on_task=on_task, stored=stored)
+                                               on_task=on_task, stored=stored,
+                                               max_points=max_points)
         parts["true"] = [[c.to_json() for c in curves], [p.to_json() for p in points]]
         if parts["interrupted"]:
             return parts
         store.put("true", parts["true"])
     if parts["averaged"] is None:
         curves, points = averaged_fold_curves(prob.forced, prob.values, axes, ranges,
-                                              tuple(range(1, order + 1)), others)
+                                              tuple(range(1, order + 1)), others,
+                                              max_points=max_points)
         parts["averaged"] = [[c.to_json() for c in curves], [p.to_json() for p in points]]
         store.put("averaged", parts["averaged"])
     return parts
 
 
-def _coupled_parts(model, values, axes, ranges, order, store, progress):
+def _coupled_parts(model, values, axes, ranges, order, store, progress, max_points=300):
     from numerics.bifurcation.coupled import (_seed_axis, coupled_averaged_folds,
                                               coupled_true_folds)
 
@@ -218,7 +199,7 @@ def _coupled_parts(model, values, axes, ranges, order, store, progress):
              "interrupted": False}
     if parts["true"] is None:
         curves, points = coupled_true_folds(model, values, axes, ranges, others,
-                                            progress=progress)
+                                            progress=progress, max_points=max_points)
         parts["true"] = [[c.to_json() for c in curves], [p.to_json() for p in points]]
         if any("interrupted" in c.detail.get("ends", ()) for c in curves):
             parts["interrupted"] = True
@@ -226,7 +207,8 @@ def _coupled_parts(model, values, axes, ranges, order, store, progress):
         store.put("true", parts["true"])
     if parts["averaged"] is None:
         curves = coupled_averaged_folds(model, values, axes, ranges,
-                                        tuple(range(1, order + 1)), others)
+                                        tuple(range(1, order + 1)), others,
+                                        max_points=max_points)
         parts["averaged"] = [[c.to_json() for c in curves], []]
         store.put("averaged", parts["averaged"])
     return parts
@@ -247,19 +229,27 @@ def run_driven(args: argparse.Namespace) -> int:
     from numerics.bifurcation.twoway import distances, merged
     from numerics.bifurcation.result import Diagram
 
-    kind = is_driven(getattr(args, "model", None))
+    kind = "coupled" if getattr(args, "rhs", None) else is_driven(getattr(args, "model", None))
     if kind is None:
         raise ParameterError(f"{getattr(args, 'model', None)!r} is neither a forced nor a "
                              "coupled built-in (e.g. duffing-forced, vdp-forced, coupled-vdp)")
     model, params, values, axes, ranges, order = _setup(args, kind)
-    definition = json.dumps({"command": "diagram", "model": args.model, "values": values,
-                             "axes": axes, "ranges": ranges, "order": order}, sort_keys=True)
+    max_points = int(getattr(args, "max_points", None) or 400)
+    if not 2 <= max_points <= 100000:
+        raise ParameterError(f"--max-points must be 2 to 100000, got {max_points}")
+    averaged = not getattr(args, "no_averaged", False)
+    definition = json.dumps({"command": "diagram", "model": model.name,
+                             "F": [str(f) for f in getattr(model, "F", ())] if kind == "coupled"
+                             else str(getattr(model, "F", "")), "values": values, "axes": axes,
+                             "ranges": ranges, "order": order, "max_points": max_points,
+                             "averaged": averaged}, sort_keys=True)
     store = _Records(getattr(args, "store", None), bool(getattr(args, "resume", False)),
                      definition)
     progress = _Progress()
     parts_fn = _forced_parts if kind == "forced" else _coupled_parts
     try:
-        parts = parts_fn(model, values, axes, ranges, order, store, progress)
+        parts = parts_fn(model, values, axes, ranges, order if averaged else 0, store,
+                         progress, max_points)
     except KeyboardInterrupt:
         parts = {"true": store.get("true"), "averaged": store.get("averaged"),
                  "interrupted": True}
@@ -270,16 +260,19 @@ def run_driven(args: argparse.Namespace) -> int:
     ac, ap = parts["averaged"] or ([], [])
     true_c, av_c = [_curve(c) for c in tc], [_curve(c) for c in ac]
     true_p, av_p = [_point(p) for p in tp], [_point(p) for p in ap]
-    diagram = Diagram(args.model, values, axes, ranges, tuple(true_c + av_c),
+    diagram = Diagram(model.name, values, axes, ranges, tuple(true_c + av_c),
                       tuple(merged(true_p + av_p)),
                       {"distance": distances(true_c, av_c, true_p, av_p),
                        "complete": not parts["interrupted"]})
     if getattr(args, "out", None):
-        from kbm.files import output_folder
+        from kbm.files import output_folder, write_file
 
-        path = diagram.plot(output_folder(args.out))
+        folder = output_folder(args.out)
+        write_file(folder / "diagram.json",
+                   json.dumps(diagram.to_json(), indent=2, allow_nan=False) + "\n")
+        path = diagram.plot(folder / f"diagram-{diagram.model}.png")
         if not args.json:
-            print(f"wrote {path}")
+            print(f"wrote {folder / 'diagram.json'} and {path}")
     if getattr(args, "json", False):
         from kbm.cli._common import emit_json
 

@@ -46,7 +46,7 @@ def _well_key(annulus, centers) -> tuple:
 
 
 def energy_balance_curves(model, params: Mapping, axes, ranges, *, n: int = 41,
-                          samples: int = 240, progress=None, seeds: list | None = None
+                          samples: int = 120, progress=None, seeds: list | None = None
                           ) -> tuple[list[Curve], str]:
     """``(curves, note)``: the averaged fold, homoclinic and Hopf curves of the energy
     balance (module docstring), clipped to ``ranges``; ``note`` says why there are none

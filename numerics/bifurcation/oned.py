@@ -50,9 +50,10 @@ class Settings:
     family_lines: int = 7
     ds_max: float = 0.04
     max_points: int = 400
-    averaged_points: int = 41
+    averaged_points: int = 25
     t_max: float = 300.0
     averaged: bool = True
+    orders: tuple[int, ...] = (1, 2, 3)
 
     def text(self) -> str:
         return repr(self)
@@ -504,7 +505,7 @@ def autonomous_diagram(model, params: Mapping, axes: tuple[str, str], ranges: Ma
             else:
                 if "mu" in axes:
                     averaged = avg.kbm_fold_curves(model, params, axes, ranges,
-                                                   progress=lambda: progress and progress(
+                                                   orders=settings.orders, progress=lambda: progress and progress(
                                                        "averaged", (a0, b0)))
                 else:
                     averaged, note = avg.energy_balance_curves(

@@ -19,7 +19,7 @@ __all__ = ["main", "build_parser", "COMMANDS", "SUMMARIES"]
 
 #: the numerical sub-command modules, listed after ``derive`` and ``series``
 COMMANDS = ("predict", "cycle", "compare", "slide", "figures", "derivations", "reproduce",
-            "branch", "friction", "response", "escape", "noise", "lock")
+            "branch", "friction", "response", "escape", "noise", "lock", "diagram")
 
 #: each command's line in ``kbm --help`` (the ``help`` its module registers; a test checks
 #: they are equal), so that the help and the version import no command module
@@ -38,6 +38,8 @@ SUMMARIES = {
     "escape": "escape rate from the well at the origin with noise sqrt(2 D) xi",
     "noise": "stationary state with noise sqrt(2 D) xi: averaged against simulated",
     "lock": "locking region of coupled oscillators: averaged vs true",
+    "diagram": "bifurcation diagram in two parameters: curves, codim-2 points, averaged vs "
+               "true",
 }
 
 

@@ -289,3 +289,22 @@ def test_averaged_cusp_closed_form_property(zeta, alpha):
     cusps = [p.point for p in points if p.kind == "cusp"]
     assert len(cusps) == 1
     assert cusps[0] == pytest.approx((sc, hc), rel=1e-8)
+
+
+def test_interruptible_turns_a_numba_ctrl_c_into_keyboard_interrupt():
+    """Ctrl-C inside compiled code surfaces as a SystemError over the KeyboardInterrupt:
+    the defining systems raise the interrupt itself (continue_curve keeps the path); any
+    other SystemError is left as it is."""
+    from numerics.bifurcation.twoway import interruptible
+
+    def numba_like(kind):
+        try:
+            raise KeyboardInterrupt if kind == "ctrl-c" else ValueError("x")
+        except BaseException:
+            raise SystemError("returned a result with an exception set")
+
+    with pytest.raises(KeyboardInterrupt):
+        interruptible(numba_like)("ctrl-c")
+    with pytest.raises(SystemError):
+        interruptible(numba_like)("other")
+    assert interruptible(lambda x: 2 * x)(3) == 6

@@ -35,7 +35,7 @@ import sympy as sp
 from kbm.errors import ParameterError
 from numerics.bifurcation.forced_averaged import rates_system
 from numerics.bifurcation.twoway import (FD_STEP, Task, both_ways, codim2_points, distances,
-                                         joined, on_known)
+                                         interruptible, joined, on_known)
 from numerics.bifurcation.result import Codim2Point, Curve, Diagram
 from numerics.errors import NumericsError
 
@@ -79,6 +79,7 @@ class LockedCycleFold:
         y[self.free] = z[:2 * self.n - 1]
         return y
 
+    @interruptible
     def shooting(self, z) -> tuple[np.ndarray, np.ndarray]:
         """``(y(T) - y0, M)`` at ``z``."""
         k = 2 * self.n

@@ -52,7 +52,7 @@ from kbm.errors import ParameterError
 from numerics.bifurcation.forced_averaged import averaged_fold_curves
 from numerics.bifurcation.result import Codim2Point, Curve, Diagram
 from numerics.bifurcation.twoway import (FD_STEP, Task, both_ways, codim2_points, distances,
-                                         joined, merged, on_known, trimmed)
+                                         interruptible, joined, merged, on_known, trimmed)
 from numerics.errors import NumericsError
 
 __all__ = ["DrivenProblem", "MAP_TESTS", "forced_seeds", "forced_true_curves",
@@ -118,6 +118,7 @@ class DrivenProblem:
             raise ArithmeticError(f"the forcing frequency {nu:.6g} is not positive")
         return self.periods * 2 * math.pi / nu
 
+    @interruptible
     def monodromy(self, z) -> tuple[np.ndarray, np.ndarray]:
         """``(y(T) - y0, Phi(T))`` at ``z = (x0, v0, p1, p2)``."""
         fl = self.at(z[2], z[3])

@@ -17,8 +17,23 @@ import numpy as np
 from numerics.bifurcation.curve import CurvePath, continue_curve
 from numerics.bifurcation.result import Codim2Point, Curve
 
-__all__ = ["FD_STEP", "Task", "both_ways", "joined", "trimmed", "curve_distance", "distances",
-           "merged", "on_known", "codim2_points"]
+__all__ = ["interruptible", "FD_STEP", "Task", "both_ways", "joined", "trimmed",
+           "curve_distance", "distances", "merged", "on_known", "codim2_points"]
+
+
+def interruptible(fn: Callable) -> Callable:
+    """``fn`` with a Ctrl-C inside compiled code (numba: a :class:`SystemError` over the
+    :class:`KeyboardInterrupt`) raised as the :class:`KeyboardInterrupt` itself, which
+    :func:`~numerics.bifurcation.curve.continue_curve` turns into an interrupted path."""
+    def wrapped(*args, **kwargs):
+        try:
+            return fn(*args, **kwargs)
+        except SystemError as exc:
+            if isinstance(exc.__context__, KeyboardInterrupt):
+                raise KeyboardInterrupt from None
+            raise
+    return wrapped
+
 
 #: the central-difference step of the defining systems' Jacobians (relative)
 FD_STEP = 1e-6

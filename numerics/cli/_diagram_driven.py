@@ -250,7 +250,10 @@ def run_driven(args: argparse.Namespace) -> int:
     try:
         parts = parts_fn(model, values, axes, ranges, order if averaged else 0, store,
                          progress, max_points)
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, SystemError) as exc:
+        # inside compiled code (numba) Ctrl-C surfaces as a SystemError over the interrupt
+        if isinstance(exc, SystemError) and not isinstance(exc.__context__, KeyboardInterrupt):
+            raise
         parts = {"true": store.get("true"), "averaged": store.get("averaged"),
                  "interrupted": True}
     finally:

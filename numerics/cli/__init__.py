@@ -19,7 +19,7 @@ __all__ = ["main", "build_parser", "COMMANDS", "SUMMARIES"]
 
 #: the numerical sub-command modules, listed after ``derive`` and ``series``
 COMMANDS = ("predict", "cycle", "compare", "slide", "figures", "derivations", "reproduce",
-            "branch", "friction", "response", "escape", "noise", "lock", "spectrum")
+            "branch", "friction", "response", "escape", "noise", "lock", "spectrum", "diagram")
 
 #: each command's line in ``kbm --help`` (the ``help`` its module registers; a test checks
 #: they are equal), so that the help and the version import no command module
@@ -40,6 +40,8 @@ SUMMARIES = {
     "lock": "locking region of coupled oscillators: averaged vs true",
     "spectrum": "spectrum of a noisy oscillator: linewidth, response spectra, phase slips "
                 "(averaged vs simulated)",
+    "diagram": "bifurcation diagram in two parameters: curves, codim-2 points, averaged vs "
+               "true",
 }
 
 

@@ -104,7 +104,7 @@ def noisy_system(model: CoupledOscillators | str, params: Mapping[str, object],
         raise ParameterError(f"D = {D:g}: a noise spectrum needs noise, give D > 0 "
                              "(x'' + ... = sqrt(2 D) xi)")
     model, values = bind_coupled(model, params)
-    if model.drive or any(f.has(t_symbol) for f in model.F):
+    if model.drives or any(f.has(t_symbol) for f in model.rhs):
         raise ParameterError(f"{model.name!r} depends on t other than through the forcing "
                              "angle theta; the spectra here are for forced or autonomous "
                              "systems")

@@ -104,13 +104,13 @@ class AveragedFlow:
         if not m.forced:
             raise ParameterError(f"{m.name!r} is not forced: a response spectrum needs a "
                                  "drive (the slip rate is for autonomous coupled systems)")
-        if any(k != 0 for k in m.hard):
+        if any(k != 0 for k in m.hards):
             raise ParameterError(f"{m.name!r} has a hard (order-one) forcing: its rotating-"
                                  "frame average is not first order; use a soft forcing")
         self.system = system
         self.ratios = np.array([float(r) for r in m.forcing_ratios])
         self.Omega = self.ratios * system.nu
-        self.omega0 = np.array([float(w) for w in m.omega0])
+        self.omega0 = np.array([float(w) for w in m.omegas])
         self.period = 2 * math.pi * m.response_periods / system.nu
         k = samples * m.response_periods * max(1, int(math.ceil(self.ratios.max())))
         self.t = self.period * np.arange(k) / k

@@ -1,0 +1,30 @@
+"""Two-parameter bifurcation diagrams (issue 38): codim-1 curves continued, codim-2 points
+located, averaged curves beside the true ones.
+
+- :mod:`numerics.bifurcation.result`: :class:`Curve`, :class:`Codim2Point`,
+  :class:`Diagram` (the JSON contract and the figure);
+- :mod:`numerics.bifurcation.curve`: :func:`continue_curve`, pseudo-arclength continuation
+  of a curve of zeros of ``G: R^(n+1) -> R^n`` (converged points, step control, bounds,
+  test functions and their zeros, progress, store and resume);
+- :mod:`numerics.bifurcation.forced`: the fold, period-doubling and Neimark–Sacker curves
+  of a forced oscillator's periodic responses (cusp, Bogdanov–Takens, strong resonances),
+  the slow flow's curves at orders 1–3 beside them
+  (:mod:`numerics.bifurcation.forced_averaged`);
+- :mod:`numerics.bifurcation.coupled`: the locking tongue of coupled self-excited
+  oscillators as the fold curves of the locked cycle, and the averaged tongue;
+- :mod:`numerics.bifurcation.twoway`: what these two share (a curve continued both ways
+  from its seed, codim-2 points named and merged, true-to-averaged distances).
+"""
+
+from kbm._lazy import lazy_names
+
+_LAZY = {
+    **dict.fromkeys(("Curve", "Codim2Point", "Diagram"), "numerics.bifurcation.result"),
+    **dict.fromkeys(("continue_curve", "CurvePath", "PathPoint", "TestEvent"),
+                    "numerics.bifurcation.curve"),
+}
+
+__getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)
+
+__all__ = ["Curve", "Codim2Point", "Diagram", "continue_curve", "CurvePath", "PathPoint",
+           "TestEvent"]

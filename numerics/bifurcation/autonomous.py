@@ -1,0 +1,196 @@
+"""The defining systems of the codim-1 bifurcations of an autonomous one-degree-of-freedom
+model ``x'' = f(x, x')`` in two parameters ``(a, b)``.
+
+:class:`OneDof` holds the model at fixed values of its other parameters and gives ``f`` and
+its derivatives at ``(a, b)`` (from the model's symbolic acceleration) and the extended flow
+(state, fundamental matrix, ``int div f dt``; :mod:`numerics.flow`, the compiled DOP853 of
+the shooting code where numba is available).  The defining systems, ``G(z) = 0`` with ``z``
+ending in ``(a, b)``, for :func:`numerics.bifurcation.curve.continue_curve`:
+
+- :meth:`OneDof.hopf`: ``z = (x, a, b)``, ``f(x, 0) = 0`` and ``tr J = f_v(x, 0) = 0``; a
+  Hopf point where ``det J = -f_x > 0`` (else a neutral saddle); test functions ``det J``
+  (zero: Bogdanov–Takens) and the first Lyapunov coefficient (zero: Bautin);
+- :meth:`OneDof.saddle_node`: ``z = (x, a, b)``, ``f = f_x = 0`` (a fold of equilibria);
+  test functions ``f_v`` (Bogdanov–Takens) and ``f_xx`` (cusp);
+- :meth:`OneDof.cycle_fold`: ``z = (x0, T, a, b)``, the shooting residual
+  ``(x(T) - x0, x'(T))`` from ``(x0, 0)`` and ``int_0^T div f dt = 0`` (the non-trivial
+  Floquet multiplier is 1, Liouville's formula; it is ``exp`` of a real number, so a
+  planar autonomous flow has no period doubling).
+
+The first Lyapunov coefficient of ``x' = v, v' = f(x, v)`` at a Hopf point (``f_v = 0``,
+``f_x = -w^2``) is, with the canonical form of Guckenheimer & Holmes (3.4.11) after
+``u = x, w_ = -v/w``,
+
+``l1 = (f_xxv + w^2 f_vvv + f_xv (f_xx/w^2 + f_vv))/16``
+
+(negative: supercritical; van der Pol ``f = -x + mu (1 - x^2) v`` gives ``-mu/8``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+import numpy as np
+import sympy as sp
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+from numerics.errors import ConvergenceError, IntegrationError
+from numerics.flow import compile_model, extended_state, template_flow
+
+__all__ = ["OneDof", "Equilibrium"]
+
+#: tolerances of the shooting flow in the defining systems of cycles
+RTOL, ATOL = 1e-12, 1e-13
+#: the derivatives of f kept (orders in x, v)
+_ORDERS = ((0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2), (3, 0), (2, 1), (0, 3))
+
+
+class Equilibrium(tuple):
+    """``(x, kind)`` with kind ``"saddle"``, ``"center"`` (a focus or node: ``f_x < 0``)."""
+
+
+class OneDof:
+    """The model ``x'' = f(x, x')`` at ``params`` with the two parameters ``axes`` free.
+
+    Parameters
+    ----------
+    model : Oscillator or str
+    params : Mapping
+        The other parameters (physical or scaled names, ``mu``); values of the axes in it
+        are ignored.
+    axes : (str, str)
+        The names of ``a`` and ``b`` (as the user gave them: ``Delta``, ``beta``, ``mu``).
+    """
+
+    def __init__(self, model, params: Mapping, axes: tuple[str, str], at: tuple[float, float]):
+        self.model = model
+        self.axes = tuple(axes)
+        self.params = {k: v for k, v in dict(params).items() if k not in self.axes}
+        self._cache: dict = {}
+        cm = self.compiled(*at)
+        self.template = cm.template
+        self.flow = template_flow(cm.template)
+        acc = cm.template.model.acceleration()
+        X, V = sp.Symbol("x"), sp.Symbol("xdot")
+        syms = [sp.Symbol(n) for n in cm.template.names]
+        self._d = {}
+        for i, j in _ORDERS:
+            e = sp.diff(acc, X, i, V, j) if (i or j) else acc
+            self._d[(i, j)] = sp.lambdify((X, V, *syms), e, modules=["math", "scipy"])
+        self.odd = bool(sp.simplify(acc.subs({X: -X, V: -V}, simultaneous=True) + acc) == 0)
+
+    def compiled(self, a: float, b: float):
+        """The :class:`numerics.flow.CompiledModel` at ``(a, b)`` (memoised)."""
+        key = (float(a), float(b))
+        cm = self._cache.get(key)
+        if cm is None:
+            if len(self._cache) > 4096:
+                self._cache.clear()
+            cm = compile_model(self.model, {**self.params, self.axes[0]: key[0],
+                                            self.axes[1]: key[1]},
+                               template=getattr(self, "template", None))
+            self._cache[key] = cm
+        return cm
+
+    def d(self, i: int, j: int, x: float, v: float, a: float, b: float) -> float:
+        """``d^(i+j) f / dx^i dv^j`` at ``(x, v)`` and ``(a, b)``."""
+        return float(self._d[(i, j)](x, v, *self.compiled(a, b).pvec))
+
+    # -- equilibria ---------------------------------------------------------------------------
+    def equilibria(self, a: float, b: float, L: float, n: int = 4001) -> list[Equilibrium]:
+        """The zeros of ``f(x, 0)`` on ``[-L, L]`` (sign changes on ``n`` points, Brent),
+        each with its kind."""
+        cm = self.compiled(a, b)
+        f = self._d[(0, 0)]
+        pv = cm.pvec
+        xs = np.linspace(-L, L, n)
+        vals = np.array([f(x, 0.0, *pv) for x in xs])
+        out = []
+        for k in range(n - 1):
+            if vals[k] == 0 or vals[k] * vals[k + 1] < 0:
+                x = xs[k] if vals[k] == 0 else brentq(lambda s: f(s, 0.0, *pv), xs[k], xs[k + 1],
+                                                       xtol=1e-14, rtol=1e-15)
+                fx = self.d(1, 0, x, 0.0, a, b)
+                out.append(Equilibrium((float(x), "saddle" if fx > 0 else "center")))
+        return out
+
+    def eigen(self, x: float, a: float, b: float) -> tuple[float, float]:
+        """``(tr J, det J) = (f_v, -f_x)`` at the equilibrium ``x``."""
+        return self.d(0, 1, x, 0.0, a, b), -self.d(1, 0, x, 0.0, a, b)
+
+    def lyapunov(self, x: float, a: float, b: float) -> float:
+        """The first Lyapunov coefficient at a Hopf point (module docstring)."""
+        w2 = -self.d(1, 0, x, 0.0, a, b)
+        if w2 <= 0:
+            return float("nan")
+        dd = {k: self.d(*k, x, 0.0, a, b) for k in ((2, 0), (1, 1), (0, 2), (2, 1), (0, 3))}
+        return (dd[(2, 1)] + w2 * dd[(0, 3)] + dd[(1, 1)] * (dd[(2, 0)] / w2 + dd[(0, 2)])) / 16
+
+    # -- defining systems ------------------------------------------------------------------------
+    def hopf(self):
+        """``(G, tests)`` of the Hopf curve, ``z = (x, a, b)``."""
+        def G(z):
+            x, a, b = z
+            return np.array([self.d(0, 0, x, 0.0, a, b), self.d(0, 1, x, 0.0, a, b)])
+
+        tests = {"bogdanov-takens": lambda z: -self.d(1, 0, z[0], 0.0, z[1], z[2]),
+                 "bautin": lambda z: self.lyapunov(*z)}
+        return G, tests
+
+    def saddle_node(self):
+        """``(G, tests)`` of the fold of equilibria, ``z = (x, a, b)``."""
+        def G(z):
+            x, a, b = z
+            return np.array([self.d(0, 0, x, 0.0, a, b), self.d(1, 0, x, 0.0, a, b)])
+
+        tests = {"bogdanov-takens": lambda z: self.d(0, 1, z[0], 0.0, z[1], z[2]),
+                 "cusp": lambda z: self.d(2, 0, z[0], 0.0, z[1], z[2])}
+        return G, tests
+
+    def end_state(self, x0: float, T: float, a: float, b: float) -> np.ndarray:
+        """The extended state after ``T`` from ``(x0, 0)``: ``(x, v, Phi11, Phi21, Phi12,
+        Phi22, int div f, ...)`` (compiled DOP853 at rtol 1e-12, else scipy's)."""
+        if not (T > 0 and math.isfinite(x0)):
+            raise ConvergenceError(f"left the domain: x0 = {x0:.6g}, T = {T:.6g}")
+        cm = self.compiled(a, b)
+        if self.flow is not None:
+            r = self.flow(extended_state(x0), T, cm.pvec, RTOL, ATOL)
+            if r.status:
+                raise IntegrationError(f"the flow from x0 = {x0:.6g} failed: {r.message}")
+            return np.asarray(r.y[-1], dtype=float)
+        sol = solve_ivp(cm.rhs_ext, (0.0, T), extended_state(x0), method="DOP853", rtol=RTOL,
+                        atol=ATOL)
+        if not sol.success:
+            raise IntegrationError(sol.message)
+        return sol.y[:, -1]
+
+    def cycle_fold(self):
+        """``G`` of the fold of cycles, ``z = (x0, T, a, b)``."""
+        def G(z):
+            x0, T, a, b = z
+            y = self.end_state(x0, T, a, b)
+            return np.array([y[0] - x0, y[1], y[6]])
+        return G
+
+    def cycle_jacobian(self, z) -> np.ndarray:
+        """``dG/dz`` of :meth:`cycle_fold`: the monodromy for ``x0``, the field for ``T``,
+        central differences for ``int div f`` in ``x0`` and for ``(a, b)``."""
+        x0, T, a, b = (float(v) for v in z)
+        y = self.end_state(x0, T, a, b)
+        cm = self.compiled(a, b)
+        acc = cm.acc(0.0, y[0], y[1])
+        J = np.zeros((3, 4))
+        J[0, 0], J[1, 0] = y[2] - 1.0, y[3]
+        J[0, 1], J[1, 1] = y[1], acc
+        J[2, 1] = self.d(0, 1, y[0], y[1], a, b)
+        h = 1e-6 * (1 + abs(x0))
+        J[2, 0] = (self.end_state(x0 + h, T, a, b)[6] - self.end_state(x0 - h, T, a, b)[6]) / (2 * h)
+        for k, (da, db) in ((2, (1, 0)), (3, (0, 1))):
+            p = a if k == 2 else b
+            hp = 1e-6 * (1 + abs(p))
+            yp = self.end_state(x0, T, a + da * hp, b + db * hp)
+            ym = self.end_state(x0, T, a - da * hp, b - db * hp)
+            J[:, k] = (np.array([yp[0], yp[1], yp[6]]) - np.array([ym[0], ym[1], ym[6]])) / (2 * hp)
+        return J

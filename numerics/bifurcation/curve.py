@@ -1,0 +1,450 @@
+"""Pseudo-arclength continuation of a curve of zeros of ``G: R^(n+1) -> R^n``.
+
+``z`` holds the ``n - 1`` unknowns of a defining system and the two parameters (or any
+``n + 1`` numbers whose zero set is a curve).  :func:`continue_curve` follows the curve
+point by point (Keller's pseudo-arclength method, e.g. Kuznetsov, *Elements of Applied
+Bifurcation Theory*, 3rd ed., section 10.2; Allgower & Georg, *Numerical Continuation
+Methods*):
+
+- the tangent ``t`` is the null vector of ``G'(z)`` (the last right singular vector),
+  oriented along the previous one;
+- the predictor ``z + ds t`` is corrected by Newton's method on the bordered system
+  ``G(z) = 0, t . (z - z_pred) = 0``;
+- **convergence test**: a point is accepted when ``max|G(z)| <= tol`` *and* the last
+  Newton correction satisfies ``max|dz| <= xtol (1 + max|z|)``; every point of a path passed
+  it (points are converged, never extrapolated);
+- step control: ``ds`` grows by 1.3 after an easy correction (at most 3 Newton steps), up
+  to ``ds_max``, and halves after a failed one or a turn of the tangent by more than
+  ``max_turn`` radians; the path ends when ``ds`` falls below ``ds_min``;
+- bounds: when a point leaves the box, the path ends on the box's edge exactly (the
+  arclength condition is replaced by ``z_i = edge``);
+- test functions ``psi(z)`` are evaluated at each point; a sign change between two points
+  is located by the Illinois variant of regula falsi on the curve (each trial point
+  corrected onto the curve on the hyperplane orthogonal to the chord) until
+  ``|psi| <= test_tol`` or the bracket is below ``1e-12`` of the chord; these are the
+  codim-2 points of a codim-1 curve;
+- ``progress(point, path)`` after each accepted point; ``on_point(point)`` to store it;
+  a :class:`KeyboardInterrupt` ends the path with what was found (``end == "interrupted"``);
+- resume: :meth:`CurvePath.to_records` / :meth:`CurvePath.from_records` and
+  ``continue_curve(..., resume=path)`` continue from the last point and its tangent.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from numerics.errors import ConvergenceError, IntegrationError, NumericsError
+
+__all__ = ["PathPoint", "TestEvent", "CurvePath", "continue_curve", "correct", "tangent_at",
+           "numerical_jacobian"]
+
+#: exceptions that mean "no point here" (the step is cut), not a bug
+FAILURES = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, FloatingPointError,
+            ValueError, ArithmeticError)
+
+
+@dataclass
+class PathPoint:
+    """One converged point: ``z``, the unit tangent there, the residual ``max|G(z)|``, the
+    Newton steps it took and the test functions' values."""
+
+    z: np.ndarray
+    tangent: np.ndarray
+    residual: float
+    steps: int = 0
+    tests: dict = field(default_factory=dict)
+
+    def record(self) -> dict:
+        """A JSON-able dict (:meth:`CurvePath.to_records`)."""
+        return {"z": [float(v) for v in self.z], "tangent": [float(v) for v in self.tangent],
+                "residual": float(self.residual), "steps": int(self.steps),
+                "tests": {k: float(v) for k, v in self.tests.items()}}
+
+    @classmethod
+    def from_record(cls, rec: Mapping) -> "PathPoint":
+        return cls(np.asarray(rec["z"], dtype=float), np.asarray(rec["tangent"], dtype=float),
+                   float(rec["residual"]), int(rec.get("steps", 0)),
+                   {k: float(v) for k, v in rec.get("tests", {}).items()})
+
+
+@dataclass
+class TestEvent:
+    """A zero of the test function ``name`` on the curve, at the converged point ``z``
+    (``value`` the test there, ``after`` the index of the path point before it,
+    ``bracket`` the final bracket's width relative to the chord)."""
+
+    name: str
+    z: np.ndarray
+    value: float
+    after: int
+    bracket: float
+    residual: float
+
+    def record(self) -> dict:
+        return {"name": self.name, "z": [float(v) for v in self.z], "value": float(self.value),
+                "after": int(self.after), "bracket": float(self.bracket),
+                "residual": float(self.residual)}
+
+    @classmethod
+    def from_record(cls, rec: Mapping) -> "TestEvent":
+        return cls(rec["name"], np.asarray(rec["z"], dtype=float), float(rec["value"]),
+                   int(rec["after"]), float(rec["bracket"]), float(rec["residual"]))
+
+
+@dataclass
+class CurvePath:
+    """The points of one continuation, the located zeros of the test functions and why it
+    ended: ``"bounds"`` (on the box's edge), ``"max_points"``, ``"closed"`` (back at its
+    start), ``"step"`` (``ds`` below ``ds_min``), ``"stopped"`` (a stop test), or
+    ``"interrupted"`` (Ctrl-C)."""
+
+    points: list[PathPoint] = field(default_factory=list)
+    events: list[TestEvent] = field(default_factory=list)
+    end: str = ""
+    ds: float = float("nan")
+    message: str = ""
+
+    def array(self) -> np.ndarray:
+        """The points' ``z`` as rows."""
+        return np.array([p.z for p in self.points]) if self.points else np.zeros((0, 0))
+
+    def to_records(self) -> dict:
+        """A JSON-able dict of the path (points, events, end, the last step)."""
+        return {"points": [p.record() for p in self.points],
+                "events": [e.record() for e in self.events], "end": self.end,
+                "ds": float(self.ds), "message": self.message}
+
+    @classmethod
+    def from_records(cls, rec: Mapping) -> "CurvePath":
+        return cls([PathPoint.from_record(r) for r in rec.get("points", [])],
+                   [TestEvent.from_record(r) for r in rec.get("events", [])],
+                   rec.get("end", ""), float(rec.get("ds", float("nan"))),
+                   rec.get("message", ""))
+
+
+def numerical_jacobian(G: Callable, z: np.ndarray, g0: np.ndarray | None = None,
+                       h: float = 1e-7) -> np.ndarray:
+    """``G'(z)`` by central differences with steps ``h (1 + |z_i|)`` (error O(h^2))."""
+    z = np.asarray(z, dtype=float)
+    cols = []
+    for i in range(z.size):
+        e = np.zeros_like(z)
+        e[i] = h * (1.0 + abs(z[i]))
+        cols.append((np.asarray(G(z + e), dtype=float) - np.asarray(G(z - e), dtype=float))
+                    / (2 * e[i]))
+    return np.column_stack(cols)
+
+
+def _jac(G, jac, z, g=None, h=1e-7):
+    return np.atleast_2d(np.asarray(jac(z), dtype=float)) if jac is not None else \
+        numerical_jacobian(G, z, g, h)
+
+
+def tangent_at(J: np.ndarray, orient: np.ndarray | None = None) -> np.ndarray:
+    """The unit null vector of the ``n x (n+1)`` matrix ``J`` (its last right singular
+    vector), with ``t . orient >= 0``."""
+    _, _, vt = np.linalg.svd(J)
+    t = vt[-1]
+    if orient is not None and float(np.dot(t, orient)) < 0:
+        t = -t
+    return t / np.linalg.norm(t)
+
+
+def correct(G: Callable, z: np.ndarray, row: np.ndarray, rhs: float, *, jac=None,
+            tol: float = 1e-10, xtol: float = 1e-9, max_steps: int = 12, h: float = 1e-7):
+    """Newton's method on ``G(z) = 0, row . z = rhs``.
+
+    Returns ``(z, residual, steps, J)`` once ``max|G| <= tol`` and the last correction
+    ``max|dz| <= xtol (1 + max|z|)``; raises :class:`ConvergenceError`
+    otherwise (the residuals in the message).
+    """
+    z = np.array(z, dtype=float)
+    hist = []
+    for k in range(1, max_steps + 1):
+        g = np.atleast_1d(np.asarray(G(z), dtype=float))
+        if not np.all(np.isfinite(g)):
+            raise ConvergenceError(f"the defining system is not finite at z = {z}")
+        J = _jac(G, jac, z, g, h)
+        A = np.vstack([J, row])
+        b = -np.concatenate([g, [float(row @ z) - rhs]])
+        dz = np.linalg.solve(A, b)
+        z = z + dz
+        res = float(np.max(np.abs(g)))
+        hist.append(res)
+        small = float(np.max(np.abs(dz))) <= xtol * (1.0 + float(np.max(np.abs(z))))
+        if small:
+            g = np.atleast_1d(np.asarray(G(z), dtype=float))
+            res = float(np.max(np.abs(g)))
+            if res <= tol:
+                return z, res, k, J
+        if k >= 3 and res > 10 * hist[-2] and hist[-2] > tol:
+            break  # diverging
+    raise ConvergenceError("Newton on the defining system did not converge: residuals "
+                           + ", ".join(f"{r:.2e}" for r in hist))
+
+
+def _evaluate_tests(tests, pt: PathPoint) -> dict:
+    out = {}
+    for name, fn in tests.items():
+        try:
+            out[name] = float(fn(pt.z) if _arity(fn) == 1 else fn(pt.z, pt.tangent))
+        except FAILURES:
+            out[name] = float("nan")
+    return out
+
+
+def _arity(fn) -> int:
+    try:
+        import inspect
+
+        params = [p for p in inspect.signature(fn).parameters.values()
+                  if p.default is p.empty and p.kind in (p.POSITIONAL_ONLY,
+                                                         p.POSITIONAL_OR_KEYWORD)]
+        return len(params)
+    except (TypeError, ValueError):
+        return 1
+
+
+def _locate(G, jac, name, fn, a: PathPoint, b: PathPoint, fa, fb, kw, test_tol) -> TestEvent:
+    """The zero of the test ``fn`` between the path points ``a`` and ``b`` (Illinois)."""
+    chord = b.z - a.z
+    length = float(np.linalg.norm(chord))
+    row = chord / length
+    s0, s1, f0, f1 = 0.0, 1.0, fa, fb
+    side = 0
+    best = None
+    for _ in range(60):
+        s = s0 - f0 * (s1 - s0) / (f1 - f0) if f1 != f0 else 0.5 * (s0 + s1)
+        if not (s0 < s < s1):
+            s = 0.5 * (s0 + s1)
+        zp = a.z + s * chord
+        z, res, _, J = correct(G, zp, row, float(row @ zp), jac=jac, **kw)
+        t = tangent_at(J, a.tangent)
+        f = float(fn(z) if _arity(fn) == 1 else fn(z, t))
+        best = (z, f, res)
+        if abs(f) <= test_tol or (s1 - s0) <= 1e-12:
+            break
+        if (f > 0) == (f0 > 0):
+            s0, f0 = s, f
+            if side == -1:
+                f1 *= 0.5
+            side = -1
+        else:
+            s1, f1 = s, f
+            if side == 1:
+                f0 *= 0.5
+            side = 1
+    z, f, res = best
+    return TestEvent(name, z, f, -1, float(s1 - s0), res)
+
+
+def continue_curve(G: Callable, z0, *, jac: Callable | None = None, tangent=None,
+                   ds: float = 0.01, ds_max: float = 0.1, ds_min: float | None = None,
+                   bounds: Mapping[int, tuple[float, float]] | None = None,
+                   max_points: int = 500, tol: float = 1e-10, xtol: float = 1e-9,
+                   tests: Mapping[str, Callable] | None = None, test_tol: float = 1e-9,
+                   stop: Callable | None = None, progress: Callable | None = None,
+                   on_point: Callable | None = None, resume: CurvePath | None = None,
+                   max_turn: float = 0.35, newton_steps: int = 12, fd_step: float = 1e-7,
+                   scale: Sequence[float] | None = None, closed_check: bool = True
+                   ) -> CurvePath:
+    """Follow the curve ``G(z) = 0`` from ``z0`` (module docstring for the method).
+
+    Parameters
+    ----------
+    G : callable
+        ``z -> G(z)``, ``R^(n+1) -> R^n``.
+    z0 : array_like
+        A point near the curve (corrected onto it first, on the hyperplane through ``z0``
+        normal to ``tangent`` or, without it, to the first null direction).
+    jac : callable, optional
+        ``z -> G'(z)`` (``n x (n+1)``); central differences with step ``fd_step`` if
+        ``None``.
+    tangent : array_like, optional
+        Picks the direction: the path goes along the null vector with ``t . tangent > 0``.
+    ds, ds_max, ds_min : float
+        First, largest and smallest step in the (scaled) arclength.
+    bounds : mapping ``index -> (lo, hi)``
+        The box; the path ends exactly on its edge.
+    max_points : int
+        Points of the path at most (the start included).
+    tol, xtol : float
+        The convergence test of :func:`correct`.
+    tests : mapping ``name -> psi(z)`` or ``psi(z, t)``
+        Test functions whose sign changes are located (:class:`TestEvent`).
+    stop : callable ``(point, path) -> str or None``
+        Ends the path with ``end = "stopped"`` and the message returned.
+    progress, on_point : callable
+        ``progress(point, path)`` and ``on_point(point)`` after each accepted point.
+    resume : CurvePath
+        A stored path: continued from its last point and tangent (``z0`` ignored).
+    scale : sequence of float
+        The components' scales in the arclength norm (``z / scale``).
+
+    Returns
+    -------
+    CurvePath
+    """
+    tests = dict(tests or {})
+    if resume is not None and resume.points:
+        z0 = resume.points[-1].z
+    z0 = np.atleast_1d(np.asarray(z0, dtype=float))
+    sc = np.ones(z0.size) if scale is None else np.asarray(scale, dtype=float)
+    # internally w = z / scale: unit tangents and steps in the scaled norm
+    Gw = (lambda w: G(w * sc))
+    jw = None if jac is None else (lambda w: np.atleast_2d(np.asarray(jac(w * sc))) * sc)
+    wtests = {k: _scaled_test(fn, sc) for k, fn in tests.items()}
+    wbounds = {i: tuple(sorted((lo / sc[i], hi / sc[i]))) for i, (lo, hi)
+               in dict(bounds or {}).items()}
+    ds_min = ds_min if ds_min is not None else ds * 1e-4
+    kw = dict(tol=tol, xtol=xtol, max_steps=newton_steps, h=fd_step)
+    path = resume if resume is not None else CurvePath()
+    path.end, path.message = "", ""
+    wpath = CurvePath([_to_w(p, sc) for p in path.points], [], "", path.ds)
+
+    def emit(wpt):
+        pt = _to_z(wpt, sc)
+        path.points.append(pt)
+        path.ds = wpath.ds
+        if on_point is not None:
+            on_point(pt)
+        if progress is not None:
+            progress(pt, path)
+        return pt
+
+    try:
+        if not wpath.points:
+            w = z0 / sc
+            J0 = _jac(Gw, jw, w, None, fd_step)
+            t0 = tangent_at(J0, None if tangent is None else np.asarray(tangent) / sc)
+            w, res, k, J = correct(Gw, w, t0, float(t0 @ w), jac=jw, **kw)
+            wpt = PathPoint(w, tangent_at(J, t0), res, k)
+            wpt.tests = _evaluate_tests(wtests, wpt)
+            wpath.points.append(wpt)
+            wpath.ds = ds
+            emit(wpt)
+        step = ds if not math.isfinite(wpath.ds) else wpath.ds
+        while len(wpath.points) < max_points:
+            last = wpath.points[-1]
+            if step < ds_min:
+                path.end = "step"
+                path.message = f"the step fell below {ds_min:g} at z = {last.z * sc}"
+                break
+            wp = last.z + step * last.tangent
+            try:
+                w, res, k, J = correct(Gw, wp, last.tangent, float(last.tangent @ wp), jac=jw,
+                                       **kw)
+                t = tangent_at(J, last.tangent)
+                turn = math.acos(max(-1.0, min(1.0, float(t @ last.tangent))))
+                if turn > max_turn or float((w - last.z) @ last.tangent) <= 0:
+                    raise ConvergenceError(f"the tangent turned by {turn:.3f} rad")
+            except FAILURES:
+                step *= 0.5
+                continue
+            edge = _outside(w, wbounds)
+            if edge is not None:
+                i, value = edge
+                row = np.zeros_like(w)
+                row[i] = 1.0
+                # from the secant's crossing of the edge: Newton with w_i fixed
+                span = w[i] - last.z[i]
+                start = w if abs(span) < 1e-300 else \
+                    last.z + (value - last.z[i]) / span * (w - last.z)
+                try:
+                    w, res, k, J = correct(Gw, start, row, value, jac=jw, **kw)
+                    w[i] = value
+                except FAILURES:
+                    step *= 0.5
+                    if step >= ds_min:
+                        continue
+                    path.end = "step"
+                    path.message = "the box's edge could not be reached by Newton"
+                    break
+                t = tangent_at(J, last.tangent)
+            wpt = PathPoint(w, t, res, k)
+            wpt.tests = _evaluate_tests(wtests, wpt)
+            wpath.points.append(wpt)
+            wpath.ds = step
+            for ev in _find_events(Gw, jw, wtests, wpath, kw, test_tol):
+                ev.z = ev.z * sc
+                path.events.append(ev)
+            pt = emit(wpt)
+            if edge is not None:
+                path.end = "bounds"
+                path.message = f"on the edge z[{edge[0]}] = {edge[1] * sc[edge[0]]:g}"
+                break
+            if stop is not None:
+                why = stop(pt, path)
+                if why:
+                    path.end, path.message = "stopped", str(why)
+                    break
+            if closed_check and _closed(wpath, step):
+                path.end = "closed"
+                path.message = "the curve closed on its first point"
+                break
+            step = min(ds_max, step * 1.3) if k <= 3 else (step * 0.7 if k > 6 else step)
+    except KeyboardInterrupt:
+        path.end = "interrupted"
+        path.message = "stopped by Ctrl-C; the points found are kept"
+    except NumericsError as exc:
+        if not path.points:
+            raise
+        path.end, path.message = "step", str(exc)
+    if not path.end:
+        path.end = "max_points"
+    return path
+
+
+def _to_w(p: PathPoint, sc) -> PathPoint:
+    t = p.tangent / sc
+    return PathPoint(p.z / sc, t / np.linalg.norm(t), p.residual, p.steps, dict(p.tests))
+
+
+def _to_z(p: PathPoint, sc) -> PathPoint:
+    return PathPoint(p.z * sc, p.tangent * sc, p.residual, p.steps, dict(p.tests))
+
+
+def _scaled_test(fn, sc):
+    if _arity(fn) == 1:
+        return lambda w: fn(w * sc)
+    return lambda w, t: fn(w * sc, t * sc)
+
+
+def _outside(z, bounds):
+    for i, (lo, hi) in sorted(bounds.items()):
+        if z[i] < lo:
+            return i, float(lo)
+        if z[i] > hi:
+            return i, float(hi)
+    return None
+
+
+def _closed(path, step) -> bool:
+    if len(path.points) < 6:
+        return False
+    first, prev, last = path.points[0].z, path.points[-2].z, path.points[-1].z
+    d = np.linalg.norm(last - first)
+    return bool(d < 1.5 * step and np.linalg.norm(prev - first) > d
+                and float((last - prev) @ path.points[0].tangent) > 0)
+
+
+def _find_events(G, jac, tests, path, kw, test_tol) -> list[TestEvent]:
+    """The located zeros of the tests between the path's last two points."""
+    out = []
+    a, b = path.points[-2], path.points[-1]
+    for name, fn in tests.items():
+        fa, fb = a.tests.get(name, math.nan), b.tests.get(name, math.nan)
+        if not (math.isfinite(fa) and math.isfinite(fb)) or (fa > 0) == (fb > 0) \
+                or fa == 0:
+            continue
+        try:
+            ev = _locate(G, jac, name, fn, a, b, fa, fb, kw, test_tol)
+        except FAILURES:
+            continue
+        ev.after = len(path.points) - 2
+        out.append(ev)
+    return out

@@ -1,0 +1,142 @@
+"""Two-parameter diagrams of autonomous one-degree-of-freedom models (issue 38), each true
+curve checked against an independent computation:
+
+- the first Lyapunov coefficient of ``x'' + x = mu (nu - x^2) x'`` at its Hopf point is
+  ``-mu/8`` (van der Pol's supercritical Hopf; Guckenheimer & Holmes (3.4.11));
+- the SEDF (paper eq. 3): its equilibria ``x + Delta sin(2 pi x/lam) = 0`` do not depend on
+  ``beta``, so the folds of equilibria are the lines ``Delta = -x/sin(2 pi x)`` with
+  ``tan(2 pi x) = 2 pi x`` (closed form), and the Hopf curve of a well at ``x_e`` is
+  ``beta = 1/x_e^2`` (``tr J = -mu (beta x_e^2 - 1)``);
+- its heteroclinic curves: at each checked point the two manifolds are shot here by scipy
+  on a right-hand side written in this file, and their turning points agree; at
+  ``beta = 1`` and ``0.5`` the curves pass the one-parameter ends of issue 38
+  (``Delta = 3.2494``, ``3.9876``);
+- the fold of cycles of ``F = (-nu + x^2 - x^4) x'`` over ``(nu, mu)`` against the
+  one-parameter continuation's fold at fixed ``mu`` (:func:`numerics.cycles.continue_cycles`)
+  and against KBM order 3 (``O(mu^4)`` apart; orders 1-2 give ``1/8``, ``O(mu^2)`` apart).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+from kbm import custom_model
+from numerics.bifurcation.autonomous import OneDof
+from numerics.bifurcation.connections import GAP_TOL, Loop, gap_function, scan
+from numerics.bifurcation.curve import continue_curve
+
+SEDF = ("sedf", {"mu": "0.1", "lam": "1"}, ("Delta", "beta"))
+BOX = {0: (0.0, 6.0), 1: (0.3, 1.6)}
+
+
+def test_lyapunov_coefficient_of_van_der_pol():
+    kit = OneDof(custom_model("(nu - x**2)*xdot - c*x"), {"mu": "0.2"}, ("nu", "c"), (0.0, 1.0))
+    assert kit.lyapunov(0.0, 0.0, 1.0) == pytest.approx(-0.2 / 8, rel=1e-12)
+    G, tests = kit.hopf()
+    path = continue_curve(G, [0.01, 0.01, 1.0], ds=0.05, ds_max=0.1,
+                          bounds={1: (-1, 1), 2: (0.5, 2.0)})
+    assert path.end == "bounds"
+    assert max(abs(p.z[1]) for p in path.points) < 1e-12  # nu = 0 on the whole curve
+
+
+def test_sedf_folds_and_hopf_curves_closed_form():
+    kit = OneDof(*SEDF, (3.0, 1.0))
+    # the fold of equilibria born near x = 1.74: tan(2 pi x) = 2 pi x
+    x = brentq(lambda s: math.tan(2 * math.pi * s) - 2 * math.pi * s, 1.70, 1.74)
+    delta_sn = -x / math.sin(2 * math.pi * x)
+    G, _ = kit.saddle_node()
+    path = continue_curve(G, [x + 0.01, delta_sn + 0.01, 1.0], tangent=[0, 0, 1], ds=0.1,
+                          ds_max=0.3, bounds={1: (0, 6), 2: (0.3, 1.6)}, tol=1e-12)
+    assert path.end == "bounds"
+    assert all(abs(p.z[1] - delta_sn) < 1e-11 for p in path.points)
+    G, tests = kit.hopf()
+    path = continue_curve(G, [0.96, 4.0, 1.07], tangent=[0, 1, 0], ds=0.05, ds_max=0.2,
+                          bounds={1: (0, 6), 2: (0.3, 1.6)}, tests=tests, tol=1e-12)
+    for p in path.points:
+        xe, d, b = p.z
+        assert abs(xe + d * math.sin(2 * math.pi * xe)) < 1e-11
+        assert abs(b - 1 / xe ** 2) < 1e-11
+    # the Bautin point (first Lyapunov coefficient zero) on the well at x = 0.97
+    (ev,) = [e for e in path.events if e.name == "bautin"]
+    assert abs(kit.lyapunov(*ev.z)) < 1e-9 and 5.8 < ev.z[1] < 6.0
+
+
+def _shoot(delta, beta, xs, mu=0.1):
+    """The gap of the heteroclinic cycle through +-xs, shot by scipy on the SEDF written
+    here: x'' + mu (beta x^2 - 1) x' + Delta sin(2 pi x) + x = 0."""
+    xs = brentq(lambda s: s + delta * math.sin(2 * math.pi * s), xs - 0.1, xs + 0.1,
+                xtol=1e-15)
+    fx = -1 - 2 * math.pi * delta * math.cos(2 * math.pi * xs)
+    fv = -mu * (beta * xs ** 2 - 1)
+    lu = (fv + math.sqrt(fv ** 2 + 4 * fx)) / 2
+    ls = (-fv + math.sqrt(fv ** 2 + 4 * fx)) / 2  # the stable one at -xs, same fv, fx
+    ls = (fv - math.sqrt(fv ** 2 + 4 * fx)) / 2
+
+    def rhs(sign):
+        return lambda t, y: [sign * y[1], sign * (-mu * (beta * y[0] ** 2 - 1) * y[1]
+                                                   - delta * math.sin(2 * math.pi * y[0])
+                                                   - y[0])]
+
+    def turn(t, y):
+        return y[1]
+    turn.terminal = True
+    eps = 1e-7
+    up = solve_ivp(rhs(1), (0, 100), [xs - eps, -eps * lu], events=turn, rtol=1e-12,
+                   atol=1e-14, method="DOP853")
+    dn = solve_ivp(rhs(-1), (0, 100), [-xs - eps, -eps * ls], events=turn, rtol=1e-12,
+                   atol=1e-14, method="DOP853")
+    return up.y_events[0][0][0] - dn.y_events[0][0][0]
+
+
+@pytest.mark.slow
+def test_sedf_heteroclinic_curves_shot_independently():
+    kit = OneDof(*SEDF, (3.0, 1.0))
+    found = {}
+    for b in (0.5, 1.0):
+        (loop, z0), = scan(kit, [(a, b) for a in np.linspace(2.9, 4.3, 8)], 4.0)
+        found[b] = (loop, z0)
+    assert found[1.0][1][0] == pytest.approx(3.24943, abs=2e-5)  # issue 38's end at beta = 1
+    assert found[0.5][1][0] == pytest.approx(3.98757, abs=2e-5)  # and at beta = 0.5
+    loop0, z0 = found[1.0]
+    loop = Loop(loop0.x_from, loop0.x_to, loop0.leave, loop0.arrive)
+    path = continue_curve(gap_function(kit, loop), z0, tangent=[1, 0], ds=0.05, ds_max=0.3,
+                          bounds=BOX, scale=[6, 1.3], tol=GAP_TOL, fd_step=1e-6,
+                          on_point=lambda p: __import__(
+                              "numerics.bifurcation.connections", fromlist=["accept"]
+                          ).accept(kit, loop, p.z))
+    assert path.end == "bounds" and path.points[-1].z[0] == 6.0
+    assert path.points[-1].z[1] > 0.75  # beta = 0.75 is not reached by Delta = 6
+    for p in path.points[::4]:
+        assert p.residual <= GAP_TOL
+        assert abs(_shoot(p.z[0], p.z[1], loop.x_from)) < 1e-7
+
+
+@pytest.mark.slow
+def test_fold_model_against_one_parameter_folds_and_kbm():
+    from numerics.bifurcation.oned import Settings, autonomous_diagram
+    from numerics.cycles import continue_cycles
+
+    model = custom_model("(-nu + x**2 - x**4)*xdot")
+    d = autonomous_diagram(model, {}, ("nu", "mu"), {"nu": (0.1, 0.15), "mu": (0.05, 0.3)},
+                           settings=Settings(grid=(5, 5), max_points=200, orders=(1, 3)))
+    true = [c for c in d.curves if c.kind == "fold" and c.method == "true"]
+    assert len(true) == 1
+    pts = np.array(true[0].points)
+    for mu in (0.1, 0.2):
+        br = continue_cycles(model, {"mu": mu, "nu": 0.11}, "nu", (0.1, 0.15), rtol=1e-12)
+        nu_b = br.folds()[0].parameter
+        nu_d = float(np.interp(mu, pts[:, 1][np.argsort(pts[:, 1])], pts[:, 0][np.argsort(pts[:, 1])]))
+        assert abs(nu_b - nu_d) < 2e-6
+    avg = {c.order: np.array(c.points) for c in d.curves if c.method == "averaged"}
+    assert np.allclose(avg[1][:, 0], 0.125, atol=1e-12)
+    # order 3 is closer to the true curve than order 1 (the O(mu^2) shift) at mu >= 0.1
+    for nu3, mu in avg[3]:
+        if mu >= 0.1:
+            nu_t = float(np.interp(mu, np.sort(pts[:, 1]), pts[:, 0][np.argsort(pts[:, 1])]))
+            assert abs(nu3 - nu_t) < 0.2 * abs(0.125 - nu_t)

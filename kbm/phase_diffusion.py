@@ -64,6 +64,8 @@ from .symbols import a, mu, psi
 
 __all__ = ["PhaseDiffusion", "phase_diffusion"]
 
+_CACHE: dict = {}  # one derivation per model, order and fixed parameters
+
 
 @dataclass(frozen=True)
 class PhaseDiffusion:
@@ -179,6 +181,10 @@ def phase_diffusion(model: Oscillator | str, order: int = 1,
                              "name; rename it")
     m.require_autonomous("the phase-diffusion averaging")
     fixed = {k: v for k, v in dict(params or {}).items() if k not in ("mu", "D")}
+    key = (m.name, str(m.F), str(m.omega0), order,
+           tuple(sorted((k, str(v)) for k, v in fixed.items())))
+    if key in _CACHE:
+        return _CACHE[key]
     res = derive(m, order, fixed or None)
     w0 = res.model.omega0
     A = sp.expand(sum(mu**n * res.A[n] for n in range(1, order + 1)))
@@ -191,5 +197,7 @@ def phase_diffusion(model: Oscillator | str, order: int = 1,
     shift_a = (NOISE / (2 * w0**2 * a) + sp.diff(A, a, 2) * var_a / 2) / lam
     shift_w = g * shift_a + sp.diff(B, a, 2) * var_a / 2
     x_of = res.u[0] + sum(mu**n * res.u[n] for n in range(1, order + 1))
-    return PhaseDiffusion(res.model, order, A, B, lam, g, d_phi, d_a,
-                          d_phi + g**2 * d_a / lam**2, shift_a, shift_w, x_of)
+    out = PhaseDiffusion(res.model, order, A, B, lam, g, d_phi, d_a,
+                         d_phi + g**2 * d_a / lam**2, shift_a, shift_w, x_of)
+    _CACHE[key] = out
+    return out

@@ -57,7 +57,7 @@ import sympy as sp
 
 from .averaging import derive
 from .errors import ParameterError
-from .latex import latex
+from .latex import equation_lines, latex
 from .models import Oscillator, get_model
 from .stochastic import NOISE
 from .symbols import a, mu, psi
@@ -125,14 +125,17 @@ class PhaseDiffusion:
         syms = set().union(*[e.free_symbols for e in (self.A, self.B, self.displacement)])
         return tuple(sorted(s.name for s in syms - {a, mu, NOISE, psi}))
 
-    def latex(self) -> str:
+    def latex(self, width: int = 62) -> str:
         """``align`` lines: ``lambda``, ``g``, ``D_phi`` and ``D_eff`` as functions of ``a``
         (deterministic: the same bytes whatever ``PYTHONHASHSEED``)."""
+        eff = (latex(self.phase_diffusion) if self.shear == 0 else
+               latex(self.phase_diffusion) + " + " + latex(self.amplitude_diffusion)
+               + r"\,\frac{g(a)^2}{\lambda(a)^2}")
         return " \\\\\n".join([
-            r"\lambda(a) &= " + latex(sp.factor(self.relaxation)),
-            r"g(a) &= " + latex(sp.factor(self.shear)),
+            equation_lines(r"\lambda(a)", sp.factor(self.relaxation), width),
+            equation_lines("g(a)", sp.factor(self.shear), width),
             r"D_\varphi(a) &= " + latex(self.phase_diffusion),
-            r"D_{\mathrm{eff}}(a) &= " + latex(sp.factor(self.linewidth))])
+            r"D_{\mathrm{eff}}(a) &= " + eff])
 
 
 def phase_diffusion(model: Oscillator | str, order: int = 1,

@@ -4,7 +4,7 @@
 - inside :mod:`numerics` a module imports only its own floor and the floors below:
   base (``errors``, ``_memo``, ``executor``, ``store``) < ``flow`` < ``noise`` < ``energy`` < ``cycles`` <
   ``forced`` < ``coupled`` < ``comparison`` < ``sliding`` < ``fokker_planck`` < ``escape`` < ``thermal`` <
-  ``paper`` < ``cli``;
+  ``spectrum`` < ``paper`` < ``cli``;
 - only the command line (``numerics.cli``) imports ``kbm.cli``;
 - ``kbm --help`` lists every command, and a command module that fails to import is an
   error, not a missing command.
@@ -25,7 +25,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 #: the floors of numerics, bottom up (a module's floor is its first package component)
 FLOORS = ("base", "flow", "noise", "energy", "cycles", "forced", "coupled", "comparison", "sliding",
-          "fokker_planck", "escape", "thermal", "paper",
+          "fokker_planck", "escape", "thermal", "spectrum", "paper",
           "cli")
 BASE = {"errors", "_memo", "_show", "executor", "store", "__init__"}
 

@@ -178,10 +178,12 @@ def test_vdp_mu_01_D_001_linewidth_and_frequency():
 def test_cubic_stiffness_line_is_several_times_wider():
     """F = (1 - x^2) x' - alpha x^3, alpha = 1, mu = 0.025, D/mu = 0.1: the simulated HWHM is
     several times the isochronous D/(2 a*^2) (Kuramoto's shear), and the averaged
-    (first-order) one is within 15 % of it (its O(mu) error; 45 % at mu = 0.1)."""
+    (first-order) one is within 15 % (plus three standard errors) of it: its error is of
+    order mu (+50 % at mu = 0.1, +120 % at mu = 0.2)."""
     from numerics.spectrum.result import line_report
 
     r = line_report(custom_model(CUBIC), {"mu": 0.025, "alpha": 1}, 0.0025, workers=2)
     lw = r["linewidth"]
     assert lw["simulated"] > 4 * r["theory"]["phase_diffusion"]
-    assert abs(lw["averaged"] / lw["simulated"] - 1) < 0.15
+    rel_se = lw["stderr"] / lw["simulated"]
+    assert abs(lw["averaged"] / lw["simulated"] - 1) < 0.15 + 3 * rel_se

@@ -187,3 +187,17 @@ def test_cubic_stiffness_line_is_several_times_wider():
     assert lw["simulated"] > 4 * r["theory"]["phase_diffusion"]
     rel_se = lw["stderr"] / lw["simulated"]
     assert abs(lw["averaged"] / lw["simulated"] - 1) < 0.15 + 3 * rel_se
+
+
+def test_cli_vary_temperature_sweep(tmp_path, capsys):
+    """--vary T=A:B:3 runs D = mu T at three values; the averaged HWHM grows with D (at small
+    D/mu linearly: Lax's D_eff is proportional to D) and the linewidth figure is written."""
+    assert main(["spectrum", "vdp", "-p", "mu=0.1", "--vary", "T=0.01:0.04:3",
+                 "--no-simulation", "--json", "--out", str(tmp_path)]) == 0
+    rep = json.loads(capsys.readouterr().out)
+    Ds = [s["D"] for s in rep["sweep"]]
+    assert Ds == pytest.approx([0.001, 0.0025, 0.004])
+    lws = [s["linewidth"]["averaged"] for s in rep["sweep"]]
+    assert lws[0] < lws[1] < lws[2]
+    assert lws[2] / lws[0] == pytest.approx(4.0, rel=0.05)
+    assert (tmp_path / "spectrum-vdp-linewidth.png").exists()

@@ -103,7 +103,7 @@ def _bind(args):
     if vary is not None and vary.name not in ("D", "T"):
         raise ParameterError(f"--vary {vary.name}: a self-excited model's spectrum varies the "
                              "noise only: --vary D=FROM:TO[:N] or --vary T=FROM:TO[:N]")
-    items = list(args.param) + ([f"{vary.name}={vary.values(3)[0]!r}"] if vary else [])
+    items = list(args.param) + ([f"{vary.name}={float(vary.values(3)[0])!r}"] if vary else [])
     if args.rhs:
         model = custom_model(args.rhs[0], omega0=1 if args.omega0 is None else args.omega0)
         params = given(items)

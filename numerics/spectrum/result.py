@@ -161,6 +161,9 @@ def write_figures(reports: list[dict], out: Path, name: str) -> list[Path]:
         ax.errorbar(d, v, yerr=2 * e, fmt="C0s", ms=4, capsize=2, label="simulated (2 stderr)")
     ax.set_xscale("log")
     ax.set_yscale("log")
+    from matplotlib.ticker import NullFormatter
+
+    ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("D")
     ax.set_ylabel("HWHM (angular)")
     ax.set_title(f"{name}: linewidth against D")

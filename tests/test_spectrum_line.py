@@ -201,3 +201,19 @@ def test_cli_vary_temperature_sweep(tmp_path, capsys):
     assert lws[0] < lws[1] < lws[2]
     assert lws[2] / lws[0] == pytest.approx(4.0, rel=0.05)
     assert (tmp_path / "spectrum-vdp-linewidth.png").exists()
+
+
+@pytest.mark.slow
+def test_floquet_phase_response_limits():
+    """The adjoint Floquet route (exact in mu, first order in D): van der Pol's <Z_v^2>
+    tends to Lax's 1/(2 a*^2) = 1/8 as mu -> 0 (error O(mu^2)), and the cubic stiffness'
+    tends to the averaged 10/8 from below, with an error falling like mu."""
+    from numerics.spectrum.floquet import phase_response
+
+    v = phase_response("vdp", {"mu": 0.05})
+    assert v.normalisation_spread < 1e-8
+    assert abs(v.zv2 - 0.125) < 0.1 * 0.05**2
+    model = custom_model(CUBIC)
+    e = [1.25 - phase_response(model, {"mu": m, "alpha": 1}).zv2 for m in (0.05, 0.025)]
+    assert 0 < e[1] < e[0]
+    assert 1.5 < e[0] / e[1] < 2.7  # first order in mu

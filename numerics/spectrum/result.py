@@ -42,7 +42,8 @@ def default_duration(th: LineTheory) -> float:
 def line_report(model, params: dict, D: float, *, order: int = 1,
                 trajectories: int = DEFAULT_TRAJECTORIES, duration: float | None = None,
                 resolution: float | None = None, seed: int = 0, workers: int | None = None,
-                store=None, progress: bool = False, simulate: bool = True) -> dict:
+                store=None, progress: bool = False, simulate: bool = True,
+                floquet: bool = False) -> dict:
     """The averaged and simulated linewidth, frequency and PSD of a self-excited model.
 
     Parameters
@@ -58,6 +59,9 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
         resolution of a quarter of the averaged HWHM).
     simulate : bool
         ``False``: the averaged line alone (``simulated`` entries ``None``).
+    floquet : bool
+        Add ``linewidth.floquet`` and ``frequency.floquet``: the small-noise linewidth
+        ``D <Z_v^2>`` and the frequency of the true cycle (:mod:`numerics.spectrum.floquet`).
 
     Raises
     ------
@@ -86,6 +90,12 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
                          "linearised": th.frequency_linear, "cycle": th.frequency_cycle,
                          "step_bias": None},
            "theory": th.as_dict()}
+    if floquet:
+        from .floquet import phase_response
+
+        pr = phase_response(model, params)
+        rep["linewidth"]["floquet"] = pr.linewidth(D)
+        rep["frequency"]["floquet"] = pr.frequency
     if not simulate:
         omega = np.linspace(*window, 401)
         rep["psd"] = {"omega": omega.tolist(), "averaged": th.psd(omega).tolist(),

@@ -231,6 +231,37 @@ large) the amplitude averaging does not apply to the sliders; the energy envelop
     return DerivationFile("stochastic.tex", "\n".join(body) + "\n")
 
 
+def _phase_diffusion_file() -> DerivationFile:
+    from .phase_diffusion import phase_diffusion
+    from .symbols import a
+
+    body = [r"""\section{Phase diffusion and linewidth}
+With the noise of the previous section, $\ddot x + \omega_0^2 x = \mu F(x,\dot x) +
+\sqrt{2D}\,\xi(t)$, the averaged amplitude relaxes to the stable cycle $a^*$ ($A(a^*) = 0$)
+at the rate $\lambda = -A'(a^*)$ and the phase diffuses with
+$D_\varphi = D/(2\omega_0^2 a^{*2})$ (half the variance rate of $\varphi$).  A frequency that
+depends on the amplitude, $g = B'(a^*)$ (nonisochronicity), feeds the amplitude noise
+($D_a = D/(2\omega_0^2)$, correlation time $1/\lambda$) into the phase: the line of $x$ at
+the fundamental is a Lorentzian of half width at half maximum
+\[ D_{\mathrm{eff}} = D_\varphi + \frac{g^2 D_a}{\lambda^2}
+   = \frac{D}{2\omega_0^2}\Bigl(\frac{1}{a^{*2}} + \frac{g^2}{\lambda^2}\Bigr) \]
+(Lax; Kuramoto's shear), and harmonic $k$ has the half width $k^2 D_{\mathrm{eff}}$.  Below,
+$\lambda$, $g$, $D_\varphi$ and $D_{\mathrm{eff}}$ as functions of the amplitude $a$, first
+order (\texttt{kbm.phase\_diffusion}); evaluate them at $a^*$."""]
+    cases = [("vdp", "Van der Pol"), ("rayleigh", "Rayleigh"),
+             ("sedf", "SEDF, paper eq.~(3) with $v = 0$")]
+    for name, title in cases:
+        pd = phase_diffusion(name)
+        body.append(f"\\subsection*{{{title}}}")
+        body.append(_align(pd.latex(_W).split(" \\\\\n")))
+        if name in ("vdp", "rayleigh"):
+            body.append(r"At $a^* = 2$: $\lambda = \mu$, $g = 0$, $D_{\mathrm{eff}} = "
+                        + latex(pd.linewidth.subs(a, 2)) + r"$.")
+    body.append(r"""The sliders' cycle $a^*$ solves $A_1(a^*) = 0$ with the Bessel terms of the
+friction; their shear $g$ comes from the potential's $\delta J_1(ka)/(\Omega a)$ in $B_1$.""")
+    return DerivationFile("phase_diffusion.tex", "\n".join(body) + "\n")
+
+
 def _coupled_section(title: str, intro: str, res, with_u: bool = False) -> str:
     """The slow flow of a coupled expansion (and the ``u_{i,n}``): one ``align*`` per degree
     of freedom and per slow phase (:meth:`kbm.coupled.CoupledKBMResult.latex_groups`)."""
@@ -302,6 +333,9 @@ def build_files(errata: Sequence[ErratumRow] = ()) -> list[DerivationFile]:
     if errata:
         files.append(_errata_file(errata))
     inputs = "\n".join(f"\\input{{{f.name[:-4]}}}" for f in files)
+    # a section of its own, not among main.tex's inputs (main.tex stays as it was): input it
+    # by hand where the phase diffusion is wanted
+    files.append(_phase_diffusion_file())
     files.append(DerivationFile("main.tex", _MAIN % inputs))
     return [DerivationFile(f.name, BANNER + f.text) for f in files]
 

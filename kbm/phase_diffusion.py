@@ -57,12 +57,14 @@ import sympy as sp
 
 from .averaging import derive
 from .errors import ParameterError
-from .latex import latex
+from .latex import equation_lines, latex
 from .models import Oscillator, get_model
 from .stochastic import NOISE
 from .symbols import a, mu, psi
 
 __all__ = ["PhaseDiffusion", "phase_diffusion"]
+
+_CACHE: dict = {}  # one derivation per model, order and fixed parameters
 
 
 @dataclass(frozen=True)
@@ -123,14 +125,17 @@ class PhaseDiffusion:
         syms = set().union(*[e.free_symbols for e in (self.A, self.B, self.displacement)])
         return tuple(sorted(s.name for s in syms - {a, mu, NOISE, psi}))
 
-    def latex(self) -> str:
+    def latex(self, width: int = 62) -> str:
         """``align`` lines: ``lambda``, ``g``, ``D_phi`` and ``D_eff`` as functions of ``a``
         (deterministic: the same bytes whatever ``PYTHONHASHSEED``)."""
+        eff = (latex(self.phase_diffusion) if self.shear == 0 else
+               latex(self.phase_diffusion) + " + " + latex(self.amplitude_diffusion)
+               + r"\,\frac{g(a)^2}{\lambda(a)^2}")
         return " \\\\\n".join([
-            r"\lambda(a) &= " + latex(sp.factor(self.relaxation)),
-            r"g(a) &= " + latex(sp.factor(self.shear)),
+            equation_lines(r"\lambda(a)", sp.factor(self.relaxation), width),
+            equation_lines("g(a)", sp.factor(self.shear), width),
             r"D_\varphi(a) &= " + latex(self.phase_diffusion),
-            r"D_{\mathrm{eff}}(a) &= " + latex(sp.factor(self.linewidth))])
+            r"D_{\mathrm{eff}}(a) &= " + eff])
 
 
 def phase_diffusion(model: Oscillator | str, order: int = 1,
@@ -179,6 +184,10 @@ def phase_diffusion(model: Oscillator | str, order: int = 1,
                              "name; rename it")
     m.require_autonomous("the phase-diffusion averaging")
     fixed = {k: v for k, v in dict(params or {}).items() if k not in ("mu", "D")}
+    key = (m.name, str(m.F), str(m.omega0), order,
+           tuple(sorted((k, str(v)) for k, v in fixed.items())))
+    if key in _CACHE:
+        return _CACHE[key]
     res = derive(m, order, fixed or None)
     w0 = res.model.omega0
     A = sp.expand(sum(mu**n * res.A[n] for n in range(1, order + 1)))
@@ -191,5 +200,7 @@ def phase_diffusion(model: Oscillator | str, order: int = 1,
     shift_a = (NOISE / (2 * w0**2 * a) + sp.diff(A, a, 2) * var_a / 2) / lam
     shift_w = g * shift_a + sp.diff(B, a, 2) * var_a / 2
     x_of = res.u[0] + sum(mu**n * res.u[n] for n in range(1, order + 1))
-    return PhaseDiffusion(res.model, order, A, B, lam, g, d_phi, d_a,
-                          d_phi + g**2 * d_a / lam**2, shift_a, shift_w, x_of)
+    out = PhaseDiffusion(res.model, order, A, B, lam, g, d_phi, d_a,
+                         d_phi + g**2 * d_a / lam**2, shift_a, shift_w, x_of)
+    _CACHE[key] = out
+    return out

@@ -12,6 +12,8 @@ The noisy model is the paper's eq. (1) with ``sqrt(2 D) xi(t)`` added (the conve
 - :mod:`numerics.spectrum.linewidth`: the linewidth and mean frequency measured on
   sampled trajectories (phase of the analytic signal, phase-variance growth, a
   Lorentzian fit);
+- :mod:`numerics.spectrum.floquet`: the small-noise linewidth of the true cycle from its
+  phase response (adjoint Floquet problem), exact in ``mu``;
 - :mod:`numerics.spectrum.simulate`: ensembles of the full Langevin equation recording
   x(t) on the executor (one seed per trajectory, ``store``/``resume``);
 - :mod:`numerics.spectrum.result`: the report of ``kbm spectrum`` (averaged against

@@ -42,7 +42,8 @@ def default_duration(th: LineTheory) -> float:
 def line_report(model, params: dict, D: float, *, order: int = 1,
                 trajectories: int = DEFAULT_TRAJECTORIES, duration: float | None = None,
                 resolution: float | None = None, seed: int = 0, workers: int | None = None,
-                store=None, progress: bool = False, simulate: bool = True) -> dict:
+                store=None, progress: bool = False, simulate: bool = True,
+                floquet: bool = False) -> dict:
     """The averaged and simulated linewidth, frequency and PSD of a self-excited model.
 
     Parameters
@@ -58,6 +59,9 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
         resolution of a quarter of the averaged HWHM).
     simulate : bool
         ``False``: the averaged line alone (``simulated`` entries ``None``).
+    floquet : bool
+        Add ``linewidth.floquet`` and ``frequency.floquet``: the small-noise linewidth
+        ``D <Z_v^2>`` and the frequency of the true cycle (:mod:`numerics.spectrum.floquet`).
 
     Raises
     ------
@@ -86,6 +90,12 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
                          "linearised": th.frequency_linear, "cycle": th.frequency_cycle,
                          "step_bias": None},
            "theory": th.as_dict()}
+    if floquet:
+        from .floquet import phase_response
+
+        pr = phase_response(model, params)
+        rep["linewidth"]["floquet"] = pr.linewidth(D)
+        rep["frequency"]["floquet"] = pr.frequency
     if not simulate:
         omega = np.linspace(*window, 401)
         rep["psd"] = {"omega": omega.tolist(), "averaged": th.psd(omega).tolist(),
@@ -161,6 +171,9 @@ def write_figures(reports: list[dict], out: Path, name: str) -> list[Path]:
         ax.errorbar(d, v, yerr=2 * e, fmt="C0s", ms=4, capsize=2, label="simulated (2 stderr)")
     ax.set_xscale("log")
     ax.set_yscale("log")
+    from matplotlib.ticker import NullFormatter
+
+    ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("D")
     ax.set_ylabel("HWHM (angular)")
     ax.set_title(f"{name}: linewidth against D")

@@ -126,9 +126,9 @@ def simulate_line(model, params: dict, D: float, *, trajectories: int, duration:
     amplitude : float
         Start ``x = amplitude``, ``x' = 0``.
     dt, sample : float, optional
-        Step (default ``2 pi/(400 omega0)``) and sample interval (default: the step times
-        the whole number nearest to ``2 pi/(16 hi)``... at most 16 samples per period of
-        the window's top frequency).
+        Step (default ``2 pi/(400 omega0)``) and sample interval (default ``2 pi/(8 hi)``
+        with ``hi`` the window's top frequency, rounded down to whole steps: Nyquist at
+        four times the window's top).
     seed, workers, executor, store, progress :
         As :func:`numerics.noise.ensemble.stationary_ensemble`.
 

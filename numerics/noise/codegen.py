@@ -31,11 +31,13 @@ _KERNELS = (Path(__file__).with_name("_kernels.py")).read_text()
 _STAGE_V = sp.Symbol("v")
 
 
-def _symbolic(model: Oscillator | str) -> Oscillator:
-    """The model with every parameter a symbol (a slider's stage velocity ``v`` too)."""
+def _symbolic(model: Oscillator | str, at_rest: bool = False) -> Oscillator:
+    """The model with every parameter a symbol (a slider's stage velocity ``v`` too, unless
+    ``at_rest``: then the slider at ``v = 0``, whose force carries no drive term, so that the
+    compiled step is as short as a hand-written one)."""
     if isinstance(model, str):
         base = get_model(model)
-        return base.with_stage_velocity(_STAGE_V) if model in SLIDERS else base
+        return base.with_stage_velocity(_STAGE_V) if model in SLIDERS and not at_rest else base
     return model
 
 

@@ -103,3 +103,24 @@ def test_extrapolation_needs_baoab():
     s = langevin_system("rayleigh", {"mu": 0.1}, 0.05, "kp")
     with pytest.raises(ParameterError, match="BAOAB"):
         richardson_moments(s, 0.1, trajectories=8, t_end=1.0, burn_in=0.0)
+
+
+def test_noise_report_extrapolate_states_method_and_error():
+    """``kbm noise --extrapolate`` (library report): the Richardson <x^2> of the linearly
+    damped oscillator (kT = 1) within 4 standard errors of the exact Boltzmann value; the
+    JSON says how and states the error estimate; every other key stays."""
+    from numerics.thermal.stationary import noise_report
+
+    rep = noise_report("linear_damping", {"mu": 1, "zeta": 1, "D": 1}, trajectories=16, t_end=100.0,
+                       dt=0.02, workers=1, fokker_planck=False, extrapolate=True)
+    ext = rep["extrapolation"]
+    assert ext["applied"] and ext["order"] == ORDER and ext["dt"] == rep["dt"]
+    assert set(ext) >= {"method", "error_estimate", "correction", "correction_stderr"}
+    x2 = rep["moments"]["x2"]
+    assert set(x2) >= {"averaged", "simulated", "stderr", "boltzmann", "extrapolated",
+                       "extrapolated_stderr"}
+    assert abs(x2["extrapolated"] - x2["boltzmann"]) < 4 * x2["extrapolated_stderr"]
+    assert ext["error_estimate"]["x2"] == x2["extrapolated_stderr"]
+    plain = noise_report("linear_damping", {"mu": 1, "zeta": 1, "D": 1}, trajectories=8, t_end=10.0,
+                         dt=0.02, workers=1, fokker_planck=False)
+    assert plain["extrapolation"] is None and "extrapolated" not in plain["moments"]["x2"]

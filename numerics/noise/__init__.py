@@ -6,7 +6,12 @@ delta(t - t')`` and unit mass; for linear damping ``mu`` the temperature is
 
 :mod:`numerics.noise.langevin` compiles a model's Langevin equation (weak order 2);
 :mod:`numerics.noise.ensemble` runs ensembles of trajectories on the executor and
-estimates stationary moments and densities with their standard errors.
+estimates stationary moments and densities with their standard errors;
+:mod:`numerics.noise.extrapolate` extrapolates stationary moments over the step
+(Richardson, BAOAB at ``h`` and ``h/2``); :mod:`numerics.noise.invariant` computes the exact
+stationary averages of the BAOAB chain (its weak error without sampling).  The compiled
+source: :mod:`numerics.noise.codegen` prints the model, :mod:`numerics.noise._kernels` and
+:mod:`numerics.noise._pair_kernels` hold the kernels, :mod:`numerics.noise.seeds` the streams.
 """
 
 from .langevin import LangevinSystem, langevin_system, noise_intensity, split_noise

@@ -69,7 +69,8 @@ def _uniform(s):
 
 @njit(cache=True)
 def _increment(s, root3h):
-    """The three-point weak increment: +-sqrt(3 h) with probability 1/6 each, else 0."""
+    """The three-point weak increment: +-sqrt(3 h) with probability 1/6 each, else 0
+    (``root3h`` is ``sqrt(3 h)``, or that times the noise amplitude: ``+-root3h`` or 0)."""
     u = _uniform(s)
     if u < 1.0 / 6.0:
         return -root3h
@@ -89,26 +90,42 @@ def _step_kp(t, x, v, h, sdw, p):
 
 
 @njit(cache=True)
+def _ou(gh):
+    """The O part's factors ``(e^(-gh), sqrt((1 - e^(-2gh))/(2 gh)))`` by exp alone (an LLVM
+    intrinsic), the second by its series where the difference would cancel (error below
+    1e-12)."""
+    e = math.exp(-gh)
+    if abs(gh) > 1e-4:
+        return e, math.sqrt((1.0 - e * e) / (2.0 * gh))
+    return e, math.sqrt(1.0 - gh * (1.0 - gh * (2.0 / 3.0 - gh / 3.0)))
+
+
+@njit(cache=True)
+def _noise_factor(p, h):
+    """What the increments' amplitude is multiplied by before a step ``h``: the O part's
+    ``sqrt((1 - e^(-2 gamma h))/(2 gamma h))`` when the friction ``gamma`` is a constant
+    (BAOAB; folded into the amplitude once, so that the step is as short as a hand loop's),
+    else 1 (the step applies it, or Kloeden-Platen needs none)."""
+    if SCHEME == 1 and FRICTION_CONST:  # noqa: F821 - set by the printed model above
+        return _ou(friction(0.0, 0.0, p) * h)[1]  # noqa: F821
+    return 1.0
+
+
+@njit(cache=True)
 def _step_baoab(t, x, v, f, h, sdw, p):
     """One BAOAB step (Leimkuhler & Matthews 2013) with a position-dependent friction:
     ``v' = force(t, x) - gamma(t, x) v + sigma xi`` with the O part solved exactly at the
     frozen midpoint position; ``f`` is ``force(t, x)`` of the previous step's end (one new
-    force evaluation per step), ``sdw = sigma * dW``."""
+    force evaluation per step), ``sdw = sigma * dW``, times ``_noise_factor(p, h)`` (the O
+    part's noise factor when the friction is constant)."""
     v = v + 0.5 * h * f
     x = x + 0.5 * h * v
     if FRICTION_CONST:  # noqa: F821 - 1 when gamma depends on no state: hoisted from loops
-        g = friction(0.0, 0.0, p)  # noqa: F821 - defined by the printed model above
+        e = math.exp(-friction(0.0, 0.0, p) * h)  # noqa: F821 - the printed model above
+        v = e * v + sdw
     else:
-        g = friction(t + 0.5 * h, x, p)  # noqa: F821
-    gh = g * h
-    e = math.exp(-gh)
-    # sqrt((1 - e^2)/(2 g h)) by exp alone (an LLVM intrinsic: hoisted from the loop when g
-    # is constant), its series where the difference would cancel (error below 1e-12)
-    if abs(gh) > 1e-4:
-        c = math.sqrt((1.0 - e * e) / (2.0 * gh))
-    else:
-        c = math.sqrt(1.0 - gh * (1.0 - gh * (2.0 / 3.0 - gh / 3.0)))
-    v = e * v + c * sdw
+        e, c = _ou(friction(t + 0.5 * h, x, p) * h)  # noqa: F821
+        v = e * v + c * sdw
     x = x + 0.5 * h * v
     f = force(t + h, x, p)  # noqa: F821
     return x, v + 0.5 * h * f, f
@@ -132,15 +149,14 @@ def _step(t, x, v, f, h, sdw, p):
 
 
 @njit(cache=True)
-def _advance(p, sigma, x, v, t0, h, n, s, r3):
+def _advance(p, x, v, t0, h, n, s, amp):
     """``n`` steps from ``(x, v)`` at ``t0``: ``(x, v, ok)``, ``ok`` false (and the state
-    NaN) once the state is non-finite (checked every 16 steps: a non-finite state stays
-    non-finite, and the loop stays as tight as a hand-written one)."""
+    NaN) when the state ends non-finite (a non-finite state stays non-finite: NaN
+    propagates through every step, so the loop holds no test and is as tight as a
+    hand-written one)."""
     f = _first(t0, x, v, p)
     for k in range(n):
-        x, v, f = _step(t0 + k * h, x, v, f, h, sigma * _increment(s, r3), p)
-        if (k & 15) == 15 and not math.isfinite(x + v):
-            return math.nan, math.nan, False
+        x, v, f = _step(t0 + k * h, x, v, f, h, _increment(s, amp), p)
     if not math.isfinite(x + v):
         return math.nan, math.nan, False
     return x, v, True
@@ -151,10 +167,10 @@ def final_states(p, sigma, y0, t0, h, n, states):
     """The states after ``n`` steps from ``y0[i]`` (``NaN`` once a state is non-finite)."""
     m = y0.shape[0]
     out = np.empty((m, 2))
-    r3 = math.sqrt(3.0 * h)
+    amp = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)
     for i in range(m):
         s = states[i].copy()
-        x, v, _ = _advance(p, sigma, y0[i, 0], y0[i, 1], t0, h, n, s, r3)
+        x, v, _ = _advance(p, y0[i, 0], y0[i, 1], t0, h, n, s, amp)
         out[i, 0], out[i, 1] = x, v
     return out
 
@@ -177,12 +193,12 @@ def stationary_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0, kind, lo, h
     m = y0.shape[0]
     sums = np.zeros((m, 4))
     hist = np.zeros((m, nbins))
-    r3 = math.sqrt(3.0 * h)
+    amp = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)
     width = (hi - lo) / nbins
     for i in range(m):
         s = states[i].copy()
         x, v = y0[i, 0], y0[i, 1]
-        x, v, ok = _advance(p, sigma, x, v, t0, h, n_burn, s, r3)
+        x, v, ok = _advance(p, x, v, t0, h, n_burn, s, amp)
         t1 = t0 + n_burn * h
         f = _first(t1, x, v, p) if ok else 0.0
         a_x2 = 0.0
@@ -191,7 +207,7 @@ def stationary_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0, kind, lo, h
         a_f = 0.0
         if ok:
             for k in range(n_run):
-                x, v, f = _step(t1 + k * h, x, v, f, h, sigma * _increment(s, r3), p)
+                x, v, f = _step(t1 + k * h, x, v, f, h, _increment(s, amp), p)
                 if not math.isfinite(x + v):
                     ok = False
                     break
@@ -225,14 +241,14 @@ def first_passages(p, sigma, y0, t0, h, n_max, xl, xr, states):
     m = y0.shape[0]
     times = np.empty(m)
     hit = np.zeros(m, dtype=np.bool_)
-    r3 = math.sqrt(3.0 * h)
+    amp = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)
     for i in range(m):
         s = states[i].copy()
         x, v = y0[i, 0], y0[i, 1]
         times[i] = n_max * h
         f = _first(t0, x, v, p)
         for k in range(n_max):
-            x, v, f = _step(t0 + k * h, x, v, f, h, sigma * _increment(s, r3), p)
+            x, v, f = _step(t0 + k * h, x, v, f, h, _increment(s, amp), p)
             if x <= xl or x >= xr or not math.isfinite(x):
                 times[i] = (k + 1) * h
                 hit[i] = True
@@ -248,10 +264,10 @@ def sample_path(p, sigma, y0, t0, h, n, stride, state):
     s = state.copy()
     x, v = y0[0], y0[1]
     out[0, 0], out[0, 1] = x, v
-    r3 = math.sqrt(3.0 * h)
+    amp = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)
     f = _first(t0, x, v, p)
     for k in range(n):
-        x, v, f = _step(t0 + k * h, x, v, f, h, sigma * _increment(s, r3), p)
+        x, v, f = _step(t0 + k * h, x, v, f, h, _increment(s, amp), p)
         if not math.isfinite(x + v):
             break
         if (k + 1) % stride == 0:
@@ -272,11 +288,11 @@ def slip_stats(p, sigma, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage
     rows for a diverged trajectory."""
     m = y0.shape[0]
     out = np.zeros((m, 7))
-    r3 = math.sqrt(3.0 * h)
+    amp = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)
     for i in range(m):
         s = states[i].copy()
         x, v = y0[i, 0], y0[i, 1]
-        x, v, ok = _advance(p, sigma, x, v, t0, h, n_burn, s, r3)
+        x, v, ok = _advance(p, x, v, t0, h, n_burn, s, amp)
         t1 = t0 + n_burn * h
         fk = _first(t1, x, v, p) if ok else 0.0
         well = math.floor(x / lam + 0.5)
@@ -292,7 +308,7 @@ def slip_stats(p, sigma, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage
         if ok:
             for k in range(n_run):
                 t = t1 + (k + 1) * h
-                x, v, fk = _step(t - h, x, v, fk, h, sigma * _increment(s, r3), p)
+                x, v, fk = _step(t - h, x, v, fk, h, _increment(s, amp), p)
                 if not math.isfinite(x + v):
                     ok = False
                     break
@@ -328,52 +344,4 @@ def slip_stats(p, sigma, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage
         else:
             for c in range(7):
                 out[i, c] = math.nan
-    return out
-
-
-@njit(cache=True)
-def _normal_pair(s):
-    """Two independent standard normal numbers (Box-Muller on two uniforms)."""
-    r = math.sqrt(-2.0 * math.log(1.0 - _uniform(s)))
-    phi = 2.0 * math.pi * _uniform(s)
-    return r * math.cos(phi), r * math.sin(phi)
-
-
-@njit(cache=True)
-def step_pair_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0):
-    """Per trajectory: the time averages of ``x^2`` and ``a^2`` after ``n_burn`` steps, over
-    ``n_run`` steps ``h`` and, on the same Brownian path, over ``2 n_run`` steps ``h/2``
-    (Gaussian increments: the two fine ones ``sqrt(h/2) g_1``, ``sqrt(h/2) g_2`` sum to the
-    coarse one, so the two runs stay close and their difference is the step's bias with a
-    small variance).  Columns: ``x^2 (h), a^2 (h), x^2 (h/2), a^2 (h/2)``; NaN rows for a
-    diverged trajectory."""
-    m = y0.shape[0]
-    out = np.zeros((m, 4))
-    hf = 0.5 * h
-    sf = sigma * math.sqrt(hf)
-    for i in range(m):
-        s = states[i].copy()
-        xc, vc = y0[i, 0], y0[i, 1]
-        xf, vf = xc, vc
-        ff = _first(t0, xf, vf, p)
-        fc = ff
-        acc = np.zeros(4)
-        ok = True
-        for k in range(n_burn + n_run):
-            g1, g2 = _normal_pair(s)
-            t = t0 + k * h
-            xf, vf, ff = _step(t, xf, vf, ff, hf, sf * g1, p)
-            xf, vf, ff = _step(t + hf, xf, vf, ff, hf, sf * g2, p)
-            xc, vc, fc = _step(t, xc, vc, fc, h, sf * (g1 + g2), p)
-            if not (math.isfinite(xc) and math.isfinite(vc) and math.isfinite(xf)
-                    and math.isfinite(vf)):
-                ok = False
-                break
-            if k >= n_burn:
-                acc[0] += xc * xc
-                acc[1] += xc * xc + (vc / w0) ** 2
-                acc[2] += xf * xf
-                acc[3] += xf * xf + (vf / w0) ** 2
-        for c in range(4):
-            out[i, c] = acc[c] / n_run if ok else math.nan
     return out

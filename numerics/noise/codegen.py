@@ -2,7 +2,8 @@
 (:mod:`numerics.noise.langevin`): every parameter an argument (the stage velocity ``v`` of
 the sliders too, so one compilation serves a whole friction map), the acceleration, the
 force and friction of BAOAB's split, the spring and the energy (its potential in closed
-form where there is one), followed by the kernels of :mod:`numerics.noise._kernels`.  The
+form where there is one), followed by the kernels of :mod:`numerics.noise._kernels` and
+:mod:`numerics.noise._pair_kernels`.  The
 machine code is cached on disk under the SHA-256 of the source
 (:func:`numerics.flow.jit.cache_dir`); the choice of scheme (Kloeden-Platen or BAOAB) is
 made here too.
@@ -27,15 +28,18 @@ __all__ = ["SCHEMES"]
 #: version of the generated source (part of its hash)
 _VERSION = "2"
 
-_KERNELS = (Path(__file__).with_name("_kernels.py")).read_text()
+_KERNELS = "\n\n".join(Path(__file__).with_name(f).read_text()
+                         for f in ("_kernels.py", "_pair_kernels.py"))
 _STAGE_V = sp.Symbol("v")
 
 
-def _symbolic(model: Oscillator | str) -> Oscillator:
-    """The model with every parameter a symbol (a slider's stage velocity ``v`` too)."""
+def _symbolic(model: Oscillator | str, at_rest: bool = False) -> Oscillator:
+    """The model with every parameter a symbol (a slider's stage velocity ``v`` too, unless
+    ``at_rest``: then the slider at ``v = 0``, whose force carries no drive term, so that the
+    compiled step is as short as a hand-written one)."""
     if isinstance(model, str):
         base = get_model(model)
-        return base.with_stage_velocity(_STAGE_V) if model in SLIDERS else base
+        return base.with_stage_velocity(_STAGE_V) if model in SLIDERS and not at_rest else base
     return model
 
 

@@ -29,7 +29,7 @@ import sympy as sp
 
 from kbm.bound import BoundModel, bind
 from kbm.errors import ParameterError
-from kbm.models import Oscillator
+from kbm.models import SLIDERS, Oscillator
 from kbm.values import parameter_value
 
 from .codegen import SCHEMES, _STAGE_V, _compiled, _scheme, _symbolic  # noqa: F401
@@ -201,7 +201,9 @@ def langevin_system(model: Oscillator | str, params: Mapping[str, object] | None
     else:
         D = noise_intensity(D)
         params.pop("D", None)
-    sym = _symbolic(model)
+    at_rest = (isinstance(model, str) and model in SLIDERS
+               and float(parameter_value("v", params.get("v", 0))) == 0)
+    sym = _symbolic(model, at_rest)
     if "D" in sym.parameters:
         raise ParameterError(f"model {sym.name!r} has a parameter named D, the noise intensity's "
                              "name; rename it")

@@ -140,7 +140,7 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
                  dt=None, seed: int = 0, budget: float = DEFAULT_BUDGET, executor=None,
                  workers: int | None = None, progress: bool = False, store=None,
                  figure: str | Path | None = None, method: str = "averaging",
-                 fokker_planck: bool = True, order: int = 1) -> dict:
+                 fokker_planck: bool = True, order: int = 1, extrapolate: bool = False) -> dict:
     """The stationary moments and density: averaged prediction against an ensemble.
 
     Parameters
@@ -165,6 +165,12 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
     order : {1, 2}
         The order of the amplitude averaging (:mod:`kbm.stochastic_order2` for 2, where it
         applies; the first order is kept otherwise, with the reason in ``message``).
+    extrapolate : bool
+        Also run BAOAB at ``dt`` and ``dt/2`` on one Brownian path (Gaussian increments,
+        the same trajectories and times) and report the Richardson value
+        ``(4 E_{dt/2} - E_dt)/3`` (weak order 4, :mod:`numerics.noise.extrapolate`) as
+        ``moments.*.extrapolated`` with ``extrapolated_stderr``, and how in
+        ``extrapolation`` (``None`` without it).
 
     Returns
     -------
@@ -221,6 +227,7 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
         "validity": {"z": {"a2": None, "x2": None}, "flagged": False, "threshold": Z_FLAG,
                      "advice": ""},
         "averaged_order": None if avg is None else 1,
+        "extrapolation": None,
     }
     if so is not None:
         out["averaged_order"] = 2
@@ -262,9 +269,38 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
         "simulated": ens.density.tolist(), "stderr": ens.density_stderr.tolist(),
         "outside": ens.outside,
     }
+    if extrapolate:
+        out["extrapolation"] = _extrapolation(system, out, trajectories, run, burn, h, seed)
     if figure is not None:
         _figure(figure, out, name, D)
     return out
+
+
+def _extrapolation(system, out: dict, trajectories: int, run: float, burn: float, h: float,
+                   seed: int) -> dict:
+    """The Richardson pair at ``h`` and ``h/2`` (BAOAB only): ``moments.*.extrapolated`` and
+    the ``extrapolation`` record, with its error estimate."""
+    from ..noise.extrapolate import ORDER, richardson_moments
+
+    if system.scheme != "baoab":
+        return {"applied": False, "reason": "Richardson extrapolation to order 4 needs BAOAB's "
+                "even expansion; this model runs Kloeden-Platen (damping not affine in x')"}
+    mom = richardson_moments(system, h, trajectories=trajectories, t_end=run, burn_in=burn,
+                             seed=seed)
+    for k, m in mom.items():
+        out["moments"][k].update(extrapolated=m.extrapolated, extrapolated_stderr=m.stderr)
+    return {
+        "applied": True,
+        "method": "Richardson (Talay-Tubaro): (4 E_{dt/2} - E_dt)/3, BAOAB at dt and dt/2 on "
+                  "one Brownian path (Gaussian increments), the same trajectories and times",
+        "order": ORDER, "dt": h, "steps": 3 * trajectories * (run + burn) / h,
+        "correction": {k: m.correction for k, m in mom.items()},
+        "correction_stderr": {k: m.correction_stderr for k, m in mom.items()},
+        "error_estimate": {k: m.stderr for k, m in mom.items()},
+        "error_note": "error_estimate is the standard error over trajectories; the remaining "
+                      "bias is O(dt^4) (7.5e-5 relative at dt = 0.3 on the quartic benchmark, "
+                      "by the transfer operator of numerics.noise.invariant)",
+    }
 
 
 def _title(rep: dict, name: str, D: float) -> str:

@@ -1,0 +1,116 @@
+"""Compiled Gaussian-increment kernels of :mod:`numerics.noise`: the pair and the ladder of
+steps on one Brownian path, appended as source after :mod:`numerics.noise._kernels` (whose
+``_step``, ``_first``, ``_uniform`` and ``_noise_factor`` they call) to a printed model.
+
+The Richardson extrapolation (:mod:`numerics.noise.extrapolate`) and the measured default
+step (:func:`numerics.noise.langevin.measured_step`) run the scheme at ``h`` and ``h/2``
+(``step_pair_stats``) or at ``h/2^j`` (``step_ladder_stats``) with Gaussian increments, each
+coarse increment the sum of the finer ones, so that the runs stay close and their
+difference has a small variance.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def _normal_pair(s):
+    """Two independent standard normal numbers (Box-Muller on two uniforms)."""
+    r = math.sqrt(-2.0 * math.log(1.0 - _uniform(s)))  # noqa: F821
+    phi = 2.0 * math.pi * _uniform(s)  # noqa: F821
+    return r * math.cos(phi), r * math.sin(phi)
+
+
+@njit(cache=True)
+def step_pair_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0):
+    """Per trajectory: the time averages of ``x^2`` and ``a^2`` after ``n_burn`` steps, over
+    ``n_run`` steps ``h`` and, on the same Brownian path, over ``2 n_run`` steps ``h/2``
+    (Gaussian increments: the two fine ones ``sqrt(h/2) g_1``, ``sqrt(h/2) g_2`` sum to the
+    coarse one, so the two runs stay close and their difference is the step's bias with a
+    small variance).  Columns: ``x^2 (h), a^2 (h), x^2 (h/2), a^2 (h/2)``; NaN rows for a
+    diverged trajectory."""
+    m = y0.shape[0]
+    out = np.zeros((m, 4))
+    hf = 0.5 * h
+    sf = sigma * math.sqrt(hf)
+    af = sf * _noise_factor(p, hf)  # noqa: F821
+    ac = sf * _noise_factor(p, h)  # noqa: F821
+    for i in range(m):
+        s = states[i].copy()
+        xc, vc = y0[i, 0], y0[i, 1]
+        xf, vf = xc, vc
+        ff = _first(t0, xf, vf, p)  # noqa: F821
+        fc = ff
+        acc = np.zeros(4)
+        ok = True
+        for k in range(n_burn + n_run):
+            g1, g2 = _normal_pair(s)
+            t = t0 + k * h
+            xf, vf, ff = _step(t, xf, vf, ff, hf, af * g1, p)  # noqa: F821
+            xf, vf, ff = _step(t + hf, xf, vf, ff, hf, af * g2, p)  # noqa: F821
+            xc, vc, fc = _step(t, xc, vc, fc, h, ac * (g1 + g2), p)  # noqa: F821
+            if not (math.isfinite(xc) and math.isfinite(vc) and math.isfinite(xf)
+                    and math.isfinite(vf)):
+                ok = False
+                break
+            if k >= n_burn:
+                acc[0] += xc * xc
+                acc[1] += xc * xc + (vc / w0) ** 2
+                acc[2] += xf * xf
+                acc[3] += xf * xf + (vf / w0) ** 2
+        for c in range(4):
+            out[i, c] = acc[c] / n_run if ok else math.nan
+    return out
+
+
+@njit(cache=True)
+def step_ladder_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0, levels):
+    """Per trajectory and level ``j = 0..levels``: the time average of ``x^2`` and ``a^2``
+    over ``n_run`` steps ``h`` after ``n_burn``, run at the step ``h/2^j`` on one Brownian
+    path (Gaussian increments; each coarse increment is the sum of the finer ones), sampled
+    at the ends of the coarse steps.  Shape ``(m, levels + 1, 2)``; NaN rows for a
+    diverged trajectory.  ``levels = 1`` is :func:`step_pair_stats`' pair."""
+    m = y0.shape[0]
+    nf = 1 << levels
+    out = np.zeros((m, levels + 1, 2))
+    sf = sigma * math.sqrt(h / nf)
+    g = np.empty(nf)
+    xs = np.empty(levels + 1)
+    vs = np.empty(levels + 1)
+    fs = np.empty(levels + 1)
+    for i in range(m):
+        s = states[i].copy()
+        for j in range(levels + 1):
+            xs[j], vs[j] = y0[i, 0], y0[i, 1]
+            fs[j] = _first(t0, xs[j], vs[j], p)  # noqa: F821
+        acc = np.zeros((levels + 1, 2))
+        ok = True
+        for k in range(n_burn + n_run):
+            for q in range(0, nf, 2):
+                g[q], g[q + 1] = _normal_pair(s)
+            t = t0 + k * h
+            for j in range(levels + 1):
+                sub = 1 << j
+                block = nf // sub
+                hj = h / sub
+                aj = sf * _noise_factor(p, hj)  # noqa: F821
+                x, v, f = xs[j], vs[j], fs[j]
+                for r in range(sub):
+                    w = 0.0
+                    for q in range(r * block, (r + 1) * block):
+                        w += g[q]
+                    x, v, f = _step(t + r * hj, x, v, f, hj, aj * w, p)  # noqa: F821
+                xs[j], vs[j], fs[j] = x, v, f
+                if not (math.isfinite(x) and math.isfinite(v)):
+                    ok = False
+                if k >= n_burn:
+                    acc[j, 0] += x * x
+                    acc[j, 1] += x * x + (v / w0) ** 2
+            if not ok:
+                break
+        for j in range(levels + 1):
+            for c in range(2):
+                out[i, j, c] = acc[j, c] / n_run if ok else math.nan
+    return out

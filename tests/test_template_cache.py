@@ -21,7 +21,7 @@ from kbm.models import get_model
 from kbm.symbols import xdot
 
 from numerics.flow import template_cache as tc
-from numerics.flow.compiled import _build_template
+from numerics.flow.compiled import ModelTemplate, _build_template
 from numerics.flow.jit import cache_dir
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -57,8 +57,8 @@ def test_a_warm_template_is_read_without_building(tmp_path, monkeypatch):
     monkeypatch.setenv("KBM_CACHE_DIR", str(tmp_path))
     vdp = get_model("vdp")
     build, built = _counting_build()
-    cold = tc.cached_template(vdp, build)
-    warm = tc.cached_template(vdp, build)
+    cold = tc.cached_template(vdp, build, ModelTemplate)
+    warm = tc.cached_template(vdp, build, ModelTemplate)
     assert built == ["vdp"]
     direct = _build_template(vdp)
     assert cold.names == warm.names == direct.names == ("mu",)
@@ -83,7 +83,7 @@ def test_a_damaged_record_is_rebuilt(tmp_path, monkeypatch, damage):
     monkeypatch.setenv("KBM_CACHE_DIR", str(tmp_path))
     vdp = get_model("vdp")
     key = tc.template_key(vdp)
-    tc.cached_template(vdp, _build_template)
+    tc.cached_template(vdp, _build_template, ModelTemplate)
     path = tmp_path / f"kbm_template_{key}.json"
     good = path.read_text()
     record = json.loads(good)
@@ -98,7 +98,7 @@ def test_a_damaged_record_is_rebuilt(tmp_path, monkeypatch, damage):
             record["functions"]["f_acc"]["source"] = "def broken(:\n"
         path.write_text(json.dumps(record))
     build, built = _counting_build()
-    tpl = tc.cached_template(vdp, build)
+    tpl = tc.cached_template(vdp, build, ModelTemplate)
     assert built == ["vdp"]
     assert tpl.f_acc(0.0, 1.5, 0.5, 1.0) == 1.0 * 0.5 * (1 - 1.5**2) - 1.5
     assert json.loads(path.read_text()) == json.loads(good)

@@ -164,7 +164,7 @@ def model_template(model: Oscillator | str) -> ModelTemplate:
 def _template(model: Oscillator) -> ModelTemplate:
     from numerics.flow.template_cache import cached_template
 
-    return cached_template(model, _build_template)
+    return cached_template(model, _build_template, ModelTemplate)
 
 
 def _build_template(model: Oscillator) -> ModelTemplate:

@@ -34,10 +34,11 @@ import types
 from collections.abc import Callable, Mapping
 from importlib import import_module
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import Any, TypeVar
 
-if TYPE_CHECKING:
-    from numerics.flow.compiled import ModelTemplate
+#: the template type (:class:`numerics.flow.compiled.ModelTemplate`, passed in by its
+#: module: imported here, it would close a circle of imports)
+Template = TypeVar("Template")
 
 __all__ = ["template_key", "cached_template", "template_record", "template_from_record",
            "FORMAT"]
@@ -164,7 +165,7 @@ def _function(rec: Mapping) -> Callable:
     return namespace[rec["name"]]
 
 
-def template_record(template: ModelTemplate, key: str) -> dict | None:
+def template_record(template: Any, key: str) -> dict | None:
     """The record of ``template`` under ``key``, or ``None`` if a function cannot be stored."""
     from sympy import srepr
 
@@ -180,18 +181,18 @@ def template_record(template: ModelTemplate, key: str) -> dict | None:
             "ext_symbols": [srepr(s) for s in template.ext_symbols]}
 
 
-def template_from_record(model: object, record: Mapping) -> ModelTemplate:
-    """The template of ``model`` from its record (raises if the record is malformed)."""
+def template_from_record(model: object, record: Mapping,
+                         template_type: type[Template]) -> Template:
+    """The template (a ``template_type``, :class:`numerics.flow.compiled.ModelTemplate`) of
+    ``model`` from its record (raises if the record is malformed)."""
     import sympy
-
-    from numerics.flow.compiled import ModelTemplate
 
     ns = vars(sympy)
 
     def expr(text: str):
         return eval(text, dict(ns))  # noqa: S307 - srepr written by this module
 
-    return ModelTemplate(
+    return template_type(
         model=model, names=tuple(record["names"]),
         **{f: _function(record["functions"][f]) for f in _FUNCTIONS},
         dissipation_expr=expr(record["dissipation_expr"]),
@@ -226,9 +227,11 @@ def _write(key: str, record: Mapping) -> None:
         pass  # an unwritable cache costs time only
 
 
-def cached_template(model: object, build: Callable[[object], ModelTemplate]) -> ModelTemplate:
+def cached_template(model: object, build: Callable[[object], Template],
+                    template_type: type[Template]) -> Template:
     """The template of ``model``: from its record when one is stored under its key, else
-    ``build(model)`` stored and read back (so a cold and a warm run use the same code).
+    ``build(model)`` stored and read back (so a cold and a warm run use the same code);
+    ``template_type`` makes it from the record (:class:`numerics.flow.compiled.ModelTemplate`).
 
     A stored record that is malformed or does not resolve is rebuilt and replaced.
     """
@@ -236,7 +239,7 @@ def cached_template(model: object, build: Callable[[object], ModelTemplate]) -> 
     record = _read(key)
     if record is not None:
         try:
-            return template_from_record(model, record)
+            return template_from_record(model, record, template_type)
         except Exception:  # noqa: BLE001 - a damaged record is rebuilt, never trusted
             pass
     built = build(model)
@@ -244,6 +247,6 @@ def cached_template(model: object, build: Callable[[object], ModelTemplate]) -> 
     if record is None:
         return built
     record = json.loads(json.dumps(record))  # the record as it is read back
-    template = template_from_record(model, record)
+    template = template_from_record(model, record, template_type)
     _write(key, record)
     return template

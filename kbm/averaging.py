@@ -208,6 +208,11 @@ def _one_degree_with_bessel(model, order: int):
 def _coupled_member(model) -> bool:
     """Whether ``model`` is a coupled system (a :class:`kbm.coupled.CoupledOscillators` or
     the name of a coupled built-in): :func:`derive` then runs the general engine."""
+    from .models import MODELS
+    from .oscillator import Oscillator
+
+    if isinstance(model, Oscillator) or (isinstance(model, str) and model in MODELS):
+        return False  # one degree of freedom: the coupled catalogue (0.3 s) is not imported
     from .coupled.builtins import is_coupled_name
     from .coupled.model import CoupledOscillators
 

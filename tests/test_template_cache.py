@@ -117,15 +117,16 @@ def _cycle(env) -> subprocess.CompletedProcess:
     code = ("import sys, runpy; sys.argv = ['kbm', 'cycle', 'vdp', '-p', 'mu=1']\n"
             "try:\n    runpy.run_module('numerics.cli', run_name='__main__')\n"
             "finally:\n    print('MODULES', *sorted(m for m in ('scipy.special', "
-            "'scipy.integrate') if m in sys.modules), file=sys.stderr)")
+            "'scipy.integrate', 'kbm.coupled') if m in sys.modules), file=sys.stderr)")
     return subprocess.run([sys.executable, "-c", code], capture_output=True, cwd=ROOT,
                           env=env, timeout=600, check=True)
 
 
 def test_cycle_gives_the_same_bytes_with_a_cold_and_a_warm_template_cache(tmp_path):
     """``kbm cycle vdp -p mu=1`` with no template record (built and stored) and again with
-    it (read back): the same bytes of output; the warm run imports no ``scipy.integrate``
-    (``scipy.special`` still comes with the KBM guess, :mod:`kbm.evaluate`).  The compiled flows
+    it (read back): the same bytes of output; the warm run imports no ``scipy.integrate`` and
+    not the coupled catalogue (``scipy.special`` still comes with the KBM guess,
+    :mod:`kbm.evaluate`).  The compiled flows
     are copied from the cache in use, so that only the template is cold."""
     env = {**os.environ, "PYTHONPATH": str(ROOT), "KBM_COMPILE_NOTICE": "0"}
     _cycle(env)  # the flows compiled in the cache in use (once per machine)
@@ -139,4 +140,5 @@ def test_cycle_gives_the_same_bytes_with_a_cold_and_a_warm_template_cache(tmp_pa
     warm = _cycle(env)
     assert cold.stdout == warm.stdout
     assert b"limit cycle of vdp" in warm.stdout
-    assert "scipy.integrate" not in warm.stderr.decode().splitlines()[-1].split()
+    modules = warm.stderr.decode().splitlines()[-1].split()
+    assert "scipy.integrate" not in modules and "kbm.coupled" not in modules

@@ -235,7 +235,10 @@ def cached_template(model: object, build: Callable[[object], Template],
 
     A stored record that is malformed or does not resolve is rebuilt and replaced.
     """
-    key = template_key(model)
+    try:
+        key = template_key(model)
+    except TypeError:  # not a dataclass: no canonical form, so nothing is stored
+        return build(model)
     record = _read(key)
     if record is not None:
         try:

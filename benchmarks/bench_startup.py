@@ -8,7 +8,10 @@ Run: ``python benchmarks/bench_startup.py [--rounds 10] [--against OTHER_TREE]``
    interleaved (one run of each command per round, so that a change of the machine's load
    falls on all of them alike), every cache warm (one run of each first).  With
    ``--against OTHER_TREE`` (e.g. a checkout of the previous main) the same commands of that
-   tree run in the same rounds: before and after on the same machine, in one run.
+   tree run in the same rounds: before and after on the same machine, in one run.  The
+   least CPU time (user + system) of each is printed too: on a busy machine the wall time
+   waits for the cores.  Warm means the compiled flows and the model templates
+   (:mod:`numerics.flow.template_cache`) are in the cache folder.
 2. The whole ``kbm branch sedf -p mu=0.1 -p beta=1 -p lam=1 --vary Delta=0:4 --orders none
    --no-energy --json`` against AUTO-07p's whole run of the same branch (its equations
    compiled once beforehand, as kbm's numba cache is warm; the start from the Hopf point
@@ -25,6 +28,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import shutil
 import statistics
 import subprocess
@@ -53,16 +57,31 @@ def _argv(args: list[str] | None) -> list[str]:
     return [sys.executable, "-m", "numerics.cli", *args]
 
 
+#: CPU seconds (user + system) of each process timed, by command: on a busy machine the
+#: wall time waits for the cores, the CPU time much less
+CPU: dict[tuple[str, str], list[float]] = {}
+
+
 def run_once(tree: Path, args: list[str] | None) -> float:
-    """Seconds of one whole process of ``kbm ARGS`` from ``tree`` (its output discarded)."""
+    """Seconds of one whole process of ``kbm ARGS`` from ``tree`` (its output discarded);
+    its CPU seconds are appended to :data:`CPU` under ``(tree, ARGS)``."""
     env = {**os.environ, "PYTHONPATH": str(tree)}
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     proc = subprocess.run(_argv(args), cwd=tree, env=env, capture_output=True, timeout=900)
     seconds = time.perf_counter() - t0
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
     if proc.returncode != 0:
         raise SystemExit(f"{' '.join(args or [])} failed in {tree}: "
                          f"{proc.stderr.decode()[-400:]}")
+    CPU.setdefault((str(tree), " ".join(args or ["-c pass"])), []).append(
+        r1.ru_utime - r0.ru_utime + r1.ru_stime - r0.ru_stime)
     return seconds
+
+
+def _cpu(tree: Path, args: list[str] | None) -> float:
+    """The smallest CPU time of the timed runs of ``kbm ARGS`` from ``tree``."""
+    return min(CPU[(str(tree), " ".join(args or ["-c pass"]))])
 
 
 def commands(trees: dict[str, Path], rounds: int) -> None:
@@ -76,13 +95,14 @@ def commands(trees: dict[str, Path], rounds: int) -> None:
         for label, name, tree, args in cases:
             times[(label, name)].append(run_once(tree, args))
     print(f"\n1. whole processes, warm, {rounds} interleaved rounds (seconds)")
-    head = "".join(f"{label + ' median':>16s}{'min':>8s}" for label in trees)
+    head = "".join(f"{label + ' median':>16s}{'min':>8s}{'cpu':>7s}" for label in trees)
     print(f"   {'command':30s}{head}  target")
     for name in COMMANDS:
         cells = ""
         for label in trees:
             ts = times.get((label, name)) or times[("this", name)]
-            cells += f"{statistics.median(ts):16.3f}{min(ts):8.3f}"
+            tree = trees[label] if (label, name) in times else trees["this"]
+            cells += f"{statistics.median(ts):16.3f}{min(ts):8.3f}{_cpu(tree, COMMANDS[name]):7.3f}"
         target = TARGETS.get(name)
         verdict = ""
         if target is not None:
@@ -126,7 +146,8 @@ def branch(repeats: int) -> None:
     run_once(ROOT, BRANCH)  # warm
     auto = auto_whole_runs(repeats)
     kbm = [run_once(ROOT, BRANCH) for _ in range(repeats)]
-    print(f"   kbm: median {statistics.median(kbm):.3f} s, min {min(kbm):.3f} s")
+    print(f"   kbm: median {statistics.median(kbm):.3f} s, min {min(kbm):.3f} s, "
+          f"least CPU {_cpu(ROOT, BRANCH):.3f} s")
     if auto:
         ratio = statistics.median(kbm) / statistics.median(auto)
         print(f"   AUTO-07p: median {statistics.median(auto):.3f} s, min {min(auto):.3f} s; "

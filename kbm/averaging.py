@@ -214,6 +214,12 @@ def _coupled_member(model) -> bool:
     """Whether ``model`` is a coupled system (an instance of the one type built as a system,
     not one of its named cases of one degree of freedom, or the name of a coupled
     built-in): :func:`derive` then runs the general engine."""
+
+    from .models import MODELS
+    from .oscillator import Oscillator
+
+    if isinstance(model, Oscillator) or (isinstance(model, str) and model in MODELS):
+        return False  # one degree of freedom: the coupled catalogue (0.3 s) is not imported
     from .coupled.builtins import is_coupled_name
     from .coupled.model import CoupledOscillators
 

@@ -170,8 +170,12 @@ def lookup(name: str, kinds: Iterable[str] = ("one", "forced", "coupled"), *,
         For an unknown name: the closest name, and every built-in a command of these
         ``kinds`` takes (``--rhs`` offered only where ``rhs``).
     """
+    from .models import MODELS
+
     kinds = tuple(kinds)
     found = _members(name)
+    if "one" in kinds and name in MODELS:  # before the other catalogues, which import
+        return found                       # slowly (0.26 s: issue 39)
     table = builtin_names(kinds)
     ok = found is not None and any(
         name in table[k] or (k == "coupled" and name.startswith("sedf-chain-"))

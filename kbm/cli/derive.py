@@ -188,13 +188,21 @@ def is_coupled(args: argparse.Namespace) -> bool:
     """Whether the command line names a coupled system: several ``--rhs``, several
     frequencies, ``--internal``, ``--nu0`` (a forced system in the general form), or a
     coupled built-in."""
-    from ..coupled.builtins import is_coupled_name
-
     rhs = getattr(args, "rhs", None) or []
+    name = args.model
     return (len(rhs) > 1 or bool(getattr(args, "internal", None))
             or getattr(args, "nu0", None) is not None
             or (bool(rhs) and "," in str(args.omega0 or ""))
-            or is_coupled_name(args.model))
+            or (isinstance(name, str) and (name in COUPLED_NAMES
+                                           or name.startswith("sedf-chain-"))))
+
+
+#: the names of the coupled built-ins (:data:`kbm.coupled.builtins.COUPLED_MODELS`, whose
+#: systems are built with sympy at import): :func:`is_coupled` of a one-degree-of-freedom
+#: command then imports no sympy (issue 39); ``tests/test_template_cache.py`` checks the
+#: list against the catalogue
+COUPLED_NAMES = frozenset({"coupled-vdp", "duffing-1-3", "quadratic-1-2", "sedf-chain",
+                           "sedf-dimer"})
 
 
 def coupled_model(args: argparse.Namespace):

@@ -3,6 +3,8 @@
 - :mod:`numerics.flow.compiled`: the model's numerical functions at bound
   parameter values (:class:`CompiledModel`), lambdified once per model
   (:class:`ModelTemplate`);
+- :mod:`numerics.flow.template_cache`: the templates' functions kept on disk under the
+  model's canonical form (a warm run does not lambdify);
 - :mod:`numerics.flow.jit`: the extended flow printed from the model's
   expressions and compiled with numba (an adaptive DOP853);
 - :mod:`numerics.flow.integrate`: the method enum, the one stiffness policy and

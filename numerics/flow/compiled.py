@@ -162,7 +162,9 @@ def model_template(model: Oscillator | str) -> ModelTemplate:
 
 @memo(maxsize=32)
 def _template(model: Oscillator) -> ModelTemplate:
-    return _build_template(model)
+    from numerics.flow.template_cache import cached_template
+
+    return cached_template(model, _build_template, ModelTemplate)
 
 
 def _build_template(model: Oscillator) -> ModelTemplate:

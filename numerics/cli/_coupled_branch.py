@@ -7,7 +7,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from kbm.cli._common import emit_json, parse_params
+from kbm.cli._common import emit_json
 
 
 def _start(text: str | None, dof: int):
@@ -37,9 +37,9 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
     if what == "response" and not model.forced:
         raise ParameterError(f"{model.name!r} has no forcing (theta); its branches of cycles "
                              "are kbm branch")
-    given = parse_params(args.param)
-    from numerics.cli._params import check
+    from numerics.cli._params import check, given as read
 
+    given = read(args.param)
     check(model, given, [name], start=True)
     start = _start(getattr(args, "start", None), model.dof)
     max_points = getattr(args, "max_points", None) or 200

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_param_option, emit_json, parse_params
+from kbm.cli._common import add_param_option, emit_json
 
 
 def register(sub) -> None:
@@ -100,6 +100,28 @@ def _vary_named(text: str, allowed: str | None = None) -> tuple[str, float, floa
                              f"not {v.name!r}")
     lo, hi = v.interval("a response curve", points=True)
     return v.name, lo, hi, v.count
+
+
+def _given(model, args: argparse.Namespace, varied: tuple[str, ...] = ()) -> dict[str, str]:
+    """The ``-p`` values of a forced model of one degree of freedom, read and checked by
+    the one layer (:func:`numerics.cli._params.check`): every name one of the model's
+    (``mu`` and the parameters of ``F``, ``omega0`` and a hard forcing), the detuning
+    ``sigma`` only as ``--vary sigma=...`` or ``--detuning``.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For an unknown name (the valid ones listed) or ``-p sigma``.
+    """
+    from kbm.errors import ParameterError
+    from numerics.cli._params import check, given
+
+    params = given(args.param)
+    if "sigma" in params and not varied:
+        raise ParameterError(f"sigma is the detuning: give it as --detuning {params['sigma']}"
+                             " or a range --vary sigma=FROM:TO, not -p sigma")
+    check(model, params, varied, extra=("sigma",) if varied else ())
+    return params
 
 
 def forced_model(args: argparse.Namespace):
@@ -228,7 +250,7 @@ def run(args: argparse.Namespace) -> int:
     if args.detuning is not None:
         return _run_one(model, args)
     lo, hi, n = _vary(args.vary)
-    d = response_diagram(model, parse_params(args.param), (lo, hi), order=args.order,
+    d = response_diagram(model, _given(model, args, ("sigma",)), (lo, hi), order=args.order,
                          n_points=400 if n is None else n, resonance=args.resonance,
                          amplitudes=args.window, numeric=not args.no_numeric)
     if args.out:
@@ -304,7 +326,7 @@ def _run_one(model, args: argparse.Namespace) -> int:
         raise ParameterError(f"--detuning must be a finite number, got {args.detuning}")
     if args.out:
         raise ParameterError("--out draws a response curve: use it with --vary")
-    s = steady_states(model, parse_params(args.param), args.detuning, order=args.order,
+    s = steady_states(model, _given(model, args), args.detuning, order=args.order,
                       resonance=args.resonance, amplitudes=args.window,
                       numeric=not args.no_numeric)
     if args.json:
@@ -339,7 +361,7 @@ def _run_nonresonant(args: argparse.Namespace) -> int:
                              f"xdot; F of {model.name!r} is not, and its numeric backend "
                              "works near a declared resonance: use --resonance P/Q with "
                              "--vary or --detuning instead")
-    r = derive_forced(model, args.order, parse_params(args.param), nu=args.nu)
+    r = derive_forced(model, args.order, _given(model, args), nu=args.nu)
     if args.json:
         emit_json({**r.to_json(), "nu": args.nu})
         return 0
@@ -392,11 +414,11 @@ def _run_convergence(args: argparse.Namespace) -> int:
         raise ParameterError(f"--order must be between 1 and 8, got {order}")
     if not args.amax > 0:
         raise ParameterError(f"--amax must be positive, got {args.amax}")
-    values = parse_params(args.param)
+    model = forced_model(args)
+    values = _given(model, args, () if args.vary is None else ("sigma",))
     if "mu" in values:
         raise ParameterError(f"--convergence sets mu ({args.convergence}): leave out "
                              f"--param mu={values['mu']}")
-    model = forced_model(args)
     amplitudes = _window(model, args)
     orders = tuple(range(1, order + 1))
     result = forced_expansion(model, order, values, resonance=args.resonance,

@@ -9,6 +9,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from kbm.cli import cli_message
 from kbm.cli._common import emit_json
 
 
@@ -59,7 +60,7 @@ def _print(m) -> None:
         vals = "".join(f"{p.params[n]:10.4g}" for n in names if n not in ("D", "T"))
         kT = "--" if p.kT is None else f"{p.kT:.4g}"
         if p.error:
-            print(f"{vals}{p.params['D']:10.4g}{kT:>9s}  failed: {p.error}")
+            print(f"{vals}{p.params['D']:10.4g}{kT:>9s}  failed: {cli_message(p.error)}")
             continue
         print(f"{vals}{p.params['D']:10.4g}{kT:>9s} {p.mean_force.value:10.5g} "
               f"{p.mean_force.stderr:8.2g} {p.slip_force.value:9.5g} {p.slip_force.stderr:8.2g} "

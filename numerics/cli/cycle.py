@@ -64,10 +64,16 @@ def run(args: argparse.Namespace) -> int:
         return _run_all(limit_cycles(model_spec(args), params, **kw), args)
     cyc = limit_cycle(model_spec(args), params, x_start=args.x_start, **kw)
     if args.json:
-        emit_json({**cyc.to_json(), "params_given": params})
+        emit_json({**_cycle_json(cyc), "params_given": params})
         return 0 if cyc.success else 1
     _print_cycle(cyc, args.digits, args)
     return 0 if cyc.success else 1
+
+
+def _cycle_json(cyc) -> dict:
+    """The keys of :meth:`numerics.cycles.result.LimitCycle.to_json` and ``x_min``, the
+    smallest x of the orbit's samples (the text's ``x_min``; ``None`` without samples)."""
+    return {**cyc.to_json(), "x_min": float(min(cyc.x)) if len(cyc.x) else None}
 
 
 #: how a cycle found as the mirror image of another is labelled (odd-symmetric models)
@@ -77,7 +83,7 @@ _MIRROR = "mirror image (x -> -x) of a cycle found"
 def _run_all(cycles, args: argparse.Namespace) -> int:
     pred = cycles.predictions
     if args.json:
-        rows = [{**c.to_json(), "annulus": _MIRROR if p is None else p.annulus,
+        rows = [{**_cycle_json(c), "annulus": _MIRROR if p is None else p.annulus,
                  "predicted": None if p is None else p.to_json()}
                 for c, p in zip(cycles, cycles.predicted)]
         emit_json({"model": pred.model, "params": pred.params,

@@ -245,7 +245,8 @@ def thermal_friction_map(model: str, params: Mapping[str, object],
         raise ParameterError(f"--trajectories {trajectories}: at least {MIN_TRAJECTORIES} per "
                              "point are needed for a standard error")
     if not (math.isfinite(wells) and wells > 0):
-        raise ParameterError(f"wells must be a positive number, got {wells}")
+        raise ParameterError(f"--wells {wells:g}: the stage periods per trajectory must be a "
+                             "positive number")
     base = {k: float(v) for k, v in params.items()}
     base.setdefault("mu", 0.1)
     base.setdefault("lam", 1.0)

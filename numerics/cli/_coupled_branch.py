@@ -10,6 +10,7 @@ import argparse
 import math
 
 from kbm.cli._common import emit_json
+from numerics._show import multipliers_text
 
 
 def _start(text: str | None, dof: int):
@@ -70,8 +71,7 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
         print(f"  {p.parameter:14.8g} {p.period:12.8g}  {amps}  {big:16.6g} "
               f"{'stable' if p.stable else 'UNSTABLE'}")
     for s in br.special:
-        mult = ", ".join(f"{z.real:.6g}" + (f"{z.imag:+.6g}i" if z.imag else "")
-                         for z in s.floquet_multipliers)
+        mult = multipliers_text(s.floquet_multipliers)
         print(f"  {s.kind}: {name} = {s.parameter:.10g} (bracket {s.bracket[0]:.10g} .. "
               f"{s.bracket[1]:.10g}); multipliers {mult}")
     for r in br.reasons:

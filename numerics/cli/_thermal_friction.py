@@ -11,6 +11,7 @@ from pathlib import Path
 
 from kbm.cli import cli_message
 from kbm.cli._common import emit_json
+from numerics.cli._axes import print_tables
 
 
 def wanted(params: dict, axes: dict) -> bool:
@@ -37,10 +38,7 @@ def run_thermal(args, params: dict, axes: dict, store, client) -> int:
             data["against"] = second.to_json()
         emit_json(data)
     else:
-        for i, m in enumerate((first, second) if second is not None else (first,)):
-            if i:
-                print()  # a blank line between the two tables, none before the first
-            _print(m)
+        print_tables(first, second, _print)
     if args.out:
         path = _figure(first, second, Path(args.out))
         print(f"wrote {path}", file=sys.stderr if args.json else sys.stdout)

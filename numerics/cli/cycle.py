@@ -6,6 +6,7 @@ import argparse
 
 from kbm.cli._common import (add_model_arguments, add_param_option, checked_params,
                              describe_params, emit_json, model_spec, parse_params)
+from numerics._show import multipliers_text
 
 
 def register(sub) -> None:
@@ -189,8 +190,7 @@ def _run_coupled(args: argparse.Namespace) -> int:
     for i in range(n):
         print(f"  {f'x{i + 1}: amplitude, phase':26s} {cyc.amplitudes[i]:.10g}, "
               f"{cyc.phases[i]:+.8f} rad")
-    mults = ", ".join(f"{z.real:.8g}" + (f"{z.imag:+.8g}i" if z.imag else "")
-                      for z in cyc.floquet_multipliers)
+    mults = multipliers_text(cyc.floquet_multipliers, 8)
     print(f"  {'floquet multipliers':26s} {mults} "
           f"({'stable' if cyc.stable else 'UNSTABLE'}; the first is the trivial one)")
     print(f"  {cyc.message}")
@@ -218,8 +218,7 @@ def _run_forced(model, given, start, args) -> int:
     print(f"  {'period':26s} {res.period:.12g} ({res.multiple} x 2 pi/nu)")
     for i, a in enumerate(res.amplitudes, 1):
         print(f"  {f'x{i}: amplitude':26s} {a:.10g}")
-    mults = ", ".join(f"{z.real:.8g}" + (f"{z.imag:+.8g}i" if z.imag else "")
-                      for z in res.floquet_multipliers)
+    mults = multipliers_text(res.floquet_multipliers, 8)
     print(f"  {'floquet multipliers':26s} {mults} ({'stable' if res.stable else 'UNSTABLE'})")
     print(f"  Newton: {res.iterations} iterations, |y(T) - y0| = {res.residual:.2e}; det Phi = "
           f"{res.liouville[0]:.10g} against exp(int tr J) = {res.liouville[1]:.10g} "

@@ -12,6 +12,7 @@ import argparse
 from kbm.cli._common import add_param_option, emit_json
 from numerics.cli._forced_args import (amplitude_window, checked_values, forced_model,
                                        sigma_range)
+from numerics._show import multipliers_text
 
 
 def register(sub) -> None:
@@ -170,8 +171,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"  true {kind} at sigma = {o.sigma:.10g}, a = {o.amplitude:.8g}, "
                   f"max|x| = {o.amplitude_max:.8g}")
         for sp in d.numeric.special:
-            m = ", ".join(f"{z.real:.6g}" + (f"{z.imag:+.6g}i" if z.imag else "")
-                          for z in sp.orbit.multipliers)
+            m = multipliers_text(sp.orbit.multipliers)
             print(f"  {sp.kind} at sigma = {sp.orbit.sigma:.10g}, a = {sp.orbit.amplitude:.8g} "
                   f"(multipliers {m})")
         for msg in d.numeric.failures:

@@ -278,9 +278,12 @@ def _first_order_root(A1: sp.Expr, root: object | None) -> sp.Expr:
     if root is None:
         cands = sorted((r for r in sp.roots(sp.Poly(A1, a)).keys() if r.is_positive),
                        key=float)
+        if not cands:
+            raise AveragedCycleError(f"A_1 = {A1} has no positive root: the first-order "
+                                     "amplitude equation has no limit cycle")
         if len(cands) != 1:
-            raise AveragedCycleError(f"A_1 = {A1} has {len(cands)} positive roots {cands}; "
-                                     "choose one with root=")
+            raise AveragedCycleError(f"A_1 = {A1} has {len(cands)} positive roots "
+                                     f"{', '.join(map(str, cands))}; choose one with root=")
         return cands[0]
     a0 = sp.nsimplify(parse(root) if isinstance(root, str) else root)
     if sp.simplify(A1.subs(a, a0)) != 0:

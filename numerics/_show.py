@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
-__all__ = ["params_text", "num", "html_table"]
+__all__ = ["params_text", "num", "html_table", "multipliers_text"]
 
 
 def num(value: object, digits: int = 10) -> str:
@@ -19,6 +19,13 @@ def num(value: object, digits: int = 10) -> str:
     except (TypeError, ValueError):
         return str(value)
     return "nan" if math.isnan(v) else f"{v:.{digits}g}"
+
+
+def multipliers_text(values, digits: int = 6) -> str:
+    """Floquet multipliers as the command line prints them: ``0.5, -0.1+0.2i`` (``digits``
+    significant digits; a real one without its zero imaginary part)."""
+    return ", ".join(f"{z.real:.{digits}g}" + (f"{z.imag:+.{digits}g}i" if z.imag else "")
+                     for z in values)
 
 
 def params_text(params: Mapping[str, object], limit: int = 6) -> str:

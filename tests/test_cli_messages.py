@@ -6,6 +6,8 @@ The same missing parameter is reported by the library as ``params={'beta': ...}`
 
 from __future__ import annotations
 
+import re
+
 import pytest
 
 from kbm.cli import cli_message
@@ -29,3 +31,74 @@ def test_library_names_arguments_and_cli_names_flags(capsys):
 ])
 def test_translation_table(library, cli):
     assert cli in cli_message(library)
+
+
+#: words of the Python API that no command-line message may hold (issue 35, item 6)
+API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.float64",
+             "potential=", "`potential`", "root=", "t_end", "rtol", "in params", "averaged_cycles",
+             "D = '")
+
+
+@pytest.mark.parametrize("argv, says", [
+    # the conservative part's potential (kbm.conservative): the option, not the argument
+    (["predict", "--rhs", "(1-x**2)*xdot - x**3", "--potential", "x**2", "-p", "mu=0.1"],
+     "change --potential so that V'(x) = g(x), or leave out --potential"),
+    (["predict", "--rhs", "(1-x**2)*xdot - x**3", "-p", "mu=0.1", "--method", "kbm",
+      "--potential", "x**4/4"], "--potential belongs to the energy method"),
+    (["predict", "vdp"], "(e.g. --param mu=0.1)"),
+    # a series whose A_1 has no positive root said "has 0 positive roots []; choose one"
+    (["series", "--rhs", "(1-x**2)*(4-x**2)*xdot", "--order", "1"],
+     "has no positive root: the first-order amplitude equation has no limit cycle"),
+    (["series", "sedf", "--order", "2"], "use kbm predict --method kbm"),
+    (["slide", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "v=0.1", "--t-end", "1e9"],
+     "--t-end 1e+09 is"),
+    (["slide", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "v=0.1", "--t-end", "5",
+      "--rtol", "1"], "--rtol must be between"),
+    (["friction", "cdc", "-p", "Delta=3", "-p", "D=0.01", "--vary", "v=0.1", "--wells", "0",
+      "--no-progress"], "--wells 0:"),
+    (["friction", "cdc", "-p", "Delta=3", "-p", "D=0.01", "--vary", "v=0.1", "--seed", "-3",
+      "--no-progress"], "--seed must be"),
+    (["friction", "cdc", "--vary", "Delta=1,2", "--no-progress"], "give --vary v=..."),
+    # a negative D is a plain number, not a Python string ("D = '-1'")
+    (["noise", "vdp", "-p", "mu=0.1", "-p", "D=-1"], "D = -1 is negative"),
+    (["derive", "coupled-vdp", "--order", "1", "--numeric", "--a-range", "1:2"],
+     "--a-range is not for the coupled numeric backend"),
+])
+def test_messages_speak_the_command_line(argv, says, capsys):
+    """Each message as the user meets it: one line, exit 2, the option named as typed and no
+    word of the Python API."""
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    assert says in err[0], err[0]
+    bare = re.sub(r"--[\w-]+", "", err[0])  # the options named as typed
+    assert not [w for w in API_WORDS if w in bare], err[0]
+
+
+@pytest.mark.parametrize("model", ["vdp", "rayleigh"])
+def test_escape_says_a_model_without_a_barrier_has_none_at_any_parameters(model, capsys):
+    """van der Pol and Rayleigh: F at x' = 0 is 0, so the potential is x^2/2 whatever mu;
+    the message said "choose parameters of vdp whose potential has a barrier"."""
+    assert main(["escape", model, "-p", "mu=0.1", "-p", "D=0.1", "--no-simulation"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert f"{model} has no barrier to escape over at any parameter values" in err
+    assert "choose parameters" not in err and "\n" not in err
+
+
+def test_cycle_json_has_the_x_min_the_text_prints(capsys):
+    """``kbm cycle --json`` holds ``x_min`` (the text's "x_min (smallest x)") next to every
+    old key; van der Pol's cycle is odd-symmetric (x -> -x, t -> t + T/2), so
+    x_min = -amplitude_max to the sampling's accuracy (1024 samples of the orbit, cos near
+    its extremum: 1 - cos(pi/1024) ~ 5e-6 relative)."""
+    import json
+
+    assert main(["cycle", "vdp", "-p", "mu=1", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    for key in ("model", "params", "period", "amplitude_max", "floquet_multipliers",
+                "params_given"):
+        assert key in data
+    assert data["x_min"] == pytest.approx(-data["amplitude_max"], rel=1e-5)
+    assert main(["cycle", "vdp", "-p", "mu=1"]) == 0
+    text = capsys.readouterr().out
+    line = next(s for s in text.splitlines() if "x_min" in s)
+    assert float(line.split()[3]) == pytest.approx(data["x_min"], rel=1e-5)

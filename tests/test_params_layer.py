@@ -301,3 +301,103 @@ def test_against_the_same_model_names_it_once(capsys):
     assert main(["friction", "sedf", "-p", "Delta=3", "-p", "Bet=1", "--vary", "v=2,4",
                  "--against", "cdc"]) == 2
     assert "for sedf or cdc" in _err(capsys)
+
+
+# -- issue 35, "one parameter and option layer": every command, the same three refusals ------
+
+#: each command that takes -p, as a user types it, cut short by the option under test
+COMMANDS = {
+    "predict": ["predict", "vdp"],
+    "cycle": ["cycle", "vdp", "-p", "mu=1"],
+    "cycle coupled": ["cycle", "coupled-vdp", "-p", "mu=0.1", "-p", "c=0.2"],
+    "compare": ["compare", "vdp", "-p", "mu=1"],
+    "compare --convergence": ["compare", "vdp", "--convergence", "0.1,0.2"],
+    "slide": ["slide", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "v=0.1", "--t-end", "5"],
+    "derive": ["derive", "vdp", "--order", "1"],
+    "derive coupled": ["derive", "coupled-vdp", "--order", "1"],
+    "series": ["series", "vdp", "--order", "1"],
+    "branch": ["branch", "vdp", "--vary", "mu=0.1:1"],
+    "branch coupled": ["branch", "coupled-vdp", "-p", "mu=0.1", "-p", "sigma=0",
+                       "--vary", "c=0.1:0.5"],
+    "lock": ["lock", "coupled-vdp", "-p", "mu=0.1", "--vary", "sigma=-1:1"],
+    "response": ["response", "duffing-forced", "-p", "mu=0.1", "--vary", "sigma=0:1",
+                 "--no-numeric"],
+    "response --detuning": ["response", "duffing-forced", "-p", "mu=0.1", "--detuning", "0",
+                            "--no-numeric"],
+    "response --nu": ["response", "duffing-forced", "-p", "mu=0.1", "--nu", "0.5"],
+    "response --convergence": ["response", "duffing-forced", "--convergence", "0.1,0.2,0.3",
+                               "--detuning", "0"],
+    "response coupled": ["response", "duffing-1-3", "-p", "mu=0.1", "--vary", "sigma=0:1"],
+    "friction": ["friction", "cdc", "-p", "Delta=3", "--vary", "v=0.1", "--no-progress"],
+    "noise": ["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "D=0.1"],
+    "escape": ["escape", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "D=0.1",
+               "--no-simulation"],
+}
+NOISY = ("friction", "noise", "escape")
+
+
+@pytest.mark.parametrize("command", list(COMMANDS))
+def test_every_command_refuses_an_unknown_name_with_the_valid_ones(command, capsys):
+    """``-p Mu=1``: one line, exit 2, the close name and the list of valid names (``mu``
+    first), in ``-p`` terms; before, ``kbm response`` answered in the library's words
+    ("for model 'duffing-forced'; its parameters are alpha, h, zeta (and mu, sigma)")."""
+    assert main([*COMMANDS[command], "-p", "Mu=1"]) == 2
+    err = _err(capsys)
+    assert "unknown parameter 'Mu'" in err and "(did you mean mu?)" in err, err
+    assert "(in -p Mu=...); its parameters are mu" in err, err
+    assert "for model '" not in err, err
+
+
+@pytest.mark.parametrize("command", list(COMMANDS))
+def test_every_command_takes_D_or_T_where_noise_applies_and_refuses_it_elsewhere(command,
+                                                                                 capsys):
+    """Where noise applies, ``D`` and ``T = D/mu`` are both names of it and together are
+    refused; elsewhere ``T`` is refused as a name the command has not, saying why."""
+    extra = ["-p", "T=1"] + (["-p", "D=0.1"] if command == "friction" else [])
+    assert main([*COMMANDS[command], *extra]) == 2
+    err = _err(capsys)
+    if command in NOISY:
+        assert err.endswith("give the noise as D or as T = D/mu, not both"), err
+    else:
+        assert "unknown parameter 'T'" in err and "(this command has no noise)" in err, err
+
+
+VARIED = [c for c in COMMANDS if "--vary" in COMMANDS[c]]
+
+
+@pytest.mark.parametrize("bad, words", [
+    ("=1:2:3:4", "--vary takes NAME=FROM:TO[:N]"),
+    ("=2:1", "FROM < TO in every command"),
+    ("=a:b", "--vary takes NAME=FROM:TO[:N]"),
+])
+@pytest.mark.parametrize("command", VARIED)
+def test_every_vary_has_one_grammar(command, bad, words, capsys):
+    """A malformed or downward ``--vary`` of the name each command varies: the same message
+    from every command (one grammar, :func:`numerics.cli._params.parse_vary`)."""
+    argv = list(COMMANDS[command])
+    i = argv.index("--vary") + 1
+    name = argv[i].split("=")[0]
+    argv[i] = name + bad
+    assert main(argv) == 2
+    err = _err(capsys)
+    assert words in err and f"{name}{bad}" in err, err
+
+
+@pytest.mark.parametrize("command", VARIED)
+def test_every_vary_refuses_a_name_the_model_has_not(command, capsys):
+    argv = list(COMMANDS[command])
+    i = argv.index("--vary") + 1
+    argv[i] = "omega=0:1"
+    assert main(argv) == 2
+    err = _err(capsys)
+    assert "omega" in err and ("cannot vary 'omega'" in err
+                               or "--vary sigma=FROM:TO" in err), err
+
+
+def test_response_refuses_sigma_as_a_parameter(capsys):
+    """The detuning is ``--detuning`` or ``--vary sigma``; ``-p sigma`` was silently
+    dropped by the library's reading of the values (``sigma`` among "mu, sigma")."""
+    assert main([*COMMANDS["response --detuning"], "-p", "sigma=1"]) == 2
+    assert "sigma is the detuning: give it as --detuning 1" in _err(capsys)
+    assert main([*COMMANDS["response"], "-p", "sigma=1"]) == 2
+    assert "sigma is both varied (--vary) and given (-p)" in _err(capsys)

@@ -166,27 +166,41 @@ def _join_negative_values(argv: Sequence[str]) -> list[str]:
 
 #: library wording -> command-line wording in error messages (the library names its
 #: arguments, the command line its flags)
-_TRANSLATIONS = (
-    (re.compile(r"(?:params|values)=\{([^}]+)\}"),
+_TRANSLATIONS = tuple((re.compile(pattern), repl) for pattern, repl in (
+    (r"(?:params|values)=\{([^}]+)\}",
      lambda m: " ".join(f"--param {k}={v.strip()}" for k, v in
                         re.findall(r"'(\w+)':\s*([^,]+)", m.group(1)))),
-    (re.compile(r"np\.float64\(([^()]*)\)"), r"\1"),
-    (re.compile(r"\s*\(resume=True\)"), ""),
-    (re.compile(r"make it an axis \(axes=\{'v': \[\.\.\.\]\}\) or fix it"),
+    (r"np\.float64\(([^()]*)\)", r"\1"),
+    (r"\s*\(resume=True\)", ""),
+    (r"make it an axis \(axes=\{'v': \[\.\.\.\]\}\) or fix it",
      "give --vary v=... (or -p v=VALUE)"),
-    (re.compile(r"give at least one axis, e\.g\. axes=\{'v': \[0\.01, 0\.1\]\}"),
+    (r"give at least one axis, e\.g\. axes=\{'v': \[0\.01, 0\.1\]\}",
      "give at least one --vary, e.g. --vary v=0.01,0.1"),
-    (re.compile(r"raise max_wells or max_periods|raise mu, v or max_wells/max_periods"),
+    (r"raise max_wells or max_periods|raise mu, v or max_wells/max_periods",
      "raise mu or v (a run stops after 3000 stage periods lam/v or 30000 natural periods)"),
-    (re.compile(r"\bgive nu0 \("), "give --nu0 NU0 ("),
-    (re.compile(r"\bcustom_model\b"), "--rhs EXPR"),
-    (re.compile(r"\(x_start\)"), "(--x-start)"),
-    (re.compile(r"\bpotential=(\.\.\.)?"), "--potential "),
-    (re.compile(r"\bmethod='(\w+)'"), r"--method \1"),
-    (re.compile(r"^digits must"), "--digits must"),
-    (re.compile(r"use numeric_cycle_series for"), "use --float for"),
-    (re.compile(r"with digits \(pure-Python mpmath\)"), "with --digits (pure-Python mpmath)"),
-)
+    (r"\bgive nu0 \(", "give --nu0 NU0 ("),
+    (r"\bcustom_model\b", "--rhs EXPR"),
+    (r"\(x_start\)", "(--x-start)"),
+    (r"\(potential=\.\.\.\)", "(--potential EXPR)"),
+    (r"\bleave potential=None\b", "leave out --potential"),
+    (r"\bpass its antiderivative as `potential`",
+     "give its antiderivative as --potential EXPR"),
+    (r"a confining `potential`", "a confining --potential EXPR"),
+    (r"`potential`|\bpotential=(?=\s)", "--potential"),
+    (r" in params\b", ""),
+    (r"\bchoose one with root=", "choose one with --root A0"),
+    (r"\buse averaged_cycles for them",
+     "use kbm predict --method kbm for them"),
+    (r"\b(lower|raise) rtol\b", r"\1 --rtol"),
+    (r"^rtol must", "--rtol must"),
+    (r"^the seed must", "--seed must"),
+    (r"\bt_end = ", "--t-end "),
+    (r"\bt_end\b", "--t-end"),
+    (r"\bmethod='(\w+)'", r"--method \1"),
+    (r"^digits must", "--digits must"),
+    (r"use numeric_cycle_series for", "use --float for"),
+    (r"with digits \(pure-Python mpmath\)", "with --digits (pure-Python mpmath)"),
+))
 
 
 def cli_message(message: str) -> str:

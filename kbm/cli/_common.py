@@ -12,7 +12,7 @@ from ..errors import ParameterError
 from ..strict_json import finite
 
 __all__ = ["add_param_option", "parse_params", "checked_params", "emit_json",
-           "add_model_arguments", "model_spec", "check_model_flags"]
+           "add_model_arguments", "model_spec", "check_model_flags", "single_well"]
 
 
 def add_param_option(parser: argparse.ArgumentParser) -> None:
@@ -67,6 +67,17 @@ def checked_params(items: list[str], model: object) -> dict[str, str]:
     names.check([n for n in params if not (stage and n == "v")], flag="-p")
     names.check_both(params)
     return params
+
+
+def single_well(model) -> bool:
+    """Whether the force at rest of ``model`` (an autonomous oscillator of one degree of
+    freedom) is ``-omega0^2 x`` plus a constant at every parameter value: ``F`` at
+    ``x' = 0`` does not depend on ``x`` (van der Pol, Rayleigh).  Its potential is then the
+    parabola ``omega0^2 x^2/2``, shifted: one well with no barrier, no saddle and so no
+    homoclinic orbit, whatever the parameters."""
+    from ..symbols import x, xdot
+
+    return x not in model.F.subs(xdot, 0).free_symbols
 
 
 def emit_json(obj: Any) -> None:

@@ -242,9 +242,12 @@ def _run_coupled_numeric(args: argparse.Namespace) -> int:
     if not 1 <= args.order <= MAX_ORDER_JETS:
         raise ParameterError(f"the numeric backend of coupled systems takes --order 1 to "
                              f"{MAX_ORDER_JETS}, not {args.order}")
-    if args.latex or args.a_range is not None:
-        raise ParameterError("--latex and --a-range are not for the coupled numeric backend "
-                             "(its rates are numbers at the point --at)")
+    refused = [f for f, on in (("--latex", args.latex), ("--a-range", args.a_range is not None))
+               if on]
+    if refused:
+        raise ParameterError(f"{' and '.join(refused)} {'is' if len(refused) == 1 else 'are'} "
+                             "not for the coupled numeric backend (its rates are numbers at "
+                             "the point --at)")
     if not args.at:
         raise ParameterError("give the point: --at a1=1,a2=1,gamma1=0 (the amplitudes and "
                              "the slow phases of the declared resonances)")

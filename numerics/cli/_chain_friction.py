@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 
+from kbm.cli import cli_message
 from kbm.cli._common import emit_json
 
 #: a mean force per slider below this fraction of the potential's amplitude Delta is
@@ -58,7 +59,7 @@ def run_chain(args: argparse.Namespace) -> int:
     print(f"{'v':>10s} {'mean F':>12s} {'spread':>10s} {'wells':>6s} steady")
     for p in points:
         if p.error:
-            print(f"{p.v:10.4g} {'':>12s} {'':>10s} {'':>6s} {p.error}")
+            print(f"{p.v:10.4g} {'':>12s} {'':>10s} {'':>6s} {cli_message(p.error)}")
         else:
             why = "" if p.steady else (
                 f" (the halves of the last window of {p.wells} stage periods gave "

@@ -1,13 +1,16 @@
 """``kbm branch`` and ``kbm response`` for coupled systems (``N`` degrees of freedom, or a
 built-in of one degree of freedom as ``N = 1``): the true branch by pseudo-arclength
-continuation of the shooting problem (:func:`numerics.coupled.continue_coupled`)."""
+continuation of the shooting problem (:func:`numerics.coupled.continue_coupled`);
+:func:`run_coupled_response` is ``kbm response`` of a forced coupled built-in or ``--rhs``
+list."""
 
 from __future__ import annotations
 
 import argparse
 import math
 
-from kbm.cli._common import emit_json, parse_params
+from kbm.cli._common import emit_json
+from numerics._show import multipliers_text
 
 
 def _start(text: str | None, dof: int):
@@ -37,9 +40,9 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
     if what == "response" and not model.forced:
         raise ParameterError(f"{model.name!r} has no forcing (theta); its branches of cycles "
                              "are kbm branch")
-    given = parse_params(args.param)
-    from numerics.cli._params import check
+    from numerics.cli._params import check, given as read
 
+    given = read(args.param)
     check(model, given, [name], start=True)
     start = _start(getattr(args, "start", None), model.dof)
     max_points = getattr(args, "max_points", None) or 200
@@ -68,10 +71,49 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
         print(f"  {p.parameter:14.8g} {p.period:12.8g}  {amps}  {big:16.6g} "
               f"{'stable' if p.stable else 'UNSTABLE'}")
     for s in br.special:
-        mult = ", ".join(f"{z.real:.6g}" + (f"{z.imag:+.6g}i" if z.imag else "")
-                         for z in s.floquet_multipliers)
+        mult = multipliers_text(s.floquet_multipliers)
         print(f"  {s.kind}: {name} = {s.parameter:.10g} (bracket {s.bracket[0]:.10g} .. "
               f"{s.bracket[1]:.10g}); multipliers {mult}")
     for r in br.reasons:
         print(f"  end {r}")
     return 0
+
+
+def run_coupled_response(args: argparse.Namespace) -> int:
+    """A forced coupled built-in: the true response branch in its detuning."""
+    from kbm.cli.derive import coupled_model
+    from kbm.errors import ParameterError
+    from numerics.cli._forced_args import named_range
+
+    extra = [f for f, v in (("--forcing", args.forcing),
+                            ("--hard", args.hard), ("--resonance", args.resonance),
+                            ("--detuning", args.detuning), ("--nu", args.nu),
+                            ("--convergence", args.convergence), ("--out", args.out),
+                            ("--order", args.order), ("--a-range", args.a_range))
+             if v is not None]
+    if extra:
+        raise ParameterError(f"{', '.join(extra)}: not for the coupled system "
+                             f"{args.model or 'of the --rhs list'!r}; "
+                             "its response is the true branch in a detuning (--vary "
+                             "NAME=FROM:TO[:N]); its slow flow is kbm derive")
+    if args.vary is None:
+        raise ParameterError("give the range of the detuning (or another parameter): --vary "
+                             "NAME=FROM:TO")
+    if args.rhs:
+        from kbm.coupled import coupled_custom
+
+        if args.model:
+            raise ParameterError("give either a model name or --rhs, not both")
+        if args.nu0 is None:
+            raise ParameterError("--nu0 is needed with several --rhs: the forcing frequency "
+                                 "nu = NU0 + mu sigma of theta")
+        model = coupled_custom(args.rhs, args.omega0, nu0=args.nu0)
+    else:
+        if args.nu0 is not None:
+            raise ParameterError(f"--nu0 is for --rhs lists; {args.model!r} has its own")
+        model = coupled_model(args)
+    if args.internal:
+        model = model.with_internal(args.internal)
+    name, lo, hi, n = named_range(args.vary)
+    args.max_points = n
+    return run_coupled_branch(args, name, lo, hi, "response", model=model)

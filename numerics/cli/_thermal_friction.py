@@ -9,7 +9,9 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from kbm.cli import cli_message
 from kbm.cli._common import emit_json
+from numerics.cli._axes import print_tables
 
 
 def wanted(params: dict, axes: dict) -> bool:
@@ -36,10 +38,7 @@ def run_thermal(args, params: dict, axes: dict, store, client) -> int:
             data["against"] = second.to_json()
         emit_json(data)
     else:
-        for i, m in enumerate((first, second) if second is not None else (first,)):
-            if i:
-                print()  # a blank line between the two tables, none before the first
-            _print(m)
+        print_tables(first, second, _print)
     if args.out:
         path = _figure(first, second, Path(args.out))
         print(f"wrote {path}", file=sys.stderr if args.json else sys.stdout)
@@ -59,7 +58,7 @@ def _print(m) -> None:
         vals = "".join(f"{p.params[n]:10.4g}" for n in names if n not in ("D", "T"))
         kT = "--" if p.kT is None else f"{p.kT:.4g}"
         if p.error:
-            print(f"{vals}{p.params['D']:10.4g}{kT:>9s}  failed: {p.error}")
+            print(f"{vals}{p.params['D']:10.4g}{kT:>9s}  failed: {cli_message(p.error)}")
             continue
         print(f"{vals}{p.params['D']:10.4g}{kT:>9s} {p.mean_force.value:10.5g} "
               f"{p.mean_force.stderr:8.2g} {p.slip_force.value:9.5g} {p.slip_force.stderr:8.2g} "

@@ -5,7 +5,8 @@ from __future__ import annotations
 import argparse
 import math
 
-from kbm.cli._common import add_model_arguments, add_param_option, emit_json, model_spec
+from kbm.cli._common import (add_model_arguments, add_param_option, emit_json, model_spec,
+                             single_well)
 
 
 def register(sub) -> None:
@@ -63,16 +64,6 @@ def _orders(text: str) -> list[int]:
     return out
 
 
-def _homoclinic_possible(model) -> bool:
-    """Whether a branch of ``model`` can end at a homoclinic orbit: that needs a saddle,
-    an equilibrium ``x'' = 0`` at ``x' = 0`` besides the origin.  Where ``F(x, 0)`` does not
-    depend on ``x`` (van der Pol, Rayleigh: the force at rest is ``-omega0^2 x`` alone), the
-    origin is the only equilibrium, for every parameter value, and it is no saddle."""
-    from kbm.symbols import x, xdot
-
-    return x in model.F.subs(xdot, 0).free_symbols
-
-
 def run(args: argparse.Namespace) -> int:
     from kbm.errors import ParameterError
     from kbm.params import lookup
@@ -114,7 +105,7 @@ def run(args: argparse.Namespace) -> int:
     spec = model_spec(args)
     model = lookup(spec, ("one",)) if isinstance(spec, str) else spec
     check(model, params, [name], start=True)
-    if args.follow_period is not None and not _homoclinic_possible(model):
+    if args.follow_period is not None and single_well(model):
         raise ParameterError(f"--follow-period follows a branch to a homoclinic end, and "
                              f"{model.name} has none: its only equilibrium is the origin, "
                              "which is no saddle (F at x' = 0 does not depend on x); drop it")

@@ -6,6 +6,7 @@ import argparse
 
 from kbm.cli._common import (add_model_arguments, add_param_option, checked_params,
                              describe_params, emit_json, model_spec, parse_params)
+from numerics._show import multipliers_text
 
 
 def register(sub) -> None:
@@ -64,10 +65,16 @@ def run(args: argparse.Namespace) -> int:
         return _run_all(limit_cycles(model_spec(args), params, **kw), args)
     cyc = limit_cycle(model_spec(args), params, x_start=args.x_start, **kw)
     if args.json:
-        emit_json({**cyc.to_json(), "params_given": params})
+        emit_json({**_cycle_json(cyc), "params_given": params})
         return 0 if cyc.success else 1
     _print_cycle(cyc, args.digits, args)
     return 0 if cyc.success else 1
+
+
+def _cycle_json(cyc) -> dict:
+    """The keys of :meth:`numerics.cycles.result.LimitCycle.to_json` and ``x_min``, the
+    smallest x of the orbit's samples (the text's ``x_min``; ``None`` without samples)."""
+    return {**cyc.to_json(), "x_min": float(min(cyc.x)) if len(cyc.x) else None}
 
 
 #: how a cycle found as the mirror image of another is labelled (odd-symmetric models)
@@ -77,7 +84,7 @@ _MIRROR = "mirror image (x -> -x) of a cycle found"
 def _run_all(cycles, args: argparse.Namespace) -> int:
     pred = cycles.predictions
     if args.json:
-        rows = [{**c.to_json(), "annulus": _MIRROR if p is None else p.annulus,
+        rows = [{**_cycle_json(c), "annulus": _MIRROR if p is None else p.annulus,
                  "predicted": None if p is None else p.to_json()}
                 for c, p in zip(cycles, cycles.predicted)]
         emit_json({"model": pred.model, "params": pred.params,
@@ -183,8 +190,7 @@ def _run_coupled(args: argparse.Namespace) -> int:
     for i in range(n):
         print(f"  {f'x{i + 1}: amplitude, phase':26s} {cyc.amplitudes[i]:.10g}, "
               f"{cyc.phases[i]:+.8f} rad")
-    mults = ", ".join(f"{z.real:.8g}" + (f"{z.imag:+.8g}i" if z.imag else "")
-                      for z in cyc.floquet_multipliers)
+    mults = multipliers_text(cyc.floquet_multipliers, 8)
     print(f"  {'floquet multipliers':26s} {mults} "
           f"({'stable' if cyc.stable else 'UNSTABLE'}; the first is the trivial one)")
     print(f"  {cyc.message}")
@@ -212,8 +218,7 @@ def _run_forced(model, given, start, args) -> int:
     print(f"  {'period':26s} {res.period:.12g} ({res.multiple} x 2 pi/nu)")
     for i, a in enumerate(res.amplitudes, 1):
         print(f"  {f'x{i}: amplitude':26s} {a:.10g}")
-    mults = ", ".join(f"{z.real:.8g}" + (f"{z.imag:+.8g}i" if z.imag else "")
-                      for z in res.floquet_multipliers)
+    mults = multipliers_text(res.floquet_multipliers, 8)
     print(f"  {'floquet multipliers':26s} {mults} ({'stable' if res.stable else 'UNSTABLE'})")
     print(f"  Newton: {res.iterations} iterations, |y(T) - y0| = {res.residual:.2e}; det Phi = "
           f"{res.liouville[0]:.10g} against exp(int tr J) = {res.liouville[1]:.10g} "

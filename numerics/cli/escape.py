@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from kbm.cli._common import add_param_option, emit_json
+from kbm.cli._common import add_param_option, emit_json, single_well
 
 
 def register(sub) -> None:
@@ -44,11 +44,16 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from kbm.errors import ModelError
-    from kbm.params import names_of
+    from kbm.params import lookup, names_of
     from numerics.cli._params import noisy_model
     from numerics.escape.report import escape_report
 
     params, _ = noisy_model(args.model, args.param)
+    if single_well(lookup(args.model, ("one",))):
+        raise ModelError(f"{args.model} has no barrier to escape over at any parameter values: "
+                         "its F at x' = 0 does not depend on x, so its potential is the single "
+                         "well omega0^2 x^2/2; choose a model with side wells (cdc, or sedf "
+                         "at v = 0, with Delta large enough)")
     try:
         rep = escape_report(args.model, params, trajectories=args.trajectories,
                             t_end=args.t_end, dt=args.dt, seed=args.seed, budget=args.budget,

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from kbm.cli._common import add_param_option, emit_json
-from numerics.cli._axes import MAX_POINTS, parse_axis
+from numerics.cli._axes import MAX_POINTS, parse_axis, print_tables
 
 __all__ = ["register", "run", "parse_axis", "MAX_POINTS"]
 
@@ -178,10 +178,7 @@ def run(args: argparse.Namespace) -> int:
             data["dissipation_ratio"] = comp.dissipation_ratio.tolist()
         emit_json(data)
     else:
-        for i, m in enumerate((first, second) if second is not None else (first,)):
-            if i:
-                print()  # a blank line between the two tables, none before the first
-            _print(m)
+        print_tables(first, second, _print)
     if args.out:
         for path in _figures(first, second, Path(args.out)):
             # with --json, standard output holds the JSON only

@@ -1,10 +1,18 @@
-"""``kbm response``: the frequency-response curve of a forced oscillator, KBM and shooting."""
+"""``kbm response``: the frequency-response curve of a forced oscillator, KBM and shooting.
+
+This module holds the options and the curve, the steady states at one detuning and the
+non-resonant expansion; the forced model and its values are :mod:`numerics.cli._forced_args`,
+``--convergence`` is :mod:`numerics.cli._response_convergence`, and coupled systems are
+:func:`numerics.cli._coupled_branch.run_coupled_response`."""
 
 from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_param_option, emit_json, parse_params
+from kbm.cli._common import add_param_option, emit_json
+from numerics.cli._forced_args import (amplitude_window, checked_values, forced_model,
+                                       sigma_range)
+from numerics._show import multipliers_text
 
 
 def register(sub) -> None:
@@ -83,109 +91,6 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def _vary(text: str) -> tuple[float, float, int | None]:
-    """``sigma=FROM:TO[:N]`` -> ``(FROM, TO, N)``, ``N`` None when not given."""
-    return _vary_named(text, "sigma")[1:]
-
-
-def _vary_named(text: str, allowed: str | None = None) -> tuple[str, float, float, int | None]:
-    """``NAME=FROM:TO[:N]`` -> ``(NAME, FROM, TO, N)`` by the grammar of
-    :func:`numerics.cli._params.parse_vary`; ``allowed``: the only name taken."""
-    from kbm.errors import ParameterError
-    from numerics.cli._params import parse_vary
-
-    v = parse_vary(text)
-    if allowed is not None and v.name != allowed:
-        raise ParameterError(f"kbm response varies the detuning: --vary {allowed}=FROM:TO[:N], "
-                             f"not {v.name!r}")
-    lo, hi = v.interval("a response curve", points=True)
-    return v.name, lo, hi, v.count
-
-
-def forced_model(args: argparse.Namespace):
-    """The forced model of the command line: a forced built-in, or a model/--rhs with
-    --forcing (and --hard) added."""
-    model = _base_model(args)
-    if getattr(args, "hard", None):
-        from kbm.symbols import parse
-
-        model = model.with_hard(model.hard + parse(args.hard))
-    return model
-
-
-def _base_model(args: argparse.Namespace):
-    from kbm.errors import ModelError
-    from kbm.forced import FORCED_MODELS, ForcedOscillator, add_forcing, get_forced_model
-    from kbm.models import custom_model
-    from kbm.symbols import parse
-
-    if args.model and args.rhs:
-        raise ModelError("give either a model name or --rhs, not both")
-    if not args.model and not args.rhs:
-        raise ModelError("name a forced model (e.g. duffing-forced) or give --rhs EXPR")
-    if args.model and args.omega0 is not None:
-        raise ModelError(f"--omega0 applies to --rhs only, not to the model {args.model!r}")
-    res = args.resonance or "1/1"
-    if args.rhs:
-        F = parse(args.rhs, extra=("theta",))
-        if args.forcing:
-            F = F + parse(args.forcing, extra=("theta",))
-        w0 = custom_model("x", omega0=1 if args.omega0 is None else args.omega0).omega0
-        return ForcedOscillator("custom", F, w0, res, f"user model mu*({F})")
-    if args.model in FORCED_MODELS:
-        model = get_forced_model(args.model)
-        if args.forcing:
-            model = ForcedOscillator(model.name, model.F + parse(args.forcing, extra=("theta",)),
-                                     model.omega0, model.resonance, model.description,
-                                     hard=model.hard)
-        return model
-    if not args.forcing and not getattr(args, "hard", None):
-        raise ModelError(f"the model {args.model!r} has no forcing: add one with --forcing "
-                         "EXPR in theta (e.g. --forcing 'h*cos(theta)') or --hard K, or use a "
-                         f"forced model ({', '.join(FORCED_MODELS)})")
-    return add_forcing(args.model, args.forcing or "0", res, name=f"{args.model}-forced")
-
-
-def _run_coupled(args: argparse.Namespace) -> int:
-    """A forced coupled built-in: the true response branch in its detuning."""
-    from kbm.cli.derive import coupled_model
-    from kbm.errors import ParameterError
-    from numerics.cli._coupled_branch import run_coupled_branch
-
-    extra = [f for f, v in (("--forcing", args.forcing),
-                            ("--hard", args.hard), ("--resonance", args.resonance),
-                            ("--detuning", args.detuning), ("--nu", args.nu),
-                            ("--convergence", args.convergence), ("--out", args.out),
-                            ("--order", args.order), ("--a-range", args.a_range))
-             if v is not None]
-    if extra:
-        raise ParameterError(f"{', '.join(extra)}: not for the coupled system "
-                             f"{args.model or 'of the --rhs list'!r}; "
-                             "its response is the true branch in a detuning (--vary "
-                             "NAME=FROM:TO[:N]); its slow flow is kbm derive")
-    if args.vary is None:
-        raise ParameterError("give the range of the detuning (or another parameter): --vary "
-                             "NAME=FROM:TO")
-    if args.rhs:
-        from kbm.coupled import coupled_custom
-
-        if args.model:
-            raise ParameterError("give either a model name or --rhs, not both")
-        if args.nu0 is None:
-            raise ParameterError("--nu0 is needed with several --rhs: the forcing frequency "
-                                 "nu = NU0 + mu sigma of theta")
-        model = coupled_custom(args.rhs, args.omega0, nu0=args.nu0)
-    else:
-        if args.nu0 is not None:
-            raise ParameterError(f"--nu0 is for --rhs lists; {args.model!r} has its own")
-        model = coupled_model(args)
-    if args.internal:
-        model = model.with_internal(args.internal)
-    name, lo, hi, n = _vary_named(args.vary)
-    args.max_points = n
-    return run_coupled_branch(args, name, lo, hi, "response", model=model)
-
-
 def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
@@ -195,18 +100,24 @@ def run(args: argparse.Namespace) -> int:
     from numerics.forced.diagram import response_diagram
 
     if args.rhs is not None and len(args.rhs) > 1:
-        return _run_coupled(args)
+        from numerics.cli._coupled_branch import run_coupled_response
+
+        return run_coupled_response(args)
     if args.nu0 is not None or args.internal:
         raise ParameterError("--nu0 and --internal are for coupled systems (several --rhs)")
     if args.rhs is not None:
         args.rhs = args.rhs[0]
     if args.model in COUPLED_MODELS:
-        return _run_coupled(args)
+        from numerics.cli._coupled_branch import run_coupled_response
+
+        return run_coupled_response(args)
     if args.start is not None:
         raise ParameterError("--start is for the coupled systems (duffing-1-3, "
                              "quadratic-1-2, ...)")
     if args.convergence is not None:
-        return _run_convergence(args)
+        from numerics.cli._response_convergence import run_convergence
+
+        return run_convergence(args)
     if args.fold is not None:
         raise ParameterError("--fold chooses the fold of a convergence study: use it with "
                              "--convergence and --vary")
@@ -222,12 +133,12 @@ def run(args: argparse.Namespace) -> int:
     if not args.amax > 0:
         raise ParameterError(f"--amax must be positive, got {args.amax}")
     model = forced_model(args)
-    args.window = _window(model, args)
+    args.window = amplitude_window(model, args)
     if args.detuning is not None:
         return _run_one(model, args)
-    lo, hi, n = _vary(args.vary)
-    d = response_diagram(model, parse_params(args.param), (lo, hi), order=args.order,
-                         n_points=400 if n is None else n, resonance=args.resonance,
+    lo, hi, n = sigma_range(args.vary)
+    d = response_diagram(model, checked_values(model, args, ("sigma",)), (lo, hi),
+                         order=args.order, n_points=400 if n is None else n, resonance=args.resonance,
                          amplitudes=args.window, numeric=not args.no_numeric)
     if args.out:
         from numerics.forced.figures import plot_response
@@ -260,8 +171,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"  true {kind} at sigma = {o.sigma:.10g}, a = {o.amplitude:.8g}, "
                   f"max|x| = {o.amplitude_max:.8g}")
         for sp in d.numeric.special:
-            m = ", ".join(f"{z.real:.6g}" + (f"{z.imag:+.6g}i" if z.imag else "")
-                          for z in sp.orbit.multipliers)
+            m = multipliers_text(sp.orbit.multipliers)
             print(f"  {sp.kind} at sigma = {sp.orbit.sigma:.10g}, a = {sp.orbit.amplitude:.8g} "
                   f"(multipliers {m})")
         for msg in d.numeric.failures:
@@ -269,16 +179,6 @@ def run(args: argparse.Namespace) -> int:
     if args.out:
         print(f"  figure: {Path(args.out) / 'response.png'}")
     return 0
-
-
-def _window(model, args: argparse.Namespace) -> tuple[float, float]:
-    """The amplitude window: ``--a-range``, or from ``--amax`` (clear of ``a = 0`` for the
-    numeric backend, whose expansion has ``1/a`` terms)."""
-    from kbm.numeric_kbm import parse_a_range
-
-    if args.a_range:
-        return parse_a_range(args.a_range)
-    return ((1e-3 if model.is_polynomial else 0.05) * args.amax, args.amax)
 
 
 def _intervals(trivial) -> list[tuple[float, float, str]]:
@@ -302,7 +202,7 @@ def _run_one(model, args: argparse.Namespace) -> int:
         raise ParameterError(f"--detuning must be a finite number, got {args.detuning}")
     if args.out:
         raise ParameterError("--out draws a response curve: use it with --vary")
-    s = steady_states(model, parse_params(args.param), args.detuning, order=args.order,
+    s = steady_states(model, checked_values(model, args), args.detuning, order=args.order,
                       resonance=args.resonance, amplitudes=args.window,
                       numeric=not args.no_numeric)
     if args.json:
@@ -337,94 +237,10 @@ def _run_nonresonant(args: argparse.Namespace) -> int:
                              f"xdot; F of {model.name!r} is not, and its numeric backend "
                              "works near a declared resonance: use --resonance P/Q with "
                              "--vary or --detuning instead")
-    r = derive_forced(model, args.order, parse_params(args.param), nu=args.nu)
+    r = derive_forced(model, args.order, checked_values(model, args), nu=args.nu)
     if args.json:
         emit_json({**r.to_json(), "nu": args.nu})
         return 0
     print(f"{r.model.name}, nu = {args.nu} (non-resonant), KBM order {r.order}:")
     print(f"  da/dt   = {r.amplitude_rate()}\n  dpsi/dt = {r.phase_rate()}")
-    return 0
-
-
-def _mus(text: str) -> list[float]:
-    """The values of ``--convergence``: at least 3, positive, finite and distinct."""
-    from kbm.errors import ParameterError
-    from numerics.forced.convergence import check_mus
-
-    try:
-        mus = [float(v) for v in text.split(",") if v.strip()]
-    except ValueError:
-        raise ParameterError(f"--convergence takes comma-separated numbers, got "
-                             f"{text!r}") from None
-    try:
-        return list(check_mus(mus, minimum=3))
-    except ParameterError as exc:
-        raise ParameterError(f"--convergence {text}: {exc}") from None
-
-
-def _run_convergence(args: argparse.Namespace) -> int:
-    """``--convergence``: the order-``N`` error against ``mu`` at one detuning (amplitude)
-    or for one fold (its detuning), with the fitted slopes."""
-    import math
-    import sys
-    from pathlib import Path
-
-    from kbm.errors import ParameterError
-    from kbm.forced import forced_expansion
-    from numerics.forced.convergence import amplitude_study, fold_study
-
-    refused = [name for name, on in (("--nu", args.nu is not None),
-                                     ("--no-numeric", args.no_numeric)) if on]
-    if refused:
-        raise ParameterError(f"--convergence compares with the true responses at the "
-                             f"resonance and cannot go with {' or '.join(refused)}")
-    if (args.vary is None) == (args.detuning is None):
-        raise ParameterError("--convergence needs either --detuning SIGMA (the amplitude "
-                             "there) or --vary sigma=FROM:TO (the detuning of a fold)")
-    if args.detuning is not None and args.fold is not None:
-        raise ParameterError("--fold chooses a fold of the curve: use it with --vary, not "
-                             "--detuning")
-    mus = _mus(args.convergence)
-    order = 2 if args.order is None else args.order
-    if not 1 <= order <= 8:
-        raise ParameterError(f"--order must be between 1 and 8, got {order}")
-    if not args.amax > 0:
-        raise ParameterError(f"--amax must be positive, got {args.amax}")
-    values = parse_params(args.param)
-    if "mu" in values:
-        raise ParameterError(f"--convergence sets mu ({args.convergence}): leave out "
-                             f"--param mu={values['mu']}")
-    model = forced_model(args)
-    amplitudes = _window(model, args)
-    orders = tuple(range(1, order + 1))
-    result = forced_expansion(model, order, values, resonance=args.resonance,
-                              a_range=amplitudes)
-    if args.detuning is not None:
-        if not math.isfinite(args.detuning):
-            raise ParameterError(f"--detuning must be a finite number, got {args.detuning}")
-        table = amplitude_study(model, values, args.detuning, mus, orders,
-                                amplitudes=amplitudes, result=result)
-    else:
-        lo, hi, n = _vary(args.vary)
-        fold = 0 if args.fold is None else args.fold
-        if fold < 0:
-            raise ParameterError(f"--fold counts the folds from 0, got {fold}")
-        kw = {} if n is None else {"n_points": n}
-        if n is not None and not 2 <= n <= 100000:
-            raise ParameterError(f"the number of points must be between 2 and 100000, got {n}")
-        table = fold_study(model, values, (lo, hi), mus, orders, which=fold,
-                           amplitudes=amplitudes, result=result, **kw)
-    figure = None
-    if args.out:
-        from numerics.forced.figures import plot_convergence
-
-        figure = plot_convergence(table, Path(args.out) / "convergence.png")
-    if args.json:
-        emit_json(table.to_json())
-        if figure is not None:
-            print(f"figure: {figure}", file=sys.stderr)
-        return 0
-    print(table.table())
-    if figure is not None:
-        print(f"figure: {figure}")
     return 0

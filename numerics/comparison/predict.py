@@ -152,7 +152,8 @@ def predict(model: Oscillator | str | BoundModel, params: Mapping[str, object] |
         raise ParameterError(f"unknown method {method!r}; use one of {', '.join(METHODS)}")
     bound = bind(model, params)
     if bound.mu is None:
-        raise ParameterError(f"predict needs a value of mu for model {bound.name!r}")
+        raise ParameterError(f"predict needs a value of mu for model {bound.name!r} (e.g. "
+                             "params={'mu': 0.1})")
     if method == "energy":
         return predict_cycles(bound.model, dict(bound.values), order=order, potential=potential)
     if potential is not None:

@@ -40,6 +40,7 @@ from kbm import KBMFunctions, KBMResult, averaged_cycles
 from kbm.errors import KBMError, ParameterError
 from kbm.bound import BoundModel
 from kbm.models import Oscillator
+from kbm.strict_json import json_fields
 from kbm.symbols import x as X, xdot as V
 
 from numerics.cycles import LimitCycle
@@ -129,13 +130,10 @@ class Prediction:
         return float(getattr(self, key))
 
     def to_json(self) -> dict:
-        return {"order": self.order, "label": self.label, "success": self.success,
-                "message": self.message, "amplitude": self.amplitude,
-                "amplitude_max": self.amplitude_max, "frequency": self.frequency,
-                "period": self.period, "dA_da": self.dA_da, "stable": self.stable,
-                "floquet_multiplier": self.floquet_multiplier,
-                "dissipation": self.dissipation,
-                "harmonics": [float(h) for h in self.harmonics[:8]]}
+        return json_fields(self, "order", "label", "success", "message", "amplitude",
+                           "amplitude_max", "frequency", "period", "dA_da", "stable",
+                           "floquet_multiplier", "dissipation",
+                           harmonics=[float(h) for h in self.harmonics[:8]])
 
 
 def numeric_value(cycle: LimitCycle, key: str) -> float:

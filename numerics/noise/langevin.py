@@ -59,10 +59,10 @@ def noise_intensity(D: object) -> float:
         raise ParameterError(f"D = {D!r} is not a number; give the noise intensity as "
                              "-p D=VALUE with VALUE >= 0") from None
     if not math.isfinite(value):
-        raise ParameterError(f"D = {D!r} must be a finite number >= 0 (the noise intensity "
+        raise ParameterError(f"D = {D} must be a finite number >= 0 (the noise intensity "
                              "of sqrt(2 D) xi)")
     if value < 0:
-        raise ParameterError(f"D = {D!r} is negative; the noise intensity of sqrt(2 D) xi must "
+        raise ParameterError(f"D = {D} is negative; the noise intensity of sqrt(2 D) xi must "
                              "be >= 0 (D = 0 is the deterministic model)")
     return value
 

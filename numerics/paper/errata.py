@@ -31,6 +31,7 @@ import numpy as np
 import sympy as sp
 
 from kbm.paper import ERRATA_CASES
+from kbm.strict_json import json_fields
 
 __all__ = ["ErratumEvidence", "errata_evidence", "errata_rows", "evidence_table", "CASES"]
 
@@ -75,11 +76,9 @@ class ErratumEvidence:
         return abs(self.corrected - self.numeric)
 
     def to_json(self) -> dict:
-        return {"equation": self.equation, "quantity": self.quantity, "case": self.case,
-                "params": dict(self.params), "printed": self.printed,
-                "corrected": self.corrected, "numeric": self.numeric,
-                "printed_error": self.printed_error, "corrected_error": self.corrected_error,
-                "success": self.success, "message": self.message}
+        return json_fields(self, "equation", "quantity", "case", "params", "printed",
+                           "corrected", "numeric", "printed_error", "corrected_error",
+                           "success", "message")
 
 
 def _harmonic(values: np.ndarray, m: int) -> float:

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm.strict_json import finite
+from kbm.strict_json import finite, json_fields
 from numerics.comparison.prediction import numeric_value
 from numerics.cycles.sweep import grid, sweep
 from numerics.energy import map_predictions
@@ -134,10 +134,7 @@ class MethodsMap:
                        "axes": {k: list(v) for k, v in self.axes.items()},
                        "error": "max relative error of " + ", ".join(VALIDITY_KEYS),
                        "summary": self.summary(),
-                       "points": [{"params": dict(p.params), "success": p.success,
-                                   "message": p.message, "amplitude": p.amplitude,
-                                   "frequency": p.frequency, "errors": dict(p.errors)}
-                                  for p in self.points]})
+                       "points": [json_fields(p) for p in self.points]})
 
 
 def _energy_error(pred, cyc) -> float:

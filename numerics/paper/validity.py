@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm import derive
+from kbm.strict_json import json_fields
 
 from numerics.comparison.prediction import kbm_prediction, numeric_value
 from numerics.cycles.sweep import grid, sweep
@@ -125,10 +126,9 @@ class ValidityMap:
 
     def to_json(self) -> dict:
         return {"orders": list(self.orders), "axes": {k: list(v) for k, v in self.axes.items()},
-                "points": [{"params": dict(p.params), "success": p.success,
-                            "message": p.message, "amplitude": p.amplitude,
-                            "frequency": p.frequency,
-                            "errors": {str(N): dict(e) for N, e in p.errors.items()}}
+                "points": [json_fields(p, "params", "success", "message", "amplitude",
+                                       "frequency",
+                                       errors={str(N): dict(e) for N, e in p.errors.items()})
                            for p in self.points]}
 
 

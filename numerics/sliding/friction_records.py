@@ -16,6 +16,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
 
 from kbm.errors import ParameterError
+from kbm.strict_json import json_fields
 
 from numerics._show import num, params_text
 
@@ -169,10 +170,7 @@ class FrictionPoint:
 
     def to_json(self) -> dict:
         """Every field, JSON-ready (NaN stays NaN; :func:`kbm.strict_json.finite` maps it)."""
-        out = {f.name: getattr(self, f.name) for f in fields(self)}
-        out["params"] = dict(self.params)
-        out["halves"], out["window"] = list(self.halves), list(self.window)
-        return out
+        return json_fields(self)
 
 
 def eta(params: Mapping[str, float]) -> float:

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm.errors import ParameterError
+from kbm.strict_json import json_fields
 
 from numerics.sliding.potential import saddle_node
 from numerics.sliding.reference import SlideResult
@@ -99,9 +100,8 @@ class Slip:
     complete: bool = True
 
     def to_json(self) -> dict:
-        return {"t_start": self.t_start, "t_end": self.t_end, "wells": self.wells,
-                "peak_force": self.peak_force, "energy_dissipated": self.energy_dissipated,
-                "complete": self.complete}
+        return json_fields(self, "t_start", "t_end", "wells", "peak_force", "energy_dissipated",
+                           "complete")
 
 
 @dataclass(frozen=True, eq=False)
@@ -145,12 +145,10 @@ class StickSlip:
 
     def to_json(self) -> dict:
         """The keys of ``kbm slide --json``."""
-        return {"model": self.model, "params": dict(self.params), "window": list(self.window),
-                "peak_force": self.peak_force, "mean_force": self.kinetic_friction,
-                "slips": [s.to_json() for s in self.slips],
-                "gamma_plus": self.gamma_plus, "gamma_minus": self.gamma_minus,
-                "gamma": self.gamma, "energy_residual": self.energy_residual,
-                "delta_W": self.delta_W, "criterion": self.criterion}
+        return {**json_fields(self, "model", "params", "window", "peak_force"),
+                "mean_force": self.kinetic_friction, "slips": [s.to_json() for s in self.slips],
+                **json_fields(self, "gamma_plus", "gamma_minus", "gamma", "energy_residual",
+                              "delta_W", "criterion")}
 
 
 def analyze(res: SlideResult, *, window: tuple[float, float] | None = None,

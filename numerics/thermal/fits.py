@@ -20,6 +20,7 @@ import numpy as np
 from scipy.optimize import curve_fit
 
 from kbm.errors import ParameterError
+from kbm.strict_json import json_fields
 
 __all__ = ["MuserFit", "fit_muser", "temperatures_and_velocities"]
 
@@ -49,7 +50,7 @@ class MuserFit:
     chi2: tuple
 
     def to_json(self) -> dict:
-        return {k: (list(v) if isinstance(v, tuple) else v) for k, v in self.__dict__.items()}
+        return json_fields(self)
 
 
 def temperatures_and_velocities(tmap) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,

@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from kbm.errors import ParameterError
+from kbm.strict_json import json_fields
 
 from ..executor import map_chunks
 from ..noise.ensemble import Estimate
@@ -210,10 +211,10 @@ class ThermalFrictionMap:
         return np.asarray(vals, float).reshape([len(a) for a in self.axes.values()])
 
     def to_json(self) -> dict:
-        return {"model": self.model, "params": dict(self.params),
+        return {**json_fields(self, "model", "params"),
                 "axes": {k: list(map(float, v)) for k, v in self.axes.items()},
-                "trajectories": self.trajectories, "wells": self.wells, "seed": self.seed,
-                "note": self.note, "points": [p.to_json() for p in self.points]}
+                **json_fields(self, "trajectories", "wells", "seed", "note"),
+                "points": [p.to_json() for p in self.points]}
 
 
 def thermal_friction_map(model: str, params: Mapping[str, object],
@@ -245,7 +246,8 @@ def thermal_friction_map(model: str, params: Mapping[str, object],
         raise ParameterError(f"--trajectories {trajectories}: at least {MIN_TRAJECTORIES} per "
                              "point are needed for a standard error")
     if not (math.isfinite(wells) and wells > 0):
-        raise ParameterError(f"wells must be a positive number, got {wells}")
+        raise ParameterError(f"--wells {wells:g}: the stage periods per trajectory must be a "
+                             "positive number")
     base = {k: float(v) for k, v in params.items()}
     base.setdefault("mu", 0.1)
     base.setdefault("lam", 1.0)

@@ -2,9 +2,12 @@
 
 The unknowns are ``u = (x(0), x'(0), sigma)`` and ``G(u) = y(T(sigma)) - y0``; its Jacobian
 is ``[Phi(T) - I, dG/dsigma]`` (variational equations; a forward difference in ``sigma``).
-Pseudo-arclength continuation (:func:`kbm.forced.arclength.trace`) follows the curve round
-its folds (the jump points, where a Floquet multiplier passes through +1), so that stable
-and unstable responses come out alike.  The branches start from the KBM slow-flow fixed
+Pseudo-arclength continuation by the one driver (:func:`numerics.shooting.arclength.walk`)
+follows the curve round its folds (the jump points, where a Floquet multiplier passes
+through +1), so that stable and unstable responses come out alike; every point is accepted
+by the one standard (:mod:`numerics.shooting.acceptance`: the residual relative to the
+orbit's scale, and a Newton correction that tells a true orbit from a residual minimum), so
+none lies past a fold.  The branches start from the KBM slow-flow fixed
 points (:func:`kbm.forced.steady.fixed_points`), each corrected by shooting.
 """
 
@@ -16,15 +19,21 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.forced.arclength import both_ways, trace
 from kbm.forced.result import SlowFlow
 from kbm.forced.steady import fixed_points
 
-from numerics.errors import NumericsError
+from numerics.errors import ConvergenceError, NumericsError
 from numerics.forced.shooting import ForcedOrbit, orbit_at, periodic_response
 from numerics.forced.system import ForcedSystem
+from numerics.shooting.acceptance import accepted, orbit_scale
+from numerics.shooting.arclength import FAIL, correct_on_hyperplane, null_vector, predict, walk
+from numerics.shooting.locate import locate_zero
 
-__all__ = ["NumericResponse", "numeric_response", "continue_response", "guess_from"]
+__all__ = ["NumericResponse", "numeric_response", "continue_response", "guess_from", "ACCURACY"]
+
+#: the bound on a point's last Newton correction, relative to ``max(1, |u|)``: the accuracy
+#: of the points of a branch (on top of the acceptance standard)
+ACCURACY = 1e-9
 
 
 @dataclass(frozen=True)
@@ -50,54 +59,155 @@ def guess_from(system: ForcedSystem, amplitude: float, phase: float, sigma: floa
 
 
 class _Problem:
-    """``G`` and its Jacobian with the last evaluation cached."""
+    """``G(u) = y(T(sigma)) - y0`` and its Jacobian ``[Phi(T) - I, dG/dsigma]`` at
+    ``u = (x(0), x'(0), sigma)``."""
 
     def __init__(self, system: ForcedSystem):
         self.s = system
-        self._key = None
-        self._val = None
 
-    def _eval(self, u):
-        key = tuple(np.round(u, 15))
-        if key != self._key:
-            try:
-                yT = self.s.flow(u[:2], u[2])[-1]
-                h = 1e-7 * (1 + abs(u[2]))
-                yh = self.s.flow(u[:2], u[2] + h, extended=False)[-1]
-            except (NumericsError, ParameterError) as exc:  # a failed step of the corrector
-                raise ArithmeticError(str(exc)) from None
-            g = yT[:2] - u[:2]
-            dg = (yh[:2] - yT[:2]) / h
-            Phi = np.array([[yT[2], yT[4]], [yT[3], yT[5]]])
-            self._key, self._val = key, (g, np.column_stack([Phi - np.eye(2), dg]))
-        return self._val
+    def evaluate(self, u):
+        """``(G, J, None)`` at ``u`` (a failed integration is a failed step)."""
+        if not np.all(np.isfinite(u)):
+            raise ConvergenceError(f"left the finite numbers at sigma = {u[2]:.6g}")
+        try:
+            yT = self.s.flow(u[:2], u[2])[-1]
+            h = 1e-7 * (1 + abs(u[2]))
+            yh = self.s.flow(u[:2], u[2] + h, extended=False)[-1]
+        except (NumericsError, ParameterError) as exc:
+            raise ConvergenceError(str(exc)) from None
+        Phi = np.array([[yT[2], yT[4]], [yT[3], yT[5]]])
+        return yT[:2] - u[:2], np.column_stack([Phi - np.eye(2), (yh[:2] - yT[:2]) / h]), None
 
-    def G(self, u):
-        return self._eval(u)[0]
 
-    def J(self, u):
-        return self._eval(u)[1]
+class _Pt:
+    """A converged point of the curve: ``u`` and its unit tangent."""
+
+    def __init__(self, u, J, previous=None):
+        self.u = u
+        t = null_vector(J)
+        ref = previous if previous is not None else np.array([0.0, 0.0, 1.0])
+        self.tangent = -t if float(t @ ref) < 0 else t
+
+
+def _correct(prob: _Problem, u_pred, row, target: float, max_iter: int = 12,
+             previous=None) -> _Pt:
+    """Newton on ``G(u) = 0, row . u = target``, each iterate accepted by the standard of
+    :mod:`numerics.shooting.acceptance` (the forced case: no trivial multiplier), with the
+    accuracy of the point: its last correction below :data:`ACCURACY` ``max(1, |u|)``."""
+    rtol = prob.s.rtol
+
+    def accept(u, R, du, data, it):
+        corr = float(np.max(np.abs(du)))
+        return (accepted(float(np.max(np.abs(R))), corr, rtol, orbit_scale(u[:2]))
+                and corr <= ACCURACY * max(1.0, float(np.max(np.abs(u)))))
+
+    def too_large(u, du):
+        if not np.all(np.isfinite(du)):
+            return f"the correction left the finite numbers at sigma = {u[2]:.8g}"
+        return None
+
+    u, _, du, _, _ = correct_on_hyperplane(
+        prob.evaluate, u_pred, row, target, max_iter=max_iter, accept=accept,
+        too_large=too_large, where=lambda u: f"sigma = {u[2]:.8g}")
+    u = u + du
+    return _Pt(u, prob.evaluate(u)[1], previous)
+
+
+def _step(prob: _Problem, pt: _Pt, ds: float, inside) -> _Pt:
+    """The pseudo-arclength step ``ds`` along the tangent of ``pt``."""
+    t = pt.tangent
+    new = _correct(prob, predict(pt.u, t, ds), t, float(t @ pt.u) + ds, previous=t)
+    if not inside(new.u) or float(np.linalg.norm(new.u - pt.u)) > 3 * abs(ds):
+        raise ConvergenceError(f"the step left the domain at sigma = {new.u[2]:.8g}")
+    return new
+
+
+def _fold(prob: _Problem, a: _Pt, b: _Pt, ds: float, inside) -> _Pt:
+    """The fold between ``a`` and ``b``: the zero of the tangent's ``sigma`` component along
+    the arc from ``a`` (:func:`numerics.shooting.locate.locate_zero`, Illinois)."""
+    found = locate_zero(lambda s: _step(prob, a, s, inside), lambda p: float(p.tangent[2]),
+                        0.0, ds, float(a.tangent[2]), float(b.tangent[2]), tol=1e-12 * ds,
+                        f_tol=1e-10, max_iter=40, secant=True)
+    return found.point if found.point is not None else b
+
+
+def _follow(prob: _Problem, first: _Pt, direction: int, bounds, ds: float, ds_min: float,
+            max_points: int, inside):
+    """One direction of the curve by :func:`numerics.shooting.arclength.walk`:
+    ``(points, folds, closed)``."""
+    cur = _Pt(first.u, prob.evaluate(first.u)[1], direction * np.array([0.0, 0.0, 1.0]))
+    pts, folds, closed = [cur], [], []
+    ds_max = 2 * ds
+    e = np.array([0.0, 0.0, 1.0])
+
+    def visit(cur, new, ds_used):
+        if new.tangent[2] * cur.tangent[2] < 0:
+            folds.append(_fold(prob, cur, new, ds_used, inside))
+        if len(pts) > 10 and _passes(pts[0].u, cur.u, new.u):
+            closed.append(True)
+            return new, ds_used, "closed curve"
+        pts.append(new)
+        return new, min(ds_max, 1.4 * ds_used), ""
+
+    def at_edge(cur, new, edge):
+        try:
+            w = (edge - cur.u[2]) / (new.u[2] - cur.u[2])
+            end = _correct(prob, cur.u + w * (new.u - cur.u), e, edge, previous=cur.tangent)
+            if float(np.linalg.norm(end.u - cur.u)) > 1e-9 * (1 + float(np.linalg.norm(cur.u))):
+                pts.append(end)
+        except FAIL:
+            pass
+        return f"reached the bound {edge:g}"
+
+    walk(cur, ds, step=lambda c, h: _step(prob, c, h, inside), visit=visit,
+         collapsed=lambda c, exc: f"the step fell below {ds_min:g} at sigma = {c.u[2]:.6g}",
+         ds_min=ds_min, parameter=lambda q: float(q.u[2]), bounds=bounds, at_edge=at_edge,
+         turn_above=4 * ds_min,
+         full=lambda: None if len(pts) < max_points else f"{max_points} points")
+    return pts, folds, bool(closed)
+
+
+def _passes(start, u1, u2) -> bool:
+    """Whether the step ``u1 -> u2`` passes the start point (the curve closed)."""
+    d = u2 - u1
+    w = float(np.clip(np.dot(start - u1, d) / max(float(np.dot(d, d)), 1e-300), 0.0, 1.0))
+    return float(np.linalg.norm(u1 + w * d - start)) < 0.25 * float(np.linalg.norm(d)) + 1e-9
 
 
 def continue_response(system: ForcedSystem, start: ForcedOrbit, sigmas: tuple[float, float],
                       *, n_points: int = 400, amplitude_bound: float = 50.0):
-    """The branch through ``start`` over ``sigmas`` (both directions), with its folds."""
+    """The branch through ``start`` over ``sigmas`` (both directions), with its folds.
+
+    Pseudo-arclength continuation by the one driver
+    (:func:`numerics.shooting.arclength.walk`), every point accepted by the standard of
+    :mod:`numerics.shooting.acceptance`; the folds located by
+    :func:`numerics.shooting.locate.locate_zero`.
+
+    Returns
+    -------
+    ``(orbits, folds)``: the :class:`ForcedOrbit` along the branch in its order, and those
+    at its folds.
+    """
     lo, hi = sigmas
     span = hi - lo
     ds = span / max(n_points, 10)
     prob = _Problem(system)
-    u0 = np.array([start.y0[0], start.y0[1], start.sigma])
+    e = np.array([0.0, 0.0, 1.0])
 
     def inside(u):
         return bool(np.all(np.isfinite(u)) and abs(u[0]) < amplitude_bound)
 
-    arcs = both_ways(lambda d: trace(prob.G, prob.J, u0, (lo, hi), direction=d, ds=ds,
-                                      ds_max=2 * ds, ds_min=1e-7 * span,
-                                      max_points=20 * n_points, inside=inside, tol=1e-9))
-    us = [p.u for p in reversed(arcs[0].points)] + [p.u for a in arcs[1:] for p in a.points[1:]]
+    first = _correct(prob, np.array([start.y0[0], start.y0[1], start.sigma]), e, start.sigma)
+    back, folds, closed = _follow(prob, first, -1, (lo, hi), ds, 1e-7 * span,
+                                  20 * n_points, inside)
+    us = [p.u for p in reversed(back)]
+    if not closed:
+        ahead, more, _ = _follow(prob, first, 1, (lo, hi), ds, 1e-7 * span, 20 * n_points,
+                                 inside)
+        us += [p.u for p in ahead[1:]]
+        folds += more
     orbits = tuple(orbit_at(system, u[:2], u[2]) for u in us)
-    folds = tuple(orbit_at(system, f[:2], f[2]) for a in arcs for f in a.folds)
-    return orbits, folds
+    return orbits, tuple(orbit_at(system, f.u[:2], f.u[2]) for f in folds)
 
 
 def numeric_response(system: ForcedSystem, sf: SlowFlow, sigmas: tuple[float, float],

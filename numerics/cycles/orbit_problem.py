@@ -23,6 +23,7 @@ from numerics.shooting import acceptance as _acceptance
 from numerics.cycles.branch_result import BranchPoint
 from numerics.shooting.arclength import FAIL as _FAIL
 from numerics.shooting.arclength import correct_on_hyperplane, predict
+from numerics.shooting.locate import locate_zero
 from numerics.cycles.floquet import floquet_multipliers
 from numerics.cycles.shooting import NEWTON_MAX_STEPS
 from numerics.errors import ConvergenceError, IntegrationError
@@ -350,22 +351,14 @@ def _reanchor(prob: _Problem, pt: _Point) -> _Point:
 
 
 def _locate_fold(prob: _Problem, a: _Point, b: _Point, ds: float) -> _Point:
-    """Secant (Illinois) on ``dp/ds`` along the arc from ``a`` to ``b``."""
-    lo, hi, flo, fhi = 0.0, ds, a.tangent[2], b.tangent[2]
-    best = b
-    for _ in range(40):
-        s = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
-        if not lo < s < hi:
-            s = 0.5 * (lo + hi)
-        best = _arc(prob, a, s)
-        f = best.tangent[2]
-        if abs(f) < 1e-10 or hi - lo < 1e-12 * ds:
-            break
-        if (f > 0) == (flo > 0):
-            lo, flo, fhi = s, f, fhi / 2
-        else:
-            hi, fhi, flo = s, f, flo / 2
-    return best
+    """The zero of ``dp/ds`` along the arc from ``a`` to ``b`` by the one locator
+    (:func:`numerics.shooting.locate.locate_zero`, Illinois); a failed trial is raised."""
+    found = locate_zero(lambda s: _arc(prob, a, s), lambda q: float(q.tangent[2]), 0.0, ds,
+                        float(a.tangent[2]), float(b.tangent[2]), tol=1e-12 * ds,
+                        f_tol=1e-10, max_iter=40, secant=True)
+    if found.failure is not None:
+        raise found.failure
+    return found.point
 
 
 def _copy(pt: _Point) -> _Point:

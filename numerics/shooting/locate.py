@@ -24,13 +24,12 @@ from typing import Any, Callable
 
 import numpy as np
 
-from numerics.errors import ConvergenceError, IntegrationError
+from numerics.errors import NumericsError
 
 __all__ = ["Located", "locate_zero", "TRIAL_FAILURES"]
 
 #: the failures of a trial point that end the location (the bracket so far is returned)
-TRIAL_FAILURES = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, ValueError,
-                  ArithmeticError)
+TRIAL_FAILURES = (NumericsError, np.linalg.LinAlgError, ValueError, ArithmeticError)
 
 
 @dataclass(frozen=True)

@@ -9,7 +9,7 @@ compiled flow is not used);
 :func:`_correct` is Newton's method on ``R = 0`` and one linear condition; :func:`_arc`
 the pseudo-arclength step (the corrector and predictor of
 :mod:`numerics.shooting.arclength`, or their compiled twin); :func:`_reanchor`,
-:func:`_locate_fold` and :func:`_at_parameter` place points on the branch.
+:func:`_at_parameter` place points on the branch.
 """
 
 from __future__ import annotations
@@ -23,7 +23,6 @@ from numerics.shooting import acceptance as _acceptance
 from numerics.cycles.branch_result import BranchPoint
 from numerics.shooting.arclength import FAIL as _FAIL
 from numerics.shooting.arclength import correct_on_hyperplane, predict
-from numerics.shooting.locate import locate_zero
 from numerics.cycles.floquet import floquet_multipliers
 from numerics.cycles.shooting import NEWTON_MAX_STEPS
 from numerics.errors import ConvergenceError, IntegrationError
@@ -348,17 +347,6 @@ def _reanchor(prob: _Problem, pt: _Point) -> _Point:
     if new.tangent[2] * pt.tangent[2] < 0:
         new.tangent = -new.tangent
     return new
-
-
-def _locate_fold(prob: _Problem, a: _Point, b: _Point, ds: float) -> _Point:
-    """The zero of ``dp/ds`` along the arc from ``a`` to ``b`` by the one locator
-    (:func:`numerics.shooting.locate.locate_zero`, Illinois); a failed trial is raised."""
-    found = locate_zero(lambda s: _arc(prob, a, s), lambda q: float(q.tangent[2]), 0.0, ds,
-                        float(a.tangent[2]), float(b.tangent[2]), tol=1e-12 * ds,
-                        f_tol=1e-10, max_iter=40, secant=True)
-    if found.failure is not None:
-        raise found.failure
-    return found.point
 
 
 def _copy(pt: _Point) -> _Point:

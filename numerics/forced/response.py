@@ -27,7 +27,7 @@ from numerics.forced.shooting import ForcedOrbit, orbit_at, periodic_response
 from numerics.forced.system import ForcedSystem
 from numerics.shooting.acceptance import accepted, orbit_scale
 from numerics.shooting.arclength import FAIL, correct_on_hyperplane, null_vector, predict, walk
-from numerics.shooting.locate import locate_zero
+from numerics.shooting.locate import fold_on_arc
 
 __all__ = ["NumericResponse", "numeric_response", "continue_response", "guess_from", "ACCURACY"]
 
@@ -58,112 +58,83 @@ def guess_from(system: ForcedSystem, amplitude: float, phase: float, sigma: floa
     return amplitude * math.cos(phase), -amplitude * w * math.sin(phase)
 
 
-class _Problem:
-    """``G(u) = y(T(sigma)) - y0`` and its Jacobian ``[Phi(T) - I, dG/dsigma]`` at
-    ``u = (x(0), x'(0), sigma)``."""
-
-    def __init__(self, system: ForcedSystem):
-        self.s = system
-
-    def evaluate(self, u):
-        """``(G, J, None)`` at ``u`` (a failed integration is a failed step)."""
+def _evaluate(system: ForcedSystem, u):
+    """``(G, J, J)`` at ``u = (x(0), x'(0), sigma)``: ``G = y(T(sigma)) - y0`` and
+    ``J = [Phi(T) - I, dG/dsigma]`` (a failed integration is a failed step)."""
+    try:
         if not np.all(np.isfinite(u)):
             raise ConvergenceError(f"left the finite numbers at sigma = {u[2]:.6g}")
-        try:
-            yT = self.s.flow(u[:2], u[2])[-1]
-            h = 1e-7 * (1 + abs(u[2]))
-            yh = self.s.flow(u[:2], u[2] + h, extended=False)[-1]
-        except (NumericsError, ParameterError) as exc:
-            raise ConvergenceError(str(exc)) from None
-        Phi = np.array([[yT[2], yT[4]], [yT[3], yT[5]]])
-        return yT[:2] - u[:2], np.column_stack([Phi - np.eye(2), (yh[:2] - yT[:2]) / h]), None
+        yT = system.flow(u[:2], u[2])[-1]
+        h = 1e-7 * (1 + abs(u[2]))
+        yh = system.flow(u[:2], u[2] + h, extended=False)[-1]
+    except (NumericsError, ParameterError) as exc:
+        raise ConvergenceError(str(exc)) from None
+    Phi = np.array([[yT[2], yT[4]], [yT[3], yT[5]]])
+    J = np.column_stack([Phi - np.eye(2), (yh[:2] - yT[:2]) / h])
+    return yT[:2] - u[:2], J, J
 
 
 class _Pt:
-    """A converged point of the curve: ``u`` and its unit tangent."""
+    """A converged point ``u`` and its unit tangent, oriented along ``ref``."""
 
-    def __init__(self, u, J, previous=None):
-        self.u = u
-        t = null_vector(J)
-        ref = previous if previous is not None else np.array([0.0, 0.0, 1.0])
+    def __init__(self, u, J, ref):
+        self.u, t = u, null_vector(J)
         self.tangent = -t if float(t @ ref) < 0 else t
 
 
-def _correct(prob: _Problem, u_pred, row, target: float, max_iter: int = 12,
-             previous=None) -> _Pt:
-    """Newton on ``G(u) = 0, row . u = target``, each iterate accepted by the standard of
-    :mod:`numerics.shooting.acceptance` (the forced case: no trivial multiplier), with the
-    accuracy of the point: its last correction below :data:`ACCURACY` ``max(1, |u|)``."""
-    rtol = prob.s.rtol
-
-    def accept(u, R, du, data, it):
+def _correct(system: ForcedSystem, u_pred, row, target: float, ref) -> _Pt:
+    """Newton on ``G(u) = 0, row . u = target``, accepted by the standard of
+    :mod:`numerics.shooting.acceptance` (forced: no trivial multiplier) with the last
+    correction below :data:`ACCURACY` ``max(1, |u|)``; ``u`` plus that correction, the
+    Jacobian at ``u`` standing for its own."""
+    def accept(u, R, du, J, it):
         corr = float(np.max(np.abs(du)))
-        return (accepted(float(np.max(np.abs(R))), corr, rtol, orbit_scale(u[:2]))
+        return (accepted(float(np.max(np.abs(R))), corr, system.rtol, orbit_scale(u[:2]))
                 and corr <= ACCURACY * max(1.0, float(np.max(np.abs(u)))))
 
-    def too_large(u, du):
-        if not np.all(np.isfinite(du)):
-            return f"the correction left the finite numbers at sigma = {u[2]:.8g}"
-        return None
-
-    u, _, du, _, _ = correct_on_hyperplane(
-        prob.evaluate, u_pred, row, target, max_iter=max_iter, accept=accept,
-        too_large=too_large, where=lambda u: f"sigma = {u[2]:.8g}")
-    u = u + du
-    return _Pt(u, prob.evaluate(u)[1], previous)
+    u, _, du, J, _ = correct_on_hyperplane(
+        lambda u: _evaluate(system, u), u_pred, row, target, max_iter=12, accept=accept,
+        too_large=lambda u, du: None, where=lambda u: f"sigma = {u[2]:.8g}")
+    return _Pt(u + du, J, ref)
 
 
-def _step(prob: _Problem, pt: _Pt, ds: float, inside) -> _Pt:
-    """The pseudo-arclength step ``ds`` along the tangent of ``pt``."""
-    t = pt.tangent
-    new = _correct(prob, predict(pt.u, t, ds), t, float(t @ pt.u) + ds, previous=t)
-    if not inside(new.u) or float(np.linalg.norm(new.u - pt.u)) > 3 * abs(ds):
-        raise ConvergenceError(f"the step left the domain at sigma = {new.u[2]:.8g}")
-    return new
-
-
-def _fold(prob: _Problem, a: _Pt, b: _Pt, ds: float, inside) -> _Pt:
-    """The fold between ``a`` and ``b``: the zero of the tangent's ``sigma`` component along
-    the arc from ``a`` (:func:`numerics.shooting.locate.locate_zero`, Illinois)."""
-    found = locate_zero(lambda s: _step(prob, a, s, inside), lambda p: float(p.tangent[2]),
-                        0.0, ds, float(a.tangent[2]), float(b.tangent[2]), tol=1e-12 * ds,
-                        f_tol=1e-10, max_iter=40, secant=True)
-    return found.point if found.point is not None else b
-
-
-def _follow(prob: _Problem, first: _Pt, direction: int, bounds, ds: float, ds_min: float,
+def _follow(system: ForcedSystem, first: _Pt, direction: int, bounds, ds: float,
             max_points: int, inside):
-    """One direction of the curve by :func:`numerics.shooting.arclength.walk`:
-    ``(points, folds, closed)``."""
-    cur = _Pt(first.u, prob.evaluate(first.u)[1], direction * np.array([0.0, 0.0, 1.0]))
-    pts, folds, closed = [cur], [], []
-    ds_max = 2 * ds
+    """One direction of the curve by :func:`numerics.shooting.arclength.walk`, its folds
+    located by :func:`numerics.shooting.locate.fold_on_arc`: ``(points, folds, closed)``."""
     e = np.array([0.0, 0.0, 1.0])
+    pts = [_Pt(first.u, _evaluate(system, first.u)[1], direction * e)]
+    folds, closed, ds_min = [], [], 1e-7 * (bounds[1] - bounds[0])
 
-    def visit(cur, new, ds_used):
+    def step(pt, ds):
+        t = pt.tangent
+        new = _correct(system, predict(pt.u, t, ds), t, float(t @ pt.u) + ds, t)
+        if not inside(new.u) or float(np.linalg.norm(new.u - pt.u)) > 3 * abs(ds):
+            raise ConvergenceError(f"the step left the domain at sigma = {new.u[2]:.8g}")
+        return new
+
+    def visit(cur, new, h):
         if new.tangent[2] * cur.tangent[2] < 0:
-            folds.append(_fold(prob, cur, new, ds_used, inside))
+            folds.append(fold_on_arc(step, cur, new, h).point or new)
         if len(pts) > 10 and _passes(pts[0].u, cur.u, new.u):
             closed.append(True)
-            return new, ds_used, "closed curve"
+            return new, h, "closed curve"
         pts.append(new)
-        return new, min(ds_max, 1.4 * ds_used), ""
+        return new, min(2 * ds, 1.4 * h), ""
 
     def at_edge(cur, new, edge):
+        w = (edge - cur.u[2]) / (new.u[2] - cur.u[2])
         try:
-            w = (edge - cur.u[2]) / (new.u[2] - cur.u[2])
-            end = _correct(prob, cur.u + w * (new.u - cur.u), e, edge, previous=cur.tangent)
+            end = _correct(system, cur.u + w * (new.u - cur.u), e, edge, cur.tangent)
             if float(np.linalg.norm(end.u - cur.u)) > 1e-9 * (1 + float(np.linalg.norm(cur.u))):
                 pts.append(end)
         except FAIL:
             pass
         return f"reached the bound {edge:g}"
 
-    walk(cur, ds, step=lambda c, h: _step(prob, c, h, inside), visit=visit,
-         collapsed=lambda c, exc: f"the step fell below {ds_min:g} at sigma = {c.u[2]:.6g}",
+    walk(pts[0], ds, step=step, visit=visit, collapsed=lambda c, exc: "the step collapsed",
          ds_min=ds_min, parameter=lambda q: float(q.u[2]), bounds=bounds, at_edge=at_edge,
-         turn_above=4 * ds_min,
-         full=lambda: None if len(pts) < max_points else f"{max_points} points")
+         turn_above=4 * ds_min, full=lambda: "full" if len(pts) >= max_points else None)
     return pts, folds, bool(closed)
 
 
@@ -181,7 +152,7 @@ def continue_response(system: ForcedSystem, start: ForcedOrbit, sigmas: tuple[fl
     Pseudo-arclength continuation by the one driver
     (:func:`numerics.shooting.arclength.walk`), every point accepted by the standard of
     :mod:`numerics.shooting.acceptance`; the folds located by
-    :func:`numerics.shooting.locate.locate_zero`.
+    :func:`numerics.shooting.locate.fold_on_arc`.
 
     Returns
     -------
@@ -189,21 +160,17 @@ def continue_response(system: ForcedSystem, start: ForcedOrbit, sigmas: tuple[fl
     at its folds.
     """
     lo, hi = sigmas
-    span = hi - lo
-    ds = span / max(n_points, 10)
-    prob = _Problem(system)
-    e = np.array([0.0, 0.0, 1.0])
+    ds = (hi - lo) / max(n_points, 10)
 
     def inside(u):
         return bool(np.all(np.isfinite(u)) and abs(u[0]) < amplitude_bound)
 
-    first = _correct(prob, np.array([start.y0[0], start.y0[1], start.sigma]), e, start.sigma)
-    back, folds, closed = _follow(prob, first, -1, (lo, hi), ds, 1e-7 * span,
-                                  20 * n_points, inside)
+    e = np.array([0.0, 0.0, 1.0])
+    first = _correct(system, np.array([*start.y0, start.sigma]), e, start.sigma, e)
+    back, folds, closed = _follow(system, first, -1, (lo, hi), ds, 20 * n_points, inside)
     us = [p.u for p in reversed(back)]
     if not closed:
-        ahead, more, _ = _follow(prob, first, 1, (lo, hi), ds, 1e-7 * span, 20 * n_points,
-                                 inside)
+        ahead, more, _ = _follow(system, first, 1, (lo, hi), ds, 20 * n_points, inside)
         us += [p.u for p in ahead[1:]]
         folds += more
     orbits = tuple(orbit_at(system, u[:2], u[2]) for u in us)

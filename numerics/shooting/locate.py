@@ -1,20 +1,13 @@
-"""The one locator of special points on a branch of periodic orbits: the zero of a test
-function between two converged points, as AUTO-07p does (Doedel et al., AUTO-07p manual,
-sec. 10; Kuznetsov, *Elements of Applied Bifurcation Theory*, sec. 10.2).
-
-A test function ``f`` changes sign between two points ``a`` and ``b`` of a branch (a fold:
-the parameter component of the tangent; a period doubling: ``det(Phi + I)``; a
-Neimark-Sacker point: ``det Phi - 1`` or its ``2N`` form).  :func:`locate_zero` brackets its
-zero in a scalar ``w`` that runs from ``a`` to ``b`` (the arclength along ``a``'s tangent,
-the distance along the chord, the fraction of the segment): each trial point
-``trial(w)`` is a periodic orbit corrected by the caller's shooting, so it passes the one
-acceptance standard (:mod:`numerics.shooting.acceptance`; a fold itself is a regular
-point of the pseudo-arclength problem, so no trial is a residual minimum past it).  The
-bracket shrinks by bisection, or by the Illinois variant of the secant method (regula falsi
-with the retained end's value halved: superlinear, and the zero stays bracketed).
-
-The stated error of a located point is the final bracket (in ``w``, or in the parameter
-at its two ends).
+"""The one locator of special points on a branch of periodic orbits, as AUTO-07p does
+(Doedel et al., AUTO-07p manual, sec. 10; Kuznetsov, *Elements of Applied Bifurcation
+Theory*, sec. 10.2): the zero of a test function (a fold: the parameter component of the
+tangent; a period doubling: ``det(Phi + I)``; a Neimark-Sacker point) between two points of
+a branch, bracketed in a scalar ``w`` from one to the other (arclength, chord, segment) by
+bisection or by the Illinois variant of the secant method.  Each trial point is an orbit
+converged by the caller's shooting, so it passes the one acceptance standard
+(:mod:`numerics.shooting.acceptance`; a fold is a regular point of the pseudo-arclength
+problem, so no trial is a residual minimum past it).  The stated error of a located point is
+its final bracket.
 """
 
 from __future__ import annotations
@@ -26,7 +19,7 @@ import numpy as np
 
 from numerics.errors import NumericsError
 
-__all__ = ["Located", "locate_zero", "TRIAL_FAILURES"]
+__all__ = ["Located", "locate_zero", "fold_on_arc", "TRIAL_FAILURES"]
 
 #: the failures of a trial point that end the location (the bracket so far is returned)
 TRIAL_FAILURES = (NumericsError, np.linalg.LinAlgError, ValueError, ArithmeticError)
@@ -34,20 +27,9 @@ TRIAL_FAILURES = (NumericsError, np.linalg.LinAlgError, ValueError, ArithmeticEr
 
 @dataclass(frozen=True)
 class Located:
-    """The result of :func:`locate_zero`.
-
-    Attributes
-    ----------
-    point
-        The last trial point (nearest the zero), or ``None`` when none converged.
-    lo, hi
-        The final bracket in ``w``.
-    at_lo, at_hi
-        The trial points at ``lo`` and ``hi`` (``None`` for an end never moved: the caller's
-        ``a`` or ``b``).
-    failure
-        The error that ended the location early, or ``None``.
-    """
+    """The last trial point (``None``: none converged), the final bracket ``lo, hi`` in ``w``,
+    the trial points at its ends (``None``: an end never moved) and the error that ended the
+    location early (or ``None``)."""
 
     point: Any
     lo: float
@@ -62,29 +44,11 @@ def locate_zero(trial: Callable[[float], Any], test: Callable[[Any], float | Non
                 f_tol: float = 0.0, max_iter: int = 60, secant: bool = False) -> Located:
     """The zero of ``test(trial(w))`` for ``w`` between ``lo`` and ``hi``.
 
-    Parameters
-    ----------
-    trial
-        ``w -> point``: the periodic orbit at ``w``, converged by the acceptance standard;
-        it raises one of :data:`TRIAL_FAILURES` where no orbit is found.
-    test
-        ``point -> f``, the test function (``None``: not defined there, which ends the
-        location like a failure).
-    lo, hi, f_lo, f_hi
-        The bracket and the test function at its ends (of opposite signs).
-    tol
-        The location ends when the bracket is narrower than this.
-    f_tol
-        ... or when ``|f|`` at a trial point is at most this.
-    max_iter
-        Bound on the trial points.
-    secant
-        Illinois steps instead of bisection.
-
-    Returns
-    -------
-    Located
-        The last trial point, the bracket and the points at its ends.
+    ``trial(w)`` is the orbit at ``w`` (it raises one of :data:`TRIAL_FAILURES` where none
+    is found), ``test(point)`` the test function (``None``: undefined, a failure); ``f_lo``
+    and ``f_hi``, its values at ``lo`` and ``hi``, have opposite signs.  The location ends
+    when the bracket is narrower than ``tol``, ``|f| <= f_tol`` or after ``max_iter``
+    trials; ``secant``: Illinois steps instead of bisection.
     """
     best = at_lo = at_hi = None
     for _ in range(max_iter):
@@ -111,3 +75,12 @@ def locate_zero(trial: Callable[[float], Any], test: Callable[[Any], float | Non
         if hi - lo < tol:
             break
     return Located(best, lo, hi, at_lo, at_hi)
+
+
+def fold_on_arc(arc: Callable[[Any, float], Any], a, b, ds: float) -> Located:
+    """The fold between the points ``a`` and ``b = arc(a, ds)`` of a branch: the zero of the
+    parameter (last) component of the unit tangent along the arc ``s -> arc(a, s)``
+    (Illinois, to ``|dp/ds| <= 1e-10`` or a bracket of ``1e-12 ds``)."""
+    return locate_zero(lambda s: arc(a, s), lambda q: float(q.tangent[-1]), 0.0, ds,
+                       float(a.tangent[-1]), float(b.tangent[-1]), tol=1e-12 * ds,
+                       f_tol=1e-10, max_iter=40, secant=True)

@@ -1,6 +1,7 @@
 """Special points on a branch of periodic orbits of a coupled system, located as AUTO-07p
 does: a test function that changes sign between two points, and bisection along the
-arclength (:mod:`numerics.coupled.continuation`).
+arclength by the one locator (:func:`numerics.shooting.locate.locate_zero`;
+:mod:`numerics.coupled.continuation`).
 
 - fold: the parameter component of the tangent;
 - period doubling: ``det(Phi + I)`` (a real multiplier through ``-1``);
@@ -15,7 +16,7 @@ import numpy as np
 
 from numerics.coupled.branch_result import CoupledSpecialPoint
 from numerics.coupled.orbit_problem import _correct, _Problem, _Pt
-from numerics.shooting.arclength import FAIL as _FAIL
+from numerics.shooting.locate import locate_zero
 
 
 def _tests(prob: _Problem, pt: _Pt) -> dict[str, float]:
@@ -31,35 +32,28 @@ def _tests(prob: _Problem, pt: _Pt) -> dict[str, float]:
 
 
 def _locate(prob: _Problem, a: _Pt, b: _Pt, kind: str, fa: float, tol: float = 1e-11):
-    """Bisection for the zero of test ``kind`` between ``a`` and ``b``, on the hyperplanes
-    normal to the chord ``b - a`` (each meets the branch between them once, where the
-    hyperplanes normal to ``a``'s tangent can miss a sharp fold): ``(the point nearest the
-    zero, (the parameter at both ends of the last bracket))``."""
+    """The zero of test ``kind`` between ``a`` and ``b`` by the one locator
+    (:func:`numerics.shooting.locate.locate_zero`, bisection) on the hyperplanes normal to
+    the chord ``b - a`` (each meets the branch between them once, where the hyperplanes
+    normal to ``a``'s tangent can miss a sharp fold): ``(the point nearest the zero, (the
+    parameter at both ends of the last bracket))``."""
     chord = b.v - a.v
     length = float(np.linalg.norm(chord))
     d = chord / length
-    lo, hi = 0.0, length
-    p_lo, p_hi = float(a.u[-1]), float(b.u[-1])
-    best = None
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        pred = a.v + mid * d
-        try:
-            pm = _correct(prob, pred, d, float(d @ pred))
-        except _FAIL:
-            break
+
+    def trial(w):
+        pred = a.v + w * d
+        pm = _correct(prob, pred, d, float(d @ pred))
         pm.tangent = pm.tangent if pm.tangent @ a.tangent >= 0 else -pm.tangent
-        f = _tests(prob, pm)[kind]
-        best = pm
-        if f * fa > 0:
-            lo, p_lo = mid, float(pm.u[-1])
-        else:
-            hi, p_hi = mid, float(pm.u[-1])
-        if hi - lo < tol:
-            break
-    if best is None:
+        return pm
+
+    found = locate_zero(trial, lambda pm: _tests(prob, pm)[kind], 0.0, length, fa, -fa,
+                        tol=tol)
+    if found.point is None:
         return None
-    return best, (min(p_lo, p_hi), max(p_lo, p_hi))
+    p_lo = float((found.at_lo or a).u[-1])
+    p_hi = float((found.at_hi or b).u[-1])
+    return found.point, (min(p_lo, p_hi), max(p_lo, p_hi))
 
 
 def _specials(prob: _Problem, a: _Pt, b: _Pt, out: list) -> None:

@@ -16,7 +16,8 @@ tangent.
 Special points, each labelled with its parameter value:
 
 - ``fold``: ``dp/ds`` changes sign (the non-trivial Floquet multiplier passes
-  through +1); located by the secant method on ``dp/ds`` along the branch;
+  through +1); located by the secant method on ``dp/ds`` along the branch
+  (:func:`numerics.shooting.locate.fold_on_arc`);
 - ``hopf``: the amplitude tends to 0; ``p`` extrapolated with ``p - p_H ~ x0^2``;
 - ``homoclinic``: the period grows beyond ``period_factor`` times its start value
   (the cycle reaches a separatrix; :mod:`numerics.cycles.branch_ends`);
@@ -42,7 +43,7 @@ from kbm.bound import BoundModel, bind
 from kbm.models import Oscillator
 
 from numerics.cycles.orbit_problem import (_FAIL, TRIVIAL_TOL, _arc, _at_parameter, _copy,
-                                        _correct, _locate_fold, _Point, _Problem, _reanchor)
+                                        _correct, _Point, _Problem, _reanchor)
 from numerics.cycles.branch_result import Branch, BranchPoint, SpecialPoint
 from numerics.cycles.result import LimitCycle
 from numerics.cycles.shooting import limit_cycle
@@ -50,6 +51,7 @@ from numerics.cycles.branch_ends import homoclinic_reason, homoclinic_special
 from numerics.errors import ConvergenceError, NoCycleError
 from numerics.flow import Method
 from numerics.shooting.arclength import parameter_range, walk
+from numerics.shooting.locate import fold_on_arc
 
 __all__ = ["continue_cycles", "TRIVIAL_TOL"]
 
@@ -96,12 +98,10 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
     def visit(pt, new, ds_used):
         nonlocal x_big
         if new.tangent[2] * pt.tangent[2] < 0:
-            try:
-                fp = _locate_fold(prob, pt, new, ds_used)
-                if _converged(fp):
-                    points.append(fp.record())
-            except _FAIL:
-                fp = new
+            found = fold_on_arc(lambda a, s: _arc(prob, a, s), pt, new, ds_used)
+            fp = new if found.failure is not None else found.point
+            if fp is not new and _converged(fp):
+                points.append(fp.record())
             if abs(fp.mults[1].real - 1.0) < 1e-5:  # else not a fold (a Hopf end, a section)
                 special.append(_fold(fp, name))
         if _converged(new):

@@ -9,7 +9,7 @@ compiled flow is not used);
 :func:`_correct` is Newton's method on ``R = 0`` and one linear condition; :func:`_arc`
 the pseudo-arclength step (the corrector and predictor of
 :mod:`numerics.shooting.arclength`, or their compiled twin); :func:`_reanchor`,
-:func:`_locate_fold` and :func:`_at_parameter` place points on the branch.
+:func:`_at_parameter` place points on the branch.
 """
 
 from __future__ import annotations
@@ -347,25 +347,6 @@ def _reanchor(prob: _Problem, pt: _Point) -> _Point:
     if new.tangent[2] * pt.tangent[2] < 0:
         new.tangent = -new.tangent
     return new
-
-
-def _locate_fold(prob: _Problem, a: _Point, b: _Point, ds: float) -> _Point:
-    """Secant (Illinois) on ``dp/ds`` along the arc from ``a`` to ``b``."""
-    lo, hi, flo, fhi = 0.0, ds, a.tangent[2], b.tangent[2]
-    best = b
-    for _ in range(40):
-        s = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
-        if not lo < s < hi:
-            s = 0.5 * (lo + hi)
-        best = _arc(prob, a, s)
-        f = best.tangent[2]
-        if abs(f) < 1e-10 or hi - lo < 1e-12 * ds:
-            break
-        if (f > 0) == (flo > 0):
-            lo, flo, fhi = s, f, fhi / 2
-        else:
-            hi, fhi, flo = s, f, flo / 2
-    return best
 
 
 def _copy(pt: _Point) -> _Point:

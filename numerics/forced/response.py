@@ -2,9 +2,12 @@
 
 The unknowns are ``u = (x(0), x'(0), sigma)`` and ``G(u) = y(T(sigma)) - y0``; its Jacobian
 is ``[Phi(T) - I, dG/dsigma]`` (variational equations; a forward difference in ``sigma``).
-Pseudo-arclength continuation (:func:`kbm.forced.arclength.trace`) follows the curve round
-its folds (the jump points, where a Floquet multiplier passes through +1), so that stable
-and unstable responses come out alike.  The branches start from the KBM slow-flow fixed
+Pseudo-arclength continuation by the one driver (:func:`numerics.shooting.arclength.walk`)
+follows the curve round its folds (the jump points, where a Floquet multiplier passes
+through +1), so that stable and unstable responses come out alike; every point is accepted
+by the one standard (:mod:`numerics.shooting.acceptance`: the residual relative to the
+orbit's scale, and a Newton correction that tells a true orbit from a residual minimum), so
+none lies past a fold.  The branches start from the KBM slow-flow fixed
 points (:func:`kbm.forced.steady.fixed_points`), each corrected by shooting.
 """
 
@@ -16,15 +19,21 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.forced.arclength import both_ways, trace
 from kbm.forced.result import SlowFlow
 from kbm.forced.steady import fixed_points
 
-from numerics.errors import NumericsError
+from numerics.errors import ConvergenceError, NumericsError
 from numerics.forced.shooting import ForcedOrbit, orbit_at, periodic_response
 from numerics.forced.system import ForcedSystem
+from numerics.shooting.acceptance import accepted, orbit_scale
+from numerics.shooting.arclength import FAIL, correct_on_hyperplane, null_vector, predict, walk
+from numerics.shooting.locate import fold_on_arc
 
-__all__ = ["NumericResponse", "numeric_response", "continue_response", "guess_from"]
+__all__ = ["NumericResponse", "numeric_response", "continue_response", "guess_from", "ACCURACY"]
+
+#: the bound on a point's last Newton correction, relative to ``max(1, |u|)``: the accuracy
+#: of the points of a branch (on top of the acceptance standard)
+ACCURACY = 1e-9
 
 
 @dataclass(frozen=True)
@@ -49,55 +58,123 @@ def guess_from(system: ForcedSystem, amplitude: float, phase: float, sigma: floa
     return amplitude * math.cos(phase), -amplitude * w * math.sin(phase)
 
 
-class _Problem:
-    """``G`` and its Jacobian with the last evaluation cached."""
+def _evaluate(system: ForcedSystem, u):
+    """``(G, J, J)`` at ``u = (x(0), x'(0), sigma)``: ``G = y(T(sigma)) - y0`` and
+    ``J = [Phi(T) - I, dG/dsigma]`` (a failed integration is a failed step)."""
+    try:
+        if not np.all(np.isfinite(u)):
+            raise ConvergenceError(f"left the finite numbers at sigma = {u[2]:.6g}")
+        yT = system.flow(u[:2], u[2])[-1]
+        h = 1e-7 * (1 + abs(u[2]))
+        yh = system.flow(u[:2], u[2] + h, extended=False)[-1]
+    except (NumericsError, ParameterError) as exc:
+        raise ConvergenceError(str(exc)) from None
+    Phi = np.array([[yT[2], yT[4]], [yT[3], yT[5]]])
+    J = np.column_stack([Phi - np.eye(2), (yh[:2] - yT[:2]) / h])
+    return yT[:2] - u[:2], J, J
 
-    def __init__(self, system: ForcedSystem):
-        self.s = system
-        self._key = None
-        self._val = None
 
-    def _eval(self, u):
-        key = tuple(np.round(u, 15))
-        if key != self._key:
-            try:
-                yT = self.s.flow(u[:2], u[2])[-1]
-                h = 1e-7 * (1 + abs(u[2]))
-                yh = self.s.flow(u[:2], u[2] + h, extended=False)[-1]
-            except (NumericsError, ParameterError) as exc:  # a failed step of the corrector
-                raise ArithmeticError(str(exc)) from None
-            g = yT[:2] - u[:2]
-            dg = (yh[:2] - yT[:2]) / h
-            Phi = np.array([[yT[2], yT[4]], [yT[3], yT[5]]])
-            self._key, self._val = key, (g, np.column_stack([Phi - np.eye(2), dg]))
-        return self._val
+class _Pt:
+    """A converged point ``u`` and its unit tangent, oriented along ``ref``."""
 
-    def G(self, u):
-        return self._eval(u)[0]
+    def __init__(self, u, J, ref):
+        self.u, t = u, null_vector(J)
+        self.tangent = -t if float(t @ ref) < 0 else t
 
-    def J(self, u):
-        return self._eval(u)[1]
+
+def _correct(system: ForcedSystem, u_pred, row, target: float, ref) -> _Pt:
+    """Newton on ``G(u) = 0, row . u = target``, accepted by the standard of
+    :mod:`numerics.shooting.acceptance` (forced: no trivial multiplier) with the last
+    correction below :data:`ACCURACY` ``max(1, |u|)``; ``u`` plus that correction, the
+    Jacobian at ``u`` standing for its own."""
+    def accept(u, R, du, J, it):
+        corr = float(np.max(np.abs(du)))
+        return (accepted(float(np.max(np.abs(R))), corr, system.rtol, orbit_scale(u[:2]))
+                and corr <= ACCURACY * max(1.0, float(np.max(np.abs(u)))))
+
+    u, _, du, J, _ = correct_on_hyperplane(
+        lambda u: _evaluate(system, u), u_pred, row, target, max_iter=12, accept=accept,
+        too_large=lambda u, du: None, where=lambda u: f"sigma = {u[2]:.8g}")
+    return _Pt(u + du, J, ref)
+
+
+def _follow(system: ForcedSystem, first: _Pt, direction: int, bounds, ds: float,
+            max_points: int, inside):
+    """One direction of the curve by :func:`numerics.shooting.arclength.walk`, its folds
+    located by :func:`numerics.shooting.locate.fold_on_arc`: ``(points, folds, closed)``."""
+    e = np.array([0.0, 0.0, 1.0])
+    pts = [_Pt(first.u, _evaluate(system, first.u)[1], direction * e)]
+    folds, closed, ds_min = [], [], 1e-7 * (bounds[1] - bounds[0])
+
+    def step(pt, ds):
+        t = pt.tangent
+        new = _correct(system, predict(pt.u, t, ds), t, float(t @ pt.u) + ds, t)
+        if not inside(new.u) or float(np.linalg.norm(new.u - pt.u)) > 3 * abs(ds):
+            raise ConvergenceError(f"the step left the domain at sigma = {new.u[2]:.8g}")
+        return new
+
+    def visit(cur, new, h):
+        if new.tangent[2] * cur.tangent[2] < 0:
+            folds.append(fold_on_arc(step, cur, new, h).point or new)
+        if len(pts) > 10 and _passes(pts[0].u, cur.u, new.u):
+            closed.append(True)
+            return new, h, "closed curve"
+        pts.append(new)
+        return new, min(2 * ds, 1.4 * h), ""
+
+    def at_edge(cur, new, edge):
+        w = (edge - cur.u[2]) / (new.u[2] - cur.u[2])
+        try:
+            end = _correct(system, cur.u + w * (new.u - cur.u), e, edge, cur.tangent)
+            if float(np.linalg.norm(end.u - cur.u)) > 1e-9 * (1 + float(np.linalg.norm(cur.u))):
+                pts.append(end)
+        except FAIL:
+            pass
+        return f"reached the bound {edge:g}"
+
+    walk(pts[0], ds, step=step, visit=visit, collapsed=lambda c, exc: "the step collapsed",
+         ds_min=ds_min, parameter=lambda q: float(q.u[2]), bounds=bounds, at_edge=at_edge,
+         turn_above=4 * ds_min, full=lambda: "full" if len(pts) >= max_points else None)
+    return pts, folds, bool(closed)
+
+
+def _passes(start, u1, u2) -> bool:
+    """Whether the step ``u1 -> u2`` passes the start point (the curve closed)."""
+    d = u2 - u1
+    w = float(np.clip(np.dot(start - u1, d) / max(float(np.dot(d, d)), 1e-300), 0.0, 1.0))
+    return float(np.linalg.norm(u1 + w * d - start)) < 0.25 * float(np.linalg.norm(d)) + 1e-9
 
 
 def continue_response(system: ForcedSystem, start: ForcedOrbit, sigmas: tuple[float, float],
                       *, n_points: int = 400, amplitude_bound: float = 50.0):
-    """The branch through ``start`` over ``sigmas`` (both directions), with its folds."""
+    """The branch through ``start`` over ``sigmas`` (both directions), with its folds.
+
+    Pseudo-arclength continuation by the one driver
+    (:func:`numerics.shooting.arclength.walk`), every point accepted by the standard of
+    :mod:`numerics.shooting.acceptance`; the folds located by
+    :func:`numerics.shooting.locate.fold_on_arc`.
+
+    Returns
+    -------
+    ``(orbits, folds)``: the :class:`ForcedOrbit` along the branch in its order, and those
+    at its folds.
+    """
     lo, hi = sigmas
-    span = hi - lo
-    ds = span / max(n_points, 10)
-    prob = _Problem(system)
-    u0 = np.array([start.y0[0], start.y0[1], start.sigma])
+    ds = (hi - lo) / max(n_points, 10)
 
     def inside(u):
         return bool(np.all(np.isfinite(u)) and abs(u[0]) < amplitude_bound)
 
-    arcs = both_ways(lambda d: trace(prob.G, prob.J, u0, (lo, hi), direction=d, ds=ds,
-                                      ds_max=2 * ds, ds_min=1e-7 * span,
-                                      max_points=20 * n_points, inside=inside, tol=1e-9))
-    us = [p.u for p in reversed(arcs[0].points)] + [p.u for a in arcs[1:] for p in a.points[1:]]
+    e = np.array([0.0, 0.0, 1.0])
+    first = _correct(system, np.array([*start.y0, start.sigma]), e, start.sigma, e)
+    back, folds, closed = _follow(system, first, -1, (lo, hi), ds, 20 * n_points, inside)
+    us = [p.u for p in reversed(back)]
+    if not closed:
+        ahead, more, _ = _follow(system, first, 1, (lo, hi), ds, 20 * n_points, inside)
+        us += [p.u for p in ahead[1:]]
+        folds += more
     orbits = tuple(orbit_at(system, u[:2], u[2]) for u in us)
-    folds = tuple(orbit_at(system, f[:2], f[2]) for a in arcs for f in a.folds)
-    return orbits, folds
+    return orbits, tuple(orbit_at(system, f.u[:2], f.u[2]) for f in folds)
 
 
 def numeric_response(system: ForcedSystem, sf: SlowFlow, sigmas: tuple[float, float],

@@ -4,7 +4,7 @@ As AUTO does (Doedel et al., AUTO-07p manual, sec. 10; Kuznetsov, *Elements of A
 Bifurcation Theory*, sec. 10.2), the points are detected by test functions of the Floquet
 multipliers ``lambda_1, lambda_2`` between consecutive responses of the continuation and
 located by bisection on the segment between them (each trial corrected by shooting at its
-detuning):
+detuning; the one locator, :func:`numerics.shooting.locate.locate_zero`):
 
 - **period doubling**: ``tau_PD = (1 + lambda_1)(1 + lambda_2) = det(Phi + I)`` changes
   sign (a real multiplier passes through -1: a response of twice the period is born);
@@ -20,9 +20,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from numerics.errors import NumericsError
 from numerics.forced.shooting import ForcedOrbit, periodic_response
 from numerics.forced.system import ForcedSystem
+from numerics.shooting.locate import locate_zero
 
 __all__ = ["SpecialOrbit", "detect_special", "tau_pd", "tau_ns"]
 
@@ -60,33 +60,21 @@ def tau_ns(orbit: ForcedOrbit) -> float | None:
 
 def _locate(system: ForcedSystem, a: ForcedOrbit, b: ForcedOrbit, test, tol: float
             ) -> tuple[ForcedOrbit, tuple[float, float]] | None:
-    """Bisection on the segment ``a -> b`` (detuning and start state interpolated, each
-    trial corrected at its detuning) for the sign change of ``test``."""
+    """The sign change of ``test`` on the segment ``a -> b`` (detuning and start state
+    interpolated, each trial corrected at its detuning) by the one locator
+    (:func:`numerics.shooting.locate.locate_zero`, bisection)."""
     ta, tb = test(a), test(b)
     if ta is None or tb is None or ta * tb > 0:
         return None
-    lo, hi, best = 0.0, 1.0, a
+    span = b.sigma - a.sigma
     ya, yb = np.array(a.y0), np.array(b.y0)
-    for _ in range(60):
-        w = 0.5 * (lo + hi)
-        s = a.sigma + w * (b.sigma - a.sigma)
-        try:
-            o = periodic_response(system, s, ya + w * (yb - ya))
-        except NumericsError:
-            return None
-        t = test(o)
-        if t is None:
-            return None
-        if t * ta > 0:
-            lo = w
-        else:
-            hi = w
-        best = o
-        if abs(hi - lo) * abs(b.sigma - a.sigma) < tol:
-            break
-    s_lo = a.sigma + lo * (b.sigma - a.sigma)
-    s_hi = a.sigma + hi * (b.sigma - a.sigma)
-    return best, (min(s_lo, s_hi), max(s_lo, s_hi))
+    found = locate_zero(lambda w: periodic_response(system, a.sigma + w * span,
+                                                    ya + w * (yb - ya)),
+                        test, 0.0, 1.0, ta, tb, tol=tol / max(abs(span), 1e-300))
+    if found.failure is not None:
+        return None
+    s_lo, s_hi = a.sigma + found.lo * span, a.sigma + found.hi * span
+    return found.point, (min(s_lo, s_hi), max(s_lo, s_hi))
 
 
 def detect_special(system: ForcedSystem, branch, tol: float = 1e-10) -> list[SpecialOrbit]:

@@ -7,5 +7,7 @@ or forced with the period fixed by the drive).
   periodic orbit, and the multipliers of the orbit found;
 - :mod:`numerics.shooting.arclength`: pseudo-arclength continuation: the corrector, the
   tangent, the predictor and :func:`~numerics.shooting.arclength.walk`, the one driver of
-  the steps along a branch.
+  the steps along a branch;
+- :mod:`numerics.shooting.locate`: :func:`~numerics.shooting.locate.locate_zero`, the one
+  locator of folds and other special points between two points of a branch.
 """

@@ -94,7 +94,6 @@ def _shoot(delta, beta, xs, mu=0.1):
     return up.y_events[0][0][0] - dn.y_events[0][0][0]
 
 
-@pytest.mark.slow
 def test_sedf_heteroclinic_curves_shot_independently():
     kit = OneDof(*SEDF, (3.0, 1.0))
     found = {}

@@ -87,11 +87,13 @@ def energy_balance_curves(model, params: Mapping, axes, ranges, *, n: int = 41,
                     seeds.append(seed)
             for kind, pts in found.items():
                 rows.setdefault((kind, key), []).append((float(a), pts, ann))
-    curves = []
+    curves, seen = [], set()
     for (kind, key), row in sorted(rows.items(), key=lambda kv: (kv[0][0], kv[0][1])):
         for seg in _clip(_chain(row), b0, b1):
-            if len(seg) < 2:
+            sig = (kind, tuple((round(a, 9), round(b, 9)) for a, b, _ in seg))
+            if len(seg) < 2 or sig in seen:  # the mirror image of a symmetric annulus
                 continue
+            seen.add(sig)
             detail = {"annulus": [int(k) for k in key], "source": "energy balance"}
             if kind.startswith("homoclinic"):
                 detail["estimate"] = ("Melnikov integral on the annulus's " +

@@ -327,6 +327,9 @@ def continue_curve(G: Callable, z0, *, jac: Callable | None = None, tangent=None
             wpath.points.append(wpt)
             wpath.ds = ds
             emit(wpt)
+            if _outside(w, wbounds) is not None:
+                path.end, path.message = "outside", "the first point lies outside the box"
+                return path
         step = ds if not math.isfinite(wpath.ds) else wpath.ds
         while len(wpath.points) < max_points:
             last = wpath.points[-1]

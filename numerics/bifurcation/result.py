@@ -158,7 +158,7 @@ class Diagram:
         if path.suffix == "" or path.is_dir():
             path.mkdir(parents=True, exist_ok=True)
             path = path / f"diagram-{self.model}.png"
-        fig, ax = plt.subplots(figsize=(6.4, 4.6), dpi=150)
+        fig, ax = plt.subplots(figsize=(8.4, 4.6), dpi=150)
         seen = set()
         for c in self.curves:
             if not c.points:
@@ -190,11 +190,10 @@ class Diagram:
             ax.set_ylim(*self.ranges[b])
         ax.set_xlabel(a)
         ax.set_ylabel(b)
-        fixed = ", ".join(f"{k}={v:g}" for k, v in self.params.items()
-                          if k not in self.axes and isinstance(v, (int, float)))
+        fixed = ", ".join(f"{k}={v}" for k, v in self.params.items() if k not in self.axes)
         ax.set_title(f"{self.model}: {fixed}", fontsize=8)
         if seen:
-            ax.legend(fontsize=7, loc="best")
+            ax.legend(fontsize=6, loc="upper left", bbox_to_anchor=(1.01, 1.0))
         fig.tight_layout()
         fig.savefig(path, metadata={"Software": None})
         plt.close(fig)

@@ -66,6 +66,19 @@ def test_noise_same_bytes_for_a_seed_on_any_worker_count():
     assert other != one
 
 
+def test_noise_extrapolate_same_bytes_on_any_worker_count():
+    """The two-level estimator's streams are spawned per trajectory: --workers 1 and 2 give
+    the same bytes with --extrapolate too."""
+    args = ["noise", "linear_damping", "-p", "mu=1", "-p", "zeta=1", "-p", "D=1",
+            "--trajectories", "16", "--t-end", "20", "--dt", "0.05", "--seed", "3",
+            "--extrapolate", "--no-fokker-planck", "--json"]
+    one = kbm(*args, "--workers", "1").stdout
+    two = kbm(*args, "--workers", "2").stdout
+    assert one == two
+    ext = json.loads(one)["extrapolation"]
+    assert ext["method"] == "two-level Richardson"
+
+
 def test_noise_driven_slider_has_no_averaged_state():
     rep = json.loads(kbm("noise", "cdc", *CDC, "-p", "v=0.05", "-p", "D=0.01",
                          "--trajectories", "8", "--t-end", "40", "--json").stdout)

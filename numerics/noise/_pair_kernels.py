@@ -6,7 +6,8 @@ The Richardson extrapolation (:mod:`numerics.noise.extrapolate`) and the measure
 step (:func:`numerics.noise.langevin.measured_step`) run the scheme at ``h`` and ``h/2``
 (``step_pair_stats``) or at ``h/2^j`` (``step_ladder_stats``) with Gaussian increments, each
 coarse increment the sum of the finer ones, so that the runs stay close and their
-difference has a small variance.
+difference has a small variance; ``step_gauss_stats`` runs the scheme at ``h`` alone with
+Gaussian increments (the two-level estimator's level 0).
 """
 
 import math
@@ -113,4 +114,39 @@ def step_ladder_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0, levels):
         for j in range(levels + 1):
             for c in range(2):
                 out[i, j, c] = acc[j, c] / n_run if ok else math.nan
+    return out
+
+
+@njit(cache=True)
+def step_gauss_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0):
+    """Per trajectory: the time averages of ``x^2`` and ``a^2`` over ``n_run`` steps ``h``
+    after ``n_burn``, with Gaussian increments (one normal pair per two steps): the level
+    0 of the two-level estimator, whose expansion in ``h`` is the pair's (the three-point
+    increments of ``stationary_stats`` have another ``h^2`` coefficient).  Columns ``x^2,
+    a^2``; NaN rows for a diverged trajectory."""
+    m = y0.shape[0]
+    out = np.zeros((m, 2))
+    amp = sigma * math.sqrt(h) * _noise_factor(p, h)  # noqa: F821
+    for i in range(m):
+        s = states[i].copy()
+        x, v = y0[i, 0], y0[i, 1]
+        f = _first(t0, x, v, p)  # noqa: F821
+        a_x2 = 0.0
+        a_a2 = 0.0
+        ok = True
+        g2 = 0.0
+        for k in range(n_burn + n_run):
+            if k % 2 == 0:
+                g1, g2 = _normal_pair(s)
+            else:
+                g1 = g2
+            x, v, f = _step(t0 + k * h, x, v, f, h, amp * g1, p)  # noqa: F821
+            if not math.isfinite(x + v):
+                ok = False
+                break
+            if k >= n_burn:
+                a_x2 += x * x
+                a_a2 += x * x + (v / w0) ** 2
+        out[i, 0] = a_x2 / n_run if ok else math.nan
+        out[i, 1] = a_a2 / n_run if ok else math.nan
     return out

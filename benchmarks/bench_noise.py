@@ -251,6 +251,52 @@ def equal_error(effort: float = 1.0) -> None:
         print(f"   {name:44} {h:13.4f} {ev:11.2f} {evals_b / ev:8.2f}x")
     print("   (target: >= 3x fewer force evaluations than BAOAB; the two-level cost counts the "
           "correction run at the allocation that gives the same statistical error)")
+    toolkit_two_level(h_b, h_r, exact, effort)
+
+
+def toolkit_two_level(h_b: float, h_r: float, exact: float, effort: float = 1.0) -> None:
+    """The toolkit's own estimator (:func:`numerics.noise.extrapolate.two_level_moments`,
+    what ``kbm noise --extrapolate`` runs) at the step ``h_r`` against the toolkit's BAOAB
+    kernel (Gaussian increments) at ``h_b``, both with a bias of 1e-4: the same trajectories
+    and times, timed on one core, compared by work x variance (the cost of equal
+    statistical error)."""
+    from numerics.noise.extrapolate import two_level_moments
+
+    s = langevin_system(custom_model("-xdot - x**3", name="quartic"), {"mu": 1.0}, 1.0, "baoab")
+    m, t_run, burn = 256, 20.0 * round(250 * effort), 20.0
+    hb = h_b
+    hr = burn / math.ceil(burn / h_r)  # whole numbers of steps in burn and t_run
+    k, p = s.kernels, s._p()
+    y0 = np.zeros((m, 2))
+    k.step_gauss_stats(p, s.sigma, y0[:2], 0.0, hb, 2, 2, trajectory_states(0, 0, 2), s.omega0)
+    two_level_moments(s, hr, trajectories=4, t_end=10 * hr, burn_in=0.0, seed=0)  # compiled
+    t0 = time.perf_counter()
+    n_b, n_run = round(burn / hb), round(t_run / hb)
+    rows = k.step_gauss_stats(p, s.sigma, y0, 0.0, hb, n_b, n_run, trajectory_states(17, 0, m),
+                              s.omega0)
+    sec_b = time.perf_counter() - t0
+    evals_b = m * (n_b + n_run)
+    x2 = rows[:, 0]
+    val_b, se_b = float(x2.mean()), float(x2.std(ddof=1) / math.sqrt(m))
+    t0 = time.perf_counter()
+    mom, sizes = two_level_moments(s, hr, trajectories=m, t_end=t_run, burn_in=burn, seed=17)
+    sec_2 = time.perf_counter() - t0
+    two = mom["x2"]
+    print(f"   d. the toolkit's two-level estimator (numerics.noise.extrapolate.two_level_moments"
+          f", kbm noise --extrapolate) timed against the toolkit's BAOAB kernel, {m} "
+          f"trajectories x {t_run:g} each (one core, warm)")
+    print(f"      {'run':32} {'h':>7} {'force evals':>12} {'seconds':>8} {'<x^2> error':>12} "
+          f"{'stderr':>8}")
+    print(f"      {'BAOAB (Gaussian increments)':32} {hb:7.4f} {evals_b:12.4g} {sec_b:8.2f} "
+          f"{val_b / exact - 1:+12.2e} {se_b / exact:8.1e}")
+    name = f"two-level ({sizes['coarse']} + {sizes['correction']} correction)"
+    print(f"      {name:32} {hr:7.4f} {sizes['steps']:12.4g} "
+          f"{sec_2:8.2f} {two.value / exact - 1:+12.2e} {two.stderr / exact:8.1e}")
+    ev = evals_b * se_b**2 / (sizes["steps"] * two.stderr**2)
+    wall = sec_b * se_b**2 / (sec_2 * two.stderr**2)
+    print(f"      BAOAB / two-level at equal statistical error (work x variance): force "
+          f"evaluations {ev:.2f}x, seconds {wall:.2f}x (each variance to +-{200 / math.sqrt(m):.0f}"
+          f" %; the variance ratio of the correction {two.variance_ratio:.4f})")
 
 
 if __name__ == "__main__":

@@ -25,7 +25,10 @@ one core; the standard errors of part 2 fall like ``1/sqrt(effort)``).
    Giles' optimal allocation (cost factor ``(1 + sqrt(16 rho/3))^2`` per step, ``rho`` the
    measured variance ratio of the pair's difference to ``E_h``).  In the same run the
    toolkit's pair ensemble (:func:`numerics.noise.extrapolate.richardson_moments`) is checked
-   against the transfer operator and exact quadrature.  Target: >= 3x fewer force
+   against the transfer operator and exact quadrature, and the toolkit's own two-level
+   estimator (:func:`numerics.noise.extrapolate.two_level_moments`, what ``kbm noise
+   --extrapolate`` runs) is timed against the toolkit's BAOAB kernel (Gaussian increments)
+   at the steps of a 1e-4 bias, compared by work x variance.  Target: >= 3x fewer force
    evaluations than BAOAB where the pair applies (BAOAB's even expansion: dampings affine in
    ``x'``, Gaussian increments, a smooth potential).
 """

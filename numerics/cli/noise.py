@@ -64,7 +64,7 @@ def register(sub) -> None:
                    help="also report the two-level Richardson value E_dt + (4/3)(E_dt/2 - "
                         "E_dt) (weak order 4): BAOAB at dt plus the correction from a smaller "
                         "coupled ensemble at dt and dt/2 sized by Giles' allocation, with the "
-                        "standard error of both levels (moments.*.extrapolated; about 1.2-1.5 "
+                        "standard error of both levels (moments.*.extrapolated; adds about 1.3-1.5 "
                         "times the main run's steps)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.add_argument("--out", metavar="DIR", help="write noise-MODEL.png (the averaged density "

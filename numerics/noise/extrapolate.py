@@ -179,7 +179,8 @@ def two_level_moments(system: LangevinSystem, h: float, *, trajectories: int, t_
     such an ensemble run elsewhere.  Both levels use Gaussian increments: the
     three-point increments of the toolkit's main ensembles give BAOAB another ``h^2``
     coefficient, so ``E_h`` of a three-point ensemble plus the Gaussian pair's correction
-    would keep an ``O(h^2)`` bias.  Level 1 runs the pair (:func:`richardson_moments`' kernel) on the streams
+    would keep an ``O(h^2)`` bias.  Level 1 runs the pair (:func:`richardson_moments`'
+    kernel) on the streams
     ``(CORRECTION_STREAM, i)``: first ``pilot`` trajectories (default ``max(8,
     ceil(trajectories/16))``), which measure ``V_1``; then, by Giles' allocation at the costs
     ``C_1 = 3 C_0`` per step, ``m_1 = ceil(trajectories sqrt(V_1/(3 V_0)))`` in all (the

@@ -207,15 +207,18 @@ class CoupledOscillators(OscillatorFamily):
     @property
     def parameters(self) -> tuple[str, ...]:
         """The names of the parameters of the right-hand sides, drives, hard forcings and
-        symbolic frequencies, and the declared detunings (sorted)."""
+        symbolic frequencies, and the :attr:`detunings` (sorted)."""
         syms = set().union(*[f.free_symbols for f in (*self.rhs, *self.drives, *self.hards,
                                                       *self.omegas)]) \
             - set(self.state) - {t} - ({_THETA, _NU} if self.forced else set())
-        names = {s.name for s in syms}
-        if self.nu_detuning:
-            names.add(self.nu_detuning)
-        names |= {r.detuning for r in self.internal if r.detuning}
-        return tuple(sorted(names))
+        return tuple(sorted({s.name for s in syms} | set(self.detunings)))
+
+    @property
+    def detunings(self) -> tuple[str, ...]:
+        """The names of the declared detunings (the forcing's ``sigma``, the internal
+        resonances'), sorted: parameters the averaged slow flow keeps symbolic."""
+        return tuple(sorted(({self.nu_detuning} | {r.detuning for r in self.internal})
+                            - {None}))
 
     @property
     def forced(self) -> bool:
@@ -278,9 +281,8 @@ class CoupledOscillators(OscillatorFamily):
         kbm.errors.ParameterError
             For a name that is not a parameter of the model.
         """
-        detunings = {self.nu_detuning} | {r.detuning for r in self.internal}
         unknown = sorted(set(params) - set(self.parameters))
-        kept = sorted(set(params) & (detunings - {None}))
+        kept = sorted(set(params) & set(self.detunings))
         if kept:
             raise ParameterError(f"the detuning {', '.join(kept)} stays symbolic in the "
                                  "averaging (the slow flow is a function of it)")

@@ -212,12 +212,6 @@ class ForcedOscillator(CoupledOscillators):
         the numeric backend (:func:`kbm.forced.numeric_derive_forced`) applies."""
         return is_polynomial(self.F)
 
-    @property
-    def parameters(self) -> tuple[str, ...]:
-        """Names of the parameters of ``F``, ``omega0`` and ``K`` (sorted; the detuning
-        ``sigma`` is the analysis's)."""
-        return tuple(p for p in super().parameters if p != "sigma")
-
     def substitute(self, values: Mapping[str, object]) -> "ForcedOscillator":
         """The model with some parameters replaced by exact values (``mu``, ``sigma`` and
         ``nu`` are not parameters of the model and are ignored)."""

@@ -30,8 +30,8 @@ from .values import parameter_value
 
 __all__ = ["Oscillator", "OneDegree", "TO_GENERAL", "TO_ONE"]
 
-_STATE = {x, xdot, t}
 (_X1,), (_V1,) = positions(1), velocities(1)
+_THETA = sp.Symbol("theta")
 #: the state of one degree of freedom in the one type's symbols, and back
 TO_GENERAL, TO_ONE = {x: _X1, xdot: _V1}, {_X1: x, _V1: xdot}
 
@@ -55,6 +55,36 @@ class OneDegree(CoupledOscillators):
     """The cases ``N = 1`` of the one type (:class:`Oscillator`,
     :class:`kbm.forced.ForcedOscillator`): its data under the names of one degree of
     freedom, in ``x``, ``xdot``."""
+
+    @staticmethod
+    def _check_one(name: str, F: sp.Expr, w0: sp.Expr, reserved: set[str], *,
+                   exact: bool, free: frozenset = frozenset()) -> None:
+        """The checks of ``F`` and ``omega0`` both cases make (``exact``: a rational
+        frequency, for the exact forced averaging; ``free``: symbols ``F`` may hold).
+
+        Raises
+        ------
+        kbm.errors.ModelError
+            For ``mu`` in ``F``, a ``reserved`` name, or ``omega0`` not a positive
+            (rational) number or a symbol.
+        """
+        if mu in F.free_symbols:
+            raise ModelError(f"F of model {name!r} contains the small parameter mu; write "
+                             "the equation as x'' + omega0^2 x = mu*F with F free of mu")
+        for s in (F.free_symbols - free) | w0.free_symbols:
+            if s.name in reserved:
+                raise ModelError(f"the symbol {s.name!r} is reserved (the KBM amplitude, "
+                                 "phases, detuning and forcing frequency); rename that "
+                                 "parameter")
+        if w0.free_symbols & {x, xdot, t, _THETA}:
+            raise ModelError(f"omega0 = {w0} must be a constant (not of the state or time)")
+        kind = "rational" if exact else "real"
+        if w0.is_number and not (w0.is_real and w0 > 0 and (w0.is_Rational or not exact)):
+            raise ModelError(f"omega0 must be a positive {kind} number (or a symbol), got "
+                             f"omega0 = {w0}" + (" (the exact forced averaging)" if exact
+                                                 else ""))
+        if not (w0.is_number or w0.is_Symbol):
+            raise ModelError(f"omega0 must be a positive number or a single symbol, got {w0}")
 
     @cached_property
     def F(self) -> sp.Expr:
@@ -148,20 +178,7 @@ class Oscillator(OneDegree):
             raise ModelError(f"stage_relative = {rel} of model {name!r} must be a part of F "
                              "that depends on x (it is re-evaluated at the spring extension "
                              "x - v t when the stage moves)")
-        if mu in F.free_symbols:
-            raise ModelError(f"F of model {name!r} contains the small parameter mu; "
-                             "write the equation as x'' + omega0^2 x = mu*F with F free of mu")
-        for s in (F.free_symbols | w0.free_symbols):
-            if s.name in ("a", "psi"):
-                raise ModelError(f"the symbol {s.name!r} is reserved for the KBM amplitude/phase; "
-                                 "rename that parameter")
-        if w0.free_symbols & _STATE:
-            raise ModelError(f"omega0 = {w0} depends on the state; it must be a constant")
-        if w0.is_number:
-            if not (w0.is_real and w0 > 0):
-                raise ModelError(f"omega0 must be a positive real number (omega0**2 > 0), got omega0 = {w0}")
-        elif not isinstance(w0, sp.Symbol):
-            raise ModelError(f"omega0 must be a positive number or a single symbol, got {w0}")
+        self._check_one(name, F, w0, {"a", "psi"}, exact=False)
         self._store(name=name, rhs=(F.xreplace(TO_GENERAL),), omegas=(w0,),
                     description=description, physical=physical,
                     defaults={k: _expr(v) for k, v in (defaults or {}).items()},

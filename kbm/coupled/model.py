@@ -166,26 +166,11 @@ class CoupledOscillators(OscillatorFamily):
         new._store(**{**{k: getattr(self, k) for k in self.__dataclass_fields__}, **changes})
         return new
 
-    # -- the names of a system built as such ---------------------------------------------
-    @property
-    def F(self) -> tuple:
-        """The right-hand sides ``F_i`` (:attr:`rhs`)."""
-        return self.rhs
-
-    @property
-    def omega0(self) -> tuple:
-        """The linear frequencies (:attr:`omegas`)."""
-        return self.omegas
-
-    @property
-    def drive(self) -> tuple:
-        """The order-one drives (:attr:`drives`)."""
-        return self.drives
-
-    @property
-    def hard(self) -> tuple:
-        """The hard forcing amplitudes (:attr:`hards`)."""
-        return self.hards
+    # -- the names of a system built as such (tuples; scalars in the cases N = 1) ---------
+    F = property(lambda self: self.rhs, doc="The right-hand sides ``F_i`` (:attr:`rhs`).")
+    omega0 = property(lambda self: self.omegas, doc="The frequencies (:attr:`omegas`).")
+    drive = property(lambda self: self.drives, doc="The order-one drives (:attr:`drives`).")
+    hard = property(lambda self: self.hards, doc="The hard forcings (:attr:`hards`).")
 
     # -- structure --------------------------------------------------------------------
     @property

@@ -158,23 +158,9 @@ class ForcedOscillator(OneDegree):
         if K.has(x, xdot, theta, t, mu) or any(s.name in _RESERVED for s in K.free_symbols):
             raise ModelError(f"the hard forcing amplitude K = {K} must be a constant (numbers "
                              "and parameters, no x, xdot, theta, t, mu or reserved names)")
-        if mu in F.free_symbols:
-            raise ModelError(f"F of model {name!r} contains the small parameter mu; write "
-                             "the equation as x'' + omega0^2 x = mu*F with F free of mu")
-        for s in (F.free_symbols - {nu}) | w0.free_symbols:
-            if s.name in _RESERVED - {"t"}:
-                raise ModelError(f"the symbol {s.name!r} is reserved (amplitude, phases, "
-                                 "detuning and forcing frequency); rename that parameter")
+        self._check_one(name, F, w0, _RESERVED - {"t"}, exact=True, free={nu})
         check_theta(F, name)
         check_state(F, name)
-        if w0.has(x, xdot, theta, t):
-            raise ModelError(f"omega0 = {w0} must be a constant")
-        if w0.is_number:
-            if not (w0.is_Rational and w0 > 0):
-                raise ModelError(f"omega0 must be a positive rational number (or a symbol) "
-                                 f"for the exact forced averaging, got {w0}")
-        elif not w0.is_Symbol:
-            raise ModelError(f"omega0 must be a positive number or a single symbol, got {w0}")
         self._store(name=name, rhs=(F.xreplace(TO_GENERAL),), omegas=(w0,),
                     description=description, defaults=defaults,
                     internal=(InternalResonance(1, 2, res.q, res.p, forcing=True),),

@@ -22,16 +22,16 @@ from functools import cached_property
 
 import sympy as sp
 
-from .errors import ModelError, NonAutonomousError, ParameterError
+from .errors import ModelError, NonAutonomousError
 from .coupled.model import CoupledOscillators
 from .coupled.variables import positions, velocities
 from .symbols import mu, parse, t, x, xdot
 from .values import parameter_value
 
-__all__ = ["Oscillator", "TO_GENERAL", "TO_ONE"]
+__all__ = ["Oscillator", "OneDegree", "TO_GENERAL", "TO_ONE"]
 
-_STATE = {x, xdot, t}
 (_X1,), (_V1,) = positions(1), velocities(1)
+_THETA = sp.Symbol("theta")
 #: the state of one degree of freedom in the one type's symbols, and back
 TO_GENERAL, TO_ONE = {x: _X1, xdot: _V1}, {_X1: x, _V1: xdot}
 
@@ -51,7 +51,68 @@ def _sorted_names(symbols) -> tuple[str, ...]:
     return tuple(sorted(s.name for s in symbols))
 
 
-class Oscillator(CoupledOscillators):
+class OneDegree(CoupledOscillators):
+    """The cases ``N = 1`` of the one type (:class:`Oscillator`,
+    :class:`kbm.forced.ForcedOscillator`): its data under the names of one degree of
+    freedom, in ``x``, ``xdot``."""
+
+    @staticmethod
+    def _check_one(name: str, F: sp.Expr, w0: sp.Expr, reserved: set[str], *,
+                   exact: bool, free: frozenset = frozenset()) -> None:
+        """The checks of ``F`` and ``omega0`` both cases make (``exact``: a rational
+        frequency, for the exact forced averaging; ``free``: symbols ``F`` may hold).
+
+        Raises
+        ------
+        kbm.errors.ModelError
+            For ``mu`` in ``F``, a ``reserved`` name, or ``omega0`` not a positive
+            (rational) number or a symbol.
+        """
+        if mu in F.free_symbols:
+            raise ModelError(f"F of model {name!r} contains the small parameter mu; write "
+                             "the equation as x'' + omega0^2 x = mu*F with F free of mu")
+        for s in (F.free_symbols - free) | w0.free_symbols:
+            if s.name in reserved:
+                raise ModelError(f"the symbol {s.name!r} is reserved (the KBM amplitude, "
+                                 "phases, detuning and forcing frequency); rename that "
+                                 "parameter")
+        if w0.free_symbols & {x, xdot, t, _THETA}:
+            raise ModelError(f"omega0 = {w0} must be a constant (not of the state or time)")
+        kind = "rational" if exact else "real"
+        if w0.is_number and not (w0.is_real and w0 > 0 and (w0.is_Rational or not exact)):
+            raise ModelError(f"omega0 must be a positive {kind} number (or a symbol), got "
+                             f"omega0 = {w0}" + (" (the exact forced averaging)" if exact
+                                                 else ""))
+        if not (w0.is_number or w0.is_Symbol):
+            raise ModelError(f"omega0 must be a positive number or a single symbol, got {w0}")
+
+    @cached_property
+    def F(self) -> sp.Expr:
+        """``F(x, xdot[, t or theta])``: the right-hand side over ``mu``."""
+        return self.rhs[0].xreplace(TO_ONE)
+
+    @property
+    def omega0(self) -> sp.Expr:
+        """The linear frequency: a positive number or a symbol."""
+        return self.omegas[0]
+
+    @property
+    def drive(self) -> sp.Expr:
+        """The order-one drive of ``t`` (a stage's pull ``Omega^2 v t``); 0 for none."""
+        return self.drives[0] if self.drives else sp.Integer(0)
+
+    @property
+    def hard(self) -> sp.Expr:
+        """The amplitude ``K`` of a hard forcing ``K cos(theta)``; 0 for none."""
+        return self.hards[0] if self.hards else sp.Integer(0)
+
+    @property
+    def stage_relative(self) -> sp.Expr:
+        """The part of ``F`` attached to a pulling stage (in ``x``); 0 for none."""
+        return self.relative[0].xreplace(TO_ONE) if self.relative else sp.Integer(0)
+
+
+class Oscillator(OneDegree):
     """The oscillator ``x'' + omega0**2 x = mu F(x, xdot[, t]) + drive(t)``: the one type
     :class:`~kbm.coupled.CoupledOscillators` at ``N = 1``, without a forcing angle.
 
@@ -117,51 +178,13 @@ class Oscillator(CoupledOscillators):
             raise ModelError(f"stage_relative = {rel} of model {name!r} must be a part of F "
                              "that depends on x (it is re-evaluated at the spring extension "
                              "x - v t when the stage moves)")
-        if mu in F.free_symbols:
-            raise ModelError(f"F of model {name!r} contains the small parameter mu; "
-                             "write the equation as x'' + omega0^2 x = mu*F with F free of mu")
-        for s in (F.free_symbols | w0.free_symbols):
-            if s.name in ("a", "psi"):
-                raise ModelError(f"the symbol {s.name!r} is reserved for the KBM amplitude/phase; "
-                                 "rename that parameter")
-        if w0.free_symbols & _STATE:
-            raise ModelError(f"omega0 = {w0} depends on the state; it must be a constant")
-        if w0.is_number:
-            if not (w0.is_real and w0 > 0):
-                raise ModelError(f"omega0 must be a positive real number (omega0**2 > 0), got omega0 = {w0}")
-        elif not isinstance(w0, sp.Symbol):
-            raise ModelError(f"omega0 must be a positive number or a single symbol, got {w0}")
-        self._store(name, (F.xreplace(TO_GENERAL),), (w0,), description,
-                    {k: _expr(v) for k, v in (defaults or {}).items()}, (), physical, None,
-                    None, (drive,) if drive != 0 else (), (), _expr(gain_factor),
-                    (rel.xreplace(TO_GENERAL),) if rel != 0 else ())
+        self._check_one(name, F, w0, {"a", "psi"}, exact=False)
+        self._store(name=name, rhs=(F.xreplace(TO_GENERAL),), omegas=(w0,),
+                    description=description, physical=physical,
+                    defaults={k: _expr(v) for k, v in (defaults or {}).items()},
+                    drives=(drive,) if drive != 0 else (), gain_factor=_expr(gain_factor),
+                    relative=(rel.xreplace(TO_GENERAL),) if rel != 0 else ())
         self.__dict__["F"] = F  # the F given, as given (the derivations print it)
-
-    # -- the names of one degree of freedom -----------------------------------------------
-    @cached_property
-    def F(self) -> sp.Expr:
-        """``F(x, xdot[, t])``: the right-hand side over ``mu``."""
-        return self.rhs[0].xreplace(TO_ONE)
-
-    @property
-    def omega0(self) -> sp.Expr:
-        """The linear frequency: a positive number or a symbol."""
-        return self.omegas[0]
-
-    @property
-    def drive(self) -> sp.Expr:
-        """The order-one drive of ``t`` (a stage's pull ``Omega^2 v t``); 0 for none."""
-        return self.drives[0] if self.drives else sp.Integer(0)
-
-    @property
-    def stage_relative(self) -> sp.Expr:
-        """The part of ``F`` attached to a pulling stage (in ``x``); 0 for none."""
-        return self.relative[0].xreplace(TO_ONE) if self.relative else sp.Integer(0)
-
-    @property
-    def is_autonomous(self) -> bool:
-        """``False`` when ``F`` or the drive depends on the time ``t`` explicitly."""
-        return t not in (self.F.free_symbols | self.drive.free_symbols)
 
     def require_autonomous(self, what: str = "the KBM averaging") -> None:
         """Raise :class:`NonAutonomousError` if ``F`` depends on ``t``."""
@@ -235,85 +258,3 @@ class Oscillator(CoupledOscillators):
                           self.description.replace("with v = 0", f"with v = {vv}"),
                           self.physical, self.defaults, self.omega0**2 * vv * t,
                           self.gain_factor, moved)
-
-    # -- parameters -------------------------------------------------------------------
-    def resolve(self, values: Mapping[str, object] | None = None,
-                *, use_defaults: bool = True) -> dict[str, sp.Expr]:
-        """Map given parameter values (scaled or physical names) to the model's parameters.
-
-        Parameters
-        ----------
-        values
-            Numbers (or sympy expressions, or strings) by name.  Physical names
-            of the paper (``Delta``, ``lam``) are converted with :attr:`physical`,
-            which may need ``mu``.  ``mu`` itself is passed through.
-        use_defaults
-            Fill parameters that are not given from :attr:`defaults`.
-
-        Returns
-        -------
-        dict
-            Values by name of the model's own parameters (and ``mu`` if given).
-
-        Raises
-        ------
-        kbm.errors.ParameterError
-            For an unknown name, a value that is not a finite real number, or a
-            physical parameter given without ``mu``.
-        """
-        values = dict(values or {})
-        known = set(self.parameters) | {"mu"}
-        phys_names: set[str] = set()
-        for expr in self.physical.values():
-            phys_names |= {s.name for s in sp.sympify(expr).free_symbols}
-        out: dict[str, sp.Expr] = {}
-        for name, raw in values.items():
-            if name not in known and name not in phys_names:
-                raise ParameterError(
-                    f"unknown parameter {name!r} for model {self.name!r}; "
-                    f"its parameters are {', '.join(sorted(known | phys_names))}")
-            val = parameter_value(name, raw)
-            out[name] = val
-        for scaled, expr in self.physical.items():
-            expr = sp.sympify(expr)
-            need = {s.name for s in expr.free_symbols}
-            given = need & set(out)
-            if scaled in out and given - {"mu"}:
-                raise ParameterError(f"give either {scaled} or {', '.join(sorted(given - {'mu'}))}, "
-                                     "not both")
-            if given - {"mu"} and scaled not in out:
-                missing = need - set(out)
-                if missing:
-                    raise ParameterError(
-                        f"{scaled} = {expr} needs {', '.join(sorted(missing))} as well")
-                val = sp.sympify(expr.subs({sp.Symbol(n): out[n] for n in need}))
-                if not (val.is_finite and val.is_real):
-                    zero = sorted(n for n in need if out[n] == 0)
-                    raise ParameterError(
-                        f"{scaled} = {expr} is undefined for "
-                        f"{', '.join(f'{n} = {out[n]}' for n in sorted(need))}"
-                        + (f": give {' and '.join(zero)} != 0" if zero else ""))
-                out[scaled] = val
-        for name in list(out):
-            if name in phys_names and name not in known:
-                del out[name]
-        if use_defaults:
-            for name, val in self.defaults.items():
-                out.setdefault(name, val)
-        return out
-
-    def substitute(self, values: Mapping[str, object]) -> "Oscillator":
-        """The same model with some parameters replaced by values (see :meth:`resolve`)."""
-        vals = self.resolve(values, use_defaults=False)
-        subs = {sp.Symbol(k): v for k, v in vals.items() if k != "mu"}
-        return Oscillator(
-            name=self.name,
-            F=self.F.subs(subs),
-            omega0=sp.sympify(self.omega0).subs(subs),
-            description=self.description,
-            physical={k: v for k, v in self.physical.items() if k not in vals},
-            defaults={k: v for k, v in self.defaults.items() if k not in vals},
-            drive=self.drive.subs(subs),
-            gain_factor=self.gain_factor.subs(subs),
-            stage_relative=self.stage_relative.subs(subs),
-        )

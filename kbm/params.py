@@ -8,126 +8,23 @@ the physical ones of the paper map to the scaled ones the engines use (eqs. 3 an
 (fluctuation-dissipation, Kubo 1966: ``<x'^2> = kT`` for unit mass).
 
 :class:`ParameterNames` is what a command checks the user's names against
-(:meth:`ParameterNames.check`); :func:`lookup` finds a built-in model of any kind by name
+(:meth:`ParameterNames.check`), and :func:`scaled_values` the one binding layer of every
+model (both defined in :mod:`kbm.values`, below the model types, and re-exported here); :func:`lookup` finds a built-in model of any kind by name
 (the one-degree-of-freedom, forced and coupled ones) with a message that lists them all.
 """
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
 
 import sympy as sp
 
 from .errors import ModelError, ParameterError
-from .values import parameter_value, scaled_values
+from .values import (NOISE_NAMES, ParameterNames, closest, parameter_value,
+                     scaled_values)
 
 __all__ = ["NOISE_NAMES", "ParameterNames", "names_of", "lookup", "builtin_names",
            "to_physical", "noise_from", "closest", "scaled_values"]
-
-#: the noise intensity ``D`` of ``sqrt(2 D) xi`` and the temperature ``T = D/mu``
-NOISE_NAMES = ("D", "T")
-
-
-def closest(name: str, choices: Iterable[str]) -> str | None:
-    """The valid name nearest to a misspelt one (``lamda`` -> ``lam``, ``Mu`` -> ``mu``),
-    or ``None`` when none is close."""
-    choices = list(choices)
-    for c in choices:  # a difference of case only
-        if c.lower() == name.lower():
-            return c
-    near = difflib.get_close_matches(name, choices, n=1, cutoff=0.7)
-    return near[0] if near else None
-
-
-@dataclass(frozen=True)
-class ParameterNames:
-    """The names a model's values may be given in.
-
-    Attributes
-    ----------
-    model
-        The model's name.
-    scaled
-        The model's own (scaled) parameters, e.g. ``delta, k, Omega`` of the CDC.
-    physical
-        ``{scaled: expression in physical names and mu}``, e.g. ``{"delta": Delta/mu}``.
-    extra
-        Further names the command takes (``v``, the stage velocity of a slider).
-    noise
-        Whether ``D`` and ``T = D/mu`` are taken.
-    """
-
-    model: str
-    scaled: tuple[str, ...]
-    physical: Mapping[str, sp.Expr]
-    extra: tuple[str, ...] = ()
-    noise: bool = False
-
-    @property
-    def physical_names(self) -> tuple[str, ...]:
-        """The physical names (``Delta``, ``lam``), ``mu`` left out."""
-        names = {s.name for e in self.physical.values() for s in sp.sympify(e).free_symbols}
-        return tuple(sorted(names - {"mu"}))
-
-    @property
-    def valid(self) -> tuple[str, ...]:
-        """Every valid name: ``mu``, the physical ones, the scaled ones, the command's extra
-        ones and the noise ``D``, ``T`` (in that order, each group sorted)."""
-        groups = (("mu",), self.physical_names, self.scaled, tuple(sorted(self.extra)),
-                  NOISE_NAMES if self.noise else ())
-        out: list[str] = []
-        for g in groups:
-            out += [n for n in g if n not in out]
-        return tuple(out)
-
-    def listing(self) -> str:
-        """The valid names as a sentence: ``mu, Delta, lam (or the scaled delta = Delta/mu,
-        k = 2*pi/lam), Omega, v, D or T = D/mu (noise)``."""
-        parts = ["mu"] + list(self.physical_names)
-        if self.physical:
-            parts[-1] += " (or the scaled " + ", ".join(
-                f"{k} = {sp.sstr(sp.sympify(v))}" for k, v in self.physical.items()) + ")"
-        parts += [n for n in self.scaled if n not in self.physical and n != "mu"]
-        parts += [n for n in sorted(self.extra) if n not in parts and n not in self.scaled]
-        if self.noise:
-            parts.append("D or T = D/mu (the noise sqrt(2 D) xi)")
-        return ", ".join(parts)
-
-    def check(self, names: Iterable[str], *, flag: str = "-p") -> None:
-        """Refuse any name that is not valid, with the list of the valid ones.
-
-        Raises
-        ------
-        kbm.errors.ParameterError
-            ``unknown parameter 'Mu' for cdc (did you mean mu?); its parameters are ...``.
-        """
-        valid = self.valid
-        for name in names:
-            if name in valid:
-                continue
-            near = closest(name, valid)
-            hint = f" (did you mean {near}?)" if near else ""
-            noise = "" if self.noise or name not in NOISE_NAMES else \
-                " (this command has no noise)"
-            what = (f"cannot vary {name!r}: it is not a parameter of {self.model}"
-                    if flag == "--vary" else f"unknown parameter {name!r} for {self.model}")
-            raise ParameterError(f"{what}{hint}{noise} (in {flag} {name}=...); its parameters "
-                                 f"are {self.listing()}")
-
-    def check_both(self, names: Iterable[str]) -> None:
-        """Refuse a scaled name given with the physical ones it is computed from
-        (``delta`` with ``Delta``), and ``D`` with ``T``."""
-        names = set(names)
-        for scaled, expr in self.physical.items():
-            phys = {s.name for s in sp.sympify(expr).free_symbols} - {"mu"}
-            if scaled in names and phys & names:
-                raise ParameterError(f"give either {scaled} or {', '.join(sorted(phys & names))}"
-                                     f" ({scaled} = {sp.sstr(sp.sympify(expr))}), not both")
-        if {"D", "T"} <= names:
-            raise ParameterError("give the noise as D or as T = D/mu, not both")
-
 
 def _members(name: str):
     """The built-in of any kind called ``name``, or ``None``."""

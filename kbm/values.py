@@ -1,17 +1,23 @@
-"""Parameter values: exact reading of user input, the read-only mapping models hold, and the
-physical names of a model turned into its scaled ones (:func:`scaled_values`)."""
+"""Parameter values and names: exact reading of user input (:func:`parameter_value`), the
+read-only mapping models hold (:class:`FrozenMap`), the names a model's values may be given in
+(:class:`ParameterNames`: scaled, physical, noise ``D`` or ``T = D/mu``) and the one binding
+layer of every model, :func:`scaled_values` (physical names turned into scaled ones); all of
+them re-exported by :mod:`kbm.params`."""
 
 from __future__ import annotations
 
+import difflib
 import numbers
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping
+from dataclasses import dataclass
 
 import sympy as sp
 
 from .errors import NonFiniteError, ParameterError
 from .symbols import parse
 
-__all__ = ["FrozenMap", "parameter_value", "scaled_values"]
+__all__ = ["FrozenMap", "parameter_value", "NOISE_NAMES", "ParameterNames", "closest",
+           "scaled_values"]
 
 
 class FrozenMap(Mapping):
@@ -78,48 +84,162 @@ def parameter_value(name: str, raw: object) -> sp.Expr:
     return val
 
 
+#: the noise intensity ``D`` of ``sqrt(2 D) xi`` and the temperature ``T = D/mu``
+NOISE_NAMES = ("D", "T")
+
+
+def closest(name: str, choices: Iterable[str]) -> str | None:
+    """The valid name nearest to a misspelt one (``lamda`` -> ``lam``, ``Mu`` -> ``mu``),
+    or ``None`` when none is close."""
+    choices = list(choices)
+    for c in choices:  # a difference of case only
+        if c.lower() == name.lower():
+            return c
+    near = difflib.get_close_matches(name, choices, n=1, cutoff=0.7)
+    return near[0] if near else None
+
+
+@dataclass(frozen=True)
+class ParameterNames:
+    """The names a model's values may be given in.
+
+    Attributes
+    ----------
+    model
+        The model's name.
+    scaled
+        The model's own (scaled) parameters, e.g. ``delta, k, Omega`` of the CDC.
+    physical
+        ``{scaled: expression in physical names and mu}``, e.g. ``{"delta": Delta/mu}``.
+    extra
+        Further names the command takes (``v``, the stage velocity of a slider).
+    noise
+        Whether ``D`` and ``T = D/mu`` are taken.
+    """
+
+    model: str
+    scaled: tuple[str, ...]
+    physical: Mapping[str, sp.Expr]
+    extra: tuple[str, ...] = ()
+    noise: bool = False
+
+    @property
+    def physical_names(self) -> tuple[str, ...]:
+        """The physical names (``Delta``, ``lam``), ``mu`` left out."""
+        names = {s.name for e in self.physical.values() for s in sp.sympify(e).free_symbols}
+        return tuple(sorted(names - {"mu"}))
+
+    @property
+    def valid(self) -> tuple[str, ...]:
+        """Every valid name: ``mu``, the physical ones, the scaled ones, the command's extra
+        ones and the noise ``D``, ``T`` (in that order, each group sorted)."""
+        groups = (("mu",), self.physical_names, self.scaled, tuple(sorted(self.extra)),
+                  NOISE_NAMES if self.noise else ())
+        out: list[str] = []
+        for g in groups:
+            out += [n for n in g if n not in out]
+        return tuple(out)
+
+    def listing(self) -> str:
+        """The valid names as a sentence: ``mu, Delta, lam (or the scaled delta = Delta/mu,
+        k = 2*pi/lam), Omega, v, D or T = D/mu (noise)``."""
+        parts = ["mu"] + list(self.physical_names)
+        if self.physical:
+            parts[-1] += " (or the scaled " + ", ".join(
+                f"{k} = {sp.sstr(sp.sympify(v))}" for k, v in self.physical.items()) + ")"
+        parts += [n for n in self.scaled if n not in self.physical and n != "mu"]
+        parts += [n for n in sorted(self.extra) if n not in parts and n not in self.scaled]
+        if self.noise:
+            parts.append("D or T = D/mu (the noise sqrt(2 D) xi)")
+        return ", ".join(parts)
+
+    def check(self, names: Iterable[str], *, flag: str = "-p") -> None:
+        """Refuse any name that is not valid, with the list of the valid ones.
+
+        Raises
+        ------
+        kbm.errors.ParameterError
+            ``unknown parameter 'Mu' for cdc (did you mean mu?); its parameters are ...``.
+        """
+        valid = self.valid
+        for name in names:
+            if name in valid:
+                continue
+            near = closest(name, valid)
+            hint = f" (did you mean {near}?)" if near else ""
+            noise = "" if self.noise or name not in NOISE_NAMES else \
+                " (this command has no noise)"
+            what = (f"cannot vary {name!r}: it is not a parameter of {self.model}"
+                    if flag == "--vary" else f"unknown parameter {name!r} for {self.model}")
+            raise ParameterError(f"{what}{hint}{noise} (in {flag} {name}=...); its parameters "
+                                 f"are {self.listing()}")
+
+    def check_both(self, names: Iterable[str]) -> None:
+        """Refuse a scaled name given with the physical ones it is computed from
+        (``delta`` with ``Delta``), and ``D`` with ``T``."""
+        names = set(names)
+        for scaled, expr in self.physical.items():
+            phys = {s.name for s in sp.sympify(expr).free_symbols} - {"mu"}
+            if scaled in names and phys & names:
+                raise ParameterError(f"give either {scaled} or {', '.join(sorted(phys & names))}"
+                                     f" ({scaled} = {sp.sstr(sp.sympify(expr))}), not both")
+        if {"D", "T"} <= names:
+            raise ParameterError("give the noise as D or as T = D/mu, not both")
+
+
 def scaled_values(model, values: Mapping[str, object] | None = None, *,
                   use_defaults: bool = True) -> dict[str, sp.Expr]:
-    """Exact values of a model's own (scaled) parameters and ``mu`` from the given ones:
-    the physical names converted by the model's ``physical`` map (``delta = Delta/mu``,
-    which needs ``mu``), the defaults filled in.  The bound form of every member of the
-    family (:meth:`kbm.coupled.CoupledOscillators.resolve`, :func:`kbm.bound.bind`).
+    """Exact values of a model's own (scaled) parameters and ``mu`` from the given ones: the
+    one binding layer of every instance of the model type (its ``resolve``,
+    :func:`kbm.bound.bind`).  The names are checked as a command checks them
+    (:meth:`ParameterNames.check`); the physical names are converted by the model's
+    ``physical`` map (``delta = Delta/mu``, ``k = 2 pi/lam``; an input may come from the
+    defaults), and the defaults are filled in (none of them with ``use_defaults=False``:
+    then a scaled parameter none of whose inputs is given is left out).
 
     Raises
     ------
     kbm.errors.ParameterError
-        For an unknown name, a value that is not a finite number, a scaled and a physical
-        value of the same parameter, or a physical one without ``mu``.
+        For an unknown name (the valid ones listed), a value that is not a finite number, a
+        scaled and a physical value of the same parameter, a physical one without ``mu``, or
+        one at which the scaled value is undefined (``Delta/mu`` at ``mu = 0``).
+
+    Examples
+    --------
+    >>> from kbm.models import get_model
+    >>> scaled_values(get_model("sedf"), {"mu": "0.1", "Delta": 2, "lam": 1})["delta"]
+    20
     """
     values = dict(values or {})
-    physical = dict(model.physical)
-    phys_names = sorted({s.name for e in physical.values() for s in e.free_symbols}
-                        - {"mu"})
-    names = set(model.parameters) | {"mu"}
-    unknown = sorted(set(values) - names - set(phys_names))
-    if unknown:
-        extra = f"; or the physical {', '.join(phys_names)}" if phys_names else ""
-        raise ParameterError(f"{', '.join(map(repr, unknown))} is not a parameter of "
-                             f"{model.name!r} (its parameters: {', '.join(sorted(names))}"
-                             f"{extra})")
+    ParameterNames(model.name, tuple(model.parameters), dict(model.physical)).check(values)
     given = {k: parameter_value(k, v) for k, v in values.items()}
-    for scaled, expr in physical.items():  # e.g. delta = Delta/mu from Delta and mu
+    for scaled, expr in model.physical.items():  # e.g. delta = Delta/mu from Delta and mu
         needs = {s.name for s in expr.free_symbols}
+        inputs = needs - {"mu"}
         if scaled in given:
-            if needs & (set(given) - {"mu"}):
-                raise ParameterError(f"give either {scaled} or "
-                                     f"{', '.join(sorted(needs - {'mu'}))}, not both")
+            if inputs & set(given):
+                raise ParameterError(f"give either {scaled} or {', '.join(sorted(inputs))}, "
+                                     "not both")
             continue
-        if needs - {"mu"} and needs - {"mu"} <= set(given) | set(model.defaults):
-            vals = {sp.Symbol(n): given.get(n, model.defaults.get(n)) for n in needs}
-            if any(v is None for v in vals.values()):
-                raise ParameterError(f"{scaled} = {expr} needs a value of mu "
-                                     "(-p mu=VALUE)")
-            given[scaled] = sp.sympify(expr).subs(vals)
-    out = {k: v for k, v in given.items() if k in names}
+        defaults = model.defaults if use_defaults else {}
+        if not inputs or not inputs <= set(given) | set(defaults):
+            continue
+        vals = {n: given.get(n, defaults.get(n)) for n in sorted(needs)}
+        missing = [n for n, v in vals.items() if v is None]
+        if missing:
+            raise ParameterError(f"{scaled} = {expr} needs a value of {', '.join(missing)} "
+                                 f"(-p {missing[0]}=VALUE)")
+        value = sp.sympify(expr).subs({sp.Symbol(n): v for n, v in vals.items()})
+        if not (value.is_finite and value.is_real):
+            zero = [n for n, v in vals.items() if v == 0]
+            raise ParameterError(f"{scaled} = {expr} is undefined for "
+                                 + ", ".join(f"{n} = {v}" for n, v in vals.items())
+                                 + (f": give {' and '.join(zero)} != 0" if zero else ""))
+        given[scaled] = value
+    own = set(model.parameters) | {"mu"}
+    out = {k: v for k, v in given.items() if k in own}
     if use_defaults:
         for name, v in model.defaults.items():
-            if name in names:
+            if name in own:
                 out.setdefault(name, sp.sympify(v))
     return out
-

@@ -138,7 +138,7 @@ def test_amplitude_death_against_the_averaged_linearisation():
 def test_bad_input():
     with pytest.raises(ParameterError, match="give a value to mu"):
         coupled_cycle("coupled-vdp", {"c": 0.3})
-    with pytest.raises(ParameterError, match="not a parameter"):
+    with pytest.raises(ParameterError, match="unknown parameter .beta. for coupled-vdp"):
         coupled_cycle("coupled-vdp", {"mu": 0.1, "beta": 1})
 
 

@@ -239,7 +239,7 @@ def test_bad_models_and_orders():
                              tuple(range(1, 8)))
     with pytest.raises(ModelError, match="above the limit"):
         derive_coupled(big, 1)
-    with pytest.raises(ParameterError, match="not a parameter"):
+    with pytest.raises(ParameterError, match="unknown parameter .nope. for coupled-vdp"):
         derive_coupled("coupled-vdp", 1, {"nope": 1})
     with pytest.raises(ModelError, match="unknown model 'nope'"):
         get_coupled_model("nope")

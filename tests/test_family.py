@@ -78,7 +78,7 @@ def test_the_bound_form_of_the_n1_case_equals_the_oscillators():
 
 
 def test_bad_values_of_a_coupled_member():
-    with pytest.raises(ParameterError, match="not a parameter"):
+    with pytest.raises(ParameterError, match="unknown parameter .q. for coupled-vdp.*its parameters are mu, c, sigma"):
         bind("coupled-vdp", {"mu": 0.1, "q": 1})
     with pytest.raises(ParameterError, match="either delta or Delta"):
         bind("sedf-dimer", {"mu": 0.1, "Delta": 1.5, "delta": 15})

@@ -98,23 +98,6 @@ def _hard_shifted(model: CoupledOscillators) -> list[list[sp.Expr]]:
     return out
 
 
-def _scaled_values(model: CoupledOscillators, params: dict) -> dict:
-    """The given values as the model's own parameters: physical names converted
-    (``Delta`` and ``mu`` give ``delta = Delta/mu``), ``mu`` itself dropped (the expansion
-    is in its powers); a scaled parameter none of whose physical inputs is given stays
-    symbolic (``k`` without ``lam``, whatever ``lam``'s default)."""
-    exact = model.resolve(params, use_defaults=False)
-    given = set(params)
-    out = {}
-    for name, value in exact.items():
-        if name == "mu":
-            continue
-        inputs = {s.name for s in sp.sympify(model.physical.get(name, 0)).free_symbols}
-        if name in given or (inputs - {"mu"}) & given:
-            out[name] = value
-    return out
-
-
 def derive_coupled(model: CoupledOscillators | str, order: int,
                    params: dict | None = None, *, internal=(),
                    tolerance: float = TOLERANCE) -> CoupledKBMResult:
@@ -174,7 +157,7 @@ def derive_coupled(model: CoupledOscillators | str, order: int,
     model = model.at_rest(params)  # a stage at rest (given or default v = 0) is autonomous
     params = {k: v for k, v in (params or {}).items() if k not in stage}
     if params:
-        model = model.substitute(_scaled_values(model, params))
+        model = model.substitute(params)  # physical names converted, mu passed over
     if internal:
         model = model.with_internal(internal)
     limit = MAX_ORDER_ONE if model.dof == 1 else MAX_ORDER

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..errors import ModelError, ParameterError
-from ..family import OscillatorFamily, one_degree_form
+from ..family import OscillatorFamily
 from ..symbols import mu, parse, t
 from ..values import FrozenMap, parameter_value, scaled_values
 from .resonance import InternalResonance
@@ -134,64 +134,43 @@ class CoupledOscillators(OscillatorFamily):
                  *, gain_factor: object = 1, stage_relative: Sequence = ()) -> None:
         F, w, nu0, internal, drive, hard = read_system(name, F, omega0, nu0, internal, drive,
                                                       hard)
-        self._store(name, F, w, description, defaults, internal, physical, nu0, nu_detuning,
-                    drive, hard, gain_factor, read_exprs(stage_relative, len(F), "stage parts"))
+        self._store(name=name, rhs=F, omegas=w, description=description, defaults=defaults,
+                    internal=internal, physical=physical, nu0=nu0, nu_detuning=nu_detuning,
+                    drives=drive, hards=hard, gain_factor=gain_factor,
+                    relative=read_exprs(stage_relative, len(F), "stage parts"))
 
-    def _store(self, name, F, omega0, description, defaults, internal, physical, nu0,
-               nu_detuning, drive, hard, gain_factor, relative) -> None:
-        """Set the fields (the constructors of the cases ``N = 1`` check their own data)."""
-        values = {"name": name, "rhs": tuple(F), "omegas": tuple(omega0),
-                  "description": description,
-                  "defaults": FrozenMap({k: v if isinstance(v, sp.Basic)
-                                         else parameter_value(k, v)
-                                         for k, v in (defaults or {}).items()}),
-                  "internal": tuple(internal),
-                  "physical": FrozenMap({k: parse(v) if isinstance(v, str) else sp.sympify(v)
-                                         for k, v in (physical or {}).items()}),
-                  "nu0": nu0, "nu_detuning": nu_detuning, "drives": tuple(drive),
-                  "hards": tuple(hard),
-                  "gain_factor": parse(gain_factor) if isinstance(gain_factor, str)
-                  else sp.sympify(gain_factor), "relative": tuple(relative)}
-        for key, value in values.items():
-            object.__setattr__(self, key, value)
+    def _store(self, *, name: str, rhs: Sequence, omegas: Sequence, description: str = "",
+               defaults: Mapping | None = None, internal: Sequence = (),
+               physical: Mapping | None = None, nu0: object = None,
+               nu_detuning: str | None = None, drives: Sequence = (), hards: Sequence = (),
+               gain_factor: object = 1, relative: Sequence = ()) -> None:
+        """Set the fields from checked data (each constructor checks its own; :meth:`_with`
+        copies), the mappings read into exact, read-only ones."""
+        values = dict(locals())
+        del values["self"]
+        values.update(
+            defaults=FrozenMap({k: v if isinstance(v, sp.Basic) else parameter_value(k, v)
+                                for k, v in (defaults or {}).items()}),
+            physical=FrozenMap({k: parse(v) if isinstance(v, str) else sp.sympify(v)
+                                for k, v in (physical or {}).items()}),
+            gain_factor=parse(gain_factor) if isinstance(gain_factor, str)
+            else sp.sympify(gain_factor))
+        for key in self.__dataclass_fields__:
+            value = values[key]
+            object.__setattr__(self, key, tuple(value) if isinstance(value, (list, tuple))
+                               else value)
 
-    def _fields(self) -> dict:
-        """The constructor's arguments of the general type, from the fields."""
-        return dict(name=self.name, F=self.rhs, omega0=self.omegas,
-                    description=self.description, defaults=self.defaults,
-                    internal=self.internal, physical=self.physical, nu0=self.nu0,
-                    nu_detuning=self.nu_detuning, drive=self.drives, hard=self.hards,
-                    gain_factor=self.gain_factor, stage_relative=self.relative)
+    def _with(self, **changes) -> "CoupledOscillators":
+        """A copy of the same class with some fields replaced."""
+        new = object.__new__(type(self))
+        new._store(**{**{k: getattr(self, k) for k in self.__dataclass_fields__}, **changes})
+        return new
 
-    @classmethod
-    def from_oscillator(cls, model: "CoupledOscillators") -> "CoupledOscillators":
-        """The model itself: a model of one degree of freedom is an instance already."""
-        return model
-
-    def to_oscillator(self) -> "CoupledOscillators":
-        """The model itself (:func:`kbm.family.one_degree_form`: one degree of freedom)."""
-        return one_degree_form(self)
-
-    # -- the names of a system built as such ---------------------------------------------
-    @property
-    def F(self) -> tuple:
-        """The right-hand sides ``F_i`` (:attr:`rhs`)."""
-        return self.rhs
-
-    @property
-    def omega0(self) -> tuple:
-        """The linear frequencies (:attr:`omegas`)."""
-        return self.omegas
-
-    @property
-    def drive(self) -> tuple:
-        """The order-one drives (:attr:`drives`)."""
-        return self.drives
-
-    @property
-    def hard(self) -> tuple:
-        """The hard forcing amplitudes (:attr:`hards`)."""
-        return self.hards
+    # -- the names of a system built as such (tuples; scalars in the cases N = 1) ---------
+    F = property(lambda self: self.rhs, doc="The right-hand sides ``F_i`` (:attr:`rhs`).")
+    omega0 = property(lambda self: self.omegas, doc="The frequencies (:attr:`omegas`).")
+    drive = property(lambda self: self.drives, doc="The order-one drives (:attr:`drives`).")
+    hard = property(lambda self: self.hards, doc="The hard forcings (:attr:`hards`).")
 
     # -- structure --------------------------------------------------------------------
     @property
@@ -207,15 +186,18 @@ class CoupledOscillators(OscillatorFamily):
     @property
     def parameters(self) -> tuple[str, ...]:
         """The names of the parameters of the right-hand sides, drives, hard forcings and
-        symbolic frequencies, and the declared detunings (sorted)."""
+        symbolic frequencies, and the :attr:`detunings` (sorted)."""
         syms = set().union(*[f.free_symbols for f in (*self.rhs, *self.drives, *self.hards,
                                                       *self.omegas)]) \
             - set(self.state) - {t} - ({_THETA, _NU} if self.forced else set())
-        names = {s.name for s in syms}
-        if self.nu_detuning:
-            names.add(self.nu_detuning)
-        names |= {r.detuning for r in self.internal if r.detuning}
-        return tuple(sorted(names))
+        return tuple(sorted({s.name for s in syms} | set(self.detunings)))
+
+    @property
+    def detunings(self) -> tuple[str, ...]:
+        """The names of the declared detunings (the forcing's ``sigma``, the internal
+        resonances'), sorted: parameters the averaged slow flow keeps symbolic."""
+        return tuple(sorted(({self.nu_detuning} | {r.detuning for r in self.internal})
+                            - {None}))
 
     @property
     def forced(self) -> bool:
@@ -259,48 +241,61 @@ class CoupledOscillators(OscillatorFamily):
     def resolve(self, values: Mapping[str, object] | None = None, *,
                 use_defaults: bool = True) -> dict[str, sp.Expr]:
         """Exact values of the model's parameters (and ``mu``) from the given ones, physical
-        names converted (``delta = Delta/mu``) and the defaults filled in: the bound form of
-        every member of the family (:func:`kbm.values.scaled_values`, :func:`kbm.bound.bind`).
+        names converted (``delta = Delta/mu``) and the defaults filled in: the one binding
+        layer, :func:`kbm.params.scaled_values` (:func:`kbm.bound.bind` binds its result).
 
         Raises
         ------
         kbm.errors.ParameterError
-            For an unknown name, a value that is not a finite number, a scaled and a
-            physical value of the same parameter, or a physical one without ``mu``.
+            For an unknown name (the valid ones listed), a value that is not a finite number,
+            a scaled and a physical value of the same parameter, or a physical one without
+            ``mu``.
         """
         return scaled_values(self, values, use_defaults=use_defaults)
 
     def substitute(self, params: Mapping[str, object]) -> "CoupledOscillators":
-        """The model with parameter values put in (exact: ``"0.1"`` is ``1/10``).
+        """The same model (of the same class) with parameter values put in, exact (``"0.1"``
+        is ``1/10``), physical names converted (:meth:`resolve`); ``mu`` is not in the
+        model and is passed over.
 
         Raises
         ------
         kbm.errors.ParameterError
-            For a name that is not a parameter of the model.
+            For a name that is not a parameter of the model, or a declared detuning (the
+            averaged slow flow is a function of it).
+        kbm.errors.ModelError
+            For a value that makes a linear frequency not positive.
         """
-        detunings = {self.nu_detuning} | {r.detuning for r in self.internal}
-        unknown = sorted(set(params) - set(self.parameters))
-        kept = sorted(set(params) & (detunings - {None}))
+        vals = self.resolve(params, use_defaults=False)
+        vals.pop("mu", None)
+        kept = sorted(set(vals) & set(self.detunings))
         if kept:
             raise ParameterError(f"the detuning {', '.join(kept)} stays symbolic in the "
                                  "averaging (the slow flow is a function of it)")
-        if unknown:
-            raise ParameterError(f"{', '.join(map(repr, unknown))} is not a parameter of "
-                                 f"{self.name!r} (its parameters: "
-                                 f"{', '.join(self.parameters) or 'none'})")
-        sub = {sp.Symbol(k): parameter_value(k, v) for k, v in params.items()}
-        fields = self._fields()
-        for key in ("F", "drive", "hard", "stage_relative"):
-            fields[key] = tuple(e.subs(sub) for e in fields[key])
-        fields["gain_factor"] = self.gain_factor.subs(sub)
-        return CoupledOscillators(**fields)
+        sub = {sp.Symbol(k): v for k, v in vals.items()}
+        omegas = tuple(sp.sympify(w).subs(sub) for w in self.omegas)
+        bad = [w for w in omegas if w.is_number and not (w.is_real and w > 0)]
+        if bad:
+            raise ModelError(f"the linear frequency of {self.name!r} must be positive, got "
+                             f"omega0 = {bad[0]}")
+        keep = lambda m: FrozenMap({k: v for k, v in m.items() if k not in vals})  # noqa: E731
+        return self._with(
+            rhs=tuple(e.subs(sub) for e in self.rhs), omegas=omegas,
+            drives=tuple(e.subs(sub) for e in self.drives),
+            hards=tuple(e.subs(sub) for e in self.hards),
+            relative=tuple(e.subs(sub) for e in self.relative),
+            nu0=None if self.nu0 is None else sp.sympify(self.nu0).subs(sub),
+            gain_factor=self.gain_factor.subs(sub), defaults=keep(self.defaults),
+            physical=keep(self.physical))
 
     def with_internal(self, resonances: Sequence[object]) -> "CoupledOscillators":
         """The model with further declared internal resonances."""
         extra = tuple(r if isinstance(r, InternalResonance) else
                       InternalResonance.parse(r, self.dof, forced=self.forced)
                       for r in resonances)
-        return CoupledOscillators(**{**self._fields(), "internal": self.internal + extra})
+        internal = read_system(self.name, self.rhs, self.omegas, self.nu0,
+                               self.internal + extra, self.drives, self.hards)[3]
+        return self._with(internal=internal)  # checked as the constructor checks them
 
     def frequencies(self) -> tuple[sp.Expr, ...]:
         """The linear frequencies with the declared detunings: ``omega_j + mu sigma`` for a
@@ -319,14 +314,14 @@ class CoupledOscillators(OscillatorFamily):
         return tuple(-w**2 * xi + mu * f + d + k * sp.cos(_THETA) for w, xi, f, d, k in
                      zip(self.frequencies(), positions(self.dof), self.rhs, drive, hard))
 
-    def is_autonomous(self, values: Mapping[str, object] | None = None) -> bool:
-        """Whether the system does not depend on ``t`` explicitly (at ``values``: a stage at
-        ``v = 0`` does not pull)."""
-        return self.autonomous(values)
+    @property
+    def is_autonomous(self) -> bool:
+        """Whether the system does not depend on the time ``t`` explicitly."""
+        return self.autonomous()
 
     def autonomous(self, values: Mapping[str, object] | None = None) -> bool:
-        """Whether the system does not depend on ``t`` explicitly at ``values`` (every
-        instance; :attr:`kbm.models.Oscillator.is_autonomous` is its case ``N = 1``)."""
+        """Whether the system does not depend on ``t`` explicitly at ``values`` (a stage at
+        ``v = 0`` does not pull)."""
         exprs = [*self.rhs, *self.drives]
         if values:
             sub = {sp.Symbol(k): v for k, v in values.items()}

@@ -24,18 +24,15 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from functools import cached_property
 from fractions import Fraction
 
 import sympy as sp
 
 from ..errors import ModelError, ParameterError
-from ..coupled.model import CoupledOscillators
 from ..coupled.resonance import InternalResonance
 from ..models import Oscillator, get_model
-from ..oscillator import TO_GENERAL, TO_ONE
+from ..oscillator import TO_GENERAL, OneDegree
 from ..symbols import mu, parse, t, x, xdot
-from ..values import parameter_value
 from .checks import NonPeriodicError, check_state, check_theta, is_polynomial, nu, theta
 
 __all__ = ["ForcedOscillator", "Resonance", "theta", "phi", "sigma", "nu", "add_forcing",
@@ -105,7 +102,7 @@ class Resonance:
         return f"{self.p}/{self.q}"
 
 
-class ForcedOscillator(CoupledOscillators):
+class ForcedOscillator(OneDegree):
     """``x'' + omega0**2 x = mu F(x, x', theta)``, ``theta = nu t``, ``F`` 2 pi-periodic in theta:
     the one type :class:`~kbm.coupled.CoupledOscillators` at ``N = 1`` with a forcing angle
     (``nu0 = (p/q) omega0``, the detuning ``sigma``, the resonance ``omega0 : nu = q : p``).
@@ -161,44 +158,15 @@ class ForcedOscillator(CoupledOscillators):
         if K.has(x, xdot, theta, t, mu) or any(s.name in _RESERVED for s in K.free_symbols):
             raise ModelError(f"the hard forcing amplitude K = {K} must be a constant (numbers "
                              "and parameters, no x, xdot, theta, t, mu or reserved names)")
-        if mu in F.free_symbols:
-            raise ModelError(f"F of model {name!r} contains the small parameter mu; write "
-                             "the equation as x'' + omega0^2 x = mu*F with F free of mu")
-        for s in (F.free_symbols - {nu}) | w0.free_symbols:
-            if s.name in _RESERVED - {"t"}:
-                raise ModelError(f"the symbol {s.name!r} is reserved (amplitude, phases, "
-                                 "detuning and forcing frequency); rename that parameter")
+        self._check_one(name, F, w0, _RESERVED - {"t"}, exact=True, free={nu})
         check_theta(F, name)
         check_state(F, name)
-        if w0.has(x, xdot, theta, t):
-            raise ModelError(f"omega0 = {w0} must be a constant")
-        if w0.is_number:
-            if not (w0.is_Rational and w0 > 0):
-                raise ModelError(f"omega0 must be a positive rational number (or a symbol) "
-                                 f"for the exact forced averaging, got {w0}")
-        elif not w0.is_Symbol:
-            raise ModelError(f"omega0 must be a positive number or a single symbol, got {w0}")
-        self._store(name, (F.xreplace(TO_GENERAL),), (w0,), description,
-                    {k: parameter_value(k, v) for k, v in (defaults or {}).items()},
-                    (InternalResonance(1, 2, res.q, res.p, forcing=True),), {},
-                    w0 * sp.Rational(res.p, res.q), "sigma", (), (K,) if K != 0 else (), 1, ())
+        self._store(name=name, rhs=(F.xreplace(TO_GENERAL),), omegas=(w0,),
+                    description=description, defaults=defaults,
+                    internal=(InternalResonance(1, 2, res.q, res.p, forcing=True),),
+                    nu0=w0 * sp.Rational(res.p, res.q), nu_detuning="sigma",
+                    hards=(K,) if K != 0 else ())
         self.__dict__["F"] = F  # the F given, as given
-
-    # -- the names of one degree of freedom -----------------------------------------------
-    @cached_property
-    def F(self) -> sp.Expr:
-        """``F(x, xdot, theta)``: the right-hand side over ``mu``."""
-        return self.rhs[0].xreplace(TO_ONE)
-
-    @property
-    def omega0(self) -> sp.Expr:
-        """The linear frequency: a positive rational or a symbol."""
-        return self.omegas[0]
-
-    @property
-    def hard(self) -> sp.Expr:
-        """The amplitude ``K`` of the hard forcing ``K cos(theta)``; 0 for none."""
-        return self.hards[0] if self.hards else sp.Integer(0)
 
     @property
     def resonance(self) -> Resonance:
@@ -212,44 +180,10 @@ class ForcedOscillator(CoupledOscillators):
         the numeric backend (:func:`kbm.forced.numeric_derive_forced`) applies."""
         return is_polynomial(self.F)
 
-    @property
-    def parameters(self) -> tuple[str, ...]:
-        """Names of the parameters of ``F``, ``omega0`` and ``K`` (sorted; the detuning
-        ``sigma`` is the analysis's)."""
-        return tuple(p for p in super().parameters if p != "sigma")
-
-    def substitute(self, values: Mapping[str, object]) -> "ForcedOscillator":
-        """The model with some parameters replaced by exact values (``mu``, ``sigma`` and
-        ``nu`` are not parameters of the model and are ignored)."""
-        subs = {}
-        for k, v in values.items():
-            if k in ("mu", "sigma", "nu"):
-                continue
-            if k not in self.parameters:
-                raise ParameterError(f"unknown parameter {k!r} for model {self.name!r}; its "
-                                     f"parameters are {', '.join(self.parameters) or 'none'}")
-            subs[sp.Symbol(k)] = parameter_value(k, v)
-        return ForcedOscillator(self.name, self.F.subs(subs), self.omega0.subs(subs),
-                                self.resonance, self.description,
-                                {k: v for k, v in self.defaults.items()
-                                 if sp.Symbol(k) not in subs}, self.hard.subs(subs))
-
     def with_hard(self, K: object) -> "ForcedOscillator":
         """The model with the hard forcing amplitude ``K`` (in place of its own)."""
         return ForcedOscillator(self.name, self.F, self.omega0, self.resonance,
                                 self.description, self.defaults, K)
-
-    def resolve(self, values: Mapping[str, object] | None = None) -> dict[str, sp.Expr]:
-        """Exact values of the given parameters (and ``mu``, ``sigma``), defaults filled in."""
-        out = {k: parameter_value(k, v) for k, v in (values or {}).items()}
-        for k in out:
-            if k not in self.parameters and k not in ("mu", "sigma"):
-                raise ParameterError(f"unknown parameter {k!r} for model {self.name!r}; its "
-                                     f"parameters are {', '.join(self.parameters) or 'none'} "
-                                     "(and mu, sigma)")
-        for k, v in self.defaults.items():
-            out.setdefault(k, v)
-        return out
 
     def frequency(self, resonance: Resonance | str | None = None) -> sp.Expr:
         """``nu = (p/q) omega0 + mu sigma`` as an expression."""

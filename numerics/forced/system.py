@@ -54,7 +54,7 @@ class ForcedSystem:
         if "mu" not in vals:
             raise ParameterError("the forced system needs a value of mu (--param mu=0.1)")
         vals.pop("sigma", None)
-        missing = [p for p in model.parameters if p not in vals]
+        missing = [p for p in model.parameters if p not in vals and p not in model.detunings]
         if missing:
             raise ParameterError(f"model {model.name!r} needs values of {', '.join(missing)} "
                                  f"(e.g. --param {missing[0]}=1)")

@@ -87,14 +87,13 @@ class DrivenProblem:
 
     def __init__(self, model, values: Mapping[str, float], axes: tuple[str, str],
                  rtol: float = 1e-11):
-        from kbm.coupled import CoupledOscillators
         from kbm.forced import get_forced_model
         from numerics.coupled import coupled_flow
 
         self.forced = get_forced_model(model) if isinstance(model, str) else model
         if getattr(self.forced, "resonance", None) is None:
             raise ParameterError(f"{getattr(model, 'name', model)!r} is not a forced model")
-        self.system = CoupledOscillators.from_oscillator(self.forced)
+        self.system = self.forced  # the one model type: a forced oscillator is its N = 1 case
         self.axes = tuple(axes)
         self.values = {k: float(v) for k, v in values.items() if k not in self.axes}
         start = {**self.values, **{k: 0.0 for k in self.axes}}

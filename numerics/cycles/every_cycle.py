@@ -113,18 +113,19 @@ def _from_smaller_mu(bound: BoundModel, p, cycle_kwargs) -> LimitCycle | None:
     result is kept only if it is the predicted cycle (same side, ``x_max`` within 5 %,
     period within 25 %); else ``None``, and the caller reports the first failure.
     """
-    import dataclasses
-
     import sympy as sp
 
+    from kbm.models import Oscillator
     from kbm.symbols import xdot as V
     from numerics.cycles.continuation import continue_cycles
 
     model = bound.model
     S = sp.Symbol("homotopy_s")
     Fc = model.F.subs(V, 0)
-    emb = dataclasses.replace(model, name=f"{model.name} (homotopy)",
-                              F=sp.expand(Fc + S * (model.F - Fc)))
+    emb = Oscillator(f"{model.name} (homotopy)", sp.expand(Fc + S * (model.F - Fc)),
+                     model.omega0, model.description, physical=dict(model.physical),
+                     defaults=dict(model.defaults), drive=model.drive,
+                     gain_factor=model.gain_factor, stage_relative=model.stage_relative)
     vals = {k: v for k, v in dict(bound.values).items()}
     for s0 in (0.5, 0.25, 0.125):
         try:

@@ -21,14 +21,18 @@ def wanted(params: dict, axes: dict) -> bool:
 
 def run_thermal(args, params: dict, axes: dict, store, client) -> int:
     from kbm.errors import ParameterError
+    from numerics.cli.friction import NOISE_FLAGS
     from numerics.thermal.friction import thermal_friction_map
 
     if args.netcdf:
         raise ParameterError("--netcdf writes the deterministic maps; with noise use --json")
     if args.engine != "compiled":
         raise ParameterError("with noise the Langevin integrator is used; drop --engine")
+    for name, default in NOISE_FLAGS.items():
+        if getattr(args, name) is None:
+            setattr(args, name, default)
     kw = dict(trajectories=args.trajectories, wells=args.wells, seed=args.seed,
-              executor=client, workers=args.workers,
+              budget=args.budget, executor=client, workers=args.workers,
               progress=not args.no_progress and not args.json, store=store)
     first = thermal_friction_map(args.model, params, axes, **kw)
     second = thermal_friction_map(args.against, params, axes, **kw) if args.against else None

@@ -13,6 +13,10 @@ from kbm.cli import cli_message
 from kbm.cli._common import emit_json
 from numerics.cli._axes import print_tables
 
+#: the options of the noisy runs (default None on the parser, so that "given" is told
+#: from "default"; refused without noise) and their values when not given
+NOISE_FLAGS = {"trajectories": 16, "wells": 50.0, "seed": 0, "budget": 2e9}
+
 
 def wanted(params: dict, axes: dict) -> bool:
     """Whether the run has noise (``D`` or ``T`` given)."""
@@ -21,7 +25,6 @@ def wanted(params: dict, axes: dict) -> bool:
 
 def run_thermal(args, params: dict, axes: dict, store, client) -> int:
     from kbm.errors import ParameterError
-    from numerics.cli.friction import NOISE_FLAGS
     from numerics.thermal.friction import thermal_friction_map
 
     if args.netcdf:

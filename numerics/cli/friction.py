@@ -237,13 +237,10 @@ def _check_figures(names: list[str], against: str | None) -> None:
                          + ("" if against or len(names) == 1 else " without --against"))
 
 
-#: the options of the noisy runs, with their defaults
-NOISE_FLAGS = {"trajectories": 16, "wells": 50.0, "seed": 0, "budget": 2e9}
-
-
 def _check_noise_flags(args: argparse.Namespace) -> None:
     """Refuse the options of the noisy runs on a deterministic one (no ``D`` or ``T``)."""
     from kbm.errors import ParameterError
+    from numerics.cli._thermal_friction import NOISE_FLAGS
 
     given = [f"--{name}" for name in NOISE_FLAGS if getattr(args, name) is not None]
     if given:

@@ -28,13 +28,18 @@ def run_chain(args: argparse.Namespace) -> int:
     axes = [parse_axis(text) for text in args.vary]
     unused = [flag for flag, on in (("--against", args.against), ("--store", args.store),
                                     ("--netcdf", args.netcdf), ("--out", args.out),
-                                    ("--engine scipy", args.engine != "compiled"))
+                                    ("--engine scipy", args.engine != "compiled"),
+                                    ("--trajectories", args.trajectories is not None),
+                                    ("--wells", args.wells is not None),
+                                    ("--budget", args.budget is not None))
               if on]
     if unused:
         raise ParameterError(f"{', '.join(unused)} apply to one slider; a chain's law takes "
                              "-p, --vary v, --seed, --workers, --scheduler and --json")
     if args.workers is not None and not 1 <= args.workers <= 1024:
         raise ParameterError(f"--workers must be between 1 and 1024, got {args.workers}")
+    if args.seed is None:
+        args.seed = 0
     if args.seed < 0:
         raise ParameterError(f"--seed must be >= 0, got {args.seed}")
     if "v" in given_params:

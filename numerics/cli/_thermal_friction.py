@@ -13,6 +13,10 @@ from kbm.cli import cli_message
 from kbm.cli._common import emit_json
 from numerics.cli._axes import print_tables
 
+#: the options of the noisy runs (default None on the parser, so that "given" is told
+#: from "default"; refused without noise) and their values when not given
+NOISE_FLAGS = {"trajectories": 16, "wells": 50.0, "seed": 0, "budget": 2e9}
+
 
 def wanted(params: dict, axes: dict) -> bool:
     """Whether the run has noise (``D`` or ``T`` given)."""
@@ -27,8 +31,11 @@ def run_thermal(args, params: dict, axes: dict, store, client) -> int:
         raise ParameterError("--netcdf writes the deterministic maps; with noise use --json")
     if args.engine != "compiled":
         raise ParameterError("with noise the Langevin integrator is used; drop --engine")
+    for name, default in NOISE_FLAGS.items():
+        if getattr(args, name) is None:
+            setattr(args, name, default)
     kw = dict(trajectories=args.trajectories, wells=args.wells, seed=args.seed,
-              executor=client, workers=args.workers,
+              budget=args.budget, executor=client, workers=args.workers,
               progress=not args.no_progress and not args.json, store=store)
     first = thermal_friction_map(args.model, params, axes, **kw)
     second = thermal_friction_map(args.against, params, axes, **kw) if args.against else None

@@ -61,14 +61,18 @@ def register(sub) -> None:
                    help="also save the map(s) as a netCDF file (xarray.open_dataset(FILE) "
                         "reads it back; with --against a dimension 'slider' holds both); "
                         "needs pip install 'kbm[xarray]'")
-    p.add_argument("--trajectories", type=int, default=16, metavar="N",
+    p.add_argument("--trajectories", type=int, default=None, metavar="N",
                    help="with noise (-p D=... or --vary D=/T=...): Langevin trajectories per "
                         "point (default 16)")
-    p.add_argument("--wells", type=float, default=50, metavar="N",
+    p.add_argument("--wells", type=float, default=None, metavar="N",
                    help="with noise: stage periods lam/v averaged over per trajectory "
                         "(default 50)")
-    p.add_argument("--seed", type=int, default=0, metavar="S",
-                   help="with noise: root seed (one SeedSequence child per trajectory)")
+    p.add_argument("--seed", type=int, default=None, metavar="S",
+                   help="with noise: root seed (one SeedSequence child per trajectory; "
+                        "default 0); a chain's initial spread")
+    p.add_argument("--budget", type=float, default=None, metavar="STEPS",
+                   help="with noise: largest number of integration steps of the run "
+                        "(default 2e9); a larger run is refused before it starts")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.add_argument("--out", metavar="DIR", help="write the figures into DIR")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -137,6 +141,8 @@ def run(args: argparse.Namespace) -> int:
     from numerics.cli._thermal_friction import run_thermal, wanted
 
     noisy = wanted(fixed, axes)
+    if not noisy:
+        _check_noise_flags(args)
     size = int(np.prod([len(v) for v in axes.values()]))
     if size > MAX_POINTS:
         raise ParameterError(f"the grid has {size} points; the limit is {MAX_POINTS}")
@@ -229,3 +235,17 @@ def _check_figures(names: list[str], against: str | None) -> None:
     raise ParameterError(f"--out draws a friction law (--vary v=... only) or a map (--vary "
                          f"v=... --vary NAME=... --against MODEL); got axes {', '.join(names)}"
                          + ("" if against or len(names) == 1 else " without --against"))
+
+
+def _check_noise_flags(args: argparse.Namespace) -> None:
+    """Refuse the options of the noisy runs on a deterministic one (no ``D`` or ``T``)."""
+    from kbm.errors import ParameterError
+    from numerics.cli._thermal_friction import NOISE_FLAGS
+
+    given = [f"--{name}" for name in NOISE_FLAGS if getattr(args, name) is not None]
+    if given:
+        verb = "apply" if len(given) > 1 else "applies"
+        raise ParameterError(f"{', '.join(given)} {verb} to the runs with thermal noise: give "
+                             "-p D=VALUE or -p T=VALUE (or --vary D=... / T=...), or drop "
+                             f"{'them' if len(given) > 1 else 'it'} (without noise the "
+                             "friction is the deterministic slider's)")

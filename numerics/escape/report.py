@@ -18,6 +18,11 @@ SLIDER_DEFAULTS = {"Omega": "1", "lam": "1"}
 MIN_TRAJECTORIES = 20
 #: below this barrier in units of kT the rate formulas do not apply
 MIN_BARRIER_OVER_KT = 2.0
+#: below this barrier in units of kT (``D/mu``) there is no escape rate to compute: the
+#: barrier is far under the thermal energy, nothing holds the slider in the well, and the
+#: averaged envelope (cut ``40 D/mu`` above the well) would span hundreds of barriers
+#: (``kbm escape cdc -p mu=0.1 -p Delta=3 -p D=100``, ``E_b/kT = 1e-3``, ran for minutes)
+NO_RATE_BARRIER_OVER_KT = 0.1
 
 
 def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=None, dt=None,
@@ -68,6 +73,7 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
     if model in ("sedf", "cdc", "sedf_comoving"):
         for name, val in SLIDER_DEFAULTS.items():
             params.setdefault(name, val)
+    _check_barrier(model, params, D)
     env = energy_envelope(model, params, D)
     esc = averaged_escape(env)
     if dt is None:
@@ -129,3 +135,39 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
     out.update(rate_simulated=sim.rate, stderr=sim.stderr, escaped=sim.escaped,
                censored=sim.censored)
     return out
+
+
+def _check_barrier(model: str, params: dict, D: float) -> None:
+    """Refuse, before the envelope is built, a barrier far below the noise's energy
+    ``D/mu`` (``kT`` for linear damping): ``E_b/kT < NO_RATE_BARRIER_OVER_KT``.
+
+    Only the phase portrait is computed here; a model without a barrier at the origin is
+    left to :func:`numerics.escape.rate.central_well`, which says why.
+    """
+    import sympy as sp
+
+    from kbm.conservative import split_conservative
+    from kbm.symbols import xdot
+
+    from ..energy.portrait import phase_portrait
+
+    split = split_conservative(model, {k: v for k, v in params.items() if k != "D"})
+    if split.conservative or not float(split.mu) > 0:
+        return
+    wells = [a for a in phase_portrait(split).annuli
+             if a.bounded and len(a.wells) == 1 and abs(a.wells[0]) < 1e-9]
+    if not wells:
+        return
+    mu = float(split.mu)
+    barrier = wells[0].energy_max - wells[0].energy_min
+    scale = D / mu
+    if barrier / scale >= NO_RATE_BARRIER_OVER_KT:
+        return
+    what = ("kT = D/mu" if sp.simplify(split.h + xdot) == 0
+            else "D/mu (the noise's energy scale; the damping is not linear)")
+    raise ParameterError(
+        f"E_b/kT = {barrier / scale:.3g} < {NO_RATE_BARRIER_OVER_KT:g} (barrier E_b - E_0 = "
+        f"{barrier:.4g}, {what} = {scale:.4g}): the barrier is far below the thermal energy, "
+        "the well at the origin does not hold the slider and there is no escape rate; "
+        f"lower D to {barrier * mu / MIN_BARRIER_OVER_KT:.3g} or "
+        f"less (E_b/kT >= {MIN_BARRIER_OVER_KT:g}, where the rate formulas apply)")

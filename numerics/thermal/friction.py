@@ -37,13 +37,13 @@ import numpy as np
 from kbm.errors import ParameterError
 from kbm.strict_json import json_fields
 
-from ..executor import map_chunks
+from ..executor import CHUNKS, map_chunks
 from ..noise.ensemble import Estimate
 from ..noise.langevin import langevin_system, natural_step, noise_intensity
 from ..noise.seeds import check_seed, trajectory_states
 
 __all__ = ["ThermalFrictionPoint", "ThermalFrictionMap", "thermal_friction_point",
-           "thermal_friction_map", "STEPS_PER_PERIOD"]
+           "thermal_friction_map", "STEPS_PER_PERIOD", "DEFAULT_BUDGET"]
 
 #: steps per period of the well-bottom oscillation.  A slip of the lightly damped CDC
 #: crosses several wells and how many is decided by its energy: at 40 steps the D = 0
@@ -51,6 +51,9 @@ __all__ = ["ThermalFrictionPoint", "ThermalFrictionMap", "thermal_friction_point
 STEPS_PER_PERIOD = 160
 #: fewest trajectories per point
 MIN_TRAJECTORIES = 4
+#: the largest number of integration steps run without ``budget`` (``--budget``), as for
+#: ``kbm noise`` and ``kbm escape``
+DEFAULT_BUDGET = 2e9
 
 
 @dataclass(frozen=True)
@@ -126,18 +129,57 @@ def _times(system, v: float, lam: float, wells: float) -> tuple[float, float, fl
 
 
 def _point_task(task) -> list:
-    model, params, trajectories, wells, seed, index = task
+    """Trajectories ``first .. first + count - 1`` of one point: their rows of
+    ``slip_stats`` (a block of a point, so that a run of few points still has many tasks and
+    the parent process, which waits on them, stops at once on Ctrl-C or SIGTERM)."""
+    model, params, wells, seed, index, first, count = task
     params = dict(params)
     D = params.pop("D")
     system = langevin_system(model, params, D)
     v, lam = float(params["v"]), float(params.get("lam", 1.0))
     run, burn, h = _times(system, v, lam, wells)
     Omega = float(params.get("Omega", 1.0))
-    states = trajectory_states(seed, 0, trajectories, stream=(index,))
-    y0 = np.zeros((trajectories, 2))
+    states = trajectory_states(seed, first, count, stream=(index,))
+    y0 = np.zeros((count, 2))
     rows = system.kernels.slip_stats(system._p(), system.sigma, y0, 0.0, h, round(burn / h),
                                      round(run / h), states, lam, 2 * math.pi / Omega, v)
-    return [(rows.tolist(), run, burn, h)]
+    return [(index, rows.tolist(), run, burn, h)]
+
+
+def _steps(model: str, pts: list, trajectories: int, wells: float, budget: float) -> None:
+    """Refuse a run of more than ``budget`` integration steps, before any is taken.
+
+    The step of a point depends on the parameters other than ``v`` and ``D`` (the
+    stiffness of the well bottom and ``mu``): one system per distinct set of them, and the
+    count stops as soon as it passes the budget.
+    """
+    if not (math.isfinite(budget) and budget > 0):
+        raise ParameterError(f"--budget {budget:g}: the largest number of integration steps "
+                             "must be a positive number")
+    cache: dict = {}
+    total, worst = 0.0, (0.0, 0.0, 0.0, 0.0, None)
+    for k, q in enumerate(pts):
+        key = tuple(sorted((n, x) for n, x in q.items() if n not in ("v", "D")))
+        if key not in cache:
+            cache[key] = natural_step(langevin_system(
+                model, {n: x for n, x in q.items() if n != "D"}, q["D"]),
+                per_period=STEPS_PER_PERIOD)
+        h0 = cache[key]
+        lam = q.get("lam", 1.0)
+        run, burn = wells * lam / q["v"], max(5 * lam / q["v"], 20 / abs(q["mu"]))
+        per = (run + burn) / h0
+        total += trajectories * per
+        if per > worst[0]:
+            worst = (per, run, burn, h0, q["v"])
+        if total > budget:
+            per, run, burn, h0, v = worst
+            more = "" if k + 1 == len(pts) else f" (already at {k + 1} of {len(pts)} points)"
+            raise ParameterError(
+                f"thermal friction refused: {total:.3g} integration steps > budget "
+                f"{budget:.3g}{more}; at v = {v:g} one trajectory takes {per:.3g} steps "
+                f"of dt = {h0:.3g} (burn-in {burn:.3g} + {wells:g} stage periods "
+                f"lam/v = {run:.3g}) x {trajectories} trajectories; lower --wells or "
+                "--trajectories, use fewer or faster points, or raise --budget")
 
 
 def _point(model: str, params: dict, rows, run: float, burn: float, h: float, N: int,
@@ -169,7 +211,8 @@ def _ratio(sums, counts, N: int) -> Estimate:
 
 
 def thermal_friction_point(model: str, params: Mapping[str, object], *, trajectories: int = 16,
-                           wells: float = 20, seed: int = 0) -> ThermalFrictionPoint:
+                           wells: float = 20, seed: int = 0,
+                           budget: float = DEFAULT_BUDGET) -> ThermalFrictionPoint:
     """The friction of ``model`` pulled at ``params['v']`` with noise ``params['D']``.
 
     Parameters
@@ -181,9 +224,11 @@ def thermal_friction_point(model: str, params: Mapping[str, object], *, trajecto
     wells : float
         Stage periods ``lam/v`` averaged over per trajectory.
     seed : int
+    budget : float
+        Largest number of integration steps (:func:`thermal_friction_map`).
     """
     return thermal_friction_map(model, params, {"v": [params["v"]]}, trajectories=trajectories,
-                                wells=wells, seed=seed, workers=1).points[0]
+                                wells=wells, seed=seed, budget=budget, workers=1).points[0]
 
 
 @dataclass(frozen=True, eq=False)
@@ -221,7 +266,7 @@ def thermal_friction_map(model: str, params: Mapping[str, object],
                          axes: Mapping[str, Sequence[float]], *, trajectories: int = 16,
                          wells: float = 20, seed: int = 0, executor=None,
                          workers: int | None = None, progress: bool = False,
-                         store=None) -> ThermalFrictionMap:
+                         store=None, budget: float = DEFAULT_BUDGET) -> ThermalFrictionMap:
     """Thermal friction laws and maps: every grid point an ensemble (on the executor).
 
     Parameters
@@ -235,11 +280,18 @@ def thermal_friction_map(model: str, params: Mapping[str, object],
     trajectories, wells, seed :
         Per point; point ``j``'s trajectory ``i`` draws from ``SeedSequence(seed,
         spawn_key=(j, i))``: no number depends on the executor or the chunking.
+    budget : float
+        Largest number of integration steps of the whole run (trajectories x (burn-in +
+        ``wells`` stage periods)/dt summed over the points); a larger run is refused
+        before it starts.  The trajectories of a point are cut into blocks (tasks), so a
+        run of one point also spreads over the workers and stops at once on Ctrl-C or
+        SIGTERM (:func:`numerics.executor.map_chunks`).
 
     Raises
     ------
     kbm.errors.ParameterError
-        A missing ``v`` or ``D``, ``D < 0``, ``v <= 0``, too few trajectories.
+        A missing ``v`` or ``D``, ``D < 0``, ``v <= 0``, too few trajectories, more steps
+        than ``budget``.
     """
     seed = check_seed(seed)
     if not isinstance(trajectories, (int, np.integer)) or trajectories < MIN_TRAJECTORIES:
@@ -270,15 +322,25 @@ def thermal_friction_map(model: str, params: Mapping[str, object],
                                  "-p v=VALUE or --vary v=...")
         pts.append(q)
     langevin_system(model, {k: v for k, v in pts[0].items() if k != "D"}, pts[0]["D"])
-    tasks = [(model, q, int(trajectories), float(wells), seed, j) for j, q in enumerate(pts)]
+    N = int(trajectories)
+    _steps(model, pts, N, float(wells), float(budget))
+    # blocks of trajectories, cut by the data (about CHUNKS tasks or one per point)
+    size = max(1, min(N, -(-len(pts) * N // CHUNKS)))
+    tasks = [[(model, q, float(wells), seed, j, first, min(size, N - first))]
+             for j, q in enumerate(pts) for first in range(0, N, size)]
     definition = repr(("thermal_friction", model, sorted(base.items()),
-                       {k: list(map(float, v)) for k, v in axes.items()}, int(trajectories),
-                       float(wells), seed))
-    rows = map_chunks(_chunk_task, [[t] for t in tasks], executor=executor, workers=workers,
-                      progress=progress, desc=f"{model} with noise", unit="point",
-                      store=store, definition=definition if store is not None else None)
-    points = tuple(_point(model, q, r[0], r[1], r[2], r[3], int(trajectories), seed)
-                   for q, r in zip(pts, rows))
+                       {k: list(map(float, v)) for k, v in axes.items()}, N,
+                       float(wells), seed, "blocks", size))
+    blocks = map_chunks(_chunk_task, tasks, executor=executor, workers=workers,
+                        progress=progress, desc=f"{model} with noise", unit="trajectory",
+                        sizes=[t[0][-1] for t in tasks], store=store,
+                        definition=definition if store is not None else None)
+    rows: list = [[] for _ in pts]
+    times: list = [None] * len(pts)
+    for j, r, run, burn, h in blocks:
+        rows[j].extend(r)
+        times[j] = (run, burn, h)
+    points = tuple(_point(model, q, rows[j], *times[j], N, seed) for j, q in enumerate(pts))
     note = ("the paper's SEDF (eq. 3) has no steady sliding state: its damping mu beta x^2 "
             "grows with the distance slid, so these are averages over the window, not a "
             "friction law (use sedf_comoving)") if model == "sedf" else ""

@@ -40,8 +40,7 @@ from .sampling import (SampledExpansion, chebyshev_tail, check_bounded, check_gr
                        check_tol, comparison_matrices, fourier_tail, numeric_model, order_scale,
                        parse_a_range, sampled_orders, wave_spectrum, widened)
 
-__all__ = ["numeric_derive", "NumericExpansion", "DEFAULT_TOL", "MAX_ORDER_NUMERIC",
-           "parse_a_range", "numeric_model"]
+__all__ = ["numeric_derive", "NumericExpansion", "DEFAULT_TOL", "MAX_ORDER_NUMERIC"]
 
 #: default tolerance, relative to the size of each order's quantities on the interval
 DEFAULT_TOL = 1e-10
@@ -55,10 +54,10 @@ MAX_P, MAX_M, MAX_SAMPLES = 257, 2**15, 2**21
 class NumericExpansion(SampledExpansion):
     """The KBM expansion computed numerically on ``a_min <= a <= a_max``.
 
+    ``model`` and ``order`` as in :class:`~kbm.sampling.SampledExpansion`.
+
     Attributes
     ----------
-    model, order
-        As in :class:`~kbm.sampling.SampledExpansion`.
     a_range
         ``(a_min, a_max)``.
     omega0

@@ -43,10 +43,10 @@ MAX_M = 2**14
 class ExpansionValues(SampledExpansion):
     """``A_n``, ``B_n`` and the harmonics of ``u_n`` at the amplitudes ``a``.
 
+    ``model`` and ``order`` as in :class:`~kbm.sampling.SampledExpansion`.
+
     Attributes
     ----------
-    model, order
-        As in :class:`~kbm.sampling.SampledExpansion`.
     a
         The amplitudes (1-D array).
     A, B

@@ -35,7 +35,7 @@ from .recursion import one_angle_recursion
 from .smooth_terms import non_smooth_message, non_smooth_term
 from .symbols import x, xdot
 
-__all__ = ["parse_a_range", "numeric_model", "check_order", "check_tol", "fourier_tail",
+__all__ = ["parse_a_range", "numeric_model", "require_values", "check_order", "check_tol", "fourier_tail",
            "chebyshev_tail", "widened", "check_grid", "check_bounded", "comparison_matrices", "MARGIN",
            "sampled_orders", "order_scale", "wave_spectrum", "SampledExpansion"]
 
@@ -100,12 +100,23 @@ def numeric_model(model: Oscillator | str, params) -> tuple[Oscillator, sp.Expr,
     bad = non_smooth_term(F)
     if bad is not None:
         raise UnsupportedTermError(non_smooth_message(bad))
-    missing = sorted(s.name for s in (F.free_symbols | model.omega0.free_symbols) - {x, xdot})
+    require_values(model, F, {x, xdot}, "the evaluated expansion")
+    return model, F, float(model.omega0)
+
+
+def require_values(model, F: sp.Expr, variables: set, backend: str) -> None:
+    """Refuse a model whose ``F`` or ``omega0`` holds a symbol other than ``variables``.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Naming the parameters without a value (``backend`` says who needs them).
+    """
+    missing = sorted(s.name for s in (F.free_symbols | model.omega0.free_symbols) - variables)
     if missing:
         raise ParameterError(
-            f"the evaluated expansion needs a value for every parameter of {model.name!r}; "
+            f"{backend} needs a value for every parameter of {model.name!r}; "
             f"missing: {', '.join(missing)} (e.g. params={{{missing[0]!r}: 1}})")
-    return model, F, float(model.omega0)
 
 
 def check_order(order, limit: int, backend: str | None = "numeric backend") -> None:

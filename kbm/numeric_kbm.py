@@ -36,7 +36,7 @@ from .algebra.smooth import TaylorTable
 from .errors import ParameterError, ResolutionError, UnsupportedTermError
 from .models import Oscillator
 from .numeric_functions import AmplitudeFunction, ConstantFunction, WaveFunction
-from .sampling import (SampledExpansion, chebyshev_tail, check_bounded, check_grid, check_order,
+from .sampling import (IntervalExpansion, chebyshev_tail, check_bounded, check_grid, check_order,
                        check_tol, comparison_matrices, fourier_tail, numeric_model, order_scale,
                        parse_a_range, sampled_orders, wave_spectrum, widened)
 
@@ -51,19 +51,14 @@ MAX_P, MAX_M, MAX_SAMPLES = 257, 2**15, 2**21
 
 
 @dataclass(frozen=True, eq=False)
-class NumericExpansion(SampledExpansion):
+class NumericExpansion(IntervalExpansion):
     """The KBM expansion computed numerically on ``a_min <= a <= a_max``.
 
-    ``model`` and ``order`` as in :class:`~kbm.sampling.SampledExpansion`.
+    ``model``, ``order``, ``a_range``, ``omega0`` and ``tol`` as in
+    :class:`~kbm.sampling.IntervalExpansion`.
 
     Attributes
     ----------
-    a_range
-        ``(a_min, a_max)``.
-    omega0
-        The linear frequency.
-    tol
-        The tolerance asked for (relative to the size of each order's quantities).
     resolution
         ``(P, M)``: Chebyshev points in ``a`` and phases in ``psi`` of the final grid.
     A, B, u
@@ -75,9 +70,6 @@ class NumericExpansion(SampledExpansion):
         half as fine again.
     """
 
-    a_range: tuple[float, float]
-    omega0: float
-    tol: float
     resolution: tuple[int, int]
     A: tuple
     B: tuple

@@ -11,10 +11,10 @@
   (:func:`check_grid`) with the matrices that compare the two (:func:`comparison_matrices`),
   and the refusal of an ``F`` whose samples grow without bound as the
   angles are refined (:func:`check_bounded`);
-- the one-angle sampled backends' common run and read-out: the recursion over a sampled
+- the sampled backends' common run and read-out: the recursion over a sampled
   algebra read at its amplitudes (:func:`sampled_orders`), the size of each order
   (:func:`order_scale`), the harmonics of ``u_n`` (:func:`wave_spectrum`) and their result's
-  common fields (:class:`SampledExpansion`).
+  common fields (:class:`SampledExpansion`, :class:`IntervalExpansion`).
 
 Used by :mod:`kbm.numeric_kbm`, :mod:`kbm.pointwise` and :mod:`kbm.forced.numeric`.
 """
@@ -37,7 +37,8 @@ from .symbols import x, xdot
 
 __all__ = ["parse_a_range", "numeric_model", "require_values", "check_order", "check_tol", "fourier_tail",
            "chebyshev_tail", "widened", "check_grid", "check_bounded", "comparison_matrices", "MARGIN",
-           "sampled_orders", "order_scale", "wave_spectrum", "SampledExpansion"]
+           "sampled_orders", "order_scale", "wave_spectrum", "SampledExpansion",
+           "IntervalExpansion"]
 
 #: the top fraction of the coefficients read as the tail
 _TAIL = 0.25
@@ -240,7 +241,7 @@ class SampledExpansion:
     Attributes
     ----------
     model
-        The oscillator with its parameter values substituted.
+        The oscillator (forced or not) with its parameter values substituted.
     order
         The highest order ``N``.
     """
@@ -255,3 +256,22 @@ class SampledExpansion:
         """The leading keys of ``to_json``: model, F, omega0, order, method."""
         return {"model": self.model.name, "F": sp.sstr(self.model.F, order="lex"),
                 "omega0": omega0, "order": self.order, "method": method}
+
+
+@dataclass(frozen=True, eq=False)
+class IntervalExpansion(SampledExpansion):
+    """A sampled expansion computed on an amplitude interval (Chebyshev grids).
+
+    Attributes
+    ----------
+    a_range
+        ``(a_min, a_max)``.
+    omega0
+        The linear frequency.
+    tol
+        The tolerance asked for (relative to the size of each order's quantities).
+    """
+
+    a_range: tuple[float, float]
+    omega0: float
+    tol: float

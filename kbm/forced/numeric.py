@@ -189,8 +189,7 @@ def _errors(run: _Run):
     out, floor = [], 0.0
     for An, aBn, Un in zip(run.A, run.aB, run.U):
         scale = floor = order_scale(An, aBn, Un, floor)
-        ta = max(chebyshev_tail(An.real, 1), chebyshev_tail(An.imag, 1), chebyshev_tail(aBn.real, 1),
-                 chebyshev_tail(aBn.imag, 1), chebyshev_tail(Un, 1))
+        ta = max(chebyshev_tail(v, 1) for v in (An.real, An.imag, aBn.real, aBn.imag, Un))
         out.append((scale, ta, fourier_tail(Un, 2), fourier_tail(Un, 3)))
     return out
 
@@ -300,13 +299,13 @@ def numeric_derive_forced(model: ForcedOscillator | str, order: int, a_range,
 def _result(model, order, res, lo, hi, w0, tol, run: _Run, errs, diffs, used):
     alg = run.alg
     A, B = [], []
+    def coefficients(v):
+        return (chebyshev.coefficients(v.real, axis=1)
+                + 1j * chebyshev.coefficients(v.imag, axis=1))
+
     for An, aBn in zip(run.A, run.aB):
-        ca = (chebyshev.coefficients(An.real, axis=1)
-              + 1j * chebyshev.coefficients(An.imag, axis=1))
-        cb = (chebyshev.coefficients(aBn.real, axis=1)
-              + 1j * chebyshev.coefficients(aBn.imag, axis=1))
-        A.append(SlowSeries(ca, alg.lo, alg.hi, res.p))
-        B.append(SlowSeries(cb, alg.lo, alg.hi, res.p, over_a=True))
+        A.append(SlowSeries(coefficients(An), alg.lo, alg.hi, res.p))
+        B.append(SlowSeries(coefficients(aBn), alg.lo, alg.hi, res.p, over_a=True))
     A_err = tuple(max(e[1], d[0]) for e, d in zip(errs, diffs))
     B_err = tuple(max(e[1], d[1]) / lo for e, d in zip(errs, diffs))
     u_err = tuple(max(e[1], e[2], e[3]) for e in errs)

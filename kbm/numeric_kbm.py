@@ -29,7 +29,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import sympy as sp
 
 from .algebra import chebyshev
 from .algebra.grid_fourier import GridAlgebra
@@ -37,12 +36,11 @@ from .algebra.smooth import TaylorTable
 from .errors import ParameterError, ResolutionError, UnsupportedTermError
 from .models import Oscillator
 from .numeric_functions import AmplitudeFunction, ConstantFunction, WaveFunction
-from .recursion import one_angle_recursion
-from .sampling import (chebyshev_tail, check_bounded, check_grid, check_order, check_tol,
-                       comparison_matrices, fourier_tail, numeric_model, parse_a_range, widened)
+from .sampling import (IntervalExpansion, chebyshev_tail, check_bounded, check_grid, check_order,
+                       check_tol, comparison_matrices, fourier_tail, numeric_model, order_scale,
+                       parse_a_range, sampled_orders, wave_spectrum, widened)
 
-__all__ = ["numeric_derive", "NumericExpansion", "DEFAULT_TOL", "MAX_ORDER_NUMERIC",
-           "parse_a_range", "numeric_model"]
+__all__ = ["numeric_derive", "NumericExpansion", "DEFAULT_TOL", "MAX_ORDER_NUMERIC"]
 
 #: default tolerance, relative to the size of each order's quantities on the interval
 DEFAULT_TOL = 1e-10
@@ -53,21 +51,14 @@ MAX_P, MAX_M, MAX_SAMPLES = 257, 2**15, 2**21
 
 
 @dataclass(frozen=True, eq=False)
-class NumericExpansion:
+class NumericExpansion(IntervalExpansion):
     """The KBM expansion computed numerically on ``a_min <= a <= a_max``.
+
+    ``model``, ``order``, ``a_range``, ``omega0`` and ``tol`` as in
+    :class:`~kbm.sampling.IntervalExpansion`.
 
     Attributes
     ----------
-    model
-        The oscillator with its parameter values substituted.
-    order
-        The highest order ``N``.
-    a_range
-        ``(a_min, a_max)``.
-    omega0
-        The linear frequency.
-    tol
-        The tolerance asked for (relative to the size of each order's quantities).
     resolution
         ``(P, M)``: Chebyshev points in ``a`` and phases in ``psi`` of the final grid.
     A, B, u
@@ -79,11 +70,6 @@ class NumericExpansion:
         half as fine again.
     """
 
-    model: Oscillator
-    order: int
-    a_range: tuple[float, float]
-    omega0: float
-    tol: float
     resolution: tuple[int, int]
     A: tuple
     B: tuple
@@ -101,10 +87,9 @@ class NumericExpansion:
     def to_json(self, a) -> dict:
         """The tables at the amplitudes ``a`` and the error estimates, with plain keys."""
         tab = self.table(a)
-        orders = [str(n) for n in range(1, self.order + 1)]
+        orders = self._orders()
         return {
-            "model": self.model.name, "F": sp.sstr(self.model.F, order="lex"),
-            "omega0": self.omega0, "order": self.order, "method": "numeric",
+            **self._json_head(self.omega0, "numeric"),
             "a_range": list(self.a_range), "tol": self.tol,
             "resolution": {"chebyshev_points": self.resolution[0],
                            "phases": self.resolution[1]},
@@ -164,10 +149,7 @@ class _Run:
 
 def _run(F, table, w0, lo, hi, P, M, order) -> _Run:
     alg = GridAlgebra(w0, lo, hi, P, M)
-    A, B, U = one_angle_recursion(alg, F, order, builder=table.builder)
-    A = [c.values for c in A]
-    B = [c.values for c in B]
-    U = [np.zeros((P, M)) if u.values is None else u.values for u in U]
+    A, B, U = sampled_orders(alg, F, order, table.builder)
     if not all(np.all(np.isfinite(q)) for q in (*A, *B, *U)):
         raise ResolutionError(f"the numeric expansion of F = {table.F} overflowed on "
                               f"a in [{lo:g}, {hi:g}] (P = {P}, M = {M}); narrow the a-range")
@@ -186,13 +168,10 @@ def _errors(run: _Run):
     a = run.alg.a
     floor = 0.0
     for An, Bn, Un in zip(run.A, run.B, run.U):
-        # an order whose quantities all vanish (A_n of a linear oscillator, ...) holds
-        # rounding noise only: its scale is that of the orders below
-        scale = max(np.max(np.abs(An)), np.max(np.abs(a * Bn)), np.max(np.abs(Un)), floor)
-        floor = scale
+        scale = floor = order_scale(An, a * Bn, Un, floor)
         ea, eb = chebyshev_tail(An[:, None]), chebyshev_tail(Bn[:, None])
         eu_a, eu_p = chebyshev_tail(Un), fourier_tail(Un)
-        out.append((float(scale), ea, eb, eu_a, eu_p))
+        out.append((scale, ea, eb, eu_a, eu_p))
     return out
 
 
@@ -320,8 +299,7 @@ def _result(model, order, lo, hi, w0, tol, run: _Run, errs, diffs) -> NumericExp
     for n in range(1, order + 1):
         A.append(AmplitudeFunction(f"A_{n}", *domain, run.A[n - 1].copy()))
         B.append(AmplitudeFunction(f"B_{n}", *domain, run.B[n - 1].copy()))
-        spec = np.fft.rfft(run.U[n - 1], axis=1) * (2.0 / M)
-        spec[:, 0] *= 0.5
+        spec = wave_spectrum(run.U[n - 1], M)
         spec[:, -1] = 0.0
         U.append(WaveFunction(f"u_{n}", *domain, spec.real.copy(), -spec.imag.copy()))
     A_err = [0.0] + [max(e[1], d[0]) for e, d in zip(errs, diffs)]

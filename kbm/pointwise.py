@@ -27,8 +27,8 @@ from .algebra.jet_fourier import JetAlgebra
 from .averaging import MAX_ORDER, _check_terms
 from .errors import ParameterError, ResolutionError
 from .models import Oscillator
-from .recursion import one_angle_recursion
-from .sampling import check_order, check_tol, fourier_tail, numeric_model
+from .sampling import (SampledExpansion, check_order, check_tol, fourier_tail, numeric_model,
+                       order_scale, sampled_orders, wave_spectrum)
 from .symbols import x, xdot
 
 __all__ = ["derive_values", "ExpansionValues", "DEFAULT_TOL"]
@@ -40,15 +40,13 @@ MAX_M = 2**14
 
 
 @dataclass(frozen=True, eq=False)
-class ExpansionValues:
+class ExpansionValues(SampledExpansion):
     """``A_n``, ``B_n`` and the harmonics of ``u_n`` at the amplitudes ``a``.
+
+    ``model`` and ``order`` as in :class:`~kbm.sampling.SampledExpansion`.
 
     Attributes
     ----------
-    model
-        The oscillator with its parameter values substituted.
-    order
-        The highest order ``N``.
     a
         The amplitudes (1-D array).
     A, B
@@ -66,8 +64,6 @@ class ExpansionValues:
         by the Fourier tails of ``u_n``, absolute.
     """
 
-    model: Oscillator
-    order: int
     a: np.ndarray
     A: np.ndarray
     B: np.ndarray
@@ -88,11 +84,11 @@ class ExpansionValues:
 
     def to_json(self) -> dict:
         """Plain keys: ``a``, ``A`` and ``B`` by order, the truncation by order."""
-        orders = [str(n) for n in range(1, self.order + 1)]
+        orders = self._orders()
         return {
-            "model": self.model.name, "F": sp.sstr(self.model.F, order="lex"),
-            "omega0": float(self.B[0][0]) if len(self.a) else None, "order": self.order,
-            "method": "jacobi-anger values", "tol": self.tol, "harmonics": self.harmonics,
+            **self._json_head(float(self.B[0][0]) if len(self.a) else None,
+                              "jacobi-anger values"),
+            "tol": self.tol, "harmonics": self.harmonics,
             "a": [float(v) for v in self.a],
             "A": {k: [float(v) for v in self.A[n]] for n, k in enumerate(orders, 1)},
             "B": {k: [float(v) for v in self.B[n]] for n, k in enumerate(orders, 1)},
@@ -138,13 +134,8 @@ def _start_phases(F: sp.Expr, a_max: float, order: int, tol: float) -> int:
 
 def _tails(Us: list[np.ndarray], A, B, a) -> list[tuple[float, float]]:
     """Per order: (scale, Fourier tail of u_n) with the tail the top quarter's largest."""
-    out = []
-    for An, Bn, Un in zip(A, B, Us):
-        tail = fourier_tail(Un, axis=-1) if Un.size else 0.0
-        scale = max(float(np.max(np.abs(An))), float(np.max(np.abs(a * Bn))),
-                    float(np.max(np.abs(Un))))
-        out.append((scale, tail))
-    return out
+    return [(order_scale(An, a * Bn, Un), fourier_tail(Un, axis=-1) if Un.size else 0.0)
+            for An, Bn, Un in zip(A, B, Us)]
 
 
 def derive_values(model: Oscillator | str, order: int, a, params: dict | None = None, *,
@@ -194,11 +185,7 @@ def derive_values(model: Oscillator | str, order: int, a, params: dict | None = 
     _check_terms(F)
     M = _start_phases(F, float(amps.max()), order, tol)
     while True:
-        alg = JetAlgebra(w0, amps, order - 1, M)
-        A, B, U = one_angle_recursion(alg, F, order)
-        Av = [c.values[:, 0] for c in A]
-        Bv = [c.values[:, 0] for c in B]
-        Uv = [np.zeros((len(amps), M)) if u.values is None else u.values[:, 0, :] for u in U]
+        Av, Bv, Uv = sampled_orders(JetAlgebra(w0, amps, order - 1, M), F, order)
         tails = _tails(Uv, Av, Bv, amps)
         if all(t <= tol * max(s, 1e-300) or t < 1e-300 for s, t in tails):
             break
@@ -220,8 +207,7 @@ def _values(model, order, amps, w0, M, Av, Bv, Uv, tol, tails) -> ExpansionValue
     us = np.zeros_like(uc)
     uc[0, :, 1] = amps
     for n, Un in enumerate(Uv, start=1):
-        spec = np.fft.rfft(Un, axis=-1)[:, :H + 1] * (2.0 / M)
-        spec[:, 0] *= 0.5
+        spec = wave_spectrum(Un, M)[:, :H + 1]
         uc[n], us[n] = spec.real, -spec.imag
     return ExpansionValues(model=model, order=order, a=amps, A=A, B=B, u_cos=uc, u_sin=us,
                            harmonics=H, tol=tol,

@@ -10,7 +10,11 @@
   (:func:`widened`), the second grid half as fine again that measures what the tails cannot
   (:func:`check_grid`) with the matrices that compare the two (:func:`comparison_matrices`),
   and the refusal of an ``F`` whose samples grow without bound as the
-  angles are refined (:func:`check_bounded`).
+  angles are refined (:func:`check_bounded`);
+- the sampled backends' common run and read-out: the recursion over a sampled
+  algebra read at its amplitudes (:func:`sampled_orders`), the size of each order
+  (:func:`order_scale`), the harmonics of ``u_n`` (:func:`wave_spectrum`) and their result's
+  common fields (:class:`SampledExpansion`, :class:`IntervalExpansion`).
 
 Used by :mod:`kbm.numeric_kbm`, :mod:`kbm.pointwise` and :mod:`kbm.forced.numeric`.
 """
@@ -18,18 +22,23 @@ Used by :mod:`kbm.numeric_kbm`, :mod:`kbm.pointwise` and :mod:`kbm.forced.numeri
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
 
 from .algebra import chebyshev
 from .errors import OrderError, ParameterError, UnsupportedTermError
+from .algebra.lazy_series import Builder
 from .models import Oscillator, get_model
+from .recursion import one_angle_recursion
 from .smooth_terms import non_smooth_message, non_smooth_term
 from .symbols import x, xdot
 
-__all__ = ["parse_a_range", "numeric_model", "check_order", "check_tol", "fourier_tail",
-           "chebyshev_tail", "widened", "check_grid", "check_bounded", "comparison_matrices", "MARGIN"]
+__all__ = ["parse_a_range", "numeric_model", "require_values", "check_order", "check_tol", "fourier_tail",
+           "chebyshev_tail", "widened", "check_grid", "check_bounded", "comparison_matrices", "MARGIN",
+           "sampled_orders", "order_scale", "wave_spectrum", "SampledExpansion",
+           "IntervalExpansion"]
 
 #: the top fraction of the coefficients read as the tail
 _TAIL = 0.25
@@ -92,12 +101,23 @@ def numeric_model(model: Oscillator | str, params) -> tuple[Oscillator, sp.Expr,
     bad = non_smooth_term(F)
     if bad is not None:
         raise UnsupportedTermError(non_smooth_message(bad))
-    missing = sorted(s.name for s in (F.free_symbols | model.omega0.free_symbols) - {x, xdot})
+    require_values(model, F, {x, xdot}, "the evaluated expansion")
+    return model, F, float(model.omega0)
+
+
+def require_values(model, F: sp.Expr, variables: set, backend: str) -> None:
+    """Refuse a model whose ``F`` or ``omega0`` holds a symbol other than ``variables``.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Naming the parameters without a value (``backend`` says who needs them).
+    """
+    missing = sorted(s.name for s in (F.free_symbols | model.omega0.free_symbols) - variables)
     if missing:
         raise ParameterError(
-            f"the evaluated expansion needs a value for every parameter of {model.name!r}; "
+            f"{backend} needs a value for every parameter of {model.name!r}; "
             f"missing: {', '.join(missing)} (e.g. params={{{missing[0]!r}: 1}})")
-    return model, F, float(model.omega0)
 
 
 def check_order(order, limit: int, backend: str | None = "numeric backend") -> None:
@@ -182,3 +202,76 @@ def check_bounded(F, f: np.ndarray, first: float, exhausted: bool, where: str,
             f"F = {F} is not bounded {where}: its largest sampled value grows from "
             f"{first:.3g} to {scale:.3g} as the phases are refined{refined}, as at a pole of F "
             "on |x| <= a_max, |xdot| <= omega0 a_max; shrink the a-range or change F")
+
+
+# ----------------------------------------------------------------------------- one angle
+def sampled_orders(alg, F: sp.Expr, order: int, builder=Builder
+                   ) -> tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]]:
+    """:func:`~kbm.recursion.one_angle_recursion` over a sampled one-angle algebra
+    (:class:`~kbm.algebra.grid_fourier.GridAlgebra`,
+    :class:`~kbm.algebra.jet_fourier.JetAlgebra`), read at its amplitudes ``alg.a``: the
+    arrays of ``A_1..A_N``, ``B_1..B_N`` (amplitudes) and ``u_1..u_N`` (amplitudes x phases,
+    zeros where ``u_n`` vanishes)."""
+    A, B, U = one_angle_recursion(alg, F, order, builder=builder)
+    return ([alg.at_amplitudes(c) for c in A], [alg.at_amplitudes(c) for c in B],
+            [np.zeros((len(alg.a), alg.M)) if u.values is None else alg.at_amplitudes(u)
+             for u in U])
+
+
+def order_scale(A: np.ndarray, aB: np.ndarray, U: np.ndarray, floor: float = 0.0) -> float:
+    """The size of one order: the largest ``|A_n|``, ``|a B_n|``, ``|u_n|`` (or ``floor``,
+    that of the orders below, when larger: an order whose quantities all vanish holds
+    rounding noise only)."""
+    return float(max(np.max(np.abs(A)), np.max(np.abs(aB)), np.max(np.abs(U)), floor))
+
+
+def wave_spectrum(U: np.ndarray, M: int) -> np.ndarray:
+    """The harmonics of samples on ``M`` phases (last axis): ``c_m - i s_m`` for
+    ``u = sum_m c_m cos(m psi) + s_m sin(m psi)``, ``m = 0..M/2`` (the Nyquist mode kept as
+    sampled; callers drop it)."""
+    spec = np.fft.rfft(U, axis=-1) * (2.0 / M)
+    spec[..., 0] *= 0.5
+    return spec
+
+
+@dataclass(frozen=True, eq=False)
+class SampledExpansion:
+    """What every one-degree-of-freedom sampled expansion holds first.
+
+    Attributes
+    ----------
+    model
+        The oscillator (forced or not) with its parameter values substituted.
+    order
+        The highest order ``N``.
+    """
+
+    model: Oscillator
+    order: int
+
+    def _orders(self) -> list[str]:
+        return [str(n) for n in range(1, self.order + 1)]
+
+    def _json_head(self, omega0, method: str) -> dict:
+        """The leading keys of ``to_json``: model, F, omega0, order, method."""
+        return {"model": self.model.name, "F": sp.sstr(self.model.F, order="lex"),
+                "omega0": omega0, "order": self.order, "method": method}
+
+
+@dataclass(frozen=True, eq=False)
+class IntervalExpansion(SampledExpansion):
+    """A sampled expansion computed on an amplitude interval (Chebyshev grids).
+
+    Attributes
+    ----------
+    a_range
+        ``(a_min, a_max)``.
+    omega0
+        The linear frequency.
+    tol
+        The tolerance asked for (relative to the size of each order's quantities).
+    """
+
+    a_range: tuple[float, float]
+    omega0: float
+    tol: float

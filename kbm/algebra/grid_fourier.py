@@ -190,6 +190,10 @@ class GridAlgebra(PhaseGrid):
             return f
         return GridSeries(chebyshev.differentiate(f.values, self.lo, self.hi, 0, self.chop))
 
+    def at_amplitudes(self, f) -> np.ndarray:
+        """The samples of a series or coefficient at the ``P`` amplitudes."""
+        return f.values
+
     def secular(self, R: GridSeries) -> tuple[GridCoef, GridCoef]:
         if R.values is None:
             return GridCoef(np.zeros(self.P)), GridCoef(np.zeros(self.P))

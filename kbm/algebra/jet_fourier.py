@@ -114,6 +114,10 @@ class JetAlgebra(PhaseGrid):
     def _shape(self) -> tuple[int, int, int]:
         return (len(self.a), self.K + 1, self.M)
 
+    def at_amplitudes(self, f) -> np.ndarray:
+        """The values of a series or coefficient at the amplitudes (degree 0 of the jets)."""
+        return f.values[:, 0]
+
     # -- the recursion's vocabulary ----------------------------------------------------
     def zero(self) -> JetSeries:
         return JetSeries(None)

@@ -101,7 +101,7 @@ def _mu_sets_something(names, params: dict, series: bool) -> None:
 
 def _amplitudes(args: argparse.Namespace, why: str) -> tuple[tuple[float, float], np.ndarray]:
     from ..errors import ParameterError
-    from ..numeric_kbm import parse_a_range
+    from ..sampling import parse_a_range
 
     if args.a_range is None:
         raise ParameterError(f"{why}: give the amplitudes with --a-range AMIN:AMAX "

@@ -47,7 +47,7 @@ from .jet_algebra import JetAlgebra, JetSeries
 from .model import CoupledOscillators, positions, velocities
 from .resonance import SlowLattice, lattice_on_grid, slow_point
 
-__all__ = ["JetAlgebra", "JetSeries", "JetExpansion", "jet_expansion", "MAX_ORDER_JETS"]
+__all__ = ["JetExpansion", "jet_expansion", "MAX_ORDER_JETS"]
 
 #: highest order of the numeric coupled recursion (the partial derivatives of F up to this
 #: total order are compiled; the harmonics of u_n grow like the order)

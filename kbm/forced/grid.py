@@ -188,10 +188,26 @@ class SampledAlgebra(SlowRates):
             return f
         return self._series(chebyshev.differentiate(f.values, self.lo, self.hi, 1, self.chop))
 
+    def _spectrum(self, values: np.ndarray) -> np.ndarray:
+        """The normalised two-dimensional Fourier coefficients in ``(psi, theta)``."""
+        return np.fft.fft2(values, axes=(2, 3)) / (self.M * self.N)
+
+    def slow_coefficients(self, f: SampledSeries, times_a: bool = False) -> np.ndarray:
+        """The coefficients of ``exp(i j p phi)`` of a slow series ``f`` (of ``a f`` with
+        ``times_a``): an array ``(cap + 1, P, 2 J + 1)``, zero rows above ``f``'s degree."""
+        out = np.zeros((self.cap + 1, self.P, len(self.slow)), dtype=complex)
+        if f.values is None:
+            return out
+        v = f.values * (self.a[None, :, None, None] if times_a else 1.0)
+        spec = self._spectrum(v)
+        for i, (_j, islow, _ip, _im, ik) in enumerate(self.slow):
+            out[:v.shape[0], :, i] = spec[:, :, islow, ik]
+        return out
+
     def slow_spectrum(self, R: SampledSeries) -> tuple[np.ndarray, np.ndarray]:
         """``(A, a B)`` of the resonant part of ``R`` as coefficients of ``exp(i j p phi)``:
         arrays ``(d + 1, P, 2 J + 1)`` (``j = -J..J``)."""
-        spec = np.fft.fft2(R.values, axes=(2, 3)) / (self.M * self.N)
+        spec = self._spectrum(R.values)
         Aj, Bj = [], []
         for _j, _s, ip, im, ik in self.slow:
             gp, gm = spec[:, :, ip, ik], spec[:, :, im, ik]

@@ -45,7 +45,8 @@ from ..algebra.smooth import SmoothBuilder, TaylorTable
 from ..errors import ModelError, ParameterError, ResolutionError
 from ..recursion import kbm_recursion
 from ..sampling import (check_bounded, check_grid, check_order, check_tol, chebyshev_tail,
-                        comparison_matrices, fourier_tail, parse_a_range, widened)
+                        comparison_matrices, fourier_tail, order_scale, parse_a_range,
+                        require_values, widened)
 from ..symbols import x, xdot
 from .builtins import get_forced_model
 from .engine import derive_forced
@@ -76,12 +77,7 @@ def _numeric_model(model, params, resonance):
     if model.hard != 0:
         raise ModelError(f"the numeric forced backend does not take a hard forcing (K = "
                          f"{model.hard}); write it as a weak forcing mu*h*cos(theta) in F")
-    missing = sorted(s.name for s in (model.F.free_symbols | model.omega0.free_symbols)
-                     - {x, xdot, theta, nu})
-    if missing:
-        raise ParameterError(
-            f"the numeric forced backend needs a value for every parameter of {model.name!r}; "
-            f"missing: {', '.join(missing)} (e.g. params={{{missing[0]!r}: 1}})")
+    require_values(model, model.F, {x, xdot, theta, nu}, "the numeric forced backend")
     w0 = float(model.omega0)
     if not (math.isfinite(w0) and w0 > 0):
         raise ParameterError(f"omega0 must be a positive number, got {model.omega0}")
@@ -176,8 +172,8 @@ def _run(tables, w0, res, lo, hi, P, M, N, order) -> _Run:
     As, aBs = [], []
     for An, Bn in zip(A, B):
         # A_n and a B_n as slow spectra; B_n = (a B_n)/a is formed in the result
-        sa = _slow(alg, An)
-        sb = _slow(alg, Bn, times_a=True)
+        sa = alg.slow_coefficients(An)
+        sb = alg.slow_coefficients(Bn, times_a=True)
         As.append(sa)
         aBs.append(sb)
     Us = [np.zeros((1, P, M, N)) if u.values is None else u.values for u in U]
@@ -187,29 +183,13 @@ def _run(tables, w0, res, lo, hi, P, M, N, order) -> _Run:
     return _Run(alg, As, aBs, Us)
 
 
-def _slow(alg: SampledAlgebra, f, times_a: bool = False) -> np.ndarray:
-    """The coefficients of ``exp(i j p phi)`` of a slow series: ``(S, P, 2 J + 1)``."""
-    J = len(alg.slow)
-    if f.values is None:
-        return np.zeros((alg.cap + 1, alg.P, J), dtype=complex)
-    v = f.values * (alg.a[None, :, None, None] if times_a else 1.0)
-    spec = np.fft.fft2(v, axes=(2, 3)) / (alg.M * alg.N)
-    out = np.zeros((alg.cap + 1, alg.P, J), dtype=complex)
-    for i, (_j, islow, _ip, _im, ik) in enumerate(alg.slow):
-        out[:v.shape[0], :, i] = spec[:, :, islow, ik]
-    return out
-
-
 def _errors(run: _Run):
     """Per order: the scale and the tails (Chebyshev in ``a``, Fourier in ``psi`` and
     ``theta``) of ``A_n``, ``a B_n``, ``u_n``."""
     out, floor = [], 0.0
     for An, aBn, Un in zip(run.A, run.aB, run.U):
-        scale = max(float(np.max(np.abs(An))), float(np.max(np.abs(aBn))),
-                    float(np.max(np.abs(Un))), floor)
-        floor = scale
-        ta = max(chebyshev_tail(An.real, 1), chebyshev_tail(An.imag, 1), chebyshev_tail(aBn.real, 1),
-                 chebyshev_tail(aBn.imag, 1), chebyshev_tail(Un, 1))
+        scale = floor = order_scale(An, aBn, Un, floor)
+        ta = max(chebyshev_tail(v, 1) for v in (An.real, An.imag, aBn.real, aBn.imag, Un))
         out.append((scale, ta, fourier_tail(Un, 2), fourier_tail(Un, 3)))
     return out
 
@@ -319,13 +299,13 @@ def numeric_derive_forced(model: ForcedOscillator | str, order: int, a_range,
 def _result(model, order, res, lo, hi, w0, tol, run: _Run, errs, diffs, used):
     alg = run.alg
     A, B = [], []
+    def coefficients(v):
+        return (chebyshev.coefficients(v.real, axis=1)
+                + 1j * chebyshev.coefficients(v.imag, axis=1))
+
     for An, aBn in zip(run.A, run.aB):
-        ca = (chebyshev.coefficients(An.real, axis=1)
-              + 1j * chebyshev.coefficients(An.imag, axis=1))
-        cb = (chebyshev.coefficients(aBn.real, axis=1)
-              + 1j * chebyshev.coefficients(aBn.imag, axis=1))
-        A.append(SlowSeries(ca, alg.lo, alg.hi, res.p))
-        B.append(SlowSeries(cb, alg.lo, alg.hi, res.p, over_a=True))
+        A.append(SlowSeries(coefficients(An), alg.lo, alg.hi, res.p))
+        B.append(SlowSeries(coefficients(aBn), alg.lo, alg.hi, res.p, over_a=True))
     A_err = tuple(max(e[1], d[0]) for e, d in zip(errs, diffs))
     B_err = tuple(max(e[1], d[1]) / lo for e, d in zip(errs, diffs))
     u_err = tuple(max(e[1], e[2], e[3]) for e in errs)

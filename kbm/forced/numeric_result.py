@@ -12,7 +12,8 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ParameterError
-from .model import ForcedOscillator, Resonance
+from ..sampling import IntervalExpansion
+from .model import Resonance
 from .result import SlowFlow, available_order
 
 __all__ = ["SlowSeries", "NumericForcedExpansion"]
@@ -81,23 +82,16 @@ class SlowSeries:
 
 
 @dataclass(frozen=True, eq=False)
-class NumericForcedExpansion:
+class NumericForcedExpansion(IntervalExpansion):
     """The forced KBM expansion computed numerically on ``a_min <= a <= a_max``.
+
+    ``model`` (a forced oscillator), ``order``, ``a_range``, ``omega0`` and ``tol`` as in
+    :class:`~kbm.sampling.IntervalExpansion`.
 
     Attributes
     ----------
-    model
-        The forced oscillator with its parameter values substituted.
-    order
-        The highest order ``N``.
     resonance
         The declared resonance ``p/q``: ``nu = (p/q) omega0 + mu sigma``.
-    a_range
-        ``(a_min, a_max)``.
-    omega0
-        The linear frequency.
-    tol
-        The tolerance asked for (relative to the size of each order's quantities).
     resolution
         ``(P, M, N)``: Chebyshev points in ``a``, phases in ``psi`` and in ``theta``.
     A, B
@@ -110,12 +104,7 @@ class NumericForcedExpansion:
         The parameter values the expansion was computed with.
     """
 
-    model: ForcedOscillator
-    order: int
     resonance: Resonance
-    a_range: tuple[float, float]
-    omega0: float
-    tol: float
     resolution: tuple[int, int, int]
     A: tuple[SlowSeries, ...]
     B: tuple[SlowSeries, ...]

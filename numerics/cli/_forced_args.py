@@ -98,7 +98,7 @@ def _base_model(args: argparse.Namespace):
 def amplitude_window(model, args: argparse.Namespace) -> tuple[float, float]:
     """The amplitude window: ``--a-range``, or from ``--amax`` (clear of ``a = 0`` for the
     numeric backend, whose expansion has ``1/a`` terms)."""
-    from kbm.numeric_kbm import parse_a_range
+    from kbm.sampling import parse_a_range
 
     if args.a_range:
         return parse_a_range(args.a_range)

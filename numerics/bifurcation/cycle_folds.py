@@ -134,9 +134,9 @@ def fold_curves(run, seeds) -> None:
         except NumericsError as exc:  # the seed did not converge to a fold
             run.failures.append(f"fold from {tuple(round(v, 6) for v in z0)}: {exc}")
             continue
-        if run.interrupted:
-            return
         if len(pts) < 2:
+            if run.interrupted:
+                return
             continue
         run.curves.append(Curve("fold", [tuple(p.z[2:]) for p in pts], "true", None, {
             "x_max": [float(pts[0].z[0]), float(pts[-1].z[0])],
@@ -147,3 +147,5 @@ def fold_curves(run, seeds) -> None:
                 run.add_codim2("fold-homoclinic", tuple(p.z[2:]), {
                     "on": "fold", "period": float(p.z[1]),
                     "note": "the last converged point of the fold curve, period above t_max"})
+        if run.interrupted:  # the points so far are kept above
+            return

@@ -225,9 +225,9 @@ def _equilibrium_curves(run: _Run) -> None:
             except NumericsError as exc:
                 run.failures.append(f"{kind} from {tuple(round(v, 6) for v in z0)}: {exc}")
                 continue
+            _equilibrium_result(run, kind, pts, events)  # interrupted: the points so far
             if run.interrupted:
                 return
-            _equilibrium_result(run, kind, pts, events)
 
 
 def _equilibrium_result(run: _Run, kind, pts, events):
@@ -294,9 +294,9 @@ def _homoclinic_curves(run: _Run, sn_curves) -> None:
         except NumericsError as exc:
             run.failures.append(f"homoclinic from {tuple(round(v, 6) for v in z0)}: {exc}")
             continue
-        if run.interrupted:
-            return
         if len(pts) < 2:
+            if run.interrupted:
+                return
             continue
         gaps = [p.residual for p in pts]
         run.curves.append(Curve("homoclinic", [tuple(p.z) for p in pts], "true", None, {
@@ -309,6 +309,8 @@ def _homoclinic_curves(run: _Run, sn_curves) -> None:
             on_sn = any(_near(run, p.z, c) for c in sn_curves())
             run.add_codim2("saddle-node-loop" if on_sn else "saddle-change", tuple(p.z), {
                 "on": "homoclinic", "label": label, "gap": p.residual})
+        if run.interrupted:  # the points so far are kept above
+            return
 
 
 def _near(run, ab, curve, tol=2e-3) -> bool:

@@ -275,7 +275,7 @@ def _homoclinic_curves(run: _Run, sn_curves) -> None:
         label = loop0.label()
         if run.covered("homoclinic", z0, tol=0.01):
             continue
-        loop = C.Loop(loop0.x_from, loop0.x_to, loop0.leave, loop0.arrive)
+        loop = loop0.copy()
         visited = []
 
         def reset(z, loop=loop, loop0=loop0):
@@ -301,6 +301,7 @@ def _homoclinic_curves(run: _Run, sn_curves) -> None:
         gaps = [p.residual for p in pts]
         run.curves.append(Curve("homoclinic", [tuple(p.z) for p in pts], "true", None, {
             "label": label, "saddles": loop0.visits(), "leave": loop0.leave,
+            "arrive": loop0.arrive,
             "loop": "homoclinic" if loop0.homoclinic else "heteroclinic cycle",
             "gap_max": max(gaps)}))
         for end, p in ((ends[0], pts[0]), (ends[1], pts[-1])):

@@ -196,3 +196,39 @@ def test_sedf_connection_through_the_middle():
     assert all(p.residual <= GAP_TOL for p in path.points)
     for p in path.points[::3]:
         assert abs(_shoot_middle(p.z[0], p.z[1], loop.x_from)) < 1e-8
+
+
+def test_neutral_saddle_loop_located():
+    """``x'' = x - x^3 + mu (nu + c x^2 - x^4) x'`` (mu = 0.1): the saddle at the origin has
+    ``tr J = mu nu`` (closed form), so the homoclinic curve's neutral saddle loop, where a
+    fold of cycles ends (Kuznetsov sec. 6.2), is at ``nu = 0``; there the Melnikov
+    integral on ``x = sqrt(2) sech t`` gives ``c = 8/7`` to first order in mu.  The
+    located point's manifolds are shot here by scipy (turning points)."""
+    from numerics.bifurcation.oned import Settings, autonomous_diagram
+
+    model = custom_model("k*(2*x - x**3) + (nu + c*x**2 - x**4)*xdot")
+    d = autonomous_diagram(model, {"mu": "0.1", "k": "10"}, ("nu", "c"),
+                           {"nu": (-0.04, 0.06), "c": (0.9, 1.4)},
+                           settings=Settings(grid=(5, 5), averaged=False))
+    (hom,) = [c for c in d.curves if c.kind == "homoclinic"]
+    assert hom.detail["gap_max"] <= GAP_TOL
+    (ns,) = [p for p in d.codim2 if p.kind == "neutral-saddle-loop"]
+    nu, c = ns.point
+    assert abs(nu) < 1e-9 and abs(ns.detail["gap"]) <= GAP_TOL
+    assert abs(c - 8 / 7) < 1e-3
+
+    def rhs(sign):
+        return lambda t, y: [sign * y[1], sign * (y[0] - y[0] ** 3 + 0.1 * (
+            nu + c * y[0] ** 2 - y[0] ** 4) * y[1])]
+
+    def turn(t, y):
+        return y[1]
+    turn.terminal = True
+    tr = 0.1 * nu
+    lu, ls = (tr + math.sqrt(tr ** 2 + 4)) / 2, (tr - math.sqrt(tr ** 2 + 4)) / 2
+    eps = 1e-7
+    up = solve_ivp(rhs(1), (0, 100), [eps, eps * lu], events=turn, rtol=1e-12, atol=1e-14,
+                   method="DOP853")
+    dn = solve_ivp(rhs(-1), (0, 100), [eps, eps * ls], events=turn, rtol=1e-12, atol=1e-14,
+                   method="DOP853")
+    assert abs(up.y_events[0][0][0] - dn.y_events[0][0][0]) < 1e-8

@@ -161,6 +161,22 @@ def gap_function(kit, loop: Loop):
     return d
 
 
+def saddle_quantity(kit, loop: Loop):
+    """``sigma(z) = lambda_u + lambda_s = tr J`` at the loop's saddle (its ``x_from``; the
+    saddles of a symmetric cycle have the same trace).  Where it changes sign on a
+    homoclinic curve (a neutral saddle loop), a fold of cycles ends on the curve
+    (Kuznetsov, *Elements of Applied Bifurcation Theory*, sec. 6.2, Andronov-Leontovich)."""
+    from numerics.cycles.manifolds import _field, _saddle
+
+    def sigma(z):
+        a, b = float(z[0]), float(z[1])
+        params = {**kit.params, kit.axes[0]: a, kit.axes[1]: b}
+        acc, fx, fv = _field(kit.model, params, kit.compiled(a, b))
+        _, lu, ls = _saddle(acc, fx, fv, loop.x_from)
+        return lu + ls
+    return sigma
+
+
 def accept(kit, loop: Loop, z) -> Loop:
     """``loop`` with its saddles refined at the accepted point ``z``."""
     a, b = float(z[0]), float(z[1])
@@ -175,12 +191,12 @@ def candidate_loops(kit, a: float, b: float, L: float) -> list[Loop]:
     for an odd field each positive saddle to its mirror image (leaving to the right: the
     loop around everything between; the mirror loop is the same curve in the plane)."""
     sad = [x for x, kind in kit.equilibria(a, b, L) if kind == "saddle"]
-    if kit.odd:
-        sad = [x for x in sad if x > 0]
+    if kit.odd:  # x >= 0: a saddle at the origin is its own mirror image
+        sad = [x for x in sad if x > -1e-12]
     out = []
     for x in sad:
         out += [Loop(x, x, 1, 1), Loop(x, x, -1, -1)]
-        if kit.odd:
+        if kit.odd and abs(x) > 1e-12:
             out += [Loop(x, -x, 1, 1), Loop(x, -x, -1, -1), Loop(x, -x, -1, 1, True)]
     return out
 

@@ -288,9 +288,11 @@ def _homoclinic_curves(run: _Run, sn_curves) -> None:
 
         key = f"homoclinic|{z0[0]:.6f},{z0[1]:.6f}|{label}|{loop0.leave}"
         try:
-            pts, _, ends = run.follow(key, C.gap_function(kit, loop), np.array(z0), [1.0, 0.0],
-                                      scale=run.scale, on_point=on_point, tol=C.GAP_TOL,
-                                      fd_step=1e-6, reset=reset)
+            pts, events, ends = run.follow(key, C.gap_function(kit, loop), np.array(z0),
+                                           [1.0, 0.0], scale=run.scale, on_point=on_point,
+                                           tol=C.GAP_TOL, fd_step=1e-6, reset=reset,
+                                           tests={"saddle-quantity": C.saddle_quantity(kit,
+                                                                                       loop)})
         except NumericsError as exc:
             run.failures.append(f"homoclinic from {tuple(round(v, 6) for v in z0)}: {exc}")
             continue
@@ -310,6 +312,10 @@ def _homoclinic_curves(run: _Run, sn_curves) -> None:
             on_sn = any(_near(run, p.z, c) for c in sn_curves())
             run.add_codim2("saddle-node-loop" if on_sn else "saddle-change", tuple(p.z), {
                 "on": "homoclinic", "label": label, "gap": p.residual})
+        for ev in events:  # located to convergence on the curve: a fold of cycles ends here
+            run.add_codim2("neutral-saddle-loop", tuple(ev.z), {
+                "on": "homoclinic", "label": label, "saddle_quantity": ev.value,
+                "gap": ev.residual})
         if run.interrupted:  # the points so far are kept above
             return
 

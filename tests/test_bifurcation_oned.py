@@ -139,3 +139,96 @@ def test_fold_model_against_one_parameter_folds_and_kbm():
         if mu >= 0.1:
             nu_t = float(np.interp(mu, np.sort(pts[:, 1]), pts[:, 0][np.argsort(pts[:, 1])]))
             assert abs(nu3 - nu_t) < 0.2 * abs(0.125 - nu_t)
+
+
+def _shoot_middle(delta, beta, xs, mu=0.1):
+    """The velocity gap at ``x = 0`` of the connection ``xs -> -xs`` through the middle
+    (the unstable manifold of ``xs`` leaving left, the stable one of ``-xs`` arriving from
+    the right), shot by scipy on the SEDF written here (a section the connection crosses
+    transversally, not the one of :func:`numerics.bifurcation.connections.section_gap`)."""
+    xs = brentq(lambda s: s + delta * math.sin(2 * math.pi * s), xs - 0.1, xs + 0.1,
+                xtol=1e-15)
+    fx = -1 - 2 * math.pi * delta * math.cos(2 * math.pi * xs)
+    fv = -mu * (beta * xs ** 2 - 1)
+    lu = (fv + math.sqrt(fv ** 2 + 4 * fx)) / 2
+    ls = (fv - math.sqrt(fv ** 2 + 4 * fx)) / 2
+
+    def rhs(sign):
+        return lambda t, y: [sign * y[1], sign * (-mu * (beta * y[0] ** 2 - 1) * y[1]
+                                                   - delta * math.sin(2 * math.pi * y[0])
+                                                   - y[0])]
+
+    def middle(t, y):
+        return y[0]
+    middle.terminal = True
+    eps = 1e-7
+    up = solve_ivp(rhs(1), (0, 100), [xs - eps, -eps * lu], events=middle, rtol=1e-12,
+                   atol=1e-14, method="DOP853")
+    dn = solve_ivp(rhs(-1), (0, 100), [-xs + eps, eps * ls], events=middle, rtol=1e-12,
+                   atol=1e-14, method="DOP853")
+    return up.y_events[0][0][1] - dn.y_events[0][0][1]
+
+
+def test_sedf_connection_through_the_middle():
+    """The loop of the saddle 2.613 (Delta = 4) that passes its mirror saddle: the turning
+    points' gap jumps by 0.8 there, so the scan's root is the heteroclinic cycle +-2.613
+    through the middle, found and continued on the section gap (smooth) with every point
+    below GAP_TOL; each checked point shot here on the section x = 0."""
+    kit = OneDof(*SEDF, (4.0, 0.6))
+    found = scan(kit, [(4.0, b) for b in np.linspace(0.5, 0.7, 5)], 4.0)
+    (loop, z0), = found  # the false homoclinic root at the same point is dropped
+    assert loop.section and not loop.homoclinic
+    assert loop.x_from == pytest.approx(2.6133139682, abs=1e-9) and loop.x_to == -loop.x_from
+    assert "through the middle" in loop.label()
+    assert z0[1] == pytest.approx(0.57617440575, abs=1e-10)
+    assert abs(_shoot_middle(4.0, z0[1], loop.x_from)) < 1e-8
+    # smooth: the gap is linear within 1e-6 of the root on both sides (slope ~ 8)
+    g = gap_function(kit, loop.copy())
+    lo, mid, hi = (float(g((4.0, z0[1] + d))[0]) for d in (-1e-6, 0.0, 1e-6))
+    assert abs(mid) <= GAP_TOL and lo * hi < 0
+    assert abs((hi - mid) / (mid - lo) - 1) < 1e-3
+    from numerics.bifurcation.connections import accept
+
+    path = continue_curve(g, z0, tangent=[1, 0], ds=0.05, ds_max=0.2,
+                          bounds={0: (3.5, 4.5), 1: (0.5, 0.7)}, scale=[1, 0.2], tol=GAP_TOL,
+                          fd_step=1e-6, on_point=lambda p: accept(kit, loop, p.z))
+    assert path.end == "bounds" and path.points[-1].z[0] == 4.5
+    assert all(p.residual <= GAP_TOL for p in path.points)
+    for p in path.points[::3]:
+        assert abs(_shoot_middle(p.z[0], p.z[1], loop.x_from)) < 1e-8
+
+
+def test_neutral_saddle_loop_located():
+    """``x'' = x - x^3 + mu (nu + c x^2 - x^4) x'`` (mu = 0.1): the saddle at the origin has
+    ``tr J = mu nu`` (closed form), so the homoclinic curve's neutral saddle loop, where a
+    fold of cycles ends (Kuznetsov sec. 6.2), is at ``nu = 0``; there the Melnikov
+    integral on ``x = sqrt(2) sech t`` gives ``c = 8/7`` to first order in mu.  The
+    located point's manifolds are shot here by scipy (turning points)."""
+    from numerics.bifurcation.oned import Settings, autonomous_diagram
+
+    model = custom_model("k*(2*x - x**3) + (nu + c*x**2 - x**4)*xdot")
+    d = autonomous_diagram(model, {"mu": "0.1", "k": "10"}, ("nu", "c"),
+                           {"nu": (-0.04, 0.06), "c": (0.9, 1.4)},
+                           settings=Settings(grid=(5, 5), averaged=False))
+    (hom,) = [c for c in d.curves if c.kind == "homoclinic"]
+    assert hom.detail["gap_max"] <= GAP_TOL
+    (ns,) = [p for p in d.codim2 if p.kind == "neutral-saddle-loop"]
+    nu, c = ns.point
+    assert abs(nu) < 1e-9 and abs(ns.detail["gap"]) <= GAP_TOL
+    assert abs(c - 8 / 7) < 1e-3
+
+    def rhs(sign):
+        return lambda t, y: [sign * y[1], sign * (y[0] - y[0] ** 3 + 0.1 * (
+            nu + c * y[0] ** 2 - y[0] ** 4) * y[1])]
+
+    def turn(t, y):
+        return y[1]
+    turn.terminal = True
+    tr = 0.1 * nu
+    lu, ls = (tr + math.sqrt(tr ** 2 + 4)) / 2, (tr - math.sqrt(tr ** 2 + 4)) / 2
+    eps = 1e-7
+    up = solve_ivp(rhs(1), (0, 100), [eps, eps * lu], events=turn, rtol=1e-12, atol=1e-14,
+                   method="DOP853")
+    dn = solve_ivp(rhs(-1), (0, 100), [eps, eps * ls], events=turn, rtol=1e-12, atol=1e-14,
+                   method="DOP853")
+    assert abs(up.y_events[0][0][0] - dn.y_events[0][0][0]) < 1e-8

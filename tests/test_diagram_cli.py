@@ -69,3 +69,62 @@ def test_bad_input_one_line(argv, words, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert words in err and len(err.splitlines()) == 1
+
+
+# A real SIGINT delivered to the command's own process after the ``n``-th point it stores
+# (a deterministic moment: the signal is sent by the process to itself from the store's
+# ``put``, so the test does not race the run); everything else is ``python -m numerics.cli``.
+_INTERRUPT_AFTER = """
+import os, signal, sys
+from numerics.bifurcation.store import PathStore
+_put, _count = PathStore.put, [0]
+def put(self, key, record):
+    _put(self, key, record)
+    _count[0] += 1
+    if _count[0] == int(os.environ["KBM_TEST_SIGINT_AFTER"]):
+        os.kill(os.getpid(), signal.SIGINT)
+PathStore.put = put
+from numerics.cli import main
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+def _subprocess(argv, sigint_after=None):
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1])}
+    if sigint_after is None:
+        cmd = [sys.executable, "-m", "numerics.cli", *argv]
+    else:
+        env["KBM_TEST_SIGINT_AFTER"] = str(sigint_after)
+        cmd = [sys.executable, "-c", _INTERRUPT_AFTER, *argv]
+    return subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=600)
+
+
+@pytest.mark.slow
+def test_ctrl_c_keeps_the_points_and_resume_finishes(tmp_path):
+    """Issue 38's long runs: SIGINT part-way exits 130 with the points found kept in
+    ``--store``; ``--resume`` ends with the same JSON as a run never interrupted."""
+    whole = _subprocess([*ARGS, "--json", "--store", str(tmp_path / "whole")])
+    assert whole.returncode == 0, whole.stderr
+    stopped = _subprocess([*ARGS, "--json", "--store", str(tmp_path / "part")], sigint_after=8)
+    assert stopped.returncode == 130, stopped.stderr
+    assert "interrupted" in stopped.stderr and "--resume" in stopped.stderr
+    assert len(stopped.stderr.strip().splitlines()) == 1
+    # the kept path: not done, its points those of the whole run's curve
+    (run_dir,) = (tmp_path / "part").iterdir()
+    records = [json.loads(p.read_text()) for p in run_dir.glob("*.json")]
+    open_paths = [r for r in records if "path" in r and not r["done"]]
+    assert len(open_paths) == 1
+    kept = json.loads(stopped.stdout)
+    (hopf_part,) = kept["curves"]
+    (hopf_whole,) = json.loads(whole.stdout)["curves"]
+    assert 2 <= len(hopf_part["points"]) < len(hopf_whole["points"])
+    whole_points = {tuple(p) for p in hopf_whole["points"]}
+    assert all(tuple(p) in whole_points for p in hopf_part["points"])
+    resumed = _subprocess([*ARGS, "--json", "--store", str(tmp_path / "part"), "--resume"])
+    assert resumed.returncode == 0, resumed.stderr
+    assert resumed.stdout == whole.stdout

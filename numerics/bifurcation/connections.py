@@ -44,6 +44,9 @@ class Loop:
     x_to: float
     leave: int
     arrive: int
+    #: the gap on the section ``x = x_to + arrive SECTION`` (:func:`section_gap`), not at
+    #: the turning points: the connections through the middle of a symmetric pair
+    section: bool = False
 
     @property
     def homoclinic(self) -> bool:
@@ -55,7 +58,89 @@ class Loop:
 
     def label(self) -> str:
         return "saddle" + ("" if self.homoclinic else "s") + " at x = " + \
-            ", ".join(f"{x:+.4g}" for x in self.visits())
+            ", ".join(f"{x:+.4g}" for x in self.visits()) + \
+            (" (through the middle)" if self.section else "")
+
+    def copy(self) -> "Loop":
+        return Loop(self.x_from, self.x_to, self.leave, self.arrive, self.section)
+
+    def gap(self, model, params, compiled):
+        """``(d, x_s, x_t)`` of this loop: :func:`section_gap` or the turning points'."""
+        fn = section_gap if self.section else connection_gap
+        return fn(model, params, self.x_from, self.x_to, self.leave, self.arrive,
+                  compiled=compiled)
+
+
+#: the section ``x = x_to + arrive SECTION`` of :func:`section_gap`
+SECTION = 0.05
+
+
+def section_gap(model, params, x_from: float, x_to: float, leave: int, arrive: int,
+                t_max: float = 200.0, *, compiled) -> tuple[float, float, float]:
+    """``(d, x_s, x_t)``: the velocity of the unstable manifold of the saddle near
+    ``x_from`` (leaving towards ``leave``) where it first crosses ``x = x_t + arrive SECTION``
+    towards ``x_t``, minus that of the stable manifold of ``x_t`` (arriving from ``arrive``)
+    there, followed backward.  Unlike the turning points of
+    :func:`numerics.cycles.manifolds.connection_gap`, this is smooth where the orbit passes
+    close to another saddle (a turning point there jumps with the side it passes on).  Where
+    the unstable manifold turns back before the section, ``d`` is continued by
+    ``-v_s + (x_turn - x_section)`` (of the sign of ``-v_s``: never zero, so scans see the
+    sign change at the connection).
+    """
+    from scipy.integrate import solve_ivp
+
+    from numerics.cycles.manifolds import EPS, _field, _saddle
+    from numerics.flow import template_flow
+
+    acc, fx, fv = _field(model, params, compiled)
+    xs, lu, _ = _saddle(acc, fx, fv, x_from)
+    xt, _, ls = _saddle(acc, fx, fv, x_to)
+    xsec = xt + arrive * SECTION
+    # the stable manifold backward to the section: short, scipy with event location
+    ev = (lambda t, y: y[0] - xsec)
+    ev.terminal = True
+    sol = solve_ivp(lambda t, y: [-y[1], -acc(y[0], y[1])], (0.0, t_max),
+                    [xt + arrive * EPS, arrive * EPS * ls], method="DOP853", rtol=1e-12,
+                    atol=1e-13, events=ev)
+    if not sol.t_events[0].size:
+        raise ConvergenceError(f"the stable manifold of x = {xt:.6g} did not reach the section")
+    v_s = float(sol.y_events[0][0][1])
+    fl = template_flow(compiled.template)
+    if fl is None:
+        raise ConvergenceError("the section gap needs the compiled flow (numba)")
+    y = np.array([xs + leave * EPS, leave * EPS * lu])
+    t, chunk, n = 0.0, 2.0, 40
+    x_ext = None   # the unstable manifold's extreme x towards the section, before it turns
+    turned = False
+    while t < t_max:
+        r = fl(y, chunk, compiled.pvec, 1e-12, 1e-13, n)
+        if r.status:
+            raise ConvergenceError(f"the unstable manifold: {r.message}")
+        Y = r.y
+        for k in range(n):
+            s0, s1 = Y[k, 0] - xsec, Y[k + 1, 0] - xsec
+            if s0 * arrive > 0 >= s1 * arrive and Y[k + 1, 1] * arrive < 0:
+                return _refine(fl, compiled.pvec, Y[k], xsec) - v_s, xs, xt
+            if not turned and t > 0 and Y[k, 1] * Y[k + 1, 1] < 0:
+                turned = True
+                x_ext = Y[k, 0]
+        t += chunk
+        y = Y[-1]
+    if x_ext is None:
+        raise ConvergenceError("the unstable manifold neither turned nor crossed the section")
+    return -v_s + (x_ext - xsec), xs, xt
+
+
+def _refine(fl, pvec, y, xsec) -> float:
+    """``x'`` where the orbit from ``y`` crosses ``x = xsec`` (Newton on the time)."""
+    dt = 0.0
+    for _ in range(12):
+        z = fl(y, dt, pvec, 1e-12, 1e-13, 1).y[-1] if dt > 0 else np.asarray(y, float)
+        step = (xsec - z[0]) / z[1]
+        dt += step
+        if abs(step) < 1e-15 * max(1.0, dt):
+            break
+    return float(fl(y, dt, pvec, 1e-12, 1e-13, 1).y[-1][1])
 
 
 def gap_function(kit, loop: Loop):
@@ -65,8 +150,7 @@ def gap_function(kit, loop: Loop):
         a, b = float(z[0]), float(z[1])
         cm = kit.compiled(a, b)
         params = {**kit.params, kit.axes[0]: a, kit.axes[1]: b}
-        g, xs, xt = connection_gap(kit.model, params, loop.x_from, loop.x_to, loop.leave,
-                                   loop.arrive, compiled=cm)
+        g, xs, xt = loop.gap(kit.model, params, cm)
         if not math.isfinite(g):
             raise ConvergenceError("the gap is not finite")
         # the same saddles: Newton must not jump to another one
@@ -77,12 +161,27 @@ def gap_function(kit, loop: Loop):
     return d
 
 
+def saddle_quantity(kit, loop: Loop):
+    """``sigma(z) = lambda_u + lambda_s = tr J`` at the loop's saddle (its ``x_from``; the
+    saddles of a symmetric cycle have the same trace).  Where it changes sign on a
+    homoclinic curve (a neutral saddle loop), a fold of cycles ends on the curve
+    (Kuznetsov, *Elements of Applied Bifurcation Theory*, sec. 6.2, Andronov-Leontovich)."""
+    from numerics.cycles.manifolds import _field, _saddle
+
+    def sigma(z):
+        a, b = float(z[0]), float(z[1])
+        params = {**kit.params, kit.axes[0]: a, kit.axes[1]: b}
+        acc, fx, fv = _field(kit.model, params, kit.compiled(a, b))
+        _, lu, ls = _saddle(acc, fx, fv, loop.x_from)
+        return lu + ls
+    return sigma
+
+
 def accept(kit, loop: Loop, z) -> Loop:
     """``loop`` with its saddles refined at the accepted point ``z``."""
     a, b = float(z[0]), float(z[1])
     params = {**kit.params, kit.axes[0]: a, kit.axes[1]: b}
-    _, xs, xt = connection_gap(kit.model, params, loop.x_from, loop.x_to, loop.leave,
-                               loop.arrive, compiled=kit.compiled(a, b))
+    _, xs, xt = loop.gap(kit.model, params, kit.compiled(a, b))
     loop.x_from, loop.x_to = xs, xt
     return loop
 
@@ -92,20 +191,19 @@ def candidate_loops(kit, a: float, b: float, L: float) -> list[Loop]:
     for an odd field each positive saddle to its mirror image (leaving to the right: the
     loop around everything between; the mirror loop is the same curve in the plane)."""
     sad = [x for x, kind in kit.equilibria(a, b, L) if kind == "saddle"]
-    if kit.odd:
-        sad = [x for x in sad if x > 0]
+    if kit.odd:  # x >= 0: a saddle at the origin is its own mirror image
+        sad = [x for x in sad if x > -1e-12]
     out = []
     for x in sad:
         out += [Loop(x, x, 1, 1), Loop(x, x, -1, -1)]
-        if kit.odd:
-            out += [Loop(x, -x, 1, 1), Loop(x, -x, -1, -1)]
+        if kit.odd and abs(x) > 1e-12:
+            out += [Loop(x, -x, 1, 1), Loop(x, -x, -1, -1), Loop(x, -x, -1, 1, True)]
     return out
 
 
 def _gap(kit, loop, a, b):
     try:
-        return float(gap_function(kit, Loop(loop.x_from, loop.x_to, loop.leave,
-                                             loop.arrive))((a, b))[0])
+        return float(gap_function(kit, loop.copy())((a, b))[0])
     except _FAIL:
         return float("nan")
 
@@ -123,7 +221,8 @@ def scan(kit, line, L: float) -> list[tuple[Loop, tuple[float, float]]]:
             for lp, g in zip(loops, gaps):
                 # the same loop at the previous point: nearest saddle, same sides
                 match = [(abs(q.x_from - lp.x_from), q, h) for q, h in zip(ploops, pgaps)
-                         if q.leave == lp.leave and (q.x_to == q.x_from) == (lp.x_to == lp.x_from)]
+                         if (q.leave, q.arrive, q.section) == (lp.leave, lp.arrive, lp.section)
+                         and (q.x_to == q.x_from) == (lp.x_to == lp.x_from)]
                 if not match:
                     continue
                 dist, q, h = min(match, key=lambda m: m[0])
@@ -133,7 +232,16 @@ def scan(kit, line, L: float) -> list[tuple[Loop, tuple[float, float]]]:
                 if root is not None:
                     found.append(root)
         prev = (a, b, loops, gaps)
-    return found
+    # a homoclinic root of the turning points' gap where a loop through the middle of the
+    # pair x, -x closes is that heteroclinic cycle (the loop of x passes -x there, and the
+    # turning point jumps), not a homoclinic loop
+    inner = [(lp, z) for lp, z in found if lp.section]
+
+    def at_inner(lp, z):
+        return lp.homoclinic and any(
+            abs(abs(q.x_from) - abs(lp.x_from)) < 1e-6 * (1 + abs(lp.x_from))
+            and math.dist(z, w) < 1e-8 * (1 + math.hypot(*z)) for q, w in inner)
+    return [(lp, z) for lp, z in found if not at_inner(lp, z)]
 
 
 def _root(kit, loop: Loop, p, q):
@@ -148,7 +256,7 @@ def _root(kit, loop: Loop, p, q):
         z = (p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1]))
         if abs(g(s)) > 1e3 * GAP_TOL:  # a jump of the turning point, not a connection
             return None
-        lp = accept(kit, Loop(loop.x_from, loop.x_to, loop.leave, loop.arrive), z)
+        lp = accept(kit, loop.copy(), z)
     except _FAIL:
         return None
     return lp, z

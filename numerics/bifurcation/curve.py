@@ -331,6 +331,8 @@ def continue_curve(G: Callable, z0, *, jac: Callable | None = None, tangent=None
                 path.end, path.message = "outside", "the first point lies outside the box"
                 return path
         step = ds if not math.isfinite(wpath.ds) else wpath.ds
+        if resume is not None and len(wpath.points) > 1:  # the step the run would take next
+            step = _next_step(step, wpath.points[-1].steps, ds_max)
         while len(wpath.points) < max_points:
             last = wpath.points[-1]
             if step < ds_min:
@@ -389,7 +391,7 @@ def continue_curve(G: Callable, z0, *, jac: Callable | None = None, tangent=None
                 path.end = "closed"
                 path.message = "the curve closed on its first point"
                 break
-            step = min(ds_max, step * 1.3) if k <= 3 else (step * 0.7 if k > 6 else step)
+            step = _next_step(step, k, ds_max)
     except KeyboardInterrupt:
         path.end = "interrupted"
         path.message = "stopped by Ctrl-C; the points found are kept"
@@ -424,6 +426,11 @@ def _outside(z, bounds):
         if z[i] > hi:
             return i, float(hi)
     return None
+
+
+def _next_step(step: float, k: int, ds_max: float) -> float:
+    """The step after a point corrected in ``k`` Newton steps (module docstring)."""
+    return min(ds_max, step * 1.3) if k <= 3 else (step * 0.7 if k > 6 else step)
 
 
 def _closed(path, step) -> bool:

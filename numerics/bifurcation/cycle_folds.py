@@ -134,9 +134,9 @@ def fold_curves(run, seeds) -> None:
         except NumericsError as exc:  # the seed did not converge to a fold
             run.failures.append(f"fold from {tuple(round(v, 6) for v in z0)}: {exc}")
             continue
-        if run.interrupted:
-            return
         if len(pts) < 2:
+            if run.interrupted:
+                return
             continue
         run.curves.append(Curve("fold", [tuple(p.z[2:]) for p in pts], "true", None, {
             "x_max": [float(pts[0].z[0]), float(pts[-1].z[0])],
@@ -144,6 +144,20 @@ def fold_curves(run, seeds) -> None:
             "residual_max": max(p.residual for p in pts)}))
         for end, p in ((ends[0], pts[0]), (ends[1], pts[-1])):
             if end == "stopped":
+                ab = np.asarray(p.z[2:], dtype=float)
+                near = [q for q in run.codim2 if q.kind == "neutral-saddle-loop" and np.linalg.norm(
+                    (np.asarray(q.point) - ab) / run.scale) < 0.05]
+                if near:  # the end located on the homoclinic curve (saddle quantity zero)
+                    q = min(near, key=lambda q: np.linalg.norm((np.asarray(q.point) - ab)
+                                                                / run.scale))
+                    run.add_codim2("fold-homoclinic", q.point, {
+                        "on": "fold", "period": float(p.z[1]), "last_fold_point":
+                        [float(v) for v in ab], "note": "the neutral saddle loop located on "
+                        "the homoclinic curve (the saddle quantity's zero), where the fold "
+                        "curve ends; last_fold_point: its last converged point"})
+                    continue
                 run.add_codim2("fold-homoclinic", tuple(p.z[2:]), {
                     "on": "fold", "period": float(p.z[1]),
                     "note": "the last converged point of the fold curve, period above t_max"})
+        if run.interrupted:  # the points so far are kept above
+            return

@@ -225,9 +225,9 @@ def _equilibrium_curves(run: _Run) -> None:
             except NumericsError as exc:
                 run.failures.append(f"{kind} from {tuple(round(v, 6) for v in z0)}: {exc}")
                 continue
+            _equilibrium_result(run, kind, pts, events)  # interrupted: the points so far
             if run.interrupted:
                 return
-            _equilibrium_result(run, kind, pts, events)
 
 
 def _equilibrium_result(run: _Run, kind, pts, events):
@@ -275,7 +275,7 @@ def _homoclinic_curves(run: _Run, sn_curves) -> None:
         label = loop0.label()
         if run.covered("homoclinic", z0, tol=0.01):
             continue
-        loop = C.Loop(loop0.x_from, loop0.x_to, loop0.leave, loop0.arrive)
+        loop = loop0.copy()
         visited = []
 
         def reset(z, loop=loop, loop0=loop0):
@@ -288,19 +288,22 @@ def _homoclinic_curves(run: _Run, sn_curves) -> None:
 
         key = f"homoclinic|{z0[0]:.6f},{z0[1]:.6f}|{label}|{loop0.leave}"
         try:
-            pts, _, ends = run.follow(key, C.gap_function(kit, loop), np.array(z0), [1.0, 0.0],
-                                      scale=run.scale, on_point=on_point, tol=C.GAP_TOL,
-                                      fd_step=1e-6, reset=reset)
+            pts, events, ends = run.follow(key, C.gap_function(kit, loop), np.array(z0),
+                                           [1.0, 0.0], scale=run.scale, on_point=on_point,
+                                           tol=C.GAP_TOL, fd_step=1e-6, reset=reset,
+                                           tests={"saddle-quantity": C.saddle_quantity(kit,
+                                                                                       loop)})
         except NumericsError as exc:
             run.failures.append(f"homoclinic from {tuple(round(v, 6) for v in z0)}: {exc}")
             continue
-        if run.interrupted:
-            return
         if len(pts) < 2:
+            if run.interrupted:
+                return
             continue
         gaps = [p.residual for p in pts]
         run.curves.append(Curve("homoclinic", [tuple(p.z) for p in pts], "true", None, {
             "label": label, "saddles": loop0.visits(), "leave": loop0.leave,
+            "arrive": loop0.arrive,
             "loop": "homoclinic" if loop0.homoclinic else "heteroclinic cycle",
             "gap_max": max(gaps)}))
         for end, p in ((ends[0], pts[0]), (ends[1], pts[-1])):
@@ -309,6 +312,12 @@ def _homoclinic_curves(run: _Run, sn_curves) -> None:
             on_sn = any(_near(run, p.z, c) for c in sn_curves())
             run.add_codim2("saddle-node-loop" if on_sn else "saddle-change", tuple(p.z), {
                 "on": "homoclinic", "label": label, "gap": p.residual})
+        for ev in events:  # located to convergence on the curve: a fold of cycles ends here
+            run.add_codim2("neutral-saddle-loop", tuple(ev.z), {
+                "on": "homoclinic", "label": label, "saddle_quantity": ev.value,
+                "gap": ev.residual})
+        if run.interrupted:  # the points so far are kept above
+            return
 
 
 def _near(run, ab, curve, tol=2e-3) -> bool:

@@ -284,7 +284,7 @@ def linewidth_series(model: Oscillator | str,
 
     With ``a_0`` the stable root of ``A_1``, ``a* = a_0 + mu a_1``, ``a_1 = -A_2(a_0)/A_1'(a_0)``,
     and ``Z_v = z_0 + mu z_1 + O(mu^2)`` (:func:`phase_response` at order 2, expanded;
-    ``z_0 = (cos psi - (g_1/lambda_1) ... )`` is Lax's),
+    ``z_0 = -(cos psi + (g_1/lambda_1) a sin psi)/(omega0 a)`` for ``u_0 = a cos psi``),
 
     ``c_0 = <z_0^2>(a_0)`` (Lax: ``(1/a_0^2 + g_1^2/lambda_1^2)/(2 omega0^2)``),
     ``c_1 = <2 z_0 z_1>(a_0) + a_1 d<z_0^2>/da(a_0)``.

@@ -54,7 +54,8 @@ def register(sub) -> None:
                         "uninterrupted run)")
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the averaging (default 1; 2 adds the second-order KBM rates "
-                        "mu^2 A_2, mu^2 B_2 to the averaged equations)")
+                        "mu^2 A_2, mu^2 B_2 and the O(mu) correction of the phase response "
+                        "through the near-identity transform to the linewidth)")
     p.add_argument("--floquet", action="store_true",
                    help="self-excited: add the small-noise linewidth D <Z_v^2> and frequency "
                         "of the true cycle (phase response by the adjoint Floquet problem; "

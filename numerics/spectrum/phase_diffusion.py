@@ -23,6 +23,12 @@ logarithmically at ``a = 0``, where the phase is undefined and the averaging doe
 the integrals start where ``P`` has fallen to ``exp(-60)`` of its peak (for a limit cycle
 that part of ``P`` carries nothing measurable).
 
+At order 2 the line is also corrected by one power of ``mu``: the small-noise linewidth
+``D <Z_v^2>`` of the phase response pulled back through the first-order near-identity
+transform (:func:`kbm.phase_diffusion.phase_response`; error ``O(mu^2)`` against the true
+cycle's, :mod:`numerics.spectrum.floquet`) replaces Lax's ``D_eff`` as the scale of the
+stationary-density line: ``D_eff(order 2) = D_eff(quadrature) * D <Z_v^2>/D_eff(Lax)``.
+
 The spectrum of ``x`` is a sum of lines at ``k Omega``: a Lorentzian of half width
 ``k^2 D_eff`` carrying the coherent power ``<r_k>^2/2`` of harmonic ``k`` (``x = sum_k
 r_k(a) cos(k psi + theta_k)``, from :attr:`kbm.phase_diffusion.PhaseDiffusion.displacement`)
@@ -50,6 +56,7 @@ __all__ = ["Line", "LineTheory", "line_theory"]
 
 _GRID = 20001  # quadrature points in a
 _CUT = 60.0  # ln P below its peak where the quadrature stops
+_PSI = 512  # points in psi for <Z_v^2> (a trigonometric rational: spectral accuracy)
 
 
 @dataclass(frozen=True)
@@ -97,6 +104,9 @@ class LineTheory:
         ``D_eff`` and ``Omega`` from the stationary density (no linearisation).
     frequency_cycle : float
         ``omega0 + B(a*)``: the deterministic cycle's frequency at this order.
+    small_noise : float
+        ``D <Z_v^2>`` at ``a*`` (:func:`kbm.phase_diffusion.phase_response`): Lax's
+        ``D_eff`` at order 1, with its ``O(mu)`` correction at order 2.
     mean_amplitude : float
         ``<a>`` over ``P``.
     lines : tuple of Line
@@ -118,6 +128,7 @@ class LineTheory:
     frequency_cycle: float
     mean_amplitude: float
     lines: tuple
+    small_noise: float = float("nan")
 
     def __repr__(self) -> str:
         return (f"LineTheory({self.name}, mu={self.mu:g}, D={self.D:g}: a* = "
@@ -151,6 +162,7 @@ class LineTheory:
                 "linewidth_linear": self.linewidth_linear,
                 "frequency_linear": self.frequency_linear,
                 "frequency_cycle": self.frequency_cycle,
+                "linewidth_small_noise": self.small_noise,
                 "lines": [{"k": ln.k, "omega": ln.omega, "hwhm": ln.hwhm, "power": ln.power,
                            "pedestal": ln.pedestal} for ln in self.lines]}
 
@@ -280,6 +292,13 @@ def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1
     s = D / w0**2
     sigma2 = float(np.trapezoid(4 * F**2 / (s * p), ag))
     lw = D / (2 * w0**2) * inv_a2 + sigma2 / 2
+    Zv = _fn(pd.phase_response, subs)
+    ps = 2 * math.pi * np.arange(_PSI) / _PSI
+    small = D * float(np.mean(np.asarray(Zv(a_star, ps), float) ** 2))
+    if order >= 2:
+        # the O(mu) correction of the phase response (the transform's mu u_1) scales the
+        # stationary-density line, whose finite-D/mu part is of the first order
+        lw *= small / lw_lin
     freq = w0 + mean_b
     mean_a = float(np.trapezoid(p * ag, ag))
 
@@ -300,4 +319,4 @@ def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1
         lines.append(Line(k, k * freq, k * k * lw, m1 * m1 / 2, max(m2 - m1 * m1, 0.0) / 2))
     name = model if isinstance(model, str) else pd.model.name
     return LineTheory(name, order, m_val, float(D), w0, a_star, lam, g, d_phi, lw_lin, f_lin,
-                      lw, freq, f_cyc, mean_a, tuple(lines))
+                      lw, freq, f_cyc, mean_a, tuple(lines), small)

@@ -51,6 +51,18 @@ SLOW = {
     "tests/test_params_layer.py::test_escape_takes_T": 6,
     "tests/test_forced_numeric.py::test_command_line_slider": 5,
     "tests/test_coupled_numeric.py::test_locking_of_sine_coupled_van_der_pol_oscillators": 6,
+    # and (5:25 for 1388 tests) the closed forms of the order-2 linewidth (the doctest of
+    # kbm.phase_diffusion.linewidth_series checks them), the shifted potential's u1 (its
+    # chain-vs-jets sibling), the escape JSON (test_escape_phase_cli), the noise one-line
+    # errors (test_noise_cli's), T = D/mu (friction's and escape's), the extrapolation
+    # record (the two-level estimate against quadrature)
+    "tests/test_spectrum_order2.py::test_closed_forms_of_the_correction": 7,
+    "tests/test_coupled_constants.py::test_shifted_potential_u1_equals_fft_quadrature": 5,
+    "tests/test_noise_cli.py::test_escape_json_simulated": 5,
+    "tests/test_noise_validity.py::test_cli_one_line_errors": 5,
+    "tests/test_params_layer.py::test_noise_takes_T_as_D_over_mu": 4,
+    "tests/test_noise_extrapolation.py::"
+    "test_noise_report_extrapolate_states_method_and_error": 4,
     "tests/test_coupled_bessel.py::test_chain_of_three_equals_the_jets": 85,
     "tests/test_energy_position.py::test_h_not_odd_period_orders": 84,
     "tests/test_forced_special.py::test_neimark_sacker_on_the_driven_slider": 82,

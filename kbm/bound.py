@@ -12,13 +12,16 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import TYPE_CHECKING
 
 import sympy as sp
 
 from .errors import ParameterError
-from .family import OscillatorFamily
 from .models import MODELS, Oscillator, _drive_variant, get_model
 from .values import FrozenMap, parameter_value
+
+if TYPE_CHECKING:  # the coupled package imports this module
+    from .coupled.model import CoupledOscillators
 
 __all__ = ["BoundModel", "ParameterLine", "bind"]
 
@@ -34,7 +37,7 @@ class BoundModel:
     Attributes
     ----------
     model
-        A member of :class:`kbm.family.OscillatorFamily`: an :class:`Oscillator` (its drive
+        An instance of the one model type :class:`kbm.coupled.CoupledOscillators`: an :class:`Oscillator` (its drive
         may hold a stage velocity), a :class:`kbm.forced.ForcedOscillator` or a
         :class:`kbm.coupled.CoupledOscillators` (``bind("coupled-vdp", ...)``).
     values
@@ -50,11 +53,11 @@ class BoundModel:
     True
     """
 
-    model: OscillatorFamily
+    model: "CoupledOscillators"
     values: FrozenMap
 
     @classmethod
-    def of(cls, model: OscillatorFamily, values: Mapping[str, object] | None = None
+    def of(cls, model: "CoupledOscillators", values: Mapping[str, object] | None = None
            ) -> "BoundModel":
         """Resolve ``values`` for ``model`` (its ``resolve``: physical names converted,
         defaults filled in)."""
@@ -106,7 +109,7 @@ class BoundModel:
         return {sp.Symbol(k): v for k, v in self.values.items()}
 
 
-def bind(model: "OscillatorFamily | str | BoundModel",
+def bind(model: "CoupledOscillators | str | BoundModel",
          params: Mapping[str, object] | None = None) -> BoundModel:
     """A :class:`BoundModel` from a model (or built-in name) and parameter values.
 

@@ -40,32 +40,7 @@ from __future__ import annotations
 
 from .errors import ModelError
 
-__all__ = ["OscillatorFamily", "one_degree_form"]
-
-
-class OscillatorFamily:
-    """The base of the one model type :class:`kbm.coupled.CoupledOscillators`: ``dof``
-    and ``forced`` are properties.
-
-    Examples
-    --------
-    >>> from kbm.models import get_model
-    >>> from kbm.coupled import get_coupled_model
-    >>> [(m.dof, m.forced) for m in (get_model("vdp"), get_coupled_model("quadratic-1-2"))]
-    [(1, False), (2, True)]
-    """
-
-    __slots__ = ()
-
-    @property
-    def dof(self) -> int:
-        """The number ``N`` of degrees of freedom."""
-        raise NotImplementedError
-
-    @property
-    def forced(self) -> bool:
-        """Whether ``F`` holds the forcing angle ``theta = nu t``."""
-        raise NotImplementedError
+__all__ = ["one_degree_form"]
 
 
 def one_degree_form(model):

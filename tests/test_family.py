@@ -20,7 +20,6 @@ from hypothesis import strategies as st
 from kbm.bound import bind
 from kbm.coupled import COUPLED_MODELS, CoupledOscillators, get_coupled_model
 from kbm.errors import ModelError, ParameterError
-from kbm.family import OscillatorFamily
 from kbm.forced import FORCED_MODELS, get_forced_model
 from kbm.models import MODELS, custom_model, get_model
 from kbm.symbols import x, xdot
@@ -33,7 +32,7 @@ from numerics.coupled.flow import bind_coupled
 def test_one_degree_of_freedom_members(name):
     m = get_model(name)
     assert isinstance(m, CoupledOscillators) and (m.dof, m.forced) == (1, False)
-    assert isinstance(m, OscillatorFamily) and get_coupled_model(name) == m
+    assert isinstance(m, CoupledOscillators) and get_coupled_model(name) == m
     assert m.rhs == (m.F.subs({x: X1, xdot: V1}, simultaneous=True),)
 
 
@@ -48,7 +47,7 @@ def test_forced_members(name):
 @pytest.mark.parametrize("name", sorted(COUPLED_MODELS))
 def test_coupled_members(name):
     m = get_coupled_model(name)
-    assert isinstance(m, OscillatorFamily)
+    assert isinstance(m, CoupledOscillators)
     assert m.dof == len(m.F) and m.forced == (m.nu0 is not None)
 
 

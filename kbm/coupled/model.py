@@ -35,7 +35,6 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..errors import ModelError, ParameterError
-from ..family import OscillatorFamily
 from ..symbols import mu, parse, t
 from ..values import FrozenMap, parameter_value, scaled_values
 from .resonance import InternalResonance
@@ -49,7 +48,7 @@ _THETA, _NU = sp.Symbol("theta"), sp.Symbol("nu")
 
 
 @dataclass(frozen=True, init=False)
-class CoupledOscillators(OscillatorFamily):
+class CoupledOscillators:
     """The system ``x_i'' + omega_i**2 x_i = mu F_i(x1..xN, xdot1..xdotN, theta)``.
 
     Parameters

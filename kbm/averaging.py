@@ -45,8 +45,9 @@ from .algebra.laurent import LaurentRing
 from .algebra.lazy_series import trig_argument_message, unsupported_message
 from .algebra.poly_fourier import PolyAlgebra
 from .cost import COST_BUDGET, check_cost, expansion_cost
-from .errors import OrderError, UnsupportedTermError
+from .errors import NonAutonomousError, OrderError, UnsupportedTermError
 from .models import Oscillator, get_model
+from .oscillator import TO_ONE
 from .recursion import one_angle_recursion
 from .result import KBMResult
 from .symbols import a, psi, x, xdot
@@ -69,12 +70,12 @@ MAX_ORDER = 30
 def _is_polynomial(model: Oscillator) -> bool:
     """Whether the exact algebra applies: F polynomial in x, xdot with coefficients that are
     Laurent polynomials in the parameters over Q, and omega0 rational or a symbol."""
-    F = sp.expand(model.F)
+    F, w0 = _one_form(model)
+    F = sp.expand(F)
     try:
         poly = sp.Poly(F, x, xdot)
     except sp.PolynomialError:
         return False
-    w0 = model.omega0
     if not (w0.is_Symbol or w0.is_Rational):
         return False
     params = sorted((F.free_symbols | w0.free_symbols) - {x, xdot}, key=lambda s: s.name)
@@ -170,44 +171,49 @@ def derive(model: "Oscillator | CoupledOscillators | str", order: int,
     >>> res.B[2]
     -7*a**4/256 + a**2/8 - 1/8
     """
-    if _coupled_member(model):  # N degrees of freedom (or a forcing): the general engine
+    system = _coupled_member(model)
+    if system:  # N degrees of freedom (or a forcing): the general engine
         from .coupled.builtins import get_coupled_model
         from .coupled.engine import derive_coupled
 
         model = get_coupled_model(model) if isinstance(model, str) else model
-        one = _one_degree_with_bessel(model, order)
-        if one is not None:  # N = 1, sin/cos of x above order 1: this engine's lattice sums
-            from .coupled.result import CoupledKBMResult
-
-            return CoupledKBMResult.from_one_degree(model, derive(one, order, params))
-        return derive_coupled(model, order, params)
+        if not _bessel_case(model, order):
+            return derive_coupled(model, order, params)
+        # N = 1, sin/cos of x above order 1: this engine's lattice sums, on the same instance
     raw = run_recursion(model, order, params)
     alg = raw.algebra
-    return KBMResult(
+    res = KBMResult(
         model=raw.model, order=order,
         A=(sp.Integer(0), *[alg.coef_expr(c) for c in raw.A]),
-        B=(raw.model.omega0, *[alg.coef_expr(c) for c in raw.B]),
+        B=(raw.model.omegas[0], *[alg.coef_expr(c) for c in raw.B]),
         u=(a * sp.cos(psi), *[alg.series_expr(f) for f in raw.u]),
         exact=raw.exact,
     )
+    if system:
+        from .coupled.result import CoupledKBMResult
+
+        return CoupledKBMResult.from_one_degree(model, res)
+    return res
 
 
-def _one_degree_with_bessel(model, order: int):
-    """The case :class:`~kbm.models.Oscillator` of the system ``model`` (its data, in the
-    names of one degree of freedom) when it has one degree of freedom, no forcing and
-    ``sin``/``cos`` of its position, and ``order > 1`` (which the general engine does not
-    take and this one does); otherwise ``None``."""
+def _bessel_case(model, order: int) -> bool:
+    """Whether the system ``model`` has one degree of freedom, no forcing and ``sin``/``cos``
+    of its position, and ``order > 1`` (which the general engine does not take and this one
+    does, on the same instance through its general accessors)."""
     from .coupled.bessel import trig_of_state
-    from .oscillator import TO_ONE
 
     m = model
     if order <= 1 or m.dof != 1 or m.forced or m.hards:
-        return None
+        return False
     terms = sp.Add.make_args(sp.expand(m.rhs[0]))
-    if not any(trig_of_state(term, set(m.state)) for term in terms):
-        return None
-    return Oscillator(m.name, m.rhs[0].xreplace(TO_ONE), m.omegas[0], m.description,
-                      m.physical, m.defaults, m.drives[0] if m.drives else 0, m.gain_factor)
+    return any(trig_of_state(term, set(m.state)) for term in terms)
+
+
+def _one_form(model) -> tuple[sp.Expr, sp.Expr]:
+    """``(F(x, xdot), omega0)`` of an ``N = 1`` instance of the one type, from its general
+    accessors ``rhs``, ``omegas`` (an :class:`Oscillator` keeps its ``F`` as written)."""
+    F = model.F if isinstance(model, Oscillator) else model.rhs[0].xreplace(TO_ONE)
+    return F, model.omegas[0]
 
 
 def _coupled_member(model) -> bool:
@@ -234,7 +240,8 @@ class RawExpansion:
     Attributes
     ----------
     model
-        The oscillator, parameters substituted.
+        The ``N = 1`` instance (an :class:`Oscillator`, or a system of one degree of
+        freedom read through its general accessors), parameters substituted.
     order
         The order ``N`` of the recursion.
     algebra
@@ -278,11 +285,17 @@ def run_recursion(model: Oscillator | str, order: int, params: dict | None = Non
         raise OrderError(f"order {order} is above the limit {MAX_ORDER} of the symbolic "
                          f"expansion (its cost grows like order^5: order 30 takes ~1.3 s for "
                          f"van der Pol); ask for order <= {MAX_ORDER}")
-    model.require_autonomous("the KBM averaging")
-    check_cost(model.F, order)
+    if isinstance(model, Oscillator):
+        model.require_autonomous("the KBM averaging")
+    elif not model.is_autonomous:  # a system's drive of t
+        raise NonAutonomousError(
+            f"the KBM averaging needs an autonomous model, but {model.name!r} depends on t "
+            "explicitly; set the stage velocity v = 0 or drop the time-dependent term")
+    F, _ = _one_form(model)
+    check_cost(F, order)
     # products of sines and cosines become sums (sin(x) cos(x) = sin(2x)/2): one Bessel
     # sum per term instead of nested ones
-    F = sp.expand(TR8(model.F)) if model.F.has(sp.sin, sp.cos) else sp.expand(model.F)
+    F = sp.expand(TR8(F)) if F.has(sp.sin, sp.cos) else sp.expand(F)
     _check_terms(F)
     polynomial = _is_polynomial(model)
     if not polynomial and order > MAX_ORDER_TRIG:

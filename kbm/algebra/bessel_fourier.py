@@ -324,7 +324,7 @@ class SymAlgebra:
     exact = False
 
     def __init__(self, model: Oscillator):
-        self.w0 = model.omega0
+        self.w0 = model.omegas[0]
 
     def zero(self) -> SymFourier:
         return SymFourier()

@@ -234,8 +234,8 @@ class PolyFourier:
 def ring_generators(model: Oscillator) -> list[sp.Symbol]:
     """``[a, *parameters]``: the generators of the Laurent ring of ``model`` (parameters
     sorted by name, ``omega0`` among them when it is a symbol)."""
-    params = sorted((model.F.free_symbols | model.omega0.free_symbols) - {x, xdot},
-                    key=lambda s: s.name)
+    syms = set().union(*(f.free_symbols for f in model.rhs)) | model.omegas[0].free_symbols
+    params = sorted(syms - set(model.state), key=lambda s: s.name)
     return [a, *params]
 
 
@@ -250,7 +250,7 @@ class PolyAlgebra:
 
     def __init__(self, model: Oscillator):
         self.ring = LaurentRing(ring_generators(model))
-        w0 = model.omega0
+        w0 = model.omegas[0]
         if w0.is_Symbol:
             i = self.ring.gens.index(w0)
             self.w0 = self.ring.gen(i)

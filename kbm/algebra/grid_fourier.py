@@ -170,10 +170,6 @@ class GridAlgebra(PhaseGrid):
     def x0(self) -> GridSeries:
         return GridSeries(self.a[:, None] * np.cos(self.psi)[None, :])
 
-    def v0(self) -> GridSeries:
-        """``omega0 dx_0/dpsi = -omega0 a sin(psi)``."""
-        return GridSeries(-self.w0 * self.a[:, None] * np.sin(self.psi)[None, :])
-
     def dpsi(self, f: GridSeries) -> GridSeries:
         if f.values is None:
             return f

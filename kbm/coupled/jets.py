@@ -233,16 +233,10 @@ def jet_expansion(model: CoupledOscillators, values: Mapping[str, float], order:
             not 1 <= order <= MAX_ORDER_JETS:
         raise OrderError(f"the order of the numeric coupled averaging must be an integer "
                          f"from 1 to {MAX_ORDER_JETS}, got {order!r}")
-    fixed = model.with_frequencies(values)  # the sliders' Omega: exact frequencies
-    if fixed is not model:
-        values = {k: v for k, v in values.items() if k in fixed.parameters}
-        model = fixed
-    F, parameters, sigma = _right_hand_sides(model, values, order)
-    n = model.dof
-    a, g = slow_point(n, len(model.internal), amplitudes, gammas)
-    D = n + (1 if model.forced else 0)
+    model, F, parameters, sigma, a, g, lattice = _point(model, values, order, amplitudes,
+                                                        gammas)
+    D = lattice.dof  # the fast angles, theta included
     check_nodes(nodes)
-    lattice = _lattice(D, model.internal)
     M = nodes
     while True:
         alg = JetAlgebra(model, lattice, a, M, order + (1 if gradient else 0), sigma,
@@ -260,13 +254,28 @@ def jet_expansion(model: CoupledOscillators, values: Mapping[str, float], order:
         M *= 2
 
 
+def _point(model: CoupledOscillators, values: Mapping[str, float], order: int,
+           amplitudes: Sequence[float], gammas: Sequence[float]):
+    """The model with exact frequencies, its right-hand sides (:func:`_right_hand_sides`),
+    the point ``(a, gamma)`` checked and the slow lattice."""
+    fixed = model.with_frequencies(values)  # the sliders' Omega: exact frequencies
+    if fixed is not model:
+        values = {k: v for k, v in values.items() if k in fixed.parameters}
+        model = fixed
+    F, parameters, sigma = _right_hand_sides(model, values, order)
+    a, g = slow_point(model.dof, len(model.internal), amplitudes, gammas)
+    lattice = _lattice(model.dof + (1 if model.forced else 0), model.internal)
+    return model, F, parameters, sigma, a, g, lattice
+
+
 def _on_grid(alg: JetAlgebra, F, order: int, gradient: bool, lattice: SlowLattice,
-             a: np.ndarray, g: np.ndarray) -> JetExpansion:
-    """The expansion on one grid (see :func:`jet_expansion`)."""
+             a: np.ndarray, g: np.ndarray, last_u: bool = True) -> JetExpansion:
+    """The expansion on one grid (see :func:`jet_expansion`; ``last_u=False`` leaves out
+    the last ``u_n``, and the tail with it, when only the rates are asked for)."""
     n = alg.dof
-    A, B, U = kbm_recursion(alg, coupled_rhs(alg, F, JetBuilder), order)
+    A, B, U = kbm_recursion(alg, coupled_rhs(alg, F, JetBuilder), order, last_u=last_u)
     gens = lattice.generators
-    unit = [alg.pos[tuple(1 if k == l else 0 for k in range(n))] for l in range(n)]
+    unit = [alg.pos.get(tuple(1 if k == l else 0 for k in range(n))) for l in range(n)]
 
     def at_point(f: JetSeries):
         """The value and, with ``gradient``, the derivatives in ``(a, gamma)``."""
@@ -367,12 +376,7 @@ def first_order(model: CoupledOscillators, values: Mapping[str, float],
     largest Fourier coefficient of the ``F_i`` on the grid's outer shell (no refinement)."""
     from .engine import TOLERANCE
 
-    F, parameters, sigma = _right_hand_sides(model, values, 1)
-    a, g = slow_point(model.dof, len(model.internal), amplitudes, gammas)
-    lattice = _lattice(model.dof + (1 if model.forced else 0), model.internal)
+    model, F, parameters, sigma, a, g, lattice = _point(model, values, 1, amplitudes, gammas)
     alg = JetAlgebra(model, lattice, a, nodes, 0, sigma, TOLERANCE, parameters)
-    A, B, _ = kbm_recursion(alg, coupled_rhs(alg, F, JetBuilder), 1, last_u=False)
-    gens = lattice.generators
-    rate = [[_slow_value(alg, X[i][0].value(), gens, g)[0] for i in range(model.dof)]
-            for X in (A, B)]
-    return np.array(rate[0]), np.array(rate[1]), alg.outer
+    ex = _on_grid(alg, F, 1, False, lattice, a, g, last_u=False)
+    return np.array([r[0] for r in ex.A]), np.array([r[0] for r in ex.B]), alg.outer

@@ -107,6 +107,12 @@ class NumericAverage:
         return jet_expansion(self.model, self.values, order, amplitudes, gammas,
                              nodes=self.nodes, gradient=gradient)
 
+    def _detuning(self) -> float:
+        """The forcing's detuning ``sigma`` (0 unforced or without one)."""
+        if self.model.forced and self.model.nu_detuning:
+            return self.values.get(self.model.nu_detuning, 0.0)
+        return 0.0
+
     def slow_flow_jacobian(self, mu: float, amplitudes: Sequence[float],
                            gammas: Sequence[float] = (), order: int = 2
                            ) -> tuple[np.ndarray, np.ndarray]:
@@ -119,9 +125,7 @@ class NumericAverage:
         f = [sum(p * ex.A[i][k] for k, p in enumerate(powers)) for i in range(n)]
         J = [[sum(p * ex.dA[i][k][c] for k, p in enumerate(powers))
               for c in range(n + len(gens))] for i in range(n)]
-        sig = 0.0
-        if self.model.forced and self.model.nu_detuning:
-            sig = self.values.get(self.model.nu_detuning, 0.0)
+        sig = self._detuning()
         for g in gens:
             rate = sum(g[i] * sum(p * ex.B[i][k] for k, p in enumerate(powers))
                        for i in range(n))
@@ -146,9 +150,7 @@ class NumericAverage:
                  for i in range(n)]
             B = [sum(mu ** (k - 1) * ex.B[i][k - 1] for k in range(1, order + 1))
                  for i in range(n)]
-        sig = 0.0
-        if self.model.forced and self.model.nu_detuning:
-            sig = self.values.get(self.model.nu_detuning, 0.0)
+        sig = self._detuning()
         out = [mu * v for v in A]
         for g in self.gammas:
             rate = sum(g[i] * B[i] for i in range(n))

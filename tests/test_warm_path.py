@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -106,20 +107,24 @@ def _modules_of_cycle(env) -> tuple[bytes, list[str]]:
     code = ("import sys, runpy; sys.argv = ['kbm', 'cycle', 'vdp', '-p', 'mu=1', '--json']\n"
             "try:\n    runpy.run_module('numerics.cli', run_name='__main__')\n"
             "finally:\n    print('MODULES', *sorted(m for m in sys.modules if m.startswith("
-            "('scipy.', 'kbm.averag'))), file=sys.stderr)")
+            "('scipy.', 'kbm.averag', 'numba'))), file=sys.stderr)")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, cwd=ROOT, env=env,
                           timeout=600, check=True)
     return proc.stdout, proc.stderr.decode().splitlines()[-1].split()[1:]
 
 
 def test_the_warm_cycle_imports_no_scipy_optimize_special_or_integrate():
-    """``kbm cycle vdp -p mu=1`` with the cache in use warm (a first run warms it): no
-    ``scipy.optimize``, ``scipy.special`` or ``scipy.integrate``, and no KBM derivation
-    (:mod:`kbm.averaging`, :mod:`kbm.averaged`); the output is the first run's, byte for
-    byte."""
-    env = {**os.environ, "PYTHONPATH": str(ROOT), "KBM_COMPILE_NOTICE": "0"}
+    """``kbm cycle vdp -p mu=1`` with the cache in use warm (a first run warms it, building
+    the flows ahead of time once per machine): no ``scipy.optimize``, ``scipy.special`` or
+    ``scipy.integrate``, no KBM derivation (:mod:`kbm.averaging`, :mod:`kbm.averaged`) and,
+    where a C compiler built the flows ahead of time, no numba; the output is the first
+    run's, byte for byte (the just-in-time code's where the first run built the flows; the
+    two codes' flows are compared bit for bit in ``tests/test_flow_aot.py``)."""
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "KBM_COMPILE_NOTICE": "0", "KBM_AOT": "1"}
     first, _ = _modules_of_cycle(env)
     out, modules = _modules_of_cycle(env)
     assert out == first and b'"period"' in out
     assert not [m for m in modules if m.startswith(SCIPY_PARTS)], modules
     assert not [m for m in modules if m.startswith("kbm.averag")], modules
+    if shutil.which("cc") or shutil.which("gcc"):
+        assert not [m for m in modules if m.startswith("numba")], modules

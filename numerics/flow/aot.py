@@ -92,13 +92,25 @@ def load(folder: Path, source: str) -> ModuleType | None:
     return mod
 
 
-def build(folder: Path, source: str, module: ModuleType) -> bool:
+#: seconds of one build on two cores (measured: 10-15 s quiet, 50 s with the machine
+#: loaded six-fold); the first-run notice says "about" this
+BUILD_SECONDS = 15
+
+
+def build(folder: Path, source: str, module: ModuleType, what: str = "the model's flow"
+          ) -> bool:
     """Compile the stepper of ``module`` (the generated module of ``source``, imported by
     numba) ahead of time into ``folder``; ``False`` where that fails (no C compiler, no
-    ``numba.pycc``): the just-in-time code is then used, at its speed."""
+    ``numba.pycc``): the just-in-time code is then used, at its speed.  Announced as
+    numba's compilations are (:func:`numerics.flow.jit.compile_notice`)."""
     if not enabled() or _path(folder, module_name(source)).exists():
         return False
     name = module_name(source)
+    from numerics.flow.jit import _notice_wanted
+
+    if _notice_wanted():
+        print(f"kbm: compiling {what} ahead of time (first run; about {BUILD_SECONDS} s on "
+              f"two cores, then cached in {folder})", file=sys.stderr, flush=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{name}-", dir=folder))
     try:
         with warnings.catch_warnings():

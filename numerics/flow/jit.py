@@ -333,7 +333,7 @@ def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.S
     except Exception:  # noqa: BLE001 - any failure to compile means: use scipy instead
         return None
     if not extra:
-        aot.build(cache_dir(), source, mod)  # for the next process; this one goes on
+        aot.build(cache_dir(), source, mod, what)  # for the next process; this one goes on
 
     def flow(y0, t_end, p, rtol, atol, n_out=1, max_steps=10**6) -> FlowResult:
         out, status, steps = fn(np.asarray(y0, dtype=float), float(t_end),

@@ -97,18 +97,17 @@ def load(folder: Path, source: str) -> ModuleType | None:
 BUILD_SECONDS = 15
 
 
-def build(folder: Path, source: str, module: ModuleType, what: str = "the model's flow"
-          ) -> bool:
+def build(folder: Path, source: str, module: ModuleType, what: str = "the model's flow",
+          notice: bool = False) -> bool:
     """Compile the stepper of ``module`` (the generated module of ``source``, imported by
     numba) ahead of time into ``folder``; ``False`` where that fails (no C compiler, no
-    ``numba.pycc``): the just-in-time code is then used, at its speed.  Announced as
-    numba's compilations are (:func:`numerics.flow.jit.compile_notice`)."""
+    ``numba.pycc``): the just-in-time code is then used, at its speed.  With ``notice``
+    announced on standard error as numba's compilations are
+    (:func:`numerics.flow.jit.compile_notice` decides when)."""
     if not enabled() or _path(folder, module_name(source)).exists():
         return False
     name = module_name(source)
-    from numerics.flow.jit import _notice_wanted
-
-    if _notice_wanted():
+    if notice:
         print(f"kbm: compiling {what} ahead of time (first run; about {BUILD_SECONDS} s on "
               f"two cores, then cached in {folder})", file=sys.stderr, flush=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{name}-", dir=folder))

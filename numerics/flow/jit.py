@@ -318,10 +318,10 @@ def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.S
     source = _source_by_key(key, exprs, t, y, params, n_state, extra)
     if source is None:
         return None
-    from numerics.flow import aot
+    from numerics.flow.aot import build, load
 
     if not extra:
-        built = aot.load(cache_dir(), source)
+        built = load(cache_dir(), source)
         if built is not None:
             return _aot_flow(built)
     _announce_compile(source, what, seconds)
@@ -333,7 +333,8 @@ def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.S
     except Exception:  # noqa: BLE001 - any failure to compile means: use scipy instead
         return None
     if not extra:
-        aot.build(cache_dir(), source, mod, what)  # for the next process; this one goes on
+        # for the next process (this one goes on with numba's code)
+        build(cache_dir(), source, mod, what, _notice_wanted())
 
     def flow(y0, t_end, p, rtol, atol, n_out=1, max_steps=10**6) -> FlowResult:
         out, status, steps = fn(np.asarray(y0, dtype=float), float(t_end),

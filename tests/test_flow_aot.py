@@ -76,3 +76,15 @@ def test_kbm_aot_0_turns_them_off(tmp_path, monkeypatch):
 def test_the_name_changes_with_the_source():
     assert aot.module_name("a\n") != aot.module_name("b\n")
     assert aot.module_name("a\n") == aot.module_name("a\n")
+
+
+def test_a_failed_build_is_noted_and_not_tried_again(tmp_path, monkeypatch):
+    """A build that fails (here: no module to compile) leaves ``NAME.failed`` in the folder,
+    and the next process does not try again (a build takes seconds)."""
+    monkeypatch.setenv("KBM_AOT", "1")
+    source = "# a source that was never compiled\n"
+    assert aot.build(tmp_path, source, None) is False
+    failed = tmp_path / f"{aot.module_name(source)}.failed"
+    assert failed.exists() and "Error" in failed.read_text()
+    assert aot.build(tmp_path, source, None) is False
+    assert not list(tmp_path.glob("kbm_aot_*.so")) and not list(tmp_path.glob(".kbm_aot_*"))

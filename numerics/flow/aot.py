@@ -11,7 +11,8 @@ A module is built the first time its source is compiled or loaded by numba in a 
 folder (after numba's own compilation, in the same process: :func:`build`), and is read
 by later processes (:func:`load`).  Its name is the SHA-256 of the source, of numba's
 version and of this module's format; the file is written under a temporary name and
-renamed, so a process never reads half a module.  The functions exported are the
+renamed, so a process never reads half a module; a build that fails (no C compiler) is
+noted in the folder (``NAME.failed``) and not tried again there.  The functions exported are the
 stepper's ``flow`` and ``to_turn`` with the argument types the compiled flow is called
 with; the code is that of the same Python source, compiled by the same LLVM without
 fast-math, so the numbers are those of the just-in-time code to the last bit (a test
@@ -104,9 +105,10 @@ def build(folder: Path, source: str, module: ModuleType, what: str = "the model'
     ``numba.pycc``): the just-in-time code is then used, at its speed.  With ``notice``
     announced on standard error as numba's compilations are
     (:func:`numerics.flow.jit.compile_notice` decides when)."""
-    if not enabled() or _path(folder, module_name(source)).exists():
-        return False
     name = module_name(source)
+    failed = folder / f"{name}.failed"
+    if not enabled() or _path(folder, name).exists() or failed.exists():
+        return False
     if notice:
         print(f"kbm: compiling {what} ahead of time (first run; about {BUILD_SECONDS} s on "
               f"two cores, then cached in {folder})", file=sys.stderr, flush=True)
@@ -124,10 +126,14 @@ def build(folder: Path, source: str, module: ModuleType, what: str = "the model'
             cc.compile()
         built = _path(tmp, name)
         if not built.exists():
-            return False
+            raise OSError("numba.pycc wrote no module")
         os.replace(built, _path(folder, name))
         return True
-    except Exception:  # noqa: BLE001 - time only: the just-in-time code stays in use
+    except Exception as exc:  # noqa: BLE001 - time only: the just-in-time code stays in use
+        try:  # not tried again in this folder (a build takes seconds)
+            failed.write_text(f"{type(exc).__name__}: {exc}\n")
+        except OSError:
+            pass
         return False
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

@@ -3,8 +3,8 @@
 Expressions are compiled once with :func:`sympy.lambdify`; Bessel functions
 become :func:`scipy.special.jv` or :func:`mpmath.besselj` (:mod:`scipy.special` and
 :mod:`sympy` are imported when an expression is compiled, not with this module:
-:func:`vectorised` wraps an already lambdified function without either, issue 39).  The infinite sums
-``Sum(f(n), (n, lo, oo))`` of the Jacobi-Anger algebra are the only place where
+:func:`vectorised` wraps an already lambdified function without either, issue 39).
+The infinite sums ``Sum(f(n), (n, lo, oo))`` of the Jacobi-Anger algebra are the only place where
 anything is truncated: terms are added in blocks until the largest term of the
 last block is below ``tol`` times the largest partial sum (numpy, default
 ``tol = 1e-15``) or until four consecutive terms are below ``10**-(dps + 3)``

@@ -50,9 +50,10 @@ class FirstOrderRates(NamedTuple):
     frequency: Callable
 
 
+@memo(maxsize=1)
 def _kbm_source_digest() -> str:
     """The SHA-256 of the source of :mod:`kbm` (every module: the derivation decides the
-    rates) and of this module; part of the record's key."""
+    rates) and of this module; part of the record's key (read once a process, ~10 ms)."""
     import kbm
 
     h = hashlib.sha256()

@@ -27,6 +27,16 @@ Run: ``python benchmarks/bench_startup.py [--rounds 10] [--against OTHER_TREE]``
    the module built ahead of time (:mod:`numerics.flow.aot`), the model's template read
    before the clock starts.
 
+Measured 2026-11-26 (``--rounds 5 --against`` a checkout of dd1c396 ``--with-branch
+--no-branch``; two cores loaded 13-16-fold, so the walls are 4-5x a quiet machine's and the
+least CPU seconds are the numbers to compare): ``kbm cycle vdp -p mu=1`` median 3.39 s wall,
+0.82 s CPU against 7.90 s wall, 1.96 s CPU before (the first-order guess from the template
+cache without scipy, the flows built ahead of time without numba); ``kbm branch`` 9.38 s
+wall, 2.28 s CPU against 9.41 s, 2.24 s (its corrector is still numba's, and
+``numerics.comparison`` imports ``scipy.integrate``).  Imports (CPU): numpy 0.13, sympy
+0.58, numba 0.43, scipy.special 0.40, scipy.optimize 0.66, scipy.integrate 0.71; the first
+call of the van der Pol flow 2.28 s wall from numba's cache against 0.03 s ahead of time.
+
 The targets of issue 39: ``--version`` and ``--help`` under 0.15 s, ``cycle vdp`` under
 0.6 s warm, the whole ``branch`` within 2x of AUTO-07p's whole run.  Timings depend on the
 machine and its load (the medians of interleaved rounds are the numbers to compare).

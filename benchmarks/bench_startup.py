@@ -12,12 +12,30 @@ Run: ``python benchmarks/bench_startup.py [--rounds 10] [--against OTHER_TREE]``
    least CPU time (user + system) of each is printed too: on a busy machine the wall time
    waits for the cores.  Warm means the compiled flows and the model templates
    (:mod:`numerics.flow.template_cache`) are in the cache folder.
+   ``--with-branch`` adds the whole ``kbm branch`` command of part 2 to these rounds (before
+   and after in one run, with ``--against``).
 2. The whole ``kbm branch sedf -p mu=0.1 -p beta=1 -p lam=1 --vary Delta=0:4 --orders none
    --no-energy --json`` against AUTO-07p's whole run of the same branch (its equations
    compiled once beforehand, as kbm's numba cache is warm; the start from the Hopf point
    of the van der Pol oscillator, the continuation in the gain and then in Delta:
    ``benchmarks/bench_branch.py`` holds the AUTO files), where ``auto-07p`` and
    ``gfortran`` are installed; otherwise it says so and times kbm alone.
+3. What each import of the warm path costs, each in a new process (``python -c "import X"``
+   less ``python -c pass``, the median of ``--rounds``): numpy, sympy, numba, scipy.special,
+   scipy.optimize, scipy.integrate; and the first call of the van der Pol flow as numba
+   loads it from its cache (``KBM_AOT=0``: numba imported, its target initialised) against
+   the module built ahead of time (:mod:`numerics.flow.aot`), the model's template read
+   before the clock starts.
+
+Measured 2026-11-26 (``--rounds 5 --against`` a checkout of dd1c396 ``--with-branch
+--no-branch``; two cores loaded 13-16-fold, so the walls are 4-5x a quiet machine's and the
+least CPU seconds are the numbers to compare): ``kbm cycle vdp -p mu=1`` median 3.39 s wall,
+0.82 s CPU against 7.90 s wall, 1.96 s CPU before (the first-order guess from the template
+cache without scipy, the flows built ahead of time without numba); ``kbm branch`` 9.38 s
+wall, 2.28 s CPU against 9.41 s, 2.24 s (its corrector is still numba's, and
+``numerics.comparison`` imports ``scipy.integrate``).  Imports (CPU): numpy 0.13, sympy
+0.58, numba 0.43, scipy.special 0.40, scipy.optimize 0.66, scipy.integrate 0.71; the first
+call of the van der Pol flow 2.28 s wall from numba's cache against 0.03 s ahead of time.
 
 The targets of issue 39: ``--version`` and ``--help`` under 0.15 s, ``cycle vdp`` under
 0.6 s warm, the whole ``branch`` within 2x of AUTO-07p's whole run.  Timings depend on the
@@ -57,6 +75,58 @@ def _argv(args: list[str] | None) -> list[str]:
     return [sys.executable, "-m", "numerics.cli", *args]
 
 
+IMPORTS = ("numpy", "sympy", "numba", "scipy.special", "scipy.optimize", "scipy.integrate")
+
+#: the first call of van der Pol's flow, timed after the template is read (part 3)
+FLOW_CALL = """
+import sys, time
+from numerics.flow import compile_model
+from numerics.flow.compiled import template_flow
+cm = compile_model("vdp", {"mu": 1})
+had = "numba" in sys.modules
+t0 = time.perf_counter()
+fl = template_flow(cm.template)
+fl([2.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], 6.66, cm.pvec, 1e-12, 1e-12)
+print(time.perf_counter() - t0, had, "numba" in sys.modules)
+"""
+
+
+def _seconds(code: str) -> tuple[float, float]:
+    """Wall and CPU seconds (user + system) of ``python -c CODE`` as a whole process."""
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, "-c", code], cwd=ROOT, check=True, capture_output=True,
+                   env={**os.environ, "PYTHONPATH": str(ROOT)}, timeout=900)
+    wall = time.perf_counter() - t0
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return wall, r1.ru_utime - r0.ru_utime + r1.ru_stime - r0.ru_stime
+
+
+def imports(rounds: int) -> None:
+    """Part 3: the cost of each import and of the first call of a cached flow."""
+    print(f"\n3. imports and the first flow call, each a new process (seconds: median wall "
+          f"and least CPU of {rounds}, less python -c pass's)")
+    base = [_seconds("pass") for _ in range(rounds)]
+    wall0, cpu0 = statistics.median(b[0] for b in base), min(b[1] for b in base)
+    for mod in IMPORTS:
+        ts = [_seconds(f"import {mod}") for _ in range(rounds)]
+        print(f"   import {mod:24s} wall {statistics.median(t[0] for t in ts) - wall0:7.3f}"
+              f"   cpu {min(t[1] for t in ts) - cpu0:7.3f}")
+    for label, flag in (("numba's cache (KBM_AOT=0)", "0"), ("ahead of time (KBM_AOT=1)", "1")):
+        env = {**os.environ, "PYTHONPATH": str(ROOT), "KBM_AOT": flag,
+               "KBM_COMPILE_NOTICE": "0"}
+        subprocess.run([sys.executable, "-c", FLOW_CALL], cwd=ROOT, env=env, check=True,
+                       capture_output=True, timeout=900)  # warm (builds once per machine)
+        runs = []
+        for _ in range(rounds):
+            out = subprocess.run([sys.executable, "-c", FLOW_CALL], cwd=ROOT, env=env,
+                                 check=True, capture_output=True, text=True, timeout=900)
+            runs.append(out.stdout.split())
+        secs = statistics.median(float(r[0]) for r in runs)
+        numba = "numba imported" if runs[-1][2] == "True" else "numba not imported"
+        print(f"   first flow call, {label:28s} wall {secs:7.3f}  ({numba})")
+
+
 #: CPU seconds (user + system) of each process timed, by command: on a busy machine the
 #: wall time waits for the cores, the CPU time much less
 CPU: dict[tuple[str, str], list[float]] = {}
@@ -84,8 +154,10 @@ def _cpu(tree: Path, args: list[str] | None) -> float:
     return min(CPU[(str(tree), " ".join(args or ["-c pass"]))])
 
 
-def commands(trees: dict[str, Path], rounds: int) -> None:
+def commands(trees: dict[str, Path], rounds: int, with_branch: bool = False) -> None:
     """Part 1: the interleaved rounds, then a table of median and smallest times."""
+    if with_branch:
+        COMMANDS["kbm branch sedf ... (part 2)"] = BRANCH
     cases = [(label, name, tree, args) for label, tree in trees.items()
              for name, args in COMMANDS.items() if not (args is None and label != "this")]
     for _, _, tree, args in cases:  # warm every cache (numba, generated sources)
@@ -160,16 +232,21 @@ def main() -> None:
     parser.add_argument("--branch-runs", type=int, default=5, help="runs of part 2 (5)")
     parser.add_argument("--against", type=Path, default=None, metavar="TREE",
                         help="another checkout of the project, timed in the same rounds")
-    parser.add_argument("--no-branch", action="store_true", help="part 1 only")
+    parser.add_argument("--no-branch", action="store_true", help="leave out part 2")
+    parser.add_argument("--with-branch", action="store_true",
+                        help="the branch command in part 1's rounds too")
+    parser.add_argument("--no-imports", action="store_true", help="leave out part 3")
     args = parser.parse_args()
     trees = {"this": ROOT}
     if args.against is not None:
         trees["against"] = args.against.resolve()
     print(f"python {sys.version.split()[0]} on {os.cpu_count()} cores; this tree: {ROOT}"
           + (f"; against: {trees['against']}" if "against" in trees else ""))
-    commands(trees, args.rounds)
+    commands(trees, args.rounds, args.with_branch)
     if not args.no_branch:
         branch(args.branch_runs)
+    if not args.no_imports:
+        imports(args.rounds)
 
 
 if __name__ == "__main__":

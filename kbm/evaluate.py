@@ -1,8 +1,10 @@
 """Numerical evaluation of KBM expressions: numpy (vectorised) and mpmath (any precision).
 
 Expressions are compiled once with :func:`sympy.lambdify`; Bessel functions
-become :func:`scipy.special.jv` or :func:`mpmath.besselj`.  The infinite sums
-``Sum(f(n), (n, lo, oo))`` of the Jacobi-Anger algebra are the only place where
+become :func:`scipy.special.jv` or :func:`mpmath.besselj` (:mod:`scipy.special` and
+:mod:`sympy` are imported when an expression is compiled, not with this module:
+:func:`vectorised` wraps an already lambdified function without either, issue 39).
+The infinite sums ``Sum(f(n), (n, lo, oo))`` of the Jacobi-Anger algebra are the only place where
 anything is truncated: terms are added in blocks until the largest term of the
 last block is below ``tol`` times the largest partial sum (numpy, default
 ``tol = 1e-15``) or until four consecutive terms are below ``10**-(dps + 3)``
@@ -17,14 +19,17 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
+from typing import TYPE_CHECKING
+
 import mpmath
 import numpy as np
-import scipy.special
-import sympy as sp
 
 from .errors import SeriesTruncationError
 
-__all__ = ["numpy_function", "mpmath_function", "DEFAULT_TOL"]
+if TYPE_CHECKING:
+    import sympy as sp
+
+__all__ = ["numpy_function", "mpmath_function", "vectorised", "DEFAULT_TOL"]
 
 #: default relative tolerance of the truncated Bessel sums (numpy)
 DEFAULT_TOL = 1e-15
@@ -32,6 +37,8 @@ DEFAULT_TOL = 1e-15
 
 def _outer_sums(expr: sp.Expr) -> list[sp.Sum]:
     """The Sum nodes of ``expr`` not contained in another Sum (deterministic order)."""
+    import sympy as sp
+
     found: list[sp.Sum] = []
 
     def walk(e):
@@ -48,13 +55,20 @@ def _outer_sums(expr: sp.Expr) -> list[sp.Sum]:
 
 def _split_limits(s: sp.Sum) -> tuple[sp.Expr, tuple]:
     """``Sum(f, L1, L2, ...)`` -> body ``Sum(f, L1, ...)`` without the last limit, and it."""
+    import sympy as sp
+
     limits = s.limits
     if len(limits) == 1:
         return s.function, limits[0]
     return sp.Sum(s.function, *limits[:-1]), limits[-1]
 
 
-_NUMPY_MODULES = [{"besselj": scipy.special.jv}, "scipy", "numpy"]
+def _numpy_modules() -> list:
+    """lambdify's namespaces: Bessel functions from :mod:`scipy.special` (imported here, on
+    the first compilation)."""
+    import scipy.special
+
+    return [{"besselj": scipy.special.jv}, "scipy", "numpy"]
 
 
 def numpy_function(expr: sp.Expr, args: Sequence[sp.Symbol], *, tol: float = DEFAULT_TOL,
@@ -80,12 +94,14 @@ def numpy_function(expr: sp.Expr, args: Sequence[sp.Symbol], *, tol: float = DEF
     >>> float(f(1.0))
     2.718281828459045
     """
+    import sympy as sp
+
     args = tuple(args)
     sums = _outer_sums(expr)
     holders = [sp.Dummy(f"S{i}") for i in range(len(sums))]
     outer = expr.xreplace(dict(zip(sums, holders)))
     with np.errstate(all="ignore"):
-        f_outer = sp.lambdify(args + tuple(holders), outer, modules=_NUMPY_MODULES)
+        f_outer = sp.lambdify(args + tuple(holders), outer, modules=_numpy_modules())
     inner = []
     for s in sums:
         body, (n, lo, hi) = _split_limits(s)
@@ -94,10 +110,28 @@ def numpy_function(expr: sp.Expr, args: Sequence[sp.Symbol], *, tol: float = DEF
             inner.append(("finite", body_f, int(lo), int(hi)))
         else:
             inner.append(("inf", body_f, int(lo), None))
+    f = _wrap(f_outer, tuple(map(str, args)), inner, tol, max_terms)
+    f.__doc__ = f"numpy function of ({', '.join(map(str, args))}) for {expr}"
+    #: the lambdified function of the arguments and the sums' values, and whether there are
+    #: sums (without them ``vectorised(f.lambdified, names)`` is the same function)
+    f.lambdified, f.has_sums = f_outer, bool(inner)
+    return f
 
+
+def vectorised(f_outer: Callable, names: Sequence[str]) -> Callable[..., np.ndarray]:
+    """The vectorised function :func:`numpy_function` makes of a lambdified expression without
+    infinite sums (``f.lambdified`` of one where ``f.has_sums`` is false), from the lambdified
+    function itself: the same arithmetic, with neither sympy nor scipy imported (a warm run
+    rebuilds ``f_outer`` from its stored source, :mod:`numerics.flow.template_cache`)."""
+    return _wrap(f_outer, tuple(names), [], DEFAULT_TOL, 0)
+
+
+def _wrap(f_outer: Callable, names: tuple[str, ...], inner: list, tol: float,
+          max_terms: int) -> Callable[..., np.ndarray]:
+    """``f(*vals)``: the arguments as float arrays, the sums added, ``f_outer`` broadcast."""
     def f(*vals):
-        if len(vals) != len(args):
-            raise TypeError(f"expected {len(args)} arguments ({', '.join(map(str, args))}), "
+        if len(vals) != len(names):
+            raise TypeError(f"expected {len(names)} arguments ({', '.join(names)}), "
                             f"got {len(vals)}")
         with np.errstate(all="ignore"):
             arrs = [np.asarray(v, dtype=float) for v in vals]
@@ -107,7 +141,6 @@ def numpy_function(expr: sp.Expr, args: Sequence[sp.Symbol], *, tol: float = DEF
         shape = np.broadcast_shapes(out.shape, *[v.shape for v in arrs])
         return out if out.shape == shape else np.broadcast_to(out, shape).copy()
 
-    f.__doc__ = f"numpy function of ({', '.join(map(str, args))}) for {expr}"
     return f
 
 
@@ -153,6 +186,8 @@ def mpmath_function(expr: sp.Expr, args: Sequence[sp.Symbol], *,
     Infinite sums are added term by term until four consecutive terms are below
     ``10**-(mp.dps + 3)`` relative to the largest partial sum.
     """
+    import sympy as sp
+
     args = tuple(args)
     sums = _outer_sums(expr)
     holders = [sp.Dummy(f"S{i}") for i in range(len(sums))]

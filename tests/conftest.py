@@ -3,6 +3,7 @@ and the tests moved out of the default run for its time (issue 39)."""
 
 from __future__ import annotations
 
+import os
 import warnings
 
 import pytest
@@ -11,6 +12,12 @@ from hypothesis import HealthCheck, settings
 settings.register_profile("kbm", deadline=None, max_examples=25,
                           suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile("kbm")
+
+#: the flows built ahead of time (:mod:`numerics.flow.aot`) cost a compilation of 10-20 s
+#: per flow in each new cache folder, and many tests use one: off in the test run (and the
+#: commands it starts) unless a test turns it on (``tests/test_flow_aot.py``,
+#: ``tests/test_warm_path.py``)
+os.environ.setdefault("KBM_AOT", "0")
 
 #: the slowest tests of the default run, marked ``slow`` here (they run with ``python -m
 #: pytest -m slow``) so that the README's test command stays within 5 minutes on two cores:

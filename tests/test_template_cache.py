@@ -126,16 +126,17 @@ def _cycle(env) -> subprocess.CompletedProcess:
     code = ("import sys, runpy; sys.argv = ['kbm', 'cycle', 'vdp', '-p', 'mu=1']\n"
             "try:\n    runpy.run_module('numerics.cli', run_name='__main__')\n"
             "finally:\n    print('MODULES', *sorted(m for m in ('scipy.special', "
-            "'scipy.integrate', 'kbm.coupled.builtins') if m in sys.modules), file=sys.stderr)")
+            "'scipy.integrate', 'scipy.optimize', 'kbm.coupled.builtins') if m in sys.modules), "
+            "file=sys.stderr)")
     return subprocess.run([sys.executable, "-c", code], capture_output=True, cwd=ROOT,
                           env=env, timeout=600, check=True)
 
 
 def test_cycle_gives_the_same_bytes_with_a_cold_and_a_warm_template_cache(tmp_path):
     """``kbm cycle vdp -p mu=1`` with no template record (built and stored) and again with
-    it (read back): the same bytes of output; the warm run imports no ``scipy.integrate`` and
-    not the coupled catalogue (``scipy.special`` still comes with the KBM guess,
-    :mod:`kbm.evaluate`).  The compiled flows
+    it (read back): the same bytes of output; the warm run imports no ``scipy.integrate``,
+    ``scipy.special`` or ``scipy.optimize`` (the KBM guess's rates are a record too,
+    :mod:`numerics.cycles.guess`) and not the coupled catalogue.  The compiled flows
     are copied from the cache in use, so that only the template is cold."""
     env = {**os.environ, "PYTHONPATH": str(ROOT), "KBM_COMPILE_NOTICE": "0"}
     _cycle(env)  # the flows compiled in the cache in use (once per machine)
@@ -146,9 +147,11 @@ def test_cycle_gives_the_same_bytes_with_a_cold_and_a_warm_template_cache(tmp_pa
     env["KBM_CACHE_DIR"] = str(tmp_path)
     cold = _cycle(env)
     assert list(tmp_path.glob("kbm_template_*.json"))
+    assert list(tmp_path.glob("kbm_rates_*.json"))
     warm = _cycle(env)
     assert cold.stdout == warm.stdout
     assert b"limit cycle of vdp" in warm.stdout
     modules = warm.stderr.decode().splitlines()[-1].split()
     # the coupled catalogue is not read (kbm.coupled.model is: the one model type lives there)
     assert "scipy.integrate" not in modules and "kbm.coupled.builtins" not in modules
+    assert "scipy.special" not in modules and "scipy.optimize" not in modules

@@ -3,8 +3,11 @@ analysis.
 
 - :func:`kbm_guess`: the stable cycle of the first-order KBM averaged equations
   with the largest amplitude (:func:`kbm.averaged_rates`), as ``(amplitude,
-  period)``; the averaged equations are derived once per model (memoised), so
-  this costs ~0.1 ms;
+  period)``; the averaged equations are derived once per model (memoised) and their
+  lambdified rates kept on disk with the model templates
+  (:mod:`numerics.flow.template_cache`), so a warm run neither derives nor imports
+  sympy's printers or scipy; the roots are found by :func:`brentq`, Brent's method
+  as :func:`scipy.optimize.brentq` runs it (the same steps, the same floats), ~0.1 ms;
 - :func:`energy_guesses`: the stable cycles of the energy-balance averaging about
   the conservative orbit (:func:`numerics.energy.predict_cycles`, order 1), as
   ``(x_max, period)``, largest first: right where the potential is strong and
@@ -13,25 +16,187 @@ analysis.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+import hashlib
+import json
+import math
+from collections.abc import Callable
+from pathlib import Path
+from typing import TYPE_CHECKING, NamedTuple
 
-from kbm.errors import KBMError
+import numpy as np
+
+from kbm.errors import KBMError, ParameterError
 
 from numerics._memo import memo
 
 if TYPE_CHECKING:
-    from kbm import AveragedRates
     from kbm.bound import BoundModel
     from kbm.models import Oscillator
 
-__all__ = ["kbm_guess", "energy_guesses"]
+__all__ = ["kbm_guess", "energy_guesses", "brentq", "FirstOrderRates"]
+
+#: the record kind and the options of the first-order rates in the template cache
+_KIND, _OPTIONS = "rates", "kbm first-order averaged rates|1"
+
+
+class FirstOrderRates(NamedTuple):
+    """The first-order averaged equations as vectorised functions of ``(a, mu, *params)``:
+    ``A(a) = mu A_1(a)``, ``dA/da`` and ``omega0 + mu B_1(a)`` (the fields of
+    :class:`kbm.AveragedRates` that the guess uses)."""
+
+    params: tuple[str, ...]
+    rate: Callable
+    slope: Callable
+    frequency: Callable
+
+
+@memo(maxsize=1)
+def _kbm_source_digest() -> str:
+    """The SHA-256 of the source of :mod:`kbm` (every module: the derivation decides the
+    rates) and of this module; part of the record's key (read once a process, ~10 ms)."""
+    import kbm
+
+    h = hashlib.sha256()
+    for path in sorted(Path(kbm.__file__).parent.rglob("*.py")) + [Path(__file__)]:
+        h.update(path.read_bytes())
+    return h.hexdigest()
 
 
 @memo(maxsize=32)
-def _first_order(model: Oscillator) -> AveragedRates:
-    from kbm import averaged_rates, derive  # imported on use (issue 39)
+def _first_order(model: Oscillator) -> FirstOrderRates:
+    """The model's first-order rates: from the template cache's record when one is stored,
+    else derived (:func:`kbm.derive`, :func:`kbm.averaged_rates`), stored and read back, so
+    that a cold and a warm run evaluate the same code."""
+    from numerics.flow.template_cache import read_record, template_key, write_record
 
-    return averaged_rates(derive(model, 1))
+    try:
+        key = template_key(model, f"{_OPTIONS}|{_kbm_source_digest()}")
+    except TypeError:  # no canonical form: nothing is stored
+        return _derived(model)[0]
+    record = read_record(key, _KIND)
+    if record is not None:
+        try:
+            return _from_record(record)
+        except Exception:  # noqa: BLE001 - a damaged record is rebuilt, never trusted
+            pass
+    rates, record = _derived(model, key)
+    if record is None:
+        return rates
+    record = json.loads(json.dumps(record))  # the record as it is read back
+    rates = _from_record(record)
+    write_record(key, record, _KIND)
+    return rates
+
+
+def _derived(model: Oscillator, key: str | None = None) -> tuple[FirstOrderRates, dict | None]:
+    """The rates derived now, and their record under ``key`` (``None`` if a function holds an
+    infinite sum or a global that cannot be stored)."""
+    from kbm import averaged_rates, derive  # imported on use (issue 39)
+    from numerics.flow.template_cache import FORMAT, function_record
+
+    r = averaged_rates(derive(model, 1))
+    rates = FirstOrderRates(tuple(r.params), r.rate, r.slope, r.frequency)
+    funcs = {}
+    for name in ("rate", "slope", "frequency"):
+        fn = getattr(r, name)
+        rec = None if key is None or getattr(fn, "has_sums", True) else \
+            function_record(fn.lambdified)
+        if rec is None:
+            return rates, None
+        funcs[name] = rec
+    return rates, {"format": FORMAT, "key": key, "params": list(rates.params),
+                   "functions": funcs}
+
+
+def _from_record(record) -> FirstOrderRates:
+    from kbm.evaluate import vectorised
+    from numerics.flow.template_cache import function_from_record
+
+    params = tuple(record["params"])
+    names = ("a", "mu", *params)
+    return FirstOrderRates(params, *(vectorised(function_from_record(
+        record["functions"][f]), names) for f in ("rate", "slope", "frequency")))
+
+
+def brentq(f: Callable[[float], float], xa: float, xb: float, xtol: float = 2e-12,
+           rtol: float = 8.881784197001252e-16, maxiter: int = 100) -> float:
+    """A root of ``f`` in ``[xa, xb]`` by Brent's method (R. P. Brent, *Algorithms for
+    Minimization without Derivatives*, Prentice-Hall 1973, ch. 4), in the form of
+    :func:`scipy.optimize.brentq`: inverse quadratic interpolation or the secant where
+    the step is short enough, else bisection, stopped when half the bracket is below
+    ``(xtol + rtol |x|)/2``.  The same steps in the same floating-point operations, so the
+    same root to the last bit (a test compares them); here so that the guess needs no
+    :mod:`scipy.optimize` (its import is 0.2-0.3 s, issue 39).
+
+    Raises
+    ------
+    ValueError
+        If ``f(xa)`` and ``f(xb)`` have the same sign.
+    RuntimeError
+        If the root is not bracketed to the tolerance within ``maxiter`` steps.
+    """
+    xpre, xcur = float(xa), float(xb)
+    xblk = fblk = spre = scur = 0.0
+    fpre, fcur = float(f(xpre)), float(f(xcur))
+    if fpre == 0:
+        return xpre
+    if fcur == 0:
+        return xcur
+    if fpre * fcur > 0:
+        raise ValueError("f(a) and f(b) must have different signs")
+    for _ in range(maxiter):
+        if fpre != 0 and fcur != 0 and math.copysign(1.0, fpre) != math.copysign(1.0, fcur):
+            xblk, fblk = xpre, fpre
+            spre = scur = xcur - xpre
+        if abs(fblk) < abs(fcur):
+            xpre, xcur, xblk = xcur, xblk, xcur
+            fpre, fcur, fblk = fcur, fblk, fcur
+        delta = (xtol + rtol * abs(xcur)) / 2
+        sbis = (xblk - xcur) / 2
+        if fcur == 0 or abs(sbis) < delta:
+            return xcur
+        if abs(spre) > delta and abs(fcur) < abs(fpre):
+            if xpre == xblk:  # interpolate (secant)
+                stry = -fcur * (xcur - xpre) / (fcur - fpre)
+            else:  # extrapolate (inverse quadratic)
+                dpre = (fpre - fcur) / (xpre - xcur)
+                dblk = (fblk - fcur) / (xblk - xcur)
+                stry = -fcur * (fblk * dblk - fpre * dpre) / (dblk * dpre * (fblk - fpre))
+            if 2 * abs(stry) < min(abs(spre), 3 * abs(sbis) - delta):  # a good short step
+                spre, scur = scur, stry
+            else:
+                spre = scur = sbis
+        else:
+            spre = scur = sbis
+        xpre, fpre = xcur, fcur
+        xcur += scur if abs(scur) > delta else (delta if sbis > 0 else -delta)
+        fcur = float(f(xcur))
+    raise RuntimeError(f"Brent's method did not converge in {maxiter} steps")
+
+
+def _cycles(rates: FirstOrderRates, m: float, pars: list[float], *, a_max: float = 20.0,
+            n_grid: int = 4000) -> list[tuple[float, float, bool]]:
+    """``(amplitude, period, stable)`` of the cycles ``0 < a* <= a_max``, as
+    :meth:`kbm.AveragedRates.cycles` finds them (sign changes of ``A(a)/a`` on the grid,
+    Brent's method to ``1e-14``; roots where ``omega0 + mu B_1 <= 0`` left out)."""
+    f, df, phase = rates.rate, rates.slope, rates.frequency
+    grid = np.linspace(a_max / n_grid, a_max, n_grid)
+    g = f(grid, m, *pars) / grid
+    if not np.all(np.isfinite(g)):
+        raise ParameterError(f"the averaged amplitude equation is not finite at "
+                             f"a = {grid[~np.isfinite(g)][0]:.6g}")
+    sg = np.sign(g)
+    roots = list(grid[sg == 0])
+    for i in np.nonzero(sg[:-1] * sg[1:] < 0)[0]:
+        roots.append(brentq(lambda s: float(f(s, m, *pars)) / s, grid[i], grid[i + 1],
+                            xtol=1e-15, rtol=1e-14))
+    out = []
+    for root in sorted(roots):
+        slope = float(df(root, m, *pars))
+        omega = float(phase(root, m, *pars))
+        if omega > 0:
+            out.append((float(root), 2 * np.pi / omega, slope < 0))
+    return out
 
 
 def kbm_guess(bound: BoundModel, *, stable: bool = True) -> tuple[float, float] | None:
@@ -44,16 +209,17 @@ def kbm_guess(bound: BoundModel, *, stable: bool = True) -> tuple[float, float] 
     try:
         vals = bound.values
         rates = _first_order(bound.model)
-        need = {p: vals[p] for p in rates.params if p in vals}
-        if len(need) != len(rates.params) or "mu" not in vals:
+        if any(p not in vals for p in rates.params) or "mu" not in vals:
             return None
-        cycles = [c for c in rates.cycles({"mu": vals["mu"], **need}) if c.stable == stable]
+        cycles = [c for c in _cycles(rates, float(vals["mu"]),
+                                     [float(vals[p]) for p in rates.params])
+                  if c[2] == stable]
     except (KBMError, ArithmeticError, ValueError):
         return None
     if not cycles:
         return None
-    c = max(cycles, key=lambda c: c.amplitude)
-    return c.amplitude, c.period
+    amplitude, period, _ = max(cycles, key=lambda c: c[0])
+    return amplitude, period
 
 
 def energy_guesses(bound: BoundModel, *, stable_only: bool = True) -> list[tuple[float, float]]:

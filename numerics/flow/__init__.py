@@ -7,6 +7,8 @@
   model's canonical form (a warm run does not lambdify);
 - :mod:`numerics.flow.jit`: the extended flow printed from the model's
   expressions and compiled with numba (an adaptive DOP853);
+- :mod:`numerics.flow.aot`: the same flows compiled ahead of time into extension
+  modules, which a warm run imports without numba;
 - :mod:`numerics.flow.integrate`: the method enum, the one stiffness policy and
   the doors :func:`flow`, :func:`solve`, :func:`integrate`.
 """

@@ -16,8 +16,10 @@ steps (no interpolation).
 The generated module is written to a cache folder (``$KBM_CACHE_DIR``, else
 ``$XDG_CACHE_HOME/kbm`` or ``~/.cache/kbm``; a temporary folder if that is not
 writable) under a name that is the SHA-256 of its source, so numba's on-disk
-cache of the machine code is reused by later processes.  The cache stores
-compiled code of a fixed source: it changes the time, never the result.
+cache of the machine code is reused by later processes.  A flow without extra source
+is also compiled ahead of time into an extension module (:mod:`numerics.flow.aot`),
+which later processes import without numba.  The caches store compiled code of a fixed
+source: they change the time, never the result.
 
 Without numba, or for a model whose expressions have no :mod:`math`
 equivalent (e.g. Bessel functions), :func:`jit_flow` returns ``None`` and the
@@ -73,14 +75,15 @@ def cache_dir() -> Path:
 
 
 def jit_available() -> bool:
-    """Whether numba can be imported (and ``KBM_NO_JIT`` is not set)."""
+    """Whether numba is installed (and ``KBM_NO_JIT`` is not set); found without importing
+    it (its import is 0.2-0.4 s, and a flow built ahead of time needs none:
+    :mod:`numerics.flow.aot`)."""
     if os.environ.get("KBM_NO_JIT"):
         return False
     try:
-        import numba  # noqa: F401
-    except ImportError:
+        return importlib.util.find_spec("numba") is not None
+    except (ImportError, ValueError):
         return False
-    return True
 
 
 def rhs_source(exprs: Sequence[sp.Expr], t: sp.Symbol, y: Sequence[sp.Symbol],
@@ -315,6 +318,12 @@ def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.S
     source = _source_by_key(key, exprs, t, y, params, n_state, extra)
     if source is None:
         return None
+    from numerics.flow.aot import build, load
+
+    if not extra:
+        built = load(cache_dir(), source)
+        if built is not None:
+            return _aot_flow(built)
     _announce_compile(source, what, seconds)
     try:
         mod = _load(source)
@@ -323,6 +332,9 @@ def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.S
         fn(np.zeros(len(y)), 1e-3, np.ones(len(params)), 1e-6, 1e-6, 1, 10)
     except Exception:  # noqa: BLE001 - any failure to compile means: use scipy instead
         return None
+    if not extra:
+        # for the next process (this one goes on with numba's code)
+        build(cache_dir(), source, mod, what, _notice_wanted())
 
     def flow(y0, t_end, p, rtol, atol, n_out=1, max_steps=10**6) -> FlowResult:
         out, status, steps = fn(np.asarray(y0, dtype=float), float(t_end),
@@ -337,6 +349,27 @@ def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.S
         x, v, t, status = mod.to_turn(np.asarray(y0, dtype=float), float(sign),
                                       float(t_max), np.asarray(p, dtype=float), float(rtol),
                                       float(atol), int(max_steps))
+        return float(x), float(v), float(t), int(status)
+
+    flow.to_turn = to_turn
+    flow.module = mod
+    return flow
+
+
+def _aot_flow(mod) -> Callable:
+    """The flow of a module built ahead of time (:mod:`numerics.flow.aot`): the calls of
+    :func:`jit_flow`'s, the arrays made C-contiguous (the exported types)."""
+    def flow(y0, t_end, p, rtol, atol, n_out=1, max_steps=10**6) -> FlowResult:
+        out, status, steps = mod.flow(np.ascontiguousarray(y0, dtype=float), float(t_end),
+                                      np.ascontiguousarray(p, dtype=float), float(rtol),
+                                      float(atol), int(n_out), int(max_steps))
+        return FlowResult(out, int(status), int(steps))
+
+    def to_turn(y0, sign, t_max, p, rtol, atol, max_steps=10**6):
+        """As :func:`jit_flow`'s ``to_turn``."""
+        x, v, t, status = mod.to_turn(np.ascontiguousarray(y0, dtype=float), float(sign),
+                                      float(t_max), np.ascontiguousarray(p, dtype=float),
+                                      float(rtol), float(atol), int(max_steps))
         return float(x), float(v), float(t), int(status)
 
     flow.to_turn = to_turn

@@ -41,7 +41,7 @@ from typing import Any, TypeVar
 Template = TypeVar("Template")
 
 __all__ = ["template_key", "cached_template", "template_record", "template_from_record",
-           "FORMAT"]
+           "function_record", "function_from_record", "read_record", "write_record", "FORMAT"]
 
 #: version of the record's layout (part of the key)
 FORMAT = "1"
@@ -125,7 +125,7 @@ def _where(value: object) -> list[str] | None:
     return None
 
 
-def _function_record(fn: Callable) -> dict | None:
+def function_record(fn: Callable) -> dict | None:
     """The source and globals of a lambdified function, or ``None`` if it cannot be stored."""
     code = getattr(fn, "__code__", None)
     if code is None or not code.co_filename.startswith("<lambdifygenerated"):
@@ -148,7 +148,7 @@ def _function_record(fn: Callable) -> dict | None:
     return {"name": code.co_name, "source": source, "globals": names}
 
 
-def _function(rec: Mapping) -> Callable:
+def function_from_record(rec: Mapping) -> Callable:
     """The function of a record (raises on anything that does not resolve)."""
     namespace: dict = {}
     for n, (kind, what) in rec["globals"].items():
@@ -171,7 +171,7 @@ def template_record(template: Any, key: str) -> dict | None:
 
     funcs = {}
     for f in _FUNCTIONS:
-        rec = _function_record(getattr(template, f))
+        rec = function_record(getattr(template, f))
         if rec is None:
             return None
         funcs[f] = rec
@@ -194,22 +194,23 @@ def template_from_record(model: object, record: Mapping,
 
     return template_type(
         model=model, names=tuple(record["names"]),
-        **{f: _function(record["functions"][f]) for f in _FUNCTIONS},
+        **{f: function_from_record(record["functions"][f]) for f in _FUNCTIONS},
         dissipation_expr=expr(record["dissipation_expr"]),
         ext_exprs=tuple(expr(e) for e in record["ext_exprs"]),
         ext_symbols=tuple(expr(s) for s in record["ext_symbols"]))
 
 
-def _path(key: str) -> Path:
+def _path(key: str, kind: str = "template") -> Path:
     from numerics.flow.jit import cache_dir
 
-    return cache_dir() / f"kbm_template_{key}.json"
+    return cache_dir() / f"kbm_{kind}_{key}.json"
 
 
-def _read(key: str) -> dict | None:
-    """The stored record of ``key``, or ``None`` (missing, unreadable, another key)."""
+def read_record(key: str, kind: str = "template") -> dict | None:
+    """The stored record of ``key`` (a record of ``kind``: ``template``, the first-order
+    guess's ``rates``, ...), or ``None`` (missing, unreadable, another key or format)."""
     try:
-        record = json.loads(_path(key).read_text())
+        record = json.loads(_path(key, kind).read_text())
     except (OSError, ValueError):
         return None
     if not isinstance(record, dict) or record.get("format") != FORMAT or record.get("key") != key:
@@ -217,8 +218,9 @@ def _read(key: str) -> dict | None:
     return record
 
 
-def _write(key: str, record: Mapping) -> None:
-    path = _path(key)
+def write_record(key: str, record: Mapping, kind: str = "template") -> None:
+    """Store ``record`` under ``key`` (atomically; an unwritable cache costs time only)."""
+    path = _path(key, kind)
     try:
         tmp = path.with_suffix(f".{os.getpid()}.tmp")
         tmp.write_text(json.dumps(record, sort_keys=True, indent=1))
@@ -239,7 +241,7 @@ def cached_template(model: object, build: Callable[[object], Template],
         key = template_key(model)
     except TypeError:  # not a dataclass: no canonical form, so nothing is stored
         return build(model)
-    record = _read(key)
+    record = read_record(key)
     if record is not None:
         try:
             return template_from_record(model, record, template_type)
@@ -251,5 +253,5 @@ def cached_template(model: object, build: Callable[[object], Template],
         return built
     record = json.loads(json.dumps(record))  # the record as it is read back
     template = template_from_record(model, record, template_type)
-    _write(key, record)
+    write_record(key, record)
     return template

@@ -1,0 +1,90 @@
+"""The compiled flows built ahead of time (issue 39, :mod:`numerics.flow.aot`): the same
+numbers as numba's just-in-time code to the last bit, a module that does not load is not
+used, and ``KBM_AOT=0`` turns them off."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from numerics._memo import clear_caches
+from numerics.flow import aot, compile_model, jit_available
+from numerics.flow.compiled import template_flow
+from numerics.flow.jit import _load, cache_dir
+
+pytestmark = pytest.mark.skipif(not jit_available(), reason="numba not installed")
+
+
+def _flows(monkeypatch, model, params):
+    """The just-in-time flow and the ahead-of-time one of ``model`` (built in the cache in
+    use if it is not there yet, once per machine)."""
+    cm = compile_model(model, params)
+    monkeypatch.setenv("KBM_AOT", "0")
+    clear_caches()
+    jit = template_flow(cm.template)
+    monkeypatch.setenv("KBM_AOT", "1")
+    text = open(jit.module.__file__).read()
+    if aot.load(cache_dir(), text) is None:
+        assert aot.build(cache_dir(), text, _load(text))
+    clear_caches()
+    built = template_flow(cm.template)
+    clear_caches()
+    return cm, jit, built
+
+
+@pytest.mark.parametrize("model, params", [("vdp", {"mu": 1}),
+                                           ("sedf", {"mu": 0.1, "Delta": 1.5, "beta": 1,
+                                                     "lam": 1})])
+def test_ahead_of_time_equals_just_in_time_to_the_last_bit(monkeypatch, model, params):
+    """The extended flow (state, variational equations, Liouville and dissipation
+    integrals) and the turn of ``x'`` from the extension and from numba's code: equal
+    arrays, statuses and step counts (the same source, the same LLVM, no fast-math)."""
+    cm, jit, built = _flows(monkeypatch, model, params)
+    assert built.module.__name__.startswith("kbm_aot_")
+    assert not jit.module.__name__.startswith("kbm_aot_")
+    for x0, t_end, rtol, n_out in [(2.0, 6.7, 1e-12, 1), (0.5, 30.0, 1e-8, 7),
+                                   (1.2, 3.0, 1e-10, 64)]:
+        y0 = [x0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]
+        a = jit(y0, t_end, cm.pvec, rtol, rtol, n_out)
+        b = built(y0, t_end, cm.pvec, rtol, rtol, n_out)
+        assert a.status == b.status and a.steps == b.steps
+        np.testing.assert_array_equal(a.y, b.y)
+        assert a.y.tobytes() == b.y.tobytes()
+        assert jit.to_turn(y0, 1.0, 50.0, cm.pvec, rtol, rtol) == \
+            built.to_turn(y0, 1.0, 50.0, cm.pvec, rtol, rtol)
+    # the transient integrates the state alone: two of the nine states
+    a, b = jit([1.0, 0.0], 20.0, cm.pvec, 1e-10, 1e-10, 5), built([1.0, 0.0], 20.0, cm.pvec,
+                                                                  1e-10, 1e-10, 5)
+    assert a.y.tobytes() == b.y.tobytes() and a.steps == b.steps
+
+
+def test_a_module_that_does_not_load_is_not_used(tmp_path, monkeypatch):
+    monkeypatch.setenv("KBM_AOT", "1")
+    source = "# a source\n"
+    name = aot.module_name(source)
+    aot._path(tmp_path, name).write_bytes(b"not an extension module")
+    assert aot.load(tmp_path, source) is None
+
+
+def test_kbm_aot_0_turns_them_off(tmp_path, monkeypatch):
+    monkeypatch.setenv("KBM_AOT", "0")
+    assert not aot.enabled()
+    assert aot.load(tmp_path, "# a source\n") is None
+    assert aot.build(tmp_path, "# a source\n", None) is False
+
+
+def test_the_name_changes_with_the_source():
+    assert aot.module_name("a\n") != aot.module_name("b\n")
+    assert aot.module_name("a\n") == aot.module_name("a\n")
+
+
+def test_a_failed_build_is_noted_and_not_tried_again(tmp_path, monkeypatch):
+    """A build that fails (here: no module to compile) leaves ``NAME.failed`` in the folder,
+    and the next process does not try again (a build takes seconds)."""
+    monkeypatch.setenv("KBM_AOT", "1")
+    source = "# a source that was never compiled\n"
+    assert aot.build(tmp_path, source, None) is False
+    failed = tmp_path / f"{aot.module_name(source)}.failed"
+    assert failed.exists() and "Error" in failed.read_text()
+    assert aot.build(tmp_path, source, None) is False
+    assert not list(tmp_path.glob("kbm_aot_*.so")) and not list(tmp_path.glob(".kbm_aot_*"))

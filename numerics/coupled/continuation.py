@@ -6,8 +6,9 @@ nonlinear equations*, sec. 2) of the shooting problem, for ``N = 1`` as for ``N 
 the steps along the branch are those of the one driver,
 :func:`numerics.shooting.arclength.walk`; here is where the branch ends.  The pieces:
 
-- :mod:`numerics.coupled.orbit_problem`: the shooting problem in scaled unknowns
-  (``(y0, T, p)`` autonomous, ``(y0, p)`` forced), its Jacobian, tangent and corrector;
+- :class:`numerics.shooting.branch_problem.OrbitProblem`: the shooting problem in scaled
+  unknowns (``(y0, T, p)`` autonomous, ``(y0, p)`` forced), its Jacobian, tangent and
+  corrector (the one branch problem's);
 - :mod:`numerics.coupled.special_points`: fold, period doubling and Neimark-Sacker, located
   as AUTO-07p does (a test function's sign change and bisection along the arclength);
 - :mod:`numerics.coupled.branch_result`: the points, special points and branch returned.
@@ -25,16 +26,16 @@ from kbm.errors import ParameterError
 from numerics.coupled.branch_result import CoupledBranch, CoupledBranchPoint, CoupledSpecialPoint
 from numerics.coupled.cycle import coupled_cycle, forced_response
 from numerics.coupled.flow import bind_coupled
-from numerics.coupled.orbit_problem import _arc, _correct, _Problem, _Pt
 from numerics.coupled.special_points import _distinct, _specials
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.shooting.arclength import FAIL as _FAIL
 from numerics.shooting.arclength import null_vector, parameter_range, walk
+from numerics.shooting.branch_problem import OrbitPoint, OrbitProblem
 
 __all__ = ["CoupledBranch", "CoupledBranchPoint", "CoupledSpecialPoint", "continue_coupled"]
 
 
-def _follow(prob: _Problem, first: _Pt, direction: int, bounds, ds: float, ds_max: float,
+def _follow(prob: OrbitProblem, first: OrbitPoint, direction: int, bounds, ds: float, ds_max: float,
             ds_min: float, max_points: int, period_factor: float, hopf_fraction: float):
     """One direction of the branch by :func:`numerics.shooting.arclength.walk`;
     ``(points, special points, why it ended, whether it closed on itself)``."""
@@ -48,11 +49,8 @@ def _follow(prob: _Problem, first: _Pt, direction: int, bounds, ds: float, ds_ma
     name = prob.vary
 
     def at_edge(cur, new, edge):
-        row = np.zeros(len(new.u))
-        row[-1] = 1.0
         try:
-            s = (edge - cur.u[-1]) / (new.u[-1] - cur.u[-1])
-            end = _correct(prob, cur.v + s * (new.v - cur.v), row, edge / prob.scale[-1])
+            end = prob.at_parameter(cur, new, edge)
             end.tangent = cur.tangent
             _specials(prob, cur, end, special)
             pts.append(end)
@@ -79,7 +77,7 @@ def _follow(prob: _Problem, first: _Pt, direction: int, bounds, ds: float, ds_ma
         return new, min(ds * 1.5, ds_max), ""
 
     reason = walk(
-        cur, ds, step=lambda c, ds: _arc(prob, c, c.tangent, ds), visit=visit,
+        cur, ds, step=prob.arc, visit=visit,
         collapsed=lambda c, exc: (f"the steps collapsed below {ds_min:g} at {name} = "
                                   f"{c.u[-1]:.10g} (period {c.T:.8g}): {exc}"),
         ds_min=ds_min, parameter=lambda q: float(q.u[-1]), bounds=bounds, at_edge=at_edge,
@@ -146,7 +144,7 @@ def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, objec
                              f"{', '.join(sorted(names))})")
     if not 0 < rtol < 1e-4:
         raise ParameterError(f"rtol must be between 0 and 1e-4, got {rtol:g}")
-    prob = _Problem(m, params, vary, rtol)
+    prob = OrbitProblem(m, params, vary, rtol)
     try:
         if m.forced:
             r = forced_response(m, {**params, vary: p0}, start=start,
@@ -165,7 +163,7 @@ def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, objec
                            f"point: {exc}") from None
     ds_max = ds_max or 1.0 / 25
     ds = ds or ds_max / 4
-    points: list[_Pt] = [first]
+    points: list[OrbitPoint] = [first]
     special: list[CoupledSpecialPoint] = []
     reasons = []
     for d in directions:

@@ -32,7 +32,7 @@ from kbm.coupled import CoupledOscillators
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.shooting.arclength import FAIL as _FAIL
 from numerics.shooting.arclength import null_vector, walk
-from .orbit_problem import _arc, _Problem
+from numerics.shooting.branch_problem import OrbitProblem
 from .special_points import _locate
 from .cycle import coupled_cycle
 from .flow import bind_coupled
@@ -58,7 +58,7 @@ class Fold:
 
 def _fold_once(model: CoupledOscillators, params: dict, vary: str, state, period: float,
                p0: float, side: int, beyond: float, rtol: float):
-    prob = _Problem(model, params, vary, rtol)
+    prob = OrbitProblem(model, params, vary, rtol)
     cur = prob.start(np.concatenate([np.asarray(state, dtype=float), [period, p0]]), 1.0)
     t = null_vector(cur.J)
     cur.tangent = t if t[-1] * side > 0 else -t
@@ -78,7 +78,7 @@ def _fold_once(model: CoupledOscillators, params: dict, vary: str, state, period
         steps[0] += 1
         return "200 steps" if steps[0] > 200 else None
 
-    walk(cur, ds0, step=lambda c, ds: _arc(prob, c, c.tangent, ds), visit=visit,
+    walk(cur, ds0, step=prob.arc, visit=visit,
          collapsed=lambda c, exc: "the steps collapsed", ds_min=1e-3 * ds0, full=full)
     return found[0] if found else None
 

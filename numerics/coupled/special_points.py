@@ -15,11 +15,11 @@ from __future__ import annotations
 import numpy as np
 
 from numerics.coupled.branch_result import CoupledSpecialPoint
-from numerics.coupled.orbit_problem import _correct, _Problem, _Pt
+from numerics.shooting.branch_problem import OrbitPoint, OrbitProblem
 from numerics.shooting.locate import locate_zero
 
 
-def _tests(prob: _Problem, pt: _Pt) -> dict[str, float]:
+def _tests(prob: OrbitProblem, pt: OrbitPoint) -> dict[str, float]:
     """The test functions at ``pt``: fold, period doubling, Neimark-Sacker."""
     z = pt.rest
     ns = 1.0
@@ -31,7 +31,7 @@ def _tests(prob: _Problem, pt: _Pt) -> dict[str, float]:
             "neimark-sacker": float(np.real(ns))}
 
 
-def _locate(prob: _Problem, a: _Pt, b: _Pt, kind: str, fa: float, tol: float = 1e-11):
+def _locate(prob: OrbitProblem, a: OrbitPoint, b: OrbitPoint, kind: str, fa: float, tol: float = 1e-11):
     """The zero of test ``kind`` between ``a`` and ``b`` by the one locator
     (:func:`numerics.shooting.locate.locate_zero`, bisection) on the hyperplanes normal to
     the chord ``b - a`` (each meets the branch between them once, where the hyperplanes
@@ -43,7 +43,7 @@ def _locate(prob: _Problem, a: _Pt, b: _Pt, kind: str, fa: float, tol: float = 1
 
     def trial(w):
         pred = a.v + w * d
-        pm = _correct(prob, pred, d, float(d @ pred))
+        pm = prob.correct(pred, d, float(d @ pred))
         pm.tangent = pm.tangent if pm.tangent @ a.tangent >= 0 else -pm.tangent
         return pm
 
@@ -56,7 +56,7 @@ def _locate(prob: _Problem, a: _Pt, b: _Pt, kind: str, fa: float, tol: float = 1
     return found.point, (min(p_lo, p_hi), max(p_lo, p_hi))
 
 
-def _specials(prob: _Problem, a: _Pt, b: _Pt, out: list) -> None:
+def _specials(prob: OrbitProblem, a: OrbitPoint, b: OrbitPoint, out: list) -> None:
     fa, fb = _tests(prob, a), _tests(prob, b)
     for kind in ("fold", "period-doubling", "neimark-sacker"):
         if fa[kind] * fb[kind] >= 0:

@@ -21,7 +21,7 @@
 - :mod:`numerics.cycles.continuation`: branches of cycles in one parameter
   (:func:`continue_cycles`: pseudo-arclength by the one driver of
   :mod:`numerics.shooting.arclength`, folds, Hopf ends; the shooting problem of a branch
-  in :mod:`numerics.cycles.orbit_problem`, the homoclinic ends in
+  in :mod:`numerics.shooting.planar`, the homoclinic ends in
   :mod:`numerics.cycles.branch_ends`, results in :mod:`numerics.cycles.branch_result`).
 """
 

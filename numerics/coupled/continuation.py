@@ -29,7 +29,7 @@ from numerics.coupled.flow import bind_coupled
 from numerics.coupled.special_points import _distinct, _specials
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.shooting.arclength import FAIL as _FAIL
-from numerics.shooting.arclength import null_vector, parameter_range, walk
+from numerics.shooting.arclength import parameter_range, walk
 from numerics.shooting.branch_problem import OrbitPoint, OrbitProblem
 
 __all__ = ["CoupledBranch", "CoupledBranchPoint", "CoupledSpecialPoint", "continue_coupled"]
@@ -39,7 +39,7 @@ def _follow(prob: OrbitProblem, first: OrbitPoint, direction: int, bounds, ds: f
             ds_min: float, max_points: int, period_factor: float, hopf_fraction: float):
     """One direction of the branch by :func:`numerics.shooting.arclength.walk`;
     ``(points, special points, why it ended, whether it closed on itself)``."""
-    t = null_vector(first.J)
+    t = first.tangent
     if t[-1] * direction < 0:
         t = -t
     cur = copy.copy(first)  # the same point, oriented for this direction

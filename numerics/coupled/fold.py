@@ -31,7 +31,7 @@ import numpy as np
 from kbm.coupled import CoupledOscillators
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.shooting.arclength import FAIL as _FAIL
-from numerics.shooting.arclength import null_vector, walk
+from numerics.shooting.arclength import walk
 from numerics.shooting.branch_problem import OrbitProblem
 from .special_points import _locate
 from .cycle import coupled_cycle
@@ -60,8 +60,7 @@ def _fold_once(model: CoupledOscillators, params: dict, vary: str, state, period
                p0: float, side: int, beyond: float, rtol: float):
     prob = OrbitProblem(model, params, vary, rtol)
     cur = prob.start(np.concatenate([np.asarray(state, dtype=float), [period, p0]]), 1.0)
-    t = null_vector(cur.J)
-    cur.tangent = t if t[-1] * side > 0 else -t
+    cur.tangent = cur.tangent if cur.tangent[-1] * side > 0 else -cur.tangent
     # the branch reaches the fold within |beyond - p0| in p, the state within its root
     ds0 = min(0.05, max(1e-4, 0.5 * math.sqrt(abs(beyond - p0))))
     found, steps = [], [0]

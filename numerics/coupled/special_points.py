@@ -1,6 +1,6 @@
 """Special points on a branch of periodic orbits of a coupled system, located as AUTO-07p
 does: a test function that changes sign between two points, and bisection along the
-arclength by the one locator (:func:`numerics.shooting.locate.locate_zero`;
+arclength by the one locator (:func:`numerics.shooting.locate.zero_on_chord`;
 :mod:`numerics.coupled.continuation`).
 
 - fold: the parameter component of the tangent;
@@ -16,7 +16,7 @@ import numpy as np
 
 from numerics.coupled.branch_result import CoupledSpecialPoint
 from numerics.shooting.branch_problem import OrbitPoint, OrbitProblem
-from numerics.shooting.locate import locate_zero
+from numerics.shooting.locate import zero_on_chord
 
 
 def _tests(prob: OrbitProblem, pt: OrbitPoint) -> dict[str, float]:
@@ -31,29 +31,10 @@ def _tests(prob: OrbitProblem, pt: OrbitPoint) -> dict[str, float]:
             "neimark-sacker": float(np.real(ns))}
 
 
-def _locate(prob: OrbitProblem, a: OrbitPoint, b: OrbitPoint, kind: str, fa: float, tol: float = 1e-11):
+def _locate(prob: OrbitProblem, a: OrbitPoint, b: OrbitPoint, kind: str, fa: float):
     """The zero of test ``kind`` between ``a`` and ``b`` by the one locator
-    (:func:`numerics.shooting.locate.locate_zero`, bisection) on the hyperplanes normal to
-    the chord ``b - a`` (each meets the branch between them once, where the hyperplanes
-    normal to ``a``'s tangent can miss a sharp fold): ``(the point nearest the zero, (the
-    parameter at both ends of the last bracket))``."""
-    chord = b.v - a.v
-    length = float(np.linalg.norm(chord))
-    d = chord / length
-
-    def trial(w):
-        pred = a.v + w * d
-        pm = prob.correct(pred, d, float(d @ pred))
-        pm.tangent = pm.tangent if pm.tangent @ a.tangent >= 0 else -pm.tangent
-        return pm
-
-    found = locate_zero(trial, lambda pm: _tests(prob, pm)[kind], 0.0, length, fa, -fa,
-                        tol=tol)
-    if found.point is None:
-        return None
-    p_lo = float((found.at_lo or a).u[-1])
-    p_hi = float((found.at_hi or b).u[-1])
-    return found.point, (min(p_lo, p_hi), max(p_lo, p_hi))
+    (:func:`numerics.shooting.locate.zero_on_chord`)."""
+    return zero_on_chord(prob.correct, a, b, lambda pm: _tests(prob, pm)[kind], fa)
 
 
 def _specials(prob: OrbitProblem, a: OrbitPoint, b: OrbitPoint, out: list) -> None:

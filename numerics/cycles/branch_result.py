@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from kbm.models import FrozenMap
 
 from kbm.strict_json import finite
+from numerics.shooting.orbit import multiplier_json
 
 __all__ = ["BranchPoint", "SpecialPoint", "Branch", "SPECIAL_KINDS"]
 
@@ -16,10 +17,6 @@ __all__ = ["BranchPoint", "SpecialPoint", "Branch", "SPECIAL_KINDS"]
 #: multiplier passes through +1), a Hopf end (amplitude -> 0), a homoclinic end (period ->
 #: infinity at a separatrix), and an end where the continuation could not go on
 SPECIAL_KINDS = ("fold", "hopf", "homoclinic", "end")
-
-
-def _mult(m: complex):
-    return float(m.real) if m.imag == 0 else [float(m.real), float(m.imag)]
 
 
 @dataclass(frozen=True, eq=False)
@@ -57,7 +54,7 @@ class BranchPoint:
         """``parameter, amplitude_max, period, stable, multipliers`` (and ``x0``, ``residual``)."""
         return finite({"parameter": self.parameter, "amplitude_max": self.amplitude_max,
                        "period": self.period, "stable": self.stable,
-                       "multipliers": [_mult(m) for m in self.multipliers],
+                       "multipliers": [multiplier_json(m) for m in self.multipliers],
                        "x0": self.x0, "residual": self.residual})
 
 

@@ -261,7 +261,7 @@ def continue_cycles(model: Oscillator | str, params: Mapping[str, object] | None
     u0 = np.array([guess[0], guess[1], p0])
     prob.choose(u0)
     try:
-        first = prob.correct(u0, np.array([0.0, 0.0, 1.0]), p0, max_iter=25)
+        first = prob.fix(u0, max_iter=25)
     except _FAIL as exc:
         raise NoCycleError(f"no limit cycle at {vary} = {p0:g} near x_max = {guess[0]:.6g}, "
                            f"T = {guess[1]:.6g} to start the branch from ({exc})") from None

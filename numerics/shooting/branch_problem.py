@@ -42,36 +42,20 @@ __all__ = ["BranchProblem", "OrbitProblem", "OrbitPoint"]
 
 
 class BranchProblem:
-    """The corrector and the steps of a branch; a case defines :meth:`evaluate`,
-    :meth:`accept`, :meth:`too_large`, :meth:`where` and :meth:`point`, on the unknowns
-    ``v`` Newton works in (its points carry ``v``, ``u`` and a unit ``tangent``; the
-    parameter is the last unknown, ``u[-1] = v[-1] * pscale``)."""
+    """The corrector and the steps of a branch.  A case defines ``evaluate(v) -> (R, dR/dv,
+    data)``, ``accept(v, R, dv, data, it)`` (the point is converged), ``too_large(v, dv)``
+    (a message, or ``None``), ``point(v, R, dv, data, it)`` (the converged point, with
+    ``v``, ``u`` and a unit ``tangent``) and, unless :meth:`where` serves, the place named
+    in errors.  The parameter is the last unknown, ``u[-1] = v[-1] * pscale``."""
 
     #: the bound on Newton's corrections of one point
     max_iter = 10
     #: the hyperplane of a step is ``t . v = t . prediction`` (else ``t . v_pt + ds``)
     through_prediction = True
     pscale = 1.0
-    evaluations = 0
-
-    def evaluate(self, v):
-        """``(R, dR/dv, data)`` at ``v``."""
-        raise NotImplementedError
-
-    def accept(self, v, R, dv, data, it) -> bool:
-        """Whether ``v`` (its correction ``dv``) is a converged point."""
-        raise NotImplementedError
-
-    def too_large(self, v, dv) -> str | None:
-        """A message when the correction leaves the region where Newton is trusted."""
-        raise NotImplementedError
 
     def where(self, v) -> str:
         return f"{self.vary} = {v[-1] * self.pscale:.8g}"
-
-    def point(self, v, R, dv, data, it):
-        """The converged point."""
-        raise NotImplementedError
 
     def correct(self, v_pred, row, target: float, max_iter: int | None = None):
         """Newton on ``R(v) = 0, row . v = target`` from ``v_pred``: the accepted point."""
@@ -80,6 +64,12 @@ class BranchProblem:
             max_iter=self.max_iter if max_iter is None else max_iter, accept=self.accept,
             too_large=self.too_large, where=self.where)
         return self.point(v, R, dv, data, it)
+
+    def fix(self, v, max_iter: int | None = None):
+        """The point corrected from ``v`` at its parameter ``v[-1]``."""
+        row = np.zeros(len(v))
+        row[-1] = 1.0
+        return self.correct(v, row, v[-1], max_iter)
 
     def arc(self, pt, ds: float, t=None, previous=None):
         """Predict ``ds`` along ``t`` (default the tangent of ``pt``; with ``previous``, the
@@ -128,9 +118,7 @@ class OrbitProblem(BranchProblem):
         n2 = 2 * self.n
         self.scale = np.concatenate([np.full(n2, max(1.0, float(np.max(np.abs(u0[:n2]))))),
                                      u0[n2:-1], [width]])
-        row = np.zeros(len(u0))
-        row[-1] = 1.0
-        return self.correct(u0 / self.scale, row, u0[-1] / width, max_iter=20)
+        return self.fix(u0 / self.scale, max_iter=20)
 
     def flow(self, p: float):
         fl = self._flows.get(p)
@@ -221,7 +209,6 @@ class OrbitPoint:
         self.v, self.T = v, T
         self.u = v * prob.scale
         self.res = float(np.max(np.abs(R)))
-        self.J = J
         self.mults, self.rest = prob.multipliers(Phi)
         self.Phi = Phi
         n = prob.n

@@ -219,8 +219,7 @@ class PlanarProblem(BranchProblem):
         if pt.amp <= pt.u[0] + 1e-3 * pt.size:  # hysteresis: two nearly equal maxima
             return pt
         try:
-            new = self.correct(np.array([pt.x_top, pt.u[1], pt.u[2]]),
-                               np.array([0.0, 0, 1]), float(pt.u[2]), max_iter=25)
+            new = self.fix(np.array([pt.x_top, pt.u[1], pt.u[2]]), max_iter=25)
         except _FAIL:
             return pt
         if new.amp > new.u[0] + 1e-3 * new.size or \

@@ -9,8 +9,12 @@ the steps along the branch are those of the one driver,
 - :class:`numerics.shooting.branch_problem.OrbitProblem`: the shooting problem in scaled
   unknowns (``(y0, T, p)`` autonomous, ``(y0, p)`` forced), its Jacobian, tangent and
   corrector (the one branch problem's);
-- :mod:`numerics.coupled.special_points`: fold, period doubling and Neimark-Sacker, located
-  as AUTO-07p does (a test function's sign change and bisection along the arclength);
+- the special points: fold (the parameter component of the tangent), period doubling
+  (``det(Phi + I)``, a real multiplier through ``-1``) and Neimark-Sacker
+  (``prod_{i<j} (lambda_i lambda_j - 1)`` over the non-trivial multipliers, kept only where
+  the located pair is complex: a real pair ``lambda, 1/lambda`` is a neutral saddle),
+  located as AUTO-07p does (a test function's sign change, bisection on the chord by the
+  one locator, :func:`numerics.shooting.locate.zero_on_chord`);
 - :mod:`numerics.coupled.branch_result`: the points, special points and branch returned.
 """
 
@@ -26,11 +30,11 @@ from kbm.errors import ParameterError
 from numerics.coupled.branch_result import CoupledBranch, CoupledBranchPoint, CoupledSpecialPoint
 from numerics.coupled.cycle import coupled_cycle, forced_response
 from numerics.coupled.flow import bind_coupled
-from numerics.coupled.special_points import _distinct, _specials
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.shooting.arclength import FAIL as _FAIL
 from numerics.shooting.arclength import parameter_range, walk
 from numerics.shooting.branch_problem import OrbitPoint, OrbitProblem
+from numerics.shooting.locate import zero_on_chord
 
 __all__ = ["CoupledBranch", "CoupledBranchPoint", "CoupledSpecialPoint", "continue_coupled"]
 
@@ -83,6 +87,50 @@ def _follow(prob: OrbitProblem, first: OrbitPoint, direction: int, bounds, ds: f
         ds_min=ds_min, parameter=lambda q: float(q.u[-1]), bounds=bounds, at_edge=at_edge,
         full=lambda: None if len(pts) < max_points else f"{max_points} points (--max-points)")
     return pts, special, reason, bool(closed)
+
+
+def _tests(prob: OrbitProblem, pt: OrbitPoint) -> dict[str, float]:
+    """The test functions at ``pt``: fold, period doubling, Neimark-Sacker."""
+    z = pt.rest
+    ns = 1.0
+    for i in range(len(z)):
+        for j in range(i + 1, len(z)):
+            ns *= (z[i] * z[j] - 1.0)
+    return {"fold": float(pt.tangent[-1]),
+            "period-doubling": float(np.real(np.prod(1.0 + z))),
+            "neimark-sacker": float(np.real(ns))}
+
+
+def _specials(prob: OrbitProblem, a: OrbitPoint, b: OrbitPoint, out: list) -> None:
+    fa, fb = _tests(prob, a), _tests(prob, b)
+    for kind in ("fold", "period-doubling", "neimark-sacker"):
+        if fa[kind] * fb[kind] >= 0:
+            continue
+        found = zero_on_chord(prob.correct, a, b, lambda pm: _tests(prob, pm)[kind], fa[kind])
+        if found is None:
+            continue
+        pt, bracket = found
+        if kind == "neimark-sacker":
+            close = [z for z in pt.rest if abs(abs(z) - 1) < 1e-3 and abs(z.imag) > 1e-6]
+            if not close:
+                continue  # a real pair lambda, 1/lambda: a neutral saddle
+        if kind == "period-doubling" and not any(abs(z + 1) < 1e-3 for z in pt.rest):
+            continue
+        out.append(CoupledSpecialPoint(kind, float(pt.u[-1]), float(pt.T), pt.amps,
+                                       tuple(complex(z) for z in pt.mults), bracket,
+                                       tuple(float(v) for v in pt.u[:len(pt.Phi)])))
+
+
+def _distinct(special: list[CoupledSpecialPoint]) -> list[CoupledSpecialPoint]:
+    """Each located point once (a point met again, from the other side of the start or
+    around a closed branch, is dropped)."""
+    out: list[CoupledSpecialPoint] = []
+    for s in special:
+        if not any(o.kind == s.kind
+                   and abs(o.parameter - s.parameter) <= 1e-7 * max(1.0, abs(o.parameter))
+                   and np.max(np.abs(np.subtract(o.state, s.state))) < 1e-4 for o in out):
+            out.append(s)
+    return out
 
 
 def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, object] | None,

@@ -33,7 +33,7 @@ from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.shooting.arclength import FAIL as _FAIL
 from numerics.shooting.arclength import walk
 from numerics.shooting.branch_problem import OrbitProblem
-from .special_points import _locate
+from numerics.shooting.locate import zero_on_chord
 from .cycle import coupled_cycle
 from .flow import bind_coupled
 
@@ -67,7 +67,8 @@ def _fold_once(model: CoupledOscillators, params: dict, vary: str, state, period
 
     def visit(cur, new, ds):
         if new.tangent[-1] * cur.tangent[-1] < 0:
-            found.append(_locate(prob, cur, new, "fold", float(cur.tangent[-1])))
+            found.append(zero_on_chord(prob.correct, cur, new, lambda pm: float(pm.tangent[-1]),
+                                       float(cur.tangent[-1])))
             return new, ds, "the fold"
         if (float(new.u[-1]) - beyond) * side > 0:
             return new, ds, "no fold before beyond"  # the cycle ends otherwise there

@@ -2,26 +2,18 @@
 flow and a parameter, continued by pseudo-arclength (Doedel, *Lecture notes on numerical
 analysis of nonlinear equations*, sec. 2).
 
-:class:`BranchProblem` holds what every branch does: the corrector (Newton on ``R(v) = 0``
-and one linear condition, :func:`numerics.shooting.arclength.correct_on_hyperplane`, each
-point accepted by the standard of :mod:`numerics.shooting.acceptance`), the
-pseudo-arclength step and the point at a given parameter; a case gives the residual, its
-Jacobian, the test and the point.  Its cases:
+:class:`BranchProblem` holds what every branch does (the corrector, accepted by the standard
+of :mod:`numerics.shooting.acceptance`; the arclength step; the point at a parameter); a
+case gives the residual, its Jacobian, the test and the point:
 
-- :class:`OrbitProblem`, any ``N`` (``kbm branch``/``kbm response`` for coupled systems, the
-  fold of a locked cycle) in scaled unknowns ``v = u/scale``:
-
-  - autonomous: ``u = (y0, T, p)``, equations ``phi_T(y0; p) - y0 = 0`` and the phase
-    condition ``xdot_1(0) = 0``;
-  - forced (``theta = nu t``): ``u = (y0, p)``, the period ``T = m 2 pi/nu(p)`` fixed by
-    the forcing, equations ``phi_T(y0; p) - y0 = 0``;
-
-  the Jacobian holds the monodromy ``Phi - I``, the field at the end (autonomous, for
-  ``T``) and a central difference in ``p``; every point has all ``2N`` multipliers;
-- :class:`numerics.shooting.planar.PlanarProblem`, the case ``N = 1`` with the section
-  ``xdot = 0`` eliminated (``u = (x0, T, p)``), the parameter sensitivity, the half-period
-  shooting of symmetric cycles and the compiled corrector (``kbm branch`` for one degree of
-  freedom).
+- :class:`OrbitProblem`, any ``N``, in scaled unknowns ``v = u/scale``: autonomous
+  ``u = (y0, T, p)``, equations ``phi_T(y0; p) - y0 = 0`` and ``xdot_1(0) = 0``; forced
+  (``theta = nu t``) ``u = (y0, p)`` with ``T = m 2 pi/nu(p)``.  The Jacobian holds
+  ``Phi - I``, the field at the end (for ``T``) and a central difference in ``p``; every
+  point has all ``2N`` multipliers;
+- :class:`numerics.shooting.planar.PlanarProblem`, ``N = 1`` with the section ``xdot = 0``
+  eliminated, ``u = (x0, T, p)``, and its compiled corrector;
+- the forced response of one degree of freedom (:mod:`numerics.forced.response`).
 """
 
 from __future__ import annotations
@@ -65,11 +57,11 @@ class BranchProblem:
             too_large=self.too_large, where=self.where)
         return self.point(v, R, dv, data, it)
 
-    def fix(self, v, max_iter: int | None = None):
-        """The point corrected from ``v`` at its parameter ``v[-1]``."""
+    def fix(self, v, max_iter: int | None = None, target: float | None = None):
+        """The point corrected from ``v`` at the parameter ``target`` (default ``v[-1]``)."""
         row = np.zeros(len(v))
         row[-1] = 1.0
-        return self.correct(v, row, v[-1], max_iter)
+        return self.correct(v, row, v[-1] if target is None else target, max_iter)
 
     def arc(self, pt, ds: float, t=None, previous=None):
         """Predict ``ds`` along ``t`` (default the tangent of ``pt``; with ``previous``, the
@@ -88,9 +80,7 @@ class BranchProblem:
         """The point of the branch at ``p`` between ``a`` and ``b`` (``p`` between theirs),
         from the chord, its tangent oriented as ``a``'s."""
         s = (p - a.u[-1]) / (b.u[-1] - a.u[-1])
-        row = np.zeros(len(a.v))
-        row[-1] = 1.0
-        new = self.correct(a.v + s * (b.v - a.v), row, p / self.pscale, max_iter)
+        new = self.fix(a.v + s * (b.v - a.v), max_iter, p / self.pscale)
         if new.tangent @ a.tangent < 0:
             new.tangent = -new.tangent
         return new
@@ -171,10 +161,6 @@ class OrbitProblem(BranchProblem):
         J[:, -1] = dp
         return J * self.scale
 
-    def multipliers(self, Phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """``(all, non-trivial)``: autonomous systems have the trivial one first."""
-        return multipliers(Phi, autonomous=not self.forced)
-
     @property
     def pscale(self) -> float:
         return self.scale[-1]
@@ -209,7 +195,7 @@ class OrbitPoint:
         self.v, self.T = v, T
         self.u = v * prob.scale
         self.res = float(np.max(np.abs(R)))
-        self.mults, self.rest = prob.multipliers(Phi)
+        self.mults, self.rest = multipliers(Phi, autonomous=not prob.forced)
         self.Phi = Phi
         n = prob.n
         ys = fl.states(self.u[:2 * n], T, 512, rtol=prob.rtol)[:-1]

@@ -304,7 +304,8 @@ def _correct_compiled(prob: PlanarProblem, u_pred, row, target: float,
                       max_iter: int) -> PlanarPoint:
     """:meth:`PlanarProblem.correct` in one call of the compiled corrector
     (``shoot_correct`` of :mod:`numerics.flow.sensitivity`'s module): the same iterations,
-    tests and errors, with the parameter vector ``pvec(p_ref) + (p - p_ref) rates`` (affine in ``p``)."""
+    tests and errors, with the parameter vector ``pvec(p_ref) + (p - p_ref) rates``
+    (affine in ``p``)."""
     u = np.array(u_pred, dtype=float)
     p_ref = prob.p_ref
     status, it, u, R, A, b, ys, info = prob.kernel(

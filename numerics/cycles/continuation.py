@@ -1,17 +1,12 @@
 """Branches of limit cycles: pseudo-arclength continuation of the shooting solution.
 
 The unknowns are ``u = (x0, T, p)``: the section point ``x(0) = x0, x'(0) = 0``, the
-period and the varied parameter.  A periodic orbit solves the two equations
-``R(u) = (x(T) - x0, x'(T)) = 0``; the branch is the curve of solutions.  From a
-point ``u_k`` with unit tangent ``t_k`` (the null vector of ``dR/du``) the predictor
-``u_k + ds t_k`` is corrected by Newton's method on ``R = 0`` together with
-``t_k . (u - u_k - ds t_k) = 0`` (Keller's pseudo-arclength), so folds, where
-``p`` turns back, are passed and unstable cycles are followed like stable ones.
-``dR/d(x0, T)`` comes from the variational equations, ``dR/dp`` from the parameter
-sensitivity or a finite difference (:mod:`numerics.shooting.planar`, the case ``N = 1`` of the one branch problem).  The steps are
-those of the one driver of continuation, :func:`numerics.shooting.arclength.walk`: ``ds``
-grows after easy corrections and is halved after a failed one or a sharp turn of the
-tangent.
+period and the varied parameter; a cycle solves ``R(u) = (x(T) - x0, x'(T)) = 0``, the
+branch is the curve of solutions, followed by Keller's pseudo-arclength through folds and
+along unstable cycles (the problem is :class:`numerics.shooting.planar.PlanarProblem`, the
+case ``N = 1`` of the one branch problem).  The steps are those of the one driver,
+:func:`numerics.shooting.arclength.walk`: ``ds`` grows after easy corrections and is
+halved after a failed one or a sharp turn of the tangent.
 
 Special points, each labelled with its parameter value:
 

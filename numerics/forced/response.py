@@ -60,13 +60,11 @@ def guess_from(system: ForcedSystem, amplitude: float, phase: float, sigma: floa
 
 
 class _Response(BranchProblem):
-    """The case of one forced degree of freedom of the one branch problem
-    (:class:`numerics.shooting.branch_problem.BranchProblem`): ``u = (x(0), x'(0), sigma)``,
-    ``G(u) = y(T(sigma)) - y0``, ``J = [Phi(T) - I, dG/dsigma]`` (a failed integration is a
-    failed step); a point is accepted by the standard of :mod:`numerics.shooting.acceptance`
-    (forced: no trivial multiplier) with the last correction below :data:`ACCURACY`
-    ``max(1, |u|)``, and is ``u`` plus that correction, the Jacobian at ``u`` standing for
-    its own."""
+    """The response curve as a case of the one branch problem
+    (:class:`numerics.shooting.branch_problem.BranchProblem`; a failed integration is a
+    failed step): a point passes the standard of :mod:`numerics.shooting.acceptance`
+    (forced: no trivial multiplier) with its last correction below :data:`ACCURACY`
+    ``max(1, |u|)``; it is ``u`` plus that correction, with the Jacobian at ``u``."""
 
     max_iter = 12
     through_prediction = False

@@ -272,13 +272,13 @@ class PlanarPoint:
 
     def __init__(self, u, R, A, b, yT, ys, iters):
         self.u, self.R, self.yT, self.ys, self.iters = u, R, yT, ys, iters
+        self.v = u  # the unknowns Newton works in (unscaled)
         # the tangent spans the kernel of dR/du = [A b]: the cross product of its rows
         r0, r1 = (A[0, 0], A[0, 1], b[0]), (A[1, 0], A[1, 1], b[1])
         t = np.array([r0[1] * r1[2] - r0[2] * r1[1], r0[2] * r1[0] - r0[0] * r1[2],
                       r0[0] * r1[1] - r0[1] * r1[0]])
         self.tangent = t / math.sqrt(float(t @ t))
-        trivial, other = floquet_multipliers(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]), yT[6])
-        self.mults = (trivial, other)
+        self.mults = floquet_multipliers(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]), yT[6])
         # the first and the last sample are the start (x0, 0) and the return to it: x0 stands
         # for both (the samples are those of the last integration, the point is corrected)
         inner = ys[1:-1, 0] if len(ys) > 2 else ys[:, 0]
@@ -287,11 +287,6 @@ class PlanarPoint:
         self.size = self.amp - float(min(u[0], np.min(inner)))  # peak to peak of x
         self.mid = self.amp - 0.5 * self.size
         self.phi = float(np.max(np.abs(yT[2:6])))  # size of the monodromy matrix
-
-    @property
-    def v(self) -> np.ndarray:
-        """The unknowns Newton works in (unscaled)."""
-        return self.u
 
     def record(self) -> BranchPoint:
         return BranchPoint(parameter=float(self.u[2]), x0=float(self.u[0]),

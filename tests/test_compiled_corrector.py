@@ -65,7 +65,7 @@ def test_a_singular_jacobian_is_reported(module):
 @settings(max_examples=80, deadline=None)
 @given(st.lists(finite, min_size=4, max_size=4))
 def test_the_trivial_multiplier_distance_equals_numpys_eigenvalues(module, m):
-    """|m - 1| for the eigenvalue closest to 1, as numerics.cycles.floquet picks it."""
+    """|m - 1| for the eigenvalue closest to 1, as numerics.shooting.floquet picks it."""
     eig = np.linalg.eigvals(np.array([[m[0], m[1]], [m[2], m[3]]]))
     ref = float(np.min(np.abs(eig - 1.0)))
     got = module._trivial_distance(m[0], m[1], m[2], m[3])

@@ -29,7 +29,7 @@ from kbm.coupled import CoupledOscillators
 from kbm.errors import ParameterError
 from numerics.coupled.branch_result import CoupledBranch, CoupledBranchPoint, CoupledSpecialPoint
 from numerics.coupled.cycle import coupled_cycle, forced_response
-from numerics.coupled.flow import bind_coupled
+from numerics.coupled.flow import bind_coupled, coupled_flow
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.shooting.arclength import FAIL as _FAIL
 from numerics.shooting.arclength import parameter_range, walk
@@ -87,6 +87,13 @@ def _follow(prob: OrbitProblem, first: OrbitPoint, direction: int, bounds, ds: f
         ds_min=ds_min, parameter=lambda q: float(q.u[-1]), bounds=bounds, at_edge=at_edge,
         full=lambda: None if len(pts) < max_points else f"{max_points} points (--max-points)")
     return pts, special, reason, bool(closed)
+
+
+def _record(pt: OrbitPoint) -> CoupledBranchPoint:
+    n2 = len(pt.Phi)
+    return CoupledBranchPoint(float(pt.u[-1]), float(pt.T), tuple(float(v) for v in pt.u[:n2]),
+                              pt.amps, tuple(complex(z) for z in pt.mults),
+                              bool(np.all(np.abs(pt.rest) < 1.0)), pt.res)
 
 
 def _tests(prob: OrbitProblem, pt: OrbitPoint) -> dict[str, float]:
@@ -192,7 +199,7 @@ def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, objec
                              f"{', '.join(sorted(names))})")
     if not 0 < rtol < 1e-4:
         raise ParameterError(f"rtol must be between 0 and 1e-4, got {rtol:g}")
-    prob = OrbitProblem(m, params, vary, rtol)
+    prob = OrbitProblem(m, params, vary, rtol, coupled_flow)
     try:
         if m.forced:
             r = forced_response(m, {**params, vary: p0}, start=start,
@@ -222,7 +229,7 @@ def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, objec
         points = (points + pts[1:]) if d > 0 else (list(reversed(pts[1:])) + points)
         if closed:
             break  # the other direction is the same loop
-    recs = tuple(p.record() for p in points)
+    recs = tuple(_record(p) for p in points)
     special.sort(key=lambda s: s.parameter)
     special = _distinct(special)
     return CoupledBranch(m.name, vary, (lo, hi), m.forced, m.dof, recs, tuple(special),

@@ -35,7 +35,7 @@ from numerics.shooting.arclength import walk
 from numerics.shooting.branch_problem import OrbitProblem
 from numerics.shooting.locate import zero_on_chord
 from .cycle import coupled_cycle
-from .flow import bind_coupled
+from .flow import bind_coupled, coupled_flow
 
 __all__ = ["Fold", "locate_fold", "LockingEdge", "true_edges", "FOLD_BRACKET"]
 
@@ -58,7 +58,7 @@ class Fold:
 
 def _fold_once(model: CoupledOscillators, params: dict, vary: str, state, period: float,
                p0: float, side: int, beyond: float, rtol: float):
-    prob = OrbitProblem(model, params, vary, rtol)
+    prob = OrbitProblem(model, params, vary, rtol, coupled_flow)
     cur = prob.start(np.concatenate([np.asarray(state, dtype=float), [period, p0]]), 1.0)
     cur.tangent = cur.tangent if cur.tangent[-1] * side > 0 else -cur.tangent
     # the branch reaches the fold within |beyond - p0| in p, the state within its root

@@ -14,8 +14,8 @@
   integration (no aliasing of the jumps of relaxation cycles);
 - :mod:`numerics.cycles.highprec`: cycles to 30 digits and more (mpmath Taylor);
 - :mod:`numerics.cycles.sweep`: many cycles on all cores;
-- :mod:`numerics.cycles.floquet`: the non-trivial Floquet multiplier from Liouville's
-  formula (right at any stiffness);
+- ``floquet_multipliers``, ``nontrivial_multiplier`` (:mod:`numerics.shooting.floquet`):
+  the non-trivial Floquet multiplier from Liouville's formula (right at any stiffness);
 - :mod:`numerics.cycles.continuation`: branches of cycles in one parameter
   (:func:`continue_cycles`: pseudo-arclength by the one driver of
   :mod:`numerics.shooting.arclength`, folds, Hopf ends; the shooting problem of a branch
@@ -30,7 +30,7 @@ from kbm._lazy import keep_objects, lazy_names
 _LAZY = {
     **dict.fromkeys(("Branch", "BranchPoint", "SpecialPoint"), "numerics.cycles.branch_result"),
     "continue_cycles": "numerics.cycles.continuation",
-    **dict.fromkeys(("floquet_multipliers", "nontrivial_multiplier"), "numerics.cycles.floquet"),
+    **dict.fromkeys(("floquet_multipliers", "nontrivial_multiplier"), "numerics.shooting.floquet"),
     "limit_cycle_mp": "numerics.cycles.highprec",
     **dict.fromkeys(("Dissipation", "LimitCycle"), "numerics.cycles.result"),
     **dict.fromkeys(("CycleList", "limit_cycles"), "numerics.cycles.every_cycle"),

@@ -6,12 +6,14 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+import numpy as np
+
 from kbm.models import FrozenMap
 
 from kbm.strict_json import finite
 from numerics.shooting.orbit import multiplier_json
 
-__all__ = ["BranchPoint", "SpecialPoint", "Branch", "SPECIAL_KINDS"]
+__all__ = ["BranchPoint", "SpecialPoint", "Branch", "SPECIAL_KINDS", "branch_point"]
 
 #: the labels of special points: a fold of cycles (two cycles merge, the non-trivial
 #: multiplier passes through +1), a Hopf end (amplitude -> 0), a homoclinic end (period ->
@@ -56,6 +58,14 @@ class BranchPoint:
                        "period": self.period, "stable": self.stable,
                        "multipliers": [multiplier_json(m) for m in self.multipliers],
                        "x0": self.x0, "residual": self.residual})
+
+
+def branch_point(pt) -> BranchPoint:
+    """The record of a converged point of :class:`numerics.shooting.planar.PlanarProblem`."""
+    return BranchPoint(parameter=float(pt.u[2]), x0=float(pt.u[0]), period=float(pt.u[1]),
+                       amplitude_max=pt.amp, multipliers=pt.mults,
+                       stable=bool(abs(pt.mults[1]) < 1.0),
+                       residual=float(np.max(np.abs(pt.R))))
 
 
 @dataclass(frozen=True, eq=False)

@@ -38,7 +38,7 @@ from kbm.bound import BoundModel, bind
 from kbm.models import Oscillator
 
 from numerics.shooting.planar import TRIVIAL_TOL, PlanarPoint, PlanarProblem, copy_point
-from numerics.cycles.branch_result import Branch, BranchPoint, SpecialPoint
+from numerics.cycles.branch_result import Branch, BranchPoint, SpecialPoint, branch_point
 from numerics.cycles.result import LimitCycle
 from numerics.cycles.shooting import limit_cycle
 from numerics.cycles.branch_ends import homoclinic_reason, homoclinic_special
@@ -65,7 +65,7 @@ def _follow(prob: PlanarProblem, first: PlanarPoint, direction: int, bounds, opt
     pt = first
     if pt.tangent[2] * direction < 0 or (pt.tangent[2] == 0 and direction < 0):
         pt.tangent = -pt.tangent
-    points, special = [pt.record()], []
+    points, special = [branch_point(pt)], []
     x_big, T0 = pt.size, pt.u[1]
     recent = [pt]
     previous = [None]  # (u, tangent) of the point before, for the cubic predictor
@@ -85,7 +85,7 @@ def _follow(prob: PlanarProblem, first: PlanarPoint, direction: int, bounds, opt
 
     def at_edge(pt, new, edge):
         try:
-            points.append(prob.at_parameter(pt, new, edge).record())
+            points.append(branch_point(prob.at_parameter(pt, new, edge)))
         except _FAIL:
             pass
         return f"reached {name} = {edge:g}"
@@ -96,11 +96,11 @@ def _follow(prob: PlanarProblem, first: PlanarPoint, direction: int, bounds, opt
             found = fold_on_arc(prob.arc, pt, new, ds_used)
             fp = new if found.failure is not None else found.point
             if fp is not new and _converged(fp):
-                points.append(fp.record())
+                points.append(branch_point(fp))
             if abs(fp.mults[1].real - 1.0) < 1e-5:  # else not a fold (a Hopf end, a section)
                 special.append(_fold(fp, name))
         if _converged(new):
-            points.append(new.record())
+            points.append(branch_point(new))
         else:
             opts["dropped"][0] += 1
         moved = prob.reanchor(new)

@@ -19,12 +19,11 @@ case gives the residual, its Jacobian, the test and the point:
 from __future__ import annotations
 
 import math
+from typing import Callable
 
 import numpy as np
 
 from kbm.coupled import CoupledOscillators
-from numerics.coupled.branch_result import CoupledBranchPoint
-from numerics.coupled.flow import coupled_flow
 from numerics.errors import ConvergenceError
 from numerics.shooting.acceptance import accepted, orbit_scale, trivial_ok
 from numerics.shooting.arclength import correct_on_hyperplane, null_vector, predict
@@ -89,8 +88,12 @@ class BranchProblem:
 class OrbitProblem(BranchProblem):
     """``R(u)``, its Jacobian and the multipliers, for one model and one parameter."""
 
-    def __init__(self, model: CoupledOscillators, params: dict, vary: str, rtol: float):
+    def __init__(self, model: CoupledOscillators, params: dict, vary: str, rtol: float,
+                 make_flow: Callable):
         self.model, self.params, self.vary, self.rtol = model, params, vary, rtol
+        #: ``(model, values) -> flow`` (:func:`numerics.coupled.flow.coupled_flow`): the flow
+        #: with ``monodromy``, ``rhs``, ``states``, ``nu`` and ``at(**values)``
+        self.make_flow = make_flow
         self.n = model.dof
         self.forced = model.forced
         self.evaluations = 0
@@ -116,11 +119,11 @@ class OrbitProblem(BranchProblem):
             if len(self._flows) > 32:
                 self._flows.clear()
             if self._base is None:
-                self._base = coupled_flow(self.model, {**self.params, self.vary: p})
+                self._base = self.make_flow(self.model, {**self.params, self.vary: p})
             if self.vary in self._base.values:
                 fl = self._base.at(**{self.vary: p})
             else:  # a physical name (Delta): its scaled values are bound again
-                fl = coupled_flow(self.model, {**self.params, self.vary: p})
+                fl = self.make_flow(self.model, {**self.params, self.vary: p})
             self._flows[p] = fl
         return fl
 
@@ -201,10 +204,3 @@ class OrbitPoint:
         ys = fl.states(self.u[:2 * n], T, 512, rtol=prob.rtol)[:-1]
         self.amps = tuple(peak(np.abs(ys[:, i])) for i in range(n))
         self.tangent = null_vector(J)
-
-    def record(self) -> CoupledBranchPoint:
-        n2 = len(self.Phi)
-        return CoupledBranchPoint(float(self.u[-1]), float(self.T),
-                                  tuple(float(v) for v in self.u[:n2]), self.amps,
-                                  tuple(complex(z) for z in self.mults),
-                                  bool(np.all(np.abs(self.rest) < 1.0)), self.res)

@@ -18,11 +18,10 @@ import math
 import numpy as np
 
 from numerics.shooting import acceptance as _acceptance
-from numerics.cycles.branch_result import BranchPoint
 from numerics.shooting.arclength import FAIL as _FAIL
 from numerics.shooting.branch_problem import BranchProblem
-from numerics.cycles.floquet import floquet_multipliers
-from numerics.cycles.shooting import NEWTON_MAX_STEPS
+from numerics.shooting.floquet import floquet_multipliers
+from numerics.shooting.orbit import NEWTON_MAX_STEPS
 from numerics.errors import ConvergenceError, IntegrationError
 from numerics.flow import CompiledLine, Method, choose_method, extended_state, flow
 from numerics.flow.sensitivity import (flow_with_sensitivity, sensitivity_flow, sensitivity_state,
@@ -287,12 +286,6 @@ class PlanarPoint:
         self.size = self.amp - float(min(u[0], np.min(inner)))  # peak to peak of x
         self.mid = self.amp - 0.5 * self.size
         self.phi = float(np.max(np.abs(yT[2:6])))  # size of the monodromy matrix
-
-    def record(self) -> BranchPoint:
-        return BranchPoint(parameter=float(self.u[2]), x0=float(self.u[0]),
-                           period=float(self.u[1]), amplitude_max=self.amp,
-                           multipliers=self.mults, stable=bool(abs(self.mults[1]) < 1.0),
-                           residual=float(np.max(np.abs(self.R))))
 
 
 def _correct_compiled(prob: PlanarProblem, u_pred, row, target: float,

@@ -1,7 +1,7 @@
 """The compiled Newton corrector of a branch of cycles (numerics/flow/_shooting_corrector.py).
 
 References, none from the compiled corrector: numpy's LAPACK solve and eigenvalues for its
-3x3 solve and trivial multiplier; the Python corrector of numerics.cycles.orbit_problem (the
+3x3 solve and trivial multiplier; the Python corrector of numerics.shooting.planar (the
 same algorithm on numpy, with the parameter values computed exactly per value) for whole
 branches; limit cycles shot from scratch at rtol 1e-12; the exact values of
 kbm.bound.ParameterLine for the affine parameter vector it assumes.
@@ -16,7 +16,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import numerics.cycles.orbit_problem as arc
+import numerics.shooting.planar as arc
 from kbm import custom_model
 from kbm.bound import ParameterLine
 from numerics import limit_cycle
@@ -65,7 +65,7 @@ def test_a_singular_jacobian_is_reported(module):
 @settings(max_examples=80, deadline=None)
 @given(st.lists(finite, min_size=4, max_size=4))
 def test_the_trivial_multiplier_distance_equals_numpys_eigenvalues(module, m):
-    """|m - 1| for the eigenvalue closest to 1, as numerics.cycles.floquet picks it."""
+    """|m - 1| for the eigenvalue closest to 1, as numerics.shooting.floquet picks it."""
     eig = np.linalg.eigvals(np.array([[m[0], m[1]], [m[2], m[3]]]))
     ref = float(np.min(np.abs(eig - 1.0)))
     got = module._trivial_distance(m[0], m[1], m[2], m[3])
@@ -89,21 +89,21 @@ def test_lines_that_are_not_affine_use_the_python_corrector():
     """delta = Delta/mu is not affine in mu; 2 pi/lam not in lam: no compiled corrector."""
     assert not ParameterLine("sedf", {"Delta": 1, "beta": 1, "lam": 1}, "mu", 0.1).affine
     assert not ParameterLine("sedf", {"Delta": 1, "beta": 1, "mu": 0.1}, "lam", 1.0).affine
-    prob = arc._Problem("sedf", {"Delta": 1, "beta": 1, "lam": 1}, "mu", "auto", 1e-10, 0.1)
+    prob = arc.PlanarProblem("sedf", {"Delta": 1, "beta": 1, "lam": 1}, "mu", "auto", 1e-10, 0.1)
     prob.choose(np.array([2.0, 6.3, 0.1]))
     assert prob.sensitive and prob.kernel is None
-    prob = arc._Problem("sedf", SEDF, "Delta", "auto", 1e-10, 1.0)
+    prob = arc.PlanarProblem("sedf", SEDF, "Delta", "auto", 1e-10, 1.0)
     prob.choose(np.array([2.0, 6.3, 1.0]))
     assert prob.kernel is shooting_corrector(prob.line.template)
 
 
 def _python_corrector(monkeypatch):
-    choose = arc._Problem.choose
+    choose = arc.PlanarProblem.choose
 
     def python_only(self, u):
         choose(self, u)
         self.kernel = None
-    monkeypatch.setattr(arc._Problem, "choose", python_only)
+    monkeypatch.setattr(arc.PlanarProblem, "choose", python_only)
 
 
 @pytest.mark.parametrize("case", ["sedf", "fold"])
@@ -143,17 +143,17 @@ def test_branch_points_are_the_cycles_shot_from_scratch():
 
 def test_failures_raise_the_python_correctors_errors():
     """No convergence within max_iter, and a predicted point outside the domain (T < 0)."""
-    prob = arc._Problem("sedf", SEDF, "Delta", "auto", 1e-10, 1.0)
+    prob = arc.PlanarProblem("sedf", SEDF, "Delta", "auto", 1e-10, 1.0)
     prob.choose(np.array([2.0, 6.7, 1.0]))
     assert prob.kernel is not None
     row = np.array([0.0, 0.0, 1.0])
     with pytest.raises(ConvergenceError, match="did not converge in 0 iterations"):
-        arc._correct(prob, np.array([2.05, 6.7, 1.0]), row, 1.0, max_iter=0)
+        prob.correct(np.array([2.05, 6.7, 1.0]), row, 1.0, max_iter=0)
     with pytest.raises(ConvergenceError, match="left the domain"):
-        arc._correct(prob, np.array([2.0, -1.0, 1.0]), row, 1.0)
+        prob.correct(np.array([2.0, -1.0, 1.0]), row, 1.0)
     with pytest.raises(ConvergenceError, match="step too large"):
-        arc._correct(prob, np.array([0.01, 6.7, 1.0]), row, 1.0)
-    pt = arc._correct(prob, np.array([2.03, 6.7, 1.0]), row, 1.0, max_iter=25)
+        prob.correct(np.array([0.01, 6.7, 1.0]), row, 1.0)
+    pt = prob.correct(np.array([2.03, 6.7, 1.0]), row, 1.0, max_iter=25)
     assert math.isclose(pt.u[2], 1.0) and abs(pt.mults[0] - 1) < arc.TRIVIAL_TOL
 
 

@@ -13,7 +13,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from numerics import limit_cycle
-from numerics.cycles.floquet import floquet_multipliers, nontrivial_multiplier
+from numerics.shooting.floquet import floquet_multipliers, nontrivial_multiplier
 
 
 def _div_integral(mu: float, x0: float, T: float) -> float:

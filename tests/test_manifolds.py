@@ -57,12 +57,12 @@ def test_saddles_from_the_compiled_force_equal_the_portraits(params, vary, at, s
     (symbolic split and potential)."""
     import numpy as np
 
-    import numerics.cycles.orbit_problem as arc
+    import numerics.shooting.planar as arc
     from kbm.bound import bind
     from numerics.cycles.homoclinic import saddles_passed
 
     model = "sedf" if "lam" in params else MODEL
-    prob = arc._Problem(model, params, vary, "auto", 1e-10, at)
+    prob = arc.PlanarProblem(model, params, vary, "auto", 1e-10, at)
     prob.choose(np.array([max(abs(span[0]), abs(span[1])), 7.0, at]))
     force = prob.force(at)
     assert force is not None

@@ -1,4 +1,4 @@
-"""Half-period shooting of the symmetric cycles of an odd field (numerics.cycles.orbit_problem).
+"""Half-period shooting of the symmetric cycles of an odd field (numerics.shooting.planar).
 
 For ``f(-y) = -f(y)`` a cycle with ``y(t + T/2) = -y(t)`` solves ``y(T/2) = -y(0)``; the
 monodromy matrix of the whole period is ``Phi(T/2)^2`` (the Jacobian is even in ``y``).
@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-import numerics.cycles.orbit_problem as arc
+import numerics.shooting.planar as arc
 from numerics import limit_cycles
 from numerics.cycles.continuation import continue_cycles
 from numerics.flow import Method, extended_state, flow
@@ -25,10 +25,10 @@ SEDF = {"mu": 0.1, "beta": 1, "lam": 1}
 
 
 def _point(params, vary, at, x0, T):
-    prob = arc._Problem("sedf", params, vary, "auto", 1e-10, at)
+    prob = arc.PlanarProblem("sedf", params, vary, "auto", 1e-10, at)
     u = np.array([x0, T, at])
     prob.choose(u)
-    pt = arc._correct(prob, u, np.array([0.0, 0.0, 1.0]), at, max_iter=25)
+    pt = prob.correct(u, np.array([0.0, 0.0, 1.0]), at, max_iter=25)
     return prob, pt
 
 
@@ -65,7 +65,7 @@ def test_asymmetric_cycles_and_even_terms_shoot_the_whole_period():
     from kbm import custom_model
 
     even = custom_model("(1 - x**2)*xdot + c*x**2", name="vdp-even-c")
-    prob = arc._Problem(even, {"mu": 0.1, "c": 0.2}, "c", "auto", 1e-10, 0.2)
+    prob = arc.PlanarProblem(even, {"mu": 0.1, "c": 0.2}, "c", "auto", 1e-10, 0.2)
     assert not prob.odd
 
 

@@ -6,10 +6,15 @@ nonlinear equations*, sec. 2) of the shooting problem, for ``N = 1`` as for ``N 
 the steps along the branch are those of the one driver,
 :func:`numerics.shooting.arclength.walk`; here is where the branch ends.  The pieces:
 
-- :mod:`numerics.coupled.orbit_problem`: the shooting problem in scaled unknowns
-  (``(y0, T, p)`` autonomous, ``(y0, p)`` forced), its Jacobian, tangent and corrector;
-- :mod:`numerics.coupled.special_points`: fold, period doubling and Neimark-Sacker, located
-  as AUTO-07p does (a test function's sign change and bisection along the arclength);
+- :class:`numerics.shooting.branch_problem.OrbitProblem`: the shooting problem in scaled
+  unknowns (``(y0, T, p)`` autonomous, ``(y0, p)`` forced), its Jacobian, tangent and
+  corrector (the one branch problem's);
+- the special points: fold (the parameter component of the tangent), period doubling
+  (``det(Phi + I)``, a real multiplier through ``-1``) and Neimark-Sacker
+  (``prod_{i<j} (lambda_i lambda_j - 1)`` over the non-trivial multipliers, kept only where
+  the located pair is complex: a real pair ``lambda, 1/lambda`` is a neutral saddle),
+  located as AUTO-07p does (a test function's sign change, bisection on the chord by the
+  one locator, :func:`numerics.shooting.locate.zero_on_chord`);
 - :mod:`numerics.coupled.branch_result`: the points, special points and branch returned.
 """
 
@@ -24,21 +29,21 @@ from kbm.coupled import CoupledOscillators
 from kbm.errors import ParameterError
 from numerics.coupled.branch_result import CoupledBranch, CoupledBranchPoint, CoupledSpecialPoint
 from numerics.coupled.cycle import coupled_cycle, forced_response
-from numerics.coupled.flow import bind_coupled
-from numerics.coupled.orbit_problem import _arc, _correct, _Problem, _Pt
-from numerics.coupled.special_points import _distinct, _specials
+from numerics.coupled.flow import bind_coupled, coupled_flow
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.shooting.arclength import FAIL as _FAIL
-from numerics.shooting.arclength import null_vector, parameter_range, walk
+from numerics.shooting.arclength import parameter_range, walk
+from numerics.shooting.branch_problem import OrbitPoint, OrbitProblem
+from numerics.shooting.locate import zero_on_chord
 
 __all__ = ["CoupledBranch", "CoupledBranchPoint", "CoupledSpecialPoint", "continue_coupled"]
 
 
-def _follow(prob: _Problem, first: _Pt, direction: int, bounds, ds: float, ds_max: float,
+def _follow(prob: OrbitProblem, first: OrbitPoint, direction: int, bounds, ds: float, ds_max: float,
             ds_min: float, max_points: int, period_factor: float, hopf_fraction: float):
     """One direction of the branch by :func:`numerics.shooting.arclength.walk`;
     ``(points, special points, why it ended, whether it closed on itself)``."""
-    t = null_vector(first.J)
+    t = first.tangent
     if t[-1] * direction < 0:
         t = -t
     cur = copy.copy(first)  # the same point, oriented for this direction
@@ -48,11 +53,8 @@ def _follow(prob: _Problem, first: _Pt, direction: int, bounds, ds: float, ds_ma
     name = prob.vary
 
     def at_edge(cur, new, edge):
-        row = np.zeros(len(new.u))
-        row[-1] = 1.0
         try:
-            s = (edge - cur.u[-1]) / (new.u[-1] - cur.u[-1])
-            end = _correct(prob, cur.v + s * (new.v - cur.v), row, edge / prob.scale[-1])
+            end = prob.at_parameter(cur, new, edge)
             end.tangent = cur.tangent
             _specials(prob, cur, end, special)
             pts.append(end)
@@ -79,12 +81,63 @@ def _follow(prob: _Problem, first: _Pt, direction: int, bounds, ds: float, ds_ma
         return new, min(ds * 1.5, ds_max), ""
 
     reason = walk(
-        cur, ds, step=lambda c, ds: _arc(prob, c, c.tangent, ds), visit=visit,
+        cur, ds, step=prob.arc, visit=visit,
         collapsed=lambda c, exc: (f"the steps collapsed below {ds_min:g} at {name} = "
                                   f"{c.u[-1]:.10g} (period {c.T:.8g}): {exc}"),
         ds_min=ds_min, parameter=lambda q: float(q.u[-1]), bounds=bounds, at_edge=at_edge,
         full=lambda: None if len(pts) < max_points else f"{max_points} points (--max-points)")
     return pts, special, reason, bool(closed)
+
+
+def _record(pt: OrbitPoint) -> CoupledBranchPoint:
+    n2 = len(pt.Phi)
+    return CoupledBranchPoint(float(pt.u[-1]), float(pt.T), tuple(float(v) for v in pt.u[:n2]),
+                              pt.amps, tuple(complex(z) for z in pt.mults),
+                              bool(np.all(np.abs(pt.rest) < 1.0)), pt.res)
+
+
+def _tests(prob: OrbitProblem, pt: OrbitPoint) -> dict[str, float]:
+    """The test functions at ``pt``: fold, period doubling, Neimark-Sacker."""
+    z = pt.rest
+    ns = 1.0
+    for i in range(len(z)):
+        for j in range(i + 1, len(z)):
+            ns *= (z[i] * z[j] - 1.0)
+    return {"fold": float(pt.tangent[-1]),
+            "period-doubling": float(np.real(np.prod(1.0 + z))),
+            "neimark-sacker": float(np.real(ns))}
+
+
+def _specials(prob: OrbitProblem, a: OrbitPoint, b: OrbitPoint, out: list) -> None:
+    fa, fb = _tests(prob, a), _tests(prob, b)
+    for kind in ("fold", "period-doubling", "neimark-sacker"):
+        if fa[kind] * fb[kind] >= 0:
+            continue
+        found = zero_on_chord(prob.correct, a, b, lambda pm: _tests(prob, pm)[kind], fa[kind])
+        if found is None:
+            continue
+        pt, bracket = found
+        if kind == "neimark-sacker":
+            close = [z for z in pt.rest if abs(abs(z) - 1) < 1e-3 and abs(z.imag) > 1e-6]
+            if not close:
+                continue  # a real pair lambda, 1/lambda: a neutral saddle
+        if kind == "period-doubling" and not any(abs(z + 1) < 1e-3 for z in pt.rest):
+            continue
+        out.append(CoupledSpecialPoint(kind, float(pt.u[-1]), float(pt.T), pt.amps,
+                                       tuple(complex(z) for z in pt.mults), bracket,
+                                       tuple(float(v) for v in pt.u[:len(pt.Phi)])))
+
+
+def _distinct(special: list[CoupledSpecialPoint]) -> list[CoupledSpecialPoint]:
+    """Each located point once (a point met again, from the other side of the start or
+    around a closed branch, is dropped)."""
+    out: list[CoupledSpecialPoint] = []
+    for s in special:
+        if not any(o.kind == s.kind
+                   and abs(o.parameter - s.parameter) <= 1e-7 * max(1.0, abs(o.parameter))
+                   and np.max(np.abs(np.subtract(o.state, s.state))) < 1e-4 for o in out):
+            out.append(s)
+    return out
 
 
 def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, object] | None,
@@ -146,7 +199,7 @@ def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, objec
                              f"{', '.join(sorted(names))})")
     if not 0 < rtol < 1e-4:
         raise ParameterError(f"rtol must be between 0 and 1e-4, got {rtol:g}")
-    prob = _Problem(m, params, vary, rtol)
+    prob = OrbitProblem(m, params, vary, rtol, coupled_flow)
     try:
         if m.forced:
             r = forced_response(m, {**params, vary: p0}, start=start,
@@ -165,7 +218,7 @@ def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, objec
                            f"point: {exc}") from None
     ds_max = ds_max or 1.0 / 25
     ds = ds or ds_max / 4
-    points: list[_Pt] = [first]
+    points: list[OrbitPoint] = [first]
     special: list[CoupledSpecialPoint] = []
     reasons = []
     for d in directions:
@@ -176,7 +229,7 @@ def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, objec
         points = (points + pts[1:]) if d > 0 else (list(reversed(pts[1:])) + points)
         if closed:
             break  # the other direction is the same loop
-    recs = tuple(p.record() for p in points)
+    recs = tuple(_record(p) for p in points)
     special.sort(key=lambda s: s.parameter)
     special = _distinct(special)
     return CoupledBranch(m.name, vary, (lo, hi), m.forced, m.dof, recs, tuple(special),

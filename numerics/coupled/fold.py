@@ -31,11 +31,11 @@ import numpy as np
 from kbm.coupled import CoupledOscillators
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.shooting.arclength import FAIL as _FAIL
-from numerics.shooting.arclength import null_vector, walk
-from .orbit_problem import _arc, _Problem
-from .special_points import _locate
+from numerics.shooting.arclength import walk
+from numerics.shooting.branch_problem import OrbitProblem
+from numerics.shooting.locate import zero_on_chord
 from .cycle import coupled_cycle
-from .flow import bind_coupled
+from .flow import bind_coupled, coupled_flow
 
 __all__ = ["Fold", "locate_fold", "LockingEdge", "true_edges", "FOLD_BRACKET"]
 
@@ -58,17 +58,17 @@ class Fold:
 
 def _fold_once(model: CoupledOscillators, params: dict, vary: str, state, period: float,
                p0: float, side: int, beyond: float, rtol: float):
-    prob = _Problem(model, params, vary, rtol)
+    prob = OrbitProblem(model, params, vary, rtol, coupled_flow)
     cur = prob.start(np.concatenate([np.asarray(state, dtype=float), [period, p0]]), 1.0)
-    t = null_vector(cur.J)
-    cur.tangent = t if t[-1] * side > 0 else -t
+    cur.tangent = cur.tangent if cur.tangent[-1] * side > 0 else -cur.tangent
     # the branch reaches the fold within |beyond - p0| in p, the state within its root
     ds0 = min(0.05, max(1e-4, 0.5 * math.sqrt(abs(beyond - p0))))
     found, steps = [], [0]
 
     def visit(cur, new, ds):
         if new.tangent[-1] * cur.tangent[-1] < 0:
-            found.append(_locate(prob, cur, new, "fold", float(cur.tangent[-1])))
+            found.append(zero_on_chord(prob.correct, cur, new, lambda pm: float(pm.tangent[-1]),
+                                       float(cur.tangent[-1])))
             return new, ds, "the fold"
         if (float(new.u[-1]) - beyond) * side > 0:
             return new, ds, "no fold before beyond"  # the cycle ends otherwise there
@@ -78,7 +78,7 @@ def _fold_once(model: CoupledOscillators, params: dict, vary: str, state, period
         steps[0] += 1
         return "200 steps" if steps[0] > 200 else None
 
-    walk(cur, ds0, step=lambda c, ds: _arc(prob, c, c.tangent, ds), visit=visit,
+    walk(cur, ds0, step=prob.arc, visit=visit,
          collapsed=lambda c, exc: "the steps collapsed", ds_min=1e-3 * ds0, full=full)
     return found[0] if found else None
 

@@ -10,18 +10,16 @@
   checks) and :mod:`numerics.cycles.finalpass` (the result and its accuracy estimate);
 - :mod:`numerics.cycles.every_cycle`: :func:`limit_cycles` (every predicted cycle, stable
   and unstable, confirmed by shooting);
-- :mod:`numerics.cycles.acceptance`: the one acceptance standard of every shooting, at its
-  earlier address (it lives in :mod:`numerics.shooting.acceptance`);
 - :mod:`numerics.cycles.harmonics`: Fourier coefficients by quadrature along the
   integration (no aliasing of the jumps of relaxation cycles);
 - :mod:`numerics.cycles.highprec`: cycles to 30 digits and more (mpmath Taylor);
 - :mod:`numerics.cycles.sweep`: many cycles on all cores;
-- :mod:`numerics.cycles.floquet`: the non-trivial Floquet multiplier from Liouville's
-  formula (right at any stiffness);
+- ``floquet_multipliers``, ``nontrivial_multiplier`` (:mod:`numerics.shooting.floquet`):
+  the non-trivial Floquet multiplier from Liouville's formula (right at any stiffness);
 - :mod:`numerics.cycles.continuation`: branches of cycles in one parameter
   (:func:`continue_cycles`: pseudo-arclength by the one driver of
   :mod:`numerics.shooting.arclength`, folds, Hopf ends; the shooting problem of a branch
-  in :mod:`numerics.cycles.orbit_problem`, the homoclinic ends in
+  in :mod:`numerics.shooting.planar`, the homoclinic ends in
   :mod:`numerics.cycles.branch_ends`, results in :mod:`numerics.cycles.branch_result`).
 """
 
@@ -32,7 +30,7 @@ from kbm._lazy import keep_objects, lazy_names
 _LAZY = {
     **dict.fromkeys(("Branch", "BranchPoint", "SpecialPoint"), "numerics.cycles.branch_result"),
     "continue_cycles": "numerics.cycles.continuation",
-    **dict.fromkeys(("floquet_multipliers", "nontrivial_multiplier"), "numerics.cycles.floquet"),
+    **dict.fromkeys(("floquet_multipliers", "nontrivial_multiplier"), "numerics.shooting.floquet"),
     "limit_cycle_mp": "numerics.cycles.highprec",
     **dict.fromkeys(("Dissipation", "LimitCycle"), "numerics.cycles.result"),
     **dict.fromkeys(("CycleList", "limit_cycles"), "numerics.cycles.every_cycle"),

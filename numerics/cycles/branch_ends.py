@@ -19,7 +19,7 @@ import numpy as np
 
 from kbm.bound import bind
 
-from numerics.cycles.branch_result import BranchPoint, SpecialPoint
+from numerics.cycles.branch_result import BranchPoint, SpecialPoint, branch_point
 from numerics.shooting.arclength import FAIL as _FAIL
 
 __all__ = ["homoclinic_reason", "homoclinic_special"]
@@ -78,7 +78,7 @@ def homoclinic_special(prob, points: list, recent: list, new, T0: float, why: st
     if follow_period and points:
         msg += _long_period(prob, points, T0, follow_period)
     # the marker sits on the last printed (converged) point's amplitude and period
-    shown = points[-1] if points else new.record()
+    shown = points[-1] if points else branch_point(new)
     return SpecialPoint("homoclinic", float(ph), float(shown.amplitude_max),
                         float(shown.period), msg), msg
 

@@ -6,20 +6,19 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+import numpy as np
+
 from kbm.models import FrozenMap
 
 from kbm.strict_json import finite
+from numerics.shooting.orbit import multiplier_json
 
-__all__ = ["BranchPoint", "SpecialPoint", "Branch", "SPECIAL_KINDS"]
+__all__ = ["BranchPoint", "SpecialPoint", "Branch", "SPECIAL_KINDS", "branch_point"]
 
 #: the labels of special points: a fold of cycles (two cycles merge, the non-trivial
 #: multiplier passes through +1), a Hopf end (amplitude -> 0), a homoclinic end (period ->
 #: infinity at a separatrix), and an end where the continuation could not go on
 SPECIAL_KINDS = ("fold", "hopf", "homoclinic", "end")
-
-
-def _mult(m: complex):
-    return float(m.real) if m.imag == 0 else [float(m.real), float(m.imag)]
 
 
 @dataclass(frozen=True, eq=False)
@@ -57,8 +56,16 @@ class BranchPoint:
         """``parameter, amplitude_max, period, stable, multipliers`` (and ``x0``, ``residual``)."""
         return finite({"parameter": self.parameter, "amplitude_max": self.amplitude_max,
                        "period": self.period, "stable": self.stable,
-                       "multipliers": [_mult(m) for m in self.multipliers],
+                       "multipliers": [multiplier_json(m) for m in self.multipliers],
                        "x0": self.x0, "residual": self.residual})
+
+
+def branch_point(pt) -> BranchPoint:
+    """The record of a converged point of :class:`numerics.shooting.planar.PlanarProblem`."""
+    return BranchPoint(parameter=float(pt.u[2]), x0=float(pt.u[0]), period=float(pt.u[1]),
+                       amplitude_max=pt.amp, multipliers=pt.mults,
+                       stable=bool(abs(pt.mults[1]) < 1.0),
+                       residual=float(np.max(np.abs(pt.R))))
 
 
 @dataclass(frozen=True, eq=False)

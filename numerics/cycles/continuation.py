@@ -1,17 +1,12 @@
 """Branches of limit cycles: pseudo-arclength continuation of the shooting solution.
 
 The unknowns are ``u = (x0, T, p)``: the section point ``x(0) = x0, x'(0) = 0``, the
-period and the varied parameter.  A periodic orbit solves the two equations
-``R(u) = (x(T) - x0, x'(T)) = 0``; the branch is the curve of solutions.  From a
-point ``u_k`` with unit tangent ``t_k`` (the null vector of ``dR/du``) the predictor
-``u_k + ds t_k`` is corrected by Newton's method on ``R = 0`` together with
-``t_k . (u - u_k - ds t_k) = 0`` (Keller's pseudo-arclength), so folds, where
-``p`` turns back, are passed and unstable cycles are followed like stable ones.
-``dR/d(x0, T)`` comes from the variational equations, ``dR/dp`` from the parameter
-sensitivity or a finite difference (:mod:`numerics.cycles.orbit_problem`).  The steps are
-those of the one driver of continuation, :func:`numerics.shooting.arclength.walk`: ``ds``
-grows after easy corrections and is halved after a failed one or a sharp turn of the
-tangent.
+period and the varied parameter; a cycle solves ``R(u) = (x(T) - x0, x'(T)) = 0``, the
+branch is the curve of solutions, followed by Keller's pseudo-arclength through folds and
+along unstable cycles (the problem is :class:`numerics.shooting.planar.PlanarProblem`, the
+case ``N = 1`` of the one branch problem).  The steps are those of the one driver,
+:func:`numerics.shooting.arclength.walk`: ``ds`` grows after easy corrections and is
+halved after a failed one or a sharp turn of the tangent.
 
 Special points, each labelled with its parameter value:
 
@@ -42,42 +37,42 @@ from kbm.errors import ParameterError
 from kbm.bound import BoundModel, bind
 from kbm.models import Oscillator
 
-from numerics.cycles.orbit_problem import (_FAIL, TRIVIAL_TOL, _arc, _at_parameter, _copy,
-                                        _correct, _Point, _Problem, _reanchor)
-from numerics.cycles.branch_result import Branch, BranchPoint, SpecialPoint
+from numerics.shooting.planar import TRIVIAL_TOL, PlanarPoint, PlanarProblem, copy_point
+from numerics.cycles.branch_result import Branch, BranchPoint, SpecialPoint, branch_point
 from numerics.cycles.result import LimitCycle
 from numerics.cycles.shooting import limit_cycle
 from numerics.cycles.branch_ends import homoclinic_reason, homoclinic_special
 from numerics.errors import ConvergenceError, NoCycleError
 from numerics.flow import Method
+from numerics.shooting.arclength import FAIL as _FAIL
 from numerics.shooting.arclength import parameter_range, walk
 from numerics.shooting.locate import fold_on_arc
 
 __all__ = ["continue_cycles", "TRIVIAL_TOL"]
 
 
-def _fold(pt: _Point, name: str) -> SpecialPoint:
+def _fold(pt: PlanarPoint, name: str) -> SpecialPoint:
     m = pt.mults[1].real
     return SpecialPoint("fold", float(pt.u[2]), pt.amp, float(pt.u[1]),
                         f"fold of cycles at {name} = {pt.u[2]:.10g}: dp/ds = "
                         f"{pt.tangent[2]:.1e}, non-trivial multiplier {m:.8f}")
 
 
-def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tuple:
+def _follow(prob: PlanarProblem, first: PlanarPoint, direction: int, bounds, opts) -> tuple:
     """Follow the branch from ``first`` in ``direction`` of ``p`` by the one driver
     (:func:`numerics.shooting.arclength.walk`); ``(points, special, why)``."""
     name = prob.vary
     pt = first
     if pt.tangent[2] * direction < 0 or (pt.tangent[2] == 0 and direction < 0):
         pt.tangent = -pt.tangent
-    points, special = [pt.record()], []
+    points, special = [branch_point(pt)], []
     x_big, T0 = pt.size, pt.u[1]
     recent = [pt]
     previous = [None]  # (u, tangent) of the point before, for the cubic predictor
 
     def step(pt, ds):
         prev, previous[0] = previous[0], None  # a failed step starts the next one afresh
-        new = _arc(prob, pt, ds, prev)
+        new = prob.arc(pt, ds, previous=prev)
         if new.u[0] * pt.u[0] <= 0:
             raise ConvergenceError("the section point changed sign")
         return new
@@ -90,7 +85,7 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
 
     def at_edge(pt, new, edge):
         try:
-            points.append(_at_parameter(prob, pt, new, edge).record())
+            points.append(branch_point(prob.at_parameter(pt, new, edge)))
         except _FAIL:
             pass
         return f"reached {name} = {edge:g}"
@@ -98,17 +93,17 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
     def visit(pt, new, ds_used):
         nonlocal x_big
         if new.tangent[2] * pt.tangent[2] < 0:
-            found = fold_on_arc(lambda a, s: _arc(prob, a, s), pt, new, ds_used)
+            found = fold_on_arc(prob.arc, pt, new, ds_used)
             fp = new if found.failure is not None else found.point
             if fp is not new and _converged(fp):
-                points.append(fp.record())
+                points.append(branch_point(fp))
             if abs(fp.mults[1].real - 1.0) < 1e-5:  # else not a fold (a Hopf end, a section)
                 special.append(_fold(fp, name))
         if _converged(new):
-            points.append(new.record())
+            points.append(branch_point(new))
         else:
             opts["dropped"][0] += 1
-        moved = _reanchor(prob, new)
+        moved = prob.reanchor(new)
         # the point before for the cubic predictor (none after a re-anchored section, where
         # the unknowns jumped, or after a fold)
         previous[0] = ((pt.u.copy(), pt.tangent.copy())
@@ -149,7 +144,7 @@ def _follow(prob: _Problem, first: _Point, direction: int, bounds, opts) -> tupl
     return points, special, why
 
 
-def _converged(pt: _Point) -> bool:
+def _converged(pt: PlanarPoint) -> bool:
     """The convergence test of a printed point: the trivial multiplier is 1 to TRIVIAL_TOL."""
     return abs(complex(pt.mults[0]) - 1.0) <= TRIVIAL_TOL
 
@@ -247,7 +242,7 @@ def continue_cycles(model: Oscillator | str, params: Mapping[str, object] | None
     lo, hi, p0 = _check_vary(model, params, vary, bounds)
     if not (0 < rtol < 1e-3):
         raise ParameterError(f"rtol must be between 0 and 1e-3, got {rtol:g}")
-    prob = _Problem(model, params, vary, method, rtol, p0)
+    prob = PlanarProblem(model, params, vary, method, rtol, p0)
     if start is None or isinstance(start, LimitCycle):
         try:
             c = start or limit_cycle(model, {**params, vary: p0}, rtol=max(rtol, 1e-12))
@@ -261,7 +256,7 @@ def continue_cycles(model: Oscillator | str, params: Mapping[str, object] | None
     u0 = np.array([guess[0], guess[1], p0])
     prob.choose(u0)
     try:
-        first = _correct(prob, u0, np.array([0.0, 0.0, 1.0]), p0, max_iter=25)
+        first = prob.fix(u0, max_iter=25)
     except _FAIL as exc:
         raise NoCycleError(f"no limit cycle at {vary} = {p0:g} near x_max = {guess[0]:.6g}, "
                            f"T = {guess[1]:.6g} to start the branch from ({exc})") from None
@@ -277,7 +272,7 @@ def continue_cycles(model: Oscillator | str, params: Mapping[str, object] | None
     for d in directions:
         if (d > 0 and p0 >= hi) or (d < 0 and p0 <= lo):
             continue
-        pts, sp_, why = _follow(prob, _copy(first), d, (lo, hi), opts)
+        pts, sp_, why = _follow(prob, copy_point(first), d, (lo, hi), opts)
         reasons.append(why)
         if d < 0:
             points = pts[::-1] + points[1:] if points else pts[::-1]

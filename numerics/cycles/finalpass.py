@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from numerics.cycles.floquet import floquet_multipliers
+from numerics.shooting.floquet import floquet_multipliers
 from numerics.cycles.harmonics import fourier_coefficients
 from numerics.cycles.highprec import limit_cycle_mp
 from numerics.cycles.newton import check_nontrivial, newton

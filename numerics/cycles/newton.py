@@ -11,14 +11,12 @@ from __future__ import annotations
 import numpy as np
 
 from numerics.shooting.acceptance import RESIDUAL_FACTOR, TRIVIAL_TOL, orbit_scale
-from numerics.shooting.orbit import shoot
+from numerics.shooting.orbit import NEWTON_MAX_STEPS, shoot
 from numerics.errors import ConvergenceError, NoCycleError
 from numerics.flow import extended_state, flow
 
 __all__ = ["NEWTON_MAX_STEPS", "newton", "check_nontrivial"]
 
-#: bound on the compiled integrator's steps over one period inside Newton's method
-NEWTON_MAX_STEPS = 5 * 10**4
 
 
 def newton(cm, x0, T, method, rtol, atol, max_iter, floor):

@@ -4,8 +4,8 @@ This file is read as text and appended, after the DOP853 stepper, to the module 
 :func:`numerics.flow.sensitivity.sensitivity_flow` prints (its ``rhs`` and ``flow``
 integrate the nine states of :mod:`numerics.flow.sensitivity`); numba compiles all three.
 
-:func:`shoot_correct` is the corrector of :func:`numerics.cycles.orbit_problem._correct`,
-step for step, without a return to Python between its iterations: the unknowns are
+:func:`shoot_correct` is the corrector of
+:meth:`numerics.shooting.planar.PlanarProblem.correct`, step for step, without a return to Python between its iterations: the unknowns are
 ``u = (x0, T, p)`` of the cycle through ``(x0, 0)``; the equations ``R(u) = 0`` (the
 return to the start, or in half-period mode ``y(T/2) = -y(0)``) and one linear condition
 ``row . u = target``; the Jacobian from the variational equations and the parameter

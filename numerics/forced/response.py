@@ -26,7 +26,8 @@ from numerics.errors import ConvergenceError, NumericsError
 from numerics.forced.shooting import ForcedOrbit, orbit_at, periodic_response
 from numerics.forced.system import ForcedSystem
 from numerics.shooting.acceptance import accepted, orbit_scale
-from numerics.shooting.arclength import FAIL, correct_on_hyperplane, null_vector, predict, walk
+from numerics.shooting.arclength import FAIL, null_vector, walk
+from numerics.shooting.branch_problem import BranchProblem
 from numerics.shooting.locate import fold_on_arc
 
 __all__ = ["NumericResponse", "numeric_response", "continue_response", "guess_from", "ACCURACY"]
@@ -58,57 +59,66 @@ def guess_from(system: ForcedSystem, amplitude: float, phase: float, sigma: floa
     return amplitude * math.cos(phase), -amplitude * w * math.sin(phase)
 
 
-def _evaluate(system: ForcedSystem, u):
-    """``(G, J, J)`` at ``u = (x(0), x'(0), sigma)``: ``G = y(T(sigma)) - y0`` and
-    ``J = [Phi(T) - I, dG/dsigma]`` (a failed integration is a failed step)."""
-    try:
-        if not np.all(np.isfinite(u)):
-            raise ConvergenceError(f"left the finite numbers at sigma = {u[2]:.6g}")
-        yT = system.flow(u[:2], u[2])[-1]
-        h = 1e-7 * (1 + abs(u[2]))
-        yh = system.flow(u[:2], u[2] + h, extended=False)[-1]
-    except (NumericsError, ParameterError) as exc:
-        raise ConvergenceError(str(exc)) from None
-    Phi = np.array([[yT[2], yT[4]], [yT[3], yT[5]]])
-    J = np.column_stack([Phi - np.eye(2), (yh[:2] - yT[:2]) / h])
-    return yT[:2] - u[:2], J, J
+class _Response(BranchProblem):
+    """The response curve as a case of the one branch problem
+    (:class:`numerics.shooting.branch_problem.BranchProblem`; a failed integration is a
+    failed step): a point passes the standard of :mod:`numerics.shooting.acceptance`
+    (forced: no trivial multiplier) with its last correction below :data:`ACCURACY`
+    ``max(1, |u|)``; it is ``u`` plus that correction, with the Jacobian at ``u``."""
+
+    max_iter = 12
+    through_prediction = False
+    vary = "sigma"
+
+    def __init__(self, system: ForcedSystem):
+        self.system = system
+
+    def evaluate(self, u):
+        try:
+            if not np.all(np.isfinite(u)):
+                raise ConvergenceError(f"left the finite numbers at sigma = {u[2]:.6g}")
+            yT = self.system.flow(u[:2], u[2])[-1]
+            h = 1e-7 * (1 + abs(u[2]))
+            yh = self.system.flow(u[:2], u[2] + h, extended=False)[-1]
+        except (NumericsError, ParameterError) as exc:
+            raise ConvergenceError(str(exc)) from None
+        Phi = np.array([[yT[2], yT[4]], [yT[3], yT[5]]])
+        J = np.column_stack([Phi - np.eye(2), (yh[:2] - yT[:2]) / h])
+        return yT[:2] - u[:2], J, J
+
+    def accept(self, u, R, du, J, it) -> bool:
+        corr = float(np.max(np.abs(du)))
+        return (accepted(float(np.max(np.abs(R))), corr, self.system.rtol, orbit_scale(u[:2]))
+                and corr <= ACCURACY * max(1.0, float(np.max(np.abs(u)))))
+
+    def too_large(self, u, du) -> None:
+        return None
+
+    def point(self, u, R, du, J, it) -> "_Pt":
+        return _Pt(u + du, J)
 
 
 class _Pt:
-    """A converged point ``u`` and its unit tangent, oriented along ``ref``."""
+    """A converged point ``u`` (``v`` is ``u``) and its unit tangent."""
 
-    def __init__(self, u, J, ref):
-        self.u, t = u, null_vector(J)
-        self.tangent = -t if float(t @ ref) < 0 else t
-
-
-def _correct(system: ForcedSystem, u_pred, row, target: float, ref) -> _Pt:
-    """Newton on ``G(u) = 0, row . u = target``, accepted by the standard of
-    :mod:`numerics.shooting.acceptance` (forced: no trivial multiplier) with the last
-    correction below :data:`ACCURACY` ``max(1, |u|)``; ``u`` plus that correction, the
-    Jacobian at ``u`` standing for its own."""
-    def accept(u, R, du, J, it):
-        corr = float(np.max(np.abs(du)))
-        return (accepted(float(np.max(np.abs(R))), corr, system.rtol, orbit_scale(u[:2]))
-                and corr <= ACCURACY * max(1.0, float(np.max(np.abs(u)))))
-
-    u, _, du, J, _ = correct_on_hyperplane(
-        lambda u: _evaluate(system, u), u_pred, row, target, max_iter=12, accept=accept,
-        too_large=lambda u, du: None, where=lambda u: f"sigma = {u[2]:.8g}")
-    return _Pt(u + du, J, ref)
+    def __init__(self, u, J):
+        self.u = self.v = u
+        self.tangent = null_vector(J)
 
 
 def _follow(system: ForcedSystem, first: _Pt, direction: int, bounds, ds: float,
             max_points: int, inside):
     """One direction of the curve by :func:`numerics.shooting.arclength.walk`, its folds
     located by :func:`numerics.shooting.locate.fold_on_arc`: ``(points, folds, closed)``."""
-    e = np.array([0.0, 0.0, 1.0])
-    pts = [_Pt(first.u, _evaluate(system, first.u)[1], direction * e)]
+    prob = _Response(system)
+    start = _Pt(first.u, prob.evaluate(first.u)[1])
+    if start.tangent[2] * direction < 0:
+        start.tangent = -start.tangent
+    pts = [start]
     folds, closed, ds_min = [], [], 1e-7 * (bounds[1] - bounds[0])
 
     def step(pt, ds):
-        t = pt.tangent
-        new = _correct(system, predict(pt.u, t, ds), t, float(t @ pt.u) + ds, t)
+        new = prob.arc(pt, ds)
         if not inside(new.u) or float(np.linalg.norm(new.u - pt.u)) > 3 * abs(ds):
             raise ConvergenceError(f"the step left the domain at sigma = {new.u[2]:.8g}")
         return new
@@ -123,9 +133,8 @@ def _follow(system: ForcedSystem, first: _Pt, direction: int, bounds, ds: float,
         return new, min(2 * ds, 1.4 * h), ""
 
     def at_edge(cur, new, edge):
-        w = (edge - cur.u[2]) / (new.u[2] - cur.u[2])
         try:
-            end = _correct(system, cur.u + w * (new.u - cur.u), e, edge, cur.tangent)
+            end = prob.at_parameter(cur, new, edge)
             if float(np.linalg.norm(end.u - cur.u)) > 1e-9 * (1 + float(np.linalg.norm(cur.u))):
                 pts.append(end)
         except FAIL:
@@ -165,8 +174,7 @@ def continue_response(system: ForcedSystem, start: ForcedOrbit, sigmas: tuple[fl
     def inside(u):
         return bool(np.all(np.isfinite(u)) and abs(u[0]) < amplitude_bound)
 
-    e = np.array([0.0, 0.0, 1.0])
-    first = _correct(system, np.array([*start.y0, start.sigma]), e, start.sigma, e)
+    first = _Response(system).fix(np.array([*start.y0, start.sigma]))
     back, folds, closed = _follow(system, first, -1, (lo, hi), ds, 20 * n_points, inside)
     us = [p.u for p in reversed(back)]
     if not closed:

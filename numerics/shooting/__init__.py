@@ -8,6 +8,11 @@ or forced with the period fixed by the drive).
 - :mod:`numerics.shooting.arclength`: pseudo-arclength continuation: the corrector, the
   tangent, the predictor and :func:`~numerics.shooting.arclength.walk`, the one driver of
   the steps along a branch;
+- :mod:`numerics.shooting.branch_problem`: the one branch problem (corrector, steps, the
+  point at a parameter) and its case for any ``N``;
+- :mod:`numerics.shooting.planar`: its case ``N = 1`` with the section eliminated, the
+  parameter sensitivity, half-period shooting and the compiled corrector;
+- :mod:`numerics.shooting.floquet`: the multipliers of a planar cycle (Liouville);
 - :mod:`numerics.shooting.locate`: :func:`~numerics.shooting.locate.locate_zero`, the one
   locator of folds and other special points between two points of a branch.
 """

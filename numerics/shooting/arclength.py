@@ -1,7 +1,6 @@
 """Pseudo-arclength continuation of periodic orbits (Keller; Doedel, *Lecture notes on
-numerical analysis of nonlinear equations*, sec. 2), shared by the branches of
-:mod:`numerics.cycles.continuation` and :mod:`numerics.coupled.continuation` and by the
-approach to a fold (:mod:`numerics.coupled.fold`).
+numerical analysis of nonlinear equations*, sec. 2), the pieces of the one branch problem
+(:mod:`numerics.shooting.branch_problem`) and of every branch's steps.
 
 - :func:`correct_on_hyperplane`: Newton on ``R(u) = 0`` and ``row . u = target``, each
   point accepted by the caller's test (the standard of :mod:`numerics.shooting.acceptance`

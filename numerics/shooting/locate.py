@@ -19,7 +19,7 @@ import numpy as np
 
 from numerics.errors import NumericsError
 
-__all__ = ["Located", "locate_zero", "fold_on_arc", "TRIAL_FAILURES"]
+__all__ = ["Located", "locate_zero", "fold_on_arc", "zero_on_chord", "TRIAL_FAILURES"]
 
 #: the failures of a trial point that end the location (the bracket so far is returned)
 TRIAL_FAILURES = (NumericsError, np.linalg.LinAlgError, ValueError, ArithmeticError)
@@ -75,6 +75,32 @@ def locate_zero(trial: Callable[[float], Any], test: Callable[[Any], float | Non
         if hi - lo < tol:
             break
     return Located(best, lo, hi, at_lo, at_hi)
+
+
+def zero_on_chord(correct: Callable, a, b, test: Callable[[Any], float], f_a: float,
+                  tol: float = 1e-11):
+    """The zero of ``test`` between the points ``a`` and ``b`` of a branch (``f_a`` its value
+    at ``a``, of the other sign at ``b``) by bisection on the hyperplanes normal to the chord
+    ``b - a`` in the unknowns ``v`` (each meets the branch between them once, where the
+    hyperplanes normal to ``a``'s tangent can miss a sharp fold); ``correct(v, row, target)``
+    is the branch problem's corrector.  ``(the point nearest the zero, (the parameter at
+    both ends of the last bracket))``, or ``None`` when no trial point converged."""
+    chord = b.v - a.v
+    length = float(np.linalg.norm(chord))
+    d = chord / length
+
+    def trial(w):
+        pred = a.v + w * d
+        pm = correct(pred, d, float(d @ pred))
+        pm.tangent = pm.tangent if pm.tangent @ a.tangent >= 0 else -pm.tangent
+        return pm
+
+    found = locate_zero(trial, test, 0.0, length, f_a, -f_a, tol=tol)
+    if found.point is None:
+        return None
+    p_lo = float((found.at_lo or a).u[-1])
+    p_hi = float((found.at_hi or b).u[-1])
+    return found.point, (min(p_lo, p_hi), max(p_lo, p_hi))
 
 
 def fold_on_arc(arc: Callable[[Any, float], Any], a, b, ds: float) -> Located:

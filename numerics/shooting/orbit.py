@@ -18,7 +18,10 @@ import numpy as np
 
 from numerics.shooting.acceptance import orbit_scale, shoot_newton
 
-__all__ = ["shoot", "multipliers", "peak", "multiplier_json"]
+__all__ = ["shoot", "multipliers", "peak", "multiplier_json", "NEWTON_MAX_STEPS"]
+
+#: bound on the compiled integrator's steps over one period inside Newton's method
+NEWTON_MAX_STEPS = 5 * 10**4
 
 
 def shoot(monodromy: Callable, y0, T: float, *, section: int | None, rtol: float,

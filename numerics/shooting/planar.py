@@ -1,15 +1,14 @@
-"""The shooting problem of a branch of limit cycles of one degree of freedom
-(:mod:`numerics.cycles.continuation`; its ``2N`` counterpart is
-:mod:`numerics.coupled.orbit_problem`).
+"""The branch problem of one degree of freedom: the case ``N = 1`` of
+:class:`numerics.shooting.branch_problem.BranchProblem` (``kbm branch`` of an oscillator,
+:func:`numerics.cycles.continuation.continue_cycles`), with the section ``xdot = 0``
+eliminated from the unknowns.
 
-``u = (x0, T, p)``; :class:`_Problem` evaluates ``R(u) = (x(T) - x0, x'(T))`` and its
+``u = (x0, T, p)``; :class:`PlanarProblem` evaluates ``R(u) = (x(T) - x0, x'(T))`` and its
 Jacobian (variational equations for ``(x0, T)``; for ``p`` the parameter sensitivity
 integrated with them, :mod:`numerics.flow.sensitivity`, or a central difference where the
-compiled flow is not used);
-:func:`_correct` is Newton's method on ``R = 0`` and one linear condition; :func:`_arc`
-the pseudo-arclength step (the corrector and predictor of
-:mod:`numerics.shooting.arclength`, or their compiled twin); :func:`_reanchor`,
-:func:`_at_parameter` place points on the branch.
+compiled flow is not used); its corrector is the one of the branch problem, or its compiled
+twin (``shoot_correct``, :mod:`numerics.flow.sensitivity`) in one call;
+:meth:`PlanarProblem.reanchor` moves a point's section to the largest ``x``.
 """
 
 from __future__ import annotations
@@ -18,13 +17,11 @@ import math
 
 import numpy as np
 
-
 from numerics.shooting import acceptance as _acceptance
-from numerics.cycles.branch_result import BranchPoint
 from numerics.shooting.arclength import FAIL as _FAIL
-from numerics.shooting.arclength import correct_on_hyperplane, predict
-from numerics.cycles.floquet import floquet_multipliers
-from numerics.cycles.shooting import NEWTON_MAX_STEPS
+from numerics.shooting.branch_problem import BranchProblem
+from numerics.shooting.floquet import floquet_multipliers
+from numerics.shooting.orbit import NEWTON_MAX_STEPS
 from numerics.errors import ConvergenceError, IntegrationError
 from numerics.flow import CompiledLine, Method, choose_method, extended_state, flow
 from numerics.flow.sensitivity import (flow_with_sensitivity, sensitivity_flow, sensitivity_state,
@@ -35,10 +32,14 @@ from numerics.flow.sensitivity import (flow_with_sensitivity, sensitivity_flow, 
 #: until its points pass it
 TRIVIAL_TOL = _acceptance.TRIVIAL_TOL
 
+__all__ = ["PlanarProblem", "PlanarPoint", "TRIVIAL_TOL", "copy_point"]
 
 
-class _Problem:
+class PlanarProblem(BranchProblem):
     """``R(u)``, its Jacobian and the bookkeeping of one continuation."""
+
+    max_iter = 8
+    through_prediction = False
 
     def __init__(self, model, params: dict, vary: str, method, rtol: float, at: float):
         self.model, self.params, self.vary = model, params, vary
@@ -47,7 +48,7 @@ class _Problem:
         self.evaluations = 0
         self.meth = None
         self.sensitive = False
-        #: the compiled corrector (:func:`_correct`), where the flow with the sensitivity is
+        #: the compiled corrector (:meth:`correct`), where the flow with the sensitivity is
         #: compiled and the parameter vector affine in ``vary``; ``None``: Python's Newton
         self.kernel = None
         self._compiled_kit = None
@@ -59,7 +60,7 @@ class _Problem:
         self.odd = _odd_field(self.line)
         self.half = False
 
-    def use_symmetry(self, pt: "_Point") -> None:
+    def use_symmetry(self, pt: "PlanarPoint") -> None:
         """Shoot half a period from now on when the field is odd and the cycle of ``pt`` is
         symmetric, ``y(t + T/2) = -y(t)`` (its sample at ``T/2`` is ``-y(0)`` to 1e-6): the
         branch keeps the symmetry, the half-period problem has the same solutions on it and
@@ -148,6 +149,85 @@ class _Problem:
         h = 1e-6 * max(1.0, abs(p))  # central: R can curve strongly in p (SEDF near 3.2)
         return (self.eval((u[0], u[1], p + h))[0] - self.eval((u[0], u[1], p - h))[0]) / (2 * h)
 
+    def correct(self, u_pred, row, target: float, max_iter: int | None = None) -> "PlanarPoint":
+        """Newton on ``R(u) = 0, row . u = target``.
+
+        A point is accepted when its residual is below the tolerance and so is the Newton
+        correction computed there (the error of ``u`` to first order), ``rtol`` times the
+        size of ``u``: the last evaluation is the accepted point's, with its monodromy
+        matrix, and no evaluation confirms a step already known to be below the tolerance.
+        (With ten times that bound on the correction the periods were off by up to 1.5e-9
+        on the SEDF branch against cycles shot at rtol 1e-12; with it, 1.4e-11, for 5 %
+        more integrations.)
+
+        The point returned is ``u`` plus that last correction (Newton converges
+        quadratically: its error is of the order of the correction squared), with the
+        integration at ``u`` standing for it: monodromy matrix, samples, tangent, and the
+        residual ``R(u)`` (an upper bound), all off by at most the tolerance.  Near a
+        homoclinic end the period changes 700 times faster than the parameter: a point
+        within 1e-9 of the branch in ``(x0, T, p)`` had a period off by 1.4e-7 (relative)
+        from the cycle shot at its own ``p`` (rtol 1e-12); with the correction added, within
+        6e-9, where shooting from scratch itself loses its accuracy
+        (``tests/test_compiled_corrector.py``).
+
+        The compiled corrector (``_correct_compiled``) does the same in one call.
+        """
+        max_iter = self.max_iter if max_iter is None else max_iter
+        u_pred = np.asarray(u_pred, dtype=float)
+        if self.kernel is not None:
+            return _correct_compiled(self, u_pred, row, target, max_iter)
+        scale = max(1.0, abs(u_pred[0]))
+        # the acceptance standard's residual bound; the correction's bound, rtol times the
+        # size of u, is tighter than the standard's (sqrt(rtol)): the accuracy of the point
+        self._tol = (_acceptance.residual_tolerance(self.rtol, scale),
+                     self.rtol * max(scale, u_pred[1], abs(u_pred[2])), max_iter)
+        return super().correct(u_pred, row, target, max_iter)
+
+    def evaluate(self, u):
+        R, A, b, yT, ys = self.eval(u, 32, with_p=True)
+        return R, np.column_stack([A, b]), (A, b, yT, ys)
+
+    def accept(self, u, R, du, data, it) -> bool:
+        tol_r, tol_u, max_iter = self._tol
+        A, b, yT, ys = data
+        # the integration error of R grows with the monodromy matrix (near a separatrix)
+        noise = max(1.0, float(np.max(np.abs(yT[2:6]))) * self.rtol / 1e-8)
+        if not (np.max(np.abs(R)) < tol_r * noise and np.max(np.abs(du)) < tol_u * noise):
+            return False
+        # near a separatrix the loose tolerance may leave the trivial multiplier off 1:
+        # one more iteration there (the point would not pass the printed test)
+        mults = floquet_multipliers(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]), yT[6])
+        return abs(complex(mults[0]) - 1.0) <= TRIVIAL_TOL or it == max_iter
+
+    def too_large(self, u, du) -> str | None:
+        if abs(du[0]) > 0.5 * abs(u[0]) or abs(du[1]) > 0.5 * u[1]:
+            return f"corrector step too large at p = {u[2]:.8g}"
+        return None
+
+    def where(self, u) -> str:
+        return f"p = {u[2]:.8g}"
+
+    def point(self, u, R, du, data, it) -> "PlanarPoint":
+        A, b, yT, ys = data
+        return PlanarPoint(u + du, R, A, b, yT, ys, it)
+
+    def reanchor(self, pt: "PlanarPoint") -> "PlanarPoint":
+        """The same cycle with the section at its largest ``x`` when ``x0`` is only a local
+        maximum: there ``x'' < 0`` keeps the section transversal, where a local maximum can
+        merge with a minimum (``x'' = 0``, a false fold of the section point)."""
+        if pt.amp <= pt.u[0] + 1e-3 * pt.size:  # hysteresis: two nearly equal maxima
+            return pt
+        try:
+            new = self.fix(np.array([pt.x_top, pt.u[1], pt.u[2]]), max_iter=25)
+        except _FAIL:
+            return pt
+        if new.amp > new.u[0] + 1e-3 * new.size or \
+                abs(new.u[1] - pt.u[1]) > 1e-6 * pt.u[1]:
+            return pt
+        if new.tangent[2] * pt.tangent[2] < 0:
+            new.tangent = -new.tangent
+        return new
+
 
 def _odd_field(line: CompiledLine) -> bool:
     """Whether the autonomous field is odd, ``x''(-x, -x') = -x''(x, x')``, for every value of
@@ -186,18 +266,18 @@ def _whole_period(ys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return whole, end
 
 
-class _Point:
+class PlanarPoint:
     """A converged point with what the continuation needs next."""
 
     def __init__(self, u, R, A, b, yT, ys, iters):
         self.u, self.R, self.yT, self.ys, self.iters = u, R, yT, ys, iters
+        self.v = u  # the unknowns Newton works in (unscaled)
         # the tangent spans the kernel of dR/du = [A b]: the cross product of its rows
         r0, r1 = (A[0, 0], A[0, 1], b[0]), (A[1, 0], A[1, 1], b[1])
         t = np.array([r0[1] * r1[2] - r0[2] * r1[1], r0[2] * r1[0] - r0[0] * r1[2],
                       r0[0] * r1[1] - r0[1] * r1[0]])
         self.tangent = t / math.sqrt(float(t @ t))
-        trivial, other = floquet_multipliers(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]), yT[6])
-        self.mults = (trivial, other)
+        self.mults = floquet_multipliers(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]), yT[6])
         # the first and the last sample are the start (x0, 0) and the return to it: x0 stands
         # for both (the samples are those of the last integration, the point is corrected)
         inner = ys[1:-1, 0] if len(ys) > 2 else ys[:, 0]
@@ -207,73 +287,13 @@ class _Point:
         self.mid = self.amp - 0.5 * self.size
         self.phi = float(np.max(np.abs(yT[2:6])))  # size of the monodromy matrix
 
-    def record(self) -> BranchPoint:
-        return BranchPoint(parameter=float(self.u[2]), x0=float(self.u[0]),
-                           period=float(self.u[1]), amplitude_max=self.amp,
-                           multipliers=self.mults, stable=bool(abs(self.mults[1]) < 1.0),
-                           residual=float(np.max(np.abs(self.R))))
 
-
-def _correct(prob: _Problem, u_pred, row, target: float, max_iter: int = 8) -> _Point:
-    """Newton on ``R(u) = 0, row . u = target``.
-
-    A point is accepted when its residual is below the tolerance and so is the Newton
-    correction computed there (the error of ``u`` to first order), ``rtol`` times the size
-    of ``u``: the last evaluation is the accepted point's, with its monodromy matrix, and no
-    evaluation confirms a step already known to be below the tolerance.  (With ten times
-    that bound on the correction the periods were off by up to 1.5e-9 on the SEDF branch
-    against cycles shot at rtol 1e-12; with it, 1.4e-11, for 5 % more integrations.)
-
-    The point returned is ``u`` plus that last correction (Newton converges quadratically:
-    its error is of the order of the correction squared), with the integration at ``u``
-    standing for it: monodromy matrix, samples, tangent, and the residual ``R(u)`` (an upper
-    bound), all off by at most the tolerance.  Near a homoclinic end the period changes
-    700 times faster than the parameter: a point within 1e-9 of the branch in ``(x0, T, p)``
-    had a period off by 1.4e-7 (relative) from the cycle shot at its own ``p`` (rtol
-    1e-12); with the correction added, within 6e-9, where shooting from scratch itself
-    loses its accuracy (``tests/test_compiled_corrector.py``).
-
-    The compiled corrector (``_correct_compiled``) does the same in one call.
-    """
-    if prob.kernel is not None:
-        return _correct_compiled(prob, u_pred, row, target, max_iter)
-    u = np.array(u_pred, dtype=float)
-    scale = max(1.0, abs(u[0]))
-    # the acceptance standard's residual bound; the correction's bound, rtol times the size
-    # of u, is tighter than the standard's (sqrt(rtol)): the accuracy of the point
-    tol_r = _acceptance.residual_tolerance(prob.rtol, scale)
-    tol_u = prob.rtol * max(scale, u[1], abs(u[2]))
-
-    def evaluate(u):
-        R, A, b, yT, ys = prob.eval(u, 32, with_p=True)
-        return R, np.column_stack([A, b]), (A, b, yT, ys)
-
-    def accept(u, R, du, data, it):
-        A, b, yT, ys = data
-        # the integration error of R grows with the monodromy matrix (near a separatrix)
-        noise = max(1.0, float(np.max(np.abs(yT[2:6]))) * prob.rtol / 1e-8)
-        if not (np.max(np.abs(R)) < tol_r * noise and np.max(np.abs(du)) < tol_u * noise):
-            return False
-        # near a separatrix the loose tolerance may leave the trivial multiplier off 1:
-        # one more iteration there (the point would not pass the printed test)
-        mults = floquet_multipliers(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]), yT[6])
-        return abs(complex(mults[0]) - 1.0) <= TRIVIAL_TOL or it == max_iter
-
-    def too_large(u, du):
-        if abs(du[0]) > 0.5 * abs(u[0]) or abs(du[1]) > 0.5 * u[1]:
-            return f"corrector step too large at p = {u[2]:.8g}"
-        return None
-
-    u, R, du, (A, b, yT, ys), it = correct_on_hyperplane(
-        evaluate, u, row, target, max_iter=max_iter, accept=accept, too_large=too_large,
-        where=lambda u: f"p = {u[2]:.8g}")
-    return _Point(u + du, R, A, b, yT, ys, it)
-
-
-def _correct_compiled(prob: _Problem, u_pred, row, target: float, max_iter: int) -> _Point:
-    """:func:`_correct` in one call of the compiled corrector (``shoot_correct`` of
-    :mod:`numerics.flow.sensitivity`'s module): the same iterations, tests and errors,
-    with the parameter vector ``pvec(p_ref) + (p - p_ref) rates`` (affine in ``p``)."""
+def _correct_compiled(prob: PlanarProblem, u_pred, row, target: float,
+                      max_iter: int) -> PlanarPoint:
+    """:meth:`PlanarProblem.correct` in one call of the compiled corrector
+    (``shoot_correct`` of :mod:`numerics.flow.sensitivity`'s module): the same iterations,
+    tests and errors, with the parameter vector ``pvec(p_ref) + (p - p_ref) rates``
+    (affine in ``p``)."""
     u = np.array(u_pred, dtype=float)
     p_ref = prob.p_ref
     status, it, u, R, A, b, ys, info = prob.kernel(
@@ -286,7 +306,7 @@ def _correct_compiled(prob: _Problem, u_pred, row, target: float, max_iter: int)
             ys, yT = _whole_period(ys)
         else:
             yT = ys[-1]
-        return _Point(u, R, A, b, yT, ys, it)
+        return PlanarPoint(u, R, A, b, yT, ys, it)
     if status == 1:
         from numerics.flow.jit import FlowResult
 
@@ -302,55 +322,9 @@ def _correct_compiled(prob: _Problem, u_pred, row, target: float, max_iter: int)
                            f"p = {u[2]:.8g} (|R| = {info:.2e})")
 
 
-def _arc(prob: _Problem, pt: _Point, ds: float, previous=None) -> _Point:
-    """Predict ``ds`` along the tangent of ``pt`` and correct on the normal hyperplane.
-
-    With ``previous``, the unknowns and the unit tangent ``(u_, t_)`` of the point before,
-    the predictor is the cubic Hermite extrapolation through both points with both tangents
-    (:func:`numerics.shooting.arclength.predict`): on the SEDF branch the first Newton step
-    then lands within the tolerance at most points, 272 integrations instead of 380 with the
-    second-order predictor (the curvature from the two tangents) and the same 136 points.  The
-    hyperplane is ``t . u = t . u_pt + ds``.
-    """
-    t = pt.tangent
-    target = float(t @ pt.u) + ds
-    pred = predict(pt.u, t, ds, previous)
-    new = _correct(prob, pred, t, target)
-    if new.tangent @ t < 0:
-        new.tangent = -new.tangent
-    return new
-
-
-def _at_parameter(prob: _Problem, a: _Point, b: _Point, p: float) -> _Point:
-    """The point of the branch at ``p`` between ``a`` and ``b`` (``p`` between theirs)."""
-    s = (p - a.u[2]) / (b.u[2] - a.u[2])
-    new = _correct(prob, a.u + s * (b.u - a.u), np.array([0.0, 0.0, 1.0]), p)
-    if new.tangent @ a.tangent < 0:
-        new.tangent = -new.tangent
-    return new
-
-
-def _reanchor(prob: _Problem, pt: _Point) -> _Point:
-    """The same cycle with the section at its largest ``x`` when ``x0`` is only a local
-    maximum: there ``x'' < 0`` keeps the section transversal, where a local maximum can
-    merge with a minimum (``x'' = 0``, a false fold of the section point)."""
-    if pt.amp <= pt.u[0] + 1e-3 * pt.size:  # hysteresis: two nearly equal maxima
-        return pt
-    try:
-        new = _correct(prob, np.array([pt.x_top, pt.u[1], pt.u[2]]), np.array([0.0, 0, 1]),
-                       float(pt.u[2]), max_iter=25)
-    except _FAIL:
-        return pt
-    if new.amp > new.u[0] + 1e-3 * new.size or \
-            abs(new.u[1] - pt.u[1]) > 1e-6 * pt.u[1]:
-        return pt
-    if new.tangent[2] * pt.tangent[2] < 0:
-        new.tangent = -new.tangent
-    return new
-
-
-def _copy(pt: _Point) -> _Point:
-    new = object.__new__(_Point)
+def copy_point(pt: PlanarPoint) -> PlanarPoint:
+    """A copy of ``pt`` with its own tangent (each direction of a branch orients its own)."""
+    new = object.__new__(PlanarPoint)
     new.__dict__.update(pt.__dict__)
     new.tangent = pt.tangent.copy()
     return new

@@ -1,7 +1,7 @@
 """Simulated noise spectra about driven steady states, and the report of ``kbm spectrum``.
 
-An ensemble of the full SDE (:func:`numerics.spectrum._sde.heun_paths`: stochastic Heun,
-one ``SeedSequence`` per trajectory, chunks of fixed size on the executor of
+An ensemble of the full SDE (:meth:`numerics.noise.coupled.NoisySystem.paths`: stochastic
+Heun, one stream per trajectory, chunks of fixed size on the executor of
 :func:`numerics.executor.map_chunks` with ``store``/``resume``) is started on the true
 periodic response; a noise-free lane run by the same scheme is subtracted, so the record
 is the fluctuation ``x - x_p`` (the coherent line removed to the scheme's accuracy).  After
@@ -21,7 +21,7 @@ import numpy as np
 from kbm.errors import ParameterError
 
 from numerics.errors import ConvergenceError
-from ._sde import CHUNK, NoisySystem, generators, heun_paths, noisy_system
+from numerics.noise.coupled import CHUNK, NoisySystem, noisy_system
 from .driven import (AveragedFlow, Orbit, SteadyState, averaged_flow, averaged_spectrum,
                      detuning_name, floquet_spectrum, periodic_orbit, stable_states)
 
@@ -43,9 +43,8 @@ def _fluct_task(task) -> list:
     """One chunk of trajectories: ``x_mode - x_p`` sampled after the burn-in."""
     model, params, D, y0, dt, n_burn, n_samples, stride, mode, seed, first, count = task
     system = _cached_system(model, params, D)
-    rngs = generators(seed, first, count)
-    rec = heun_paths(system, np.tile(y0, (count, 1)), dt, n_burn + n_samples * stride, stride,
-                     rngs, quiet_lane=True)
+    rec = system.paths(np.tile(y0, (count, 1)), dt, n_burn + n_samples * stride, stride,
+                       seed=seed, first=first, quiet_lane=True)
     skip = n_burn // stride
     x = rec[:, skip:skip + n_samples, mode]
     return [row for row in x[:count] - x[count]]
@@ -59,7 +58,7 @@ def simulate_fluctuations(model, params: Mapping[str, object], D: float, y0, *, 
     (``trajectories x samples``, sampled every ``stride`` steps after ``burn_in_steps``).
 
     ``x_p`` is the noise-free lane of the same scheme, so the coherent response is removed
-    to the scheme's accuracy; the chunks (:data:`numerics.spectrum._sde.CHUNK` paths) and
+    to the scheme's accuracy; the chunks (:data:`numerics.noise.coupled.CHUNK` paths) and
     the seeds make the array the same on any executor and worker count."""
     from numerics.executor import chunk, map_chunks
 

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from kbm.errors import ParameterError
-from numerics.noise.coupled import noisy_system
+from numerics.spectrum.driven_sim import noisy_system
 from numerics.spectrum.driven import (averaged_flow, averaged_spectrum, floquet_spectrum,
                                       periodic_orbit, stable_states)
 from numerics.spectrum.driven_sim import coherent_part, response_spectra, simulate_fluctuations

@@ -29,7 +29,7 @@ from kbm.symbols import t as t_symbol
 from .codegen import vector_module
 from .seeds import trajectory_states
 
-__all__ = ["NoisySystem", "noisy_system", "CHUNK"]
+__all__ = ["NoisySystem", "bound_system", "positive_noise", "CHUNK"]
 
 #: trajectories per chunk of the executor (fixed: the arithmetic does not depend on workers)
 CHUNK = 16
@@ -111,23 +111,32 @@ class NoisySystem:
                                    states)
 
 
-def noisy_system(model: CoupledOscillators | str, params: Mapping[str, object],
-                 D: float) -> NoisySystem:
-    """The bound noisy system (:func:`numerics.coupled.flow.bind_coupled` binds the values).
+def positive_noise(D: object) -> float:
+    """``D`` as a float, refused unless finite and positive.
 
     Raises
     ------
     kbm.errors.ParameterError
-        For an unknown name or a missing value, ``D <= 0``, or a model whose force depends
-        on ``t`` other than through ``theta`` (a pulled slider).
     """
-    from numerics.coupled.flow import bind_coupled
-
     D = float(D)
     if not (math.isfinite(D) and D > 0):
         raise ParameterError(f"D = {D:g}: a noise spectrum needs noise, give D > 0 "
                              "(x'' + ... = sqrt(2 D) xi)")
-    model, values = bind_coupled(model, params)
+    return D
+
+
+def bound_system(model: CoupledOscillators, values: Mapping[str, float],
+                 D: float) -> NoisySystem:
+    """The noisy system of ``model`` at ``values`` (every parameter's value, ``mu``
+    included: :func:`numerics.spectrum.driven_sim.noisy_system` binds them).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For ``D <= 0``, or a model whose force depends on ``t`` other than through
+        ``theta`` (a pulled slider).
+    """
+    D = positive_noise(D)
     if model.drives or any(f.has(t_symbol) for f in model.rhs):
         raise ParameterError(f"{model.name!r} depends on t other than through the forcing "
                              "angle theta; the spectra here are for forced or autonomous "

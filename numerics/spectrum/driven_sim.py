@@ -21,14 +21,30 @@ import numpy as np
 from kbm.errors import ParameterError
 
 from numerics.errors import ConvergenceError
-from numerics.noise.coupled import CHUNK, NoisySystem, noisy_system
+from numerics.noise.coupled import CHUNK, NoisySystem, bound_system, positive_noise
 from .driven import (AveragedFlow, Orbit, SteadyState, averaged_flow, averaged_spectrum,
                      detuning_name, floquet_spectrum, periodic_orbit, stable_states)
 
 __all__ = ["ResponseSpectrum", "response_spectra", "simulate_fluctuations", "coherent_part",
-           "STEPS_PER_PERIOD", "RESOLUTION", "MIN_SEGMENTS"]
+           "noisy_system", "STEPS_PER_PERIOD", "RESOLUTION", "MIN_SEGMENTS"]
 
 _SYSTEMS: dict = {}
+
+
+def noisy_system(model, params: Mapping[str, object], D: float) -> NoisySystem:
+    """The noisy system of ``model`` at ``params`` (bound by
+    :func:`numerics.coupled.flow.bind_coupled`; :func:`numerics.noise.coupled.bound_system`).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For an unknown name or a missing value, ``D <= 0``, or a model whose force depends
+        on ``t`` other than through ``theta`` (a pulled slider).
+    """
+    from numerics.coupled.flow import bind_coupled
+
+    positive_noise(D)
+    return bound_system(*bind_coupled(model, params), D)
 
 
 def _cached_system(model, params, D):

@@ -47,7 +47,8 @@ import sympy as sp
 from kbm.errors import ParameterError
 
 from numerics._memo import memo
-from numerics.noise.coupled import CHUNK, noisy_system
+from numerics.noise.coupled import CHUNK
+from .driven_sim import noisy_system
 
 __all__ = ["AdlerReduction", "adler_reduction", "stratonovich_rate", "simulate_slips",
            "slip_report"]

@@ -13,13 +13,13 @@ without noise (the standard: bad input gets a clear one-line error, never a hang
 from __future__ import annotations
 
 import math
-import os
 import signal
 import subprocess
 import sys
 import time
 
 import pytest
+from _proc import alive as _alive, children as _children
 
 from kbm.errors import ParameterError
 from numerics.noise.langevin import langevin_system, natural_step
@@ -87,26 +87,6 @@ def test_noise_options_without_noise_are_refused(capsys, flags):
     assert len(lines) == 1 and "-p D=" in lines[0] and "-p T=" in lines[0]
     for flag in flags[::2]:
         assert flag in lines[0]
-
-
-def _children(pid: int) -> list[int]:
-    kids = []
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                stat = open(f"/proc/{entry}/stat").read()
-            except OSError:
-                continue
-            if int(stat.rsplit(")", 1)[1].split()[1]) == pid:
-                kids.append(int(entry))
-    return kids
-
-
-def _alive(pid: int) -> bool:
-    try:
-        return open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()[0] != "Z"
-    except OSError:
-        return False
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="uses /proc")

@@ -225,15 +225,7 @@ def _confines(A1: sp.Expr) -> tuple[bool, str]:
 def noisy_model(model: Oscillator | str, params: Mapping[str, object] | None,
                 what: str) -> tuple[Oscillator, dict]:
     """The autonomous model of a noise averaging (``what``) and the values substituted
-    before it (``mu`` and ``D`` left symbolic).
-
-    Raises
-    ------
-    kbm.errors.NonAutonomousError
-        For a driven model.
-    kbm.errors.ParameterError
-        For a model parameter named ``D`` (the noise's name).
-    """
+    before it (``mu`` and ``D`` left symbolic); raises as :func:`stochastic_average`."""
     m = get_model(model) if isinstance(model, str) else model
     if "D" in m.parameters:
         raise ParameterError(f"model {m.name!r} has a parameter named D, the noise intensity's "

@@ -14,7 +14,7 @@ import sys
 import time
 
 import pytest
-from _proc import alive as _alive, children as _children
+from _proc import alive as _alive, start_with_workers
 
 pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="uses /proc")
 
@@ -23,17 +23,7 @@ MAP = ["friction", "sedf_comoving", "-p", "beta=1", "--vary", "v=1e-3:3:log48", 
 
 
 def _start():
-    proc = subprocess.Popen([sys.executable, "-m", "numerics.cli", *MAP],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    deadline = time.monotonic() + 60
-    while time.monotonic() < deadline:
-        kids = _children(proc.pid)
-        if len(kids) >= 1 and proc.poll() is None:
-            time.sleep(1.0)  # let the workers take their first chunks
-            return proc, _children(proc.pid)
-        time.sleep(0.2)
-    proc.kill()
-    pytest.fail("the map's worker processes did not start within 60 s")
+    return start_with_workers(MAP, 1.0, "the map's")
 
 
 @pytest.mark.parametrize("sig, status, how", [(signal.SIGINT, 130, "Ctrl-C"),

@@ -19,7 +19,7 @@ import sys
 import time
 
 import pytest
-from _proc import alive as _alive, children as _children
+from _proc import alive as _alive, start_with_workers
 
 from kbm.errors import ParameterError
 from numerics.noise.langevin import langevin_system, natural_step
@@ -95,17 +95,7 @@ def test_sigterm_stops_a_one_point_law_within_2_s():
     to SIGTERM; its trajectories now run on the pool and the parent stops at once."""
     argv = ["friction", "cdc", "-p", "Delta=3", "-p", "D=0.01", "--vary", "v=0.1",
             "--wells", "2e4", "--workers", "2", "--no-progress"]
-    proc = subprocess.Popen([sys.executable, "-m", "numerics.cli", *argv],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    deadline = time.monotonic() + 60
-    kids: list[int] = []
-    while time.monotonic() < deadline and proc.poll() is None:
-        kids = _children(proc.pid)
-        if kids:
-            time.sleep(1.5)
-            kids = _children(proc.pid)
-            break
-        time.sleep(0.2)
+    proc, kids = start_with_workers(argv, 1.5, "the law's")
     if not kids:
         proc.kill()
         pytest.fail("the law's worker processes did not start within 60 s")

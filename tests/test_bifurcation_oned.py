@@ -67,31 +67,36 @@ def test_sedf_folds_and_hopf_curves_closed_form():
     assert abs(kit.lyapunov(*ev.z)) < 1e-9 and 5.8 < ev.z[1] < 6.0
 
 
-def _shoot(delta, beta, xs, mu=0.1):
-    """The gap of the heteroclinic cycle through +-xs, shot by scipy on the SEDF written
-    here: x'' + mu (beta x^2 - 1) x' + Delta sin(2 pi x) + x = 0."""
+def _manifolds(delta, beta, xs, mu, event, side):
+    """The points where the unstable manifold of the saddle near ``xs`` (forward, leaving
+    left) and the stable one of ``-xs`` (backward, leaving on ``side`` = +-1) first meet
+    ``event``, shot by scipy on the SEDF written here:
+    x'' + mu (beta x^2 - 1) x' + Delta sin(2 pi x) + x = 0."""
     xs = brentq(lambda s: s + delta * math.sin(2 * math.pi * s), xs - 0.1, xs + 0.1,
                 xtol=1e-15)
     fx = -1 - 2 * math.pi * delta * math.cos(2 * math.pi * xs)
     fv = -mu * (beta * xs ** 2 - 1)
     lu = (fv + math.sqrt(fv ** 2 + 4 * fx)) / 2
-    ls = (-fv + math.sqrt(fv ** 2 + 4 * fx)) / 2  # the stable one at -xs, same fv, fx
-    ls = (fv - math.sqrt(fv ** 2 + 4 * fx)) / 2
+    ls = (fv - math.sqrt(fv ** 2 + 4 * fx)) / 2  # the stable one at -xs, same fv, fx
 
     def rhs(sign):
         return lambda t, y: [sign * y[1], sign * (-mu * (beta * y[0] ** 2 - 1) * y[1]
                                                    - delta * math.sin(2 * math.pi * y[0])
                                                    - y[0])]
 
-    def turn(t, y):
-        return y[1]
-    turn.terminal = True
+    event.terminal = True
     eps = 1e-7
-    up = solve_ivp(rhs(1), (0, 100), [xs - eps, -eps * lu], events=turn, rtol=1e-12,
+    up = solve_ivp(rhs(1), (0, 100), [xs - eps, -eps * lu], events=event, rtol=1e-12,
                    atol=1e-14, method="DOP853")
-    dn = solve_ivp(rhs(-1), (0, 100), [-xs - eps, -eps * ls], events=turn, rtol=1e-12,
-                   atol=1e-14, method="DOP853")
-    return up.y_events[0][0][0] - dn.y_events[0][0][0]
+    dn = solve_ivp(rhs(-1), (0, 100), [-xs + side * eps, side * eps * ls], events=event,
+                   rtol=1e-12, atol=1e-14, method="DOP853")
+    return up.y_events[0][0], dn.y_events[0][0]
+
+
+def _shoot(delta, beta, xs, mu=0.1):
+    """The gap of the heteroclinic cycle through +-xs at the turning points (x' = 0)."""
+    up, dn = _manifolds(delta, beta, xs, mu, lambda t, y: y[1], -1)
+    return up[0] - dn[0]
 
 
 def test_sedf_heteroclinic_curves_shot_independently():
@@ -146,27 +151,8 @@ def _shoot_middle(delta, beta, xs, mu=0.1):
     (the unstable manifold of ``xs`` leaving left, the stable one of ``-xs`` arriving from
     the right), shot by scipy on the SEDF written here (a section the connection crosses
     transversally, not the one of :func:`numerics.bifurcation.connections.section_gap`)."""
-    xs = brentq(lambda s: s + delta * math.sin(2 * math.pi * s), xs - 0.1, xs + 0.1,
-                xtol=1e-15)
-    fx = -1 - 2 * math.pi * delta * math.cos(2 * math.pi * xs)
-    fv = -mu * (beta * xs ** 2 - 1)
-    lu = (fv + math.sqrt(fv ** 2 + 4 * fx)) / 2
-    ls = (fv - math.sqrt(fv ** 2 + 4 * fx)) / 2
-
-    def rhs(sign):
-        return lambda t, y: [sign * y[1], sign * (-mu * (beta * y[0] ** 2 - 1) * y[1]
-                                                   - delta * math.sin(2 * math.pi * y[0])
-                                                   - y[0])]
-
-    def middle(t, y):
-        return y[0]
-    middle.terminal = True
-    eps = 1e-7
-    up = solve_ivp(rhs(1), (0, 100), [xs - eps, -eps * lu], events=middle, rtol=1e-12,
-                   atol=1e-14, method="DOP853")
-    dn = solve_ivp(rhs(-1), (0, 100), [-xs + eps, eps * ls], events=middle, rtol=1e-12,
-                   atol=1e-14, method="DOP853")
-    return up.y_events[0][0][1] - dn.y_events[0][0][1]
+    up, dn = _manifolds(delta, beta, xs, mu, lambda t, y: y[0], 1)
+    return up[1] - dn[1]
 
 
 def test_sedf_connection_through_the_middle():

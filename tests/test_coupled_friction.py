@@ -53,17 +53,22 @@ def test_same_bytes_on_any_executor():
     assert other[0].per_slider != serial[0].per_slider
 
 
-@pytest.mark.slow
-def test_same_bytes_on_dask():
+def _same_bytes_on_dask(model: str, vs: list, **local) -> None:
+    """The law of ``model`` at ``vs`` on the local executor (``local``) and on a Dask
+    LocalCluster of two processes: the same bytes."""
     distributed = pytest.importorskip("distributed")
-    vs = [0.02, 0.05, 0.1]
     params = {**P, "kappa": 1}
-    serial = chain_friction_law("sedf-chain-4", params, vs, workers=1)
+    here = chain_friction_law(model, params, vs, **local)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
-        dask = chain_friction_law("sedf-chain-4", params, vs, executor=client)
-    assert _dump(serial) == _dump(dask)
+        dask = chain_friction_law(model, params, vs, executor=client)
+    assert _dump(here) == _dump(dask)
+
+
+@pytest.mark.slow
+def test_same_bytes_on_dask():
+    _same_bytes_on_dask("sedf-chain-4", [0.02, 0.05, 0.1], workers=1)
 
 
 def test_cli_chain_and_bad_input():
@@ -96,14 +101,7 @@ def test_cli_chain_and_bad_input():
 def test_chain_of_64_at_20_velocities_on_dask_equals_local():
     """The issue's run: 64 sliders, 20 stage velocities, on a Dask LocalCluster and on the
     local pool: the same bytes."""
-    distributed = pytest.importorskip("distributed")
     import numpy as np
 
-    vs = [float(v) for v in np.geomspace(0.01, 0.3, 20)]
-    params = {**P, "kappa": 1}
-    local = chain_friction_law("sedf-chain-64", params, vs, workers=2)
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, \
-            distributed.Client(cluster) as client:
-        dask = chain_friction_law("sedf-chain-64", params, vs, executor=client)
-    assert _dump(local) == _dump(dask)
+    _same_bytes_on_dask("sedf-chain-64", [float(v) for v in np.geomspace(0.01, 0.3, 20)],
+                        workers=2)

@@ -2,7 +2,7 @@
 
 - :mod:`kbm` (engine and its symbolic commands) never imports :mod:`numerics`;
 - inside :mod:`numerics` a module imports only its own floor and the floors below:
-  base (``errors``, ``_memo``, ``executor``, ``store``) < ``flow`` < ``shooting`` < ``noise`` < ``energy`` < ``cycles`` <
+  base (``errors``, ``_memo``, ``_show``, ``_plot``, ``executor``, ``store``) < ``flow`` < ``shooting`` < ``noise`` < ``energy`` < ``cycles`` <
   ``forced`` < ``coupled`` < ``comparison`` < ``sliding`` < ``fokker_planck`` < ``escape`` < ``thermal`` <
   ``spectrum`` < ``bifurcation`` < ``paper`` < ``cli``;
 - only the command line (``numerics.cli``) imports ``kbm.cli``;
@@ -27,7 +27,7 @@ ROOT = Path(__file__).resolve().parents[1]
 FLOORS = ("base", "flow", "shooting", "noise", "energy", "cycles", "forced", "coupled", "comparison", "sliding",
           "fokker_planck", "escape", "thermal", "spectrum", "bifurcation", "paper",
           "cli")
-BASE = {"errors", "_memo", "_show", "executor", "store", "__init__"}
+BASE = {"errors", "_memo", "_show", "_plot", "executor", "store", "__init__"}
 
 
 def _imports(path: Path) -> set[str]:

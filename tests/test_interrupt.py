@@ -8,13 +8,13 @@ finished) and that no worker outlives the parent (``/proc``; zombies count as go
 
 from __future__ import annotations
 
-import os
 import signal
 import subprocess
 import sys
 import time
 
 import pytest
+from _proc import alive as _alive, start_with_workers
 
 pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="uses /proc")
 
@@ -22,39 +22,8 @@ MAP = ["friction", "sedf_comoving", "-p", "beta=1", "--vary", "v=1e-3:3:log48", 
        "Delta=0.5:3:16", "--against", "cdc", "--json"]
 
 
-def _children(pid: int) -> list[int]:
-    kids = []
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                stat = open(f"/proc/{entry}/stat").read()
-            except OSError:
-                continue
-            if int(stat.rsplit(")", 1)[1].split()[1]) == pid:
-                kids.append(int(entry))
-    return kids
-
-
-def _alive(pid: int) -> bool:
-    try:
-        state = open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()[0]
-    except OSError:
-        return False
-    return state != "Z"
-
-
 def _start():
-    proc = subprocess.Popen([sys.executable, "-m", "numerics.cli", *MAP],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    deadline = time.monotonic() + 60
-    while time.monotonic() < deadline:
-        kids = _children(proc.pid)
-        if len(kids) >= 1 and proc.poll() is None:
-            time.sleep(1.0)  # let the workers take their first chunks
-            return proc, _children(proc.pid)
-        time.sleep(0.2)
-    proc.kill()
-    pytest.fail("the map's worker processes did not start within 60 s")
+    return start_with_workers(MAP, 1.0, "the map's")
 
 
 @pytest.mark.parametrize("sig, status, how", [(signal.SIGINT, 130, "Ctrl-C"),

@@ -13,13 +13,13 @@ without noise (the standard: bad input gets a clear one-line error, never a hang
 from __future__ import annotations
 
 import math
-import os
 import signal
 import subprocess
 import sys
 import time
 
 import pytest
+from _proc import alive as _alive, start_with_workers
 
 from kbm.errors import ParameterError
 from numerics.noise.langevin import langevin_system, natural_step
@@ -89,43 +89,13 @@ def test_noise_options_without_noise_are_refused(capsys, flags):
         assert flag in lines[0]
 
 
-def _children(pid: int) -> list[int]:
-    kids = []
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                stat = open(f"/proc/{entry}/stat").read()
-            except OSError:
-                continue
-            if int(stat.rsplit(")", 1)[1].split()[1]) == pid:
-                kids.append(int(entry))
-    return kids
-
-
-def _alive(pid: int) -> bool:
-    try:
-        return open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()[0] != "Z"
-    except OSError:
-        return False
-
-
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="uses /proc")
 def test_sigterm_stops_a_one_point_law_within_2_s():
     """The review's one-point law (minutes of work) ran in the parent's compiled loop, deaf
     to SIGTERM; its trajectories now run on the pool and the parent stops at once."""
     argv = ["friction", "cdc", "-p", "Delta=3", "-p", "D=0.01", "--vary", "v=0.1",
             "--wells", "2e4", "--workers", "2", "--no-progress"]
-    proc = subprocess.Popen([sys.executable, "-m", "numerics.cli", *argv],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    deadline = time.monotonic() + 60
-    kids: list[int] = []
-    while time.monotonic() < deadline and proc.poll() is None:
-        kids = _children(proc.pid)
-        if kids:
-            time.sleep(1.5)
-            kids = _children(proc.pid)
-            break
-        time.sleep(0.2)
+    proc, kids = start_with_workers(argv, 1.5, "the law's")
     if not kids:
         proc.kill()
         pytest.fail("the law's worker processes did not start within 60 s")

@@ -280,6 +280,14 @@ def term_product(t1: dict, t2: dict, bias: int) -> dict:
     return out
 
 
+def merged(a: dict, b: dict) -> dict:
+    """``a + b`` of two coefficient dicts by key (``a``'s keys first, then ``b``'s new ones)."""
+    out = dict(a)
+    for k, c in b.items():
+        out[k] = out[k] + c if k in out else c
+    return out
+
+
 def accumulate(d: dict, key, terms: dict, sign: int) -> None:
     """``d[key] += sign * terms`` on raw term dicts, in place (``sign`` is +1 or -1)."""
     tgt = d.get(key)

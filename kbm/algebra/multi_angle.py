@@ -22,7 +22,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from .laurent import Laurent, LaurentRing, Q, accumulate, term_product
+from .laurent import Laurent, LaurentRing, Q, accumulate, merged, term_product
 
 __all__ = ["MultiAngle", "canonical"]
 
@@ -87,13 +87,7 @@ class MultiAngle:
             return self
         if self.is_zero():
             return other
-        cos = dict(self.cos)
-        for h, c in other.cos.items():
-            cos[h] = cos[h] + c if h in cos else c
-        sin = dict(self.sin)
-        for h, c in other.sin.items():
-            sin[h] = sin[h] + c if h in sin else c
-        return self._new(cos, sin)
+        return self._new(merged(self.cos, other.cos), merged(self.sin, other.sin))
 
     def __neg__(self) -> "MultiAngle":
         return self._new({h: -c for h, c in self.cos.items()},

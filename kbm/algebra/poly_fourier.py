@@ -19,7 +19,7 @@ import sympy as sp
 
 from ..errors import UnsupportedTermError
 from ..symbols import a, psi, x, xdot
-from .laurent import (Laurent, LaurentRing, Q, _fmpq_poly, _fmpz_poly, accumulate,
+from .laurent import (Laurent, LaurentRing, Q, _fmpq_poly, _fmpz_poly, accumulate, merged,
                       term_product)
 
 if TYPE_CHECKING:  # the models sit above the algebra; only their type is named here
@@ -51,13 +51,7 @@ class PolyFourier:
 
     # -- arithmetic -----------------------------------------------------------------
     def __add__(self, other: "PolyFourier") -> "PolyFourier":
-        cos = dict(self.cos)
-        for m, c in other.cos.items():
-            cos[m] = cos[m] + c if m in cos else c
-        sin = dict(self.sin)
-        for m, c in other.sin.items():
-            sin[m] = sin[m] + c if m in sin else c
-        return PolyFourier(self.ring, cos, sin)
+        return PolyFourier(self.ring, merged(self.cos, other.cos), merged(self.sin, other.sin))
 
     def __neg__(self) -> "PolyFourier":
         return PolyFourier(self.ring, {m: -c for m, c in self.cos.items()},

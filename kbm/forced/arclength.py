@@ -5,7 +5,8 @@ and the true periodic orbits (:mod:`numerics.forced`): the last component of ``u
 continuation parameter; the tangent is the null vector of ``dG/du``; the corrector is
 Newton's method on ``G = 0`` and ``t . (u - u_pred) = 0`` (Keller 1977), so the curve is
 followed round its folds.  A fold is where the parameter component of the oriented tangent
-changes sign; it is then located by Newton's method on ``G = 0`` and that component.
+changes sign; it is then located by Newton's method on ``G = 0`` and that component.  The
+steps are driven by the one pseudo-arclength driver, :func:`kbm.arclength.walk`.
 """
 
 from __future__ import annotations
@@ -14,6 +15,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+
+from ..arclength import walk
 
 __all__ = ["ArcPoint", "Arc", "trace", "both_ways", "tangent", "newton"]
 
@@ -103,51 +106,51 @@ def trace(G: Callable, J: Callable, u0: np.ndarray, bounds: tuple[float, float],
     -------
     Arc
     """
-    lo, hi = bounds
     n1 = len(u0)
     e_last = np.eye(n1)[-1]
     u, _ = newton(G, J, u0, lambda v: (v[-1] - u0[-1], e_last), tol=tol)
-    t = tangent(J(u), direction * e_last)
-    points = [ArcPoint(u, t)]
+    points = [ArcPoint(u, tangent(J(u), direction * e_last))]
     folds: list[np.ndarray] = []
-    reason = f"{max_points} points"
-    h = ds
-    while len(points) < max_points:
+    its = [0]
+
+    def step(pt: ArcPoint, h: float) -> ArcPoint:
+        u, t = pt.u, pt.tangent
         pred = u + h * t
-        try:
-            new, its = newton(G, J, pred, lambda v, t=t, pred=pred: (float(np.dot(t, v - pred)), t),
-                              tol=tol)
-            ok = np.all(np.isfinite(new)) and float(np.linalg.norm(new - u)) < 3 * h \
-                and (inside is None or inside(new))
-        except (ArithmeticError, np.linalg.LinAlgError):
-            ok, its = False, 99
-        if not ok:
-            h *= 0.5
-            if h < ds_min:
-                reason = f"the step fell below {ds_min:g} at parameter {u[-1]:.6g}"
-                break
-            continue
-        t_new = tangent(J(new), t)
-        if t_new[-1] * t[-1] < 0:
-            f = _fold(G, J, u, new, t, t_new, tol)
+        new, its[0] = newton(G, J, pred, lambda v: (float(np.dot(t, v - pred)), t), tol=tol)
+        if not (np.all(np.isfinite(new)) and float(np.linalg.norm(new - u)) < 3 * h
+                and (inside is None or inside(new))):
+            raise ArithmeticError("the corrected point left the step or the domain")
+        return ArcPoint(new, tangent(J(new), t))
+
+    def crossed(pt: ArcPoint, new: ArcPoint) -> None:
+        if new.tangent[-1] * pt.tangent[-1] < 0:
+            f = _fold(G, J, pt.u, new.u, pt.tangent, new.tangent, tol)
             if f is not None:
                 folds.append(f)
-        if not lo <= new[-1] <= hi:
-            end = hi if new[-1] > hi else lo
-            try:
-                new, _ = newton(G, J, new, lambda v: (v[-1] - end, e_last), tol=tol)
-                if float(np.linalg.norm(new - u)) > 1e-9 * (1 + float(np.linalg.norm(u))):
-                    points.append(ArcPoint(new, tangent(J(new), t_new)))
-            except (ArithmeticError, np.linalg.LinAlgError):
-                pass
-            reason = f"reached the bound {end:g}"
-            break
-        if len(points) > 10 and _passes(points[0].u, u, new, periods):
-            reason = "closed curve"
-            break
-        u, t = new, t_new
-        points.append(ArcPoint(u, t))
-        h = min(ds_max, h * 1.4) if its <= 3 else (h * 0.7 if its > 6 else h)
+
+    def at_edge(pt: ArcPoint, new: ArcPoint, end: float) -> str:
+        crossed(pt, new)
+        try:
+            v, _ = newton(G, J, new.u, lambda v: (v[-1] - end, e_last), tol=tol)
+            if float(np.linalg.norm(v - pt.u)) > 1e-9 * (1 + float(np.linalg.norm(pt.u))):
+                points.append(ArcPoint(v, tangent(J(v), new.tangent)))
+        except (ArithmeticError, np.linalg.LinAlgError):
+            pass
+        return f"reached the bound {end:g}"
+
+    def visit(pt: ArcPoint, new: ArcPoint, h: float):
+        crossed(pt, new)
+        if len(points) > 10 and _passes(points[0].u, pt.u, new.u, periods):
+            return pt, h, "closed curve"
+        points.append(new)
+        return new, min(ds_max, h * 1.4) if its[0] <= 3 else (h * 0.7 if its[0] > 6 else h), ""
+
+    reason = walk(points[0], ds, step=step, visit=visit, ds_min=ds_min,
+                  collapsed=lambda pt, exc: (f"the step fell below {ds_min:g} at parameter "
+                                             f"{pt.u[-1]:.6g}"),
+                  parameter=lambda pt: pt.u[-1], bounds=bounds, at_edge=at_edge,
+                  max_turn=-2.0, full=lambda: (f"{max_points} points"
+                                               if len(points) >= max_points else None))
     return Arc(tuple(points), tuple(folds), reason)
 
 

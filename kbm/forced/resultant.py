@@ -21,7 +21,7 @@ import sympy as sp
 from ..symbols import a
 from .model import phi, sigma
 from .result import SlowFlow
-from .steady import FixedPoint, _eig, _period
+from .steady import FixedPoint, _add_new, _newton, _period
 
 __all__ = ["fixed_points_resultant"]
 
@@ -95,24 +95,8 @@ def fixed_points_resultant(sf: SlowFlow, sigma_value: float, *, amplitude_max: f
             cv = max(-1.0, min(1.0, cv))
             for sgn in (1, -1):
                 Phi = math.atan2(sgn * math.sqrt(max(0.0, 1 - cv * cv)), cv)
-                u = np.array([av, Phi / p])
-                for _ in range(30):
-                    r = np.array([np.ravel(x)[0] for x in sf.rates(u[0], u[1], sigma_value)])
-                    J = sf.jacobian(u[0], u[1], sigma_value)[:, :2]
-                    try:
-                        du = np.linalg.solve(J, -r)
-                    except np.linalg.LinAlgError:
-                        break
-                    u = u + du
-                    if np.max(np.abs(du)) < 1e-14 * (1 + abs(u[0])):
-                        break
+                u, _ = _newton(sf, np.array([av, Phi / p]), sigma_value, 30, 1e-14)
                 r = np.array([np.ravel(x)[0] for x in sf.rates(u[0], u[1], sigma_value)])
-                if not (np.all(np.isfinite(u)) and np.max(np.abs(r)) < tol and u[0] > 0):
-                    continue
-                ph = float(u[1] % per)
-                if any(abs(f.amplitude - u[0]) < 1e-7 and
-                       min(abs(f.phase - ph), per - abs(f.phase - ph)) < 1e-6 for f in found):
-                    continue
-                found.append(FixedPoint(float(sigma_value), float(u[0]), ph,
-                                        _eig(sf, u[0], ph, sigma_value)))
+                if np.all(np.isfinite(u)) and np.max(np.abs(r)) < tol and u[0] > 0:
+                    _add_new(found, sf, sigma_value, u, per)
     return sorted(found, key=lambda f: f.amplitude)

@@ -89,6 +89,33 @@ def _period(sf: SlowFlow) -> float:
     return 2 * math.pi / (sf.resonance.p if sf.resonance else 1)
 
 
+def _newton(sf: SlowFlow, u: np.ndarray, sigma: float, max_iter: int,
+            rtol: float) -> tuple[np.ndarray, bool]:
+    """Newton's method on the slow flow's rates ``(a', phi') = 0`` from ``u = (a, phi)``:
+    the last iterate and whether the iteration stopped before ``max_iter`` steps (a step
+    below ``rtol (1 + |a|)``, a singular Jacobian or a non-finite iterate)."""
+    for _ in range(max_iter):
+        with np.errstate(all="ignore"):
+            r = np.array(sf.rates(u[0], u[1], sigma), dtype=float).ravel()
+            Jm = sf.jacobian(u[0], u[1], sigma)[:, :2]
+        try:
+            du = np.linalg.solve(Jm, -r)
+        except np.linalg.LinAlgError:
+            return u, True
+        u = u + du
+        if not np.all(np.isfinite(u)) or np.max(np.abs(du)) < rtol * (1 + abs(u[0])):
+            return u, True
+    return u, False
+
+
+def _add_new(found: list, sf: SlowFlow, sigma: float, u: np.ndarray, per: float) -> None:
+    """Append the fixed point at ``u`` to ``found`` unless it is there (phase mod ``per``)."""
+    ph = float(u[1] % per)
+    if not any(abs(f.amplitude - u[0]) < 1e-7 and
+               min(abs(f.phase - ph), per - abs(f.phase - ph)) < 1e-6 for f in found):
+        found.append(FixedPoint(float(sigma), float(u[0]), ph, _eig(sf, u[0], ph, sigma)))
+
+
 def fixed_points(sf: SlowFlow, sigma: float, amplitudes: tuple[float, float] = (1e-3, 5.0), *,
                  n_a: int = 200, n_phi: int = 72) -> list[FixedPoint]:
     """Every fixed point with ``amplitudes[0] < a < amplitudes[1]`` at detuning ``sigma``.
@@ -129,31 +156,12 @@ def fixed_points(sf: SlowFlow, sigma: float, amplitudes: tuple[float, float] = (
     found: list[FixedPoint] = []
     for i, j in cells:
         u = np.array([0.5 * (A[i] + A[i + 1]), 0.5 * (P[j] + P[j + 1])])
-        for _ in range(40):
-            with np.errstate(all="ignore"):
-                r = np.array(sf.rates(u[0], u[1], sigma), dtype=float).ravel()
-                Jm = sf.jacobian(u[0], u[1], sigma)[:, :2]
-            try:
-                du = np.linalg.solve(Jm, -r)
-            except np.linalg.LinAlgError:
-                break
-            u = u + du
-            if not np.all(np.isfinite(u)):
-                break
-            if np.max(np.abs(du)) < 1e-13 * (1 + abs(u[0])):
-                break
-        else:
-            continue
-        if not (np.all(np.isfinite(u)) and lo * 0.5 < u[0] < hi * 1.5):
+        u, stopped = _newton(sf, u, sigma, 40, 1e-13)
+        if not (stopped and np.all(np.isfinite(u)) and lo * 0.5 < u[0] < hi * 1.5):
             continue
         r = np.array(sf.rates(u[0], u[1], sigma), dtype=float).ravel()
-        if np.max(np.abs(r)) > 1e-9 * (1 + abs(u[0])):
-            continue
-        ph = float(u[1] % per)
-        if any(abs(f.amplitude - u[0]) < 1e-7 and
-               min(abs(f.phase - ph), per - abs(f.phase - ph)) < 1e-6 for f in found):
-            continue
-        found.append(FixedPoint(float(sigma), float(u[0]), ph, _eig(sf, u[0], ph, sigma)))
+        if np.max(np.abs(r)) <= 1e-9 * (1 + abs(u[0])):
+            _add_new(found, sf, sigma, u, per)
     return sorted(found, key=lambda f: f.amplitude)
 
 

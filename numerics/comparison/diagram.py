@@ -69,28 +69,28 @@ class BranchDiagram:
             "failures": list(self.failures)})
 
 
-def _on_branch(b: Branch, p0: float, x0: float) -> bool:
-    """Whether the branch passes through the cycle with section point ``x0`` at ``p0``."""
-    pts = b.points
-    for q, r in zip(pts, pts[1:]):
-        if min(q.parameter, r.parameter) <= p0 <= max(q.parameter, r.parameter):
-            w = 0.0 if r.parameter == q.parameter else (p0 - q.parameter) / (r.parameter -
-                                                                             q.parameter)
-            if abs(q.x0 + w * (r.x0 - q.x0) - x0) < 1e-3 * max(1.0, abs(x0)):
-                return True
-    return any(abs(q.parameter - p0) < 1e-12 and abs(q.x0 - x0) < 1e-6 for q in pts)
-
-
-def _near(b: Branch, p: float, amp: float, rel: float) -> bool:
+def _passes(b: Branch, p: float, y: float, rel: float, attr: str) -> bool:
+    """Whether the branch's ``attr``, linear in the parameter between its points, comes
+    within ``rel max(1, |y|)`` of ``y`` at ``p``."""
     pts = b.points
     for q, r in zip(pts, pts[1:]):
         if min(q.parameter, r.parameter) <= p <= max(q.parameter, r.parameter):
             w = 0.0 if r.parameter == q.parameter else (p - q.parameter) / (r.parameter -
                                                                             q.parameter)
-            y = q.amplitude_max + w * (r.amplitude_max - q.amplitude_max)
-            if abs(y - amp) < rel * max(1.0, abs(amp)):
+            lo, hi = getattr(q, attr), getattr(r, attr)
+            if abs(lo + w * (hi - lo) - y) < rel * max(1.0, abs(y)):
                 return True
     return False
+
+
+def _on_branch(b: Branch, p0: float, x0: float) -> bool:
+    """Whether the branch passes through the cycle with section point ``x0`` at ``p0``."""
+    return _passes(b, p0, x0, 1e-3, "x0") or any(
+        abs(q.parameter - p0) < 1e-12 and abs(q.x0 - x0) < 1e-6 for q in b.points)
+
+
+def _near(b: Branch, p: float, amp: float, rel: float) -> bool:
+    return _passes(b, p, amp, rel, "amplitude_max")
 
 
 def _more_seeds(model, params, vary, bounds, eb, branches, failures, budget, kw) -> None:

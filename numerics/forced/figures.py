@@ -19,18 +19,10 @@ import numpy as np
 
 from numerics.forced.convergence import ConvergenceTable
 from numerics.forced.diagram import ResponseDiagram, response_diagram
+from numerics._plot import pyplot as _plt, save as _save_ax
 
 __all__ = ["duffing_figure", "locking_figure", "mathieu_figure", "plot_convergence",
            "plot_response", "superharmonic_figure", "vdp_response_figure", "write_all"]
-
-
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def _draw(ax, d: ResponseDiagram, color: str, label: str, numeric: bool = True) -> None:
@@ -58,17 +50,6 @@ def _draw(ax, d: ResponseDiagram, color: str, label: str, numeric: bool = True) 
             lab = None
 
 
-def _save(plt, fig, ax, path: Path) -> Path:
-    """Legend, layout, write ``path`` (its folder made), close."""
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
-
-
 def plot_response(d: ResponseDiagram, path: Path, extra: list[ResponseDiagram] = ()) -> Path:
     """Analytic curve(s) (stable solid, unstable dashed, folds circled), shooting points
     and backbone of a response diagram, written to ``path``."""
@@ -84,7 +65,7 @@ def plot_response(d: ResponseDiagram, path: Path, extra: list[ResponseDiagram] =
     ax.set_ylabel("amplitude $a$ at frequency $(q/p)\\nu$")
     pars = ", ".join(f"{k} = {v:g}" for k, v in d.values.items())
     ax.set_title(f"{d.model}, resonance {d.resonance}: {pars}", fontsize=9)
-    return _save(plt, fig, ax, path)
+    return _save_ax(fig, ax, path)
 
 
 def plot_convergence(t: ConvergenceTable, path: Path) -> Path:
@@ -112,7 +93,7 @@ def plot_convergence(t: ConvergenceTable, path: Path) -> Path:
     ax.set_ylabel("|order-N prediction - true (shooting)|")
     pars = ", ".join(f"{k} = {v:g}" for k, v in t.parameters.items())
     ax.set_title(f"{t.model}, resonance {t.resonance}: {t.quantity}\n{pars}", fontsize=9)
-    return _save(plt, fig, ax, path)
+    return _save_ax(fig, ax, path)
 
 
 def duffing_figure(out: Path) -> Path:

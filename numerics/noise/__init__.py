@@ -9,7 +9,9 @@ delta(t - t')`` and unit mass; for linear damping ``mu`` the temperature is
 estimates stationary moments and densities with their standard errors;
 :mod:`numerics.noise.extrapolate` extrapolates stationary moments over the step
 (Richardson, BAOAB at ``h`` and ``h/2``); :mod:`numerics.noise.invariant` computes the exact
-stationary averages of the BAOAB chain (its weak error without sampling).  The compiled
+stationary averages of the BAOAB chain (its weak error without sampling);
+:mod:`numerics.noise.coupled` is the noisy system of ``N`` forced or coupled oscillators and
+its compiled ensemble paths (the same scheme and streams).  The compiled
 source: :mod:`numerics.noise.codegen` prints the model, :mod:`numerics.noise._kernels` and
 :mod:`numerics.noise._pair_kernels` hold the kernels, :mod:`numerics.noise.seeds` the streams.
 """

@@ -5,7 +5,9 @@ This file is read as text and appended to the module that
 defines, above this text, ``accel(t_, x_, v_, p)`` (the model's ``x''`` without the
 noise), ``spring(t_, x_, v_, p)`` (the spring force ``drive - omega0^2 x``) and
 ``energy(x_, v_, p)`` (``x'^2/2 + G(x)``, NaN when the potential has no closed
-form).  numba compiles all of it.
+form).  numba compiles all of it.  Appended to the module of ``N`` coupled accelerations
+(:func:`numerics.noise.codegen.vector_module`), which defines ``accel_n(t_, y, p, out)``
+instead, it serves :func:`vector_paths`, the same scheme for ``N`` degrees of freedom.
 
 The scheme
 ----------
@@ -345,3 +347,39 @@ def slip_stats(p, sigma, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage
             for c in range(7):
                 out[i, c] = math.nan
     return out
+
+
+@njit(cache=True)
+def vector_paths(p, amps, y, t0, h, n, stride, states):
+    """Kloeden-Platen (15.1.3) for ``N`` degrees of freedom with independent additive noises
+    on the velocities, ``x_i' = v_i``, ``v_i' = a_i(t, x, v) + amps[r] xi_i`` (``a`` is
+    ``accel_n`` of the printed model above): the rows of ``y`` (``m x 2N``, updated) driven
+    by the generators ``states[r]`` (updated; ``amps[r] = 0``: a noise-free row), their
+    states every ``stride`` steps (``m x n // stride x 2N``).  Step ``k`` draws the modes'
+    increments in order."""
+    m, d = y.shape
+    nd = d // 2
+    rec = np.empty((m, n // stride, d))
+    a0 = np.empty(nd)
+    a1 = np.empty(nd)
+    yb = np.empty(d)
+    dw = np.empty(nd)
+    for r in range(m):
+        s = states[r]
+        yr = y[r]
+        root = amps[r] * math.sqrt(3.0 * h)
+        for k in range(n):
+            t = t0 + k * h
+            accel_n(t, yr, p, a0)  # noqa: F821 - defined by the printed model above
+            for i in range(nd):
+                dw[i] = _increment(s, root)
+                yb[i] = yr[i] + h * yr[nd + i]
+                yb[nd + i] = yr[nd + i] + h * a0[i] + dw[i]
+            accel_n(t + h, yb, p, a1)  # noqa: F821
+            for i in range(nd):
+                yr[i] = yr[i] + 0.5 * h * (yr[nd + i] + yb[nd + i])
+                yr[nd + i] = yr[nd + i] + 0.5 * h * (a0[i] + a1[i]) + dw[i]
+            if (k + 1) % stride == 0:
+                for i in range(d):
+                    rec[r, (k + 1) // stride - 1, i] = yr[i]
+    return rec

@@ -26,7 +26,7 @@ from kbm.strict_json import finite, json_fields
 from numerics.comparison.prediction import numeric_value
 from numerics.cycles.sweep import grid, sweep
 from numerics.energy import map_predictions
-from numerics.paper.validity import VALIDITY_KEYS, short_reason, validity_map
+from numerics.paper.validity import VALIDITY_KEYS, error_grid, short_reason, validity_map
 
 __all__ = ["METHODS", "METHODS_GRID", "MethodsPoint", "MethodsMap", "methods_map"]
 
@@ -84,12 +84,7 @@ class MethodsMap:
 
     def array(self, method: str, beta: float) -> np.ndarray:
         """Errors ``[i_Delta, i_mu]`` at one ``beta`` (nan where no cycle)."""
-        mus, Ds = self.axes["mu"], self.axes["Delta"]
-        out = np.full((len(Ds), len(mus)), np.nan)
-        for p in self.points:
-            if p.params["beta"] == beta and p.success:
-                out[Ds.index(p.params["Delta"]), mus.index(p.params["mu"])] = p.errors[method]
-        return out
+        return error_grid(self.axes, self.points, beta, lambda p: p.errors[method])
 
     def summary(self, tols: Sequence[float] = (1e-2, 1e-3)) -> dict:
         """Per ``beta``, method and tolerance: the number of points within it, of those

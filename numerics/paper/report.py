@@ -312,22 +312,12 @@ def summary_markdown(out: Path, figures: Sequence[Path] = (), *, claims=None,
              "Each section opens with its conclusion, then a short table or a figure. The full "
              "tables are in [tables/](tables/), the figures in [figures/](figures/), the "
              f"LaTeX derivations in [derivations/](derivations/){pdf_link}.", ""]
-    if claims is not None:
-        lines += _claims(claims)
-    if errata is not None:
-        lines += _errata(errata)
-    if cases is not None:
-        lines += _comparison(cases, rel)
-    if convergence is not None:
-        lines += _convergence(convergence, rel)
-    if fixed is not None:
-        lines += _fixed_delta(fixed, rel)
-    if methods is not None:
-        lines += _methods(methods, rel)
-    if validity is not None:
-        lines += _validity(validity, rel)
-    if friction is not None:
-        lines += _friction(friction, rel)
+    for result, section in ((claims, _claims), (errata, _errata)):
+        lines += section(result) if result is not None else []
+    for result, section in ((cases, _comparison), (convergence, _convergence),
+                            (fixed, _fixed_delta), (methods, _methods), (validity, _validity),
+                            (friction, _friction)):
+        lines += section(result, rel) if result is not None else []
     shown = {m.group(1) for m in re.finditer(r"\]\(([^)]+\.png)\)", "\n".join(lines))}
     rest = [n for n, r in rel.items() if r not in shown]
     if rest:

@@ -89,6 +89,18 @@ class ValidityPoint:
         return float(self.errors.get(order, {}).get("max", np.nan))
 
 
+def error_grid(axes: Mapping[str, Sequence[float]], points: Sequence, beta: float,
+               error) -> np.ndarray:
+    """``error(point)`` of the points with a true cycle at ``beta`` as an array
+    ``[i_Delta, i_mu]`` over ``axes`` (nan where no cycle)."""
+    mus, Ds = list(axes["mu"]), list(axes["Delta"])
+    out = np.full((len(Ds), len(mus)), np.nan)
+    for p in points:
+        if p.params["beta"] == beta and p.success:
+            out[Ds.index(p.params["Delta"]), mus.index(p.params["mu"])] = error(p)
+    return out
+
+
 @dataclass(frozen=True, eq=False)
 class ValidityMap:
     """Relative errors of KBM orders over a parameter grid (see :func:`validity_map`)."""
@@ -103,12 +115,7 @@ class ValidityMap:
 
     def array(self, order: int, beta: float) -> np.ndarray:
         """Errors as an array ``[i_Delta, i_mu]`` at one ``beta`` (nan where no cycle)."""
-        mus, Ds = self.axes["mu"], self.axes["Delta"]
-        out = np.full((len(Ds), len(mus)), np.nan)
-        for p in self.points:
-            if p.params["beta"] == beta and p.success:
-                out[Ds.index(p.params["Delta"]), mus.index(p.params["mu"])] = p.error(order)
-        return out
+        return error_grid(self.axes, self.points, beta, lambda p: p.error(order))
 
     def table(self) -> str:
         """One line per point: parameters, true amplitude and each order's error."""

@@ -7,7 +7,8 @@ numerical analysis of nonlinear equations*, sec. 2), the pieces of the one branc
   with its bound on the correction); :mod:`numerics.flow._shooting_corrector` is its
   compiled twin for one degree of freedom;
 - :func:`null_vector` (the tangent) and :func:`predict` (Euler or cubic Hermite);
-- :func:`walk`: the one driver of the steps along a branch.
+- :func:`walk`: the one driver of the steps along a branch (:func:`kbm.arclength.walk`,
+  which also follows the slow-flow curves of :mod:`kbm.forced.arclength`).
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from typing import Callable
 
 import numpy as np
 
+from kbm.arclength import walk as _walk
 from kbm.errors import ParameterError
 from numerics.errors import ConvergenceError, IntegrationError
 
@@ -106,60 +108,12 @@ def predict(u: np.ndarray, t: np.ndarray, ds: float, previous=None) -> np.ndarra
     return pred
 
 
-def walk(first, ds: float, *, step: Callable, visit: Callable, collapsed: Callable,
-         ds_min: float, parameter: Callable | None = None, bounds=None,
-         at_edge: Callable | None = None, max_turn: float = 0.9, turn_above: float = 0.0,
-         full: Callable | None = None, failures: tuple = FAIL):
-    """Follow a branch from ``first`` by pseudo-arclength steps; the reason it ends.
-
-    Parameters
-    ----------
-    first
-        The first point (with a unit ``tangent`` oriented in the direction followed).
-    ds
-        The first step.
-    step
-        ``(point, ds) -> point``: predictor and corrector (raises one of ``failures``).
-    visit
-        ``(point, new, ds) -> (current, ds, reason)``: the caller's work at an accepted
-        point ``new``: recording it, special points, the ends of the branch; the point to
-        go on from, the next step and ``reason`` (not empty: the branch ends).
-    collapsed
-        ``(point, error) -> reason``: the step fell below ``ds_min`` at ``point``.
-    parameter, bounds, at_edge
-        The point's parameter and its range; a point outside it ends the branch with
-        ``at_edge(point, new, edge) -> reason`` (the caller places the point at the edge).
-    max_turn, turn_above
-        A step whose tangent's cosine with the last falls below ``max_turn`` is a failed
-        step, while the step is above ``turn_above``.
-    full
-        ``() -> reason or None``: asked before each step (a bound on the points).
-    failures
-        The errors that halve the step.
-    """
-    cur = first
-    while True:
-        why = full() if full is not None else None
-        if why:
-            return why
-        try:
-            new = step(cur, ds)
-            turn = float(new.tangent @ cur.tangent)
-            if turn < max_turn and ds > turn_above:
-                deg = math.degrees(math.acos(max(-1.0, min(1.0, turn))))
-                raise ConvergenceError(f"the tangent turned by {deg:.0f} degrees")
-        except failures as exc:
-            ds /= 2
-            if ds < ds_min:
-                return collapsed(cur, exc)
-            continue
-        if bounds is not None:
-            p = parameter(new)
-            if p < bounds[0] or p > bounds[1]:
-                return at_edge(cur, new, bounds[0] if p < bounds[0] else bounds[1])
-        cur, ds, why = visit(cur, new, ds)
-        if why:
-            return why
+def walk(first, ds: float, **options):
+    """Follow a branch from ``first`` by pseudo-arclength steps (the one driver,
+    :func:`kbm.arclength.walk`, whose options these are), a step failing on the errors of a
+    shooting step (:data:`FAIL`) unless ``failures`` says otherwise."""
+    options.setdefault("failures", FAIL)
+    return _walk(first, ds, **options)
 
 
 def parameter_range(vary: str, bounds, params) -> tuple[float, float, float]:

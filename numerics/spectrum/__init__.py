@@ -21,9 +21,8 @@ The noisy model is the paper's eq. (1) with ``sqrt(2 D) xi(t)`` added (the conve
 - :mod:`numerics.spectrum.driven`: the linear-response and noise spectra of driven steady
   states (slow-flow Jacobian and Floquet);
 - :mod:`numerics.spectrum.slips`: the phase-slip rate of noisy locked pairs (noisy Adler
-  equation, Stratonovich's formula);
-- :mod:`numerics.spectrum._sde`: the full noisy system of ``N`` oscillators (forced or
-  coupled) and its ensemble integrator, for the two above.
+  equation, Stratonovich's formula); both simulate the full noisy system of
+  :mod:`numerics.noise.coupled`.
 """
 
 from .psd import PSD, ensemble_psd

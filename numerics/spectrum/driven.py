@@ -1,6 +1,6 @@
 """Noise spectra about the stable steady states of forced oscillators: averaged, Floquet, simulated.
 
-The system (one or ``N`` degrees of freedom, :mod:`numerics.spectrum._sde`) is
+The system (one or ``N`` degrees of freedom, :mod:`numerics.noise.coupled`) is
 
 ``x_i'' + omega_i^2 x_i = mu F_i(x, x', nu t) + sqrt(2 D) xi_i(t)``,
 
@@ -54,7 +54,7 @@ import scipy.linalg
 from kbm.errors import ParameterError
 
 from numerics.errors import ConvergenceError
-from ._sde import NoisySystem
+from numerics.noise.coupled import NoisySystem
 
 __all__ = ["SteadyState", "AveragedFlow", "Orbit", "averaged_flow", "stable_states",
            "averaged_spectrum", "periodic_orbit", "floquet_spectrum", "detuning_name"]

@@ -1,7 +1,7 @@
 """Simulated noise spectra about driven steady states, and the report of ``kbm spectrum``.
 
-An ensemble of the full SDE (:func:`numerics.spectrum._sde.heun_paths`: stochastic Heun,
-one ``SeedSequence`` per trajectory, chunks of fixed size on the executor of
+An ensemble of the full SDE (:meth:`numerics.noise.coupled.NoisySystem.paths`: stochastic
+Heun, one stream per trajectory, chunks of fixed size on the executor of
 :func:`numerics.executor.map_chunks` with ``store``/``resume``) is started on the true
 periodic response; a noise-free lane run by the same scheme is subtracted, so the record
 is the fluctuation ``x - x_p`` (the coherent line removed to the scheme's accuracy).  After
@@ -21,14 +21,30 @@ import numpy as np
 from kbm.errors import ParameterError
 
 from numerics.errors import ConvergenceError
-from ._sde import CHUNK, NoisySystem, generators, heun_paths, noisy_system
+from numerics.noise.coupled import CHUNK, NoisySystem, bound_system, positive_noise
 from .driven import (AveragedFlow, Orbit, SteadyState, averaged_flow, averaged_spectrum,
                      detuning_name, floquet_spectrum, periodic_orbit, stable_states)
 
 __all__ = ["ResponseSpectrum", "response_spectra", "simulate_fluctuations", "coherent_part",
-           "STEPS_PER_PERIOD", "RESOLUTION", "MIN_SEGMENTS"]
+           "noisy_system", "STEPS_PER_PERIOD", "RESOLUTION", "MIN_SEGMENTS"]
 
 _SYSTEMS: dict = {}
+
+
+def noisy_system(model, params: Mapping[str, object], D: float) -> NoisySystem:
+    """The noisy system of ``model`` at ``params`` (bound by
+    :func:`numerics.coupled.flow.bind_coupled`; :func:`numerics.noise.coupled.bound_system`).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For an unknown name or a missing value, ``D <= 0``, or a model whose force depends
+        on ``t`` other than through ``theta`` (a pulled slider).
+    """
+    from numerics.coupled.flow import bind_coupled
+
+    positive_noise(D)
+    return bound_system(*bind_coupled(model, params), D)
 
 
 def _cached_system(model, params, D):
@@ -43,9 +59,8 @@ def _fluct_task(task) -> list:
     """One chunk of trajectories: ``x_mode - x_p`` sampled after the burn-in."""
     model, params, D, y0, dt, n_burn, n_samples, stride, mode, seed, first, count = task
     system = _cached_system(model, params, D)
-    rngs = generators(seed, first, count)
-    rec = heun_paths(system, np.tile(y0, (count, 1)), dt, n_burn + n_samples * stride, stride,
-                     rngs, quiet_lane=True)
+    rec = system.paths(np.tile(y0, (count, 1)), dt, n_burn + n_samples * stride, stride,
+                       seed=seed, first=first, quiet_lane=True)
     skip = n_burn // stride
     x = rec[:, skip:skip + n_samples, mode]
     return [row for row in x[:count] - x[count]]
@@ -59,7 +74,7 @@ def simulate_fluctuations(model, params: Mapping[str, object], D: float, y0, *, 
     (``trajectories x samples``, sampled every ``stride`` steps after ``burn_in_steps``).
 
     ``x_p`` is the noise-free lane of the same scheme, so the coherent response is removed
-    to the scheme's accuracy; the chunks (:data:`numerics.spectrum._sde.CHUNK` paths) and
+    to the scheme's accuracy; the chunks (:data:`numerics.noise.coupled.CHUNK` paths) and
     the seeds make the array the same on any executor and worker count."""
     from numerics.executor import chunk, map_chunks
 

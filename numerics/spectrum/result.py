@@ -130,12 +130,9 @@ def write_figures(reports: list[dict], out: Path, name: str) -> list[Path]:
     """``spectrum-NAME-psd.png`` (the first report's PSD: averaged over the simulated band)
     and ``spectrum-NAME-linewidth.png`` (HWHM against D: averaged and linearised curves,
     simulated points with two standard errors)."""
-    import matplotlib
+    from numerics._plot import pyplot, save
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    out.mkdir(parents=True, exist_ok=True)
+    plt = pyplot()
     rep = reports[0]
     paths = []
     fig, ax = plt.subplots(figsize=(6, 4))
@@ -150,11 +147,7 @@ def write_figures(reports: list[dict], out: Path, name: str) -> list[Path]:
     ax.set_xlabel(r"$\omega$")
     ax.set_ylabel(r"$S_x(\omega)$")
     ax.set_title(f"{name}: PSD near the fundamental, D = {rep['D']:g}")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    paths.append(out / f"spectrum-{name}-psd.png")
-    fig.savefig(paths[-1], dpi=120)
-    plt.close(fig)
+    paths.append(save(fig, ax, out / f"spectrum-{name}-psd.png"))
 
     fig, ax = plt.subplots(figsize=(6, 4))
     Ds = np.array([r["D"] for r in reports])
@@ -178,9 +171,5 @@ def write_figures(reports: list[dict], out: Path, name: str) -> list[Path]:
     ax.set_xlabel("D")
     ax.set_ylabel("HWHM (angular)")
     ax.set_title(f"{name}: linewidth against D")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    paths.append(out / f"spectrum-{name}-linewidth.png")
-    fig.savefig(paths[-1], dpi=120)
-    plt.close(fig)
+    paths.append(save(fig, ax, out / f"spectrum-{name}-linewidth.png"))
     return paths

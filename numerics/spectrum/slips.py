@@ -28,7 +28,7 @@ difference is ``<gamma'> = 2 pi J``.  Both integrals are by quadrature.  For con
 and ``g = Delta - K sin`` it equals the closed form ``<gamma'> = (Q/pi) sinh(pi Delta/Q)
 / |I_{i Delta/Q}(K/Q)|^2`` (the test's reference).
 
-**Simulated.**  An ensemble of the full system (:mod:`numerics.spectrum._sde`); the phases
+**Simulated.**  An ensemble of the full system (:mod:`numerics.noise.coupled`); the phases
 ``theta_i = atan2(-x_i'/omega_i, x_i)`` unwrapped, ``gamma = theta_2 - theta_1``; the net
 slips are the change of ``gamma`` over ``2 pi`` after a burn-in, and the forward and
 backward slips are counted with a hysteresis of a full turn (a slip is a ``2 pi``
@@ -47,7 +47,8 @@ import sympy as sp
 from kbm.errors import ParameterError
 
 from numerics._memo import memo
-from ._sde import CHUNK, generators, heun_paths, noisy_system
+from numerics.noise.coupled import CHUNK
+from .driven_sim import noisy_system
 
 __all__ = ["AdlerReduction", "adler_reduction", "stratonovich_rate", "simulate_slips",
            "slip_report"]
@@ -241,8 +242,8 @@ def stratonovich_rate(gamma: np.ndarray, drift: np.ndarray, diffusion: np.ndarra
 def _slip_task(task) -> list:
     model, params, D, y0, dt, n_burn, n_run, stride, seed, first, count = task
     system = noisy_system(model, params, D)
-    rngs = generators(seed, first, count)
-    rec = heun_paths(system, np.tile(y0, (count, 1)), dt, n_burn + n_run, stride, rngs)
+    rec = system.paths(np.tile(y0, (count, 1)), dt, n_burn + n_run, stride, seed=seed,
+                       first=first)
     n, w = system.dof, system.omegas
     th = np.arctan2(-rec[:, :, n:n + 2] / w[None, None, :2], rec[:, :, 0:2])
     th = np.unwrap(th, axis=1)

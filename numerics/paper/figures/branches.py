@@ -13,20 +13,12 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+from numerics._plot import pyplot as _plt, save_png_pdf as _save
 
 __all__ = ["draw_diagram", "diagram_figure", "sedf_branches"]
 
 _MARK = {"fold": "o", "hopf": "s", "homoclinic": "X", "end": "^"}
 _ANALYTIC = {"kbm": ("+", 4), "energy": ("x", 3)}
-
-
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def draw_diagram(d, ax, quantity: str = "amplitude_max", analytic: bool = True,
@@ -99,19 +91,6 @@ def draw_diagram(d, ax, quantity: str = "amplitude_max", analytic: bool = True,
     lo, hi = d.bounds
     ax.set_xlim(lo - 0.02 * (hi - lo), hi + 0.02 * (hi - lo))
     return handles + h2
-
-
-def _save(fig, path: Path) -> list[Path]:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    out = []
-    for ext in ("png", "pdf"):
-        p = path.with_suffix(f".{ext}")
-        fig.savefig(p, dpi=130, bbox_inches="tight", metadata={"CreationDate": None}
-                    if ext == "pdf" else {"Software": None})
-        out.append(p)
-    _plt().close(fig)
-    return out
 
 
 def diagram_figure(d, path: str | Path, title: str | None = None) -> list[Path]:

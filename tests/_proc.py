@@ -1,0 +1,48 @@
+"""The process table read from ``/proc`` (Linux), for the tests that signal a run and check
+that no worker outlives it (not tests themselves)."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+
+import pytest
+
+
+def children(pid: int) -> list[int]:
+    """The processes whose parent is ``pid``."""
+    kids = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                stat = open(f"/proc/{entry}/stat").read()
+            except OSError:
+                continue
+            if int(stat.rsplit(")", 1)[1].split()[1]) == pid:
+                kids.append(int(entry))
+    return kids
+
+
+def alive(pid: int) -> bool:
+    """Whether ``pid`` runs (a zombie counts as gone)."""
+    try:
+        return open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+def start_with_workers(argv: list[str], settle: float, what: str):
+    """``kbm argv`` started, once it has worker processes (within 60 s) and ``settle``
+    seconds more: ``(process, its children)``; the test fails when none start."""
+    proc = subprocess.Popen([sys.executable, "-m", "numerics.cli", *argv],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and proc.poll() is None:
+        if children(proc.pid):
+            time.sleep(settle)  # let the workers take their first chunks
+            return proc, children(proc.pid)
+        time.sleep(0.2)
+    proc.kill()
+    pytest.fail(f"{what} worker processes did not start within 60 s")

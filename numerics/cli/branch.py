@@ -5,31 +5,33 @@ from __future__ import annotations
 import argparse
 import math
 
-from kbm.cli._common import (add_model_arguments, add_param_option, emit_json, model_spec,
-                             single_well)
+from kbm.cli._common import (add_model_arguments, add_options, add_param_option, emit_json,
+                             model_spec, single_well)
+from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = sub.add_parser(
-        "branch", help="branches of limit cycles in one parameter (folds, Hopf, homoclinic)",
-        description="Follow every limit cycle found at the start value through the range of "
-                    "one parameter by pseudo-arclength continuation of the shooting solution "
-                    "(stable and unstable cycles, Floquet multipliers at each point), with "
-                    "folds of cycles, Hopf ends and homoclinic ends located, next to the "
-                    "roots of the KBM amplitude equation and of the energy balance.")
+    p = command(
+        sub, "branch",
+        "Follow every limit cycle found at the start value through the range of "
+        "one parameter by pseudo-arclength continuation of the shooting solution "
+        "(stable and unstable cycles, Floquet multipliers at each point), with "
+        "folds of cycles, Hopf ends and homoclinic ends located, next to the "
+        "roots of the KBM amplitude equation and of the energy balance.")
     add_model_arguments(p, "vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, sedf-dimer, "
                            "...", coupled=True)
     add_param_option(p)
-    p.add_argument("--vary", required=True, metavar="NAME=FROM:TO",
-                   help="the parameter and its range, e.g. --vary Delta=0:4; the branch starts "
-                        "at --param NAME=VALUE if given, else at FROM")
+    add_options(p, "vary", vary=dict(
+        action="store", required=True, default=None,
+        help="the parameter and its range, e.g. --vary Delta=0:4; the branch starts at --param "
+             "NAME=VALUE if given, else at FROM"))
     p.add_argument("--orders", default="1", metavar="N,...",
                    help="KBM orders of the analytic branches (default 1; 'none' for none)")
     p.add_argument("--no-energy", action="store_true",
                    help="leave out the energy-balance branch")
     p.add_argument("--max-points", type=int, default=400, metavar="N",
                    help="bound on the points per direction of each branch (default 400)")
-    p.add_argument("--rtol", type=float, default=1e-10, help="integrator tolerance (1e-10)")
+    add_options(p, "rtol", rtol=dict(help="integrator tolerance (1e-10)"))
     p.add_argument("--follow-period", type=float, default=None, metavar="FACTOR",
                    help="at a homoclinic end, follow the cycle in its period (multiple "
                         "shooting, the parameter free) until the period is FACTOR times the "
@@ -37,7 +39,7 @@ def register(sub) -> None:
     p.add_argument("--start", metavar="X1,..,XDOT1,..",
                    help="coupled systems: the state to start from (default: the attracting "
                         "orbit after a transient from x_i = 1)")
-    p.add_argument("--json", action="store_true", help="print JSON")
+    add_options(p, "json")
     p.set_defaults(func=run)
 
 

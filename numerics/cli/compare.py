@@ -4,17 +4,18 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import (add_model_arguments, add_param_option, checked_params,
+from kbm.cli._common import (add_model_arguments, add_options, add_param_option, checked_params,
                              describe_params, emit_json, model_spec, parse_params)
+from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = sub.add_parser(
-        "compare", help="KBM predictions (any order) against the numerical limit cycle",
-        description="Compare the limit cycle predicted by the KBM expansion of each order "
-                    "(first-harmonic amplitude, maximum of x, frequency, third harmonic, "
-                    "Floquet multiplier, dissipation over the reconstructed cycle) with the "
-                    "cycle computed by shooting.")
+    p = command(
+        sub, "compare",
+        "Compare the limit cycle predicted by the KBM expansion of each order "
+        "(first-harmonic amplitude, maximum of x, frequency, third harmonic, "
+        "Floquet multiplier, dissipation over the reconstructed cycle) with the "
+        "cycle computed by shooting.")
     add_model_arguments(p)
     add_param_option(p)
     p.add_argument("--orders", default="1,2", help="comma-separated KBM orders (default 1,2)")
@@ -43,7 +44,7 @@ def register(sub) -> None:
                    help="sedf map over (mu, Delta, beta): where classical KBM and the energy "
                         "method are within 1 %% and 1e-3 of the true cycle (a sweep on all "
                         "cores, about a minute)")
-    p.add_argument("--json", action="store_true", help="print JSON")
+    add_options(p, "json")
     p.set_defaults(func=run)
 
 

@@ -4,17 +4,19 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import (add_model_arguments, add_param_option, checked_params,
+from kbm.cli._common import (add_model_arguments, add_options, add_param_option, checked_params,
                              describe_params, emit_json, model_spec, parse_params)
 from numerics._show import multipliers_text
+from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = sub.add_parser("cycle", help="limit cycle of the full equation by shooting",
-                       description="Find the periodic orbit of x'' + omega0^2 x = mu F(x, x') "
-                                   "by Newton's method on the return map to x' = 0, x > 0, "
-                                   "with Floquet multipliers and the dissipation per cycle "
-                                   "(paper eqs. 10-11).")
+    p = command(
+        sub, "cycle",
+        "Find the periodic orbit of x'' + omega0^2 x = mu F(x, x') "
+        "by Newton's method on the return map to x' = 0, x > 0, "
+        "with Floquet multipliers and the dissipation per cycle "
+        "(paper eqs. 10-11).")
     add_model_arguments(p, "vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, "
                            "duffing-1-3, quadratic-1-2", coupled=True)
     add_param_option(p)
@@ -26,7 +28,7 @@ def register(sub) -> None:
                         "within [100, 4000]; 0 shoots from --start itself)")
     p.add_argument("--digits", type=int, default=None,
                    help="also compute period and amplitudes to N digits (mpmath Taylor series)")
-    p.add_argument("--rtol", type=float, default=1e-12, help="integrator tolerance (1e-12)")
+    add_options(p, "rtol", rtol=dict(default=1e-12, help="integrator tolerance (1e-12)"))
     p.add_argument("--method", default="auto",
                    choices=["auto", "compiled", "LSODA", "DOP853", "Radau", "BDF"],
                    help="integrator of the shooting: auto (compiled DOP853 unless stiff, then "
@@ -36,7 +38,7 @@ def register(sub) -> None:
     p.add_argument("--all", action="store_true",
                    help="every cycle the energy-balance averaging predicts (stable and "
                         "unstable, on every annulus), each confirmed by shooting")
-    p.add_argument("--json", action="store_true", help="print JSON")
+    add_options(p, "json")
     p.set_defaults(func=run)
 
 

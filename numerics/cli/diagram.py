@@ -13,29 +13,29 @@ from __future__ import annotations
 import argparse
 import sys
 
-from kbm.cli._common import add_model_arguments, add_param_option, emit_json, model_spec
+from kbm.cli._common import (add_model_arguments, add_options, add_param_option, emit_json,
+                             model_spec)
+from numerics.cli._options import add_ensemble_arguments, command
 
 
 def register(sub) -> None:
-    p = sub.add_parser(
-        "diagram", help="bifurcation diagram in two parameters: curves, codim-2 points, "
-                        "averaged vs true",
-        description="Continue the codim-1 bifurcation curves in the plane of two parameters "
-                    "(Hopf points and folds of equilibria, folds of cycles, homoclinic and "
-                    "heteroclinic connections; forced and coupled systems: folds, period "
-                    "doublings, Neimark-Sacker curves), locate their codim-2 points "
-                    "(Bogdanov-Takens, Bautin, cusp, ends of curves on others) and draw the "
-                    "averaged curves on the same axes.  Every point of a true curve is "
-                    "converged (a homoclinic point: the manifolds' gap below 1e-10).")
+    p = command(
+        sub, "diagram",
+        "Continue the codim-1 bifurcation curves in the plane of two parameters "
+        "(Hopf points and folds of equilibria, folds of cycles, homoclinic and "
+        "heteroclinic connections; forced and coupled systems: folds, period "
+        "doublings, Neimark-Sacker curves), locate their codim-2 points "
+        "(Bogdanov-Takens, Bautin, cusp, ends of curves on others) and draw the "
+        "averaged curves on the same axes.  Every point of a true curve is "
+        "converged (a homoclinic point: the manifolds' gap below 1e-10).")
     add_model_arguments(p, "sedf, vdp, ... or --rhs; forced: duffing-forced, ...; coupled: "
                            "coupled-vdp, ...", coupled=True)
     add_param_option(p)
-    p.add_argument("--vary", action="append", default=[], metavar="NAME=FROM:TO",
-                   help="the two axes and their ranges, e.g. --vary Delta=0:6 --vary "
-                        "beta=0.3:1.6 (the first is the horizontal axis)")
-    p.add_argument("--order", "-n", type=int, default=None,
-                   help="highest averaged order (one degree of freedom with mu an axis: KBM "
-                        "orders 1..N, default 3; the energy balance is order 1)")
+    add_options(p, "vary", "order", vary=dict(
+        help="the two axes and their ranges, e.g. --vary Delta=0:6 --vary beta=0.3:1.6 (the "
+             "first is the horizontal axis)"), order=dict(
+        help="highest averaged order (one degree of freedom with mu an axis: KBM orders 1..N, "
+             "default 3; the energy balance is order 1)"))
     p.add_argument("--grid", default="25,9", metavar="NA,NB",
                    help="points of the scans for the curves' starts on each axis (default "
                         "25,9)")
@@ -44,14 +44,13 @@ def register(sub) -> None:
     p.add_argument("--max-points", type=int, default=400, metavar="N",
                    help="points per direction of each curve at most (default 400)")
     p.add_argument("--no-averaged", action="store_true", help="leave out the averaged curves")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.add_argument("--out", metavar="DIR", help="write diagram.json and the figure "
-                                                "diagram-MODEL.png into DIR")
-    p.add_argument("--store", metavar="DIR", help="keep every curve's points in DIR as they "
-                                                  "are found (a stopped run can be resumed)")
-    p.add_argument("--resume", action="store_true",
-                   help="with --store: continue the stored run (finished curves are read "
-                        "back, an interrupted one continued from its last point)")
+    add_options(p, "json", "out", out=dict(
+        help="write diagram.json and the figure diagram-MODEL.png into DIR"))
+    add_ensemble_arguments(p, "store", "resume", store=dict(
+        metavar="DIR", help="keep every curve's points in DIR as they are found (a stopped run "
+                            "can be resumed)"), resume=dict(
+        help="with --store: continue the stored run (finished curves are read back, an "
+             "interrupted one continued from its last point)"))
     p.set_defaults(func=run)
 
 

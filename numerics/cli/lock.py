@@ -4,39 +4,40 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_model_arguments, add_param_option, emit_json
+from kbm.cli._common import add_model_arguments, add_options, add_param_option, emit_json
+from numerics.cli._options import command
 
 #: the names a coupling parameter goes by (the others varied are detunings)
 COUPLINGS = ("c", "k", "kappa")
 
 
 def register(sub) -> None:
-    p = sub.add_parser("lock", help="locking region of coupled oscillators: averaged vs true",
-                       description="The edges of the frequency-locking region of a coupled "
-                                   "system with one internal resonance (coupled-vdp): from the "
-                                   "averaged slow flow at orders 1..N (the fold of its locked "
-                                   "fixed point) and from the true locked cycle (where it "
-                                   "ceases to exist, by continuation and bisection).")
+    p = command(
+        sub, "lock",
+        "The edges of the frequency-locking region of a coupled "
+        "system with one internal resonance (coupled-vdp): from the "
+        "averaged slow flow at orders 1..N (the fold of its locked "
+        "fixed point) and from the true locked cycle (where it "
+        "ceases to exist, by continuation and bisection).")
     add_model_arguments(p, "a coupled built-in with one internal resonance: coupled-vdp",
                         coupled=True)
     p.add_argument("--internal", action="append", default=[], metavar="P:Q",
                    help="with --rhs: the declared resonance (e.g. 1:1); F not polynomial "
                         "(sin, tanh coupling): the averaged flow is order 1, numeric")
     add_param_option(p)
-    p.add_argument("--vary", action="append", required=True, metavar="NAME=FROM:TO",
-                   help="the detuning and the interval its edges are looked for in (e.g. "
-                        "--vary sigma=-1:1); a second --vary gives the coupling's values "
-                        "(c=0.05:0.5 for --points values, c=0.05:0.5:N, or c=0.1,0.2,0.4), "
-                        "else the coupling is the -p value")
-    p.add_argument("--order", "-n", type=int, default=None,
-                   help="highest averaged order (default 2, or 1 for F not polynomial; "
-                        "orders 1..N are given)")
+    add_options(p, "vary", "order", vary=dict(
+        required=True, default=None,
+        help="the detuning and the interval its edges are looked for in (e.g. --vary "
+             "sigma=-1:1); a second --vary gives the coupling's values (c=0.05:0.5 for "
+             "--points values, c=0.05:0.5:N, or c=0.1,0.2,0.4), else the coupling is the -p "
+             "value"), order=dict(
+        help="highest averaged order (default 2, or 1 for F not polynomial; orders 1..N are "
+             "given)"))
     p.add_argument("--points", type=int, default=7,
                    help="coupling values on the second --vary range (default 7)")
     p.add_argument("--tol", type=float, default=1e-7,
                    help="bisection bracket of the true edges (default 1e-7)")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.add_argument("--out", metavar="DIR", help="write lock.json and the tongue figure lock.png")
+    add_options(p, "json", "out", out=dict(help="write lock.json and the tongue figure lock.png"))
     p.set_defaults(func=run)
 
 

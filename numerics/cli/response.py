@@ -9,22 +9,22 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_param_option, emit_json
+from kbm.cli._common import add_options, add_param_option, emit_json
 from numerics.cli._forced_args import (amplitude_window, checked_values, forced_model,
                                        sigma_range)
 from numerics._show import multipliers_text
+from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = sub.add_parser(
-        "response", help="frequency-response curve of a forced oscillator (KBM near a "
-                         "resonance, checked by shooting)",
-        description="x'' + omega0^2 x = mu F(x, x', theta), theta = nu t, "
-                    "nu = (p/q) omega0 + mu sigma: the slow flow of the forced KBM expansion "
-                    "to order N, its fixed points (stable and unstable) followed in sigma with "
-                    "the folds (jump points) and the backbone, next to the true periodic "
-                    "responses of period 2 pi p/nu by shooting and pseudo-arclength "
-                    "continuation with Floquet multipliers.")
+    p = command(
+        sub, "response",
+        "x'' + omega0^2 x = mu F(x, x', theta), theta = nu t, "
+        "nu = (p/q) omega0 + mu sigma: the slow flow of the forced KBM expansion "
+        "to order N, its fixed points (stable and unstable) followed in sigma with "
+        "the folds (jump points) and the backbone, next to the true periodic "
+        "responses of period 2 pi p/nu by shooting and pseudo-arclength "
+        "continuation with Floquet multipliers.")
     p.add_argument("model", nargs="?",
                    help="a forced model (duffing-forced, duffing-super, duffing-super-hard, "
                         "duffing-sub-hard, mathieu, vdp-forced, parametric, mathieu-2, "
@@ -53,8 +53,9 @@ def register(sub) -> None:
                    help="the declared resonance nu ~ (p/q) omega0 (1/1 primary, 1/3 "
                         "superharmonic, 3 subharmonic, 2 parametric); default the model's")
     add_param_option(p)
-    p.add_argument("--vary", metavar="sigma=FROM:TO[:N]",
-                   help="the detuning range and about N points per branch (default 400)")
+    add_options(p, "vary", vary=dict(
+        action="store", default=None, metavar="sigma=FROM:TO[:N]",
+        help="the detuning range and about N points per branch (default 400)"))
     p.add_argument("--detuning", type=float, metavar="SIGMA",
                    help="instead of --vary: every steady response at this one detuning")
     p.add_argument("--nu", metavar="VALUE",
@@ -72,8 +73,8 @@ def register(sub) -> None:
                         "slider-cdc, sin(k*x + theta)) also the interval of the numeric "
                         "forced backend (default 0.05*amax:amax)")
     p.add_argument("--no-numeric", action="store_true", help="the analytic curve only")
-    p.add_argument("--out", metavar="DIR", help="write the figure response.png into DIR "
-                                                "(convergence.png with --convergence)")
+    add_options(p, "out", out=dict(help="write the figure response.png into DIR "
+                                        "(convergence.png with --convergence)"))
     p.add_argument("--convergence", metavar="MU1,MU2,...",
                    help="convergence study instead of the curve: the error of each KBM order "
                         "1..N against the true periodic response (shooting) for these values "
@@ -87,7 +88,7 @@ def register(sub) -> None:
     p.add_argument("--start", metavar="X1,..,XDOT1,..",
                    help="coupled systems: the state to start the branch from (default: the "
                         "attracting response after a transient from x_i = 1)")
-    p.add_argument("--json", action="store_true", help="print JSON")
+    add_options(p, "json")
     p.set_defaults(func=run)
 
 

@@ -18,13 +18,10 @@ from ._common import (add_command, add_model_arguments, add_options, add_param_o
 
 
 def register(sub) -> None:
-    p = add_command(
-        sub, "derive",
-        "Derive the Krylov-Bogoliubov-Mitropolsky expansion of "
-        "x'' + omega0^2 x = mu F(x, x') to order N: symbolic for "
-        "polynomial F (any order) and sin/cos of x (order <= 2); "
-        "evaluated at numeric parameters on --a-range above that; "
-        "with --numeric for any smooth F.")
+    p = add_command(sub, "derive", "Derive the Krylov-Bogoliubov-Mitropolsky expansion of x'' + "
+                    "omega0^2 x = mu F(x, x') to order N: symbolic for polynomial F (any order) "
+                    "and sin/cos of x (order <= 2); evaluated at numeric parameters on --a-range "
+                    "above that; with --numeric for any smooth F.")
     from ..models import model_names
 
     from ..coupled import coupled_model_names

@@ -10,12 +10,10 @@ from ._common import add_command, add_options, add_param_option, emit_json
 
 
 def register(sub) -> None:
-    p = add_command(
-        sub, "series",
-        "Expand the limit-cycle frequency omega* and first-harmonic "
-        "amplitude a* in powers of mu: exact rationals (to mu^200), or "
-        "with --float in floating point to high order (to mu^1000), "
-        "with the radius of convergence and Pade resummation.")
+    p = add_command(sub, "series", "Expand the limit-cycle frequency omega* and first-harmonic "
+                    "amplitude a* in powers of mu: exact rationals (to mu^200), or with --float "
+                    "in floating point to high order (to mu^1000), with the radius of convergence "
+                    "and Pade resummation.")
     p.add_argument("model", nargs="?", help="built-in model with polynomial F (e.g. vdp)")
     p.add_argument("--rhs", metavar="EXPR", help="your own polynomial F")
     p.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")

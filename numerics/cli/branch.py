@@ -11,13 +11,11 @@ from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = command(
-        sub, "branch",
-        "Follow every limit cycle found at the start value through the range of "
-        "one parameter by pseudo-arclength continuation of the shooting solution "
-        "(stable and unstable cycles, Floquet multipliers at each point), with "
-        "folds of cycles, Hopf ends and homoclinic ends located, next to the "
-        "roots of the KBM amplitude equation and of the energy balance.")
+    p = command(sub, "branch", "Follow every limit cycle found at the start value through the "
+                "range of one parameter by pseudo-arclength continuation of the shooting solution "
+                "(stable and unstable cycles, Floquet multipliers at each point), with folds of "
+                "cycles, Hopf ends and homoclinic ends located, next to the roots of the KBM "
+                "amplitude equation and of the energy balance.")
     add_model_arguments(p, "vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, sedf-dimer, "
                            "...", coupled=True)
     add_param_option(p)

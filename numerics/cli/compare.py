@@ -10,12 +10,10 @@ from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = command(
-        sub, "compare",
-        "Compare the limit cycle predicted by the KBM expansion of each order "
-        "(first-harmonic amplitude, maximum of x, frequency, third harmonic, "
-        "Floquet multiplier, dissipation over the reconstructed cycle) with the "
-        "cycle computed by shooting.")
+    p = command(sub, "compare", "Compare the limit cycle predicted by the KBM expansion of each "
+                "order (first-harmonic amplitude, maximum of x, frequency, third harmonic, "
+                "Floquet multiplier, dissipation over the reconstructed cycle) with the cycle "
+                "computed by shooting.")
     add_model_arguments(p)
     add_param_option(p)
     p.add_argument("--orders", default="1,2", help="comma-separated KBM orders (default 1,2)")

@@ -11,12 +11,9 @@ from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = command(
-        sub, "cycle",
-        "Find the periodic orbit of x'' + omega0^2 x = mu F(x, x') "
-        "by Newton's method on the return map to x' = 0, x > 0, "
-        "with Floquet multipliers and the dissipation per cycle "
-        "(paper eqs. 10-11).")
+    p = command(sub, "cycle", "Find the periodic orbit of x'' + omega0^2 x = mu F(x, x') by "
+                "Newton's method on the return map to x' = 0, x > 0, with Floquet multipliers and "
+                "the dissipation per cycle (paper eqs. 10-11).")
     add_model_arguments(p, "vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, "
                            "duffing-1-3, quadratic-1-2", coupled=True)
     add_param_option(p)

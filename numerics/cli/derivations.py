@@ -10,10 +10,8 @@ from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = command(
-        sub, "derivations",
-        "Write the engine's derivations (sedf, cdc, van der Pol, "
-        "Duffing, limit-cycle series, errata table) as LaTeX.")
+    p = command(sub, "derivations", "Write the engine's derivations (sedf, cdc, van der Pol, "
+                "Duffing, limit-cycle series, errata table) as LaTeX.")
     p.add_argument("--out", default="derivations", help="folder (default: derivations)")
     p.add_argument("--no-evidence", action="store_true",
                    help="leave out the errata table (it needs numerical limit cycles)")

@@ -19,15 +19,13 @@ from numerics.cli._options import add_ensemble_arguments, command
 
 
 def register(sub) -> None:
-    p = command(
-        sub, "diagram",
-        "Continue the codim-1 bifurcation curves in the plane of two parameters "
-        "(Hopf points and folds of equilibria, folds of cycles, homoclinic and "
-        "heteroclinic connections; forced and coupled systems: folds, period "
-        "doublings, Neimark-Sacker curves), locate their codim-2 points "
-        "(Bogdanov-Takens, Bautin, cusp, ends of curves on others) and draw the "
-        "averaged curves on the same axes.  Every point of a true curve is "
-        "converged (a homoclinic point: the manifolds' gap below 1e-10).")
+    p = command(sub, "diagram", "Continue the codim-1 bifurcation curves in the plane of two "
+                "parameters (Hopf points and folds of equilibria, folds of cycles, homoclinic and "
+                "heteroclinic connections; forced and coupled systems: folds, period doublings, "
+                "Neimark-Sacker curves), locate their codim-2 points (Bogdanov-Takens, Bautin, "
+                "cusp, ends of curves on others) and draw the averaged curves on the same axes.  "
+                "Every point of a true curve is converged (a homoclinic point: the manifolds' gap "
+                "below 1e-10).")
     add_model_arguments(p, "sedf, vdp, ... or --rhs; forced: duffing-forced, ...; coupled: "
                            "coupled-vdp, ...", coupled=True)
     add_param_option(p)

@@ -7,17 +7,14 @@ from numerics.cli._options import add_ensemble_arguments, command
 
 
 def register(sub) -> None:
-    p = command(
-        sub, "escape",
-        "The rate of escape from the well at the origin of x'' + ... = sqrt(2 D) "
-        "xi(t) (unit mass; kT = D/mu for linear damping mu): 1/MFPT of the "
-        "averaged energy diffusion (energy-envelope stochastic averaging, "
-        "underdamped regime), Kramers' low-friction rate and the Mel'nikov-"
-        "Meshkov rate for linear damping, against first passages of simulated "
-        "trajectories started at the well bottom (escape: |x| reaches the saddle "
-        "bounding the well).  Where the expected cost of the simulation exceeds "
-        "--budget steps the simulation is refused with the estimate and the "
-        "averaged answer is given alone.")
+    p = command(sub, "escape", "The rate of escape from the well at the origin of x'' + ... = "
+                "sqrt(2 D) xi(t) (unit mass; kT = D/mu for linear damping mu): 1/MFPT of the "
+                "averaged energy diffusion (energy-envelope stochastic averaging, underdamped "
+                "regime), Kramers' low-friction rate and the Mel'nikov-Meshkov rate for linear "
+                "damping, against first passages of simulated trajectories started at the well "
+                "bottom (escape: |x| reaches the saddle bounding the well).  Where the expected "
+                "cost of the simulation exceeds --budget steps the simulation is refused with the "
+                "estimate and the averaged answer is given alone.")
     p.add_argument("model", help="an autonomous model with a well at the origin bounded by "
                                  "saddles (cdc, sedf at v = 0); the noise as -p D=VALUE or as "
                                  "the temperature -p T=VALUE (T = kT = D/mu)")

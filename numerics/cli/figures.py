@@ -10,11 +10,9 @@ from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = command(
-        sub, "figures",
-        "Write the paper's Figs. 2-6 and the comparison, branch, "
-        "forced-response and friction figures (PNG and PDF) into "
-        "--out; --list names them, --only picks some.")
+    p = command(sub, "figures", "Write the paper's Figs. 2-6 and the comparison, branch, "
+                "forced-response and friction figures (PNG and PDF) into --out; --list names "
+                "them, --only picks some.")
     p.add_argument("--out", default="figures", help="folder (default: figures)")
     p.add_argument("--only", nargs="*", default=None, metavar="NAME",
                    help="figure names (default: all; see --list)")

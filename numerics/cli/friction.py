@@ -16,18 +16,15 @@ __all__ = ["register", "run", "parse_axis", "MAX_POINTS"]
 
 
 def register(sub) -> None:
-    p = command(
-        sub, "friction",
-        "The steady sliding state of a slider pulled at velocity v at every point "
-        "of a grid: mean spring force (kinetic friction), static friction, "
-        "dissipation per unit distance (which equals the mean force in steady "
-        "state), fraction of time stuck, wells per slip, regime; against the "
-        "Prandtl-Tomlinson eta = 2 pi Delta/(Omega^2 lam).  Runs on local "
-        "processes, or on a Dask cluster with --scheduler.  With thermal noise "
-        "sqrt(2 D) xi (-p D=VALUE, or --vary D=... or T=... with kT = D/mu) an "
-        "ensemble of Langevin trajectories per point gives the mean and slip "
-        "forces with standard errors.  Defaults: mu = 0.1, Omega = 1, lam = 1 "
-        "(the paper's).")
+    p = command(sub, "friction", "The steady sliding state of a slider pulled at velocity v at "
+                "every point of a grid: mean spring force (kinetic friction), static friction, "
+                "dissipation per unit distance (which equals the mean force in steady state), "
+                "fraction of time stuck, wells per slip, regime; against the Prandtl-Tomlinson "
+                "eta = 2 pi Delta/(Omega^2 lam).  Runs on local processes, or on a Dask cluster "
+                "with --scheduler.  With thermal noise sqrt(2 D) xi (-p D=VALUE, or --vary D=... "
+                "or T=... with kT = D/mu) an ensemble of Langevin trajectories per point gives "
+                "the mean and slip forces with standard errors.  Defaults: mu = 0.1, Omega = 1, "
+                "lam = 1 (the paper's).")
     p.add_argument("model",
                    help="sedf_comoving (SEDF with the self-excitation attached to the stage; "
                         "has steady states), cdc (eq. 12) or sedf (the paper's eq. 3, whose "

@@ -12,13 +12,10 @@ COUPLINGS = ("c", "k", "kappa")
 
 
 def register(sub) -> None:
-    p = command(
-        sub, "lock",
-        "The edges of the frequency-locking region of a coupled "
-        "system with one internal resonance (coupled-vdp): from the "
-        "averaged slow flow at orders 1..N (the fold of its locked "
-        "fixed point) and from the true locked cycle (where it "
-        "ceases to exist, by continuation and bisection).")
+    p = command(sub, "lock", "The edges of the frequency-locking region of a coupled system with "
+                "one internal resonance (coupled-vdp): from the averaged slow flow at orders 1..N "
+                "(the fold of its locked fixed point) and from the true locked cycle (where it "
+                "ceases to exist, by continuation and bisection).")
     add_model_arguments(p, "a coupled built-in with one internal resonance: coupled-vdp",
                         coupled=True)
     p.add_argument("--internal", action="append", default=[], metavar="P:Q",

@@ -10,16 +10,14 @@ from numerics.cli._options import add_ensemble_arguments, command
 
 
 def register(sub) -> None:
-    p = command(
-        sub, "noise",
-        "The stationary state of x'' + ... = sqrt(2 D) xi(t) (unit mass, <xi(t) "
-        "xi(t')> = delta(t - t'); kT = D/mu for linear damping mu): the moments "
-        "<a^2> (a^2 = x^2 + (x'/omega0)^2) and <x^2> and a density, predicted by "
-        "stochastic averaging (the amplitude for weakly nonlinear models, the "
-        "energy envelope for the sliders' strong potential) and estimated from "
-        "an ensemble of Langevin trajectories (weak order 2, one seed per "
-        "trajectory spawned from --seed) with standard errors.  A linearly damped "
-        "model also gets the exact Boltzmann <x^2>.")
+    p = command(sub, "noise", "The stationary state of x'' + ... = sqrt(2 D) xi(t) (unit mass, "
+                "<xi(t) xi(t')> = delta(t - t'); kT = D/mu for linear damping mu): the moments "
+                "<a^2> (a^2 = x^2 + (x'/omega0)^2) and <x^2> and a density, predicted by "
+                "stochastic averaging (the amplitude for weakly nonlinear models, the energy "
+                "envelope for the sliders' strong potential) and estimated from an ensemble of "
+                "Langevin trajectories (weak order 2, one seed per trajectory spawned from "
+                "--seed) with standard errors.  A linearly damped model also gets the exact "
+                "Boltzmann <x^2>.")
     p.add_argument("model", help="a built-in model (vdp, duffing, rayleigh, linear_damping, "
                                  "cdc, sedf, sedf_comoving); the noise as -p D=VALUE or as the "
                                  "temperature -p T=VALUE (T = kT = D/mu)")

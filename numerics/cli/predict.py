@@ -10,14 +10,12 @@ from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = command(
-        sub, "predict",
-        "List every limit cycle predicted analytically: by averaging about the "
-        "conservative orbit of x'' + g(x) = 0 with only the damping as "
-        "perturbation (--method energy; order 1 is the energy balance "
-        "Gamma(E) = 0, the paper's eq. 10), or by classical KBM (--method kbm). "
-        "JSON key 'cycles': amplitude_max, amplitude_min, "
-        "amplitude_first_harmonic, period, frequency, energy, stable, annulus.")
+    p = command(sub, "predict", "List every limit cycle predicted analytically: by averaging "
+                "about the conservative orbit of x'' + g(x) = 0 with only the damping as "
+                "perturbation (--method energy; order 1 is the energy balance Gamma(E) = 0, the "
+                "paper's eq. 10), or by classical KBM (--method kbm). JSON key 'cycles': "
+                "amplitude_max, amplitude_min, amplitude_first_harmonic, period, frequency, "
+                "energy, stable, annulus.")
     add_model_arguments(p)
     p.add_argument("--potential", metavar="EXPR", default=None,
                    help="potential V(x) of the conservative part (energy method; default: "

@@ -17,14 +17,11 @@ from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = command(
-        sub, "response",
-        "x'' + omega0^2 x = mu F(x, x', theta), theta = nu t, "
-        "nu = (p/q) omega0 + mu sigma: the slow flow of the forced KBM expansion "
-        "to order N, its fixed points (stable and unstable) followed in sigma with "
-        "the folds (jump points) and the backbone, next to the true periodic "
-        "responses of period 2 pi p/nu by shooting and pseudo-arclength "
-        "continuation with Floquet multipliers.")
+    p = command(sub, "response", "x'' + omega0^2 x = mu F(x, x', theta), theta = nu t, nu = (p/q) "
+                "omega0 + mu sigma: the slow flow of the forced KBM expansion to order N, its "
+                "fixed points (stable and unstable) followed in sigma with the folds (jump "
+                "points) and the backbone, next to the true periodic responses of period 2 pi "
+                "p/nu by shooting and pseudo-arclength continuation with Floquet multipliers.")
     p.add_argument("model", nargs="?",
                    help="a forced model (duffing-forced, duffing-super, duffing-super-hard, "
                         "duffing-sub-hard, mathieu, vdp-forced, parametric, mathieu-2, "

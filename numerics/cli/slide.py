@@ -9,13 +9,10 @@ from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = command(
-        sub, "slide",
-        "Simulate x'' + D(x, x') + Delta sin(2 pi x/lam) + "
-        "Omega^2 (x - v t) = 0 from x = x' = 0 and analyse the "
-        "stick-slip motion (slips, static and kinetic friction, "
-        "dissipation, energy audit).  Defaults as in the paper: "
-        "mu = 0.1, Omega = 1, lam = 1.")
+    p = command(sub, "slide", "Simulate x'' + D(x, x') + Delta sin(2 pi x/lam) + Omega^2 (x - v "
+                "t) = 0 from x = x' = 0 and analyse the stick-slip motion (slips, static and "
+                "kinetic friction, dissipation, energy audit).  Defaults as in the paper: mu = "
+                "0.1, Omega = 1, lam = 1.")
     p.add_argument("model", choices=["sedf", "cdc", "sedf_comoving"],
                    help="sedf (eq. 3), cdc (eq. 12) or sedf_comoving (self-excitation attached "
                         "to the stage)")

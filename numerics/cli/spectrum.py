@@ -17,16 +17,14 @@ from numerics.cli._options import add_ensemble_arguments, command
 
 
 def register(sub) -> None:
-    p = command(
-        sub, "spectrum",
-        "The spectrum of x'' + omega0^2 x = mu F + sqrt(2 D) xi(t) (unit mass, "
-        "<xi(t) xi(t')> = delta(t - t'); T = D/mu): for a self-excited model the "
-        "linewidth (HWHM of the fundamental, angular: phase diffusion with the "
-        "amplitude-phase coupling, Lax), the mean frequency and the PSD of x, by "
-        "stochastic averaging and from an ensemble of Langevin trajectories "
-        "(Welch PSD with a confidence band, phase-variance growth, one seed per "
-        "trajectory spawned from --seed); for a forced model the noise spectra "
-        "about its stable states; for coupled oscillators the phase-slip rate.")
+    p = command(sub, "spectrum", "The spectrum of x'' + omega0^2 x = mu F + sqrt(2 D) xi(t) (unit "
+                "mass, <xi(t) xi(t')> = delta(t - t'); T = D/mu): for a self-excited model the "
+                "linewidth (HWHM of the fundamental, angular: phase diffusion with the "
+                "amplitude-phase coupling, Lax), the mean frequency and the PSD of x, by "
+                "stochastic averaging and from an ensemble of Langevin trajectories (Welch PSD "
+                "with a confidence band, phase-variance growth, one seed per trajectory spawned "
+                "from --seed); for a forced model the noise spectra about its stable states; for "
+                "coupled oscillators the phase-slip rate.")
     add_model_arguments(p, "vdp, rayleigh, sedf, ...; forced: duffing-forced, ...; coupled: "
                            "coupled-vdp", coupled=True)
     add_param_option(p)

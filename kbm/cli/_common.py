@@ -19,7 +19,7 @@ from ..errors import ParameterError
 from ..strict_json import finite
 
 __all__ = ["OPTIONS", "add_command", "add_options", "add_param_option", "parse_params",
-           "checked_params", "emit_json", "add_model_arguments", "model_spec",
+           "checked_params", "emit_json", "write_json", "add_model_arguments", "model_spec",
            "check_model_flags", "single_well"]
 
 
@@ -135,6 +135,19 @@ def emit_json(obj: Any) -> None:
     become ``null``, so that every JSON parser reads it)."""
     json.dump(finite(obj), sys.stdout, indent=2, allow_nan=False)
     sys.stdout.write("\n")
+
+
+def write_json(path: Any, obj: Any) -> Any:
+    """Write ``obj`` to ``path`` as :func:`emit_json` prints it; returns the path.
+
+    Raises
+    ------
+    kbm.errors.OutputError
+        If the file cannot be written (with the reason).
+    """
+    from ..files import write_file
+
+    return write_file(path, json.dumps(finite(obj), indent=2, allow_nan=False) + "\n")
 
 
 def add_model_arguments(parser: argparse.ArgumentParser,

@@ -19,7 +19,8 @@ from typing import Any
 
 from kbm.cli._common import add_options
 
-__all__ = ["ENSEMBLE", "command", "add_ensemble_arguments", "check_ensemble", "stored"]
+__all__ = ["ENSEMBLE", "command", "add_noisy_model", "add_ensemble_arguments", "check_ensemble",
+           "stored"]
 
 #: the options of an ensemble of trajectories: name -> (flags, argparse keywords)
 ENSEMBLE: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
@@ -46,6 +47,14 @@ def command(sub, name: str, description: str) -> argparse.ArgumentParser:
     from numerics.cli import SUMMARIES
 
     return add_command(sub, name, description, SUMMARIES)
+
+
+def add_noisy_model(parser: argparse.ArgumentParser, models: str) -> None:
+    """Add the model (``models``: which it may be) of a command with noise and ``-p``, whose
+    noise is ``-p D=VALUE`` or the temperature ``-p T=VALUE`` (``T = kT = D/mu``)."""
+    parser.add_argument("model", help=f"{models}; the noise as -p D=VALUE or as the "
+                                      "temperature -p T=VALUE (T = kT = D/mu)")
+    add_options(parser, "param")
 
 
 def add_ensemble_arguments(parser: argparse.ArgumentParser, *names: str,

@@ -225,18 +225,13 @@ def _figure_slips(rows, model, name, out: Path) -> Path:
 
 
 def _emit(args, rep, lines) -> int:
+    from kbm.cli._common import emit_json, write_json
+
     if _opt(args, "out"):
-        import json
-
-        from kbm.strict_json import finite
-
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
-        (out / f"spectrum-{rep['model']}.json").write_text(
-            json.dumps(finite(rep), indent=2, allow_nan=False) + "\n")
+        write_json(out / f"spectrum-{rep['model']}.json", rep)
     if _opt(args, "json", False):
-        from kbm.cli._common import emit_json
-
         emit_json(rep)
         return 0
     print("\n".join(lines))

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from kbm.cli._common import (add_model_arguments, add_options, add_param_option, emit_json,
+from kbm.cli._common import (add_model_arguments, add_options, emit_json,
                              model_spec, single_well)
 from numerics.cli._options import command
 
@@ -18,8 +18,7 @@ def register(sub) -> None:
                 "amplitude equation and of the energy balance.")
     add_model_arguments(p, "vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, sedf-dimer, "
                            "...", coupled=True)
-    add_param_option(p)
-    add_options(p, "vary", vary=dict(
+    add_options(p, "param", "vary", vary=dict(
         action="store", required=True, default=None,
         help="the parameter and its range, e.g. --vary Delta=0:4; the branch starts at --param "
              "NAME=VALUE if given, else at FROM"))

@@ -13,7 +13,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from kbm.cli._common import (add_model_arguments, add_options, add_param_option, emit_json,
+from kbm.cli._common import (add_model_arguments, add_options, emit_json,
                              model_spec)
 from numerics.cli._options import add_ensemble_arguments, command
 
@@ -28,8 +28,7 @@ def register(sub) -> None:
                 "below 1e-10).")
     add_model_arguments(p, "sedf, vdp, ... or --rhs; forced: duffing-forced, ...; coupled: "
                            "coupled-vdp, ...", coupled=True)
-    add_param_option(p)
-    add_options(p, "vary", "order", vary=dict(
+    add_options(p, "param", "vary", "order", vary=dict(
         help="the two axes and their ranges, e.g. --vary Delta=0:6 --vary beta=0.3:1.6 (the "
              "first is the horizontal axis)"), order=dict(
         help="highest averaged order (one degree of freedom with mu an axis: KBM orders 1..N, "

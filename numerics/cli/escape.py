@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from kbm.cli._common import add_options, add_param_option, emit_json, single_well
-from numerics.cli._options import add_ensemble_arguments, command
+from kbm.cli._common import add_options, emit_json, single_well
+from numerics.cli._options import add_ensemble_arguments, add_noisy_model, command
 
 
 def register(sub) -> None:
@@ -15,10 +15,8 @@ def register(sub) -> None:
                 "bottom (escape: |x| reaches the saddle bounding the well).  Where the expected "
                 "cost of the simulation exceeds --budget steps the simulation is refused with the "
                 "estimate and the averaged answer is given alone.")
-    p.add_argument("model", help="an autonomous model with a well at the origin bounded by "
-                                 "saddles (cdc, sedf at v = 0); the noise as -p D=VALUE or as "
-                                 "the temperature -p T=VALUE (T = kT = D/mu)")
-    add_param_option(p)
+    add_noisy_model(p, "an autonomous model with a well at the origin bounded by saddles (cdc, "
+                       "sedf at v = 0)")
     add_ensemble_arguments(p, "trajectories", trajectories=dict(
         default=200, help="simulated trajectories (default 200; at least 20)"))
     p.add_argument("--t-end", type=float, default=None, metavar="T",

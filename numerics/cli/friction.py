@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from kbm.cli._common import add_options, add_param_option, emit_json
+from kbm.cli._common import add_options, emit_json
 from numerics.cli._axes import MAX_POINTS, parse_axis, print_tables
 from numerics.cli._options import add_ensemble_arguments, command
 
@@ -31,8 +31,7 @@ def register(sub) -> None:
                         "damping grows with the distance slid: runaway); or a chain of "
                         "sedf_comoving sliders coupled by springs mu*kappa: sedf-dimer, "
                         "sedf-chain-N (friction per slider, --vary v only)")
-    add_param_option(p)
-    add_options(p, "vary", vary=dict(
+    add_options(p, "param", "vary", vary=dict(
         required=True, default=None, metavar="NAME=FROM:TO[:N|:logN]",
         help="an axis (repeatable, the last varies fastest): v=1e-3:3:log24 (24 log-spaced), "
              "Delta=0.5:3:6 (6 equally spaced), or a list beta=0.5,1,2"))

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_model_arguments, add_options, add_param_option, emit_json
+from kbm.cli._common import add_model_arguments, add_options, emit_json
 from numerics.cli._options import command
 
 #: the names a coupling parameter goes by (the others varied are detunings)
@@ -21,8 +21,7 @@ def register(sub) -> None:
     p.add_argument("--internal", action="append", default=[], metavar="P:Q",
                    help="with --rhs: the declared resonance (e.g. 1:1); F not polynomial "
                         "(sin, tanh coupling): the averaged flow is order 1, numeric")
-    add_param_option(p)
-    add_options(p, "vary", "order", vary=dict(
+    add_options(p, "param", "vary", "order", vary=dict(
         required=True, default=None,
         help="the detuning and the interval its edges are looked for in (e.g. --vary "
              "sigma=-1:1); a second --vary gives the coupling's values (c=0.05:0.5 for "

@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
-from kbm.cli._common import add_options, add_param_option, emit_json
-from numerics.cli._options import add_ensemble_arguments, command
+from kbm.cli._common import add_options, emit_json, write_json
+from numerics.cli._options import add_ensemble_arguments, add_noisy_model, command
 
 
 def register(sub) -> None:
@@ -18,10 +17,8 @@ def register(sub) -> None:
                 "Langevin trajectories (weak order 2, one seed per trajectory spawned from "
                 "--seed) with standard errors.  A linearly damped model also gets the exact "
                 "Boltzmann <x^2>.")
-    p.add_argument("model", help="a built-in model (vdp, duffing, rayleigh, linear_damping, "
-                                 "cdc, sedf, sedf_comoving); the noise as -p D=VALUE or as the "
-                                 "temperature -p T=VALUE (T = kT = D/mu)")
-    add_param_option(p)
+    add_noisy_model(p, "a built-in model (vdp, duffing, rayleigh, linear_damping, cdc, sedf, "
+                       "sedf_comoving)")
     add_ensemble_arguments(p, "trajectories", trajectories=dict(
         default=100, help="independent trajectories (default 100; at least 8)"))
     p.add_argument("--t-end", type=float, default=None, metavar="T",
@@ -91,10 +88,7 @@ def run(args) -> int:
                            fokker_planck=not args.no_fokker_planck, order=args.order,
                            extrapolate=args.extrapolate)
     if args.out:
-        from kbm.strict_json import finite
-
-        (Path(args.out) / f"noise-{args.model}.json").write_text(
-            json.dumps(finite(rep), indent=2, allow_nan=False) + "\n")
+        write_json(Path(args.out) / f"noise-{args.model}.json", rep)
     if args.json:
         emit_json(rep)
         return 0

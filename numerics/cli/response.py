@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_options, add_param_option, emit_json
+from kbm.cli._common import add_options, emit_json
 from numerics.cli._forced_args import (amplitude_window, checked_values, forced_model,
                                        sigma_range)
 from numerics._show import multipliers_text
@@ -49,8 +49,7 @@ def register(sub) -> None:
     p.add_argument("--resonance", metavar="P/Q", default=None,
                    help="the declared resonance nu ~ (p/q) omega0 (1/1 primary, 1/3 "
                         "superharmonic, 3 subharmonic, 2 parametric); default the model's")
-    add_param_option(p)
-    add_options(p, "vary", vary=dict(
+    add_options(p, "param", "vary", vary=dict(
         action="store", default=None, metavar="sigma=FROM:TO[:N]",
         help="the detuning range and about N points per branch (default 400)"))
     p.add_argument("--detuning", type=float, metavar="SIGMA",

@@ -9,10 +9,9 @@ autonomous coupled one to :func:`numerics.cli._spectrum_driven.run_slips` (phase
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
-from kbm.cli._common import add_model_arguments, add_options, add_param_option, emit_json
+from kbm.cli._common import add_model_arguments, add_options, emit_json, write_json
 from numerics.cli._options import add_ensemble_arguments, command
 
 
@@ -27,8 +26,7 @@ def register(sub) -> None:
                 "coupled oscillators the phase-slip rate.")
     add_model_arguments(p, "vdp, rayleigh, sedf, ...; forced: duffing-forced, ...; coupled: "
                            "coupled-vdp", coupled=True)
-    add_param_option(p)
-    add_options(p, "vary", vary=dict(
+    add_options(p, "param", "vary", vary=dict(
         metavar="NAME=FROM:TO[:N]",
         help="forced: the detuning (e.g. sigma=0.5:1.5); coupled: the detuning; self-excited: "
              "D (or T), one run per value (the linewidth-vs-D figure)"))
@@ -151,12 +149,9 @@ def run(args) -> int:
                         for r in reports]
     name = reports[0]["model"]
     if args.out:
-        from kbm.strict_json import finite
-
         out = Path(args.out)
         rep["figures"] = [str(p) for p in write_figures(reports, out, name)]
-        (out / f"spectrum-{name}.json").write_text(
-            json.dumps(finite(rep), indent=2, allow_nan=False) + "\n")
+        write_json(out / f"spectrum-{name}.json", rep)
     if args.json:
         emit_json(rep)
         return 0

@@ -19,7 +19,7 @@ from ..errors import ParameterError
 from ..strict_json import finite
 
 __all__ = ["OPTIONS", "add_command", "add_options", "add_param_option", "parse_params",
-           "checked_params", "emit_json", "write_json", "add_model_arguments", "model_spec",
+           "checked_params", "emit_json", "show", "write_json", "add_model_arguments", "model_spec",
            "check_model_flags", "single_well"]
 
 
@@ -135,6 +135,16 @@ def emit_json(obj: Any) -> None:
     become ``null``, so that every JSON parser reads it)."""
     json.dump(finite(obj), sys.stdout, indent=2, allow_nan=False)
     sys.stdout.write("\n")
+
+
+def show(args: argparse.Namespace, result: Any) -> int:
+    """Print ``result`` as the command line asks: its ``to_json()`` with ``--json``, else its
+    ``table()``; returns the exit status 0."""
+    if args.json:
+        emit_json(result.to_json())
+    else:
+        print(result.table())
+    return 0
 
 
 def write_json(path: Any, obj: Any) -> Any:

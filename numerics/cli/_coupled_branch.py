@@ -18,10 +18,9 @@ def _start(text: str | None, dof: int):
 
     if text is None:
         return None
-    try:
-        start = [float(v) for v in text.split(",")]
-    except ValueError:
-        raise ParameterError(f"--start takes comma-separated numbers, got {text!r}") from None
+    from numerics.cli._params import numbers
+
+    start = numbers(text, "--start")
     if not all(math.isfinite(v) for v in start) or len(start) != 2 * dof:
         raise ParameterError(f"--start needs {2 * dof} finite numbers (x1..x{dof}, "
                              f"xdot1..xdot{dof}), got {text!r}")

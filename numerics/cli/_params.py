@@ -36,7 +36,7 @@ from kbm.errors import ParameterError
 from kbm.params import ParameterNames, names_of, noise_from
 
 __all__ = ["DEFAULT_POINTS", "MAX_POINTS", "Vary", "parse_vary", "given", "check",
-           "noise_params", "open_store", "USAGE"]
+           "noise_params", "open_store", "numbers", "orders", "USAGE"]
 
 #: values of a range without ``:N``
 DEFAULT_POINTS = 8
@@ -147,6 +147,42 @@ def parse_vary(text: str) -> Vary:
     if log and (lo <= 0 or hi <= 0):
         raise ParameterError(f"--vary {name}: a log range needs FROM, TO > 0, got {spec!r}")
     return Vary(name, text, lo, hi, n, log)
+
+
+def numbers(text: str, flag: str) -> list[float]:
+    """The comma-separated numbers of ``flag`` (``--convergence 0.1,0.2``, ``--start``;
+    empty items skipped).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        ``"{flag} takes comma-separated numbers, got {text!r}"``.
+    """
+    try:
+        return [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise ParameterError(f"{flag} takes comma-separated numbers, got {text!r}") from None
+
+
+def orders(text: str, flag: str = "--orders", *, none: bool = False) -> list[int]:
+    """The KBM orders of ``flag`` (``"1,2"``; with ``none``, ``"none"``: none).
+
+    Raises
+    ------
+    kbm.errors.OrderError
+        For an item that is no integer, or no order >= 1.
+    """
+    from kbm.errors import OrderError
+
+    if none and text.strip().lower() == "none":
+        return []
+    try:
+        out = [int(s) for s in text.split(",") if s.strip()]
+    except ValueError:
+        raise OrderError(f"{flag} takes comma-separated integers, got {text!r}") from None
+    if not out or min(out) < 1:
+        raise OrderError(f"{flag} must list orders >= 1, got {text!r}")
+    return out
 
 
 def given(items: Iterable[str]) -> dict[str, str]:

@@ -15,13 +15,10 @@ def convergence_mus(text: str) -> list[float]:
     from kbm.errors import ParameterError
     from numerics.forced.convergence import check_mus
 
+    from numerics.cli._params import numbers
+
     try:
-        mus = [float(v) for v in text.split(",") if v.strip()]
-    except ValueError:
-        raise ParameterError(f"--convergence takes comma-separated numbers, got "
-                             f"{text!r}") from None
-    try:
-        return list(check_mus(mus, minimum=3))
+        return list(check_mus(numbers(text, "--convergence"), minimum=3))
     except ParameterError as exc:
         raise ParameterError(f"--convergence {text}: {exc}") from None
 

@@ -49,24 +49,10 @@ def _vary(text: str) -> tuple[str, float, float]:
     return v.name, a, b
 
 
-def _orders(text: str) -> list[int]:
-    from kbm.errors import OrderError
-
-    if text.strip().lower() == "none":
-        return []
-    try:
-        out = [int(s) for s in text.split(",") if s.strip()]
-    except ValueError:
-        raise OrderError(f"--orders takes comma-separated integers, got {text!r}") from None
-    if not out or min(out) < 1:
-        raise OrderError(f"--orders must list orders >= 1, got {text!r}")
-    return out
-
-
 def run(args: argparse.Namespace) -> int:
     from kbm.errors import ParameterError
     from kbm.params import lookup
-    from numerics.cli._params import check, given, parse_vary
+    from numerics.cli._params import check, given, orders, parse_vary
     from numerics.comparison.diagram import branch_diagram
 
     from kbm.cli.derive import coupled_model, is_coupled
@@ -109,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
                              f"{model.name} has none: its only equilibrium is the origin, "
                              "which is no saddle (F at x' = 0 does not depend on x); drop it")
     d = branch_diagram(spec, params, name, (lo, hi),
-                       orders=_orders(args.orders), energy=not args.no_energy,
+                       orders=orders(args.orders, none=True), energy=not args.no_energy,
                        rtol=args.rtol, max_points=args.max_points,
                        follow_period=args.follow_period)
     followed = any(s.kind == "homoclinic" for b in d.branches for s in b.special)

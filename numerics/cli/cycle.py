@@ -151,6 +151,7 @@ def _run_coupled(args: argparse.Namespace) -> int:
 
     from kbm.cli.derive import coupled_model
     from kbm.errors import ParameterError
+    from numerics.cli._coupled_branch import _start
     from numerics.coupled import coupled_cycle
 
     if args.all or args.digits is not None or args.method != "auto":
@@ -158,23 +159,12 @@ def _run_coupled(args: argparse.Namespace) -> int:
                              "coupled system is shot from a transient (--start, --transient)")
     if not 1e-14 <= args.rtol <= 1e-3:
         raise ParameterError(f"--rtol must be between 1e-14 and 1e-3, got {args.rtol}")
-    start = None
-    if args.start is not None:
-        try:
-            start = [float(v) for v in args.start.split(",")]
-        except ValueError:
-            raise ParameterError(f"--start takes comma-separated numbers, got "
-                                 f"{args.start!r}") from None
-        if not all(math.isfinite(v) for v in start):
-            raise ParameterError(f"--start must be finite numbers, got {args.start!r}")
     if args.transient is not None and not (math.isfinite(args.transient)
                                            and 0 <= args.transient <= 1e6):
         raise ParameterError(f"--transient must be between 0 and 1e6, got {args.transient}")
     model = coupled_model(args)
     given = checked_params(args.param, model)
-    if start is not None and len(start) != 2 * model.dof:
-        raise ParameterError(f"--start needs {2 * model.dof} numbers (x1..x{model.dof}, "
-                             f"xdot1..xdot{model.dof}), got {len(start)}")
+    start = _start(args.start, model.dof)
     if model.forced:
         return _run_forced(model, given, start, args)
     cyc = coupled_cycle(model, given, start=start, transient=args.transient,

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
-from kbm.cli._common import add_options, emit_json
-from numerics.cli._axes import MAX_POINTS, parse_axis, print_tables
+from kbm.cli._common import add_options
+from numerics.cli._axes import MAX_POINTS, emit_maps, parse_axis
 from numerics.cli._options import add_ensemble_arguments, command
 
 __all__ = ["register", "run", "parse_axis", "MAX_POINTS"]
@@ -159,23 +159,16 @@ def run(args: argparse.Namespace) -> int:
                 client.close()
     if args.netcdf:
         _save_netcdf(args.netcdf, first, second)
-    if args.json:
-        data = first.to_json()
-        if second is not None:
-            from numerics.sliding.maps import SliderComparison
+    return emit_maps(args, first, second, _print, _figures, _ratios)
 
-            comp = SliderComparison(first, second)
-            data["against"] = second.to_json()
-            data["force_ratio"] = comp.force_ratio.tolist()
-            data["dissipation_ratio"] = comp.dissipation_ratio.tolist()
-        emit_json(data)
-    else:
-        print_tables(first, second, _print)
-    if args.out:
-        for path in _figures(first, second, Path(args.out)):
-            # with --json, standard output holds the JSON only
-            print(f"wrote {path}", file=sys.stderr if args.json else sys.stdout)
-    return 0
+
+def _ratios(first, second) -> dict:
+    """The ``--against`` ratios of the JSON (:class:`numerics.sliding.maps.SliderComparison`)."""
+    from numerics.sliding.maps import SliderComparison
+
+    comp = SliderComparison(first, second)
+    return {"force_ratio": comp.force_ratio.tolist(),
+            "dissipation_ratio": comp.dissipation_ratio.tolist()}
 
 
 def _print(m) -> None:

@@ -484,3 +484,28 @@ def test_out_json_file_is_the_printed_json(tmp_path, capsys):
     printed = capsys.readouterr().out
     assert (tmp_path / "spectrum-vdp.json").read_text() == printed
     assert json.loads(printed)["figures"]
+
+
+@pytest.mark.parametrize("argv", [
+    COMMANDS["branch"] + ["--max-points", "1"],
+    COMMANDS["diagram"] + ["--max-points", "1"],
+    COMMANDS["branch coupled"] + ["--max-points", "1"],
+])
+def test_a_bounded_option_is_refused_in_one_wording(argv, capsys):
+    """``--max-points`` out of range: the same words from every command (before, ``kbm
+    diagram`` said "must be 2 to 100000" and ``kbm branch`` "must be between 2 and
+    100000"; :func:`numerics.cli._params.within`)."""
+    assert main(argv) == 2
+    assert _err(capsys).endswith("error: --max-points must be between 2 and 100000, got 1")
+
+
+def test_within_names_the_bounds_as_typed():
+    from numerics.cli._params import within
+
+    for value, flag, lo, hi, words in ((0.0, "--rtol", 1e-15, 1e-3, "between 1e-15 and 1e-3"),
+                                       (2e6, "--transient", 0, 1e6, "between 0 and 1e6"),
+                                       (math.nan, "--x-start", None, None, "a finite number")):
+        with pytest.raises(ParameterError, match=f"^{flag} must be {words}, got {value}$"):
+            within(value, flag, lo, hi)
+    within(None, "--digits", 1, 200)  # the option not given
+    within(1e-3, "--rtol", 1e-15, 1e-3)  # a bound is inside

@@ -73,13 +73,12 @@ def check_ensemble(args: argparse.Namespace) -> None:
         Naming the option and the value given.
     """
     from kbm.errors import ParameterError
+    from numerics.cli._params import within
 
     seed = getattr(args, "seed", None)
     if seed is not None and seed < 0:
         raise ParameterError(f"--seed must be >= 0, got {seed}")
-    workers = getattr(args, "workers", None)
-    if workers is not None and not 1 <= workers <= 1024:
-        raise ParameterError(f"--workers must be between 1 and 1024, got {workers}")
+    within(getattr(args, "workers", None), "--workers", 1, 1024)
 
 
 @contextmanager

@@ -36,7 +36,7 @@ from kbm.errors import ParameterError
 from kbm.params import ParameterNames, names_of, noise_from
 
 __all__ = ["DEFAULT_POINTS", "MAX_POINTS", "Vary", "parse_vary", "given", "check",
-           "noise_params", "open_store", "numbers", "orders", "USAGE"]
+           "noise_params", "open_store", "numbers", "orders", "within", "USAGE"]
 
 #: values of a range without ``:N``
 DEFAULT_POINTS = 8
@@ -147,6 +147,35 @@ def parse_vary(text: str) -> Vary:
     if log and (lo <= 0 or hi <= 0):
         raise ParameterError(f"--vary {name}: a log range needs FROM, TO > 0, got {spec!r}")
     return Vary(name, text, lo, hi, n, log)
+
+
+def within(value: float | None, flag: str, lo: float | None = None,
+           hi: float | None = None) -> None:
+    """Refuse the value of the option ``flag`` outside ``[lo, hi]``, or not finite where no
+    bounds are given (a value ``None``, the option not given, passes).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        ``"{flag} must be between {lo} and {hi}, got {value}"`` (``"... must be a finite
+        number ..."`` without bounds).
+    """
+    if value is None:
+        return
+    if lo is None:
+        if not math.isfinite(value):
+            raise ParameterError(f"{flag} must be a finite number, got {value}")
+    elif not lo <= value <= hi:
+        raise ParameterError(f"{flag} must be between {_bound(lo)} and {_bound(hi)}, got "
+                             f"{value}")
+
+
+def _bound(x: float) -> str:
+    """``100000``, ``1e-3``, ``1e6``: a bound as the messages write it."""
+    if float(x).is_integer() and abs(x) < 1e6:
+        return str(int(x))
+    mantissa, exponent = f"{x:e}".split("e")
+    return f"{mantissa.rstrip('0').rstrip('.')}e{int(exponent)}"
 
 
 def numbers(text: str, flag: str) -> list[float]:

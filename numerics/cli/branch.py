@@ -52,7 +52,7 @@ def _vary(text: str) -> tuple[str, float, float]:
 def run(args: argparse.Namespace) -> int:
     from kbm.errors import ParameterError
     from kbm.params import lookup
-    from numerics.cli._params import check, given, orders, parse_vary
+    from numerics.cli._params import check, given, orders, parse_vary, within
     from numerics.comparison.diagram import branch_diagram
 
     from kbm.cli.derive import coupled_model, is_coupled
@@ -82,11 +82,8 @@ def run(args: argparse.Namespace) -> int:
     if args.start is not None:
         raise ParameterError("--start is for coupled systems (a built-in such as coupled-vdp, "
                              "or several --rhs)")
-    if not 1e-14 <= args.rtol <= 1e-4:
-        raise ParameterError(f"--rtol must be between 1e-14 and 1e-4, got {args.rtol}")
-    if not 2 <= args.max_points <= 100000:
-        raise ParameterError(f"--max-points must be between 2 and 100000, got "
-                             f"{args.max_points}")
+    within(args.rtol, "--rtol", 1e-14, 1e-4)
+    within(args.max_points, "--max-points", 2, 100000)
     spec = model_spec(args)
     model = lookup(spec, ("one",)) if isinstance(spec, str) else spec
     check(model, params, [name], start=True)

@@ -48,12 +48,10 @@ def register(sub) -> None:
 
 def _check_modes(args: argparse.Namespace, params: dict) -> None:
     """Refuse flags the chosen mode would ignore (no silently dropped option)."""
-    import math
-
     from kbm.errors import ParameterError
+    from numerics.cli._params import within
 
-    if args.x_start is not None and not math.isfinite(args.x_start):
-        raise ParameterError(f"--x-start must be a finite number, got {args.x_start}")
+    within(args.x_start, "--x-start")
     modes = [f for f, on in (("--errata", args.errata), ("--validity", args.validity),
                              ("--convergence", args.convergence),
                              ("--fixed-delta", args.fixed_delta),

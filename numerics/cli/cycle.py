@@ -40,11 +40,10 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    import math
-
     from kbm.cli.derive import is_coupled
     from kbm.errors import ParameterError
     from numerics import limit_cycle, limit_cycles
+    from numerics.cli._params import within
 
     if is_coupled(args):
         return _run_coupled(args)
@@ -52,12 +51,9 @@ def run(args: argparse.Namespace) -> int:
         raise ParameterError("--start and --transient are for coupled systems; for one degree "
                              "of freedom use --x-start")
 
-    if args.digits is not None and not 1 <= args.digits <= 200:
-        raise ParameterError(f"--digits must be between 1 and 200, got {args.digits}")
-    if not 1e-15 <= args.rtol <= 1e-3:
-        raise ParameterError(f"--rtol must be between 1e-15 and 1e-3, got {args.rtol}")
-    if not math.isfinite(args.x_start):
-        raise ParameterError(f"--x-start must be a finite number, got {args.x_start}")
+    within(args.digits, "--digits", 1, 200)
+    within(args.rtol, "--rtol", 1e-15, 1e-3)
+    within(args.x_start, "--x-start")
     kw = dict(digits=args.digits, rtol=args.rtol, method=args.method)
     params = checked_params(args.param, model_spec(args))
     if args.all:
@@ -147,21 +143,17 @@ def _print_cycle(cyc, digits, args) -> None:
 
 
 def _run_coupled(args: argparse.Namespace) -> int:
-    import math
-
     from kbm.cli.derive import coupled_model
     from kbm.errors import ParameterError
     from numerics.cli._coupled_branch import _start
+    from numerics.cli._params import within
     from numerics.coupled import coupled_cycle
 
     if args.all or args.digits is not None or args.method != "auto":
         raise ParameterError("--all, --digits and --method are for one degree of freedom; a "
                              "coupled system is shot from a transient (--start, --transient)")
-    if not 1e-14 <= args.rtol <= 1e-3:
-        raise ParameterError(f"--rtol must be between 1e-14 and 1e-3, got {args.rtol}")
-    if args.transient is not None and not (math.isfinite(args.transient)
-                                           and 0 <= args.transient <= 1e6):
-        raise ParameterError(f"--transient must be between 0 and 1e6, got {args.transient}")
+    within(args.rtol, "--rtol", 1e-14, 1e-3)
+    within(args.transient, "--transient", 0, 1e6)
     model = coupled_model(args)
     given = checked_params(args.param, model)
     start = _start(args.start, model.dof)

@@ -103,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
 
         return run_driven(args)
     from kbm.params import lookup
-    from numerics.cli._params import check, given
+    from numerics.cli._params import check, given, within
 
     params = given(args.param)
     axes, ranges = _axes(args)
@@ -116,13 +116,11 @@ def run(args: argparse.Namespace) -> int:
         return run_driven(args)
     if "mu" not in params and "mu" not in axes:
         raise ParameterError("give the small parameter: -p mu=VALUE (or vary it)")
-    if not 2 <= args.max_points <= 100000:
-        raise ParameterError(f"--max-points must be 2 to 100000, got {args.max_points}")
+    within(args.max_points, "--max-points", 2, 100000)
     if not 0 < args.x_range <= 1e4:
         raise ParameterError(f"--x-range must be positive (at most 1e4), got {args.x_range}")
     order = 3 if args.order is None else args.order
-    if not 1 <= order <= 4:
-        raise ParameterError(f"--order must be 1 to 4, got {order}")
+    within(order, "--order", 1, 4)
     return _run_autonomous(args, model, params, axes, ranges, order)
 
 

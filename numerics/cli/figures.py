@@ -30,12 +30,10 @@ def run(args: argparse.Namespace) -> int:
     if args.list:
         print("\n".join(FIGURES))
         return 0
-    from kbm.errors import ParameterError
+    from numerics.cli._params import within
     from numerics.paper.figures.friction import friction_figures
 
-    if args.friction_size is not None and not 2 <= args.friction_size <= 32:
-        raise ParameterError(f"--friction-size must be between 2 and 32, got "
-                             f"{args.friction_size}")
+    within(args.friction_size, "--friction-size", 2, 32)
     output_folder(args.out, "--out")  # before any computation
     names = list(FIGURES) if args.only is None else list(args.only)
     import time

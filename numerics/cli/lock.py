@@ -62,6 +62,7 @@ def run(args: argparse.Namespace) -> int:
 
     from kbm.errors import ParameterError
     from kbm.files import output_folder, write_file
+    from numerics.cli._params import within
     from numerics.coupled.locking import locking_region, plot_locking
 
     if len(args.vary) > 2:
@@ -73,12 +74,9 @@ def run(args: argparse.Namespace) -> int:
         model = model.with_internal(args.internal)
     if args.order is None:  # the numeric backend of a smooth F is first order
         args.order = 2 if all(f.is_polynomial(*model.state) for f in model.F) else 1
-    if not 1 <= args.order <= 4:
-        raise ParameterError(f"--order must be 1 to 4, got {args.order}")
-    if not 2 <= args.points <= 200:
-        raise ParameterError(f"--points must be 2 to 200, got {args.points}")
-    if not 1e-12 <= args.tol <= 1e-2:
-        raise ParameterError(f"--tol must be between 1e-12 and 1e-2, got {args.tol}")
+    within(args.order, "--order", 1, 4)
+    within(args.points, "--points", 2, 200)
+    within(args.tol, "--tol", 1e-12, 1e-2)
     from numerics.cli._params import check, given, parse_vary
 
     params = given(args.param)

@@ -94,6 +94,7 @@ def run(args: argparse.Namespace) -> int:
     from kbm.coupled import COUPLED_MODELS
 
     from kbm.errors import ParameterError
+    from numerics.cli._params import within
     from numerics.forced.diagram import response_diagram
 
     if args.rhs is not None and len(args.rhs) > 1:
@@ -125,8 +126,7 @@ def run(args: argparse.Namespace) -> int:
     if (args.vary is None) == (args.detuning is None):
         raise ParameterError("give either --vary sigma=FROM:TO[:N] (a response curve) or "
                              "--detuning SIGMA (the steady states at one detuning)")
-    if not 1 <= args.order <= 8:
-        raise ParameterError(f"--order must be between 1 and 8, got {args.order}")
+    within(args.order, "--order", 1, 8)
     if not args.amax > 0:
         raise ParameterError(f"--amax must be positive, got {args.amax}")
     model = forced_model(args)
@@ -190,13 +190,11 @@ def _intervals(trivial) -> list[tuple[float, float, str]]:
 
 
 def _run_one(model, args: argparse.Namespace) -> int:
-    import math
-
     from kbm.errors import ParameterError
+    from numerics.cli._params import within
     from numerics.forced.diagram import steady_states
 
-    if not math.isfinite(args.detuning):
-        raise ParameterError(f"--detuning must be a finite number, got {args.detuning}")
+    within(args.detuning, "--detuning")
     if args.out:
         raise ParameterError("--out draws a response curve: use it with --vary")
     s = steady_states(model, checked_values(model, args), args.detuning, order=args.order,

@@ -143,20 +143,26 @@ def _print_cycle(cyc, digits, args) -> None:
 
 
 def _run_coupled(args: argparse.Namespace) -> int:
+    import math
+
     from kbm.cli.derive import coupled_model
     from kbm.errors import ParameterError
-    from numerics.cli._coupled_branch import _start
-    from numerics.cli._params import within
+    from numerics.cli._params import numbers, within
     from numerics.coupled import coupled_cycle
 
     if args.all or args.digits is not None or args.method != "auto":
         raise ParameterError("--all, --digits and --method are for one degree of freedom; a "
                              "coupled system is shot from a transient (--start, --transient)")
     within(args.rtol, "--rtol", 1e-14, 1e-3)
+    start = None if args.start is None else numbers(args.start, "--start")
+    if start is not None and not all(math.isfinite(v) for v in start):
+        raise ParameterError(f"--start must be finite numbers, got {args.start!r}")
     within(args.transient, "--transient", 0, 1e6)
     model = coupled_model(args)
     given = checked_params(args.param, model)
-    start = _start(args.start, model.dof)
+    if start is not None and len(start) != 2 * model.dof:
+        raise ParameterError(f"--start needs {2 * model.dof} numbers (x1..x{model.dof}, "
+                             f"xdot1..xdot{model.dof}), got {len(start)}")
     if model.forced:
         return _run_forced(model, given, start, args)
     cyc = coupled_cycle(model, given, start=start, transient=args.transient,

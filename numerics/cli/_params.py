@@ -21,7 +21,13 @@ the messages are the same everywhere:
   where a direction matters it is said otherwise: a branch starts at ``-p NAME=VALUE``
   (default FROM), and a list ``NAME=C,B,A`` keeps the order typed.
 * a store of finished points (``--store FILE --resume``): :func:`open_store` says when
-  the file holds another run and nothing of this one.
+  the file holds another run and nothing of this one;
+* the values of the other options: :func:`within` (a bounded option, one wording "FLAG
+  must be between A and B"), :func:`numbers` (comma-separated numbers), :func:`orders`
+  (KBM orders).
+
+The options themselves (flags, defaults, help) are defined once in
+:data:`kbm.cli._common.OPTIONS` and :data:`numerics.cli._options.ENSEMBLE`.
 """
 
 from __future__ import annotations

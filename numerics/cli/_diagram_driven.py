@@ -268,11 +268,11 @@ def run_driven(args: argparse.Namespace) -> int:
                       {"distance": distances(true_c, av_c, true_p, av_p),
                        "complete": not parts["interrupted"]})
     if getattr(args, "out", None):
-        from kbm.files import output_folder, write_file
+        from kbm.cli._common import write_json
+        from kbm.files import output_folder
 
         folder = output_folder(args.out)
-        write_file(folder / "diagram.json",
-                   json.dumps(diagram.to_json(), indent=2, allow_nan=False) + "\n")
+        write_json(folder / "diagram.json", diagram.to_json())
         path = diagram.plot(folder / f"diagram-{diagram.model}.png")
         if not args.json:
             print(f"wrote {folder / 'diagram.json'} and {path}")

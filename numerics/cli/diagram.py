@@ -13,8 +13,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from kbm.cli._common import (add_model_arguments, add_options, emit_json,
-                             model_spec)
+from kbm.cli._common import add_model_arguments, add_options, emit_json, model_spec, write_json
 from numerics.cli._options import add_ensemble_arguments, command
 
 
@@ -160,14 +159,12 @@ def _run_autonomous(args, model, params, axes, ranges, order) -> int:
 
 
 def _write(args, d) -> None:
-    import json
-
-    from kbm.files import output_folder, write_file
+    from kbm.files import output_folder
 
     data = d.to_json()
     if args.out:
         folder = output_folder(args.out)
-        write_file(folder / "diagram.json", json.dumps(data, indent=2, allow_nan=False) + "\n")
+        write_json(folder / "diagram.json", data)
         d.plot(folder / f"diagram-{d.model}.png")
     if args.json:
         emit_json(data)

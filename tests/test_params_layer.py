@@ -332,8 +332,13 @@ COMMANDS = {
     "noise": ["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "D=0.1"],
     "escape": ["escape", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "D=0.1",
                "--no-simulation"],
+    "spectrum": ["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--no-simulation"],
+    "spectrum forced": ["spectrum", "duffing-forced", "-p", "mu=0.1", "-p", "D=0.01",
+                        "--vary", "sigma=0:1"],
+    "diagram": ["diagram", "sedf", "-p", "mu=0.1", "--vary", "Delta=0:6",
+                "--vary", "beta=0.3:1.6"],
 }
-NOISY = ("friction", "noise", "escape")
+NOISY = ("friction", "noise", "escape", "spectrum", "spectrum forced")
 
 
 @pytest.mark.parametrize("command", list(COMMANDS))
@@ -401,3 +406,106 @@ def test_response_refuses_sigma_as_a_parameter(capsys):
     assert "sigma is the detuning: give it as --detuning 1" in _err(capsys)
     assert main([*COMMANDS["response"], "-p", "sigma=1"]) == 2
     assert "sigma is both varied (--vary) and given (-p)" in _err(capsys)
+
+
+# -- issue 35, "one parameter and option layer": the shared options defined once ------------
+
+#: the commands that run an ensemble of Langevin trajectories, as a user types them
+ENSEMBLES = {
+    "spectrum": ["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01"],
+    "noise": ["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "D=0.1"],
+    "escape": ["escape", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "D=0.1"],
+    "friction": ["friction", "cdc", "-p", "Delta=3", "-p", "T=0.05", "--vary", "v=1",
+                 "--no-progress"],
+}
+
+
+def _options(command: str) -> dict:
+    """``{flag: argparse action}`` of ``kbm COMMAND``."""
+    import argparse
+
+    from numerics.cli import build_parser
+
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    return {flag: a for a in sub.choices[command]._actions for flag in a.option_strings}
+
+
+def test_shared_options_have_one_definition_in_every_command():
+    """Every ensemble option (``--trajectories``, ``--seed``, ``--workers``, ``--store``,
+    ``--resume``, ``--budget``) and every shared one (``-p``, ``--json``, ...) has the same
+    flags, type and metavar in each command that takes it, and the same help wherever the
+    command does not say what it does there (issue 35: "the same names everywhere")."""
+    from kbm.cli._common import OPTIONS
+    from numerics.cli import COMMANDS as NUMERIC
+    from numerics.cli._options import ENSEMBLE
+
+    seen = 0
+    for command in ("derive", "series", *NUMERIC):
+        actions = _options(command)
+        for table in (OPTIONS, ENSEMBLE):
+            for flags, kw in table.values():
+                action = actions.get(flags[0])
+                if action is None or action.option_strings != list(flags):
+                    continue  # not taken, or the command's own (response: --order N)
+                seen += 1
+                assert action.type == kw.get("type"), (command, flags)
+                if "metavar" in kw and action.metavar != kw["metavar"]:
+                    assert flags[0] in ("--vary", "--store", "--out"), (command, flags)
+    assert seen >= 60
+    assert _options("noise")["--seed"].help == _options("spectrum")["--seed"].help == \
+        _options("escape")["--seed"].help == ENSEMBLE["seed"][1]["help"]
+    assert _options("noise")["--store"].help == _options("spectrum")["--store"].help
+    assert all(_options(c)["--json"].help == "print JSON"
+               for c in NUMERIC if "--json" in _options(c))
+
+
+@pytest.mark.parametrize("command", list(ENSEMBLES))
+def test_every_ensemble_refuses_a_negative_seed_alike(command, capsys):
+    """``--seed -1``: the same one-line refusal from each command that spawns the
+    trajectories' seeds (before, ``kbm escape`` left it to the library)."""
+    assert main([*ENSEMBLES[command], "--seed", "-1"]) == 2
+    assert _err(capsys) == f"kbm {command}: error: --seed must be >= 0, got -1"
+
+
+@pytest.mark.parametrize("command", [c for c in ENSEMBLES if c != "escape"])
+def test_every_store_refuses_resume_without_a_file_alike(command, capsys):
+    assert main([*ENSEMBLES[command], "--resume"]) == 2
+    what = "map" if command == "friction" else "run"
+    assert _err(capsys) == (f"kbm {command}: error: --resume continues a {what} kept by "
+                            "--store FILE: give the file")
+
+
+def test_out_json_file_is_the_printed_json(tmp_path, capsys):
+    """``--out DIR --json``: the file ``spectrum-vdp.json`` holds the bytes ``--json``
+    prints (one writer, :func:`kbm.cli._common.write_json`, beside
+    :func:`kbm.cli._common.emit_json`)."""
+    assert main([*ENSEMBLES["spectrum"], "--no-simulation", "--json", "--out",
+                 str(tmp_path)]) == 0
+    printed = capsys.readouterr().out
+    assert (tmp_path / "spectrum-vdp.json").read_text() == printed
+    assert json.loads(printed)["figures"]
+
+
+@pytest.mark.parametrize("argv", [
+    COMMANDS["branch"] + ["--max-points", "1"],
+    COMMANDS["diagram"] + ["--max-points", "1"],
+    COMMANDS["branch coupled"] + ["--max-points", "1"],
+])
+def test_a_bounded_option_is_refused_in_one_wording(argv, capsys):
+    """``--max-points`` out of range: the same words from every command (before, ``kbm
+    diagram`` said "must be 2 to 100000" and ``kbm branch`` "must be between 2 and
+    100000"; :func:`numerics.cli._params.within`)."""
+    assert main(argv) == 2
+    assert _err(capsys).endswith("error: --max-points must be between 2 and 100000, got 1")
+
+
+def test_within_names_the_bounds_as_typed():
+    from numerics.cli._params import within
+
+    for value, flag, lo, hi, words in ((0.0, "--rtol", 1e-15, 1e-3, "between 1e-15 and 1e-3"),
+                                       (2e6, "--transient", 0, 1e6, "between 0 and 1e6"),
+                                       (math.nan, "--x-start", None, None, "a finite number")):
+        with pytest.raises(ParameterError, match=f"^{flag} must be {words}, got {value}$"):
+            within(value, flag, lo, hi)
+    within(None, "--digits", 1, 200)  # the option not given
+    within(1e-3, "--rtol", 1e-15, 1e-3)  # a bound is inside

@@ -1,4 +1,11 @@
-"""Helpers shared by the sub-commands: ``--param`` parsing and JSON output."""
+"""Helpers shared by the sub-commands: the shared options, ``--param`` parsing and JSON output.
+
+Every option that several commands take is defined once, in :data:`OPTIONS` (its flags,
+type, default, metavar and help); a command adds it with :func:`add_options`, naming what
+differs there (a default, or a help that says what the option does in that command).  The
+numerical commands' ensemble options (``--trajectories``, ``--seed``, ``--workers``,
+``--store``, ``--resume``, ``--budget``) are in :mod:`numerics.cli._options`.
+"""
 
 from __future__ import annotations
 
@@ -11,14 +18,57 @@ from typing import Any
 from ..errors import ParameterError
 from ..strict_json import finite
 
-__all__ = ["add_param_option", "parse_params", "checked_params", "emit_json",
-           "add_model_arguments", "model_spec", "check_model_flags", "single_well"]
+__all__ = ["OPTIONS", "add_command", "add_options", "add_param_option", "parse_params",
+           "checked_params", "emit_json", "show", "write_json", "add_model_arguments", "model_spec",
+           "check_model_flags", "single_well"]
+
+
+#: the options several commands take: name -> (flags, argparse keywords)
+OPTIONS: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
+    "param": (("--param", "-p"), dict(
+        action="append", default=[], metavar="NAME=VALUE",
+        help="set a parameter (repeatable), e.g. --param beta=1 --param mu=0.1")),
+    "vary": (("--vary",), dict(action="append", default=[], metavar="NAME=FROM:TO")),
+    "order": (("--order", "-n"), dict(type=int, default=None)),
+    "rtol": (("--rtol",), dict(type=float, default=1e-10, help="integrator tolerance")),
+    "json": (("--json",), dict(action="store_true", help="print JSON")),
+    "out": (("--out",), dict(metavar="DIR")),
+}
+
+
+def add_options(parser: argparse.ArgumentParser, *names: str,
+                table: Mapping[str, tuple[tuple[str, ...], dict[str, Any]]] = OPTIONS,
+                **changes: Mapping[str, Any]) -> None:
+    """Add the shared options ``names`` of ``table`` (:data:`OPTIONS`), in that order.
+
+    ``changes[name]`` holds the keywords that differ in this command (``default=``,
+    ``help=``, ...); the flags, the type and the rest are the shared ones.
+
+    Examples
+    --------
+    >>> p = argparse.ArgumentParser()
+    >>> add_options(p, "rtol", "json", rtol=dict(default=1e-12))
+    >>> p.parse_args(["--json"])
+    Namespace(rtol=1e-12, json=True)
+    """
+    for name in names:
+        flags, kw = table[name]
+        parser.add_argument(*flags, **{**kw, **changes.get(name, {})})
+
+
+def add_command(sub, name: str, description: str,
+                summaries: Mapping[str, str] | None = None) -> argparse.ArgumentParser:
+    """The parser of the command ``name``: its line in ``kbm --help`` is its entry in
+    ``summaries`` (the symbolic commands' :data:`kbm.cli.SUMMARIES` by default), written
+    once for the lazy help and the command's own parser."""
+    if summaries is None:
+        from . import SUMMARIES as summaries
+    return sub.add_parser(name, help=summaries[name], description=description)
 
 
 def add_param_option(parser: argparse.ArgumentParser) -> None:
     """Add the repeatable ``--param name=value`` option."""
-    parser.add_argument("--param", "-p", action="append", default=[], metavar="NAME=VALUE",
-                        help="set a parameter (repeatable), e.g. --param beta=1 --param mu=0.1")
+    add_options(parser, "param")
 
 
 def parse_params(items: list[str]) -> dict[str, str]:
@@ -85,6 +135,29 @@ def emit_json(obj: Any) -> None:
     become ``null``, so that every JSON parser reads it)."""
     json.dump(finite(obj), sys.stdout, indent=2, allow_nan=False)
     sys.stdout.write("\n")
+
+
+def show(args: argparse.Namespace, result: Any) -> int:
+    """Print ``result`` as the command line asks: its ``to_json()`` with ``--json``, else its
+    ``table()``; returns the exit status 0."""
+    if args.json:
+        emit_json(result.to_json())
+    else:
+        print(result.table())
+    return 0
+
+
+def write_json(path: Any, obj: Any) -> Any:
+    """Write ``obj`` to ``path`` as :func:`emit_json` prints it; returns the path.
+
+    Raises
+    ------
+    kbm.errors.OutputError
+        If the file cannot be written (with the reason).
+    """
+    from ..files import write_file
+
+    return write_file(path, json.dumps(finite(obj), indent=2, allow_nan=False) + "\n")
 
 
 def add_model_arguments(parser: argparse.ArgumentParser,

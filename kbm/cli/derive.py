@@ -13,17 +13,15 @@ import argparse
 
 import numpy as np
 
-from ._common import (add_model_arguments, add_param_option, check_model_flags,
-                      checked_params, emit_json)
+from ._common import (add_command, add_model_arguments, add_options, add_param_option,
+                      check_model_flags, checked_params, emit_json)
 
 
 def register(sub) -> None:
-    p = sub.add_parser("derive", help="KBM expansion A_n, B_n, u_n to a given order",
-                       description="Derive the Krylov-Bogoliubov-Mitropolsky expansion of "
-                                   "x'' + omega0^2 x = mu F(x, x') to order N: symbolic for "
-                                   "polynomial F (any order) and sin/cos of x (order <= 2); "
-                                   "evaluated at numeric parameters on --a-range above that; "
-                                   "with --numeric for any smooth F.")
+    p = add_command(sub, "derive", "Derive the Krylov-Bogoliubov-Mitropolsky expansion of x'' + "
+                    "omega0^2 x = mu F(x, x') to order N: symbolic for polynomial F (any order) "
+                    "and sin/cos of x (order <= 2); evaluated at numeric parameters on --a-range "
+                    "above that; with --numeric for any smooth F.")
     from ..models import model_names
 
     from ..coupled import coupled_model_names
@@ -33,7 +31,7 @@ def register(sub) -> None:
     p.add_argument("--internal", action="append", default=[], metavar="P:Q",
                    help="declare the internal resonance omega_1 : omega_2 = P : Q (repeatable; "
                         "P:Q@I,J between modes I and J); coupled systems only")
-    p.add_argument("--order", "-n", type=int, required=True, help="order N >= 1")
+    add_options(p, "order", order=dict(required=True, help="order N >= 1"))
     add_param_option(p)
     p.add_argument("--numeric", action="store_true",
                    help="numeric backend for any smooth F (tanh, exp, ...): tables of A_n, "
@@ -51,7 +49,7 @@ def register(sub) -> None:
                    help="tolerance of the evaluated routes (relative; default 1e-10 with "
                         "--numeric, 1e-14 for the Bessel harmonics)")
     fmt = p.add_mutually_exclusive_group()
-    fmt.add_argument("--json", action="store_true", help="print JSON (strings sympy can parse)")
+    add_options(fmt, "json", json=dict(help="print JSON (strings sympy can parse)"))
     fmt.add_argument("--latex", action="store_true", help="print LaTeX")
     p.set_defaults(func=run)
 

@@ -6,19 +6,18 @@ import argparse
 
 import sympy as sp
 
-from ._common import add_param_option, emit_json
+from ._common import add_command, add_options, add_param_option, emit_json
 
 
 def register(sub) -> None:
-    p = sub.add_parser("series", help="mu-series of the limit cycle (polynomial F)",
-                       description="Expand the limit-cycle frequency omega* and first-harmonic "
-                                   "amplitude a* in powers of mu: exact rationals (to mu^200), or "
-                                   "with --float in floating point to high order (to mu^1000), "
-                                   "with the radius of convergence and Pade resummation.")
+    p = add_command(sub, "series", "Expand the limit-cycle frequency omega* and first-harmonic "
+                    "amplitude a* in powers of mu: exact rationals (to mu^200), or with --float "
+                    "in floating point to high order (to mu^1000), with the radius of convergence "
+                    "and Pade resummation.")
     p.add_argument("model", nargs="?", help="built-in model with polynomial F (e.g. vdp)")
     p.add_argument("--rhs", metavar="EXPR", help="your own polynomial F")
     p.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")
-    p.add_argument("--order", "-n", type=int, required=True, help="highest power of mu")
+    add_options(p, "order", order=dict(required=True, help="highest power of mu"))
     p.add_argument("--root", default=None, help="first-order amplitude a0 if A_1 has several "
                    "positive roots")
     p.add_argument("--method", choices=("auto", "lindstedt", "kbm"), default="auto",
@@ -34,7 +33,7 @@ def register(sub) -> None:
     p.add_argument("--at", type=float, action="append", default=[], metavar="MU",
                    help="with --float: Pade-resummed omega* and a* at this mu (repeatable)")
     add_param_option(p)
-    p.add_argument("--json", action="store_true", help="print JSON (rationals as strings)")
+    add_options(p, "json", json=dict(help="print JSON (rationals as strings)"))
     p.set_defaults(func=run)
 
 

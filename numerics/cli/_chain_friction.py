@@ -16,6 +16,7 @@ NEAR_ZERO = 0.05
 def run_chain(args: argparse.Namespace) -> int:
     from kbm.errors import ParameterError
     from numerics.cli._axes import parse_axis
+    from numerics.cli._options import check_ensemble
     from numerics.cli._params import check, given, parse_vary
     from numerics.coupled.friction import chain_friction_law
     from numerics.executor import connect
@@ -36,12 +37,9 @@ def run_chain(args: argparse.Namespace) -> int:
     if unused:
         raise ParameterError(f"{', '.join(unused)} apply to one slider; a chain's law takes "
                              "-p, --vary v, --seed, --workers, --scheduler and --json")
-    if args.workers is not None and not 1 <= args.workers <= 1024:
-        raise ParameterError(f"--workers must be between 1 and 1024, got {args.workers}")
+    check_ensemble(args)
     if args.seed is None:
         args.seed = 0
-    if args.seed < 0:
-        raise ParameterError(f"--seed must be >= 0, got {args.seed}")
     if "v" in given_params:
         raise ParameterError("a chain's friction law varies the stage velocity: give it as "
                              "--vary v=..., not -p v")

@@ -18,10 +18,9 @@ def _start(text: str | None, dof: int):
 
     if text is None:
         return None
-    try:
-        start = [float(v) for v in text.split(",")]
-    except ValueError:
-        raise ParameterError(f"--start takes comma-separated numbers, got {text!r}") from None
+    from numerics.cli._params import numbers
+
+    start = numbers(text, "--start")
     if not all(math.isfinite(v) for v in start) or len(start) != 2 * dof:
         raise ParameterError(f"--start needs {2 * dof} finite numbers (x1..x{dof}, "
                              f"xdot1..xdot{dof}), got {text!r}")
@@ -40,14 +39,13 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
     if what == "response" and not model.forced:
         raise ParameterError(f"{model.name!r} has no forcing (theta); its branches of cycles "
                              "are kbm branch")
-    from numerics.cli._params import check, given as read
+    from numerics.cli._params import check, given as read, within
 
     given = read(args.param)
     check(model, given, [name], start=True)
     start = _start(getattr(args, "start", None), model.dof)
     max_points = getattr(args, "max_points", None) or 200
-    if not 2 <= max_points <= 100000:
-        raise ParameterError(f"--max-points must be between 2 and 100000, got {max_points}")
+    within(max_points, "--max-points", 2, 100000)
     rtol = max(getattr(args, "rtol", 1e-11) or 1e-11, 1e-13)
     if not rtol <= 1e-5:
         raise ParameterError(f"--rtol must be between 1e-13 and 1e-5, got {rtol}")

@@ -228,6 +228,7 @@ def run_driven(args: argparse.Namespace) -> int:
     """
     from numerics.bifurcation.twoway import distances, merged
     from numerics.bifurcation.result import Diagram
+    from numerics.cli._params import within
 
     kind = "coupled" if getattr(args, "rhs", None) else is_driven(getattr(args, "model", None))
     if kind is None:
@@ -235,8 +236,7 @@ def run_driven(args: argparse.Namespace) -> int:
                              "coupled built-in (e.g. duffing-forced, vdp-forced, coupled-vdp)")
     model, params, values, axes, ranges, order = _setup(args, kind)
     max_points = int(getattr(args, "max_points", None) or 400)
-    if not 2 <= max_points <= 100000:
-        raise ParameterError(f"--max-points must be 2 to 100000, got {max_points}")
+    within(max_points, "--max-points", 2, 100000)
     averaged = not getattr(args, "no_averaged", False)
     definition = json.dumps({"command": "diagram", "model": model.name,
                              "F": [str(f) for f in getattr(model, "F", ())] if kind == "coupled"
@@ -268,11 +268,11 @@ def run_driven(args: argparse.Namespace) -> int:
                       {"distance": distances(true_c, av_c, true_p, av_p),
                        "complete": not parts["interrupted"]})
     if getattr(args, "out", None):
-        from kbm.files import output_folder, write_file
+        from kbm.cli._common import write_json
+        from kbm.files import output_folder
 
         folder = output_folder(args.out)
-        write_file(folder / "diagram.json",
-                   json.dumps(diagram.to_json(), indent=2, allow_nan=False) + "\n")
+        write_json(folder / "diagram.json", diagram.to_json())
         path = diagram.plot(folder / f"diagram-{diagram.model}.png")
         if not args.json:
             print(f"wrote {folder / 'diagram.json'} and {path}")

@@ -21,7 +21,13 @@ the messages are the same everywhere:
   where a direction matters it is said otherwise: a branch starts at ``-p NAME=VALUE``
   (default FROM), and a list ``NAME=C,B,A`` keeps the order typed.
 * a store of finished points (``--store FILE --resume``): :func:`open_store` says when
-  the file holds another run and nothing of this one.
+  the file holds another run and nothing of this one;
+* the values of the other options: :func:`within` (a bounded option, one wording "FLAG
+  must be between A and B"), :func:`numbers` (comma-separated numbers), :func:`orders`
+  (KBM orders).
+
+The options themselves (flags, defaults, help) are defined once in
+:data:`kbm.cli._common.OPTIONS` and :data:`numerics.cli._options.ENSEMBLE`.
 """
 
 from __future__ import annotations
@@ -36,7 +42,7 @@ from kbm.errors import ParameterError
 from kbm.params import ParameterNames, names_of, noise_from
 
 __all__ = ["DEFAULT_POINTS", "MAX_POINTS", "Vary", "parse_vary", "given", "check",
-           "noise_params", "open_store", "USAGE"]
+           "noise_params", "open_store", "numbers", "orders", "within", "USAGE"]
 
 #: values of a range without ``:N``
 DEFAULT_POINTS = 8
@@ -147,6 +153,71 @@ def parse_vary(text: str) -> Vary:
     if log and (lo <= 0 or hi <= 0):
         raise ParameterError(f"--vary {name}: a log range needs FROM, TO > 0, got {spec!r}")
     return Vary(name, text, lo, hi, n, log)
+
+
+def within(value: float | None, flag: str, lo: float | None = None,
+           hi: float | None = None) -> None:
+    """Refuse the value of the option ``flag`` outside ``[lo, hi]``, or not finite where no
+    bounds are given (a value ``None``, the option not given, passes).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        ``"{flag} must be between {lo} and {hi}, got {value}"`` (``"... must be a finite
+        number ..."`` without bounds).
+    """
+    if value is None:
+        return
+    if lo is None:
+        if not math.isfinite(value):
+            raise ParameterError(f"{flag} must be a finite number, got {value}")
+    elif not lo <= value <= hi:
+        raise ParameterError(f"{flag} must be between {_bound(lo)} and {_bound(hi)}, got "
+                             f"{value}")
+
+
+def _bound(x: float) -> str:
+    """``100000``, ``1e-3``, ``1e6``: a bound as the messages write it."""
+    if float(x).is_integer() and abs(x) < 1e6:
+        return str(int(x))
+    mantissa, exponent = f"{x:e}".split("e")
+    return f"{mantissa.rstrip('0').rstrip('.')}e{int(exponent)}"
+
+
+def numbers(text: str, flag: str) -> list[float]:
+    """The comma-separated numbers of ``flag`` (``--convergence 0.1,0.2``, ``--start``;
+    empty items skipped).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        ``"{flag} takes comma-separated numbers, got {text!r}"``.
+    """
+    try:
+        return [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise ParameterError(f"{flag} takes comma-separated numbers, got {text!r}") from None
+
+
+def orders(text: str, flag: str = "--orders", *, none: bool = False) -> list[int]:
+    """The KBM orders of ``flag`` (``"1,2"``; with ``none``, ``"none"``: none).
+
+    Raises
+    ------
+    kbm.errors.OrderError
+        For an item that is no integer, or no order >= 1.
+    """
+    from kbm.errors import OrderError
+
+    if none and text.strip().lower() == "none":
+        return []
+    try:
+        out = [int(s) for s in text.split(",") if s.strip()]
+    except ValueError:
+        raise OrderError(f"{flag} takes comma-separated integers, got {text!r}") from None
+    if not out or min(out) < 1:
+        raise OrderError(f"{flag} must list orders >= 1, got {text!r}")
+    return out
 
 
 def given(items: Iterable[str]) -> dict[str, str]:

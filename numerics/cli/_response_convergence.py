@@ -15,13 +15,10 @@ def convergence_mus(text: str) -> list[float]:
     from kbm.errors import ParameterError
     from numerics.forced.convergence import check_mus
 
+    from numerics.cli._params import numbers
+
     try:
-        mus = [float(v) for v in text.split(",") if v.strip()]
-    except ValueError:
-        raise ParameterError(f"--convergence takes comma-separated numbers, got "
-                             f"{text!r}") from None
-    try:
-        return list(check_mus(mus, minimum=3))
+        return list(check_mus(numbers(text, "--convergence"), minimum=3))
     except ParameterError as exc:
         raise ParameterError(f"--convergence {text}: {exc}") from None
 
@@ -29,12 +26,12 @@ def convergence_mus(text: str) -> list[float]:
 def run_convergence(args: argparse.Namespace) -> int:
     """``--convergence``: the order-``N`` error against ``mu`` at one detuning (amplitude)
     or for one fold (its detuning), with the fitted slopes."""
-    import math
     import sys
     from pathlib import Path
 
     from kbm.errors import ParameterError
     from kbm.forced import forced_expansion
+    from numerics.cli._params import within
     from numerics.forced.convergence import amplitude_study, fold_study
 
     refused = [name for name, on in (("--nu", args.nu is not None),
@@ -50,8 +47,7 @@ def run_convergence(args: argparse.Namespace) -> int:
                              "--detuning")
     mus = convergence_mus(args.convergence)
     order = 2 if args.order is None else args.order
-    if not 1 <= order <= 8:
-        raise ParameterError(f"--order must be between 1 and 8, got {order}")
+    within(order, "--order", 1, 8)
     if not args.amax > 0:
         raise ParameterError(f"--amax must be positive, got {args.amax}")
     model = forced_model(args)
@@ -64,8 +60,7 @@ def run_convergence(args: argparse.Namespace) -> int:
     result = forced_expansion(model, order, values, resonance=args.resonance,
                               a_range=amplitudes)
     if args.detuning is not None:
-        if not math.isfinite(args.detuning):
-            raise ParameterError(f"--detuning must be a finite number, got {args.detuning}")
+        within(args.detuning, "--detuning")
         table = amplitude_study(model, values, args.detuning, mus, orders,
                                 amplitudes=amplitudes, result=result)
     else:

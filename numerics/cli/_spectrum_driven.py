@@ -80,15 +80,10 @@ def _bind(args, kind: str):
         values
 
 
-def _store(args):
-    from numerics.cli._params import open_store
-
-    return open_store(_opt(args, "store"), bool(_opt(args, "resume", False)))
-
-
 def run_driven(args) -> int:
     """``kbm spectrum FORCED-MODEL -p ... -p D=... [--vary sigma=A:B]``: the averaged,
     Floquet and simulated noise spectra about every stable state at each detuning."""
+    from numerics.cli._options import stored
     from numerics.spectrum.driven_sim import response_spectra
 
     model, params, D, name, detunings = _bind(args, "forced")
@@ -96,8 +91,7 @@ def run_driven(args) -> int:
     if order != 1:
         raise ParameterError(f"--order {order}: the response spectra are first order (the "
                              "averaged route) and exact (Floquet); give --order 1")
-    store = _store(args)
-    try:
+    with stored(args) as store:
         specs = response_spectra(model, params, D, detunings, simulate=True,
                                  trajectories=int(_opt(args, "trajectories",
                                                        DEFAULT_TRAJECTORIES)),
@@ -105,9 +99,6 @@ def run_driven(args) -> int:
                                  workers=_opt(args, "workers"), store=store,
                                  progress=not _opt(args, "json", False),
                                  resolution=_opt(args, "resolution"))
-    finally:
-        if store is not None:
-            store.close()
     first = specs[0]
     rep = {"model": model, "params": params, "D": D, "detuning": name,
            "detunings": detunings, "kind": "forced",
@@ -179,19 +170,16 @@ def _figures_driven(specs, model, out: Path) -> list[Path]:
 def run_slips(args) -> int:
     """``kbm spectrum coupled-vdp -p ... -p D=... [--vary sigma=A:B]``: the phase-slip rate
     and the effective frequency difference, Stratonovich's formula against counts."""
+    from numerics.cli._options import stored
     from numerics.spectrum.slips import slip_report
 
     model, params, D, name, detunings = _bind(args, "coupled")
-    store = _store(args)
-    try:
+    with stored(args) as store:
         rows = slip_report(model, params, D, detunings, order=int(_opt(args, "order", 1)),
                            detuning=name, duration=_opt(args, "duration"),
                            trajectories=int(_opt(args, "trajectories", DEFAULT_TRAJECTORIES)),
                            seed=int(_opt(args, "seed", 0)), workers=_opt(args, "workers"),
                            store=store, progress=not _opt(args, "json", False))
-    finally:
-        if store is not None:
-            store.close()
     one = len(rows) == 1
 
     def col(key, sub):
@@ -237,18 +225,13 @@ def _figure_slips(rows, model, name, out: Path) -> Path:
 
 
 def _emit(args, rep, lines) -> int:
+    from kbm.cli._common import emit_json, write_json
+
     if _opt(args, "out"):
-        import json
-
-        from kbm.strict_json import finite
-
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
-        (out / f"spectrum-{rep['model']}.json").write_text(
-            json.dumps(finite(rep), indent=2, allow_nan=False) + "\n")
+        write_json(out / f"spectrum-{rep['model']}.json", rep)
     if _opt(args, "json", False):
-        from kbm.cli._common import emit_json
-
         emit_json(rep)
         return 0
     print("\n".join(lines))

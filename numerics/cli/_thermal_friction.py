@@ -6,12 +6,10 @@ Called by :mod:`numerics.cli.friction` when the noise ``D`` (or the CDC's temper
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 from kbm.cli import cli_message
-from kbm.cli._common import emit_json
-from numerics.cli._axes import print_tables
+from numerics.cli._axes import emit_maps
 
 #: the options of the noisy runs (default None on the parser, so that "given" is told
 #: from "default"; refused without noise) and their values when not given
@@ -39,17 +37,7 @@ def run_thermal(args, params: dict, axes: dict, store, client) -> int:
               progress=not args.no_progress and not args.json, store=store)
     first = thermal_friction_map(args.model, params, axes, **kw)
     second = thermal_friction_map(args.against, params, axes, **kw) if args.against else None
-    if args.json:
-        data = first.to_json()
-        if second is not None:
-            data["against"] = second.to_json()
-        emit_json(data)
-    else:
-        print_tables(first, second, _print)
-    if args.out:
-        path = _figure(first, second, Path(args.out))
-        print(f"wrote {path}", file=sys.stderr if args.json else sys.stdout)
-    return 0
+    return emit_maps(args, first, second, _print, lambda f, s, out: [_figure(f, s, out)])
 
 
 def _print(m) -> None:

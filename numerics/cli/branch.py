@@ -5,31 +5,30 @@ from __future__ import annotations
 import argparse
 import math
 
-from kbm.cli._common import (add_model_arguments, add_param_option, emit_json, model_spec,
-                             single_well)
+from kbm.cli._common import (add_model_arguments, add_options, emit_json,
+                             model_spec, single_well)
+from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = sub.add_parser(
-        "branch", help="branches of limit cycles in one parameter (folds, Hopf, homoclinic)",
-        description="Follow every limit cycle found at the start value through the range of "
-                    "one parameter by pseudo-arclength continuation of the shooting solution "
-                    "(stable and unstable cycles, Floquet multipliers at each point), with "
-                    "folds of cycles, Hopf ends and homoclinic ends located, next to the "
-                    "roots of the KBM amplitude equation and of the energy balance.")
+    p = command(sub, "branch", "Follow every limit cycle found at the start value through the "
+                "range of one parameter by pseudo-arclength continuation of the shooting solution "
+                "(stable and unstable cycles, Floquet multipliers at each point), with folds of "
+                "cycles, Hopf ends and homoclinic ends located, next to the roots of the KBM "
+                "amplitude equation and of the energy balance.")
     add_model_arguments(p, "vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, sedf-dimer, "
                            "...", coupled=True)
-    add_param_option(p)
-    p.add_argument("--vary", required=True, metavar="NAME=FROM:TO",
-                   help="the parameter and its range, e.g. --vary Delta=0:4; the branch starts "
-                        "at --param NAME=VALUE if given, else at FROM")
+    add_options(p, "param", "vary", vary=dict(
+        action="store", required=True, default=None,
+        help="the parameter and its range, e.g. --vary Delta=0:4; the branch starts at --param "
+             "NAME=VALUE if given, else at FROM"))
     p.add_argument("--orders", default="1", metavar="N,...",
                    help="KBM orders of the analytic branches (default 1; 'none' for none)")
     p.add_argument("--no-energy", action="store_true",
                    help="leave out the energy-balance branch")
     p.add_argument("--max-points", type=int, default=400, metavar="N",
                    help="bound on the points per direction of each branch (default 400)")
-    p.add_argument("--rtol", type=float, default=1e-10, help="integrator tolerance (1e-10)")
+    add_options(p, "rtol", rtol=dict(help="integrator tolerance (1e-10)"))
     p.add_argument("--follow-period", type=float, default=None, metavar="FACTOR",
                    help="at a homoclinic end, follow the cycle in its period (multiple "
                         "shooting, the parameter free) until the period is FACTOR times the "
@@ -37,7 +36,7 @@ def register(sub) -> None:
     p.add_argument("--start", metavar="X1,..,XDOT1,..",
                    help="coupled systems: the state to start from (default: the attracting "
                         "orbit after a transient from x_i = 1)")
-    p.add_argument("--json", action="store_true", help="print JSON")
+    add_options(p, "json")
     p.set_defaults(func=run)
 
 
@@ -50,24 +49,10 @@ def _vary(text: str) -> tuple[str, float, float]:
     return v.name, a, b
 
 
-def _orders(text: str) -> list[int]:
-    from kbm.errors import OrderError
-
-    if text.strip().lower() == "none":
-        return []
-    try:
-        out = [int(s) for s in text.split(",") if s.strip()]
-    except ValueError:
-        raise OrderError(f"--orders takes comma-separated integers, got {text!r}") from None
-    if not out or min(out) < 1:
-        raise OrderError(f"--orders must list orders >= 1, got {text!r}")
-    return out
-
-
 def run(args: argparse.Namespace) -> int:
     from kbm.errors import ParameterError
     from kbm.params import lookup
-    from numerics.cli._params import check, given, parse_vary
+    from numerics.cli._params import check, given, orders, parse_vary, within
     from numerics.comparison.diagram import branch_diagram
 
     from kbm.cli.derive import coupled_model, is_coupled
@@ -97,11 +82,8 @@ def run(args: argparse.Namespace) -> int:
     if args.start is not None:
         raise ParameterError("--start is for coupled systems (a built-in such as coupled-vdp, "
                              "or several --rhs)")
-    if not 1e-14 <= args.rtol <= 1e-4:
-        raise ParameterError(f"--rtol must be between 1e-14 and 1e-4, got {args.rtol}")
-    if not 2 <= args.max_points <= 100000:
-        raise ParameterError(f"--max-points must be between 2 and 100000, got "
-                             f"{args.max_points}")
+    within(args.rtol, "--rtol", 1e-14, 1e-4)
+    within(args.max_points, "--max-points", 2, 100000)
     spec = model_spec(args)
     model = lookup(spec, ("one",)) if isinstance(spec, str) else spec
     check(model, params, [name], start=True)
@@ -110,7 +92,7 @@ def run(args: argparse.Namespace) -> int:
                              f"{model.name} has none: its only equilibrium is the origin, "
                              "which is no saddle (F at x' = 0 does not depend on x); drop it")
     d = branch_diagram(spec, params, name, (lo, hi),
-                       orders=_orders(args.orders), energy=not args.no_energy,
+                       orders=orders(args.orders, none=True), energy=not args.no_energy,
                        rtol=args.rtol, max_points=args.max_points,
                        follow_period=args.follow_period)
     followed = any(s.kind == "homoclinic" for b in d.branches for s in b.special)

@@ -4,17 +4,16 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import (add_model_arguments, add_param_option, checked_params,
-                             describe_params, emit_json, model_spec, parse_params)
+from kbm.cli._common import (add_model_arguments, add_options, add_param_option, checked_params,
+                             describe_params, emit_json, model_spec, parse_params, show)
+from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = sub.add_parser(
-        "compare", help="KBM predictions (any order) against the numerical limit cycle",
-        description="Compare the limit cycle predicted by the KBM expansion of each order "
-                    "(first-harmonic amplitude, maximum of x, frequency, third harmonic, "
-                    "Floquet multiplier, dissipation over the reconstructed cycle) with the "
-                    "cycle computed by shooting.")
+    p = command(sub, "compare", "Compare the limit cycle predicted by the KBM expansion of each "
+                "order (first-harmonic amplitude, maximum of x, frequency, third harmonic, "
+                "Floquet multiplier, dissipation over the reconstructed cycle) with the cycle "
+                "computed by shooting.")
     add_model_arguments(p)
     add_param_option(p)
     p.add_argument("--orders", default="1,2", help="comma-separated KBM orders (default 1,2)")
@@ -43,30 +42,16 @@ def register(sub) -> None:
                    help="sedf map over (mu, Delta, beta): where classical KBM and the energy "
                         "method are within 1 %% and 1e-3 of the true cycle (a sweep on all "
                         "cores, about a minute)")
-    p.add_argument("--json", action="store_true", help="print JSON")
+    add_options(p, "json")
     p.set_defaults(func=run)
-
-
-def _orders(text: str, flag: str = "--orders") -> list[int]:
-    from kbm.errors import OrderError
-
-    try:
-        out = [int(s) for s in text.split(",") if s.strip()]
-    except ValueError:
-        raise OrderError(f"{flag} takes comma-separated integers, got {text!r}") from None
-    if not out or min(out) < 1:
-        raise OrderError(f"{flag} must list orders >= 1, got {text!r}")
-    return out
 
 
 def _check_modes(args: argparse.Namespace, params: dict) -> None:
     """Refuse flags the chosen mode would ignore (no silently dropped option)."""
-    import math
-
     from kbm.errors import ParameterError
+    from numerics.cli._params import within
 
-    if args.x_start is not None and not math.isfinite(args.x_start):
-        raise ParameterError(f"--x-start must be a finite number, got {args.x_start}")
+    within(args.x_start, "--x-start")
     modes = [f for f, on in (("--errata", args.errata), ("--validity", args.validity),
                              ("--convergence", args.convergence),
                              ("--fixed-delta", args.fixed_delta),
@@ -120,6 +105,7 @@ def _fixed_scaled(model: str, params: dict) -> dict:
 
 def run(args: argparse.Namespace) -> int:
     from kbm.errors import ModelError
+    from numerics.cli._params import numbers, orders
     from numerics.comparison import compare, energy_prediction
     from numerics.paper import paper_prediction
 
@@ -137,64 +123,36 @@ def run(args: argparse.Namespace) -> int:
     if args.validity:
         from numerics.paper.validity import validity_map
 
-        vm = validity_map(orders=_orders(args.orders))
-        if args.json:
-            emit_json(vm.to_json())
-        else:
-            print(vm.table())
-        return 0
+        return show(args, validity_map(orders=orders(args.orders)))
     if args.fixed_delta:
         from numerics.comparison.fixed_delta import fixed_delta_convergence
 
-        try:
-            deltas = [float(v) for v in args.fixed_delta.split(",") if v.strip()]
-        except ValueError:
-            raise ModelError(f"--fixed-delta takes comma-separated numbers, got "
-                             f"{args.fixed_delta!r}") from None
+        deltas = numbers(args.fixed_delta, "--fixed-delta")
         if not deltas or not all(0 < d < 100 for d in deltas):
             raise ModelError(f"--fixed-delta takes values 0 < Delta < 100, got "
                              f"{args.fixed_delta!r}")
-        study = fixed_delta_convergence(deltas)
-        if args.json:
-            emit_json(study.to_json())
-        else:
-            print(study.table())
-        return 0
+        return show(args, fixed_delta_convergence(deltas))
     if args.methods_map:
         from numerics.paper.methods import methods_map
 
-        mm = methods_map()
-        if args.json:
-            emit_json(mm.to_json())
-        else:
-            print(mm.table())
-        return 0
+        return show(args, methods_map())
     if args.convergence:
         from numerics.comparison.convergence import convergence_study
 
         if not args.model:
             raise ModelError("--convergence needs a built-in model name")
         params = _fixed_scaled(args.model, checked_params(args.param, args.model))
-        try:
-            eps = [float(v) for v in args.convergence.split(",") if v.strip()]
-        except ValueError:
-            raise ModelError(f"--convergence takes comma-separated numbers, got "
-                             f"{args.convergence!r}") from None
+        eps = numbers(args.convergence, "--convergence")
         kw = {} if args.x_start is None else {"x_start": args.x_start}
-        study = convergence_study(args.model, eps, orders=_orders(args.orders), fixed=params,
-                                  **kw)
-        if args.json:
-            emit_json(study.to_json())
-        else:
-            print(study.table())
-        return 0
+        return show(args, convergence_study(args.model, eps, orders=orders(args.orders),
+                                            fixed=params, **kw))
     kw = {} if args.x_start is None else {"x_start": args.x_start}
     extra = [paper_prediction] if args.paper else []
     energy_orders = "1,2" if args.energy_orders is None else args.energy_orders
     if energy_orders.strip().lower() != "none":
-        extra += [energy_prediction(n) for n in _orders(energy_orders, "--energy-orders")]
+        extra += [energy_prediction(n) for n in orders(energy_orders, "--energy-orders")]
     params = checked_params(args.param, model_spec(args))
-    comp = compare(model_spec(args), params, orders=_orders(args.orders), extra=extra, **kw)
+    comp = compare(model_spec(args), params, orders=orders(args.orders), extra=extra, **kw)
     if args.json:
         emit_json({**comp.to_json(), "params_given": params})
     else:

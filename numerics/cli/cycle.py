@@ -4,17 +4,16 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import (add_model_arguments, add_param_option, checked_params,
+from kbm.cli._common import (add_model_arguments, add_options, add_param_option, checked_params,
                              describe_params, emit_json, model_spec, parse_params)
 from numerics._show import multipliers_text
+from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = sub.add_parser("cycle", help="limit cycle of the full equation by shooting",
-                       description="Find the periodic orbit of x'' + omega0^2 x = mu F(x, x') "
-                                   "by Newton's method on the return map to x' = 0, x > 0, "
-                                   "with Floquet multipliers and the dissipation per cycle "
-                                   "(paper eqs. 10-11).")
+    p = command(sub, "cycle", "Find the periodic orbit of x'' + omega0^2 x = mu F(x, x') by "
+                "Newton's method on the return map to x' = 0, x > 0, with Floquet multipliers and "
+                "the dissipation per cycle (paper eqs. 10-11).")
     add_model_arguments(p, "vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, "
                            "duffing-1-3, quadratic-1-2", coupled=True)
     add_param_option(p)
@@ -26,7 +25,7 @@ def register(sub) -> None:
                         "within [100, 4000]; 0 shoots from --start itself)")
     p.add_argument("--digits", type=int, default=None,
                    help="also compute period and amplitudes to N digits (mpmath Taylor series)")
-    p.add_argument("--rtol", type=float, default=1e-12, help="integrator tolerance (1e-12)")
+    add_options(p, "rtol", rtol=dict(default=1e-12, help="integrator tolerance (1e-12)"))
     p.add_argument("--method", default="auto",
                    choices=["auto", "compiled", "LSODA", "DOP853", "Radau", "BDF"],
                    help="integrator of the shooting: auto (compiled DOP853 unless stiff, then "
@@ -36,16 +35,15 @@ def register(sub) -> None:
     p.add_argument("--all", action="store_true",
                    help="every cycle the energy-balance averaging predicts (stable and "
                         "unstable, on every annulus), each confirmed by shooting")
-    p.add_argument("--json", action="store_true", help="print JSON")
+    add_options(p, "json")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    import math
-
     from kbm.cli.derive import is_coupled
     from kbm.errors import ParameterError
     from numerics import limit_cycle, limit_cycles
+    from numerics.cli._params import within
 
     if is_coupled(args):
         return _run_coupled(args)
@@ -53,12 +51,9 @@ def run(args: argparse.Namespace) -> int:
         raise ParameterError("--start and --transient are for coupled systems; for one degree "
                              "of freedom use --x-start")
 
-    if args.digits is not None and not 1 <= args.digits <= 200:
-        raise ParameterError(f"--digits must be between 1 and 200, got {args.digits}")
-    if not 1e-15 <= args.rtol <= 1e-3:
-        raise ParameterError(f"--rtol must be between 1e-15 and 1e-3, got {args.rtol}")
-    if not math.isfinite(args.x_start):
-        raise ParameterError(f"--x-start must be a finite number, got {args.x_start}")
+    within(args.digits, "--digits", 1, 200)
+    within(args.rtol, "--rtol", 1e-15, 1e-3)
+    within(args.x_start, "--x-start")
     kw = dict(digits=args.digits, rtol=args.rtol, method=args.method)
     params = checked_params(args.param, model_spec(args))
     if args.all:
@@ -152,25 +147,17 @@ def _run_coupled(args: argparse.Namespace) -> int:
 
     from kbm.cli.derive import coupled_model
     from kbm.errors import ParameterError
+    from numerics.cli._params import numbers, within
     from numerics.coupled import coupled_cycle
 
     if args.all or args.digits is not None or args.method != "auto":
         raise ParameterError("--all, --digits and --method are for one degree of freedom; a "
                              "coupled system is shot from a transient (--start, --transient)")
-    if not 1e-14 <= args.rtol <= 1e-3:
-        raise ParameterError(f"--rtol must be between 1e-14 and 1e-3, got {args.rtol}")
-    start = None
-    if args.start is not None:
-        try:
-            start = [float(v) for v in args.start.split(",")]
-        except ValueError:
-            raise ParameterError(f"--start takes comma-separated numbers, got "
-                                 f"{args.start!r}") from None
-        if not all(math.isfinite(v) for v in start):
-            raise ParameterError(f"--start must be finite numbers, got {args.start!r}")
-    if args.transient is not None and not (math.isfinite(args.transient)
-                                           and 0 <= args.transient <= 1e6):
-        raise ParameterError(f"--transient must be between 0 and 1e6, got {args.transient}")
+    within(args.rtol, "--rtol", 1e-14, 1e-3)
+    start = None if args.start is None else numbers(args.start, "--start")
+    if start is not None and not all(math.isfinite(v) for v in start):
+        raise ParameterError(f"--start must be finite numbers, got {args.start!r}")
+    within(args.transient, "--transient", 0, 1e6)
     model = coupled_model(args)
     given = checked_params(args.param, model)
     if start is not None and len(start) != 2 * model.dof:

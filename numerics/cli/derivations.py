@@ -6,11 +6,12 @@ import argparse
 import sys
 from pathlib import Path
 
+from numerics.cli._options import command
+
 
 def register(sub) -> None:
-    p = sub.add_parser("derivations", help="regenerate the LaTeX derivations (byte-stable)",
-                       description="Write the engine's derivations (sedf, cdc, van der Pol, "
-                                   "Duffing, limit-cycle series, errata table) as LaTeX.")
+    p = command(sub, "derivations", "Write the engine's derivations (sedf, cdc, van der Pol, "
+                "Duffing, limit-cycle series, errata table) as LaTeX.")
     p.add_argument("--out", default="derivations", help="folder (default: derivations)")
     p.add_argument("--no-evidence", action="store_true",
                    help="leave out the errata table (it needs numerical limit cycles)")

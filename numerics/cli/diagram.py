@@ -13,29 +13,25 @@ from __future__ import annotations
 import argparse
 import sys
 
-from kbm.cli._common import add_model_arguments, add_param_option, emit_json, model_spec
+from kbm.cli._common import add_model_arguments, add_options, emit_json, model_spec, write_json
+from numerics.cli._options import add_ensemble_arguments, command
 
 
 def register(sub) -> None:
-    p = sub.add_parser(
-        "diagram", help="bifurcation diagram in two parameters: curves, codim-2 points, "
-                        "averaged vs true",
-        description="Continue the codim-1 bifurcation curves in the plane of two parameters "
-                    "(Hopf points and folds of equilibria, folds of cycles, homoclinic and "
-                    "heteroclinic connections; forced and coupled systems: folds, period "
-                    "doublings, Neimark-Sacker curves), locate their codim-2 points "
-                    "(Bogdanov-Takens, Bautin, cusp, ends of curves on others) and draw the "
-                    "averaged curves on the same axes.  Every point of a true curve is "
-                    "converged (a homoclinic point: the manifolds' gap below 1e-10).")
+    p = command(sub, "diagram", "Continue the codim-1 bifurcation curves in the plane of two "
+                "parameters (Hopf points and folds of equilibria, folds of cycles, homoclinic and "
+                "heteroclinic connections; forced and coupled systems: folds, period doublings, "
+                "Neimark-Sacker curves), locate their codim-2 points (Bogdanov-Takens, Bautin, "
+                "cusp, ends of curves on others) and draw the averaged curves on the same axes.  "
+                "Every point of a true curve is converged (a homoclinic point: the manifolds' gap "
+                "below 1e-10).")
     add_model_arguments(p, "sedf, vdp, ... or --rhs; forced: duffing-forced, ...; coupled: "
                            "coupled-vdp, ...", coupled=True)
-    add_param_option(p)
-    p.add_argument("--vary", action="append", default=[], metavar="NAME=FROM:TO",
-                   help="the two axes and their ranges, e.g. --vary Delta=0:6 --vary "
-                        "beta=0.3:1.6 (the first is the horizontal axis)")
-    p.add_argument("--order", "-n", type=int, default=None,
-                   help="highest averaged order (one degree of freedom with mu an axis: KBM "
-                        "orders 1..N, default 3; the energy balance is order 1)")
+    add_options(p, "param", "vary", "order", vary=dict(
+        help="the two axes and their ranges, e.g. --vary Delta=0:6 --vary beta=0.3:1.6 (the "
+             "first is the horizontal axis)"), order=dict(
+        help="highest averaged order (one degree of freedom with mu an axis: KBM orders 1..N, "
+             "default 3; the energy balance is order 1)"))
     p.add_argument("--grid", default="25,9", metavar="NA,NB",
                    help="points of the scans for the curves' starts on each axis (default "
                         "25,9)")
@@ -44,14 +40,13 @@ def register(sub) -> None:
     p.add_argument("--max-points", type=int, default=400, metavar="N",
                    help="points per direction of each curve at most (default 400)")
     p.add_argument("--no-averaged", action="store_true", help="leave out the averaged curves")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.add_argument("--out", metavar="DIR", help="write diagram.json and the figure "
-                                                "diagram-MODEL.png into DIR")
-    p.add_argument("--store", metavar="DIR", help="keep every curve's points in DIR as they "
-                                                  "are found (a stopped run can be resumed)")
-    p.add_argument("--resume", action="store_true",
-                   help="with --store: continue the stored run (finished curves are read "
-                        "back, an interrupted one continued from its last point)")
+    add_options(p, "json", "out", out=dict(
+        help="write diagram.json and the figure diagram-MODEL.png into DIR"))
+    add_ensemble_arguments(p, "store", "resume", store=dict(
+        metavar="DIR", help="keep every curve's points in DIR as they are found (a stopped run "
+                            "can be resumed)"), resume=dict(
+        help="with --store: continue the stored run (finished curves are read back, an "
+             "interrupted one continued from its last point)"))
     p.set_defaults(func=run)
 
 
@@ -107,7 +102,7 @@ def run(args: argparse.Namespace) -> int:
 
         return run_driven(args)
     from kbm.params import lookup
-    from numerics.cli._params import check, given
+    from numerics.cli._params import check, given, within
 
     params = given(args.param)
     axes, ranges = _axes(args)
@@ -120,13 +115,11 @@ def run(args: argparse.Namespace) -> int:
         return run_driven(args)
     if "mu" not in params and "mu" not in axes:
         raise ParameterError("give the small parameter: -p mu=VALUE (or vary it)")
-    if not 2 <= args.max_points <= 100000:
-        raise ParameterError(f"--max-points must be 2 to 100000, got {args.max_points}")
+    within(args.max_points, "--max-points", 2, 100000)
     if not 0 < args.x_range <= 1e4:
         raise ParameterError(f"--x-range must be positive (at most 1e4), got {args.x_range}")
     order = 3 if args.order is None else args.order
-    if not 1 <= order <= 4:
-        raise ParameterError(f"--order must be 1 to 4, got {order}")
+    within(order, "--order", 1, 4)
     return _run_autonomous(args, model, params, axes, ranges, order)
 
 
@@ -166,14 +159,12 @@ def _run_autonomous(args, model, params, axes, ranges, order) -> int:
 
 
 def _write(args, d) -> None:
-    import json
-
-    from kbm.files import output_folder, write_file
+    from kbm.files import output_folder
 
     data = d.to_json()
     if args.out:
         folder = output_folder(args.out)
-        write_file(folder / "diagram.json", json.dumps(data, indent=2, allow_nan=False) + "\n")
+        write_json(folder / "diagram.json", data)
         d.plot(folder / f"diagram-{d.model}.png")
     if args.json:
         emit_json(data)

@@ -2,52 +2,48 @@
 
 from __future__ import annotations
 
-from kbm.cli._common import add_param_option, emit_json, single_well
+from kbm.cli._common import add_options, emit_json, single_well
+from numerics.cli._options import add_ensemble_arguments, add_noisy_model, command
 
 
 def register(sub) -> None:
-    p = sub.add_parser(
-        "escape", help="escape rate from the well at the origin with noise sqrt(2 D) xi",
-        description="The rate of escape from the well at the origin of x'' + ... = sqrt(2 D) "
-                    "xi(t) (unit mass; kT = D/mu for linear damping mu): 1/MFPT of the "
-                    "averaged energy diffusion (energy-envelope stochastic averaging, "
-                    "underdamped regime), Kramers' low-friction rate and the Mel'nikov-"
-                    "Meshkov rate for linear damping, against first passages of simulated "
-                    "trajectories started at the well bottom (escape: |x| reaches the saddle "
-                    "bounding the well).  Where the expected cost of the simulation exceeds "
-                    "--budget steps the simulation is refused with the estimate and the "
-                    "averaged answer is given alone.")
-    p.add_argument("model", help="an autonomous model with a well at the origin bounded by "
-                                 "saddles (cdc, sedf at v = 0); the noise as -p D=VALUE or as "
-                                 "the temperature -p T=VALUE (T = kT = D/mu)")
-    add_param_option(p)
-    p.add_argument("--trajectories", type=int, default=200, metavar="N",
-                   help="simulated trajectories (default 200; at least 20)")
+    p = command(sub, "escape", "The rate of escape from the well at the origin of x'' + ... = "
+                "sqrt(2 D) xi(t) (unit mass; kT = D/mu for linear damping mu): 1/MFPT of the "
+                "averaged energy diffusion (energy-envelope stochastic averaging, underdamped "
+                "regime), Kramers' low-friction rate and the Mel'nikov-Meshkov rate for linear "
+                "damping, against first passages of simulated trajectories started at the well "
+                "bottom (escape: |x| reaches the saddle bounding the well).  Where the expected "
+                "cost of the simulation exceeds --budget steps the simulation is refused with the "
+                "estimate and the averaged answer is given alone.")
+    add_noisy_model(p, "an autonomous model with a well at the origin bounded by saddles (cdc, "
+                       "sedf at v = 0)")
+    add_ensemble_arguments(p, "trajectories", trajectories=dict(
+        default=200, help="simulated trajectories (default 200; at least 20)"))
     p.add_argument("--t-end", type=float, default=None, metavar="T",
                    help="longest run per trajectory (default: 5 averaged MFPTs; runs still "
                         "in the well at T are censored)")
     p.add_argument("--dt", type=float, default=None, metavar="H",
                    help="time step (default: the well's period/40, smaller where the numerical "
                         "heating would exceed 1e-3 of kT: numerics.noise.langevin.natural_step)")
-    p.add_argument("--seed", type=int, default=0, metavar="S",
-                   help="root seed (numpy SeedSequence, one child per trajectory)")
-    p.add_argument("--budget", type=float, default=2e9, metavar="STEPS",
-                   help="largest expected number of integration steps (default 2e9)")
+    add_ensemble_arguments(p, "seed", "budget", budget=dict(
+        help="largest expected number of integration steps (default 2e9)"))
     p.add_argument("--no-simulation", action="store_true", help="the averaged rate only")
     p.add_argument("--method", choices=("averaging", "fokker-planck"), default="averaging",
                    help="fokker-planck: also the slowest decay rate of the Kramers equation "
                         "with a sink past the saddles (any damping; with its sink and "
                         "truncation errors)")
-    p.add_argument("--json", action="store_true", help="print JSON")
+    add_options(p, "json")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     from kbm.errors import ModelError
     from kbm.params import lookup, names_of
+    from numerics.cli._options import check_ensemble
     from numerics.cli._params import noisy_model
     from numerics.escape.report import escape_report
 
+    check_ensemble(args)
     params, _ = noisy_model(args.model, args.param)
     if single_well(lookup(args.model, ("one",))):
         raise ModelError(f"{args.model} has no barrier to escape over at any parameter values: "

@@ -6,12 +6,13 @@ import argparse
 import sys
 from pathlib import Path
 
+from numerics.cli._options import command
+
 
 def register(sub) -> None:
-    p = sub.add_parser("figures", help="write the figures (PNG and PDF)",
-                       description="Write the paper's Figs. 2-6 and the comparison, branch, "
-                                   "forced-response and friction figures (PNG and PDF) into "
-                                   "--out; --list names them, --only picks some.")
+    p = command(sub, "figures", "Write the paper's Figs. 2-6 and the comparison, branch, "
+                "forced-response and friction figures (PNG and PDF) into --out; --list names "
+                "them, --only picks some.")
     p.add_argument("--out", default="figures", help="folder (default: figures)")
     p.add_argument("--only", nargs="*", default=None, metavar="NAME",
                    help="figure names (default: all; see --list)")
@@ -29,12 +30,10 @@ def run(args: argparse.Namespace) -> int:
     if args.list:
         print("\n".join(FIGURES))
         return 0
-    from kbm.errors import ParameterError
+    from numerics.cli._params import within
     from numerics.paper.figures.friction import friction_figures
 
-    if args.friction_size is not None and not 2 <= args.friction_size <= 32:
-        raise ParameterError(f"--friction-size must be between 2 and 32, got "
-                             f"{args.friction_size}")
+    within(args.friction_size, "--friction-size", 2, 32)
     output_folder(args.out, "--out")  # before any computation
     names = list(FIGURES) if args.only is None else list(args.only)
     import time

@@ -8,73 +8,67 @@ from pathlib import Path
 
 import numpy as np
 
-from kbm.cli._common import add_param_option, emit_json
-from numerics.cli._axes import MAX_POINTS, parse_axis, print_tables
+from kbm.cli._common import add_options
+from numerics.cli._axes import MAX_POINTS, emit_maps, parse_axis
+from numerics.cli._options import add_ensemble_arguments, command
 
 __all__ = ["register", "run", "parse_axis", "MAX_POINTS"]
 
 
 def register(sub) -> None:
-    p = sub.add_parser(
-        "friction", help="friction laws and maps of the pulled sliders (SEDF, CDC)",
-        description="The steady sliding state of a slider pulled at velocity v at every point "
-                    "of a grid: mean spring force (kinetic friction), static friction, "
-                    "dissipation per unit distance (which equals the mean force in steady "
-                    "state), fraction of time stuck, wells per slip, regime; against the "
-                    "Prandtl-Tomlinson eta = 2 pi Delta/(Omega^2 lam).  Runs on local "
-                    "processes, or on a Dask cluster with --scheduler.  With thermal noise "
-                    "sqrt(2 D) xi (-p D=VALUE, or --vary D=... or T=... with kT = D/mu) an "
-                    "ensemble of Langevin trajectories per point gives the mean and slip "
-                    "forces with standard errors.  Defaults: mu = 0.1, Omega = 1, lam = 1 "
-                    "(the paper's).")
+    p = command(sub, "friction", "The steady sliding state of a slider pulled at velocity v at "
+                "every point of a grid: mean spring force (kinetic friction), static friction, "
+                "dissipation per unit distance (which equals the mean force in steady state), "
+                "fraction of time stuck, wells per slip, regime; against the Prandtl-Tomlinson "
+                "eta = 2 pi Delta/(Omega^2 lam).  Runs on local processes, or on a Dask cluster "
+                "with --scheduler.  With thermal noise sqrt(2 D) xi (-p D=VALUE, or --vary D=... "
+                "or T=... with kT = D/mu) an ensemble of Langevin trajectories per point gives "
+                "the mean and slip forces with standard errors.  Defaults: mu = 0.1, Omega = 1, "
+                "lam = 1 (the paper's).")
     p.add_argument("model",
                    help="sedf_comoving (SEDF with the self-excitation attached to the stage; "
                         "has steady states), cdc (eq. 12) or sedf (the paper's eq. 3, whose "
                         "damping grows with the distance slid: runaway); or a chain of "
                         "sedf_comoving sliders coupled by springs mu*kappa: sedf-dimer, "
                         "sedf-chain-N (friction per slider, --vary v only)")
-    add_param_option(p)
-    p.add_argument("--vary", action="append", required=True, metavar="NAME=FROM:TO[:N|:logN]",
-                   help="an axis (repeatable, the last varies fastest): v=1e-3:3:log24 "
-                        "(24 log-spaced), Delta=0.5:3:6 (6 equally spaced), or a list "
-                        "beta=0.5,1,2")
+    add_options(p, "param", "vary", vary=dict(
+        required=True, default=None, metavar="NAME=FROM:TO[:N|:logN]",
+        help="an axis (repeatable, the last varies fastest): v=1e-3:3:log24 (24 log-spaced), "
+             "Delta=0.5:3:6 (6 equally spaced), or a list beta=0.5,1,2"))
     p.add_argument("--against", choices=["sedf_comoving", "cdc", "sedf"],
                    help="a second slider on the same grid (ratios in the JSON and figures)")
     p.add_argument("--slips", type=int, default=20, metavar="N",
                    help="slips averaged over in stick-slip (default 20)")
     p.add_argument("--engine", choices=["compiled", "scipy"], default="compiled",
                    help="numba-compiled DOP853 (default) or scipy's solve_ivp (reference)")
-    p.add_argument("--workers", type=int, default=None, metavar="N",
-                   help="local processes (default: the number of CPUs)")
+    add_ensemble_arguments(p, "workers", workers=dict(
+        help="local processes (default: the number of CPUs)"))
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on the Dask scheduler at ADDRESS (e.g. tcp://host:8786; needs "
                         "pip install 'kbm[dask]')")
     p.add_argument("--scheduler-timeout", type=float, default=10.0, metavar="SECONDS",
                    help="how long to wait for the scheduler (default 10)")
-    p.add_argument("--store", metavar="FILE",
-                   help="keep every finished chunk of points in the SQLite file FILE, so that "
-                        "an interrupted map can be resumed")
-    p.add_argument("--resume", action="store_true",
-                   help="with --store: continue the map kept in FILE (only the missing points "
-                        "are computed; the result is the same as an uninterrupted run)")
+    add_ensemble_arguments(p, "store", "resume", store=dict(
+        help="keep every finished chunk of points in the SQLite file FILE, so that an "
+             "interrupted map can be resumed"), resume=dict(
+        help="with --store: continue the map kept in FILE (only the missing points are "
+             "computed; the result is the same as an uninterrupted run)"))
     p.add_argument("--netcdf", metavar="FILE",
                    help="also save the map(s) as a netCDF file (xarray.open_dataset(FILE) "
                         "reads it back; with --against a dimension 'slider' holds both); "
                         "needs pip install 'kbm[xarray]'")
-    p.add_argument("--trajectories", type=int, default=None, metavar="N",
-                   help="with noise (-p D=... or --vary D=/T=...): Langevin trajectories per "
-                        "point (default 16)")
+    add_ensemble_arguments(p, "trajectories", trajectories=dict(
+        help="with noise (-p D=... or --vary D=/T=...): Langevin trajectories per point "
+             "(default 16)"))
     p.add_argument("--wells", type=float, default=None, metavar="N",
                    help="with noise: stage periods lam/v averaged over per trajectory "
                         "(default 50)")
-    p.add_argument("--seed", type=int, default=None, metavar="S",
-                   help="with noise: root seed (one SeedSequence child per trajectory; "
-                        "default 0); a chain's initial spread")
-    p.add_argument("--budget", type=float, default=None, metavar="STEPS",
-                   help="with noise: largest number of integration steps of the run "
-                        "(default 2e9); a larger run is refused before it starts")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.add_argument("--out", metavar="DIR", help="write the figures into DIR")
+    add_ensemble_arguments(p, "seed", "budget", seed=dict(
+        default=None, help="with noise: root seed (one SeedSequence child per trajectory; "
+                           "default 0); a chain's initial spread"), budget=dict(
+        default=None, help="with noise: largest number of integration steps of the run "
+                           "(default 2e9); a larger run is refused before it starts"))
+    add_options(p, "json", "out", out=dict(help="write the figures into DIR"))
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=run)
 
@@ -102,7 +96,8 @@ def run(args: argparse.Namespace) -> int:
     from kbm.errors import ModelError, ParameterError
     from kbm.models import parameter_value
     from kbm.params import closest
-    from numerics.cli._params import check, given, open_store, parse_vary, physical
+    from numerics.cli._options import check_ensemble, stored
+    from numerics.cli._params import check, given, parse_vary, physical
     from numerics.executor import connect
     from numerics.sliding.friction import FrictionSettings
     from numerics.sliding.maps import axis_values, friction_map
@@ -149,47 +144,31 @@ def run(args: argparse.Namespace) -> int:
     params = {k: float(parameter_value(k, v)) for k, v in fixed.items()}
     params = {"mu": 0.1, "lam": 1.0, "Omega": 1.0, **params}
     settings = FrictionSettings(slips=args.slips)
-    if args.workers is not None and not 1 <= args.workers <= 1024:
-        raise ParameterError(f"--workers must be between 1 and 1024, got {args.workers}")
-    store = open_store(args.store, args.resume, "map")
-    client = connect(args.scheduler, args.scheduler_timeout) if args.scheduler else None
-    kw = dict(settings=settings, engine=args.engine, executor=client, workers=args.workers,
-              progress=not args.no_progress and not args.json, store=store)
-    if noisy:
+    check_ensemble(args)
+    with stored(args, "map") as store:
+        client = connect(args.scheduler, args.scheduler_timeout) if args.scheduler else None
+        kw = dict(settings=settings, engine=args.engine, executor=client, workers=args.workers,
+                  progress=not args.no_progress and not args.json, store=store)
         try:
-            return run_thermal(args, params, axes, store, client)
+            if noisy:
+                return run_thermal(args, params, axes, store, client)
+            first = friction_map(args.model, params, axes, **kw)
+            second = friction_map(args.against, params, axes, **kw) if args.against else None
         finally:
             if client is not None:
                 client.close()
-            if store is not None:
-                store.close()
-    try:
-        first = friction_map(args.model, params, axes, **kw)
-        second = friction_map(args.against, params, axes, **kw) if args.against else None
-    finally:
-        if client is not None:
-            client.close()
-        if store is not None:
-            store.close()
     if args.netcdf:
         _save_netcdf(args.netcdf, first, second)
-    if args.json:
-        data = first.to_json()
-        if second is not None:
-            from numerics.sliding.maps import SliderComparison
+    return emit_maps(args, first, second, _print, _figures, _ratios)
 
-            comp = SliderComparison(first, second)
-            data["against"] = second.to_json()
-            data["force_ratio"] = comp.force_ratio.tolist()
-            data["dissipation_ratio"] = comp.dissipation_ratio.tolist()
-        emit_json(data)
-    else:
-        print_tables(first, second, _print)
-    if args.out:
-        for path in _figures(first, second, Path(args.out)):
-            # with --json, standard output holds the JSON only
-            print(f"wrote {path}", file=sys.stderr if args.json else sys.stdout)
-    return 0
+
+def _ratios(first, second) -> dict:
+    """The ``--against`` ratios of the JSON (:class:`numerics.sliding.maps.SliderComparison`)."""
+    from numerics.sliding.maps import SliderComparison
+
+    comp = SliderComparison(first, second)
+    return {"force_ratio": comp.force_ratio.tolist(),
+            "dissipation_ratio": comp.dissipation_ratio.tolist()}
 
 
 def _print(m) -> None:

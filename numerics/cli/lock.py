@@ -4,39 +4,36 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_model_arguments, add_param_option, emit_json
+from kbm.cli._common import add_model_arguments, add_options, emit_json
+from numerics.cli._options import command
 
 #: the names a coupling parameter goes by (the others varied are detunings)
 COUPLINGS = ("c", "k", "kappa")
 
 
 def register(sub) -> None:
-    p = sub.add_parser("lock", help="locking region of coupled oscillators: averaged vs true",
-                       description="The edges of the frequency-locking region of a coupled "
-                                   "system with one internal resonance (coupled-vdp): from the "
-                                   "averaged slow flow at orders 1..N (the fold of its locked "
-                                   "fixed point) and from the true locked cycle (where it "
-                                   "ceases to exist, by continuation and bisection).")
+    p = command(sub, "lock", "The edges of the frequency-locking region of a coupled system with "
+                "one internal resonance (coupled-vdp): from the averaged slow flow at orders 1..N "
+                "(the fold of its locked fixed point) and from the true locked cycle (where it "
+                "ceases to exist, by continuation and bisection).")
     add_model_arguments(p, "a coupled built-in with one internal resonance: coupled-vdp",
                         coupled=True)
     p.add_argument("--internal", action="append", default=[], metavar="P:Q",
                    help="with --rhs: the declared resonance (e.g. 1:1); F not polynomial "
                         "(sin, tanh coupling): the averaged flow is order 1, numeric")
-    add_param_option(p)
-    p.add_argument("--vary", action="append", required=True, metavar="NAME=FROM:TO",
-                   help="the detuning and the interval its edges are looked for in (e.g. "
-                        "--vary sigma=-1:1); a second --vary gives the coupling's values "
-                        "(c=0.05:0.5 for --points values, c=0.05:0.5:N, or c=0.1,0.2,0.4), "
-                        "else the coupling is the -p value")
-    p.add_argument("--order", "-n", type=int, default=None,
-                   help="highest averaged order (default 2, or 1 for F not polynomial; "
-                        "orders 1..N are given)")
+    add_options(p, "param", "vary", "order", vary=dict(
+        required=True, default=None,
+        help="the detuning and the interval its edges are looked for in (e.g. --vary "
+             "sigma=-1:1); a second --vary gives the coupling's values (c=0.05:0.5 for "
+             "--points values, c=0.05:0.5:N, or c=0.1,0.2,0.4), else the coupling is the -p "
+             "value"), order=dict(
+        help="highest averaged order (default 2, or 1 for F not polynomial; orders 1..N are "
+             "given)"))
     p.add_argument("--points", type=int, default=7,
                    help="coupling values on the second --vary range (default 7)")
     p.add_argument("--tol", type=float, default=1e-7,
                    help="bisection bracket of the true edges (default 1e-7)")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.add_argument("--out", metavar="DIR", help="write lock.json and the tongue figure lock.png")
+    add_options(p, "json", "out", out=dict(help="write lock.json and the tongue figure lock.png"))
     p.set_defaults(func=run)
 
 
@@ -65,6 +62,7 @@ def run(args: argparse.Namespace) -> int:
 
     from kbm.errors import ParameterError
     from kbm.files import output_folder, write_file
+    from numerics.cli._params import within
     from numerics.coupled.locking import locking_region, plot_locking
 
     if len(args.vary) > 2:
@@ -76,12 +74,9 @@ def run(args: argparse.Namespace) -> int:
         model = model.with_internal(args.internal)
     if args.order is None:  # the numeric backend of a smooth F is first order
         args.order = 2 if all(f.is_polynomial(*model.state) for f in model.F) else 1
-    if not 1 <= args.order <= 4:
-        raise ParameterError(f"--order must be 1 to 4, got {args.order}")
-    if not 2 <= args.points <= 200:
-        raise ParameterError(f"--points must be 2 to 200, got {args.points}")
-    if not 1e-12 <= args.tol <= 1e-2:
-        raise ParameterError(f"--tol must be between 1e-12 and 1e-2, got {args.tol}")
+    within(args.order, "--order", 1, 4)
+    within(args.points, "--points", 2, 200)
+    within(args.tol, "--tol", 1e-12, 1e-2)
     from numerics.cli._params import check, given, parse_vary
 
     params = given(args.param)

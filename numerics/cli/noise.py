@@ -2,29 +2,25 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
-from kbm.cli._common import add_param_option, emit_json
+from kbm.cli._common import add_options, emit_json, write_json
+from numerics.cli._options import add_ensemble_arguments, add_noisy_model, command
 
 
 def register(sub) -> None:
-    p = sub.add_parser(
-        "noise", help="stationary state with noise sqrt(2 D) xi: averaged against simulated",
-        description="The stationary state of x'' + ... = sqrt(2 D) xi(t) (unit mass, <xi(t) "
-                    "xi(t')> = delta(t - t'); kT = D/mu for linear damping mu): the moments "
-                    "<a^2> (a^2 = x^2 + (x'/omega0)^2) and <x^2> and a density, predicted by "
-                    "stochastic averaging (the amplitude for weakly nonlinear models, the "
-                    "energy envelope for the sliders' strong potential) and estimated from "
-                    "an ensemble of Langevin trajectories (weak order 2, one seed per "
-                    "trajectory spawned from --seed) with standard errors.  A linearly damped "
-                    "model also gets the exact Boltzmann <x^2>.")
-    p.add_argument("model", help="a built-in model (vdp, duffing, rayleigh, linear_damping, "
-                                 "cdc, sedf, sedf_comoving); the noise as -p D=VALUE or as the "
-                                 "temperature -p T=VALUE (T = kT = D/mu)")
-    add_param_option(p)
-    p.add_argument("--trajectories", type=int, default=100, metavar="N",
-                   help="independent trajectories (default 100; at least 8)")
+    p = command(sub, "noise", "The stationary state of x'' + ... = sqrt(2 D) xi(t) (unit mass, "
+                "<xi(t) xi(t')> = delta(t - t'); kT = D/mu for linear damping mu): the moments "
+                "<a^2> (a^2 = x^2 + (x'/omega0)^2) and <x^2> and a density, predicted by "
+                "stochastic averaging (the amplitude for weakly nonlinear models, the energy "
+                "envelope for the sliders' strong potential) and estimated from an ensemble of "
+                "Langevin trajectories (weak order 2, one seed per trajectory spawned from "
+                "--seed) with standard errors.  A linearly damped model also gets the exact "
+                "Boltzmann <x^2>.")
+    add_noisy_model(p, "a built-in model (vdp, duffing, rayleigh, linear_damping, cdc, sedf, "
+                       "sedf_comoving)")
+    add_ensemble_arguments(p, "trajectories", trajectories=dict(
+        default=100, help="independent trajectories (default 100; at least 8)"))
     p.add_argument("--t-end", type=float, default=None, metavar="T",
                    help="averaging time per trajectory after the burn-in (default 400/|mu|)")
     p.add_argument("--burn-in", type=float, default=None, metavar="T",
@@ -35,19 +31,9 @@ def register(sub) -> None:
                         "halved again while a pilot at dt and dt/2 measures a bias of the "
                         "moments beyond 2e-4, and shortened so that --t-end is a whole number "
                         "of steps; the run prints the step used)")
-    p.add_argument("--seed", type=int, default=0, metavar="S",
-                   help="root seed (numpy SeedSequence, one child per trajectory)")
-    p.add_argument("--budget", type=float, default=2e9, metavar="STEPS",
-                   help="largest number of integration steps (default 2e9); beyond it the "
-                        "averaged answer is given alone")
-    p.add_argument("--workers", type=int, default=None, metavar="N",
-                   help="worker processes (default: all cores; the numbers do not depend on it)")
-    p.add_argument("--store", metavar="FILE",
-                   help="keep every finished chunk of trajectories in the SQLite file FILE, so "
-                        "that an interrupted run can be resumed")
-    p.add_argument("--resume", action="store_true",
-                   help="with --store: continue the run kept in FILE (the same numbers as an "
-                        "uninterrupted run)")
+    add_ensemble_arguments(p, "seed", "budget", "workers", "store", "resume", budget=dict(
+        help="largest number of integration steps (default 2e9); beyond it the averaged "
+             "answer is given alone"))
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the amplitude averaging (default 1; 2 adds the O(mu) and "
                         "O(mu^2) corrections at fixed D/mu, kbm.stochastic_order2; polynomial "
@@ -66,9 +52,8 @@ def register(sub) -> None:
                         "coupled ensemble at dt and dt/2 sized by Giles' allocation, with the "
                         "standard error of both levels (moments.*.extrapolated; adds about 1.3-1.5 "
                         "times the main run's steps)")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.add_argument("--out", metavar="DIR", help="write noise-MODEL.png (the averaged density "
-                                                "over the histogram) and noise-MODEL.json")
+    add_options(p, "json", "out", out=dict(help="write noise-MODEL.png (the averaged density "
+                                                "over the histogram) and noise-MODEL.json"))
     p.set_defaults(func=run)
 
 
@@ -84,35 +69,26 @@ def params_T(items) -> str:
 
 
 def run(args) -> int:
-    from kbm.errors import ParameterError
+    from numerics.cli._options import check_ensemble, stored
+    from numerics.cli._params import noisy_model
     from numerics.thermal.stationary import noise_report
 
-    if args.seed < 0:
-        raise ParameterError(f"--seed must be >= 0, got {args.seed}")
-    from numerics.cli._params import noisy_model, open_store
-
+    check_ensemble(args)
     params, noise = noisy_model(args.model, args.param)
     figure = None
     if args.out:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
         figure = out / f"noise-{args.model}.png"
-    store = open_store(args.store, args.resume)
-    try:
+    with stored(args) as store:
         rep = noise_report(args.model, params, trajectories=args.trajectories,
                            t_end=args.t_end, burn_in=args.burn_in, dt=args.dt, seed=args.seed,
                            budget=args.budget, workers=args.workers, progress=not args.json,
                            figure=figure, store=store, method=args.method,
                            fokker_planck=not args.no_fokker_planck, order=args.order,
                            extrapolate=args.extrapolate)
-    finally:
-        if store is not None:
-            store.close()
     if args.out:
-        from kbm.strict_json import finite
-
-        (Path(args.out) / f"noise-{args.model}.json").write_text(
-            json.dumps(finite(rep), indent=2, allow_nan=False) + "\n")
+        write_json(Path(args.out) / f"noise-{args.model}.json", rep)
     if args.json:
         emit_json(rep)
         return 0

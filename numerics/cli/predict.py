@@ -4,19 +4,18 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import (add_model_arguments, add_param_option, checked_params,
+from kbm.cli._common import (add_model_arguments, add_options, add_param_option, checked_params,
                              describe_params, emit_json, model_spec)
+from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = sub.add_parser(
-        "predict", help="limit cycles predicted by averaging (energy balance or KBM)",
-        description="List every limit cycle predicted analytically: by averaging about the "
-                    "conservative orbit of x'' + g(x) = 0 with only the damping as "
-                    "perturbation (--method energy; order 1 is the energy balance "
-                    "Gamma(E) = 0, the paper's eq. 10), or by classical KBM (--method kbm). "
-                    "JSON key 'cycles': amplitude_max, amplitude_min, "
-                    "amplitude_first_harmonic, period, frequency, energy, stable, annulus.")
+    p = command(sub, "predict", "List every limit cycle predicted analytically: by averaging "
+                "about the conservative orbit of x'' + g(x) = 0 with only the damping as "
+                "perturbation (--method energy; order 1 is the energy balance Gamma(E) = 0, the "
+                "paper's eq. 10), or by classical KBM (--method kbm). JSON key 'cycles': "
+                "amplitude_max, amplitude_min, amplitude_first_harmonic, period, frequency, "
+                "energy, stable, annulus.")
     add_model_arguments(p)
     p.add_argument("--potential", metavar="EXPR", default=None,
                    help="potential V(x) of the conservative part (energy method; default: "
@@ -24,8 +23,7 @@ def register(sub) -> None:
     add_param_option(p)
     p.add_argument("--method", choices=["energy", "kbm"], default="energy",
                    help="energy (averaging about the conservative orbit, default) or kbm")
-    p.add_argument("--order", "-n", type=int, default=1, help="order N >= 1 (default 1)")
-    p.add_argument("--json", action="store_true", help="print JSON")
+    add_options(p, "order", "json", order=dict(default=1, help="order N >= 1 (default 1)"))
     p.set_defaults(func=run)
 
 

@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import argparse
 
+from numerics.cli._options import command
+
 
 def register(sub) -> None:
-    p = sub.add_parser("reproduce", help="the main job: derivations, tables, figures, summary",
-                       description="Regenerate the derivations, compare KBM with the true "
-                                   "limit cycles for the paper's and small-parameter cases, "
-                                   "run the paper's sliding experiments, write all figures.")
+    p = command(sub, "reproduce", "Regenerate the derivations, compare KBM with the true limit "
+                "cycles for the paper's and small-parameter cases, run the paper's sliding "
+                "experiments, write all figures.")
     p.add_argument("--out", default="out", help="output folder (default: out)")
     p.add_argument("--no-pdf", action="store_true", help="do not run pdflatex")
     p.set_defaults(func=run)

@@ -9,22 +9,19 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_param_option, emit_json
+from kbm.cli._common import add_options, emit_json
 from numerics.cli._forced_args import (amplitude_window, checked_values, forced_model,
                                        sigma_range)
 from numerics._show import multipliers_text
+from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = sub.add_parser(
-        "response", help="frequency-response curve of a forced oscillator (KBM near a "
-                         "resonance, checked by shooting)",
-        description="x'' + omega0^2 x = mu F(x, x', theta), theta = nu t, "
-                    "nu = (p/q) omega0 + mu sigma: the slow flow of the forced KBM expansion "
-                    "to order N, its fixed points (stable and unstable) followed in sigma with "
-                    "the folds (jump points) and the backbone, next to the true periodic "
-                    "responses of period 2 pi p/nu by shooting and pseudo-arclength "
-                    "continuation with Floquet multipliers.")
+    p = command(sub, "response", "x'' + omega0^2 x = mu F(x, x', theta), theta = nu t, nu = (p/q) "
+                "omega0 + mu sigma: the slow flow of the forced KBM expansion to order N, its "
+                "fixed points (stable and unstable) followed in sigma with the folds (jump "
+                "points) and the backbone, next to the true periodic responses of period 2 pi "
+                "p/nu by shooting and pseudo-arclength continuation with Floquet multipliers.")
     p.add_argument("model", nargs="?",
                    help="a forced model (duffing-forced, duffing-super, duffing-super-hard, "
                         "duffing-sub-hard, mathieu, vdp-forced, parametric, mathieu-2, "
@@ -52,9 +49,9 @@ def register(sub) -> None:
     p.add_argument("--resonance", metavar="P/Q", default=None,
                    help="the declared resonance nu ~ (p/q) omega0 (1/1 primary, 1/3 "
                         "superharmonic, 3 subharmonic, 2 parametric); default the model's")
-    add_param_option(p)
-    p.add_argument("--vary", metavar="sigma=FROM:TO[:N]",
-                   help="the detuning range and about N points per branch (default 400)")
+    add_options(p, "param", "vary", vary=dict(
+        action="store", default=None, metavar="sigma=FROM:TO[:N]",
+        help="the detuning range and about N points per branch (default 400)"))
     p.add_argument("--detuning", type=float, metavar="SIGMA",
                    help="instead of --vary: every steady response at this one detuning")
     p.add_argument("--nu", metavar="VALUE",
@@ -72,8 +69,8 @@ def register(sub) -> None:
                         "slider-cdc, sin(k*x + theta)) also the interval of the numeric "
                         "forced backend (default 0.05*amax:amax)")
     p.add_argument("--no-numeric", action="store_true", help="the analytic curve only")
-    p.add_argument("--out", metavar="DIR", help="write the figure response.png into DIR "
-                                                "(convergence.png with --convergence)")
+    add_options(p, "out", out=dict(help="write the figure response.png into DIR "
+                                        "(convergence.png with --convergence)"))
     p.add_argument("--convergence", metavar="MU1,MU2,...",
                    help="convergence study instead of the curve: the error of each KBM order "
                         "1..N against the true periodic response (shooting) for these values "
@@ -87,7 +84,7 @@ def register(sub) -> None:
     p.add_argument("--start", metavar="X1,..,XDOT1,..",
                    help="coupled systems: the state to start the branch from (default: the "
                         "attracting response after a transient from x_i = 1)")
-    p.add_argument("--json", action="store_true", help="print JSON")
+    add_options(p, "json")
     p.set_defaults(func=run)
 
 
@@ -97,6 +94,7 @@ def run(args: argparse.Namespace) -> int:
     from kbm.coupled import COUPLED_MODELS
 
     from kbm.errors import ParameterError
+    from numerics.cli._params import within
     from numerics.forced.diagram import response_diagram
 
     if args.rhs is not None and len(args.rhs) > 1:
@@ -128,8 +126,7 @@ def run(args: argparse.Namespace) -> int:
     if (args.vary is None) == (args.detuning is None):
         raise ParameterError("give either --vary sigma=FROM:TO[:N] (a response curve) or "
                              "--detuning SIGMA (the steady states at one detuning)")
-    if not 1 <= args.order <= 8:
-        raise ParameterError(f"--order must be between 1 and 8, got {args.order}")
+    within(args.order, "--order", 1, 8)
     if not args.amax > 0:
         raise ParameterError(f"--amax must be positive, got {args.amax}")
     model = forced_model(args)
@@ -193,13 +190,11 @@ def _intervals(trivial) -> list[tuple[float, float, str]]:
 
 
 def _run_one(model, args: argparse.Namespace) -> int:
-    import math
-
     from kbm.errors import ParameterError
+    from numerics.cli._params import within
     from numerics.forced.diagram import steady_states
 
-    if not math.isfinite(args.detuning):
-        raise ParameterError(f"--detuning must be a finite number, got {args.detuning}")
+    within(args.detuning, "--detuning")
     if args.out:
         raise ParameterError("--out draws a response curve: use it with --vary")
     s = steady_states(model, checked_values(model, args), args.detuning, order=args.order,

@@ -4,23 +4,21 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_param_option, emit_json
+from kbm.cli._common import add_options, add_param_option, emit_json
+from numerics.cli._options import command
 
 
 def register(sub) -> None:
-    p = sub.add_parser("slide", help="driven stick-slip simulation (SEDF or CDC)",
-                       description="Simulate x'' + D(x, x') + Delta sin(2 pi x/lam) + "
-                                   "Omega^2 (x - v t) = 0 from x = x' = 0 and analyse the "
-                                   "stick-slip motion (slips, static and kinetic friction, "
-                                   "dissipation, energy audit).  Defaults as in the paper: "
-                                   "mu = 0.1, Omega = 1, lam = 1.")
+    p = command(sub, "slide", "Simulate x'' + D(x, x') + Delta sin(2 pi x/lam) + Omega^2 (x - v "
+                "t) = 0 from x = x' = 0 and analyse the stick-slip motion (slips, static and "
+                "kinetic friction, dissipation, energy audit).  Defaults as in the paper: mu = "
+                "0.1, Omega = 1, lam = 1.")
     p.add_argument("model", choices=["sedf", "cdc", "sedf_comoving"],
                    help="sedf (eq. 3), cdc (eq. 12) or sedf_comoving (self-excitation attached "
                         "to the stage)")
     add_param_option(p)
     p.add_argument("--t-end", type=float, required=True, help="final time T > 0")
-    p.add_argument("--rtol", type=float, default=1e-10, help="integrator tolerance")
-    p.add_argument("--json", action="store_true", help="print JSON")
+    add_options(p, "rtol", "json")
     p.set_defaults(func=run)
 
 

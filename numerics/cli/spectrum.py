@@ -9,49 +9,36 @@ autonomous coupled one to :func:`numerics.cli._spectrum_driven.run_slips` (phase
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
-from kbm.cli._common import add_model_arguments, add_param_option, emit_json
+from kbm.cli._common import add_model_arguments, add_options, emit_json, write_json
+from numerics.cli._options import add_ensemble_arguments, command
 
 
 def register(sub) -> None:
-    p = sub.add_parser(
-        "spectrum", help="spectrum of a noisy oscillator: linewidth, response spectra, phase "
-                         "slips (averaged vs simulated)",
-        description="The spectrum of x'' + omega0^2 x = mu F + sqrt(2 D) xi(t) (unit mass, "
-                    "<xi(t) xi(t')> = delta(t - t'); T = D/mu): for a self-excited model the "
-                    "linewidth (HWHM of the fundamental, angular: phase diffusion with the "
-                    "amplitude-phase coupling, Lax), the mean frequency and the PSD of x, by "
-                    "stochastic averaging and from an ensemble of Langevin trajectories "
-                    "(Welch PSD with a confidence band, phase-variance growth, one seed per "
-                    "trajectory spawned from --seed); for a forced model the noise spectra "
-                    "about its stable states; for coupled oscillators the phase-slip rate.")
+    p = command(sub, "spectrum", "The spectrum of x'' + omega0^2 x = mu F + sqrt(2 D) xi(t) (unit "
+                "mass, <xi(t) xi(t')> = delta(t - t'); T = D/mu): for a self-excited model the "
+                "linewidth (HWHM of the fundamental, angular: phase diffusion with the "
+                "amplitude-phase coupling, Lax), the mean frequency and the PSD of x, by "
+                "stochastic averaging and from an ensemble of Langevin trajectories (Welch PSD "
+                "with a confidence band, phase-variance growth, one seed per trajectory spawned "
+                "from --seed); for a forced model the noise spectra about its stable states; for "
+                "coupled oscillators the phase-slip rate.")
     add_model_arguments(p, "vdp, rayleigh, sedf, ...; forced: duffing-forced, ...; coupled: "
                            "coupled-vdp", coupled=True)
-    add_param_option(p)
-    p.add_argument("--vary", action="append", default=[], metavar="NAME=FROM:TO[:N]",
-                   help="forced: the detuning (e.g. sigma=0.5:1.5); coupled: the detuning; "
-                        "self-excited: D (or T), one run per value (the linewidth-vs-D "
-                        "figure)")
-    p.add_argument("--trajectories", type=int, default=None, metavar="N",
-                   help="independent trajectories (default 64 self-excited, 32 otherwise; at "
-                        "least 8)")
+    add_options(p, "param", "vary", vary=dict(
+        metavar="NAME=FROM:TO[:N]",
+        help="forced: the detuning (e.g. sigma=0.5:1.5); coupled: the detuning; self-excited: "
+             "D (or T), one run per value (the linewidth-vs-D figure)"))
+    add_ensemble_arguments(p, "trajectories", trajectories=dict(
+        help="independent trajectories (default 64 self-excited, 32 otherwise; at least 8)"))
     p.add_argument("--duration", type=float, default=None, metavar="T",
                    help="recorded time per trajectory (default: enough for a resolution of a "
                         "quarter of the averaged linewidth and 100 amplitude relaxation times)")
     p.add_argument("--resolution", type=float, default=None, metavar="W",
                    help="self-excited: angular resolution of the PSD (default: the averaged "
                         "HWHM/4); a --duration shorter than 2 pi/W is refused")
-    p.add_argument("--seed", type=int, default=0, metavar="S",
-                   help="root seed (numpy SeedSequence, one child per trajectory)")
-    p.add_argument("--workers", type=int, default=None, metavar="N",
-                   help="worker processes (default: all cores; the numbers do not depend on it)")
-    p.add_argument("--store", metavar="FILE",
-                   help="keep every finished chunk of trajectories in the SQLite file FILE")
-    p.add_argument("--resume", action="store_true",
-                   help="with --store: continue the run kept in FILE (the same numbers as an "
-                        "uninterrupted run)")
+    add_ensemble_arguments(p, "seed", "workers", "store", "resume")
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the averaging (default 1; 2 adds the second-order KBM rates "
                         "mu^2 A_2, mu^2 B_2 and the O(mu) correction of the phase response "
@@ -62,9 +49,8 @@ def register(sub) -> None:
                         "exact in mu, first order in D)")
     p.add_argument("--no-simulation", action="store_true",
                    help="self-excited: the averaged line alone (simulated entries null)")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.add_argument("--out", metavar="DIR", help="write spectrum-NAME-psd.png, "
-                                                "spectrum-NAME-linewidth.png and the JSON")
+    add_options(p, "json", "out", out=dict(
+        help="write spectrum-NAME-psd.png, spectrum-NAME-linewidth.png and the JSON"))
     p.set_defaults(func=run)
 
 
@@ -133,8 +119,9 @@ def _bind(args):
 
 
 def run(args) -> int:
-    from kbm.errors import ParameterError
+    from numerics.cli._options import check_ensemble, stored
 
+    check_ensemble(args)
     kind = _kind(args)
     if kind == "forced":
         from numerics.cli._spectrum_driven import run_driven
@@ -144,15 +131,11 @@ def run(args) -> int:
         from numerics.cli._spectrum_driven import run_slips
 
         return run_slips(args)
-    if args.seed < 0:
-        raise ParameterError(f"--seed must be >= 0, got {args.seed}")
-    from numerics.cli._params import open_store
     from numerics.spectrum.result import DEFAULT_TRAJECTORIES, line_report, write_figures
 
     model, params, values, _ = _bind(args)
-    store = open_store(args.store, args.resume)
     reports = []
-    try:
+    with stored(args) as store:
         for D in values:
             reports.append(line_report(
                 model, params, D, order=args.order,
@@ -160,21 +143,15 @@ def run(args) -> int:
                 duration=args.duration, resolution=args.resolution, seed=args.seed,
                 workers=args.workers, store=store, progress=not args.json,
                 simulate=not args.no_simulation, floquet=args.floquet))
-    finally:
-        if store is not None:
-            store.close()
     rep = dict(reports[0])
     if len(reports) > 1:
         rep["sweep"] = [{"D": r["D"], "linewidth": r["linewidth"], "frequency": r["frequency"]}
                         for r in reports]
     name = reports[0]["model"]
     if args.out:
-        from kbm.strict_json import finite
-
         out = Path(args.out)
         rep["figures"] = [str(p) for p in write_figures(reports, out, name)]
-        (out / f"spectrum-{name}.json").write_text(
-            json.dumps(finite(rep), indent=2, allow_nan=False) + "\n")
+        write_json(out / f"spectrum-{name}.json", rep)
     if args.json:
         emit_json(rep)
         return 0

@@ -1,4 +1,4 @@
-"""The one acceptance standard of shooting (numerics.cycles.acceptance) and the locking edge
+"""The one acceptance standard of shooting (numerics.shooting.acceptance) and the locking edge
 at the fold of the locked cycle (numerics.coupled.fold), issue 35 defect 4.
 
 The reference fold is computed here by a second method, independent of kbm's integrator,
@@ -27,8 +27,8 @@ from kbm.models import custom_model
 from numerics.coupled import coupled_cycle
 from numerics.cycles import continue_cycles, limit_cycle
 from numerics.coupled.locking import true_edges
-from numerics.cycles.acceptance import (RESIDUAL_FACTOR, accepted, correction_tolerance,
-                                        residual_tolerance, trivial_ok)
+from numerics.shooting.acceptance import (RESIDUAL_FACTOR, accepted, correction_tolerance,
+                                          residual_tolerance, trivial_ok)
 from numerics.errors import ConvergenceError
 
 MU, C = 0.08, 0.2

@@ -10,8 +10,6 @@
   checks) and :mod:`numerics.cycles.finalpass` (the result and its accuracy estimate);
 - :mod:`numerics.cycles.every_cycle`: :func:`limit_cycles` (every predicted cycle, stable
   and unstable, confirmed by shooting);
-- :mod:`numerics.cycles.acceptance`: the one acceptance standard of every shooting, at its
-  earlier address (it lives in :mod:`numerics.shooting.acceptance`);
 - :mod:`numerics.cycles.harmonics`: Fourier coefficients by quadrature along the
   integration (no aliasing of the jumps of relaxation cycles);
 - :mod:`numerics.cycles.highprec`: cycles to 30 digits and more (mpmath Taylor);

@@ -74,21 +74,6 @@ class _Segments:
         yT = flow(cm, [y[0], y[1]], h, 1, Method.COMPILED, self.rtol, self.rtol)[-1]
         return yT[:2], None
 
-    def resample(self, Y: np.ndarray, T: float, p: float, times: np.ndarray) -> np.ndarray:
-        """The orbit of the segments ``Y`` (period ``T``) at ``times`` in ``[0, T)``, each
-        integrated from its own segment's start (never across the saddles' expansion)."""
-        M = len(Y)
-        h = T / M
-        cm = self.line(p)
-        out = []
-        for t in times:
-            j = min(M - 1, int(t // h))
-            dt = t - j * h
-            y = Y[j] if dt <= 0 else flow(cm, [Y[j][0], Y[j][1]], dt, 1, Method.COMPILED,
-                                          self.rtol, self.rtol)[-1][:2]
-            out.append(np.asarray(y, float))
-        return np.array(out)
-
     def orbit(self, y0, T: float, p: float, n: int) -> np.ndarray:
         """The states at ``n + 1`` equally spaced times over ``[0, T]``, segment by segment
         (each of at most SEGMENT)."""

@@ -58,8 +58,8 @@ import sympy as sp
 from .averaging import derive
 from .errors import ParameterError
 from .latex import equation_lines, latex
-from .models import Oscillator, get_model
-from .stochastic import NOISE
+from .models import Oscillator
+from .stochastic import NOISE, noise_model
 from .symbols import a, mu, psi
 
 __all__ = ["PhaseDiffusion", "phase_diffusion", "phase_response", "linewidth_series"]
@@ -185,12 +185,7 @@ def phase_diffusion(model: Oscillator | str, order: int = 1,
     if order not in (1, 2):
         raise ParameterError(f"order = {order!r}: the phase diffusion is averaged to order 1 or "
                              "2")
-    m = get_model(model) if isinstance(model, str) else model
-    if "D" in m.parameters:
-        raise ParameterError(f"model {m.name!r} has a parameter named D, the noise intensity's "
-                             "name; rename it")
-    m.require_autonomous("the phase-diffusion averaging")
-    fixed = {k: v for k, v in dict(params or {}).items() if k not in ("mu", "D")}
+    m, fixed = noise_model(model, params, "the phase-diffusion averaging")
     key = (m.name, str(m.F), str(m.omega0), order,
            tuple(sorted((k, str(v)) for k, v in fixed.items())))
     if key in _CACHE:

@@ -222,6 +222,21 @@ def _confines(A1: sp.Expr) -> tuple[bool, str]:
     return True, ""
 
 
+def noise_model(model: Oscillator | str, params: Mapping[str, object] | None,
+                what: str) -> tuple[Oscillator, dict]:
+    """The autonomous model named or given, and ``params`` without ``mu`` and ``D``.
+
+    Raises :class:`~kbm.errors.NonAutonomousError` (naming ``what``) for a driven model and
+    :class:`~kbm.errors.ParameterError` for a model parameter named ``D`` (the noise's name).
+    """
+    m = get_model(model) if isinstance(model, str) else model
+    if "D" in m.parameters:
+        raise ParameterError(f"model {m.name!r} has a parameter named D, the noise intensity's "
+                             "name; rename it")
+    m.require_autonomous(what)
+    return m, {k: v for k, v in dict(params or {}).items() if k not in ("mu", "D")}
+
+
 def stochastic_average(model: Oscillator | str,
                        params: Mapping[str, object] | None = None) -> StochasticAveraging:
     """First-order stochastic averaging of ``x'' + omega0^2 x = mu F + sqrt(2 D) xi``.
@@ -251,12 +266,7 @@ def stochastic_average(model: Oscillator | str,
     >>> round(st.moment(2, {"mu": 0.05, "D": 0.01}), 6)
     4.003403
     """
-    m = get_model(model) if isinstance(model, str) else model
-    if "D" in m.parameters:
-        raise ParameterError(f"model {m.name!r} has a parameter named D, the noise intensity's "
-                             "name; rename it")
-    m.require_autonomous("the stochastic averaging")
-    fixed = {k: v for k, v in dict(params or {}).items() if k not in ("mu", "D")}
+    m, fixed = noise_model(model, params, "the stochastic averaging")
     res = derive(m, 1, fixed or None)
     w0 = res.model.omega0
     A1, B1 = sp.expand(res.A[1]), sp.expand(res.B[1])

@@ -82,7 +82,7 @@ def _link(name: str, what: str = "the full table") -> str:
 
 
 # ------------------------------------------------------------------------------ sections
-def _claims(claims) -> list[str]:
+def _claims(claims, figures=None) -> list[str]:
     held = [c.key for c in claims if c.verdict == "holds"]
     head = f"{len(held)} of {len(claims)} claims hold: {', '.join(held) or 'none'}"
     for verdict in sorted({c.verdict for c in claims} - {"holds"}):
@@ -93,7 +93,7 @@ def _claims(claims) -> list[str]:
             _link("claims.md", "the numbers measured for each claim"), ""]
 
 
-def _errata(evidence) -> list[str]:
+def _errata(evidence, figures=None) -> list[str]:
     def closer(r):
         if r.corrected_error < r.printed_error:
             return "corrected"
@@ -312,22 +312,11 @@ def summary_markdown(out: Path, figures: Sequence[Path] = (), *, claims=None,
              "Each section opens with its conclusion, then a short table or a figure. The full "
              "tables are in [tables/](tables/), the figures in [figures/](figures/), the "
              f"LaTeX derivations in [derivations/](derivations/){pdf_link}.", ""]
-    if claims is not None:
-        lines += _claims(claims)
-    if errata is not None:
-        lines += _errata(errata)
-    if cases is not None:
-        lines += _comparison(cases, rel)
-    if convergence is not None:
-        lines += _convergence(convergence, rel)
-    if fixed is not None:
-        lines += _fixed_delta(fixed, rel)
-    if methods is not None:
-        lines += _methods(methods, rel)
-    if validity is not None:
-        lines += _validity(validity, rel)
-    if friction is not None:
-        lines += _friction(friction, rel)
+    for result, section in ((claims, _claims), (errata, _errata), (cases, _comparison),
+                            (convergence, _convergence), (fixed, _fixed_delta),
+                            (methods, _methods), (validity, _validity), (friction, _friction)):
+        if result is not None:
+            lines += section(result, rel)
     shown = {m.group(1) for m in re.finditer(r"\]\(([^)]+\.png)\)", "\n".join(lines))}
     rest = [n for n, r in rel.items() if r not in shown]
     if rest:

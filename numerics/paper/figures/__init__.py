@@ -10,6 +10,7 @@ lazily inside the drawing modules (Agg backend), never by :mod:`kbm`.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable
+from importlib import import_module
 from pathlib import Path
 
 from kbm.errors import KBMError
@@ -17,57 +18,29 @@ from kbm.errors import KBMError
 __all__ = ["FIGURES", "write_figures"]
 
 
-def _paper(name: str) -> Callable[[Path], list[Path]]:
+def _figure(module: str, name: str) -> Callable[[Path], list[Path]]:
+    """``numerics.paper.figures.<module>.<name>``, its module imported on first call."""
     def run(out_dir: Path) -> list[Path]:
-        from numerics.paper.figures import paper
-
-        return getattr(paper, name)(Path(out_dir))
-    run.__doc__ = f"numerics.paper.figures.paper.{name}"
-    return run
-
-
-def _comparison(name: str) -> Callable[[Path], list[Path]]:
-    def run(out_dir: Path) -> list[Path]:
-        from numerics.paper.figures import comparison
-
-        return getattr(comparison, name)(Path(out_dir))
-    run.__doc__ = f"numerics.paper.figures.comparison.{name}"
-    return run
-
-
-def _friction(name: str) -> Callable[[Path], list[Path]]:
-    def run(out_dir: Path) -> list[Path]:
-        from numerics.paper.figures import friction
-
-        return getattr(friction, name)(Path(out_dir))
-    run.__doc__ = f"numerics.paper.figures.friction.{name}"
-    return run
-
-
-def _methods(name: str) -> Callable[[Path], list[Path]]:
-    def run(out_dir: Path) -> list[Path]:
-        from numerics.paper.figures import methods
-
-        return getattr(methods, name)(Path(out_dir))
-    run.__doc__ = f"numerics.paper.figures.methods.{name}"
+        return getattr(import_module(f"numerics.paper.figures.{module}"), name)(Path(out_dir))
+    run.__doc__ = f"numerics.paper.figures.{module}.{name}"
     return run
 
 
 #: every figure by name
 FIGURES: dict[str, Callable[[Path], list[Path]]] = {
-    "fig2_potential": _paper("fig2_potential"),
-    "fig3_phase_portraits": _paper("fig3_phase_portraits"),
-    "fig4_sliding": _paper("fig4_sliding"),
-    "fig5_sedf_vs_cdc": _paper("fig5_sedf_vs_cdc"),
-    "fig6_kinetic_friction": _paper("fig6_kinetic_friction"),
-    "methods_map": _methods("methods_figure"),
-    "fixed_delta_convergence": _methods("fixed_delta_figure"),
-    "convergence": _comparison("convergence_figure"),
-    "validity_map": _comparison("validity_figure"),
-    "phase_fig3_kbm": _comparison("phase_fig3_figure"),
-    "phase_small_kbm": _comparison("phase_small_figure"),
-    "sedf_branches": _paper("sedf_branches"),
-    "friction": _friction("friction_figures"),
+    "fig2_potential": _figure("paper", "fig2_potential"),
+    "fig3_phase_portraits": _figure("paper", "fig3_phase_portraits"),
+    "fig4_sliding": _figure("paper", "fig4_sliding"),
+    "fig5_sedf_vs_cdc": _figure("paper", "fig5_sedf_vs_cdc"),
+    "fig6_kinetic_friction": _figure("paper", "fig6_kinetic_friction"),
+    "methods_map": _figure("methods", "methods_figure"),
+    "fixed_delta_convergence": _figure("methods", "fixed_delta_figure"),
+    "convergence": _figure("comparison", "convergence_figure"),
+    "validity_map": _figure("comparison", "validity_figure"),
+    "phase_fig3_kbm": _figure("comparison", "phase_fig3_figure"),
+    "phase_small_kbm": _figure("comparison", "phase_small_figure"),
+    "sedf_branches": _figure("paper", "sedf_branches"),
+    "friction": _figure("friction", "friction_figures"),
 }
 
 

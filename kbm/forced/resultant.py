@@ -21,7 +21,7 @@ import sympy as sp
 from ..symbols import a
 from .model import phi, sigma
 from .result import SlowFlow
-from .steady import FixedPoint, _eig, _period
+from .steady import FixedPoint, _add_new
 
 __all__ = ["fixed_points_resultant"]
 
@@ -82,7 +82,6 @@ def fixed_points_resultant(sf: SlowFlow, sigma_value: float, *, amplitude_max: f
     roots = [complex(r) for r in res.nroots(n=30, maxsteps=5000)] if res.degree() > 0 else []
     amps = sorted({round(r.real, 12) for r in roots
                    if abs(r.imag) < 1e-8 * (1 + abs(r)) and 0 < r.real < amplitude_max})
-    per = _period(sf)
     found: list[FixedPoint] = []
     for av in amps:
         cands = []
@@ -107,12 +106,6 @@ def fixed_points_resultant(sf: SlowFlow, sigma_value: float, *, amplitude_max: f
                     if np.max(np.abs(du)) < 1e-14 * (1 + abs(u[0])):
                         break
                 r = np.array([np.ravel(x)[0] for x in sf.rates(u[0], u[1], sigma_value)])
-                if not (np.all(np.isfinite(u)) and np.max(np.abs(r)) < tol and u[0] > 0):
-                    continue
-                ph = float(u[1] % per)
-                if any(abs(f.amplitude - u[0]) < 1e-7 and
-                       min(abs(f.phase - ph), per - abs(f.phase - ph)) < 1e-6 for f in found):
-                    continue
-                found.append(FixedPoint(float(sigma_value), float(u[0]), ph,
-                                        _eig(sf, u[0], ph, sigma_value)))
+                if np.all(np.isfinite(u)) and np.max(np.abs(r)) < tol and u[0] > 0:
+                    _add_new(found, sf, u, sigma_value)
     return sorted(found, key=lambda f: f.amplitude)

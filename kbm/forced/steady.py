@@ -24,7 +24,7 @@ from .arclength import both_ways, trace
 from .result import SlowFlow
 
 __all__ = ["FixedPoint", "ResponseBranch", "ResponseCurve", "fixed_points", "response_curve",
-           "backbone", "trivial_stable", "trivial_state", "classify"]
+           "backbone", "trivial_state", "classify"]
 
 
 @dataclass(frozen=True)
@@ -89,6 +89,16 @@ def _period(sf: SlowFlow) -> float:
     return 2 * math.pi / (sf.resonance.p if sf.resonance else 1)
 
 
+def _add_new(found: list[FixedPoint], sf: SlowFlow, u, sigma: float) -> None:
+    """Append the fixed point at ``u = (a, phi)`` unless ``found`` holds it already (same
+    amplitude to 1e-7 and phase, modulo the slow flow's period, to 1e-6)."""
+    per = _period(sf)
+    ph = float(u[1] % per)
+    if not any(abs(f.amplitude - u[0]) < 1e-7 and
+               min(abs(f.phase - ph), per - abs(f.phase - ph)) < 1e-6 for f in found):
+        found.append(FixedPoint(float(sigma), float(u[0]), ph, _eig(sf, u[0], ph, sigma)))
+
+
 def fixed_points(sf: SlowFlow, sigma: float, amplitudes: tuple[float, float] = (1e-3, 5.0), *,
                  n_a: int = 200, n_phi: int = 72) -> list[FixedPoint]:
     """Every fixed point with ``amplitudes[0] < a < amplitudes[1]`` at detuning ``sigma``.
@@ -149,11 +159,7 @@ def fixed_points(sf: SlowFlow, sigma: float, amplitudes: tuple[float, float] = (
         r = np.array(sf.rates(u[0], u[1], sigma), dtype=float).ravel()
         if np.max(np.abs(r)) > 1e-9 * (1 + abs(u[0])):
             continue
-        ph = float(u[1] % per)
-        if any(abs(f.amplitude - u[0]) < 1e-7 and
-               min(abs(f.phase - ph), per - abs(f.phase - ph)) < 1e-6 for f in found):
-            continue
-        found.append(FixedPoint(float(sigma), float(u[0]), ph, _eig(sf, u[0], ph, sigma)))
+        _add_new(found, sf, u, sigma)
     return sorted(found, key=lambda f: f.amplitude)
 
 
@@ -177,12 +183,6 @@ def trivial_state(sf: SlowFlow, sigma: float, eps: float = 1e-6) -> str | None:
     J = np.column_stack([(field(eps, 0) - field(-eps, 0)) / (2 * eps),
                          (field(0, eps) - field(0, -eps)) / (2 * eps)])
     return classify([complex(e) for e in np.linalg.eigvals(J)], rel=1e-7)
-
-
-def trivial_stable(sf: SlowFlow, sigma: float, eps: float = 1e-6) -> bool | None:
-    """Whether ``a = 0`` is a stable steady state (``None``: not a steady state)."""
-    kind = trivial_state(sf, sigma, eps)
-    return None if kind is None else kind == "stable"
 
 
 def _on_branches(branches, fp: FixedPoint) -> bool:

@@ -4,7 +4,8 @@ map of where classical KBM and the energy method hold (``methods_map``, the head
 
 ``FIGURES`` maps a name to a function ``f(out_dir) -> list[Path]``;
 :func:`write_figures` runs them (all, or those named).  matplotlib is imported
-lazily inside the drawing modules (Agg backend), never by :mod:`kbm`.
+lazily inside the drawing modules (Agg backend, ``numerics.paper.figures._backend``,
+which also writes PNG and PDF), never by :mod:`kbm`.
 """
 
 from __future__ import annotations

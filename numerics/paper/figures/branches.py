@@ -14,19 +14,12 @@ from pathlib import Path
 
 import numpy as np
 
+from numerics.paper.figures._backend import _plt, save_png_pdf
+
 __all__ = ["draw_diagram", "diagram_figure", "sedf_branches"]
 
 _MARK = {"fold": "o", "hopf": "s", "homoclinic": "X", "end": "^"}
 _ANALYTIC = {"kbm": ("+", 4), "energy": ("x", 3)}
-
-
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def draw_diagram(d, ax, quantity: str = "amplitude_max", analytic: bool = True,
@@ -101,19 +94,6 @@ def draw_diagram(d, ax, quantity: str = "amplitude_max", analytic: bool = True,
     return handles + h2
 
 
-def _save(fig, path: Path) -> list[Path]:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    out = []
-    for ext in ("png", "pdf"):
-        p = path.with_suffix(f".{ext}")
-        fig.savefig(p, dpi=130, bbox_inches="tight", metadata={"CreationDate": None}
-                    if ext == "pdf" else {"Software": None})
-        out.append(p)
-    _plt().close(fig)
-    return out
-
-
 def diagram_figure(d, path: str | Path, title: str | None = None) -> list[Path]:
     """Write amplitude and period against the parameter side by side (PNG and PDF)."""
     plt = _plt()
@@ -127,7 +107,7 @@ def diagram_figure(d, path: str | Path, title: str | None = None) -> list[Path]:
                frameon=False, bbox_to_anchor=(0.5, -0.02))
     fig.subplots_adjust(bottom=0.24)
     fig.suptitle(title or f"limit cycles of {d.model} against {d.parameter}", fontsize=10)
-    return _save(fig, Path(path))
+    return save_png_pdf(fig, path)
 
 
 def _period_law_inset(d, ax) -> None:

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from kbm.paper import POINTS
+from numerics.paper.figures._backend import _plt
 
 __all__ = ["COMPARISON_FIGURES", "comparison_figures", "convergence_figure",
            "validity_figure", "phase_fig3_figure", "phase_small_figure"]
@@ -41,15 +42,6 @@ def error_contours(ax, x: np.ndarray, y: np.ndarray, log_error: np.ndarray):
     levels, styles = zip(*CONTOUR_LEVELS)
     return ax.contour(x, y, np.ma.masked_invalid(log_error), levels=list(levels), colors="w",
                linestyles=list(styles), linewidths=1.4)
-
-
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def _save(fig, out_dir: Path, name: str) -> Path:

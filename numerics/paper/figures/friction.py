@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from kbm.paper import FIG4, FIG5
+from numerics.paper.figures._backend import _plt
 from numerics.paper.friction import (LAW_PARAMS, LAW_V, MAIN_JOB_SIZE, MAP_BETA, MAP_DELTA,
                                      MAP_V, FrictionStudy, friction_study)
 
@@ -37,15 +38,6 @@ _REGIME_CODE = {"stick-slip": 0, "smooth sliding": 1, "self-oscillating sliding"
                 "oscillating sliding": 3, "runaway": 4, "": 5}
 _LABEL = {"sedf_comoving": "SEDF (stage-attached)", "sedf": "SEDF (paper eq. 3)",
           "cdc": "CDC (eq. 12)"}
-
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
 
 def _summary_regime(reg) -> str:
     kinds = sorted({str(r) or "failed" for r in np.ravel(reg)})

@@ -12,33 +12,13 @@ from pathlib import Path
 import numpy as np
 
 from kbm.paper import FIG4, FIG5
+from numerics.paper.figures._backend import _plt, save_png_pdf
 from numerics.sliding.potential import potential
 from numerics.sliding.reference import slide
 from numerics.sliding.stickslip import analyze
 
 __all__ = ["fig2_potential", "fig3_phase_portraits", "fig4_sliding", "fig5_sedf_vs_cdc",
            "fig6_kinetic_friction", "sedf_branches"]
-
-
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
-def _save(fig, out_dir: Path, name: str) -> list[Path]:
-    out_dir.mkdir(parents=True, exist_ok=True)
-    paths = []
-    for ext in ("png", "pdf"):
-        p = out_dir / f"{name}.{ext}"
-        fig.savefig(p, dpi=130, bbox_inches="tight", metadata={"CreationDate": None}
-                    if ext == "pdf" else {"Software": None})
-        paths.append(p)
-    _plt().close(fig)
-    return paths
 
 
 def fig2_potential(out_dir: Path) -> list[Path]:
@@ -53,7 +33,7 @@ def fig2_potential(out_dir: Path) -> list[Path]:
     ax.set_title(r"Fig. 2: $U = \Omega^2 x^2/2 - (\lambda/2\pi)\Delta\cos(2\pi x/\lambda)$, "
                  r"$\lambda = 1$, $\Omega = 1$", fontsize=9)
     ax.legend()
-    return _save(fig, out_dir, "fig2_potential")
+    return save_png_pdf(fig, out_dir / "fig2_potential")
 
 
 def fig3_phase_portraits(out_dir: Path) -> list[Path]:
@@ -91,7 +71,7 @@ def fig3_phase_portraits(out_dir: Path) -> list[Path]:
     ax.set_title(r"Fig. 3: undriven SEDF, $\Delta = 1.5$, $\mu = 0.1$, $\Omega = 1$, "
                  r"$\lambda = 1$ (transients from $x = 0.1$; dashed: predicted)", fontsize=9)
     ax.legend(fontsize=8)
-    return _save(fig, out_dir, "fig3_phase_portraits")
+    return save_png_pdf(fig, out_dir / "fig3_phase_portraits")
 
 
 def _samples(t_end: float, per_period: int = 200) -> int:
@@ -117,7 +97,7 @@ def fig4_sliding(out_dir: Path) -> list[Path]:
     a2.set_title("(B) time series")
     fig.suptitle(r"Fig. 4: SEDF, $\Delta = 3$, $\beta = 1$, $v = 0.1$, $\mu = 0.1$, "
                  r"$\Omega = 1$, $\lambda = 1$, start at the origin", fontsize=10)
-    return _save(fig, out_dir, "fig4_sliding")
+    return save_png_pdf(fig, out_dir / "fig4_sliding")
 
 
 def fig5_sedf_vs_cdc(out_dir: Path) -> list[Path]:
@@ -139,7 +119,7 @@ def fig5_sedf_vs_cdc(out_dir: Path) -> list[Path]:
     a2.legend(fontsize=8)
     fig.suptitle(r"Fig. 5: SEDF vs CDC, $\Delta = 3$, $\beta = 1$, $v = 0.01$, $\mu = 0.1$, "
                  r"$\Omega = 1$, $\lambda = 1$", fontsize=10)
-    return _save(fig, out_dir, "fig5_sedf_vs_cdc")
+    return save_png_pdf(fig, out_dir / "fig5_sedf_vs_cdc")
 
 
 def fig6_kinetic_friction(out_dir: Path) -> list[Path]:
@@ -180,7 +160,7 @@ def fig6_kinetic_friction(out_dir: Path) -> list[Path]:
     ax.set_title(r"Fig. 6: SEDF kinetic friction, $\Delta = 3$, $\beta = 1$, $v = 0.01$; "
                  r"I: $|x| \leq 1/\sqrt{\beta}$ until $t = $" + f"{t_out:.0f}", fontsize=9)
     ax.legend(fontsize=8)
-    return _save(fig, out_dir, "fig6_kinetic_friction")
+    return save_png_pdf(fig, out_dir / "fig6_kinetic_friction")
 
 
 def sedf_branches(out_dir: Path) -> list[Path]:

@@ -89,12 +89,6 @@ def _terms(expr: sp.Expr, order: str = "lex") -> list[sp.Expr]:
     return [expr]
 
 
-def _signed(tex: str, first: bool) -> str:
-    if first:
-        return tex
-    return tex if tex.startswith("-") else "+ " + tex
-
-
 def _brace(tex: str, i: int) -> int:
     """Index just after the brace group that opens at ``tex[i] == '{'``."""
     depth = 0

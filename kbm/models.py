@@ -64,60 +64,43 @@ __all__ = ["Oscillator", "FrozenMap", "MODELS", "SLIDERS", "get_model",
 # ----------------------------------------------------------------------------- built-ins
 _beta, _delta, _k, _Omega, _v = sp.symbols("beta delta k Omega v")
 _zeta, _kappa, _Delta, _lam = sp.symbols("zeta kappa Delta lam")
-
-
-def _vdp() -> Oscillator:
-    return Oscillator("vdp", (1 - x**2) * xdot,
-                      description="van der Pol oscillator x'' - mu (1 - x^2) x' + x = 0")
-
-
-def _duffing() -> Oscillator:
-    return Oscillator("duffing", -x**3, description="Duffing oscillator x'' + x + mu x^3 = 0")
-
-
-def _rayleigh() -> Oscillator:
-    return Oscillator("rayleigh", (1 - xdot**2 / 3) * xdot,
-                      description="Rayleigh oscillator x'' - mu (1 - x'^2/3) x' + x = 0")
-
-
-def _linear_damping() -> Oscillator:
-    return Oscillator("linear_damping", -2 * _zeta * xdot,
-                      description="linearly damped oscillator x'' + 2 mu zeta x' + x = 0 (exact)")
-
-
-def _linear_stiffness() -> Oscillator:
-    return Oscillator("linear_stiffness", -_kappa * x,
-                      description="stiffness perturbation x'' + (1 + mu kappa) x = 0 (exact)")
-
-
 _PHYSICAL = {"delta": _Delta / mu, "k": 2 * sp.pi / _lam}
+_EXCITATION = -(_beta * x**2 - 1) * xdot  # the SEDF's, attached to the stage in sedf_comoving
 
-
-def _sedf() -> Oscillator:
-    return Oscillator(
+#: the built-in models by name, each built on first use
+MODELS = {
+    "vdp": lambda: Oscillator(
+        "vdp", (1 - x**2) * xdot,
+        description="van der Pol oscillator x'' - mu (1 - x^2) x' + x = 0"),
+    "duffing": lambda: Oscillator(
+        "duffing", -x**3, description="Duffing oscillator x'' + x + mu x^3 = 0"),
+    "rayleigh": lambda: Oscillator(
+        "rayleigh", (1 - xdot**2 / 3) * xdot,
+        description="Rayleigh oscillator x'' - mu (1 - x'^2/3) x' + x = 0"),
+    "linear_damping": lambda: Oscillator(
+        "linear_damping", -2 * _zeta * xdot,
+        description="linearly damped oscillator x'' + 2 mu zeta x' + x = 0 (exact)"),
+    "linear_stiffness": lambda: Oscillator(
+        "linear_stiffness", -_kappa * x,
+        description="stiffness perturbation x'' + (1 + mu kappa) x = 0 (exact)"),
+    "sedf": lambda: Oscillator(
         "sedf", -(_beta * x**2 - 1) * xdot - _delta * sp.sin(_k * x), omega0=_Omega,
         description="self-excited slider on a periodic potential, paper eq. (3) with v = 0: "
                     "x'' + mu (beta x^2 - 1) x' + Delta sin(2 pi x/lam) + Omega^2 x = 0",
-        physical=_PHYSICAL, defaults={"Omega": 1}, gain_factor=_beta)
-
-
-def _cdc() -> Oscillator:
-    return Oscillator(
+        physical=_PHYSICAL, defaults={"Omega": 1}, gain_factor=_beta),
+    "cdc": lambda: Oscillator(
         "cdc", -xdot - _delta * sp.sin(_k * x), omega0=_Omega,
         description="constant-damping slider, paper eq. (12) with v = 0: "
                     "x'' + mu x' + Delta sin(2 pi x/lam) + Omega^2 x = 0",
-        physical=_PHYSICAL, defaults={"Omega": 1})
-
-
-def _sedf_comoving() -> Oscillator:
-    excitation = -(_beta * x**2 - 1) * xdot
-    return Oscillator(
-        "sedf_comoving", excitation - _delta * sp.sin(_k * x), omega0=_Omega,
+        physical=_PHYSICAL, defaults={"Omega": 1}),
+    "sedf_comoving": lambda: Oscillator(
+        "sedf_comoving", _EXCITATION - _delta * sp.sin(_k * x), omega0=_Omega,
         description="self-excited slider with the self-excitation attached to the stage, with "
                     "v = 0: x'' + mu (beta (x - v t)^2 - 1) x' + Delta sin(2 pi x/lam) "
                     "+ Omega^2 (x - v t) = 0",
         physical=_PHYSICAL, defaults={"Omega": 1}, gain_factor=_beta,
-        stage_relative=excitation)
+        stage_relative=_EXCITATION),
+}
 
 
 #: the built-in models that have a stage (their spring can be pulled at a velocity v)
@@ -129,18 +112,6 @@ def _drive_variant(model: Oscillator, v: object) -> Oscillator:
         raise ParameterError(f"unknown parameter 'v' for model {model.name!r}; only the "
                              f"sliders {' and '.join(SLIDERS)} have a stage velocity")
     return model.with_stage_velocity(v)
-
-
-MODELS = {
-    "vdp": _vdp,
-    "duffing": _duffing,
-    "rayleigh": _rayleigh,
-    "linear_damping": _linear_damping,
-    "linear_stiffness": _linear_stiffness,
-    "sedf": _sedf,
-    "cdc": _cdc,
-    "sedf_comoving": _sedf_comoving,
-}
 
 
 def model_names() -> tuple[str, ...]:

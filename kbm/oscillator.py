@@ -47,10 +47,6 @@ def _expr(value: object) -> sp.Expr:
         raise ModelError(f"cannot read {value!r} as an expression") from None
 
 
-def _sorted_names(symbols) -> tuple[str, ...]:
-    return tuple(sorted(s.name for s in symbols))
-
-
 class OneDegree(CoupledOscillators):
     """The cases ``N = 1`` of the one type (:class:`Oscillator`,
     :class:`kbm.forced.ForcedOscillator`): its data under the names of one degree of

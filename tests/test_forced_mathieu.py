@@ -91,7 +91,7 @@ def test_kbm_tongue_against_floquet_numerics(curves6):
 def test_inside_the_tongue_trivial_state_unstable():
     """The slow flow's trivial state is unstable inside the first-order tongue |sigma| < 1
     (with damping: parametric model, alpha = 0) and stable outside it."""
-    from kbm.forced.steady import trivial_stable
+    from kbm.forced.steady import trivial_state
 
     r = derive_forced("parametric", 1, {"alpha": 0})
     sf = r.slow_flow({"mu": 0.1, "zeta": 0.1, "h": 1})
@@ -99,10 +99,10 @@ def test_inside_the_tongue_trivial_state_unstable():
     r2 = derive_forced("parametric", 1, {"alpha": 0, "zeta": sp.Rational(1, 10), "h": 1})
     bounds = sorted(float(c.sigma) for c in transition_curves(r2))
     assert np.allclose(bounds, [-np.sqrt(0.25 - 0.04), np.sqrt(0.25 - 0.04)], rtol=1e-14)
-    assert trivial_stable(sf, 0.0) is False
-    assert trivial_stable(sf, bounds[1] + 0.05) is True
-    assert trivial_stable(sf, bounds[1] - 0.05) is False
-    assert trivial_stable(sf, bounds[0] - 0.05) is True
+    assert trivial_state(sf, 0.0) == "unstable"
+    assert trivial_state(sf, bounds[1] + 0.05) == "stable"
+    assert trivial_state(sf, bounds[1] - 0.05) == "unstable"
+    assert trivial_state(sf, bounds[0] - 0.05) == "stable"
 
 
 def _damped_boundary_residual(s, mu, h, z):

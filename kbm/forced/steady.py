@@ -24,7 +24,7 @@ from .arclength import both_ways, trace
 from .result import SlowFlow
 
 __all__ = ["FixedPoint", "ResponseBranch", "ResponseCurve", "fixed_points", "response_curve",
-           "backbone", "trivial_stable", "trivial_state", "classify"]
+           "backbone", "trivial_state", "classify"]
 
 
 @dataclass(frozen=True)
@@ -185,12 +185,6 @@ def trivial_state(sf: SlowFlow, sigma: float, eps: float = 1e-6) -> str | None:
     J = np.column_stack([(field(eps, 0) - field(-eps, 0)) / (2 * eps),
                          (field(0, eps) - field(0, -eps)) / (2 * eps)])
     return classify([complex(e) for e in np.linalg.eigvals(J)], rel=1e-7)
-
-
-def trivial_stable(sf: SlowFlow, sigma: float, eps: float = 1e-6) -> bool | None:
-    """Whether ``a = 0`` is a stable steady state (``None``: not a steady state)."""
-    kind = trivial_state(sf, sigma, eps)
-    return None if kind is None else kind == "stable"
 
 
 def _on_branches(branches, fp: FixedPoint) -> bool:

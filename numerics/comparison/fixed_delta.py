@@ -215,10 +215,6 @@ class FixedDeltaConvergence:
 
     studies: tuple
 
-    def study(self, Delta: float, beta: float) -> FixedDeltaStudy:
-        """The study at ``(Delta, beta)``."""
-        return next(s for s in self.studies if s.Delta == Delta and s.beta == beta)
-
     def table(self) -> str:
         return "\n\n".join(s.table() for s in self.studies)
 

@@ -112,11 +112,6 @@ class Annulus:
         """``False`` for the annulus reaching infinity."""
         return bool(np.isfinite(self.energy_max))
 
-    def contains(self, E) -> np.ndarray:
-        """Whether energies lie strictly inside the annulus."""
-        E = np.asarray(E, float)
-        return (E > self.energy_min) & (E < self.energy_max)
-
     def _solve(self, E, a, b, increasing):
         return _turning.solve(self._fun, self._tables, E, a, b, increasing)
 

@@ -217,12 +217,7 @@ def locking_figure(out: Path) -> Path:
     ax.set_ylabel(r"locking boundary $\sigma$")
     ax.set_title(rf"forced van der Pol, $\mu = {mu}$: locked for $|\sigma| <$ boundary "
                  "(symmetric)", fontsize=9)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    path = Path(out) / "forced_vdp_locking.png"
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, ax, Path(out) / "forced_vdp_locking.png")
 
 
 def vdp_response_figure(out: Path) -> Path:

@@ -34,14 +34,11 @@ from kbm.paper import FIXED
 from numerics.errors import IntegrationError
 from numerics.sliding.driven import slider_equations
 
-__all__ = ["SlideResult", "slide", "PAPER", "MAX_PERIODS"]
+__all__ = ["SlideResult", "slide", "MAX_PERIODS"]
 
 #: bound on the length of a run, in natural periods ``2 pi/Omega`` (a run of this length
 #: takes about half a minute and keeps its dense output in memory)
 MAX_PERIODS = 5_000
-
-#: the paper's fixed parameters (section 3): mu = 0.1, Omega = 1, lambda = 1
-PAPER = FIXED
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,7 +88,7 @@ class SlideResult:
 
 
 def _validate(params: Mapping[str, float], t_end: float) -> dict[str, float]:
-    p = dict(PAPER)
+    p = dict(FIXED)
     p.update({k: float(v) for k, v in params.items()})
     for k, v in p.items():
         if not math.isfinite(v):

@@ -13,7 +13,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from numerics._plot import pyplot as _plt, save_png_pdf as _save
+from numerics._plot import pyplot as _plt, save_png_pdf
+
 
 __all__ = ["draw_diagram", "diagram_figure", "sedf_branches"]
 
@@ -106,7 +107,7 @@ def diagram_figure(d, path: str | Path, title: str | None = None) -> list[Path]:
                frameon=False, bbox_to_anchor=(0.5, -0.02))
     fig.subplots_adjust(bottom=0.24)
     fig.suptitle(title or f"limit cycles of {d.model} against {d.parameter}", fontsize=10)
-    return _save(fig, Path(path))
+    return save_png_pdf(fig, path)
 
 
 def _period_law_inset(d, ax) -> None:

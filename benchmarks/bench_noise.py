@@ -1,7 +1,8 @@
 """Time the Langevin integrators of numerics.noise against fair baselines, in the same run.
 
-Run: ``python benchmarks/bench_noise.py [effort]`` (effort 1 by default: about two minutes on
-one core; the standard errors of part 2 fall like ``1/sqrt(effort)``).
+Run: ``python benchmarks/bench_noise.py [effort [seed [parts]]]`` (effort 1 by default: about
+two minutes on one core; the standard errors of part 2 fall like ``1/sqrt(effort)``; ``seed``
+the root seed of part 2d, 17 by default; ``parts`` "12" by default, "1" or "2" for one).
 
 1. **Raw step rate** on the CDC at rest (paper eq. 12 with noise: ``x'' + mu x' + Delta
    sin(2 pi x) + x = sqrt(2 D) xi``, mu = 0.1, Delta = 3, D = 0.1, kT = 1), one core, warm:
@@ -196,7 +197,7 @@ def _crossing(hs, errs, target: float) -> float:
     raise ValueError("the target error is not bracketed")
 
 
-def equal_error(effort: float = 1.0) -> None:
+def equal_error(effort: float = 1.0, seed: int = 17) -> None:
     from numerics.noise.extrapolate import richardson_moments
     from numerics.noise.invariant import baoab_stationary_averages
 
@@ -270,10 +271,11 @@ def equal_error(effort: float = 1.0) -> None:
         print(f"   {name:44} {h:13.4f} {ev:11.2f} {evals_b / ev:8.2f}x")
     print("   (target: >= 3x fewer force evaluations than BAOAB; the two-level cost counts the "
           "correction run at the allocation that gives the same statistical error)")
-    toolkit_two_level(h_b, h_r, exact, effort)
+    toolkit_two_level(h_b, h_r, exact, effort, seed)
 
 
-def toolkit_two_level(h_b: float, h_r: float, exact: float, effort: float = 1.0) -> None:
+def toolkit_two_level(h_b: float, h_r: float, exact: float, effort: float = 1.0,
+                      seed: int = 17) -> None:
     """The toolkit's own estimator (:func:`numerics.noise.extrapolate.two_level_moments`,
     what ``kbm noise --extrapolate`` runs) at the step ``h_r`` against the toolkit's BAOAB
     kernel (Gaussian increments) at ``h_b``, both with a bias of 1e-4: the same trajectories
@@ -293,7 +295,7 @@ def toolkit_two_level(h_b: float, h_r: float, exact: float, effort: float = 1.0)
                           coupling=coupling)
     t0 = time.perf_counter()
     n_b, n_run = round(burn / hb), round(t_run / hb)
-    rows = k.step_gauss_stats(p, s.sigma, y0, 0.0, hb, n_b, n_run, trajectory_states(17, 0, m),
+    rows = k.step_gauss_stats(p, s.sigma, y0, 0.0, hb, n_b, n_run, trajectory_states(seed, 0, m),
                               s.omega0)
     sec_b = time.perf_counter() - t0
     evals_b = m * (n_b + n_run)
@@ -309,7 +311,7 @@ def toolkit_two_level(h_b: float, h_r: float, exact: float, effort: float = 1.0)
     for coupling in ("synchronous", "antithetic"):
         t0 = time.perf_counter()
         mom, sizes = two_level_moments(s, hr, trajectories=m, t_end=t_run, burn_in=burn,
-                                       seed=17, coupling=coupling)
+                                       seed=seed, coupling=coupling)
         sec_2 = time.perf_counter() - t0
         two = mom["x2"]
         name = f"{coupling} ({sizes['coarse']} + {sizes['correction']} correction)"
@@ -325,5 +327,9 @@ def toolkit_two_level(h_b: float, h_r: float, exact: float, effort: float = 1.0)
 
 if __name__ == "__main__":
     eff = float(sys.argv[1]) if len(sys.argv) > 1 else 1.0
-    rates()
-    equal_error(eff)
+    root = int(sys.argv[2]) if len(sys.argv) > 2 else 17
+    parts = sys.argv[3] if len(sys.argv) > 3 else "12"
+    if "1" in parts:
+        rates()
+    if "2" in parts:
+        equal_error(eff, root)

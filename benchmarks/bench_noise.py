@@ -184,6 +184,15 @@ def rates() -> None:
           f"{med[0]:.2f} and {med[1]:.2f} M steps/s: {med[0] / med[1]:.2f}")
     print(f"   ratio toolkit KP / hand Euler-Maruyama, per step = {rows[1][2] / rows[3][2]:.2f} "
           "(Euler-Maruyama needs a 20x smaller step)")
+    took = [[], []]
+    for rep in range(7):
+        for j in ((0, 1) if rep % 2 == 0 else (1, 0)):
+            fn = (k.stationary_stats, k.stationary_stats4)[j]
+            t0 = time.perf_counter()
+            fn(p, s.sigma, y0, 0.0, h, 0, n, st, s.omega0, 0, 0.0, 4.0, 40)
+            took[j].append(time.perf_counter() - t0)
+    print(f"   the stationary run's kernel, four-point (default) / three-point increments: time "
+          f"x{float(np.median(took[1]) / np.median(took[0])):.2f} (medians of 7 interleaved)")
 
 
 def _crossing(hs, errs, target: float) -> float:
@@ -272,6 +281,29 @@ def equal_error(effort: float = 1.0, seed: int = 17) -> None:
     print("   (target: >= 3x fewer force evaluations than BAOAB; the two-level cost counts the "
           "correction run at the allocation that gives the same statistical error)")
     toolkit_two_level(h_b, h_r, exact, effort, seed)
+    increments(bias, exact, effort)
+
+
+def increments(bias: dict, exact: float, effort: float = 1.0) -> None:
+    """The ``h^2`` coefficient of BAOAB's bias with the ensembles' increments: the
+    four-point Gauss-Hermite ones (the default stationary run) and the three-point ones,
+    against the transfer operator's Gaussian value (what the step pilot measures)."""
+    s = langevin_system(custom_model("-xdot - x**3", name="quartic"), {"mu": 1.0}, 1.0, "baoab")
+    k, p = s.kernels, s._p()
+    m = 64
+    y0 = np.zeros((m, 2))
+    print(f"   e. the h^2 coefficient of the bias of <x^2> by increments ({m} trajectories x "
+          f"{round(80000 * effort)} time each; bias/h^2, relative)")
+    for h in (0.3, 0.4):
+        n = round(80000 * effort / h)
+        row = [f"h = {h}: Gaussian (transfer operator) {bias[h] / h**2:+.4f}"]
+        for name, fn in (("four-point", k.stationary_stats4), ("three-point", k.stationary_stats)):
+            sums, _ = fn(p, s.sigma, y0, 0.0, h, 50, n, trajectory_states(8, 0, m), s.omega0,
+                         1, -1.0, 1.0, 1)
+            b = sums[:, 0] / exact - 1
+            se = b.std(ddof=1) / math.sqrt(m)
+            row.append(f"{name} {b.mean() / h**2:+.4f} +- {se / h**2:.4f}")
+        print("      " + ", ".join(row))
 
 
 def toolkit_two_level(h_b: float, h_r: float, exact: float, effort: float = 1.0,

@@ -7,7 +7,11 @@ step (:func:`numerics.noise.langevin.measured_step`) run the scheme at ``h`` and
 (``step_pair_stats``) or at ``h/2^j`` (``step_ladder_stats``) with Gaussian increments, each
 coarse increment the sum of the finer ones, so that the runs stay close and their
 difference has a small variance; ``step_gauss_stats`` runs the scheme at ``h`` alone with
-Gaussian increments (the two-level estimator's level 0).
+Gaussian increments (the two-level estimator's level 0); ``step_antithetic_stats`` adds the
+fine run with each coarse step's two increments swapped (the antithetic correction);
+``step_three_point_pair_stats`` couples a three-point run to the Gaussian pair (the
+three-point increments' own bias, for measurement); ``stationary_stats4`` is the stationary
+ensembles' kernel, with four-point Gauss-Hermite increments (``_increment4``).
 """
 
 import math

@@ -29,9 +29,14 @@ the root seed of part 2d, 17 by default; ``parts`` "12" by default, "1" or "2" f
    against the transfer operator and exact quadrature, and the toolkit's own two-level
    estimator (:func:`numerics.noise.extrapolate.two_level_moments`, what ``kbm noise
    --extrapolate`` runs) is timed against the toolkit's BAOAB kernel (Gaussian increments)
-   at the steps of a 1e-4 bias, compared by work x variance.  Target: >= 3x fewer force
-   evaluations than BAOAB where the pair applies (BAOAB's even expansion: dampings affine in
-   ``x'``, Gaussian increments, a smooth potential).
+   at the steps of a 1e-4 bias, compared by work x variance, with both couplings of the
+   correction: the synchronous pair and the antithetic triple (the default; Giles & Szpruch
+   2014: a second fine run with each coarse step's two increments swapped, five force
+   evaluations per coarse step).  Target: >= 3x fewer force evaluations than BAOAB where the
+   pair applies (BAOAB's even expansion: dampings affine in ``x'``, Gaussian increments, a
+   smooth potential).  Part e measures the ``h^2`` coefficient of the bias with the
+   stationary runs' four-point increments and the three-point ones against the transfer
+   operator's Gaussian value (what the step pilot measures).
 """
 
 from __future__ import annotations
@@ -125,8 +130,8 @@ def rates() -> None:
     y0 = np.zeros((m, 2))
     kits = {sch: langevin_system("cdc", params, D, sch) for sch in ("baoab", "kp")}
     hand_baoab, hand_euler = _hand_loops(kits["baoab"].kernels._increment)
-    print(f"1. raw step rate on the CDC at rest (one core, warm; the BAOAB pair below best of 11 interleaved); Boltzmann <x^2> = "
-          f"{exact:.5f} (kT = 1)")
+    print("1. raw step rate on the CDC at rest (one core, warm; the BAOAB pair below best of 11 "
+          f"interleaved); Boltzmann <x^2> = {exact:.5f} (kT = 1)")
     rows = []
     for name, h in (("toolkit baoab", 0.01), ("toolkit kp", 0.005), ("hand BAOAB", 0.01),
                     ("hand Euler-Maruyama", 0.0005)):

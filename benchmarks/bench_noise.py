@@ -1,7 +1,8 @@
 """Time the Langevin integrators of numerics.noise against fair baselines, in the same run.
 
-Run: ``python benchmarks/bench_noise.py [effort]`` (effort 1 by default: about two minutes on
-one core; the standard errors of part 2 fall like ``1/sqrt(effort)``).
+Run: ``python benchmarks/bench_noise.py [effort [seed [parts]]]`` (effort 1 by default: about
+two minutes on one core; the standard errors of part 2 fall like ``1/sqrt(effort)``; ``seed``
+the root seed of part 2d, 17 by default; ``parts`` "12" by default, "1" or "2" for one).
 
 1. **Raw step rate** on the CDC at rest (paper eq. 12 with noise: ``x'' + mu x' + Delta
    sin(2 pi x) + x = sqrt(2 D) xi``, mu = 0.1, Delta = 3, D = 0.1, kT = 1), one core, warm:
@@ -28,9 +29,14 @@ one core; the standard errors of part 2 fall like ``1/sqrt(effort)``).
    against the transfer operator and exact quadrature, and the toolkit's own two-level
    estimator (:func:`numerics.noise.extrapolate.two_level_moments`, what ``kbm noise
    --extrapolate`` runs) is timed against the toolkit's BAOAB kernel (Gaussian increments)
-   at the steps of a 1e-4 bias, compared by work x variance.  Target: >= 3x fewer force
-   evaluations than BAOAB where the pair applies (BAOAB's even expansion: dampings affine in
-   ``x'``, Gaussian increments, a smooth potential).
+   at the steps of a 1e-4 bias, compared by work x variance, with both couplings of the
+   correction: the synchronous pair and the antithetic triple (the default; Giles & Szpruch
+   2014: a second fine run with each coarse step's two increments swapped, five force
+   evaluations per coarse step).  Target: >= 3x fewer force evaluations than BAOAB where the
+   pair applies (BAOAB's even expansion: dampings affine in ``x'``, Gaussian increments, a
+   smooth potential).  Part e measures the ``h^2`` coefficient of the bias with the
+   stationary runs' four-point increments and the three-point ones against the transfer
+   operator's Gaussian value (what the step pilot measures).
 """
 
 from __future__ import annotations
@@ -124,8 +130,8 @@ def rates() -> None:
     y0 = np.zeros((m, 2))
     kits = {sch: langevin_system("cdc", params, D, sch) for sch in ("baoab", "kp")}
     hand_baoab, hand_euler = _hand_loops(kits["baoab"].kernels._increment)
-    print(f"1. raw step rate on the CDC at rest (one core, warm, best of 3); Boltzmann <x^2> = "
-          f"{exact:.5f} (kT = 1)")
+    print("1. raw step rate on the CDC at rest (one core, warm; the BAOAB pair below best of 11 "
+          f"interleaved); Boltzmann <x^2> = {exact:.5f} (kT = 1)")
     rows = []
     for name, h in (("toolkit baoab", 0.01), ("toolkit kp", 0.005), ("hand BAOAB", 0.01),
                     ("hand Euler-Maruyama", 0.0005)):
@@ -148,20 +154,25 @@ def rates() -> None:
                 same = float(np.max(np.abs(fn(st, n, h, sig, MU, DELTA, K, False) - kit_final)))
             x2 = fn(st, n_ans, h, sig, MU, DELTA, K, True)[:, 0]
         rows.append((name, h, rate, x2.mean(), x2.std(ddof=1) / math.sqrt(m)))
-    # the machine is shared: time the two BAOAB loops alternately, nine times each
+    # the machine is shared: time the two BAOAB loops alternately, eleven times each
     s = kits["baoab"]
     k, p, h = s.kernels, s._p(), 0.01
     n = round(t_rate / h)
     best = [math.inf, math.inf]
     pairs = []
-    for _ in range(9):
+    took_all = [[], []]
+    for rep in range(11):
         took = []
-        for j, fn in enumerate((lambda: k.final_states(p, s.sigma, y0, 0.0, h, n, st),
-                                lambda: hand_baoab(st, n, h, sig, MU, DELTA, K, False))):
+        fns = (lambda: k.final_states(p, s.sigma, y0, 0.0, h, n, st),
+               lambda: hand_baoab(st, n, h, sig, MU, DELTA, K, False))
+        order = (0, 1) if rep % 2 == 0 else (1, 0)  # who goes first alternates too
+        took = [0.0, 0.0]
+        for j in order:
             t0 = time.perf_counter()
-            fn()
-            took.append(time.perf_counter() - t0)
-            best[j] = min(best[j], took[-1])
+            fns[j]()
+            took[j] = time.perf_counter() - t0
+            best[j] = min(best[j], took[j])
+            took_all[j].append(took[j])
         pairs.append(took[1] / took[0])
     rows[0] = (rows[0][0], h, m * n / best[0], *rows[0][3:])
     rows[2] = (rows[2][0], h, m * n / best[1], *rows[2][3:])
@@ -171,11 +182,22 @@ def rates() -> None:
               f"+- {se / exact:.0e}")
     print(f"   the toolkit's BAOAB and the hand BAOAB end in the same states (largest "
           f"difference {same:g})")
+    med = [m * n / float(np.median(took_all[j])) / 1e6 for j in (0, 1)]
     print(f"   ratio toolkit BAOAB / hand BAOAB (same generator) = {rows[0][2] / rows[2][2]:.2f}"
-          f" best of 9 alternated, {float(np.median(pairs)):.2f} median of the 9 pairs, "
-          f"{min(pairs):.2f}-{max(pairs):.2f} (target >= 1)")
+          f" best of 11 interleaved, {float(np.median(pairs)):.2f} median of the 11 pairs' "
+          f"ratios, {min(pairs):.2f}-{max(pairs):.2f} (target >= 1); median rates "
+          f"{med[0]:.2f} and {med[1]:.2f} M steps/s: {med[0] / med[1]:.2f}")
     print(f"   ratio toolkit KP / hand Euler-Maruyama, per step = {rows[1][2] / rows[3][2]:.2f} "
           "(Euler-Maruyama needs a 20x smaller step)")
+    took = [[], []]
+    for rep in range(7):
+        for j in ((0, 1) if rep % 2 == 0 else (1, 0)):
+            fn = (k.stationary_stats, k.stationary_stats4)[j]
+            t0 = time.perf_counter()
+            fn(p, s.sigma, y0, 0.0, h, 0, n, st, s.omega0, 0, 0.0, 4.0, 40)
+            took[j].append(time.perf_counter() - t0)
+    print(f"   the stationary run's kernel, four-point (default) / three-point increments: time "
+          f"x{float(np.median(took[1]) / np.median(took[0])):.2f} (medians of 7 interleaved)")
 
 
 def _crossing(hs, errs, target: float) -> float:
@@ -189,7 +211,7 @@ def _crossing(hs, errs, target: float) -> float:
     raise ValueError("the target error is not bracketed")
 
 
-def equal_error(effort: float = 1.0) -> None:
+def equal_error(effort: float = 1.0, seed: int = 17) -> None:
     from numerics.noise.extrapolate import richardson_moments
     from numerics.noise.invariant import baoab_stationary_averages
 
@@ -239,6 +261,14 @@ def equal_error(effort: float = 1.0) -> None:
     evals_2 = factor / h_r
     print(f"      at h = {h_mc}: var(E_h/2 - E_h)/var(E_h) = {rho:.4f} ({m} trajectories x "
           f"{t_run:g}); cost factor (1 + sqrt(16 rho/3))^2 = {factor:.3f}")
+    from numerics.noise.extrapolate import _antithetic_rows
+    n_burn = round(20 * 5)
+    anti = _antithetic_rows(s, h_mc, n_burn, round(t_run / h_mc), 13, 0, m)[:, 0] * 0.75
+    rho_a = float(anti.var(ddof=1)) / var_full
+    factor_a = (1 + math.sqrt(16 * rho_a * 5 / 9)) ** 2
+    evals_a = factor_a / h_r
+    print(f"      antithetic (fine increments swapped, 5 evaluations per h): var(difference)"
+          f"/var(E_h) = {rho_a:.5f}; cost factor (1 + sqrt(80 rho/9))^2 = {factor_a:.3f}")
     print("   c. the toolkit's pair ensemble at the same step (Monte Carlo, Gaussian "
           "increments), against the exact values:")
     se = mom.stderr / exact
@@ -250,14 +280,39 @@ def equal_error(effort: float = 1.0) -> None:
     print(f"   {'estimator':44} {'step for 1e-4':>13} {'evals/time':>11} {'vs BAOAB':>9}")
     for name, h, ev in (("BAOAB (1 per step)", h_b, evals_b),
                         ("Richardson pair h, h/2 (3 per h)", h_r, evals_r),
-                        ("two-level: BAOAB at h + pair correction", h_r, evals_2)):
+                        ("two-level: BAOAB at h + pair correction", h_r, evals_2),
+                        ("two-level, antithetic correction", h_r, evals_a)):
         print(f"   {name:44} {h:13.4f} {ev:11.2f} {evals_b / ev:8.2f}x")
     print("   (target: >= 3x fewer force evaluations than BAOAB; the two-level cost counts the "
           "correction run at the allocation that gives the same statistical error)")
-    toolkit_two_level(h_b, h_r, exact, effort)
+    toolkit_two_level(h_b, h_r, exact, effort, seed)
+    increments(bias, exact, effort)
 
 
-def toolkit_two_level(h_b: float, h_r: float, exact: float, effort: float = 1.0) -> None:
+def increments(bias: dict, exact: float, effort: float = 1.0) -> None:
+    """The ``h^2`` coefficient of BAOAB's bias with the ensembles' increments: the
+    four-point Gauss-Hermite ones (the default stationary run) and the three-point ones,
+    against the transfer operator's Gaussian value (what the step pilot measures)."""
+    s = langevin_system(custom_model("-xdot - x**3", name="quartic"), {"mu": 1.0}, 1.0, "baoab")
+    k, p = s.kernels, s._p()
+    m = 64
+    y0 = np.zeros((m, 2))
+    print(f"   e. the h^2 coefficient of the bias of <x^2> by increments ({m} trajectories x "
+          f"{round(80000 * effort)} time each; bias/h^2, relative)")
+    for h in (0.3, 0.4):
+        n = round(80000 * effort / h)
+        row = [f"h = {h}: Gaussian (transfer operator) {bias[h] / h**2:+.4f}"]
+        for name, fn in (("four-point", k.stationary_stats4), ("three-point", k.stationary_stats)):
+            sums, _ = fn(p, s.sigma, y0, 0.0, h, 50, n, trajectory_states(8, 0, m), s.omega0,
+                         1, -1.0, 1.0, 1)
+            b = sums[:, 0] / exact - 1
+            se = b.std(ddof=1) / math.sqrt(m)
+            row.append(f"{name} {b.mean() / h**2:+.4f} +- {se / h**2:.4f}")
+        print("      " + ", ".join(row))
+
+
+def toolkit_two_level(h_b: float, h_r: float, exact: float, effort: float = 1.0,
+                      seed: int = 17) -> None:
     """The toolkit's own estimator (:func:`numerics.noise.extrapolate.two_level_moments`,
     what ``kbm noise --extrapolate`` runs) at the step ``h_r`` against the toolkit's BAOAB
     kernel (Gaussian increments) at ``h_b``, both with a bias of 1e-4: the same trajectories
@@ -272,37 +327,46 @@ def toolkit_two_level(h_b: float, h_r: float, exact: float, effort: float = 1.0)
     k, p = s.kernels, s._p()
     y0 = np.zeros((m, 2))
     k.step_gauss_stats(p, s.sigma, y0[:2], 0.0, hb, 2, 2, trajectory_states(0, 0, 2), s.omega0)
-    two_level_moments(s, hr, trajectories=4, t_end=10 * hr, burn_in=0.0, seed=0)  # compiled
+    for coupling in ("synchronous", "antithetic"):  # compiled
+        two_level_moments(s, hr, trajectories=4, t_end=10 * hr, burn_in=0.0, seed=0,
+                          coupling=coupling)
     t0 = time.perf_counter()
     n_b, n_run = round(burn / hb), round(t_run / hb)
-    rows = k.step_gauss_stats(p, s.sigma, y0, 0.0, hb, n_b, n_run, trajectory_states(17, 0, m),
+    rows = k.step_gauss_stats(p, s.sigma, y0, 0.0, hb, n_b, n_run, trajectory_states(seed, 0, m),
                               s.omega0)
     sec_b = time.perf_counter() - t0
     evals_b = m * (n_b + n_run)
     x2 = rows[:, 0]
     val_b, se_b = float(x2.mean()), float(x2.std(ddof=1) / math.sqrt(m))
-    t0 = time.perf_counter()
-    mom, sizes = two_level_moments(s, hr, trajectories=m, t_end=t_run, burn_in=burn, seed=17)
-    sec_2 = time.perf_counter() - t0
-    two = mom["x2"]
     print(f"   d. the toolkit's two-level estimator (numerics.noise.extrapolate.two_level_moments"
           f", kbm noise --extrapolate) timed against the toolkit's BAOAB kernel, {m} "
           f"trajectories x {t_run:g} each (one core, warm)")
-    print(f"      {'run':32} {'h':>7} {'force evals':>12} {'seconds':>8} {'<x^2> error':>12} "
+    print(f"      {'run':36} {'h':>7} {'force evals':>12} {'seconds':>8} {'<x^2> error':>12} "
           f"{'stderr':>8}")
-    print(f"      {'BAOAB (Gaussian increments)':32} {hb:7.4f} {evals_b:12.4g} {sec_b:8.2f} "
+    print(f"      {'BAOAB (Gaussian increments)':36} {hb:7.4f} {evals_b:12.4g} {sec_b:8.2f} "
           f"{val_b / exact - 1:+12.2e} {se_b / exact:8.1e}")
-    name = f"two-level ({sizes['coarse']} + {sizes['correction']} correction)"
-    print(f"      {name:32} {hr:7.4f} {sizes['steps']:12.4g} "
-          f"{sec_2:8.2f} {two.value / exact - 1:+12.2e} {two.stderr / exact:8.1e}")
-    ev = evals_b * se_b**2 / (sizes["steps"] * two.stderr**2)
-    wall = sec_b * se_b**2 / (sec_2 * two.stderr**2)
-    print(f"      BAOAB / two-level at equal statistical error (work x variance): force "
-          f"evaluations {ev:.2f}x, seconds {wall:.2f}x (each variance to +-{200 / math.sqrt(m):.0f}"
-          f" %; the variance ratio of the correction {two.variance_ratio:.4f})")
-
+    for coupling in ("synchronous", "antithetic"):
+        t0 = time.perf_counter()
+        mom, sizes = two_level_moments(s, hr, trajectories=m, t_end=t_run, burn_in=burn,
+                                       seed=seed, coupling=coupling)
+        sec_2 = time.perf_counter() - t0
+        two = mom["x2"]
+        name = f"{coupling} ({sizes['coarse']} + {sizes['correction']} correction)"
+        print(f"      {name:36} {hr:7.4f} {sizes['steps']:12.4g} "
+              f"{sec_2:8.2f} {two.value / exact - 1:+12.2e} {two.stderr / exact:8.1e}  "
+              f"({(two.value - exact) / two.stderr:+.1f} s.e. from exact)")
+        ev = evals_b * se_b**2 / (sizes["steps"] * two.stderr**2)
+        wall = sec_b * se_b**2 / (sec_2 * two.stderr**2)
+        print(f"      BAOAB / two-level {coupling} at equal statistical error (work x "
+              f"variance): force evaluations {ev:.2f}x, seconds {wall:.2f}x (each variance to "
+              f"+-{200 / math.sqrt(m):.0f} %; the variance ratio of the correction "
+              f"{two.variance_ratio:.4f})")
 
 if __name__ == "__main__":
     eff = float(sys.argv[1]) if len(sys.argv) > 1 else 1.0
-    rates()
-    equal_error(eff)
+    root = int(sys.argv[2]) if len(sys.argv) > 2 else 17
+    parts = sys.argv[3] if len(sys.argv) > 3 else "12"
+    if "1" in parts:
+        rates()
+    if "2" in parts:
+        equal_error(eff, root)

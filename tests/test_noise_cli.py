@@ -77,6 +77,7 @@ def test_noise_extrapolate_same_bytes_on_any_worker_count():
     assert one == two
     ext = json.loads(one)["extrapolation"]
     assert ext["method"] == "two-level Richardson"
+    assert ext["coupling"] == "antithetic"
 
 
 def test_noise_driven_slider_has_no_averaged_state():

@@ -26,7 +26,8 @@ from kbm.models import custom_model
 from numerics.noise import langevin_system
 import numpy as np
 
-from numerics.noise.extrapolate import ORDER, _pair_rows, richardson_moments, two_level_moments
+from numerics.noise.extrapolate import (ORDER, _antithetic_rows, _pair_rows, richardson_moments,
+                                        two_level_moments)
 from numerics.noise.invariant import baoab_stationary_averages
 
 GRID = {"nx": 56, "nu": 40, "nodes": 24}
@@ -162,6 +163,10 @@ def test_two_level_same_numbers_however_split():
     whole = _pair_rows(s, 0.2, 10, 200, 4, 0, 12)
     parts = np.vstack([_pair_rows(s, 0.2, 10, 200, 4, 0, 5), _pair_rows(s, 0.2, 10, 200, 4, 5, 7)])
     assert np.array_equal(whole, parts)
+    whole = _antithetic_rows(s, 0.2, 10, 200, 4, 0, 12)
+    parts = np.vstack([_antithetic_rows(s, 0.2, 10, 200, 4, 0, 5),
+                       _antithetic_rows(s, 0.2, 10, 200, 4, 5, 7)])
+    assert np.array_equal(whole, parts)
     a, sa = two_level_moments(s, 0.2, trajectories=16, t_end=40.0, burn_in=2.0, seed=4)
     given = {k: (a[k].coarse, a[k].coarse_stderr) for k in ("x2", "a2")}
     b, sb = two_level_moments(s, 0.2, trajectories=16, t_end=40.0, burn_in=2.0, seed=4,
@@ -171,6 +176,40 @@ def test_two_level_same_numbers_however_split():
     assert c["x2"].value != a["x2"].value
 
 
+def test_antithetic_correction_against_the_transfer_operator():
+    """The antithetic correction (Giles & Szpruch 2014: the coarse step takes g_1 + g_2, the
+    two fine runs (g_1, g_2) and (g_2, g_1)) has the synchronous pair's mean, (4/3)(E_{h/2} -
+    E_h) of the transfer operator at h = 0.3 within 4 standard errors, and a variance more
+    than 5 times smaller on the same streams (the part linear in g_1 - g_2 cancels;
+    measured 24x at h = 0.32)."""
+    exact = _exact_x2()
+    s = langevin_system(custom_model("-xdot - x**3", name="quartic"), {"mu": 1.0}, 1.0, "baoab")
+    h, m = 0.3, 32
+    anti = _antithetic_rows(s, h, 50, 20000, 3, 0, m)[:, 0]
+    sync = _pair_rows(s, h, 50, 20000, 3, 0, m)[:, 0]
+    want = 4.0 / 3.0 * (_bias(h / 2) - _bias(h)) * exact
+    se = anti.std(ddof=1) / math.sqrt(m)
+    assert abs(anti.mean() - want) < 4 * se
+    assert se < 0.1 * abs(want)  # a correction the ensemble resolves
+    assert anti.var(ddof=1) < sync.var(ddof=1) / 5
+
+
+def test_two_level_couplings_agree_with_quadrature():
+    """Both couplings of the two-level estimator at h = 0.3 on the quartic agree with exact
+    quadrature within 3 standard errors; the antithetic one runs fewer correction
+    trajectories (Giles' allocation at five force evaluations per coarse step) and reports
+    its coupling."""
+    exact = _exact_x2()
+    s = langevin_system(custom_model("-xdot - x**3", name="quartic"), {"mu": 1.0}, 1.0, "baoab")
+    got = {c: two_level_moments(s, 0.3, trajectories=128, t_end=3000.0, burn_in=15.0,
+                                seed=22, coupling=c) for c in ("antithetic", "synchronous")}
+    for c, (mom, sizes) in got.items():
+        assert abs(mom["x2"].value - exact) < 3 * mom["x2"].stderr
+        assert sizes["coupling"] == c
+    assert got["antithetic"][1]["correction"] < got["synchronous"][1]["correction"]
+    assert got["antithetic"][0]["x2"].variance_ratio < got["synchronous"][0]["x2"].variance_ratio
+
+
 def test_two_level_needs_baoab_and_trajectories():
     s = langevin_system("rayleigh", {"mu": 0.1}, 0.05, "kp")
     with pytest.raises(ParameterError, match="BAOAB"):
@@ -178,6 +217,8 @@ def test_two_level_needs_baoab_and_trajectories():
     q = langevin_system(custom_model("-xdot - x**3", name="quartic"), {"mu": 1.0}, 1.0, "baoab")
     with pytest.raises(ParameterError, match="pilot"):
         two_level_moments(q, 0.1, trajectories=8, t_end=1.0, burn_in=0.0, pilot=1)
+    with pytest.raises(ParameterError, match="coupling"):
+        two_level_moments(q, 0.1, trajectories=8, t_end=1.0, burn_in=0.0, coupling="none")
 
 
 @pytest.mark.slow

@@ -7,7 +7,11 @@ step (:func:`numerics.noise.langevin.measured_step`) run the scheme at ``h`` and
 (``step_pair_stats``) or at ``h/2^j`` (``step_ladder_stats``) with Gaussian increments, each
 coarse increment the sum of the finer ones, so that the runs stay close and their
 difference has a small variance; ``step_gauss_stats`` runs the scheme at ``h`` alone with
-Gaussian increments (the two-level estimator's level 0).
+Gaussian increments (the two-level estimator's level 0); ``step_antithetic_stats`` adds the
+fine run with each coarse step's two increments swapped (the antithetic correction);
+``step_three_point_pair_stats`` couples a three-point run to the Gaussian pair (the
+three-point increments' own bias, for measurement); ``stationary_stats4`` is the stationary
+ensembles' kernel, with four-point Gauss-Hermite increments (``_increment4``).
 """
 
 import math
@@ -150,3 +154,186 @@ def step_gauss_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0):
         out[i, 0] = a_x2 / n_run if ok else math.nan
         out[i, 1] = a_a2 / n_run if ok else math.nan
     return out
+
+
+@njit(cache=True)
+def step_antithetic_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0):
+    """Per trajectory: the time averages of ``x^2`` and ``a^2`` over ``n_run`` steps ``h``
+    after ``n_burn`` at the step ``h`` and at ``h/2`` twice, on one Brownian path and its
+    antithetic twin (Giles & Szpruch, Ann. Appl. Probab. 24 (2014) 1585): the coarse step
+    takes ``g_1 + g_2``, the first fine run ``g_1`` then ``g_2``, the second ``g_2`` then
+    ``g_1``.  Both fine runs are BAOAB at ``h/2`` with Gaussian increments; their mean minus
+    the coarse run cancels the part of the difference linear in ``g_1 - g_2``.  Columns
+    ``x^2 (h), a^2 (h), x^2 (h/2, first), a^2, x^2 (h/2, twin), a^2``; NaN rows for a
+    diverged trajectory."""
+    m = y0.shape[0]
+    out = np.zeros((m, 6))
+    hf = 0.5 * h
+    sf = sigma * math.sqrt(hf)
+    af = sf * _noise_factor(p, hf)  # noqa: F821
+    ac = sf * _noise_factor(p, h)  # noqa: F821
+    for i in range(m):
+        s = states[i].copy()
+        xc, vc = y0[i, 0], y0[i, 1]
+        xa, va = xc, vc
+        xb, vb = xc, vc
+        fc = _first(t0, xc, vc, p)  # noqa: F821
+        fa = fc
+        fb = fc
+        acc = np.zeros(6)
+        ok = True
+        for k in range(n_burn + n_run):
+            g1, g2 = _normal_pair(s)
+            t = t0 + k * h
+            xa, va, fa = _step(t, xa, va, fa, hf, af * g1, p)  # noqa: F821
+            xa, va, fa = _step(t + hf, xa, va, fa, hf, af * g2, p)  # noqa: F821
+            xb, vb, fb = _step(t, xb, vb, fb, hf, af * g2, p)  # noqa: F821
+            xb, vb, fb = _step(t + hf, xb, vb, fb, hf, af * g1, p)  # noqa: F821
+            xc, vc, fc = _step(t, xc, vc, fc, h, ac * (g1 + g2), p)  # noqa: F821
+            if not math.isfinite(xc + vc + xa + va + xb + vb):
+                ok = False
+                break
+            if k >= n_burn:
+                acc[0] += xc * xc
+                acc[1] += xc * xc + (vc / w0) ** 2
+                acc[2] += xa * xa
+                acc[3] += xa * xa + (va / w0) ** 2
+                acc[4] += xb * xb
+                acc[5] += xb * xb + (vb / w0) ** 2
+        for c in range(6):
+            out[i, c] = acc[c] / n_run if ok else math.nan
+    return out
+
+
+#: ``z`` with ``P(|g| > z) = 1/3`` for a standard normal ``g``: the monotone coupling of a
+#: Gaussian increment and a three-point one
+_Z3 = 0.9674215661017008
+
+
+@njit(cache=True)
+def step_three_point_pair_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0):
+    """Per trajectory: the time averages of ``x^2`` and ``a^2`` after ``n_burn`` steps over
+    ``n_run`` steps ``h`` of three runs on one Brownian path: Gaussian increments at ``h/2``
+    (``g_1``, ``g_2``) and at ``h`` (``g_1 + g_2``), and the toolkit's three-point
+    increments at ``h`` drawn from ``g = (g_1 + g_2)/sqrt(2)`` by the monotone coupling
+    (``-sqrt(3h)`` for ``g < -z``, ``+sqrt(3h)`` for ``g > z``, else 0, ``P(|g| > z) =
+    1/3``): the law of the ensembles' increments.  ``E^3_h - (4 E_{h/2} - E_h)/3`` is then
+    the three-point run's bias to ``O(h^4)``.  Columns ``x^2, a^2`` at ``h`` (Gaussian),
+    ``h/2`` (Gaussian), ``h`` (three-point); NaN rows for a diverged trajectory."""
+    m = y0.shape[0]
+    out = np.zeros((m, 6))
+    hf = 0.5 * h
+    sf = sigma * math.sqrt(hf)
+    af = sf * _noise_factor(p, hf)  # noqa: F821
+    ac = sf * _noise_factor(p, h)  # noqa: F821
+    a3 = sigma * math.sqrt(3.0 * h) * _noise_factor(p, h)  # noqa: F821
+    r2 = 1.0 / math.sqrt(2.0)
+    for i in range(m):
+        s = states[i].copy()
+        xc, vc = y0[i, 0], y0[i, 1]
+        xf, vf = xc, vc
+        xt, vt = xc, vc
+        fc = _first(t0, xc, vc, p)  # noqa: F821
+        ff = fc
+        ft = fc
+        acc = np.zeros(6)
+        ok = True
+        for k in range(n_burn + n_run):
+            g1, g2 = _normal_pair(s)
+            t = t0 + k * h
+            g = (g1 + g2) * r2
+            w = -a3 if g < -_Z3 else (a3 if g > _Z3 else 0.0)
+            xf, vf, ff = _step(t, xf, vf, ff, hf, af * g1, p)  # noqa: F821
+            xf, vf, ff = _step(t + hf, xf, vf, ff, hf, af * g2, p)  # noqa: F821
+            xc, vc, fc = _step(t, xc, vc, fc, h, ac * (g1 + g2), p)  # noqa: F821
+            xt, vt, ft = _step(t, xt, vt, ft, h, w, p)  # noqa: F821
+            if not math.isfinite(xc + vc + xf + vf + xt + vt):
+                ok = False
+                break
+            if k >= n_burn:
+                acc[0] += xc * xc
+                acc[1] += xc * xc + (vc / w0) ** 2
+                acc[2] += xf * xf
+                acc[3] += xf * xf + (vf / w0) ** 2
+                acc[4] += xt * xt
+                acc[5] += xt * xt + (vt / w0) ** 2
+        for c in range(6):
+            out[i, c] = acc[c] / n_run if ok else math.nan
+    return out
+
+
+#: the four-point Gauss-Hermite increment (Abramowitz & Stegun 25.4.46): nodes ``+-A4``,
+#: ``+-B4`` (times ``sqrt(h)``) with probabilities ``PA4``, ``PB4`` each; its moments are the
+#: Gaussian's up to the seventh, so BAOAB's ``h^2`` coefficient is the Gaussian one (the
+#: three-point law's sixth moment, 9 in place of 15, gives another)
+A4 = math.sqrt(3.0 - math.sqrt(6.0))
+B4 = math.sqrt(3.0 + math.sqrt(6.0))
+PA4 = (3.0 + math.sqrt(6.0)) / 12.0
+PB4 = (3.0 - math.sqrt(6.0)) / 12.0
+
+
+@njit(cache=True)
+def _increment4(s, amp):
+    """The four-point increment times ``amp`` (``sigma sqrt(h)``, the noise factor folded
+    in) from one 64-bit output: its top 53 bits choose the node's size (``B4`` with
+    probability ``2 PB4``), its lowest bit the sign (no branch: the sizes' and signs'
+    selects compile to conditional moves)."""
+    r = _next(s)  # noqa: F821
+    u = float(r >> np.uint64(11)) * (1.0 / 9007199254740992.0)
+    size = B4 if u < 2.0 * PB4 else A4
+    sign = 1.0 - 2.0 * float(r & np.uint64(1))
+    return sign * size * amp
+
+
+@njit(cache=True)
+def stationary_stats4(p, sigma, y0, t0, h, n_burn, n_run, states, w0, kind, lo, hi, nbins):
+    """``stationary_stats`` with the four-point increments (:func:`_increment4`): the
+    stationary ensembles' kernel, whose ``h^2`` coefficient is the Gaussian pair's that the
+    step pilot (``step_pair_stats``) measures.  Per trajectory the time averages of ``x^2``,
+    ``a^2``, ``x'^2`` and the spring force over ``n_run`` steps after ``n_burn``, and the
+    fraction of those steps the observable ``kind`` (0: ``a``, 1: ``x``, 2: the energy)
+    spent in each of ``nbins`` equal bins of ``[lo, hi)``; NaN rows for a diverged
+    trajectory."""
+    m = y0.shape[0]
+    sums = np.zeros((m, 4))
+    hist = np.zeros((m, nbins))
+    amp = sigma * math.sqrt(h) * _noise_factor(p, h)  # noqa: F821
+    width = (hi - lo) / nbins
+    for i in range(m):
+        s = states[i].copy()
+        x, v = y0[i, 0], y0[i, 1]
+        f = _first(t0, x, v, p)  # noqa: F821
+        for k in range(n_burn):
+            x, v, f = _step(t0 + k * h, x, v, f, h, _increment4(s, amp), p)  # noqa: F821
+        ok = math.isfinite(x + v)
+        a_x2 = 0.0
+        a_a2 = 0.0
+        a_v2 = 0.0
+        a_f = 0.0
+        if ok:
+            for k in range(n_burn, n_burn + n_run):
+                x, v, f = _step(t0 + k * h, x, v, f, h, _increment4(s, amp), p)  # noqa: F821
+                if not math.isfinite(x + v):
+                    ok = False
+                    break
+                a_x2 += x * x
+                a_v2 += v * v
+                a_a2 += x * x + (v / w0) ** 2
+                a_f += spring(t0 + (k + 1) * h, x, v, p)  # noqa: F821
+                o = _observe(kind, x, v, w0, p)  # noqa: F821
+                j = int(math.floor((o - lo) / width))
+                if 0 <= j < nbins:
+                    hist[i, j] += 1.0
+        if ok:
+            sums[i, 0] = a_x2 / n_run
+            sums[i, 1] = a_a2 / n_run
+            sums[i, 2] = a_v2 / n_run
+            sums[i, 3] = a_f / n_run
+            for j in range(nbins):
+                hist[i, j] /= n_run
+        else:
+            for c in range(4):
+                sums[i, c] = math.nan
+            for j in range(nbins):
+                hist[i, j] = math.nan
+    return sums, hist

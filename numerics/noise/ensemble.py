@@ -3,7 +3,11 @@
 Each trajectory starts at ``y0``, runs ``burn_in`` to forget it, then ``t_end`` more,
 over which the time averages of ``x^2``, ``a^2 = x^2 + (x'/omega0)^2``, ``x'^2`` and the
 spring force are taken, and a histogram of one observable (the amplitude ``a``, ``x``
-or the energy ``E = x'^2/2 + G(x)``).  The estimate is the mean over trajectories;
+or the energy ``E = x'^2/2 + G(x)``), with four-point Gauss-Hermite increments (their
+moments the Gaussian's up to the seventh: the ``h^2`` coefficient of the bias is the one the
+step pilot :func:`numerics.noise.langevin.measured_step` measures with Gaussian increments;
+kernel ``stationary_stats4`` of :mod:`numerics.noise._pair_kernels`).  The estimate is the
+mean over trajectories;
 its standard error is their standard deviation over ``sqrt(N)`` (the trajectories
 are independent, so this is valid whatever the correlation time within one).
 
@@ -110,7 +114,8 @@ def _stats_task(task) -> list:
     system = langevin_system(model, params, D, scheme)
     states = trajectory_states(seed, first, count)
     y = np.ascontiguousarray(np.tile(np.asarray(y0, float), (count, 1)))
-    sums, hist = system.kernels.stationary_stats(
+    # four-point increments: the h^2 coefficient of the step pilot's Gaussian pair
+    sums, hist = system.kernels.stationary_stats4(
         system._p(), system.sigma, y, 0.0, dt, n_burn, n_run, states, system.omega0, kind,
         lo, hi, nbins)
     return [(tuple(map(float, sums[i])), hist[i].tolist()) for i in range(count)]
@@ -179,7 +184,8 @@ def stationary_ensemble(model, params: dict, D: float, *, trajectories: int, t_e
     definition = repr(("stationary_ensemble", _describe(model), sorted(map(str, params.items())),
                        float(D), int(trajectories), n_run, n_burn, float(dt), seed, variable,
                        lo, hi, nbins, tuple(map(float, y0)))
-                      + (() if system.scheme == "kp" else (system.scheme,)))
+                      + (() if system.scheme == "kp" else (system.scheme,))
+                      + ("four-point increments",))
     rows = map_chunks(_stats_task, tasks, executor=executor, workers=workers,
                       progress=progress, desc="trajectories", unit="trajectory",
                       sizes=[len(g) for g in groups], store=store,

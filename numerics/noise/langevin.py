@@ -262,11 +262,12 @@ def measured_step(system: LangevinSystem, h0: float, *, tolerance: float = BIAS_
     else shrunk to ``0.9 h sqrt(tolerance |E|/|b|)`` (at most by 2) and measured again,
     ``rounds`` times at most.  The paths at ``h`` and ``h/2`` drift apart in phase (and
     between wells), so ``se`` does not vanish with ``h``: the pilot shrinks the step only
-    on a bias it resolves.  The pilot measures the Gaussian scheme's bias; the ensembles run
-    three-point increments, whose ``h^2`` coefficient is about 1.5 times the Gaussian one
-    (BAOAB on ``x'' + x = -x' - x^3 + sqrt(2) xi``: -7.55e-3 against -4.86e-3 at h = 0.4;
-    ``tests/test_noise_extrapolation.py``), so the tolerance holds for the run to that
-    factor.  The heating rule
+    on a bias it resolves.  The pilot measures the Gaussian scheme's bias; the stationary
+    ensembles run four-point Gauss-Hermite increments (``stationary_stats4``), whose moments
+    are the Gaussian's up to the seventh, so that their ``h^2`` coefficient is the one the
+    pilot measures (the three-point increments' is about 1.5 times it: BAOAB on ``x'' + x =
+    -x' - x^3 + sqrt(2) xi``, -7.55e-3 against -4.86e-3 at h = 0.4;
+    ``tests/test_noise_extrapolation.py``).  The heating rule
     of :func:`natural_step` bounds the linear part only: van der Pol at mu = 0.3 (its
     nonlinear damping) was 0.56 % low at its step.
 

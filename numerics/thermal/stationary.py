@@ -296,9 +296,10 @@ def _extrapolation(system, out: dict, trajectories: int, run: float, burn: float
         "method": "two-level Richardson",
         "description": "E_dt + (4/3)(E_{dt/2} - E_dt): E_dt from BAOAB at dt (Gaussian "
                        "increments), the correction from a smaller coupled ensemble at dt and "
-                       "dt/2 on one Brownian path, its size by Giles' allocation from the "
-                       "measured variance ratio; the same times as the main run",
-        "order": ORDER, "dt": h, "steps": sizes["steps"],
+                       "dt/2 on one Brownian path and its antithetic twin (the two fine "
+                       "increments of each coarse step swapped), its size by Giles' allocation "
+                       "from the measured variance ratio; the same times as the main run",
+        "order": ORDER, "dt": h, "steps": sizes["steps"], "coupling": sizes["coupling"],
         "trajectories": {"coarse": sizes["coarse"], "correction": sizes["correction"],
                          "pilot": sizes["pilot"]},
         "coarse": {k: m.coarse for k, m in mom.items()},

@@ -15,10 +15,11 @@ lines ``x = x_w``.
 
 Why the next wells' bottoms and not the saddles: a particle crosses the bottom at a speed
 bounded away from zero, so the sink acts on a density that is smooth in the velocity, and
-the rate converges spectrally in the Hermite functions (to 1e-3 with 512 at mu = 0.02,
-below 1e-7 with 64 at mu = 1; docs/noise.rst) and does not depend on the sink's strength or
-place (moving it by a quarter of the saddle-to-bottom distance, or a sink three times
-stronger and half as wide, changes the rate by < 2e-4).  A sink on the saddle cut off the
+the rate converges faster than any power of the number of Hermite functions (to 8e-4 with
+724 at mu = 0.02, where a narrow layer of depleted velocities near the barrier remains, and
+to 3e-7 with 64 at mu = 1; docs/noise.rst) and hardly depends on the sink's strength or
+place (at mu = 0.2 and 1, moving it by a quarter of the saddle-to-bottom distance, or a sink
+three times stronger and half as wide, changes the rate by < 2e-4; 4e-3 at mu = 5).  A sink on the saddle cut off the
 velocities at ``v = 0``, whose Hermite series converge only algebraically (the rate was
 9.5 % high with 64 Hermite functions at mu = 0.02, 2.2 % with 256), and it made the rate
 depend on the sink's sharpness (1-2 % at mu = 1).
@@ -147,7 +148,8 @@ def hermite_ladder(start: int, stop: int) -> list:
 
 def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: int = 64,
                    n_cheb: int = 128, margin: float | None = None, tol: float = 1e-3,
-                   max_hermite: int = 1024, max_cheb: int = 432) -> KramersEscape:
+                   max_hermite: int = 1024, max_cheb: int = 432,
+                   max_cost: float = 3e7) -> KramersEscape:
     """The rate of transitions out of the well at the origin from the Kramers equation with
     a sink at the next wells' bottoms.
 
@@ -174,6 +176,10 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         give the same rate to 2e-6).
     tol, max_hermite, max_cheb : float, int, int
         Relative change of the rate at which the ladders stop, and their tops.
+    max_cost : float
+        Largest ``n_hermite * n_cheb^2`` solved (the sparse LU's fill: 1024 x 193 ran out
+        of memory, 724 x 193 took 50-95 s on a loaded machine); the Chebyshev check runs
+        at the largest truncation within it.
 
     Returns
     -------
@@ -210,7 +216,10 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
 
     nc, start, table = int(n_cheb), int(n_hermite), []
     while True:
-        ladder = hermite_ladder(start, max(int(max_hermite), 2 * start))
+        ladder = [n for n in hermite_ladder(start, max(int(max_hermite), 2 * start))
+                  if n * nc * nc <= max_cost] or [start]
+        if len(ladder) < 2:
+            ladder = hermite_ladder(start, 2 * start)[:2]
         rates = []
         for n in ladder:
             rates.append(solve(n, nc))
@@ -221,10 +230,14 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         k = len(rates) - 1
         prev = max(k - 1, 0)
         finer = int(round(1.5 * nc))
-        r_fine = solve(ladder[prev], finer)
-        table.append((ladder[prev], finer, r_fine))
-        cheb_err = abs(r_fine - rates[prev])
-        if cheb_err <= tol * abs(rates[-1]) or finer > max_cheb:
+        # on the finer grid at the largest truncation the cost allows (the sparse LU's fill)
+        check = max([i for i in range(prev + 1) if ladder[i] * finer**2 <= max_cost],
+                    default=0)
+        r_fine = solve(ladder[check], finer)
+        table.append((ladder[check], finer, r_fine))
+        cheb_err = abs(r_fine - rates[check])
+        if (cheb_err <= tol * abs(rates[-1]) or finer > max_cheb
+                or ladder[prev] * finer**2 > max_cost):
             break
         nc, start = finer, ladder[prev]
     r_sharp = solve(ladder[prev], nc, sharp=2)

@@ -6,8 +6,8 @@ References, none produced by the Kramers-equation solver:
   censoring-correct rate and its standard error, :mod:`numerics.escape.simulate`);
 * Kramers' spatial-diffusion rate ``sum_saddles (sqrt(gamma^2/4 + omega_b^2) - gamma/2)/omega_b
   (omega_0/2 pi) exp(-E_b/kT)`` at high friction (H. A. Kramers, Physica 7 (1940) 284;
-  Hanggi, Talkner and Borkovec, Rev. Mod. Phys. 62 (1990) 251, eq. 4.3), which the rate
-  must approach as ``E_b/kT`` grows;
+  Hanggi, Talkner and Borkovec, Rev. Mod. Phys. 62 (1990) 251, sec. IV: the
+  moderate-to-strong friction rate), which the rate must approach as ``E_b/kT`` grows;
 * the Mel'nikov-Meshkov rate at low friction (J. Chem. Phys. 85 (1986) 1018; Hanggi et
   al. eq. 4.49) and the mean first-passage time of the averaged energy diffusion (which
   ignores the depletion near the barrier and so lies above the true rate).

@@ -98,3 +98,30 @@ def test_cdc_envelope_is_boltzmann(Delta, lam, Omega, kT):
 def test_quartic_envelope_is_boltzmann(c, b, k, kT):
     """``G = x^2/2 + mu c x^4/4 + mu b (1 - cos k x)/k``: single and multiple wells."""
     _check(QUARTIC, {"mu": 0.2, "c": c, "b": b, "k": k}, kT)
+
+
+def test_noise_that_dwarfs_the_barriers_is_refused_with_the_numbers():
+    """CDC, mu = 0.1, Delta = 3, lam = 1.3, D = 100 (D/mu = 1000, 234 barrier heights):
+    the top orbit of the outer annulus (E = 40 D/mu) crosses 2 (x+ - x-)/lam inflections of
+    G = x^2/2 - (Delta/k) cos(k x) (the zeros of G'' = 1 + Delta k cos(k x), counted in
+    closed form); that is above the limit, so the envelope is refused in seconds with the
+    numbers instead of minutes of orbit quadratures."""
+    import re
+    import time
+
+    from kbm.errors import ModelError
+    from numerics.escape.envelope import MAX_INFLECTIONS
+
+    Delta, lam, mu, D = 3.0, 1.3, 0.1, 100.0
+    k = 2 * math.pi / lam
+    t0 = time.perf_counter()
+    with pytest.raises(ModelError, match=r"D/mu = 1000 .* inflections of G") as err:
+        energy_envelope("cdc", {"mu": mu, "Delta": Delta, "lam": lam, "Omega": 1}, D)
+    assert time.perf_counter() - t0 < 30
+    got = int(re.search(r"across (\d+) inflections", str(err.value)).group(1))
+    E = float(re.search(r"at E = ([0-9.e+]+)", str(err.value)).group(1))
+    xp = brentq(lambda z: z * z / 2 - Delta / k * math.cos(k * z) - E, 1.0, 1e4)
+    phi = math.acos(-1 / (Delta * k))  # zeros at k x = +-phi + 2 pi j
+    zeros = sum(1 for s in (phi, -phi) for j in range(-2000, 2001)
+                if abs((s + 2 * math.pi * j) / k) < xp)
+    assert abs(got - zeros) <= 2 and got > MAX_INFLECTIONS

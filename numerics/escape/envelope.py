@@ -287,6 +287,31 @@ def _orbit_values(annulus: Annulus, saddles, h, mu: float, D: float):
     return values, worst
 
 
+#: the most inflections of ``G`` an orbit of the outer annulus may cross at its top energy
+#: (each needs its own quadrature panels: about 0.1-0.3 s apiece on a loaded machine)
+MAX_INFLECTIONS = 200
+
+
+def _check_outer_cost(split, portrait: Portrait, top: float, kT: float) -> None:
+    """Refuse, with the numbers, an outer annulus whose top orbit crosses more than
+    :data:`MAX_INFLECTIONS` inflections of ``G`` (the noise then dwarfs the barriers and
+    the orbit quadratures would take minutes)."""
+    xm, xp = (float(np.ravel(t)[0]) for t in portrait.outer.turning_points(np.array([top])))
+    curv = np.sign(split.numpy_functions()[1](np.linspace(xm, xp, 40001)))
+    count = int(np.count_nonzero(np.diff(curv[curv != 0])))
+    if count <= MAX_INFLECTIONS:
+        return
+    Gs = [e.energy for e in portrait.equilibria if e.kind == "saddle"]
+    Gc = [e.energy for e in portrait.equilibria if e.kind == "center"]
+    barrier = (f"the largest barrier {max(Gs) - min(Gc):.3g} is {kT / (max(Gs) - min(Gc)):.3g}"
+               " times smaller than D/mu") if Gs and Gc else "the potential has no barrier"
+    raise ModelError(
+        f"energy envelope refused: D/mu = {kT:.4g} puts the top of the outer annulus at E = "
+        f"{top:.4g}, where an orbit spans x in [{xm:.4g}, {xp:.4g}] across {count} "
+        f"inflections of G (> {MAX_INFLECTIONS}: minutes of orbit quadratures); {barrier}. "
+        "Lower D (or raise mu), or use the simulation")
+
+
 def energy_envelope(model, params: dict, D: object, *, tol: float = 1e-12,
                     outer_span: float = 40.0) -> EnergyEnvelope:
     """Energy-envelope averaging of ``model`` with noise ``sqrt(2 D) xi``.
@@ -330,6 +355,7 @@ def energy_envelope(model, params: dict, D: object, *, tol: float = 1e-12,
                              "be > 0 (mu <= 0 turns the damping into a drive); give mu > 0")
     portrait = phase_portrait(split)
     h = split.numpy_functions()[3]
+    _check_outer_cost(split, portrait, portrait.outer.energy_min + outer_span * D / mu, D / mu)
     built = {}
     for a in portrait.annuli:
         lo = a.energy_min

@@ -44,8 +44,9 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         ``False``: the averaged rates only.
     method : {"averaging", "fokker-planck"}
         ``"fokker-planck"`` adds ``rate_fokker_planck``: the slowest decay rate of the
-        Kramers equation with a sink past the saddles (:mod:`numerics.fokker_planck.escape`),
-        with ``fokker_planck.sink_error`` and ``fokker_planck.truncation_error``.
+        Kramers equation with a sink at the next wells' bottoms (the transition rate;
+        :mod:`numerics.fokker_planck.escape`), with ``fokker_planck.sink_error``,
+        ``truncation_error``, ``chebyshev_error`` and ``wells`` (where the sink sits).
 
     Returns
     -------
@@ -106,6 +107,8 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         out["rate_fokker_planck"] = fp.rate
         out["fokker_planck"] = {"sink_error": fp.sink_error,
                                 "truncation_error": fp.truncation_error,
+                                "chebyshev_error": fp.chebyshev_error,
+                                "wells": list(fp.wells),
                                 "hermite": fp.hermite, "chebyshev": fp.chebyshev}
     ratio = out["barrier_over_kT"]
     if ratio is not None and ratio < MIN_BARRIER_OVER_KT:

@@ -1,20 +1,34 @@
 """The escape rate from the well at the origin by the Kramers equation: the slowest decay
-rate of the density when everything that passes a saddle is removed.
+rate of the density when everything that reaches a neighbouring well is removed.
 
-Beyond the saddles ``x_l < 0 < x_r`` bounding the well a sink ``kappa(x) = kappa_0 [1 +
-tanh((|x| - x_s - 3 w)/w)]/2`` is added to the Kramers operator (:mod:`.kramers`), on
-``[x_l - m, x_r + m]``.  The population between the saddles then decays as ``exp(-r t)``
-with ``r`` the smallest eigenvalue of ``-(L - kappa)`` (shift-invert Arnoldi on the sparse
-Hermite-Chebyshev matrix, its constrained rows a zero block of the mass matrix): the rate
-of first passage beyond the saddle, at any damping (Hanggi, Talkner and Borkovec, Rev.
-Mod. Phys. 62 (1990) 251, sec. II.C: the rate as the lowest nonvanishing eigenvalue).
-As ``kappa_0 -> oo`` and ``w -> 0`` the sink becomes the absorbing line ``|x| = x_s`` of
-the simulated first passages; the rate is given at two sinks and two Hermite truncations,
-and their differences are its stated errors.
+At the bottoms ``x_wl < x_l < 0 < x_r < x_wr`` of the next wells beyond the saddles a sink
+``kappa(x) = kappa_0 [1 + tanh((|x| - |x_w|)/w)]/2`` is added to the Kramers operator
+(:mod:`.kramers`); ``w`` is a tenth of the saddle-to-bottom distance and ``kappa_0`` absorbs
+a particle arriving at the bottom's speed ``sqrt(2 (E_b - G(x_w)))`` within ``w``.  The
+population of the well then decays as ``exp(-r t)`` with ``r`` the smallest eigenvalue of
+``-(L - kappa)`` (shift-invert Arnoldi on the sparse Hermite-Chebyshev matrix, its
+constrained rows a zero block of the mass matrix; Hanggi, Talkner and Borkovec, Rev. Mod.
+Phys. 62 (1990) 251, sec. II.C: the rate as the lowest nonvanishing eigenvalue).  This is
+the rate of transitions to the next wells (flux over population): what Kramers' and
+Mel'nikov-Meshkov's formulas describe, and the rate of simulated first passages to the
+lines ``x = x_w``.
 
-It is compared (tests/test_fokker_planck_escape.py, docs/noise.rst) with the energy-
-diffusion MFPT of the averaged energy, Kramers' low-friction rate and the Mel'nikov-
-Meshkov rate across the turnover.
+Why the next wells' bottoms and not the saddles: a particle crosses the bottom at a speed
+bounded away from zero, so the sink acts on a density that is smooth in the velocity, and
+the rate converges faster than any power of the number of Hermite functions (to 8e-4 with
+724 at mu = 0.02, where a narrow layer of depleted velocities near the barrier remains, and
+to 3e-7 with 64 at mu = 1; docs/noise.rst) and hardly depends on the sink's strength or
+place (at mu = 0.2 and 1, moving it by a quarter of the saddle-to-bottom distance, or a sink
+three times stronger and half as wide, changes the rate by < 2e-4; 4e-3 at mu = 5).  A sink on the saddle cut off the
+velocities at ``v = 0``, whose Hermite series converge only algebraically (the rate was
+9.5 % high with 64 Hermite functions at mu = 0.02, 2.2 % with 256), and it made the rate
+depend on the sink's sharpness (1-2 % at mu = 1).
+
+The Hermite truncation grows by ``sqrt 2`` from ``n_hermite`` until two successive rates
+agree to ``tol``; the last change is ``truncation_error`` and the change under the sharper
+sink ``sink_error``.  Compared (tests/test_fokker_planck_escape.py, docs/noise.rst) with
+simulated first passages, Kramers' spatial-diffusion rate, the Mel'nikov-Meshkov rate and
+the energy-diffusion MFPT of the averaged energy.
 """
 
 from __future__ import annotations
@@ -30,7 +44,7 @@ from kbm.errors import ModelError, ParameterError
 
 from .kramers import _linear_temperature, kramers_operator, velocity_terms
 
-__all__ = ["KramersEscape", "kramers_escape"]
+__all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder"]
 
 
 @dataclass(frozen=True)
@@ -40,11 +54,20 @@ class KramersEscape:
     Attributes
     ----------
     rate : float
-        The slowest decay rate with the sharper sink and the larger truncation.
+        The slowest decay rate at the largest Hermite truncation.
     sink_error, truncation_error : float
-        Its change from the softer sink, and from half the Hermite functions.
+        The change of the rate under a sink three times stronger and half as wide (at the
+        truncation before the last), and from the truncation before the last.
     saddles : tuple of float
     hermite, chebyshev : int
+        The Hermite truncation of :attr:`rate` and the Chebyshev points.
+    wells : tuple of float
+        The next wells' bottoms, where the sink sits.
+    ladder : tuple of (int, int, float)
+        ``(Hermite functions, Chebyshev intervals, rate)`` of every solve (the
+        convergence table).
+    chebyshev_error : float
+        The change of the rate on 1.5 times as many Chebyshev intervals.
     """
 
     rate: float
@@ -53,21 +76,51 @@ class KramersEscape:
     saddles: tuple
     hermite: int
     chebyshev: int
+    wells: tuple = ()
+    ladder: tuple = ()
+    chebyshev_error: float = float("nan")
 
     def __repr__(self) -> str:
         return (f"KramersEscape(rate={self.rate:.7g} +- {self.sink_error:.2g} (sink) +- "
-                f"{self.truncation_error:.2g} (truncation))")
+                f"{self.truncation_error:.2g} (truncation) +- {self.chebyshev_error:.2g} (Chebyshev))")
 
 
-def _slowest(split, D, sigma, saddles, nh, nc, kappa0, width, margin):
+def next_wells(g, saddles) -> tuple:
+    """``(x_wl, x_wr)``: the bottoms of the wells beyond the saddles ``x_l < 0 < x_r``, the
+    first zeros of the force ``g = G'`` outward of each saddle where ``G`` turns upward
+    (Brent's method to 1e-15).
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        When ``G`` falls without a minimum within 50 saddle distances (no next well).
+    """
+    from scipy.optimize import brentq
+
+    out = []
+    for xs in saddles:
+        side = math.copysign(1.0, xs)
+        grid = xs + side * 1e-3 * abs(xs) * np.arange(1, 50001)
+        slope = side * np.asarray(g(grid), float)  # dG/d|x|: < 0 past the saddle
+        up = np.flatnonzero(slope > 0)
+        if up.size == 0 or up[0] == 0:
+            raise ModelError(f"no well beyond the saddle at x = {xs:.6g} (G falls without a "
+                             "minimum): the escape rate needs the next well's bottom")
+        i = int(up[0])
+        out.append(float(brentq(lambda z: float(g(np.array(z))), grid[i - 1], grid[i],
+                                xtol=1e-15, rtol=1e-15)))
+    return tuple(out)
+
+
+def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width):
+    """The smallest decay rate of the Kramers operator with the sink ``kappa(x) = kappa0 [1 +
+    tanh((|x| - |x_w|)/width)]/2`` centred on the next wells' bottoms ``wells``."""
     import scipy.sparse.linalg as spla
 
-    xl, xr = saddles
-    half = max(-xl, xr) + margin
     A, xs, _ = kramers_operator(split, D, sigma, half, nh, nc)
     m = xs.size
-    edge = np.where(xs > 0, xr, -xl)
-    kappa = kappa0 * 0.5 * (1 + np.tanh((np.abs(xs) - edge - 3 * width) / width))
+    edge = np.where(xs > 0, wells[1], -wells[0])
+    kappa = kappa0 * 0.5 * (1 + np.tanh((np.abs(xs) - edge) / width))
     A = A - sps.kron(sps.identity(nh), sps.diags(kappa))
     keep = np.ones(nh * m)
     ends = np.concatenate([[k * m, k * m + m - 1] for k in range(2, nh)])
@@ -82,9 +135,23 @@ def _slowest(split, D, sigma, saddles, nh, nc, kappa0, width, margin):
     return float(-lam[0].real)
 
 
+def hermite_ladder(start: int, stop: int) -> list:
+    """Hermite truncations ``start * 2^(k/2)`` (even, rounded) up to ``stop``."""
+    out, k = [], 0
+    while True:
+        n = 2 * int(round(start * 2 ** (k / 2) / 2))
+        if n > stop:
+            return out
+        out.append(n)
+        k += 1
+
+
 def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: int = 64,
-                   n_cheb: int = 160, margin: float = 0.6) -> KramersEscape:
-    """The rate of escape beyond the saddles from the Kramers equation with a sink.
+                   n_cheb: int = 128, margin: float | None = None, tol: float = 1e-3,
+                   max_hermite: int = 1024, max_cheb: int = 432,
+                   max_cost: float = 3e7) -> KramersEscape:
+    """The rate of transitions out of the well at the origin from the Kramers equation with
+    a sink at the next wells' bottoms.
 
     Parameters
     ----------
@@ -96,11 +163,23 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         Noise intensity, ``> 0``.
     saddles : (float, float)
         The saddles ``x_l < 0 < x_r`` bounding the well.
-    n_hermite, n_cheb : int
-        Hermite functions and Chebyshev intervals (the truncation error is the change
-        from ``n_hermite/2``).
-    margin : float
-        How far past the saddles the range reaches (the sink lives there).
+    n_hermite : int
+        The first Hermite truncation; it grows by ``sqrt 2`` until two successive rates
+        agree to ``tol`` (or ``max_hermite``; the last change is ``truncation_error``).
+    n_cheb : int
+        The first number of Chebyshev intervals in the position: after the Hermite ladder
+        the rate is recomputed with 1.5 times as many; when it moves by more than ``tol``
+        the ladder runs again on the finer grid (up to ``max_cheb``).
+    margin : float, optional
+        How far past the next wells' bottoms the range reaches (default half the larger
+        saddle-to-bottom distance; the sink lives there: at mu = 0.02, 0.5 and 1.5 times
+        give the same rate to 2e-6).
+    tol, max_hermite, max_cheb : float, int, int
+        Relative change of the rate at which the ladders stop, and their tops.
+    max_cost : float
+        Largest ``n_hermite * n_cheb^2`` solved (the sparse LU's fill: 1024 x 193 ran out
+        of memory, 724 x 193 took 50-95 s on a loaded machine); the Chebyshev check runs
+        at the largest truncation within it.
 
     Returns
     -------
@@ -118,11 +197,50 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         raise ParameterError(f"mu = {mu:g} must be > 0")
     kT = _linear_temperature(velocity_terms(split), D)
     sigma = math.sqrt(kT if kT is not None else D / mu)
-    scale = 1.0 / max(-xl, xr)
-    sharp = (100.0, 0.02 / scale)
-    soft = (30.0, 0.04 / scale)
-    r = _slowest(split, D, sigma, (xl, xr), n_hermite, n_cheb, *sharp, margin)
-    r_soft = _slowest(split, D, sigma, (xl, xr), n_hermite, n_cheb, *soft, margin)
-    r_half = _slowest(split, D, sigma, (xl, xr), n_hermite // 2, n_cheb, *sharp, margin)
-    return KramersEscape(r, abs(r - r_soft), abs(r - r_half), (xl, xr), n_hermite,
-                         n_cheb + 1)
+    g, _, G = split.numpy_functions()[:3]
+    wells = next_wells(g, (xl, xr))
+    gap = min(wells[1] - xr, xl - wells[0])
+    drop = min(float(G(np.array(s))) - float(G(np.array(w))) for s, w in zip((xl, xr), wells))
+    # absorbed within a tenth of the saddle-to-bottom distance at the speed of the bottom
+    kappa0 = 10 * math.sqrt(2 * max(drop, 0.0)) / gap + 1.0
+    width = 0.1 * gap
+    half = max(-wells[0], wells[1]) + (0.5 * max(wells[1] - xr, xl - wells[0])
+                                       if margin is None else float(margin))
+    memo = {}
+
+    def solve(n, nc, sharp=1):
+        if (n, nc, sharp) not in memo:
+            memo[n, nc, sharp] = _slowest(split, D, sigma, wells, half, n, nc,
+                                          kappa0 * (3 if sharp > 1 else 1), width / sharp)
+        return memo[n, nc, sharp]
+
+    nc, start, table = int(n_cheb), int(n_hermite), []
+    while True:
+        ladder = [n for n in hermite_ladder(start, max(int(max_hermite), 2 * start))
+                  if n * nc * nc <= max_cost] or [start]
+        if len(ladder) < 2:
+            ladder = hermite_ladder(start, 2 * start)[:2]
+        rates = []
+        for n in ladder:
+            rates.append(solve(n, nc))
+            if (n, nc, rates[-1]) not in table:
+                table.append((n, nc, rates[-1]))
+            if len(rates) > 1 and abs(rates[-1] - rates[-2]) <= tol * abs(rates[-1]):
+                break
+        k = len(rates) - 1
+        prev = max(k - 1, 0)
+        finer = int(round(1.5 * nc))
+        # on the finer grid at the largest truncation the cost allows (the sparse LU's fill)
+        check = max([i for i in range(prev + 1) if ladder[i] * finer**2 <= max_cost],
+                    default=0)
+        r_fine = solve(ladder[check], finer)
+        table.append((ladder[check], finer, r_fine))
+        cheb_err = abs(r_fine - rates[check])
+        if (cheb_err <= tol * abs(rates[-1]) or finer > max_cheb
+                or ladder[prev] * finer**2 > max_cost):
+            break
+        nc, start = finer, ladder[prev]
+    r_sharp = solve(ladder[prev], nc, sharp=2)
+    return KramersEscape(rates[-1], abs(r_sharp - rates[prev]),
+                         abs(rates[-1] - rates[prev]),
+                         (xl, xr), ladder[k], nc + 1, wells, tuple(table), cheb_err)

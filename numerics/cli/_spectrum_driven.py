@@ -147,7 +147,7 @@ def _lines_driven(rep, specs) -> list[str]:
 
 
 def _figures_driven(specs, model, out: Path) -> list[Path]:
-    from numerics.forced.figures import _plt, _save
+    from numerics._plot import pyplot as _plt, save as _save
 
     plt = _plt()
     paths = []
@@ -163,7 +163,7 @@ def _figures_driven(specs, model, out: Path) -> list[Path]:
         ax.set_ylabel("one-sided PSD of x - x_p")
         ax.set_title(f"{model}: noise spectrum at detuning {s.detuning:g}, amplitude "
                      f"{s.state.amplitudes()[0]:.3g}")
-        paths.append(_save(plt, fig, ax, out / f"spectrum-{model}-{j}.png"))
+        paths.append(_save(fig, ax, out / f"spectrum-{model}-{j}.png"))
     return paths
 
 
@@ -208,7 +208,7 @@ def run_slips(args) -> int:
 
 
 def _figure_slips(rows, model, name, out: Path) -> Path:
-    from numerics.forced.figures import _plt, _save
+    from numerics._plot import pyplot as _plt, save as _save
 
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6, 4))
@@ -221,7 +221,7 @@ def _figure_slips(rows, model, name, out: Path) -> Path:
     ax.set_xlabel(f"detuning {name}")
     ax.set_ylabel("net slip rate (slips per unit time)")
     ax.set_title(f"{model}: phase slips")
-    return _save(plt, fig, ax, out / f"slips-{model}.png")
+    return _save(fig, ax, out / f"slips-{model}.png")
 
 
 def _emit(args, rep, lines) -> int:

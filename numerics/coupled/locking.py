@@ -351,7 +351,7 @@ def locking_region(model: CoupledOscillators | str, params: Mapping[str, object]
 
 def plot_locking(region: LockingRegion, path) -> "object":
     """The tongue: averaged edges per order as lines, true edges as points."""
-    from numerics.forced.figures import _plt, _save
+    from numerics._plot import pyplot as _plt, save as _save
 
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6, 4.2))
@@ -368,4 +368,4 @@ def plot_locking(region: LockingRegion, path) -> "object":
     ax.set_xlabel(f"detuning {region.detuning} (frequency 1 + mu {region.detuning})")
     ax.set_ylabel(f"coupling {region.coupling}")
     ax.set_title(f"{region.model}: 1:1 locking region, mu = {region.params.get('mu'):g}")
-    return _save(plt, fig, ax, path)
+    return _save(fig, ax, path)

@@ -18,7 +18,6 @@ import numpy as np
 
 from numerics.bifurcation.curve import CurvePath, continue_curve
 from numerics.bifurcation.result import Curve
-from numerics.errors import NumericsError
 
 __all__ = ["families", "hopf_seeds", "fold_curves"]
 
@@ -127,17 +126,14 @@ def fold_curves(run, seeds) -> None:
         def stop(pt, path):
             return "period" if pt.z[1] > run.s.t_max else None
 
-        try:
-            pts, _, ends = run.follow(key, G, np.array(z0, dtype=float), [0, 0, 1.0, 1.0],
-                                      scale=np.concatenate([[1.0, max(1.0, z0[1])], run.scale]),
-                                      stop=stop, tol=1e-10, fd_step=1e-7)
-        except NumericsError as exc:  # the seed did not converge to a fold
-            run.failures.append(f"fold from {tuple(round(v, 6) for v in z0)}: {exc}")
-            continue
-        if len(pts) < 2:
+        found = run.attempt("fold", z0, key, G, [0, 0, 1.0, 1.0],
+                            scale=np.concatenate([[1.0, max(1.0, z0[1])], run.scale]),
+                            stop=stop, tol=1e-10, fd_step=1e-7)
+        if found is None:
             if run.interrupted:
                 return
             continue
+        pts, _, ends = found
         run.curves.append(Curve("fold", [tuple(p.z[2:]) for p in pts], "true", None, {
             "x_max": [float(pts[0].z[0]), float(pts[-1].z[0])],
             "period": [float(pts[0].z[1]), float(pts[-1].z[1])],

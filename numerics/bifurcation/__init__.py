@@ -13,6 +13,7 @@ located, averaged curves beside the true ones.
   :mod:`~numerics.bifurcation.autonomous`: the defining systems;
   :mod:`~numerics.bifurcation.connections`: homoclinic and heteroclinic curves;
   :mod:`~numerics.bifurcation.cycle_folds`: folds of cycles;
+  :mod:`~numerics.bifurcation.hopf_folds`: the fold of small cycles into its Bautin point;
   :mod:`~numerics.bifurcation.averaged`: the averaged curves;
   :mod:`~numerics.bifurcation.store`: the paths kept for resume);
 - :mod:`numerics.bifurcation.forced`: the fold, period-doubling and Neimark–Sacker curves

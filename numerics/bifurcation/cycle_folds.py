@@ -172,19 +172,22 @@ def _into_bautin(run, key, side, z):
     """The fold curve's end at ``z = (x0, T, a, b)`` continued into the Bautin point near it
     (:func:`numerics.bifurcation.hopf_folds.into_bautin`): ``{"ab": [...], "detail": {...}}``
     (the points from ``z`` outwards, the Bautin point last), or ``None`` when no Bautin
-    point lies within 1 % of the box or the scaled system fails (the failure kept)."""
+    point lies within 5 % of the box or the scaled system fails (the failure kept)."""
     from numerics.bifurcation.hopf_folds import into_bautin
 
     ab = np.asarray(z[2:], dtype=float)
     near = [q for q in run.codim2 if q.kind == "bautin" and "x" in q.detail
-            and np.linalg.norm((np.asarray(q.point) - ab) / run.scale) < 0.01]
+            and np.linalg.norm((np.asarray(q.point) - ab) / run.scale) < 0.05]
     if not near:
         return None
     q = min(near, key=lambda q: np.linalg.norm((np.asarray(q.point) - ab) / run.scale))
+    xb = float(q.detail["x"])
+    if run.kit.odd and abs(z[0] + xb) < abs(z[0] - xb):  # the mirror well's Bautin point
+        xb = -xb
     rec = run.store.get(f"{key}|bautin|{side}")
     if rec is None:
         try:
-            out = into_bautin(run.kit, z, (q.detail["x"], *q.point), progress=lambda zz: (
+            out = into_bautin(run.kit, z, (xb, *q.point), progress=lambda zz: (
                 run.progress is not None and run.progress("fold", zz[3:])))
         except (NumericsError, np.linalg.LinAlgError) as exc:
             run.failures.append(f"fold into the Bautin point {q.point}: {exc}")

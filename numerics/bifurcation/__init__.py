@@ -6,6 +6,16 @@ located, averaged curves beside the true ones.
 - :mod:`numerics.bifurcation.curve`: :func:`continue_curve`, pseudo-arclength continuation
   of a curve of zeros of ``G: R^(n+1) -> R^n`` (converged points, step control, bounds,
   test functions and their zeros, progress, store and resume);
+- :mod:`numerics.bifurcation.path`: the records of a path (:class:`PathPoint`,
+  :class:`TestEvent`, :class:`CurvePath`);
+- :mod:`numerics.bifurcation.oned`: the diagram of an autonomous one-degree-of-freedom
+  model (:mod:`~numerics.bifurcation.run`: its run state and shared geometry;
+  :mod:`~numerics.bifurcation.autonomous`: the defining systems;
+  :mod:`~numerics.bifurcation.connections`: homoclinic and heteroclinic curves;
+  :mod:`~numerics.bifurcation.cycle_folds`: folds of cycles;
+  :mod:`~numerics.bifurcation.hopf_folds`: the fold of small cycles into its Bautin point;
+  :mod:`~numerics.bifurcation.averaged`: the averaged curves;
+  :mod:`~numerics.bifurcation.store`: the paths kept for resume);
 - :mod:`numerics.bifurcation.forced`: the fold, period-doubling and Neimark–Sacker curves
   of a forced oscillator's periodic responses (cusp, Bogdanov–Takens, strong resonances),
   the slow flow's curves at orders 1–3 beside them

@@ -25,6 +25,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from numerics.bifurcation.result import Curve
+from numerics.bifurcation.run import runs
 
 __all__ = ["energy_balance_curves", "kbm_fold_curves", "ENERGY_ORDER"]
 
@@ -109,18 +110,7 @@ def energy_balance_curves(model, params: Mapping, axes, ranges, *, n: int = 41,
 
 def _clip(segs, b0, b1):
     """The parts of the segments inside ``b0 <= b <= b1``."""
-    out = []
-    for seg in segs:
-        cur = []
-        for p in seg:
-            if b0 <= p[1] <= b1:
-                cur.append(p)
-            elif cur:
-                out.append(cur)
-                cur = []
-        if cur:
-            out.append(cur)
-    return out
+    return [r for seg in segs for r in runs(seg, lambda p: b0 <= p[1] <= b1)]
 
 
 def _seed(ann, ann1, a, b0, b1):

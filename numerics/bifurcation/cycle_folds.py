@@ -7,7 +7,9 @@ part of :func:`numerics.bifurcation.oned.autonomous_diagram` that follows cycles
   (the non-trivial multiplier 1) are the starts of the fold curves;
 - :func:`fold_curves`: each fold curve continued in ``(x_max, T, a, b)``
   (:meth:`numerics.bifurcation.autonomous.OneDof.cycle_fold`); a curve whose period
-  exceeds ``t_max`` ends on a homoclinic curve (codim-2 ``fold-homoclinic``).
+  exceeds ``t_max`` ends on a homoclinic curve (codim-2 ``fold-homoclinic``); a curve that
+  stops (its system singular) beside a Bautin point is continued into it by the
+  amplitude-scaled system (:mod:`numerics.bifurcation.hopf_folds`) and ends on it.
 """
 
 from __future__ import annotations
@@ -127,21 +129,24 @@ def fold_curves(run, seeds) -> None:
         def stop(pt, path):
             return "period" if pt.z[1] > run.s.t_max else None
 
-        try:
-            pts, _, ends = run.follow(key, G, np.array(z0, dtype=float), [0, 0, 1.0, 1.0],
-                                      scale=np.concatenate([[1.0, max(1.0, z0[1])], run.scale]),
-                                      stop=stop, tol=1e-10, fd_step=1e-7)
-        except NumericsError as exc:  # the seed did not converge to a fold
-            run.failures.append(f"fold from {tuple(round(v, 6) for v in z0)}: {exc}")
-            continue
-        if len(pts) < 2:
+        found = run.attempt("fold", z0, key, G, [0, 0, 1.0, 1.0],
+                            scale=np.concatenate([[1.0, max(1.0, z0[1])], run.scale]),
+                            stop=stop, tol=1e-10, fd_step=1e-7)
+        if found is None:
             if run.interrupted:
                 return
             continue
-        run.curves.append(Curve("fold", [tuple(p.z[2:]) for p in pts], "true", None, {
-            "x_max": [float(pts[0].z[0]), float(pts[-1].z[0])],
-            "period": [float(pts[0].z[1]), float(pts[-1].z[1])],
-            "residual_max": max(p.residual for p in pts)}))
+        pts, _, ends = found
+        ab = [tuple(float(v) for v in p.z[2:]) for p in pts]
+        detail = {"x_max": [float(pts[0].z[0]), float(pts[-1].z[0])],
+                  "period": [float(pts[0].z[1]), float(pts[-1].z[1])],
+                  "residual_max": max(p.residual for p in pts)}
+        for side, (end, p) in enumerate(((ends[0], pts[0]), (ends[1], pts[-1]))):
+            tail = _into_bautin(run, key, side, p.z) if end == "step" else None
+            if tail is not None:
+                ab = (list(reversed(tail["ab"])) + ab) if side == 0 else ab + tail["ab"]
+                detail.setdefault("bautin_ends", []).append(tail["detail"])
+        run.curves.append(Curve("fold", ab, "true", None, detail))
         for end, p in ((ends[0], pts[0]), (ends[1], pts[-1])):
             if end == "stopped":
                 ab = np.asarray(p.z[2:], dtype=float)
@@ -161,3 +166,42 @@ def fold_curves(run, seeds) -> None:
                     "note": "the last converged point of the fold curve, period above t_max"})
         if run.interrupted:  # the points so far are kept above
             return
+
+
+def _into_bautin(run, key, side, z):
+    """The fold curve's end at ``z = (x0, T, a, b)`` continued into the Bautin point near it
+    (:func:`numerics.bifurcation.hopf_folds.into_bautin`): ``{"ab": [...], "detail": {...}}``
+    (the points from ``z`` outwards, the Bautin point last), or ``None`` when no Bautin
+    point lies within 5 % of the box or the scaled system fails (the failure kept)."""
+    from numerics.bifurcation.hopf_folds import into_bautin
+
+    ab = np.asarray(z[2:], dtype=float)
+    near = [q for q in run.codim2 if q.kind == "bautin" and "x" in q.detail
+            and np.linalg.norm((np.asarray(q.point) - ab) / run.scale) < 0.05]
+    if not near:
+        return None
+    q = min(near, key=lambda q: np.linalg.norm((np.asarray(q.point) - ab) / run.scale))
+    xb = float(q.detail["x"])
+    if run.kit.odd and abs(z[0] + xb) < abs(z[0] - xb):  # the mirror well's Bautin point
+        xb = -xb
+    rec = run.store.get(f"{key}|bautin|{side}")
+    if rec is None:
+        try:
+            out = into_bautin(run.kit, z, (xb, *q.point), progress=lambda zz: (
+                run.progress is not None and run.progress("fold", zz[3:])))
+        except (NumericsError, np.linalg.LinAlgError) as exc:
+            run.failures.append(f"fold into the Bautin point {q.point}: {exc}")
+            return None
+        end = out["end"]
+        last = out["points"][-1]
+        rec = {"ab": [[float(p[3]), float(p[4])] for p in out["points"]]
+               + [[float(end[1]), float(end[2])]],
+               "detail": {"end": "bautin", "bautin": [float(end[1]), float(end[2])],
+                          "scaled_points": len(out["points"]),
+                          "eps_min": float(abs(last[1])),
+                          "last_scaled_point": [float(last[3]), float(last[4])],
+                          "scaled_residual_max": float(max(out["residuals"])),
+                          "note": "amplitude-scaled fold system down to eps_min, then the "
+                          "Bautin point (its eps = 0 member: Hopf conditions and l1 = 0)"}}
+        run.store.put(f"{key}|bautin|{side}", rec)
+    return {"ab": [tuple(p) for p in rec["ab"]], "detail": rec["detail"]}

@@ -23,160 +23,35 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
 
 import numpy as np
 
 from numerics.bifurcation import connections as C
 from numerics.bifurcation.autonomous import OneDof
+from numerics.bifurcation.curve import correct
 from numerics.bifurcation.cycle_folds import families, fold_curves
-from numerics.bifurcation.curve import CurvePath, continue_curve, correct
-from numerics.bifurcation.result import Codim2Point, Curve, Diagram
+from numerics.bifurcation.result import Curve, Diagram
+from numerics.bifurcation.run import Interrupted, Run, Settings, distances, near, runs
 from numerics.bifurcation.store import PathStore
 from numerics.errors import NumericsError
+
+# Run was _Run here; the old names kept for callers
+_Run = Run
 
 __all__ = ["Settings", "Interrupted", "autonomous_diagram"]
 
 
-@dataclass(frozen=True)
-class Settings:
-    """``L``: equilibria are looked for on ``[-L, L]``; ``grid``: the scans' points per
-    axis; ``family_lines``: values of ``a`` where families of cycles are followed;
-    ``ds_max``: the largest step (the box scaled to the unit square); ``max_points`` per
-    direction; ``averaged_points``: grid values of the averaged curves; ``t_max``: a fold
-    curve ends where the period exceeds it."""
-
-    L: float = 8.0
-    grid: tuple[int, int] = (25, 9)
-    family_lines: int = 7
-    ds_max: float = 0.04
-    max_points: int = 400
-    averaged_points: int = 25
-    t_max: float = 300.0
-    averaged: bool = True
-    orders: tuple[int, ...] = (1, 2, 3)
-
-    def text(self) -> str:
-        return repr(self)
-
-
-class Interrupted(Exception):
-    """Ctrl-C: ``diagram`` holds what was found (the paths are in the store)."""
-
-    def __init__(self, diagram: Diagram):
-        super().__init__("interrupted")
-        self.diagram = diagram
-
-
-class _Run:
-    def __init__(self, kit: OneDof, ranges, store: PathStore, progress, settings: Settings):
-        self.kit, self.store, self.progress, self.s = kit, store, progress, settings
-        a, b = kit.axes
-        self.box = (tuple(ranges[a]), tuple(ranges[b]))
-        self.scale = np.array([self.box[0][1] - self.box[0][0], self.box[1][1] - self.box[1][0]])
-        self.curves: list[Curve] = []
-        self.codim2: list[Codim2Point] = []
-        self.interrupted = False
-        self.failures: list[str] = []
-        #: the Hopf curves' points ``(x, a, b)``: starts of families of small cycles
-        self.hopf: list[np.ndarray] = []
-
-    # -- bookkeeping ----------------------------------------------------------------------
-    def inside(self, ab) -> bool:
-        """Whether ``ab`` lies in the box."""
-        (a0, a1), (b0, b1) = self.box
-        return bool(a0 <= ab[0] <= a1 and b0 <= ab[1] <= b1)
-
-    def covered(self, kind: str, ab, label: str | None = None, tol: float = 0.01) -> bool:
-        """Whether ``ab`` lies on a curve of ``kind`` found already (scaled distance)."""
-        p = np.asarray(ab, dtype=float) / self.scale
-        for c in self.curves:
-            if c.kind != kind or c.method != "true" or (label and c.detail.get("label") != label):
-                continue
-            q = np.asarray(c.points) / self.scale
-            if len(q) == 1:
-                if np.linalg.norm(q[0] - p) < tol:
-                    return True
-                continue
-            d = q[1:] - q[:-1]
-            t = np.clip(np.einsum("ij,ij->i", p - q[:-1], d) / np.maximum(
-                np.einsum("ij,ij->i", d, d), 1e-300), 0, 1)
-            if np.min(np.linalg.norm(q[:-1] + t[:, None] * d - p, axis=1)) < tol:
-                return True
-        return False
-
-    def add_codim2(self, kind, ab, detail):
-        p = np.asarray(ab, dtype=float) / self.scale
-        for c in self.codim2:
-            if c.kind == kind and np.linalg.norm(np.asarray(c.point) / self.scale - p) < 1e-4:
-                return
-        self.codim2.append(Codim2Point(kind, (float(ab[0]), float(ab[1])), detail))
-
-    # -- one curve, both directions -----------------------------------------------------------
-    def follow(self, key: str, G, z0, tangent, *, scale, tests=None, on_point=None,
-               stop=None, tol=1e-10, fd_step=1e-7, reset: Callable | None = None):
-        """The path through ``z0`` in both directions, joined (``(points, events, ends)``)."""
-        n = len(z0)
-        bounds = {n - 2: self.box[0], n - 1: self.box[1]}
-        paths = []
-        first = None
-        for sign in (1, -1):
-            k = f"{key}|{sign}"
-            rec = self.store.get(k)
-            resume = None
-            if rec is not None:
-                path = CurvePath.from_records(rec["path"])
-                if rec.get("done"):
-                    paths.append(path)
-                    if first is None and path.points:
-                        first = path.points[0]
-                    continue
-                resume = path if path.points else None
-            if reset is not None:
-                reset(resume.points[-1].z if resume else (first.z if first else z0))
-            start = first.z if (first is not None and resume is None) else z0
-            t0 = (-first.tangent if first is not None else np.asarray(tangent) * sign) \
-                if resume is None else None
-
-            def point(pt, path=None, k=k):
-                if on_point is not None:
-                    on_point(pt)
-
-            def prog(pt, path, k=k, kind=key.split("|")[0]):
-                self.store.put(k, {"path": path.to_records(), "done": False})
-                if self.progress is not None:
-                    self.progress(kind, pt.z[-2:])
-
-            path = continue_curve(G, start, tangent=t0, ds=0.2 * self.s.ds_max,
-                                  ds_max=self.s.ds_max, bounds=bounds,
-                                  max_points=self.s.max_points, tol=tol, tests=tests,
-                                  stop=stop, progress=prog, on_point=point, resume=resume,
-                                  scale=scale, fd_step=fd_step)
-            if path.end == "interrupted":
-                self.interrupted = True
-                paths.append(path)
-                break
-            self.store.put(k, {"path": path.to_records(), "done": True})
-            paths.append(path)
-            if first is None and path.points:
-                first = path.points[0]
-        plus = paths[0]
-        minus = paths[1] if len(paths) > 1 else CurvePath()
-        pts = list(reversed(minus.points[1:])) + plus.points
-        return pts, plus.events + minus.events, (minus.end, plus.end)
-
-
-def _scale(run: _Run, n_state: int, state_scale=1.0) -> np.ndarray:
+def _scale(run: Run, n_state: int, state_scale=1.0) -> np.ndarray:
     return np.concatenate([np.full(n_state, state_scale), run.scale])
 
 
-def _grid(run: _Run):
+def _grid(run: Run):
     (a0, a1), (b0, b1) = run.box
     na, nb = run.s.grid
     return np.linspace(a0, a1, na), np.linspace(b0, b1, nb)
 
 
-def _equilibrium_curves(run: _Run) -> None:
+def _equilibrium_curves(run: Run) -> None:
     """Hopf curves and folds of equilibria from the grid's scan."""
     kit = run.kit
     A, B = _grid(run)
@@ -230,18 +105,10 @@ def _equilibrium_curves(run: _Run) -> None:
                 return
 
 
-def _equilibrium_result(run: _Run, kind, pts, events):
+def _equilibrium_result(run: Run, kind, pts, events):
     kit = run.kit
     if kind == "hopf":  # keep tr J = 0 with det J > 0: the neutral saddles are no Hopf points
-        segs, cur = [], []
-        for p in pts:
-            if kit.eigen(p.z[0], p.z[1], p.z[2])[1] > 0:
-                cur.append(p)
-            elif cur:
-                segs.append(cur)
-                cur = []
-        if cur:
-            segs.append(cur)
+        segs = runs(pts, lambda p: kit.eigen(p.z[0], p.z[1], p.z[2])[1] > 0)
     else:
         segs = [pts]
     for seg in segs:
@@ -260,7 +127,7 @@ def _equilibrium_result(run: _Run, kind, pts, events):
         run.add_codim2(ev.name, (a, b), {"on": kind, "x": float(x), "test": ev.value})
 
 
-def _homoclinic_curves(run: _Run, sn_curves) -> None:
+def _homoclinic_curves(run: Run, sn_curves) -> None:
     """Connections from the scans along the grid's rows and columns."""
     kit = run.kit
     A, B = _grid(run)
@@ -287,19 +154,15 @@ def _homoclinic_curves(run: _Run, sn_curves) -> None:
             visited.append(loop.visits())
 
         key = f"homoclinic|{z0[0]:.6f},{z0[1]:.6f}|{label}|{loop0.leave}"
-        try:
-            pts, events, ends = run.follow(key, C.gap_function(kit, loop), np.array(z0),
-                                           [1.0, 0.0], scale=run.scale, on_point=on_point,
-                                           tol=C.GAP_TOL, fd_step=1e-6, reset=reset,
-                                           tests={"saddle-quantity": C.saddle_quantity(kit,
-                                                                                       loop)})
-        except NumericsError as exc:
-            run.failures.append(f"homoclinic from {tuple(round(v, 6) for v in z0)}: {exc}")
-            continue
-        if len(pts) < 2:
+        found = run.attempt("homoclinic", z0, key, C.gap_function(kit, loop), [1.0, 0.0],
+                            scale=run.scale, on_point=on_point, tol=C.GAP_TOL, fd_step=1e-6,
+                            reset=reset, tests={"saddle-quantity": C.saddle_quantity(kit,
+                                                                                     loop)})
+        if found is None:
             if run.interrupted:
                 return
             continue
+        pts, events, ends = found
         gaps = [p.residual for p in pts]
         run.curves.append(Curve("homoclinic", [tuple(p.z) for p in pts], "true", None, {
             "label": label, "saddles": loop0.visits(), "leave": loop0.leave,
@@ -309,7 +172,7 @@ def _homoclinic_curves(run: _Run, sn_curves) -> None:
         for end, p in ((ends[0], pts[0]), (ends[1], pts[-1])):
             if end in ("bounds", "interrupted", "max_points"):
                 continue
-            on_sn = any(_near(run, p.z, c) for c in sn_curves())
+            on_sn = any(near(run, p.z, c) for c in sn_curves())
             run.add_codim2("saddle-node-loop" if on_sn else "saddle-change", tuple(p.z), {
                 "on": "homoclinic", "label": label, "gap": p.residual})
         for ev in events:  # located to convergence on the curve: a fold of cycles ends here
@@ -318,42 +181,6 @@ def _homoclinic_curves(run: _Run, sn_curves) -> None:
                 "gap": ev.residual})
         if run.interrupted:  # the points so far are kept above
             return
-
-
-def _near(run, ab, curve, tol=2e-3) -> bool:
-    q = np.asarray(curve.points) / run.scale
-    return bool(np.min(np.linalg.norm(q - np.asarray(ab) / run.scale, axis=1)) < tol * 10)
-
-
-def _distances(run: _Run, averaged: list[Curve]) -> list[Curve]:
-    """Each averaged curve with its distance to the nearest true curve of its kind."""
-    from dataclasses import replace
-
-    out = []
-    for c in averaged:
-        best = None
-        for i, t in enumerate(run.curves):
-            if t.kind != c.kind or t.method != "true" or len(t.points) < 2:
-                continue
-            d = _to_polyline(np.asarray(c.points), np.asarray(t.points))
-            if best is None or np.median(d) < np.median(best[1]):
-                best = (i, d)
-        if best is not None:
-            c = replace(c, detail={**c.detail, "distance_to": best[0],
-                                   "distance_max": float(np.max(best[1])),
-                                   "distance_median": float(np.median(best[1]))})
-        out.append(c)
-    return out
-
-
-def _to_polyline(ps, q):
-    d = q[1:] - q[:-1]
-    out = []
-    for p in ps:
-        t = np.clip(np.einsum("ij,ij->i", p - q[:-1], d) / np.maximum(
-            np.einsum("ij,ij->i", d, d), 1e-300), 0, 1)
-        out.append(float(np.min(np.linalg.norm(q[:-1] + t[:, None] * d - p, axis=1))))
-    return np.array(out)
 
 
 def autonomous_diagram(model, params: Mapping, axes: tuple[str, str], ranges: Mapping, *,
@@ -365,11 +192,11 @@ def autonomous_diagram(model, params: Mapping, axes: tuple[str, str], ranges: Ma
 
     (a0, a1), (b0, b1) = ranges[axes[0]], ranges[axes[1]]
     kit = OneDof(model, params, axes, (0.5 * (a0 + a1), 0.5 * (b0 + b1)))
-    run = _Run(kit, ranges, store or PathStore(None, ""), progress, settings)
+    run = Run(kit, ranges, store or PathStore(None, ""), progress, settings)
     averaged, seeds, note = [], [], ""
 
     def finish() -> Diagram:
-        curves = run.curves + _distances(run, averaged)
+        curves = run.curves + distances(run, averaged)
         return Diagram(name or getattr(model, "name", str(model)), dict(params), tuple(axes),
                        dict(ranges), tuple(curves), tuple(run.codim2), {
                            "averaged_note": note, "failures": list(run.failures),

@@ -177,15 +177,19 @@ def test_refused_input_gives_the_same_message_with_the_cards_stored():
 def test_the_card_key_changes_with_the_name_and_the_values():
     """A card is named by the built-in name and the values as given (their types too), and
     there is none for a model object or a value of another type."""
-    from numerics.flow.card import card_key
+    from numerics.flow.card import card_key, use_cards
 
+    use_cards(False)
+    assert card_key("vdp", {"mu": "1"}) is None  # a library call: no cards
+    use_cards()
     keys = {card_key("vdp", {"mu": "1"}), card_key("vdp", {"mu": 1}),
             card_key("vdp", {"mu": 1.0}), card_key("rayleigh", {"mu": "1"}),
             card_key("vdp", {"mu": "1.0"}), card_key("vdp", {})}
-    assert len(keys) == 6 and None not in keys
+    assert len(keys) == 6 and None not in keys, keys
     assert card_key("vdp", {"mu": "1"}) == card_key("vdp", {"mu": "1"})
     assert card_key(object(), {"mu": "1"}) is None
     assert card_key("vdp", {"mu": np.float64(1)}) is None
+    use_cards(False)
 
 
 def test_the_cycle_from_a_card_equals_the_cycle_bound_anew(tmp_path, monkeypatch):
@@ -204,6 +208,7 @@ def test_the_cycle_from_a_card_equals_the_cycle_bound_anew(tmp_path, monkeypatch
         if p.name.startswith(("kbm_flow_", "kbm_src_", "kbm_aot_")) or p.name == "__pycache__":
             (shutil.copytree if p.is_dir() else shutil.copy2)(p, tmp_path / p.name)
     monkeypatch.setenv("KBM_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(card, "_ON", [True])  # as the command line turns them on
     clear_caches()
     cold = limit_cycle("vdp", {"mu": "1"})
     assert card.card_model("vdp", {"mu": "1"}) is not None

@@ -85,10 +85,11 @@ def _card(args: argparse.Namespace) -> dict | None:
     values that a cold run stored after checking them (with the text of the parameters),
     or ``None``."""
     from kbm.cli._common import check_model_flags
-    from numerics.flow.card import card_key, read_card
+    from numerics.flow.card import card_key, read_card, use_cards
 
     if getattr(args, "rhs", None):
         return None
+    use_cards()
     check_model_flags(args)
     card = read_card(card_key(args.model, parse_params(args.param)))
     return card if card is not None and isinstance(card.get("described"), str) else None

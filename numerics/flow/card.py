@@ -11,7 +11,8 @@ the first-order rates, the text of the parameters).  Its name is the SHA-256 of 
 the name, the values as given, the source of :mod:`kbm` and :mod:`numerics.flow` and
 sympy's version (:func:`card_key`).
 
-A card is written only after the model was bound and compiled (so input that is refused is
+Cards are used where :func:`use_cards` turns them on (``kbm cycle`` does).  A card is
+written only after the model was bound and compiled (so input that is refused is
 never in a card, and gives the same message on every run); a warm run reads it and builds a
 :class:`numerics.flow.compiled.CompiledModel` from the template's stored functions
 (:class:`CardTemplate`).  Whatever needs the symbolic model (a flow not built ahead of
@@ -29,14 +30,23 @@ from typing import Any
 
 from numerics._memo import memo
 
-__all__ = ["card_key", "card_model", "read_card", "write_card", "update_card", "CardTemplate",
-           "CardBound", "FORMAT"]
+__all__ = ["use_cards", "card_key", "card_model", "read_card", "write_card", "update_card",
+           "CardTemplate", "CardBound", "FORMAT"]
 
 #: version of the card's layout (part of the key)
 FORMAT = "1"
 
 #: the record kind in the cache folder (``kbm_card_KEY.json``)
 _KIND = "card"
+
+#: whether cards are read and written in this process (:func:`use_cards`: the command line
+#: turns them on; a library sweep over thousands of values writes none)
+_ON = [False]
+
+
+def use_cards(on: bool = True) -> None:
+    """Read and write model cards in this process (``kbm cycle`` turns them on)."""
+    _ON[0] = bool(on)
 
 
 @memo(maxsize=1)
@@ -58,8 +68,9 @@ def _digest() -> str:
 
 def card_key(name: object, params: Mapping[str, object] | None) -> str | None:
     """The card's name for a built-in ``name`` and ``params`` as given (strings, ints or
-    floats), or ``None`` where there is no card (a model object, other value types)."""
-    if not isinstance(name, str):
+    floats), or ``None`` where there is no card (a model object, other value types, cards
+    not in use: :func:`use_cards`)."""
+    if not _ON[0] or not isinstance(name, str):
         return None
     items = []
     for k, v in (params or {}).items():

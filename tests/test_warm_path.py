@@ -105,8 +105,8 @@ def test_a_damaged_rates_record_is_rebuilt(tmp_path, monkeypatch):
     clear_caches()
 
 
-def _modules_of_cycle(env) -> tuple[bytes, list[str]]:
-    code = ("import sys, runpy; sys.argv = ['kbm', 'cycle', 'vdp', '-p', 'mu=1', '--json']\n"
+def _modules_of_cycle(env, args=("vdp", "-p", "mu=1")) -> tuple[bytes, list[str]]:
+    code = (f"import sys, runpy; sys.argv = ['kbm', 'cycle', *{list(args)!r}, '--json']\n"
             "try:\n    runpy.run_module('numerics.cli', run_name='__main__')\n"
             "finally:\n    print('MODULES', *sorted(m for m in sys.modules if m.startswith("
             "('scipy.', 'kbm.averag', 'numba', 'sympy'))), file=sys.stderr)")
@@ -143,11 +143,25 @@ def _cli(args: list[str], env) -> subprocess.CompletedProcess:
 #: values stored: an unknown name, a flag of --rhs with a built-in, a value that is not
 #: finite, a scaled and a physical value of one parameter, a wavelength of zero
 REFUSED = [["cycle", "vdp", "-p", "mu=1", "-p", "Mu=2"],
+           ["cycle", "--rhs", "(1 - x**2)*xdot", "-p", "mu=1", "-p", "c=2"],
            ["cycle", "vdp", "-p", "mu=1", "--omega0", "2"],
            ["cycle", "vdp", "-p", "mu=nan"],
            ["cycle", "sedf", "-p", "mu=0.1", "-p", "beta=1", "-p", "lam=1", "-p", "Delta=1",
             "-p", "delta=3"],
            ["cycle", "sedf", "-p", "mu=0.1", "-p", "beta=1", "-p", "lam=0", "-p", "Delta=1"]]
+
+
+def test_the_warm_cycle_of_a_user_model_imports_no_sympy():
+    """``kbm cycle --rhs "(c - x**2)*xdot" --omega0 2`` (van der Pol's form with a
+    parameter ``c``): the warm run reads the model card of the user's model, imports no
+    sympy (where the flows are built ahead of time) and prints the first run's bytes."""
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "KBM_COMPILE_NOTICE": "0", "KBM_AOT": "1"}
+    args = ("--rhs", "(c - x**2)*xdot", "--omega0", "2", "-p", "mu=0.5", "-p", "c=2")
+    first, _ = _modules_of_cycle(env, args)
+    out, modules = _modules_of_cycle(env, args)
+    assert out == first and b'"period"' in out
+    if shutil.which("cc") or shutil.which("gcc"):
+        assert not [m for m in modules if m.startswith("sympy")], modules
 
 
 def test_refused_input_gives_the_same_message_with_the_cards_stored():

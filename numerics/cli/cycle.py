@@ -68,10 +68,15 @@ def run(args: argparse.Namespace) -> int:
         return _run_all(limit_cycles(model_spec(args), params, **kw), args)
     if card is not None:  # a warm run: no sympy (the names were checked by a cold one)
         params = parse_params(args.param)
-        cyc = limit_cycle(args.model, params, x_start=args.x_start, **kw)
+        cyc = limit_cycle(_spec(args), params, x_start=args.x_start, **kw)
     else:
-        params = checked_params(args.param, model_spec(args))
-        cyc = limit_cycle(model_spec(args), params, x_start=args.x_start, **kw)
+        from numerics.flow.card import name_model
+
+        model = model_spec(args)
+        params = checked_params(args.param, model)
+        if getattr(args, "rhs", None):
+            name_model(model, _spec(args))
+        cyc = limit_cycle(model, params, x_start=args.x_start, **kw)
         card = _described(args, params, cyc)
     if args.json:
         emit_json({**_cycle_json(cyc), "params_given": params})
@@ -87,11 +92,9 @@ def _card(args: argparse.Namespace) -> dict | None:
     from kbm.cli._common import check_model_flags
     from numerics.flow.card import card_key, read_card, use_cards
 
-    if getattr(args, "rhs", None):
-        return None
     use_cards()
     check_model_flags(args)
-    card = read_card(card_key(args.model, parse_params(args.param)))
+    card = read_card(card_key(_spec(args), parse_params(args.param)))
     return card if card is not None and isinstance(card.get("described"), str) else None
 
 
@@ -100,9 +103,18 @@ def _described(args: argparse.Namespace, params: dict, cyc) -> dict:
     from numerics.flow.card import card_key, update_card
 
     text = describe_params(model_spec(args), parse_params(args.param), cyc.to_json()["params"])
-    if not getattr(args, "rhs", None):
-        update_card(card_key(args.model, params), described=text)
+    update_card(card_key(_spec(args), params), described=text)
     return {"described": text}
+
+
+def _spec(args: argparse.Namespace):
+    """The model's name on the command line, or ``("--rhs", RHS, OMEGA0)`` (a model card's
+    name for the user's model, :func:`numerics.flow.card.card_key`)."""
+    rhs = getattr(args, "rhs", None)
+    if not rhs:
+        return args.model
+    return ("--rhs", rhs[0] if isinstance(rhs, list) else rhs,
+            1 if args.omega0 is None else args.omega0)
 
 
 def _cycle_json(cyc) -> dict:

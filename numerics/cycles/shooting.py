@@ -157,7 +157,7 @@ class _Settings:
 def _bound_and_compiled(model, params, template):
     """``(bound, compiled)``: from the model card of a built-in name when one is stored
     (no sympy, :mod:`numerics.flow.card`), else bound and compiled (and the card stored)."""
-    from numerics.flow.card import card_key, card_model, write_card
+    from numerics.flow.card import card_key, card_model, model_of, write_card
 
     if template is None:
         found = card_model(model, params)
@@ -165,12 +165,14 @@ def _bound_and_compiled(model, params, template):
             return found
     from kbm.bound import bind
 
+    key, model = card_key(model, params), model_of(model)
+
     from numerics.cycles.guess import rates_key
 
     bound = bind(model, params)
     cm = compile_model(bound, template=template)
     if template is None:
-        write_card(card_key(model, params), bound, cm, rates_key=rates_key(bound.model))
+        write_card(key, bound, cm, rates_key=rates_key(bound.model))
     return bound, cm
 
 

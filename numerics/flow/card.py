@@ -30,7 +30,7 @@ from typing import Any
 
 from numerics._memo import memo
 
-__all__ = ["use_cards", "card_key", "card_model", "read_card", "write_card", "update_card",
+__all__ = ["use_cards", "card_key", "card_model", "name_model", "model_of", "read_card", "write_card", "update_card",
            "CardTemplate", "CardBound", "FORMAT"]
 
 #: version of the card's layout (part of the key)
@@ -66,11 +66,44 @@ def _digest() -> str:
     return h.hexdigest()
 
 
+#: the specs of the models built from one (``--rhs``) in this process, by the model's id
+_SPECS: dict[int, tuple] = {}
+
+
+def name_model(model: object, spec: tuple) -> None:
+    """Card ``model`` (built by :func:`kbm.user_model.custom_model` from ``spec``,
+    ``("--rhs", RHS, OMEGA0)``) under its spec."""
+    _SPECS[id(model)] = (model, spec)
+
+
+def model_of(spec: object) -> object:
+    """What :func:`kbm.bound.bind` takes for a card's spec: a built-in name as it is, the
+    model of ``("--rhs", RHS, OMEGA0)`` built (with sympy)."""
+    if isinstance(spec, tuple):
+        from kbm.user_model import custom_model
+
+        return custom_model(spec[1], omega0=spec[2])
+    return spec
+
+
+def _spec(name: object) -> object:
+    """A built-in name, or the spec of a model named by :func:`name_model`, or ``None``."""
+    if isinstance(name, str):
+        return name
+    if isinstance(name, tuple) and len(name) == 3 and name[0] == "--rhs" and \
+            isinstance(name[1], str) and type(name[2]) in (str, int, float):
+        return name
+    known = _SPECS.get(id(name))
+    return known[1] if known is not None and known[0] is name else None
+
+
 def card_key(name: object, params: Mapping[str, object] | None) -> str | None:
-    """The card's name for a built-in ``name`` and ``params`` as given (strings, ints or
-    floats), or ``None`` where there is no card (a model object, other value types, cards
+    """The card's name for a built-in ``name`` (or a spec ``("--rhs", RHS, OMEGA0)``, or a
+    model named by :func:`name_model`) and ``params`` as given (strings, ints or floats),
+    or ``None`` where there is no card (another model object, other value types, cards
     not in use: :func:`use_cards`)."""
-    if not _ON[0] or not isinstance(name, str):
+    name = _spec(name) if _ON[0] else None
+    if name is None:
         return None
     items = []
     for k, v in (params or {}).items():
@@ -186,8 +219,9 @@ class CardBound:
         return self._full
 
 
-def card_model(name: str, params: Mapping[str, object] | None):
-    """``(bound, compiled)`` of a built-in model from its card, or ``None`` (no card, or its
+def card_model(name: object, params: Mapping[str, object] | None):
+    """``(bound, compiled)`` of a built-in model (or a spec, :func:`card_key`) from its
+    card, or ``None`` (no card, or its
     template's record is missing or damaged: then the caller binds and compiles)."""
     key = card_key(name, params)
     card = read_card(key)
@@ -199,7 +233,7 @@ def card_model(name: str, params: Mapping[str, object] | None):
     def bind_now():
         from kbm.bound import bind
 
-        return bind(name, params)
+        return bind(model_of(name), params)
 
     def template_now():
         from numerics.flow.compiled import model_template

@@ -45,7 +45,6 @@ def run(args: argparse.Namespace) -> int:
 
     from kbm.cli.derive import is_coupled
     from kbm.errors import ParameterError
-    from numerics import limit_cycle
 
     if is_coupled(args):
         return _run_coupled(args)
@@ -60,6 +59,18 @@ def run(args: argparse.Namespace) -> int:
     if not math.isfinite(args.x_start):
         raise ParameterError(f"--x-start must be a finite number, got {args.x_start}")
     kw = dict(digits=args.digits, rtol=args.rtol, method=args.method)
+    from numerics.flow.card import use_cards  # noqa: PLC0415 - on use (issue 39)
+
+    try:
+        return _run_one(args, kw)
+    finally:
+        use_cards(False)  # the cards are this command's (a process may run others after)
+
+
+def _run_one(args: argparse.Namespace, kw: dict) -> int:
+    """One degree of freedom: the cycle (or ``--all``), printed."""
+    from numerics import limit_cycle
+
     card = None if args.all else _card(args)
     if args.all:
         from numerics import limit_cycles

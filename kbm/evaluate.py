@@ -21,12 +21,12 @@ from collections.abc import Callable, Sequence
 
 from typing import TYPE_CHECKING
 
-import mpmath
 import numpy as np
 
 from .errors import SeriesTruncationError
 
-if TYPE_CHECKING:
+if TYPE_CHECKING:  # mpmath and sympy imported on use (issue 39)
+    import mpmath
     import sympy as sp
 
 __all__ = ["numpy_function", "mpmath_function", "vectorised", "DEFAULT_TOL"]
@@ -186,6 +186,7 @@ def mpmath_function(expr: sp.Expr, args: Sequence[sp.Symbol], *,
     Infinite sums are added term by term until four consecutive terms are below
     ``10**-(mp.dps + 3)`` relative to the largest partial sum.
     """
+    import mpmath
     import sympy as sp
 
     args = tuple(args)
@@ -208,6 +209,8 @@ def mpmath_function(expr: sp.Expr, args: Sequence[sp.Symbol], *,
 
 
 def _mp_sum(g, lo, hi, vals, max_terms):
+    import mpmath
+
     if hi is not None:
         return mpmath.fsum(g(*vals, n) for n in range(lo, hi + 1))
     eps = mpmath.mpf(10) ** (-(mpmath.mp.dps + 3))

@@ -10,11 +10,12 @@ import difflib
 import numbers
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
-
-import sympy as sp
+from typing import TYPE_CHECKING
 
 from .errors import NonFiniteError, ParameterError
-from .symbols import parse
+
+if TYPE_CHECKING:  # imported on use: FrozenMap is read without sympy (issue 39)
+    import sympy as sp
 
 __all__ = ["FrozenMap", "parameter_value", "NOISE_NAMES", "ParameterNames", "closest",
            "scaled_values"]
@@ -61,6 +62,10 @@ class FrozenMap(Mapping):
 
 def parameter_value(name: str, raw: object) -> sp.Expr:
     """Read a parameter value exactly: ``"0.1"`` and ``0.1`` both give ``1/10``."""
+    import sympy as sp
+
+    from .symbols import parse
+
     try:
         if isinstance(raw, numbers.Real) and not isinstance(raw, (int, sp.Basic)):
             raw = float(raw)  # also numpy floats
@@ -126,6 +131,8 @@ class ParameterNames:
     @property
     def physical_names(self) -> tuple[str, ...]:
         """The physical names (``Delta``, ``lam``), ``mu`` left out."""
+        import sympy as sp
+
         names = {s.name for e in self.physical.values() for s in sp.sympify(e).free_symbols}
         return tuple(sorted(names - {"mu"}))
 
@@ -143,6 +150,8 @@ class ParameterNames:
     def listing(self) -> str:
         """The valid names as a sentence: ``mu, Delta, lam (or the scaled delta = Delta/mu,
         k = 2*pi/lam), Omega, v, D or T = D/mu (noise)``."""
+        import sympy as sp
+
         parts = ["mu"] + list(self.physical_names)
         if self.physical:
             parts[-1] += " (or the scaled " + ", ".join(
@@ -177,6 +186,8 @@ class ParameterNames:
     def check_both(self, names: Iterable[str]) -> None:
         """Refuse a scaled name given with the physical ones it is computed from
         (``delta`` with ``Delta``), and ``D`` with ``T``."""
+        import sympy as sp
+
         names = set(names)
         for scaled, expr in self.physical.items():
             phys = {s.name for s in sp.sympify(expr).free_symbols} - {"mu"}
@@ -210,6 +221,8 @@ def scaled_values(model, values: Mapping[str, object] | None = None, *,
     >>> scaled_values(get_model("sedf"), {"mu": "0.1", "Delta": 2, "lam": 1})["delta"]
     20
     """
+    import sympy as sp
+
     values = dict(values or {})
     ParameterNames(model.name, tuple(model.parameters), dict(model.physical)).check(values)
     given = {k: parameter_value(k, v) for k, v in values.items()}

@@ -1,7 +1,9 @@
 """The warm path of ``kbm cycle`` (issue 39): the first-order KBM guess from the template
 cache's record (:mod:`numerics.cycles.guess`), its roots by a port of Brent's method that
-gives scipy's floats to the last bit, and a warm run that imports none of
-``scipy.optimize``, ``scipy.special``, ``scipy.integrate``."""
+gives scipy's floats to the last bit, the model card (:mod:`numerics.flow.card`) that
+spares the symbolic model, and a warm run that imports none of ``scipy.optimize``,
+``scipy.special``, ``scipy.integrate`` and no sympy; refused input gives the same message
+with a card stored."""
 
 from __future__ import annotations
 
@@ -103,11 +105,11 @@ def test_a_damaged_rates_record_is_rebuilt(tmp_path, monkeypatch):
     clear_caches()
 
 
-def _modules_of_cycle(env) -> tuple[bytes, list[str]]:
-    code = ("import sys, runpy; sys.argv = ['kbm', 'cycle', 'vdp', '-p', 'mu=1', '--json']\n"
+def _modules_of_cycle(env, args=("vdp", "-p", "mu=1")) -> tuple[bytes, list[str]]:
+    code = (f"import sys, runpy; sys.argv = ['kbm', 'cycle', *{list(args)!r}, '--json']\n"
             "try:\n    runpy.run_module('numerics.cli', run_name='__main__')\n"
             "finally:\n    print('MODULES', *sorted(m for m in sys.modules if m.startswith("
-            "('scipy.', 'kbm.averag', 'numba'))), file=sys.stderr)")
+            "('scipy.', 'kbm.averag', 'numba', 'sympy'))), file=sys.stderr)")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, cwd=ROOT, env=env,
                           timeout=600, check=True)
     return proc.stdout, proc.stderr.decode().splitlines()[-1].split()[1:]
@@ -128,3 +130,110 @@ def test_the_warm_cycle_imports_no_scipy_optimize_special_or_integrate():
     assert not [m for m in modules if m.startswith("kbm.averag")], modules
     if shutil.which("cc") or shutil.which("gcc"):
         assert not [m for m in modules if m.startswith("numba")], modules
+        # the model card and the flows built ahead of time: no symbolic model at all
+        assert not [m for m in modules if m.startswith("sympy")], modules
+
+
+def _cli(args: list[str], env) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "numerics.cli", *args], capture_output=True,
+                          cwd=ROOT, env=env, timeout=600)
+
+
+#: input that is refused, each with the card of ``-p mu=1`` (vdp) or of the valid SEDF
+#: values stored: an unknown name, a flag of --rhs with a built-in, a value that is not
+#: finite, a scaled and a physical value of one parameter, a wavelength of zero
+REFUSED = [["cycle", "vdp", "-p", "mu=1", "-p", "Mu=2"],
+           ["cycle", "--rhs", "(1 - x**2)*xdot", "-p", "mu=1", "-p", "c=2"],
+           ["cycle", "vdp", "-p", "mu=1", "--omega0", "2"],
+           ["cycle", "vdp", "-p", "mu=nan"],
+           ["cycle", "sedf", "-p", "mu=0.1", "-p", "beta=1", "-p", "lam=1", "-p", "Delta=1",
+            "-p", "delta=3"],
+           ["cycle", "sedf", "-p", "mu=0.1", "-p", "beta=1", "-p", "lam=0", "-p", "Delta=1"]]
+
+
+def test_the_warm_cycle_of_a_user_model_imports_no_sympy():
+    """``kbm cycle --rhs "(c - x**2)*xdot" --omega0 2`` (van der Pol's form with a
+    parameter ``c``): the warm run reads the model card of the user's model, imports no
+    sympy (where the flows are built ahead of time) and prints the first run's bytes."""
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "KBM_COMPILE_NOTICE": "0", "KBM_AOT": "1"}
+    args = ("--rhs", "(c - x**2)*xdot", "--omega0", "2", "-p", "mu=0.5", "-p", "c=2")
+    first, _ = _modules_of_cycle(env, args)
+    out, modules = _modules_of_cycle(env, args)
+    assert out == first and b'"period"' in out
+    if shutil.which("cc") or shutil.which("gcc"):
+        assert not [m for m in modules if m.startswith("sympy")], modules
+
+
+def test_refused_input_gives_the_same_message_with_the_cards_stored():
+    """Each refused input, run before and after the valid runs stored their model cards (and
+    twice after): exit status 2, nothing on standard output, and the same one-line message;
+    the valid runs give the same bytes cold and warm (text and ``--json``), and ``-p mu=0``
+    the same refusal (``x'' + x = 0`` is conservative: no isolated cycle) from the card's
+    record that the acceleration holds ``mu``."""
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "KBM_COMPILE_NOTICE": "0"}
+    before = [_cli(a, env) for a in REFUSED]
+    valid = [["cycle", "vdp", "-p", "mu=1"],
+             ["cycle", "sedf", "-p", "mu=0.1", "-p", "beta=1", "-p", "lam=1", "-p", "Delta=1",
+              "--json"]]
+    runs = [[_cli(a, env).stdout for _ in range(2)] for a in valid]
+    assert all(r[0] == r[1] and r[0] for r in runs)
+    for _ in range(2):
+        after = [_cli(a, env) for a in REFUSED]
+        for b, a in zip(before, after):
+            assert (b.returncode, b.stdout, b.stderr) == (a.returncode, a.stdout, a.stderr)
+            assert a.returncode == 2 and not a.stdout
+            assert len(a.stderr.decode().strip().splitlines()) == 1, a.stderr
+    zero = [_cli(["cycle", "vdp", "-p", "mu=0"], env) for _ in range(2)]
+    assert zero[0].stderr == zero[1].stderr and b"conservative" in zero[0].stderr
+    assert zero[0].returncode == zero[1].returncode == 2
+
+
+def test_the_card_key_changes_with_the_name_and_the_values():
+    """A card is named by the built-in name and the values as given (their types too), and
+    there is none for a model object or a value of another type."""
+    from numerics.flow.card import card_key, use_cards
+
+    use_cards(False)
+    assert card_key("vdp", {"mu": "1"}) is None  # a library call: no cards
+    use_cards()
+    keys = {card_key("vdp", {"mu": "1"}), card_key("vdp", {"mu": 1}),
+            card_key("vdp", {"mu": 1.0}), card_key("rayleigh", {"mu": "1"}),
+            card_key("vdp", {"mu": "1.0"}), card_key("vdp", {})}
+    assert len(keys) == 6 and None not in keys, keys
+    assert card_key("vdp", {"mu": "1"}) == card_key("vdp", {"mu": "1"})
+    assert card_key(object(), {"mu": "1"}) is None
+    assert card_key("vdp", {"mu": np.float64(1)}) is None
+    use_cards(False)
+
+
+def test_the_cycle_from_a_card_equals_the_cycle_bound_anew(tmp_path, monkeypatch):
+    """:func:`numerics.limit_cycle` of ``vdp``, ``mu = 1`` from the model card (written by
+    the first call, read by the second) equals the cycle bound and compiled anew, to the
+    last bit; a damaged card is bound anew (same numbers).  The period is van der Pol's
+    known period at ``mu = 1``, 6.6632868593 (the value of ``kbm``'s own docstring example
+    and of the published continuations of the van der Pol cycle)."""
+    from numerics import limit_cycle
+    from numerics._memo import clear_caches
+    from numerics.flow import card
+
+    from numerics.flow.jit import cache_dir
+
+    for p in cache_dir().iterdir():  # the compiled flows, so that only the card is cold
+        if p.name.startswith(("kbm_flow_", "kbm_src_", "kbm_aot_")) or p.name == "__pycache__":
+            (shutil.copytree if p.is_dir() else shutil.copy2)(p, tmp_path / p.name)
+    monkeypatch.setenv("KBM_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(card, "_ON", [True])  # as the command line turns them on
+    clear_caches()
+    cold = limit_cycle("vdp", {"mu": "1"})
+    assert card.card_model("vdp", {"mu": "1"}) is not None
+    clear_caches()
+    warm = limit_cycle("vdp", {"mu": "1"})
+    path, = tmp_path.glob("kbm_card_*.json")
+    path.write_text("{not json")
+    clear_caches()
+    anew = limit_cycle("vdp", {"mu": "1"})
+    for c in (warm, anew):
+        assert json.dumps(c.to_json()) == json.dumps(cold.to_json())
+        assert np.array_equal(c.x, cold.x) and np.array_equal(c.harmonics, cold.harmonics)
+    assert abs(cold.period - 6.6632868593) < 1e-9
+    clear_caches()

@@ -42,7 +42,6 @@ def register(sub) -> None:
 def run(args: argparse.Namespace) -> int:
     from kbm.cli.derive import is_coupled
     from kbm.errors import ParameterError
-    from numerics import limit_cycle, limit_cycles
     from numerics.cli._params import within
 
     if is_coupled(args):
@@ -55,15 +54,73 @@ def run(args: argparse.Namespace) -> int:
     within(args.rtol, "--rtol", 1e-15, 1e-3)
     within(args.x_start, "--x-start")
     kw = dict(digits=args.digits, rtol=args.rtol, method=args.method)
-    params = checked_params(args.param, model_spec(args))
+    from numerics.flow.card import use_cards  # noqa: PLC0415 - on use (issue 39)
+
+    try:
+        return _run_one(args, kw)
+    finally:
+        use_cards(False)  # the cards are this command's (a process may run others after)
+
+
+def _run_one(args: argparse.Namespace, kw: dict) -> int:
+    """One degree of freedom: the cycle (or ``--all``), printed."""
+    from numerics import limit_cycle
+
+    card = None if args.all else _card(args)
     if args.all:
+        from numerics import limit_cycles
+
+        params = checked_params(args.param, model_spec(args))
         return _run_all(limit_cycles(model_spec(args), params, **kw), args)
-    cyc = limit_cycle(model_spec(args), params, x_start=args.x_start, **kw)
+    if card is not None:  # a warm run: no sympy (the names were checked by a cold one)
+        params = parse_params(args.param)
+        cyc = limit_cycle(_spec(args), params, x_start=args.x_start, **kw)
+    else:
+        from numerics.flow.card import name_model
+
+        model = model_spec(args)
+        params = checked_params(args.param, model)
+        if getattr(args, "rhs", None):
+            name_model(model, _spec(args))
+        cyc = limit_cycle(model, params, x_start=args.x_start, **kw)
+        card = _described(args, params, cyc)
     if args.json:
         emit_json({**_cycle_json(cyc), "params_given": params})
         return 0 if cyc.success else 1
-    _print_cycle(cyc, args.digits, args)
+    _print_cycle(cyc, args.digits, args, card)
     return 0 if cyc.success else 1
+
+
+def _card(args: argparse.Namespace) -> dict | None:
+    """The model card (:mod:`numerics.flow.card`) of a built-in model and these ``-p``
+    values that a cold run stored after checking them (with the text of the parameters),
+    or ``None``."""
+    from kbm.cli._common import check_model_flags
+    from numerics.flow.card import card_key, read_card, use_cards
+
+    use_cards()
+    check_model_flags(args)
+    card = read_card(card_key(_spec(args), parse_params(args.param)))
+    return card if card is not None and isinstance(card.get("described"), str) else None
+
+
+def _described(args: argparse.Namespace, params: dict, cyc) -> dict:
+    """The text of the parameters, added to the model card for the warm runs."""
+    from numerics.flow.card import card_key, update_card
+
+    text = describe_params(model_spec(args), parse_params(args.param), cyc.to_json()["params"])
+    update_card(card_key(_spec(args), params), described=text)
+    return {"described": text}
+
+
+def _spec(args: argparse.Namespace):
+    """The model's name on the command line, or ``("--rhs", RHS, OMEGA0)`` (a model card's
+    name for the user's model, :func:`numerics.flow.card.card_key`)."""
+    rhs = getattr(args, "rhs", None)
+    if not rhs:
+        return args.model
+    return ("--rhs", rhs[0] if isinstance(rhs, list) else rhs,
+            1 if args.omega0 is None else args.omega0)
 
 
 def _cycle_json(cyc) -> dict:
@@ -113,10 +170,11 @@ def _run_all(cycles, args: argparse.Namespace) -> int:
 _LABELS = {"amplitude_max": "x_max (largest x)"}
 
 
-def _print_cycle(cyc, digits, args) -> None:
+def _print_cycle(cyc, digits, args, card: dict | None = None) -> None:
     data = cyc.to_json()
     w = digits or 12
-    pars = describe_params(model_spec(args), parse_params(args.param), data["params"])
+    pars = card["described"] if card is not None else \
+        describe_params(model_spec(args), parse_params(args.param), data["params"])
     print(f"limit cycle of {data['model']} ({pars})")
     for key in ("period", "frequency", "amplitude_max", "amplitude_first_harmonic"):
         val = data[key]

@@ -22,7 +22,6 @@ import numpy as np
 
 from numerics.shooting.floquet import floquet_multipliers
 from numerics.cycles.harmonics import fourier_coefficients
-from numerics.cycles.highprec import limit_cycle_mp
 from numerics.cycles.newton import check_nontrivial, newton
 from numerics.cycles.result import Dissipation, LimitCycle
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
@@ -100,6 +99,8 @@ def _weak_highprec(cm, x0, T, other, rel, meth):
             f"~{max(rel['period'], rel['amplitude_max']):.1e}")
     if stiffness(cm, abs(x0)) * T > 1e3:
         return None, note + " (too stiff for the high-precision integrator; ask digits=)"
+    from numerics.cycles.highprec import limit_cycle_mp  # mpmath and sympy on use (issue 39)
+
     try:
         mp = limit_cycle_mp(cm.acceleration_expr, HIGHPREC_DIGITS, x0, T)
     except (ConvergenceError, IntegrationError) as exc:
@@ -140,6 +141,8 @@ def final_pass(cm, converged, meth, source, st, digits, n_samples, n_harmonics) 
     rel["frequency"] = rel["period"]
     mp: dict = {}
     if digits is not None:
+        from numerics.cycles.highprec import limit_cycle_mp
+
         mp = limit_cycle_mp(cm.acceleration_expr, int(digits), x0, T)
     success = residual < 1e3 * floor
     msg = (f"converged in {it} Newton iterations from the {source} ({meth.label}, rtol "

@@ -33,7 +33,7 @@ if TYPE_CHECKING:
     from kbm.bound import BoundModel
     from kbm.models import Oscillator
 
-__all__ = ["kbm_guess", "energy_guesses", "brentq", "FirstOrderRates"]
+__all__ = ["kbm_guess", "energy_guesses", "brentq", "FirstOrderRates", "rates_key"]
 
 #: the record kind and the options of the first-order rates in the template cache
 _KIND, _OPTIONS = "rates", "kbm first-order averaged rates|1"
@@ -62,16 +62,26 @@ def _kbm_source_digest() -> str:
     return h.hexdigest()
 
 
+def rates_key(model: Oscillator) -> str | None:
+    """The name of the model's first-order rates in the template cache (``None``: a model
+    without a canonical form, whose rates are not stored)."""
+    from numerics.flow.template_cache import template_key
+
+    try:
+        return template_key(model, f"{_OPTIONS}|{_kbm_source_digest()}")
+    except TypeError:
+        return None
+
+
 @memo(maxsize=32)
 def _first_order(model: Oscillator) -> FirstOrderRates:
     """The model's first-order rates: from the template cache's record when one is stored,
     else derived (:func:`kbm.derive`, :func:`kbm.averaged_rates`), stored and read back, so
     that a cold and a warm run evaluate the same code."""
-    from numerics.flow.template_cache import read_record, template_key, write_record
+    from numerics.flow.template_cache import read_record, write_record
 
-    try:
-        key = template_key(model, f"{_OPTIONS}|{_kbm_source_digest()}")
-    except TypeError:  # no canonical form: nothing is stored
+    key = rates_key(model)
+    if key is None:  # no canonical form: nothing is stored
         return _derived(model)[0]
     record = read_record(key, _KIND)
     if record is not None:
@@ -86,6 +96,23 @@ def _first_order(model: Oscillator) -> FirstOrderRates:
     rates = _from_record(record)
     write_record(key, record, _KIND)
     return rates
+
+
+def _card_rates(bound) -> FirstOrderRates | None:
+    """The rates of a model card's bound model (:class:`numerics.flow.card.CardBound`) from
+    the record its card names, or ``None`` (then the model is built)."""
+    key = getattr(bound, "card", {}).get("rates_key")
+    if key is None:
+        return None
+    from numerics.flow.template_cache import read_record
+
+    record = read_record(key, _KIND)
+    if record is None:
+        return None
+    try:
+        return _from_record(record)
+    except Exception:  # noqa: BLE001 - a damaged record is rebuilt from the model
+        return None
 
 
 def _derived(model: Oscillator, key: str | None = None) -> tuple[FirstOrderRates, dict | None]:
@@ -208,7 +235,7 @@ def kbm_guess(bound: BoundModel, *, stable: bool = True) -> tuple[float, float] 
     """
     try:
         vals = bound.values
-        rates = _first_order(bound.model)
+        rates = _card_rates(bound) or _first_order(bound.model)
         if any(p not in vals for p in rates.params) or "mu" not in vals:
             return None
         cycles = [c for c in _cycles(rates, float(vals["mu"]),
@@ -229,6 +256,8 @@ def energy_guesses(bound: BoundModel, *, stable_only: bool = True) -> list[tuple
     perturbation, or has no cycle (:func:`numerics.energy.predict_cycles`).
     """
     from numerics.energy import predict_cycles  # imported on use: scipy.integrate (issue 39)
+
+    bound = bound.full() if hasattr(bound, "full") else bound  # a model card's: the model
 
     try:
         pred = predict_cycles(bound.model, dict(bound.values), order=1)

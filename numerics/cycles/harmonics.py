@@ -22,9 +22,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import sympy as sp
-
-from kbm.symbols import t as TIME, x as X, xdot as V
 
 from numerics._memo import memo
 from numerics.errors import IntegrationError
@@ -32,10 +29,12 @@ from numerics.flow import Method, jit_available, jit_flow
 
 __all__ = ["fourier_coefficients"]
 
-_W = sp.Symbol("_w_fourier")
-
-
 def _exprs(model, n_harmonics: int):
+    import sympy as sp
+
+    from kbm.symbols import t as TIME, x as X, xdot as V
+
+    _W = sp.Symbol("_w_fourier")
     acc = model.acceleration()
     n = 3 + 2 * (n_harmonics - 1)
     y = sp.symbols(f"q0:{n}")
@@ -59,13 +58,24 @@ def _exprs(model, n_harmonics: int):
 def _compiled(template, n_harmonics: int, enabled: bool):
     if not enabled:
         return None
+    acc = getattr(template, "acc_srepr", None)  # a template read from a model card
+    if acc is not None:
+        built = template.cached_flow(f"harmonics|{n_harmonics}|{acc}")
+        if built is not None:
+            return built
+        template = template.full()
+    import sympy as sp  # imported on use (issue 39)
+
+    from kbm.symbols import t as TIME
+
     n = 3 + 2 * (n_harmonics - 1)
     y = sp.symbols(f"q0:{n}")
     # the expressions are a function of the acceleration and n_harmonics: printing them
     # (seconds for the recurrence's nested products) is done once per cache folder
     key = f"harmonics|{n_harmonics}|{sp.srepr(template.model.acceleration())}"
     return jit_flow(lambda: _exprs(template.model, n_harmonics)[0], TIME, y,
-                    [sp.Symbol(n) for n in template.names] + [_W], key=key)
+                    [sp.Symbol(n) for n in template.names] + [sp.Symbol("_w_fourier")],
+                    key=key)
 
 
 def _integrals(cm, x0: float, T: float, method: Method, rtol: float, n_harmonics: int):

@@ -23,12 +23,11 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from kbm.errors import NonAutonomousError
-from kbm.bound import BoundModel, bind
-from kbm.models import Oscillator
 
 from numerics.cycles.finalpass import final_pass
 from numerics.cycles.guess import energy_guesses, kbm_guess
@@ -37,6 +36,10 @@ from numerics.cycles.result import LimitCycle
 from numerics.cycles.transient import transient
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.flow import Method, ModelTemplate, choose_method, compile_model, solve
+
+if TYPE_CHECKING:  # the symbolic model is built on use (a model card: issue 39)
+    from kbm.bound import BoundModel
+    from kbm.models import Oscillator
 
 __all__ = ["limit_cycle", "NEWTON_MAX_STEPS"]
 
@@ -132,8 +135,7 @@ def limit_cycle(model: Oscillator | str | BoundModel, params: Mapping[str, objec
     >>> round(c.period, 8), round(c.amplitude_max, 8)
     (6.66328686, 2.00861986)
     """
-    bound = bind(model, params)
-    cm = compile_model(bound, template=template)
+    bound, cm = _bound_and_compiled(model, params, template)
     _check_not_conservative(bound, cm)
     st = _settings(cm, method, rtol, atol, max_iter, max_time, x_max, x_start)
     converged, meth, source = _find_orbit(cm, bound, guess, float(x_start), st)
@@ -152,12 +154,38 @@ class _Settings:
     T_lin: float
 
 
+def _bound_and_compiled(model, params, template):
+    """``(bound, compiled)``: from the model card of a built-in name when one is stored
+    (no sympy, :mod:`numerics.flow.card`), else bound and compiled (and the card stored)."""
+    from numerics.flow.card import card_key, card_model, model_of, write_card
+
+    if template is None:
+        found = card_model(model, params)
+        if found is not None:
+            return found
+    from kbm.bound import bind
+
+    key, model = card_key(model, params), model_of(model)
+
+    from numerics.cycles.guess import rates_key
+
+    bound = bind(model, params)
+    cm = compile_model(bound, template=template)
+    if template is None:
+        write_card(key, bound, cm, rates_key=rates_key(bound.model))
+    return bound, cm
+
+
 def _check_not_conservative(bound: BoundModel, cm) -> None:
     """``mu = 0`` in ``x'' + omega0^2 x = mu F``: a linear oscillator, no isolated cycle."""
-    import sympy as sp
+    if cm.values.get("mu", 1.0) != 0:
+        return
+    has_mu = getattr(bound, "has_mu", None)  # a model card's
+    if has_mu is None:
+        import sympy as sp
 
-    mu = sp.Symbol("mu")
-    if cm.values.get("mu", 1.0) == 0 and bound.model.acceleration().has(mu):
+        has_mu = bound.model.acceleration().has(sp.Symbol("mu"))
+    if has_mu:
         raise NoCycleError("mu = 0 leaves x'' + omega0^2 x = 0, a conservative oscillator: "
                            "every orbit is periodic, so there is no isolated limit cycle; "
                            "give mu != 0 (mu < 0 gives the cycle with reversed stability)")

@@ -5,6 +5,8 @@
   (:class:`ModelTemplate`);
 - :mod:`numerics.flow.template_cache`: the templates' functions kept on disk under the
   model's canonical form (a warm run does not lambdify);
+- :mod:`numerics.flow.card`: model cards, what ``kbm cycle`` needs of a bound built-in
+  model, kept on disk (a warm run builds no symbolic model and imports no sympy);
 - :mod:`numerics.flow.jit`: the extended flow printed from the model's
   expressions and compiled with numba (an adaptive DOP853);
 - :mod:`numerics.flow.aot`: the same flows compiled ahead of time into extension

@@ -12,18 +12,19 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
-import sympy as sp
 
 from kbm.errors import ModelError, ParameterError
-from kbm.bound import BoundModel, bind
-from kbm.family import one_degree_form
-from kbm.models import Oscillator, get_model
-from kbm.symbols import t as T, x as X, xdot as V
 
 from numerics._memo import memo
+
+if TYPE_CHECKING:  # sympy and the symbolic models imported on use (issue 39)
+    import sympy as sp
+
+    from kbm.bound import BoundModel
+    from kbm.models import Oscillator
 
 __all__ = ["CompiledLine", "CompiledModel", "ModelTemplate", "compile_model", "model_template",
            "template_flow", "extended_state", "N_EXTENDED"]
@@ -113,6 +114,8 @@ class CompiledModel:
         return self.template.dissipation_expr.subs(self._subs())
 
     def _subs(self) -> dict:
+        import sympy as sp
+
         return {sp.Symbol(k): v for k, v in self.exact_values.items()}
 
 
@@ -156,6 +159,8 @@ def model_template(model: Oscillator | str) -> ModelTemplate:
     the time, never the result.
     """
     if isinstance(model, str):
+        from kbm.models import get_model
+
         model = get_model(model)
     return _template(model)
 
@@ -168,6 +173,11 @@ def _template(model: Oscillator) -> ModelTemplate:
 
 
 def _build_template(model: Oscillator) -> ModelTemplate:
+    import sympy as sp
+
+    from kbm.family import one_degree_form
+    from kbm.symbols import t as T, x as X, xdot as V
+
     if getattr(model, "dof", 1) != 1:
         one_degree_form(model)  # raises: the engines of one degree of freedom take one
     names = tuple(sorted(set(model.parameters) | {"mu"}))
@@ -228,6 +238,15 @@ def template_flow(template: ModelTemplate):
 def _template_flow(template: ModelTemplate, enabled: bool):
     if not enabled:
         return None
+    quick = getattr(template, "cached_flow", None)  # a template read from a model card
+    if quick is not None:
+        built = quick()
+        if built is not None:
+            return built
+        template = template.full()
+    import sympy as sp
+
+    from kbm.symbols import t as T
     from numerics.flow.jit import jit_flow
 
     return jit_flow(template.ext_exprs, T, template.ext_symbols,
@@ -254,6 +273,8 @@ def compile_model(model: Oscillator | str | BoundModel,
     kbm.errors.ParameterError
         If a parameter is missing or not a finite real number.
     """
+    from kbm.bound import bind
+
     bound = bind(model, params)
     model = bound.model
     if template is None or template.model != model:

@@ -27,15 +27,18 @@ import math
 import warnings
 from collections.abc import Mapping, Sequence
 from enum import Enum
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.bound import BoundModel
-from kbm.models import Oscillator
 
 from numerics.errors import IntegrationError
 from numerics.flow.compiled import CompiledModel, compile_model, template_flow
+
+if TYPE_CHECKING:
+    from kbm.bound import BoundModel
+    from kbm.models import Oscillator
 
 __all__ = ["Method", "choose_method", "flow", "solve", "integrate", "stiffness",
            "STIFF_THRESHOLD", "JIT_STIFF_THRESHOLD", "JIT_METHOD"]

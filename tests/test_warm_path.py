@@ -43,7 +43,13 @@ def test_brentq_is_scipys_brentq_to_the_last_bit(coefs, a, b, tols):
 
     if not f(a) * f(b) < 0:
         return
-    assert guess.brentq(f, a, b, *tols) == brentq(f, a, b, xtol=tols[0], rtol=tols[1])
+    try:
+        expected = brentq(f, a, b, xtol=tols[0], rtol=tols[1])
+    except RuntimeError:  # scipy's 100 steps not enough (e.g. x**3 at xtol 2e-12): so too here
+        with pytest.raises(RuntimeError, match="did not converge"):
+            guess.brentq(f, a, b, *tols)
+        return
+    assert guess.brentq(f, a, b, *tols) == expected
 
 
 def test_brentq_refuses_a_bracket_without_a_sign_change():

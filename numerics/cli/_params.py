@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.params import ParameterNames, names_of, noise_from
+from kbm.values import ParameterNames
 
 __all__ = ["DEFAULT_POINTS", "MAX_POINTS", "Vary", "parse_vary", "given", "check",
            "noise_params", "open_store", "numbers", "orders", "within", "USAGE"]
@@ -247,6 +247,8 @@ def check(model: "object | tuple", params: Mapping[str, object], varied: Iterabl
         Naming the wrong name, the close valid one and every valid one.
     """
     models = model if isinstance(model, tuple) else (model,)
+    from kbm.params import names_of  # sympy: on use, not at import (issue 39)
+
     names = names_of(models[0], extra=extra, noise=noise)
     for other in models[1:]:  # --against: a name of either model
         if other == models[0]:  # --against the same model: its own names
@@ -279,6 +281,8 @@ def noise_params(params: Mapping[str, str]) -> tuple[dict[str, str], str | None]
     kbm.errors.ParameterError
         For neither given (naming both), both, or a negative value named as given.
     """
+    from kbm.params import noise_from
+
     rest, D, name = noise_from(params)
     if D is None:
         raise ParameterError("give the noise intensity: -p D=VALUE (x'' + ... = sqrt(2 D) xi, "

@@ -1,0 +1,170 @@
+"""The period-doubling curve of the strongly forced Duffing oscillator in ``(sigma, h)``
+(issue 38, :mod:`numerics.bifurcation.forced`), against independent references.
+
+The model ``x'' + x = mu (-2 zeta x' - alpha x^3 + h cos nu t)``, ``nu = 1 + mu sigma``,
+``mu = 1``, ``zeta = 0.05``, ``alpha = 1`` (tests/test_coupled_branch.py's isola at
+``h = 20``).  The curve is continued on the defining system ``y(T) - y0 = 0``,
+``det(Phi + I) = 1 + tr Phi + det Phi = 0`` (Kuznetsov, *Elements of Applied Bifurcation
+Theory*, 3rd ed., sec. 10.3.2), seeded at one period doubling of ``continue_coupled``'s
+branch at ``h = 20``, and checked by
+
+- a separate Floquet computation (scipy ``solve_ivp`` DOP853 with its own variational
+  equations at ``rtol = 1e-12``, Newton on the period map): a multiplier ``-1`` at two
+  points of the curve;
+- the one-parameter period doublings of ``continue_coupled`` (``kbm branch``) at
+  ``h = 20`` and ``h = 25``: the curve corrected onto those ``h`` gives both of them;
+- the flip bifurcation's normal form (Kuznetsov sec. 4.4): just past the curve (inside it,
+  where the period-1 orbit has a multiplier below ``-1``) a long integration's
+  stroboscopic map alternates between two points, and just before it settles on one.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from numerics.bifurcation.curve import correct
+from numerics.bifurcation.forced import DrivenProblem, forced_true_curves, joined
+from numerics.coupled.continuation import continue_coupled
+
+MU, ZETA, ALPHA = 1.0, 0.05, 1.0
+VALUES = {"mu": MU, "zeta": ZETA, "alpha": ALPHA}
+RANGES = {"sigma": (-0.6, 1.2), "h": (10.0, 30.0)}
+KIND = "period-doubling"
+
+
+def _rhs(sigma, h):
+    nu = 1 + MU * sigma
+
+    def f(t, y):
+        return [y[1], -y[0] + MU * (-2 * ZETA * y[1] - ALPHA * y[0] ** 3 + h * math.cos(nu * t))]
+    return f, 2 * math.pi / nu
+
+
+def scipy_floquet(sigma, h, y0):
+    """The period-1 response near ``y0`` and its multipliers by scipy alone (Newton on the
+    period map, the monodromy from the variational equations, DOP853 at rtol 1e-12)."""
+    nu = 1 + MU * sigma
+    T = 2 * math.pi / nu
+
+    def f(t, Y):
+        x, v = Y[0], Y[1]
+        P = Y[2:].reshape(2, 2)
+        J = np.array([[0.0, 1.0], [-1 - 3 * MU * ALPHA * x * x, -2 * MU * ZETA]])
+        return np.concatenate([[v, -x + MU * (-2 * ZETA * v - ALPHA * x**3
+                                              + h * math.cos(nu * t))], (J @ P).ravel()])
+
+    y = np.array(y0, float)
+    for _ in range(30):
+        s = solve_ivp(f, (0, T), np.concatenate([y, np.eye(2).ravel()]), method="DOP853",
+                      rtol=1e-12, atol=1e-12)
+        yT, P = s.y[:2, -1], s.y[2:, -1].reshape(2, 2)
+        dy = np.linalg.solve(P - np.eye(2), -(yT - y))
+        y = y + dy
+        if np.max(np.abs(dy)) < 1e-12:
+            break
+    return y, np.linalg.eigvals(P)
+
+
+def stroboscopic(sigma, h, y0, n):
+    """``n + 1`` points of the stroboscopic map ``y0 -> y(T)`` by one scipy integration."""
+    f, T = _rhs(sigma, h)
+    s = solve_ivp(f, (0, n * T), y0, method="DOP853", rtol=1e-10, atol=1e-10,
+                  t_eval=T * np.arange(n + 1))
+    return s.y.T
+
+
+def one_parameter_pds(h):
+    br = continue_coupled("duffing-forced", {**VALUES, "h": h, "sigma": 1.0}, "sigma",
+                          (0.05, 1.2), directions=(-1,), max_points=150)
+    return [s for s in br.special if s.kind == KIND]
+
+
+@pytest.fixture(scope="module")
+def pd_curve():
+    pds20 = one_parameter_pds(20.0)
+    prob = DrivenProblem("duffing-forced", VALUES, ("sigma", "h"))
+    s = min(pds20, key=lambda s: s.parameter)
+    seed = np.array([*s.state[:2], s.parameter, 20.0])
+    tasks, curves, _ = forced_true_curves(prob, RANGES, [(KIND, seed)], ds=0.02,
+                                          max_points=200)
+    assert [c.kind for c in curves] == [KIND]
+    return prob, np.array(joined(tasks[0].paths)), curves[0], pds20
+
+
+def on_h(prob, zs, h):
+    """The curve's points at ``h`` (Newton with ``h`` fixed from the nearest point of each
+    crossing of the line)."""
+    G, J = prob.system_for(KIND), prob.jacobian_for(KIND)
+    out = []
+    for a, b in zip(zs, zs[1:]):
+        if (a[3] - h) * (b[3] - h) <= 0:
+            z0 = a if abs(a[3] - h) < abs(b[3] - h) else b
+            z, res, _, _ = correct(G, z0, np.array([0.0, 0, 0, 1]), h, jac=J)
+            assert res <= 1e-10
+            out.append(z)
+    return sorted(out, key=lambda z: z[2])
+
+
+def test_pd_curve_is_converged_and_turns_in_h(pd_curve):
+    """Every point solves the defining system to 1e-10; the curve is a U in (sigma, h): both
+    ends on the upper bound h = 30, the period-1 orbit flip-unstable inside it."""
+    _, zs, curve, _ = pd_curve
+    assert curve.detail["residual_max"] <= 1e-10
+    assert curve.detail["ends"] == ["bounds", "bounds"]
+    (s0, h0), (s1, h1) = curve.points[0], curve.points[-1]
+    assert h0 == pytest.approx(30) and h1 == pytest.approx(30) and abs(s0 - s1) > 0.3
+    assert 12 < min(p[1] for p in curve.points) < 20
+
+
+def test_pd_curve_multiplier_minus_one_by_scipy_floquet(pd_curve):
+    """At two points of the curve (one on each arm) scipy's own monodromy has a
+    multiplier -1 to 1e-6, at the same response."""
+    _, zs, _, _ = pd_curve
+    i_low = int(np.argmin(zs[:, 3]))
+    for z in (zs[i_low // 2], zs[(i_low + len(zs)) // 2]):
+        y, m = scipy_floquet(z[2], z[3], z[:2])
+        assert np.max(np.abs(y - z[:2])) < 1e-8
+        assert min(abs(m + 1)) <= 1e-6, (z, m)
+
+
+def test_pd_curve_meets_the_one_parameter_period_doublings(pd_curve):
+    """Corrected onto h = 20 and h = 25 the curve gives the period doublings of
+    continue_coupled's branch in sigma at those h (both, to 1e-7)."""
+    prob, zs, _, pds20 = pd_curve
+    for h, pds in ((20.0, pds20), (25.0, one_parameter_pds(25.0))):
+        ref = sorted({round(s.parameter, 9) for s in pds})
+        assert len(ref) == 2
+        got = [z[2] for z in on_h(prob, zs, h)]
+        assert got == pytest.approx(ref, abs=1e-7), (h, got, ref)
+
+
+def _alternation(pd_curve, offset, n):
+    prob, zs, _, _ = pd_curve
+    z = on_h(prob, zs, 20.0)[0]
+    Y = stroboscopic(z[2] + offset, 20.0, z[:2] + np.array([0.01, 0.0]), n)
+    return float(np.max(np.abs(Y[-1] - Y[-2]))), float(np.max(np.abs(Y[-1] - Y[-3])))
+
+
+@pytest.mark.slow
+def test_period_two_orbit_just_past_the_curve_long_run(pd_curve):
+    """The flip's normal form: 0.01 past the curve (h = 20) the stroboscopic map after 400
+    periods alternates between two points (period 2); 0.01 before it, it stands still."""
+    d1, d2 = _alternation(pd_curve, 0.01, 400)
+    assert d1 > 0.5 and d2 < 1e-6
+    d1, d2 = _alternation(pd_curve, -0.01, 400)
+    assert d1 < 1e-6 and d2 < 1e-6
+
+
+def test_period_two_orbit_past_the_curve(pd_curve):
+    """The fast sibling of the long run: 0.02 on either side of the curve, 80 periods (past
+    it the alternation is 1.6 while two periods apart the map has come within 1e-2; before
+    it the map stands still to 1e-6).  Further in (0.03 past) the period-2 orbit has itself
+    lost stability: the doubling curve is the first of a cascade."""
+    d1, d2 = _alternation(pd_curve, 0.02, 80)
+    assert d1 > 0.5 and d2 < 1e-2
+    d1, d2 = _alternation(pd_curve, -0.02, 80)
+    assert d1 < 1e-6 and d2 < 1e-6

@@ -122,13 +122,16 @@ def test_pd_curve_is_converged_and_turns_in_h(pd_curve):
 
 def test_pd_curve_multiplier_minus_one_by_scipy_floquet(pd_curve):
     """At two points of the curve (one on each arm) scipy's own monodromy has a
-    multiplier -1 to 1e-6, at the same response."""
+    multiplier -1 to 1e-6, at the same response; the other one is ``-det Phi = -exp(-2 mu
+    zeta T)`` (Liouville's formula: the divergence of the flow is ``-2 mu zeta``)."""
     _, zs, _, _ = pd_curve
     i_low = int(np.argmin(zs[:, 3]))
     for z in (zs[i_low // 2], zs[(i_low + len(zs)) // 2]):
         y, m = scipy_floquet(z[2], z[3], z[:2])
         assert np.max(np.abs(y - z[:2])) < 1e-8
         assert min(abs(m + 1)) <= 1e-6, (z, m)
+        T = 2 * math.pi / (1 + MU * z[2])
+        assert max(m.real) == pytest.approx(-math.exp(-2 * MU * ZETA * T), abs=1e-9)
 
 
 def test_pd_curve_meets_the_one_parameter_period_doublings(pd_curve):

@@ -13,6 +13,8 @@ branch at ``h = 20``, and checked by
   points of the curve;
 - the one-parameter period doublings of ``continue_coupled`` (``kbm branch``) at
   ``h = 20`` and ``h = 25``: the curve corrected onto those ``h`` gives both of them;
+- the same scipy computation with Brent on ``lambda_min + 1`` at the four crossings of
+  ``h = 15.9`` (the curve's wavy bottom);
 - the flip bifurcation's normal form (Kuznetsov sec. 4.4): just past the curve (inside it,
   where the period-1 orbit has a multiplier below ``-1``) a long integration's
   stroboscopic map alternates between two points, and just before it settles on one.
@@ -25,6 +27,7 @@ import math
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
 
 from numerics.bifurcation.curve import correct
 from numerics.bifurcation.forced import DrivenProblem, forced_true_curves, joined
@@ -143,6 +146,20 @@ def test_pd_curve_meets_the_one_parameter_period_doublings(pd_curve):
         assert len(ref) == 2
         got = [z[2] for z in on_h(prob, zs, h)]
         assert got == pytest.approx(ref, abs=1e-7), (h, got, ref)
+
+
+def test_pd_curve_wavy_bottom_against_scipy_brent(pd_curve):
+    """Below the isola's reach (h = 15.9, where the branch of ``kbm branch`` from sigma = 1
+    is another orbit) the curve crosses the line four times; each is a zero of scipy's
+    ``lambda_min + 1`` in sigma (Brent on the separate Floquet computation) to 1e-9."""
+    prob, zs, _, _ = pd_curve
+    got = on_h(prob, zs, 15.9)
+    assert len(got) == 4
+    for z in got:
+        def g(q, y0=z[:2]):
+            return float(min(scipy_floquet(q, 15.9, y0)[1].real)) + 1
+        ref = brentq(g, z[2] - 2e-3, z[2] + 2e-3, xtol=1e-12)
+        assert z[2] == pytest.approx(ref, abs=1e-9)
 
 
 def _alternation(pd_curve, offset, n):

@@ -17,7 +17,9 @@ branch at ``h = 20``, and checked by
   ``h = 15.9`` (the curve's wavy bottom);
 - the flip bifurcation's normal form (Kuznetsov sec. 4.4): just past the curve (inside it,
   where the period-1 orbit has a multiplier below ``-1``) a long integration's
-  stroboscopic map alternates between two points, and just before it settles on one.
+  stroboscopic map alternates between two points, and just before it settles on one;
+- ``kbm diagram`` from its own seeds (slow): its period-doubling curves end where the
+  seeded curve and the one-parameter doublings say.
 """
 
 from __future__ import annotations
@@ -104,7 +106,7 @@ def on_h(prob, zs, h):
     G, J = prob.system_for(KIND), prob.jacobian_for(KIND)
     out = []
     for a, b in zip(zs, zs[1:]):
-        if (a[3] - h) * (b[3] - h) <= 0:
+        if (a[3] - h) * (b[3] - h) < 0 or a[3] == h:
             z0 = a if abs(a[3] - h) < abs(b[3] - h) else b
             z, res, _, _ = correct(G, z0, np.array([0.0, 0, 0, 1]), h, jac=J)
             assert res <= 1e-10
@@ -188,3 +190,34 @@ def test_period_two_orbit_past_the_curve(pd_curve):
     assert d1 > 0.5 and d2 < 1e-2
     d1, d2 = _alternation(pd_curve, -0.02, 80)
     assert d1 < 1e-6 and d2 < 1e-6
+
+
+@pytest.mark.slow
+def test_kbm_diagram_finds_the_period_doubling_curves(capsys, pd_curve):
+    """``kbm diagram`` from its own seeds: the period-doubling curves (the orbit and its
+    symmetric partner, (x, t) -> (-x, t + T/2), give two copies of each arm) end on h = 25
+    at continue_coupled's doublings there, and on h = 18 where the seeded curve crosses,
+    at orbits whose scipy monodromy has a multiplier -1 (to 1e-6)."""
+    import json
+
+    from numerics.cli import main
+
+    code = main(["diagram", "duffing-forced", "-p", "mu=1", "-p", "zeta=0.05", "-p",
+                 "alpha=1", "--vary", "sigma=0.1:0.8", "--vary", "h=18:25", "--no-averaged",
+                 "--json"])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    pds = [c["points"] for c in json.loads(out)["curves"] if c["kind"] == KIND]
+    assert len(pds) == 4
+    prob, zs, _, _ = pd_curve
+    ref25 = sorted({round(s.parameter, 9) for s in one_parameter_pds(25.0)})
+    at18 = on_h(prob, zs, 18.0)
+    assert len(ref25) == 2 and len(at18) == 2
+    for pts in pds:
+        ends = {round(p[1]): p[0] for p in (pts[0], pts[-1])}
+        assert set(ends) == {18, 25}
+        assert min(abs(ends[25] - r) for r in ref25) < 1e-7
+        assert min(abs(ends[18] - z[2]) for z in at18) < 1e-7
+    for z in at18:
+        _, m = scipy_floquet(z[2], 18.0, z[:2])
+        assert min(abs(m + 1)) <= 1e-6

@@ -88,3 +88,70 @@ def test_a_failed_build_is_noted_and_not_tried_again(tmp_path, monkeypatch):
     assert failed.exists() and "Error" in failed.read_text()
     assert aot.build(tmp_path, source, None) is False
     assert not list(tmp_path.glob("kbm_aot_*.so")) and not list(tmp_path.glob(".kbm_aot_*"))
+
+
+def _correctors(monkeypatch, model, params):
+    """The nine-state flow with its Newton corrector (``extra`` source) of ``model``, from
+    numba's just-in-time code and from the module built ahead of time (built in the cache
+    in use if it is not there yet, once per machine)."""
+    from numerics.flow.sensitivity import sensitivity_flow
+
+    cm = compile_model(model, params)
+    monkeypatch.setenv("KBM_AOT", "0")
+    clear_caches()
+    jit = sensitivity_flow(cm.template)
+    monkeypatch.setenv("KBM_AOT", "1")
+    text = open(jit.module.__file__).read()
+    assert set(aot.exports(text)) == {"flow", "to_turn", "shoot_correct", "accelerations"}
+    if aot.load(cache_dir(), text) is None:
+        assert aot.build(cache_dir(), text, _load(text))
+    clear_caches()
+    built = sensitivity_flow(cm.template)
+    clear_caches()
+    return cm, jit, built
+
+
+@pytest.mark.parametrize("model, params, vary, rates", [
+    ("vdp", {"mu": 1}, "mu", [1.0]),
+    # Delta moves delta = Delta/mu at the rate 1/mu (the template's order: Omega, beta,
+    # delta, k, mu)
+    ("sedf", {"mu": 0.1, "Delta": 1.5, "beta": 1, "lam": 1}, "Delta",
+     [0.0, 0.0, 10.0, 0.0, 0.0])])
+def test_ahead_of_time_corrector_equals_just_in_time_to_the_last_bit(monkeypatch, model,
+                                                                     params, vary, rates):
+    """The continuation's compiled Newton corrector (``shoot_correct`` of
+    ``numerics/flow/_shooting_corrector.py``, Newton's method on the shooting problem of a
+    cycle with the parameter, Seydel, *Practical Bifurcation and Stability Analysis*,
+    sec. 7.3) from the extension and from numba's code: the same status, iterations,
+    corrected unknowns, residual, Jacobian and samples, byte for byte, converging (whole
+    and half period) and refusing a start too far off; and the same ``accelerations``."""
+    from numerics.cycles import limit_cycle
+
+    cm, jit, built = _correctors(monkeypatch, model, params)
+    assert built.module.__name__.startswith("kbm_aot_")
+    assert not jit.module.__name__.startswith("kbm_aot_")
+    cyc = limit_cycle(model, params)
+    p = float(params[vary])
+    pbase, rates = np.asarray(cm.pvec, dtype=float), np.asarray(rates)
+    starts = [((1.01, 0.99, 1.0), False, 1e-10), ((0.999, 1.002, 1.0), True, 1e-9),
+              ((1.01, 0.99, 1.0), False, 1e-12), ((3.0, 0.3, 1.0), False, 1e-10)]
+    statuses = set()
+    for (fx, ft, fp), half, rtol in starts:
+        u0 = np.array([fx * cyc.amplitude_max, ft * cyc.period, fp * p])
+        row, target = np.array([0.0, 0.0, 1.0]), p  # the parameter fixed: a cycle at p
+        args = (row, target, pbase, rates, p, half, rtol, 32, 10**6, 8, 1e-5)
+        a = jit.module.shoot_correct(u0.copy(), *args)
+        b = built.module.shoot_correct(u0.copy(), *args)
+        assert a[:2] == b[:2] and a[7] == b[7]
+        for x, y in zip(a[2:7], b[2:7]):
+            assert x.shape == y.shape and x.tobytes() == y.tobytes()
+        statuses.add(int(a[0]))
+    assert 0 in statuses and len(statuses) > 1  # converged, and refused the far start
+    xs = np.linspace(-2.0, 2.0, 41)
+    assert jit.module.accelerations(xs, pbase).tobytes() == \
+        built.module.accelerations(xs, pbase).tobytes()
+    # the flow of the nine states itself
+    y0 = [cyc.amplitude_max, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]
+    pv = np.concatenate([pbase, rates])
+    ra, rb = jit(y0, cyc.period, pv, 1e-10, 1e-10, 16), built(y0, cyc.period, pv, 1e-10, 1e-10, 16)
+    assert ra.y.tobytes() == rb.y.tobytes() and ra.steps == rb.steps

@@ -140,6 +140,51 @@ def test_the_warm_cycle_imports_no_scipy_optimize_special_or_integrate():
         assert not [m for m in modules if m.startswith("sympy")], modules
 
 
+#: the whole continuation command of issue 39
+BRANCH = ["branch", "sedf", "-p", "mu=0.1", "-p", "beta=1", "-p", "lam=1", "--vary",
+          "Delta=0:4", "--orders", "none", "--no-energy", "--json"]
+
+
+def _modules_of_branch(env) -> tuple[bytes, list[str]]:
+    code = (f"import sys, runpy; sys.argv = ['kbm', *{BRANCH!r}]\n"
+            "try:\n    runpy.run_module('numerics.cli', run_name='__main__')\n"
+            "finally:\n    print('MODULES', *sorted(m for m in sys.modules if m.startswith("
+            "('numba', 'numerics.comparison.', 'numerics.energy.'))), file=sys.stderr)")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, cwd=ROOT, env=env,
+                          timeout=600, check=True)
+    return proc.stdout, proc.stderr.decode().splitlines()[-1].split()[1:]
+
+
+def test_the_warm_branch_imports_no_numba_and_gives_the_same_bytes():
+    """The whole ``kbm branch sedf ... --vary Delta=0:4`` of issue 39 with the cache warm:
+    the continuation's Newton corrector and nine-state flow built ahead of time
+    (:mod:`numerics.flow.aot`), so no numba where a C compiler built them; none of
+    :mod:`numerics.comparison`'s comparison, convergence and fixed-``Delta`` studies nor
+    the energy method's maps (lazy exports); the JSON is the first run's, byte for byte."""
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "KBM_COMPILE_NOTICE": "0", "KBM_AOT": "1"}
+    first, _ = _modules_of_branch(env)
+    out, modules = _modules_of_branch(env)
+    assert out == first and b'"branches"' in out
+    assert not [m for m in modules if m.startswith(("numerics.comparison.comparison",
+                                                    "numerics.comparison.convergence",
+                                                    "numerics.comparison.fixed_delta",
+                                                    "numerics.energy.maps"))], modules
+    if shutil.which("cc") or shutil.which("gcc"):
+        assert not [m for m in modules if m.startswith("numba")], modules
+
+
+@pytest.mark.slow
+def test_the_warm_branch_is_numbas_to_the_byte():
+    """The warm ``kbm branch`` of issue 39 with the corrector built ahead of time and with
+    numba's just-in-time code alone (``KBM_AOT=0``): the same JSON, byte for byte (the
+    two codes' corrector is compared bit for bit in ``tests/test_flow_aot.py``)."""
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "KBM_COMPILE_NOTICE": "0", "KBM_AOT": "1"}
+    _modules_of_branch(env)
+    out, _ = _modules_of_branch(env)
+    jit, jit_modules = _modules_of_branch({**env, "KBM_AOT": "0"})
+    assert jit == out and b'"branches"' in out and "numba" in jit_modules
+
+
 def _cli(args: list[str], env) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "numerics.cli", *args], capture_output=True,
                           cwd=ROOT, env=env, timeout=600)

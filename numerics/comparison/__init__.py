@@ -15,16 +15,27 @@
   :func:`branch_diagram`, every numerical branch next to them.
 """
 
-from numerics.comparison.branches import AnalyticCurve, AnalyticFold, energy_branch, kbm_branch
-from numerics.comparison.comparison import Comparison, ExtraPrediction, compare
-from numerics.comparison.convergence import (ConvergenceStudy, convergence_study, fit_slope,
-                                             predicted_orders)
-from numerics.comparison.diagram import BranchDiagram, branch_diagram
-from numerics.comparison.fixed_delta import (FixedDeltaConvergence, FixedDeltaStudy,
-                                             fixed_delta_convergence, fixed_delta_study)
-from numerics.comparison.predict import energy_prediction, kbm_cycles, predict
-from numerics.comparison.prediction import (ERROR_KEYS, Prediction, kbm_prediction,
-                                            numeric_value, reconstruct)
+from kbm._lazy import keep_objects, lazy_names
+
+#: the public names, each imported from its module on first use (PEP 562): ``kbm branch``
+#: imports :mod:`numerics.comparison.diagram` without the energy method's integrators
+#: (``scipy.integrate``, issue 39)
+_LAZY = {
+    **dict.fromkeys(("AnalyticCurve", "AnalyticFold", "energy_branch", "kbm_branch"),
+                    "numerics.comparison.branches"),
+    **dict.fromkeys(("Comparison", "ExtraPrediction", "compare"), "numerics.comparison.comparison"),
+    **dict.fromkeys(("ConvergenceStudy", "convergence_study", "fit_slope", "predicted_orders"),
+                    "numerics.comparison.convergence"),
+    **dict.fromkeys(("BranchDiagram", "branch_diagram"), "numerics.comparison.diagram"),
+    **dict.fromkeys(("FixedDeltaConvergence", "FixedDeltaStudy", "fixed_delta_convergence",
+                     "fixed_delta_study"), "numerics.comparison.fixed_delta"),
+    **dict.fromkeys(("energy_prediction", "kbm_cycles", "predict"), "numerics.comparison.predict"),
+    **dict.fromkeys(("ERROR_KEYS", "Prediction", "kbm_prediction", "numeric_value", "reconstruct"),
+                    "numerics.comparison.prediction"),
+}
+
+__getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)
+keep_objects(__name__, ("predict",))  # the function, not its module
 
 __all__ = ["Comparison", "compare", "ExtraPrediction", "Prediction", "kbm_prediction",
            "numeric_value", "reconstruct", "ERROR_KEYS", "ConvergenceStudy",

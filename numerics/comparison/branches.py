@@ -28,7 +28,6 @@ from kbm.bound import bind
 from kbm.models import Oscillator
 
 from kbm.strict_json import finite
-from numerics.energy import predict_cycles
 from numerics.errors import ConvergenceError
 
 __all__ = ["AnalyticCurve", "AnalyticFold", "kbm_branch", "energy_branch"]
@@ -241,6 +240,7 @@ def energy_branch(model: Oscillator | str, params: Mapping[str, object] | None, 
         Method ``"energy"``; ``amplitude`` is the largest ``x`` of the predicted cycle.
     """
     from kbm.conservative import SplitLine
+    from numerics.energy.predict import predict_cycles  # scipy.integrate: on use (issue 39)
 
     params = dict(params or {})
     try:  # split once along the parameter (the values that move with it kept as symbols)

@@ -9,13 +9,22 @@ averaging) or integrated along the cycle (position scheme).
 ``mu``-independent work done once per column.
 """
 
-from .averaging import AveragedEnergy, average
-from .maps import map_predictions, predict_along_mu
-from .balance import BalanceCycle, balance_cycles, gamma_function
-from .orbits import SampledOrbits, sample_orbits
-from .position import PositionCycle, PositionError, position_cycle
-from .portrait import Annulus, Equilibrium, Portrait, Quadrature, phase_portrait
-from .predict import EnergyPrediction, PredictedCycle, predict_cycles
+from kbm._lazy import lazy_names
+
+#: the public names, each imported from its module on first use (PEP 562): the energy
+#: method's integrators (``scipy.integrate``) load only where it is used (issue 39)
+_LAZY = {
+    **dict.fromkeys(("AveragedEnergy", "average"), ".averaging"),
+    **dict.fromkeys(("map_predictions", "predict_along_mu"), ".maps"),
+    **dict.fromkeys(("BalanceCycle", "balance_cycles", "gamma_function"), ".balance"),
+    **dict.fromkeys(("SampledOrbits", "sample_orbits"), ".orbits"),
+    **dict.fromkeys(("PositionCycle", "PositionError", "position_cycle"), ".position"),
+    **dict.fromkeys(("Annulus", "Equilibrium", "Portrait", "Quadrature", "phase_portrait"),
+                    ".portrait"),
+    **dict.fromkeys(("EnergyPrediction", "PredictedCycle", "predict_cycles"), ".predict"),
+}
+
+__getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)
 
 __all__ = [
     "predict_cycles", "PredictedCycle", "EnergyPrediction", "map_predictions",

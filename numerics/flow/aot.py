@@ -14,8 +14,9 @@ version and of this module's format; the file is written under a temporary name 
 renamed, so a process never reads half a module; a build that fails (no C compiler) is
 noted in the folder (``NAME.failed``) and not tried again there.  The functions exported are the
 stepper's ``flow`` and ``to_turn`` with the argument types the compiled flow is called
-with; the code is that of the same Python source, compiled by the same LLVM without
-fast-math, so the numbers are those of the just-in-time code to the last bit (a test
+with, and the functions of the extra source compiled with it (the continuation's Newton
+corrector ``shoot_correct`` and ``accelerations``: :data:`EXTRA_SIGNATURES`); the code is
+that of the same Python source, compiled by the same LLVM without fast-math, so the numbers are those of the just-in-time code to the last bit (a test
 compares them).  Set ``KBM_AOT=0`` to use numba's just-in-time code only.
 """
 
@@ -32,7 +33,8 @@ import warnings
 from pathlib import Path
 from types import ModuleType
 
-__all__ = ["enabled", "module_name", "load", "build", "SIGNATURES"]
+__all__ = ["enabled", "module_name", "load", "build", "exports", "SIGNATURES",
+           "EXTRA_SIGNATURES"]
 
 #: version of the built modules' layout (part of the name)
 _FORMAT = "1"
@@ -43,6 +45,23 @@ SIGNATURES = {
     "flow": "Tuple((f8[:,::1], i8, i8))(f8[::1], f8, f8[::1], f8, f8, i8, i8)",
     "to_turn": "Tuple((f8, f8, f8, i8))(f8[::1], f8, f8, f8[::1], f8, f8, i8)",
 }
+
+
+#: the functions of the extra source compiled with the flow (:func:`numerics.flow.jit.jit_flow`'s
+#: ``extra``: the continuation's Newton corrector, ``numerics/flow/_shooting_corrector.py``),
+#: exported where the source defines them, with the types their callers pass
+EXTRA_SIGNATURES = {
+    "shoot_correct": "Tuple((i8, i8, f8[::1], f8[::1], f8[:,::1], f8[::1], f8[:,::1], f8))"
+                     "(f8[::1], f8[::1], f8, f8[::1], f8[::1], f8, b1, f8, i8, i8, i8, f8)",
+    "accelerations": "f8[::1](f8[::1], f8[::1])",
+}
+
+
+def exports(source: str) -> dict[str, str]:
+    """The functions exported from the module of ``source`` and their types: the stepper's
+    (:data:`SIGNATURES`) and those of :data:`EXTRA_SIGNATURES` that ``source`` defines."""
+    extra = {f: sig for f, sig in EXTRA_SIGNATURES.items() if f"\ndef {f}(" in source}
+    return {**SIGNATURES, **extra}
 
 
 def enabled() -> bool:
@@ -87,7 +106,7 @@ def load(folder: Path, source: str) -> ModuleType | None:
         spec.loader.exec_module(mod)
     except Exception:  # noqa: BLE001 - an unloadable module is rebuilt by the JIT path
         return None
-    if not all(callable(getattr(mod, f, None)) for f in SIGNATURES):
+    if not all(callable(getattr(mod, f, None)) for f in exports(source)):
         return None
     sys.modules[name] = mod
     return mod
@@ -121,7 +140,7 @@ def build(folder: Path, source: str, module: ModuleType, what: str = "the model'
             cc = CC(name)
             cc.output_dir = str(tmp)
             cc.verbose = False
-            for func, sig in SIGNATURES.items():
+            for func, sig in exports(source).items():
                 cc.export(func, sig)(getattr(module, func).py_func)
             cc.compile()
         built = _path(tmp, name)

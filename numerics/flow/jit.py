@@ -338,10 +338,9 @@ def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.S
         return None
     from numerics.flow.aot import build, load
 
-    if not extra:
-        built = load(cache_dir(), source)
-        if built is not None:
-            return _aot_flow(built)
+    built = load(cache_dir(), source)
+    if built is not None:
+        return _aot_flow(built, extra)
     _announce_compile(source, what, seconds)
     try:
         mod = _load(source)
@@ -350,9 +349,8 @@ def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.S
         fn(np.zeros(len(y)), 1e-3, np.ones(len(params)), 1e-6, 1e-6, 1, 10)
     except Exception:  # noqa: BLE001 - any failure to compile means: use scipy instead
         return None
-    if not extra:
-        # for the next process (this one goes on with numba's code)
-        build(cache_dir(), source, mod, what, _notice_wanted())
+    # for the next process (this one goes on with numba's code)
+    build(cache_dir(), source, mod, what, _notice_wanted())
 
     def flow(y0, t_end, p, rtol, atol, n_out=1, max_steps=10**6) -> FlowResult:
         out, status, steps = fn(np.asarray(y0, dtype=float), float(t_end),
@@ -374,9 +372,33 @@ def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.S
     return flow
 
 
-def _aot_flow(mod) -> Callable:
+class _AotModule:
+    """A module built ahead of time with extra source, as :func:`jit_flow`'s ``module``:
+    its functions called with the arrays made C-contiguous (the exported types,
+    :data:`numerics.flow.aot.EXTRA_SIGNATURES`); the numbers are those of numba's code."""
+
+    def __init__(self, mod) -> None:
+        self._mod = mod
+        self.__name__, self.__file__ = mod.__name__, getattr(mod, "__file__", None)
+
+    def __getattr__(self, name: str):
+        fn = getattr(self._mod, name)
+        if not callable(fn):
+            return fn
+
+        def call(*args):
+            return fn(*(np.ascontiguousarray(a, dtype=float) if isinstance(a, np.ndarray)
+                        else a for a in args))
+
+        call.__name__ = name
+        self.__dict__[name] = call
+        return call
+
+
+def _aot_flow(mod, extra: str = "") -> Callable:
     """The flow of a module built ahead of time (:mod:`numerics.flow.aot`): the calls of
-    :func:`jit_flow`'s, the arrays made C-contiguous (the exported types)."""
+    :func:`jit_flow`'s, the arrays made C-contiguous (the exported types); with ``extra``
+    source its ``module`` calls the extra functions the same way (:class:`_AotModule`)."""
     def flow(y0, t_end, p, rtol, atol, n_out=1, max_steps=10**6) -> FlowResult:
         out, status, steps = mod.flow(np.ascontiguousarray(y0, dtype=float), float(t_end),
                                       np.ascontiguousarray(p, dtype=float), float(rtol),
@@ -391,5 +413,5 @@ def _aot_flow(mod) -> Callable:
         return float(x), float(v), float(t), int(status)
 
     flow.to_turn = to_turn
-    flow.module = mod
+    flow.module = _AotModule(mod) if extra else mod
     return flow

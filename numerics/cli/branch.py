@@ -54,9 +54,11 @@ def run(args: argparse.Namespace) -> int:
     from kbm.params import lookup
     from numerics.cli._params import check, given, orders, parse_vary, within
     from numerics.comparison.diagram import branch_diagram
+    from numerics.flow.aot import allow_builds
 
     from kbm.cli.derive import coupled_model, is_coupled
 
+    allow_builds()  # start-up is what this command is waited for (issue 39)
     vary = parse_vary(args.vary)
     lo, hi = vary.interval("a branch", points=False)
     name = vary.name

@@ -43,6 +43,9 @@ def run(args: argparse.Namespace) -> int:
     from kbm.cli.derive import is_coupled
     from kbm.errors import ParameterError
     from numerics.cli._params import within
+    from numerics.flow.aot import allow_builds
+
+    allow_builds()  # start-up is what this command is waited for (issue 39)
 
     if is_coupled(args):
         return _run_coupled(args)

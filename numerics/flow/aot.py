@@ -18,6 +18,11 @@ with, and the functions of the extra source compiled with it (the continuation's
 corrector ``shoot_correct`` and ``accelerations``: :data:`EXTRA_SIGNATURES`); the code is
 that of the same Python source, compiled by the same LLVM without fast-math, so the numbers are those of the just-in-time code to the last bit (a test
 compares them).  Set ``KBM_AOT=0`` to use numba's just-in-time code only.
+
+Built modules are always read where they exist; a build (10-15 s a flow on two quiet cores)
+is made only where start-up is what the user waits for: the commands ``kbm cycle`` and
+``kbm branch`` ask for it (:func:`allow_builds`), and ``KBM_AOT=1`` asks for it everywhere.
+Long jobs (``kbm reproduce``, sweeps, the library) keep numba's code and pay no build.
 """
 
 from __future__ import annotations
@@ -33,8 +38,8 @@ import warnings
 from pathlib import Path
 from types import ModuleType
 
-__all__ = ["enabled", "module_name", "load", "build", "exports", "SIGNATURES",
-           "EXTRA_SIGNATURES"]
+__all__ = ["enabled", "allow_builds", "builds_wanted", "module_name", "load", "build",
+           "exports", "SIGNATURES", "EXTRA_SIGNATURES"]
 
 #: version of the built modules' layout (part of the name)
 _FORMAT = "1"
@@ -65,8 +70,25 @@ def exports(source: str) -> dict[str, str]:
 
 
 def enabled() -> bool:
-    """Whether ahead-of-time modules are used and built (``KBM_AOT`` is not ``0``)."""
-    return os.environ.get("KBM_AOT", "1").strip() not in ("0", "")
+    """Whether ahead-of-time modules are used (``KBM_AOT`` is not ``0``)."""
+    return os.environ.get("KBM_AOT", "").strip() != "0"
+
+
+#: whether this process builds missing modules (:func:`allow_builds`)
+_BUILDS = {"allowed": False}
+
+
+def allow_builds(allowed: bool = True) -> None:
+    """Let this process build the modules it lacks (the commands whose start-up matters:
+    ``kbm cycle``, ``kbm branch``).  Where ``KBM_AOT=1`` they are built in any case."""
+    _BUILDS["allowed"] = bool(allowed)
+
+
+def builds_wanted() -> bool:
+    """Whether a missing module is built now: ``KBM_AOT=1``, or allowed by the command and
+    ``KBM_AOT`` not ``0``."""
+    flag = os.environ.get("KBM_AOT", "").strip()
+    return flag == "1" or (flag != "0" and _BUILDS["allowed"])
 
 
 def _numba_version() -> str:
@@ -126,7 +148,7 @@ def build(folder: Path, source: str, module: ModuleType, what: str = "the model'
     (:func:`numerics.flow.jit.compile_notice` decides when)."""
     name = module_name(source)
     failed = folder / f"{name}.failed"
-    if not enabled() or _path(folder, name).exists() or failed.exists():
+    if not builds_wanted() or _path(folder, name).exists() or failed.exists():
         return False
     if notice:
         print(f"kbm: compiling {what} ahead of time (first run; about {BUILD_SECONDS} s on "

@@ -26,6 +26,8 @@ os.environ.setdefault("KBM_AOT", "0")
 #: kept, with its assertions: a kill-and-resume, Dask against the local pool, a second
 #: regeneration with another hash seed, long scans and Monte Carlo byte-equality runs.
 SLOW = {
+    "tests/test_warm_path.py::test_refused_input_gives_the_same_message_with_the_cards_stored":
+    60,
     "tests/test_store_resume.py::"
     "test_a_map_killed_midway_and_resumed_equals_the_uninterrupted_run": 208,
     "tests/test_coupled_jets.py::test_locking_edges_at_order_2_for_a_sine_coupling": 150,

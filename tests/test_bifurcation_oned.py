@@ -317,3 +317,40 @@ def test_saddle_change_located_and_shot():
     # the homoclinic point at s = -1e-3 lies within the diagram's 5 % of the box (0.12 x
     # 0.35) of the located point (measured: 3.0e-3 in b)
     assert math.hypot((s + 1e-3) / 0.12, (b - b0) / 0.35) < 0.05
+
+
+def test_fold_of_cycles_ends_at_the_neutral_saddle_loop():
+    """The fold of cycles of ``x'' = x - x^3 + mu (nu + c x^2 - x^4) x'`` (mu = 0.1) near
+    the homoclinic loop ``x = sqrt 2 sech t`` of the saddle at 0 heads to the neutral saddle
+    loop ``nu = 0`` (Kuznetsov sec. 6.2): with ``sigma = mu nu`` the cycle's
+    ``int div f dt = mu nu T + mu int (c x^2 - x^4) dt`` along the loop,
+    ``mu (4 c - 16/3)``, so the fold (``int div f = 0``) has ``nu T = 16/3 - 4 c`` to first
+    order: ``nu -> 0`` as ``T -> oo``, at ``c -> 8/7`` (Melnikov).  The fold curve's
+    distance to the homoclinic curve falls like ``exp(-lambda_u T)``, ``lambda_u = 1``.
+    Continued from a point of the diagram's fold curve (corrected by Newton) until
+    ``T = 26``; in double precision it can go no closer (at ``T ~ 28`` the cycle is
+    ``1e-12`` from the saddle, and the continuation's ``x0`` turns to noise), so the end is
+    checked by the law, not by a converged point at ``nu = 0``."""
+    model = custom_model("k*(2*x - x**3) + (nu + c*x**2 - x**4)*xdot")
+    kit = OneDof(model, {"mu": "0.1", "k": "10"}, ("nu", "c"), (0.0, 1.14))
+    z0 = np.array([-8.106987888809e-4, 17.7018958601, 0.06, 1.0677916462539])
+    path = continue_curve(kit.cycle_fold(), z0, tangent=[0, 0, -1.0, 1.25], ds=0.01,
+                          ds_max=0.04, bounds={2: (0.0, 0.0601), 3: (1.0, 1.3)},
+                          max_points=40, tol=1e-10, fd_step=1e-7,
+                          scale=[1.0, 17.7, 0.1, 0.5],
+                          stop=lambda pt, p: "period" if pt.z[1] > 26 else None)
+    assert path.end == "stopped" and all(p.residual <= 1e-10 for p in path.points)
+    P = np.array([p.z for p in path.points])
+    T, nu, c = P[:, 1], P[:, 2], P[:, 3]
+    # first-order law (measured: -5e-5 .. -8e-5 against nu T ~ 0.76)
+    assert np.all(np.abs(nu * T + 4 * c - 16 / 3) < 1e-3)
+    # T = T0 + K/nu with K = 16/3 - 4 (8/7) = 0.761905 (measured 0.762045)
+    K = np.linalg.lstsq(np.vstack([np.ones_like(nu), 1 / nu]).T, T, rcond=None)[0][1]
+    assert abs(K / (16 / 3 - 32 / 7) - 1) < 1e-3
+    # on the homoclinic curve within exp(-lambda_u T): the gap's Brent root c_h(nu)
+    g = gap_function(kit, Loop(0.0, 0.0, 1, 1))
+    sel = path.points[::4]
+    dc = [p.z[3] - brentq(lambda cc: float(g((p.z[2], cc))[0]), p.z[3] - 0.01,
+                          p.z[3] + 0.01, xtol=1e-15) for p in sel]
+    rate = -np.polyfit([p.z[1] for p in sel], np.log(np.abs(dc)), 1)[0]
+    assert abs(dc[-1]) < 1e-10 and abs(rate - 1.0) < 0.15

@@ -13,6 +13,10 @@ those of the last accepted point, so the curve follows the same saddles; the loo
 - ``x_to == -x_from`` of an odd field: a heteroclinic cycle through the pair (its mirror
   image closes it), named by both saddles.
 
+:func:`saddle_quantity` is the test function ``tr J`` at the loop's saddle (its zeros:
+neutral saddle loops); :func:`saddle_change` locates the heteroclinic cycle where a
+homoclinic curve ends by changing its saddles.
+
 :func:`scan` finds the curves' crossings of lines of the parameter plane (sign changes of
 ``d`` between grid values, then Brent; a jump of ``d``, where a manifold passes another
 saddle, is no root and is refused by the size of ``|d|`` at the root).

@@ -354,3 +354,27 @@ def test_fold_of_cycles_ends_at_the_neutral_saddle_loop():
                           p.z[3] + 0.01, xtol=1e-15) for p in sel]
     rate = -np.polyfit([p.z[1] for p in sel], np.log(np.abs(dc)), 1)[0]
     assert abs(dc[-1]) < 1e-10 and abs(rate - 1.0) < 0.15
+
+
+@pytest.mark.slow
+def test_diagram_names_the_located_saddle_change():
+    """The whole diagram of :func:`test_saddle_change_located_and_shot`'s model (1.5 to 5 min
+    on the shared machine; that test is its fast sibling): the loops of the saddles near
+    ``-1`` and ``+1`` both end at the one ``saddle-change`` point, located at ``s = 0``
+    (exact, by symmetry) with both legs' gaps at most GAP_TOL and shot here by scipy."""
+    from numerics.bifurcation.oned import Settings, autonomous_diagram
+
+    model = custom_model("k*(x**3 + s) + (b - x**2)*xdot")
+    d = autonomous_diagram(model, {"mu": "0.1", "k": "10"}, ("s", "b"),
+                           {"s": (-0.06, 0.06), "b": (0.05, 0.4)},
+                           settings=Settings(grid=(13, 5), averaged=False, L=3.0))
+    homs = [c for c in d.curves if c.kind == "homoclinic"]
+    assert len(homs) == 2 and all(c.detail["gap_max"] <= GAP_TOL for c in homs)
+    (sc,) = [p for p in d.codim2 if p.kind == "saddle-change"]
+    assert not [p for p in d.codim2 if p.kind == "connection-end"]
+    s, b = sc.point
+    assert abs(s) < 1e-9 and abs(b - 0.2) < 1e-3
+    assert max(abs(v) for v in sc.detail["gaps"]) <= GAP_TOL
+    assert abs(_sc_leg(s, b, -1.0, 1.0)) < 1e-8 and abs(_sc_leg(s, b, 1.0, -1.0)) < 1e-8
+    for c in homs:  # each curve's nearer end within 1e-5 of the located point (2e-7)
+        assert min(math.dist(q, sc.point) for q in (c.points[0], c.points[-1])) < 1e-5

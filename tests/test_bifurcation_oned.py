@@ -218,3 +218,163 @@ def test_neutral_saddle_loop_located():
     dn = solve_ivp(rhs(-1), (0, 100), [eps, eps * ls], events=turn, rtol=1e-12, atol=1e-14,
                    method="DOP853")
     assert abs(up.y_events[0][0][0] - dn.y_events[0][0][0]) < 1e-8
+
+
+def test_neutral_saddle_loop_eigenvalues_independent():
+    """The neutral saddle loop of :func:`test_neutral_saddle_loop_located`, checked by an
+    independent computation of the saddle's eigenvalues: the Jacobian of the right-hand
+    side written here (central differences) at its saddle ``x = 0``, ``numpy.linalg.eigvals``;
+    ``lambda_u + lambda_s = 0`` to 1e-9 at the located point (Kuznetsov sec. 6.2: the
+    saddle quantity vanishes at a neutral saddle loop).  The point is located on a short
+    piece of the homoclinic curve continued from a Brent root of the gap (fast sibling of
+    the whole diagram's test)."""
+    model = custom_model("k*(2*x - x**3) + (nu + c*x**2 - x**4)*xdot")
+    kit = OneDof(model, {"mu": "0.1", "k": "10"}, ("nu", "c"), (0.0, 1.14))
+    from numerics.bifurcation.connections import saddle_quantity
+
+    loop = Loop(0.0, 0.0, 1, 1)
+    g = gap_function(kit, loop)
+    c0 = brentq(lambda c: float(g((-0.01, c))[0]), 1.1, 1.2, xtol=1e-14)
+    path = continue_curve(g, (-0.01, c0), tangent=[1, 0], ds=0.005, ds_max=0.01,
+                          bounds={0: (-0.02, 0.01), 1: (1.0, 1.3)}, scale=[0.1, 0.5],
+                          tol=GAP_TOL, fd_step=1e-6,
+                          tests={"saddle-quantity": saddle_quantity(kit, loop)})
+    (ev,) = [e for e in path.events if e.name == "saddle-quantity"]
+    nu, c = ev.z
+    assert abs(ev.residual) <= GAP_TOL
+
+    def field(x, v):
+        return x - x ** 3 + 0.1 * (nu + c * x ** 2 - x ** 4) * v
+    xs = brentq(lambda x: field(x, 0.0), -0.5, 0.5, xtol=1e-15)
+    h = 1e-6
+    J = np.array([[0.0, 1.0],
+                  [(field(xs + h, 0) - field(xs - h, 0)) / (2 * h),
+                   (field(xs, h) - field(xs, -h)) / (2 * h)]])
+    lam = np.linalg.eigvals(J)
+    assert np.all(np.isreal(lam)) and lam.real.min() < 0 < lam.real.max()  # a saddle
+    assert abs(lam.real.sum()) < 1e-9
+
+
+def _sc_field(s, b):
+    """``x'' = -x + x^3 + s + 0.1 (b - x^2) x'`` (``x'' + x = mu F``, ``F = 10 (x^3 + s)
+    + (b - x^2) x'``, mu = 0.1), written here."""
+    return lambda x, v: -x + x ** 3 + s + 0.1 * (b - x * x) * v
+
+
+def _sc_leg(s, b, x_from, x_to):
+    """The velocity gap on the section ``x = 0`` of the connection ``x_from -> x_to``
+    (unstable manifold of ``x_from`` forward, stable manifold of ``x_to`` backward), shot
+    by scipy."""
+    f = _sc_field(s, b)
+
+    def eig(x):
+        fx = (f(x + 1e-7, 0) - f(x - 1e-7, 0)) / 2e-7
+        tr = 0.1 * (b - x * x)
+        r = math.sqrt(tr * tr + 4 * fx)
+        return (tr + r) / 2, (tr - r) / 2
+
+    def sec(t, y):
+        return y[0]
+    sec.terminal = True
+    side = 1.0 if x_to > x_from else -1.0
+    lu, _ = eig(x_from)
+    _, ls = eig(x_to)
+    eps = 1e-7
+    up = solve_ivp(lambda t, y: [y[1], f(*y)], (0, 200), [x_from + side * eps,
+                   side * eps * lu], events=sec, rtol=1e-12, atol=1e-14, method="DOP853")
+    dn = solve_ivp(lambda t, y: [-y[1], -f(*y)], (0, 200), [x_to - side * eps,
+                   -side * eps * ls], events=sec, rtol=1e-12, atol=1e-14, method="DOP853")
+    return up.y_events[0][0][1] - dn.y_events[0][0][1]
+
+
+def test_saddle_change_located_and_shot():
+    """``x'' = -x + x^3 + s + mu (b - x^2) x'`` (mu = 0.1): the loop of the left saddle
+    ``x_1 ~ -1`` around the centre ends where its manifold reaches the right saddle
+    ``x_2 ~ 1`` (a saddle change: the heteroclinic cycle ``x_1 -> x_2 -> x_1``).  At
+    ``s = 0`` the field is odd, so the cycle is there exactly; Melnikov along the
+    separatrix ``v = (1 - x^2)/sqrt 2`` gives ``int (b - x^2)(1 - x^2) dx = 0``,
+    ``b = 1/5`` to first order in mu.  Located from a homoclinic point at ``s = -1e-3``
+    (Brent on the gap): ``s`` within 1e-9 of 0, both legs shot here by scipy on the
+    section ``x = 0`` within 1e-8."""
+    from numerics.bifurcation.connections import saddle_change
+
+    model = custom_model("k*(x**3 + s) + (b - x**2)*xdot")
+    kit = OneDof(model, {"mu": "0.1", "k": "10"}, ("s", "b"), (0.0, 0.2))
+    loop = Loop(-1.0, -1.0, 1, 1)
+    g = gap_function(kit, loop)
+    b0 = brentq(lambda b: float(g((-1e-3, b))[0]), 0.19, 0.205, xtol=1e-14)
+    from numerics.bifurcation.connections import accept
+
+    accept(kit, loop, (-1e-3, b0))
+    found = saddle_change(kit, loop, (-1e-3, b0), 3.0, scale=(0.12, 0.35))
+    assert found is not None
+    s, b = found["point"]
+    assert abs(s) < 1e-9 and abs(b - 0.2) < 1e-3
+    assert max(abs(v) for v in found["gaps"]) <= GAP_TOL
+    x1, x2 = found["saddles"]
+    assert x1 == pytest.approx(-1.0, abs=1e-12) and x2 == pytest.approx(1.0, abs=1e-12)
+    assert abs(_sc_leg(s, b, -1.0, 1.0)) < 1e-8 and abs(_sc_leg(s, b, 1.0, -1.0)) < 1e-8
+    # the homoclinic point at s = -1e-3 lies within the diagram's 5 % of the box (0.12 x
+    # 0.35) of the located point (measured: 3.0e-3 in b)
+    assert math.hypot((s + 1e-3) / 0.12, (b - b0) / 0.35) < 0.05
+
+
+def test_fold_of_cycles_ends_at_the_neutral_saddle_loop():
+    """The fold of cycles of ``x'' = x - x^3 + mu (nu + c x^2 - x^4) x'`` (mu = 0.1) near
+    the homoclinic loop ``x = sqrt 2 sech t`` of the saddle at 0 heads to the neutral saddle
+    loop ``nu = 0`` (Kuznetsov sec. 6.2): with ``sigma = mu nu`` the cycle's
+    ``int div f dt = mu nu T + mu int (c x^2 - x^4) dt`` along the loop,
+    ``mu (4 c - 16/3)``, so the fold (``int div f = 0``) has ``nu T = 16/3 - 4 c`` to first
+    order: ``nu -> 0`` as ``T -> oo``, at ``c -> 8/7`` (Melnikov).  The fold curve's
+    distance to the homoclinic curve falls like ``exp(-lambda_u T)``, ``lambda_u = 1``.
+    Continued from a point of the diagram's fold curve (corrected by Newton) until
+    ``T = 26``; in double precision it can go no closer (at ``T ~ 28`` the cycle is
+    ``1e-12`` from the saddle, and the continuation's ``x0`` turns to noise), so the end is
+    checked by the law, not by a converged point at ``nu = 0``."""
+    model = custom_model("k*(2*x - x**3) + (nu + c*x**2 - x**4)*xdot")
+    kit = OneDof(model, {"mu": "0.1", "k": "10"}, ("nu", "c"), (0.0, 1.14))
+    z0 = np.array([-8.106987888809e-4, 17.7018958601, 0.06, 1.0677916462539])
+    path = continue_curve(kit.cycle_fold(), z0, tangent=[0, 0, -1.0, 1.25], ds=0.01,
+                          ds_max=0.04, bounds={2: (0.0, 0.0601), 3: (1.0, 1.3)},
+                          max_points=40, tol=1e-10, fd_step=1e-7,
+                          scale=[1.0, 17.7, 0.1, 0.5],
+                          stop=lambda pt, p: "period" if pt.z[1] > 26 else None)
+    assert path.end == "stopped" and all(p.residual <= 1e-10 for p in path.points)
+    P = np.array([p.z for p in path.points])
+    T, nu, c = P[:, 1], P[:, 2], P[:, 3]
+    # first-order law (measured: -5e-5 .. -8e-5 against nu T ~ 0.76)
+    assert np.all(np.abs(nu * T + 4 * c - 16 / 3) < 1e-3)
+    # T = T0 + K/nu with K = 16/3 - 4 (8/7) = 0.761905 (measured 0.762045)
+    K = np.linalg.lstsq(np.vstack([np.ones_like(nu), 1 / nu]).T, T, rcond=None)[0][1]
+    assert abs(K / (16 / 3 - 32 / 7) - 1) < 1e-3
+    # on the homoclinic curve within exp(-lambda_u T): the gap's Brent root c_h(nu)
+    g = gap_function(kit, Loop(0.0, 0.0, 1, 1))
+    sel = path.points[::4]
+    dc = [p.z[3] - brentq(lambda cc: float(g((p.z[2], cc))[0]), p.z[3] - 0.01,
+                          p.z[3] + 0.01, xtol=1e-15) for p in sel]
+    rate = -np.polyfit([p.z[1] for p in sel], np.log(np.abs(dc)), 1)[0]
+    assert abs(dc[-1]) < 1e-10 and abs(rate - 1.0) < 0.15
+
+
+@pytest.mark.slow
+def test_diagram_names_the_located_saddle_change():
+    """The whole diagram of :func:`test_saddle_change_located_and_shot`'s model (1.5 to 5 min
+    on the shared machine; that test is its fast sibling): the loops of the saddles near
+    ``-1`` and ``+1`` both end at the one ``saddle-change`` point, located at ``s = 0``
+    (exact, by symmetry) with both legs' gaps at most GAP_TOL and shot here by scipy."""
+    from numerics.bifurcation.oned import Settings, autonomous_diagram
+
+    model = custom_model("k*(x**3 + s) + (b - x**2)*xdot")
+    d = autonomous_diagram(model, {"mu": "0.1", "k": "10"}, ("s", "b"),
+                           {"s": (-0.06, 0.06), "b": (0.05, 0.4)},
+                           settings=Settings(grid=(13, 5), averaged=False, L=3.0))
+    homs = [c for c in d.curves if c.kind == "homoclinic"]
+    assert len(homs) == 2 and all(c.detail["gap_max"] <= GAP_TOL for c in homs)
+    (sc,) = [p for p in d.codim2 if p.kind == "saddle-change"]
+    assert not [p for p in d.codim2 if p.kind == "connection-end"]
+    s, b = sc.point
+    assert abs(s) < 1e-9 and abs(b - 0.2) < 1e-3
+    assert max(abs(v) for v in sc.detail["gaps"]) <= GAP_TOL
+    assert abs(_sc_leg(s, b, -1.0, 1.0)) < 1e-8 and abs(_sc_leg(s, b, 1.0, -1.0)) < 1e-8
+    for c in homs:  # each curve's nearer end within 1e-5 of the located point (2e-7)
+        assert min(math.dist(q, sc.point) for q in (c.points[0], c.points[-1])) < 1e-5

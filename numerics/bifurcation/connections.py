@@ -13,6 +13,10 @@ those of the last accepted point, so the curve follows the same saddles; the loo
 - ``x_to == -x_from`` of an odd field: a heteroclinic cycle through the pair (its mirror
   image closes it), named by both saddles.
 
+:func:`saddle_quantity` is the test function ``tr J`` at the loop's saddle (its zeros:
+neutral saddle loops); :func:`saddle_change` locates the heteroclinic cycle where a
+homoclinic curve ends by changing its saddles.
+
 :func:`scan` finds the curves' crossings of lines of the parameter plane (sign changes of
 ``d`` between grid values, then Brent; a jump of ``d``, where a manifold passes another
 saddle, is no root and is refused by the size of ``|d|`` at the root).
@@ -29,7 +33,7 @@ from scipy.optimize import brentq
 from numerics.cycles.manifolds import connection_gap
 from numerics.errors import ConvergenceError
 
-__all__ = ["Loop", "GAP_TOL", "gap_function", "scan"]
+__all__ = ["Loop", "GAP_TOL", "gap_function", "scan", "saddle_quantity", "saddle_change"]
 
 #: every point of a true homoclinic curve has the manifolds' gap below this
 GAP_TOL = 1e-10
@@ -175,6 +179,60 @@ def saddle_quantity(kit, loop: Loop):
         _, lu, ls = _saddle(acc, fx, fv, loop.x_from)
         return lu + ls
     return sigma
+
+
+def saddle_change(kit, loop: Loop, z, L: float, *, scale=(1.0, 1.0),
+                  max_iter: int = 30) -> dict | None:
+    """The saddle change at the end ``z`` of the homoclinic curve of ``loop``, located.
+
+    The loop of ``x_1`` (leaving towards ``leave``) changes the saddles it visits where its
+    unstable manifold reaches the next saddle ``x_2`` on that side: there ``x_1 -> x_2``
+    (leaving ``x_1`` towards ``leave``) and ``x_2 -> x_1`` (leaving ``x_2`` back) are both
+    connections, a heteroclinic cycle, codim 2 in the plane (Kuznetsov, *Elements of
+    Applied Bifurcation Theory*, sec. 6.4, saddle connections of planar flows).  The point
+    is the zero of both legs' :func:`section_gap`, by Newton in ``(a, b)`` from ``z`` (central
+    differences, step ``1e-6`` of ``scale``), for the nearest saddles on that side first.
+    Returns ``{"point", "saddles", "gaps", "newton_step"}`` with both gaps at most
+    :data:`GAP_TOL` and the last step at most ``1e-9`` (scaled), or ``None``.
+    """
+    if not loop.homoclinic:
+        return None
+    a, b = float(z[0]), float(z[1])
+    x1, side = loop.x_from, loop.leave
+    others = sorted((x for x, kind in kit.equilibria(a, b, L)
+                     if kind == "saddle" and (x - x1) * side > 1e-9), key=lambda x: abs(x - x1))
+    sc = np.asarray(scale, dtype=float)
+    for x2 in others[:2]:
+        legs = [Loop(x1, x2, side, -side, True), Loop(x2, x1, -side, side, True)]
+        fns = [gap_function(kit, lp) for lp in legs]
+
+        def H(w, fns=fns):
+            return np.array([float(fn(w)[0]) for fn in fns])
+        w = np.array([a, b])
+        try:
+            for _ in range(max_iter):
+                h = H(w)
+                J = np.empty((2, 2))
+                for k in range(2):
+                    e = np.zeros(2)
+                    e[k] = 1e-6 * sc[k]
+                    J[:, k] = (H(w + e) - H(w - e)) / (2 * e[k])
+                step = np.linalg.solve(J, -h)
+                w = w + step
+                for lp in legs:  # the saddles followed from the new point
+                    accept(kit, lp, w)
+                if np.max(np.abs(step / sc)) <= 1e-9:
+                    break
+            else:
+                continue
+            h = H(w)
+        except (*_FAIL, np.linalg.LinAlgError):
+            continue
+        if np.max(np.abs(h)) <= GAP_TOL:
+            return {"point": (float(w[0]), float(w[1])),
+                    "saddles": [legs[0].x_from, legs[0].x_to], "gaps": [float(v) for v in h],
+                    "newton_step": float(np.max(np.abs(step / sc)))}
+    return None
 
 
 def accept(kit, loop: Loop, z) -> Loop:

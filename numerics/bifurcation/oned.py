@@ -12,7 +12,10 @@
   :mod:`numerics.bifurcation.averaged`), and the averaged folds;
 - **codim-2 points**: the test functions' zeros (Bogdanov–Takens, Bautin, cusp), the ends
   of homoclinic curves inside the box (on the fold of their saddle: ``saddle-node-loop``;
-  elsewhere: ``saddle-change``, the loop's manifold meets another saddle), the ends of fold
+  elsewhere ``saddle-change`` where the loop's manifold meets the next saddle, located as
+  the zero of both connections' gaps, :func:`numerics.bifurcation.connections.saddle_change`;
+  an end neither is ``connection-end``), the zeros of the saddle quantity along homoclinic
+  curves (``neutral-saddle-loop``), the ends of fold
   curves where the period diverges (``fold-homoclinic``).
 
 A seed already on a curve found is skipped.  The paths are kept by a
@@ -172,15 +175,43 @@ def _homoclinic_curves(run: Run, sn_curves) -> None:
         for end, p in ((ends[0], pts[0]), (ends[1], pts[-1])):
             if end in ("bounds", "interrupted", "max_points"):
                 continue
-            on_sn = any(near(run, p.z, c) for c in sn_curves())
-            run.add_codim2("saddle-node-loop" if on_sn else "saddle-change", tuple(p.z), {
-                "on": "homoclinic", "label": label, "gap": p.residual})
+            if any(near(run, p.z, c) for c in sn_curves()):
+                run.add_codim2("saddle-node-loop", tuple(p.z), {
+                    "on": "homoclinic", "label": label, "gap": p.residual})
+                continue
+            _saddle_change(run, loop0, label, p)
         for ev in events:  # located to convergence on the curve: a fold of cycles ends here
             run.add_codim2("neutral-saddle-loop", tuple(ev.z), {
                 "on": "homoclinic", "label": label, "saddle_quantity": ev.value,
                 "gap": ev.residual})
         if run.interrupted:  # the points so far are kept above
             return
+
+
+def _saddle_change(run: Run, loop0, label: str, p) -> None:
+    """The end ``p`` of a homoclinic curve away from a fold: the saddle change located
+    (:func:`numerics.bifurcation.connections.saddle_change`, both legs' gaps at most
+    ``GAP_TOL``) within 5 % of the box from ``p``, else an unnamed ``connection-end``."""
+    loop = loop0.copy()
+    found = None
+    try:
+        C.accept(run.kit, loop, p.z)
+        found = C.saddle_change(run.kit, loop, p.z, run.s.L, scale=run.scale)
+    except C._FAIL:
+        pass
+    last = [float(v) for v in p.z]
+    if found is not None and np.linalg.norm(
+            (np.asarray(found["point"]) - p.z) / run.scale) < 0.05:
+        run.add_codim2("saddle-change", found["point"], {
+            "on": "homoclinic", "label": label, "gap": max(abs(g) for g in found["gaps"]),
+            "saddles": found["saddles"], "gaps": found["gaps"], "last_curve_point": last,
+            "note": "the heteroclinic cycle of the saddles located (both connections' "
+            "section gaps zero); last_curve_point: the homoclinic curve's last point"})
+        return
+    run.add_codim2("connection-end", tuple(p.z), {
+        "on": "homoclinic", "label": label, "gap": p.residual,
+        "note": "the curve's end inside the box, on no fold and at no located saddle "
+        "change"})
 
 
 def autonomous_diagram(model, params: Mapping, axes: tuple[str, str], ranges: Mapping, *,

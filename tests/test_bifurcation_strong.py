@@ -1,12 +1,14 @@
 """Strong resonances on the true Neimark-Sacker curve of the forced van der Pol oscillator
 (issue 38), each checked by an independent Floquet computation.
 
-``x'' + x = mu ((1 - x^2) x' + h cos nu t)``, ``nu = 1 + mu sigma``, ``mu = 0.1``: the
+``x'' + x = mu ((1 - x^2) x' + h cos nu t)``, ``nu = 1 + mu sigma``, ``mu = 0.1``: each
 Neimark-Sacker curve of the drive-period response, continued in ``(sigma, h)`` from its
-Bogdanov-Takens end (``sigma ~ -0.25``, ``h ~ 0.98``), carries multipliers
-``e^{+-i theta}`` whose angle grows from 0 with ``|sigma|``.  The code locates the 1:4 and
-1:3 strong resonances as the zeros of ``tr Phi`` and ``tr Phi + 1`` (Kuznetsov, *Elements
-of Applied Bifurcation Theory*, 3rd ed., sec. 9.5: ``theta = pi/2, 2 pi/3``).  At each
+Bogdanov-Takens end (``(-0.2516, 0.9811)`` and ``(0.2485, 1.0186)``), carries multipliers
+``e^{+-i theta}`` whose angle grows from 0 with ``|sigma|``: 1:4 at
+``(-2.01387, 5.14863)`` and ``(3.34402, 11.08408)``, 1:3 at ``(-2.51071, 6.22727)``.
+The code locates the 1:4 and 1:3 strong resonances as the zeros of ``tr Phi`` and
+``tr Phi + 1`` (Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., sec. 9.5:
+``theta = pi/2, 2 pi/3``).  At each
 located point the test finds the response again by Newton's method on the stroboscopic
 map and its monodromy from the variational equations ``Phi' = A(t) Phi`` written here,
 integrated by scipy's DOP853 (rtol 1e-12): a second method, sharing nothing with the
@@ -62,24 +64,29 @@ def _floquet(y0, sigma, h):
 
 
 @pytest.fixture(scope="module")
-def ns_curve():
-    """The Neimark-Sacker curve from its seed on the response curve at h = 1.2, sigma < 0."""
+def ns_curves():
+    """Both Neimark-Sacker curves, from their seeds on the response curve at h = 1.2 (the
+    side of each: the sign of sigma)."""
     prob = DrivenProblem("vdp-forced", {"mu": MU}, ("sigma", "h"))
     seeds = [s for s in forced_seeds(prob, (-1.5, 1.5), [1.2]) if s[0] == "neimark-sacker"]
-    seed = min(seeds, key=lambda s: s[1][2])
-    tasks, _, points = forced_true_curves(prob, RANGES, [seed], ds=0.05, max_points=200)
-    events = {ev.name: ev for t in tasks for path in t.paths for ev in path.events}
-    return prob, events, {p.kind: p.point for p in points}
+    out = {}
+    for seed in seeds:
+        tasks, _, points = forced_true_curves(prob, RANGES, [seed], ds=0.05, max_points=200)
+        events = {ev.name: ev for t in tasks for path in t.paths for ev in path.events}
+        out[int(np.sign(seed[1][2]))] = (events, {p.kind: p.point for p in points})
+    return out
 
 
-@pytest.mark.parametrize("kind, theta", [("1:4 resonance", math.pi / 2),
-                                         ("1:3 resonance", 2 * math.pi / 3)])
-def test_forced_vdp_strong_resonance_against_scipy_floquet(ns_curve, kind, theta):
+@pytest.mark.parametrize("side, kind, theta", [(-1, "1:4 resonance", math.pi / 2),
+                                               (-1, "1:3 resonance", 2 * math.pi / 3),
+                                               (1, "1:4 resonance", math.pi / 2)])
+def test_forced_vdp_strong_resonance_against_scipy_floquet(ns_curves, side, kind, theta):
     """The located 1:4 (1:3) point: scipy's multipliers are e^{+-i pi/2} (e^{+-2 pi i/3})
     to 1e-6 (Kuznetsov sec. 9.5), and the point is named in the codim-2 list."""
-    _, events, named = ns_curve
+    events, named = ns_curves[side]
     ev = events[kind]
     x0, v0, sigma, h = ev.z
+    assert side * sigma > 0
     assert named[kind] == pytest.approx((sigma, h), abs=1e-12)
     lam = _floquet((x0, v0), sigma, h)
     assert np.max(np.abs(np.abs(lam) - 1.0)) <= 1e-6
@@ -87,11 +94,15 @@ def test_forced_vdp_strong_resonance_against_scipy_floquet(ns_curve, kind, theta
     assert lam[0].imag * lam[1].imag < 0
 
 
-def test_forced_vdp_rotation_angle_grows_to_the_resonances(ns_curve):
-    """Along the curve the angle arccos(tr Phi/2) rises from the Bogdanov-Takens end
-    (theta = 0, tr Phi = 2) through pi/2 and 2 pi/3: the 1:4 point lies between the
-    Bogdanov-Takens point and the 1:3 point, farther from the origin in sigma."""
-    _, _, named = ns_curve
-    bt, r4, r3 = (named[k] for k in ("bogdanov-takens", "1:4 resonance", "1:3 resonance"))
-    assert abs(bt[0]) < abs(r4[0]) < abs(r3[0])
-    assert bt[1] < r4[1] < r3[1]
+def test_forced_vdp_rotation_angle_grows_to_the_resonances(ns_curves):
+    """Along each curve the angle arccos(tr Phi/2) rises from the Bogdanov-Takens end
+    (theta = 0, tr Phi = 2) with |sigma| and h: the 1:4 point lies beyond the
+    Bogdanov-Takens point, and on sigma < 0 the 1:3 point beyond the 1:4 one.  The true
+    curves are not mirror images (nu = 1 + mu sigma): the angle grows faster for sigma < 0,
+    where the drive is slower than the free oscillation."""
+    (ev_m, m), (ev_p, p) = ns_curves[-1], ns_curves[1]
+    assert abs(m["bogdanov-takens"][0]) < abs(m["1:4 resonance"][0]) < abs(m["1:3 resonance"][0])
+    assert m["bogdanov-takens"][1] < m["1:4 resonance"][1] < m["1:3 resonance"][1]
+    assert abs(p["bogdanov-takens"][0]) < abs(p["1:4 resonance"][0])
+    assert p["bogdanov-takens"][1] < p["1:4 resonance"][1]
+    assert abs(m["1:4 resonance"][0]) < abs(p["1:4 resonance"][0])

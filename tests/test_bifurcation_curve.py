@@ -106,3 +106,14 @@ def test_result_json_contract(tmp_path):
         Curve("fold", [], "exact")
     out = d.plot(tmp_path)
     assert out.name == "diagram-m.png" and out.stat().st_size > 1000
+
+
+def test_a_step_across_two_edges_ends_on_the_edge_crossed_first():
+    """The line ``p2 = 2 p1`` leaves the box ``[0, 0.6] x [0, 1]`` through ``p2 = 1`` at
+    ``p1 = 0.5`` (it would reach ``p1 = 0.6`` only at ``p2 = 1.2``): a step large enough to
+    cross both edges at once ends exactly at ``(0.5, 1)``, inside the box."""
+    path = continue_curve(lambda z: np.array([z[1] - 2.0 * z[0]]), [0.35, 0.7],
+                          tangent=[1, 2], ds=1.0, ds_max=1.0, bounds={0: (0, 0.6), 1: (0, 1)})
+    end = path.points[-1].z
+    assert path.end == "bounds", path.message
+    assert abs(end[0] - 0.5) < 1e-12 and end[1] == 1.0

@@ -274,7 +274,7 @@ def continue_curve(G: Callable, z0, *, jac: Callable | None = None, tangent=None
             except FAILURES:
                 step *= 0.5
                 continue
-            edge = _outside(w, wbounds)
+            edge = _outside(w, wbounds, last.z)
             if edge is not None:
                 i, value = edge
                 row = np.zeros_like(w)
@@ -343,13 +343,22 @@ def _scaled_test(fn, sc):
     return lambda w, t: fn(w * sc, t * sc)
 
 
-def _outside(z, bounds):
+def _outside(z, bounds, prev=None):
+    """The box edge ``(index, value)`` that ``z`` lies beyond, or ``None``; with the last
+    point ``prev``, of the edges crossed the one the secant ``prev -> z`` crosses first (a
+    step across two edges ends on the nearer, not on the lower-numbered)."""
+    crossed = []
     for i, (lo, hi) in sorted(bounds.items()):
-        if z[i] < lo:
-            return i, float(lo)
-        if z[i] > hi:
-            return i, float(hi)
-    return None
+        value = lo if z[i] < lo else hi if z[i] > hi else None
+        if value is None:
+            continue
+        span = z[i] - prev[i] if prev is not None else 0.0
+        frac = (value - prev[i]) / span if prev is not None and span != 0 else 0.0
+        crossed.append((frac, i, float(value)))
+    if not crossed:
+        return None
+    _, i, value = min(crossed)
+    return i, value
 
 
 def _next_step(step: float, k: int, ds_max: float) -> float:

@@ -42,6 +42,7 @@ import scipy.sparse as sps
 from kbm.conservative import split_conservative
 from kbm.errors import ModelError, ParameterError
 
+from ._blocks import BlockTridiagonalLU, one_blas_thread
 from .kramers import _linear_temperature, kramers_operator, velocity_terms
 
 __all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder"]
@@ -112,7 +113,7 @@ def next_wells(g, saddles) -> tuple:
     return tuple(out)
 
 
-def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width):
+def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width, solver="block"):
     """The smallest decay rate of the Kramers operator with the sink ``kappa(x) = kappa0 [1 +
     tanh((|x| - |x_w|)/width)]/2`` centred on the next wells' bottoms ``wells``."""
     import scipy.sparse.linalg as spla
@@ -127,9 +128,14 @@ def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width):
     keep[ends] = 0.0
     C = sps.csr_matrix((np.ones(ends.size), (ends, ends)), shape=A.shape)
     B = sps.diags(keep).tocsc()
-    lu = spla.splu((sps.diags(keep) @ A + C).tocsc())
-    op = spla.LinearOperator(A.shape, matvec=lambda v: lu.solve(B @ v), dtype=float)
-    theta = spla.eigs(op, k=3, which="LM", return_eigenvectors=False, tol=1e-12)
+    M = sps.diags(keep) @ A + C
+    with one_blas_thread():
+        if solver == "block":  # block tridiagonal in the Hermite index (._blocks)
+            lu = BlockTridiagonalLU(M, m)
+        else:
+            lu = spla.splu(M.tocsc())
+        op = spla.LinearOperator(A.shape, matvec=lambda v: lu.solve(B @ v), dtype=float)
+        theta = spla.eigs(op, k=3, which="LM", return_eigenvectors=False, tol=1e-12)
     lam = 1.0 / theta
     lam = lam[np.argsort(np.abs(lam))]
     return float(-lam[0].real)

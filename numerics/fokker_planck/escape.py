@@ -7,7 +7,8 @@ At the bottoms ``x_wl < x_l < 0 < x_r < x_wr`` of the next wells beyond the sadd
 a particle arriving at the bottom's speed ``sqrt(2 (E_b - G(x_w)))`` within ``w``.  The
 population of the well then decays as ``exp(-r t)`` with ``r`` the smallest eigenvalue of
 ``-(L - kappa)`` (shift-invert Arnoldi on the sparse Hermite-Chebyshev matrix, its
-constrained rows a zero block of the mass matrix; Hanggi, Talkner and Borkovec, Rev. Mod.
+constrained rows a zero block of the mass matrix, each solve by the matrix's block LU in
+the Hermite index, :mod:`._blocks`; Hanggi, Talkner and Borkovec, Rev. Mod.
 Phys. 62 (1990) 251, sec. II.C: the rate as the lowest nonvanishing eigenvalue).  This is
 the rate of transitions to the next wells (flux over population): what Kramers' and
 Mel'nikov-Meshkov's formulas describe, and the rate of simulated first passages to the
@@ -183,9 +184,9 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
     tol, max_hermite, max_cheb : float, int, int
         Relative change of the rate at which the ladders stop, and their tops.
     max_cost : float
-        Largest ``n_hermite * n_cheb^2`` solved (the sparse LU's fill: 1024 x 193 ran out
-        of memory, 724 x 193 took 50-95 s on a loaded machine); the Chebyshev check runs
-        at the largest truncation within it.
+        Largest ``n_hermite * n_cheb^2`` solved (the block LU keeps ``3 n_hermite
+        n_cheb^2`` numbers, 720 MB at 3e7; SuperLU, used before, ran out of memory at
+        1024 x 193); the Chebyshev check runs at the largest truncation within it.
 
     Returns
     -------

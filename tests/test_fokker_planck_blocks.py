@@ -14,8 +14,9 @@ from hypothesis import given, settings, strategies as st
 
 from kbm.conservative import split_conservative
 from numerics.fokker_planck import kramers_operator
-from numerics.fokker_planck._blocks import (BlockTridiagonalLU, _openblas_handles,
+from numerics.fokker_planck._blocks import (BlockTridiagonalLU, TermBlocks, _openblas_handles,
                                             hermite_bandwidth, one_blas_thread)
+from numerics.fokker_planck.kramers import kramers_terms
 from numerics.fokker_planck.escape import _slowest, next_wells
 
 PARAMS = {"Delta": 2, "lam": 1.3, "Omega": 1}
@@ -66,6 +67,29 @@ def test_hermite_bandwidth_of_the_kramers_operator():
     assert hermite_bandwidth(A, xs.size) == 1
     A2, _, _ = kramers_operator(split, D, 1.3 * math.sqrt(D / mu), 3.0, 12, 24)
     assert hermite_bandwidth(A2, xs.size) == 2
+    for s, b in ((math.sqrt(D / mu), 1), (1.3 * math.sqrt(D / mu), 2)):
+        terms, _, _ = kramers_terms(split, D, s, 3.0, 12, 24)
+        assert TermBlocks(terms, xs.size).bandwidth() == b
+
+
+def test_term_blocks_assemble_the_sparse_matrix():
+    """The blocks assembled from the terms are the sparse operator's, with the sink on the
+    diagonal and the pinned rows identity rows (the escape matrix of escape._slowest)."""
+    split = split_conservative("cdc", dict(PARAMS, mu=0.3))
+    A, xs, _ = kramers_operator(split, 0.045, 0.4, 3.0, 7, 10)
+    m, n = xs.size, 7
+    kappa = np.linspace(0.0, 2.0, m)
+    ends = np.concatenate([[k * m, k * m + m - 1] for k in range(2, n)])
+    keep = np.ones(n * m)
+    keep[ends] = 0.0
+    ref = (sps.diags(keep) @ (A - sps.kron(sps.identity(n), sps.diags(kappa)))
+           + sps.csr_matrix((np.ones(ends.size), (ends, ends)), shape=A.shape)).toarray()
+    terms, _, _ = kramers_terms(split, 0.045, 0.4, 3.0, 7, 10)
+    blocks = TermBlocks(terms, m, kappa, (0, m - 1))
+    for n0, n1, k0, k1 in ((0, 7, 0, 7), (2, 4, 0, 3), (5, 7, 1, 6)):
+        got = blocks.block(n0, n1, k0, k1)
+        np.testing.assert_allclose(got, ref[n0 * m:n1 * m, k0 * m:k1 * m], rtol=0,
+                                   atol=1e-13 * np.max(np.abs(ref)))
 
 
 def test_escape_rate_independent_of_the_factorisation():

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sps
 
-__all__ = ["BlockTridiagonalLU", "hermite_bandwidth", "one_blas_thread"]
+__all__ = ["BlockTridiagonalLU", "TermBlocks", "hermite_bandwidth", "one_blas_thread"]
 
 _PREFIXES = ("scipy_openblas", "openblas")
 
@@ -87,15 +87,82 @@ def hermite_bandwidth(A, m: int, rtol: float = 1e-14) -> int:
     return int(np.max(np.abs(coo.row[big] // m - coo.col[big] // m)))
 
 
+class TermBlocks:
+    """The blocks of ``sum_j kron(H_j, X_j)`` (:func:`..kramers.kramers_terms`), assembled
+    on demand, with the escape's changes: ``shift`` subtracted on the diagonal and the
+    rows ``pinned`` (positions within each Hermite order ``>= first_pinned``) replaced by
+    identity rows.
+
+    Parameters
+    ----------
+    terms : list of (scipy.sparse matrix, numpy.ndarray)
+    m : int
+        Chebyshev points.
+    shift : numpy.ndarray, optional
+        Length ``m``.
+    pinned : sequence of int
+    first_pinned : int
+    """
+
+    def __init__(self, terms, m: int, shift=None, pinned=(), first_pinned: int = 2):
+        self.terms = [(sps.csr_matrix(H), np.asarray(X, float)) for H, X in terms]
+        self.m = m
+        self.n_orders = self.terms[0][0].shape[0]
+        self.shift = None if shift is None else np.asarray(shift, float)
+        self.pinned = np.asarray(pinned, int)
+        self.first_pinned = int(first_pinned)
+
+    def block(self, n0: int, n1: int, k0: int, k1: int) -> np.ndarray:
+        """The dense block of Hermite orders ``n0 <= n < n1`` by ``k0 <= k < k1``."""
+        m = self.m
+        out = np.zeros(((n1 - n0) * m, (k1 - k0) * m))
+        diag = np.arange(m)
+        for H, X in self.terms:
+            sub = sps.coo_matrix(H[n0:n1, k0:k1])
+            for i, j, v in zip(sub.row, sub.col, sub.data):
+                if X.ndim == 2:
+                    out[i * m:(i + 1) * m, j * m:(j + 1) * m] += v * X
+                else:
+                    out[i * m + diag, j * m + diag] += v * X
+        for n in range(max(n0, k0), min(n1, k1)):
+            r, c = (n - n0) * m, (n - k0) * m
+            if self.shift is not None:
+                out[r + diag, c + diag] -= self.shift
+            if n >= self.first_pinned and self.pinned.size:
+                out[r + self.pinned, :] = 0.0
+                out[r + self.pinned, c + self.pinned] = 1.0
+        for n in range(n0, n1):  # pinned rows are zero off the diagonal block
+            if n >= self.first_pinned and self.pinned.size and not k0 <= n < k1:
+                out[(n - n0) * m + self.pinned, :] = 0.0
+        return out
+
+    def bandwidth(self, rtol: float = 1e-14) -> int:
+        """:func:`hermite_bandwidth` of the assembled matrix, from the order pairs that
+        the terms couple beyond ``n +- 1`` (cancellations to round-off ignored)."""
+        pairs = set()
+        for H, _ in self.terms:
+            coo = sps.coo_matrix(H)
+            pairs |= {(int(i), int(j)) for i, j in zip(coo.row, coo.col) if abs(i - j) > 1}
+        big = max(float(np.max(np.abs(X))) * float(np.max(np.abs(H.data), initial=0.0))
+                  for H, X in self.terms)
+        b = 1
+        for i, j in sorted(pairs):
+            if abs(i - j) > b and np.max(np.abs(self.block(i, i + 1, j, j + 1))) > rtol * big:
+                b = abs(i - j)
+        return b
+
+
 class BlockTridiagonalLU:
     """The block LU factors of a matrix that is block tridiagonal in groups of ``b``
     Hermite orders (``m`` rows each).
 
     Parameters
     ----------
-    A : scipy.sparse matrix
+    A : scipy.sparse matrix or TermBlocks
         Square, of size ``N m``, with Hermite bandwidth ``<= b``; entries farther from the
-        diagonal (round-off, :func:`hermite_bandwidth`) are left out.
+        diagonal (round-off, :func:`hermite_bandwidth`) are left out.  A
+        :class:`TermBlocks` is assembled block by block (no global sparse matrix: its
+        dense Chebyshev blocks were most of the memory).
     m : int
         Rows per Hermite order (the Chebyshev points).
     b : int, optional
@@ -110,26 +177,36 @@ class BlockTridiagonalLU:
     def __init__(self, A, m: int, b: int | None = None):
         from scipy.linalg import lu_factor
 
-        A = sps.csr_matrix(A)
-        size = A.shape[0]
-        b = max(1, hermite_bandwidth(A, m) if b is None else int(b))
+        if isinstance(A, TermBlocks):
+            size = A.n_orders * m
+            b = max(1, A.bandwidth() if b is None else int(b))
+
+            def get(r0, r1, c0, c1):
+                return A.block(r0 // m, r1 // m, c0 // m, c1 // m)
+        else:
+            A = sps.csr_matrix(A)
+            size = A.shape[0]
+            b = max(1, hermite_bandwidth(A, m) if b is None else int(b))
+
+            def get(r0, r1, c0, c1):
+                return A[r0:r1, c0:c1].toarray()
         edges = list(range(0, size, b * m)) + [size]
         # eliminated from the highest Hermite orders down (their blocks carry the damping
         # -n gamma; the n = 0 block has none): the spans in elimination order
         self.spans = [(edges[k], edges[k + 1]) for k in range(len(edges) - 1)][::-1]
-        self.shape = A.shape
+        self.shape = (size, size)
         self._lower, self._upper, self._lu = [], [], []
         prev_lu = None
         for k, (r0, r1) in enumerate(self.spans):
-            S = A[r0:r1, r0:r1].toarray()
+            S = get(r0, r1, r0, r1)
             if k > 0:
                 q0, q1 = self.spans[k - 1]
-                Lk = A[r0:r1, q0:q1].toarray()
+                Lk = get(r0, r1, q0, q1)
                 S -= Lk @ self._solve_block(prev_lu, self._upper[-1])
                 self._lower.append(Lk)
             if k < len(self.spans) - 1:
                 q0, q1 = self.spans[k + 1]
-                self._upper.append(A[r0:r1, q0:q1].toarray())
+                self._upper.append(get(r0, r1, q0, q1))
             prev_lu = lu_factor(S, check_finite=False)
             if not np.all(np.isfinite(prev_lu[0])) or np.min(np.abs(np.diag(prev_lu[0]))) == 0:
                 raise np.linalg.LinAlgError("a singular Schur complement in the block LU")

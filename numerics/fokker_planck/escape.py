@@ -43,8 +43,8 @@ import scipy.sparse as sps
 from kbm.conservative import split_conservative
 from kbm.errors import ModelError, ParameterError
 
-from ._blocks import BlockTridiagonalLU, one_blas_thread
-from .kramers import _linear_temperature, kramers_operator, velocity_terms
+from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
+from .kramers import _linear_temperature, kramers_operator, kramers_terms, velocity_terms
 
 __all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder"]
 
@@ -119,23 +119,23 @@ def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width, solver="block"
     tanh((|x| - |x_w|)/width)]/2`` centred on the next wells' bottoms ``wells``."""
     import scipy.sparse.linalg as spla
 
-    A, xs, _ = kramers_operator(split, D, sigma, half, nh, nc)
+    terms, xs, _ = kramers_terms(split, D, sigma, half, nh, nc)
     m = xs.size
     edge = np.where(xs > 0, wells[1], -wells[0])
     kappa = kappa0 * 0.5 * (1 + np.tanh((np.abs(xs) - edge) / width))
-    A = A - sps.kron(sps.identity(nh), sps.diags(kappa))
     keep = np.ones(nh * m)
     ends = np.concatenate([[k * m, k * m + m - 1] for k in range(2, nh)])
     keep[ends] = 0.0
-    C = sps.csr_matrix((np.ones(ends.size), (ends, ends)), shape=A.shape)
-    B = sps.diags(keep).tocsc()
-    M = sps.diags(keep) @ A + C
     with one_blas_thread():
         if solver == "block":  # block tridiagonal in the Hermite index (._blocks)
-            lu = BlockTridiagonalLU(M, m)
+            lu = BlockTridiagonalLU(TermBlocks(terms, m, kappa, (0, m - 1)), m)
         else:
-            lu = spla.splu(M.tocsc())
-        op = spla.LinearOperator(A.shape, matvec=lambda v: lu.solve(B @ v), dtype=float)
+            A = kramers_operator(split, D, sigma, half, nh, nc)[0]
+            A = A - sps.kron(sps.identity(nh), sps.diags(kappa))
+            C = sps.csr_matrix((np.ones(ends.size), (ends, ends)), shape=A.shape)
+            lu = spla.splu((sps.diags(keep) @ A + C).tocsc())
+        op = spla.LinearOperator((nh * m, nh * m), matvec=lambda v: lu.solve(keep * v),
+                                 dtype=float)
         theta = spla.eigs(op, k=3, which="LM", return_eigenvectors=False, tol=1e-12)
     lam = 1.0 / theta
     lam = lam[np.argsort(np.abs(lam))]

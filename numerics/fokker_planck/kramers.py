@@ -45,7 +45,8 @@ from kbm.symbols import x as X, xdot as V
 
 from ._bases import band_masses, cheb, clenshaw_curtis, hermite_matrices
 
-__all__ = ["KramersSolution", "kramers_operator", "stationary_kramers", "velocity_terms"]
+__all__ = ["KramersSolution", "kramers_operator", "kramers_terms", "stationary_kramers",
+           "velocity_terms"]
 
 
 def velocity_terms(split: ConservativeSplit) -> list:
@@ -205,6 +206,25 @@ def kramers_operator(split: ConservativeSplit, D: float, sigma: float, L: float,
     -------
     (scipy.sparse.csr_matrix, numpy.ndarray, numpy.ndarray)
     """
+    terms, xs, w = kramers_terms(split, D, sigma, L, n_hermite, n_cheb)
+    ops = [sps.kron(H, sps.csr_matrix(X) if X.ndim == 2 else sps.diags(X))
+           for H, X in terms]
+    A = ops[0]
+    for op in ops[1:]:
+        A = A + op
+    return A.tocsr(), xs, w
+
+
+def kramers_terms(split: ConservativeSplit, D: float, sigma: float, L: float,
+                  n_hermite: int, n_cheb: int):
+    """The Kramers operator as ``sum_j kron(H_j, X_j)``: ``H_j`` sparse in the Hermite
+    index, ``X_j`` the dense Chebyshev differentiation matrix or (1-D) a diagonal.
+
+    Returns
+    -------
+    (list of (scipy.sparse.csr_matrix, numpy.ndarray), numpy.ndarray, numpy.ndarray)
+        The terms, the points and the Clenshaw-Curtis weights.
+    """
     terms = velocity_terms(split)
     kmax = max([k for k, _ in terms], default=1)
     xs, Dx = cheb(n_cheb, L)
@@ -215,18 +235,14 @@ def kramers_operator(split: ConservativeSplit, D: float, sigma: float, L: float,
     def cut(M):
         return sps.csr_matrix(M[:N, :N])
 
-    ops = [sps.kron(cut(-sigma * U), sps.csr_matrix(Dx)),
-           sps.kron(cut(Du / sigma), sps.diags(np.asarray(g(xs), float))),
-           sps.kron(cut(Du @ Du * (D / sigma**2)), sps.identity(xs.size))]
+    out = [(cut(-sigma * U), Dx), (cut(Du / sigma), np.asarray(g(xs), float)),
+           (cut(Du @ Du * (D / sigma**2)), np.ones(xs.size))]
     for k, a in terms:
         Uk = sps.identity(N + kmax + 2, format="csr")
         for _ in range(k):
             Uk = U @ Uk
-        ops.append(sps.kron(cut(-(sigma ** (k - 1)) * (Du @ Uk)), sps.diags(a(xs))))
-    A = ops[0]
-    for op in ops[1:]:
-        A = A + op
-    return A.tocsr(), xs, clenshaw_curtis(n_cheb, L)
+        out.append((cut(-(sigma ** (k - 1)) * (Du @ Uk)), np.asarray(a(xs), float)))
+    return out, xs, clenshaw_curtis(n_cheb, L)
 
 
 def _half_width(G, scale: float, span: float = 45.0) -> float:

@@ -18,7 +18,8 @@ exceeds 45 above its minimum).  Why this and not Risken's matrix continued fract
 * Chebyshev collocation converges exponentially for the analytic potentials and densities
   here, and the whole operator is a sparse matrix (block-banded in ``n``) that one sparse
   LU factorises in about a second; the same matrix gives the escape rate as its smallest
-  nonzero eigenvalue (shift-invert Arnoldi).
+  nonzero eigenvalue (shift-invert Arnoldi; there the matrix is factorised block by block in
+  the Hermite index, :mod:`._blocks`, the continued fraction's elimination in LU form).
 
 The stationary equation's ``n = 0`` block says that the current ``sigma c_1`` is constant;
 it is replaced by ``c_1 = 0`` (no current through the far ends, where the density is below
@@ -32,7 +33,9 @@ fixed-seed Langevin ensemble within its standard errors.
 
 from __future__ import annotations
 
+import functools
 import math
+import operator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -209,10 +212,7 @@ def kramers_operator(split: ConservativeSplit, D: float, sigma: float, L: float,
     terms, xs, w = kramers_terms(split, D, sigma, L, n_hermite, n_cheb)
     ops = [sps.kron(H, sps.csr_matrix(X) if X.ndim == 2 else sps.diags(X))
            for H, X in terms]
-    A = ops[0]
-    for op in ops[1:]:
-        A = A + op
-    return A.tocsr(), xs, w
+    return functools.reduce(operator.add, ops).tocsr(), xs, w
 
 
 def kramers_terms(split: ConservativeSplit, D: float, sigma: float, L: float,

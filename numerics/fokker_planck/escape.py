@@ -7,7 +7,8 @@ At the bottoms ``x_wl < x_l < 0 < x_r < x_wr`` of the next wells beyond the sadd
 a particle arriving at the bottom's speed ``sqrt(2 (E_b - G(x_w)))`` within ``w``.  The
 population of the well then decays as ``exp(-r t)`` with ``r`` the smallest eigenvalue of
 ``-(L - kappa)`` (shift-invert Arnoldi on the sparse Hermite-Chebyshev matrix, its
-constrained rows a zero block of the mass matrix; Hanggi, Talkner and Borkovec, Rev. Mod.
+constrained rows a zero block of the mass matrix, each solve by the matrix's block LU in
+the Hermite index, :mod:`._blocks`; Hanggi, Talkner and Borkovec, Rev. Mod.
 Phys. 62 (1990) 251, sec. II.C: the rate as the lowest nonvanishing eigenvalue).  This is
 the rate of transitions to the next wells (flux over population): what Kramers' and
 Mel'nikov-Meshkov's formulas describe, and the rate of simulated first passages to the
@@ -42,7 +43,8 @@ import scipy.sparse as sps
 from kbm.conservative import split_conservative
 from kbm.errors import ModelError, ParameterError
 
-from .kramers import _linear_temperature, kramers_operator, velocity_terms
+from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
+from .kramers import _linear_temperature, kramers_operator, kramers_terms, velocity_terms
 
 __all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder"]
 
@@ -112,24 +114,29 @@ def next_wells(g, saddles) -> tuple:
     return tuple(out)
 
 
-def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width):
+def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width, solver="block"):
     """The smallest decay rate of the Kramers operator with the sink ``kappa(x) = kappa0 [1 +
     tanh((|x| - |x_w|)/width)]/2`` centred on the next wells' bottoms ``wells``."""
     import scipy.sparse.linalg as spla
 
-    A, xs, _ = kramers_operator(split, D, sigma, half, nh, nc)
+    terms, xs, _ = kramers_terms(split, D, sigma, half, nh, nc)
     m = xs.size
     edge = np.where(xs > 0, wells[1], -wells[0])
     kappa = kappa0 * 0.5 * (1 + np.tanh((np.abs(xs) - edge) / width))
-    A = A - sps.kron(sps.identity(nh), sps.diags(kappa))
     keep = np.ones(nh * m)
     ends = np.concatenate([[k * m, k * m + m - 1] for k in range(2, nh)])
     keep[ends] = 0.0
-    C = sps.csr_matrix((np.ones(ends.size), (ends, ends)), shape=A.shape)
-    B = sps.diags(keep).tocsc()
-    lu = spla.splu((sps.diags(keep) @ A + C).tocsc())
-    op = spla.LinearOperator(A.shape, matvec=lambda v: lu.solve(B @ v), dtype=float)
-    theta = spla.eigs(op, k=3, which="LM", return_eigenvectors=False, tol=1e-12)
+    with one_blas_thread():
+        if solver == "block":  # block tridiagonal in the Hermite index (._blocks)
+            lu = BlockTridiagonalLU(TermBlocks(terms, m, kappa, (0, m - 1)), m)
+        else:
+            A = kramers_operator(split, D, sigma, half, nh, nc)[0]
+            A = A - sps.kron(sps.identity(nh), sps.diags(kappa))
+            C = sps.csr_matrix((np.ones(ends.size), (ends, ends)), shape=A.shape)
+            lu = spla.splu((sps.diags(keep) @ A + C).tocsc())
+        op = spla.LinearOperator((nh * m, nh * m), matvec=lambda v: lu.solve(keep * v),
+                                 dtype=float)
+        theta = spla.eigs(op, k=3, which="LM", return_eigenvectors=False, tol=1e-12)
     lam = 1.0 / theta
     lam = lam[np.argsort(np.abs(lam))]
     return float(-lam[0].real)
@@ -177,9 +184,9 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
     tol, max_hermite, max_cheb : float, int, int
         Relative change of the rate at which the ladders stop, and their tops.
     max_cost : float
-        Largest ``n_hermite * n_cheb^2`` solved (the sparse LU's fill: 1024 x 193 ran out
-        of memory, 724 x 193 took 50-95 s on a loaded machine); the Chebyshev check runs
-        at the largest truncation within it.
+        Largest ``n_hermite * n_cheb^2`` solved (the block LU keeps ``3 n_hermite
+        n_cheb^2`` numbers, 720 MB at 3e7; SuperLU, used before, ran out of memory at
+        1024 x 193); the Chebyshev check runs at the largest truncation within it.
 
     Returns
     -------

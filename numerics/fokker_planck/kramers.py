@@ -18,7 +18,8 @@ exceeds 45 above its minimum).  Why this and not Risken's matrix continued fract
 * Chebyshev collocation converges exponentially for the analytic potentials and densities
   here, and the whole operator is a sparse matrix (block-banded in ``n``) that one sparse
   LU factorises in about a second; the same matrix gives the escape rate as its smallest
-  nonzero eigenvalue (shift-invert Arnoldi).
+  nonzero eigenvalue (shift-invert Arnoldi; there the matrix is factorised block by block in
+  the Hermite index, :mod:`._blocks`, the continued fraction's elimination in LU form).
 
 The stationary equation's ``n = 0`` block says that the current ``sigma c_1`` is constant;
 it is replaced by ``c_1 = 0`` (no current through the far ends, where the density is below
@@ -32,7 +33,9 @@ fixed-seed Langevin ensemble within its standard errors.
 
 from __future__ import annotations
 
+import functools
 import math
+import operator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -45,7 +48,8 @@ from kbm.symbols import x as X, xdot as V
 
 from ._bases import band_masses, cheb, clenshaw_curtis, hermite_matrices
 
-__all__ = ["KramersSolution", "kramers_operator", "stationary_kramers", "velocity_terms"]
+__all__ = ["KramersSolution", "kramers_operator", "kramers_terms", "stationary_kramers",
+           "velocity_terms"]
 
 
 def velocity_terms(split: ConservativeSplit) -> list:
@@ -205,6 +209,22 @@ def kramers_operator(split: ConservativeSplit, D: float, sigma: float, L: float,
     -------
     (scipy.sparse.csr_matrix, numpy.ndarray, numpy.ndarray)
     """
+    terms, xs, w = kramers_terms(split, D, sigma, L, n_hermite, n_cheb)
+    ops = [sps.kron(H, sps.csr_matrix(X) if X.ndim == 2 else sps.diags(X))
+           for H, X in terms]
+    return functools.reduce(operator.add, ops).tocsr(), xs, w
+
+
+def kramers_terms(split: ConservativeSplit, D: float, sigma: float, L: float,
+                  n_hermite: int, n_cheb: int):
+    """The Kramers operator as ``sum_j kron(H_j, X_j)``: ``H_j`` sparse in the Hermite
+    index, ``X_j`` the dense Chebyshev differentiation matrix or (1-D) a diagonal.
+
+    Returns
+    -------
+    (list of (scipy.sparse.csr_matrix, numpy.ndarray), numpy.ndarray, numpy.ndarray)
+        The terms, the points and the Clenshaw-Curtis weights.
+    """
     terms = velocity_terms(split)
     kmax = max([k for k, _ in terms], default=1)
     xs, Dx = cheb(n_cheb, L)
@@ -215,18 +235,14 @@ def kramers_operator(split: ConservativeSplit, D: float, sigma: float, L: float,
     def cut(M):
         return sps.csr_matrix(M[:N, :N])
 
-    ops = [sps.kron(cut(-sigma * U), sps.csr_matrix(Dx)),
-           sps.kron(cut(Du / sigma), sps.diags(np.asarray(g(xs), float))),
-           sps.kron(cut(Du @ Du * (D / sigma**2)), sps.identity(xs.size))]
+    out = [(cut(-sigma * U), Dx), (cut(Du / sigma), np.asarray(g(xs), float)),
+           (cut(Du @ Du * (D / sigma**2)), np.ones(xs.size))]
     for k, a in terms:
         Uk = sps.identity(N + kmax + 2, format="csr")
         for _ in range(k):
             Uk = U @ Uk
-        ops.append(sps.kron(cut(-(sigma ** (k - 1)) * (Du @ Uk)), sps.diags(a(xs))))
-    A = ops[0]
-    for op in ops[1:]:
-        A = A + op
-    return A.tocsr(), xs, clenshaw_curtis(n_cheb, L)
+        out.append((cut(-(sigma ** (k - 1)) * (Du @ Uk)), np.asarray(a(xs), float)))
+    return out, xs, clenshaw_curtis(n_cheb, L)
 
 
 def _half_width(G, scale: float, span: float = 45.0) -> float:

@@ -1,0 +1,118 @@
+"""The block-tridiagonal LU of the Kramers matrix (numerics.fokker_planck._blocks), checked
+against a second method: dense LU (numpy.linalg.solve) on random block-banded matrices, and
+SuperLU (scipy.sparse.linalg.splu) on the escape problem's matrix, whose slowest decay
+rate must not depend on the factorisation."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import scipy.sparse as sps
+from hypothesis import given, settings, strategies as st
+
+from kbm.conservative import split_conservative
+from numerics.fokker_planck import kramers_operator
+from numerics.fokker_planck._blocks import (BlockTridiagonalLU, TermBlocks, _openblas_handles,
+                                            hermite_bandwidth, one_blas_thread)
+from numerics.fokker_planck.kramers import kramers_terms
+from numerics.fokker_planck.escape import _slowest, next_wells
+
+PARAMS = {"Delta": 2, "lam": 1.3, "Omega": 1}
+
+
+def _banded(rng, n_orders, m, b):
+    """A random matrix coupling Hermite orders ``n`` to ``n +- b`` only; the diagonal
+    blocks grow with ``n`` like the damping ``-n gamma`` and the ``n = 0`` block is
+    singular on its own (as the Kramers matrix's is without a sink)."""
+    size = n_orders * m
+    A = np.zeros((size, size))
+    for n in range(n_orders):
+        for k in range(max(0, n - b), min(n_orders, n + b + 1)):
+            A[n * m:(n + 1) * m, k * m:(k + 1) * m] = rng.standard_normal((m, m))
+        A[n * m:(n + 1) * m, n * m:(n + 1) * m] += (3.0 * n * m) * np.eye(m)
+    A[:m, :m] = 0.0
+    A[:m, :m][0, 0] = 1.0  # rank one: the block is singular for m > 1
+    return A
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), n_orders=st.integers(2, 9), m=st.integers(2, 7),
+       b=st.integers(1, 3))
+def test_block_lu_solves_like_dense_lu(seed, n_orders, m, b):
+    """For any matrix of Hermite bandwidth ``b`` the block sweeps give ``A^{-1} r`` of
+    dense LU (relative difference below 1e-9 times the condition number's size), though
+    the ``n = 0`` block alone is singular: the elimination runs from the top orders."""
+    rng = np.random.default_rng(seed)
+    A = _banded(rng, n_orders, m, b)
+    cond = np.linalg.cond(A)
+    if not np.isfinite(cond) or cond > 1e8:
+        return
+    r = rng.standard_normal(A.shape[0])
+    lu = BlockTridiagonalLU(sps.csr_matrix(A), m)
+    assert hermite_bandwidth(sps.csr_matrix(A), m) <= b
+    x = lu.solve(r)
+    ref = np.linalg.solve(A, r)
+    assert np.linalg.norm(x - ref) <= 1e-12 * cond * np.linalg.norm(ref)
+
+
+def test_hermite_bandwidth_of_the_kramers_operator():
+    """Linear damping with ``sigma^2 = kT``: friction and diffusion are diagonal in the
+    Hermite functions (Risken eq. 10.51), so the operator couples ``n`` to ``n +- 1`` only
+    (their ``n + 2`` parts cancel to round-off); at another ``sigma`` they couple ``n + 2``."""
+    mu, D = 1.0, 0.15
+    split = split_conservative("cdc", dict(PARAMS, mu=mu))
+    A, xs, _ = kramers_operator(split, D, math.sqrt(D / mu), 3.0, 12, 24)
+    assert hermite_bandwidth(A, xs.size) == 1
+    A2, _, _ = kramers_operator(split, D, 1.3 * math.sqrt(D / mu), 3.0, 12, 24)
+    assert hermite_bandwidth(A2, xs.size) == 2
+    for s, b in ((math.sqrt(D / mu), 1), (1.3 * math.sqrt(D / mu), 2)):
+        terms, _, _ = kramers_terms(split, D, s, 3.0, 12, 24)
+        assert TermBlocks(terms, xs.size).bandwidth() == b
+
+
+def test_term_blocks_assemble_the_sparse_matrix():
+    """The blocks assembled from the terms are the sparse operator's, with the sink on the
+    diagonal and the pinned rows identity rows (the escape matrix of escape._slowest)."""
+    split = split_conservative("cdc", dict(PARAMS, mu=0.3))
+    A, xs, _ = kramers_operator(split, 0.045, 0.4, 3.0, 7, 10)
+    m, n = xs.size, 7
+    kappa = np.linspace(0.0, 2.0, m)
+    ends = np.concatenate([[k * m, k * m + m - 1] for k in range(2, n)])
+    keep = np.ones(n * m)
+    keep[ends] = 0.0
+    ref = (sps.diags(keep) @ (A - sps.kron(sps.identity(n), sps.diags(kappa)))
+           + sps.csr_matrix((np.ones(ends.size), (ends, ends)), shape=A.shape)).toarray()
+    terms, _, _ = kramers_terms(split, 0.045, 0.4, 3.0, 7, 10)
+    blocks = TermBlocks(terms, m, kappa, (0, m - 1))
+    for n0, n1, k0, k1 in ((0, 7, 0, 7), (2, 4, 0, 3), (5, 7, 1, 6)):
+        got = blocks.block(n0, n1, k0, k1)
+        np.testing.assert_allclose(got, ref[n0 * m:n1 * m, k0 * m:k1 * m], rtol=0,
+                                   atol=1e-13 * np.max(np.abs(ref)))
+
+
+def test_escape_rate_independent_of_the_factorisation():
+    """The slowest decay rate with the sink (mu = 1, 32 Hermite x 96 Chebyshev) is the same
+    from the block LU and from SuperLU to 1e-10."""
+    mu, kT = 1.0, 0.15
+    split = split_conservative("cdc", dict(PARAMS, mu=mu))
+    g = split.numpy_functions()[0]
+    from scipy.optimize import brentq
+
+    xs = brentq(lambda z: float(g(np.array(z))), 0.3, 1.0, xtol=1e-15)
+    wells = next_wells(g, (-xs, xs))
+    args = (split, kT * mu, math.sqrt(kT), wells, 1.2 * wells[1], 32, 96, 5.0,
+            0.1 * (wells[1] - xs))
+    block = _slowest(*args, solver="block")
+    sparse = _slowest(*args, solver="splu")
+    assert block > 0
+    assert block == pytest.approx(sparse, rel=1e-10)
+
+
+def test_one_blas_thread_restores_the_count():
+    """Inside, every OpenBLAS found runs one thread; after, the counts are as before."""
+    before = [int(get()) for get, _ in _openblas_handles()]
+    with one_blas_thread():
+        assert all(int(get()) == 1 for get, _ in _openblas_handles())
+    assert [int(get()) for get, _ in _openblas_handles()] == before

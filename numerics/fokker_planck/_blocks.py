@@ -24,56 +24,13 @@ import scipy.sparse as sps
 
 __all__ = ["BlockTridiagonalLU", "TermBlocks", "hermite_bandwidth", "one_blas_thread"]
 
-_PREFIXES = ("scipy_openblas", "openblas")
+def one_blas_thread():
+    """Context manager: the BLAS on one thread (:func:`threadpoolctl.threadpool_limits`; the
+    blocks are small, a few hundred rows, and threads spinning for them on a loaded machine
+    made ``lu_factor`` 100 times slower); the previous counts come back on exit."""
+    from threadpoolctl import threadpool_limits
 
-
-def _openblas_handles() -> list:
-    """``(get, set)`` thread-count functions of every OpenBLAS loaded in this process."""
-    import ctypes
-
-    out, seen = [], set()
-    try:
-        with open("/proc/self/maps") as fh:
-            paths = {ln.split()[-1] for ln in fh if "openblas" in ln.lower()}
-    except OSError:
-        return out
-    for path in sorted(paths):
-        if path in seen or not path.startswith("/"):
-            continue
-        seen.add(path)
-        try:
-            lib = ctypes.CDLL(path)
-        except OSError:
-            continue
-        for pre in _PREFIXES:
-            for suffix in ("64_", ""):
-                get = getattr(lib, f"{pre}_get_num_threads{suffix}", None)
-                put = getattr(lib, f"{pre}_set_num_threads{suffix}", None)
-                if get is not None and put is not None:
-                    get.restype = ctypes.c_int
-                    out.append((get, put))
-                    break
-            else:
-                continue
-            break
-    return out
-
-
-class one_blas_thread:
-    """Context manager: OpenBLAS on one thread (the blocks are small, a few hundred rows,
-    and threads spinning for them on a loaded machine made ``lu_factor`` 100 times slower);
-    the previous counts come back on exit.  Does nothing where OpenBLAS is not found."""
-
-    def __enter__(self):
-        self._saved = [(get, put, int(get())) for get, put in _openblas_handles()]
-        for _, put, _n in self._saved:
-            put(1)
-        return self
-
-    def __exit__(self, *exc):
-        for _, put, n in self._saved:
-            put(n)
-        return False
+    return threadpool_limits(limits=1, user_api="blas")
 
 
 def hermite_bandwidth(A, m: int, rtol: float = 1e-14) -> int:

@@ -220,7 +220,7 @@ VALID = [["cycle", "vdp", "-p", "mu=1"],
           "--json"]]
 
 
-def _same_refusals_with_cards(refused, valid, zero: bool) -> None:
+def _same_refusals_with_cards(refused, valid, zero: bool, rounds: int = 2) -> None:
     """Each refused input, run before and after the valid runs stored their model cards (and
     twice after): exit status 2, nothing on standard output, and the same one-line message;
     the valid runs give the same bytes cold and warm; with ``zero``, ``-p mu=0`` gives the
@@ -230,7 +230,7 @@ def _same_refusals_with_cards(refused, valid, zero: bool) -> None:
     before = [_cli(a, env) for a in refused]
     runs = [[_cli(a, env).stdout for _ in range(2)] for a in valid]
     assert all(r[0] == r[1] and r[0] for r in runs)
-    for _ in range(2):
+    for _ in range(rounds):
         after = [_cli(a, env) for a in refused]
         for b, a in zip(before, after):
             assert (b.returncode, b.stdout, b.stderr) == (a.returncode, a.stdout, a.stderr)
@@ -250,8 +250,8 @@ def test_refused_input_gives_the_same_message_with_the_cards_stored():
 
 def test_an_unknown_name_and_a_nan_are_refused_alike_with_the_card_stored():
     """The default run's sibling of the test above: an unknown name and ``mu=nan`` on vdp,
-    before and after ``kbm cycle vdp -p mu=1`` stored its card."""
-    _same_refusals_with_cards([REFUSED[0], REFUSED[3]], VALID[:1], zero=False)
+    before and once after ``kbm cycle vdp -p mu=1`` stored its card."""
+    _same_refusals_with_cards([REFUSED[0], REFUSED[3]], VALID[:1], zero=False, rounds=1)
 
 
 def test_the_card_key_changes_with_the_name_and_the_values():

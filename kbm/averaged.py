@@ -131,23 +131,13 @@ class AveragedRates:
     def cycles(self, values: Mapping[str, object], *, a_max: float = 20.0,
                n_grid: int = 4000) -> tuple[AveragedCycle, ...]:
         """The cycles ``0 < a* <= a_max`` at ``values``; see :func:`averaged_cycles`."""
-        from scipy.optimize import brentq  # scipy.optimize only when cycles are sought
+        from .roots import amplitude_roots
 
         m, pars = _values(self.result, values)
-        f, df, phase = self.rate, self.slope, self.frequency
-        grid = np.linspace(a_max / n_grid, a_max, n_grid)
-        g = f(grid, m, *pars) / grid
-        if not np.all(np.isfinite(g)):
-            bad = grid[~np.isfinite(g)][0]
-            raise ParameterError(f"the averaged amplitude equation is not finite at "
-                                 f"a = {bad:.6g}")
-        sg = np.sign(g)
-        roots = list(grid[sg == 0])
-        for i in np.nonzero(sg[:-1] * sg[1:] < 0)[0]:
-            roots.append(brentq(lambda s: float(f(s, m, *pars)) / s, grid[i], grid[i + 1],
-                                xtol=1e-15, rtol=1e-14))
+        df, phase = self.slope, self.frequency
+        roots = amplitude_roots(self.rate, m, pars, a_max=a_max, n_grid=n_grid)
         cycles = []
-        for root in sorted(roots):
+        for root in roots:
             slope = float(df(root, m, *pars))
             omega = float(phase(root, m, *pars))
             if not omega > 0:

@@ -34,6 +34,7 @@ from scipy.optimize import brentq
 from numerics.bifurcation.curve import correct
 from numerics.bifurcation.forced import DrivenProblem, forced_true_curves, joined
 from numerics.coupled.continuation import continue_coupled
+from _references import duffing_floquet
 
 MU, ZETA, ALPHA = 1.0, 0.05, 1.0
 VALUES = {"mu": MU, "zeta": ZETA, "alpha": ALPHA}
@@ -52,26 +53,7 @@ def _rhs(sigma, h):
 def scipy_floquet(sigma, h, y0):
     """The period-1 response near ``y0`` and its multipliers by scipy alone (Newton on the
     period map, the monodromy from the variational equations, DOP853 at rtol 1e-12)."""
-    nu = 1 + MU * sigma
-    T = 2 * math.pi / nu
-
-    def f(t, Y):
-        x, v = Y[0], Y[1]
-        P = Y[2:].reshape(2, 2)
-        J = np.array([[0.0, 1.0], [-1 - 3 * MU * ALPHA * x * x, -2 * MU * ZETA]])
-        return np.concatenate([[v, -x + MU * (-2 * ZETA * v - ALPHA * x**3
-                                              + h * math.cos(nu * t))], (J @ P).ravel()])
-
-    y = np.array(y0, float)
-    for _ in range(30):
-        s = solve_ivp(f, (0, T), np.concatenate([y, np.eye(2).ravel()]), method="DOP853",
-                      rtol=1e-12, atol=1e-12)
-        yT, P = s.y[:2, -1], s.y[2:, -1].reshape(2, 2)
-        dy = np.linalg.solve(P - np.eye(2), -(yT - y))
-        y = y + dy
-        if np.max(np.abs(dy)) < 1e-12:
-            break
-    return y, np.linalg.eigvals(P)
+    return duffing_floquet(1 + MU * sigma, 2 * MU * ZETA, MU * ALPHA, MU * h, y0)
 
 
 def stroboscopic(sigma, h, y0, n):

@@ -66,9 +66,11 @@ def test_brentq_finds_sqrt2_to_the_tolerance():
 @pytest.mark.parametrize("name, params", [("vdp", {"mu": 1}), ("rayleigh", {"mu": 0.5})])
 def test_guess_equals_the_averaged_cycles_of_kbm(name, params, tmp_path, monkeypatch):
     """The guess from the stored rates (cold: built, stored, read back; warm: read) is the
-    stable first-order cycle of :meth:`kbm.AveragedRates.cycles` (scipy's brentq) to the
-    last bit; van der Pol's first-order amplitude is 2 (the textbook result, Nayfeh and
-    Mook, *Nonlinear Oscillations*, sec. 3.3)."""
+    stable first-order cycle of :meth:`kbm.AveragedRates.cycles` (rates lambdified anew from
+    the symbolic derivation; both search with :func:`kbm.roots.amplitude_roots`, whose Brent
+    steps equal scipy's brentq, tested above) to the last bit; van der Pol's first-order
+    amplitude is 2 (the textbook result, Nayfeh and Mook, *Nonlinear Oscillations*,
+    sec. 3.3)."""
     from kbm import averaged_rates, derive
     from kbm.bound import bind
 

@@ -9,8 +9,7 @@ coarse increment the sum of the finer ones, so that the runs stay close and thei
 difference has a small variance; ``step_gauss_stats`` runs the scheme at ``h`` alone with
 Gaussian increments (the two-level estimator's level 0); ``step_antithetic_stats`` adds the
 fine run with each coarse step's two increments swapped (the antithetic correction);
-``step_three_point_pair_stats`` couples a three-point run to the Gaussian pair (the
-three-point increments' own bias, for measurement); ``stationary_stats4`` is the stationary
+``stationary_stats4`` is the stationary
 ensembles' kernel, with four-point Gauss-Hermite increments (``_increment4``).
 """
 
@@ -200,63 +199,6 @@ def step_antithetic_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0):
                 acc[3] += xa * xa + (va / w0) ** 2
                 acc[4] += xb * xb
                 acc[5] += xb * xb + (vb / w0) ** 2
-        for c in range(6):
-            out[i, c] = acc[c] / n_run if ok else math.nan
-    return out
-
-
-#: ``z`` with ``P(|g| > z) = 1/3`` for a standard normal ``g``: the monotone coupling of a
-#: Gaussian increment and a three-point one
-_Z3 = 0.9674215661017008
-
-
-@njit(cache=True)
-def step_three_point_pair_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0):
-    """Per trajectory: the time averages of ``x^2`` and ``a^2`` after ``n_burn`` steps over
-    ``n_run`` steps ``h`` of three runs on one Brownian path: Gaussian increments at ``h/2``
-    (``g_1``, ``g_2``) and at ``h`` (``g_1 + g_2``), and the toolkit's three-point
-    increments at ``h`` drawn from ``g = (g_1 + g_2)/sqrt(2)`` by the monotone coupling
-    (``-sqrt(3h)`` for ``g < -z``, ``+sqrt(3h)`` for ``g > z``, else 0, ``P(|g| > z) =
-    1/3``): the law of the ensembles' increments.  ``E^3_h - (4 E_{h/2} - E_h)/3`` is then
-    the three-point run's bias to ``O(h^4)``.  Columns ``x^2, a^2`` at ``h`` (Gaussian),
-    ``h/2`` (Gaussian), ``h`` (three-point); NaN rows for a diverged trajectory."""
-    m = y0.shape[0]
-    out = np.zeros((m, 6))
-    hf = 0.5 * h
-    sf = sigma * math.sqrt(hf)
-    af = sf * _noise_factor(p, hf)  # noqa: F821
-    ac = sf * _noise_factor(p, h)  # noqa: F821
-    a3 = sigma * math.sqrt(3.0 * h) * _noise_factor(p, h)  # noqa: F821
-    r2 = 1.0 / math.sqrt(2.0)
-    for i in range(m):
-        s = states[i].copy()
-        xc, vc = y0[i, 0], y0[i, 1]
-        xf, vf = xc, vc
-        xt, vt = xc, vc
-        fc = _first(t0, xc, vc, p)  # noqa: F821
-        ff = fc
-        ft = fc
-        acc = np.zeros(6)
-        ok = True
-        for k in range(n_burn + n_run):
-            g1, g2 = _normal_pair(s)
-            t = t0 + k * h
-            g = (g1 + g2) * r2
-            w = -a3 if g < -_Z3 else (a3 if g > _Z3 else 0.0)
-            xf, vf, ff = _step(t, xf, vf, ff, hf, af * g1, p)  # noqa: F821
-            xf, vf, ff = _step(t + hf, xf, vf, ff, hf, af * g2, p)  # noqa: F821
-            xc, vc, fc = _step(t, xc, vc, fc, h, ac * (g1 + g2), p)  # noqa: F821
-            xt, vt, ft = _step(t, xt, vt, ft, h, w, p)  # noqa: F821
-            if not math.isfinite(xc + vc + xf + vf + xt + vt):
-                ok = False
-                break
-            if k >= n_burn:
-                acc[0] += xc * xc
-                acc[1] += xc * xc + (vc / w0) ** 2
-                acc[2] += xf * xf
-                acc[3] += xf * xf + (vf / w0) ** 2
-                acc[4] += xt * xt
-                acc[5] += xt * xt + (vt / w0) ** 2
         for c in range(6):
             out[i, c] = acc[c] / n_run if ok else math.nan
     return out

@@ -12,7 +12,10 @@ def register(sub) -> None:
                 "averaged energy diffusion (energy-envelope stochastic averaging, underdamped "
                 "regime), Kramers' low-friction rate and the Mel'nikov-Meshkov rate for linear "
                 "damping, against first passages of simulated trajectories started at the well "
-                "bottom (escape: |x| reaches the saddle bounding the well).  Where the expected "
+                "bottom (escape: |x| reaches the saddle bounding the well).  With --method "
+                "fokker-planck also the exact transition rate to the next wells and its like "
+                "quantity: first passages to the next wells' bottoms from the well's Boltzmann "
+                "state, compared in standard errors.  Where the expected "
                 "cost of the simulation exceeds --budget steps the simulation is refused with the "
                 "estimate and the averaged answer is given alone.")
     add_noisy_model(p, "an autonomous model with a well at the origin bounded by saddles (cdc, "
@@ -30,8 +33,9 @@ def register(sub) -> None:
     p.add_argument("--no-simulation", action="store_true", help="the averaged rate only")
     p.add_argument("--method", choices=("averaging", "fokker-planck"), default="averaging",
                    help="fokker-planck: also the slowest decay rate of the Kramers equation "
-                        "with a sink past the saddles (any damping; with its sink and "
-                        "truncation errors)")
+                        "with a sink at the next wells' bottoms (the transition rate, any "
+                        "damping; with its sink and truncation errors), and the simulated "
+                        "transitions to the next wells from the well's Boltzmann state")
     add_options(p, "json")
     p.set_defaults(func=run)
 
@@ -78,6 +82,14 @@ def run(args) -> int:
         print(f"  Fokker-Planck (Kramers eq.): rate = {rep['rate_fokker_planck']:.6g} "
               f"(+- {f['sink_error']:.2g} sink, +- {f['truncation_error']:.2g} truncation; "
               f"{f['hermite']} Hermite x {f['chebyshev']} Chebyshev)")
+    if rep.get("rate_simulated_wells") is not None:
+        w = rep["simulated_wells"]
+        print(f"  simulated transitions:     rate = {rep['rate_simulated_wells']:.6g} +- "
+              f"{rep['stderr_wells']:.2g} ({w['escaped']}/{rep['trajectories']} from the "
+              + ("well's Boltzmann state" if w["start"] == "boltzmann" else "well bottom")
+              + f" reached x = {w['wells'][0]:.6g} or "
+              f"{w['wells'][1]:.6g} by t = {w['t_end']:.6g}); Fokker-Planck - simulated = "
+              f"{rep['z_fokker_planck']:+.2f} standard errors")
     if rep["rate_simulated"] is not None:
         print(f"  simulated:                 rate = {rep['rate_simulated']:.6g} +- "
               f"{rep['stderr']:.2g} ({rep['escaped']}/{rep['trajectories']} escaped by "

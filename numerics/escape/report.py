@@ -46,7 +46,16 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         ``"fokker-planck"`` adds ``rate_fokker_planck``: the slowest decay rate of the
         Kramers equation with a sink at the next wells' bottoms (the transition rate;
         :mod:`numerics.fokker_planck.escape`), with ``fokker_planck.sink_error``,
-        ``truncation_error``, ``chebyshev_error`` and ``wells`` (where the sink sits).
+        ``truncation_error``, ``chebyshev_error`` and ``wells`` (where the sink sits);
+        with the simulation, also its like quantity ``rate_simulated_wells`` and
+        ``stderr_wells``: first passages to the next wells' bottoms from the well's
+        Boltzmann density (:mod:`numerics.escape.transitions`; ``simulated_wells`` holds
+        the counts, ``t_end`` (default five FP lifetimes), the start and the stream), and
+        ``z_fokker_planck``, the FP rate minus it over the combined standard error.
+        ``rate_simulated`` stays the first passage to the saddles from the bottom (the
+        averaged MFPT's quantity); at the turnover and above it is up to twice the
+        transition rate (a particle at the saddle goes on or falls back with about equal
+        chance).
 
     Returns
     -------
@@ -54,7 +63,7 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         Keys ``rate_averaged``, ``rate_simulated``, ``stderr``, ``barrier`` and the
         details (``rate_kramers``, ``rate_melnikov``, ``kT``, ``barrier_over_kT``,
         ``mfpt_averaged``, ``trajectories``, ``escaped``, ``t_end``, ``dt``, ``seed``,
-        ``estimated_steps``, ``message``).
+        ``estimated_steps`` (of both runs with ``fokker-planck``), ``message``).
     """
     params = dict(params)
     if method not in ("averaging", "fokker-planck"):
@@ -110,6 +119,9 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
                                 "chebyshev_error": fp.chebyshev_error,
                                 "wells": list(fp.wells),
                                 "hermite": fp.hermite, "chebyshev": fp.chebyshev}
+    if method == "fokker-planck":  # the simulated transitions to the next wells too
+        steps += trajectories * min(1.0 / fp.rate, _wells_end(fp, t_end)) / h
+        out["estimated_steps"] = steps
     ratio = out["barrier_over_kT"]
     if ratio is not None and ratio < MIN_BARRIER_OVER_KT:
         out["warnings"].append(
@@ -122,7 +134,10 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         return out
     if steps > budget:
         out["message"] = (f"simulation refused: about {steps:.3g} steps expected "
-                          f"({trajectories} trajectories x MFPT {esc.mfpt:.3g} / dt {h:.3g}) "
+                          f"({trajectories} trajectories x MFPT {esc.mfpt:.3g} / dt {h:.3g}"
+                          + (f", plus {trajectories} to the next wells x 1/rate_FP "
+                             f"{1.0 / fp.rate:.3g} / dt" if method == "fokker-planck" else "")
+                          + ") "
                           f"> budget {budget:.3g}; the averaged rate is the answer "
                           "(raise --budget to simulate anyway)")
         return out
@@ -137,7 +152,35 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         return out
     out.update(rate_simulated=sim.rate, stderr=sim.stderr, escaped=sim.escaped,
                censored=sim.censored)
+    if method == "fokker-planck":
+        _simulate_wells(out, env.split, D, esc, fp, trajectories=trajectories,
+                        t_end=_wells_end(fp, t_end), dt=h, seed=seed)
     return out
+
+
+def _wells_end(fp, t_end) -> float:
+    """The transitions' longest run: ``t_end``, or five FP lifetimes ``5/rate``."""
+    return 5.0 / fp.rate if t_end is None else float(t_end)
+
+
+def _simulate_wells(out: dict, split, D: float, esc, fp, **run) -> None:
+    """Add the simulated transitions to the next wells (the FP rate's like quantity) and
+    their ``z`` to ``out``."""
+    from ..errors import NumericsError
+    from .transitions import WELLS_STREAM, simulated_transitions
+
+    try:
+        sim = simulated_transitions(split, D, esc.saddles, kT=esc.kT, wells=fp.wells, **run)
+    except NumericsError as exc:
+        out["message"] = f"simulation to the next wells: {exc}"
+        return
+    fp_err = math.hypot(fp.sink_error, fp.truncation_error)
+    out.update(rate_simulated_wells=sim.rate, stderr_wells=sim.stderr,
+               z_fokker_planck=(fp.rate - sim.rate) / math.hypot(sim.stderr, fp_err))
+    out["simulated_wells"] = {"escaped": sim.escaped, "censored": sim.censored,
+                              "t_end": sim.t_end, "start": sim.start,
+                              "wells": [float(w) for w in fp.wells],
+                              "stream": list(WELLS_STREAM)}
 
 
 def _check_barrier(model: str, params: dict, D: float) -> None:

@@ -42,6 +42,9 @@ class SimulatedEscape:
         ``min(tau_i, t_end)`` per trajectory.
     t_end, dt : float
     seed : int
+    start : str
+        Where the trajectories start: ``"bottom"`` (``x = x' = 0``) or ``"boltzmann"`` (the
+        well's Boltzmann density, :mod:`numerics.escape.transitions`).
     """
 
     rate: float
@@ -52,6 +55,7 @@ class SimulatedEscape:
     t_end: float
     dt: float
     seed: int
+    start: str = "bottom"
 
     def __repr__(self) -> str:
         return (f"SimulatedEscape(rate={self.rate:.4g} +- {self.stderr:.2g}, "

@@ -107,6 +107,9 @@ class ResponseSpectrum:
     upper: np.ndarray | None = None
     stderr: np.ndarray | None = None
     extra: dict = field(default_factory=dict)
+    #: the per-trajectory Welch estimates at ``omega`` (trajectories x bins; not in the
+    #: JSON): the independent samples of :func:`numerics.spectrum.psd.bin_means`
+    rows: np.ndarray | None = field(default=None, repr=False)
 
     def decay_rate(self) -> float:
         """The slowest relaxation rate about the state: ``-max Re`` of the Floquet exponents
@@ -236,6 +239,7 @@ def response_spectra(model, params: Mapping[str, object], D: float, detunings: S
             spec.simulated, spec.lower, spec.upper = sim.mean[keep], sim.lower[keep], \
                 sim.upper[keep]
             spec.stderr = sim.stderr[keep]
+            spec.rows = sim.rows[:, keep]
             spec.extra = {"resolution": sim.resolution, "trajectories": int(trajectories),
                           "duration": plan["duration"], "burn_in": plan["burn"] * plan["dt"],
                           "dt": plan["dt"], "sample_step": plan["dt"] * plan["stride"],

@@ -21,7 +21,7 @@ P. D. Welch, IEEE Trans. Audio Electroacoust. 15, 70 (1967).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -29,7 +29,8 @@ from kbm.errors import ParameterError
 
 from ..errors import NumericsError
 
-__all__ = ["PSD", "ensemble_psd", "ResolutionError", "resolution_of", "welch_rows", "combine"]
+__all__ = ["PSD", "ensemble_psd", "ResolutionError", "resolution_of", "welch_rows", "combine",
+           "bin_means"]
 
 
 class ResolutionError(NumericsError):
@@ -57,6 +58,9 @@ class PSD:
     confidence : float
     nperseg : int
         Samples per Welch segment.
+    rows : numpy.ndarray or None
+        The per-trajectory estimates (trajectories x frequencies) the mean is taken over:
+        independent samples for statistics over bins (:func:`bin_means`).
     """
 
     omega: np.ndarray
@@ -68,6 +72,7 @@ class PSD:
     trajectories: int = 0
     confidence: float = 0.95
     nperseg: int = 0
+    rows: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         n = self.omega.shape
@@ -201,4 +206,63 @@ def combine(omega: np.ndarray, rows: np.ndarray, resolution: float, nperseg: int
     else:
         se, q = np.zeros_like(mean), 0.0
     return PSD(np.asarray(omega, float), mean, np.maximum(mean - q * se, 0.0), mean + q * se,
-               se, float(resolution), n_traj, float(confidence), int(nperseg))
+               se, float(resolution), n_traj, float(confidence), int(nperseg), rows)
+
+
+def bin_means(rows: np.ndarray, reference: np.ndarray) -> dict:
+    """Means over frequency bins of an ensemble's departure from a reference spectrum, with
+    standard errors that hold the correlation of the bins.
+
+    Neighbouring bins of a Welch estimate are not independent: with a Hann window the
+    estimates one bin apart correlate by ``|sum h_t^2 e^{2 pi i t/N}|^2 / (sum h_t^2)^2 =
+    4/9``, two bins apart by ``1/36`` (Percival and Walden, *Spectral Analysis for Physical
+    Applications*, 1993, sec. 6.6 and 7.1, for a locally flat spectrum), so a mean over
+    ``n`` bins has about ``1 + 2 (4/9 + 1/36) = 1.94`` times the variance of ``n``
+    independent ones, and more where the process is not Gaussian (a nonlinear
+    oscillator's trajectory carries its total power into every bin: a weak long-range
+    correlation).  Rather than model this, the standard errors are measured from the
+    independent trajectories: each trajectory ``j`` gives one mean over the bins, and the
+    ensemble's mean of those is the statistic, so their spread over ``sqrt(N)`` is its
+    standard error with every correlation between bins in it.
+
+    Parameters
+    ----------
+    rows : numpy.ndarray, shape (N, n)
+        Per-trajectory estimates at ``n`` bins (:attr:`PSD.rows`, restricted to the bins).
+    reference : numpy.ndarray, shape (n,)
+        The spectrum compared with (e.g. the Floquet route's).
+
+    Returns
+    -------
+    dict
+        ``relative``: the mean over bins and trajectories of ``rows/reference - 1`` and
+        ``relative_stderr``, ``sd_j(d_j)/sqrt(N)`` of the trajectories' means ``d_j`` over
+        bins (Student's ``t`` with ``dof = N - 1`` under the null: ``d_j`` averages ``n``
+        bins and is close to Gaussian); ``mean_z``: the mean over bins of ``z_k =
+        (reference_k - mean_k)/stderr_k`` and ``mean_z_stderr``,
+        ``sqrt((N - 1)/(N - 3)) sd_j(m_j)/sqrt(N)`` with ``m_j`` the mean over bins of
+        ``(reference_k - rows_jk)/stderr_k`` (``mean_z`` is the mean of the ``m_j``; the
+        factor is the variance of Student's ``t`` with ``N - 1`` degrees of freedom, the
+        law of each ``z_k``).  ``mean_z`` leans by about ``+gamma/(2 sqrt N)`` (``gamma``
+        the skewness of one trajectory's estimate; the studentised mean, Hall, Ann. Stat.
+        15 (1987) 1491) and its standard error carries the noise of the per-bin standard
+        errors: ``relative`` is the sharper test.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Fewer than 4 trajectories, or shapes that do not match.
+    """
+    rows = np.atleast_2d(np.asarray(rows, float))
+    ref = np.asarray(reference, float)
+    N = rows.shape[0]
+    if N < 4 or rows.shape[1:] != ref.shape:
+        raise ParameterError(f"bin_means needs >= 4 trajectories of {ref.shape} bins, got rows "
+                             f"{rows.shape}")
+    d = (rows / ref).mean(axis=1) - 1.0
+    se = rows.std(axis=0, ddof=1) / math.sqrt(N)
+    m = ((ref - rows) / se).mean(axis=1)
+    return {"relative": float(d.mean()), "relative_stderr": float(d.std(ddof=1) / math.sqrt(N)),
+            "mean_z": float(m.mean()),
+            "mean_z_stderr": float(math.sqrt((N - 1) / (N - 3)) * m.std(ddof=1) / math.sqrt(N)),
+            "dof": N - 1}

@@ -101,8 +101,7 @@ def test_escape_cli_compares_fokker_planck_with_transitions(capsys):
     """``kbm escape --method fokker-planck``: the simulated transitions under their own keys
     (every earlier key kept), their z against the FP rate, and the text line that says it."""
     argv = ["escape", "cdc", "-p", "mu=1", "-p", "Delta=2", "-p", "lam=1.3", "-p", "D=0.15",
-            "--method", "fokker-planck", "--trajectories", "100", "--seed", "0",
-            "--workers", "1"]
+            "--method", "fokker-planck", "--trajectories", "100", "--seed", "0"]
     assert main(argv + ["--json"]) == 0
     rep = json.loads(capsys.readouterr().out)
     for key in ("rate_averaged", "rate_simulated", "stderr", "barrier", "rate_fokker_planck",

@@ -26,7 +26,7 @@ from .averaging import derive
 from .errata_tex import ErratumRow, errata_tex
 from .errors import KBMError
 from .files import output_folder, write_file
-from .latex import equation_lines, latex, series_lines
+from .latex import align_block, equation_lines, latex, series_lines
 from .models import get_model
 from .series import limit_cycle_series
 from .symbols import mu, x, xdot
@@ -50,7 +50,7 @@ class DerivationFile:
 
 
 def _align(lines: Sequence[str]) -> str:
-    return "\\begin{align*}\n" + " \\\\\n".join(lines) + "\n\\end{align*}\n"
+    return align_block(lines) + "\n"
 
 
 def _block(lhs: str, expr: sp.Expr) -> str:

@@ -9,7 +9,7 @@ import sympy as sp
 
 from . import evaluate
 from .errors import ExpansionError, OrderError, ParameterError
-from .latex import equation_lines, latex
+from .latex import align_block, equation_lines, latex
 from .models import Oscillator
 from .symbols import a, mu, psi
 
@@ -190,7 +190,7 @@ class KBMResult:
             for n in range(1, self.order + 1):
                 arg = "(a,\\psi)" if name == "u" else "(a)"
                 eqs.append(equation_lines(f"{name}_{{{n}}}{arg}", seq[n], width))
-        return "\\begin{align*}\n" + " \\\\\n".join(eqs) + "\n\\end{align*}"
+        return align_block(eqs)
 
     def _repr_latex_(self) -> str:
         return "$\\displaystyle " + self.latex().replace("align*", "aligned") + "$"

@@ -245,7 +245,7 @@ class CoupledKBMResult:
         """The expansion as a LaTeX ``align*`` block: ``x_i``, the slow flow, and each
         ``A_{i,n}``, ``B_{i,n}``, ``u_{i,n}`` and slow-phase rate, long ones broken into
         lines (:func:`kbm.latex.equation_lines`)."""
-        from ..latex import latex as to_latex
+        from ..latex import align_block, latex as to_latex
 
         m, N = self.model, self.order
         width = 90
@@ -264,7 +264,7 @@ class CoupledKBMResult:
                      + mus(f"B_{{{{{j},{{k}}}}}}")]
         for group in self.latex_groups(width):
             rows += group
-        return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"
+        return align_block(rows)
 
     def latex_groups(self, width: int = 90, *, with_u: bool = True,
                      expand_above: int | None = None) -> list[list[str]]:

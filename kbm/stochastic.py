@@ -144,16 +144,17 @@ class StochasticAveraging:
                                  f"{', '.join(sorted(s.name for s in free))}")
         return sp.lambdify(a, expr, modules="mpmath")
 
-    def _support(self, f) -> tuple[float, float, float]:
-        """``(peak, end, max ln P)``: the density is below ``exp(-80)`` of its peak past
-        ``end``."""
+    def _support(self, f) -> tuple[list, object]:
+        """``(points, max ln P)``: the quadrature's break points ``0, peak/2, peak,
+        (peak + end)/2, end``, past ``end`` the density below ``exp(-80)`` of its peak."""
         top = mpmath.mpf(8)
         while True:
             grid = [top * i / 512 for i in range(1, 513)]
             vals = [f(g) for g in grid]
             i = int(np.argmax([float(v) for v in vals]))
             if vals[-1] < vals[i] - 80:
-                return float(grid[i]), float(top), vals[i]
+                peak, end = float(grid[i]), float(top)
+                return [0, peak / 2, peak, (peak + end) / 2, end], vals[i]
             top *= 2
             if top > 1e6:
                 raise ModelError("the stationary amplitude density does not decay up to "
@@ -170,12 +171,11 @@ class StochasticAveraging:
         """
         f = self._log_density_of(params)
         with mpmath.workdps(30):
-            peak, end, fmax = self._support(f)
+            pts, fmax = self._support(f)
 
             def w(x, n):
                 return x**n * mpmath.exp(f(x) - fmax)
 
-            pts = [0, peak / 2, peak, (peak + end) / 2, end]
             Z = mpmath.quad(lambda x: w(x, 0), pts)
             return float(mpmath.quad(lambda x: w(x, k), pts) / Z)
 
@@ -183,8 +183,7 @@ class StochasticAveraging:
         """The normalised stationary density ``P(a)`` on ``grid`` (numpy array)."""
         f = self._log_density_of(params)
         with mpmath.workdps(30):
-            peak, end, fmax = self._support(f)
-            pts = [0, peak / 2, peak, (peak + end) / 2, end]
+            pts, fmax = self._support(f)
             Z = mpmath.quad(lambda x: mpmath.exp(f(x) - fmax), pts)
             g = np.asarray(grid, float)
             out = [float(mpmath.exp(f(mpmath.mpf(float(x))) - fmax) / Z) if x > 0 else 0.0

@@ -208,8 +208,7 @@ class SecondOrderAveraging:
     def _integrals(self, params, weights) -> list:
         f, h0, h2 = self._functions(params)
         with mpmath.workdps(30):
-            peak, end, fmax = self.first._support(f)
-            pts = [0, peak / 2, peak, (peak + end) / 2, end]
+            pts, fmax = self.first._support(f)
             return [mpmath.quad(lambda s, g=g: g(s, h0, h2) * mpmath.exp(f(s) - fmax), pts)
                     for g in weights]
 
@@ -238,8 +237,7 @@ class SecondOrderAveraging:
 
         f, h0, _ = self._functions(params)
         with mpmath.workdps(30):
-            peak, end, fmax = self.first._support(f)
-            pts = [0, peak / 2, peak, (peak + end) / 2, end]
+            pts, fmax = self.first._support(f)
             Z = mpmath.quad(lambda s: h0(s) * mpmath.exp(f(s) - fmax), pts)
             g = np.asarray(grid, float)
             out = [float(h0(mpmath.mpf(float(s))) * mpmath.exp(f(mpmath.mpf(float(s))) - fmax)

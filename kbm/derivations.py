@@ -59,15 +59,8 @@ def _block(lhs: str, expr: sp.Expr) -> str:
 
 def _kbm_section(title: str, intro: str, res, orders_u: int | None = None,
                  subs: Mapping | None = None) -> str:
-    subs = dict(subs or {})
     out = [f"\\subsection*{{{title}}}\n", intro.strip() + "\n"]
-    N = res.order
-    out.append(_align([equation_lines(f"A_{{{n}}}(a)", res.A[n].subs(subs), _W)
-                       for n in range(1, N + 1)]))
-    out.append(_align([equation_lines(f"B_{{{n}}}(a)", res.B[n].subs(subs), _W)
-                       for n in range(1, N + 1)]))
-    out.append(_align([equation_lines(f"u_{{{n}}}(a,\\psi)", res.u[n].subs(subs), _W)
-                       for n in range(1, (orders_u or N) + 1)]))
+    out += [_align(group) for group in res.latex_groups(_W, subs, orders_u)]
     return "\n".join(out)
 
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import sympy as sp
@@ -186,11 +186,22 @@ class KBMResult:
                                                for n in range(1, self.order + 1)))
         eqs.append(r"\dot\psi &= " + latex(self.B[0]) + "".join(
             rf" + \mu^{{{n}}} B_{{{n}}}(a)" for n in range(1, self.order + 1)))
-        for name, seq in (("A", self.A), ("B", self.B), ("u", self.u)):
-            for n in range(1, self.order + 1):
-                arg = "(a,\\psi)" if name == "u" else "(a)"
-                eqs.append(equation_lines(f"{name}_{{{n}}}{arg}", seq[n], width))
+        for group in self.latex_groups(width):
+            eqs += group
         return align_block(eqs)
+
+    def latex_groups(self, width: int = 90, subs: Mapping | None = None,
+                     orders_u: int | None = None) -> list[list[str]]:
+        """The ``align`` rows of the ``A_n(a)``, of the ``B_n(a)`` and of the ``u_n(a, psi)``
+        (to ``orders_u``, default all), each broken into lines of about ``width`` characters
+        and with the values ``subs`` put in (as
+        :meth:`kbm.coupled.result.CoupledKBMResult.latex_groups`)."""
+        subs = dict(subs or {})
+        return [[equation_lines(f"{name}_{{{n}}}{arg}", seq[n].subs(subs) if subs else seq[n],
+                                width) for n in range(1, top + 1)]
+                for name, arg, seq, top in (("A", "(a)", self.A, self.order),
+                                            ("B", "(a)", self.B, self.order),
+                                            ("u", "(a,\\psi)", self.u, orders_u or self.order))]
 
     def _repr_latex_(self) -> str:
         return "$\\displaystyle " + self.latex().replace("align*", "aligned") + "$"

@@ -13,7 +13,7 @@ from .latex import align_block, equation_lines, latex
 from .models import Oscillator
 from .symbols import a, mu, psi
 
-__all__ = ["KBMResult", "KBMFunctions"]
+__all__ = ["KBMResult", "KBMFunctions", "lex", "by_order"]
 
 
 @dataclass(frozen=True)
@@ -50,6 +50,17 @@ class KBMFunctions:
     def displacement(self, a, psi, mu, *params, order: int | None = None):
         N = self.order if order is None else order
         return _series_sum([self.u[n](a, psi, *params) for n in range(0, N + 1)], mu, 0)
+
+
+def lex(e: sp.Expr) -> str:
+    """``e`` as the JSON and plain text of the results print it (``sstr``, lexicographic
+    order): :func:`kbm.parse` reads it back."""
+    return sp.sstr(e, order="lex")
+
+
+def by_order(seq) -> list:
+    """The entries of a per-order tuple as :func:`lex` strings, entry 0 ``None``."""
+    return [None] + [lex(e) for e in seq[1:]]
 
 
 def _series_sum(values, mu, first):
@@ -158,11 +169,9 @@ class KBMResult:
         Every entry is a string that :func:`kbm.parse` (or ``sympy.sympify`` with
         :data:`kbm.symbols.PARSE_LOCALS`) reads back to the same expression.
         """
-        def strs(seq):
-            return [None] + [sp.sstr(e, order="lex") for e in seq[1:]]
         return {"model": self.model.name, "order": self.order, "omega0": str(self.model.omega0),
-                "F": sp.sstr(self.model.F, order="lex"), "exact": self.exact,
-                "A": strs(self.A), "B": strs(self.B), "u": strs(self.u)}
+                "F": lex(self.model.F), "exact": self.exact,
+                "A": by_order(self.A), "B": by_order(self.B), "u": by_order(self.u)}
 
     def pretty(self) -> str:
         """A plain-text summary, one line per quantity."""
@@ -170,12 +179,9 @@ class KBMResult:
         x = "x" if w2 == 1 else f"{sp.sstr(w2)}*x"
         lines = [f"KBM expansion of {self.model.name}: x'' + {x} = mu*({self.model.F}), "
                  f"order {self.order}"]
-        for n in range(1, self.order + 1):
-            lines.append(f"A_{n} = {sp.sstr(self.A[n], order='lex')}")
-        for n in range(1, self.order + 1):
-            lines.append(f"B_{n} = {sp.sstr(self.B[n], order='lex')}")
-        for n in range(1, self.order + 1):
-            lines.append(f"u_{n} = {sp.sstr(self.u[n], order='lex')}")
+        lines += [f"{name}_{n} = {lex(seq[n])}" for name, seq in (("A", self.A), ("B", self.B),
+                                                                  ("u", self.u))
+                  for n in range(1, self.order + 1)]
         return "\n".join(lines)
 
     def latex(self, width: int = 90) -> str:

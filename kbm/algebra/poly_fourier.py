@@ -158,18 +158,16 @@ class PolyFourier:
                 pr = product(t1, c2.terms)
                 acc(cos, abs(m - n), pr, 1)
                 acc(cos, m + n, pr, 1)
-            for n, s2 in other.sin.items():
-                pr = product(t1, s2.terms)
-                acc(sin, m + n, pr, 1)
-                if n != m:
-                    acc(sin, abs(n - m), pr, 1 if n > m else -1)
+        for cs, sn in ((self.cos, other.sin), (other.cos, self.sin)):  # cos A sin B
+            for m, c in cs.items():
+                t1 = c.terms
+                for n, s in sn.items():
+                    pr = product(t1, s.terms)
+                    acc(sin, m + n, pr, 1)
+                    if n != m:
+                        acc(sin, abs(n - m), pr, 1 if n > m else -1)
         for m, s1 in self.sin.items():
             t1 = s1.terms
-            for n, c2 in other.cos.items():
-                pr = product(t1, c2.terms)
-                acc(sin, m + n, pr, 1)
-                if m != n:
-                    acc(sin, abs(m - n), pr, 1 if m > n else -1)
             for n, s2 in other.sin.items():
                 pr = product(t1, s2.terms)
                 acc(cos, abs(m - n), pr, 1)

@@ -43,7 +43,7 @@ from numerics import limit_cycle
 from numerics.cycles.continuation import continue_cycles
 from numerics.errors import NumericsError
 
-from _auto import EMPTY_SUBROUTINES, FUNC_HEAD
+from _auto import EMPTY_SUBROUTINES, FUNC_HEAD, STPNT_HEAD
 
 
 def _scratch(model, params, vary, branch):
@@ -85,11 +85,7 @@ AUTO_EQUATIONS = FUNC_HEAD + textwrap.dedent("""\
       F(1) = U(2)
       F(2) = -U(1) - PAR(3)*(PAR(4)*U(1)*U(1) - PAR(2))*U(2) - PAR(1)*SIN(2*PI*U(1)/PAR(5))
     END SUBROUTINE FUNC
-    SUBROUTINE STPNT(NDIM,U,PAR,T)
-      IMPLICIT NONE
-      INTEGER, INTENT(IN) :: NDIM
-      DOUBLE PRECISION, INTENT(INOUT) :: U(NDIM),PAR(*)
-      DOUBLE PRECISION, INTENT(IN) :: T
+    """) + STPNT_HEAD + textwrap.dedent("""\
       PAR(1) = 0.0D0
       PAR(2) = -0.1D0
       PAR(3) = 0.1D0

@@ -42,7 +42,7 @@ import numpy as np
 from numerics.bifurcation.coupled import coupled_true_folds
 from numerics.bifurcation.forced import DrivenProblem, forced_seeds, forced_true_curves
 
-from _auto import EMPTY_SUBROUTINES, FUNC_HEAD
+from _auto import EMPTY_SUBROUTINES, FUNC_HEAD, STPNT_HEAD
 
 VALUES = {"mu": 0.1, "zeta": 0.1, "alpha": 1.0}
 RANGES = {"sigma": (-1.0, 3.0), "h": (0.02, 0.4)}
@@ -61,11 +61,7 @@ AUTO_EQUATIONS = "!  forced Duffing, made autonomous by AUTO's forcing oscillato
       F(4) = -NU*U(3) + U(4) - U(4)*R
     END SUBROUTINE FUNC
 
-    SUBROUTINE STPNT(NDIM,U,PAR,T)
-      IMPLICIT NONE
-      INTEGER, INTENT(IN) :: NDIM
-      DOUBLE PRECISION, INTENT(INOUT) :: U(NDIM), PAR(*)
-      DOUBLE PRECISION, INTENT(IN) :: T
+""") + STPNT_HEAD + textwrap.dedent("""\
       DOUBLE PRECISION PI, NU
       PI = 4*ATAN(1.0d0)
       PAR(1) = 1.0d0

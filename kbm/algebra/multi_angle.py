@@ -121,18 +121,16 @@ class MultiAngle:
                 plus, _, minus, _ = _sum_difference(h1, h2)
                 accumulate(cos, minus, pr, 1)
                 accumulate(cos, plus, pr, 1)
-            for h2, s2 in other.sin.items():  # cos A sin B
-                pr = term_product(t1, s2.terms, bias)
-                plus, sp_, minus, sm = _sum_difference(h1, h2)
-                accumulate(sin, plus, pr, sp_)
-                accumulate(sin, minus, pr, -sm)
+        for cs, sn in ((self.cos, other.sin), (other.cos, self.sin)):  # cos A sin B
+            for h1, c1 in cs.items():
+                t1 = c1.terms
+                for h2, s2 in sn.items():
+                    pr = term_product(t1, s2.terms, bias)
+                    plus, sp_, minus, sm = _sum_difference(h1, h2)
+                    accumulate(sin, plus, pr, sp_)
+                    accumulate(sin, minus, pr, -sm)
         for h1, s1 in self.sin.items():
             t1 = s1.terms
-            for h2, c2 in other.cos.items():  # sin A cos B
-                pr = term_product(t1, c2.terms, bias)
-                plus, sp_, minus, sm = _sum_difference(h1, h2)
-                accumulate(sin, plus, pr, sp_)
-                accumulate(sin, minus, pr, sm)
             for h2, s2 in other.sin.items():
                 pr = term_product(t1, s2.terms, bias)
                 plus, _, minus, _ = _sum_difference(h1, h2)

@@ -43,6 +43,8 @@ from numerics import limit_cycle
 from numerics.cycles.continuation import continue_cycles
 from numerics.errors import NumericsError
 
+from _auto import EMPTY_SUBROUTINES, FUNC_HEAD, STPNT_HEAD
+
 
 def _scratch(model, params, vary, branch):
     t0 = time.perf_counter()
@@ -77,23 +79,13 @@ def case(label, model, params, vary, bounds, **kw):
     return t_branch
 
 
-AUTO_EQUATIONS = textwrap.dedent("""\
-    SUBROUTINE FUNC(NDIM,U,ICP,PAR,IJAC,F,DFDU,DFDP)
-      IMPLICIT NONE
-      INTEGER, INTENT(IN) :: NDIM, ICP(*), IJAC
-      DOUBLE PRECISION, INTENT(IN) :: U(NDIM), PAR(*)
-      DOUBLE PRECISION, INTENT(OUT) :: F(NDIM)
-      DOUBLE PRECISION, INTENT(INOUT) :: DFDU(NDIM,NDIM), DFDP(NDIM,*)
+AUTO_EQUATIONS = FUNC_HEAD + textwrap.dedent("""\
       DOUBLE PRECISION PI
       PI = 4.0D0*ATAN(1.0D0)
       F(1) = U(2)
       F(2) = -U(1) - PAR(3)*(PAR(4)*U(1)*U(1) - PAR(2))*U(2) - PAR(1)*SIN(2*PI*U(1)/PAR(5))
     END SUBROUTINE FUNC
-    SUBROUTINE STPNT(NDIM,U,PAR,T)
-      IMPLICIT NONE
-      INTEGER, INTENT(IN) :: NDIM
-      DOUBLE PRECISION, INTENT(INOUT) :: U(NDIM),PAR(*)
-      DOUBLE PRECISION, INTENT(IN) :: T
+    """) + STPNT_HEAD + textwrap.dedent("""\
       PAR(1) = 0.0D0
       PAR(2) = -0.1D0
       PAR(3) = 0.1D0
@@ -102,15 +94,7 @@ AUTO_EQUATIONS = textwrap.dedent("""\
       U(1) = 0.0D0
       U(2) = 0.0D0
     END SUBROUTINE STPNT
-    SUBROUTINE BCND
-    END SUBROUTINE BCND
-    SUBROUTINE ICND
-    END SUBROUTINE ICND
-    SUBROUTINE FOPT
-    END SUBROUTINE FOPT
-    SUBROUTINE PVLS
-    END SUBROUTINE PVLS
-    """)
+    """) + EMPTY_SUBROUTINES
 
 AUTO_CONSTANTS = textwrap.dedent("""\
     parnames = {1: 'Delta', 2: 's', 3: 'mu', 4: 'beta', 5: 'lam'}

@@ -42,17 +42,13 @@ import numpy as np
 from numerics.bifurcation.coupled import coupled_true_folds
 from numerics.bifurcation.forced import DrivenProblem, forced_seeds, forced_true_curves
 
+from _auto import EMPTY_SUBROUTINES, FUNC_HEAD, STPNT_HEAD
+
 VALUES = {"mu": 0.1, "zeta": 0.1, "alpha": 1.0}
 RANGES = {"sigma": (-1.0, 3.0), "h": (0.02, 0.4)}
 
-AUTO_EQUATIONS = textwrap.dedent("""\
-    !  forced Duffing, made autonomous by AUTO's forcing oscillator (c, s)
-    SUBROUTINE FUNC(NDIM,U,ICP,PAR,IJAC,F,DFDU,DFDP)
-      IMPLICIT NONE
-      INTEGER, INTENT(IN) :: NDIM, ICP(*), IJAC
-      DOUBLE PRECISION, INTENT(IN) :: U(NDIM), PAR(*)
-      DOUBLE PRECISION, INTENT(OUT) :: F(NDIM)
-      DOUBLE PRECISION, INTENT(INOUT) :: DFDU(NDIM,NDIM), DFDP(NDIM,*)
+AUTO_EQUATIONS = "!  forced Duffing, made autonomous by AUTO's forcing oscillator (c, s)\n" \
+    + FUNC_HEAD + textwrap.dedent("""\
       DOUBLE PRECISION MU, ZETA, ALPHA, NU, R
       MU = 0.1d0
       ZETA = 0.1d0
@@ -65,11 +61,7 @@ AUTO_EQUATIONS = textwrap.dedent("""\
       F(4) = -NU*U(3) + U(4) - U(4)*R
     END SUBROUTINE FUNC
 
-    SUBROUTINE STPNT(NDIM,U,PAR,T)
-      IMPLICIT NONE
-      INTEGER, INTENT(IN) :: NDIM
-      DOUBLE PRECISION, INTENT(INOUT) :: U(NDIM), PAR(*)
-      DOUBLE PRECISION, INTENT(IN) :: T
+""") + STPNT_HEAD + textwrap.dedent("""\
       DOUBLE PRECISION PI, NU
       PI = 4*ATAN(1.0d0)
       PAR(1) = 1.0d0
@@ -82,15 +74,7 @@ AUTO_EQUATIONS = textwrap.dedent("""\
       U(4) = -SIN(2*PI*T)
     END SUBROUTINE STPNT
 
-    SUBROUTINE BCND
-    END SUBROUTINE BCND
-    SUBROUTINE ICND
-    END SUBROUTINE ICND
-    SUBROUTINE FOPT
-    END SUBROUTINE FOPT
-    SUBROUTINE PVLS
-    END SUBROUTINE PVLS
-""")
+""") + EMPTY_SUBROUTINES
 
 AUTO_SCRIPT = textwrap.dedent("""\
     import time

@@ -26,7 +26,7 @@ from .averaging import derive
 from .errata_tex import ErratumRow, errata_tex
 from .errors import KBMError
 from .files import output_folder, write_file
-from .latex import equation_lines, latex, series_lines
+from .latex import align_block, equation_lines, latex, series_lines
 from .models import get_model
 from .series import limit_cycle_series
 from .symbols import mu, x, xdot
@@ -50,7 +50,7 @@ class DerivationFile:
 
 
 def _align(lines: Sequence[str]) -> str:
-    return "\\begin{align*}\n" + " \\\\\n".join(lines) + "\n\\end{align*}\n"
+    return align_block(lines) + "\n"
 
 
 def _block(lhs: str, expr: sp.Expr) -> str:
@@ -59,15 +59,8 @@ def _block(lhs: str, expr: sp.Expr) -> str:
 
 def _kbm_section(title: str, intro: str, res, orders_u: int | None = None,
                  subs: Mapping | None = None) -> str:
-    subs = dict(subs or {})
     out = [f"\\subsection*{{{title}}}\n", intro.strip() + "\n"]
-    N = res.order
-    out.append(_align([equation_lines(f"A_{{{n}}}(a)", res.A[n].subs(subs), _W)
-                       for n in range(1, N + 1)]))
-    out.append(_align([equation_lines(f"B_{{{n}}}(a)", res.B[n].subs(subs), _W)
-                       for n in range(1, N + 1)]))
-    out.append(_align([equation_lines(f"u_{{{n}}}(a,\\psi)", res.u[n].subs(subs), _W)
-                       for n in range(1, (orders_u or N) + 1)]))
+    out += [_align(group) for group in res.latex_groups(_W, subs, orders_u)]
     return "\n".join(out)
 
 

@@ -13,13 +13,13 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .latex import equation_lines
+from .latex import align_block, equation_lines
 
 __all__ = ["ErratumRow", "errata_tex"]
 
 
 def _align(lines: Sequence[str]) -> str:
-    return "\\begin{align*}\n" + " \\\\\n".join(lines) + "\n\\end{align*}\n"
+    return align_block(lines) + "\n"
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,7 @@ import sympy as sp
 from sympy.printing.latex import LatexPrinter
 
 __all__ = ["KBMLatexPrinter", "latex", "equation_lines", "series_lines", "visible_width",
-           "SYMBOL_NAMES"]
+           "SYMBOL_NAMES", "align_block"]
 
 #: LaTeX names of the package's symbols
 SYMBOL_NAMES = {
@@ -254,3 +254,8 @@ def series_lines(lhs: str, lead: sp.Expr, orders: list[tuple[int, sp.Expr]],
     if not pieces:
         pieces = ["0"]
     return _join(lhs, _pack(pieces, width))
+
+
+def align_block(rows) -> str:
+    """The rows (``lhs &= rhs``) as one LaTeX ``align*`` environment."""
+    return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"

@@ -2,18 +2,18 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import sympy as sp
 
 from . import evaluate
 from .errors import ExpansionError, OrderError, ParameterError
-from .latex import equation_lines, latex
+from .latex import align_block, equation_lines, latex
 from .models import Oscillator
 from .symbols import a, mu, psi
 
-__all__ = ["KBMResult", "KBMFunctions"]
+__all__ = ["KBMResult", "KBMFunctions", "lex", "by_order"]
 
 
 @dataclass(frozen=True)
@@ -50,6 +50,17 @@ class KBMFunctions:
     def displacement(self, a, psi, mu, *params, order: int | None = None):
         N = self.order if order is None else order
         return _series_sum([self.u[n](a, psi, *params) for n in range(0, N + 1)], mu, 0)
+
+
+def lex(e: sp.Expr) -> str:
+    """``e`` as the JSON and plain text of the results print it (``sstr``, lexicographic
+    order): :func:`kbm.parse` reads it back."""
+    return sp.sstr(e, order="lex")
+
+
+def by_order(seq) -> list:
+    """The entries of a per-order tuple as :func:`lex` strings, entry 0 ``None``."""
+    return [None] + [lex(e) for e in seq[1:]]
 
 
 def _series_sum(values, mu, first):
@@ -158,11 +169,9 @@ class KBMResult:
         Every entry is a string that :func:`kbm.parse` (or ``sympy.sympify`` with
         :data:`kbm.symbols.PARSE_LOCALS`) reads back to the same expression.
         """
-        def strs(seq):
-            return [None] + [sp.sstr(e, order="lex") for e in seq[1:]]
         return {"model": self.model.name, "order": self.order, "omega0": str(self.model.omega0),
-                "F": sp.sstr(self.model.F, order="lex"), "exact": self.exact,
-                "A": strs(self.A), "B": strs(self.B), "u": strs(self.u)}
+                "F": lex(self.model.F), "exact": self.exact,
+                "A": by_order(self.A), "B": by_order(self.B), "u": by_order(self.u)}
 
     def pretty(self) -> str:
         """A plain-text summary, one line per quantity."""
@@ -170,12 +179,9 @@ class KBMResult:
         x = "x" if w2 == 1 else f"{sp.sstr(w2)}*x"
         lines = [f"KBM expansion of {self.model.name}: x'' + {x} = mu*({self.model.F}), "
                  f"order {self.order}"]
-        for n in range(1, self.order + 1):
-            lines.append(f"A_{n} = {sp.sstr(self.A[n], order='lex')}")
-        for n in range(1, self.order + 1):
-            lines.append(f"B_{n} = {sp.sstr(self.B[n], order='lex')}")
-        for n in range(1, self.order + 1):
-            lines.append(f"u_{n} = {sp.sstr(self.u[n], order='lex')}")
+        lines += [f"{name}_{n} = {lex(seq[n])}" for name, seq in (("A", self.A), ("B", self.B),
+                                                                  ("u", self.u))
+                  for n in range(1, self.order + 1)]
         return "\n".join(lines)
 
     def latex(self, width: int = 90) -> str:
@@ -186,11 +192,22 @@ class KBMResult:
                                                for n in range(1, self.order + 1)))
         eqs.append(r"\dot\psi &= " + latex(self.B[0]) + "".join(
             rf" + \mu^{{{n}}} B_{{{n}}}(a)" for n in range(1, self.order + 1)))
-        for name, seq in (("A", self.A), ("B", self.B), ("u", self.u)):
-            for n in range(1, self.order + 1):
-                arg = "(a,\\psi)" if name == "u" else "(a)"
-                eqs.append(equation_lines(f"{name}_{{{n}}}{arg}", seq[n], width))
-        return "\\begin{align*}\n" + " \\\\\n".join(eqs) + "\n\\end{align*}"
+        for group in self.latex_groups(width):
+            eqs += group
+        return align_block(eqs)
+
+    def latex_groups(self, width: int = 90, subs: Mapping | None = None,
+                     orders_u: int | None = None) -> list[list[str]]:
+        """The ``align`` rows of the ``A_n(a)``, of the ``B_n(a)`` and of the ``u_n(a, psi)``
+        (to ``orders_u``, default all), each broken into lines of about ``width`` characters
+        and with the values ``subs`` put in (as
+        :meth:`kbm.coupled.result.CoupledKBMResult.latex_groups`)."""
+        subs = dict(subs or {})
+        return [[equation_lines(f"{name}_{{{n}}}{arg}", seq[n].subs(subs) if subs else seq[n],
+                                width) for n in range(1, top + 1)]
+                for name, arg, seq, top in (("A", "(a)", self.A, self.order),
+                                            ("B", "(a)", self.B, self.order),
+                                            ("u", "(a,\\psi)", self.u, orders_u or self.order))]
 
     def _repr_latex_(self) -> str:
         return "$\\displaystyle " + self.latex().replace("align*", "aligned") + "$"

@@ -27,7 +27,7 @@ import sympy as sp
 from .algebra.laurent import Q
 from .averaging import MAX_ORDER, run_recursion
 from .errors import AveragedCycleError, OrderError, ParameterError
-from .latex import equation_lines
+from .latex import align_block, equation_lines
 from .models import Oscillator, get_model
 from .symbols import parse, a, mu
 
@@ -59,10 +59,9 @@ class LimitCycleSeries:
     def latex(self, width: int = 90) -> str:
         """Both series as a LaTeX ``align*`` block (long lines broken)."""
         o = f" + O(\\mu^{{{self.order + 1}}})"
-        return ("\\begin{align*}\n"
-                + equation_lines(r"\omega^*", self.omega_expr(), width, "rev-lex") + o
-                + " \\\\\n" + equation_lines(r"a^*", self.amplitude_expr(), width, "rev-lex") + o
-                + "\n\\end{align*}")
+        return align_block([
+            equation_lines(r"\omega^*", self.omega_expr(), width, "rev-lex") + o,
+            equation_lines(r"a^*", self.amplitude_expr(), width, "rev-lex") + o])
 
     def _repr_latex_(self) -> str:
         return "$\\displaystyle " + self.latex().replace("align*", "aligned") + "$"

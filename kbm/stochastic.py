@@ -144,21 +144,6 @@ class StochasticAveraging:
                                  f"{', '.join(sorted(s.name for s in free))}")
         return sp.lambdify(a, expr, modules="mpmath")
 
-    def _support(self, f) -> tuple[float, float, float]:
-        """``(peak, end, max ln P)``: the density is below ``exp(-80)`` of its peak past
-        ``end``."""
-        top = mpmath.mpf(8)
-        while True:
-            grid = [top * i / 512 for i in range(1, 513)]
-            vals = [f(g) for g in grid]
-            i = int(np.argmax([float(v) for v in vals]))
-            if vals[-1] < vals[i] - 80:
-                return float(grid[i]), float(top), vals[i]
-            top *= 2
-            if top > 1e6:
-                raise ModelError("the stationary amplitude density does not decay up to "
-                                 "a = 1e6: no normalisable P(a) at these values")
-
     def moment(self, k: int, params: Mapping[str, object]) -> float:
         """``<a^k>`` of the normalised stationary density (mpmath quadrature, 30 digits).
 
@@ -170,26 +155,12 @@ class StochasticAveraging:
         """
         f = self._log_density_of(params)
         with mpmath.workdps(30):
-            peak, end, fmax = self._support(f)
-
-            def w(x, n):
-                return x**n * mpmath.exp(f(x) - fmax)
-
-            pts = [0, peak / 2, peak, (peak + end) / 2, end]
-            Z = mpmath.quad(lambda x: w(x, 0), pts)
-            return float(mpmath.quad(lambda x: w(x, k), pts) / Z)
+            Z, m = quadratures(f, [lambda x: x**0, lambda x: x**k])
+            return float(m / Z)
 
     def density(self, grid, params: Mapping[str, object]) -> np.ndarray:
         """The normalised stationary density ``P(a)`` on ``grid`` (numpy array)."""
-        f = self._log_density_of(params)
-        with mpmath.workdps(30):
-            peak, end, fmax = self._support(f)
-            pts = [0, peak / 2, peak, (peak + end) / 2, end]
-            Z = mpmath.quad(lambda x: mpmath.exp(f(x) - fmax), pts)
-            g = np.asarray(grid, float)
-            out = [float(mpmath.exp(f(mpmath.mpf(float(x))) - fmax) / Z) if x > 0 else 0.0
-                   for x in g.ravel()]
-        return np.asarray(out).reshape(g.shape)
+        return density_on(grid, self._log_density_of(params))
 
     def numpy_functions(self):
         """``(drift_a, diffusion_a, drift_phase, diffusion_phase)`` as vectorised numpy
@@ -232,6 +203,46 @@ def noisy_model(model: Oscillator | str, params: Mapping[str, object] | None,
                              "name; rename it")
     m.require_autonomous(what)
     return m, {k: v for k, v in dict(params or {}).items() if k not in ("mu", "D")}
+
+
+def _support(f) -> tuple[list, object]:
+    """``(points, max ln P)`` of a log-density ``f``: the quadrature's break points ``0,
+    peak/2, peak, (peak + end)/2, end``, past ``end`` the density below ``exp(-80)`` of its
+    peak."""
+    top = mpmath.mpf(8)
+    while True:
+        grid = [top * i / 512 for i in range(1, 513)]
+        vals = [f(g) for g in grid]
+        i = int(np.argmax([float(v) for v in vals]))
+        if vals[-1] < vals[i] - 80:
+            peak, end = float(grid[i]), float(top)
+            return [0, peak / 2, peak, (peak + end) / 2, end], vals[i]
+        top *= 2
+        if top > 1e6:
+            raise ModelError("the stationary amplitude density does not decay up to "
+                             "a = 1e6: no normalisable P(a) at these values")
+
+
+def quadratures(f, weights) -> list:
+    """``int_0^inf w(a) exp(f(a) - max f) da`` for each ``w`` of ``weights``, ``f`` the log of
+    an amplitude density (mpmath quadrature at 30 digits, cut where it is ``exp(-80)`` of
+    its peak); the moments of both orders of the averaging."""
+    with mpmath.workdps(30):
+        pts, fmax = _support(f)
+        return [mpmath.quad(lambda s, w=w: w(s) * mpmath.exp(f(s) - fmax), pts)
+                for w in weights]
+
+
+def density_on(grid, f, h=lambda s: 1) -> np.ndarray:
+    """The normalised density ``h exp(f)`` on ``grid`` (0 at ``a <= 0``), as
+    :func:`quadratures` integrates it."""
+    with mpmath.workdps(30):
+        pts, fmax = _support(f)
+        Z = mpmath.quad(lambda s: h(s) * mpmath.exp(f(s) - fmax), pts)
+        g = np.asarray(grid, float)
+        out = [float(h(mpmath.mpf(float(s))) * mpmath.exp(f(mpmath.mpf(float(s))) - fmax) / Z)
+               if s > 0 else 0.0 for s in g.ravel()]
+    return np.asarray(out).reshape(g.shape)
 
 
 def stochastic_average(model: Oscillator | str,

@@ -52,12 +52,11 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-import mpmath
 import sympy as sp
 
 from .errors import ModelError, ParameterError
 from .models import Oscillator, get_model
-from .stochastic import NOISE, StochasticAveraging, stochastic_average
+from .stochastic import NOISE, StochasticAveraging, density_on, quadratures, stochastic_average
 from .symbols import a, mu, x, xdot
 
 __all__ = ["SecondOrderAveraging", "stochastic_average_order2", "KAPPA"]
@@ -207,11 +206,7 @@ class SecondOrderAveraging:
 
     def _integrals(self, params, weights) -> list:
         f, h0, h2 = self._functions(params)
-        with mpmath.workdps(30):
-            peak, end, fmax = self.first._support(f)
-            pts = [0, peak / 2, peak, (peak + end) / 2, end]
-            return [mpmath.quad(lambda s, g=g: g(s, h0, h2) * mpmath.exp(f(s) - fmax), pts)
-                    for g in weights]
+        return quadratures(f, [lambda s, g=g: g(s, h0, h2) for g in weights])
 
     def moment(self, k: int, params: Mapping[str, object]) -> float:
         """``<a^k>`` through ``O(mu^2)`` (mpmath quadrature, 30 digits).
@@ -234,17 +229,8 @@ class SecondOrderAveraging:
 
     def density(self, grid, params: Mapping[str, object]):
         """The normalised amplitude density ``P_0 (1 + mu q_1 + mu^2 q_2)/Z`` on ``grid``."""
-        import numpy as np
-
         f, h0, _ = self._functions(params)
-        with mpmath.workdps(30):
-            peak, end, fmax = self.first._support(f)
-            pts = [0, peak / 2, peak, (peak + end) / 2, end]
-            Z = mpmath.quad(lambda s: h0(s) * mpmath.exp(f(s) - fmax), pts)
-            g = np.asarray(grid, float)
-            out = [float(h0(mpmath.mpf(float(s))) * mpmath.exp(f(mpmath.mpf(float(s))) - fmax)
-                         / Z) if s > 0 else 0.0 for s in g.ravel()]
-        return np.asarray(out).reshape(g.shape)
+        return density_on(grid, f, h0)
 
 
 _CACHE: dict = {}

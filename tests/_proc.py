@@ -46,3 +46,18 @@ def start_with_workers(argv: list[str], settle: float, what: str):
         time.sleep(0.2)
     proc.kill()
     pytest.fail(f"{what} worker processes did not start within 60 s")
+
+
+def signal_and_wait(proc, sig, what: str) -> tuple[float, str]:
+    """Send ``sig`` to ``proc`` and wait for it (the test fails past 10 s), then half a second
+    for its workers to go: ``(seconds it took to stop, its standard error)``."""
+    t0 = time.monotonic()
+    proc.send_signal(sig)
+    try:
+        _, err = proc.communicate(timeout=10)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        pytest.fail(f"the command did not stop within 10 s of {what}")
+    elapsed = time.monotonic() - t0
+    time.sleep(0.5)
+    return elapsed, err

@@ -15,19 +15,22 @@ from numerics.flow.jit import _load, cache_dir
 pytestmark = pytest.mark.skipif(not jit_available(), reason="numba not installed")
 
 
-def _flows(monkeypatch, model, params):
-    """The just-in-time flow and the ahead-of-time one of ``model`` (built in the cache in
-    use if it is not there yet, once per machine)."""
+def _flows(monkeypatch, model, params, make=template_flow, exports=None):
+    """The just-in-time flow and the ahead-of-time one of ``model`` made by ``make`` (built
+    in the cache in use if it is not there yet, once per machine); with ``exports``, the
+    functions the module must export."""
     cm = compile_model(model, params)
     monkeypatch.setenv("KBM_AOT", "0")
     clear_caches()
-    jit = template_flow(cm.template)
+    jit = make(cm.template)
     monkeypatch.setenv("KBM_AOT", "1")
     text = open(jit.module.__file__).read()
+    if exports is not None:
+        assert set(aot.exports(text)) == exports
     if aot.load(cache_dir(), text) is None:
         assert aot.build(cache_dir(), text, _load(text))
     clear_caches()
-    built = template_flow(cm.template)
+    built = make(cm.template)
     clear_caches()
     return cm, jit, built
 
@@ -96,19 +99,8 @@ def _correctors(monkeypatch, model, params):
     in use if it is not there yet, once per machine)."""
     from numerics.flow.sensitivity import sensitivity_flow
 
-    cm = compile_model(model, params)
-    monkeypatch.setenv("KBM_AOT", "0")
-    clear_caches()
-    jit = sensitivity_flow(cm.template)
-    monkeypatch.setenv("KBM_AOT", "1")
-    text = open(jit.module.__file__).read()
-    assert set(aot.exports(text)) == {"flow", "to_turn", "shoot_correct", "accelerations"}
-    if aot.load(cache_dir(), text) is None:
-        assert aot.build(cache_dir(), text, _load(text))
-    clear_caches()
-    built = sensitivity_flow(cm.template)
-    clear_caches()
-    return cm, jit, built
+    return _flows(monkeypatch, model, params, sensitivity_flow,
+                  {"flow", "to_turn", "shoot_correct", "accelerations"})
 
 
 @pytest.mark.parametrize("model, params, vary, rates", [

@@ -9,12 +9,11 @@ finished) and that no worker outlives the parent (``/proc``; zombies count as go
 from __future__ import annotations
 
 import signal
-import subprocess
 import sys
 import time
 
 import pytest
-from _proc import alive as _alive, start_with_workers
+from _proc import alive as _alive, signal_and_wait, start_with_workers
 
 pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="uses /proc")
 
@@ -31,15 +30,7 @@ def _start():
 def test_a_signal_stops_the_map_within_2_s_and_no_worker_outlives_it(sig, status, how):
     proc, kids = _start()
     assert kids
-    t0 = time.monotonic()
-    proc.send_signal(sig)
-    try:
-        _, err = proc.communicate(timeout=10)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        pytest.fail("the command did not stop within 10 s of the signal")
-    elapsed = time.monotonic() - t0
-    time.sleep(0.5)
+    elapsed, err = signal_and_wait(proc, sig, "the signal")
     assert proc.returncode == status, err
     assert elapsed < 2.0
     last = err.strip().splitlines()[-1]

@@ -14,12 +14,11 @@ from __future__ import annotations
 
 import math
 import signal
-import subprocess
 import sys
 import time
 
 import pytest
-from _proc import alive as _alive, start_with_workers
+from _proc import alive as _alive, signal_and_wait, start_with_workers
 
 from kbm.errors import ParameterError
 from numerics.noise.langevin import langevin_system, natural_step
@@ -99,15 +98,7 @@ def test_sigterm_stops_a_one_point_law_within_2_s():
     if not kids:
         proc.kill()
         pytest.fail("the law's worker processes did not start within 60 s")
-    t0 = time.monotonic()
-    proc.send_signal(signal.SIGTERM)
-    try:
-        _, err = proc.communicate(timeout=10)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        pytest.fail("the command did not stop within 10 s of SIGTERM")
-    elapsed = time.monotonic() - t0
-    time.sleep(0.5)
+    elapsed, err = signal_and_wait(proc, signal.SIGTERM, "SIGTERM")
     assert proc.returncode == 143, err
     assert elapsed < 2.0
     last = err.strip().splitlines()[-1]

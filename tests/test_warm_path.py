@@ -113,14 +113,21 @@ def test_a_damaged_rates_record_is_rebuilt(tmp_path, monkeypatch):
     clear_caches()
 
 
-def _modules_of_cycle(env, args=("vdp", "-p", "mu=1")) -> tuple[bytes, list[str]]:
-    code = (f"import sys, runpy; sys.argv = ['kbm', 'cycle', *{list(args)!r}, '--json']\n"
+def _modules_of(env, argv, prefixes) -> tuple[bytes, list[str]]:
+    """The standard output of ``kbm argv`` and the modules it imported whose names start
+    with one of ``prefixes``."""
+    code = (f"import sys, runpy; sys.argv = ['kbm', *{list(argv)!r}]\n"
             "try:\n    runpy.run_module('numerics.cli', run_name='__main__')\n"
             "finally:\n    print('MODULES', *sorted(m for m in sys.modules if m.startswith("
-            "('scipy.', 'kbm.averag', 'numba', 'sympy'))), file=sys.stderr)")
+            f"{tuple(prefixes)!r})), file=sys.stderr)")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, cwd=ROOT, env=env,
                           timeout=600, check=True)
     return proc.stdout, proc.stderr.decode().splitlines()[-1].split()[1:]
+
+
+def _modules_of_cycle(env, args=("vdp", "-p", "mu=1")) -> tuple[bytes, list[str]]:
+    return _modules_of(env, ["cycle", *args, "--json"],
+                       ("scipy.", "kbm.averag", "numba", "sympy"))
 
 
 def test_the_warm_cycle_imports_no_scipy_optimize_special_or_integrate():
@@ -148,13 +155,7 @@ BRANCH = ["branch", "sedf", "-p", "mu=0.1", "-p", "beta=1", "-p", "lam=1", "--va
 
 
 def _modules_of_branch(env) -> tuple[bytes, list[str]]:
-    code = (f"import sys, runpy; sys.argv = ['kbm', *{BRANCH!r}]\n"
-            "try:\n    runpy.run_module('numerics.cli', run_name='__main__')\n"
-            "finally:\n    print('MODULES', *sorted(m for m in sys.modules if m.startswith("
-            "('numba', 'numerics.comparison.', 'numerics.energy.'))), file=sys.stderr)")
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, cwd=ROOT, env=env,
-                          timeout=600, check=True)
-    return proc.stdout, proc.stderr.decode().splitlines()[-1].split()[1:]
+    return _modules_of(env, BRANCH, ("numba", "numerics.comparison.", "numerics.energy."))
 
 
 def test_the_warm_branch_imports_no_numba_and_gives_the_same_bytes():

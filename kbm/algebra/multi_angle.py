@@ -24,7 +24,7 @@ import sympy as sp
 
 from .laurent import Laurent, LaurentRing, Q, accumulate, merged, term_product
 
-__all__ = ["MultiAngle", "canonical"]
+__all__ = ["MultiAngle", "canonical", "forcing_harmonics"]
 
 _HALF = Q(1, 2)
 
@@ -121,18 +121,16 @@ class MultiAngle:
                 plus, _, minus, _ = _sum_difference(h1, h2)
                 accumulate(cos, minus, pr, 1)
                 accumulate(cos, plus, pr, 1)
-            for h2, s2 in other.sin.items():  # cos A sin B
-                pr = term_product(t1, s2.terms, bias)
-                plus, sp_, minus, sm = _sum_difference(h1, h2)
-                accumulate(sin, plus, pr, sp_)
-                accumulate(sin, minus, pr, -sm)
+        for cs, sn in ((self.cos, other.sin), (other.cos, self.sin)):  # cos A sin B
+            for h1, c1 in cs.items():
+                t1 = c1.terms
+                for h2, s2 in sn.items():
+                    pr = term_product(t1, s2.terms, bias)
+                    plus, sp_, minus, sm = _sum_difference(h1, h2)
+                    accumulate(sin, plus, pr, sp_)
+                    accumulate(sin, minus, pr, -sm)
         for h1, s1 in self.sin.items():
             t1 = s1.terms
-            for h2, c2 in other.cos.items():  # sin A cos B
-                pr = term_product(t1, c2.terms, bias)
-                plus, sp_, minus, sm = _sum_difference(h1, h2)
-                accumulate(sin, plus, pr, sp_)
-                accumulate(sin, minus, pr, sm)
             for h2, s2 in other.sin.items():
                 pr = term_product(t1, s2.terms, bias)
                 plus, _, minus, _ = _sum_difference(h1, h2)
@@ -181,3 +179,44 @@ class MultiAngle:
                 arg = sp.Add(*[v * g for v, g in zip(h, angles) if v])
                 parts.append(table[h].as_primitive_expr() * (fn(arg) if any(h) else 1))
         return sp.Add(*parts)
+
+
+def forcing_harmonics(expr: sp.Expr, theta: sp.Symbol):
+    """``expr``, a polynomial in the parameters and in ``cos``/``sin`` of multiples of the
+    forcing angle ``theta``, as harmonics of ``theta``: yields ``(k, kind, c)`` for the terms
+    ``c cos(k theta)`` (``kind = "cos"``; ``k = 0`` the mean) and ``c sin(k theta)``, products
+    reduced to sums first (``TR8``) and ``cos(k theta + c0)`` split by the addition formulas.
+    The exact forced and coupled algebras build their constants from it.
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        A term that is not a parameter coefficient times one ``cos``/``sin`` of
+        ``k theta + c0`` with an integer ``k``.
+    """
+    from sympy.simplify.fu import TR8
+
+    from ..errors import ModelError
+
+    e = sp.expand(TR8(expr)) if expr.has(sp.sin, sp.cos) else sp.expand(expr)
+    for term in sp.Add.make_args(e):
+        trig = [f for f in sp.Mul.make_args(term) if f.has(theta)]
+        if not trig:  # the mean (of a product of forcing terms too: a hard forcing's square)
+            yield 0, "cos", term
+            continue
+        coeff = sp.Mul(*[f for f in sp.Mul.make_args(term) if not f.has(theta)])
+        if len(trig) != 1 or not isinstance(trig[0], (sp.sin, sp.cos)):
+            raise ModelError(f"the term {term} is not a polynomial in the state times "
+                             "cos or sin of a multiple of theta")
+        f = trig[0]
+        arg = sp.expand(f.args[0])
+        k = arg.coeff(theta)
+        c = sp.expand(arg - k * theta)
+        if not k.is_Integer or c.has(theta):
+            raise ModelError(f"{f}: the forcing enters as cos(k theta + c), sin(k theta + "
+                             "c) with an integer k (2 pi-periodic in theta)")
+        kinds = [("cos", sp.cos(c)), ("sin", -sp.sin(c))] if isinstance(f, sp.cos) \
+            else [("sin", sp.cos(c)), ("cos", sp.sin(c))]
+        for kind, w in kinds:
+            if w != 0:
+                yield int(k), kind, coeff * w

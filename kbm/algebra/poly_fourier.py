@@ -114,21 +114,16 @@ class PolyFourier:
                 k = m - n if m > n else n - m
                 cos[k] = cos[k] + pr
                 cos[m + n] = cos[m + n] + pr
-            for n, s2 in sin2.items():
-                pr = c1 * s2
-                sin[m + n] = sin[m + n] + pr
-                if n > m:
-                    sin[n - m] = sin[n - m] + pr
-                elif n < m:
-                    sin[m - n] = sin[m - n] - pr
+        for cs, sn in ((cos1, sin2), (cos2, sin1)):  # cos A sin B = (sin(A+B) - sin(A-B))/2
+            for m, c in cs.items():
+                for n, s in sn.items():
+                    pr = c * s  # exact integer polynomials: the order of the sums is free
+                    sin[m + n] = sin[m + n] + pr
+                    if n > m:
+                        sin[n - m] = sin[n - m] + pr
+                    elif n < m:
+                        sin[m - n] = sin[m - n] - pr
         for m, s1 in sin1.items():
-            for n, c2 in cos2.items():
-                pr = s1 * c2
-                sin[m + n] = sin[m + n] + pr
-                if m > n:
-                    sin[m - n] = sin[m - n] + pr
-                elif m < n:
-                    sin[n - m] = sin[n - m] - pr
             for n, s2 in sin2.items():
                 pr = s1 * s2
                 k = m - n if m > n else n - m
@@ -163,18 +158,16 @@ class PolyFourier:
                 pr = product(t1, c2.terms)
                 acc(cos, abs(m - n), pr, 1)
                 acc(cos, m + n, pr, 1)
-            for n, s2 in other.sin.items():
-                pr = product(t1, s2.terms)
-                acc(sin, m + n, pr, 1)
-                if n != m:
-                    acc(sin, abs(n - m), pr, 1 if n > m else -1)
+        for cs, sn in ((self.cos, other.sin), (other.cos, self.sin)):  # cos A sin B
+            for m, c in cs.items():
+                t1 = c.terms
+                for n, s in sn.items():
+                    pr = product(t1, s.terms)
+                    acc(sin, m + n, pr, 1)
+                    if n != m:
+                        acc(sin, abs(n - m), pr, 1 if n > m else -1)
         for m, s1 in self.sin.items():
             t1 = s1.terms
-            for n, c2 in other.cos.items():
-                pr = product(t1, c2.terms)
-                acc(sin, m + n, pr, 1)
-                if m != n:
-                    acc(sin, abs(m - n), pr, 1 if m > n else -1)
             for n, s2 in other.sin.items():
                 pr = product(t1, s2.terms)
                 acc(cos, abs(m - n), pr, 1)

@@ -18,7 +18,7 @@ import sympy as sp
 
 from ..algebra.laurent import LaurentRing, Q
 from ..algebra.lazy_series import Const, Node, Product, Scaled, Sum
-from ..algebra.multi_angle import MultiAngle
+from ..algebra.multi_angle import MultiAngle, forcing_harmonics
 from ..errors import ModelError, UnsupportedTermError
 from ..recursion import SlowRates
 from .bessel import _NUMERIC_HINT, JacobiAnger
@@ -89,31 +89,10 @@ class CoupledAlgebra(AngleCalculus):
         zero = (0,) * self.n
         if not expr.has(theta):
             return MultiAngle(self.ring, self.n, {zero: self._laurent(expr)})
-        from sympy.simplify.fu import TR8
-
         out = self.zero()
-        for term in sp.Add.make_args(sp.expand(TR8(expr))):
-            trig = [f for f in sp.Mul.make_args(term) if f.has(theta)]
-            coeff = sp.Mul(*[f for f in sp.Mul.make_args(term) if not f.has(theta)])
-            if not trig:  # the mean of a product of forcing terms (a hard forcing's square)
-                out = out + MultiAngle(self.ring, self.n, {zero: self._laurent(term)})
-                continue
-            if len(trig) != 1 or not isinstance(trig[0], (sp.sin, sp.cos)):
-                raise ModelError(f"the term {term} is not a polynomial in the state times "
-                                 "cos or sin of a multiple of theta")
-            f = trig[0]
-            arg = sp.expand(f.args[0])
-            k = arg.coeff(theta)
-            c = sp.expand(arg - k * theta)
-            if not k.is_Integer or c.has(theta):
-                raise ModelError(f"{f}: the forcing enters as cos(k theta + c), sin(k theta + "
-                                 "c) with an integer k (2 pi-periodic in theta)")
-            h = tuple([0] * self.dof + [int(k)])
-            kinds = [("cos", sp.cos(c)), ("sin", -sp.sin(c))] if isinstance(f, sp.cos) \
-                else [("sin", sp.cos(c)), ("cos", sp.sin(c))]
-            for kind, w in kinds:
-                if w != 0:
-                    out = out + MultiAngle.harmonic(self.ring, h, self._laurent(coeff * w), kind)
+        for k, kind, c in forcing_harmonics(expr, theta):
+            out = out + MultiAngle.harmonic(self.ring, zero[:self.dof] + (k,),
+                                            self._laurent(c), kind)
         return out
 
     def x0(self, i: int) -> MultiAngle:

@@ -17,15 +17,12 @@ import numpy as np
 import sympy as sp
 
 from ..algebra.multi_angle import MultiAngle
+from ..result import by_order, lex as _lex
 from ..symbols import mu
 from .model import CoupledOscillators, amplitudes, phases
 from .resonance import SlowLattice
 
 __all__ = ["CoupledKBMResult"]
-
-
-def _lex(e: sp.Expr) -> str:
-    return sp.sstr(e, order="lex")
 
 
 def _slow_expr(f: MultiAngle, lattice: SlowLattice, gammas: tuple) -> sp.Expr:
@@ -183,8 +180,6 @@ class CoupledKBMResult:
         ``B``, ``u``: per degree of freedom a list indexed by order (entry 0 null), each
         entry a string :func:`kbm.parse` reads back; ``gamma_rates`` likewise per phase
         combination."""
-        def strs(seq):
-            return [None] + [_lex(e) for e in seq[1:]]
         return {
             "model": self.model.name, "order": self.order, "dof": self.model.dof,
             "omega0": [str(w) for w in self.model.omegas],
@@ -192,12 +187,12 @@ class CoupledKBMResult:
             "internal": [str(r) for r in self.model.internal],
             "gammas": {str(g): _lex(e) for g, e in self.gammas},
             "exact": True,
-            "A": [strs(Ai) for Ai in self.A],
-            "B": [strs(Bi) for Bi in self.B],
+            "A": [by_order(Ai) for Ai in self.A],
+            "B": [by_order(Bi) for Bi in self.B],
             "gamma_rates": {str(g): [None] + [_lex(self.gamma_rate(r, k))
                                               for k in range(1, self.order + 1)]
                             for r, (g, _) in enumerate(self.gammas)},
-            "u": [strs(ui) for ui in self.u],
+            "u": [by_order(ui) for ui in self.u],
         }
 
     def pretty(self) -> str:
@@ -245,7 +240,7 @@ class CoupledKBMResult:
         """The expansion as a LaTeX ``align*`` block: ``x_i``, the slow flow, and each
         ``A_{i,n}``, ``B_{i,n}``, ``u_{i,n}`` and slow-phase rate, long ones broken into
         lines (:func:`kbm.latex.equation_lines`)."""
-        from ..latex import latex as to_latex
+        from ..latex import align_block, latex as to_latex
 
         m, N = self.model, self.order
         width = 90
@@ -264,7 +259,7 @@ class CoupledKBMResult:
                      + mus(f"B_{{{{{j},{{k}}}}}}")]
         for group in self.latex_groups(width):
             rows += group
-        return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"
+        return align_block(rows)
 
     def latex_groups(self, width: int = 90, *, with_u: bool = True,
                      expand_above: int | None = None) -> list[list[str]]:

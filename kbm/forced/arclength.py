@@ -18,7 +18,7 @@ import numpy as np
 
 from ..arclength import walk
 
-__all__ = ["ArcPoint", "Arc", "trace", "both_ways", "tangent", "newton"]
+__all__ = ["ArcPoint", "Arc", "trace", "both_ways", "tangent", "newton", "passes_start"]
 
 
 @dataclass(frozen=True)
@@ -140,7 +140,7 @@ def trace(G: Callable, J: Callable, u0: np.ndarray, bounds: tuple[float, float],
 
     def visit(pt: ArcPoint, new: ArcPoint, h: float):
         crossed(pt, new)
-        if len(points) > 10 and _passes(points[0].u, pt.u, new.u, periods):
+        if len(points) > 10 and passes_start(points[0].u, pt.u, new.u, periods):
             return pt, h, "closed curve"
         points.append(new)
         return new, min(ds_max, h * 1.4) if its[0] <= 3 else (h * 0.7 if its[0] > 6 else h), ""
@@ -160,8 +160,10 @@ def both_ways(run: Callable[[float], Arc]) -> list[Arc]:
     return [first] if first.reason == "closed curve" else [first, run(1.0)]
 
 
-def _passes(start, u1, u2, periods) -> bool:
-    """Whether the step ``u1 -> u2`` passes the start point (modulo ``periods``)."""
+def passes_start(start, u1, u2, periods=None) -> bool:
+    """Whether the step ``u1 -> u2`` passes the start point (modulo ``periods``): the curve
+    closed (the slow-flow curves here and the true response curves of
+    :mod:`numerics.forced.response`)."""
     s = np.array(start, dtype=float)
     if periods is not None:
         per = np.asarray(periods, dtype=float)

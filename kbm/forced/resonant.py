@@ -13,9 +13,9 @@ from __future__ import annotations
 from fractions import Fraction
 
 import sympy as sp
-from sympy.simplify.fu import TR8
 
 from ..algebra.laurent import Laurent, LaurentRing, Q
+from ..algebra.multi_angle import forcing_harmonics
 from ..errors import ModelError
 from ..recursion import SlowRates
 from ..symbols import a, mu, x, xdot
@@ -67,24 +67,9 @@ class ResonantAlgebra(SlowRates):
 
     def const(self, expr: sp.Expr) -> TwoAngle:
         """A sympy expression in theta (trigonometric polynomial) and the parameters."""
-        e = sp.expand(TR8(expr)) if expr.has(sp.sin, sp.cos) else sp.expand(expr)
         out = self.zero()
-        for term in sp.Add.make_args(e):
-            trig = [f for f in sp.Mul.make_args(term) if f.has(theta)]
-            coeff = sp.Mul(*[f for f in sp.Mul.make_args(term) if not f.has(theta)])
-            if not trig:
-                out = out + TwoAngle(self.ring, {(0, 0): self._laurent(coeff, expr)})
-                continue
-            (f,) = trig  # TR8 leaves one sin or cos of k theta + c per term
-            arg = sp.expand(f.args[0])
-            k = int(arg.coeff(theta))
-            c = sp.expand(arg - k * theta)
-            kinds = [("cos", sp.cos(c)), ("sin", -sp.sin(c))] if isinstance(f, sp.cos) \
-                else [("sin", sp.cos(c)), ("cos", sp.sin(c))]
-            for kind, w in kinds:
-                if w != 0:
-                    out = out + TwoAngle.harmonic(self.ring, 0, k,
-                                                  self._laurent(coeff * w, expr), kind)
+        for k, kind, c in forcing_harmonics(expr, theta):
+            out = out + TwoAngle.harmonic(self.ring, 0, k, self._laurent(c, expr), kind)
         return out
 
     def _laurent(self, c: sp.Expr, where: sp.Expr) -> Laurent:

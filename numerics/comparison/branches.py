@@ -180,8 +180,7 @@ def _is_builtin(name: str) -> bool:
     return name in model_names()
 
 
-def _energy_fold(line, vary: str, lo: float, hi: float, pair,
-                 pair_at_lo: bool) -> float | None:
+def _energy_fold(line, vary: str, lo: float, hi: float, pair) -> float | None:
     """The fold of the energy balance: the ``p`` in ``[lo, hi]`` where the extremum of
     ``q = Gamma`` (``Gamma/(E - E_c)`` in a well) between the merging pair's energies is 0.
     ``None`` when the bracket does not hold a sign change of that extremum.  ``line`` is
@@ -282,7 +281,7 @@ def energy_branch(model: Oscillator | str, params: Mapping[str, object] | None, 
                                                    + pair[1].amplitude_max)
         pf = 0.5 * (lo + hi)
         if pair is not None:
-            pf = (_energy_fold(line, vary, lo, hi, pair, len(c1) > len(c2))
+            pf = (_energy_fold(line, vary, lo, hi, pair)
                   if line is not None else None) or pf
         folds.append(AnalyticFold(pf, float(amp)))
     return AnalyticCurve("energy", 1, vary, tuple(pts), tuple(folds))

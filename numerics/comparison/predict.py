@@ -37,6 +37,7 @@ from kbm.models import Oscillator
 
 from numerics.comparison.prediction import Prediction, reconstruct
 from numerics.energy import EnergyPrediction, PredictedCycle, predict_cycles
+from numerics.energy.predict import _readonly
 
 __all__ = ["predict", "kbm_cycles", "energy_prediction", "METHODS", "KBM_TERM_LIMIT"]
 
@@ -67,12 +68,6 @@ def _term_size(fns, a: float, m: float, pars: list[float], order: int, w0: float
             if abs(seq[n - 1]) > 1e-14 * max(1.0, abs(seq[n])):
                 sizes.append(abs(seq[n]) / abs(seq[n - 1]))
     return float(max(sizes))
-
-
-def _readonly(a) -> np.ndarray:
-    a = np.array(a)
-    a.setflags(write=False)
-    return a
 
 
 def kbm_cycles(bound: BoundModel, order: int, *, n_samples: int = 1024,

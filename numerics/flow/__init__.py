@@ -9,6 +9,8 @@
   model, kept on disk (a warm run builds no symbolic model and imports no sympy);
 - :mod:`numerics.flow.jit`: the extended flow printed from the model's
   expressions and compiled with numba (an adaptive DOP853);
+- :mod:`numerics.flow.numba_cache`: the cache folder of the generated modules, their
+  import, and the first-run notice of numba's compilation;
 - :mod:`numerics.flow.aot`: the same flows compiled ahead of time into extension
   modules, which a warm run imports without numba;
 - :mod:`numerics.flow.integrate`: the method enum, the one stiffness policy and

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm.errors import ParameterError
+from kbm.forced.arclength import passes_start
 from kbm.forced.result import SlowFlow
 from kbm.forced.steady import fixed_points
 
@@ -126,7 +127,7 @@ def _follow(system: ForcedSystem, first: _Pt, direction: int, bounds, ds: float,
     def visit(cur, new, h):
         if new.tangent[2] * cur.tangent[2] < 0:
             folds.append(fold_on_arc(step, cur, new, h).point or new)
-        if len(pts) > 10 and _passes(pts[0].u, cur.u, new.u):
+        if len(pts) > 10 and passes_start(pts[0].u, cur.u, new.u):
             closed.append(True)
             return new, h, "closed curve"
         pts.append(new)
@@ -145,13 +146,6 @@ def _follow(system: ForcedSystem, first: _Pt, direction: int, bounds, ds: float,
          ds_min=ds_min, parameter=lambda q: float(q.u[2]), bounds=bounds, at_edge=at_edge,
          turn_above=4 * ds_min, full=lambda: "full" if len(pts) >= max_points else None)
     return pts, folds, bool(closed)
-
-
-def _passes(start, u1, u2) -> bool:
-    """Whether the step ``u1 -> u2`` passes the start point (the curve closed)."""
-    d = u2 - u1
-    w = float(np.clip(np.dot(start - u1, d) / max(float(np.dot(d, d)), 1e-300), 0.0, 1.0))
-    return float(np.linalg.norm(u1 + w * d - start)) < 0.25 * float(np.linalg.norm(d)) + 1e-9
 
 
 def continue_response(system: ForcedSystem, start: ForcedOrbit, sigmas: tuple[float, float],

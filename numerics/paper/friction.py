@@ -62,13 +62,17 @@ class FrictionStudy:
                              + f" | {at} | {sum(p.steady for p in m.points)}/{len(m.points)} |")
         lines += ["", "| map | points compared | steady | SEDF lower friction and dissipation "
                   "| force ratio SEDF/CDC min .. max |", "|---|---|---|---|---|"]
-        for name, comp in (("(v, Delta), beta = 1", self.v_delta),
-                           ("(v, beta), Delta = 3", self.v_beta)):
-            s = comp.summary()
-            lines.append(f"| {name} | {s['compared']}/{s['points']} | {s['steady']} | "
+        for axes, fixed, s in self.verdicts():
+            lines.append(f"| {axes}, {fixed} | {s['compared']}/{s['points']} | {s['steady']} | "
                          f"{s['first_better']} ({s['first_better_steady']} steady) | "
                          f"{s['force_ratio_min']:.3g} .. {s['force_ratio_max']:.3g} |")
         return "\n".join(lines) + "\n"
+
+    def verdicts(self) -> list[tuple[str, str, dict]]:
+        """Per map of SEDF against CDC: its axes, what is fixed, and its
+        :meth:`~numerics.sliding.maps.SliderComparison.summary`."""
+        return [("(v, Delta)", "beta = 1", self.v_delta.summary()),
+                ("(v, beta)", "Delta = 3", self.v_beta.summary())]
 
     def to_json(self) -> dict:
         return {"laws": {f"{d:g}": [m.to_json() for m in maps] for d, maps in self.laws.items()},

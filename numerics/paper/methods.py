@@ -24,9 +24,9 @@ import numpy as np
 
 from kbm.strict_json import finite, json_fields
 from numerics.comparison.prediction import numeric_value
-from numerics.cycles.sweep import grid, sweep
 from numerics.energy import map_predictions
-from numerics.paper.validity import VALIDITY_KEYS, error_grid, short_reason, validity_map
+from numerics.paper.validity import (VALIDITY_KEYS, error_grid, sedf_sweep, short_reason,
+                                     validity_map)
 
 __all__ = ["METHODS", "METHODS_GRID", "MethodsPoint", "MethodsMap", "methods_map"]
 
@@ -168,12 +168,8 @@ def methods_map(mu: Sequence[float] = METHODS_GRID["mu"],
     -------
     MethodsMap
     """
-    axes = {"mu": tuple(float(v) for v in mu), "Delta": tuple(float(v) for v in Delta),
-            "beta": tuple(float(v) for v in beta)}
-    if swept is None:
-        swept = sweep("sedf", grid(beta=axes["beta"], mu=axes["mu"], Delta=axes["Delta"]),
-                      fixed={"lam": lam}, workers=workers, progress=progress,
-                      continuation=False, x_start=x_start)
+    axes, swept = sedf_sweep(mu, Delta, beta, lam, swept, workers=workers, progress=progress,
+                             x_start=x_start)
     vm = validity_map(axes["mu"], axes["Delta"], axes["beta"], orders=(1, 2), lam=lam,
                       swept=swept)
     energy = {}

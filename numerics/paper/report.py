@@ -259,13 +259,9 @@ def _validity(vm, figures) -> list[str]:
 
 
 def _friction(study, figures) -> list[str]:
-    parts = []
-    for name, comp in (("(v, Delta) at beta = 1", study.v_delta),
-                       ("(v, beta) at Delta = 3", study.v_beta)):
-        s = comp.summary()
-        parts.append(f"over {name} the SEDF has the lower friction and dissipation at "
-                     f"{s['first_better']} of {s['compared']} points compared "
-                     f"({s['first_better_steady']} of them steady)")
+    parts = [f"over {axes} at {fixed} the SEDF has the lower friction and dissipation at "
+             f"{s['first_better']} of {s['compared']} points compared "
+             f"({s['first_better_steady']} of them steady)" for axes, fixed, s in study.verdicts()]
     head = "Does self-excitation lower friction? " + "; ".join(parts) + "."
     head = head.replace("? over", "? Over")
     out = ["## Friction laws and maps (SEDF against CDC)", "", _bold(head), "",

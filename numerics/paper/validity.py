@@ -26,7 +26,7 @@ from numerics.comparison.prediction import kbm_prediction, numeric_value
 from numerics.cycles.sweep import grid, sweep
 
 __all__ = ["ValidityPoint", "ValidityMap", "validity_map", "DEFAULT_GRID", "VALIDITY_KEYS",
-           "short_reason"]
+           "short_reason", "sedf_sweep"]
 
 #: the quantities whose relative errors define the error of a point
 VALIDITY_KEYS = ("amplitude", "amplitude_max", "frequency")
@@ -139,6 +139,17 @@ class ValidityMap:
                            for p in self.points]}
 
 
+def sedf_sweep(mu, Delta, beta, lam: float, swept=None, **kwargs) -> tuple[dict, list]:
+    """The grid's axes (floats) and the true SEDF cycles on ``beta x mu x Delta``
+    (:func:`numerics.cycles.sweep` with ``kwargs``), unless ``swept`` holds them already."""
+    axes = {"mu": tuple(float(v) for v in mu), "Delta": tuple(float(v) for v in Delta),
+            "beta": tuple(float(v) for v in beta)}
+    if swept is None:
+        swept = sweep("sedf", grid(beta=axes["beta"], mu=axes["mu"], Delta=axes["Delta"]),
+                      fixed={"lam": lam}, continuation=False, **kwargs)
+    return axes, swept
+
+
 def validity_map(mu: Sequence[float] = DEFAULT_GRID["mu"],
                  Delta: Sequence[float] = DEFAULT_GRID["Delta"],
                  beta: Sequence[float] = DEFAULT_GRID["beta"], *,
@@ -173,13 +184,8 @@ def validity_map(mu: Sequence[float] = DEFAULT_GRID["mu"],
     >>> vm.points[0].error(2) < vm.points[0].error(1) < 1e-2
     True
     """
-
-    axes = {"mu": tuple(float(v) for v in mu), "Delta": tuple(float(v) for v in Delta),
-            "beta": tuple(float(v) for v in beta)}
-    pts = grid(beta=axes["beta"], mu=axes["mu"], Delta=axes["Delta"])
-    if swept is None:
-        swept = sweep("sedf", pts, fixed={"lam": lam}, workers=workers, progress=progress,
-                      continuation=False, x_start=x_start)
+    axes, swept = sedf_sweep(mu, Delta, beta, lam, swept, workers=workers, progress=progress,
+                             x_start=x_start)
     orders = tuple(sorted(int(n) for n in orders))
     res = derive("sedf", orders[-1])
     fns = res.functions("numpy")

@@ -3,9 +3,10 @@
 For ``x'' + omega0**2 x = mu F(x, x')`` with ``F`` built from any functions numpy and
 scipy evaluate (``tanh(xdot/eps)``, ``exp(-x**2)``, ``1/(1 + x**2)``, a Stribeck
 curve, ...) :func:`numeric_derive` runs the same recursion as :func:`kbm.derive`
-(:func:`kbm.recursion.one_angle_recursion`: same conventions, no first harmonic in any
+(:func:`kbm.recursion.kbm_recursion`: same conventions, no first harmonic in any
 ``u_n``, ``A_n = -R_n^{sin 1}/(2 omega0)``, ``B_n = -R_n^{cos 1}/(2 omega0 a)``) on
-*samples*:
+*samples*, over the grid algebra of the forced numeric backend
+(:class:`kbm.forced.grid.SampledAlgebra` without a forcing angle):
 
 - ``psi`` on ``M`` equispaced phases (derivatives, secular terms and ``u_n`` by FFT);
 - ``a`` on ``P`` Chebyshev points of ``[a_min, a_max]`` (derivatives spectrally);
@@ -31,14 +32,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from .algebra import chebyshev
-from .algebra.grid_fourier import GridAlgebra
 from .algebra.smooth import TaylorTable
 from .errors import ParameterError, ResolutionError, UnsupportedTermError
+from .forced.grid import SampledAlgebra, sampled_recursion
 from .models import Oscillator
 from .numeric_functions import AmplitudeFunction, ConstantFunction, WaveFunction
 from .sampling import (IntervalExpansion, chebyshev_tail, check_bounded, check_grid, check_order,
                        check_tol, comparison_matrices, fourier_tail, numeric_model, order_scale,
-                       parse_a_range, sampled_orders, wave_spectrum, widened)
+                       parse_a_range, wave_spectrum, widened)
 
 __all__ = ["numeric_derive", "NumericExpansion", "DEFAULT_TOL", "MAX_ORDER_NUMERIC"]
 
@@ -141,15 +142,18 @@ def _phase_points(table: TaylorTable, w0: float, lo: float, hi: float, tol: floa
 class _Run:
     P: int
     M: int
-    alg: GridAlgebra
+    alg: SampledAlgebra
     A: list
     B: list
     U: list
 
 
 def _run(F, table, w0, lo, hi, P, M, order) -> _Run:
-    alg = GridAlgebra(w0, lo, hi, P, M)
-    A, B, U = sampled_orders(alg, F, order, table.builder)
+    alg = SampledAlgebra(w0, None, lo, hi, P, M)  # no forcing angle: N = 1, degree 0
+    rates, B, U = sampled_recursion(alg, {0: table}, order)
+    A = [np.zeros(P) if c.values is None else c.values[0, :, 0, 0] for c in rates]
+    B = [np.zeros(P) if c.values is None else c.values[0, :, 0, 0] for c in B]
+    U = [np.zeros((P, M)) if u.values is None else u.values[0, :, :, 0] for u in U]
     if not all(np.all(np.isfinite(q)) for q in (*A, *B, *U)):
         raise ResolutionError(f"the numeric expansion of F = {table.F} overflowed on "
                               f"a in [{lo:g}, {hi:g}] (P = {P}, M = {M}); narrow the a-range")

@@ -147,7 +147,8 @@ class TaylorOf(Node):
 
 
 class SmoothBuilder:
-    """Makes the lazy series of ``F`` over a :class:`~kbm.algebra.grid_fourier.GridAlgebra`.
+    """Makes the lazy series of ``F`` over a sampled algebra
+    (:class:`kbm.forced.grid.SampledAlgebra`).
     Only :meth:`build` is asked for by the recursion; ``F`` is the table's.
 
     The sampled algebras of one angle and one amplitude grid share it: ``extra`` are the

@@ -40,17 +40,15 @@ import numpy as np
 import sympy as sp
 
 from ..algebra import chebyshev
-from ..algebra.lazy_series import Scaled
-from ..algebra.smooth import SmoothBuilder, TaylorTable
+from ..algebra.smooth import TaylorTable
 from ..errors import ModelError, ParameterError, ResolutionError
-from ..recursion import kbm_recursion
 from ..sampling import (check_bounded, check_grid, check_order, check_tol, chebyshev_tail,
                         comparison_matrices, fourier_tail, order_scale, parse_a_range,
                         require_values, widened)
 from ..symbols import x, xdot
 from .builtins import get_forced_model
 from .engine import derive_forced
-from .grid import SampledAlgebra
+from .grid import SampledAlgebra, sampled_recursion
 from .model import ForcedOscillator, Resonance, nu, theta
 from .numeric_result import NumericForcedExpansion, SlowSeries
 
@@ -130,23 +128,6 @@ def _angles(tables, w0: float, hi: float, tol: float) -> tuple[int, int]:
                 "a smoother F or a looser tol")
 
 
-class _Builder(SmoothBuilder):
-    """``F(x_0 + Dx, v_0 + Dv, theta)`` on the two-angle grid: the leaves' samples are the
-    ``sigma**0`` rows."""
-
-    def base(self, leaf):
-        return leaf.coeff(0).values[0]
-
-    def series(self, vals):
-        return self.alg.sample(vals)
-
-    def not_finite(self, i, j, index, x0, v0) -> str:
-        TH = self.extra[0]
-        return (f"a derivative of F = {self.table.F} is not finite at x = {x0[index]:.6g}, "
-                f"xdot = {v0[index]:.6g}, theta = {TH[index]:.6g}; the numeric backend needs "
-                "F smooth and finite on the orbits of the a-range")
-
-
 @dataclass
 class _Run:
     alg: SampledAlgebra
@@ -157,18 +138,7 @@ class _Run:
 
 def _run(tables, w0, res, lo, hi, P, M, N, order) -> _Run:
     alg = SampledAlgebra(w0, res, lo, hi, P, M, N, cap=order - 1)
-    TH = np.broadcast_to(alg.theta[None, None, :], (P, M, N))
-
-    def terms(XL, VL):
-        out = []
-        for i, table in tables.items():
-            node = _Builder(alg, XL[0], VL[0], table, (TH,)).build(table.F)
-            if i:
-                node = Scaled(alg.zero, node, lambda f, i=i: alg.sigma_power(f, i))
-            out.append((i, node))
-        return [out]
-
-    (A,), (B,), (U,) = kbm_recursion(alg, terms, order)  # N = 1 with the forcing angle
+    A, B, U = sampled_recursion(alg, tables, order)  # N = 1 with the forcing angle
     As, aBs = [], []
     for An, Bn in zip(A, B):
         # A_n and a B_n as slow spectra; B_n = (a B_n)/a is formed in the result

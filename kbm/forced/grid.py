@@ -258,27 +258,6 @@ class SampledAlgebra(SlowRates):
         return self._spectral(R, self._inv, chop=False)
 
 
-class _Builder(SmoothBuilder):
-    """``F(x_0 + Dx, v_0 + Dv, theta)`` on the grid: the leaves' samples are the ``sigma**0``
-    rows, ``theta`` is passed when forced."""
-
-    def base(self, leaf):
-        return leaf.coeff(0).values[0]
-
-    def series(self, vals):
-        return self.alg.sample(vals)
-
-    def not_finite(self, i, j, index, x0, v0) -> str:
-        r, c, l = index
-        what = "F" if (i, j) == (0, 0) else f"the derivative d^{i + j}F/dx^{i} dxdot^{j}"
-        forced = f", theta = {self.alg.theta[l]:.6g}" if self.extra else ""
-        return (f"{what} is not finite at x = {x0[index]:.6g}, xdot = {v0[index]:.6g} "
-                f"(amplitude a = {self.alg.a[r]:.6g}, phase psi = {self.alg.psi[c]:.6g}"
-                f"{forced}), for F = {self.table.F}: the numeric backend needs F smooth and "
-                f"finite on |x| <= a_max, |xdot| <= omega0 a_max; shrink the a-range or "
-                f"change F")
-
-
 def sampled_recursion(alg: SampledAlgebra, tables: dict[int, TaylorTable], order: int
                       ) -> tuple[list, list, list]:
     """:func:`~kbm.recursion.kbm_recursion` over ``alg`` for ``F = sum_i (mu sigma)**i F_i``
@@ -289,7 +268,7 @@ def sampled_recursion(alg: SampledAlgebra, tables: dict[int, TaylorTable], order
     def terms(XL, VL):
         out = []
         for i, table in tables.items():
-            node = _Builder(alg, XL[0], VL[0], table, extra).build(table.F)
+            node = SmoothBuilder(alg, XL[0], VL[0], table, extra).build(table.F)
             if i:
                 node = Scaled(alg.zero, node, lambda f, i=i: alg.sigma_power(f, i))
             out.append((i, node))

@@ -8,21 +8,23 @@ recursion as the exact engine (:func:`kbm.recursion.kbm_recursion`: same convent
 no resonant harmonic in any ``u_n``) on *samples* (:mod:`kbm.forced.grid`):
 
 - ``psi`` and ``theta`` on ``M x N`` equispaced angles (derivatives, the resonant part and
-  ``u_n`` by the two-dimensional FFT);
+  ``u_n`` by the FFT);
 - ``a`` on ``P`` Chebyshev points of the interval (derivatives spectrally);
 - the detuning ``sigma`` exactly, as polynomial coefficients;
 - ``F(x_0 + Dx, v_0 + Dv, theta)`` by its Taylor series with the partial derivatives taken
   symbolically and compiled (:class:`kbm.algebra.smooth.TaylorTable`).
 
 A forcing frequency in ``F`` (a stage velocity ``v = nu/k``) is expanded exactly:
-``nu = nu0 + mu sigma``.  The resolution is adaptive as in the autonomous numeric backend
-(:mod:`kbm.numeric_kbm`): ``M`` and ``N`` start where the Fourier coefficients of ``F``
-along the unperturbed orbit at ``a_max`` have fallen below the tolerance, and ``P``, ``M``,
-``N`` are doubled until the coefficient tails of every ``A_n``, ``B_n``, ``u_n`` are below
+``nu = nu0 + mu sigma``.  The resolution is adaptive, by the one driver of the grid
+backends (:func:`resolved_angles`, :func:`resolve`; the autonomous :mod:`kbm.numeric_kbm`
+is its case without a forcing angle): ``M`` and ``N`` start where the Fourier coefficients
+of ``F`` along the unperturbed orbits have fallen below the tolerance, and ``P``, ``M``,
+``N`` are refined until the coefficient tails of every ``A_n``, ``B_n``, ``u_n`` are below
 ``tol`` times the size of that order's quantities; a second grid half as fine again then
 measures the error that the tails cannot (rounding amplified by the differentiations in
-``a``).  Those are the reported error estimates; a budget that does not suffice raises
-:class:`~kbm.errors.ResolutionError` with the numbers.
+``a``).  Those are the reported error estimates; a budget that does not suffice, or tails
+that stop falling as ``a`` is refined, raise :class:`~kbm.errors.ResolutionError` with the
+numbers.
 
 The result holds ``A_n(a, phi, sigma)``, ``B_n(a, phi, sigma)`` as Chebyshev series in
 ``a`` times Fourier series in ``phi`` times polynomials in ``sigma``, and gives the slow

@@ -105,8 +105,6 @@ class NumericExpansion(IntervalExpansion):
 
 @dataclass
 class _Run:
-    P: int
-    M: int
     alg: SampledAlgebra
     A: list
     B: list
@@ -122,7 +120,7 @@ def _run(F, table, w0, lo, hi, P, M, order) -> _Run:
     if not all(np.all(np.isfinite(q)) for q in (*A, *B, *U)):
         raise ResolutionError(f"the numeric expansion of F = {table.F} overflowed on "
                               f"a in [{lo:g}, {hi:g}] (P = {P}, M = {M}); narrow the a-range")
-    return _Run(P, M, alg, A, B, U)
+    return _Run(alg, A, B, U)
 
 
 def _errors(run: _Run):
@@ -218,21 +216,21 @@ def numeric_derive(model: Oscillator | str, order: int, a_range, params: dict | 
 def _differences(run: _Run, check: _Run, lo: float, hi: float
                  ) -> list[tuple[float, float, float]]:
     """Per order: the largest differences of A_n, B_n, u_n between two grids on [lo, hi]."""
-    W0, W1 = comparison_matrices(lo, hi, run.alg.lo, run.alg.hi, run.P, check.P)
-    h = min(run.M, check.M) // 2
+    W0, W1 = comparison_matrices(lo, hi, run.alg.lo, run.alg.hi, run.alg.P, check.alg.P)
+    h = min(run.alg.M, check.alg.M) // 2
     out = []
     for n in range(len(run.A)):
         dA = float(np.max(np.abs(W1 @ check.A[n] - W0 @ run.A[n])))
         dB = float(np.max(np.abs(W1 @ check.B[n] - W0 @ run.B[n])))
-        s1 = W1 @ (np.fft.rfft(check.U[n], axis=1) * (2.0 / check.M))
-        s0 = W0 @ (np.fft.rfft(run.U[n], axis=1) * (2.0 / run.M))
+        s1 = W1 @ (np.fft.rfft(check.U[n], axis=1) * (2.0 / check.alg.M))
+        s0 = W0 @ (np.fft.rfft(run.U[n], axis=1) * (2.0 / run.alg.M))
         du = np.sum(np.abs(s1[:, :h] - s0[:, :h]), axis=1) + np.sum(np.abs(s1[:, h:]), axis=1)
         out.append((dA, dB, float(np.max(du))))
     return out
 
 
 def _result(model, order, lo, hi, w0, tol, run: _Run, errs, diffs) -> NumericExpansion:
-    M, domain = run.M, (lo, hi, run.alg.lo, run.alg.hi)
+    M, domain = run.alg.M, (lo, hi, run.alg.lo, run.alg.hi)
     A = [ConstantFunction("A_0", 0.0)]
     B = [ConstantFunction("B_0", w0)]
     U = [ConstantFunction("u_0", 0.0, wave=True)]
@@ -246,5 +244,5 @@ def _result(model, order, lo, hi, w0, tol, run: _Run, errs, diffs) -> NumericExp
     B_err = [0.0] + [max(e[2], d[1]) for e, d in zip(errs, diffs)]
     u_err = [0.0] + [max(e[3], e[4], d[2]) for e, d in zip(errs, diffs)]
     return NumericExpansion(model=model, order=order, a_range=(lo, hi), omega0=w0, tol=tol,
-                            resolution=(run.P, run.M), A=tuple(A), B=tuple(B), u=tuple(U),
+                            resolution=(run.alg.P, run.alg.M), A=tuple(A), B=tuple(B), u=tuple(U),
                             A_error=tuple(A_err), B_error=tuple(B_err), u_error=tuple(u_err))

@@ -219,9 +219,6 @@ class SampledAlgebra(SlowRates):
         if f.values is None:
             return out
         v = f.values * (self.a[None, :, None, None] if times_a else 1.0)
-        if v.shape[2:] == (1, 1):  # a function of a only
-            out[:v.shape[0], :, 0] = v[:, :, 0, 0]
-            return out
         spec = self._fft(v) / (self.M * self.N)
         p, q = self._pq
         for i, j in enumerate(self.slow):

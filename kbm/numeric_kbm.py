@@ -3,9 +3,10 @@
 For ``x'' + omega0**2 x = mu F(x, x')`` with ``F`` built from any functions numpy and
 scipy evaluate (``tanh(xdot/eps)``, ``exp(-x**2)``, ``1/(1 + x**2)``, a Stribeck
 curve, ...) :func:`numeric_derive` runs the same recursion as :func:`kbm.derive`
-(:func:`kbm.recursion.one_angle_recursion`: same conventions, no first harmonic in any
+(:func:`kbm.recursion.kbm_recursion`: same conventions, no first harmonic in any
 ``u_n``, ``A_n = -R_n^{sin 1}/(2 omega0)``, ``B_n = -R_n^{cos 1}/(2 omega0 a)``) on
-*samples*:
+*samples*, over the grid algebra of the forced numeric backend
+(:class:`kbm.forced.grid.SampledAlgebra` without a forcing angle):
 
 - ``psi`` on ``M`` equispaced phases (derivatives, secular terms and ``u_n`` by FFT);
 - ``a`` on ``P`` Chebyshev points of ``[a_min, a_max]`` (derivatives spectrally);
@@ -30,15 +31,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .algebra import chebyshev
-from .algebra.grid_fourier import GridAlgebra
 from .algebra.smooth import TaylorTable
-from .errors import ParameterError, ResolutionError, UnsupportedTermError
+from .errors import ResolutionError, UnsupportedTermError
+from .forced.grid import SampledAlgebra, sampled_recursion
+from .forced.numeric import resolve, resolved_angles
 from .models import Oscillator
 from .numeric_functions import AmplitudeFunction, ConstantFunction, WaveFunction
-from .sampling import (IntervalExpansion, chebyshev_tail, check_bounded, check_grid, check_order,
-                       check_tol, comparison_matrices, fourier_tail, numeric_model, order_scale,
-                       parse_a_range, sampled_orders, wave_spectrum, widened)
+from .sampling import (IntervalExpansion, chebyshev_tail, check_order, check_tol,
+                       comparison_matrices, fourier_tail, numeric_model, order_scale,
+                       parse_a_range, wave_spectrum, widened)
 
 __all__ = ["numeric_derive", "NumericExpansion", "DEFAULT_TOL", "MAX_ORDER_NUMERIC"]
 
@@ -102,58 +103,24 @@ class NumericExpansion(IntervalExpansion):
         }
 
 
-# ----------------------------------------------------------------------------- resolution
-def _phase_points(table: TaylorTable, w0: float, lo: float, hi: float, tol: float) -> int:
-    """The number of phases at which ``F`` along the unperturbed orbits is resolved."""
-    alg_a = chebyshev.points(lo, hi, 5)
-    M, first_scale = 32, None
-    while True:
-        psi = 2 * np.pi * np.arange(M) / M
-        x0 = alg_a[:, None] * np.cos(psi)[None, :]
-        v0 = -w0 * alg_a[:, None] * np.sin(psi)[None, :]
-        with np.errstate(all="ignore"):
-            f = np.broadcast_to(np.asarray(table.function(0, 0)(x0, v0), dtype=float),
-                                x0.shape)
-        if not np.all(np.isfinite(f)):
-            r, c = np.argwhere(~np.isfinite(f))[0]
-            raise ParameterError(
-                f"F = {table.F} is not finite at x = {x0[r, c]:.6g}, xdot = {v0[r, c]:.6g} "
-                f"(a = {alg_a[r]:.6g}): the numeric backend needs F finite and smooth on "
-                f"the orbits of the a-range [{lo:g}, {hi:g}]; shrink the a-range or change F")
-        scale = float(np.max(np.abs(f)))
-        first_scale = scale if first_scale is None else first_scale
-        tail = fourier_tail(f)
-        if scale == 0 or tail <= 0.01 * tol * scale:
-            return M
-        check_bounded(table.F, f, first_scale, 2 * M > MAX_M,
-                      f"on the orbits of the a-range [{lo:g}, {hi:g}]", f" (32 -> {M})")
-        if 2 * M > MAX_M:
-            raise ResolutionError(
-                f"F = {table.F} varies too sharply along the orbits of the a-range "
-                f"[{lo:g}, {hi:g}]: with M = {M} phases its Fourier coefficients at "
-                f"a = {hi:g} have fallen only to {tail / scale:.1e} of its size (tolerance "
-                f"{tol:.0e}); use a smaller a_max, a smoother F (e.g. a larger eps in "
-                f"tanh(xdot/eps)) or a looser tol")
-        M *= 2
-
-
 @dataclass
 class _Run:
-    P: int
-    M: int
-    alg: GridAlgebra
+    alg: SampledAlgebra
     A: list
     B: list
     U: list
 
 
 def _run(F, table, w0, lo, hi, P, M, order) -> _Run:
-    alg = GridAlgebra(w0, lo, hi, P, M)
-    A, B, U = sampled_orders(alg, F, order, table.builder)
+    alg = SampledAlgebra(w0, None, lo, hi, P, M)  # no forcing angle: N = 1, degree 0
+    rates, B, U = sampled_recursion(alg, {0: table}, order)
+    A = [np.zeros(P) if c.values is None else c.values[0, :, 0, 0] for c in rates]
+    B = [np.zeros(P) if c.values is None else c.values[0, :, 0, 0] for c in B]
+    U = [np.zeros((P, M)) if u.values is None else u.values[0, :, :, 0] for u in U]
     if not all(np.all(np.isfinite(q)) for q in (*A, *B, *U)):
         raise ResolutionError(f"the numeric expansion of F = {table.F} overflowed on "
                               f"a in [{lo:g}, {hi:g}] (P = {P}, M = {M}); narrow the a-range")
-    return _Run(P, M, alg, A, B, U)
+    return _Run(alg, A, B, U)
 
 
 def _errors(run: _Run):
@@ -172,7 +139,8 @@ def _errors(run: _Run):
         ea, eb = chebyshev_tail(An[:, None]), chebyshev_tail(Bn[:, None])
         eu_a, eu_p = chebyshev_tail(Un), fourier_tail(Un)
         out.append((scale, ea, eb, eu_a, eu_p))
-    return out
+    return out, [max(max(e[1], e[2], e[3]) / (e[0] or 1) for e in out),
+                 max(e[4] / (e[0] or 1) for e in out)]
 
 
 def numeric_derive(model: Oscillator | str, order: int, a_range, params: dict | None = None,
@@ -223,76 +191,46 @@ def numeric_derive(model: Oscillator | str, order: int, a_range, params: dict | 
     model, F, w0 = numeric_model(model, params)
     table = TaylorTable(F)
     try:
-        M = _phase_points(table, w0, lo, hi, tol)
+        M, _ = resolved_angles({0: table}, w0, lo, hi, tol, 32, 1, MAX_M, 1)
     except (NameError, TypeError) as exc:  # a function numpy cannot evaluate
         raise UnsupportedTermError(f"F = {F} cannot be evaluated with numpy/scipy ({exc}); "
                                    "write F with elementary and special functions") from None
     clo, chi = widened(lo, hi)
-    P, history = 17, []
-    while True:
-        run = _run(F, table, w0, clo, chi, P, M, order)
-        errs = _errors(run)
-        rel_a = max(max(e[1], e[2], e[3]) / (e[0] or 1) for e in errs)
-        rel_p = max(e[4] / (e[0] or 1) for e in errs)
-        if rel_a <= tol and rel_p <= tol:
-            # a second grid, half as fine again, measures what the tails cannot: the
-            # rounding errors that the differentiations in a amplify
-            check = _run(F, table, w0, clo, chi, *check_grid(P, M), order)
-            diffs = _differences(run, check, lo, hi)
-            rel_a = max(max(d[:2]) / (e[0] or 1) for d, e in zip(diffs, errs))
-            rel_p = max(d[2] / (e[0] or 1) for d, e in zip(diffs, errs))
-            if rel_a <= tol and rel_p <= tol:
-                break
-            rel_a = max(rel_a, rel_p)
-        history.append((P, M, rel_a, rel_p))
-        _check_progress(F, order, lo, hi, tol, history)
-        P, M = (2 * P - 1 if rel_a > tol else P), (2 * M if rel_p > tol else M)
+
+    def compare(run, check, errs):
+        # the rounding errors that the differentiations in a amplify (the tails cannot
+        # measure them)
+        diffs = _differences(run, check, lo, hi)
+        rel_a = max(max(d[:2]) / (e[0] or 1) for d, e in zip(diffs, errs))
+        rel_p = max(d[2] / (e[0] or 1) for d, e in zip(diffs, errs))
+        return diffs, [max(rel_a, rel_p), rel_p]
+
+    run, errs, diffs = resolve(
+        lambda grid: _run(F, table, w0, clo, chi, *grid, order), _errors, compare, (17, M),
+        tol, (MAX_P, MAX_M, MAX_SAMPLES),
+        f"the numeric expansion of F = {F} to order {order} on a in [{lo:g}, {hi:g}] "
+        f"did not reach tol = {tol:.0e}")
     return _result(model, order, lo, hi, w0, tol, run, errs, diffs)
-
-
-def _check_progress(F, order, lo, hi, tol, history) -> None:
-    """Raise :class:`ResolutionError` when the next grid is over budget, or when refining
-    ``a`` no longer lowers the tails (the floor of the rounding errors amplified by the
-    differentiations in ``a``)."""
-    P, M, rel_a, rel_p = history[-1]
-    what = (f"the numeric expansion of F = {F} to order {order} on a in [{lo:g}, {hi:g}] "
-            f"did not reach tol = {tol:.0e}")
-    advice = "narrow the a-range, lower the order, smooth F, or loosen tol"
-    if len(history) >= 2:
-        P0, _, rel_a0, _ = history[-2]
-        if P > P0 and rel_a < 1e-6 and rel_a > 0.5 * rel_a0:
-            raise ResolutionError(
-                f"{what}: its Chebyshev tails in a stopped falling at {min(rel_a, rel_a0):.1e} "
-                f"(P = {P0} -> {P} points), the floor of the rounding errors that each "
-                f"differentiation in a amplifies; ask for tol >= {3 * min(rel_a, rel_a0):.0e}, "
-                f"or {advice}")
-    P2, M2 = (2 * P - 1 if rel_a > tol else P), (2 * M if rel_p > tol else M)
-    if P2 > MAX_P or M2 > MAX_M or P2 * M2 > MAX_SAMPLES:
-        where = "psi (Fourier)" if rel_p >= rel_a else "a (Chebyshev)"
-        raise ResolutionError(
-            f"{what} within the grid budget (P = {P} Chebyshev points, M = {M} phases): the "
-            f"coefficient tails in {where} are still {max(rel_a, rel_p):.1e} of the size of "
-            f"the quantities; {advice}")
 
 
 def _differences(run: _Run, check: _Run, lo: float, hi: float
                  ) -> list[tuple[float, float, float]]:
     """Per order: the largest differences of A_n, B_n, u_n between two grids on [lo, hi]."""
-    W0, W1 = comparison_matrices(lo, hi, run.alg.lo, run.alg.hi, run.P, check.P)
-    h = min(run.M, check.M) // 2
+    W0, W1 = comparison_matrices(lo, hi, run.alg.lo, run.alg.hi, run.alg.P, check.alg.P)
+    h = min(run.alg.M, check.alg.M) // 2
     out = []
     for n in range(len(run.A)):
         dA = float(np.max(np.abs(W1 @ check.A[n] - W0 @ run.A[n])))
         dB = float(np.max(np.abs(W1 @ check.B[n] - W0 @ run.B[n])))
-        s1 = W1 @ (np.fft.rfft(check.U[n], axis=1) * (2.0 / check.M))
-        s0 = W0 @ (np.fft.rfft(run.U[n], axis=1) * (2.0 / run.M))
+        s1 = W1 @ (np.fft.rfft(check.U[n], axis=1) * (2.0 / check.alg.M))
+        s0 = W0 @ (np.fft.rfft(run.U[n], axis=1) * (2.0 / run.alg.M))
         du = np.sum(np.abs(s1[:, :h] - s0[:, :h]), axis=1) + np.sum(np.abs(s1[:, h:]), axis=1)
         out.append((dA, dB, float(np.max(du))))
     return out
 
 
 def _result(model, order, lo, hi, w0, tol, run: _Run, errs, diffs) -> NumericExpansion:
-    M, domain = run.M, (lo, hi, run.alg.lo, run.alg.hi)
+    M, domain = run.alg.M, (lo, hi, run.alg.lo, run.alg.hi)
     A = [ConstantFunction("A_0", 0.0)]
     B = [ConstantFunction("B_0", w0)]
     U = [ConstantFunction("u_0", 0.0, wave=True)]
@@ -306,5 +244,5 @@ def _result(model, order, lo, hi, w0, tol, run: _Run, errs, diffs) -> NumericExp
     B_err = [0.0] + [max(e[2], d[1]) for e, d in zip(errs, diffs)]
     u_err = [0.0] + [max(e[3], e[4], d[2]) for e, d in zip(errs, diffs)]
     return NumericExpansion(model=model, order=order, a_range=(lo, hi), omega0=w0, tol=tol,
-                            resolution=(run.P, run.M), A=tuple(A), B=tuple(B), u=tuple(U),
+                            resolution=(run.alg.P, run.alg.M), A=tuple(A), B=tuple(B), u=tuple(U),
                             A_error=tuple(A_err), B_error=tuple(B_err), u_error=tuple(u_err))

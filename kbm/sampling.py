@@ -208,8 +208,7 @@ def check_bounded(F, f: np.ndarray, first: float, exhausted: bool, where: str,
 def sampled_orders(alg, F: sp.Expr, order: int, builder=Builder
                    ) -> tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]]:
     """:func:`~kbm.recursion.one_angle_recursion` over a sampled one-angle algebra
-    (:class:`~kbm.algebra.grid_fourier.GridAlgebra`,
-    :class:`~kbm.algebra.jet_fourier.JetAlgebra`), read at its amplitudes ``alg.a``: the
+    (:class:`~kbm.algebra.jet_fourier.JetAlgebra`), read at its amplitudes ``alg.a``: the
     arrays of ``A_1..A_N``, ``B_1..B_N`` (amplitudes) and ``u_1..u_N`` (amplitudes x phases,
     zeros where ``u_n`` vanishes)."""
     A, B, U = one_angle_recursion(alg, F, order, builder=builder)

@@ -58,3 +58,25 @@ def test_forced_one_degree():
     for n in range(3):
         assert ex.A[0][n] == pytest.approx(float(ref.A[n](1.2, -0.3, 0.2)), abs=1e-12)
         assert ex.B[0][n] == pytest.approx(float(ref.B[n](1.2, -0.3, 0.2)), abs=1e-12)
+
+
+def test_autonomous_is_the_forced_grid_without_theta():
+    """One grid algebra and one driver for one degree of freedom, forced or not: van der
+    Pol given to the forced backend (a forcing angle that ``F`` does not hold, resonance
+    1:1) has rates independent of ``phi`` and ``sigma``, equal to the autonomous backend's
+    (the same grid algebra without the forcing angle) and to the closed form
+    ``A_1 = a(1 - a^2/4)/2``, ``B_2 = -(1 - a^2 + 7a^4/32)/8`` (Nayfeh & Mook 1979, §4.2)."""
+    import numpy as np
+    from kbm.forced.model import ForcedOscillator
+    from kbm.symbols import x, xdot
+
+    forced = numeric_derive_forced(ForcedOscillator("vdp-as-forced", (1 - x**2) * xdot), 3,
+                                   (0.5, 2.5))
+    auto = numeric_derive("vdp", 3, (0.5, 2.5))
+    a = np.array([0.6, 1.3, 2.0, 2.4])
+    assert auto.A[1](a) == pytest.approx(a * (1 - a**2 / 4) / 2, abs=1e-12)
+    assert auto.B[2](a) == pytest.approx(-(1 - a**2 + 7 * a**4 / 32) / 8, abs=1e-12)
+    for phi, s in [(0.0, 0.0), (1.1, -0.7), (2.9, 0.4)]:
+        for n in range(3):
+            assert forced.A[n](a, phi, s) == pytest.approx(auto.A[n + 1](a), abs=1e-11)
+            assert forced.B[n](a, phi, s) == pytest.approx(auto.B[n + 1](a), abs=1e-11)

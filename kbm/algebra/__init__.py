@@ -8,8 +8,10 @@ imports it.
   :class:`~kbm.algebra.base.FourierAlgebra` protocol;
 - :mod:`~kbm.algebra.multi_angle`: finite Fourier series in ``n`` angles with Laurent
   coefficients (the coupled and the forced algebras);
-- :mod:`~kbm.algebra.grid_fourier`, :mod:`~kbm.algebra.jet_fourier`: series sampled in the
-  phase (the one-angle numeric backends);
+- :mod:`~kbm.algebra.grid_fourier`: what the sampled series share (the grid algebra of
+  the numeric backends of one degree of freedom is :mod:`kbm.forced.grid`);
+  :mod:`~kbm.algebra.jet_fourier`: series sampled in the phase with Taylor jets in the
+  amplitude (the evaluated backend);
 - :mod:`~kbm.algebra.laurent`: Laurent polynomials over Q (the coefficients of
   the polynomial algebra);
 - :mod:`~kbm.algebra.poly_fourier`: finite Fourier series with Laurent

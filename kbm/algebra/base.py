@@ -9,7 +9,8 @@ the few operations it names.  Its algebras are
   the declared resonances, Jacobi-Anger at order one);
 - the exact two-angle algebra of a forced oscillator
   (:class:`kbm.forced.resonant.ResonantAlgebra`);
-- the sampled ones: two angles on a grid (:class:`kbm.forced.grid.SampledAlgebra`) and
+- the sampled ones: one or two angles on a grid (:class:`kbm.forced.grid.SampledAlgebra`,
+  forced or not) and
   ``N`` angles with Taylor jets in the amplitudes (:class:`kbm.coupled.jet_algebra.JetAlgebra`);
 - every one-angle :class:`FourierAlgebra` below, through the adapter
   :class:`kbm.recursion.OneAngle` (the case ``N = 1`` without forcing, whose rates are
@@ -25,8 +26,7 @@ The one-angle contract :class:`FourierAlgebra` is answered by two exact algebras
   ``sin(k x)``, ``cos(k x)``; order <= 2);
 
 and, without the symbolic display, by the sampled algebras of the one-degree-of-freedom
-numeric backends (:class:`~kbm.algebra.grid_fourier.GridAlgebra`,
-:class:`~kbm.algebra.jet_fourier.JetAlgebra`).
+evaluated backend (:class:`~kbm.algebra.jet_fourier.JetAlgebra`).
 
 Two kinds of object cross the contract: a *series* ``f(a, psi) = sum_m c_m(a)
 cos(m psi) + s_m(a) sin(m psi)`` (type ``S``, see :class:`FourierSeries`) and a

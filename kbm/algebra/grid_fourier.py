@@ -1,27 +1,20 @@
-"""Fourier series sampled on a grid: the algebra of the numeric KBM backend.
+"""What the sampled algebras share: values on a grid with their ring operations, and the
+harmonic balance in one phase.
 
-A series ``f(a, psi)`` is held as its values on the tensor grid of ``P`` Chebyshev
-points ``a_i`` of an amplitude interval (:mod:`~kbm.algebra.chebyshev`) and ``M``
-equispaced phases ``psi_j = 2 pi j/M``; a coefficient ``c(a)`` as its ``P`` values.
-Products are pointwise, ``d/dpsi`` and the harmonic balance (secular terms, ``u_n``)
-act on the discrete Fourier transform in ``psi``, ``d/da`` is the Chebyshev
-differentiation matrix.  Everything is spectrally accurate for analytic functions;
-the resolution ``(P, M)`` is chosen by :mod:`kbm.numeric_kbm`, which also measures
-what was lost (the coefficient tails).
-
-:class:`GridAlgebra` offers the part of :class:`~kbm.algebra.base.FourierAlgebra`
-that the recursion :func:`kbm.recursion.one_angle_recursion` asks for; there is no symbolic
-display (``coef_expr``, ``series_expr``) and no ``trig``: ``F`` is expanded by
-:mod:`~kbm.algebra.smooth`, whatever its functions.
+- :class:`Samples`: the base of every sampled series (the grid algebra's
+  :class:`kbm.forced.grid.SampledSeries`, which runs the numeric backends of one degree of
+  freedom, forced or not; the jets of :mod:`~kbm.algebra.jet_fourier` and
+  :mod:`kbm.coupled.jet_algebra`);
+- :class:`GridCoef`: a coefficient ``c(a)`` by its values at the amplitudes;
+- :class:`PhaseGrid`: ``M`` equispaced phases, the first harmonic (secular terms) by
+  projection and ``u_n`` by the real FFT (the jets of :mod:`~kbm.algebra.jet_fourier`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from . import chebyshev
-
-__all__ = ["Samples", "PhaseGrid", "GridSeries", "GridCoef", "GridAlgebra"]
+__all__ = ["Samples", "PhaseGrid", "GridCoef"]
 
 
 class GridCoef:
@@ -77,25 +70,6 @@ class Samples:
         return self if self.values is None else self._new(self.values * float(q))
 
 
-class GridSeries(Samples):
-    """Samples ``f(a_i, psi_j)``, shape ``(P, M)``; ``values is None`` is the exact zero."""
-
-    __slots__ = ()
-
-    def __mul__(self, other: "GridSeries") -> "GridSeries":
-        if self.values is None or other.values is None:
-            return GridSeries(None)
-        return GridSeries(self.values * other.values)
-
-    def scale(self, c) -> "GridSeries":
-        """``c f`` for a number or a coefficient (``P`` values, one per amplitude)."""
-        if self.values is None:
-            return self
-        if isinstance(c, GridCoef):
-            return GridSeries(self.values * c.values[:, None])
-        return GridSeries(self.values * float(c))
-
-
 class PhaseGrid:
     """``M`` equispaced phases ``psi_j`` (the last axis of the samples): the harmonic balance
     of the one-angle sampled algebras.  The first harmonic is left out of every ``u_n``, the
@@ -132,66 +106,3 @@ class PhaseGrid:
             return R
         spec = np.fft.rfft(R.values, axis=-1) * self._inv
         return type(R)(np.fft.irfft(spec, n=self.M, axis=-1))
-
-
-class GridAlgebra(PhaseGrid):
-    """Series sampled on ``P`` Chebyshev amplitudes of ``[lo, hi]`` times ``M`` phases.
-
-    Parameters
-    ----------
-    omega0
-        The linear frequency (a positive number).
-    lo, hi
-        The amplitude interval, ``0 < lo < hi``.
-    P, M
-        Chebyshev points in ``a`` and phases in ``psi`` (``M`` even).
-    chop
-        Chebyshev coefficients below ``chop`` times the largest are dropped before a
-        differentiation in ``a`` (:meth:`da`).
-    """
-
-    def __init__(self, omega0: float, lo: float, hi: float, P: int, M: int,
-                 chop: float = 1e-14):
-        self._phases(omega0, M)
-        self.chop = float(chop)
-        self.lo, self.hi, self.P = float(lo), float(hi), int(P)
-        self.a = chebyshev.points(lo, hi, P)
-
-    # -- the recursion's vocabulary ----------------------------------------------------
-    def zero(self) -> GridSeries:
-        return GridSeries(None)
-
-    def const(self, value) -> GridSeries:
-        return GridSeries(np.full((self.P, self.M), float(value)))
-
-    def coef(self, value) -> GridCoef:
-        return GridCoef(np.full(self.P, float(value)))
-
-    def x0(self) -> GridSeries:
-        return GridSeries(self.a[:, None] * np.cos(self.psi)[None, :])
-
-    def dpsi(self, f: GridSeries) -> GridSeries:
-        if f.values is None:
-            return f
-        spec = np.fft.rfft(f.values, axis=1)
-        # as in da: rounding noise above the bandwidth would be multiplied by m (and by
-        # the differentiations in a that follow), so it is dropped first
-        spec[np.abs(spec) < self.chop * np.max(np.abs(spec))] = 0.0
-        return GridSeries(np.fft.irfft(spec * self._ik, n=self.M, axis=1))
-
-    def da(self, f: GridSeries) -> GridSeries:
-        """``df/da`` (:func:`~kbm.algebra.chebyshev.differentiate`, coefficients below
-        ``chop`` times the largest dropped first)."""
-        if f.values is None:
-            return f
-        return GridSeries(chebyshev.differentiate(f.values, self.lo, self.hi, 0, self.chop))
-
-    def at_amplitudes(self, f) -> np.ndarray:
-        """The samples of a series or coefficient at the ``P`` amplitudes."""
-        return f.values
-
-    def secular(self, R: GridSeries) -> tuple[GridCoef, GridCoef]:
-        if R.values is None:
-            return GridCoef(np.zeros(self.P)), GridCoef(np.zeros(self.P))
-        rc, rs = self.harmonic1(R)
-        return GridCoef(-rs / (2 * self.w0)), GridCoef(-rc / (2 * self.w0 * self.a))

@@ -83,11 +83,6 @@ class TaylorTable:
                                               modules=_MODULES)
         return self._func[key]
 
-    def builder(self, alg, X: Leaf, V: Leaf) -> "SmoothBuilder":
-        """The builder :func:`kbm.recursion.one_angle_recursion` calls (its ``builder``
-        argument)."""
-        return SmoothBuilder(alg, X, V, self)
-
 
 class TaylorOf(Node):
     """``F(y_0 + Dy)`` as a lazy series in eps along ``K`` variables (see the module
@@ -147,47 +142,40 @@ class TaylorOf(Node):
 
 
 class SmoothBuilder:
-    """Makes the lazy series of ``F`` over a :class:`~kbm.algebra.grid_fourier.GridAlgebra`.
-    Only :meth:`build` is asked for by the recursion; ``F`` is the table's.
-
-    The sampled algebras of one angle and one amplitude grid share it: ``extra`` are the
-    samples of the table's further arguments (the forcing angle ``theta``); a subclass says
-    where a leaf's samples are (:meth:`base`), what series the samples make (:meth:`series`)
-    and where a sample is not finite (:meth:`not_finite`).
+    """Makes the lazy series of ``F(x_0 + Dx, v_0 + Dv, theta)`` over the grid algebra
+    (:class:`kbm.forced.grid.SampledAlgebra`, forced or not).  Only :meth:`build` is asked
+    for by the recursion; ``F`` is the table's, ``extra`` the samples of its further
+    arguments (the forcing angle ``theta``); the leaves' samples are their ``sigma**0``
+    rows.
     """
 
     def __init__(self, alg, X: Leaf, V: Leaf, table: TaylorTable, extra: tuple = ()):
         self.alg, self.X, self.V, self.table, self.extra = alg, X, V, table, tuple(extra)
 
-    def base(self, leaf: Leaf) -> np.ndarray:
-        """The samples of the leaf's ``eps**0`` coefficient (``x_0`` or ``v_0``)."""
-        return leaf.coeff(0).values
-
-    def series(self, vals: np.ndarray):
-        return type(self.X.coeff(0))(vals)
-
     def not_finite(self, i: int, j: int, index: tuple, x0: np.ndarray, v0: np.ndarray) -> str:
         """The message for ``F_ij`` not finite at the grid point ``index``."""
-        r, c = index
+        r, c, l = index
         what = "F" if (i, j) == (0, 0) else f"the derivative d^{i + j}F/dx^{i} dxdot^{j}"
-        return (f"{what} is not finite at x = {x0[r, c]:.6g}, xdot = {v0[r, c]:.6g} "
-                f"(amplitude a = {self.alg.a[r]:.6g}, phase psi = {self.alg.psi[c]:.6g}), "
-                f"for F = {self.table.F}: the numeric backend needs F smooth and finite on "
-                f"|x| <= a_max, |xdot| <= omega0 a_max; shrink the a-range or change F")
+        forced = f", theta = {self.alg.theta[l]:.6g}" if self.extra else ""
+        return (f"{what} is not finite at x = {x0[index]:.6g}, xdot = {v0[index]:.6g} "
+                f"(amplitude a = {self.alg.a[r]:.6g}, phase psi = {self.alg.psi[c]:.6g}"
+                f"{forced}), for F = {self.table.F}: the numeric backend needs F smooth and "
+                f"finite on |x| <= a_max, |xdot| <= omega0 a_max; shrink the a-range or "
+                f"change F")
 
     def sample(self, i: int, j: int):
         """``F_ij(x_0, v_0, *extra)`` on the grid, checked to be finite (the exact zero when
         ``F_ij`` vanishes identically)."""
         if self.table.expr(i, j) == 0:
             return self.alg.zero()
-        x0, v0 = self.base(self.X), self.base(self.V)
+        x0, v0 = self.X.coeff(0).values[0], self.V.coeff(0).values[0]
         with np.errstate(all="ignore"):
             vals = np.broadcast_to(np.asarray(self.table.function(i, j)(x0, v0, *self.extra),
                                               dtype=float), x0.shape).copy()
         bad = ~np.isfinite(vals)
         if bad.any():
             raise ParameterError(self.not_finite(i, j, tuple(np.argwhere(bad)[0]), x0, v0))
-        return self.series(vals)
+        return self.alg.sample(vals)
 
     def build(self, expr: sp.Expr) -> Node:
         zero = self.alg.zero

@@ -9,7 +9,8 @@
   (:func:`kbm.recursion.kbm_recursion`, ``N = 1`` with the forcing angle; exact, polynomial
   ``F``);
 - :mod:`kbm.forced.grid`, :mod:`kbm.forced.numeric`, :mod:`kbm.forced.numeric_result`: the
-  same recursion on samples,
+  same recursion on samples (the grid algebra and adaptive driver that the autonomous
+  :func:`kbm.numeric_derive` runs on too, without the forcing angle),
   :func:`numeric_derive_forced` (any smooth ``F``: the slider's ``sin(k x + theta)``), and
   :func:`forced_expansion`, which picks the engine;
 - :mod:`kbm.forced.result`: :class:`ForcedKBMResult` and the numerical :class:`SlowFlow`;

@@ -1,4 +1,5 @@
-"""Two-angle series sampled on a grid: the algebra of the numeric forced KBM backend.
+"""Series sampled on a grid: the one algebra of the numeric KBM backends of one degree of
+freedom, forced or not.
 
 A series ``f(a, psi, theta; sigma)`` is held as its values on the tensor grid of ``P``
 Chebyshev points ``a_i`` of an amplitude interval (:mod:`kbm.algebra.chebyshev`), ``M``
@@ -6,20 +7,22 @@ equispaced phases ``psi_j`` and ``N`` equispaced forcing angles ``theta_l``, for
 of the detuning ``sigma`` it holds: an array ``(d + 1, P, M, N)``, row ``s`` the coefficient
 of ``sigma**s``.  The recursion is polynomial in ``sigma`` (it enters through
 ``D_1 = ... + sigma d/dtheta`` only), so at order ``n`` every quantity has degree
-``< n`` and the truncation of products at degree ``order - 1`` is exact.
+``< n`` and the truncation of products at degree ``order - 1`` is exact.  An autonomous
+``F`` (:mod:`kbm.numeric_kbm`) is the case without a forcing angle: ``N = 1``, degree 0.
 
 Products are pointwise in the grid and Cauchy products in the powers of ``sigma``;
 ``d/dpsi``, ``d/dtheta``, ``L0 = omega0 d/dpsi + nu0 d/dtheta``, the resonant part and the
-division by ``omega0**2 - (m omega0 + k nu0)**2`` act on the two-dimensional discrete
-Fourier transform in ``(psi, theta)``; ``d/da`` is Chebyshev differentiation.  As in the
-autonomous :class:`~kbm.algebra.grid_fourier.GridAlgebra`, spectral coefficients below
-``chop`` times the largest are dropped before a differentiation (rounding noise above the
-bandwidth would be amplified), and the Nyquist modes are dropped.
+division by ``omega0**2 - (m omega0 + k nu0)**2`` act on the discrete Fourier transform in
+``(psi, theta)`` (real in ``psi``: harmonics ``m >= 0``); ``d/da`` is Chebyshev
+differentiation.  Spectral coefficients below ``chop`` times the largest are dropped before
+a differentiation (rounding noise above the bandwidth would be amplified), and the Nyquist
+modes are dropped.
 
 The resonant harmonics of the declared resonance ``p/q`` are ``(m, k) = (+-1 + j p, -j q)``
-(:mod:`kbm.forced.engine`); the secular part of ``R_n``, ``P(phi) cos psi + Q(phi) sin psi``
-with ``phi = psi - (q/p) theta``, gives ``A_n = -Q/(2 omega0)`` and
-``B_n = -P/(2 omega0 a)``, both held as series of the slow harmonics ``(j p, -j q)``.
+(:mod:`kbm.forced.engine`; without forcing ``m = +-1``); the secular part of ``R_n``,
+``P(phi) cos psi + Q(phi) sin psi`` with ``phi = psi - (q/p) theta``, gives
+``A_n = -Q/(2 omega0)`` and ``B_n = -P/(2 omega0 a)``, both held as series of the slow
+harmonics ``(j p, -j q)`` (without forcing: functions of ``a``, of shape ``(d + 1, P, 1, 1)``).
 """
 
 from __future__ import annotations
@@ -28,10 +31,12 @@ import numpy as np
 
 from ..algebra import chebyshev
 from ..algebra.grid_fourier import Samples
-from ..recursion import SlowRates
+from ..algebra.lazy_series import Scaled
+from ..algebra.smooth import SmoothBuilder, TaylorTable
+from ..recursion import SlowRates, kbm_recursion
 from .model import Resonance
 
-__all__ = ["SampledSeries", "SampledAlgebra"]
+__all__ = ["SampledSeries", "SampledAlgebra", "sampled_recursion"]
 
 
 class SampledSeries(Samples):
@@ -62,6 +67,8 @@ class SampledSeries(Samples):
         if self.values is None or other.values is None:
             return self._new(None)
         f, g = self.values, other.values
+        if f.shape[0] == g.shape[0] == 1:
+            return self._new(f * g)
         deg = min(f.shape[0] + g.shape[0] - 2, self.cap)
         out = np.zeros((deg + 1,) + np.broadcast_shapes(f.shape[1:], g.shape[1:]))
         for i in range(f.shape[0]):
@@ -77,21 +84,22 @@ class SampledSeries(Samples):
 
 
 class SampledAlgebra(SlowRates):
-    """The forced recursion's algebra on a ``P x M x N`` grid (see the module docstring): the
-    case ``N = 1`` with a forcing angle of :class:`~kbm.algebra.base.RecursionAlgebra`.
+    """The recursion's algebra on a ``P x M x N`` grid (see the module docstring): the case
+    ``N = 1`` of :class:`~kbm.algebra.base.RecursionAlgebra`, with a forcing angle when a
+    resonance is declared.
 
     Parameters
     ----------
     omega0
         The linear frequency.
-    ratio
-        ``nu0/omega0 = p/q`` of the declared resonance.
     resonance
-        The declared resonance.
+        The declared resonance ``p/q`` (``nu0 = (p/q) omega0``), or ``None`` for an
+        autonomous ``F``: no forcing angle (``N = 1``), no detuning (``cap = 0``).
     lo, hi
         The amplitude interval of the Chebyshev grid, ``0 < lo < hi``.
     P, M, N
-        Chebyshev points in ``a``, phases in ``psi`` and in ``theta`` (``M``, ``N`` even).
+        Chebyshev points in ``a``, phases in ``psi`` and in ``theta`` (``M``, ``N`` even, or
+        ``N = 1``).
     cap
         The highest power of ``sigma`` kept (``order - 1``).
     chop
@@ -101,54 +109,66 @@ class SampledAlgebra(SlowRates):
 
     exact = False
     dof = 1
-    detuned = True  # a declared resonance: nu = nu0 + mu sigma
 
-    def __init__(self, omega0: float, resonance: Resonance, lo: float, hi: float, P: int,
-                 M: int, N: int, cap: int, chop: float = 1e-14):
+    def __init__(self, omega0: float, resonance: Resonance | None, lo: float, hi: float,
+                 P: int, M: int, N: int = 1, cap: int = 0, chop: float = 1e-14):
         self.w0 = float(omega0)
         self.res = resonance
-        self.nu0 = self.w0 * resonance.p / resonance.q
+        self.detuned = resonance is not None  # nu = nu0 + mu sigma
+        p, q = (resonance.p, resonance.q) if self.detuned else (1, 1)
+        self.nu0 = self.w0 * p / q if self.detuned else 0.0
         self.lo, self.hi, self.P, self.M, self.N = float(lo), float(hi), int(P), int(M), int(N)
         self.cap, self.chop = int(cap), float(chop)
         self.a = chebyshev.points(lo, hi, P)
         self.psi = 2 * np.pi * np.arange(M) / M
         self.theta = 2 * np.pi * np.arange(N) / N
-        m = np.rint(np.fft.fftfreq(M) * M).astype(int)
+        m = np.arange(M // 2 + 1)
         k = np.rint(np.fft.fftfreq(N) * N).astype(int)
-        self.m, self.k = m, k
         mm, kk = np.meshgrid(m, k, indexing="ij")
-        nyquist = (mm == -M // 2) | (kk == -N // 2)
-        self._keep = ~nyquist
-        p, q = resonance.p, resonance.q
+        keep = (mm != M // 2) & ((kk != -N // 2) | (N == 1))  # the Nyquist modes dropped
         j = np.where(kk % q == 0, -kk // q, 0)
-        self._resonant = (kk % q == 0) & (np.abs(mm - j * p) == 1)
+        resonant = (kk % q == 0) & (np.abs(mm - j * p) == 1)
         freq = mm * self.w0 + kk * self.nu0
-        self._iL0 = np.where(self._keep, 1j * freq, 0.0)
-        self._im = np.where(self._keep, 1j * mm, 0.0)
-        self._ik = np.where(self._keep, 1j * kk, 0.0)
+        self._iL0 = np.where(keep, 1j * freq, 0.0)
+        self._im = np.where(keep, 1j * mm, 0.0)
+        self._ik = np.where(keep, 1j * kk, 0.0)
         div = self.w0**2 - freq.astype(float) ** 2
-        ok = self._keep & ~self._resonant
+        ok = keep & ~resonant
         self._inv = np.where(ok, 1.0 / np.where(ok, div, 1.0), 0.0)
-        # the slow harmonics (j p, -j q) with both resonant partners (+-1 + j p, -j q) on
-        # the grid: index triples into the spectrum
-        slow = []
-        jmax = min((M // 2 - 2) // p, (N // 2 - 1) // q)
-        for jj in range(-jmax, jmax + 1):
-            slow.append((jj, (jj * p) % M, (1 + jj * p) % M, (-1 + jj * p) % M, (-jj * q) % N))
-        self.slow = slow
+        # the slow harmonics j: (j p, -j q), with both resonant partners (+-1 + j p, -j q)
+        # on the grid
+        jmax = min((M // 2 - 2) // p, (N // 2 - 1) // q) if self.detuned else 0
+        self.slow = list(range(-jmax, jmax + 1))
+        self._pq = (p, q)
         self._grid = (P, M, N)
 
-    # -- helpers ----------------------------------------------------------------------
+    # -- the transforms -----------------------------------------------------------------
+    def _fft(self, values: np.ndarray) -> np.ndarray:
+        """The discrete Fourier transform in ``(psi, theta)`` (``m >= 0``)."""
+        spec = np.fft.rfft(values, axis=2)
+        return np.fft.fft(spec, axis=3) if self.N > 1 else spec
+
+    def _ifft(self, spec: np.ndarray) -> np.ndarray:
+        if self.N > 1:
+            spec = np.fft.ifft(spec, axis=3)
+        return np.fft.irfft(spec, n=self.M, axis=2)
+
+    def _at(self, spec: np.ndarray, m: int, k: int) -> np.ndarray:
+        """The coefficient of ``exp(i (m psi + k theta))`` from the half spectrum."""
+        if m >= 0:
+            return spec[:, :, m, k % self.N]
+        return np.conj(spec[:, :, -m, -k % self.N])
+
     def _series(self, values: np.ndarray | None) -> SampledSeries:
         return SampledSeries(values, self.cap)
 
     def _spectral(self, f: SampledSeries, mult: np.ndarray, chop: bool = True) -> SampledSeries:
         if f.values is None:
             return f
-        spec = np.fft.fft2(f.values, axes=(2, 3))
+        spec = self._fft(f.values)
         if chop:
             spec[np.abs(spec) < self.chop * np.max(np.abs(spec))] = 0.0
-        return self._series(np.fft.ifft2(spec * mult, axes=(2, 3)).real)
+        return self._series(self._ifft(spec * mult))
 
     def sample(self, values: np.ndarray) -> SampledSeries:
         """A series of degree 0 in ``sigma`` from its samples ``(P, M, N)``."""
@@ -163,7 +183,11 @@ class SampledAlgebra(SlowRates):
         return self.sample(self.a[:, None, None] * np.cos(self.psi)[None, :, None])
 
     def L0(self, f: SampledSeries) -> SampledSeries:
-        return self._spectral(f, self._iL0, chop=False)
+        """``omega0 df/dpsi + nu0 df/dtheta``; without forcing the small coefficients are
+        dropped first, as in :meth:`dpsi` (at order 20 the rounding noise that ``L0``
+        passes on grows without bound over the phases; with forcing, dropping them raises
+        the slider's order-3 error from 1e-13 to 4e-11)."""
+        return self._spectral(f, self._iL0, chop=not self.detuned)
 
     def dpsi(self, f: SampledSeries, l: int = 0) -> SampledSeries:
         return self._spectral(f, self._im)
@@ -179,7 +203,7 @@ class SampledAlgebra(SlowRates):
             return f
         if s > self.cap:
             return self.zero()
-        v = np.concatenate([np.zeros((s,) + self._grid), f.values])[:self.cap + 1]
+        v = np.concatenate([np.zeros((s,) + f.values.shape[1:]), f.values])[:self.cap + 1]
         return self._series(v)
 
     def da(self, f: SampledSeries, l: int = 0) -> SampledSeries:
@@ -188,10 +212,6 @@ class SampledAlgebra(SlowRates):
             return f
         return self._series(chebyshev.differentiate(f.values, self.lo, self.hi, 1, self.chop))
 
-    def _spectrum(self, values: np.ndarray) -> np.ndarray:
-        """The normalised two-dimensional Fourier coefficients in ``(psi, theta)``."""
-        return np.fft.fft2(values, axes=(2, 3)) / (self.M * self.N)
-
     def slow_coefficients(self, f: SampledSeries, times_a: bool = False) -> np.ndarray:
         """The coefficients of ``exp(i j p phi)`` of a slow series ``f`` (of ``a f`` with
         ``times_a``): an array ``(cap + 1, P, 2 J + 1)``, zero rows above ``f``'s degree."""
@@ -199,39 +219,57 @@ class SampledAlgebra(SlowRates):
         if f.values is None:
             return out
         v = f.values * (self.a[None, :, None, None] if times_a else 1.0)
-        spec = self._spectrum(v)
-        for i, (_j, islow, _ip, _im, ik) in enumerate(self.slow):
-            out[:v.shape[0], :, i] = spec[:, :, islow, ik]
+        spec = self._fft(v) / (self.M * self.N)
+        p, q = self._pq
+        for i, j in enumerate(self.slow):
+            out[:v.shape[0], :, i] = self._at(spec, j * p, -j * q)
         return out
-
-    def slow_spectrum(self, R: SampledSeries) -> tuple[np.ndarray, np.ndarray]:
-        """``(A, a B)`` of the resonant part of ``R`` as coefficients of ``exp(i j p phi)``:
-        arrays ``(d + 1, P, 2 J + 1)`` (``j = -J..J``)."""
-        spec = self._spectrum(R.values)
-        Aj, Bj = [], []
-        for _j, _s, ip, im, ik in self.slow:
-            gp, gm = spec[:, :, ip, ik], spec[:, :, im, ik]
-            Aj.append(-1j * (gp - gm) / (2 * self.w0))
-            Bj.append(-(gp + gm) / (2 * self.w0))
-        return np.stack(Aj, axis=-1), np.stack(Bj, axis=-1)
 
     def secular(self, R: SampledSeries, i: int = 0, n: int = 0
                 ) -> tuple[SampledSeries, SampledSeries]:
         """``(A_n, B_n)``: the resonant part of ``R_n`` as series of the slow harmonics."""
         if R.values is None:
             return self.zero(), self.zero()
-        A, aB = self.slow_spectrum(R)
-        d = R.values.shape[0]
-        sa = np.zeros((d, self.P, self.M, self.N), dtype=complex)
-        sb = np.zeros_like(sa)
-        for i, (_j, islow, _ip, _im, ik) in enumerate(self.slow):
-            sa[:, :, islow, ik] = A[..., i]
-            sb[:, :, islow, ik] = aB[..., i]
+        if not self.detuned:  # the first harmonic, by projection: functions of a
+            c = R.values[..., 0] @ np.cos(self.psi) * (2.0 / self.M)
+            s = R.values[..., 0] @ np.sin(self.psi) * (2.0 / self.M)
+            return (self._series((-s / (2 * self.w0))[..., None, None]),
+                    self._series((-c / (2 * self.w0 * self.a))[..., None, None]))
+        spec = self._fft(R.values) / (self.M * self.N)
+        p, q = self._pq
+        sa = np.zeros_like(spec)
+        sb = np.zeros_like(spec)
+        for j in self.slow:
+            if j * p < 0:  # held by its conjugate partner
+                continue
+            gp, gm = self._at(spec, 1 + j * p, -j * q), self._at(spec, -1 + j * p, -j * q)
+            sa[:, :, j * p, -j * q % self.N] = -1j * (gp - gm) / (2 * self.w0)
+            sb[:, :, j * p, -j * q % self.N] = -(gp + gm) / (2 * self.w0)
         scale = self.M * self.N
-        av = np.fft.ifft2(sa * scale, axes=(2, 3)).real
-        bv = np.fft.ifft2(sb * scale, axes=(2, 3)).real / self.a[None, :, None, None]
+        av = self._ifft(sa * scale)
+        bv = self._ifft(sb * scale) / self.a[None, :, None, None]
         return self._series(av), self._series(bv)
 
-    def solve(self, R: SampledSeries, i: int, n: int) -> SampledSeries:
+    def solve(self, R: SampledSeries, i: int = 0, n: int = 0) -> SampledSeries:
         """``u_n``: every non-resonant harmonic over ``omega0**2 - (m omega0 + k nu0)**2``."""
         return self._spectral(R, self._inv, chop=False)
+
+
+def sampled_recursion(alg: SampledAlgebra, tables: dict[int, TaylorTable], order: int
+                      ) -> tuple[list, list, list]:
+    """:func:`~kbm.recursion.kbm_recursion` over ``alg`` for ``F = sum_i (mu sigma)**i F_i``
+    (``tables``: ``{i: TaylorTable of F_i}``, the forcing angle its extra argument when
+    forced): the lists ``A_1..A_N``, ``B_1..B_N``, ``u_1..u_N`` of :class:`SampledSeries`."""
+    extra = (np.broadcast_to(alg.theta, alg._grid),) if alg.detuned else ()
+
+    def terms(XL, VL):
+        out = []
+        for i, table in tables.items():
+            node = SmoothBuilder(alg, XL[0], VL[0], table, extra).build(table.F)
+            if i:
+                node = Scaled(alg.zero, node, lambda f, i=i: alg.sigma_power(f, i))
+            out.append((i, node))
+        return [out]
+
+    (A,), (B,), (U,) = kbm_recursion(alg, terms, order)
+    return A, B, U

@@ -8,21 +8,23 @@ recursion as the exact engine (:func:`kbm.recursion.kbm_recursion`: same convent
 no resonant harmonic in any ``u_n``) on *samples* (:mod:`kbm.forced.grid`):
 
 - ``psi`` and ``theta`` on ``M x N`` equispaced angles (derivatives, the resonant part and
-  ``u_n`` by the two-dimensional FFT);
+  ``u_n`` by the FFT);
 - ``a`` on ``P`` Chebyshev points of the interval (derivatives spectrally);
 - the detuning ``sigma`` exactly, as polynomial coefficients;
 - ``F(x_0 + Dx, v_0 + Dv, theta)`` by its Taylor series with the partial derivatives taken
   symbolically and compiled (:class:`kbm.algebra.smooth.TaylorTable`).
 
 A forcing frequency in ``F`` (a stage velocity ``v = nu/k``) is expanded exactly:
-``nu = nu0 + mu sigma``.  The resolution is adaptive as in the autonomous numeric backend
-(:mod:`kbm.numeric_kbm`): ``M`` and ``N`` start where the Fourier coefficients of ``F``
-along the unperturbed orbit at ``a_max`` have fallen below the tolerance, and ``P``, ``M``,
-``N`` are doubled until the coefficient tails of every ``A_n``, ``B_n``, ``u_n`` are below
+``nu = nu0 + mu sigma``.  The resolution is adaptive, by the one driver of the grid
+backends (:func:`resolved_angles`, :func:`resolve`; the autonomous :mod:`kbm.numeric_kbm`
+is its case without a forcing angle): ``M`` and ``N`` start where the Fourier coefficients
+of ``F`` along the unperturbed orbits have fallen below the tolerance, and ``P``, ``M``,
+``N`` are refined until the coefficient tails of every ``A_n``, ``B_n``, ``u_n`` are below
 ``tol`` times the size of that order's quantities; a second grid half as fine again then
 measures the error that the tails cannot (rounding amplified by the differentiations in
-``a``).  Those are the reported error estimates; a budget that does not suffice raises
-:class:`~kbm.errors.ResolutionError` with the numbers.
+``a``).  Those are the reported error estimates; a budget that does not suffice, or tails
+that stop falling as ``a`` is refined, raise :class:`~kbm.errors.ResolutionError` with the
+numbers.
 
 The result holds ``A_n(a, phi, sigma)``, ``B_n(a, phi, sigma)`` as Chebyshev series in
 ``a`` times Fourier series in ``phi`` times polynomials in ``sigma``, and gives the slow
@@ -40,22 +42,20 @@ import numpy as np
 import sympy as sp
 
 from ..algebra import chebyshev
-from ..algebra.lazy_series import Scaled
-from ..algebra.smooth import SmoothBuilder, TaylorTable
+from ..algebra.smooth import TaylorTable
 from ..errors import ModelError, ParameterError, ResolutionError
-from ..recursion import kbm_recursion
 from ..sampling import (check_bounded, check_grid, check_order, check_tol, chebyshev_tail,
                         comparison_matrices, fourier_tail, order_scale, parse_a_range,
                         require_values, widened)
 from ..symbols import x, xdot
 from .builtins import get_forced_model
 from .engine import derive_forced
-from .grid import SampledAlgebra
+from .grid import SampledAlgebra, sampled_recursion
 from .model import ForcedOscillator, Resonance, nu, theta
 from .numeric_result import NumericForcedExpansion, SlowSeries
 
 __all__ = ["numeric_derive_forced", "forced_expansion", "NumericForcedExpansion", "SlowSeries",
-           "DEFAULT_TOL", "MAX_ORDER_NUMERIC"]
+           "resolved_angles", "resolve", "DEFAULT_TOL", "MAX_ORDER_NUMERIC"]
 
 #: default tolerance, relative to the size of each order's quantities on the interval
 DEFAULT_TOL = 1e-9
@@ -98,53 +98,102 @@ def _parts(F: sp.Expr, nu0: float) -> dict[int, sp.Expr]:
 
 
 # ----------------------------------------------------------------------------- resolution
-def _angles(tables, w0: float, hi: float, tol: float) -> tuple[int, int]:
-    """Phases ``(M, N)`` at which ``F`` along the unperturbed orbit at ``a_max`` is resolved."""
-    M, N, first = 16, 8, None
+def resolved_angles(tables: dict, w0: float, lo: float, hi: float, tol: float, M: int, N: int,
+                    max_M: int, max_N: int) -> tuple[int, int]:
+    """The phases ``(M, N)`` (``psi``, ``theta``; ``N = 1`` without forcing), doubled from
+    the given ones, at which ``F`` along the unperturbed orbits of five amplitudes of
+    ``[lo, hi]`` is resolved: its Fourier tails below ``tol/100`` of its size.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        ``F`` not finite, or not bounded (:func:`~kbm.sampling.check_bounded`), on the orbits.
+    kbm.errors.ResolutionError
+        Past ``max_M`` or ``max_N``.
+    """
+    amps, M0, first = chebyshev.points(lo, hi, 5), M, None
+    F = sum(t.F for t in tables.values())
     while True:
         psi = 2 * np.pi * np.arange(M) / M
-        th = 2 * np.pi * np.arange(N) / N
-        x0 = hi * np.cos(psi)[:, None] * np.ones(N)
-        v0 = -w0 * hi * np.sin(psi)[:, None] * np.ones(N)
-        TH = np.ones(M)[:, None] * th[None, :]
-        f = sum(np.broadcast_to(np.asarray(t.function(0, 0)(x0, v0, TH), float), x0.shape)
-                for t in tables.values())
-        f = np.broadcast_to(f, x0.shape)
+        x0 = np.repeat((amps[:, None] * np.cos(psi)[None, :])[..., None], N, axis=2)
+        v0 = np.repeat((-w0 * amps[:, None] * np.sin(psi)[None, :])[..., None], N, axis=2)
+        TH = np.broadcast_to(2 * np.pi * np.arange(N) / N, x0.shape)
+        with np.errstate(all="ignore"):
+            f = sum(np.broadcast_to(np.asarray(t.function(0, 0)(x0, v0, *(TH,) * len(t.extra)),
+                                               dtype=float), x0.shape) for t in tables.values())
         if not np.all(np.isfinite(f)):
-            raise ParameterError(f"F is not finite on the orbit a = {hi:g}; shrink the a-range "
-                                 "or change F")
-        scale = float(np.max(np.abs(f))) or 1.0
+            r, c, l = np.argwhere(~np.isfinite(f))[0]
+            at = f", theta = {TH[r, c, l]:.6g}" if N > 1 else ""
+            raise ParameterError(
+                f"F = {F} is not finite at x = {x0[r, c, l]:.6g}, xdot = {v0[r, c, l]:.6g}{at} "
+                f"(a = {amps[r]:.6g}): the numeric backend needs F finite and smooth on the "
+                f"orbits of the a-range [{lo:g}, {hi:g}]; shrink the a-range or change F")
+        scale = float(np.max(np.abs(f)))
         first = scale if first is None else first
-        check_bounded(sum(t.F for t in tables.values()), f, first,
-                      2 * M > MAX_M or 2 * N > MAX_N, f"on the orbit a = {hi:g}")
-        tm, tn = fourier_tail(f, 0), fourier_tail(f, 1)
-        if tm <= 0.01 * tol * scale and tn <= 0.01 * tol * scale:
+        tm, tn = fourier_tail(f, 1), (fourier_tail(f, 2) if N > 1 else 0.0)
+        grow = (tm > 0.01 * tol * scale, tn > 0.01 * tol * scale)
+        if scale == 0 or not any(grow):
             return M, N
-        M, N = (2 * M if tm > 0.01 * tol * scale else M), (2 * N if tn > 0.01 * tol * scale
-                                                              else N)
-        if M > MAX_M or N > MAX_N:
+        over = (grow[0] and 2 * M > max_M) or (grow[1] and 2 * N > max_N)
+        check_bounded(F, f, first, over, f"on the orbits of the a-range [{lo:g}, {hi:g}]",
+                      f" ({M0} -> {M})")
+        if over:
             raise ResolutionError(
-                f"F varies too sharply along the orbit a = {hi:g}: with {M // 2} x {N // 2} "
-                f"phases its Fourier coefficients have fallen only to "
-                f"{max(tm, tn) / scale:.1e} of its size (tol {tol:.0e}); use a smaller a_max, "
-                "a smoother F or a looser tol")
+                f"F = {F} varies too sharply along the orbits of the a-range "
+                f"[{lo:g}, {hi:g}]: with M = {M} phases" + (f" x N = {N}" if N > 1 else "")
+                + f" its Fourier coefficients at a = {hi:g} have fallen only to "
+                f"{max(tm, tn) / scale:.1e} of its size (tolerance {tol:.0e}); use a smaller "
+                "a_max, a smoother F (e.g. a larger eps in tanh(xdot/eps)) or a looser tol")
+        M, N = (2 * M if grow[0] else M), (2 * N if grow[1] else N)
 
 
-class _Builder(SmoothBuilder):
-    """``F(x_0 + Dx, v_0 + Dv, theta)`` on the two-angle grid: the leaves' samples are the
-    ``sigma**0`` rows."""
+def resolve(make_run, measure, compare, grid: tuple[int, ...], tol: float,
+            budget: tuple[int, ...], what: str):
+    """The adaptive loop of the grid backends: runs on ``grid = (P, M[, N])`` refined (``P``
+    to ``2 P - 1``, an angle doubled) while a tail exceeds ``tol``, then checked against a
+    second grid half as fine again (:func:`~kbm.sampling.check_grid`), which measures the
+    rounding errors the differentiations in ``a`` amplify.
 
-    def base(self, leaf):
-        return leaf.coeff(0).values[0]
+    ``make_run(grid)`` runs the recursion; ``measure(run) -> (errs, rel)`` gives the tails
+    relative to each order's size, ``rel`` one per axis; ``compare(run, check, errs) ->
+    (diffs, rel)`` the same from the two grids' differences.  Returns ``(run, errs, diffs)``.
 
-    def series(self, vals):
-        return self.alg.sample(vals)
-
-    def not_finite(self, i, j, index, x0, v0) -> str:
-        TH = self.extra[0]
-        return (f"a derivative of F = {self.table.F} is not finite at x = {x0[index]:.6g}, "
-                f"xdot = {v0[index]:.6g}, theta = {TH[index]:.6g}; the numeric backend needs "
-                "F smooth and finite on the orbits of the a-range")
+    Raises
+    ------
+    kbm.errors.ResolutionError
+        When the next grid is over ``budget`` (``(max P, max per angle..., max samples)``),
+        or when refining ``a`` no longer lowers the tails (the floor of the rounding errors
+        that each differentiation in ``a`` amplifies); ``what`` opens the message.
+    """
+    advice = "narrow the a-range, lower the order, smooth F, or loosen tol"
+    previous = None
+    while True:
+        run = make_run(grid)
+        errs, rel = measure(run)
+        if max(rel) <= tol:
+            diffs, rel = compare(run, make_run(check_grid(*grid)), errs)
+            if max(rel) <= tol:
+                return run, errs, diffs
+        if previous is not None and grid[0] > previous[0][0] and 0.5 * previous[1] < rel[0] < 1e-6:
+            low = min(rel[0], previous[1])
+            raise ResolutionError(
+                f"{what}: its Chebyshev tails in a stopped falling at {low:.1e} (P = "
+                f"{previous[0][0]} -> {grid[0]} points), the floor of the rounding errors that "
+                f"each differentiation in a amplifies; ask for tol >= {3 * low:.0e}, or {advice}")
+        previous = (grid, rel[0])
+        new = tuple((2 * g - 1 if i == 0 else 2 * g) if r > tol else g
+                    for i, (g, r) in enumerate(zip(grid, rel)))
+        if new == grid:
+            new = (2 * grid[0] - 1, *grid[1:])
+        if any(g > b for g, b in zip(new, budget)) or math.prod(new) > budget[-1]:
+            names = ("a (Chebyshev)", "psi (Fourier)", "theta (Fourier)")
+            where = names[max(range(len(rel)), key=lambda i: (rel[i], i))]
+            sizes = ", ".join(f"{s} = {g} {n}" for s, g, n in
+                              zip("PMN", grid, ("Chebyshev points", "phases", "forcing angles")))
+            raise ResolutionError(
+                f"{what} within the grid budget ({sizes}): the coefficient tails in {where} "
+                f"are still {max(rel):.1e} of the size of the quantities; {advice}")
+        grid = new
 
 
 @dataclass
@@ -157,18 +206,7 @@ class _Run:
 
 def _run(tables, w0, res, lo, hi, P, M, N, order) -> _Run:
     alg = SampledAlgebra(w0, res, lo, hi, P, M, N, cap=order - 1)
-    TH = np.broadcast_to(alg.theta[None, None, :], (P, M, N))
-
-    def terms(XL, VL):
-        out = []
-        for i, table in tables.items():
-            node = _Builder(alg, XL[0], VL[0], table, (TH,)).build(table.F)
-            if i:
-                node = Scaled(alg.zero, node, lambda f, i=i: alg.sigma_power(f, i))
-            out.append((i, node))
-        return [out]
-
-    (A,), (B,), (U,) = kbm_recursion(alg, terms, order)  # N = 1 with the forcing angle
+    A, B, U = sampled_recursion(alg, tables, order)  # N = 1 with the forcing angle
     As, aBs = [], []
     for An, Bn in zip(A, B):
         # A_n and a B_n as slow spectra; B_n = (a B_n)/a is formed in the result
@@ -185,13 +223,13 @@ def _run(tables, w0, res, lo, hi, P, M, N, order) -> _Run:
 
 def _errors(run: _Run):
     """Per order: the scale and the tails (Chebyshev in ``a``, Fourier in ``psi`` and
-    ``theta``) of ``A_n``, ``a B_n``, ``u_n``."""
+    ``theta``) of ``A_n``, ``a B_n``, ``u_n``; and the largest relative tail per axis."""
     out, floor = [], 0.0
     for An, aBn, Un in zip(run.A, run.aB, run.U):
         scale = floor = order_scale(An, aBn, Un, floor)
         ta = max(chebyshev_tail(v, 1) for v in (An.real, An.imag, aBn.real, aBn.imag, Un))
         out.append((scale, ta, fourier_tail(Un, 2), fourier_tail(Un, 3)))
-    return out
+    return out, [max(e[i] / (e[0] or 1) for e in out) for i in (1, 2, 3)]
 
 
 def _differences(run: _Run, check: _Run, lo: float, hi: float) -> list[tuple[float, float]]:
@@ -261,38 +299,23 @@ def numeric_derive_forced(model: ForcedOscillator | str, order: int, a_range,
     parts = _parts(sp.expand(model.F), nu0)
     tables = {i: TaylorTable(Fi, extra=(theta,)) for i, Fi in parts.items()}
     try:
-        M, N = _angles(tables, w0, hi, tol)
+        M, N = resolved_angles(tables, w0, lo, hi, tol, 16, 8, MAX_M, MAX_N)
     except (NameError, TypeError) as exc:
         raise ParameterError(f"F = {model.F} cannot be evaluated with numpy/scipy ({exc})") \
             from None
     M, N = max(M, 4 * res.p * order + 8), max(N, 4 * res.q * order + 4)
     M, N = 2 ** math.ceil(math.log2(M)), 2 ** math.ceil(math.log2(N))
     clo, chi = widened(lo, hi)
-    P = 17
-    while True:
-        run = _run(tables, w0, res, clo, chi, P, M, N, order)
-        errs = _errors(run)
-        rel = [max(e[i] / (e[0] or 1) for e in errs) for i in (1, 2, 3)]
-        if all(r <= tol for r in rel):
-            check = _run(tables, w0, res, clo, chi, *check_grid(P, M, N), order)
-            diffs = _differences(run, check, lo, hi)
-            worst = max(max(d) / (e[0] or 1) for d, e in zip(diffs, errs))
-            if worst <= tol:
-                break
-            rel = [worst if r <= tol else r for r in rel]
-            rel[0] = max(rel[0], worst)
-        P2 = 2 * P - 1 if rel[0] > tol else P
-        M2 = 2 * M if rel[1] > tol else M
-        N2 = 2 * N if rel[2] > tol else N
-        if (P2, M2, N2) == (P, M, N):
-            P2 = 2 * P - 1
-        if P2 > MAX_P or M2 > MAX_M or N2 > MAX_N or P2 * M2 * N2 > MAX_SAMPLES:
-            raise ResolutionError(
-                f"the numeric forced expansion of F = {model.F} to order {order} on a in "
-                f"[{lo:g}, {hi:g}] did not reach tol = {tol:.0e} within the grid budget "
-                f"(P = {P}, M = {M}, N = {N}): the relative tails are {max(rel):.1e}; narrow "
-                "the a-range, lower the order, smooth F or loosen tol")
-        P, M, N = P2, M2, N2
+
+    def compare(run, check, errs):
+        diffs = _differences(run, check, lo, hi)
+        return diffs, [max(max(d) / (e[0] or 1) for d, e in zip(diffs, errs))] * 3
+
+    run, errs, diffs = resolve(
+        lambda grid: _run(tables, w0, res, clo, chi, *grid, order), _errors, compare,
+        (17, M, N), tol, (MAX_P, MAX_M, MAX_N, MAX_SAMPLES),
+        f"the numeric forced expansion of F = {model.F} to order {order} on a in "
+        f"[{lo:g}, {hi:g}] did not reach tol = {tol:.0e}")
     return _result(model, order, res, lo, hi, w0, tol, run, errs, diffs, used)
 
 

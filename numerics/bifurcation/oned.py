@@ -240,10 +240,13 @@ def _saddle_change(run: Run, loop0, label: str, p) -> None:
             "note": "the heteroclinic cycle of the saddles located (both connections' "
             "section gaps zero); last_curve_point: the homoclinic curve's last point"})
         return
+    bt = [c.point for c in run.codim2 if c.kind == "bogdanov-takens" and np.linalg.norm(
+        (np.asarray(c.point) - p.z) / run.scale) < 0.01]
     run.add_codim2("connection-end", tuple(p.z), {
         "on": "homoclinic", "label": label, "gap": p.residual,
-        "note": "the curve's end inside the box, on no fold and at no located saddle "
-        "change"})
+        "note": "the curve's end inside the box, at no located saddle-node loop or saddle "
+        "change" + (f"; within 1 % of the box of the Bogdanov-Takens point {tuple(bt[0])}, "
+                    "where a homoclinic curve shrinks into its equilibrium" if bt else "")})
 
 
 def autonomous_diagram(model, params: Mapping, axes: tuple[str, str], ranges: Mapping, *,

@@ -97,9 +97,13 @@ class Run:
         return False
 
     def add_codim2(self, kind, ab, detail):
+        """Add a codim-2 point unless one of its kind and label (the loop's saddles) lies
+        within ``1e-4`` of the box (two saddle-node loops of different connections can be
+        closer than that)."""
         p = np.asarray(ab, dtype=float) / self.scale
         for c in self.codim2:
-            if c.kind == kind and np.linalg.norm(np.asarray(c.point) / self.scale - p) < 1e-4:
+            if c.kind == kind and c.detail.get("label") == detail.get("label") and \
+                    np.linalg.norm(np.asarray(c.point) / self.scale - p) < 1e-4:
                 return
         self.codim2.append(Codim2Point(kind, (float(ab[0]), float(ab[1])), detail))
 

@@ -218,27 +218,34 @@ def saddle_quantity(kit, loop: Loop):
 
 def saddle_change(kit, loop: Loop, z, L: float, *, scale=(1.0, 1.0),
                   max_iter: int = 30) -> dict | None:
-    """The saddle change at the end ``z`` of the homoclinic curve of ``loop``, located.
+    """The saddle change at the end ``z`` of the curve of ``loop``, located.
 
     The loop of ``x_1`` (leaving towards ``leave``) changes the saddles it visits where its
     unstable manifold reaches the next saddle ``x_2`` on that side: there ``x_1 -> x_2``
     (leaving ``x_1`` towards ``leave``) and ``x_2 -> x_1`` (leaving ``x_2`` back) are both
     connections, a heteroclinic cycle, codim 2 in the plane (Kuznetsov, *Elements of
-    Applied Bifurcation Theory*, sec. 6.4, saddle connections of planar flows).  The point
-    is the zero of both legs' :func:`section_gap`, by Newton in ``(a, b)`` from ``z`` (central
-    differences, step ``1e-6`` of ``scale``), for the nearest saddles on that side first.
-    Returns ``{"point", "saddles", "gaps", "newton_step"}`` with both gaps at most
-    :data:`GAP_TOL` and the last step at most ``1e-9`` (scaled), or ``None``.
+    Applied Bifurcation Theory*, sec. 6.4, saddle connections of planar flows).  The same
+    holds for the heteroclinic cycle ``x_1 -> -x_1 -> x_1`` of an odd field (its curve is
+    codim 1 by the symmetry): it ends where ``x_1 -> x_2`` and ``x_2 -> -x_1`` (leaving
+    ``x_2`` back, or on, and arriving at ``-x_1`` as the cycle did) are both connections,
+    the mirror legs following by the symmetry.  The point is the zero of both legs'
+    :func:`section_gap`, by Newton in ``(a, b)`` from ``z`` (central differences, step
+    ``1e-6`` of ``scale``), for the nearest saddles on that side first.  Returns
+    ``{"point", "saddles", "gaps", "newton_step"}`` (``saddles``: ``x_1, x_2``, and
+    ``-x_1`` for a heteroclinic cycle) with both gaps at most :data:`GAP_TOL` and the last
+    step at most ``1e-9`` (scaled), or ``None``.
     """
-    if not loop.homoclinic:
+    if not loop.homoclinic and not kit.odd:
         return None
     a, b = float(z[0]), float(z[1])
-    x1, side = loop.x_from, loop.leave
+    x1, side, xt = loop.x_from, loop.leave, loop.x_to
     others = sorted((x for x, kind in kit.equilibria(a, b, L)
-                     if kind == "saddle" and (x - x1) * side > 1e-9), key=lambda x: abs(x - x1))
+                     if kind == "saddle" and (x - x1) * side > 1e-9 and abs(x - xt) > 1e-9),
+                    key=lambda x: abs(x - x1))
     sc = np.asarray(scale, dtype=float)
-    for x2 in others[:2]:
-        legs = [Loop(x1, x2, side, -side, True), Loop(x2, x1, -side, side, True)]
+    turns = (-side,) if loop.homoclinic else (-side, side)
+    for x2, back in ((x2, back) for x2 in others[:2] for back in turns):
+        legs = [Loop(x1, x2, side, -side, True), Loop(x2, xt, back, loop.arrive, True)]
         fns = [gap_function(kit, lp) for lp in legs]
 
         def H(w, fns=fns):
@@ -264,8 +271,10 @@ def saddle_change(kit, loop: Loop, z, L: float, *, scale=(1.0, 1.0),
         except (*_FAIL, np.linalg.LinAlgError):
             continue
         if np.max(np.abs(h)) <= GAP_TOL:
-            return {"point": (float(w[0]), float(w[1])),
-                    "saddles": [legs[0].x_from, legs[0].x_to], "gaps": [float(v) for v in h],
+            saddles = [legs[0].x_from, legs[0].x_to] + ([] if loop.homoclinic else
+                                                        [legs[1].x_to])
+            return {"point": (float(w[0]), float(w[1])), "saddles": saddles,
+                    "gaps": [float(v) for v in h],
                     "newton_step": float(np.max(np.abs(step / sc)))}
     return None
 

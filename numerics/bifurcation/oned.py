@@ -14,7 +14,8 @@
   of homoclinic curves inside the box (on the fold of their saddle: ``saddle-node-loop``,
   located on the fold curve as the zero of the saddle-node's manifolds' gap,
   :func:`numerics.bifurcation.saddle_node_loop.locate_saddle_node_loop`;
-  elsewhere ``saddle-change`` where the loop's manifold meets the next saddle, located as
+  elsewhere ``saddle-change`` where the loop's (or a symmetric heteroclinic cycle's)
+  manifold meets the next saddle, located as
   the zero of both connections' gaps, :func:`numerics.bifurcation.connections.saddle_change`;
   an end neither is ``connection-end``), the zeros of the saddle quantity along homoclinic
   curves (``neutral-saddle-loop``), the ends of fold

@@ -71,6 +71,23 @@ def test_saddle_node_loop_located_exactly():
                                    scale=(0.1, 0.1)) is None
 
 
+def test_saddle_node_loop_in_reversed_time():
+    """The closed-form model with time reversed (``x' -> -x'``: ``f(x, -v)``, so ``f_v = 2 >
+    0`` at the saddle-node): the same orbit, now leaving along the strong unstable
+    eigenvector and returning along the centre manifold; the located point is again
+    ``(0, 0)``."""
+    model = custom_model("x + r - x**2*(3*x + 2)/2 - (b - 2 - 7*x/2)*xdot")
+    kit = OneDof(model, {"mu": "1"}, ("r", "b"), (0.01, 0.0))
+    loop = Loop(-0.1, -0.1, -1, -1)
+    g = gap_function(kit, loop)
+    b0 = brentq(lambda b: float(g((0.01, b))[0]), -0.05, 0.0, xtol=1e-14)
+    accept(kit, loop, (0.01, b0))
+    found = locate_saddle_node_loop(kit, loop, (0.01, b0), scale=(0.1, 0.1))
+    assert found is not None and kit.d(0, 1, 0.0, 0.0, 0.0, 0.0) == 2.0
+    r, b = found["point"]
+    assert abs(r) < 1e-12 and abs(b) < 1e-10 and abs(found["gap"]) <= GAP_TOL
+
+
 def _sedf_fold():
     """The SEDF fold of equilibria near ``x = 1.74`` in closed form."""
     x = brentq(lambda s: math.tan(2 * math.pi * s) - 2 * math.pi * s, 1.70, 1.74, xtol=1e-15)

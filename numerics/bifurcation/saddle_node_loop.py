@@ -26,7 +26,7 @@ for the loop's own curve: :mod:`numerics.bifurcation.connections`).
 :func:`locate_saddle_node_loop` follows the fold curve, parametrised by the parameter that
 varies most along it, the other one and ``x_sn`` solved by Newton on ``f = f_x = 0``, and
 finds the zero of that gap by the secant method (bracketed by Brent where the secant
-leaves): the parameter to ``1e-10`` of the box and the gap at most ``1e-10``.
+leaves): the last step in the parameter at most ``1e-10`` and the gap at most ``1e-10``.
 """
 
 from __future__ import annotations

@@ -176,10 +176,11 @@ def test_period_two_orbit_past_the_curve(pd_curve):
 
 @pytest.mark.slow
 def test_kbm_diagram_finds_the_period_doubling_curves(capsys, pd_curve):
-    """``kbm diagram`` from its own seeds: the period-doubling curves (the orbit and its
-    symmetric partner, (x, t) -> (-x, t + T/2), give two copies of each arm) end on h = 25
-    at continue_coupled's doublings there, and on h = 18 where the seeded curve crosses,
-    at orbits whose scipy monodromy has a multiplier -1 (to 1e-6)."""
+    """``kbm diagram`` from its own seeds: the period-doubling curves end on h = 25 at
+    continue_coupled's doublings there, and on h = 18 where the seeded curve crosses, at
+    orbits whose scipy monodromy has a multiplier -1 (to 1e-6).  Each arm is reported
+    once: the symmetric partner orbit, (x, t) -> (-x, t + T/2), traces the same arm (it
+    gave a second copy of each before the seeds' partners were compared)."""
     import json
 
     from numerics.cli import main
@@ -190,7 +191,7 @@ def test_kbm_diagram_finds_the_period_doubling_curves(capsys, pd_curve):
     out, err = capsys.readouterr()
     assert code == 0, err
     pds = [c["points"] for c in json.loads(out)["curves"] if c["kind"] == KIND]
-    assert len(pds) == 4
+    assert len(pds) == 2
     prob, zs, _, _ = pd_curve
     ref25 = sorted({round(s.parameter, 9) for s in one_parameter_pds(25.0)})
     at18 = on_h(prob, zs, 18.0)
@@ -200,6 +201,44 @@ def test_kbm_diagram_finds_the_period_doubling_curves(capsys, pd_curve):
         assert set(ends) == {18, 25}
         assert min(abs(ends[25] - r) for r in ref25) < 1e-7
         assert min(abs(ends[18] - z[2]) for z in at18) < 1e-7
+    # the two arms: one ends at each doubling of h = 25
+    assert sorted(round(next(p[0] for p in (c[0], c[-1]) if round(p[1]) == 25), 7)
+                  for c in pds) == pytest.approx(ref25, abs=1e-7)
     for z in at18:
         _, m = scipy_floquet(z[2], 18.0, z[:2])
         assert min(abs(m + 1)) <= 1e-6
+
+
+def test_symmetric_partner_traces_the_same_curve(pd_curve):
+    """The partner of a point of the curve, ``-y(T/2)`` (:meth:`DrivenProblem.partner`), is
+    another period-1 orbit at the same ``(sigma, h)`` with a multiplier ``-1``: the scipy
+    Floquet computation (Newton on the period map from the partner's state) converges to it
+    (1e-8) and finds ``-1`` (1e-6), while the orbit itself is not symmetric (the states
+    differ by more than 0.1).  Seeded with both, the continuation reports one curve and
+    names the partner."""
+    prob, zs, _, _ = pd_curve
+    z = zs[len(zs) // 3]
+    zp = prob.partner(z)
+    assert zp is not None and np.allclose(zp[2:], z[2:])
+    assert np.linalg.norm(zp[:2] - z[:2]) > 0.1
+    y, m = scipy_floquet(zp[2], zp[3], zp[:2])
+    assert np.linalg.norm(np.asarray(y) - zp[:2]) < 1e-8 and min(abs(m + 1)) <= 1e-6
+    _, curves, _ = forced_true_curves(prob, RANGES, [(KIND, z), (KIND, zp)], ds=0.02,
+                                      max_points=6)
+    assert len(curves) == 1 and "symmetric_partner" in curves[0].detail
+
+
+def test_no_partner_without_the_symmetry():
+    """A forced model whose field is not odd under the half-period shift (the quadratic
+    force of ``x'' + x = mu (-2 zeta x' - x^2 + h cos nu t)``) has no partner."""
+    import sympy as sp
+
+    from kbm.forced import ForcedOscillator, Resonance
+    from kbm.forced.model import theta
+    from kbm.symbols import x, xdot
+
+    zeta, h = sp.symbols("zeta h")
+    model = ForcedOscillator("quad-forced", -2 * zeta * xdot - x ** 2 + h * sp.cos(theta),
+                             resonance=Resonance(1, 1))
+    prob = DrivenProblem(model, {"mu": 0.1, "zeta": 0.05}, ("sigma", "h"))
+    assert prob.partner(np.array([0.5, 0.1, 0.0, 1.0])) is None

@@ -12,6 +12,7 @@ located, averaged curves beside the true ones.
   model (:mod:`~numerics.bifurcation.run`: its run state and shared geometry;
   :mod:`~numerics.bifurcation.autonomous`: the defining systems;
   :mod:`~numerics.bifurcation.connections`: homoclinic and heteroclinic curves;
+  :mod:`~numerics.bifurcation.saddle_node_loop`: their ends on folds of equilibria;
   :mod:`~numerics.bifurcation.cycle_folds`: folds of cycles;
   :mod:`~numerics.bifurcation.hopf_folds`: the fold of small cycles into its Bautin point;
   :mod:`~numerics.bifurcation.averaged`: the averaged curves;

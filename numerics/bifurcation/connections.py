@@ -69,10 +69,34 @@ class Loop:
         return Loop(self.x_from, self.x_to, self.leave, self.arrive, self.section)
 
     def gap(self, model, params, compiled):
-        """``(d, x_s, x_t)`` of this loop: :func:`section_gap` or the turning points'."""
+        """``(d, x_s, x_t)`` of this loop: :func:`section_gap` or the turning points'; the
+        manifolds followed for up to :func:`manifold_time`."""
         fn = section_gap if self.section else connection_gap
         return fn(model, params, self.x_from, self.x_to, self.leave, self.arrive,
-                  compiled=compiled)
+                  manifold_time(compiled, self.x_from, self.x_to), compiled=compiled)
+
+
+def manifold_time(compiled, x_from: float, x_to: float) -> float:
+    """How long the manifolds are followed: 200, or ``30/lambda`` for the smaller of the
+    unstable eigenvalue at ``x_from`` and the stable one's size at ``x_to`` where it is
+    larger (at most 4000): near a fold of the saddle a weak eigenvalue tends to 0 and its
+    manifold leaves slowly, so a homoclinic curve is followed closer to its
+    saddle-node loop."""
+    lam = []
+    for x, unstable in ((x_from, True), (x_to, False)):
+        for _ in range(8):  # Newton towards the saddle from the guess
+            J = compiled.jac(0.0, (x, 0.0))
+            if J[1, 0] == 0:
+                break
+            x -= compiled.acc(0.0, x, 0.0) / float(J[1, 0])
+        J = compiled.jac(0.0, (x, 0.0))
+        fx, fv = float(J[1, 0]), float(J[1, 1])
+        disc = fv * fv + 4 * fx
+        if fx > 0 and disc > 0:
+            r = math.sqrt(disc)
+            lam.append((fv + r) / 2 if unstable else (r - fv) / 2)
+    small = min(lam) if lam else 0.0
+    return float(min(4000.0, max(200.0, 30.0 / small))) if small > 0 else 200.0
 
 
 #: the section ``x = x_to + arrive SECTION`` of :func:`section_gap`
@@ -91,28 +115,39 @@ def section_gap(model, params, x_from: float, x_to: float, leave: int, arrive: i
     ``-v_s + (x_turn - x_section)`` (of the sign of ``-v_s``: never zero, so scans see the
     sign change at the connection).
     """
-    from scipy.integrate import solve_ivp
-
     from numerics.cycles.manifolds import EPS, _field, _saddle
-    from numerics.flow import template_flow
 
     acc, fx, fv = _field(model, params, compiled)
     xs, lu, _ = _saddle(acc, fx, fv, x_from)
     xt, _, ls = _saddle(acc, fx, fv, x_to)
-    xsec = xt + arrive * SECTION
+    return manifolds_on_section(compiled, acc, [xs + leave * EPS, leave * EPS * lu],
+                                [xt + arrive * EPS, arrive * EPS * ls], xt + arrive * SECTION,
+                                arrive, t_max), xs, xt
+
+
+def manifolds_on_section(compiled, acc, yu, ys, xsec: float, arrive: int,
+                         t_max: float = 200.0) -> float:
+    """The gap of :func:`section_gap` from given starts: ``x'`` where the orbit from ``yu``
+    (forward, the compiled flow) first crosses ``x = xsec`` moving towards ``-arrive``,
+    minus ``x'`` where the orbit from ``ys`` (backward, scipy) first reaches it; continued
+    by ``-v_s + (x_turn - xsec)`` where the forward orbit turns back before the section."""
+    from scipy.integrate import solve_ivp
+
+    from numerics.flow import template_flow
+
     # the stable manifold backward to the section: short, scipy with event location
     ev = (lambda t, y: y[0] - xsec)
     ev.terminal = True
-    sol = solve_ivp(lambda t, y: [-y[1], -acc(y[0], y[1])], (0.0, t_max),
-                    [xt + arrive * EPS, arrive * EPS * ls], method="DOP853", rtol=1e-12,
-                    atol=1e-13, events=ev)
+    sol = solve_ivp(lambda t, y: [-y[1], -acc(y[0], y[1])], (0.0, t_max), list(ys),
+                    method="DOP853", rtol=1e-12, atol=1e-13, events=ev)
     if not sol.t_events[0].size:
-        raise ConvergenceError(f"the stable manifold of x = {xt:.6g} did not reach the section")
+        raise ConvergenceError(f"the stable manifold from x = {ys[0]:.6g} did not reach the "
+                               "section")
     v_s = float(sol.y_events[0][0][1])
     fl = template_flow(compiled.template)
     if fl is None:
         raise ConvergenceError("the section gap needs the compiled flow (numba)")
-    y = np.array([xs + leave * EPS, leave * EPS * lu])
+    y = np.array(yu, dtype=float)
     t, chunk, n = 0.0, 2.0, 40
     x_ext = None   # the unstable manifold's extreme x towards the section, before it turns
     turned = False
@@ -124,7 +159,7 @@ def section_gap(model, params, x_from: float, x_to: float, leave: int, arrive: i
         for k in range(n):
             s0, s1 = Y[k, 0] - xsec, Y[k + 1, 0] - xsec
             if s0 * arrive > 0 >= s1 * arrive and Y[k + 1, 1] * arrive < 0:
-                return _refine(fl, compiled.pvec, Y[k], xsec) - v_s, xs, xt
+                return _refine(fl, compiled.pvec, Y[k], xsec) - v_s
             if not turned and t > 0 and Y[k, 1] * Y[k + 1, 1] < 0:
                 turned = True
                 x_ext = Y[k, 0]
@@ -132,7 +167,7 @@ def section_gap(model, params, x_from: float, x_to: float, leave: int, arrive: i
         y = Y[-1]
     if x_ext is None:
         raise ConvergenceError("the unstable manifold neither turned nor crossed the section")
-    return -v_s + (x_ext - xsec), xs, xt
+    return -v_s + (x_ext - xsec)
 
 
 def _refine(fl, pvec, y, xsec) -> float:
@@ -183,27 +218,34 @@ def saddle_quantity(kit, loop: Loop):
 
 def saddle_change(kit, loop: Loop, z, L: float, *, scale=(1.0, 1.0),
                   max_iter: int = 30) -> dict | None:
-    """The saddle change at the end ``z`` of the homoclinic curve of ``loop``, located.
+    """The saddle change at the end ``z`` of the curve of ``loop``, located.
 
     The loop of ``x_1`` (leaving towards ``leave``) changes the saddles it visits where its
     unstable manifold reaches the next saddle ``x_2`` on that side: there ``x_1 -> x_2``
     (leaving ``x_1`` towards ``leave``) and ``x_2 -> x_1`` (leaving ``x_2`` back) are both
     connections, a heteroclinic cycle, codim 2 in the plane (Kuznetsov, *Elements of
-    Applied Bifurcation Theory*, sec. 6.4, saddle connections of planar flows).  The point
-    is the zero of both legs' :func:`section_gap`, by Newton in ``(a, b)`` from ``z`` (central
-    differences, step ``1e-6`` of ``scale``), for the nearest saddles on that side first.
-    Returns ``{"point", "saddles", "gaps", "newton_step"}`` with both gaps at most
-    :data:`GAP_TOL` and the last step at most ``1e-9`` (scaled), or ``None``.
+    Applied Bifurcation Theory*, sec. 6.4, saddle connections of planar flows).  The same
+    holds for the heteroclinic cycle ``x_1 -> -x_1 -> x_1`` of an odd field (its curve is
+    codim 1 by the symmetry): it ends where ``x_1 -> x_2`` and ``x_2 -> -x_1`` (leaving
+    ``x_2`` back, or on, and arriving at ``-x_1`` as the cycle did) are both connections,
+    the mirror legs following by the symmetry.  The point is the zero of both legs'
+    :func:`section_gap`, by Newton in ``(a, b)`` from ``z`` (central differences, step
+    ``1e-6`` of ``scale``), for the nearest saddles on that side first.  Returns
+    ``{"point", "saddles", "gaps", "newton_step"}`` (``saddles``: ``x_1, x_2``, and
+    ``-x_1`` for a heteroclinic cycle) with both gaps at most :data:`GAP_TOL` and the last
+    step at most ``1e-9`` (scaled), or ``None``.
     """
-    if not loop.homoclinic:
+    if not loop.homoclinic and not kit.odd:
         return None
     a, b = float(z[0]), float(z[1])
-    x1, side = loop.x_from, loop.leave
+    x1, side, xt = loop.x_from, loop.leave, loop.x_to
     others = sorted((x for x, kind in kit.equilibria(a, b, L)
-                     if kind == "saddle" and (x - x1) * side > 1e-9), key=lambda x: abs(x - x1))
+                     if kind == "saddle" and (x - x1) * side > 1e-9 and abs(x - xt) > 1e-9),
+                    key=lambda x: abs(x - x1))
     sc = np.asarray(scale, dtype=float)
-    for x2 in others[:2]:
-        legs = [Loop(x1, x2, side, -side, True), Loop(x2, x1, -side, side, True)]
+    turns = (-side,) if loop.homoclinic else (-side, side)
+    for x2, back in ((x2, back) for x2 in others[:2] for back in turns):
+        legs = [Loop(x1, x2, side, -side, True), Loop(x2, xt, back, loop.arrive, True)]
         fns = [gap_function(kit, lp) for lp in legs]
 
         def H(w, fns=fns):
@@ -229,8 +271,10 @@ def saddle_change(kit, loop: Loop, z, L: float, *, scale=(1.0, 1.0),
         except (*_FAIL, np.linalg.LinAlgError):
             continue
         if np.max(np.abs(h)) <= GAP_TOL:
-            return {"point": (float(w[0]), float(w[1])),
-                    "saddles": [legs[0].x_from, legs[0].x_to], "gaps": [float(v) for v in h],
+            saddles = [legs[0].x_from, legs[0].x_to] + ([] if loop.homoclinic else
+                                                        [legs[1].x_to])
+            return {"point": (float(w[0]), float(w[1])), "saddles": saddles,
+                    "gaps": [float(v) for v in h],
                     "newton_step": float(np.max(np.abs(step / sc)))}
     return None
 

@@ -152,6 +152,28 @@ class DrivenProblem:
             return M
         return J
 
+    def partner(self, z) -> np.ndarray | None:
+        """The point of the symmetric partner orbit: ``z`` with the state ``-y(pi/nu)``
+        (the response from ``y0`` half a drive period on, mirrored), where the field is odd
+        under the half-period shift, ``f(t + pi/nu, -y) = -f(t, y)`` (checked at the
+        parameters of ``z`` on four states and times of a fixed random stream; Duffing's
+        ``(x, x', theta) -> (-x, -x', theta + pi)``); ``None`` where it is not.  The partner
+        has the same multipliers at the same parameters: it traces the same curves in the
+        parameter plane."""
+        fl = self.at(z[2], z[3])
+        nu = fl.nu
+        if not nu or not nu > 0:
+            return None
+        rng = np.random.default_rng(0)
+        for _ in range(4):
+            y, t = rng.normal(size=2), rng.uniform(0.0, 2 * math.pi / nu)
+            f, g = fl.rhs(y, t), fl.rhs(-y, t + math.pi / nu)
+            if not np.allclose(g, -f, rtol=1e-12, atol=1e-12):
+                return None
+        yh, _, _ = fl.monodromy(np.asarray(z[:2], dtype=float), math.pi / nu,
+                                rtol=self.rtol, atol=self.rtol / 10)
+        return np.concatenate([-yh, np.asarray(z[2:], dtype=float)])
+
     def multipliers(self, z) -> tuple[float, float]:
         """``(tr Phi, det Phi)`` at ``z``."""
         Phi = self.monodromy(z)[1]
@@ -217,9 +239,15 @@ def forced_true_curves(prob: DrivenProblem, ranges: Mapping[str, tuple[float, fl
     scale = np.array([1.0, 1.0, spans[0], spans[1]])
     tasks: list[Task] = []
     curves, points = [], []
+    curve_of: dict[int, int] = {}
     stored = dict(stored or {})
+    partners: dict[int, int] = {}
     for kind, z0 in seeds:
         if on_known(np.asarray(z0), tasks, kind, scale, 5 * ds):
+            continue
+        known = _partner_known(prob, z0, tasks, kind, scale, 5 * ds)
+        if known is not None:  # the symmetric partner's copy of a curve found
+            partners[known] = partners.get(known, 0) + 1
             continue
         task = Task(kind, "true", None, np.asarray(z0, dtype=float), problem=prob)
         idx = len(tasks)
@@ -252,6 +280,7 @@ def forced_true_curves(prob: DrivenProblem, ranges: Mapping[str, tuple[float, fl
         curves.append(Curve(kind, [tuple(p[2:]) for p in pts], "true", None,
                             {"residual_max": res, "points_converged": len(pts),
                              "ends": [p.end for p in task.paths]}))
+        curve_of[idx] = len(curves) - 1
 
         def cusp_ok(z, prob=prob, kind=kind):
             _, _, vt = np.linalg.svd(prob.jacobian_for(kind)(z))
@@ -261,7 +290,28 @@ def forced_true_curves(prob: DrivenProblem, ranges: Mapping[str, tuple[float, fl
         points += codim2_points(task, (2, 3), cusp_ok)
         if any(p.end == "interrupted" for p in task.paths):
             break
+    for idx, n in partners.items():
+        if idx in curve_of:
+            c = curves[curve_of[idx]]
+            curves[curve_of[idx]] = Curve(c.kind, c.points, c.method, c.order, {
+                **dict(c.detail), "symmetric_partner": "the orbit (x, x')(t) -> -(x, x')(t + "
+                "pi/nu) traces this curve too (reported once)"})
     return tasks, curves, points
+
+
+def _partner_known(prob: DrivenProblem, z0, tasks: Sequence[Task], kind: str, scale, tol):
+    """The index of the task whose curve the symmetric partner of the seed ``z0``
+    (:meth:`DrivenProblem.partner`) lies on, else ``None``."""
+    try:
+        zp = prob.partner(np.asarray(z0, dtype=float))
+    except (NumericsError, ArithmeticError):
+        return None
+    if zp is None:
+        return None
+    for i, t in enumerate(tasks):
+        if t.kind == kind and on_known(zp, [t], kind, scale, tol):
+            return i
+    return None
 
 
 # -- averaged curves ---------------------------------------------------------------------------

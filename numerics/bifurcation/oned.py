@@ -11,8 +11,11 @@
   ``(x_max, T, b)`` at fixed ``a`` (started from the energy balance's cycles,
   :mod:`numerics.bifurcation.averaged`), and the averaged folds;
 - **codim-2 points**: the test functions' zeros (Bogdanov–Takens, Bautin, cusp), the ends
-  of homoclinic curves inside the box (on the fold of their saddle: ``saddle-node-loop``;
-  elsewhere ``saddle-change`` where the loop's manifold meets the next saddle, located as
+  of homoclinic curves inside the box (on the fold of their saddle: ``saddle-node-loop``,
+  located on the fold curve as the zero of the saddle-node's manifolds' gap,
+  :func:`numerics.bifurcation.saddle_node_loop.locate_saddle_node_loop`;
+  elsewhere ``saddle-change`` where the loop's (or a symmetric heteroclinic cycle's)
+  manifold meets the next saddle, located as
   the zero of both connections' gaps, :func:`numerics.bifurcation.connections.saddle_change`;
   an end neither is ``connection-end``), the zeros of the saddle quantity along homoclinic
   curves (``neutral-saddle-loop``), the ends of fold
@@ -147,14 +150,16 @@ def _homoclinic_curves(run: Run, sn_curves) -> None:
             continue
         loop = loop0.copy()
         visited = []
+        at = {}  # the saddles at each accepted point (a curve's end is located from them)
 
         def reset(z, loop=loop, loop0=loop0):
             loop.x_from, loop.x_to = loop0.x_from, loop0.x_to
             C.accept(kit, loop, z)
 
-        def on_point(pt, loop=loop, visited=visited):
+        def on_point(pt, loop=loop, visited=visited, at=at):
             C.accept(kit, loop, pt.z)
             visited.append(loop.visits())
+            at[tuple(float(v) for v in pt.z)] = (loop.x_from, loop.x_to)
 
         key = f"homoclinic|{z0[0]:.6f},{z0[1]:.6f}|{label}|{loop0.leave}"
         found = run.attempt("homoclinic", z0, key, C.gap_function(kit, loop), [1.0, 0.0],
@@ -175,17 +180,45 @@ def _homoclinic_curves(run: Run, sn_curves) -> None:
         for end, p in ((ends[0], pts[0]), (ends[1], pts[-1])):
             if end in ("bounds", "interrupted", "max_points"):
                 continue
-            if any(near(run, p.z, c) for c in sn_curves()):
-                run.add_codim2("saddle-node-loop", tuple(p.z), {
-                    "on": "homoclinic", "label": label, "gap": p.residual})
+            here = loop0.copy()
+            here.x_from, here.x_to = at.get(tuple(float(v) for v in p.z),
+                                            (loop0.x_from, loop0.x_to))
+            if any(near(run, p.z, c, tol=5e-3) for c in sn_curves()) and \
+                    _saddle_node_loop(run, here, label, p):
                 continue
-            _saddle_change(run, loop0, label, p)
+            _saddle_change(run, here, label, p)
         for ev in events:  # located to convergence on the curve: a fold of cycles ends here
             run.add_codim2("neutral-saddle-loop", tuple(ev.z), {
                 "on": "homoclinic", "label": label, "saddle_quantity": ev.value,
                 "gap": ev.residual})
         if run.interrupted:  # the points so far are kept above
             return
+
+
+def _saddle_node_loop(run: Run, loop0, label: str, p) -> bool:
+    """The end ``p`` of a homoclinic curve near a fold of equilibria: the saddle-node loop
+    located on the fold curve (:func:`numerics.bifurcation.saddle_node_loop.
+    locate_saddle_node_loop`: the fold conditions and the saddle-node's manifolds' gap at
+    most ``GAP_TOL``, the parameter along the fold to ``1e-10``) and reported when within
+    5 % of the box of ``p``; ``False`` where it is not located."""
+    from numerics.bifurcation.saddle_node_loop import locate_saddle_node_loop
+
+    loop = loop0.copy()
+    try:
+        C.accept(run.kit, loop, p.z)
+    except C._FAIL:
+        return False
+    found = locate_saddle_node_loop(run.kit, loop, p.z, scale=run.scale)
+    if found is None or np.linalg.norm((np.asarray(found["point"]) - p.z) / run.scale) > 0.05:
+        return False
+    run.add_codim2("saddle-node-loop", found["point"], {
+        "on": "homoclinic", "label": label, "gap": found["gap"], "x": found["x"],
+        "fold_residual": found["fold_residual"], "parameter_step": found["parameter_step"],
+        "along": found["along"], "last_curve_point": [float(v) for v in p.z],
+        "note": "located on the fold of equilibria: f = f_x = 0 and the saddle-node's "
+        "centre and strong manifolds' gap zero; last_curve_point: the homoclinic curve's "
+        "last point"})
+    return True
 
 
 def _saddle_change(run: Run, loop0, label: str, p) -> None:
@@ -208,10 +241,13 @@ def _saddle_change(run: Run, loop0, label: str, p) -> None:
             "note": "the heteroclinic cycle of the saddles located (both connections' "
             "section gaps zero); last_curve_point: the homoclinic curve's last point"})
         return
+    bt = [c.point for c in run.codim2 if c.kind == "bogdanov-takens" and np.linalg.norm(
+        (np.asarray(c.point) - p.z) / run.scale) < 0.01]
     run.add_codim2("connection-end", tuple(p.z), {
         "on": "homoclinic", "label": label, "gap": p.residual,
-        "note": "the curve's end inside the box, on no fold and at no located saddle "
-        "change"})
+        "note": "the curve's end inside the box, at no located saddle-node loop or saddle "
+        "change" + (f"; within 1 % of the box of the Bogdanov-Takens point {tuple(bt[0])}, "
+                    "where a homoclinic curve shrinks into its equilibrium" if bt else "")})
 
 
 def autonomous_diagram(model, params: Mapping, axes: tuple[str, str], ranges: Mapping, *,

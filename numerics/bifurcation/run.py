@@ -97,9 +97,15 @@ class Run:
         return False
 
     def add_codim2(self, kind, ab, detail):
+        """Add a codim-2 point unless one of its kind lies within ``1e-7`` of the box (one
+        located point reached from two curves), or within ``1e-4`` with the same label (the
+        loop's saddles; two saddle-node loops of different connections can be ``2e-6``
+        apart)."""
         p = np.asarray(ab, dtype=float) / self.scale
         for c in self.codim2:
-            if c.kind == kind and np.linalg.norm(np.asarray(c.point) / self.scale - p) < 1e-4:
+            d = np.linalg.norm(np.asarray(c.point) / self.scale - p)
+            if c.kind == kind and (d < 1e-7 or (
+                    d < 1e-4 and c.detail.get("label") == detail.get("label"))):
                 return
         self.codim2.append(Codim2Point(kind, (float(ab[0]), float(ab[1])), detail))
 

@@ -6,7 +6,7 @@ and the locking of self-excited oscillators.
   (accepted by the standard of :mod:`numerics.shooting.acceptance`);
 - :mod:`numerics.coupled.continuation`: branches in one parameter (the shooting problem and
   its corrector in :mod:`numerics.shooting.branch_problem`, the records in
-  :mod:`numerics.coupled.branch_result`); :mod:`numerics.coupled.fold`
+  :mod:`numerics.shooting.branch_result`); :mod:`numerics.coupled.fold`
   the fold of a branch near a cycle (the true locking edges of
   :mod:`numerics.coupled.locking`).
 """

@@ -1,102 +1,110 @@
 """Branches of periodic orbits of coupled systems in one parameter (``kbm branch``,
-``kbm response`` for ``N`` degrees of freedom).
+``kbm response`` for ``N`` degrees of freedom, ``N = 1`` included): pseudo-arclength
+continuation of the shooting problem (:class:`numerics.shooting.branch_problem.OrbitProblem`,
+scaled unknowns ``(y0, T, p)`` autonomous, ``(y0, p)`` forced) by
+:class:`CoupledContinuation`, a case of the one driver
+(:class:`numerics.shooting.continuation.Continuation`), with the results of
+:mod:`numerics.shooting.branch_result`.
 
-Pseudo-arclength continuation (Keller; Doedel, *Lecture notes on numerical analysis of
-nonlinear equations*, sec. 2) of the shooting problem, for ``N = 1`` as for ``N > 1``:
-the steps along the branch are those of the one driver,
-:func:`numerics.shooting.arclength.walk`; here is where the branch ends.  The pieces:
-
-- :class:`numerics.shooting.branch_problem.OrbitProblem`: the shooting problem in scaled
-  unknowns (``(y0, T, p)`` autonomous, ``(y0, p)`` forced), its Jacobian, tangent and
-  corrector (the one branch problem's);
-- the special points: fold (the parameter component of the tangent), period doubling
-  (``det(Phi + I)``, a real multiplier through ``-1``) and Neimark-Sacker
-  (``prod_{i<j} (lambda_i lambda_j - 1)`` over the non-trivial multipliers, kept only where
-  the located pair is complex: a real pair ``lambda, 1/lambda`` is a neutral saddle),
-  located as AUTO-07p does (a test function's sign change, bisection on the chord by the
-  one locator, :func:`numerics.shooting.locate.zero_on_chord`);
-- :mod:`numerics.coupled.branch_result`: the points, special points and branch returned.
+The special points: fold (the parameter component of the tangent), period doubling
+(``det(Phi + I)``, a real multiplier through ``-1``) and Neimark-Sacker
+(``prod_{i<j} (lambda_i lambda_j - 1)`` over the non-trivial multipliers, kept only where
+the located pair is complex: a real pair ``lambda, 1/lambda`` is a neutral saddle), located
+as AUTO-07p does (a test function's sign change, bisection on the chord by the one locator,
+:func:`numerics.shooting.locate.zero_on_chord`; Doedel, *Lecture notes on numerical
+analysis of nonlinear equations*, sec. 2).
 """
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Mapping
 
 import numpy as np
 
 from kbm.coupled import CoupledOscillators
 from kbm.errors import ParameterError
-from numerics.coupled.branch_result import CoupledBranch, CoupledBranchPoint, CoupledSpecialPoint
+from numerics.shooting.branch_result import CoupledBranch, CoupledBranchPoint, CoupledSpecialPoint
 from numerics.coupled.cycle import coupled_cycle, forced_response
 from numerics.coupled.flow import bind_coupled, coupled_flow
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.shooting.arclength import FAIL as _FAIL
-from numerics.shooting.arclength import parameter_range, walk
+from numerics.shooting.arclength import parameter_range
 from numerics.shooting.branch_problem import OrbitPoint, OrbitProblem
+from numerics.shooting.continuation import Continuation
 from numerics.shooting.locate import zero_on_chord
 
-__all__ = ["CoupledBranch", "CoupledBranchPoint", "CoupledSpecialPoint", "continue_coupled"]
+__all__ = ["CoupledBranch", "CoupledBranchPoint", "CoupledSpecialPoint", "continue_coupled",
+           "CoupledContinuation"]
 
 
-def _follow(prob: OrbitProblem, first: OrbitPoint, direction: int, bounds, ds: float, ds_max: float,
-            ds_min: float, max_points: int, period_factor: float, hopf_fraction: float):
-    """One direction of the branch by :func:`numerics.shooting.arclength.walk`;
-    ``(points, special points, why it ended, whether it closed on itself)``."""
-    t = first.tangent
-    if t[-1] * direction < 0:
-        t = -t
-    cur = copy.copy(first)  # the same point, oriented for this direction
-    cur.tangent = t
-    pts, special, closed = [cur], [], []
-    amp0 = max(first.amps)
-    name = prob.vary
+class CoupledContinuation(Continuation):
+    """The case of ``N`` degrees of freedom of the one driver: folds, period doublings and
+    Neimark-Sacker points located on the chord, isolas (the branch closes on itself), and
+    an autonomous branch's ends at a long period or a small amplitude."""
 
-    def at_edge(cur, new, edge):
-        try:
-            end = prob.at_parameter(cur, new, edge)
-            end.tangent = cur.tangent
-            _specials(prob, cur, end, special)
-            pts.append(end)
-        except _FAIL:
-            pass
-        return f"reached {name} = {edge:g}, the end of the range"
+    edge_text = "reached {name} = {edge:g}, the end of the range"
+    reason_text = "towards {side} {name}: {why}"
 
-    def visit(cur, new, ds):
-        _specials(prob, cur, new, special)
-        pts.append(new)
+    @staticmethod
+    def record(pt: OrbitPoint) -> CoupledBranchPoint:
+        return CoupledBranchPoint(float(pt.u[-1]), float(pt.T),
+                                  tuple(float(v) for v in pt.u[:len(pt.Phi)]), pt.amps,
+                                  tuple(complex(z) for z in pt.mults),
+                                  bool(np.all(np.abs(pt.rest) < 1.0)), pt.res)
+
+    def begin(self, first: OrbitPoint) -> None:
+        self.first, self.amp0 = first, max(first.amps)
+
+    def collapsed(self, c: OrbitPoint, exc: Exception) -> str:
+        return (f"the steps collapsed below {self.ds_min:g} at {self.name} = {c.u[-1]:.10g} "
+                f"(period {c.T:.8g}): {exc}")
+
+    def at_edge(self, cur: OrbitPoint, end: OrbitPoint) -> None:
+        end.tangent = cur.tangent
+        self.locate(cur, end, 0.0)
+
+    def advance(self, cur: OrbitPoint, new: OrbitPoint, ds: float):
+        return new, min(ds * 1.5, self.ds_max)
+
+    def end(self, cur: OrbitPoint, new: OrbitPoint, ds: float) -> str:
+        name, pts, first = self.name, self.points, self.first
         p = float(new.u[-1])
         if len(pts) > 8 and np.linalg.norm(new.v - first.v) < ds \
-                and new.tangent @ pts[0].tangent > 0.9:
-            closed.append(True)
-            return new, ds, (f"the branch closed on itself after {len(pts) - 1} points (an "
-                             f"isola: {name} from {min(q.u[-1] for q in pts):.10g} to "
-                             f"{max(q.u[-1] for q in pts):.10g})")
-        if not prob.forced and new.T > period_factor * first.T:
-            return new, ds, (f"the period grew to {new.T:.6g}, {period_factor:g} times its "
-                             f"start, at {name} = {p:.10g}: a homoclinic end is near")
-        if not prob.forced and max(new.amps) < hopf_fraction * amp0:
-            return new, ds, (f"the amplitude fell to {max(new.amps):.3g} at {name} = "
-                             f"{p:.10g}: the cycle shrinks to an equilibrium (a Hopf end)")
-        return new, min(ds * 1.5, ds_max), ""
+                and new.tangent @ first.tangent > 0.9:
+            self.closed = True
+            return (f"the branch closed on itself after {len(pts) - 1} points (an "
+                    f"isola: {name} from {min(q.parameter for q in pts):.10g} to "
+                    f"{max(q.parameter for q in pts):.10g})")
+        if not self.prob.forced and new.T > self.period_factor * first.T:
+            return (f"the period grew to {new.T:.6g}, {self.period_factor:g} times its "
+                    f"start, at {name} = {p:.10g}: a homoclinic end is near")
+        if not self.prob.forced and max(new.amps) < self.hopf_fraction * self.amp0:
+            return (f"the amplitude fell to {max(new.amps):.3g} at {name} = "
+                    f"{p:.10g}: the cycle shrinks to an equilibrium (a Hopf end)")
+        return ""
 
-    reason = walk(
-        cur, ds, step=prob.arc, visit=visit,
-        collapsed=lambda c, exc: (f"the steps collapsed below {ds_min:g} at {name} = "
-                                  f"{c.u[-1]:.10g} (period {c.T:.8g}): {exc}"),
-        ds_min=ds_min, parameter=lambda q: float(q.u[-1]), bounds=bounds, at_edge=at_edge,
-        full=lambda: None if len(pts) < max_points else f"{max_points} points (--max-points)")
-    return pts, special, reason, bool(closed)
+    def locate(self, a: OrbitPoint, b: OrbitPoint, ds: float) -> None:
+        fa, fb = _tests(a), _tests(b)
+        for kind in ("fold", "period-doubling", "neimark-sacker"):
+            if fa[kind] * fb[kind] >= 0:
+                continue
+            found = zero_on_chord(self.prob.correct, a, b, lambda pm: _tests(pm)[kind],
+                                  fa[kind])
+            if found is None:
+                continue
+            pt, bracket = found
+            if kind == "neimark-sacker":
+                close = [z for z in pt.rest if abs(abs(z) - 1) < 1e-3 and abs(z.imag) > 1e-6]
+                if not close:
+                    continue  # a real pair lambda, 1/lambda: a neutral saddle
+            if kind == "period-doubling" and not any(abs(z + 1) < 1e-3 for z in pt.rest):
+                continue
+            self.special.append(CoupledSpecialPoint(
+                kind, float(pt.u[-1]), float(pt.T), pt.amps, tuple(complex(z) for z in pt.mults),
+                bracket, tuple(float(v) for v in pt.u[:len(pt.Phi)])))
 
 
-def _record(pt: OrbitPoint) -> CoupledBranchPoint:
-    n2 = len(pt.Phi)
-    return CoupledBranchPoint(float(pt.u[-1]), float(pt.T), tuple(float(v) for v in pt.u[:n2]),
-                              pt.amps, tuple(complex(z) for z in pt.mults),
-                              bool(np.all(np.abs(pt.rest) < 1.0)), pt.res)
-
-
-def _tests(prob: OrbitProblem, pt: OrbitPoint) -> dict[str, float]:
+def _tests(pt: OrbitPoint) -> dict[str, float]:
     """The test functions at ``pt``: fold, period doubling, Neimark-Sacker."""
     z = pt.rest
     ns = 1.0
@@ -106,26 +114,6 @@ def _tests(prob: OrbitProblem, pt: OrbitPoint) -> dict[str, float]:
     return {"fold": float(pt.tangent[-1]),
             "period-doubling": float(np.real(np.prod(1.0 + z))),
             "neimark-sacker": float(np.real(ns))}
-
-
-def _specials(prob: OrbitProblem, a: OrbitPoint, b: OrbitPoint, out: list) -> None:
-    fa, fb = _tests(prob, a), _tests(prob, b)
-    for kind in ("fold", "period-doubling", "neimark-sacker"):
-        if fa[kind] * fb[kind] >= 0:
-            continue
-        found = zero_on_chord(prob.correct, a, b, lambda pm: _tests(prob, pm)[kind], fa[kind])
-        if found is None:
-            continue
-        pt, bracket = found
-        if kind == "neimark-sacker":
-            close = [z for z in pt.rest if abs(abs(z) - 1) < 1e-3 and abs(z.imag) > 1e-6]
-            if not close:
-                continue  # a real pair lambda, 1/lambda: a neutral saddle
-        if kind == "period-doubling" and not any(abs(z + 1) < 1e-3 for z in pt.rest):
-            continue
-        out.append(CoupledSpecialPoint(kind, float(pt.u[-1]), float(pt.T), pt.amps,
-                                       tuple(complex(z) for z in pt.mults), bracket,
-                                       tuple(float(v) for v in pt.u[:len(pt.Phi)])))
 
 
 def _distinct(special: list[CoupledSpecialPoint]) -> list[CoupledSpecialPoint]:
@@ -217,20 +205,10 @@ def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, objec
         raise NoCycleError(f"the orbit at {vary} = {p0:g} does not converge as a branch "
                            f"point: {exc}") from None
     ds_max = ds_max or 1.0 / 25
-    ds = ds or ds_max / 4
-    points: list[OrbitPoint] = [first]
-    special: list[CoupledSpecialPoint] = []
-    reasons = []
-    for d in directions:
-        pts, sp_, reason, closed = _follow(prob, first, d, (lo, hi), ds, ds_max, ds_min,
-                                           max_points, period_factor, hopf_fraction)
-        reasons.append(f"towards {'larger' if d > 0 else 'smaller'} {vary}: {reason}")
-        special += sp_
-        points = (points + pts[1:]) if d > 0 else (list(reversed(pts[1:])) + points)
-        if closed:
-            break  # the other direction is the same loop
-    recs = tuple(_record(p) for p in points)
+    run = CoupledContinuation(prob, (lo, hi), ds=ds or ds_max / 4, ds_max=ds_max,
+                              ds_min=ds_min, max_points=max_points,
+                              period_factor=period_factor, hopf_fraction=hopf_fraction)
+    points, special, reasons = run.run(first, directions, prepend=False)
     special.sort(key=lambda s: s.parameter)
-    special = _distinct(special)
-    return CoupledBranch(m.name, vary, (lo, hi), m.forced, m.dof, recs, tuple(special),
-                         tuple(reasons), prob.evaluations)
+    return CoupledBranch(m.name, vary, (lo, hi), tuple(points), tuple(_distinct(special)),
+                         tuple(reasons), prob.evaluations, forced=m.forced, dof=m.dof)

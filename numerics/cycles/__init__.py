@@ -17,10 +17,10 @@
 - ``floquet_multipliers``, ``nontrivial_multiplier`` (:mod:`numerics.shooting.floquet`):
   the non-trivial Floquet multiplier from Liouville's formula (right at any stiffness);
 - :mod:`numerics.cycles.continuation`: branches of cycles in one parameter
-  (:func:`continue_cycles`: pseudo-arclength by the one driver of
-  :mod:`numerics.shooting.arclength`, folds, Hopf ends; the shooting problem of a branch
-  in :mod:`numerics.shooting.planar`, the homoclinic ends in
-  :mod:`numerics.cycles.branch_ends`, results in :mod:`numerics.cycles.branch_result`).
+  (:func:`continue_cycles`: the case ``N = 1`` of the one driver,
+  :mod:`numerics.shooting.continuation`, with folds, Hopf and homoclinic ends; the
+  shooting problem of a branch in :mod:`numerics.shooting.planar`, results in
+  :mod:`numerics.cycles.branch_result`).
 """
 
 from kbm._lazy import keep_objects, lazy_names

@@ -3,10 +3,10 @@
 The unknowns are ``u = (x0, T, p)``: the section point ``x(0) = x0, x'(0) = 0``, the
 period and the varied parameter; a cycle solves ``R(u) = (x(T) - x0, x'(T)) = 0``, the
 branch is the curve of solutions, followed by Keller's pseudo-arclength through folds and
-along unstable cycles (the problem is :class:`numerics.shooting.planar.PlanarProblem`, the
-case ``N = 1`` of the one branch problem).  The steps are those of the one driver,
-:func:`numerics.shooting.arclength.walk`: ``ds`` grows after easy corrections and is
-halved after a failed one or a sharp turn of the tangent.
+along unstable cycles, by :class:`CycleContinuation`, the case ``N = 1`` of the one driver
+(:class:`numerics.shooting.continuation.Continuation`) on the case ``N = 1`` of the one
+branch problem (:class:`numerics.shooting.planar.PlanarProblem`): ``ds`` grows after easy
+corrections and is halved after a failed one or a sharp turn of the tangent.
 
 Special points, each labelled with its parameter value:
 
@@ -15,7 +15,7 @@ Special points, each labelled with its parameter value:
   (:func:`numerics.shooting.locate.fold_on_arc`);
 - ``hopf``: the amplitude tends to 0; ``p`` extrapolated with ``p - p_H ~ x0^2``;
 - ``homoclinic``: the period grows beyond ``period_factor`` times its start value
-  (the cycle reaches a separatrix; :mod:`numerics.cycles.branch_ends`);
+  (the cycle reaches a separatrix; :meth:`CycleContinuation.homoclinic`);
 - ``end``: the step fell below ``ds_min`` (with the reason).
 
 Every integration is bounded (:data:`numerics.cycles.shooting.NEWTON_MAX_STEPS`),
@@ -24,7 +24,7 @@ every loop too (``max_points``, ``max_iter``, ``ds_min``): the continuation neve
 References
 ----------
 H. B. Keller, "Numerical solution of bifurcation and nonlinear eigenvalue problems"
-(1977); Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, ch. 10.
+(1977); Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, ch. 6 and 10.
 """
 
 from __future__ import annotations
@@ -37,116 +37,221 @@ from kbm.errors import ParameterError
 from kbm.bound import BoundModel, bind
 from kbm.models import Oscillator
 
-from numerics.shooting.planar import TRIVIAL_TOL, PlanarPoint, PlanarProblem, copy_point
+from numerics.shooting.planar import TRIVIAL_TOL, PlanarPoint, PlanarProblem
 from numerics.cycles.branch_result import Branch, BranchPoint, SpecialPoint, branch_point
 from numerics.cycles.result import LimitCycle
 from numerics.cycles.shooting import limit_cycle
-from numerics.cycles.branch_ends import homoclinic_reason, homoclinic_special
 from numerics.errors import ConvergenceError, NoCycleError
 from numerics.flow import Method
 from numerics.shooting.arclength import FAIL as _FAIL
-from numerics.shooting.arclength import parameter_range, walk
+from numerics.shooting.arclength import parameter_range
+from numerics.shooting.continuation import Continuation
 from numerics.shooting.locate import fold_on_arc
 
-__all__ = ["continue_cycles", "TRIVIAL_TOL"]
+__all__ = ["continue_cycles", "TRIVIAL_TOL", "CycleContinuation"]
 
 
-def _fold(pt: PlanarPoint, name: str) -> SpecialPoint:
-    m = pt.mults[1].real
-    return SpecialPoint("fold", float(pt.u[2]), pt.amp, float(pt.u[1]),
-                        f"fold of cycles at {name} = {pt.u[2]:.10g}: dp/ds = "
-                        f"{pt.tangent[2]:.1e}, non-trivial multiplier {m:.8f}")
+class CycleContinuation(Continuation):
+    """The case ``N = 1`` of the one driver: folds located on the arc (each a point of the
+    branch), the section re-anchored at the largest ``x``, the cubic predictor, the steps
+    adapted to Newton's iterations, the Hopf and homoclinic ends."""
 
+    skip_at_bounds = True
+    full_text = "stopped after max_points = {n} points"
+    #: at a homoclinic end the cycle is followed in its period to this multiple of the
+    #: start's (``None``: not followed)
+    follow_period: float | None = None
 
-def _follow(prob: PlanarProblem, first: PlanarPoint, direction: int, bounds, opts) -> tuple:
-    """Follow the branch from ``first`` in ``direction`` of ``p`` by the one driver
-    (:func:`numerics.shooting.arclength.walk`); ``(points, special, why)``."""
-    name = prob.vary
-    pt = first
-    if pt.tangent[2] * direction < 0 or (pt.tangent[2] == 0 and direction < 0):
-        pt.tangent = -pt.tangent
-    points, special = [branch_point(pt)], []
-    x_big, T0 = pt.size, pt.u[1]
-    recent = [pt]
-    previous = [None]  # (u, tangent) of the point before, for the cubic predictor
+    record = staticmethod(branch_point)
 
-    def step(pt, ds):
-        prev, previous[0] = previous[0], None  # a failed step starts the next one afresh
-        new = prob.arc(pt, ds, previous=prev)
+    def begin(self, first: PlanarPoint) -> None:
+        self.x_big, self.T0, self.recent = first.size, first.u[1], [first]
+        self.previous = None  # (u, tangent) of the point before, for the cubic predictor
+
+    def step(self, pt: PlanarPoint, ds: float) -> PlanarPoint:
+        prev, self.previous = self.previous, None  # a failed step starts the next afresh
+        new = self.prob.arc(pt, ds, previous=prev)
         if new.u[0] * pt.u[0] <= 0:
             raise ConvergenceError("the section point changed sign")
         return new
 
-    def collapsed(pt, exc):
-        msg = (f"continuation stopped at {name} = {pt.u[2]:.10g} (x0 = {pt.u[0]:.6g}, "
-               f"T = {pt.u[1]:.6g}): step below ds_min = {opts['ds_min']:.1e} ({exc})")
-        special.append(SpecialPoint("end", float(pt.u[2]), pt.amp, float(pt.u[1]), msg))
+    def collapsed(self, pt: PlanarPoint, exc: Exception) -> str:
+        msg = (f"continuation stopped at {self.name} = {pt.u[2]:.10g} (x0 = {pt.u[0]:.6g}, "
+               f"T = {pt.u[1]:.6g}): step below ds_min = {self.ds_min:.1e} ({exc})")
+        self.special.append(SpecialPoint("end", float(pt.u[2]), pt.amp, float(pt.u[1]), msg))
         return msg
 
-    def at_edge(pt, new, edge):
-        try:
-            points.append(branch_point(prob.at_parameter(pt, new, edge)))
-        except _FAIL:
-            pass
-        return f"reached {name} = {edge:g}"
+    def locate(self, pt: PlanarPoint, new: PlanarPoint, ds: float) -> None:
+        if new.tangent[2] * pt.tangent[2] >= 0:
+            return
+        found = fold_on_arc(self.prob.arc, pt, new, ds)
+        fp = new if found.failure is not None else found.point
+        if fp is not new and self.converged(fp):
+            self.points.append(branch_point(fp))
+        if abs(fp.mults[1].real - 1.0) < 1e-5:  # else not a fold (a Hopf end, a section)
+            m = fp.mults[1].real
+            self.special.append(SpecialPoint(
+                "fold", float(fp.u[2]), fp.amp, float(fp.u[1]),
+                f"fold of cycles at {self.name} = {fp.u[2]:.10g}: dp/ds = "
+                f"{fp.tangent[2]:.1e}, non-trivial multiplier {m:.8f}"))
 
-    def visit(pt, new, ds_used):
-        nonlocal x_big
-        if new.tangent[2] * pt.tangent[2] < 0:
-            found = fold_on_arc(prob.arc, pt, new, ds_used)
-            fp = new if found.failure is not None else found.point
-            if fp is not new and _converged(fp):
-                points.append(branch_point(fp))
-            if abs(fp.mults[1].real - 1.0) < 1e-5:  # else not a fold (a Hopf end, a section)
-                special.append(_fold(fp, name))
-        if _converged(new):
-            points.append(branch_point(new))
-        else:
-            opts["dropped"][0] += 1
-        moved = prob.reanchor(new)
+    def advance(self, pt: PlanarPoint, new: PlanarPoint, ds_used: float):
+        moved = self.prob.reanchor(new)
         # the point before for the cubic predictor (none after a re-anchored section, where
         # the unknowns jumped, or after a fold)
-        previous[0] = ((pt.u.copy(), pt.tangent.copy())
-                       if moved is new and new.tangent[2] * pt.tangent[2] > 0 else None)
+        self.previous = ((pt.u.copy(), pt.tangent.copy())
+                         if moved is new and new.tangent[2] * pt.tangent[2] > 0 else None)
         new = moved
-        x_big = max(x_big, new.size)
-        prob.choose(new.u)
-        small = ds_used < 0.05 * opts["ds_max"]  # slow Newton near a separatrix: still grow
+        self.x_big = max(self.x_big, new.size)
+        self.prob.choose(new.u)
+        small = ds_used < 0.05 * self.ds_max  # slow Newton near a separatrix: still grow
         ds = min(ds_used * (1.5 if new.iters <= 4 else 1.2 if new.iters <= 6 and small else
-                            0.7 if new.iters >= 7 else 1.0), opts["ds_max"])
+                            0.7 if new.iters >= 7 else 1.0), self.ds_max)
         shrink = (pt.size - new.size) / ds_used  # approach a Hopf point in ever shorter steps
-        if shrink > 0 and new.size < 0.25 * x_big:
-            ds = min(ds, max(0.5 * new.size / shrink, 4 * opts["ds_min"]))
-        if new.size < opts["hopf_fraction"] * x_big and new.size < pt.size:
+        if shrink > 0 and new.size < 0.25 * self.x_big:
+            ds = min(ds, max(0.5 * new.size / shrink, 4 * self.ds_min))
+        return new, ds
+
+    def end(self, pt: PlanarPoint, new: PlanarPoint, ds: float) -> str:
+        name = self.name
+        if new.size < self.hopf_fraction * self.x_big and new.size < pt.size:
             a2, b2 = pt.size ** 2, new.size ** 2
             pH = (pt.u[2] * b2 - new.u[2] * a2) / (b2 - a2) if a2 != b2 else new.u[2]
             msg = (f"Hopf end: the cycle shrinks onto the equilibrium at x = {new.mid:.6g} "
                    f"at {name} = {pH:.8g} (peak-to-peak {new.size:.3g} at {name} = "
                    f"{new.u[2]:.8g}; extrapolated with {name} - {name}_H ~ size^2), period "
                    f"-> {new.u[1]:.6g}")
-            special.append(SpecialPoint("hopf", float(pH), float(new.mid), float(new.u[1]),
-                                        msg))
-            return new, ds, msg
-        recent.append(new)
-        why = homoclinic_reason(recent, T0, opts["period_factor"], bounds[1] - bounds[0])
-        if why:
-            end, msg = homoclinic_special(prob, points, recent, new, T0, why,
-                                          opts.get("follow_period"))
-            special.append(end)
-            return new, ds, msg
-        return new, ds, ""
+            self.special.append(SpecialPoint("hopf", float(pH), float(new.mid),
+                                             float(new.u[1]), msg))
+            return msg
+        return self.homoclinic(new)
 
-    why = walk(pt, opts["ds"], step=step, visit=visit, collapsed=collapsed,
-               ds_min=opts["ds_min"], parameter=lambda q: float(q.u[2]), bounds=bounds,
-               at_edge=at_edge, max_turn=opts["max_turn"], turn_above=4 * opts["ds_min"],
-               full=lambda: (f"stopped after max_points = {opts['max_points']} points"
-                             if len(points) >= opts["max_points"] else None))
-    return points, special, why
+    def homoclinic(self, new: PlanarPoint) -> str:
+        """Why the branch ends at a separatrix at ``new`` (``""``: it does not, see
+        :func:`homoclinic_reason`), its special point added: the parameter from the period
+        law fitted to the points (:mod:`numerics.cycles.homoclinic`, refined by the
+        manifolds) or else Aitken's extrapolation; on request the cycles followed in their
+        period beyond the last point (:mod:`numerics.cycles.long_period`) join the points."""
+        self.recent.append(new)
+        why = homoclinic_reason(self.recent, self.T0, self.period_factor,
+                                self.bounds[1] - self.bounds[0])
+        if not why:
+            return ""
+        name, points, T0 = self.name, self.points, self.T0
+        est = _end_estimate(self.prob, points)
+        if est is not None:
+            ph, where = est.best[0], est.text(name)
+        else:
+            ps = [r.u[2] for r in self.recent[-3:]]
+            ph = _aitken(ps)
+            if abs(ph - ps[-1]) > 10 * abs(ps[-1] - ps[-2]):  # not geometric: the last
+                ph = ps[-1]
+            where = (f"{name} extrapolated to {ph:.6g} (Aitken on the last three points; "
+                     "no saddle to compute the period law from, error unknown)")
+        msg = (f"homoclinic end: {why} at {name} = {new.u[2]:.10g} (period "
+               f"{new.u[1]:.6g}, from {T0:.6g}): the cycle approaches a separatrix; "
+               f"{where}")
+        if self.follow_period and points:
+            msg += _long_period(self.prob, points, T0, self.follow_period)
+        # the marker sits on the last printed (converged) point's amplitude and period
+        shown = points[-1] if points else branch_point(new)
+        self.special.append(SpecialPoint("homoclinic", float(ph), float(shown.amplitude_max),
+                                         float(shown.period), msg))
+        return msg
 
 
-def _converged(pt: PlanarPoint) -> bool:
-    """The convergence test of a printed point: the trivial multiplier is 1 to TRIVIAL_TOL."""
-    return abs(complex(pt.mults[0]) - 1.0) <= TRIVIAL_TOL
+def homoclinic_reason(recent: list, T0: float, factor: float, width: float, n: int = 10) -> str:
+    """Why the branch is taken to end at a separatrix, or ``""``."""
+    T = recent[-1].u[1]
+    if T > factor * T0:
+        return f"the period grew beyond {factor:g} times its start value"
+    if len(recent) > 2 * n and T > 1.25 * T0:
+        last = recent[-2 * n:]
+        dp = abs(last[-1].u[2] - last[0].u[2])
+        if dp < 1e-3 * width and all(b.u[1] > a.u[1] for a, b in zip(last, last[1:])):
+            return (f"the steps collapse ({2 * n} points moved the parameter by {dp:.1e}) "
+                    f"while the period grows and the monodromy matrix reaches "
+                    f"{last[-1].phi:.3g}")
+    if len(recent) <= n:
+        return ""
+    last = recent[-n:]
+    grows = all(b.u[1] > a.u[1] for a, b in zip(last, last[1:]))
+    if grows and all(abs(r.tangent[2]) < 2e-3 for r in last) and T > 1.25 * T0:
+        return (f"the parameter stalls (|dp/ds| < 2e-3 over {n} points) while the period "
+                "grows")
+    return ""
+
+
+def _aitken(ps: list) -> float:
+    """Limit of a geometric sequence from its last three terms (``p - p_h ~ exp(-k T)``)."""
+    if len(ps) < 3:
+        return float(ps[-1])
+    d = ps[2] - 2 * ps[1] + ps[0]
+    return float(ps[2] - (ps[2] - ps[1]) ** 2 / d) if d != 0 else float(ps[2])
+
+
+def _long_period(prob, points: list, T0: float, factor: float) -> str:
+    """Add the cycles followed in their period beyond ``points[-1]`` to ``factor * T0``;
+    the sentence for the end's message."""
+    from numerics.cycles.long_period import follow_period
+
+    params = {k: v for k, v in prob.params.items() if k != prob.vary}
+    target = factor * T0
+    # the multiple shooting may stall on the way (its Jacobian nearly singular where the
+    # mesh waits at the saddles); then it starts again from an earlier point of the branch,
+    # whose mesh differs, and the longest continuation is kept
+    lps, error, k = None, None, len(points) - 1
+    for _ in range(3):
+        start = points[k]
+        try:
+            run = follow_period(prob.model, params, prob.vary, start.x0, start.period,
+                                start.parameter, target, rtol=min(prob.rtol, 1e-11))
+        except _FAIL as exc:
+            error = exc
+            run = None
+        if run is not None and (lps is None or run[-1].period > lps[-1].period):
+            lps, k_used = run, k
+        if lps is not None and lps[-1].period >= target:
+            break
+        k = next((i for i in range(k - 1, -1, -1)
+                  if points[i].period <= 0.9 * start.period), None)
+        if k is None:
+            break
+    if lps is None:
+        return f"; following the cycle in its period failed: {error}"
+    del points[k_used + 1:]  # the branch beyond the start is the followed one
+    for q in lps[1:]:
+        points.append(BranchPoint(parameter=q.parameter, x0=q.x0, period=q.period,
+                                  amplitude_max=q.x0, multipliers=(1.0 + 0j, q.multiplier + 0j),
+                                  stable=bool(abs(q.multiplier) < 1.0), residual=q.residual))
+    end = lps[-1]
+    return (f"; followed in its period (multiple shooting on {end.segments} sections, the "
+            f"parameter free) to T = {end.period:.6g}, {end.period / T0:.1f} times the "
+            f"start's, at {prob.vary} = {end.parameter:.12g}")
+
+
+def _end_estimate(prob, points: list):
+    """The homoclinic parameter from the period law (:mod:`numerics.cycles.homoclinic`)
+    fitted to the converged points, or ``None``."""
+    from numerics.cycles.homoclinic import homoclinic_end, refine_by_manifolds, saddles_passed
+
+    if len(points) < 6:
+        return None
+    last = points[-1]
+    try:
+        _, _, _, ys = prob.eval((last.x0, last.period, last.parameter), n_out=400,
+                                full=True)
+    except _FAIL:
+        return None
+    bound = bind(prob.model, {**prob.params, prob.vary: last.parameter})
+    x = ys[:, 0]
+    sad, lams = saddles_passed(bound, float(np.min(x)), float(np.max(x)), last.x0,
+                               force=prob.force(last.parameter))
+    est = homoclinic_end([p.parameter for p in points], [p.period for p in points], sad, lams)
+    if est is None:
+        return None
+    return refine_by_manifolds(prob.model, {k: v for k, v in prob.params.items()
+                                            if k != prob.vary}, prob.vary, est)
 
 
 def _check_vary(model, params: dict, vary: str, bounds) -> tuple[float, float, float]:
@@ -262,25 +367,11 @@ def continue_cycles(model: Oscillator | str, params: Mapping[str, object] | None
                            f"T = {guess[1]:.6g} to start the branch from ({exc})") from None
     prob.use_symmetry(first)  # half periods from here on, for an odd field's symmetric cycle
     dsm = ds_max if ds_max is not None else max(hi - lo, 1.0) / 25
-    opts = dict(ds=ds if ds is not None else dsm / 4, ds_max=dsm, ds_min=ds_min,
-                max_points=int(max_points), period_factor=period_factor,
-                hopf_fraction=hopf_fraction, max_turn=max_turn, dropped=[0],
-                follow_period=follow_period)
-    points: list[BranchPoint] = []
-    special: list[SpecialPoint] = []
-    reasons: list[str] = []
-    for d in directions:
-        if (d > 0 and p0 >= hi) or (d < 0 and p0 <= lo):
-            continue
-        pts, sp_, why = _follow(prob, copy_point(first), d, (lo, hi), opts)
-        reasons.append(why)
-        if d < 0:
-            points = pts[::-1] + points[1:] if points else pts[::-1]
-            special = sp_[::-1] + special
-        else:
-            points = points + (pts[1:] if points else pts)
-            special = special + sp_
+    run = CycleContinuation(prob, (lo, hi), ds=ds if ds is not None else dsm / 4, ds_max=dsm,
+                            ds_min=ds_min, max_points=max_points, period_factor=period_factor,
+                            hopf_fraction=hopf_fraction)
+    run.max_turn, run.turn_above, run.follow_period = max_turn, 4 * ds_min, follow_period
+    points, special, reasons = run.run(first, directions)
     return Branch(model=model if isinstance(model, str) else model.name, parameter=vary,
                   params=params, bounds=(lo, hi), points=tuple(points), special=tuple(special),
-                  reasons=tuple(reasons), evaluations=prob.evaluations,
-                  dropped=opts["dropped"][0])
+                  reasons=tuple(reasons), evaluations=prob.evaluations, dropped=run.dropped)

@@ -10,6 +10,8 @@ or forced with the period fixed by the drive).
   the steps along a branch;
 - :mod:`numerics.shooting.branch_problem`: the one branch problem (corrector, steps, the
   point at a parameter) and its case for any ``N``;
+- :mod:`numerics.shooting.continuation`: the one continuation driver of a branch, and
+  :mod:`numerics.shooting.branch_result`, the one branch result and its two JSON layouts;
 - :mod:`numerics.shooting.planar`: its case ``N = 1`` with the section eliminated, the
   parameter sensitivity, half-period shooting and the compiled corrector;
 - :mod:`numerics.shooting.floquet`: the multipliers of a planar cycle (Liouville);

@@ -32,7 +32,7 @@ from numerics.flow.sensitivity import (flow_with_sensitivity, sensitivity_flow, 
 #: until its points pass it
 TRIVIAL_TOL = _acceptance.TRIVIAL_TOL
 
-__all__ = ["PlanarProblem", "PlanarPoint", "TRIVIAL_TOL", "copy_point"]
+__all__ = ["PlanarProblem", "PlanarPoint", "TRIVIAL_TOL"]
 
 
 class PlanarProblem(BranchProblem):
@@ -40,6 +40,7 @@ class PlanarProblem(BranchProblem):
 
     max_iter = 8
     through_prediction = False
+    forced = False
 
     def __init__(self, model, params: dict, vary: str, method, rtol: float, at: float):
         self.model, self.params, self.vary = model, params, vary
@@ -177,10 +178,9 @@ class PlanarProblem(BranchProblem):
         if self.kernel is not None:
             return _correct_compiled(self, u_pred, row, target, max_iter)
         scale = max(1.0, abs(u_pred[0]))
-        # the acceptance standard's residual bound; the correction's bound, rtol times the
-        # size of u, is tighter than the standard's (sqrt(rtol)): the accuracy of the point
-        self._tol = (_acceptance.residual_tolerance(self.rtol, scale),
-                     self.rtol * max(scale, u_pred[1], abs(u_pred[2])), max_iter)
+        # the acceptance standard, and the accuracy of the point: a correction below rtol
+        # times the size of u (tighter than the standard's sqrt(rtol))
+        self._tol = (scale, self.rtol * max(scale, u_pred[1], abs(u_pred[2])), max_iter)
         return super().correct(u_pred, row, target, max_iter)
 
     def evaluate(self, u):
@@ -188,16 +188,18 @@ class PlanarProblem(BranchProblem):
         return R, np.column_stack([A, b]), (A, b, yT, ys)
 
     def accept(self, u, R, du, data, it) -> bool:
-        tol_r, tol_u, max_iter = self._tol
+        scale, tol_u, max_iter = self._tol
         A, b, yT, ys = data
         # the integration error of R grows with the monodromy matrix (near a separatrix)
         noise = max(1.0, float(np.max(np.abs(yT[2:6]))) * self.rtol / 1e-8)
-        if not (np.max(np.abs(R)) < tol_r * noise and np.max(np.abs(du)) < tol_u * noise):
+        corr = float(np.max(np.abs(du)))
+        if not (_acceptance.accepted(float(np.max(np.abs(R))), corr, self.rtol, scale, noise)
+                and corr < tol_u * noise):
             return False
         # near a separatrix the loose tolerance may leave the trivial multiplier off 1:
         # one more iteration there (the point would not pass the printed test)
         mults = floquet_multipliers(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]), yT[6])
-        return abs(complex(mults[0]) - 1.0) <= TRIVIAL_TOL or it == max_iter
+        return _acceptance.trivial_ok(mults[:1]) or it == max_iter
 
     def too_large(self, u, du) -> str | None:
         if abs(du[0]) > 0.5 * abs(u[0]) or abs(du[1]) > 0.5 * u[1]:
@@ -321,10 +323,3 @@ def _correct_compiled(prob: PlanarProblem, u_pred, row, target: float,
     raise ConvergenceError(f"corrector did not converge in {max_iter} iterations at "
                            f"p = {u[2]:.8g} (|R| = {info:.2e})")
 
-
-def copy_point(pt: PlanarPoint) -> PlanarPoint:
-    """A copy of ``pt`` with its own tangent (each direction of a branch orients its own)."""
-    new = object.__new__(PlanarPoint)
-    new.__dict__.update(pt.__dict__)
-    new.tangent = pt.tangent.copy()
-    return new

@@ -165,15 +165,41 @@ def _advance(p, x, v, t0, h, n, s, amp):
 
 
 @njit(cache=True)
+def _advance2(p, xa, va, sa, xb, vb, sb, t0, h, n, amp):
+    """:func:`_advance` of two trajectories in one loop, each on its own generator (``sa``,
+    ``sb``): the same numbers as two calls.  A step's force is a chain of dependent
+    operations (the new ``x`` waits for the kick, the next kick for the force at the new
+    ``x``: a libm call), so one trajectory leaves most of the core idle; two independent
+    chains in one loop fill it (measured: 1.3-1.6x the steps per second)."""
+    fa = _first(t0, xa, va, p)
+    fb = _first(t0, xb, vb, p)
+    for k in range(n):
+        t = t0 + k * h
+        xa, va, fa = _step(t, xa, va, fa, h, _increment(sa, amp), p)
+        xb, vb, fb = _step(t, xb, vb, fb, h, _increment(sb, amp), p)
+    if not math.isfinite(xa + va):
+        xa, va = math.nan, math.nan
+    if not math.isfinite(xb + vb):
+        xb, vb = math.nan, math.nan
+    return xa, va, xb, vb
+
+
+@njit(cache=True)
 def final_states(p, sigma, y0, t0, h, n, states):
-    """The states after ``n`` steps from ``y0[i]`` (``NaN`` once a state is non-finite)."""
+    """The states after ``n`` steps from ``y0[i]`` (``NaN`` once a state is non-finite);
+    trajectories two at a time (:func:`_advance2`)."""
     m = y0.shape[0]
     out = np.empty((m, 2))
     amp = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)
-    for i in range(m):
-        s = states[i].copy()
-        x, v, _ = _advance(p, y0[i, 0], y0[i, 1], t0, h, n, s, amp)
-        out[i, 0], out[i, 1] = x, v
+    for i in range(0, m - 1, 2):
+        sa = states[i].copy()
+        sb = states[i + 1].copy()
+        out[i, 0], out[i, 1], out[i + 1, 0], out[i + 1, 1] = _advance2(
+            p, y0[i, 0], y0[i, 1], sa, y0[i + 1, 0], y0[i + 1, 1], sb, t0, h, n, amp)
+    if m % 2:
+        s = states[m - 1].copy()
+        x, v, _ = _advance(p, y0[m - 1, 0], y0[m - 1, 1], t0, h, n, s, amp)
+        out[m - 1, 0], out[m - 1, 1] = x, v
     return out
 
 

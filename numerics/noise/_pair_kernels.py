@@ -228,6 +228,103 @@ def _increment4(s, amp):
 
 
 @njit(cache=True)
+def _stats4_one(p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, sums, hist, i):
+    """Row ``i`` of :func:`stationary_stats4`, trajectory ``i`` alone."""
+    nbins = hist.shape[1]
+    s = states[i].copy()
+    x, v = y0[i, 0], y0[i, 1]
+    f = _first(t0, x, v, p)  # noqa: F821
+    for k in range(n_burn):
+        x, v, f = _step(t0 + k * h, x, v, f, h, _increment4(s, amp), p)  # noqa: F821
+    ok = math.isfinite(x + v)
+    a_x2 = 0.0
+    a_a2 = 0.0
+    a_v2 = 0.0
+    a_f = 0.0
+    if ok:
+        for k in range(n_burn, n_burn + n_run):
+            x, v, f = _step(t0 + k * h, x, v, f, h, _increment4(s, amp), p)  # noqa: F821
+            if not math.isfinite(x + v):
+                ok = False
+                break
+            a_x2 += x * x
+            a_v2 += v * v
+            a_a2 += x * x + (v / w0) ** 2
+            a_f += spring(t0 + (k + 1) * h, x, v, p)  # noqa: F821
+            o = _observe(kind, x, v, w0, p)  # noqa: F821
+            j = int(math.floor((o - lo) / width))
+            if 0 <= j < nbins:
+                hist[i, j] += 1.0
+    if ok:
+        sums[i, 0] = a_x2 / n_run
+        sums[i, 1] = a_a2 / n_run
+        sums[i, 2] = a_v2 / n_run
+        sums[i, 3] = a_f / n_run
+        for j in range(nbins):
+            hist[i, j] /= n_run
+    else:
+        for c in range(4):
+            sums[i, c] = math.nan
+        for j in range(nbins):
+            hist[i, j] = math.nan
+
+
+@njit(cache=True)
+def _stats4_two(p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, sums, hist, i):
+    """Rows ``i`` and ``i + 1`` of :func:`stationary_stats4`, the two trajectories in one
+    loop (two independent chains of dependent operations fill the core: see ``_advance2``),
+    each exactly as :func:`_stats4_one` computes it.  False (rows ``i``, ``i + 1`` of
+    ``hist`` zero again) when a state turns non-finite: the caller then runs them alone."""
+    nbins = hist.shape[1]
+    sa = states[i].copy()
+    sb = states[i + 1].copy()
+    xa, va = y0[i, 0], y0[i, 1]
+    xb, vb = y0[i + 1, 0], y0[i + 1, 1]
+    fa = _first(t0, xa, va, p)  # noqa: F821
+    fb = _first(t0, xb, vb, p)  # noqa: F821
+    for k in range(n_burn):
+        t = t0 + k * h
+        xa, va, fa = _step(t, xa, va, fa, h, _increment4(sa, amp), p)  # noqa: F821
+        xb, vb, fb = _step(t, xb, vb, fb, h, _increment4(sb, amp), p)  # noqa: F821
+    if not (math.isfinite(xa + va) and math.isfinite(xb + vb)):
+        return False
+    a_x2, a_a2, a_v2, a_f = 0.0, 0.0, 0.0, 0.0
+    b_x2, b_a2, b_v2, b_f = 0.0, 0.0, 0.0, 0.0
+    for k in range(n_burn, n_burn + n_run):
+        t = t0 + k * h
+        xa, va, fa = _step(t, xa, va, fa, h, _increment4(sa, amp), p)  # noqa: F821
+        xb, vb, fb = _step(t, xb, vb, fb, h, _increment4(sb, amp), p)  # noqa: F821
+        if not (math.isfinite(xa + va) and math.isfinite(xb + vb)):
+            for j in range(nbins):
+                hist[i, j] = 0.0
+                hist[i + 1, j] = 0.0
+            return False
+        tn = t0 + (k + 1) * h
+        a_x2 += xa * xa
+        a_v2 += va * va
+        a_a2 += xa * xa + (va / w0) ** 2
+        a_f += spring(tn, xa, va, p)  # noqa: F821
+        b_x2 += xb * xb
+        b_v2 += vb * vb
+        b_a2 += xb * xb + (vb / w0) ** 2
+        b_f += spring(tn, xb, vb, p)  # noqa: F821
+        j = int(math.floor((_observe(kind, xa, va, w0, p) - lo) / width))  # noqa: F821
+        if 0 <= j < nbins:
+            hist[i, j] += 1.0
+        j = int(math.floor((_observe(kind, xb, vb, w0, p) - lo) / width))  # noqa: F821
+        if 0 <= j < nbins:
+            hist[i + 1, j] += 1.0
+    sums[i, 0], sums[i, 1] = a_x2 / n_run, a_a2 / n_run
+    sums[i, 2], sums[i, 3] = a_v2 / n_run, a_f / n_run
+    sums[i + 1, 0], sums[i + 1, 1] = b_x2 / n_run, b_a2 / n_run
+    sums[i + 1, 2], sums[i + 1, 3] = b_v2 / n_run, b_f / n_run
+    for j in range(nbins):
+        hist[i, j] /= n_run
+        hist[i + 1, j] /= n_run
+    return True
+
+
+@njit(cache=True)
 def stationary_stats4(p, sigma, y0, t0, h, n_burn, n_run, states, w0, kind, lo, hi, nbins):
     """``stationary_stats`` with the four-point increments (:func:`_increment4`): the
     stationary ensembles' kernel, whose ``h^2`` coefficient is the Gaussian pair's that the
@@ -235,47 +332,20 @@ def stationary_stats4(p, sigma, y0, t0, h, n_burn, n_run, states, w0, kind, lo, 
     ``a^2``, ``x'^2`` and the spring force over ``n_run`` steps after ``n_burn``, and the
     fraction of those steps the observable ``kind`` (0: ``a``, 1: ``x``, 2: the energy)
     spent in each of ``nbins`` equal bins of ``[lo, hi)``; NaN rows for a diverged
-    trajectory."""
+    trajectory.  Trajectories run two at a time (:func:`_stats4_two`), a pair with a
+    diverged one again alone (:func:`_stats4_one`): the same numbers either way."""
     m = y0.shape[0]
     sums = np.zeros((m, 4))
     hist = np.zeros((m, nbins))
     amp = sigma * math.sqrt(h) * _noise_factor(p, h)  # noqa: F821
     width = (hi - lo) / nbins
-    for i in range(m):
-        s = states[i].copy()
-        x, v = y0[i, 0], y0[i, 1]
-        f = _first(t0, x, v, p)  # noqa: F821
-        for k in range(n_burn):
-            x, v, f = _step(t0 + k * h, x, v, f, h, _increment4(s, amp), p)  # noqa: F821
-        ok = math.isfinite(x + v)
-        a_x2 = 0.0
-        a_a2 = 0.0
-        a_v2 = 0.0
-        a_f = 0.0
-        if ok:
-            for k in range(n_burn, n_burn + n_run):
-                x, v, f = _step(t0 + k * h, x, v, f, h, _increment4(s, amp), p)  # noqa: F821
-                if not math.isfinite(x + v):
-                    ok = False
-                    break
-                a_x2 += x * x
-                a_v2 += v * v
-                a_a2 += x * x + (v / w0) ** 2
-                a_f += spring(t0 + (k + 1) * h, x, v, p)  # noqa: F821
-                o = _observe(kind, x, v, w0, p)  # noqa: F821
-                j = int(math.floor((o - lo) / width))
-                if 0 <= j < nbins:
-                    hist[i, j] += 1.0
-        if ok:
-            sums[i, 0] = a_x2 / n_run
-            sums[i, 1] = a_a2 / n_run
-            sums[i, 2] = a_v2 / n_run
-            sums[i, 3] = a_f / n_run
-            for j in range(nbins):
-                hist[i, j] /= n_run
-        else:
-            for c in range(4):
-                sums[i, c] = math.nan
-            for j in range(nbins):
-                hist[i, j] = math.nan
+    for i in range(0, m - 1, 2):
+        if not _stats4_two(p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width,
+                           sums, hist, i):
+            for r in (i, i + 1):
+                _stats4_one(p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width,
+                            sums, hist, r)
+    if m % 2:
+        _stats4_one(p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, sums,
+                    hist, m - 1)
     return sums, hist

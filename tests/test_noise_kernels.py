@@ -61,6 +61,25 @@ def test_trajectories_in_pairs_equal_trajectories_alone(scheme):
     assert hist[0].sum() == pytest.approx(1.0, abs=0.2)  # most steps inside [-2, 2)
 
 
+@pytest.mark.parametrize("scheme", ["baoab", "kp"])
+def test_first_passages_in_pairs_equal_first_passages_alone(scheme):
+    """first_passages on nine trajectories (pairs run together until one leaves, the other
+    then alone) against each run alone: the same times and flags, with trajectories that
+    leave first, second and never (censored at ``n_max h``)."""
+    s = _system(scheme)
+    k, p = s.kernels, s._p()
+    m, h, n_max = 9, 0.05, 600
+    y0 = np.zeros((m, 2))
+    st = trajectory_states(21, 0, m)
+    times, hit = k.first_passages(p, s.sigma, y0, 0.0, h, n_max, -1.3, 1.3, st)
+    assert 0 < hit.sum() < m and len(set(times[hit])) == hit.sum()
+    assert (times[~hit] == n_max * h).all()
+    for i in range(m):
+        t1, h1 = k.first_passages(p, s.sigma, y0[i:i + 1], 0.0, h, n_max, -1.3, 1.3,
+                                  st[i:i + 1])
+        assert _same(t1[0], times[i]) and h1[0] == hit[i]
+
+
 def _coupled_by_hand(s, y0, h, n_burn, n_run, state, twin: bool) -> list:
     """The coupled runs of one trajectory written out with the compiled one-step map."""
     k, p = s.kernels, s._p()

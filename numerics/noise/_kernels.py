@@ -263,24 +263,60 @@ def stationary_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0, kind, lo, h
 
 
 @njit(cache=True)
+def _passage(p, x, v, f, t0, k0, h, n_max, xl, xr, s, amp):
+    """Steps ``k0 .. n_max - 1`` of one trajectory (state ``(x, v)``, carried force ``f``)
+    until ``x <= xl`` or ``x >= xr`` (or non-finite): ``(time, hit)``, the time the step's
+    end, ``n_max h`` when it never happens."""
+    for k in range(k0, n_max):
+        x, v, f = _step(t0 + k * h, x, v, f, h, _increment(s, amp), p)
+        if x <= xl or x >= xr or not math.isfinite(x):
+            return (k + 1) * h, True
+    return n_max * h, False
+
+
+@njit(cache=True)
 def first_passages(p, sigma, y0, t0, h, n_max, xl, xr, states):
     """Per trajectory: the first time ``x <= xl`` or ``x >= xr`` (the step's end; ``n_max h``
-    when it never happens) and whether it happened."""
+    when it never happens) and whether it happened.  Trajectories run two to a loop (see
+    :func:`_advance2`) until one of them leaves, the other then alone (:func:`_passage`):
+    the same numbers as one at a time."""
     m = y0.shape[0]
     times = np.empty(m)
     hit = np.zeros(m, dtype=np.bool_)
     amp = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)
-    for i in range(m):
-        s = states[i].copy()
-        x, v = y0[i, 0], y0[i, 1]
-        times[i] = n_max * h
-        f = _first(t0, x, v, p)
+    for i in range(0, m - 1, 2):
+        sa = states[i].copy()
+        sb = states[i + 1].copy()
+        xa, va = y0[i, 0], y0[i, 1]
+        xb, vb = y0[i + 1, 0], y0[i + 1, 1]
+        fa = _first(t0, xa, va, p)
+        fb = _first(t0, xb, vb, p)
+        done = n_max
+        out_a = False
+        out_b = False
         for k in range(n_max):
-            x, v, f = _step(t0 + k * h, x, v, f, h, _increment(s, amp), p)
-            if x <= xl or x >= xr or not math.isfinite(x):
-                times[i] = (k + 1) * h
-                hit[i] = True
+            t = t0 + k * h
+            xa, va, fa = _step(t, xa, va, fa, h, _increment(sa, amp), p)
+            xb, vb, fb = _step(t, xb, vb, fb, h, _increment(sb, amp), p)
+            out_a = xa <= xl or xa >= xr or not math.isfinite(xa)
+            out_b = xb <= xl or xb >= xr or not math.isfinite(xb)
+            if out_a or out_b:
+                done = k + 1
                 break
+        if out_a:
+            times[i], hit[i] = done * h, True
+        else:
+            times[i], hit[i] = _passage(p, xa, va, fa, t0, done, h, n_max, xl, xr, sa, amp)
+        if out_b:
+            times[i + 1], hit[i + 1] = done * h, True
+        else:
+            times[i + 1], hit[i + 1] = _passage(p, xb, vb, fb, t0, done, h, n_max, xl, xr, sb,
+                                                amp)
+    if m % 2:
+        s = states[m - 1].copy()
+        x, v = y0[m - 1, 0], y0[m - 1, 1]
+        times[m - 1], hit[m - 1] = _passage(p, x, v, _first(t0, x, v, p), t0, 0, h, n_max, xl,
+                                            xr, s, amp)
     return times, hit
 
 

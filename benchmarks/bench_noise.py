@@ -13,8 +13,9 @@ for part 3, about 15 minutes at effort 3 on a loaded machine).
    with the force carried over and an Euler-Maruyama loop.  Target: toolkit BAOAB >= 1x
    the hand BAOAB loop.  One trajectory a loop, the toolkit's machine code is the hand
    loop's (one multiplication fewer); its kernels run two trajectories a loop, which a hand
-   loop written that way matches (timed too).  Each scheme's ``<x^2>`` at the timed step is printed against
-   Boltzmann's (exact by quadrature), so that no rate is quoted for a wrong answer.
+   loop written that way matches (timed too).  Each scheme's ``<x^2>`` at the timed step is
+   printed against Boltzmann's (exact by quadrature), so that no rate is quoted for a wrong
+   answer.
 2. **Force evaluations for equal weak error** on ``x'' + x = -x' - x^3 + sqrt(2 D) xi``
    (linear damping, quartic potential, D = kT = 1; ``<x^2>`` exact by quadrature of
    ``exp(-(x^2/2 + x^4/4)/kT)``).  The weak errors are exact, not sampled: BAOAB's own

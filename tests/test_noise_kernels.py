@@ -1,9 +1,9 @@
 """The compiled Langevin kernels compute each trajectory alone, however they are grouped.
 
-Issue 36: the kernels run trajectories two to a loop (two independent chains of dependent
-operations keep the core busy), and the synchronous pair and the antithetic triple of the
-two-level estimator share one loop with the coupling chosen at compile time.  Neither may
-change a number.  Independent references:
+Issue 36: the kernels (stationary runs, final states, first passages, pulled sliders) run
+trajectories two to a loop (two independent chains of dependent operations keep the core
+busy), and the synchronous pair and the antithetic triple of the two-level estimator share
+one loop with the coupling chosen at compile time.  Neither may change a number.  Independent references:
 
 - a trajectory run alone (the kernel called with one row: the single-trajectory path) gives
   the same bytes as the same trajectory run beside another, also when its partner diverges;
@@ -78,6 +78,29 @@ def test_first_passages_in_pairs_equal_first_passages_alone(scheme):
         t1, h1 = k.first_passages(p, s.sigma, y0[i:i + 1], 0.0, h, n_max, -1.3, 1.3,
                                   st[i:i + 1])
         assert _same(t1[0], times[i]) and h1[0] == hit[i]
+
+
+@pytest.mark.parametrize("scheme", ["baoab", "kp"])
+def test_slider_records_in_pairs_equal_records_alone(scheme):
+    """slip_stats of the CDC slider pulled at v = 0.5 (paper eq. 12) on five trajectories
+    (two pairs and one alone, a pair with a NaN start) against each run alone: the same
+    bytes, slips counted, and the NaN start a NaN row that leaves its partner's row as
+    alone."""
+    s = langevin_system("cdc", {"mu": 1.0, "Delta": 3, "lam": 1, "Omega": 1, "v": 0.5}, 0.05,
+                        scheme)
+    k, p = s.kernels, s._p()
+    m, h = 5, 0.02
+    y0 = np.zeros((m, 2))
+    y0[2] = [np.nan, 0.0]
+    st = trajectory_states(5, 0, m)
+    args = (0.0, h, 200, 2000, st, 1.0, 2 * math.pi, 0.5)
+    rows = k.slip_stats(p, s.sigma, y0, *args)
+    assert np.isnan(rows[2]).all() and np.isfinite(rows[[0, 1, 3, 4]]).all()
+    assert (rows[[0, 1, 3, 4], 1] > 0).all()
+    for i in range(m):
+        alone = k.slip_stats(p, s.sigma, y0[i:i + 1], 0.0, h, 200, 2000, st[i:i + 1], 1.0,
+                             2 * math.pi, 0.5)
+        assert _same(alone[0], rows[i])
 
 
 def _coupled_by_hand(s, y0, h, n_burn, n_run, state, twin: bool) -> list:

@@ -2,7 +2,8 @@
 
 Run: ``python benchmarks/bench_noise.py [effort [seed [parts]]]`` (effort 1 by default: about
 two minutes on one core; the standard errors of part 2 fall like ``1/sqrt(effort)``; ``seed``
-the root seed of part 2d, 17 by default; ``parts`` "12" by default, "1" or "2" for one).
+the root seed of part 2d, 17 by default; ``parts`` "12" by default, "1" or "2" for one; "3"
+for part 3, about 15 minutes at effort 3 on a loaded machine).
 
 1. **Raw step rate** on the CDC at rest (paper eq. 12 with noise: ``x'' + mu x' + Delta
    sin(2 pi x) + x = sqrt(2 D) xi``, mu = 0.1, Delta = 3, D = 0.1, kT = 1), one core, warm:
@@ -10,8 +11,11 @@ the root seed of part 2d, 17 by default; ``parts`` "12" by default, "1" or "2" f
    against hand-written numba loops that use **the same generator** (the toolkit's
    xoshiro256** and three-point increments, called from the hand loop): a BAOAB loop
    with the force carried over and an Euler-Maruyama loop.  Target: toolkit BAOAB >= 1x
-   the hand BAOAB loop.  Each scheme's ``<x^2>`` at the timed step is printed against
-   Boltzmann's (exact by quadrature), so that no rate is quoted for a wrong answer.
+   the hand BAOAB loop.  One trajectory a loop, the toolkit's machine code is the hand
+   loop's (one multiplication fewer); its kernels run two trajectories a loop, which a hand
+   loop written that way matches (timed too).  Each scheme's ``<x^2>`` at the timed step is
+   printed against Boltzmann's (exact by quadrature), so that no rate is quoted for a wrong
+   answer.
 2. **Force evaluations for equal weak error** on ``x'' + x = -x' - x^3 + sqrt(2 D) xi``
    (linear damping, quartic potential, D = kT = 1; ``<x^2>`` exact by quadrature of
    ``exp(-(x^2/2 + x^4/4)/kT)``).  The weak errors are exact, not sampled: BAOAB's own
@@ -37,6 +41,9 @@ the root seed of part 2d, 17 by default; ``parts`` "12" by default, "1" or "2" f
    smooth potential).  Part e measures the ``h^2`` coefficient of the bias with the
    stationary runs' four-point increments and the three-point ones against the transfer
    operator's Gaussian value (what the step pilot measures).
+3. **The increments of first passages and friction runs** (:func:`increments_of_passages`):
+   three-point, four-point and Gaussian, against the exact Kramers-equation escape rate and
+   the exact power balance of a pulled slider, at the default steps and larger ones.
 """
 
 from __future__ import annotations
@@ -108,7 +115,35 @@ def _hand_loops(inc):
             out[i, 0], out[i, 1] = (sx / n, 0.0) if average else (x, v)
         return out
 
-    return baoab, euler
+    @njit(cache=False)
+    def baoab_two(states, n, h, sigma, mu, delta, k):
+        """The BAOAB loop with two trajectories a loop (what the toolkit's kernels do)."""
+        out = np.empty((states.shape[0], 2))
+        r3 = math.sqrt(3.0 * h)
+        e = math.exp(-mu * h)
+        c = math.sqrt((1.0 - e * e) / (2.0 * mu * h))
+        for i in range(0, states.shape[0], 2):
+            s, q = states[i].copy(), states[i + 1].copy()
+            x, v, y, w = 0.0, 0.0, 0.0, 0.0
+            f = -x - delta * math.sin(k * x)
+            g = f
+            for _ in range(n):
+                v += 0.5 * h * f
+                w += 0.5 * h * g
+                x += 0.5 * h * v
+                y += 0.5 * h * w
+                v = e * v + c * sigma * inc(s, r3)
+                w = e * w + c * sigma * inc(q, r3)
+                x += 0.5 * h * v
+                y += 0.5 * h * w
+                f = -x - delta * math.sin(k * x)
+                g = -y - delta * math.sin(k * y)
+                v += 0.5 * h * f
+                w += 0.5 * h * g
+            out[i, 0], out[i, 1], out[i + 1, 0], out[i + 1, 1] = x, v, y, w
+        return out
+
+    return baoab, euler, baoab_two
 
 
 def _best_rate(fn, steps: int, repeats: int = 3) -> float:
@@ -129,7 +164,7 @@ def rates() -> None:
     st = trajectory_states(1, 0, m)
     y0 = np.zeros((m, 2))
     kits = {sch: langevin_system("cdc", params, D, sch) for sch in ("baoab", "kp")}
-    hand_baoab, hand_euler = _hand_loops(kits["baoab"].kernels._increment)
+    hand_baoab, hand_euler, hand_two = _hand_loops(kits["baoab"].kernels._increment)
     print("1. raw step rate on the CDC at rest (one core, warm; the BAOAB pair below best of 11 "
           f"interleaved); Boltzmann <x^2> = {exact:.5f} (kT = 1)")
     rows = []
@@ -154,39 +189,43 @@ def rates() -> None:
                 same = float(np.max(np.abs(fn(st, n, h, sig, MU, DELTA, K, False) - kit_final)))
             x2 = fn(st, n_ans, h, sig, MU, DELTA, K, True)[:, 0]
         rows.append((name, h, rate, x2.mean(), x2.std(ddof=1) / math.sqrt(m)))
-    # the machine is shared: time the two BAOAB loops alternately, eleven times each
+    # the machine is shared: time the BAOAB loops in turn, eleven times each, the order
+    # reversed every other round (who goes first alternates)
     s = kits["baoab"]
     k, p, h = s.kernels, s._p(), 0.01
     n = round(t_rate / h)
-    best = [math.inf, math.inf]
-    pairs = []
-    took_all = [[], []]
+    fns = (lambda: k.final_states(p, s.sigma, y0, 0.0, h, n, st),
+           lambda: hand_baoab(st, n, h, sig, MU, DELTA, K, False),
+           lambda: hand_two(st, n, h, sig, MU, DELTA, K))
+    hand_two(st[:2], 10, h, sig, MU, DELTA, K)
+    same2 = float(np.max(np.abs(hand_two(st, n, h, sig, MU, DELTA, K) - kit_final)))
+    took_all = [[], [], []]
     for rep in range(11):
-        took = []
-        fns = (lambda: k.final_states(p, s.sigma, y0, 0.0, h, n, st),
-               lambda: hand_baoab(st, n, h, sig, MU, DELTA, K, False))
-        order = (0, 1) if rep % 2 == 0 else (1, 0)  # who goes first alternates too
-        took = [0.0, 0.0]
-        for j in order:
+        for j in ((0, 1, 2) if rep % 2 == 0 else (2, 1, 0)):
             t0 = time.perf_counter()
             fns[j]()
-            took[j] = time.perf_counter() - t0
-            best[j] = min(best[j], took[j])
-            took_all[j].append(took[j])
-        pairs.append(took[1] / took[0])
-    rows[0] = (rows[0][0], h, m * n / best[0], *rows[0][3:])
-    rows[2] = (rows[2][0], h, m * n / best[1], *rows[2][3:])
+            took_all[j].append(time.perf_counter() - t0)
+    tk = np.array(took_all)
+    pairs = tk[1] / tk[0]
+    rows[0] = (rows[0][0], h, m * n / tk[0].min(), *rows[0][3:])
+    rows[2] = (rows[2][0], h, m * n / tk[1].min(), *rows[2][3:])
     print(f"   {'scheme':22} {'h':>7} {'M steps/s':>10} {'<x^2>':>9}  (<x^2> - exact)/exact")
-    for name, h, rate, x2, se in rows:
-        print(f"   {name:22} {h:7.4g} {rate / 1e6:10.2f} {x2:9.5f}  {x2 / exact - 1:+.2e} "
+    for name, hr, rate, x2, se in rows:
+        print(f"   {name:22} {hr:7.4g} {rate / 1e6:10.2f} {x2:9.5f}  {x2 / exact - 1:+.2e} "
               f"+- {se / exact:.0e}")
     print(f"   the toolkit's BAOAB and the hand BAOAB end in the same states (largest "
           f"difference {same:g})")
-    med = [m * n / float(np.median(took_all[j])) / 1e6 for j in (0, 1)]
+    med = [m * n / float(np.median(tk[j])) / 1e6 for j in (0, 1, 2)]
     print(f"   ratio toolkit BAOAB / hand BAOAB (same generator) = {rows[0][2] / rows[2][2]:.2f}"
-          f" best of 11 interleaved, {float(np.median(pairs)):.2f} median of the 11 pairs' "
+          f" best of 11 interleaved, {float(np.median(pairs)):.2f} median of the 11 rounds' "
           f"ratios, {min(pairs):.2f}-{max(pairs):.2f} (target >= 1); median rates "
           f"{med[0]:.2f} and {med[1]:.2f} M steps/s: {med[0] / med[1]:.2f}")
+    print(f"   the toolkit's kernels run two trajectories a loop (two independent chains of "
+          f"dependent operations, each step's force a libm call); one trajectory a loop their "
+          f"machine code is the hand loop's.  The hand loop written two to a loop (same "
+          f"states: largest difference {same2:g}), in the same rounds: {med[2]:.2f} M steps/s "
+          f"median; toolkit / it = {float(np.median(tk[2] / tk[0])):.2f} median of the rounds' "
+          "ratios")
     print(f"   ratio toolkit KP / hand Euler-Maruyama, per step = {rows[1][2] / rows[3][2]:.2f} "
           "(Euler-Maruyama needs a 20x smaller step)")
     took = [[], []]
@@ -196,8 +235,9 @@ def rates() -> None:
             t0 = time.perf_counter()
             fn(p, s.sigma, y0, 0.0, h, 0, n, st, s.omega0, 0, 0.0, 4.0, 40)
             took[j].append(time.perf_counter() - t0)
-    print(f"   the stationary run's kernel, four-point (default) / three-point increments: time "
-          f"x{float(np.median(took[1]) / np.median(took[0])):.2f} (medians of 7 interleaved)")
+    print(f"   the stationary run's kernel (four-point increments, two trajectories a loop) / the "
+          f"three-point kernel (one a loop): time x"
+          f"{float(np.median(took[1]) / np.median(took[0])):.2f} (medians of 7 interleaved)")
 
 
 def _crossing(hs, errs, target: float) -> float:
@@ -362,6 +402,126 @@ def toolkit_two_level(h_b: float, h_r: float, exact: float, effort: float = 1.0,
               f"+-{200 / math.sqrt(m):.0f} %; the variance ratio of the correction "
               f"{two.variance_ratio:.4f})")
 
+#: measurement kernels of part 3 (not the toolkit's: appended to the model's generated module
+#: here, so that no unused kernel is compiled with every model): first passages and a pulled
+#: slider's power balance with the three-point (law 3), four-point (4) or Gaussian (0)
+#: increments, drawn as the toolkit's kernels draw them
+_LAWS = """
+
+@njit(cache=True)
+def _dw(s, law, k, g2, amp, amp3):
+    if law == 3:
+        return _increment(s, amp3), g2
+    if law == 4:
+        return _increment4(s, amp), g2
+    if k % 2 == 0:
+        g1, g2 = _normal_pair(s)
+        return amp * g1, g2
+    return amp * g2, g2
+
+
+@njit(cache=True)
+def passages_law(p, sigma, h, n_max, xl, xr, states, law):
+    m = states.shape[0]
+    times = np.full(m, n_max * h)
+    hit = np.zeros(m, dtype=np.bool_)
+    amp = sigma * _noise_factor(p, h) * math.sqrt(h)
+    amp3 = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)
+    for i in range(m):
+        s = states[i].copy()
+        x, v, g2 = 0.0, 0.0, 0.0
+        f = _first(0.0, x, v, p)
+        for k in range(n_max):
+            dw, g2 = _dw(s, law, k, g2, amp, amp3)
+            x, v, f = _step(k * h, x, v, f, h, dw, p)
+            if x <= xl or x >= xr or not math.isfinite(x):
+                times[i], hit[i] = (k + 1) * h, True
+                break
+    return times, hit
+
+
+@njit(cache=True)
+def slider_power_law(p, sigma, h, n_burn, n_run, states, law):
+    # per trajectory: <F_spring>, <x'^2>, (E_end - E_start)/T with the CDC slider's
+    # E = x'^2/2 - mu delta/k cos(k x) + Omega^2 (x - v t)^2/2 (p = Omega, delta, k, mu, v)
+    m = states.shape[0]
+    out = np.zeros((m, 3))
+    amp = sigma * _noise_factor(p, h) * math.sqrt(h)
+    amp3 = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)
+    for i in range(m):
+        s = states[i].copy()
+        x, v, g2, e0, af, av = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        f = _first(0.0, x, v, p)
+        for k in range(n_burn + n_run):
+            if k == n_burn:
+                e0 = (0.5 * v * v - p[3] * p[1] / p[2] * math.cos(p[2] * x)
+                      + 0.5 * p[0] ** 2 * (x - p[4] * k * h) ** 2)
+            dw, g2 = _dw(s, law, k, g2, amp, amp3)
+            x, v, f = _step(k * h, x, v, f, h, dw, p)
+            if k >= n_burn:
+                af += spring((k + 1) * h, x, v, p)
+                av += v * v
+        e1 = (0.5 * v * v - p[3] * p[1] / p[2] * math.cos(p[2] * x)
+              + 0.5 * p[0] ** 2 * (x - p[4] * (n_burn + n_run) * h) ** 2)
+        out[i, 0], out[i, 1], out[i, 2] = af / n_run, av / n_run, (e1 - e0) / (n_run * h)
+    return out
+"""
+
+_LAW_NAMES = {3: "three-point", 4: "four-point", 0: "Gaussian"}
+
+
+def increments_of_passages(effort: float = 1.0) -> None:
+    """Part 3: do first passages and the friction runs gain from four-point (or Gaussian)
+    increments?  The escape rate of the CDC at rest (Delta = 2, lam = 1.3, kT = 0.15,
+    mu = 0.2: E_b/kT = 7.09) from first passages to the next wells' bottoms against the
+    exact rate of the Kramers equation (``kbm escape --method fokker-planck``: 4.5110e-4,
+    converged to 1e-3), at the default step of ``kbm escape`` and at 2x and 4x it; one
+    friction point (the CDC slider, mu = 1, Delta = 3, v = 0.1, D = 0.02) against the exact
+    power balance of the continuous system, ``v <F> = mu <x'^2> - D + dE/dt`` (Ito's
+    formula for ``E = x'^2/2 + G(x) + Omega^2 (x - v t)^2/2``), at the friction runs'
+    step and 4x it.  Kloeden-Platen, as both run."""
+    from numerics.escape.simulate import censored_rate
+    from numerics.flow.jit import _load
+    from numerics.noise.langevin import natural_step
+
+    fp_rate, xw = 4.5110e-4, 1.17063
+    print("3. increments of first passages and friction runs (Kloeden-Platen)")
+    mu = 0.2
+    s = langevin_system("cdc", {"Delta": 2, "lam": 1.3, "Omega": 1, "mu": mu}, 0.15 * mu)
+    mod = _load(open(s.kernels.__file__).read() + _LAWS)
+    h0 = natural_step(s, per_period=40)
+    n_max = math.ceil(200.0 / 3e-4 / h0)
+    m = round(1000 * effort)
+    print(f"   a. escape rate, first passages to +-x_w = +-{xw} from the well bottom, {m} "
+          f"trajectories per row; exact (Kramers equation) {fp_rate:.4e}")
+    for fac, laws in ((4, (3, 4, 0)), (2, (3, 4, 0)), (1, (3, 4))):
+        h = h0 * fac
+        for law in laws:
+            t, hit = mod.passages_law(s._p(), s.sigma, h, math.ceil(n_max / fac), -xw, xw,
+                                      trajectory_states(101 + law, 0, m), law)
+            r, se = censored_rate(t, hit)
+            print(f"      h = {h:.5f} ({fac}x default) {_LAW_NAMES[law]:12} {r:.4e} +- {se:.1e}"
+                  f"  {r / fp_rate - 1:+.2%} ({(r - fp_rate) / se:+.1f} s.e.)")
+    mu, v, D = 1.0, 0.1, 0.02
+    s = langevin_system("cdc", {"mu": mu, "Delta": 3, "lam": 1, "Omega": 1, "v": v}, D)
+    mod = _load(open(s.kernels.__file__).read() + _LAWS)
+    h0 = natural_step(s, per_period=160)
+    print(f"   b. friction point mu = {mu:g}, Delta = 3, v = {v:g}, D = {D:g}: mean spring force "
+          "and the power balance's residual v<F> - mu<x'^2> + D - dE/T (exact: 0)")
+    for fac, laws, m in ((4, (3, 4, 0), round(1024 * effort / 3)),
+                         (1, (3, 4), round(512 * effort / 3))):
+        h = h0 * fac
+        for law in laws:
+            r = mod.slider_power_law(s._p(), s.sigma, h, round(50 / h), round(1000 / h),
+                                     trajectory_states(7 + law, 0, m), law)
+            res = v * r[:, 0] - (mu * r[:, 1] - D) - r[:, 2]
+            se_f = r[:, 0].std(ddof=1) / math.sqrt(m)
+            se_r = res.std(ddof=1) / math.sqrt(m)
+            print(f"      h = {h:.5f} ({fac}x default) {_LAW_NAMES[law]:12} {m} trajectories: "
+                  f"<F> = {r[:, 0].mean():.5f} +- {se_f:.5f}, residual {res.mean():+.2e} +- "
+                  f"{se_r:.1e} ({res.mean() / se_r:+.1f} s.e.)")
+
+
 if __name__ == "__main__":
     eff = float(sys.argv[1]) if len(sys.argv) > 1 else 1.0
     root = int(sys.argv[2]) if len(sys.argv) > 2 else 17
@@ -370,3 +530,5 @@ if __name__ == "__main__":
         rates()
     if "2" in parts:
         equal_error(eff, root)
+    if "3" in parts:
+        increments_of_passages(eff)

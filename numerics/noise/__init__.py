@@ -12,7 +12,8 @@ estimates stationary moments and densities with their standard errors;
 stationary averages of the BAOAB chain (its weak error without sampling);
 :mod:`numerics.noise.coupled` is the noisy system of ``N`` forced or coupled oscillators and
 its compiled ensemble paths (the same scheme and streams).  The compiled
-source: :mod:`numerics.noise.codegen` prints the model, :mod:`numerics.noise._kernels` and
+source: :mod:`numerics.noise.codegen` prints the model, :mod:`numerics.noise._kernels`,
+:mod:`numerics.noise._passage_kernels` (first passages, pulled sliders) and
 :mod:`numerics.noise._pair_kernels` hold the kernels, :mod:`numerics.noise.seeds` the streams.
 """
 

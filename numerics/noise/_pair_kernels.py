@@ -8,9 +8,10 @@ step (:func:`numerics.noise.langevin.measured_step`) run the scheme at ``h`` and
 coarse increment the sum of the finer ones, so that the runs stay close and their
 difference has a small variance; ``step_gauss_stats`` runs the scheme at ``h`` alone with
 Gaussian increments (the two-level estimator's level 0); ``step_antithetic_stats`` adds the
-fine run with each coarse step's two increments swapped (the antithetic correction);
-``stationary_stats4`` is the stationary
-ensembles' kernel, with four-point Gauss-Hermite increments (``_increment4``).
+fine run with each coarse step's two increments swapped (the antithetic correction): both
+couplings are one loop (``_coupled_stats``) with the coupling chosen at compile time;
+``stationary_stats4`` is the stationary ensembles' kernel, with four-point Gauss-Hermite
+increments (``_increment4``), two trajectories to a loop.
 """
 
 import math
@@ -27,16 +28,18 @@ def _normal_pair(s):
     return r * math.cos(phi), r * math.sin(phi)
 
 
-@njit(cache=True)
-def step_pair_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0):
-    """Per trajectory: the time averages of ``x^2`` and ``a^2`` after ``n_burn`` steps, over
-    ``n_run`` steps ``h`` and, on the same Brownian path, over ``2 n_run`` steps ``h/2``
-    (Gaussian increments: the two fine ones ``sqrt(h/2) g_1``, ``sqrt(h/2) g_2`` sum to the
-    coarse one, so the two runs stay close and their difference is the step's bias with a
-    small variance).  Columns: ``x^2 (h), a^2 (h), x^2 (h/2), a^2 (h/2)``; NaN rows for a
-    diverged trajectory."""
+@njit(cache=True, inline="always")
+def _coupled_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0, twin):
+    """The coupled runs at ``h`` and ``h/2`` on one Brownian path: the coarse step takes
+    ``g_1 + g_2``, the fine run ``g_1`` then ``g_2`` and, when ``twin``, a second fine run
+    ``g_2`` then ``g_1``.  ``twin`` is a constant at both call sites
+    (:func:`step_pair_stats`, :func:`step_antithetic_stats`) and this function is inlined
+    into them (numba ``inline="always"``), so the choice of coupling is made at compile
+    time: one loop, no branch left in either kernel.  Columns ``x^2, a^2`` of the coarse
+    run, of the fine one and (``twin``) of the twin; NaN rows for a diverged trajectory."""
     m = y0.shape[0]
-    out = np.zeros((m, 4))
+    ncol = 6 if twin else 4
+    out = np.zeros((m, ncol))
     hf = 0.5 * h
     sf = sigma * math.sqrt(hf)
     af = sf * _noise_factor(p, hf)  # noqa: F821
@@ -44,29 +47,48 @@ def step_pair_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0):
     for i in range(m):
         s = states[i].copy()
         xc, vc = y0[i, 0], y0[i, 1]
-        xf, vf = xc, vc
-        ff = _first(t0, xf, vf, p)  # noqa: F821
-        fc = ff
-        acc = np.zeros(4)
+        xa, va = xc, vc
+        xb, vb = xc, vc
+        fc = _first(t0, xc, vc, p)  # noqa: F821
+        fa = fc
+        fb = fc
+        acc = np.zeros(ncol)
         ok = True
         for k in range(n_burn + n_run):
             g1, g2 = _normal_pair(s)
             t = t0 + k * h
-            xf, vf, ff = _step(t, xf, vf, ff, hf, af * g1, p)  # noqa: F821
-            xf, vf, ff = _step(t + hf, xf, vf, ff, hf, af * g2, p)  # noqa: F821
+            xa, va, fa = _step(t, xa, va, fa, hf, af * g1, p)  # noqa: F821
+            xa, va, fa = _step(t + hf, xa, va, fa, hf, af * g2, p)  # noqa: F821
+            if twin:
+                xb, vb, fb = _step(t, xb, vb, fb, hf, af * g2, p)  # noqa: F821
+                xb, vb, fb = _step(t + hf, xb, vb, fb, hf, af * g1, p)  # noqa: F821
             xc, vc, fc = _step(t, xc, vc, fc, h, ac * (g1 + g2), p)  # noqa: F821
-            if not (math.isfinite(xc) and math.isfinite(vc) and math.isfinite(xf)
-                    and math.isfinite(vf)):
+            if not (math.isfinite(xc) and math.isfinite(vc) and math.isfinite(xa)
+                    and math.isfinite(va) and math.isfinite(xb) and math.isfinite(vb)):
                 ok = False
                 break
             if k >= n_burn:
                 acc[0] += xc * xc
                 acc[1] += xc * xc + (vc / w0) ** 2
-                acc[2] += xf * xf
-                acc[3] += xf * xf + (vf / w0) ** 2
-        for c in range(4):
+                acc[2] += xa * xa
+                acc[3] += xa * xa + (va / w0) ** 2
+                if twin:
+                    acc[4] += xb * xb
+                    acc[5] += xb * xb + (vb / w0) ** 2
+        for c in range(ncol):
             out[i, c] = acc[c] / n_run if ok else math.nan
     return out
+
+
+@njit(cache=True)
+def step_pair_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0):
+    """Per trajectory: the time averages of ``x^2`` and ``a^2`` after ``n_burn`` steps, over
+    ``n_run`` steps ``h`` and, on the same Brownian path, over ``2 n_run`` steps ``h/2``
+    (Gaussian increments: the two fine ones ``sqrt(h/2) g_1``, ``sqrt(h/2) g_2`` sum to the
+    coarse one, so the two runs stay close and their difference is the step's bias with a
+    small variance).  Columns: ``x^2 (h), a^2 (h), x^2 (h/2), a^2 (h/2)``; NaN rows for a
+    diverged trajectory.  The synchronous coupling of :func:`_coupled_stats`."""
+    return _coupled_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0, False)
 
 
 @njit(cache=True)
@@ -164,44 +186,8 @@ def step_antithetic_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0):
     ``g_1``.  Both fine runs are BAOAB at ``h/2`` with Gaussian increments; their mean minus
     the coarse run cancels the part of the difference linear in ``g_1 - g_2``.  Columns
     ``x^2 (h), a^2 (h), x^2 (h/2, first), a^2, x^2 (h/2, twin), a^2``; NaN rows for a
-    diverged trajectory."""
-    m = y0.shape[0]
-    out = np.zeros((m, 6))
-    hf = 0.5 * h
-    sf = sigma * math.sqrt(hf)
-    af = sf * _noise_factor(p, hf)  # noqa: F821
-    ac = sf * _noise_factor(p, h)  # noqa: F821
-    for i in range(m):
-        s = states[i].copy()
-        xc, vc = y0[i, 0], y0[i, 1]
-        xa, va = xc, vc
-        xb, vb = xc, vc
-        fc = _first(t0, xc, vc, p)  # noqa: F821
-        fa = fc
-        fb = fc
-        acc = np.zeros(6)
-        ok = True
-        for k in range(n_burn + n_run):
-            g1, g2 = _normal_pair(s)
-            t = t0 + k * h
-            xa, va, fa = _step(t, xa, va, fa, hf, af * g1, p)  # noqa: F821
-            xa, va, fa = _step(t + hf, xa, va, fa, hf, af * g2, p)  # noqa: F821
-            xb, vb, fb = _step(t, xb, vb, fb, hf, af * g2, p)  # noqa: F821
-            xb, vb, fb = _step(t + hf, xb, vb, fb, hf, af * g1, p)  # noqa: F821
-            xc, vc, fc = _step(t, xc, vc, fc, h, ac * (g1 + g2), p)  # noqa: F821
-            if not math.isfinite(xc + vc + xa + va + xb + vb):
-                ok = False
-                break
-            if k >= n_burn:
-                acc[0] += xc * xc
-                acc[1] += xc * xc + (vc / w0) ** 2
-                acc[2] += xa * xa
-                acc[3] += xa * xa + (va / w0) ** 2
-                acc[4] += xb * xb
-                acc[5] += xb * xb + (vb / w0) ** 2
-        for c in range(6):
-            out[i, c] = acc[c] / n_run if ok else math.nan
-    return out
+    diverged trajectory.  The antithetic coupling of :func:`_coupled_stats`."""
+    return _coupled_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0, True)
 
 
 #: the four-point Gauss-Hermite increment (Abramowitz & Stegun 25.4.46): nodes ``+-A4``,
@@ -228,6 +214,103 @@ def _increment4(s, amp):
 
 
 @njit(cache=True)
+def _stats4_one(p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, sums, hist, i):
+    """Row ``i`` of :func:`stationary_stats4`, trajectory ``i`` alone."""
+    nbins = hist.shape[1]
+    s = states[i].copy()
+    x, v = y0[i, 0], y0[i, 1]
+    f = _first(t0, x, v, p)  # noqa: F821
+    for k in range(n_burn):
+        x, v, f = _step(t0 + k * h, x, v, f, h, _increment4(s, amp), p)  # noqa: F821
+    ok = math.isfinite(x + v)
+    a_x2 = 0.0
+    a_a2 = 0.0
+    a_v2 = 0.0
+    a_f = 0.0
+    if ok:
+        for k in range(n_burn, n_burn + n_run):
+            x, v, f = _step(t0 + k * h, x, v, f, h, _increment4(s, amp), p)  # noqa: F821
+            if not math.isfinite(x + v):
+                ok = False
+                break
+            a_x2 += x * x
+            a_v2 += v * v
+            a_a2 += x * x + (v / w0) ** 2
+            a_f += spring(t0 + (k + 1) * h, x, v, p)  # noqa: F821
+            o = _observe(kind, x, v, w0, p)  # noqa: F821
+            j = int(math.floor((o - lo) / width))
+            if 0 <= j < nbins:
+                hist[i, j] += 1.0
+    if ok:
+        sums[i, 0] = a_x2 / n_run
+        sums[i, 1] = a_a2 / n_run
+        sums[i, 2] = a_v2 / n_run
+        sums[i, 3] = a_f / n_run
+        for j in range(nbins):
+            hist[i, j] /= n_run
+    else:
+        for c in range(4):
+            sums[i, c] = math.nan
+        for j in range(nbins):
+            hist[i, j] = math.nan
+
+
+@njit(cache=True)
+def _stats4_two(p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, sums, hist, i):
+    """Rows ``i`` and ``i + 1`` of :func:`stationary_stats4`, the two trajectories in one
+    loop (two independent chains of dependent operations fill the core: see ``_advance2``),
+    each exactly as :func:`_stats4_one` computes it.  False (rows ``i``, ``i + 1`` of
+    ``hist`` zero again) when a state turns non-finite: the caller then runs them alone."""
+    nbins = hist.shape[1]
+    sa = states[i].copy()
+    sb = states[i + 1].copy()
+    xa, va = y0[i, 0], y0[i, 1]
+    xb, vb = y0[i + 1, 0], y0[i + 1, 1]
+    fa = _first(t0, xa, va, p)  # noqa: F821
+    fb = _first(t0, xb, vb, p)  # noqa: F821
+    for k in range(n_burn):
+        t = t0 + k * h
+        xa, va, fa = _step(t, xa, va, fa, h, _increment4(sa, amp), p)  # noqa: F821
+        xb, vb, fb = _step(t, xb, vb, fb, h, _increment4(sb, amp), p)  # noqa: F821
+    if not (math.isfinite(xa + va) and math.isfinite(xb + vb)):
+        return False
+    a_x2, a_a2, a_v2, a_f = 0.0, 0.0, 0.0, 0.0
+    b_x2, b_a2, b_v2, b_f = 0.0, 0.0, 0.0, 0.0
+    for k in range(n_burn, n_burn + n_run):
+        t = t0 + k * h
+        xa, va, fa = _step(t, xa, va, fa, h, _increment4(sa, amp), p)  # noqa: F821
+        xb, vb, fb = _step(t, xb, vb, fb, h, _increment4(sb, amp), p)  # noqa: F821
+        if not (math.isfinite(xa + va) and math.isfinite(xb + vb)):
+            for j in range(nbins):
+                hist[i, j] = 0.0
+                hist[i + 1, j] = 0.0
+            return False
+        tn = t0 + (k + 1) * h
+        a_x2 += xa * xa
+        a_v2 += va * va
+        a_a2 += xa * xa + (va / w0) ** 2
+        a_f += spring(tn, xa, va, p)  # noqa: F821
+        b_x2 += xb * xb
+        b_v2 += vb * vb
+        b_a2 += xb * xb + (vb / w0) ** 2
+        b_f += spring(tn, xb, vb, p)  # noqa: F821
+        j = int(math.floor((_observe(kind, xa, va, w0, p) - lo) / width))  # noqa: F821
+        if 0 <= j < nbins:
+            hist[i, j] += 1.0
+        j = int(math.floor((_observe(kind, xb, vb, w0, p) - lo) / width))  # noqa: F821
+        if 0 <= j < nbins:
+            hist[i + 1, j] += 1.0
+    sums[i, 0], sums[i, 1] = a_x2 / n_run, a_a2 / n_run
+    sums[i, 2], sums[i, 3] = a_v2 / n_run, a_f / n_run
+    sums[i + 1, 0], sums[i + 1, 1] = b_x2 / n_run, b_a2 / n_run
+    sums[i + 1, 2], sums[i + 1, 3] = b_v2 / n_run, b_f / n_run
+    for j in range(nbins):
+        hist[i, j] /= n_run
+        hist[i + 1, j] /= n_run
+    return True
+
+
+@njit(cache=True)
 def stationary_stats4(p, sigma, y0, t0, h, n_burn, n_run, states, w0, kind, lo, hi, nbins):
     """``stationary_stats`` with the four-point increments (:func:`_increment4`): the
     stationary ensembles' kernel, whose ``h^2`` coefficient is the Gaussian pair's that the
@@ -235,47 +318,20 @@ def stationary_stats4(p, sigma, y0, t0, h, n_burn, n_run, states, w0, kind, lo, 
     ``a^2``, ``x'^2`` and the spring force over ``n_run`` steps after ``n_burn``, and the
     fraction of those steps the observable ``kind`` (0: ``a``, 1: ``x``, 2: the energy)
     spent in each of ``nbins`` equal bins of ``[lo, hi)``; NaN rows for a diverged
-    trajectory."""
+    trajectory.  Trajectories run two at a time (:func:`_stats4_two`), a pair with a
+    diverged one again alone (:func:`_stats4_one`): the same numbers either way."""
     m = y0.shape[0]
     sums = np.zeros((m, 4))
     hist = np.zeros((m, nbins))
     amp = sigma * math.sqrt(h) * _noise_factor(p, h)  # noqa: F821
     width = (hi - lo) / nbins
-    for i in range(m):
-        s = states[i].copy()
-        x, v = y0[i, 0], y0[i, 1]
-        f = _first(t0, x, v, p)  # noqa: F821
-        for k in range(n_burn):
-            x, v, f = _step(t0 + k * h, x, v, f, h, _increment4(s, amp), p)  # noqa: F821
-        ok = math.isfinite(x + v)
-        a_x2 = 0.0
-        a_a2 = 0.0
-        a_v2 = 0.0
-        a_f = 0.0
-        if ok:
-            for k in range(n_burn, n_burn + n_run):
-                x, v, f = _step(t0 + k * h, x, v, f, h, _increment4(s, amp), p)  # noqa: F821
-                if not math.isfinite(x + v):
-                    ok = False
-                    break
-                a_x2 += x * x
-                a_v2 += v * v
-                a_a2 += x * x + (v / w0) ** 2
-                a_f += spring(t0 + (k + 1) * h, x, v, p)  # noqa: F821
-                o = _observe(kind, x, v, w0, p)  # noqa: F821
-                j = int(math.floor((o - lo) / width))
-                if 0 <= j < nbins:
-                    hist[i, j] += 1.0
-        if ok:
-            sums[i, 0] = a_x2 / n_run
-            sums[i, 1] = a_a2 / n_run
-            sums[i, 2] = a_v2 / n_run
-            sums[i, 3] = a_f / n_run
-            for j in range(nbins):
-                hist[i, j] /= n_run
-        else:
-            for c in range(4):
-                sums[i, c] = math.nan
-            for j in range(nbins):
-                hist[i, j] = math.nan
+    for i in range(0, m - 1, 2):
+        if not _stats4_two(p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width,
+                           sums, hist, i):
+            for r in (i, i + 1):
+                _stats4_one(p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width,
+                            sums, hist, r)
+    if m % 2:
+        _stats4_one(p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, sums,
+                    hist, m - 1)
     return sums, hist

@@ -2,32 +2,37 @@
 rate of the density when everything that reaches a neighbouring well is removed.
 
 At the bottoms ``x_wl < x_l < 0 < x_r < x_wr`` of the next wells beyond the saddles a sink
-``kappa(x) = kappa_0 [1 + tanh((|x| - |x_w|)/w)]/2`` is added to the Kramers operator
-(:mod:`.kramers`); ``w`` is a tenth of the saddle-to-bottom distance and ``kappa_0`` absorbs
-a particle arriving at the bottom's speed ``sqrt(2 (E_b - G(x_w)))`` within ``w``.  The
-population of the well then decays as ``exp(-r t)`` with ``r`` the smallest eigenvalue of
-``-(L - kappa)`` (shift-invert Arnoldi on the sparse Hermite-Chebyshev matrix, its
-constrained rows a zero block of the mass matrix, each solve by the matrix's block LU in
-the Hermite index, :mod:`._blocks`; Hanggi, Talkner and Borkovec, Rev. Mod.
-Phys. 62 (1990) 251, sec. II.C: the rate as the lowest nonvanishing eigenvalue).  This is
-the rate of transitions to the next wells (flux over population): what Kramers' and
-Mel'nikov-Meshkov's formulas describe, and the rate of simulated first passages to the
-lines ``x = x_w``.
+``kappa(x)`` (:func:`_sink`: ``kappa_0 [1 + tanh((|x| - |x_w|)/w)]/2``, ten times stronger
+from ``2.5 w`` past the bottoms) is added to the Kramers operator (:mod:`.kramers`); ``w``
+is a tenth of the saddle-to-bottom distance and ``kappa_0`` absorbs a particle arriving at
+the bottom's speed ``sqrt(2 (E_b - G(x_w)))`` within ``w``.  The population of the well
+then decays as ``exp(-r t)`` with ``r`` the smallest eigenvalue of ``-(L - kappa)``
+(Hanggi, Talkner and Borkovec, Rev. Mod. Phys. 62 (1990) 251, sec. II.C: the rate as the
+lowest nonvanishing eigenvalue): the rate of transitions to the next wells (flux over
+population), what Kramers' and Mel'nikov-Meshkov's formulas describe, and the rate of
+simulated first passages to the lines ``x = x_w``.
 
-Why the next wells' bottoms and not the saddles: a particle crosses the bottom at a speed
-bounded away from zero, so the sink acts on a density that is smooth in the velocity, and
-the rate converges faster than any power of the number of Hermite functions (to 8e-4 with
-724 at mu = 0.02, where a narrow layer of depleted velocities near the barrier remains, and
-to 3e-7 with 64 at mu = 1; docs/noise.rst) and hardly depends on the sink's strength or
-place (at mu = 0.2 and 1, moving it by a quarter of the saddle-to-bottom distance, or a sink
-three times stronger and half as wide, changes the rate by < 2e-4; 4e-3 at mu = 5).  A sink on the saddle cut off the
-velocities at ``v = 0``, whose Hermite series converge only algebraically (the rate was
-9.5 % high with 64 Hermite functions at mu = 0.02, 2.2 % with 256), and it made the rate
-depend on the sink's sharpness (1-2 % at mu = 1).
+Linear damping (the CDC at rest; :mod:`._fraction`): the matrix is block tridiagonal in
+the Hermite index with blocks known in closed form, eliminated order by order and folded by
+parity for an even potential, on Kosloff-Tal-Ezer points (:func:`._bases.cheb_mapped`), by
+inverse iteration.  Other dampings: the blocks assembled from the terms (:mod:`._blocks`)
+and shift-invert Arnoldi.
 
-The Hermite truncation grows by ``sqrt 2`` from ``n_hermite`` until two successive rates
-agree to ``tol``; the last change is ``truncation_error`` and the change under the sharper
-sink ``sink_error``.  Compared (tests/test_fokker_planck_escape.py, docs/noise.rst) with
+Why the velocity expansion needs many functions at low friction (docs/noise.rst): the
+density has a layer along the separatrix, sharpest at the saddle, where the stream that the
+saddle reflects back into the well (energies below ``E_b``) meets no stream from outside
+(the particles above ``E_b`` left for the sink).  Its width in the velocity is about
+``(D/omega_b)^(1/2) = sigma (gamma/omega_b)^(1/2)``, so the Hermite functions needed grow
+like ``omega_b/gamma`` (about ``10 omega_b/gamma`` for 1e-6) and the Chebyshev intervals like
+``L/l``, ``l = (D/omega_b)^(1/2)/omega_b`` the layer's width in ``x``.  The ladders start
+there, not at 64.  This is the physics of the rate (Mel'nikov-Meshkov's boundary layer), not
+of the sink: whatever removes the particles that crossed leaves it, and the rate does not
+depend on the sink's sharpness to 1e-7 at mu = 0.02.
+
+The Hermite truncation grows by ``sqrt 2`` until two successive rates agree to ``tol``; the
+last change is ``truncation_error``, the change on a finer position grid
+``chebyshev_error`` and the change under the sharper sink (three times stronger, half as
+wide) ``sink_error``.  Compared (tests/test_fokker_planck_escape.py, docs/noise.rst) with
 simulated first passages, Kramers' spatial-diffusion rate, the Mel'nikov-Meshkov rate and
 the energy-diffusion MFPT of the averaged energy.
 """
@@ -48,7 +53,8 @@ from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
 from ._fraction import EscapeFraction
 from .kramers import _linear_temperature, kramers_operator, kramers_terms, velocity_terms
 
-__all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder"]
+__all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder",
+           "escape_problem"]
 
 #: the Kosloff-Tal-Ezer parameter of the position grid for linear damping
 #: (:func:`._bases.cheb_mapped`): at mu = 0.02 (docs/noise.rst) 288 mapped intervals give
@@ -121,15 +127,15 @@ def next_wells(g, saddles) -> tuple:
     return tuple(out)
 
 
-def _sink(xs, wells, kappa0: float, width: float, half: float) -> np.ndarray:
+def _sink(xs, wells, kappa0: float, width: float) -> np.ndarray:
     """The sink at the points ``xs``: ``kappa0 [1 + tanh((|x| - |x_w|)/width)]/2``, and nine
-    times as strong from half-way between the bottom ``|x_w|`` and the end ``half`` (the
-    same profile): what gets past the bottom is gone long before the end of the range,
-    where the pinned rows ``c_n(+-L) = 0`` are no boundary condition of the Kramers
-    equation (with the first stage alone the rate converged like ``1/n_cheb`` and moved by
-    1e-5 with the range at mu = 1; docs/noise.rst)."""
+    times as strong from ``2.5 width`` past the bottom ``|x_w|`` (the same profile): what
+    gets past the bottom is gone long before the end of the range (``5 width`` past it by
+    default), where the pinned rows ``c_n(+-L) = 0`` are no boundary condition of the
+    Kramers equation (with the first stage alone the rate converged like ``1/n_cheb`` and
+    moved by 1e-5 with the range at mu = 1; docs/noise.rst)."""
     edge = np.where(xs > 0, wells[1], -wells[0])
-    far = 0.5 * (edge + half)
+    far = edge + 2.5 * width
     r = np.abs(xs)
     return kappa0 * 0.5 * ((1 + np.tanh((r - edge) / width))
                            + 9 * (1 + np.tanh((r - far) / width)))
@@ -154,11 +160,11 @@ def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width, solver="block"
         fold = (abs(wells[0] + wells[1]) <= 1e-12 * wells[1]
                 and np.allclose(g, -g[::-1], rtol=0, atol=1e-13 * np.max(np.abs(g))))
         with one_blas_thread():
-            return EscapeFraction(Dx, g, _sink(xs, wells, kappa0, width, half), sigma, gamma, nh,
+            return EscapeFraction(Dx, g, _sink(xs, wells, kappa0, width), sigma, gamma, nh,
                                   fold).slowest()
     terms, xs, _ = kramers_terms(split, D, sigma, half, nh, nc)
     m = xs.size
-    kappa = _sink(xs, wells, kappa0, width, half)
+    kappa = _sink(xs, wells, kappa0, width)
     keep = np.ones(nh * m)
     ends = np.concatenate([[k * m, k * m + m - 1] for k in range(2, nh)])
     keep[ends] = 0.0
@@ -194,6 +200,25 @@ def hermite_ladder(start: int, stop: int) -> list:
             return out
         out.append(n)
         k += 1
+
+
+def escape_problem(split, D: float, saddles: tuple, margin: float | None = None) -> tuple:
+    """``(sigma, wells, half, kappa0, width)``: the Hermite scale (``sqrt(kT)`` for linear
+    damping, else ``sqrt(D/mu)``), the next wells' bottoms, the half-width of the range
+    (``margin`` past the farther bottom, default half the larger saddle-to-bottom
+    distance), and the sink's strength and width (:func:`_sink`): absorbed within a tenth
+    of the saddle-to-bottom distance at the speed of the bottom."""
+    xl, xr = saddles
+    kT = kT_gamma(split, D)[0]
+    sigma = math.sqrt(kT if kT is not None else D / float(split.mu))
+    g, _, G = split.numpy_functions()[:3]
+    wells = next_wells(g, (xl, xr))
+    gap = min(wells[1] - xr, xl - wells[0])
+    drop = min(float(G(np.array(s))) - float(G(np.array(w))) for s, w in zip((xl, xr), wells))
+    kappa0 = 10 * math.sqrt(2 * max(drop, 0.0)) / gap + 1.0
+    half = max(-wells[0], wells[1]) + (0.5 * max(wells[1] - xr, xl - wells[0])
+                                       if margin is None else float(margin))
+    return sigma, wells, half, kappa0, 0.1 * gap
 
 
 def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: int = 64,
@@ -254,16 +279,8 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
     if not mu > 0:
         raise ParameterError(f"mu = {mu:g} must be > 0")
     kT, gamma = kT_gamma(split, D)
-    sigma = math.sqrt(kT if kT is not None else D / mu)
-    g, gp, G = split.numpy_functions()[:3]
-    wells = next_wells(g, (xl, xr))
-    gap = min(wells[1] - xr, xl - wells[0])
-    drop = min(float(G(np.array(s))) - float(G(np.array(w))) for s, w in zip((xl, xr), wells))
-    # absorbed within a tenth of the saddle-to-bottom distance at the speed of the bottom
-    kappa0 = 10 * math.sqrt(2 * max(drop, 0.0)) / gap + 1.0
-    width = 0.1 * gap
-    half = max(-wells[0], wells[1]) + (0.5 * max(wells[1] - xr, xl - wells[0])
-                                       if margin is None else float(margin))
+    sigma, wells, half, kappa0, width = escape_problem(split, D, (xl, xr), margin)
+    gp = split.numpy_functions()[1]
     linear = kT is not None
     tol = (1e-6 if linear else 1e-3) if tol is None else float(tol)
     nc, start = int(n_cheb), int(n_hermite)

@@ -300,8 +300,11 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
                                           alpha=ALPHA if linear else 0.0)
         return memo[n, nc, sharp]
 
+    folds = abs(wells[0] + wells[1]) <= 1e-12 * wells[1]  # about: _slowest decides
+
     def fits(n, nc):
-        return (n * (nc // 2 + 1) ** 2 if linear else 3 * n * nc * nc) <= 3 * max_cost
+        m = nc // 2 + 1 if folds else nc + 1
+        return (n * m * m if linear else 3 * n * nc * nc) <= 3 * max_cost
 
     grow = 1.2 if linear else 1.5
     table = []

@@ -142,7 +142,7 @@ def _sink(xs, wells, kappa0: float, width: float) -> np.ndarray:
 
 
 def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width, solver="block",
-             alpha: float = 0.0):
+             alpha: float = 0.0, modes: dict | None = None):
     """The smallest decay rate of the Kramers operator with the sink :func:`_sink` centred on
     the next wells' bottoms ``wells``.
 
@@ -150,7 +150,8 @@ def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width, solver="block"
     :mod:`._fraction`, folded by parity when the potential and the wells are symmetric,
     on the points of :func:`._bases.cheb_mapped` with ``alpha``), ``"block"`` (the
     blocks assembled from :func:`.kramers.kramers_terms`, :mod:`._blocks`) or ``"splu"``
-    (SuperLU of the global sparse matrix); the last two on Chebyshev points."""
+    (SuperLU of the global sparse matrix); the last two on Chebyshev points.  ``modes``
+    (``"fraction"``): the last slowest mode on each grid, the next solve's start."""
     import scipy.sparse.linalg as spla
 
     if solver == "fraction":
@@ -160,8 +161,12 @@ def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width, solver="block"
         fold = (abs(wells[0] + wells[1]) <= 1e-12 * wells[1]
                 and np.allclose(g, -g[::-1], rtol=0, atol=1e-13 * np.max(np.abs(g))))
         with one_blas_thread():
-            return EscapeFraction(Dx, g, _sink(xs, wells, kappa0, width), sigma, gamma, nh,
-                                  fold).slowest()
+            lu = EscapeFraction(Dx, g, _sink(xs, wells, kappa0, width), sigma, gamma, nh,
+                                fold)
+            rate = lu.slowest(start=None if modes is None else modes.get(nc))
+        if modes is not None and lu.mode is not None:
+            modes[nc] = lu.mode
+        return rate
     terms, xs, _ = kramers_terms(split, D, sigma, half, nh, nc)
     m = xs.size
     kappa = _sink(xs, wells, kappa0, width)
@@ -290,14 +295,15 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
                      if n >= 8 * wb / gamma or n >= max_hermite)
         layer = math.sqrt(D / wb) / wb
         nc = max(nc, 2 * math.ceil(1.2 * half / layer))
-    memo = {}
+    memo, modes = {}, {}
 
     def solve(n, nc, sharp=1):
         if (n, nc, sharp) not in memo:
             memo[n, nc, sharp] = _slowest(split, D, sigma, wells, half, n, nc,
                                           kappa0 * (3 if sharp > 1 else 1), width / sharp,
                                           solver="fraction" if linear else "block",
-                                          alpha=ALPHA if linear else 0.0)
+                                          alpha=ALPHA if linear else 0.0,
+                                          modes=modes if linear else None)
         return memo[n, nc, sharp]
 
     folds = abs(wells[0] + wells[1]) <= 1e-12 * wells[1]  # about: _slowest decides

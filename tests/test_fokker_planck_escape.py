@@ -66,9 +66,9 @@ def _kramers_spatial(mu, kT):
 
 @pytest.fixture(scope="module")
 def low_friction():
-    """mu = 0.02 from 256 Hermite functions and 192 Chebyshev intervals (the default ladder
-    from 64 x 128 reaches the same grid after ten more solves)."""
-    return _rates(0.02, n_hermite=256, n_cheb=192)
+    """mu = 0.02 by the default ladder (it starts at 8 omega_b/gamma = 1132 -> 1448 Hermite
+    functions and 2.4 L/l = 292 Chebyshev intervals, from the saddle's layer)."""
+    return _rates(0.02)
 
 
 def test_next_wells_and_ladder():
@@ -87,8 +87,9 @@ def test_next_wells_and_ladder():
 @pytest.mark.slow
 def test_low_friction_is_melnikov_meshkov(low_friction):
     """mu = 0.02 (delta = mu I(E_b)/kT = 0.35, the energy-diffusion regime): the rate
-    converges in the Hermite truncation to 1e-3 (724 functions), 1.5 times as many
-    Chebyshev intervals move it by < 5e-3, and it does not depend on the sink (< 1e-3);
+    converges in the Hermite truncation to 1e-3 (to 1e-6 with 2048 functions, the test
+    below), a finer position grid moves it by < 5e-3, and it does not depend on the sink
+    (< 1e-3; 7e-8 measured);
     it lies below the averaged MFPT rate (no depletion there) and within 10 % of
     Mel'nikov-Meshkov (an asymptotic formula in E_b/kT: at this barrier Kramers' low-friction
     rate, its delta -> 0 limit, is 37 % above the exact energy-diffusion MFPT rate)."""
@@ -98,6 +99,39 @@ def test_low_friction_is_melnikov_meshkov(low_friction):
     assert fp.sink_error < 1e-3 * fp.rate
     assert fp.rate == pytest.approx(esc.rate_melnikov, rel=0.1)
     assert fp.rate < esc.rate_averaged < esc.rate_kramers
+
+
+@pytest.mark.slow
+def test_low_friction_converges_to_six_digits(low_friction):
+    """mu = 0.02: the Hermite ladder's last two rates agree to 1e-6 (the old ladder from 64
+    stopped at 8e-4, 724 functions), 1.2 times as many mapped Chebyshev intervals agree to
+    1e-6, and a second discretisation agrees to 1e-6: plain Chebyshev points (no map) on
+    384 intervals and 2048 Hermite functions (docs/noise.rst: the plain points converge
+    more slowly, 2.5e-6 off at 288)."""
+    from numerics.fokker_planck.escape import _slowest, escape_problem
+
+    _, fp = low_friction
+    assert fp.truncation_error < 1e-6 * fp.rate
+    assert fp.chebyshev_error < 1e-6 * fp.rate
+    split = split_conservative("cdc", dict(PARAMS, mu=0.02))
+    sigma, wells, half, kappa0, width = escape_problem(split, KT * 0.02, fp.saddles)
+    plain = _slowest(split, KT * 0.02, sigma, wells, half, 2048, 384, kappa0, width,
+                     solver="fraction", alpha=0.0)
+    assert plain == pytest.approx(fp.rate, rel=1e-6)
+
+
+@pytest.mark.slow
+def test_low_friction_asymptotes(low_friction):
+    """mu = 0.02, E_b/kT = 7.09, delta = mu I(E_b)/kT = 0.35.  The converged rate against
+    the energy-diffusion asymptotes, with the discrepancies docs/noise.rst documents: the
+    exact MFPT of the averaged energy diffusion (no depletion near the barrier) is 30 %
+    above it (1.120e-4 against 8.616e-5), Mel'nikov-Meshkov's interpolation 9.1 % above
+    (its E_b >> kT asymptotics; Kramers' low-friction rate, its delta -> 0 limit, is 37 %
+    above the MFPT rate at this barrier)."""
+    esc, fp = low_friction
+    assert 0.28 < esc.rate_averaged / fp.rate - 1 < 0.32
+    assert 0.085 < esc.rate_melnikov / fp.rate - 1 < 0.097
+    assert 0.35 < esc.rate_kramers / esc.rate_averaged - 1 < 0.39
 
 
 @pytest.mark.slow
@@ -136,11 +170,10 @@ def test_moderate_friction_spectral_convergence():
 
 
 def test_moderate_friction_against_simulation():
-    """mu = 1 on a small grid (the default run's sibling of the test above): 32 and 46
-    Hermite functions agree to 1e-4, 96 and 144 Chebyshev intervals to 1e-4, a sharper
-    sink moves the rate by < 3e-3 (it is resolved less well on this grid), and the rate
-    is within 3 standard errors of 400 simulated first passages to the next wells'
-    bottoms (seed 2)."""
+    """mu = 1 from a small grid (the default run's sibling of the test above): two Hermite
+    truncations from 32 agree to 1e-4, 96 and 116 Chebyshev intervals to 1e-4, a sharper
+    sink moves the rate by < 3e-3, and the rate is within 3 standard errors of 400
+    simulated first passages to the next wells' bottoms (seed 2)."""
     xs = _saddle()
     fp = kramers_escape("cdc", dict(PARAMS, mu=1), KT, (-xs, xs), n_hermite=32, n_cheb=96)
     assert fp.truncation_error < 1e-4 * fp.rate
@@ -159,6 +192,22 @@ def test_high_friction_approaches_kramers():
         assert fp.truncation_error < 1e-3 * fp.rate and fp.chebyshev_error < 1e-3 * fp.rate
         ratios.append(fp.rate / _kramers_spatial(5.0, kT))
     assert abs(1 - ratios[1]) < abs(1 - ratios[0]) < 0.1
+
+
+@pytest.mark.parametrize("mu", [0.2, 1.0])
+def test_turnover_converges_and_ignores_the_range(mu):
+    """mu = 0.2 and 1: the default ladders reach 1e-6 in the Hermite truncation and the
+    position grid, and the rate does not depend on where the range ends (half or the whole
+    saddle-to-bottom distance past the bottoms: 1e-6; with the one-stage sink it moved by
+    1e-5 at mu = 1 and converged only like 1/n_cheb, the pinned ends acting on a density
+    that was not yet negligible there; the sink's second stage, ten times stronger from
+    2.5 widths past the bottoms, makes it so)."""
+    xs = _saddle()
+    p = dict(PARAMS, mu=mu)
+    fp = kramers_escape("cdc", p, KT * mu, (-xs, xs))
+    assert fp.truncation_error < 1e-6 * fp.rate and fp.chebyshev_error < 1e-6 * fp.rate
+    wide = kramers_escape("cdc", p, KT * mu, (-xs, xs), margin=fp.wells[1] - xs)
+    assert wide.rate == pytest.approx(fp.rate, rel=1e-6)
 
 
 def test_escape_cli_method_fokker_planck():

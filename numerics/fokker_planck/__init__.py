@@ -1,8 +1,10 @@
 """Fokker-Planck (Kramers) equation of the one-degree-of-freedom models at rest: the
 stationary density (:mod:`.kramers`) and the escape rate from the well at the origin
 (:mod:`.escape`), solved numerically in Hermite functions of the velocity times Chebyshev
-points in the position; :mod:`._bases` holds the two bases and :mod:`._blocks` the block
-tridiagonal LU of the escape matrix in the Hermite index."""
+points in the position; :mod:`._bases` holds the two bases, :mod:`._solution` the
+stationary density's class, :mod:`._blocks` the block tridiagonal LU of the Kramers matrix
+in the Hermite index and :mod:`._fraction` the escape matrix of a linearly damped model in
+closed-form blocks, folded by parity (the matrix continued fraction in LU form)."""
 
 from .escape import KramersEscape, kramers_escape
 from .kramers import KramersSolution, kramers_operator, stationary_kramers, velocity_terms

@@ -19,7 +19,7 @@ import math
 import numpy as np
 import scipy.sparse as sps
 
-__all__ = ["hermite_matrices", "cheb", "clenshaw_curtis", "hermite_functions",
+__all__ = ["hermite_matrices", "cheb", "cheb_mapped", "clenshaw_curtis", "hermite_functions",
            "band_masses"]
 
 
@@ -44,6 +44,19 @@ def cheb(n: int, L: float):
     D = np.outer(c, 1 / c) / (dt + np.eye(n + 1))
     D -= np.diag(D.sum(axis=1))
     return L * t, D / L
+
+
+def cheb_mapped(n: int, L: float, alpha: float):
+    """``(x, D)``: the points of :func:`cheb` moved by the map ``x = L arcsin(alpha t) /
+    arcsin(alpha)`` of Kosloff and Tal-Ezer (J. Comput. Phys. 104 (1993) 457), and the
+    differentiation matrix ``diag(dt/dx) D_t``.  ``alpha -> 1`` spreads the points evenly
+    (the Chebyshev points crowd the ends, where the escape's density is nil); ``alpha = 0``
+    is :func:`cheb`.  The map is analytic inside the ellipse through ``t = +-1/alpha``."""
+    t, Dt = cheb(n, 1.0)
+    if alpha == 0:
+        return L * t, Dt / L
+    s = math.asin(alpha)
+    return L * np.arcsin(alpha * t) / s, (s / (L * alpha) * np.sqrt(1 - (alpha * t) ** 2))[:, None] * Dt
 
 
 def clenshaw_curtis(n: int, L: float) -> np.ndarray:

@@ -2,32 +2,37 @@
 rate of the density when everything that reaches a neighbouring well is removed.
 
 At the bottoms ``x_wl < x_l < 0 < x_r < x_wr`` of the next wells beyond the saddles a sink
-``kappa(x) = kappa_0 [1 + tanh((|x| - |x_w|)/w)]/2`` is added to the Kramers operator
-(:mod:`.kramers`); ``w`` is a tenth of the saddle-to-bottom distance and ``kappa_0`` absorbs
-a particle arriving at the bottom's speed ``sqrt(2 (E_b - G(x_w)))`` within ``w``.  The
-population of the well then decays as ``exp(-r t)`` with ``r`` the smallest eigenvalue of
-``-(L - kappa)`` (shift-invert Arnoldi on the sparse Hermite-Chebyshev matrix, its
-constrained rows a zero block of the mass matrix, each solve by the matrix's block LU in
-the Hermite index, :mod:`._blocks`; Hanggi, Talkner and Borkovec, Rev. Mod.
-Phys. 62 (1990) 251, sec. II.C: the rate as the lowest nonvanishing eigenvalue).  This is
-the rate of transitions to the next wells (flux over population): what Kramers' and
-Mel'nikov-Meshkov's formulas describe, and the rate of simulated first passages to the
-lines ``x = x_w``.
+``kappa(x)`` (:func:`_sink`: ``kappa_0 [1 + tanh((|x| - |x_w|)/w)]/2``, ten times stronger
+from ``2.5 w`` past the bottoms) is added to the Kramers operator (:mod:`.kramers`); ``w``
+is a tenth of the saddle-to-bottom distance and ``kappa_0`` absorbs a particle arriving at
+the bottom's speed ``sqrt(2 (E_b - G(x_w)))`` within ``w``.  The population of the well
+then decays as ``exp(-r t)`` with ``r`` the smallest eigenvalue of ``-(L - kappa)``
+(Hanggi, Talkner and Borkovec, Rev. Mod. Phys. 62 (1990) 251, sec. II.C: the rate as the
+lowest nonvanishing eigenvalue): the rate of transitions to the next wells (flux over
+population), what Kramers' and Mel'nikov-Meshkov's formulas describe, and the rate of
+simulated first passages to the lines ``x = x_w``.
 
-Why the next wells' bottoms and not the saddles: a particle crosses the bottom at a speed
-bounded away from zero, so the sink acts on a density that is smooth in the velocity, and
-the rate converges faster than any power of the number of Hermite functions (to 8e-4 with
-724 at mu = 0.02, where a narrow layer of depleted velocities near the barrier remains, and
-to 3e-7 with 64 at mu = 1; docs/noise.rst) and hardly depends on the sink's strength or
-place (at mu = 0.2 and 1, moving it by a quarter of the saddle-to-bottom distance, or a sink
-three times stronger and half as wide, changes the rate by < 2e-4; 4e-3 at mu = 5).  A sink on the saddle cut off the
-velocities at ``v = 0``, whose Hermite series converge only algebraically (the rate was
-9.5 % high with 64 Hermite functions at mu = 0.02, 2.2 % with 256), and it made the rate
-depend on the sink's sharpness (1-2 % at mu = 1).
+Linear damping (the CDC at rest; :mod:`._fraction`): the matrix is block tridiagonal in
+the Hermite index with blocks known in closed form, eliminated order by order and folded by
+parity for an even potential, on Kosloff-Tal-Ezer points (:func:`._bases.cheb_mapped`), by
+inverse iteration.  Other dampings: the blocks assembled from the terms (:mod:`._blocks`)
+and shift-invert Arnoldi.
 
-The Hermite truncation grows by ``sqrt 2`` from ``n_hermite`` until two successive rates
-agree to ``tol``; the last change is ``truncation_error`` and the change under the sharper
-sink ``sink_error``.  Compared (tests/test_fokker_planck_escape.py, docs/noise.rst) with
+Why the velocity expansion needs many functions at low friction (docs/noise.rst): the
+density has a layer along the separatrix, sharpest at the saddle, where the stream that the
+saddle reflects back into the well (energies below ``E_b``) meets no stream from outside
+(the particles above ``E_b`` left for the sink).  Its width in the velocity is about
+``(D/omega_b)^(1/2) = sigma (gamma/omega_b)^(1/2)``, so the Hermite functions needed grow
+like ``omega_b/gamma`` (about ``10 omega_b/gamma`` for 1e-6) and the Chebyshev intervals like
+``L/l``, ``l = (D/omega_b)^(1/2)/omega_b`` the layer's width in ``x``.  The ladders start
+there, not at 64.  This is the physics of the rate (Mel'nikov-Meshkov's boundary layer), not
+of the sink: whatever removes the particles that crossed leaves it, and the rate does not
+depend on the sink's sharpness to 1e-7 at mu = 0.02.
+
+The Hermite truncation grows by ``sqrt 2`` until two successive rates agree to ``tol``; the
+last change is ``truncation_error``, the change on a finer position grid
+``chebyshev_error`` and the change under the sharper sink (three times stronger, half as
+wide) ``sink_error``.  Compared (tests/test_fokker_planck_escape.py, docs/noise.rst) with
 simulated first passages, Kramers' spatial-diffusion rate, the Mel'nikov-Meshkov rate and
 the energy-diffusion MFPT of the averaged energy.
 """
@@ -43,10 +48,18 @@ import scipy.sparse as sps
 from kbm.conservative import split_conservative
 from kbm.errors import ModelError, ParameterError
 
+from ._bases import cheb_mapped
 from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
+from ._fraction import EscapeFraction
 from .kramers import _linear_temperature, kramers_operator, kramers_terms, velocity_terms
 
-__all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder"]
+__all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder",
+           "escape_problem"]
+
+#: the Kosloff-Tal-Ezer parameter of the position grid for linear damping
+#: (:func:`._bases.cheb_mapped`): at mu = 0.02 (docs/noise.rst) 288 mapped intervals give
+#: the rate to 1.3e-7, where plain Chebyshev points are 2.5e-6 off
+ALPHA = 0.9
 
 
 @dataclass(frozen=True)
@@ -114,15 +127,49 @@ def next_wells(g, saddles) -> tuple:
     return tuple(out)
 
 
-def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width, solver="block"):
-    """The smallest decay rate of the Kramers operator with the sink ``kappa(x) = kappa0 [1 +
-    tanh((|x| - |x_w|)/width)]/2`` centred on the next wells' bottoms ``wells``."""
+def _sink(xs, wells, kappa0: float, width: float) -> np.ndarray:
+    """The sink at the points ``xs``: ``kappa0 [1 + tanh((|x| - |x_w|)/width)]/2``, and nine
+    times as strong from ``2.5 width`` past the bottom ``|x_w|`` (the same profile): what
+    gets past the bottom is gone long before the end of the range (``5 width`` past it by
+    default), where the pinned rows ``c_n(+-L) = 0`` are no boundary condition of the
+    Kramers equation (with the first stage alone the rate converged like ``1/n_cheb`` and
+    moved by 1e-5 with the range at mu = 1; docs/noise.rst)."""
+    edge = np.where(xs > 0, wells[1], -wells[0])
+    far = edge + 2.5 * width
+    r = np.abs(xs)
+    return kappa0 * 0.5 * ((1 + np.tanh((r - edge) / width))
+                           + 9 * (1 + np.tanh((r - far) / width)))
+
+
+def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width, solver="block",
+             alpha: float = 0.0, modes: dict | None = None):
+    """The smallest decay rate of the Kramers operator with the sink :func:`_sink` centred on
+    the next wells' bottoms ``wells``.
+
+    ``solver``: ``"fraction"`` (linear damping only: the closed-form blocks of
+    :mod:`._fraction`, folded by parity when the potential and the wells are symmetric,
+    on the points of :func:`._bases.cheb_mapped` with ``alpha``), ``"block"`` (the
+    blocks assembled from :func:`.kramers.kramers_terms`, :mod:`._blocks`) or ``"splu"``
+    (SuperLU of the global sparse matrix); the last two on Chebyshev points.  ``modes``
+    (``"fraction"``): the last slowest mode on each grid, the next solve's start."""
     import scipy.sparse.linalg as spla
 
+    if solver == "fraction":
+        gamma = kT_gamma(split, D)[1]
+        xs, Dx = cheb_mapped(nc, half, alpha)
+        g = np.asarray(split.numpy_functions()[0](xs), float)
+        fold = (abs(wells[0] + wells[1]) <= 1e-12 * wells[1]
+                and np.allclose(g, -g[::-1], rtol=0, atol=1e-13 * np.max(np.abs(g))))
+        with one_blas_thread():
+            lu = EscapeFraction(Dx, g, _sink(xs, wells, kappa0, width), sigma, gamma, nh,
+                                fold)
+            rate = lu.slowest(start=None if modes is None else modes.get(nc))
+        if modes is not None and lu.mode is not None:
+            modes[nc] = lu.mode
+        return rate
     terms, xs, _ = kramers_terms(split, D, sigma, half, nh, nc)
     m = xs.size
-    edge = np.where(xs > 0, wells[1], -wells[0])
-    kappa = kappa0 * 0.5 * (1 + np.tanh((np.abs(xs) - edge) / width))
+    kappa = _sink(xs, wells, kappa0, width)
     keep = np.ones(nh * m)
     ends = np.concatenate([[k * m, k * m + m - 1] for k in range(2, nh)])
     keep[ends] = 0.0
@@ -142,6 +189,13 @@ def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width, solver="block"
     return float(-lam[0].real)
 
 
+def kT_gamma(split, D: float):
+    """``(kT, gamma)`` for linear damping ``mu h = -gamma x'`` (``kT = D/gamma``), else
+    ``(None, None)``."""
+    kT = _linear_temperature(velocity_terms(split), D)
+    return (None, None) if kT is None else (kT, D / kT)
+
+
 def hermite_ladder(start: int, stop: int) -> list:
     """Hermite truncations ``start * 2^(k/2)`` (even, rounded) up to ``stop``."""
     out, k = [], 0
@@ -153,9 +207,28 @@ def hermite_ladder(start: int, stop: int) -> list:
         k += 1
 
 
+def escape_problem(split, D: float, saddles: tuple, margin: float | None = None) -> tuple:
+    """``(sigma, wells, half, kappa0, width)``: the Hermite scale (``sqrt(kT)`` for linear
+    damping, else ``sqrt(D/mu)``), the next wells' bottoms, the half-width of the range
+    (``margin`` past the farther bottom, default half the larger saddle-to-bottom
+    distance), and the sink's strength and width (:func:`_sink`): absorbed within a tenth
+    of the saddle-to-bottom distance at the speed of the bottom."""
+    xl, xr = saddles
+    kT = kT_gamma(split, D)[0]
+    sigma = math.sqrt(kT if kT is not None else D / float(split.mu))
+    g, _, G = split.numpy_functions()[:3]
+    wells = next_wells(g, (xl, xr))
+    gap = min(wells[1] - xr, xl - wells[0])
+    drop = min(float(G(np.array(s))) - float(G(np.array(w))) for s, w in zip((xl, xr), wells))
+    kappa0 = 10 * math.sqrt(2 * max(drop, 0.0)) / gap + 1.0
+    half = max(-wells[0], wells[1]) + (0.5 * max(wells[1] - xr, xl - wells[0])
+                                       if margin is None else float(margin))
+    return sigma, wells, half, kappa0, 0.1 * gap
+
+
 def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: int = 64,
-                   n_cheb: int = 128, margin: float | None = None, tol: float = 1e-3,
-                   max_hermite: int = 1024, max_cheb: int = 432,
+                   n_cheb: int = 128, margin: float | None = None, tol: float | None = None,
+                   max_hermite: int = 4096, max_cheb: int = 720,
                    max_cost: float = 3e7) -> KramersEscape:
     """The rate of transitions out of the well at the origin from the Kramers equation with
     a sink at the next wells' bottoms.
@@ -171,22 +244,30 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
     saddles : (float, float)
         The saddles ``x_l < 0 < x_r`` bounding the well.
     n_hermite : int
-        The first Hermite truncation; it grows by ``sqrt 2`` until two successive rates
-        agree to ``tol`` (or ``max_hermite``; the last change is ``truncation_error``).
+        The smallest first Hermite truncation; it grows by ``sqrt 2`` until two successive
+        rates agree to ``tol`` (or ``max_hermite``; the last change is
+        ``truncation_error``).  For linear damping the first truncation is at least
+        ``8 omega_b/gamma`` (the velocity layer at the saddle, of width
+        ``(D/omega_b)^(1/2) = sigma (gamma/omega_b)^(1/2)``, needs that many).
     n_cheb : int
-        The first number of Chebyshev intervals in the position: after the Hermite ladder
-        the rate is recomputed with 1.5 times as many; when it moves by more than ``tol``
-        the ladder runs again on the finer grid (up to ``max_cheb``).
+        The smallest first number of Chebyshev intervals in the position (for linear
+        damping at least ``2.4 L/l``, ``l = (D/omega_b)^(1/2)/omega_b`` the layer's width
+        in ``x``): after the Hermite ladder the rate is recomputed on a finer grid (1.2
+        times as many intervals for linear damping, 1.5 otherwise); when it moves by more
+        than ``tol`` the ladder runs again on the finer grid (up to ``max_cheb``).
     margin : float, optional
         How far past the next wells' bottoms the range reaches (default half the larger
-        saddle-to-bottom distance; the sink lives there: at mu = 0.02, 0.5 and 1.5 times
-        give the same rate to 2e-6).
-    tol, max_hermite, max_cheb : float, int, int
-        Relative change of the rate at which the ladders stop, and their tops.
+        saddle-to-bottom distance; the sink lives there).
+    tol : float, optional
+        Relative change of the rate at which the ladders stop: default ``1e-6`` for
+        linear damping (:mod:`._fraction`), ``1e-3`` otherwise.
+    max_hermite, max_cheb : int
+        The ladders' tops.
     max_cost : float
-        Largest ``n_hermite * n_cheb^2`` solved (the block LU keeps ``3 n_hermite
-        n_cheb^2`` numbers, 720 MB at 3e7; SuperLU, used before, ran out of memory at
-        1024 x 193); the Chebyshev check runs at the largest truncation within it.
+        The factorisation keeps at most ``3 max_cost`` numbers (720 MB at 3e7): ``3
+        n_hermite n_cheb^2`` for the block LU of a nonlinear damping, ``n_hermite
+        n_points^2`` for linear damping (``n_points`` about ``n_cheb/2`` when folded by
+        parity); larger solves are skipped.
 
     Returns
     -------
@@ -202,29 +283,40 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
     mu = float(split.mu)
     if not mu > 0:
         raise ParameterError(f"mu = {mu:g} must be > 0")
-    kT = _linear_temperature(velocity_terms(split), D)
-    sigma = math.sqrt(kT if kT is not None else D / mu)
-    g, _, G = split.numpy_functions()[:3]
-    wells = next_wells(g, (xl, xr))
-    gap = min(wells[1] - xr, xl - wells[0])
-    drop = min(float(G(np.array(s))) - float(G(np.array(w))) for s, w in zip((xl, xr), wells))
-    # absorbed within a tenth of the saddle-to-bottom distance at the speed of the bottom
-    kappa0 = 10 * math.sqrt(2 * max(drop, 0.0)) / gap + 1.0
-    width = 0.1 * gap
-    half = max(-wells[0], wells[1]) + (0.5 * max(wells[1] - xr, xl - wells[0])
-                                       if margin is None else float(margin))
-    memo = {}
+    kT, gamma = kT_gamma(split, D)
+    sigma, wells, half, kappa0, width = escape_problem(split, D, (xl, xr), margin)
+    gp = split.numpy_functions()[1]
+    linear = kT is not None
+    tol = (1e-6 if linear else 1e-3) if tol is None else float(tol)
+    nc, start = int(n_cheb), int(n_hermite)
+    if linear:  # sizes from the saddle's layer (docs/noise.rst)
+        wb = max(math.sqrt(abs(float(gp(np.array(s))))) for s in (xl, xr))
+        start = next(n for n in hermite_ladder(start, 2 * start + 16 * wb / gamma)
+                     if n >= 8 * wb / gamma or n >= max_hermite)
+        layer = math.sqrt(D / wb) / wb
+        nc = max(nc, 2 * math.ceil(1.2 * half / layer))
+    memo, modes = {}, {}
 
     def solve(n, nc, sharp=1):
         if (n, nc, sharp) not in memo:
             memo[n, nc, sharp] = _slowest(split, D, sigma, wells, half, n, nc,
-                                          kappa0 * (3 if sharp > 1 else 1), width / sharp)
+                                          kappa0 * (3 if sharp > 1 else 1), width / sharp,
+                                          solver="fraction" if linear else "block",
+                                          alpha=ALPHA if linear else 0.0,
+                                          modes=modes if linear else None)
         return memo[n, nc, sharp]
 
-    nc, start, table = int(n_cheb), int(n_hermite), []
+    folds = abs(wells[0] + wells[1]) <= 1e-12 * wells[1]  # about: _slowest decides
+
+    def fits(n, nc):
+        m = nc // 2 + 1 if folds else nc + 1
+        return (n * m * m if linear else 3 * n * nc * nc) <= 3 * max_cost
+
+    grow = 1.2 if linear else 1.5
+    table = []
     while True:
         ladder = [n for n in hermite_ladder(start, max(int(max_hermite), 2 * start))
-                  if n * nc * nc <= max_cost] or [start]
+                  if fits(n, nc)] or [start]
         if len(ladder) < 2:
             ladder = hermite_ladder(start, 2 * start)[:2]
         rates = []
@@ -236,15 +328,14 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
                 break
         k = len(rates) - 1
         prev = max(k - 1, 0)
-        finer = int(round(1.5 * nc))
-        # on the finer grid at the largest truncation the cost allows (the sparse LU's fill)
-        check = max([i for i in range(prev + 1) if ladder[i] * finer**2 <= max_cost],
-                    default=0)
+        finer = 2 * int(round(grow * nc / 2))
+        # on the finer grid at the largest truncation the memory allows
+        check = max([i for i in range(prev + 1) if fits(ladder[i], finer)], default=0)
         r_fine = solve(ladder[check], finer)
         table.append((ladder[check], finer, r_fine))
         cheb_err = abs(r_fine - rates[check])
         if (cheb_err <= tol * abs(rates[-1]) or finer > max_cheb
-                or ladder[prev] * finer**2 > max_cost):
+                or not fits(ladder[prev], finer)):
             break
         nc, start = finer, ladder[prev]
     r_sharp = solve(ladder[prev], nc, sharp=2)

@@ -5,9 +5,10 @@ the residual, not at the fold: past the fold the residual has a minimum ``~ d`` 
 distance past it), and a bracket can never be tighter than that floor allows.  The fold
 itself is a regular point of the pseudo-arclength problem in ``(y0, T, p)``
 (:mod:`numerics.coupled.continuation`): from the cycle the branch is followed towards the
-fold (the one driver, :func:`numerics.shooting.arclength.walk`) until the parameter
-component of its tangent changes sign, and that zero is located by bisection on the
-hyperplanes normal to the chord (AUTO-07p's fold test, Doedel's lecture notes sec. 2).
+fold (a case of its driver, :class:`numerics.coupled.continuation.CoupledContinuation`)
+until the parameter component of its tangent changes sign, and that zero is located by
+bisection on the hyperplanes normal to the chord (AUTO-07p's fold test, Doedel's lecture
+notes sec. 2).
 The located point has two unit multipliers (the trivial one and the one through 1 at a
 saddle-node of cycles).
 
@@ -31,9 +32,8 @@ import numpy as np
 from kbm.coupled import CoupledOscillators
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.shooting.arclength import FAIL as _FAIL
-from numerics.shooting.arclength import walk
-from numerics.shooting.branch_problem import OrbitProblem
-from numerics.shooting.locate import zero_on_chord
+from numerics.shooting.branch_problem import OrbitPoint, OrbitProblem
+from .continuation import CoupledContinuation
 from .cycle import coupled_cycle
 from .flow import bind_coupled, coupled_flow
 
@@ -56,31 +56,28 @@ class Fold:
     multipliers: tuple
 
 
+class _ToFold(CoupledContinuation):
+    """The walk from a cycle to the fold of its branch, a case of the coupled driver (whose
+    fold test locates the fold): it ends at the first sign change of the parameter
+    component of the tangent, or past ``beyond``."""
+
+    def end(self, a: OrbitPoint, b: OrbitPoint, ds: float) -> str:
+        if b.tangent[-1] * a.tangent[-1] < 0:
+            return "the fold"
+        return "no fold before beyond" if (float(b.u[-1]) - self.beyond) * self.side > 0 else ""
+
+
 def _fold_once(model: CoupledOscillators, params: dict, vary: str, state, period: float,
                p0: float, side: int, beyond: float, rtol: float):
     prob = OrbitProblem(model, params, vary, rtol, coupled_flow)
-    cur = prob.start(np.concatenate([np.asarray(state, dtype=float), [period, p0]]), 1.0)
-    cur.tangent = cur.tangent if cur.tangent[-1] * side > 0 else -cur.tangent
+    first = prob.start(np.concatenate([np.asarray(state, dtype=float), [period, p0]]), 1.0)
     # the branch reaches the fold within |beyond - p0| in p, the state within its root
     ds0 = min(0.05, max(1e-4, 0.5 * math.sqrt(abs(beyond - p0))))
-    found, steps = [], [0]
-
-    def visit(cur, new, ds):
-        if new.tangent[-1] * cur.tangent[-1] < 0:
-            found.append(zero_on_chord(prob.correct, cur, new, lambda pm: float(pm.tangent[-1]),
-                                       float(cur.tangent[-1])))
-            return new, ds, "the fold"
-        if (float(new.u[-1]) - beyond) * side > 0:
-            return new, ds, "no fold before beyond"  # the cycle ends otherwise there
-        return new, min(1.5 * ds, ds0), ""
-
-    def full():
-        steps[0] += 1
-        return "200 steps" if steps[0] > 200 else None
-
-    walk(cur, ds0, step=prob.arc, visit=visit,
-         collapsed=lambda c, exc: "the steps collapsed", ds_min=1e-3 * ds0, full=full)
-    return found[0] if found else None
+    run = _ToFold(prob, (-math.inf, math.inf), ds=ds0, ds_max=ds0, ds_min=1e-3 * ds0,
+                  max_points=200, period_factor=math.inf, hopf_fraction=0.0)
+    run.side, run.beyond = side, beyond
+    run.follow(first, side)
+    return next((sp for sp in run.special if sp.kind == "fold"), None)
 
 
 def locate_fold(model: CoupledOscillators | str, params: Mapping[str, object], vary: str,
@@ -114,12 +111,10 @@ def locate_fold(model: CoupledOscillators | str, params: Mapping[str, object], v
         if got is None:
             return None
         out.append(got)
-    (pt, bracket), (pt2, bracket2) = out
-    p1, p2 = float(pt.u[-1]), float(pt2.u[-1])
-    err = max(abs(p2 - p1), bracket[1] - bracket[0], bracket2[1] - bracket2[0], 1e-15)
-    n2 = len(pt2.Phi)
-    return Fold(p2, err, tuple(float(v) for v in pt2.u[:n2]), float(pt2.T),
-                tuple(complex(z) for z in pt2.mults))
+    f1, f2 = out
+    err = max(abs(f2.parameter - f1.parameter), f1.bracket[1] - f1.bracket[0],
+              f2.bracket[1] - f2.bracket[0], 1e-15)
+    return Fold(f2.parameter, err, f2.state, f2.period, f2.floquet_multipliers)
 
 
 @dataclass(frozen=True)

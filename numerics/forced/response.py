@@ -2,13 +2,14 @@
 
 The unknowns are ``u = (x(0), x'(0), sigma)`` and ``G(u) = y(T(sigma)) - y0``; its Jacobian
 is ``[Phi(T) - I, dG/dsigma]`` (variational equations; a forward difference in ``sigma``).
-Pseudo-arclength continuation by the one driver (:func:`numerics.shooting.arclength.walk`)
-follows the curve round its folds (the jump points, where a Floquet multiplier passes
-through +1), so that stable and unstable responses come out alike; every point is accepted
-by the one standard (:mod:`numerics.shooting.acceptance`: the residual relative to the
-orbit's scale, and a Newton correction that tells a true orbit from a residual minimum), so
-none lies past a fold.  The branches start from the KBM slow-flow fixed
-points (:func:`kbm.forced.steady.fixed_points`), each corrected by shooting.
+Pseudo-arclength continuation by a case of the one driver
+(:class:`numerics.shooting.continuation.Continuation`) follows the curve round its folds (the
+jump points, where a Floquet multiplier passes through +1), so that stable and unstable
+responses come out alike; every point is accepted by the one standard
+(:mod:`numerics.shooting.acceptance`: the residual relative to the orbit's scale, and a
+Newton correction that tells a true orbit from a residual minimum), so none lies past a
+fold.  The branches start from the KBM slow-flow fixed points
+(:func:`kbm.forced.steady.fixed_points`), each corrected by shooting.
 """
 
 from __future__ import annotations
@@ -27,8 +28,9 @@ from numerics.errors import ConvergenceError, NumericsError
 from numerics.forced.shooting import ForcedOrbit, orbit_at, periodic_response
 from numerics.forced.system import ForcedSystem
 from numerics.shooting.acceptance import accepted, orbit_scale
-from numerics.shooting.arclength import FAIL, null_vector, walk
+from numerics.shooting.arclength import null_vector
 from numerics.shooting.branch_problem import BranchProblem
+from numerics.shooting.continuation import Continuation
 from numerics.shooting.locate import fold_on_arc
 
 __all__ = ["NumericResponse", "numeric_response", "continue_response", "guess_from", "ACCURACY"]
@@ -107,45 +109,49 @@ class _Pt:
         self.tangent = null_vector(J)
 
 
-def _follow(system: ForcedSystem, first: _Pt, direction: int, bounds, ds: float,
-            max_points: int, inside):
-    """One direction of the curve by :func:`numerics.shooting.arclength.walk`, its folds
-    located by :func:`numerics.shooting.locate.fold_on_arc`: ``(points, folds, closed)``."""
-    prob = _Response(system)
-    start = _Pt(first.u, prob.evaluate(first.u)[1])
-    if start.tangent[2] * direction < 0:
-        start.tangent = -start.tangent
-    pts = [start]
-    folds, closed, ds_min = [], [], 1e-7 * (bounds[1] - bounds[0])
+class _Follow(Continuation):
+    """The curve as a case of the one driver: a step out of ``|x(0)| < bound`` fails, the
+    folds are located on the arc, the curve closes when it passes its start again, and the
+    point at the end of the range is kept unless it is the last point."""
 
-    def step(pt, ds):
-        new = prob.arc(pt, ds)
-        if not inside(new.u) or float(np.linalg.norm(new.u - pt.u)) > 3 * abs(ds):
+    record = staticmethod(lambda pt: pt)
+
+    def __init__(self, system: ForcedSystem, bounds, ds: float, max_points: int, bound):
+        ds_min = 1e-7 * (bounds[1] - bounds[0])
+        super().__init__(_Response(system), bounds, ds=ds, ds_max=ds, ds_min=ds_min,
+                         max_points=max_points, period_factor=0.0, hopf_fraction=0.0)
+        self.turn_above, self.bound = 4 * ds_min, bound
+
+    def begin(self, first: _Pt) -> None:
+        pass
+
+    def step(self, pt: _Pt, ds: float) -> _Pt:
+        new = self.prob.arc(pt, ds)
+        if not (np.all(np.isfinite(new.u)) and abs(new.u[0]) < self.bound) \
+                or float(np.linalg.norm(new.u - pt.u)) > 3 * abs(ds):
             raise ConvergenceError(f"the step left the domain at sigma = {new.u[2]:.8g}")
         return new
 
-    def visit(cur, new, h):
-        if new.tangent[2] * cur.tangent[2] < 0:
-            folds.append(fold_on_arc(step, cur, new, h).point or new)
-        if len(pts) > 10 and passes_start(pts[0].u, cur.u, new.u):
-            closed.append(True)
-            return new, h, "closed curve"
-        pts.append(new)
-        return new, min(2 * ds, 1.4 * h), ""
+    def collapsed(self, pt: _Pt, exc: Exception) -> str:
+        return "the step collapsed"
 
-    def at_edge(cur, new, edge):
-        try:
-            end = prob.at_parameter(cur, new, edge)
-            if float(np.linalg.norm(end.u - cur.u)) > 1e-9 * (1 + float(np.linalg.norm(cur.u))):
-                pts.append(end)
-        except FAIL:
-            pass
-        return f"reached the bound {edge:g}"
+    def locate(self, a: _Pt, b: _Pt, ds: float) -> None:
+        if b.tangent[2] * a.tangent[2] < 0:
+            self.special.append(fold_on_arc(self.step, a, b, ds).point or b)
+        self.closed = len(self.points) > 10 and passes_start(self.points[0].u, a.u, b.u)
 
-    walk(pts[0], ds, step=step, visit=visit, collapsed=lambda c, exc: "the step collapsed",
-         ds_min=ds_min, parameter=lambda q: float(q.u[2]), bounds=bounds, at_edge=at_edge,
-         turn_above=4 * ds_min, full=lambda: "full" if len(pts) >= max_points else None)
-    return pts, folds, bool(closed)
+    def converged(self, pt: _Pt) -> bool:
+        return not self.closed  # the point that closes the curve is its first
+
+    def advance(self, a: _Pt, b: _Pt, ds: float):
+        return b, min(2 * self.ds, 1.4 * ds)
+
+    def end(self, a: _Pt, b: _Pt, ds: float) -> str:
+        return "closed curve" if self.closed else ""
+
+    def at_edge(self, a: _Pt, end: _Pt) -> None:
+        if float(np.linalg.norm(end.u - a.u)) <= 1e-9 * (1 + float(np.linalg.norm(a.u))):
+            raise ValueError("the end of the range is the last point")
 
 
 def continue_response(system: ForcedSystem, start: ForcedOrbit, sigmas: tuple[float, float],
@@ -153,8 +159,8 @@ def continue_response(system: ForcedSystem, start: ForcedOrbit, sigmas: tuple[fl
     """The branch through ``start`` over ``sigmas`` (both directions), with its folds.
 
     Pseudo-arclength continuation by the one driver
-    (:func:`numerics.shooting.arclength.walk`), every point accepted by the standard of
-    :mod:`numerics.shooting.acceptance`; the folds located by
+    (:class:`numerics.shooting.continuation.Continuation`), every point accepted by the
+    standard of :mod:`numerics.shooting.acceptance`; the folds located by
     :func:`numerics.shooting.locate.fold_on_arc`.
 
     Returns
@@ -163,19 +169,11 @@ def continue_response(system: ForcedSystem, start: ForcedOrbit, sigmas: tuple[fl
     at its folds.
     """
     lo, hi = sigmas
-    ds = (hi - lo) / max(n_points, 10)
-
-    def inside(u):
-        return bool(np.all(np.isfinite(u)) and abs(u[0]) < amplitude_bound)
-
-    first = _Response(system).fix(np.array([*start.y0, start.sigma]))
-    back, folds, closed = _follow(system, first, -1, (lo, hi), ds, 20 * n_points, inside)
-    us = [p.u for p in reversed(back)]
-    if not closed:
-        ahead, more, _ = _follow(system, first, 1, (lo, hi), ds, 20 * n_points, inside)
-        us += [p.u for p in ahead[1:]]
-        folds += more
-    orbits = tuple(orbit_at(system, u[:2], u[2]) for u in us)
+    run = _Follow(system, (lo, hi), (hi - lo) / max(n_points, 10), 20 * n_points,
+                  amplitude_bound)
+    first = run.prob.fix(np.array([*start.y0, start.sigma]))
+    points, folds, _ = run.run(_Pt(first.u, run.prob.evaluate(first.u)[1]), (-1, 1), False)
+    orbits = tuple(orbit_at(system, p.u[:2], p.u[2]) for p in points)
     return orbits, tuple(orbit_at(system, f.u[:2], f.u[2]) for f in folds)
 
 

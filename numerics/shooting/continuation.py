@@ -27,7 +27,8 @@ class Continuation:
     point ``b`` after ``a``, ``locate(a, b, ds)`` (the special points between them), then
     ``b`` is kept if :meth:`converged`, ``advance(a, b, ds) -> (point, next ds)`` and
     ``end(a, point, ds) -> reason`` (not empty: the direction ends); it may replace
-    :meth:`step` and :meth:`at_edge` (work on a point placed at the end of the range)."""
+    :meth:`step` and :meth:`at_edge` (work on a point placed at the end of the range; one of
+    :data:`~numerics.shooting.arclength.FAIL` raised there drops it)."""
 
     #: the walk halves a step whose tangent turns below this cosine (above ``turn_above``)
     max_turn, turn_above = 0.9, 0.0

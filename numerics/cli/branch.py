@@ -50,15 +50,26 @@ def _vary(text: str) -> tuple[str, float, float]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from numerics.flow.aot import allow_builds
+
+    allow_builds()  # start-up is what this command is waited for (issue 39)
+    from numerics.flow.card import use_cards
+
+    use_cards()  # the stored seeds of the start (numerics.cycles.seeds): no energy method
+    try:
+        return _run(args)
+    finally:
+        use_cards(False)  # this command's (a process may run others after)
+
+
+def _run(args: argparse.Namespace) -> int:
     from kbm.errors import ParameterError
     from kbm.params import lookup
     from numerics.cli._params import check, given, orders, parse_vary, within
     from numerics.comparison.diagram import branch_diagram
-    from numerics.flow.aot import allow_builds
 
     from kbm.cli.derive import coupled_model, is_coupled
 
-    allow_builds()  # start-up is what this command is waited for (issue 39)
     vary = parse_vary(args.vary)
     lo, hi = vary.interval("a branch", points=False)
     name = vary.name

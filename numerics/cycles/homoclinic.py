@@ -23,7 +23,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import minimize_scalar
+
+from numerics.cycles.localmin import fminbound, integral
 
 __all__ = ["HomoclinicEstimate", "homoclinic_end", "period_law_fit", "saddles_passed",
            "refine_by_manifolds"]
@@ -113,9 +114,9 @@ def period_law_fit(p, T, k: float, direction: int) -> float:
         ph = p[-1] + direction * math.exp(logd)
         return float(np.var(T + k * np.log(np.abs(ph - p))))
 
-    res = minimize_scalar(spread, bounds=(math.log(1e-9 * span), math.log(100 * span)),
-                          method="bounded", options={"xatol": 1e-10})
-    return float(p[-1] + direction * math.exp(res.x))
+    # Brent's bounded minimiser, scipy's minimize_scalar(method="bounded") to the bit
+    best = fminbound(spread, math.log(1e-9 * span), math.log(100 * span), xatol=1e-10)
+    return float(p[-1] + direction * math.exp(best))
 
 
 def homoclinic_end(params, periods, saddles, lambdas) -> HomoclinicEstimate | None:
@@ -196,16 +197,13 @@ def _saddles_from_portrait(bound, x_turn: float):
 def _saddles_from_force(force, L: float, x_turn: float):
     """``([(x, G(x)) of the saddles on [-L, L]], G(x_turn))`` from the force ``g`` along the
     axis, ``G = int_0^x g``, or ``None``."""
-    from scipy.integrate import quad
-
     from ..energy._zeros import _zeros
 
     sad = [z for z, kind in _zeros(force, L) if kind < 0]
     if not sad:
         return None
 
-    def G(x: float) -> float:
-        return quad(lambda s: float(force(s)), 0.0, x, epsabs=1e-14, epsrel=1e-13,
-                    limit=200)[0]
+    def G(x: float) -> float:  # Gauss-Legendre: the energies only choose the saddles
+        return integral(force, 0.0, x)
 
     return [(x, G(x)) for x in sad], G(x_turn)

@@ -17,8 +17,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from kbm.bound import bind
-
 from numerics.cycles.branch_result import BranchPoint, SpecialPoint, branch_point
 from numerics.shooting.arclength import FAIL as _FAIL
 
@@ -136,10 +134,16 @@ def _end_estimate(prob, points: list):
                                 full=True)
     except _FAIL:
         return None
-    bound = bind(prob.model, {**prob.params, prob.vary: last.parameter})
+    force = prob.force(last.parameter)
+    if force is None:
+        from kbm.bound import bind
+
+        bound, compiled = bind(prob.model, {**prob.params, prob.vary: last.parameter}), None
+    else:  # the compiled force and the line's model: no symbolic model (issue 39)
+        bound, compiled = None, prob.line(last.parameter)
     x = ys[:, 0]
     sad, lams = saddles_passed(bound, float(np.min(x)), float(np.max(x)), last.x0,
-                               force=prob.force(last.parameter))
+                               force=force, compiled=compiled)
     est = homoclinic_end([p.parameter for p in points], [p.period for p in points], sad, lams)
     if est is None:
         return None

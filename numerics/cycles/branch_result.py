@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm.models import FrozenMap
+from kbm.values import FrozenMap
 
 from kbm.strict_json import finite
 from numerics.shooting.orbit import multiplier_json

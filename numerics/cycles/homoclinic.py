@@ -139,7 +139,8 @@ def homoclinic_end(params, periods, saddles, lambdas) -> HomoclinicEstimate | No
                               tuple(lambdas), k, float(p[-1]))
 
 
-def saddles_passed(bound, x_lo: float, x_hi: float, x_turn: float, force=None):
+def saddles_passed(bound, x_lo: float, x_hi: float, x_turn: float, force=None,
+                   compiled=None):
     """``(saddles, lambdas)``: the saddles of the conservative part whose energy is the
     separatrix energy nearest the cycle's (the conservative energy ``G(x_turn)`` of its
     turning point ``(x_turn, 0)``) and that lie within the cycle's span ``[x_lo, x_hi]``
@@ -152,7 +153,9 @@ def saddles_passed(bound, x_lo: float, x_hi: float, x_turn: float, force=None):
     count is stable, as the portrait's), the energies ``G(x) = int_0^x g`` by adaptive
     quadrature.  Without it they come from the conservative phase portrait
     (:func:`kbm.conservative.split_conservative`, :func:`numerics.energy.phase_portrait`);
-    both are compared in ``tests/test_manifolds.py``.
+    both are compared in ``tests/test_manifolds.py``.  ``compiled``, the compiled model
+    at the bound values (:class:`numerics.flow.CompiledLine`'s), gives the eigenvalues
+    without ``bound``.
     """
     from ..flow import compile_model
 
@@ -167,7 +170,7 @@ def saddles_passed(bound, x_lo: float, x_hi: float, x_turn: float, force=None):
     Es = min({E for _, E in sad}, key=lambda E: abs(E - energy))
     chosen = [x for x, E in sad if abs(E - Es) <= 1e-9 * max(1.0, abs(Es))
               and x_lo - pad <= x <= x_hi + pad]
-    jac = compile_model(bound).jac
+    jac = (compiled if compiled is not None else compile_model(bound)).jac
     lams = []
     for xs in chosen:
         J = jac(0.0, (xs, 0.0))

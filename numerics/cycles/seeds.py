@@ -40,6 +40,7 @@ def odd_symmetric(bound: Any) -> bool:
 
     from kbm.symbols import x as X, xdot as V
 
+    bound = bound.full() if hasattr(bound, "full") else bound  # a model card's
     f = bound.model.acceleration().subs(bound.subs())
     if f.has(sp.Symbol("t")):
         return False
@@ -96,8 +97,14 @@ def _source_digest() -> str:
 
 
 def seeds_key(bound: Any, order: int) -> str | None:
-    """The record's name for ``bound`` at ``order`` (``None``: no canonical form)."""
+    """The record's name for ``bound`` at ``order`` (``None``: no canonical form); for a
+    model card's bound model (:class:`numerics.flow.card.CardBound`), named by its card."""
     from numerics.flow.template_cache import _canonical, template_key
+
+    card = getattr(bound, "card", None)
+    if isinstance(card, dict):
+        text = f"{_KIND}|{int(order)}|card {card.get('key')}|{_source_digest()}"
+        return hashlib.sha256(text.encode()).hexdigest()[:32]
 
     try:
         return template_key(bound.model, f"{_KIND}|{int(order)}|{_canonical(dict(bound.values))}"
@@ -109,6 +116,7 @@ def seeds_key(bound: Any, order: int) -> str | None:
 def _predict(bound: Any, order: int, potential: Any):
     from numerics.energy import predict_cycles  # on use: scipy.integrate (issue 39)
 
+    bound = bound.full() if hasattr(bound, "full") else bound  # a card's: the exact values
     return predict_cycles(bound.model, dict(bound.values), order=order, potential=potential)
 
 

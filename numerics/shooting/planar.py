@@ -57,7 +57,11 @@ class PlanarProblem(BranchProblem):
         self.line = CompiledLine(model, params, vary, at)
         #: the field is odd for every value of ``vary`` (``f(-y) = -f(y)``); ``half`` is set
         #: when the branch's cycles are symmetric as well (:meth:`use_symmetry`)
-        self.odd = _odd_field(self.line)
+        self.odd = self.line.odd if self.line.odd is not None else _odd_field(self.line)
+        if self.line.odd is None:  # kept in the line card for the warm runs (issue 39)
+            from numerics.flow.line_card import remember
+
+            remember(self.line.card_key, odd=bool(self.odd))
         self.half = False
 
     def use_symmetry(self, pt: "PlanarPoint") -> None:

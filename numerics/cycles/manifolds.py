@@ -27,7 +27,8 @@ import numpy as np
 from kbm.roots import brentq
 
 from numerics.errors import ConvergenceError
-from numerics.flow import CompiledLine, compile_model, template_flow
+from numerics.flow import compile_model, template_flow
+from numerics.flow.line_card import compiled_line
 
 __all__ = ["SaddleConnection", "saddle_connection", "connection_gap"]
 
@@ -145,7 +146,7 @@ def saddle_connection(model, params: Mapping[str, object], parameter: str,
         message), or a manifold does not reach the section.
     """
     count = [0]
-    line = CompiledLine(model, params, parameter, bracket[0])  # bound once along parameter
+    line = compiled_line(model, params, parameter, bracket[0])  # bound once along parameter
 
     def d(p):
         count[0] += 1

@@ -343,17 +343,6 @@ class CompiledLine:
     """
 
     def __init__(self, model, params: Mapping[str, object] | None, vary: str, at: float):
-        from numerics.flow.line_card import line_key, read_line, write_line
-
-        self._recent: dict[float, CompiledModel] = {}
-        #: the line card's name (:mod:`numerics.flow.line_card`; ``None``: cards off)
-        self.card_key = line_key(model, params, vary, at)
-        #: whether the field is odd for every value (a line card's; else decided by the
-        #: continuation, :func:`numerics.shooting.planar._odd_field`)
-        self.odd: bool | None = None
-        card = read_line(self.card_key)
-        if card is not None and self._from_card(card, model, params, vary, at):
-            return
         from kbm.bound import ParameterLine
 
         self.line = ParameterLine(model, params, vary, at)
@@ -362,32 +351,11 @@ class CompiledLine:
         base.require(self.template.names, what="the numerical functions")
         self._floats = {k: float(base.values[k]) for k in self.template.names}
         self._autonomous = base.model.is_autonomous
-        write_line(self.card_key, self)
-
-    def _from_card(self, card, model, params, vary, at) -> bool:
-        """Set the line from its card (no sympy); ``False`` if the card or its template's
-        record is damaged (then the line is built)."""
-        from numerics.flow.card import CardTemplate
-        from numerics.flow.line_card import CardLine
-        from numerics.flow.template_cache import read_record
-
-        def build():
-            from kbm.bound import ParameterLine
-
-            return ParameterLine(model, params, vary, at)
-
-        try:
-            line = CardLine(card, build)
-            template = CardTemplate(card, read_record(card["template_key"]),
-                                    lambda: model_template(line.full().base.model))
-            floats = {k: float(card["fvals"][k]) for k in template.names}
-            odd = card.get("odd")
-        except Exception:  # noqa: BLE001 - a damaged card: the line is built anew
-            return False
-        self.line, self.template, self._floats = line, template, floats
-        self._autonomous = bool(card["autonomous"])
-        self.odd = odd if isinstance(odd, bool) else None
-        return True
+        self._recent: dict[float, CompiledModel] = {}
+        #: the line card's name and whether the field is odd for every value (set where the
+        #: line comes from :func:`numerics.flow.line_card.compiled_line`; else ``None``)
+        self.card_key: str | None = None
+        self.odd: bool | None = None
 
     def __call__(self, value: float) -> CompiledModel:
         """The compiled model at ``vary = value`` (the last 64 values are kept: Newton

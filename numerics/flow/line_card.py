@@ -32,13 +32,61 @@ from typing import Any
 
 from kbm.errors import ParameterError
 
-__all__ = ["line_key", "read_line", "write_line", "CardLine", "remember"]
+__all__ = ["compiled_line", "line_key", "read_line", "write_line", "CardLine", "remember"]
 
 #: version of the line card's layout (part of the key)
 FORMAT = "1"
 
 #: the record kind in the cache folder (``kbm_line_KEY.json``)
 _KIND = "line"
+
+
+def compiled_line(model: object, params: Mapping[str, object] | None, vary: str, at: float):
+    """:class:`numerics.flow.compiled.CompiledLine` of ``model`` along ``vary`` from ``at``:
+    from its line card where the cards are in use and one is stored (no sympy), else built
+    (and its card stored where the cards are in use).  The same values either way."""
+    from numerics.flow.compiled import CompiledLine
+
+    key = line_key(model, params, vary, at)
+    card = read_line(key)
+    if card is not None:
+        line = _from_card(card, model, params, vary, at)
+        if line is not None:
+            line.card_key = key
+            return line
+    line = CompiledLine(model, params, vary, at)
+    line.card_key = key
+    write_line(key, line)
+    return line
+
+
+def _from_card(card: Mapping, model, params, vary: str, at: float):
+    """The :class:`numerics.flow.compiled.CompiledLine` of a line card (its attributes set
+    as ``__init__`` sets them from the symbolic line), or ``None`` if the card or its
+    template's record is damaged (then the line is built)."""
+    from numerics.flow.card import CardTemplate
+    from numerics.flow.compiled import CompiledLine, model_template
+    from numerics.flow.template_cache import read_record
+
+    def build():
+        from kbm.bound import ParameterLine
+
+        return ParameterLine(model, params, vary, at)
+
+    try:
+        line = CardLine(card, build)
+        template = CardTemplate(card, read_record(card["template_key"]),
+                                lambda: model_template(line.full().base.model))
+        floats = {k: float(card["fvals"][k]) for k in template.names}
+        autonomous = bool(card["autonomous"])
+        odd = card.get("odd")
+    except Exception:  # noqa: BLE001 - a damaged card: the line is built anew
+        return None
+    out = CompiledLine.__new__(CompiledLine)
+    out.line, out.template, out._floats, out._autonomous = line, template, floats, autonomous
+    out._recent = {}
+    out.card_key, out.odd = None, odd if isinstance(odd, bool) else None
+    return out
 
 
 def line_key(model: object, params: Mapping[str, object] | None, vary: str,

@@ -37,6 +37,14 @@ wall, 2.28 s CPU against 9.41 s, 2.24 s (its corrector is still numba's, and
 0.58, numba 0.43, scipy.special 0.40, scipy.optimize 0.66, scipy.integrate 0.71; the first
 call of the van der Pol flow 2.28 s wall from numba's cache against 0.03 s ahead of time.
 
+Measured 2026-11-27 (``--rounds 7 --against`` a ``git archive`` of a5d6ccc ``--with-branch
+--branch-runs 5 --no-imports``, bytecode written, load 3-4 on two cores; median / min wall,
+least CPU): ``kbm branch sedf ...`` 0.445 / 0.296 s, 0.42 s CPU against 1.925 / 1.271 s,
+1.52 s before (part 2 alone: median 0.294 s, min 0.260 s); ``kbm cycle sedf ... Delta=1``
+0.333 / 0.222 s against 0.569 / 0.401 s.  The warm branch imports no sympy, scipy or numba
+(the line and model cards, the stored seeds, :mod:`numerics.cycles.localmin`); mpmath
+(0.1 s) is still imported, by the energy of the start cycle's final pass (``mpf``).
+
 The targets of issue 39: ``--version`` and ``--help`` under 0.15 s, ``cycle vdp`` under
 0.6 s warm, the whole ``branch`` within 2x of AUTO-07p's whole run (0.25-0.57 s quoted in
 the issue; where AUTO-07p is not installed the target printed is 0.5 s, twice its best),

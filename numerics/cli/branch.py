@@ -88,7 +88,10 @@ def _checked_key(args: argparse.Namespace, params: dict) -> str | None:
 
     if getattr(args, "rhs", None) or not isinstance(args.model, str):
         return None
-    return card_key(args.model, {**params, "--branch": f"{args.vary}|"
+    from numerics.flow.line_card import source_digest
+
+    code = source_digest("numerics/cli/branch.py", "numerics/cli/_params.py")  # the checks
+    return card_key(args.model, {**params, "--branch": f"{args.vary}|{code}|"
                                                        f"{args.follow_period is not None}"})
 
 

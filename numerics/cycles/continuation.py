@@ -156,7 +156,10 @@ def _check_vary(model, params: dict, vary: str, bounds) -> tuple[float, float, f
     from numerics.flow.card import card_key
     from numerics.flow.template_cache import FORMAT, read_record, write_record
 
-    key = card_key(model, {**params, "--vary": f"{vary}|{lo!r}|{hi!r}|{p0!r}"})
+    from numerics.flow.line_card import source_digest
+
+    code = source_digest("numerics/cycles/continuation.py")  # the checks below
+    key = card_key(model, {**params, "--vary": f"{vary}|{lo!r}|{hi!r}|{p0!r}|{code}"})
     if key is not None and read_record(key, "vary") is not None:
         return lo, hi, p0  # checked by an earlier run (a model card's key: issue 39)
     from kbm.bound import bind

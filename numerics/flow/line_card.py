@@ -32,7 +32,7 @@ from typing import Any
 
 from kbm.errors import ParameterError
 
-__all__ = ["compiled_line", "line_key", "read_line", "write_line", "CardLine", "remember"]
+__all__ = ["compiled_line", "source_digest", "line_key", "read_line", "write_line", "CardLine", "remember"]
 
 #: version of the line card's layout (part of the key)
 FORMAT = "1"
@@ -89,6 +89,18 @@ def _from_card(card: Mapping, model, params, vary: str, at: float):
     return out
 
 
+def source_digest(*paths: str) -> str:
+    """The SHA-256 of the source files ``paths`` (relative to the project's folder): what a
+    record decides besides :mod:`kbm` and :mod:`numerics.flow` (the model card's key)."""
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    h = hashlib.sha256()
+    for rel in paths:
+        h.update((root / rel).read_bytes())
+    return h.hexdigest()
+
+
 def line_key(model: object, params: Mapping[str, object] | None, vary: str,
              at: float) -> str | None:
     """The line card's name, or ``None`` (no card: cards off, a model object, other value
@@ -100,7 +112,9 @@ def line_key(model: object, params: Mapping[str, object] | None, vary: str,
     key = card_key(model, params)
     if key is None:
         return None
-    return hashlib.sha256(f"{FORMAT}|{key}|{vary!r}|{at!r}".encode()).hexdigest()[:32]
+    # the odd field is decided by the continuation's problem (numerics/shooting/planar.py)
+    code = source_digest("numerics/shooting/planar.py")
+    return hashlib.sha256(f"{FORMAT}|{key}|{code}|{vary!r}|{at!r}".encode()).hexdigest()[:32]
 
 
 def read_line(key: str | None) -> dict | None:

@@ -17,7 +17,7 @@ import numpy as np
 from kbm.errors import KBMError
 
 from numerics.cycles.result import LimitCycle
-from numerics.cycles.seeds import odd_symmetric as _odd_symmetric, seeds as _seeds
+from numerics.cycles.seeds import seeds as _seeds
 from numerics.cycles.shooting import limit_cycle
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 

@@ -17,11 +17,14 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 
-import sympy as sp
+from typing import TYPE_CHECKING
 
 from .errors import ModelError, ParameterError
 from .values import (NOISE_NAMES, ParameterNames, closest, parameter_value,
                      scaled_values)
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = ["NOISE_NAMES", "ParameterNames", "names_of", "lookup", "builtin_names",
            "to_physical", "noise_from", "closest", "scaled_values"]
@@ -89,6 +92,8 @@ def lookup(name: str, kinds: Iterable[str] = ("one", "forced", "coupled"), *,
 
 def names_of(model, *, extra: Iterable[str] = (), noise: bool = False) -> ParameterNames:
     """The :class:`ParameterNames` of a model (or built-in name)."""
+    import sympy as sp
+
     if isinstance(model, str):
         model = lookup(model)
     physical = {k: sp.sympify(v) for k, v in (getattr(model, "physical", {}) or {}).items()}
@@ -105,6 +110,8 @@ def to_physical(names: ParameterNames, values: Mapping[str, object]) -> dict[str
         If the conversion needs ``mu`` and it is not among ``values``, or the physical
         value is undefined (``k = 0``).
     """
+    import sympy as sp
+
     out: dict[str, sp.Expr] = {}
     for key, raw in values.items():
         expr = names.physical.get(key)

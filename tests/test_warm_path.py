@@ -155,7 +155,8 @@ BRANCH = ["branch", "sedf", "-p", "mu=0.1", "-p", "beta=1", "-p", "lam=1", "--va
 
 
 def _modules_of_branch(env) -> tuple[bytes, list[str]]:
-    return _modules_of(env, BRANCH, ("numba", "numerics.comparison.", "numerics.energy."))
+    return _modules_of(env, BRANCH, ("numba", "numerics.comparison.", "numerics.energy.", "sympy",
+                                       "scipy", "mpmath"))
 
 
 def test_the_warm_branch_imports_no_numba_and_gives_the_same_bytes():
@@ -172,6 +173,41 @@ def test_the_warm_branch_imports_no_numba_and_gives_the_same_bytes():
                                                     "numerics.comparison.convergence",
                                                     "numerics.comparison.fixed_delta",
                                                     "numerics.energy.maps"))], modules
+    if shutil.which("cc") or shutil.which("gcc"):
+        assert not [m for m in modules if m.startswith("numba")], modules
+
+
+def test_the_warm_branch_imports_no_sympy_scipy_or_numba():
+    """The whole ``kbm branch sedf ... --vary Delta=0:4 --orders none --no-energy`` of issue
+    39 with every cache warm (a first run stores the model and line cards, the checks, the
+    seeds' record, :mod:`numerics.flow.line_card`, :mod:`numerics.cycles.seeds`): no sympy
+    (no symbolic model is built), no ``scipy`` at all (the homoclinic end's minimiser and
+    energies by :mod:`numerics.cycles.localmin`, tested against scipy in
+    ``tests/test_localmin.py``; the roots by :func:`kbm.roots.brentq`), and, where a C
+    compiler built the flows ahead of time, no numba; the JSON is the first run's."""
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "KBM_COMPILE_NOTICE": "0", "KBM_AOT": "1"}
+    first, _ = _modules_of_branch(env)
+    out, modules = _modules_of_branch(env)
+    assert out == first and b'"branches"' in out
+    assert not [m for m in modules if m.startswith(("sympy", "scipy"))], modules
+    assert not [m for m in modules if m.startswith("numerics.energy.")
+                and m != "numerics.energy._zeros"], modules
+    if shutil.which("cc") or shutil.which("gcc"):
+        assert not [m for m in modules if m.startswith("numba")], modules
+
+
+def test_the_warm_sedf_cycle_imports_no_scipy_special():
+    """``kbm cycle sedf -p mu=0.1 -p beta=1 -p lam=1 -p Delta=1``: its first-order rates hold
+    Bessel functions (``scipy.special.jv``); the warm run reads the KBM guess kept in the
+    model card (:func:`numerics.cycles.guess.kbm_guess`) and imports no scipy, sympy or
+    (where the flows are built ahead of time) numba; the output is the first run's."""
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "KBM_COMPILE_NOTICE": "0", "KBM_AOT": "1"}
+    args = ("sedf", "-p", "mu=0.1", "-p", "beta=1", "-p", "lam=1", "-p", "Delta=1")
+    first, _ = _modules_of_cycle(env, args)
+    _modules_of_cycle(env, args)  # the first warm run keeps the guess in the card
+    out, modules = _modules_of_cycle(env, args)
+    assert out == first and b'"period"' in out
+    assert not [m for m in modules if m.startswith(("scipy", "sympy"))], modules
     if shutil.which("cc") or shutil.which("gcc"):
         assert not [m for m in modules if m.startswith("numba")], modules
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from kbm.cli._common import (add_model_arguments, add_options, emit_json,
+from kbm.cli._common import (add_model_arguments, add_options, check_model_flags, emit_json,
                              model_spec, single_well)
 from numerics.cli._options import command
 
@@ -40,6 +40,23 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
+def _checked(args: argparse.Namespace, params: dict, name: str):
+    """The model of the command line (a built-in name or the ``--rhs`` model), its names
+    and, with ``--follow-period``, its saddle checked."""
+    from kbm.errors import ParameterError
+    from kbm.params import lookup
+    from numerics.cli._params import check
+
+    spec = model_spec(args)
+    model = lookup(spec, ("one",)) if isinstance(spec, str) else spec
+    check(model, params, [name], start=True)
+    if args.follow_period is not None and single_well(model):
+        raise ParameterError(f"--follow-period follows a branch to a homoclinic end, and "
+                             f"{model.name} has none: its only equilibrium is the origin, "
+                             "which is no saddle (F at x' = 0 does not depend on x); drop it")
+    return spec
+
+
 def _vary(text: str) -> tuple[str, float, float]:
     """``NAME=FROM:TO`` as typed (:func:`numerics.cli._params.parse_vary`)."""
     from numerics.cli._params import parse_vary
@@ -50,22 +67,54 @@ def _vary(text: str) -> tuple[str, float, float]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from kbm.errors import ParameterError
-    from kbm.params import lookup
-    from numerics.cli._params import check, given, orders, parse_vary, within
-    from numerics.comparison.diagram import branch_diagram
     from numerics.flow.aot import allow_builds
 
-    from kbm.cli.derive import coupled_model, is_coupled
-
     allow_builds()  # start-up is what this command is waited for (issue 39)
+    from numerics.flow.card import use_cards
+
+    use_cards()  # the stored seeds of the start (numerics.cycles.seeds): no energy method
+    try:
+        return _run(args)
+    finally:
+        use_cards(False)  # this command's (a process may run others after)
+
+
+def _checked_key(args: argparse.Namespace, params: dict) -> str | None:
+    """The name of the record that a run of a built-in model with these ``-p`` values and
+    this ``--vary`` (and ``--follow-period`` or not) passed the model's checks (the names,
+    the kind of model, a saddle to follow), under the model card's key
+    (:func:`numerics.flow.card.card_key`); ``None`` for a ``--rhs`` model."""
+    from numerics.flow.card import card_key
+
+    if getattr(args, "rhs", None) or not isinstance(args.model, str):
+        return None
+    from numerics.flow.line_card import source_digest
+
+    code = source_digest("numerics/cli/branch.py", "numerics/cli/_params.py")  # the checks
+    return card_key(args.model, {**params, "--branch": f"{args.vary}|{code}|"
+                                                       f"{args.follow_period is not None}"})
+
+
+def _run(args: argparse.Namespace) -> int:
+    from kbm.errors import ParameterError
+    from numerics.cli._params import given, orders, parse_vary, within
+    from numerics.comparison.diagram import branch_diagram
+    from numerics.flow.template_cache import FORMAT, read_record, write_record
+
+    from kbm.cli.derive import is_coupled
+
     vary = parse_vary(args.vary)
     lo, hi = vary.interval("a branch", points=False)
     name = vary.name
     params = given(args.param)
-    if args.model and not args.rhs:
+    key = _checked_key(args, params)
+    checked = key is not None and read_record(key, "branch") is not None
+    if args.model and not args.rhs and not checked:
+        from kbm.params import lookup
+
         lookup(args.model, ("one", "coupled"), rhs=True)
     if is_coupled(args):
+        from kbm.cli.derive import coupled_model
         from numerics.cli._coupled_branch import run_coupled_branch
 
         if args.orders != "1" or args.no_energy:
@@ -86,13 +135,13 @@ def run(args: argparse.Namespace) -> int:
                              "or several --rhs)")
     within(args.rtol, "--rtol", 1e-14, 1e-4)
     within(args.max_points, "--max-points", 2, 100000)
-    spec = model_spec(args)
-    model = lookup(spec, ("one",)) if isinstance(spec, str) else spec
-    check(model, params, [name], start=True)
-    if args.follow_period is not None and single_well(model):
-        raise ParameterError(f"--follow-period follows a branch to a homoclinic end, and "
-                             f"{model.name} has none: its only equilibrium is the origin, "
-                             "which is no saddle (F at x' = 0 does not depend on x); drop it")
+    if checked:  # checked by an earlier run: no symbolic model (issue 39)
+        check_model_flags(args)
+        spec = args.model
+    else:
+        spec = _checked(args, params, name)
+        if key is not None:
+            write_record(key, {"format": FORMAT, "key": key}, "branch")
     d = branch_diagram(spec, params, name, (lo, hi),
                        orders=orders(args.orders, none=True), energy=not args.no_energy,
                        rtol=args.rtol, max_points=args.max_points,

@@ -13,17 +13,20 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from kbm.errors import ParameterError
-from kbm.models import Oscillator
 
 from kbm.strict_json import finite
-from numerics.comparison.branches import AnalyticCurve, energy_branch, kbm_branch
 from numerics.cycles.branch_result import Branch
 from numerics.cycles.continuation import _check_vary, continue_cycles
 from numerics.cycles.every_cycle import limit_cycles
 from numerics.cycles.shooting import limit_cycle
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
+
+if TYPE_CHECKING:  # imported on use: the symbolic model and the KBM derivation (issue 39)
+    from kbm.models import Oscillator
+    from numerics.comparison.branches import AnalyticCurve
 
 __all__ = ["BranchDiagram", "branch_diagram"]
 
@@ -145,6 +148,8 @@ def branch_diagram(model: Oscillator | str, params: Mapping[str, object] | None,
     """
     params = dict(params or {})
     lo, hi, p0 = _check_vary(model, params, vary, bounds)
+    if energy or orders:  # the analytic branches: sympy, the KBM derivation (issue 39)
+        from numerics.comparison.branches import energy_branch, kbm_branch
     if any(int(o) < 1 for o in orders):
         raise ParameterError(f"KBM orders must be >= 1, got {list(orders)}")
     start = {**params, vary: p0}

@@ -9,7 +9,8 @@
   (the case ``N = 1`` of the one shooting, :mod:`numerics.shooting.orbit`, and its
   checks) and :mod:`numerics.cycles.finalpass` (the result and its accuracy estimate);
 - :mod:`numerics.cycles.every_cycle`: :func:`limit_cycles` (every predicted cycle, stable
-  and unstable, confirmed by shooting);
+  and unstable, confirmed by shooting), started from :mod:`numerics.cycles.seeds` (the
+  predictions and the symmetry, kept on disk for the commands);
 - :mod:`numerics.cycles.harmonics`: Fourier coefficients by quadrature along the
   integration (no aliasing of the jumps of relaxation cycles);
 - :mod:`numerics.cycles.highprec`: cycles to 30 digits and more (mpmath Taylor);
@@ -20,7 +21,8 @@
   (:func:`continue_cycles`: the case ``N = 1`` of the one driver,
   :mod:`numerics.shooting.continuation`, with folds, Hopf and homoclinic ends; the
   shooting problem of a branch in :mod:`numerics.shooting.planar`, results in
-  :mod:`numerics.cycles.branch_result`).
+  :mod:`numerics.cycles.branch_result`; Brent's bounded minimiser and a Gauss--Legendre rule
+  without scipy in :mod:`numerics.cycles.localmin`).
 """
 
 from kbm._lazy import keep_objects, lazy_names

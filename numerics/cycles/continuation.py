@@ -30,12 +30,11 @@ H. B. Keller, "Numerical solution of bifurcation and nonlinear eigenvalue proble
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.bound import BoundModel, bind
-from kbm.models import Oscillator
 
 from numerics.shooting.planar import TRIVIAL_TOL, PlanarPoint, PlanarProblem
 from numerics.cycles.branch_result import Branch, BranchPoint, SpecialPoint, branch_point
@@ -47,6 +46,9 @@ from numerics.shooting.arclength import FAIL as _FAIL
 from numerics.shooting.arclength import parameter_range
 from numerics.shooting.continuation import Continuation
 from numerics.shooting.locate import fold_on_arc
+
+if TYPE_CHECKING:  # the symbolic model is bound on use (a model card: issue 39)
+    from kbm.models import Oscillator
 
 __all__ = ["continue_cycles", "TRIVIAL_TOL", "CycleContinuation"]
 
@@ -243,10 +245,16 @@ def _end_estimate(prob, points: list):
                                 full=True)
     except _FAIL:
         return None
-    bound = bind(prob.model, {**prob.params, prob.vary: last.parameter})
+    force = prob.force(last.parameter)
+    if force is None:
+        from kbm.bound import bind
+
+        bound, compiled = bind(prob.model, {**prob.params, prob.vary: last.parameter}), None
+    else:  # the compiled force and the line's model: no symbolic model (issue 39)
+        bound, compiled = None, prob.line(last.parameter)
     x = ys[:, 0]
     sad, lams = saddles_passed(bound, float(np.min(x)), float(np.max(x)), last.x0,
-                               force=prob.force(last.parameter))
+                               force=force, compiled=compiled)
     est = homoclinic_end([p.parameter for p in points], [p.period for p in points], sad, lams)
     if est is None:
         return None
@@ -256,6 +264,16 @@ def _end_estimate(prob, points: list):
 
 def _check_vary(model, params: dict, vary: str, bounds) -> tuple[float, float, float]:
     lo, hi, p0 = parameter_range(vary, bounds, params)
+    from numerics.flow.card import card_key
+    from numerics.flow.line_card import source_digest
+    from numerics.flow.template_cache import FORMAT, read_record, write_record
+
+    code = source_digest("numerics/cycles/continuation.py")  # the checks below
+    key = card_key(model, {**params, "--vary": f"{vary}|{lo!r}|{hi!r}|{p0!r}|{code}"})
+    if key is not None and read_record(key, "vary") is not None:
+        return lo, hi, p0  # checked by an earlier run (a model card's key: issue 39)
+    from kbm.bound import bind
+
     try:
         b1 = bind(model, {**params, vary: p0})
         b2 = bind(model, {**params, vary: p0 + 1e-3 * max(1.0, abs(p0))})
@@ -264,6 +282,8 @@ def _check_vary(model, params: dict, vary: str, bounds) -> tuple[float, float, f
     if b1.values == b2.values:
         raise ParameterError(f"parameter {vary!r} does not enter model {b1.name!r} "
                              f"(its parameters: {', '.join(b1.model.parameters)}, mu)")
+    if key is not None:
+        write_record(key, {"format": FORMAT, "key": key}, "vary")
     return lo, hi, p0
 
 
@@ -340,8 +360,11 @@ def continue_cycles(model: Oscillator | str, params: Mapping[str, object] | None
     >>> round(br.points[-1].parameter, 12), round(br.points[-1].period, 6)
     (1.0, 6.663287)
     """
+    import sys
+
+    bound_types = sys.modules.get("kbm.bound")  # not imported: no bound model (issue 39)
     params = dict(params or {})
-    if isinstance(model, BoundModel):
+    if bound_types is not None and isinstance(model, bound_types.BoundModel):
         raise ParameterError("continue_cycles needs the model and its parameters separately, "
                              "not a bound model")
     lo, hi, p0 = _check_vary(model, params, vary, bounds)

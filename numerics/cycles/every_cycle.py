@@ -10,16 +10,20 @@ itself by ``x -> -x`` the list is closed under the symmetry.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from kbm.errors import KBMError
-from kbm.bound import BoundModel, bind
-from kbm.models import Oscillator
 
 from numerics.cycles.result import LimitCycle
+from numerics.cycles.seeds import seeds as _seeds
 from numerics.cycles.shooting import limit_cycle
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
+
+if TYPE_CHECKING:  # the symbolic model is bound on use (a model card: issue 39)
+    from kbm.bound import BoundModel
+    from kbm.models import Oscillator
 
 __all__ = ["limit_cycles", "CycleList"]
 
@@ -57,27 +61,58 @@ def limit_cycles(model: Oscillator | str | BoundModel, params: Mapping[str, obje
     >>> [round(c.amplitude_max, 6) for c in cs], cs[0].stable
     ([2.002488], True)
     """
-    from numerics.energy import predict_cycles  # imported on use: scipy.integrate (issue 39)
-
-    bound = bind(model, params)
-    pred = predict_cycles(bound.model, dict(bound.values), order=order, potential=potential)
-    found = CycleList(predictions=pred)
-    for p in pred.cycles:
+    bound, shoot = _bound_and_shooting(model, params, cycle_kwargs)
+    seeds = _seeds(bound, order, potential)
+    found = CycleList(predictions=seeds.prediction)
+    for p in seeds.cycles:
         try:
-            c = limit_cycle(bound, guess=(p.amplitude_max, p.period), **cycle_kwargs)
+            c = shoot((p.amplitude_max, p.period))
         except (ConvergenceError, IntegrationError, NoCycleError) as exc:
-            c = _from_smaller_mu(bound, p, cycle_kwargs)
+            c = _from_smaller_mu(_full(bound), p, cycle_kwargs)
             if c is None:
-                found.failures.append((p, str(exc)))
+                found._failures.append((p, str(exc)))
                 continue
         if not any(_same_orbit(c, d) for d in found):
             found.append(c)
-            found.predicted.append(p)
-    if _odd_symmetric(bound):
-        _add_mirrors(bound, found, cycle_kwargs)
+            found._predicted.append(p)
+    if seeds.odd:
+        _add_mirrors(shoot, found)
     order_ = sorted(range(len(found)), key=lambda i: found[i].amplitude_max)
-    return CycleList([found[i] for i in order_], predictions=pred,
-                     predicted=[found.predicted[i] for i in order_], failures=found.failures)
+    return CycleList([found[i] for i in order_], predictions=seeds.prediction,
+                     predicted=[found._predicted[i] for i in order_], failures=found._failures)
+
+
+def _bound_and_shooting(model, params, cycle_kwargs):
+    """``(bound, shoot)``: the bound model (a model card's where one is stored and the
+    cards are in use, :mod:`numerics.flow.card`: no sympy) and ``shoot(guess)``, the
+    :func:`limit_cycle` from ``(x_max, period)`` at these values (by the name and the values
+    as given where the cards are in use, so that the first run stores the card)."""
+    from numerics.flow.card import card_key, card_model
+
+    carded = card_model(model, params)
+    if carded is None and card_key(model, params) is not None:
+        from numerics.cycles.shooting import _bound_and_compiled
+
+        _bound_and_compiled(model, params, None)  # bound, compiled and the card stored
+        carded = card_model(model, params)  # the first run as the later ones
+    if carded is None:
+        from kbm.bound import bind
+
+        bound = bind(model, params)
+    else:
+        bound = carded[0]
+    if carded is not None or card_key(model, params) is not None:
+        def shoot(guess):
+            return limit_cycle(model, params, guess=guess, **cycle_kwargs)
+    else:
+        def shoot(guess):
+            return limit_cycle(bound, guess=guess, **cycle_kwargs)
+    return bound, shoot
+
+
+def _full(bound):
+    """The :class:`kbm.bound.BoundModel` of a model card's bound model (its exact values)."""
+    return bound.full() if hasattr(bound, "full") else bound
 
 
 class CycleList(list):
@@ -95,9 +130,38 @@ class CycleList(list):
 
     def __init__(self, items=(), *, predictions=None, predicted=None, failures=None):
         super().__init__(items)
-        self.predictions = predictions
-        self.predicted: list = list(predicted or [])
-        self.failures: list = list(failures or [])
+        self._predictions = predictions
+        self._predicted: list = list(predicted or [])
+        self._failures: list = list(failures or [])
+
+    @property
+    def predictions(self):
+        """The energy-balance prediction (computed here on first use where the cycles were
+        started from a stored record of it, :class:`numerics.cycles.seeds.Seeds`)."""
+        p = self._predictions
+        return p() if callable(p) else p
+
+    @predictions.setter
+    def predictions(self, value) -> None:
+        self._predictions = value
+
+    @property
+    def predicted(self) -> list:
+        """For each cycle, its :class:`numerics.energy.PredictedCycle` (``None``: a mirror)."""
+        return [p.resolve() if hasattr(p, "resolve") else p for p in self._predicted]
+
+    @predicted.setter
+    def predicted(self, value) -> None:
+        self._predicted = list(value)
+
+    @property
+    def failures(self) -> list:
+        """``(predicted cycle, error message)`` for each prediction that led to no cycle."""
+        return [(p.resolve() if hasattr(p, "resolve") else p, e) for p, e in self._failures]
+
+    @failures.setter
+    def failures(self, value) -> None:
+        self._failures = list(value)
 
 
 def _from_smaller_mu(bound: BoundModel, p, cycle_kwargs) -> LimitCycle | None:
@@ -150,20 +214,7 @@ def _from_smaller_mu(bound: BoundModel, p, cycle_kwargs) -> LimitCycle | None:
     return None
 
 
-def _odd_symmetric(bound: BoundModel) -> bool:
-    """Whether ``x -> -x`` maps the model to itself: ``f(-x, -x') = -f(x, x')`` for the
-    acceleration at the bound parameter values."""
-    import sympy as sp
-
-    from kbm.symbols import x as X, xdot as V
-
-    f = bound.model.acceleration().subs(bound.subs())
-    if f.has(sp.Symbol("t")):
-        return False
-    return sp.simplify(f.subs({X: -X, V: -V}, simultaneous=True) + f) == 0
-
-
-def _add_mirrors(bound: BoundModel, found: "CycleList", cycle_kwargs) -> None:
+def _add_mirrors(shoot, found: "CycleList") -> None:
     """For each cycle whose mirror image ``-x(t)`` is a different orbit (a side-well cycle),
     shoot from the mirrored orbit (its maximum ``-min x`` and its period) unless it is
     listed already; the symmetry makes it a cycle with the same period and multipliers,
@@ -176,17 +227,17 @@ def _add_mirrors(bound: BoundModel, found: "CycleList", cycle_kwargs) -> None:
                and abs(d.amplitude_max + x_lo) <= 1e-6 * max(1.0, abs(x_lo)) for d in found):
             continue
         try:
-            m = limit_cycle(bound, guess=(-x_lo, c.period), **cycle_kwargs)
+            m = shoot((-x_lo, c.period))
         except (ConvergenceError, IntegrationError, NoCycleError) as exc:
-            found.failures.append((f"mirror of the cycle with x in [{x_lo:.6g}, "
+            found._failures.append((f"mirror of the cycle with x in [{x_lo:.6g}, "
                                    f"{c.amplitude_max:.6g}]", str(exc)))
             continue
         if not any(_same_orbit(m, d) for d in found):
             found.append(m)
-            found.predicted.append(None)
+            found._predicted.append(None)
         # a prediction of this orbit that failed to shoot is answered by the mirror
-        found.failures[:] = [
-            (p, e) for p, e in found.failures
+        found._failures[:] = [
+            (p, e) for p, e in found._failures
             if isinstance(p, str) or not (
                 np.sign(p.amplitude_max) == np.sign(m.amplitude_max)
                 and abs(p.amplitude_max - m.amplitude_max) <= 0.05 * abs(m.amplitude_max))]

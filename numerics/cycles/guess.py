@@ -62,6 +62,12 @@ def _kbm_source_digest() -> str:
     return h.hexdigest()
 
 
+@memo(maxsize=1)
+def _guess_digest() -> str:
+    """The first 16 hex digits of the SHA-256 of this module's source."""
+    return hashlib.sha256(Path(__file__).read_bytes()).hexdigest()[:16]
+
+
 def rates_key(model: Oscillator) -> str | None:
     """The name of the model's first-order rates in the template cache (``None``: a model
     without a canonical form, whose rates are not stored)."""
@@ -167,7 +173,29 @@ def kbm_guess(bound: BoundModel, *, stable: bool = True) -> tuple[float, float] 
 
     ``None`` when the averaging does not apply to the model, a value is missing,
     or the first-order averaged equation has no cycle of that stability.
+
+    A model card's bound model (:class:`numerics.flow.card.CardBound`) keeps the answer in
+    its card once found (``guess_stable_DIGEST``, ``DIGEST`` of this module's source): a warm run reads the two
+    floats and evaluates no rates (whose functions may need :mod:`scipy.special`, e.g.
+    SEDF's Bessel ``jv``; issue 39).
     """
+    card = getattr(bound, "card", None)
+    # the card's key covers kbm/ and numerics/flow/; this module's source names the entry
+    name = f"guess_{'stable' if stable else 'unstable'}_{_guess_digest()}"
+    if isinstance(card, dict) and name in card:
+        kept = card[name]
+        if kept is None or (isinstance(kept, list) and len(kept) == 2):
+            return None if kept is None else (float(kept[0]), float(kept[1]))
+    found = _kbm_guess(bound, stable)
+    if isinstance(card, dict) and isinstance(card.get("key"), str):
+        from numerics.flow.card import update_card
+
+        update_card(card["key"], **{name: None if found is None else list(found)})
+    return found
+
+
+def _kbm_guess(bound, stable: bool) -> tuple[float, float] | None:
+    """:func:`kbm_guess` from the rates."""
     try:
         vals = bound.values
         rates = _card_rates(bound) or _first_order(bound.model)

@@ -23,7 +23,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import minimize_scalar
+
+from numerics.cycles.localmin import fminbound, integral
 
 __all__ = ["HomoclinicEstimate", "homoclinic_end", "period_law_fit", "saddles_passed",
            "refine_by_manifolds"]
@@ -113,9 +114,9 @@ def period_law_fit(p, T, k: float, direction: int) -> float:
         ph = p[-1] + direction * math.exp(logd)
         return float(np.var(T + k * np.log(np.abs(ph - p))))
 
-    res = minimize_scalar(spread, bounds=(math.log(1e-9 * span), math.log(100 * span)),
-                          method="bounded", options={"xatol": 1e-10})
-    return float(p[-1] + direction * math.exp(res.x))
+    # Brent's bounded minimiser, scipy's minimize_scalar(method="bounded") to the bit
+    best = fminbound(spread, math.log(1e-9 * span), math.log(100 * span), xatol=1e-10)
+    return float(p[-1] + direction * math.exp(best))
 
 
 def homoclinic_end(params, periods, saddles, lambdas) -> HomoclinicEstimate | None:
@@ -138,7 +139,8 @@ def homoclinic_end(params, periods, saddles, lambdas) -> HomoclinicEstimate | No
                               tuple(lambdas), k, float(p[-1]))
 
 
-def saddles_passed(bound, x_lo: float, x_hi: float, x_turn: float, force=None):
+def saddles_passed(bound, x_lo: float, x_hi: float, x_turn: float, force=None,
+                   compiled=None):
     """``(saddles, lambdas)``: the saddles of the conservative part whose energy is the
     separatrix energy nearest the cycle's (the conservative energy ``G(x_turn)`` of its
     turning point ``(x_turn, 0)``) and that lie within the cycle's span ``[x_lo, x_hi]``
@@ -151,7 +153,9 @@ def saddles_passed(bound, x_lo: float, x_hi: float, x_turn: float, force=None):
     count is stable, as the portrait's), the energies ``G(x) = int_0^x g`` by adaptive
     quadrature.  Without it they come from the conservative phase portrait
     (:func:`kbm.conservative.split_conservative`, :func:`numerics.energy.phase_portrait`);
-    both are compared in ``tests/test_manifolds.py``.
+    both are compared in ``tests/test_manifolds.py``.  ``compiled``, the compiled model
+    at the bound values (:class:`numerics.flow.CompiledLine`'s), gives the eigenvalues
+    without ``bound``.
     """
     from ..flow import compile_model
 
@@ -166,7 +170,7 @@ def saddles_passed(bound, x_lo: float, x_hi: float, x_turn: float, force=None):
     Es = min({E for _, E in sad}, key=lambda E: abs(E - energy))
     chosen = [x for x, E in sad if abs(E - Es) <= 1e-9 * max(1.0, abs(Es))
               and x_lo - pad <= x <= x_hi + pad]
-    jac = compile_model(bound).jac
+    jac = (compiled if compiled is not None else compile_model(bound)).jac
     lams = []
     for xs in chosen:
         J = jac(0.0, (xs, 0.0))
@@ -196,16 +200,13 @@ def _saddles_from_portrait(bound, x_turn: float):
 def _saddles_from_force(force, L: float, x_turn: float):
     """``([(x, G(x)) of the saddles on [-L, L]], G(x_turn))`` from the force ``g`` along the
     axis, ``G = int_0^x g``, or ``None``."""
-    from scipy.integrate import quad
-
     from ..energy._zeros import _zeros
 
     sad = [z for z, kind in _zeros(force, L) if kind < 0]
     if not sad:
         return None
 
-    def G(x: float) -> float:
-        return quad(lambda s: float(force(s)), 0.0, x, epsabs=1e-14, epsrel=1e-13,
-                    limit=200)[0]
+    def G(x: float) -> float:  # Gauss-Legendre: the energies only choose the saddles
+        return integral(force, 0.0, x)
 
     return [(x, G(x)) for x in sad], G(x_turn)

@@ -23,11 +23,12 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
+
+from kbm.roots import brentq
 
 from numerics.errors import ConvergenceError
-from numerics.flow import CompiledLine, compile_model, template_flow
+from numerics.flow import compile_model, template_flow
+from numerics.flow.line_card import compiled_line
 
 __all__ = ["SaddleConnection", "saddle_connection", "connection_gap"]
 
@@ -98,6 +99,8 @@ def _to_turn(acc, y0, direction: float, t_max: float) -> float:
                                    f"t = {t_max:g}")
         return x
 
+    from scipy.integrate import solve_ivp  # only without the compiled flow (issue 39)
+
     def rhs(t, y):
         return [direction * y[1], direction * acc(y[0], y[1])]
 
@@ -143,7 +146,7 @@ def saddle_connection(model, params: Mapping[str, object], parameter: str,
         message), or a manifold does not reach the section.
     """
     count = [0]
-    line = CompiledLine(model, params, parameter, bracket[0])  # bound once along parameter
+    line = compiled_line(model, params, parameter, bracket[0])  # bound once along parameter
 
     def d(p):
         count[0] += 1
@@ -155,7 +158,8 @@ def saddle_connection(model, params: Mapping[str, object], parameter: str,
     if dlo * dhi > 0:
         raise ConvergenceError(f"no saddle connection in {parameter} = [{lo:g}, {hi:g}]: the "
                                f"manifolds' velocity gap is {dlo:.3g} and {dhi:.3g} at the ends")
-    root, res = brentq(d, lo, hi, xtol=xtol, rtol=4 * np.finfo(float).eps, full_output=True)
+    # scipy.optimize.brentq's steps and floats (kbm.roots), without importing scipy
+    root = brentq(d, lo, hi, xtol=xtol, rtol=4 * float(np.finfo(float).eps))
     slope = abs(dhi - dlo) / (hi - lo)
     _, xs, xt = connection_gap(model, {**dict(params), parameter: root}, x_from, x_to, leave,
                                arrive, compiled=line(root))

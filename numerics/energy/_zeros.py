@@ -3,14 +3,17 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.optimize import brentq
 
-from kbm.conservative import ConservativeSplit, NotConfiningError
+from kbm.roots import brentq  # scipy.optimize.brentq's floats, no scipy (issue 39)
+
+if TYPE_CHECKING:
+    from kbm.conservative import ConservativeSplit
 
 
-def _bracket(g: Callable, split: ConservativeSplit) -> float:
+def _bracket(g: Callable, split: "ConservativeSplit") -> float:
     """Smallest ``L = 2**j`` with ``g > 0`` on ``[L, 4L]`` and ``g < 0`` on ``[-4L, -L]``
     (4001 samples each): past it ``g`` pushes back towards the wells."""
     L = 1.0
@@ -19,6 +22,8 @@ def _bracket(g: Callable, split: ConservativeSplit) -> float:
         if np.all(g(far) > 0) and np.all(g(-far) < 0):
             return L
         L *= 2.0
+    from kbm.conservative import NotConfiningError
+
     raise NotConfiningError(f"g(x) = {split.g} keeps changing sign out to |x| = {L:.3g}: "
                             "the potential does not confine")
 

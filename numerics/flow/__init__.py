@@ -7,6 +7,8 @@
   model's canonical form (a warm run does not lambdify);
 - :mod:`numerics.flow.card`: model cards, what ``kbm cycle`` needs of a bound built-in
   model, kept on disk (a warm run builds no symbolic model and imports no sympy);
+- :mod:`numerics.flow.line_card`: line cards, a built-in model bound along one parameter
+  (:class:`CompiledLine`) kept on disk for the warm ``kbm branch``;
 - :mod:`numerics.flow.jit`: the extended flow printed from the model's
   expressions and compiled with numba (an adaptive DOP853);
 - :mod:`numerics.flow.numba_cache`: the cache folder of the generated modules, their

@@ -174,6 +174,8 @@ class CardTemplate:
         for f in ("f_ext", "f_acc", "f_jac", "f_energy", "f_w0", "f_factor"):
             setattr(self, f, function_from_record(record["functions"][f]))
         self.flow_key, self.acc_srepr = str(card["flow_key"]), str(card["acc_srepr"])
+        #: the key of the nine-state flow with the Newton corrector (a line card's)
+        self.sensitivity_key = card.get("sensitivity_key")
         self._rebuild = rebuild
 
     def full(self):

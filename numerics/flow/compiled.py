@@ -352,6 +352,10 @@ class CompiledLine:
         self._floats = {k: float(base.values[k]) for k in self.template.names}
         self._autonomous = base.model.is_autonomous
         self._recent: dict[float, CompiledModel] = {}
+        #: the line card's name and whether the field is odd for every value (set where the
+        #: line comes from :func:`numerics.flow.line_card.compiled_line`; else ``None``)
+        self.card_key: str | None = None
+        self.odd: bool | None = None
 
     def __call__(self, value: float) -> CompiledModel:
         """The compiled model at ``vary = value`` (the last 64 values are kept: Newton

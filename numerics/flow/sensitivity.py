@@ -26,9 +26,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import sympy as sp
-
-from kbm.symbols import t as T, x as X, xdot as V
 
 from numerics._memo import memo
 from numerics.errors import IntegrationError
@@ -67,6 +64,18 @@ def sensitivity_flow(template: ModelTemplate):
 def _sensitivity_flow(template: ModelTemplate, enabled: bool):
     if not enabled:
         return None
+    key = getattr(template, "sensitivity_key", None)  # a template read from a line card
+    if key is not None:
+        from numerics.flow.jit import cached_flow
+
+        built = cached_flow(key, 2, _CORRECTOR)  # jit_flow below: n_state 2
+        if built is not None:
+            return built
+    if hasattr(template, "full"):  # a card's template: the symbolic one
+        template = template.full()
+    import sympy as sp
+
+    from kbm.symbols import t as T, x as X, xdot as V
     from numerics.flow.jit import COMPILE_SECONDS, jit_flow
 
     names = [sp.Symbol(n) for n in template.names]

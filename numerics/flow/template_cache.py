@@ -148,8 +148,41 @@ def function_record(fn: Callable) -> dict | None:
     return {"name": code.co_name, "source": source, "globals": names}
 
 
+#: modules whose import costs more than a warm command's work (mpmath 0.1-0.2 s with gmpy2,
+#: scipy.special 0.2-0.4 s): a function that needs one is made on its first call
+_HEAVY = ("mpmath", "scipy.special")
+
+
 def function_from_record(rec: Mapping) -> Callable:
-    """The function of a record (raises on anything that does not resolve)."""
+    """The function of a record (raises on anything that does not resolve).
+
+    Where a global comes from a module of :data:`_HEAVY` that is not imported yet (SEDF's
+    energy holds ``mpf(1)/mpf(2)``), the function is made on its first call (the same
+    code, the same globals; the module must exist): a process that never calls it never
+    imports the module (issue 39).
+    """
+    import sys
+
+    heavy = {kind for kind, _ in rec["globals"].values()
+             if kind in _HEAVY and kind not in sys.modules}
+    if heavy:
+        from importlib.util import find_spec
+
+        for mod in sorted(heavy):
+            if find_spec(mod) is None:
+                raise ImportError(f"no module {mod!r} for a stored function")
+        made: list = []
+
+        def on_call(*args):
+            if not made:
+                made.append(_function_now(rec))
+            return made[0](*args)
+        return on_call
+    return _function_now(rec)
+
+
+def _function_now(rec: Mapping) -> Callable:
+    """:func:`function_from_record`, the globals imported now."""
     namespace: dict = {}
     for n, (kind, what) in rec["globals"].items():
         if kind == "module":

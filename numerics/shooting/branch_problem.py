@@ -19,15 +19,17 @@ case gives the residual, its Jacobian, the test and the point:
 from __future__ import annotations
 
 import math
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
-from kbm.coupled import CoupledOscillators
 from numerics.errors import ConvergenceError
 from numerics.shooting.acceptance import accepted, orbit_scale, trivial_ok
 from numerics.shooting.arclength import correct_on_hyperplane, null_vector, predict
 from numerics.shooting.orbit import multipliers, peak
+
+if TYPE_CHECKING:  # the symbolic model: imported on use (issue 39)
+    from kbm.coupled import CoupledOscillators
 
 __all__ = ["BranchProblem", "OrbitProblem", "OrbitPoint"]
 

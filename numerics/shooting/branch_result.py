@@ -14,7 +14,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from kbm.models import FrozenMap
+from kbm.values import FrozenMap
 from kbm.strict_json import finite
 from numerics.shooting.orbit import multiplier_json
 

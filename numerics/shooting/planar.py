@@ -24,6 +24,7 @@ from numerics.shooting.floquet import floquet_multipliers
 from numerics.shooting.orbit import NEWTON_MAX_STEPS
 from numerics.errors import ConvergenceError, IntegrationError
 from numerics.flow import CompiledLine, Method, choose_method, extended_state, flow
+from numerics.flow.line_card import compiled_line
 from numerics.flow.sensitivity import (flow_with_sensitivity, sensitivity_flow, sensitivity_state,
                                        shooting_corrector)
 
@@ -55,10 +56,14 @@ class PlanarProblem(BranchProblem):
         self._compiled_kit = None
         self.p_ref, self.rates_ref = at, None
         # bound once; per value only what depends on ``vary`` is replaced
-        self.line = CompiledLine(model, params, vary, at)
+        self.line = compiled_line(model, params, vary, at)  # a line card's when stored
         #: the field is odd for every value of ``vary`` (``f(-y) = -f(y)``); ``half`` is set
         #: when the branch's cycles are symmetric as well (:meth:`use_symmetry`)
-        self.odd = _odd_field(self.line)
+        self.odd = self.line.odd if self.line.odd is not None else _odd_field(self.line)
+        if self.line.odd is None:  # kept in the line card for the warm runs (issue 39)
+            from numerics.flow.line_card import remember
+
+            remember(self.line.card_key, odd=bool(self.odd))
         self.half = False
 
     def use_symmetry(self, pt: "PlanarPoint") -> None:

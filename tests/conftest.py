@@ -49,6 +49,17 @@ SLOW = {
     "tests/test_kbm_engine.py::test_bessel_models_agree_with_numerical_kbm": 3.5,
     "tests/test_coupled_bessel.py::"
     "test_one_slider_above_the_first_order_in_the_general_form": 3.6,
+    # (then 5:04 for 1501: five more, with their siblings: the first harmonic's value at
+    # mu = 20 (test_vdp_mu20_first_harmonic_value); the Ctrl-C case of test_interrupt; the
+    # scipy-checked doublings of test_coupled_branch; the Duffing fold's error slopes in
+    # test_forced_numerics; test_coupled_cli's lock contract)
+    "tests/test_cycles_accuracy.py::"
+    "test_first_harmonic_of_relaxation_cycles_matches_taylor_reference[20]": 11.3,
+    "tests/test_thermal_friction_bounds.py::test_sigterm_stops_a_one_point_law_within_2_s": 4.3,
+    "tests/test_forced_special.py::test_period_doublings_on_a_forced_duffing_branch": 4.0,
+    "tests/test_forced_numeric.py::"
+    "test_slider_error_against_shooting_falls_like_mu_to_the_order": 3.6,
+    "tests/test_params_layer.py::test_lock_tongue_header_has_the_coupling_range": 3.5,
     # (eleventh session, 1460 tests in 5:12 on two quiet cores: more, each with a sibling
     # of its check in the default run: the sedf and cdc cases of the same N = 1 test; the
     # Pade test on true cycles; test_coupled_jets' equality with the exact engine; the SIGINT

@@ -141,7 +141,11 @@ SLOW = {
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config, items):
     """Mark the tests of :data:`SLOW` ``slow`` (before ``-m`` selects); a listed test of a
-    collected file that no longer exists is named in a warning (the list went stale)."""
+    collected file that no longer exists is named in a warning (the list went stale); and
+    put the files of :data:`HEAVY_FIRST` first, heaviest first (a stable sort: the tests of
+    a file keep their order)."""
+    rank = {name: i for i, name in enumerate(HEAVY_FIRST)}
+    items.sort(key=lambda item: rank.get(item.nodeid.split("::")[0], len(rank)))
     ids = {item.nodeid for item in items}
     files = {nodeid.split("::")[0] for nodeid in ids}
     for item in items:
@@ -153,3 +157,47 @@ def pytest_collection_modifyitems(config, items):
     if stale:
         warnings.warn(f"tests/conftest.py SLOW lists tests that do not exist: {stale}",
                       pytest.PytestConfigWarning, stacklevel=1)
+
+
+#: the test files that take longest (seconds of summed test time in a whole run, 2026-11-27,
+#: two loaded cores, divided by the load), heaviest first.  pytest-xdist's ``--dist
+#: loadfile`` hands whole files to the two workers in collection order (with
+#: ``--no-loadscope-reorder``; its default order is by the number of tests in a file), so
+#: sending the heaviest first is longest-processing-time scheduling: the two workers end
+#: within about one small file of each other.  Only the order of the files changes, never
+#: what a test does; a file not listed keeps its place after these.
+HEAVY_FIRST = (
+    "tests/test_fokker_planck.py",  # 47
+    "tests/test_noise_cli.py",  # 32
+    "tests/test_paper_methods_figures.py",  # 26
+    "tests/test_derivations.py",  # 22
+    "tests/test_thermal_averaged.py",  # 22
+    "tests/test_bifurcation_pd.py",  # 18
+    "tests/test_cycles_continuation.py",  # 18
+    "tests/test_comparison_fixed_delta.py",  # 17
+    "tests/test_long_period.py",  # 16
+    "kbm/phase_diffusion.py",  # 15 (its doctest)
+    "tests/test_stickslip_events.py",  # 13
+    "tests/test_shooting_acceptance.py",  # 12
+    "tests/test_noise_extrapolation.py",  # 11
+    "tests/test_bifurcation_oned.py",  # 11
+    "tests/test_branch_cli.py",  # 11
+    "tests/test_interrupt.py",  # 11
+    "tests/test_floors.py",  # 11
+    "tests/test_import_cycles.py",  # 10
+    "tests/test_paper_methods.py",  # 10
+    "tests/test_fokker_planck_escape.py",  # 10
+    "tests/test_cycles_accuracy.py",  # 10
+    "tests/test_coupled_friction.py",  # 9
+    "tests/test_latex.py",  # 9
+    "tests/test_bifurcation_snl.py",  # 8
+    "tests/test_spectrum_order2.py",  # 8
+    "tests/test_forced_numerics.py",  # 7
+    "tests/test_cycle_series.py",  # 7
+    "tests/test_stochastic_order2.py",  # 7
+    "tests/test_energy_maps.py",  # 6
+    "tests/test_paper_sliding.py",  # 6
+    "numerics/paper/errata.py",  # 6
+    "tests/test_every_cycle.py",  # 6
+)
+

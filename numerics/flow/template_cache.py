@@ -41,7 +41,8 @@ from typing import Any, TypeVar
 Template = TypeVar("Template")
 
 __all__ = ["template_key", "cached_template", "template_record", "template_from_record",
-           "function_record", "function_from_record", "read_record", "write_record", "FORMAT"]
+           "function_record", "function_from_record", "read_record", "write_record",
+           "update_record", "FORMAT"]
 
 #: version of the record's layout (part of the key)
 FORMAT = "1"
@@ -260,6 +261,15 @@ def write_record(key: str, record: Mapping, kind: str = "template") -> None:
         os.replace(tmp, path)
     except OSError:
         pass  # an unwritable cache costs time only
+
+
+def update_record(key: str | None, more: Mapping, kind: str = "template",
+                  valid: Callable[[dict], bool] | None = None) -> None:
+    """Add the entries ``more`` to the stored record of ``key`` (nothing where there is
+    none, or where ``valid`` refuses it: another layout)."""
+    record = None if key is None else read_record(key, kind)
+    if record is not None and (valid is None or valid(record)):
+        write_record(key, {**record, **more}, kind)
 
 
 def cached_template(model: object, build: Callable[[object], Template],

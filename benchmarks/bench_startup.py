@@ -43,7 +43,15 @@ least CPU): ``kbm branch sedf ...`` 0.445 / 0.296 s, 0.42 s CPU against 1.925 / 
 1.52 s before (part 2 alone: median 0.294 s, min 0.260 s); ``kbm cycle sedf ... Delta=1``
 0.333 / 0.222 s against 0.569 / 0.401 s.  The warm branch imports no sympy, scipy or numba
 (the line and model cards, the stored seeds, :mod:`numerics.cycles.localmin`); mpmath
-(0.1 s) is still imported, by the energy of the start cycle's final pass (``mpf``).
+(0.1 s) was still imported, by the energy of the start cycle's final pass (``mpf``).
+
+Measured 2026-11-27 (``--rounds 7 --against /work/main --with-branch --no-branch
+--no-imports``, load 9-13 on two cores; median / min wall, least CPU), with the stored
+energy's rationals printed as floats (no mpmath on the warm branch): ``kbm branch sedf
+...`` 1.880 / 1.061 s, 0.456 s CPU against 2.302 / 1.713 s, 0.541 s; a second run 1.856 /
+1.431 s, 0.417 s against 1.707 / 1.509 s, 0.464 s (the walls wait for the cores); 15
+interleaved runs of the branch alone: median 1.117 s wall, 0.483 s CPU against 1.356 s,
+0.552 s.
 
 The targets of issue 39: ``--version`` and ``--help`` under 0.15 s, ``cycle vdp`` under
 0.6 s warm, the whole ``branch`` within 2x of AUTO-07p's whole run (0.25-0.57 s quoted in

@@ -8,7 +8,6 @@ object that every numerical function takes.
 from __future__ import annotations
 
 import functools
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from fractions import Fraction
@@ -18,6 +17,7 @@ import sympy as sp
 
 from .errors import ParameterError
 from .models import MODELS, Oscillator, _drive_variant, get_model
+from .rational_values import line_floats, rational_tree, tree_value
 from .values import FrozenMap, parameter_value
 
 if TYPE_CHECKING:  # the coupled package imports this module
@@ -210,10 +210,16 @@ class ParameterLine:
         exact = [e for _, e, _ in self._derived] + ([w0] if self._w0 is not None else [])
         needed = {s.name for e in exact for s in e.free_symbols} - {vary}
         known = {**self.base.values, **given}
+        trees = [rational_tree(e) for e in exact]
         self._fractions = None
-        if not self._slow and all(_is_rational(e) for e in exact) and \
+        #: ``(scaled, tree)`` of the derived values (:func:`kbm.rational_values.rational_tree`)
+        #: where :meth:`floats` computes them exactly without sympy, and the linear frequency's
+        self._trees, self._w0_tree = [], None
+        if not self._slow and all(t is not None for t in trees) and \
                 all(isinstance(known.get(n), sp.Rational) for n in needed):
             self._fractions = {n: Fraction(int(known[n].p), int(known[n].q)) for n in needed}
+            self._trees = [(scaled, t) for (scaled, _, _), t in zip(self._derived, trees)]
+            self._w0_tree = trees[-1] if self._w0 is not None else None
         sym = sp.Symbol(vary)
         self._rates = [(scaled, sp.lambdify([sp.Symbol(n) for n in need],
                                             sp.diff(expr, sym), "math"), need)
@@ -247,23 +253,17 @@ class ParameterLine:
         """
         if self._fractions is None:
             return None
-        if not math.isfinite(value):
-            raise ParameterError(f"parameter {self.vary} must be a finite real number, "
-                                 f"got {value!r}")
-        env = dict(self._fractions)
-        env[self.vary] = Fraction(repr(float(value)))
-        out = {self.vary: float(env[self.vary])} if self._direct else {}
-        for scaled, expr, _ in self._derived:
-            try:
-                new = _fraction_value(expr, env)
-            except ZeroDivisionError:
-                raise ParameterError(f"{scaled} = {expr} is undefined for {self.vary} = "
-                                     f"{value}") from None
-            env[scaled] = new
-            out[scaled] = float(new)
+        exprs = {scaled: expr for scaled, expr, _ in self._derived}
+
+        def undefined(scaled: str):
+            raise ParameterError(f"{scaled} = {exprs[scaled]} is undefined for {self.vary} = "
+                                 f"{value}") from None
+
+        out, env = line_floats(self.vary, value, self._fractions, self._direct, self._trees,
+                               undefined)
         if self._w0 is not None:
             try:
-                ok = _fraction_value(self._w0, env) > 0
+                ok = tree_value(self._w0_tree, env) > 0
             except ZeroDivisionError:
                 ok = False
             if not ok:
@@ -321,31 +321,3 @@ def _physical_name(model, name: str) -> str:
         return name
     inputs = sorted(s.name for s in sp.sympify(expr).free_symbols if s.name != "mu")
     return inputs[0] if len(inputs) == 1 else name
-
-
-def _is_rational(expr: sp.Expr) -> bool:
-    """Whether ``expr`` is built of symbols and rationals by ``+``, ``*`` and integer
-    powers (exact in :class:`fractions.Fraction` arithmetic)."""
-    if expr.is_Symbol or expr.is_Rational:
-        return True
-    if expr.is_Add or expr.is_Mul:
-        return all(_is_rational(a) for a in expr.args)
-    if expr.is_Pow:
-        return expr.exp.is_Integer and _is_rational(expr.base)
-    return False
-
-
-def _fraction_value(expr: sp.Expr, env: Mapping[str, Fraction]) -> Fraction:
-    """The exact value of a rational expression (:func:`_is_rational`) at ``env``."""
-    if expr.is_Symbol:
-        return env[expr.name]
-    if expr.is_Rational:
-        return Fraction(int(expr.p), int(expr.q))
-    if expr.is_Add:
-        return sum((_fraction_value(a, env) for a in expr.args), Fraction(0))
-    if expr.is_Mul:
-        out = Fraction(1)
-        for a in expr.args:
-            out *= _fraction_value(a, env)
-        return out
-    return _fraction_value(expr.base, env) ** int(expr.exp)

@@ -175,3 +175,26 @@ def test_points_near_the_homoclinic_end_have_the_period_of_their_own_parameter()
         checked += 1
         assert pt.period == pytest.approx(c.period, rel=2e-8)
     assert checked >= 3
+
+
+@pytest.mark.parametrize("factor", ["RESIDUAL_FACTOR", "CORRECTION_FACTOR"])
+@pytest.mark.parametrize("compiled", [True, False])
+def test_both_correctors_take_the_one_acceptance_standard(monkeypatch, factor, compiled):
+    """The numbers of numerics.shooting.acceptance (issue 35: one standard, a residual
+    relative to the orbit's scale and the Newton correction, tests 1 and 2) decide for the
+    compiled corrector as for the Python one: the SEDF cycle at Delta = 1 (paper eq. 3) is
+    accepted with them, and with a bound of zero no iterate passes and both report no
+    convergence."""
+    from numerics.shooting import acceptance
+
+    prob = arc.PlanarProblem("sedf", SEDF, "Delta", "auto", 1e-10, 1.0)
+    prob.choose(np.array([2.0, 6.7, 1.0]))
+    assert prob.kernel is not None
+    if not compiled:
+        prob.kernel = None
+    row, start = np.array([0.0, 0.0, 1.0]), np.array([2.03, 6.7, 1.0])
+    pt = prob.correct(start, row, 1.0, max_iter=25)
+    assert abs(pt.mults[0] - 1) < acceptance.TRIVIAL_TOL
+    monkeypatch.setattr(acceptance, factor, 0.0)
+    with pytest.raises(ConvergenceError, match="did not converge in 6 iterations"):
+        prob.correct(start, row, 1.0, max_iter=6)

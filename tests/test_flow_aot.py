@@ -118,6 +118,7 @@ def test_ahead_of_time_corrector_equals_just_in_time_to_the_last_bit(monkeypatch
     corrected unknowns, residual, Jacobian and samples, byte for byte, converging (whole
     and half period) and refusing a start too far off; and the same ``accelerations``."""
     from numerics.cycles import limit_cycle
+    from numerics.shooting import acceptance
 
     cm, jit, built = _correctors(monkeypatch, model, params)
     assert built.module.__name__.startswith("kbm_aot_")
@@ -131,7 +132,12 @@ def test_ahead_of_time_corrector_equals_just_in_time_to_the_last_bit(monkeypatch
     for (fx, ft, fp), half, rtol in starts:
         u0 = np.array([fx * cyc.amplitude_max, ft * cyc.period, fp * p])
         row, target = np.array([0.0, 0.0, 1.0]), p  # the parameter fixed: a cycle at p
-        args = (row, target, pbase, rates, p, half, rtol, 32, 10**6, 8, 1e-5)
+        scale = max(1.0, u0[0])  # the standard's numbers at the start's scale
+        args = (row, target, pbase, rates, p, half, rtol, 32, 10**6, 8,
+                acceptance.residual_tolerance(rtol, scale),
+                acceptance.correction_tolerance(rtol, scale),
+                rtol * max(scale, u0[1], abs(u0[2])), acceptance.TRIVIAL_TOL,
+                acceptance.NOISE_RTOL)
         a = jit.module.shoot_correct(u0.copy(), *args)
         b = built.module.shoot_correct(u0.copy(), *args)
         assert a[:2] == b[:2] and a[7] == b[7]

@@ -72,11 +72,14 @@ def test_the_line_from_its_card_is_the_bound_line(cards, model, params, vary, at
 @settings(max_examples=60, deadline=None)
 @given(value=st.floats(-50.0, 50.0).filter(lambda v: abs(v) > 1e-9))
 def test_card_rationals_are_the_lines_for_any_value(value):
-    """``delta = Delta/mu`` from the card's stored expression in exact rationals equals
-    :meth:`kbm.bound.ParameterLine.floats` (sympy's exact rational, correctly rounded) for
-    any ``Delta``, and ``mu`` varied (``delta = Delta/mu`` with ``Delta = 2``) too."""
+    """``delta = Delta/mu`` (paper eq. 3) from the card's stored expression tree in exact
+    rationals (:mod:`kbm.rational_values`) equals :meth:`kbm.bound.ParameterLine.floats`
+    and sympy's own exact rational of the expression (a second method), correctly rounded,
+    for any ``Delta``, and ``mu`` varied (``delta = Delta/mu`` with ``Delta = 2``) too."""
+    import sympy as sp
+
     from kbm.bound import ParameterLine
-    from numerics.flow.line_card import _tree, _value
+    from kbm.rational_values import rational_tree, tree_value
     from fractions import Fraction
 
     for params, vary in (({"mu": "0.1", "beta": "1", "lam": "1"}, "Delta"),
@@ -85,7 +88,10 @@ def test_card_rationals_are_the_lines_for_any_value(value):
         env = dict(line._fractions)
         env[vary] = Fraction(repr(value))
         for scaled, expr, _ in line._derived:
-            assert float(_value(_tree(expr), env)) == line.floats(value)[scaled]
+            exact = expr.xreplace({sp.Symbol(n): sp.Rational(v.numerator, v.denominator)
+                                   for n, v in env.items()})
+            assert float(tree_value(rational_tree(expr), env)) == line.floats(value)[scaled]
+            assert line.floats(value)[scaled] == float(exact)
 
 
 def test_a_damaged_line_card_is_built_anew(cards):

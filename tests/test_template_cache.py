@@ -155,3 +155,54 @@ def test_cycle_gives_the_same_bytes_with_a_cold_and_a_warm_template_cache(tmp_pa
     # the coupled catalogue is not read (kbm.coupled.model is: the one model type lives there)
     assert "scipy.integrate" not in modules and "kbm.coupled.builtins" not in modules
     assert "scipy.special" not in modules and "scipy.optimize" not in modules
+
+
+@pytest.mark.parametrize("name", ["vdp", "duffing", "linear_stiffness", "sedf", "cdc",
+                                  "sedf_comoving"])
+def test_the_energy_without_mpmath_is_mpmaths_to_the_last_bit(name, monkeypatch):
+    """The energy ``v^2/2 + U(x)`` of a built-in model printed with float rationals
+    (:func:`numerics.flow.template_cache.lambdify_light`: ``1/2`` where lambdify's mpmath
+    printer writes ``mpf(1)/mpf(2)``) needs no mpmath and gives the mpmath-printed
+    function's values bit for bit (both round each operation to nearest at 53 bits, IEEE
+    754), on random scalars and arrays; SEDF's is paper eq. 3's potential
+    ``Omega^2 x^2/2 + delta mu (1 - cos k x)/k``."""
+    import inspect
+
+    model = get_model(name)
+    light = _build_template(model).f_energy
+    monkeypatch.setattr(tc, "lambdify_light",
+                        lambda args, expr, modules: sp.lambdify(args, expr, modules=modules))
+    printed = _build_template(model).f_energy
+    assert "mpf" not in inspect.getsource(light) and "mpf" in inspect.getsource(printed)
+    assert "mpmath" not in json.dumps(tc.function_record(light)["globals"])
+    rng = np.random.default_rng(7)
+    n = len(_build_template(model).names)
+    for _ in range(50):
+        p = [float(v) for v in rng.uniform(0.05, 3.0, n)]
+        xs, vs = rng.uniform(-4, 4, 9), rng.uniform(-4, 4, 9)
+        a = np.asarray(light(xs, vs, *p), dtype=float)
+        assert a.tobytes() == np.asarray(printed(xs, vs, *p), dtype=float).tobytes()
+        x0, v0 = float(xs[0]), float(vs[0])
+        assert float(light(x0, v0, *p)) == float(printed(x0, v0, *p))
+    if name == "sedf":
+        names = _build_template(model).names
+        vals = dict(zip(names, p))
+        ref = (vals["Omega"] ** 2 * x0 ** 2 / 2 + v0 ** 2 / 2
+               + vals["delta"] * vals["mu"] * (1 - np.cos(vals["k"] * x0)) / vals["k"])
+        assert float(light(x0, v0, *p)) == pytest.approx(ref, rel=1e-13, abs=1e-13)
+
+
+def test_an_energy_that_needs_mpmath_keeps_lambdifys_printing():
+    """A hypergeometric term (mpmath's ``hyper``) keeps mpmath's numbers throughout, and a
+    power with a fractional exponent keeps ``mpf`` in its exponent (mpmath's power)."""
+    import inspect
+
+    x, y = sp.symbols("x y")
+    hyper = x * sp.hyper((sp.Rational(1, 2),), (1, sp.Rational(3, 2)), -x**2 / 4) / 10
+    fn = tc.lambdify_light((x, y), hyper, ["numpy", "scipy", "mpmath"])
+    assert inspect.getsource(fn) == inspect.getsource(
+        sp.lambdify((x, y), hyper, modules=["numpy", "scipy", "mpmath"]))
+    root = tc.lambdify_light((x, y), (1 + x)**sp.Rational(1, 3) + y / 2,
+                             ["numpy", "scipy", "mpmath"])
+    assert "mpf(1)/mpf(3)" in inspect.getsource(root)
+    assert float(root(7.0, 1.0)) == pytest.approx(2.5, rel=1e-15)

@@ -183,13 +183,17 @@ def test_the_warm_branch_imports_no_sympy_scipy_or_numba():
     seeds' record, :mod:`numerics.flow.line_card`, :mod:`numerics.cycles.seeds`): no sympy
     (no symbolic model is built), no ``scipy`` at all (the homoclinic end's minimiser and
     energies by :mod:`numerics.cycles.localmin`, tested against scipy in
-    ``tests/test_localmin.py``; the roots by :func:`kbm.roots.brentq`), and, where a C
-    compiler built the flows ahead of time, no numba; the JSON is the first run's."""
+    ``tests/test_localmin.py``; the roots by :func:`kbm.roots.brentq`), no mpmath (the
+    stored energy's rationals are floats, :func:`numerics.flow.template_cache.lambdify_light`)
+    and, where a C compiler built the flows ahead of time, no numba; the JSON is the first
+    run's."""
     env = {**os.environ, "PYTHONPATH": str(ROOT), "KBM_COMPILE_NOTICE": "0", "KBM_AOT": "1"}
     first, _ = _modules_of_branch(env)
     out, modules = _modules_of_branch(env)
     assert out == first and b'"branches"' in out
     assert not [m for m in modules if m.startswith(("sympy", "scipy"))], modules
+    # the stored energy prints its rationals as floats (no mpf: no mpmath, 0.1 s)
+    assert not [m for m in modules if m.startswith("mpmath")], modules
     assert not [m for m in modules if m.startswith("numerics.energy.")
                 and m != "numerics.energy._zeros"], modules
     if shutil.which("cc") or shutil.which("gcc"):

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from numerics.shooting.acceptance import RESIDUAL_FACTOR, TRIVIAL_TOL, orbit_scale
+from numerics.shooting.acceptance import (RESIDUAL_FACTOR, TRIVIAL_TOL, noise_factor,
+                                          orbit_scale)
 from numerics.shooting.orbit import NEWTON_MAX_STEPS, shoot
 from numerics.errors import ConvergenceError, NoCycleError
 from numerics.flow import extended_state, flow
@@ -42,7 +43,7 @@ def newton(cm, x0, T, method, rtol, atol, max_iter, floor):
         return yT[:2], np.array([[yT[2], yT[4]], [yT[3], yT[5]]]), yT
 
     def noise(yT):  # the integration error of R grows with the monodromy matrix
-        return max(1.0, float(np.max(np.abs(yT[2:4]))) * rtol / 1e-8)
+        return noise_factor(float(np.max(np.abs(yT[2:4]))), rtol)
 
     def damp(z, dz):
         # damp steps that would leave the section, reverse time, or change x0 or T by

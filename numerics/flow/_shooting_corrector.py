@@ -63,7 +63,8 @@ def _trivial_distance(m00, m01, m10, m11):
 
 @njit(cache=True)
 def shoot_correct(u0, row, target, pbase, rates, p_ref, half, rtol, n_out, max_steps,
-                  max_iter, trivial_tol):
+                  max_iter, tol_residual, tol_correction, tol_accuracy, trivial_tol,
+                  noise_rtol):
     """Newton on ``R(u) = 0, row . u = target`` from ``u0``.
 
     Returns ``(status, it, u, R, A, b, ys, info)``: status 0 converged (``u`` with the last
@@ -72,20 +73,22 @@ def shoot_correct(u0, row, target, pbase, rates, p_ref, half, rtol, n_out, max_s
     mode), 1 the integration failed (``info`` = the stepper's status, the time reached is
     not known), 2 a step too large, 3 no convergence in ``max_iter`` iterations (``info`` =
     the last ``|R|``), 4 ``u`` left the domain (``T <= 0`` or not finite), 5 a singular
-    Jacobian; ``it`` the number of integrations done minus one.  The acceptance test is the
-    Python corrector's: ``|R| < 1e2 rtol max(1, |x0|) noise`` and the Newton correction
-    computed at the point below ``rtol max(|x0|, 1, T, |p|) noise``, ``noise`` the size of
-    the monodromy matrix times ``rtol / 1e-8`` (at least 1), and the trivial multiplier 1
-    to ``trivial_tol`` (or the last iteration).
+    Jacobian; ``it`` the number of integrations done minus one.
+
+    The acceptance test is the Python corrector's, with the numbers of the one standard
+    (:mod:`numerics.shooting.acceptance`) passed in by the caller at the prediction's scale
+    (this module is compiled from its text: it imports nothing of the package):
+    ``|R| <= tol_residual noise`` and the Newton correction computed at the point
+    ``<= tol_correction noise`` (the standard's tests 1 and 2) and ``< tol_accuracy noise``
+    (the accuracy of the point returned), ``noise`` the size of the monodromy matrix times
+    ``rtol / noise_rtol`` (at least 1), and the trivial multiplier 1 to ``trivial_tol``
+    (test 3; or the last iteration).
     """
     npar = pbase.shape[0]
     pv = np.empty(2 * npar)
     for k in range(npar):
         pv[npar + k] = rates[k]
     u = u0.copy()
-    scale = max(1.0, abs(u[0]))
-    tol_r = 1e2 * rtol * scale
-    tol_u = rtol * max(scale, u[1], abs(u[2]))
     R = np.zeros(2)
     A = np.zeros((2, 2))
     b = np.zeros(2)
@@ -143,7 +146,7 @@ def shoot_correct(u0, row, target, pbase, rates, p_ref, half, rtol, n_out, max_s
             A[1, 1] = acc
             m00, m01, m10, m11 = e[2], e[4], e[3], e[5]
         size = max(max(abs(m00), abs(m01)), max(abs(m10), abs(m11)))
-        noise = max(1.0, size * rtol / 1e-8)
+        noise = max(1.0, size * rtol / noise_rtol)
         for i in range(2):
             J[i, 0] = A[i, 0]
             J[i, 1] = A[i, 1]
@@ -156,7 +159,8 @@ def shoot_correct(u0, row, target, pbase, rates, p_ref, half, rtol, n_out, max_s
             return 5, it, u, R, A, b, ys, 0.0
         r_max = max(abs(R[0]), abs(R[1]))
         du_max = max(max(abs(du[0]), abs(du[1])), abs(du[2]))
-        if r_max < tol_r * noise and du_max < tol_u * noise:
+        if (r_max <= tol_residual * noise and du_max <= tol_correction * noise
+                and du_max < tol_accuracy * noise):
             if _trivial_distance(m00, m01, m10, m11) <= trivial_tol or it == max_iter:
                 for i in range(3):  # the point with the last correction, known to be small
                     u[i] += du[i]

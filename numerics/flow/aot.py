@@ -57,7 +57,8 @@ SIGNATURES = {
 #: exported where the source defines them, with the types their callers pass
 EXTRA_SIGNATURES = {
     "shoot_correct": "Tuple((i8, i8, f8[::1], f8[::1], f8[:,::1], f8[::1], f8[:,::1], f8))"
-                     "(f8[::1], f8[::1], f8, f8[::1], f8[::1], f8, b1, f8, i8, i8, i8, f8)",
+                     "(f8[::1], f8[::1], f8, f8[::1], f8[::1], f8, b1, f8, i8, i8, i8, f8, f8, f8, f8,"
+                     " f8)",
     "accelerations": "f8[::1](f8[::1], f8[::1])",
 }
 

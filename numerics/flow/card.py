@@ -30,8 +30,9 @@ from typing import Any
 
 from numerics._memo import memo
 
-__all__ = ["use_cards", "card_key", "card_model", "name_model", "model_of", "read_card", "write_card", "update_card",
-           "CardTemplate", "CardBound", "FORMAT"]
+__all__ = ["use_cards", "card_key", "card_model", "name_model", "model_of", "read_card",
+           "write_card", "update_card", "template_fields", "CardTemplate", "CardBound",
+           "FORMAT"]
 
 #: version of the card's layout (part of the key)
 FORMAT = "1"
@@ -131,33 +132,44 @@ def write_card(key: str | None, bound: Any, cm: Any, **more: object) -> None:
         return
     import sympy as sp
 
-    from numerics.flow.template_cache import FORMAT as RECORD, read_record, template_key
     from numerics.flow.template_cache import write_record
 
     template = cm.template
+    common = template_fields(key, template)
+    if common is None:
+        return
+    record = {**common, "card": FORMAT, "name": cm.name,
+              "values": {k: float(v) for k, v in bound.values.items()},
+              "fvals": dict(cm.values), "autonomous": bool(cm.autonomous),
+              "has_mu": bool(template.model.acceleration().has(sp.Symbol("mu"))), **more}
+    write_record(key, record, _KIND)
+
+
+def template_fields(key: str, template: Any) -> dict | None:
+    """The entries of a model or line card stored under ``key`` that its symbolic
+    ``template`` decides (the record's format and key, the template's key and names, the
+    extended flow's key, the acceleration), or ``None`` where the template's record is not
+    stored (its functions cannot be kept: no card)."""
+    import sympy as sp
+
+    from numerics.flow.template_cache import FORMAT as RECORD, read_record, template_key
+
     try:
         tkey = template_key(template.model)
     except TypeError:
-        return
+        return None
     if read_record(tkey) is None:
-        return
-    record = {"format": RECORD, "key": key, "card": FORMAT, "name": cm.name,
-              "template_key": tkey, "names": list(template.names),
-              "values": {k: float(v) for k, v in bound.values.items()},
-              "fvals": dict(cm.values), "autonomous": bool(cm.autonomous),
-              "has_mu": bool(template.model.acceleration().has(sp.Symbol("mu"))),
-              "flow_key": f"extended|{sp.srepr(tuple(template.ext_exprs))}|{template.names}",
-              "acc_srepr": sp.srepr(template.model.acceleration()), **more}
-    write_record(key, record, _KIND)
+        return None
+    return {"format": RECORD, "key": key, "template_key": tkey, "names": list(template.names),
+            "flow_key": f"extended|{sp.srepr(tuple(template.ext_exprs))}|{template.names}",
+            "acc_srepr": sp.srepr(template.model.acceleration())}
 
 
 def update_card(key: str | None, **more: object) -> None:
     """Add ``more`` entries to a stored card (nothing if there is none)."""
-    from numerics.flow.template_cache import write_record
+    from numerics.flow.template_cache import update_record
 
-    record = read_card(key)
-    if record is not None:
-        write_record(key, {**record, **more}, _KIND)
+    update_record(key, more, _KIND)
 
 
 class CardTemplate:

@@ -207,6 +207,8 @@ def _build_template(model: Oscillator) -> ModelTemplate:
            plus.subs(es), minus.subs(es)]
     from sympy.printing.codeprinter import PrintMethodNotImplementedError
 
+    from numerics.flow.template_cache import lambdify_light
+
     try:
         return ModelTemplate(
             model=model, names=names,
@@ -214,7 +216,7 @@ def _build_template(model: Oscillator) -> ModelTemplate:
             f_acc=sp.lambdify((T, X, V, *P), acc, modules=["math", "scipy"]),
             f_jac=sp.lambdify((T, X, V, *P), [[0, 1], [dadx, dadv]],
                               modules=["numpy", "scipy"]),
-            f_energy=sp.lambdify((X, V, *P), energy_expr, modules=["numpy", "scipy", "mpmath"]),
+            f_energy=lambdify_light((X, V, *P), energy_expr, ["numpy", "scipy", "mpmath"]),
             f_w0=sp.lambdify(P, model.omega0, modules="math"),
             f_factor=sp.lambdify(P, factor, modules="math"),
             dissipation_expr=factor * plus - minus, ext_exprs=tuple(ext), ext_symbols=tuple(y))

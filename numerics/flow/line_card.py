@@ -10,8 +10,8 @@ derived scaled values as exact rational expressions (``delta = Delta/mu``), thei
 (lambdified), whether the values are affine in the parameter, whether the field is odd,
 and the keys of the compiled flows (the extended flow, the nine-state flow with the
 Newton corrector).  A line card holds these; :class:`CardLine` answers as the
-:class:`kbm.bound.ParameterLine` did (the exact values are the same
-:class:`fractions.Fraction` arithmetic on the same expression, so the same floats).
+:class:`kbm.bound.ParameterLine` did (the exact values by the same code,
+:func:`kbm.rational_values.line_floats`, on the same expression trees: the same floats).
 
 Cards are read and written only where :func:`numerics.flow.card.use_cards` turns them on
 (``kbm branch``); the name is the model card's key (:func:`numerics.flow.card.card_key`:
@@ -25,12 +25,11 @@ not change); anything a card does not hold builds the line on use (:meth:`CardLi
 from __future__ import annotations
 
 import hashlib
-import math
 from collections.abc import Callable, Mapping
 from fractions import Fraction
 from typing import Any
 
-from kbm.errors import ParameterError
+from kbm.rational_values import line_floats
 
 __all__ = ["compiled_line", "source_digest", "line_key", "read_line", "write_line", "CardLine", "remember"]
 
@@ -127,37 +126,6 @@ def read_line(key: str | None) -> dict | None:
     return record if record is not None and record.get("line") == FORMAT else None
 
 
-def _tree(expr: Any) -> list:
-    """A rational sympy expression (:func:`kbm.bound._is_rational`) as nested lists."""
-    if expr.is_Symbol:
-        return ["s", expr.name]
-    if expr.is_Rational:
-        return ["q", int(expr.p), int(expr.q)]
-    if expr.is_Add or expr.is_Mul:
-        return ["+" if expr.is_Add else "*", *(_tree(a) for a in expr.args)]
-    return ["^", _tree(expr.base), int(expr.exp)]
-
-
-def _value(tree: list, env: Mapping[str, Fraction]) -> Fraction:
-    """The exact value of :func:`_tree`'s form at ``env`` (as :func:`kbm.bound._fraction_value`
-    computes it on the expression: the same exact rational)."""
-    op = tree[0]
-    if op == "s":
-        return env[tree[1]]
-    if op == "q":
-        return Fraction(int(tree[1]), int(tree[2]))
-    if op == "+":
-        return sum((_value(a, env) for a in tree[1:]), Fraction(0))
-    if op == "*":
-        out = Fraction(1)
-        for a in tree[1:]:
-            out *= _value(a, env)
-        return out
-    if op == "^":
-        return _value(tree[1], env) ** int(tree[2])
-    raise ValueError(f"unknown node {op!r}")
-
-
 def write_line(key: str | None, cline: Any) -> None:
     """Store the card of ``cline`` (a :class:`numerics.flow.compiled.CompiledLine` built
     from the symbolic model) under ``key``; nothing where the line needs sympy per value or
@@ -166,17 +134,14 @@ def write_line(key: str | None, cline: Any) -> None:
         return
     import sympy as sp
 
-    from numerics.flow.template_cache import (FORMAT as RECORD, function_record, read_record,
-                                              template_key, write_record)
+    from numerics.flow.card import template_fields
+    from numerics.flow.template_cache import function_record, write_record
 
     line, template = cline.line, cline.template
     if line._slow or line._w0 is not None or line._fractions is None:
         return
-    try:
-        tkey = template_key(template.model)
-    except TypeError:
-        return
-    if read_record(tkey) is None:
+    common = template_fields(key, template)
+    if common is None:
         return
     rates = {}
     for scaled, f, need in line._rates:
@@ -186,27 +151,22 @@ def write_line(key: str | None, cline: Any) -> None:
         rates[scaled] = {"need": list(need), "function": rec}
     ext = sp.srepr(tuple(template.ext_exprs))
     record = {
-        "format": RECORD, "key": key, "line": FORMAT, "name": line.base.name,
-        "template_key": tkey, "names": list(template.names), "vary": line.vary,
+        **common, "line": FORMAT, "name": line.base.name, "vary": line.vary,
         "fvals": dict(cline._floats), "autonomous": bool(cline._autonomous),
         "changed": list(line.changed), "direct": bool(line._direct),
-        "derived": [[scaled, _tree(expr)] for scaled, expr, _ in line._derived],
+        "derived": [[scaled, tree] for scaled, tree in line._trees],
         "fractions": {n: [v.numerator, v.denominator] for n, v in line._fractions.items()},
         "given": {k: float(v) for k, v in line._given.items()},
         "rates": rates, "affine": bool(line.affine),
-        "flow_key": f"extended|{ext}|{template.names}",
-        "sensitivity_key": f"sensitivity-9|{ext}|{template.names}",
-        "acc_srepr": sp.srepr(template.model.acceleration())}
+        "sensitivity_key": f"sensitivity-9|{ext}|{template.names}"}
     write_record(key, record, _KIND)
 
 
 def remember(key: str | None, **more: object) -> None:
     """Add ``more`` entries (``odd``: the field is odd) to a stored line card."""
-    record = read_line(key)
-    if record is not None:
-        from numerics.flow.template_cache import write_record
+    from numerics.flow.template_cache import update_record
 
-        write_record(key, {**record, **more}, _KIND)
+    update_record(key, more, _KIND, lambda record: record.get("line") == FORMAT)
 
 
 class _CardBase:
@@ -251,22 +211,11 @@ class CardLine:
         return self._line
 
     def floats(self, value: float) -> dict[str, float]:
-        """As :meth:`kbm.bound.ParameterLine.floats`: the float values of :attr:`changed`."""
-        if not math.isfinite(value):
-            raise ParameterError(f"parameter {self.vary} must be a finite real number, "
-                                 f"got {value!r}")
-        env = dict(self._fractions)
-        env[self.vary] = Fraction(repr(float(value)))
-        out = {self.vary: float(env[self.vary])} if self._direct else {}
-        for scaled, tree in self._derived:
-            try:
-                new = _value(tree, env)
-            except ZeroDivisionError:
-                self.full().floats(value)  # raises the symbolic line's message
-                raise
-            env[scaled] = new
-            out[scaled] = float(new)
-        return out
+        """As :meth:`kbm.bound.ParameterLine.floats`: the float values of :attr:`changed`
+        (the same code, :func:`kbm.rational_values.line_floats`, on the card's trees); an
+        undefined value raises the symbolic line's message."""
+        return line_floats(self.vary, value, self._fractions, self._direct, self._derived,
+                           lambda _: self.full().floats(value))[0]
 
     def rates(self, value: float) -> dict[str, float]:
         """As :meth:`kbm.bound.ParameterLine.rates`."""

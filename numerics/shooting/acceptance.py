@@ -20,6 +20,12 @@ the period, a parameter on a branch) as a periodic orbit by the same three tests
 3. **trivial multiplier** (autonomous systems): the eigenvalue of the monodromy matrix
    nearest 1 lies within :data:`TRIVIAL_TOL` of it.
 
+The bounds of tests 1 and 2 grow by :func:`noise_factor` where the monodromy matrix is
+large (near a separatrix the integration error of the residual grows with it).  The
+compiled corrector of one degree of freedom (``numerics/flow/_shooting_corrector.py``)
+takes these numbers as arguments (:meth:`numerics.shooting.planar.PlanarProblem.correct`
+passes them), so both correctors apply this one standard.
+
 A rejected orbit is reported with the numbers: "no periodic orbit here: the smallest
 residual is R at a distance D from the start", with the shooting matrix's smallest
 singular value there (small: a fold of cycles is near).
@@ -35,8 +41,9 @@ import numpy as np
 
 from numerics.errors import ConvergenceError
 
-__all__ = ["RESIDUAL_FACTOR", "CORRECTION_FACTOR", "TRIVIAL_TOL", "orbit_scale",
-           "residual_tolerance", "correction_tolerance", "accepted", "trivial_ok",
+__all__ = ["RESIDUAL_FACTOR", "CORRECTION_FACTOR", "TRIVIAL_TOL", "NOISE_RTOL", "orbit_scale",
+           "noise_factor", "residual_tolerance", "correction_tolerance", "accepted",
+           "trivial_ok",
            "NewtonTrace", "shoot_newton", "no_orbit_message"]
 
 #: the residual's bound in units of ``rtol`` times the orbit's scale (the integration floor)
@@ -50,10 +57,20 @@ CORRECTION_FACTOR = 1.0
 #: 1e-5 to 5e-2 before this test)
 TRIVIAL_TOL = 1e-5
 
+#: the integrator's tolerance at which a monodromy matrix of size 1 leaves the bounds as
+#: they are (:func:`noise_factor`)
+NOISE_RTOL = 1e-8
+
 
 def orbit_scale(y) -> float:
     """``S = max(1, ||y||_inf)``: the scale the tolerances are relative to."""
     return max(1.0, float(np.max(np.abs(np.asarray(y, dtype=float)))))
+
+
+def noise_factor(size: float, rtol: float) -> float:
+    """``max(1, size rtol / NOISE_RTOL)``: the factor of the bounds of tests 1 and 2 for a
+    monodromy matrix of size ``size`` (its largest entry)."""
+    return max(1.0, size * rtol / NOISE_RTOL)
 
 
 def residual_tolerance(rtol: float, scale: float, noise: float = 1.0) -> float:

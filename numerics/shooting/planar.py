@@ -182,10 +182,7 @@ class PlanarProblem(BranchProblem):
         u_pred = np.asarray(u_pred, dtype=float)
         if self.kernel is not None:
             return _correct_compiled(self, u_pred, row, target, max_iter)
-        scale = max(1.0, abs(u_pred[0]))
-        # the acceptance standard, and the accuracy of the point: a correction below rtol
-        # times the size of u (tighter than the standard's sqrt(rtol))
-        self._tol = (scale, self.rtol * max(scale, u_pred[1], abs(u_pred[2])), max_iter)
+        self._tol = (*_tolerances(u_pred, self.rtol), max_iter)
         return super().correct(u_pred, row, target, max_iter)
 
     def evaluate(self, u):
@@ -196,7 +193,7 @@ class PlanarProblem(BranchProblem):
         scale, tol_u, max_iter = self._tol
         A, b, yT, ys = data
         # the integration error of R grows with the monodromy matrix (near a separatrix)
-        noise = max(1.0, float(np.max(np.abs(yT[2:6]))) * self.rtol / 1e-8)
+        noise = _acceptance.noise_factor(float(np.max(np.abs(yT[2:6]))), self.rtol)
         corr = float(np.max(np.abs(du)))
         if not (_acceptance.accepted(float(np.max(np.abs(R))), corr, self.rtol, scale, noise)
                 and corr < tol_u * noise):
@@ -234,6 +231,15 @@ class PlanarProblem(BranchProblem):
         if new.tangent[2] * pt.tangent[2] < 0:
             new.tangent = -new.tangent
         return new
+
+
+def _tolerances(u_pred, rtol: float) -> tuple[float, float]:
+    """``(S, tol_u)`` of a correction from ``u_pred``: the orbit's scale ``S = max(1, |x0|)``
+    of the acceptance standard, and the accuracy of the point, a correction below ``rtol``
+    times the size of ``u`` (tighter than the standard's ``sqrt(rtol) S`` unless ``T`` or
+    ``|p|`` exceeds ``S / sqrt(rtol)``)."""
+    scale = max(1.0, abs(float(u_pred[0])))
+    return scale, rtol * max(scale, float(u_pred[1]), abs(float(u_pred[2])))
 
 
 def _odd_field(line: CompiledLine) -> bool:
@@ -302,11 +308,14 @@ def _correct_compiled(prob: PlanarProblem, u_pred, row, target: float,
     tests and errors, with the parameter vector ``pvec(p_ref) + (p - p_ref) rates``
     (affine in ``p``)."""
     u = np.array(u_pred, dtype=float)
-    p_ref = prob.p_ref
+    p_ref, rtol = prob.p_ref, prob.rtol
+    scale, tol_u = _tolerances(u, rtol)
     status, it, u, R, A, b, ys, info = prob.kernel(
         u, np.asarray(row, dtype=float), float(target),
         np.asarray(prob.line(p_ref).pvec, dtype=float), prob.rates_ref, p_ref, bool(prob.half),
-        prob.rtol, 32, NEWTON_MAX_STEPS, max_iter, TRIVIAL_TOL)
+        rtol, 32, NEWTON_MAX_STEPS, max_iter, _acceptance.residual_tolerance(rtol, scale),
+        _acceptance.correction_tolerance(rtol, scale), tol_u, TRIVIAL_TOL,
+        _acceptance.NOISE_RTOL)
     prob.evaluations += it + 1
     if status == 0:
         if prob.half:

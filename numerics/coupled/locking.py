@@ -30,6 +30,7 @@ import sympy as sp
 
 from kbm.coupled import CoupledOscillators, amplitudes, derive_coupled, numeric_average
 from kbm.errors import ParameterError, ResolutionError, UnsupportedTermError
+from kbm.evaluate import numpy_array_function
 from numerics._memo import memo
 from numerics.errors import NoCycleError
 from .flow import bind_coupled
@@ -62,8 +63,9 @@ def _slow_flow(model: CoupledOscillators, order: int, fixed: tuple, parameter: s
     state = [*amplitudes(model.dof), *[g for g, _ in res.gammas]]
     mu, s = sp.Symbol("mu"), sp.Symbol(parameter)
     J = sp.Matrix(rates).jacobian(state)
-    f = sp.lambdify([state, s, mu], list(rates), "numpy")
-    jac = sp.lambdify([state, s, mu], J, "numpy")
+    # the one lambdify path of KBM expressions: besselj (the potential's sin k x) to scipy
+    f = numpy_array_function(list(rates), [state, s, mu])
+    jac = numpy_array_function(J.tolist(), [state, s, mu])
     return f, jac, len(state)
 
 
@@ -168,8 +170,9 @@ def averaged_edges(model: CoupledOscillators | str, params: Mapping[str, object]
                   dtype=float)
     y = _newton(f, jac, y0, 0.0, mu)
     if y is None:
+        near = ", ".join(f"{float(v):g}" for v in y0)
         raise NoCycleError(f"the order-{order} slow flow of {model.name} has no locked state "
-                           f"near {list(y0)} at {parameter} = 0")
+                           f"near (a, gamma) = ({near}) at {parameter} = 0")
     return [_averaged_edge(f, jac, y, side, mu, limit) for side in (-1, 1)]
 
 

@@ -251,6 +251,7 @@ def coupled_averaged_folds(model, params: Mapping[str, float], axes: tuple[str, 
     bound, _ = bind_coupled(model, {**dict(params), **{k: 0 for k in axes}})
     vals = {k: float(v) for k, v in params.items() if k not in axes}
     lo, hi = ranges[s_name]
+    start = 0.0 if lo < 0 < hi else 0.5 * (lo + hi)  # as the true curves' seeds
     curves = []
     for n in orders:
         try:
@@ -270,7 +271,7 @@ def coupled_averaged_folds(model, params: Mapping[str, float], axes: tuple[str, 
         for o in others:
             try:
                 edges = averaged_edges(bound, {**vals, o_name: float(o)}, n, s_name,
-                                       max(abs(lo), abs(hi)))
+                                       max(abs(lo - start), abs(hi - start)), at=start)
             except NumericsError as exc:
                 if dropped is not None:
                     dropped.append({"kind": "fold", "method": "averaged", "order": n,

@@ -65,7 +65,8 @@ class Plane:
             if len(on) > 1 or on == ["mu"]:
                 fixed = sorted(inputs - set(axes))
                 raise ParameterError(
-                    f"{rule} would change along the --vary {' and '.join(on)} axes: a diagram "
+                    f"{rule} would change along the --vary {' and '.join(on)} "
+                    f"ax{'es' if len(on) > 1 else 'is'}: a diagram "
                     f"varies two of the model's parameters; give the scaled -p {scaled}=VALUE "
                     + (f"instead of -p {', '.join(fixed)}" if fixed else "")
                     + (f" or vary {scaled} itself (--vary {scaled}=FROM:TO)"

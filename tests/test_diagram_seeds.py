@@ -338,3 +338,21 @@ def test_cli_sedf_dimer_physical_axis_equals_scaled_axis(capsys):
         assert la["folds"] == pytest.approx([f * 0.1 for f in lb["folds"]])
         assert la["period"] == pytest.approx(lb["period"], rel=1e-12)
     assert len(a["curves"]) == len(b["curves"])
+
+
+def test_dimer_locking_edge_in_delta_is_no_fold_and_is_said_so():
+    """The dimer's averaged locking edge in delta (``kbm lock sedf-dimer --vary delta=-1:1``:
+    -0.3496 at kappa = 0.4, order 1) sits on the symmetric state a1 = a2, gamma = 0: the
+    in-phase state loses stability there by a symmetry-breaking pitchfork, where the fold's
+    defining system is singular.  The seed is not dropped silently: the record says so."""
+    from numerics.bifurcation.coupled import coupled_averaged_folds
+
+    vals = {"mu": MU, "beta": 1.0, "lam": 1.0}
+    edge = -0.87398916 * 0.4  # kbm lock's order-1 edges: -0.87398916 kappa (kappa = 0.1..1)
+    dropped: list = []
+    curves = coupled_averaged_folds("sedf-dimer", vals, ("delta", "kappa"),
+                                    {"delta": (-1.0, 1.0), "kappa": (0.1, 1.0)}, (1,), [0.4],
+                                    dropped=dropped)
+    assert curves == [] and len(dropped) == 1
+    assert dropped[0]["seed"] == pytest.approx([edge, 0.4], abs=1e-7)
+    assert "singular" in dropped[0]["reason"] and "pitchfork" in dropped[0]["reason"]

@@ -291,7 +291,8 @@ def coupled_averaged_folds(model, params: Mapping[str, float], axes: tuple[str, 
                                            ds_max=5 * ds, max_points=max_points, tol=1e-12)
                 except NumericsError as exc:
                     if dropped is not None:
-                        dropped.append(dropped_seed("fold", "averaged", n, z0[m:], str(exc)))
+                        dropped.append(dropped_seed("fold", "averaged", n, z0[m:],
+                                                    str(exc) + _singular(J, z0)))
                     continue
                 tasks.append(task)
                 pts = joined(task.paths)
@@ -302,6 +303,21 @@ def coupled_averaged_folds(model, params: Mapping[str, float], axes: tuple[str, 
                     dropped.append(dropped_seed("fold", "averaged", n, z0[m:],
                                                 why_short(task.paths)))
     return curves
+
+
+def _singular(J, z0) -> str:
+    """Why Newton fails from a seed where the fold's defining system is singular (its
+    Jacobian of rank below full: not a regular curve), else ``""``."""
+    try:
+        sv = np.linalg.svd(np.asarray(J(z0), dtype=float), compute_uv=False)
+    except (ValueError, np.linalg.LinAlgError, ArithmeticError):
+        return ""
+    if not (np.all(np.isfinite(sv)) and sv[-1] <= 1e-8 * sv[0]):
+        return ""
+    return (f"; the defining system of a fold is singular at the seed (smallest singular "
+            f"value {sv[-1]:.1e} of {sv[0]:.2g}): the locked state loses its stability there "
+            "without a fold (e.g. a symmetry-breaking pitchfork of identical oscillators), "
+            "and the diagram continues folds only")
 
 
 def coupled_diagram(model, params: Mapping[str, float], axes: tuple[str, str],

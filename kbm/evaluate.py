@@ -29,7 +29,8 @@ if TYPE_CHECKING:  # mpmath and sympy imported on use (issue 39)
     import mpmath
     import sympy as sp
 
-__all__ = ["numpy_function", "mpmath_function", "vectorised", "DEFAULT_TOL"]
+__all__ = ["numpy_function", "numpy_array_function", "mpmath_function", "vectorised",
+           "DEFAULT_TOL"]
 
 #: default relative tolerance of the truncated Bessel sums (numpy)
 DEFAULT_TOL = 1e-15
@@ -116,6 +117,54 @@ def numpy_function(expr: sp.Expr, args: Sequence[sp.Symbol], *, tol: float = DEF
     #: sums (without them ``vectorised(f.lambdified, names)`` is the same function)
     f.lambdified, f.has_sums = f_outer, bool(inner)
     return f
+
+
+def numpy_array_function(exprs, args: Sequence, *, cse: bool = False
+                         ) -> Callable[..., np.ndarray]:
+    """Compile a list (or a list of lists) of expressions to one numpy function of
+    ``args``: the one lambdify path for arrays of KBM expressions (a slow flow and its
+    Jacobian), with the namespaces of :func:`numpy_function` (``besselj`` as
+    :func:`scipy.special.jv`).
+
+    ``args`` may nest (``[state, sigma, mu]``: a sequence of symbols is one argument, as
+    :func:`sympy.lambdify` takes it).  Expressions with infinite ``Sum`` are compiled one by
+    one with :func:`numpy_function` (its truncation rule); the others in one function
+    (``cse``: common subexpressions shared).  The call returns a float array of the shape of
+    ``exprs``, for scalar arguments.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> a, s = sp.symbols("a s")
+    >>> f = numpy_array_function([sp.besselj(0, a), a * s], [a, s])
+    >>> f(0.0, 2.0).tolist()
+    [1.0, 0.0]
+    """
+    import sympy as sp
+
+    rows = [list(r) if isinstance(r, (list, tuple)) else r for r in exprs]
+    flat = [e for r in rows for e in (r if isinstance(r, list) else [r])]
+    if not any(sp.sympify(e).atoms(sp.Sum) for e in flat):
+        with np.errstate(all="ignore"):
+            fn = sp.lambdify(list(args), rows, modules=_numpy_modules(), cse=cse)
+
+        def f(*vals):
+            with np.errstate(all="ignore"):
+                return np.asarray(fn(*vals), dtype=float)
+        return f
+    syms: list = []
+    for arg in args:  # the nested arguments as one flat list of symbols
+        syms += list(arg) if isinstance(arg, (list, tuple)) else [arg]
+    each = [numpy_function(sp.sympify(e), syms) for e in flat]
+    shape = np.shape(np.empty((len(rows), len(rows[0])))) \
+        if rows and isinstance(rows[0], list) else (len(rows),)
+
+    def g(*vals):
+        flat_vals: list = []
+        for v in vals:
+            flat_vals += list(np.ravel(v)) if np.ndim(v) else [v]
+        return np.array([float(h(*flat_vals)) for h in each], dtype=float).reshape(shape)
+    return g
 
 
 def vectorised(f_outer: Callable, names: Sequence[str]) -> Callable[..., np.ndarray]:

@@ -35,7 +35,8 @@ import sympy as sp
 from kbm.errors import ParameterError
 from numerics.bifurcation.forced_averaged import rates_system
 from numerics.bifurcation.twoway import (FD_STEP, Task, both_ways, codim2_points, distances,
-                                         interruptible, joined, on_known)
+                                         dropped_seed, interruptible, joined, on_known,
+                                         seed_levels, why_short)
 from numerics.bifurcation.result import Codim2Point, Curve, Diagram
 from numerics.errors import NumericsError
 
@@ -132,11 +133,16 @@ def _seed_axis(axes: tuple[str, str]) -> int:
 def coupled_true_folds(model, params: Mapping[str, float], axes: tuple[str, str],
                        ranges: Mapping[str, tuple[float, float]], others: Sequence[float], *,
                        ds: float = 0.02, max_points: int = 300, progress=None,
-                       tasks_out: list | None = None) -> tuple[list[Curve], list[Codim2Point]]:
+                       tasks_out: list | None = None, dropped: list | None = None,
+                       lines: list | None = None) -> tuple[list[Curve], list[Codim2Point]]:
     """The true fold curves of the locked cycle (the tongue's edges), seeded at the values
     ``others`` of the axis that is not the detuning; ``tasks_out`` receives the
     :class:`~numerics.bifurcation.forced.Task` of each curve (its paths' full ``z``, its
-    :class:`LockedCycleFold` as ``problem``)."""
+    :class:`LockedCycleFold` as ``problem``), ``dropped`` a record of each seed that gave no
+    curve, ``lines`` one record per seed line: ``{"at": {other: value}, "along": name,
+    "from": start, "to": [lo, hi], "folds": [...], "period": T, "cycle": error}`` (the
+    locked cycle at ``from`` and its period, or why there is none, and the folds met going
+    both ways to the range's ends: a diagram without curves says why from these)."""
     from numerics.coupled import coupled_cycle
     from numerics.coupled.fold import locate_fold
 
@@ -150,10 +156,16 @@ def coupled_true_folds(model, params: Mapping[str, float], axes: tuple[str, str]
         prob = LockedCycleFold(model, params, axes)
         n2 = 2 * prob.n
         vals = {**prob.values, o_name: float(o), s_name: start}
+        line = {"at": {o_name: float(o)}, "along": s_name, "from": start, "to": [lo, hi],
+                "folds": [], "period": None, "cycle": None}
+        if lines is not None:
+            lines.append(line)
         try:
             cyc = coupled_cycle(prob.model, vals)
-        except NumericsError:
+        except NumericsError as exc:
+            line["cycle"] = str(exc)
             continue
+        line["period"] = float(cyc.period)
         rest = {k: v for k, v in vals.items() if k != s_name}
         bounds = {n2: tuple(ranges[axes[0]]), n2 + 1: tuple(ranges[axes[1]])}
         scale = np.concatenate([np.ones(n2 - 1), [cyc.period],
@@ -164,6 +176,7 @@ def coupled_true_folds(model, params: Mapping[str, float], axes: tuple[str, str]
                                beyond)
             if fold is None:
                 continue
+            line["folds"].append(float(fold.parameter))
             z0 = np.zeros(n2 + 2)
             z0[:n2 - 1] = np.asarray(fold.state)[prob.free]
             z0[n2 - 1] = fold.period
@@ -178,12 +191,17 @@ def coupled_true_folds(model, params: Mapping[str, float], axes: tuple[str, str]
                 task.paths = both_ways(prob.G, z0, jac=prob.J, bounds=bounds, scale=scale,
                                        ds=ds, ds_max=5 * ds, max_points=max_points,
                                        tests=tests, progress=progress)
-            except NumericsError:
+            except NumericsError as exc:
+                if dropped is not None:
+                    dropped.append(dropped_seed("fold", "true", None, z0[n2:], str(exc)))
                 continue
             tasks.append(task)
             if tasks_out is not None:
                 tasks_out.append(task)
             pts = joined(task.paths)
+            if len(pts) < 2 and dropped is not None:
+                dropped.append(dropped_seed("fold", "true", None, z0[n2:],
+                                            why_short(task.paths)))
             if len(pts) >= 2:
                 res = max(p.residual for p in (q for path in task.paths for q in path.points))
                 curves.append(Curve("fold", [tuple(p[n2:]) for p in pts], "true", None,
@@ -220,9 +238,11 @@ def _averaged_fold_system(model, values: Mapping[str, float], axes: tuple[str, s
 
 def coupled_averaged_folds(model, params: Mapping[str, float], axes: tuple[str, str],
                            ranges: Mapping[str, tuple[float, float]], orders: Sequence[int],
-                           others: Sequence[float], *, ds: float = 0.02, max_points: int = 300
-                           ) -> list[Curve]:
-    """The averaged tongue: the slow flow's fold curves of its locked state at ``orders``."""
+                           others: Sequence[float], *, ds: float = 0.02, max_points: int = 300,
+                           dropped: list | None = None) -> list[Curve]:
+    """The averaged tongue: the slow flow's fold curves of its locked state at ``orders``;
+    ``dropped`` receives a record of each order the engine does not take, each seed line
+    without a locked state and each seed that gave no curve."""
     from numerics.coupled.flow import bind_coupled
     from numerics.coupled.locking import averaged_edges
 
@@ -231,6 +251,7 @@ def coupled_averaged_folds(model, params: Mapping[str, float], axes: tuple[str, 
     bound, _ = bind_coupled(model, {**dict(params), **{k: 0 for k in axes}})
     vals = {k: float(v) for k, v in params.items() if k not in axes}
     lo, hi = ranges[s_name]
+    start = 0.0 if lo < 0 < hi else 0.5 * (lo + hi)  # as the true curves' seeds
     curves = []
     for n in orders:
         try:
@@ -238,6 +259,10 @@ def coupled_averaged_folds(model, params: Mapping[str, float], axes: tuple[str, 
         except Exception as exc:  # noqa: BLE001 - an order the engine does not take
             if isinstance(exc, (KeyboardInterrupt, SystemExit)):
                 raise
+            if dropped is not None:
+                dropped.append({"kind": "fold", "method": "averaged", "order": n,
+                                "seed": None, "reason": f"no order-{n} slow flow ("
+                                + str(exc).split(": ")[0] + ")"})
             continue
         bounds = {m: tuple(ranges[axes[0]]), m + 1: tuple(ranges[axes[1]])}
         scale = np.concatenate([np.ones(m), [bounds[m][1] - bounds[m][0],
@@ -246,8 +271,11 @@ def coupled_averaged_folds(model, params: Mapping[str, float], axes: tuple[str, 
         for o in others:
             try:
                 edges = averaged_edges(bound, {**vals, o_name: float(o)}, n, s_name,
-                                       max(abs(lo), abs(hi)))
-            except NumericsError:
+                                       max(abs(lo - start), abs(hi - start)), at=start)
+            except NumericsError as exc:
+                if dropped is not None:
+                    dropped.append({"kind": "fold", "method": "averaged", "order": n,
+                                    "seed": None, "reason": f"at {o_name} = {o:g}: {exc}"})
                 continue
             for e in edges:
                 if not (lo <= e.sigma <= hi):
@@ -261,14 +289,35 @@ def coupled_averaged_folds(model, params: Mapping[str, float], axes: tuple[str, 
                 try:
                     task.paths = both_ways(G, z0, jac=J, bounds=bounds, scale=scale, ds=ds,
                                            ds_max=5 * ds, max_points=max_points, tol=1e-12)
-                except NumericsError:
+                except NumericsError as exc:
+                    if dropped is not None:
+                        dropped.append(dropped_seed("fold", "averaged", n, z0[m:],
+                                                    str(exc) + _singular(J, z0)))
                     continue
                 tasks.append(task)
                 pts = joined(task.paths)
                 if len(pts) >= 2:
                     curves.append(Curve("fold", [tuple(p[m:]) for p in pts], "averaged", n,
                                         {"label": "locking edge"}))
+                elif dropped is not None:
+                    dropped.append(dropped_seed("fold", "averaged", n, z0[m:],
+                                                why_short(task.paths)))
     return curves
+
+
+def _singular(J, z0) -> str:
+    """Why Newton fails from a seed where the fold's defining system is singular (its
+    Jacobian of rank below full: not a regular curve), else ``""``."""
+    try:
+        sv = np.linalg.svd(np.asarray(J(z0), dtype=float), compute_uv=False)
+    except (ValueError, np.linalg.LinAlgError, ArithmeticError):
+        return ""
+    if not (np.all(np.isfinite(sv)) and sv[-1] <= 1e-8 * sv[0]):
+        return ""
+    return (f"; the defining system of a fold is singular at the seed (smallest singular "
+            f"value {sv[-1]:.1e} of {sv[0]:.2g}): the locked state loses its stability there "
+            "without a fold (e.g. a symmetry-breaking pitchfork of identical oscillators), "
+            "and the diagram continues folds only")
 
 
 def coupled_diagram(model, params: Mapping[str, float], axes: tuple[str, str],
@@ -280,15 +329,19 @@ def coupled_diagram(model, params: Mapping[str, float], axes: tuple[str, str],
     s_i = _seed_axis(axes)
     o_name = axes[1 - s_i]
     lo, hi = ranges[o_name]
-    others = list(np.linspace(lo, hi, seeds_at + 2)[1:-1])
+    others = seed_levels(lo, hi, seeds_at)
+    dropped: list = []
+    lines: list = []
     true, pts = coupled_true_folds(model, params, axes, ranges, others, ds=ds,
-                                   max_points=max_points, progress=progress)
+                                   max_points=max_points, progress=progress, dropped=dropped,
+                                   lines=lines)
     av = coupled_averaged_folds(model, params, axes, ranges, orders, others, ds=ds,
-                                max_points=max_points)
+                                max_points=max_points, dropped=dropped)
     name = model if isinstance(model, str) else model.name
     return Diagram(name, {k: float(v) for k, v in params.items() if k not in axes}, axes,
                    ranges, tuple(true + av), tuple(pts),
-                   {"distance": distances(true, av, pts, [])})
+                   {"distance": distances(true, av, pts, []), "dropped": dropped,
+                    "seed_lines": lines})
 
 
 def edge_at(curves: Sequence[Curve], other: float, side: int, axis: int = 0) -> float:

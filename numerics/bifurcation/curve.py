@@ -17,7 +17,9 @@ Methods*):
   to ``ds_max``, and halves after a failed one or a turn of the tangent by more than
   ``max_turn`` radians; the path ends when ``ds`` falls below ``ds_min``;
 - bounds: when a point leaves the box, the path ends on the box's edge exactly (the
-  arclength condition is replaced by ``z_i = edge``);
+  arclength condition is replaced by ``z_i = edge``); a seed that corrects to just outside
+  the box (a seed on its edge) starts on the edge the same way, and the path that would
+  leave the box there at once ends at its first point;
 - test functions ``psi(z)`` are evaluated at each point; a sign change between two points
   is located by the Illinois variant of regula falsi on the curve (each trial point
   corrected onto the curve on the hyperplane orthogonal to the chord) until
@@ -246,13 +248,17 @@ def continue_curve(G: Callable, z0, *, jac: Callable | None = None, tangent=None
             J0 = _jac(Gw, jw, w, None, fd_step)
             t0 = tangent_at(J0, None if tangent is None else np.asarray(tangent) / sc)
             w, res, k, J = correct(Gw, w, t0, float(t0 @ w), jac=jw, **kw)
+            if _outside(w, wbounds) is not None:  # a seed on the box's edge corrected to
+                w, res, k, J = _onto_edge(Gw, jw, w, wbounds, kw, (w, res, k, J))  # outside
             wpt = PathPoint(w, tangent_at(J, t0), res, k)
             wpt.tests = _evaluate_tests(wtests, wpt)
             wpath.points.append(wpt)
             wpath.ds = ds
             emit(wpt)
             if _outside(w, wbounds) is not None:
-                path.end, path.message = "outside", "the first point lies outside the box"
+                path.end, path.message = "outside", (
+                    f"the seed corrected to z = {_fmt(w * sc)}, outside the box, and no point "
+                    "of the curve on the edge it crossed was found")
                 return path
         step = ds if not math.isfinite(wpath.ds) else wpath.ds
         if resume is not None and len(wpath.points) > 1:  # the step the run would take next
@@ -275,6 +281,10 @@ def continue_curve(G: Callable, z0, *, jac: Callable | None = None, tangent=None
                 step *= 0.5
                 continue
             edge = _outside(w, wbounds, last.z)
+            if edge is not None and last.z[edge[0]] == edge[1]:  # started on this edge
+                path.end = "bounds"
+                path.message = f"on the edge z[{edge[0]}] = {edge[1] * sc[edge[0]]:g}"
+                break
             if edge is not None:
                 i, value = edge
                 row = np.zeros_like(w)
@@ -359,6 +369,25 @@ def _outside(z, bounds, prev=None):
         return None
     _, i, value = min(crossed)
     return i, value
+
+
+def _onto_edge(G, jac, w, bounds, kw, fallback):
+    """The point of the curve on the box's edge that ``w`` (a corrected seed, just outside)
+    lies beyond: Newton with that component fixed at the edge (``fallback`` when it fails
+    or the point found lies outside another edge)."""
+    i, value = _outside(w, bounds)
+    row = np.zeros_like(w)
+    row[i] = 1.0
+    try:
+        z, res, k, J = correct(G, w, row, value, jac=jac, **kw)
+    except FAILURES:
+        return fallback
+    z[i] = value
+    return (z, res, k, J) if _outside(z, bounds) is None else fallback
+
+
+def _fmt(z) -> str:
+    return "(" + ", ".join(f"{float(x):.6g}" for x in z) + ")"
 
 
 def _next_step(step: float, k: int, ds_max: float) -> float:

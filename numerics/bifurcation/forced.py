@@ -52,7 +52,8 @@ from kbm.errors import ParameterError
 from numerics.bifurcation.forced_averaged import averaged_fold_curves
 from numerics.bifurcation.result import Codim2Point, Curve, Diagram
 from numerics.bifurcation.twoway import (FD_STEP, Task, both_ways, codim2_points, distances,
-                                         interruptible, joined, merged, on_known, trimmed)
+                                         dropped_seed, interruptible, joined, merged, on_known,
+                                         seed_levels, trimmed, why_short)
 from numerics.errors import NumericsError
 
 __all__ = ["DrivenProblem", "MAP_TESTS", "forced_seeds", "forced_true_curves",
@@ -228,10 +229,12 @@ def forced_seeds(prob: DrivenProblem, sigma_range: tuple[float, float], others: 
 def forced_true_curves(prob: DrivenProblem, ranges: Mapping[str, tuple[float, float]],
                        seeds: Sequence[tuple[str, np.ndarray]], *, ds: float = 0.02,
                        max_points: int = 400, progress=None, on_task=None,
-                       stored: Mapping[int, list] | None = None
+                       stored: Mapping[int, list] | None = None, dropped: list | None = None
                        ) -> tuple[list[Task], list[Curve], list[Codim2Point]]:
     """Continue the true curves from ``seeds`` (a seed already on a found curve of its kind
-    is skipped); ``stored`` maps a task's index to its stored paths (resumed).
+    is skipped); ``stored`` maps a task's index to its stored paths (resumed); ``dropped``
+    receives a :func:`~numerics.bifurcation.twoway.dropped_seed` record of each seed that
+    gave no curve (its correction failed, or its paths hold one point).
 
     Returns the tasks, their :class:`Curve` (``method = "true"``) and the codim-2 points."""
     bounds = {2: tuple(ranges[prob.axes[0]]), 3: tuple(ranges[prob.axes[1]])}
@@ -267,14 +270,18 @@ def forced_true_curves(prob: DrivenProblem, ranges: Mapping[str, tuple[float, fl
                                    bounds=bounds, scale=scale, ds=ds, ds_max=5 * ds,
                                    max_points=max_points, tests=tests, stop=stop,
                                    progress=progress, resume=stored.get(idx, ()))
-        except NumericsError:
+        except NumericsError as exc:
             tasks.pop()
+            if dropped is not None:
+                dropped.append(dropped_seed(kind, "true", None, z0[2:], str(exc)))
             continue
         if on_task is not None:
             on_task(idx, task)
         pts = joined(task.paths) if kind != "neimark-sacker" else \
             trimmed(task.paths, lambda z: abs(prob.multipliers(z)[0]) <= 2)
         if len(pts) < 2:
+            if dropped is not None:
+                dropped.append(dropped_seed(kind, "true", None, z0[2:], why_short(task.paths)))
             continue
         res = max(p.residual for path in task.paths for p in path.points)
         curves.append(Curve(kind, [tuple(p[2:]) for p in pts], "true", None,
@@ -321,7 +328,10 @@ def forced_diagram(model, params: Mapping[str, float], axes: tuple[str, str],
                    seeds_at: int = 3, ds: float = 0.02, max_points: int = 400, progress=None
                    ) -> Diagram:
     """The two-parameter diagram of a forced model: true curves, averaged curves at
-    ``orders``, codim-2 points, and the distances (true against averaged) in ``detail``.
+    ``orders``, codim-2 points, and the distances (true against averaged) in ``detail``
+    (with ``dropped``: the seeds that gave no curve, and why).  The seeds are looked for on
+    ``seeds_at`` lines of the other axis strictly inside its range
+    (:func:`~numerics.bifurcation.twoway.seed_levels`).
 
     Raises
     ------
@@ -334,12 +344,15 @@ def forced_diagram(model, params: Mapping[str, float], axes: tuple[str, str],
     prob = DrivenProblem(model, params, axes)
     o_name = axes[1 - axes.index("sigma")]
     lo, hi = ranges[o_name]
-    others = list(np.linspace(lo, hi, seeds_at + 1)[1:][::-1])
+    others = seed_levels(lo, hi, seeds_at)[::-1]
     seeds = forced_seeds(prob, tuple(ranges["sigma"]), others)
+    dropped: list = []
     _, curves, points = forced_true_curves(prob, ranges, seeds, ds=ds, max_points=max_points,
-                                           progress=progress)
+                                           progress=progress, dropped=dropped)
     av_curves, av_points = averaged_fold_curves(prob.forced, prob.values, axes, ranges, orders,
-                                                others, ds=ds, max_points=max_points)
+                                                others, ds=ds, max_points=max_points,
+                                                dropped=dropped)
     return Diagram(prob.forced.name, dict(prob.values), axes, ranges,
                    tuple(curves + av_curves), tuple(merged(points + av_points)),
-                   {"distance": distances(curves, av_curves, points, av_points)})
+                   {"distance": distances(curves, av_curves, points, av_points),
+                    "dropped": dropped})

@@ -16,9 +16,10 @@ from collections.abc import Callable, Mapping, Sequence
 import numpy as np
 import sympy as sp
 
+from kbm.evaluate import numpy_array_function
 from numerics.bifurcation.result import Codim2Point, Curve
-from numerics.bifurcation.twoway import (FD_STEP, Task, both_ways, codim2_points, joined,
-                                         on_known, trimmed)
+from numerics.bifurcation.twoway import (FD_STEP, Task, both_ways, codim2_points,
+                                         dropped_seed, joined, on_known, trimmed, why_short)
 from numerics.errors import NumericsError
 
 __all__ = ["rates_system", "averaged_fold_curves"]
@@ -42,8 +43,8 @@ def _averaged_system(forced, values: Mapping[str, float], axes: tuple[str, str],
     da, dph = da / mu_e, dph / mu_e
     systems = {kind: rates_system([da, dph], [a_s, phi_s], P, test)
                for kind, test in (("fold", "det"), ("neimark-sacker", "trace"))}
-    jac2 = sp.lambdify((a_s, phi_s, *P), sp.Matrix([da, dph]).jacobian([a_s, phi_s]).tolist(),
-                       "numpy", cse=True)
+    jac2 = numpy_array_function(sp.Matrix([da, dph]).jacobian([a_s, phi_s]).tolist(),
+                                (a_s, phi_s, *P), cse=True)
     return systems, lambda z: np.array(jac2(*z), dtype=float)
 
 
@@ -54,8 +55,8 @@ def rates_system(rates: Sequence[sp.Expr], state: Sequence[sp.Symbol], P: Sequen
     and its Jacobian: ``df/dz`` exact (lambdified), the test's row by central differences."""
     var = (*state, *P)
     F = sp.Matrix(list(rates))
-    f = sp.lambdify(var, list(rates), "numpy", cse=True)
-    jac = sp.lambdify(var, F.jacobian(var).tolist(), "numpy", cse=True)
+    f = numpy_array_function(list(rates), var, cse=True)  # besselj: scipy.special.jv
+    jac = numpy_array_function(F.jacobian(var).tolist(), var, cse=True)
     m = len(state)
 
     def extra(Jz):
@@ -82,10 +83,12 @@ def rates_system(rates: Sequence[sp.Expr], state: Sequence[sp.Symbol], P: Sequen
 def averaged_fold_curves(forced, values: Mapping[str, float], axes: tuple[str, str],
                          ranges: Mapping[str, tuple[float, float]], orders: Sequence[int],
                          others: Sequence[float], *, ds: float = 0.02, max_points: int = 400,
-                         amplitudes=(1e-3, 5.0)) -> tuple[list[Curve], list[Codim2Point]]:
+                         amplitudes=(1e-3, 5.0), dropped: list | None = None
+                         ) -> tuple[list[Curve], list[Codim2Point]]:
     """The slow flow's fold curves (with their cusp and Bogdanov–Takens points) and Hopf
     curves (the averaged Neimark–Sacker curves, ``det > 0``) at each order, seeded from the
-    averaged response curves in ``sigma`` at the values ``others`` of the other axis."""
+    averaged response curves in ``sigma`` at the values ``others`` of the other axis;
+    ``dropped`` receives a record of each seed that gave no curve."""
     from kbm.forced import derive_forced
     from kbm.forced.steady import response_curve
 
@@ -138,13 +141,17 @@ def averaged_fold_curves(forced, values: Mapping[str, float], axes: tuple[str, s
                 task.paths = both_ways(G, z0, jac=J, bounds=bounds, scale=scale, ds=ds,
                                        ds_max=5 * ds, max_points=max_points, tests=tests,
                                        stop=stop, tol=1e-12)
-            except NumericsError:
+            except NumericsError as exc:
+                if dropped is not None:
+                    dropped.append(dropped_seed(kind, "averaged", n, z0[2:], str(exc)))
                 continue
             tasks.append(task)
             pts = joined(task.paths) if kind != "neimark-sacker" else \
                 trimmed(task.paths, lambda z: np.linalg.det(jac2(z)) > 0)
             if len(pts) >= 2:
                 curves.append(Curve(kind, [tuple(p[2:]) for p in pts], "averaged", n))
+            elif dropped is not None:
+                dropped.append(dropped_seed(kind, "averaged", n, z0[2:], why_short(task.paths)))
 
             def cusp_ok(z, J=J):
                 _, _, vt = np.linalg.svd(J(z))

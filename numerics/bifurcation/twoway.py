@@ -18,7 +18,8 @@ from numerics.bifurcation.curve import CurvePath, continue_curve
 from numerics.bifurcation.result import Codim2Point, Curve
 
 __all__ = ["interruptible", "FD_STEP", "Task", "both_ways", "joined", "trimmed",
-           "curve_distance", "distances", "merged", "on_known", "codim2_points"]
+           "curve_distance", "distances", "merged", "on_known", "codim2_points",
+           "seed_levels", "dropped_seed"]
 
 
 def interruptible(fn: Callable) -> Callable:
@@ -50,6 +51,26 @@ class Task:
     z0: np.ndarray
     paths: list = field(default_factory=list)
     problem: object = None
+
+
+def seed_levels(lo: float, hi: float, n: int) -> list[float]:
+    """``n`` values strictly inside ``(lo, hi)``, equally spaced (``lo + k (hi - lo)/(n +
+    1)``, ``k = 1..n``): the lines the seeds of the curves are looked for on.  Never the
+    ends: a seed on the box's edge corrects to either side of it."""
+    return [float(x) for x in np.linspace(lo, hi, n + 2)[1:-1]]
+
+
+def dropped_seed(kind: str, method: str, order, point, reason: str) -> dict:
+    """The record of a seed that gave no curve (``detail["dropped"]`` of a diagram): its
+    kind, method, order, parameter point and why."""
+    return {"kind": kind, "method": method, "order": order,
+            "seed": [float(point[0]), float(point[1])], "reason": reason}
+
+
+def why_short(paths) -> str:
+    """Why the paths from a seed hold fewer than two points: their ends and messages."""
+    ends = [f"{p.end}: {p.message}" if p.message else p.end for p in paths]
+    return "; ".join(ends) if ends else "no path"
 
 
 def both_ways(G, z0, *, jac=None, bounds, scale=None, ds=0.02, ds_max=0.1, max_points=400,

@@ -42,18 +42,30 @@ def is_driven(name: str | None) -> str | None:
     return None
 
 
-def _curve(rec: dict):
+def _curve(rec: dict, plane):
+    """A stored curve, its points in the user's names (``plane``)."""
     from numerics.bifurcation.result import Curve
 
     rest = {k: v for k, v in rec.items() if k not in ("kind", "points", "method", "order")}
-    return Curve(rec["kind"], [tuple(p) for p in rec["points"]], rec["method"], rec["order"],
-                 rest)
+    return Curve(rec["kind"], [plane.point(p) for p in rec["points"]], rec["method"],
+                 rec["order"], rest)
 
 
-def _point(rec: dict):
+def _line(rec: dict, plane) -> dict:
+    """A seed line's record (:func:`numerics.bifurcation.coupled.coupled_true_folds`) in the
+    user's names and values (``plane``)."""
+    i = plane.axes.index(rec["along"])
+    (o_name, o), = rec["at"].items()
+    along, other = plane.back[i], plane.back[1 - i]
+    ends = sorted(along(x) for x in rec["to"])
+    return {**rec, "at": {plane.user[1 - i]: other(o)}, "along": plane.user[i],
+            "from": along(rec["from"]), "to": ends, "folds": [along(f) for f in rec["folds"]]}
+
+
+def _point(rec: dict, plane):
     from numerics.bifurcation.result import Codim2Point
 
-    return Codim2Point(rec["kind"], tuple(rec["point"]),
+    return Codim2Point(rec["kind"], plane.point(rec["point"]),
                        {k: v for k, v in rec.items() if k not in ("kind", "point")})
 
 
@@ -90,7 +102,13 @@ def _setup(args: argparse.Namespace, kind: str):
     if kind == "forced" and "sigma" not in axes:
         raise ParameterError(f"a forced diagram varies the detuning and one other parameter: "
                              f"--vary sigma=FROM:TO --vary {axes[0]}=FROM:TO")
-    resolved = model.resolve({**params, **{a: 0 for a in axes}})
+    from numerics.cli._plane import Plane
+
+    # a physical axis (Delta) is computed as its scaled one (delta = Delta/mu), as -p binds it
+    plane = Plane.of(model, params, axes, ranges)
+    axes, ranges = plane.axes, dict(plane.ranges)
+    mids = {a: 0.5 * (lo + hi) for a, (lo, hi) in plane.user_ranges.items()}
+    resolved = model.resolve({**params, **mids})
     try:
         values = {k: float(v) for k, v in resolved.items() if k not in axes}
     except TypeError:
@@ -101,7 +119,7 @@ def _setup(args: argparse.Namespace, kind: str):
     top = 3 if kind == "forced" else 4
     if not 1 <= order <= top:
         raise ParameterError(f"--order must be 1 to {top} for {name}, got {order}")
-    return model, params, values, axes, ranges, order
+    return model, params, values, plane, order
 
 
 class _Progress:
@@ -152,10 +170,12 @@ def _forced_parts(model, values, axes, ranges, order, store, progress, max_point
     from numerics.bifurcation.forced import (DrivenProblem, averaged_fold_curves,
                                              forced_seeds, forced_true_curves)
 
+    from numerics.bifurcation.twoway import seed_levels
+
     prob = DrivenProblem(model, values, axes)
     o_name = axes[1 - axes.index("sigma")]
     lo, hi = ranges[o_name]
-    others = list(np.linspace(lo, hi, 4)[1:][::-1])
+    others = seed_levels(lo, hi, 3)[::-1]  # inside the range: a seed on its edge is lost
     parts = {"true": store.get("true"), "averaged": store.get("averaged"),
              "interrupted": False}
     if parts["true"] is None:
@@ -172,18 +192,22 @@ def _forced_parts(model, values, axes, ranges, order, store, progress, max_point
                 parts["interrupted"] = True
 
         seeds = forced_seeds(prob, tuple(ranges["sigma"]), others)
+        dropped: list = []
         _, curves, points = forced_true_curves(prob, ranges, seeds, progress=progress,
                                                on_task=on_task, stored=stored,
-                                               max_points=max_points)
-        parts["true"] = [[c.to_json() for c in curves], [p.to_json() for p in points]]
+                                               max_points=max_points, dropped=dropped)
+        parts["true"] = [[c.to_json() for c in curves], [p.to_json() for p in points],
+                         {"dropped": dropped}]
         if parts["interrupted"]:
             return parts
         store.put("true", parts["true"])
     if parts["averaged"] is None:
+        dropped = []
         curves, points = averaged_fold_curves(prob.forced, prob.values, axes, ranges,
                                               tuple(range(1, order + 1)), others,
-                                              max_points=max_points)
-        parts["averaged"] = [[c.to_json() for c in curves], [p.to_json() for p in points]]
+                                              max_points=max_points, dropped=dropped)
+        parts["averaged"] = [[c.to_json() for c in curves], [p.to_json() for p in points],
+                             {"dropped": dropped}]
         store.put("averaged", parts["averaged"])
     return parts
 
@@ -191,25 +215,30 @@ def _forced_parts(model, values, axes, ranges, order, store, progress, max_point
 def _coupled_parts(model, values, axes, ranges, order, store, progress, max_points=300):
     from numerics.bifurcation.coupled import (_seed_axis, coupled_averaged_folds,
                                               coupled_true_folds)
+    from numerics.bifurcation.twoway import seed_levels
 
     o_name = axes[1 - _seed_axis(axes)]
     lo, hi = ranges[o_name]
-    others = list(np.linspace(lo, hi, 4)[1:-1])
+    others = seed_levels(lo, hi, 2)
     parts = {"true": store.get("true"), "averaged": store.get("averaged"),
              "interrupted": False}
     if parts["true"] is None:
+        dropped, lines = [], []
         curves, points = coupled_true_folds(model, values, axes, ranges, others,
-                                            progress=progress, max_points=max_points)
-        parts["true"] = [[c.to_json() for c in curves], [p.to_json() for p in points]]
+                                            progress=progress, max_points=max_points,
+                                            dropped=dropped, lines=lines)
+        parts["true"] = [[c.to_json() for c in curves], [p.to_json() for p in points],
+                         {"dropped": dropped, "seed_lines": lines}]
         if any("interrupted" in c.detail.get("ends", ()) for c in curves):
             parts["interrupted"] = True
             return parts
         store.put("true", parts["true"])
     if parts["averaged"] is None:
+        dropped = []
         curves = coupled_averaged_folds(model, values, axes, ranges,
                                         tuple(range(1, order + 1)), others,
-                                        max_points=max_points)
-        parts["averaged"] = [[c.to_json() for c in curves], []]
+                                        max_points=max_points, dropped=dropped)
+        parts["averaged"] = [[c.to_json() for c in curves], [], {"dropped": dropped}]
         store.put("averaged", parts["averaged"])
     return parts
 
@@ -234,7 +263,8 @@ def run_driven(args: argparse.Namespace) -> int:
     if kind is None:
         raise ParameterError(f"{getattr(args, 'model', None)!r} is neither a forced nor a "
                              "coupled built-in (e.g. duffing-forced, vdp-forced, coupled-vdp)")
-    model, params, values, axes, ranges, order = _setup(args, kind)
+    model, params, values, plane, order = _setup(args, kind)
+    axes, ranges = plane.axes, plane.ranges
     max_points = int(getattr(args, "max_points", None) or 400)
     within(max_points, "--max-points", 2, 100000)
     averaged = not getattr(args, "no_averaged", False)
@@ -259,14 +289,18 @@ def run_driven(args: argparse.Namespace) -> int:
     finally:
         progress.close()
         store.close()
-    tc, tp = parts["true"] or ([], [])
-    ac, ap = parts["averaged"] or ([], [])
-    true_c, av_c = [_curve(c) for c in tc], [_curve(c) for c in ac]
-    true_p, av_p = [_point(p) for p in tp], [_point(p) for p in ap]
-    diagram = Diagram(model.name, values, axes, ranges, tuple(true_c + av_c),
+    tc, tp, t_more = (list(parts["true"] or ([], [])) + [{}])[:3]
+    ac, ap, a_more = (list(parts["averaged"] or ([], [])) + [{}])[:3]
+    true_c, av_c = [_curve(c, plane) for c in tc], [_curve(c, plane) for c in ac]
+    true_p, av_p = [_point(p, plane) for p in tp], [_point(p, plane) for p in ap]
+    dropped = [{**d, "seed": None if d.get("seed") is None else list(plane.point(d["seed"]))}
+               for d in [*t_more.get("dropped", ()), *a_more.get("dropped", ())]]
+    diagram = Diagram(model.name, values, plane.user, plane.user_ranges, tuple(true_c + av_c),
                       tuple(merged(true_p + av_p)),
                       {"distance": distances(true_c, av_c, true_p, av_p),
-                       "complete": not parts["interrupted"]})
+                       "complete": not parts["interrupted"], "dropped": dropped,
+                       **({"seed_lines": [_line(r, plane) for r in t_more["seed_lines"]]}
+                          if "seed_lines" in t_more else {})})
     if getattr(args, "out", None):
         from kbm.cli._common import write_json
         from kbm.files import output_folder
@@ -310,3 +344,23 @@ def _summary(d) -> None:
     for kind, per in d.detail.get("distance", {}).items():
         for n, v in per.items():
             print(f"  distance true-averaged order {n} ({kind}): {v:.3e}")
+    for rec in d.detail.get("dropped", ()):
+        tag = "true" if rec["method"] == "true" else f"averaged order {rec['order']}"
+        at = "" if rec.get("seed") is None else \
+            f" from the seed at {a} = {rec['seed'][0]:.6g}, {b} = {rec['seed'][1]:.6g}"
+        print(f"  no {rec['kind']} curve ({tag}){at}: {rec['reason']}")
+    if not any(c.method == "true" for c in d.curves):
+        lines = d.detail.get("seed_lines", ())
+        print("  no true curve in the box" + (": the folds were looked for on "
+                                              f"{len(lines)} lines" if lines else ""))
+        for rec in lines:
+            (o, v), = rec["at"].items()
+            where = f"    at {o} = {v:.6g}, along {rec['along']} from {rec['from']:.6g}"
+            if rec.get("cycle"):
+                print(f"{where}: no locked cycle to start from ({rec['cycle']})")
+            elif not rec["folds"]:
+                print(f"{where} to {rec['to'][0]:.6g} and to {rec['to'][1]:.6g}: no fold of "
+                      f"the locked cycle (period {rec['period']:.6g} at the start; continued to"
+                      " both ends, or lost without a fold)")
+            else:
+                print(f"{where}: folds at " + ", ".join(f"{f:.8g}" for f in rec["folds"]))

@@ -30,6 +30,7 @@ import sympy as sp
 
 from kbm.coupled import CoupledOscillators, amplitudes, derive_coupled, numeric_average
 from kbm.errors import ParameterError, ResolutionError, UnsupportedTermError
+from kbm.evaluate import numpy_array_function
 from numerics._memo import memo
 from numerics.errors import NoCycleError
 from .flow import bind_coupled
@@ -62,8 +63,9 @@ def _slow_flow(model: CoupledOscillators, order: int, fixed: tuple, parameter: s
     state = [*amplitudes(model.dof), *[g for g, _ in res.gammas]]
     mu, s = sp.Symbol("mu"), sp.Symbol(parameter)
     J = sp.Matrix(rates).jacobian(state)
-    f = sp.lambdify([state, s, mu], list(rates), "numpy")
-    jac = sp.lambdify([state, s, mu], J, "numpy")
+    # the one lambdify path of KBM expressions: besselj (the potential's sin k x) to scipy
+    f = numpy_array_function(list(rates), [state, s, mu])
+    jac = numpy_array_function(J.tolist(), [state, s, mu])
     return f, jac, len(state)
 
 
@@ -136,8 +138,8 @@ def _split(model: CoupledOscillators, values: Mapping[str, float], parameter: st
 
 
 def averaged_edges(model: CoupledOscillators | str, params: Mapping[str, object], order: int,
-                   parameter: str = "sigma", limit: float = 10.0, start=None
-                   ) -> list[LockingEdge]:
+                   parameter: str = "sigma", limit: float = 10.0, start=None,
+                   at: float = 0.0) -> list[LockingEdge]:
     """The edges ``sigma_-`` and ``sigma_+`` of locking from the order-``order`` slow flow.
 
     Parameters
@@ -151,29 +153,33 @@ def averaged_edges(model: CoupledOscillators | str, params: Mapping[str, object]
     parameter
         The detuning's name.
     limit
-        ``|sigma|`` up to which an edge is looked for.
+        ``|sigma - at|`` up to which an edge is looked for.
     start
-        The locked state ``(a_1..a_N, gamma)`` at ``sigma = 0`` (default: all ``a_i = 2``,
+        The locked state ``(a_1..a_N, gamma)`` at ``sigma = at`` (default: all ``a_i = 2``,
         ``gamma = 0``, the in-phase van der Pol cycle).
+    at
+        The value of ``parameter`` the locked state is followed from (default 0; a
+        parameter that is no detuning, e.g. a coupling, from inside its range).
 
     Raises
     ------
     numerics.errors.NoCycleError
-        If there is no locked state at ``sigma = 0`` to start from.
+        If there is no locked state at ``sigma = at`` to start from.
     """
-    model, values = bind_coupled(model, {**dict(params), parameter: 0})
+    model, values = bind_coupled(model, {**dict(params), parameter: at})
     mu = values["mu"]
     f, jac, m = _slow_flow(model, order, _split(model, values, parameter), parameter)
     y0 = np.array(start if start is not None else [2.0] * model.dof + [0.0] * (m - model.dof),
                   dtype=float)
-    y = _newton(f, jac, y0, 0.0, mu)
+    y = _newton(f, jac, y0, float(at), mu)
     if y is None:
+        near = ", ".join(f"{float(v):g}" for v in y0)
         raise NoCycleError(f"the order-{order} slow flow of {model.name} has no locked state "
-                           f"near {list(y0)} at {parameter} = 0")
-    return [_averaged_edge(f, jac, y, side, mu, limit) for side in (-1, 1)]
+                           f"near (a, gamma) = ({near}) at {parameter} = {float(at):g}")
+    return [_averaged_edge(f, jac, y, side, mu, limit, float(at)) for side in (-1, 1)]
 
 
-def _averaged_edge(f, jac, y, side, mu, limit) -> LockingEdge:
+def _averaged_edge(f, jac, y, side, mu, limit, at=0.0) -> LockingEdge:
     def locked(s, y):
         """The stable locked state at ``s`` continued from ``y`` (a jump to another fixed
         point, or an unstable one, is not the state followed)."""
@@ -183,10 +189,10 @@ def _averaged_edge(f, jac, y, side, mu, limit) -> LockingEdge:
         ev = np.linalg.eigvals(np.asarray(jac(trial, s, mu), dtype=float))
         return trial if np.all(ev.real < 0) else None
 
-    s, step = 0.0, 0.02
+    s, step = at, 0.02
     last = (s, y)
     while True:  # march out until the locked state is lost ...
-        if abs(last[0]) >= limit:
+        if abs(last[0] - at) >= limit:
             return LockingEdge(math.copysign(math.inf, side), 0.0, side, tuple(last[1]))
         trial = locked(last[0] + side * step, last[1])
         if trial is None:  # past the fold, or too long a step to follow the state

@@ -28,136 +28,209 @@ it is not installed.
 
 from __future__ import annotations
 
+import argparse
 import importlib.util
-import os
-import shutil
-import subprocess
-import tempfile
-import textwrap
+import statistics
 import time
-from pathlib import Path
 
 import numpy as np
 
 from numerics.bifurcation.coupled import coupled_true_folds
 from numerics.bifurcation.forced import DrivenProblem, forced_seeds, forced_true_curves
+from numerics.bifurcation.twoway import joined
 
-from _auto import EMPTY_SUBROUTINES, FUNC_HEAD, STPNT_HEAD
+from _auto_diagram import (DUFFING_EQUATIONS, DUFFING_SCRIPT, SEDF_CONSTANTS, SEDF_EQUATIONS,
+                           SEDF_SCRIPT, auto_command, run_auto)
 
 VALUES = {"mu": 0.1, "zeta": 0.1, "alpha": 1.0}
 RANGES = {"sigma": (-1.0, 3.0), "h": (0.02, 0.4)}
-
-AUTO_EQUATIONS = "!  forced Duffing, made autonomous by AUTO's forcing oscillator (c, s)\n" \
-    + FUNC_HEAD + textwrap.dedent("""\
-      DOUBLE PRECISION MU, ZETA, ALPHA, NU, R
-      MU = 0.1d0
-      ZETA = 0.1d0
-      ALPHA = 1.0d0
-      NU = 1.0d0 + MU*PAR(1)
-      R = U(3)**2 + U(4)**2
-      F(1) = U(2)
-      F(2) = -U(1) + MU*(-2*ZETA*U(2) - ALPHA*U(1)**3 + PAR(2)*U(3))
-      F(3) = U(3) + NU*U(4) - U(3)*R
-      F(4) = -NU*U(3) + U(4) - U(4)*R
-    END SUBROUTINE FUNC
-
-""") + STPNT_HEAD + textwrap.dedent("""\
-      DOUBLE PRECISION PI, NU
-      PI = 4*ATAN(1.0d0)
-      PAR(1) = 1.0d0
-      PAR(2) = 0.0d0
-      NU = 1.0d0 + 0.1d0*PAR(1)
-      PAR(11) = 2*PI/NU
-      U(1) = 0.0d0
-      U(2) = 0.0d0
-      U(3) = COS(2*PI*T)
-      U(4) = -SIN(2*PI*T)
-    END SUBROUTINE STPNT
-
-""") + EMPTY_SUBROUTINES
-
-AUTO_SCRIPT = textwrap.dedent("""\
-    import time
-    t0 = time.perf_counter()
-    common = dict(e='fduff', NDIM=4, IPS=2, NTST=60, NCOL=4, ILP=1, ISP=2, NMX=2000,
-                  DS=0.01, DSMIN=1e-6, DSMAX=0.05, EPSL=1e-10, EPSU=1e-10, EPSS=1e-8,
-                  JAC=0, NPR=1000)
-    r1 = run(ICP=[2, 11], UZSTOP={2: 0.4}, IRS=0, **common)
-    r2 = run(r1('UZ1'), ICP=[1, 11], UZSTOP={1: [-1.0, 3.0]}, **common)
-    r3 = run(r2('LP1'), ISW=2, ICP=[1, 2, 11], UZSTOP={2: [0.02, 0.4], 1: [-1.0, 3.0]},
-             **common)
-    r4 = run(r2('LP1'), ISW=2, ICP=[1, 2, 11], UZSTOP={2: [0.02, 0.4], 1: [-1.0, 3.0]},
-             **{**common, 'DS': -0.01})
-    print('SECONDS', time.perf_counter() - t0)
-    print('POINTS', len(r3()) + len(r4()))
-""")
+#: the seed line of the fold curve (inside the box: a seed on its edge ends at once)
+H_SEED = 0.3
+#: the period of AUTO's long-period orbit (part 3); AUTO's Newton fails beyond T = 16-17
+T_LONG = 15.0
 
 
-def auto_command() -> str | None:
-    """The ``auto`` program of AUTO-07p, or None."""
-    found = shutil.which("auto")
-    if found:
-        return found
-    home = os.environ.get("AUTO_DIR")
-    if home and (Path(home) / "bin" / "auto").exists():
-        return str(Path(home) / "bin" / "auto")
+def _clock() -> tuple[float, float]:
+    return time.perf_counter(), time.process_time()
+
+
+def _since(c0: tuple[float, float]) -> list[float]:
+    c1 = _clock()
+    return [c1[0] - c0[0], c1[1] - c0[1]]
+
+
+def _median(runs: list[list[float]]) -> list[float]:
+    return [statistics.median(r[j] for r in runs) for j in (0, 1)]
+
+
+def kbm_forced(prob: DrivenProblem, repeats: int) -> dict:
+    """kbm's seed (the one-parameter response in sigma at ``h = H_SEED``) and fold curve,
+    timed ``repeats`` times warm: ``{"seed", "curve": [wall, cpu] medians, "z": the
+    curve's points (x0, v0, sigma, h), "residual", "cusp"}``."""
+    seed_t, curve_t = [], []
+    for _ in range(repeats):
+        c0 = _clock()
+        seeds = forced_seeds(prob, RANGES["sigma"], [H_SEED])
+        seed_t.append(_since(c0))
+        c0 = _clock()
+        tasks, curves, points = forced_true_curves(prob, RANGES, seeds)
+        curve_t.append(_since(c0))
+    z = np.concatenate([joined(t.paths) for t in tasks if t.kind == "fold"])
+    cusp = [p.point for p in points if p.kind == "cusp"]
+    return {"seed": _median(seed_t), "curve": _median(curve_t), "z": z,
+            "residual": max(c.detail["residual_max"] for c in curves),
+            "cusp": cusp[0] if cusp else None}
+
+
+def fold_sigma_at(prob: DrivenProblem, z0: np.ndarray, h: float, tol: float = 1e-10):
+    """kbm's fold point at ``h`` (fixed) by Newton on its defining system in ``(x0, v0,
+    sigma)`` from ``z0``: ``(sigma, max |G|)``, or ``None``."""
+    G, J = prob.system_for("fold"), prob.jacobian_for("fold")
+    z = np.array(z0, dtype=float)
+    z[3] = h
+    for _ in range(12):
+        g = G(z)
+        if np.max(np.abs(g)) <= tol:
+            return float(z[2]), float(np.max(np.abs(g)))
+        z[:3] -= np.linalg.solve(J(z)[:, :3], g)
     return None
 
 
-def run_auto(auto: str, timeout: float = 900) -> tuple[float | None, str]:
-    """AUTO's wall time for the fold curve (all three runs) and its report line."""
-    with tempfile.TemporaryDirectory() as tmp:
-        Path(tmp, "fduff.f90").write_text(AUTO_EQUATIONS)
-        Path(tmp, "bench.auto").write_text(AUTO_SCRIPT)
-        t0 = time.perf_counter()
-        try:
-            out = subprocess.run([auto, "bench.auto"], cwd=tmp, capture_output=True, text=True,
-                                 timeout=timeout)
-        except subprocess.TimeoutExpired:
-            return None, f"did not finish in {timeout:g} s"
-        wall = time.perf_counter() - t0
-    lines = out.stdout.splitlines()
-    secs = [ln.split()[1] for ln in lines if ln.startswith("SECONDS")]
-    pts = [ln.split()[1] for ln in lines if ln.startswith("POINTS")]
-    if not secs:
-        tail = (out.stderr.strip() or out.stdout.strip() or "no output").splitlines()[-1]
-        return None, f"failed: {tail[:200]}"
-    return wall, f"{float(secs[0]):.2f} s inside AUTO ({wall:.2f} s with compilation), " \
-                 f"{pts[0] if pts else '?'} points"
+def forced_agreement(prob: DrivenProblem, kbm_z: np.ndarray, auto_pts: np.ndarray,
+                     n: int = 16) -> tuple[float, int, int]:
+    """The largest ``|sigma_AUTO - sigma_kbm|`` at equal ``h`` over ``n`` of AUTO's points
+    (every point of the fold curve but within 0.01 of the cusp's h, where the fold curve's
+    two sides meet), kbm's fold solved at each ``h`` from its nearest curve point; with the
+    count compared and the count where kbm's Newton failed."""
+    h_c = float(np.min(auto_pts[:, 1]))
+    keep = auto_pts[auto_pts[:, 1] > h_c + 0.01]
+    pick = keep[np.linspace(0, len(keep) - 1, min(n, len(keep))).round().astype(int)]
+    worst, fails = 0.0, 0
+    for s, h in pick:
+        near = kbm_z[np.argmin(np.hypot(kbm_z[:, 2] - s, kbm_z[:, 3] - h))]
+        got = fold_sigma_at(prob, near, h)
+        if got is None:
+            fails += 1
+            continue
+        worst = max(worst, abs(got[0] - s))
+    return worst, len(pick), fails
 
 
-def kbm_forced() -> tuple[float, float, int, float, tuple]:
+def kbm_sedf(repeats: int) -> dict:
+    """kbm's homoclinic curve of part 3, timed ``repeats`` times warm: the scan of ``beta
+    = 0.5`` (the seed) and the continuation with every point's gap at most 1e-10."""
+    from kbm.models import get_model
+    from numerics.bifurcation import connections as C
+    from numerics.bifurcation.autonomous import OneDof
+    from numerics.bifurcation.curve import continue_curve
+
+    seed_t, curve_t = [], []
+    for _ in range(repeats):
+        c0 = _clock()
+        kit = OneDof(get_model("sedf"), {"mu": 0.1, "lam": 1}, ("Delta", "beta"), (4.0, 0.5))
+        seeds = C.scan(kit, [(a, 0.5) for a in np.linspace(3.7, 4.3, 7)], 8.0)
+        seed_t.append(_since(c0))
+        loop0, z0 = seeds[0]
+        loop = C.Loop(loop0.x_from, loop0.x_to, loop0.leave, loop0.arrive)
+        c0 = _clock()
+        path = continue_curve(C.gap_function(kit, loop), np.array(z0), tangent=[0.0, 1.0],
+                              ds=0.02, ds_max=0.1, bounds={0: (0.0, 6.0), 1: (0.3, 1.6)},
+                              max_points=200, tol=C.GAP_TOL, fd_step=1e-6, scale=[6.0, 1.3],
+                              on_point=lambda pt: C.accept(kit, loop, pt.z))
+        curve_t.append(_since(c0))
+    return {"seed": _median(seed_t), "curve": _median(curve_t), "kit": kit, "loop0": loop0,
+            "z": np.array([p.z for p in path.points]),
+            "gap": max(p.residual for p in path.points),
+            "end": f"{path.end} ({path.message})", "delta_05": float(z0[0])}
+
+
+def delta_at(kit, loop0, beta: float, guess: float, tol: float = 1e-10):
+    """kbm's connection at ``beta`` (fixed): the secant method on the manifolds' gap in
+    Delta from ``guess``, the loop's saddles followed; ``(Delta, |gap|)`` or ``None``."""
+    from numerics.bifurcation import connections as C
+
+    loop = C.Loop(loop0.x_from, loop0.x_to, loop0.leave, loop0.arrive)
+    d = C.gap_function(kit, loop)
+    a0, a1 = guess, guess + 1e-6
+    g0 = float(d((a0, beta))[0])
+    for _ in range(30):
+        g1 = float(d((a1, beta))[0])
+        if abs(g1) <= tol:
+            return a1, abs(g1)
+        a0, a1, g0 = a1, a1 - g1 * (a1 - a0) / (g1 - g0), g1
+    return None
+
+
+def sedf_agreement(k: dict, auto_pts: np.ndarray, n: int = 10) -> tuple[list, int]:
+    """``[(beta, Delta_AUTO - Delta_kbm)]`` at ``n`` of AUTO's points inside kbm's range of
+    beta (kbm's Delta solved at AUTO's beta, from its own path interpolated), and the count
+    where the secant failed."""
+    kz = k["z"][np.argsort(k["z"][:, 1])]
+    inside = auto_pts[(auto_pts[:, 1] >= kz[0, 1]) & (auto_pts[:, 1] <= kz[-1, 1])]
+    pick = inside[np.linspace(0, len(inside) - 1, min(n, len(inside))).round().astype(int)]
+    out, fails = [], 0
+    for a, b in pick:
+        got = delta_at(k["kit"], k["loop0"], b, float(np.interp(b, kz[:, 1], kz[:, 0])))
+        if got is None:
+            fails += 1
+            continue
+        out.append((float(b), float(a - got[0])))
+    return out, fails
+
+
+def _times(label: str, t: dict) -> str:
+    return (f"{label}: seed {t['seed'][0]:.2f} s wall / {t['seed'][1]:.2f} s CPU, curve "
+            f"{t['curve'][0]:.2f} / {t['curve'][1]:.2f}")
+
+
+def _ratio(k: dict, a: dict) -> str:
+    ks = [k["seed"][j] + k["curve"][j] for j in (0, 1)]
+    as_ = [a["seed"][j] + a["curve"][j] for j in (0, 1)]
+    return (f"AUTO / kbm, seed + curve: {as_[0] / ks[0]:.2f} wall, {as_[1] / ks[1]:.2f} CPU; "
+            f"curve alone {a['curve'][0] / k['curve'][0]:.2f} wall, "
+            f"{a['curve'][1] / k['curve'][1]:.2f} CPU (> 1: kbm faster); AUTO's whole "
+            f"process {a['whole'][0]:.2f} s wall, {a['whole'][1]:.2f} s CPU")
+
+
+def _floats(rows) -> np.ndarray:
+    return np.array([[float(v) for v in r] for r in rows])
+
+
+def part1(auto: str | None, repeats: int) -> None:
+    print(f"1. forced Duffing fold curve over (sigma, h) in [-1, 3] x [0.02, 0.4], mu = 0.1, "
+          f"zeta = 0.1, alpha = 1 (seeded at h = {H_SEED})")
     prob = DrivenProblem("duffing-forced", VALUES, ("sigma", "h"))
-    t0 = time.perf_counter()
-    seeds = forced_seeds(prob, RANGES["sigma"], [RANGES["h"][1]])
-    t_seed = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    _, curves, points = forced_true_curves(prob, RANGES, seeds)
-    t_curve = time.perf_counter() - t0
-    n = sum(len(c.points) for c in curves)
-    res = max(c.detail["residual_max"] for c in curves)
-    cusp = [p.point for p in points if p.kind == "cusp"]
-    return t_seed, t_curve, n, res, cusp[0] if cusp else None
-
-
-def main() -> None:
-    print("1. forced Duffing fold curve over (sigma, h), mu = 0.1, zeta = 0.1, alpha = 1")
-    DrivenProblem("duffing-forced", VALUES, ("sigma", "h")).monodromy(np.array([1, 0, 0, .1]))
-    t_seed, t_curve, n, res, cusp = kbm_forced()
-    print(f"  kbm: seed (one-parameter response at h = 0.4) {t_seed:.2f} s; the fold curve "
-          f"{t_curve:.2f} s for {n} converged points ({1e3 * t_curve / max(n, 1):.1f} ms a "
-          f"point, max |G| {res:.1e}); cusp at sigma = {cusp[0]:.8f}, h = {cusp[1]:.8f}")
-    auto = auto_command()
+    kbm_forced(prob, 1)  # warm: the compiled flow loaded, the KBM slow flow derived
+    k = kbm_forced(prob, repeats)
+    print(f"  {_times('kbm', k)} (medians of {repeats}); {len(k['z'])} converged points, "
+          f"max |G| {k['residual']:.1e}; cusp at sigma = {k['cusp'][0]:.10f}, "
+          f"h = {k['cusp'][1]:.10f}")
     if auto is None:
-        print("  AUTO-07p: not installed (no `auto` on the path, no $AUTO_DIR): skipped")
-    else:
-        wall, line = run_auto(auto)
-        print(f"  AUTO-07p ({auto}): {line}")
-        if wall is not None:
-            print(f"  ratio AUTO / kbm (seed + curve): {wall / (t_seed + t_curve):.1f}x "
-                  f"(target > 1: {wall > t_seed + t_curve})")
+        print("  AUTO-07p: not installed (no auto-07p or auto, or no gfortran): skipped")
+        return
+    files = {"fduff.f90": DUFFING_EQUATIONS, "run.auto": DUFFING_SCRIPT}
+    for eps in ("1e-7", "1e-10"):
+        a = run_auto(auto, files, {"BENCH_EPS": eps}, repeats)
+        if isinstance(a, str):
+            print(f"  AUTO-07p, EPSL = EPSU = {eps}: {a}")
+            continue
+        pts = _floats(a["lines"]["P"])
+        print(f"  {_times(f'AUTO-07p (NTST = 60, NCOL = 4, EPSL = EPSU = {eps})', a)} "
+              f"(medians of {repeats}); {len(pts)} points")
+        if a["lines"].get("CUSP"):
+            cs, ch = (float(v) for v in a["lines"]["CUSP"][0])
+            print(f"    AUTO's cusp (its LP in sigma on the fold curve) sigma = {cs:.10f}, "
+                  f"h = {ch:.10f}: {abs(cs - k['cusp'][0]):.1e}, {abs(ch - k['cusp'][1]):.1e} "
+                  f"from kbm's")
+        worst, m, fails = forced_agreement(prob, k["z"], pts)
+        print(f"    AUTO's points against kbm's fold solved at their h (|G| <= 1e-10): "
+              f"largest |d sigma| {worst:.1e} over {m} points ({fails} failed)")
+        print(f"    {_ratio(k, a)}")
 
-    print("2. coupled-vdp locking tongue over (sigma, c), mu = 0.1")
+
+def part2() -> None:
+    print("2. coupled-vdp locking tongue over (sigma, c), mu = 0.1 (kbm only: AUTO's "
+          "counterpart is not scripted)")
     t0 = time.perf_counter()
     curves, _ = coupled_true_folds("coupled-vdp", {"mu": 0.1}, ("sigma", "c"),
                                    {"sigma": (-1.0, 1.0), "c": (0.05, 0.6)}, [0.3])
@@ -167,36 +240,58 @@ def main() -> None:
           f"locate_fold included; max |G| "
           f"{max(c.detail['residual_max'] for c in curves):.1e})")
 
-    print("3. SEDF homoclinic curve over (Delta, beta), mu = 0.1, lam = 1")
+
+def part3(auto: str | None, repeats: int) -> None:
+    print("3. SEDF heteroclinic cycle of the saddles +-2.61 over (Delta, beta), mu = 0.1, "
+          "lam = 1")
     if importlib.util.find_spec("numerics.bifurcation.connections") is None:
         print("  the homoclinic continuation is not in this tree: skipped")
         return
-    t_scan, t_curve, n, gap, end = sedf_homoclinic()
-    print(f"  kbm: scan of beta = 0.5 {t_scan:.2f} s; the curve {t_curve:.2f} s for {n} "
-          f"converged points ({1e3 * t_curve / max(n, 1):.0f} ms a point, max |gap| "
-          f"{gap:.1e}; the path ended: {end})")
+    kbm_sedf(1)  # warm
+    k = kbm_sedf(repeats)
+    print(f"  {_times('kbm', k)} (medians of {repeats}); {len(k['z'])} converged points, "
+          f"max |gap| {k['gap']:.1e}; Delta = {k['delta_05']:.12f} at beta = 0.5; the path "
+          f"ended: {k['end']}")
+    if auto is None:
+        print("  AUTO-07p: not installed (no auto-07p or auto, or no gfortran): skipped")
+        return
+    files = {"sedf.f90": SEDF_EQUATIONS, "c.sedf": SEDF_CONSTANTS, "run.auto": SEDF_SCRIPT}
+    a = run_auto(auto, files, {"BENCH_T": f"{T_LONG:g}"}, repeats)
+    if isinstance(a, str):
+        print(f"  AUTO-07p: {a}")
+        return
+    pts = _floats(a["lines"]["P"])
+    end = [float(v) for v in a["lines"]["END"][-1]]
+    print(f"  {_times(f'AUTO-07p (period {T_LONG:g}, NTST = 200, NCOL = 4)', a)} (medians of "
+          f"{repeats}); {len(pts)} points, to Delta = {end[0]:.6f}, beta = {end[1]:.6f}")
+    diffs, fails = sedf_agreement(k, pts)
+    print(f"    AUTO's Delta less kbm's connection at the same beta ({fails} failed): "
+          + ", ".join(f"{d:+.1e} (beta {b:.3f})" for b, d in diffs))
+    print(f"    {_ratio(k, a)}")
+    t = run_auto(auto, files, {"BENCH_T": f"{T_LONG:g}", "BENCH_TMAX": "18"}, 0)
+    if isinstance(t, dict) and t["lines"].get("TD"):
+        td = _floats(t["lines"]["TD"])
+        row = []
+        for T in (12, 13, 14, 15, 16, 17, float(td[:, 0].max())):
+            i = int(np.argmin(np.abs(td[:, 0] - T)))
+            row.append(f"T = {td[i, 0]:.2f}: {td[i, 1] - k['delta_05']:+.1e}")
+        print("    at beta = 0.5, AUTO's long-period orbit's Delta less kbm's connection "
+              "(AUTO's Newton fails beyond the last period): " + "; ".join(row))
 
 
-def sedf_homoclinic() -> tuple[float, float, int, float, str]:
-    from kbm.models import get_model
-    from numerics.bifurcation import connections as C
-    from numerics.bifurcation.autonomous import OneDof
-    from numerics.bifurcation.curve import continue_curve
-
-    t0 = time.perf_counter()
-    kit = OneDof(get_model("sedf"), {"mu": 0.1, "lam": 1}, ("Delta", "beta"), (4.0, 0.5))
-    seeds = C.scan(kit, [(a, 0.5) for a in np.linspace(3.7, 4.3, 7)], 8.0)
-    t_scan = time.perf_counter() - t0
-    loop0, z0 = seeds[0]
-    loop = C.Loop(loop0.x_from, loop0.x_to, loop0.leave, loop0.arrive)
-    t0 = time.perf_counter()
-    path = continue_curve(C.gap_function(kit, loop), np.array(z0), tangent=[0.0, 1.0], ds=0.02,
-                          ds_max=0.1, bounds={0: (0.0, 6.0), 1: (0.3, 1.6)}, max_points=200,
-                          tol=C.GAP_TOL, fd_step=1e-6, scale=[6.0, 1.3],
-                          on_point=lambda pt: C.accept(kit, loop, pt.z))
-    t_curve = time.perf_counter() - t0
-    return t_scan, t_curve, len(path.points), max(p.residual for p in path.points), \
-        f"{path.end} ({path.message})"
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=3, help="timed runs of each (3)")
+    parser.add_argument("--no-auto", action="store_true", help="leave AUTO-07p out")
+    parser.add_argument("--parts", default="123", help="the parts to run (123)")
+    args = parser.parse_args()
+    auto = None if args.no_auto else auto_command()
+    if "1" in args.parts:
+        part1(auto, args.repeats)
+    if "2" in args.parts:
+        part2()
+    if "3" in args.parts:
+        part3(auto, args.repeats)
 
 
 if __name__ == "__main__":

@@ -51,7 +51,7 @@ DUFFING_EQUATIONS = "!  forced Duffing, made autonomous by AUTO's forcing oscill
       DFDU(3, 4) = NU - 2*U(3)*U(4)
       DFDU(4, 3) = -NU - 2*U(3)*U(4)
       DFDU(4, 4) = 1.0d0 - R - 2*U(4)**2
-      IF (IJAC == 1) RETURN
+      IF (IJAC /= 2) RETURN
       DFDP(:, 1:2) = 0.0d0
       DFDP(3, 1) = MU*U(4)
       DFDP(4, 1) = -MU*U(3)
@@ -103,6 +103,75 @@ DUFFING_SCRIPT = textwrap.dedent("""\
         print('CUSP', repr(float(lp['PAR(1)'])), repr(float(lp['PAR(2)'])))
 """)
 
+COUPLED_EQUATIONS = "!  coupled-vdp (mu = 0.1): PAR(1) = sigma, PAR(2) = c\n" + FUNC_HEAD \
+    + textwrap.dedent("""\
+      DOUBLE PRECISION MU, S, C
+      MU = 0.1d0
+      S = PAR(1)
+      C = PAR(2)
+      F(1) = U(2)
+      F(2) = -U(1) + MU*(U(2)*(1 - U(1)**2) + C*(U(4) - U(2)))
+      F(3) = U(4)
+      F(4) = -U(3) + MU*(U(4)*(1 - U(3)**2) + C*(U(2) - U(4)) - 2*S*U(3))
+      IF (IJAC == 0) RETURN
+      DFDU(:, :) = 0.0d0
+      DFDU(1, 2) = 1.0d0
+      DFDU(2, 1) = -1.0d0 - 2*MU*U(1)*U(2)
+      DFDU(2, 2) = MU*(1 - U(1)**2 - C)
+      DFDU(2, 4) = MU*C
+      DFDU(3, 4) = 1.0d0
+      DFDU(4, 3) = -1.0d0 - 2*MU*U(3)*U(4) - 2*MU*S
+      DFDU(4, 4) = MU*(1 - U(3)**2 - C)
+      DFDU(4, 2) = MU*C
+      IF (IJAC /= 2) RETURN
+      DFDP(:, 1:2) = 0.0d0
+      DFDP(4, 1) = -2*MU*U(3)
+      DFDP(2, 2) = MU*(U(4) - U(2))
+      DFDP(4, 2) = MU*(U(2) - U(4))
+    END SUBROUTINE FUNC
+
+""") + STPNT_HEAD + textwrap.dedent("""\
+      DOUBLE PRECISION PI
+      PI = 4*ATAN(1.0d0)
+      PAR(1) = 0.0d0
+      PAR(2) = 0.3d0
+      PAR(11) = 2*PI
+      U(1) = 2*COS(2*PI*T)
+      U(2) = -2*SIN(2*PI*T)
+      U(3) = 2*COS(2*PI*T)
+      U(4) = -2*SIN(2*PI*T)
+    END SUBROUTINE STPNT
+
+""") + EMPTY_SUBROUTINES
+
+#: one edge of the tongue (``BENCH_SIDE`` = +1 or -1) per process: from the in-phase
+#: cycle at ``sigma = 0``, ``c = 0.3`` (van der Pol's ``2 cos t``, corrected by AUTO) in
+#: sigma to the fold, then the fold both ways in ``(sigma, c)``.  (With NTST = 40 this
+#: AUTO aborted in ``free()`` after its third fold run; NTST = 60 runs through.)
+COUPLED_SCRIPT = textwrap.dedent("""\
+    import os, time
+    SIDE = float(os.environ['BENCH_SIDE'])
+    def clock():
+        t = os.times()
+        return time.perf_counter(), t.children_user + t.children_system
+    common = dict(e='cvdp', NDIM=4, IPS=2, NTST=60, NCOL=4, ILP=1, ISP=2, NMX=2000,
+                  DS=0.01, DSMIN=1e-6, DSMAX=0.05, EPSL=1e-10, EPSU=1e-10, EPSS=1e-8, JAC=1,
+                  NPR=10000)
+    c0 = clock()
+    r = run(ICP=[1, 11], UZSTOP={1: [-1.0, 1.0]}, IRS=0,
+            **{**common, 'DS': 0.01 * SIDE, 'STOP': ['LP1']})
+    c1 = clock()
+    box = dict(ISW=2, ICP=[1, 2, 11], UZSTOP={1: [-1.0, 1.0], 2: [0.05, 0.6]}, STOP=[])
+    s = run(r('LP1'), **box, **common)
+    out = [run(s, **box, **common), run(s, **box, **{**common, 'DS': -0.01})]
+    c2 = clock()
+    print('CLOCK seed', c1[0] - c0[0], c1[1] - c0[1])
+    print('CLOCK curve', c2[0] - c1[0], c2[1] - c1[1])
+    for b in out:
+        for s_, c_ in zip(b[0]['PAR(1)'], b[0]['PAR(2)']):
+            print('P', repr(float(s_)), repr(float(c_)))
+""")
+
 SEDF_EQUATIONS = "!  the SEDF at rest with a gain s: PAR = (Delta, s, mu, beta, lam)\n" \
     + FUNC_HEAD + textwrap.dedent("""\
       DOUBLE PRECISION PI, K
@@ -115,7 +184,7 @@ SEDF_EQUATIONS = "!  the SEDF at rest with a gain s: PAR = (Delta, s, mu, beta, 
       DFDU(1, 2) = 1.0D0
       DFDU(2, 1) = -1.0D0 - 2*PAR(3)*PAR(4)*U(1)*U(2) - PAR(1)*K*COS(K*U(1))
       DFDU(2, 2) = -PAR(3)*(PAR(4)*U(1)*U(1) - PAR(2))
-      IF (IJAC == 1) RETURN
+      IF (IJAC /= 2) RETURN
       DFDP(1, 1:5) = 0.0D0
       DFDP(2, 1) = -SIN(K*U(1))
       DFDP(2, 2) = PAR(3)*U(2)

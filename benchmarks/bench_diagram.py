@@ -39,8 +39,9 @@ from numerics.bifurcation.coupled import coupled_true_folds
 from numerics.bifurcation.forced import DrivenProblem, forced_seeds, forced_true_curves
 from numerics.bifurcation.twoway import joined
 
-from _auto_diagram import (DUFFING_EQUATIONS, DUFFING_SCRIPT, SEDF_CONSTANTS, SEDF_EQUATIONS,
-                           SEDF_SCRIPT, auto_command, run_auto)
+from _auto_diagram import (COUPLED_EQUATIONS, COUPLED_SCRIPT, DUFFING_EQUATIONS,
+                           DUFFING_SCRIPT, SEDF_CONSTANTS, SEDF_EQUATIONS, SEDF_SCRIPT,
+                           auto_command, run_auto)
 
 VALUES = {"mu": 0.1, "zeta": 0.1, "alpha": 1.0}
 RANGES = {"sigma": (-1.0, 3.0), "h": (0.02, 0.4)}
@@ -228,17 +229,85 @@ def part1(auto: str | None, repeats: int) -> None:
         print(f"    {_ratio(k, a)}")
 
 
-def part2() -> None:
-    print("2. coupled-vdp locking tongue over (sigma, c), mu = 0.1 (kbm only: AUTO's "
-          "counterpart is not scripted)")
-    t0 = time.perf_counter()
-    curves, _ = coupled_true_folds("coupled-vdp", {"mu": 0.1}, ("sigma", "c"),
-                                   {"sigma": (-1.0, 1.0), "c": (0.05, 0.6)}, [0.3])
-    t = time.perf_counter() - t0
-    n = sum(len(c.points) for c in curves)
-    print(f"  kbm: two fold curves, {n} converged points in {t:.2f} s (seeds by "
-          f"locate_fold included; max |G| "
-          f"{max(c.detail['residual_max'] for c in curves):.1e})")
+def kbm_coupled(repeats: int) -> dict:
+    """kbm's two tongue edges (seeds by :func:`numerics.coupled.fold.locate_fold` from the
+    locked cycle at ``c = 0.3``, then the fold curves), timed ``repeats`` times warm."""
+    runs, tasks = [], []
+    for _ in range(repeats):
+        tasks = []
+        c0 = _clock()
+        curves, _ = coupled_true_folds("coupled-vdp", {"mu": 0.1}, ("sigma", "c"),
+                                       {"sigma": (-1.0, 1.0), "c": (0.05, 0.6)}, [0.3],
+                                       tasks_out=tasks)
+        runs.append(_since(c0))
+    return {"seed": [0.0, 0.0], "curve": _median(runs), "tasks": tasks,
+            "n": sum(len(c.points) for c in curves),
+            "residual": max(c.detail["residual_max"] for c in curves)}
+
+
+def edge_sigma_at(prob, z0: np.ndarray, c: float, tol: float = 1e-10):
+    """kbm's tongue edge at ``c`` (fixed): Newton on the fold system in every unknown but
+    ``c`` from ``z0``; ``(sigma, max |G|)`` or ``None``."""
+    z = np.array(z0, dtype=float)
+    z[-1] = c
+    for _ in range(12):
+        g = prob.G(z)
+        if np.max(np.abs(g)) <= tol:
+            return float(z[-2]), float(np.max(np.abs(g)))
+        z[:-1] -= np.linalg.solve(prob.J(z)[:, :-1], g)
+    return None
+
+
+def coupled_agreement(k: dict, auto_pts: np.ndarray, n: int = 12) -> tuple[float, int, int]:
+    """The largest ``|sigma_AUTO - sigma_kbm|`` at equal ``c`` over ``n`` of AUTO's points,
+    kbm's edge solved at each ``c`` from its nearest curve point (its own bordered test)."""
+    pick = auto_pts[np.linspace(0, len(auto_pts) - 1, min(n, len(auto_pts))).round()
+                    .astype(int)]
+    worst, fails = 0.0, 0
+    for s, c in pick:
+        best = None
+        for task in k["tasks"]:
+            z = joined(task.paths)
+            i = int(np.argmin(np.hypot(z[:, -2] - s, z[:, -1] - c)))
+            d = float(np.hypot(z[i, -2] - s, z[i, -1] - c))
+            if best is None or d < best[0]:
+                best = (d, task.problem, z[i])
+        got = edge_sigma_at(best[1], best[2], c)
+        if got is None:
+            fails += 1
+            continue
+        worst = max(worst, abs(got[0] - s))
+    return worst, len(pick), fails
+
+
+def part2(auto: str | None, repeats: int) -> None:
+    print("2. coupled-vdp locking tongue over (sigma, c) in [-1, 1] x [0.05, 0.6], mu = 0.1")
+    kbm_coupled(1)  # warm
+    k = kbm_coupled(repeats)
+    print(f"  kbm: both edges, seeds (locate_fold) included, {k['curve'][0]:.2f} s wall / "
+          f"{k['curve'][1]:.2f} s CPU (medians of {repeats}); {k['n']} converged points, "
+          f"max |G| {k['residual']:.1e}")
+    if auto is None:
+        print("  AUTO-07p: not installed (no auto-07p or auto, or no gfortran): skipped")
+        return
+    files = {"cvdp.f90": COUPLED_EQUATIONS, "run.auto": COUPLED_SCRIPT}
+    sides = [run_auto(auto, files, {"BENCH_SIDE": side}, repeats) for side in ("1", "-1")]
+    bad = [a for a in sides if isinstance(a, str)]
+    if bad:
+        print(f"  AUTO-07p: {bad[0]}")
+        return
+    a = {key: [sum(x[key][j] for x in sides) for j in (0, 1)]
+         for key in ("seed", "curve", "whole")}
+    pts = np.concatenate([_floats(x["lines"]["P"]) for x in sides])
+    print(f"  {_times('AUTO-07p (NTST = 60, NCOL = 4, EPSL = EPSU = 1e-10; one process an edge)', a)}"
+          f" (medians of {repeats}, the edges' sums); {len(pts)} points")
+    worst, m, fails = coupled_agreement(k, pts)
+    print(f"    AUTO's points against kbm's edge solved at their c (|G| <= 1e-10): largest "
+          f"|d sigma| {worst:.1e} over {m} points ({fails} failed)")
+    both = [a["seed"][j] + a["curve"][j] for j in (0, 1)]
+    print(f"    AUTO / kbm (all of each): {both[0] / k['curve'][0]:.2f} wall, "
+          f"{both[1] / k['curve'][1]:.2f} CPU (> 1: kbm faster); AUTO's whole processes "
+          f"{a['whole'][0]:.2f} s wall, {a['whole'][1]:.2f} s CPU")
 
 
 def part3(auto: str | None, repeats: int) -> None:
@@ -289,7 +358,7 @@ def main() -> None:
     if "1" in args.parts:
         part1(auto, args.repeats)
     if "2" in args.parts:
-        part2()
+        part2(auto, args.repeats)
     if "3" in args.parts:
         part3(auto, args.repeats)
 

@@ -1,29 +1,74 @@
-"""Time the two-parameter fold continuation of :mod:`numerics.bifurcation` against AUTO-07p.
+"""Time kbm's two-parameter curves against AUTO-07p's on the same curves, in one run.
 
-Run: ``python benchmarks/bench_diagram.py``
+Run: ``python benchmarks/bench_diagram.py [--repeats 3] [--parts 123] [--no-auto]``
 
-1. The fold curve of the forced Duffing oscillator ``x'' + x = mu (-2 zeta x' - alpha x^3 +
-   h cos nu t)``, ``nu = 1 + mu sigma`` (mu = 0.1, zeta = 0.1, alpha = 1) over ``sigma in
-   [-1, 3]``, ``h in [0.02, 0.4]``, through its cusp: :func:`numerics.bifurcation.forced.
-   forced_true_curves` from the one-parameter fold at ``h = 0.4`` (warm: the flow
-   compiled), every point converged (``max |G| <= 1e-10``).  Where AUTO-07p is installed
-   (``auto`` on the path, or ``$AUTO_DIR/bin/auto``), the same curve by AUTO in the same
-   run: the system made autonomous with AUTO's forcing oscillator (``c' = c + nu s - c (c^2 +
-   s^2)``, ``s' = -nu c + s - s (c^2 + s^2)``), a periodic orbit continued in ``h`` from the
-   rest state at ``h = 0``, then in ``sigma`` to its fold (LP), then the fold in ``(sigma,
-   h)`` (``ISW = 2``); the ratio AUTO/kbm of the wall times is printed.  Target: kbm faster.
+Every curve is timed warm, the median of ``--repeats`` runs, in wall and CPU seconds: kbm
+after one untimed run (its compiled flows loaded), in this process; AUTO-07p after one
+untimed ``auto-07p run.auto`` (gfortran compiles the equations), by its own clock around
+its runs inside its Python (the CPU: its Fortran processes'), and as the whole process.
+AUTO-07p is Debian's ``auto-07p`` (else ``auto`` on the path or ``$AUTO_DIR/bin/auto``;
+gfortran needed); where it is not installed its parts print "skipped".  It runs with one
+OpenMP thread (``OMP_NUM_THREADS=1`` unless set): kbm uses one core, and with its default
+thread per core AUTO's threads wait for each other on a shared machine (the same runs took
+4-45 times longer here).  Its files (``_auto_diagram.py``: the equations with their
+Jacobians, the scripts) are written to a temporary folder; nothing of AUTO's is kept.
+
+1. The fold curve of the forced Duffing oscillator ``x'' + x = mu (-2 zeta x' - alpha x^3
+   + h cos nu t)``, ``nu = 1 + mu sigma`` (mu = 0.1, zeta = 0.1, alpha = 1) over ``sigma in
+   [-1, 3]``, ``h in [0.02, 0.4]``, through its cusp.  kbm: the one-parameter response in
+   ``sigma`` at ``h = 0.3`` (:func:`numerics.bifurcation.forced.forced_seeds`; a seed on
+   the box's edge ``h = 0.4`` ends at once, ``the first point lies outside the box``), then
+   :func:`~numerics.bifurcation.forced.forced_true_curves` (every point ``max |G| <=
+   1e-10``).  AUTO: the system made autonomous by its forcing oscillator (``c' = c + nu s -
+   c (c^2 + s^2)``, ``s' = -nu c + s - s (c^2 + s^2)``), a periodic orbit continued in
+   ``h`` from rest at ``h = 0`` to ``0.3`` (``sigma = 1``), in ``sigma`` to its fold (LP),
+   then the fold both ways in ``(sigma, h)`` (``ISW = 2``), NTST = 60, at ``EPSL = EPSU =
+   1e-7`` (its demos') and ``1e-10``.  Checks: AUTO's cusp (the LP in ``sigma`` of its fold
+   curve) against kbm's; at 16 of AUTO's points (``h`` above the cusp's by 0.01), kbm's
+   fold solved at AUTO's ``h`` (Newton, ``|G| <= 1e-10``): ``|d sigma|``.
 2. The coupled-vdp locking tongue (mu = 0.1) over ``sigma in [-1, 1]``, ``c in [0.05,
-   0.6]``: the two fold curves of the locked cycle
-   (:func:`numerics.bifurcation.coupled.coupled_true_folds`), seeds included.
-3. A homoclinic curve of the SEDF (paper eq. 3; mu = 0.1, lam = 1) over ``(Delta, beta)``:
-   the connection found on the line ``beta = 0.5`` (:func:`numerics.bifurcation.
-   connections.scan`, the loop through the saddles at ``x = +-2.61`` near ``Delta = 3.99``)
-   and continued with the manifolds' gap as the defining function, every point converged to
-   ``|gap| <= 1e-10`` (:data:`numerics.bifurcation.connections.GAP_TOL`).  AUTO's
-   counterpart (HomCont, or a long-period orbit) is not scripted here.
+   0.6]``: kbm's two fold curves of the locked cycle (:func:`numerics.bifurcation.coupled.
+   coupled_true_folds`, seeded at ``c = 0.3`` by ``locate_fold``); AUTO: the in-phase
+   cycle at ``sigma = 0``, ``c = 0.3`` continued in ``sigma`` to each fold, each fold both
+   ways (``ISW = 2``, one process an edge, NTST = 60, ``EPSL = EPSU = 1e-10``).  Check:
+   kbm's edge solved at AUTO's ``c`` (its bordered test, ``|G| <= 1e-10``).
+3. The heteroclinic cycle of the SEDF's saddles ``+-2.61`` (paper eq. 3 at rest; mu =
+   0.1, lam = 1) over ``(Delta, beta)``.  kbm: :func:`numerics.bifurcation.connections.scan`
+   of ``beta = 0.5``, then the curve with the manifolds' gap as the defining function (every
+   point ``|gap| <= 1e-10``) until it stops at the saddles' fold line ``Delta = 2.74539``.
+   AUTO: its long-period approximation (HomCont is not scripted): the Hopf point of the
+   origin in a gain ``s``, the van der Pol cycle to ``s = 1``, in ``Delta`` to period 12,
+   in the period to ``T = 15``, then at that fixed period in ``(Delta, beta)`` from ``beta
+   = 0.5`` to the fold line (NTST = 200).  Check: kbm's connection at AUTO's ``beta`` (the
+   secant method on the gap), and AUTO's ``Delta`` against the period at ``beta = 0.5``.
+   AUTO's Newton fails beyond ``T = 16-17`` (NTST 200 to 800, NCOL 4 or 7, 12 Newton
+   steps): the saddles' eigenvalues are about ``+-4.2``, and its ``Delta`` is then still
+   ``1e-7`` from the connection.
 
-AUTO-07p is not a dependency of the project; the AUTO part is skipped (and said so) where
-it is not installed.
+Measured 2026-11-27 (``--repeats 3``; two cores under a load of 9-10, so the walls are about
+3x the CPU seconds, which are the numbers to compare):
+
+1. kbm 0.18 s seed + 0.29 s curve CPU (0.43 + 0.74 s wall), 38 points, ``max |G|
+   6.7e-15``.  AUTO at 1e-7: 0.04 + 0.58 s (70 points); at 1e-10: 0.16 + 1.12 s (151
+   points).  AUTO / kbm (CPU, seed + curve): 1.34 and 2.76; the curve alone 2.02 and 3.90.
+   The cusps agree to 1.3e-12 in ``sigma`` and 4.3e-12 in ``h`` (``0.1745973212,
+   0.1313990559``); AUTO's points are within 1.1e-9 (at 1e-7) and 2.2e-10 (at 1e-10) in
+   ``sigma`` of kbm's folds at their ``h``.
+2. kbm 1.30 s CPU (4.39 s wall), seeds included, 46 points, ``max |G| 7.4e-15``; AUTO 0.64
+   + 2.57 s (247 points): AUTO / kbm 2.48.  AUTO's points are within 2.4e-11 in ``sigma``
+   of kbm's edges.
+3. kbm 0.41 s seed + 0.21 s curve CPU (1.14 + 0.56 s wall), 13 points, ``max |gap|
+   5.6e-11`` (the curve took 0.76 s before :meth:`numerics.bifurcation.autonomous.OneDof.
+   compiled` read its parameter values from two lines bound once: 60 % of it was
+   ``compile_model`` at each new point, 15 % looking up numba); AUTO 0.45 + 0.09 s (27
+   points): AUTO / kbm 0.87 (the curve alone 0.43), so AUTO is faster here, on points that
+   are not the connection.  Its ``Delta`` is below kbm's by 1.2e-6 at ``beta = 0.5``,
+   4.9e-6 at 0.513, 1.1e-4 at 0.539, 5.4e-2 at 0.566 (towards the fold line the saddles'
+   eigenvalues tend to 0 and a period of 15 is no longer long).  At ``beta = 0.5`` against
+   the period: ``-4.8e-4`` (T = 12), ``-6.8e-5`` (13), ``-9.7e-6`` (14), ``-1.2e-6`` (15),
+   ``-1.5e-7`` (16.0), ``-1.1e-7`` (16.2, its last): a factor of about 7 per unit of T.
+   77 % of kbm's gap evaluations on this curve are the central-difference Jacobian of its
+   corrector (about 16 of 21 a point).
 """
 
 from __future__ import annotations

@@ -217,10 +217,11 @@ SEDF_CONSTANTS = textwrap.dedent("""\
     UZSTOP = {'s': 0.5}
     """)
 
-#: the period of the long-period orbit (``BENCH_T``) and the longest period tried for the
-#: table of Delta against T at beta = 0.5 (``BENCH_TMAX``, not timed)
+#: the period of the long-period orbit (``BENCH_T``), the longest period tried for the table
+#: of Delta against T at beta = 0.5 (``BENCH_TMAX``, a run of its own), and HomCont's
+#: truncation interval (``BENCH_TH``).  The curves stop at ``Delta = 2.75``, as kbm's does.
 SEDF_SCRIPT = textwrap.dedent("""\
-    import os, time
+    import math, os, shutil, time
     T = float(os.environ['BENCH_T'])
     def clock():
         t = os.times()
@@ -231,11 +232,12 @@ SEDF_SCRIPT = textwrap.dedent("""\
     de = run(po('UZ1'), IPS=2, ICP=['Delta', 11], UZSTOP={11: 12.0, 'Delta': 6.0}, NMX=5000)
     lt = run(de('UZ1'), IPS=2, ICP=[11, 'Delta'], UZSTOP={11: T}, NMX=5000, THL={},
              DSMAX=5.0)
+    shutil.copy('fort.8', 'long.8')  # its solution at period T, for HomCont's start
     c1 = clock()
     box = dict(IPS=2, ICP=['Delta', 'beta'], NMX=2000, DSMAX=0.1, THL={},
-               UZSTOP={'Delta': [2.74539, 6.0], 'beta': [0.3, 1.6]})
+               UZSTOP={'Delta': [2.75, 6.0], 'beta': [0.3, 1.6]})
     start = lt('UZ')[-1]
-    h2 = run(start, DS='-', **box)  # from beta = 0.5 to the fold line, as kbm's path
+    h2 = run(start, DS='-', **box)  # from beta = 0.5 towards the fold line, as kbm's path
     c2 = clock()
     print('CLOCK seed', c1[0] - c0[0], c1[1] - c0[1])
     print('CLOCK curve', c2[0] - c1[0], c2[1] - c1[1])
@@ -249,6 +251,48 @@ SEDF_SCRIPT = textwrap.dedent("""\
         for b in (lt[0], lt2[0]):
             for p, d in zip(b['PERIOD'], b['Delta']):
                 print('TD', repr(float(p)), repr(float(d)))
+        raise SystemExit
+    # HomCont (IPS = 9): the leg of the period-T orbit from the saddle near +2.61 to the one
+    # near -2.61 (AUTO's solution file read here: its Python's reader fails on this numpy),
+    # its truncation interval continued to BENCH_TH, then the connection in (Delta, beta)
+    c2 = clock()
+    lines = open('long.8').read().split('\\n')
+    head = [int(w) for w in lines[0].split()]
+    ntpl, npar = head[6], head[11]
+    rows = [[float(w) for w in ln.split()] for ln in lines[1:1 + ntpl]]
+    par = [float(w) for ln in lines[1 + ntpl:1 + head[8]] for w in ln.split()][-npar:]
+    D = par[0]
+    def saddle(x):
+        for _ in range(50):
+            x -= (x + D * math.sin(2 * math.pi * x)) / (1 + 2 * math.pi * D * math.cos(2 * math.pi * x))
+        return x
+    xp, xm = saddle(2.61), saddle(-2.61)
+    near = lambda xs: min(range(ntpl), key=lambda i: math.hypot(rows[i][1] - xs, rows[i][2]))
+    i1, i2 = near(xp), near(xm)
+    idx = list(range(i1, i2 + 1)) if i2 > i1 else list(range(i1, ntpl)) + list(range(1, i2 + 1))
+    tt = [(rows[i][0] - rows[i1][0]) % 1.0 for i in idx]
+    tt[0] = 0.0
+    for k in range(1, len(tt)):
+        if tt[k] <= tt[k - 1]:
+            tt[k] += 1.0
+    with open('leg.dat', 'w') as f:
+        for k, i in enumerate(idx):
+            f.write(f"{tt[k] / tt[-1]!r} {rows[i][1]!r} {rows[i][2]!r}\\n")
+    hc = dict(IPS=9, NUNSTAB=1, NSTAB=1, IEQUIB=-2, ITWIST=0, NTST=200, NCOL=4, ILP=0, ISP=0,
+              NMX=500, JAC=1, THL={}, EPSL=1e-10, EPSU=1e-10)
+    h0 = run(e='sedf', dat='leg.dat', IRS=0, ISTART=1, ICP=[11, 'Delta'], DS=0.1, DSMAX=1.0,
+             PAR={'Delta': D, 's': 1.0, 'mu': 0.1, 'beta': 0.5, 'lam': 1.0,
+                  11: tt[-1] * par[10], 12: xp, 13: 0.0, 14: xm, 15: 0.0},
+             UZSTOP={11: float(os.environ['BENCH_TH'])}, **hc)
+    c3 = clock()
+    hh = run(h0('UZ1'), ICP=['Delta', 'beta'], DS=-0.01, DSMAX=0.1,
+             UZSTOP={'Delta': [2.75, 6.0], 'beta': [0.3, 1.6]}, **hc)
+    c4 = clock()
+    print('CLOCK hseed', c3[0] - c2[0], c3[1] - c2[1])
+    print('CLOCK hcurve', c4[0] - c3[0], c4[1] - c3[1])
+    print('H0', repr(float(h0[0]['Delta'][-1])))
+    for d, be in zip(hh[0]['Delta'], hh[0]['beta']):
+        print('H', repr(float(d)), repr(float(be)))
 """)
 
 
@@ -281,11 +325,11 @@ def _env(extra: dict[str, str]) -> dict[str, str]:
 def run_auto(auto: str, files: dict[str, str], env: dict[str, str], repeats: int = 3,
              timeout: float = 900) -> dict | str:
     """Run ``run.auto`` in a temporary folder holding ``files``: once untimed (gfortran
-    compiles the equations), then ``repeats`` times.  Returns ``{"seed", "curve"}``
-    (AUTO's own clocks, ``[wall, cpu]`` medians), ``"whole"`` (``[wall, cpu]`` medians of
-    the whole ``auto-07p run.auto`` process: its Python, the Fortran runs; ``None`` for
-    ``repeats = 0``), and the lines of the last run by their first word; or the reason it
-    failed."""
+    compiles the equations), then ``repeats`` times.  Returns AUTO's own clocks by name
+    (``seed``, ``curve``, ...: ``[wall, cpu]`` medians), ``"whole"`` (``[wall, cpu]``
+    medians of the whole ``auto-07p run.auto`` process: its Python, the Fortran runs; no
+    clocks for ``repeats = 0``), and the lines of the last run by their first word; or the
+    reason it failed."""
     runs, lines = [], {}
     with tempfile.TemporaryDirectory() as tmp:
         for name, text in files.items():
@@ -302,7 +346,7 @@ def run_auto(auto: str, files: dict[str, str], env: dict[str, str], repeats: int
             r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
             clocks = dict((m.group(1), [float(m.group(2)), float(m.group(3))]) for m in
                           re.finditer(r"^CLOCK (\w+) (\S+) (\S+)$", out.stdout, re.M))
-            if set(clocks) != {"seed", "curve"}:
+            if not {"seed", "curve"} <= set(clocks):
                 tail = (out.stderr.strip() or out.stdout.strip() or "no output").splitlines()
                 return f"failed: {tail[-1][:200]}"
             cpu = r1.ru_utime - r0.ru_utime + r1.ru_stime - r0.ru_stime
@@ -310,8 +354,8 @@ def run_auto(auto: str, files: dict[str, str], env: dict[str, str], repeats: int
                 runs.append({**clocks, "whole": [wall, cpu]})
         for ln in out.stdout.splitlines():
             head, _, rest = ln.partition(" ")
-            if head in ("P", "CUSP", "END", "TD"):
+            if head in ("P", "CUSP", "END", "TD", "H", "H0"):
                 lines.setdefault(head, []).append(rest.split())
-    med = {k: [statistics.median(r[k][j] for r in runs) for j in (0, 1)] if runs else None
-           for k in ("seed", "curve", "whole")}
+    med = {k: [statistics.median(r[k][j] for r in runs) for j in (0, 1)]
+           for k in (runs[0] if runs else ())}
     return {**med, "lines": lines, "repeats": repeats}

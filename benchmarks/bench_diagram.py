@@ -94,6 +94,11 @@ RANGES = {"sigma": (-1.0, 3.0), "h": (0.02, 0.4)}
 H_SEED = 0.3
 #: the period of AUTO's long-period orbit (part 3); AUTO's Newton fails beyond T = 16-17
 T_LONG = 15.0
+#: HomCont's truncation interval (part 3)
+T_HOMCONT = 10.0
+#: part 3's curves run from beta = 0.5 to Delta = D_END, near the saddles' fold line
+#: 2.7453854573 (where the connection ends at a saddle-node loop)
+D_END = 2.75
 
 
 def _clock() -> tuple[float, float]:
@@ -180,7 +185,7 @@ def kbm_sedf(repeats: int) -> dict:
         loop = C.Loop(loop0.x_from, loop0.x_to, loop0.leave, loop0.arrive)
         c0 = _clock()
         path = continue_curve(C.gap_function(kit, loop), np.array(z0), tangent=[0.0, 1.0],
-                              ds=0.02, ds_max=0.1, bounds={0: (0.0, 6.0), 1: (0.3, 1.6)},
+                              ds=0.02, ds_max=0.1, bounds={0: (D_END, 6.0), 1: (0.3, 1.6)},
                               max_points=200, tol=C.GAP_TOL, fd_step=1e-6, scale=[6.0, 1.3],
                               on_point=lambda pt: C.accept(kit, loop, pt.z))
         curve_t.append(_since(c0))
@@ -370,18 +375,32 @@ def part3(auto: str | None, repeats: int) -> None:
         print("  AUTO-07p: not installed (no auto-07p or auto, or no gfortran): skipped")
         return
     files = {"sedf.f90": SEDF_EQUATIONS, "c.sedf": SEDF_CONSTANTS, "run.auto": SEDF_SCRIPT}
-    a = run_auto(auto, files, {"BENCH_T": f"{T_LONG:g}"}, repeats)
+    a = run_auto(auto, files, {"BENCH_T": f"{T_LONG:g}", "BENCH_TH": f"{T_HOMCONT:g}"},
+                 repeats)
     if isinstance(a, str):
         print(f"  AUTO-07p: {a}")
         return
     pts = _floats(a["lines"]["P"])
     end = [float(v) for v in a["lines"]["END"][-1]]
-    print(f"  {_times(f'AUTO-07p (period {T_LONG:g}, NTST = 200, NCOL = 4)', a)} (medians of "
-          f"{repeats}); {len(pts)} points, to Delta = {end[0]:.6f}, beta = {end[1]:.6f}")
+    print(f"  {_times(f'AUTO-07p, long-period orbit (period {T_LONG:g}, NTST = 200)', a)} "
+          f"(medians of {repeats}); {len(pts)} points, to Delta = {end[0]:.6f}, "
+          f"beta = {end[1]:.6f}")
     diffs, fails = sedf_agreement(k, pts)
-    print(f"    AUTO's Delta less kbm's connection at the same beta ({fails} failed): "
+    print(f"    its Delta less kbm's connection at the same beta ({fails} failed): "
           + ", ".join(f"{d:+.1e} (beta {b:.3f})" for b, d in diffs))
     print(f"    {_ratio(k, a)}")
+    if "hcurve" in a:
+        hp = _floats(a["lines"]["H"])
+        h = {"seed": [a["seed"][j] + a["hseed"][j] for j in (0, 1)], "curve": a["hcurve"],
+             "whole": a["whole"]}
+        print(f"  {_times(f'AUTO-07p HomCont (IPS = 9, truncation {T_HOMCONT:g}, NTST = 200)', h)}"
+              f"; {len(hp)} points (its seed: the long-period orbit's, then its leg from "
+              f"saddle to saddle, the truncation interval continued from "
+              f"about {T_LONG / 2:g} to {T_HOMCONT:g})")
+        diffs, fails = sedf_agreement(k, hp, n=12)
+        print(f"    its Delta less kbm's connection at the same beta ({fails} failed): "
+              + ", ".join(f"{d:+.1e} (beta {b:.3f})" for b, d in diffs))
+        print(f"    {_ratio(k, h)} (AUTO's whole process: both curves)")
     t = run_auto(auto, files, {"BENCH_T": f"{T_LONG:g}", "BENCH_TMAX": "18"}, 0)
     if isinstance(t, dict) and t["lines"].get("TD"):
         td = _floats(t["lines"]["TD"])
@@ -390,7 +409,7 @@ def part3(auto: str | None, repeats: int) -> None:
             i = int(np.argmin(np.abs(td[:, 0] - T)))
             row.append(f"T = {td[i, 0]:.2f}: {td[i, 1] - k['delta_05']:+.1e}")
         print("    at beta = 0.5, AUTO's long-period orbit's Delta less kbm's connection "
-              "(AUTO's Newton fails beyond the last period): " + "; ".join(row))
+              "(AUTO's Newton fails beyond the last period): " + "; ".join(dict.fromkeys(row)))
 
 
 def main() -> None:

@@ -33,42 +33,49 @@ Jacobians, the scripts) are written to a temporary folder; nothing of AUTO's is 
    ways (``ISW = 2``, one process an edge, NTST = 60, ``EPSL = EPSU = 1e-10``).  Check:
    kbm's edge solved at AUTO's ``c`` (its bordered test, ``|G| <= 1e-10``).
 3. The heteroclinic cycle of the SEDF's saddles ``+-2.61`` (paper eq. 3 at rest; mu =
-   0.1, lam = 1) over ``(Delta, beta)``.  kbm: :func:`numerics.bifurcation.connections.scan`
-   of ``beta = 0.5``, then the curve with the manifolds' gap as the defining function (every
-   point ``|gap| <= 1e-10``) until it stops at the saddles' fold line ``Delta = 2.74539``.
-   AUTO: its long-period approximation (HomCont is not scripted): the Hopf point of the
-   origin in a gain ``s``, the van der Pol cycle to ``s = 1``, in ``Delta`` to period 12,
-   in the period to ``T = 15``, then at that fixed period in ``(Delta, beta)`` from ``beta
-   = 0.5`` to the fold line (NTST = 200).  Check: kbm's connection at AUTO's ``beta`` (the
-   secant method on the gap), and AUTO's ``Delta`` against the period at ``beta = 0.5``.
-   AUTO's Newton fails beyond ``T = 16-17`` (NTST 200 to 800, NCOL 4 or 7, 12 Newton
-   steps): the saddles' eigenvalues are about ``+-4.2``, and its ``Delta`` is then still
-   ``1e-7`` from the connection.
+   0.1, lam = 1) over ``(Delta, beta)``, from ``beta = 0.5`` to ``Delta = 2.75`` (near the
+   saddles' fold line ``2.7453854573``, where the connection ends at a saddle-node loop).
+   kbm: :func:`numerics.bifurcation.connections.scan` of ``beta = 0.5``, then the curve
+   with the manifolds' gap as the defining function (every point ``|gap| <= 1e-10``).
+   AUTO, two ways.  The long-period approximation: the Hopf point of the origin in a gain
+   ``s``, the van der Pol cycle to ``s = 1``, in ``Delta`` to period 12, in the period to
+   ``T = 15``, then at that fixed period in ``(Delta, beta)`` (NTST = 200).  HomCont
+   (``IPS = 9``, a heteroclinic orbit with its equilibria solved for, ``IEQUIB = -2``): the
+   period-15 orbit's leg from the saddle near ``+2.61`` to the one near ``-2.61`` as its
+   start (``dat``), the truncation interval continued from about 7.5 to 10 at ``beta =
+   0.5``, then the connection in ``(Delta, beta)`` (NTST = 200); its seed time includes the
+   long-period orbit's.  Checks: kbm's connection at AUTO's ``beta`` (the secant method on
+   the gap), at the last point at AUTO's ``Delta``, and AUTO's long-period ``Delta``
+   against the period at ``beta = 0.5``.  AUTO's Newton fails beyond ``T = 16-17`` (NTST
+   200 to 800, NCOL 4 or 7, 12 Newton steps): the saddles' eigenvalues are about ``+-4.2``.
 
-Measured 2026-11-27 (``--repeats 3``; two cores under a load of 9-10, so the walls are about
-3x the CPU seconds, which are the numbers to compare):
+Measured 2026-11-27 (``--repeats 3``; two cores under a load of about 10, so the walls are
+about 3x the CPU seconds, which are the numbers to compare):
 
-1. kbm 0.18 s seed + 0.29 s curve CPU (0.43 + 0.74 s wall), 38 points, ``max |G|
-   6.7e-15``.  AUTO at 1e-7: 0.04 + 0.58 s (70 points); at 1e-10: 0.16 + 1.12 s (151
-   points).  AUTO / kbm (CPU, seed + curve): 1.34 and 2.76; the curve alone 2.02 and 3.90.
+1. kbm 0.25 s seed + 0.31 s curve CPU (0.68 + 0.89 s wall), 38 points, ``max |G|
+   6.7e-15``.  AUTO at 1e-7: 0.07 + 0.84 s (70 points); at 1e-10: 0.13 + 1.47 s (151
+   points).  AUTO / kbm (CPU, seed + curve): 1.64 and 2.88; the curve alone 2.73 and 4.77.
    The cusps agree to 1.3e-12 in ``sigma`` and 4.3e-12 in ``h`` (``0.1745973212,
    0.1313990559``); AUTO's points are within 1.1e-9 (at 1e-7) and 2.2e-10 (at 1e-10) in
    ``sigma`` of kbm's folds at their ``h``.
-2. kbm 1.30 s CPU (4.39 s wall), seeds included, 46 points, ``max |G| 7.4e-15``; AUTO 0.64
-   + 2.57 s (247 points): AUTO / kbm 2.48.  AUTO's points are within 2.4e-11 in ``sigma``
+2. kbm 1.54 s CPU (4.56 s wall), seeds included, 46 points, ``max |G| 7.4e-15``; AUTO 0.74
+   + 2.72 s (247 points): AUTO / kbm 2.24.  AUTO's points are within 2.4e-11 in ``sigma``
    of kbm's edges.
-3. kbm 0.41 s seed + 0.21 s curve CPU (1.14 + 0.56 s wall), 13 points, ``max |gap|
-   5.6e-11`` (the curve took 0.76 s before :meth:`numerics.bifurcation.autonomous.OneDof.
-   compiled` read its parameter values from two lines bound once: 60 % of it was
-   ``compile_model`` at each new point, 15 % looking up numba); AUTO 0.45 + 0.09 s (27
-   points): AUTO / kbm 0.87 (the curve alone 0.43), so AUTO is faster here, on points that
-   are not the connection.  Its ``Delta`` is below kbm's by 1.2e-6 at ``beta = 0.5``,
-   4.9e-6 at 0.513, 1.1e-4 at 0.539, 5.4e-2 at 0.566 (towards the fold line the saddles'
-   eigenvalues tend to 0 and a period of 15 is no longer long).  At ``beta = 0.5`` against
-   the period: ``-4.8e-4`` (T = 12), ``-6.8e-5`` (13), ``-9.7e-6`` (14), ``-1.2e-6`` (15),
-   ``-1.5e-7`` (16.0), ``-1.1e-7`` (16.2, its last): a factor of about 7 per unit of T.
-   77 % of kbm's gap evaluations on this curve are the central-difference Jacobian of its
-   corrector (about 16 of 21 a point).
+3. kbm 0.42 s seed + 0.11 s curve CPU (1.17 + 0.31 s wall), 9 points, ``max |gap|
+   1.2e-11``.  The long-period orbit: 0.48 + 0.09 s (27 points), AUTO / kbm 1.07 (the curve
+   alone 0.82); its ``Delta`` is below kbm's by 1.2e-6 at ``beta = 0.5``, 1.1e-4 at
+   0.539, 5.1e-2 at 0.565, and its ``beta`` 2.2e-3 below kbm's at ``Delta = 2.75`` (towards
+   the fold line the saddles' eigenvalues tend to 0 and a period of 15 is no longer long).
+   At ``beta = 0.5`` against the period: ``-4.8e-4`` (T = 12), ``-6.8e-5`` (13), ``-9.7e-6``
+   (14), ``-1.2e-6`` (15), ``-1.5e-7`` (16.0), ``-1.1e-7`` (16.2, its last): a factor of
+   about 7 per unit of T.  HomCont: 0.54 + 0.11 s (31 points), AUTO / kbm 1.22 (the curve
+   alone 1.00); its ``Delta`` is within 2.3e-9 of kbm's for ``beta <= 0.551`` (2.2e-11 at
+   0.5), 7.1e-8 at 0.562, and at its last point (``Delta = 2.7481``: past 2.75) its
+   ``beta`` is 2.0e-4 below kbm's (its truncation interval is too short there).  On the
+   same path to its own end (the step below ``2e-6`` at ``Delta = 2.745395``), kbm's curve
+   took 0.76 s CPU before :meth:`numerics.bifurcation.autonomous.OneDof.compiled` read its
+   parameter values from two lines bound once (60 % of it was ``compile_model`` at each new
+   point, 15 % looking numba up) and 0.21 s after.
 """
 
 from __future__ import annotations
@@ -195,21 +202,35 @@ def kbm_sedf(repeats: int) -> dict:
             "end": f"{path.end} ({path.message})", "delta_05": float(z0[0])}
 
 
-def delta_at(kit, loop0, beta: float, guess: float, tol: float = 1e-10):
+def delta_at(kit, loop0, beta: float, guess: float, tol: float = 1e-10, axis: int = 0):
     """kbm's connection at ``beta`` (fixed): the secant method on the manifolds' gap in
-    Delta from ``guess``, the loop's saddles followed; ``(Delta, |gap|)`` or ``None``."""
+    Delta from ``guess``, the loop's saddles followed; ``(Delta, |gap|)`` or ``None``.  With
+    ``axis = 1`` the roles swap: ``beta`` at the Delta given."""
     from numerics.bifurcation import connections as C
 
     loop = C.Loop(loop0.x_from, loop0.x_to, loop0.leave, loop0.arrive)
     d = C.gap_function(kit, loop)
+
+    def gap(v):
+        return float(d((v, beta) if axis == 0 else (beta, v))[0])
     a0, a1 = guess, guess + 1e-6
-    g0 = float(d((a0, beta))[0])
+    g0 = gap(a0)
     for _ in range(30):
-        g1 = float(d((a1, beta))[0])
+        g1 = gap(a1)
         if abs(g1) <= tol:
             return a1, abs(g1)
         a0, a1, g0 = a1, a1 - g1 * (a1 - a0) / (g1 - g0), g1
     return None
+
+
+def beta_gap_at_end(k: dict, auto_pts: np.ndarray) -> str:
+    """AUTO's last point's ``beta`` less kbm's connection at its ``Delta``: near the fold
+    line the curve is nearly level in beta, so the distance in Delta at equal beta
+    magnifies the one across the curve."""
+    a, b = auto_pts[-1]
+    kz = k["z"][np.argsort(k["z"][:, 0])]
+    got = delta_at(k["kit"], k["loop0"], a, float(np.interp(a, kz[:, 0], kz[:, 1])), axis=1)
+    return "?" if got is None else f"{b - got[0]:+.1e} in beta at its last Delta {a:.4f}"
 
 
 def sedf_agreement(k: dict, auto_pts: np.ndarray, n: int = 10) -> tuple[list, int]:
@@ -387,7 +408,8 @@ def part3(auto: str | None, repeats: int) -> None:
           f"beta = {end[1]:.6f}")
     diffs, fails = sedf_agreement(k, pts)
     print(f"    its Delta less kbm's connection at the same beta ({fails} failed): "
-          + ", ".join(f"{d:+.1e} (beta {b:.3f})" for b, d in diffs))
+          + ", ".join(f"{d:+.1e} (beta {b:.3f})" for b, d in diffs)
+          + f"; {beta_gap_at_end(k, pts)}")
     print(f"    {_ratio(k, a)}")
     if "hcurve" in a:
         hp = _floats(a["lines"]["H"])
@@ -399,7 +421,8 @@ def part3(auto: str | None, repeats: int) -> None:
               f"about {T_LONG / 2:g} to {T_HOMCONT:g})")
         diffs, fails = sedf_agreement(k, hp, n=12)
         print(f"    its Delta less kbm's connection at the same beta ({fails} failed): "
-              + ", ".join(f"{d:+.1e} (beta {b:.3f})" for b, d in diffs))
+              + ", ".join(f"{d:+.1e} (beta {b:.3f})" for b, d in diffs)
+              + f"; {beta_gap_at_end(k, hp)}")
         print(f"    {_ratio(k, h)} (AUTO's whole process: both curves)")
     t = run_auto(auto, files, {"BENCH_T": f"{T_LONG:g}", "BENCH_TMAX": "18"}, 0)
     if isinstance(t, dict) and t["lines"].get("TD"):

@@ -264,7 +264,8 @@ SEDF_SCRIPT = textwrap.dedent("""\
     D = par[0]
     def saddle(x):
         for _ in range(50):
-            x -= (x + D * math.sin(2 * math.pi * x)) / (1 + 2 * math.pi * D * math.cos(2 * math.pi * x))
+            k = 2 * math.pi
+            x -= (x + D * math.sin(k * x)) / (1 + k * D * math.cos(k * x))
         return x
     xp, xm = saddle(2.61), saddle(-2.61)
     near = lambda xs: min(range(ntpl), key=lambda i: math.hypot(rows[i][1] - xs, rows[i][2]))

@@ -75,7 +75,12 @@ about 3x the CPU seconds, which are the numbers to compare):
    same path to its own end (the step below ``2e-6`` at ``Delta = 2.745395``), kbm's curve
    took 0.76 s CPU before :meth:`numerics.bifurcation.autonomous.OneDof.compiled` read its
    parameter values from two lines bound once (60 % of it was ``compile_model`` at each new
-   point, 15 % looking numba up) and 0.21 s after.
+   point, 15 % looking numba up) and 0.21 s after.  Part 3 is the closest: over four runs
+   (two of ``--repeats 5``) AUTO / kbm was 0.61-1.07 for the long-period orbit and
+   0.75-1.42 for HomCont (CPU; in wall time kbm was faster in three of the four against the
+   long-period orbit and in all four against HomCont); kbm's seed, the scan of ``beta =
+   0.5`` over every candidate loop (half of it the backward integrations of the section
+   gaps by scipy), is 75-85 % of its time.
 """
 
 from __future__ import annotations

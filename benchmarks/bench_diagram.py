@@ -80,7 +80,7 @@ about 3x the CPU seconds, which are the numbers to compare):
    0.75-1.42 for HomCont (CPU; in wall time kbm was faster in three of the four against the
    long-period orbit and in all four against HomCont); kbm's seed, the scan of ``beta =
    0.5`` over every candidate loop (half of it the backward integrations of the section
-   gaps by scipy), is 75-85 % of its time.
+   gaps by scipy), is 80-90 % of its time.
 """
 
 from __future__ import annotations

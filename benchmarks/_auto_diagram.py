@@ -5,14 +5,17 @@ Part 1, the forced Duffing oscillator made autonomous by AUTO's forcing oscillat
 (``c' = c + nu s - c (c^2 + s^2)``, ``s' = -nu c + s - s (c^2 + s^2)``, whose stable cycle
 is ``(cos nu t, -sin nu t)``): a periodic orbit continued in ``h`` from rest at ``h = 0``
 to ``h = 0.3`` (at ``sigma = 1``), then in ``sigma`` to its fold (LP), then the fold in
-``(sigma, h)`` (``ISW = 2``: its start data, then both directions).  Part 3, the SEDF
-(paper eq. 3 at rest, ``x'' + mu (beta x^2 - s) x' + Delta sin(2 pi x/lam) + x = 0``, the
-gain ``s`` as in ``bench_branch.py``): the Hopf point of the origin at ``s = 0``, the van
-der Pol cycle continued to ``s = 1``, then in ``Delta`` to period 12, then in the period to
-``T``, then at that fixed period in ``(Delta, beta)`` (the long-period approximation of the
-heteroclinic cycle), from ``beta = 0.5`` towards the fold line ``Delta = 2.74539`` of the
-saddles, as kbm's path goes.  Each script prints ``CLOCK part wall cpu`` (``cpu``: the Fortran
-processes' user + system seconds) and its points, ``P`` lines with ``repr`` floats.
+``(sigma, h)`` (``ISW = 2``: its start data, then both directions).  Part 2, coupled-vdp:
+the in-phase cycle from ``2 cos t`` at ``sigma = 0``, ``c = 0.3``, in ``sigma`` to a fold,
+the fold both ways in ``(sigma, c)``; one process an edge.  Part 3, the SEDF (paper eq. 3
+at rest, ``x'' + mu (beta x^2 - s) x' + Delta sin(2 pi x/lam) + x = 0``, the gain ``s`` as
+in ``bench_branch.py``): the Hopf point of the origin at ``s = 0``, the van der Pol cycle
+continued to ``s = 1``, then in ``Delta`` to period 12, then in the period to ``T``, then
+at that fixed period in ``(Delta, beta)`` (the long-period approximation of the
+heteroclinic cycle) from ``beta = 0.5`` to ``Delta = 2.75``, as kbm's path goes; then
+HomCont (``IPS = 9``) from that orbit's leg between the saddles.  Each script prints
+``CLOCK part wall cpu`` (``cpu``: the Fortran processes' user + system seconds) and its
+points, ``P`` (``H`` for HomCont's) lines with ``repr`` floats.
 """
 
 from __future__ import annotations

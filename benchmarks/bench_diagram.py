@@ -1,202 +1,344 @@
-"""Time the two-parameter fold continuation of :mod:`numerics.bifurcation` against AUTO-07p.
+"""Time kbm's two-parameter curves against AUTO-07p's on the same curves, in one run.
 
-Run: ``python benchmarks/bench_diagram.py``
+Run: ``python benchmarks/bench_diagram.py [--repeats 3] [--parts 123] [--no-auto]``
 
-1. The fold curve of the forced Duffing oscillator ``x'' + x = mu (-2 zeta x' - alpha x^3 +
-   h cos nu t)``, ``nu = 1 + mu sigma`` (mu = 0.1, zeta = 0.1, alpha = 1) over ``sigma in
-   [-1, 3]``, ``h in [0.02, 0.4]``, through its cusp: :func:`numerics.bifurcation.forced.
-   forced_true_curves` from the one-parameter fold at ``h = 0.4`` (warm: the flow
-   compiled), every point converged (``max |G| <= 1e-10``).  Where AUTO-07p is installed
-   (``auto`` on the path, or ``$AUTO_DIR/bin/auto``), the same curve by AUTO in the same
-   run: the system made autonomous with AUTO's forcing oscillator (``c' = c + nu s - c (c^2 +
-   s^2)``, ``s' = -nu c + s - s (c^2 + s^2)``), a periodic orbit continued in ``h`` from the
-   rest state at ``h = 0``, then in ``sigma`` to its fold (LP), then the fold in ``(sigma,
-   h)`` (``ISW = 2``); the ratio AUTO/kbm of the wall times is printed.  Target: kbm faster.
+Every curve is timed warm, the median of ``--repeats`` runs, in wall and CPU seconds: kbm
+after one untimed run (its compiled flows loaded), in this process; AUTO-07p after one
+untimed ``auto-07p run.auto`` (gfortran compiles the equations), by its own clock around
+its runs inside its Python (the CPU: its Fortran processes'), and as the whole process.
+AUTO-07p is Debian's ``auto-07p`` (else ``auto`` on the path or ``$AUTO_DIR/bin/auto``;
+gfortran needed); where it is not installed its parts print "skipped".  It runs with one
+OpenMP thread (``OMP_NUM_THREADS=1`` unless set): kbm uses one core, and with its default
+thread per core AUTO's threads wait for each other on a shared machine (the same runs took
+4-45 times longer here).  Its files (``_auto_diagram.py``: the equations with their
+Jacobians, the scripts) are written to a temporary folder; nothing of AUTO's is kept.
+
+1. The fold curve of the forced Duffing oscillator ``x'' + x = mu (-2 zeta x' - alpha x^3
+   + h cos nu t)``, ``nu = 1 + mu sigma`` (mu = 0.1, zeta = 0.1, alpha = 1) over ``sigma in
+   [-1, 3]``, ``h in [0.02, 0.4]``, through its cusp.  kbm: the one-parameter response in
+   ``sigma`` at ``h = 0.3`` (:func:`numerics.bifurcation.forced.forced_seeds`; a seed on
+   the box's edge ``h = 0.4`` ends at once, ``the first point lies outside the box``), then
+   :func:`~numerics.bifurcation.forced.forced_true_curves` (every point ``max |G| <=
+   1e-10``).  AUTO: the system made autonomous by its forcing oscillator (``c' = c + nu s -
+   c (c^2 + s^2)``, ``s' = -nu c + s - s (c^2 + s^2)``), a periodic orbit continued in
+   ``h`` from rest at ``h = 0`` to ``0.3`` (``sigma = 1``), in ``sigma`` to its fold (LP),
+   then the fold both ways in ``(sigma, h)`` (``ISW = 2``), NTST = 60, at ``EPSL = EPSU =
+   1e-7`` (its demos') and ``1e-10``.  Checks: AUTO's cusp (the LP in ``sigma`` of its fold
+   curve) against kbm's; at 16 of AUTO's points (``h`` above the cusp's by 0.01), kbm's
+   fold solved at AUTO's ``h`` (Newton, ``|G| <= 1e-10``): ``|d sigma|``.
 2. The coupled-vdp locking tongue (mu = 0.1) over ``sigma in [-1, 1]``, ``c in [0.05,
-   0.6]``: the two fold curves of the locked cycle
-   (:func:`numerics.bifurcation.coupled.coupled_true_folds`), seeds included.
-3. A homoclinic curve of the SEDF (paper eq. 3; mu = 0.1, lam = 1) over ``(Delta, beta)``:
-   the connection found on the line ``beta = 0.5`` (:func:`numerics.bifurcation.
-   connections.scan`, the loop through the saddles at ``x = +-2.61`` near ``Delta = 3.99``)
-   and continued with the manifolds' gap as the defining function, every point converged to
-   ``|gap| <= 1e-10`` (:data:`numerics.bifurcation.connections.GAP_TOL`).  AUTO's
-   counterpart (HomCont, or a long-period orbit) is not scripted here.
+   0.6]``: kbm's two fold curves of the locked cycle (:func:`numerics.bifurcation.coupled.
+   coupled_true_folds`, seeded at ``c = 0.3`` by ``locate_fold``); AUTO: the in-phase
+   cycle at ``sigma = 0``, ``c = 0.3`` continued in ``sigma`` to each fold, each fold both
+   ways (``ISW = 2``, one process an edge, NTST = 60, ``EPSL = EPSU = 1e-10``).  Check:
+   kbm's edge solved at AUTO's ``c`` (its bordered test, ``|G| <= 1e-10``).
+3. The heteroclinic cycle of the SEDF's saddles ``+-2.61`` (paper eq. 3 at rest; mu =
+   0.1, lam = 1) over ``(Delta, beta)``, from ``beta = 0.5`` to ``Delta = 2.75`` (near the
+   saddles' fold line ``2.7453854573``, where the connection ends at a saddle-node loop).
+   kbm: :func:`numerics.bifurcation.connections.scan` of ``beta = 0.5``, then the curve
+   with the manifolds' gap as the defining function (every point ``|gap| <= 1e-10``).
+   AUTO, two ways.  The long-period approximation: the Hopf point of the origin in a gain
+   ``s``, the van der Pol cycle to ``s = 1``, in ``Delta`` to period 12, in the period to
+   ``T = 15``, then at that fixed period in ``(Delta, beta)`` (NTST = 200).  HomCont
+   (``IPS = 9``, a heteroclinic orbit with its equilibria solved for, ``IEQUIB = -2``): the
+   period-15 orbit's leg from the saddle near ``+2.61`` to the one near ``-2.61`` as its
+   start (``dat``), the truncation interval continued from about 7.5 to 10 at ``beta =
+   0.5``, then the connection in ``(Delta, beta)`` (NTST = 200); its seed time includes the
+   long-period orbit's.  Checks: kbm's connection at AUTO's ``beta`` (the secant method on
+   the gap), at the last point at AUTO's ``Delta``, and AUTO's long-period ``Delta``
+   against the period at ``beta = 0.5``.  AUTO's Newton fails beyond ``T = 16-17`` (NTST
+   200 to 800, NCOL 4 or 7, 12 Newton steps): the saddles' eigenvalues are about ``+-4.2``.
 
-AUTO-07p is not a dependency of the project; the AUTO part is skipped (and said so) where
-it is not installed.
+Measured 2026-11-27 (``--repeats 3``; two cores under a load of about 10, so the walls are
+about 3x the CPU seconds, which are the numbers to compare):
+
+1. kbm 0.25 s seed + 0.31 s curve CPU (0.68 + 0.89 s wall), 38 points, ``max |G|
+   6.7e-15``.  AUTO at 1e-7: 0.07 + 0.84 s (70 points); at 1e-10: 0.13 + 1.47 s (151
+   points).  AUTO / kbm (CPU, seed + curve): 1.64 and 2.88; the curve alone 2.73 and 4.77.
+   The cusps agree to 1.3e-12 in ``sigma`` and 4.3e-12 in ``h`` (``0.1745973212,
+   0.1313990559``); AUTO's points are within 1.1e-9 (at 1e-7) and 2.2e-10 (at 1e-10) in
+   ``sigma`` of kbm's folds at their ``h``.
+2. kbm 1.54 s CPU (4.56 s wall), seeds included, 46 points, ``max |G| 7.4e-15``; AUTO 0.74
+   + 2.72 s (247 points): AUTO / kbm 2.24.  AUTO's points are within 2.4e-11 in ``sigma``
+   of kbm's edges.
+3. kbm 0.42 s seed + 0.11 s curve CPU (1.17 + 0.31 s wall), 9 points, ``max |gap|
+   1.2e-11``.  The long-period orbit: 0.48 + 0.09 s (27 points), AUTO / kbm 1.07 (the curve
+   alone 0.82); its ``Delta`` is below kbm's by 1.2e-6 at ``beta = 0.5``, 1.1e-4 at
+   0.539, 5.1e-2 at 0.565, and its ``beta`` 2.2e-3 below kbm's at ``Delta = 2.75`` (towards
+   the fold line the saddles' eigenvalues tend to 0 and a period of 15 is no longer long).
+   At ``beta = 0.5`` against the period: ``-4.8e-4`` (T = 12), ``-6.8e-5`` (13), ``-9.7e-6``
+   (14), ``-1.2e-6`` (15), ``-1.5e-7`` (16.0), ``-1.1e-7`` (16.2, its last): a factor of
+   about 7 per unit of T.  HomCont: 0.54 + 0.11 s (31 points), AUTO / kbm 1.22 (the curve
+   alone 1.00); its ``Delta`` is within 2.3e-9 of kbm's for ``beta <= 0.551`` (2.2e-11 at
+   0.5), 7.1e-8 at 0.562, and at its last point (``Delta = 2.7481``: past 2.75) its
+   ``beta`` is 2.0e-4 below kbm's (its truncation interval is too short there).  On the
+   same path to its own end (the step below ``2e-6`` at ``Delta = 2.745395``), kbm's curve
+   took 0.76 s CPU before :meth:`numerics.bifurcation.autonomous.OneDof.compiled` read its
+   parameter values from two lines bound once (60 % of it was ``compile_model`` at each new
+   point, 15 % looking numba up) and 0.21 s after.  Part 3 is the closest: over four runs
+   (two of ``--repeats 5``) AUTO / kbm was 0.61-1.07 for the long-period orbit and
+   0.75-1.42 for HomCont (CPU; in wall time kbm was faster in three of the four against the
+   long-period orbit and in all four against HomCont); kbm's seed, the scan of ``beta =
+   0.5`` over every candidate loop (half of it the backward integrations of the section
+   gaps by scipy), is 80-90 % of its time.
 """
 
 from __future__ import annotations
 
+import argparse
 import importlib.util
-import os
-import shutil
-import subprocess
-import tempfile
-import textwrap
+import statistics
 import time
-from pathlib import Path
 
 import numpy as np
 
 from numerics.bifurcation.coupled import coupled_true_folds
 from numerics.bifurcation.forced import DrivenProblem, forced_seeds, forced_true_curves
+from numerics.bifurcation.twoway import joined
 
-from _auto import EMPTY_SUBROUTINES, FUNC_HEAD, STPNT_HEAD
+from _diagram_checks import (beta_gap_at_end, coupled_agreement, forced_agreement,
+                             sedf_agreement)
+from _auto_diagram import (COUPLED_EQUATIONS, COUPLED_SCRIPT, DUFFING_EQUATIONS,
+                           DUFFING_SCRIPT, SEDF_CONSTANTS, SEDF_EQUATIONS, SEDF_SCRIPT,
+                           auto_command, run_auto)
 
 VALUES = {"mu": 0.1, "zeta": 0.1, "alpha": 1.0}
 RANGES = {"sigma": (-1.0, 3.0), "h": (0.02, 0.4)}
-
-AUTO_EQUATIONS = "!  forced Duffing, made autonomous by AUTO's forcing oscillator (c, s)\n" \
-    + FUNC_HEAD + textwrap.dedent("""\
-      DOUBLE PRECISION MU, ZETA, ALPHA, NU, R
-      MU = 0.1d0
-      ZETA = 0.1d0
-      ALPHA = 1.0d0
-      NU = 1.0d0 + MU*PAR(1)
-      R = U(3)**2 + U(4)**2
-      F(1) = U(2)
-      F(2) = -U(1) + MU*(-2*ZETA*U(2) - ALPHA*U(1)**3 + PAR(2)*U(3))
-      F(3) = U(3) + NU*U(4) - U(3)*R
-      F(4) = -NU*U(3) + U(4) - U(4)*R
-    END SUBROUTINE FUNC
-
-""") + STPNT_HEAD + textwrap.dedent("""\
-      DOUBLE PRECISION PI, NU
-      PI = 4*ATAN(1.0d0)
-      PAR(1) = 1.0d0
-      PAR(2) = 0.0d0
-      NU = 1.0d0 + 0.1d0*PAR(1)
-      PAR(11) = 2*PI/NU
-      U(1) = 0.0d0
-      U(2) = 0.0d0
-      U(3) = COS(2*PI*T)
-      U(4) = -SIN(2*PI*T)
-    END SUBROUTINE STPNT
-
-""") + EMPTY_SUBROUTINES
-
-AUTO_SCRIPT = textwrap.dedent("""\
-    import time
-    t0 = time.perf_counter()
-    common = dict(e='fduff', NDIM=4, IPS=2, NTST=60, NCOL=4, ILP=1, ISP=2, NMX=2000,
-                  DS=0.01, DSMIN=1e-6, DSMAX=0.05, EPSL=1e-10, EPSU=1e-10, EPSS=1e-8,
-                  JAC=0, NPR=1000)
-    r1 = run(ICP=[2, 11], UZSTOP={2: 0.4}, IRS=0, **common)
-    r2 = run(r1('UZ1'), ICP=[1, 11], UZSTOP={1: [-1.0, 3.0]}, **common)
-    r3 = run(r2('LP1'), ISW=2, ICP=[1, 2, 11], UZSTOP={2: [0.02, 0.4], 1: [-1.0, 3.0]},
-             **common)
-    r4 = run(r2('LP1'), ISW=2, ICP=[1, 2, 11], UZSTOP={2: [0.02, 0.4], 1: [-1.0, 3.0]},
-             **{**common, 'DS': -0.01})
-    print('SECONDS', time.perf_counter() - t0)
-    print('POINTS', len(r3()) + len(r4()))
-""")
+#: the seed line of the fold curve (inside the box: a seed on its edge ends at once)
+H_SEED = 0.3
+#: the period of AUTO's long-period orbit (part 3); AUTO's Newton fails beyond T = 16-17
+T_LONG = 15.0
+#: HomCont's truncation interval (part 3)
+T_HOMCONT = 10.0
+#: part 3's curves run from beta = 0.5 to Delta = D_END, near the saddles' fold line
+#: 2.7453854573 (where the connection ends at a saddle-node loop)
+D_END = 2.75
 
 
-def auto_command() -> str | None:
-    """The ``auto`` program of AUTO-07p, or None."""
-    found = shutil.which("auto")
-    if found:
-        return found
-    home = os.environ.get("AUTO_DIR")
-    if home and (Path(home) / "bin" / "auto").exists():
-        return str(Path(home) / "bin" / "auto")
-    return None
+def _clock() -> tuple[float, float]:
+    return time.perf_counter(), time.process_time()
 
 
-def run_auto(auto: str, timeout: float = 900) -> tuple[float | None, str]:
-    """AUTO's wall time for the fold curve (all three runs) and its report line."""
-    with tempfile.TemporaryDirectory() as tmp:
-        Path(tmp, "fduff.f90").write_text(AUTO_EQUATIONS)
-        Path(tmp, "bench.auto").write_text(AUTO_SCRIPT)
-        t0 = time.perf_counter()
-        try:
-            out = subprocess.run([auto, "bench.auto"], cwd=tmp, capture_output=True, text=True,
-                                 timeout=timeout)
-        except subprocess.TimeoutExpired:
-            return None, f"did not finish in {timeout:g} s"
-        wall = time.perf_counter() - t0
-    lines = out.stdout.splitlines()
-    secs = [ln.split()[1] for ln in lines if ln.startswith("SECONDS")]
-    pts = [ln.split()[1] for ln in lines if ln.startswith("POINTS")]
-    if not secs:
-        tail = (out.stderr.strip() or out.stdout.strip() or "no output").splitlines()[-1]
-        return None, f"failed: {tail[:200]}"
-    return wall, f"{float(secs[0]):.2f} s inside AUTO ({wall:.2f} s with compilation), " \
-                 f"{pts[0] if pts else '?'} points"
+def _since(c0: tuple[float, float]) -> list[float]:
+    c1 = _clock()
+    return [c1[0] - c0[0], c1[1] - c0[1]]
 
 
-def kbm_forced() -> tuple[float, float, int, float, tuple]:
-    prob = DrivenProblem("duffing-forced", VALUES, ("sigma", "h"))
-    t0 = time.perf_counter()
-    seeds = forced_seeds(prob, RANGES["sigma"], [RANGES["h"][1]])
-    t_seed = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    _, curves, points = forced_true_curves(prob, RANGES, seeds)
-    t_curve = time.perf_counter() - t0
-    n = sum(len(c.points) for c in curves)
-    res = max(c.detail["residual_max"] for c in curves)
+def _median(runs: list[list[float]]) -> list[float]:
+    return [statistics.median(r[j] for r in runs) for j in (0, 1)]
+
+
+def kbm_forced(prob: DrivenProblem, repeats: int) -> dict:
+    """kbm's seed (the one-parameter response in sigma at ``h = H_SEED``) and fold curve,
+    timed ``repeats`` times warm: ``{"seed", "curve": [wall, cpu] medians, "z": the
+    curve's points (x0, v0, sigma, h), "residual", "cusp"}``."""
+    seed_t, curve_t = [], []
+    for _ in range(repeats):
+        c0 = _clock()
+        seeds = forced_seeds(prob, RANGES["sigma"], [H_SEED])
+        seed_t.append(_since(c0))
+        c0 = _clock()
+        tasks, curves, points = forced_true_curves(prob, RANGES, seeds)
+        curve_t.append(_since(c0))
+    z = np.concatenate([joined(t.paths) for t in tasks if t.kind == "fold"])
     cusp = [p.point for p in points if p.kind == "cusp"]
-    return t_seed, t_curve, n, res, cusp[0] if cusp else None
+    return {"seed": _median(seed_t), "curve": _median(curve_t), "z": z,
+            "residual": max(c.detail["residual_max"] for c in curves),
+            "cusp": cusp[0] if cusp else None}
 
 
-def main() -> None:
-    print("1. forced Duffing fold curve over (sigma, h), mu = 0.1, zeta = 0.1, alpha = 1")
-    DrivenProblem("duffing-forced", VALUES, ("sigma", "h")).monodromy(np.array([1, 0, 0, .1]))
-    t_seed, t_curve, n, res, cusp = kbm_forced()
-    print(f"  kbm: seed (one-parameter response at h = 0.4) {t_seed:.2f} s; the fold curve "
-          f"{t_curve:.2f} s for {n} converged points ({1e3 * t_curve / max(n, 1):.1f} ms a "
-          f"point, max |G| {res:.1e}); cusp at sigma = {cusp[0]:.8f}, h = {cusp[1]:.8f}")
-    auto = auto_command()
-    if auto is None:
-        print("  AUTO-07p: not installed (no `auto` on the path, no $AUTO_DIR): skipped")
-    else:
-        wall, line = run_auto(auto)
-        print(f"  AUTO-07p ({auto}): {line}")
-        if wall is not None:
-            print(f"  ratio AUTO / kbm (seed + curve): {wall / (t_seed + t_curve):.1f}x "
-                  f"(target > 1: {wall > t_seed + t_curve})")
-
-    print("2. coupled-vdp locking tongue over (sigma, c), mu = 0.1")
-    t0 = time.perf_counter()
-    curves, _ = coupled_true_folds("coupled-vdp", {"mu": 0.1}, ("sigma", "c"),
-                                   {"sigma": (-1.0, 1.0), "c": (0.05, 0.6)}, [0.3])
-    t = time.perf_counter() - t0
-    n = sum(len(c.points) for c in curves)
-    print(f"  kbm: two fold curves, {n} converged points in {t:.2f} s (seeds by "
-          f"locate_fold included; max |G| "
-          f"{max(c.detail['residual_max'] for c in curves):.1e})")
-
-    print("3. SEDF homoclinic curve over (Delta, beta), mu = 0.1, lam = 1")
-    if importlib.util.find_spec("numerics.bifurcation.connections") is None:
-        print("  the homoclinic continuation is not in this tree: skipped")
-        return
-    t_scan, t_curve, n, gap, end = sedf_homoclinic()
-    print(f"  kbm: scan of beta = 0.5 {t_scan:.2f} s; the curve {t_curve:.2f} s for {n} "
-          f"converged points ({1e3 * t_curve / max(n, 1):.0f} ms a point, max |gap| "
-          f"{gap:.1e}; the path ended: {end})")
-
-
-def sedf_homoclinic() -> tuple[float, float, int, float, str]:
+def kbm_sedf(repeats: int) -> dict:
+    """kbm's homoclinic curve of part 3, timed ``repeats`` times warm: the scan of ``beta
+    = 0.5`` (the seed) and the continuation with every point's gap at most 1e-10."""
     from kbm.models import get_model
     from numerics.bifurcation import connections as C
     from numerics.bifurcation.autonomous import OneDof
     from numerics.bifurcation.curve import continue_curve
 
-    t0 = time.perf_counter()
-    kit = OneDof(get_model("sedf"), {"mu": 0.1, "lam": 1}, ("Delta", "beta"), (4.0, 0.5))
-    seeds = C.scan(kit, [(a, 0.5) for a in np.linspace(3.7, 4.3, 7)], 8.0)
-    t_scan = time.perf_counter() - t0
-    loop0, z0 = seeds[0]
-    loop = C.Loop(loop0.x_from, loop0.x_to, loop0.leave, loop0.arrive)
-    t0 = time.perf_counter()
-    path = continue_curve(C.gap_function(kit, loop), np.array(z0), tangent=[0.0, 1.0], ds=0.02,
-                          ds_max=0.1, bounds={0: (0.0, 6.0), 1: (0.3, 1.6)}, max_points=200,
-                          tol=C.GAP_TOL, fd_step=1e-6, scale=[6.0, 1.3],
-                          on_point=lambda pt: C.accept(kit, loop, pt.z))
-    t_curve = time.perf_counter() - t0
-    return t_scan, t_curve, len(path.points), max(p.residual for p in path.points), \
-        f"{path.end} ({path.message})"
+    seed_t, curve_t = [], []
+    for _ in range(repeats):
+        c0 = _clock()
+        kit = OneDof(get_model("sedf"), {"mu": 0.1, "lam": 1}, ("Delta", "beta"), (4.0, 0.5))
+        seeds = C.scan(kit, [(a, 0.5) for a in np.linspace(3.7, 4.3, 7)], 8.0)
+        seed_t.append(_since(c0))
+        loop0, z0 = seeds[0]
+        loop = C.Loop(loop0.x_from, loop0.x_to, loop0.leave, loop0.arrive)
+        c0 = _clock()
+        path = continue_curve(C.gap_function(kit, loop), np.array(z0), tangent=[0.0, 1.0],
+                              ds=0.02, ds_max=0.1, bounds={0: (D_END, 6.0), 1: (0.3, 1.6)},
+                              max_points=200, tol=C.GAP_TOL, fd_step=1e-6, scale=[6.0, 1.3],
+                              on_point=lambda pt: C.accept(kit, loop, pt.z))
+        curve_t.append(_since(c0))
+    return {"seed": _median(seed_t), "curve": _median(curve_t), "kit": kit, "loop0": loop0,
+            "z": np.array([p.z for p in path.points]),
+            "gap": max(p.residual for p in path.points),
+            "end": f"{path.end} ({path.message})", "delta_05": float(z0[0])}
+
+
+def _times(label: str, t: dict) -> str:
+    return (f"{label}: seed {t['seed'][0]:.2f} s wall / {t['seed'][1]:.2f} s CPU, curve "
+            f"{t['curve'][0]:.2f} / {t['curve'][1]:.2f}")
+
+
+def _ratio(k: dict, a: dict) -> str:
+    ks = [k["seed"][j] + k["curve"][j] for j in (0, 1)]
+    as_ = [a["seed"][j] + a["curve"][j] for j in (0, 1)]
+    return (f"AUTO / kbm, seed + curve: {as_[0] / ks[0]:.2f} wall, {as_[1] / ks[1]:.2f} CPU; "
+            f"curve alone {a['curve'][0] / k['curve'][0]:.2f} wall, "
+            f"{a['curve'][1] / k['curve'][1]:.2f} CPU (> 1: kbm faster); AUTO's whole "
+            f"process {a['whole'][0]:.2f} s wall, {a['whole'][1]:.2f} s CPU")
+
+
+def _floats(rows) -> np.ndarray:
+    return np.array([[float(v) for v in r] for r in rows])
+
+
+def part1(auto: str | None, repeats: int) -> None:
+    print(f"1. forced Duffing fold curve over (sigma, h) in [-1, 3] x [0.02, 0.4], mu = 0.1, "
+          f"zeta = 0.1, alpha = 1 (seeded at h = {H_SEED})")
+    prob = DrivenProblem("duffing-forced", VALUES, ("sigma", "h"))
+    kbm_forced(prob, 1)  # warm: the compiled flow loaded, the KBM slow flow derived
+    k = kbm_forced(prob, repeats)
+    print(f"  {_times('kbm', k)} (medians of {repeats}); {len(k['z'])} converged points, "
+          f"max |G| {k['residual']:.1e}; cusp at sigma = {k['cusp'][0]:.10f}, "
+          f"h = {k['cusp'][1]:.10f}")
+    if auto is None:
+        print("  AUTO-07p: not installed (no auto-07p or auto, or no gfortran): skipped")
+        return
+    files = {"fduff.f90": DUFFING_EQUATIONS, "run.auto": DUFFING_SCRIPT}
+    for eps in ("1e-7", "1e-10"):
+        a = run_auto(auto, files, {"BENCH_EPS": eps}, repeats)
+        if isinstance(a, str):
+            print(f"  AUTO-07p, EPSL = EPSU = {eps}: {a}")
+            continue
+        pts = _floats(a["lines"]["P"])
+        print(f"  {_times(f'AUTO-07p (NTST = 60, NCOL = 4, EPSL = EPSU = {eps})', a)} "
+              f"(medians of {repeats}); {len(pts)} points")
+        if a["lines"].get("CUSP"):
+            cs, ch = (float(v) for v in a["lines"]["CUSP"][0])
+            print(f"    AUTO's cusp (its LP in sigma on the fold curve) sigma = {cs:.10f}, "
+                  f"h = {ch:.10f}: {abs(cs - k['cusp'][0]):.1e}, {abs(ch - k['cusp'][1]):.1e} "
+                  f"from kbm's")
+        worst, m, fails = forced_agreement(prob, k["z"], pts)
+        print(f"    AUTO's points against kbm's fold solved at their h (|G| <= 1e-10): "
+              f"largest |d sigma| {worst:.1e} over {m} points ({fails} failed)")
+        print(f"    {_ratio(k, a)}")
+
+
+def kbm_coupled(repeats: int) -> dict:
+    """kbm's two tongue edges (seeds by :func:`numerics.coupled.fold.locate_fold` from the
+    locked cycle at ``c = 0.3``, then the fold curves), timed ``repeats`` times warm."""
+    runs, tasks = [], []
+    for _ in range(repeats):
+        tasks = []
+        c0 = _clock()
+        curves, _ = coupled_true_folds("coupled-vdp", {"mu": 0.1}, ("sigma", "c"),
+                                       {"sigma": (-1.0, 1.0), "c": (0.05, 0.6)}, [0.3],
+                                       tasks_out=tasks)
+        runs.append(_since(c0))
+    return {"seed": [0.0, 0.0], "curve": _median(runs), "tasks": tasks,
+            "n": sum(len(c.points) for c in curves),
+            "residual": max(c.detail["residual_max"] for c in curves)}
+
+
+def part2(auto: str | None, repeats: int) -> None:
+    print("2. coupled-vdp locking tongue over (sigma, c) in [-1, 1] x [0.05, 0.6], mu = 0.1")
+    kbm_coupled(1)  # warm
+    k = kbm_coupled(repeats)
+    print(f"  kbm: both edges, seeds (locate_fold) included, {k['curve'][0]:.2f} s wall / "
+          f"{k['curve'][1]:.2f} s CPU (medians of {repeats}); {k['n']} converged points, "
+          f"max |G| {k['residual']:.1e}")
+    if auto is None:
+        print("  AUTO-07p: not installed (no auto-07p or auto, or no gfortran): skipped")
+        return
+    files = {"cvdp.f90": COUPLED_EQUATIONS, "run.auto": COUPLED_SCRIPT}
+    sides = [run_auto(auto, files, {"BENCH_SIDE": side}, repeats) for side in ("1", "-1")]
+    bad = [a for a in sides if isinstance(a, str)]
+    if bad:
+        print(f"  AUTO-07p: {bad[0]}")
+        return
+    a = {key: [sum(x[key][j] for x in sides) for j in (0, 1)]
+         for key in ("seed", "curve", "whole")}
+    pts = np.concatenate([_floats(x["lines"]["P"]) for x in sides])
+    label = "AUTO-07p (NTST = 60, NCOL = 4, EPSL = EPSU = 1e-10; one process an edge)"
+    print(f"  {_times(label, a)}"
+          f" (medians of {repeats}, the edges' sums); {len(pts)} points")
+    worst, m, fails = coupled_agreement(k, pts)
+    print(f"    AUTO's points against kbm's edge solved at their c (|G| <= 1e-10): largest "
+          f"|d sigma| {worst:.1e} over {m} points ({fails} failed)")
+    both = [a["seed"][j] + a["curve"][j] for j in (0, 1)]
+    print(f"    AUTO / kbm (all of each): {both[0] / k['curve'][0]:.2f} wall, "
+          f"{both[1] / k['curve'][1]:.2f} CPU (> 1: kbm faster); AUTO's whole processes "
+          f"{a['whole'][0]:.2f} s wall, {a['whole'][1]:.2f} s CPU")
+
+
+def part3(auto: str | None, repeats: int) -> None:
+    print("3. SEDF heteroclinic cycle of the saddles +-2.61 over (Delta, beta), mu = 0.1, "
+          "lam = 1")
+    if importlib.util.find_spec("numerics.bifurcation.connections") is None:
+        print("  the homoclinic continuation is not in this tree: skipped")
+        return
+    kbm_sedf(1)  # warm
+    k = kbm_sedf(repeats)
+    print(f"  {_times('kbm', k)} (medians of {repeats}); {len(k['z'])} converged points, "
+          f"max |gap| {k['gap']:.1e}; Delta = {k['delta_05']:.12f} at beta = 0.5; the path "
+          f"ended: {k['end']}")
+    if auto is None:
+        print("  AUTO-07p: not installed (no auto-07p or auto, or no gfortran): skipped")
+        return
+    files = {"sedf.f90": SEDF_EQUATIONS, "c.sedf": SEDF_CONSTANTS, "run.auto": SEDF_SCRIPT}
+    a = run_auto(auto, files, {"BENCH_T": f"{T_LONG:g}", "BENCH_TH": f"{T_HOMCONT:g}"},
+                 repeats)
+    if isinstance(a, str):
+        print(f"  AUTO-07p: {a}")
+        return
+    pts = _floats(a["lines"]["P"])
+    end = [float(v) for v in a["lines"]["END"][-1]]
+    print(f"  {_times(f'AUTO-07p, long-period orbit (period {T_LONG:g}, NTST = 200)', a)} "
+          f"(medians of {repeats}); {len(pts)} points, to Delta = {end[0]:.6f}, "
+          f"beta = {end[1]:.6f}")
+    diffs, fails = sedf_agreement(k, pts)
+    print(f"    its Delta less kbm's connection at the same beta ({fails} failed): "
+          + ", ".join(f"{d:+.1e} (beta {b:.3f})" for b, d in diffs)
+          + f"; {beta_gap_at_end(k, pts)}")
+    print(f"    {_ratio(k, a)}")
+    if "hcurve" in a:
+        hp = _floats(a["lines"]["H"])
+        h = {"seed": [a["seed"][j] + a["hseed"][j] for j in (0, 1)], "curve": a["hcurve"],
+             "whole": a["whole"]}
+        print(f"  {_times(f'AUTO-07p HomCont (IPS = 9, truncation {T_HOMCONT:g}, NTST = 200)', h)}"
+              f"; {len(hp)} points (its seed: the long-period orbit's, then its leg from "
+              f"saddle to saddle, the truncation interval continued from "
+              f"about {T_LONG / 2:g} to {T_HOMCONT:g})")
+        diffs, fails = sedf_agreement(k, hp, n=12)
+        print(f"    its Delta less kbm's connection at the same beta ({fails} failed): "
+              + ", ".join(f"{d:+.1e} (beta {b:.3f})" for b, d in diffs)
+              + f"; {beta_gap_at_end(k, hp)}")
+        print(f"    {_ratio(k, h)} (AUTO's whole process: both curves)")
+    t = run_auto(auto, files, {"BENCH_T": f"{T_LONG:g}", "BENCH_TMAX": "18"}, 0)
+    if isinstance(t, dict) and t["lines"].get("TD"):
+        td = _floats(t["lines"]["TD"])
+        row = []
+        for T in (12, 13, 14, 15, 16, 17, float(td[:, 0].max())):
+            i = int(np.argmin(np.abs(td[:, 0] - T)))
+            row.append(f"T = {td[i, 0]:.2f}: {td[i, 1] - k['delta_05']:+.1e}")
+        print("    at beta = 0.5, AUTO's long-period orbit's Delta less kbm's connection "
+              "(AUTO's Newton fails beyond the last period): " + "; ".join(dict.fromkeys(row)))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=3, help="timed runs of each (3)")
+    parser.add_argument("--no-auto", action="store_true", help="leave AUTO-07p out")
+    parser.add_argument("--parts", default="123", help="the parts to run (123)")
+    args = parser.parse_args()
+    auto = None if args.no_auto else auto_command()
+    if "1" in args.parts:
+        part1(auto, args.repeats)
+    if "2" in args.parts:
+        part2(auto, args.repeats)
+    if "3" in args.parts:
+        part3(auto, args.repeats)
 
 
 if __name__ == "__main__":

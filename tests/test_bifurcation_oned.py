@@ -23,6 +23,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
@@ -30,9 +32,38 @@ from kbm import custom_model
 from numerics.bifurcation.autonomous import OneDof
 from numerics.bifurcation.connections import GAP_TOL, Loop, gap_function, scan
 from numerics.bifurcation.curve import continue_curve
+from numerics.flow import compile_model
 
 SEDF = ("sedf", {"mu": "0.1", "lam": "1"}, ("Delta", "beta"))
 BOX = {0: (0.0, 6.0), 1: (0.3, 1.6)}
+
+
+_PLANES = {}
+
+
+def _plane_kit(axes):
+    if axes not in _PLANES:
+        params = {"mu": "0.1", "lam": "1", "beta": "0.5", "Delta": "4"}
+        at = tuple(float(params[k]) for k in axes)
+        _PLANES[axes] = (OneDof("sedf", params, axes, at), params)
+    return _PLANES[axes]
+
+
+@settings(max_examples=30)
+@given(st.sampled_from([("Delta", "beta"), ("beta", "lam"), ("Delta", "mu")]),
+       st.floats(0.3, 6.0), st.floats(0.05, 1.6))
+def test_compiled_on_the_plane_equals_compile_model(axes, a, b):
+    """:meth:`OneDof.compiled` at ``(a, b)`` (the values from two parameter lines bound
+    once, no sympy) is :func:`numerics.flow.compile_model`'s model there: the same parameter
+    vector bit for bit, the same bound values; over ``(Delta, mu)``, where ``delta =
+    Delta/mu`` depends on both, it is compile_model's itself."""
+    kit, params = _plane_kit(axes)
+    assert (kit._plane is None) == (axes == ("Delta", "mu"))
+    cm = kit.compiled(a, b)
+    ref = compile_model("sedf", {**params, axes[0]: a, axes[1]: b})
+    assert cm.pvec == ref.pvec
+    assert (cm.omega0, cm.plus_factor) == (ref.omega0, ref.plus_factor)
+    assert cm.bound.values == ref.bound.values
 
 
 def test_lyapunov_coefficient_of_van_der_pol():

@@ -71,6 +71,7 @@ class OneDof:
         self._cache: dict = {}
         cm = self.compiled(*at)
         self.template = cm.template
+        self._plane = _plane(model, self.params, self.axes, at, cm.template)
         self.flow = template_flow(cm.template)
         acc = cm.template.model.acceleration()
         X, V = sp.Symbol("x"), sp.Symbol("xdot")
@@ -88,9 +89,10 @@ class OneDof:
         if cm is None:
             if len(self._cache) > 4096:
                 self._cache.clear()
-            cm = compile_model(self.model, {**self.params, self.axes[0]: key[0],
-                                            self.axes[1]: key[1]},
-                               template=getattr(self, "template", None))
+            values = {**self.params, self.axes[0]: key[0], self.axes[1]: key[1]}
+            cm = _on_plane(getattr(self, "_plane", None), self.model, values, key)
+            if cm is None:
+                cm = compile_model(self.model, values, template=getattr(self, "template", None))
             self._cache[key] = cm
         return cm
 
@@ -194,3 +196,39 @@ class OneDof:
             ym = self.end_state(x0, T, a - da * hp, b - db * hp)
             J[:, k] = (np.array([yp[0], yp[1], yp[6]]) - np.array([ym[0], ym[1], ym[6]])) / (2 * hp)
         return J
+
+
+def _plane(model, params: Mapping, axes: tuple[str, str], at: tuple[float, float], template):
+    """``(line along a at b0, kbm.bound.ParameterLine along b at a0)``: the model bound
+    once, each point's values from the two lines (no sympy), where no value of the template
+    depends on both axes (``delta = Delta/mu`` over ``(Delta, mu)`` does) and the line's
+    template is the model's; else ``None`` (:func:`numerics.flow.compile_model` at each
+    point)."""
+    from kbm.bound import ParameterLine
+    from numerics.flow import CompiledLine
+
+    try:
+        line_a = CompiledLine(model, {**params, axes[1]: at[1]}, axes[0], at[0])
+        line_b = ParameterLine(model, {**params, axes[0]: at[0]}, axes[1], at[1])
+    except (ValueError, ArithmeticError, TypeError):
+        return None
+    if set(line_a.line.changed) & set(line_b.changed) or line_a.template != template:
+        return None
+    return line_a, line_b
+
+
+def _on_plane(plane, model, values: Mapping, key: tuple[float, float]):
+    """The compiled model at ``key`` from ``plane`` (:func:`_plane`), equal to
+    :func:`numerics.flow.compile_model`'s; ``None`` where the plane cannot give it."""
+    if plane is None:
+        return None
+    from kbm.bound import bind
+
+    line_a, line_b = plane
+    try:
+        others = line_b.floats(key[1])
+        if others is None:
+            return None
+        return line_a.with_values(key[0], others, lambda: bind(model, values))
+    except (ValueError, ArithmeticError, TypeError):
+        return None

@@ -385,6 +385,18 @@ class CompiledLine:
         return _assemble(binding, self.line.base.name, self.template, fvals,
                          self._autonomous)
 
+    def with_values(self, value: float, others: Mapping[str, float],
+                    binding: Callable[[], BoundModel]) -> CompiledModel | None:
+        """The compiled model at ``vary = value`` with the float values ``others`` (names
+        of the template that do not depend on ``vary``: a second parameter's) in place;
+        ``binding`` its bound model.  ``None`` where the values at ``value`` need sympy."""
+        new = self.line.floats(value)
+        if new is None:
+            return None
+        fvals = {**self._floats, **{k: new[k] for k in self.line.changed if k in self._floats},
+                 **{k: float(v) for k, v in others.items() if k in self._floats}}
+        return _assemble(binding, self.line.base.name, self.template, fvals, self._autonomous)
+
     def rates(self, value: float) -> np.ndarray | None:
         """``d pvec/d vary`` at ``vary = value`` in the template's order (the parameter
         sensitivities' inhomogeneity, :mod:`numerics.flow.sensitivity`), or ``None`` when

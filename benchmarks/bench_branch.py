@@ -111,7 +111,7 @@ AUTO_CONSTANTS = textwrap.dedent("""\
 AUTO_SCRIPT = textwrap.dedent("""\
     import time
     eq = run('sedf')
-    po = run(eq('HB1'), IPS=2, ICP=['s', 11], UZR={'s': 1.0}, UZSTOP={'s': 1.0}, NMX=2000)
+    po = run(eq('HB1'), IPS=2, ICP=['s', 11], UZSTOP={'s': 1.0}, NMX=2000)
     t0 = time.time()
     br = run(po('UZ1'), IPS=2, ICP=['Delta', 11], UZSTOP={'Delta': 4.0}, NMX=5000)
     t1 = time.time()
@@ -120,6 +120,17 @@ AUTO_SCRIPT = textwrap.dedent("""\
     pairs = zip(b["Delta"], b["PERIOD"])
     print("AUTOPOINTS", " ".join(f"{float(d)!r}:{float(T)!r}" for d, T in pairs))
     """)
+
+
+def auto_env() -> dict[str, str]:
+    """AUTO-07p's environment: one OpenMP thread unless ``OMP_NUM_THREADS`` is set.  kbm runs
+    on one core; with AUTO's default of a thread per core, its threads' waits on a shared
+    machine made the same run 4-45 times slower (2026-11-27)."""
+    import os
+
+    env = dict(os.environ)
+    env.setdefault("OMP_NUM_THREADS", "1")
+    return env
 
 
 def auto07p(repeats: int = 3) -> tuple[float, int, float, float, float, list] | None:
@@ -144,7 +155,7 @@ def auto07p(repeats: int = 3) -> tuple[float, int, float, float, float, list] | 
             (d / "run.auto").write_text(AUTO_SCRIPT)
             t0 = time.perf_counter()
             out = subprocess.run(["auto-07p", "run.auto"], cwd=d, capture_output=True,
-                                 text=True, timeout=900)
+                                 text=True, timeout=900, env=auto_env())
             wall = time.perf_counter() - t0
         m = re.search(r"AUTOTIME (\S+) (\d+) (\S+) (\S+)", out.stdout)
         pts = re.search(r"AUTOPOINTS (.*)", out.stdout)

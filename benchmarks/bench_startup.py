@@ -19,7 +19,12 @@ Run: ``python benchmarks/bench_startup.py [--rounds 10] [--against OTHER_TREE]``
    compiled once beforehand, as kbm's numba cache is warm; the start from the Hopf point
    of the van der Pol oscillator, the continuation in the gain and then in Delta:
    ``benchmarks/bench_branch.py`` holds the AUTO files), where ``auto-07p`` and
-   ``gfortran`` are installed; otherwise it says so and times kbm alone.
+   ``gfortran`` are installed (Debian: ``apt-get install auto-07p gfortran``); otherwise it
+   says so and times kbm alone.  AUTO runs with one OpenMP thread (``OMP_NUM_THREADS=1``
+   unless set), as kbm runs on one core: with a thread per core its waits on a shared
+   machine made the same run 4-45 times slower.  Its start cycle stops at the gain ``s = 1``
+   by ``UZSTOP`` alone (with a ``UZR`` at the same value too AUTO did not stop there and ran
+   on to ``NMX``, which made its whole run 4-5 times longer than needed).
 3. What each import of the warm path costs, each in a new process (``python -c "import X"``
    less ``python -c pass``, the median of ``--rounds``): numpy, sympy, numba, scipy.special,
    scipy.optimize, scipy.integrate; and the first call of the van der Pol flow as numba
@@ -213,7 +218,7 @@ def auto_whole_runs(repeats: int) -> list[float] | None:
               "the comparison is skipped")
         return None
     sys.path.insert(0, str(Path(__file__).parent))
-    from bench_branch import AUTO_CONSTANTS, AUTO_EQUATIONS, AUTO_SCRIPT
+    from bench_branch import AUTO_CONSTANTS, AUTO_EQUATIONS, AUTO_SCRIPT, auto_env
 
     out = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -224,7 +229,7 @@ def auto_whole_runs(repeats: int) -> list[float] | None:
         for i in range(repeats + 1):
             t0 = time.perf_counter()
             proc = subprocess.run(["auto-07p", "run.auto"], cwd=d, capture_output=True,
-                                  text=True, timeout=900)
+                                  text=True, timeout=900, env=auto_env())
             if "AUTOTIME" not in proc.stdout:
                 print(f"   AUTO-07p failed: {(proc.stdout + proc.stderr).strip()[-300:]}")
                 return None

@@ -18,18 +18,39 @@ from typing import Any
 from ..errors import ParameterError
 from ..strict_json import finite
 
-__all__ = ["OPTIONS", "add_command", "add_options", "add_param_option", "parse_params",
+__all__ = ["OPTIONS", "add_command", "add_options", "parse_params",
            "checked_params", "emit_json", "show", "write_json", "add_model_arguments", "model_spec",
            "check_model_flags", "single_well"]
 
 
-#: the options several commands take: name -> (flags, argparse keywords)
+#: the options several commands take: name -> (flags, argparse keywords); a command names
+#: what differs there (:func:`add_options`)
 OPTIONS: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
+    "model": (("model",), dict(nargs="?")),
+    "rhs": (("--rhs",), dict(metavar="EXPR", help="your own F (in x, xdot and parameters) "
+                                                 "instead of a built-in model")),
+    "omega0": (("--omega0",), dict(default=None, help="linear frequency for --rhs (default 1)")),
+    "nu0": (("--nu0",), dict(default=None, metavar="NU0", help=(
+        "with --rhs holding the forcing angle theta: its frequency nu = NU0 + mu sigma "
+        "(theta = nu t)"))),
+    "internal": (("--internal",), dict(action="append", default=[], metavar="P:Q")),
     "param": (("--param", "-p"), dict(
         action="append", default=[], metavar="NAME=VALUE",
         help="set a parameter (repeatable), e.g. --param beta=1 --param mu=0.1")),
     "vary": (("--vary",), dict(action="append", default=[], metavar="NAME=FROM:TO")),
     "order": (("--order", "-n"), dict(type=int, default=None)),
+    "orders": (("--orders",), dict(default="1,2")),
+    "start": (("--start",), dict(default=None, metavar="X1,..,XDOT1,..")),
+    "x_start": (("--x-start",), dict(type=float, default=None, metavar="X")),
+    "max_points": (("--max-points",), dict(type=int, default=400, metavar="N")),
+    "convergence": (("--convergence",), dict(metavar="MU1,MU2,...")),
+    "a_range": (("--a-range",), dict(metavar="AMIN:AMAX", default=None)),
+    "points": (("--points",), dict(type=int)),
+    "tol": (("--tol",), dict(type=float, default=None)),
+    "digits": (("--digits",), dict(type=int, default=None)),
+    "t_end": (("--t-end",), dict(type=float, default=None, metavar="T")),
+    "dt": (("--dt",), dict(type=float, default=None, metavar="H")),
+    "no_simulation": (("--no-simulation",), dict(action="store_true")),
     "rtol": (("--rtol",), dict(type=float, default=1e-10, help="integrator tolerance")),
     "json": (("--json",), dict(action="store_true", help="print JSON")),
     "out": (("--out",), dict(metavar="DIR")),
@@ -64,11 +85,6 @@ def add_command(sub, name: str, description: str,
     if summaries is None:
         from . import SUMMARIES as summaries
     return sub.add_parser(name, help=summaries[name], description=description)
-
-
-def add_param_option(parser: argparse.ArgumentParser) -> None:
-    """Add the repeatable ``--param name=value`` option."""
-    add_options(parser, "param")
 
 
 def parse_params(items: list[str]) -> dict[str, str]:
@@ -130,20 +146,20 @@ def single_well(model) -> bool:
     return x not in model.F.subs(xdot, 0).free_symbols
 
 
-def emit_json(obj: Any) -> None:
+def emit_json(obj: Any) -> int:
     """Print ``obj`` as strict JSON (keys in a fixed order, as built; NaN and infinities
-    become ``null``, so that every JSON parser reads it)."""
+    become ``null``, so that every JSON parser reads it); returns the exit status 0."""
     json.dump(finite(obj), sys.stdout, indent=2, allow_nan=False)
     sys.stdout.write("\n")
+    return 0
 
 
 def show(args: argparse.Namespace, result: Any) -> int:
     """Print ``result`` as the command line asks: its ``to_json()`` with ``--json``, else its
     ``table()``; returns the exit status 0."""
     if args.json:
-        emit_json(result.to_json())
-    else:
-        print(result.table())
+        return emit_json(result.to_json())
+    print(result.table())
     return 0
 
 
@@ -161,26 +177,20 @@ def write_json(path: Any, obj: Any) -> Any:
 
 
 def add_model_arguments(parser: argparse.ArgumentParser,
-                        models: str = "vdp, rayleigh, sedf, cdc, ...", *,
-                        coupled: bool = False) -> None:
+                        models: str = "vdp, rayleigh, sedf, cdc, ...", *, coupled: bool = False,
+                        **changes: Mapping[str, Any]) -> None:
     """Add the model name, ``--rhs`` and ``--omega0`` arguments (``coupled``: ``--rhs`` is
-    repeatable, one per degree of freedom, and ``--omega0`` takes a comma-separated list)."""
-    parser.add_argument("model", nargs="?", help=f"built-in model ({models})")
+    repeatable, one per degree of freedom, ``--omega0`` takes a comma-separated list, and
+    ``--nu0`` is added); ``changes`` as in :func:`add_options`."""
+    kw: dict[str, Mapping[str, Any]] = {"model": dict(help=f"built-in model ({models})")}
     if coupled:
-        parser.add_argument("--rhs", metavar="EXPR", action="append",
-                            help="your own F (in x, xdot and parameters) instead of a built-in "
-                                 "model; repeat it for N coupled degrees of freedom, F_i in "
-                                 "x1..xN, xdot1..xdotN")
-        parser.add_argument("--omega0", default=None,
-                            help="linear frequency for --rhs (default 1); comma-separated, one "
+        kw["rhs"] = dict(action="append", help=(
+            "your own F (in x, xdot and parameters) instead of a built-in model; repeat it "
+            "for N coupled degrees of freedom, F_i in x1..xN, xdot1..xdotN"))
+        kw["omega0"] = dict(help="linear frequency for --rhs (default 1); comma-separated, one "
                                  "per degree of freedom, for several")
-        parser.add_argument("--nu0", default=None, metavar="NU0",
-                            help="with --rhs holding the forcing angle theta: its frequency "
-                                 "nu = NU0 + mu sigma (theta = nu t)")
-        return
-    parser.add_argument("--rhs", metavar="EXPR", help="your own F (in x, xdot and parameters) "
-                        "instead of a built-in model")
-    parser.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")
+    add_options(parser, "model", "rhs", "omega0", *(("nu0",) if coupled else ()),
+                **{**kw, **changes})
 
 
 def check_model_flags(args: argparse.Namespace) -> None:

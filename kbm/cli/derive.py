@@ -13,8 +13,8 @@ import argparse
 
 import numpy as np
 
-from ._common import (add_command, add_model_arguments, add_options, add_param_option,
-                      check_model_flags, checked_params, emit_json)
+from ._common import (add_command, add_model_arguments, add_options, check_model_flags,
+                      checked_params, emit_json)
 
 
 def register(sub) -> None:
@@ -28,26 +28,24 @@ def register(sub) -> None:
 
     add_model_arguments(p, f"{', '.join(model_names())}; coupled: "
                            f"{', '.join(coupled_model_names())}", coupled=True)
-    p.add_argument("--internal", action="append", default=[], metavar="P:Q",
-                   help="declare the internal resonance omega_1 : omega_2 = P : Q (repeatable; "
-                        "P:Q@I,J between modes I and J); coupled systems only")
-    add_options(p, "order", order=dict(required=True, help="order N >= 1"))
-    add_param_option(p)
+    add_options(p, "internal", "order", "param", internal=dict(
+        help="declare the internal resonance omega_1 : omega_2 = P : Q (repeatable; P:Q@I,J "
+             "between modes I and J); coupled systems only"),
+        order=dict(required=True, help="order N >= 1"))
     p.add_argument("--numeric", action="store_true",
                    help="numeric backend for any smooth F (tanh, exp, ...): tables of A_n, "
                         "B_n on --a-range with error estimates")
-    p.add_argument("--a-range", metavar="AMIN:AMAX", default=None,
-                   help="amplitudes of the tables (0 < AMIN < AMAX); for --numeric also the "
-                        "interval the expansion is computed on")
-    p.add_argument("--points", type=int, default=9,
-                   help="rows of the tables: equispaced amplitudes of --a-range (default 9)")
+    add_options(p, "a_range", "points", a_range=dict(
+        help="amplitudes of the tables (0 < AMIN < AMAX); for --numeric also the interval the "
+             "expansion is computed on"),
+        points=dict(default=9, help="rows of the tables: equispaced amplitudes of --a-range "
+                                    "(default 9)"))
     p.add_argument("--at", metavar="a1=V,a2=V,gamma1=V",
                    help="coupled systems with --numeric: the amplitudes and slow phases where "
                         "the first-order rates are evaluated (any smooth F; -p gives every "
                         "parameter's value)")
-    p.add_argument("--tol", type=float, default=None,
-                   help="tolerance of the evaluated routes (relative; default 1e-10 with "
-                        "--numeric, 1e-14 for the Bessel harmonics)")
+    add_options(p, "tol", tol=dict(help="tolerance of the evaluated routes (relative; default "
+                                        "1e-10 with --numeric, 1e-14 for the Bessel harmonics)"))
     fmt = p.add_mutually_exclusive_group()
     add_options(fmt, "json", json=dict(help="print JSON (strings sympy can parse)"))
     fmt.add_argument("--latex", action="store_true", help="print LaTeX")
@@ -139,8 +137,7 @@ def _run_numeric(args, model) -> int:
     res = numeric_derive(model, args.order, (lo, hi),
                          tol=DEFAULT_TOL if args.tol is None else args.tol)
     if args.json:
-        emit_json(res.to_json(a))
-        return 0
+        return emit_json(res.to_json(a))
     tab = res.table(a)
     N = args.order
     cols = {**{f"A_{n}": tab["A"][n - 1] for n in range(1, N + 1)},
@@ -170,8 +167,7 @@ def _run_values(args, model, limit: int) -> int:
     _, a = _amplitudes(args, why)
     res = derive_values(model, args.order, a, tol=DEFAULT_TOL if args.tol is None else args.tol)
     if args.json:
-        emit_json(res.to_json())
-        return 0
+        return emit_json(res.to_json())
     N = args.order
     cols = {**{f"A_{n}": res.A[n] for n in range(1, N + 1)},
             **{f"B_{n}": res.B[n] for n in range(1, N + 1)}}
@@ -279,12 +275,11 @@ def _run_coupled_numeric(args: argparse.Namespace) -> int:
         A, B, tail = [list(r) for r in ex.A], [list(r) for r in ex.B], ex.tail
     gam = [_combination(g, n) for g in na.gammas]
     if args.json:
-        emit_json({"model": na.model.name, "order": args.order, "numeric": True,
-                   "point": point, "A": [[None, *A[i]] for i in range(n)],
-                   "B": [[None, *B[i]] for i in range(n)],
-                   "gammas": [[f"gamma{r + 1}", g] for r, g in enumerate(gam)],
-                   "nodes": na.nodes, "tail": tail})
-        return 0
+        return emit_json({"model": na.model.name, "order": args.order, "numeric": True,
+                          "point": point, "A": [[None, *A[i]] for i in range(n)],
+                          "B": [[None, *B[i]] for i in range(n)],
+                          "gammas": [[f"gamma{r + 1}", g] for r, g in enumerate(gam)],
+                          "nodes": na.nodes, "tail": tail})
     what = "first-order rates" if args.order == 1 else f"rates to order {args.order}"
     print(f"{what} of {na.model.name} at "
           + ", ".join(f"{k} = {v:g}" for k, v in point.items())

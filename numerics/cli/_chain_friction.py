@@ -53,9 +53,8 @@ def run_chain(args: argparse.Namespace) -> int:
         if client is not None:
             client.close()
     if args.json:
-        emit_json({"model": args.model, "params_given": params, "seed": args.seed,
-                   "points": [p.to_json() for p in points]})
-        return 0
+        return emit_json({"model": args.model, "params_given": params, "seed": args.seed,
+                          "points": [p.to_json() for p in points]})
     first = points[0]
     shown = _physical_header(names, first.params, given_params)
     print(f"{first.model}: friction per slider; {shown}")

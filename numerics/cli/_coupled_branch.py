@@ -52,8 +52,7 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
     br = continue_coupled(model, given, name, (lo, hi), start=start,
                           max_points=max_points, rtol=rtol)
     if args.json:
-        emit_json({**br.to_json(), "params_given": given})
-        return 0
+        return emit_json({**br.to_json(), "params_given": given})
     kind = "periodic responses" if br.forced else "periodic orbits"
     print(f"branch of {kind} of {br.model} ({br.dof} degrees of freedom), {name} from "
           f"{lo:g} to {hi:g}: {len(br.points)} points, {br.evaluations} integrations of a "

@@ -232,8 +232,7 @@ def _emit(args, rep, lines) -> int:
         out.mkdir(parents=True, exist_ok=True)
         write_json(out / f"spectrum-{rep['model']}.json", rep)
     if _opt(args, "json", False):
-        emit_json(rep)
-        return 0
+        return emit_json(rep)
     print("\n".join(lines))
     if _opt(args, "out"):
         for p in rep.get("figures", []):

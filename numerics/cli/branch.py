@@ -22,21 +22,21 @@ def register(sub) -> None:
         action="store", required=True, default=None,
         help="the parameter and its range, e.g. --vary Delta=0:4; the branch starts at --param "
              "NAME=VALUE if given, else at FROM"))
-    p.add_argument("--orders", default="1", metavar="N,...",
-                   help="KBM orders of the analytic branches (default 1; 'none' for none)")
+    add_options(p, "orders", orders=dict(
+        default="1", metavar="N,...",
+        help="KBM orders of the analytic branches (default 1; 'none' for none)"))
     p.add_argument("--no-energy", action="store_true",
                    help="leave out the energy-balance branch")
-    p.add_argument("--max-points", type=int, default=400, metavar="N",
-                   help="bound on the points per direction of each branch (default 400)")
-    add_options(p, "rtol", rtol=dict(help="integrator tolerance (1e-10)"))
+    add_options(p, "max_points", "rtol", max_points=dict(
+        help="bound on the points per direction of each branch (default 400)"),
+        rtol=dict(help="integrator tolerance (1e-10)"))
     p.add_argument("--follow-period", type=float, default=None, metavar="FACTOR",
                    help="at a homoclinic end, follow the cycle in its period (multiple "
                         "shooting, the parameter free) until the period is FACTOR times the "
                         "start's (AUTO-07p's standard: 20); the points join the branch")
-    p.add_argument("--start", metavar="X1,..,XDOT1,..",
-                   help="coupled systems: the state to start from (default: the attracting "
-                        "orbit after a transient from x_i = 1)")
-    add_options(p, "json")
+    add_options(p, "start", "json", start=dict(
+        help="coupled systems: the state to start from (default: the attracting orbit after a "
+             "transient from x_i = 1)"))
     p.set_defaults(func=run)
 
 
@@ -154,8 +154,7 @@ def _run(args: argparse.Namespace) -> int:
               f"{d.model} ends at a homoclinic orbit in {name} from {lo:g} to {hi:g}",
               file=sys.stderr)
     if args.json:
-        emit_json(d.to_json())
-        return 0
+        return emit_json(d.to_json())
     print(f"{len(d.branches)} branch(es) of limit cycles of {d.model}, {name} from {lo:g} "
           f"to {hi:g}")
     for i, b in enumerate(d.branches):

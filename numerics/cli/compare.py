@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import (add_model_arguments, add_options, add_param_option, checked_params,
-                             describe_params, emit_json, model_spec, parse_params, show)
+from kbm.cli._common import (add_model_arguments, add_options, checked_params, describe_params,
+                             emit_json, model_spec, parse_params, show)
 from numerics.cli._options import command
 
 
@@ -15,19 +15,17 @@ def register(sub) -> None:
                 "Floquet multiplier, dissipation over the reconstructed cycle) with the cycle "
                 "computed by shooting.")
     add_model_arguments(p)
-    add_param_option(p)
-    p.add_argument("--orders", default="1,2", help="comma-separated KBM orders (default 1,2)")
+    add_options(p, "param", "orders", orders=dict(help="comma-separated KBM orders (default 1,2)"))
     p.add_argument("--energy-orders", default=None, metavar="N,...",
                    help="orders of the averaging about the conservative orbit shown next to "
                         "KBM (default 1,2; 'none' to leave them out)")
     p.add_argument("--paper", action="store_true",
                    help="add the paper's eqs. (5)-(9) as printed (sedf only)")
-    p.add_argument("--x-start", type=float, default=None, metavar="X",
-                   help="start of the transient if Newton from the KBM cycle fails")
-    p.add_argument("--convergence", metavar="MU1,MU2,...",
-                   help="convergence study: errors of each order for these values of mu, with "
-                        "the other parameters (scaled names, e.g. delta) fixed; prints fitted "
-                        "log-log slopes and predicted orders")
+    add_options(p, "x_start", "convergence", x_start=dict(
+        help="start of the transient if Newton from the KBM cycle fails"), convergence=dict(
+        help="convergence study: errors of each order for these values of mu, with the other "
+             "parameters (scaled names, e.g. delta) fixed; prints fitted log-log slopes and "
+             "predicted orders"))
     p.add_argument("--errata", action="store_true",
                    help="numerical evidence for the errata of the paper's eqs. (6)-(9) "
                         "(sedf; small Delta/mu case and the paper's Fig. 3 case)")

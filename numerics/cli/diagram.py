@@ -37,8 +37,8 @@ def register(sub) -> None:
                         "25,9)")
     p.add_argument("--x-range", type=float, default=8.0, metavar="L",
                    help="equilibria and saddles are looked for in |x| <= L (default 8)")
-    p.add_argument("--max-points", type=int, default=400, metavar="N",
-                   help="points per direction of each curve at most (default 400)")
+    add_options(p, "max_points", max_points=dict(
+        help="points per direction of each curve at most (default 400)"))
     p.add_argument("--no-averaged", action="store_true", help="leave out the averaged curves")
     add_options(p, "json", "out", out=dict(
         help="write diagram.json and the figure diagram-MODEL.png into DIR"))

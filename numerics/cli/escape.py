@@ -22,15 +22,14 @@ def register(sub) -> None:
                        "sedf at v = 0)")
     add_ensemble_arguments(p, "trajectories", trajectories=dict(
         default=200, help="simulated trajectories (default 200; at least 20)"))
-    p.add_argument("--t-end", type=float, default=None, metavar="T",
-                   help="longest run per trajectory (default: 5 averaged MFPTs; runs still "
-                        "in the well at T are censored)")
-    p.add_argument("--dt", type=float, default=None, metavar="H",
-                   help="time step (default: the well's period/40, smaller where the numerical "
-                        "heating would exceed 1e-3 of kT: numerics.noise.langevin.natural_step)")
+    add_options(p, "t_end", "dt", t_end=dict(
+        help="longest run per trajectory (default: 5 averaged MFPTs; runs still in the well at "
+             "T are censored)"), dt=dict(
+        help="time step (default: the well's period/40, smaller where the numerical heating "
+             "would exceed 1e-3 of kT: numerics.noise.langevin.natural_step)"))
     add_ensemble_arguments(p, "seed", "budget", budget=dict(
         help="largest expected number of integration steps (default 2e9)"))
-    p.add_argument("--no-simulation", action="store_true", help="the averaged rate only")
+    add_options(p, "no_simulation", no_simulation=dict(help="the averaged rate only"))
     p.add_argument("--method", choices=("averaging", "fokker-planck"), default="averaging",
                    help="fokker-planck: also the slowest decay rate of the Kramers equation "
                         "with a sink at the next wells' bottoms (the transition rate, any "
@@ -66,8 +65,7 @@ def run(args) -> int:
             f"choose parameters of {args.model} whose potential has a barrier, or a model "
             "with side wells (cdc, or sedf at v = 0, with Delta large enough)")) from None
     if args.json:
-        emit_json(rep)
-        return 0
+        return emit_json(rep)
     print(f"escape from the well at the origin: {args.model}, D = {rep['D']:g}")
     print(f"  barrier E_b - E_0 = {rep['barrier']:.6g}" + (
         f", kT = D/mu = {rep['kT']:.6g}, E_b/kT = {rep['barrier_over_kT']:.4g}"

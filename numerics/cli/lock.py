@@ -18,10 +18,9 @@ def register(sub) -> None:
                 "ceases to exist, by continuation and bisection).")
     add_model_arguments(p, "a coupled built-in with one internal resonance: coupled-vdp",
                         coupled=True)
-    p.add_argument("--internal", action="append", default=[], metavar="P:Q",
-                   help="with --rhs: the declared resonance (e.g. 1:1); F not polynomial "
-                        "(sin, tanh coupling): the averaged flow is order 1, numeric")
-    add_options(p, "param", "vary", "order", vary=dict(
+    add_options(p, "internal", "param", "vary", "order", internal=dict(
+        help="with --rhs: the declared resonance (e.g. 1:1); F not polynomial (sin, tanh "
+             "coupling): the averaged flow is order 1, numeric"), vary=dict(
         required=True, default=None,
         help="the detuning and the interval its edges are looked for in (e.g. --vary "
              "sigma=-1:1); a second --vary gives the coupling's values (c=0.05:0.5 for "
@@ -29,10 +28,9 @@ def register(sub) -> None:
              "value"), order=dict(
         help="highest averaged order (default 2, or 1 for F not polynomial; orders 1..N are "
              "given)"))
-    p.add_argument("--points", type=int, default=7,
-                   help="coupling values on the second --vary range (default 7)")
-    p.add_argument("--tol", type=float, default=1e-7,
-                   help="bisection bracket of the true edges (default 1e-7)")
+    add_options(p, "points", "tol", points=dict(
+        default=7, help="coupling values on the second --vary range (default 7)"),
+        tol=dict(default=1e-7, help="bisection bracket of the true edges (default 1e-7)"))
     add_options(p, "json", "out", out=dict(help="write lock.json and the tongue figure lock.png"))
     p.set_defaults(func=run)
 
@@ -58,8 +56,6 @@ def _split(varies, model) -> tuple:
 
 
 def run(args: argparse.Namespace) -> int:
-    import numpy as np
-
     from kbm.errors import ParameterError
     from kbm.files import output_folder, write_file
     from numerics.cli._params import within
@@ -102,8 +98,7 @@ def run(args: argparse.Namespace) -> int:
         write_file(folder / "lock.json", json.dumps(data, indent=2) + "\n")
         plot_locking(region, folder / "lock.png")
     if args.json:
-        emit_json(data)
-        return 0
+        return emit_json(data)
     shown = [f"{k}={v:g}" for k, v in region.params.items() if k != (coupling or ("",))[0]]
     if coupling is not None:
         cs = coupling[1]

@@ -21,16 +21,15 @@ def register(sub) -> None:
                        "sedf_comoving)")
     add_ensemble_arguments(p, "trajectories", trajectories=dict(
         default=100, help="independent trajectories (default 100; at least 8)"))
-    p.add_argument("--t-end", type=float, default=None, metavar="T",
-                   help="averaging time per trajectory after the burn-in (default 400/|mu|)")
+    add_options(p, "t_end", t_end=dict(
+        help="averaging time per trajectory after the burn-in (default 400/|mu|)"))
     p.add_argument("--burn-in", type=float, default=None, metavar="T",
                    help="time discarded first (default 20/|mu|)")
-    p.add_argument("--dt", type=float, default=None, metavar="H",
-                   help="time step (default: the fastest linear period / 50, smaller where "
-                        "the numerical heating would exceed 1e-3 of kT, halved for BAOAB, then "
-                        "halved again while a pilot at dt and dt/2 measures a bias of the "
-                        "moments beyond 2e-4, and shortened so that --t-end is a whole number "
-                        "of steps; the run prints the step used)")
+    add_options(p, "dt", dt=dict(
+        help="time step (default: the fastest linear period / 50, smaller where the numerical "
+             "heating would exceed 1e-3 of kT, halved for BAOAB, then halved again while a "
+             "pilot at dt and dt/2 measures a bias of the moments beyond 2e-4, and shortened "
+             "so that --t-end is a whole number of steps; the run prints the step used)"))
     add_ensemble_arguments(p, "seed", "budget", "workers", "store", "resume", budget=dict(
         help="largest number of integration steps (default 2e9); beyond it the averaged "
              "answer is given alone"))
@@ -90,8 +89,7 @@ def run(args) -> int:
     if args.out:
         write_json(Path(args.out) / f"noise-{args.model}.json", rep)
     if args.json:
-        emit_json(rep)
-        return 0
+        return emit_json(rep)
     temp = f" (T = D/mu = {float(params_T(args.param)):g})" if noise == "T" else ""
     print(f"stationary state of {args.model} with noise sqrt(2 D) xi, D = {rep['D']:g}{temp}")
     print(f"  averaging: {rep['method'] or '-- (' + rep['message'] + ')'}"

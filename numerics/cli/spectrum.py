@@ -47,9 +47,8 @@ def register(sub) -> None:
                    help="self-excited: add the small-noise linewidth D <Z_v^2> and frequency "
                         "of the true cycle (phase response by the adjoint Floquet problem; "
                         "exact in mu, first order in D)")
-    p.add_argument("--no-simulation", action="store_true",
-                   help="self-excited: the averaged line alone (simulated entries null)")
-    add_options(p, "json", "out", out=dict(
+    add_options(p, "no_simulation", "json", "out", no_simulation=dict(
+        help="self-excited: the averaged line alone (simulated entries null)"), out=dict(
         help="write spectrum-NAME-psd.png, spectrum-NAME-linewidth.png and the JSON"))
     p.set_defaults(func=run)
 
@@ -153,8 +152,7 @@ def run(args) -> int:
         rep["figures"] = [str(p) for p in write_figures(reports, out, name)]
         write_json(out / f"spectrum-{name}.json", rep)
     if args.json:
-        emit_json(rep)
-        return 0
+        return emit_json(rep)
     _print(rep, reports)
     return 0
 

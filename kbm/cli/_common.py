@@ -18,7 +18,7 @@ from typing import Any
 from ..errors import ParameterError
 from ..strict_json import finite
 
-__all__ = ["OPTIONS", "add_command", "add_options", "parse_params",
+__all__ = ["OPTIONS", "ONE_DOF", "add_command", "add_options", "parse_params",
            "checked_params", "emit_json", "show", "write_json", "add_model_arguments", "model_spec",
            "check_model_flags", "single_well"]
 
@@ -33,14 +33,14 @@ OPTIONS: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
     "nu0": (("--nu0",), dict(default=None, metavar="NU0", help=(
         "with --rhs holding the forcing angle theta: its frequency nu = NU0 + mu sigma "
         "(theta = nu t)"))),
-    "internal": (("--internal",), dict(action="append", default=[], metavar="P:Q")),
+    "internal": (("--internal",), dict(action="append", default=[])),
     "param": (("--param", "-p"), dict(
         action="append", default=[], metavar="NAME=VALUE",
         help="set a parameter (repeatable), e.g. --param beta=1 --param mu=0.1")),
     "vary": (("--vary",), dict(action="append", default=[], metavar="NAME=FROM:TO")),
     "order": (("--order", "-n"), dict(type=int, default=None)),
     "orders": (("--orders",), dict(default="1,2")),
-    "start": (("--start",), dict(default=None, metavar="X1,..,XDOT1,..")),
+    "start": (("--start",), dict(default=None)),
     "x_start": (("--x-start",), dict(type=float, default=None, metavar="X")),
     "max_points": (("--max-points",), dict(type=int, default=400, metavar="N")),
     "convergence": (("--convergence",), dict(metavar="MU1,MU2,...")),
@@ -48,7 +48,7 @@ OPTIONS: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
     "points": (("--points",), dict(type=int)),
     "tol": (("--tol",), dict(type=float, default=None)),
     "digits": (("--digits",), dict(type=int, default=None)),
-    "t_end": (("--t-end",), dict(type=float, default=None, metavar="T")),
+    "t_end": (("--t-end",), dict(type=float, default=None)),
     "dt": (("--dt",), dict(type=float, default=None, metavar="H")),
     "no_simulation": (("--no-simulation",), dict(action="store_true")),
     "rtol": (("--rtol",), dict(type=float, default=1e-10, help="integrator tolerance")),
@@ -176,8 +176,12 @@ def write_json(path: Any, obj: Any) -> Any:
     return write_file(path, json.dumps(finite(obj), indent=2, allow_nan=False) + "\n")
 
 
-def add_model_arguments(parser: argparse.ArgumentParser,
-                        models: str = "vdp, rayleigh, sedf, cdc, ...", *, coupled: bool = False,
+#: the built-ins of one degree of freedom, as the model argument's help names them
+ONE_DOF = "vdp, rayleigh, sedf, cdc, ..."
+
+
+def add_model_arguments(parser: argparse.ArgumentParser, models: str = ONE_DOF, *,
+                        coupled: bool = False,
                         **changes: Mapping[str, Any]) -> None:
     """Add the model name, ``--rhs`` and ``--omega0`` arguments (``coupled``: ``--rhs`` is
     repeatable, one per degree of freedom, ``--omega0`` takes a comma-separated list, and

@@ -29,7 +29,7 @@ def register(sub) -> None:
     add_model_arguments(p, f"{', '.join(model_names())}; coupled: "
                            f"{', '.join(coupled_model_names())}", coupled=True)
     add_options(p, "internal", "order", "param", internal=dict(
-        help="declare the internal resonance omega_1 : omega_2 = P : Q (repeatable; P:Q@I,J "
+        metavar="P:Q", help="declare the internal resonance omega_1 : omega_2 = P : Q (repeatable; P:Q@I,J "
              "between modes I and J); coupled systems only"),
         order=dict(required=True, help="order N >= 1"))
     p.add_argument("--numeric", action="store_true",

@@ -104,22 +104,6 @@ def _setup(args: argparse.Namespace, kind: str):
     return model, params, values, axes, ranges, order
 
 
-class _Progress:
-    """tqdm on stderr: the points of the true curves."""
-
-    def __init__(self):
-        from tqdm import tqdm
-
-        self.bar = tqdm(desc="true curve points", unit="pt", file=sys.stderr, leave=False,
-                        disable=None)
-
-    def __call__(self, point, path):
-        self.bar.update(1)
-
-    def close(self):
-        self.bar.close()
-
-
 class _Records:
     """``get(key)``/``put(key, record)`` of the run's parts and paths in ``--store DIR``
     (:class:`numerics.bifurcation.store.PathStore`: one folder per run, one JSON file per
@@ -140,9 +124,6 @@ class _Records:
     def put(self, key: str, record) -> None:
         self.store.put(key, {"value": record})
 
-    def close(self) -> None:
-        pass
-
 
 def _forced_parts(model, values, axes, ranges, order, store, progress, max_points=400):
     """The forced diagram's parts, each kept in ``store`` when finished (``true``,
@@ -156,10 +137,9 @@ def _forced_parts(model, values, axes, ranges, order, store, progress, max_point
     o_name = axes[1 - axes.index("sigma")]
     lo, hi = ranges[o_name]
     others = list(np.linspace(lo, hi, 4)[1:][::-1])
-    parts = {"true": store.get("true"), "averaged": store.get("averaged"),
-             "interrupted": False}
-    if parts["true"] is None:
-        stored = {}
+
+    def true():
+        stored, interrupted = {}, []
         for k in range(1000):
             rec = store.get(f"task-{k}")
             if rec is None:
@@ -169,23 +149,17 @@ def _forced_parts(model, values, axes, ranges, order, store, progress, max_point
         def on_task(idx, task):
             store.put(f"task-{idx}", [p.to_records() for p in task.paths])
             if any(p.end == "interrupted" for p in task.paths):
-                parts["interrupted"] = True
+                interrupted.append(idx)
 
         seeds = forced_seeds(prob, tuple(ranges["sigma"]), others)
         _, curves, points = forced_true_curves(prob, ranges, seeds, progress=progress,
                                                on_task=on_task, stored=stored,
                                                max_points=max_points)
-        parts["true"] = [[c.to_json() for c in curves], [p.to_json() for p in points]]
-        if parts["interrupted"]:
-            return parts
-        store.put("true", parts["true"])
-    if parts["averaged"] is None:
-        curves, points = averaged_fold_curves(prob.forced, prob.values, axes, ranges,
-                                              tuple(range(1, order + 1)), others,
-                                              max_points=max_points)
-        parts["averaged"] = [[c.to_json() for c in curves], [p.to_json() for p in points]]
-        store.put("averaged", parts["averaged"])
-    return parts
+        return curves, points, bool(interrupted)
+
+    return _parts(store, true, lambda: averaged_fold_curves(
+        prob.forced, prob.values, axes, ranges, tuple(range(1, order + 1)), others,
+        max_points=max_points))
 
 
 def _coupled_parts(model, values, axes, ranges, order, store, progress, max_points=300):
@@ -195,21 +169,32 @@ def _coupled_parts(model, values, axes, ranges, order, store, progress, max_poin
     o_name = axes[1 - _seed_axis(axes)]
     lo, hi = ranges[o_name]
     others = list(np.linspace(lo, hi, 4)[1:-1])
+
+    def true():
+        curves, points = coupled_true_folds(model, values, axes, ranges, others,
+                                            progress=progress, max_points=max_points)
+        return curves, points, any("interrupted" in c.detail.get("ends", ()) for c in curves)
+
+    return _parts(store, true, lambda: (coupled_averaged_folds(
+        model, values, axes, ranges, tuple(range(1, order + 1)), others,
+        max_points=max_points), []))
+
+
+def _parts(store, true, averaged) -> dict:
+    """The parts ``true`` and ``averaged`` of a diagram, each read from ``store`` or
+    computed (``true()``: curves, points and whether Ctrl-C stopped them; ``averaged()``:
+    curves and points) and kept there when finished."""
     parts = {"true": store.get("true"), "averaged": store.get("averaged"),
              "interrupted": False}
     if parts["true"] is None:
-        curves, points = coupled_true_folds(model, values, axes, ranges, others,
-                                            progress=progress, max_points=max_points)
+        curves, points, parts["interrupted"] = true()
         parts["true"] = [[c.to_json() for c in curves], [p.to_json() for p in points]]
-        if any("interrupted" in c.detail.get("ends", ()) for c in curves):
-            parts["interrupted"] = True
+        if parts["interrupted"]:
             return parts
         store.put("true", parts["true"])
     if parts["averaged"] is None:
-        curves = coupled_averaged_folds(model, values, axes, ranges,
-                                        tuple(range(1, order + 1)), others,
-                                        max_points=max_points)
-        parts["averaged"] = [[c.to_json() for c in curves], []]
+        curves, points = averaged()
+        parts["averaged"] = [[c.to_json() for c in curves], [p.to_json() for p in points]]
         store.put("averaged", parts["averaged"])
     return parts
 
@@ -245,11 +230,13 @@ def run_driven(args: argparse.Namespace) -> int:
                              "averaged": averaged}, sort_keys=True)
     store = _Records(getattr(args, "store", None), bool(getattr(args, "resume", False)),
                      definition)
-    progress = _Progress()
+    from tqdm import tqdm
+
+    bar = tqdm(desc="true curve points", unit="pt", file=sys.stderr, leave=False, disable=None)
     parts_fn = _forced_parts if kind == "forced" else _coupled_parts
     try:
         parts = parts_fn(model, values, axes, ranges, order if averaged else 0, store,
-                         progress, max_points)
+                         lambda point, path: bar.update(1), max_points)
     except (KeyboardInterrupt, SystemError) as exc:
         # inside compiled code (numba) Ctrl-C surfaces as a SystemError over the interrupt
         if isinstance(exc, SystemError) and not isinstance(exc.__context__, KeyboardInterrupt):
@@ -257,8 +244,7 @@ def run_driven(args: argparse.Namespace) -> int:
         parts = {"true": store.get("true"), "averaged": store.get("averaged"),
                  "interrupted": True}
     finally:
-        progress.close()
-        store.close()
+        bar.close()
     tc, tp = parts["true"] or ([], [])
     ac, ap = parts["averaged"] or ([], [])
     true_c, av_c = [_curve(c) for c in tc], [_curve(c) for c in ac]

@@ -79,10 +79,6 @@ class Vary:
     log: bool = False
     listed: tuple[float, ...] | None = None
 
-    @property
-    def is_range(self) -> bool:
-        return self.listed is None
-
     def values(self, default: int = DEFAULT_POINTS) -> np.ndarray:
         """The values, in the order typed (a range from FROM to TO)."""
         if self.listed is not None:

@@ -9,7 +9,6 @@ from __future__ import annotations
 from pathlib import Path
 
 from kbm.cli import cli_message
-from numerics.cli._axes import emit_maps
 
 #: the options of the noisy runs (default None on the parser, so that "given" is told
 #: from "default"; refused without noise) and their values when not given
@@ -23,6 +22,7 @@ def wanted(params: dict, axes: dict) -> bool:
 
 def run_thermal(args, params: dict, axes: dict, store, client) -> int:
     from kbm.errors import ParameterError
+    from numerics.cli.friction import emit_maps
     from numerics.thermal.friction import thermal_friction_map
 
     if args.netcdf:

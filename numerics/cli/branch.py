@@ -5,9 +5,8 @@ from __future__ import annotations
 import argparse
 import math
 
-from kbm.cli._common import (add_model_arguments, add_options, check_model_flags, emit_json,
-                             model_spec, single_well)
-from numerics.cli._options import command
+from kbm.cli._common import check_model_flags, emit_json, model_spec, single_well
+from numerics.cli._options import command, options
 
 
 def register(sub) -> None:
@@ -15,27 +14,25 @@ def register(sub) -> None:
                 "range of one parameter by pseudo-arclength continuation of the shooting solution "
                 "(stable and unstable cycles, Floquet multipliers at each point), with folds of "
                 "cycles, Hopf ends and homoclinic ends located, next to the roots of the KBM "
-                "amplitude equation and of the energy balance.")
-    add_model_arguments(p, "vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, sedf-dimer, "
-                           "...", coupled=True)
-    add_options(p, "param", "vary", vary=dict(
+                "amplitude equation and of the energy balance.", "param", "vary", "orders",
+                models="vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, sedf-dimer, ...",
+                coupled=True, vary=dict(
         action="store", required=True, default=None,
         help="the parameter and its range, e.g. --vary Delta=0:4; the branch starts at --param "
-             "NAME=VALUE if given, else at FROM"))
-    add_options(p, "orders", orders=dict(
+             "NAME=VALUE if given, else at FROM"), orders=dict(
         default="1", metavar="N,...",
         help="KBM orders of the analytic branches (default 1; 'none' for none)"))
     p.add_argument("--no-energy", action="store_true",
                    help="leave out the energy-balance branch")
-    add_options(p, "max_points", "rtol", max_points=dict(
+    options(p, "max_points", "rtol", max_points=dict(
         help="bound on the points per direction of each branch (default 400)"),
         rtol=dict(help="integrator tolerance (1e-10)"))
     p.add_argument("--follow-period", type=float, default=None, metavar="FACTOR",
                    help="at a homoclinic end, follow the cycle in its period (multiple "
                         "shooting, the parameter free) until the period is FACTOR times the "
                         "start's (AUTO-07p's standard: 20); the points join the branch")
-    add_options(p, "start", "json", start=dict(
-        help="coupled systems: the state to start from (default: the attracting orbit after a "
+    options(p, "start", "json", start=dict(
+        metavar="X1,..,XDOT1,..", help="coupled systems: the state to start from (default: the attracting orbit after a "
              "transient from x_i = 1)"))
     p.set_defaults(func=run)
 
@@ -55,15 +52,6 @@ def _checked(args: argparse.Namespace, params: dict, name: str):
                              f"{model.name} has none: its only equilibrium is the origin, "
                              "which is no saddle (F at x' = 0 does not depend on x); drop it")
     return spec
-
-
-def _vary(text: str) -> tuple[str, float, float]:
-    """``NAME=FROM:TO`` as typed (:func:`numerics.cli._params.parse_vary`)."""
-    from numerics.cli._params import parse_vary
-
-    v = parse_vary(text)
-    a, b = v.interval("a branch", points=False)
-    return v.name, a, b
 
 
 def run(args: argparse.Namespace) -> int:

@@ -4,24 +4,23 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import (add_model_arguments, add_options, checked_params, describe_params,
-                             emit_json, model_spec, parse_params, show)
-from numerics.cli._options import command
+from kbm.cli._common import (ONE_DOF, checked_params, describe_params, emit_json, model_spec,
+                             parse_params, show)
+from numerics.cli._options import command, options
 
 
 def register(sub) -> None:
     p = command(sub, "compare", "Compare the limit cycle predicted by the KBM expansion of each "
                 "order (first-harmonic amplitude, maximum of x, frequency, third harmonic, "
                 "Floquet multiplier, dissipation over the reconstructed cycle) with the cycle "
-                "computed by shooting.")
-    add_model_arguments(p)
-    add_options(p, "param", "orders", orders=dict(help="comma-separated KBM orders (default 1,2)"))
+                "computed by shooting.", "param", "orders", models=ONE_DOF,
+                orders=dict(help="comma-separated KBM orders (default 1,2)"))
     p.add_argument("--energy-orders", default=None, metavar="N,...",
                    help="orders of the averaging about the conservative orbit shown next to "
                         "KBM (default 1,2; 'none' to leave them out)")
     p.add_argument("--paper", action="store_true",
                    help="add the paper's eqs. (5)-(9) as printed (sedf only)")
-    add_options(p, "x_start", "convergence", x_start=dict(
+    options(p, "x_start", "convergence", x_start=dict(
         help="start of the transient if Newton from the KBM cycle fails"), convergence=dict(
         help="convergence study: errors of each order for these values of mu, with the other "
              "parameters (scaled names, e.g. delta) fixed; prints fitted log-log slopes and "
@@ -40,7 +39,7 @@ def register(sub) -> None:
                    help="sedf map over (mu, Delta, beta): where classical KBM and the energy "
                         "method are within 1 %% and 1e-3 of the true cycle (a sweep on all "
                         "cores, about a minute)")
-    add_options(p, "json")
+    options(p, "json")
     p.set_defaults(func=run)
 
 

@@ -4,37 +4,35 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import (add_model_arguments, add_options, checked_params, describe_params,
-                             emit_json, model_spec, parse_params)
+from kbm.cli._common import checked_params, describe_params, emit_json, model_spec, parse_params
 from numerics._show import multipliers_text
-from numerics.cli._options import command
+from numerics.cli._options import command, options
 
 
 def register(sub) -> None:
     p = command(sub, "cycle", "Find the periodic orbit of x'' + omega0^2 x = mu F(x, x') by "
                 "Newton's method on the return map to x' = 0, x > 0, with Floquet multipliers and "
-                "the dissipation per cycle (paper eqs. 10-11).")
-    add_model_arguments(p, "vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, "
-                           "duffing-1-3, quadratic-1-2", coupled=True)
-    add_options(p, "param", "start", start=dict(
+                "the dissipation per cycle (paper eqs. 10-11).", "param", "start",
+                models="vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, duffing-1-3, "
+                       "quadratic-1-2", coupled=True, start=dict(
         metavar="X1,..,XN,V1,..,VN",
         help="coupled systems: the state to start from (default x_i = 1, xdot_i = 0)"))
     p.add_argument("--transient", type=float, default=None, metavar="T",
                    help="coupled systems: time integrated before shooting (default 20/mu "
                         "within [100, 4000]; 0 shoots from --start itself)")
-    add_options(p, "digits", "rtol", digits=dict(
+    options(p, "digits", "rtol", digits=dict(
         help="also compute period and amplitudes to N digits (mpmath Taylor series)"),
         rtol=dict(default=1e-12, help="integrator tolerance (1e-12)"))
     p.add_argument("--method", default="auto",
                    choices=["auto", "compiled", "LSODA", "DOP853", "Radau", "BDF"],
                    help="integrator of the shooting: auto (compiled DOP853 unless stiff, then "
                         "LSODA), compiled (DOP853 compiled with numba), or a scipy method")
-    add_options(p, "x_start", x_start=dict(
+    options(p, "x_start", x_start=dict(
         default=1.0, help="start of the last-resort transient, x = X, x' = 0 (default 1)"))
     p.add_argument("--all", action="store_true",
                    help="every cycle the energy-balance averaging predicts (stable and "
                         "unstable, on every annulus), each confirmed by shooting")
-    add_options(p, "json")
+    options(p, "json")
     p.set_defaults(func=run)
 
 

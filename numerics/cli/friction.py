@@ -8,11 +8,10 @@ from pathlib import Path
 
 import numpy as np
 
-from kbm.cli._common import add_options
-from numerics.cli._axes import MAX_POINTS, emit_maps, parse_axis
-from numerics.cli._options import add_ensemble_arguments, command
+from numerics.cli._options import command, options
+from numerics.cli._params import MAX_POINTS
 
-__all__ = ["register", "run", "parse_axis", "MAX_POINTS"]
+__all__ = ["register", "run", "emit_maps"]
 
 
 def register(sub) -> None:
@@ -24,14 +23,12 @@ def register(sub) -> None:
                 "with --scheduler.  With thermal noise sqrt(2 D) xi (-p D=VALUE, or --vary D=... "
                 "or T=... with kT = D/mu) an ensemble of Langevin trajectories per point gives "
                 "the mean and slip forces with standard errors.  Defaults: mu = 0.1, Omega = 1, "
-                "lam = 1 (the paper's).")
-    p.add_argument("model",
-                   help="sedf_comoving (SEDF with the self-excitation attached to the stage; "
-                        "has steady states), cdc (eq. 12) or sedf (the paper's eq. 3, whose "
-                        "damping grows with the distance slid: runaway); or a chain of "
-                        "sedf_comoving sliders coupled by springs mu*kappa: sedf-dimer, "
-                        "sedf-chain-N (friction per slider, --vary v only)")
-    add_options(p, "param", "vary", vary=dict(
+                "lam = 1 (the paper's).", "model", "param", "vary", model=dict(
+        nargs=None, help="sedf_comoving (SEDF with the self-excitation attached to the stage; "
+                         "has steady states), cdc (eq. 12) or sedf (the paper's eq. 3, whose "
+                         "damping grows with the distance slid: runaway); or a chain of "
+                         "sedf_comoving sliders coupled by springs mu*kappa: sedf-dimer, "
+                         "sedf-chain-N (friction per slider, --vary v only)"), vary=dict(
         required=True, default=None, metavar="NAME=FROM:TO[:N|:logN]",
         help="an axis (repeatable, the last varies fastest): v=1e-3:3:log24 (24 log-spaced), "
              "Delta=0.5:3:6 (6 equally spaced), or a list beta=0.5,1,2"))
@@ -41,14 +38,14 @@ def register(sub) -> None:
                    help="slips averaged over in stick-slip (default 20)")
     p.add_argument("--engine", choices=["compiled", "scipy"], default="compiled",
                    help="numba-compiled DOP853 (default) or scipy's solve_ivp (reference)")
-    add_ensemble_arguments(p, "workers", workers=dict(
+    options(p, "workers", workers=dict(
         help="local processes (default: the number of CPUs)"))
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on the Dask scheduler at ADDRESS (e.g. tcp://host:8786; needs "
                         "pip install 'kbm[dask]')")
     p.add_argument("--scheduler-timeout", type=float, default=10.0, metavar="SECONDS",
                    help="how long to wait for the scheduler (default 10)")
-    add_ensemble_arguments(p, "store", "resume", store=dict(
+    options(p, "store", "resume", store=dict(
         help="keep every finished chunk of points in the SQLite file FILE, so that an "
              "interrupted map can be resumed"), resume=dict(
         help="with --store: continue the map kept in FILE (only the missing points are "
@@ -57,18 +54,18 @@ def register(sub) -> None:
                    help="also save the map(s) as a netCDF file (xarray.open_dataset(FILE) "
                         "reads it back; with --against a dimension 'slider' holds both); "
                         "needs pip install 'kbm[xarray]'")
-    add_ensemble_arguments(p, "trajectories", trajectories=dict(
+    options(p, "trajectories", trajectories=dict(
         help="with noise (-p D=... or --vary D=/T=...): Langevin trajectories per point "
              "(default 16)"))
     p.add_argument("--wells", type=float, default=None, metavar="N",
                    help="with noise: stage periods lam/v averaged over per trajectory "
                         "(default 50)")
-    add_ensemble_arguments(p, "seed", "budget", seed=dict(
+    options(p, "seed", "budget", seed=dict(
         default=None, help="with noise: root seed (one SeedSequence child per trajectory; "
                            "default 0); a chain's initial spread"), budget=dict(
         default=None, help="with noise: largest number of integration steps of the run "
                            "(default 2e9); a larger run is refused before it starts"))
-    add_options(p, "json", "out", out=dict(help="write the figures into DIR"))
+    options(p, "json", "out", out=dict(help="write the figures into DIR"))
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=run)
 
@@ -160,6 +157,30 @@ def run(args: argparse.Namespace) -> int:
     if args.netcdf:
         _save_netcdf(args.netcdf, first, second)
     return emit_maps(args, first, second, _print, _figures, _ratios)
+
+
+def emit_maps(args, first, second, printer, figures, ratios=None) -> int:
+    """A map and its ``--against`` one (``second``, or ``None``) as the command line asks:
+    ``--json`` the first's JSON with the second's under ``against`` (and the keys of
+    ``ratios(first, second)``), else the tables of ``printer``; ``--out DIR`` the paths of
+    ``figures(first, second, DIR)`` named (on standard error with ``--json``, so that
+    standard output holds the JSON only).  Returns the exit status 0."""
+    if args.json:
+        from kbm.cli._common import emit_json
+
+        data = first.to_json()
+        if second is not None:
+            data["against"] = second.to_json()
+            data.update(ratios(first, second) if ratios else {})
+        emit_json(data)
+    else:
+        for i, m in enumerate((first, second) if second is not None else (first,)):
+            print("\n" if i else "", end="")
+            printer(m)
+    if args.out:
+        for path in figures(first, second, Path(args.out)):
+            print(f"wrote {path}", file=sys.stderr if args.json else sys.stdout)
+    return 0
 
 
 def _ratios(first, second) -> dict:

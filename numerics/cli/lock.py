@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_model_arguments, add_options, emit_json
-from numerics.cli._options import command
+from kbm.cli._common import emit_json
+from numerics.cli._options import command, options
 
 #: the names a coupling parameter goes by (the others varied are detunings)
 COUPLINGS = ("c", "k", "kappa")
@@ -15,11 +15,10 @@ def register(sub) -> None:
     p = command(sub, "lock", "The edges of the frequency-locking region of a coupled system with "
                 "one internal resonance (coupled-vdp): from the averaged slow flow at orders 1..N "
                 "(the fold of its locked fixed point) and from the true locked cycle (where it "
-                "ceases to exist, by continuation and bisection).")
-    add_model_arguments(p, "a coupled built-in with one internal resonance: coupled-vdp",
-                        coupled=True)
-    add_options(p, "internal", "param", "vary", "order", internal=dict(
-        help="with --rhs: the declared resonance (e.g. 1:1); F not polynomial (sin, tanh "
+                "ceases to exist, by continuation and bisection).", "internal", "param", "vary",
+                "order", models="a coupled built-in with one internal resonance: coupled-vdp",
+                coupled=True, internal=dict(
+        metavar="P:Q", help="with --rhs: the declared resonance (e.g. 1:1); F not polynomial (sin, tanh "
              "coupling): the averaged flow is order 1, numeric"), vary=dict(
         required=True, default=None,
         help="the detuning and the interval its edges are looked for in (e.g. --vary "
@@ -28,10 +27,10 @@ def register(sub) -> None:
              "value"), order=dict(
         help="highest averaged order (default 2, or 1 for F not polynomial; orders 1..N are "
              "given)"))
-    add_options(p, "points", "tol", points=dict(
+    options(p, "points", "tol", points=dict(
         default=7, help="coupling values on the second --vary range (default 7)"),
         tol=dict(default=1e-7, help="bisection bracket of the true edges (default 1e-7)"))
-    add_options(p, "json", "out", out=dict(help="write lock.json and the tongue figure lock.png"))
+    options(p, "json", "out", out=dict(help="write lock.json and the tongue figure lock.png"))
     p.set_defaults(func=run)
 
 

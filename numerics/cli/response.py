@@ -9,11 +9,11 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_model_arguments, add_options, emit_json
+from kbm.cli._common import ONE_DOF, emit_json
 from numerics.cli._forced_args import (amplitude_window, checked_values, forced_model,
                                        sigma_range)
 from numerics._show import multipliers_text
-from numerics.cli._options import command
+from numerics.cli._options import command, options
 
 
 def register(sub) -> None:
@@ -21,8 +21,8 @@ def register(sub) -> None:
                 "omega0 + mu sigma: the slow flow of the forced KBM expansion to order N, its "
                 "fixed points (stable and unstable) followed in sigma with the folds (jump "
                 "points) and the backbone, next to the true periodic responses of period 2 pi "
-                "p/nu by shooting and pseudo-arclength continuation with Floquet multipliers.")
-    add_model_arguments(p, coupled=True, model=dict(
+                "p/nu by shooting and pseudo-arclength continuation with Floquet multipliers.",
+                "internal", models=ONE_DOF, coupled=True, model=dict(
         help="a forced model (duffing-forced, duffing-super, duffing-super-hard, "
              "duffing-sub-hard, mathieu, vdp-forced, parametric, mathieu-2, mathieu-3, slider, "
              "slider-cdc) or an autonomous one (duffing, vdp, ...) with --forcing or --hard"),
@@ -32,8 +32,8 @@ def register(sub) -> None:
             "W1,..,WN and --nu0)")),
         omega0=dict(help="linear frequency for --rhs (default 1); comma-separated for several "
                          "--rhs"),
-        nu0=dict(help="several --rhs: the forcing frequency nu = NU0 + mu sigma of theta"))
-    add_options(p, "internal", internal=dict(
+        nu0=dict(help="several --rhs: the forcing frequency nu = NU0 + mu sigma of theta"),
+        internal=dict(
         metavar="P:Q[@I,J]",
         help="several --rhs: declared resonances (P:Q@I,F with the forcing), kept with the model"))
     p.add_argument("--forcing", metavar="EXPR",
@@ -47,7 +47,7 @@ def register(sub) -> None:
     p.add_argument("--resonance", metavar="P/Q", default=None,
                    help="the declared resonance nu ~ (p/q) omega0 (1/1 primary, 1/3 "
                         "superharmonic, 3 subharmonic, 2 parametric); default the model's")
-    add_options(p, "param", "vary", vary=dict(
+    options(p, "param", "vary", vary=dict(
         action="store", default=None, metavar="sigma=FROM:TO[:N]",
         help="the detuning range and about N points per branch (default 400)"))
     p.add_argument("--detuning", type=float, metavar="SIGMA",
@@ -61,12 +61,12 @@ def register(sub) -> None:
                         "orders 1..N compared (default 2)")
     p.add_argument("--amax", type=float, default=5.0,
                    help="largest amplitude searched for steady states (default 5)")
-    add_options(p, "a_range", a_range=dict(
+    options(p, "a_range", a_range=dict(
         help="the amplitude window of the steady states instead of --amax (default "
              "0.001*amax:amax); for F not polynomial in x, xdot (slider, slider-cdc, sin(k*x + "
              "theta)) also the interval of the numeric forced backend (default 0.05*amax:amax)"))
     p.add_argument("--no-numeric", action="store_true", help="the analytic curve only")
-    add_options(p, "out", "convergence", out=dict(
+    options(p, "out", "convergence", out=dict(
         help="write the figure response.png into DIR (convergence.png with --convergence)"),
         convergence=dict(help=(
             "convergence study instead of the curve: the error of each KBM order 1..N against "
@@ -77,8 +77,8 @@ def register(sub) -> None:
     p.add_argument("--fold", type=int, default=None, metavar="K",
                    help="with --convergence and --vary: the fold studied, counted from the "
                         "lowest sigma (default 0)")
-    add_options(p, "start", "json", start=dict(
-        help="coupled systems: the state to start the branch from (default: the attracting "
+    options(p, "start", "json", start=dict(
+        metavar="X1,..,XDOT1,..", help="coupled systems: the state to start the branch from (default: the attracting "
              "response after a transient from x_i = 1)"))
     p.set_defaults(func=run)
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_options, emit_json
+from kbm.cli._common import emit_json
 from numerics.cli._options import command
 
 
@@ -12,12 +12,11 @@ def register(sub) -> None:
     p = command(sub, "slide", "Simulate x'' + D(x, x') + Delta sin(2 pi x/lam) + Omega^2 (x - v "
                 "t) = 0 from x = x' = 0 and analyse the stick-slip motion (slips, static and "
                 "kinetic friction, dissipation, energy audit).  Defaults as in the paper: mu = "
-                "0.1, Omega = 1, lam = 1.")
-    p.add_argument("model", choices=["sedf", "cdc", "sedf_comoving"],
-                   help="sedf (eq. 3), cdc (eq. 12) or sedf_comoving (self-excitation attached "
-                        "to the stage)")
-    add_options(p, "param", "t_end", "rtol", "json",
-                t_end=dict(required=True, metavar=None, help="final time T > 0"))
+                "0.1, Omega = 1, lam = 1.", "model", "param", "t_end", "rtol", "json",
+                model=dict(nargs=None, choices=["sedf", "cdc", "sedf_comoving"],
+                           help="sedf (eq. 3), cdc (eq. 12) or sedf_comoving (self-excitation "
+                                "attached to the stage)"),
+                t_end=dict(required=True, help="final time T > 0"))
     p.set_defaults(func=run)
 
 

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from kbm.cli._common import add_model_arguments, add_options, emit_json, write_json
-from numerics.cli._options import add_ensemble_arguments, command
+from kbm.cli._common import emit_json, write_json
+from numerics.cli._options import command, options
 
 
 def register(sub) -> None:
@@ -23,14 +23,12 @@ def register(sub) -> None:
                 "stochastic averaging and from an ensemble of Langevin trajectories (Welch PSD "
                 "with a confidence band, phase-variance growth, one seed per trajectory spawned "
                 "from --seed); for a forced model the noise spectra about its stable states; for "
-                "coupled oscillators the phase-slip rate.")
-    add_model_arguments(p, "vdp, rayleigh, sedf, ...; forced: duffing-forced, ...; coupled: "
-                           "coupled-vdp", coupled=True)
-    add_options(p, "param", "vary", vary=dict(
+                "coupled oscillators the phase-slip rate.", "param", "vary", "trajectories",
+                models="vdp, rayleigh, sedf, ...; forced: duffing-forced, ...; coupled: "
+                       "coupled-vdp", coupled=True, vary=dict(
         metavar="NAME=FROM:TO[:N]",
         help="forced: the detuning (e.g. sigma=0.5:1.5); coupled: the detuning; self-excited: "
-             "D (or T), one run per value (the linewidth-vs-D figure)"))
-    add_ensemble_arguments(p, "trajectories", trajectories=dict(
+             "D (or T), one run per value (the linewidth-vs-D figure)"), trajectories=dict(
         help="independent trajectories (default 64 self-excited, 32 otherwise; at least 8)"))
     p.add_argument("--duration", type=float, default=None, metavar="T",
                    help="recorded time per trajectory (default: enough for a resolution of a "
@@ -38,7 +36,7 @@ def register(sub) -> None:
     p.add_argument("--resolution", type=float, default=None, metavar="W",
                    help="self-excited: angular resolution of the PSD (default: the averaged "
                         "HWHM/4); a --duration shorter than 2 pi/W is refused")
-    add_ensemble_arguments(p, "seed", "workers", "store", "resume")
+    options(p, "seed", "workers", "store", "resume")
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the averaging (default 1; 2 adds the second-order KBM rates "
                         "mu^2 A_2, mu^2 B_2 and the O(mu) correction of the phase response "
@@ -47,7 +45,7 @@ def register(sub) -> None:
                    help="self-excited: add the small-noise linewidth D <Z_v^2> and frequency "
                         "of the true cycle (phase response by the adjoint Floquet problem; "
                         "exact in mu, first order in D)")
-    add_options(p, "no_simulation", "json", "out", no_simulation=dict(
+    options(p, "no_simulation", "json", "out", no_simulation=dict(
         help="self-excited: the averaged line alone (simulated entries null)"), out=dict(
         help="write spectrum-NAME-psd.png, spectrum-NAME-linewidth.png and the JSON"))
     p.set_defaults(func=run)

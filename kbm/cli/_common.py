@@ -15,7 +15,7 @@ import sys
 from collections.abc import Mapping
 from typing import Any
 
-from ..errors import ParameterError
+from ..errors import ModelError, ParameterError
 from ..strict_json import finite
 
 __all__ = ["OPTIONS", "ONE_DOF", "add_command", "add_options", "parse_params",
@@ -115,7 +115,6 @@ def checked_params(items: list[str], model: object) -> dict[str, str]:
         For an unknown name (the closest valid one and every valid one named, in ``-p``
         terms), or a scaled name given with the physical one it is computed from.
     """
-    from ..errors import ModelError
     from ..params import lookup, names_of
 
     params = parse_params(items)
@@ -205,8 +204,6 @@ def check_model_flags(args: argparse.Namespace) -> None:
     kbm.errors.ModelError
         Naming the flags to change.
     """
-    from ..errors import ModelError
-
     rhs = getattr(args, "rhs", None)
     if args.model and rhs:
         raise ModelError("give either a model name or --rhs, not both")

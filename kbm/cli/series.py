@@ -6,6 +6,7 @@ import argparse
 
 import sympy as sp
 
+from ..errors import ParameterError
 from ._common import add_command, add_model_arguments, add_options, emit_json
 
 
@@ -35,7 +36,6 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..errors import ParameterError
     from .derive import model_from_args
 
     model = model_from_args(args, series=True)

@@ -7,6 +7,7 @@ import argparse
 
 from kbm.cli import cli_message
 from kbm.cli._common import emit_json
+from kbm.errors import ParameterError
 
 #: a mean force per slider below this fraction of the potential's amplitude Delta is
 #: called near zero in the note under the table
@@ -14,7 +15,6 @@ NEAR_ZERO = 0.05
 
 
 def run_chain(args: argparse.Namespace) -> int:
-    from kbm.errors import ParameterError
     from numerics.cli._options import check_ensemble
     from numerics.cli._params import check, given, parse_vary
     from numerics.coupled.friction import chain_friction_law

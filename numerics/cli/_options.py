@@ -18,6 +18,7 @@ from contextlib import contextmanager
 from typing import Any
 
 from kbm.cli._common import OPTIONS, add_options
+from kbm.errors import ParameterError
 
 __all__ = ["ENSEMBLE", "command", "options", "check_ensemble", "stored"]
 
@@ -77,7 +78,6 @@ def check_ensemble(args: argparse.Namespace) -> None:
     kbm.errors.ParameterError
         Naming the option and the value given.
     """
-    from kbm.errors import ParameterError
     from numerics.cli._params import within
 
     seed = getattr(args, "seed", None)

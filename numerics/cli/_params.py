@@ -38,11 +38,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm.errors import ParameterError
+from kbm.errors import OrderError, ParameterError
 from kbm.values import ParameterNames
 
 __all__ = ["DEFAULT_POINTS", "MAX_POINTS", "Vary", "parse_vary", "given", "check",
-           "noise_params", "open_store", "numbers", "orders", "within", "USAGE"]
+           "noise_params", "without_noise", "open_store", "numbers", "orders", "within", "USAGE"]
 
 #: values of a range without ``:N``
 DEFAULT_POINTS = 8
@@ -203,8 +203,6 @@ def orders(text: str, flag: str = "--orders", *, none: bool = False) -> list[int
     kbm.errors.OrderError
         For an item that is no integer, or no order >= 1.
     """
-    from kbm.errors import OrderError
-
     if none and text.strip().lower() == "none":
         return []
     try:
@@ -286,6 +284,14 @@ def noise_params(params: Mapping[str, str]) -> tuple[dict[str, str], str | None]
     return {**rest, "D": D if name == "D" else repr(float(D))}, name
 
 
+def without_noise(params: Mapping[str, str]) -> tuple[dict[str, str], float]:
+    """``(params without D, D as a number)`` of the values :func:`noise_params` returns."""
+    from kbm.values import parameter_value
+
+    rest = dict(params)
+    return rest, float(parameter_value("D", rest.pop("D")))
+
+
 def open_store(path: str | None, resume: bool, what: str = "run"):
     """The :class:`numerics.store.PointStore` of ``--store FILE`` (``None`` without it).
 
@@ -357,11 +363,11 @@ def physical(names: ParameterNames, params: Mapping[str, object],
     return out, new_axes
 
 
-def noisy_model(model: str, items: Iterable[str]) -> tuple[dict[str, str], str | None]:
-    """The ``-p`` values of ``kbm noise`` and ``kbm escape``: ``model`` a built-in of one
-    degree of freedom, every name one of its (physical or scaled), ``mu``, the stage
-    velocity ``v`` of a slider, and ``D`` or ``T = D/mu``; returns ``(values with D, the
-    noise's name as given)``.
+def noisy_model(model: "str | object", items: Iterable[str]) -> tuple[dict[str, str], str | None]:
+    """The ``-p`` values of ``kbm noise``, ``kbm escape`` and ``kbm spectrum``: ``model`` a
+    built-in of one degree of freedom (or a model, ``--rhs``), every name one of its
+    (physical or scaled), ``mu``, the stage velocity ``v`` of a slider, and ``D`` or ``T =
+    D/mu``; returns ``(values with D, the noise's name as given)``.
 
     Raises
     ------
@@ -371,7 +377,8 @@ def noisy_model(model: str, items: Iterable[str]) -> tuple[dict[str, str], str |
     from kbm.models import SLIDERS
     from kbm.params import lookup
 
-    lookup(model, ("one",))
+    if isinstance(model, str):
+        lookup(model, ("one",))
     params = given(items)
     check(model, params, extra=("v",) if model in SLIDERS else (), noise=True)
     return noise_params(params)

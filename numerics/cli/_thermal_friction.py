@@ -9,6 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from kbm.cli import cli_message
+from kbm.errors import ParameterError
 
 #: the options of the noisy runs (default None on the parser, so that "given" is told
 #: from "default"; refused without noise) and their values when not given
@@ -21,7 +22,6 @@ def wanted(params: dict, axes: dict) -> bool:
 
 
 def run_thermal(args, params: dict, axes: dict, store, client) -> int:
-    from kbm.errors import ParameterError
     from numerics.cli.friction import emit_maps
     from numerics.thermal.friction import thermal_friction_map
 

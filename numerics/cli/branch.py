@@ -6,6 +6,7 @@ import argparse
 import math
 
 from kbm.cli._common import check_model_flags, emit_json, model_spec, single_well
+from kbm.errors import ParameterError
 from numerics.cli._options import command, options
 
 
@@ -32,7 +33,8 @@ def register(sub) -> None:
                         "shooting, the parameter free) until the period is FACTOR times the "
                         "start's (AUTO-07p's standard: 20); the points join the branch")
     options(p, "start", "json", start=dict(
-        metavar="X1,..,XDOT1,..", help="coupled systems: the state to start from (default: the attracting orbit after a "
+        metavar="X1,..,XDOT1,..",
+        help="coupled systems: the state to start from (default: the attracting orbit after a "
              "transient from x_i = 1)"))
     p.set_defaults(func=run)
 
@@ -40,7 +42,6 @@ def register(sub) -> None:
 def _checked(args: argparse.Namespace, params: dict, name: str):
     """The model of the command line (a built-in name or the ``--rhs`` model), its names
     and, with ``--follow-period``, its saddle checked."""
-    from kbm.errors import ParameterError
     from kbm.params import lookup
     from numerics.cli._params import check
 
@@ -84,7 +85,7 @@ def _checked_key(args: argparse.Namespace, params: dict) -> str | None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from kbm.errors import ParameterError
+    from numerics.cli._coupled_branch import shown
     from numerics.cli._params import given, orders, parse_vary, within
     from numerics.comparison.diagram import branch_diagram
     from numerics.flow.template_cache import FORMAT, read_record, write_record
@@ -146,13 +147,11 @@ def _run(args: argparse.Namespace) -> int:
     print(f"{len(d.branches)} branch(es) of limit cycles of {d.model}, {name} from {lo:g} "
           f"to {hi:g}")
     for i, b in enumerate(d.branches):
-        pts = b.points
-        print(f"\nbranch {i}: {len(pts)} points, {b.evaluations} integrations of a period"
+        print(f"\nbranch {i}: {len(b.points)} points, {b.evaluations} integrations of a period"
               + (f"; {b.dropped} more passed but not printed (trivial multiplier off 1 by more "
                  "than 1e-5: not converged)" if b.dropped else ""))
         print(f"  {name:>14s} {'amplitude_max':>14s} {'period':>12s} {'multiplier':>12s}")
-        step = max(1, len(pts) // 20)
-        for p in list(pts[::step]) + ([pts[-1]] if (len(pts) - 1) % step else []):
+        for p in shown(b.points):
             print(f"  {p.parameter:14.8g} {p.amplitude_max:14.8g} {p.period:12.8g} "
                   f"{p.multipliers[1].real:12.4e} {'stable' if p.stable else 'UNSTABLE'}")
         for s in b.special:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from kbm.cli._common import checked_params, describe_params, emit_json, model_spec, parse_params
+from kbm.errors import ParameterError
 from numerics._show import multipliers_text
 from numerics.cli._options import command, options
 
@@ -38,7 +39,6 @@ def register(sub) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from kbm.cli.derive import is_coupled
-    from kbm.errors import ParameterError
     from numerics.cli._params import within
     from numerics.flow.aot import allow_builds
 
@@ -204,7 +204,6 @@ def _run_coupled(args: argparse.Namespace) -> int:
     import math
 
     from kbm.cli.derive import coupled_model
-    from kbm.errors import ParameterError
     from numerics.cli._params import numbers, within
     from numerics.coupled import coupled_cycle
 
@@ -244,7 +243,6 @@ def _run_coupled(args: argparse.Namespace) -> int:
 def _run_forced(model, given, start, args) -> int:
     import math
 
-    from kbm.errors import ParameterError
     from numerics.coupled import forced_response
 
     periods = None

@@ -14,6 +14,7 @@ import argparse
 import sys
 
 from kbm.cli._common import emit_json, model_spec, write_json
+from kbm.errors import ParameterError
 from numerics.cli._options import command, options
 
 
@@ -62,7 +63,6 @@ def _driven(args) -> bool:
 
 
 def _axes(args):
-    from kbm.errors import ParameterError
     from numerics.cli._params import parse_vary
 
     if len(args.vary) != 2:
@@ -79,8 +79,6 @@ def _axes(args):
 
 
 def _grid(text: str) -> tuple[int, int]:
-    from kbm.errors import ParameterError
-
     try:
         na, nb = (int(s) for s in text.split(","))
     except ValueError:
@@ -91,8 +89,6 @@ def _grid(text: str) -> tuple[int, int]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from kbm.errors import ParameterError
-
     if args.resume and not args.store:
         raise ParameterError("--resume continues a diagram kept by --store DIR: give the folder")
     if _driven(args):

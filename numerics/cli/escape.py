@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from kbm.cli._common import emit_json, single_well
+from kbm.errors import ModelError
 from numerics.cli._options import command, options
 
 
@@ -23,7 +24,8 @@ def register(sub) -> None:
                       "sedf at v = 0)",
                 trajectories=dict(default=200,
                                   help="simulated trajectories (default 200; at least 20)"),
-                t_end=dict(metavar="T", help="longest run per trajectory (default: 5 averaged MFPTs; runs "
+                t_end=dict(metavar="T",
+                           help="longest run per trajectory (default: 5 averaged MFPTs; runs "
                                 "still in the well at T are censored)"),
                 dt=dict(help="time step (default: the well's period/40, smaller where the "
                              "numerical heating would exceed 1e-3 of kT: "
@@ -40,7 +42,6 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from kbm.errors import ModelError
     from kbm.params import lookup, names_of
     from numerics.cli._options import check_ensemble
     from numerics.cli._params import noisy_model

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from kbm.errors import ModelError, ParameterError
 from numerics.cli._options import command, options
 from numerics.cli._params import MAX_POINTS
 
@@ -90,7 +91,6 @@ SLIDERS = ("sedf_comoving", "cdc", "sedf")
 
 
 def run(args: argparse.Namespace) -> int:
-    from kbm.errors import ModelError, ParameterError
     from kbm.models import parameter_value
     from kbm.params import closest
     from numerics.cli._options import check_ensemble, stored
@@ -228,8 +228,6 @@ def _figures(first, second, out: Path) -> list[Path]:
 def _check_figures(names: list[str], against: str | None) -> None:
     """``--out`` draws a friction law (``v`` the only axis) or a map (``v`` first of two
     axes, with ``--against``)."""
-    from kbm.errors import ParameterError
-
     if names == ["v"] or (len(names) == 2 and names[0] == "v" and against):
         return
     raise ParameterError(f"--out draws a friction law (--vary v=... only) or a map (--vary "
@@ -239,7 +237,6 @@ def _check_figures(names: list[str], against: str | None) -> None:
 
 def _check_noise_flags(args: argparse.Namespace) -> None:
     """Refuse the options of the noisy runs on a deterministic one (no ``D`` or ``T``)."""
-    from kbm.errors import ParameterError
     from numerics.cli._thermal_friction import NOISE_FLAGS
 
     given = [f"--{name}" for name in NOISE_FLAGS if getattr(args, name) is not None]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from kbm.cli._common import emit_json
+from kbm.errors import ParameterError
 from numerics.cli._options import command, options
 
 #: the names a coupling parameter goes by (the others varied are detunings)
@@ -18,7 +19,8 @@ def register(sub) -> None:
                 "ceases to exist, by continuation and bisection).", "internal", "param", "vary",
                 "order", models="a coupled built-in with one internal resonance: coupled-vdp",
                 coupled=True, internal=dict(
-        metavar="P:Q", help="with --rhs: the declared resonance (e.g. 1:1); F not polynomial (sin, tanh "
+        metavar="P:Q",
+        help="with --rhs: the declared resonance (e.g. 1:1); F not polynomial (sin, tanh "
              "coupling): the averaged flow is order 1, numeric"), vary=dict(
         required=True, default=None,
         help="the detuning and the interval its edges are looked for in (e.g. --vary "
@@ -37,8 +39,6 @@ def register(sub) -> None:
 def _split(varies, model) -> tuple:
     """``(detuning, coupling or None)`` among the ``--vary`` (in either order): the
     coupling is the one named c, k or kappa."""
-    from kbm.errors import ParameterError
-
     couplings = [v for v in varies if v.name in COUPLINGS]
     detunings = [v for v in varies if v.name not in COUPLINGS]
     if not detunings:
@@ -55,7 +55,6 @@ def _split(varies, model) -> tuple:
 
 
 def run(args: argparse.Namespace) -> int:
-    from kbm.errors import ParameterError
     from kbm.files import output_folder, write_file
     from numerics.cli._params import within
     from numerics.coupled.locking import locking_region, plot_locking

@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 
 from kbm.cli._common import ONE_DOF, emit_json
+from kbm.errors import ParameterError
 from numerics.cli._forced_args import (amplitude_window, checked_values, forced_model,
                                        sigma_range)
 from numerics._show import multipliers_text
@@ -78,7 +79,8 @@ def register(sub) -> None:
                    help="with --convergence and --vary: the fold studied, counted from the "
                         "lowest sigma (default 0)")
     options(p, "start", "json", start=dict(
-        metavar="X1,..,XDOT1,..", help="coupled systems: the state to start the branch from (default: the attracting "
+        metavar="X1,..,XDOT1,..",
+        help="coupled systems: the state to start the branch from (default: the attracting "
              "response after a transient from x_i = 1)"))
     p.set_defaults(func=run)
 
@@ -88,7 +90,6 @@ def run(args: argparse.Namespace) -> int:
 
     from kbm.coupled import COUPLED_MODELS
 
-    from kbm.errors import ParameterError
     from numerics.cli._params import within
     from numerics.forced.diagram import response_diagram
 
@@ -184,7 +185,6 @@ def _intervals(trivial) -> list[tuple[float, float, str]]:
 
 
 def _run_one(model, args: argparse.Namespace) -> int:
-    from kbm.errors import ParameterError
     from numerics.cli._params import within
     from numerics.forced.diagram import steady_states
 
@@ -213,7 +213,6 @@ def _run_one(model, args: argparse.Namespace) -> int:
 
 
 def _run_nonresonant(args: argparse.Namespace) -> int:
-    from kbm.errors import ParameterError
     from kbm.forced import derive_forced
 
     if args.vary or args.detuning is not None or args.resonance or args.out:

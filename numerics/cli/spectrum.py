@@ -12,6 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from kbm.cli._common import emit_json, write_json
+from kbm.errors import ParameterError
 from numerics.cli._options import command, options
 
 
@@ -79,10 +80,9 @@ def _bind(args):
     import math
 
     from kbm.cli._common import check_model_flags
-    from kbm.errors import ParameterError
     from kbm.models import custom_model
     from kbm.values import parameter_value
-    from numerics.cli._params import check, given, noise_params, noisy_model, parse_vary
+    from numerics.cli._params import noisy_model, parse_vary, without_noise
 
     check_model_flags(args)
     if len(args.vary) > 1:
@@ -92,16 +92,10 @@ def _bind(args):
         raise ParameterError(f"--vary {vary.name}: a self-excited model's spectrum varies the "
                              "noise only: --vary D=FROM:TO[:N] or --vary T=FROM:TO[:N]")
     items = list(args.param) + ([f"{vary.name}={float(vary.values(3)[0])!r}"] if vary else [])
-    if args.rhs:
-        model = custom_model(args.rhs[0], omega0=1 if args.omega0 is None else args.omega0)
-        params = given(items)
-        check(model, params, noise=True)
-        params, noise = noise_params(params)
-    else:
-        model = args.model
-        params, noise = noisy_model(model, items)
-    params = dict(params)
-    D0 = float(parameter_value("D", params.pop("D")))
+    model = custom_model(args.rhs[0], omega0=1 if args.omega0 is None else args.omega0) \
+        if args.rhs else args.model
+    params, noise = noisy_model(model, items)
+    params, D0 = without_noise(params)
     if "mu" not in params:
         raise ParameterError("give the small parameter: -p mu=VALUE")
     mu = float(parameter_value("mu", params["mu"]))

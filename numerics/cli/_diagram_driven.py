@@ -104,6 +104,19 @@ def _setup(args: argparse.Namespace, kind: str):
     return model, params, values, axes, ranges, order
 
 
+class _Progress:
+    """tqdm on stderr: the points of the true curves."""
+
+    def __init__(self):
+        from tqdm import tqdm
+
+        self.bar = tqdm(desc="true curve points", unit="pt", file=sys.stderr, leave=False,
+                        disable=None)
+
+    def __call__(self, point, path):
+        self.bar.update(1)
+
+
 class _Records:
     """``get(key)``/``put(key, record)`` of the run's parts and paths in ``--store DIR``
     (:class:`numerics.bifurcation.store.PathStore`: one folder per run, one JSON file per
@@ -230,13 +243,11 @@ def run_driven(args: argparse.Namespace) -> int:
                              "averaged": averaged}, sort_keys=True)
     store = _Records(getattr(args, "store", None), bool(getattr(args, "resume", False)),
                      definition)
-    from tqdm import tqdm
-
-    bar = tqdm(desc="true curve points", unit="pt", file=sys.stderr, leave=False, disable=None)
+    progress = _Progress()
     parts_fn = _forced_parts if kind == "forced" else _coupled_parts
     try:
         parts = parts_fn(model, values, axes, ranges, order if averaged else 0, store,
-                         lambda point, path: bar.update(1), max_points)
+                         progress, max_points)
     except (KeyboardInterrupt, SystemError) as exc:
         # inside compiled code (numba) Ctrl-C surfaces as a SystemError over the interrupt
         if isinstance(exc, SystemError) and not isinstance(exc.__context__, KeyboardInterrupt):
@@ -244,7 +255,7 @@ def run_driven(args: argparse.Namespace) -> int:
         parts = {"true": store.get("true"), "averaged": store.get("averaged"),
                  "interrupted": True}
     finally:
-        bar.close()
+        progress.bar.close()
     tc, tp = parts["true"] or ([], [])
     ac, ap = parts["averaged"] or ([], [])
     true_c, av_c = [_curve(c) for c in tc], [_curve(c) for c in ac]

@@ -12,7 +12,7 @@ from kbm.errors import ModelError, ParameterError
 from numerics.cli._options import command, options
 from numerics.cli._params import MAX_POINTS
 
-__all__ = ["register", "run", "emit_maps"]
+__all__ = ["register", "run"]
 
 
 def register(sub) -> None:
@@ -130,7 +130,7 @@ def run(args: argparse.Namespace) -> int:
                                  f"({name} = 0 is the deterministic slider)")
     fixed, axes = physical(names, params, axes, "0.1")
     axes = {k: axis_values(k, v) for k, v in axes.items()}
-    from numerics.cli._thermal_friction import run_thermal, wanted
+    from numerics.cli._thermal_friction import emit_maps, run_thermal, wanted
 
     noisy = wanted(fixed, axes)
     if not noisy:
@@ -157,30 +157,6 @@ def run(args: argparse.Namespace) -> int:
     if args.netcdf:
         _save_netcdf(args.netcdf, first, second)
     return emit_maps(args, first, second, _print, _figures, _ratios)
-
-
-def emit_maps(args, first, second, printer, figures, ratios=None) -> int:
-    """A map and its ``--against`` one (``second``, or ``None``) as the command line asks:
-    ``--json`` the first's JSON with the second's under ``against`` (and the keys of
-    ``ratios(first, second)``), else the tables of ``printer``; ``--out DIR`` the paths of
-    ``figures(first, second, DIR)`` named (on standard error with ``--json``, so that
-    standard output holds the JSON only).  Returns the exit status 0."""
-    if args.json:
-        from kbm.cli._common import emit_json
-
-        data = first.to_json()
-        if second is not None:
-            data["against"] = second.to_json()
-            data.update(ratios(first, second) if ratios else {})
-        emit_json(data)
-    else:
-        for i, m in enumerate((first, second) if second is not None else (first,)):
-            print("\n" if i else "", end="")
-            printer(m)
-    if args.out:
-        for path in figures(first, second, Path(args.out)):
-            print(f"wrote {path}", file=sys.stderr if args.json else sys.stdout)
-    return 0
 
 
 def _ratios(first, second) -> dict:

@@ -1,4 +1,5 @@
-"""Helpers shared by the sub-commands: the shared options, ``--param`` parsing and JSON output.
+"""Helpers shared by the sub-commands: the shared options, ``--param`` parsing and checking
+(:func:`check`, the parameter layer of every command) and JSON output.
 
 Every option that several commands take is defined once, in :data:`OPTIONS` (its flags,
 type, default, metavar and help); a command adds it with :func:`add_options`, naming what
@@ -12,15 +13,18 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from collections.abc import Mapping
-from typing import Any
+from collections.abc import Iterable, Mapping
+from typing import TYPE_CHECKING, Any
 
 from ..errors import ModelError, ParameterError
 from ..strict_json import finite
 
-__all__ = ["OPTIONS", "ONE_DOF", "add_command", "add_options", "parse_params",
-           "checked_params", "emit_json", "show", "write_json", "add_model_arguments", "model_spec",
-           "check_model_flags", "single_well"]
+if TYPE_CHECKING:
+    from ..values import ParameterNames
+
+__all__ = ["OPTIONS", "ONE_DOF", "add_command", "add_options", "parse_params", "check",
+           "checked_params", "emit_json", "show", "write_json", "add_model_arguments",
+           "model_spec", "check_model_flags", "single_well"]
 
 
 #: the options several commands take: name -> (flags, argparse keywords); a command names
@@ -102,9 +106,10 @@ def parse_params(items: list[str]) -> dict[str, str]:
 
 
 def checked_params(items: list[str], model: object) -> dict[str, str]:
-    """``-p NAME=VALUE`` options read (:func:`parse_params`) and checked against the names
-    ``model`` takes (:class:`kbm.params.ParameterNames`: ``mu``, the physical names such as
-    ``Delta``, ``lam``, the scaled ones such as ``delta = Delta/mu``, ``k = 2 pi/lam``).
+    """``-p NAME=VALUE`` options read (:func:`parse_params`) and checked (:func:`check`)
+    against the names ``model`` takes (:class:`kbm.params.ParameterNames`: ``mu``, the
+    physical names such as ``Delta``, ``lam``, the scaled ones such as ``delta = Delta/mu``,
+    ``k = 2 pi/lam``).
 
     ``model`` is a model, or a built-in name; a name that is no built-in is left to the
     command, which names the unknown model.
@@ -115,7 +120,8 @@ def checked_params(items: list[str], model: object) -> dict[str, str]:
         For an unknown name (the closest valid one and every valid one named, in ``-p``
         terms), or a scaled name given with the physical one it is computed from.
     """
-    from ..params import lookup, names_of
+    from ..models import Oscillator
+    from ..params import lookup
 
     params = parse_params(items)
     if isinstance(model, str):
@@ -123,15 +129,51 @@ def checked_params(items: list[str], model: object) -> dict[str, str]:
             model = lookup(model)
         except ModelError:  # the command names the unknown model in its own terms
             return params
-    from ..models import Oscillator
-
-    names = names_of(model)
     # a stage velocity v is left to the model, which says what takes one (a slider, in
     # kbm slide and kbm friction; these commands need the autonomous model)
     stage = isinstance(model, Oscillator)
-    names.check([n for n in params if not (stage and n == "v")], flag="-p")
-    names.check_both(params)
+    check(model, {n: v for n, v in params.items() if not (stage and n == "v")})
     return params
+
+
+def check(model: object, params: Mapping[str, object], varied: Iterable[str] = (), *,
+          extra: Iterable[str] = (), noise: bool = False, start: bool = False
+          ) -> ParameterNames:
+    """Refuse a name ``model`` (a tuple: any of them, ``--against``) does not take (in
+    ``-p`` or ``--vary``), a name given in both (unless ``start``: a continuation starts at
+    the ``-p`` value of the name it varies), and a scaled name given with its physical one;
+    returns the names.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Naming the wrong name, the close valid one and every valid one.
+    """
+    from ..params import names_of  # sympy: on use, not at import (issue 39)
+    from ..values import ParameterNames
+
+    models = model if isinstance(model, tuple) else (model,)
+    names = names_of(models[0], extra=extra, noise=noise)
+    for other in models[1:]:  # --against: a name of either model
+        if other == models[0]:  # --against the same model: its own names
+            continue
+        more = names_of(other)
+        names = ParameterNames(f"{names.model} or {more.model}",
+                               tuple(sorted(set(names.scaled) | set(more.scaled))),
+                               {**names.physical, **more.physical}, names.extra, noise)
+    names.check(params, flag="-p")
+    varied = list(varied)
+    names.check(varied, flag="--vary")
+    both = [n for n in varied if n in params]
+    if both and not start:
+        raise ParameterError(f"{both[0]} is both varied (--vary) and given (-p); give it once")
+    seen = set()
+    for n in varied:
+        if n in seen:
+            raise ParameterError(f"--vary {n} is given twice")
+        seen.add(n)
+    names.check_both(set(params) | set(varied))
+    return names
 
 
 def single_well(model) -> bool:

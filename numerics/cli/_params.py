@@ -38,6 +38,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from kbm.cli._common import check
+from kbm.cli._common import parse_params as given
 from kbm.errors import OrderError, ParameterError
 from kbm.values import ParameterNames
 
@@ -212,58 +214,6 @@ def orders(text: str, flag: str = "--orders", *, none: bool = False) -> list[int
     if not out or min(out) < 1:
         raise OrderError(f"{flag} must list orders >= 1, got {text!r}")
     return out
-
-
-def given(items: Iterable[str]) -> dict[str, str]:
-    """``-p NAME=VALUE`` options as ``{NAME: VALUE}`` (values stay strings, read exactly
-    later).
-
-    Raises
-    ------
-    kbm.errors.ParameterError
-        For a malformed item or a name given twice.
-    """
-    from kbm.cli._common import parse_params
-
-    return parse_params(list(items))
-
-
-def check(model: "object | tuple", params: Mapping[str, object], varied: Iterable[str] = (), *,
-          extra: Iterable[str] = (), noise: bool = False, start: bool = False
-          ) -> ParameterNames:
-    """Refuse a name ``model`` does not take (in ``-p`` or ``--vary``), a name given in
-    both (unless ``start``: a continuation starts at the ``-p`` value of the name it
-    varies), and a scaled name given with its physical one; returns the names.
-
-    Raises
-    ------
-    kbm.errors.ParameterError
-        Naming the wrong name, the close valid one and every valid one.
-    """
-    models = model if isinstance(model, tuple) else (model,)
-    from kbm.params import names_of  # sympy: on use, not at import (issue 39)
-
-    names = names_of(models[0], extra=extra, noise=noise)
-    for other in models[1:]:  # --against: a name of either model
-        if other == models[0]:  # --against the same model: its own names
-            continue
-        more = names_of(other)
-        names = ParameterNames(f"{names.model} or {more.model}",
-                               tuple(sorted(set(names.scaled) | set(more.scaled))),
-                               {**names.physical, **more.physical}, names.extra, noise)
-    names.check(params, flag="-p")
-    varied = list(varied)
-    names.check(varied, flag="--vary")
-    both = [n for n in varied if n in params]
-    if both and not start:
-        raise ParameterError(f"{both[0]} is both varied (--vary) and given (-p); give it once")
-    seen = set()
-    for n in varied:
-        if n in seen:
-            raise ParameterError(f"--vary {n} is given twice")
-        seen.add(n)
-    names.check_both(set(params) | set(varied))
-    return names
 
 
 def noise_params(params: Mapping[str, str]) -> tuple[dict[str, str], str | None]:

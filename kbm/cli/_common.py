@@ -44,7 +44,9 @@ OPTIONS: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
     "vary": (("--vary",), dict(action="append", default=[], metavar="NAME=FROM:TO")),
     "order": (("--order", "-n"), dict(type=int, default=None)),
     "orders": (("--orders",), dict(default="1,2")),
-    "start": (("--start",), dict(default=None)),
+    "start": (("--start",), dict(default=None, help=(
+        "coupled systems: the state to start from (default: the attracting orbit after a "
+        "transient from x_i = 1)"))),
     "x_start": (("--x-start",), dict(type=float, default=None, metavar="X")),
     "max_points": (("--max-points",), dict(type=int, default=400, metavar="N")),
     "convergence": (("--convergence",), dict(metavar="MU1,MU2,...")),

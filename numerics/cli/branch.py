@@ -32,10 +32,7 @@ def register(sub) -> None:
                    help="at a homoclinic end, follow the cycle in its period (multiple "
                         "shooting, the parameter free) until the period is FACTOR times the "
                         "start's (AUTO-07p's standard: 20); the points join the branch")
-    options(p, "start", "json", start=dict(
-        metavar="X1,..,XDOT1,..",
-        help="coupled systems: the state to start from (default: the attracting orbit after a "
-             "transient from x_i = 1)"))
+    options(p, "start", "json", start=dict(metavar="X1,..,XDOT1,.."))
     p.set_defaults(func=run)
 
 

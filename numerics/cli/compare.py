@@ -23,32 +23,31 @@ def register(sub) -> None:
                    help="add the paper's eqs. (5)-(9) as printed (sedf only)")
     options(p, "x_start", x_start=dict(
         help="start of the transient if Newton from the KBM cycle fails"))
-    for flag, kw in STUDIES.items():
-        p.add_argument(flag, **kw)
+    for flag, text in STUDIES.items():
+        p.add_argument(flag, help=text, **(dict(metavar=VALUES[flag]) if flag in VALUES else
+                                           dict(action="store_true")))
     options(p, "json")
     p.set_defaults(func=run)
 
 
-#: the separate studies of ``kbm compare`` (one at a time): flag -> argparse keywords
+#: the separate studies of ``kbm compare`` (one at a time): flag -> help
 STUDIES = {
-    "--convergence": dict(metavar="MU1,MU2,...", help=(
-        "convergence study: errors of each order for these values of mu, with the other "
-        "parameters (scaled names, e.g. delta) fixed; prints fitted log-log slopes and "
-        "predicted orders")),
-    "--errata": dict(action="store_true", help=(
-        "numerical evidence for the errata of the paper's eqs. (6)-(9) (sedf; small Delta/mu "
-        "case and the paper's Fig. 3 case)")),
-    "--validity": dict(action="store_true", help=(
-        "sedf validity map of KBM orders 1, 2 over the default (mu, Delta, beta) grid (a "
-        "sweep on all cores, a few minutes)")),
-    "--fixed-delta": dict(metavar="DELTA1,...", help=(
-        "sedf at these fixed Delta (beta = 1, 0.5, 0.25; mu from 0.2 to 0.005): errors of the "
-        "energy method's orders and of classical KBM against the true cycles, with fitted "
-        "log-log slopes")),
-    "--methods-map": dict(action="store_true", help=(
-        "sedf map over (mu, Delta, beta): where classical KBM and the energy method are "
-        "within 1 %% and 1e-3 of the true cycle (a sweep on all cores, about a minute)")),
+    "--convergence": "convergence study: errors of each order for these values of mu, with the "
+                     "other parameters (scaled names, e.g. delta) fixed; prints fitted log-log "
+                     "slopes and predicted orders",
+    "--errata": "numerical evidence for the errata of the paper's eqs. (6)-(9) (sedf; small "
+                "Delta/mu case and the paper's Fig. 3 case)",
+    "--validity": "sedf validity map of KBM orders 1, 2 over the default (mu, Delta, beta) grid "
+                  "(a sweep on all cores, a few minutes)",
+    "--fixed-delta": "sedf at these fixed Delta (beta = 1, 0.5, 0.25; mu from 0.2 to 0.005): "
+                     "errors of the energy method's orders and of classical KBM against the "
+                     "true cycles, with fitted log-log slopes",
+    "--methods-map": "sedf map over (mu, Delta, beta): where classical KBM and the energy method "
+                     "are within 1 %% and 1e-3 of the true cycle (a sweep on all cores, about a "
+                     "minute)",
 }
+#: the studies that take values (the others are on/off): flag -> metavar
+VALUES = {"--convergence": "MU1,MU2,...", "--fixed-delta": "DELTA1,..."}
 
 
 def _check_modes(args: argparse.Namespace, params: dict) -> None:

@@ -1,4 +1,5 @@
-"""Helpers shared by the sub-commands: the shared options, ``--param`` parsing and JSON output.
+"""Helpers shared by the sub-commands: the shared options, ``--param`` parsing and checking
+(:func:`check`, the parameter layer of every command) and JSON output.
 
 Every option that several commands take is defined once, in :data:`OPTIONS` (its flags,
 type, default, metavar and help); a command adds it with :func:`add_options`, naming what
@@ -12,24 +13,50 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from collections.abc import Mapping
-from typing import Any
+from collections.abc import Iterable, Mapping
+from typing import TYPE_CHECKING, Any
 
-from ..errors import ParameterError
+from ..errors import ModelError, ParameterError
 from ..strict_json import finite
 
-__all__ = ["OPTIONS", "add_command", "add_options", "add_param_option", "parse_params",
-           "checked_params", "emit_json", "show", "write_json", "add_model_arguments", "model_spec",
-           "check_model_flags", "single_well"]
+if TYPE_CHECKING:
+    from ..values import ParameterNames
+
+__all__ = ["OPTIONS", "ONE_DOF", "add_command", "add_options", "parse_params", "check",
+           "checked_params", "emit_json", "show", "write_json", "add_model_arguments",
+           "model_spec", "check_model_flags", "single_well"]
 
 
-#: the options several commands take: name -> (flags, argparse keywords)
+#: the options several commands take: name -> (flags, argparse keywords); a command names
+#: what differs there (:func:`add_options`)
 OPTIONS: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
+    "model": (("model",), dict(nargs="?")),
+    "rhs": (("--rhs",), dict(metavar="EXPR", help="your own F (in x, xdot and parameters) "
+                                                 "instead of a built-in model")),
+    "omega0": (("--omega0",), dict(default=None, help="linear frequency for --rhs (default 1)")),
+    "nu0": (("--nu0",), dict(default=None, metavar="NU0", help=(
+        "with --rhs holding the forcing angle theta: its frequency nu = NU0 + mu sigma "
+        "(theta = nu t)"))),
+    "internal": (("--internal",), dict(action="append", default=[])),
     "param": (("--param", "-p"), dict(
         action="append", default=[], metavar="NAME=VALUE",
         help="set a parameter (repeatable), e.g. --param beta=1 --param mu=0.1")),
     "vary": (("--vary",), dict(action="append", default=[], metavar="NAME=FROM:TO")),
     "order": (("--order", "-n"), dict(type=int, default=None)),
+    "orders": (("--orders",), dict(default="1,2")),
+    "start": (("--start",), dict(default=None, help=(
+        "coupled systems: the state to start from (default: the attracting orbit after a "
+        "transient from x_i = 1)"))),
+    "x_start": (("--x-start",), dict(type=float, default=None, metavar="X")),
+    "max_points": (("--max-points",), dict(type=int, default=400, metavar="N")),
+    "convergence": (("--convergence",), dict(metavar="MU1,MU2,...")),
+    "a_range": (("--a-range",), dict(metavar="AMIN:AMAX", default=None)),
+    "points": (("--points",), dict(type=int)),
+    "tol": (("--tol",), dict(type=float, default=None)),
+    "digits": (("--digits",), dict(type=int, default=None)),
+    "t_end": (("--t-end",), dict(type=float, default=None)),
+    "dt": (("--dt",), dict(type=float, default=None, metavar="H")),
+    "no_simulation": (("--no-simulation",), dict(action="store_true")),
     "rtol": (("--rtol",), dict(type=float, default=1e-10, help="integrator tolerance")),
     "json": (("--json",), dict(action="store_true", help="print JSON")),
     "out": (("--out",), dict(metavar="DIR")),
@@ -66,11 +93,6 @@ def add_command(sub, name: str, description: str,
     return sub.add_parser(name, help=summaries[name], description=description)
 
 
-def add_param_option(parser: argparse.ArgumentParser) -> None:
-    """Add the repeatable ``--param name=value`` option."""
-    add_options(parser, "param")
-
-
 def parse_params(items: list[str]) -> dict[str, str]:
     """``["beta=1", "mu=0.1"]`` -> ``{"beta": "1", "mu": "0.1"}`` (values stay strings, read exactly)."""
     out: dict[str, str] = {}
@@ -86,9 +108,10 @@ def parse_params(items: list[str]) -> dict[str, str]:
 
 
 def checked_params(items: list[str], model: object) -> dict[str, str]:
-    """``-p NAME=VALUE`` options read (:func:`parse_params`) and checked against the names
-    ``model`` takes (:class:`kbm.params.ParameterNames`: ``mu``, the physical names such as
-    ``Delta``, ``lam``, the scaled ones such as ``delta = Delta/mu``, ``k = 2 pi/lam``).
+    """``-p NAME=VALUE`` options read (:func:`parse_params`) and checked (:func:`check`)
+    against the names ``model`` takes (:class:`kbm.params.ParameterNames`: ``mu``, the
+    physical names such as ``Delta``, ``lam``, the scaled ones such as ``delta = Delta/mu``,
+    ``k = 2 pi/lam``).
 
     ``model`` is a model, or a built-in name; a name that is no built-in is left to the
     command, which names the unknown model.
@@ -99,8 +122,8 @@ def checked_params(items: list[str], model: object) -> dict[str, str]:
         For an unknown name (the closest valid one and every valid one named, in ``-p``
         terms), or a scaled name given with the physical one it is computed from.
     """
-    from ..errors import ModelError
-    from ..params import lookup, names_of
+    from ..models import Oscillator
+    from ..params import lookup
 
     params = parse_params(items)
     if isinstance(model, str):
@@ -108,15 +131,51 @@ def checked_params(items: list[str], model: object) -> dict[str, str]:
             model = lookup(model)
         except ModelError:  # the command names the unknown model in its own terms
             return params
-    from ..models import Oscillator
-
-    names = names_of(model)
     # a stage velocity v is left to the model, which says what takes one (a slider, in
     # kbm slide and kbm friction; these commands need the autonomous model)
     stage = isinstance(model, Oscillator)
-    names.check([n for n in params if not (stage and n == "v")], flag="-p")
-    names.check_both(params)
+    check(model, {n: v for n, v in params.items() if not (stage and n == "v")})
     return params
+
+
+def check(model: object, params: Mapping[str, object], varied: Iterable[str] = (), *,
+          extra: Iterable[str] = (), noise: bool = False, start: bool = False
+          ) -> ParameterNames:
+    """Refuse a name ``model`` (a tuple: any of them, ``--against``) does not take (in
+    ``-p`` or ``--vary``), a name given in both (unless ``start``: a continuation starts at
+    the ``-p`` value of the name it varies), and a scaled name given with its physical one;
+    returns the names.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Naming the wrong name, the close valid one and every valid one.
+    """
+    from ..params import names_of  # sympy: on use, not at import (issue 39)
+    from ..values import ParameterNames
+
+    models = model if isinstance(model, tuple) else (model,)
+    names = names_of(models[0], extra=extra, noise=noise)
+    for other in models[1:]:  # --against: a name of either model
+        if other == models[0]:  # --against the same model: its own names
+            continue
+        more = names_of(other)
+        names = ParameterNames(f"{names.model} or {more.model}",
+                               tuple(sorted(set(names.scaled) | set(more.scaled))),
+                               {**names.physical, **more.physical}, names.extra, noise)
+    names.check(params, flag="-p")
+    varied = list(varied)
+    names.check(varied, flag="--vary")
+    both = [n for n in varied if n in params]
+    if both and not start:
+        raise ParameterError(f"{both[0]} is both varied (--vary) and given (-p); give it once")
+    seen = set()
+    for n in varied:
+        if n in seen:
+            raise ParameterError(f"--vary {n} is given twice")
+        seen.add(n)
+    names.check_both(set(params) | set(varied))
+    return names
 
 
 def single_well(model) -> bool:
@@ -130,20 +189,20 @@ def single_well(model) -> bool:
     return x not in model.F.subs(xdot, 0).free_symbols
 
 
-def emit_json(obj: Any) -> None:
+def emit_json(obj: Any) -> int:
     """Print ``obj`` as strict JSON (keys in a fixed order, as built; NaN and infinities
-    become ``null``, so that every JSON parser reads it)."""
+    become ``null``, so that every JSON parser reads it); returns the exit status 0."""
     json.dump(finite(obj), sys.stdout, indent=2, allow_nan=False)
     sys.stdout.write("\n")
+    return 0
 
 
 def show(args: argparse.Namespace, result: Any) -> int:
     """Print ``result`` as the command line asks: its ``to_json()`` with ``--json``, else its
     ``table()``; returns the exit status 0."""
     if args.json:
-        emit_json(result.to_json())
-    else:
-        print(result.table())
+        return emit_json(result.to_json())
+    print(result.table())
     return 0
 
 
@@ -160,27 +219,25 @@ def write_json(path: Any, obj: Any) -> Any:
     return write_file(path, json.dumps(finite(obj), indent=2, allow_nan=False) + "\n")
 
 
-def add_model_arguments(parser: argparse.ArgumentParser,
-                        models: str = "vdp, rayleigh, sedf, cdc, ...", *,
-                        coupled: bool = False) -> None:
+#: the built-ins of one degree of freedom, as the model argument's help names them
+ONE_DOF = "vdp, rayleigh, sedf, cdc, ..."
+
+
+def add_model_arguments(parser: argparse.ArgumentParser, models: str = ONE_DOF, *,
+                        coupled: bool = False,
+                        **changes: Mapping[str, Any]) -> None:
     """Add the model name, ``--rhs`` and ``--omega0`` arguments (``coupled``: ``--rhs`` is
-    repeatable, one per degree of freedom, and ``--omega0`` takes a comma-separated list)."""
-    parser.add_argument("model", nargs="?", help=f"built-in model ({models})")
+    repeatable, one per degree of freedom, ``--omega0`` takes a comma-separated list, and
+    ``--nu0`` is added); ``changes`` as in :func:`add_options`."""
+    kw: dict[str, Mapping[str, Any]] = {"model": dict(help=f"built-in model ({models})")}
     if coupled:
-        parser.add_argument("--rhs", metavar="EXPR", action="append",
-                            help="your own F (in x, xdot and parameters) instead of a built-in "
-                                 "model; repeat it for N coupled degrees of freedom, F_i in "
-                                 "x1..xN, xdot1..xdotN")
-        parser.add_argument("--omega0", default=None,
-                            help="linear frequency for --rhs (default 1); comma-separated, one "
+        kw["rhs"] = dict(action="append", help=(
+            "your own F (in x, xdot and parameters) instead of a built-in model; repeat it "
+            "for N coupled degrees of freedom, F_i in x1..xN, xdot1..xdotN"))
+        kw["omega0"] = dict(help="linear frequency for --rhs (default 1); comma-separated, one "
                                  "per degree of freedom, for several")
-        parser.add_argument("--nu0", default=None, metavar="NU0",
-                            help="with --rhs holding the forcing angle theta: its frequency "
-                                 "nu = NU0 + mu sigma (theta = nu t)")
-        return
-    parser.add_argument("--rhs", metavar="EXPR", help="your own F (in x, xdot and parameters) "
-                        "instead of a built-in model")
-    parser.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")
+    add_options(parser, "model", "rhs", "omega0", *(("nu0",) if coupled else ()),
+                **{**kw, **changes})
 
 
 def check_model_flags(args: argparse.Namespace) -> None:
@@ -191,8 +248,6 @@ def check_model_flags(args: argparse.Namespace) -> None:
     kbm.errors.ModelError
         Naming the flags to change.
     """
-    from ..errors import ModelError
-
     rhs = getattr(args, "rhs", None)
     if args.model and rhs:
         raise ModelError("give either a model name or --rhs, not both")

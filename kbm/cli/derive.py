@@ -13,8 +13,9 @@ import argparse
 
 import numpy as np
 
-from ._common import (add_command, add_model_arguments, add_options, add_param_option,
-                      check_model_flags, checked_params, emit_json)
+from ..errors import ParameterError
+from ._common import (add_command, add_model_arguments, add_options, check_model_flags,
+                      checked_params, emit_json)
 
 
 def register(sub) -> None:
@@ -28,26 +29,25 @@ def register(sub) -> None:
 
     add_model_arguments(p, f"{', '.join(model_names())}; coupled: "
                            f"{', '.join(coupled_model_names())}", coupled=True)
-    p.add_argument("--internal", action="append", default=[], metavar="P:Q",
-                   help="declare the internal resonance omega_1 : omega_2 = P : Q (repeatable; "
-                        "P:Q@I,J between modes I and J); coupled systems only")
-    add_options(p, "order", order=dict(required=True, help="order N >= 1"))
-    add_param_option(p)
+    add_options(p, "internal", "order", "param", internal=dict(
+        metavar="P:Q",
+        help="declare the internal resonance omega_1 : omega_2 = P : Q (repeatable; P:Q@I,J "
+             "between modes I and J); coupled systems only"),
+        order=dict(required=True, help="order N >= 1"))
     p.add_argument("--numeric", action="store_true",
                    help="numeric backend for any smooth F (tanh, exp, ...): tables of A_n, "
                         "B_n on --a-range with error estimates")
-    p.add_argument("--a-range", metavar="AMIN:AMAX", default=None,
-                   help="amplitudes of the tables (0 < AMIN < AMAX); for --numeric also the "
-                        "interval the expansion is computed on")
-    p.add_argument("--points", type=int, default=9,
-                   help="rows of the tables: equispaced amplitudes of --a-range (default 9)")
+    add_options(p, "a_range", "points", a_range=dict(
+        help="amplitudes of the tables (0 < AMIN < AMAX); for --numeric also the interval the "
+             "expansion is computed on"),
+        points=dict(default=9, help="rows of the tables: equispaced amplitudes of --a-range "
+                                    "(default 9)"))
     p.add_argument("--at", metavar="a1=V,a2=V,gamma1=V",
                    help="coupled systems with --numeric: the amplitudes and slow phases where "
                         "the first-order rates are evaluated (any smooth F; -p gives every "
                         "parameter's value)")
-    p.add_argument("--tol", type=float, default=None,
-                   help="tolerance of the evaluated routes (relative; default 1e-10 with "
-                        "--numeric, 1e-14 for the Bessel harmonics)")
+    add_options(p, "tol", tol=dict(help="tolerance of the evaluated routes (relative; default "
+                                        "1e-10 with --numeric, 1e-14 for the Bessel harmonics)"))
     fmt = p.add_mutually_exclusive_group()
     add_options(fmt, "json", json=dict(help="print JSON (strings sympy can parse)"))
     fmt.add_argument("--latex", action="store_true", help="print LaTeX")
@@ -85,8 +85,6 @@ def model_from_args(args: argparse.Namespace, *, series: bool = False):
 
 def _mu_sets_something(names, params: dict, series: bool) -> None:
     """Refuse ``-p mu`` where no physical name needs it (the expansion is in powers of mu)."""
-    from ..errors import ParameterError
-
     if "mu" not in params or set(params) & set(names.physical_names):
         return
     where = ("kbm series expands in powers of mu; for values at one mu give --float --at MU"
@@ -98,7 +96,6 @@ def _mu_sets_something(names, params: dict, series: bool) -> None:
 
 
 def _amplitudes(args: argparse.Namespace, why: str) -> tuple[tuple[float, float], np.ndarray]:
-    from ..errors import ParameterError
     from ..sampling import parse_a_range
 
     if args.a_range is None:
@@ -116,10 +113,17 @@ def _linear(omega0: float) -> str:
     return "x" if float(omega0) == 1 else f"{float(omega0):g}^2 x"
 
 
-def _print_table(title: list[str], a: np.ndarray, cols: dict[str, np.ndarray],
-                 errors: dict[str, float] | None = None) -> None:
+def _print_table(title: list[str], a: np.ndarray, order: int, A, B, errors=None) -> None:
+    """The title lines, then the columns ``A_n = A[n]``, ``B_n = B[n]`` (n = 1..order) at the
+    amplitudes ``a``; ``errors``: ``(A_error, B_error)`` alike, the last row."""
     for line in title:
         print(line)
+
+    def columns(A, B) -> dict:
+        return {f"{k}_{n}": X[n] for k, X in (("A", A), ("B", B)) for n in range(1, order + 1)}
+
+    cols = columns(A, B)
+    errors = None if errors is None else columns(*errors)
     names = list(cols)
     print(f"{'a':>10s} " + " ".join(f"{n:>22s}" for n in names))
     for i, ai in enumerate(a):
@@ -129,7 +133,6 @@ def _print_table(title: list[str], a: np.ndarray, cols: dict[str, np.ndarray],
 
 
 def _run_numeric(args, model) -> int:
-    from ..errors import ParameterError
     from ..numeric_kbm import DEFAULT_TOL, numeric_derive
 
     if args.latex:
@@ -139,25 +142,19 @@ def _run_numeric(args, model) -> int:
     res = numeric_derive(model, args.order, (lo, hi),
                          tol=DEFAULT_TOL if args.tol is None else args.tol)
     if args.json:
-        emit_json(res.to_json(a))
-        return 0
+        return emit_json(res.to_json(a))
     tab = res.table(a)
-    N = args.order
-    cols = {**{f"A_{n}": tab["A"][n - 1] for n in range(1, N + 1)},
-            **{f"B_{n}": tab["B"][n - 1] for n in range(1, N + 1)}}
-    errs = {**{f"A_{n}": res.A_error[n] for n in range(1, N + 1)},
-            **{f"B_{n}": res.B_error[n] for n in range(1, N + 1)}}
     P, M = res.resolution
-    _print_table([f"KBM expansion of {res.model.name}: x'' + {_linear(res.omega0)} = mu*({res.model.F}), "
-                  f"order {N}, numeric backend",
+    _print_table([f"KBM expansion of {res.model.name}: x'' + {_linear(res.omega0)} = "
+                  f"mu*({res.model.F}), order {args.order}, numeric backend",
                   f"grid: {P} Chebyshev points on a in [{lo:g}, {hi:g}] (and a margin), "
                   f"{M} phases; tol {res.tol:.0e}; error estimates (absolute) in the last row"],
-                 a, cols, errs)
+                 a, args.order, dict(enumerate(tab["A"], 1)), dict(enumerate(tab["B"], 1)),
+                 (res.A_error, res.B_error))
     return 0
 
 
 def _run_values(args, model, limit: int) -> int:
-    from ..errors import ParameterError
     from ..pointwise import DEFAULT_TOL, derive_values
 
     if args.latex:
@@ -170,15 +167,12 @@ def _run_values(args, model, limit: int) -> int:
     _, a = _amplitudes(args, why)
     res = derive_values(model, args.order, a, tol=DEFAULT_TOL if args.tol is None else args.tol)
     if args.json:
-        emit_json(res.to_json())
-        return 0
-    N = args.order
-    cols = {**{f"A_{n}": res.A[n] for n in range(1, N + 1)},
-            **{f"B_{n}": res.B[n] for n in range(1, N + 1)}}
-    _print_table([f"KBM expansion of {res.model.name}: F = {res.model.F}, order {N}",
+        return emit_json(res.to_json())
+    _print_table([f"KBM expansion of {res.model.name}: F = {res.model.F}, order {args.order}",
                   f"note: {why}.",
                   f"Jacobi-Anger series with exact a-derivatives, harmonics up to "
-                  f"{res.harmonics} (truncation below {res.tol:.0e} relative)"], a, cols)
+                  f"{res.harmonics} (truncation below {res.tol:.0e} relative)"],
+                 a, args.order, res.A, res.B)
     return 0
 
 
@@ -216,7 +210,6 @@ def coupled_model(args: argparse.Namespace):
 
 def _run_coupled(args: argparse.Namespace) -> int:
     from ..coupled import derive_coupled
-    from ..errors import ParameterError
 
     if args.numeric:
         return _run_coupled_numeric(args)
@@ -235,7 +228,6 @@ def _run_coupled_numeric(args: argparse.Namespace) -> int:
 
     from ..coupled.jets import MAX_ORDER_JETS
     from ..coupled.numeric import numeric_average
-    from ..errors import ParameterError
 
     if not 1 <= args.order <= MAX_ORDER_JETS:
         raise ParameterError(f"the numeric backend of coupled systems takes --order 1 to "
@@ -279,12 +271,11 @@ def _run_coupled_numeric(args: argparse.Namespace) -> int:
         A, B, tail = [list(r) for r in ex.A], [list(r) for r in ex.B], ex.tail
     gam = [_combination(g, n) for g in na.gammas]
     if args.json:
-        emit_json({"model": na.model.name, "order": args.order, "numeric": True,
-                   "point": point, "A": [[None, *A[i]] for i in range(n)],
-                   "B": [[None, *B[i]] for i in range(n)],
-                   "gammas": [[f"gamma{r + 1}", g] for r, g in enumerate(gam)],
-                   "nodes": na.nodes, "tail": tail})
-        return 0
+        return emit_json({"model": na.model.name, "order": args.order, "numeric": True,
+                          "point": point, "A": [[None, *A[i]] for i in range(n)],
+                          "B": [[None, *B[i]] for i in range(n)],
+                          "gammas": [[f"gamma{r + 1}", g] for r, g in enumerate(gam)],
+                          "nodes": na.nodes, "tail": tail})
     what = "first-order rates" if args.order == 1 else f"rates to order {args.order}"
     print(f"{what} of {na.model.name} at "
           + ", ".join(f"{k} = {v:g}" for k, v in point.items())
@@ -323,7 +314,6 @@ def _emit(res, args: argparse.Namespace) -> int:
 
 def run(args: argparse.Namespace) -> int:
     from ..averaging import MAX_ORDER, check_cost, derive, symbolic_order_limit
-    from ..errors import ParameterError
 
     if is_coupled(args):
         return _run_coupled(args)

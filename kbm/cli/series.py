@@ -6,7 +6,8 @@ import argparse
 
 import sympy as sp
 
-from ._common import add_command, add_options, add_param_option, emit_json
+from ..errors import ParameterError
+from ._common import add_command, add_model_arguments, add_options, emit_json
 
 
 def register(sub) -> None:
@@ -14,9 +15,8 @@ def register(sub) -> None:
                     "amplitude a* in powers of mu: exact rationals (to mu^200), or with --float "
                     "in floating point to high order (to mu^1000), with the radius of convergence "
                     "and Pade resummation.")
-    p.add_argument("model", nargs="?", help="built-in model with polynomial F (e.g. vdp)")
-    p.add_argument("--rhs", metavar="EXPR", help="your own polynomial F")
-    p.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1)")
+    add_model_arguments(p, model=dict(help="built-in model with polynomial F (e.g. vdp)"),
+                        rhs=dict(help="your own polynomial F"))
     add_options(p, "order", order=dict(required=True, help="highest power of mu"))
     p.add_argument("--root", default=None, help="first-order amplitude a0 if A_1 has several "
                    "positive roots")
@@ -27,18 +27,15 @@ def register(sub) -> None:
     p.add_argument("--float", action="store_true", dest="floating",
                    help="floating-point coefficients (double precision unless --digits), "
                         "with the nearest singularity and Pade values")
-    p.add_argument("--digits", type=int, default=None,
-                   help="with --float: decimal digits of an mpmath computation (5..1000; slow, "
-                        "order <= 200)")
+    add_options(p, "digits", digits=dict(help="with --float: decimal digits of an mpmath "
+                                               "computation (5..1000; slow, order <= 200)"))
     p.add_argument("--at", type=float, action="append", default=[], metavar="MU",
                    help="with --float: Pade-resummed omega* and a* at this mu (repeatable)")
-    add_param_option(p)
-    add_options(p, "json", json=dict(help="print JSON (rationals as strings)"))
+    add_options(p, "param", "json", json=dict(help="print JSON (rationals as strings)"))
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..errors import ParameterError
     from .derive import model_from_args
 
     model = model_from_args(args, series=True)
@@ -56,13 +53,12 @@ def _exact(args, model) -> int:
 
     s = limit_cycle_series(model, args.order, root=args.root, method=args.method)
     if args.json:
-        emit_json({"model": model.name, "order": s.order,
-                   "omega": [str(c) for c in s.omega],
-                   "amplitude": [str(c) for c in s.amplitude]})
-    else:
-        # ascending powers of mu, as a series is read (1 - mu**2/16 + ...)
-        print(f"omega* = {sp.sstr(s.omega_expr(), order='rev-lex')} + O(mu**{s.order + 1})")
-        print(f"a*     = {sp.sstr(s.amplitude_expr(), order='rev-lex')} + O(mu**{s.order + 1})")
+        return emit_json({"model": model.name, "order": s.order,
+                          "omega": [str(c) for c in s.omega],
+                          "amplitude": [str(c) for c in s.amplitude]})
+    # ascending powers of mu, as a series is read (1 - mu**2/16 + ...)
+    print(f"omega* = {sp.sstr(s.omega_expr(), order='rev-lex')} + O(mu**{s.order + 1})")
+    print(f"a*     = {sp.sstr(s.amplitude_expr(), order='rev-lex')} + O(mu**{s.order + 1})")
     return 0
 
 
@@ -83,7 +79,7 @@ def _floating(args, model) -> int:
         sing = None
     pades = {mu: (s.pade(mu, "omega"), s.pade(mu, "amplitude")) for mu in args.at}
     if args.json:
-        emit_json({
+        return emit_json({
             "model": model.name, "order": s.order, "digits": args.digits,
             "variable": s.variable,
             "omega": [fmt(c) for c in s.omega], "amplitude": [fmt(c) for c in s.amplitude],
@@ -93,7 +89,6 @@ def _floating(args, model) -> int:
             "pade": [{"mu": mu, "omega": fmt(w.value), "omega_error": float(w.error),
                       "amplitude": fmt(a.value), "amplitude_error": float(a.error)}
                      for mu, (w, a) in pades.items()]})
-        return 0
     prec = "double precision" if args.digits is None else f"{args.digits} digits"
     print(f"{model.name}: mu-series to order {s.order} ({prec}), in {s.variable}")
     for name, coeffs in (("omega*", s.omega), ("a*", s.amplitude)):

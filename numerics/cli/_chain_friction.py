@@ -7,6 +7,7 @@ import argparse
 
 from kbm.cli import cli_message
 from kbm.cli._common import emit_json
+from kbm.errors import ParameterError
 
 #: a mean force per slider below this fraction of the potential's amplitude Delta is
 #: called near zero in the note under the table
@@ -14,19 +15,19 @@ NEAR_ZERO = 0.05
 
 
 def run_chain(args: argparse.Namespace) -> int:
-    from kbm.errors import ParameterError
-    from numerics.cli._axes import parse_axis
     from numerics.cli._options import check_ensemble
     from numerics.cli._params import check, given, parse_vary
     from numerics.coupled.friction import chain_friction_law
     from numerics.executor import connect
+    from numerics.sliding.maps import axis_values
 
     given_params = given(args.param)
-    if [parse_vary(t).name for t in args.vary] != ["v"]:
+    varies = [parse_vary(t) for t in args.vary]
+    if [v.name for v in varies] != ["v"]:
         raise ParameterError("a chain's friction law varies the stage velocity only: give one "
                              "--vary v=FROM:TO[:N|:logN]")
     names = check(args.model, given_params, ["v"])
-    axes = [parse_axis(text) for text in args.vary]
+    velocities = axis_values("v", varies[0].values())
     unused = [flag for flag, on in (("--against", args.against), ("--store", args.store),
                                     ("--netcdf", args.netcdf), ("--out", args.out),
                                     ("--engine scipy", args.engine != "compiled"),
@@ -46,16 +47,15 @@ def run_chain(args: argparse.Namespace) -> int:
     params = {"mu": "0.1", **given_params}
     client = connect(args.scheduler, args.scheduler_timeout) if args.scheduler else None
     try:
-        points = chain_friction_law(args.model, params, axes[0][1], seed=args.seed,
+        points = chain_friction_law(args.model, params, velocities, seed=args.seed,
                                     executor=client, workers=args.workers,
                                     progress=not args.no_progress and not args.json)
     finally:
         if client is not None:
             client.close()
     if args.json:
-        emit_json({"model": args.model, "params_given": params, "seed": args.seed,
-                   "points": [p.to_json() for p in points]})
-        return 0
+        return emit_json({"model": args.model, "params_given": params, "seed": args.seed,
+                          "points": [p.to_json() for p in points]})
     first = points[0]
     shown = _physical_header(names, first.params, given_params)
     print(f"{first.model}: friction per slider; {shown}")

@@ -10,12 +10,17 @@ import argparse
 import math
 
 from kbm.cli._common import emit_json
+from kbm.errors import ParameterError
 from numerics._show import multipliers_text
 
 
-def _start(text: str | None, dof: int):
-    from kbm.errors import ParameterError
+def shown(points: list) -> list:
+    """About 20 of a branch's points for its table: every k-th and the last."""
+    step = max(1, len(points) // 20)
+    return list(points[::step]) + ([points[-1]] if (len(points) - 1) % step else [])
 
+
+def _start(text: str | None, dof: int):
     if text is None:
         return None
     from numerics.cli._params import numbers
@@ -32,7 +37,6 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
     """Continue the periodic orbits of the command line's coupled system (or ``model``) in
     ``name`` over ``[lo, hi]`` (from ``-p NAME=VALUE`` if given, else from ``lo``)."""
     from kbm.cli.derive import coupled_model
-    from kbm.errors import ParameterError
     from numerics.coupled.continuation import continue_coupled
 
     model = coupled_model(args) if model is None else model
@@ -52,17 +56,14 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
     br = continue_coupled(model, given, name, (lo, hi), start=start,
                           max_points=max_points, rtol=rtol)
     if args.json:
-        emit_json({**br.to_json(), "params_given": given})
-        return 0
+        return emit_json({**br.to_json(), "params_given": given})
     kind = "periodic responses" if br.forced else "periodic orbits"
     print(f"branch of {kind} of {br.model} ({br.dof} degrees of freedom), {name} from "
           f"{lo:g} to {hi:g}: {len(br.points)} points, {br.evaluations} integrations of a "
           "period with the monodromy")
     amp = "  ".join(f"{f'max|x{i + 1}|':>12s}" for i in range(br.dof))
     print(f"  {name:>14s} {'period':>12s}  {amp}  {'|multiplier| max':>16s}")
-    pts = br.points
-    step = max(1, len(pts) // 20)
-    for p in list(pts[::step]) + ([pts[-1]] if (len(pts) - 1) % step else []):
+    for p in shown(br.points):
         rest = p.floquet_multipliers if br.forced else p.floquet_multipliers[1:]
         big = max(abs(z) for z in rest)
         amps = "  ".join(f"{a:12.8g}" for a in p.amplitudes)
@@ -80,7 +81,6 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
 def run_coupled_response(args: argparse.Namespace) -> int:
     """A forced coupled built-in: the true response branch in its detuning."""
     from kbm.cli.derive import coupled_model
-    from kbm.errors import ParameterError
     from numerics.cli._forced_args import named_range
 
     extra = [f for f, v in (("--forcing", args.forcing),

@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import argparse
 
+from kbm.errors import ModelError, ParameterError
+
 
 def sigma_range(text: str) -> tuple[float, float, int | None]:
     """``sigma=FROM:TO[:N]`` -> ``(FROM, TO, N)``, ``N`` None when not given."""
@@ -17,7 +19,6 @@ def named_range(text: str,
                 allowed: str | None = None) -> tuple[str, float, float, int | None]:
     """``NAME=FROM:TO[:N]`` -> ``(NAME, FROM, TO, N)`` by the grammar of
     :func:`numerics.cli._params.parse_vary`; ``allowed``: the only name taken."""
-    from kbm.errors import ParameterError
     from numerics.cli._params import parse_vary
 
     v = parse_vary(text)
@@ -40,7 +41,6 @@ def checked_values(model, args: argparse.Namespace,
     kbm.errors.ParameterError
         For an unknown name (the valid ones listed) or ``-p sigma``.
     """
-    from kbm.errors import ParameterError
     from numerics.cli._params import check, given
 
     params = given(args.param)
@@ -63,7 +63,6 @@ def forced_model(args: argparse.Namespace):
 
 
 def _base_model(args: argparse.Namespace):
-    from kbm.errors import ModelError
     from kbm.forced import FORCED_MODELS, ForcedOscillator, add_forcing, get_forced_model
     from kbm.models import custom_model
     from kbm.symbols import parse

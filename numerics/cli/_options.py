@@ -1,6 +1,6 @@
-"""The options of the numerical commands defined once: the command's parser
-(:func:`command`), the ensemble options of the noisy runs (:data:`ENSEMBLE`,
-:func:`add_ensemble_arguments`: ``--trajectories``, ``--seed``, ``--workers``, ``--store``,
+"""The options of the numerical commands defined once: the command's parser with its
+model and shared options (:func:`command`, :func:`options`), the ensemble options of the
+noisy runs (:data:`ENSEMBLE`: ``--trajectories``, ``--seed``, ``--workers``, ``--store``,
 ``--resume``, ``--budget``, taken by ``kbm spectrum``, ``noise``, ``escape`` and
 ``friction``), their checks (:func:`check_ensemble`) and the store of a run
 (:func:`stored`).
@@ -17,10 +17,10 @@ from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from typing import Any
 
-from kbm.cli._common import add_options
+from kbm.cli._common import OPTIONS, add_options
+from kbm.errors import ParameterError
 
-__all__ = ["ENSEMBLE", "command", "add_noisy_model", "add_ensemble_arguments", "check_ensemble",
-           "stored"]
+__all__ = ["ENSEMBLE", "command", "options", "check_ensemble", "stored"]
 
 #: the options of an ensemble of trajectories: name -> (flags, argparse keywords)
 ENSEMBLE: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
@@ -40,28 +40,34 @@ ENSEMBLE: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
 }
 
 
-def command(sub, name: str, description: str) -> argparse.ArgumentParser:
-    """The parser of the numerical command ``name``, its ``kbm --help`` line from
-    :data:`numerics.cli.SUMMARIES`."""
-    from kbm.cli._common import add_command
+def options(parser: argparse.ArgumentParser, *names: str,
+            **changes: Mapping[str, Any]) -> None:
+    """Add the shared options ``names`` (of :data:`kbm.cli._common.OPTIONS` and
+    :data:`ENSEMBLE`) in that order; ``changes[name]``: the keywords that differ in this
+    command (:func:`kbm.cli._common.add_options`)."""
+    add_options(parser, *names, table={**OPTIONS, **ENSEMBLE}, **changes)
+
+
+def command(sub, name: str, description: str, *names: str, models: str | None = None,
+            coupled: bool = False, noisy: str | None = None,
+            **changes: Mapping[str, Any]) -> argparse.ArgumentParser:
+    """The parser of the numerical command ``name`` (its ``kbm --help`` line from
+    :data:`numerics.cli.SUMMARIES`) with its first arguments: the model (``models``: which
+    it may be, with ``--rhs`` and ``--omega0``, :func:`kbm.cli._common.add_model_arguments`;
+    or ``noisy``: a built-in of a command with noise, given as ``-p D=VALUE`` or ``-p
+    T=VALUE``, and ``-p``), then the shared options ``names`` (:func:`options`)."""
+    from kbm.cli._common import add_command, add_model_arguments
     from numerics.cli import SUMMARIES
 
-    return add_command(sub, name, description, SUMMARIES)
-
-
-def add_noisy_model(parser: argparse.ArgumentParser, models: str) -> None:
-    """Add the model (``models``: which it may be) of a command with noise and ``-p``, whose
-    noise is ``-p D=VALUE`` or the temperature ``-p T=VALUE`` (``T = kT = D/mu``)."""
-    parser.add_argument("model", help=f"{models}; the noise as -p D=VALUE or as the "
-                                      "temperature -p T=VALUE (T = kT = D/mu)")
-    add_options(parser, "param")
-
-
-def add_ensemble_arguments(parser: argparse.ArgumentParser, *names: str,
-                           **changes: Mapping[str, Any]) -> None:
-    """Add the ensemble options ``names`` of :data:`ENSEMBLE` in that order (all of them
-    without ``names``); ``changes[name]``: the keywords that differ in this command."""
-    add_options(parser, *(names or ENSEMBLE), table=ENSEMBLE, **changes)
+    parser = add_command(sub, name, description, SUMMARIES)
+    if noisy is not None:
+        parser.add_argument("model", help=f"{noisy}; the noise as -p D=VALUE or as the "
+                                          "temperature -p T=VALUE (T = kT = D/mu)")
+        names = ("param", *names)
+    elif models is not None:
+        add_model_arguments(parser, models, coupled=coupled, **changes)
+    options(parser, *names, **changes)
+    return parser
 
 
 def check_ensemble(args: argparse.Namespace) -> None:
@@ -72,7 +78,6 @@ def check_ensemble(args: argparse.Namespace) -> None:
     kbm.errors.ParameterError
         Naming the option and the value given.
     """
-    from kbm.errors import ParameterError
     from numerics.cli._params import within
 
     seed = getattr(args, "seed", None)

@@ -38,11 +38,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm.errors import ParameterError
+from kbm.cli._common import check
+from kbm.cli._common import parse_params as given
+from kbm.errors import OrderError, ParameterError
 from kbm.values import ParameterNames
 
 __all__ = ["DEFAULT_POINTS", "MAX_POINTS", "Vary", "parse_vary", "given", "check",
-           "noise_params", "open_store", "numbers", "orders", "within", "USAGE"]
+           "noise_params", "without_noise", "open_store", "numbers", "orders", "within", "USAGE"]
 
 #: values of a range without ``:N``
 DEFAULT_POINTS = 8
@@ -78,10 +80,6 @@ class Vary:
     count: int | None = None
     log: bool = False
     listed: tuple[float, ...] | None = None
-
-    @property
-    def is_range(self) -> bool:
-        return self.listed is None
 
     def values(self, default: int = DEFAULT_POINTS) -> np.ndarray:
         """The values, in the order typed (a range from FROM to TO)."""
@@ -207,8 +205,6 @@ def orders(text: str, flag: str = "--orders", *, none: bool = False) -> list[int
     kbm.errors.OrderError
         For an item that is no integer, or no order >= 1.
     """
-    from kbm.errors import OrderError
-
     if none and text.strip().lower() == "none":
         return []
     try:
@@ -218,58 +214,6 @@ def orders(text: str, flag: str = "--orders", *, none: bool = False) -> list[int
     if not out or min(out) < 1:
         raise OrderError(f"{flag} must list orders >= 1, got {text!r}")
     return out
-
-
-def given(items: Iterable[str]) -> dict[str, str]:
-    """``-p NAME=VALUE`` options as ``{NAME: VALUE}`` (values stay strings, read exactly
-    later).
-
-    Raises
-    ------
-    kbm.errors.ParameterError
-        For a malformed item or a name given twice.
-    """
-    from kbm.cli._common import parse_params
-
-    return parse_params(list(items))
-
-
-def check(model: "object | tuple", params: Mapping[str, object], varied: Iterable[str] = (), *,
-          extra: Iterable[str] = (), noise: bool = False, start: bool = False
-          ) -> ParameterNames:
-    """Refuse a name ``model`` does not take (in ``-p`` or ``--vary``), a name given in
-    both (unless ``start``: a continuation starts at the ``-p`` value of the name it
-    varies), and a scaled name given with its physical one; returns the names.
-
-    Raises
-    ------
-    kbm.errors.ParameterError
-        Naming the wrong name, the close valid one and every valid one.
-    """
-    models = model if isinstance(model, tuple) else (model,)
-    from kbm.params import names_of  # sympy: on use, not at import (issue 39)
-
-    names = names_of(models[0], extra=extra, noise=noise)
-    for other in models[1:]:  # --against: a name of either model
-        if other == models[0]:  # --against the same model: its own names
-            continue
-        more = names_of(other)
-        names = ParameterNames(f"{names.model} or {more.model}",
-                               tuple(sorted(set(names.scaled) | set(more.scaled))),
-                               {**names.physical, **more.physical}, names.extra, noise)
-    names.check(params, flag="-p")
-    varied = list(varied)
-    names.check(varied, flag="--vary")
-    both = [n for n in varied if n in params]
-    if both and not start:
-        raise ParameterError(f"{both[0]} is both varied (--vary) and given (-p); give it once")
-    seen = set()
-    for n in varied:
-        if n in seen:
-            raise ParameterError(f"--vary {n} is given twice")
-        seen.add(n)
-    names.check_both(set(params) | set(varied))
-    return names
 
 
 def noise_params(params: Mapping[str, str]) -> tuple[dict[str, str], str | None]:
@@ -288,6 +232,14 @@ def noise_params(params: Mapping[str, str]) -> tuple[dict[str, str], str | None]
         raise ParameterError("give the noise intensity: -p D=VALUE (x'' + ... = sqrt(2 D) xi, "
                              "D >= 0) or the temperature -p T=VALUE (T = kT = D/mu)")
     return {**rest, "D": D if name == "D" else repr(float(D))}, name
+
+
+def without_noise(params: Mapping[str, str]) -> tuple[dict[str, str], float]:
+    """``(params without D, D as a number)`` of the values :func:`noise_params` returns."""
+    from kbm.values import parameter_value
+
+    rest = dict(params)
+    return rest, float(parameter_value("D", rest.pop("D")))
 
 
 def open_store(path: str | None, resume: bool, what: str = "run"):
@@ -361,11 +313,11 @@ def physical(names: ParameterNames, params: Mapping[str, object],
     return out, new_axes
 
 
-def noisy_model(model: str, items: Iterable[str]) -> tuple[dict[str, str], str | None]:
-    """The ``-p`` values of ``kbm noise`` and ``kbm escape``: ``model`` a built-in of one
-    degree of freedom, every name one of its (physical or scaled), ``mu``, the stage
-    velocity ``v`` of a slider, and ``D`` or ``T = D/mu``; returns ``(values with D, the
-    noise's name as given)``.
+def noisy_model(model: "str | object", items: Iterable[str]) -> tuple[dict[str, str], str | None]:
+    """The ``-p`` values of ``kbm noise``, ``kbm escape`` and ``kbm spectrum``: ``model`` a
+    built-in of one degree of freedom (or a model, ``--rhs``), every name one of its
+    (physical or scaled), ``mu``, the stage velocity ``v`` of a slider, and ``D`` or ``T =
+    D/mu``; returns ``(values with D, the noise's name as given)``.
 
     Raises
     ------
@@ -375,7 +327,8 @@ def noisy_model(model: str, items: Iterable[str]) -> tuple[dict[str, str], str |
     from kbm.models import SLIDERS
     from kbm.params import lookup
 
-    lookup(model, ("one",))
+    if isinstance(model, str):
+        lookup(model, ("one",))
     params = given(items)
     check(model, params, extra=("v",) if model in SLIDERS else (), noise=True)
     return noise_params(params)

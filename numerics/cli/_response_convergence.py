@@ -6,13 +6,13 @@ from __future__ import annotations
 import argparse
 
 from kbm.cli._common import emit_json
+from kbm.errors import ParameterError
 from numerics.cli._forced_args import (amplitude_window, checked_values, forced_model,
                                        sigma_range)
 
 
 def convergence_mus(text: str) -> list[float]:
     """The values of ``--convergence``: at least 3, positive, finite and distinct."""
-    from kbm.errors import ParameterError
     from numerics.forced.convergence import check_mus
 
     from numerics.cli._params import numbers
@@ -29,7 +29,6 @@ def run_convergence(args: argparse.Namespace) -> int:
     import sys
     from pathlib import Path
 
-    from kbm.errors import ParameterError
     from kbm.forced import forced_expansion
     from numerics.cli._params import within
     from numerics.forced.convergence import amplitude_study, fold_study

@@ -33,7 +33,7 @@ def _bind(args, kind: str):
     """``(model name, params without D and the detuning, D, detuning name, detunings)``."""
     from kbm.params import lookup
     from kbm.values import parameter_value
-    from numerics.cli._params import check, given, noise_params, parse_vary
+    from numerics.cli._params import check, given, noise_params, parse_vary, without_noise
 
     if _opt(args, "rhs") or not _opt(args, "model"):
         names = "duffing-forced, parametric, duffing-1-3, ..." if kind == "forced" else \
@@ -60,8 +60,7 @@ def _bind(args, kind: str):
     check(args.model, params, [v.name] if v else [], noise=True,
           extra=(name,) if kind == "forced" else ())
     params, noise = noise_params(params)
-    raw = params.pop("D")
-    D = float(parameter_value("D", raw))
+    params, D = without_noise(params)
     if not (math.isfinite(D) and D > 0):
         what = "zero" if D == 0 else "negative" if D < 0 else "not finite"
         given = " (from T = D/mu)" if noise == "T" else ""
@@ -232,8 +231,7 @@ def _emit(args, rep, lines) -> int:
         out.mkdir(parents=True, exist_ok=True)
         write_json(out / f"spectrum-{rep['model']}.json", rep)
     if _opt(args, "json", False):
-        emit_json(rep)
-        return 0
+        return emit_json(rep)
     print("\n".join(lines))
     if _opt(args, "out"):
         for p in rep.get("figures", []):

@@ -1,4 +1,5 @@
-"""``kbm friction ... -p D=VALUE``: the friction laws and maps with thermal noise.
+"""``kbm friction ... -p D=VALUE``: the friction laws and maps with thermal noise, and the
+output of a map and its ``--against`` one (:func:`emit_maps`, with or without noise).
 
 Called by :mod:`numerics.cli.friction` when the noise ``D`` (or the CDC's temperature
 ``T = D/mu``) is a parameter or an axis.
@@ -6,10 +7,11 @@ Called by :mod:`numerics.cli.friction` when the noise ``D`` (or the CDC's temper
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 from kbm.cli import cli_message
-from numerics.cli._axes import emit_maps
+from kbm.errors import ParameterError
 
 #: the options of the noisy runs (default None on the parser, so that "given" is told
 #: from "default"; refused without noise) and their values when not given
@@ -22,7 +24,6 @@ def wanted(params: dict, axes: dict) -> bool:
 
 
 def run_thermal(args, params: dict, axes: dict, store, client) -> int:
-    from kbm.errors import ParameterError
     from numerics.thermal.friction import thermal_friction_map
 
     if args.netcdf:
@@ -38,6 +39,30 @@ def run_thermal(args, params: dict, axes: dict, store, client) -> int:
     first = thermal_friction_map(args.model, params, axes, **kw)
     second = thermal_friction_map(args.against, params, axes, **kw) if args.against else None
     return emit_maps(args, first, second, _print, lambda f, s, out: [_figure(f, s, out)])
+
+
+def emit_maps(args, first, second, printer, figures, ratios=None) -> int:
+    """A map and its ``--against`` one (``second``, or ``None``) as the command line asks:
+    ``--json`` the first's JSON with the second's under ``against`` (and the keys of
+    ``ratios(first, second)``), else the tables of ``printer``; ``--out DIR`` the paths of
+    ``figures(first, second, DIR)`` named (on standard error with ``--json``, so that
+    standard output holds the JSON only).  Returns the exit status 0."""
+    if args.json:
+        from kbm.cli._common import emit_json
+
+        data = first.to_json()
+        if second is not None:
+            data["against"] = second.to_json()
+            data.update(ratios(first, second) if ratios else {})
+        emit_json(data)
+    else:
+        for i, m in enumerate((first, second) if second is not None else (first,)):
+            print("\n" if i else "", end="")
+            printer(m)
+    if args.out:
+        for path in figures(first, second, Path(args.out)):
+            print(f"wrote {path}", file=sys.stderr if args.json else sys.stdout)
+    return 0
 
 
 def _print(m) -> None:

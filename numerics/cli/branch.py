@@ -5,9 +5,9 @@ from __future__ import annotations
 import argparse
 import math
 
-from kbm.cli._common import (add_model_arguments, add_options, check_model_flags, emit_json,
-                             model_spec, single_well)
-from numerics.cli._options import command
+from kbm.cli._common import check_model_flags, emit_json, model_spec, single_well
+from kbm.errors import ParameterError
+from numerics.cli._options import command, options
 
 
 def register(sub) -> None:
@@ -15,35 +15,30 @@ def register(sub) -> None:
                 "range of one parameter by pseudo-arclength continuation of the shooting solution "
                 "(stable and unstable cycles, Floquet multipliers at each point), with folds of "
                 "cycles, Hopf ends and homoclinic ends located, next to the roots of the KBM "
-                "amplitude equation and of the energy balance.")
-    add_model_arguments(p, "vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, sedf-dimer, "
-                           "...", coupled=True)
-    add_options(p, "param", "vary", vary=dict(
+                "amplitude equation and of the energy balance.", "param", "vary", "orders",
+                models="vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, sedf-dimer, ...",
+                coupled=True, vary=dict(
         action="store", required=True, default=None,
         help="the parameter and its range, e.g. --vary Delta=0:4; the branch starts at --param "
-             "NAME=VALUE if given, else at FROM"))
-    p.add_argument("--orders", default="1", metavar="N,...",
-                   help="KBM orders of the analytic branches (default 1; 'none' for none)")
+             "NAME=VALUE if given, else at FROM"), orders=dict(
+        default="1", metavar="N,...",
+        help="KBM orders of the analytic branches (default 1; 'none' for none)"))
     p.add_argument("--no-energy", action="store_true",
                    help="leave out the energy-balance branch")
-    p.add_argument("--max-points", type=int, default=400, metavar="N",
-                   help="bound on the points per direction of each branch (default 400)")
-    add_options(p, "rtol", rtol=dict(help="integrator tolerance (1e-10)"))
+    options(p, "max_points", "rtol", max_points=dict(
+        help="bound on the points per direction of each branch (default 400)"),
+        rtol=dict(help="integrator tolerance (1e-10)"))
     p.add_argument("--follow-period", type=float, default=None, metavar="FACTOR",
                    help="at a homoclinic end, follow the cycle in its period (multiple "
                         "shooting, the parameter free) until the period is FACTOR times the "
                         "start's (AUTO-07p's standard: 20); the points join the branch")
-    p.add_argument("--start", metavar="X1,..,XDOT1,..",
-                   help="coupled systems: the state to start from (default: the attracting "
-                        "orbit after a transient from x_i = 1)")
-    add_options(p, "json")
+    options(p, "start", "json", start=dict(metavar="X1,..,XDOT1,.."))
     p.set_defaults(func=run)
 
 
 def _checked(args: argparse.Namespace, params: dict, name: str):
     """The model of the command line (a built-in name or the ``--rhs`` model), its names
     and, with ``--follow-period``, its saddle checked."""
-    from kbm.errors import ParameterError
     from kbm.params import lookup
     from numerics.cli._params import check
 
@@ -55,15 +50,6 @@ def _checked(args: argparse.Namespace, params: dict, name: str):
                              f"{model.name} has none: its only equilibrium is the origin, "
                              "which is no saddle (F at x' = 0 does not depend on x); drop it")
     return spec
-
-
-def _vary(text: str) -> tuple[str, float, float]:
-    """``NAME=FROM:TO`` as typed (:func:`numerics.cli._params.parse_vary`)."""
-    from numerics.cli._params import parse_vary
-
-    v = parse_vary(text)
-    a, b = v.interval("a branch", points=False)
-    return v.name, a, b
 
 
 def run(args: argparse.Namespace) -> int:
@@ -96,7 +82,7 @@ def _checked_key(args: argparse.Namespace, params: dict) -> str | None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from kbm.errors import ParameterError
+    from numerics.cli._coupled_branch import shown
     from numerics.cli._params import given, orders, parse_vary, within
     from numerics.comparison.diagram import branch_diagram
     from numerics.flow.template_cache import FORMAT, read_record, write_record
@@ -154,18 +140,15 @@ def _run(args: argparse.Namespace) -> int:
               f"{d.model} ends at a homoclinic orbit in {name} from {lo:g} to {hi:g}",
               file=sys.stderr)
     if args.json:
-        emit_json(d.to_json())
-        return 0
+        return emit_json(d.to_json())
     print(f"{len(d.branches)} branch(es) of limit cycles of {d.model}, {name} from {lo:g} "
           f"to {hi:g}")
     for i, b in enumerate(d.branches):
-        pts = b.points
-        print(f"\nbranch {i}: {len(pts)} points, {b.evaluations} integrations of a period"
+        print(f"\nbranch {i}: {len(b.points)} points, {b.evaluations} integrations of a period"
               + (f"; {b.dropped} more passed but not printed (trivial multiplier off 1 by more "
                  "than 1e-5: not converged)" if b.dropped else ""))
         print(f"  {name:>14s} {'amplitude_max':>14s} {'period':>12s} {'multiplier':>12s}")
-        step = max(1, len(pts) // 20)
-        for p in list(pts[::step]) + ([pts[-1]] if (len(pts) - 1) % step else []):
+        for p in shown(b.points):
             print(f"  {p.parameter:14.8g} {p.amplitude_max:14.8g} {p.period:12.8g} "
                   f"{p.multipliers[1].real:12.4e} {'stable' if p.stable else 'UNSTABLE'}")
         for s in b.special:

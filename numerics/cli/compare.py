@@ -4,58 +4,59 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import (add_model_arguments, add_options, add_param_option, checked_params,
-                             describe_params, emit_json, model_spec, parse_params, show)
-from numerics.cli._options import command
+from kbm.cli._common import (ONE_DOF, checked_params, describe_params, emit_json, model_spec,
+                             parse_params, show)
+from kbm.errors import ModelError, ParameterError
+from numerics.cli._options import command, options
 
 
 def register(sub) -> None:
     p = command(sub, "compare", "Compare the limit cycle predicted by the KBM expansion of each "
                 "order (first-harmonic amplitude, maximum of x, frequency, third harmonic, "
                 "Floquet multiplier, dissipation over the reconstructed cycle) with the cycle "
-                "computed by shooting.")
-    add_model_arguments(p)
-    add_param_option(p)
-    p.add_argument("--orders", default="1,2", help="comma-separated KBM orders (default 1,2)")
+                "computed by shooting.", "param", "orders", models=ONE_DOF,
+                orders=dict(help="comma-separated KBM orders (default 1,2)"))
     p.add_argument("--energy-orders", default=None, metavar="N,...",
                    help="orders of the averaging about the conservative orbit shown next to "
                         "KBM (default 1,2; 'none' to leave them out)")
     p.add_argument("--paper", action="store_true",
                    help="add the paper's eqs. (5)-(9) as printed (sedf only)")
-    p.add_argument("--x-start", type=float, default=None, metavar="X",
-                   help="start of the transient if Newton from the KBM cycle fails")
-    p.add_argument("--convergence", metavar="MU1,MU2,...",
-                   help="convergence study: errors of each order for these values of mu, with "
-                        "the other parameters (scaled names, e.g. delta) fixed; prints fitted "
-                        "log-log slopes and predicted orders")
-    p.add_argument("--errata", action="store_true",
-                   help="numerical evidence for the errata of the paper's eqs. (6)-(9) "
-                        "(sedf; small Delta/mu case and the paper's Fig. 3 case)")
-    p.add_argument("--validity", action="store_true",
-                   help="sedf validity map of KBM orders 1, 2 over the default (mu, Delta, "
-                        "beta) grid (a sweep on all cores, a few minutes)")
-    p.add_argument("--fixed-delta", metavar="DELTA1,...",
-                   help="sedf at these fixed Delta (beta = 1, 0.5, 0.25; mu from 0.2 to 0.005): "
-                        "errors of the energy method's orders and of classical KBM against the "
-                        "true cycles, with fitted log-log slopes")
-    p.add_argument("--methods-map", action="store_true",
-                   help="sedf map over (mu, Delta, beta): where classical KBM and the energy "
-                        "method are within 1 %% and 1e-3 of the true cycle (a sweep on all "
-                        "cores, about a minute)")
-    add_options(p, "json")
+    options(p, "x_start", x_start=dict(
+        help="start of the transient if Newton from the KBM cycle fails"))
+    for flag, text in STUDIES.items():
+        p.add_argument(flag, help=text, **(dict(metavar=VALUES[flag]) if flag in VALUES else
+                                           dict(action="store_true")))
+    options(p, "json")
     p.set_defaults(func=run)
+
+
+#: the separate studies of ``kbm compare`` (one at a time): flag -> help
+STUDIES = {
+    "--convergence": "convergence study: errors of each order for these values of mu, with the "
+                     "other parameters (scaled names, e.g. delta) fixed; prints fitted log-log "
+                     "slopes and predicted orders",
+    "--errata": "numerical evidence for the errata of the paper's eqs. (6)-(9) (sedf; small "
+                "Delta/mu case and the paper's Fig. 3 case)",
+    "--validity": "sedf validity map of KBM orders 1, 2 over the default (mu, Delta, beta) grid "
+                  "(a sweep on all cores, a few minutes)",
+    "--fixed-delta": "sedf at these fixed Delta (beta = 1, 0.5, 0.25; mu from 0.2 to 0.005): "
+                     "errors of the energy method's orders and of classical KBM against the "
+                     "true cycles, with fitted log-log slopes",
+    "--methods-map": "sedf map over (mu, Delta, beta): where classical KBM and the energy method "
+                     "are within 1 %% and 1e-3 of the true cycle (a sweep on all cores, about a "
+                     "minute)",
+}
+#: the studies that take values (the others are on/off): flag -> metavar
+VALUES = {"--convergence": "MU1,MU2,...", "--fixed-delta": "DELTA1,..."}
 
 
 def _check_modes(args: argparse.Namespace, params: dict) -> None:
     """Refuse flags the chosen mode would ignore (no silently dropped option)."""
-    from kbm.errors import ParameterError
     from numerics.cli._params import within
 
     within(args.x_start, "--x-start")
-    modes = [f for f, on in (("--errata", args.errata), ("--validity", args.validity),
-                             ("--convergence", args.convergence),
-                             ("--fixed-delta", args.fixed_delta),
-                             ("--methods-map", args.methods_map)) if on]
+    modes = [f for f in ("--errata", "--validity", "--convergence", "--fixed-delta",
+                         "--methods-map") if getattr(args, f[2:].replace("-", "_"))]
     if len(modes) > 1:
         raise ParameterError(f"{' and '.join(modes)} are separate studies; give one")
     if not modes:
@@ -86,7 +87,6 @@ def _fixed_scaled(model: str, params: dict) -> dict:
     kbm.errors.ParameterError
         For ``-p mu`` or a physical name, naming the scaled one to give instead.
     """
-    from kbm.errors import ParameterError
     from kbm.params import names_of
 
     if "mu" in params:
@@ -104,13 +104,13 @@ def _fixed_scaled(model: str, params: dict) -> dict:
 
 
 def run(args: argparse.Namespace) -> int:
-    from kbm.errors import ModelError
     from numerics.cli._params import numbers, orders
     from numerics.comparison import compare, energy_prediction
     from numerics.paper import paper_prediction
 
     params = parse_params(args.param)
     _check_modes(args, params)
+    kw = {} if args.x_start is None else {"x_start": args.x_start}
     if args.errata:
         from numerics.paper.errata import errata_evidence, evidence_table
 
@@ -143,10 +143,8 @@ def run(args: argparse.Namespace) -> int:
             raise ModelError("--convergence needs a built-in model name")
         params = _fixed_scaled(args.model, checked_params(args.param, args.model))
         eps = numbers(args.convergence, "--convergence")
-        kw = {} if args.x_start is None else {"x_start": args.x_start}
         return show(args, convergence_study(args.model, eps, orders=orders(args.orders),
                                             fixed=params, **kw))
-    kw = {} if args.x_start is None else {"x_start": args.x_start}
     extra = [paper_prediction] if args.paper else []
     energy_orders = "1,2" if args.energy_orders is None else args.energy_orders
     if energy_orders.strip().lower() != "none":

@@ -4,44 +4,41 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import (add_model_arguments, add_options, add_param_option, checked_params,
-                             describe_params, emit_json, model_spec, parse_params)
+from kbm.cli._common import checked_params, describe_params, emit_json, model_spec, parse_params
+from kbm.errors import ParameterError
 from numerics._show import multipliers_text
-from numerics.cli._options import command
+from numerics.cli._options import command, options
 
 
 def register(sub) -> None:
     p = command(sub, "cycle", "Find the periodic orbit of x'' + omega0^2 x = mu F(x, x') by "
                 "Newton's method on the return map to x' = 0, x > 0, with Floquet multipliers and "
-                "the dissipation per cycle (paper eqs. 10-11).")
-    add_model_arguments(p, "vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, "
-                           "duffing-1-3, quadratic-1-2", coupled=True)
-    add_param_option(p)
-    p.add_argument("--start", default=None, metavar="X1,..,XN,V1,..,VN",
-                   help="coupled systems: the state to start from (default x_i = 1, "
-                        "xdot_i = 0)")
+                "the dissipation per cycle (paper eqs. 10-11).", "param", "start",
+                models="vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, duffing-1-3, "
+                       "quadratic-1-2", coupled=True, start=dict(
+        metavar="X1,..,XN,V1,..,VN",
+        help="coupled systems: the state to start from (default x_i = 1, xdot_i = 0)"))
     p.add_argument("--transient", type=float, default=None, metavar="T",
                    help="coupled systems: time integrated before shooting (default 20/mu "
                         "within [100, 4000]; 0 shoots from --start itself)")
-    p.add_argument("--digits", type=int, default=None,
-                   help="also compute period and amplitudes to N digits (mpmath Taylor series)")
-    add_options(p, "rtol", rtol=dict(default=1e-12, help="integrator tolerance (1e-12)"))
+    options(p, "digits", "rtol", digits=dict(
+        help="also compute period and amplitudes to N digits (mpmath Taylor series)"),
+        rtol=dict(default=1e-12, help="integrator tolerance (1e-12)"))
     p.add_argument("--method", default="auto",
                    choices=["auto", "compiled", "LSODA", "DOP853", "Radau", "BDF"],
                    help="integrator of the shooting: auto (compiled DOP853 unless stiff, then "
                         "LSODA), compiled (DOP853 compiled with numba), or a scipy method")
-    p.add_argument("--x-start", type=float, default=1.0, metavar="X",
-                   help="start of the last-resort transient, x = X, x' = 0 (default 1)")
+    options(p, "x_start", x_start=dict(
+        default=1.0, help="start of the last-resort transient, x = X, x' = 0 (default 1)"))
     p.add_argument("--all", action="store_true",
                    help="every cycle the energy-balance averaging predicts (stable and "
                         "unstable, on every annulus), each confirmed by shooting")
-    add_options(p, "json")
+    options(p, "json")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from kbm.cli.derive import is_coupled
-    from kbm.errors import ParameterError
     from numerics.cli._params import within
     from numerics.flow.aot import allow_builds
 
@@ -207,7 +204,6 @@ def _run_coupled(args: argparse.Namespace) -> int:
     import math
 
     from kbm.cli.derive import coupled_model
-    from kbm.errors import ParameterError
     from numerics.cli._params import numbers, within
     from numerics.coupled import coupled_cycle
 
@@ -229,8 +225,7 @@ def _run_coupled(args: argparse.Namespace) -> int:
     cyc = coupled_cycle(model, given, start=start, transient=args.transient,
                         rtol=max(args.rtol, 1e-13))
     if args.json:
-        emit_json({**cyc.to_json(), "params_given": given})
-        return 0
+        return emit_json({**cyc.to_json(), "params_given": given})
     n = len(cyc.amplitudes)
     print(f"periodic orbit of {cyc.model} ({', '.join(f'{k}={v:g}' for k, v in cyc.params.items())})")
     print(f"  {'period':26s} {cyc.period:.12g}")
@@ -248,7 +243,6 @@ def _run_coupled(args: argparse.Namespace) -> int:
 def _run_forced(model, given, start, args) -> int:
     import math
 
-    from kbm.errors import ParameterError
     from numerics.coupled import forced_response
 
     periods = None
@@ -259,8 +253,7 @@ def _run_forced(model, given, start, args) -> int:
     res = forced_response(model, given, start=start, transient_periods=periods,
                           rtol=max(args.rtol, 1e-13))
     if args.json:
-        emit_json({**res.to_json(), "success": True, "params_given": given})
-        return 0
+        return emit_json({**res.to_json(), "success": True, "params_given": given})
     print(f"periodic response of {res.model} ({', '.join(f'{k}={v:g}' for k, v in res.params.items())})")
     print(f"  {'forcing frequency nu':26s} {res.nu:.12g}")
     print(f"  {'period':26s} {res.period:.12g} ({res.multiple} x 2 pi/nu)")

@@ -13,8 +13,9 @@ from __future__ import annotations
 import argparse
 import sys
 
-from kbm.cli._common import add_model_arguments, add_options, emit_json, model_spec, write_json
-from numerics.cli._options import add_ensemble_arguments, command
+from kbm.cli._common import emit_json, model_spec, write_json
+from kbm.errors import ParameterError
+from numerics.cli._options import command, options
 
 
 def register(sub) -> None:
@@ -24,10 +25,9 @@ def register(sub) -> None:
                 "Neimark-Sacker curves), locate their codim-2 points (Bogdanov-Takens, Bautin, "
                 "cusp, ends of curves on others) and draw the averaged curves on the same axes.  "
                 "Every point of a true curve is converged (a homoclinic point: the manifolds' gap "
-                "below 1e-10).")
-    add_model_arguments(p, "sedf, vdp, ... or --rhs; forced: duffing-forced, ...; coupled: "
-                           "coupled-vdp, ...", coupled=True)
-    add_options(p, "param", "vary", "order", vary=dict(
+                "below 1e-10).", "param", "vary", "order",
+                models="sedf, vdp, ... or --rhs; forced: duffing-forced, ...; coupled: "
+                       "coupled-vdp, ...", coupled=True, vary=dict(
         help="the two axes and their ranges, e.g. --vary Delta=0:6 --vary beta=0.3:1.6 (the "
              "first is the horizontal axis)"), order=dict(
         help="highest averaged order (one degree of freedom with mu an axis: KBM orders 1..N, "
@@ -37,12 +37,11 @@ def register(sub) -> None:
                         "25,9)")
     p.add_argument("--x-range", type=float, default=8.0, metavar="L",
                    help="equilibria and saddles are looked for in |x| <= L (default 8)")
-    p.add_argument("--max-points", type=int, default=400, metavar="N",
-                   help="points per direction of each curve at most (default 400)")
+    options(p, "max_points", max_points=dict(
+        help="points per direction of each curve at most (default 400)"))
     p.add_argument("--no-averaged", action="store_true", help="leave out the averaged curves")
-    add_options(p, "json", "out", out=dict(
-        help="write diagram.json and the figure diagram-MODEL.png into DIR"))
-    add_ensemble_arguments(p, "store", "resume", store=dict(
+    options(p, "json", "out", "store", "resume", out=dict(
+        help="write diagram.json and the figure diagram-MODEL.png into DIR"), store=dict(
         metavar="DIR", help="keep every curve's points in DIR as they are found (a stopped run "
                             "can be resumed)"), resume=dict(
         help="with --store: continue the stored run (finished curves are read back, an "
@@ -64,7 +63,6 @@ def _driven(args) -> bool:
 
 
 def _axes(args):
-    from kbm.errors import ParameterError
     from numerics.cli._params import parse_vary
 
     if len(args.vary) != 2:
@@ -81,8 +79,6 @@ def _axes(args):
 
 
 def _grid(text: str) -> tuple[int, int]:
-    from kbm.errors import ParameterError
-
     try:
         na, nb = (int(s) for s in text.split(","))
     except ValueError:
@@ -93,8 +89,6 @@ def _grid(text: str) -> tuple[int, int]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from kbm.errors import ParameterError
-
     if args.resume and not args.store:
         raise ParameterError("--resume continues a diagram kept by --store DIR: give the folder")
     if _driven(args):

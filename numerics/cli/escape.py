@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
-from kbm.cli._common import add_options, emit_json, single_well
-from numerics.cli._options import add_ensemble_arguments, add_noisy_model, command
+from kbm.cli._common import emit_json, single_well
+from kbm.errors import ModelError
+from numerics.cli._options import command, options
 
 
 def register(sub) -> None:
@@ -17,31 +18,30 @@ def register(sub) -> None:
                 "quantity: first passages to the next wells' bottoms from the well's Boltzmann "
                 "state, compared in standard errors.  Where the expected "
                 "cost of the simulation exceeds --budget steps the simulation is refused with the "
-                "estimate and the averaged answer is given alone.")
-    add_noisy_model(p, "an autonomous model with a well at the origin bounded by saddles (cdc, "
-                       "sedf at v = 0)")
-    add_ensemble_arguments(p, "trajectories", trajectories=dict(
-        default=200, help="simulated trajectories (default 200; at least 20)"))
-    p.add_argument("--t-end", type=float, default=None, metavar="T",
-                   help="longest run per trajectory (default: 5 averaged MFPTs; runs still "
-                        "in the well at T are censored)")
-    p.add_argument("--dt", type=float, default=None, metavar="H",
-                   help="time step (default: the well's period/40, smaller where the numerical "
-                        "heating would exceed 1e-3 of kT: numerics.noise.langevin.natural_step)")
-    add_ensemble_arguments(p, "seed", "budget", budget=dict(
-        help="largest expected number of integration steps (default 2e9)"))
-    p.add_argument("--no-simulation", action="store_true", help="the averaged rate only")
+                "estimate and the averaged answer is given alone.", "trajectories", "t_end", "dt",
+                "seed", "budget", "no_simulation",
+                noisy="an autonomous model with a well at the origin bounded by saddles (cdc, "
+                      "sedf at v = 0)",
+                trajectories=dict(default=200,
+                                  help="simulated trajectories (default 200; at least 20)"),
+                t_end=dict(metavar="T",
+                           help="longest run per trajectory (default: 5 averaged MFPTs; runs "
+                                "still in the well at T are censored)"),
+                dt=dict(help="time step (default: the well's period/40, smaller where the "
+                             "numerical heating would exceed 1e-3 of kT: "
+                             "numerics.noise.langevin.natural_step)"),
+                budget=dict(help="largest expected number of integration steps (default 2e9)"),
+                no_simulation=dict(help="the averaged rate only"))
     p.add_argument("--method", choices=("averaging", "fokker-planck"), default="averaging",
                    help="fokker-planck: also the slowest decay rate of the Kramers equation "
                         "with a sink at the next wells' bottoms (the transition rate, any "
                         "damping; with its sink and truncation errors), and the simulated "
                         "transitions to the next wells from the well's Boltzmann state")
-    add_options(p, "json")
+    options(p, "json")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
-    from kbm.errors import ModelError
     from kbm.params import lookup, names_of
     from numerics.cli._options import check_ensemble
     from numerics.cli._params import noisy_model
@@ -66,8 +66,7 @@ def run(args) -> int:
             f"choose parameters of {args.model} whose potential has a barrier, or a model "
             "with side wells (cdc, or sedf at v = 0, with Delta large enough)")) from None
     if args.json:
-        emit_json(rep)
-        return 0
+        return emit_json(rep)
     print(f"escape from the well at the origin: {args.model}, D = {rep['D']:g}")
     print(f"  barrier E_b - E_0 = {rep['barrier']:.6g}" + (
         f", kT = D/mu = {rep['kT']:.6g}, E_b/kT = {rep['barrier_over_kT']:.4g}"

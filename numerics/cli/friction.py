@@ -8,11 +8,11 @@ from pathlib import Path
 
 import numpy as np
 
-from kbm.cli._common import add_options
-from numerics.cli._axes import MAX_POINTS, emit_maps, parse_axis
-from numerics.cli._options import add_ensemble_arguments, command
+from kbm.errors import ModelError, ParameterError
+from numerics.cli._options import command, options
+from numerics.cli._params import MAX_POINTS
 
-__all__ = ["register", "run", "parse_axis", "MAX_POINTS"]
+__all__ = ["register", "run"]
 
 
 def register(sub) -> None:
@@ -24,14 +24,12 @@ def register(sub) -> None:
                 "with --scheduler.  With thermal noise sqrt(2 D) xi (-p D=VALUE, or --vary D=... "
                 "or T=... with kT = D/mu) an ensemble of Langevin trajectories per point gives "
                 "the mean and slip forces with standard errors.  Defaults: mu = 0.1, Omega = 1, "
-                "lam = 1 (the paper's).")
-    p.add_argument("model",
-                   help="sedf_comoving (SEDF with the self-excitation attached to the stage; "
-                        "has steady states), cdc (eq. 12) or sedf (the paper's eq. 3, whose "
-                        "damping grows with the distance slid: runaway); or a chain of "
-                        "sedf_comoving sliders coupled by springs mu*kappa: sedf-dimer, "
-                        "sedf-chain-N (friction per slider, --vary v only)")
-    add_options(p, "param", "vary", vary=dict(
+                "lam = 1 (the paper's).", "model", "param", "vary", model=dict(
+        nargs=None, help="sedf_comoving (SEDF with the self-excitation attached to the stage; "
+                         "has steady states), cdc (eq. 12) or sedf (the paper's eq. 3, whose "
+                         "damping grows with the distance slid: runaway); or a chain of "
+                         "sedf_comoving sliders coupled by springs mu*kappa: sedf-dimer, "
+                         "sedf-chain-N (friction per slider, --vary v only)"), vary=dict(
         required=True, default=None, metavar="NAME=FROM:TO[:N|:logN]",
         help="an axis (repeatable, the last varies fastest): v=1e-3:3:log24 (24 log-spaced), "
              "Delta=0.5:3:6 (6 equally spaced), or a list beta=0.5,1,2"))
@@ -41,14 +39,14 @@ def register(sub) -> None:
                    help="slips averaged over in stick-slip (default 20)")
     p.add_argument("--engine", choices=["compiled", "scipy"], default="compiled",
                    help="numba-compiled DOP853 (default) or scipy's solve_ivp (reference)")
-    add_ensemble_arguments(p, "workers", workers=dict(
+    options(p, "workers", workers=dict(
         help="local processes (default: the number of CPUs)"))
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on the Dask scheduler at ADDRESS (e.g. tcp://host:8786; needs "
                         "pip install 'kbm[dask]')")
     p.add_argument("--scheduler-timeout", type=float, default=10.0, metavar="SECONDS",
                    help="how long to wait for the scheduler (default 10)")
-    add_ensemble_arguments(p, "store", "resume", store=dict(
+    options(p, "store", "resume", store=dict(
         help="keep every finished chunk of points in the SQLite file FILE, so that an "
              "interrupted map can be resumed"), resume=dict(
         help="with --store: continue the map kept in FILE (only the missing points are "
@@ -57,18 +55,18 @@ def register(sub) -> None:
                    help="also save the map(s) as a netCDF file (xarray.open_dataset(FILE) "
                         "reads it back; with --against a dimension 'slider' holds both); "
                         "needs pip install 'kbm[xarray]'")
-    add_ensemble_arguments(p, "trajectories", trajectories=dict(
+    options(p, "trajectories", trajectories=dict(
         help="with noise (-p D=... or --vary D=/T=...): Langevin trajectories per point "
              "(default 16)"))
     p.add_argument("--wells", type=float, default=None, metavar="N",
                    help="with noise: stage periods lam/v averaged over per trajectory "
                         "(default 50)")
-    add_ensemble_arguments(p, "seed", "budget", seed=dict(
+    options(p, "seed", "budget", seed=dict(
         default=None, help="with noise: root seed (one SeedSequence child per trajectory; "
                            "default 0); a chain's initial spread"), budget=dict(
         default=None, help="with noise: largest number of integration steps of the run "
                            "(default 2e9); a larger run is refused before it starts"))
-    add_options(p, "json", "out", out=dict(help="write the figures into DIR"))
+    options(p, "json", "out", out=dict(help="write the figures into DIR"))
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=run)
 
@@ -93,7 +91,6 @@ SLIDERS = ("sedf_comoving", "cdc", "sedf")
 
 
 def run(args: argparse.Namespace) -> int:
-    from kbm.errors import ModelError, ParameterError
     from kbm.models import parameter_value
     from kbm.params import closest
     from numerics.cli._options import check_ensemble, stored
@@ -133,7 +130,7 @@ def run(args: argparse.Namespace) -> int:
                                  f"({name} = 0 is the deterministic slider)")
     fixed, axes = physical(names, params, axes, "0.1")
     axes = {k: axis_values(k, v) for k, v in axes.items()}
-    from numerics.cli._thermal_friction import run_thermal, wanted
+    from numerics.cli._thermal_friction import emit_maps, run_thermal, wanted
 
     noisy = wanted(fixed, axes)
     if not noisy:
@@ -207,8 +204,6 @@ def _figures(first, second, out: Path) -> list[Path]:
 def _check_figures(names: list[str], against: str | None) -> None:
     """``--out`` draws a friction law (``v`` the only axis) or a map (``v`` first of two
     axes, with ``--against``)."""
-    from kbm.errors import ParameterError
-
     if names == ["v"] or (len(names) == 2 and names[0] == "v" and against):
         return
     raise ParameterError(f"--out draws a friction law (--vary v=... only) or a map (--vary "
@@ -218,7 +213,6 @@ def _check_figures(names: list[str], against: str | None) -> None:
 
 def _check_noise_flags(args: argparse.Namespace) -> None:
     """Refuse the options of the noisy runs on a deterministic one (no ``D`` or ``T``)."""
-    from kbm.errors import ParameterError
     from numerics.cli._thermal_friction import NOISE_FLAGS
 
     given = [f"--{name}" for name in NOISE_FLAGS if getattr(args, name) is not None]

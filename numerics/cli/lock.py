@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_model_arguments, add_options, emit_json
-from numerics.cli._options import command
+from kbm.cli._common import emit_json
+from kbm.errors import ParameterError
+from numerics.cli._options import command, options
 
 #: the names a coupling parameter goes by (the others varied are detunings)
 COUPLINGS = ("c", "k", "kappa")
@@ -15,13 +16,12 @@ def register(sub) -> None:
     p = command(sub, "lock", "The edges of the frequency-locking region of a coupled system with "
                 "one internal resonance (coupled-vdp): from the averaged slow flow at orders 1..N "
                 "(the fold of its locked fixed point) and from the true locked cycle (where it "
-                "ceases to exist, by continuation and bisection).")
-    add_model_arguments(p, "a coupled built-in with one internal resonance: coupled-vdp",
-                        coupled=True)
-    p.add_argument("--internal", action="append", default=[], metavar="P:Q",
-                   help="with --rhs: the declared resonance (e.g. 1:1); F not polynomial "
-                        "(sin, tanh coupling): the averaged flow is order 1, numeric")
-    add_options(p, "param", "vary", "order", vary=dict(
+                "ceases to exist, by continuation and bisection).", "internal", "param", "vary",
+                "order", models="a coupled built-in with one internal resonance: coupled-vdp",
+                coupled=True, internal=dict(
+        metavar="P:Q",
+        help="with --rhs: the declared resonance (e.g. 1:1); F not polynomial (sin, tanh "
+             "coupling): the averaged flow is order 1, numeric"), vary=dict(
         required=True, default=None,
         help="the detuning and the interval its edges are looked for in (e.g. --vary "
              "sigma=-1:1); a second --vary gives the coupling's values (c=0.05:0.5 for "
@@ -29,19 +29,16 @@ def register(sub) -> None:
              "value"), order=dict(
         help="highest averaged order (default 2, or 1 for F not polynomial; orders 1..N are "
              "given)"))
-    p.add_argument("--points", type=int, default=7,
-                   help="coupling values on the second --vary range (default 7)")
-    p.add_argument("--tol", type=float, default=1e-7,
-                   help="bisection bracket of the true edges (default 1e-7)")
-    add_options(p, "json", "out", out=dict(help="write lock.json and the tongue figure lock.png"))
+    options(p, "points", "tol", points=dict(
+        default=7, help="coupling values on the second --vary range (default 7)"),
+        tol=dict(default=1e-7, help="bisection bracket of the true edges (default 1e-7)"))
+    options(p, "json", "out", out=dict(help="write lock.json and the tongue figure lock.png"))
     p.set_defaults(func=run)
 
 
 def _split(varies, model) -> tuple:
     """``(detuning, coupling or None)`` among the ``--vary`` (in either order): the
     coupling is the one named c, k or kappa."""
-    from kbm.errors import ParameterError
-
     couplings = [v for v in varies if v.name in COUPLINGS]
     detunings = [v for v in varies if v.name not in COUPLINGS]
     if not detunings:
@@ -58,9 +55,6 @@ def _split(varies, model) -> tuple:
 
 
 def run(args: argparse.Namespace) -> int:
-    import numpy as np
-
-    from kbm.errors import ParameterError
     from kbm.files import output_folder, write_file
     from numerics.cli._params import within
     from numerics.coupled.locking import locking_region, plot_locking
@@ -102,8 +96,7 @@ def run(args: argparse.Namespace) -> int:
         write_file(folder / "lock.json", json.dumps(data, indent=2) + "\n")
         plot_locking(region, folder / "lock.png")
     if args.json:
-        emit_json(data)
-        return 0
+        return emit_json(data)
     shown = [f"{k}={v:g}" for k, v in region.params.items() if k != (coupling or ("",))[0]]
     if coupling is not None:
         cs = coupling[1]

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from kbm.cli._common import add_options, emit_json, write_json
-from numerics.cli._options import add_ensemble_arguments, add_noisy_model, command
+from kbm.cli._common import emit_json, write_json
+from numerics.cli._options import command, options
 
 
 def register(sub) -> None:
@@ -16,24 +16,20 @@ def register(sub) -> None:
                 "envelope for the sliders' strong potential) and estimated from an ensemble of "
                 "Langevin trajectories (weak order 2, one seed per trajectory spawned from "
                 "--seed) with standard errors.  A linearly damped model also gets the exact "
-                "Boltzmann <x^2>.")
-    add_noisy_model(p, "a built-in model (vdp, duffing, rayleigh, linear_damping, cdc, sedf, "
-                       "sedf_comoving)")
-    add_ensemble_arguments(p, "trajectories", trajectories=dict(
-        default=100, help="independent trajectories (default 100; at least 8)"))
-    p.add_argument("--t-end", type=float, default=None, metavar="T",
-                   help="averaging time per trajectory after the burn-in (default 400/|mu|)")
+                "Boltzmann <x^2>.", "trajectories", "t_end",
+                noisy="a built-in model (vdp, duffing, rayleigh, linear_damping, cdc, sedf, "
+                      "sedf_comoving)", trajectories=dict(
+        default=100, help="independent trajectories (default 100; at least 8)"), t_end=dict(
+        metavar="T", help="averaging time per trajectory after the burn-in (default 400/|mu|)"))
     p.add_argument("--burn-in", type=float, default=None, metavar="T",
                    help="time discarded first (default 20/|mu|)")
-    p.add_argument("--dt", type=float, default=None, metavar="H",
-                   help="time step (default: the fastest linear period / 50, smaller where "
-                        "the numerical heating would exceed 1e-3 of kT, halved for BAOAB, then "
-                        "halved again while a pilot at dt and dt/2 measures a bias of the "
-                        "moments beyond 2e-4, and shortened so that --t-end is a whole number "
-                        "of steps; the run prints the step used)")
-    add_ensemble_arguments(p, "seed", "budget", "workers", "store", "resume", budget=dict(
-        help="largest number of integration steps (default 2e9); beyond it the averaged "
-             "answer is given alone"))
+    options(p, "dt", "seed", "budget", "workers", "store", "resume", dt=dict(
+        help="time step (default: the fastest linear period / 50, smaller where the numerical "
+             "heating would exceed 1e-3 of kT, halved for BAOAB, then halved again while a "
+             "pilot at dt and dt/2 measures a bias of the moments beyond 2e-4, and shortened "
+             "so that --t-end is a whole number of steps; the run prints the step used)"),
+        budget=dict(help="largest number of integration steps (default 2e9); beyond it the "
+                         "averaged answer is given alone"))
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the amplitude averaging (default 1; 2 adds the O(mu) and "
                         "O(mu^2) corrections at fixed D/mu, kbm.stochastic_order2; polynomial "
@@ -52,7 +48,7 @@ def register(sub) -> None:
                         "coupled ensemble at dt and dt/2 sized by Giles' allocation, with the "
                         "standard error of both levels (moments.*.extrapolated; adds about 1.3-1.5 "
                         "times the main run's steps)")
-    add_options(p, "json", "out", out=dict(help="write noise-MODEL.png (the averaged density "
+    options(p, "json", "out", out=dict(help="write noise-MODEL.png (the averaged density "
                                                 "over the histogram) and noise-MODEL.json"))
     p.set_defaults(func=run)
 
@@ -61,16 +57,9 @@ def _num(value, fmt="#.6g") -> str:
     return "--" if value is None else format(value, fmt)
 
 
-def params_T(items) -> str:
-    """The temperature ``T`` as typed (``-p T=VALUE``)."""
-    from numerics.cli._params import given
-
-    return given(items)["T"]
-
-
 def run(args) -> int:
     from numerics.cli._options import check_ensemble, stored
-    from numerics.cli._params import noisy_model
+    from numerics.cli._params import given, noisy_model
     from numerics.thermal.stationary import noise_report
 
     check_ensemble(args)
@@ -90,9 +79,8 @@ def run(args) -> int:
     if args.out:
         write_json(Path(args.out) / f"noise-{args.model}.json", rep)
     if args.json:
-        emit_json(rep)
-        return 0
-    temp = f" (T = D/mu = {float(params_T(args.param)):g})" if noise == "T" else ""
+        return emit_json(rep)
+    temp = f" (T = D/mu = {float(given(args.param)['T']):g})" if noise == "T" else ""
     print(f"stationary state of {args.model} with noise sqrt(2 D) xi, D = {rep['D']:g}{temp}")
     print(f"  averaging: {rep['method'] or '-- (' + rep['message'] + ')'}"
           + (f", order {rep['averaged_order']}" if rep.get("averaged_order") else ""))

@@ -4,9 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import (add_model_arguments, add_options, add_param_option, checked_params,
-                             describe_params, emit_json, model_spec)
-from numerics.cli._options import command
+from kbm.cli._common import ONE_DOF, checked_params, describe_params, emit_json, model_spec
+from numerics.cli._options import command, options
 
 
 def register(sub) -> None:
@@ -15,15 +14,14 @@ def register(sub) -> None:
                 "perturbation (--method energy; order 1 is the energy balance Gamma(E) = 0, the "
                 "paper's eq. 10), or by classical KBM (--method kbm). JSON key 'cycles': "
                 "amplitude_max, amplitude_min, amplitude_first_harmonic, period, frequency, "
-                "energy, stable, annulus.")
-    add_model_arguments(p)
+                "energy, stable, annulus.", models=ONE_DOF)
     p.add_argument("--potential", metavar="EXPR", default=None,
                    help="potential V(x) of the conservative part (energy method; default: "
                         "the x-only part of the force)")
-    add_param_option(p)
+    options(p, "param")
     p.add_argument("--method", choices=["energy", "kbm"], default="energy",
                    help="energy (averaging about the conservative orbit, default) or kbm")
-    add_options(p, "order", "json", order=dict(default=1, help="order N >= 1 (default 1)"))
+    options(p, "order", "json", order=dict(default=1, help="order N >= 1 (default 1)"))
     p.set_defaults(func=run)
 
 
@@ -35,8 +33,7 @@ def run(args: argparse.Namespace) -> int:
     given = checked_params(args.param, spec)
     pred = predict(spec, given, method=args.method, order=args.order, potential=args.potential)
     if args.json:
-        emit_json({**pred.to_json(), "params_given": given})
-        return 0
+        return emit_json({**pred.to_json(), "params_given": given})
     pars = describe_params(spec, given, pred.params)
     print(f"{pred.model} ({pars}): {len(pred.cycles)} cycle(s) predicted by "
           f"{'energy averaging' if args.method == 'energy' else 'classical KBM'}, order "

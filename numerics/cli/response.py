@@ -9,11 +9,12 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_options, emit_json
+from kbm.cli._common import ONE_DOF, emit_json
+from kbm.errors import ParameterError
 from numerics.cli._forced_args import (amplitude_window, checked_values, forced_model,
                                        sigma_range)
 from numerics._show import multipliers_text
-from numerics.cli._options import command
+from numerics.cli._options import command, options
 
 
 def register(sub) -> None:
@@ -21,23 +22,21 @@ def register(sub) -> None:
                 "omega0 + mu sigma: the slow flow of the forced KBM expansion to order N, its "
                 "fixed points (stable and unstable) followed in sigma with the folds (jump "
                 "points) and the backbone, next to the true periodic responses of period 2 pi "
-                "p/nu by shooting and pseudo-arclength continuation with Floquet multipliers.")
-    p.add_argument("model", nargs="?",
-                   help="a forced model (duffing-forced, duffing-super, duffing-super-hard, "
-                        "duffing-sub-hard, mathieu, vdp-forced, parametric, mathieu-2, "
-                        "mathieu-3, slider, slider-cdc) or an autonomous one (duffing, vdp, "
-                        "...) with --forcing or --hard")
-    p.add_argument("--rhs", metavar="EXPR", action="append",
-                   help="your own F in x, xdot, theta and parameters (instead of a model); "
-                        "repeat it for N coupled degrees of freedom (F_i in x1..xN, "
-                        "xdot1..xdotN, theta; with --omega0 W1,..,WN and --nu0)")
-    p.add_argument("--omega0", default=None, help="linear frequency for --rhs (default 1); "
-                                                  "comma-separated for several --rhs")
-    p.add_argument("--nu0", default=None, metavar="NU0",
-                   help="several --rhs: the forcing frequency nu = NU0 + mu sigma of theta")
-    p.add_argument("--internal", action="append", default=[], metavar="P:Q[@I,J]",
-                   help="several --rhs: declared resonances (P:Q@I,F with the forcing), "
-                        "kept with the model")
+                "p/nu by shooting and pseudo-arclength continuation with Floquet multipliers.",
+                "internal", models=ONE_DOF, coupled=True, model=dict(
+        help="a forced model (duffing-forced, duffing-super, duffing-super-hard, "
+             "duffing-sub-hard, mathieu, vdp-forced, parametric, mathieu-2, mathieu-3, slider, "
+             "slider-cdc) or an autonomous one (duffing, vdp, ...) with --forcing or --hard"),
+        rhs=dict(action="append", help=(
+            "your own F in x, xdot, theta and parameters (instead of a model); repeat it for N "
+            "coupled degrees of freedom (F_i in x1..xN, xdot1..xdotN, theta; with --omega0 "
+            "W1,..,WN and --nu0)")),
+        omega0=dict(help="linear frequency for --rhs (default 1); comma-separated for several "
+                         "--rhs"),
+        nu0=dict(help="several --rhs: the forcing frequency nu = NU0 + mu sigma of theta"),
+        internal=dict(
+        metavar="P:Q[@I,J]",
+        help="several --rhs: declared resonances (P:Q@I,F with the forcing), kept with the model"))
     p.add_argument("--forcing", metavar="EXPR",
                    help="added to F: a 2 pi-periodic function of theta = nu t, smooth in x "
                         "and xdot, e.g. 'h*cos(theta)', '-h*x*cos(theta)' or "
@@ -49,7 +48,7 @@ def register(sub) -> None:
     p.add_argument("--resonance", metavar="P/Q", default=None,
                    help="the declared resonance nu ~ (p/q) omega0 (1/1 primary, 1/3 "
                         "superharmonic, 3 subharmonic, 2 parametric); default the model's")
-    add_options(p, "param", "vary", vary=dict(
+    options(p, "param", "vary", vary=dict(
         action="store", default=None, metavar="sigma=FROM:TO[:N]",
         help="the detuning range and about N points per branch (default 400)"))
     p.add_argument("--detuning", type=float, metavar="SIGMA",
@@ -63,28 +62,26 @@ def register(sub) -> None:
                         "orders 1..N compared (default 2)")
     p.add_argument("--amax", type=float, default=5.0,
                    help="largest amplitude searched for steady states (default 5)")
-    p.add_argument("--a-range", metavar="AMIN:AMAX",
-                   help="the amplitude window of the steady states instead of --amax (default "
-                        "0.001*amax:amax); for F not polynomial in x, xdot (slider, "
-                        "slider-cdc, sin(k*x + theta)) also the interval of the numeric "
-                        "forced backend (default 0.05*amax:amax)")
+    options(p, "a_range", a_range=dict(
+        help="the amplitude window of the steady states instead of --amax (default "
+             "0.001*amax:amax); for F not polynomial in x, xdot (slider, slider-cdc, sin(k*x + "
+             "theta)) also the interval of the numeric forced backend (default 0.05*amax:amax)"))
     p.add_argument("--no-numeric", action="store_true", help="the analytic curve only")
-    add_options(p, "out", out=dict(help="write the figure response.png into DIR "
-                                        "(convergence.png with --convergence)"))
-    p.add_argument("--convergence", metavar="MU1,MU2,...",
-                   help="convergence study instead of the curve: the error of each KBM order "
-                        "1..N against the true periodic response (shooting) for these values "
-                        "of mu (at least 3, positive, distinct), with the fitted slopes of "
-                        "log(error) against log(mu) (expected N): the amplitude at "
-                        "--detuning SIGMA, or the detuning of a fold (jump) in --vary "
-                        "sigma=FROM:TO; with --out, the log-log figure convergence.png")
+    options(p, "out", "convergence", out=dict(
+        help="write the figure response.png into DIR (convergence.png with --convergence)"),
+        convergence=dict(help=(
+            "convergence study instead of the curve: the error of each KBM order 1..N against "
+            "the true periodic response (shooting) for these values of mu (at least 3, "
+            "positive, distinct), with the fitted slopes of log(error) against log(mu) "
+            "(expected N): the amplitude at --detuning SIGMA, or the detuning of a fold (jump) "
+            "in --vary sigma=FROM:TO; with --out, the log-log figure convergence.png")))
     p.add_argument("--fold", type=int, default=None, metavar="K",
                    help="with --convergence and --vary: the fold studied, counted from the "
                         "lowest sigma (default 0)")
-    p.add_argument("--start", metavar="X1,..,XDOT1,..",
-                   help="coupled systems: the state to start the branch from (default: the "
-                        "attracting response after a transient from x_i = 1)")
-    add_options(p, "json")
+    options(p, "start", "json", start=dict(
+        metavar="X1,..,XDOT1,..",
+        help="coupled systems: the state to start the branch from (default: the attracting "
+             "response after a transient from x_i = 1)"))
     p.set_defaults(func=run)
 
 
@@ -93,7 +90,6 @@ def run(args: argparse.Namespace) -> int:
 
     from kbm.coupled import COUPLED_MODELS
 
-    from kbm.errors import ParameterError
     from numerics.cli._params import within
     from numerics.forced.diagram import response_diagram
 
@@ -142,8 +138,7 @@ def run(args: argparse.Namespace) -> int:
 
         plot_response(d, Path(args.out) / "response.png")
     if args.json:
-        emit_json(d.to_json())
-        return 0
+        return emit_json(d.to_json())
     print(f"{d.model}, resonance {d.resonance}, KBM order {d.order}: "
           f"{', '.join(f'{k} = {v:g}' for k, v in d.values.items())}")
     print(f"  slow flow: da/dt = {d.slow_flow[0]}\n             dphi/dt = {d.slow_flow[1]}")
@@ -190,7 +185,6 @@ def _intervals(trivial) -> list[tuple[float, float, str]]:
 
 
 def _run_one(model, args: argparse.Namespace) -> int:
-    from kbm.errors import ParameterError
     from numerics.cli._params import within
     from numerics.forced.diagram import steady_states
 
@@ -201,8 +195,7 @@ def _run_one(model, args: argparse.Namespace) -> int:
                       resonance=args.resonance, amplitudes=args.window,
                       numeric=not args.no_numeric)
     if args.json:
-        emit_json(s.to_json())
-        return 0
+        return emit_json(s.to_json())
     print(f"{s.model}, resonance {s.resonance}, KBM order {s.order}, sigma = {s.sigma:g}: "
           f"{len(s.analytic)} steady state(s) with a > 0")
     for f in s.analytic:
@@ -220,7 +213,6 @@ def _run_one(model, args: argparse.Namespace) -> int:
 
 
 def _run_nonresonant(args: argparse.Namespace) -> int:
-    from kbm.errors import ParameterError
     from kbm.forced import derive_forced
 
     if args.vary or args.detuning is not None or args.resonance or args.out:
@@ -234,8 +226,7 @@ def _run_nonresonant(args: argparse.Namespace) -> int:
                              "--vary or --detuning instead")
     r = derive_forced(model, args.order, checked_values(model, args), nu=args.nu)
     if args.json:
-        emit_json({**r.to_json(), "nu": args.nu})
-        return 0
+        return emit_json({**r.to_json(), "nu": args.nu})
     print(f"{r.model.name}, nu = {args.nu} (non-resonant), KBM order {r.order}:")
     print(f"  da/dt   = {r.amplitude_rate()}\n  dpsi/dt = {r.phase_rate()}")
     return 0

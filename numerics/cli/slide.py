@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import add_options, add_param_option, emit_json
+from kbm.cli._common import emit_json
 from numerics.cli._options import command
 
 
@@ -12,13 +12,11 @@ def register(sub) -> None:
     p = command(sub, "slide", "Simulate x'' + D(x, x') + Delta sin(2 pi x/lam) + Omega^2 (x - v "
                 "t) = 0 from x = x' = 0 and analyse the stick-slip motion (slips, static and "
                 "kinetic friction, dissipation, energy audit).  Defaults as in the paper: mu = "
-                "0.1, Omega = 1, lam = 1.")
-    p.add_argument("model", choices=["sedf", "cdc", "sedf_comoving"],
-                   help="sedf (eq. 3), cdc (eq. 12) or sedf_comoving (self-excitation attached "
-                        "to the stage)")
-    add_param_option(p)
-    p.add_argument("--t-end", type=float, required=True, help="final time T > 0")
-    add_options(p, "rtol", "json")
+                "0.1, Omega = 1, lam = 1.", "model", "param", "t_end", "rtol", "json",
+                model=dict(nargs=None, choices=["sedf", "cdc", "sedf_comoving"],
+                           help="sedf (eq. 3), cdc (eq. 12) or sedf_comoving (self-excitation "
+                                "attached to the stage)"),
+                t_end=dict(required=True, help="final time T > 0"))
     p.set_defaults(func=run)
 
 
@@ -37,8 +35,7 @@ def run(args: argparse.Namespace) -> int:
     a = analyze(res)
     data = a.to_json()
     if args.json:
-        emit_json(data)
-        return 0
+        return emit_json(data)
     print(f"{args.model} pulled at v = {res.params.get('v', 0):g} up to t = {args.t_end:g} "
           f"({', '.join(f'{k}={v:g}' for k, v in sorted(res.params.items()))})")
     print(f"  peak force {a.peak_force:.6g}, mean (kinetic) force {a.kinetic_friction:.6g}")

@@ -11,8 +11,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from kbm.cli._common import add_model_arguments, add_options, emit_json, write_json
-from numerics.cli._options import add_ensemble_arguments, command
+from kbm.cli._common import emit_json, write_json
+from kbm.errors import ParameterError
+from numerics.cli._options import command, options
 
 
 def register(sub) -> None:
@@ -23,14 +24,12 @@ def register(sub) -> None:
                 "stochastic averaging and from an ensemble of Langevin trajectories (Welch PSD "
                 "with a confidence band, phase-variance growth, one seed per trajectory spawned "
                 "from --seed); for a forced model the noise spectra about its stable states; for "
-                "coupled oscillators the phase-slip rate.")
-    add_model_arguments(p, "vdp, rayleigh, sedf, ...; forced: duffing-forced, ...; coupled: "
-                           "coupled-vdp", coupled=True)
-    add_options(p, "param", "vary", vary=dict(
+                "coupled oscillators the phase-slip rate.", "param", "vary", "trajectories",
+                models="vdp, rayleigh, sedf, ...; forced: duffing-forced, ...; coupled: "
+                       "coupled-vdp", coupled=True, vary=dict(
         metavar="NAME=FROM:TO[:N]",
         help="forced: the detuning (e.g. sigma=0.5:1.5); coupled: the detuning; self-excited: "
-             "D (or T), one run per value (the linewidth-vs-D figure)"))
-    add_ensemble_arguments(p, "trajectories", trajectories=dict(
+             "D (or T), one run per value (the linewidth-vs-D figure)"), trajectories=dict(
         help="independent trajectories (default 64 self-excited, 32 otherwise; at least 8)"))
     p.add_argument("--duration", type=float, default=None, metavar="T",
                    help="recorded time per trajectory (default: enough for a resolution of a "
@@ -38,7 +37,7 @@ def register(sub) -> None:
     p.add_argument("--resolution", type=float, default=None, metavar="W",
                    help="self-excited: angular resolution of the PSD (default: the averaged "
                         "HWHM/4); a --duration shorter than 2 pi/W is refused")
-    add_ensemble_arguments(p, "seed", "workers", "store", "resume")
+    options(p, "seed", "workers", "store", "resume")
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the averaging (default 1; 2 adds the second-order KBM rates "
                         "mu^2 A_2, mu^2 B_2 and the O(mu) correction of the phase response "
@@ -47,9 +46,8 @@ def register(sub) -> None:
                    help="self-excited: add the small-noise linewidth D <Z_v^2> and frequency "
                         "of the true cycle (phase response by the adjoint Floquet problem; "
                         "exact in mu, first order in D)")
-    p.add_argument("--no-simulation", action="store_true",
-                   help="self-excited: the averaged line alone (simulated entries null)")
-    add_options(p, "json", "out", out=dict(
+    options(p, "no_simulation", "json", "out", no_simulation=dict(
+        help="self-excited: the averaged line alone (simulated entries null)"), out=dict(
         help="write spectrum-NAME-psd.png, spectrum-NAME-linewidth.png and the JSON"))
     p.set_defaults(func=run)
 
@@ -82,10 +80,9 @@ def _bind(args):
     import math
 
     from kbm.cli._common import check_model_flags
-    from kbm.errors import ParameterError
     from kbm.models import custom_model
     from kbm.values import parameter_value
-    from numerics.cli._params import check, given, noise_params, noisy_model, parse_vary
+    from numerics.cli._params import noisy_model, parse_vary, without_noise
 
     check_model_flags(args)
     if len(args.vary) > 1:
@@ -95,16 +92,10 @@ def _bind(args):
         raise ParameterError(f"--vary {vary.name}: a self-excited model's spectrum varies the "
                              "noise only: --vary D=FROM:TO[:N] or --vary T=FROM:TO[:N]")
     items = list(args.param) + ([f"{vary.name}={float(vary.values(3)[0])!r}"] if vary else [])
-    if args.rhs:
-        model = custom_model(args.rhs[0], omega0=1 if args.omega0 is None else args.omega0)
-        params = given(items)
-        check(model, params, noise=True)
-        params, noise = noise_params(params)
-    else:
-        model = args.model
-        params, noise = noisy_model(model, items)
-    params = dict(params)
-    D0 = float(parameter_value("D", params.pop("D")))
+    model = custom_model(args.rhs[0], omega0=1 if args.omega0 is None else args.omega0) \
+        if args.rhs else args.model
+    params, noise = noisy_model(model, items)
+    params, D0 = without_noise(params)
     if "mu" not in params:
         raise ParameterError("give the small parameter: -p mu=VALUE")
     mu = float(parameter_value("mu", params["mu"]))
@@ -153,8 +144,7 @@ def run(args) -> int:
         rep["figures"] = [str(p) for p in write_figures(reports, out, name)]
         write_json(out / f"spectrum-{name}.json", rep)
     if args.json:
-        emit_json(rep)
-        return 0
+        return emit_json(rep)
     _print(rep, reports)
     return 0
 

@@ -60,10 +60,10 @@ def _num(value, fmt="#.6g") -> str:
 def run(args) -> int:
     from numerics.cli._options import check_ensemble, stored
     from numerics.cli._params import given, noisy_model
-    from numerics.thermal.stationary import noise_report
 
     check_ensemble(args)
     params, noise = noisy_model(args.model, args.param)
+    from numerics.thermal.stationary import noise_report  # after the input is checked
     figure = None
     if args.out:
         out = Path(args.out)

@@ -1,0 +1,97 @@
+"""Where ``kbm lock`` starts to follow the locked state: a value inside the asked interval.
+
+The edges of locking are found by following the locked state out from one value of the
+followed parameter in both directions (:mod:`numerics.coupled.locking`).  That value must
+lie in the interval the user asked for, and the state must be locked there:
+
+- a detuning whose interval holds 0 starts at 0, the symmetric point of a 1:1 tongue
+  (``coupled-vdp``'s ``--vary sigma=-1:1``: the same edges as ever);
+- otherwise (an interval that excludes 0, or a parameter that is no detuning, e.g. the
+  ``beta`` of ``sedf-dimer``, for which 0 is meaningless) the middle of the interval, then
+  the points of a grid over it by their distance from the middle, the ends last: the first
+  at which the averaged slow flow has a *stable* locked fixed point.
+
+Each side is followed only up to its own end of the interval (:func:`side_limits`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+
+import numpy as np
+
+from kbm.coupled import CoupledOscillators
+from numerics.errors import NoCycleError
+from .flow import bind_coupled
+from .slow_flow import _newton, _slow_flow, _split
+
+__all__ = ["start_values", "side_limits", "first_locked", "locked_start", "GRID_POINTS"]
+
+#: points of the grid over the asked interval at which a locked state is looked for
+GRID_POINTS = 9
+
+
+def start_values(lo: float, hi: float, points: int = GRID_POINTS) -> list[float]:
+    """The values of the followed parameter tried as the start, in order: 0 when inside
+    ``[lo, hi]``, then the middle, then a ``points``-point grid over ``[lo, hi]`` by distance
+    from the middle (the lower first of two at the same distance)."""
+    lo, hi = float(lo), float(hi)
+    grid = [lo + (hi - lo) * k / (points - 1) for k in range(points)]
+    mid = 0.5 * (lo + hi)
+    out = [0.0] if lo <= 0.0 <= hi else []
+    for s in [mid, *sorted(grid, key=lambda s: (abs(s - mid), s))]:
+        if all(s != t for t in out):
+            out.append(s)
+    return out
+
+
+def side_limits(at: float, lo: float, hi: float) -> dict[int, float]:
+    """How far the state is followed from ``at`` on each side (-1, +1): to the interval's
+    end on that side (0 on a side where ``at`` is the end)."""
+    return {-1: max(float(at) - float(lo), 0.0), 1: max(float(hi) - float(at), 0.0)}
+
+
+def first_locked(f: Callable, jac: Callable, y0: np.ndarray, values: list[float], mu: float,
+                 dof: int) -> tuple[float, np.ndarray] | None:
+    """The first of ``values`` at which Newton from ``y0`` finds a stable fixed point of the
+    slow flow ``f(y, s, mu)`` (its amplitudes ``y[:dof]`` positive, every eigenvalue of
+    ``jac`` in the left half-plane), with that point; ``None`` if there is none."""
+    for s in values:
+        y = _newton(f, jac, np.asarray(y0, dtype=float), float(s), mu)
+        if y is None or not np.all(y[:dof] > 0):
+            continue
+        J = np.asarray(jac(y, float(s), mu), dtype=float)
+        if np.all(np.isfinite(J)) and np.all(np.linalg.eigvals(J).real < 0):
+            return float(s), y
+    return None
+
+
+def locked_start(model: CoupledOscillators, params: Mapping[str, object], order: int,
+                 parameter: str, span: tuple[float, float], where: str = "") -> float:
+    """The value of ``parameter`` in ``span`` that the locked state is followed from: the
+    first of :func:`numerics.coupled.lock_start.start_values` at which the order-``order``
+    slow flow has a stable locked fixed point near the in-phase state ``a_i = 2``,
+    ``gamma = 0`` (``where`` names the coupling value for the message).
+
+    Raises
+    ------
+    numerics.errors.NoCycleError
+        If there is none: the message gives the interval and the values tried in
+        ``--vary``/``-p`` terms.
+    """
+    lo, hi = span
+    tried = start_values(lo, hi)
+    model, values = bind_coupled(model, {**dict(params), parameter: tried[0]})
+    mu = values["mu"]
+    f, jac, m = _slow_flow(model, order, _split(model, values, parameter), parameter)
+    y0 = np.array([2.0] * model.dof + [0.0] * (m - model.dof))
+    got = first_locked(f, jac, y0, tried, mu, model.dof)
+    if got is None:
+        at = ", ".join(f"{s:g}" for s in sorted(tried))
+        raise NoCycleError(f"no locked state of {model.name} for {parameter} in [{lo:g}, "
+                           f"{hi:g}] (--vary {parameter}={lo:g}:{hi:g}"
+                           + (f", {where}" if where else "") + f", mu = {mu:g}): the "
+                           f"order-{order} slow flow has no stable locked state at "
+                           f"{parameter} = {at}; ask another interval of {parameter}"
+                           + (" or other coupling values" if where else ""))
+    return got[0]

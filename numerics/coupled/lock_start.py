@@ -25,10 +25,16 @@ from numerics.errors import NoCycleError
 from .flow import bind_coupled
 from .slow_flow import _newton, _slow_flow, _split
 
-__all__ = ["start_values", "side_limits", "first_locked", "locked_start", "GRID_POINTS"]
+__all__ = ["start_values", "side_limits", "first_locked", "locked_start", "GRID_POINTS",
+           "STABILITY_MARGIN"]
 
 #: points of the grid over the asked interval at which a locked state is looked for
 GRID_POINTS = 9
+
+#: the start's eigenvalues have real parts below ``-STABILITY_MARGIN`` times the largest
+#: modulus: a point on the slow flow's fold (an eigenvalue 0 to rounding, e.g.
+#: ``coupled-vdp``'s order-1 edge ``sigma = c`` on the grid) is no start
+STABILITY_MARGIN = 1e-6
 
 
 def start_values(lo: float, hi: float, points: int = GRID_POINTS) -> list[float]:
@@ -55,13 +61,17 @@ def first_locked(f: Callable, jac: Callable, y0: np.ndarray, values: list[float]
                  dof: int) -> tuple[float, np.ndarray] | None:
     """The first of ``values`` at which Newton from ``y0`` finds a stable fixed point of the
     slow flow ``f(y, s, mu)`` (its amplitudes ``y[:dof]`` positive, every eigenvalue of
-    ``jac`` in the left half-plane), with that point; ``None`` if there is none."""
+    ``jac`` in the left half-plane by :data:`STABILITY_MARGIN`), with that point; ``None``
+    if there is none."""
     for s in values:
         y = _newton(f, jac, np.asarray(y0, dtype=float), float(s), mu)
         if y is None or not np.all(y[:dof] > 0):
             continue
         J = np.asarray(jac(y, float(s), mu), dtype=float)
-        if np.all(np.isfinite(J)) and np.all(np.linalg.eigvals(J).real < 0):
+        if not np.all(np.isfinite(J)):
+            continue
+        ev = np.linalg.eigvals(J)
+        if np.max(ev.real) < -STABILITY_MARGIN * np.max(np.abs(ev)):
             return float(s), y
     return None
 

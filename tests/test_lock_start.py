@@ -19,6 +19,7 @@ state ... at beta = 0", outside the interval asked for.  The references:
 from __future__ import annotations
 
 import contextlib
+import functools
 import io
 import math
 
@@ -28,7 +29,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from numerics.cli import main
-from numerics.coupled.lock_start import side_limits, start_values
+from kbm.coupled import get_coupled_model
+from kbm.errors import ParameterError
+from numerics.coupled.lock_start import FollowedAxis, side_limits, start_values
 from numerics.coupled.locking import locking_region
 
 #: the true upper edge of coupled-vdp at mu = 0.08, c = 0.2 by scipy (the reference of
@@ -125,6 +128,59 @@ def test_sedf_dimer_edge_in_beta_against_the_difference_mode():
     assert abs(root - edge) < 1e-6, (edge, root)
     # the averaged order-1 edge (0.71983) is within O(mu) of it
     assert abs(r.averaged[1][0][1] - edge) < 0.05
+
+
+@functools.lru_cache(maxsize=None)
+def _dimer_axis(user: str, lo: float, hi: float) -> FollowedAxis:
+    return FollowedAxis.of(get_coupled_model("sedf-dimer"), {"mu": "0.1"}, user, lo, hi)
+
+
+def test_physical_axis_is_the_scaled_one_over_the_mapped_interval():
+    """``--vary Delta`` and ``--vary lam`` of the sliders are followed as ``delta = Delta/mu``
+    and ``k = 2 pi/lam`` (the model's physical map) over the mapped interval; a model's own
+    name is followed as it is; a map with a pole in the interval, or without mu, is
+    refused in command-line terms."""
+    dimer = get_coupled_model("sedf-dimer")
+    ax = _dimer_axis("Delta", -0.1, 0.5)
+    assert ax.name == "delta" and ax.span == pytest.approx((-1.0, 5.0), abs=1e-15)
+    ax = _dimer_axis("lam", 0.2, 5.0)
+    assert ax.name == "k" and ax.span == pytest.approx((2 * math.pi / 5, 2 * math.pi / 0.2))
+    assert FollowedAxis.of(dimer, {}, "beta", 0.5, 1.5).to_user(0.75) == 0.75
+    with pytest.raises(ParameterError, match=r"--vary lam=-1:1"):
+        FollowedAxis.of(dimer, {"mu": "0.1"}, "lam", -1, 1)
+    with pytest.raises(ParameterError, match=r"-p mu=VALUE"):
+        FollowedAxis.of(dimer, {}, "Delta", 0.1, 1)
+
+
+@settings(max_examples=100, deadline=None)
+@given(x=st.floats(0.2, 5.0))
+def test_physical_axis_maps_back(x):
+    """A value found in the scaled parameter maps back to the physical one: Delta = mu
+    delta, lam = 2 pi/k, the error by the derivative (|d lam/dk| = lam^2/(2 pi))."""
+    assert _dimer_axis("Delta", -0.1, 0.5).to_user(x) == pytest.approx(0.1 * x, rel=1e-13)
+    lam = _dimer_axis("lam", 0.2, 5.0)
+    assert lam.to_user(2 * math.pi / x) == pytest.approx(x, rel=1e-13)
+    assert lam.error(2 * math.pi / x, 1e-8) == pytest.approx(x * x / (2 * math.pi) * 1e-8,
+                                                             rel=1e-4)
+
+
+def test_sedf_dimer_edge_in_physical_delta_against_the_difference_mode():
+    """``--vary Delta`` (physical) was followed as a name the slow flow does not hold: no
+    edge was ever found.  On [-0.1, -0.03] at kappa = 0.5 the in-phase state is lost where
+    the difference mode's multiplier crosses +1 (scipy at delta = Delta/mu), to 1e-6 in
+    Delta."""
+    mu, kappa = 0.1, 0.5
+    r = locking_region("sedf-dimer", {"mu": mu, "kappa": kappa}, ("Delta", -0.1, -0.03),
+                       None, (1,), 1e-7)
+    assert r.detuning == "Delta" and -0.1 <= r.starts[0] <= -0.03
+    assert len(r.true) == 1 and len(r.averaged[1]) == 1
+    edge = r.true[0][1]  # measured: -0.04273894119, scipy root -0.04273894129
+    h = 1e-5
+    m_in, m_out = (_difference_mode_multiplier(1.0, mu, D / mu, 2 * math.pi, kappa)
+                   for D in (edge + h, edge - h))
+    assert m_in < 1 < m_out
+    root = edge + h - 2 * h * (m_in - 1) / (m_in - m_out)
+    assert abs(root - edge) < 1e-6, (edge, root)
 
 
 def _kbm(*args: str) -> tuple[int, str, str]:

@@ -28,12 +28,12 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from kbm.coupled import CoupledOscillators
+from kbm.coupled import CoupledOscillators, get_coupled_model
 from kbm.errors import ParameterError
 from numerics.errors import NoCycleError
 from .flow import bind_coupled
 from .fold import LockingEdge, true_edges
-from .lock_start import locked_start, side_limits, start_values
+from .lock_start import FollowedAxis, locked_start, side_limits, start_values
 from .slow_flow import _newton, _slow_flow, _split  # noqa: F401 - _slow_flow: tests
 
 __all__ = ["LockingEdge", "LockingRegion", "averaged_edges", "true_edges", "amplitude_death",
@@ -241,7 +241,9 @@ def locking_region(model: CoupledOscillators | str, params: Mapping[str, object]
     numerics.errors.NoCycleError
         If at a coupling value no stable locked state exists anywhere in ``[lo, hi]``.
     """
-    name, lo, hi = detuning
+    model = get_coupled_model(model) if isinstance(model, str) else model
+    axis = FollowedAxis.of(model, params, *detuning)  # Delta, lam: as delta, k
+    name, (lo, hi) = axis.name, axis.span
     bound, values = bind_coupled(model, {**dict(params), name: start_values(lo, hi)[0]})
     check_lockable(bound)
     if coupling is None:  # a coupling among the model's own names (the sliders' k = 2 pi/lam
@@ -259,23 +261,24 @@ def locking_region(model: CoupledOscillators | str, params: Mapping[str, object]
         if cname:
             p[cname] = cv
         at = locked_start(bound, p, min(orders), name, (lo, hi),
-                          f"{cname} = {cv:g}" if cname and coupling is not None else "")
+                          f"{cname} = {cv:g}" if cname and coupling is not None else "",
+                          axis)
         limits = side_limits(at, lo, hi)
-        starts.append(at)
+        starts.append(axis.to_user(at))
         guess = {}
         for n in orders:
-            for e in averaged_edges(bound, p, n, name, at=at, limits=limits):
-                if lo <= e.sigma <= hi:
-                    averaged[n].append((cv, e.sigma))
-                    guess[e.side] = e.sigma
-        for e in true_edges(bound, p, name, tol=tol, guess=guess or None, at=at,
-                            limits=limits):
-            if lo <= e.sigma <= hi:
-                true.append((cv, e.sigma))
-                errors.append(e.error)
+            got = [e for e in averaged_edges(bound, p, n, name, at=at, limits=limits)
+                   if lo <= e.sigma <= hi]
+            guess.update({e.side: e.sigma for e in got})
+            averaged[n] += sorted((cv, axis.to_user(e.sigma)) for e in got)
+        for s, err in sorted((axis.to_user(e.sigma), axis.error(e.sigma, e.error))
+                             for e in true_edges(bound, p, name, tol=tol, guess=guess or None,
+                                                 at=at, limits=limits) if lo <= e.sigma <= hi):
+            true.append((cv, s))
+            errors.append(err)
         death.append({"coupling": cv, **amplitude_death(bound, {**p, name: at})})
-    return LockingRegion(bound.name, {k: v for k, v in values.items() if k != name}, name,
-                         cname, averaged, true, errors, death, tuple(starts))
+    return LockingRegion(bound.name, {k: v for k, v in values.items() if k != name},
+                         axis.user, cname, averaged, true, errors, death, tuple(starts))
 
 
 def plot_locking(region: LockingRegion, path) -> "object":

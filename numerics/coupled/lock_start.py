@@ -156,7 +156,10 @@ class FollowedAxis:
         if len(maps) != 1:
             raise ParameterError(f"kbm lock follows one of the parameters of {model.name!r} "
                                  f"({', '.join(sorted(model.parameters))}); {user} sets "
-                                 f"{len(maps)} of them: vary one of those instead")
+                                 f"{len(maps)} of them: vary one of those instead"
+                                 if maps else f"{user!r} is not a parameter of "
+                                 f"{model.name!r}; its parameters are "
+                                 f"{', '.join(sorted(model.parameters))}")
         (name, expr), = maps.items()
         rule = f"{name} = {sp.sstr(expr)}"
         others = {x.name for x in expr.free_symbols} - {user}

@@ -110,9 +110,9 @@ def run(args: argparse.Namespace) -> int:
             row.append(f"order {n} " + ", ".join(f"{s:+.8f}" for c, s in pts if c == cv))
         row.append("true " + ", ".join(f"{s:+.8f}" for c, s in region.true if c == cv))
         print("  ".join(row))
-    for d in region.death:
+    for d, at in zip(region.death, region.starts):
         print(f"  amplitude death at {region.coupling} = {d['coupling']:g}, "
-              f"{region.detuning} = 0: {'yes' if d['dead'] else 'no'} (largest real part of "
+              f"{region.detuning} = {at:g}: {'yes' if d['dead'] else 'no'} (largest real part of "
               f"the origin's eigenvalues {d['eigenvalues'][0][0]:+.4g})")
     if args.out:
         print(f"wrote {args.out}/lock.json and {args.out}/lock.png")

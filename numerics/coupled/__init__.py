@@ -8,7 +8,10 @@ and the locking of self-excited oscillators.
   its corrector in :mod:`numerics.shooting.branch_problem`, the records in
   :mod:`numerics.shooting.branch_result`); :mod:`numerics.coupled.fold`
   the fold of a branch near a cycle (the true locking edges of
-  :mod:`numerics.coupled.locking`).
+  :mod:`numerics.coupled.locking`);
+- :mod:`numerics.coupled.slow_flow`: the averaged slow flow as numbers and Newton on its
+  locked states; :mod:`numerics.coupled.lock_start`: the value inside the asked interval
+  that ``kbm lock`` follows the locked state from, and a physical name's axis.
 """
 
 from .cycle import CoupledCycle, ForcedCoupledResponse, coupled_cycle, forced_response

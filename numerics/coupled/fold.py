@@ -134,21 +134,25 @@ class LockingEdge:
 
 def true_edges(model: CoupledOscillators | str, params: Mapping[str, object],
                parameter: str = "sigma", limit: float = 10.0, tol: float = 1e-5,
-               guess: Mapping[int, float] | None = None) -> list[LockingEdge]:
+               guess: Mapping[int, float] | None = None, *, at: float = 0.0,
+               limits: Mapping[int, float] | None = None) -> list[LockingEdge]:
     """The edges of locking of the full system: where the locked cycle ceases to exist.
 
-    ``guess`` maps a side (-1, +1) to an estimate of its edge (e.g. the averaged one); the
-    continuation then takes large steps up to 90 % of it.
+    The locked cycle is followed from ``parameter = at`` (default 0), on each side up to
+    ``limits[side]`` from it (default ``limit`` on both).  ``guess`` maps a side (-1, +1) to
+    an estimate of its edge (e.g. the averaged one); the continuation then takes large steps
+    up to 90 % of the way to it.
 
     Raises
     ------
     numerics.errors.NoCycleError, numerics.errors.ConvergenceError
-        If there is no locked cycle at ``sigma = 0``.
+        If there is no locked cycle at ``parameter = at``.
     """
-    p0 = {**dict(params), parameter: 0}
+    p0 = {**dict(params), parameter: at}
     base = coupled_cycle(model, p0)
-    return [_true_edge(model, params, parameter, base, side, limit, tol,
-                       (guess or {}).get(side)) for side in (-1, 1)]
+    lim = {-1: limit, 1: limit} if limits is None else limits
+    return [_true_edge(model, params, parameter, base, side, lim[side], tol,
+                       (guess or {}).get(side), float(at)) for side in (-1, 1)]
 
 
 def _shoot(model, params, parameter, s, cyc):
@@ -159,11 +163,12 @@ def _shoot(model, params, parameter, s, cyc):
         return None  # no locked cycle found there (Newton left it, or the orbit ran away)
 
 
-def _true_edge(model, params, parameter, base, side, limit, tol, guess) -> LockingEdge:
-    s, cyc = 0.0, base
-    step = 0.02 if guess is None else max(0.02, 0.3 * abs(guess))
+def _true_edge(model, params, parameter, base, side, limit, tol, guess,
+               at: float = 0.0) -> LockingEdge:
+    s, cyc = at, base
+    step = 0.02 if guess is None else max(0.02, 0.3 * abs(guess - at))
     while True:
-        if abs(s) >= limit:
+        if abs(s - at) >= limit:
             return LockingEdge(math.copysign(math.inf, side), 0.0, side, tuple(cyc.state))
         nxt = _shoot(model, params, parameter, s + side * step, cyc)
         if nxt is None or not nxt.stable:  # past the edge, or too long a step for Newton

@@ -28,118 +28,22 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from kbm.coupled import CoupledOscillators, amplitudes, derive_coupled, numeric_average
-from kbm.errors import ParameterError, ResolutionError, UnsupportedTermError
-from kbm.evaluate import numpy_array_function
-from numerics._memo import memo
+from kbm.coupled import CoupledOscillators, get_coupled_model
+from kbm.errors import ParameterError
 from numerics.errors import NoCycleError
 from .flow import bind_coupled
 from .fold import LockingEdge, true_edges
+from .lock_start import FollowedAxis, locked_start, side_limits, start_values
+from .slow_flow import _newton, _slow_flow, _split  # noqa: F401 - _slow_flow: tests
 
 __all__ = ["LockingEdge", "LockingRegion", "averaged_edges", "true_edges", "amplitude_death",
-           "locking_region", "plot_locking", "check_lockable"]
-
-
-@memo(maxsize=16)
-def _slow_flow(model: CoupledOscillators, order: int, fixed: tuple, parameter: str):
-    """Lambdified slow flow ``f(y, sigma, mu)`` and its Jacobian in ``y`` (memoised: time).
-
-    For a right-hand side that the exact engine does not take (``sin``, ``tanh`` coupling),
-    the flow comes from the numeric backend (:func:`kbm.coupled.numeric_average`: the FFT
-    average at order 1, the recursion on jets above, :mod:`kbm.coupled.jets`), its
-    Jacobian by central differences."""
-    try:
-        res = derive_coupled(model, order, dict(fixed))
-    except UnsupportedTermError:
-        from kbm.coupled.jets import MAX_ORDER_JETS
-
-        if order > MAX_ORDER_JETS:
-            raise ParameterError(f"the averaged flow of {model.name!r} (F not polynomial) "
-                                 f"comes from the numeric backend, orders 1 to "
-                                 f"{MAX_ORDER_JETS}; ask --order {MAX_ORDER_JETS} at most, not "
-                                 f"{order}") from None
-        return _numeric_flow(model, dict(fixed), parameter, order)
-    rates = res.slow_flow()
-    state = [*amplitudes(model.dof), *[g for g, _ in res.gammas]]
-    mu, s = sp.Symbol("mu"), sp.Symbol(parameter)
-    J = sp.Matrix(rates).jacobian(state)
-    # the one lambdify path of KBM expressions: besselj (the potential's sin k x) to scipy
-    f = numpy_array_function(list(rates), [state, s, mu])
-    jac = numpy_array_function(J.tolist(), [state, s, mu])
-    return f, jac, len(state)
-
-
-def _numeric_flow(model: CoupledOscillators, fixed: dict, parameter: str, order: int = 1):
-    n = model.dof
-    base = numeric_average(model, {**{k: float(v) for k, v in fixed.items()}, parameter: 0.0})
-    m = n + len(base.gammas)
-
-    last: dict = {}
-
-    def both(y, s, mu):
-        """The flow and its Jacobian from one expansion with the jets' derivatives
-        (kbm.coupled.jets; the last point kept: Newton asks for both at the same point)."""
-        key = (tuple(y), float(s), float(mu))
-        if key not in last:
-            last.clear()
-            try:
-                last[key] = base.at(**{parameter: float(s)}).slow_flow_jacobian(
-                    mu, y[:n], y[n:], order)
-            except ResolutionError:  # Newton wandered to amplitudes F cannot be averaged at
-                last[key] = (np.full(m, np.nan), np.full((m, m), np.nan))
-        return last[key]
-
-    def f(y, s, mu):
-        y = np.asarray(y, dtype=float)
-        if np.any(y[:n] <= 0):
-            return np.full(m, np.nan)
-        if order > 1:
-            return both(y, s, mu)[0]
-        return base.at(**{parameter: float(s)}).slow_flow(mu, y[:n], y[n:])
-
-    def jac(y, s, mu):
-        y = np.asarray(y, dtype=float)
-        if order > 1:  # the jets' derivatives, no differences
-            if np.any(y[:n] <= 0):
-                return np.full((m, m), np.nan)
-            return both(y, s, mu)[1]
-        J = np.empty((m, m))
-        for k in range(m):
-            h = 1e-6 * max(1.0, abs(y[k]))
-            yp, ym = y.copy(), y.copy()
-            yp[k] += h
-            ym[k] -= h
-            J[:, k] = (f(yp, s, mu) - f(ym, s, mu)) / (2 * h)
-        return J
-
-    return f, jac, m
-
-
-def _newton(f, jac, y, s, mu, tol=1e-13, it=40):
-    for _ in range(it):
-        r = np.asarray(f(y, s, mu), dtype=float)
-        J = np.asarray(jac(y, s, mu), dtype=float)
-        try:
-            dy = np.linalg.solve(J, -r)
-        except np.linalg.LinAlgError:
-            return None
-        y = y + dy
-        if not np.all(np.isfinite(y)):
-            return None
-        if np.max(np.abs(dy)) < tol:
-            return y
-    return None
-
-
-def _split(model: CoupledOscillators, values: Mapping[str, float], parameter: str):
-    fixed = tuple(sorted((k, sp.nsimplify(v, rational=True)) for k, v in values.items()
-                         if k not in (parameter, "mu")))
-    return fixed
+           "locking_region", "locked_start", "plot_locking", "check_lockable"]
 
 
 def averaged_edges(model: CoupledOscillators | str, params: Mapping[str, object], order: int,
                    parameter: str = "sigma", limit: float = 10.0, start=None,
-                   at: float = 0.0) -> list[LockingEdge]:
+                   at: float = 0.0, limits: Mapping[int, float] | None = None
+                   ) -> list[LockingEdge]:
     """The edges ``sigma_-`` and ``sigma_+`` of locking from the order-``order`` slow flow.
 
     Parameters
@@ -160,6 +64,10 @@ def averaged_edges(model: CoupledOscillators | str, params: Mapping[str, object]
     at
         The value of ``parameter`` the locked state is followed from (default 0; a
         parameter that is no detuning, e.g. a coupling, from inside its range).
+    limits
+        ``{-1: d_minus, 1: d_plus}``: how far each side is followed from ``at`` (the ends
+        of an interval, :func:`numerics.coupled.lock_start.side_limits`); default
+        ``limit`` on both.
 
     Raises
     ------
@@ -176,7 +84,8 @@ def averaged_edges(model: CoupledOscillators | str, params: Mapping[str, object]
         near = ", ".join(f"{float(v):g}" for v in y0)
         raise NoCycleError(f"the order-{order} slow flow of {model.name} has no locked state "
                            f"near (a, gamma) = ({near}) at {parameter} = {float(at):g}")
-    return [_averaged_edge(f, jac, y, side, mu, limit, float(at)) for side in (-1, 1)]
+    lim = {-1: limit, 1: limit} if limits is None else limits
+    return [_averaged_edge(f, jac, y, side, mu, lim[side], float(at)) for side in (-1, 1)]
 
 
 def _averaged_edge(f, jac, y, side, mu, limit, at=0.0) -> LockingEdge:
@@ -272,8 +181,9 @@ class LockingRegion:
     """The locking region in ``(c, sigma)``: averaged edges per order and the true ones.
 
     ``averaged[n]`` and ``true`` are lists of ``(c, sigma)`` pairs, both edges at every
-    ``c``; ``errors`` the true edges' bisection brackets; ``death`` the origin's
-    linearisation at each ``c`` and ``sigma = 0``.
+    ``c``; ``errors`` the true edges' bisection brackets; ``starts`` the value of ``sigma``
+    the locked state was followed from at each ``c`` (0 when the interval holds it);
+    ``death`` the origin's linearisation at each ``c`` and that ``sigma``.
     """
 
     model: str
@@ -284,6 +194,7 @@ class LockingRegion:
     true: list
     errors: list
     death: list
+    starts: tuple = ()
 
     def to_json(self) -> dict:
         return {
@@ -302,6 +213,11 @@ def locking_region(model: CoupledOscillators | str, params: Mapping[str, object]
                    orders: tuple[int, ...] = (1, 2), tol: float = 1e-7) -> LockingRegion:
     """Both edges of the locking region at every coupling value, averaged and true.
 
+    At each coupling value the locked state is followed from a value of the detuning inside
+    ``[lo, hi]`` (:func:`locked_start`: 0 when the interval holds it, else the first value
+    from its middle out at which the lowest order's slow flow has a stable locked state),
+    each side up to its end of the interval.
+
     Parameters
     ----------
     model
@@ -309,7 +225,8 @@ def locking_region(model: CoupledOscillators | str, params: Mapping[str, object]
     params
         The other parameters and ``mu``.
     detuning
-        ``(name, lo, hi)``: the detuning and the interval its edges are looked for in.
+        ``(name, lo, hi)``: the parameter followed (a detuning, or any other, e.g. the
+        ``beta`` of ``sedf-dimer``) and the interval its edges are looked for in.
     coupling
         ``(name, values)``; ``None`` keeps it at its ``params`` value.
     orders
@@ -321,38 +238,47 @@ def locking_region(model: CoupledOscillators | str, params: Mapping[str, object]
     ------
     kbm.errors.ParameterError
         For a model without exactly one internal resonance, or an unknown name.
+    numerics.errors.NoCycleError
+        If at a coupling value no stable locked state exists anywhere in ``[lo, hi]``.
     """
-    name, lo, hi = detuning
-    bound, values = bind_coupled(model, {**dict(params), name: 0})
+    model = get_coupled_model(model) if isinstance(model, str) else model
+    axis = FollowedAxis.of(model, params, *detuning)  # Delta, lam: as delta, k
+    name, (lo, hi) = axis.name, axis.span
+    bound, values = bind_coupled(model, {**dict(params), name: start_values(lo, hi)[0]})
     check_lockable(bound)
-    if coupling is None:
-        cname = next((k for k in ("c", "k", "kappa") if k in bound.parameters and k != name),
-                     "")
+    if coupling is None:  # a coupling among the model's own names (the sliders' k = 2 pi/lam
+        cname = next((k for k in ("c", "k", "kappa")  # is their wavenumber, no coupling)
+                      if k in bound.parameters and k != name and k not in bound.physical), "")
         cvals = [values[cname]] if cname else [float("nan")]
     else:
         cname, cvals = coupling
         if cname not in bound.parameters:
             raise ParameterError(f"{cname!r} is not a parameter of {bound.name!r}")
-    limit = max(abs(lo), abs(hi))
     averaged: dict[int, list] = {n: [] for n in orders}
-    true, errors, death = [], [], []
+    true, errors, death, starts = [], [], [], []
     for cv in cvals:
         p = {**dict(params)}
         if cname:
             p[cname] = cv
+        at = locked_start(bound, p, min(orders), name, (lo, hi),
+                          f"{cname} = {cv:g}" if cname and coupling is not None else "",
+                          axis)
+        limits = side_limits(at, lo, hi)
+        starts.append(axis.to_user(at))
         guess = {}
         for n in orders:
-            for e in averaged_edges(bound, p, n, name, limit):
-                if lo <= e.sigma <= hi:
-                    averaged[n].append((cv, e.sigma))
-                    guess[e.side] = e.sigma
-        for e in true_edges(bound, p, name, limit, tol, guess or None):
-            if lo <= e.sigma <= hi:
-                true.append((cv, e.sigma))
-                errors.append(e.error)
-        death.append({"coupling": cv, **amplitude_death(bound, {**p, name: 0})})
-    return LockingRegion(bound.name, {k: v for k, v in values.items() if k != name}, name,
-                         cname, averaged, true, errors, death)
+            got = [e for e in averaged_edges(bound, p, n, name, at=at, limits=limits)
+                   if lo <= e.sigma <= hi]
+            guess.update({e.side: e.sigma for e in got})
+            averaged[n] += sorted((cv, axis.to_user(e.sigma)) for e in got)
+        for s, err in sorted((axis.to_user(e.sigma), axis.error(e.sigma, e.error))
+                             for e in true_edges(bound, p, name, tol=tol, guess=guess or None,
+                                                 at=at, limits=limits) if lo <= e.sigma <= hi):
+            true.append((cv, s))
+            errors.append(err)
+        death.append({"coupling": cv, **amplitude_death(bound, {**p, name: at})})
+    return LockingRegion(bound.name, {k: v for k, v in values.items() if k != name},
+                         axis.user, cname, averaged, true, errors, death, tuple(starts))
 
 
 def plot_locking(region: LockingRegion, path) -> "object":

@@ -1,0 +1,199 @@
+"""Where ``kbm lock`` starts to follow the locked state: a value inside the asked interval.
+
+The edges of locking are found by following the locked state out from one value of the
+followed parameter in both directions (:mod:`numerics.coupled.locking`).  That value must
+lie in the interval the user asked for, and the state must be locked there:
+
+- a detuning whose interval holds 0 starts at 0, the symmetric point of a 1:1 tongue
+  (``coupled-vdp``'s ``--vary sigma=-1:1``: the same edges as ever);
+- otherwise (an interval that excludes 0, or a parameter that is no detuning, e.g. the
+  ``beta`` of ``sedf-dimer``, for which 0 is meaningless) the middle of the interval, then
+  the points of a grid over it by their distance from the middle, the ends last: the first
+  at which the averaged slow flow has a *stable* locked fixed point.
+
+Each side is followed only up to its own end of the interval (:func:`side_limits`).
+
+A physical name on the command line (``--vary Delta=...`` or ``lam=...`` of the sliders,
+``delta = Delta/mu``, ``k = 2 pi/lam``) is followed as the model's own parameter over the
+mapped interval, and the edges are mapped back (:class:`FollowedAxis`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from kbm.coupled import CoupledOscillators
+from kbm.errors import ParameterError
+from numerics.errors import NoCycleError
+from .flow import bind_coupled
+from .slow_flow import _newton, _slow_flow, _split
+
+__all__ = ["start_values", "side_limits", "first_locked", "locked_start", "FollowedAxis",
+           "GRID_POINTS", "STABILITY_MARGIN"]
+
+#: points of the grid over the asked interval at which a locked state is looked for
+GRID_POINTS = 9
+
+#: the start's eigenvalues have real parts below ``-STABILITY_MARGIN`` times the largest
+#: modulus: a point on the slow flow's fold (an eigenvalue 0 to rounding, e.g.
+#: ``coupled-vdp``'s order-1 edge ``sigma = c`` on the grid) is no start
+STABILITY_MARGIN = 1e-6
+
+
+def start_values(lo: float, hi: float, points: int = GRID_POINTS) -> list[float]:
+    """The values of the followed parameter tried as the start, in order: 0 when inside
+    ``[lo, hi]``, then the middle, then a ``points``-point grid over ``[lo, hi]`` by distance
+    from the middle (the lower first of two at the same distance)."""
+    lo, hi = float(lo), float(hi)
+    grid = [lo + (hi - lo) * k / (points - 1) for k in range(points)]
+    mid = 0.5 * (lo + hi)
+    out = [0.0] if lo <= 0.0 <= hi else []
+    for s in [mid, *sorted(grid, key=lambda s: (abs(s - mid), s))]:
+        if all(s != t for t in out):
+            out.append(s)
+    return out
+
+
+def side_limits(at: float, lo: float, hi: float) -> dict[int, float]:
+    """How far the state is followed from ``at`` on each side (-1, +1): to the interval's
+    end on that side (0 on a side where ``at`` is the end)."""
+    return {-1: max(float(at) - float(lo), 0.0), 1: max(float(hi) - float(at), 0.0)}
+
+
+def first_locked(f: Callable, jac: Callable, y0: np.ndarray, values: list[float], mu: float,
+                 dof: int) -> tuple[float, np.ndarray] | None:
+    """The first of ``values`` at which Newton from ``y0`` finds a stable fixed point of the
+    slow flow ``f(y, s, mu)`` (its amplitudes ``y[:dof]`` positive, every eigenvalue of
+    ``jac`` in the left half-plane by :data:`STABILITY_MARGIN`), with that point; ``None``
+    if there is none."""
+    for s in values:
+        y = _newton(f, jac, np.asarray(y0, dtype=float), float(s), mu)
+        if y is None or not np.all(y[:dof] > 0):
+            continue
+        J = np.asarray(jac(y, float(s), mu), dtype=float)
+        if not np.all(np.isfinite(J)):
+            continue
+        ev = np.linalg.eigvals(J)
+        if np.max(ev.real) < -STABILITY_MARGIN * np.max(np.abs(ev)):
+            return float(s), y
+    return None
+
+
+def locked_start(model: CoupledOscillators, params: Mapping[str, object], order: int,
+                 parameter: str, span: tuple[float, float], where: str = "",
+                 axis: FollowedAxis | None = None) -> float:
+    """The value of ``parameter`` in ``span`` that the locked state is followed from: the
+    first of :func:`numerics.coupled.lock_start.start_values` at which the order-``order``
+    slow flow has a stable locked fixed point near the in-phase state ``a_i = 2``,
+    ``gamma = 0`` (``where`` names the coupling value, ``axis`` the user's name and
+    interval, for the message).
+
+    Raises
+    ------
+    numerics.errors.NoCycleError
+        If there is none: the message gives the interval and the values tried in
+        ``--vary``/``-p`` terms.
+    """
+    lo, hi = span
+    tried = start_values(lo, hi)
+    model, values = bind_coupled(model, {**dict(params), parameter: tried[0]})
+    mu = values["mu"]
+    f, jac, m = _slow_flow(model, order, _split(model, values, parameter), parameter)
+    y0 = np.array([2.0] * model.dof + [0.0] * (m - model.dof))
+    got = first_locked(f, jac, y0, tried, mu, model.dof)
+    if got is None:
+        ax = axis or FollowedAxis(parameter, lo, hi, parameter, (lo, hi))
+        at = ", ".join(f"{s:g}" for s in sorted(ax.to_user(s) for s in tried))
+        raise NoCycleError(f"no locked state of {model.name} for {ax.user} in [{ax.lo:g}, "
+                           f"{ax.hi:g}] (--vary {ax.user}={ax.lo:g}:{ax.hi:g}"
+                           + (f", {where}" if where else "") + f", mu = {mu:g}): the "
+                           f"order-{order} slow flow has no stable locked state at "
+                           f"{ax.user} = {at}; ask another interval of {ax.user}"
+                           + (" or other coupling values" if where else ""))
+    return got[0]
+
+
+def _float(x: float) -> float:
+    return float(x)
+
+
+@dataclass(frozen=True)
+class FollowedAxis:
+    """The parameter the user follows, ``user`` over ``[lo, hi]``, computed as the model's
+    own ``name`` over ``span``; ``to_user`` maps a value of ``name`` back (the identity when
+    ``user`` is the model's own name)."""
+
+    user: str
+    lo: float
+    hi: float
+    name: str
+    span: tuple[float, float]
+    to_user: Callable[[float], float] = _float
+
+    @classmethod
+    def of(cls, model: CoupledOscillators, params: Mapping[str, object], user: str,
+           lo: float, hi: float) -> "FollowedAxis":
+        """The axis of ``user`` for ``model`` with the other values ``params``.
+
+        Raises
+        ------
+        kbm.errors.ParameterError
+            For a physical name that sets no or several of the model's parameters, a map
+            input without a value, or a map that is not finite and monotone on ``[lo, hi]``.
+        """
+        import sympy as sp
+        from scipy.optimize import brentq
+
+        lo, hi = float(lo), float(hi)
+        if user in model.parameters or user == "mu":
+            return cls(user, lo, hi, user, (lo, hi))
+        maps = {k: sp.sympify(e) for k, e in model.physical.items()
+                if user in {x.name for x in sp.sympify(e).free_symbols}}
+        if len(maps) != 1:
+            raise ParameterError(f"kbm lock follows one of the parameters of {model.name!r} "
+                                 f"({', '.join(sorted(model.parameters))}); {user} sets "
+                                 f"{len(maps)} of them: vary one of those instead"
+                                 if maps else f"{user!r} is not a parameter of "
+                                 f"{model.name!r}; its parameters are "
+                                 f"{', '.join(sorted(model.parameters))}")
+        (name, expr), = maps.items()
+        rule = f"{name} = {sp.sstr(expr)}"
+        others = {x.name for x in expr.free_symbols} - {user}
+        missing = sorted(o for o in others if o not in params)
+        if missing:
+            raise ParameterError(f"{rule}: give -p {missing[0]}=VALUE to vary {user}")
+        g = sp.lambdify(sp.Symbol(user), expr.subs({sp.Symbol(o): sp.sympify(params[o])
+                                                     for o in others}), "math")
+        grid = np.linspace(lo, hi, 33)
+        try:
+            vals = np.array([float(g(float(x))) for x in grid])
+        except (ZeroDivisionError, ValueError, OverflowError):
+            vals = np.array([math.nan])
+        steps = np.diff(vals)
+        if not (np.all(np.isfinite(vals)) and (np.all(steps > 0) or np.all(steps < 0))):
+            raise ParameterError(f"{rule} is not finite and monotone for {user} in [{lo:g}, "
+                                 f"{hi:g}] (--vary {user}={lo:g}:{hi:g}): give an "
+                                 f"interval of {user} on one side of its poles")
+
+        def to_user(s: float) -> float:
+            if s == vals[0]:
+                return lo
+            if s == vals[-1]:
+                return hi
+            return float(brentq(lambda x: float(g(x)) - s, lo, hi, xtol=1e-15,
+                                rtol=4 * np.finfo(float).eps))
+
+        return cls(user, lo, hi, name, (float(min(vals[0], vals[-1])),
+                                        float(max(vals[0], vals[-1]))), to_user)
+
+    def error(self, s: float, err: float) -> float:
+        """An error ``err`` of ``name`` at ``s`` in the units of ``user``."""
+        if self.name == self.user:
+            return err
+        h = max(abs(err), 1e-9 * max(1.0, abs(s)))
+        a, b = max(s - h, self.span[0]), min(s + h, self.span[1])  # inside the map's domain
+        return abs(self.to_user(b) - self.to_user(a)) / (b - a) * abs(err)

@@ -51,6 +51,7 @@ from kbm.errors import ModelError, ParameterError
 from ._bases import cheb_mapped
 from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
 from ._fraction import EscapeFraction
+from ._rungs import FractionRungs
 from .kramers import _linear_temperature, kramers_operator, kramers_terms, velocity_terms
 
 __all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder",
@@ -295,22 +296,30 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
                      if n >= 8 * wb / gamma or n >= max_hermite)
         layer = math.sqrt(D / wb) / wb
         nc = max(nc, 2 * math.ceil(1.2 * half / layer))
-    memo, modes = {}, {}
-
-    def solve(n, nc, sharp=1):
-        if (n, nc, sharp) not in memo:
-            memo[n, nc, sharp] = _slowest(split, D, sigma, wells, half, n, nc,
-                                          kappa0 * (3 if sharp > 1 else 1), width / sharp,
-                                          solver="fraction" if linear else "block",
-                                          alpha=ALPHA if linear else 0.0,
-                                          modes=modes if linear else None)
-        return memo[n, nc, sharp]
-
+    memo = {}
     folds = abs(wells[0] + wells[1]) <= 1e-12 * wells[1]  # about: _slowest decides
 
     def fits(n, nc):
         m = nc // 2 + 1 if folds else nc + 1
         return (n * m * m if linear else 3 * n * nc * nc) <= 3 * max_cost
+
+    if linear:  # one factorisation per grid and sink, extended up the ladder (._rungs)
+        rungs = FractionRungs(split, sigma, gamma, wells, half,
+                              lambda xs, sharp: _sink(xs, wells, kappa0 * (3 if sharp > 1
+                                                                            else 1),
+                                                      width / sharp), ALPHA)
+
+    def solve(n, nc, sharp=1):
+        if (n, nc, sharp) not in memo:
+            if linear:
+                top = max([r for r in hermite_ladder(n, int(max_hermite)) if fits(r, nc)],
+                          default=n)
+                memo[n, nc, sharp] = rungs.rate(n, nc, sharp, capacity=top)
+            else:
+                memo[n, nc, sharp] = _slowest(split, D, sigma, wells, half, n, nc,
+                                              kappa0 * (3 if sharp > 1 else 1),
+                                              width / sharp, solver="block")
+        return memo[n, nc, sharp]
 
     grow = 1.2 if linear else 1.5
     table = []

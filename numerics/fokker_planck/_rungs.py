@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._bases import cheb_mapped
 from ._blocks import one_blas_thread
 from ._fraction import EscapeFraction, parity_maps
 
@@ -24,7 +23,7 @@ def chebyshev_interpolation(n_from: int, n_to: int) -> np.ndarray:
     Chebyshev-Gauss-Lobatto points ``cos(pi j/n_from)`` to ``cos(pi i/n_to)`` (the
     barycentric formula, Berrut and Trefethen, SIAM Rev. 46 (2004) 501, eq. 5.2; weights
     ``(-1)^j``, halved at the ends).  A map ``x(t)`` shared by both grids
-    (:func:`._bases.cheb_mapped`) leaves it unchanged."""
+    (:func:`._bases.cheb_centred`) leaves it unchanged."""
     t0 = np.cos(np.pi * np.arange(n_from + 1) / n_from)
     t1 = np.cos(np.pi * np.arange(n_to + 1) / n_to)
     w = (-1.0) ** np.arange(n_from + 1)
@@ -54,15 +53,17 @@ class FractionRungs:
         The half-width of the range.
     sink : callable
         ``sink(xs, sharp)``: the sink at the points (``sharp`` 1 or 2).
-    alpha : float
-        The Kosloff-Tal-Ezer parameter of the points.
+    points : callable
+        ``points(nc)``: ``(x, D)``, the ``nc + 1`` points (decreasing, symmetric for an
+        even potential) and their differentiation matrix, one map of the Chebyshev points
+        for every ``nc`` (:func:`._bases.cheb_centred`), so a mode moves from one grid to
+        another by polynomial interpolation in the Chebyshev variable.
     """
 
-    def __init__(self, split, sigma: float, gamma: float, wells, half: float, sink,
-                 alpha: float):
+    def __init__(self, split, sigma: float, gamma: float, wells, sink, points):
         self.g = split.numpy_functions()[0]
-        self.sigma, self.gamma, self.wells, self.half = sigma, gamma, wells, half
-        self.sink, self.alpha = sink, alpha
+        self.sigma, self.gamma, self.wells = sigma, gamma, wells
+        self.sink, self.points = sink, points
         self._key, self._frac = None, None
         self._modes = {}  # nc -> (fold, mode): the last slowest mode on each grid
 
@@ -72,7 +73,7 @@ class FractionRungs:
                 self._frac.extend(n)
             return self._frac
         self._key, self._frac = None, None  # freed before the next factorisation
-        xs, Dx = cheb_mapped(nc, self.half, self.alpha)
+        xs, Dx = self.points(nc)
         g = np.asarray(self.g(xs), float)
         w = self.wells
         fold = (abs(w[0] + w[1]) <= 1e-12 * w[1]

@@ -48,7 +48,7 @@ import scipy.sparse as sps
 from kbm.conservative import split_conservative
 from kbm.errors import ModelError, ParameterError
 
-from ._bases import cheb_mapped
+from ._bases import cheb_centred, cheb_mapped
 from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
 from ._fraction import EscapeFraction
 from ._rungs import FractionRungs
@@ -61,6 +61,18 @@ __all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder",
 #: (:func:`._bases.cheb_mapped`): at mu = 0.02 (docs/noise.rst) 288 mapped intervals give
 #: the rate to 1.3e-7, where plain Chebyshev points are 2.5e-6 off
 ALPHA = 0.9
+#: the weights of the saddles and of the sink's centres (the next wells' bottoms) in the map
+#: of the points for linear damping (:func:`._bases.cheb_centred`; widths half the saddles'
+#: distances from the bottom, and 2.5 sink widths): about three quarters of the points near
+#: the saddles, where the layer is sharpest, and enough at the sink to resolve the sharper
+#: one of ``sink_error``.  CDC Delta = 3, kT = 0.35, mu = 0.02, 2048 Hermite functions
+#: (docs/noise.rst): 214 intervals give the rates of both sinks to 7e-10 of the
+#: Kosloff-Tal-Ezer points' on 286 intervals (themselves 2e-8 from 344), where the
+#: Kosloff-Tal-Ezer points alone on 200 intervals are 5.4e-5 off
+SADDLES, WELLS = 1.0, 0.05
+#: the first number of position intervals for linear damping, in units of ``L/l``
+#: (``l`` the layer's width in ``x``, :func:`kramers_escape`)
+LAYER_INTERVALS = 2.0
 
 
 @dataclass(frozen=True)
@@ -252,8 +264,9 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         ``(D/omega_b)^(1/2) = sigma (gamma/omega_b)^(1/2)``, needs that many).
     n_cheb : int
         The smallest first number of Chebyshev intervals in the position (for linear
-        damping at least ``2.4 L/l``, ``l = (D/omega_b)^(1/2)/omega_b`` the layer's width
-        in ``x``): after the Hermite ladder the rate is recomputed on a finer grid (1.2
+        damping at least ``2 L/l`` (:data:`LAYER_INTERVALS`),
+        ``l = (D/omega_b)^(1/2)/omega_b`` the layer's width in ``x``, on points crowded at
+        the saddles, :func:`._bases.cheb_centred`): after the Hermite ladder the rate is recomputed on a finer grid (1.2
         times as many intervals for linear damping, 1.5 otherwise); when it moves by more
         than ``tol`` the ladder runs again on the finer grid (up to ``max_cheb``).
     margin : float, optional
@@ -295,7 +308,7 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         start = next(n for n in hermite_ladder(start, 2 * start + 16 * wb / gamma)
                      if n >= 8 * wb / gamma or n >= max_hermite)
         layer = math.sqrt(D / wb) / wb
-        nc = max(nc, 2 * math.ceil(1.2 * half / layer))
+        nc = max(nc, 2 * math.ceil(LAYER_INTERVALS / 2 * half / layer))
     memo = {}
     folds = abs(wells[0] + wells[1]) <= 1e-12 * wells[1]  # about: _slowest decides
 
@@ -304,10 +317,12 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         return (n * m * m if linear else 3 * n * nc * nc) <= 3 * max_cost
 
     if linear:  # one factorisation per grid and sink, extended up the ladder (._rungs)
-        rungs = FractionRungs(split, sigma, gamma, wells, half,
-                              lambda xs, sharp: _sink(xs, wells, kappa0 * (3 if sharp > 1
-                                                                            else 1),
-                                                      width / sharp), ALPHA)
+        rungs = FractionRungs(
+            split, sigma, gamma, wells,
+            lambda xs, sharp: _sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp),
+            lambda nc: cheb_centred(nc, half, ALPHA, (xl, xr) + tuple(wells),
+                                    (-xl / 2, xr / 2, 2.5 * width, 2.5 * width),
+                                    (SADDLES, SADDLES, WELLS, WELLS)))
 
     def solve(n, nc, sharp=1):
         if (n, nc, sharp) not in memo:

@@ -96,6 +96,8 @@ def cheb_centred(n: int, L: float, alpha: float, centres, widths, weight=1.0):
         up = psi(mid) < target
         a_, b_ = np.where(up, mid, a_), np.where(up, b_, mid)
     x = 0.5 * (a_ + b_)
+    if sorted(zip(c, w, q)) == sorted(zip(-c, w, q)):  # psi odd: x exactly antisymmetric
+        x = 0.5 * (x - x[::-1])
     x[0], x[-1] = L, -L
     dt_dx = dpsi(x) * 2 / (hi - lo) / ds_dt
     return x, dt_dx[:, None] * Dt

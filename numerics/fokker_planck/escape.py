@@ -13,9 +13,10 @@ population), what Kramers' and Mel'nikov-Meshkov's formulas describe, and the ra
 simulated first passages to the lines ``x = x_w``.
 
 Linear damping (the CDC at rest; :mod:`._fraction`): the matrix is block tridiagonal in
-the Hermite index with blocks known in closed form, eliminated order by order and folded by
-parity for an even potential, on Kosloff-Tal-Ezer points (:func:`._bases.cheb_mapped`), by
-inverse iteration.  Other dampings: the blocks assembled from the terms (:mod:`._blocks`)
+the Hermite index with blocks known in closed form, eliminated order by order from the
+lowest up (one factorisation serves the whole Hermite ladder, :mod:`._rungs`) and folded by
+parity for an even potential, on Kosloff-Tal-Ezer points crowded at the saddles and the sink
+(:func:`._bases.cheb_centred`), by Arnoldi's method.  Other dampings: the blocks assembled from the terms (:mod:`._blocks`)
 and shift-invert Arnoldi.
 
 Why the velocity expansion needs many functions at low friction (docs/noise.rst): the
@@ -65,7 +66,8 @@ ALPHA = 0.9
 #: of the points for linear damping (:func:`._bases.cheb_centred`; widths half the saddles'
 #: distances from the bottom, and 2.5 sink widths): about three quarters of the points near
 #: the saddles, where the layer is sharpest, and enough at the sink to resolve the sharper
-#: one of ``sink_error``.  CDC Delta = 3, kT = 0.35, mu = 0.02, 2048 Hermite functions
+#: one of ``sink_error``.  The saddles' weight is 0 where ``n_cheb`` exceeds the layer's
+#: ``2 L/l`` intervals (higher friction: the layer is wide, the sink matters more).  CDC Delta = 3, kT = 0.35, mu = 0.02, 2048 Hermite functions
 #: (docs/noise.rst): 214 intervals give the rates of both sinks to 7e-10 of the
 #: Kosloff-Tal-Ezer points' on 286 intervals (themselves 2e-8 from 344), where the
 #: Kosloff-Tal-Ezer points alone on 200 intervals are 5.4e-5 off
@@ -308,7 +310,10 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         start = next(n for n in hermite_ladder(start, 2 * start + 16 * wb / gamma)
                      if n >= 8 * wb / gamma or n >= max_hermite)
         layer = math.sqrt(D / wb) / wb
-        nc = max(nc, 2 * math.ceil(LAYER_INTERVALS / 2 * half / layer))
+        by_layer = 2 * math.ceil(LAYER_INTERVALS / 2 * half / layer)
+        # the points crowd at the saddles only where the layer sets their number
+        crowd = SADDLES if by_layer > nc else 0.0
+        nc = max(nc, by_layer)
     memo = {}
     folds = abs(wells[0] + wells[1]) <= 1e-12 * wells[1]  # about: _slowest decides
 
@@ -322,7 +327,7 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
             lambda xs, sharp: _sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp),
             lambda nc: cheb_centred(nc, half, ALPHA, (xl, xr) + tuple(wells),
                                     (-xl / 2, xr / 2, 2.5 * width, 2.5 * width),
-                                    (SADDLES, SADDLES, WELLS, WELLS)))
+                                    (crowd, crowd, WELLS, WELLS)))
 
     def solve(n, nc, sharp=1):
         if (n, nc, sharp) not in memo:

@@ -74,7 +74,7 @@ ALPHA = 0.9
 SADDLES, WELLS = 1.0, 0.05
 #: the first number of position intervals for linear damping, in units of ``L/l``
 #: (``l`` the layer's width in ``x``, :func:`kramers_escape`)
-LAYER_INTERVALS = 2.0
+LAYER_INTERVALS = 2.2
 
 
 @dataclass(frozen=True)
@@ -266,7 +266,7 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         ``(D/omega_b)^(1/2) = sigma (gamma/omega_b)^(1/2)``, needs that many).
     n_cheb : int
         The smallest first number of Chebyshev intervals in the position (for linear
-        damping at least ``2 L/l`` (:data:`LAYER_INTERVALS`),
+        damping at least ``2.2 L/l`` (:data:`LAYER_INTERVALS`),
         ``l = (D/omega_b)^(1/2)/omega_b`` the layer's width in ``x``, on points crowded at
         the saddles, :func:`._bases.cheb_centred`): after the Hermite ladder the rate is recomputed on a finer grid (1.2
         times as many intervals for linear damping, 1.5 otherwise); when it moves by more

@@ -16,8 +16,8 @@ Linear damping (the CDC at rest; :mod:`._fraction`): the matrix is block tridiag
 the Hermite index with blocks known in closed form, eliminated order by order from the
 lowest up (one factorisation serves the whole Hermite ladder, :mod:`._rungs`) and folded by
 parity for an even potential, on Kosloff-Tal-Ezer points crowded at the saddles and the sink
-(:func:`._bases.cheb_centred`), by Arnoldi's method.  Other dampings: the blocks assembled from the terms (:mod:`._blocks`)
-and shift-invert Arnoldi.
+(:func:`._bases.cheb_centred`), by Arnoldi's method.  Other dampings: the blocks assembled
+from the terms (:mod:`._blocks`) and shift-invert Arnoldi.
 
 Why the velocity expansion needs many functions at low friction (docs/noise.rst): the
 density has a layer along the separatrix, sharpest at the saddle, where the stream that the
@@ -67,10 +67,11 @@ ALPHA = 0.9
 #: distances from the bottom, and 2.5 sink widths): about three quarters of the points near
 #: the saddles, where the layer is sharpest, and enough at the sink to resolve the sharper
 #: one of ``sink_error``.  The saddles' weight is 0 where ``n_cheb`` exceeds the layer's
-#: ``2 L/l`` intervals (higher friction: the layer is wide, the sink matters more).  CDC Delta = 3, kT = 0.35, mu = 0.02, 2048 Hermite functions
-#: (docs/noise.rst): 214 intervals give the rates of both sinks to 7e-10 of the
-#: Kosloff-Tal-Ezer points' on 286 intervals (themselves 2e-8 from 344), where the
-#: Kosloff-Tal-Ezer points alone on 200 intervals are 5.4e-5 off
+#: ``2.2 L/l`` intervals (higher friction: the layer is wide, the sink matters more).  CDC
+#: Delta = 3, kT = 0.35, mu = 0.02, 2048 Hermite functions (docs/noise.rst): 214 intervals
+#: give the rates of both sinks to 7e-10 of the Kosloff-Tal-Ezer points' on 286 intervals
+#: (themselves 2e-8 from 344), where the Kosloff-Tal-Ezer points alone on 200 intervals are
+#: 5.4e-5 off; the high Hermite orders need more (docs/noise.rst)
 SADDLES, WELLS = 1.0, 0.05
 #: the first number of position intervals for linear damping, in units of ``L/l``
 #: (``l`` the layer's width in ``x``, :func:`kramers_escape`)
@@ -268,9 +269,10 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         The smallest first number of Chebyshev intervals in the position (for linear
         damping at least ``2.2 L/l`` (:data:`LAYER_INTERVALS`),
         ``l = (D/omega_b)^(1/2)/omega_b`` the layer's width in ``x``, on points crowded at
-        the saddles, :func:`._bases.cheb_centred`): after the Hermite ladder the rate is recomputed on a finer grid (1.2
-        times as many intervals for linear damping, 1.5 otherwise); when it moves by more
-        than ``tol`` the ladder runs again on the finer grid (up to ``max_cheb``).
+        the saddles, :func:`._bases.cheb_centred`): after the Hermite ladder the rate is
+        recomputed on a finer grid (1.2 times as many intervals for linear damping, 1.5
+        otherwise); when it moves by more than ``tol`` the ladder runs again on the finer
+        grid (up to ``max_cheb``).
     margin : float, optional
         How far past the next wells' bottoms the range reaches (default half the larger
         saddle-to-bottom distance; the sink lives there).

@@ -167,3 +167,81 @@ def test_closed_form_blocks_equal_the_assembled_escape_matrix():
             rate = EscapeFraction(Dx, np.asarray(g(x), float), kappa, math.sqrt(kT), mu, 40,
                                   fold).slowest()
             assert rate == pytest.approx(ref, rel=1e-9)
+
+
+def test_upward_elimination_solves_and_extends():
+    """The escape matrix eliminated from the lowest Hermite orders up
+    (numerics.fokker_planck._fraction, the compiled sweeps of ._sweeps) solves like dense LU
+    (numpy.linalg.solve) of the matrix assembled independently from kramers_terms with the
+    sink and the pinned rows (TermBlocks), to 1e-10; and the rate of a truncation from
+    factors extended to twice as many orders equals that of a fresh factorisation to 1e-12
+    (the first N factors of the upward elimination are those of every larger truncation)."""
+    from numerics.fokker_planck._bases import cheb
+    from numerics.fokker_planck._fraction import EscapeFraction
+    from numerics.fokker_planck.escape import _sink
+    from scipy.optimize import brentq
+
+    mu, kT, nh, nc = 0.3, 0.15, 12, 24
+    split = split_conservative("cdc", dict(PARAMS, mu=mu))
+    g = split.numpy_functions()[0]
+    xs = brentq(lambda z: float(g(np.array(z))), 0.3, 1.0, xtol=1e-15)
+    wells = next_wells(g, (-xs, xs))
+    half, width = 1.25 * wells[1], 0.1 * (wells[1] - xs)
+    terms, x, _ = kramers_terms(split, kT * mu, math.sqrt(kT), half, nh, nc)
+    kappa = _sink(x, wells, 5.0, width)
+    m = x.size
+    A = TermBlocks(terms, m, kappa, (0, m - 1)).block(0, nh, 0, nh)
+    rhs = np.random.default_rng(7).standard_normal(nh * m)
+    x2, Dx = cheb(nc, half)
+    assert np.allclose(x2, x, rtol=0, atol=1e-14)
+    with one_blas_thread():
+        frac = EscapeFraction(Dx, np.asarray(g(x), float), kappa, math.sqrt(kT), mu, nh,
+                              False)
+        out = np.concatenate(frac.solve([rhs[k * m:(k + 1) * m] for k in range(nh)]))
+        ref = np.linalg.solve(A, rhs)
+        assert np.max(np.abs(out - ref)) <= 1e-10 * np.max(np.abs(ref))
+        for fold in (False, True):
+            args = (Dx, np.asarray(g(x), float), kappa, math.sqrt(kT), mu)
+            fresh = EscapeFraction(*args, nh, fold).slowest()
+            longer = EscapeFraction(*args, nh, fold, capacity=nh + 1)
+            longer.extend(2 * nh)  # beyond the capacity: the factors are copied once
+            assert longer.slowest(n=nh) == pytest.approx(fresh, rel=1e-12)
+
+
+@settings(max_examples=20, deadline=None)
+@given(n_from=st.integers(2, 40), n_to=st.integers(2, 60), seed=st.integers(0, 2**31 - 1))
+def test_chebyshev_interpolation_is_exact_for_polynomials(n_from, n_to, seed):
+    """The barycentric interpolation between Chebyshev-Lobatto grids (Berrut and Trefethen
+    2004) reproduces every polynomial of degree <= n_from (the mode's move between the
+    escape ladder's grids, numerics.fokker_planck._rungs)."""
+    from numpy.polynomial import chebyshev as C
+
+    from numerics.fokker_planck._rungs import chebyshev_interpolation
+
+    coef = np.random.default_rng(seed).standard_normal(n_from + 1)
+    t0 = np.cos(np.pi * np.arange(n_from + 1) / n_from)
+    t1 = np.cos(np.pi * np.arange(n_to + 1) / n_to)
+    P = chebyshev_interpolation(n_from, n_to)
+    assert np.allclose(P @ C.chebval(t0, coef), C.chebval(t1, coef), rtol=0,
+                       atol=1e-11 * np.sum(np.abs(coef)))
+
+
+def test_centred_points_differentiate_spectrally():
+    """The points crowded at given centres (numerics.fokker_planck._bases.cheb_centred, an
+    arctangent map after Kosloff-Tal-Ezer's) are the Kosloff-Tal-Ezer points at weight 0,
+    symmetric for symmetric centres, and their differentiation matrix converges
+    spectrally: sin(3x) exp(-x^2) differentiated to 2e-3, 1e-7 with 48, 128 intervals
+    (8.3e-4, 2.0e-8 measured: most points sit near the centres, few elsewhere)."""
+    from numerics.fokker_planck._bases import cheb_centred, cheb_mapped
+
+    L, centres, widths = 1.2, (-0.5, 0.5, -1.0, 1.0), (0.25, 0.25, 0.1, 0.1)
+    x0, D0 = cheb_centred(40, L, 0.9, centres, widths, 0.0)
+    x1, D1 = cheb_mapped(40, L, 0.9)
+    assert np.allclose(x0, x1, rtol=0, atol=1e-15) and np.allclose(D0, D1, rtol=0, atol=1e-12)
+    for n, tol in ((48, 2e-3), (128, 1e-7)):
+        x, D = cheb_centred(n, L, 0.9, centres, widths, (1.0, 1.0, 0.05, 0.05))
+        assert np.all(np.diff(x) < 0) and x[0] == L and x[-1] == -L
+        assert np.allclose(x, -x[::-1], rtol=0, atol=1e-15)
+        f = np.sin(3 * x) * np.exp(-x * x)
+        df = (3 * np.cos(3 * x) - 2 * x * np.sin(3 * x)) * np.exp(-x * x)
+        assert np.max(np.abs(D @ f - df)) < tol

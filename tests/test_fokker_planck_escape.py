@@ -220,3 +220,22 @@ def test_escape_cli_method_fokker_planck():
     assert rep["rate_fokker_planck"] > 0
     assert set(rep["fokker_planck"]) >= {"sink_error", "truncation_error"}
     assert "rate_averaged" in rep and "rate_melnikov" in rep
+
+
+
+def test_escape_cli_prints_seven_digits_where_the_errors_allow():
+    """The text line of the Fokker-Planck rate has 7 significant digits when the sink,
+    truncation and Chebyshev errors are all at most 1e-6 of the rate (the CDC case of
+    docs/noise.rst at mu = 0.02, 2.3255767e-3), 6 when one is larger (mu = 1: the sink moves
+    the rate by 6.6e-5); the JSON keeps the full float."""
+    from numerics.cli.escape import fokker_planck_line
+
+    f = {"sink_error": 2.3e-12, "truncation_error": 1.5e-9, "chebyshev_error": 3.2e-12,
+         "hermite": 2896, "chebyshev": 239}
+    rep = {"rate_fokker_planck": 0.00232557665929561, "fokker_planck": f}
+    assert "rate = 0.002325577 (" in fokker_planck_line(rep)
+    rep["fokker_planck"] = dict(f, sink_error=4.4e-8)
+    rep["rate_fokker_planck"] = 0.0006626046926060393
+    assert "rate = 0.000662605 (" in fokker_planck_line(rep)
+    rep["fokker_planck"] = dict(f, chebyshev_error=float("nan"))
+    assert "rate = 0.000662605 (" in fokker_planck_line(rep)

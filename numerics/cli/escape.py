@@ -77,10 +77,7 @@ def run(args) -> int:
         print(f"  Kramers low friction:      rate = {rep['rate_kramers']:.6g}")
         print(f"  Mel'nikov-Meshkov:         rate = {rep['rate_melnikov']:.6g}")
     if rep.get("rate_fokker_planck") is not None:
-        f = rep["fokker_planck"]
-        print(f"  Fokker-Planck (Kramers eq.): rate = {rep['rate_fokker_planck']:.6g} "
-              f"(+- {f['sink_error']:.2g} sink, +- {f['truncation_error']:.2g} truncation; "
-              f"{f['hermite']} Hermite x {f['chebyshev']} Chebyshev)")
+        print(fokker_planck_line(rep))
     if rep.get("rate_simulated_wells") is not None:
         w = rep["simulated_wells"]
         print(f"  simulated transitions:     rate = {rep['rate_simulated_wells']:.6g} +- "
@@ -98,3 +95,16 @@ def run(args) -> int:
     if rep["message"]:
         print(f"  {rep['message']}")
     return 0
+
+
+def fokker_planck_line(rep: dict) -> str:
+    """The text line of the Fokker-Planck rate: 7 significant digits where its three error
+    estimates (sink, truncation, Chebyshev) are all at most 1e-6 of it, else 6."""
+    f = rep["fokker_planck"]
+    rate = rep["rate_fokker_planck"]
+    errors = [f.get(k) for k in ("sink_error", "truncation_error", "chebyshev_error")]
+    digits = 7 if all(e is not None and e <= 1e-6 * rate for e in errors) else 6
+    return (f"  Fokker-Planck (Kramers eq.): rate = {rate:.{digits}g} "
+            f"(+- {f['sink_error']:.2g} sink, +- {f['truncation_error']:.2g} truncation, "
+            f"+- {f['chebyshev_error']:.2g} Chebyshev; "
+            f"{f['hermite']} Hermite x {f['chebyshev']} Chebyshev)")

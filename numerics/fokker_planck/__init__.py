@@ -3,8 +3,10 @@ stationary density (:mod:`.kramers`) and the escape rate from the well at the or
 (:mod:`.escape`), solved numerically in Hermite functions of the velocity times Chebyshev
 points in the position; :mod:`._bases` holds the two bases, :mod:`._solution` the
 stationary density's class, :mod:`._blocks` the block tridiagonal LU of the Kramers matrix
-in the Hermite index and :mod:`._fraction` the escape matrix of a linearly damped model in
-closed-form blocks, folded by parity (the matrix continued fraction in LU form)."""
+in the Hermite index, :mod:`._fraction` the escape matrix of a linearly damped model in
+closed-form blocks, folded by parity (the matrix continued fraction in LU form, eliminated
+upward), :mod:`._sweeps` its compiled solve sweeps and :mod:`._rungs` the escape ladder's
+solves sharing one factorisation per grid."""
 
 from .escape import KramersEscape, kramers_escape
 from .kramers import KramersSolution, kramers_operator, stationary_kramers, velocity_terms

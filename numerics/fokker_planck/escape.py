@@ -13,10 +13,11 @@ population), what Kramers' and Mel'nikov-Meshkov's formulas describe, and the ra
 simulated first passages to the lines ``x = x_w``.
 
 Linear damping (the CDC at rest; :mod:`._fraction`): the matrix is block tridiagonal in
-the Hermite index with blocks known in closed form, eliminated order by order and folded by
-parity for an even potential, on Kosloff-Tal-Ezer points (:func:`._bases.cheb_mapped`), by
-inverse iteration.  Other dampings: the blocks assembled from the terms (:mod:`._blocks`)
-and shift-invert Arnoldi.
+the Hermite index with blocks known in closed form, eliminated order by order from the
+lowest up (one factorisation serves the whole Hermite ladder, :mod:`._rungs`) and folded by
+parity for an even potential, on Kosloff-Tal-Ezer points crowded at the saddles and the sink
+(:func:`._bases.cheb_centred`), by Arnoldi's method.  Other dampings: the blocks assembled
+from the terms (:mod:`._blocks`) and shift-invert Arnoldi.
 
 Why the velocity expansion needs many functions at low friction (docs/noise.rst): the
 density has a layer along the separatrix, sharpest at the saddle, where the stream that the
@@ -48,9 +49,10 @@ import scipy.sparse as sps
 from kbm.conservative import split_conservative
 from kbm.errors import ModelError, ParameterError
 
-from ._bases import cheb_mapped
+from ._bases import cheb_centred, cheb_mapped
 from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
 from ._fraction import EscapeFraction
+from ._rungs import FractionRungs
 from .kramers import _linear_temperature, kramers_operator, kramers_terms, velocity_terms
 
 __all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder",
@@ -60,6 +62,20 @@ __all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder",
 #: (:func:`._bases.cheb_mapped`): at mu = 0.02 (docs/noise.rst) 288 mapped intervals give
 #: the rate to 1.3e-7, where plain Chebyshev points are 2.5e-6 off
 ALPHA = 0.9
+#: the weights of the saddles and of the sink's centres (the next wells' bottoms) in the map
+#: of the points for linear damping (:func:`._bases.cheb_centred`; widths half the saddles'
+#: distances from the bottom, and 2.5 sink widths): about three quarters of the points near
+#: the saddles, where the layer is sharpest, and enough at the sink to resolve the sharper
+#: one of ``sink_error``.  The saddles' weight is 0 where ``n_cheb`` exceeds the layer's
+#: ``2.2 L/l`` intervals (higher friction: the layer is wide, the sink matters more).  CDC
+#: Delta = 3, kT = 0.35, mu = 0.02, 2048 Hermite functions (docs/noise.rst): 214 intervals
+#: give the rates of both sinks to 7e-10 of the Kosloff-Tal-Ezer points' on 286 intervals
+#: (themselves 2e-8 from 344), where the Kosloff-Tal-Ezer points alone on 200 intervals are
+#: 5.4e-5 off; the high Hermite orders need more (docs/noise.rst)
+SADDLES, WELLS = 1.0, 0.05
+#: the first number of position intervals for linear damping, in units of ``L/l``
+#: (``l`` the layer's width in ``x``, :func:`kramers_escape`)
+LAYER_INTERVALS = 2.2
 
 
 @dataclass(frozen=True)
@@ -251,10 +267,12 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         ``(D/omega_b)^(1/2) = sigma (gamma/omega_b)^(1/2)``, needs that many).
     n_cheb : int
         The smallest first number of Chebyshev intervals in the position (for linear
-        damping at least ``2.4 L/l``, ``l = (D/omega_b)^(1/2)/omega_b`` the layer's width
-        in ``x``): after the Hermite ladder the rate is recomputed on a finer grid (1.2
-        times as many intervals for linear damping, 1.5 otherwise); when it moves by more
-        than ``tol`` the ladder runs again on the finer grid (up to ``max_cheb``).
+        damping at least ``2.2 L/l`` (:data:`LAYER_INTERVALS`),
+        ``l = (D/omega_b)^(1/2)/omega_b`` the layer's width in ``x``, on points crowded at
+        the saddles, :func:`._bases.cheb_centred`): after the Hermite ladder the rate is
+        recomputed on a finer grid (1.2 times as many intervals for linear damping, 1.5
+        otherwise); when it moves by more than ``tol`` the ladder runs again on the finer
+        grid (up to ``max_cheb``).
     margin : float, optional
         How far past the next wells' bottoms the range reaches (default half the larger
         saddle-to-bottom distance; the sink lives there).
@@ -294,23 +312,36 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         start = next(n for n in hermite_ladder(start, 2 * start + 16 * wb / gamma)
                      if n >= 8 * wb / gamma or n >= max_hermite)
         layer = math.sqrt(D / wb) / wb
-        nc = max(nc, 2 * math.ceil(1.2 * half / layer))
-    memo, modes = {}, {}
-
-    def solve(n, nc, sharp=1):
-        if (n, nc, sharp) not in memo:
-            memo[n, nc, sharp] = _slowest(split, D, sigma, wells, half, n, nc,
-                                          kappa0 * (3 if sharp > 1 else 1), width / sharp,
-                                          solver="fraction" if linear else "block",
-                                          alpha=ALPHA if linear else 0.0,
-                                          modes=modes if linear else None)
-        return memo[n, nc, sharp]
-
+        by_layer = 2 * math.ceil(LAYER_INTERVALS / 2 * half / layer)
+        # the points crowd at the saddles only where the layer sets their number
+        crowd = SADDLES if by_layer > nc else 0.0
+        nc = max(nc, by_layer)
+    memo = {}
     folds = abs(wells[0] + wells[1]) <= 1e-12 * wells[1]  # about: _slowest decides
 
     def fits(n, nc):
         m = nc // 2 + 1 if folds else nc + 1
         return (n * m * m if linear else 3 * n * nc * nc) <= 3 * max_cost
+
+    if linear:  # one factorisation per grid and sink, extended up the ladder (._rungs)
+        rungs = FractionRungs(
+            split, sigma, gamma, wells,
+            lambda xs, sharp: _sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp),
+            lambda nc: cheb_centred(nc, half, ALPHA, (xl, xr) + tuple(wells),
+                                    (-xl / 2, xr / 2, 2.5 * width, 2.5 * width),
+                                    (crowd, crowd, WELLS, WELLS)))
+
+    def solve(n, nc, sharp=1):
+        if (n, nc, sharp) not in memo:
+            if linear:
+                top = max([r for r in hermite_ladder(n, int(max_hermite)) if fits(r, nc)],
+                          default=n)
+                memo[n, nc, sharp] = rungs.rate(n, nc, sharp, capacity=top)
+            else:
+                memo[n, nc, sharp] = _slowest(split, D, sigma, wells, half, n, nc,
+                                              kappa0 * (3 if sharp > 1 else 1),
+                                              width / sharp, solver="block")
+        return memo[n, nc, sharp]
 
     grow = 1.2 if linear else 1.5
     table = []

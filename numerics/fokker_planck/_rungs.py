@@ -1,0 +1,115 @@
+"""The solves of the escape ladder for linear damping (:func:`.escape.kramers_escape`): one
+factorisation per position grid and sink, extended up the Hermite ladder, and each rate's
+inverse iteration started from the last mode found (on another grid: interpolated).
+
+The elimination of :class:`._fraction.EscapeFraction` runs upward, so the rung of ``N``
+Hermite functions reuses the factors of every smaller rung: the ladder costs the
+factorisation of its largest truncation and a few solves per rung, where the ladder from the
+top down factorised every rung anew.  One factorisation is kept at a time (the memory).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._blocks import one_blas_thread
+from ._fraction import EscapeFraction, parity_maps
+
+__all__ = ["FractionRungs", "chebyshev_interpolation"]
+
+
+def chebyshev_interpolation(n_from: int, n_to: int) -> np.ndarray:
+    """The matrix (``n_to + 1`` by ``n_from + 1``) of polynomial interpolation from the
+    Chebyshev-Gauss-Lobatto points ``cos(pi j/n_from)`` to ``cos(pi i/n_to)`` (the
+    barycentric formula, Berrut and Trefethen, SIAM Rev. 46 (2004) 501, eq. 5.2; weights
+    ``(-1)^j``, halved at the ends).  A map ``x(t)`` shared by both grids
+    (:func:`._bases.cheb_centred`) leaves it unchanged."""
+    t0 = np.cos(np.pi * np.arange(n_from + 1) / n_from)
+    t1 = np.cos(np.pi * np.arange(n_to + 1) / n_to)
+    w = (-1.0) ** np.arange(n_from + 1)
+    w[[0, -1]] *= 0.5
+    diff = t1[:, None] - t0[None, :]
+    hit = np.abs(diff) < 1e-15
+    with np.errstate(divide="ignore", invalid="ignore"):
+        P = w / diff
+        P /= P.sum(axis=1, keepdims=True)
+    rows = hit.any(axis=1)
+    P[rows] = hit[rows].astype(float)
+    return P
+
+
+class FractionRungs:
+    """The escape rate of linear damping at ``(n Hermite functions, nc intervals, sink)``,
+    the factorisations shared along the ladder.
+
+    Parameters
+    ----------
+    split : kbm.conservative.ConservativeSplit
+    sigma, gamma : float
+        The Hermite scale ``sqrt(kT)`` and the friction.
+    wells : (float, float)
+        The sink's centres.
+    half : float
+        The half-width of the range.
+    sink : callable
+        ``sink(xs, sharp)``: the sink at the points (``sharp`` 1 or 2).
+    points : callable
+        ``points(nc)``: ``(x, D)``, the ``nc + 1`` points (decreasing, symmetric for an
+        even potential) and their differentiation matrix, one map of the Chebyshev points
+        for every ``nc`` (:func:`._bases.cheb_centred`), so a mode moves from one grid to
+        another by polynomial interpolation in the Chebyshev variable.
+    """
+
+    def __init__(self, split, sigma: float, gamma: float, wells, sink, points):
+        self.g = split.numpy_functions()[0]
+        self.sigma, self.gamma, self.wells = sigma, gamma, wells
+        self.sink, self.points = sink, points
+        self._key, self._frac = None, None
+        self._modes = {}  # nc -> (fold, mode): the last slowest mode on each grid
+
+    def _factor(self, n: int, nc: int, sharp: int, capacity: int) -> EscapeFraction:
+        if self._key == (nc, sharp):
+            if n > self._frac.n:
+                self._frac.extend(n)
+            return self._frac
+        self._key, self._frac = None, None  # freed before the next factorisation
+        xs, Dx = self.points(nc)
+        g = np.asarray(self.g(xs), float)
+        w = self.wells
+        fold = (abs(w[0] + w[1]) <= 1e-12 * w[1]
+                and np.allclose(g, -g[::-1], rtol=0, atol=1e-13 * np.max(np.abs(g))))
+        self._frac = EscapeFraction(Dx, g, self.sink(xs, sharp), self.sigma, self.gamma, n,
+                                    fold, capacity=max(n, capacity))
+        self._key = (nc, sharp)
+        return self._frac
+
+    def _start(self, nc: int, frac: EscapeFraction):
+        """The last mode on ``nc``, else the last on another grid interpolated to it."""
+        if nc in self._modes:
+            return self._modes[nc][1]
+        if not self._modes:
+            return None
+        nc0, (fold, mode) = next(reversed(self._modes.items()))
+        if fold != frac.fold:
+            return None
+        P = chebyshev_interpolation(nc0, nc)
+        maps0 = parity_maps(nc0 + 1, fold)
+        out = []
+        for k, c in enumerate(mode):
+            p = k % 2 if fold else 0
+            F = maps0[p][1]
+            full = c if F is None else F @ c
+            out.append((P @ full)[frac.maps[p][0]])
+        return out
+
+    def rate(self, n: int, nc: int, sharp: int = 1, capacity: int = 0) -> float:
+        """The slowest decay rate with ``n`` Hermite functions on ``nc`` intervals (the
+        sharper sink for ``sharp = 2``); ``capacity``: the largest ``n`` to come on this
+        grid (room held for it)."""
+        with one_blas_thread():
+            frac = self._factor(n, nc, sharp, capacity)
+            rate = frac.slowest(n=n, start=self._start(nc, frac))
+        if frac.mode is not None:
+            self._modes.pop(nc, None)
+            self._modes[nc] = (frac.fold, frac.mode)
+        return rate

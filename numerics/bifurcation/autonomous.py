@@ -195,8 +195,9 @@ class OneDof:
 def _derivatives(template):
     """``(d, f_rest, odd)`` of the model of ``template``: ``d[(i, j)](x, v, *pvec)`` the
     derivatives of ``f`` in :data:`_ORDERS` (lambdified with ``math``), ``f_rest(x, v,
-    *pvec)`` the function ``f`` of an array ``x`` (``numpy``, for ``f(x, 0)`` on a grid), and whether ``f`` is
-    odd (``f(-x, -v) = -f(x, v)``); memoised per template, as the template is."""
+    *pvec)`` the function ``f`` of an array ``x`` (``numpy``: ``f(x, 0)`` on a grid), and
+    whether ``f`` is odd (``f(-x, -v) = -f(x, v)``); memoised per template, as the
+    template is."""
     acc = template.model.acceleration()
     X, V = sp.Symbol("x"), sp.Symbol("xdot")
     syms = [sp.Symbol(n) for n in template.names]

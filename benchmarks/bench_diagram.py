@@ -83,7 +83,9 @@ about 3x the CPU seconds, which are the numbers to compare):
    gaps were followed backward by scipy (half of it), ``f(x, 0)`` was evaluated point by
    point on the equilibria's grid of 4001 and the kit lambdified its derivatives anew; now
    the compiled stepper's ``to_section``, one array evaluation and a memo per template:
-   the same seed and curve points to the bit, the section gaps within 4.6e-12.
+   the same seed and curve points to the bit, the section gaps within 4.6e-12 (the 27 of
+   the scan against both integrators at rtol 1e-14: scipy's within 4.5e-12, the
+   stepper's within 2.2e-13).
 """
 
 from __future__ import annotations

@@ -61,26 +61,31 @@ about 3x the CPU seconds, which are the numbers to compare):
 2. kbm 1.54 s CPU (4.56 s wall), seeds included, 46 points, ``max |G| 7.4e-15``; AUTO 0.74
    + 2.72 s (247 points): AUTO / kbm 2.24.  AUTO's points are within 2.4e-11 in ``sigma``
    of kbm's edges.
-3. kbm 0.42 s seed + 0.11 s curve CPU (1.17 + 0.31 s wall), 9 points, ``max |gap|
-   1.2e-11``.  The long-period orbit: 0.48 + 0.09 s (27 points), AUTO / kbm 1.07 (the curve
-   alone 0.82); its ``Delta`` is below kbm's by 1.2e-6 at ``beta = 0.5``, 1.1e-4 at
-   0.539, 5.1e-2 at 0.565, and its ``beta`` 2.2e-3 below kbm's at ``Delta = 2.75`` (towards
-   the fold line the saddles' eigenvalues tend to 0 and a period of 15 is no longer long).
-   At ``beta = 0.5`` against the period: ``-4.8e-4`` (T = 12), ``-6.8e-5`` (13), ``-9.7e-6``
-   (14), ``-1.2e-6`` (15), ``-1.5e-7`` (16.0), ``-1.1e-7`` (16.2, its last): a factor of
-   about 7 per unit of T.  HomCont: 0.54 + 0.11 s (31 points), AUTO / kbm 1.22 (the curve
-   alone 1.00); its ``Delta`` is within 2.3e-9 of kbm's for ``beta <= 0.551`` (2.2e-11 at
-   0.5), 7.1e-8 at 0.562, and at its last point (``Delta = 2.7481``: past 2.75) its
-   ``beta`` is 2.0e-4 below kbm's (its truncation interval is too short there).  On the
-   same path to its own end (the step below ``2e-6`` at ``Delta = 2.745395``), kbm's curve
-   took 0.76 s CPU before :meth:`numerics.bifurcation.autonomous.OneDof.compiled` read its
-   parameter values from two lines bound once (60 % of it was ``compile_model`` at each new
-   point, 15 % looking numba up) and 0.21 s after.  Part 3 is the closest: over four runs
-   (two of ``--repeats 5``) AUTO / kbm was 0.61-1.07 for the long-period orbit and
-   0.75-1.42 for HomCont (CPU; in wall time kbm was faster in three of the four against the
-   long-period orbit and in all four against HomCont); kbm's seed, the scan of ``beta =
-   0.5`` over every candidate loop (half of it the backward integrations of the section
-   gaps by scipy), is 80-90 % of its time.
+3. kbm 0.07-0.08 s seed + 0.05-0.07 s curve CPU (0.11-0.17 + 0.08-0.13 s wall; three
+   runs of ``--repeats 5``), 9 points, ``max |gap| 1.2e-11``.  The long-period orbit:
+   0.24-0.33 + 0.06-0.08 s (27 points), AUTO / kbm 2.38-2.85 (wall 3.70-4.77); its
+   ``Delta`` is below kbm's by 1.2e-6 at ``beta = 0.5``, 1.1e-4 at 0.539, 5.1e-2 at 0.565,
+   and its ``beta`` 2.2e-3 below kbm's at ``Delta = 2.75`` (towards the fold line the
+   saddles' eigenvalues tend to 0 and a period of 15 is no longer long).  At ``beta =
+   0.5`` against the period: ``-4.8e-4`` (T = 12), ``-6.8e-5`` (13), ``-9.7e-6`` (14),
+   ``-1.2e-6`` (15), ``-1.5e-7`` (16.0), ``-1.1e-7`` (16.2, its last): a factor of about 7
+   per unit of T.  HomCont: 0.28-0.40 + 0.08-0.10 s (31 points), AUTO / kbm 2.85-3.47
+   (wall 4.94-6.29); its ``Delta`` is within 2.3e-9 of kbm's for ``beta <= 0.551``
+   (2.2e-11 at 0.5), 7.1e-8 at 0.562, and at its last point (``Delta = 2.7481``: past
+   2.75) its ``beta`` is 2.0e-4 below kbm's (its truncation interval is too short there).
+   On the same path to its own end (the step below ``2e-6`` at ``Delta = 2.745395``),
+   kbm's curve took 0.76 s CPU before
+   :meth:`numerics.bifurcation.autonomous.OneDof.compiled` read its parameter values from
+   two lines bound once (60 % of it was ``compile_model`` at each new point, 15 % looking
+   numba up) and 0.21 s after.  kbm's seed, the scan of ``beta
+   = 0.5`` over every candidate loop, took 0.30-0.43 s CPU (AUTO / kbm 0.58-1.22 and
+   0.70-1.54 in the same three interleaved runs) until the stable manifolds of the section
+   gaps were followed backward by scipy (half of it), ``f(x, 0)`` was evaluated point by
+   point on the equilibria's grid of 4001 and the kit lambdified its derivatives anew; now
+   the compiled stepper's ``to_section``, one array evaluation and a memo per template:
+   the same seed and curve points to the bit, the section gaps within 4.6e-12 (the 27 of
+   the scan against both integrators at rtol 1e-14: scipy's within 4.5e-12, the
+   stepper's within 2.2e-13).
 """
 
 from __future__ import annotations

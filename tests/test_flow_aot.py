@@ -40,8 +40,9 @@ def _flows(monkeypatch, model, params, make=template_flow, exports=None):
                                                      "lam": 1})])
 def test_ahead_of_time_equals_just_in_time_to_the_last_bit(monkeypatch, model, params):
     """The extended flow (state, variational equations, Liouville and dissipation
-    integrals) and the turn of ``x'`` from the extension and from numba's code: equal
-    arrays, statuses and step counts (the same source, the same LLVM, no fast-math)."""
+    integrals), the turn of ``x'`` and the crossing of a section ``x = xsec`` from the
+    extension and from numba's code: equal arrays, statuses and step counts (the same
+    source, the same LLVM, no fast-math)."""
     cm, jit, built = _flows(monkeypatch, model, params)
     assert built.module.__name__.startswith("kbm_aot_")
     assert not jit.module.__name__.startswith("kbm_aot_")
@@ -55,6 +56,9 @@ def test_ahead_of_time_equals_just_in_time_to_the_last_bit(monkeypatch, model, p
         assert a.y.tobytes() == b.y.tobytes()
         assert jit.to_turn(y0, 1.0, 50.0, cm.pvec, rtol, rtol) == \
             built.to_turn(y0, 1.0, 50.0, cm.pvec, rtol, rtol)
+        for sign in (1.0, -1.0):
+            assert jit.to_section(y0, sign, 0.3 * x0, 50.0, cm.pvec, rtol, rtol) == \
+                built.to_section(y0, sign, 0.3 * x0, 50.0, cm.pvec, rtol, rtol)
     # the transient integrates the state alone: two of the nine states
     a, b = jit([1.0, 0.0], 20.0, cm.pvec, 1e-10, 1e-10, 5), built([1.0, 0.0], 20.0, cm.pvec,
                                                                   1e-10, 1e-10, 5)
@@ -100,7 +104,7 @@ def _correctors(monkeypatch, model, params):
     from numerics.flow.sensitivity import sensitivity_flow
 
     return _flows(monkeypatch, model, params, sensitivity_flow,
-                  {"flow", "to_turn", "shoot_correct", "accelerations"})
+                  {"flow", "to_turn", "to_section", "shoot_correct", "accelerations"})
 
 
 @pytest.mark.parametrize("model, params, vary, rates", [

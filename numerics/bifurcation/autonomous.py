@@ -36,6 +36,7 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+from numerics._memo import memo
 from numerics.errors import ConvergenceError, IntegrationError
 from numerics.flow import compile_model, extended_state, template_flow
 
@@ -73,14 +74,7 @@ class OneDof:
         self.template = cm.template
         self._plane = _plane(model, self.params, self.axes, at, cm.template)
         self.flow = template_flow(cm.template)
-        acc = cm.template.model.acceleration()
-        X, V = sp.Symbol("x"), sp.Symbol("xdot")
-        syms = [sp.Symbol(n) for n in cm.template.names]
-        self._d = {}
-        for i, j in _ORDERS:
-            e = sp.diff(acc, X, i, V, j) if (i or j) else acc
-            self._d[(i, j)] = sp.lambdify((X, V, *syms), e, modules=["math", "scipy"])
-        self.odd = bool(sp.simplify(acc.subs({X: -X, V: -V}, simultaneous=True) + acc) == 0)
+        self._d, self._f_rest, self.odd = _derivatives(cm.template)
 
     def compiled(self, a: float, b: float):
         """The :class:`numerics.flow.CompiledModel` at ``(a, b)`` (memoised)."""
@@ -108,14 +102,13 @@ class OneDof:
         f = self._d[(0, 0)]
         pv = cm.pvec
         xs = np.linspace(-L, L, n)
-        vals = np.array([f(x, 0.0, *pv) for x in xs])
+        vals = _on_grid(self._f_rest, f, xs, pv)
         out = []
-        for k in range(n - 1):
-            if vals[k] == 0 or vals[k] * vals[k + 1] < 0:
-                x = xs[k] if vals[k] == 0 else brentq(lambda s: f(s, 0.0, *pv), xs[k], xs[k + 1],
-                                                       xtol=1e-14, rtol=1e-15)
-                fx = self.d(1, 0, x, 0.0, a, b)
-                out.append(Equilibrium((float(x), "saddle" if fx > 0 else "center")))
+        for k in np.flatnonzero((vals[:-1] == 0) | (vals[:-1] * vals[1:] < 0)):
+            x = xs[k] if vals[k] == 0 else brentq(lambda s: f(s, 0.0, *pv), xs[k], xs[k + 1],
+                                                   xtol=1e-14, rtol=1e-15)
+            fx = self.d(1, 0, x, 0.0, a, b)
+            out.append(Equilibrium((float(x), "saddle" if fx > 0 else "center")))
         return out
 
     def eigen(self, x: float, a: float, b: float) -> tuple[float, float]:
@@ -196,6 +189,44 @@ class OneDof:
             ym = self.end_state(x0, T, a - da * hp, b - db * hp)
             J[:, k] = (np.array([yp[0], yp[1], yp[6]]) - np.array([ym[0], ym[1], ym[6]])) / (2 * hp)
         return J
+
+
+@memo(maxsize=16)
+def _derivatives(template):
+    """``(d, f_rest, odd)`` of the model of ``template``: ``d[(i, j)](x, v, *pvec)`` the
+    derivatives of ``f`` in :data:`_ORDERS` (lambdified with ``math``), ``f_rest(x, v,
+    *pvec)`` the function ``f`` of an array ``x`` (``numpy``: ``f(x, 0)`` on a grid), and
+    whether ``f`` is odd (``f(-x, -v) = -f(x, v)``); memoised per template, as the
+    template is."""
+    acc = template.model.acceleration()
+    X, V = sp.Symbol("x"), sp.Symbol("xdot")
+    syms = [sp.Symbol(n) for n in template.names]
+    d = {}
+    for i, j in _ORDERS:
+        e = sp.diff(acc, X, i, V, j) if (i or j) else acc
+        d[(i, j)] = sp.lambdify((X, V, *syms), e, modules=["math", "scipy"])
+    f_rest = sp.lambdify((X, V, *syms), acc, modules=["numpy", "scipy"])
+    odd = bool(sp.simplify(acc.subs({X: -X, V: -V}, simultaneous=True) + acc) == 0)
+    return d, f_rest, odd
+
+
+def _on_grid(f_rest, f, xs: np.ndarray, pv) -> np.ndarray:
+    """``f(x, 0)`` on the grid ``xs`` as the scalar ``f`` gives it, where it matters: the
+    array function ``f_rest`` everywhere, the scalar one at the points where ``|f|`` is
+    within ``1e-8`` of its largest size on the grid (a sign there could differ by the last
+    bits of ``numpy``'s functions against ``math``'s); the scalar one everywhere where the
+    array function does not give finite values of the grid's shape."""
+    try:
+        with np.errstate(all="ignore"):
+            vals = np.asarray(f_rest(xs, 0.0, *pv), dtype=float)
+    except (TypeError, ValueError, ArithmeticError, AttributeError):
+        vals = None
+    if vals is None or vals.shape != xs.shape or not np.all(np.isfinite(vals)):
+        return np.array([f(x, 0.0, *pv) for x in xs])
+    vals = vals.copy()
+    for k in np.flatnonzero(np.abs(vals) <= 1e-8 * (1.0 + float(np.max(np.abs(vals))))):
+        vals[k] = f(xs[k], 0.0, *pv)
+    return vals
 
 
 def _plane(model, params: Mapping, axes: tuple[str, str], at: tuple[float, float], template):

@@ -83,14 +83,15 @@ def manifold_time(compiled, x_from: float, x_to: float) -> float:
     manifold leaves slowly, so a homoclinic curve is followed closer to its
     saddle-node loop."""
     lam = []
+    f_jac, pv = compiled.template.f_jac, compiled.pvec  # compiled.jac's rows, no array
     for x, unstable in ((x_from, True), (x_to, False)):
         for _ in range(8):  # Newton towards the saddle from the guess
-            J = compiled.jac(0.0, (x, 0.0))
-            if J[1, 0] == 0:
+            fx = float(f_jac(0.0, x, 0.0, *pv)[1][0])
+            if fx == 0:
                 break
-            x -= compiled.acc(0.0, x, 0.0) / float(J[1, 0])
-        J = compiled.jac(0.0, (x, 0.0))
-        fx, fv = float(J[1, 0]), float(J[1, 1])
+            x -= compiled.acc(0.0, x, 0.0) / fx
+        row = f_jac(0.0, x, 0.0, *pv)[1]
+        fx, fv = float(row[0]), float(row[1])
         disc = fv * fv + 4 * fx
         if fx > 0 and disc > 0:
             r = math.sqrt(disc)
@@ -129,24 +130,20 @@ def manifolds_on_section(compiled, acc, yu, ys, xsec: float, arrive: int,
                          t_max: float = 200.0) -> float:
     """The gap of :func:`section_gap` from given starts: ``x'`` where the orbit from ``yu``
     (forward, the compiled flow) first crosses ``x = xsec`` moving towards ``-arrive``,
-    minus ``x'`` where the orbit from ``ys`` (backward, scipy) first reaches it; continued
-    by ``-v_s + (x_turn - xsec)`` where the forward orbit turns back before the section."""
-    from scipy.integrate import solve_ivp
-
+    minus ``x'`` where the orbit from ``ys`` (backward, the compiled stepper's
+    ``to_section``: the crossing by Newton on the last DOP853 step, rtol 1e-12) first
+    reaches it; continued by ``-v_s + (x_turn - xsec)`` where the forward orbit turns back
+    before the section."""
     from numerics.flow import template_flow
 
-    # the stable manifold backward to the section: short, scipy with event location
-    ev = (lambda t, y: y[0] - xsec)
-    ev.terminal = True
-    sol = solve_ivp(lambda t, y: [-y[1], -acc(y[0], y[1])], (0.0, t_max), list(ys),
-                    method="DOP853", rtol=1e-12, atol=1e-13, events=ev)
-    if not sol.t_events[0].size:
-        raise ConvergenceError(f"the stable manifold from x = {ys[0]:.6g} did not reach the "
-                               "section")
-    v_s = float(sol.y_events[0][0][1])
     fl = template_flow(compiled.template)
     if fl is None:
         raise ConvergenceError("the section gap needs the compiled flow (numba)")
+    # the stable manifold backward to the section
+    _, v_s, _, status = fl.to_section(ys, -1.0, xsec, t_max, compiled.pvec, 1e-12, 1e-13)
+    if status:
+        raise ConvergenceError(f"the stable manifold from x = {ys[0]:.6g} did not reach the "
+                               "section")
     y = np.array(yu, dtype=float)
     t, chunk, n = 0.0, 2.0, 40
     x_ext = None   # the unstable manifold's extreme x towards the section, before it turns
@@ -156,13 +153,16 @@ def manifolds_on_section(compiled, acc, yu, ys, xsec: float, arrive: int,
         if r.status:
             raise ConvergenceError(f"the unstable manifold: {r.message}")
         Y = r.y
-        for k in range(n):
-            s0, s1 = Y[k, 0] - xsec, Y[k + 1, 0] - xsec
-            if s0 * arrive > 0 >= s1 * arrive and Y[k + 1, 1] * arrive < 0:
-                return _refine(fl, compiled.pvec, Y[k], xsec) - v_s
-            if not turned and t > 0 and Y[k, 1] * Y[k + 1, 1] < 0:
+        s = (Y[:, 0] - xsec) * arrive
+        # the first sample k with the crossing towards -arrive between k and k + 1
+        cross = np.flatnonzero((s[:-1] > 0) & (s[1:] <= 0) & (Y[1:, 1] * arrive < 0))
+        if cross.size:
+            return _refine(fl, compiled.pvec, Y[cross[0]], xsec) - v_s
+        if not turned and t > 0:
+            turn = np.flatnonzero(Y[:-1, 1] * Y[1:, 1] < 0)
+            if turn.size:
                 turned = True
-                x_ext = Y[k, 0]
+                x_ext = Y[turn[0], 0]
         t += chunk
         y = Y[-1]
     if x_ext is None:

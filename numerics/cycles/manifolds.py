@@ -62,11 +62,13 @@ def _field(model, params: Mapping[str, object], cm=None):
         return cm.acc(0.0, x, v)
     acc.compiled = cm
 
+    f_jac, pv = cm.template.f_jac, cm.pvec  # the rows of cm.jac, without the array
+
     def fx(x, v):
-        return float(cm.jac(0.0, (x, v))[1, 0])
+        return float(f_jac(0.0, x, v, *pv)[1][0])
 
     def fv(x, v):
-        return float(cm.jac(0.0, (x, v))[1, 1])
+        return float(f_jac(0.0, x, v, *pv)[1][1])
     return acc, fx, fv
 
 

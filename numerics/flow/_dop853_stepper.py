@@ -191,13 +191,14 @@ def _step2(t, y, h, p, sign, K, ys, ynew, fnew):
 
 
 @njit(cache=True)
-def to_turn(y0, sign, t_max, p, rtol, atol, max_steps):
+def _to_level(y0, sign, comp, level, t_max, p, rtol, atol, max_steps):
     """Follow ``(x, x')`` from ``y0`` forward (``sign = 1``) or backward (``-1``) in time to
-    where ``x'`` first changes sign; returns ``(x, x', elapsed time, status)`` with status 0
-    at the turn, 1 if there was none within ``t_max`` or ``max_steps``, 3 for a non-finite
-    state.  The step control is :func:`flow`'s; the crossing inside the last step is found
-    by Newton's method on the step length (``d x'/dh = sign * x''``), each iterate one
-    DOP853 step from the start of that step."""
+    where ``y[comp] - level`` first changes sign; returns ``(x, x', elapsed time, status)``
+    with status 0 at the crossing, 1 if there was none within ``t_max`` or ``max_steps``, 3
+    for a non-finite state.  The step control is :func:`flow`'s; the crossing inside the
+    last step is found by Newton's method on the step length (``d y[comp]/dh`` is the
+    signed field's component ``comp``), each iterate one DOP853 step from the start of
+    that step."""
     y = y0[:2].copy()
     K = np.zeros((_NS + 1, 2))
     ys = np.empty(2)
@@ -225,12 +226,13 @@ def to_turn(y0, sign, t_max, p, rtol, atol, max_steps):
             h = h_try * max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT)
             rejected = True
             continue
-        if (ynew[1] > 0.0) != (y[1] > 0.0) and y[1] != 0.0:
-            # the turn lies in this step: Newton on the length of a step from y
-            tau = h_try * y[1] / (y[1] - ynew[1])
+        if (ynew[comp] > level) != (y[comp] > level) and y[comp] != level:
+            # the crossing lies in this step: Newton on the length of a step from y
+            g0 = y[comp] - level
+            tau = h_try * g0 / (g0 - (ynew[comp] - level))
             for _k in range(30):
                 _step2(sign * t, y, tau, p, sign, K, ys, ynew, fnew)
-                d = ynew[1] / fnew[1]
+                d = (ynew[comp] - level) / fnew[comp]
                 tau -= d
                 if abs(d) <= 1e-15 * max(1.0, tau):
                     break
@@ -245,3 +247,18 @@ def to_turn(y0, sign, t_max, p, rtol, atol, max_steps):
         h = h_try * factor
         rejected = False
     return y[0], y[1], t, 1
+
+
+@njit(cache=True)
+def to_turn(y0, sign, t_max, p, rtol, atol, max_steps):
+    """Follow ``(x, x')`` from ``y0`` forward (``sign = 1``) or backward (``-1``) in time to
+    where ``x'`` first changes sign: :func:`_to_level` of ``x'`` at 0."""
+    return _to_level(y0, sign, 1, 0.0, t_max, p, rtol, atol, max_steps)
+
+
+@njit(cache=True)
+def to_section(y0, sign, xsec, t_max, p, rtol, atol, max_steps):
+    """Follow ``(x, x')`` from ``y0`` forward (``sign = 1``) or backward (``-1``) in time to
+    where it first crosses the section ``x = xsec``: :func:`_to_level` of ``x`` at
+    ``xsec`` (the Newton derivative ``d x/dh = sign x'``)."""
+    return _to_level(y0, sign, 0, xsec, t_max, p, rtol, atol, max_steps)

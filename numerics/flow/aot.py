@@ -12,9 +12,9 @@ folder (after numba's own compilation, in the same process: :func:`build`), and 
 by later processes (:func:`load`).  Its name is the SHA-256 of the source, of numba's
 version and of this module's format; the file is written under a temporary name and
 renamed, so a process never reads half a module; a build that fails (no C compiler) is
-noted in the folder (``NAME.failed``) and not tried again there.  The functions exported are the
-stepper's ``flow`` and ``to_turn`` with the argument types the compiled flow is called
-with, and the functions of the extra source compiled with it (the continuation's Newton
+noted in the folder (``NAME.failed``) and not tried again there.  The functions exported
+are the stepper's ``flow``, ``to_turn`` and ``to_section`` with the argument types the
+compiled flow is called with, and the functions of the extra source compiled with it (the continuation's Newton
 corrector ``shoot_correct`` and ``accelerations``: :data:`EXTRA_SIGNATURES`); the code is
 that of the same Python source, compiled by the same LLVM without fast-math, so the numbers are those of the just-in-time code to the last bit (a test
 compares them).  Set ``KBM_AOT=0`` to use numba's just-in-time code only.
@@ -49,6 +49,7 @@ _FORMAT = "1"
 SIGNATURES = {
     "flow": "Tuple((f8[:,::1], i8, i8))(f8[::1], f8, f8[::1], f8, f8, i8, i8)",
     "to_turn": "Tuple((f8, f8, f8, i8))(f8[::1], f8, f8, f8[::1], f8, f8, i8)",
+    "to_section": "Tuple((f8, f8, f8, i8))(f8[::1], f8, f8, f8, f8[::1], f8, f8, i8)",
 }
 
 

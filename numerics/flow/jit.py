@@ -48,7 +48,7 @@ __all__ = ["jit_flow", "jit_available", "cache_dir", "FlowResult", "flow_cache_k
            "compile_notice", "cached_flow", "COMPILE_SECONDS"]
 
 #: version of the generated source (part of the file's hash)
-_VERSION = "3"
+_VERSION = "4"
 
 #: the stepper's source, appended to the printed right-hand side (a real, linted file)
 _STEPPER = (Path(__file__).with_name("_dop853_stepper.py")).read_text()
@@ -209,7 +209,8 @@ def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.S
         the states, or only the first two (then only those are integrated).
         Its attribute ``to_turn(y0, sign, t_max, p, rtol, atol)`` follows the state
         ``(x, x')`` forward or backward to where ``x'`` first changes sign (an event the
-        flow itself does not locate): ``(x, x', t, status)``.
+        flow itself does not locate): ``(x, x', t, status)``; ``to_section(y0, sign,
+        xsec, t_max, p, rtol, atol)`` to where ``x`` first crosses ``xsec``.
         The first call in a new cache folder compiles (a few seconds); later
         calls and processes reuse the machine code.
 
@@ -266,7 +267,18 @@ def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.S
                                       float(atol), int(max_steps))
         return float(x), float(v), float(t), int(status)
 
+    def to_section(y0, sign, xsec, t_max, p, rtol, atol, max_steps=10**6):
+        """``(x, x', t, status)`` where the orbit of the state ``y0[:2]``, forward (``sign =
+        1``) or backward (``-1``) in time, first crosses ``x = xsec`` (the stepper's
+        ``to_section``: status 0 found, 1 not within ``t_max``, 3 non-finite)."""
+        x, v, t, status = mod.to_section(np.asarray(y0, dtype=float), float(sign),
+                                         float(xsec), float(t_max),
+                                         np.asarray(p, dtype=float), float(rtol),
+                                         float(atol), int(max_steps))
+        return float(x), float(v), float(t), int(status)
+
     flow.to_turn = to_turn
+    flow.to_section = to_section
     flow.module = mod
     return flow
 
@@ -311,6 +323,15 @@ def _aot_flow(mod, extra: str = "") -> Callable:
                                       float(rtol), float(atol), int(max_steps))
         return float(x), float(v), float(t), int(status)
 
+    def to_section(y0, sign, xsec, t_max, p, rtol, atol, max_steps=10**6):
+        """As :func:`jit_flow`'s ``to_section``."""
+        x, v, t, status = mod.to_section(np.ascontiguousarray(y0, dtype=float), float(sign),
+                                         float(xsec), float(t_max),
+                                         np.ascontiguousarray(p, dtype=float), float(rtol),
+                                         float(atol), int(max_steps))
+        return float(x), float(v), float(t), int(status)
+
     flow.to_turn = to_turn
+    flow.to_section = to_section
     flow.module = _AotModule(mod) if extra else mod
     return flow

@@ -28,6 +28,7 @@ callers use scipy's integrators.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import importlib.util
 import os
@@ -59,6 +60,14 @@ def jit_available() -> bool:
     :mod:`numerics.flow.aot`)."""
     if os.environ.get("KBM_NO_JIT"):
         return False
+    return _numba_installed()
+
+
+@functools.lru_cache(maxsize=1)
+def _numba_installed() -> bool:
+    """Whether numba can be imported, looked up once per process: the search of ``sys.path``
+    costs about 0.7 ms, and :func:`jit_available` is asked at every flow call (a long-period
+    Newton iteration makes some 30 000)."""
     try:
         return importlib.util.find_spec("numba") is not None
     except (ImportError, ValueError):

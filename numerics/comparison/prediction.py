@@ -137,11 +137,23 @@ class Prediction:
                            harmonics=[float(h) for h in self.harmonics[:8]])
 
 
-@memo(maxsize=16)
 def derived(model: Oscillator | str, order: int) -> KBMResult:
     """:func:`kbm.derive` of ``model`` to ``order``, memoised (:func:`numerics._memo.memo`):
     the comparisons, validity maps and convergence studies of one model derive it once per
-    process (the result is frozen; the same expansion, only sooner)."""
+    process (the result is frozen; the same expansion, only sooner).  A built-in's name and
+    its model are one entry."""
+    if isinstance(model, str):
+        from kbm.models import get_model
+
+        try:
+            model = get_model(model)
+        except KBMError:  # a coupled built-in's name: derive reads it
+            pass
+    return _derived(model, int(order))
+
+
+@memo(maxsize=16)
+def _derived(model, order: int) -> KBMResult:
     from kbm import derive
 
     return derive(model, order)

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 import sympy as sp
@@ -153,8 +154,22 @@ class AveragedRates:
 
 
 def averaged_rates(result: KBMResult, *, order: int | None = None) -> AveragedRates:
-    """Lambdify the averaged equations of ``result`` up to ``order`` (default: all)."""
+    """Lambdify the averaged equations of ``result`` up to ``order`` (default: all).
+
+    Memoised on ``(result, order)`` (a :class:`~kbm.result.KBMResult` is frozen and hashable;
+    equal results give the same functions), so the many :func:`averaged_cycles` of one
+    derivation over a grid of parameters lambdify once."""
     N = result.resolve_order(order)
+    try:
+        hash(result)
+    except TypeError:  # a result holding an unhashable part: lambdified afresh
+        return _averaged_rates.__wrapped__(result, N)
+    return _averaged_rates(result, N)
+
+
+@lru_cache(maxsize=32)
+def _averaged_rates(result: KBMResult, N: int) -> AveragedRates:
+    """:func:`averaged_rates` at the resolved order ``N`` (memoised)."""
     rate = sp.Add(*[mu**n * result.A[n] for n in range(1, N + 1)])
     args = [a, mu, *[sp.Symbol(p) for p in result.params]]
     return AveragedRates(

@@ -64,8 +64,8 @@ import sympy as sp
 from .symbols import a, mu, psi
 
 __all__ = ["mu", "beta", "Delta", "k", "a", "psi", "n", "phase_rate", "amplitude_rate",
-           "f", "g", "displacement", "Erratum", "ERRATA", "corrected", "FIXED", "fig3", "FIG4",
-           "FIG5", "POINTS", "ERRATA_CASES", "COMPARISON_CASES"]
+           "f", "g", "displacement", "Erratum", "ERRATA", "corrected", "engine_expansion",
+           "FIXED", "fig3", "FIG4", "FIG5", "POINTS", "ERRATA_CASES", "COMPARISON_CASES"]
 
 beta, Delta, k = sp.symbols("beta Delta k")
 #: summation index of eq. (8)
@@ -108,11 +108,18 @@ def displacement() -> sp.Expr:
 
 # ----------------------------------------------------------------------------- errata
 @lru_cache(maxsize=1)
-def _engine() -> dict[str, sp.Expr]:
-    """The engine's order-2 sedf expansion in the paper's variables (Omega = 1)."""
+def engine_expansion():
+    """The engine's order-2 expansion of the built-in ``sedf`` (:func:`kbm.derive`, once per
+    process): the corrections below and the errata's comparisons share it."""
     from .averaging import derive
 
-    res = derive("sedf", 2)
+    return derive("sedf", 2)
+
+
+@lru_cache(maxsize=1)
+def _engine() -> dict[str, sp.Expr]:
+    """The engine's order-2 sedf expansion in the paper's variables (Omega = 1)."""
+    res = engine_expansion()
     subs = {sp.Symbol("Omega"): 1, sp.Symbol("delta"): Delta / mu, sp.Symbol("k"): k,
             sp.Symbol("beta"): beta}
 

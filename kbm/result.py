@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from functools import lru_cache
 
 import sympy as sp
 
@@ -144,23 +145,18 @@ class KBMResult:
         tol
             Relative truncation tolerance of infinite Bessel sums (numpy only;
             default :data:`kbm.evaluate.DEFAULT_TOL`).
+
+        Memoised on ``(result, backend, tol)`` (the result is frozen and hashable; equal
+        results compile to the same functions), so the studies that compare one derivation
+        at many parameter values compile it once.
         """
-        pars = tuple(sp.Symbol(p) for p in self.params)
-        if backend == "numpy":
-            def comp(e, args):
-                return evaluate.numpy_function(sp.sympify(e), args,
-                                               tol=tol or evaluate.DEFAULT_TOL)
-        elif backend == "mpmath":
-            def comp(e, args):
-                return evaluate.mpmath_function(sp.sympify(e), args)
-        else:
+        if backend not in ("numpy", "mpmath"):
             raise ParameterError(f"unknown backend {backend!r}; use 'numpy' or 'mpmath'")
-        return KBMFunctions(
-            backend=backend, order=self.order, params=self.params,
-            A=tuple(comp(e, (a, *pars)) for e in self.A),
-            B=tuple(comp(e, (a, *pars)) for e in self.B),
-            u=tuple(comp(e, (a, psi, *pars)) for e in self.u),
-        )
+        try:
+            hash(self)
+        except TypeError:  # a result holding an unhashable part: compiled afresh
+            return _compile.__wrapped__(self, backend, tol)
+        return _compile(self, backend, tol)
 
     # -- output -------------------------------------------------------------------------
     def to_json(self) -> dict:
@@ -246,3 +242,22 @@ def _first_harmonic_present(expr: sp.Expr) -> bool:
             if isinstance(f, (sp.cos, sp.sin)) and f.args[0] in (psi, -psi):
                 return True
     return False
+
+
+@lru_cache(maxsize=32)
+def _compile(result: KBMResult, backend: str, tol: float | None) -> KBMFunctions:
+    """:meth:`KBMResult.functions` (memoised)."""
+    pars = tuple(sp.Symbol(p) for p in result.params)
+    if backend == "numpy":
+        def comp(e, args):
+            return evaluate.numpy_function(sp.sympify(e), args,
+                                           tol=tol or evaluate.DEFAULT_TOL)
+    else:
+        def comp(e, args):
+            return evaluate.mpmath_function(sp.sympify(e), args)
+    return KBMFunctions(
+        backend=backend, order=result.order, params=result.params,
+        A=tuple(comp(e, (a, *pars)) for e in result.A),
+        B=tuple(comp(e, (a, *pars)) for e in result.B),
+        u=tuple(comp(e, (a, psi, *pars)) for e in result.u),
+    )

@@ -15,6 +15,7 @@ The imports are read from the source (``ast``), so function-local imports count 
 from __future__ import annotations
 
 import ast
+import functools
 import subprocess
 import sys
 from pathlib import Path
@@ -30,8 +31,10 @@ FLOORS = ("base", "flow", "shooting", "noise", "energy", "cycles", "forced", "co
 BASE = {"errors", "_memo", "_show", "_plot", "executor", "store", "__init__"}
 
 
-def _imports(path: Path) -> set[str]:
-    """Absolute module names imported by a file (relative imports resolved)."""
+@functools.lru_cache(maxsize=None)
+def _imports(path: Path) -> frozenset[str]:
+    """Absolute module names imported by a file (relative imports resolved); each file is
+    parsed once for all the tests here (the parse is most of their time)."""
     tree = ast.parse(path.read_text(), filename=str(path))
     pkg = ".".join(path.relative_to(ROOT).with_suffix("").parts[:-1])
     out: set[str] = set()
@@ -47,7 +50,7 @@ def _imports(path: Path) -> set[str]:
                 mod = node.module or ""
             out.add(mod)
             out.update(f"{mod}.{a.name}" for a in node.names)
-    return out
+    return frozenset(out)
 
 
 def _floor(module: str) -> int:

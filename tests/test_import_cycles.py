@@ -12,6 +12,7 @@ the homotopy sits in ``numerics.cycles.every_cycle``, above both.
 from __future__ import annotations
 
 import ast
+import functools
 from collections import defaultdict
 from pathlib import Path
 
@@ -52,14 +53,24 @@ def _targets(mods, cur: str, node) -> list[str]:
     return out
 
 
-def _circles(deep: bool) -> list[frozenset]:
+@functools.lru_cache(maxsize=1)
+def _graphs() -> tuple[dict, dict, dict]:
+    """``(modules, module-level graph, graph with the deferred imports)``: every file parsed
+    once for both tests (the parse is most of their time)."""
     mods = _modules()
-    graph = defaultdict(set)
+    shallow, deep = defaultdict(set), defaultdict(set)
     for name, f in mods.items():
         tree = ast.parse(f.read_text())
-        for node in (ast.walk(tree) if deep else tree.body):
-            if isinstance(node, (ast.Import, ast.ImportFrom)):
-                graph[name].update(_targets(mods, name, node))
+        for graph, nodes in ((shallow, tree.body), (deep, ast.walk(tree))):
+            for node in nodes:
+                if isinstance(node, (ast.Import, ast.ImportFrom)):
+                    graph[name].update(_targets(mods, name, node))
+    return mods, dict(shallow), dict(deep)
+
+
+def _circles(deep: bool) -> list[frozenset]:
+    mods, shallow, deep_graph = _graphs()
+    graph = defaultdict(set, deep_graph if deep else shallow)
     index, low, stack, on, out = {}, {}, [], set(), []
 
     def visit(v):  # Tarjan, iterative enough for this graph's depth

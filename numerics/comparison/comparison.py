@@ -19,14 +19,14 @@ import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
-from kbm import KBMFunctions, KBMResult, derive
+from kbm import KBMFunctions, KBMResult
 from kbm.errors import ParameterError
 from kbm.bound import BoundModel, bind
 from kbm.models import Oscillator
 
 from kbm.strict_json import finite
-from numerics.comparison.prediction import (ERROR_KEYS, Prediction, kbm_prediction,
-                                            numeric_value)
+from numerics.comparison.prediction import (ERROR_KEYS, Prediction, derived,
+                                            kbm_prediction, numeric_value)
 from numerics.cycles import LimitCycle, limit_cycle
 from numerics._show import num, params_text
 
@@ -193,7 +193,7 @@ def compare(model: Oscillator | str | BoundModel, params: Mapping[str, object] |
     if cycle is None:
         cycle = limit_cycle(bound, **cycle_kwargs)
     if result is None:
-        result = derive(bound.model, orders[-1])
+        result = derived(bound.model, orders[-1])
     fns = functions or result.functions("numpy")
     target = cycle.amplitude_first_harmonic
     preds = [fn(bound, target_amplitude=target) for fn in extra]

@@ -34,14 +34,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm import derive
 from kbm.errors import KBMError
 
 from kbm.strict_json import finite
 from numerics.comparison.comparison import compare
 from numerics.comparison.convergence import fit_slope
 from numerics.comparison.predict import energy_prediction
-from numerics.comparison.prediction import numeric_value
+from numerics.comparison.prediction import derived, numeric_value
 
 __all__ = ["FIXED_DELTA_KEYS", "DEFAULT_EPS", "energy_orders_predicted", "FixedDeltaStudy",
            "fixed_delta_study", "FixedDeltaConvergence", "fixed_delta_convergence"]
@@ -170,7 +169,7 @@ def fixed_delta_study(Delta: float, beta: float, eps: Sequence[float] = DEFAULT_
     FixedDeltaStudy
     """
     kbm_orders = tuple(sorted(int(n) for n in kbm_orders))
-    res = derive("sedf", kbm_orders[-1])
+    res = derived("sedf", kbm_orders[-1])
     fns = res.functions("numpy")
     extra = [energy_prediction(int(n)) for n in energy_orders]
     rows = tuple(f"energy order {int(n)}" for n in energy_orders) + tuple(

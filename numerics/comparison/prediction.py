@@ -44,10 +44,11 @@ from kbm.strict_json import json_fields
 from kbm.symbols import x as X, xdot as V
 
 from numerics.cycles import LimitCycle
+from numerics._memo import memo
 from numerics._show import num
 
-__all__ = ["Prediction", "ERROR_KEYS", "numeric_value", "kbm_prediction", "reconstruct",
-           "cycle_measures", "dissipation_functions"]
+__all__ = ["Prediction", "ERROR_KEYS", "numeric_value", "kbm_prediction", "derived",
+           "reconstruct", "cycle_measures", "dissipation_functions"]
 
 #: the quantities compared, in the order of the tables
 ERROR_KEYS = ("amplitude", "amplitude_max", "frequency", "harmonic3", "floquet_multiplier",
@@ -134,6 +135,28 @@ class Prediction:
                            "amplitude_max", "frequency", "period", "dA_da", "stable",
                            "floquet_multiplier", "dissipation",
                            harmonics=[float(h) for h in self.harmonics[:8]])
+
+
+def derived(model: Oscillator | str, order: int) -> KBMResult:
+    """:func:`kbm.derive` of ``model`` to ``order``, memoised (:func:`numerics._memo.memo`):
+    the comparisons, validity maps and convergence studies of one model derive it once per
+    process (the result is frozen; the same expansion, only sooner).  A built-in's name and
+    its model are one entry."""
+    if isinstance(model, str):
+        from kbm.models import get_model
+
+        try:
+            model = get_model(model)
+        except KBMError:  # a coupled built-in's name: derive reads it
+            pass
+    return _derived(model, int(order))
+
+
+@memo(maxsize=16)
+def _derived(model, order: int) -> KBMResult:
+    from kbm import derive
+
+    return derive(model, order)
 
 
 def numeric_value(cycle: LimitCycle, key: str) -> float:

@@ -11,7 +11,8 @@ analysis.
 - :func:`energy_guesses`: the stable cycles of the energy-balance averaging about
   the conservative orbit (:func:`numerics.energy.predict_cycles`, order 1), as
   ``(x_max, period)``, largest first: right where the potential is strong and
-  classical KBM fails (the paper's ``Delta = 3``), at ~50-150 ms.
+  classical KBM fails (the paper's ``Delta = 3``), at ~50-150 ms; :func:`energy_cycles`:
+  all of them, each with its stability (one prediction for the stable and unstable starts).
 """
 
 from __future__ import annotations
@@ -33,7 +34,8 @@ if TYPE_CHECKING:
     from kbm.bound import BoundModel
     from kbm.models import Oscillator
 
-__all__ = ["kbm_guess", "energy_guesses", "brentq", "FirstOrderRates", "rates_key"]
+__all__ = ["kbm_guess", "energy_guesses", "energy_cycles", "brentq", "FirstOrderRates",
+           "rates_key"]
 
 #: the record kind and the options of the first-order rates in the template cache
 _KIND, _OPTIONS = "rates", "kbm first-order averaged rates|1"
@@ -218,6 +220,13 @@ def energy_guesses(bound: BoundModel, *, stable_only: bool = True) -> list[tuple
     Empty when the model cannot be split into a confining conservative part and a
     perturbation, or has no cycle (:func:`numerics.energy.predict_cycles`).
     """
+    return [(x, T) for x, T, stable in energy_cycles(bound) if stable or not stable_only]
+
+
+def energy_cycles(bound: BoundModel) -> list[tuple[float, float, bool]]:
+    """Every first-order energy-balance cycle as ``(x_max, period, stable)``, largest
+    ``x_max`` first: :func:`energy_guesses` before the choice of the stable ones (the
+    shooting's starts take both from one prediction)."""
     from numerics.energy import predict_cycles  # imported on use: scipy.integrate (issue 39)
 
     bound = bound.full() if hasattr(bound, "full") else bound  # a model card's: the model
@@ -226,6 +235,5 @@ def energy_guesses(bound: BoundModel, *, stable_only: bool = True) -> list[tuple
         pred = predict_cycles(bound.model, dict(bound.values), order=1)
     except (KBMError, ArithmeticError, ValueError):  # no guess: the transients still run
         return []
-    cycles = [c for c in pred.cycles if c.stable or not stable_only]
-    cycles.sort(key=lambda c: -abs(c.amplitude_max))
-    return [(c.amplitude_max, c.period) for c in cycles]
+    cycles = sorted(pred.cycles, key=lambda c: -abs(c.amplitude_max))
+    return [(c.amplitude_max, c.period, bool(c.stable)) for c in cycles]

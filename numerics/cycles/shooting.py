@@ -30,7 +30,7 @@ import numpy as np
 from kbm.errors import NonAutonomousError
 
 from numerics.cycles.finalpass import final_pass
-from numerics.cycles.guess import energy_guesses, kbm_guess
+from numerics.cycles.guess import energy_cycles, kbm_guess
 from numerics.cycles.newton import NEWTON_MAX_STEPS, check_nontrivial, newton
 from numerics.cycles.result import LimitCycle
 from numerics.cycles.transient import transient
@@ -252,7 +252,8 @@ def _starts(bound: BoundModel, guess, x_start: float):
     kg = kbm_guess(bound)
     if kg is not None:
         yield "KBM first-order averaged cycle", kg, None
-    eg = energy_guesses(bound)
+    ec = energy_cycles(bound)  # one prediction for the stable and the unstable starts
+    eg = [(x, T) for x, T, stable in ec if stable]
     for x, T in eg:
         yield "energy-balance cycle", (x, T), None
     if kg is None and not eg:
@@ -261,7 +262,7 @@ def _starts(bound: BoundModel, guess, x_start: float):
         ku = kbm_guess(bound, stable=False)
         if ku is not None:
             yield "unstable KBM first-order averaged cycle", ku, None
-        for x, T in energy_guesses(bound, stable_only=False):
+        for x, T, _ in ec:
             yield "unstable energy-balance cycle", (x, T), None
     seen = []
     for x in [*(x for x, _ in eg), *([kg[0]] if kg else []), x_start]:

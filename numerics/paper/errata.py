@@ -132,7 +132,8 @@ def errata_evidence(cases: Sequence[tuple[str, Mapping[str, float]]] = CASES,
     out: list[ErratumEvidence] = []
     psi = np.linspace(0.0, 2 * np.pi, n_samples, endpoint=False)
     for name, params in cases:
-        comp = compare("sedf", params, orders=(2,), extra=[paper_prediction])
+        comp = compare("sedf", params, orders=(2,), extra=[paper_prediction],
+                       result=paper.engine_expansion())  # the expansion eqs. 6-9 correct
         cyc = comp.numeric
         pv = [float(params["mu"]), float(params["beta"]), float(params["Delta"]),
               2 * np.pi / float(params.get("lam", 1.0))]

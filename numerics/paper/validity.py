@@ -19,10 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm import derive
 from kbm.strict_json import json_fields
 
-from numerics.comparison.prediction import kbm_prediction, numeric_value
+from numerics.comparison.prediction import derived, kbm_prediction, numeric_value
 from numerics.cycles.sweep import grid, sweep
 
 __all__ = ["ValidityPoint", "ValidityMap", "validity_map", "DEFAULT_GRID", "VALIDITY_KEYS",
@@ -187,7 +186,7 @@ def validity_map(mu: Sequence[float] = DEFAULT_GRID["mu"],
     axes, swept = sedf_sweep(mu, Delta, beta, lam, swept, workers=workers, progress=progress,
                              x_start=x_start)
     orders = tuple(sorted(int(n) for n in orders))
-    res = derive("sedf", orders[-1])
+    res = derived("sedf", orders[-1])
     fns = res.functions("numpy")
     out = []
     for sp_ in swept:

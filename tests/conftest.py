@@ -19,6 +19,17 @@ settings.load_profile("kbm")
 #: ``tests/test_warm_path.py``)
 os.environ.setdefault("KBM_AOT", "0")
 
+#: one BLAS thread in each test process (and the commands the tests start): pytest-xdist
+#: already runs a worker per core, and each worker's OpenBLAS starting a thread per core
+#: made the workers fight over the cores (a 121 x 121 solve took 106 ms under that load
+#: against 0.7 ms on one thread).  Set before numpy's BLAS starts where this runs first,
+#: and applied by threadpoolctl where numpy was imported already.
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+from threadpoolctl import threadpool_limits  # noqa: E402
+
+threadpool_limits(1)
+
 #: the slowest tests of the default run, marked ``slow`` here (they run with ``python -m
 #: pytest -m slow``) so that the README's test command stays within 5 minutes on two cores:
 #: node id -> seconds in the whole parallel run (``--durations=30``, 2026-11-26, on a

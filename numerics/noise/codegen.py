@@ -3,10 +3,9 @@
 the sliders too, so one compilation serves a whole friction map), the acceleration, the
 force and friction of BAOAB's split, the spring and the energy (its potential in closed
 form where there is one), followed by the kernels of :mod:`numerics.noise._kernels`,
-:mod:`numerics.noise._pair_kernels` and :mod:`numerics.noise._lane_kernels`; or ``N``
-coupled accelerations as one vector function ``accel_n(t_, y, p, out)`` followed by
-:mod:`numerics.noise._kernels` (whose ``vector_paths`` integrates them:
-:mod:`numerics.noise.coupled`).  The
+:mod:`numerics.noise._passage_kernels` and :mod:`numerics.noise._pair_kernels`; or ``N``
+coupled accelerations as one vector function ``accel_n(t_, y, p, out)`` followed by :mod:`numerics.noise._kernels` (whose
+``vector_paths`` integrates them: :mod:`numerics.noise.coupled`).  The
 machine code is cached on disk under the SHA-256 of the source
 (:func:`numerics.flow.jit.cache_dir`); the choice of scheme (Kloeden-Platen or BAOAB) is
 made here too.
@@ -32,7 +31,7 @@ __all__ = ["SCHEMES", "vector_module"]
 _VERSION = "2"
 
 _KERNELS = "\n\n".join(Path(__file__).with_name(f).read_text()
-                         for f in ("_kernels.py", "_pair_kernels.py", "_lane_kernels.py"))
+                         for f in ("_kernels.py", "_passage_kernels.py", "_pair_kernels.py"))
 _HEADER = "import math\n\nimport numpy as np\nfrom numba import njit\n\n"
 _STAGE_V = sp.Symbol("v")
 

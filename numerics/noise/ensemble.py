@@ -6,7 +6,7 @@ spring force are taken, and a histogram of one observable (the amplitude ``a``, 
 or the energy ``E = x'^2/2 + G(x)``), with four-point Gauss-Hermite increments (their
 moments the Gaussian's up to the seventh: the ``h^2`` coefficient of the bias is the one the
 step pilot :func:`numerics.noise.langevin.measured_step` measures with Gaussian increments;
-kernel ``stationary_stats4`` of :mod:`numerics.noise._lane_kernels`).  The estimate is the
+kernel ``stationary_stats4`` of :mod:`numerics.noise._pair_kernels`).  The estimate is the
 mean over trajectories;
 its standard error is their standard deviation over ``sqrt(N)`` (the trajectories
 are independent, so this is valid whatever the correlation time within one).

@@ -151,6 +151,17 @@ def _step(t, x, v, f, h, sdw, p):
 
 
 @njit(cache=True)
+def _pair_start(p, y0, t0, states, i):
+    """Trajectories ``i`` and ``i + 1`` at ``t0``: ``(sa, xa, va, fa, sb, xb, vb, fb)``, each
+    its generator (a copy of ``states[i]``), its state and its carried force."""
+    sa = states[i].copy()
+    sb = states[i + 1].copy()
+    xa, va = y0[i, 0], y0[i, 1]
+    xb, vb = y0[i + 1, 0], y0[i + 1, 1]
+    return sa, xa, va, _first(t0, xa, va, p), sb, xb, vb, _first(t0, xb, vb, p)
+
+
+@njit(cache=True)
 def _advance(p, x, v, t0, h, n, s, amp):
     """``n`` steps from ``(x, v)`` at ``t0``: ``(x, v, ok)``, ``ok`` false (and the state
     NaN) when the state ends non-finite (a non-finite state stays non-finite: NaN

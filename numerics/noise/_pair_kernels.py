@@ -212,12 +212,7 @@ def _stats_two(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, widt
     :func:`_stats_one` computes it.  False (rows ``i``, ``i + 1`` of ``hist`` zero again)
     when a state turns non-finite: the caller then runs them alone."""
     nbins = hist.shape[1]
-    sa = states[i].copy()
-    sb = states[i + 1].copy()
-    xa, va = y0[i, 0], y0[i, 1]
-    xb, vb = y0[i + 1, 0], y0[i + 1, 1]
-    fa = _first(t0, xa, va, p)  # noqa: F821
-    fb = _first(t0, xb, vb, p)  # noqa: F821
+    sa, xa, va, fa, sb, xb, vb, fb = _pair_start(p, y0, t0, states, i)  # noqa: F821
     ga, gb = 0.0, 0.0
     for k in range(n_burn):
         t = t0 + k * h

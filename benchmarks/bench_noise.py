@@ -235,8 +235,8 @@ def rates() -> None:
             t0 = time.perf_counter()
             fn(p, s.sigma, y0, 0.0, h, 0, n, st, s.omega0, 0, 0.0, 4.0, 40)
             took[j].append(time.perf_counter() - t0)
-    print(f"   the stationary run's kernel (four-point increments, two trajectories a loop) / the "
-          f"three-point kernel (one a loop): time x"
+    print(f"   the stationary run's kernel (four-point increments) / the three-point kernel (the "
+          f"same loop, two trajectories a loop): time x"
           f"{float(np.median(took[1]) / np.median(took[0])):.2f} (medians of 7 interleaved)")
 
 

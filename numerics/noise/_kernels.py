@@ -151,6 +151,17 @@ def _step(t, x, v, f, h, sdw, p):
 
 
 @njit(cache=True)
+def _pair_start(p, y0, t0, states, i):
+    """Trajectories ``i`` and ``i + 1`` at ``t0``: ``(sa, xa, va, fa, sb, xb, vb, fb)``, each
+    its generator (a copy of ``states[i]``), its state and its carried force."""
+    sa = states[i].copy()
+    sb = states[i + 1].copy()
+    xa, va = y0[i, 0], y0[i, 1]
+    xb, vb = y0[i + 1, 0], y0[i + 1, 1]
+    return sa, xa, va, _first(t0, xa, va, p), sb, xb, vb, _first(t0, xb, vb, p)
+
+
+@njit(cache=True)
 def _advance(p, x, v, t0, h, n, s, amp):
     """``n`` steps from ``(x, v)`` at ``t0``: ``(x, v, ok)``, ``ok`` false (and the state
     NaN) when the state ends non-finite (a non-finite state stays non-finite: NaN
@@ -210,56 +221,6 @@ def _observe(kind, x, v, w0, p):
     if kind == 1:
         return x
     return energy(x, v, p)  # noqa: F821
-
-
-@njit(cache=True)
-def stationary_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0, kind, lo, hi, nbins):
-    """Per trajectory: the time averages of ``x^2``, ``a^2 = x^2 + (x'/w0)^2``, ``x'^2`` and
-    the spring force over ``n_run`` steps after ``n_burn``, and the fraction of those
-    steps the observable ``kind`` (0: ``a``, 1: ``x``, 2: the energy) spent in each of
-    ``nbins`` equal bins of ``[lo, hi)``.  A diverged trajectory gives NaN rows."""
-    m = y0.shape[0]
-    sums = np.zeros((m, 4))
-    hist = np.zeros((m, nbins))
-    amp = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)
-    width = (hi - lo) / nbins
-    for i in range(m):
-        s = states[i].copy()
-        x, v = y0[i, 0], y0[i, 1]
-        x, v, ok = _advance(p, x, v, t0, h, n_burn, s, amp)
-        t1 = t0 + n_burn * h
-        f = _first(t1, x, v, p) if ok else 0.0
-        a_x2 = 0.0
-        a_a2 = 0.0
-        a_v2 = 0.0
-        a_f = 0.0
-        if ok:
-            for k in range(n_run):
-                x, v, f = _step(t1 + k * h, x, v, f, h, _increment(s, amp), p)
-                if not math.isfinite(x + v):
-                    ok = False
-                    break
-                a_x2 += x * x
-                a_v2 += v * v
-                a_a2 += x * x + (v / w0) ** 2
-                a_f += spring(t1 + (k + 1) * h, x, v, p)  # noqa: F821
-                o = _observe(kind, x, v, w0, p)
-                j = int(math.floor((o - lo) / width))
-                if 0 <= j < nbins:
-                    hist[i, j] += 1.0
-        if ok:
-            sums[i, 0] = a_x2 / n_run
-            sums[i, 1] = a_a2 / n_run
-            sums[i, 2] = a_v2 / n_run
-            sums[i, 3] = a_f / n_run
-            for j in range(nbins):
-                hist[i, j] /= n_run
-        else:
-            for c in range(4):
-                sums[i, c] = math.nan
-            for j in range(nbins):
-                hist[i, j] = math.nan
-    return sums, hist
 
 
 @njit(cache=True)

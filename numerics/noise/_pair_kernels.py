@@ -1,17 +1,18 @@
-"""Compiled Gaussian-increment kernels of :mod:`numerics.noise`: the pair and the ladder of
-steps on one Brownian path, appended as source after :mod:`numerics.noise._kernels` (whose
-``_step``, ``_first``, ``_uniform`` and ``_noise_factor`` they call) to a printed model.
+"""Compiled kernels of :mod:`numerics.noise` for stationary averages, appended as source
+after :mod:`numerics.noise._kernels` (whose ``_step``, ``_first``, ``_uniform`` and
+``_noise_factor`` they call) to a printed model.
 
 The Richardson extrapolation (:mod:`numerics.noise.extrapolate`) and the measured default
-step (:func:`numerics.noise.langevin.measured_step`) run the scheme at ``h`` and ``h/2``
-(``step_pair_stats``) or at ``h/2^j`` (``step_ladder_stats``) with Gaussian increments, each
-coarse increment the sum of the finer ones, so that the runs stay close and their
-difference has a small variance; ``step_gauss_stats`` runs the scheme at ``h`` alone with
-Gaussian increments (the two-level estimator's level 0); ``step_antithetic_stats`` adds the
-fine run with each coarse step's two increments swapped (the antithetic correction): both
-couplings are one loop (``_coupled_stats``) with the coupling chosen at compile time;
-``stationary_stats4`` is the stationary ensembles' kernel, with four-point Gauss-Hermite
-increments (``_increment4``), two trajectories to a loop.
+step (:func:`numerics.noise.langevin.measured_step`) run the scheme at ``h`` and ``h/2`` on one
+Brownian path (``step_pair_stats``), each coarse Gaussian increment the sum of the two fine
+ones, so that the runs stay close and their difference has a small variance;
+``step_antithetic_stats`` adds the fine run with each coarse step's two increments swapped
+(the antithetic correction): both couplings are one loop (``_coupled_stats``) with the
+coupling chosen at compile time.  ``stationary_stats4`` is the stationary ensembles' kernel,
+with four-point Gauss-Hermite increments (``_increment4``), ``stationary_stats`` the same
+with three-point ones and ``step_gauss_stats`` (the two-level estimator's level 0) with
+Gaussian ones: one loop body for the three (``_stats``, the increment law a compile-time
+constant), two trajectories to a loop.
 """
 
 import math
@@ -92,92 +93,6 @@ def step_pair_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0):
 
 
 @njit(cache=True)
-def step_ladder_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0, levels):
-    """Per trajectory and level ``j = 0..levels``: the time average of ``x^2`` and ``a^2``
-    over ``n_run`` steps ``h`` after ``n_burn``, run at the step ``h/2^j`` on one Brownian
-    path (Gaussian increments; each coarse increment is the sum of the finer ones), sampled
-    at the ends of the coarse steps.  Shape ``(m, levels + 1, 2)``; NaN rows for a
-    diverged trajectory.  ``levels = 1`` is :func:`step_pair_stats`' pair."""
-    m = y0.shape[0]
-    nf = 1 << levels
-    out = np.zeros((m, levels + 1, 2))
-    sf = sigma * math.sqrt(h / nf)
-    g = np.empty(nf)
-    xs = np.empty(levels + 1)
-    vs = np.empty(levels + 1)
-    fs = np.empty(levels + 1)
-    for i in range(m):
-        s = states[i].copy()
-        for j in range(levels + 1):
-            xs[j], vs[j] = y0[i, 0], y0[i, 1]
-            fs[j] = _first(t0, xs[j], vs[j], p)  # noqa: F821
-        acc = np.zeros((levels + 1, 2))
-        ok = True
-        for k in range(n_burn + n_run):
-            for q in range(0, nf, 2):
-                g[q], g[q + 1] = _normal_pair(s)
-            t = t0 + k * h
-            for j in range(levels + 1):
-                sub = 1 << j
-                block = nf // sub
-                hj = h / sub
-                aj = sf * _noise_factor(p, hj)  # noqa: F821
-                x, v, f = xs[j], vs[j], fs[j]
-                for r in range(sub):
-                    w = 0.0
-                    for q in range(r * block, (r + 1) * block):
-                        w += g[q]
-                    x, v, f = _step(t + r * hj, x, v, f, hj, aj * w, p)  # noqa: F821
-                xs[j], vs[j], fs[j] = x, v, f
-                if not (math.isfinite(x) and math.isfinite(v)):
-                    ok = False
-                if k >= n_burn:
-                    acc[j, 0] += x * x
-                    acc[j, 1] += x * x + (v / w0) ** 2
-            if not ok:
-                break
-        for j in range(levels + 1):
-            for c in range(2):
-                out[i, j, c] = acc[j, c] / n_run if ok else math.nan
-    return out
-
-
-@njit(cache=True)
-def step_gauss_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0):
-    """Per trajectory: the time averages of ``x^2`` and ``a^2`` over ``n_run`` steps ``h``
-    after ``n_burn``, with Gaussian increments (one normal pair per two steps): the level
-    0 of the two-level estimator, whose expansion in ``h`` is the pair's (the three-point
-    increments of ``stationary_stats`` have another ``h^2`` coefficient).  Columns ``x^2,
-    a^2``; NaN rows for a diverged trajectory."""
-    m = y0.shape[0]
-    out = np.zeros((m, 2))
-    amp = sigma * math.sqrt(h) * _noise_factor(p, h)  # noqa: F821
-    for i in range(m):
-        s = states[i].copy()
-        x, v = y0[i, 0], y0[i, 1]
-        f = _first(t0, x, v, p)  # noqa: F821
-        a_x2 = 0.0
-        a_a2 = 0.0
-        ok = True
-        g2 = 0.0
-        for k in range(n_burn + n_run):
-            if k % 2 == 0:
-                g1, g2 = _normal_pair(s)
-            else:
-                g1 = g2
-            x, v, f = _step(t0 + k * h, x, v, f, h, amp * g1, p)  # noqa: F821
-            if not math.isfinite(x + v):
-                ok = False
-                break
-            if k >= n_burn:
-                a_x2 += x * x
-                a_a2 += x * x + (v / w0) ** 2
-        out[i, 0] = a_x2 / n_run if ok else math.nan
-        out[i, 1] = a_a2 / n_run if ok else math.nan
-    return out
-
-
-@njit(cache=True)
 def step_antithetic_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0):
     """Per trajectory: the time averages of ``x^2`` and ``a^2`` over ``n_run`` steps ``h``
     after ``n_burn`` at the step ``h`` and at ``h/2`` twice, on one Brownian path and its
@@ -214,33 +129,66 @@ def _increment4(s, amp):
 
 
 @njit(cache=True)
-def _stats4_one(p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, sums, hist, i):
-    """Row ``i`` of :func:`stationary_stats4`, trajectory ``i`` alone."""
+def _increment_law(law, s, amp, k, spare):
+    """Step ``k``'s increment times ``amp`` and the normal number carried to the next step:
+    four-point (``law`` 4), three-point (3) or Gaussian (0, one normal pair per two steps);
+    ``law`` is a constant at every call site, for which numba compiles the function apart."""
+    if law == 4:
+        return _increment4(s, amp), spare
+    if law == 0:
+        if k % 2 == 0:
+            g1, g2 = _normal_pair(s)
+            return amp * g1, g2
+        return amp * spare, spare
+    return _increment(s, amp), spare  # noqa: F821
+
+
+@njit(cache=True)
+def _run_start(law, t0, h, n_burn):
+    """The run phase's time origin ``(t_b, k_b)`` (step ``k`` at ``t_b + (k - k_b) h``): the
+    four-point kernel counts from ``t0``, the three-point one from ``t1 = t0 + n_burn h``,
+    its carried force evaluated there again (:func:`_stats_one`)."""
+    if law == 3:
+        return t0 + n_burn * h, n_burn
+    return t0, 0
+
+
+@njit(cache=True)
+def _stats_one(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, sums, hist,
+               i):
+    """Row ``i`` of :func:`stationary_stats` (``law`` 3) or :func:`stationary_stats4` (4),
+    trajectory ``i`` alone."""
     nbins = hist.shape[1]
     s = states[i].copy()
     x, v = y0[i, 0], y0[i, 1]
     f = _first(t0, x, v, p)  # noqa: F821
+    g = 0.0
     for k in range(n_burn):
-        x, v, f = _step(t0 + k * h, x, v, f, h, _increment4(s, amp), p)  # noqa: F821
+        dw, g = _increment_law(law, s, amp, k, g)
+        x, v, f = _step(t0 + k * h, x, v, f, h, dw, p)  # noqa: F821
     ok = math.isfinite(x + v)
+    tb, kb = _run_start(law, t0, h, n_burn)
+    if law == 3 and ok:
+        f = _first(tb, x, v, p)  # noqa: F821
     a_x2 = 0.0
     a_a2 = 0.0
     a_v2 = 0.0
     a_f = 0.0
     if ok:
         for k in range(n_burn, n_burn + n_run):
-            x, v, f = _step(t0 + k * h, x, v, f, h, _increment4(s, amp), p)  # noqa: F821
+            dw, g = _increment_law(law, s, amp, k, g)
+            x, v, f = _step(tb + (k - kb) * h, x, v, f, h, dw, p)  # noqa: F821
             if not math.isfinite(x + v):
                 ok = False
                 break
             a_x2 += x * x
-            a_v2 += v * v
             a_a2 += x * x + (v / w0) ** 2
-            a_f += spring(t0 + (k + 1) * h, x, v, p)  # noqa: F821
-            o = _observe(kind, x, v, w0, p)  # noqa: F821
-            j = int(math.floor((o - lo) / width))
-            if 0 <= j < nbins:
-                hist[i, j] += 1.0
+            if law != 0:  # the Gaussian kernel keeps x^2 and a^2 only
+                a_v2 += v * v
+                a_f += spring(tb + (k - kb + 1) * h, x, v, p)  # noqa: F821
+                j = int(math.floor((_observe(kind, x, v, w0, p) - lo) / width))  # noqa: F821
+                if 0 <= j < nbins:
+                    hist[i, j] += 1.0
     if ok:
         sums[i, 0] = a_x2 / n_run
         sums[i, 1] = a_a2 / n_run
@@ -256,50 +204,57 @@ def _stats4_one(p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, s
 
 
 @njit(cache=True)
-def _stats4_two(p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, sums, hist, i):
-    """Rows ``i`` and ``i + 1`` of :func:`stationary_stats4`, the two trajectories in one
-    loop (two independent chains of dependent operations fill the core: see ``_advance2``),
-    each exactly as :func:`_stats4_one` computes it.  False (rows ``i``, ``i + 1`` of
-    ``hist`` zero again) when a state turns non-finite: the caller then runs them alone."""
+def _stats_two(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, sums, hist,
+               i):
+    """Rows ``i`` and ``i + 1`` of :func:`stationary_stats` (``law`` 3) or
+    :func:`stationary_stats4` (4), the two trajectories in one loop (two independent chains
+    of dependent operations fill the core: see ``_advance2``), each exactly as
+    :func:`_stats_one` computes it.  False (rows ``i``, ``i + 1`` of ``hist`` zero again)
+    when a state turns non-finite: the caller then runs them alone."""
     nbins = hist.shape[1]
-    sa = states[i].copy()
-    sb = states[i + 1].copy()
-    xa, va = y0[i, 0], y0[i, 1]
-    xb, vb = y0[i + 1, 0], y0[i + 1, 1]
-    fa = _first(t0, xa, va, p)  # noqa: F821
-    fb = _first(t0, xb, vb, p)  # noqa: F821
+    sa, xa, va, fa, sb, xb, vb, fb = _pair_start(p, y0, t0, states, i)  # noqa: F821
+    ga, gb = 0.0, 0.0
     for k in range(n_burn):
         t = t0 + k * h
-        xa, va, fa = _step(t, xa, va, fa, h, _increment4(sa, amp), p)  # noqa: F821
-        xb, vb, fb = _step(t, xb, vb, fb, h, _increment4(sb, amp), p)  # noqa: F821
+        dwa, ga = _increment_law(law, sa, amp, k, ga)
+        dwb, gb = _increment_law(law, sb, amp, k, gb)
+        xa, va, fa = _step(t, xa, va, fa, h, dwa, p)  # noqa: F821
+        xb, vb, fb = _step(t, xb, vb, fb, h, dwb, p)  # noqa: F821
     if not (math.isfinite(xa + va) and math.isfinite(xb + vb)):
         return False
+    tb, kb = _run_start(law, t0, h, n_burn)
+    if law == 3:
+        fa = _first(tb, xa, va, p)  # noqa: F821
+        fb = _first(tb, xb, vb, p)  # noqa: F821
     a_x2, a_a2, a_v2, a_f = 0.0, 0.0, 0.0, 0.0
     b_x2, b_a2, b_v2, b_f = 0.0, 0.0, 0.0, 0.0
     for k in range(n_burn, n_burn + n_run):
-        t = t0 + k * h
-        xa, va, fa = _step(t, xa, va, fa, h, _increment4(sa, amp), p)  # noqa: F821
-        xb, vb, fb = _step(t, xb, vb, fb, h, _increment4(sb, amp), p)  # noqa: F821
+        t = tb + (k - kb) * h
+        dwa, ga = _increment_law(law, sa, amp, k, ga)
+        dwb, gb = _increment_law(law, sb, amp, k, gb)
+        xa, va, fa = _step(t, xa, va, fa, h, dwa, p)  # noqa: F821
+        xb, vb, fb = _step(t, xb, vb, fb, h, dwb, p)  # noqa: F821
         if not (math.isfinite(xa + va) and math.isfinite(xb + vb)):
             for j in range(nbins):
                 hist[i, j] = 0.0
                 hist[i + 1, j] = 0.0
             return False
-        tn = t0 + (k + 1) * h
         a_x2 += xa * xa
-        a_v2 += va * va
         a_a2 += xa * xa + (va / w0) ** 2
-        a_f += spring(tn, xa, va, p)  # noqa: F821
         b_x2 += xb * xb
-        b_v2 += vb * vb
         b_a2 += xb * xb + (vb / w0) ** 2
-        b_f += spring(tn, xb, vb, p)  # noqa: F821
-        j = int(math.floor((_observe(kind, xa, va, w0, p) - lo) / width))  # noqa: F821
-        if 0 <= j < nbins:
-            hist[i, j] += 1.0
-        j = int(math.floor((_observe(kind, xb, vb, w0, p) - lo) / width))  # noqa: F821
-        if 0 <= j < nbins:
-            hist[i + 1, j] += 1.0
+        if law != 0:  # the Gaussian kernel keeps x^2 and a^2 only
+            tn = tb + (k - kb + 1) * h
+            a_v2 += va * va
+            a_f += spring(tn, xa, va, p)  # noqa: F821
+            b_v2 += vb * vb
+            b_f += spring(tn, xb, vb, p)  # noqa: F821
+            j = int(math.floor((_observe(kind, xa, va, w0, p) - lo) / width))  # noqa: F821
+            if 0 <= j < nbins:
+                hist[i, j] += 1.0
+            j = int(math.floor((_observe(kind, xb, vb, w0, p) - lo) / width))  # noqa: F821
+            if 0 <= j < nbins:
+                hist[i + 1, j] += 1.0
     sums[i, 0], sums[i, 1] = a_x2 / n_run, a_a2 / n_run
     sums[i, 2], sums[i, 3] = a_v2 / n_run, a_f / n_run
     sums[i + 1, 0], sums[i + 1, 1] = b_x2 / n_run, b_a2 / n_run
@@ -311,27 +266,52 @@ def _stats4_two(p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, s
 
 
 @njit(cache=True)
-def stationary_stats4(p, sigma, y0, t0, h, n_burn, n_run, states, w0, kind, lo, hi, nbins):
-    """``stationary_stats`` with the four-point increments (:func:`_increment4`): the
-    stationary ensembles' kernel, whose ``h^2`` coefficient is the Gaussian pair's that the
-    step pilot (``step_pair_stats``) measures.  Per trajectory the time averages of ``x^2``,
-    ``a^2``, ``x'^2`` and the spring force over ``n_run`` steps after ``n_burn``, and the
-    fraction of those steps the observable ``kind`` (0: ``a``, 1: ``x``, 2: the energy)
-    spent in each of ``nbins`` equal bins of ``[lo, hi)``; NaN rows for a diverged
-    trajectory.  Trajectories run two at a time (:func:`_stats4_two`), a pair with a
-    diverged one again alone (:func:`_stats4_one`): the same numbers either way."""
+def _stats(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, hi, nbins):
+    """Trajectories two at a time (:func:`_stats_two`), a pair with a diverged one again
+    alone (:func:`_stats_one`): the same numbers either way."""
     m = y0.shape[0]
     sums = np.zeros((m, 4))
     hist = np.zeros((m, nbins))
-    amp = sigma * math.sqrt(h) * _noise_factor(p, h)  # noqa: F821
     width = (hi - lo) / nbins
     for i in range(0, m - 1, 2):
-        if not _stats4_two(p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width,
-                           sums, hist, i):
+        if not _stats_two(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width,
+                          sums, hist, i):
             for r in (i, i + 1):
-                _stats4_one(p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width,
-                            sums, hist, r)
+                _stats_one(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width,
+                           sums, hist, r)
     if m % 2:
-        _stats4_one(p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, sums,
-                    hist, m - 1)
+        _stats_one(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, sums,
+                   hist, m - 1)
     return sums, hist
+
+
+@njit(cache=True)
+def stationary_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0, kind, lo, hi, nbins):
+    """Per trajectory: the time averages of ``x^2``, ``a^2 = x^2 + (x'/w0)^2``, ``x'^2`` and
+    the spring force over ``n_run`` steps after ``n_burn``, and the fraction of those
+    steps the observable ``kind`` (0: ``a``, 1: ``x``, 2: the energy) spent in each of
+    ``nbins`` equal bins of ``[lo, hi)``; three-point increments (:func:`_increment`).  A
+    diverged trajectory gives NaN rows.  Trajectories two at a time (:func:`_stats`)."""
+    amp = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)  # noqa: F821
+    return _stats(3, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, hi, nbins)
+
+
+@njit(cache=True)
+def stationary_stats4(p, sigma, y0, t0, h, n_burn, n_run, states, w0, kind, lo, hi, nbins):
+    """``stationary_stats`` with the four-point increments (:func:`_increment4`): the
+    stationary ensembles' kernel, whose ``h^2`` coefficient is the Gaussian pair's that the
+    step pilot (``step_pair_stats``) measures."""
+    amp = sigma * math.sqrt(h) * _noise_factor(p, h)  # noqa: F821
+    return _stats(4, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, hi, nbins)
+
+
+@njit(cache=True)
+def step_gauss_stats(p, sigma, y0, t0, h, n_burn, n_run, states, w0):
+    """Per trajectory: the time averages of ``x^2`` and ``a^2`` over ``n_run`` steps ``h``
+    after ``n_burn``, with Gaussian increments (one normal pair per two steps): the level
+    0 of the two-level estimator, whose expansion in ``h`` is the pair's (the three-point
+    increments of ``stationary_stats`` have another ``h^2`` coefficient).  Columns ``x^2,
+    a^2``; NaN rows for a diverged trajectory.  The loop of :func:`_stats`."""
+    amp = sigma * math.sqrt(h) * _noise_factor(p, h)  # noqa: F821
+    sums, _ = _stats(0, p, amp, y0, t0, h, n_burn, n_run, states, w0, 1, 0.0, 1.0, 1)
+    return sums[:, :2].copy()

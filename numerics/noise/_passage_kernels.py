@@ -1,6 +1,6 @@
 """Compiled first-passage and pulled-slider kernels of :mod:`numerics.noise`, appended as
 source after :mod:`numerics.noise._kernels` (whose ``_step``, ``_first``, ``_increment``,
-``_advance``, ``_advance2`` and ``_noise_factor`` they call) to a printed model.
+``_pair_start``, ``_advance``, ``_advance2`` and ``_noise_factor`` they call) to a printed model.
 
 ``first_passages`` gives the escape times of :mod:`numerics.escape` and ``slip_stats`` the
 friction runs of :mod:`numerics.thermal.friction`; both run trajectories two to a loop (two
@@ -38,12 +38,7 @@ def first_passages(p, sigma, y0, t0, h, n_max, xl, xr, states):
     hit = np.zeros(m, dtype=np.bool_)
     amp = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)  # noqa: F821
     for i in range(0, m - 1, 2):
-        sa = states[i].copy()
-        sb = states[i + 1].copy()
-        xa, va = y0[i, 0], y0[i, 1]
-        xb, vb = y0[i + 1, 0], y0[i + 1, 1]
-        fa = _first(t0, xa, va, p)  # noqa: F821
-        fb = _first(t0, xb, vb, p)  # noqa: F821
+        sa, xa, va, fa, sb, xb, vb, fb = _pair_start(p, y0, t0, states, i)  # noqa: F821
         done = n_max
         out_a = False
         out_b = False

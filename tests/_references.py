@@ -42,3 +42,21 @@ def duffing_floquet(nu, damping, cubic, force, y0):
 
 def duffing_lambda_min(sigma, y0):
     return float(np.min(duffing_floquet(1 + sigma, 0.1, 1.0, 20.0, y0)[1].real))
+
+
+def section_cycle(rhs, x0: float, T: float) -> tuple[float, float]:
+    """``(x0, T)`` of the periodic orbit of the planar field ``rhs(t, w)`` through ``(x0, 0)``
+    (the section ``x' = 0``): Newton on ``(x0, T)`` with finite-difference columns, the
+    orbit by scipy's DOP853 at rtol 1e-11 (an integrator independent of the package's)."""
+    def end(x0, T):
+        s = solve_ivp(rhs, (0, T), [x0, 0.0], method="DOP853", rtol=1e-11, atol=1e-12)
+        return s.y[:, -1] - [x0, 0.0]
+
+    for _ in range(30):
+        r, e = end(x0, T), 1e-7
+        J = np.column_stack([(end(x0 + e, T) - r) / e, (end(x0, T + e) - r) / e])
+        d = np.linalg.solve(J, -r)
+        x0, T = x0 + d[0], T + d[1]
+        if np.max(np.abs(d)) < 1e-10:
+            break
+    return x0, T

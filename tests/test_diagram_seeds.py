@@ -28,6 +28,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from _references import section_cycle
 from numerics.bifurcation.twoway import both_ways, joined, seed_levels
 
 MU = 0.1
@@ -207,7 +208,7 @@ def test_sedf_dimer_slow_flow_bessel_against_mpmath():
     sympy's own evaluation (mpmath) to 1e-13, and the averaged edges are computed."""
     import sympy as sp
 
-    from kbm.coupled import amplitudes, derive_coupled, get_coupled_model
+    from kbm.coupled import amplitudes, derive_coupled
     from numerics.coupled.locking import _slow_flow, _split, averaged_edges
     from numerics.coupled.flow import bind_coupled
     from numerics.errors import NumericsError
@@ -240,18 +241,8 @@ def _inphase_transverse_multipliers(kappas, beta: float) -> list[np.ndarray]:
     def vdp(t, w):
         return [w[1], -w[0] + MU * (1 - beta * w[0] ** 2) * w[1]]
 
-    def end(x0, T):
-        s = solve_ivp(vdp, (0, T), [x0, 0.0], method="DOP853", rtol=1e-11, atol=1e-12)
-        return s.y[:, -1] - [x0, 0.0]
-
-    x0, T = 2 / math.sqrt(beta), 2 * math.pi  # Newton on (x0, T), x'(0) = 0 (the section)
-    for _ in range(30):
-        r, e = end(x0, T), 1e-7
-        J = np.column_stack([(end(x0 + e, T) - r) / e, (end(x0, T + e) - r) / e])
-        d = np.linalg.solve(J, -r)
-        x0, T = x0 + d[0], T + d[1]
-        if np.max(np.abs(d)) < 1e-10:
-            break
+    # Newton on (x0, T), x'(0) = 0 (the section)
+    x0, T = section_cycle(vdp, 2 / math.sqrt(beta), 2 * math.pi)
     out = []
     for kappa in kappas:
         def ext(t, w, kappa=kappa):

@@ -28,6 +28,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from _references import section_cycle
 from numerics.cli import main
 from kbm.coupled import get_coupled_model
 from kbm.errors import ParameterError
@@ -81,18 +82,7 @@ def _difference_mode_multiplier(beta: float, mu: float, delta: float, k: float,
         x, v = w
         return [v, -x + mu * (-(beta * x * x - 1) * v - delta * math.sin(k * x))]
 
-    def end(x0, T):
-        s = solve_ivp(one, (0, T), [x0, 0.0], method="DOP853", rtol=1e-11, atol=1e-12)
-        return s.y[:, -1] - [x0, 0.0]
-
-    x0, T = 2 / math.sqrt(beta), 2 * math.pi
-    for _ in range(30):
-        r, e = end(x0, T), 1e-7
-        J = np.column_stack([(end(x0 + e, T) - r) / e, (end(x0, T + e) - r) / e])
-        d = np.linalg.solve(J, -r)
-        x0, T = x0 + d[0], T + d[1]
-        if np.max(np.abs(d)) < 1e-10:
-            break
+    x0, T = section_cycle(one, 2 / math.sqrt(beta), 2 * math.pi)
 
     def ext(t, w):
         x, v, P = w[0], w[1], w[2:].reshape(2, 2)

@@ -50,7 +50,7 @@ least CPU): ``kbm branch sedf ...`` 0.445 / 0.296 s, 0.42 s CPU against 1.925 / 
 (the line and model cards, the stored seeds, :mod:`numerics.cycles.localmin`); mpmath
 (0.1 s) was still imported, by the energy of the start cycle's final pass (``mpf``).
 
-Measured 2026-11-27 (``--rounds 7 --against /work/main --with-branch --no-branch
+Measured 2026-11-27 (``--rounds 7 --against`` a checkout of the previous main ``--with-branch --no-branch
 --no-imports``, load 9-13 on two cores; median / min wall, least CPU), with the stored
 energy's rationals printed as floats (no mpmath on the warm branch): ``kbm branch sedf
 ...`` 1.880 / 1.061 s, 0.456 s CPU against 2.302 / 1.713 s, 0.541 s; a second run 1.856 /

@@ -11,12 +11,16 @@ the physical ones of the paper map to the scaled ones the engines use (eqs. 3 an
 (:meth:`ParameterNames.check`), and :func:`scaled_values` the one binding layer of every
 model (both defined in :mod:`kbm.values`, below the model types, and re-exported here); :func:`lookup` finds a built-in model of any kind by name
 (the one-degree-of-freedom, forced and coupled ones) with a message that lists them all.
+:func:`physical_axis` binds a ``--vary`` range given in a physical name (``Delta=0:1``) to
+the scaled parameter it is computed as (``delta`` over ``[0, 10]`` at ``mu = 0.1``) and maps
+the values found back (:class:`PhysicalAxis`), for every command that follows or spans one.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
-
+import math
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from .errors import ModelError, ParameterError
@@ -27,7 +31,8 @@ if TYPE_CHECKING:
     import sympy as sp
 
 __all__ = ["NOISE_NAMES", "ParameterNames", "names_of", "lookup", "builtin_names",
-           "to_physical", "noise_from", "closest", "scaled_values"]
+           "to_physical", "noise_from", "closest", "scaled_values", "PhysicalAxis", "physical_axis",
+           "MONOTONE_POINTS"]
 
 def _members(name: str):
     """The built-in of any kind called ``name``, or ``None``."""
@@ -169,3 +174,124 @@ def noise_from(values: Mapping[str, object]) -> tuple[dict[str, object], sp.Expr
         return rest, val * mu, "T"
     return rest, None, ""
 
+
+
+#: points of the grid on which a physical axis's map is checked finite and strictly monotone
+#: (a pole inside the range, ``k = 2 pi/lam`` over ``lam = -1:1``, breaks one or the other)
+MONOTONE_POINTS = 33
+
+
+def _float(x: float) -> float:
+    return float(x)
+
+
+@dataclass(frozen=True)
+class PhysicalAxis:
+    """A ``--vary`` range ``user`` over ``[lo, hi]`` computed as the model's own parameter
+    ``name`` over ``span`` (increasing).
+
+    ``name = forward(user)`` is the model's ``physical`` map with its other inputs fixed
+    (``rule``, e.g. ``delta = Delta/mu``); :meth:`to_user` maps a value of ``name`` back.  When
+    ``user`` is the model's own name the axis is the identity (``rule`` empty).  ``monotone``
+    says whether the map is finite and strictly monotone on ``[lo, hi]`` (checked on
+    :data:`MONOTONE_POINTS` points); a caller refuses the axis otherwise, in its own words,
+    and ``span`` and :meth:`to_user` are then meaningless.
+    """
+
+    user: str
+    lo: float
+    hi: float
+    name: str
+    span: tuple[float, float]
+    rule: str = ""
+    forward: Callable[[float], float] = _float
+    inverse: Callable[[float], float] = _float
+    monotone: bool = True
+
+    @property
+    def mapped(self) -> bool:
+        """Whether the axis is computed in another name than the user's."""
+        return self.name != self.user
+
+    def to_user(self, s: float) -> float:
+        """The value of ``user`` at the value ``s`` of ``name``: the ends of ``span`` give
+        ``lo`` and ``hi`` exactly, the rest the inverse map."""
+        if not self.mapped:
+            return float(s)
+        if s == self.forward(self.lo):
+            return self.lo
+        if s == self.forward(self.hi):
+            return self.hi
+        return float(self.inverse(s))
+
+    def error(self, s: float, err: float) -> float:
+        """An error ``err`` of ``name`` at ``s`` in the units of ``user`` (the inverse's
+        derivative by a difference over ``+-err``, kept inside ``span``)."""
+        if not self.mapped:
+            return err
+        h = max(abs(err), 1e-9 * max(1.0, abs(s)))
+        a, b = max(s - h, self.span[0]), min(s + h, self.span[1])  # inside the map's domain
+        return abs(self.to_user(b) - self.to_user(a)) / (b - a) * abs(err)
+
+
+def physical_axis(physical: Mapping[str, object], user: str, lo: float, hi: float,
+                  fixed: Mapping[str, object]) -> PhysicalAxis:
+    """The axis of ``user`` over ``[lo, hi]``: the scaled parameter whose ``physical`` map
+    (``{scaled: expression}``, a model's ``physical``) holds ``user``, with the map's other
+    inputs at their values in ``fixed`` (read exactly, :func:`kbm.values.parameter_value`);
+    the identity when no map holds ``user``.
+
+    The inverse is the closed form where ``sympy.solve`` gives exactly one (``Delta = mu
+    delta``, ``lam = 2 pi/k``: the built-in maps), else the root of ``forward(x) = s`` on
+    ``[lo, hi]`` by Brent's method (bracketed there, since the map is monotone on it).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        If several maps hold ``user``, or an input of its map other than ``user`` is not in
+        ``fixed`` (callers check both first, in their command's words).
+    """
+    import sympy as sp
+
+    lo, hi = float(lo), float(hi)
+    maps = {k: sp.sympify(e) for k, e in physical.items()
+            if user in {x.name for x in sp.sympify(e).free_symbols}}
+    if not maps:
+        return PhysicalAxis(user, lo, hi, user, (lo, hi))
+    if len(maps) > 1:
+        raise ParameterError(f"{user} sets {len(maps)} parameters ({', '.join(sorted(maps))})"
+                             f": vary one of them instead")
+    (name, expr), = maps.items()
+    rule = f"{name} = {sp.sstr(expr)}"
+    others = sorted({x.name for x in expr.free_symbols} - {user})
+    missing = [o for o in others if fixed.get(o) is None]
+    if missing:
+        raise ParameterError(f"{rule} needs a value of {missing[0]}: give -p "
+                             f"{missing[0]}=VALUE")
+    sym, image = sp.Symbol(user), sp.Dummy(name)
+    one = expr.subs({sp.Symbol(o): parameter_value(o, fixed[o]) for o in others})
+    forward = sp.lambdify(sym, one, "math")
+    try:
+        solved = sp.solve(sp.Eq(image, one), sym)
+    except NotImplementedError:  # no closed form: the bracketed root below
+        solved = []
+    grid = [lo + (hi - lo) * j / (MONOTONE_POINTS - 1) for j in range(MONOTONE_POINTS)]
+    grid[-1] = hi
+    try:
+        vals = [float(forward(x)) for x in grid]
+    except (ZeroDivisionError, ValueError, OverflowError, TypeError):
+        vals = [math.nan]
+    steps = [b - a for a, b in zip(vals, vals[1:])]
+    monotone = all(math.isfinite(v) for v in vals) and bool(steps) and (
+        all(d > 0 for d in steps) or all(d < 0 for d in steps))
+    span = (min(vals[0], vals[-1]), max(vals[0], vals[-1]))
+    if len(solved) == 1:
+        inverse = sp.lambdify(image, solved[0], "math")
+    else:
+        def inverse(s: float) -> float:
+            from scipy.optimize import brentq
+
+            return brentq(lambda x: float(forward(x)) - s, lo, hi, xtol=1e-15,
+                          rtol=4 * 2.0 ** -52)
+    return PhysicalAxis(user, lo, hi, name, span, rule,
+                        lambda x: float(forward(x)), inverse, monotone)

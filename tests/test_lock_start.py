@@ -32,7 +32,8 @@ from _references import section_cycle
 from numerics.cli import main
 from kbm.coupled import get_coupled_model
 from kbm.errors import ParameterError
-from numerics.coupled.lock_start import FollowedAxis, side_limits, start_values
+from kbm.params import PhysicalAxis
+from numerics.coupled.lock_start import followed_axis, side_limits, start_values
 from numerics.coupled.locking import locking_region
 
 #: the true upper edge of coupled-vdp at mu = 0.08, c = 0.2 by scipy (the reference of
@@ -121,8 +122,8 @@ def test_sedf_dimer_edge_in_beta_against_the_difference_mode():
 
 
 @functools.lru_cache(maxsize=None)
-def _dimer_axis(user: str, lo: float, hi: float) -> FollowedAxis:
-    return FollowedAxis.of(get_coupled_model("sedf-dimer"), {"mu": "0.1"}, user, lo, hi)
+def _dimer_axis(user: str, lo: float, hi: float) -> PhysicalAxis:
+    return followed_axis(get_coupled_model("sedf-dimer"), {"mu": "0.1"}, user, lo, hi)
 
 
 def test_physical_axis_is_the_scaled_one_over_the_mapped_interval():
@@ -135,11 +136,11 @@ def test_physical_axis_is_the_scaled_one_over_the_mapped_interval():
     assert ax.name == "delta" and ax.span == pytest.approx((-1.0, 5.0), abs=1e-15)
     ax = _dimer_axis("lam", 0.2, 5.0)
     assert ax.name == "k" and ax.span == pytest.approx((2 * math.pi / 5, 2 * math.pi / 0.2))
-    assert FollowedAxis.of(dimer, {}, "beta", 0.5, 1.5).to_user(0.75) == 0.75
+    assert followed_axis(dimer, {}, "beta", 0.5, 1.5).to_user(0.75) == 0.75
     with pytest.raises(ParameterError, match=r"--vary lam=-1:1"):
-        FollowedAxis.of(dimer, {"mu": "0.1"}, "lam", -1, 1)
+        followed_axis(dimer, {"mu": "0.1"}, "lam", -1, 1)
     with pytest.raises(ParameterError, match=r"-p mu=VALUE"):
-        FollowedAxis.of(dimer, {}, "Delta", 0.1, 1)
+        followed_axis(dimer, {}, "Delta", 0.1, 1)
 
 
 @settings(max_examples=100, deadline=None)

@@ -12,49 +12,58 @@ scaled ``delta = Delta/mu`` changes along the axis), is refused with what to giv
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 from kbm.errors import ParameterError
+from kbm.params import PhysicalAxis, physical_axis
 
 __all__ = ["Plane"]
-
-
-def _identity(x: float) -> float:
-    return float(x)
 
 
 @dataclass(frozen=True)
 class Plane:
     """The user's axes ``user`` over ``user_ranges``, computed as ``axes`` over
-    ``ranges``; ``back[i]`` maps a value of ``axes[i]`` to one of ``user[i]``."""
+    ``ranges``; ``back[i]`` maps a value of ``axes[i]`` to one of ``user[i]`` (the two
+    :class:`kbm.params.PhysicalAxis` bindings, ``bound``)."""
 
-    user: tuple[str, str]
-    user_ranges: Mapping[str, tuple[float, float]]
-    axes: tuple[str, str]
-    ranges: Mapping[str, tuple[float, float]]
-    back: tuple[Callable[[float], float], Callable[[float], float]] = field(
-        default=(_identity, _identity))
+    bound: tuple[PhysicalAxis, PhysicalAxis]
+    user: tuple[str, str] = field(init=False)
+    user_ranges: Mapping[str, tuple[float, float]] = field(init=False)
+    axes: tuple[str, str] = field(init=False)
+    ranges: Mapping[str, tuple[float, float]] = field(init=False)
+    back: tuple[Callable[[float], float], Callable[[float], float]] = field(init=False)
+
+    def __post_init__(self):
+        b = self.bound
+        for key, value in (("user", (b[0].user, b[1].user)),
+                           ("user_ranges", {a.user: (a.lo, a.hi) for a in b}),
+                           ("axes", (b[0].name, b[1].name)),
+                           ("ranges", {a.name: a.span for a in b}),
+                           ("back", (b[0].to_user, b[1].to_user))):
+            object.__setattr__(self, key, value)
 
     @classmethod
     def of(cls, model, params: Mapping[str, object], axes: Sequence[str],
            ranges: Mapping[str, tuple[float, float]]) -> "Plane":
-        """The plane of ``axes`` (as given) for ``model`` with ``-p`` values ``params``.
+        """The plane of ``axes`` (as given) for ``model`` with ``-p`` values ``params``: the
+        diagram's rules for which physical axis it maps, each bound by
+        :func:`kbm.params.physical_axis` (a map's other inputs from ``params``, else the
+        model's defaults).
 
         Raises
         ------
         kbm.errors.ParameterError
             For a scaled parameter that would depend on both axes or on the ``mu`` axis
             through a fixed physical value, a missing value of a physical map's input, or
-            a range on which the scaled value is not finite.
+            a range on which the scaled value is not finite and monotone.
         """
         import sympy as sp
 
         physical = dict(getattr(model, "physical", {}) or {})
         defaults = dict(getattr(model, "defaults", {}) or {})
         axes = tuple(axes)
-        new_axes, new_ranges, back = list(axes), dict(ranges), [_identity, _identity]
+        maps: dict[str, tuple[str, object]] = {}  # axis -> (scaled, expression)
         for scaled, expr in physical.items():
             expr = sp.sympify(expr)
             inputs = {s.name for s in expr.free_symbols}
@@ -72,39 +81,28 @@ class Plane:
                     + (f" or vary {scaled} itself (--vary {scaled}=FROM:TO)"
                        if len(on) > 1 else ""))
             name = on[0]
-            i = axes.index(name)
-            if new_axes[i] != name:
+            if name in maps:
                 raise ParameterError(f"--vary {name} sets more than one of the model's "
                                      f"parameters; vary {scaled} instead")
-            subs = {}
             for other in sorted(inputs - {name}):
-                value = params.get(other, defaults.get(other))
-                if value is None:
+                if params.get(other, defaults.get(other)) is None:
                     raise ParameterError(f"{rule} needs a value of {other}: give -p "
                                          f"{other}=VALUE")
-                subs[sp.Symbol(other)] = sp.nsimplify(value) if isinstance(value, str) \
-                    else sp.sympify(value)
-            sym, image = sp.Symbol(name), sp.Symbol(scaled)
-            one = expr.subs(subs)
-            solved = sp.solve(sp.Eq(image, one), sym)
-            if len(solved) != 1:
-                raise ParameterError(f"--vary {name}: {rule} cannot be turned back into "
-                                     f"{name}; vary {scaled} instead")
-            forward = sp.lambdify(sym, one, "math")
-            inverse = sp.lambdify(image, solved[0], "math")
+            maps[name] = (scaled, expr)
+        bound = []
+        for name in axes:
             lo, hi = ranges[name]
-            try:
-                ends = sorted((float(forward(lo)), float(forward(hi))))
-            except (ZeroDivisionError, ValueError, OverflowError):
-                ends = [math.nan, math.nan]
-            if not all(math.isfinite(e) for e in ends):
-                raise ParameterError(f"--vary {name}={lo:g}:{hi:g}: {rule} is not finite "
+            if name not in maps:
+                bound.append(PhysicalAxis(name, float(lo), float(hi), name,
+                                          (float(lo), float(hi))))
+                continue
+            scaled, expr = maps[name]
+            ax = physical_axis({scaled: expr}, name, lo, hi, {**defaults, **params})
+            if not ax.monotone:
+                raise ParameterError(f"--vary {name}={lo:g}:{hi:g}: {ax.rule} is not finite "
                                      "on this range; give a range where it is")
-            new_axes[i] = scaled
-            del new_ranges[name]
-            new_ranges[scaled] = (ends[0], ends[1])
-            back[i] = (lambda f: lambda x: float(f(x)))(inverse)
-        return cls(axes, dict(ranges), tuple(new_axes), new_ranges, tuple(back))
+            bound.append(ax)
+        return cls(tuple(bound))
 
     @property
     def mapped(self) -> bool:

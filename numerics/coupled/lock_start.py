@@ -15,24 +15,24 @@ Each side is followed only up to its own end of the interval (:func:`side_limits
 
 A physical name on the command line (``--vary Delta=...`` or ``lam=...`` of the sliders,
 ``delta = Delta/mu``, ``k = 2 pi/lam``) is followed as the model's own parameter over the
-mapped interval, and the edges are mapped back (:class:`FollowedAxis`).
+mapped interval, and the edges are mapped back (:func:`followed_axis`, the binding
+:func:`kbm.params.physical_axis`).
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
 
 import numpy as np
 
 from kbm.coupled import CoupledOscillators
 from kbm.errors import ParameterError
+from kbm.params import PhysicalAxis, physical_axis
 from numerics.errors import NoCycleError
 from .flow import bind_coupled
 from .slow_flow import _newton, _slow_flow, _split
 
-__all__ = ["start_values", "side_limits", "first_locked", "locked_start", "FollowedAxis",
+__all__ = ["start_values", "side_limits", "first_locked", "locked_start", "followed_axis",
            "GRID_POINTS", "STABILITY_MARGIN"]
 
 #: points of the grid over the asked interval at which a locked state is looked for
@@ -85,7 +85,7 @@ def first_locked(f: Callable, jac: Callable, y0: np.ndarray, values: list[float]
 
 def locked_start(model: CoupledOscillators, params: Mapping[str, object], order: int,
                  parameter: str, span: tuple[float, float], where: str = "",
-                 axis: FollowedAxis | None = None) -> float:
+                 axis: PhysicalAxis | None = None) -> float:
     """The value of ``parameter`` in ``span`` that the locked state is followed from: the
     first of :func:`numerics.coupled.lock_start.start_values` at which the order-``order``
     slow flow has a stable locked fixed point near the in-phase state ``a_i = 2``,
@@ -106,7 +106,7 @@ def locked_start(model: CoupledOscillators, params: Mapping[str, object], order:
     y0 = np.array([2.0] * model.dof + [0.0] * (m - model.dof))
     got = first_locked(f, jac, y0, tried, mu, model.dof)
     if got is None:
-        ax = axis or FollowedAxis(parameter, lo, hi, parameter, (lo, hi))
+        ax = axis or PhysicalAxis(parameter, lo, hi, parameter, (lo, hi))
         at = ", ".join(f"{s:g}" for s in sorted(ax.to_user(s) for s in tried))
         raise NoCycleError(f"no locked state of {model.name} for {ax.user} in [{ax.lo:g}, "
                            f"{ax.hi:g}] (--vary {ax.user}={ax.lo:g}:{ax.hi:g}"
@@ -117,83 +117,42 @@ def locked_start(model: CoupledOscillators, params: Mapping[str, object], order:
     return got[0]
 
 
-def _float(x: float) -> float:
-    return float(x)
+def followed_axis(model: CoupledOscillators, params: Mapping[str, object], user: str,
+                  lo: float, hi: float) -> PhysicalAxis:
+    """The axis ``kbm lock`` follows for ``--vary user=lo:hi`` on ``model`` with the other
+    values ``params`` (no defaults: a map's inputs are given), bound by
+    :func:`kbm.params.physical_axis`: the model's own name as it is, a physical one as its
+    scaled parameter over the mapped interval.
 
+    Raises
+    ------
+    kbm.errors.ParameterError
+        For a physical name that sets no or several of the model's parameters, a map
+        input without a value, or a map that is not finite and monotone on ``[lo, hi]``.
+    """
+    import sympy as sp
 
-@dataclass(frozen=True)
-class FollowedAxis:
-    """The parameter the user follows, ``user`` over ``[lo, hi]``, computed as the model's
-    own ``name`` over ``span``; ``to_user`` maps a value of ``name`` back (the identity when
-    ``user`` is the model's own name)."""
-
-    user: str
-    lo: float
-    hi: float
-    name: str
-    span: tuple[float, float]
-    to_user: Callable[[float], float] = _float
-
-    @classmethod
-    def of(cls, model: CoupledOscillators, params: Mapping[str, object], user: str,
-           lo: float, hi: float) -> "FollowedAxis":
-        """The axis of ``user`` for ``model`` with the other values ``params``.
-
-        Raises
-        ------
-        kbm.errors.ParameterError
-            For a physical name that sets no or several of the model's parameters, a map
-            input without a value, or a map that is not finite and monotone on ``[lo, hi]``.
-        """
-        import sympy as sp
-        from scipy.optimize import brentq
-
-        lo, hi = float(lo), float(hi)
-        if user in model.parameters or user == "mu":
-            return cls(user, lo, hi, user, (lo, hi))
-        maps = {k: sp.sympify(e) for k, e in model.physical.items()
-                if user in {x.name for x in sp.sympify(e).free_symbols}}
-        if len(maps) != 1:
-            raise ParameterError(f"kbm lock follows one of the parameters of {model.name!r} "
-                                 f"({', '.join(sorted(model.parameters))}); {user} sets "
-                                 f"{len(maps)} of them: vary one of those instead"
-                                 if maps else f"{user!r} is not a parameter of "
-                                 f"{model.name!r}; its parameters are "
-                                 f"{', '.join(sorted(model.parameters))}")
-        (name, expr), = maps.items()
-        rule = f"{name} = {sp.sstr(expr)}"
-        others = {x.name for x in expr.free_symbols} - {user}
-        missing = sorted(o for o in others if o not in params)
-        if missing:
-            raise ParameterError(f"{rule}: give -p {missing[0]}=VALUE to vary {user}")
-        g = sp.lambdify(sp.Symbol(user), expr.subs({sp.Symbol(o): sp.sympify(params[o])
-                                                     for o in others}), "math")
-        grid = np.linspace(lo, hi, 33)
-        try:
-            vals = np.array([float(g(float(x))) for x in grid])
-        except (ZeroDivisionError, ValueError, OverflowError):
-            vals = np.array([math.nan])
-        steps = np.diff(vals)
-        if not (np.all(np.isfinite(vals)) and (np.all(steps > 0) or np.all(steps < 0))):
-            raise ParameterError(f"{rule} is not finite and monotone for {user} in [{lo:g}, "
-                                 f"{hi:g}] (--vary {user}={lo:g}:{hi:g}): give an "
-                                 f"interval of {user} on one side of its poles")
-
-        def to_user(s: float) -> float:
-            if s == vals[0]:
-                return lo
-            if s == vals[-1]:
-                return hi
-            return float(brentq(lambda x: float(g(x)) - s, lo, hi, xtol=1e-15,
-                                rtol=4 * np.finfo(float).eps))
-
-        return cls(user, lo, hi, name, (float(min(vals[0], vals[-1])),
-                                        float(max(vals[0], vals[-1]))), to_user)
-
-    def error(self, s: float, err: float) -> float:
-        """An error ``err`` of ``name`` at ``s`` in the units of ``user``."""
-        if self.name == self.user:
-            return err
-        h = max(abs(err), 1e-9 * max(1.0, abs(s)))
-        a, b = max(s - h, self.span[0]), min(s + h, self.span[1])  # inside the map's domain
-        return abs(self.to_user(b) - self.to_user(a)) / (b - a) * abs(err)
+    lo, hi = float(lo), float(hi)
+    if user in model.parameters or user == "mu":
+        return PhysicalAxis(user, lo, hi, user, (lo, hi))
+    maps = {k: sp.sympify(e) for k, e in model.physical.items()
+            if user in {x.name for x in sp.sympify(e).free_symbols}}
+    if len(maps) != 1:
+        raise ParameterError(f"kbm lock follows one of the parameters of {model.name!r} "
+                             f"({', '.join(sorted(model.parameters))}); {user} sets "
+                             f"{len(maps)} of them: vary one of those instead"
+                             if maps else f"{user!r} is not a parameter of "
+                             f"{model.name!r}; its parameters are "
+                             f"{', '.join(sorted(model.parameters))}")
+    (name, expr), = maps.items()
+    rule = f"{name} = {sp.sstr(expr)}"
+    missing = sorted(x.name for x in expr.free_symbols if x.name != user
+                     and x.name not in params)
+    if missing:
+        raise ParameterError(f"{rule}: give -p {missing[0]}=VALUE to vary {user}")
+    axis = physical_axis(maps, user, lo, hi, params)
+    if not axis.monotone:
+        raise ParameterError(f"{rule} is not finite and monotone for {user} in [{lo:g}, "
+                             f"{hi:g}] (--vary {user}={lo:g}:{hi:g}): give an "
+                             f"interval of {user} on one side of its poles")
+    return axis

@@ -33,7 +33,7 @@ from kbm.errors import ParameterError
 from numerics.errors import NoCycleError
 from .flow import bind_coupled
 from .fold import LockingEdge, true_edges
-from .lock_start import FollowedAxis, locked_start, side_limits, start_values
+from .lock_start import followed_axis, locked_start, side_limits, start_values
 from .slow_flow import _newton, _slow_flow, _split  # noqa: F401 - _slow_flow: tests
 
 __all__ = ["LockingEdge", "LockingRegion", "averaged_edges", "true_edges", "amplitude_death",
@@ -242,7 +242,7 @@ def locking_region(model: CoupledOscillators | str, params: Mapping[str, object]
         If at a coupling value no stable locked state exists anywhere in ``[lo, hi]``.
     """
     model = get_coupled_model(model) if isinstance(model, str) else model
-    axis = FollowedAxis.of(model, params, *detuning)  # Delta, lam: as delta, k
+    axis = followed_axis(model, params, *detuning)  # Delta, lam: as delta, k
     name, (lo, hi) = axis.name, axis.span
     bound, values = bind_coupled(model, {**dict(params), name: start_values(lo, hi)[0]})
     check_lockable(bound)

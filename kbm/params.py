@@ -195,7 +195,8 @@ class PhysicalAxis:
     ``user`` is the model's own name the axis is the identity (``rule`` empty).  ``monotone``
     says whether the map is finite and strictly monotone on ``[lo, hi]`` (checked on
     :data:`MONOTONE_POINTS` points); a caller refuses the axis otherwise, in its own words,
-    and ``span`` and :meth:`to_user` are then meaningless.
+    and ``span`` and :meth:`to_user` are then meaningless.  ``slope`` is the inverse's
+    derivative where the inverse is in closed form (``None`` else).
     """
 
     user: str
@@ -207,6 +208,7 @@ class PhysicalAxis:
     forward: Callable[[float], float] = _float
     inverse: Callable[[float], float] = _float
     monotone: bool = True
+    slope: Callable[[float], float] | None = None
 
     @property
     def mapped(self) -> bool:
@@ -225,10 +227,13 @@ class PhysicalAxis:
         return float(self.inverse(s))
 
     def error(self, s: float, err: float) -> float:
-        """An error ``err`` of ``name`` at ``s`` in the units of ``user`` (the inverse's
-        derivative by a difference over ``+-err``, kept inside ``span``)."""
+        """An error ``err`` of ``name`` at ``s`` in the units of ``user``: times the
+        inverse's derivative ``slope`` (closed form), else its difference quotient over
+        ``+-err`` kept inside ``span``."""
         if not self.mapped:
             return err
+        if self.slope is not None:
+            return abs(float(self.slope(s))) * abs(err)
         h = max(abs(err), 1e-9 * max(1.0, abs(s)))
         a, b = max(s - h, self.span[0]), min(s + h, self.span[1])  # inside the map's domain
         return abs(self.to_user(b) - self.to_user(a)) / (b - a) * abs(err)
@@ -285,8 +290,10 @@ def physical_axis(physical: Mapping[str, object], user: str, lo: float, hi: floa
     monotone = all(math.isfinite(v) for v in vals) and bool(steps) and (
         all(d > 0 for d in steps) or all(d < 0 for d in steps))
     span = (min(vals[0], vals[-1]), max(vals[0], vals[-1]))
+    slope = None
     if len(solved) == 1:
         inverse = sp.lambdify(image, solved[0], "math")
+        slope = sp.lambdify(image, sp.diff(solved[0], image), "math")
     else:
         def inverse(s: float) -> float:
             from scipy.optimize import brentq
@@ -294,4 +301,4 @@ def physical_axis(physical: Mapping[str, object], user: str, lo: float, hi: floa
             return brentq(lambda x: float(forward(x)) - s, lo, hi, xtol=1e-15,
                           rtol=4 * 2.0 ** -52)
     return PhysicalAxis(user, lo, hi, name, span, rule,
-                        lambda x: float(forward(x)), inverse, monotone)
+                        lambda x: float(forward(x)), inverse, monotone, slope)

@@ -6,7 +6,8 @@ closed form for (Brent's method on the bracket): ``q = X^2`` on ``X > 0`` (``X =
 and ``q = X + X^5`` (a quintic: checked by the forward map).
 
 Properties: the mapped range's ends are the closed form's values at the ends; the ends map
-back exactly; ``forward(inverse(y)) = y`` to rounding; a map with a pole or a turning point
+back exactly; ``forward(inverse(y)) = y`` to rounding; an error maps by the inverse's
+derivative; a map with a pole or a turning point
 in the range is flagged not monotone (the callers refuse it).
 """
 
@@ -46,6 +47,7 @@ def test_delta_axis_against_closed_form(mu, ends, w):
     scale = max(abs(ax.span[0]), abs(ax.span[1]))
     assert ax.to_user(y) == pytest.approx(m * y, rel=1e-15, abs=1e-15 * m * scale)
     assert ax.forward(ax.inverse(y)) == pytest.approx(y, rel=4e-16, abs=4e-16 * scale)
+    assert ax.error(y, 1e-8) == pytest.approx(m * 1e-8, rel=1e-15)  # |d Delta/d delta| = mu
 
 
 @settings(max_examples=100, deadline=None)
@@ -62,6 +64,8 @@ def test_lam_axis_against_closed_form(ends, w):
     y = ax.span[0] + w * (ax.span[1] - ax.span[0])
     assert ax.to_user(y) == pytest.approx(2 * math.pi / y, rel=1e-15)
     assert ax.forward(ax.inverse(y)) == pytest.approx(y, rel=1e-15)
+    lam = 2 * math.pi / y  # |d lam/dk| = lam^2/(2 pi)
+    assert ax.error(y, 1e-8) == pytest.approx(lam * lam / (2 * math.pi) * 1e-8, rel=1e-14)
 
 
 @settings(max_examples=50, deadline=None)
@@ -76,6 +80,8 @@ def test_bracketed_inverse_where_sympy_gives_no_single_closed_form(ends, w):
     assert sq.monotone and sq.span == (pytest.approx(lo * lo, rel=1e-15),
                                        pytest.approx(hi * hi, rel=1e-15))
     assert sq.to_user(y) == pytest.approx(math.sqrt(y), rel=1e-14)
+    if sq.span[0] + 1e-6 < y < sq.span[1] - 1e-6:  # the difference quotient of sqrt
+        assert sq.error(y, 1e-8) == pytest.approx(1e-8 / (2 * math.sqrt(y)), rel=1e-5)
     qu = physical_axis({"q": "X + X**5"}, "X", lo, hi, {})
     y = qu.span[0] + w * (qu.span[1] - qu.span[0])
     x = qu.to_user(y)

@@ -16,7 +16,9 @@ component of the solution of ``[[M, b], [c^T, 0]] (v, g) = (0, 1)``, zero exactl
 cycles; Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., sec. 10.2.2 for
 bordered test functions).  ``b`` and ``c`` are the singular vectors of ``M``'s smallest
 singular value at the seed.  The seeds are the folds of the one-parameter branches
-(:func:`numerics.coupled.fold.locate_fold`) from the locked cycle.
+(:func:`numerics.coupled.fold.locate_fold`) from the locked cycle, followed on each seed
+line from where ``kbm lock`` starts (:func:`line_start`: 0 when the range holds it, else
+the first value from the middle out with a stable locked state of the order-1 slow flow).
 
 The averaged tongue: the folds of the slow flow's locked fixed point
 (:func:`kbm.coupled.derive_coupled` at orders 1..N, both axes kept as symbols),
@@ -32,16 +34,16 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import sympy as sp
 
-from kbm.errors import ParameterError
+from kbm.errors import KBMError, ParameterError
 from numerics.bifurcation.forced_averaged import rates_system
 from numerics.bifurcation.twoway import (FD_STEP, Task, both_ways, codim2_points, distances,
                                          dropped_seed, interruptible, joined, on_known,
                                          seed_levels, why_short)
 from numerics.bifurcation.result import Codim2Point, Curve, Diagram
-from numerics.errors import NumericsError
+from numerics.errors import NoCycleError, NumericsError
 
 __all__ = ["LockedCycleFold", "coupled_true_folds", "coupled_averaged_folds", "coupled_diagram",
-           "edge_at"]
+           "edge_at", "line_start"]
 
 
 class LockedCycleFold:
@@ -130,6 +132,32 @@ def _seed_axis(axes: tuple[str, str]) -> int:
     return axes.index("sigma") if "sigma" in axes else 0
 
 
+def line_start(model, params: Mapping[str, float], s_name: str, o_name: str, o: float,
+               span: tuple[float, float]) -> float:
+    """Where the locked state is followed from on the seed line ``o_name = o``: ``kbm
+    lock``'s start (:func:`numerics.coupled.lock_start.locked_start` at order 1), 0 when
+    ``span`` holds it, else the first value from the middle out at which the order-1 slow
+    flow has a stable locked state (``mu`` followed, which the slow flow does not take as
+    its parameter, or a model without an order-1 slow flow: the first of those values).
+
+    Raises
+    ------
+    numerics.errors.NoCycleError
+        If the slow flow has no stable locked state at any value tried.
+    """
+    from numerics.coupled.lock_start import locked_start, start_values
+
+    if s_name != "mu":
+        try:
+            return locked_start(model, {**params, o_name: float(o)}, 1, s_name, span,
+                                f"{o_name} = {o:g}")
+        except NoCycleError:
+            raise
+        except KBMError:  # no slow flow to choose by: the true cycle decides
+            pass
+    return start_values(*span)[0]
+
+
 def coupled_true_folds(model, params: Mapping[str, float], axes: tuple[str, str],
                        ranges: Mapping[str, tuple[float, float]], others: Sequence[float], *,
                        ds: float = 0.02, max_points: int = 300, progress=None,
@@ -145,22 +173,24 @@ def coupled_true_folds(model, params: Mapping[str, float], axes: tuple[str, str]
     both ways to the range's ends: a diagram without curves says why from these)."""
     from numerics.coupled import coupled_cycle
     from numerics.coupled.fold import locate_fold
+    from numerics.coupled.lock_start import start_values
 
     s_i = _seed_axis(axes)
     s_name, o_name = axes[s_i], axes[1 - s_i]
     lo, hi = ranges[s_name]
-    start = 0.0 if lo < 0 < hi else 0.5 * (lo + hi)
     curves, points, tasks = [], [], []
     n2 = None
     for o in others:
         prob = LockedCycleFold(model, params, axes)
         n2 = 2 * prob.n
-        vals = {**prob.values, o_name: float(o), s_name: start}
-        line = {"at": {o_name: float(o)}, "along": s_name, "from": start, "to": [lo, hi],
-                "folds": [], "period": None, "cycle": None}
+        line = {"at": {o_name: float(o)}, "along": s_name, "from": start_values(lo, hi)[0],
+                "to": [lo, hi], "folds": [], "period": None, "cycle": None}
         if lines is not None:
             lines.append(line)
         try:
+            start = line["from"] = line_start(prob.model, prob.values, s_name, o_name, o,
+                                              (lo, hi))
+            vals = {**prob.values, o_name: float(o), s_name: start}
             cyc = coupled_cycle(prob.model, vals)
         except NumericsError as exc:
             line["cycle"] = str(exc)
@@ -251,7 +281,6 @@ def coupled_averaged_folds(model, params: Mapping[str, float], axes: tuple[str, 
     bound, _ = bind_coupled(model, {**dict(params), **{k: 0 for k in axes}})
     vals = {k: float(v) for k, v in params.items() if k not in axes}
     lo, hi = ranges[s_name]
-    start = 0.0 if lo < 0 < hi else 0.5 * (lo + hi)  # as the true curves' seeds
     curves = []
     for n in orders:
         try:
@@ -270,6 +299,7 @@ def coupled_averaged_folds(model, params: Mapping[str, float], axes: tuple[str, 
         tasks: list[Task] = []
         for o in others:
             try:
+                start = line_start(bound, vals, s_name, o_name, o, (lo, hi))  # as the true
                 edges = averaged_edges(bound, {**vals, o_name: float(o)}, n, s_name,
                                        max(abs(lo - start), abs(hi - start)), at=start)
             except NumericsError as exc:

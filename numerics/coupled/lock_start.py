@@ -49,7 +49,7 @@ def start_values(lo: float, hi: float, points: int = GRID_POINTS) -> list[float]
     ``[lo, hi]``, then the middle, then a ``points``-point grid over ``[lo, hi]`` by distance
     from the middle (the lower first of two at the same distance)."""
     lo, hi = float(lo), float(hi)
-    grid = [lo + (hi - lo) * k / (points - 1) for k in range(points)]
+    grid = [lo + (hi - lo) * k / (points - 1) for k in range(points - 1)] + [hi]  # hi exact
     mid = 0.5 * (lo + hi)
     out = [0.0] if lo <= 0.0 <= hi else []
     for s in [mid, *sorted(grid, key=lambda s: (abs(s - mid), s))]:

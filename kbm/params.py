@@ -175,7 +175,6 @@ def noise_from(values: Mapping[str, object]) -> tuple[dict[str, object], sp.Expr
     return rest, None, ""
 
 
-
 #: points of the grid on which a physical axis's map is checked finite and strictly monotone
 #: (a pole inside the range, ``k = 2 pi/lam`` over ``lam = -1:1``, breaks one or the other)
 MONOTONE_POINTS = 33
@@ -246,9 +245,11 @@ def physical_axis(physical: Mapping[str, object], user: str, lo: float, hi: floa
     inputs at their values in ``fixed`` (read exactly, :func:`kbm.values.parameter_value`);
     the identity when no map holds ``user``.
 
-    The inverse is the closed form where ``sympy.solve`` gives exactly one (``Delta = mu
-    delta``, ``lam = 2 pi/k``: the built-in maps), else the root of ``forward(x) = s`` on
-    ``[lo, hi]`` by Brent's method (bracketed there, since the map is monotone on it).
+    The inverse is the closed form where ``sympy.solve`` gives exactly one and it maps the
+    grid's middle value back (``Delta = mu delta``, ``lam = 2 pi/k``: the built-in maps;
+    correctly rounded to an ulp or so), else the root of ``forward(x) = s`` on ``[lo, hi]``
+    by Brent's method (bracketed there, the map being monotone on it; to ``1e-15 + 4 eps
+    |x|``).
 
     Raises
     ------
@@ -290,11 +291,18 @@ def physical_axis(physical: Mapping[str, object], user: str, lo: float, hi: floa
     monotone = all(math.isfinite(v) for v in vals) and bool(steps) and (
         all(d > 0 for d in steps) or all(d < 0 for d in steps))
     span = (min(vals[0], vals[-1]), max(vals[0], vals[-1]))
-    slope = None
-    if len(solved) == 1:
-        inverse = sp.lambdify(image, solved[0], "math")
-        slope = sp.lambdify(image, sp.diff(solved[0], image), "math")
-    else:
+    inverse = slope = None
+    if len(solved) == 1 and monotone:  # kept if it gives back the grid's middle point
+        closed = sp.lambdify(image, solved[0], "math")
+        mid = MONOTONE_POINTS // 2
+        try:
+            back = float(closed(vals[mid]))
+        except (ZeroDivisionError, ValueError, OverflowError, TypeError):
+            back = math.nan
+        if abs(back - grid[mid]) <= 1e-9 * (hi - lo):
+            inverse = closed
+            slope = sp.lambdify(image, sp.diff(solved[0], image), "math")
+    if inverse is None:
         def inverse(s: float) -> float:
             from scipy.optimize import brentq
 

@@ -96,6 +96,9 @@ def test_not_monotone_and_identity():
     assert not physical_axis(PHYSICAL, "lam", -1.0, 1.0, {}).monotone
     assert not physical_axis(PHYSICAL, "lam", -1.0, 0.3, {}).monotone
     assert not physical_axis({"q": "X**2"}, "X", -1.0, 1.0, {}).monotone
+    cube = physical_axis({"q": "X**3"}, "X", -2.0, 3.0, {})  # three roots: Brent, real
+    assert cube.slope is None and cube.to_user(-1.0) == pytest.approx(-1.0, rel=1e-14)
+    assert cube.to_user(8.0) == pytest.approx(2.0, rel=1e-14)
     beta = physical_axis(PHYSICAL, "beta", 0.5, 1.5, {})
     assert not beta.mapped and beta.span == (0.5, 1.5) and beta.to_user(0.75) == 0.75
     with pytest.raises(ParameterError, match=r"-p mu=VALUE"):

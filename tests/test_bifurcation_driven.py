@@ -125,6 +125,24 @@ def test_coupled_vdp_averaged_tongue_order1():
             assert abs(abs(s) - cv) < 1e-10
 
 
+def test_coupled_vdp_tongue_from_a_range_without_zero():
+    """Over ``sigma`` in [0.1, 1] the seed lines started at the middle 0.55, outside the
+    order-1 tongue ``|sigma| < c`` (closed form of ``gamma' = mu (sigma - c sin gamma)``):
+    no curve.  They now start where ``kbm lock`` does (``line_start``): at c = 0.3 the first
+    value from the middle out inside the tongue, 0.2125; the right edge ``sigma = c`` is
+    found from it."""
+    from numerics.bifurcation.coupled import coupled_averaged_folds, line_start
+    from numerics.coupled.lock_start import start_values
+
+    inside = [s for s in start_values(0.1, 1.0) if abs(s) < 0.3]
+    assert line_start("coupled-vdp", {"mu": 0.1}, "sigma", "c", 0.3, (0.1, 1.0)) \
+        == inside[0] == pytest.approx(0.2125)
+    curves = coupled_averaged_folds("coupled-vdp", {"mu": 0.1}, ("sigma", "c"),
+                                    {"sigma": (0.1, 1.0), "c": (0.05, 0.6)}, (1,), [0.3])
+    assert len(curves) == 1
+    assert all(abs(s - cv) < 1e-10 for s, cv in curves[0].points)
+
+
 @pytest.mark.slow
 def test_coupled_vdp_tongue_against_kbm_lock():
     """The fold curve of the locked cycle, corrected onto c = 0.3 (not a seed), gives

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 from pathlib import Path
 
 from kbm.cli._common import emit_json, write_json
@@ -57,6 +59,17 @@ def _num(value, fmt="#.6g") -> str:
     return "--" if value is None else format(value, fmt)
 
 
+def _fp_format(rep: dict) -> str:
+    """The Fokker-Planck moments' format: ten digits, fewer when the Hermite truncation's
+    measured change (``fokker_planck.hermite_change``; ``None``: not measured) supports
+    fewer."""
+    fp = rep.get("fokker_planck") or {}
+    change = fp.get("hermite_change", 0.0)
+    if change is None:
+        return "#.2g"
+    return ".10g" if change <= 1e-10 else f"#.{min(10, max(2, int(-math.log10(change))))}g"
+
+
 def run(args) -> int:
     from numerics.cli._options import check_ensemble, stored
     from numerics.cli._params import given, noisy_model
@@ -92,6 +105,14 @@ def run(args) -> int:
         f = rep["fokker_planck"]
         print(f"  Fokker-Planck: stationary Kramers equation, {f['hermite']} Hermite functions "
               f"of x' x {f['chebyshev']} Chebyshev points on |x| <= {f['half_width']:.4g}")
+        change = f.get("hermite_change", 0.0)
+        if change is None:
+            print("  WARNING: the Fokker-Planck moments' truncation error is not measured (a "
+                  "second Hermite truncation passes the cost budget); only 2 digits are shown")
+        elif change > 1e-6:
+            print(f"  WARNING: the Fokker-Planck moments are not converged: the last doubling of "
+                  f"the Hermite functions moved them by {change:.2g} (relative; the solve stops "
+                  f"at 1e-8 or at its cost budget); only the digits this supports are shown")
     elif rep.get("fokker_planck_message"):
         print(f"  Fokker-Planck: -- ({rep['fokker_planck_message']})")
     print(f"  {'':6}{'averaged':>12}  {'simulated':>12}  {'stderr':>9}  (avg-sim)/stderr"
@@ -102,7 +123,7 @@ def run(args) -> int:
              else f"{(m['averaged'] - m['simulated']) / m['stderr']:+.2f}")
         print(f"  <{key[0]}^2> {_num(m['averaged']):>12}  {_num(m['simulated']):>12}  "
               f"{_num(m['stderr'], '.2g'):>9}  {z:>16}  "
-              f"{_num(m.get('fokker_planck'), '.10g'):>13}")
+              f"{_num(m.get('fokker_planck'), _fp_format(rep)):>13}")
     ext = rep.get("extrapolation")
     if ext and ext.get("applied"):
         for key in ("a2", "x2"):

@@ -33,6 +33,11 @@ class KramersSolution:
     residual : float
         Largest coefficient of the last Hermite order and of the last Chebyshev modes,
         relative to the largest (the truncation's size).
+    hermite_change : float
+        The largest relative change of ``<x^2>`` and ``<v^2>`` when the number of Hermite
+        functions was last doubled (the truncation's error as measured, what
+        :func:`.kramers.stationary_kramers` stops on); ``nan`` when the number was given,
+        ``0`` for linear damping (where ``sigma^2 = kT`` makes the Maxwellian one function).
     """
 
     x: np.ndarray
@@ -42,6 +47,7 @@ class KramersSolution:
     G: object
     omega0: float
     residual: float
+    hermite_change: float = math.nan
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __repr__(self) -> str:

@@ -115,9 +115,11 @@ def fokker_planck_moments(model, params: dict, D: float, omega0: float,
         try:
             sol = stationary_kramers(model, {k: v for k, v in params.items() if k != "v"}, D,
                                      omega0=omega0, max_cost=2e7 if required else 4e6)
+            change = sol.hermite_change  # inf: a second truncation passed the budget
             return {"x2": sol.x2, "a2": sol.a2, "v2": sol.v2, "hermite": sol.coef.shape[0],
                     "chebyshev": sol.x.size, "half_width": float(sol.x[0]),
-                    "sigma": sol.sigma, "solution": sol}, ""
+                    "sigma": sol.sigma, "solution": sol,
+                    "hermite_change": change if math.isfinite(change) else None}, ""
         except KBMError as exc:
             why = f"no Fokker-Planck solution: {exc}"
     if required:
@@ -222,7 +224,8 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
         },
         "fokker_planck": None if fp is None else {
             "method": FOKKER_PLANCK, "hermite": fp["hermite"], "chebyshev": fp["chebyshev"],
-            "half_width": fp["half_width"], "sigma": fp["sigma"], "v2": fp["v2"]},
+            "half_width": fp["half_width"], "sigma": fp["sigma"], "v2": fp["v2"],
+            "hermite_change": fp["hermite_change"]},
         "fokker_planck_message": fp_why,
         "density": None, "steps": steps, "message": why, "scheme": system.scheme,
         "validity": {"z": {"a2": None, "x2": None}, "flagged": False, "threshold": Z_FLAG,

@@ -30,7 +30,7 @@ import textwrap
 import time
 from pathlib import Path
 
-from _auto import EMPTY_SUBROUTINES, FUNC_HEAD, STPNT_HEAD
+from _auto import EMPTY_SUBROUTINES, FUNC_HEAD, STPNT_HEAD, sedf_constants, sedf_equations
 
 DUFFING_EQUATIONS = "!  forced Duffing, made autonomous by AUTO's forcing oscillator (c, s)\n" \
     + FUNC_HEAD + textwrap.dedent("""\
@@ -175,50 +175,8 @@ COUPLED_SCRIPT = textwrap.dedent("""\
             print('P', repr(float(s_)), repr(float(c_)))
 """)
 
-SEDF_EQUATIONS = "!  the SEDF at rest with a gain s: PAR = (Delta, s, mu, beta, lam)\n" \
-    + FUNC_HEAD + textwrap.dedent("""\
-      DOUBLE PRECISION PI, K
-      PI = 4.0D0*ATAN(1.0D0)
-      K = 2*PI/PAR(5)
-      F(1) = U(2)
-      F(2) = -U(1) - PAR(3)*(PAR(4)*U(1)*U(1) - PAR(2))*U(2) - PAR(1)*SIN(K*U(1))
-      IF (IJAC == 0) RETURN
-      DFDU(1, 1) = 0.0D0
-      DFDU(1, 2) = 1.0D0
-      DFDU(2, 1) = -1.0D0 - 2*PAR(3)*PAR(4)*U(1)*U(2) - PAR(1)*K*COS(K*U(1))
-      DFDU(2, 2) = -PAR(3)*(PAR(4)*U(1)*U(1) - PAR(2))
-      IF (IJAC /= 2) RETURN
-      DFDP(1, 1:5) = 0.0D0
-      DFDP(2, 1) = -SIN(K*U(1))
-      DFDP(2, 2) = PAR(3)*U(2)
-      DFDP(2, 3) = -(PAR(4)*U(1)*U(1) - PAR(2))*U(2)
-      DFDP(2, 4) = -PAR(3)*U(1)*U(1)*U(2)
-      DFDP(2, 5) = PAR(1)*COS(K*U(1))*K*U(1)/PAR(5)
-    END SUBROUTINE FUNC
-
-""") + STPNT_HEAD + textwrap.dedent("""\
-      PAR(1) = 0.0D0
-      PAR(2) = -0.1D0
-      PAR(3) = 0.1D0
-      PAR(4) = 0.5D0
-      PAR(5) = 1.0D0
-      U(1) = 0.0D0
-      U(2) = 0.0D0
-    END SUBROUTINE STPNT
-
-""") + EMPTY_SUBROUTINES
-
-SEDF_CONSTANTS = textwrap.dedent("""\
-    parnames = {1: 'Delta', 2: 's', 3: 'mu', 4: 'beta', 5: 'lam'}
-    NDIM=   2, IPS =   1, IRS =   0, ILP =   1
-    ICP =  ['s']
-    NTST=  200, NCOL=   4, IAD =   3, ISP =   2, ISW = 1, IPLT= 0, NBC= 0, NINT= 0
-    NMX=  300, NPR=  10000, MXBF=  10, IID =   2, ITMX= 8, ITNW= 12, NWTN= 12, JAC= 1
-    EPSL= 1e-07, EPSU = 1e-07, EPSS =1e-09
-    DS  =   0.01, DSMIN=  1e-05, DSMAX=   0.05, IADS=   1
-    NPAR = 11, THL =  {11: 0.0}, THU =  {}
-    UZSTOP = {'s': 0.5}
-    """)
+SEDF_EQUATIONS = sedf_equations("0.5D0")
+SEDF_CONSTANTS = sedf_constants(npr=10000, itnw=12, nwtn=12, jac=1)
 
 #: the period of the long-period orbit (``BENCH_T``), the longest period tried for the table
 #: of Delta against T at beta = 0.5 (``BENCH_TMAX``, a run of its own), and HomCont's

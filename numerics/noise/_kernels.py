@@ -36,7 +36,6 @@ import math
 import numpy as np
 from numba import njit
 
-_U1 = np.uint64(1)
 _U5 = np.uint64(5)
 _U9 = np.uint64(9)
 _U11 = np.uint64(11)

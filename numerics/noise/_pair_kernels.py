@@ -153,6 +153,18 @@ def _run_start(law, t0, h, n_burn):
     return t0, 0
 
 
+@njit(cache=True, inline="always")
+def _two_steps(law, p, amp, t, h, k, sa, xa, va, fa, ga, sb, xb, vb, fb, gb):
+    """Step ``k`` (at ``t``) of both lanes of :func:`_stats_two`, each its increment
+    (:func:`_increment_law`, ``g`` the carried normal number) and its step; inlined (numba
+    ``inline="always"``) into the two loops."""
+    dwa, ga = _increment_law(law, sa, amp, k, ga)
+    dwb, gb = _increment_law(law, sb, amp, k, gb)
+    xa, va, fa = _step(t, xa, va, fa, h, dwa, p)  # noqa: F821
+    xb, vb, fb = _step(t, xb, vb, fb, h, dwb, p)  # noqa: F821
+    return xa, va, fa, ga, xb, vb, fb, gb
+
+
 @njit(cache=True)
 def _stats_two(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, sums, hist,
                ia, ib):
@@ -165,11 +177,8 @@ def _stats_two(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, widt
     sa, xa, va, fa, sb, xb, vb, fb = _pair_start(p, y0, t0, states, ia, ib)  # noqa: F821
     ga, gb = 0.0, 0.0
     for k in range(n_burn):
-        t = t0 + k * h
-        dwa, ga = _increment_law(law, sa, amp, k, ga)
-        dwb, gb = _increment_law(law, sb, amp, k, gb)
-        xa, va, fa = _step(t, xa, va, fa, h, dwa, p)  # noqa: F821
-        xb, vb, fb = _step(t, xb, vb, fb, h, dwb, p)  # noqa: F821
+        xa, va, fa, ga, xb, vb, fb, gb = _two_steps(law, p, amp, t0 + k * h, h, k, sa, xa, va,
+                                                    fa, ga, sb, xb, vb, fb, gb)
     if not (math.isfinite(xa + va) and math.isfinite(xb + vb)):
         return False
     tb, kb = _run_start(law, t0, h, n_burn)
@@ -181,11 +190,8 @@ def _stats_two(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, widt
     ha = np.zeros(nbins)
     hb = np.zeros(nbins)
     for k in range(n_burn, n_burn + n_run):
-        t = tb + (k - kb) * h
-        dwa, ga = _increment_law(law, sa, amp, k, ga)
-        dwb, gb = _increment_law(law, sb, amp, k, gb)
-        xa, va, fa = _step(t, xa, va, fa, h, dwa, p)  # noqa: F821
-        xb, vb, fb = _step(t, xb, vb, fb, h, dwb, p)  # noqa: F821
+        xa, va, fa, ga, xb, vb, fb, gb = _two_steps(law, p, amp, tb + (k - kb) * h, h, k, sa,
+                                                    xa, va, fa, ga, sb, xb, vb, fb, gb)
         if not (math.isfinite(xa + va) and math.isfinite(xb + vb)):
             return False
         a_x2 += xa * xa

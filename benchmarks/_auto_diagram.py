@@ -30,7 +30,22 @@ import textwrap
 import time
 from pathlib import Path
 
-from _auto import EMPTY_SUBROUTINES, FUNC_HEAD, STPNT_HEAD
+from _auto import EMPTY_SUBROUTINES, FUNC_HEAD, STPNT_HEAD, sedf_constants, sedf_equations
+
+def _head(setting: str, e: str | None = None, eps: str = "") -> str:
+    """The opening of a ``run.auto`` script: its imports, ``setting`` (a line reading the
+    script's environment), ``clock()`` (wall seconds and the Fortran processes' user +
+    system seconds), for the periodic orbits of equations ``e`` the options ``common``
+    (NTST = 60, NCOL = 4, Newton's tolerances EPSL = EPSU = ``eps``), and ``c0 = clock()``."""
+    common = "" if e is None else (
+        f"common = dict(e='{e}', NDIM=4, IPS=2, NTST=60, NCOL=4, ILP=1, ISP=2, NMX=2000,\n"
+        f"              DS=0.01, DSMIN=1e-6, DSMAX=0.05, EPSL={eps}, EPSU={eps}, EPSS=1e-8, "
+        "JAC=1,\n              NPR=10000)\n")
+    return ("import math, os, shutil, time\n" + setting + "\ndef clock():\n"
+            "    t = os.times()\n"
+            "    return time.perf_counter(), t.children_user + t.children_system\n"
+            + common + "c0 = clock()\n")
+
 
 DUFFING_EQUATIONS = "!  forced Duffing, made autonomous by AUTO's forcing oscillator (c, s)\n" \
     + FUNC_HEAD + textwrap.dedent("""\
@@ -78,16 +93,8 @@ DUFFING_EQUATIONS = "!  forced Duffing, made autonomous by AUTO's forcing oscill
 
 #: AUTO's tolerances are its Newton's relative corrections (EPSL, EPSU); the fold run is
 #: timed at both ``1e-7`` (AUTO's demos) and ``1e-10``
-DUFFING_SCRIPT = textwrap.dedent("""\
-    import os, time
-    EPS = float(os.environ['BENCH_EPS'])
-    def clock():
-        t = os.times()
-        return time.perf_counter(), t.children_user + t.children_system
-    common = dict(e='fduff', NDIM=4, IPS=2, NTST=60, NCOL=4, ILP=1, ISP=2, NMX=2000,
-                  DS=0.01, DSMIN=1e-6, DSMAX=0.05, EPSL=EPS, EPSU=EPS, EPSS=1e-8, JAC=1,
-                  NPR=10000)
-    c0 = clock()
+DUFFING_SCRIPT = _head("EPS = float(os.environ['BENCH_EPS'])", "fduff", "EPS") \
+    + textwrap.dedent("""\
     r1 = run(ICP=[2, 11], UZSTOP={2: 0.3}, IRS=0, **common)
     r2 = run(r1('UZ1'), ICP=[1, 11], UZSTOP={1: [-1.0, 3.0]},
              **{**common, 'DS': -0.01, 'STOP': ['LP1']})
@@ -151,16 +158,8 @@ COUPLED_EQUATIONS = "!  coupled-vdp (mu = 0.1): PAR(1) = sigma, PAR(2) = c\n" + 
 #: cycle at ``sigma = 0``, ``c = 0.3`` (van der Pol's ``2 cos t``, corrected by AUTO) in
 #: sigma to the fold, then the fold both ways in ``(sigma, c)``.  (With NTST = 40 this
 #: AUTO aborted in ``free()`` after its third fold run; NTST = 60 runs through.)
-COUPLED_SCRIPT = textwrap.dedent("""\
-    import os, time
-    SIDE = float(os.environ['BENCH_SIDE'])
-    def clock():
-        t = os.times()
-        return time.perf_counter(), t.children_user + t.children_system
-    common = dict(e='cvdp', NDIM=4, IPS=2, NTST=60, NCOL=4, ILP=1, ISP=2, NMX=2000,
-                  DS=0.01, DSMIN=1e-6, DSMAX=0.05, EPSL=1e-10, EPSU=1e-10, EPSS=1e-8, JAC=1,
-                  NPR=10000)
-    c0 = clock()
+COUPLED_SCRIPT = _head("SIDE = float(os.environ['BENCH_SIDE'])", "cvdp", "1e-10") \
+    + textwrap.dedent("""\
     r = run(ICP=[1, 11], UZSTOP={1: [-1.0, 1.0]}, IRS=0,
             **{**common, 'DS': 0.01 * SIDE, 'STOP': ['LP1']})
     c1 = clock()
@@ -175,61 +174,13 @@ COUPLED_SCRIPT = textwrap.dedent("""\
             print('P', repr(float(s_)), repr(float(c_)))
 """)
 
-SEDF_EQUATIONS = "!  the SEDF at rest with a gain s: PAR = (Delta, s, mu, beta, lam)\n" \
-    + FUNC_HEAD + textwrap.dedent("""\
-      DOUBLE PRECISION PI, K
-      PI = 4.0D0*ATAN(1.0D0)
-      K = 2*PI/PAR(5)
-      F(1) = U(2)
-      F(2) = -U(1) - PAR(3)*(PAR(4)*U(1)*U(1) - PAR(2))*U(2) - PAR(1)*SIN(K*U(1))
-      IF (IJAC == 0) RETURN
-      DFDU(1, 1) = 0.0D0
-      DFDU(1, 2) = 1.0D0
-      DFDU(2, 1) = -1.0D0 - 2*PAR(3)*PAR(4)*U(1)*U(2) - PAR(1)*K*COS(K*U(1))
-      DFDU(2, 2) = -PAR(3)*(PAR(4)*U(1)*U(1) - PAR(2))
-      IF (IJAC /= 2) RETURN
-      DFDP(1, 1:5) = 0.0D0
-      DFDP(2, 1) = -SIN(K*U(1))
-      DFDP(2, 2) = PAR(3)*U(2)
-      DFDP(2, 3) = -(PAR(4)*U(1)*U(1) - PAR(2))*U(2)
-      DFDP(2, 4) = -PAR(3)*U(1)*U(1)*U(2)
-      DFDP(2, 5) = PAR(1)*COS(K*U(1))*K*U(1)/PAR(5)
-    END SUBROUTINE FUNC
-
-""") + STPNT_HEAD + textwrap.dedent("""\
-      PAR(1) = 0.0D0
-      PAR(2) = -0.1D0
-      PAR(3) = 0.1D0
-      PAR(4) = 0.5D0
-      PAR(5) = 1.0D0
-      U(1) = 0.0D0
-      U(2) = 0.0D0
-    END SUBROUTINE STPNT
-
-""") + EMPTY_SUBROUTINES
-
-SEDF_CONSTANTS = textwrap.dedent("""\
-    parnames = {1: 'Delta', 2: 's', 3: 'mu', 4: 'beta', 5: 'lam'}
-    NDIM=   2, IPS =   1, IRS =   0, ILP =   1
-    ICP =  ['s']
-    NTST=  200, NCOL=   4, IAD =   3, ISP =   2, ISW = 1, IPLT= 0, NBC= 0, NINT= 0
-    NMX=  300, NPR=  10000, MXBF=  10, IID =   2, ITMX= 8, ITNW= 12, NWTN= 12, JAC= 1
-    EPSL= 1e-07, EPSU = 1e-07, EPSS =1e-09
-    DS  =   0.01, DSMIN=  1e-05, DSMAX=   0.05, IADS=   1
-    NPAR = 11, THL =  {11: 0.0}, THU =  {}
-    UZSTOP = {'s': 0.5}
-    """)
+SEDF_EQUATIONS = sedf_equations("0.5D0")
+SEDF_CONSTANTS = sedf_constants(npr=10000, itnw=12, nwtn=12, jac=1)
 
 #: the period of the long-period orbit (``BENCH_T``), the longest period tried for the table
 #: of Delta against T at beta = 0.5 (``BENCH_TMAX``, a run of its own), and HomCont's
 #: truncation interval (``BENCH_TH``).  The curves stop at ``Delta = 2.75``, as kbm's does.
-SEDF_SCRIPT = textwrap.dedent("""\
-    import math, os, shutil, time
-    T = float(os.environ['BENCH_T'])
-    def clock():
-        t = os.times()
-        return time.perf_counter(), t.children_user + t.children_system
-    c0 = clock()
+SEDF_SCRIPT = _head("T = float(os.environ['BENCH_T'])") + textwrap.dedent("""\
     eq = run('sedf')
     po = run(eq('HB1'), IPS=2, ICP=['s', 11], UZSTOP={'s': 1.0}, NMX=2000)
     de = run(po('UZ1'), IPS=2, ICP=['Delta', 11], UZSTOP={11: 12.0, 'Delta': 6.0}, NMX=5000)

@@ -43,7 +43,7 @@ from numerics import limit_cycle
 from numerics.cycles.continuation import continue_cycles
 from numerics.errors import NumericsError
 
-from _auto import EMPTY_SUBROUTINES, FUNC_HEAD, STPNT_HEAD
+from _auto import sedf_constants, sedf_equations
 
 
 def _scratch(model, params, vary, branch):
@@ -79,34 +79,9 @@ def case(label, model, params, vary, bounds, **kw):
     return t_branch
 
 
-AUTO_EQUATIONS = FUNC_HEAD + textwrap.dedent("""\
-      DOUBLE PRECISION PI
-      PI = 4.0D0*ATAN(1.0D0)
-      F(1) = U(2)
-      F(2) = -U(1) - PAR(3)*(PAR(4)*U(1)*U(1) - PAR(2))*U(2) - PAR(1)*SIN(2*PI*U(1)/PAR(5))
-    END SUBROUTINE FUNC
-    """) + STPNT_HEAD + textwrap.dedent("""\
-      PAR(1) = 0.0D0
-      PAR(2) = -0.1D0
-      PAR(3) = 0.1D0
-      PAR(4) = 1.0D0
-      PAR(5) = 1.0D0
-      U(1) = 0.0D0
-      U(2) = 0.0D0
-    END SUBROUTINE STPNT
-    """) + EMPTY_SUBROUTINES
-
-AUTO_CONSTANTS = textwrap.dedent("""\
-    parnames = {1: 'Delta', 2: 's', 3: 'mu', 4: 'beta', 5: 'lam'}
-    NDIM=   2, IPS =   1, IRS =   0, ILP =   1
-    ICP =  ['s']
-    NTST=  200, NCOL=   4, IAD =   3, ISP =   2, ISW = 1, IPLT= 0, NBC= 0, NINT= 0
-    NMX=  300, NPR=  1000, MXBF=  10, IID =   2, ITMX= 8, ITNW= 5, NWTN= 3, JAC= 0
-    EPSL= 1e-07, EPSU = 1e-07, EPSS =1e-09
-    DS  =   0.01, DSMIN=  1e-05, DSMAX=   0.05, IADS=   1
-    NPAR = 11, THL =  {11: 0.0}, THU =  {}
-    UZSTOP = {'s': 0.5}
-    """)
+#: the SEDF's equations (their Jacobians unused: ``JAC = 0``) from beta = 1, and constants
+AUTO_EQUATIONS = sedf_equations("1.0D0")
+AUTO_CONSTANTS = sedf_constants(npr=1000, itnw=5, nwtn=3, jac=0)
 
 AUTO_SCRIPT = textwrap.dedent("""\
     import time

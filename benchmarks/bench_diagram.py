@@ -198,6 +198,27 @@ def _floats(rows) -> np.ndarray:
     return np.array([[float(v) for v in r] for r in rows])
 
 
+def _installed(auto: str | None) -> bool:
+    """Whether AUTO-07p runs here (else the part's line saying it is skipped)."""
+    if auto is None:
+        print("  AUTO-07p: not installed (no auto-07p or auto, or no gfortran): skipped")
+    return auto is not None
+
+
+def _auto_runs(auto: str | None, files: dict[str, str], envs: list[dict[str, str]],
+               repeats: int) -> list[dict] | None:
+    """:func:`run_auto` once per environment of ``envs``, or ``None`` with the line saying
+    why (AUTO-07p not installed, or the first failure)."""
+    if not _installed(auto):
+        return None
+    runs = [run_auto(auto, files, env, repeats) for env in envs]
+    bad = [a for a in runs if isinstance(a, str)]
+    if bad:
+        print(f"  AUTO-07p: {bad[0]}")
+        return None
+    return runs
+
+
 def part1(auto: str | None, repeats: int) -> None:
     print(f"1. forced Duffing fold curve over (sigma, h) in [-1, 3] x [0.02, 0.4], mu = 0.1, "
           f"zeta = 0.1, alpha = 1 (seeded at h = {H_SEED})")
@@ -207,8 +228,7 @@ def part1(auto: str | None, repeats: int) -> None:
     print(f"  {_times('kbm', k)} (medians of {repeats}); {len(k['z'])} converged points, "
           f"max |G| {k['residual']:.1e}; cusp at sigma = {k['cusp'][0]:.10f}, "
           f"h = {k['cusp'][1]:.10f}")
-    if auto is None:
-        print("  AUTO-07p: not installed (no auto-07p or auto, or no gfortran): skipped")
+    if not _installed(auto):
         return
     files = {"fduff.f90": DUFFING_EQUATIONS, "run.auto": DUFFING_SCRIPT}
     for eps in ("1e-7", "1e-10"):
@@ -253,14 +273,9 @@ def part2(auto: str | None, repeats: int) -> None:
     print(f"  kbm: both edges, seeds (locate_fold) included, {k['curve'][0]:.2f} s wall / "
           f"{k['curve'][1]:.2f} s CPU (medians of {repeats}); {k['n']} converged points, "
           f"max |G| {k['residual']:.1e}")
-    if auto is None:
-        print("  AUTO-07p: not installed (no auto-07p or auto, or no gfortran): skipped")
-        return
     files = {"cvdp.f90": COUPLED_EQUATIONS, "run.auto": COUPLED_SCRIPT}
-    sides = [run_auto(auto, files, {"BENCH_SIDE": side}, repeats) for side in ("1", "-1")]
-    bad = [a for a in sides if isinstance(a, str)]
-    if bad:
-        print(f"  AUTO-07p: {bad[0]}")
+    sides = _auto_runs(auto, files, [{"BENCH_SIDE": side} for side in ("1", "-1")], repeats)
+    if sides is None:
         return
     a = {key: [sum(x[key][j] for x in sides) for j in (0, 1)]
          for key in ("seed", "curve", "whole")}
@@ -288,15 +303,12 @@ def part3(auto: str | None, repeats: int) -> None:
     print(f"  {_times('kbm', k)} (medians of {repeats}); {len(k['z'])} converged points, "
           f"max |gap| {k['gap']:.1e}; Delta = {k['delta_05']:.12f} at beta = 0.5; the path "
           f"ended: {k['end']}")
-    if auto is None:
-        print("  AUTO-07p: not installed (no auto-07p or auto, or no gfortran): skipped")
-        return
     files = {"sedf.f90": SEDF_EQUATIONS, "c.sedf": SEDF_CONSTANTS, "run.auto": SEDF_SCRIPT}
-    a = run_auto(auto, files, {"BENCH_T": f"{T_LONG:g}", "BENCH_TH": f"{T_HOMCONT:g}"},
-                 repeats)
-    if isinstance(a, str):
-        print(f"  AUTO-07p: {a}")
+    runs = _auto_runs(auto, files, [{"BENCH_T": f"{T_LONG:g}", "BENCH_TH": f"{T_HOMCONT:g}"}],
+                      repeats)
+    if runs is None:
         return
+    a = runs[0]
     pts = _floats(a["lines"]["P"])
     end = [float(v) for v in a["lines"]["END"][-1]]
     print(f"  {_times(f'AUTO-07p, long-period orbit (period {T_LONG:g}, NTST = 200)', a)} "

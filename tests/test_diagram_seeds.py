@@ -28,7 +28,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from _references import section_cycle
+from _references import forced_floquet, section_cycle
 from numerics.bifurcation.twoway import both_ways, joined, seed_levels
 
 MU = 0.1
@@ -63,28 +63,11 @@ def _vdp_floquet(sigma: float, h: float, y0) -> np.ndarray:
     """The Floquet multipliers of the periodic response of x'' + x = mu ((1 - x^2) x' +
     h cos(nu t)), nu = 1 + mu sigma, near ``y0``: Newton on y(T) = y0 (scipy's DOP853 with
     the variational equation), then the monodromy's eigenvalues."""
-    from scipy.integrate import solve_ivp
-
     nu = 1 + MU * sigma
-    T = 2 * math.pi / nu
-
-    def rhs(t, w):
-        x, v = w[0], w[1]
-        P = w[2:].reshape(2, 2)
-        J = np.array([[0.0, 1.0], [-1 - 2 * MU * x * v, MU * (1 - x * x)]])
-        return np.concatenate([[v, -x + MU * ((1 - x * x) * v + h * math.cos(nu * t))],
-                               (J @ P).ravel()])
-
-    y = np.array(y0, dtype=float)
-    for _ in range(20):
-        sol = solve_ivp(rhs, (0, T), np.concatenate([y, np.eye(2).ravel()]), method="DOP853",
-                        rtol=1e-11, atol=1e-12)
-        yT, Phi = sol.y[:2, -1], sol.y[2:, -1].reshape(2, 2)
-        step = np.linalg.solve(Phi - np.eye(2), -(yT - y))
-        y = y + step
-        if np.max(np.abs(step)) < 1e-11:
-            break
-    return np.linalg.eigvals(Phi)
+    return forced_floquet(
+        lambda t, x, v: -x + MU * ((1 - x * x) * v + h * math.cos(nu * t)),
+        lambda x, v: np.array([[0.0, 1.0], [-1 - 2 * MU * x * v, MU * (1 - x * x)]]),
+        2 * math.pi / nu, y0, rtol=1e-11, tol=1e-11, steps=20)[1]
 
 
 def test_vdp_forced_right_neimark_sacker_from_a_seed_on_the_top_edge():

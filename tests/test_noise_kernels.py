@@ -5,8 +5,9 @@ trajectories two to a loop (two independent chains of dependent operations keep 
 busy), and the synchronous pair and the antithetic triple of the two-level estimator share
 one loop with the coupling chosen at compile time.  Neither may change a number.  Independent references:
 
-- a trajectory run alone (the kernel called with one row: the single-trajectory path) gives
-  the same bytes as the same trajectory run beside another, also when its partner diverges;
+- a trajectory run alone (the kernel called with one row: the trajectory beside its twin, or
+  a first passage's single-trajectory path) gives the same bytes as the same trajectory run
+  beside another, also when its partner diverges;
 - the couplings written out in Python step by step from the scheme's one-step map
   (``_step``) and the generator's normal pairs (``_normal_pair``): the coarse step takes
   ``g_1 + g_2``, the fine run ``g_1`` then ``g_2``, the antithetic twin ``g_2`` then ``g_1``
@@ -59,6 +60,28 @@ def test_trajectories_in_pairs_equal_trajectories_alone(scheme):
                                      s.omega0, 1, -2.0, 2.0, 9)
         assert _same(s1[0], sums[i]) and _same(h1[0], hist[i])
     assert hist[0].sum() == pytest.approx(1.0, abs=0.2)  # most steps inside [-2, 2)
+
+
+@pytest.mark.parametrize("scheme", ["baoab", "kp"])
+def test_final_states_equal_the_scheme_stepped_in_python(scheme):
+    """final_states on three trajectories (a pair, and the last beside its twin) against each
+    trajectory stepped in Python with the compiled one-step map (``_first``, ``_step``) and
+    the generator's three-point increments (``_increment``, Kloeden & Platen eq. 14.2.8):
+    the same bytes."""
+    s = _system(scheme)
+    k, p = s.kernels, s._p()
+    m, h, n = 3, 0.05, 120
+    y0 = np.linspace(-1.0, 0.8, 2 * m).reshape(m, 2)
+    st = trajectory_states(7, 0, m)
+    got = k.final_states(p, s.sigma, y0, 0.0, h, n, st)
+    amp = s.sigma * k._noise_factor(p, h) * math.sqrt(3.0 * h)
+    for i in range(m):
+        gen = st[i].copy()
+        x, v = y0[i]
+        f = k._first(0.0, x, v, p)
+        for j in range(n):
+            x, v, f = k._step(j * h, x, v, f, h, k._increment(gen, amp), p)
+        assert _same([x, v], got[i])
 
 
 @pytest.mark.parametrize("scheme", ["baoab", "kp"])

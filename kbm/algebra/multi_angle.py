@@ -114,13 +114,14 @@ class MultiAngle:
         bias = self.ring.bias_all
         cos: dict = {}
         sin: dict = {}
-        for h1, c1 in self.cos.items():
-            t1 = c1.terms
-            for h2, c2 in other.cos.items():
-                pr = term_product(t1, c2.terms, bias)
-                plus, _, minus, _ = _sum_difference(h1, h2)
-                accumulate(cos, minus, pr, 1)
-                accumulate(cos, plus, pr, 1)
+        for a, b, sign in ((self.cos, other.cos, 1), (self.sin, other.sin, -1)):
+            for h1, c1 in a.items():  # cos A cos B, then sin A sin B
+                t1 = c1.terms
+                for h2, c2 in b.items():
+                    pr = term_product(t1, c2.terms, bias)
+                    plus, _, minus, _ = _sum_difference(h1, h2)
+                    accumulate(cos, minus, pr, 1)
+                    accumulate(cos, plus, pr, sign)
         for cs, sn in ((self.cos, other.sin), (other.cos, self.sin)):  # cos A sin B
             for h1, c1 in cs.items():
                 t1 = c1.terms
@@ -129,13 +130,6 @@ class MultiAngle:
                     plus, sp_, minus, sm = _sum_difference(h1, h2)
                     accumulate(sin, plus, pr, sp_)
                     accumulate(sin, minus, pr, -sm)
-        for h1, s1 in self.sin.items():
-            t1 = s1.terms
-            for h2, s2 in other.sin.items():
-                pr = term_product(t1, s2.terms, bias)
-                plus, _, minus, _ = _sum_difference(h1, h2)
-                accumulate(cos, minus, pr, 1)
-                accumulate(cos, plus, pr, -1)
         ring = self.ring
 
         def finish(d: dict) -> dict:

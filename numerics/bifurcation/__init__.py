@@ -5,7 +5,8 @@ located, averaged curves beside the true ones.
   :class:`Diagram` (the JSON contract and the figure);
 - :mod:`numerics.bifurcation.curve`: :func:`continue_curve`, pseudo-arclength continuation
   of a curve of zeros of ``G: R^(n+1) -> R^n`` (converged points, step control, bounds,
-  test functions and their zeros, progress, store and resume);
+  test functions and their zeros, progress, store and resume;
+  :mod:`~numerics.bifurcation.corrector`: its bordered Newton corrector and tangent);
 - :mod:`numerics.bifurcation.path`: the records of a path (:class:`PathPoint`,
   :class:`TestEvent`, :class:`CurvePath`);
 - :mod:`numerics.bifurcation.oned`: the diagram of an autonomous one-degree-of-freedom

@@ -31,7 +31,9 @@ Methods*):
   ``continue_curve(..., resume=path)`` continue from the last point and its tangent.
 
 The records (:class:`PathPoint`, :class:`TestEvent`, :class:`CurvePath`) live in
-:mod:`numerics.bifurcation.path` and are re-exported here.
+:mod:`numerics.bifurcation.path`, the corrector (:func:`correct`, :func:`tangent_at`,
+:func:`numerical_jacobian`) in :mod:`numerics.bifurcation.corrector`; both are re-exported
+here.
 """
 
 from __future__ import annotations
@@ -41,76 +43,13 @@ from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
+from numerics.bifurcation.corrector import (FAILURES, _jac, correct, numerical_jacobian,
+                                             tangent_at)
 from numerics.bifurcation.path import CurvePath, PathPoint, TestEvent
-from numerics.errors import ConvergenceError, IntegrationError, NumericsError
+from numerics.errors import ConvergenceError, NumericsError
 
 __all__ = ["PathPoint", "TestEvent", "CurvePath", "continue_curve", "correct", "tangent_at",
            "numerical_jacobian"]
-
-#: exceptions that mean "no point here" (the step is cut), not a bug
-FAILURES = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, FloatingPointError,
-            ValueError, ArithmeticError)
-
-
-def numerical_jacobian(G: Callable, z: np.ndarray, g0: np.ndarray | None = None,
-                       h: float = 1e-7) -> np.ndarray:
-    """``G'(z)`` by central differences with steps ``h (1 + |z_i|)`` (error O(h^2))."""
-    z = np.asarray(z, dtype=float)
-    cols = []
-    for i in range(z.size):
-        e = np.zeros_like(z)
-        e[i] = h * (1.0 + abs(z[i]))
-        cols.append((np.asarray(G(z + e), dtype=float) - np.asarray(G(z - e), dtype=float))
-                    / (2 * e[i]))
-    return np.column_stack(cols)
-
-
-def _jac(G, jac, z, g=None, h=1e-7):
-    return np.atleast_2d(np.asarray(jac(z), dtype=float)) if jac is not None else \
-        numerical_jacobian(G, z, g, h)
-
-
-def tangent_at(J: np.ndarray, orient: np.ndarray | None = None) -> np.ndarray:
-    """The unit null vector of the ``n x (n+1)`` matrix ``J`` (its last right singular
-    vector), with ``t . orient >= 0``."""
-    _, _, vt = np.linalg.svd(J)
-    t = vt[-1]
-    if orient is not None and float(np.dot(t, orient)) < 0:
-        t = -t
-    return t / np.linalg.norm(t)
-
-
-def correct(G: Callable, z: np.ndarray, row: np.ndarray, rhs: float, *, jac=None,
-            tol: float = 1e-10, xtol: float = 1e-9, max_steps: int = 12, h: float = 1e-7):
-    """Newton's method on ``G(z) = 0, row . z = rhs``.
-
-    Returns ``(z, residual, steps, J)`` once ``max|G| <= tol`` and the last correction
-    ``max|dz| <= xtol (1 + max|z|)``; raises :class:`ConvergenceError`
-    otherwise (the residuals in the message).
-    """
-    z = np.array(z, dtype=float)
-    hist = []
-    for k in range(1, max_steps + 1):
-        g = np.atleast_1d(np.asarray(G(z), dtype=float))
-        if not np.all(np.isfinite(g)):
-            raise ConvergenceError(f"the defining system is not finite at z = {z}")
-        J = _jac(G, jac, z, g, h)
-        A = np.vstack([J, row])
-        b = -np.concatenate([g, [float(row @ z) - rhs]])
-        dz = np.linalg.solve(A, b)
-        z = z + dz
-        res = float(np.max(np.abs(g)))
-        hist.append(res)
-        small = float(np.max(np.abs(dz))) <= xtol * (1.0 + float(np.max(np.abs(z))))
-        if small:
-            g = np.atleast_1d(np.asarray(G(z), dtype=float))
-            res = float(np.max(np.abs(g)))
-            if res <= tol:
-                return z, res, k, J
-        if k >= 3 and res > 10 * hist[-2] and hist[-2] > tol:
-            break  # diverging
-    raise ConvergenceError("Newton on the defining system did not converge: residuals "
-                           + ", ".join(f"{r:.2e}" for r in hist))
 
 
 def _evaluate_tests(tests, pt: PathPoint) -> dict:

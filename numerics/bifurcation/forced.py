@@ -50,14 +50,13 @@ import numpy as np
 
 from kbm.errors import ParameterError
 from numerics.bifurcation.forced_averaged import averaged_fold_curves
-from numerics.bifurcation.result import Codim2Point, Curve, Diagram
-from numerics.bifurcation.twoway import (FD_STEP, Task, both_ways, codim2_points, distances,
-                                         dropped_seed, interruptible, joined, merged, on_known,
-                                         seed_levels, trimmed, why_short)
+from numerics.bifurcation.result import Codim2Point, Curve
+from numerics.bifurcation.twoway import (FD_STEP, Task, both_ways, codim2_points, dropped_seed,
+                                         interruptible, joined, on_known, trimmed, why_short)
 from numerics.errors import NumericsError
 
 __all__ = ["DrivenProblem", "MAP_TESTS", "forced_seeds", "forced_true_curves",
-           "forced_diagram", "averaged_fold_curves", "joined"]
+           "averaged_fold_curves", "joined"]
 #: kinds of codim-1 curves of the stroboscopic map and their test functions
 MAP_TESTS = {
     "fold": {"bogdanov-takens": lambda tr, det: det - 1.0,
@@ -319,40 +318,3 @@ def _partner_known(prob: DrivenProblem, z0, tasks: Sequence[Task], kind: str, sc
         if t.kind == kind and on_known(zp, [t], kind, scale, tol):
             return i
     return None
-
-
-# -- averaged curves ---------------------------------------------------------------------------
-
-def forced_diagram(model, params: Mapping[str, float], axes: tuple[str, str],
-                   ranges: Mapping[str, tuple[float, float]], *, orders: Sequence[int] = (1, 2, 3),
-                   seeds_at: int = 3, ds: float = 0.02, max_points: int = 400, progress=None
-                   ) -> Diagram:
-    """The two-parameter diagram of a forced model: true curves, averaged curves at
-    ``orders``, codim-2 points, and the distances (true against averaged) in ``detail``
-    (with ``dropped``: the seeds that gave no curve, and why).  The seeds are looked for on
-    ``seeds_at`` lines of the other axis strictly inside its range
-    (:func:`~numerics.bifurcation.twoway.seed_levels`).
-
-    Raises
-    ------
-    kbm.errors.ParameterError
-        When ``sigma`` is not one of the axes.
-    """
-    if "sigma" not in axes:
-        raise ParameterError("a forced diagram varies the detuning and one other parameter: "
-                             f"--vary sigma=FROM:TO --vary {axes[0]}=FROM:TO")
-    prob = DrivenProblem(model, params, axes)
-    o_name = axes[1 - axes.index("sigma")]
-    lo, hi = ranges[o_name]
-    others = seed_levels(lo, hi, seeds_at)[::-1]
-    seeds = forced_seeds(prob, tuple(ranges["sigma"]), others)
-    dropped: list = []
-    _, curves, points = forced_true_curves(prob, ranges, seeds, ds=ds, max_points=max_points,
-                                           progress=progress, dropped=dropped)
-    av_curves, av_points = averaged_fold_curves(prob.forced, prob.values, axes, ranges, orders,
-                                                others, ds=ds, max_points=max_points,
-                                                dropped=dropped)
-    return Diagram(prob.forced.name, dict(prob.values), axes, ranges,
-                   tuple(curves + av_curves), tuple(merged(points + av_points)),
-                   {"distance": distances(curves, av_curves, points, av_points),
-                    "dropped": dropped})

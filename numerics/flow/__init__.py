@@ -2,7 +2,7 @@
 
 - :mod:`numerics.flow.compiled`: the model's numerical functions at bound
   parameter values (:class:`CompiledModel`), lambdified once per model
-  (:class:`ModelTemplate`);
+  (:class:`ModelTemplate`, :mod:`numerics.flow.template`);
 - :mod:`numerics.flow.template_cache`: the templates' functions kept on disk under the
   model's canonical form (a warm run does not lambdify);
 - :mod:`numerics.flow.card`: model cards, what ``kbm cycle`` needs of a bound built-in

@@ -4,6 +4,9 @@ The model is defined once, in :mod:`kbm`; here its acceleration
 ``x'' = -omega0^2 x + mu F(x, x') + drive(t)`` is differentiated symbolically
 (Jacobian, divergence) and lambdified together with the dissipation integrand
 and the potential energy, for given parameter values.
+
+The template (:class:`ModelTemplate`, :func:`model_template`, :func:`template_flow`) lives
+in :mod:`numerics.flow.template` and is re-exported here.
 """
 
 from __future__ import annotations
@@ -16,9 +19,10 @@ from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
-from kbm.errors import ModelError, ParameterError
+from kbm.errors import ParameterError
 
-from numerics._memo import memo
+from numerics.flow.template import (ModelTemplate, _build_template, model_template,  # noqa: F401
+                                    template_flow)
 
 if TYPE_CHECKING:  # sympy and the symbolic models imported on use (issue 39)
     import sympy as sp
@@ -117,144 +121,6 @@ class CompiledModel:
         import sympy as sp
 
         return {sp.Symbol(k): v for k, v in self.exact_values.items()}
-
-
-@dataclass(frozen=True)
-class ModelTemplate:
-    """The model's numerical functions with the parameter values as trailing arguments.
-
-    Lambdifying is the expensive step; a template is built once per model and
-    bound to many parameter sets by :func:`compile_model` (as in a sweep).
-    """
-
-    model: Oscillator
-    names: tuple[str, ...]
-    f_ext: Callable
-    f_acc: Callable
-    f_jac: Callable
-    f_energy: Callable
-    f_w0: Callable
-    f_factor: Callable
-    dissipation_expr: sp.Expr
-    ext_exprs: tuple[sp.Expr, ...] = ()
-    ext_symbols: tuple[sp.Symbol, ...] = ()
-
-    def __hash__(self) -> int:
-        """The hash of the fields, computed once (the memos of the compiled flows look a
-        template up at every point of a branch; hashing its expressions took 50 us)."""
-        h = self.__dict__.get("_hash")
-        if h is None:
-            h = hash((self.model, self.names, self.f_ext, self.f_acc, self.f_jac,
-                      self.f_energy, self.f_w0, self.f_factor, self.dissipation_expr,
-                      self.ext_exprs, self.ext_symbols))
-            object.__setattr__(self, "_hash", h)
-        return h
-
-
-def model_template(model: Oscillator | str) -> ModelTemplate:
-    """Lambdify ``model`` once, parameters (and ``mu``) as arguments.
-
-    Memoised by the model (hashable; :func:`numerics._memo.memo`): a cached
-    template is the same function of the same expressions, so the memo changes
-    the time, never the result.
-    """
-    if isinstance(model, str):
-        from kbm.models import get_model
-
-        model = get_model(model)
-    return _template(model)
-
-
-@memo(maxsize=32)
-def _template(model: Oscillator) -> ModelTemplate:
-    from numerics.flow.template_cache import cached_template
-
-    return cached_template(model, _build_template, ModelTemplate)
-
-
-def _build_template(model: Oscillator) -> ModelTemplate:
-    import sympy as sp
-
-    from kbm.family import one_degree_form
-    from kbm.symbols import t as T, x as X, xdot as V
-
-    if getattr(model, "dof", 1) != 1:
-        one_degree_form(model)  # raises: the engines of one degree of freedom take one
-    names = tuple(sorted(set(model.parameters) | {"mu"}))
-    P = [sp.Symbol(n) for n in names]
-    acc = model.acceleration()
-    dadx, dadv = sp.diff(acc, X), sp.diff(acc, V)
-    for name, d in (("x", dadx), ("x'", dadv)):
-        if d.has(sp.Derivative, sp.DiracDelta):
-            raise ModelError(
-                f"model {model.name!r}: the derivative of the acceleration with respect to "
-                f"{name} has no closed form ({d}); the variational equations (Floquet "
-                "multipliers, Newton) need a smooth F: replace non-differentiable terms such "
-                "as sign(xdot) or Abs(xdot) by smooth ones, e.g. tanh(xdot/0.01) or "
-                "sqrt(xdot**2 + 0.01**2)")
-    plus, minus, factor = model.dissipation_parts()
-    s = sp.Dummy("s")
-    cons = model.conservative_force().subs(X, s)
-    if cons.has(T):
-        U = model.omega0**2 * X**2 / 2
-    else:
-        U = model.omega0**2 * X**2 / 2 - sp.integrate(cons, (s, 0, X), conds="none")
-    energy_expr = V**2 / 2 + U
-    y = sp.symbols("y0:9")
-    es = {X: y[0], V: y[1]}
-    jx, jv = dadx.subs(es), dadv.subs(es)
-    ext = [y[1], acc.subs(es), y[3], jx * y[2] + jv * y[3], y[5], jx * y[4] + jv * y[5], jv,
-           plus.subs(es), minus.subs(es)]
-    from sympy.printing.codeprinter import PrintMethodNotImplementedError
-
-    from numerics.flow.template_cache import lambdify_light
-
-    try:
-        return ModelTemplate(
-            model=model, names=names,
-            f_ext=sp.lambdify((T, y, *P), ext, modules=["math", "scipy"], cse=True),
-            f_acc=sp.lambdify((T, X, V, *P), acc, modules=["math", "scipy"]),
-            f_jac=sp.lambdify((T, X, V, *P), [[0, 1], [dadx, dadv]],
-                              modules=["numpy", "scipy"]),
-            f_energy=lambdify_light((X, V, *P), energy_expr, ["numpy", "scipy", "mpmath"]),
-            f_w0=sp.lambdify(P, model.omega0, modules="math"),
-            f_factor=sp.lambdify(P, factor, modules="math"),
-            dissipation_expr=factor * plus - minus, ext_exprs=tuple(ext), ext_symbols=tuple(y))
-    except (PrintMethodNotImplementedError, NameError, TypeError) as exc:
-        raise ModelError(f"model {model.name!r} cannot be turned into numerical functions: "
-                         f"{' '.join(str(exc).split()[:30])}") from None
-
-
-def template_flow(template: ModelTemplate):
-    """The compiled DOP853 flow of the template's extended system, or ``None``.
-
-    See :mod:`numerics.flow.jit`; memoised per template and per the state of the
-    ``KBM_NO_JIT`` switch (it changes the time, never the result).
-    """
-    from numerics.flow.jit import jit_available
-
-    return _template_flow(template, jit_available())
-
-
-@memo(maxsize=32)
-def _template_flow(template: ModelTemplate, enabled: bool):
-    if not enabled:
-        return None
-    quick = getattr(template, "cached_flow", None)  # a template read from a model card
-    if quick is not None:
-        built = quick()
-        if built is not None:
-            return built
-        template = template.full()
-    import sympy as sp
-
-    from kbm.symbols import t as T
-    from numerics.flow.jit import jit_flow
-
-    return jit_flow(template.ext_exprs, T, template.ext_symbols,
-                    [sp.Symbol(n) for n in template.names],
-                    key=f"extended|{sp.srepr(tuple(template.ext_exprs))}|{template.names}",
-                    what=f"the flow of {template.model.name}")
 
 
 def compile_model(model: Oscillator | str | BoundModel,

@@ -252,36 +252,7 @@ def jit_flow(exprs: Sequence[sp.Expr] | Callable[[], Sequence[sp.Expr]], t: sp.S
         return None
     # for the next process (this one goes on with numba's code)
     build(cache_dir(), source, mod, what, _notice_wanted())
-
-    def flow(y0, t_end, p, rtol, atol, n_out=1, max_steps=10**6) -> FlowResult:
-        out, status, steps = fn(np.asarray(y0, dtype=float), float(t_end),
-                                np.asarray(p, dtype=float), float(rtol), float(atol),
-                                int(n_out), int(max_steps))
-        return FlowResult(out, int(status), int(steps))
-
-    def to_turn(y0, sign, t_max, p, rtol, atol, max_steps=10**6):
-        """``(x, x', t, status)`` where ``x'`` first changes sign on the orbit of the state
-        ``y0[:2]``, forward (``sign = 1``) or backward (``-1``) in time (the stepper's
-        ``to_turn``: status 0 found, 1 not within ``t_max``, 3 non-finite)."""
-        x, v, t, status = mod.to_turn(np.asarray(y0, dtype=float), float(sign),
-                                      float(t_max), np.asarray(p, dtype=float), float(rtol),
-                                      float(atol), int(max_steps))
-        return float(x), float(v), float(t), int(status)
-
-    def to_section(y0, sign, xsec, t_max, p, rtol, atol, max_steps=10**6):
-        """``(x, x', t, status)`` where the orbit of the state ``y0[:2]``, forward (``sign =
-        1``) or backward (``-1``) in time, first crosses ``x = xsec`` (the stepper's
-        ``to_section``: status 0 found, 1 not within ``t_max``, 3 non-finite)."""
-        x, v, t, status = mod.to_section(np.asarray(y0, dtype=float), float(sign),
-                                         float(xsec), float(t_max),
-                                         np.asarray(p, dtype=float), float(rtol),
-                                         float(atol), int(max_steps))
-        return float(x), float(v), float(t), int(status)
-
-    flow.to_turn = to_turn
-    flow.to_section = to_section
-    flow.module = mod
-    return flow
+    return _wrap_flow(mod, np.asarray, mod)
 
 
 class _AotModule:
@@ -311,28 +282,38 @@ def _aot_flow(mod, extra: str = "") -> Callable:
     """The flow of a module built ahead of time (:mod:`numerics.flow.aot`): the calls of
     :func:`jit_flow`'s, the arrays made C-contiguous (the exported types); with ``extra``
     source its ``module`` calls the extra functions the same way (:class:`_AotModule`)."""
+    return _wrap_flow(mod, np.ascontiguousarray, _AotModule(mod) if extra else mod)
+
+
+def _wrap_flow(mod, array: Callable, module) -> Callable:
+    """The calls of a compiled module's ``flow``, ``to_turn`` and ``to_section`` (numba's
+    or one built ahead of time), their arrays passed through ``array`` (``np.asarray``, or
+    ``np.ascontiguousarray`` for the exported types); ``module`` is the flow's attribute."""
     def flow(y0, t_end, p, rtol, atol, n_out=1, max_steps=10**6) -> FlowResult:
-        out, status, steps = mod.flow(np.ascontiguousarray(y0, dtype=float), float(t_end),
-                                      np.ascontiguousarray(p, dtype=float), float(rtol),
-                                      float(atol), int(n_out), int(max_steps))
+        out, status, steps = mod.flow(array(y0, dtype=float), float(t_end),
+                                      array(p, dtype=float), float(rtol), float(atol),
+                                      int(n_out), int(max_steps))
         return FlowResult(out, int(status), int(steps))
 
     def to_turn(y0, sign, t_max, p, rtol, atol, max_steps=10**6):
-        """As :func:`jit_flow`'s ``to_turn``."""
-        x, v, t, status = mod.to_turn(np.ascontiguousarray(y0, dtype=float), float(sign),
-                                      float(t_max), np.ascontiguousarray(p, dtype=float),
-                                      float(rtol), float(atol), int(max_steps))
+        """``(x, x', t, status)`` where ``x'`` first changes sign on the orbit of the state
+        ``y0[:2]``, forward (``sign = 1``) or backward (``-1``) in time (the stepper's
+        ``to_turn``: status 0 found, 1 not within ``t_max``, 3 non-finite)."""
+        x, v, t, status = mod.to_turn(array(y0, dtype=float), float(sign), float(t_max),
+                                      array(p, dtype=float), float(rtol), float(atol),
+                                      int(max_steps))
         return float(x), float(v), float(t), int(status)
 
     def to_section(y0, sign, xsec, t_max, p, rtol, atol, max_steps=10**6):
-        """As :func:`jit_flow`'s ``to_section``."""
-        x, v, t, status = mod.to_section(np.ascontiguousarray(y0, dtype=float), float(sign),
-                                         float(xsec), float(t_max),
-                                         np.ascontiguousarray(p, dtype=float), float(rtol),
+        """``(x, x', t, status)`` where the orbit of the state ``y0[:2]``, forward (``sign =
+        1``) or backward (``-1``) in time, first crosses ``x = xsec`` (the stepper's
+        ``to_section``: status 0 found, 1 not within ``t_max``, 3 non-finite)."""
+        x, v, t, status = mod.to_section(array(y0, dtype=float), float(sign), float(xsec),
+                                         float(t_max), array(p, dtype=float), float(rtol),
                                          float(atol), int(max_steps))
         return float(x), float(v), float(t), int(status)
 
     flow.to_turn = to_turn
     flow.to_section = to_section
-    flow.module = _AotModule(mod) if extra else mod
+    flow.module = module
     return flow

@@ -54,7 +54,7 @@ _MODULES = ("math", "cmath", "builtins", "numpy", "scipy.special", "mpmath")
 _FUNCTIONS = ("f_ext", "f_acc", "f_jac", "f_energy", "f_w0", "f_factor")
 
 #: the source files whose code decides the template (part of the key)
-_BUILDERS = ("compiled.py", "template_cache.py")
+_BUILDERS = ("template.py", "template_cache.py")
 
 
 def _canonical(value: object) -> str:

@@ -36,7 +36,6 @@ import math
 import numpy as np
 from numba import njit
 
-_U1 = np.uint64(1)
 _U5 = np.uint64(5)
 _U9 = np.uint64(9)
 _U11 = np.uint64(11)
@@ -151,37 +150,28 @@ def _step(t, x, v, f, h, sdw, p):
 
 
 @njit(cache=True)
-def _pair_start(p, y0, t0, states, i):
-    """Trajectories ``i`` and ``i + 1`` at ``t0``: ``(sa, xa, va, fa, sb, xb, vb, fb)``, each
-    its generator (a copy of ``states[i]``), its state and its carried force."""
+def _pair_start(p, y0, t0, states, i, j):
+    """Trajectories ``i`` and ``j`` at ``t0`` (``j == i``: trajectory ``i`` and its twin):
+    ``(sa, xa, va, fa, sb, xb, vb, fb)``, each its generator (a copy of ``states[i]``,
+    ``states[j]``), its state and its carried force."""
     sa = states[i].copy()
-    sb = states[i + 1].copy()
+    sb = states[j].copy()
     xa, va = y0[i, 0], y0[i, 1]
-    xb, vb = y0[i + 1, 0], y0[i + 1, 1]
+    xb, vb = y0[j, 0], y0[j, 1]
     return sa, xa, va, _first(t0, xa, va, p), sb, xb, vb, _first(t0, xb, vb, p)
 
 
 @njit(cache=True)
-def _advance(p, x, v, t0, h, n, s, amp):
-    """``n`` steps from ``(x, v)`` at ``t0``: ``(x, v, ok)``, ``ok`` false (and the state
-    NaN) when the state ends non-finite (a non-finite state stays non-finite: NaN
-    propagates through every step, so the loop holds no test and is as tight as a
-    hand-written one)."""
-    f = _first(t0, x, v, p)
-    for k in range(n):
-        x, v, f = _step(t0 + k * h, x, v, f, h, _increment(s, amp), p)
-    if not math.isfinite(x + v):
-        return math.nan, math.nan, False
-    return x, v, True
-
-
-@njit(cache=True)
 def _advance2(p, xa, va, sa, xb, vb, sb, t0, h, n, amp):
-    """:func:`_advance` of two trajectories in one loop, each on its own generator (``sa``,
-    ``sb``): the same numbers as two calls.  A step's force is a chain of dependent
-    operations (the new ``x`` waits for the kick, the next kick for the force at the new
-    ``x``: a libm call), so one trajectory leaves most of the core idle; two independent
-    chains in one loop fill it (measured: 1.3-1.6x the steps per second)."""
+    """``n`` steps of two trajectories from ``(xa, va)`` and ``(xb, vb)`` at ``t0`` in one
+    loop, each on its own generator (``sa``, ``sb``): ``(xa, va, xb, vb)``, a state NaN when
+    it ends non-finite (a non-finite state stays non-finite: NaN propagates through every
+    step, so the loop holds no test).  A step's force is a chain of dependent operations
+    (the new ``x`` waits for the kick, the next kick for the force at the new ``x``: a libm
+    call), so one trajectory leaves most of the core idle; two independent chains in one
+    loop fill it (measured: 1.3-1.6x the steps per second).  Each trajectory's numbers are
+    those it has alone: a trajectory alone runs beside its twin (the same state and a copy
+    of its generator)."""
     fa = _first(t0, xa, va, p)
     fb = _first(t0, xb, vb, p)
     for k in range(n):
@@ -198,19 +188,19 @@ def _advance2(p, xa, va, sa, xb, vb, sb, t0, h, n, amp):
 @njit(cache=True)
 def final_states(p, sigma, y0, t0, h, n, states):
     """The states after ``n`` steps from ``y0[i]`` (``NaN`` once a state is non-finite);
-    trajectories two at a time (:func:`_advance2`)."""
+    trajectories two at a time (:func:`_advance2`), the last of an odd number beside its
+    twin."""
     m = y0.shape[0]
     out = np.empty((m, 2))
     amp = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)
-    for i in range(0, m - 1, 2):
+    for i in range(0, m, 2):
+        j = min(i + 1, m - 1)
         sa = states[i].copy()
-        sb = states[i + 1].copy()
-        out[i, 0], out[i, 1], out[i + 1, 0], out[i + 1, 1] = _advance2(
-            p, y0[i, 0], y0[i, 1], sa, y0[i + 1, 0], y0[i + 1, 1], sb, t0, h, n, amp)
-    if m % 2:
-        s = states[m - 1].copy()
-        x, v, _ = _advance(p, y0[m - 1, 0], y0[m - 1, 1], t0, h, n, s, amp)
-        out[m - 1, 0], out[m - 1, 1] = x, v
+        sb = states[j].copy()
+        xa, va, xb, vb = _advance2(p, y0[i, 0], y0[i, 1], sa, y0[j, 0], y0[j, 1], sb, t0, h,
+                                   n, amp)
+        out[i, 0], out[i, 1] = xa, va
+        out[j, 0], out[j, 1] = xb, vb
     return out
 
 

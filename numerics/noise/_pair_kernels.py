@@ -147,79 +147,38 @@ def _increment_law(law, s, amp, k, spare):
 def _run_start(law, t0, h, n_burn):
     """The run phase's time origin ``(t_b, k_b)`` (step ``k`` at ``t_b + (k - k_b) h``): the
     four-point kernel counts from ``t0``, the three-point one from ``t1 = t0 + n_burn h``,
-    its carried force evaluated there again (:func:`_stats_one`)."""
+    its carried force evaluated there again."""
     if law == 3:
         return t0 + n_burn * h, n_burn
     return t0, 0
 
 
-@njit(cache=True)
-def _stats_one(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, sums, hist,
-               i):
-    """Row ``i`` of :func:`stationary_stats` (``law`` 3) or :func:`stationary_stats4` (4),
-    trajectory ``i`` alone."""
-    nbins = hist.shape[1]
-    s = states[i].copy()
-    x, v = y0[i, 0], y0[i, 1]
-    f = _first(t0, x, v, p)  # noqa: F821
-    g = 0.0
-    for k in range(n_burn):
-        dw, g = _increment_law(law, s, amp, k, g)
-        x, v, f = _step(t0 + k * h, x, v, f, h, dw, p)  # noqa: F821
-    ok = math.isfinite(x + v)
-    tb, kb = _run_start(law, t0, h, n_burn)
-    if law == 3 and ok:
-        f = _first(tb, x, v, p)  # noqa: F821
-    a_x2 = 0.0
-    a_a2 = 0.0
-    a_v2 = 0.0
-    a_f = 0.0
-    if ok:
-        for k in range(n_burn, n_burn + n_run):
-            dw, g = _increment_law(law, s, amp, k, g)
-            x, v, f = _step(tb + (k - kb) * h, x, v, f, h, dw, p)  # noqa: F821
-            if not math.isfinite(x + v):
-                ok = False
-                break
-            a_x2 += x * x
-            a_a2 += x * x + (v / w0) ** 2
-            if law != 0:  # the Gaussian kernel keeps x^2 and a^2 only
-                a_v2 += v * v
-                a_f += spring(tb + (k - kb + 1) * h, x, v, p)  # noqa: F821
-                j = int(math.floor((_observe(kind, x, v, w0, p) - lo) / width))  # noqa: F821
-                if 0 <= j < nbins:
-                    hist[i, j] += 1.0
-    if ok:
-        sums[i, 0] = a_x2 / n_run
-        sums[i, 1] = a_a2 / n_run
-        sums[i, 2] = a_v2 / n_run
-        sums[i, 3] = a_f / n_run
-        for j in range(nbins):
-            hist[i, j] /= n_run
-    else:
-        for c in range(4):
-            sums[i, c] = math.nan
-        for j in range(nbins):
-            hist[i, j] = math.nan
+@njit(cache=True, inline="always")
+def _two_steps(law, p, amp, t, h, k, sa, xa, va, fa, ga, sb, xb, vb, fb, gb):
+    """Step ``k`` (at ``t``) of both lanes of :func:`_stats_two`, each its increment
+    (:func:`_increment_law`, ``g`` the carried normal number) and its step; inlined (numba
+    ``inline="always"``) into the two loops."""
+    dwa, ga = _increment_law(law, sa, amp, k, ga)
+    dwb, gb = _increment_law(law, sb, amp, k, gb)
+    xa, va, fa = _step(t, xa, va, fa, h, dwa, p)  # noqa: F821
+    xb, vb, fb = _step(t, xb, vb, fb, h, dwb, p)  # noqa: F821
+    return xa, va, fa, ga, xb, vb, fb, gb
 
 
 @njit(cache=True)
 def _stats_two(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, sums, hist,
-               i):
-    """Rows ``i`` and ``i + 1`` of :func:`stationary_stats` (``law`` 3) or
+               ia, ib):
+    """Rows ``ia`` and ``ib`` of :func:`stationary_stats` (``law`` 3) or
     :func:`stationary_stats4` (4), the two trajectories in one loop (two independent chains
-    of dependent operations fill the core: see ``_advance2``), each exactly as
-    :func:`_stats_one` computes it.  False (rows ``i``, ``i + 1`` of ``hist`` zero again)
-    when a state turns non-finite: the caller then runs them alone."""
+    of dependent operations fill the core: see ``_advance2``), each exactly as it runs
+    alone (``ib == ia``: trajectory ``ia`` beside its twin).  False (nothing written) when
+    a state turns non-finite: the caller then runs each beside its twin."""
     nbins = hist.shape[1]
-    sa, xa, va, fa, sb, xb, vb, fb = _pair_start(p, y0, t0, states, i)  # noqa: F821
+    sa, xa, va, fa, sb, xb, vb, fb = _pair_start(p, y0, t0, states, ia, ib)  # noqa: F821
     ga, gb = 0.0, 0.0
     for k in range(n_burn):
-        t = t0 + k * h
-        dwa, ga = _increment_law(law, sa, amp, k, ga)
-        dwb, gb = _increment_law(law, sb, amp, k, gb)
-        xa, va, fa = _step(t, xa, va, fa, h, dwa, p)  # noqa: F821
-        xb, vb, fb = _step(t, xb, vb, fb, h, dwb, p)  # noqa: F821
+        xa, va, fa, ga, xb, vb, fb, gb = _two_steps(law, p, amp, t0 + k * h, h, k, sa, xa, va,
+                                                    fa, ga, sb, xb, vb, fb, gb)
     if not (math.isfinite(xa + va) and math.isfinite(xb + vb)):
         return False
     tb, kb = _run_start(law, t0, h, n_burn)
@@ -228,16 +187,12 @@ def _stats_two(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, widt
         fb = _first(tb, xb, vb, p)  # noqa: F821
     a_x2, a_a2, a_v2, a_f = 0.0, 0.0, 0.0, 0.0
     b_x2, b_a2, b_v2, b_f = 0.0, 0.0, 0.0, 0.0
+    ha = np.zeros(nbins)
+    hb = np.zeros(nbins)
     for k in range(n_burn, n_burn + n_run):
-        t = tb + (k - kb) * h
-        dwa, ga = _increment_law(law, sa, amp, k, ga)
-        dwb, gb = _increment_law(law, sb, amp, k, gb)
-        xa, va, fa = _step(t, xa, va, fa, h, dwa, p)  # noqa: F821
-        xb, vb, fb = _step(t, xb, vb, fb, h, dwb, p)  # noqa: F821
+        xa, va, fa, ga, xb, vb, fb, gb = _two_steps(law, p, amp, tb + (k - kb) * h, h, k, sa,
+                                                    xa, va, fa, ga, sb, xb, vb, fb, gb)
         if not (math.isfinite(xa + va) and math.isfinite(xb + vb)):
-            for j in range(nbins):
-                hist[i, j] = 0.0
-                hist[i + 1, j] = 0.0
             return False
         a_x2 += xa * xa
         a_a2 += xa * xa + (va / w0) ** 2
@@ -251,37 +206,39 @@ def _stats_two(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, widt
             b_f += spring(tn, xb, vb, p)  # noqa: F821
             j = int(math.floor((_observe(kind, xa, va, w0, p) - lo) / width))  # noqa: F821
             if 0 <= j < nbins:
-                hist[i, j] += 1.0
+                ha[j] += 1.0
             j = int(math.floor((_observe(kind, xb, vb, w0, p) - lo) / width))  # noqa: F821
             if 0 <= j < nbins:
-                hist[i + 1, j] += 1.0
-    sums[i, 0], sums[i, 1] = a_x2 / n_run, a_a2 / n_run
-    sums[i, 2], sums[i, 3] = a_v2 / n_run, a_f / n_run
-    sums[i + 1, 0], sums[i + 1, 1] = b_x2 / n_run, b_a2 / n_run
-    sums[i + 1, 2], sums[i + 1, 3] = b_v2 / n_run, b_f / n_run
+                hb[j] += 1.0
+    sums[ia, 0], sums[ia, 1] = a_x2 / n_run, a_a2 / n_run
+    sums[ia, 2], sums[ia, 3] = a_v2 / n_run, a_f / n_run
+    sums[ib, 0], sums[ib, 1] = b_x2 / n_run, b_a2 / n_run
+    sums[ib, 2], sums[ib, 3] = b_v2 / n_run, b_f / n_run
     for j in range(nbins):
-        hist[i, j] /= n_run
-        hist[i + 1, j] /= n_run
+        hist[ia, j] = ha[j] / n_run
+        hist[ib, j] = hb[j] / n_run
     return True
 
 
 @njit(cache=True)
 def _stats(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, hi, nbins):
-    """Trajectories two at a time (:func:`_stats_two`), a pair with a diverged one again
-    alone (:func:`_stats_one`): the same numbers either way."""
+    """Trajectories two at a time (:func:`_stats_two`), the last of an odd number and each
+    of a pair with a diverged one beside its twin: the same numbers either way (NaN rows
+    for a diverged trajectory)."""
     m = y0.shape[0]
     sums = np.zeros((m, 4))
     hist = np.zeros((m, nbins))
     width = (hi - lo) / nbins
-    for i in range(0, m - 1, 2):
-        if not _stats_two(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width,
-                          sums, hist, i):
-            for r in (i, i + 1):
-                _stats_one(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width,
-                           sums, hist, r)
-    if m % 2:
-        _stats_one(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width, sums,
-                   hist, m - 1)
+    for i in range(0, m, 2):
+        j = min(i + 1, m - 1)
+        if _stats_two(law, p, amp, y0, t0, h, n_burn, n_run, states, w0, kind, lo, width,
+                      sums, hist, i, j):
+            continue
+        for r in range(i, j + 1):
+            if j == i or not _stats_two(law, p, amp, y0, t0, h, n_burn, n_run, states, w0,
+                                        kind, lo, width, sums, hist, r, r):
+                sums[r, :] = math.nan
+                hist[r, :] = math.nan
     return sums, hist
 
 

@@ -1,6 +1,6 @@
 """Compiled first-passage and pulled-slider kernels of :mod:`numerics.noise`, appended as
 source after :mod:`numerics.noise._kernels` (whose ``_step``, ``_first``, ``_increment``,
-``_pair_start``, ``_advance``, ``_advance2`` and ``_noise_factor`` they call) to a printed model.
+``_pair_start``, ``_advance2`` and ``_noise_factor`` they call) to a printed model.
 
 ``first_passages`` gives the escape times of :mod:`numerics.escape` and ``slip_stats`` the
 friction runs of :mod:`numerics.thermal.friction`; both run trajectories two to a loop (two
@@ -38,7 +38,7 @@ def first_passages(p, sigma, y0, t0, h, n_max, xl, xr, states):
     hit = np.zeros(m, dtype=np.bool_)
     amp = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)  # noqa: F821
     for i in range(0, m - 1, 2):
-        sa, xa, va, fa, sb, xb, vb, fb = _pair_start(p, y0, t0, states, i)  # noqa: F821
+        sa, xa, va, fa, sb, xb, vb, fb = _pair_start(p, y0, t0, states, i, i + 1)  # noqa: F821
         done = n_max
         out_a = False
         out_b = False
@@ -108,49 +108,27 @@ def _slip_record(acc, t, x, v, p, lam, min_gap, v_stage):
 
 
 @njit(cache=True)
-def _slip_row(out, i, acc, n_run, ok):
-    """Row ``i`` of :func:`slip_stats` from the record (NaN when not ``ok``)."""
-    if ok:
-        out[i, 0] = acc[3] / n_run
-        out[i, 1] = acc[4]
-        out[i, 2] = acc[5]
-        out[i, 3] = acc[6]
-        out[i, 4] = acc[7]
-        out[i, 5] = acc[8]
-        out[i, 6] = acc[9]
-    else:
-        for c in range(7):
-            out[i, c] = math.nan
+def _slip_row(out, i, acc, n_run):
+    """Row ``i`` of :func:`slip_stats` from the record."""
+    out[i, 0] = acc[3] / n_run
+    out[i, 1] = acc[4]
+    out[i, 2] = acc[5]
+    out[i, 3] = acc[6]
+    out[i, 4] = acc[7]
+    out[i, 5] = acc[8]
+    out[i, 6] = acc[9]
 
 
 @njit(cache=True)
-def _slip_one(p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage, out, i):
-    """Row ``i`` of :func:`slip_stats`, trajectory ``i`` alone."""
-    s = states[i].copy()
-    x, v, ok = _advance(p, y0[i, 0], y0[i, 1], t0, h, n_burn, s, amp)  # noqa: F821
-    t1 = t0 + n_burn * h
-    fk = _first(t1, x, v, p) if ok else 0.0  # noqa: F821
-    acc = _slip_init(x, lam)
-    if ok:
-        for k in range(n_run):
-            t = t1 + (k + 1) * h
-            x, v, fk = _step(t - h, x, v, fk, h, _increment(s, amp), p)  # noqa: F821
-            if not math.isfinite(x + v):
-                ok = False
-                break
-            _slip_record(acc, t, x, v, p, lam, min_gap, v_stage)
-    _slip_row(out, i, acc, n_run, ok)
-
-
-@njit(cache=True)
-def _slip_two(p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage, out, i):
-    """Rows ``i`` and ``i + 1`` of :func:`slip_stats`, the two trajectories in one loop (see
-    :func:`_advance2`), each exactly as :func:`_slip_one` computes it; False (nothing
-    written) when a state turns non-finite: the caller then runs them alone."""
-    sa = states[i].copy()
-    sb = states[i + 1].copy()
+def _slip_two(p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage, out, ia, ib):
+    """Rows ``ia`` and ``ib`` of :func:`slip_stats`, the two trajectories in one loop (see
+    :func:`_advance2`), each exactly as it runs alone (``ib == ia``: trajectory ``ia``
+    beside its twin); False (nothing written) when a state turns non-finite: the caller
+    then runs each beside its twin."""
+    sa = states[ia].copy()
+    sb = states[ib].copy()
     xa, va, xb, vb = _advance2(  # noqa: F821
-        p, y0[i, 0], y0[i, 1], sa, y0[i + 1, 0], y0[i + 1, 1], sb, t0, h, n_burn, amp)
+        p, y0[ia, 0], y0[ia, 1], sa, y0[ib, 0], y0[ib, 1], sb, t0, h, n_burn, amp)
     if not (math.isfinite(xa) and math.isfinite(xb)):
         return False
     t1 = t0 + n_burn * h
@@ -166,8 +144,8 @@ def _slip_two(p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage, o
             return False
         _slip_record(acc_a, t, xa, va, p, lam, min_gap, v_stage)
         _slip_record(acc_b, t, xb, vb, p, lam, min_gap, v_stage)
-    _slip_row(out, i, acc_a, n_run, True)
-    _slip_row(out, i + 1, acc_b, n_run, True)
+    _slip_row(out, ia, acc_a, n_run)
+    _slip_row(out, ib, acc_b, n_run)
     return True
 
 
@@ -181,17 +159,19 @@ def slip_stats(p, sigma, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage
     relative to the well left, ``v t - n lam``; the backward jumps (a backward crossing more
     than ``min_gap`` after the previous crossing: not the ringing of a slip).  Columns:
     ``mean force, slips, sum F_slip, sum F_slip^2, backward, sum L_slip, sum L_slip^2``; NaN
-    rows for a diverged trajectory.  Trajectories run two to a loop (:func:`_slip_two`), a
-    pair with a diverged one again alone (:func:`_slip_one`): the same numbers either way."""
+    rows for a diverged trajectory.  Trajectories run two to a loop (:func:`_slip_two`), the
+    last of an odd number and each of a pair with a diverged one beside its twin: the same
+    numbers either way."""
     m = y0.shape[0]
     out = np.zeros((m, 7))
     amp = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)  # noqa: F821
-    for i in range(0, m - 1, 2):
-        if not _slip_two(p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage,
-                         out, i):
-            for r in (i, i + 1):
-                _slip_one(p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage,
-                          out, r)
-    if m % 2:
-        _slip_one(p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage, out, m - 1)
+    for i in range(0, m, 2):
+        j = min(i + 1, m - 1)
+        if _slip_two(p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage, out, i,
+                     j):
+            continue
+        for r in range(i, j + 1):
+            if j == i or not _slip_two(p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap,
+                                       v_stage, out, r, r):
+                out[r, :] = math.nan
     return out

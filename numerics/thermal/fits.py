@@ -22,7 +22,7 @@ from scipy.optimize import curve_fit
 from kbm.errors import ParameterError
 from kbm.strict_json import json_fields
 
-__all__ = ["MuserFit", "fit_muser", "temperatures_and_velocities"]
+__all__ = ["MuserFit", "fit_muser"]
 
 
 @dataclass(frozen=True)
@@ -51,16 +51,6 @@ class MuserFit:
 
     def to_json(self) -> dict:
         return json_fields(self)
-
-
-def temperatures_and_velocities(tmap) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
-                                                np.ndarray, np.ndarray]:
-    """``(kT, v, F, F_err, F_slip, F_slip_err)`` of every measured point of a map."""
-    rows = [(p.kT, p.params["v"], p.mean_force.value, p.mean_force.stderr,
-             p.slip_force.value, p.slip_force.stderr) for p in tmap.points if p.error is None]
-    if not rows or rows[0][0] is None:
-        raise ParameterError("the fits need the CDC's temperature kT = D/mu")
-    return tuple(np.array(c, float) for c in zip(*rows))
 
 
 def fit_muser(kT, v, F, F_err) -> MuserFit:

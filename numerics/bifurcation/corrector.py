@@ -1,0 +1,82 @@
+"""The corrector of a pseudo-arclength continuation (:mod:`numerics.bifurcation.curve`):
+Newton's method on a defining system ``G: R^(n+1) -> R^n`` bordered by one linear row
+(:func:`correct`), the tangent as the null vector of ``G'`` (:func:`tangent_at`), and
+``G'`` by central differences (:func:`numerical_jacobian`).
+
+Re-exported by :mod:`numerics.bifurcation.curve`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from numerics.errors import ConvergenceError, IntegrationError
+
+__all__ = ["FAILURES", "correct", "tangent_at", "numerical_jacobian"]
+
+#: exceptions that mean "no point here" (the step is cut), not a bug
+FAILURES = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, FloatingPointError,
+            ValueError, ArithmeticError)
+
+
+def numerical_jacobian(G: Callable, z: np.ndarray, g0: np.ndarray | None = None,
+                       h: float = 1e-7) -> np.ndarray:
+    """``G'(z)`` by central differences with steps ``h (1 + |z_i|)`` (error O(h^2))."""
+    z = np.asarray(z, dtype=float)
+    cols = []
+    for i in range(z.size):
+        e = np.zeros_like(z)
+        e[i] = h * (1.0 + abs(z[i]))
+        cols.append((np.asarray(G(z + e), dtype=float) - np.asarray(G(z - e), dtype=float))
+                    / (2 * e[i]))
+    return np.column_stack(cols)
+
+
+def _jac(G, jac, z, g=None, h=1e-7):
+    return np.atleast_2d(np.asarray(jac(z), dtype=float)) if jac is not None else \
+        numerical_jacobian(G, z, g, h)
+
+
+def tangent_at(J: np.ndarray, orient: np.ndarray | None = None) -> np.ndarray:
+    """The unit null vector of the ``n x (n+1)`` matrix ``J`` (its last right singular
+    vector), with ``t . orient >= 0``."""
+    _, _, vt = np.linalg.svd(J)
+    t = vt[-1]
+    if orient is not None and float(np.dot(t, orient)) < 0:
+        t = -t
+    return t / np.linalg.norm(t)
+
+
+def correct(G: Callable, z: np.ndarray, row: np.ndarray, rhs: float, *, jac=None,
+            tol: float = 1e-10, xtol: float = 1e-9, max_steps: int = 12, h: float = 1e-7):
+    """Newton's method on ``G(z) = 0, row . z = rhs``.
+
+    Returns ``(z, residual, steps, J)`` once ``max|G| <= tol`` and the last correction
+    ``max|dz| <= xtol (1 + max|z|)``; raises :class:`ConvergenceError`
+    otherwise (the residuals in the message).
+    """
+    z = np.array(z, dtype=float)
+    hist = []
+    for k in range(1, max_steps + 1):
+        g = np.atleast_1d(np.asarray(G(z), dtype=float))
+        if not np.all(np.isfinite(g)):
+            raise ConvergenceError(f"the defining system is not finite at z = {z}")
+        J = _jac(G, jac, z, g, h)
+        A = np.vstack([J, row])
+        b = -np.concatenate([g, [float(row @ z) - rhs]])
+        dz = np.linalg.solve(A, b)
+        z = z + dz
+        res = float(np.max(np.abs(g)))
+        hist.append(res)
+        small = float(np.max(np.abs(dz))) <= xtol * (1.0 + float(np.max(np.abs(z))))
+        if small:
+            g = np.atleast_1d(np.asarray(G(z), dtype=float))
+            res = float(np.max(np.abs(g)))
+            if res <= tol:
+                return z, res, k, J
+        if k >= 3 and res > 10 * hist[-2] and hist[-2] > tol:
+            break  # diverging
+    raise ConvergenceError("Newton on the defining system did not converge: residuals "
+                           + ", ".join(f"{r:.2e}" for r in hist))

@@ -138,3 +138,30 @@ def test_nonlinear_escape_six_digits(model, params, D):
     numerical = fp.truncation_error + fp.chebyshev_error
     assert numerical <= 1e-7 * fp.rate
     assert abs(fp.rate - ref) <= numerical + 2e-9 * ref
+
+
+@pytest.mark.slow
+def test_sedf_escape_against_simulated_transitions():
+    """SEDF mu = 0.3, D = 0.15: 8000 trajectories from the bottom (seed 0, the command's
+    step), the transitions to the next wells' bottoms counted after t0 = 10 (about three
+    lifetimes: the survivors have relaxed into the quasi-stationary state, whose waiting
+    time is exponential with mean 1/r), within three standard errors of the FP rate."""
+    from numerics.escape.transitions import simulated_transitions
+    from numerics.noise.langevin import langevin_system, natural_step
+
+    params = dict(SEDF, mu=0.3)
+    split = split_conservative("sedf", params)
+    saddles = _saddles(split)
+    fp = kramers_escape("sedf", params, 0.15, saddles)
+    system = langevin_system(split.model, {**{k: float(v) for k, v in split.params.items()},
+                                           "mu": float(split.mu)}, 0.15)
+    t_end, t0 = 40.0, 10.0
+    sim = simulated_transitions(split, 0.15, saddles, kT=None, trajectories=8000,
+                                t_end=t_end, dt=natural_step(system, per_period=40), seed=0,
+                                wells=fp.wells, workers=1)
+    tau = sim.times
+    alive = tau > t0
+    k = int(np.sum(alive & (tau < t_end)))
+    rate = k / float(np.sum(tau[alive] - t0))
+    assert k > 500
+    assert abs(rate - fp.rate) < 3 * rate / math.sqrt(k)

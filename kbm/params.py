@@ -306,7 +306,17 @@ def physical_axis(physical: Mapping[str, object], user: str, lo: float, hi: floa
         def inverse(s: float) -> float:
             from scipy.optimize import brentq
 
-            return brentq(lambda x: float(forward(x)) - s, lo, hi, xtol=1e-15,
-                          rtol=4 * 2.0 ** -52)
+            def gap(x: float) -> float:
+                return float(forward(x)) - s
+
+            g_lo, g_hi = gap(lo), gap(hi)
+            if g_lo * g_hi > 0:  # s at an end of the span, past it by a rounding, or outside
+                ends = [(abs(g), x) for g, x in ((g_lo, lo), (g_hi, hi))
+                        if abs(g) <= 8 * 2.0 ** -52 * max(abs(s), *map(abs, span))]
+                if ends:
+                    return min(ends)[1]
+                raise ParameterError(f"{name} = {s:g} is outside [{span[0]:g}, {span[1]:g}], "
+                                     f"the range of {rule} over {user} = {lo:g}:{hi:g}")
+            return brentq(gap, lo, hi, xtol=1e-15, rtol=4 * 2.0 ** -52)
     return PhysicalAxis(user, lo, hi, name, span, rule,
                         lambda x: float(forward(x)), inverse, monotone, slope)

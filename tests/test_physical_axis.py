@@ -88,6 +88,21 @@ def test_bracketed_inverse_where_sympy_gives_no_single_closed_form(ends, w):
     assert lo <= x <= hi and x + x**5 == pytest.approx(y, rel=1e-14)
 
 
+def test_bracketed_inverse_at_the_ends_and_outside():
+    """``y`` at an end of the span but past it by a rounding (``lo + 1.0 (hi - lo)``, which
+    hypothesis found: Brent's bracket had one sign) maps to that end; a value outside the
+    span is refused with the range."""
+    from kbm.errors import ParameterError
+
+    lo, hi = 1.4845755059342232, 3.484575505934223
+    qu = physical_axis({"q": "X + X**5"}, "X", lo, hi, {})
+    y = qu.span[0] + 1.0 * (qu.span[1] - qu.span[0])
+    assert qu.to_user(y) == pytest.approx(hi, rel=1e-15)
+    assert qu.to_user(qu.span[0]) == pytest.approx(lo, rel=1e-15)
+    with pytest.raises(ParameterError, match="outside"):
+        qu.to_user(1.01 * qu.span[1])
+
+
 def test_not_monotone_and_identity():
     """A pole (``2 pi/lam`` over lam = -1:1) or a turning point (``X^2`` over -1:1) in the
     range is flagged; a name no map holds is the identity; a missing input is refused."""

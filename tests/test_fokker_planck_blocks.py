@@ -299,3 +299,47 @@ def test_compiled_sweep_kernels_are_the_textbook_substitution(m, cut, seed):
         for i in range(rows):
             ref[i] += float(lut[j, i]) * float(b[j])
     assert np.array_equal(prod[:rows], np.array(ref))
+
+
+def test_factors_in_a_used_buffer_are_those_of_a_fresh_one():
+    """The escape ladder's factorisations share one storage (numerics.fokker_planck._rungs:
+    the last factors' pages): factors written over a buffer full of NaN (any stale value
+    read would spread) give the fresh factorisation's rate and solves bit for bit, folded
+    and not, and the ladder's rates (two truncations, a finer grid, the sharper sink) equal
+    those of fresh factorisations of each."""
+    from numerics.fokker_planck._bases import cheb
+    from numerics.fokker_planck._fraction import EscapeFraction
+    from numerics.fokker_planck._rungs import FractionRungs
+    from numerics.fokker_planck.escape import _sink
+    from scipy.optimize import brentq
+
+    mu, kT, nh, nc = 0.3, 0.15, 12, 24
+    split = split_conservative("cdc", dict(PARAMS, mu=mu))
+    g = split.numpy_functions()[0]
+    xs = brentq(lambda z: float(g(np.array(z))), 0.3, 1.0, xtol=1e-15)
+    wells = next_wells(g, (-xs, xs))
+    half, width = 1.25 * wells[1], 0.1 * (wells[1] - xs)
+    x, Dx = cheb(nc, half)
+    args = (Dx, np.asarray(g(x), float), _sink(x, wells, 5.0, width), math.sqrt(kT), mu)
+    rhs = [np.random.default_rng(3).standard_normal(s) for s in
+           EscapeFraction(*args, nh, False).sizes]
+    with one_blas_thread():
+        for fold in (False, True):
+            fresh = EscapeFraction(*args, nh, fold)
+            used = EscapeFraction(*args, nh, fold, buffer=np.full(2 * nh * (nc + 1) ** 2,
+                                                                   np.nan))
+            assert used.slowest() == fresh.slowest()
+            sizes = fresh.sizes
+            assert all(np.array_equal(a, b) for a, b in
+                       zip(used.solve([r[:s] for r, s in zip(rhs, sizes)]),
+                           fresh.solve([r[:s] for r, s in zip(rhs, sizes)])))
+
+        def sink(pts, sharp):
+            return _sink(pts, wells, 5.0 * (3 if sharp > 1 else 1), width / sharp)
+
+        rungs = FractionRungs(split, math.sqrt(kT), mu, wells, sink, lambda n: cheb(n, half))
+        for n, m, sharp in ((nh, nc, 1), (2 * nh, nc, 1), (nh, 30, 1), (nh, nc, 2)):
+            pts, Dm = cheb(m, half)
+            ref = EscapeFraction(Dm, np.asarray(g(pts), float), sink(pts, sharp),
+                                 math.sqrt(kT), mu, n, True).slowest()
+            assert rungs.rate(n, m, sharp, capacity=2 * nh) == pytest.approx(ref, rel=1e-11)

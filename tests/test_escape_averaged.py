@@ -18,6 +18,7 @@ from scipy.integrate import quad
 from kbm.errors import KBMError, ModelError, ParameterError
 from numerics.escape import (averaged_escape, boltzmann_moment, central_well, energy_envelope,
                              melnikov_meshkov_factor)
+from numerics.escape.envelope import NoStationaryState, origin_well_envelope
 
 CDC = {"mu": 0.05, "Delta": 3, "lam": 1, "Omega": 1}
 
@@ -72,10 +73,12 @@ def _mfpt_direct(env):
 
 
 @pytest.mark.slow
-def test_mfpt_two_routes():
+@pytest.mark.parametrize("build", [energy_envelope, origin_well_envelope])
+def test_mfpt_two_routes(build):
     """tau from the integrated-by-parts form equals the textbook double integral
-    int dy/(sigma^2 p) 2 int p dz (Gardiner, Handbook, 5.2.158) with p = T exp(-E/kT)."""
-    env = energy_envelope("cdc", CDC, 0.05 * 1.087 / 4)
+    int dy/(sigma^2 p) 2 int p dz (Gardiner, Handbook, 5.2.158) with p = T exp(-E/kT)
+    (on the whole graph of annuli and on the well at the origin alone)."""
+    env = build("cdc", CDC, 0.05 * 1.087 / 4)
     tau = averaged_escape(env).mfpt
     assert tau == pytest.approx(_mfpt_direct(env), rel=1e-5)
 
@@ -122,3 +125,36 @@ def test_no_well_refused():
 def test_driven_refused():
     with pytest.raises(KBMError):
         energy_envelope("cdc", {**CDC, "v": 0.1}, 0.01)
+
+
+@pytest.mark.parametrize("model, params, D", [
+    ("cdc", {"mu": 0.02, "Delta": 3, "lam": 1, "Omega": 1}, 0.007),
+    ("cdc", {"mu": 0.02, "Delta": 2, "lam": 1.3, "Omega": 1}, 0.003),
+    ("sedf", {"mu": 0.1, "Delta": 3, "beta": 1, "lam": 1, "Omega": 1}, 0.05)])
+def test_origin_well_envelope_gives_the_same_mfpt(model, params, D):
+    """The MFPT (Gardiner 5.2.158) uses ln f inside the well only, so the well at the origin
+    alone gives the rate of the whole glued envelope (to rounding), and the same Kramers
+    and Mel'nikov-Meshkov rates; its stationary density refuses (one annulus only)."""
+    whole = averaged_escape(energy_envelope(model, params, D))
+    env = origin_well_envelope(model, params, D)
+    alone = averaged_escape(env)
+    assert len(env.pieces) == 1 and not env.complete
+    assert alone.rate_averaged == pytest.approx(whole.rate_averaged, rel=1e-13)
+    assert (alone.barrier, alone.saddles, alone.action) == (whole.barrier, whole.saddles,
+                                                            whole.action)
+    assert alone.rate_melnikov == whole.rate_melnikov
+    with pytest.raises(ModelError, match="well at the origin only"):
+        env.stationary_moment_x2()
+
+
+def test_origin_well_envelope_refuses_as_the_whole_one():
+    """No well at the origin: the same reason; growing energy: no stationary state (the
+    outer annulus' drift at its top, from one orbit quadrature)."""
+    with pytest.raises(ModelError, match="no barrier"):
+        averaged_escape(origin_well_envelope("cdc", {**CDC, "Delta": 0.1}, 0.01))
+    bad = {"mu": 0.1, "Delta": 2, "beta": -1, "lam": 1, "Omega": 1}
+    with pytest.raises(NoStationaryState) as whole:
+        energy_envelope("sedf", bad, 0.01)
+    with pytest.raises(NoStationaryState) as alone:
+        origin_well_envelope("sedf", bad, 0.01)
+    assert str(alone.value).split("=")[0] == str(whole.value).split("=")[0]

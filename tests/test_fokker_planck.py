@@ -15,6 +15,7 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 
 from kbm.conservative import split_conservative
 from kbm.stochastic import stochastic_average
@@ -157,3 +158,23 @@ def test_noise_json_reports_the_kramers_moments():
     bad = run("cdc", "-p", "mu=0.1", "-p", "Delta=2", "-p", "v=0.1", "-p", "D=0.01",
               "--method", "fokker-planck")
     assert bad.returncode == 2 and "not at rest" in bad.stderr
+
+
+@settings(max_examples=25, deadline=None)
+@given(n=st.integers(2, 300), seed=st.integers(0, 2**31 - 1))
+def test_lobatto_coefficients_recover_the_polynomial(n, seed):
+    """The DCT-I coefficients of values at the Chebyshev-Lobatto points (Trefethen, Spectral
+    Methods in MATLAB, ch. 8; the grid size of the stationary solve) are those of the
+    polynomial of degree <= n sampled there, and numpy's chebfit of the same square
+    system, to rounding."""
+    from numpy.polynomial import chebyshev as C
+
+    from numerics.fokker_planck.kramers import lobatto_coefficients
+
+    coef = np.random.default_rng(seed).standard_normal(n + 1)
+    t = np.cos(np.pi * np.arange(n + 1) / n)
+    f = C.chebval(t, coef)
+    got = lobatto_coefficients(f)
+    scale = np.sum(np.abs(coef))
+    assert np.allclose(got, coef, rtol=0, atol=1e-13 * scale)
+    assert np.allclose(got, C.chebfit(t, f, n), rtol=0, atol=1e-12 * scale)

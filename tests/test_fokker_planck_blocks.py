@@ -245,3 +245,101 @@ def test_centred_points_differentiate_spectrally():
         f = np.sin(3 * x) * np.exp(-x * x)
         df = (3 * np.cos(3 * x) - 2 * x * np.sin(3 * x)) * np.exp(-x * x)
         assert np.max(np.abs(D @ f - df)) < tol
+
+
+def _substitution(lu, piv, b):
+    """The textbook LU solve (Golub and Van Loan, Matrix Computations, 4th ed., algs.
+    3.1.3-3.1.4, column-oriented): interchanges, unit lower then upper substitution, one
+    column at a time (plain Python floats)."""
+    b = [float(v) for v in b]
+    s = len(b)
+    for i in range(s):
+        b[i], b[piv[i]] = b[piv[i]], b[i]
+    for j in range(s):
+        for i in range(j + 1, s):
+            b[i] -= float(lu[i, j]) * b[j]
+    for j in range(s - 1, -1, -1):
+        b[j] /= float(lu[j, j])
+        for i in range(j):
+            b[i] -= float(lu[i, j]) * b[j]
+    return np.array(b)
+
+
+@settings(max_examples=40, deadline=None)
+@given(m=st.integers(1, 23), cut=st.integers(0, 22), seed=st.integers(0, 2**31 - 1))
+def test_compiled_sweep_kernels_are_the_textbook_substitution(m, cut, seed):
+    """The compiled LU solve and product of the sweeps (numerics.fokker_planck._sweeps, four
+    columns per pass) give the column-oriented substitution and product bit for bit (each
+    entry loses the columns' terms in the same order), and LAPACK's getrs to 1e-12, for
+    any size, leading block and row interchanges."""
+    from scipy.linalg import lapack
+
+    from numerics.fokker_planck._sweeps import _lu_solve, _matvec
+
+    rng = np.random.default_rng(seed)
+    s = max(1, m - cut % m)
+    A = rng.standard_normal((s, s)) + 4 * np.eye(s)
+    lu, piv, info = lapack.dgetrf(A)
+    assert info == 0
+    lut = np.zeros((m, m))
+    lut[:s, :s] = lu.T  # the sweeps' layout: transposed, leading block
+    pv = np.concatenate([piv, np.arange(s, m)]).astype(np.int64)
+    b = rng.standard_normal(m)
+    out = b.copy()
+    _lu_solve(lut, pv, s, out)
+    assert np.array_equal(out[:s], _substitution(lu, piv, b[:s]))
+    assert np.array_equal(out[s:], b[s:])
+    assert np.allclose(out[:s], lapack.dgetrs(lu, piv, b[:s])[0], rtol=0,
+                       atol=1e-12 * np.max(np.abs(out[:s])))
+    rows, cols = s, m
+    prod = np.full(m, np.nan)
+    _matvec(lut, rows, cols, b, prod)
+    ref = [0.0] * rows
+    for j in range(cols):
+        for i in range(rows):
+            ref[i] += float(lut[j, i]) * float(b[j])
+    assert np.array_equal(prod[:rows], np.array(ref))
+
+
+def test_factors_in_a_used_buffer_are_those_of_a_fresh_one():
+    """The escape ladder's factorisations share one storage (numerics.fokker_planck._rungs:
+    the last factors' pages): factors written over a buffer full of NaN (any stale value
+    read would spread) give the fresh factorisation's rate and solves bit for bit, folded
+    and not, and the ladder's rates (two truncations, a finer grid, the sharper sink) equal
+    those of fresh factorisations of each."""
+    from numerics.fokker_planck._bases import cheb
+    from numerics.fokker_planck._fraction import EscapeFraction
+    from numerics.fokker_planck._rungs import FractionRungs
+    from numerics.fokker_planck.escape import _sink
+    from scipy.optimize import brentq
+
+    mu, kT, nh, nc = 0.3, 0.15, 12, 24
+    split = split_conservative("cdc", dict(PARAMS, mu=mu))
+    g = split.numpy_functions()[0]
+    xs = brentq(lambda z: float(g(np.array(z))), 0.3, 1.0, xtol=1e-15)
+    wells = next_wells(g, (-xs, xs))
+    half, width = 1.25 * wells[1], 0.1 * (wells[1] - xs)
+    x, Dx = cheb(nc, half)
+    args = (Dx, np.asarray(g(x), float), _sink(x, wells, 5.0, width), math.sqrt(kT), mu)
+    rhs = [np.random.default_rng(3).standard_normal(s) for s in
+           EscapeFraction(*args, nh, False).sizes]
+    with one_blas_thread():
+        for fold in (False, True):
+            fresh = EscapeFraction(*args, nh, fold)
+            used = EscapeFraction(*args, nh, fold, buffer=np.full(2 * nh * (nc + 1) ** 2,
+                                                                   np.nan))
+            assert used.slowest() == fresh.slowest()
+            sizes = fresh.sizes
+            assert all(np.array_equal(a, b) for a, b in
+                       zip(used.solve([r[:s] for r, s in zip(rhs, sizes)]),
+                           fresh.solve([r[:s] for r, s in zip(rhs, sizes)])))
+
+        def sink(pts, sharp):
+            return _sink(pts, wells, 5.0 * (3 if sharp > 1 else 1), width / sharp)
+
+        rungs = FractionRungs(split, math.sqrt(kT), mu, wells, sink, lambda n: cheb(n, half))
+        for n, m, sharp in ((nh, nc, 1), (2 * nh, nc, 1), (nh, 30, 1), (nh, nc, 2)):
+            pts, Dm = cheb(m, half)
+            ref = EscapeFraction(Dm, np.asarray(g(pts), float), sink(pts, sharp),
+                                 math.sqrt(kT), mu, n, True).slowest()
+            assert rungs.rate(n, m, sharp, capacity=2 * nh) == pytest.approx(ref, rel=1e-11)

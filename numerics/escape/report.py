@@ -6,7 +6,7 @@ import math
 
 from kbm.errors import ParameterError
 
-from .envelope import check_mu, energy_envelope, noise_level
+from .envelope import check_mu, noise_level, origin_well_envelope
 from .rate import averaged_escape
 
 __all__ = ["escape_report", "MIN_TRAJECTORIES"]
@@ -87,7 +87,7 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         for name, val in SLIDER_DEFAULTS.items():
             params.setdefault(name, val)
     _check_barrier(model, params, D)
-    env = energy_envelope(model, params, D)
+    env = origin_well_envelope(model, params, D)  # the MFPT needs the well alone
     esc = averaged_escape(env)
     if dt is None:
         from ..noise.langevin import langevin_system, natural_step

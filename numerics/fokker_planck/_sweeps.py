@@ -25,19 +25,42 @@ __all__ = ["forward", "backward"]
 @njit(cache=True)
 def _lu_solve(lut, piv, s, b):
     """``b <- (P L U)^{-1} b`` on the leading ``s`` entries (LAPACK ``getrs``), the factors
-    transposed."""
+    transposed.  Four columns per pass over ``b`` (each entry still loses the columns'
+    terms one by one, in the order of the column loop: the same roundings)."""
     for i in range(s):
         j = piv[i]
         if j != i:
             t = b[i]
             b[i] = b[j]
             b[j] = t
-    for j in range(s):
+    j = 0
+    while j + 4 <= s:  # L: columns j .. j + 3, their triangle first
+        c0, c1, c2, c3 = lut[j], lut[j + 1], lut[j + 2], lut[j + 3]
+        b0 = b[j]
+        b1 = b[j + 1] - c0[j + 1] * b0
+        b2 = b[j + 2] - c0[j + 2] * b0 - c1[j + 2] * b1
+        b3 = b[j + 3] - c0[j + 3] * b0 - c1[j + 3] * b1 - c2[j + 3] * b2
+        b[j + 1], b[j + 2], b[j + 3] = b1, b2, b3
+        for i in range(j + 4, s):
+            b[i] = b[i] - c0[i] * b0 - c1[i] * b1 - c2[i] * b2 - c3[i] * b3
+        j += 4
+    for j in range(j, s):
         bj = b[j]
         col = lut[j]
         for i in range(j + 1, s):
             b[i] -= col[i] * bj
-    for j in range(s - 1, -1, -1):
+    j = s - 1
+    while j >= 3:  # U: columns j .. j - 3, their triangle first
+        c0, c1, c2, c3 = lut[j], lut[j - 1], lut[j - 2], lut[j - 3]
+        b0 = b[j] / c0[j]
+        b1 = (b[j - 1] - c0[j - 1] * b0) / c1[j - 1]
+        b2 = (b[j - 2] - c0[j - 2] * b0 - c1[j - 2] * b1) / c2[j - 2]
+        b3 = (b[j - 3] - c0[j - 3] * b0 - c1[j - 3] * b1 - c2[j - 3] * b2) / c3[j - 3]
+        b[j], b[j - 1], b[j - 2], b[j - 3] = b0, b1, b2, b3
+        for i in range(j - 3):
+            b[i] = b[i] - c0[i] * b0 - c1[i] * b1 - c2[i] * b2 - c3[i] * b3
+        j -= 4
+    for j in range(j, -1, -1):
         col = lut[j]
         bj = b[j] / col[j]
         b[j] = bj
@@ -47,10 +70,18 @@ def _lu_solve(lut, piv, s, b):
 
 @njit(cache=True)
 def _matvec(bt, rows, cols, y, out):
-    """``out[:rows] = B y[:cols]``, ``bt`` the transpose of ``B``."""
+    """``out[:rows] = B y[:cols]``, ``bt`` the transpose of ``B``; four columns per pass
+    (the terms added in the order of the column loop: the same roundings)."""
     for i in range(rows):
         out[i] = 0.0
-    for j in range(cols):
+    j = 0
+    while j + 4 <= cols:
+        c0, c1, c2, c3 = bt[j], bt[j + 1], bt[j + 2], bt[j + 3]
+        y0, y1, y2, y3 = y[j], y[j + 1], y[j + 2], y[j + 3]
+        for i in range(rows):
+            out[i] = out[i] + c0[i] * y0 + c1[i] * y1 + c2[i] * y2 + c3[i] * y3
+        j += 4
+    for j in range(j, cols):
         yj = y[j]
         col = bt[j]
         for i in range(rows):

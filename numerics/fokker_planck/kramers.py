@@ -251,16 +251,29 @@ def _linear_temperature(terms, D: float) -> float | None:
     return D / c if c > 0 and np.allclose(vals, vals[0], rtol=0, atol=1e-15) else None
 
 
+def lobatto_coefficients(f: np.ndarray) -> np.ndarray:
+    """The Chebyshev coefficients of the polynomial interpolating ``f`` at the points
+    ``cos(pi j/n)``, ``j = 0 .. n``: the discrete cosine transform of type I (Trefethen,
+    *Spectral Methods in MATLAB*, 2000, ch. 8; ``O(n^2)`` where the least-squares fit of
+    ``numpy.polynomial.chebyshev.chebfit`` on the same square system is ``O(n^3)``)."""
+    f = np.asarray(f, float)
+    n = f.size - 1
+    w = np.full(n + 1, 2.0 / n)
+    w[[0, -1]] /= 2
+    j = np.arange(n + 1)
+    c = np.cos(np.pi * np.outer(j, j) / n) @ (w * f)
+    c[[0, -1]] /= 2
+    return c
+
+
 def _chebyshev_size(G, s2: float, L: float, target: float = 1e-9) -> int:
     """Chebyshev intervals that resolve ``exp(-(G - G_min)/sigma^2)`` on ``[-L, L]``."""
-    from numpy.polynomial import chebyshev as C
-
     n = 64
     while n < 600:
         t = np.cos(np.pi * np.arange(n + 1) / n)
         Gx = G(L * t)
         f = np.exp(-(Gx - Gx.min()) / s2)
-        c = C.chebfit(t, f, n)
+        c = lobatto_coefficients(f)
         if float(np.max(np.abs(c[-8:]))) <= target * float(np.max(np.abs(c))):
             return int(math.ceil(1.15 * n))
         n = int(1.2 * n)

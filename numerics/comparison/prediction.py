@@ -140,8 +140,13 @@ class Prediction:
 def derived(model: Oscillator | str, order: int) -> KBMResult:
     """:func:`kbm.derive` of ``model`` to ``order``, memoised (:func:`numerics._memo.memo`):
     the comparisons, validity maps and convergence studies of one model derive it once per
-    process (the result is frozen; the same expansion, only sooner).  A built-in's name and
-    its model are one entry."""
+    process.  A built-in's name and its model are one entry.
+
+    A pure-function memo: the key is immutable values (a frozen, hashable model or a coupled
+    built-in's name, and an ``int``), :func:`kbm.derive` is a function of them alone and its
+    result is frozen, so a cached result is equal to a fresh one (``tests/test_memo_purity.py``).
+    What is computed from the result (its compiled functions, its averaged rates) is kept on
+    the result itself (:meth:`kbm.KBMResult.functions`)."""
     if isinstance(model, str):
         from kbm.models import get_model
 

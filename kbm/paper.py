@@ -114,10 +114,10 @@ def engine_expansion():
     """The engine's order-2 expansion of the built-in ``sedf`` (:func:`kbm.derive`): the
     corrections below and the errata's comparisons share it.
 
-    A constant of this module computed on first use (it takes about a second): the function
-    has no argument and :func:`kbm.derive` of the fixed built-in model is a pure function, so
-    the memo is the only state here, holds one immutable value and cannot change a result
-    (``tests/test_memo_purity.py``).  What is computed from it (the corrected expressions, its
+    Pure-function memo of a constant of this module, computed on first use (it takes about a
+    second): the function has no argument, :func:`kbm.derive` of the fixed built-in model is
+    a pure function and the result is frozen, so the memo holds one immutable value and
+    cannot change a result (``tests/test_memo_purity.py``).  What is computed from it (the corrected expressions, its
     compiled functions) is kept on the returned :class:`~kbm.result.KBMResult` itself.
     """
     from .averaging import derive

@@ -61,17 +61,29 @@ MAX_NODES_JETS = 256
 MAX_GRID_JETS = 2**18
 
 
-#: the slow lattice of ``D`` angles and the declared resonances (memoised: time only)
-_lattice = lru_cache(maxsize=64)(SlowLattice)
+@lru_cache(maxsize=64)
+def _lattice(D: int, resonances: tuple) -> SlowLattice:
+    """The slow lattice of ``D`` angles and the declared resonances.
+
+    Pure-function memo: the key is an ``int`` and a tuple of frozen
+    :class:`~kbm.coupled.resonance.InternalResonance`; the lattice's generators are a tuple
+    and its only state is its own memo of :meth:`~kbm.coupled.resonance.SlowLattice.coords`
+    (a function of the generators), so a cached lattice answers as a fresh one."""
+    return SlowLattice(D, resonances)
 
 
 @lru_cache(maxsize=64)
 def _slow_terms(gens: tuple, D: int, M: int):
     """The slow lattice's wavevectors on the grid: their indices and coordinates ``n``
-    (``q . psi = n . gamma``); memoised (time only)."""
+    (``q . psi = n . gamma``).
+
+    Pure-function memo: the key is tuples of integers and integers, the value read-only
+    arrays computed from them alone."""
     terms = lattice_on_grid(gens, D, M)
     index = tuple(np.array([int(q[k]) % M for q, _ in terms]) for k in range(D))
     coords = np.array([c for _, c in terms], dtype=float).reshape(len(terms), -1)
+    for arr in (*index, coords):
+        arr.flags.writeable = False
     return index, coords
 
 
@@ -150,8 +162,13 @@ class JetBuilder:
 
 @lru_cache(maxsize=64)
 def _table(expr: sp.Expr, variables: tuple, extra: tuple) -> TaylorTable:
-    """The partial derivatives of one ``F``, with the parameters as arguments (memoised per
-    expression: time only, the derivatives and their compiled forms are the same)."""
+    """The partial derivatives of one ``F``, with the parameters as arguments.
+
+    Pure-function memo: the key is a sympy expression and tuples of symbols (immutable); the
+    table's only state is its own memo of derivatives and compiled functions, each a function
+    of the key and of the multi-index alone (each derivative is taken from the same
+    neighbour whatever the order of the requests), so a cached table answers as a fresh
+    one."""
     return TaylorTable(expr, extra=extra, variables=variables)
 
 
@@ -342,7 +359,11 @@ def symbolic_rhs(model: CoupledOscillators, higher: bool):
     """``F[i][k]`` and the names of the parameters in them: a declared detuning
     ``omega_j -> omega_j + mu sigma`` enters as in the exact engine; at the first order
     (``higher`` false) a forcing frequency ``nu`` in ``F`` is ``nu0 + mu sigma``, ``mu`` a
-    parameter.  Memoised per model (time only)."""
+    parameter.
+
+    Pure-function memo: the key is a frozen :class:`~kbm.coupled.model.CoupledOscillators`
+    and a ``bool``, the value tuples of sympy expressions and names computed from them
+    alone."""
     check_weak(model)
     n = model.dof
     nu = sp.Symbol("nu")

@@ -63,22 +63,16 @@ MAX_GRID_JETS = 2**18
 
 @lru_cache(maxsize=64)
 def _lattice(D: int, resonances: tuple) -> SlowLattice:
-    """The slow lattice of ``D`` angles and the declared resonances.
-
-    Pure-function memo: the key is an ``int`` and a tuple of frozen
-    :class:`~kbm.coupled.resonance.InternalResonance`; the lattice's generators are a tuple
-    and its only state is its own memo of :meth:`~kbm.coupled.resonance.SlowLattice.coords`
-    (a function of the generators), so a cached lattice answers as a fresh one."""
+    """The slow lattice of ``D`` angles and the declared resonances.  Pure-function memo: the
+    key is an ``int`` and frozen resonances; the lattice's only state is its own memo of
+    :meth:`~kbm.coupled.resonance.SlowLattice.coords`, a function of its generators."""
     return SlowLattice(D, resonances)
 
 
 @lru_cache(maxsize=64)
 def _slow_terms(gens: tuple, D: int, M: int):
     """The slow lattice's wavevectors on the grid: their indices and coordinates ``n``
-    (``q . psi = n . gamma``).
-
-    Pure-function memo: the key is tuples of integers and integers, the value read-only
-    arrays computed from them alone."""
+    (``q . psi = n . gamma``).  Pure-function memo: integers in, read-only arrays out."""
     terms = lattice_on_grid(gens, D, M)
     index = tuple(np.array([int(q[k]) % M for q, _ in terms]) for k in range(D))
     coords = np.array([c for _, c in terms], dtype=float).reshape(len(terms), -1)
@@ -162,13 +156,10 @@ class JetBuilder:
 
 @lru_cache(maxsize=64)
 def _table(expr: sp.Expr, variables: tuple, extra: tuple) -> TaylorTable:
-    """The partial derivatives of one ``F``, with the parameters as arguments.
-
-    Pure-function memo: the key is a sympy expression and tuples of symbols (immutable); the
-    table's only state is its own memo of derivatives and compiled functions, each a function
-    of the key and of the multi-index alone (each derivative is taken from the same
-    neighbour whatever the order of the requests), so a cached table answers as a fresh
-    one."""
+    """The partial derivatives of one ``F``, with the parameters as arguments.  Pure-function
+    memo: the key is an expression and tuples of symbols; the table's only state is its own
+    memo of derivatives, each a function of the key and its multi-index alone (taken from the
+    same neighbour whatever the order of the requests)."""
     return TaylorTable(expr, extra=extra, variables=variables)
 
 

@@ -179,9 +179,9 @@ def _lambdified_source(f) -> str:
 
 
 def test_numerics_derivation_memos_equal_a_fresh_call():
-    """``numerics.comparison.prediction.derived`` (kbm.derive) and the bifurcation kit's
-    ``_derivatives`` (the derivatives of the acceleration): a cached value equals a fresh
-    one, the functions with the same code."""
+    """``numerics.comparison.prediction.derived`` (kbm.derive; the paper's sedf to order 2 the
+    errata's object) and the bifurcation kit's ``_derivatives`` (the derivatives of the
+    acceleration): a cached value equals a fresh one, the functions with the same code."""
     from numerics.bifurcation import autonomous
     from numerics.comparison import prediction
     from numerics.flow import model_template
@@ -189,6 +189,8 @@ def test_numerics_derivation_memos_equal_a_fresh_call():
     res = prediction.derived("vdp", 2)
     assert prediction.derived(kbm.get_model("vdp"), 2) is res
     assert res == derive("vdp", 2)
+    assert prediction.derived("sedf", 2) is importlib.import_module(
+        "kbm.paper").engine_expansion()
     tpl = model_template("sedf")
     d, f_rest, odd = autonomous._derivatives(tpl.model, tpl.names)
     d2, f_rest2, odd2 = autonomous._derivatives.__wrapped__(tpl.model, tpl.names)

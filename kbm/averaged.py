@@ -14,7 +14,6 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 import sympy as sp
@@ -156,20 +155,15 @@ class AveragedRates:
 def averaged_rates(result: KBMResult, *, order: int | None = None) -> AveragedRates:
     """Lambdify the averaged equations of ``result`` up to ``order`` (default: all).
 
-    Memoised on ``(result, order)`` (a :class:`~kbm.result.KBMResult` is frozen and hashable;
-    equal results give the same functions), so the many :func:`averaged_cycles` of one
-    derivation over a grid of parameters lambdify once."""
+    Lambdified on the first call for an order and kept on ``result`` (an attribute outside
+    its fields, as :meth:`~kbm.result.KBMResult.functions`; no process-wide cache), so the
+    many :func:`averaged_cycles` of one derivation over a grid of parameters lambdify once."""
     N = result.resolve_order(order)
-    try:
-        hash(result)
-    except TypeError:  # a result holding an unhashable part: lambdified afresh
-        return _averaged_rates.__wrapped__(result, N)
-    return _averaged_rates(result, N)
+    return result._computed_once(("averaged_rates", N), lambda: _averaged_rates(result, N))
 
 
-@lru_cache(maxsize=32)
 def _averaged_rates(result: KBMResult, N: int) -> AveragedRates:
-    """:func:`averaged_rates` at the resolved order ``N`` (memoised)."""
+    """:func:`averaged_rates` at the resolved order ``N``, lambdified afresh."""
     rate = sp.Add(*[mu**n * result.A[n] for n in range(1, N + 1)])
     args = [a, mu, *[sp.Symbol(p) for p in result.params]]
     return AveragedRates(

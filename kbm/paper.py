@@ -56,8 +56,10 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import lru_cache
+from types import MappingProxyType
 
 import sympy as sp
 
@@ -109,29 +111,42 @@ def displacement() -> sp.Expr:
 # ----------------------------------------------------------------------------- errata
 @lru_cache(maxsize=1)
 def engine_expansion():
-    """The engine's order-2 expansion of the built-in ``sedf`` (:func:`kbm.derive`, once per
-    process): the corrections below and the errata's comparisons share it."""
+    """The engine's order-2 expansion of the built-in ``sedf`` (:func:`kbm.derive`): the
+    corrections below and the errata's comparisons share it.
+
+    Pure-function memo of a constant of this module, computed on first use (it takes about a
+    second): the function has no argument, :func:`kbm.derive` of the fixed built-in model is
+    a pure function and the result is frozen, so the memo holds one immutable value and
+    cannot change a result (``tests/test_memo_purity.py``).  What is computed from it (the corrected expressions, its
+    compiled functions) is kept on the returned :class:`~kbm.result.KBMResult` itself.
+    """
     from .averaging import derive
 
     return derive("sedf", 2)
 
 
-@lru_cache(maxsize=1)
-def _engine() -> dict[str, sp.Expr]:
-    """The engine's order-2 sedf expansion in the paper's variables (Omega = 1)."""
+def _engine() -> Mapping[str, sp.Expr]:
+    """The engine's order-2 sedf expansion in the paper's variables (Omega = 1): computed once
+    and kept on :func:`engine_expansion`'s result."""
     res = engine_expansion()
+    return res._computed_once(("paper variables",), lambda: _in_paper_variables(res))
+
+
+def _in_paper_variables(res) -> Mapping[str, sp.Expr]:
+    """The right-hand sides of eqs. (6)-(9) from the order-2 ``res`` (``delta = Delta/mu``,
+    ``Omega = 1``)."""
     subs = {sp.Symbol("Omega"): 1, sp.Symbol("delta"): Delta / mu, sp.Symbol("k"): k,
             sp.Symbol("beta"): beta}
 
     def p(e):
         return sp.sympify(e).subs(subs)
 
-    return {
+    return MappingProxyType({
         "6": 1 + mu * p(res.B[1]) + mu**2 * p(res.B[2]),
         "7": mu * p(res.A[1]) + mu**2 * p(res.A[2]),
         "8": p(res.u[1]),
         "9": p(res.u[2]),
-    }
+    })
 
 
 def corrected(equation: str) -> sp.Expr:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cached_property
 
 import sympy as sp
 
@@ -146,17 +146,41 @@ class KBMResult:
             Relative truncation tolerance of infinite Bessel sums (numpy only;
             default :data:`kbm.evaluate.DEFAULT_TOL`).
 
-        Memoised on ``(result, backend, tol)`` (the result is frozen and hashable; equal
-        results compile to the same functions), so the studies that compare one derivation
-        at many parameter values compile it once.
+        Compiled on the first call and kept on this result (an attribute outside its fields:
+        no process-wide cache), so the studies that compare one derivation at many parameter
+        values compile it once.
         """
         if backend not in ("numpy", "mpmath"):
             raise ParameterError(f"unknown backend {backend!r}; use 'numpy' or 'mpmath'")
-        try:
-            hash(self)
-        except TypeError:  # a result holding an unhashable part: compiled afresh
-            return _compile.__wrapped__(self, backend, tol)
-        return _compile(self, backend, tol)
+        return self._computed_once(("functions", backend, tol),
+                                  lambda: _compile(self, backend, tol))
+
+    # -- values computed once from this result ------------------------------------------
+    @cached_property
+    def _computed(self) -> dict:
+        """The values computed from this result so far (:meth:`_computed_once`): an
+        attribute of the instance, outside the dataclass fields, so it enters neither
+        ``==``, ``hash``, ``repr``, :meth:`to_json` nor a pickle (:meth:`__getstate__`)."""
+        return {}
+
+    def _computed_once(self, key: tuple, build: Callable[[], object]) -> object:
+        """``build()`` on the first call with ``key``, the same object on every later one.
+
+        For values that are functions of this (immutable) result alone, such as its compiled
+        functions (:meth:`functions`), its averaged rates (:func:`kbm.averaged_rates`) and the
+        paper's corrected formulas (:func:`kbm.paper.corrected`): they live and die with the
+        result, and a later call gets the value a fresh ``build()`` gives.  ``key`` names the
+        value and the arguments it was built with; the value must be immutable.
+        """
+        store = self._computed
+        if key not in store:
+            store[key] = build()
+        return store[key]
+
+    def __getstate__(self) -> dict:
+        """The fields only: the values of :meth:`_computed_once` (lambdified functions, not
+        picklable) are computed again after unpickling."""
+        return {k: v for k, v in self.__dict__.items() if k != "_computed"}
 
     # -- output -------------------------------------------------------------------------
     def to_json(self) -> dict:
@@ -244,9 +268,8 @@ def _first_harmonic_present(expr: sp.Expr) -> bool:
     return False
 
 
-@lru_cache(maxsize=32)
 def _compile(result: KBMResult, backend: str, tol: float | None) -> KBMFunctions:
-    """:meth:`KBMResult.functions` (memoised)."""
+    """The functions of :meth:`KBMResult.functions`, compiled afresh."""
     pars = tuple(sp.Symbol(p) for p in result.params)
     if backend == "numpy":
         def comp(e, args):

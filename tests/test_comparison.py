@@ -171,9 +171,10 @@ def test_averaged_cycles_keeps_roots_with_positive_frequency():
     averaged cycles should include it."""
     from scipy.optimize import brentq
 
-    from kbm import averaged_cycles, derive
+    from kbm import averaged_cycles
+    from numerics.comparison.prediction import derived
 
-    res = derive("sedf", 2)
+    res = derived("sedf", 2)  # the derivation (and its compiled functions) of the comparisons
     vals = {"Omega": 1.0, "beta": 1.0, "delta": 30.0, "k": 2 * math.pi}
     f = res.functions("numpy")
     pars = [vals[p] for p in res.params]

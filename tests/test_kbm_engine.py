@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+import functools
 
 import mpmath
 import numpy as np
@@ -136,16 +137,21 @@ def _np_F(model, values):
     return sp.lambdify((x, xdot), F, modules="numpy")
 
 
+@functools.lru_cache(maxsize=1)
+def _polynomial_cases():
+    """The models of the next test with their order and compiled functions, derived once for
+    all its examples (the functions are kept on each result, not shared between results)."""
+    cases = [(get_model("vdp"), 4), (get_model("rayleigh"), 3),
+             (custom_model("(1 - x**2)*xdot - x**3 + x**2*xdot/2 - xdot**3/5"), 3)]
+    return [(model, N, derive(model, N).functions("numpy")) for model, N in cases]
+
+
 @settings(max_examples=6)
 @given(st.floats(0.4, 2.6))
 def test_polynomial_models_agree_with_numerical_kbm(av):
     """Every A_n, B_n, u_n of van der Pol (order 4), Rayleigh (3) and a mixed polynomial
     (3) agrees with the numerical recursion to ~1e-10 at random a."""
-    cases = [(get_model("vdp"), 4), (get_model("rayleigh"), 3),
-             (custom_model("(1 - x**2)*xdot - x**3 + x**2*xdot/2 - xdot**3/5"), 3)]
-    for model, N in cases:
-        r = derive(model, N)
-        f = r.functions("numpy")
+    for model, N, f in _polynomial_cases():
         ref = numerical_kbm(_np_F(model, {}), 1.0, N, av)
         for n in range(1, N + 1):
             assert abs(f.A[n](av) - ref["A"][n]) < 1e-10 * max(1, abs(ref["A"][n]))

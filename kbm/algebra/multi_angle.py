@@ -41,8 +41,10 @@ def canonical(h: tuple[int, ...]) -> tuple[tuple[int, ...], int]:
 
 @lru_cache(maxsize=1 << 16)
 def _sum_difference(h1: tuple, h2: tuple) -> tuple[tuple, int, tuple, int]:
-    """``(h+, s+, h-, s-)``: ``h1 + h2`` and ``h1 - h2`` canonical, with their signs
-    (memoised: the same pairs of harmonics recur in every product; time only)."""
+    """``(h+, s+, h-, s-)``: ``h1 + h2`` and ``h1 - h2`` canonical, with their signs.
+
+    Pure-function memo (the same pairs of harmonics recur in every product): the key is two
+    tuples of integers, the value tuples of integers computed from them alone."""
     plus, sp_ = canonical(tuple(p + q for p, q in zip(h1, h2)))
     minus, sm = canonical(tuple(p - q for p, q in zip(h1, h2)))
     return plus, sp_, minus, sm

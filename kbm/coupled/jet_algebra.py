@@ -251,7 +251,9 @@ class JetAlgebra(AngleCalculus):
 def torus(M: int, D: int):
     """The ``M^D`` grid of the torus: its angles, their cosines and sines (one array per
     angle), and the mask of its outer shell (a harmonic ``|h_l| >= M/2 - 1`` in some angle).
-    Memoised per grid (time only; the arrays are read-only)."""
+
+    Pure-function memo: the key is two integers, the value read-only arrays computed from
+    them alone."""
     ang = 2 * np.pi * np.arange(M) / M
     angles = tuple(np.meshgrid(*([ang] * D), indexing="ij"))
     cos = tuple(np.cos(a) for a in angles)
@@ -270,7 +272,9 @@ def _harmonics(omega: tuple, M: int):
     """The harmonics ``h`` of the ``M^D`` grid (one integer array per angle), the mask of
     those off the Nyquist planes, their frequencies ``h . omega``, and the multipliers of
     ``d/dpsi_l`` and ``L0`` (``i h_l`` and ``i h . omega``, zero on the Nyquist planes).
-    Memoised per frequencies and grid (time only; the arrays are read-only)."""
+
+    Pure-function memo: the key is a tuple of frequencies and an integer, the value
+    read-only arrays computed from them alone."""
     D = len(omega)
     h1 = np.rint(np.fft.fftfreq(M) * M).astype(int)
     hs = np.meshgrid(*([h1] * D), indexing="ij")
@@ -290,8 +294,12 @@ def _mode_table(omega: tuple, internal: tuple, forced: bool, M: int, tol: float,
     """For mode ``i`` on the ``M^D`` grid: the resonant harmonics ``h = psi_i + k`` (index of
     ``h`` and of ``k``), the refused ones (undeclared, within ``tol``) with ``h``, and
     ``1/(omega_i^2 - (h . omega)^2)`` elsewhere (zero on the resonant ones, the refused ones
-    and the Nyquist modes).  Memoised per frequencies, resonances and grid (time only: the
-    exact classification of :func:`~kbm.coupled.resonance.resonant_harmonic` is slow)."""
+    and the Nyquist modes).
+
+    Pure-function memo (the exact classification of
+    :func:`~kbm.coupled.resonance.resonant_harmonic` is slow): the key is tuples of
+    frequencies and frozen resonances, a ``bool``, integers and a float, the value tuples and
+    a read-only array computed from them alone."""
     lattice = SlowLattice(len(omega), internal)
     hs, keep, freq, _, _ = _harmonics(omega, M)
     wi = float(omega[i])

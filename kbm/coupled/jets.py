@@ -61,17 +61,23 @@ MAX_NODES_JETS = 256
 MAX_GRID_JETS = 2**18
 
 
-#: the slow lattice of ``D`` angles and the declared resonances (memoised: time only)
-_lattice = lru_cache(maxsize=64)(SlowLattice)
+@lru_cache(maxsize=64)
+def _lattice(D: int, resonances: tuple) -> SlowLattice:
+    """The slow lattice of ``D`` angles and the declared resonances.  Pure-function memo: the
+    key is an ``int`` and frozen resonances; the lattice's only state is its own memo of
+    :meth:`~kbm.coupled.resonance.SlowLattice.coords`, a function of its generators."""
+    return SlowLattice(D, resonances)
 
 
 @lru_cache(maxsize=64)
 def _slow_terms(gens: tuple, D: int, M: int):
     """The slow lattice's wavevectors on the grid: their indices and coordinates ``n``
-    (``q . psi = n . gamma``); memoised (time only)."""
+    (``q . psi = n . gamma``).  Pure-function memo: integers in, read-only arrays out."""
     terms = lattice_on_grid(gens, D, M)
     index = tuple(np.array([int(q[k]) % M for q, _ in terms]) for k in range(D))
     coords = np.array([c for _, c in terms], dtype=float).reshape(len(terms), -1)
+    for arr in (*index, coords):
+        arr.flags.writeable = False
     return index, coords
 
 
@@ -150,8 +156,10 @@ class JetBuilder:
 
 @lru_cache(maxsize=64)
 def _table(expr: sp.Expr, variables: tuple, extra: tuple) -> TaylorTable:
-    """The partial derivatives of one ``F``, with the parameters as arguments (memoised per
-    expression: time only, the derivatives and their compiled forms are the same)."""
+    """The partial derivatives of one ``F``, with the parameters as arguments.  Pure-function
+    memo: the key is an expression and tuples of symbols; the table's only state is its own
+    memo of derivatives, each a function of the key and its multi-index alone (taken from the
+    same neighbour whatever the order of the requests)."""
     return TaylorTable(expr, extra=extra, variables=variables)
 
 
@@ -342,7 +350,11 @@ def symbolic_rhs(model: CoupledOscillators, higher: bool):
     """``F[i][k]`` and the names of the parameters in them: a declared detuning
     ``omega_j -> omega_j + mu sigma`` enters as in the exact engine; at the first order
     (``higher`` false) a forcing frequency ``nu`` in ``F`` is ``nu0 + mu sigma``, ``mu`` a
-    parameter.  Memoised per model (time only)."""
+    parameter.
+
+    Pure-function memo: the key is a frozen :class:`~kbm.coupled.model.CoupledOscillators`
+    and a ``bool``, the value tuples of sympy expressions and names computed from them
+    alone."""
     check_weak(model)
     n = model.dof
     nu = sp.Symbol("nu")

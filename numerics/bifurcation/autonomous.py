@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from types import MappingProxyType
 
 import numpy as np
 import sympy as sp
@@ -74,7 +75,8 @@ class OneDof:
         self.template = cm.template
         self._plane = _plane(model, self.params, self.axes, at, cm.template)
         self.flow = template_flow(cm.template)
-        self._d, self._f_rest, self.odd = _derivatives(cm.template)
+        self._d, self._f_rest, self.odd = _derivatives(cm.template.model,
+                                                       cm.template.names)
 
     def compiled(self, a: float, b: float):
         """The :class:`numerics.flow.CompiledModel` at ``(a, b)`` (memoised)."""
@@ -192,22 +194,26 @@ class OneDof:
 
 
 @memo(maxsize=16)
-def _derivatives(template):
-    """``(d, f_rest, odd)`` of the model of ``template``: ``d[(i, j)](x, v, *pvec)`` the
-    derivatives of ``f`` in :data:`_ORDERS` (lambdified with ``math``), ``f_rest(x, v,
-    *pvec)`` the function ``f`` of an array ``x`` (``numpy``: ``f(x, 0)`` on a grid), and
-    whether ``f`` is odd (``f(-x, -v) = -f(x, v)``); memoised per template, as the
-    template is."""
-    acc = template.model.acceleration()
+def _derivatives(model, names: tuple[str, ...]):
+    """``(d, f_rest, odd)`` of ``model`` with its parameter values in the order ``names`` (a
+    template's, :class:`numerics.flow.ModelTemplate`): ``d[(i, j)](x, v, *pvec)`` the
+    derivatives of ``f`` in :data:`_ORDERS` (lambdified with ``math``; a read-only mapping),
+    ``f_rest(x, v, *pvec)`` the function ``f`` of an array ``x`` (``numpy``: ``f(x, 0)`` on a
+    grid), and whether ``f`` is odd (``f(-x, -v) = -f(x, v)``).
+
+    A pure-function memo: its arguments are immutable values (a frozen, hashable model and a
+    tuple of names), its value is immutable and a function of them alone, so a cached value
+    is what a fresh call gives (``tests/test_memo_purity.py``)."""
+    acc = model.acceleration()
     X, V = sp.Symbol("x"), sp.Symbol("xdot")
-    syms = [sp.Symbol(n) for n in template.names]
+    syms = [sp.Symbol(n) for n in names]
     d = {}
     for i, j in _ORDERS:
         e = sp.diff(acc, X, i, V, j) if (i or j) else acc
         d[(i, j)] = sp.lambdify((X, V, *syms), e, modules=["math", "scipy"])
     f_rest = sp.lambdify((X, V, *syms), acc, modules=["numpy", "scipy"])
     odd = bool(sp.simplify(acc.subs({X: -X, V: -V}, simultaneous=True) + acc) == 0)
-    return d, f_rest, odd
+    return MappingProxyType(d), f_rest, odd
 
 
 def _on_grid(f_rest, f, xs: np.ndarray, pv) -> np.ndarray:

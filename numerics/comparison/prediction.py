@@ -140,8 +140,14 @@ class Prediction:
 def derived(model: Oscillator | str, order: int) -> KBMResult:
     """:func:`kbm.derive` of ``model`` to ``order``, memoised (:func:`numerics._memo.memo`):
     the comparisons, validity maps and convergence studies of one model derive it once per
-    process (the result is frozen; the same expansion, only sooner).  A built-in's name and
-    its model are one entry."""
+    process.  A built-in's name and its model are one entry.
+
+    A pure-function memo: the key is immutable values (a frozen, hashable model or a coupled
+    built-in's name, and an ``int``), :func:`kbm.derive` is a function of them alone and its
+    result is frozen, so a cached result is equal to a fresh one (``tests/test_memo_purity.py``).
+    What is computed from the result (its compiled functions, its averaged rates) is kept on
+    the result itself (:meth:`kbm.KBMResult.functions`); the built-in ``sedf`` to order 2 is
+    :func:`kbm.paper.engine_expansion`, the one object the errata evidence compares too."""
     if isinstance(model, str):
         from kbm.models import get_model
 
@@ -154,8 +160,11 @@ def derived(model: Oscillator | str, order: int) -> KBMResult:
 
 @memo(maxsize=16)
 def _derived(model, order: int) -> KBMResult:
-    from kbm import derive
+    from kbm import derive, paper
+    from kbm.models import get_model
 
+    if order == 2 and model == get_model("sedf"):  # the paper's derivation: one object, the
+        return paper.engine_expansion()  # errata's, so its functions are compiled once
     return derive(model, order)
 
 

@@ -97,9 +97,10 @@ def numpy_function(expr: sp.Expr, args: Sequence[sp.Symbol], *, tol: float = DEF
     """
     import sympy as sp
 
-    args = tuple(args)
+    names = tuple(map(str, args))
+    args, expr = _named(tuple(args), expr)
     sums = _outer_sums(expr)
-    holders = [sp.Dummy(f"S{i}") for i in range(len(sums))]
+    holders = [sp.Symbol(f"_kbm_sum{i}") for i in range(len(sums))]
     outer = expr.xreplace(dict(zip(sums, holders)))
     with np.errstate(all="ignore"):
         f_outer = sp.lambdify(args + tuple(holders), outer, modules=_numpy_modules())
@@ -111,8 +112,8 @@ def numpy_function(expr: sp.Expr, args: Sequence[sp.Symbol], *, tol: float = DEF
             inner.append(("finite", body_f, int(lo), int(hi)))
         else:
             inner.append(("inf", body_f, int(lo), None))
-    f = _wrap(f_outer, tuple(map(str, args)), inner, tol, max_terms)
-    f.__doc__ = f"numpy function of ({', '.join(map(str, args))}) for {expr}"
+    f = _wrap(f_outer, names, inner, tol, max_terms)
+    f.__doc__ = f"numpy function of ({', '.join(names)}) for {expr}"
     #: the lambdified function of the arguments and the sums' values, and whether there are
     #: sums (without them ``vectorised(f.lambdified, names)`` is the same function)
     f.lambdified, f.has_sums = f_outer, bool(inner)
@@ -228,6 +229,24 @@ def _np_sum(kind, g, lo, hi, arrs, tol, max_terms):
         block = min(2 * block, max_terms - used) or 1
 
 
+def _named(args: tuple, expr):
+    """``args`` and ``expr`` with every ``Dummy`` argument (a sum's index) a ``Symbol`` of a
+    fixed reserved name, and the sums' stand-ins named likewise by the callers.
+
+    ``sympy.lambdify`` renames all arguments ``Dummy_<counter>`` when one is a ``Dummy`` and
+    prints a sum's terms in the string order of the names, so the order of the additions (the
+    last bits) depended on sympy's process-wide ``Dummy`` counter, i.e. on what the process
+    had computed before (tests/test_errata_order.py: the errata's eq. 10 value for the
+    paper's Fig. 3 moved in its 17th digit).  Fixed names make the compiled function a
+    function of ``expr`` and ``args`` alone."""
+    import sympy as sp
+
+    subs = {s: sp.Symbol(f"_kbm_arg{i}") for i, s in enumerate(args) if isinstance(s, sp.Dummy)}
+    if not subs:
+        return args, expr
+    return tuple(subs.get(s, s) for s in args), expr.xreplace(subs)
+
+
 def mpmath_function(expr: sp.Expr, args: Sequence[sp.Symbol], *,
                     max_terms: int = 20000) -> Callable[..., mpmath.mpf]:
     """Compile ``expr`` to a scalar mpmath function (working precision ``mpmath.mp.dps``).
@@ -238,9 +257,9 @@ def mpmath_function(expr: sp.Expr, args: Sequence[sp.Symbol], *,
     import mpmath
     import sympy as sp
 
-    args = tuple(args)
+    args, expr = _named(tuple(args), expr)
     sums = _outer_sums(expr)
-    holders = [sp.Dummy(f"S{i}") for i in range(len(sums))]
+    holders = [sp.Symbol(f"_kbm_sum{i}") for i in range(len(sums))]
     outer = expr.xreplace(dict(zip(sums, holders)))
     f_outer = sp.lambdify(args + tuple(holders), outer, modules="mpmath")
     inner = []

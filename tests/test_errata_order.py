@@ -15,8 +15,8 @@ how many ``Dummy`` symbols the process had made before.  Running another case fi
 counter across a power of ten.  Now each case's expansion is derived and compiled at the
 same point of a fresh process whatever the order of the cases (the paper's derivation is one
 constant, :func:`kbm.paper.engine_expansion`, its functions kept on it); the dependence of
-``numpy_function`` on the counter itself is the last test (``xfail``: it lives in
-``kbm/evaluate.py``).
+``numpy_function`` on the counter itself is the last test (it failed, strictly, until
+``kbm.evaluate`` named the sums' stand-ins and the summation indices with fixed names).
 """
 
 from __future__ import annotations
@@ -62,8 +62,6 @@ def test_errata_evidence_bytes_do_not_depend_on_the_order_of_the_cases():
     assert both[1] == alone[1]
 
 
-@pytest.mark.xfail(strict=True, reason="kbm.evaluate.numpy_function's sums are Dummy symbols: "
-                   "lambdify adds them in the string order of their names Dummy_<counter>")
 def test_numpy_function_does_not_depend_on_sympys_dummy_counter():
     """``u_2`` of the paper's sedf expansion (seven infinite Bessel sums, eq. 9's corrected
     form) compiled with sympy's ``Dummy`` counter at different values, among them some at

@@ -143,9 +143,9 @@ def true_edges(model: CoupledOscillators | str, params: Mapping[str, object],
     ``limits[side]`` from it (default ``limit`` on both), in steps scaled to that span
     (:func:`numerics.coupled.lock_start.follow_steps`: the first a fiftieth of it, growing
     1.5 times after each success up to a tenth, halved after each failure down to a
-    thousandth, then the loss is bracketed).  ``guess`` maps a side (-1, +1) to an estimate
-    of its edge (e.g. the averaged one); the steps are then 0.3 of the way to it, growing
-    only once past it.
+    thousandth of it or 1e-3, the smaller, then the loss is bracketed).  ``guess`` maps a side (-1, +1) to an estimate
+    of its edge (e.g. the averaged one); the steps are then 0.3 of the way to it (no less
+    than the first step or 0.02, the smaller), growing only once past it.
 
     Raises
     ------
@@ -171,7 +171,8 @@ def _true_edge(model, params, parameter, base, side, limit, tol, guess,
                at: float = 0.0) -> LockingEdge:
     s, cyc = at, base
     first, largest, smallest = follow_steps(limit)  # scaled to the span followed
-    step = first if guess is None else max(first, 0.3 * abs(guess - at))
+    # an estimate of the edge sets the scale: 0.3 of the way to it (no less than 0.02)
+    step = first if guess is None else max(min(first, 0.02), 0.3 * abs(guess - at))
     while True:
         if abs(s - at) >= limit:
             return LockingEdge(math.copysign(math.inf, side), 0.0, side, tuple(cyc.state))

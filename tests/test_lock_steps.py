@@ -44,7 +44,7 @@ def test_steps_of_the_unit_span_are_the_absolute_steps_of_before():
 def test_steps_scale_with_the_span(span):
     first, largest, smallest = follow_steps(span)
     assert first == pytest.approx(0.02 * span) and largest == pytest.approx(0.1 * span)
-    assert smallest == pytest.approx(1e-3 * min(span, 1.0)) and smallest < first < largest
+    assert smallest == pytest.approx(min(1e-3, 0.02 * span)) and smallest <= first < largest
     assert largest < span
 
 
@@ -114,3 +114,17 @@ def test_amplitude_death_says_where_it_was_checked(capsys):
     for x in d["amplitude_death"]:
         ref = locking.amplitude_death("coupled-vdp", {"mu": 0.08, **x["checked_at"]})
         assert x["eigenvalues"] == ref["eigenvalues"] and x["dead"] == ref["dead"]
+
+
+def test_true_edge_from_a_wide_interval_is_the_scipy_fold():
+    """The locked cycle followed over sigma in [-20, 20] with no estimate of the edge (the
+    first step 0.4, growing to 2): its upper edge is the fold of
+    ``tests/test_shooting_acceptance.py`` (scipy DOP853 with variational equations,
+    0.20160636567730025) within the stated error and 1e-11."""
+    from numerics.coupled.locking import true_edges
+
+    fold = 0.20160636567730025
+    edge = true_edges("coupled-vdp", {"mu": 0.08, "c": 0.2}, tol=1e-9,
+                      limits={-1: 20.0, 1: 20.0})[1]
+    assert abs(edge.sigma - fold) < 1e-11
+    assert abs(edge.sigma - fold) <= edge.error + 1e-12

@@ -142,10 +142,10 @@ def true_edges(model: CoupledOscillators | str, params: Mapping[str, object],
     The locked cycle is followed from ``parameter = at`` (default 0), on each side up to
     ``limits[side]`` from it (default ``limit`` on both), in steps scaled to that span
     (:func:`numerics.coupled.lock_start.follow_steps`: the first a fiftieth of it, growing
-    1.5 times after each success up to a tenth, halved after each failure down to a
-    thousandth of it or 1e-3, the smaller, then the loss is bracketed).  ``guess`` maps a side (-1, +1) to an estimate
+    1.5 times after each success up to a tenth, halved after each failure down to 1e-3
+    or the first step, the smaller, then the loss is bracketed).  ``guess`` maps a side (-1, +1) to an estimate
     of its edge (e.g. the averaged one); the steps are then 0.3 of the way to it (no less
-    than the first step or 0.02, the smaller), growing only once past it.
+    than the first step or 0.02, the smaller), and do not grow.
 
     Raises
     ------
@@ -183,8 +183,8 @@ def _true_edge(model, params, parameter, base, side, limit, tol, guess,
             step /= 2
             continue
         s, cyc = s + side * step, nxt
-        if guess is None or (s - guess) * side >= 0:  # no estimate of the edge, or past it
-            step = min(step * 1.5, max(largest, step))
+        if guess is None:  # no estimate of the edge: the steps grow
+            step = min(step * 1.5, largest)
     lo, hi = s, s + side * step
     coarse = True
     while abs(hi - lo) > tol:

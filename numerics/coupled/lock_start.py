@@ -58,7 +58,7 @@ FIRST_STEP = 0.02
 #: its largest step (a step grows 1.5 times after each success), the same fraction
 LARGEST_STEP = 0.1
 #: its smallest step (halved after each failure down to it, then the edge is bracketed),
-#: the same fraction of a span up to 1
+#: absolute, or the first step if that is smaller
 SMALLEST_STEP = 1e-3
 
 
@@ -85,16 +85,17 @@ def side_limits(at: float, lo: float, hi: float) -> dict[int, float]:
 def follow_steps(span: float) -> tuple[float, float, float]:
     """The first, largest and smallest step of the follow of the locked state over ``span``
     (the distance from the start to the end of the interval on that side): the fractions
-    :data:`FIRST_STEP` and :data:`LARGEST_STEP` of it, and :data:`SMALLEST_STEP` of it up
-    to a span of 1 (``span = 1``, a side of ``--vary sigma=-1:1`` from 0, gives 0.02, 0.1
-    and 1e-3: the steps as they were in absolute terms).  The smallest step never grows
-    past 1e-3: a failure at a step above it is taken for too long a step (the state moved
-    too far for Newton), not for the edge, so a wide interval brackets its edges no
-    coarser than before.  A span that is not finite and positive counts as 1."""
+    :data:`FIRST_STEP` and :data:`LARGEST_STEP` of it, and :data:`SMALLEST_STEP` or the
+    first step, the smaller (``span = 1``, a side of ``--vary sigma=-1:1`` from 0, gives
+    0.02, 0.1 and 1e-3: the steps as they were).  The smallest step does not scale up: a
+    failure at a step above it is taken for too long a step (the state moved too far for
+    Newton), not for the edge, so a wide interval brackets its edges no coarser than
+    before; nor down below 1e-3 unless the first step is smaller (a halving more per edge
+    is a shot more).  A span that is not finite and positive counts as 1."""
     span = float(span)
     if not (math.isfinite(span) and span > 0.0):
         span = 1.0
-    return FIRST_STEP * span, LARGEST_STEP * span, SMALLEST_STEP * min(span, 1.0)
+    return FIRST_STEP * span, LARGEST_STEP * span, min(SMALLEST_STEP, FIRST_STEP * span)
 
 
 def first_locked(f: Callable, jac: Callable, y0: np.ndarray, values: list[float], mu: float,

@@ -128,3 +128,24 @@ def test_true_edge_from_a_wide_interval_is_the_scipy_fold():
                       limits={-1: 20.0, 1: 20.0})[1]
     assert abs(edge.sigma - fold) < 1e-11
     assert abs(edge.sigma - fold) <= edge.error + 1e-12
+
+
+def test_true_follow_across_a_wide_locked_interval_in_few_shots(monkeypatch):
+    """c = 5, sigma in [-2.5, 2.5]: the cycle stays locked over the whole interval (its
+    folds at -2.66 and 3.38, ``kbm lock ... --vary sigma=-4:4``), and no averaged edge lies
+    in it to guess from.  The follow crosses it in steps growing to 0.25: 26 shots, where
+    the absolute 0.02 took 250."""
+    import numerics.coupled.fold as fold
+
+    shots = []
+    real = fold._shoot
+
+    def counted(*a, **k):
+        shots.append(1)
+        return real(*a, **k)
+
+    monkeypatch.setattr(fold, "_shoot", counted)
+    edges = fold.true_edges("coupled-vdp", {"mu": 0.08, "c": 5.0}, tol=1e-7,
+                            limits={-1: 2.5, 1: 2.5})
+    assert [e.sigma for e in edges] == [-math.inf, math.inf]
+    assert len(shots) < 60

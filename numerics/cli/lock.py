@@ -8,7 +8,9 @@ from kbm.cli._common import emit_json
 from kbm.errors import ParameterError
 from numerics.cli._options import command, options
 
-#: the names a coupling parameter goes by (the others varied are detunings)
+#: the names a coupling parameter goes by (the others varied are detunings); a model's
+#: couplings are those of its parameters that no physical name sets
+#: (:func:`numerics.coupled.locking.coupling_names`: the sliders' ``k = 2 pi/lam`` is none)
 COUPLINGS = ("c", "k", "kappa")
 
 
@@ -38,18 +40,22 @@ def register(sub) -> None:
 
 def _split(varies, model) -> tuple:
     """``(detuning, coupling or None)`` among the ``--vary`` (in either order): the
-    coupling is the one named c, k or kappa."""
-    couplings = [v for v in varies if v.name in COUPLINGS]
-    detunings = [v for v in varies if v.name not in COUPLINGS]
+    coupling is the one named as one of the model's couplings (c, k or kappa, unless a
+    physical name sets it: the sliders' wavenumber k = 2 pi/lam is followed like lam)."""
+    from numerics.coupled.locking import coupling_names
+
+    names = coupling_names(model) or COUPLINGS
+    couplings = [v for v in varies if v.name in names]
+    detunings = [v for v in varies if v.name not in names]
     if not detunings:
-        det = next((p for p in model.parameters if p not in COUPLINGS), "sigma")
+        det = next((p for p in model.parameters if p not in names), "sigma")
         raise ParameterError(f"kbm lock looks for the edges of the locking region in a "
                              f"detuning: give its interval, --vary {det}=FROM:TO (e.g. "
                              f"{det}=-1:1)" + (f", with --vary {couplings[0].text} for the "
                                                f"coupling's values" if couplings else ""))
     if len(detunings) > 1 or len(couplings) > 1:
         raise ParameterError("give one --vary for the detuning (its interval) and at most one "
-                             f"for the coupling ({', '.join(COUPLINGS)}); got "
+                             f"for the coupling ({', '.join(names)}); got "
                              f"{', '.join(v.name for v in varies)}")
     return detunings[0], (couplings[0] if couplings else None)
 

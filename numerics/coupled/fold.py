@@ -36,6 +36,7 @@ from numerics.shooting.branch_problem import OrbitPoint, OrbitProblem
 from .continuation import CoupledContinuation
 from .cycle import coupled_cycle
 from .flow import bind_coupled, coupled_flow
+from .lock_start import follow_steps
 
 __all__ = ["Fold", "locate_fold", "LockingEdge", "true_edges", "FOLD_BRACKET"]
 
@@ -139,9 +140,12 @@ def true_edges(model: CoupledOscillators | str, params: Mapping[str, object],
     """The edges of locking of the full system: where the locked cycle ceases to exist.
 
     The locked cycle is followed from ``parameter = at`` (default 0), on each side up to
-    ``limits[side]`` from it (default ``limit`` on both).  ``guess`` maps a side (-1, +1) to
-    an estimate of its edge (e.g. the averaged one); the continuation then takes large steps
-    up to 90 % of the way to it.
+    ``limits[side]`` from it (default ``limit`` on both), in steps scaled to that span
+    (:func:`numerics.coupled.lock_start.follow_steps`: the first a fiftieth of it, growing
+    1.5 times after each success up to a tenth, halved after each failure down to 1e-3
+    or the first step, the smaller, then the loss is bracketed).  ``guess`` maps a side (-1, +1) to an estimate
+    of its edge (e.g. the averaged one); the steps are then 0.3 of the way to it (no less
+    than the first step or 0.02, the smaller), and do not grow.
 
     Raises
     ------
@@ -166,17 +170,21 @@ def _shoot(model, params, parameter, s, cyc):
 def _true_edge(model, params, parameter, base, side, limit, tol, guess,
                at: float = 0.0) -> LockingEdge:
     s, cyc = at, base
-    step = 0.02 if guess is None else max(0.02, 0.3 * abs(guess - at))
+    first, largest, smallest = follow_steps(limit)  # scaled to the span followed
+    # an estimate of the edge sets the scale: 0.3 of the way to it (no less than 0.02)
+    step = first if guess is None else max(min(first, 0.02), 0.3 * abs(guess - at))
     while True:
         if abs(s - at) >= limit:
             return LockingEdge(math.copysign(math.inf, side), 0.0, side, tuple(cyc.state))
         nxt = _shoot(model, params, parameter, s + side * step, cyc)
         if nxt is None or not nxt.stable:  # past the edge, or too long a step for Newton
-            if step <= 1e-3:
+            if step <= smallest:
                 break
             step /= 2
             continue
         s, cyc = s + side * step, nxt
+        if guess is None:  # no estimate of the edge: the steps grow
+            step = min(step * 1.5, largest)
     lo, hi = s, s + side * step
     coarse = True
     while abs(hi - lo) > tol:

@@ -11,7 +11,9 @@ lie in the interval the user asked for, and the state must be locked there:
   the points of a grid over it by their distance from the middle, the ends last: the first
   at which the averaged slow flow has a *stable* locked fixed point.
 
-Each side is followed only up to its own end of the interval (:func:`side_limits`).
+Each side is followed only up to its own end of the interval (:func:`side_limits`), in
+steps scaled to that span (:func:`follow_steps`): a wide interval, or an axis in other
+units, is crossed in as many steps as ``--vary sigma=-1:1``.
 
 A physical name on the command line (``--vary Delta=...`` or ``lam=...`` of the sliders,
 ``delta = Delta/mu``, ``k = 2 pi/lam``) is followed as the model's own parameter over the
@@ -21,6 +23,7 @@ mapped interval, and the edges are mapped back (:func:`followed_axis`, the bindi
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 
 import numpy as np
@@ -33,7 +36,8 @@ from .flow import bind_coupled
 from .slow_flow import _newton, _slow_flow, _split
 
 __all__ = ["start_values", "side_limits", "first_locked", "locked_start", "followed_axis",
-           "GRID_POINTS", "STABILITY_MARGIN"]
+           "follow_steps", "AMPLITUDE_FLOOR", "GRID_POINTS", "STABILITY_MARGIN", "FIRST_STEP", "LARGEST_STEP",
+           "SMALLEST_STEP"]
 
 #: points of the grid over the asked interval at which a locked state is looked for
 GRID_POINTS = 9
@@ -42,6 +46,20 @@ GRID_POINTS = 9
 #: modulus: a point on the slow flow's fold (an eigenvalue 0 to rounding, e.g.
 #: ``coupled-vdp``'s order-1 edge ``sigma = c`` on the grid) is no start
 STABILITY_MARGIN = 1e-6
+
+#: the smallest amplitude of a locked state, relative to the largest of the state it is
+#: continued from: past the point where the locked state dies into the origin (amplitude
+#: death) Newton on the polar slow flow converges to amplitudes of 1e-40, which are the
+#: origin, not a locked state
+AMPLITUDE_FLOOR = 1e-8
+
+#: the follow's first step, as a fraction of the span followed on a side
+FIRST_STEP = 0.02
+#: its largest step (a step grows 1.5 times after each success), the same fraction
+LARGEST_STEP = 0.1
+#: its smallest step (halved after each failure down to it, then the edge is bracketed),
+#: absolute, or the first step if that is smaller
+SMALLEST_STEP = 1e-3
 
 
 def start_values(lo: float, hi: float, points: int = GRID_POINTS) -> list[float]:
@@ -64,15 +82,32 @@ def side_limits(at: float, lo: float, hi: float) -> dict[int, float]:
     return {-1: max(float(at) - float(lo), 0.0), 1: max(float(hi) - float(at), 0.0)}
 
 
+def follow_steps(span: float) -> tuple[float, float, float]:
+    """The first, largest and smallest step of the follow of the locked state over ``span``
+    (the distance from the start to the end of the interval on that side): the fractions
+    :data:`FIRST_STEP` and :data:`LARGEST_STEP` of it, and :data:`SMALLEST_STEP` or the
+    first step, the smaller (``span = 1``, a side of ``--vary sigma=-1:1`` from 0, gives
+    0.02, 0.1 and 1e-3: the steps as they were).  The smallest step does not scale up: a
+    failure at a step above it is taken for too long a step (the state moved too far for
+    Newton), not for the edge, so a wide interval brackets its edges no coarser than
+    before; nor down below 1e-3 unless the first step is smaller (a halving more per edge
+    is a shot more).  A span that is not finite and positive counts as 1."""
+    span = float(span)
+    if not (math.isfinite(span) and span > 0.0):
+        span = 1.0
+    return FIRST_STEP * span, LARGEST_STEP * span, min(SMALLEST_STEP, FIRST_STEP * span)
+
+
 def first_locked(f: Callable, jac: Callable, y0: np.ndarray, values: list[float], mu: float,
                  dof: int) -> tuple[float, np.ndarray] | None:
     """The first of ``values`` at which Newton from ``y0`` finds a stable fixed point of the
-    slow flow ``f(y, s, mu)`` (its amplitudes ``y[:dof]`` positive, every eigenvalue of
+    slow flow ``f(y, s, mu)`` (its amplitudes ``y[:dof]`` above :data:`AMPLITUDE_FLOOR`
+    times those of ``y0``, every eigenvalue of
     ``jac`` in the left half-plane by :data:`STABILITY_MARGIN`), with that point; ``None``
     if there is none."""
     for s in values:
         y = _newton(f, jac, np.asarray(y0, dtype=float), float(s), mu)
-        if y is None or not np.all(y[:dof] > 0):
+        if y is None or not np.all(y[:dof] > AMPLITUDE_FLOOR * np.max(np.abs(y0[:dof]))):
             continue
         J = np.asarray(jac(y, float(s), mu), dtype=float)
         if not np.all(np.isfinite(J)):

@@ -33,11 +33,25 @@ from kbm.errors import ParameterError
 from numerics.errors import NoCycleError
 from .flow import bind_coupled
 from .fold import LockingEdge, true_edges
-from .lock_start import followed_axis, locked_start, side_limits, start_values
+from .lock_start import AMPLITUDE_FLOOR, follow_steps, followed_axis, locked_start, side_limits, start_values
 from .slow_flow import _newton, _slow_flow, _split  # noqa: F401 - _slow_flow: tests
 
 __all__ = ["LockingEdge", "LockingRegion", "averaged_edges", "true_edges", "amplitude_death",
-           "locking_region", "locked_start", "plot_locking", "check_lockable"]
+           "locking_region", "locked_start", "plot_locking", "check_lockable",
+           "COUPLING_NAMES", "coupling_names"]
+
+#: the names a coupling parameter goes by (``c`` of ``coupled-vdp``, ``kappa`` of the
+#: sliders, ``k`` of ``duffing-1-3``)
+COUPLING_NAMES = ("c", "k", "kappa")
+
+
+def coupling_names(model: CoupledOscillators) -> tuple[str, ...]:
+    """The couplings among ``model``'s parameters: those named as in
+    :data:`COUPLING_NAMES` that no physical name sets.  The sliders' ``k = 2 pi/lam`` is
+    their wavenumber, a scaled parameter and no coupling: ``kbm lock sedf-dimer --vary
+    k=...`` (like ``--vary lam=...``) follows it."""
+    return tuple(k for k in COUPLING_NAMES
+                 if k in model.parameters and k not in model.physical)
 
 
 def averaged_edges(model: CoupledOscillators | str, params: Mapping[str, object], order: int,
@@ -91,26 +105,29 @@ def averaged_edges(model: CoupledOscillators | str, params: Mapping[str, object]
 def _averaged_edge(f, jac, y, side, mu, limit, at=0.0) -> LockingEdge:
     def locked(s, y):
         """The stable locked state at ``s`` continued from ``y`` (a jump to another fixed
-        point, or an unstable one, is not the state followed)."""
+        point, or an unstable one, or the origin past amplitude death, is not the state
+        followed)."""
         trial = _newton(f, jac, y, s, mu, it=15)  # from the state next to it: a few steps
-        if trial is None or not np.all(trial[:-1] > 0) or np.max(np.abs(trial - y)) > 0.25:
+        if trial is None or not np.all(trial[:-1] > floor) \
+                or np.max(np.abs(trial - y)) > 0.25:
             return None
         ev = np.linalg.eigvals(np.asarray(jac(trial, s, mu), dtype=float))
         return trial if np.all(ev.real < 0) else None
 
-    s, step = at, 0.02
-    last = (s, y)
+    floor = AMPLITUDE_FLOOR * float(np.max(np.abs(y[:-1])))
+    step, largest, smallest = follow_steps(limit)  # scaled to the span followed
+    last = (at, y)
     while True:  # march out until the locked state is lost ...
         if abs(last[0] - at) >= limit:
             return LockingEdge(math.copysign(math.inf, side), 0.0, side, tuple(last[1]))
         trial = locked(last[0] + side * step, last[1])
         if trial is None:  # past the fold, or too long a step to follow the state
-            if step <= 1e-3:
+            if step <= smallest:
                 break
             step /= 2
             continue
         last = (last[0] + side * step, trial)
-        step = min(step * 1.5, 0.1)
+        step = min(step * 1.5, largest)
     lo, hi = last[0], last[0] + side * step
     while abs(hi - lo) > 1e-4:  # ... bracket the fold (the augmented Newton ends it) ...
         mid = 0.5 * (lo + hi)
@@ -183,7 +200,9 @@ class LockingRegion:
     ``averaged[n]`` and ``true`` are lists of ``(c, sigma)`` pairs, both edges at every
     ``c``; ``errors`` the true edges' bisection brackets; ``starts`` the value of ``sigma``
     the locked state was followed from at each ``c`` (0 when the interval holds it);
-    ``death`` the origin's linearisation at each ``c`` and that ``sigma``.
+    ``death`` the origin's linearisation at each ``c`` and that ``sigma``: its
+    ``checked_at`` gives the values (the followed parameter as asked, its scaled name
+    when that differs, e.g. ``Delta`` and ``delta``, and the coupling).
     """
 
     model: str
@@ -246,9 +265,8 @@ def locking_region(model: CoupledOscillators | str, params: Mapping[str, object]
     name, (lo, hi) = axis.name, axis.span
     bound, values = bind_coupled(model, {**dict(params), name: start_values(lo, hi)[0]})
     check_lockable(bound)
-    if coupling is None:  # a coupling among the model's own names (the sliders' k = 2 pi/lam
-        cname = next((k for k in ("c", "k", "kappa")  # is their wavenumber, no coupling)
-                      if k in bound.parameters and k != name and k not in bound.physical), "")
+    if coupling is None:  # a coupling among the model's own names
+        cname = next((k for k in coupling_names(bound) if k != name), "")
         cvals = [values[cname]] if cname else [float("nan")]
     else:
         cname, cvals = coupling
@@ -276,7 +294,9 @@ def locking_region(model: CoupledOscillators | str, params: Mapping[str, object]
                                                  at=at, limits=limits) if lo <= e.sigma <= hi):
             true.append((cv, s))
             errors.append(err)
-        death.append({"coupling": cv, **amplitude_death(bound, {**p, name: at})})
+        where = {axis.user: axis.to_user(at), name: at, **({cname: cv} if cname else {})}
+        death.append({"coupling": cv, **amplitude_death(bound, {**p, name: at}),
+                      "checked_at": where})
     return LockingRegion(bound.name, {k: v for k, v in values.items() if k != name},
                          axis.user, cname, averaged, true, errors, death, tuple(starts))
 

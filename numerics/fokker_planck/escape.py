@@ -333,43 +333,38 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
             layer_intervals=LAYER_INTERVALS)
         return KramersEscape(saddles=(xl, xr), wells=wells, **out)
     nc, start = int(n_cheb), int(n_hermite)
-    if linear:  # sizes from the saddle's layer (docs/noise.rst)
-        wb = max(math.sqrt(abs(float(gp(np.array(s))))) for s in (xl, xr))
-        start = next(n for n in hermite_ladder(start, 2 * start + 16 * wb / gamma)
-                     if n >= 8 * wb / gamma or n >= max_hermite)
-        layer = math.sqrt(D / wb) / wb
-        by_layer = 2 * math.ceil(LAYER_INTERVALS / 2 * half / layer)
-        # the points crowd at the saddles only where the layer sets their number
-        crowd = SADDLES if by_layer > nc else 0.0
-        nc = max(nc, by_layer)
+    # linear damping: sizes from the saddle's layer (docs/noise.rst)
+    wb = max(math.sqrt(abs(float(gp(np.array(s))))) for s in (xl, xr))
+    start = next(n for n in hermite_ladder(start, 2 * start + 16 * wb / gamma)
+                 if n >= 8 * wb / gamma or n >= max_hermite)
+    layer = math.sqrt(D / wb) / wb
+    by_layer = 2 * math.ceil(LAYER_INTERVALS / 2 * half / layer)
+    # the points crowd at the saddles only where the layer sets their number
+    crowd = SADDLES if by_layer > nc else 0.0
+    nc = max(nc, by_layer)
     memo = {}
     folds = abs(wells[0] + wells[1]) <= 1e-12 * wells[1]  # about: _slowest decides
 
     def fits(n, nc):
         m = nc // 2 + 1 if folds else nc + 1
-        return (n * m * m if linear else 3 * n * nc * nc) <= 3 * max_cost
+        return n * m * m <= 3 * max_cost
 
-    if linear:  # one factorisation per grid and sink, extended up the ladder (._rungs)
-        rungs = FractionRungs(
-            split, sigma, gamma, wells,
-            lambda xs, sharp: _sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp),
-            lambda nc: cheb_centred(nc, half, ALPHA, (xl, xr) + tuple(wells),
-                                    (-xl / 2, xr / 2, 2.5 * width, 2.5 * width),
-                                    (crowd, crowd, WELLS, WELLS)))
+    # one factorisation per grid and sink, extended up the ladder (._rungs)
+    rungs = FractionRungs(
+        split, sigma, gamma, wells,
+        lambda xs, sharp: _sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp),
+        lambda nc: cheb_centred(nc, half, ALPHA, (xl, xr) + tuple(wells),
+                                (-xl / 2, xr / 2, 2.5 * width, 2.5 * width),
+                                (crowd, crowd, WELLS, WELLS)))
 
     def solve(n, nc, sharp=1):
         if (n, nc, sharp) not in memo:
-            if linear:
-                top = max([r for r in hermite_ladder(n, int(max_hermite)) if fits(r, nc)],
-                          default=n)
-                memo[n, nc, sharp] = rungs.rate(n, nc, sharp, capacity=top)
-            else:
-                memo[n, nc, sharp] = _slowest(split, D, sigma, wells, half, n, nc,
-                                              kappa0 * (3 if sharp > 1 else 1),
-                                              width / sharp, solver="block")
+            top = max([r for r in hermite_ladder(n, int(max_hermite)) if fits(r, nc)],
+                      default=n)
+            memo[n, nc, sharp] = rungs.rate(n, nc, sharp, capacity=top)
         return memo[n, nc, sharp]
 
-    grow = 1.2 if linear else 1.5
+    grow = 1.2
     table = []
     while True:
         ladder = [n for n in hermite_ladder(start, max(int(max_hermite), 2 * start))

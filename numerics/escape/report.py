@@ -46,7 +46,9 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         ``"fokker-planck"`` adds ``rate_fokker_planck``: the slowest decay rate of the
         Kramers equation with a sink at the next wells' bottoms (the transition rate;
         :mod:`numerics.fokker_planck.escape`), with ``fokker_planck.sink_error``,
-        ``truncation_error``, ``chebyshev_error`` and ``wells`` (where the sink sits);
+        ``truncation_error``, ``chebyshev_error``, ``scale_error`` (nonlinear damping: the
+        change under another velocity scale, part of ``truncation_error``; else ``None``)
+        and ``wells`` (where the sink sits);
         with the simulation, also its like quantity ``rate_simulated_wells`` and
         ``stderr_wells``: first passages to the next wells' bottoms from the well's
         Boltzmann density (:mod:`numerics.escape.transitions`; ``simulated_wells`` holds
@@ -118,6 +120,8 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         out["fokker_planck"] = {"sink_error": fp.sink_error,
                                 "truncation_error": fp.truncation_error,
                                 "chebyshev_error": fp.chebyshev_error,
+                                "scale_error": (None if math.isnan(fp.scale_error)
+                                                else fp.scale_error),
                                 "wells": list(fp.wells),
                                 "hermite": fp.hermite, "chebyshev": fp.chebyshev}
     if method == "fokker-planck":  # the simulated transitions to the next wells too

@@ -5,8 +5,9 @@ points in the position; :mod:`._bases` holds the two bases, :mod:`._solution` th
 stationary density's class, :mod:`._blocks` the block tridiagonal LU of the Kramers matrix
 in the Hermite index, :mod:`._fraction` the escape matrix of a linearly damped model in
 closed-form blocks, folded by parity (the matrix continued fraction in LU form, eliminated
-upward), :mod:`._sweeps` its compiled solve sweeps and :mod:`._rungs` the escape ladder's
-solves sharing one factorisation per grid."""
+upward), :mod:`._sweeps` its compiled solve sweeps, :mod:`._rungs` the escape ladder's
+solves sharing one factorisation per grid and :mod:`._orthonormal` the escape of a
+nonlinearly damped model in orthonormal Hermite functions."""
 
 from .escape import KramersEscape, kramers_escape
 from .kramers import KramersSolution, kramers_operator, stationary_kramers, velocity_terms

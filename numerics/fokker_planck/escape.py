@@ -16,8 +16,10 @@ Linear damping (the CDC at rest; :mod:`._fraction`): the matrix is block tridiag
 the Hermite index with blocks known in closed form, eliminated order by order from the
 lowest up (one factorisation serves the whole Hermite ladder, :mod:`._rungs`) and folded by
 parity for an even potential, on Kosloff-Tal-Ezer points crowded at the saddles and the sink
-(:func:`._bases.cheb_centred`), by Arnoldi's method.  Other dampings: the blocks assembled
-from the terms (:mod:`._blocks`) and shift-invert Arnoldi.
+(:func:`._bases.cheb_centred`), by Arnoldi's method.  Other dampings (:mod:`._orthonormal`):
+orthonormal Hermite functions of the velocity (in Risken's pair the high orders grow where
+the damping is negative, and the ladder did not converge), the blocks assembled from the
+terms (:mod:`._blocks`) and shift-invert Arnoldi.
 
 Why the velocity expansion needs many functions at low friction (docs/noise.rst): the
 density has a layer along the separatrix, sharpest at the saddle, where the stream that the
@@ -52,6 +54,7 @@ from kbm.errors import ModelError, ParameterError
 from ._bases import cheb_centred, cheb_mapped
 from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
 from ._fraction import EscapeFraction
+from ._orthonormal import nonlinear_escape
 from ._rungs import FractionRungs
 from .kramers import _linear_temperature, kramers_operator, kramers_terms, velocity_terms
 
@@ -98,7 +101,15 @@ class KramersEscape:
         ``(Hermite functions, Chebyshev intervals, rate)`` of every solve (the
         convergence table).
     chebyshev_error : float
-        The change of the rate on 1.5 times as many Chebyshev intervals.
+        The change of the rate on 1.2 times as many Chebyshev intervals.
+    scale_error : float
+        Nonlinear damping: the change of the rate at the largest truncation when the
+        velocity scale of the orthonormal Hermite functions is 1.3 times larger (another
+        basis; :mod:`._orthonormal`), included in :attr:`truncation_error`; ``nan`` for
+        linear damping.
+    velocity_scale : float
+        The scale ``s`` of the velocity's Hermite functions (``sqrt(kT)`` for linear
+        damping, :func:`._orthonormal.velocity_scale` otherwise).
     """
 
     rate: float
@@ -110,6 +121,8 @@ class KramersEscape:
     wells: tuple = ()
     ladder: tuple = ()
     chebyshev_error: float = float("nan")
+    scale_error: float = float("nan")
+    velocity_scale: float = float("nan")
 
     def __repr__(self) -> str:
         return (f"KramersEscape(rate={self.rate:.7g} +- {self.sink_error:.2g} (sink) +- "
@@ -264,21 +277,23 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         rates agree to ``tol`` (or ``max_hermite``; the last change is
         ``truncation_error``).  For linear damping the first truncation is at least
         ``8 omega_b/gamma`` (the velocity layer at the saddle, of width
-        ``(D/omega_b)^(1/2) = sigma (gamma/omega_b)^(1/2)``, needs that many).
+        ``(D/omega_b)^(1/2) = sigma (gamma/omega_b)^(1/2)``, needs that many).  For a
+        nonlinear damping the functions are orthonormal Hermite functions at the scale of
+        :func:`._orthonormal.velocity_scale`, and the ladder also stops only when the rate
+        at a 1.3 times larger scale agrees (``scale_error``).
     n_cheb : int
-        The smallest first number of Chebyshev intervals in the position (for linear
-        damping at least ``2.2 L/l`` (:data:`LAYER_INTERVALS`),
+        The smallest first number of Chebyshev intervals in the position (at least
+        ``2.2 L/l`` (:data:`LAYER_INTERVALS`),
         ``l = (D/omega_b)^(1/2)/omega_b`` the layer's width in ``x``, on points crowded at
-        the saddles, :func:`._bases.cheb_centred`): after the Hermite ladder the rate is
-        recomputed on a finer grid (1.2 times as many intervals for linear damping, 1.5
-        otherwise); when it moves by more than ``tol`` the ladder runs again on the finer
-        grid (up to ``max_cheb``).
+        the saddles, :func:`._bases.cheb_centred`; for linear damping only where ``2.2
+        L/l`` exceeds ``n_cheb``): after the Hermite ladder the rate is recomputed on 1.2
+        times as many intervals; when it moves by more than ``tol`` the ladder runs again
+        on the finer grid (up to ``max_cheb``).
     margin : float, optional
         How far past the next wells' bottoms the range reaches (default half the larger
         saddle-to-bottom distance; the sink lives there).
     tol : float, optional
-        Relative change of the rate at which the ladders stop: default ``1e-6`` for
-        linear damping (:mod:`._fraction`), ``1e-3`` otherwise.
+        Relative change of the rate at which the ladders stop (default ``1e-6``).
     max_hermite, max_cheb : int
         The ladders' tops.
     max_cost : float
@@ -305,7 +320,18 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
     sigma, wells, half, kappa0, width = escape_problem(split, D, (xl, xr), margin)
     gp = split.numpy_functions()[1]
     linear = kT is not None
-    tol = (1e-6 if linear else 1e-3) if tol is None else float(tol)
+    tol = 1e-6 if tol is None else float(tol)
+    if not linear:  # orthonormal Hermite functions (._orthonormal)
+        out = nonlinear_escape(
+            split, D, (xl, xr), half,
+            lambda xs, sharp: _sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp),
+            lambda nc: cheb_centred(nc, half, ALPHA, (xl, xr) + tuple(wells),
+                                    (-xl / 2, xr / 2, 2.5 * width, 2.5 * width),
+                                    (SADDLES, SADDLES, WELLS, WELLS)),
+            hermite_ladder, n_hermite=n_hermite, n_cheb=n_cheb, tol=tol,
+            max_hermite=max_hermite, max_cheb=max_cheb, max_cost=max_cost,
+            layer_intervals=LAYER_INTERVALS)
+        return KramersEscape(saddles=(xl, xr), wells=wells, **out)
     nc, start = int(n_cheb), int(n_hermite)
     if linear:  # sizes from the saddle's layer (docs/noise.rst)
         wb = max(math.sqrt(abs(float(gp(np.array(s))))) for s in (xl, xr))

@@ -25,6 +25,13 @@ The stationary equation's ``n = 0`` block says that the current ``sigma c_1`` is
 it is replaced by ``c_1 = 0`` (no current through the far ends, where the density is below
 ``exp(-45)``) at all points but one, and the normalisation ``int c_0 dx = 1``.
 
+That is the discretisation of a linear damping.  A nonlinear damping is solved in
+orthonormal Hermite functions with Galerkin projection (:mod:`._stationary_orthonormal`):
+in Risken's pair every high order grows wherever the local friction is negative
+(:mod:`._orthonormal`), and the SEDF at rest (mu = 0.1, Delta = 3, D = 0.05) did not
+converge (``<x^2>`` = 2.2164, 2.2770, 2.3148 at 64, 128, 256 functions; 2.32852186 in the
+orthonormal functions, stated change 5.5e-9).
+
 Checks (tests/test_fokker_planck.py): for linear damping the solution is the Boltzmann
 density ``exp(-H/kT)`` to 1e-9 (quadrature of ``exp(-G/kT)``); for the van der Pol
 oscillator it agrees with first-order stochastic averaging as ``mu -> 0`` and with a
@@ -151,21 +158,25 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
     D : float
         Noise intensity, ``> 0``.
     n_hermite, n_cheb : int, optional
-        Hermite functions of the velocity and Chebyshev intervals in the position (default:
-        ``n_cheb`` resolves ``exp(-G/sigma^2)`` to 1e-9, and for a nonlinear damping the
-        last solve runs on 1.5 times as many intervals where ``max_cost`` allows;
-        ``n_hermite`` is 12 for linear damping, else doubled from 32 until ``<x^2>`` and
-        ``<v^2>`` both change by less than ``tol``, or until the next doubling would pass
-        ``max_cost``; the last change is the solution's ``hermite_change``, its stated
-        truncation error).
+        Hermite functions of the velocity and Chebyshev intervals in the position.
+        Default for linear damping: 12 functions, ``n_cheb`` resolves ``exp(-G/kT)`` to
+        1e-9.  For a nonlinear damping the ladders of
+        :func:`._stationary_orthonormal.stationary_orthonormal` (Hermite functions
+        ``32 * 2^(k/2)``, then the intervals by 1.25, each until ``<x^2>`` and ``<v^2>``
+        change by less than ``tol`` or the budget ends); the larger last change is the
+        solution's ``hermite_change``, its stated truncation error.  With
+        ``basis="risken"`` the number of functions is doubled from 32 and the last solve
+        runs on 1.5 times the intervals (the previous method).
     sigma, L : float, optional
         Velocity scale and half-width of the position range (default: ``sigma^2 = kT`` for
-        linear damping, else ``<v^2>`` measured by a coarse first solve; ``L`` where
-        ``G/sigma^2`` exceeds 45 above its minimum).
+        linear damping; for a nonlinear damping the scale that resolves the density's
+        reach and velocity structure, :func:`._stationary_orthonormal.stationary_orthonormal`;
+        ``L`` where ``G mu/D`` exceeds 45 above its minimum).
     omega0 : float, optional
         The frequency of ``a^2`` (default the model's ``omega0``, else ``sqrt(g'(0))``).
     tol : float
-        Relative change of ``<x^2>`` and ``<v^2>`` at which the Hermite doubling stops.
+        Relative change of ``<x^2>`` and ``<v^2>`` at which the Hermite (and, in the
+        orthonormal functions, the Chebyshev) ladder stops.
         (It tested ``<a^2>`` alone and stopped at 128 functions whatever the change: for the
         SEDF at mu = 0.1, Delta = 3, D = 0.05 ``<a^2>`` moved by 5e-5 from 128 to 256
         functions while ``<x^2>`` moved by 1.7e-2, and 2.2764 was printed to ten digits

@@ -251,8 +251,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     """
     from scipy.optimize import brentq
 
-    from .escape import hermite_ladder
-    from .kramers import _chebyshev_size, _half_width
+    from ._model import _chebyshev_size, _half_width
     from kbm.errors import ModelError
 
     mu = float(split.mu)
@@ -295,7 +294,9 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     if n_hermite is None:
         change = math.inf
         room = (2 * math.ceil(0.625 * nc)) ** 2 if n_cheb is None else nc**2
-        for n in hermite_ladder(nh, 64 * nh)[1:]:
+        first = nh
+        for k in range(1, 13):  # first * 2^(k/2), even (as .escape.hermite_ladder)
+            n = 2 * int(round(first * 2 ** (k / 2) / 2))
             if n * room > max_cost:  # one finer grid stays affordable
                 break
             new = solve(n, nc)

@@ -51,38 +51,14 @@ import sympy as sp
 
 from kbm.conservative import ConservativeSplit, split_conservative
 from kbm.errors import ModelError, ParameterError
-from kbm.symbols import x as X, xdot as V
 
 from ._bases import cheb, clenshaw_curtis, hermite_matrices
+from ._model import _chebyshev_size, _half_width, velocity_terms
 from ._solution import KramersSolution
 from ._stationary_orthonormal import stationary_orthonormal
 
 __all__ = ["KramersSolution", "kramers_operator", "kramers_terms", "stationary_kramers",
            "velocity_terms"]
-
-
-def velocity_terms(split: ConservativeSplit) -> list:
-    """``[(k, a_k)]`` with ``mu h(x, v) = sum_k a_k(x) v^k`` (numpy functions of ``x``).
-
-    Raises
-    ------
-    kbm.errors.ModelError
-        When ``h`` is not a polynomial in the velocity.
-    """
-    h = sp.expand(split.mu * split.h)
-    try:
-        poly = sp.Poly(h, V)
-    except sp.PolynomialError:
-        raise ModelError(f"the damping mu h = {h} is not a polynomial in x': the Hermite "
-                         "expansion of the Kramers equation needs one") from None
-    out = []
-    for (k,), coef in zip(poly.monoms(), poly.coeffs()):
-        if coef.free_symbols - {X}:
-            raise ParameterError(f"the damping needs values for {coef.free_symbols - {X}}")
-        f = sp.lambdify(X, coef, "numpy")
-        out.append((int(k), lambda z, f=f: np.broadcast_to(np.asarray(f(z), float),
-                                                           np.shape(z)).copy()))
-    return out
 
 
 def kramers_operator(split: ConservativeSplit, D: float, sigma: float, L: float,
@@ -128,18 +104,6 @@ def kramers_terms(split: ConservativeSplit, D: float, sigma: float, L: float,
             Uk = U @ Uk
         out.append((cut(-(sigma ** (k - 1)) * (Du @ Uk)), np.asarray(a(xs), float)))
     return out, xs, clenshaw_curtis(n_cheb, L)
-
-
-def _half_width(G, scale: float, span: float = 45.0) -> float:
-    grid = np.linspace(-50, 50, 20001)
-    Gmin = float(np.min(G(grid)))
-    L = 1.0
-    while min(float(G(np.array(L))), float(G(np.array(-L)))) - Gmin < span * scale:
-        L *= 1.1
-        if L > 1e4:
-            raise ModelError("the potential does not confine the noisy motion (G grows too "
-                             "slowly): no stationary density")
-    return L
 
 
 def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None = None,
@@ -277,22 +241,6 @@ def _linear_temperature(terms, D: float) -> float | None:
     vals = terms[0][1](np.linspace(-3.0, 3.0, 7))
     c = -float(vals[0])
     return D / c if c > 0 and np.allclose(vals, vals[0], rtol=0, atol=1e-15) else None
-
-
-def _chebyshev_size(G, s2: float, L: float, target: float = 1e-9) -> int:
-    """Chebyshev intervals that resolve ``exp(-(G - G_min)/sigma^2)`` on ``[-L, L]``."""
-    from numpy.polynomial import chebyshev as C
-
-    n = 64
-    while n < 600:
-        t = np.cos(np.pi * np.arange(n + 1) / n)
-        Gx = G(L * t)
-        f = np.exp(-(Gx - Gx.min()) / s2)
-        c = C.chebfit(t, f, n)
-        if float(np.max(np.abs(c[-8:]))) <= target * float(np.max(np.abs(c))):
-            return int(math.ceil(1.15 * n))
-        n = int(1.2 * n)
-    return 600
 
 
 def _solve(split, D, sigma, half, nh, nc, G, omega0) -> KramersSolution:

@@ -97,7 +97,7 @@ def orthonormal_band_masses(n: int, U) -> np.ndarray:
     return out
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)  # the base class's short repr
 class OrthonormalKramersSolution(KramersSolution):
     """:class:`.KramersSolution` with ``P = sum c_n h_n(v/sigma)/sigma`` in the orthonormal
     Hermite functions (``sigma`` is the scale ``s``): the marginal is ``sum m_n c_n``,

@@ -83,14 +83,28 @@ def test_hermite_truncation_error_is_stated():
     D = 0.15, a budget that stops the doubling at 64 functions (it tested ``<a^2>`` alone
     and stopped at 128 functions, silently: the SEDF at mu = 0.1, Delta = 3, D = 0.05
     printed <x^2> = 2.2764 to ten digits against a simulated 2.32).  The converged default
-    is checked in :func:`test_van_der_pol_virial_and_averaging_limit`."""
-    ref = stationary_kramers("vdp", {"mu": 0.3}, 0.15, n_hermite=384)
+    is checked in :func:`test_van_der_pol_virial_and_averaging_limit`.  Risken's pair
+    (``basis="risken"``); the orthonormal functions' ladder is checked in
+    :func:`test_orthonormal_truncation_error_is_stated`."""
+    ref = stationary_kramers("vdp", {"mu": 0.3}, 0.15, n_hermite=384, basis="risken")
     nc = ref.x.size - 1
-    cut = stationary_kramers("vdp", {"mu": 0.3}, 0.15, max_cost=64 * nc**2)
+    cut = stationary_kramers("vdp", {"mu": 0.3}, 0.15, max_cost=64 * nc**2, basis="risken")
     assert cut.coef.shape[0] == 64
     err = max(abs(cut.x2 / ref.x2 - 1), abs(cut.v2 / ref.v2 - 1))
     assert 1e-6 < err <= cut.hermite_change
     assert math.isnan(ref.hermite_change)
+
+
+def test_orthonormal_truncation_error_is_stated():
+    """The orthonormal functions' Hermite ladder (numerics/fokker_planck/
+    _stationary_orthonormal.py) stopped by a budget states a change that bounds its error
+    against an independent larger solve (Risken's pair, 256 functions x 132 intervals,
+    2.0958951363; the orthonormal solve on 362 x 120 agrees to 1e-10): vdp mu = 0.3,
+    D = 0.15 with a budget of 128 functions on 96 intervals."""
+    cut = stationary_kramers("vdp", {"mu": 0.3}, 0.15, max_cost=128 * 120**2 - 1)
+    ref = 2.0958951363
+    err = max(abs(cut.x2 / ref - 1), abs(cut.v2 / ref - 1))
+    assert cut.coef.shape[0] < 362 and 1e-9 < err <= cut.hermite_change
 
 
 def test_noise_text_shows_the_digits_the_truncation_supports():

@@ -168,16 +168,17 @@ def test_sedf_escape_against_simulated_transitions():
 
 
 def test_van_der_pol_stationary_moments_to_eight_digits():
-    """vdp mu = 0.3, D = 0.15 (the stationary Kramers solve, Risken's pair): the virial
-    theorem ``<x^2> = <x'^2>`` (exact for ``g = x`` since ``<x (1 - x^2) x'>`` is the mean
-    of a time derivative) to 1e-8, and ``<x^2>``, ``<a^2>`` equal to a second discretisation
-    (another velocity scale, 176 intervals) to 1e-8; on the intervals that resolve
-    ``exp(-G/sigma^2)`` alone ``<x^2>`` was 1.1e-6 low."""
+    """vdp mu = 0.3, D = 0.15 (the stationary Kramers solve, orthonormal Hermite
+    functions): the virial theorem ``<x^2> = <x'^2>`` (exact for ``g = x`` since
+    ``<x (1 - x^2) x'>`` is the mean of a time derivative) to 1e-8, and ``<x^2>``,
+    ``<a^2>`` equal to a second discretisation (Risken's pair at its own scale, 256
+    functions x 132 intervals) to 1e-8; on the intervals that resolve ``exp(-G/sigma^2)``
+    alone the pair's ``<x^2>`` was 1.1e-6 low."""
     from numerics.fokker_planck import stationary_kramers
 
     sol = stationary_kramers("vdp", {"mu": 0.3}, 0.15)
     assert sol.v2 == pytest.approx(sol.x2, rel=1e-8)
-    ref = stationary_kramers("vdp", {"mu": 0.3}, 0.15, n_hermite=128, n_cheb=176,
-                             sigma=1.2, L=float(sol.x[0]))
+    ref = stationary_kramers("vdp", {"mu": 0.3}, 0.15, n_hermite=256, n_cheb=132,
+                             basis="risken")
     assert sol.x2 == pytest.approx(ref.x2, rel=1e-8)
     assert sol.a2 == pytest.approx(ref.a2, rel=1e-8)

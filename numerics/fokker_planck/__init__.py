@@ -6,8 +6,9 @@ stationary density's class, :mod:`._blocks` the block tridiagonal LU of the Kram
 in the Hermite index, :mod:`._fraction` the escape matrix of a linearly damped model in
 closed-form blocks, folded by parity (the matrix continued fraction in LU form, eliminated
 upward), :mod:`._sweeps` its compiled solve sweeps, :mod:`._rungs` the escape ladder's
-solves sharing one factorisation per grid and :mod:`._orthonormal` the escape of a
-nonlinearly damped model in orthonormal Hermite functions."""
+solves sharing one factorisation per grid, :mod:`._orthonormal` the escape of a
+nonlinearly damped model in orthonormal Hermite functions and
+:mod:`._stationary_orthonormal` its stationary density in the same functions."""
 
 from .escape import KramersEscape, kramers_escape
 from .kramers import KramersSolution, kramers_operator, stationary_kramers, velocity_terms

@@ -43,7 +43,7 @@ import numpy as np
 import scipy.sparse as sps
 
 from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
-from .kramers import velocity_terms
+from ._model import velocity_terms
 
 __all__ = ["orthonormal_matrices", "orthonormal_terms", "velocity_scale",
            "orthonormal_slowest", "nonlinear_escape", "OTHER_SCALE"]

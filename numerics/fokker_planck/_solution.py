@@ -23,7 +23,10 @@ class KramersSolution:
     x, weights : numpy.ndarray
         Chebyshev points on ``[-L, L]`` and their Clenshaw-Curtis weights.
     coef : numpy.ndarray
-        ``c_n(x_i)``, shape ``(N, len(x))``; ``P = sum c_n phi_n(v/sigma)/sigma``.
+        ``c_n(x_i)``, shape ``(N, len(x))``; ``P = sum c_n phi_n(v/sigma)/sigma`` in
+        Risken's pair (``basis == "risken"``); in the orthonormal functions ``h_n`` for
+        :class:`._stationary_orthonormal.OrthonormalKramersSolution` (``basis ==
+        "orthonormal"``, a nonlinear damping), whose marginal is ``sum m_n c_n``.
     sigma : float
         The velocity scale of the Hermite functions.
     G : callable
@@ -38,6 +41,12 @@ class KramersSolution:
         functions was last doubled (the truncation's error as measured, what
         :func:`.kramers.stationary_kramers` stops on); ``nan`` when the number was given,
         ``0`` for linear damping (where ``sigma^2 = kT`` makes the Maxwellian one function).
+        For a nonlinear damping (orthonormal Hermite functions,
+        :mod:`._stationary_orthonormal`) the larger of that change and
+        :attr:`chebyshev_change`.
+    chebyshev_change : float
+        The relative change of ``<x^2>`` and ``<v^2>`` when the Chebyshev intervals last
+        grew (nonlinear damping; ``nan`` when not measured).
     """
 
     x: np.ndarray
@@ -48,6 +57,7 @@ class KramersSolution:
     omega0: float
     residual: float
     hermite_change: float = math.nan
+    chebyshev_change: float = math.nan
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __repr__(self) -> str:
@@ -58,6 +68,8 @@ class KramersSolution:
     def x2(self) -> float:
         """``<x^2>``."""
         return float(np.sum(self.weights * self.x**2 * self.coef[0]))
+
+    basis = "risken"
 
     @property
     def v2(self) -> float:
@@ -128,8 +140,16 @@ class KramersSolution:
         xs = 0.5 * (a + b) + 0.5 * (b - a) * np.sin(0.5 * np.pi * t)
         jac = 0.25 * np.pi * (b - a) * np.cos(0.5 * np.pi * t)
         U = np.sqrt(np.maximum(2 * (E - self.G(xs)), 0.0)) / self.sigma
-        c = C.chebval(xs / L, coefs)
-        return float(np.sum(w * jac * np.sum(c * band_masses(c.shape[0], U), axis=0)))
+        c = C.chebval(self._t(xs), coefs)
+        return float(np.sum(w * jac * np.sum(c * self._band(c.shape[0], U), axis=0)))
+
+    def _t(self, xs: np.ndarray) -> np.ndarray:
+        """The Chebyshev variable in ``[-1, 1]`` of the positions ``xs``."""
+        return xs / float(self.x[0])
+
+    def _band(self, n: int, U) -> np.ndarray:
+        """``int_{-U}^{U}`` of each velocity function (rows) at each ``U``."""
+        return band_masses(n, U)
 
     def energy_bins(self, edges) -> np.ndarray:
         """The density of ``E`` averaged over each bin of ``edges``."""

@@ -25,6 +25,13 @@ The stationary equation's ``n = 0`` block says that the current ``sigma c_1`` is
 it is replaced by ``c_1 = 0`` (no current through the far ends, where the density is below
 ``exp(-45)``) at all points but one, and the normalisation ``int c_0 dx = 1``.
 
+That is the discretisation of a linear damping.  A nonlinear damping is solved in
+orthonormal Hermite functions with Galerkin projection (:mod:`._stationary_orthonormal`):
+in Risken's pair every high order grows wherever the local friction is negative
+(:mod:`._orthonormal`), and the SEDF at rest (mu = 0.1, Delta = 3, D = 0.05) did not
+converge (``<x^2>`` = 2.2164, 2.2770, 2.3148 at 64, 128, 256 functions; 2.32852184 in the
+orthonormal functions, stated change 7.4e-8, and 2.32852186 on another grid).
+
 Checks (tests/test_fokker_planck.py): for linear damping the solution is the Boltzmann
 density ``exp(-H/kT)`` to 1e-9 (quadrature of ``exp(-G/kT)``); for the van der Pol
 oscillator it agrees with first-order stochastic averaging as ``mu -> 0`` and with a
@@ -44,37 +51,14 @@ import sympy as sp
 
 from kbm.conservative import ConservativeSplit, split_conservative
 from kbm.errors import ModelError, ParameterError
-from kbm.symbols import x as X, xdot as V
 
 from ._bases import cheb, clenshaw_curtis, hermite_matrices
+from ._model import _chebyshev_size, _half_width, lobatto_coefficients, velocity_terms
 from ._solution import KramersSolution
+from ._stationary_orthonormal import stationary_orthonormal
 
 __all__ = ["KramersSolution", "kramers_operator", "kramers_terms", "stationary_kramers",
            "velocity_terms"]
-
-
-def velocity_terms(split: ConservativeSplit) -> list:
-    """``[(k, a_k)]`` with ``mu h(x, v) = sum_k a_k(x) v^k`` (numpy functions of ``x``).
-
-    Raises
-    ------
-    kbm.errors.ModelError
-        When ``h`` is not a polynomial in the velocity.
-    """
-    h = sp.expand(split.mu * split.h)
-    try:
-        poly = sp.Poly(h, V)
-    except sp.PolynomialError:
-        raise ModelError(f"the damping mu h = {h} is not a polynomial in x': the Hermite "
-                         "expansion of the Kramers equation needs one") from None
-    out = []
-    for (k,), coef in zip(poly.monoms(), poly.coeffs()):
-        if coef.free_symbols - {X}:
-            raise ParameterError(f"the damping needs values for {coef.free_symbols - {X}}")
-        f = sp.lambdify(X, coef, "numpy")
-        out.append((int(k), lambda z, f=f: np.broadcast_to(np.asarray(f(z), float),
-                                                           np.shape(z)).copy()))
-    return out
 
 
 def kramers_operator(split: ConservativeSplit, D: float, sigma: float, L: float,
@@ -122,22 +106,11 @@ def kramers_terms(split: ConservativeSplit, D: float, sigma: float, L: float,
     return out, xs, clenshaw_curtis(n_cheb, L)
 
 
-def _half_width(G, scale: float, span: float = 45.0) -> float:
-    grid = np.linspace(-50, 50, 20001)
-    Gmin = float(np.min(G(grid)))
-    L = 1.0
-    while min(float(G(np.array(L))), float(G(np.array(-L)))) - Gmin < span * scale:
-        L *= 1.1
-        if L > 1e4:
-            raise ModelError("the potential does not confine the noisy motion (G grows too "
-                             "slowly): no stationary density")
-    return L
-
-
 def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None = None,
                        n_cheb: int | None = None, sigma: float | None = None,
                        L: float | None = None, omega0: float | None = None,
-                       tol: float = 1e-8, max_cost: float = 2e7) -> KramersSolution:
+                       tol: float = 1e-8, max_cost: float = 2e7,
+                       basis: str | None = None) -> KramersSolution:
     """The stationary solution of the Kramers equation.
 
     Parameters
@@ -149,21 +122,25 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
     D : float
         Noise intensity, ``> 0``.
     n_hermite, n_cheb : int, optional
-        Hermite functions of the velocity and Chebyshev intervals in the position (default:
-        ``n_cheb`` resolves ``exp(-G/sigma^2)`` to 1e-9, and for a nonlinear damping the
-        last solve runs on 1.5 times as many intervals where ``max_cost`` allows;
-        ``n_hermite`` is 12 for linear damping, else doubled from 32 until ``<x^2>`` and
-        ``<v^2>`` both change by less than ``tol``, or until the next doubling would pass
-        ``max_cost``; the last change is the solution's ``hermite_change``, its stated
-        truncation error).
+        Hermite functions of the velocity and Chebyshev intervals in the position.
+        Default for linear damping: 12 functions, ``n_cheb`` resolves ``exp(-G/kT)`` to
+        1e-9.  For a nonlinear damping the ladders of
+        :func:`._stationary_orthonormal.stationary_orthonormal` (Hermite functions
+        ``32 * 2^(k/2)``, then the intervals by 1.25, each until ``<x^2>`` and ``<v^2>``
+        change by less than ``tol`` or the budget ends); the larger last change is the
+        solution's ``hermite_change``, its stated truncation error.  With
+        ``basis="risken"`` the number of functions is doubled from 32 and the last solve
+        runs on 1.5 times the intervals (the previous method).
     sigma, L : float, optional
         Velocity scale and half-width of the position range (default: ``sigma^2 = kT`` for
-        linear damping, else ``<v^2>`` measured by a coarse first solve; ``L`` where
-        ``G/sigma^2`` exceeds 45 above its minimum).
+        linear damping; for a nonlinear damping the scale that resolves the density's
+        reach and velocity structure, :func:`._stationary_orthonormal.stationary_orthonormal`;
+        ``L`` where ``G mu/D`` exceeds 45 above its minimum).
     omega0 : float, optional
         The frequency of ``a^2`` (default the model's ``omega0``, else ``sqrt(g'(0))``).
     tol : float
-        Relative change of ``<x^2>`` and ``<v^2>`` at which the Hermite doubling stops.
+        Relative change of ``<x^2>`` and ``<v^2>`` at which the Hermite (and, in the
+        orthonormal functions, the Chebyshev) ladder stops.
         (It tested ``<a^2>`` alone and stopped at 128 functions whatever the change: for the
         SEDF at mu = 0.1, Delta = 3, D = 0.05 ``<a^2>`` moved by 5e-5 from 128 to 256
         functions while ``<x^2>`` moved by 1.7e-2, and 2.2764 was printed to ten digits
@@ -171,6 +148,15 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
     max_cost : float
         Largest ``n_hermite * n_cheb^2`` (the nonzeros of the operator, about; the sparse
         LU's work grows with it): beyond it the solve is refused with the sizes.
+    basis : {None, "orthonormal", "risken"}
+        The velocity functions.  Default: Risken's pair (:mod:`._bases`) for linear
+        damping, where ``sigma^2 = kT`` makes the Maxwellian one function; the orthonormal
+        Hermite functions with Galerkin projection (:mod:`._stationary_orthonormal`, its
+        own choice of ``sigma``, points and sizes) for a nonlinear damping, where Risken's
+        pair grows every high order wherever the local friction is negative
+        (:mod:`._orthonormal`; the SEDF at mu = 0.1, Delta = 3, D = 0.05 gave
+        ``<x^2>`` = 2.2164, 2.2770, 2.3148 at 64, 128, 256 functions).  ``"risken"``
+        forces the old discretisation (a second method for comparisons).
 
     Returns
     -------
@@ -198,6 +184,12 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
                   else math.sqrt(float(split.numpy_functions()[1](np.array(0.0)))))
     terms = velocity_terms(split)
     kT = _linear_temperature(terms, D)
+    if basis not in (None, "orthonormal", "risken"):
+        raise ParameterError(f"basis = {basis!r}: use 'orthonormal' or 'risken'")
+    if basis == "orthonormal" or (basis is None and kT is None):
+        return stationary_orthonormal(split, D, G, float(omega0), n_hermite=n_hermite,
+                                      n_cheb=n_cheb, sigma=sigma, L=L, tol=tol,
+                                      max_cost=max_cost)
     if sigma is not None:
         s2 = float(sigma) ** 2
     elif kT is not None:
@@ -249,35 +241,6 @@ def _linear_temperature(terms, D: float) -> float | None:
     vals = terms[0][1](np.linspace(-3.0, 3.0, 7))
     c = -float(vals[0])
     return D / c if c > 0 and np.allclose(vals, vals[0], rtol=0, atol=1e-15) else None
-
-
-def lobatto_coefficients(f: np.ndarray) -> np.ndarray:
-    """The Chebyshev coefficients of the polynomial interpolating ``f`` at the points
-    ``cos(pi j/n)``, ``j = 0 .. n``: the discrete cosine transform of type I (Trefethen,
-    *Spectral Methods in MATLAB*, 2000, ch. 8; ``O(n^2)`` where the least-squares fit of
-    ``numpy.polynomial.chebyshev.chebfit`` on the same square system is ``O(n^3)``)."""
-    f = np.asarray(f, float)
-    n = f.size - 1
-    w = np.full(n + 1, 2.0 / n)
-    w[[0, -1]] /= 2
-    j = np.arange(n + 1)
-    c = np.cos(np.pi * np.outer(j, j) / n) @ (w * f)
-    c[[0, -1]] /= 2
-    return c
-
-
-def _chebyshev_size(G, s2: float, L: float, target: float = 1e-9) -> int:
-    """Chebyshev intervals that resolve ``exp(-(G - G_min)/sigma^2)`` on ``[-L, L]``."""
-    n = 64
-    while n < 600:
-        t = np.cos(np.pi * np.arange(n + 1) / n)
-        Gx = G(L * t)
-        f = np.exp(-(Gx - Gx.min()) / s2)
-        c = lobatto_coefficients(f)
-        if float(np.max(np.abs(c[-8:]))) <= target * float(np.max(np.abs(c))):
-            return int(math.ceil(1.15 * n))
-        n = int(1.2 * n)
-    return 600
 
 
 def _solve(split, D, sigma, half, nh, nc, G, omega0) -> KramersSolution:

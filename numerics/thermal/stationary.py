@@ -118,8 +118,10 @@ def fokker_planck_moments(model, params: dict, D: float, omega0: float,
             change = sol.hermite_change  # inf: a second truncation passed the budget
             return {"x2": sol.x2, "a2": sol.a2, "v2": sol.v2, "hermite": sol.coef.shape[0],
                     "chebyshev": sol.x.size, "half_width": float(sol.x[0]),
-                    "sigma": sol.sigma, "solution": sol,
-                    "hermite_change": change if math.isfinite(change) else None}, ""
+                    "sigma": sol.sigma, "solution": sol, "basis": sol.basis,
+                    "hermite_change": change if math.isfinite(change) else None,
+                    "chebyshev_change": (sol.chebyshev_change
+                                         if math.isfinite(sol.chebyshev_change) else None)}, ""
         except KBMError as exc:
             why = f"no Fokker-Planck solution: {exc}"
     if required:
@@ -225,7 +227,8 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
         "fokker_planck": None if fp is None else {
             "method": FOKKER_PLANCK, "hermite": fp["hermite"], "chebyshev": fp["chebyshev"],
             "half_width": fp["half_width"], "sigma": fp["sigma"], "v2": fp["v2"],
-            "hermite_change": fp["hermite_change"]},
+            "hermite_change": fp["hermite_change"], "basis": fp["basis"],
+            "chebyshev_change": fp["chebyshev_change"]},
         "fokker_planck_message": fp_why,
         "density": None, "steps": steps, "message": why, "scheme": system.scheme,
         "validity": {"z": {"a2": None, "x2": None}, "flagged": False, "threshold": Z_FLAG,

@@ -1,0 +1,82 @@
+"""The model's pieces that every Kramers solve needs (:mod:`.kramers`, :mod:`._orthonormal`,
+:mod:`._stationary_orthonormal`): the damping as a polynomial in the velocity, the
+half-width of the position range and the number of Chebyshev intervals that resolve
+``exp(-G/scale)``."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import sympy as sp
+
+from kbm.conservative import ConservativeSplit
+from kbm.errors import ModelError, ParameterError
+from kbm.symbols import x as X, xdot as V
+
+__all__ = ["velocity_terms", "lobatto_coefficients"]
+
+
+def velocity_terms(split: ConservativeSplit) -> list:
+    """``[(k, a_k)]`` with ``mu h(x, v) = sum_k a_k(x) v^k`` (numpy functions of ``x``).
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        When ``h`` is not a polynomial in the velocity.
+    """
+    h = sp.expand(split.mu * split.h)
+    try:
+        poly = sp.Poly(h, V)
+    except sp.PolynomialError:
+        raise ModelError(f"the damping mu h = {h} is not a polynomial in x': the Hermite "
+                         "expansion of the Kramers equation needs one") from None
+    out = []
+    for (k,), coef in zip(poly.monoms(), poly.coeffs()):
+        if coef.free_symbols - {X}:
+            raise ParameterError(f"the damping needs values for {coef.free_symbols - {X}}")
+        f = sp.lambdify(X, coef, "numpy")
+        out.append((int(k), lambda z, f=f: np.broadcast_to(np.asarray(f(z), float),
+                                                           np.shape(z)).copy()))
+    return out
+
+
+def _half_width(G, scale: float, span: float = 45.0) -> float:
+    grid = np.linspace(-50, 50, 20001)
+    Gmin = float(np.min(G(grid)))
+    L = 1.0
+    while min(float(G(np.array(L))), float(G(np.array(-L)))) - Gmin < span * scale:
+        L *= 1.1
+        if L > 1e4:
+            raise ModelError("the potential does not confine the noisy motion (G grows too "
+                             "slowly): no stationary density")
+    return L
+
+
+def lobatto_coefficients(f: np.ndarray) -> np.ndarray:
+    """The Chebyshev coefficients of the polynomial interpolating ``f`` at the points
+    ``cos(pi j/n)``, ``j = 0 .. n``: the discrete cosine transform of type I (Trefethen,
+    *Spectral Methods in MATLAB*, 2000, ch. 8; ``O(n^2)`` where the least-squares fit of
+    ``numpy.polynomial.chebyshev.chebfit`` on the same square system is ``O(n^3)``)."""
+    f = np.asarray(f, float)
+    n = f.size - 1
+    w = np.full(n + 1, 2.0 / n)
+    w[[0, -1]] /= 2
+    j = np.arange(n + 1)
+    c = np.cos(np.pi * np.outer(j, j) / n) @ (w * f)
+    c[[0, -1]] /= 2
+    return c
+
+
+def _chebyshev_size(G, s2: float, L: float, target: float = 1e-9) -> int:
+    """Chebyshev intervals that resolve ``exp(-(G - G_min)/sigma^2)`` on ``[-L, L]``."""
+    n = 64
+    while n < 600:
+        t = np.cos(np.pi * np.arange(n + 1) / n)
+        Gx = G(L * t)
+        f = np.exp(-(Gx - Gx.min()) / s2)
+        c = lobatto_coefficients(f)
+        if float(np.max(np.abs(c[-8:]))) <= target * float(np.max(np.abs(c))):
+            return int(math.ceil(1.15 * n))
+        n = int(1.2 * n)
+    return 600

@@ -1,0 +1,319 @@
+"""The stationary Kramers equation of a nonlinearly damped model in orthonormal Hermite
+functions of the velocity (:func:`orthonormal_stationary`, what
+:func:`.kramers.stationary_kramers` runs when the damping is not ``-gamma x'``), and the
+integrals of those functions that give the moments and ``P(E)``
+(:class:`OrthonormalKramersSolution`).
+
+Why this basis: :mod:`._orthonormal` (Risken's pair ``He_n(u) exp(-u^2/2)`` grows every high
+order where the local friction is negative; the SEDF at rest, mu = 0.1, Delta = 3,
+D = 0.05, gave ``<x^2>`` = 2.2164, 2.2770, 2.3148 at 64, 128, 256 orders).  Here
+``P(x, v) = sum_n c_n(x) h_n(v/s)/s`` with
+``h_n(xi) = H_n(xi) exp(-xi^2/2)/(2^n n! sqrt(pi))^(1/2)``, every order projected on the
+same functions (Galerkin), every ``c_n`` zero at ``x = +-L``.
+
+The truncated Galerkin operator does not conserve the mass exactly (the constant is not in
+the span of ``h_0 .. h_{N-1}``), so it is not singular: its eigenvalue nearest zero is a
+truncation error, ``lambda_0``, and the stationary density is its eigenvector, found by
+inverse iteration with the block LU of :mod:`._blocks` (the next eigenvalue, the slowest
+relaxation, is ``O(mu)`` or the escape rate, far from ``lambda_0``).  ``|lambda_0|`` is
+reported as the solution's ``residual``.
+
+The integrals (generating function ``sum H_n t^n/n! = exp(2 xi t - t^2)``, whose integral
+against ``exp(-xi^2/2)`` is ``sqrt(2 pi) exp(t^2)``):
+
+* ``m_n = int h_n dxi = 0`` for odd ``n``, ``m_{2k} = sqrt(2) pi^(1/4) sqrt((2k)!)/(2^k k!)``
+  (``m_{2k+2} = m_{2k} sqrt((2k+1)/(2k+2))``), so the marginal of ``x`` is
+  ``sum_n m_n c_n(x)``;
+* ``int xi^2 h_n dxi = (X^2 m)_n`` with ``X`` the tridiagonal multiplication by ``xi``, so
+  ``<v^2> = s^2 int sum_n (X^2 m)_n c_n dx``;
+* ``B_n(U) = int_{-U}^{U} h_n dxi``: ``B_0 = pi^(-1/4) sqrt(2 pi) erf(U/sqrt 2)``, odd
+  ``B_n = 0``, and from ``h_n' = sqrt(n/2) h_{n-1} - sqrt((n+1)/2) h_{n+1}`` integrated over
+  ``[-U, U]`` (``h_n`` odd for odd ``n``):
+  ``B_{n+1} = sqrt(n/(n+1)) B_{n-1} - 2 sqrt(2/(n+1)) h_n(U)`` for odd ``n``
+  (the factor ``sqrt(n/(n+1)) < 1``: stable upward).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._solution import KramersSolution
+
+__all__ = ["hermite_function_values", "hermite_integrals", "orthonormal_band_masses",
+           "OrthonormalKramersSolution", "orthonormal_stationary", "stationary_orthonormal"]
+
+
+def hermite_function_values(n: int, xi) -> np.ndarray:
+    """``h_k(xi)`` for ``k < n`` (rows), by the recurrence
+    ``h_{k+1} = sqrt(2/(k+1)) xi h_k - sqrt(k/(k+1)) h_{k-1}`` run on
+    ``h_k exp(xi^2/2)`` with the scale carried as an exponent (no underflow at large
+    ``|xi|``)."""
+    xi = np.asarray(xi, float)
+    out = np.zeros((n,) + xi.shape)
+    logscale = -0.5 * xi * xi  # log of the factor still to apply
+    prev = np.zeros(xi.shape)
+    cur = np.full(xi.shape, math.pi ** -0.25)
+    for k in range(n):
+        out[k] = cur * np.exp(logscale)
+        nxt = math.sqrt(2.0 / (k + 1)) * xi * cur - math.sqrt(k / (k + 1.0)) * prev
+        big = np.abs(nxt) > 1e150
+        if big.any():
+            nxt = np.where(big, nxt * 1e-150, nxt)
+            cur = np.where(big, cur * 1e-150, cur)
+            logscale = np.where(big, logscale + 150 * math.log(10.0), logscale)
+        prev, cur = cur, nxt
+    return out
+
+
+def hermite_integrals(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """``(m, q)``: ``m_k = int h_k dxi`` and ``q_k = int xi^2 h_k dxi`` for ``k < n``
+    (module docstring)."""
+    from ._orthonormal import orthonormal_matrices
+
+    big = n + 2
+    m = np.zeros(big)
+    m[0] = math.sqrt(2.0) * math.pi ** 0.25
+    for k in range(2, big, 2):
+        m[k] = m[k - 2] * math.sqrt((k - 1.0) / k)
+    X, _ = orthonormal_matrices(big)
+    q = X @ (X @ m)
+    return m[:n], q[:n]
+
+
+def orthonormal_band_masses(n: int, U) -> np.ndarray:
+    """``B_k(U) = int_{-U}^{U} h_k dxi`` for ``k < n`` (rows) at each ``U >= 0``."""
+    from scipy.special import erf
+
+    U = np.asarray(U, float)
+    h = hermite_function_values(max(n - 1, 1), U)
+    out = np.zeros((n,) + U.shape)
+    out[0] = math.pi ** -0.25 * math.sqrt(2 * math.pi) * erf(U / math.sqrt(2))
+    for k in range(1, n - 1, 2):
+        out[k + 1] = math.sqrt(k / (k + 1.0)) * out[k - 1] - 2 * math.sqrt(2.0 / (k + 1)) * h[k]
+    return out
+
+
+@dataclass(frozen=True, eq=False, repr=False)  # the base class's short repr
+class OrthonormalKramersSolution(KramersSolution):
+    """:class:`.KramersSolution` with ``P = sum c_n h_n(v/sigma)/sigma`` in the orthonormal
+    Hermite functions (``sigma`` is the scale ``s``): the marginal is ``sum m_n c_n``,
+    ``<v^2> = sigma^2 int sum q_n c_n dx`` and the velocity band integrals are
+    :func:`orthonormal_band_masses`.  The points are those of
+    :func:`._bases.cheb_mapped` with :attr:`alpha` (``x = L arcsin(alpha t)/arcsin(alpha)``).
+    """
+
+    alpha: float = 0.0
+    centres: tuple = ()
+    widths: tuple = ()
+    weight: float = 0.0
+    basis = "orthonormal"
+
+    def _t(self, xs: np.ndarray) -> np.ndarray:
+        """The inverse of the map of :func:`._bases.cheb_centred` (or
+        :func:`._bases.cheb_mapped` without centres)."""
+        L = float(self.x[0])
+        xs = np.asarray(xs, float)
+        if self.centres:
+            c, w = np.asarray(self.centres), np.asarray(self.widths)
+
+            def psi(z):
+                return z / L + (self.weight * np.arctan((z[..., None] - c) / w)).sum(axis=-1)
+
+            lo, hi = psi(np.array([-L, L]))
+            u = -1 + 2 * (psi(xs) - lo) / (hi - lo)
+        else:
+            u = xs / L
+        if self.alpha == 0:
+            return u
+        return np.sin(math.asin(self.alpha) * u) / self.alpha
+
+    def _integrals(self):
+        if "integrals" not in self._cache:
+            self._cache["integrals"] = hermite_integrals(self.coef.shape[0])
+        return self._cache["integrals"]
+
+    def marginal(self) -> np.ndarray:
+        """The density of ``x`` at the points :attr:`x`."""
+        return self._integrals()[0] @ self.coef
+
+    @property
+    def x2(self) -> float:
+        """``<x^2>``."""
+        return float(np.sum(self.weights * self.x**2 * self.marginal()))
+
+    @property
+    def v2(self) -> float:
+        """``<v^2> = sigma^2 int sum_n q_n c_n dx``."""
+        return float(self.sigma**2 * np.sum(self.weights * (self._integrals()[1] @ self.coef)))
+
+    def _band(self, n: int, U) -> np.ndarray:
+        return orthonormal_band_masses(n, U)
+
+
+def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: int, G,
+                           omega0: float, *, alpha: float = 0.95, centres=(), widths=(),
+                           weight: float = 0.0, iterations: int = 8,
+                           rtol: float = 1e-14) -> OrthonormalKramersSolution:
+    """One stationary solve in ``nh`` orthonormal Hermite functions of ``v/s`` times
+    ``nc + 1`` Chebyshev points on ``[-half, half]``: inverse iteration on the Galerkin
+    operator (every ``c_n(+-half) = 0``) from the Maxwellian ``exp(-G/s^2)`` in ``h_0``,
+    until the normalised coefficients change by less than ``rtol`` (at most
+    ``iterations`` solves).  The residual is the eigenvalue estimate ``|lambda_0|``."""
+    from ._bases import cheb_centred, cheb_mapped, clenshaw_curtis
+    from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
+    from ._orthonormal import orthonormal_terms
+
+    centres, widths = tuple(map(float, centres)), tuple(map(float, widths))
+    if centres:
+        xs, Dx = cheb_centred(nc, half, alpha, centres, widths, weight)
+    else:
+        xs, Dx = cheb_mapped(nc, half, alpha)
+    t = np.cos(np.pi * np.arange(nc + 1) / nc)
+    w = clenshaw_curtis(nc, 1.0) / (Dx @ t)  # dx/dt = 1/(D_x t), D_t t = 1
+    m = xs.size
+    terms = orthonormal_terms(split, D, s, xs, Dx, nh)
+    keep = np.ones(nh * m)
+    ends = np.concatenate([[k * m, k * m + m - 1] for k in range(nh)])
+    keep[ends] = 0.0
+    mass, _ = hermite_integrals(nh)
+    Gx = np.asarray(G(xs), float)
+    c = np.zeros(nh * m)
+    c[:m] = np.exp(-(Gx - Gx.min()) / s**2)
+    c *= keep
+    c /= float(np.sum(w * (mass @ c.reshape(nh, m))))
+    lam = math.nan
+    with one_blas_thread():
+        lu = BlockTridiagonalLU(TermBlocks(terms, m, None, (0, m - 1), 0), m)
+        for _ in range(iterations):
+            new = lu.solve(keep * c)
+            norm = float(np.sum(w * (mass @ new.reshape(nh, m))))
+            new /= norm
+            lam = 1.0 / norm  # A new = c / norm, both normalised: A c ~ lam c
+            done = float(np.max(np.abs(new - c))) <= rtol * float(np.max(np.abs(new)))
+            c = new
+            if done:
+                break
+    c = c.reshape(nh, m)
+    return OrthonormalKramersSolution(xs, w, c, s, G, float(omega0), abs(lam),
+                                      alpha=float(alpha), centres=centres, widths=widths,
+                                      weight=float(weight))
+
+
+
+#: the Kosloff-Tal-Ezer parameter of the position points (:func:`._bases.cheb_mapped`)
+ALPHA = 0.95
+#: the saddles' total weight in the map of the points (:func:`._bases.cheb_centred`):
+#: about ``pi w/(1 + pi w)`` = 79 % of the points within a few widths of the saddles
+SADDLE_WEIGHT = 1.2
+#: each saddle's width in the map, in layer widths ``l = (D/omega_b)^(1/2)/omega_b``: the
+#: SEDF at mu = 0.1, Delta = 3, D = 0.05, 128 functions on 266 intervals: <x^2> 1.3e-5
+#: off with 4 l, 1.2e-6 with 8 l, 1.7e-7 with 12 l, 1.3e-6 with 16 l (from 182 x 656)
+LAYER_WIDTHS = 12.0
+#: the first Hermite truncation of the ladder (:func:`.escape.hermite_ladder`)
+FIRST_HERMITE = 32
+#: the fewest position intervals of the Hermite ladder: on fewer the grid's own error
+#: moves the moments and the ladder climbs for nothing (vdp mu = 0.3, D = 0.15: on 64
+#: intervals it went to 1448 functions, on 88 it stops at 512)
+MIN_INTERVALS = 96
+
+
+def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int | None,
+                           n_cheb: int | None, sigma: float | None, L: float | None,
+                           tol: float, max_cost: float) -> OrthonormalKramersSolution:
+    """The stationary Kramers solve of a nonlinear damping with its sizes chosen and
+    measured (what :func:`.kramers.stationary_kramers` runs for it).
+
+    1. The range ``L``: where ``G`` exceeds its minimum by ``45 D/mu``
+       (:func:`.kramers._half_width`; a pilot's marginal is not small enough at its ends
+       to place it: a 64-function solve of the SEDF is 1e-5 of its peak there, of either
+       sign).  A pilot (32 functions at ``s = (D/mu)^(1/2)``) measures ``<v^2>``.
+    2. The velocity scale, as in :func:`._orthonormal.velocity_scale`: ``N`` functions
+       reach ``s (2N)^(1/2)`` and resolve ``pi s/(2N)^(1/2)``; the density reaches
+       ``V = 6 <v^2>^(1/2)`` and has velocity structure of width
+       ``delta = (D/omega)^(1/2)``, ``omega^2`` the largest ``|g'|`` on the range (the
+       separatrix layer at the stiffest saddle); both are resolved at
+       ``s = (delta V/(2 pi))^(1/2)``.
+    3. The points: :func:`._bases.cheb_centred` around the saddles (maxima of ``G``) on
+       the range, each ``12 l`` wide (``l = delta_b/omega_b`` the layer's width in ``x``),
+       else :func:`._bases.cheb_mapped`; half the number of
+       :func:`.kramers._chebyshev_size` on ``exp(-G mu/D)``, at least
+       :data:`MIN_INTERVALS`.
+    4. The Hermite ladder (``32 * 2^(k/2)``) on those intervals until two rungs'
+       ``<x^2>`` and ``<v^2>`` agree to ``tol`` or the next would leave no room for a
+       grid 1.25 times finer in ``max_cost`` (``N n_cheb^2``); then the intervals grow by 1.25 at that ``N`` until the moments
+       agree to ``tol`` or the budget ends; then the previous rung once more on the last
+       points.  The solution's ``hermite_change`` is the larger of the last Hermite and
+       Chebyshev changes (``chebyshev_change`` the second).
+    """
+    from scipy.optimize import brentq
+
+    from ._model import _chebyshev_size, _half_width
+    from kbm.errors import ModelError
+
+    mu = float(split.mu)
+    g, gp = split.numpy_functions()[:2]
+    half = _half_width(G, D / mu) if L is None else float(L)
+    nc_h = max(MIN_INTERVALS, 2 * math.ceil(_chebyshev_size(G, D / mu, half) / 4))
+    pilot = orthonormal_stationary(split, D, math.sqrt(D / mu), half, FIRST_HERMITE,
+                                   nc_h if n_cheb is None else int(n_cheb), G, omega0,
+                                   alpha=ALPHA)
+    v2 = pilot.v2
+    if not (math.isfinite(v2) and v2 > 0):
+        raise ModelError(f"the coarse Kramers solve gave <v^2> = {v2}: no stationary "
+                         "density (check that the damping confines the motion)")
+    z = np.linspace(-half, half, 20001)
+    gz = np.asarray(g(z), float)
+    saddles = [brentq(g, z[i], z[i + 1], xtol=1e-14)
+               for i in np.flatnonzero((gz[:-1] > 0) & (gz[1:] <= 0))]
+    wmax = math.sqrt(float(np.max(np.abs(gp(z)))))
+    if sigma is None:
+        sigma = math.sqrt(math.sqrt(D / wmax) * 6 * math.sqrt(v2) / (2 * math.pi))
+    wb = [math.sqrt(abs(float(gp(np.array(c))))) for c in saddles]
+    points = dict(alpha=ALPHA, centres=tuple(saddles),
+                  widths=tuple(LAYER_WIDTHS * math.sqrt(D / w) / w for w in wb),
+                  weight=SADDLE_WEIGHT / max(len(saddles), 1))
+    nc = nc_h if n_cheb is None else int(n_cheb)
+    nh = FIRST_HERMITE if n_hermite is None else int(n_hermite)
+    if nh * nc**2 > max_cost:
+        raise ModelError(f"the Kramers solve needs {nh} Hermite functions x {nc + 1} Chebyshev "
+                         f"points (cost {nh * nc**2:.3g} > {max_cost:.3g}): not affordable here")
+
+    def solve(n, m):
+        return orthonormal_stationary(split, D, float(sigma), half, n, m, G, omega0, **points)
+
+    def moved(a, b):
+        return max(abs(b.x2 - a.x2) / abs(b.x2), abs(b.v2 - a.v2) / abs(b.v2))
+
+    sol = solve(nh, nc)
+    change = cheb_change = math.nan
+    prev = nh
+    if n_hermite is None:
+        change = math.inf
+        room = (2 * math.ceil(0.625 * nc)) ** 2 if n_cheb is None else nc**2
+        first = nh
+        for k in range(1, 13):  # first * 2^(k/2), even (as .escape.hermite_ladder)
+            n = 2 * int(round(first * 2 ** (k / 2) / 2))
+            if n * room > max_cost:  # one finer grid stays affordable
+                break
+            new = solve(n, nc)
+            change, sol, prev, nh = moved(sol, new), new, nh, n
+            if change <= tol:
+                break
+    if n_cheb is None:
+        cheb_change = math.inf
+        while True:
+            finer = 2 * math.ceil(0.625 * nc)
+            if nh * finer**2 > max_cost:
+                break
+            new = solve(nh, finer)
+            cheb_change, sol, nc = moved(sol, new), new, finer
+            if cheb_change <= tol:
+                break
+        if n_hermite is None and prev < nh:  # the Hermite change again on the last points
+            change = moved(solve(prev, nc), sol)
+    stated = max(change, cheb_change) if n_hermite is None else math.nan
+    return dataclasses.replace(sol, hermite_change=stated, chebyshev_change=cheb_change)

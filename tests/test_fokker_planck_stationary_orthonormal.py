@@ -1,0 +1,199 @@
+"""The stationary Kramers equation of a nonlinear damping in orthonormal Hermite functions
+(numerics/fokker_planck/_stationary_orthonormal.py).
+
+References: the integrals of the Hermite functions by adaptive quadrature of
+``H_n(xi) exp(-xi^2/2)`` (numpy's physicists' Hermite series, a second evaluation); the
+fundamental theorem of calculus for the band integrals; two identities of any stationary
+state of ``x'' = -g(x) + mu (1 - beta x^2) x' + sqrt(2 D) xi``: the virial theorem
+``<x g(x)> = <x'^2>`` (``<x (1 - beta x^2) x'>`` is the mean of a time derivative) and the
+energy balance ``mu <(beta x^2 - 1) x'^2> = D`` (Ito: ``d<H>/dt = mu <h x'> + D``); the
+mass below an energy against a two-dimensional quadrature of the density; a fixed-seed
+Langevin ensemble.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+from numpy.polynomial.hermite import hermval
+from scipy.integrate import quad
+
+from numerics.fokker_planck import stationary_kramers
+from numerics.fokker_planck._stationary_orthonormal import (
+    hermite_function_values, hermite_integrals, orthonormal_band_masses)
+
+SEDF = {"mu": 0.1, "Delta": 3, "beta": 1, "lam": 1}
+
+
+def _h(n, xi):
+    c = np.zeros(n + 1)
+    c[n] = 1.0
+    norm = math.sqrt(2.0**n * math.factorial(n) * math.sqrt(math.pi))
+    return hermval(xi, c) * np.exp(-0.5 * np.asarray(xi) ** 2) / norm
+
+
+def test_hermite_functions_and_integrals_against_quadrature():
+    """h_n against numpy's H_n series; int h_n and int xi^2 h_n (the marginal's and
+    <v^2>'s weights) against adaptive quadrature, n < 24; no underflow far out (n < 600
+    at xi = 30 and 40: Cramer's bound |h_n| <= pi^(-1/4), h_0 exact at 1e-196, the last
+    one O(0.1) inside its turning point)."""
+    xi = np.array([-3.1, -0.4, 0.0, 0.7, 2.5, 6.0])
+    vals = hermite_function_values(24, xi)
+    for n in range(24):
+        assert vals[n] == pytest.approx(_h(n, xi), abs=1e-13)
+    m, q = hermite_integrals(24)
+    for n in range(24):
+        assert m[n] == pytest.approx(quad(lambda z: _h(n, z), -40, 40, limit=400)[0],
+                                     abs=1e-12)
+        assert q[n] == pytest.approx(quad(lambda z: z * z * _h(n, z), -40, 40,
+                                          limit=400)[0], abs=1e-11)
+    far = hermite_function_values(600, np.array([30.0, 40.0]))
+    assert np.all(np.isfinite(far))
+    assert np.max(np.abs(far)) <= math.pi ** -0.25  # Cramer's inequality
+    assert far[0, 0] == pytest.approx(math.pi ** -0.25 * math.exp(-450.0), rel=1e-13)
+    assert abs(far[-1, 0]) > 1e-3  # inside the turning point sqrt(2n + 1) = 34.6
+
+
+def test_band_masses_against_quadrature():
+    """B_n(U) = int_{-U}^{U} h_n against adaptive quadrature; B_n(U) -> m_n far out."""
+    U = np.array([0.3, 1.7, 4.0, 9.0])
+    B = orthonormal_band_masses(20, U)
+    for n in range(20):
+        ref = [quad(lambda z: _h(n, z), -u, u, limit=200)[0] for u in U]
+        assert B[n] == pytest.approx(ref, abs=1e-12)
+    m, _ = hermite_integrals(40)
+    assert orthonormal_band_masses(40, np.array([60.0]))[:, 0] == pytest.approx(m, abs=1e-13)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(0.05, 12.0), st.integers(0, 40))
+def test_band_mass_derivative_is_twice_the_function(U, k):
+    """d B_n/dU = h_n(U) + h_n(-U): 2 h_n(U) for even n, 0 for odd (fundamental theorem),
+    by a central difference."""
+    n = 2 * (k // 2) + (k % 2)
+    e = 1e-5
+    B = orthonormal_band_masses(n + 1, np.array([U - e, U + e]))[n]
+    slope = (B[1] - B[0]) / (2 * e)
+    want = 2 * _h(n, U) if n % 2 == 0 else 0.0
+    assert slope == pytest.approx(want, abs=1e-7)
+
+
+@pytest.fixture(scope="module")
+def vdp_small():
+    return stationary_kramers("vdp", {"mu": 0.3}, 0.15, n_hermite=128, n_cheb=64)
+
+
+def test_points_map_inverts(vdp_small):
+    """The solution's Chebyshev variable of its own points is cos(pi k/n) (the inverse of
+    the Kosloff-Tal-Ezer map, and of the saddle-centred map for the SEDF)."""
+    n = vdp_small.x.size - 1
+    t = np.cos(np.pi * np.arange(n + 1) / n)
+    assert vdp_small._t(vdp_small.x) == pytest.approx(t, abs=1e-13)
+    sedf = stationary_kramers("sedf", SEDF, 0.05, n_hermite=32, n_cheb=120)
+    assert sedf.centres and len(sedf.centres) == 6
+    t = np.cos(np.pi * np.arange(121) / 120)
+    assert sedf._t(sedf.x) == pytest.approx(t, abs=1e-12)
+
+
+def test_mass_below_against_two_dimensional_quadrature(vdp_small):
+    """P(H < E) of the orthonormal solution (band recurrence inside, Gauss-Legendre over
+    the stretch outside) against the density evaluated from h_n on a velocity grid and
+    integrated by Gauss-Legendre in v and adaptive quadrature in x; the whole mass is 1;
+    the energy bins add up to the mass below their top."""
+    from numpy.polynomial import chebyshev as C
+
+    sol = vdp_small
+    series = sol._series()
+    gl_t, gl_w = np.polynomial.legendre.leggauss(160)
+
+    def band(x, E):
+        V = math.sqrt(max(2 * (E - 0.5 * x * x), 0.0))
+        if V == 0:
+            return 0.0
+        v = V * gl_t
+        c = C.chebval(sol._t(np.array(x)), series)
+        P = c @ hermite_function_values(c.size, v / sol.sigma) / sol.sigma
+        return float(V * np.sum(gl_w * P))
+
+    for E in (0.8, 4.5):
+        X = math.sqrt(2 * E)
+        ref = quad(band, -X, X, args=(E,), limit=200, epsabs=1e-12, epsrel=1e-11)[0]
+        assert sol.mass_below(E) == pytest.approx(ref, abs=1e-9)
+    # the whole mass (normalised by Clenshaw-Curtis): 1 up to this small truncation's
+    # velocity tail (128 functions x 64 intervals)
+    assert sol.mass_below(40.0) == pytest.approx(1.0, abs=1e-6)
+    edges = np.linspace(0.0, 6.0, 7)
+    assert np.sum(sol.energy_bins(edges) * np.diff(edges)) == pytest.approx(
+        sol.mass_below(6.0), abs=1e-12)
+
+
+def test_van_der_pol_virial_in_the_orthonormal_basis():
+    """vdp mu = 0.3, D = 0.15 (g = x): <x^2> = <x'^2> (virial theorem) to 1e-9 on 362
+    functions x 120 intervals."""
+    sol = stationary_kramers("vdp", {"mu": 0.3}, 0.15, n_hermite=362, n_cheb=120)
+    assert sol.v2 == pytest.approx(sol.x2, rel=1e-9)
+
+
+@pytest.mark.slow
+def test_van_der_pol_against_risken_pair():
+    """vdp mu = 0.3, D = 0.15: <x^2> in the orthonormal functions (362 x 120) equal to
+    Risken's pair (a second basis, a second scale, 256 functions x 132 intervals) to
+    1e-9."""
+    sol = stationary_kramers("vdp", {"mu": 0.3}, 0.15, n_hermite=362, n_cheb=120)
+    pair = stationary_kramers("vdp", {"mu": 0.3}, 0.15, n_hermite=256, n_cheb=132,
+                              basis="risken")
+    assert sol.x2 == pytest.approx(pair.x2, rel=1e-9)
+
+
+def _sedf_identities(sol):
+    """``(<x g>, <v^2>, mu <(x^2 - 1) v^2>)`` of a SEDF solution (beta = 1)."""
+    from kbm.conservative import split_conservative
+
+    from numerics.fokker_planck._stationary_orthonormal import hermite_integrals
+
+    g = split_conservative("sedf", SEDF).numpy_functions()[0]
+    _, q = hermite_integrals(sol.coef.shape[0])
+    v2x = sol.sigma**2 * (q @ sol.coef)  # int v^2 P dv at each point
+    xg = float(np.sum(sol.weights * sol.x * g(sol.x) * sol.marginal()))
+    return xg, sol.v2, 0.1 * float(np.sum(sol.weights * (sol.x**2 - 1) * v2x))
+
+
+@pytest.mark.slow
+def test_sedf_identities_at_fixed_sizes():
+    """SEDF at rest, mu = 0.1, Delta = 3, D = 0.05 (the case Risken's pair could not
+    converge: 2.2164, 2.2770, 2.3148 at 64, 128, 256 functions): the virial theorem
+    <x g(x)> = <x'^2> to 1e-7 and the energy balance mu <(x^2 - 1) x'^2> = D to 1e-5 on
+    128 functions x 334 intervals, and <x^2> within 1e-7 of the 182 x 657 solve of
+    docs/noise.rst (2.3285218589)."""
+    sol = stationary_kramers("sedf", SEDF, 0.05, n_hermite=128, n_cheb=334)
+    xg, v2, balance = _sedf_identities(sol)
+    assert xg == pytest.approx(v2, rel=1e-7)
+    assert balance == pytest.approx(0.05, rel=1e-5)
+    assert sol.x2 == pytest.approx(2.3285218589, rel=1e-7)
+
+
+def test_sedf_identities_coarse():
+    """The cheap sibling of :func:`test_sedf_identities_at_fixed_sizes`: 90 functions x
+    266 intervals hold the virial theorem to 1e-5 and the energy balance to 2e-4, and
+    <x^2> within 1e-5 of 2.3285218589."""
+    sol = stationary_kramers("sedf", SEDF, 0.05, n_hermite=90, n_cheb=266)
+    xg, v2, balance = _sedf_identities(sol)
+    assert xg == pytest.approx(v2, rel=1e-5)
+    assert balance == pytest.approx(0.05, rel=2e-4)
+    assert sol.x2 == pytest.approx(2.3285218589, rel=1e-5)
+
+
+@pytest.mark.slow
+def test_sedf_against_simulation():
+    """SEDF, mu = 0.1, Delta = 3, D = 0.05: a fixed-seed ensemble within 4 standard
+    errors of the Kramers solution for <x^2> and <a^2>."""
+    from numerics.noise.ensemble import stationary_ensemble
+
+    sol = stationary_kramers("sedf", SEDF, 0.05, n_hermite=128, n_cheb=334)
+    ens = stationary_ensemble("sedf", SEDF, 0.05, trajectories=128, t_end=2000.0,
+                              burn_in=200.0, dt=0.005, seed=11)
+    assert abs(ens.x2.value - sol.x2) < 4 * ens.x2.stderr
+    assert abs(ens.a2.value - sol.a2) < 4 * ens.a2.stderr

@@ -43,7 +43,7 @@ import numpy as np
 import scipy.sparse as sps
 
 from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
-from ._model import velocity_terms
+from ._model import grid_check, velocity_terms
 
 __all__ = ["orthonormal_matrices", "orthonormal_terms", "velocity_scale",
            "orthonormal_slowest", "nonlinear_escape", "OTHER_SCALE"]
@@ -180,15 +180,9 @@ def nonlinear_escape(split, D: float, saddles, half: float, sink, points, ladder
                     break
         if not math.isfinite(scale_err):
             scale_err = abs(solve(ladder[len(rates) - 1], nc, OTHER_SCALE) - rates[-1])
-        k = len(rates) - 1
-        prev = max(k - 1, 0)
-        finer = 2 * int(round(1.2 * nc / 2))
-        check = max([i for i in range(prev + 1) if fits(ladder[i], finer)], default=0)
-        r_fine = solve(ladder[check], finer)
-        table.append((ladder[check], finer, r_fine))
-        cheb_err = abs(r_fine - rates[check])
-        if (cheb_err <= tol * abs(rates[-1]) or finer > max_cheb
-                or not fits(ladder[prev], finer)):
+        cheb_err, done, finer, k, prev = grid_check(ladder, rates, nc, 1.2, fits, solve,
+                                                    table, tol, max_cheb)
+        if done:
             break
         nc, start = finer, ladder[prev]
     r_sharp = solve(ladder[prev], nc, sharp=2)

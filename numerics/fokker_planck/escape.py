@@ -54,6 +54,7 @@ from kbm.errors import ModelError, ParameterError
 from ._bases import cheb_centred, cheb_mapped
 from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
 from ._fraction import EscapeFraction
+from ._model import grid_check
 from ._orthonormal import nonlinear_escape
 from ._rungs import FractionRungs
 from .kramers import _linear_temperature, kramers_operator, kramers_terms, velocity_terms
@@ -378,18 +379,9 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
                 table.append((n, nc, rates[-1]))
             if len(rates) > 1 and abs(rates[-1] - rates[-2]) <= tol * abs(rates[-1]):
                 break
-        k = len(rates) - 1
-        prev = max(k - 1, 0)
-        finer = 2 * int(round(grow * nc / 2))
-        # on the finer grid at the largest truncation the memory allows: the top rung's
-        # when it fits (at the rung below, the CDC at mu = 0.02 stated 3e-15 of a grid
-        # error of 4e-10, the high orders needing the finer grid most)
-        check = max([i for i in range(k + 1) if fits(ladder[i], finer)], default=0)
-        r_fine = solve(ladder[check], finer)
-        table.append((ladder[check], finer, r_fine))
-        cheb_err = abs(r_fine - rates[check])
-        if (cheb_err <= tol * abs(rates[-1]) or finer > max_cheb
-                or not fits(ladder[prev], finer)):
+        cheb_err, done, finer, k, prev = grid_check(ladder, rates, nc, grow, fits, solve,
+                                                    table, tol, max_cheb)
+        if done:
             break
         nc, start = finer, ladder[prev]
     r_sharp = solve(ladder[prev], nc, sharp=2)

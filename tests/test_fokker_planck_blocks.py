@@ -22,6 +22,17 @@ from numerics.fokker_planck.escape import _slowest, next_wells
 PARAMS = {"Delta": 2, "lam": 1.3, "Omega": 1}
 
 
+def _cdc_wells(mu):
+    """``(split, g, xs, wells)`` of the CDC at ``PARAMS``: the saddle ``xs`` by Brent on
+    ``g`` (independent of the code under test) and the next wells' bottoms."""
+    from scipy.optimize import brentq
+
+    split = split_conservative("cdc", dict(PARAMS, mu=mu))
+    g = split.numpy_functions()[0]
+    xs = brentq(lambda z: float(g(np.array(z))), 0.3, 1.0, xtol=1e-15)
+    return split, g, xs, next_wells(g, (-xs, xs))
+
+
 def _banded(rng, n_orders, m, b):
     """A random matrix coupling Hermite orders ``n`` to ``n +- b`` only; the diagonal
     blocks grow with ``n`` like the damping ``-n gamma`` and the ``n = 0`` block is
@@ -96,12 +107,7 @@ def test_escape_rate_independent_of_the_factorisation():
     """The slowest decay rate with the sink (mu = 1, 32 Hermite x 96 Chebyshev) is the same
     from the block LU and from SuperLU to 1e-10."""
     mu, kT = 1.0, 0.15
-    split = split_conservative("cdc", dict(PARAMS, mu=mu))
-    g = split.numpy_functions()[0]
-    from scipy.optimize import brentq
-
-    xs = brentq(lambda z: float(g(np.array(z))), 0.3, 1.0, xtol=1e-15)
-    wells = next_wells(g, (-xs, xs))
+    split, g, xs, wells = _cdc_wells(mu)
     args = (split, kT * mu, math.sqrt(kT), wells, 1.2 * wells[1], 32, 96, 5.0,
             0.1 * (wells[1] - xs))
     block = _slowest(*args, solver="block")
@@ -150,13 +156,9 @@ def test_closed_form_blocks_equal_the_assembled_escape_matrix():
     from numerics.fokker_planck._bases import cheb
     from numerics.fokker_planck._fraction import EscapeFraction
     from numerics.fokker_planck.escape import _sink
-    from scipy.optimize import brentq
 
     mu, kT = 0.3, 0.15
-    split = split_conservative("cdc", dict(PARAMS, mu=mu))
-    g = split.numpy_functions()[0]
-    xs = brentq(lambda z: float(g(np.array(z))), 0.3, 1.0, xtol=1e-15)
-    wells = next_wells(g, (-xs, xs))
+    split, g, xs, wells = _cdc_wells(mu)
     half, width = 1.25 * wells[1], 0.1 * (wells[1] - xs)
     ref = _slowest(split, kT * mu, math.sqrt(kT), wells, half, 40, 48, 5.0, width,
                    solver="block")
@@ -179,13 +181,9 @@ def test_upward_elimination_solves_and_extends():
     from numerics.fokker_planck._bases import cheb
     from numerics.fokker_planck._fraction import EscapeFraction
     from numerics.fokker_planck.escape import _sink
-    from scipy.optimize import brentq
 
     mu, kT, nh, nc = 0.3, 0.15, 12, 24
-    split = split_conservative("cdc", dict(PARAMS, mu=mu))
-    g = split.numpy_functions()[0]
-    xs = brentq(lambda z: float(g(np.array(z))), 0.3, 1.0, xtol=1e-15)
-    wells = next_wells(g, (-xs, xs))
+    split, g, xs, wells = _cdc_wells(mu)
     half, width = 1.25 * wells[1], 0.1 * (wells[1] - xs)
     terms, x, _ = kramers_terms(split, kT * mu, math.sqrt(kT), half, nh, nc)
     kappa = _sink(x, wells, 5.0, width)
@@ -311,13 +309,9 @@ def test_factors_in_a_used_buffer_are_those_of_a_fresh_one():
     from numerics.fokker_planck._fraction import EscapeFraction
     from numerics.fokker_planck._rungs import FractionRungs
     from numerics.fokker_planck.escape import _sink
-    from scipy.optimize import brentq
 
     mu, kT, nh, nc = 0.3, 0.15, 12, 24
-    split = split_conservative("cdc", dict(PARAMS, mu=mu))
-    g = split.numpy_functions()[0]
-    xs = brentq(lambda z: float(g(np.array(z))), 0.3, 1.0, xtol=1e-15)
-    wells = next_wells(g, (-xs, xs))
+    split, g, xs, wells = _cdc_wells(mu)
     half, width = 1.25 * wells[1], 0.1 * (wells[1] - xs)
     x, Dx = cheb(nc, half)
     args = (Dx, np.asarray(g(x), float), _sink(x, wells, 5.0, width), math.sqrt(kT), mu)

@@ -171,27 +171,6 @@ class OneDof:
             return np.array([y[0] - x0, y[1], y[6]])
         return G
 
-    def cycle_jacobian(self, z) -> np.ndarray:
-        """``dG/dz`` of :meth:`cycle_fold`: the monodromy for ``x0``, the field for ``T``,
-        central differences for ``int div f`` in ``x0`` and for ``(a, b)``."""
-        x0, T, a, b = (float(v) for v in z)
-        y = self.end_state(x0, T, a, b)
-        cm = self.compiled(a, b)
-        acc = cm.acc(0.0, y[0], y[1])
-        J = np.zeros((3, 4))
-        J[0, 0], J[1, 0] = y[2] - 1.0, y[3]
-        J[0, 1], J[1, 1] = y[1], acc
-        J[2, 1] = self.d(0, 1, y[0], y[1], a, b)
-        h = 1e-6 * (1 + abs(x0))
-        J[2, 0] = (self.end_state(x0 + h, T, a, b)[6] - self.end_state(x0 - h, T, a, b)[6]) / (2 * h)
-        for k, (da, db) in ((2, (1, 0)), (3, (0, 1))):
-            p = a if k == 2 else b
-            hp = 1e-6 * (1 + abs(p))
-            yp = self.end_state(x0, T, a + da * hp, b + db * hp)
-            ym = self.end_state(x0, T, a - da * hp, b - db * hp)
-            J[:, k] = (np.array([yp[0], yp[1], yp[6]]) - np.array([ym[0], ym[1], ym[6]])) / (2 * hp)
-        return J
-
 
 @memo(maxsize=16)
 def _derivatives(model, names: tuple[str, ...]):

@@ -28,7 +28,6 @@ The averaged tongue: the folds of the slow flow's locked fixed point
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 
 import numpy as np
@@ -36,14 +35,12 @@ import sympy as sp
 
 from kbm.errors import KBMError, ParameterError
 from numerics.bifurcation.forced_averaged import rates_system
-from numerics.bifurcation.twoway import (FD_STEP, Task, both_ways, codim2_points, distances,
-                                         dropped_seed, interruptible, joined, on_known,
-                                         seed_levels, why_short)
-from numerics.bifurcation.result import Codim2Point, Curve, Diagram
+from numerics.bifurcation.twoway import (FD_STEP, Task, both_ways, codim2_points, dropped_seed,
+                                         interruptible, joined, on_known, why_short)
+from numerics.bifurcation.result import Codim2Point, Curve
 from numerics.errors import NoCycleError, NumericsError
 
-__all__ = ["LockedCycleFold", "coupled_true_folds", "coupled_averaged_folds", "coupled_diagram",
-           "edge_at", "line_start"]
+__all__ = ["LockedCycleFold", "coupled_true_folds", "coupled_averaged_folds", "line_start"]
 
 
 class LockedCycleFold:
@@ -348,43 +345,3 @@ def _singular(J, z0) -> str:
             f"value {sv[-1]:.1e} of {sv[0]:.2g}): the locked state loses its stability there "
             "without a fold (e.g. a symmetry-breaking pitchfork of identical oscillators), "
             "and the diagram continues folds only")
-
-
-def coupled_diagram(model, params: Mapping[str, float], axes: tuple[str, str],
-                    ranges: Mapping[str, tuple[float, float]], *, orders: Sequence[int] = (1, 2),
-                    seeds_at: int = 2, ds: float = 0.02, max_points: int = 300,
-                    progress=None) -> Diagram:
-    """The locking tongue of a coupled system: true fold curves and averaged ones at
-    ``orders``, with their distances in ``detail``."""
-    s_i = _seed_axis(axes)
-    o_name = axes[1 - s_i]
-    lo, hi = ranges[o_name]
-    others = seed_levels(lo, hi, seeds_at)
-    dropped: list = []
-    lines: list = []
-    true, pts = coupled_true_folds(model, params, axes, ranges, others, ds=ds,
-                                   max_points=max_points, progress=progress, dropped=dropped,
-                                   lines=lines)
-    av = coupled_averaged_folds(model, params, axes, ranges, orders, others, ds=ds,
-                                max_points=max_points, dropped=dropped)
-    name = model if isinstance(model, str) else model.name
-    return Diagram(name, {k: float(v) for k, v in params.items() if k not in axes}, axes,
-                   ranges, tuple(true + av), tuple(pts),
-                   {"distance": distances(true, av, pts, []), "dropped": dropped,
-                    "seed_lines": lines})
-
-
-def edge_at(curves: Sequence[Curve], other: float, side: int, axis: int = 0) -> float:
-    """The detuning (component ``axis``) of the tongue's edge on ``side`` (+1 the larger)
-    at ``other`` (the other component), interpolated linearly on the curves' points."""
-    found = []
-    for c in curves:
-        p = np.asarray(c.points)
-        a, b = p[:, axis], p[:, 1 - axis]
-        for k in range(len(p) - 1):
-            if (b[k] - other) * (b[k + 1] - other) <= 0 and b[k] != b[k + 1]:
-                w = (other - b[k]) / (b[k + 1] - b[k])
-                found.append(a[k] + w * (a[k + 1] - a[k]))
-    if not found:
-        return math.nan
-    return max(found) if side > 0 else min(found)

@@ -83,10 +83,6 @@ class Piecewise:
             pieces.append(_interpolant(np.asarray(fun(_cheb_points(a, b, n)), float), a, b))
         return cls(breaks, pieces)
 
-    def gauss(self, n: int = 32) -> tuple[np.ndarray, np.ndarray]:
-        """Gauss-Legendre nodes and weights on every panel (for integrals of products)."""
-        return gauss_on(self.breaks, n)
-
 
 def gauss_on(breaks, n: int = 32) -> tuple[np.ndarray, np.ndarray]:
     """Composite ``n``-point Gauss-Legendre rule on the panels ``breaks``."""

@@ -53,12 +53,11 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from kbm import derive
 from kbm.models import Oscillator, get_model
 from kbm.symbols import xdot as V
 
 from numerics.comparison.comparison import Comparison, compare
-from numerics.comparison.prediction import ERROR_KEYS
+from numerics.comparison.prediction import ERROR_KEYS, derived
 
 __all__ = ["FIT_KEYS", "predicted_orders", "time_reversal_symmetric", "ConvergenceStudy",
            "convergence_study", "fit_slope"]
@@ -197,7 +196,7 @@ def convergence_study(model: str, eps: Sequence[float], *, orders: Sequence[int]
     """
     fixed = dict(fixed or {})
     orders = tuple(sorted(int(n) for n in orders))
-    res = derive(model, orders[-1])
+    res = derived(model, orders[-1])
     fns = res.functions("numpy")
     comps = []
     for e in eps:

@@ -235,13 +235,7 @@ def coupled_true_folds(model, params: Mapping[str, float], axes: tuple[str, str]
                                     {"label": "locking edge", "residual_max": res,
                                      "period": [float(p[n2 - 1]) for p in pts],
                                      "ends": [p.end for p in task.paths]}))
-
-            def cusp_ok(z, prob=prob, scale=scale):
-                _, _, vt = np.linalg.svd(prob.J(z))
-                t = vt[-1] / scale
-                t /= np.linalg.norm(t)
-                return abs(t[-1]) < 1e-3 and abs(t[-2]) < 1e-3
-            points += codim2_points(task, (n2, n2 + 1), cusp_ok)
+            points += codim2_points(task, (n2, n2 + 1), prob.J, scale)
             if any(p.end == "interrupted" for p in task.paths):
                 return curves, points
     return curves, points

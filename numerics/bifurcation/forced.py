@@ -287,13 +287,7 @@ def forced_true_curves(prob: DrivenProblem, ranges: Mapping[str, tuple[float, fl
                             {"residual_max": res, "points_converged": len(pts),
                              "ends": [p.end for p in task.paths]}))
         curve_of[idx] = len(curves) - 1
-
-        def cusp_ok(z, prob=prob, kind=kind):
-            _, _, vt = np.linalg.svd(prob.jacobian_for(kind)(z))
-            t = vt[-1] / scale
-            t /= np.linalg.norm(t)
-            return abs(t[2]) < 1e-3 and abs(t[3]) < 1e-3
-        points += codim2_points(task, (2, 3), cusp_ok)
+        points += codim2_points(task, (2, 3), prob.jacobian_for(kind), scale)
         if any(p.end == "interrupted" for p in task.paths):
             break
     for idx, n in partners.items():

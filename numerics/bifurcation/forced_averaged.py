@@ -152,11 +152,5 @@ def averaged_fold_curves(forced, values: Mapping[str, float], axes: tuple[str, s
                 curves.append(Curve(kind, [tuple(p[2:]) for p in pts], "averaged", n))
             elif dropped is not None:
                 dropped.append(dropped_seed(kind, "averaged", n, z0[2:], why_short(task.paths)))
-
-            def cusp_ok(z, J=J):
-                _, _, vt = np.linalg.svd(J(z))
-                t = vt[-1] / scale
-                t /= np.linalg.norm(t)
-                return abs(t[2]) < 1e-3 and abs(t[3]) < 1e-3
-            points += codim2_points(task, (2, 3), cusp_ok)
+            points += codim2_points(task, (2, 3), J, scale)
     return curves, points

@@ -159,15 +159,21 @@ def on_known(z0: np.ndarray, tasks: Sequence[Task], kind: str, scale: np.ndarray
     return False
 
 
-def codim2_points(task: Task, axes_idx: tuple[int, int], ptest) -> list[Codim2Point]:
+def codim2_points(task: Task, axes_idx: tuple[int, int], jac, scale) -> list[Codim2Point]:
     """The located test-function zeros of a task's paths as named points (a ``cusp`` only
-    where both parameter components of the tangent vanish)."""
+    where both parameter components, ``axes_idx``, of the tangent vanish: the null vector
+    of ``jac(z)`` divided by ``scale`` and normalised, both below 1e-3)."""
+    def flat(z) -> bool:
+        t = np.linalg.svd(jac(z))[2][-1] / scale
+        t /= np.linalg.norm(t)
+        return abs(t[i]) < 1e-3 and abs(t[j]) < 1e-3
+
     out = []
     i, j = axes_idx
     for path in task.paths:
         for ev in path.events:
             kind = ev.name
-            if kind == "cusp" and not ptest(ev.z):
+            if kind == "cusp" and not flat(ev.z):
                 continue
             p = (float(ev.z[i]), float(ev.z[j]))
             if any(o.kind == kind and math.hypot(o.point[0] - p[0], o.point[1] - p[1]) < 1e-6

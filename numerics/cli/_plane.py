@@ -104,11 +104,6 @@ class Plane:
             bound.append(ax)
         return cls(tuple(bound))
 
-    @property
-    def mapped(self) -> bool:
-        """Whether an axis is computed in another name than the user's."""
-        return self.axes != self.user
-
     def point(self, p: Sequence[float]) -> tuple[float, float]:
         """A point of the computed plane in the user's names."""
         return self.back[0](p[0]), self.back[1](p[1])

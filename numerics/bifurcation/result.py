@@ -27,6 +27,11 @@ def _frozen(mapping: Mapping | None) -> Mapping:
     return MappingProxyType(dict(mapping or {}))
 
 
+def _with_detail(out: dict, detail: Mapping) -> dict:
+    """``out`` then the keys of ``detail`` it does not hold, as plain JSON types."""
+    return _jsonable({**out, **{k: v for k, v in detail.items() if k not in out}})
+
+
 def _jsonable(value):
     """Plain JSON types (tuples to lists, numpy scalars to floats, nan to None)."""
     if isinstance(value, Mapping):
@@ -77,10 +82,7 @@ class Curve:
         """``{"kind", "points": [[p1, p2], ...], "method", "order", **detail}``."""
         out = {"kind": self.kind, "points": [[a, b] for a, b in self.points],
                "method": self.method, "order": self.order}
-        for k, v in self.detail.items():
-            if k not in out:
-                out[k] = v
-        return _jsonable(out)
+        return _with_detail(out, self.detail)
 
 
 @dataclass(frozen=True)
@@ -99,11 +101,7 @@ class Codim2Point:
 
     def to_json(self) -> dict:
         """``{"kind", "point": [p1, p2], **detail}``."""
-        out = {"kind": self.kind, "point": list(self.point)}
-        for k, v in self.detail.items():
-            if k not in out:
-                out[k] = v
-        return _jsonable(out)
+        return _with_detail({"kind": self.kind, "point": list(self.point)}, self.detail)
 
 
 #: line colours of the curves' kinds in :meth:`Diagram.plot`
@@ -140,10 +138,7 @@ class Diagram:
                "ranges": {k: list(v) for k, v in self.ranges.items()},
                "curves": [c.to_json() for c in self.curves],
                "codim2": [c.to_json() for c in self.codim2]}
-        for k, v in self.detail.items():
-            if k not in out:
-                out[k] = v
-        return _jsonable(out)
+        return _with_detail(out, self.detail)
 
     def plot(self, path) -> Path:
         """Draw the diagram into ``path`` (a file, or a folder: ``diagram-MODEL.png`` in it):

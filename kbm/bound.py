@@ -136,14 +136,11 @@ def bind(model: "CoupledOscillators | str | BoundModel",
     params = dict(params or {})
     if isinstance(model, str):
         if model not in MODELS:  # a one-degree-of-freedom name first: the others import slowly
-            from .coupled.builtins import get_coupled_model, is_coupled_name
+            from .params import builtin_model
 
-            from .forced.builtins import FORCED_MODELS, get_forced_model
-
-            if is_coupled_name(model):
-                return BoundModel.of(get_coupled_model(model), params)
-            if model in FORCED_MODELS:
-                return BoundModel.of(get_forced_model(model), params)
+            found = builtin_model(model)
+            if found is not None:
+                return BoundModel.of(found, params)
         v = params.pop("v", None)
         model = get_model(model, None if v is None else {"v": v})
     elif isinstance(model, Oscillator) and "v" in params and "v" not in model.parameters:

@@ -36,8 +36,11 @@ __all__ = ["numpy_function", "numpy_array_function", "mpmath_function", "vectori
 DEFAULT_TOL = 1e-15
 
 
-def _outer_sums(expr: sp.Expr) -> list[sp.Sum]:
-    """The Sum nodes of ``expr`` not contained in another Sum (deterministic order)."""
+def _outer_sums(expr: sp.Expr) -> tuple[sp.Expr, tuple, list[tuple]]:
+    """``expr`` with each Sum node not contained in another Sum replaced by a stand-in
+    symbol, the stand-ins, and each such sum as ``(body, n, lo, hi)``: ``Sum(f, L1, ...,
+    Lk)`` is the sum over its last limit ``Lk = (n, lo, hi)`` of the body ``Sum(f, L1,
+    ...)`` (``hi`` is ``None`` for an infinite sum).  Deterministic order."""
     import sympy as sp
 
     found: list[sp.Sum] = []
@@ -51,17 +54,13 @@ def _outer_sums(expr: sp.Expr) -> list[sp.Sum]:
             walk(arg)
 
     walk(expr)
-    return found
-
-
-def _split_limits(s: sp.Sum) -> tuple[sp.Expr, tuple]:
-    """``Sum(f, L1, L2, ...)`` -> body ``Sum(f, L1, ...)`` without the last limit, and it."""
-    import sympy as sp
-
-    limits = s.limits
-    if len(limits) == 1:
-        return s.function, limits[0]
-    return sp.Sum(s.function, *limits[:-1]), limits[-1]
+    holders = tuple(sp.Symbol(f"_kbm_sum{i}") for i in range(len(found)))
+    parts = []
+    for s in found:
+        *rest, (n, lo, hi) = s.limits
+        parts.append((sp.Sum(s.function, *rest) if rest else s.function, n, int(lo),
+                      None if hi == sp.oo else int(hi)))
+    return expr.xreplace(dict(zip(found, holders))), holders, parts
 
 
 def _numpy_modules() -> list:
@@ -99,19 +98,11 @@ def numpy_function(expr: sp.Expr, args: Sequence[sp.Symbol], *, tol: float = DEF
 
     names = tuple(map(str, args))
     args, expr = _named(tuple(args), expr)
-    sums = _outer_sums(expr)
-    holders = [sp.Symbol(f"_kbm_sum{i}") for i in range(len(sums))]
-    outer = expr.xreplace(dict(zip(sums, holders)))
+    outer, holders, sums = _outer_sums(expr)
     with np.errstate(all="ignore"):
-        f_outer = sp.lambdify(args + tuple(holders), outer, modules=_numpy_modules())
-    inner = []
-    for s in sums:
-        body, (n, lo, hi) = _split_limits(s)
-        body_f = numpy_function(body, args + (n,), tol=tol, max_terms=max_terms)
-        if hi != sp.oo:
-            inner.append(("finite", body_f, int(lo), int(hi)))
-        else:
-            inner.append(("inf", body_f, int(lo), None))
+        f_outer = sp.lambdify(args + holders, outer, modules=_numpy_modules())
+    inner = [(numpy_function(body, args + (n,), tol=tol, max_terms=max_terms), lo, hi)
+             for body, n, lo, hi in sums]
     f = _wrap(f_outer, names, inner, tol, max_terms)
     f.__doc__ = f"numpy function of ({', '.join(names)}) for {expr}"
     #: the lambdified function of the arguments and the sums' values, and whether there are
@@ -185,8 +176,7 @@ def _wrap(f_outer: Callable, names: tuple[str, ...], inner: list, tol: float,
                             f"got {len(vals)}")
         with np.errstate(all="ignore"):
             arrs = [np.asarray(v, dtype=float) for v in vals]
-            sums_val = [_np_sum(kind, g, lo, hi, arrs, tol, max_terms)
-                        for kind, g, lo, hi in inner]
+            sums_val = [_np_sum(g, lo, hi, arrs, tol, max_terms) for g, lo, hi in inner]
             out = np.asarray(f_outer(*arrs, *sums_val), dtype=float)
         shape = np.broadcast_shapes(out.shape, *[v.shape for v in arrs])
         return out if out.shape == shape else np.broadcast_to(out, shape).copy()
@@ -194,10 +184,10 @@ def _wrap(f_outer: Callable, names: tuple[str, ...], inner: list, tol: float,
     return f
 
 
-def _np_sum(kind, g, lo, hi, arrs, tol, max_terms):
+def _np_sum(g, lo, hi, arrs, tol, max_terms):
     shape = np.broadcast_shapes(*[np.shape(v) for v in arrs]) if arrs else ()
     expand = (slice(None),) + (None,) * len(shape)
-    if kind == "finite":
+    if hi is not None:
         n = np.arange(lo, hi + 1)[expand]
         return np.sum(np.broadcast_to(g(*arrs, n), (n.shape[0],) + shape), axis=0)
     total = np.zeros(shape)
@@ -258,15 +248,10 @@ def mpmath_function(expr: sp.Expr, args: Sequence[sp.Symbol], *,
     import sympy as sp
 
     args, expr = _named(tuple(args), expr)
-    sums = _outer_sums(expr)
-    holders = [sp.Symbol(f"_kbm_sum{i}") for i in range(len(sums))]
-    outer = expr.xreplace(dict(zip(sums, holders)))
-    f_outer = sp.lambdify(args + tuple(holders), outer, modules="mpmath")
-    inner = []
-    for s in sums:
-        body, (n, lo, hi) = _split_limits(s)
-        inner.append((mpmath_function(body, args + (n,), max_terms=max_terms), int(lo),
-                      None if hi == sp.oo else int(hi)))
+    outer, holders, sums = _outer_sums(expr)
+    f_outer = sp.lambdify(args + holders, outer, modules="mpmath")
+    inner = [(mpmath_function(body, args + (n,), max_terms=max_terms), lo, hi)
+             for body, n, lo, hi in sums]
 
     def f(*vals):
         vals = [mpmath.mpmathify(v) for v in vals]

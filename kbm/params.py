@@ -30,12 +30,14 @@ from .values import (NOISE_NAMES, ParameterNames, closest, parameter_value,
 if TYPE_CHECKING:
     import sympy as sp
 
-__all__ = ["NOISE_NAMES", "ParameterNames", "names_of", "lookup", "builtin_names",
-           "to_physical", "noise_from", "closest", "scaled_values", "PhysicalAxis", "physical_axis",
-           "MONOTONE_POINTS"]
+__all__ = ["NOISE_NAMES", "ParameterNames", "names_of", "lookup", "builtin_model",
+           "builtin_names", "to_physical", "noise_from", "closest", "scaled_values",
+           "PhysicalAxis", "physical_axis", "MONOTONE_POINTS"]
 
-def _members(name: str):
-    """The built-in of any kind called ``name``, or ``None``."""
+
+def builtin_model(name: str):
+    """The built-in of any kind called ``name`` (one degree of freedom, forced, coupled), or
+    ``None``."""
     from .models import MODELS, get_model
 
     if name in MODELS:
@@ -78,7 +80,7 @@ def lookup(name: str, kinds: Iterable[str] = ("one", "forced", "coupled"), *,
     from .models import MODELS
 
     kinds = tuple(kinds)
-    found = _members(name)
+    found = builtin_model(name)
     if "one" in kinds and name in MODELS:  # before the other catalogues, which import
         return found                       # slowly (0.26 s: issue 39)
     table = builtin_names(kinds)

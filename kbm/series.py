@@ -170,10 +170,8 @@ def _lindstedt_exact(model: Oscillator, terms, a0: sp.Expr, order: int) -> Limit
     w0 = model.omega0
     raw = lindstedt_series(terms, Fraction(int(w0.p), int(w0.q)),
                            ar.num(Fraction(int(a0.p), int(a0.q))), order, ar)
-
-    out = _rational
-    return LimitCycleSeries(order=order, amplitude=(a0, *[out(v) for v in raw.amplitude[1:]]),
-                            omega=tuple(out(v) for v in raw.omega))
+    return LimitCycleSeries(order=order, amplitude=(a0, *map(_rational, raw.amplitude[1:])),
+                            omega=tuple(map(_rational, raw.omega)))
 
 
 def _rational(v) -> sp.Rational:
@@ -255,9 +253,7 @@ def _kbm_series(model: Oscillator, A1: sp.Expr, a0: sp.Expr, order: int) -> Limi
                 omega[n + j] = omega[n + j] + TB[n][k] * pw[k][j]
 
     def out(v):
-        if exact_q:
-            return sp.Rational(int(v.numerator), int(v.denominator))
-        return sp.radsimp(sp.expand(v))
+        return _rational(v) if exact_q else sp.radsimp(sp.expand(v))
 
     return LimitCycleSeries(order=N, amplitude=(a0, *[out(v) for v in c[1:]]),
                             omega=tuple(out(v) for v in omega))

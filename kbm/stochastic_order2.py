@@ -55,8 +55,9 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .errors import ModelError, ParameterError
-from .models import Oscillator, get_model
-from .stochastic import NOISE, StochasticAveraging, density_on, quadratures, stochastic_average
+from .models import Oscillator
+from .stochastic import (NOISE, StochasticAveraging, density_on, noisy_model, quadratures,
+                         stochastic_average)
 from .symbols import a, mu, x, xdot
 
 __all__ = ["SecondOrderAveraging", "stochastic_average_order2", "KAPPA"]
@@ -261,8 +262,7 @@ def stochastic_average_order2(model: Oscillator | str,
     >>> round(so.moment(2, {"mu": 0.3, "D": 0.15}), 5)
     4.20456
     """
-    m = get_model(model) if isinstance(model, str) else model
-    fixed = {k: v for k, v in dict(params or {}).items() if k not in ("mu", "D")}
+    m, fixed = noisy_model(model, params, "the second-order stochastic averaging")
     key = (m.name, str(m.F), str(m.omega0), tuple(sorted((k, str(v)) for k, v in fixed.items())))
     if key in _CACHE:
         return _CACHE[key]

@@ -224,15 +224,14 @@ def scaled_values(model, values: Mapping[str, object] | None = None, *,
     import sympy as sp
 
     values = dict(values or {})
-    ParameterNames(model.name, tuple(model.parameters), dict(model.physical)).check(values)
+    names = ParameterNames(model.name, tuple(model.parameters), dict(model.physical))
+    names.check(values)
+    names.check_both(values)  # not delta with Delta
     given = {k: parameter_value(k, v) for k, v in values.items()}
     for scaled, expr in model.physical.items():  # e.g. delta = Delta/mu from Delta and mu
         needs = {s.name for s in expr.free_symbols}
         inputs = needs - {"mu"}
         if scaled in given:
-            if inputs & set(given):
-                raise ParameterError(f"give either {scaled} or {', '.join(sorted(inputs))}, "
-                                     "not both")
             continue
         defaults = model.defaults if use_defaults else {}
         if not inputs or not inputs <= set(given) | set(defaults):

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ._common import (add_command, add_model_arguments, add_options, check_model_flags,
-                      checked_params, emit_json)
+                      checked_params, emit_json, model_spec)
 
 
 def register(sub) -> None:
@@ -67,19 +67,14 @@ def model_from_args(args: argparse.Namespace, *, series: bool = False):
         For an unknown name (:func:`kbm.cli._common.checked_params`) or ``-p mu`` that
         sets nothing.
     """
-    from ..models import custom_model, get_model
+    from ..models import get_model
     from ..params import names_of
 
-    check_model_flags(args)
-    if getattr(args, "rhs", None):
-        rhs = args.rhs[0] if isinstance(args.rhs, list) else args.rhs
-        model = custom_model(rhs, omega0=1 if args.omega0 is None else args.omega0)
-        params = checked_params(args.param, model)
-        _mu_sets_something(names_of(model), params, series)
-        return model.substitute(params) if params else model
-    params = checked_params(args.param, args.model)
-    model = get_model(args.model, params)
-    _mu_sets_something(names_of(args.model), params, series)
+    spec = model_spec(args)  # a built-in's name, or the --rhs model
+    params = checked_params(args.param, spec)
+    model = (get_model(spec, params) if isinstance(spec, str)
+             else spec.substitute(params) if params else spec)
+    _mu_sets_something(names_of(spec), params, series)
     return model
 
 

@@ -207,13 +207,9 @@ class _Run:
 def _run(tables, w0, res, lo, hi, P, M, N, order) -> _Run:
     alg = SampledAlgebra(w0, res, lo, hi, P, M, N, cap=order - 1)
     A, B, U = sampled_recursion(alg, tables, order)  # N = 1 with the forcing angle
-    As, aBs = [], []
-    for An, Bn in zip(A, B):
-        # A_n and a B_n as slow spectra; B_n = (a B_n)/a is formed in the result
-        sa = alg.slow_coefficients(An)
-        sb = alg.slow_coefficients(Bn, times_a=True)
-        As.append(sa)
-        aBs.append(sb)
+    # A_n and a B_n as slow spectra; B_n = (a B_n)/a is formed in the result
+    As = [alg.slow_coefficients(An) for An in A]
+    aBs = [alg.slow_coefficients(Bn, times_a=True) for Bn in B]
     Us = [np.zeros((1, P, M, N)) if u.values is None else u.values for u in U]
     if not all(np.all(np.isfinite(q)) for q in (*As, *aBs, *Us)):
         raise ResolutionError(f"the numeric forced expansion overflowed on a in [{lo:g}, "
@@ -239,14 +235,13 @@ def _differences(run: _Run, check: _Run, lo: float, hi: float) -> list[tuple[flo
     J0, J1 = run.A[0].shape[-1], check.A[0].shape[-1]
     J = min(J0, J1)
     s0, s1 = slice((J0 - J) // 2, (J0 + J) // 2), slice((J1 - J) // 2, (J1 + J) // 2)
-    out = []
-    for n in range(len(run.A)):
-        dA = np.max(np.abs(np.einsum("nP,sPj->snj", W1, check.A[n][..., s1])
-                           - np.einsum("nP,sPj->snj", W0, run.A[n][..., s0])))
-        dB = np.max(np.abs(np.einsum("nP,sPj->snj", W1, check.aB[n][..., s1])
-                           - np.einsum("nP,sPj->snj", W0, run.aB[n][..., s0])))
-        out.append((float(dA), float(dB)))
-    return out
+
+    def diff(fine, coarse) -> float:
+        return float(np.max(np.abs(np.einsum("nP,sPj->snj", W1, fine[..., s1])
+                                   - np.einsum("nP,sPj->snj", W0, coarse[..., s0]))))
+
+    return [(diff(check.A[n], run.A[n]), diff(check.aB[n], run.aB[n]))
+            for n in range(len(run.A))]
 
 
 def numeric_derive_forced(model: ForcedOscillator | str, order: int, a_range,

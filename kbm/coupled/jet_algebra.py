@@ -44,7 +44,8 @@ __all__ = ["JetAlgebra", "JetSeries", "PRESENT"]
 
 
 class _Modes(NamedTuple):
-    """What the algebra reads of a coupled model (one unforced mode: :meth:`JetAlgebra.one_mode`)."""
+    """What the algebra reads of a coupled model (for one unforced mode:
+    :meth:`JetAlgebra.one_mode`)."""
 
     dof: int
     forced: bool

@@ -13,8 +13,8 @@ forcing angle ``theta``; the algebra of :mod:`kbm.coupled.jet_algebra`).  Then
 
 - products, ``d/da_l`` (a jet of degree ``r`` gives one of degree ``r - 1``; the recursion
   starts from degree ``order - 1``, which leaves the rates of the last order known at
-  ``Da = 0``; ``x0`` is linear in ``Da``, exact), ``L0``, the resonant part and the division by ``omega_i^2 - (h . omega)^2``
-  are :class:`~kbm.coupled.jet_algebra.JetAlgebra`'s;
+  ``Da = 0``; ``x0`` is linear in ``Da``, exact), ``L0``, the resonant part and the
+  division by ``omega_i^2 - (h . omega)^2`` are :class:`~kbm.coupled.jet_algebra.JetAlgebra`'s;
 - ``F(x0 + Dx, v0 + Dv, theta)`` is its Taylor series in the ``2 N`` state variables
   (:class:`kbm.algebra.smooth.TaylorOf`), the partial derivatives taken symbolically and
   compiled (:class:`kbm.algebra.smooth.TaylorTable`); their jets in ``Da`` along

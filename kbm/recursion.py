@@ -194,8 +194,7 @@ def one_angle_recursion(alg: FourierAlgebra, F: sp.Expr, order: int, last_u: boo
     the lists ``A_1..A_N``, ``B_1..B_N``, ``u_1..u_N``.
 
     ``builder(alg, X, V).build(F)`` makes the lazy series of ``F`` along the leaves ``X``,
-    ``V`` (:class:`~kbm.algebra.lazy_series.Builder`; the numeric backend passes the Taylor
-    expansion of :mod:`kbm.algebra.smooth`).
+    ``V`` (:class:`~kbm.algebra.lazy_series.Builder` by default).
     """
     def rhs(X, V):
         return [[(0, builder(alg, X[0], V[0]).build(F))]]

@@ -131,7 +131,9 @@ class JetAlgebra(AngleCalculus):
     Parameters
     ----------
     model
-        The coupled model (values substituted; frequencies exact).
+        The coupled model (values substituted; frequencies exact); only its ``dof``,
+        ``forced``, ``omegas``, ``nu0`` and ``internal`` are read (:meth:`one_mode` gives
+        just those).
     lattice
         The slow lattice of the declared resonances.
     point

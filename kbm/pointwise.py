@@ -4,12 +4,13 @@ The symbolic engine keeps the Jacobi-Anger Bessel sums of ``sin(k x)``, ``cos(k 
 to order 2 (:data:`kbm.averaging.MAX_ORDER_TRIG`); from order 3 on they become sums
 over three and more indices with inner sums in their coefficients, which would not be
 readable.  :func:`derive_values` gives every order instead at numeric parameter values
-and amplitudes ``a_q``: the same recursion (:func:`kbm.recursion.one_angle_recursion`, with
-the same :class:`~kbm.algebra.lazy_series.Builder` of ``F``) over the algebra of
-:mod:`kbm.algebra.jet_fourier`, where the Bessel functions are numbers, derivatives in
-``a`` are exact (Taylor jets) and the one truncation is in the harmonics, chosen so
-that the Jacobi-Anger coefficients left out, ``|J_m(k a)|``, and the Fourier tails of
-every ``u_n`` are below ``tol`` relative to that order's quantities.
+and amplitudes ``a_q``: the same recursion (:func:`kbm.recursion.kbm_recursion`, with the
+same :class:`~kbm.algebra.lazy_series.Builder` of ``F``) over the jets of the numeric coupled
+backend with one mode (:meth:`kbm.coupled.jet_algebra.JetAlgebra.one_mode`, every amplitude
+at once), where the Bessel functions are numbers (:mod:`kbm.algebra.jet_fourier`),
+derivatives in ``a`` are exact (Taylor jets) and the one truncation is in the harmonics,
+chosen so that the Jacobi-Anger coefficients left out, ``|J_m(k a)|``, and the Fourier
+tails of every ``u_n`` are below ``tol`` relative to that order's quantities.
 
 It also takes polynomial ``F`` (where the exact engine gives the same numbers).
 """
@@ -23,8 +24,8 @@ import scipy.special
 import sympy as sp
 from sympy.simplify.fu import TR8
 
-from .algebra.jet_fourier import JetAlgebra
 from .averaging import MAX_ORDER, _check_terms
+from .coupled.jet_algebra import JetAlgebra
 from .errors import ParameterError, ResolutionError
 from .models import Oscillator
 from .sampling import (SampledExpansion, check_order, check_tol, fourier_tail, numeric_model,
@@ -185,7 +186,7 @@ def derive_values(model: Oscillator | str, order: int, a, params: dict | None = 
     _check_terms(F)
     M = _start_phases(F, float(amps.max()), order, tol)
     while True:
-        Av, Bv, Uv = sampled_orders(JetAlgebra(w0, amps, order - 1, M), F, order)
+        Av, Bv, Uv = sampled_orders(JetAlgebra.one_mode(w0, amps, order - 1, M), F, order)
         tails = _tails(Uv, Av, Bv, amps)
         if all(t <= tol * max(s, 1e-300) or t < 1e-300 for s, t in tails):
             break

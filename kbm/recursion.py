@@ -25,14 +25,15 @@ known term of ``[x_i'']_n``, its resonant part gives ``A_{i,n}``, ``B_{i,n}``
 :func:`kbm_recursion` is that loop, over any :class:`~kbm.algebra.base.RecursionAlgebra`.  The
 engines are its cases:
 
-- one degree of freedom (:mod:`kbm.averaging` and the evaluated :mod:`kbm.pointwise`):
-  ``N = 1``, no forcing, a one-angle :class:`~kbm.algebra.base.FourierAlgebra` through
-  :class:`OneAngle` (:func:`one_angle_recursion`);
+- one degree of freedom (:mod:`kbm.averaging`): ``N = 1``, no forcing, a one-angle
+  :class:`~kbm.algebra.base.FourierAlgebra` through :class:`OneAngle`
+  (:func:`one_angle_recursion`);
 - a forced oscillator (:mod:`kbm.forced.engine`, :mod:`kbm.forced.numeric`): ``N = 1`` with the
   forcing angle, ``sigma d/dtheta`` in ``D_1`` at a declared resonance; the grid algebra of
   :mod:`kbm.forced.grid` without the forcing angle runs the numeric :mod:`kbm.numeric_kbm`;
 - coupled oscillators (:mod:`kbm.coupled.engine`, :mod:`kbm.coupled.jets`): any ``N``, forced
-  or not.
+  or not; the jets with one unforced mode at a batch of amplitudes are the evaluated
+  :mod:`kbm.pointwise`.
 
 The right-hand side reaches the loop as lazy series in ``mu``
 (:mod:`kbm.algebra.lazy_series`) along the leaves ``x_l = sum mu**n X_{l,n}``,
@@ -193,8 +194,7 @@ def one_angle_recursion(alg: FourierAlgebra, F: sp.Expr, order: int, last_u: boo
     the lists ``A_1..A_N``, ``B_1..B_N``, ``u_1..u_N``.
 
     ``builder(alg, X, V).build(F)`` makes the lazy series of ``F`` along the leaves ``X``,
-    ``V`` (:class:`~kbm.algebra.lazy_series.Builder`; the numeric backend passes the Taylor
-    expansion of :mod:`kbm.algebra.smooth`).
+    ``V`` (:class:`~kbm.algebra.lazy_series.Builder` by default).
     """
     def rhs(X, V):
         return [[(0, builder(alg, X[0], V[0]).build(F))]]

@@ -31,7 +31,7 @@ from .algebra import chebyshev
 from .errors import OrderError, ParameterError, UnsupportedTermError
 from .algebra.lazy_series import Builder
 from .models import Oscillator, get_model
-from .recursion import one_angle_recursion
+from .recursion import kbm_recursion
 from .smooth_terms import non_smooth_message, non_smooth_term
 from .symbols import x, xdot
 
@@ -207,14 +207,18 @@ def check_bounded(F, f: np.ndarray, first: float, exhausted: bool, where: str,
 # ----------------------------------------------------------------------------- one angle
 def sampled_orders(alg, F: sp.Expr, order: int, builder=Builder
                    ) -> tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]]:
-    """:func:`~kbm.recursion.one_angle_recursion` over a sampled one-angle algebra
-    (:class:`~kbm.algebra.jet_fourier.JetAlgebra`), read at its amplitudes ``alg.a``: the
-    arrays of ``A_1..A_N``, ``B_1..B_N`` (amplitudes) and ``u_1..u_N`` (amplitudes x phases,
-    zeros where ``u_n`` vanishes)."""
-    A, B, U = one_angle_recursion(alg, F, order, builder=builder)
-    return ([alg.at_amplitudes(c) for c in A], [alg.at_amplitudes(c) for c in B],
-            [np.zeros((len(alg.a), alg.M)) if u.values is None else alg.at_amplitudes(u)
-             for u in U])
+    """:func:`~kbm.recursion.kbm_recursion` for ``x'' + omega0**2 x = mu F(x, x')`` over a
+    sampled algebra of one unforced mode at given amplitudes (the jets of
+    :meth:`kbm.coupled.jet_algebra.JetAlgebra.one_mode`), read there: the arrays of
+    ``A_1..A_N``, ``B_1..B_N`` (amplitudes) and ``u_1..u_N`` (amplitudes x phases, zeros
+    where ``u_n`` vanishes).  ``builder(alg, X, V).build(F)`` makes the lazy series of ``F``
+    (:class:`~kbm.algebra.lazy_series.Builder`)."""
+    def rhs(X, V):
+        return [[(0, builder(alg, X[0], V[0]).build(F))]]
+
+    (A,), (B,), (U,) = kbm_recursion(alg, rhs, order)
+    return ([alg.at_amplitudes(c)[..., 0] for c in A], [alg.at_amplitudes(c)[..., 0] for c in B],
+            [alg.at_amplitudes(u) for u in U])
 
 
 def order_scale(A: np.ndarray, aB: np.ndarray, U: np.ndarray, floor: float = 0.0) -> float:

@@ -8,10 +8,11 @@ imports it.
   :class:`~kbm.algebra.base.FourierAlgebra` protocol;
 - :mod:`~kbm.algebra.multi_angle`: finite Fourier series in ``n`` angles with Laurent
   coefficients (the coupled and the forced algebras);
-- :mod:`~kbm.algebra.grid_fourier`: what the sampled series share (the grid algebra of
-  the numeric backends of one degree of freedom is :mod:`kbm.forced.grid`);
-  :mod:`~kbm.algebra.jet_fourier`: series sampled in the phase with Taylor jets in the
-  amplitude (the evaluated backend);
+- :mod:`~kbm.algebra.grid_fourier`: what the sampled series share (the sampled algebras
+  are :mod:`kbm.forced.grid`, Chebyshev in the amplitude, and the jets of
+  :mod:`kbm.coupled.jet_algebra`, any ``N``);
+  :mod:`~kbm.algebra.jet_fourier`: the Jacobi-Anger series of ``sin``, ``cos`` with exact
+  Bessel jets in the amplitude (the jets' ``sin(k x)`` for :func:`kbm.derive_values`);
 - :mod:`~kbm.algebra.laurent`: Laurent polynomials over Q (the coefficients of
   the polynomial algebra);
 - :mod:`~kbm.algebra.poly_fourier`: finite Fourier series with Laurent

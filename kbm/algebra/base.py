@@ -11,7 +11,9 @@ the few operations it names.  Its algebras are
   (:class:`kbm.forced.resonant.ResonantAlgebra`);
 - the sampled ones: one or two angles on a grid (:class:`kbm.forced.grid.SampledAlgebra`,
   forced or not) and
-  ``N`` angles with Taylor jets in the amplitudes (:class:`kbm.coupled.jet_algebra.JetAlgebra`);
+  ``N`` angles with Taylor jets in the amplitudes (:class:`kbm.coupled.jet_algebra.JetAlgebra`,
+  forced or not; one unforced mode at a batch of amplitudes, with Jacobi-Anger series for
+  ``sin(k x)``, is the evaluated backend :func:`kbm.derive_values`);
 - every one-angle :class:`FourierAlgebra` below, through the adapter
   :class:`kbm.recursion.OneAngle` (the case ``N = 1`` without forcing, whose rates are
   coefficients ``c(a)`` rather than series).
@@ -23,10 +25,7 @@ The one-angle contract :class:`FourierAlgebra` is answered by two exact algebras
   parameters and ``omega0`` (polynomial ``F``; any order);
 - :class:`~kbm.algebra.bessel_fourier.SymAlgebra`: Fourier series with infinite
   Jacobi-Anger families of harmonics and sympy coefficients (``F`` with
-  ``sin(k x)``, ``cos(k x)``; order <= 2);
-
-and, without the symbolic display, by the sampled algebras of the one-degree-of-freedom
-evaluated backend (:class:`~kbm.algebra.jet_fourier.JetAlgebra`).
+  ``sin(k x)``, ``cos(k x)``; order <= 2).
 
 Two kinds of object cross the contract: a *series* ``f(a, psi) = sum_m c_m(a)
 cos(m psi) + s_m(a) sin(m psi)`` (type ``S``, see :class:`FourierSeries`) and a

@@ -16,6 +16,11 @@ the one recursion (:func:`kbm.recursion.kbm_recursion`, the
   same undeclared ones refused).
 
 The driver, which makes ``F`` along the jets and refines the grid, is :mod:`kbm.coupled.jets`.
+
+One unforced mode (``N = 1``) is a case: :meth:`JetAlgebra.one_mode` holds a batch of
+amplitudes ``a_q`` at once (a leading axis of the samples) and expands ``sin(k x)``,
+``cos(k x)`` by their Jacobi-Anger series with exact Bessel jets
+(:mod:`kbm.algebra.jet_fourier`); that is :func:`kbm.derive_values`.
 """
 
 from __future__ import annotations
@@ -23,16 +28,30 @@ from __future__ import annotations
 import itertools
 from collections.abc import Sequence
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
+import sympy as sp
 
 from ..algebra.grid_fourier import Samples
-from ..errors import ModelError
+from ..algebra.jet_fourier import jacobi_anger_jets
+from ..errors import ModelError, UnsupportedTermError
 from .algebra import AngleCalculus
 from .model import CoupledOscillators
 from .resonance import SlowLattice, UndeclaredResonanceError, resonant_harmonic
 
 __all__ = ["JetAlgebra", "JetSeries", "PRESENT"]
+
+
+class _Modes(NamedTuple):
+    """What the algebra reads of a coupled model (for one unforced mode:
+    :meth:`JetAlgebra.one_mode`)."""
+
+    dof: int
+    forced: bool
+    omegas: tuple
+    nu0: object
+    internal: tuple
 
 #: a harmonic's Fourier coefficient below this fraction of the largest counts as absent
 #: (rounding) when an undeclared resonant harmonic is looked for
@@ -67,7 +86,7 @@ class JetSeries(Samples):
     def __mul__(self, other: "JetSeries") -> "JetSeries":
         if self.values is None or other.values is None:
             return self._new(None, self.alg.top)
-        deg = min(self.deg, other.deg)
+        deg = min(self.deg, other.deg, self.alg.top)
         f, g = self.values, other.values
         out = np.zeros_like(f)
         for p, q, r in self.alg.pairs[deg]:
@@ -98,7 +117,8 @@ class JetSeries(Samples):
         return self.alg.spectral(self, self.alg.ik[l])
 
     def value(self) -> np.ndarray:
-        """The grid function at ``a*`` (the coefficient of ``Da**0``)."""
+        """The grid function at ``a*`` (the coefficient of ``Da**0``; with a batch of points
+        its leading axis)."""
         if self.values is None:
             return np.zeros(self.alg.shape)
         return self.values[0]
@@ -111,11 +131,14 @@ class JetAlgebra(AngleCalculus):
     Parameters
     ----------
     model
-        The coupled model (values substituted; frequencies exact).
+        The coupled model (values substituted; frequencies exact); only its ``dof``,
+        ``forced``, ``omegas``, ``nu0`` and ``internal`` are read (:meth:`one_mode` gives
+        just those).
     lattice
         The slow lattice of the declared resonances.
     point
-        The amplitudes ``a*`` (positive).
+        The amplitudes ``a*`` (positive): ``N`` numbers, or ``N`` rows of ``Q`` points
+        computed at once (the samples then have a leading batch axis of length ``Q``).
     nodes
         Grid points per angle ``M`` (even).
     top
@@ -144,7 +167,11 @@ class JetAlgebra(AngleCalculus):
         self.M, self.top = int(nodes), int(top)
         self.sig = sigma
         self.detuned = sigma is not None
-        self.shape = (self.M,) * D
+        self.batch = self.point.shape[1:]
+        self.shape = self.batch + (self.M,) * D
+        self.axes = tuple(range(-D, 0))  # the angles: the last D axes of the samples
+        # a*_l, broadcast against the grid
+        self._amp = [np.reshape(self.point[l], self.batch + (1,) * D) for l in range(N)]
         # the multi-indices of the amplitudes and the tables of products and derivatives
         self.index = _multi_indices(N, self.top)
         self.degree = [sum(a) for a in self.index]
@@ -178,21 +205,62 @@ class JetAlgebra(AngleCalculus):
     def jet(self, values: np.ndarray, deg: int) -> JetSeries:
         return JetSeries(self, values, deg)
 
+    @classmethod
+    def one_mode(cls, omega0: float, a, top: int, nodes: int) -> "JetAlgebra":
+        """One unforced mode ``x'' + omega0**2 x = mu F(x, x')`` at the amplitudes ``a``
+        (1-D), all at once: the case ``N = 1`` of :func:`kbm.derive_values`.  Its only
+        resonant harmonics are ``psi`` and ``-psi`` (``omega0`` enters exactly, as the
+        rational of its float)."""
+        modes = _Modes(1, False, (sp.Rational(float(omega0)),), None, ())
+        return cls(modes, SlowLattice(1, ()), np.asarray(a, dtype=float)[None, :], nodes,
+                   top, None, 0.0)
+
+    def const(self, value) -> JetSeries:
+        """The series ``value`` (a number: no angle, no amplitude)."""
+        v = np.zeros((len(self.index),) + self.shape)
+        v[0] = float(value)
+        return self.jet(v, self.top)
+
+    def coef(self, value) -> float:
+        """A factor free of the state (a number)."""
+        return float(value)
+
+    def scale(self, f: JetSeries, c) -> JetSeries:
+        """``c f`` for a number or a jet."""
+        return f.scale(c)
+
+    def trig(self, kind: str, c) -> list[JetSeries]:
+        """``g(c x_0)`` and its first three derivatives, ``g = sin`` or ``cos``, for one
+        unforced mode: the Jacobi-Anger series with exact Bessel jets in ``Da``
+        (:func:`~kbm.algebra.jet_fourier.jacobi_anger_jets`)."""
+        if self.n != 1:
+            raise UnsupportedTermError("the Jacobi-Anger jets take one unforced mode; the "
+                                       "coupled jets expand F by its Taylor series "
+                                       "(kbm.coupled.jets)")
+        a = np.atleast_1d(self.point[0])
+        return [self.jet(v.reshape((self.top + 1,) + self.shape), self.top)
+                for v in jacobi_anger_jets(kind, float(c), a, self.top, self.M)]
+
+    def at_amplitudes(self, f: JetSeries) -> np.ndarray:
+        """The grid function of ``f`` at the amplitudes (degree 0 of the jet)."""
+        return f.value()
+
     def x0(self, i: int) -> JetSeries:
-        """``a_i cos(psi_i)``: ``a*_i cos psi_i + Da_i cos psi_i``."""
+        """``a_i cos(psi_i)``: ``a*_i cos psi_i + Da_i cos psi_i``, exact (linear in ``Da``):
+        known beyond ``top``, so ``d/da_i`` of it and the velocity ``V_1`` keep degree ``top``
+        (once ``top >= 1`` holds its ``Da`` term)."""
         v = np.zeros((len(self.index),) + self.shape)
         c = self.cos[i]
-        v[0] = self.point[i] * c
+        v[0] = self._amp[i] * c
         if self.top:
             v[self.pos[tuple(1 if k == i else 0 for k in range(self.dof))]] = c
-        return self.jet(v, self.top)
+        return self.jet(v, self.top + 1 if self.top else 0)
 
     def spectral(self, f: JetSeries, mult: np.ndarray) -> JetSeries:
         if f.values is None:
             return f
-        axes = tuple(range(1, self.n + 1))
-        spec = np.fft.fftn(f.values, axes=axes)
-        return f._new(np.fft.ifftn(spec * mult, axes=axes).real, f.deg)
+        spec = np.fft.fftn(f.values, axes=self.axes)
+        return f._new(np.fft.ifftn(spec * mult, axes=self.axes).real, f.deg)
 
     def L0(self, f: JetSeries) -> JetSeries:
         return self.spectral(f, self.iL0)
@@ -202,20 +270,19 @@ class JetAlgebra(AngleCalculus):
         v = np.zeros((len(self.index),) + self.shape)
         for k in range(self.top + 1):
             alpha = tuple(k if l == i else 0 for l in range(self.dof))
-            v[self.pos[alpha]] = (-1) ** k / self.point[i] ** (k + 1)
+            v[self.pos[alpha]] = (-1) ** k / self._amp[i] ** (k + 1)
         return self.jet(v, self.top)
 
     def _spectrum(self, R: JetSeries, i: int, n: int) -> np.ndarray:
-        axes = tuple(range(1, self.n + 1))
-        spec = np.fft.fftn(R.values, axes=axes)
+        spec = np.fft.fftn(R.values, axes=self.axes)
         if n == 1:  # R_{i,1} = F_i: its largest coefficient on the outer shell
-            outer = spec[0][self.shell] / spec[0].size
+            outer = spec[0][..., self.shell] / self.shell.size
             self.outer = max(self.outer, float(np.max(np.abs(outer))) if outer.size else 0.0)
         _, _, refused, _ = self._modes[i]
         if refused:
             big = float(np.max(np.abs(spec))) or 1.0
             for idx, h in refused:
-                if np.max(np.abs(spec[(slice(None),) + idx])) > PRESENT * big:
+                if np.max(np.abs(spec[(Ellipsis,) + idx])) > PRESENT * big:
                     resonant_harmonic(h, i, n, self.omega, self.lattice, self.tol,
                                       self.forced)  # raises, naming the resonance
         return spec
@@ -230,9 +297,8 @@ class JetAlgebra(AngleCalculus):
         res_h, res_k, _, _ = self._modes[i]
         G = np.zeros_like(spec)
         for h, k in zip(res_h, res_k):
-            G[(slice(None),) + k] = spec[(slice(None),) + h]
-        axes = tuple(range(1, self.n + 1))
-        g = np.fft.ifftn(G, axes=axes)
+            G[(Ellipsis,) + k] = spec[(Ellipsis,) + h]
+        g = np.fft.ifftn(G, axes=self.axes)
         wi = self.w[i]
         A = R._new(g.imag / wi, R.deg)
         aB = R._new(-g.real / wi, R.deg)
@@ -243,8 +309,7 @@ class JetAlgebra(AngleCalculus):
         if R.values is None:
             return R
         spec = self._spectrum(R, i, n)
-        axes = tuple(range(1, self.n + 1))
-        return R._new(np.fft.ifftn(spec * self._modes[i][3], axes=axes).real, R.deg)
+        return R._new(np.fft.ifftn(spec * self._modes[i][3], axes=self.axes).real, R.deg)
 
 
 @lru_cache(maxsize=32)

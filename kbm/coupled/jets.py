@@ -12,9 +12,9 @@ function on the ``M^D`` grid of the torus of the fast angles (``D = N``, one mor
 forcing angle ``theta``; the algebra of :mod:`kbm.coupled.jet_algebra`).  Then
 
 - products, ``d/da_l`` (a jet of degree ``r`` gives one of degree ``r - 1``; the recursion
-  starts from degree ``order``, which leaves the rates of the last order known at
-  ``Da = 0``), ``L0``, the resonant part and the division by ``omega_i^2 - (h . omega)^2``
-  are :class:`~kbm.coupled.jet_algebra.JetAlgebra`'s;
+  starts from degree ``order - 1``, which leaves the rates of the last order known at
+  ``Da = 0``; ``x0`` is linear in ``Da``, exact), ``L0``, the resonant part and the
+  division by ``omega_i^2 - (h . omega)^2`` are :class:`~kbm.coupled.jet_algebra.JetAlgebra`'s;
 - ``F(x0 + Dx, v0 + Dv, theta)`` is its Taylor series in the ``2 N`` state variables
   (:class:`kbm.algebra.smooth.TaylorOf`), the partial derivatives taken symbolically and
   compiled (:class:`kbm.algebra.smooth.TaylorTable`); their jets in ``Da`` along
@@ -123,11 +123,10 @@ class JetBuilder:
             return vals
 
         def sample(*beta):
-            """The jet of ``F_beta(x0(a), v0(a), theta)`` in ``Da``: degree ``top`` for
-            ``F`` itself, ``top - |beta| - 1`` for its derivatives (what the monomials of
-            the Taylor series they multiply are known to)."""
-            total = sum(beta)
-            deg = alg.top if total == 0 else max(alg.top - total - 1, 0)
+            """The jet of ``F_beta(x0(a), v0(a), theta)`` in ``Da`` to degree
+            ``top - |beta|``: ``F_beta`` first enters ``R_n`` at ``n = |beta| + 1``, which
+            is known to degree ``top - |beta|``."""
+            deg = max(alg.top - sum(beta), 0)
             out = np.zeros((len(alg.index),) + alg.shape)
             any_ = False
             for alpha in alg.index:
@@ -247,7 +246,7 @@ def jet_expansion(model: CoupledOscillators, values: Mapping[str, float], order:
     check_nodes(nodes)
     M = nodes
     while True:
-        alg = JetAlgebra(model, lattice, a, M, order + (1 if gradient else 0), sigma,
+        alg = JetAlgebra(model, lattice, a, M, order - (0 if gradient else 1), sigma,
                          TOLERANCE if tolerance is None else tolerance, parameters)
         ex = _on_grid(alg, F, order, gradient, lattice, a, g)
         if not adapt or ex.tail <= tol:

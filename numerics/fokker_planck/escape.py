@@ -53,6 +53,7 @@ from kbm.errors import ModelError, ParameterError
 
 from ._bases import cheb_centred, cheb_mapped
 from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
+from ._folded import FoldedRungs, symmetric
 from ._fraction import EscapeFraction
 from ._model import grid_check
 from ._orthonormal import nonlinear_escape
@@ -259,7 +260,7 @@ def escape_problem(split, D: float, saddles: tuple, margin: float | None = None)
 def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: int = 64,
                    n_cheb: int = 128, margin: float | None = None, tol: float | None = None,
                    max_hermite: int = 4096, max_cheb: int = 720,
-                   max_cost: float = 3e7) -> KramersEscape:
+                   max_cost: float = 3e7, basis: str = "orthonormal") -> KramersEscape:
     """The rate of transitions out of the well at the origin from the Kramers equation with
     a sink at the next wells' bottoms.
 
@@ -322,26 +323,38 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
     gp = split.numpy_functions()[1]
     linear = kT is not None
     tol = 1e-6 if tol is None else float(tol)
-    if not linear:  # orthonormal Hermite functions (._orthonormal)
+    if basis not in ("orthonormal", "pair"):
+        raise ParameterError(f"basis = {basis!r}: choose 'orthonormal' or 'pair'")
+    if basis == "pair" and not linear:
+        raise ParameterError("basis = 'pair' needs linear damping -gamma x' (the pair's high "
+                             "orders grow where the damping is negative); use "
+                             "'orthonormal'")
+    wb = max(math.sqrt(abs(float(gp(np.array(s))))) for s in (xl, xr))
+    layer = math.sqrt(D / wb) / wb
+    by_layer = 2 * math.ceil(LAYER_INTERVALS / 2 * half / layer)
+    # linear damping: the points crowd at the saddles only where the layer sets their number
+    crowd = SADDLES if not linear or by_layer > n_cheb else 0.0
+    if basis == "orthonormal":  # orthonormal Hermite functions (._orthonormal, ._folded)
+        def points(nc):
+            return cheb_centred(nc, half, ALPHA, (xl, xr) + tuple(wells),
+                                (-xl / 2, xr / 2, 2.5 * width, 2.5 * width),
+                                (crowd, crowd, WELLS, WELLS))
+
+        xs = points(64)[0]
+        fold = linear and symmetric(xs, np.asarray(split.numpy_functions()[0](xs), float),
+                                    wells)
         out = nonlinear_escape(
             split, D, (xl, xr), half,
             lambda xs, sharp: _sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp),
-            lambda nc: cheb_centred(nc, half, ALPHA, (xl, xr) + tuple(wells),
-                                    (-xl / 2, xr / 2, 2.5 * width, 2.5 * width),
-                                    (SADDLES, SADDLES, WELLS, WELLS)),
-            hermite_ladder, n_hermite=n_hermite, n_cheb=n_cheb, tol=tol,
+            points, hermite_ladder, n_hermite=n_hermite, n_cheb=n_cheb, tol=tol,
             max_hermite=max_hermite, max_cheb=max_cheb, max_cost=max_cost,
-            layer_intervals=LAYER_INTERVALS)
+            layer_intervals=LAYER_INTERVALS,
+            slowest=FoldedRungs(max_hermite) if fold else None)
         return KramersEscape(saddles=(xl, xr), wells=wells, **out)
     nc, start = int(n_cheb), int(n_hermite)
     # linear damping: sizes from the saddle's layer (docs/noise.rst)
-    wb = max(math.sqrt(abs(float(gp(np.array(s))))) for s in (xl, xr))
     start = next(n for n in hermite_ladder(start, 2 * start + 16 * wb / gamma)
                  if n >= 8 * wb / gamma or n >= max_hermite)
-    layer = math.sqrt(D / wb) / wb
-    by_layer = 2 * math.ceil(LAYER_INTERVALS / 2 * half / layer)
-    # the points crowd at the saddles only where the layer sets their number
-    crowd = SADDLES if by_layer > nc else 0.0
     nc = max(nc, by_layer)
     memo = {}
     folds = abs(wells[0] + wells[1]) <= 1e-12 * wells[1]  # about: _slowest decides

@@ -241,6 +241,12 @@ class FoldedRungs:
         self.capacity = int(capacity)
         self._key, self._lu, self._keep = None, None, None
 
+    @staticmethod
+    def numbers(nh: int, nc: int) -> int:
+        """The numbers the factors keep: an LU of ``(b mm)^2`` per ``b`` orders
+        (``b = 2``, ``mm = nc/2 + 1`` folded points)."""
+        return 2 * nh * (nc // 2 + 1) ** 2
+
     def __call__(self, split, D: float, s: float, points, nh: int, nc: int, sink) -> float:
         """The smallest decay rate in ``nh`` orthonormal Hermite functions of ``v/s`` on the
         ``nc + 1`` points of ``points(nc)`` with the sink ``sink(xs)``, by shift-invert

@@ -141,7 +141,8 @@ def nonlinear_escape(split, D: float, saddles, half: float, sink, points, ladder
     :data:`OTHER_SCALE` times larger (the last truncation) agree to ``tol``; the position
     intervals start at ``n_cheb`` or ``layer_intervals L/l`` (``l = delta/omega_b``, the layer's width
     in ``x``) and grow by 1.2 while the rate moves by more than ``tol`` on the finer grid.
-    The block LU keeps ``3 n_hermite n_cheb^2`` numbers at most ``3 max_cost``.
+    The block LU keeps ``3 n_hermite n_cheb^2`` numbers (``slowest.numbers(n, nc)`` where
+    ``slowest`` has it) at most ``3 max_cost``.
     ``slowest``: the solve of one rung, called as :func:`orthonormal_slowest` (its default;
     for linear damping in an even potential :class:`._folded.FoldedRungs`, the same rate
     on half the points, one factorisation extended up the ladder).
@@ -158,9 +159,11 @@ def nonlinear_escape(split, D: float, saddles, half: float, sink, points, ladder
     nc = max(int(n_cheb), 2 * math.ceil(layer_intervals / 2 * half / layer))
     memo: dict = {}
     slowest = orthonormal_slowest if slowest is None else slowest
+    # the numbers the factorisation keeps (its blocks: lower, upper and LU of b m rows)
+    numbers = getattr(slowest, "numbers", lambda n, nc: 3 * n * nc * nc)
 
     def fits(n, nc):
-        return 3 * n * nc * nc <= 3 * max_cost
+        return numbers(n, nc) <= 3 * max_cost
 
     def solve(n, nc, scale=1.0, sharp=1):
         if (n, nc, scale, sharp) not in memo:

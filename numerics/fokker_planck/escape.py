@@ -12,23 +12,28 @@ lowest nonvanishing eigenvalue): the rate of transitions to the next wells (flux
 population), what Kramers' and Mel'nikov-Meshkov's formulas describe, and the rate of
 simulated first passages to the lines ``x = x_w``.
 
-Linear damping (the CDC at rest; :mod:`._fraction`): the matrix is block tridiagonal in
-the Hermite index with blocks known in closed form, eliminated order by order from the
-lowest up (one factorisation serves the whole Hermite ladder, :mod:`._rungs`) and folded by
-parity for an even potential, on Kosloff-Tal-Ezer points crowded at the saddles and the sink
-(:func:`._bases.cheb_centred`), by Arnoldi's method.  Other dampings (:mod:`._orthonormal`):
-orthonormal Hermite functions of the velocity (in Risken's pair the high orders grow where
-the damping is negative, and the ladder did not converge), the blocks assembled from the
-terms (:mod:`._blocks`) and shift-invert Arnoldi.
+Every damping (``basis="orthonormal"``, the default; :mod:`._orthonormal`): orthonormal
+Hermite functions of the velocity at the scale ``s`` of
+:func:`._orthonormal.velocity_scale` (in Risken's pair the high orders grow where the
+damping is negative, and the ladder did not converge), the blocks assembled from the terms
+(:mod:`._blocks`) and shift-invert Arnoldi, on Kosloff-Tal-Ezer points crowded at the
+saddles and the sink (:func:`._bases.cheb_centred`).  For linear damping in an even
+potential the operator is folded by parity and eliminated from the lowest orders up, one
+factorisation for the whole Hermite ladder (:mod:`._folded`).  Linear damping in Risken's
+pair at ``sigma = sqrt(kT)`` (``basis="pair"``, :mod:`._fraction`, :mod:`._rungs`): the
+matrix is block tridiagonal with blocks known in closed form, eliminated the same way; the
+independent check of the orthonormal rate.
 
 Why the velocity expansion needs many functions at low friction (docs/noise.rst): the
 density has a layer along the separatrix, sharpest at the saddle, where the stream that the
 saddle reflects back into the well (energies below ``E_b``) meets no stream from outside
 (the particles above ``E_b`` left for the sink).  Its width in the velocity is about
-``(D/omega_b)^(1/2) = sigma (gamma/omega_b)^(1/2)``, so the Hermite functions needed grow
-like ``omega_b/gamma`` (about ``10 omega_b/gamma`` for 1e-6) and the Chebyshev intervals like
-``L/l``, ``l = (D/omega_b)^(1/2)/omega_b`` the layer's width in ``x``.  The ladders start
-there, not at 64.  This is the physics of the rate (Mel'nikov-Meshkov's boundary layer), not
+``delta = (D/omega_b)^(1/2) = sigma (gamma/omega_b)^(1/2)``, so Risken's functions at the
+scale ``sigma`` needed grow like ``omega_b/gamma`` (about ``10 omega_b/gamma`` for 1e-6;
+that ladder starts there, not at 64), the orthonormal ones at the scale ``s`` only like
+``(omega_b/gamma)^(1/2)`` (they resolve ``delta`` and reach the Maxwellian's tail:
+CDC, mu = 0.02, 128 against 2896), and the Chebyshev intervals like ``L/l``,
+``l = (D/omega_b)^(1/2)/omega_b`` the layer's width in ``x``.  This is the physics of the rate (Mel'nikov-Meshkov's boundary layer), not
 of the sink: whatever removes the particles that crossed leaves it, and the rate does not
 depend on the sink's sharpness to 1e-7 at mu = 0.02.
 
@@ -105,13 +110,14 @@ class KramersEscape:
     chebyshev_error : float
         The change of the rate on 1.2 times as many Chebyshev intervals.
     scale_error : float
-        Nonlinear damping: the change of the rate at the largest truncation when the
-        velocity scale of the orthonormal Hermite functions is 1.3 times larger (another
-        basis; :mod:`._orthonormal`), included in :attr:`truncation_error`; ``nan`` for
-        linear damping.
+        The change of the rate at the largest truncation when the velocity scale of the
+        orthonormal Hermite functions is 1.3 times larger (another basis;
+        :mod:`._orthonormal`), included in :attr:`truncation_error`; ``nan`` for Risken's
+        pair (``basis="pair"``).
     velocity_scale : float
-        The scale ``s`` of the velocity's Hermite functions (``sqrt(kT)`` for linear
-        damping, :func:`._orthonormal.velocity_scale` otherwise).
+        The scale ``s`` of the velocity's Hermite functions
+        (:func:`._orthonormal.velocity_scale`; ``nan`` for Risken's pair, whose scale is
+        ``sqrt(kT)``).
     """
 
     rate: float
@@ -277,12 +283,12 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
     n_hermite : int
         The smallest first Hermite truncation; it grows by ``sqrt 2`` until two successive
         rates agree to ``tol`` (or ``max_hermite``; the last change is
-        ``truncation_error``).  For linear damping the first truncation is at least
-        ``8 omega_b/gamma`` (the velocity layer at the saddle, of width
-        ``(D/omega_b)^(1/2) = sigma (gamma/omega_b)^(1/2)``, needs that many).  For a
-        nonlinear damping the functions are orthonormal Hermite functions at the scale of
-        :func:`._orthonormal.velocity_scale`, and the ladder also stops only when the rate
-        at a 1.3 times larger scale agrees (``scale_error``).
+        ``truncation_error``).  The functions are orthonormal Hermite functions at the
+        scale of :func:`._orthonormal.velocity_scale`, and the ladder also stops only when
+        the rate at a 1.3 times larger scale agrees (``scale_error``).  In Risken's pair
+        (``basis="pair"``) the first truncation is at least ``8 omega_b/gamma`` (the
+        velocity layer at the saddle, of width ``(D/omega_b)^(1/2) = sigma
+        (gamma/omega_b)^(1/2)``, needs that many).
     n_cheb : int
         The smallest first number of Chebyshev intervals in the position (at least
         ``2.2 L/l`` (:data:`LAYER_INTERVALS`),
@@ -300,9 +306,14 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         The ladders' tops.
     max_cost : float
         The factorisation keeps at most ``3 max_cost`` numbers (720 MB at 3e7): ``3
-        n_hermite n_cheb^2`` for the block LU of a nonlinear damping, ``n_hermite
-        n_points^2`` for linear damping (``n_points`` about ``n_cheb/2`` when folded by
+        n_hermite n_cheb^2`` for the block LU in orthonormal functions (``2 n_hermite
+        (n_cheb/2 + 1)^2`` folded by parity, :class:`._folded.FoldedRungs`), ``n_hermite
+        n_points^2`` in Risken's pair (``n_points`` about ``n_cheb/2`` when folded by
         parity); larger solves are skipped.
+    basis : {"orthonormal", "pair"}
+        The velocity's functions: orthonormal Hermite functions (every damping), or
+        Risken's pair at ``sqrt(kT)`` (linear damping only; the ladder of 2896 functions
+        at mu = 0.02 where the orthonormal one needs 128, kept as the independent check).
 
     Returns
     -------
@@ -319,16 +330,16 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
     if not mu > 0:
         raise ParameterError(f"mu = {mu:g} must be > 0")
     kT, gamma = kT_gamma(split, D)
-    sigma, wells, half, kappa0, width = escape_problem(split, D, (xl, xr), margin)
-    gp = split.numpy_functions()[1]
     linear = kT is not None
-    tol = 1e-6 if tol is None else float(tol)
     if basis not in ("orthonormal", "pair"):
         raise ParameterError(f"basis = {basis!r}: choose 'orthonormal' or 'pair'")
     if basis == "pair" and not linear:
         raise ParameterError("basis = 'pair' needs linear damping -gamma x' (the pair's high "
                              "orders grow where the damping is negative); use "
                              "'orthonormal'")
+    sigma, wells, half, kappa0, width = escape_problem(split, D, (xl, xr), margin)
+    gp = split.numpy_functions()[1]
+    tol = 1e-6 if tol is None else float(tol)
     wb = max(math.sqrt(abs(float(gp(np.array(s))))) for s in (xl, xr))
     layer = math.sqrt(D / wb) / wb
     by_layer = 2 * math.ceil(LAYER_INTERVALS / 2 * half / layer)

@@ -132,7 +132,7 @@ def test_turnover_agrees_with_the_pair_basis():
     scale and elimination) within the two solves' stated errors and to 1e-8; the stated
     truncation, Chebyshev and sink errors are below 1e-6 of the rate."""
     fp = kramers_escape("cdc", {"mu": 0.2, "Delta": 3, "Omega": 1, "lam": 1}, KT * 0.2,
-                        (-SADDLE, SADDLE))
+                        (-SADDLE, SADDLE), basis="orthonormal")
     pair = kramers_escape("cdc", {"mu": 0.2, "Delta": 3, "Omega": 1, "lam": 1}, KT * 0.2,
                           (-SADDLE, SADDLE), basis="pair")
     stated = (fp.truncation_error + fp.chebyshev_error + pair.truncation_error
@@ -144,7 +144,14 @@ def test_turnover_agrees_with_the_pair_basis():
 
 
 def test_basis_is_checked():
-    """An unknown basis, and the pair basis for a nonlinear damping, are refused."""
+    """An unknown basis, and the pair basis for a nonlinear damping, are refused; ``auto``
+    takes the pair at mu = 1 (``8 omega_b/gamma = 34``: the same rate as ``pair``) and the
+    folded orthonormal functions at mu = 0.02 (the slow test below)."""
+    p = {"mu": 1, "Delta": 3, "Omega": 1, "lam": 1}
+    auto = kramers_escape("cdc", p, KT, (-SADDLE, SADDLE))
+    pair = kramers_escape("cdc", p, KT, (-SADDLE, SADDLE), basis="pair")
+    assert (auto.rate, auto.ladder, auto.sink_error) == (pair.rate, pair.ladder, pair.sink_error)
+    assert math.isnan(auto.scale_error)
     from kbm.errors import ParameterError
 
     with pytest.raises(ParameterError, match="basis"):
@@ -163,6 +170,7 @@ def test_low_friction_stated_errors_are_honest():
     on the default grid (the last change there 9e-13) to 1e-9."""
     p = {"mu": 0.02, "Delta": 3, "Omega": 1, "lam": 1}
     fp = kramers_escape("cdc", p, KT * 0.02, (-SADDLE, SADDLE))
+    assert math.isfinite(fp.scale_error) and fp.scale_error <= fp.truncation_error
     assert fp.hermite <= 181 and fp.chebyshev <= 315
     stated = fp.truncation_error + fp.chebyshev_error
     assert stated < 1e-6 * fp.rate and fp.sink_error < 1e-6 * fp.rate

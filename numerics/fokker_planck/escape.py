@@ -83,6 +83,14 @@ ALPHA = 0.9
 #: (themselves 2e-8 from 344), where the Kosloff-Tal-Ezer points alone on 200 intervals are
 #: 5.4e-5 off; the high Hermite orders need more (docs/noise.rst)
 SADDLES, WELLS = 1.0, 0.05
+#: linear damping in an even potential: Risken's pair (``basis="pair"``) where its first
+#: Hermite truncation ``8 omega_b/gamma`` is at most this, else the folded orthonormal
+#: functions (``basis="auto"``).  CDC Delta = 3, kT = 0.35, the rate alone (CPU, pair against
+#: orthonormal): mu = 1 0.12 against 0.72 s, mu = 0.2 (168) 0.3-0.4 against 0.5-0.7 s,
+#: mu = 0.1 (335) 1.2-1.4 against 1.0-1.1 s, mu = 0.05 2.6 against 1.1-1.2 s, mu = 0.02
+#: about 9 against 2.8 s: the orthonormal blocks hold two orders (4 times the work per
+#: order) and the scale check adds a factorisation, against far fewer orders
+PAIR_HERMITE = 256
 #: the first number of position intervals for linear damping, in units of ``L/l``
 #: (``l`` the layer's width in ``x``, :func:`kramers_escape`)
 LAYER_INTERVALS = 2.2
@@ -266,7 +274,7 @@ def escape_problem(split, D: float, saddles: tuple, margin: float | None = None)
 def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: int = 64,
                    n_cheb: int = 128, margin: float | None = None, tol: float | None = None,
                    max_hermite: int = 4096, max_cheb: int = 720,
-                   max_cost: float = 3e7, basis: str = "orthonormal") -> KramersEscape:
+                   max_cost: float = 3e7, basis: str = "auto") -> KramersEscape:
     """The rate of transitions out of the well at the origin from the Kramers equation with
     a sink at the next wells' bottoms.
 
@@ -310,10 +318,12 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         (n_cheb/2 + 1)^2`` folded by parity, :class:`._folded.FoldedRungs`), ``n_hermite
         n_points^2`` in Risken's pair (``n_points`` about ``n_cheb/2`` when folded by
         parity); larger solves are skipped.
-    basis : {"orthonormal", "pair"}
+    basis : {"auto", "orthonormal", "pair"}
         The velocity's functions: orthonormal Hermite functions (every damping), or
         Risken's pair at ``sqrt(kT)`` (linear damping only; the ladder of 2896 functions
-        at mu = 0.02 where the orthonormal one needs 128, kept as the independent check).
+        at mu = 0.02 where the orthonormal one needs 128).  ``"auto"``: the pair for linear
+        damping where ``8 omega_b/gamma <= PAIR_HERMITE`` (:data:`PAIR_HERMITE`, higher
+        friction) or the potential is not even, else orthonormal.
 
     Returns
     -------
@@ -331,8 +341,8 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         raise ParameterError(f"mu = {mu:g} must be > 0")
     kT, gamma = kT_gamma(split, D)
     linear = kT is not None
-    if basis not in ("orthonormal", "pair"):
-        raise ParameterError(f"basis = {basis!r}: choose 'orthonormal' or 'pair'")
+    if basis not in ("auto", "orthonormal", "pair"):
+        raise ParameterError(f"basis = {basis!r}: choose 'auto', 'orthonormal' or 'pair'")
     if basis == "pair" and not linear:
         raise ParameterError("basis = 'pair' needs linear damping -gamma x' (the pair's high "
                              "orders grow where the damping is negative); use "
@@ -345,15 +355,18 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
     by_layer = 2 * math.ceil(LAYER_INTERVALS / 2 * half / layer)
     # linear damping: the points crowd at the saddles only where the layer sets their number
     crowd = SADDLES if not linear or by_layer > n_cheb else 0.0
-    if basis == "orthonormal":  # orthonormal Hermite functions (._orthonormal, ._folded)
-        def points(nc):
-            return cheb_centred(nc, half, ALPHA, (xl, xr) + tuple(wells),
-                                (-xl / 2, xr / 2, 2.5 * width, 2.5 * width),
-                                (crowd, crowd, WELLS, WELLS))
 
-        xs = points(64)[0]
-        fold = linear and symmetric(xs, np.asarray(split.numpy_functions()[0](xs), float),
-                                    wells)
+    def points(nc):
+        return cheb_centred(nc, half, ALPHA, (xl, xr) + tuple(wells),
+                            (-xl / 2, xr / 2, 2.5 * width, 2.5 * width),
+                            (crowd, crowd, WELLS, WELLS))
+
+    xs = points(64)[0]
+    fold = linear and symmetric(xs, np.asarray(split.numpy_functions()[0](xs), float), wells)
+    if basis == "auto":  # the pair where its ladder is short (docs/noise.rst: faster there)
+        basis = ("orthonormal" if not linear or (fold and 8 * wb / gamma > PAIR_HERMITE)
+                 else "pair")
+    if basis == "orthonormal":  # orthonormal Hermite functions (._orthonormal, ._folded)
         out = nonlinear_escape(
             split, D, (xl, xr), half,
             lambda xs, sharp: _sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp),

@@ -66,7 +66,7 @@ class FoldedTermBlocks(TermBlocks):
         self.maps = parity_maps(m, True)
         self.sizes = [idx.size for idx, _ in self.maps]
         self.mm = max(self.sizes)
-        self._folded = {}
+        self._folded, self._applied = {}, {}
         self._reach = max(int(np.max(np.abs(H.tocoo().row - H.tocoo().col), initial=0))
                           for H, _ in self.terms)
 
@@ -125,7 +125,10 @@ class FoldedTermBlocks(TermBlocks):
         ``k1 <= n0``), from the few position matrices that every block shares (no block
         formed: the sweeps then read the LU factors only)."""
         out = np.zeros((n1 - n0) * self.mm)
-        for i, j, v, B, diag in self._entries(n0, n1, k0, k1):
+        key = (n0, n1, k0, k1)
+        if key not in self._applied:  # the sweeps apply each block once per solve
+            self._applied[key] = list(self._entries(n0, n1, k0, k1))
+        for i, j, v, B, diag in self._applied[key]:
             if diag is None:
                 out[i:i + B.shape[0]] += v * (B @ y[j:j + B.shape[1]])
             else:

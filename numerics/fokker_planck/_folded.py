@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
+from ._blocks import TermBlocks, one_blas_thread
 from ._fraction import parity_maps
 from ._orthonormal import orthonormal_terms
 

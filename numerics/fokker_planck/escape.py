@@ -60,9 +60,8 @@ from ._bases import cheb_centred, cheb_mapped
 from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
 from ._folded import FoldedRungs, symmetric
 from ._fraction import EscapeFraction
-from ._model import grid_check
 from ._orthonormal import nonlinear_escape
-from ._rungs import FractionRungs
+from ._rungs import pair_escape
 from .kramers import _linear_temperature, kramers_operator, kramers_terms, velocity_terms
 
 __all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder",
@@ -361,6 +360,9 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
                             (-xl / 2, xr / 2, 2.5 * width, 2.5 * width),
                             (crowd, crowd, WELLS, WELLS))
 
+    def sink(xs, sharp):  # sharp = 2: the sharper sink of sink_error
+        return _sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp)
+
     xs = points(64)[0]
     fold = linear and symmetric(xs, np.asarray(split.numpy_functions()[0](xs), float), wells)
     if basis == "auto":  # the pair where its ladder is short (docs/noise.rst: faster there)
@@ -368,60 +370,15 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
                  else "pair")
     if basis == "orthonormal":  # orthonormal Hermite functions (._orthonormal, ._folded)
         out = nonlinear_escape(
-            split, D, (xl, xr), half,
-            lambda xs, sharp: _sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp),
-            points, hermite_ladder, n_hermite=n_hermite, n_cheb=n_cheb, tol=tol,
+            split, D, (xl, xr), half, sink, points, hermite_ladder, n_hermite=n_hermite, n_cheb=n_cheb, tol=tol,
             max_hermite=max_hermite, max_cheb=max_cheb, max_cost=max_cost,
             layer_intervals=LAYER_INTERVALS,
             slowest=FoldedRungs(max_hermite) if fold else None)
         return KramersEscape(saddles=(xl, xr), wells=wells, **out)
-    nc, start = int(n_cheb), int(n_hermite)
-    # linear damping: sizes from the saddle's layer (docs/noise.rst)
-    start = next(n for n in hermite_ladder(start, 2 * start + 16 * wb / gamma)
+    # Risken's pair (._rungs): the first truncation from the saddle's layer (docs/noise.rst)
+    start = next(n for n in hermite_ladder(int(n_hermite), 2 * int(n_hermite) + 16 * wb / gamma)
                  if n >= 8 * wb / gamma or n >= max_hermite)
-    nc = max(nc, by_layer)
-    memo = {}
-    folds = abs(wells[0] + wells[1]) <= 1e-12 * wells[1]  # about: _slowest decides
-
-    def fits(n, nc):
-        m = nc // 2 + 1 if folds else nc + 1
-        return n * m * m <= 3 * max_cost
-
-    # one factorisation per grid and sink, extended up the ladder (._rungs)
-    rungs = FractionRungs(
-        split, sigma, gamma, wells,
-        lambda xs, sharp: _sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp),
-        lambda nc: cheb_centred(nc, half, ALPHA, (xl, xr) + tuple(wells),
-                                (-xl / 2, xr / 2, 2.5 * width, 2.5 * width),
-                                (crowd, crowd, WELLS, WELLS)))
-
-    def solve(n, nc, sharp=1):
-        if (n, nc, sharp) not in memo:
-            top = max([r for r in hermite_ladder(n, int(max_hermite)) if fits(r, nc)],
-                      default=n)
-            memo[n, nc, sharp] = rungs.rate(n, nc, sharp, capacity=top)
-        return memo[n, nc, sharp]
-
-    grow = 1.2
-    table = []
-    while True:
-        ladder = [n for n in hermite_ladder(start, max(int(max_hermite), 2 * start))
-                  if fits(n, nc)] or [start]
-        if len(ladder) < 2:
-            ladder = hermite_ladder(start, 2 * start)[:2]
-        rates = []
-        for n in ladder:
-            rates.append(solve(n, nc))
-            if (n, nc, rates[-1]) not in table:
-                table.append((n, nc, rates[-1]))
-            if len(rates) > 1 and abs(rates[-1] - rates[-2]) <= tol * abs(rates[-1]):
-                break
-        cheb_err, done, finer, k, prev = grid_check(ladder, rates, nc, grow, fits, solve,
-                                                    table, tol, max_cheb)
-        if done:
-            break
-        nc, start = finer, ladder[prev]
-    r_sharp = solve(ladder[prev], nc, sharp=2)
-    return KramersEscape(rates[-1], abs(r_sharp - rates[prev]),
-                         abs(rates[-1] - rates[prev]),
-                         (xl, xr), ladder[k], nc + 1, wells, tuple(table), cheb_err)
+    out = pair_escape(split, sigma, gamma, wells, sink, points, hermite_ladder, start=start,
+                      n_cheb=max(int(n_cheb), by_layer), tol=tol, max_hermite=max_hermite,
+                      max_cheb=max_cheb, max_cost=max_cost)
+    return KramersEscape(saddles=(xl, xr), wells=wells, **out)

@@ -66,8 +66,9 @@ def _kramers_spatial(mu, kT):
 
 @pytest.fixture(scope="module")
 def low_friction():
-    """mu = 0.02 by the default ladder (it starts at 8 omega_b/gamma = 1132 -> 1448 Hermite
-    functions and 2.4 L/l = 292 Chebyshev intervals, from the saddle's layer)."""
+    """mu = 0.02 by the default ladder: folded orthonormal Hermite functions (64, 90, 128,
+    182 on 2.2 L/l = 268 intervals, from the saddle's layer; Risken's pair needed 1448 and
+    2048, starting at 8 omega_b/gamma = 1132)."""
     return _rates(0.02)
 
 

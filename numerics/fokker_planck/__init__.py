@@ -7,7 +7,8 @@ in the Hermite index, :mod:`._fraction` the escape matrix of a linearly damped m
 closed-form blocks, folded by parity (the matrix continued fraction in LU form, eliminated
 upward), :mod:`._sweeps` its compiled solve sweeps, :mod:`._rungs` the escape ladder's
 solves sharing one factorisation per grid, :mod:`._orthonormal` the escape of a
-nonlinearly damped model in orthonormal Hermite functions and
+nonlinearly damped model in orthonormal Hermite functions, :mod:`._folded` the same for
+linear damping at low friction, folded by parity and eliminated upward, and
 :mod:`._stationary_orthonormal` its stationary density in the same functions."""
 
 from .escape import KramersEscape, kramers_escape

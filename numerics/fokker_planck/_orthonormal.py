@@ -128,7 +128,8 @@ def orthonormal_slowest(split, D: float, s: float, points, nh: int, nc: int, sin
 
 def nonlinear_escape(split, D: float, saddles, half: float, sink, points, ladder, *,
                      n_hermite: int, n_cheb: int, tol: float, max_hermite: int,
-                     max_cheb: int, max_cost: float, layer_intervals: float) -> dict:
+                     max_cheb: int, max_cost: float, layer_intervals: float,
+                     slowest=None) -> dict:
     """The Hermite and Chebyshev ladders of :func:`.escape.kramers_escape` for a nonlinear
     damping, in orthonormal Hermite functions (module docstring).
 
@@ -140,7 +141,11 @@ def nonlinear_escape(split, D: float, saddles, half: float, sink, points, ladder
     :data:`OTHER_SCALE` times larger (the last truncation) agree to ``tol``; the position
     intervals start at ``n_cheb`` or ``layer_intervals L/l`` (``l = delta/omega_b``, the layer's width
     in ``x``) and grow by 1.2 while the rate moves by more than ``tol`` on the finer grid.
-    The block LU keeps ``3 n_hermite n_cheb^2`` numbers at most ``3 max_cost``.
+    The block LU keeps ``3 n_hermite n_cheb^2`` numbers (``slowest.numbers(n, nc)`` where
+    ``slowest`` has it) at most ``3 max_cost``.
+    ``slowest``: the solve of one rung, called as :func:`orthonormal_slowest` (its default;
+    for linear damping in an even potential :class:`._folded.FoldedRungs`, the same rate
+    on half the points, one factorisation extended up the ladder).
 
     Returns
     -------
@@ -153,25 +158,28 @@ def nonlinear_escape(split, D: float, saddles, half: float, sink, points, ladder
     layer = math.sqrt(D / wb) / wb
     nc = max(int(n_cheb), 2 * math.ceil(layer_intervals / 2 * half / layer))
     memo: dict = {}
+    slowest = orthonormal_slowest if slowest is None else slowest
+    # the numbers the factorisation keeps (its blocks: lower, upper and LU of b m rows)
+    numbers = getattr(slowest, "numbers", lambda n, nc: 3 * n * nc * nc)
 
     def fits(n, nc):
-        return 3 * n * nc * nc <= 3 * max_cost
+        return numbers(n, nc) <= 3 * max_cost
 
     def solve(n, nc, scale=1.0, sharp=1):
         if (n, nc, scale, sharp) not in memo:
-            memo[n, nc, scale, sharp] = orthonormal_slowest(
+            memo[n, nc, scale, sharp] = slowest(
                 split, D, s * scale, points, n, nc, lambda xs: sink(xs, sharp))
         return memo[n, nc, scale, sharp]
 
     table = []
     start = int(n_hermite)
-    while True:
-        ladder = [n for n in ladder(start, max(int(max_hermite), 2 * start))
-                  if fits(n, nc)] or ladder(start, 2 * start)[:2]
-        if len(ladder) < 2:
-            ladder = ladder(start, 2 * start)[:2]
+    while True:  # (the list is rungs: the ladder on a finer grid calls ladder() again)
+        rungs = [n for n in ladder(start, max(int(max_hermite), 2 * start))
+                 if fits(n, nc)] or ladder(start, 2 * start)[:2]
+        if len(rungs) < 2:
+            rungs = ladder(start, 2 * start)[:2]
         rates, scale_err = [], math.inf
-        for n in ladder:
+        for n in rungs:
             rates.append(solve(n, nc))
             table.append((n, nc, rates[-1]))
             if len(rates) > 1 and abs(rates[-1] - rates[-2]) <= tol * abs(rates[-1]):
@@ -179,14 +187,14 @@ def nonlinear_escape(split, D: float, saddles, half: float, sink, points, ladder
                 if scale_err <= tol * abs(rates[-1]):
                     break
         if not math.isfinite(scale_err):
-            scale_err = abs(solve(ladder[len(rates) - 1], nc, OTHER_SCALE) - rates[-1])
-        cheb_err, done, finer, k, prev = grid_check(ladder, rates, nc, 1.2, fits, solve,
+            scale_err = abs(solve(rungs[len(rates) - 1], nc, OTHER_SCALE) - rates[-1])
+        cheb_err, done, finer, k, prev = grid_check(rungs, rates, nc, 1.2, fits, solve,
                                                     table, tol, max_cheb)
         if done:
             break
-        nc, start = finer, ladder[prev]
-    r_sharp = solve(ladder[prev], nc, sharp=2)
+        nc, start = finer, rungs[prev]
+    r_sharp = solve(rungs[prev], nc, sharp=2)
     return dict(rate=rates[-1], sink_error=abs(r_sharp - rates[prev]),
                 truncation_error=max(abs(rates[-1] - rates[prev]), scale_err),
-                hermite=ladder[k], chebyshev=nc + 1, ladder=tuple(table),
+                hermite=rungs[k], chebyshev=nc + 1, ladder=tuple(table),
                 chebyshev_error=cheb_err, scale_error=scale_err, velocity_scale=s)

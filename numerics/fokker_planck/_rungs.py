@@ -14,8 +14,9 @@ import numpy as np
 
 from ._blocks import one_blas_thread
 from ._fraction import EscapeFraction, parity_maps
+from ._model import grid_check
 
-__all__ = ["FractionRungs", "chebyshev_interpolation"]
+__all__ = ["FractionRungs", "chebyshev_interpolation", "pair_escape"]
 
 #: the storage of a factorisation, in units of its need: the next grid of the ladder (1.2
 #: times the intervals, about 1.44 times the numbers per order) then fits into it when its
@@ -131,3 +132,60 @@ class FractionRungs:
             self._modes.pop(nc, None)
             self._modes[nc] = (frac.fold, frac.mode)
         return rate
+
+
+def pair_escape(split, sigma: float, gamma: float, wells, sink, points, ladder, *, start: int,
+                n_cheb: int, tol: float, max_hermite: int, max_cheb: int,
+                max_cost: float) -> dict:
+    """The Hermite and Chebyshev ladders of :func:`.escape.kramers_escape` in Risken's pair
+    (``basis="pair"``): the truncation grows by ``sqrt 2`` from ``start`` (``ladder(start,
+    stop)``, :func:`.escape.hermite_ladder`) until two successive rates agree to ``tol``,
+    then the rate at the top rung on 1.2 times the intervals (:func:`._model.grid_check`;
+    when it moves by more than ``tol`` the ladder runs again there) and one rung below with
+    ``sink(xs, 2)``.  One :class:`FractionRungs` factorisation per grid and sink, extended
+    up the ladder; the factors keep ``n m^2`` numbers at most ``3 max_cost`` (``m`` the
+    points, about ``n_cheb/2`` folded).
+
+    Returns
+    -------
+    dict
+        The fields of :class:`.escape.KramersEscape` but ``saddles`` and ``wells``.
+    """
+    nc = int(n_cheb)
+    memo = {}
+    folds = abs(wells[0] + wells[1]) <= 1e-12 * wells[1]  # about: EscapeFraction decides
+
+    def fits(n, nc):
+        m = nc // 2 + 1 if folds else nc + 1
+        return n * m * m <= 3 * max_cost
+
+    rungs = FractionRungs(split, sigma, gamma, wells, sink, points)
+
+    def solve(n, nc, sharp=1):
+        if (n, nc, sharp) not in memo:
+            top = max([r for r in ladder(n, int(max_hermite)) if fits(r, nc)], default=n)
+            memo[n, nc, sharp] = rungs.rate(n, nc, sharp, capacity=top)
+        return memo[n, nc, sharp]
+
+    table = []
+    while True:
+        steps = [n for n in ladder(start, max(int(max_hermite), 2 * start))
+                 if fits(n, nc)] or [start]
+        if len(steps) < 2:
+            steps = ladder(start, 2 * start)[:2]
+        rates = []
+        for n in steps:
+            rates.append(solve(n, nc))
+            if (n, nc, rates[-1]) not in table:
+                table.append((n, nc, rates[-1]))
+            if len(rates) > 1 and abs(rates[-1] - rates[-2]) <= tol * abs(rates[-1]):
+                break
+        cheb_err, done, finer, k, prev = grid_check(steps, rates, nc, 1.2, fits, solve,
+                                                    table, tol, max_cheb)
+        if done:
+            break
+        nc, start = finer, steps[prev]
+    r_sharp = solve(steps[prev], nc, sharp=2)
+    return dict(rate=rates[-1], sink_error=abs(r_sharp - rates[prev]),
+                truncation_error=abs(rates[-1] - rates[prev]), hermite=steps[k],
+                chebyshev=nc + 1, ladder=tuple(table), chebyshev_error=cheb_err)

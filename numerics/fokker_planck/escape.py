@@ -12,23 +12,28 @@ lowest nonvanishing eigenvalue): the rate of transitions to the next wells (flux
 population), what Kramers' and Mel'nikov-Meshkov's formulas describe, and the rate of
 simulated first passages to the lines ``x = x_w``.
 
-Linear damping (the CDC at rest; :mod:`._fraction`): the matrix is block tridiagonal in
-the Hermite index with blocks known in closed form, eliminated order by order from the
-lowest up (one factorisation serves the whole Hermite ladder, :mod:`._rungs`) and folded by
-parity for an even potential, on Kosloff-Tal-Ezer points crowded at the saddles and the sink
-(:func:`._bases.cheb_centred`), by Arnoldi's method.  Other dampings (:mod:`._orthonormal`):
-orthonormal Hermite functions of the velocity (in Risken's pair the high orders grow where
-the damping is negative, and the ladder did not converge), the blocks assembled from the
-terms (:mod:`._blocks`) and shift-invert Arnoldi.
+Every damping (``basis="orthonormal"``, the default; :mod:`._orthonormal`): orthonormal
+Hermite functions of the velocity at the scale ``s`` of
+:func:`._orthonormal.velocity_scale` (in Risken's pair the high orders grow where the
+damping is negative, and the ladder did not converge), the blocks assembled from the terms
+(:mod:`._blocks`) and shift-invert Arnoldi, on Kosloff-Tal-Ezer points crowded at the
+saddles and the sink (:func:`._bases.cheb_centred`).  For linear damping in an even
+potential the operator is folded by parity and eliminated from the lowest orders up, one
+factorisation for the whole Hermite ladder (:mod:`._folded`).  Linear damping in Risken's
+pair at ``sigma = sqrt(kT)`` (``basis="pair"``, :mod:`._fraction`, :mod:`._rungs`): the
+matrix is block tridiagonal with blocks known in closed form, eliminated the same way; the
+independent check of the orthonormal rate.
 
 Why the velocity expansion needs many functions at low friction (docs/noise.rst): the
 density has a layer along the separatrix, sharpest at the saddle, where the stream that the
 saddle reflects back into the well (energies below ``E_b``) meets no stream from outside
 (the particles above ``E_b`` left for the sink).  Its width in the velocity is about
-``(D/omega_b)^(1/2) = sigma (gamma/omega_b)^(1/2)``, so the Hermite functions needed grow
-like ``omega_b/gamma`` (about ``10 omega_b/gamma`` for 1e-6) and the Chebyshev intervals like
-``L/l``, ``l = (D/omega_b)^(1/2)/omega_b`` the layer's width in ``x``.  The ladders start
-there, not at 64.  This is the physics of the rate (Mel'nikov-Meshkov's boundary layer), not
+``delta = (D/omega_b)^(1/2) = sigma (gamma/omega_b)^(1/2)``, so Risken's functions at the
+scale ``sigma`` needed grow like ``omega_b/gamma`` (about ``10 omega_b/gamma`` for 1e-6;
+that ladder starts there, not at 64), the orthonormal ones at the scale ``s`` only like
+``(omega_b/gamma)^(1/2)`` (they resolve ``delta`` and reach the Maxwellian's tail:
+CDC, mu = 0.02, 128 against 2896), and the Chebyshev intervals like ``L/l``,
+``l = (D/omega_b)^(1/2)/omega_b`` the layer's width in ``x``.  This is the physics of the rate (Mel'nikov-Meshkov's boundary layer), not
 of the sink: whatever removes the particles that crossed leaves it, and the rate does not
 depend on the sink's sharpness to 1e-7 at mu = 0.02.
 
@@ -53,10 +58,10 @@ from kbm.errors import ModelError, ParameterError
 
 from ._bases import cheb_centred, cheb_mapped
 from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
+from ._folded import FoldedRungs, symmetric
 from ._fraction import EscapeFraction
-from ._model import grid_check
 from ._orthonormal import nonlinear_escape
-from ._rungs import FractionRungs
+from ._rungs import pair_escape
 from .kramers import _linear_temperature, kramers_operator, kramers_terms, velocity_terms
 
 __all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder",
@@ -77,6 +82,14 @@ ALPHA = 0.9
 #: (themselves 2e-8 from 344), where the Kosloff-Tal-Ezer points alone on 200 intervals are
 #: 5.4e-5 off; the high Hermite orders need more (docs/noise.rst)
 SADDLES, WELLS = 1.0, 0.05
+#: linear damping in an even potential: Risken's pair (``basis="pair"``) where its first
+#: Hermite truncation ``8 omega_b/gamma`` is at most this, else the folded orthonormal
+#: functions (``basis="auto"``).  CDC Delta = 3, kT = 0.35, the rate alone (CPU, pair against
+#: orthonormal): mu = 1 0.12 against 0.72 s, mu = 0.2 (168) 0.3-0.4 against 0.5-0.7 s,
+#: mu = 0.1 (335) 1.2-1.4 against 1.0-1.1 s, mu = 0.05 2.6 against 1.1-1.2 s, mu = 0.02
+#: about 9 against 2.8 s: the orthonormal blocks hold two orders (4 times the work per
+#: order) and the scale check adds a factorisation, against far fewer orders
+PAIR_HERMITE = 256
 #: the first number of position intervals for linear damping, in units of ``L/l``
 #: (``l`` the layer's width in ``x``, :func:`kramers_escape`)
 LAYER_INTERVALS = 2.2
@@ -104,13 +117,14 @@ class KramersEscape:
     chebyshev_error : float
         The change of the rate on 1.2 times as many Chebyshev intervals.
     scale_error : float
-        Nonlinear damping: the change of the rate at the largest truncation when the
-        velocity scale of the orthonormal Hermite functions is 1.3 times larger (another
-        basis; :mod:`._orthonormal`), included in :attr:`truncation_error`; ``nan`` for
-        linear damping.
+        The change of the rate at the largest truncation when the velocity scale of the
+        orthonormal Hermite functions is 1.3 times larger (another basis;
+        :mod:`._orthonormal`), included in :attr:`truncation_error`; ``nan`` for Risken's
+        pair (``basis="pair"``).
     velocity_scale : float
-        The scale ``s`` of the velocity's Hermite functions (``sqrt(kT)`` for linear
-        damping, :func:`._orthonormal.velocity_scale` otherwise).
+        The scale ``s`` of the velocity's Hermite functions
+        (:func:`._orthonormal.velocity_scale`; ``nan`` for Risken's pair, whose scale is
+        ``sqrt(kT)``).
     """
 
     rate: float
@@ -259,7 +273,7 @@ def escape_problem(split, D: float, saddles: tuple, margin: float | None = None)
 def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: int = 64,
                    n_cheb: int = 128, margin: float | None = None, tol: float | None = None,
                    max_hermite: int = 4096, max_cheb: int = 720,
-                   max_cost: float = 3e7) -> KramersEscape:
+                   max_cost: float = 3e7, basis: str = "auto") -> KramersEscape:
     """The rate of transitions out of the well at the origin from the Kramers equation with
     a sink at the next wells' bottoms.
 
@@ -276,12 +290,12 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
     n_hermite : int
         The smallest first Hermite truncation; it grows by ``sqrt 2`` until two successive
         rates agree to ``tol`` (or ``max_hermite``; the last change is
-        ``truncation_error``).  For linear damping the first truncation is at least
-        ``8 omega_b/gamma`` (the velocity layer at the saddle, of width
-        ``(D/omega_b)^(1/2) = sigma (gamma/omega_b)^(1/2)``, needs that many).  For a
-        nonlinear damping the functions are orthonormal Hermite functions at the scale of
-        :func:`._orthonormal.velocity_scale`, and the ladder also stops only when the rate
-        at a 1.3 times larger scale agrees (``scale_error``).
+        ``truncation_error``).  The functions are orthonormal Hermite functions at the
+        scale of :func:`._orthonormal.velocity_scale`, and the ladder also stops only when
+        the rate at a 1.3 times larger scale agrees (``scale_error``).  In Risken's pair
+        (``basis="pair"``) the first truncation is at least ``8 omega_b/gamma`` (the
+        velocity layer at the saddle, of width ``(D/omega_b)^(1/2) = sigma
+        (gamma/omega_b)^(1/2)``, needs that many).
     n_cheb : int
         The smallest first number of Chebyshev intervals in the position (at least
         ``2.2 L/l`` (:data:`LAYER_INTERVALS`),
@@ -299,9 +313,16 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         The ladders' tops.
     max_cost : float
         The factorisation keeps at most ``3 max_cost`` numbers (720 MB at 3e7): ``3
-        n_hermite n_cheb^2`` for the block LU of a nonlinear damping, ``n_hermite
-        n_points^2`` for linear damping (``n_points`` about ``n_cheb/2`` when folded by
+        n_hermite n_cheb^2`` for the block LU in orthonormal functions (``2 n_hermite
+        (n_cheb/2 + 1)^2`` folded by parity, :class:`._folded.FoldedRungs`), ``n_hermite
+        n_points^2`` in Risken's pair (``n_points`` about ``n_cheb/2`` when folded by
         parity); larger solves are skipped.
+    basis : {"auto", "orthonormal", "pair"}
+        The velocity's functions: orthonormal Hermite functions (every damping), or
+        Risken's pair at ``sqrt(kT)`` (linear damping only; the ladder of 2896 functions
+        at mu = 0.02 where the orthonormal one needs 128).  ``"auto"``: the pair for linear
+        damping where ``8 omega_b/gamma <= PAIR_HERMITE`` (:data:`PAIR_HERMITE`, higher
+        friction) or the potential is not even, else orthonormal.
 
     Returns
     -------
@@ -318,73 +339,46 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
     if not mu > 0:
         raise ParameterError(f"mu = {mu:g} must be > 0")
     kT, gamma = kT_gamma(split, D)
+    linear = kT is not None
+    if basis not in ("auto", "orthonormal", "pair"):
+        raise ParameterError(f"basis = {basis!r}: choose 'auto', 'orthonormal' or 'pair'")
+    if basis == "pair" and not linear:
+        raise ParameterError("basis = 'pair' needs linear damping -gamma x' (the pair's high "
+                             "orders grow where the damping is negative); use "
+                             "'orthonormal'")
     sigma, wells, half, kappa0, width = escape_problem(split, D, (xl, xr), margin)
     gp = split.numpy_functions()[1]
-    linear = kT is not None
     tol = 1e-6 if tol is None else float(tol)
-    if not linear:  # orthonormal Hermite functions (._orthonormal)
-        out = nonlinear_escape(
-            split, D, (xl, xr), half,
-            lambda xs, sharp: _sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp),
-            lambda nc: cheb_centred(nc, half, ALPHA, (xl, xr) + tuple(wells),
-                                    (-xl / 2, xr / 2, 2.5 * width, 2.5 * width),
-                                    (SADDLES, SADDLES, WELLS, WELLS)),
-            hermite_ladder, n_hermite=n_hermite, n_cheb=n_cheb, tol=tol,
-            max_hermite=max_hermite, max_cheb=max_cheb, max_cost=max_cost,
-            layer_intervals=LAYER_INTERVALS)
-        return KramersEscape(saddles=(xl, xr), wells=wells, **out)
-    nc, start = int(n_cheb), int(n_hermite)
-    # linear damping: sizes from the saddle's layer (docs/noise.rst)
     wb = max(math.sqrt(abs(float(gp(np.array(s))))) for s in (xl, xr))
-    start = next(n for n in hermite_ladder(start, 2 * start + 16 * wb / gamma)
-                 if n >= 8 * wb / gamma or n >= max_hermite)
     layer = math.sqrt(D / wb) / wb
     by_layer = 2 * math.ceil(LAYER_INTERVALS / 2 * half / layer)
-    # the points crowd at the saddles only where the layer sets their number
-    crowd = SADDLES if by_layer > nc else 0.0
-    nc = max(nc, by_layer)
-    memo = {}
-    folds = abs(wells[0] + wells[1]) <= 1e-12 * wells[1]  # about: _slowest decides
+    # linear damping: the points crowd at the saddles only where the layer sets their number
+    crowd = SADDLES if not linear or by_layer > n_cheb else 0.0
 
-    def fits(n, nc):
-        m = nc // 2 + 1 if folds else nc + 1
-        return n * m * m <= 3 * max_cost
+    def points(nc):
+        return cheb_centred(nc, half, ALPHA, (xl, xr) + tuple(wells),
+                            (-xl / 2, xr / 2, 2.5 * width, 2.5 * width),
+                            (crowd, crowd, WELLS, WELLS))
 
-    # one factorisation per grid and sink, extended up the ladder (._rungs)
-    rungs = FractionRungs(
-        split, sigma, gamma, wells,
-        lambda xs, sharp: _sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp),
-        lambda nc: cheb_centred(nc, half, ALPHA, (xl, xr) + tuple(wells),
-                                (-xl / 2, xr / 2, 2.5 * width, 2.5 * width),
-                                (crowd, crowd, WELLS, WELLS)))
+    def sink(xs, sharp):  # sharp = 2: the sharper sink of sink_error
+        return _sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp)
 
-    def solve(n, nc, sharp=1):
-        if (n, nc, sharp) not in memo:
-            top = max([r for r in hermite_ladder(n, int(max_hermite)) if fits(r, nc)],
-                      default=n)
-            memo[n, nc, sharp] = rungs.rate(n, nc, sharp, capacity=top)
-        return memo[n, nc, sharp]
-
-    grow = 1.2
-    table = []
-    while True:
-        ladder = [n for n in hermite_ladder(start, max(int(max_hermite), 2 * start))
-                  if fits(n, nc)] or [start]
-        if len(ladder) < 2:
-            ladder = hermite_ladder(start, 2 * start)[:2]
-        rates = []
-        for n in ladder:
-            rates.append(solve(n, nc))
-            if (n, nc, rates[-1]) not in table:
-                table.append((n, nc, rates[-1]))
-            if len(rates) > 1 and abs(rates[-1] - rates[-2]) <= tol * abs(rates[-1]):
-                break
-        cheb_err, done, finer, k, prev = grid_check(ladder, rates, nc, grow, fits, solve,
-                                                    table, tol, max_cheb)
-        if done:
-            break
-        nc, start = finer, ladder[prev]
-    r_sharp = solve(ladder[prev], nc, sharp=2)
-    return KramersEscape(rates[-1], abs(r_sharp - rates[prev]),
-                         abs(rates[-1] - rates[prev]),
-                         (xl, xr), ladder[k], nc + 1, wells, tuple(table), cheb_err)
+    xs = points(64)[0]
+    fold = linear and symmetric(xs, np.asarray(split.numpy_functions()[0](xs), float), wells)
+    if basis == "auto":  # the pair where its ladder is short (docs/noise.rst: faster there)
+        basis = ("orthonormal" if not linear or (fold and 8 * wb / gamma > PAIR_HERMITE)
+                 else "pair")
+    if basis == "orthonormal":  # orthonormal Hermite functions (._orthonormal, ._folded)
+        out = nonlinear_escape(
+            split, D, (xl, xr), half, sink, points, hermite_ladder, n_hermite=n_hermite, n_cheb=n_cheb, tol=tol,
+            max_hermite=max_hermite, max_cheb=max_cheb, max_cost=max_cost,
+            layer_intervals=LAYER_INTERVALS,
+            slowest=FoldedRungs(max_hermite) if fold else None)
+        return KramersEscape(saddles=(xl, xr), wells=wells, **out)
+    # Risken's pair (._rungs): the first truncation from the saddle's layer (docs/noise.rst)
+    start = next(n for n in hermite_ladder(int(n_hermite), 2 * int(n_hermite) + 16 * wb / gamma)
+                 if n >= 8 * wb / gamma or n >= max_hermite)
+    out = pair_escape(split, sigma, gamma, wells, sink, points, hermite_ladder, start=start,
+                      n_cheb=max(int(n_cheb), by_layer), tol=tol, max_hermite=max_hermite,
+                      max_cheb=max_cheb, max_cost=max_cost)
+    return KramersEscape(saddles=(xl, xr), wells=wells, **out)

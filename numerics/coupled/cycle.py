@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm.coupled import CoupledOscillators
+from kbm.errors import ParameterError
 from numerics.errors import ConvergenceError, NoCycleError
 from numerics.shooting.acceptance import trivial_ok
 from numerics.shooting.orbit import multiplier_json, multipliers, shoot
@@ -123,19 +124,14 @@ def section_start(fl: CoupledFlow, y: np.ndarray, t_window: float, samples: int 
             step = -yk[n] / f[n]
             if abs(step) < 1e-14:
                 break
-            yk = fl.states(yk, step, 1)[-1] if step > 0 else _backward(fl, yk, step)
+            # back in time: a linear extrapolation (a fraction of the output spacing)
+            yk = fl.states(yk, step, 1)[-1] if step > 0 else yk + step * f
             tk += step
         return yk, tk
 
     y0, t0 = refine(idx[0])
     _, t1 = refine(idx[1])
     return y0, t1 - t0
-
-
-def _backward(fl: CoupledFlow, y: np.ndarray, step: float) -> np.ndarray:
-    """A short step back in time by a linear extrapolation (steps here are a fraction of
-    the output spacing)."""
-    return y + step * fl.rhs(y)
 
 
 def _start_state(n: int, start) -> np.ndarray:
@@ -202,14 +198,10 @@ def coupled_cycle(model: CoupledOscillators | str, params: Mapping[str, object] 
     """
     fl = coupled_flow(model, params)
     if fl.nu is not None:
-        from kbm.errors import ParameterError
-
         raise ParameterError(f"{fl.model.name!r} is forced (theta = nu t): its periodic "
                              "responses have the forcing's period and are found by "
                              "forced_response")
     if not fl.model.autonomous(fl.values):
-        from kbm.errors import ParameterError
-
         raise ParameterError(f"{fl.model.name!r} depends on t at these parameters (a stage "
                              "that pulls, v != 0): it has no periodic orbit to shoot for; "
                              "its friction law is kbm friction")
@@ -302,8 +294,6 @@ def forced_response(model: CoupledOscillators | str, params: Mapping[str, object
     kbm.errors.ParameterError
         For a system without forcing.
     """
-    from kbm.errors import ParameterError
-
     fl = coupled_flow(model, params)
     if fl.nu is None:
         raise ParameterError(f"{fl.model.name!r} has no forcing; its periodic orbits are "

@@ -15,6 +15,11 @@ are extrapolated to distance zero, and the error bar is twice that correction.
 On the SEDF branch of issue 25 (mu = 0.1, beta = 1, lam = 1, Delta from 0) the two
 saddles at x = +-1.581 (lambda_u = 4.027) give p_h = 3.24941 +- 0.00015; AUTO-07p's last
 point is 3.2494301 (at period 14.47; ``benchmarks/bench_branch.py``).
+
+The end of a branch of :class:`numerics.cycles.continuation.CycleContinuation` there:
+:func:`homoclinic_reason` (why the branch is taken to end), :func:`end_estimate` (the law
+fitted to its points, refined by the manifolds), :func:`aitken` (without a saddle) and
+:func:`long_period_points` (the cycles followed in their period beyond the last point).
 """
 
 from __future__ import annotations
@@ -24,10 +29,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from numerics.cycles.branch_result import BranchPoint
 from numerics.cycles.localmin import fminbound, integral
+from numerics.shooting.arclength import FAIL
 
 __all__ = ["HomoclinicEstimate", "homoclinic_end", "period_law_fit", "saddles_passed",
-           "refine_by_manifolds"]
+           "refine_by_manifolds", "homoclinic_reason", "aitken", "long_period_points",
+           "end_estimate"]
 
 
 @dataclass(frozen=True)
@@ -210,3 +218,101 @@ def _saddles_from_force(force, L: float, x_turn: float):
         return integral(force, 0.0, x)
 
     return [(x, G(x)) for x in sad], G(x_turn)
+
+
+def homoclinic_reason(recent: list, T0: float, factor: float, width: float, n: int = 10) -> str:
+    """Why the branch is taken to end at a separatrix, or ``""``."""
+    T = recent[-1].u[1]
+    if T > factor * T0:
+        return f"the period grew beyond {factor:g} times its start value"
+    if len(recent) > 2 * n and T > 1.25 * T0:
+        last = recent[-2 * n:]
+        dp = abs(last[-1].u[2] - last[0].u[2])
+        if dp < 1e-3 * width and all(b.u[1] > a.u[1] for a, b in zip(last, last[1:])):
+            return (f"the steps collapse ({2 * n} points moved the parameter by {dp:.1e}) "
+                    f"while the period grows and the monodromy matrix reaches "
+                    f"{last[-1].phi:.3g}")
+    if len(recent) <= n:
+        return ""
+    last = recent[-n:]
+    grows = all(b.u[1] > a.u[1] for a, b in zip(last, last[1:]))
+    if grows and all(abs(r.tangent[2]) < 2e-3 for r in last) and T > 1.25 * T0:
+        return (f"the parameter stalls (|dp/ds| < 2e-3 over {n} points) while the period "
+                "grows")
+    return ""
+
+
+def aitken(ps: list) -> float:
+    """Limit of a geometric sequence from its last three terms (``p - p_h ~ exp(-k T)``)."""
+    if len(ps) < 3:
+        return float(ps[-1])
+    d = ps[2] - 2 * ps[1] + ps[0]
+    return float(ps[2] - (ps[2] - ps[1]) ** 2 / d) if d != 0 else float(ps[2])
+
+
+def long_period_points(prob, points: list, T0: float, factor: float) -> str:
+    """Add the cycles followed in their period beyond ``points[-1]`` to ``factor * T0``;
+    the sentence for the end's message."""
+    from numerics.cycles.long_period import follow_period
+
+    params = {k: v for k, v in prob.params.items() if k != prob.vary}
+    target = factor * T0
+    # the multiple shooting may stall on the way (its Jacobian nearly singular where the
+    # mesh waits at the saddles); then it starts again from an earlier point of the branch,
+    # whose mesh differs, and the longest continuation is kept
+    lps, error, k = None, None, len(points) - 1
+    for _ in range(3):
+        start = points[k]
+        try:
+            run = follow_period(prob.model, params, prob.vary, start.x0, start.period,
+                                start.parameter, target, rtol=min(prob.rtol, 1e-11))
+        except FAIL as exc:
+            error = exc
+            run = None
+        if run is not None and (lps is None or run[-1].period > lps[-1].period):
+            lps, k_used = run, k
+        if lps is not None and lps[-1].period >= target:
+            break
+        k = next((i for i in range(k - 1, -1, -1)
+                  if points[i].period <= 0.9 * start.period), None)
+        if k is None:
+            break
+    if lps is None:
+        return f"; following the cycle in its period failed: {error}"
+    del points[k_used + 1:]  # the branch beyond the start is the followed one
+    for q in lps[1:]:
+        points.append(BranchPoint(parameter=q.parameter, x0=q.x0, period=q.period,
+                                  amplitude_max=q.x0, multipliers=(1.0 + 0j, q.multiplier + 0j),
+                                  stable=bool(abs(q.multiplier) < 1.0), residual=q.residual))
+    end = lps[-1]
+    return (f"; followed in its period (multiple shooting on {end.segments} sections, the "
+            f"parameter free) to T = {end.period:.6g}, {end.period / T0:.1f} times the "
+            f"start's, at {prob.vary} = {end.parameter:.12g}")
+
+
+def end_estimate(prob, points: list):
+    """The homoclinic parameter from the period law (:func:`homoclinic_end`)
+    fitted to the converged points, or ``None``."""
+    if len(points) < 6:
+        return None
+    last = points[-1]
+    try:
+        _, _, _, ys = prob.eval((last.x0, last.period, last.parameter), n_out=400,
+                                full=True)
+    except FAIL:
+        return None
+    force = prob.force(last.parameter)
+    if force is None:
+        from kbm.bound import bind
+
+        bound, compiled = bind(prob.model, {**prob.params, prob.vary: last.parameter}), None
+    else:  # the compiled force and the line's model: no symbolic model (issue 39)
+        bound, compiled = None, prob.line(last.parameter)
+    x = ys[:, 0]
+    sad, lams = saddles_passed(bound, float(np.min(x)), float(np.max(x)), last.x0,
+                               force=force, compiled=compiled)
+    est = homoclinic_end([p.parameter for p in points], [p.period for p in points], sad, lams)
+    if est is None:
+        return None
+    return refine_by_manifolds(prob.model, {k: v for k, v in prob.params.items()
+                                            if k != prob.vary}, prob.vary, est)

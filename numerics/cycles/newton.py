@@ -10,8 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from numerics.shooting.acceptance import (RESIDUAL_FACTOR, TRIVIAL_TOL, noise_factor,
-                                          orbit_scale)
+from numerics.shooting.acceptance import RESIDUAL_FACTOR, noise_factor, orbit_scale, trivial_ok
 from numerics.shooting.orbit import NEWTON_MAX_STEPS, shoot
 from numerics.errors import ConvergenceError, NoCycleError
 from numerics.flow import extended_state, flow
@@ -81,7 +80,8 @@ def newton(cm, x0, T, method, rtol, atol, max_iter, floor):
 
 
 def check_nontrivial(cm, converged, meth, rtol, atol, scale) -> None:
-    """Reject a 'cycle' that is an equilibrium or whose trivial multiplier is not 1."""
+    """Reject a 'cycle' that is an equilibrium or whose trivial multiplier is not 1 (test 3 of
+    the standard, :func:`numerics.shooting.acceptance.trivial_ok`)."""
     x0, T, it, history = converged
     if abs(x0) < 1e-6 * max(1.0, abs(scale)):
         raise ConvergenceError(f"Newton converged to the equilibrium (x0 = {x0:.3g}), not to a "
@@ -94,7 +94,7 @@ def check_nontrivial(cm, converged, meth, rtol, atol, scale) -> None:
                            f"T = {T:.4g}); start elsewhere (x_start) to look for a cycle")
     yT = ys[-1]
     mults = np.linalg.eigvals(np.array([[yT[2], yT[4]], [yT[3], yT[5]]]))
-    if np.min(np.abs(mults - 1.0)) > TRIVIAL_TOL:
+    if not trivial_ok(mults):
         raise ConvergenceError(f"the orbit found (x0 = {x0:.6g}, T = {T:.6g}) has no Floquet "
                                f"multiplier 1 ({mults[0]:.6g}, {mults[1]:.6g}): not a cycle")
 

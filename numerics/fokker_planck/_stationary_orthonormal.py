@@ -166,6 +166,7 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
     from ._bases import cheb_centred, cheb_mapped, clenshaw_curtis
     from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
     from ._orthonormal import orthonormal_terms
+    from ._pentadiagonal import HermitePentadiagonalLU, pentadiagonal_applies
 
     centres, widths = tuple(map(float, centres)), tuple(map(float, widths))
     if centres:
@@ -187,7 +188,10 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
     c /= float(np.sum(w * (mass @ c.reshape(nh, m))))
     lam = math.nan
     with one_blas_thread():
-        lu = BlockTridiagonalLU(TermBlocks(terms, m, None, (0, m - 1), 0), m)
+        if pentadiagonal_applies(terms):
+            lu = HermitePentadiagonalLU(terms, m, (0, m - 1))
+        else:
+            lu = BlockTridiagonalLU(TermBlocks(terms, m, None, (0, m - 1), 0), m)
         for _ in range(iterations):
             new = lu.solve(keep * c)
             norm = float(np.sum(w * (mass @ new.reshape(nh, m))))

@@ -217,6 +217,10 @@ SADDLE_WEIGHT = 1.2
 #: SEDF at mu = 0.1, Delta = 3, D = 0.05, 128 functions on 266 intervals: <x^2> 1.3e-5
 #: off with 4 l, 1.2e-6 with 8 l, 1.7e-7 with 12 l, 1.3e-6 with 16 l (from 182 x 656)
 LAYER_WIDTHS = 12.0
+#: the density's reach in the velocity, in units of ``<v^2>^(1/2)`` (the scale's rule)
+VELOCITY_REACH = 5.0
+#: the change below which the Hermite ladder leaves room for two finer grids
+SIX_DIGITS = 1e-6
 #: the first Hermite truncation of the ladder (:func:`.escape.hermite_ladder`)
 FIRST_HERMITE = 32
 #: the fewest position intervals of the Hermite ladder: on fewer the grid's own error
@@ -275,7 +279,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
                for i in np.flatnonzero((gz[:-1] > 0) & (gz[1:] <= 0))]
     wmax = math.sqrt(float(np.max(np.abs(gp(z)))))
     if sigma is None:
-        sigma = math.sqrt(math.sqrt(D / wmax) * 6 * math.sqrt(v2) / (2 * math.pi))
+        sigma = math.sqrt(math.sqrt(D / wmax) * VELOCITY_REACH * math.sqrt(v2) / (2 * math.pi))
     wb = [math.sqrt(abs(float(gp(np.array(c))))) for c in saddles]
     points = dict(alpha=ALPHA, centres=tuple(saddles),
                   widths=tuple(LAYER_WIDTHS * math.sqrt(D / w) / w for w in wb),
@@ -297,11 +301,19 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     prev = nh
     if n_hermite is None:
         change = math.inf
-        room = (2 * math.ceil(0.625 * nc)) ** 2 if n_cheb is None else nc**2
         first = nh
         for k in range(1, 13):  # first * 2^(k/2), even (as .escape.hermite_ladder)
             n = 2 * int(round(first * 2 ** (k / 2) / 2))
-            if n * room > max_cost:  # one finer grid stays affordable
+            # one finer grid stays affordable; two once the change is within six digits
+            # (the budget then goes to the grid: at the top truncations the saddle layers
+            # need 1.25^2 times the first intervals; SEDF mu = 0.1, 128 functions: 266 ->
+            # 334 moved <x^2> by 1.5e-6, 334 -> 418 by 6e-8)
+            grids = 2 if change <= SIX_DIGITS else 1
+            room = nc**2
+            if n_cheb is None:
+                for _ in range(grids):
+                    room = _finer(int(math.sqrt(room))) ** 2
+            if n * room > max_cost:
                 break
             new = solve(n, nc)
             change, sol, prev, nh = moved(sol, new), new, nh, n
@@ -310,7 +322,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     if n_cheb is None:
         cheb_change = math.inf
         while True:
-            finer = 2 * math.ceil(0.625 * nc)
+            finer = _finer(nc)
             if nh * finer**2 > max_cost:
                 break
             new = solve(nh, finer)
@@ -321,3 +333,8 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
             change = moved(solve(prev, nc), sol)
     stated = max(change, cheb_change) if n_hermite is None else math.nan
     return dataclasses.replace(sol, hermite_change=stated, chebyshev_change=cheb_change)
+
+
+def _finer(nc: int) -> int:
+    """The Chebyshev ladder's next number of intervals: 1.25 times, even."""
+    return 2 * math.ceil(0.625 * nc)

@@ -14,7 +14,8 @@ same functions (Galerkin), every ``c_n`` zero at ``x = +-L``.
 The truncated Galerkin operator does not conserve the mass exactly (the constant is not in
 the span of ``h_0 .. h_{N-1}``), so it is not singular: its eigenvalue nearest zero is a
 truncation error, ``lambda_0``, and the stationary density is its eigenvector, found by
-inverse iteration with the block LU of :mod:`._blocks` (the next eigenvalue, the slowest
+inverse iteration with the LU of :mod:`._pentadiagonal` (order by order; :mod:`._blocks`
+for a damping of higher powers of the velocity) (the next eigenvalue, the slowest
 relaxation, is ``O(mu)`` or the escape rate, far from ``lambda_0``).  ``|lambda_0|`` is
 reported as the solution's ``residual``.
 
@@ -241,21 +242,28 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        sign).  A pilot (32 functions at ``s = (D/mu)^(1/2)``) measures ``<v^2>``.
     2. The velocity scale, as in :func:`._orthonormal.velocity_scale`: ``N`` functions
        reach ``s (2N)^(1/2)`` and resolve ``pi s/(2N)^(1/2)``; the density reaches
-       ``V = 6 <v^2>^(1/2)`` and has velocity structure of width
+       ``V = 5 <v^2>^(1/2)`` (:data:`VELOCITY_REACH`) and has velocity structure of width
        ``delta = (D/omega)^(1/2)``, ``omega^2`` the largest ``|g'|`` on the range (the
        separatrix layer at the stiffest saddle); both are resolved at
-       ``s = (delta V/(2 pi))^(1/2)``.
+       ``s = (delta V/(2 pi))^(1/2)``.  (With ``V = 6 <v^2>^(1/2)`` the SEDF at mu = 0.1,
+       Delta = 3, D = 0.05 moved by 7e-6 from 90 to 128 functions, with 5 by 3e-7.)
     3. The points: :func:`._bases.cheb_centred` around the saddles (maxima of ``G``) on
        the range, each ``12 l`` wide (``l = delta_b/omega_b`` the layer's width in ``x``),
        else :func:`._bases.cheb_mapped`; half the number of
        :func:`.kramers._chebyshev_size` on ``exp(-G mu/D)``, at least
        :data:`MIN_INTERVALS`.
-    4. The Hermite ladder (``32 * 2^(k/2)``) on those intervals until two rungs'
-       ``<x^2>`` and ``<v^2>`` agree to ``tol`` or the next would leave no room for a
-       grid 1.25 times finer in ``max_cost`` (``N n_cheb^2``); then the intervals grow by 1.25 at that ``N`` until the moments
-       agree to ``tol`` or the budget ends; then the previous rung once more on the last
+    4. The Hermite ladder (``32 * 2^(k/2)``, from 64 where the budget allows) on those
+       intervals until two rungs' ``<x^2>`` and ``<v^2>`` agree to ``tol`` or the next
+       would leave no room in ``max_cost`` (``N n_cheb^2``) for a grid 1.25 times finer,
+       or for two once the change is below :data:`SIX_DIGITS` (the top truncations need
+       the finer grids: the SEDF case moved by 1.5e-6 from 266 to 334 intervals at 128
+       functions); then the intervals grow by 1.25 at that ``N`` until the moments agree
+       to ``tol`` or the budget ends; then the previous rung once more on the last
        points.  The solution's ``hermite_change`` is the larger of the last Hermite and
        Chebyshev changes (``chebyshev_change`` the second).
+
+    Each solve factorises order by order (:mod:`._pentadiagonal`) when the damping is
+    linear in the velocity, else by pairs of orders (:mod:`._blocks`).
     """
     from scipy.optimize import brentq
 
@@ -289,6 +297,8 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     if nh * nc**2 > max_cost:
         raise ModelError(f"the Kramers solve needs {nh} Hermite functions x {nc + 1} Chebyshev "
                          f"points (cost {nh * nc**2:.3g} > {max_cost:.3g}): not affordable here")
+    if n_hermite is None and 2 * nh * (_finer(nc) if n_cheb is None else nc) ** 2 <= max_cost:
+        nh *= 2  # the same rungs from 64 on (at 32 and 46 the SEDF and vdp cases never stop)
 
     def solve(n, m):
         return orthonormal_stationary(split, D, float(sigma), half, n, m, G, omega0, **points)

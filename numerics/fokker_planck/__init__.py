@@ -8,7 +8,8 @@ closed-form blocks, folded by parity (the matrix continued fraction in LU form, 
 upward), :mod:`._sweeps` its compiled solve sweeps, :mod:`._rungs` the escape ladder's
 solves sharing one factorisation per grid, :mod:`._orthonormal` the escape of a
 nonlinearly damped model in orthonormal Hermite functions and
-:mod:`._stationary_orthonormal` its stationary density in the same functions."""
+:mod:`._stationary_orthonormal` its stationary density in the same functions, factorised
+order by order by :mod:`._pentadiagonal` when the damping is linear in the velocity."""
 
 from .escape import KramersEscape, kramers_escape
 from .kramers import KramersSolution, kramers_operator, stationary_kramers, velocity_terms

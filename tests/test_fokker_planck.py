@@ -165,7 +165,10 @@ def test_noise_json_reports_the_kramers_moments():
                "--json")
     assert proc.returncode == 0, proc.stderr
     rep = json.loads(proc.stdout)
-    sol = stationary_kramers("vdp", {"mu": 0.1}, 0.05, omega0=1.0, max_cost=4e6)  # its budget
+    from numerics.thermal.stationary import FP_DEFAULT_BUDGET
+
+    sol = stationary_kramers("vdp", {"mu": 0.1}, 0.05, omega0=1.0,
+                             max_cost=FP_DEFAULT_BUDGET)  # its budget
     assert rep["moments"]["x2"]["fokker_planck"] == pytest.approx(sol.x2, rel=1e-12)
     assert rep["moments"]["a2"]["fokker_planck"] == pytest.approx(sol.a2, rel=1e-12)
     assert set(rep["validity"]["z_fokker_planck"]) == {"a2", "x2"}

@@ -9,7 +9,8 @@ upward), :mod:`._sweeps` its compiled solve sweeps, :mod:`._rungs` the escape la
 solves sharing one factorisation per grid, :mod:`._orthonormal` the escape of a
 nonlinearly damped model in orthonormal Hermite functions, :mod:`._folded` the same for
 linear damping at low friction, folded by parity and eliminated upward, and
-:mod:`._stationary_orthonormal` its stationary density in the same functions."""
+:mod:`._stationary_orthonormal` its stationary density in the same functions, factorised
+order by order by :mod:`._pentadiagonal` when the damping is linear in the velocity."""
 
 from .escape import KramersEscape, kramers_escape
 from .kramers import KramersSolution, kramers_operator, stationary_kramers, velocity_terms

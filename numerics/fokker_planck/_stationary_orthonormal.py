@@ -14,7 +14,8 @@ same functions (Galerkin), every ``c_n`` zero at ``x = +-L``.
 The truncated Galerkin operator does not conserve the mass exactly (the constant is not in
 the span of ``h_0 .. h_{N-1}``), so it is not singular: its eigenvalue nearest zero is a
 truncation error, ``lambda_0``, and the stationary density is its eigenvector, found by
-inverse iteration with the block LU of :mod:`._blocks` (the next eigenvalue, the slowest
+inverse iteration with the LU of :mod:`._pentadiagonal` (order by order; :mod:`._blocks`
+for a damping of higher powers of the velocity) (the next eigenvalue, the slowest
 relaxation, is ``O(mu)`` or the escape rate, far from ``lambda_0``).  ``|lambda_0|`` is
 reported as the solution's ``residual``.
 
@@ -166,6 +167,7 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
     from ._bases import cheb_centred, cheb_mapped, clenshaw_curtis
     from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
     from ._orthonormal import orthonormal_terms
+    from ._pentadiagonal import HermitePentadiagonalLU, pentadiagonal_applies
 
     centres, widths = tuple(map(float, centres)), tuple(map(float, widths))
     if centres:
@@ -187,7 +189,10 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
     c /= float(np.sum(w * (mass @ c.reshape(nh, m))))
     lam = math.nan
     with one_blas_thread():
-        lu = BlockTridiagonalLU(TermBlocks(terms, m, None, (0, m - 1), 0), m)
+        if pentadiagonal_applies(terms):
+            lu = HermitePentadiagonalLU(terms, m, (0, m - 1))
+        else:
+            lu = BlockTridiagonalLU(TermBlocks(terms, m, None, (0, m - 1), 0), m)
         for _ in range(iterations):
             new = lu.solve(keep * c)
             norm = float(np.sum(w * (mass @ new.reshape(nh, m))))
@@ -213,6 +218,10 @@ SADDLE_WEIGHT = 1.2
 #: SEDF at mu = 0.1, Delta = 3, D = 0.05, 128 functions on 266 intervals: <x^2> 1.3e-5
 #: off with 4 l, 1.2e-6 with 8 l, 1.7e-7 with 12 l, 1.3e-6 with 16 l (from 182 x 656)
 LAYER_WIDTHS = 12.0
+#: the density's reach in the velocity, in units of ``<v^2>^(1/2)`` (the scale's rule)
+VELOCITY_REACH = 5.0
+#: the change below which the Hermite ladder leaves room for two finer grids
+SIX_DIGITS = 1e-6
 #: the first Hermite truncation of the ladder (:func:`.escape.hermite_ladder`)
 FIRST_HERMITE = 32
 #: the fewest position intervals of the Hermite ladder: on fewer the grid's own error
@@ -233,21 +242,28 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        sign).  A pilot (32 functions at ``s = (D/mu)^(1/2)``) measures ``<v^2>``.
     2. The velocity scale, as in :func:`._orthonormal.velocity_scale`: ``N`` functions
        reach ``s (2N)^(1/2)`` and resolve ``pi s/(2N)^(1/2)``; the density reaches
-       ``V = 6 <v^2>^(1/2)`` and has velocity structure of width
+       ``V = 5 <v^2>^(1/2)`` (:data:`VELOCITY_REACH`) and has velocity structure of width
        ``delta = (D/omega)^(1/2)``, ``omega^2`` the largest ``|g'|`` on the range (the
        separatrix layer at the stiffest saddle); both are resolved at
-       ``s = (delta V/(2 pi))^(1/2)``.
+       ``s = (delta V/(2 pi))^(1/2)``.  (With ``V = 6 <v^2>^(1/2)`` the SEDF at mu = 0.1,
+       Delta = 3, D = 0.05 moved by 7e-6 from 90 to 128 functions, with 5 by 3e-7.)
     3. The points: :func:`._bases.cheb_centred` around the saddles (maxima of ``G``) on
        the range, each ``12 l`` wide (``l = delta_b/omega_b`` the layer's width in ``x``),
        else :func:`._bases.cheb_mapped`; half the number of
        :func:`.kramers._chebyshev_size` on ``exp(-G mu/D)``, at least
        :data:`MIN_INTERVALS`.
-    4. The Hermite ladder (``32 * 2^(k/2)``) on those intervals until two rungs'
-       ``<x^2>`` and ``<v^2>`` agree to ``tol`` or the next would leave no room for a
-       grid 1.25 times finer in ``max_cost`` (``N n_cheb^2``); then the intervals grow by 1.25 at that ``N`` until the moments
-       agree to ``tol`` or the budget ends; then the previous rung once more on the last
+    4. The Hermite ladder (``32 * 2^(k/2)``, from 64 where the budget allows) on those
+       intervals until two rungs' ``<x^2>`` and ``<v^2>`` agree to ``tol`` or the next
+       would leave no room in ``max_cost`` (``N n_cheb^2``) for a grid 1.25 times finer,
+       or for two once the change is below :data:`SIX_DIGITS` (the top truncations need
+       the finer grids: the SEDF case moved by 1.5e-6 from 266 to 334 intervals at 128
+       functions); then the intervals grow by 1.25 at that ``N`` until the moments agree
+       to ``tol`` or the budget ends; then the previous rung once more on the last
        points.  The solution's ``hermite_change`` is the larger of the last Hermite and
        Chebyshev changes (``chebyshev_change`` the second).
+
+    Each solve factorises order by order (:mod:`._pentadiagonal`) when the damping is
+    linear in the velocity, else by pairs of orders (:mod:`._blocks`).
     """
     from scipy.optimize import brentq
 
@@ -271,7 +287,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
                for i in np.flatnonzero((gz[:-1] > 0) & (gz[1:] <= 0))]
     wmax = math.sqrt(float(np.max(np.abs(gp(z)))))
     if sigma is None:
-        sigma = math.sqrt(math.sqrt(D / wmax) * 6 * math.sqrt(v2) / (2 * math.pi))
+        sigma = math.sqrt(math.sqrt(D / wmax) * VELOCITY_REACH * math.sqrt(v2) / (2 * math.pi))
     wb = [math.sqrt(abs(float(gp(np.array(c))))) for c in saddles]
     points = dict(alpha=ALPHA, centres=tuple(saddles),
                   widths=tuple(LAYER_WIDTHS * math.sqrt(D / w) / w for w in wb),
@@ -281,6 +297,8 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     if nh * nc**2 > max_cost:
         raise ModelError(f"the Kramers solve needs {nh} Hermite functions x {nc + 1} Chebyshev "
                          f"points (cost {nh * nc**2:.3g} > {max_cost:.3g}): not affordable here")
+    if n_hermite is None and 2 * nh * (_finer(nc) if n_cheb is None else nc) ** 2 <= max_cost:
+        nh *= 2  # the same rungs from 64 on (at 32 and 46 the SEDF and vdp cases never stop)
 
     def solve(n, m):
         return orthonormal_stationary(split, D, float(sigma), half, n, m, G, omega0, **points)
@@ -293,11 +311,19 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     prev = nh
     if n_hermite is None:
         change = math.inf
-        room = (2 * math.ceil(0.625 * nc)) ** 2 if n_cheb is None else nc**2
         first = nh
         for k in range(1, 13):  # first * 2^(k/2), even (as .escape.hermite_ladder)
             n = 2 * int(round(first * 2 ** (k / 2) / 2))
-            if n * room > max_cost:  # one finer grid stays affordable
+            # one finer grid stays affordable; two once the change is within six digits
+            # (the budget then goes to the grid: at the top truncations the saddle layers
+            # need 1.25^2 times the first intervals; SEDF mu = 0.1, 128 functions: 266 ->
+            # 334 moved <x^2> by 1.5e-6, 334 -> 418 by 6e-8)
+            grids = 2 if change <= SIX_DIGITS else 1
+            room = nc**2
+            if n_cheb is None:
+                for _ in range(grids):
+                    room = _finer(int(math.sqrt(room))) ** 2
+            if n * room > max_cost:
                 break
             new = solve(n, nc)
             change, sol, prev, nh = moved(sol, new), new, nh, n
@@ -306,7 +332,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     if n_cheb is None:
         cheb_change = math.inf
         while True:
-            finer = 2 * math.ceil(0.625 * nc)
+            finer = _finer(nc)
             if nh * finer**2 > max_cost:
                 break
             new = solve(nh, finer)
@@ -317,3 +343,8 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
             change = moved(solve(prev, nc), sol)
     stated = max(change, cheb_change) if n_hermite is None else math.nan
     return dataclasses.replace(sol, hermite_change=stated, chebyshev_change=cheb_change)
+
+
+def _finer(nc: int) -> int:
+    """The Chebyshev ladder's next number of intervals: 1.25 times, even."""
+    return 2 * math.ceil(0.625 * nc)

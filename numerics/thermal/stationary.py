@@ -90,6 +90,13 @@ def validity(moments: dict, order: int = 1, can_raise_order: bool = True) -> dic
     return {"z": z, "flagged": bool(bad), "threshold": Z_FLAG, "advice": advice}
 
 
+#: the largest cost ``n_Hermite n_Chebyshev^2`` of the stationary Kramers solve of
+#: ``kbm noise`` (:func:`fokker_planck_moments`): the SEDF at rest, mu = 0.1, Delta = 3,
+#: D = 0.05, states six digits there (3e-7 on 128 x 419, about 10 s CPU)
+FP_BUDGET = 2.5e7
+#: the same without ``--method fokker-planck`` (the moments are reported when affordable)
+FP_DEFAULT_BUDGET = 2.5e7
+
 #: the method names of ``kbm noise --method``
 METHODS = ("averaging", "fokker-planck")
 FOKKER_PLANCK = "Fokker-Planck (stationary Kramers equation, Hermite x Chebyshev spectral)"
@@ -114,7 +121,8 @@ def fokker_planck_moments(model, params: dict, D: float, omega0: float,
     else:
         try:
             sol = stationary_kramers(model, {k: v for k, v in params.items() if k != "v"}, D,
-                                     omega0=omega0, max_cost=2e7 if required else 4e6)
+                                     omega0=omega0,
+                                     max_cost=FP_BUDGET if required else FP_DEFAULT_BUDGET)
             change = sol.hermite_change  # inf: a second truncation passed the budget
             return {"x2": sol.x2, "a2": sol.a2, "v2": sol.v2, "hermite": sol.coef.shape[0],
                     "chebyshev": sol.x.size, "half_width": float(sol.x[0]),

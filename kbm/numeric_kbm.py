@@ -5,23 +5,14 @@ scipy evaluate (``tanh(xdot/eps)``, ``exp(-x**2)``, ``1/(1 + x**2)``, a Stribeck
 curve, ...) :func:`numeric_derive` runs the same recursion as :func:`kbm.derive`
 (:func:`kbm.recursion.kbm_recursion`: same conventions, no first harmonic in any
 ``u_n``, ``A_n = -R_n^{sin 1}/(2 omega0)``, ``B_n = -R_n^{cos 1}/(2 omega0 a)``) on
-*samples*: it is the case without a forcing angle of the one numeric backend of one degree
-of freedom (:func:`kbm.forced.backend.sampled_expansion`, over the grid algebra
-:class:`kbm.forced.grid.SampledAlgebra`):
-
-- ``psi`` on ``M`` equispaced phases (derivatives, secular terms and ``u_n`` by FFT);
-- ``a`` on ``P`` Chebyshev points of ``[a_min, a_max]`` (derivatives spectrally);
-- ``F(x_0 + Dx, v_0 + Dv)`` by its Taylor series in ``Dx``, ``Dv`` with the partial
-  derivatives of ``F`` taken symbolically and compiled (:mod:`kbm.algebra.smooth`):
-  ``F`` itself is only ever *evaluated*.
-
-The resolution is adaptive: ``M`` starts where the Fourier coefficients of ``F`` along
-the unperturbed orbit at ``a_max`` have fallen below the tolerance, and ``P`` and ``M``
-are doubled until the Chebyshev (in ``a``) and Fourier (in ``psi``) coefficient tails of
-every ``A_n``, ``B_n``, ``u_n`` are below ``tol`` times the size of that order's
-quantities, and a second grid half as fine again measures what the tails cannot (the
-rounding errors the differentiations in ``a`` amplify).  Those are the reported error
-estimates; a grid budget that does not suffice raises :class:`~kbm.errors.ResolutionError` with the numbers.
+*samples*: ``psi`` on ``M`` equispaced phases, ``a`` on ``P`` Chebyshev points of the
+interval, ``F(x_0 + Dx, v_0 + Dv)`` by its Taylor series with the partial derivatives of
+``F`` compiled (:mod:`kbm.algebra.smooth`; ``F`` itself is only ever *evaluated*).  It is
+the case without a forcing angle of the one numeric backend of one degree of freedom
+(:mod:`kbm.forced.backend`), which refines ``P`` and ``M`` until the coefficient tails of
+every ``A_n``, ``B_n``, ``u_n``, and their differences from a second grid half as fine
+again, are below ``tol`` times the size of that order's quantities; those are the reported
+error estimates.
 
 The result holds callables ``A[n](a)``, ``B[n](a)``, ``u[n](a, psi)`` (vectorised,
 defined on the interval only) and their error estimates.

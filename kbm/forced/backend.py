@@ -1,25 +1,16 @@
-"""The one numeric KBM backend of one degree of freedom, forced or not: the grid, the run, the
-error measure.
+"""The one numeric KBM backend of one degree of freedom, forced or not.
 
-For ``x'' + omega0**2 x = mu F(x, x'[, theta])`` with any smooth ``F`` (given as Taylor tables,
+For ``x'' + omega0**2 x = mu F(x, x'[, theta])`` with any smooth ``F`` (Taylor tables,
 :class:`kbm.algebra.smooth.TaylorTable`), :func:`sampled_expansion` runs
 :func:`kbm.recursion.kbm_recursion` over the grid algebra :class:`kbm.forced.grid.SampledAlgebra`
-(``P`` Chebyshev points in ``a``, ``M`` phases in ``psi``, with a declared resonance also
-``N`` forcing angles and the detuning ``sigma``) and refines the grid until it resolves every
-order:
-
-- the angles start where the Fourier coefficients of ``F`` along the unperturbed orbits have
-  fallen below the tolerance (:func:`resolved_angles`);
-- ``P`` and the angles are refined while a Chebyshev (in ``a``) or Fourier (per angle) tail
-  of ``A_n``, ``B_n``, ``u_n`` exceeds ``tol`` times the size of that order's quantities
-  (:func:`measure`), then a second grid half as fine again measures what the tails cannot,
-  the rounding errors the differentiations in ``a`` amplify (:func:`differences`;
-  :func:`resolve` is the loop).
-
-The two fronts are its cases: :func:`kbm.numeric_derive` without a resonance (no forcing
-angle, ``N = 1``, degree 0 in ``sigma``) and :func:`kbm.forced.numeric_derive_forced` with
-one.  Both read the :class:`SampledRun` and the per-order estimates this module returns and
-assemble their own result types.
+(``P`` Chebyshev points in ``a``, ``M`` phases in ``psi``; at a declared resonance also ``N``
+forcing angles and the detuning ``sigma``).  The angles start where ``F``'s Fourier tails
+along the unperturbed orbits fall below the tolerance (:func:`resolved_angles`); the grid is
+refined while a Chebyshev (in ``a``) or Fourier (per angle) tail of ``A_n``, ``B_n``,
+``u_n`` exceeds ``tol`` times the size of that order's quantities (:func:`measure`), then a
+second grid half as fine again measures the rounding errors the differentiations in ``a``
+amplify (:func:`differences`; :func:`resolve` is the loop).  :func:`kbm.numeric_derive` is
+its case without a resonance, :func:`kbm.forced.numeric_derive_forced` its case with one.
 """
 
 from __future__ import annotations
@@ -144,20 +135,10 @@ def resolve(make_run, measure, compare, grid: tuple[int, ...], tol: float,
 # ----------------------------------------------------------------------------- one run
 @dataclass
 class SampledRun:
-    """The recursion on one grid, per order ``n = 1..N`` (list index ``n - 1``).
-
-    Attributes
-    ----------
-    alg
-        The grid algebra.
-    A, B
-        Arrays ``(S, P, J)``: the coefficients of ``sigma**s exp(i j p phi)`` (``S = order``,
-        ``J`` slow harmonics) of ``A_n`` and, with forcing, of ``a B_n`` (smooth where
-        ``B_n`` has a ``1/a``); without forcing the real values ``(1, P, 1)`` of ``A_n``
-        and ``B_n`` at the Chebyshev points.
-    U
-        Samples ``(S, P, M, N)`` of ``u_n`` (zeros where ``u_n`` vanishes).
-    """
+    """The recursion on one grid, per order (list index ``n - 1``): ``A``, ``B`` arrays
+    ``(S, P, J)`` of the coefficients of ``sigma**s exp(i j p phi)`` of ``A_n`` and of
+    ``a B_n`` (smooth where ``B_n`` has a ``1/a``); without forcing the values ``(1, P, 1)``
+    of ``A_n`` and ``B_n``.  ``U``: samples ``(S, P, M, N)`` of ``u_n``."""
 
     alg: SampledAlgebra
     A: list
@@ -246,35 +227,16 @@ def sampled_expansion(tables: dict[int, TaylorTable], w0: float, res: Resonance 
                       lo: float, hi: float, order: int, tol: float, angles: tuple[int, int],
                       budget: tuple[int, ...], what: str):
     """The resolved run of :func:`kbm.forced.grid.sampled_recursion` for
-    ``F = sum_i (mu sigma)**i F_i`` (``tables``) on ``a`` in ``[lo, hi]``.
+    ``F = sum_i (mu sigma)**i F_i`` (``tables``: ``{i: TaylorTable of F_i}``) to ``order`` on
+    ``a`` in ``[lo, hi]`` at the resonance ``res`` (``None``: no forcing angle).
 
-    Parameters
-    ----------
-    tables
-        ``{i: TaylorTable of F_i}`` (without forcing ``{0: table of F}``).
-    w0, res
-        ``omega0`` and the declared resonance (``None``: no forcing angle).
-    lo, hi, order, tol
-        The amplitude interval, the highest order, the tolerance (relative to each order's
-        size).
-    angles
-        The starting phases ``(M, N)`` of :func:`resolved_angles`.
-    budget
-        ``(max P, max M[, max N], max samples)``.
-    what
-        The opening of a :class:`~kbm.errors.ResolutionError`'s message.
-
-    Returns
-    -------
-    run, errs, diffs
-        The :class:`SampledRun` of the final grid (on the interval :func:`~kbm.sampling.widened`
-        from ``[lo, hi]``), the per-order tails of :func:`measure` and the differences of
-        :func:`differences` from the check grid.
-
-    Raises
-    ------
-    kbm.errors.UnsupportedTermError
-        For an ``F`` numpy/scipy cannot evaluate.
+    ``angles`` are the starting phases ``(M, N)`` of :func:`resolved_angles`, ``budget``
+    ``(max P, max M[, max N], max samples)``, ``what`` the opening of a
+    :class:`~kbm.errors.ResolutionError`.  Returns ``(run, errs, diffs)``: the
+    :class:`SampledRun` of the final grid (on ``[lo, hi]`` :func:`~kbm.sampling.widened`),
+    the per-order tails of :func:`measure` and the differences from the check grid
+    (:func:`differences`).  An ``F`` numpy cannot evaluate raises
+    :class:`~kbm.errors.UnsupportedTermError`.
     """
     max_M, max_N = budget[1], (budget[2] if res is not None else 1)
     try:

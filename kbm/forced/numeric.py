@@ -15,16 +15,11 @@ no resonant harmonic in any ``u_n``) on *samples* (:mod:`kbm.forced.grid`):
   symbolically and compiled (:class:`kbm.algebra.smooth.TaylorTable`).
 
 A forcing frequency in ``F`` (a stage velocity ``v = nu/k``) is expanded exactly:
-``nu = nu0 + mu sigma``.  The resolution is adaptive, by the one numeric backend of one
-degree of freedom (:func:`kbm.forced.backend.sampled_expansion`; the autonomous
-:mod:`kbm.numeric_kbm` is its case without a forcing angle): ``M`` and ``N`` start where the Fourier coefficients
-of ``F`` along the unperturbed orbits have fallen below the tolerance, and ``P``, ``M``,
-``N`` are refined until the coefficient tails of every ``A_n``, ``B_n``, ``u_n`` are below
-``tol`` times the size of that order's quantities; a second grid half as fine again then
-measures the error that the tails cannot (rounding amplified by the differentiations in
-``a``).  Those are the reported error estimates; a budget that does not suffice, or tails
-that stop falling as ``a`` is refined, raise :class:`~kbm.errors.ResolutionError` with the
-numbers.
+``nu = nu0 + mu sigma``.  The grid is refined adaptively by the one numeric backend of one
+degree of freedom (:mod:`kbm.forced.backend`, whose case without a forcing angle is
+:mod:`kbm.numeric_kbm`) until the coefficient tails of every ``A_n``, ``B_n``, ``u_n``, and
+their differences from a second grid half as fine again, are below ``tol`` times the size
+of that order's quantities: those are the reported error estimates.
 
 The result holds ``A_n(a, phi, sigma)``, ``B_n(a, phi, sigma)`` as Chebyshev series in
 ``a`` times Fourier series in ``phi`` times polynomials in ``sigma``, and gives the slow

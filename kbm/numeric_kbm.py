@@ -45,29 +45,20 @@ MAX_P, MAX_M, MAX_SAMPLES = 257, 2**15, 2**21
 class NumericExpansion(IntervalExpansion):
     """The KBM expansion computed numerically on ``a_min <= a <= a_max``.
 
-    ``model``, ``order``, ``a_range``, ``omega0`` and ``tol`` as in
-    :class:`~kbm.sampling.IntervalExpansion`.
+    ``model``, ``order``, ``a_range``, ``omega0``, ``tol``, ``resolution`` (``(P, M)``) and
+    the error estimates ``A_error``, ``B_error``, ``u_error`` (indexed by order ``0..N``,
+    entry 0 is 0) as in :class:`~kbm.sampling.IntervalExpansion`.
 
     Attributes
     ----------
-    resolution
-        ``(P, M)``: Chebyshev points in ``a`` and phases in ``psi`` of the final grid.
     A, B, u
         Callables indexed by order ``0..N``: ``A[n](a)``, ``B[n](a)``, ``u[n](a, psi)``
         (numpy broadcasting); ``A[0] = 0``, ``B[0] = omega0``, ``u[0] = a cos(psi)``.
-    A_error, B_error, u_error
-        Estimated absolute errors (largest over the interval; entry 0 is 0): the larger
-        of the coefficient tails of the final grid and the difference from a second grid
-        half as fine again.
     """
 
-    resolution: tuple[int, int]
     A: tuple
     B: tuple
     u: tuple
-    A_error: tuple[float, ...]
-    B_error: tuple[float, ...]
-    u_error: tuple[float, ...]
 
     def table(self, a) -> dict:
         """``{"a": a, "A": [A_1(a), ...], "B": [B_1(a), ...]}`` as float arrays."""
@@ -78,19 +69,9 @@ class NumericExpansion(IntervalExpansion):
     def to_json(self, a) -> dict:
         """The tables at the amplitudes ``a`` and the error estimates, with plain keys."""
         tab = self.table(a)
-        orders = self._orders()
-        return {
-            **self._json_head(self.omega0, "numeric"),
-            "a_range": list(self.a_range), "tol": self.tol,
-            "resolution": {"chebyshev_points": self.resolution[0],
-                           "phases": self.resolution[1]},
-            "a": [float(v) for v in tab["a"]],
-            "A": {k: [float(v) for v in col] for k, col in zip(orders, tab["A"])},
-            "B": {k: [float(v) for v in col] for k, col in zip(orders, tab["B"])},
-            "error": {"A": dict(zip(orders, self.A_error[1:])),
-                      "B": dict(zip(orders, self.B_error[1:])),
-                      "u": dict(zip(orders, self.u_error[1:]))},
-        }
+        return {**self._json_head(self.omega0, "numeric"),
+                **self._interval_json(("chebyshev_points", "phases"), tab["a"], {}, tab["A"],
+                                      tab["B"], skip=1)}
 
 
 def numeric_derive(model: Oscillator | str, order: int, a_range, params: dict | None = None,

@@ -16,7 +16,8 @@
   (:func:`order_scale`), the harmonics of ``u_n`` (:func:`wave_spectrum`) and their result's
   common fields (:class:`SampledExpansion`, :class:`IntervalExpansion`).
 
-Used by :mod:`kbm.numeric_kbm`, :mod:`kbm.pointwise` and :mod:`kbm.forced.numeric`.
+Used by the numeric backend :mod:`kbm.forced.backend` (and its cases :mod:`kbm.numeric_kbm`,
+:mod:`kbm.forced.numeric`) and by :mod:`kbm.pointwise`.
 """
 
 from __future__ import annotations

@@ -20,75 +20,57 @@ from .errors import ParameterError
 __all__ = ["AmplitudeFunction", "WaveFunction", "ConstantFunction"]
 
 
-def _check_range(a: np.ndarray, lo: float, hi: float, name: str) -> None:
-    slack = 1e-12 * (hi - lo)
-    if a.size and (not np.all(np.isfinite(a)) or a.min() < lo - slack or a.max() > hi + slack):
-        bad = a[~np.isfinite(a) | (a < lo - slack) | (a > hi + slack)].ravel()[0]
-        raise ParameterError(f"{name} was computed for a in [{lo:g}, {hi:g}] and is not "
-                             f"defined at a = {bad:g}; evaluate inside that interval or "
-                             "derive again with a wider a-range")
-
-
 @dataclass(frozen=True, eq=False)
-class AmplitudeFunction:
-    """``f(a)`` on ``[lo, hi]`` from its values at the Chebyshev points.
-
-    Attributes
-    ----------
-    name
-        ``"A_2"``, ``"B_3"``, ... (used in error messages).
-    lo, hi
-        The interval on which the function is defined.
-    grid_lo, grid_hi
-        The (wider) interval of the Chebyshev grid.
-    values
-        Samples at :func:`kbm.algebra.chebyshev.points`
-        ``(grid_lo, grid_hi, len(values))``.
-    """
+class _OnInterval:
+    """A function of ``a`` on ``[lo, hi]`` from samples at the Chebyshev points of the
+    (wider) grid interval ``[grid_lo, grid_hi]``; ``name`` (``"A_2"``, ``"u_3"``, ...) is
+    used in error messages."""
 
     name: str
     lo: float
     hi: float
     grid_lo: float
     grid_hi: float
+
+    def _check(self, a: np.ndarray) -> None:
+        """Refuse amplitudes outside ``[lo, hi]``: a Chebyshev interpolant does not
+        extrapolate."""
+        lo, hi = self.lo, self.hi
+        slack = 1e-12 * (hi - lo)
+        if a.size and (not np.all(np.isfinite(a)) or a.min() < lo - slack or a.max() > hi + slack):
+            bad = a[~np.isfinite(a) | (a < lo - slack) | (a > hi + slack)].ravel()[0]
+            raise ParameterError(f"{self.name} was computed for a in [{lo:g}, {hi:g}] and is "
+                                 f"not defined at a = {bad:g}; evaluate inside that interval or "
+                                 "derive again with a wider a-range")
+
+
+@dataclass(frozen=True, eq=False)
+class AmplitudeFunction(_OnInterval):
+    """``f(a)`` on ``[lo, hi]`` from its ``values`` at the Chebyshev points
+    :func:`kbm.algebra.chebyshev.points` ``(grid_lo, grid_hi, len(values))``."""
+
     values: np.ndarray
 
     def __call__(self, a) -> np.ndarray | float:
         arr = np.asarray(a, dtype=float)
-        _check_range(arr, self.lo, self.hi, self.name)
+        self._check(arr)
         out = chebyshev.interpolate(self.values, self.grid_lo, self.grid_hi, arr)
         return float(out) if np.ndim(a) == 0 else out
 
 
 @dataclass(frozen=True, eq=False)
-class WaveFunction:
-    """``u(a, psi)`` on ``[lo, hi] x R`` from Fourier coefficients at the Chebyshev points.
+class WaveFunction(_OnInterval):
+    """``u(a, psi)`` on ``[lo, hi] x R`` from Fourier coefficients at the Chebyshev points:
+    ``cos``, ``sin`` arrays ``(P, H + 1)`` of the coefficients of ``cos(m psi)`` and
+    ``sin(m psi)``, ``m = 0..H``, at the ``P`` points."""
 
-    Attributes
-    ----------
-    name
-        ``"u_2"``, ... (used in error messages).
-    lo, hi
-        The amplitude interval on which the function is defined.
-    grid_lo, grid_hi
-        The (wider) interval of the Chebyshev grid.
-    cos, sin
-        Arrays ``(P, H + 1)``: the coefficients of ``cos(m psi)`` and ``sin(m psi)``,
-        ``m = 0..H``, at the ``P`` Chebyshev points.
-    """
-
-    name: str
-    lo: float
-    hi: float
-    grid_lo: float
-    grid_hi: float
     cos: np.ndarray
     sin: np.ndarray
 
     def __call__(self, a, psi) -> np.ndarray | float:
         a_arr, p_arr = np.broadcast_arrays(np.asarray(a, dtype=float),
                                            np.asarray(psi, dtype=float))
-        _check_range(a_arr, self.lo, self.hi, self.name)
+        self._check(a_arr)
         if not np.all(np.isfinite(p_arr)):
             raise ParameterError(f"{self.name} needs finite phases psi")
         flat_a, flat_p = a_arr.ravel(), p_arr.ravel()

@@ -5,21 +5,14 @@ scipy evaluate (``tanh(xdot/eps)``, ``exp(-x**2)``, ``1/(1 + x**2)``, a Stribeck
 curve, ...) :func:`numeric_derive` runs the same recursion as :func:`kbm.derive`
 (:func:`kbm.recursion.kbm_recursion`: same conventions, no first harmonic in any
 ``u_n``, ``A_n = -R_n^{sin 1}/(2 omega0)``, ``B_n = -R_n^{cos 1}/(2 omega0 a)``) on
-*samples*, over the grid algebra of the forced numeric backend
-(:class:`kbm.forced.grid.SampledAlgebra` without a forcing angle):
-
-- ``psi`` on ``M`` equispaced phases (derivatives, secular terms and ``u_n`` by FFT);
-- ``a`` on ``P`` Chebyshev points of ``[a_min, a_max]`` (derivatives spectrally);
-- ``F(x_0 + Dx, v_0 + Dv)`` by its Taylor series in ``Dx``, ``Dv`` with the partial
-  derivatives of ``F`` taken symbolically and compiled (:mod:`kbm.algebra.smooth`):
-  ``F`` itself is only ever *evaluated*.
-
-The resolution is adaptive: ``M`` starts where the Fourier coefficients of ``F`` along
-the unperturbed orbit at ``a_max`` have fallen below the tolerance, and ``P`` and ``M``
-are doubled until the Chebyshev (in ``a``) and Fourier (in ``psi``) coefficient tails of
-every ``A_n``, ``B_n``, ``u_n`` are below ``tol`` times the size of that order's
-quantities.  Those tails are the reported error estimates; a grid budget that does not
-suffice raises :class:`~kbm.errors.ResolutionError` with the numbers.
+*samples*: ``psi`` on ``M`` equispaced phases, ``a`` on ``P`` Chebyshev points of the
+interval, ``F(x_0 + Dx, v_0 + Dv)`` by its Taylor series with the partial derivatives of
+``F`` compiled (:mod:`kbm.algebra.smooth`; ``F`` itself is only ever *evaluated*).  It is
+the case without a forcing angle of the one numeric backend of one degree of freedom
+(:mod:`kbm.forced.backend`), which refines ``P`` and ``M`` until the coefficient tails of
+every ``A_n``, ``B_n``, ``u_n``, and their differences from a second grid half as fine
+again, are below ``tol`` times the size of that order's quantities; those are the reported
+error estimates.
 
 The result holds callables ``A[n](a)``, ``B[n](a)``, ``u[n](a, psi)`` (vectorised,
 defined on the interval only) and their error estimates.
@@ -32,14 +25,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from .algebra.smooth import TaylorTable
-from .errors import ResolutionError, UnsupportedTermError
-from .forced.grid import SampledAlgebra, sampled_recursion
-from .forced.numeric import resolve, resolved_angles
+from .forced.backend import SampledRun, sampled_expansion
 from .models import Oscillator
 from .numeric_functions import AmplitudeFunction, ConstantFunction, WaveFunction
-from .sampling import (IntervalExpansion, chebyshev_tail, check_order, check_tol,
-                       comparison_matrices, fourier_tail, numeric_model, order_scale,
-                       parse_a_range, wave_spectrum, widened)
+from .sampling import (IntervalExpansion, check_order, check_tol, numeric_model,
+                       parse_a_range, wave_spectrum)
 
 __all__ = ["numeric_derive", "NumericExpansion", "DEFAULT_TOL", "MAX_ORDER_NUMERIC"]
 
@@ -55,29 +45,20 @@ MAX_P, MAX_M, MAX_SAMPLES = 257, 2**15, 2**21
 class NumericExpansion(IntervalExpansion):
     """The KBM expansion computed numerically on ``a_min <= a <= a_max``.
 
-    ``model``, ``order``, ``a_range``, ``omega0`` and ``tol`` as in
-    :class:`~kbm.sampling.IntervalExpansion`.
+    ``model``, ``order``, ``a_range``, ``omega0``, ``tol``, ``resolution`` (``(P, M)``) and
+    the error estimates ``A_error``, ``B_error``, ``u_error`` (indexed by order ``0..N``,
+    entry 0 is 0) as in :class:`~kbm.sampling.IntervalExpansion`.
 
     Attributes
     ----------
-    resolution
-        ``(P, M)``: Chebyshev points in ``a`` and phases in ``psi`` of the final grid.
     A, B, u
         Callables indexed by order ``0..N``: ``A[n](a)``, ``B[n](a)``, ``u[n](a, psi)``
         (numpy broadcasting); ``A[0] = 0``, ``B[0] = omega0``, ``u[0] = a cos(psi)``.
-    A_error, B_error, u_error
-        Estimated absolute errors (largest over the interval; entry 0 is 0): the larger
-        of the coefficient tails of the final grid and the difference from a second grid
-        half as fine again.
     """
 
-    resolution: tuple[int, int]
     A: tuple
     B: tuple
     u: tuple
-    A_error: tuple[float, ...]
-    B_error: tuple[float, ...]
-    u_error: tuple[float, ...]
 
     def table(self, a) -> dict:
         """``{"a": a, "A": [A_1(a), ...], "B": [B_1(a), ...]}`` as float arrays."""
@@ -88,59 +69,9 @@ class NumericExpansion(IntervalExpansion):
     def to_json(self, a) -> dict:
         """The tables at the amplitudes ``a`` and the error estimates, with plain keys."""
         tab = self.table(a)
-        orders = self._orders()
-        return {
-            **self._json_head(self.omega0, "numeric"),
-            "a_range": list(self.a_range), "tol": self.tol,
-            "resolution": {"chebyshev_points": self.resolution[0],
-                           "phases": self.resolution[1]},
-            "a": [float(v) for v in tab["a"]],
-            "A": {k: [float(v) for v in col] for k, col in zip(orders, tab["A"])},
-            "B": {k: [float(v) for v in col] for k, col in zip(orders, tab["B"])},
-            "error": {"A": dict(zip(orders, self.A_error[1:])),
-                      "B": dict(zip(orders, self.B_error[1:])),
-                      "u": dict(zip(orders, self.u_error[1:]))},
-        }
-
-
-@dataclass
-class _Run:
-    alg: SampledAlgebra
-    A: list
-    B: list
-    U: list
-
-
-def _run(F, table, w0, lo, hi, P, M, order) -> _Run:
-    alg = SampledAlgebra(w0, None, lo, hi, P, M)  # no forcing angle: N = 1, degree 0
-    rates, B, U = sampled_recursion(alg, {0: table}, order)
-    A = [np.zeros(P) if c.values is None else c.values[0, :, 0, 0] for c in rates]
-    B = [np.zeros(P) if c.values is None else c.values[0, :, 0, 0] for c in B]
-    U = [np.zeros((P, M)) if u.values is None else u.values[0, :, :, 0] for u in U]
-    if not all(np.all(np.isfinite(q)) for q in (*A, *B, *U)):
-        raise ResolutionError(f"the numeric expansion of F = {table.F} overflowed on "
-                              f"a in [{lo:g}, {hi:g}] (P = {P}, M = {M}); narrow the a-range")
-    return _Run(alg, A, B, U)
-
-
-def _errors(run: _Run):
-    """Per order: the scale and the (Chebyshev, Fourier) tails of A_n, B_n, u_n.
-
-    The scale of order ``n`` is the largest ``|A_n|``, ``|a B_n|``, ``|u_n|`` on the grid,
-    or that of a lower order if larger.  The tails say whether the grid resolves each
-    quantity; what the differentiations
-    in ``a`` amplify is measured by the second grid (:func:`_differences`).
-    """
-    out = []
-    a = run.alg.a
-    floor = 0.0
-    for An, Bn, Un in zip(run.A, run.B, run.U):
-        scale = floor = order_scale(An, a * Bn, Un, floor)
-        ea, eb = chebyshev_tail(An[:, None]), chebyshev_tail(Bn[:, None])
-        eu_a, eu_p = chebyshev_tail(Un), fourier_tail(Un)
-        out.append((scale, ea, eb, eu_a, eu_p))
-    return out, [max(max(e[1], e[2], e[3]) / (e[0] or 1) for e in out),
-                 max(e[4] / (e[0] or 1) for e in out)]
+        return {**self._json_head(self.omega0, "numeric"),
+                **self._interval_json(("chebyshev_points", "phases"), tab["a"], {}, tab["A"],
+                                      tab["B"], skip=1)}
 
 
 def numeric_derive(model: Oscillator | str, order: int, a_range, params: dict | None = None,
@@ -189,57 +120,25 @@ def numeric_derive(model: Oscillator | str, order: int, a_range, params: dict | 
     lo, hi = parse_a_range(a_range)
     tol = check_tol(tol)
     model, F, w0 = numeric_model(model, params)
-    table = TaylorTable(F)
-    try:
-        M, _ = resolved_angles({0: table}, w0, lo, hi, tol, 32, 1, MAX_M, 1)
-    except (NameError, TypeError) as exc:  # a function numpy cannot evaluate
-        raise UnsupportedTermError(f"F = {F} cannot be evaluated with numpy/scipy ({exc}); "
-                                   "write F with elementary and special functions") from None
-    clo, chi = widened(lo, hi)
-
-    def compare(run, check, errs):
-        # the rounding errors that the differentiations in a amplify (the tails cannot
-        # measure them)
-        diffs = _differences(run, check, lo, hi)
-        rel_a = max(max(d[:2]) / (e[0] or 1) for d, e in zip(diffs, errs))
-        rel_p = max(d[2] / (e[0] or 1) for d, e in zip(diffs, errs))
-        return diffs, [max(rel_a, rel_p), rel_p]
-
-    run, errs, diffs = resolve(
-        lambda grid: _run(F, table, w0, clo, chi, *grid, order), _errors, compare, (17, M),
-        tol, (MAX_P, MAX_M, MAX_SAMPLES),
+    run, errs, diffs = sampled_expansion(
+        {0: TaylorTable(F)}, w0, None, lo, hi, order, tol, (32, 1), (MAX_P, MAX_M, MAX_SAMPLES),
         f"the numeric expansion of F = {F} to order {order} on a in [{lo:g}, {hi:g}] "
         f"did not reach tol = {tol:.0e}")
     return _result(model, order, lo, hi, w0, tol, run, errs, diffs)
 
 
-def _differences(run: _Run, check: _Run, lo: float, hi: float
-                 ) -> list[tuple[float, float, float]]:
-    """Per order: the largest differences of A_n, B_n, u_n between two grids on [lo, hi]."""
-    W0, W1 = comparison_matrices(lo, hi, run.alg.lo, run.alg.hi, run.alg.P, check.alg.P)
-    h = min(run.alg.M, check.alg.M) // 2
-    out = []
-    for n in range(len(run.A)):
-        dA = float(np.max(np.abs(W1 @ check.A[n] - W0 @ run.A[n])))
-        dB = float(np.max(np.abs(W1 @ check.B[n] - W0 @ run.B[n])))
-        s1 = W1 @ (np.fft.rfft(check.U[n], axis=1) * (2.0 / check.alg.M))
-        s0 = W0 @ (np.fft.rfft(run.U[n], axis=1) * (2.0 / run.alg.M))
-        du = np.sum(np.abs(s1[:, :h] - s0[:, :h]), axis=1) + np.sum(np.abs(s1[:, h:]), axis=1)
-        out.append((dA, dB, float(np.max(du))))
-    return out
-
-
-def _result(model, order, lo, hi, w0, tol, run: _Run, errs, diffs) -> NumericExpansion:
+def _result(model, order, lo, hi, w0, tol, run: SampledRun, errs, diffs) -> NumericExpansion:
     M, domain = run.alg.M, (lo, hi, run.alg.lo, run.alg.hi)
     A = [ConstantFunction("A_0", 0.0)]
     B = [ConstantFunction("B_0", w0)]
     U = [ConstantFunction("u_0", 0.0, wave=True)]
     for n in range(1, order + 1):
-        A.append(AmplitudeFunction(f"A_{n}", *domain, run.A[n - 1].copy()))
-        B.append(AmplitudeFunction(f"B_{n}", *domain, run.B[n - 1].copy()))
-        spec = wave_spectrum(run.U[n - 1], M)
+        A.append(AmplitudeFunction(f"A_{n}", *domain, run.A[n - 1][0, :, 0].copy()))
+        B.append(AmplitudeFunction(f"B_{n}", *domain, run.B[n - 1][0, :, 0].copy()))
+        spec = wave_spectrum(run.U[n - 1][0, :, :, 0], M)
         spec[:, -1] = 0.0
         U.append(WaveFunction(f"u_{n}", *domain, spec.real.copy(), -spec.imag.copy()))
+    # errs: (scale, tail A_n, tail B_n, tail u_n in a, in psi); diffs: (A_n, B_n, u_n)
     A_err = [0.0] + [max(e[1], d[0]) for e, d in zip(errs, diffs)]
     B_err = [0.0] + [max(e[2], d[1]) for e, d in zip(errs, diffs)]
     u_err = [0.0] + [max(e[3], e[4], d[2]) for e, d in zip(errs, diffs)]

@@ -125,19 +125,16 @@ def numeric_cycle_series(model, order: int, *, digits: int | None = None,
     """
     from .algebra.zfourier import arithmetic
     from .cycle_series import lindstedt_series
+    from .sampling import check_order
     from .series import first_order_cycle, lindstedt_terms
 
-    if not isinstance(order, int) or isinstance(order, bool) or order < 1:
-        raise OrderError(f"the series order must be an integer >= 1, got {order!r}")
     if digits is not None and (not isinstance(digits, int) or isinstance(digits, bool)
                                or not MIN_DIGITS <= digits <= MAX_DIGITS):
         raise ParameterError(f"digits must be an integer from {MIN_DIGITS} to {MAX_DIGITS}, got "
                              f"{digits!r}; leave it out for double precision")
-    limit = MAX_FLOAT_ORDER if digits is None else MAX_MP_ORDER
-    if order > limit:
-        what = "in double precision" if digits is None else "with digits (pure-Python mpmath)"
-        raise OrderError(f"series order {order} is above the limit {limit} {what}; ask for "
-                         f"order <= {limit}")
+    check_order(order, MAX_FLOAT_ORDER if digits is None else MAX_MP_ORDER,
+                "series in double precision" if digits is None
+                else "series with digits (pure-Python mpmath)")
     model, _, a0 = first_order_cycle(model, root)
     terms = lindstedt_terms(model)
     if terms is None:

@@ -16,7 +16,8 @@
   (:func:`order_scale`), the harmonics of ``u_n`` (:func:`wave_spectrum`) and their result's
   common fields (:class:`SampledExpansion`, :class:`IntervalExpansion`).
 
-Used by :mod:`kbm.numeric_kbm`, :mod:`kbm.pointwise` and :mod:`kbm.forced.numeric`.
+Used by the numeric backend :mod:`kbm.forced.backend` (and its cases :mod:`kbm.numeric_kbm`,
+:mod:`kbm.forced.numeric`) and by :mod:`kbm.pointwise`.
 """
 
 from __future__ import annotations
@@ -273,8 +274,33 @@ class IntervalExpansion(SampledExpansion):
         The linear frequency.
     tol
         The tolerance asked for (relative to the size of each order's quantities).
+    resolution
+        ``(P, M[, N])``: Chebyshev points in ``a``, phases in ``psi`` (and in ``theta``) of
+        the final grid.
+    A_error, B_error, u_error
+        Estimated absolute errors per order (largest over the interval): the larger of the
+        coefficient tails of the final grid and the difference from a second grid half as
+        fine again.
     """
 
     a_range: tuple[float, float]
     omega0: float
     tol: float
+    resolution: tuple[int, ...]
+    A_error: tuple[float, ...]
+    B_error: tuple[float, ...]
+    u_error: tuple[float, ...]
+
+    def _interval_json(self, grid: tuple[str, ...], a, at: dict, A, B, skip: int = 0) -> dict:
+        """The keys of ``to_json`` after the head: the interval, tolerance and resolution
+        (its entries named ``grid``), the amplitudes ``a``, the point ``at`` in the other
+        slow variables, the columns ``A``, ``B`` of orders ``1..N`` and the error estimates
+        (from entry ``skip`` on)."""
+        orders = self._orders()
+        return {"a_range": list(self.a_range), "tol": self.tol,
+                "resolution": dict(zip(grid, self.resolution)),
+                "a": [float(v) for v in a], **at,
+                "A": {k: [float(v) for v in col] for k, col in zip(orders, A)},
+                "B": {k: [float(v) for v in col] for k, col in zip(orders, B)},
+                "error": {q: dict(zip(orders, e[skip:])) for q, e in
+                          (("A", self.A_error), ("B", self.B_error), ("u", self.u_error))}}

@@ -8,10 +8,11 @@
 - :mod:`kbm.forced.engine`: :func:`derive_forced`, the one recursion
   (:func:`kbm.recursion.kbm_recursion`, ``N = 1`` with the forcing angle; exact, polynomial
   ``F``);
-- :mod:`kbm.forced.grid`, :mod:`kbm.forced.numeric`, :mod:`kbm.forced.numeric_result`: the
-  same recursion on samples (the grid algebra and adaptive driver that the autonomous
-  :func:`kbm.numeric_derive` runs on too, without the forcing angle),
-  :func:`numeric_derive_forced` (any smooth ``F``: the slider's ``sin(k x + theta)``), and
+- :mod:`kbm.forced.grid`, :mod:`kbm.forced.backend`: the same recursion on samples, the grid
+  algebra and the one numeric backend of one degree of freedom (its cases: the autonomous
+  :func:`kbm.numeric_derive`, without the forcing angle, and the forced one);
+- :mod:`kbm.forced.numeric`, :mod:`kbm.forced.numeric_result`: :func:`numeric_derive_forced`
+  (any smooth ``F``: the slider's ``sin(k x + theta)``) and its result, and
   :func:`forced_expansion`, which picks the engine;
 - :mod:`kbm.forced.result`: :class:`ForcedKBMResult` and the numerical :class:`SlowFlow`;
 - :mod:`kbm.forced.steady`: fixed points of the slow flow, their stability, the

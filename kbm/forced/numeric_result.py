@@ -85,32 +85,24 @@ class SlowSeries:
 class NumericForcedExpansion(IntervalExpansion):
     """The forced KBM expansion computed numerically on ``a_min <= a <= a_max``.
 
-    ``model`` (a forced oscillator), ``order``, ``a_range``, ``omega0`` and ``tol`` as in
-    :class:`~kbm.sampling.IntervalExpansion`.
+    ``model`` (a forced oscillator), ``order``, ``a_range``, ``omega0``, ``tol``,
+    ``resolution`` (``(P, M, N)``) and the error estimates ``A_error``, ``B_error``,
+    ``u_error`` (entry ``n - 1`` for order ``n``) as in :class:`~kbm.sampling.IntervalExpansion`.
 
     Attributes
     ----------
     resonance
         The declared resonance ``p/q``: ``nu = (p/q) omega0 + mu sigma``.
-    resolution
-        ``(P, M, N)``: Chebyshev points in ``a``, phases in ``psi`` and in ``theta``.
     A, B
         ``A_1..A_N`` and ``B_1..B_N`` (so ``A[n - 1]`` is ``A_n``) as :class:`SlowSeries`:
         callables ``A[n - 1](a, phi, sigma)``.
-    A_error, B_error, u_error
-        Estimated absolute errors per order (largest over the interval): the larger of the
-        coefficient tails and the difference from a second grid half as fine again.
     parameters
         The parameter values the expansion was computed with.
     """
 
     resonance: Resonance
-    resolution: tuple[int, int, int]
     A: tuple[SlowSeries, ...]
     B: tuple[SlowSeries, ...]
-    A_error: tuple[float, ...]
-    B_error: tuple[float, ...]
-    u_error: tuple[float, ...]
     parameters: Mapping[str, float] = field(default_factory=dict)
 
     exact = False
@@ -157,16 +149,10 @@ class NumericForcedExpansion(IntervalExpansion):
         """``A_n``, ``B_n`` at the amplitudes ``a`` (one ``phi``, ``sigma``) and the error
         estimates, with plain keys."""
         a = np.atleast_1d(np.asarray(a, float))
-        orders = [str(n) for n in range(1, self.order + 1)]
-        return {
-            "model": self.model.name, "F": sp.sstr(self.model.F, order="lex"),
-            "omega0": self.omega0, "order": self.order, "resonance": str(self.resonance),
-            "method": "numeric", "a_range": list(self.a_range), "tol": self.tol,
-            "resolution": dict(zip(("chebyshev_points", "phases_psi", "phases_theta"),
-                                   self.resolution)),
-            "a": [float(v) for v in a], "phi": float(phi), "sigma": float(s),
-            "A": {k: [float(v) for v in f(a, phi, s)] for k, f in zip(orders, self.A)},
-            "B": {k: [float(v) for v in f(a, phi, s)] for k, f in zip(orders, self.B)},
-            "error": {"A": dict(zip(orders, self.A_error)), "B": dict(zip(orders, self.B_error)),
-                      "u": dict(zip(orders, self.u_error))},
-        }
+        return {"model": self.model.name, "F": sp.sstr(self.model.F, order="lex"),
+                "omega0": self.omega0, "order": self.order, "resonance": str(self.resonance),
+                "method": "numeric",
+                **self._interval_json(("chebyshev_points", "phases_psi", "phases_theta"), a,
+                                      {"phi": float(phi), "sigma": float(s)},
+                                      [f(a, phi, s) for f in self.A],
+                                      [f(a, phi, s) for f in self.B])}

@@ -36,7 +36,7 @@ import numpy as np
 
 from kbm.errors import KBMError
 
-from kbm.strict_json import finite
+from kbm.strict_json import Rendered, finite
 from numerics.comparison.comparison import compare
 from numerics.comparison.convergence import fit_slope
 from numerics.comparison.predict import energy_prediction
@@ -209,16 +209,15 @@ def fixed_delta_study(Delta: float, beta: float, eps: Sequence[float] = DEFAULT_
 
 
 @dataclass(frozen=True, eq=False)
-class FixedDeltaConvergence:
+class FixedDeltaConvergence(Rendered):
     """One :class:`FixedDeltaStudy` per ``(Delta, beta)``."""
 
     studies: tuple
 
+    layout = ("studies",)
+
     def table(self) -> str:
         return "\n\n".join(s.table() for s in self.studies)
-
-    def to_json(self) -> dict:
-        return {"studies": [s.to_json() for s in self.studies]}
 
 
 def fixed_delta_convergence(Deltas: Sequence[float] = (1.5, 3.0),

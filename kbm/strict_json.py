@@ -1,8 +1,8 @@
 """The one JSON layer of results (both packages): :func:`finite`, strict JSON (NaN and
 infinities as ``null``, also the command line's JSON output); :class:`Rendered`, a result
-whose ``to_json`` is declared by a layout of its attributes; :func:`json_fields`, the same
-rules for a ``to_json`` that adds computed keys; :func:`complex_json`, a complex number
-(a Floquet multiplier)."""
+whose ``to_json`` is declared by a layout of its attributes; :func:`json_fields` and
+:func:`jsonable`, the same rules for a ``to_json`` that adds computed keys;
+:func:`complex_json`, a complex number (a Floquet multiplier)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from collections.abc import Mapping
 from dataclasses import fields
 from typing import Any, ClassVar
 
-__all__ = ["finite", "json_fields", "Rendered", "complex_json"]
+__all__ = ["finite", "json_fields", "jsonable", "Rendered", "complex_json"]
 
 
 def finite(obj: Any) -> Any:
@@ -44,32 +44,44 @@ def complex_json(z: complex) -> float | list[float]:
 
 def _value(value: Any, as_given: bool) -> Any:
     """``value``'s JSON form: a result (anything with ``to_json()``) as its JSON; a mapping
-    as floats by sorted key, or, ``as_given``, in its order with values by these rules; a
-    tuple or list as a list; a numpy array as nested lists; a complex number by
-    :func:`complex_json`; anything else as it is."""
+    as floats by sorted key, or, ``as_given``, in its order (keys as strings) with values by
+    these rules; a tuple or list as a list; a numpy array or scalar as plain lists and
+    numbers; a complex number by :func:`complex_json`; anything else as it is."""
     if hasattr(value, "to_json"):
         return value.to_json()
     if isinstance(value, Mapping):
         if as_given:
-            return {k: _value(v, True) for k, v in value.items()}
+            return {str(k): _value(v, True) for k, v in value.items()}
         return {k: float(v) for k, v in sorted(value.items())}
     if isinstance(value, (tuple, list)):
         return [_value(v, as_given) for v in value]
     if isinstance(value, complex):
         return complex_json(value)
-    if getattr(value, "ndim", 0):  # a numpy array (numpy is not imported here)
+    if hasattr(value, "tolist"):  # numpy (not imported here)
         return value.tolist()
     return value
+
+
+def jsonable(value: Any) -> Any:
+    """``value`` in plain JSON types by the rules of :class:`Rendered` with mappings as given
+    (keys as strings), NaN and infinities as ``null``.
+
+    Examples
+    --------
+    >>> jsonable({1: (0.5, float("nan")), "z": [1j]})
+    {'1': [0.5, None], 'z': [[0.0, 1.0]]}
+    """
+    return finite(_value(value, True))
 
 
 class Rendered:
     """A result whose JSON form is declared: the attributes :attr:`layout` names, in that
     order (an empty layout: every dataclass field), NaN and infinities as ``null``.
 
-    A nested result is rendered by its ``to_json``, a tuple or list as a list, a numpy array
-    as nested lists, a complex number by :func:`complex_json`, a mapping as floats by
-    sorted key or, with :attr:`mappings_as_given`, in its order with its values by these
-    rules.
+    A nested result is rendered by its ``to_json``, a tuple or list as a list, numpy arrays
+    and scalars as plain lists and numbers, a complex number by :func:`complex_json`, a
+    mapping as floats by sorted key or, with :attr:`mappings_as_given`, in its order (keys as
+    strings) with its values by these rules.
 
     Examples
     --------

@@ -30,6 +30,7 @@ import sympy as sp
 
 from kbm.coupled import CoupledOscillators, get_coupled_model
 from kbm.errors import ParameterError
+from kbm.strict_json import jsonable
 from numerics.errors import NoCycleError
 from .flow import bind_coupled
 from .fold import LockingEdge, true_edges
@@ -216,15 +217,11 @@ class LockingRegion:
     starts: tuple = ()
 
     def to_json(self) -> dict:
-        return {
-            "model": self.model, "params": dict(self.params), "detuning": self.detuning,
-            "coupling": self.coupling,
-            "boundary_averaged": {str(n): [list(p) for p in pts]
-                                  for n, pts in self.averaged.items()},
-            "boundary_true": [list(p) for p in self.true],
-            "boundary_true_error": self.errors,
-            "amplitude_death": self.death,
-        }
+        """The edges as ``[c, sigma]`` pairs, ``boundary_averaged`` by order (NaN as ``None``)."""
+        return jsonable({"model": self.model, "params": self.params, "detuning": self.detuning,
+                         "coupling": self.coupling, "boundary_averaged": self.averaged,
+                         "boundary_true": self.true, "boundary_true_error": self.errors,
+                         "amplitude_death": self.death})
 
 
 def locking_region(model: CoupledOscillators | str, params: Mapping[str, object],

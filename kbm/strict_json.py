@@ -2,7 +2,7 @@
 infinities as ``null``, also the command line's JSON output); :class:`Rendered`, a result
 whose ``to_json`` is declared by a layout of its attributes; :func:`json_fields` and
 :func:`jsonable`, the same rules for a ``to_json`` that adds computed keys;
-:func:`complex_json`, a complex number (a Floquet multiplier)."""
+:func:`complex_json` and :func:`complex_pairs`, complex numbers (multipliers, eigenvalues)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from collections.abc import Mapping
 from dataclasses import fields
 from typing import Any, ClassVar
 
-__all__ = ["finite", "json_fields", "jsonable", "Rendered", "complex_json"]
+__all__ = ["finite", "json_fields", "jsonable", "Rendered", "complex_json", "complex_pairs"]
 
 
 def finite(obj: Any) -> Any:
@@ -40,6 +40,11 @@ def complex_json(z: complex) -> float | list[float]:
     (0.5, [0.5, -2.0])
     """
     return float(z.real) if z.imag == 0 else [float(z.real), float(z.imag)]
+
+
+def complex_pairs(zs: Any) -> list[list[float]]:
+    """Complex numbers as ``[re, im]`` pairs, a real one too (eigenvalues, multipliers)."""
+    return [[float(z.real), float(z.imag)] for z in zs]
 
 
 def _value(value: Any, as_given: bool) -> Any:

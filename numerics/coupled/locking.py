@@ -30,7 +30,7 @@ import sympy as sp
 
 from kbm.coupled import CoupledOscillators, get_coupled_model
 from kbm.errors import ParameterError
-from kbm.strict_json import jsonable
+from kbm.strict_json import complex_pairs, jsonable
 from numerics.errors import NoCycleError
 from .flow import bind_coupled
 from .fold import LockingEdge, true_edges
@@ -181,7 +181,7 @@ def amplitude_death(model: CoupledOscillators | str, params: Mapping[str, object
     ev = np.linalg.eigvals(np.array(J.evalf(), dtype=float))
     ev = ev[np.lexsort((ev.imag, -ev.real))]
     return {"dead": bool(np.all(ev.real < 0)),
-            "eigenvalues": [[float(z.real), float(z.imag)] for z in ev]}
+            "eigenvalues": complex_pairs(ev)}
 
 
 def check_lockable(model: CoupledOscillators) -> None:

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.strict_json import jsonable
+from kbm.strict_json import complex_pairs, jsonable
 
 from numerics.errors import ConvergenceError
 from numerics.noise.coupled import CHUNK, NoisySystem, bound_system, positive_noise
@@ -129,15 +129,12 @@ class ResponseSpectrum:
     def to_json(self) -> dict:
         """The state, the spectra at ``omega`` and :attr:`extra` (NaN as ``None``); the
         eigenvalues and multipliers as ``[re, im]``."""
-        def pairs(zs):
-            return [[float(z.real), float(z.imag)] for z in zs]
-
         st = self.state
         return jsonable({
             "detuning": self.detuning, "state": {"amplitudes": st.amplitudes(), "U": st.U,
-                                                 "eigenvalues": pairs(st.eigenvalues)},
+                                                 "eigenvalues": complex_pairs(st.eigenvalues)},
             "response_frequency": self.Omega,
-            "multipliers": None if self.orbit is None else pairs(self.orbit.multipliers),
+            "multipliers": None if self.orbit is None else complex_pairs(self.orbit.multipliers),
             "decay_rate": self.decay_rate(), "sidebands": self.sidebands(), "omega": self.omega,
             "averaged": self.averaged, "floquet": self.floquet, "simulated": self.simulated,
             "lower": self.lower, "upper": self.upper, "stderr": self.stderr, **self.extra})

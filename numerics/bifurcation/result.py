@@ -12,11 +12,12 @@ p2], ...], method: "true" | "averaged", order}``, ``codim2`` a list of ``{kind, 
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
+
+from kbm.strict_json import Rendered, jsonable
 
 __all__ = ["Curve", "Codim2Point", "Diagram"]
 
@@ -27,26 +28,19 @@ def _frozen(mapping: Mapping | None) -> Mapping:
     return MappingProxyType(dict(mapping or {}))
 
 
-def _with_detail(out: dict, detail: Mapping) -> dict:
-    """``out`` then the keys of ``detail`` it does not hold, as plain JSON types."""
-    return _jsonable({**out, **{k: v for k, v in detail.items() if k not in out}})
+class _Detailed(Rendered):
+    """A result rendered as its :attr:`layout` then the keys of its ``detail`` the layout
+    does not hold (mappings as given, :func:`kbm.strict_json.jsonable`)."""
 
+    mappings_as_given = True
 
-def _jsonable(value):
-    """Plain JSON types (tuples to lists, numpy scalars to floats, nan to None)."""
-    if isinstance(value, Mapping):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
-    if hasattr(value, "tolist") and not isinstance(value, (str, bytes)):
-        return _jsonable(value.tolist())
-    if isinstance(value, float):
-        return value if math.isfinite(value) else None
-    return value
+    def to_json(self) -> dict:
+        out = super().to_json()
+        return jsonable({**out, **{k: v for k, v in self.detail.items() if k not in out}})
 
 
 @dataclass(frozen=True)
-class Curve:
+class Curve(_Detailed):
     """One codim-1 curve in the parameter plane.
 
     Parameters
@@ -71,6 +65,8 @@ class Curve:
     order: int | None = None
     detail: Mapping = field(default_factory=dict)
 
+    layout = ("kind", "points", "method", "order")
+
     def __post_init__(self):
         if self.method not in _METHODS:
             raise ValueError(f"Curve.method is 'true' or 'averaged', got {self.method!r}")
@@ -78,15 +74,9 @@ class Curve:
         object.__setattr__(self, "points", pts)
         object.__setattr__(self, "detail", _frozen(self.detail))
 
-    def to_json(self) -> dict:
-        """``{"kind", "points": [[p1, p2], ...], "method", "order", **detail}``."""
-        out = {"kind": self.kind, "points": [[a, b] for a, b in self.points],
-               "method": self.method, "order": self.order}
-        return _with_detail(out, self.detail)
-
 
 @dataclass(frozen=True)
-class Codim2Point:
+class Codim2Point(_Detailed):
     """A codim-2 point on the curves: ``kind`` (``"cusp"``, ``"bogdanov-takens"``,
     ``"bautin"``, ``"fold-homoclinic"``, ``"saddle-change"``, ...) at ``point = (p1, p2)``,
     with ``detail`` (the curves it lies on, the test function's value)."""
@@ -95,13 +85,11 @@ class Codim2Point:
     point: tuple[float, float]
     detail: Mapping = field(default_factory=dict)
 
+    layout = ("kind", "point")
+
     def __post_init__(self):
         object.__setattr__(self, "point", (float(self.point[0]), float(self.point[1])))
         object.__setattr__(self, "detail", _frozen(self.detail))
-
-    def to_json(self) -> dict:
-        """``{"kind", "point": [p1, p2], **detail}``."""
-        return _with_detail({"kind": self.kind, "point": list(self.point)}, self.detail)
 
 
 #: line colours of the curves' kinds in :meth:`Diagram.plot`
@@ -110,7 +98,7 @@ _COLOURS = {"hopf": "C0", "fold": "C1", "homoclinic": "C3", "heteroclinic": "C4"
 
 
 @dataclass(frozen=True)
-class Diagram:
+class Diagram(_Detailed):
     """The bifurcation diagram of ``model`` at ``params`` on ``axes = (p1, p2)`` over
     ``ranges = {p1: (lo, hi), p2: (lo, hi)}``."""
 
@@ -122,6 +110,8 @@ class Diagram:
     codim2: tuple[Codim2Point, ...] = ()
     detail: Mapping = field(default_factory=dict)
 
+    layout = ("model", "params", "axes", "ranges", "curves", "codim2")
+
     def __post_init__(self):
         object.__setattr__(self, "params", _frozen(self.params))
         object.__setattr__(self, "axes", tuple(self.axes))
@@ -130,15 +120,6 @@ class Diagram:
         object.__setattr__(self, "curves", tuple(self.curves))
         object.__setattr__(self, "codim2", tuple(self.codim2))
         object.__setattr__(self, "detail", _frozen(self.detail))
-
-    def to_json(self) -> dict:
-        """``{"model", "params", "axes", "ranges", "curves": [...], "codim2": [...],
-        **detail}``."""
-        out = {"model": self.model, "params": dict(self.params), "axes": list(self.axes),
-               "ranges": {k: list(v) for k, v in self.ranges.items()},
-               "curves": [c.to_json() for c in self.curves],
-               "codim2": [c.to_json() for c in self.codim2]}
-        return _with_detail(out, self.detail)
 
     def plot(self, path) -> Path:
         """Draw the diagram into ``path`` (a file, or a folder: ``diagram-MODEL.png`` in it):

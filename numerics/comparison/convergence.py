@@ -54,13 +54,14 @@ import numpy as np
 import sympy as sp
 
 from kbm.models import Oscillator, get_model
+from kbm.strict_json import jsonable
 from kbm.symbols import xdot as V
 
 from numerics.comparison.comparison import Comparison, compare
 from numerics.comparison.prediction import ERROR_KEYS, derived
 
 __all__ = ["FIT_KEYS", "predicted_orders", "time_reversal_symmetric", "ConvergenceStudy",
-           "convergence_study", "fit_slope"]
+           "convergence_study", "fit_slope", "by_pair"]
 
 _GENERIC = {"amplitude": 0, "amplitude_max": 0, "frequency": 1, "harmonic3": 1,
             "floquet_multiplier": 1, "floquet_exponent": 1, "dissipation": 1}
@@ -109,6 +110,11 @@ def fit_slope(eps: Sequence[float], err: Sequence[float]) -> float:
     if ok.sum() < 2:
         return float("nan")
     return float(np.polyfit(np.log(e[ok]), np.log(r[ok]), 1)[0])
+
+
+def by_pair(table: Mapping[tuple, object]) -> dict:
+    """A table keyed by pairs ``(row, quantity)`` keyed by ``"row:quantity"`` (its JSON)."""
+    return {f"{r}:{k}": v for (r, k), v in table.items()}
 
 
 @dataclass(frozen=True, eq=False)
@@ -161,12 +167,11 @@ class ConvergenceStudy:
         return "\n".join(lines)
 
     def to_json(self) -> dict:
-        return {"model": self.model, "fixed": {k: str(v) for k, v in self.fixed.items()},
-                "eps": list(self.eps), "orders": list(self.orders),
-                "errors": {f"{N}:{k}": [float(v) for v in e] for (N, k), e in self.errors.items()},
-                "slopes": {f"{N}:{k}": s for (N, k), s in self.slopes.items()},
-                "predicted": {f"{N}:{k}": p for (N, k), p in self.predicted.items()},
-                "numeric_dissipation": [float(v) for v in self.numeric_dissipation]}
+        """Strict-JSON dict (nan becomes ``None``), the tables keyed ``"N:quantity"``."""
+        return jsonable({"model": self.model, "fixed": {k: str(v) for k, v in self.fixed.items()},
+                         "eps": self.eps, "orders": self.orders, "errors": by_pair(self.errors),
+                         "slopes": by_pair(self.slopes), "predicted": by_pair(self.predicted),
+                         "numeric_dissipation": self.numeric_dissipation})
 
 
 def convergence_study(model: str, eps: Sequence[float], *, orders: Sequence[int] = (1, 2),

@@ -36,9 +36,9 @@ import numpy as np
 
 from kbm.errors import KBMError
 
-from kbm.strict_json import finite
+from kbm.strict_json import Rendered, jsonable
 from numerics.comparison.comparison import compare
-from numerics.comparison.convergence import fit_slope
+from numerics.comparison.convergence import by_pair, fit_slope
 from numerics.comparison.predict import energy_prediction
 from numerics.comparison.prediction import derived, numeric_value
 
@@ -127,15 +127,12 @@ class FixedDeltaStudy:
         return "\n".join(lines)
 
     def to_json(self) -> dict:
-        """Strict-JSON dict (nan becomes ``None``)."""
-        def keyed(d):
-            return {f"{r}:{k}": (list(map(float, v)) if np.ndim(v) else v)
-                    for (r, k), v in d.items()}
-        return finite({"Delta": self.Delta, "beta": self.beta, "eps": list(self.eps),
-                       "rows": list(self.rows), "keys": list(self.keys),
-                       "errors": keyed(self.errors), "relative": keyed(self.relative),
-                       "slopes": keyed(self.slopes), "predicted": keyed(self.predicted),
-                       "messages": list(self.messages), "floor": self.floor})
+        """Strict-JSON dict (nan becomes ``None``), the tables keyed ``"row:quantity"``."""
+        return jsonable({"Delta": self.Delta, "beta": self.beta, "eps": self.eps,
+                         "rows": self.rows, "keys": self.keys, "errors": by_pair(self.errors),
+                         "relative": by_pair(self.relative), "slopes": by_pair(self.slopes),
+                         "predicted": by_pair(self.predicted), "messages": self.messages,
+                         "floor": self.floor})
 
 
 def fixed_delta_study(Delta: float, beta: float, eps: Sequence[float] = DEFAULT_EPS, *,
@@ -209,16 +206,15 @@ def fixed_delta_study(Delta: float, beta: float, eps: Sequence[float] = DEFAULT_
 
 
 @dataclass(frozen=True, eq=False)
-class FixedDeltaConvergence:
+class FixedDeltaConvergence(Rendered):
     """One :class:`FixedDeltaStudy` per ``(Delta, beta)``."""
 
     studies: tuple
 
+    layout = ("studies",)
+
     def table(self) -> str:
         return "\n\n".join(s.table() for s in self.studies)
-
-    def to_json(self) -> dict:
-        return {"studies": [s.to_json() for s in self.studies]}
 
 
 def fixed_delta_convergence(Deltas: Sequence[float] = (1.5, 3.0),

@@ -18,12 +18,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 
 import numpy as np
 
 from kbm.coupled import CoupledOscillators
 from kbm.errors import ParameterError
+from kbm.strict_json import Rendered
 from numerics.executor import chunk, map_chunks
 from .flow import bind_coupled, coupled_flow
 
@@ -38,7 +39,7 @@ KICK = 0.05
 
 
 @dataclass(frozen=True)
-class ChainFrictionPoint:
+class ChainFrictionPoint(Rendered):
     """The friction of a pulled chain at one stage velocity.
 
     ``mean_force`` is per slider; ``per_slider`` each slider's mean spring force;
@@ -58,12 +59,7 @@ class ChainFrictionPoint:
     wells: int = 0
     error: str | None = None
 
-    def to_json(self) -> dict:
-        d = asdict(self)
-        d["params"] = dict(self.params)
-        d["per_slider"] = list(self.per_slider)
-        d["halves"] = list(self.halves)
-        return d
+    mappings_as_given = True
 
 
 def _start(n: int, lam: float, seed: int, index: int) -> np.ndarray:

@@ -30,6 +30,7 @@ import sympy as sp
 
 from kbm.coupled import CoupledOscillators, get_coupled_model
 from kbm.errors import ParameterError
+from kbm.strict_json import complex_pairs, jsonable
 from numerics.errors import NoCycleError
 from .flow import bind_coupled
 from .fold import LockingEdge, true_edges
@@ -180,7 +181,7 @@ def amplitude_death(model: CoupledOscillators | str, params: Mapping[str, object
     ev = np.linalg.eigvals(np.array(J.evalf(), dtype=float))
     ev = ev[np.lexsort((ev.imag, -ev.real))]
     return {"dead": bool(np.all(ev.real < 0)),
-            "eigenvalues": [[float(z.real), float(z.imag)] for z in ev]}
+            "eigenvalues": complex_pairs(ev)}
 
 
 def check_lockable(model: CoupledOscillators) -> None:
@@ -216,15 +217,11 @@ class LockingRegion:
     starts: tuple = ()
 
     def to_json(self) -> dict:
-        return {
-            "model": self.model, "params": dict(self.params), "detuning": self.detuning,
-            "coupling": self.coupling,
-            "boundary_averaged": {str(n): [list(p) for p in pts]
-                                  for n, pts in self.averaged.items()},
-            "boundary_true": [list(p) for p in self.true],
-            "boundary_true_error": self.errors,
-            "amplitude_death": self.death,
-        }
+        """The edges as ``[c, sigma]`` pairs, ``boundary_averaged`` by order (NaN as ``None``)."""
+        return jsonable({"model": self.model, "params": self.params, "detuning": self.detuning,
+                         "coupling": self.coupling, "boundary_averaged": self.averaged,
+                         "boundary_true": self.true, "boundary_true_error": self.errors,
+                         "amplitude_death": self.death})
 
 
 def locking_region(model: CoupledOscillators | str, params: Mapping[str, object],

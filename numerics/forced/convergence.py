@@ -19,6 +19,7 @@ from kbm.errors import ParameterError
 from kbm.forced import (ForcedKBMResult, ForcedOscillator, Resonance, forced_expansion,
                         get_forced_model)
 from kbm.forced.steady import fixed_points, response_curve
+from kbm.strict_json import jsonable
 
 from numerics.errors import NoCycleError, NumericsError
 from numerics.forced.response import guess_from, numeric_response
@@ -108,14 +109,12 @@ class ConvergenceTable:
     def to_json(self) -> dict:
         """``model``, ``resonance``, ``parameters``, the ``setting``'s keys, ``quantity``,
         ``mu``, ``true``, ``errors`` and ``slopes`` (keyed by the order as a string),
-        ``expected`` slopes and ``orders``."""
-        return {"model": self.model, "resonance": self.resonance,
-                "parameters": dict(self.parameters), **dict(self.setting),
-                "quantity": self.quantity, "mu": list(self.mus), "true": list(self.true),
-                "errors": {str(n): list(e) for n, e in self.errors.items()},
-                "slopes": {str(n): s for n, s in self.slopes.items()},
-                "expected": {str(n): n for n in self.errors},
-                "orders": list(self.orders)}
+        ``expected`` slopes and ``orders`` (NaN as ``None``)."""
+        return jsonable({"model": self.model, "resonance": self.resonance,
+                         "parameters": self.parameters, **self.setting, "quantity": self.quantity,
+                         "mu": self.mus, "true": self.true, "errors": self.errors,
+                         "slopes": self.slopes, "expected": {n: n for n in self.errors},
+                         "orders": self.orders})
 
     def table(self) -> str:
         """The errors per ``mu`` (one column per order) and the fitted slopes, as text."""

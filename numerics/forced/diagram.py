@@ -16,6 +16,7 @@ import numpy as np
 from kbm.errors import ParameterError
 from kbm.forced import ForcedOscillator, Resonance, forced_expansion, get_forced_model
 from kbm.forced.steady import ResponseCurve, backbone, response_curve
+from kbm.strict_json import complex_pairs, json_fields
 
 from numerics.forced.response import NumericResponse, numeric_response
 from numerics.forced.system import ForcedSystem
@@ -50,13 +51,10 @@ class ResponseDiagram:
             "slow_flow": {"da/dt": self.slow_flow[0], "dphi/dt": self.slow_flow[1]},
             "analytic": self.analytic.points(),
             "numeric": num.points() if num is not None else [],
-            "folds": [{"sigma": f.sigma, "amplitude": f.amplitude}
-                      for f in self.analytic.folds],
-            "numeric_folds": [{"sigma": o.sigma, "amplitude": o.amplitude,
-                               "amplitude_max": o.amplitude_max,
-                               "kind": "branch point on x = 0"
-                               if o.amplitude_max < 1e-3 * self.amplitude_window else "fold"}
-                              for o in (num.folds if num is not None else ())],
+            "folds": [json_fields(f, "sigma", "amplitude") for f in self.analytic.folds],
+            "numeric_folds": [json_fields(o, "sigma", "amplitude", "amplitude_max", kind=(
+                "branch point on x = 0" if o.amplitude_max < 1e-3 * self.amplitude_window
+                else "fold")) for o in (num.folds if num is not None else ())],
             "backbone": [{"sigma": s, "amplitude": av} for s, av in self.backbone],
             "special": [sp.to_json() for sp in (num.special if num is not None else ())],
             "numeric_failures": list(num.failures) if num is not None else [],
@@ -137,16 +135,14 @@ class SteadyStates:
 
     def to_json(self) -> dict:
         """The keys of :meth:`ResponseDiagram.to_json` at one detuning (no folds)."""
-        an = [{"sigma": f.sigma, "amplitude": f.amplitude, "phase": f.phase,
-               "stable": f.stable} for f in self.analytic]
+        an = [json_fields(f, "sigma", "amplitude", "phase", "stable") for f in self.analytic]
         if self.trivial is not None:
             an.append({"sigma": self.sigma, "amplitude": 0.0, "phase": None,
                        "stable": self.trivial == "stable", "kind": self.trivial})
         return {"model": self.model, "resonance": str(self.resonance), "order": self.order,
                 "parameters": dict(self.values), "sigma": self.sigma, "analytic": an,
-                "numeric": [{"sigma": o.sigma, "amplitude_max": o.amplitude_max,
-                             "amplitude": o.amplitude, "stable": o.stable,
-                             "multipliers": [[m.real, m.imag] for m in o.multipliers]}
+                "numeric": [json_fields(o, "sigma", "amplitude_max", "amplitude", "stable",
+                                        multipliers=complex_pairs(o.multipliers))
                             for o in self.numeric],
                 "folds": [], "numeric_failures": list(self.failures)}
 

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from kbm.strict_json import complex_pairs, json_fields
 from numerics.forced.shooting import ForcedOrbit, periodic_response
 from numerics.forced.system import ForcedSystem
 from numerics.shooting.locate import locate_zero
@@ -37,10 +38,8 @@ class SpecialOrbit:
     bracket: tuple[float, float]
 
     def to_json(self) -> dict:
-        o = self.orbit
-        return {"kind": self.kind, "sigma": o.sigma, "amplitude": o.amplitude,
-                "amplitude_max": o.amplitude_max,
-                "multipliers": [[m.real, m.imag] for m in o.multipliers],
+        return {"kind": self.kind, **json_fields(self.orbit, "sigma", "amplitude", "amplitude_max"),
+                "multipliers": complex_pairs(self.orbit.multipliers),
                 "sigma_bracket": list(self.bracket)}
 
 

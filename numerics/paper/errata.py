@@ -31,7 +31,7 @@ import numpy as np
 import sympy as sp
 
 from kbm.paper import ERRATA_CASES
-from kbm.strict_json import json_fields
+from kbm.strict_json import Rendered
 
 __all__ = ["ErratumEvidence", "errata_evidence", "errata_rows", "evidence_table", "CASES"]
 
@@ -40,7 +40,7 @@ CASES = ERRATA_CASES
 
 
 @dataclass(frozen=True)
-class ErratumEvidence:
+class ErratumEvidence(Rendered):
     """One quantity of one erratum at one case: printed, corrected and true values.
 
     Attributes
@@ -67,6 +67,10 @@ class ErratumEvidence:
     success: bool = True
     message: str = ""
 
+    layout = ("equation", "quantity", "case", "params", "printed", "corrected", "numeric",
+              "printed_error", "corrected_error", "success", "message")
+    mappings_as_given = True
+
     @property
     def printed_error(self) -> float:
         return abs(self.printed - self.numeric)
@@ -74,11 +78,6 @@ class ErratumEvidence:
     @property
     def corrected_error(self) -> float:
         return abs(self.corrected - self.numeric)
-
-    def to_json(self) -> dict:
-        return json_fields(self, "equation", "quantity", "case", "params", "printed",
-                           "corrected", "numeric", "printed_error", "corrected_error",
-                           "success", "message")
 
 
 def _harmonic(values: np.ndarray, m: int) -> float:

@@ -131,11 +131,10 @@ class ValidityMap:
         return "\n".join(lines)
 
     def to_json(self) -> dict:
-        return {"orders": list(self.orders), "axes": {k: list(v) for k, v in self.axes.items()},
-                "points": [json_fields(p, "params", "success", "message", "amplitude",
-                                       "frequency",
-                                       errors={str(N): dict(e) for N, e in p.errors.items()})
-                           for p in self.points]}
+        return json_fields(self, "orders", "axes", points=[
+            json_fields(p, "params", "success", "message", "amplitude", "frequency",
+                        errors={str(N): dict(e) for N, e in p.errors.items()})
+            for p in self.points])
 
 
 def sedf_sweep(mu, Delta, beta, lam: float, swept=None, **kwargs) -> tuple[dict, list]:

@@ -16,7 +16,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
 
 from kbm.errors import ParameterError
-from kbm.strict_json import json_fields
+from kbm.strict_json import Rendered
 
 from numerics._show import num, params_text
 
@@ -93,8 +93,9 @@ class FrictionSettings:
 
 
 @dataclass(frozen=True)
-class FrictionPoint:
-    """The friction measures of one steady sliding state (NaN where a measure does not apply).
+class FrictionPoint(Rendered):
+    """The friction measures of one steady sliding state (NaN where a measure does not
+    apply); its JSON form every field (:class:`~kbm.strict_json.Rendered`).
 
     Attributes
     ----------
@@ -155,6 +156,8 @@ class FrictionPoint:
     note: str = ""
     error: str | None = field(default=None)
 
+    mappings_as_given = True
+
     @property
     def ok(self) -> bool:
         """A measured point (no error)."""
@@ -167,10 +170,6 @@ class FrictionPoint:
         return (f"{head}: {self.regime or 'no regime'}, mean force {num(self.mean_force, 6)}, "
                 f"static {num(self.static_force, 6)}, stuck {num(self.stuck_fraction, 3)}, "
                 f"{'steady' if self.steady else 'not steady'})")
-
-    def to_json(self) -> dict:
-        """Every field, JSON-ready (NaN stays NaN; :func:`kbm.strict_json.finite` maps it)."""
-        return json_fields(self)
 
 
 def eta(params: Mapping[str, float]) -> float:

@@ -23,6 +23,7 @@ import numpy as np
 
 from kbm.errors import KBMError, ParameterError
 from kbm.models import get_model
+from kbm.strict_json import json_fields
 
 from numerics.errors import NumericsError
 from numerics.executor import chunk, map_chunks
@@ -302,11 +303,8 @@ class SliderComparison:
                 "force_ratio_max": float(np.nanmax(fr)) if ok.any() else math.nan}
 
     def to_json(self) -> dict:
-        return {"first": self.first.to_json(), "second": self.second.to_json(),
-                "force_ratio": self.force_ratio.tolist(),
-                "dissipation_ratio": self.dissipation_ratio.tolist(),
-                "better": self.better.tolist(), "steady": self.steady.tolist(),
-                "summary": self.summary()}
+        return json_fields(self, "first", "second", "force_ratio", "dissipation_ratio", "better",
+                           "steady", summary=self.summary())
 
 
 def compare_sliders(params: Mapping[str, object], axes: Mapping[str, Sequence[float]], *,

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.strict_json import json_fields
+from kbm.strict_json import Rendered, json_fields
 
 from numerics.sliding.potential import saddle_node
 from numerics.sliding.reference import SlideResult
@@ -86,7 +86,7 @@ def _slip_intervals(res: SlideResult, vth: float, Tn: float):
 
 
 @dataclass(frozen=True)
-class Slip:
+class Slip(Rendered):
     """One slip event (``complete`` is false for a slip still going at the end of the run,
     whose ``t_end`` is the final time)."""
 
@@ -99,9 +99,7 @@ class Slip:
     x_end: float
     complete: bool = True
 
-    def to_json(self) -> dict:
-        return json_fields(self, "t_start", "t_end", "wells", "peak_force", "energy_dissipated",
-                           "complete")
+    layout = ("t_start", "t_end", "wells", "peak_force", "energy_dissipated", "complete")
 
 
 @dataclass(frozen=True, eq=False)
@@ -146,9 +144,9 @@ class StickSlip:
     def to_json(self) -> dict:
         """The keys of ``kbm slide --json``."""
         return {**json_fields(self, "model", "params", "window", "peak_force"),
-                "mean_force": self.kinetic_friction, "slips": [s.to_json() for s in self.slips],
-                **json_fields(self, "gamma_plus", "gamma_minus", "gamma", "energy_residual",
-                              "delta_W", "criterion")}
+                "mean_force": self.kinetic_friction,
+                **json_fields(self, "slips", "gamma_plus", "gamma_minus", "gamma",
+                              "energy_residual", "delta_W", "criterion")}
 
 
 def analyze(res: SlideResult, *, window: tuple[float, float] | None = None,

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from kbm.errors import ParameterError
+from kbm.strict_json import complex_pairs, jsonable
 
 from numerics.errors import ConvergenceError
 from numerics.noise.coupled import CHUNK, NoisySystem, bound_system, positive_noise
@@ -126,22 +127,17 @@ class ResponseSpectrum:
                 "decay_rates": [float(-e.real) for e in lam]}
 
     def to_json(self) -> dict:
-        def arr(a):
-            return None if a is None else [float(v) for v in a]
-
+        """The state, the spectra at ``omega`` and :attr:`extra` (NaN as ``None``); the
+        eigenvalues and multipliers as ``[re, im]``."""
         st = self.state
-        return {"detuning": self.detuning,
-                "state": {"amplitudes": arr(st.amplitudes()), "U": arr(st.U),
-                          "eigenvalues": [[float(e.real), float(e.imag)] for e in
-                                          st.eigenvalues]},
-                "response_frequency": self.Omega,
-                "multipliers": None if self.orbit is None else
-                [[float(m.real), float(m.imag)] for m in self.orbit.multipliers],
-                "decay_rate": self.decay_rate(), "sidebands": self.sidebands(),
-                "omega": arr(self.omega), "averaged": arr(self.averaged),
-                "floquet": arr(self.floquet), "simulated": arr(self.simulated),
-                "lower": arr(self.lower), "upper": arr(self.upper),
-                "stderr": arr(self.stderr), **self.extra}
+        return jsonable({
+            "detuning": self.detuning, "state": {"amplitudes": st.amplitudes(), "U": st.U,
+                                                 "eigenvalues": complex_pairs(st.eigenvalues)},
+            "response_frequency": self.Omega,
+            "multipliers": None if self.orbit is None else complex_pairs(self.orbit.multipliers),
+            "decay_rate": self.decay_rate(), "sidebands": self.sidebands(), "omega": self.omega,
+            "averaged": self.averaged, "floquet": self.floquet, "simulated": self.simulated,
+            "lower": self.lower, "upper": self.upper, "stderr": self.stderr, **self.extra})
 
 
 @dataclass(frozen=True)

@@ -20,13 +20,13 @@ import numpy as np
 from scipy.optimize import curve_fit
 
 from kbm.errors import ParameterError
-from kbm.strict_json import json_fields
+from kbm.strict_json import Rendered
 
 __all__ = ["MuserFit", "fit_muser"]
 
 
 @dataclass(frozen=True)
-class MuserFit:
+class MuserFit(Rendered):
     """``F = a(T) arsinh(v/v_c(T))`` per temperature and ``a(T) = c T^alpha``.
 
     Attributes
@@ -48,9 +48,6 @@ class MuserFit:
     alpha: float
     alpha_err: float
     chi2: tuple
-
-    def to_json(self) -> dict:
-        return json_fields(self)
 
 
 def fit_muser(kT, v, F, F_err) -> MuserFit:

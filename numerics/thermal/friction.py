@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.strict_json import json_fields
+from kbm.strict_json import Rendered
 
 from ..executor import CHUNKS, map_chunks
 from ..noise.ensemble import Estimate
@@ -232,7 +232,7 @@ def thermal_friction_point(model: str, params: Mapping[str, object], *, trajecto
 
 
 @dataclass(frozen=True, eq=False)
-class ThermalFrictionMap:
+class ThermalFrictionMap(Rendered):
     """Thermal friction on a grid of ``v`` and ``D`` (or ``T``)."""
 
     model: str
@@ -244,6 +244,9 @@ class ThermalFrictionMap:
     seed: int
     note: str = ""
 
+    layout = ("model", "params", "axes", "trajectories", "wells", "seed", "note", "points")
+    mappings_as_given = True
+
     def __repr__(self) -> str:
         return (f"ThermalFrictionMap({self.model}, axes {', '.join(self.axes)}, "
                 f"{len(self.points)} points)")
@@ -254,12 +257,6 @@ class ThermalFrictionMap:
         vals = [getattr(getattr(p, attr.rstrip("_")), "stderr" if name.endswith("stderr")
                         else "value") for p in self.points]
         return np.asarray(vals, float).reshape([len(a) for a in self.axes.values()])
-
-    def to_json(self) -> dict:
-        return {**json_fields(self, "model", "params"),
-                "axes": {k: list(map(float, v)) for k, v in self.axes.items()},
-                **json_fields(self, "trajectories", "wells", "seed", "note"),
-                "points": [p.to_json() for p in self.points]}
 
 
 def thermal_friction_map(model: str, params: Mapping[str, object],

@@ -1,7 +1,6 @@
 """The one JSON layer of results (:mod:`kbm.strict_json`, issue 35): its rules give strict JSON
-that reads back to itself, and :class:`~kbm.strict_json.Rendered` renders a result as the
-branch records' own layout renderer does (numerics.shooting.branch_result), so that one can
-become the other."""
+that reads back to itself, and :class:`~kbm.strict_json.Rendered` renders the branch records
+(numerics.shooting.branch_result) by their layouts."""
 
 from __future__ import annotations
 
@@ -9,12 +8,10 @@ import json
 from dataclasses import dataclass
 
 import numpy as np
-import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
 from kbm.strict_json import Rendered, complex_json, json_fields, jsonable
-from numerics.shooting import branch_result
 from numerics.shooting.branch_result import Branch, BranchPoint, SpecialPoint
 from numerics.shooting.orbit import multiplier_json
 
@@ -48,18 +45,37 @@ _point = st.builds(BranchPoint, _floats, _floats, _floats, _floats,
                    st.booleans(), _floats)
 
 
+def _reference(value):
+    """The branch records' JSON rules written out here (the reference): a mapping as floats by
+    sorted key, a real multiplier a number and a complex one ``[re, im]``, NaN as None."""
+    if isinstance(value, dict):
+        return {k: _reference(float(v)) for k, v in sorted(value.items())}
+    if isinstance(value, (tuple, list)):
+        return [_reference(v) for v in value]
+    if isinstance(value, complex):
+        return _reference(value.real) if value.imag == 0 else [value.real, value.imag]
+    if isinstance(value, float) and not np.isfinite(value):
+        return None
+    return value
+
+
 @given(st.lists(_point, max_size=3),
        st.dictionaries(st.sampled_from(["mu", "beta", "Delta", "c"]), _floats))
-def test_rendered_renders_a_branch_as_the_branch_layouts_do(points, params):
-    """Branch, BranchPoint and SpecialPoint through kbm.strict_json's rules give the JSON of
-    their own to_json (mappings as floats by sorted key, multipliers by multiplier_json)."""
+def test_rendered_renders_a_branch_in_its_layouts(points, params):
+    """Branch, BranchPoint and SpecialPoint (numerics.shooting.branch_result) through
+    kbm.strict_json.Rendered give their layouts' keys in order, by the rules written out in
+    :func:`_reference` (mappings as floats by sorted key, multipliers as numbers or pairs)."""
     special = (SpecialPoint("fold", 0.5, float("nan"), 6.3, "bisected"),)
     br = Branch("m", "nu", (0.0, 1.0), tuple(points), special, ("end",), 7, params=params)
-    theirs = json.dumps(br.to_json())
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(branch_result.Rendered, "to_json", Rendered.to_json)
-        mp.setattr(branch_result.Rendered, "mappings_as_given", False, raising=False)
-        assert json.dumps(br.to_json()) == theirs
+    out = br.to_json()
+    assert list(out) == list(Branch.layout)
+    assert json.dumps(out["params"]) == json.dumps(_reference(dict(params)))
+    for pt, got in zip(points, out["points"]):
+        assert list(got) == list(BranchPoint.layout)
+        want = {k: _reference(getattr(pt, k)) for k in BranchPoint.layout}
+        assert json.dumps(got) == json.dumps(want)
+    assert out["special"] == [{"kind": "fold", "parameter": 0.5, "amplitude": None,
+                               "period": 6.3, "message": "bisected"}]
 
 
 def test_an_empty_layout_is_every_field_and_mappings_as_given_keep_their_order():

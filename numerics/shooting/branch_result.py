@@ -1,7 +1,7 @@
 """The one result of a branch of periodic orbits of ``N`` degrees of freedom
 (:mod:`numerics.shooting.continuation`): :class:`OrbitBranch`, its points
 :class:`OrbitBranchPoint` and special points :class:`OrbitSpecialPoint`, rendered as JSON by
-:class:`Rendered` in one of two layouts: ``N``'s (also named :class:`CoupledBranch`,
+:class:`kbm.strict_json.Rendered` in one of two layouts: ``N``'s (also named :class:`CoupledBranch`,
 :class:`CoupledBranchPoint`, :class:`CoupledSpecialPoint`; ``kbm branch`` and ``kbm response``
 of a coupled system, :mod:`numerics.coupled.continuation`) and that of one degree of freedom
 on the section ``x' = 0``, the case ``N = 1`` (:class:`Branch`, :class:`BranchPoint`,
@@ -12,39 +12,15 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any, ClassVar
 
 import numpy as np
 
+from kbm.strict_json import Rendered
 from kbm.values import FrozenMap
-from kbm.strict_json import finite
-from numerics.shooting.orbit import multiplier_json
 
 __all__ = ["Rendered", "OrbitBranch", "OrbitBranchPoint", "OrbitSpecialPoint", "BranchPoint",
            "SpecialPoint", "Branch", "SPECIAL_KINDS", "branch_point", "CoupledBranch",
            "CoupledBranchPoint", "CoupledSpecialPoint"]
-
-
-class Rendered:
-    """A result whose JSON form is its :attr:`layout`, the attributes in that order: a
-    result as its JSON, a mapping as floats by sorted key, a tuple as a list, a complex
-    multiplier by :func:`~numerics.shooting.orbit.multiplier_json`."""
-
-    layout: ClassVar[tuple[str, ...]] = ()
-
-    def to_json(self) -> dict:
-        """The attributes of :attr:`layout` (NaN and infinities as ``null``)."""
-        return finite({k: _json(getattr(self, k)) for k in self.layout})
-
-
-def _json(value: Any) -> Any:
-    if isinstance(value, Rendered):
-        return value.to_json()
-    if isinstance(value, Mapping):
-        return {k: float(v) for k, v in sorted(value.items())}
-    if isinstance(value, (tuple, list)):
-        return [_json(v) for v in value]
-    return multiplier_json(value) if isinstance(value, complex) else value
 
 
 @dataclass(frozen=True, eq=False)

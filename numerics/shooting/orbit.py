@@ -16,6 +16,7 @@ from typing import Callable
 
 import numpy as np
 
+from kbm.strict_json import complex_json
 from numerics.shooting.acceptance import orbit_scale, shoot_newton
 
 __all__ = ["shoot", "multipliers", "peak", "multiplier_json", "NEWTON_MAX_STEPS"]
@@ -108,6 +109,5 @@ def peak(y: np.ndarray) -> float:
     return float(b - (a - c) ** 2 / (8 * den)) if den < 0 else float(b)
 
 
-def multiplier_json(z: complex):
-    """A multiplier in JSON: a real one a number, a complex one ``[re, im]``."""
-    return float(z.real) if z.imag == 0 else [float(z.real), float(z.imag)]
+#: a multiplier in JSON: a real one a number, a complex one ``[re, im]``
+multiplier_json = complex_json

@@ -183,11 +183,18 @@ def test_asymmetric_series_is_not_even():
     assert s.amplitude == pytest.approx([float(c) for c in ex.amplitude], rel=1e-12, abs=1e-15)
 
 
-def test_radius_of_convergence_matches_andersen_geer():
+@pytest.fixture(scope="module")
+def vdp_160():
+    """The double-precision vdp series to mu^160 (3-4 s), computed once for the radius and
+    the Pade tests (a frozen result: the tests only read it)."""
+    return numeric_cycle_series("vdp", 160)
+
+
+def test_radius_of_convergence_matches_andersen_geer(vdp_160):
     """Andersen & Geer (1982): the nearest singularities of omega*(mu^2) are branch points at
     |mu^2| ~= 3.42.  Ratio estimates from mu^160 extrapolated: 3.42 +- 0.01; the nearest
     Pade pole lies on the branch cut just beyond (3.42 .. 3.6), at the same angle."""
-    s = numeric_cycle_series("vdp", 160)
+    s = vdp_160
     sg = s.singularity()
     assert abs(sg.radius - RADIUS_MU2) < 0.01
     assert 3.42 <= sg.pole_radius < 3.6
@@ -221,11 +228,11 @@ def _true_omega(mu, digits):
 
 
 @pytest.mark.parametrize("mu, tol", [(1, 1e-13), (2, 1e-11)])
-def test_pade_resummed_series_against_true_cycle(mu, tol):
+def test_pade_resummed_series_against_true_cycle(mu, tol, vdp_160):
     """Pade in mu^2 of the mu^160 series against 20-digit true cycles (numerics' Taylor
     shooting): omega* and a* to the stated relative tolerance; the partial sum is already
     off at mu = 2 (mu^2 = 4 > 3.42)."""
-    s = numeric_cycle_series("vdp", 160)
+    s = vdp_160
     w_true, a_true = _true_omega(mu, 20)
     w = s.pade(mu).value
     a = s.pade(mu, "amplitude").value

@@ -15,6 +15,7 @@ import sys
 
 import pytest
 
+from numerics.cli import main
 from numerics.sliding.friction import friction_point
 from numerics.thermal.friction import thermal_friction_map
 
@@ -27,6 +28,19 @@ def kbm(*args: str, check: bool = True) -> subprocess.CompletedProcess:
     if check:
         assert proc.returncode == 0, proc.stderr
     return proc
+
+
+def kbm_in_process(capsys, *args: str) -> tuple[int, str, str]:
+    """``kbm args`` run by the command line's ``main`` in this process: ``(status, standard
+    output, standard error)``, argparse's own exits included.  For the checks of what a
+    command prints and returns; the tests above that compare processes (worker counts,
+    bytes) start them."""
+    try:
+        code = main(list(args))
+    except SystemExit as exc:  # argparse's own errors
+        code = exc.code
+    out = capsys.readouterr()
+    return code, out.out, out.err
 
 
 def test_noise_json_contract_and_boltzmann():
@@ -80,9 +94,11 @@ def test_noise_extrapolate_same_bytes_on_any_worker_count():
     assert ext["coupling"] == "antithetic"
 
 
-def test_noise_driven_slider_has_no_averaged_state():
-    rep = json.loads(kbm("noise", "cdc", *CDC, "-p", "v=0.05", "-p", "D=0.01",
-                         "--trajectories", "8", "--t-end", "40", "--json").stdout)
+def test_noise_driven_slider_has_no_averaged_state(capsys):
+    code, out, err = kbm_in_process(capsys, "noise", "cdc", *CDC, "-p", "v=0.05", "-p",
+                                    "D=0.01", "--trajectories", "8", "--t-end", "40", "--json")
+    assert code == 0, err
+    rep = json.loads(out)
     assert rep["moments"]["x2"]["averaged"] is None
     assert "not autonomous" in rep["message"]
     assert rep["density"]["variable"] == "x"
@@ -104,12 +120,12 @@ def test_noise_figure(tmp_path):
     ([], "give the noise intensity"),
     (["-p", "D=0.1", "--seed", "-3"], "seed"),
 ])
-def test_noise_bad_input_one_line(args, message):
-    proc = kbm("noise", "cdc", *CDC, *args, check=False)
-    assert proc.returncode != 0
-    assert message in proc.stderr
-    assert len(proc.stderr.strip().splitlines()) == 1, proc.stderr
-    assert "Traceback" not in proc.stderr
+def test_noise_bad_input_one_line(args, message, capsys):
+    code, _, err = kbm_in_process(capsys, "noise", "cdc", *CDC, *args)
+    assert code != 0
+    assert message in err
+    assert len(err.strip().splitlines()) == 1, err
+    assert "Traceback" not in err
 
 
 def test_noise_rare_event_guard():

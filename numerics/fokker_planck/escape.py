@@ -60,8 +60,9 @@ from ._bases import cheb_centred, cheb_mapped
 from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
 from ._folded import FoldedRungs, symmetric
 from ._fraction import EscapeFraction
-from ._orthonormal import nonlinear_escape
-from ._rungs import pair_escape
+from ._orthonormal import nonlinear_escape, orthonormal_slowest
+from ._rungs import FractionRungs, pair_escape
+from ._sink import SINK_TOL, WEIGHT, aitken, sink_limit, sink_rung
 from .kramers import _linear_temperature, kramers_operator, kramers_terms, velocity_terms
 
 __all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder",
@@ -125,6 +126,11 @@ class KramersEscape:
         The scale ``s`` of the velocity's Hermite functions
         (:func:`._orthonormal.velocity_scale`; ``nan`` for Risken's pair, whose scale is
         ``sqrt(kT)``).
+    sink_ladder : tuple of float
+        The rates of the sink ladder (:mod:`._sink`) where it ran (the two sinks disagreed
+        by more than :data:`._sink.SINK_TOL`): :attr:`rate` is then their extrapolation to
+        a perfectly absorbing sink and :attr:`sink_error` the change of the extrapolation
+        at the last rung; empty where the first sink's rate is kept.
     """
 
     rate: float
@@ -138,6 +144,7 @@ class KramersEscape:
     chebyshev_error: float = float("nan")
     scale_error: float = float("nan")
     velocity_scale: float = float("nan")
+    sink_ladder: tuple = ()
 
     def __repr__(self) -> str:
         return (f"KramersEscape(rate={self.rate:.7g} +- {self.sink_error:.2g} (sink) +- "
@@ -374,11 +381,67 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
             max_hermite=max_hermite, max_cheb=max_cheb, max_cost=max_cost,
             layer_intervals=LAYER_INTERVALS,
             slowest=FoldedRungs(max_hermite) if fold else None)
-        return KramersEscape(saddles=(xl, xr), wells=wells, **out)
-    # Risken's pair (._rungs): the first truncation from the saddle's layer (docs/noise.rst)
-    start = next(n for n in hermite_ladder(int(n_hermite), 2 * int(n_hermite) + 16 * wb / gamma)
-                 if n >= 8 * wb / gamma or n >= max_hermite)
-    out = pair_escape(split, sigma, gamma, wells, sink, points, hermite_ladder, start=start,
-                      n_cheb=max(int(n_cheb), by_layer), tol=tol, max_hermite=max_hermite,
-                      max_cheb=max_cheb, max_cost=max_cost)
+    else:  # Risken's pair (._rungs): the first truncation from the saddle's layer
+        start = next(n for n in hermite_ladder(int(n_hermite),
+                                               2 * int(n_hermite) + 16 * wb / gamma)
+                     if n >= 8 * wb / gamma or n >= max_hermite)
+        out = pair_escape(split, sigma, gamma, wells, sink, points, hermite_ladder,
+                          start=start, n_cheb=max(int(n_cheb), by_layer), tol=tol,
+                          max_hermite=max_hermite, max_cheb=max_cheb, max_cost=max_cost)
+    if out["sink_error"] > SINK_TOL * abs(out["rate"]):
+
+        def rung(j, nc, nh):  # the rate with the sink of rung j (._sink)
+            centres, kap, w = sink_rung(wells, kappa0, width, j)
+
+            def pts(m):
+                return cheb_centred(m, half, ALPHA, (xl, xr) + centres,
+                                    (-xl / 2, xr / 2, 2.5 * w, 2.5 * w),
+                                    (crowd, crowd, WEIGHT, WEIGHT))
+
+            def snk(xs, sharp=1):
+                return _sink(xs, centres, kap, w)
+
+            if basis == "pair":
+                return FractionRungs(split, sigma, gamma, centres, snk, pts).rate(nh, nc)
+            solver = FoldedRungs(nh) if fold else orthonormal_slowest
+            return solver(split, D, out["velocity_scale"], pts, nh, nc, snk)
+
+        out = _sink_ladder(out, rung)
     return KramersEscape(saddles=(xl, xr), wells=wells, **out)
+
+
+#: the position intervals and Hermite functions of the sink ladder at least
+#: (:func:`_sink_ladder`).  CDC Delta = 3, kT = 0.35, mu = 1: the rate of the seventh rung
+#: moves by 1.2e-9 from 200 to 280 intervals and by 1e-13 from 280 to 400; the sharper
+#: sinks need more Hermite functions (the absorbing wall's layer at small speeds): at the
+#: sixth rung the rate moves by 1.5e-8 from 90 to 128 functions, by 5.7e-9 from 128 to 180
+#: and by 1.8e-9 from 180 to 256 (mu = 5: 1.5e-8, 1.7e-9, 1e-10)
+SINK_INTERVALS, SINK_HERMITE = 280, 180
+
+
+def _sink_ladder(out: dict, rung) -> dict:
+    """``out`` with the rate of the perfectly absorbing sink (:func:`._sink.sink_limit`) at
+    the ladder's Hermite truncation and grid (at least :data:`SINK_HERMITE` and
+    :data:`SINK_INTERVALS`), and its
+    errors: ``sink_error`` the extrapolation's change at the last rung, ``chebyshev_error``
+    and ``truncation_error`` the larger of the first sink's and the extrapolation's change
+    when the last rung is solved on 1.2 times the intervals, or with the Hermite truncation
+    below (``sqrt 2`` fewer)."""
+    nh = max(int(out["hermite"]), SINK_HERMITE)
+    nc = max(int(out["chebyshev"]) - 1, SINK_INTERVALS)
+    lim = sink_limit(lambda j: rung(j, nc, nh))
+    r = lim["rungs"]
+    top = len(r) - 1
+
+    def moved(r_top):
+        return abs(aitken(r[-3], r[-2], r_top) - lim["rate"])
+
+    finer = 2 * int(round(1.2 * nc / 2))
+    below = 2 * int(round(nh / math.sqrt(2) / 2))
+    cheb = moved(rung(top, finer, nh))
+    trunc = moved(rung(top, nc, below))
+    return {**out, "rate": lim["rate"], "sink_error": lim["sink_error"],
+            "chebyshev_error": max(out["chebyshev_error"], cheb),
+            "truncation_error": max(out["truncation_error"], trunc),
+            "sink_ladder": r}
+

@@ -40,7 +40,12 @@ depend on the sink's sharpness to 1e-7 at mu = 0.02.
 The Hermite truncation grows by ``sqrt 2`` until two successive rates agree to ``tol``; the
 last change is ``truncation_error``, the change on a finer position grid
 ``chebyshev_error`` and the change under the sharper sink (three times stronger, half as
-wide) ``sink_error``.  Compared (tests/test_fokker_planck_escape.py, docs/noise.rst) with
+wide) ``sink_error``.  Where that change exceeds ``1e-7`` of the rate (higher friction: the
+density near the next wells' bottoms goes back to the saddle, and the rate depends on
+where the absorption happens), the rate is the limit of a ladder of sharpening sinks
+(:mod:`._sink`), the rate of first passages to ``x = +-x_w``; ``sink_error`` is then the
+extrapolation's last change, and the other two errors include its changes on a finer grid
+and one Hermite truncation lower.  Compared (tests/test_fokker_planck_escape.py, docs/noise.rst) with
 simulated first passages, Kramers' spatial-diffusion rate, the Mel'nikov-Meshkov rate and
 the energy-diffusion MFPT of the averaged energy.
 """
@@ -416,7 +421,7 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
 #: sinks need more Hermite functions (the absorbing wall's layer at small speeds): at the
 #: sixth rung the rate moves by 1.5e-8 from 90 to 128 functions, by 5.7e-9 from 128 to 180
 #: and by 1.8e-9 from 180 to 256 (mu = 5: 1.5e-8, 1.7e-9, 1e-10)
-SINK_INTERVALS, SINK_HERMITE = 280, 180
+SINK_INTERVALS, SINK_HERMITE = 280, 256
 
 
 def _sink_ladder(out: dict, rung) -> dict:

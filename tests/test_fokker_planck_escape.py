@@ -183,6 +183,7 @@ def test_moderate_friction_against_simulation():
     assert abs(fp.rate - sim.rate) < 3 * sim.stderr
 
 
+@pytest.mark.slow
 def test_high_friction_approaches_kramers():
     """mu = 5 (gamma/omega_b = 1.8): the rate over Kramers' spatial-diffusion rate moves
     towards 1 as E_b/kT grows from 7.1 to 10.6 (the corrections are O(kT/E_b)).  The bound

@@ -40,14 +40,15 @@ depend on the sink's sharpness to 1e-7 at mu = 0.02.
 The Hermite truncation grows by ``sqrt 2`` until two successive rates agree to ``tol``; the
 last change is ``truncation_error``, the change on a finer position grid
 ``chebyshev_error`` and the change under the sharper sink (three times stronger, half as
-wide) ``sink_error``.  Where that change exceeds ``1e-7`` of the rate (higher friction: the
-density near the next wells' bottoms goes back to the saddle, and the rate depends on
-where the absorption happens), the rate is the limit of a ladder of sharpening sinks
-(:mod:`._sink`), the rate of first passages to ``x = +-x_w``; ``sink_error`` is then the
-extrapolation's last change, and the other two errors include its changes on a finer grid
-and one Hermite truncation lower.  Compared (tests/test_fokker_planck_escape.py, docs/noise.rst) with
-simulated first passages, Kramers' spatial-diffusion rate, the Mel'nikov-Meshkov rate and
-the energy-diffusion MFPT of the averaged energy.
+wide) ``sink_error``.  For linear damping, where that change exceeds ``1e-7`` of the rate
+(higher friction: the density near the next wells' bottoms goes back to the saddle, and
+the rate depends on where the absorption happens), the rate is the limit of a ladder of
+sharpening sinks (:mod:`._sink`), the rate of first passages to ``x = +-x_w``;
+``sink_error`` is then the extrapolation's last change, and the other two errors include
+its changes on a finer grid and one Hermite truncation lower.  Compared
+(tests/test_fokker_planck_escape.py, docs/noise.rst) with simulated first passages,
+Kramers' spatial-diffusion rate, the Mel'nikov-Meshkov rate and the energy-diffusion MFPT
+of the averaged energy.
 """
 
 from __future__ import annotations
@@ -285,7 +286,8 @@ def escape_problem(split, D: float, saddles: tuple, margin: float | None = None)
 def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: int = 64,
                    n_cheb: int = 128, margin: float | None = None, tol: float | None = None,
                    max_hermite: int = 4096, max_cheb: int = 720,
-                   max_cost: float = 3e7, basis: str = "auto") -> KramersEscape:
+                   max_cost: float = 3e7, basis: str = "auto",
+                   sink_tol: float | None = None) -> KramersEscape:
     """The rate of transitions out of the well at the origin from the Kramers equation with
     a sink at the next wells' bottoms.
 
@@ -335,6 +337,10 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         at mu = 0.02 where the orthonormal one needs 128).  ``"auto"``: the pair for linear
         damping where ``8 omega_b/gamma <= PAIR_HERMITE`` (:data:`PAIR_HERMITE`, higher
         friction) or the potential is not even, else orthonormal.
+    sink_tol : float, optional
+        Linear damping: the relative change between the two sinks above which the rate is
+        the sink ladder's limit (:mod:`._sink`; default :data:`._sink.SINK_TOL`, 1e-7;
+        ``inf``: the first sink's rate and change, as for nonlinear damping).
 
     Returns
     -------
@@ -393,7 +399,11 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         out = pair_escape(split, sigma, gamma, wells, sink, points, hermite_ladder,
                           start=start, n_cheb=max(int(n_cheb), by_layer), tol=tol,
                           max_hermite=max_hermite, max_cheb=max_cheb, max_cost=max_cost)
-    if out["sink_error"] > SINK_TOL * abs(out["rate"]):
+    # linear damping: the sink ladder where the two sinks disagree (nonlinear damping keeps
+    # the first sink and states the change: SEDF mu = 0.1, 2e-6 of the rate, where the
+    # ladder's unfolded orthonormal solves on 280 intervals would cost minutes)
+    sink_tol = SINK_TOL if sink_tol is None else float(sink_tol)
+    if linear and out["sink_error"] > sink_tol * abs(out["rate"]):
 
         def rung(j, nc, nh):  # the rate with the sink of rung j (._sink)
             centres, kap, w = sink_rung(wells, kappa0, width, j)
@@ -431,7 +441,7 @@ def _sink_ladder(out: dict, rung) -> dict:
     errors: ``sink_error`` the extrapolation's change at the last rung, ``chebyshev_error``
     and ``truncation_error`` the larger of the first sink's and the extrapolation's change
     when the last rung is solved on 1.2 times the intervals, or with the Hermite truncation
-    below (``sqrt 2`` fewer)."""
+    below (``sqrt 2`` fewer); ``hermite`` and ``chebyshev`` the ladder's sizes."""
     nh = max(int(out["hermite"]), SINK_HERMITE)
     nc = max(int(out["chebyshev"]) - 1, SINK_INTERVALS)
     lim = sink_limit(lambda j: rung(j, nc, nh))
@@ -448,5 +458,5 @@ def _sink_ladder(out: dict, rung) -> dict:
     return {**out, "rate": lim["rate"], "sink_error": lim["sink_error"],
             "chebyshev_error": max(out["chebyshev_error"], cheb),
             "truncation_error": max(out["truncation_error"], trunc),
-            "sink_ladder": r}
+            "sink_ladder": r, "hermite": nh, "chebyshev": nc + 1}
 

@@ -21,7 +21,7 @@ the stated ``sink_error`` was 7 times smaller than the distance to the limit at 
 The ladder: rung ``j`` has the width ``w_j = w/2^j``, the strength ``kappa_j = kappa 4^j``
 (the optical depth doubles) and the centre :data:`OFFSET` ``+ ln(2^j)/2`` widths past
 ``x_w`` (the line where absorption happens then stays near ``x_w``: the rates rise toward
-the limit, the differences shrinking by about 2.4 per rung at mu = 1 and 5), on points
+the limit, the differences shrinking by 2.4 to 2.9 per rung at mu = 1 to 5), on points
 crowded at the centres (:data:`WEIGHT`).  The limit is Aitken's ``Delta^2`` extrapolation
 of the last three rungs; the ladder stops when two successive extrapolations agree to
 ``tol`` of the rate, and their difference is the stated ``sink_error``.  The independent

@@ -30,11 +30,12 @@ CASES = [
 
 
 @pytest.mark.parametrize("name,params", CASES)
-@settings(max_examples=20, deadline=None)
+@settings(max_examples=60, deadline=None)
 @given(t=st.floats(0, 50), x=st.floats(-3, 3), v=st.floats(-3, 3))
 def test_interpreted_accel_equals_the_compiled_one(name, params, t, x, v):
     """The interpreted acceleration is the compiled kernel's, bit for bit (the same printed
-    operations; numba without fast-math)."""
+    operations; numba without fast-math; integer powers by numba's squaring: with
+    CPython's ``pow`` the Duffing term ``x**3`` was one ulp off at x = 2.678)."""
     system = langevin_system(name, params, 0.05)
     p = system._p()
     fast = codegen.python_accel(system.symbolic, system.names)

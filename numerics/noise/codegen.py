@@ -66,13 +66,34 @@ def _affine_in_velocity(model: Oscillator) -> bool:
 SCHEMES = {"kp": 0, "baoab": 1}
 
 
+def _ipow(val: float, exp: int) -> float:
+    """``val**exp`` for an integer constant ``exp`` as numba computes it (its
+    ``static_power_impl``: squaring, ``res *= val`` at each set bit, ``1/res`` for
+    ``exp < 0``), where CPython's ``pow`` rounds once (``x**3``: one ulp apart)."""
+    invert, exp, res = exp < 0, abs(exp), 1.0
+    while exp:
+        if exp & 1:
+            res = res * val
+        exp >>= 1
+        val = val * val
+    return 1.0 / res if invert else res
+
+
 def _source(model: Oscillator, names: tuple[str, ...], accel_only: bool = False) -> str:
-    """The printed functions (``accel_only``: ``accel`` alone, without the decorator)."""
+    """The printed functions (``accel_only``: ``accel`` alone, without the decorator, with
+    integer powers as :func:`_ipow`, to be run by the interpreter)."""
     from sympy.printing.pycode import PythonCodePrinter
+
+    class Interpreted(PythonCodePrinter):
+        def _print_Pow(self, expr, rational=False):
+            if expr.exp.is_Integer and expr.exp != -1:
+                return f"_ipow({self._print(expr.base)}, {int(expr.exp)})"
+            return super()._print_Pow(expr, rational=rational)
 
     ren = {T: sp.Symbol("t_"), X: sp.Symbol("x_"), V: sp.Symbol("v_")}
     ren.update({sp.Symbol(n): sp.Symbol(f"p_{i}") for i, n in enumerate(names)})
-    pr = PythonCodePrinter({"fully_qualified_modules": True, "strict": True})
+    pr = (Interpreted if accel_only else PythonCodePrinter)(
+        {"fully_qualified_modules": True, "strict": True})
     head = [f"    p_{i} = p[{i}]" for i in range(len(names))]
 
     def fn(signature: str, expr: sp.Expr) -> list[str]:
@@ -123,8 +144,9 @@ def python_accel(model: Oscillator, names: tuple[str, ...]):
     """``accel(t_, x_, v_, p)``: the compiled module's acceleration (:func:`_compiled`)
     printed the same way and run by the Python interpreter, for a few calls that should
     not load the compiled kernels (:func:`numerics.noise.langevin.natural_step`).  The
-    printed operations are the same, so the values are too on this machine's ``math``
-    functions (tests/test_langevin_step.py checks them bit for bit)."""
+    printed operations are the same (integer powers by numba's squaring, :func:`_ipow`),
+    so the values are too on this machine's ``math`` functions
+    (tests/test_langevin_step.py checks them bit for bit)."""
     from sympy.printing.codeprinter import PrintMethodNotImplementedError
 
     try:
@@ -132,7 +154,7 @@ def python_accel(model: Oscillator, names: tuple[str, ...]):
     except PrintMethodNotImplementedError as exc:
         raise ModelError(f"model {model.name!r} has a term with no math-module equivalent "
                          f"({exc})") from None
-    space = {"math": math, "np": np, "numpy": np}
+    space = {"math": math, "np": np, "numpy": np, "_ipow": _ipow}
     exec(compile(body, f"<accel of {model.name}>", "exec"), space)  # noqa: S102
     return space["accel"]
 

@@ -48,9 +48,10 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         :mod:`numerics.fokker_planck.escape`), with ``fokker_planck.sink_error``,
         ``truncation_error``, ``chebyshev_error``, ``scale_error`` (nonlinear damping: the
         change under another velocity scale, part of ``truncation_error``; else ``None``)
-        ``wells`` (where the sink sits) and ``sink_ladder`` (the rates of the sharpening
-        sinks whose extrapolation is the rate where the first two disagree by more than
-        1e-7, :mod:`numerics.fokker_planck._sink`; else empty);
+        ``wells`` (where the sink sits) and ``sink_ladder`` (the rates of the rising, then
+        the falling ladder of sharpening sinks, whose top rungs bracket the rate, where the
+        first two sinks disagree by more than 1e-7, :mod:`numerics.fokker_planck._sink`;
+        else empty);
         with the simulation, also its like quantity ``rate_simulated_wells`` and
         ``stderr_wells``: first passages to the next wells' bottoms from the well's
         Boltzmann density (:mod:`numerics.escape.transitions`; ``simulated_wells`` holds

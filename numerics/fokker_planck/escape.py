@@ -42,10 +42,11 @@ last change is ``truncation_error``, the change on a finer position grid
 ``chebyshev_error`` and the change under the sharper sink (three times stronger, half as
 wide) ``sink_error``.  For linear damping, where that change exceeds ``1e-7`` of the rate
 (higher friction: the density near the next wells' bottoms goes back to the saddle, and
-the rate depends on where the absorption happens), the rate is the limit of a ladder of
-sharpening sinks (:mod:`._sink`), the rate of first passages to ``x = +-x_w``;
-``sink_error`` is then the extrapolation's last change, and the other two errors include
-its changes on a finer grid and one Hermite truncation lower.  Compared
+the rate depends on where the absorption happens), the rate of first passages to ``x =
++-x_w`` lies between two ladders of sharpening sinks, one rising and one falling
+(:mod:`._sink`): the rate is the midpoint of their top rungs and ``sink_error`` half
+their gap, and the other two errors include the midpoint's changes on a finer grid and
+one Hermite truncation lower.  Compared
 (tests/test_fokker_planck_escape.py, docs/noise.rst) with simulated first passages,
 Kramers' spatial-diffusion rate, the Mel'nikov-Meshkov rate and the energy-diffusion MFPT
 of the averaged energy.
@@ -68,7 +69,7 @@ from ._folded import FoldedRungs, symmetric
 from ._fraction import EscapeFraction
 from ._orthonormal import nonlinear_escape, orthonormal_slowest
 from ._rungs import FractionRungs, pair_escape
-from ._sink import SINK_TOL, WEIGHT, aitken, sink_limit, sink_rung
+from ._sink import OFFSET, SINK_TOL, WEIGHT, sink_bracket, sink_rung
 from .kramers import _linear_temperature, kramers_operator, kramers_terms, velocity_terms
 
 __all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder",
@@ -133,10 +134,11 @@ class KramersEscape:
         (:func:`._orthonormal.velocity_scale`; ``nan`` for Risken's pair, whose scale is
         ``sqrt(kT)``).
     sink_ladder : tuple of float
-        The rates of the sink ladder (:mod:`._sink`) where it ran (the two sinks disagreed
-        by more than :data:`._sink.SINK_TOL`): :attr:`rate` is then their extrapolation to
-        a perfectly absorbing sink and :attr:`sink_error` the change of the extrapolation
-        at the last rung; empty where the first sink's rate is kept.
+        The rates of the sink ladders (:mod:`._sink`) where they ran (the two sinks
+        disagreed by more than :data:`._sink.SINK_TOL`), the rising ladder's then the
+        falling one's (each half): :attr:`rate` is then the midpoint of their top rungs,
+        which bracket a perfectly absorbing sink's rate, and :attr:`sink_error` half their
+        gap; empty where the first sink's rate is kept.
     """
 
     rate: float
@@ -405,8 +407,8 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
     sink_tol = SINK_TOL if sink_tol is None else float(sink_tol)
     if linear and out["sink_error"] > sink_tol * abs(out["rate"]):
 
-        def rung(j, nc, nh):  # the rate with the sink of rung j (._sink)
-            centres, kap, w = sink_rung(wells, kappa0, width, j)
+        def rung(j, offset, nc, nh):  # the rate with the sink of rung j (._sink)
+            centres, kap, w = sink_rung(wells, kappa0, width, j, offset)
 
             def pts(m):
                 return cheb_centred(m, half, ALPHA, (xl, xr) + centres,
@@ -435,28 +437,28 @@ SINK_INTERVALS, SINK_HERMITE = 280, 256
 
 
 def _sink_ladder(out: dict, rung) -> dict:
-    """``out`` with the rate of the perfectly absorbing sink (:func:`._sink.sink_limit`) at
-    the ladder's Hermite truncation and grid (at least :data:`SINK_HERMITE` and
-    :data:`SINK_INTERVALS`), and its
-    errors: ``sink_error`` the extrapolation's change at the last rung, ``chebyshev_error``
-    and ``truncation_error`` the larger of the first sink's and the extrapolation's change
-    when the last rung is solved on 1.2 times the intervals, or with the Hermite truncation
-    below (``sqrt 2`` fewer); ``hermite`` and ``chebyshev`` the ladder's sizes."""
+    """``out`` with the rate of the perfectly absorbing sink between the rising and the
+    falling sink ladders (:func:`._sink.sink_bracket`) at the ladders' Hermite truncation
+    and grid (at least :data:`SINK_HERMITE` and :data:`SINK_INTERVALS`), and its errors:
+    ``sink_error`` the bracket's half-width, ``chebyshev_error`` and ``truncation_error``
+    the larger of the first sink's and the midpoint's change when both top rungs are solved
+    on 1.2 times the intervals, or with the Hermite truncation below (``sqrt 2`` fewer);
+    ``hermite`` and ``chebyshev`` the ladders' sizes; ``sink_ladder`` the rising ladder's
+    rates, then the falling one's."""
     nh = max(int(out["hermite"]), SINK_HERMITE)
     nc = max(int(out["chebyshev"]) - 1, SINK_INTERVALS)
-    lim = sink_limit(lambda j: rung(j, nc, nh))
-    r = lim["rungs"]
-    top = len(r) - 1
+    lim = sink_bracket(lambda j, offset: rung(j, offset, nc, nh))
+    low, high = lim["rungs"], lim["upper"]
+    top = len(low) - 1
 
-    def moved(r_top):
-        return abs(aitken(r[-3], r[-2], r_top) - lim["rate"])
+    def moved(n_c, n_h):  # the midpoint's change with both top rungs on another grid
+        lo, hi = rung(top, OFFSET, n_c, n_h), rung(top, 0.0, n_c, n_h)
+        return abs((lo + hi) / 2 - lim["rate"])
 
-    finer = 2 * int(round(1.2 * nc / 2))
-    below = 2 * int(round(nh / math.sqrt(2) / 2))
-    cheb = moved(rung(top, finer, nh))
-    trunc = moved(rung(top, nc, below))
+    cheb = moved(2 * int(round(1.2 * nc / 2)), nh)
+    trunc = moved(nc, 2 * int(round(nh / math.sqrt(2) / 2)))
     return {**out, "rate": lim["rate"], "sink_error": lim["sink_error"],
             "chebyshev_error": max(out["chebyshev_error"], cheb),
             "truncation_error": max(out["truncation_error"], trunc),
-            "sink_ladder": r, "hermite": nh, "chebyshev": nc + 1}
+            "sink_ladder": low + high, "hermite": nh, "chebyshev": nc + 1}
 

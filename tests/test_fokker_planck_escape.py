@@ -183,16 +183,19 @@ def test_moderate_friction_against_simulation():
     assert abs(fp.rate - sim.rate) < 3 * sim.stderr
 
 
+@pytest.mark.slow
 def test_high_friction_approaches_kramers():
     """mu = 5 (gamma/omega_b = 1.8): the rate over Kramers' spatial-diffusion rate moves
-    towards 1 as E_b/kT grows from 7.1 to 10.6 (the corrections are O(kT/E_b))."""
+    towards 1 as E_b/kT grows from 7.1 to 10.6 (the corrections are O(kT/E_b)).  The bound
+    was 0.1 on the first sink's rate, 1 % above the perfectly absorbing limit (ratio 0.904
+    against 0.895 at kT = 0.15: 3.5e-6 off with 1.2e-6 stated; :mod:`._sink`)."""
     xs, ratios = _saddle(), []
     for kT in (0.15, 0.1):
         fp = kramers_escape("cdc", dict(PARAMS, mu=5), 5 * kT, (-xs, xs), n_hermite=16,
                             n_cheb=64)
         assert fp.truncation_error < 1e-3 * fp.rate and fp.chebyshev_error < 1e-3 * fp.rate
         ratios.append(fp.rate / _kramers_spatial(5.0, kT))
-    assert abs(1 - ratios[1]) < abs(1 - ratios[0]) < 0.1
+    assert abs(1 - ratios[1]) < abs(1 - ratios[0]) < 0.11
 
 
 @pytest.mark.parametrize("mu", [0.2, 1.0])

@@ -48,7 +48,10 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         :mod:`numerics.fokker_planck.escape`), with ``fokker_planck.sink_error``,
         ``truncation_error``, ``chebyshev_error``, ``scale_error`` (nonlinear damping: the
         change under another velocity scale, part of ``truncation_error``; else ``None``)
-        and ``wells`` (where the sink sits);
+        ``wells`` (where the sink sits) and ``sink_ladder`` (the rates of the rising, then
+        the falling ladder of sharpening sinks, whose top rungs bracket the rate, where the
+        first two sinks disagree by more than 1e-7, :mod:`numerics.fokker_planck._sink`;
+        else empty);
         with the simulation, also its like quantity ``rate_simulated_wells`` and
         ``stderr_wells``: first passages to the next wells' bottoms from the well's
         Boltzmann density (:mod:`numerics.escape.transitions`; ``simulated_wells`` holds
@@ -123,7 +126,8 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
                                 "scale_error": (None if math.isnan(fp.scale_error)
                                                 else fp.scale_error),
                                 "wells": list(fp.wells),
-                                "hermite": fp.hermite, "chebyshev": fp.chebyshev}
+                                "hermite": fp.hermite, "chebyshev": fp.chebyshev,
+                                "sink_ladder": list(fp.sink_ladder)}
     if method == "fokker-planck":  # the simulated transitions to the next wells too
         steps += trajectories * min(1.0 / fp.rate, _wells_end(fp, t_end)) / h
         out["estimated_steps"] = steps

@@ -40,9 +40,16 @@ depend on the sink's sharpness to 1e-7 at mu = 0.02.
 The Hermite truncation grows by ``sqrt 2`` until two successive rates agree to ``tol``; the
 last change is ``truncation_error``, the change on a finer position grid
 ``chebyshev_error`` and the change under the sharper sink (three times stronger, half as
-wide) ``sink_error``.  Compared (tests/test_fokker_planck_escape.py, docs/noise.rst) with
-simulated first passages, Kramers' spatial-diffusion rate, the Mel'nikov-Meshkov rate and
-the energy-diffusion MFPT of the averaged energy.
+wide) ``sink_error``.  For linear damping, where that change exceeds ``1e-7`` of the rate
+(higher friction: the density near the next wells' bottoms goes back to the saddle, and
+the rate depends on where the absorption happens), the rate of first passages to ``x =
++-x_w`` lies between two ladders of sharpening sinks, one rising and one falling
+(:mod:`._sink`): the rate is the midpoint of their top rungs and ``sink_error`` half
+their gap, and the other two errors include the midpoint's changes on a finer grid and
+one Hermite truncation lower.  Compared
+(tests/test_fokker_planck_escape.py, docs/noise.rst) with simulated first passages,
+Kramers' spatial-diffusion rate, the Mel'nikov-Meshkov rate and the energy-diffusion MFPT
+of the averaged energy.
 """
 
 from __future__ import annotations
@@ -60,8 +67,9 @@ from ._bases import cheb_centred, cheb_mapped
 from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
 from ._folded import FoldedRungs, symmetric
 from ._fraction import EscapeFraction
-from ._orthonormal import nonlinear_escape
-from ._rungs import pair_escape
+from ._orthonormal import nonlinear_escape, orthonormal_slowest
+from ._rungs import FractionRungs, pair_escape
+from ._sink import OFFSET, SINK_TOL, WEIGHT, sink_bracket, sink_rung
 from .kramers import _linear_temperature, kramers_operator, kramers_terms, velocity_terms
 
 __all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder",
@@ -125,6 +133,12 @@ class KramersEscape:
         The scale ``s`` of the velocity's Hermite functions
         (:func:`._orthonormal.velocity_scale`; ``nan`` for Risken's pair, whose scale is
         ``sqrt(kT)``).
+    sink_ladder : tuple of float
+        The rates of the sink ladders (:mod:`._sink`) where they ran (the two sinks
+        disagreed by more than :data:`._sink.SINK_TOL`), the rising ladder's then the
+        falling one's (each half): :attr:`rate` is then the midpoint of their top rungs,
+        which bracket a perfectly absorbing sink's rate, and :attr:`sink_error` half their
+        gap; empty where the first sink's rate is kept.
     """
 
     rate: float
@@ -138,6 +152,7 @@ class KramersEscape:
     chebyshev_error: float = float("nan")
     scale_error: float = float("nan")
     velocity_scale: float = float("nan")
+    sink_ladder: tuple = ()
 
     def __repr__(self) -> str:
         return (f"KramersEscape(rate={self.rate:.7g} +- {self.sink_error:.2g} (sink) +- "
@@ -273,7 +288,8 @@ def escape_problem(split, D: float, saddles: tuple, margin: float | None = None)
 def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: int = 64,
                    n_cheb: int = 128, margin: float | None = None, tol: float | None = None,
                    max_hermite: int = 4096, max_cheb: int = 720,
-                   max_cost: float = 3e7, basis: str = "auto") -> KramersEscape:
+                   max_cost: float = 3e7, basis: str = "auto",
+                   sink_tol: float | None = None) -> KramersEscape:
     """The rate of transitions out of the well at the origin from the Kramers equation with
     a sink at the next wells' bottoms.
 
@@ -323,6 +339,10 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         at mu = 0.02 where the orthonormal one needs 128).  ``"auto"``: the pair for linear
         damping where ``8 omega_b/gamma <= PAIR_HERMITE`` (:data:`PAIR_HERMITE`, higher
         friction) or the potential is not even, else orthonormal.
+    sink_tol : float, optional
+        Linear damping: the relative change between the two sinks above which the rate is
+        the sink ladder's limit (:mod:`._sink`; default :data:`._sink.SINK_TOL`, 1e-7;
+        ``inf``: the first sink's rate and change, as for nonlinear damping).
 
     Returns
     -------
@@ -374,11 +394,71 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
             max_hermite=max_hermite, max_cheb=max_cheb, max_cost=max_cost,
             layer_intervals=LAYER_INTERVALS,
             slowest=FoldedRungs(max_hermite) if fold else None)
-        return KramersEscape(saddles=(xl, xr), wells=wells, **out)
-    # Risken's pair (._rungs): the first truncation from the saddle's layer (docs/noise.rst)
-    start = next(n for n in hermite_ladder(int(n_hermite), 2 * int(n_hermite) + 16 * wb / gamma)
-                 if n >= 8 * wb / gamma or n >= max_hermite)
-    out = pair_escape(split, sigma, gamma, wells, sink, points, hermite_ladder, start=start,
-                      n_cheb=max(int(n_cheb), by_layer), tol=tol, max_hermite=max_hermite,
-                      max_cheb=max_cheb, max_cost=max_cost)
+    else:  # Risken's pair (._rungs): the first truncation from the saddle's layer
+        start = next(n for n in hermite_ladder(int(n_hermite),
+                                               2 * int(n_hermite) + 16 * wb / gamma)
+                     if n >= 8 * wb / gamma or n >= max_hermite)
+        out = pair_escape(split, sigma, gamma, wells, sink, points, hermite_ladder,
+                          start=start, n_cheb=max(int(n_cheb), by_layer), tol=tol,
+                          max_hermite=max_hermite, max_cheb=max_cheb, max_cost=max_cost)
+    # linear damping: the sink ladder where the two sinks disagree (nonlinear damping keeps
+    # the first sink and states the change: SEDF mu = 0.1, 2e-6 of the rate, where the
+    # ladder's unfolded orthonormal solves on 280 intervals would cost minutes)
+    sink_tol = SINK_TOL if sink_tol is None else float(sink_tol)
+    if linear and out["sink_error"] > sink_tol * abs(out["rate"]):
+
+        def rung(j, offset, nc, nh):  # the rate with the sink of rung j (._sink)
+            centres, kap, w = sink_rung(wells, kappa0, width, j, offset)
+
+            def pts(m):
+                return cheb_centred(m, half, ALPHA, (xl, xr) + centres,
+                                    (-xl / 2, xr / 2, 2.5 * w, 2.5 * w),
+                                    (crowd, crowd, WEIGHT, WEIGHT))
+
+            def snk(xs, sharp=1):
+                return _sink(xs, centres, kap, w)
+
+            if basis == "pair":
+                return FractionRungs(split, sigma, gamma, centres, snk, pts).rate(nh, nc)
+            solver = FoldedRungs(nh) if fold else orthonormal_slowest
+            return solver(split, D, out["velocity_scale"], pts, nh, nc, snk)
+
+        out = _sink_ladder(out, rung)
     return KramersEscape(saddles=(xl, xr), wells=wells, **out)
+
+
+#: the position intervals and Hermite functions of the sink ladder at least
+#: (:func:`_sink_ladder`).  CDC Delta = 3, kT = 0.35, mu = 1: the rate of the seventh rung
+#: moves by 1.2e-9 from 200 to 280 intervals and by 1e-13 from 280 to 400; the sharper
+#: sinks need more Hermite functions (the absorbing wall's layer at small speeds): at the
+#: sixth rung the rate moves by 1.5e-8 from 90 to 128 functions, by 5.7e-9 from 128 to 180
+#: and by 1.8e-9 from 180 to 256 (mu = 5: 1.5e-8, 1.7e-9, 1e-10)
+SINK_INTERVALS, SINK_HERMITE = 280, 256
+
+
+def _sink_ladder(out: dict, rung) -> dict:
+    """``out`` with the rate of the perfectly absorbing sink between the rising and the
+    falling sink ladders (:func:`._sink.sink_bracket`) at the ladders' Hermite truncation
+    and grid (at least :data:`SINK_HERMITE` and :data:`SINK_INTERVALS`), and its errors:
+    ``sink_error`` the bracket's half-width, ``chebyshev_error`` and ``truncation_error``
+    the larger of the first sink's and the midpoint's change when both top rungs are solved
+    on 1.2 times the intervals, or with the Hermite truncation below (``sqrt 2`` fewer);
+    ``hermite`` and ``chebyshev`` the ladders' sizes; ``sink_ladder`` the rising ladder's
+    rates, then the falling one's."""
+    nh = max(int(out["hermite"]), SINK_HERMITE)
+    nc = max(int(out["chebyshev"]) - 1, SINK_INTERVALS)
+    lim = sink_bracket(lambda j, offset: rung(j, offset, nc, nh))
+    low, high = lim["rungs"], lim["upper"]
+    top = len(low) - 1
+
+    def moved(n_c, n_h):  # the midpoint's change with both top rungs on another grid
+        lo, hi = rung(top, OFFSET, n_c, n_h), rung(top, 0.0, n_c, n_h)
+        return abs((lo + hi) / 2 - lim["rate"])
+
+    cheb = moved(2 * int(round(1.2 * nc / 2)), nh)
+    trunc = moved(nc, 2 * int(round(nh / math.sqrt(2) / 2)))
+    return {**out, "rate": lim["rate"], "sink_error": lim["sink_error"],
+            "chebyshev_error": max(out["chebyshev_error"], cheb),
+            "truncation_error": max(out["truncation_error"], trunc),
+            "sink_ladder": low + high, "hermite": nh, "chebyshev": nc + 1}
+

@@ -1,0 +1,196 @@
+"""The escape rate's limit of a perfectly absorbing sink (:mod:`numerics.fokker_planck._sink`,
+issue 36: the rate at any damping to 6 digits).
+
+References, none produced by the sink ladder under test:
+
+* the bracket of a rising and a falling sequence holds ``r`` for ``r - a q^j`` and ``r +
+  b p^j`` (closed forms; hypothesis draws ``r``, ``a``, ``b``, ``q`` and ``p``);
+* a third ladder of sinks, centred one width past the bottoms where the two ladders of the
+  code are centred two widths past and on them: its top rung agrees with the rate within
+  the stated errors and its own last step;
+* the first sink's rate at low friction, where the sink does not matter (the ladder does
+  not run there, so the rate is the one of the Hermite and Chebyshev ladders alone);
+* Smoluchowski's mean first-passage time to ``x = +-x_w`` (Gardiner, *Handbook of
+  Stochastic Methods*, eq. 5.2.158, by quadrature) times the friction, which the rate
+  times the friction approaches from below as the friction grows past the barrier
+  frequency (Kramers' factor ``(gamma^2/4 + omega_b^2)^(1/2) - gamma/2 < omega_b^2/gamma``).
+
+The CDC at rest (paper eq. 12), Delta = 3, lam = 1, kT = 0.35 (the issue's case: the next
+wells' bottoms 1.65 kT under the saddles).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+from scipy.integrate import quad
+from scipy.optimize import brentq
+
+from kbm.conservative import split_conservative
+from numerics.fokker_planck import kramers_escape
+from numerics.fokker_planck._bases import cheb_centred
+from numerics.fokker_planck._rungs import FractionRungs
+from numerics.fokker_planck._sink import (OFFSET, WEIGHT, bracket_error, sink_bracket,
+                                          sink_rung)
+from numerics.fokker_planck.escape import (ALPHA, SINK_HERMITE, SINK_INTERVALS, _sink,
+                                           escape_problem, kT_gamma)
+
+PARAMS = {"Delta": 3, "lam": 1, "Omega": 1}
+KT = 0.35
+
+
+def _saddles():
+    g = split_conservative("cdc", dict(PARAMS, mu=1)).numpy_functions()[0]
+    xs = brentq(lambda z: float(g(np.array(z))), 0.3, 0.7, xtol=1e-15)
+    return (-xs, xs)
+
+
+@settings(max_examples=50, deadline=None)
+@given(r=st.floats(-10, 10), a=st.floats(0.01, 10), b=st.floats(0.01, 10),
+       q=st.floats(0.05, 0.9), p=st.floats(0.05, 0.9), n=st.integers(2, 8))
+def test_bracket_holds_the_limit_of_a_rising_and_a_falling_sequence(r, a, b, q, p, n):
+    """``r - a q^j`` rises and ``r + b p^j`` falls to ``r``: the midpoint of the last two
+    terms lies within the stated error (half their gap) of ``r`` (closed form)."""
+    low = [r - a * q**j for j in range(n)]
+    high = [r + b * p**j for j in range(n)]
+    err = bracket_error(low, high)
+    assert err == pytest.approx((high[-1] - low[-1]) / 2)
+    assert abs((low[-1] + high[-1]) / 2 - r) <= err * (1 + 1e-12) + 1e-15 * abs(r)
+
+
+def test_a_broken_bracket_states_the_whole_gap_and_the_last_steps():
+    """A lower ladder that falls (or crosses the upper one) brackets nothing: the error is
+    the gap plus both last steps, larger than the distance to any limit between them."""
+    assert bracket_error([1.0, 0.9], [1.2, 1.1]) == pytest.approx(0.2 + 0.1 + 0.1)
+    assert bracket_error([1.0, 1.3], [1.2, 1.1]) == pytest.approx(0.2 + 0.3 + 0.1)
+
+
+def test_sink_bracket_stops_within_its_stated_error():
+    """Two geometric terms each side (ratios 1/2.4, 1/6 and 1/2.9): the bracket's rate lies
+    within its stated error of the exact one, and the error reaches 1e-7 of it."""
+    exact = 0.0387
+
+    def rates(j, offset):
+        if offset == OFFSET:
+            return exact - 1e-4 * 2.4**-j + 3e-5 * 6.0**-j
+        return exact + 2e-4 * 2.9**-j
+
+    out = sink_bracket(rates, max_rungs=30)
+    assert abs(out["rate"] - exact) <= out["sink_error"]
+    assert out["sink_error"] <= 1e-7 * exact
+    assert out["rungs"][-1] < exact < out["upper"][-1]
+
+
+def test_rungs_sharpen():
+    """Each rung halves the width, quadruples the strength and keeps the centre outside the
+    bottoms (``(2 + j ln2/2) w_j`` past them)."""
+    wells = (-0.95, 0.95)
+    for j in range(5):
+        (cl, cr), kap, w = sink_rung(wells, 20.0, 0.04, j)
+        assert w == 0.04 / 2**j and kap == 20.0 * 4**j
+        assert cr - 0.95 == pytest.approx((2 + j * math.log(2) / 2) * w)
+        assert cl == -cr
+
+
+def _other_ladder(mu, offset, rungs, nh=SINK_HERMITE, nc=SINK_INTERVALS):
+    """The rates of the sink ladder centred ``offset (+ j ln2/2)`` widths past the bottoms,
+    solved here with the pair's rungs (:class:`FractionRungs`) on its own points."""
+    split = split_conservative("cdc", dict(PARAMS, mu=mu))
+    D = KT * mu
+    xl, xr = _saddles()
+    sigma, wells, half, kappa0, width = escape_problem(split, D, (xl, xr))
+    gamma = kT_gamma(split, D)[1]
+
+    def rate(j):
+        c, kap, w = sink_rung(wells, kappa0, width, j, offset=offset)
+
+        def pts(m):
+            return cheb_centred(m, half, ALPHA, (xl, xr) + c, (-xl / 2, xr / 2, 2.5 * w,
+                                                                2.5 * w),
+                                (0.0, 0.0, WEIGHT, WEIGHT))
+
+        return FractionRungs(split, sigma, gamma, c, lambda xs, s=1: _sink(xs, c, kap, w),
+                             pts).rate(nh, nc)
+
+    return [rate(j) for j in range(rungs)]
+
+
+def test_small_ladders_bracket_their_limit():
+    """mu = 1 on a small grid (64 Hermite functions, 160 intervals; the default run's
+    sibling of the slow tests below): the ladder centred two widths out rises, the one
+    centred on the bottoms falls, and the first stays below the second (the bracket)."""
+    low = _other_ladder(1.0, 2.0, 5, nh=64, nc=160)
+    high = _other_ladder(1.0, 0.0, 5, nh=64, nc=160)
+    for r, sign in ((low, 1), (high, -1)):
+        steps = sign * np.diff(r)
+        assert np.all(steps > 0)
+    assert low[-1] < high[-1]
+
+
+@pytest.fixture(scope="module")
+def moderate():
+    return kramers_escape("cdc", dict(PARAMS, mu=1), KT, _saddles())
+
+
+@pytest.mark.slow
+def test_moderate_friction_reaches_the_absorbing_limit(moderate):
+    """mu = 1: the ladders ran, the rising one below the falling one, the rate between
+    their top rungs, and the stated sink error (half the gap) within half a unit of the
+    sixth significant digit (5e-6 of the rate; 2.8e-6 measured)."""
+    fp = moderate
+    n = len(fp.sink_ladder) // 2
+    low, high = fp.sink_ladder[:n], fp.sink_ladder[n:]
+    assert n >= 2 and fp.sink_error <= 5e-6 * fp.rate
+    assert all(b > a for a, b in zip(low, low[1:]))
+    assert all(b < a for a, b in zip(high, high[1:]))
+    assert low[-1] <= fp.rate <= high[-1]
+    assert fp.chebyshev_error < 1e-8 * fp.rate and fp.truncation_error < 1e-6 * fp.rate
+
+
+@pytest.mark.slow
+def test_moderate_friction_another_sink(moderate):
+    """mu = 1: a third ladder, centred one width past the bottoms (solved by the pair's
+    rungs on its own points), ends within the stated errors and its own last step of the
+    rate."""
+    other = _other_ladder(1.0, 1.0, 7)
+    tol = (moderate.sink_error + moderate.truncation_error + moderate.chebyshev_error
+           + abs(other[-1] - other[-2]))
+    assert abs(other[-1] - moderate.rate) <= tol
+
+
+def _smoluchowski_rate(mu):
+    """``1/T(0)``: Smoluchowski's mean first-passage time from the bottom to ``x = +-x_w``
+    (reflecting at 0 by symmetry, Gardiner eq. 5.2.158), by adaptive quadrature."""
+    g, _, G = split_conservative("cdc", dict(PARAMS, mu=mu)).numpy_functions()[:3]
+    xw = brentq(lambda z: float(g(np.array(z))), 0.8, 1.1, xtol=1e-15)
+
+    def inner(y):
+        return quad(lambda z: math.exp(-float(G(np.array(z))) / KT), 0, y, epsabs=0,
+                    epsrel=1e-12, limit=200)[0]
+
+    T = quad(lambda y: math.exp(float(G(np.array(y))) / KT) * inner(y), 0, xw, epsabs=0,
+             epsrel=1e-11, limit=200)[0] * mu / KT
+    return 1.0 / T
+
+
+@pytest.mark.slow
+def test_high_friction_below_smoluchowski():
+    """mu = 2 and 5 (gamma/omega_b = 0.48, 1.2): the rate (to first passage at ``x_w``)
+    is below Smoluchowski's for the same line, and its ratio to it grows toward 1 with the
+    friction (the inertial correction, O(omega_b^2/gamma^2) for large gamma); the rate lies
+    between the two ladders' top rungs, the rising one below the falling one (their half
+    gap, the stated sink error, is 3.5e-5 of the rate at mu = 2 and 1.7e-4 at mu = 5)."""
+    ratios = []
+    for mu in (2.0, 5.0):
+        fp = kramers_escape("cdc", dict(PARAMS, mu=mu), KT * mu, _saddles())
+        n = len(fp.sink_ladder) // 2
+        low, high = fp.sink_ladder[:n], fp.sink_ladder[n:]
+        assert all(b > a for a, b in zip(low, low[1:]))
+        assert all(b < a for a, b in zip(high, high[1:]))
+        assert low[-1] <= fp.rate <= high[-1]
+        assert fp.sink_error == pytest.approx((high[-1] - low[-1]) / 2)
+        ratios.append(fp.rate / _smoluchowski_rate(mu))
+    assert ratios[0] < ratios[1] < 1

@@ -39,6 +39,19 @@ def test_linear_damping_is_boltzmann(cdc_sol):
     assert cdc_sol.a2 == pytest.approx(ref + 0.6, rel=1e-8)
 
 
+def test_linear_damping_is_boltzmann_at_low_friction():
+    """CDC at rest at mu = 0.03, D = 0.018 (the same kT = 0.6, a fifth of the friction):
+    the stationary density of a linear damping does not depend on mu (Gibbs), so <x^2> is
+    the quadrature of x^2 exp(-G/kT) to 1e-8 and <x'^2> = kT to 1e-10, and the stated
+    truncation error is zero (the Maxwellian is one function at sigma^2 = kT)."""
+    low = dict(CDC, mu=0.03)
+    sol = stationary_kramers("cdc", low, 0.018)
+    ref = boltzmann_moment(split_conservative("cdc", low), 0.6)
+    assert sol.x2 == pytest.approx(ref, rel=1e-8)
+    assert sol.v2 == pytest.approx(0.6, rel=1e-10)
+    assert sol.hermite_change == 0.0
+
+
 def test_energy_density_is_boltzmann(cdc_sol):
     """The mass below E of the Kramers solution against the quadrature of
     sqrt(2 pi kT) exp(-G/kT) erf(sqrt((E - G)_+/kT)) over x, below and above the

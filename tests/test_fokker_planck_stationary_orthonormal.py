@@ -197,3 +197,48 @@ def test_sedf_against_simulation():
                               burn_in=200.0, dt=0.005, seed=11)
     assert abs(ens.x2.value - sol.x2) < 4 * ens.x2.stderr
     assert abs(ens.a2.value - sol.a2) < 4 * ens.a2.stderr
+
+
+def test_van_der_pol_low_friction_ladder():
+    """vdp mu = 0.03, D = 0.015: the default ladders (budget of ``kbm noise``) state a
+    change below 1e-7, and <x^2> agrees within it with a solve on about 1.5 times both
+    sizes (136 functions x 182 intervals), <x^2> = <x'^2> (virial theorem, g = x) to 1e-9."""
+    from numerics.thermal.stationary import FP_BUDGET
+
+    sol = stationary_kramers("vdp", {"mu": 0.03}, 0.015, max_cost=FP_BUDGET)
+    assert sol.hermite_change < 1e-7
+    n, m = sol.coef.shape[0], sol.x.size - 1
+    big = stationary_kramers("vdp", {"mu": 0.03}, 0.015, n_hermite=2 * math.ceil(0.75 * n),
+                             n_cheb=2 * math.ceil(0.75 * m), sigma=sol.sigma)
+    assert abs(sol.x2 - big.x2) <= max(sol.hermite_change, 1e-12) * abs(big.x2)
+    assert sol.v2 == pytest.approx(sol.x2, rel=1e-9)
+
+
+@pytest.mark.slow
+def test_sedf_low_friction_ladder_against_larger_solve():
+    """SEDF at rest, mu = 0.03, Delta = 3, D = 0.015 (kT-like D/mu = 0.5 at a third of the
+    friction of the case above): the default ladders within ``kbm noise``'s budget end
+    on the grid, not the Hermite functions (128 x 418: 128 functions moved <x^2> by 1.1e-7
+    to 182 on 334 intervals, 334 -> 418 intervals by 7e-6); the stated change is below
+    1e-5 and bounds the distance to a solve on 1.5 times both sizes (192 functions x 628
+    intervals); the virial theorem <x g(x)> = <x'^2> holds to 1e-7 and the energy balance
+    mu <(x^2 - 1) x'^2> = D to 1e-5."""
+    from kbm.conservative import split_conservative
+
+    from numerics.thermal.stationary import FP_BUDGET
+
+    low = dict(SEDF, mu=0.03)
+    sol = stationary_kramers("sedf", low, 0.015, max_cost=FP_BUDGET)
+    assert sol.hermite_change < 1e-5
+    n, m = sol.coef.shape[0], sol.x.size - 1
+    big = stationary_kramers("sedf", low, 0.015, n_hermite=3 * n // 2, n_cheb=3 * m // 2,
+                             sigma=sol.sigma, max_cost=1e9)
+    for a, b in ((sol.x2, big.x2), (sol.v2, big.v2)):
+        assert abs(a - b) <= sol.hermite_change * abs(b)
+    g = split_conservative("sedf", low).numpy_functions()[0]
+    xg = float(np.sum(sol.weights * sol.x * g(sol.x) * sol.marginal()))
+    assert xg == pytest.approx(sol.v2, rel=1e-7)
+    _, q = hermite_integrals(sol.coef.shape[0])
+    v2x = sol.sigma**2 * (q @ sol.coef)
+    balance = 0.03 * float(np.sum(sol.weights * (sol.x**2 - 1) * v2x))
+    assert balance == pytest.approx(0.015, rel=1e-5)

@@ -33,10 +33,9 @@ from kbm.conservative import split_conservative
 from numerics.fokker_planck import kramers_escape
 from numerics.fokker_planck._bases import cheb_centred
 from numerics.fokker_planck._rungs import FractionRungs
-from numerics.fokker_planck._sink import (OFFSET, WEIGHT, bracket_error, sink_bracket,
-                                          sink_rung)
-from numerics.fokker_planck.escape import (ALPHA, SINK_HERMITE, SINK_INTERVALS, _sink,
-                                           escape_problem, kT_gamma)
+from numerics.fokker_planck._sink import (OFFSET, SINK_HERMITE, SINK_INTERVALS, WEIGHT,
+                                          bracket_error, sink_bracket, sink_rung)
+from numerics.fokker_planck.escape import ALPHA, _sink, escape_problem, kT_gamma
 
 PARAMS = {"Delta": 3, "lam": 1, "Omega": 1}
 KT = 0.35

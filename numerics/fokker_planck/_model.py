@@ -1,7 +1,8 @@
 """The model's pieces that every Kramers solve needs (:mod:`.kramers`, :mod:`._orthonormal`,
 :mod:`._stationary_orthonormal`): the damping as a polynomial in the velocity, the
-half-width of the position range and the number of Chebyshev intervals that resolve
-``exp(-G/scale)``."""
+half-width of the position range, the number of Chebyshev intervals that resolve
+``exp(-G/scale)``, and the bottoms of the wells next to the escape's saddles
+(:func:`next_wells`)."""
 
 from __future__ import annotations
 
@@ -14,7 +15,7 @@ from kbm.conservative import ConservativeSplit
 from kbm.errors import ModelError, ParameterError
 from kbm.symbols import x as X, xdot as V
 
-__all__ = ["velocity_terms", "lobatto_coefficients", "grid_check"]
+__all__ = ["velocity_terms", "lobatto_coefficients", "grid_check", "next_wells"]
 
 
 def velocity_terms(split: ConservativeSplit) -> list:
@@ -100,3 +101,30 @@ def grid_check(ladder, rates, nc: int, grow: float, fits, solve, table: list, to
     err = abs(r_fine - rates[check])
     done = err <= tol * abs(rates[-1]) or finer > max_cheb or not fits(ladder[prev], finer)
     return err, done, finer, k, prev
+
+
+def next_wells(g, saddles) -> tuple:
+    """``(x_wl, x_wr)``: the bottoms of the wells beyond the saddles ``x_l < 0 < x_r``, the
+    first zeros of the force ``g = G'`` outward of each saddle where ``G`` turns upward
+    (Brent's method to 1e-15).
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        When ``G`` falls without a minimum within 50 saddle distances (no next well).
+    """
+    from scipy.optimize import brentq
+
+    out = []
+    for xs in saddles:
+        side = math.copysign(1.0, xs)
+        grid = xs + side * 1e-3 * abs(xs) * np.arange(1, 50001)
+        slope = side * np.asarray(g(grid), float)  # dG/d|x|: < 0 past the saddle
+        up = np.flatnonzero(slope > 0)
+        if up.size == 0 or up[0] == 0:
+            raise ModelError(f"no well beyond the saddle at x = {xs:.6g} (G falls without a "
+                             "minimum): the escape rate needs the next well's bottom")
+        i = int(up[0])
+        out.append(float(brentq(lambda z: float(g(np.array(z))), grid[i - 1], grid[i],
+                                xtol=1e-15, rtol=1e-15)))
+    return tuple(out)

@@ -1,6 +1,6 @@
-"""The escape rate in the limit of a perfectly absorbing sink (:func:`sink_bracket`, run by
-:func:`.escape.kramers_escape` where the two sinks of ``sink_error`` disagree by more than
-:data:`SINK_TOL` of the rate).
+"""The escape's sink (:func:`tanh_sink`) and the rate in the limit of a perfectly absorbing
+sink (:func:`absorbing_limit` by :func:`sink_bracket`, run by :func:`.escape.kramers_escape`
+where the two sinks of ``sink_error`` disagree by more than :data:`SINK_TOL` of the rate).
 
 The rate of :mod:`.escape` is that of first passages to the lines ``x = x_w`` at the next
 wells' bottoms: the limit of a sink that absorbs everything past ``x_w`` at once.  At low
@@ -34,7 +34,10 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["SINK_TOL", "OFFSET", "WEIGHT", "MAX_RUNGS", "sink_rung", "sink_bracket"]
+import numpy as np
+
+__all__ = ["SINK_TOL", "OFFSET", "WEIGHT", "MAX_RUNGS", "SINK_INTERVALS", "SINK_HERMITE",
+           "tanh_sink", "sink_rung", "bracket_error", "sink_bracket", "absorbing_limit"]
 
 #: the relative change between the two sinks above which the ladders run (and the target of
 #: the bracket's half-width)
@@ -90,3 +93,54 @@ def sink_bracket(solve, *, tol: float = SINK_TOL, max_rungs: int = MAX_RUNGS) ->
             break
     return dict(rate=(low[-1] + high[-1]) / 2, sink_error=err, rungs=tuple(low),
                 upper=tuple(high))
+
+
+def tanh_sink(xs, wells, kappa0: float, width: float) -> np.ndarray:
+    """The sink at the points ``xs``: ``kappa0 [1 + tanh((|x| - |x_w|)/width)]/2``, and nine
+    times as strong from ``2.5 width`` past the bottom ``|x_w|`` (the same profile): what
+    gets past the bottom is gone long before the end of the range (``5 width`` past it by
+    default), where the pinned rows ``c_n(+-L) = 0`` are no boundary condition of the
+    Kramers equation (with the first stage alone the rate converged like ``1/n_cheb`` and
+    moved by 1e-5 with the range at mu = 1; docs/noise.rst)."""
+    edge = np.where(xs > 0, wells[1], -wells[0])
+    far = edge + 2.5 * width
+    r = np.abs(xs)
+    return kappa0 * 0.5 * ((1 + np.tanh((r - edge) / width))
+                           + 9 * (1 + np.tanh((r - far) / width)))
+
+
+#: the position intervals and Hermite functions of the sink ladder at least
+#: (:func:`absorbing_limit`).  CDC Delta = 3, kT = 0.35, mu = 1: the rate of the seventh rung
+#: moves by 1.2e-9 from 200 to 280 intervals and by 1e-13 from 280 to 400; the sharper
+#: sinks need more Hermite functions (the absorbing wall's layer at small speeds): at the
+#: sixth rung the rate moves by 1.5e-8 from 90 to 128 functions, by 5.7e-9 from 128 to 180
+#: and by 1.8e-9 from 180 to 256 (mu = 5: 1.5e-8, 1.7e-9, 1e-10)
+SINK_INTERVALS, SINK_HERMITE = 280, 256
+
+
+def absorbing_limit(out: dict, rung) -> dict:
+    """``out`` with the rate of the perfectly absorbing sink between the rising and the
+    falling sink ladders (:func:`sink_bracket`) at the ladders' Hermite truncation
+    and grid (at least :data:`SINK_HERMITE` and :data:`SINK_INTERVALS`), and its errors:
+    ``sink_error`` the bracket's half-width, ``chebyshev_error`` and ``truncation_error``
+    the larger of the first sink's and the midpoint's change when both top rungs are solved
+    on 1.2 times the intervals, or with the Hermite truncation below (``sqrt 2`` fewer);
+    ``hermite`` and ``chebyshev`` the ladders' sizes; ``sink_ladder`` the rising ladder's
+    rates, then the falling one's."""
+    nh = max(int(out["hermite"]), SINK_HERMITE)
+    nc = max(int(out["chebyshev"]) - 1, SINK_INTERVALS)
+    lim = sink_bracket(lambda j, offset: rung(j, offset, nc, nh))
+    low, high = lim["rungs"], lim["upper"]
+    top = len(low) - 1
+
+    def moved(n_c, n_h):  # the midpoint's change with both top rungs on another grid
+        lo, hi = rung(top, OFFSET, n_c, n_h), rung(top, 0.0, n_c, n_h)
+        return abs((lo + hi) / 2 - lim["rate"])
+
+    cheb = moved(2 * int(round(1.2 * nc / 2)), nh)
+    trunc = moved(nc, 2 * int(round(nh / math.sqrt(2) / 2)))
+    return {**out, "rate": lim["rate"], "sink_error": lim["sink_error"],
+            "chebyshev_error": max(out["chebyshev_error"], cheb),
+            "truncation_error": max(out["truncation_error"], trunc),
+            "sink_ladder": low + high, "hermite": nh, "chebyshev": nc + 1}
+

@@ -69,7 +69,8 @@ from ._folded import FoldedRungs, symmetric
 from ._fraction import EscapeFraction
 from ._orthonormal import nonlinear_escape, orthonormal_slowest
 from ._rungs import FractionRungs, pair_escape
-from ._sink import OFFSET, SINK_TOL, WEIGHT, sink_bracket, sink_rung
+from ._model import next_wells
+from ._sink import SINK_TOL, WEIGHT, absorbing_limit, sink_rung, tanh_sink as _sink
 from .kramers import _linear_temperature, kramers_operator, kramers_terms, velocity_terms
 
 __all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder",
@@ -157,47 +158,6 @@ class KramersEscape:
     def __repr__(self) -> str:
         return (f"KramersEscape(rate={self.rate:.7g} +- {self.sink_error:.2g} (sink) +- "
                 f"{self.truncation_error:.2g} (truncation) +- {self.chebyshev_error:.2g} (Chebyshev))")
-
-
-def next_wells(g, saddles) -> tuple:
-    """``(x_wl, x_wr)``: the bottoms of the wells beyond the saddles ``x_l < 0 < x_r``, the
-    first zeros of the force ``g = G'`` outward of each saddle where ``G`` turns upward
-    (Brent's method to 1e-15).
-
-    Raises
-    ------
-    kbm.errors.ModelError
-        When ``G`` falls without a minimum within 50 saddle distances (no next well).
-    """
-    from scipy.optimize import brentq
-
-    out = []
-    for xs in saddles:
-        side = math.copysign(1.0, xs)
-        grid = xs + side * 1e-3 * abs(xs) * np.arange(1, 50001)
-        slope = side * np.asarray(g(grid), float)  # dG/d|x|: < 0 past the saddle
-        up = np.flatnonzero(slope > 0)
-        if up.size == 0 or up[0] == 0:
-            raise ModelError(f"no well beyond the saddle at x = {xs:.6g} (G falls without a "
-                             "minimum): the escape rate needs the next well's bottom")
-        i = int(up[0])
-        out.append(float(brentq(lambda z: float(g(np.array(z))), grid[i - 1], grid[i],
-                                xtol=1e-15, rtol=1e-15)))
-    return tuple(out)
-
-
-def _sink(xs, wells, kappa0: float, width: float) -> np.ndarray:
-    """The sink at the points ``xs``: ``kappa0 [1 + tanh((|x| - |x_w|)/width)]/2``, and nine
-    times as strong from ``2.5 width`` past the bottom ``|x_w|`` (the same profile): what
-    gets past the bottom is gone long before the end of the range (``5 width`` past it by
-    default), where the pinned rows ``c_n(+-L) = 0`` are no boundary condition of the
-    Kramers equation (with the first stage alone the rate converged like ``1/n_cheb`` and
-    moved by 1e-5 with the range at mu = 1; docs/noise.rst)."""
-    edge = np.where(xs > 0, wells[1], -wells[0])
-    far = edge + 2.5 * width
-    r = np.abs(xs)
-    return kappa0 * 0.5 * ((1 + np.tanh((r - edge) / width))
-                           + 9 * (1 + np.tanh((r - far) / width)))
 
 
 def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width, solver="block",
@@ -423,42 +383,5 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
             solver = FoldedRungs(nh) if fold else orthonormal_slowest
             return solver(split, D, out["velocity_scale"], pts, nh, nc, snk)
 
-        out = _sink_ladder(out, rung)
+        out = absorbing_limit(out, rung)
     return KramersEscape(saddles=(xl, xr), wells=wells, **out)
-
-
-#: the position intervals and Hermite functions of the sink ladder at least
-#: (:func:`_sink_ladder`).  CDC Delta = 3, kT = 0.35, mu = 1: the rate of the seventh rung
-#: moves by 1.2e-9 from 200 to 280 intervals and by 1e-13 from 280 to 400; the sharper
-#: sinks need more Hermite functions (the absorbing wall's layer at small speeds): at the
-#: sixth rung the rate moves by 1.5e-8 from 90 to 128 functions, by 5.7e-9 from 128 to 180
-#: and by 1.8e-9 from 180 to 256 (mu = 5: 1.5e-8, 1.7e-9, 1e-10)
-SINK_INTERVALS, SINK_HERMITE = 280, 256
-
-
-def _sink_ladder(out: dict, rung) -> dict:
-    """``out`` with the rate of the perfectly absorbing sink between the rising and the
-    falling sink ladders (:func:`._sink.sink_bracket`) at the ladders' Hermite truncation
-    and grid (at least :data:`SINK_HERMITE` and :data:`SINK_INTERVALS`), and its errors:
-    ``sink_error`` the bracket's half-width, ``chebyshev_error`` and ``truncation_error``
-    the larger of the first sink's and the midpoint's change when both top rungs are solved
-    on 1.2 times the intervals, or with the Hermite truncation below (``sqrt 2`` fewer);
-    ``hermite`` and ``chebyshev`` the ladders' sizes; ``sink_ladder`` the rising ladder's
-    rates, then the falling one's."""
-    nh = max(int(out["hermite"]), SINK_HERMITE)
-    nc = max(int(out["chebyshev"]) - 1, SINK_INTERVALS)
-    lim = sink_bracket(lambda j, offset: rung(j, offset, nc, nh))
-    low, high = lim["rungs"], lim["upper"]
-    top = len(low) - 1
-
-    def moved(n_c, n_h):  # the midpoint's change with both top rungs on another grid
-        lo, hi = rung(top, OFFSET, n_c, n_h), rung(top, 0.0, n_c, n_h)
-        return abs((lo + hi) / 2 - lim["rate"])
-
-    cheb = moved(2 * int(round(1.2 * nc / 2)), nh)
-    trunc = moved(nc, 2 * int(round(nh / math.sqrt(2) / 2)))
-    return {**out, "rate": lim["rate"], "sink_error": lim["sink_error"],
-            "chebyshev_error": max(out["chebyshev_error"], cheb),
-            "truncation_error": max(out["truncation_error"], trunc),
-            "sink_ladder": low + high, "hermite": nh, "chebyshev": nc + 1}
-

@@ -19,15 +19,24 @@ the stated ``sink_error`` was 7 times smaller than the distance to the limit at 
 (4.7e-7 against 3.4e-6) and 3.5 times at mu = 5.
 
 The ladders: rung ``j`` has the width ``w_j = w/2^j`` and the strength ``kappa_j = kappa 4^j``
-(the optical depth doubles).  Centred :data:`OFFSET` ``+ ln(2^j)/2`` widths past ``x_w``,
-the line where absorption happens stays just past ``x_w`` and the rates **rise** toward the
-limit; centred ``ln(2^j)/2`` widths past ``x_w`` (offset 0) absorption happens before it
-and the rates **fall** toward the limit (the differences shrink by 2.4 to 2.9 per rung at mu = 1 to 5, on points
-crowded at the centres, :data:`WEIGHT`).  :func:`sink_bracket` climbs both ladders until
-the two top rungs are within ``2 tol`` of the rate: the rate is their midpoint and the
-stated ``sink_error`` half their gap, a bracket of the limit while the lower ladder rises and
-the upper falls (checked at every rung; where it fails the error is the whole gap plus the
-last steps).  No value is extrapolated.
+(the optical depth doubles), so the line where absorption happens lies ``(o - o_c) w_j``
+past ``x_w`` for a centre ``o + j ln(2)/2`` widths past it (``o_c`` about half the log of
+the first optical depth).  The rates of a ladder then approach the limit like ``(o - o_c)
+w_j`` plus terms in ``w_j^2``: from below if ``o`` is beyond the critical offset, from
+above if it is short of it.  The rising ladder is centred :data:`OFFSET` widths out; the
+falling one starts on the bottoms (offset 0) and moves out by :data:`RAMP` per rung to
+:data:`UPPER` (short of the critical offset, which grows from about 1.4 at the fifth rung to
+1.75 at the ninth at mu = 5; at a fixed offset 1.5 the rates rise until the seventh rung
+there, at offset 0 they fall only 1.7 times per rung, where the gap
+halves).  The gap between the ladders is ``(OFFSET - UPPER) w_j`` in line position: a
+fifth of the gap of offsets 2 and 0.  :func:`sink_bracket` climbs both ladders until the
+half-gap is within :data:`BRACKET_TOL` of the rate (or :data:`MAX_RUNGS`; past
+:data:`FINE_RUNG` the grid grows with the rung, :func:`rung_intervals`): the rate is their
+midpoint and the stated ``sink_error`` half their gap, a bracket of the limit while the
+lower ladder rises and the upper falls (checked at every rung; where it fails the error is
+the whole gap plus the last steps).  CDC Delta = 3, kT = 0.35: half-gaps 7.0e-7 (mu = 1,
+seventh rung), 1.8e-6 (mu = 2, ninth) and 4.3e-6 (mu = 5, tenth) of the rate, where offsets
+2 and 0 left 2.8e-6, 3.5e-5 and 1.7e-4 at the seventh rung.  No value is extrapolated.
 """
 
 from __future__ import annotations
@@ -36,28 +45,40 @@ import math
 
 import numpy as np
 
-__all__ = ["SINK_TOL", "OFFSET", "WEIGHT", "MAX_RUNGS", "SINK_INTERVALS", "SINK_HERMITE",
-           "tanh_sink", "sink_rung", "bracket_error", "sink_bracket", "absorbing_limit"]
+__all__ = ["SINK_TOL", "BRACKET_TOL", "OFFSET", "UPPER", "RAMP", "WEIGHT", "MAX_RUNGS",
+           "SINK_INTERVALS", "SINK_HERMITE", "FINE_RUNG", "GRID_GROWTH", "tanh_sink",
+           "sink_rung", "falling_offset", "rung_intervals", "bracket_error", "sink_bracket",
+           "absorbing_limit"]
 
-#: the relative change between the two sinks above which the ladders run (and the target of
-#: the bracket's half-width)
+#: the relative change between the two sinks above which the ladders run (and the default
+#: target of :func:`sink_bracket`)
 SINK_TOL = 1e-7
+#: the bracket's half-width (relative) at which :func:`absorbing_limit` stops climbing
+BRACKET_TOL = 2e-6
 #: the rising ladder's first centre past the next wells' bottoms, in sink widths
 OFFSET = 2.0
+#: the falling ladder's centre past the bottoms (in widths, beyond ``j ln2/2``) from rung
+#: ``UPPER/RAMP`` on, reached by ``RAMP`` per rung from 0 (:func:`falling_offset`)
+UPPER, RAMP = 1.6, 0.25
 #: the share of the points crowded at each sink's centre (:func:`._bases.cheb_centred`)
 WEIGHT = 0.15
 #: the rungs of each ladder at most (the width falls to ``w/2^(MAX_RUNGS - 1)``)
-MAX_RUNGS = 7
+MAX_RUNGS = 10
 
 
 def sink_rung(wells, kappa0: float, width: float, j: int, offset: float = OFFSET) -> tuple:
     """``(centres, kappa, w)`` of rung ``j``: width ``width/2^j``, strength ``kappa0 4^j``,
-    centres ``offset + j ln(2)/2`` widths past the bottoms ``wells`` (``offset = 0``: the
-    falling ladder)."""
+    centres ``offset + j ln(2)/2`` widths past the bottoms ``wells`` (:data:`OFFSET`: the
+    rising ladder; :func:`falling_offset`: the falling one)."""
     w = width / 2**j
     kappa = kappa0 * 4.0**j
     c = (offset + j * math.log(2.0) / 2) * w
     return (wells[0] - c, wells[1] + c), kappa, w
+
+
+def falling_offset(j: int) -> float:
+    """The falling ladder's offset at rung ``j``: ``min(UPPER, RAMP j)`` widths."""
+    return min(UPPER, RAMP * j)
 
 
 def bracket_error(low, high) -> float:
@@ -75,8 +96,8 @@ def bracket_error(low, high) -> float:
 
 def sink_bracket(solve, *, tol: float = SINK_TOL, max_rungs: int = MAX_RUNGS) -> dict:
     """The rate of the perfectly absorbing sink between the rising ladder ``solve(j,
-    OFFSET)`` and the falling one ``solve(j, 0.0)`` (the rates with the sinks of
-    :func:`sink_rung`).
+    OFFSET)`` and the falling one ``solve(j, falling_offset(j))`` (the rates with the sinks
+    of :func:`sink_rung`), climbed until the half-gap is within ``tol`` of the rate.
 
     Returns
     -------
@@ -87,7 +108,7 @@ def sink_bracket(solve, *, tol: float = SINK_TOL, max_rungs: int = MAX_RUNGS) ->
     low, high = [], []
     for j in range(max_rungs):
         low.append(solve(j, OFFSET))
-        high.append(solve(j, 0.0))
+        high.append(solve(j, falling_offset(j)))
         err = bracket_error(low, high)
         if j >= 1 and err <= tol * abs(low[-1] + high[-1]) / 2:
             break
@@ -116,31 +137,44 @@ def tanh_sink(xs, wells, kappa0: float, width: float) -> np.ndarray:
 #: sixth rung the rate moves by 1.5e-8 from 90 to 128 functions, by 5.7e-9 from 128 to 180
 #: and by 1.8e-9 from 180 to 256 (mu = 5: 1.5e-8, 1.7e-9, 1e-10)
 SINK_INTERVALS, SINK_HERMITE = 280, 256
+#: past rung ``FINE_RUNG`` the intervals grow by ``GRID_GROWTH`` per rung (the crowded points
+#: follow the width, but the sharper sinks need more of them): CDC mu = 2, rung j = 8, 280
+#: and 400 intervals 8.5e-9 apart; j = 9, 400 and 560 1.1e-8; j = 10, 400 and 560 9e-8
+FINE_RUNG, GRID_GROWTH = 8, 1.4
+
+
+def rung_intervals(n_cheb: int, j: int) -> int:
+    """The position intervals of rung ``j`` (even): ``n_cheb`` up to :data:`FINE_RUNG`, then
+    :data:`GRID_GROWTH` times more per rung."""
+    return 2 * int(round(n_cheb * GRID_GROWTH ** max(0, j - FINE_RUNG) / 2))
 
 
 def absorbing_limit(out: dict, rung) -> dict:
     """``out`` with the rate of the perfectly absorbing sink between the rising and the
-    falling sink ladders (:func:`sink_bracket`) at the ladders' Hermite truncation
-    and grid (at least :data:`SINK_HERMITE` and :data:`SINK_INTERVALS`), and its errors:
+    falling sink ladders (:func:`sink_bracket` to :data:`BRACKET_TOL`) at the ladders' Hermite
+    truncation and grid (at least :data:`SINK_HERMITE` and :data:`SINK_INTERVALS`, the grid
+    growing past :data:`FINE_RUNG`, :func:`rung_intervals`), and its errors:
     ``sink_error`` the bracket's half-width, ``chebyshev_error`` and ``truncation_error``
     the larger of the first sink's and the midpoint's change when both top rungs are solved
-    on 1.2 times the intervals, or with the Hermite truncation below (``sqrt 2`` fewer);
-    ``hermite`` and ``chebyshev`` the ladders' sizes; ``sink_ladder`` the rising ladder's
-    rates, then the falling one's."""
+    on 1.5 times the top rung's intervals, or with the Hermite truncation below (``sqrt 2``
+    fewer); ``hermite`` and ``chebyshev`` the top rungs' sizes; ``sink_ladder`` the rising
+    ladder's rates, then the falling one's."""
     nh = max(int(out["hermite"]), SINK_HERMITE)
     nc = max(int(out["chebyshev"]) - 1, SINK_INTERVALS)
-    lim = sink_bracket(lambda j, offset: rung(j, offset, nc, nh))
+    lim = sink_bracket(lambda j, offset: rung(j, offset, rung_intervals(nc, j), nh),
+                       tol=BRACKET_TOL)
     low, high = lim["rungs"], lim["upper"]
     top = len(low) - 1
+    nt = rung_intervals(nc, top)
 
     def moved(n_c, n_h):  # the midpoint's change with both top rungs on another grid
-        lo, hi = rung(top, OFFSET, n_c, n_h), rung(top, 0.0, n_c, n_h)
+        lo, hi = rung(top, OFFSET, n_c, n_h), rung(top, falling_offset(top), n_c, n_h)
         return abs((lo + hi) / 2 - lim["rate"])
 
-    cheb = moved(2 * int(round(1.2 * nc / 2)), nh)
-    trunc = moved(nc, 2 * int(round(nh / math.sqrt(2) / 2)))
+    cheb = moved(2 * int(round(1.5 * nt / 2)), nh)
+    trunc = moved(nt, 2 * int(round(nh / math.sqrt(2) / 2)))
     return {**out, "rate": lim["rate"], "sink_error": lim["sink_error"],
             "chebyshev_error": max(out["chebyshev_error"], cheb),
             "truncation_error": max(out["truncation_error"], trunc),
-            "sink_ladder": low + high, "hermite": nh, "chebyshev": nc + 1}
+            "sink_ladder": low + high, "hermite": nh, "chebyshev": nt + 1}
 

@@ -36,7 +36,10 @@ midpoint and the stated ``sink_error`` half their gap, a bracket of the limit wh
 lower ladder rises and the upper falls (checked at every rung; where it fails the error is
 the whole gap plus the last steps).  CDC Delta = 3, kT = 0.35: half-gaps 7.0e-7 (mu = 1,
 seventh rung), 1.8e-6 (mu = 2, ninth) and 4.3e-6 (mu = 5, tenth) of the rate, where offsets
-2 and 0 left 2.8e-6, 3.5e-5 and 1.7e-4 at the seventh rung.  No value is extrapolated.
+2 and 0 left 2.8e-6, 3.5e-5 and 1.7e-4 at the seventh rung.  At mu = 10 the critical offset
+is below 1.6 from the seventh rung on: the falling ladder is not monotone, and the stated
+error is the whole gap plus the last steps (2.6e-5 of the rate; docs/noise.rst).  No value
+is extrapolated.
 """
 
 from __future__ import annotations

@@ -34,9 +34,9 @@ half-gap is within :data:`BRACKET_TOL` of the rate (or :data:`MAX_RUNGS`; past
 :data:`FINE_RUNG` the grid grows with the rung, :func:`rung_intervals`): the rate is their
 midpoint and the stated ``sink_error`` half their gap, a bracket of the limit while the
 lower ladder rises and the upper falls (checked at every rung; where it fails the error is
-the whole gap plus the last steps).  CDC Delta = 3, kT = 0.35: half-gaps 7.0e-7 (mu = 1,
-seventh rung), 1.8e-6 (mu = 2, ninth) and 4.3e-6 (mu = 5, tenth) of the rate, where offsets
-2 and 0 left 2.8e-6, 3.5e-5 and 1.7e-4 at the seventh rung.  At mu = 10 the critical offset
+the whole gap plus the last steps).  CDC Delta = 3, kT = 0.35: half-gaps 2.8e-7 (mu = 1, eighth
+rung), 9.0e-7 (mu = 2, tenth) and 4.3e-6 (mu = 5, tenth) of the rate, where offsets 2 and 0
+left 2.8e-6, 3.5e-5 and 1.7e-4 at the seventh.  At mu = 10 the critical offset
 is below 1.6 from the seventh rung on: the falling ladder is not monotone, and the stated
 error is the whole gap plus the last steps (2.6e-5 of the rate; docs/noise.rst).  No value
 is extrapolated.
@@ -56,8 +56,10 @@ __all__ = ["SINK_TOL", "BRACKET_TOL", "OFFSET", "UPPER", "RAMP", "WEIGHT", "MAX_
 #: the relative change between the two sinks above which the ladders run (and the default
 #: target of :func:`sink_bracket`)
 SINK_TOL = 1e-7
-#: the bracket's half-width (relative) at which :func:`absorbing_limit` stops climbing
-BRACKET_TOL = 2e-6
+#: the bracket's half-width (relative) at which :func:`absorbing_limit` stops climbing (CDC
+#: mu = 0.5 stops at the third rung with 2.9e-7, mu = 1 at the eighth with 2.8e-7; at 1e-7
+#: mu = 1 climbs to the tenth rung, whose grid error is 1.5e-8 of the rate)
+BRACKET_TOL = 5e-7
 #: the rising ladder's first centre past the next wells' bottoms, in sink widths
 OFFSET = 2.0
 #: the falling ladder's centre past the bottoms (in widths, beyond ``j ln2/2``) from rung

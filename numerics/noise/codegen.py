@@ -13,10 +13,8 @@ made here too.
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
-import numpy as np
 import sympy as sp
 
 from kbm.errors import ModelError, ParameterError
@@ -27,7 +25,7 @@ from .._memo import memo
 from ..errors import NumericsError
 from ..flow.jit import _announce_compile, _load, jit_available
 
-__all__ = ["SCHEMES", "vector_module", "python_accel"]
+__all__ = ["SCHEMES", "vector_module"]
 
 #: version of the generated source (part of its hash)
 _VERSION = "2"
@@ -66,48 +64,24 @@ def _affine_in_velocity(model: Oscillator) -> bool:
 SCHEMES = {"kp": 0, "baoab": 1}
 
 
-def _ipow(val: float, exp: int) -> float:
-    """``val**exp`` for an integer constant ``exp`` as numba computes it (its
-    ``static_power_impl``: squaring, ``res *= val`` at each set bit, ``1/res`` for
-    ``exp < 0``), where CPython's ``pow`` rounds once (``x**3``: one ulp apart)."""
-    invert, exp, res = exp < 0, abs(exp), 1.0
-    while exp:
-        if exp & 1:
-            res = res * val
-        exp >>= 1
-        val = val * val
-    return 1.0 / res if invert else res
-
-
-def _source(model: Oscillator, names: tuple[str, ...], accel_only: bool = False) -> str:
-    """The printed functions (``accel_only``: ``accel`` alone, without the decorator, with
-    integer powers as :func:`_ipow`, to be run by the interpreter)."""
+def _source(model: Oscillator, names: tuple[str, ...]) -> str:
     from sympy.printing.pycode import PythonCodePrinter
-
-    class Interpreted(PythonCodePrinter):
-        def _print_Pow(self, expr, rational=False):
-            if expr.exp.is_Integer and expr.exp != -1:
-                return f"_ipow({self._print(expr.base)}, {int(expr.exp)})"
-            return super()._print_Pow(expr, rational=rational)
 
     ren = {T: sp.Symbol("t_"), X: sp.Symbol("x_"), V: sp.Symbol("v_")}
     ren.update({sp.Symbol(n): sp.Symbol(f"p_{i}") for i, n in enumerate(names)})
-    pr = (Interpreted if accel_only else PythonCodePrinter)(
-        {"fully_qualified_modules": True, "strict": True})
+    pr = PythonCodePrinter({"fully_qualified_modules": True, "strict": True})
     head = [f"    p_{i} = p[{i}]" for i in range(len(names))]
 
     def fn(signature: str, expr: sp.Expr) -> list[str]:
         e = sp.sympify(expr).xreplace(ren)
         repl, (red,) = sp.cse([e], symbols=sp.numbered_symbols("w_"), order="canonical")
-        return ([] if accel_only else ["@njit(cache=True)"]) + ([f"def {signature}:"] + head
+        return (["@njit(cache=True)", f"def {signature}:"] + head
                 + [f"    {pr.doprint(s)} = {pr.doprint(v)}" for s, v in repl]
                 + [f"    return float({pr.doprint(red)})", "", ""])
 
+    G = _potential(model)
     acc = model.acceleration()
     lines = fn("accel(t_, x_, v_, p)", acc)
-    if accel_only:
-        return "\n".join(lines)
-    G = _potential(model)
     affine = _affine_in_velocity(model)
     lines += fn("force(t_, x_, p)", acc.subs(V, 0))
     gamma = -sp.diff(acc, V) if affine else sp.nan
@@ -137,26 +111,6 @@ def _compiled(model: Oscillator, names: tuple[str, ...], scheme: str = "kp"):
               + "\n" + _KERNELS)
     _announce_compile(source)
     return _load(source)
-
-
-@memo(maxsize=16)
-def python_accel(model: Oscillator, names: tuple[str, ...]):
-    """``accel(t_, x_, v_, p)``: the compiled module's acceleration (:func:`_compiled`)
-    printed the same way and run by the Python interpreter, for a few calls that should
-    not load the compiled kernels (:func:`numerics.noise.langevin.natural_step`).  The
-    printed operations are the same (integer powers by numba's squaring, :func:`_ipow`),
-    so the values are too on this machine's ``math`` functions
-    (tests/test_langevin_step.py checks them bit for bit)."""
-    from sympy.printing.codeprinter import PrintMethodNotImplementedError
-
-    try:
-        body = _source(model, names, accel_only=True)
-    except PrintMethodNotImplementedError as exc:
-        raise ModelError(f"model {model.name!r} has a term with no math-module equivalent "
-                         f"({exc})") from None
-    space = {"math": math, "np": np, "numpy": np, "_ipow": _ipow}
-    exec(compile(body, f"<accel of {model.name}>", "exec"), space)  # noqa: S102
-    return space["accel"]
 
 
 def _scheme(model: Oscillator, scheme: str) -> str:

@@ -32,7 +32,7 @@ from kbm.errors import ParameterError
 from kbm.models import SLIDERS, Oscillator
 from kbm.values import parameter_value
 
-from .codegen import SCHEMES, _STAGE_V, _compiled, _scheme, _symbolic, python_accel  # noqa: F401
+from .codegen import SCHEMES, _STAGE_V, _compiled, _scheme, _symbolic  # noqa: F401
 from .seeds import trajectory_states
 
 __all__ = ["LangevinSystem", "langevin_system", "noise_intensity", "split_noise", "natural_step",
@@ -233,15 +233,11 @@ def natural_step(system: LangevinSystem, *, per_period: int = 50,
     frequency 4.45 (Delta = 3) the period/40 step gave a 22 % hotter slider and escape
     rates 2.5 times too high at ``E_b/kT = 8``; hence ``h = (4 |mu| tolerance/w^4)^(1/3)``
     when it is smaller.
-
-    The acceleration is the compiled module's, printed the same way and run by the
-    interpreter (:func:`numerics.noise.codegen.python_accel`): the same values, without
-    loading the compiled kernels (about 2 s; ``kbm escape --no-simulation`` needs none).
     """
     p = system._p()
-    accel = python_accel(system.symbolic, system.names)
+    k = system.kernels
     eps = 1e-6
-    stiff = -(accel(0.0, eps, 0.0, p) - accel(0.0, -eps, 0.0, p)) / (2 * eps)
+    stiff = -(k.accel(0.0, eps, 0.0, p) - k.accel(0.0, -eps, 0.0, p)) / (2 * eps)
     w = max(system.omega0, math.sqrt(max(stiff, 0.0)))
     h = 2 * math.pi / w / per_period
     mu = abs(system.bound.mu or 0.0)

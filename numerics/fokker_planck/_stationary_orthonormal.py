@@ -45,7 +45,8 @@ import numpy as np
 from ._solution import KramersSolution
 
 __all__ = ["hermite_function_values", "hermite_integrals", "orthonormal_band_masses",
-           "OrthonormalKramersSolution", "orthonormal_stationary", "stationary_orthonormal"]
+           "OrthonormalKramersSolution", "orthonormal_stationary", "stationary_orthonormal",
+           "separatrix_turning_points"]
 
 
 def hermite_function_values(n: int, xi) -> np.ndarray:
@@ -122,7 +123,8 @@ class OrthonormalKramersSolution(KramersSolution):
             c, w = np.asarray(self.centres), np.asarray(self.widths)
 
             def psi(z):
-                return z / L + (self.weight * np.arctan((z[..., None] - c) / w)).sum(axis=-1)
+                q = np.asarray(self.weight, float)
+                return z / L + (q * np.arctan((z[..., None] - c) / w)).sum(axis=-1)
 
             lo, hi = psi(np.array([-L, L]))
             u = -1 + 2 * (psi(xs) - lo) / (hi - lo)
@@ -157,16 +159,20 @@ class OrthonormalKramersSolution(KramersSolution):
 
 def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: int, G,
                            omega0: float, *, alpha: float = 0.95, centres=(), widths=(),
-                           weight: float = 0.0, iterations: int = 8,
-                           rtol: float = 1e-14) -> OrthonormalKramersSolution:
+                           weight=0.0, iterations: int = 8, rtol: float = 1e-14,
+                           fold: bool | None = None) -> OrthonormalKramersSolution:
     """One stationary solve in ``nh`` orthonormal Hermite functions of ``v/s`` times
     ``nc + 1`` Chebyshev points on ``[-half, half]``: inverse iteration on the Galerkin
     operator (every ``c_n(+-half) = 0``) from the Maxwellian ``exp(-G/s^2)`` in ``h_0``,
     until the normalised coefficients change by less than ``rtol`` (at most
-    ``iterations`` solves).  The residual is the eigenvalue estimate ``|lambda_0|``."""
+    ``iterations`` solves).  The residual is the eigenvalue estimate ``|lambda_0|``.
+    ``fold`` (default: whenever :func:`._parity.reflection_symmetric` holds) solves on the
+    points ``x >= 0`` only (:mod:`._parity`: the same density, an eighth of the work);
+    ``weight`` is one number or one per centre."""
     from ._bases import cheb_centred, cheb_mapped, clenshaw_curtis
     from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
     from ._orthonormal import orthonormal_terms
+    from ._parity import fold_terms, fold_weights, reflection_symmetric, unfold
     from ._pentadiagonal import HermitePentadiagonalLU, pentadiagonal_applies
 
     centres, widths = tuple(map(float, centres)), tuple(map(float, widths))
@@ -176,36 +182,42 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
         xs, Dx = cheb_mapped(nc, half, alpha)
     t = np.cos(np.pi * np.arange(nc + 1) / nc)
     w = clenshaw_curtis(nc, 1.0) / (Dx @ t)  # dx/dt = 1/(D_x t), D_t t = 1
-    m = xs.size
+    full = xs.size
     terms = orthonormal_terms(split, D, s, xs, Dx, nh)
+    if fold is None:
+        fold = reflection_symmetric(split, xs)
+    if fold:
+        terms, wq, m, pins = fold_terms(terms, full), fold_weights(w), full // 2 + 1, (0,)
+    else:
+        wq, m, pins = w, full, (0, full - 1)
     keep = np.ones(nh * m)
-    ends = np.concatenate([[k * m, k * m + m - 1] for k in range(nh)])
-    keep[ends] = 0.0
+    keep[np.concatenate([[k * m + p for p in pins] for k in range(nh)])] = 0.0
     mass, _ = hermite_integrals(nh)
-    Gx = np.asarray(G(xs), float)
+    Gx = np.asarray(G(xs[:m]), float)
     c = np.zeros(nh * m)
     c[:m] = np.exp(-(Gx - Gx.min()) / s**2)
     c *= keep
-    c /= float(np.sum(w * (mass @ c.reshape(nh, m))))
+    c /= float(np.sum(wq * (mass @ c.reshape(nh, m))))
     lam = math.nan
     with one_blas_thread():
         if pentadiagonal_applies(terms):
-            lu = HermitePentadiagonalLU(terms, m, (0, m - 1))
+            lu = HermitePentadiagonalLU(terms, m, pins)
         else:
-            lu = BlockTridiagonalLU(TermBlocks(terms, m, None, (0, m - 1), 0), m)
+            lu = BlockTridiagonalLU(TermBlocks(terms, m, None, pins, 0), m)
         for _ in range(iterations):
             new = lu.solve(keep * c)
-            norm = float(np.sum(w * (mass @ new.reshape(nh, m))))
+            norm = float(np.sum(wq * (mass @ new.reshape(nh, m))))
             new /= norm
             lam = 1.0 / norm  # A new = c / norm, both normalised: A c ~ lam c
             done = float(np.max(np.abs(new - c))) <= rtol * float(np.max(np.abs(new)))
             c = new
             if done:
                 break
-    c = c.reshape(nh, m)
+    c = unfold(c.reshape(nh, m), full) if fold else c.reshape(nh, m)
     return OrthonormalKramersSolution(xs, w, c, s, G, float(omega0), abs(lam),
                                       alpha=float(alpha), centres=centres, widths=widths,
-                                      weight=float(weight))
+                                      weight=float(weight) if np.ndim(weight) == 0 else
+                                      tuple(map(float, weight)))
 
 
 
@@ -218,6 +230,9 @@ SADDLE_WEIGHT = 1.2
 #: SEDF at mu = 0.1, Delta = 3, D = 0.05, 128 functions on 266 intervals: <x^2> 1.3e-5
 #: off with 4 l, 1.2e-6 with 8 l, 1.7e-7 with 12 l, 1.3e-6 with 16 l (from 182 x 656)
 LAYER_WIDTHS = 12.0
+#: the weight of each separatrix's outer turning point in the map of the points (step 3
+#: of :func:`stationary_orthonormal`)
+TURNING_WEIGHT = 0.1
 #: the density's reach in the velocity, in units of ``<v^2>^(1/2)`` (the scale's rule)
 VELOCITY_REACH = 5.0
 #: the change below which the Hermite ladder leaves room for two finer grids
@@ -227,6 +242,13 @@ FIRST_HERMITE = 32
 #: the share of the last Chebyshev change below which the Hermite change of the previous
 #: rung lets the grid ladder go on at that rung (step 5 of :func:`stationary_orthonormal`)
 GRID_BOUND = 0.1
+#: the largest ``N n_cheb^2`` (unfolded) of a rung of the Hermite ladder, which runs on the
+#: first grid: at low friction that grid does not resolve the layers of more functions (SEDF
+#: mu = 0.03, D = 0.015 on 266 intervals: <x^2> moved by 2.9e-6 from 128 to 182 functions,
+#: by 2.9e-5 to 256, by 2e-3 to 362, and 512 lost the solution)
+HERMITE_COST = 2.5e7
+#: the least step of the last grid, the largest the budget affords (folded solves)
+LAST_STEP = 1.1
 #: the fewest position intervals of the Hermite ladder: on fewer the grid's own error
 #: moves the moments and the ladder climbs for nothing (vdp mu = 0.3, D = 0.15: on 64
 #: intervals it went to 1448 functions, on 88 it stops at 512)
@@ -279,7 +301,9 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     """
     from scipy.optimize import brentq
 
+    from ._bases import cheb_centred, cheb_mapped
     from ._model import _chebyshev_size, _half_width
+    from ._parity import reflection_symmetric
     from kbm.errors import ModelError
 
     mu = float(split.mu)
@@ -301,15 +325,29 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     if sigma is None:
         sigma = math.sqrt(math.sqrt(D / wmax) * VELOCITY_REACH * math.sqrt(v2) / (2 * math.pi))
     wb = [math.sqrt(abs(float(gp(np.array(c))))) for c in saddles]
-    points = dict(alpha=ALPHA, centres=tuple(saddles),
-                  widths=tuple(LAYER_WIDTHS * math.sqrt(D / w) / w for w in wb),
-                  weight=SADDLE_WEIGHT / max(len(saddles), 1))
+    layers = [LAYER_WIDTHS * math.sqrt(D / w) / w for w in wb]
+    turns = separatrix_turning_points(G, saddles, half)
+    points = dict(alpha=ALPHA, centres=tuple(saddles) + tuple(t for t, _ in turns),
+                  widths=tuple(layers) + tuple(layers[i] for _, i in turns),
+                  weight=(SADDLE_WEIGHT / max(len(saddles), 1),) * len(saddles)
+                  + (TURNING_WEIGHT,) * len(turns))
     nc = nc_h if n_cheb is None else int(n_cheb)
     nh = FIRST_HERMITE if n_hermite is None else int(n_hermite)
-    if nh * nc**2 > max_cost:
+    xs0 = cheb_centred(nc, half, ALPHA, points["centres"], points["widths"],
+                       points["weight"])[0] if saddles else cheb_mapped(nc, half, ALPHA)[0]
+    if not saddles:
+        points = dict(alpha=ALPHA)
+    folds = reflection_symmetric(split, xs0)
+
+    def cost(n, intervals):
+        """``n`` times the squared intervals the LU factorises (half of them folded)."""
+        return n * (intervals / 2 if folds and intervals % 2 == 0 else intervals) ** 2
+
+    if cost(nh, nc) > max_cost:
         raise ModelError(f"the Kramers solve needs {nh} Hermite functions x {nc + 1} Chebyshev "
-                         f"points (cost {nh * nc**2:.3g} > {max_cost:.3g}): not affordable here")
-    if n_hermite is None and 2 * nh * (_finer(nc) if n_cheb is None else nc) ** 2 <= max_cost:
+                         f"points (cost {cost(nh, nc):.3g} > {max_cost:.3g}): not affordable "
+                         "here")
+    if n_hermite is None and cost(2 * nh, _finer(nc) if n_cheb is None else nc) <= max_cost:
         nh *= 2  # the same rungs from 64 on (at 32 and 46 the SEDF and vdp cases never stop)
 
     def solve(n, m):
@@ -331,11 +369,11 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
             # need 1.25^2 times the first intervals; SEDF mu = 0.1, 128 functions: 266 ->
             # 334 moved <x^2> by 1.5e-6, 334 -> 418 by 6e-8)
             grids = 2 if change <= SIX_DIGITS else 1
-            room = nc**2
+            room = nc
             if n_cheb is None:
                 for _ in range(grids):
-                    room = _finer(int(math.sqrt(room))) ** 2
-            if n * room > max_cost:
+                    room = _finer(room)
+            if n * room**2 > min(max_cost, HERMITE_COST):  # rungs the first grid resolves
                 break
             new = solve(n, nc)
             change, sol, prev, nh = moved(sol, new), new, nh, n
@@ -344,27 +382,62 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     if n_cheb is None:
         cheb_change = math.inf
         lower = None  # the previous rung on the last points, once solved
+        rungs = {}  # the coarser grids' solutions at the last number of functions
         while True:
             finer = _finer(nc)
-            if nh * finer**2 > max_cost:
+            if cost(nh, finer) > max_cost and folds:  # the largest grid within the budget
+                top = 2 * int(math.sqrt(max_cost / nh))  # cost(nh, top) <= max_cost
+                finer = top if top >= LAST_STEP * nc else finer
+            if cost(nh, finer) > max_cost:
                 if n_hermite is None and prev < nh and lower is None \
-                        and prev * finer**2 <= max_cost:
+                        and cost(prev, finer) <= max_cost:
                     # the grid at the previous rung (module docstring, step 5)
                     lower = solve(prev, nc)
                     hc = moved(lower, sol)
                     if hc <= min(SIX_DIGITS, GRID_BOUND * cheb_change):
-                        change, sol, nh = hc, lower, prev
+                        change, sol, nh, rungs = hc, lower, prev, {}
                         continue
                 break
             new = solve(nh, finer)
+            rungs[nc] = sol
             cheb_change, sol, nc = moved(sol, new), new, finer
             if cheb_change <= tol:
                 break
-        if n_hermite is None and prev < nh:  # the Hermite change again on the last points
+        up = 2 * int(round(nh * math.sqrt(2) / 2))
+        fits = [k for k in rungs if cost(up, k) <= max_cost]
+        if n_hermite is None and folds and fits:
+            # the next rung up on the finest grid of the ladder that affords it (step 6)
+            k = max(fits)
+            change = moved(rungs[k], solve(up, k))
+        elif n_hermite is None and prev < nh:  # the Hermite change again on the last points
             same = lower is not None and lower.x.size == nc + 1
             change = moved(lower if same else solve(prev, nc), sol)
     stated = max(change, cheb_change) if n_hermite is None else math.nan
     return dataclasses.replace(sol, hermite_change=stated, chebyshev_change=cheb_change)
+
+
+def separatrix_turning_points(G, saddles, half: float) -> list:
+    """``[(x_t, i)]``: where each separatrix ``G(x) = G(c_i)`` through a saddle ``c_i != 0``
+    meets ``v = 0`` again, the first point beyond ``c_i`` away from ``x = 0`` with
+    ``G(x_t) = G(c_i)``, within ``(-half, half)`` (the outer turning points of the
+    separatrix orbits, where the layer around each separatrix energy crosses the ``x``
+    axis: module docstring of :func:`stationary_orthonormal`, step 3)."""
+    from scipy.optimize import brentq
+
+    out = []
+    for i, c in enumerate(saddles):
+        if c == 0:
+            continue
+        E = float(G(np.array(c)))
+        z = c + np.sign(c) * np.linspace(0.0, half - abs(c), 4001)[1:]
+        above = np.asarray(G(z), float) > E
+        k = np.flatnonzero(above)
+        if k.size == 0 or k[0] == 0:
+            continue
+        a, b = z[k[0] - 1], z[k[0]]
+        out.append((float(brentq(lambda q: float(G(np.array(q))) - E, min(a, b), max(a, b),
+                                 xtol=1e-14)), i))
+    return out
 
 
 def _finer(nc: int) -> int:

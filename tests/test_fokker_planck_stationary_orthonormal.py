@@ -21,6 +21,7 @@ from hypothesis import given, settings, strategies as st
 from numpy.polynomial.hermite import hermval
 from scipy.integrate import quad
 
+from kbm.conservative import split_conservative
 from numerics.fokker_planck import stationary_kramers
 from numerics.fokker_planck._stationary_orthonormal import (
     hermite_function_values, hermite_integrals, orthonormal_band_masses)
@@ -88,12 +89,16 @@ def vdp_small():
 
 def test_points_map_inverts(vdp_small):
     """The solution's Chebyshev variable of its own points is cos(pi k/n) (the inverse of
-    the Kosloff-Tal-Ezer map, and of the saddle-centred map for the SEDF)."""
+    the Kosloff-Tal-Ezer map, and of the map centred at the SEDF's six saddles and the
+    six outer turning points of their separatrices, G(x_t) = G(c))."""
     n = vdp_small.x.size - 1
     t = np.cos(np.pi * np.arange(n + 1) / n)
     assert vdp_small._t(vdp_small.x) == pytest.approx(t, abs=1e-13)
     sedf = stationary_kramers("sedf", SEDF, 0.05, n_hermite=32, n_cheb=120)
-    assert sedf.centres and len(sedf.centres) == 6
+    assert sedf.centres and len(sedf.centres) == 12
+    G = split_conservative("sedf", SEDF).numpy_functions()[2]
+    for c, x_t in zip(sedf.centres[:6], sedf.centres[6:]):
+        assert abs(x_t) > abs(c) and G(np.array(x_t)) == pytest.approx(G(np.array(c)), abs=1e-12)
     t = np.cos(np.pi * np.arange(121) / 120)
     assert sedf._t(sedf.x) == pytest.approx(t, abs=1e-12)
 

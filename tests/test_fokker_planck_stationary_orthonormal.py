@@ -247,3 +247,23 @@ def test_sedf_low_friction_ladder_against_larger_solve():
     v2x = sol.sigma**2 * (q @ sol.coef)
     balance = 0.03 * float(np.sum(sol.weights * (sol.x**2 - 1) * v2x))
     assert balance == pytest.approx(0.015, rel=1e-5)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("mu", [0.03, 0.02])
+def test_sedf_six_digits_at_low_friction(mu):
+    """SEDF at rest, Delta = 3, D = mu/2 (issue 36: six digits at any damping): the default
+    ladders (folded by the (x, v) -> (-x, -v) symmetry, kbm noise's budget) state a change
+    below 1e-6, and an independent solve on 1.4 times both sizes (256 functions or more,
+    1026 intervals, its own velocity scale) lies within it for <x^2> and <v^2>."""
+    from numerics.thermal.stationary import FP_BUDGET
+
+    params = dict(SEDF, mu=mu)
+    sol = stationary_kramers("sedf", params, mu / 2, max_cost=FP_BUDGET)
+    assert sol.hermite_change <= 1e-6
+    n, m = sol.coef.shape[0], sol.x.size - 1
+    big = stationary_kramers("sedf", params, mu / 2, n_hermite=max(256, 2 * (7 * n // 10)),
+                             n_cheb=1026, max_cost=1e9)
+    assert big.x.size - 1 >= 1.38 * m
+    for a, b in ((sol.x2, big.x2), (sol.v2, big.v2)):
+        assert abs(a - b) <= sol.hermite_change * abs(b)

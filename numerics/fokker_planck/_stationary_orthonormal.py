@@ -43,10 +43,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._solution import KramersSolution
+from ._stationary_points import ALPHA, stationary_points
 
 __all__ = ["hermite_function_values", "hermite_integrals", "orthonormal_band_masses",
-           "OrthonormalKramersSolution", "orthonormal_stationary", "stationary_orthonormal",
-           "separatrix_turning_points"]
+           "OrthonormalKramersSolution", "orthonormal_stationary", "stationary_orthonormal"]
 
 
 def hermite_function_values(n: int, xi) -> np.ndarray:
@@ -221,20 +221,6 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
 
 
 
-#: the Kosloff-Tal-Ezer parameter of the position points (:func:`._bases.cheb_mapped`)
-ALPHA = 0.95
-#: the saddles' total weight in the map of the points (:func:`._bases.cheb_centred`):
-#: about ``pi w/(1 + pi w)`` = 79 % of the points within a few widths of the saddles
-SADDLE_WEIGHT = 1.2
-#: each saddle's width in the map, in layer widths ``l = (D/omega_b)^(1/2)/omega_b``: the
-#: SEDF at mu = 0.1, Delta = 3, D = 0.05, 128 functions on 266 intervals: <x^2> 1.3e-5
-#: off with 4 l, 1.2e-6 with 8 l, 1.7e-7 with 12 l, 1.3e-6 with 16 l (from 182 x 656)
-LAYER_WIDTHS = 12.0
-#: the weight of each separatrix's outer turning point in the map of the points (step 3
-#: of :func:`stationary_orthonormal`)
-TURNING_WEIGHT = 0.1
-#: the density's reach in the velocity, in units of ``<v^2>^(1/2)`` (the scale's rule)
-VELOCITY_REACH = 5.0
 #: the change below which the Hermite ladder leaves room for two finer grids
 SIX_DIGITS = 1e-6
 #: the first Hermite truncation of the ladder (:func:`.escape.hermite_ladder`)
@@ -266,49 +252,50 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        (:func:`.kramers._half_width`; a pilot's marginal is not small enough at its ends
        to place it: a 64-function solve of the SEDF is 1e-5 of its peak there, of either
        sign).  A pilot (32 functions at ``s = (D/mu)^(1/2)``) measures ``<v^2>``.
-    2. The velocity scale, as in :func:`._orthonormal.velocity_scale`: ``N`` functions
-       reach ``s (2N)^(1/2)`` and resolve ``pi s/(2N)^(1/2)``; the density reaches
-       ``V = 5 <v^2>^(1/2)`` (:data:`VELOCITY_REACH`) and has velocity structure of width
-       ``delta = (D/omega)^(1/2)``, ``omega^2`` the largest ``|g'|`` on the range (the
-       separatrix layer at the stiffest saddle); both are resolved at
-       ``s = (delta V/(2 pi))^(1/2)``.  (With ``V = 6 <v^2>^(1/2)`` the SEDF at mu = 0.1,
-       Delta = 3, D = 0.05 moved by 7e-6 from 90 to 128 functions, with 5 by 3e-7.)
-    3. The points: :func:`._bases.cheb_centred` around the saddles (maxima of ``G``) on
-       the range, each ``12 l`` wide (``l = delta_b/omega_b`` the layer's width in ``x``),
-       else :func:`._bases.cheb_mapped`; half the number of
-       :func:`.kramers._chebyshev_size` on ``exp(-G mu/D)``, at least
-       :data:`MIN_INTERVALS`.
+    2. The velocity scale (:func:`._stationary_points.stationary_points`, as
+       :func:`._orthonormal.velocity_scale`): ``N`` functions reach ``s (2N)^(1/2)`` and
+       resolve ``pi s/(2N)^(1/2)``; the density reaches ``V = 5 <v^2>^(1/2)`` and has
+       velocity structure of width ``delta = (D/omega)^(1/2)``, ``omega^2`` the largest
+       ``|g'|`` on the range; both are resolved at ``s = (delta V/(2 pi))^(1/2)``.  (With
+       ``V = 6 <v^2>^(1/2)`` the SEDF at mu = 0.1, Delta = 3, D = 0.05 moved by 7e-6 from
+       90 to 128 functions, with 5 by 3e-7.)
+    3. The points: :func:`._bases.cheb_centred` around the saddles and their separatrices'
+       outer turning points (:mod:`._stationary_points`), else :func:`._bases.cheb_mapped`;
+       half the number of :func:`.kramers._chebyshev_size` on ``exp(-G mu/D)``, at least
+       :data:`MIN_INTERVALS`.  A model symmetric under ``(x, v) -> (-x, -v)`` is solved
+       folded (:mod:`._parity`), and its cost is ``N (n_cheb/2)^2``, else ``N n_cheb^2``
+       (the numbers the LU keeps, about; its work is that times the points).
     4. The Hermite ladder (``32 * 2^(k/2)``, from 64 where the budget allows) on those
        intervals until two rungs' ``<x^2>`` and ``<v^2>`` agree to ``tol`` or the next
-       would leave no room in ``max_cost`` (``N n_cheb^2``) for a grid 1.25 times finer,
-       or for two once the change is below :data:`SIX_DIGITS` (the top truncations need
-       the finer grids: the SEDF case moved by 1.5e-6 from 266 to 334 intervals at 128
-       functions); then the intervals grow by 1.25 at that ``N`` until the moments agree
-       to ``tol`` or the budget ends; then the previous rung once more on the last
-       points.  The solution's ``hermite_change`` is the larger of the last Hermite and
-       Chebyshev changes (``chebyshev_change`` the second).
-    5. When the next grid is beyond the budget at the last rung but not at the previous
-       one, the previous rung is solved on the last points; if it moved the moments by
-       less than :data:`SIX_DIGITS` and a tenth (:data:`GRID_BOUND`) of the last Chebyshev
-       change, the grid is the larger error and the ladder goes on at that rung (its
-       Hermite change is the one measured there).  At low friction the grid, not the
-       Hermite functions, limits: the SEDF at mu = 0.03, Delta = 3, D = 0.015 moved by
-       1.1e-7 from 128 to 182 functions on 334 intervals but by 5e-5 from 266 to 334
-       intervals; it ended on 182 x 334 (off by 7.9e-6 from 128 x 700), now on
-       128 x 418 (off by 1.4e-6, stated 7e-6).
+       would leave no room for a grid 1.25 times finer, or for two once the change is
+       below :data:`SIX_DIGITS`, within ``max_cost`` and :data:`HERMITE_COST` counted
+       unfolded (the first grid does not resolve the layers of more functions at low
+       friction).
+    5. The grid ladder at that ``N`` until the moments agree to ``tol`` or the budget
+       ends.  Folded, its grids are the largest within ``max_cost`` and those 1.25, 1.25^2,
+       ... times coarser (the last step is a whole one: SEDF mu = 0.02, D = 0.01, 182
+       functions: 656 -> 740 intervals moved <v^2> by 1.0e-7, and 740 was 1.2e-7 from
+       256 x 1026; 592 -> 740 moved it by 5.4e-7).  Unfolded, the intervals grow by 1.25;
+       when the next grid is beyond the budget at the last rung but not at the previous
+       one, the previous rung is solved on the last points, and if it moved the moments
+       by less than :data:`SIX_DIGITS` and a tenth (:data:`GRID_BOUND`) of the last
+       Chebyshev change the ladder goes on at that rung.
+    6. The Hermite change: folded, the next rung up (``N 2^(1/2)``) on the finest grid of
+       the ladder that affords it (at low friction the rung below is too few: SEDF
+       mu = 0.02 on 656 intervals, 128 -> 182 functions moved <x^2> by 3.7e-5 but
+       182 -> 256 by 1e-9); unfolded, the previous rung on the last points.  The
+       solution's ``hermite_change`` is the larger of the Hermite and last Chebyshev
+       changes and :data:`ROUNDING` (``chebyshev_change`` the second).
 
     Each solve factorises order by order (:mod:`._pentadiagonal`) when the damping is
     linear in the velocity, else by pairs of orders (:mod:`._blocks`).
     """
-    from scipy.optimize import brentq
-
     from ._bases import cheb_centred, cheb_mapped
     from ._model import _chebyshev_size, _half_width
     from ._parity import reflection_symmetric
     from kbm.errors import ModelError
 
     mu = float(split.mu)
-    g, gp = split.numpy_functions()[:2]
     half = _half_width(G, D / mu) if L is None else float(L)
     nc_h = max(MIN_INTERVALS, 2 * math.ceil(_chebyshev_size(G, D / mu, half) / 4))
     pilot = orthonormal_stationary(split, D, math.sqrt(D / mu), half, FIRST_HERMITE,
@@ -318,26 +305,14 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     if not (math.isfinite(v2) and v2 > 0):
         raise ModelError(f"the coarse Kramers solve gave <v^2> = {v2}: no stationary "
                          "density (check that the damping confines the motion)")
-    z = np.linspace(-half, half, 20001)
-    gz = np.asarray(g(z), float)
-    saddles = [brentq(g, z[i], z[i + 1], xtol=1e-14)
-               for i in np.flatnonzero((gz[:-1] > 0) & (gz[1:] <= 0))]
-    wmax = math.sqrt(float(np.max(np.abs(gp(z)))))
-    if sigma is None:
-        sigma = math.sqrt(math.sqrt(D / wmax) * VELOCITY_REACH * math.sqrt(v2) / (2 * math.pi))
-    wb = [math.sqrt(abs(float(gp(np.array(c))))) for c in saddles]
-    layers = [LAYER_WIDTHS * math.sqrt(D / w) / w for w in wb]
-    turns = separatrix_turning_points(G, saddles, half)
-    points = dict(alpha=ALPHA, centres=tuple(saddles) + tuple(t for t, _ in turns),
-                  widths=tuple(layers) + tuple(layers[i] for _, i in turns),
-                  weight=(SADDLE_WEIGHT / max(len(saddles), 1),) * len(saddles)
-                  + (TURNING_WEIGHT,) * len(turns))
+    sigma, points = stationary_points(split, D, G, half, v2, sigma)
     nc = nc_h if n_cheb is None else int(n_cheb)
     nh = FIRST_HERMITE if n_hermite is None else int(n_hermite)
-    xs0 = cheb_centred(nc, half, ALPHA, points["centres"], points["widths"],
-                       points["weight"])[0] if saddles else cheb_mapped(nc, half, ALPHA)[0]
-    if not saddles:
-        points = dict(alpha=ALPHA)
+    if "centres" in points:
+        xs0 = cheb_centred(nc, half, ALPHA, points["centres"], points["widths"],
+                           points["weight"])[0]
+    else:
+        xs0 = cheb_mapped(nc, half, ALPHA)[0]
     folds = reflection_symmetric(split, xs0)
 
     def cost(n, intervals):
@@ -385,17 +360,17 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
         lower = None  # the previous rung on the last points, once solved
         rungs = {}  # the coarser grids' solutions at the last number of functions
         plan = []
-        if folds:  # 1.25 steps down from the largest grid within the budget (step 6)
+        if folds:  # 1.25 steps down from the largest grid within the budget (step 5)
             top = 2 * int(math.sqrt(max_cost / nh))  # cost(nh, top) <= max_cost
             while top > nc:
                 plan.insert(0, top)
                 top = 2 * int(top / 2.5)
         while True:
             finer = plan.pop(0) if plan else _finer(nc)
-            if cost(nh, finer) > max_cost or (folds and finer <= nc):
+            if cost(nh, finer) > max_cost:
                 if n_hermite is None and prev < nh and lower is None and not folds \
                         and cost(prev, finer) <= max_cost:
-                    # the grid at the previous rung (module docstring, step 5)
+                    # the grid at the previous rung (step 5)
                     lower = solve(prev, nc)
                     hc = moved(lower, sol)
                     if hc <= min(SIX_DIGITS, GRID_BOUND * cheb_change):
@@ -418,30 +393,6 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
             change = moved(lower if same else solve(prev, nc), sol)
     stated = max(change, cheb_change, ROUNDING) if n_hermite is None else math.nan
     return dataclasses.replace(sol, hermite_change=stated, chebyshev_change=cheb_change)
-
-
-def separatrix_turning_points(G, saddles, half: float) -> list:
-    """``[(x_t, i)]``: where each separatrix ``G(x) = G(c_i)`` through a saddle ``c_i != 0``
-    meets ``v = 0`` again, the first point beyond ``c_i`` away from ``x = 0`` with
-    ``G(x_t) = G(c_i)``, within ``(-half, half)`` (the outer turning points of the
-    separatrix orbits, where the layer around each separatrix energy crosses the ``x``
-    axis: module docstring of :func:`stationary_orthonormal`, step 3)."""
-    from scipy.optimize import brentq
-
-    out = []
-    for i, c in enumerate(saddles):
-        if c == 0:
-            continue
-        E = float(G(np.array(c)))
-        z = c + np.sign(c) * np.linspace(0.0, half - abs(c), 4001)[1:]
-        above = np.asarray(G(z), float) > E
-        k = np.flatnonzero(above)
-        if k.size == 0 or k[0] == 0:
-            continue
-        a, b = z[k[0] - 1], z[k[0]]
-        out.append((float(brentq(lambda q: float(G(np.array(q))) - E, min(a, b), max(a, b),
-                                 xtol=1e-14)), i))
-    return out
 
 
 def _finer(nc: int) -> int:

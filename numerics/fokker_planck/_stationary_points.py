@@ -1,0 +1,112 @@
+"""The velocity scale and the position points of the stationary Kramers solve of a nonlinear
+damping (:func:`stationary_points`, what :func:`._stationary_orthonormal.stationary_orthonormal`
+uses), and the separatrices' outer turning points (:func:`separatrix_turning_points`).
+
+Where the points go.  At low friction the density is nearly a function of the energy,
+``f(E)``, with a layer around each separatrix energy ``E_s = G(c)`` (``c`` a saddle,
+a maximum of ``G``).  In the phase plane that layer follows the separatrix: across the
+saddles, where :func:`._bases.cheb_centred` crowds points, and across ``v = 0`` again at
+the orbit's outer turning point ``x_t``, ``G(x_t) = E_s``, where the separatrix is
+vertical and the layer is a layer in ``x``.  Measured on the SEDF at rest, mu = 0.03,
+Delta = 3, D = 0.015, 128 functions on 334 intervals (the last session's points, saddles
+only), the error of the marginal against a 128 x 700 solve was largest at
+``2.00 < x < 2.25`` (1.6e-4 of the peak; ``x_t = 2.057`` for the second saddle's
+separatrix), with six points there.  The centres ``x_t`` of weight :data:`TURNING_WEIGHT`
+and the width of their saddle's layer take the SEDF's <x^2> and <v^2> to six digits on
+fewer points: with the folded ladder of :mod:`._stationary_orthonormal` (182 functions,
+740 intervals), mu = 0.02 states 5.4e-7 with them and 1.2e-6 without; at mu = 0.03,
+<x^2> of 182 functions on 524 intervals is 1.7e-8 from 182 x 1026 with them and 1.7e-7
+without.  (The wider layers of the error sit on the flanks of the side wells, where the
+separatrices are steep in the phase plane: a grid in ``x`` and ``v`` resolves a layer
+slanted across both only with both fine, which is why no map of the points alone did.)
+
+Other remedies judged by measurement: five other point maps and four widths of the saddle
+layers (the last session) moved the error by factors below 3; lower saddle weights
+(0.6, 0.9 of 1.2) did no better (-2.1e-5 and -7.4e-6 at 334 intervals against -8.0e-6).
+A multi-domain (patched) Chebyshev grid does not lower the work: the order-by-order LU
+(:mod:`._pentadiagonal`) fills each order's Schur complement whatever the sparsity of
+the derivative in ``x``, and ordering the unknowns by position instead costs
+``m (p N)^2`` with ``N`` = 128-182 functions.  Factoring out ``exp(-H/kT_eff)`` leaves the
+layers at ``E_s`` (they are in ``f(E)``, not in its Boltzmann part).  What lowered the
+work is the symmetry of :mod:`._parity` (an eighth of the LU), which pays for the grids
+the layers need.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["ALPHA", "SADDLE_WEIGHT", "LAYER_WIDTHS", "TURNING_WEIGHT", "VELOCITY_REACH",
+           "separatrix_turning_points", "stationary_points"]
+
+#: the Kosloff-Tal-Ezer parameter of the position points (:func:`._bases.cheb_mapped`)
+ALPHA = 0.95
+#: the saddles' total weight in the map of the points (:func:`._bases.cheb_centred`):
+#: about ``pi w/(1 + pi w)`` = 79 % of the points within a few widths of the saddles
+SADDLE_WEIGHT = 1.2
+#: each saddle's width in the map, in layer widths ``l = (D/omega_b)^(1/2)/omega_b``: the
+#: SEDF at mu = 0.1, Delta = 3, D = 0.05, 128 functions on 266 intervals: <x^2> 1.3e-5
+#: off with 4 l, 1.2e-6 with 8 l, 1.7e-7 with 12 l, 1.3e-6 with 16 l (from 182 x 656)
+LAYER_WIDTHS = 12.0
+#: the weight of each separatrix's outer turning point in the map of the points, its
+#: width that of its saddle (module docstring; SEDF mu = 0.02, 182 x 524: <x^2> 2.9e-7
+#: and <v^2> 1.7e-6 from 362 x 1026, against 3.4e-6 in <x^2> without)
+TURNING_WEIGHT = 0.1
+#: the density's reach in the velocity, in units of ``<v^2>^(1/2)`` (the scale's rule)
+VELOCITY_REACH = 5.0
+
+
+def separatrix_turning_points(G, saddles, half: float) -> list:
+    """``[(x_t, i)]``: where the separatrix through each saddle ``c_i != 0`` meets
+    ``v = 0`` again, the first point beyond ``c_i`` away from ``x = 0`` with
+    ``G(x_t) = G(c_i)``, within ``(-half, half)`` (module docstring)."""
+    from scipy.optimize import brentq
+
+    out = []
+    for i, c in enumerate(saddles):
+        if c == 0:
+            continue
+        E = float(G(np.array(c)))
+        z = c + np.sign(c) * np.linspace(0.0, half - abs(c), 4001)[1:]
+        k = np.flatnonzero(np.asarray(G(z), float) > E)
+        if k.size == 0 or k[0] == 0:
+            continue
+        a, b = z[k[0] - 1], z[k[0]]
+        out.append((float(brentq(lambda q: float(G(np.array(q))) - E, min(a, b), max(a, b),
+                                 xtol=1e-14)), i))
+    return out
+
+
+def stationary_points(split, D: float, G, half: float, v2: float,
+                      sigma: float | None = None) -> tuple[float, dict]:
+    """``(sigma, points)``: the velocity scale and the keywords of the position points of
+    :func:`._stationary_orthonormal.orthonormal_stationary` (steps 2 and 3 of
+    :func:`._stationary_orthonormal.stationary_orthonormal`).
+
+    ``sigma`` (unless given) resolves the reach ``V = 5 <v^2>^(1/2)`` and the velocity
+    layer ``delta = (D/omega)^(1/2)``, ``omega^2`` the largest ``|g'|`` on the range:
+    ``sigma = (delta V/(2 pi))^(1/2)``.  The points crowd at the saddles (maxima of ``G``,
+    each ``12 l`` wide, ``l = delta_b/omega_b``) and at their separatrices' outer turning
+    points (:func:`separatrix_turning_points`, the same width); without saddles the
+    Kosloff-Tal-Ezer map alone."""
+    from scipy.optimize import brentq
+
+    g, gp = split.numpy_functions()[:2]
+    z = np.linspace(-half, half, 20001)
+    gz = np.asarray(g(z), float)
+    saddles = [brentq(g, z[i], z[i + 1], xtol=1e-14)
+               for i in np.flatnonzero((gz[:-1] > 0) & (gz[1:] <= 0))]
+    wmax = math.sqrt(float(np.max(np.abs(gp(z)))))
+    if sigma is None:
+        sigma = math.sqrt(math.sqrt(D / wmax) * VELOCITY_REACH * math.sqrt(v2) / (2 * math.pi))
+    if not saddles:
+        return float(sigma), dict(alpha=ALPHA)
+    wb = [math.sqrt(abs(float(gp(np.array(c))))) for c in saddles]
+    layers = [LAYER_WIDTHS * math.sqrt(D / w) / w for w in wb]
+    turns = separatrix_turning_points(G, saddles, half)
+    return float(sigma), dict(
+        alpha=ALPHA, centres=tuple(saddles) + tuple(t for t, _ in turns),
+        widths=tuple(layers) + tuple(layers[i] for _, i in turns),
+        weight=(SADDLE_WEIGHT / len(saddles),) * len(saddles) + (TURNING_WEIGHT,) * len(turns))

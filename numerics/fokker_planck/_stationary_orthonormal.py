@@ -362,7 +362,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
         plan = []
         if folds:  # 1.25 steps down from the largest grid within the budget (step 5)
             top = 2 * int(math.sqrt(max_cost / nh))  # cost(nh, top) <= max_cost
-            while top > nc:
+            while top >= 1.25 * nc:  # every step a whole one
                 plan.insert(0, top)
                 top = 2 * int(top / 2.5)
         while True:

@@ -91,8 +91,10 @@ def validity(moments: dict, order: int = 1, can_raise_order: bool = True) -> dic
 
 
 #: the largest cost ``n_Hermite n_Chebyshev^2`` of the stationary Kramers solve of
-#: ``kbm noise`` (:func:`fokker_planck_moments`): the SEDF at rest, mu = 0.1, Delta = 3,
-#: D = 0.05, states six digits there (3e-7 on 128 x 419, about 10 s CPU)
+#: ``kbm noise`` (:func:`fokker_planck_moments`; ``n_Hermite (n_Chebyshev/2)^2`` for a
+#: model solved folded, :mod:`numerics.fokker_planck._parity`): the SEDF at rest,
+#: Delta = 3, D = mu/2, states six digits there (mu = 0.1: 1.1e-8 on 128 x 448, 3 s CPU;
+#: mu = 0.02: 5.4e-7 on 182 x 740, 10 s CPU)
 FP_BUDGET = 2.5e7
 #: the same without ``--method fokker-planck`` (the moments are reported when affordable)
 FP_DEFAULT_BUDGET = 2.5e7

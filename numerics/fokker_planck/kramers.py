@@ -147,7 +147,9 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         against a simulated 2.321 +- 0.006.)
     max_cost : float
         Largest ``n_hermite * n_cheb^2`` (the nonzeros of the operator, about; the sparse
-        LU's work grows with it): beyond it the solve is refused with the sizes.
+        LU's work grows with it): beyond it the solve is refused with the sizes.  For a
+        model symmetric under ``(x, v) -> (-x, -v)`` in orthonormal functions, solved on
+        ``x >= 0`` (:mod:`._parity`), ``n_hermite * (n_cheb/2)^2``.
     basis : {None, "orthonormal", "risken"}
         The velocity functions.  Default: Risken's pair (:mod:`._bases`) for linear
         damping, where ``sigma^2 = kT`` makes the Maxwellian one function; the orthonormal

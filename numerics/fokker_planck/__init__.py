@@ -10,7 +10,9 @@ solves sharing one factorisation per grid, :mod:`._orthonormal` the escape of a
 nonlinearly damped model in orthonormal Hermite functions, :mod:`._folded` the same for
 linear damping at low friction, folded by parity and eliminated upward, and
 :mod:`._stationary_orthonormal` its stationary density in the same functions, factorised
-order by order by :mod:`._pentadiagonal` when the damping is linear in the velocity."""
+order by order by :mod:`._pentadiagonal` when the damping is linear in the velocity, on
+the points chosen by :mod:`._stationary_points` and folded by :mod:`._parity` when the
+model is symmetric under ``(x, v) -> (-x, -v)``."""
 
 from .escape import KramersEscape, kramers_escape
 from .kramers import KramersSolution, kramers_operator, stationary_kramers, velocity_terms

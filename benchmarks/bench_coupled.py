@@ -12,7 +12,7 @@ Run: ``python benchmarks/bench_coupled.py``
    (``$KBM_BENCH_DIR``, default ``~/.cache/kbm-bench/oscilate``) with pip; it is not a
    dependency of the project.  Target: kbm's order 2 in under a tenth of OSCILATE's order 1.
 2. A true cycle of the 4-dimensional ``coupled-vdp`` (mu = 0.05, c = 0.3, sigma = 0.1)
-   with its four Floquet multipliers: :func:`numerics.coupled.coupled_cycle`'s Newton
+   with its four Floquet multipliers: :func:`numerics.shooting.coupled_orbit.coupled_cycle`'s Newton
    iterations from the section state (compiled DOP853 with the variational equations;
    warm), against the same Newton with :func:`scipy.integrate.solve_ivp` (DOP853) on the
    lambdified extended system, from the same start.  Target: 10 times faster.
@@ -32,7 +32,8 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 
 from kbm.coupled import CoupledOscillators, InternalResonance, derive_coupled
-from numerics.coupled import coupled_cycle, coupled_flow
+from numerics.shooting.coupled_orbit import coupled_cycle
+from numerics.flow.coupled_flow import coupled_flow
 
 F1 = ("-2*m1*xdot1 - al1*x1**3 - al2*x1**2*x2 - al3*x1*x2**2 - al4*x2**3")
 F2 = ("-2*m2*xdot2 - al5*x1**3 - al6*x1**2*x2 - al7*x1*x2**2 - al8*x2**3")
@@ -104,7 +105,7 @@ def kbm_times() -> tuple[float, float]:
 
 
 def scipy_cycle(y0: np.ndarray, T: float, values: dict, rtol: float = 1e-11):
-    """The same Newton as numerics.coupled.cycle, with scipy's DOP853 on the lambdified
+    """The same Newton as numerics.shooting.coupled_orbit, with scipy's DOP853 on the lambdified
     extended system (state, monodromy)."""
     from kbm.coupled import get_coupled_model
 
@@ -157,7 +158,7 @@ def main() -> None:
     ref = coupled_cycle("coupled-vdp", values)  # warm: compiled flow loaded
     fl = coupled_flow("coupled-vdp", values)
     y = fl.states(np.ones(4) * [1, 1, 0, 0], 400.0, 1)[-1]
-    from numerics.coupled.cycle import section_start
+    from numerics.shooting.coupled_orbit import section_start
     y0, T0 = section_start(fl, y, 6 * 2 * np.pi)
     reps = 20
     t0 = time.perf_counter()

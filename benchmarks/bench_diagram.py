@@ -251,7 +251,7 @@ def part1(auto: str | None, repeats: int) -> None:
 
 
 def kbm_coupled(repeats: int) -> dict:
-    """kbm's two tongue edges (seeds by :func:`numerics.coupled.fold.locate_fold` from the
+    """kbm's two tongue edges (seeds by :func:`numerics.locking.fold.locate_fold` from the
     locked cycle at ``c = 0.3``, then the fold curves), timed ``repeats`` times warm."""
     runs, tasks = [], []
     for _ in range(repeats):

@@ -6,7 +6,7 @@ Run: ``python benchmarks/bench_forced.py``
    :func:`kbm.forced.derive_forced` from scratch (target: under 1 s).
 2. The true frequency-response curve of Duffing (mu = 0.05, zeta = 0.1, alpha = 1,
    h = 0.5, sigma from -1 to 3) with about 400 points per branch, stable and unstable, each
-   with its Floquet multipliers: :func:`numerics.forced.numeric_response` (compiled DOP853,
+   with its Floquet multipliers: :func:`numerics.shooting.forced_branch.numeric_response` (compiled DOP853,
    pseudo-arclength; warm: the compiled flow loaded by a first short run; target: under
    10 s).
 3. The baseline: a hand-written shooting with :func:`scipy.integrate.solve_ivp` (DOP853,
@@ -32,7 +32,8 @@ from scipy.integrate import solve_ivp
 from kbm.forced import ForcedOscillator, derive_forced, numeric_derive_forced
 from kbm.forced.model import nu, phi, sigma, theta
 from kbm.symbols import a, x, xdot
-from numerics.forced import ForcedSystem, numeric_response
+from numerics.flow.forced_system import ForcedSystem
+from numerics.shooting.forced_branch import numeric_response
 
 VALS = {"mu": 0.05, "zeta": 0.1, "alpha": 1, "h": 0.5}
 

@@ -55,6 +55,6 @@ def one_degree_form(model):
     if model.dof != 1:
         raise ModelError(f"{model.name!r} has {model.dof} degrees of freedom and the "
                          "one-degree-of-freedom engines take one: use the coupled ones "
-                         "(kbm.coupled.derive_coupled; numerics.coupled: coupled_cycle, "
+                         "(kbm.coupled.derive_coupled; numerics.shooting: coupled_cycle, "
                          "continue_coupled, forced_response)")
     return model

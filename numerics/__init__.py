@@ -9,9 +9,9 @@ process pool, an executor or a Dask cluster):
    the conservative orbits, numerical by nature, on top of the flow;
 2. :mod:`numerics.cycles` — true limit cycles (shooting, Floquet multipliers,
    high precision, sweeps);
-3. :mod:`numerics.forced` — true periodic responses of forced oscillators (shooting at
+3. :mod:`numerics.shooting` — true periodic responses of forced oscillators (shooting at
    the fixed period, Floquet multipliers, continuation in the detuning, locking);
-   :mod:`numerics.coupled` — ``N`` coupled oscillators: the compiled ``2N`` flow, periodic
+   :mod:`numerics.shooting` — ``N`` coupled oscillators: the compiled ``2N`` flow, periodic
    orbits with all ``2N`` Floquet multipliers, the locking region averaged against true;
 4. :mod:`numerics.comparison` — approximations against the true cycles;
 5. :mod:`numerics.sliding` — the pulled sliders: driven runs (scipy and compiled),

@@ -33,7 +33,7 @@ from scipy.optimize import brentq
 
 from numerics.bifurcation.curve import correct
 from numerics.bifurcation.forced import DrivenProblem, forced_true_curves, joined
-from numerics.coupled.continuation import continue_coupled
+from numerics.shooting.coupled_branch import continue_coupled
 from _references import duffing_floquet
 
 MU, ZETA, ALPHA = 1.0, 0.05, 1.0

@@ -11,7 +11,7 @@ references.
   no Bessel function anywhere) on the SEDF dimer and chain at random points (hypothesis),
   and on a forced slider with a 1:3 internal resonance.
 - The first-order frequency of the dimer's in-phase and anti-phase cycles against
-  shooting (numerics.coupled.cycle): the error falls like mu**2.
+  shooting (numerics.shooting.coupled_orbit): the error falls like mu**2.
 - The cut of the Jacobi-Anger series is exact: raising it changes nothing.
 - A conservative F (the potential and the springs) leaves sum a_i**2 unchanged at first
   order (one slider: its amplitude).
@@ -188,7 +188,7 @@ def test_the_dimer_on_the_command_line(capsys):
 
 
 def _dimer_cycle(mu: float, sign: int):
-    from numerics.coupled.cycle import coupled_cycle
+    from numerics.shooting.coupled_orbit import coupled_cycle
 
     # in phase (x2 = x1) and anti-phase (x2 = -x1) are invariant: F is odd
     return coupled_cycle("sedf-dimer", {"mu": mu, "delta": 1.0, "kappa": 0.5, "beta": 1,

@@ -1,4 +1,4 @@
-"""Periodic orbits and locking of coupled oscillators (numerics.coupled) against independent
+"""Periodic orbits and locking of coupled oscillators (numerics.shooting) against independent
 references.
 
 - Liouville's formula: det of the monodromy = exp of the divergence integral;
@@ -26,8 +26,9 @@ from scipy.optimize import fsolve
 from kbm.coupled import amplitudes, derive_coupled, get_coupled_model
 from kbm.errors import ParameterError
 from numerics import limit_cycle
-from numerics.coupled import coupled_cycle, coupled_flow
-from numerics.coupled.locking import amplitude_death, averaged_edges, true_edges
+from numerics.shooting.coupled_orbit import coupled_cycle
+from numerics.flow.coupled_flow import coupled_flow
+from numerics.locking.mutual import amplitude_death, averaged_edges, true_edges
 
 P = {"mu": 0.02, "c": 0.3, "sigma": 0.1}
 

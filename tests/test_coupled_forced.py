@@ -23,7 +23,7 @@ from scipy.optimize import fsolve
 
 from kbm.coupled import amplitudes, derive_coupled
 from kbm.forced import derive_forced, get_forced_model
-from numerics.coupled import forced_response
+from numerics.shooting.coupled_orbit import forced_response
 
 
 @pytest.mark.parametrize("name", ["duffing-forced", "duffing-super", "mathieu", "vdp-forced",

@@ -140,8 +140,8 @@ def test_locking_of_sine_coupled_van_der_pol_oscillators():
     """Two van der Pol oscillators coupled through sin(x2 - x1) (the exact engine cannot take
     it): the order-1 locking edges from the numeric backend's slow flow (the same in sigma
     for every mu) against the true edges (where the locked cycle of the full system ceases
-    to exist, numerics.coupled.locking.true_edges): the error falls like mu."""
-    from numerics.coupled.locking import averaged_edges, true_edges
+    to exist, numerics.locking.mutual.true_edges): the error falls like mu."""
+    from numerics.locking.mutual import averaged_edges, true_edges
 
     m = coupled_custom(["(1 - x1**2)*xdot1 + c*sin(x2 - x1)",
                         "(1 - x2**2)*xdot2 + c*sin(x1 - x2) - 2*sigma*x2"],

@@ -138,7 +138,7 @@ def test_plane_maps_physical_axes_to_scaled_ones():
     varied, or a range where the scaled value is not finite, is refused in -p/--vary terms."""
     from kbm.coupled import get_coupled_model
     from kbm.errors import ParameterError
-    from numerics.cli._plane import Plane
+    from numerics.cli.params.plane import Plane
 
     model = get_coupled_model("sedf-dimer")
     p = Plane.of(model, {"mu": "0.1"}, ("Delta", "kappa"), {"Delta": (0, 1), "kappa": (0.1, 1)})
@@ -192,8 +192,8 @@ def test_sedf_dimer_slow_flow_bessel_against_mpmath():
     import sympy as sp
 
     from kbm.coupled import amplitudes, derive_coupled
-    from numerics.coupled.locking import _slow_flow, _split, averaged_edges
-    from numerics.coupled.flow import bind_coupled
+    from numerics.locking.mutual import _slow_flow, _split, averaged_edges
+    from numerics.flow.coupled_flow import bind_coupled
     from numerics.errors import NumericsError
 
     model, values = bind_coupled("sedf-dimer", {"mu": 0.1, "Delta": 0.5, "kappa": 0.3,

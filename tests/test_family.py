@@ -5,7 +5,7 @@ instance binds its values through kbm.bound.bind.
 
 References: the definitions themselves (N = len(F), forced = a forcing angle), the
 general form of a case N = 1 written out by hand (x -> x1), and the coupled numerics' own
-reading of the values (numerics.coupled.flow.bind_coupled), whose floats the bound form
+reading of the values (numerics.flow.coupled_flow.bind_coupled), whose floats the bound form
 must give.
 """
 
@@ -25,7 +25,7 @@ from kbm.models import MODELS, custom_model, get_model
 from kbm.symbols import x, xdot
 
 X1, V1 = sp.symbols("x1 xdot1")
-from numerics.coupled.flow import bind_coupled
+from numerics.flow.coupled_flow import bind_coupled
 
 
 @pytest.mark.parametrize("name", sorted(MODELS))
@@ -114,9 +114,9 @@ def test_a_case_equals_the_system_written_in_the_general_form(terms):
 
 def test_every_engine_takes_either_form():
     """A cycle of one degree of freedom by either shooting (two codes: numerics.cycles and
-    numerics.coupled) of the one instance: the paper's SEDF (eq. 3) at rest."""
+    numerics.shooting) of the one instance: the paper's SEDF (eq. 3) at rest."""
     from numerics import limit_cycle
-    from numerics.coupled.cycle import coupled_cycle
+    from numerics.shooting.coupled_orbit import coupled_cycle
 
     sedf = get_model("sedf")
     p = {"mu": 0.1, "Delta": 1.5, "beta": 1, "lam": 1}
@@ -127,7 +127,7 @@ def test_every_engine_takes_either_form():
 
 
 def test_the_forced_engine_takes_either_form():
-    from numerics.forced.system import ForcedSystem
+    from numerics.flow.forced_system import ForcedSystem
 
     m = get_forced_model("duffing-forced")
     vals = {"mu": 0.1, "alpha": 1, "h": 2, "zeta": 0.5}

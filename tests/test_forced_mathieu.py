@@ -19,7 +19,7 @@ from scipy.special import mathieu_a, mathieu_b
 
 from kbm.forced import derive_forced
 from kbm.forced.tongues import epsilon, mathieu_transition, transition_curves
-from numerics.forced.convergence import slope
+from numerics.comparison.response_convergence import slope
 
 q = sp.Symbol("q")
 #: A&S 20.2.25 (the characteristic values with q small)

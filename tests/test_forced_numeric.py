@@ -143,7 +143,7 @@ _SHIFT_BASE = numeric_derive_forced(
 def test_slider_error_against_shooting_falls_like_mu_to_the_order():
     """The order-N amplitude of the locked slider differs from the true periodic response
     (shooting, Floquet) by O(mu**N): fitted slopes near 1, 2, 3."""
-    from numerics.forced.convergence import amplitude_study
+    from numerics.comparison.response_convergence import amplitude_study
 
     t = amplitude_study("slider", {"delta": 0.5, "k": 1, "beta": 1}, 0.1, [0.01, 0.02, 0.04],
                         (1, 2, 3), amplitudes=(0.5, 3))

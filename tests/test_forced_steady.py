@@ -123,8 +123,8 @@ def test_all_fixed_points_found(s, h, z):
 def test_vdp_locked_states_form_a_closed_curve():
     """Forced van der Pol (h = 0.4): the large-amplitude steady states form a closed curve
     (traced once, recognised modulo 2 pi in phi) whose folds are the locking boundary
-    (the edges of the stable range found by bisection, numerics.forced.locking)."""
-    from numerics.forced.locking import predicted_boundary
+    (the edges of the stable range found by bisection, numerics.locking.entrainment)."""
+    from numerics.locking.entrainment import predicted_boundary
 
     sf = derive_forced("vdp-forced", 1).slow_flow({"mu": 0.1, "h": 0.4})
     rc = response_curve(sf, (-0.5, 0.5), (1e-3, 3), n_points=200)

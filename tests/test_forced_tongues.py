@@ -33,7 +33,7 @@ from kbm.errors import ModelError
 from kbm.forced import ForcedOscillator, derive_forced
 from kbm.forced.tongues import epsilon, mathieu_transition, transition_curves
 from kbm.symbols import mu
-from numerics.forced.convergence import slope
+from numerics.comparison.response_convergence import slope
 
 q = sp.Symbol("q")
 R = sp.Rational

@@ -96,7 +96,7 @@ def test_coupled_flow_at_equals_a_new_binding(name, params, vary):
     field."""
     import numpy as np
 
-    from numerics.coupled.flow import coupled_flow
+    from numerics.flow.coupled_flow import coupled_flow
 
     base = coupled_flow(name, params)
     for value in (0.07, 0.9):

@@ -24,7 +24,7 @@ from kbm.user_model import custom_model
 from numerics.shooting.branch_result import (Branch, BranchPoint, CoupledBranch,
                                              CoupledBranchPoint, CoupledSpecialPoint,
                                              OrbitBranch, SpecialPoint)
-from numerics.coupled.continuation import CoupledContinuation, continue_coupled
+from numerics.shooting.coupled_branch import CoupledContinuation, continue_coupled
 from numerics.cycles.continuation import CycleContinuation, continue_cycles
 from numerics.shooting.continuation import Continuation
 

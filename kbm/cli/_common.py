@@ -5,7 +5,7 @@ Every option that several commands take is defined once, in :data:`OPTIONS` (its
 type, default, metavar and help); a command adds it with :func:`add_options`, naming what
 differs there (a default, or a help that says what the option does in that command).  The
 numerical commands' ensemble options (``--trajectories``, ``--seed``, ``--workers``,
-``--store``, ``--resume``, ``--budget``) are in :mod:`numerics.cli._options`.
+``--store``, ``--resume``, ``--budget``) are in :mod:`numerics.cli.params.options`.
 """
 
 from __future__ import annotations

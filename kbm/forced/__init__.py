@@ -22,7 +22,7 @@
 - :mod:`kbm.forced.tongues`: transition curves (instability tongues) as series, for
   tongues opening at any order;
 - :mod:`kbm.forced.arclength`: the pseudo-arclength continuation shared with
-  :mod:`numerics.forced`.
+  :mod:`numerics.shooting`.
 """
 
 from .engine import MAX_ORDER, SmallDivisorError, derive_forced

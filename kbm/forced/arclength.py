@@ -1,7 +1,7 @@
 """Pseudo-arclength continuation of the solutions of ``G(u) = 0``, ``G: R^(n+1) -> R^n``.
 
 One small numerical routine shared by the slow-flow steady states (:mod:`kbm.forced.steady`)
-and the true periodic orbits (:mod:`numerics.forced`): the last component of ``u`` is the
+and the true periodic orbits (:mod:`numerics.shooting`): the last component of ``u`` is the
 continuation parameter; the tangent is the null vector of ``dG/du``; the corrector is
 Newton's method on ``G = 0`` and ``t . (u - u_pred) = 0`` (Keller 1977), so the curve is
 followed round its folds.  A fold is where the parameter component of the oriented tangent
@@ -163,7 +163,7 @@ def both_ways(run: Callable[[float], Arc]) -> list[Arc]:
 def passes_start(start, u1, u2, periods=None) -> bool:
     """Whether the step ``u1 -> u2`` passes the start point (modulo ``periods``): the curve
     closed (the slow-flow curves here and the true response curves of
-    :mod:`numerics.forced.response`)."""
+    :mod:`numerics.shooting.forced_branch`)."""
     s = np.array(start, dtype=float)
     if periods is not None:
         per = np.asarray(periods, dtype=float)

@@ -6,7 +6,7 @@ stroboscopic map ``y0 -> y(T)``.  Their codim-1 bifurcations are continued in tw
 parameters (one of them the detuning ``sigma``) by :func:`numerics.bifurcation.curve.
 continue_curve` on the defining systems (unknowns ``z = (x(0), x'(0), p1, p2)``; the flow
 and its monodromy ``Phi(T)`` from one compiled integration,
-:meth:`numerics.coupled.flow.CoupledFlow.monodromy`):
+:meth:`numerics.flow.coupled_flow.CoupledFlow.monodromy`):
 
 - **fold** (saddle-node of responses, the jump points): ``y(T) - y0 = 0`` and
   ``det(Phi - I) = 0`` (a multiplier +1);
@@ -36,7 +36,7 @@ their cusp) and its Hopf points ``A = B = tr d(A, B)/d(a, phi) = 0``, ``det > 0`
 averaged Neimark–Sacker curves).  Their distance to the true curves is reported.
 
 Seeds: the one-parameter true response curves in ``sigma`` at a few values of the other
-parameter (:func:`numerics.forced.numeric_response`, started from the KBM fixed points) give
+parameter (:func:`numerics.shooting.forced_branch.numeric_response`, started from the KBM fixed points) give
 the folds and the sign changes of the period-doubling and Neimark–Sacker tests; the
 averaged response curves (:func:`kbm.forced.steady.response_curve`) give the averaged seeds.
 """
@@ -88,7 +88,7 @@ class DrivenProblem:
     def __init__(self, model, values: Mapping[str, float], axes: tuple[str, str],
                  rtol: float = 1e-11):
         from kbm.forced import get_forced_model
-        from numerics.coupled import coupled_flow
+        from numerics.flow.coupled_flow import coupled_flow
 
         self.forced = get_forced_model(model) if isinstance(model, str) else model
         if getattr(self.forced, "resonance", None) is None:
@@ -107,7 +107,7 @@ class DrivenProblem:
         vals = {self.axes[0]: float(p1), self.axes[1]: float(p2)}
         if self._direct:
             return self.flow.at(**vals)
-        from numerics.coupled import coupled_flow
+        from numerics.flow.coupled_flow import coupled_flow
 
         return coupled_flow(self.system, {**self.values, **vals})
 
@@ -189,7 +189,8 @@ def forced_seeds(prob: DrivenProblem, sigma_range: tuple[float, float], others: 
     of ``det(Phi + I)`` (period doubling) and of ``det Phi - 1`` with a complex pair
     (Neimark–Sacker) between neighbouring responses (interpolated)."""
     from kbm.forced import derive_forced
-    from numerics.forced import ForcedSystem, numeric_response
+    from numerics.flow.forced_system import ForcedSystem
+    from numerics.shooting.forced_branch import numeric_response
 
     s_idx = prob.axes.index("sigma")
     o_name = prob.axes[1 - s_idx]

@@ -15,9 +15,9 @@ NEAR_ZERO = 0.05
 
 
 def run_chain(args: argparse.Namespace) -> int:
-    from numerics.cli._options import check_ensemble
-    from numerics.cli._params import check, given, parse_vary
-    from numerics.coupled.friction import chain_friction_law
+    from numerics.cli.params.options import check_ensemble
+    from numerics.cli.params.values import check, given, parse_vary
+    from numerics.sliding.chain_friction import chain_friction_law
     from numerics.executor import connect
     from numerics.sliding.maps import axis_values
 

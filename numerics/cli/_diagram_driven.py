@@ -70,7 +70,7 @@ def _point(rec: dict, plane):
 
 
 def _setup(args: argparse.Namespace, kind: str):
-    from numerics.cli._params import check, given, parse_vary
+    from numerics.cli.params.values import check, given, parse_vary
 
     if kind == "forced":
         from kbm.forced import get_forced_model
@@ -102,7 +102,7 @@ def _setup(args: argparse.Namespace, kind: str):
     if kind == "forced" and "sigma" not in axes:
         raise ParameterError(f"a forced diagram varies the detuning and one other parameter: "
                              f"--vary sigma=FROM:TO --vary {axes[0]}=FROM:TO")
-    from numerics.cli._plane import Plane
+    from numerics.cli.params.plane import Plane
 
     # a physical axis (Delta) is computed as its scaled one (delta = Delta/mu), as -p binds it
     plane = Plane.of(model, params, axes, ranges)
@@ -257,7 +257,7 @@ def run_driven(args: argparse.Namespace) -> int:
     """
     from numerics.bifurcation.twoway import distances, merged
     from numerics.bifurcation.result import Diagram
-    from numerics.cli._params import within
+    from numerics.cli.params.values import within
 
     kind = "coupled" if getattr(args, "rhs", None) else is_driven(getattr(args, "model", None))
     if kind is None:

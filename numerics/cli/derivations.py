@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from numerics.cli._options import command
+from numerics.cli.params.options import command
 
 
 def register(sub) -> None:

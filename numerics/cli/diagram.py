@@ -15,7 +15,7 @@ import sys
 
 from kbm.cli._common import emit_json, model_spec, write_json
 from kbm.errors import ParameterError
-from numerics.cli._options import command, options
+from numerics.cli.params.options import command, options
 
 
 def register(sub) -> None:
@@ -63,7 +63,7 @@ def _driven(args) -> bool:
 
 
 def _axes(args):
-    from numerics.cli._params import parse_vary
+    from numerics.cli.params.values import parse_vary
 
     if len(args.vary) != 2:
         raise ParameterError(f"kbm diagram draws a plane of two parameters: give two --vary "
@@ -96,7 +96,7 @@ def run(args: argparse.Namespace) -> int:
 
         return run_driven(args)
     from kbm.params import lookup
-    from numerics.cli._params import check, given, within
+    from numerics.cli.params.values import check, given, within
 
     params = given(args.param)
     axes, ranges = _axes(args)

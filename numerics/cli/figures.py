@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from numerics.cli._options import command
+from numerics.cli.params.options import command
 
 
 def register(sub) -> None:
@@ -30,7 +30,7 @@ def run(args: argparse.Namespace) -> int:
     if args.list:
         print("\n".join(FIGURES))
         return 0
-    from numerics.cli._params import within
+    from numerics.cli.params.values import within
     from numerics.paper.figures.friction import friction_figures
 
     within(args.friction_size, "--friction-size", 2, 32)

@@ -7,7 +7,7 @@ import math
 from pathlib import Path
 
 from kbm.cli._common import emit_json, write_json
-from numerics.cli._options import command, options
+from numerics.cli.params.options import command, options
 
 
 def register(sub) -> None:
@@ -71,8 +71,8 @@ def _fp_format(rep: dict) -> str:
 
 
 def run(args) -> int:
-    from numerics.cli._options import check_ensemble, stored
-    from numerics.cli._params import given, noisy_model
+    from numerics.cli.params.options import check_ensemble, stored
+    from numerics.cli.params.values import given, noisy_model
 
     check_ensemble(args)
     params, noise = noisy_model(args.model, args.param)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from numerics.cli._options import command
+from numerics.cli.params.options import command
 
 
 def register(sub) -> None:

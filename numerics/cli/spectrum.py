@@ -13,7 +13,7 @@ from pathlib import Path
 
 from kbm.cli._common import emit_json, write_json
 from kbm.errors import ParameterError
-from numerics.cli._options import command, options
+from numerics.cli.params.options import command, options
 
 
 def register(sub) -> None:
@@ -82,7 +82,7 @@ def _bind(args):
     from kbm.cli._common import check_model_flags
     from kbm.models import custom_model
     from kbm.values import parameter_value
-    from numerics.cli._params import noisy_model, parse_vary, without_noise
+    from numerics.cli.params.values import noisy_model, parse_vary, without_noise
 
     check_model_flags(args)
     if len(args.vary) > 1:
@@ -110,7 +110,7 @@ def _bind(args):
 
 
 def run(args) -> int:
-    from numerics.cli._options import check_ensemble, stored
+    from numerics.cli.params.options import check_ensemble, stored
 
     check_ensemble(args)
     kind = _kind(args)

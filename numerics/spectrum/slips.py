@@ -6,7 +6,7 @@ Two oscillators of a coupled system in ``1:1`` resonance (``coupled-vdp``) with 
 phi_2 - phi_1`` the phase difference.  The amplitudes relax to the values ``a*(gamma)``
 that zero their rates at fixed ``gamma`` (adiabatic elimination: the fixed points of the
 reduced equation are those of the averaged flow, so its locking edges are the averaged
-edges of :func:`numerics.coupled.locking.averaged_edges`), which leaves the noisy Adler
+edges of :func:`numerics.locking.mutual.averaged_edges`), which leaves the noisy Adler
 equation
 
 ``d gamma = g(gamma) dt + sqrt(2 Q(gamma)) dW``,  ``g(gamma) = gamma-rate at a*(gamma)``,
@@ -122,7 +122,7 @@ def adler_reduction(model, params: Mapping[str, object], D: float, *, order: int
         For a model without one phase combination, or amplitudes that cannot follow the
         phase difference (no positive root of the amplitude rates at some ``gamma``).
     """
-    from numerics.coupled.flow import bind_coupled
+    from numerics.flow.coupled_flow import bind_coupled
 
     model, values = bind_coupled(model, params)
     n = model.dof

@@ -26,7 +26,7 @@ from kbm.coupled import CoupledOscillators
 from kbm.errors import ParameterError
 from kbm.strict_json import Rendered
 from numerics.executor import chunk, map_chunks
-from .flow import bind_coupled, coupled_flow
+from numerics.flow.coupled_flow import bind_coupled, coupled_flow
 
 __all__ = ["ChainFrictionPoint", "chain_friction_point", "chain_friction_law"]
 

@@ -21,8 +21,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm.strict_json import complex_pairs, json_fields
-from numerics.forced.shooting import ForcedOrbit, periodic_response
-from numerics.forced.system import ForcedSystem
+from numerics.shooting.forced_orbit import ForcedOrbit, periodic_response
+from numerics.flow.forced_system import ForcedSystem
 from numerics.shooting.locate import locate_zero
 
 __all__ = ["SpecialOrbit", "detect_special", "tau_pd", "tau_ns"]

@@ -24,8 +24,8 @@ import numpy as np
 from kbm.coupled import CoupledOscillators
 from kbm.errors import ParameterError
 from numerics.shooting.branch_result import CoupledBranch, CoupledBranchPoint, CoupledSpecialPoint
-from numerics.coupled.cycle import coupled_cycle, forced_response
-from numerics.coupled.flow import bind_coupled, coupled_flow
+from numerics.shooting.coupled_orbit import coupled_cycle, forced_response
+from numerics.flow.coupled_flow import bind_coupled, coupled_flow
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.shooting.arclength import FAIL as _FAIL
 from numerics.shooting.arclength import parameter_range
@@ -151,8 +151,8 @@ def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, objec
         ``(FROM, TO)`` with ``FROM < TO``.
     start
         The state ``(x_1..x_N, xdot_1..xdot_N)`` to start from (default: the attracting
-        orbit after a transient, :func:`~numerics.coupled.coupled_cycle` or
-        :func:`~numerics.coupled.forced_response`).
+        orbit after a transient, :func:`~numerics.shooting.coupled_orbit.coupled_cycle` or
+        :func:`~numerics.shooting.coupled_orbit.forced_response`).
     directions
         ``1`` towards larger ``vary``, ``-1`` towards smaller (both by default).
     ds, ds_max, ds_min
@@ -168,7 +168,7 @@ def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, objec
         An autonomous branch ends when the period exceeds this multiple of its start, or
         the largest amplitude falls below this fraction of its start.
     transient
-        The transient before the first orbit (see :func:`~numerics.coupled.coupled_cycle`).
+        The transient before the first orbit (see :func:`~numerics.shooting.coupled_orbit.coupled_cycle`).
 
     Raises
     ------

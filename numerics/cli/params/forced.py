@@ -1,7 +1,7 @@
 """The forced model and the ``-p``/``--vary`` values of ``kbm response`` for one degree of
 freedom: the model of the command line (a forced built-in, or a model or ``--rhs`` with
 ``--forcing`` and ``--hard``), its values read by the one layer
-(:mod:`numerics.cli._params`), the detuning's range and the amplitude window."""
+(:mod:`numerics.cli.params.values`), the detuning's range and the amplitude window."""
 
 from __future__ import annotations
 
@@ -18,8 +18,8 @@ def sigma_range(text: str) -> tuple[float, float, int | None]:
 def named_range(text: str,
                 allowed: str | None = None) -> tuple[str, float, float, int | None]:
     """``NAME=FROM:TO[:N]`` -> ``(NAME, FROM, TO, N)`` by the grammar of
-    :func:`numerics.cli._params.parse_vary`; ``allowed``: the only name taken."""
-    from numerics.cli._params import parse_vary
+    :func:`numerics.cli.params.values.parse_vary`; ``allowed``: the only name taken."""
+    from numerics.cli.params.values import parse_vary
 
     v = parse_vary(text)
     if allowed is not None and v.name != allowed:
@@ -32,7 +32,7 @@ def named_range(text: str,
 def checked_values(model, args: argparse.Namespace,
                    varied: tuple[str, ...] = ()) -> dict[str, str]:
     """The ``-p`` values of a forced model of one degree of freedom, read and checked by
-    the one layer (:func:`numerics.cli._params.check`): every name one of the model's
+    the one layer (:func:`numerics.cli.params.values.check`): every name one of the model's
     (``mu`` and the parameters of ``F``, ``omega0`` and a hard forcing), the detuning
     ``sigma`` only as ``--vary sigma=...`` or ``--detuning``.
 
@@ -41,7 +41,7 @@ def checked_values(model, args: argparse.Namespace,
     kbm.errors.ParameterError
         For an unknown name (the valid ones listed) or ``-p sigma``.
     """
-    from numerics.cli._params import check, given
+    from numerics.cli.params.values import check, given
 
     params = given(args.param)
     if "sigma" in params and not varied:

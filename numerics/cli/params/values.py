@@ -27,7 +27,7 @@ the messages are the same everywhere:
   (KBM orders).
 
 The options themselves (flags, defaults, help) are defined once in
-:data:`kbm.cli._common.OPTIONS` and :data:`numerics.cli._options.ENSEMBLE`.
+:data:`kbm.cli._common.OPTIONS` and :data:`numerics.cli.params.options.ENSEMBLE`.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Where ``kbm lock`` starts to follow the locked state: a value inside the asked interval.
 
 The edges of locking are found by following the locked state out from one value of the
-followed parameter in both directions (:mod:`numerics.coupled.locking`).  That value must
+followed parameter in both directions (:mod:`numerics.locking.mutual`).  That value must
 lie in the interval the user asked for, and the state must be locked there:
 
 - a detuning whose interval holds 0 starts at 0, the symmetric point of a 1:1 tongue
@@ -32,8 +32,8 @@ from kbm.coupled import CoupledOscillators
 from kbm.errors import ParameterError
 from kbm.params import PhysicalAxis, physical_axis
 from numerics.errors import NoCycleError
-from .flow import bind_coupled
-from .slow_flow import _newton, _slow_flow, _split
+from numerics.flow.coupled_flow import bind_coupled
+from numerics.locking.slow_flow import _newton, _slow_flow, _split
 
 __all__ = ["start_values", "side_limits", "first_locked", "locked_start", "followed_axis",
            "follow_steps", "AMPLITUDE_FLOOR", "GRID_POINTS", "STABILITY_MARGIN", "FIRST_STEP", "LARGEST_STEP",
@@ -122,7 +122,7 @@ def locked_start(model: CoupledOscillators, params: Mapping[str, object], order:
                  parameter: str, span: tuple[float, float], where: str = "",
                  axis: PhysicalAxis | None = None) -> float:
     """The value of ``parameter`` in ``span`` that the locked state is followed from: the
-    first of :func:`numerics.coupled.lock_start.start_values` at which the order-``order``
+    first of :func:`numerics.locking.start.start_values` at which the order-``order``
     slow flow has a stable locked fixed point near the in-phase state ``a_i = 2``,
     ``gamma = 0`` (``where`` names the coupling value, ``axis`` the user's name and
     interval, for the message).

@@ -25,8 +25,8 @@ from kbm.forced.result import SlowFlow
 from kbm.forced.steady import fixed_points
 
 from numerics.errors import ConvergenceError, NumericsError
-from numerics.forced.shooting import ForcedOrbit, orbit_at, periodic_response
-from numerics.forced.system import ForcedSystem
+from numerics.shooting.forced_orbit import ForcedOrbit, orbit_at, periodic_response
+from numerics.flow.forced_system import ForcedSystem
 from numerics.shooting.acceptance import accepted, orbit_scale
 from numerics.shooting.arclength import null_vector
 from numerics.shooting.branch_problem import BranchProblem
@@ -207,7 +207,7 @@ def numeric_response(system: ForcedSystem, sf: SlowFlow, sigmas: tuple[float, fl
                 continue
             branches.append(b)
             folds.extend(f)
-    from numerics.forced.special import detect_special
+    from numerics.shooting.special import detect_special
 
     special = []
     for b in branches:

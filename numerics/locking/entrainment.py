@@ -21,9 +21,9 @@ from kbm.forced.result import SlowFlow
 from kbm.forced.steady import fixed_points
 
 from numerics.errors import NumericsError
-from numerics.forced.response import guess_from
-from numerics.forced.shooting import ForcedOrbit, periodic_response
-from numerics.forced.system import ForcedSystem
+from numerics.shooting.forced_branch import guess_from
+from numerics.shooting.forced_orbit import ForcedOrbit, periodic_response
+from numerics.flow.forced_system import ForcedSystem
 
 __all__ = ["predicted_boundary", "true_boundary", "locked_by_simulation", "LockingBoundary",
            "start_orbit"]

@@ -2,7 +2,7 @@
 
 :func:`response_diagram` derives the forced KBM expansion, traces the slow flow's response
 curve with its folds and backbone (:mod:`kbm.forced.steady`) and the true periodic
-responses (:mod:`numerics.forced.response`) over the same detuning range;
+responses (:mod:`numerics.shooting.forced_branch`) over the same detuning range;
 :meth:`ResponseDiagram.to_json` is the JSON of ``kbm response``.
 """
 
@@ -18,8 +18,8 @@ from kbm.forced import ForcedOscillator, Resonance, forced_expansion, get_forced
 from kbm.forced.steady import ResponseCurve, backbone, response_curve
 from kbm.strict_json import complex_pairs, json_fields
 
-from numerics.forced.response import NumericResponse, numeric_response
-from numerics.forced.system import ForcedSystem
+from numerics.shooting.forced_branch import NumericResponse, numeric_response
+from numerics.flow.forced_system import ForcedSystem
 
 __all__ = ["ResponseDiagram", "response_diagram", "SteadyStates", "steady_states"]
 
@@ -155,8 +155,8 @@ def steady_states(model: ForcedOscillator | str, values: Mapping[str, object], s
     from kbm.forced.steady import fixed_points, trivial_state
 
     from numerics.errors import NumericsError
-    from numerics.forced.response import guess_from
-    from numerics.forced.shooting import periodic_response
+    from numerics.shooting.forced_branch import guess_from
+    from numerics.shooting.forced_orbit import periodic_response
 
     if isinstance(model, str):
         model = get_forced_model(model)

@@ -9,7 +9,7 @@ keeps only sines of ``gamma`` in the rates ``A``), ``gamma = 0`` or ``pi``, wher
 
 True, they are the reversible periodic orbits that start at rest, ``x(0) = (X, x_2(0))``,
 ``x'(0) = 0``, and come to rest again at ``T/2`` (``x'(T/2) = 0``): Newton on
-``(x_2(0), T)`` with the monodromy of :mod:`numerics.coupled.flow`.
+``(x_2(0), T)`` with the monodromy of :mod:`numerics.flow.coupled_flow`.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from scipy.optimize import brentq
 from kbm.coupled import CoupledKBMResult, amplitudes
 from numerics.shooting.acceptance import orbit_scale, shoot_newton
 from numerics.errors import ConvergenceError
-from .flow import coupled_flow
+from numerics.flow.coupled_flow import coupled_flow
 
 __all__ = ["BackbonePoint", "averaged_backbone_point", "true_backbone_point"]
 

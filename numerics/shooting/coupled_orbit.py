@@ -3,7 +3,7 @@
 The unknowns are the state ``y0`` on the section ``xdot_1 = 0`` (``x_1`` at a maximum) and
 the period ``T``; the residual ``y(T) - y0`` (``2N`` equations for ``2N - 1 + 1``
 unknowns) and its Jacobian ``[Phi(T) - I without the column of xdot_1, f(y(T))]`` come
-from one integration of the extended system (:mod:`numerics.coupled.flow`).  The start is
+from one integration of the extended system (:mod:`numerics.flow.coupled_flow`).  The start is
 the state after a transient (a stable cycle attracts it) or a state given.  The shooting
 is :func:`numerics.shooting.orbit.shoot` (autonomous, or at the drive's period for
 :func:`forced_response`), accepted by the standard of :mod:`numerics.shooting.acceptance`:
@@ -26,7 +26,7 @@ from kbm.errors import ParameterError
 from numerics.errors import ConvergenceError, NoCycleError
 from numerics.shooting.acceptance import trivial_ok
 from numerics.shooting.orbit import multiplier_json, multipliers, shoot
-from .flow import CoupledFlow, coupled_flow
+from numerics.flow.coupled_flow import CoupledFlow, coupled_flow
 
 __all__ = ["CoupledCycle", "coupled_cycle", "section_start", "ForcedCoupledResponse",
            "forced_response"]

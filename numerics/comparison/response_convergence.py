@@ -22,9 +22,9 @@ from kbm.forced.steady import fixed_points, response_curve
 from kbm.strict_json import jsonable
 
 from numerics.errors import NoCycleError, NumericsError
-from numerics.forced.response import guess_from, numeric_response
-from numerics.forced.shooting import periodic_response
-from numerics.forced.system import ForcedSystem
+from numerics.shooting.forced_branch import guess_from, numeric_response
+from numerics.shooting.forced_orbit import periodic_response
+from numerics.flow.forced_system import ForcedSystem
 
 __all__ = ["ConvergenceTable", "amplitude_study", "check_mus", "fold_study", "slope"]
 

@@ -1,7 +1,7 @@
 """The averaged slow flow of a coupled system with one internal resonance, as numbers: its
 rates ``f(y, s, mu)`` in the amplitudes and the phase ``y = (a_1..a_N, gamma)`` and one
 followed parameter ``s``, their Jacobian in ``y``, and Newton on its fixed points (the
-locked states of :mod:`numerics.coupled.locking`).
+locked states of :mod:`numerics.locking.mutual`).
 
 The flow comes from the exact engine (:func:`kbm.coupled.derive_coupled`), or, for a
 right-hand side it does not take (``sin``, ``tanh`` coupling), from the numeric backend

@@ -8,9 +8,9 @@ from 0 in both directions:
   :func:`kbm.coupled.derive_coupled` at order ``n``; it is continued in ``sigma`` and its
   fold (``f = 0``, ``det J = 0``) is solved by Newton on the augmented system;
 - **true**: the locked state is a periodic orbit of the full ``2N``-dimensional system
-  (:func:`numerics.coupled.coupled_cycle`, continued from the previous orbit); the edge is
+  (:func:`numerics.shooting.coupled_orbit.coupled_cycle`, continued from the previous orbit); the edge is
   where it ceases to exist, bracketed by bisection and located as the fold of the locked
-  cycle (:func:`numerics.coupled.fold.true_edges`: the zero of the tangent's
+  cycle (:func:`numerics.locking.fold.true_edges`: the zero of the tangent's
   parameter component on the pseudo-arclength branch, with the non-trivial multiplier
   nearest 1 at 1 there, a saddle-node of cycles, as the check); where the cycle is lost
   otherwise (no fold: a torus bifurcation), the bisection goes on to ``tol``.
@@ -32,10 +32,10 @@ from kbm.coupled import CoupledOscillators, get_coupled_model
 from kbm.errors import ParameterError
 from kbm.strict_json import complex_pairs, jsonable
 from numerics.errors import NoCycleError
-from .flow import bind_coupled
-from .fold import LockingEdge, true_edges
-from .lock_start import AMPLITUDE_FLOOR, follow_steps, followed_axis, locked_start, side_limits, start_values
-from .slow_flow import _newton, _slow_flow, _split  # noqa: F401 - _slow_flow: tests
+from numerics.flow.coupled_flow import bind_coupled
+from numerics.locking.fold import LockingEdge, true_edges
+from numerics.locking.start import AMPLITUDE_FLOOR, follow_steps, followed_axis, locked_start, side_limits, start_values
+from numerics.locking.slow_flow import _newton, _slow_flow, _split  # noqa: F401 - _slow_flow: tests
 
 __all__ = ["LockingEdge", "LockingRegion", "averaged_edges", "true_edges", "amplitude_death",
            "locking_region", "locked_start", "plot_locking", "check_lockable",
@@ -81,7 +81,7 @@ def averaged_edges(model: CoupledOscillators | str, params: Mapping[str, object]
         parameter that is no detuning, e.g. a coupling, from inside its range).
     limits
         ``{-1: d_minus, 1: d_plus}``: how far each side is followed from ``at`` (the ends
-        of an interval, :func:`numerics.coupled.lock_start.side_limits`); default
+        of an interval, :func:`numerics.locking.start.side_limits`); default
         ``limit`` on both.
 
     Raises

@@ -1,11 +1,11 @@
 """Figures of forced oscillators: response curves, Mathieu tongues, entrainment.
 
-``python -m numerics.forced.figures DIR`` writes the five figures of ``docs/forced.rst``
+``python -m numerics.paper.figures.forced DIR`` writes the five figures of ``docs/forced.rst``
 (Duffing primary resonance at orders 1 and 2 against shooting, the superharmonic
 resonance, the Mathieu transition curves at delta = 1/4 and 1 against scipy's
 characteristic values and Floquet numerics, the van der Pol locking boundary and its
 closed curve of steady states);
-:func:`plot_response` draws one :class:`~numerics.forced.diagram.ResponseDiagram`
+:func:`plot_response` draws one :class:`~numerics.comparison.response_diagram.ResponseDiagram`
 (``kbm response --out``).  matplotlib is
 imported lazily (Agg backend).
 """
@@ -17,8 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from numerics.forced.convergence import ConvergenceTable
-from numerics.forced.diagram import ResponseDiagram, response_diagram
+from numerics.comparison.response_convergence import ConvergenceTable
+from numerics.comparison.response_diagram import ResponseDiagram, response_diagram
 from numerics._plot import pyplot as _plt, save as _save_ax
 
 __all__ = ["duffing_figure", "locking_figure", "mathieu_figure", "plot_convergence",
@@ -189,8 +189,8 @@ def locking_figure(out: Path) -> Path:
     """The locking boundary sigma(h) of forced van der Pol, orders 1-2 against shooting."""
     from kbm.forced import derive_forced
 
-    from numerics.forced.locking import predicted_boundary, start_orbit, true_boundary
-    from numerics.forced.system import ForcedSystem
+    from numerics.locking.entrainment import predicted_boundary, start_orbit, true_boundary
+    from numerics.flow.forced_system import ForcedSystem
 
     plt = _plt()
     res = derive_forced("vdp-forced", 2)

@@ -4,8 +4,8 @@ A bisection on "does shooting at ``p`` find the cycle" ends at the integration f
 the residual, not at the fold: past the fold the residual has a minimum ``~ d`` (the
 distance past it), and a bracket can never be tighter than that floor allows.  The fold
 itself is a regular point of the pseudo-arclength problem in ``(y0, T, p)``
-(:mod:`numerics.coupled.continuation`): from the cycle the branch is followed towards the
-fold (a case of its driver, :class:`numerics.coupled.continuation.CoupledContinuation`)
+(:mod:`numerics.shooting.coupled_branch`): from the cycle the branch is followed towards the
+fold (a case of its driver, :class:`numerics.shooting.coupled_branch.CoupledContinuation`)
 until the parameter component of its tangent changes sign, and that zero is located by
 bisection on the hyperplanes normal to the chord (AUTO-07p's fold test, Doedel's lecture
 notes sec. 2).
@@ -15,7 +15,7 @@ saddle-node of cycles).
 The fold is located at the integrator tolerances ``rtol`` and ``rtol/10``; their
 difference, with the bisection bracket, is the stated error.
 
-:func:`true_edges` (the true edges of frequency locking, :mod:`numerics.coupled.locking`)
+:func:`true_edges` (the true edges of frequency locking, :mod:`numerics.locking.mutual`)
 follows the locked cycle out in the detuning, brackets its loss by bisection on shooting
 (which accepts no cycle past a fold, :mod:`numerics.shooting.acceptance`) to
 :data:`FOLD_BRACKET`, and takes the fold there as the edge.
@@ -33,10 +33,10 @@ from kbm.coupled import CoupledOscillators
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.shooting.arclength import FAIL as _FAIL
 from numerics.shooting.branch_problem import OrbitPoint, OrbitProblem
-from .continuation import CoupledContinuation
-from .cycle import coupled_cycle
-from .flow import bind_coupled, coupled_flow
-from .lock_start import follow_steps
+from numerics.shooting.coupled_branch import CoupledContinuation
+from numerics.shooting.coupled_orbit import coupled_cycle
+from numerics.flow.coupled_flow import bind_coupled, coupled_flow
+from numerics.locking.start import follow_steps
 
 __all__ = ["Fold", "locate_fold", "LockingEdge", "true_edges", "FOLD_BRACKET"]
 
@@ -141,7 +141,7 @@ def true_edges(model: CoupledOscillators | str, params: Mapping[str, object],
 
     The locked cycle is followed from ``parameter = at`` (default 0), on each side up to
     ``limits[side]`` from it (default ``limit`` on both), in steps scaled to that span
-    (:func:`numerics.coupled.lock_start.follow_steps`: the first a fiftieth of it, growing
+    (:func:`numerics.locking.start.follow_steps`: the first a fiftieth of it, growing
     1.5 times after each success up to a tenth, halved after each failure down to 1e-3
     or the first step, the smaller, then the loss is bracketed).  ``guess`` maps a side (-1, +1) to an estimate
     of its edge (e.g. the averaged one); the steps are then 0.3 of the way to it (no less

@@ -7,7 +7,7 @@ noisy runs (:data:`ENSEMBLE`: ``--trajectories``, ``--seed``, ``--workers``, ``-
 
 The shared options of every command (``-p``, ``--vary``, ``--order``, ``--json``,
 ``--out``, ...) are :data:`kbm.cli._common.OPTIONS`; the values of ``-p`` and ``--vary``
-are read by :mod:`numerics.cli._params`.
+are read by :mod:`numerics.cli.params.values`.
 """
 
 from __future__ import annotations
@@ -78,7 +78,7 @@ def check_ensemble(args: argparse.Namespace) -> None:
     kbm.errors.ParameterError
         Naming the option and the value given.
     """
-    from numerics.cli._params import within
+    from numerics.cli.params.values import within
 
     seed = getattr(args, "seed", None)
     if seed is not None and seed < 0:
@@ -88,9 +88,9 @@ def check_ensemble(args: argparse.Namespace) -> None:
 
 @contextmanager
 def stored(args: argparse.Namespace, what: str = "run") -> Iterator[object]:
-    """The store of ``--store FILE [--resume]`` (:func:`numerics.cli._params.open_store`;
+    """The store of ``--store FILE [--resume]`` (:func:`numerics.cli.params.values.open_store`;
     ``None`` without ``--store``), closed when the run ends."""
-    from numerics.cli._params import open_store
+    from numerics.cli.params.values import open_store
 
     store = open_store(getattr(args, "store", None), bool(getattr(args, "resume", False)), what)
     try:

@@ -18,7 +18,7 @@ import numpy as np
 
 from numerics.shooting.orbit import peak, shoot
 from numerics.errors import ConvergenceError
-from numerics.forced.system import ForcedSystem
+from numerics.flow.forced_system import ForcedSystem
 
 __all__ = ["ForcedOrbit", "periodic_response", "orbit_at", "N_SAMPLES"]
 

@@ -6,7 +6,8 @@ Run: ``python benchmarks/bench_forced.py``
    :func:`kbm.forced.derive_forced` from scratch (target: under 1 s).
 2. The true frequency-response curve of Duffing (mu = 0.05, zeta = 0.1, alpha = 1,
    h = 0.5, sigma from -1 to 3) with about 400 points per branch, stable and unstable, each
-   with its Floquet multipliers: :func:`numerics.shooting.forced_branch.numeric_response` (compiled DOP853,
+   with its Floquet multipliers:
+   :func:`numerics.shooting.forced_branch.numeric_response` (compiled DOP853,
    pseudo-arclength; warm: the compiled flow loaded by a first short run; target: under
    10 s).
 3. The baseline: a hand-written shooting with :func:`scipy.integrate.solve_ivp` (DOP853,

@@ -8,7 +8,8 @@ independent computation.
   ``h_c^2 = 256 zeta^3/(9 sqrt(3) alpha)``; and its scaling ``a -> a/sqrt(alpha)``,
   ``h -> h/sqrt(alpha)`` (the slow flow's symmetry, linear in ``h``).
 - A point of the true fold curve against the one-parameter fold of ``kbm response``'s
-  continuation in ``sigma`` at that ``h`` (:func:`numerics.shooting.forced_branch.numeric_response`), and
+  continuation in ``sigma`` at that ``h``
+  (:func:`numerics.shooting.forced_branch.numeric_response`), and
   the multiplier +1 of its monodromy.
 - The true cusp against the averaged cusps at orders 1-3 (the distance decreasing with
   the order).

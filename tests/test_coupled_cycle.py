@@ -1,5 +1,5 @@
-"""Periodic orbits and locking of coupled oscillators (numerics.shooting) against independent
-references.
+"""Periodic orbits and locking of coupled oscillators (numerics.shooting, numerics.locking)
+against independent references.
 
 - Liouville's formula: det of the monodromy = exp of the divergence integral;
 - N = 1 of the coupled shooting = the one-degree-of-freedom shooting of numerics.cycles;

@@ -114,7 +114,7 @@ def test_a_case_equals_the_system_written_in_the_general_form(terms):
 
 def test_every_engine_takes_either_form():
     """A cycle of one degree of freedom by either shooting (two codes: numerics.cycles and
-    numerics.shooting) of the one instance: the paper's SEDF (eq. 3) at rest."""
+    numerics.shooting.coupled_orbit) of the one instance: the paper's SEDF (eq. 3) at rest."""
     from numerics import limit_cycle
     from numerics.shooting.coupled_orbit import coupled_cycle
 

@@ -104,7 +104,8 @@ def test_neimark_sacker_on_the_driven_slider():
     mu ((1 - x^2)(x' + nu) - delta sin(x + nu t)), k = 1, mu = 0.05, delta = 1): the
     self-oscillation locked to the washboard loses stability to a torus at the edge of
     locking.  Located by two continuations with their own test functions (the coupled
-    family's, N = 1, and numerics.shooting's), and checked by direct integration (scipy):
+    family's, N = 1, and numerics.shooting.forced_branch's), and checked by direct
+    integration (scipy):
     0.01 inside, the stroboscopic samples converge to the locked response; 0.01 outside,
     they spread over the torus."""
     from numerics.shooting.coupled_branch import continue_coupled

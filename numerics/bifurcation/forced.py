@@ -36,7 +36,8 @@ their cusp) and its Hopf points ``A = B = tr d(A, B)/d(a, phi) = 0``, ``det > 0`
 averaged Neimark–Sacker curves).  Their distance to the true curves is reported.
 
 Seeds: the one-parameter true response curves in ``sigma`` at a few values of the other
-parameter (:func:`numerics.shooting.forced_branch.numeric_response`, started from the KBM fixed points) give
+parameter (:func:`numerics.shooting.forced_branch.numeric_response`, started from the KBM
+fixed points) give
 the folds and the sign changes of the period-doubling and Neimark–Sacker tests; the
 averaged response curves (:func:`kbm.forced.steady.response_curve`) give the averaged seeds.
 """

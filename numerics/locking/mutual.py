@@ -8,7 +8,8 @@ from 0 in both directions:
   :func:`kbm.coupled.derive_coupled` at order ``n``; it is continued in ``sigma`` and its
   fold (``f = 0``, ``det J = 0``) is solved by Newton on the augmented system;
 - **true**: the locked state is a periodic orbit of the full ``2N``-dimensional system
-  (:func:`numerics.shooting.coupled_orbit.coupled_cycle`, continued from the previous orbit); the edge is
+  (:func:`numerics.shooting.coupled_orbit.coupled_cycle`, continued from the previous
+  orbit); the edge is
   where it ceases to exist, bracketed by bisection and located as the fold of the locked
   cycle (:func:`numerics.locking.fold.true_edges`: the zero of the tangent's
   parameter component on the pseudo-arclength branch, with the non-trivial multiplier

@@ -168,7 +168,8 @@ def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, objec
         An autonomous branch ends when the period exceeds this multiple of its start, or
         the largest amplitude falls below this fraction of its start.
     transient
-        The transient before the first orbit (see :func:`~numerics.shooting.coupled_orbit.coupled_cycle`).
+        The transient before the first orbit (see
+        :func:`~numerics.shooting.coupled_orbit.coupled_cycle`).
 
     Raises
     ------

@@ -33,19 +33,21 @@ ninth), so every fixed offset is passed (h-sink2's falling ladder at 1.6 rose fr
 seventh rung at mu = 10).  The step between rungs ``j`` and ``j + 1`` at the offset ``o`` is
 ``a w_j [(o - o*_j) + k]/2``: it vanishes at ``o*_j - k = o*_{j-1}`` (:func:`step_zero`),
 which both ladders measure, the straight line of each rung through their two rates.  From
-rung :data:`TRACK` on (:func:`ladder_offsets`) the falling ladder sits at the last zero of
-the step ``s`` (the critical offset of three rungs back: short of the current one while it
-grows) and the rising one :data:`MARGIN` past ``s + 3 k`` (the current one where it grows
-linearly; past it where it levels off), never short of :data:`OFFSET`; before, the rising
-ladder is centred :data:`OFFSET` widths out and the falling one ``RAMP j`` (h-sink2's rule).
+rung :data:`TRACK` on (:func:`ladder_offsets`) the falling ladder sits at ``s + k``, ``s``
+the last zero of the step and ``k`` its last growth (the critical offset of two rungs back:
+short of the current one while it grows) and the rising one :data:`MARGIN` past ``s + 3 k``
+(the current one where it grows linearly; past it where it levels off), never short of
+:data:`OFFSET`; before, the rising ladder is centred :data:`OFFSET` widths out and the
+falling one ``RAMP j`` (h-sink2's rule).
 :func:`sink_bracket` climbs both ladders until the half-gap is within :data:`BRACKET_TOL`
 of the rate (or :data:`MAX_RUNGS`; past :data:`FINE_RUNG` the grid grows with the rung,
 :func:`rung_intervals`): the rate is their midpoint and the stated ``sink_error`` half their
 gap, a bracket of the limit while the lower ladder rises and the upper falls (checked at
 every rung; where it fails the error is the whole gap plus the last steps).  No value is
 extrapolated: the predicted ``o*`` only places the sinks.  CDC Delta = 3, kT = 0.35 (relative
-half-gaps; h-sink2 in brackets): mu = 1 ... , mu = 2 8.1e-7 (9.0e-7), mu = 5 ... (4.3e-6),
-mu = 10 ... (no bracket: 2.6e-5 stated); docs/noise.rst.
+half-gaps; h-sink2 in brackets): mu = 1 2.6e-7 at the eighth rung (2.8e-7), mu = 2 6.1e-7
+(9.0e-7), mu = 5 3.4e-6 (4.3e-6), mu = 10 5.2e-6 (no bracket: 2.6e-5 stated), each at the
+tenth rung; docs/noise.rst.
 """
 
 from __future__ import annotations
@@ -54,28 +56,27 @@ import math
 
 import numpy as np
 
-__all__ = ["SINK_TOL", "BRACKET_TOL", "OFFSET", "UPPER", "RAMP", "WEIGHT", "MAX_RUNGS",
-           "SINK_INTERVALS", "SINK_HERMITE", "FINE_RUNG", "GRID_GROWTH", "tanh_sink",
-           "sink_rung", "falling_offset", "rung_intervals", "bracket_error", "sink_bracket",
-           "absorbing_limit"]
+__all__ = ["SINK_TOL", "BRACKET_TOL", "OFFSET", "UPPER", "RAMP", "TRACK", "MARGIN", "DRIFT",
+           "WEIGHT", "MAX_RUNGS", "SINK_INTERVALS", "SINK_HERMITE", "FINE_RUNG", "GRID_GROWTH",
+           "tanh_sink", "sink_rung", "falling_offset", "step_zero", "ladder_offsets",
+           "rung_intervals", "bracket_error", "sink_bracket", "absorbing_limit"]
 
 #: the relative change between the two sinks above which the ladders run (and the default
 #: target of :func:`sink_bracket`)
 SINK_TOL = 1e-7
 #: the bracket's half-width (relative) at which :func:`absorbing_limit` stops climbing (CDC
-#: mu = 0.5 stops at the third rung with 2.9e-7, mu = 1 at the eighth with 2.8e-7; at 1e-7
+#: mu = 0.5 stops at the third rung with 2.9e-7, mu = 1 at the eighth with 2.6e-7; at 1e-7
 #: mu = 1 climbs to the tenth rung, whose grid error is 1.5e-8 of the rate)
 BRACKET_TOL = 5e-7
 #: the rising ladder's centre past the next wells' bottoms (in widths, beyond ``j ln2/2``)
-#: at the rungs before :data:`TRACK`
+#: at the rungs before :data:`TRACK`, and its least centre after
 OFFSET = 2.0
 #: the falling ladder's centre at rung ``j < TRACK``: ``RAMP j`` widths (0 on the bottoms)
 RAMP = 0.25
 #: from rung ``TRACK`` on both ladders follow the critical offset (:func:`ladder_offsets`)
 TRACK = 6
-#: the ladders' distance from the predicted critical offset, in widths: ``MARGIN`` from rung
-#: ``TRACK + 2`` on, twice and four times that at the two rungs before (the first
-#: predictions have no drift yet)
+#: the rising ladder's distance past the predicted critical offset, in widths, from rung
+#: :data:`TRACK` on (:func:`ladder_offsets`)
 MARGIN = 0.1
 #: the largest growth of the critical offset per rung that :func:`ladder_offsets` predicts
 #: (measured: 0.03-0.16 at CDC mu = 1, 0.09-0.11 at mu = 5 and 10)
@@ -121,13 +122,12 @@ def ladder_offsets(history) -> tuple:
     """``(o_low, o_high)``: the offsets of the rising and the falling ladder at the next
     rung ``J``, from ``history``, the ``(o_low, o_high, r_low, r_high)`` of the rungs so far.
 
-    Before :data:`TRACK`: :data:`OFFSET` and ``RAMP J``.  Then the last zero ``s`` of the
-    step (:func:`step_zero` of rungs ``J - 2`` and ``J - 1``) lies short of the critical
-    offset of rung ``J`` (it is that of rung ``J - 3`` where the critical offset grows
-    linearly with the rung, closer where it levels off; module docstring): the falling
-    ladder sits there, ``max(s, RAMP J)`` capped at :data:`UPPER`'s ramp (the rule before
-    :data:`TRACK`) from below, and the rising one :data:`MARGIN` past ``s + 3 k``, ``k``
-    the last growth of ``s`` (within ``[0, DRIFT]``), and at :data:`OFFSET` at least."""
+    Before :data:`TRACK`: :data:`OFFSET` and ``RAMP J``.  Then, with ``s`` the last zero of
+    the step (:func:`step_zero` of rungs ``J - 2`` and ``J - 1``: the critical offset of
+    rung ``J - 3`` where it grows linearly with the rung, closer to rung ``J``'s where it
+    levels off; module docstring) and ``k`` its last growth (within ``[0, DRIFT]``): the
+    falling ladder at ``s + k`` (short of rung ``J``'s critical offset ``s + 3 k`` by
+    ``2 k``), the rising one at ``s + 3 k + MARGIN``, and at :data:`OFFSET` at least."""
     j = len(history)
     if j < TRACK:
         return OFFSET, RAMP * j
@@ -198,8 +198,12 @@ def tanh_sink(xs, wells, kappa0: float, width: float) -> np.ndarray:
 #: and by 1.8e-9 from 180 to 256 (mu = 5: 1.5e-8, 1.7e-9, 1e-10)
 SINK_INTERVALS, SINK_HERMITE = 280, 256
 #: past rung ``FINE_RUNG`` the intervals grow by ``GRID_GROWTH`` per rung (the crowded points
-#: follow the width, but the sharper sinks need more of them): CDC mu = 2, rung j = 8, 280
-#: and 400 intervals 8.5e-9 apart; j = 9, 400 and 560 1.1e-8; j = 10, 400 and 560 9e-8
+#: follow the width, but the sharper sinks need more of them).  CDC kT = 0.35, offset 1.5-1.6
+#: (rungs counted from 0): mu = 5, rung 8 on 280 and 392 intervals 3.7e-8 apart (1.2e-6 of
+#: the rate), 392 and 560 2.3e-9; rung 9 392 and 560 2.7e-8, 560 and 784 2.2e-9; mu = 10,
+#: rung 8 280 and 392 3.5e-8, 392 and 560 2e-9; rung 9 560 and 784 2e-9; rung 10 784 and
+#: 1100 8e-10 (growth from rung 8 left grid errors of 1e-6 of the rate in the ladders'
+#: steps, which the critical offset's measure (:func:`step_zero`) cannot afford)
 FINE_RUNG, GRID_GROWTH = 7, 1.4
 
 

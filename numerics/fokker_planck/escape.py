@@ -40,8 +40,8 @@ depend on the sink's sharpness to 1e-7 at mu = 0.02.
 The Hermite truncation grows by ``sqrt 2`` until two successive rates agree to ``tol``; the
 last change is ``truncation_error``, the change on a finer position grid
 ``chebyshev_error`` and the change under the sharper sink (three times stronger, half as
-wide) ``sink_error``.  For linear damping, where that change exceeds ``1e-7`` of the rate
-(higher friction: the density near the next wells' bottoms goes back to the saddle, and
+wide) ``sink_error``.  Where that change exceeds ``1e-7`` of the rate (any damping;
+higher friction: the density near the next wells' bottoms goes back to the saddle, and
 the rate depends on where the absorption happens), the rate of first passages to ``x =
 +-x_w`` lies between two ladders of sharpening sinks, one rising and one falling
 (:mod:`._sink`): the rate is the midpoint of their top rungs and ``sink_error`` half
@@ -305,9 +305,9 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         damping where ``8 omega_b/gamma <= PAIR_HERMITE`` (:data:`PAIR_HERMITE`, higher
         friction) or the potential is not even, else orthonormal.
     sink_tol : float, optional
-        Linear damping: the relative change between the two sinks above which the rate is
-        the sink ladder's limit (:mod:`._sink`; default :data:`._sink.SINK_TOL`, 1e-7;
-        ``inf``: the first sink's rate and change, as for nonlinear damping).
+        The relative change between the two sinks above which the rate is the sink
+        ladders' limit (:mod:`._sink`; default :data:`._sink.SINK_TOL`, 1e-7; ``inf``: the
+        first sink's rate and change).
 
     Returns
     -------

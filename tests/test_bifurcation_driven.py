@@ -83,7 +83,7 @@ def true_fold():
 def test_true_fold_points_against_one_parameter_folds(true_fold):
     """A point of the fold curve is a fold of the one-parameter response curve at its h
     (kbm response's continuation), and its monodromy has a multiplier +1."""
-    from kbm.forced import derive_forced
+    from kbm.expansion.forced import derive_forced
     from numerics.forced import ForcedSystem, numeric_response
 
     prob, tasks, curves, _ = true_fold
@@ -254,7 +254,7 @@ def test_forced_vdp_neimark_sacker_against_one_parameter_bisection():
     one-parameter branch at that h has its Neimark-Sacker point (located there by bisection
     on shooting, numerics.forced.special); the true Bogdanov-Takens points lie within
     1e-3 of the order-2 averaged ones."""
-    from kbm.forced import derive_forced
+    from kbm.expansion.forced import derive_forced
     from numerics.forced import ForcedSystem, numeric_response
 
     ranges = {"sigma": (-1.5, 1.5), "h": (0.05, 1.5)}

@@ -128,7 +128,7 @@ def test_jacobi_anger_jets_are_the_taylor_coefficients_in_a(kind, c, a):
     ``(c cos psi)**p g^(p)(c a cos psi) / p!``, ``g^(p)`` the p-th derivative of sin/cos."""
     from math import factorial
 
-    from kbm.coupled.jet_algebra import JetAlgebra
+    from kbm.algebra.coupled_jets import JetAlgebra
 
     K, M = 4, 64
     alg = JetAlgebra.one_mode(1.0, a, K, M)

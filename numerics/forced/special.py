@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm.strict_json import complex_pairs, json_fields
+from kbm.output.strict_json import complex_pairs, json_fields
 from numerics.forced.shooting import ForcedOrbit, periodic_response
 from numerics.forced.system import ForcedSystem
 from numerics.shooting.locate import locate_zero

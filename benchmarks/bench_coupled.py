@@ -142,7 +142,8 @@ def scipy_cycle(y0: np.ndarray, T: float, values: dict, rtol: float = 1e-11):
 def main() -> None:
     print("1. slow flows of two cubic oscillators in 1:3 internal resonance (N&M 6.6)")
     t1, t2 = kbm_times()
-    print(f"  kbm.expansion.coupled.derive_coupled: order 1 {t1:.3f} s, order 2 {t2:.3f} s (exact)")
+    print(f"  kbm.expansion.coupled.derive_coupled: order 1 {t1:.3f} s, "
+          f"order 2 {t2:.3f} s (exact)")
     py = oscilate_python()
     if py is not None:
         o1 = run_oscilate(py, 1)

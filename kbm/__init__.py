@@ -8,7 +8,7 @@ no ``u_n`` holding a first harmonic, so ``a`` is the first-harmonic amplitude.
 
 from .errors import (KBMError, ModelError, NonAutonomousError, OrderError, ParameterError,
                      ResolutionError, SeriesTruncationError, UnsupportedTermError)
-from ._lazy import keep_objects, lazy_names
+from ._lazy import lazy_names
 
 #: the public names, imported from their modules on first use (PEP 562): ``import kbm``
 #: (and every ``kbm`` command) then costs only what it uses; sympy is imported by the first
@@ -26,13 +26,11 @@ _LAZY = {
     "NumericExpansion": ".backend.one_dof", "numeric_derive": ".backend.one_dof",
     "ExpansionValues": ".backend.pointwise", "derive_values": ".backend.pointwise",
     "KBMFunctions": ".expansion.result", "KBMResult": ".expansion.result",
-    "NumericCycleSeries": ".slowflow.numeric_series", "numeric_cycle_series": ".slowflow.numeric_series",
+    "NumericCycleSeries": ".slowflow.numeric_series",
+    "numeric_cycle_series": ".slowflow.numeric_series",
     "LimitCycleSeries": ".slowflow.series", "limit_cycle_series": ".slowflow.series",
     "StochasticAveraging": ".noise.stochastic", "stochastic_average": ".noise.stochastic",
 }
-
-#: ``kbm.latex`` is the function, also once the module of the same name is imported
-keep_objects(__name__, ("latex",))
 
 __getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)
 

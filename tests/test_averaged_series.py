@@ -1,6 +1,6 @@
-"""kbm.slowflow.averaged (numerical cycles of the averaged equations), kbm.slowflow.series (their exact
-mu-series), the internal entry kbm.expansion.one_dof.run_recursion, and the errors they raise:
-each condition its own kbm error, every message in API terms (no command-line flags)."""
+"""kbm.slowflow.averaged (numerical cycles of the averaged equations), kbm.slowflow.series (their
+exact mu-series), the internal entry kbm.expansion.one_dof.run_recursion, and the errors they
+raise: each condition its own kbm error, every message in API terms (no command-line flags)."""
 
 from __future__ import annotations
 

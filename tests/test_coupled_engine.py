@@ -1,4 +1,4 @@
-"""The coupled KBM recursion (kbm.model.coupled) against independent references.
+"""The coupled KBM recursion (kbm.expansion.coupled) against independent references.
 
 - N = 1 is the one-degree-of-freedom recursion of kbm.expansion.one_dof (a different algebra and
   code path), exactly, to order 5;

@@ -1,7 +1,7 @@
 """Forced coupled systems: the forcing angle theta = nu t as one more angle of the coupled
 recursion.
 
-- N = 1 with forcing is the forced recursion of kbm.model.forced (its own two-angle engine),
+- N = 1 with forcing is the forced recursion of kbm.expansion.forced (its own two-angle engine),
   exactly to order 3, for every polynomial forced built-in (primary, superharmonic,
   parametric resonances): one model type for one degree of freedom, forced or not;
 - the saturation of quadratic coupling in 1:2 internal resonance forced near the higher
@@ -32,7 +32,7 @@ from numerics.coupled import forced_response
                                   "parametric", "mathieu-2", "mathieu-3",
                                   "duffing-super-hard", "duffing-sub-hard"])
 def test_forced_one_dof_is_the_forced_recursion(name):
-    """gamma = q theta - p psi of the coupled engine is -p phi of kbm.model.forced; with a hard
+    """gamma = q theta - p psi of the coupled engine is -p phi of kbm.expansion.forced; with a hard
     forcing (N&M 4.1.2-4.1.3) both shift x by Lambda cos(theta) (Lambda1 here)."""
     fm = get_forced_model(name)
     f = derive_forced(name, 3)

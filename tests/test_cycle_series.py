@@ -1,7 +1,8 @@
-"""The limit-cycle series on the cycle itself (kbm.slowflow.cycle_series, kbm.slowflow.numeric_series, kbm.slowflow.resum)
-against independent references: the KBM averaged route (kbm.slowflow.series, method='kbm'), a plain
-Fraction Lindstedt expansion (tests/reference/lindstedt_fraction.py), Andersen & Geer's
-published coefficients and radius, and the true cycles of numerics."""
+"""The limit-cycle series on the cycle itself (kbm.slowflow.cycle_series,
+kbm.slowflow.numeric_series, kbm.slowflow.resum) against independent references: the KBM averaged
+route (kbm.slowflow.series, method='kbm'), a plain Fraction Lindstedt expansion
+(tests/reference/lindstedt_fraction.py), Andersen & Geer's published coefficients and radius, and
+the true cycles of numerics."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The forced KBM engine (kbm.model.forced): exactness checks and independent references.
+"""The forced KBM engine (kbm.expansion.forced): exactness checks and independent references.
 
 - Duffing primary resonance at first order against Nayfeh & Mook (1979), sec. 4.1.1;
 - a model without forcing reproduces the autonomous engine (kbm.expansion.one_dof) at every order,

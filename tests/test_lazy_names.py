@@ -25,8 +25,8 @@ def test_every_public_name_is_the_object_not_a_module(package):
 
 
 def test_a_submodule_of_the_same_name_does_not_shadow_the_function():
-    """``kbm.latex`` is a module and a function: the package keeps the function."""
-    code = ("import kbm.latex, kbm; import types; "
+    """``kbm.latex`` is the function, also once its module (``kbm.output.latex``) is imported."""
+    code = ("import kbm.output.latex, kbm; import types; "
             "print(isinstance(kbm.latex, types.ModuleType), callable(kbm.latex))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout.split()

@@ -73,9 +73,10 @@ def test_the_line_from_its_card_is_the_bound_line(cards, model, params, vary, at
 @given(value=st.floats(-50.0, 50.0).filter(lambda v: abs(v) > 1e-9))
 def test_card_rationals_are_the_lines_for_any_value(value):
     """``delta = Delta/mu`` (paper eq. 3) from the card's stored expression tree in exact
-    rationals (:mod:`kbm.parameters.rational_values`) equals :meth:`kbm.parameters.bound.ParameterLine.floats`
-    and sympy's own exact rational of the expression (a second method), correctly rounded,
-    for any ``Delta``, and ``mu`` varied (``delta = Delta/mu`` with ``Delta = 2``) too."""
+    rationals (:mod:`kbm.parameters.rational_values`) equals
+    :meth:`kbm.parameters.bound.ParameterLine.floats` and sympy's own exact rational of the
+    expression (a second method), correctly rounded, for any ``Delta``, and ``mu`` varied
+    (``delta = Delta/mu`` with ``Delta = 2``) too."""
     import sympy as sp
 
     from kbm.parameters.bound import ParameterLine

@@ -45,7 +45,8 @@ MEMOS = {
     ("kbm.algebra.coupled_jets", "torus"): "integers to read-only arrays",
     ("kbm.algebra.coupled_jets", "_harmonics"): "frequencies to read-only arrays",
     ("kbm.algebra.coupled_jets", "_mode_table"): "frequencies, resonances to read-only arrays",
-    ("kbm.output.paper", "engine_expansion"): "no argument: the fixed derivation of the built-in sedf",
+    ("kbm.output.paper", "engine_expansion"):
+        "no argument: the fixed derivation of the built-in sedf",
 }
 
 #: values that hold a memo of their own, a function of what they were built from (their

@@ -1,4 +1,5 @@
-"""The paper's eqs. (6)-(9) as printed (kbm.output.paper), their errata, and the numerical evidence."""
+"""The paper's eqs. (6)-(9) as printed (kbm.output.paper), their errata, and the numerical
+evidence."""
 
 from __future__ import annotations
 

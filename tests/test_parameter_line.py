@@ -1,6 +1,7 @@
-"""A model bound along one parameter (kbm.parameters.bound.ParameterLine, numerics.flow.CompiledLine)
-against binding from scratch (kbm.parameters.bound.bind, numerics.flow.compile_model), and the keyed source
-of a compiled flow against the source printed from its expressions.
+"""A model bound along one parameter (kbm.parameters.bound.ParameterLine,
+numerics.flow.CompiledLine) against binding from scratch (kbm.parameters.bound.bind,
+numerics.flow.compile_model), and the keyed source of a compiled flow against the source printed
+from its expressions.
 
 The continuation of cycles binds its model thousands of times along the varied parameter;
 the line is a faster route to the same object, so the reference is the slow route itself:

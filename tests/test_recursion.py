@@ -1,9 +1,10 @@
-"""The one KBM recursion (kbm.expansion.recursion, issue 35): every engine runs it, over one protocol.
+"""The one KBM recursion (kbm.expansion.recursion, issue 35): every engine runs it, over one
+protocol.
 
 - Each of the seven entries that expand an oscillator (exact one degree of freedom, its
   evaluated and numeric backends, the exact and numeric forced engines, the exact coupled
-  engine and its jets) calls :func:`kbm.expansion.recursion.kbm_recursion`, seen by a profiler on its
-  code object (so a private copy of the loop in any engine fails here, however it is
+  engine and its jets) calls :func:`kbm.expansion.recursion.kbm_recursion`, seen by a profiler on
+  its code object (so a private copy of the loop in any engine fails here, however it is
   imported), and returns the textbook first order: van der Pol's ``A_1 = a/2 - a**3/8``
   (Bogoliubov & Mitropolsky 1961, ch. 1), forced Duffing's ``A_1 = -zeta a - h sin(phi)/2``
   (Nayfeh & Mook 1979, eq. 4.1.18).
@@ -28,7 +29,8 @@ from kbm.symbols import a
 
 @contextmanager
 def _calls(seen: list):
-    """Record every call of :func:`kbm.expansion.recursion.kbm_recursion` (its algebra and order)."""
+    """Record every call of :func:`kbm.expansion.recursion.kbm_recursion` (its algebra and
+    order)."""
     code = kbm.expansion.recursion.kbm_recursion.__code__
 
     def profile(frame, event, arg):

@@ -1,6 +1,6 @@
-"""The one JSON layer of results (:mod:`kbm.output.strict_json`, issue 35): its rules give strict JSON
-that reads back to itself, and :class:`~kbm.output.strict_json.Rendered` renders the branch records
-(numerics.shooting.branch_result) by their layouts."""
+"""The one JSON layer of results (:mod:`kbm.output.strict_json`, issue 35): its rules give strict
+JSON that reads back to itself, and :class:`~kbm.output.strict_json.Rendered` renders the branch
+records (numerics.shooting.branch_result) by their layouts."""
 
 from __future__ import annotations
 

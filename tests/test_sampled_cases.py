@@ -6,8 +6,8 @@ one degree of freedom a case of it.  The jets (any ``N``, at one point ``a*``, e
 derivatives in ``a``) and the one-degree backends (Chebyshev grids in ``a``:
 :func:`kbm.numeric_derive`, :func:`kbm.backend.forced.numeric_derive_forced`; Jacobi-Anger jets at
 given amplitudes: :func:`kbm.derive_values`) run the one recursion
-(:func:`kbm.expansion.recursion.kbm_recursion`) over different sampled algebras, so each is a second
-method for the other: Bogoliubov & Mitropolsky's ``A_n``, ``B_n`` of the same ``F`` agree
+(:func:`kbm.expansion.recursion.kbm_recursion`) over different sampled algebras, so each is a
+second method for the other: Bogoliubov & Mitropolsky's ``A_n``, ``B_n`` of the same ``F`` agree
 to rounding.
 """
 
@@ -51,7 +51,8 @@ def test_one_degree_bessel_values():
 
 def test_forced_one_degree():
     """Forced Duffing at the primary resonance, order 3: the jets' slow phase is
-    ``gamma = theta - psi = -phi`` of :mod:`kbm.model.forced` (``A_1 = -zeta a - h sin(phi)/2``)."""
+    ``gamma = theta - psi = -phi`` of :mod:`kbm.expansion.forced`
+    (``A_1 = -zeta a - h sin(phi)/2``)."""
     vals = {"zeta": 0.1, "alpha": 1, "h": 1}
     ex = numeric_average("duffing-forced", {**vals, "sigma": 0.2}).expansion([1.2], [0.3], 3)
     ref = numeric_derive_forced("duffing-forced", 3, (0.5, 2), vals)

@@ -126,7 +126,8 @@ def _cycle(env) -> subprocess.CompletedProcess:
     code = ("import sys, runpy; sys.argv = ['kbm', 'cycle', 'vdp', '-p', 'mu=1']\n"
             "try:\n    runpy.run_module('numerics.cli', run_name='__main__')\n"
             "finally:\n    print('MODULES', *sorted(m for m in ('scipy.special', "
-            "'scipy.integrate', 'scipy.optimize', 'kbm.model.coupled_builtins') if m in sys.modules), "
+            "'scipy.integrate', 'scipy.optimize', 'kbm.model.coupled_builtins') "
+            "if m in sys.modules), "
             "file=sys.stderr)")
     return subprocess.run([sys.executable, "-c", code], capture_output=True, cwd=ROOT,
                           env=env, timeout=600, check=True)

@@ -67,8 +67,8 @@ def test_brentq_finds_sqrt2_to_the_tolerance():
 def test_guess_equals_the_averaged_cycles_of_kbm(name, params, tmp_path, monkeypatch):
     """The guess from the stored rates (cold: built, stored, read back; warm: read) is the
     stable first-order cycle of :meth:`kbm.AveragedRates.cycles` (rates lambdified anew from
-    the symbolic derivation; both search with :func:`kbm.slowflow.roots.amplitude_roots`, whose Brent
-    steps equal scipy's brentq, tested above) to the last bit; van der Pol's first-order
+    the symbolic derivation; both search with :func:`kbm.slowflow.roots.amplitude_roots`, whose
+    Brent steps equal scipy's brentq, tested above) to the last bit; van der Pol's first-order
     amplitude is 2 (the textbook result, Nayfeh and Mook, *Nonlinear Oscillations*,
     sec. 3.3)."""
     from kbm import averaged_rates, derive
@@ -133,10 +133,10 @@ def _modules_of_cycle(env, args=("vdp", "-p", "mu=1")) -> tuple[bytes, list[str]
 def test_the_warm_cycle_imports_no_scipy_optimize_special_or_integrate():
     """``kbm cycle vdp -p mu=1`` with the cache in use warm (a first run warms it, building
     the flows ahead of time once per machine): no ``scipy.optimize``, ``scipy.special`` or
-    ``scipy.integrate``, no KBM derivation (:mod:`kbm.expansion.one_dof`, :mod:`kbm.slowflow.averaged`) and,
-    where a C compiler built the flows ahead of time, no numba; the output is the first
-    run's, byte for byte (the just-in-time code's where the first run built the flows; the
-    two codes' flows are compared bit for bit in ``tests/test_flow_aot.py``)."""
+    ``scipy.integrate``, no KBM derivation (:mod:`kbm.expansion.one_dof`,
+    :mod:`kbm.slowflow.averaged`) and, where a C compiler built the flows ahead of time, no numba;
+    the output is the first run's, byte for byte (the just-in-time code's where the first run built
+    the flows; the two codes' flows are compared bit for bit in ``tests/test_flow_aot.py``)."""
     env = {**os.environ, "PYTHONPATH": str(ROOT), "KBM_COMPILE_NOTICE": "0", "KBM_AOT": "1"}
     first, _ = _modules_of_cycle(env)
     out, modules = _modules_of_cycle(env)

@@ -1,7 +1,7 @@
 """The contracts between the KBM recursion and its algebras of Fourier series.
 
-The one recursion (:func:`kbm.expansion.recursion.kbm_recursion`) never looks inside a Fourier series
-or a rate: it asks a :class:`RecursionAlgebra` (``N`` modes, an optional forcing angle) for
+The one recursion (:func:`kbm.expansion.recursion.kbm_recursion`) never looks inside a Fourier
+series or a rate: it asks a :class:`RecursionAlgebra` (``N`` modes, an optional forcing angle) for
 the few operations it names.  Its algebras are
 
 - the exact multi-angle algebra of coupled systems
@@ -147,7 +147,8 @@ class FourierAlgebra(Protocol[S, C]):
 
 @runtime_checkable
 class RecursionAlgebra(Protocol[S, C]):
-    """What the one KBM recursion (:func:`kbm.expansion.recursion.kbm_recursion`) asks of an algebra.
+    """What the one KBM recursion (:func:`kbm.expansion.recursion.kbm_recursion`) asks of an
+    algebra.
 
     The series ``S`` are functions of the amplitudes ``a_1..a_N``, the phases
     ``psi_1..psi_N`` and, for a forced system, the forcing angle ``theta``; the rates ``C``

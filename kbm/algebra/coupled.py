@@ -1,7 +1,7 @@
 """The exact algebra of the coupled recursion: ``N``-angle series with the resonance structure.
 
-:class:`CoupledAlgebra` answers the one recursion (:func:`kbm.expansion.recursion.kbm_recursion`) for
-``N`` coupled oscillators, forced or not: ``N``-angle Fourier series
+:class:`CoupledAlgebra` answers the one recursion (:func:`kbm.expansion.recursion.kbm_recursion`)
+for ``N`` coupled oscillators, forced or not: ``N``-angle Fourier series
 (:mod:`kbm.algebra.multi_angle`, the forcing angle ``theta`` the last one) with
 Laurent-polynomial coefficients over Q in the amplitudes, the parameters and the detunings;
 ``L0 = sum_l omega_l d/dpsi_l``, the resonant part of ``R_{i,n}`` on the slow lattice of the

@@ -257,9 +257,10 @@ class SampledAlgebra(SlowRates):
 
 def sampled_recursion(alg: SampledAlgebra, tables: dict[int, TaylorTable], order: int
                       ) -> tuple[list, list, list]:
-    """:func:`~kbm.expansion.recursion.kbm_recursion` over ``alg`` for ``F = sum_i (mu sigma)**i F_i``
-    (``tables``: ``{i: TaylorTable of F_i}``, the forcing angle its extra argument when
-    forced): the lists ``A_1..A_N``, ``B_1..B_N``, ``u_1..u_N`` of :class:`SampledSeries`."""
+    """:func:`~kbm.expansion.recursion.kbm_recursion` over ``alg`` for
+    ``F = sum_i (mu sigma)**i F_i`` (``tables``: ``{i: TaylorTable of F_i}``, the forcing angle its
+    extra argument when forced): the lists ``A_1..A_N``, ``B_1..B_N``, ``u_1..u_N`` of
+    :class:`SampledSeries`."""
     extra = (np.broadcast_to(alg.theta, alg._grid),) if alg.detuned else ()
 
     def terms(XL, VL):

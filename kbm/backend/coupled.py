@@ -23,8 +23,9 @@ higher degree (:func:`kbm.backend.jets.jet_expansion`).
 For a polynomial ``F`` of degree ``d`` the grid is exact once ``M > 2 (d + 1)``; for a smooth
 ``F`` the error falls faster than any power of ``1/M`` (the result states the size of the
 last harmonics kept, and ``tests/test_coupled_numeric.py`` compares with the exact engine and
-with a Bessel closed form).  It is the same expansion as :func:`kbm.expansion.coupled.derive_coupled`
-at order 1, for ``F`` that the exact engine does not take (``sin(x1 - x2)``, ``tanh``, ...).
+with a Bessel closed form).  It is the same expansion as
+:func:`kbm.expansion.coupled.derive_coupled` at order 1, for ``F`` that the exact engine does not
+take (``sin(x1 - x2)``, ``tanh``, ...).
 """
 
 from __future__ import annotations

@@ -168,8 +168,8 @@ def forced_expansion(model: ForcedOscillator | str, order: int, values: dict | N
                      resonance: Resonance | str | None = None, a_range=None,
                      tol: float = DEFAULT_TOL):
     """The forced expansion by the engine that applies: exact
-    (:func:`~kbm.expansion.forced.derive_forced`, symbolic in the parameters) for ``F`` polynomial in
-    ``x``, ``xdot``; numeric (:func:`numeric_derive_forced` at ``values``, on ``a_range``)
+    (:func:`~kbm.expansion.forced.derive_forced`, symbolic in the parameters) for ``F`` polynomial
+    in ``x``, ``xdot``; numeric (:func:`numeric_derive_forced` at ``values``, on ``a_range``)
     otherwise.  Either result has ``model``, ``resonance``, ``order`` and
     ``slow_flow(values, order)``.
 

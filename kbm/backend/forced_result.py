@@ -87,7 +87,8 @@ class NumericForcedExpansion(IntervalExpansion):
 
     ``model`` (a forced oscillator), ``order``, ``a_range``, ``omega0``, ``tol``,
     ``resolution`` (``(P, M, N)``) and the error estimates ``A_error``, ``B_error``,
-    ``u_error`` (entry ``n - 1`` for order ``n``) as in :class:`~kbm.backend.sampling.IntervalExpansion`.
+    ``u_error`` (entry ``n - 1`` for order ``n``) as in
+    :class:`~kbm.backend.sampling.IntervalExpansion`.
 
     Attributes
     ----------

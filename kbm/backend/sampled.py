@@ -2,15 +2,16 @@
 
 For ``x'' + omega0**2 x = mu F(x, x'[, theta])`` with any smooth ``F`` (Taylor tables,
 :class:`kbm.algebra.smooth.TaylorTable`), :func:`sampled_expansion` runs
-:func:`kbm.expansion.recursion.kbm_recursion` over the grid algebra :class:`kbm.algebra.grid.SampledAlgebra`
-(``P`` Chebyshev points in ``a``, ``M`` phases in ``psi``; at a declared resonance also ``N``
-forcing angles and the detuning ``sigma``).  The angles start where ``F``'s Fourier tails
-along the unperturbed orbits fall below the tolerance (:func:`resolved_angles`); the grid is
-refined while a Chebyshev (in ``a``) or Fourier (per angle) tail of ``A_n``, ``B_n``,
-``u_n`` exceeds ``tol`` times the size of that order's quantities (:func:`measure`), then a
-second grid half as fine again measures the rounding errors the differentiations in ``a``
-amplify (:func:`differences`; :func:`resolve` is the loop).  :func:`kbm.numeric_derive` is
-its case without a resonance, :func:`kbm.backend.forced.numeric_derive_forced` its case with one.
+:func:`kbm.expansion.recursion.kbm_recursion` over the grid algebra
+:class:`kbm.algebra.grid.SampledAlgebra` (``P`` Chebyshev points in ``a``, ``M`` phases in ``psi``;
+at a declared resonance also ``N`` forcing angles and the detuning ``sigma``).  The angles start
+where ``F``'s Fourier tails along the unperturbed orbits fall below the tolerance
+(:func:`resolved_angles`); the grid is refined while a Chebyshev (in ``a``) or Fourier (per angle)
+tail of ``A_n``, ``B_n``, ``u_n`` exceeds ``tol`` times the size of that order's quantities
+(:func:`measure`), then a second grid half as fine again measures the rounding errors the
+differentiations in ``a`` amplify (:func:`differences`; :func:`resolve` is the loop).
+:func:`kbm.numeric_derive` is its case without a resonance,
+:func:`kbm.backend.forced.numeric_derive_forced` its case with one.
 """
 
 from __future__ import annotations
@@ -42,7 +43,8 @@ def resolved_angles(tables: dict, w0: float, lo: float, hi: float, tol: float, M
     Raises
     ------
     kbm.errors.ParameterError
-        ``F`` not finite, or not bounded (:func:`~kbm.backend.sampling.check_bounded`), on the orbits.
+        ``F`` not finite, or not bounded (:func:`~kbm.backend.sampling.check_bounded`), on the
+        orbits.
     kbm.errors.ResolutionError
         Past ``max_M`` or ``max_N``.
     """

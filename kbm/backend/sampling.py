@@ -208,8 +208,8 @@ def check_bounded(F, f: np.ndarray, first: float, exhausted: bool, where: str,
 # ----------------------------------------------------------------------------- one angle
 def sampled_orders(alg, F: sp.Expr, order: int, builder=Builder
                    ) -> tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]]:
-    """:func:`~kbm.expansion.recursion.kbm_recursion` for ``x'' + omega0**2 x = mu F(x, x')`` over a
-    sampled algebra of one unforced mode at given amplitudes (the jets of
+    """:func:`~kbm.expansion.recursion.kbm_recursion` for ``x'' + omega0**2 x = mu F(x, x')`` over
+    a sampled algebra of one unforced mode at given amplitudes (the jets of
     :meth:`kbm.algebra.coupled_jets.JetAlgebra.one_mode`), read there: the arrays of
     ``A_1..A_N``, ``B_1..B_N`` (amplitudes) and ``u_1..u_N`` (amplitudes x phases, zeros
     where ``u_n`` vanishes).  ``builder(alg, X, V).build(F)`` makes the lazy series of ``F``

@@ -3,7 +3,8 @@
 A polynomial ``F`` of high degree makes the exact recursion slow (the harmonics and the
 powers of ``a`` both grow by ``d - 1`` an order); :func:`check_cost` refuses such a request
 with the estimate and the way out before anything is expanded.  Shared by
-:mod:`kbm.expansion.one_dof` and the general engine's case ``N = 1`` (:mod:`kbm.expansion.coupled`).
+:mod:`kbm.expansion.one_dof` and the general engine's case ``N = 1``
+(:mod:`kbm.expansion.coupled`).
 """
 
 from __future__ import annotations

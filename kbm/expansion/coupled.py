@@ -10,16 +10,16 @@ where the rates hold only the *slow* harmonics ``k`` of the declared internal re
 (``k . omega = 0``: functions of the phase combinations ``gamma_r``), and no ``u_{i,n}``
 holds a harmonic of frequency ``+-omega_i`` — so ``a_i`` is exactly the amplitude of the
 component of ``x_i`` at its own frequency (``R_{i,n}``, ``L0`` and ``D_j`` as in
-:mod:`kbm.expansion.recursion`).  The resonant part of ``R_{i,n}`` (harmonics ``+-e_i + k``, ``k`` slow) is ``P cos(psi_i) + Q sin(psi_i)`` with
-slow ``P``, ``Q``; it gives ``A_{i,n} = -Q/(2 omega_i)``, ``B_{i,n} = -P/(2 omega_i a_i)``,
-and every other harmonic ``h`` is divided by ``omega_i**2 - (h . omega)**2``.  A harmonic
-whose divisor vanishes, or is within ``tolerance`` of vanishing, without a declared
-resonance raises :class:`~kbm.expansion.resonance.UndeclaredResonanceError` with the
-resonance named.  ``N = 1`` reproduces the one-degree-of-freedom expansion of
-:mod:`kbm.expansion.one_dof` exactly.
+:mod:`kbm.expansion.recursion`).  The resonant part of ``R_{i,n}`` (harmonics ``+-e_i + k``, ``k``
+slow) is ``P cos(psi_i) + Q sin(psi_i)`` with slow ``P``, ``Q``; it gives
+``A_{i,n} = -Q/(2 omega_i)``, ``B_{i,n} = -P/(2 omega_i a_i)``, and every other harmonic ``h`` is
+divided by ``omega_i**2 - (h . omega)**2``.  A harmonic whose divisor vanishes, or is within
+``tolerance`` of vanishing, without a declared resonance raises
+:class:`~kbm.expansion.resonance.UndeclaredResonanceError` with the resonance named.  ``N = 1``
+reproduces the one-degree-of-freedom expansion of :mod:`kbm.expansion.one_dof` exactly.
 
-The loop is the one recursion (:func:`kbm.expansion.recursion.kbm_recursion`); its algebra here is the
-exact :class:`~kbm.algebra.coupled.CoupledAlgebra`: ``N``-angle Fourier series
+The loop is the one recursion (:func:`kbm.expansion.recursion.kbm_recursion`); its algebra here is
+the exact :class:`~kbm.algebra.coupled.CoupledAlgebra`: ``N``-angle Fourier series
 (:mod:`kbm.algebra.multi_angle`) with Laurent-polynomial coefficients over Q in the
 amplitudes, the parameters and the detunings.
 """
@@ -174,7 +174,7 @@ def derive_coupled(model: CoupledOscillators | str, order: int,
         raise ModelError(f"{model.name!r} holds the forcing frequency nu in F (nu = nu0 + mu "
                          "sigma puts mu into F): the exact coupled expansion takes F free of "
                          "nu; its true responses are numerics (kbm response, kbm cycle), its "
-                         "averaging kbm.model.forced's numeric backend")
+                         "averaging the numeric backend kbm.backend.forced")
     if model.dof > MAX_DOF_SYMBOLIC:
         raise ModelError(f"{model.dof} degrees of freedom are above the limit "
                          f"{MAX_DOF_SYMBOLIC} of the exact symbolic averaging (its Fourier "

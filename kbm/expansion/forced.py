@@ -12,17 +12,18 @@ where ``A_n``, ``B_n`` hold only the *slow* harmonics ``cos(j (p psi - q theta))
 ``(m, k) = (+-1 + j p, -j q)`` (those of frequency ``+-omega0`` at ``nu = nu0``), so that
 ``a`` is exactly the amplitude of the response's component at the frequency
 ``(q/p) nu``.  ``L0 = omega0 d/dpsi + nu0 d/dtheta`` annihilates the slow harmonics and
-``D_1`` holds ``sigma d/dtheta`` (the recursion for ``R_n`` is :mod:`kbm.expansion.recursion`'s).  The
-resonant part ``P(p phi) cos(psi) + Q(p phi) sin(psi)`` of ``R_n`` gives ``A_n = -Q/(2 omega0)``, ``B_n = -P/(2 omega0 a)`` and every other harmonic is divided
-by ``omega0**2 - (m omega0 + k nu0)**2`` (never zero).  The slow flow is autonomous:
+``D_1`` holds ``sigma d/dtheta`` (the recursion for ``R_n`` is :mod:`kbm.expansion.recursion`'s).
+The resonant part ``P(p phi) cos(psi) + Q(p phi) sin(psi)`` of ``R_n`` gives
+``A_n = -Q/(2 omega0)``, ``B_n = -P/(2 omega0 a)`` and every other harmonic is divided by
+``omega0**2 - (m omega0 + k nu0)**2`` (never zero).  The slow flow is autonomous:
 ``da/dt = sum mu**n A_n(a, phi)``, ``dphi/dt = -mu (q/p) sigma + sum mu**n B_n(a, phi)``.
 
 Without a declared resonance (``nu`` given, not near one) the same recursion keeps only
 ``(m, k) = (1, 0)`` secular; a harmonic whose divisor is small (within ``tolerance`` of a
 resonance) is refused with the resonance named (:class:`SmallDivisorError`).
 
-The loop is the one recursion (:func:`kbm.expansion.recursion.kbm_recursion`, the case ``N = 1`` with a
-forcing angle).  All arithmetic is exact: two-angle Fourier series
+The loop is the one recursion (:func:`kbm.expansion.recursion.kbm_recursion`, the case ``N = 1``
+with a forcing angle).  All arithmetic is exact: two-angle Fourier series
 (:mod:`kbm.algebra.two_angle`) with Laurent-polynomial coefficients over Q in ``a``, the
 parameters and ``sigma``.
 

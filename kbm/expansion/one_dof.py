@@ -130,9 +130,9 @@ def derive(model: "Oscillator | CoupledOscillators | str", order: int,
     model
         An :class:`~kbm.model.builtins.Oscillator` or the name of a built-in model; a coupled
         system (:class:`~kbm.model.coupled.CoupledOscillators` or a coupled built-in's name) is
-        the same family with ``dof = N``: :func:`kbm.expansion.coupled.derive_coupled` expands it and
-        its :class:`~kbm.expansion.coupled_result.CoupledKBMResult` is returned (for ``N = 1`` with
-        ``sin``/``cos`` of the position above the first order, this engine's lattice sums,
+        the same family with ``dof = N``: :func:`kbm.expansion.coupled.derive_coupled` expands it
+        and its :class:`~kbm.expansion.coupled_result.CoupledKBMResult` is returned (for ``N = 1``
+        with ``sin``/``cos`` of the position above the first order, this engine's lattice sums,
         in the general form).
     order
         Highest power ``N`` of ``mu`` kept in ``da/dt``, ``dpsi/dt`` and ``x``

@@ -36,8 +36,8 @@ deflection of a tip from its support), which is invariant under
 The type is :class:`kbm.model.oscillator.Oscillator`, a user's model
 :func:`kbm.model.user_model.custom_model`; this module is the catalogue of built-in models that
 instantiate it (all three names are importable from here).  Parameter values are read by
-:mod:`kbm.parameters.values` and bound to a model once by :mod:`kbm.parameters.bound` (:func:`kbm.parameters.bound.bind`),
-which builds on this module (never the other way round).
+:mod:`kbm.parameters.values` and bound to a model once by :mod:`kbm.parameters.bound`
+(:func:`kbm.parameters.bound.bind`), which builds on this module (never the other way round).
 
 References
 ----------

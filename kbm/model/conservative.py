@@ -266,12 +266,13 @@ class SplitLine:
 
     The energy-balance branch of ``kbm branch`` splits its model at some hundred values of
     one parameter; each split integrates ``g`` and lambdifies five functions.  A line does
-    that once, with the values that move with ``vary`` (:attr:`kbm.parameters.bound.ParameterLine.changed`,
-    e.g. ``delta = Delta/mu``) kept as symbols, and per value substitutes them exactly into
-    ``g``, ``h``, ``G`` and binds the lambdified functions.  ``line(p)`` equals
-    ``split_conservative(model, {**params, vary: p})`` in its values (a test compares
-    them); where the shortcut does not apply (``mu`` varied, a ``potential`` given, a
-    potential sympy integrates only piecewise) every value is split from scratch.
+    that once, with the values that move with ``vary``
+    (:attr:`kbm.parameters.bound.ParameterLine.changed`, e.g. ``delta = Delta/mu``) kept as
+    symbols, and per value substitutes them exactly into ``g``, ``h``, ``G`` and binds the
+    lambdified functions.  ``line(p)`` equals ``split_conservative(model, {**params, vary: p})`` in
+    its values (a test compares them); where the shortcut does not apply (``mu`` varied, a
+    ``potential`` given, a potential sympy integrates only piecewise) every value is split from
+    scratch.
 
     Parameters
     ----------

@@ -108,7 +108,8 @@ class CoupledOscillators:
     """
 
     #: which case of the type a class is: ``"system"`` (named as such), ``"one"``
-    #: (:class:`kbm.model.builtins.Oscillator`), ``"forced"`` (:class:`kbm.model.forced.ForcedOscillator`)
+    #: (:class:`kbm.model.builtins.Oscillator`), ``"forced"``
+    #: (:class:`kbm.model.forced.ForcedOscillator`)
     case = "system"
 
     name: str
@@ -240,7 +241,8 @@ class CoupledOscillators:
                 use_defaults: bool = True) -> dict[str, sp.Expr]:
         """Exact values of the model's parameters (and ``mu``) from the given ones, physical
         names converted (``delta = Delta/mu``) and the defaults filled in: the one binding
-        layer, :func:`kbm.parameters.names.scaled_values` (:func:`kbm.parameters.bound.bind` binds its result).
+        layer, :func:`kbm.parameters.names.scaled_values` (:func:`kbm.parameters.bound.bind` binds
+        its result).
 
         Raises
         ------

@@ -117,7 +117,7 @@ def coupled_model_names() -> list[str]:
 
 def get_coupled_model(name: str) -> CoupledOscillators:
     """The built-in system ``name``: a coupled one, or a one-degree-of-freedom model of
-    :mod:`kbm.model.builtins` or :mod:`kbm.model.forced` as the case ``N = 1``.
+    :mod:`kbm.model.builtins` or :mod:`kbm.model.forced_builtins` as the case ``N = 1``.
 
     Raises
     ------

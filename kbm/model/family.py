@@ -11,14 +11,12 @@ names of one degree of freedom (``F`` in ``x``, ``xdot``; ``omega0``, ``drive``,
 scalars), so that the ~200 places that read them, and the byte-stable derivations, are
 unchanged:
 
-========================================  =====  ========  ===============================
-instance                                  dof    forced    its engine
-========================================  =====  ========  ===============================
-:class:`kbm.model.builtins.Oscillator`            1      no        :func:`kbm.derive` (Bessel
-                                                           sums, any order)
-:class:`kbm.model.forced.ForcedOscillator`      1      yes       :func:`kbm.expansion.forced.derive_forced`
-:class:`kbm.model.coupled.CoupledOscillators`   N      either    :func:`kbm.expansion.coupled.derive_coupled`
-========================================  =====  ========  ===============================
+- :class:`~kbm.model.oscillator.Oscillator`: ``dof`` 1, not forced; its engine
+  :func:`kbm.derive` (Bessel sums, any order);
+- :class:`~kbm.model.forced.ForcedOscillator`: ``dof`` 1, forced; its engine
+  :func:`~kbm.expansion.forced.derive_forced`;
+- :class:`~kbm.model.coupled.CoupledOscillators`: ``dof`` N, forced or not; its engine
+  :func:`~kbm.expansion.coupled.derive_coupled`.
 
 No conversion stands between a model and an engine: every engine of ``N`` degrees of
 freedom reads the general accessors (``rhs``, ``omegas``, ``drives``, ``hards``, ``nu0``)
@@ -26,12 +24,13 @@ of any instance, a case ``N = 1`` included (``tests/test_family.py``), and the g
 engine gives the same expansion as the special one (``tests/test_coupled_engine.py``:
 :func:`kbm.derive` to order 5, and :func:`kbm.expansion.forced.derive_forced` to order 3 on every
 polynomial forced built-in).  Every instance binds its parameter values through one layer:
-:func:`kbm.parameters.values.scaled_values` (re-exported by :mod:`kbm.parameters.names`) turns physical names into scaled ones (``delta =
-Delta/mu``) and :func:`kbm.parameters.bound.bind` binds them.  The engines of one degree of freedom
-stay for what the general one does not do (the Bessel sums of ``sin(k x)`` above the first
-order, :mod:`kbm.algebra.coupled_bessel`) and for the byte-stable derivations, in their faster one-
-and two-angle algebras; all of them run one recursion (:func:`kbm.expansion.recursion.kbm_recursion`)
-over the algebra protocol :class:`kbm.algebra.base.RecursionAlgebra`.
+:func:`kbm.parameters.values.scaled_values` (re-exported by :mod:`kbm.parameters.names`) turns
+physical names into scaled ones (``delta = Delta/mu``) and :func:`kbm.parameters.bound.bind` binds
+them.  The engines of one degree of freedom stay for what the general one does not do (the Bessel
+sums of ``sin(k x)`` above the first order, :mod:`kbm.algebra.coupled_bessel`) and for the
+byte-stable derivations, in their faster one- and two-angle algebras; all of them run one recursion
+(:func:`kbm.expansion.recursion.kbm_recursion`) over the algebra protocol
+:class:`kbm.algebra.base.RecursionAlgebra`.
 
 This module imports none of the types (they build on it).
 """

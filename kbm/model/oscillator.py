@@ -189,7 +189,8 @@ class Oscillator(OneDegree):
                 f"{what} needs an autonomous model, but {self.name!r} depends on t explicitly "
                 f"(mu*F + drive = {self.acceleration() + self.omega0**2 * x}); "
                 "set the stage velocity v = 0 or drop the time-dependent term (a drive "
-                "periodic in t is treated by kbm.model.forced: kbm response --forcing EXPR in theta)")
+                "periodic in t is treated by kbm.model.forced: kbm response --forcing EXPR in "
+                "theta)")
 
     def acceleration(self) -> sp.Expr:
         """``x''`` as an expression: ``-omega0**2 x + mu F + drive``."""

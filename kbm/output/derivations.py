@@ -257,7 +257,8 @@ friction; their shear $g$ comes from the potential's $\delta J_1(ka)/(\Omega a)$
 
 def _coupled_section(title: str, intro: str, res, with_u: bool = False) -> str:
     """The slow flow of a coupled expansion (and the ``u_{i,n}``): one ``align*`` per degree
-    of freedom and per slow phase (:meth:`kbm.expansion.coupled_result.CoupledKBMResult.latex_groups`)."""
+    of freedom and per slow phase
+    (:meth:`kbm.expansion.coupled_result.CoupledKBMResult.latex_groups`)."""
     out = [f"\\subsection*{{{title}}}\n", intro.strip() + "\n"]
     out += [_align(group) for group in res.latex_groups(_W, with_u=with_u,
                                                         expand_above=2 * _W)]

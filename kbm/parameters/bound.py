@@ -37,8 +37,9 @@ class BoundModel:
     Attributes
     ----------
     model
-        An instance of the one model type :class:`kbm.model.coupled.CoupledOscillators`: an :class:`Oscillator` (its drive
-        may hold a stage velocity), a :class:`kbm.model.forced.ForcedOscillator` or a
+        An instance of the one model type :class:`kbm.model.coupled.CoupledOscillators`: an
+        :class:`Oscillator` (its drive may hold a stage velocity), a
+        :class:`kbm.model.forced.ForcedOscillator` or a
         :class:`kbm.model.coupled.CoupledOscillators` (``bind("coupled-vdp", ...)``).
     values
         Exact values by name: the model's own (scaled) parameters, ``mu`` when
@@ -114,7 +115,8 @@ def bind(model: "CoupledOscillators | str | BoundModel",
     """A :class:`BoundModel` from a model (or built-in name) and parameter values.
 
     Every instance of the one model type binds here, as it is: a one-degree-of-freedom
-    model, a forced one, a coupled system (a built-in name of :mod:`kbm.model.coupled` gives its
+    model, a forced one, a coupled system (a built-in name of
+    :mod:`kbm.model.coupled_builtins` gives its
     :class:`~kbm.model.coupled.CoupledOscillators`); the physical names are turned into the
     scaled ones by the model's ``resolve`` (:func:`kbm.parameters.values.scaled_values` for the
     general type).
@@ -209,8 +211,9 @@ class ParameterLine:
         known = {**self.base.values, **given}
         trees = [rational_tree(e) for e in exact]
         self._fractions = None
-        #: ``(scaled, tree)`` of the derived values (:func:`kbm.parameters.rational_values.rational_tree`)
-        #: where :meth:`floats` computes them exactly without sympy, and the linear frequency's
+        #: ``(scaled, tree)`` of the derived values
+        #: (:func:`kbm.parameters.rational_values.rational_tree`) where :meth:`floats` computes
+        #: them exactly without sympy, and the linear frequency's
         self._trees, self._w0_tree = [], None
         if not self._slow and all(t is not None for t in trees) and \
                 all(isinstance(known.get(n), sp.Rational) for n in needed):

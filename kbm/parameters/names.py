@@ -9,11 +9,12 @@ the physical ones of the paper map to the scaled ones the engines use (eqs. 3 an
 
 :class:`ParameterNames` is what a command checks the user's names against
 (:meth:`ParameterNames.check`), and :func:`scaled_values` the one binding layer of every
-model (both defined in :mod:`kbm.parameters.values`, below the model types, and re-exported here); :func:`lookup` finds a built-in model of any kind by name
-(the one-degree-of-freedom, forced and coupled ones) with a message that lists them all.
-:func:`physical_axis` binds a ``--vary`` range given in a physical name (``Delta=0:1``) to
-the scaled parameter it is computed as (``delta`` over ``[0, 10]`` at ``mu = 0.1``) and maps
-the values found back (:class:`PhysicalAxis`), for every command that follows or spans one.
+model (both defined in :mod:`kbm.parameters.values`, below the model types, and re-exported here);
+:func:`lookup` finds a built-in model of any kind by name (the one-degree-of-freedom, forced and
+coupled ones) with a message that lists them all.  :func:`physical_axis` binds a ``--vary`` range
+given in a physical name (``Delta=0:1``) to the scaled parameter it is computed as (``delta`` over
+``[0, 10]`` at ``mu = 0.1``) and maps the values found back (:class:`PhysicalAxis`), for every
+command that follows or spans one.
 """
 
 from __future__ import annotations
@@ -243,8 +244,8 @@ def physical_axis(physical: Mapping[str, object], user: str, lo: float, hi: floa
                   fixed: Mapping[str, object]) -> PhysicalAxis:
     """The axis of ``user`` over ``[lo, hi]``: the scaled parameter whose ``physical`` map
     (``{scaled: expression}``, a model's ``physical``) holds ``user``, with the map's other
-    inputs at their values in ``fixed`` (read exactly, :func:`kbm.parameters.values.parameter_value`);
-    the identity when no map holds ``user``.
+    inputs at their values in ``fixed`` (read exactly,
+    :func:`kbm.parameters.values.parameter_value`); the identity when no map holds ``user``.
 
     The inverse is the closed form where ``sympy.solve`` gives exactly one and it maps the
     grid's middle value back (``Delta = mu delta``, ``lam = 2 pi/k``: the built-in maps;

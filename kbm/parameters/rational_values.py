@@ -3,8 +3,8 @@ and their values in :class:`fractions.Fraction` arithmetic.
 
 A derived scaled value such as ``delta = Delta/mu`` (paper eq. 3) is a rational function
 with rational coefficients of the values given.  Along a parameter line
-(:class:`kbm.parameters.bound.ParameterLine`) its exact value is needed thousands of times: here it is
-computed from a tree of the expression (:func:`rational_tree`) with fractions, correctly
+(:class:`kbm.parameters.bound.ParameterLine`) its exact value is needed thousands of times: here it
+is computed from a tree of the expression (:func:`rational_tree`) with fractions, correctly
 rounded to float as sympy's exact value is.  The same trees are kept in the line cards of
 :mod:`numerics.flow.line_card`, whose lines give the same floats by the same code
 (:func:`line_floats`) without importing sympy.  This module imports nothing heavy.

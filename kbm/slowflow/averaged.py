@@ -156,8 +156,8 @@ def averaged_rates(result: KBMResult, *, order: int | None = None) -> AveragedRa
     """Lambdify the averaged equations of ``result`` up to ``order`` (default: all).
 
     Lambdified on the first call for an order and kept on ``result`` (an attribute outside
-    its fields, as :meth:`~kbm.expansion.result.KBMResult.functions`; no process-wide cache), so the
-    many :func:`averaged_cycles` of one derivation over a grid of parameters lambdify once."""
+    its fields, as :meth:`~kbm.expansion.result.KBMResult.functions`; no process-wide cache), so
+    the many :func:`averaged_cycles` of one derivation over a grid of parameters lambdify once."""
     N = result.resolve_order(order)
     return result._computed_once(("averaged_rates", N), lambda: _averaged_rates(result, N))
 

@@ -1,12 +1,13 @@
 """The averaged counterparts of a forced oscillator's two-parameter curves (issue 38).
 
-The slow flow ``a' = A(a, phi)``, ``phi' = B(a, phi)`` of :func:`kbm.expansion.forced.derive_forced`
-at orders 1..3, the parameters of both axes kept as symbols (the rates divided by ``mu``:
-the same zeros): its folds ``A = B = det d(A, B)/d(a, phi) = 0`` (the averaged fold
-curves, with their cusps and Bogdanov–Takens points, ``tr = 0`` on a fold) and its Hopf
-points ``A = B = tr d(A, B)/d(a, phi) = 0`` with ``det > 0`` (the averaged Neimark–Sacker
-curves, ended where ``det`` reaches 0).  The seeds are the folds and the sign changes of
-the trace on the averaged response curves (:func:`kbm.slowflow.steady.response_curve`).
+The slow flow ``a' = A(a, phi)``, ``phi' = B(a, phi)`` of
+:func:`kbm.expansion.forced.derive_forced` at orders 1..3, the parameters of both axes kept as
+symbols (the rates divided by ``mu``: the same zeros): its folds
+``A = B = det d(A, B)/d(a, phi) = 0`` (the averaged fold curves, with their cusps and
+Bogdanov–Takens points, ``tr = 0`` on a fold) and its Hopf points
+``A = B = tr d(A, B)/d(a, phi) = 0`` with ``det > 0`` (the averaged Neimark–Sacker curves, ended
+where ``det`` reaches 0).  The seeds are the folds and the sign changes of the trace on the
+averaged response curves (:func:`kbm.slowflow.steady.response_curve`).
 """
 
 from __future__ import annotations

@@ -184,7 +184,8 @@ def _energy_fold(line, vary: str, lo: float, hi: float, pair) -> float | None:
     """The fold of the energy balance: the ``p`` in ``[lo, hi]`` where the extremum of
     ``q = Gamma`` (``Gamma/(E - E_c)`` in a well) between the merging pair's energies is 0.
     ``None`` when the bracket does not hold a sign change of that extremum.  ``line`` is
-    the branch's :class:`kbm.model.conservative.SplitLine` (the model split once along ``vary``)."""
+    the branch's :class:`kbm.model.conservative.SplitLine` (the model split once along
+    ``vary``)."""
     from scipy.optimize import brentq, minimize_scalar
 
     from numerics.energy.balance import gamma_function

@@ -156,8 +156,8 @@ def followed_axis(model: CoupledOscillators, params: Mapping[str, object], user:
                   lo: float, hi: float) -> PhysicalAxis:
     """The axis ``kbm lock`` follows for ``--vary user=lo:hi`` on ``model`` with the other
     values ``params`` (no defaults: a map's inputs are given), bound by
-    :func:`kbm.parameters.names.physical_axis`: the model's own name as it is, a physical one as its
-    scaled parameter over the mapped interval.
+    :func:`kbm.parameters.names.physical_axis`: the model's own name as it is, a physical one as
+    its scaled parameter over the mapped interval.
 
     Raises
     ------

@@ -263,7 +263,8 @@ def continue_cycles(model: Oscillator | str, params: Mapping[str, object] | None
     """
     import sys
 
-    bound_types = sys.modules.get("kbm.parameters.bound")  # not imported: no bound model (issue 39)
+    # not imported: no bound model (issue 39)
+    bound_types = sys.modules.get("kbm.parameters.bound")
     params = dict(params or {})
     if bound_types is not None and isinstance(model, bound_types.BoundModel):
         raise ParameterError("continue_cycles needs the model and its parameters separately, "

@@ -111,7 +111,8 @@ def _bound_and_shooting(model, params, cycle_kwargs):
 
 
 def _full(bound):
-    """The :class:`kbm.parameters.bound.BoundModel` of a model card's bound model (its exact values)."""
+    """The :class:`kbm.parameters.bound.BoundModel` of a model card's bound model (its exact
+    values)."""
     return bound.full() if hasattr(bound, "full") else bound
 
 

@@ -3,8 +3,8 @@
 
 A card holds, for one built-in name and one set of parameter values as given: the model's
 name, the float values of its parameters in the template's order (and of every bound value,
-from :func:`kbm.parameters.values.scaled_values` by way of :func:`kbm.parameters.bound.bind`), the key of its
-template's record (:mod:`numerics.flow.template_cache`), the keys of its compiled flows
+from :func:`kbm.parameters.values.scaled_values` by way of :func:`kbm.parameters.bound.bind`), the
+key of its template's record (:mod:`numerics.flow.template_cache`), the keys of its compiled flows
 (the extended flow, the harmonics' quadrature), whether it is autonomous and whether its
 acceleration holds ``mu`` (``mu = 0``: conservative), and what the commands add (the key of
 the first-order rates, the text of the parameters).  Its name is the SHA-256 of the format,
@@ -78,8 +78,8 @@ def name_model(model: object, spec: tuple) -> None:
 
 
 def model_of(spec: object) -> object:
-    """What :func:`kbm.parameters.bound.bind` takes for a card's spec: a built-in name as it is, the
-    model of ``("--rhs", RHS, OMEGA0)`` built (with sympy)."""
+    """What :func:`kbm.parameters.bound.bind` takes for a card's spec: a built-in name as it is,
+    the model of ``("--rhs", RHS, OMEGA0)`` built (with sympy)."""
     if isinstance(spec, tuple):
         from kbm.model.user_model import custom_model
 

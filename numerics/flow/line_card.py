@@ -211,9 +211,9 @@ class CardLine:
         return self._line
 
     def floats(self, value: float) -> dict[str, float]:
-        """As :meth:`kbm.parameters.bound.ParameterLine.floats`: the float values of :attr:`changed`
-        (the same code, :func:`kbm.parameters.rational_values.line_floats`, on the card's trees); an
-        undefined value raises the symbolic line's message."""
+        """As :meth:`kbm.parameters.bound.ParameterLine.floats`: the float values of
+        :attr:`changed` (the same code, :func:`kbm.parameters.rational_values.line_floats`, on the
+        card's trees); an undefined value raises the symbolic line's message."""
         return line_floats(self.vary, value, self._fractions, self._direct, self._derived,
                            lambda _: self.full().floats(value))[0]
 

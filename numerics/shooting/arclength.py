@@ -110,8 +110,8 @@ def predict(u: np.ndarray, t: np.ndarray, ds: float, previous=None) -> np.ndarra
 
 def walk(first, ds: float, **options):
     """Follow a branch from ``first`` by pseudo-arclength steps (the one driver,
-    :func:`kbm.slowflow.arclength.walk`, whose options these are), a step failing on the errors of a
-    shooting step (:data:`FAIL`) unless ``failures`` says otherwise."""
+    :func:`kbm.slowflow.arclength.walk`, whose options these are), a step failing on the errors of
+    a shooting step (:data:`FAIL`) unless ``failures`` says otherwise."""
     options.setdefault("failures", FAIL)
     return _walk(first, ds, **options)
 

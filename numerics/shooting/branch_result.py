@@ -1,11 +1,11 @@
 """The one result of a branch of periodic orbits of ``N`` degrees of freedom
 (:mod:`numerics.shooting.continuation`): :class:`OrbitBranch`, its points
 :class:`OrbitBranchPoint` and special points :class:`OrbitSpecialPoint`, rendered as JSON by
-:class:`kbm.output.strict_json.Rendered` in one of two layouts: ``N``'s (also named :class:`CoupledBranch`,
-:class:`CoupledBranchPoint`, :class:`CoupledSpecialPoint`; ``kbm branch`` and ``kbm response``
-of a coupled system, :mod:`numerics.coupled.continuation`) and that of one degree of freedom
-on the section ``x' = 0``, the case ``N = 1`` (:class:`Branch`, :class:`BranchPoint`,
-:class:`SpecialPoint`; ``kbm branch`` of an oscillator, also as
+:class:`kbm.output.strict_json.Rendered` in one of two layouts: ``N``'s (also named
+:class:`CoupledBranch`, :class:`CoupledBranchPoint`, :class:`CoupledSpecialPoint`; ``kbm branch``
+and ``kbm response`` of a coupled system, :mod:`numerics.coupled.continuation`) and that of one
+degree of freedom on the section ``x' = 0``, the case ``N = 1`` (:class:`Branch`,
+:class:`BranchPoint`, :class:`SpecialPoint`; ``kbm branch`` of an oscillator, also as
 :mod:`numerics.cycles.branch_result`)."""
 
 from __future__ import annotations

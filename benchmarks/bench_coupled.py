@@ -6,7 +6,7 @@ Run: ``python benchmarks/bench_coupled.py``
    (Nayfeh & Mook 1979, sec. 6.6: damping ``2 mu_i x_i'``, all eight cubic terms
    ``alpha_1..alpha_8``, ``omega_2 = 3 omega_1 + sigma_1``), without the forcing (kbm's
    coupled engine averages autonomous systems): the first- and second-order slow flows by
-   :func:`kbm.coupled.derive_coupled` (exact), against OSCILATE 1.0.7's
+   :func:`kbm.expansion.coupled.derive_coupled` (exact), against OSCILATE 1.0.7's
    ``Multiple_scales_oscillator(...).apply_MMS()`` at ``Ne = 1`` and ``Ne = 2``.  OSCILATE is
    installed by this script into its own virtual environment
    (``$KBM_BENCH_DIR``, default ``~/.cache/kbm-bench/oscilate``) with pip; it is not a
@@ -31,7 +31,9 @@ import numpy as np
 import sympy as sp
 from scipy.integrate import solve_ivp
 
-from kbm.coupled import CoupledOscillators, InternalResonance, derive_coupled
+from kbm.model.coupled import CoupledOscillators
+from kbm.expansion.resonance import InternalResonance
+from kbm.expansion.coupled import derive_coupled
 from numerics.shooting.coupled_orbit import coupled_cycle
 from numerics.flow.coupled_flow import coupled_flow
 
@@ -107,7 +109,7 @@ def kbm_times() -> tuple[float, float]:
 def scipy_cycle(y0: np.ndarray, T: float, values: dict, rtol: float = 1e-11):
     """The same Newton as numerics.shooting.coupled_orbit, with scipy's DOP853 on the lambdified
     extended system (state, monodromy)."""
-    from kbm.coupled import get_coupled_model
+    from kbm.model.coupled_builtins import get_coupled_model
 
     model = get_coupled_model("coupled-vdp")
     state = list(model.state)
@@ -141,7 +143,7 @@ def scipy_cycle(y0: np.ndarray, T: float, values: dict, rtol: float = 1e-11):
 def main() -> None:
     print("1. slow flows of two cubic oscillators in 1:3 internal resonance (N&M 6.6)")
     t1, t2 = kbm_times()
-    print(f"  kbm.coupled.derive_coupled: order 1 {t1:.3f} s, order 2 {t2:.3f} s (exact)")
+    print(f"  kbm.expansion.coupled.derive_coupled: order 1 {t1:.3f} s, order 2 {t2:.3f} s (exact)")
     py = oscilate_python()
     if py is not None:
         o1 = run_oscilate(py, 1)

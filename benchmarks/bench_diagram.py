@@ -155,7 +155,7 @@ def kbm_forced(prob: DrivenProblem, repeats: int) -> dict:
 def kbm_sedf(repeats: int) -> dict:
     """kbm's homoclinic curve of part 3, timed ``repeats`` times warm: the scan of ``beta
     = 0.5`` (the seed) and the continuation with every point's gap at most 1e-10."""
-    from kbm.models import get_model
+    from kbm.model.builtins import get_model
     from numerics.bifurcation import connections as C
     from numerics.bifurcation.autonomous import OneDof
     from numerics.bifurcation.curve import continue_curve

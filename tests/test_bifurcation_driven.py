@@ -84,7 +84,7 @@ def true_fold():
 def test_true_fold_points_against_one_parameter_folds(true_fold):
     """A point of the fold curve is a fold of the one-parameter response curve at its h
     (kbm response's continuation), and its monodromy has a multiplier +1."""
-    from kbm.forced import derive_forced
+    from kbm.expansion.forced import derive_forced
     from numerics.flow.forced_system import ForcedSystem
     from numerics.shooting.forced_branch import numeric_response
 
@@ -256,7 +256,7 @@ def test_forced_vdp_neimark_sacker_against_one_parameter_bisection():
     one-parameter branch at that h has its Neimark-Sacker point (located there by bisection
     on shooting, numerics.shooting.special); the true Bogdanov-Takens points lie within
     1e-3 of the order-2 averaged ones."""
-    from kbm.forced import derive_forced
+    from kbm.expansion.forced import derive_forced
     from numerics.flow.forced_system import ForcedSystem
     from numerics.shooting.forced_branch import numeric_response
 

@@ -233,8 +233,8 @@ def test_no_partner_without_the_symmetry():
     force of ``x'' + x = mu (-2 zeta x' - x^2 + h cos nu t)``) has no partner."""
     import sympy as sp
 
-    from kbm.forced import ForcedOscillator, Resonance
-    from kbm.forced.model import theta
+    from kbm.model.forced import ForcedOscillator, Resonance
+    from kbm.model.forced import theta
     from kbm.symbols import x, xdot
 
     zeta, h = sp.symbols("zeta h")

@@ -12,7 +12,7 @@ import math
 
 import pytest
 
-from kbm.coupled import derive_coupled
+from kbm.expansion.coupled import derive_coupled
 from numerics.comparison.backbone import averaged_backbone_point, true_backbone_point
 
 VALS = {"zeta1": 0, "zeta2": 0, "alpha1": 1, "alpha2": 1, "k": 1, "h": 0}

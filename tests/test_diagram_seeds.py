@@ -136,7 +136,7 @@ def test_plane_maps_physical_axes_to_scaled_ones():
     """--vary Delta=0:1 at mu = 0.1 is delta = Delta/mu in [0, 10]; lam=0.5:2 is k = 2 pi/lam
     in [pi, 4 pi] (increasing); the points go back to Delta and lam.  Delta fixed with mu
     varied, or a range where the scaled value is not finite, is refused in -p/--vary terms."""
-    from kbm.coupled import get_coupled_model
+    from kbm.model.coupled_builtins import get_coupled_model
     from kbm.errors import ParameterError
     from numerics.cli.params.plane import Plane
 
@@ -191,7 +191,8 @@ def test_sedf_dimer_slow_flow_bessel_against_mpmath():
     sympy's own evaluation (mpmath) to 1e-13, and the averaged edges are computed."""
     import sympy as sp
 
-    from kbm.coupled import amplitudes, derive_coupled
+    from kbm.model.coupled import amplitudes
+    from kbm.expansion.coupled import derive_coupled
     from numerics.locking.mutual import _slow_flow, _split, averaged_edges
     from numerics.flow.coupled_flow import bind_coupled
     from numerics.errors import NumericsError

@@ -1,7 +1,7 @@
 """One model type (issues 23, 35): every model is an instance of
-kbm.coupled.CoupledOscillators with the number of degrees of freedom and the forcing as
+kbm.model.coupled.CoupledOscillators with the number of degrees of freedom and the forcing as
 properties (the one-degree-of-freedom and forced built-ins are its cases N = 1), and every
-instance binds its values through kbm.bound.bind.
+instance binds its values through kbm.parameters.bound.bind.
 
 References: the definitions themselves (N = len(F), forced = a forcing angle), the
 general form of a case N = 1 written out by hand (x -> x1), and the coupled numerics' own
@@ -17,11 +17,12 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from kbm.bound import bind
-from kbm.coupled import COUPLED_MODELS, CoupledOscillators, get_coupled_model
+from kbm.parameters.bound import bind
+from kbm.model.coupled_builtins import COUPLED_MODELS, get_coupled_model
+from kbm.model.coupled import CoupledOscillators
 from kbm.errors import ModelError, ParameterError
-from kbm.forced import FORCED_MODELS, get_forced_model
-from kbm.models import MODELS, custom_model, get_model
+from kbm.model.forced_builtins import FORCED_MODELS, get_forced_model
+from kbm.model.builtins import MODELS, custom_model, get_model
 from kbm.symbols import x, xdot
 
 X1, V1 = sp.symbols("x1 xdot1")
@@ -87,7 +88,7 @@ def test_derive_takes_every_member():
     """kbm.derive of a coupled member is the general engine's expansion; of an oscillator,
     the one-degree-of-freedom engine's (unchanged)."""
     import kbm
-    from kbm.coupled import derive_coupled
+    from kbm.expansion.coupled import derive_coupled
 
     a = kbm.derive("coupled-vdp", 2)
     b = derive_coupled("coupled-vdp", 2)

@@ -34,8 +34,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.optimize import brentq
 
-from kbm.conservative import split_conservative
-from kbm.models import custom_model
+from kbm.model.conservative import split_conservative
+from kbm.model.builtins import custom_model
 from numerics.fokker_planck import kramers_escape
 from numerics.fokker_planck._bases import cheb, hermite_matrices
 from numerics.fokker_planck._orthonormal import (orthonormal_matrices, orthonormal_slowest,

@@ -33,7 +33,7 @@ from hypothesis import given, settings, strategies as st
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from numerics.fokker_planck import kramers_escape
 from numerics.fokker_planck._bases import cheb_centred
 from numerics.fokker_planck._rungs import FractionRungs

@@ -150,7 +150,7 @@ def test_van_der_pol_against_risken_pair():
 
 def _sedf_identities(sol):
     """``(<x g>, <v^2>, mu <(x^2 - 1) v^2>)`` of a SEDF solution (beta = 1)."""
-    from kbm.conservative import split_conservative
+    from kbm.model.conservative import split_conservative
 
     from numerics.fokker_planck._stationary_orthonormal import hermite_integrals
 
@@ -223,7 +223,7 @@ def test_sedf_low_friction_ladder_against_larger_solve():
     1e-5 and bounds the distance to a solve on 1.5 times both sizes (192 functions x 628
     intervals); the virial theorem <x g(x)> = <x'^2> holds to 1e-7 and the energy balance
     mu <(x^2 - 1) x'^2> = D to 1e-5."""
-    from kbm.conservative import split_conservative
+    from kbm.model.conservative import split_conservative
 
     from numerics.thermal.stationary import FP_BUDGET
 

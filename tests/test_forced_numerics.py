@@ -13,8 +13,9 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from kbm.errors import ParameterError
-from kbm.forced import ForcedOscillator, derive_forced
-from kbm.forced.steady import response_curve
+from kbm.model.forced import ForcedOscillator
+from kbm.expansion.forced import derive_forced
+from kbm.slowflow.steady import response_curve
 from numerics.errors import ConvergenceError
 from numerics.flow.forced_system import ForcedSystem
 from numerics.shooting.forced_branch import numeric_response
@@ -69,7 +70,7 @@ def test_duffing_responses_agree_with_handwritten_solve_ivp_shooting():
     """At sigma = 1 (three responses) the compiled shooting and a scipy one agree."""
     sys_ = ForcedSystem("duffing-forced", {**DUFF, "mu": 0.05})
     sf = derive_forced("duffing-forced", 2).slow_flow({**DUFF, "mu": 0.05})
-    from kbm.forced.steady import fixed_points
+    from kbm.slowflow.steady import fixed_points
     from numerics.shooting.forced_branch import guess_from
 
     fps = fixed_points(sf, 1.0, (1e-3, 4))

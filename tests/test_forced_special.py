@@ -54,7 +54,7 @@ def _averaged_hopf(order, mu, h, a0, s0):
     import sympy as sp
     from scipy.optimize import fsolve
 
-    from kbm.forced import derive_forced
+    from kbm.expansion.forced import derive_forced
 
     a, phi, sig, m = sp.symbols("a phi sigma mu")
     r = derive_forced("vdp-forced", order)
@@ -75,7 +75,7 @@ def test_neimark_sacker_of_the_forced_van_der_pol_against_the_averaged_hopf():
     stability to a torus (a complex pair through the unit circle); averaged, the slow flow's
     fixed point has a Hopf bifurcation there.  The true points (continuation + test
     function) against the averaged ones at orders 1 and 2: errors fall like mu and mu^2."""
-    from kbm.forced import derive_forced
+    from kbm.expansion.forced import derive_forced
     from numerics.shooting.forced_branch import numeric_response
 
     errors = {}

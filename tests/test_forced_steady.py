@@ -1,4 +1,4 @@
-"""Steady states of the forced slow flow (kbm.forced.steady) against closed forms.
+"""Steady states of the forced slow flow (kbm.slowflow.steady) against closed forms.
 
 Duffing primary resonance at first order (Nayfeh & Mook 4.1.1):
 sigma = 3 alpha a^2/8 +- sqrt(h^2/(4 a^2) - zeta^2) (omega0 = 1), the backbone
@@ -15,8 +15,8 @@ from hypothesis import strategies as st
 from scipy.optimize import brentq
 
 from kbm.errors import ParameterError
-from kbm.forced import derive_forced
-from kbm.forced.steady import backbone, fixed_points, response_curve
+from kbm.expansion.forced import derive_forced
+from kbm.slowflow.steady import backbone, fixed_points, response_curve
 
 Z, AL, H = 0.1, 1.0, 0.5
 
@@ -146,7 +146,7 @@ def test_vdp_locked_states_form_a_closed_curve():
 def test_scan_finds_every_fixed_point_of_the_resultant(name, vals, sig, order):
     """The grid scan against elimination by resultants (exact rational arithmetic, every
     root of a polynomial in a): the same fixed points inside the amplitude window."""
-    from kbm.forced.resultant import fixed_points_resultant
+    from kbm.slowflow.resultant import fixed_points_resultant
 
     sf = derive_forced(name, order).slow_flow(vals)
     exact = [f for f in fixed_points_resultant(sf, sig) if f.amplitude < 4]

@@ -30,9 +30,9 @@ from hypothesis import strategies as st
 
 from _references import section_cycle
 from numerics.cli import main
-from kbm.coupled import get_coupled_model
+from kbm.model.coupled_builtins import get_coupled_model
 from kbm.errors import ParameterError
-from kbm.params import PhysicalAxis
+from kbm.parameters.names import PhysicalAxis
 from numerics.locking.start import followed_axis, side_limits, start_values
 from numerics.locking.mutual import locking_region
 

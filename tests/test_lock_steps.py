@@ -23,7 +23,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import numerics.locking.mutual as locking
-from kbm.coupled import get_coupled_model
+from kbm.model.coupled_builtins import get_coupled_model
 from numerics.cli import main
 from numerics.cli.lock import _split
 from numerics.cli.params.values import parse_vary

@@ -1,6 +1,6 @@
 """The one parameter and option layer (issue 35, items 1, 2, 3, 5, 6; issue 40, items 1, 2, 5,
 6, 7, 8): every command reads ``-p`` and ``--vary`` through :mod:`numerics.cli.params.values` and
-:mod:`kbm.params`, refuses unknown names with the valid ones listed, converts the paper's
+:mod:`kbm.parameters.names`, refuses unknown names with the valid ones listed, converts the paper's
 physical parameters to the scaled ones and back (eqs. 3 and 12: ``delta = Delta/mu``,
 ``k = 2 pi/lam``), takes ``D`` or ``T = D/mu`` wherever noise applies, and speaks in
 command-line terms.  Each test is the command as a user types it."""
@@ -17,7 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from kbm.errors import ParameterError
-from kbm.params import names_of, noise_from, to_physical
+from kbm.parameters.names import names_of, noise_from, to_physical
 from numerics.cli import main
 from numerics.cli.params.values import parse_vary
 
@@ -91,7 +91,7 @@ def test_slide_takes_the_scaled_names(capsys):
 def test_physical_and_scaled_round_trip(Delta, lam, mu):
     """resolve (physical -> scaled) and to_physical (scaled -> physical) are inverse, exactly
     (delta = Delta/mu, k = 2 pi/lam)."""
-    from kbm.models import get_model
+    from kbm.model.builtins import get_model
 
     model = get_model("cdc")
     names = names_of(model)
@@ -157,8 +157,9 @@ def test_noise_from_converts_T_exactly():
 
 def test_derive_forced_coupled_system_from_the_command_line(capsys):
     """A forced coupled system with theta in --rhs derives with --nu0: the JSON equals the
-    Python API's (kbm.coupled.derive_coupled of coupled_custom(..., nu0=1))."""
-    from kbm.coupled import coupled_custom, derive_coupled
+    Python API's (kbm.expansion.coupled.derive_coupled of coupled_custom(..., nu0=1))."""
+    from kbm.model.coupled_builtins import coupled_custom
+    from kbm.expansion.coupled import derive_coupled
 
     rhs = ["-x1**3 + h*cos(theta) - 2*zeta*xdot1", "-2*zeta*xdot2 - x2**3 + c*x1**3"]
     internal = ["1:3", "1:1@1,F"]

@@ -23,7 +23,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
-from kbm.models import custom_model
+from kbm.model.builtins import custom_model
 from numerics.shooting.coupled_orbit import coupled_cycle
 from numerics.cycles import continue_cycles, limit_cycle
 from numerics.locking.mutual import true_edges

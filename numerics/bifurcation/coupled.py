@@ -21,7 +21,7 @@ line from where ``kbm lock`` starts (:func:`line_start`: 0 when the range holds 
 the first value from the middle out with a stable locked state of the order-1 slow flow).
 
 The averaged tongue: the folds of the slow flow's locked fixed point
-(:func:`kbm.coupled.derive_coupled` at orders 1..N, both axes kept as symbols),
+(:func:`kbm.expansion.coupled.derive_coupled` at orders 1..N, both axes kept as symbols),
 ``f(a, gamma) = 0``, ``det df/d(a, gamma) = 0``, continued the same way and seeded from
 :func:`numerics.locking.mutual.averaged_edges`.
 """
@@ -49,7 +49,7 @@ class LockedCycleFold:
     Parameters
     ----------
     model
-        A coupled built-in's name or a :class:`kbm.coupled.CoupledOscillators`.
+        A coupled built-in's name or a :class:`kbm.model.coupled.CoupledOscillators`.
     values
         Every other parameter's value (``mu`` included).
     axes
@@ -242,7 +242,8 @@ def coupled_true_folds(model, params: Mapping[str, float], axes: tuple[str, str]
 
 
 def _averaged_fold_system(model, values: Mapping[str, float], axes: tuple[str, str], order: int):
-    from kbm.coupled import amplitudes, derive_coupled
+    from kbm.model.coupled import amplitudes
+    from kbm.expansion.coupled import derive_coupled
 
     fixed = {k: sp.nsimplify(v, rational=True) for k, v in values.items()
              if k not in axes and k != "mu"}

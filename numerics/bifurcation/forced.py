@@ -30,7 +30,7 @@ points are zeros of test functions along the curves, located to convergence:
   (``det Phi = -1``).
 
 **Averaged curves.**  The slow flow ``a' = A(a, phi)``, ``phi' = B(a, phi)`` of
-:func:`kbm.forced.derive_forced` at orders 1..3 (the parameters of both axes kept as
+:func:`kbm.expansion.forced.derive_forced` at orders 1..3 (the parameters of both axes kept as
 symbols): its folds ``A = B = det d(A, B)/d(a, phi) = 0`` (the averaged fold curves, with
 their cusp) and its Hopf points ``A = B = tr d(A, B)/d(a, phi) = 0``, ``det > 0`` (the
 averaged Neimark–Sacker curves).  Their distance to the true curves is reported.
@@ -39,7 +39,7 @@ Seeds: the one-parameter true response curves in ``sigma`` at a few values of th
 parameter (:func:`numerics.shooting.forced_branch.numeric_response`, started from the KBM
 fixed points) give
 the folds and the sign changes of the period-doubling and Neimark–Sacker tests; the
-averaged response curves (:func:`kbm.forced.steady.response_curve`) give the averaged seeds.
+averaged response curves (:func:`kbm.slowflow.steady.response_curve`) give the averaged seeds.
 """
 
 from __future__ import annotations
@@ -77,7 +77,7 @@ class DrivenProblem:
     Parameters
     ----------
     model
-        A built-in forced model's name or a :class:`kbm.forced.ForcedOscillator`.
+        A built-in forced model's name or a :class:`kbm.model.forced.ForcedOscillator`.
     values
         Every other parameter's value (``mu`` included).
     axes
@@ -88,7 +88,7 @@ class DrivenProblem:
 
     def __init__(self, model, values: Mapping[str, float], axes: tuple[str, str],
                  rtol: float = 1e-11):
-        from kbm.forced import get_forced_model
+        from kbm.model.forced_builtins import get_forced_model
         from numerics.flow.coupled_flow import coupled_flow
 
         self.forced = get_forced_model(model) if isinstance(model, str) else model
@@ -189,7 +189,7 @@ def forced_seeds(prob: DrivenProblem, sigma_range: tuple[float, float], others: 
     ``sigma`` at each value in ``others`` of the other axis: its folds, and the sign changes
     of ``det(Phi + I)`` (period doubling) and of ``det Phi - 1`` with a complex pair
     (Neimark–Sacker) between neighbouring responses (interpolated)."""
-    from kbm.forced import derive_forced
+    from kbm.expansion.forced import derive_forced
     from numerics.flow.forced_system import ForcedSystem
     from numerics.shooting.forced_branch import numeric_response
 

@@ -86,7 +86,7 @@ def run_chain(args: argparse.Namespace) -> int:
 def _physical_header(names, values: dict, typed: dict) -> str:
     """The chain's parameters in the physical names the user typed (``Delta = 3, lam = 1``
     for ``delta = 30, k = 2 pi``), then the others, the stage velocity left out."""
-    from kbm.params import to_physical
+    from kbm.parameters.names import to_physical
 
     vals = {k: v for k, v in values.items() if k != "v"}
     scaled = [k for k in names.physical if k in vals and k not in typed]

@@ -98,7 +98,7 @@ def run_coupled_response(args: argparse.Namespace) -> int:
         raise ParameterError("give the range of the detuning (or another parameter): --vary "
                              "NAME=FROM:TO")
     if args.rhs:
-        from kbm.coupled import coupled_custom
+        from kbm.model.coupled_builtins import coupled_custom
 
         if args.model:
             raise ParameterError("give either a model name or --rhs, not both")

@@ -29,7 +29,7 @@ def run_convergence(args: argparse.Namespace) -> int:
     import sys
     from pathlib import Path
 
-    from kbm.forced import forced_expansion
+    from kbm.backend.forced import forced_expansion
     from numerics.cli.params.values import within
     from numerics.comparison.response_convergence import amplitude_study, fold_study
 

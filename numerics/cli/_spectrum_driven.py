@@ -31,8 +31,8 @@ def _opt(args, name, default=None):
 
 def _bind(args, kind: str):
     """``(model name, params without D and the detuning, D, detuning name, detunings)``."""
-    from kbm.params import lookup
-    from kbm.values import parameter_value
+    from kbm.parameters.names import lookup
+    from kbm.parameters.values import parameter_value
     from numerics.cli.params.values import check, given, noise_params, parse_vary, without_noise
 
     if _opt(args, "rhs") or not _opt(args, "model"):
@@ -48,7 +48,7 @@ def _bind(args, kind: str):
     if len(vary) > 1:
         raise ParameterError("--vary takes one detuning range here (e.g. --vary sigma=0.5:1.5)")
     if kind == "forced":
-        from kbm.coupled import get_coupled_model
+        from kbm.model.coupled_builtins import get_coupled_model
 
         name = get_coupled_model(args.model).nu_detuning or "sigma"
     else:

@@ -39,7 +39,7 @@ def register(sub) -> None:
 def _checked(args: argparse.Namespace, params: dict, name: str):
     """The model of the command line (a built-in name or the ``--rhs`` model), its names
     and, with ``--follow-period``, its saddle checked."""
-    from kbm.params import lookup
+    from kbm.parameters.names import lookup
     from numerics.cli.params.values import check
 
     spec = model_spec(args)
@@ -96,7 +96,7 @@ def _run(args: argparse.Namespace) -> int:
     key = _checked_key(args, params)
     checked = key is not None and read_record(key, "branch") is not None
     if args.model and not args.rhs and not checked:
-        from kbm.params import lookup
+        from kbm.parameters.names import lookup
 
         lookup(args.model, ("one", "coupled"), rhs=True)
     if is_coupled(args):

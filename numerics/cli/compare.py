@@ -87,7 +87,7 @@ def _fixed_scaled(model: str, params: dict) -> dict:
     kbm.errors.ParameterError
         For ``-p mu`` or a physical name, naming the scaled one to give instead.
     """
-    from kbm.params import names_of
+    from kbm.parameters.names import names_of
 
     if "mu" in params:
         raise ParameterError("--convergence gives the values of mu (MU1,MU2,...); leave "

@@ -56,7 +56,7 @@ def _driven(args) -> bool:
     if is_coupled(args):
         return True
     if args.model and not args.rhs:
-        from kbm.forced.builtins import FORCED_MODELS
+        from kbm.model.forced_builtins import FORCED_MODELS
 
         return args.model in FORCED_MODELS
     return False
@@ -95,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
         from numerics.cli._diagram_driven import run_driven
 
         return run_driven(args)
-    from kbm.params import lookup
+    from kbm.parameters.names import lookup
     from numerics.cli.params.values import check, given, within
 
     params = given(args.param)
@@ -153,7 +153,7 @@ def _run_autonomous(args, model, params, axes, ranges, order) -> int:
 
 
 def _write(args, d) -> None:
-    from kbm.files import output_folder
+    from kbm.output.files import output_folder
 
     data = d.to_json()
     if args.out:

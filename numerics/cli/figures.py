@@ -24,7 +24,7 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from kbm.files import output_folder
+    from kbm.output.files import output_folder
     from numerics.paper.figures import FIGURES, write_figures
 
     if args.list:

@@ -91,8 +91,8 @@ SLIDERS = ("sedf_comoving", "cdc", "sedf")
 
 
 def run(args: argparse.Namespace) -> int:
-    from kbm.models import parameter_value
-    from kbm.params import closest
+    from kbm.model.builtins import parameter_value
+    from kbm.parameters.names import closest
     from numerics.cli.params.options import check_ensemble, stored
     from numerics.cli.params.values import check, given, parse_vary, physical
     from numerics.executor import connect

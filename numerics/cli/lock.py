@@ -61,7 +61,7 @@ def _split(varies, model) -> tuple:
 
 
 def run(args: argparse.Namespace) -> int:
-    from kbm.files import output_folder, write_file
+    from kbm.output.files import output_folder, write_file
     from numerics.cli.params.values import within
     from numerics.locking.mutual import locking_region, plot_locking
 

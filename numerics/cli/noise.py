@@ -34,8 +34,8 @@ def register(sub) -> None:
                          "averaged answer is given alone"))
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the amplitude averaging (default 1; 2 adds the O(mu) and "
-                        "O(mu^2) corrections at fixed D/mu, kbm.stochastic_order2; polynomial "
-                        "F only)")
+                        "O(mu^2) corrections at fixed D/mu, kbm.noise.stochastic_order2; "
+                        "polynomial F only)")
     p.add_argument("--method", choices=("averaging", "fokker-planck"), default="averaging",
                    help="the prediction beside the simulation: stochastic averaging (default; "
                         "a model at rest also gets the stationary Fokker-Planck moments when "

@@ -88,7 +88,7 @@ def register(sub) -> None:
 def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from kbm.coupled import COUPLED_MODELS
+    from kbm.model.coupled_builtins import COUPLED_MODELS
 
     from numerics.cli.params.values import within
     from numerics.comparison.response_diagram import response_diagram
@@ -213,7 +213,7 @@ def _run_one(model, args: argparse.Namespace) -> int:
 
 
 def _run_nonresonant(args: argparse.Namespace) -> int:
-    from kbm.forced import derive_forced
+    from kbm.expansion.forced import derive_forced
 
     if args.vary or args.detuning is not None or args.resonance or args.out:
         raise ParameterError("--nu (a fixed, non-resonant forcing frequency) goes without "

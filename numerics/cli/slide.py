@@ -23,7 +23,7 @@ def register(sub) -> None:
 def run(args: argparse.Namespace) -> int:
     from numerics import analyze, slide
 
-    from kbm.models import parameter_value
+    from kbm.model.builtins import parameter_value
 
     from numerics.cli.params.values import check, given, physical
 

@@ -22,7 +22,8 @@ import numpy as np
 import sympy as sp
 from scipy.optimize import brentq
 
-from kbm.coupled import CoupledKBMResult, amplitudes
+from kbm.expansion.coupled_result import CoupledKBMResult
+from kbm.model.coupled import amplitudes
 from numerics.shooting.acceptance import orbit_scale, shoot_newton
 from numerics.errors import ConvergenceError
 from numerics.flow.coupled_flow import coupled_flow

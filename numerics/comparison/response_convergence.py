@@ -16,10 +16,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.forced import (ForcedKBMResult, ForcedOscillator, Resonance, forced_expansion,
-                        get_forced_model)
-from kbm.forced.steady import fixed_points, response_curve
-from kbm.strict_json import jsonable
+from kbm.expansion.forced_result import ForcedKBMResult
+from kbm.model.forced import ForcedOscillator, Resonance
+from kbm.backend.forced import forced_expansion
+from kbm.model.forced_builtins import get_forced_model
+from kbm.slowflow.steady import fixed_points, response_curve
+from kbm.output.strict_json import jsonable
 
 from numerics.errors import NoCycleError, NumericsError
 from numerics.shooting.forced_branch import guess_from, numeric_response

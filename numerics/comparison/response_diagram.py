@@ -1,7 +1,7 @@
 """The frequency-response diagram: the order-``N`` analytic curve next to the true one.
 
 :func:`response_diagram` derives the forced KBM expansion, traces the slow flow's response
-curve with its folds and backbone (:mod:`kbm.forced.steady`) and the true periodic
+curve with its folds and backbone (:mod:`kbm.slowflow.steady`) and the true periodic
 responses (:mod:`numerics.shooting.forced_branch`) over the same detuning range;
 :meth:`ResponseDiagram.to_json` is the JSON of ``kbm response``.
 """
@@ -14,9 +14,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.forced import ForcedOscillator, Resonance, forced_expansion, get_forced_model
-from kbm.forced.steady import ResponseCurve, backbone, response_curve
-from kbm.strict_json import complex_pairs, json_fields
+from kbm.model.forced import ForcedOscillator, Resonance
+from kbm.backend.forced import forced_expansion
+from kbm.model.forced_builtins import get_forced_model
+from kbm.slowflow.steady import ResponseCurve, backbone, response_curve
+from kbm.output.strict_json import complex_pairs, json_fields
 
 from numerics.shooting.forced_branch import NumericResponse, numeric_response
 from numerics.flow.forced_system import ForcedSystem
@@ -84,7 +86,7 @@ def response_diagram(model: ForcedOscillator | str, values: Mapping[str, object]
         The amplitude window in which the fixed points are sought; for ``F`` that is not
         polynomial in ``x``, ``xdot`` (the slider's ``sin(k x + theta)``) also the interval
         on which the numeric backend computes the expansion
-        (:func:`kbm.forced.numeric_derive_forced`), so its lower end must stay clear of
+        (:func:`kbm.backend.forced.numeric_derive_forced`), so its lower end must stay clear of
         ``a = 0``.
 
     Raises
@@ -152,7 +154,7 @@ def steady_states(model: ForcedOscillator | str, values: Mapping[str, object], s
                   amplitudes: tuple[float, float] = (1e-3, 5.0), numeric: bool = True,
                   rtol: float = 1e-10) -> SteadyStates:
     """The steady responses at the detuning ``sigma`` (``--detuning``), predicted and true."""
-    from kbm.forced.steady import fixed_points, trivial_state
+    from kbm.slowflow.steady import fixed_points, trivial_state
 
     from numerics.errors import NumericsError
     from numerics.shooting.forced_branch import guess_from

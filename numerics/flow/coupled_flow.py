@@ -2,7 +2,7 @@
 
 The state is ``y = (x_1..x_N, xdot_1..xdot_N)`` and the vector field
 ``(xdot, -omega**2 x + mu F(x, xdot))`` comes from the one symbolic definition of
-:class:`kbm.coupled.CoupledOscillators`.  The extended system appends the monodromy
+:class:`kbm.model.coupled.CoupledOscillators`.  The extended system appends the monodromy
 ``Phi' = J Phi`` (``2N x 2N``, column by column) and the divergence integral
 ``int tr J dt`` (Liouville's formula: ``det Phi(T) = exp(int tr J dt)``), and is
 compiled with the DOP853 stepper of :mod:`numerics.flow.jit` (scipy's ``solve_ivp``
@@ -20,7 +20,8 @@ from typing import Callable
 import numpy as np
 import sympy as sp
 
-from kbm.coupled import CoupledOscillators, get_coupled_model
+from kbm.model.coupled import CoupledOscillators
+from kbm.model.coupled_builtins import get_coupled_model
 from kbm.errors import ParameterError
 from kbm.symbols import mu as mu_symbol
 from kbm.symbols import t as t_symbol
@@ -49,7 +50,7 @@ def bind_coupled(model: CoupledOscillators | str, params: Mapping[str, object] |
     """
     if isinstance(model, str):
         model = get_coupled_model(model)
-    given = model.resolve(params)  # the family's bound form (kbm.bound)
+    given = model.resolve(params)  # the family's bound form (kbm.parameters.bound)
     fixed = model.with_frequencies(given)  # a frequency named by a parameter: its value
     if fixed is not model:
         given = {k: v for k, v in given.items() if k not in model.parameters

@@ -1,8 +1,8 @@
 """A forced model at fixed parameters, as a flow over one response period.
 
 The forced oscillator ``x'' + omega0**2 x = mu F(x, x', nu t)`` is turned into the
-non-autonomous :class:`kbm.models.Oscillator` of
-:meth:`kbm.forced.ForcedOscillator.with_time` (``nu`` a parameter) and compiled once
+non-autonomous :class:`kbm.model.builtins.Oscillator` of
+:meth:`kbm.model.forced.ForcedOscillator.with_time` (``nu`` a parameter) and compiled once
 (:func:`numerics.flow.compile_model`, the numba DOP853 of :mod:`numerics.flow.jit` with
 its variational equations); the detuning ``sigma`` only changes the value of
 ``nu = (p/q) omega0 + mu sigma`` and the period ``T = 2 pi p/nu``.
@@ -16,8 +16,9 @@ from collections.abc import Mapping
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.family import one_degree_form
-from kbm.forced import ForcedOscillator, Resonance, get_forced_model
+from kbm.model.family import one_degree_form
+from kbm.model.forced import ForcedOscillator, Resonance
+from kbm.model.forced_builtins import get_forced_model
 
 from numerics.errors import IntegrationError
 from numerics.flow import Method, compile_model, extended_state, flow, template_flow
@@ -31,7 +32,7 @@ class ForcedSystem:
     Parameters
     ----------
     model
-        A :class:`~kbm.forced.ForcedOscillator` or a built-in forced model's name.
+        A :class:`~kbm.model.forced.ForcedOscillator` or a built-in forced model's name.
     values
         Parameter values incl. ``mu`` (numbers or exact strings).
     resonance

@@ -52,7 +52,7 @@ class FractionRungs:
 
     Parameters
     ----------
-    split : kbm.conservative.ConservativeSplit
+    split : kbm.model.conservative.ConservativeSplit
     sigma, gamma : float
         The Hermite scale ``sqrt(kT)`` and the friction.
     wells : (float, float)

@@ -60,7 +60,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sps
 
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from kbm.errors import ModelError, ParameterError
 
 from ._bases import cheb_centred, cheb_mapped
@@ -260,7 +260,7 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
 
     Parameters
     ----------
-    model : str or kbm.models.Oscillator
+    model : str or kbm.model.builtins.Oscillator
         An autonomous model with a well at the origin (a slider at ``v = 0``).
     params : dict
         Its parameters with ``mu``.

@@ -17,8 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm.forced.result import SlowFlow
-from kbm.forced.steady import fixed_points
+from kbm.expansion.forced_result import SlowFlow
+from kbm.slowflow.steady import fixed_points
 
 from numerics.errors import NumericsError
 from numerics.shooting.forced_branch import guess_from

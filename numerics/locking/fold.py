@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm.coupled import CoupledOscillators
+from kbm.model.coupled import CoupledOscillators
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.shooting.arclength import FAIL as _FAIL
 from numerics.shooting.branch_problem import OrbitPoint, OrbitProblem

@@ -5,7 +5,7 @@ A detuning ``sigma`` (frequency ``1 + mu sigma`` of the second oscillator) is fo
 from 0 in both directions:
 
 - **averaged**: the locked state is a fixed point of the slow flow ``(a, gamma)`` of
-  :func:`kbm.coupled.derive_coupled` at order ``n``; it is continued in ``sigma`` and its
+  :func:`kbm.expansion.coupled.derive_coupled` at order ``n``; it is continued in ``sigma`` and its
   fold (``f = 0``, ``det J = 0``) is solved by Newton on the augmented system;
 - **true**: the locked state is a periodic orbit of the full ``2N``-dimensional system
   (:func:`numerics.shooting.coupled_orbit.coupled_cycle`, continued from the previous
@@ -29,9 +29,10 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from kbm.coupled import CoupledOscillators, get_coupled_model
+from kbm.model.coupled import CoupledOscillators
+from kbm.model.coupled_builtins import get_coupled_model
 from kbm.errors import ParameterError
-from kbm.strict_json import complex_pairs, jsonable
+from kbm.output.strict_json import complex_pairs, jsonable
 from numerics.errors import NoCycleError
 from numerics.flow.coupled_flow import bind_coupled
 from numerics.locking.fold import LockingEdge, true_edges

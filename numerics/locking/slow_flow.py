@@ -3,9 +3,9 @@ rates ``f(y, s, mu)`` in the amplitudes and the phase ``y = (a_1..a_N, gamma)`` 
 followed parameter ``s``, their Jacobian in ``y``, and Newton on its fixed points (the
 locked states of :mod:`numerics.locking.mutual`).
 
-The flow comes from the exact engine (:func:`kbm.coupled.derive_coupled`), or, for a
+The flow comes from the exact engine (:func:`kbm.expansion.coupled.derive_coupled`), or, for a
 right-hand side it does not take (``sin``, ``tanh`` coupling), from the numeric backend
-(:func:`kbm.coupled.numeric_average`).
+(:func:`kbm.backend.coupled.numeric_average`).
 """
 
 from __future__ import annotations
@@ -15,9 +15,11 @@ from collections.abc import Mapping
 import numpy as np
 import sympy as sp
 
-from kbm.coupled import CoupledOscillators, amplitudes, derive_coupled, numeric_average
+from kbm.model.coupled import CoupledOscillators, amplitudes
+from kbm.expansion.coupled import derive_coupled
+from kbm.backend.coupled import numeric_average
 from kbm.errors import ParameterError, ResolutionError, UnsupportedTermError
-from kbm.evaluate import numpy_array_function
+from kbm.output.evaluate import numpy_array_function
 from numerics._memo import memo
 
 __all__: list[str] = []
@@ -28,13 +30,13 @@ def _slow_flow(model: CoupledOscillators, order: int, fixed: tuple, parameter: s
     """Lambdified slow flow ``f(y, sigma, mu)`` and its Jacobian in ``y`` (memoised: time).
 
     For a right-hand side that the exact engine does not take (``sin``, ``tanh`` coupling),
-    the flow comes from the numeric backend (:func:`kbm.coupled.numeric_average`: the FFT
-    average at order 1, the recursion on jets above, :mod:`kbm.coupled.jets`), its
+    the flow comes from the numeric backend (:func:`kbm.backend.coupled.numeric_average`: the FFT
+    average at order 1, the recursion on jets above, :mod:`kbm.backend.jets`), its
     Jacobian by central differences."""
     try:
         res = derive_coupled(model, order, dict(fixed))
     except UnsupportedTermError:
-        from kbm.coupled.jets import MAX_ORDER_JETS
+        from kbm.backend.jets import MAX_ORDER_JETS
 
         if order > MAX_ORDER_JETS:
             raise ParameterError(f"the averaged flow of {model.name!r} (F not polynomial) "
@@ -61,7 +63,7 @@ def _numeric_flow(model: CoupledOscillators, fixed: dict, parameter: str, order:
 
     def both(y, s, mu):
         """The flow and its Jacobian from one expansion with the jets' derivatives
-        (kbm.coupled.jets; the last point kept: Newton asks for both at the same point)."""
+        (kbm.backend.jets; the last point kept: Newton asks for both at the same point)."""
         key = (tuple(y), float(s), float(mu))
         if key not in last:
             last.clear()

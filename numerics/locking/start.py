@@ -18,7 +18,7 @@ units, is crossed in as many steps as ``--vary sigma=-1:1``.
 A physical name on the command line (``--vary Delta=...`` or ``lam=...`` of the sliders,
 ``delta = Delta/mu``, ``k = 2 pi/lam``) is followed as the model's own parameter over the
 mapped interval, and the edges are mapped back (:func:`followed_axis`, the binding
-:func:`kbm.params.physical_axis`).
+:func:`kbm.parameters.names.physical_axis`).
 """
 
 from __future__ import annotations
@@ -28,9 +28,9 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
-from kbm.coupled import CoupledOscillators
+from kbm.model.coupled import CoupledOscillators
 from kbm.errors import ParameterError
-from kbm.params import PhysicalAxis, physical_axis
+from kbm.parameters.names import PhysicalAxis, physical_axis
 from numerics.errors import NoCycleError
 from numerics.flow.coupled_flow import bind_coupled
 from numerics.locking.slow_flow import _newton, _slow_flow, _split
@@ -156,8 +156,8 @@ def followed_axis(model: CoupledOscillators, params: Mapping[str, object], user:
                   lo: float, hi: float) -> PhysicalAxis:
     """The axis ``kbm lock`` follows for ``--vary user=lo:hi`` on ``model`` with the other
     values ``params`` (no defaults: a map's inputs are given), bound by
-    :func:`kbm.params.physical_axis`: the model's own name as it is, a physical one as its
-    scaled parameter over the mapped interval.
+    :func:`kbm.parameters.names.physical_axis`: the model's own name as it is, a physical one as
+    its scaled parameter over the mapped interval.
 
     Raises
     ------

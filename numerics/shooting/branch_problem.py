@@ -29,7 +29,7 @@ from numerics.shooting.arclength import correct_on_hyperplane, null_vector, pred
 from numerics.shooting.orbit import multipliers, peak
 
 if TYPE_CHECKING:  # the symbolic model: imported on use (issue 39)
-    from kbm.coupled import CoupledOscillators
+    from kbm.model.coupled import CoupledOscillators
 
 __all__ = ["BranchProblem", "OrbitProblem", "OrbitPoint"]
 

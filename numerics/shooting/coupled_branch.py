@@ -21,7 +21,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from kbm.coupled import CoupledOscillators
+from kbm.model.coupled import CoupledOscillators
 from kbm.errors import ParameterError
 from numerics.shooting.branch_result import CoupledBranch, CoupledBranchPoint, CoupledSpecialPoint
 from numerics.shooting.coupled_orbit import coupled_cycle, forced_response
@@ -140,7 +140,7 @@ def continue_coupled(model: CoupledOscillators | str, params: Mapping[str, objec
     Parameters
     ----------
     model
-        A :class:`~kbm.coupled.CoupledOscillators` (``N = 1`` included) or a built-in name.
+        A :class:`~kbm.model.coupled.CoupledOscillators` (``N = 1`` included) or a built-in name.
     params
         The other values (``mu`` included); the value of ``vary`` in it, if any, is where
         the branch starts (default ``bounds[0]``).

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm.coupled import CoupledOscillators
+from kbm.model.coupled import CoupledOscillators
 from kbm.errors import ParameterError
 from numerics.errors import ConvergenceError, NoCycleError
 from numerics.shooting.acceptance import trivial_ok
@@ -174,7 +174,7 @@ def coupled_cycle(model: CoupledOscillators | str, params: Mapping[str, object] 
     Parameters
     ----------
     model
-        A :class:`~kbm.coupled.CoupledOscillators` or a built-in name.
+        A :class:`~kbm.model.coupled.CoupledOscillators` or a built-in name.
     params
         Parameter values, ``mu`` included (defaults fill the others).
     start

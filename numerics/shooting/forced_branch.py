@@ -9,7 +9,7 @@ responses come out alike; every point is accepted by the one standard
 (:mod:`numerics.shooting.acceptance`: the residual relative to the orbit's scale, and a
 Newton correction that tells a true orbit from a residual minimum), so none lies past a
 fold.  The branches start from the KBM slow-flow fixed points
-(:func:`kbm.forced.steady.fixed_points`), each corrected by shooting.
+(:func:`kbm.slowflow.steady.fixed_points`), each corrected by shooting.
 """
 
 from __future__ import annotations
@@ -20,9 +20,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.forced.arclength import passes_start
-from kbm.forced.result import SlowFlow
-from kbm.forced.steady import fixed_points
+from kbm.slowflow.continuation import passes_start
+from kbm.expansion.forced_result import SlowFlow
+from kbm.slowflow.steady import fixed_points
 
 from numerics.errors import ConvergenceError, NumericsError
 from numerics.shooting.forced_orbit import ForcedOrbit, orbit_at, periodic_response

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm.strict_json import complex_pairs, json_fields
+from kbm.output.strict_json import complex_pairs, json_fields
 from numerics.shooting.forced_orbit import ForcedOrbit, periodic_response
 from numerics.flow.forced_system import ForcedSystem
 from numerics.shooting.locate import locate_zero

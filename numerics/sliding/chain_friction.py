@@ -22,9 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm.coupled import CoupledOscillators
+from kbm.model.coupled import CoupledOscillators
 from kbm.errors import ParameterError
-from kbm.strict_json import Rendered
+from kbm.output.strict_json import Rendered
 from numerics.executor import chunk, map_chunks
 from numerics.flow.coupled_flow import bind_coupled, coupled_flow
 

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.strict_json import complex_pairs, jsonable
+from kbm.output.strict_json import complex_pairs, jsonable
 
 from numerics.errors import ConvergenceError
 from numerics.noise.coupled import CHUNK, NoisySystem, bound_system, positive_noise

@@ -10,6 +10,6 @@
 - :mod:`numerics.cli.params.plane`: the two ``--vary`` axes of a forced or coupled
   ``kbm diagram`` in the model's own (scaled) names.
 
-The names themselves (``kbm.values.ParameterNames``, ``kbm.params``) and the options
+The names themselves (``kbm.parameters.values.ParameterNames``, ``kbm.parameters.names``) and the options
 shared with the symbolic commands (``kbm.cli._common``) live in :mod:`kbm`.
 """

@@ -63,8 +63,9 @@ def forced_model(args: argparse.Namespace):
 
 
 def _base_model(args: argparse.Namespace):
-    from kbm.forced import FORCED_MODELS, ForcedOscillator, add_forcing, get_forced_model
-    from kbm.models import custom_model
+    from kbm.model.forced_builtins import FORCED_MODELS, get_forced_model
+    from kbm.model.forced import ForcedOscillator, add_forcing
+    from kbm.model.builtins import custom_model
     from kbm.symbols import parse
 
     if args.model and args.rhs:
@@ -97,7 +98,7 @@ def _base_model(args: argparse.Namespace):
 def amplitude_window(model, args: argparse.Namespace) -> tuple[float, float]:
     """The amplitude window: ``--a-range``, or from ``--amax`` (clear of ``a = 0`` for the
     numeric backend, whose expansion has ``1/a`` terms)."""
-    from kbm.sampling import parse_a_range
+    from kbm.backend.sampling import parse_a_range
 
     if args.a_range:
         return parse_a_range(args.a_range)

@@ -16,7 +16,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 from kbm.errors import ParameterError
-from kbm.params import PhysicalAxis, physical_axis
+from kbm.parameters.names import PhysicalAxis, physical_axis
 
 __all__ = ["Plane"]
 
@@ -25,7 +25,7 @@ __all__ = ["Plane"]
 class Plane:
     """The user's axes ``user`` over ``user_ranges``, computed as ``axes`` over
     ``ranges``; ``back[i]`` maps a value of ``axes[i]`` to one of ``user[i]`` (the two
-    :class:`kbm.params.PhysicalAxis` bindings, ``bound``)."""
+    :class:`kbm.parameters.names.PhysicalAxis` bindings, ``bound``)."""
 
     bound: tuple[PhysicalAxis, PhysicalAxis]
     user: tuple[str, str] = field(init=False)
@@ -48,7 +48,7 @@ class Plane:
            ranges: Mapping[str, tuple[float, float]]) -> "Plane":
         """The plane of ``axes`` (as given) for ``model`` with ``-p`` values ``params``: the
         diagram's rules for which physical axis it maps, each bound by
-        :func:`kbm.params.physical_axis` (a map's other inputs from ``params``, else the
+        :func:`kbm.parameters.names.physical_axis` (a map's other inputs from ``params``, else the
         model's defaults).
 
         Raises

@@ -4,7 +4,7 @@ Every command reads its parameters and ranges here, so that the names, the gramm
 the messages are the same everywhere:
 
 * ``-p NAME=VALUE``: :func:`given` reads them; :func:`check` refuses a name the model
-  does not have, with the valid ones listed (:class:`kbm.params.ParameterNames`: ``mu``,
+  does not have, with the valid ones listed (:class:`kbm.parameters.names.ParameterNames`: ``mu``,
   the physical names ``Delta``, ``lam``, the scaled ``delta = Delta/mu``,
   ``k = 2 pi/lam``, and ``D`` or ``T = D/mu`` where noise applies);
 * ``--vary``: one grammar, :func:`parse_vary`::
@@ -41,7 +41,7 @@ import numpy as np
 from kbm.cli._common import check
 from kbm.cli._common import parse_params as given
 from kbm.errors import OrderError, ParameterError
-from kbm.values import ParameterNames
+from kbm.parameters.values import ParameterNames
 
 __all__ = ["DEFAULT_POINTS", "MAX_POINTS", "Vary", "parse_vary", "given", "check",
            "noise_params", "without_noise", "open_store", "numbers", "orders", "within", "USAGE"]
@@ -225,7 +225,7 @@ def noise_params(params: Mapping[str, str]) -> tuple[dict[str, str], str | None]
     kbm.errors.ParameterError
         For neither given (naming both), both, or a negative value named as given.
     """
-    from kbm.params import noise_from
+    from kbm.parameters.names import noise_from
 
     rest, D, name = noise_from(params)
     if D is None:
@@ -236,7 +236,7 @@ def noise_params(params: Mapping[str, str]) -> tuple[dict[str, str], str | None]
 
 def without_noise(params: Mapping[str, str]) -> tuple[dict[str, str], float]:
     """``(params without D, D as a number)`` of the values :func:`noise_params` returns."""
-    from kbm.values import parameter_value
+    from kbm.parameters.values import parameter_value
 
     rest = dict(params)
     return rest, float(parameter_value("D", rest.pop("D")))
@@ -291,7 +291,7 @@ def physical(names: ParameterNames, params: Mapping[str, object],
         For a scaled axis while ``mu`` is an axis too (give the physical name), or a value
         that has no physical form (``k = 0``).
     """
-    from kbm.params import to_physical
+    from kbm.parameters.names import to_physical
 
     fixed = {"mu": mu, **params} if "mu" not in axes and mu is not None else dict(params)
     out = {k: v for k, v in to_physical(names, fixed).items()}
@@ -324,8 +324,8 @@ def noisy_model(model: "str | object", items: Iterable[str]) -> tuple[dict[str, 
     kbm.errors.ModelError, kbm.errors.ParameterError
         For an unknown model (the built-ins listed) or name (the valid ones listed).
     """
-    from kbm.models import SLIDERS
-    from kbm.params import lookup
+    from kbm.model.builtins import SLIDERS
+    from kbm.parameters.names import lookup
 
     if isinstance(model, str):
         lookup(model, ("one",))

@@ -119,8 +119,8 @@ def mathieu_figure(out: Path) -> Path:
     delta = 1 (``mathieu-2``, opening at order 2: orders 2, 4) against scipy and Floquet."""
     from scipy.special import mathieu_a, mathieu_b
 
-    from kbm.forced import derive_forced
-    from kbm.forced.tongues import epsilon, mathieu_transition, transition_curves
+    from kbm.expansion.forced import derive_forced
+    from kbm.slowflow.tongues import epsilon, mathieu_transition, transition_curves
 
     import sympy as sp
 
@@ -187,7 +187,7 @@ def _floquet_boundaries(eps, n: int = 1) -> np.ndarray:
 
 def locking_figure(out: Path) -> Path:
     """The locking boundary sigma(h) of forced van der Pol, orders 1-2 against shooting."""
-    from kbm.forced import derive_forced
+    from kbm.expansion.forced import derive_forced
 
     from numerics.locking.entrainment import predicted_boundary, start_orbit, true_boundary
     from numerics.flow.forced_system import ForcedSystem

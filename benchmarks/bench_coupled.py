@@ -6,13 +6,13 @@ Run: ``python benchmarks/bench_coupled.py``
    (Nayfeh & Mook 1979, sec. 6.6: damping ``2 mu_i x_i'``, all eight cubic terms
    ``alpha_1..alpha_8``, ``omega_2 = 3 omega_1 + sigma_1``), without the forcing (kbm's
    coupled engine averages autonomous systems): the first- and second-order slow flows by
-   :func:`kbm.coupled.derive_coupled` (exact), against OSCILATE 1.0.7's
+   :func:`kbm.expansion.coupled.derive_coupled` (exact), against OSCILATE 1.0.7's
    ``Multiple_scales_oscillator(...).apply_MMS()`` at ``Ne = 1`` and ``Ne = 2``.  OSCILATE is
    installed by this script into its own virtual environment
    (``$KBM_BENCH_DIR``, default ``~/.cache/kbm-bench/oscilate``) with pip; it is not a
    dependency of the project.  Target: kbm's order 2 in under a tenth of OSCILATE's order 1.
 2. A true cycle of the 4-dimensional ``coupled-vdp`` (mu = 0.05, c = 0.3, sigma = 0.1)
-   with its four Floquet multipliers: :func:`numerics.coupled.coupled_cycle`'s Newton
+   with its four Floquet multipliers: :func:`numerics.shooting.coupled_orbit.coupled_cycle`'s Newton
    iterations from the section state (compiled DOP853 with the variational equations;
    warm), against the same Newton with :func:`scipy.integrate.solve_ivp` (DOP853) on the
    lambdified extended system, from the same start.  Target: 10 times faster.
@@ -31,8 +31,11 @@ import numpy as np
 import sympy as sp
 from scipy.integrate import solve_ivp
 
-from kbm.coupled import CoupledOscillators, InternalResonance, derive_coupled
-from numerics.coupled import coupled_cycle, coupled_flow
+from kbm.model.coupled import CoupledOscillators
+from kbm.expansion.resonance import InternalResonance
+from kbm.expansion.coupled import derive_coupled
+from numerics.shooting.coupled_orbit import coupled_cycle
+from numerics.flow.coupled_flow import coupled_flow
 
 F1 = ("-2*m1*xdot1 - al1*x1**3 - al2*x1**2*x2 - al3*x1*x2**2 - al4*x2**3")
 F2 = ("-2*m2*xdot2 - al5*x1**3 - al6*x1**2*x2 - al7*x1*x2**2 - al8*x2**3")
@@ -104,9 +107,9 @@ def kbm_times() -> tuple[float, float]:
 
 
 def scipy_cycle(y0: np.ndarray, T: float, values: dict, rtol: float = 1e-11):
-    """The same Newton as numerics.coupled.cycle, with scipy's DOP853 on the lambdified
+    """The same Newton as numerics.shooting.coupled_orbit, with scipy's DOP853 on the lambdified
     extended system (state, monodromy)."""
-    from kbm.coupled import get_coupled_model
+    from kbm.model.coupled_builtins import get_coupled_model
 
     model = get_coupled_model("coupled-vdp")
     state = list(model.state)
@@ -140,7 +143,7 @@ def scipy_cycle(y0: np.ndarray, T: float, values: dict, rtol: float = 1e-11):
 def main() -> None:
     print("1. slow flows of two cubic oscillators in 1:3 internal resonance (N&M 6.6)")
     t1, t2 = kbm_times()
-    print(f"  kbm.coupled.derive_coupled: order 1 {t1:.3f} s, order 2 {t2:.3f} s (exact)")
+    print(f"  kbm.expansion.coupled.derive_coupled: order 1 {t1:.3f} s, order 2 {t2:.3f} s (exact)")
     py = oscilate_python()
     if py is not None:
         o1 = run_oscilate(py, 1)
@@ -157,7 +160,7 @@ def main() -> None:
     ref = coupled_cycle("coupled-vdp", values)  # warm: compiled flow loaded
     fl = coupled_flow("coupled-vdp", values)
     y = fl.states(np.ones(4) * [1, 1, 0, 0], 400.0, 1)[-1]
-    from numerics.coupled.cycle import section_start
+    from numerics.shooting.coupled_orbit import section_start
     y0, T0 = section_start(fl, y, 6 * 2 * np.pi)
     reps = 20
     t0 = time.perf_counter()

@@ -155,7 +155,7 @@ def kbm_forced(prob: DrivenProblem, repeats: int) -> dict:
 def kbm_sedf(repeats: int) -> dict:
     """kbm's homoclinic curve of part 3, timed ``repeats`` times warm: the scan of ``beta
     = 0.5`` (the seed) and the continuation with every point's gap at most 1e-10."""
-    from kbm.models import get_model
+    from kbm.model.builtins import get_model
     from numerics.bifurcation import connections as C
     from numerics.bifurcation.autonomous import OneDof
     from numerics.bifurcation.curve import continue_curve
@@ -251,7 +251,7 @@ def part1(auto: str | None, repeats: int) -> None:
 
 
 def kbm_coupled(repeats: int) -> dict:
-    """kbm's two tongue edges (seeds by :func:`numerics.coupled.fold.locate_fold` from the
+    """kbm's two tongue edges (seeds by :func:`numerics.locking.fold.locate_fold` from the
     locked cycle at ``c = 0.3``, then the fold curves), timed ``repeats`` times warm."""
     runs, tasks = [], []
     for _ in range(repeats):

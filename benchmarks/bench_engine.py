@@ -33,7 +33,7 @@ from pathlib import Path
 import sympy as sp
 
 from kbm import custom_model, derive, derive_values, limit_cycle_series, numeric_derive
-from kbm.numeric_series import numeric_cycle_series
+from kbm.slowflow.numeric_series import numeric_cycle_series
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 from reference.lindstedt_fraction import vdp_lindstedt_fraction  # noqa: E402

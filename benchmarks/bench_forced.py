@@ -3,10 +3,11 @@
 Run: ``python benchmarks/bench_forced.py``
 
 1. Duffing primary resonance, the forced KBM expansion to order 3 (symbolic, exact):
-   :func:`kbm.forced.derive_forced` from scratch (target: under 1 s).
+   :func:`kbm.expansion.forced.derive_forced` from scratch (target: under 1 s).
 2. The true frequency-response curve of Duffing (mu = 0.05, zeta = 0.1, alpha = 1,
    h = 0.5, sigma from -1 to 3) with about 400 points per branch, stable and unstable, each
-   with its Floquet multipliers: :func:`numerics.forced.numeric_response` (compiled DOP853,
+   with its Floquet multipliers:
+   :func:`numerics.shooting.forced_branch.numeric_response` (compiled DOP853,
    pseudo-arclength; warm: the compiled flow loaded by a first short run; target: under
    10 s).
 3. The baseline: a hand-written shooting with :func:`scipy.integrate.solve_ivp` (DOP853,
@@ -15,7 +16,7 @@ Run: ``python benchmarks/bench_forced.py``
    it only has to confirm it).  It is run on every 10th point of the curve and its time
    per point is multiplied out; the largest difference of the responses is printed.
 4. Smooth F: the slider seen from its stage (``sin(k x + theta)``) to order 3 by the numeric
-   backend (:func:`kbm.forced.numeric_derive_forced`, to 1e-9) against the exact engine on
+   backend (:func:`kbm.backend.forced.numeric_derive_forced`, to 1e-9) against the exact engine on
    the degree-17 Taylor polynomial of the same ``F`` (the only exact route there is), and
    their largest difference.
 """
@@ -29,10 +30,13 @@ import numpy as np
 import sympy as sp
 from scipy.integrate import solve_ivp
 
-from kbm.forced import ForcedOscillator, derive_forced, numeric_derive_forced
-from kbm.forced.model import nu, phi, sigma, theta
+from kbm.model.forced import ForcedOscillator
+from kbm.expansion.forced import derive_forced
+from kbm.backend.forced import numeric_derive_forced
+from kbm.model.forced import nu, phi, sigma, theta
 from kbm.symbols import a, x, xdot
-from numerics.forced import ForcedSystem, numeric_response
+from numerics.flow.forced_system import ForcedSystem
+from numerics.shooting.forced_branch import numeric_response
 
 VALS = {"mu": 0.05, "zeta": 0.1, "alpha": 1, "h": 0.5}
 

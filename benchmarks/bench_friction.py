@@ -26,7 +26,7 @@ from collections import Counter
 
 import numpy as np
 
-from kbm.strict_json import finite
+from kbm.output.strict_json import finite
 from numerics.sliding.friction import FrictionSettings, friction_point
 from numerics.sliding.maps import friction_map
 

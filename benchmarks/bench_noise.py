@@ -56,7 +56,7 @@ import numpy as np
 from numba import njit
 from scipy.integrate import quad
 
-from kbm.models import custom_model
+from kbm.model.builtins import custom_model
 from numerics.noise import langevin_system
 from numerics.noise.seeds import trajectory_states
 

@@ -1,6 +1,6 @@
 """kbm: Krylov-Bogoliubov-Mitropolsky averaging to any order.
 
-The oscillators are ``x'' + omega0**2 x = mu F(x, x')`` (:mod:`kbm.models`); the
+The oscillators are ``x'' + omega0**2 x = mu F(x, x')`` (:mod:`kbm.model.builtins`); the
 averaging writes ``x = a cos(psi) + sum_n mu**n u_n(a, psi)`` with
 ``da/dt = sum_n mu**n A_n(a)`` and ``dpsi/dt = omega0 + sum_n mu**n B_n(a)``,
 no ``u_n`` holding a first harmonic, so ``a`` is the first-harmonic amplitude.
@@ -8,31 +8,29 @@ no ``u_n`` holding a first harmonic, so ``a`` is the first-harmonic amplitude.
 
 from .errors import (KBMError, ModelError, NonAutonomousError, OrderError, ParameterError,
                      ResolutionError, SeriesTruncationError, UnsupportedTermError)
-from ._lazy import keep_objects, lazy_names
+from ._lazy import lazy_names
 
 #: the public names, imported from their modules on first use (PEP 562): ``import kbm``
 #: (and every ``kbm`` command) then costs only what it uses; sympy is imported by the first
 #: name that needs it (``kbm --version`` and ``kbm --help`` import none)
 _LAZY = {
-    "latex": ".latex",
+    "latex": ".output.latex",
     **dict.fromkeys(("MODELS", "Oscillator", "custom_model", "get_model", "model_names"),
-                    ".models"),
+                    ".model.builtins"),
     **dict.fromkeys(("a", "mu", "parse", "psi", "t", "x", "xdot"), ".symbols"),
     "__version__": "._version",
-    "derive": ".averaging",
-    "AveragedCycle": ".averaged", "AveragedRates": ".averaged",
-    "averaged_cycles": ".averaged", "averaged_rates": ".averaged",
-    "mpmath_function": ".evaluate", "numpy_function": ".evaluate",
-    "NumericExpansion": ".numeric_kbm", "numeric_derive": ".numeric_kbm",
-    "ExpansionValues": ".pointwise", "derive_values": ".pointwise",
-    "KBMFunctions": ".result", "KBMResult": ".result",
-    "NumericCycleSeries": ".numeric_series", "numeric_cycle_series": ".numeric_series",
-    "LimitCycleSeries": ".series", "limit_cycle_series": ".series",
-    "StochasticAveraging": ".stochastic", "stochastic_average": ".stochastic",
+    "derive": ".expansion.one_dof",
+    "AveragedCycle": ".slowflow.averaged", "AveragedRates": ".slowflow.averaged",
+    "averaged_cycles": ".slowflow.averaged", "averaged_rates": ".slowflow.averaged",
+    "mpmath_function": ".output.evaluate", "numpy_function": ".output.evaluate",
+    "NumericExpansion": ".backend.one_dof", "numeric_derive": ".backend.one_dof",
+    "ExpansionValues": ".backend.pointwise", "derive_values": ".backend.pointwise",
+    "KBMFunctions": ".expansion.result", "KBMResult": ".expansion.result",
+    "NumericCycleSeries": ".slowflow.numeric_series",
+    "numeric_cycle_series": ".slowflow.numeric_series",
+    "LimitCycleSeries": ".slowflow.series", "limit_cycle_series": ".slowflow.series",
+    "StochasticAveraging": ".noise.stochastic", "stochastic_average": ".noise.stochastic",
 }
-
-#: ``kbm.latex`` is the function, also once the module of the same name is imported
-keep_objects(__name__, ("latex",))
 
 __getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)
 

@@ -2,9 +2,9 @@
 
 A package's ``__init__`` lists its heavier names with their modules; ``import kbm`` (and
 every command of the ``kbm`` command line) then costs only what it uses.  A name that is
-also a submodule's (``kbm.latex``, the function and the module) is kept the object by
-:func:`keep_objects`: importing the submodule would otherwise set the package attribute to
-the module.
+also a submodule's (a function ``sweep`` held by a module ``sweep``) is kept the
+object by :func:`keep_objects`: importing the submodule would otherwise set the package
+attribute to the module.
 """
 
 from __future__ import annotations

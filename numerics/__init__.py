@@ -4,20 +4,28 @@ Built in floors, each importing only the ones below it (``tests/test_floors.py``
 base holds the errors, the memo helper and :mod:`numerics.executor` (any sweep on a local
 process pool, an executor or a Dask cluster):
 
-1. :mod:`numerics.flow` — the model turned into numbers and trajectories;
-   :mod:`numerics.energy` — the strongly nonlinear (energy-balance) averaging about
-   the conservative orbits, numerical by nature, on top of the flow;
-2. :mod:`numerics.cycles` — true limit cycles (shooting, Floquet multipliers,
-   high precision, sweeps);
-3. :mod:`numerics.forced` — true periodic responses of forced oscillators (shooting at
-   the fixed period, Floquet multipliers, continuation in the detuning, locking);
-   :mod:`numerics.coupled` — ``N`` coupled oscillators: the compiled ``2N`` flow, periodic
-   orbits with all ``2N`` Floquet multipliers, the locking region averaged against true;
-4. :mod:`numerics.comparison` — approximations against the true cycles;
-5. :mod:`numerics.sliding` — the pulled sliders: driven runs (scipy and compiled),
-   stick-slip, steady sliding states, friction laws and maps;
-6. :mod:`numerics.paper` — the reproduction of D'Acunto's paper;
-7. :mod:`numerics.cli` — the ``kbm`` command line (on top of :mod:`kbm` and all of these).
+1. :mod:`numerics.flow` — the model turned into numbers and trajectories (one degree of
+   freedom, the ``2N`` flow of coupled oscillators, a forced model over its period);
+2. :mod:`numerics.shooting` — the one shooting and continuation code for ``2N``-dimensional
+   flows, with one acceptance standard (autonomous and forced orbits, branches, folds and
+   other special points);
+3. :mod:`numerics.noise` — Langevin integration of the noisy models, ensembles;
+4. :mod:`numerics.energy` — the strongly nonlinear (energy-balance) averaging about the
+   conservative orbits, numerical by nature, on top of the flow;
+5. :mod:`numerics.cycles` — true limit cycles of one degree of freedom on that code
+   (every predicted cycle, homoclinic ends, high precision, sweeps);
+6. :mod:`numerics.locking` — frequency locking (coupled and forced), averaged against true;
+7. :mod:`numerics.comparison` — approximations against the true cycles, responses and
+   backbones;
+8. :mod:`numerics.sliding` — the pulled sliders: driven runs (scipy and compiled),
+   stick-slip, steady sliding states, friction laws and maps, chains of sliders;
+9. :mod:`numerics.fokker_planck`, :mod:`numerics.escape`, :mod:`numerics.thermal`,
+   :mod:`numerics.spectrum` — the Kramers equation, escape rates, finite temperature,
+   spectra;
+10. :mod:`numerics.bifurcation` — diagrams in two parameters;
+11. :mod:`numerics.paper` — the reproduction of D'Acunto's paper, and every figure;
+12. :mod:`numerics.cli` — the ``kbm`` command line (on top of :mod:`kbm` and all of these),
+    with its one parameter and option layer, :mod:`numerics.cli.params`.
 """
 
 import os as _os

@@ -103,7 +103,12 @@ class RunRecord:
         """``{chunk index: results}`` of the chunks already finished."""
         rows = self.store._db.execute("SELECT idx, payload FROM chunks WHERE run = ?",
                                       (self.key,)).fetchall()
-        return {idx: pickle.loads(payload) for idx, payload in rows}
+        try:
+            return {idx: pickle.loads(payload) for idx, payload in rows}
+        except (ImportError, AttributeError) as exc:  # a class moved or renamed since
+            raise StoreError(f"{self.store.path} holds chunks of this run written by another "
+                             f"version of kbm ({exc}): run it again without --resume, "
+                             "into a new store file") from None
 
     def save(self, idx: int, results: list) -> None:
         """Commit one finished chunk (one transaction: all of it or nothing)."""

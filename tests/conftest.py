@@ -119,7 +119,7 @@ SLOW = {
     "tests/test_forced_numeric.py::test_command_line_slider": 5,
     "tests/test_coupled_numeric.py::test_locking_of_sine_coupled_van_der_pol_oscillators": 6,
     # and (5:25 for 1388 tests) the closed forms of the order-2 linewidth (the doctest of
-    # kbm.phase_diffusion.linewidth_series checks them), the shifted potential's u1 (its
+    # kbm.noise.phase_diffusion.linewidth_series checks them), the shifted potential's u1 (its
     # chain-vs-jets sibling), the escape JSON (test_escape_phase_cli), the noise one-line
     # errors (test_noise_cli's), T = D/mu (friction's and escape's), the extrapolation
     # record (the two-level estimate against quadrature)
@@ -196,7 +196,7 @@ HEAVY_FIRST = (
     "tests/test_cycles_continuation.py",  # 18
     "tests/test_comparison_fixed_delta.py",  # 17
     "tests/test_long_period.py",  # 16
-    "kbm/phase_diffusion.py",  # 15 (its doctest)
+    "kbm/noise/phase_diffusion.py",  # 15 (its doctest)
     "tests/test_stickslip_events.py",  # 13
     "tests/test_shooting_acceptance.py",  # 12
     "tests/test_noise_extrapolation.py",  # 11

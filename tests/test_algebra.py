@@ -18,7 +18,7 @@ import sympy as sp
 from hypothesis import given, strategies as st
 
 import kbm.algebra.laurent
-import kbm.averaging
+import kbm.expansion.one_dof
 from kbm import custom_model, derive
 from kbm.algebra.base import FourierAlgebra, FourierSeries
 from kbm.algebra.bessel_fourier import COS, SymAlgebra, SymFourier, jacobi_anger
@@ -26,7 +26,7 @@ from kbm.algebra.lattice import egcd, line, line_sum
 from kbm.algebra.laurent import Laurent, LaurentRing, Q
 from kbm.algebra.lazy_series import Builder, Leaf, Product, Tail
 from kbm.algebra.poly_fourier import PolyAlgebra, PolyFourier
-from kbm.models import get_model
+from kbm.model.builtins import get_model
 from kbm.symbols import a, psi, x, xdot
 
 beta = sp.Symbol("beta")
@@ -57,8 +57,8 @@ def test_protocol_names_exactly_what_derive_asks(monkeypatch):
     """Through a recording proxy, derive() of a polynomial and of a Bessel model reads
     exactly the Protocol's members from the algebra: nothing more, nothing left unused."""
     _Recorder.seen = set()
-    monkeypatch.setattr(kbm.averaging, "PolyAlgebra", lambda m: _Recorder(PolyAlgebra(m)))
-    monkeypatch.setattr(kbm.averaging, "SymAlgebra", lambda m: _Recorder(SymAlgebra(m)))
+    monkeypatch.setattr(kbm.expansion.one_dof, "PolyAlgebra", lambda m: _Recorder(PolyAlgebra(m)))
+    monkeypatch.setattr(kbm.expansion.one_dof, "SymAlgebra", lambda m: _Recorder(SymAlgebra(m)))
     derive(custom_model("g + (1 - x**2)*xdot"), 3)
     derive(custom_model("g - delta*sin(k*x) + (1 - x**2)*xdot"), 2)
     assert _Recorder.seen == _protocol_members()
@@ -166,7 +166,7 @@ def test_dense_laurent_arithmetic_is_the_sparse_one_exactly(t1, t2):
 
 @pytest.mark.skipif(not kbm.algebra.laurent.HAVE_DENSE, reason="needs python-flint")
 def test_dense_fourier_product_is_the_sparse_one_exactly():
-    raw = kbm.averaging.run_recursion("vdp", 6)
+    raw = kbm.expansion.one_dof.run_recursion("vdp", 6)
     for f in raw.u:
         for g in raw.u:
             dense, sparse = f._mul_dense(g), f._mul_sparse(g)
@@ -178,7 +178,7 @@ def test_dense_fourier_product_is_the_sparse_one_exactly():
 # ----------------------------------------------------------------------------- Bessel algebra
 def test_jacobi_anger_families_evaluate_like_sin_and_cos():
     """sin(z cos psi), cos(z cos psi) from the families match numpy at z = 1.7."""
-    from kbm.evaluate import numpy_function
+    from kbm.output.evaluate import numpy_function
 
     z, psis = 1.7, np.linspace(0, 2 * np.pi, 9)
     s, c = jacobi_anger(sp.Symbol("z"))

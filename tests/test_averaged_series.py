@@ -1,6 +1,6 @@
-"""kbm.averaged (numerical cycles of the averaged equations), kbm.series (their exact
-mu-series), the internal entry kbm.averaging.run_recursion, and the errors they raise:
-each condition its own kbm error, every message in API terms (no command-line flags)."""
+"""kbm.slowflow.averaged (numerical cycles of the averaged equations), kbm.slowflow.series (their
+exact mu-series), the internal entry kbm.expansion.one_dof.run_recursion, and the errors they
+raise: each condition its own kbm error, every message in API terms (no command-line flags)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import sympy as sp
 
 from kbm import (AveragedRates, KBMError, KBMResult, OrderError, ParameterError,
                  averaged_cycles, averaged_rates, custom_model, derive, limit_cycle_series)
-from kbm.averaging import RawExpansion, run_recursion
+from kbm.expansion.one_dof import RawExpansion, run_recursion
 from kbm.errors import AveragedCycleError, ExpansionError, SeriesTruncationError
 from kbm.symbols import a, psi
 

@@ -13,13 +13,13 @@ import time
 import pytest
 
 from kbm import derive, limit_cycle_series
-from kbm.derivations import write_derivations
+from kbm.output.derivations import write_derivations
 from kbm.errors import (CostError, InputSizeError, KBMError, ModelError, NonAutonomousError,
                         NonFiniteError, OrderError, OutputError, ParameterError,
                         UnsupportedTermError)
 from kbm.symbols import parse
-from kbm.bound import bind
-from kbm.models import custom_model
+from kbm.parameters.bound import bind
+from kbm.model.builtins import custom_model
 from numerics import limit_cycle, slide
 from numerics.cli import main
 from numerics.errors import NoCycleError

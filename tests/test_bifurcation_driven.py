@@ -8,7 +8,8 @@ independent computation.
   ``h_c^2 = 256 zeta^3/(9 sqrt(3) alpha)``; and its scaling ``a -> a/sqrt(alpha)``,
   ``h -> h/sqrt(alpha)`` (the slow flow's symmetry, linear in ``h``).
 - A point of the true fold curve against the one-parameter fold of ``kbm response``'s
-  continuation in ``sigma`` at that ``h`` (:func:`numerics.forced.numeric_response`), and
+  continuation in ``sigma`` at that ``h``
+  (:func:`numerics.shooting.forced_branch.numeric_response`), and
   the multiplier +1 of its monodromy.
 - The true cusp against the averaged cusps at orders 1-3 (the distance decreasing with
   the order).
@@ -83,8 +84,9 @@ def true_fold():
 def test_true_fold_points_against_one_parameter_folds(true_fold):
     """A point of the fold curve is a fold of the one-parameter response curve at its h
     (kbm response's continuation), and its monodromy has a multiplier +1."""
-    from kbm.forced import derive_forced
-    from numerics.forced import ForcedSystem, numeric_response
+    from kbm.expansion.forced import derive_forced
+    from numerics.flow.forced_system import ForcedSystem
+    from numerics.shooting.forced_branch import numeric_response
 
     prob, tasks, curves, _ = true_fold
     assert [c.kind for c in curves] == ["fold"]
@@ -132,7 +134,7 @@ def test_coupled_vdp_tongue_from_a_range_without_zero():
     value from the middle out inside the tongue, 0.2125; the right edge ``sigma = c`` is
     found from it."""
     from numerics.bifurcation.coupled import coupled_averaged_folds, line_start
-    from numerics.coupled.lock_start import start_values
+    from numerics.locking.start import start_values
 
     inside = [s for s in start_values(0.1, 1.0) if abs(s) < 0.3]
     assert line_start("coupled-vdp", {"mu": 0.1}, "sigma", "c", 0.3, (0.1, 1.0)) \
@@ -148,7 +150,7 @@ def test_coupled_vdp_tongue_against_kbm_lock():
     """The fold curve of the locked cycle, corrected onto c = 0.3 (not a seed), gives
     kbm lock's true edges (bisection on shooting, then the one-parameter fold)."""
     from numerics.bifurcation.coupled import coupled_true_folds
-    from numerics.coupled.fold import true_edges
+    from numerics.locking.fold import true_edges
 
     tasks = []
     curves, _ = coupled_true_folds("coupled-vdp", {"mu": 0.1}, ("sigma", "c"),
@@ -252,10 +254,11 @@ def test_run_driven_ctrl_c_keeps_the_paths_and_resume_finishes(tmp_path, capsys,
 def test_forced_vdp_neimark_sacker_against_one_parameter_bisection():
     """A point of the true Neimark-Sacker curve of vdp-forced is where kbm response's
     one-parameter branch at that h has its Neimark-Sacker point (located there by bisection
-    on shooting, numerics.forced.special); the true Bogdanov-Takens points lie within
+    on shooting, numerics.shooting.special); the true Bogdanov-Takens points lie within
     1e-3 of the order-2 averaged ones."""
-    from kbm.forced import derive_forced
-    from numerics.forced import ForcedSystem, numeric_response
+    from kbm.expansion.forced import derive_forced
+    from numerics.flow.forced_system import ForcedSystem
+    from numerics.shooting.forced_branch import numeric_response
 
     ranges = {"sigma": (-1.5, 1.5), "h": (0.05, 1.5)}
     prob = DrivenProblem("vdp-forced", {"mu": 0.1}, AXES)

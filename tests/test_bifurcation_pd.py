@@ -33,7 +33,7 @@ from scipy.optimize import brentq
 
 from numerics.bifurcation.curve import correct
 from numerics.bifurcation.forced import DrivenProblem, forced_true_curves, joined
-from numerics.coupled.continuation import continue_coupled
+from numerics.shooting.coupled_branch import continue_coupled
 from _references import duffing_floquet
 
 MU, ZETA, ALPHA = 1.0, 0.05, 1.0
@@ -233,8 +233,8 @@ def test_no_partner_without_the_symmetry():
     force of ``x'' + x = mu (-2 zeta x' - x^2 + h cos nu t)``) has no partner."""
     import sympy as sp
 
-    from kbm.forced import ForcedOscillator, Resonance
-    from kbm.forced.model import theta
+    from kbm.model.forced import ForcedOscillator, Resonance
+    from kbm.model.forced import theta
     from kbm.symbols import x, xdot
 
     zeta, h = sp.symbols("zeta h")

@@ -12,7 +12,7 @@ The code locates the 1:4 and 1:3 strong resonances as the zeros of ``tr Phi`` an
 located point the test finds the response again by Newton's method on the stroboscopic
 map and its monodromy from the variational equations ``Phi' = A(t) Phi`` written here,
 integrated by scipy's DOP853 (rtol 1e-12): a second method, sharing nothing with the
-compiled flow of :mod:`numerics.coupled`.  Its multipliers lie on the unit circle at angle
+compiled flow of :mod:`numerics.flow.coupled_flow`.  Its multipliers lie on the unit circle at angle
 ``pi/2`` (``2 pi/3``) to 1e-6.
 """
 

@@ -40,7 +40,7 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
 
 
 @pytest.mark.parametrize("argv, says", [
-    # the conservative part's potential (kbm.conservative): the option, not the argument
+    # the conservative part's potential (kbm.model.conservative): the option, not the argument
     (["predict", "--rhs", "(1-x**2)*xdot - x**3", "--potential", "x**2", "-p", "mu=0.1"],
      "change --potential so that V'(x) = g(x), or leave out --potential"),
     (["predict", "--rhs", "(1-x**2)*xdot - x**3", "-p", "mu=0.1", "--method", "kbm",

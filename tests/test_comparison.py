@@ -157,7 +157,7 @@ def test_time_reversal_symmetry_detection():
 def test_compare_custom_model_rayleigh_velocity():
     """A user model: Rayleigh written with --rhs.  Its velocity obeys van der Pol, so the
     true cycle has amplitude 2 + O(mu^2) in x' and the first-order a* = 2 (omega0 = 1)."""
-    from kbm.models import custom_model
+    from kbm.model.builtins import custom_model
 
     c = compare(custom_model("(1 - xdot**2/3)*xdot"), {"mu": 0.1}, orders=(1, 3))
     p1, p3 = c.predictions

@@ -4,7 +4,7 @@ References, none from the compiled corrector: numpy's LAPACK solve and eigenvalu
 3x3 solve and trivial multiplier; the Python corrector of numerics.shooting.planar (the
 same algorithm on numpy, with the parameter values computed exactly per value) for whole
 branches; limit cycles shot from scratch at rtol 1e-12; the exact values of
-kbm.bound.ParameterLine for the affine parameter vector it assumes.
+kbm.parameters.bound.ParameterLine for the affine parameter vector it assumes.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 
 import numerics.shooting.planar as arc
 from kbm import custom_model
-from kbm.bound import ParameterLine
+from kbm.parameters.bound import ParameterLine
 from numerics import limit_cycle
 from numerics.cycles.continuation import continue_cycles
 from numerics.errors import ConvergenceError

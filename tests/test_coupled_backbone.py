@@ -1,7 +1,7 @@
 """Backbone curves of duffing-1-3 (two cubic oscillators in 1:3 internal resonance, potential
 coupling k x1^3 x2, no damping; Nayfeh & Mook 1979, sec. 6.6): the averaged backbones
 (fixed points of the slow flow with gamma = 0 or pi) against the true reversible periodic
-orbits found by shooting (numerics.coupled.backbone).  At the true orbit's first-harmonic
+orbits found by shooting (numerics.comparison.backbone).  At the true orbit's first-harmonic
 amplitude a1, the averaged frequency of order n is off by O(mu^(n+1)) and the averaged a2
 by O(mu^n): halving mu divides the errors by 2^(n+1) and 2^n (n = 1, 2, 3).
 """
@@ -12,8 +12,8 @@ import math
 
 import pytest
 
-from kbm.coupled import derive_coupled
-from numerics.coupled.backbone import averaged_backbone_point, true_backbone_point
+from kbm.expansion.coupled import derive_coupled
+from numerics.comparison.backbone import averaged_backbone_point, true_backbone_point
 
 VALS = {"zeta1": 0, "zeta2": 0, "alpha1": 1, "alpha2": 1, "k": 1, "h": 0}
 

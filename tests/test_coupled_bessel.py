@@ -1,5 +1,5 @@
 """sin(c x_i) and cos(c x_i) in the exact coupled expansion at first order
-(kbm.coupled.bessel, issue 23: the sliders of paper eq. 3 in a chain), against independent
+(kbm.algebra.coupled_bessel, issue 23: the sliders of paper eq. 3 in a chain), against independent
 references.
 
 - N = 1: the one-degree-of-freedom Bessel engine kbm.derive (its own Jacobi-Anger series
@@ -7,11 +7,11 @@ references.
   (eq. 12) and on products x^p cos(k x), x' sin(k x): the rates equal as expressions,
   u_1 numerically.
 - u_{i,1} against FFT quadrature on the torus (the dimer; a forced 1:3 system).
-- N = 2, 3: the jets (kbm.coupled.jets: F's Taylor series on an FFT grid of the torus,
+- N = 2, 3: the jets (kbm.backend.jets: F's Taylor series on an FFT grid of the torus,
   no Bessel function anywhere) on the SEDF dimer and chain at random points (hypothesis),
   and on a forced slider with a 1:3 internal resonance.
 - The first-order frequency of the dimer's in-phase and anti-phase cycles against
-  shooting (numerics.coupled.cycle): the error falls like mu**2.
+  shooting (numerics.shooting.coupled_orbit): the error falls like mu**2.
 - The cut of the Jacobi-Anger series is exact: raising it changes nothing.
 - A conservative F (the potential and the springs) leaves sum a_i**2 unchanged at first
   order (one slider: its amplitude).
@@ -30,12 +30,14 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import kbm
-from kbm.coupled import bessel as bessel_module
-from kbm.coupled import CoupledOscillators, coupled_custom, derive_coupled, get_coupled_model
-from kbm.coupled.jets import jet_expansion
-from kbm.coupled.model import CoupledOscillators
+from kbm.algebra import coupled_bessel as bessel_module
+from kbm.model.coupled import CoupledOscillators
+from kbm.model.coupled_builtins import coupled_custom, get_coupled_model
+from kbm.expansion.coupled import derive_coupled
+from kbm.backend.jets import jet_expansion
+from kbm.model.coupled import CoupledOscillators
 from kbm.errors import ModelError, OrderError, ParameterError, UnsupportedTermError
-from kbm.models import custom_model, get_model
+from kbm.model.builtins import custom_model, get_model
 
 A1 = sp.Symbol("a1")
 
@@ -188,7 +190,7 @@ def test_the_dimer_on_the_command_line(capsys):
 
 
 def _dimer_cycle(mu: float, sign: int):
-    from numerics.coupled.cycle import coupled_cycle
+    from numerics.shooting.coupled_orbit import coupled_cycle
 
     # in phase (x2 = x1) and anti-phase (x2 = -x1) are invariant: F is odd
     return coupled_cycle("sedf-dimer", {"mu": mu, "delta": 1.0, "kappa": 0.5, "beta": 1,

@@ -1,4 +1,4 @@
-"""Branches of periodic orbits of coupled systems (numerics.coupled.continuation, issues 23
+"""Branches of periodic orbits of coupled systems (numerics.shooting.coupled_branch, issues 23
 and 25) against independent references.
 
 - Two identical van der Pol oscillators with dissipative coupling (coupled-vdp, sigma = 0):
@@ -10,7 +10,7 @@ and 25) against independent references.
   period-1 responses form a closed branch (an isola) whose period doublings are located
   against a separate scipy shooting (tests/test_forced_special.py's reference: Newton on
   the period map with its own variational equations, Brent on lambda_min + 1), and whose
-  folds against the one-degree-of-freedom continuation (numerics.forced).
+  folds against the one-degree-of-freedom continuation (numerics.shooting.forced_branch).
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ import pytest
 from scipy.optimize import brentq
 
 from numerics import limit_cycle
-from numerics.coupled.continuation import continue_coupled
+from numerics.shooting.coupled_branch import continue_coupled
 from numerics.cli import main
 from _references import duffing_lambda_min
 
@@ -64,7 +64,8 @@ def test_forced_duffing_branch_is_closed(duffing_isola):
     # the isola's ends are folds, and every point lies between them
     assert min(sig) >= folds[0] - 1e-6 and max(sig) <= folds[-1] + 1e-6
     # the folds inside, against the one-degree-of-freedom continuation's 0.77719323020 and
-    # 0.87977159034 (numerics.forced, located there by the same fold test on its own branch)
+    # 0.87977159034 (numerics.shooting.forced_branch, located there by the same fold test
+    # on its own branch)
     for ref in (0.7771932302, 0.8797715903):
         assert min(abs(f - ref) for f in folds) < 1e-8
     for s in br.special:
@@ -125,9 +126,10 @@ def test_coupled_branch_bad_input(capsys, argv, words):
 def test_kbm_response_takes_rhs_lists(capsys):
     """Two identical forced Duffing oscillators with a spring between them, forced alike: the
     in-phase responses (x1 = x2, the spring idle) are the single forced Duffing's, which the
-    one-degree-of-freedom shooting (numerics.forced, separate code) gives at each sigma."""
-    from numerics.forced import ForcedSystem
-    from numerics.forced.shooting import periodic_response
+    one-degree-of-freedom shooting (numerics.shooting.forced_orbit, separate code) gives at
+    each sigma."""
+    from numerics.flow.forced_system import ForcedSystem
+    from numerics.shooting.forced_orbit import periodic_response
 
     argv = ["response", "--rhs", "-2*zeta*xdot1 - x1**3 + h*cos(theta) - k*(x1 - x2)",
             "--rhs", "-2*zeta*xdot2 - x2**3 + h*cos(theta) - k*(x2 - x1)", "--omega0", "1,1",

@@ -1,10 +1,10 @@
 """Irrational constants and shifted potentials in the exact coupled expansion
-(kbm.coupled.constants, issue 23: a Frenkel-Kontorova chain of self-excited sliders).
+(kbm.model.constants, issue 23: a Frenkel-Kontorova chain of self-excited sliders).
 
 - A constant that is not rational (sqrt(2), pi, cos(phi)) is an independent generator of
   the ring: the expansion with it equals the expansion with a symbol in its place, the
   value substituted afterwards (exact, order 2).
-- A slider on a shifted potential, sin(k x_i + phi_i), equals the jets (kbm.coupled.jets:
+- A slider on a shifted potential, sin(k x_i + phi_i), equals the jets (kbm.backend.jets:
   F's Taylor series on an FFT grid, no Bessel function) at random points, and its
   correction u_{i,1} the FFT quadrature of tests/_coupled_references.py.
 - A forcing with a phase, h cos(theta + phi), equals its two quadratures.
@@ -19,8 +19,9 @@ from _coupled_references import cut_sums, rates_function, u_by_fft
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from kbm.coupled import coupled_custom, derive_coupled
-from kbm.coupled.jets import jet_expansion
+from kbm.model.coupled_builtins import coupled_custom
+from kbm.expansion.coupled import derive_coupled
+from kbm.backend.jets import jet_expansion
 from kbm.errors import ModelError
 
 

@@ -1,5 +1,5 @@
-"""Periodic orbits and locking of coupled oscillators (numerics.coupled) against independent
-references.
+"""Periodic orbits and locking of coupled oscillators (numerics.shooting, numerics.locking)
+against independent references.
 
 - Liouville's formula: det of the monodromy = exp of the divergence integral;
 - N = 1 of the coupled shooting = the one-degree-of-freedom shooting of numerics.cycles;
@@ -23,11 +23,14 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 from scipy.optimize import fsolve
 
-from kbm.coupled import amplitudes, derive_coupled, get_coupled_model
+from kbm.model.coupled import amplitudes
+from kbm.expansion.coupled import derive_coupled
+from kbm.model.coupled_builtins import get_coupled_model
 from kbm.errors import ParameterError
 from numerics import limit_cycle
-from numerics.coupled import coupled_cycle, coupled_flow
-from numerics.coupled.locking import amplitude_death, averaged_edges, true_edges
+from numerics.shooting.coupled_orbit import coupled_cycle
+from numerics.flow.coupled_flow import coupled_flow
+from numerics.locking.mutual import amplitude_death, averaged_edges, true_edges
 
 P = {"mu": 0.02, "c": 0.3, "sigma": 0.1}
 
@@ -148,7 +151,7 @@ def test_sedf_dimer_synchronisation():
     slider's with the stiffness 2 kappa added (x2 = -x1 and the potential is odd), both
     against the one-degree-of-freedom shooting; the in-phase one is stable, the anti-phase
     one unstable (mu = 0.1, Delta = 1.5, lam = 1, beta = 1, kappa = 0.5)."""
-    from kbm.models import custom_model
+    from kbm.model.builtins import custom_model
 
     p = {"mu": 0.1, "Delta": 1.5, "lam": 1, "beta": 1, "kappa": 0.5}
     inphase = coupled_cycle("sedf-dimer", p, start=[1, 1, 0, 0])
@@ -165,7 +168,7 @@ def test_sedf_dimer_synchronisation():
 
 
 def test_sedf_chain_names():
-    from kbm.coupled import get_coupled_model
+    from kbm.model.coupled_builtins import get_coupled_model
     from kbm.errors import ModelError
 
     assert get_coupled_model("sedf-chain").dof == 4

@@ -1,6 +1,6 @@
-"""The coupled KBM recursion (kbm.coupled) against independent references.
+"""The coupled KBM recursion (kbm.expansion.coupled) against independent references.
 
-- N = 1 is the one-degree-of-freedom recursion of kbm.averaging (a different algebra and
+- N = 1 is the one-degree-of-freedom recursion of kbm.expansion.one_dof (a different algebra and
   code path), exactly, to order 5;
 - the first order is the numeric average of F_i sin(psi_i), F_i cos(psi_i) over the
   resonant torus (FFT quadrature, Bogoliubov & Mitropolsky 1961, ch. 5);
@@ -22,8 +22,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from kbm import derive
-from kbm.coupled import (CoupledOscillators, InternalResonance, UndeclaredResonanceError,
-                         amplitudes, derive_coupled, get_coupled_model, positions, velocities)
+from kbm.model.coupled import CoupledOscillators, amplitudes, positions, velocities
+from kbm.expansion.resonance import InternalResonance, UndeclaredResonanceError
+from kbm.expansion.coupled import derive_coupled
+from kbm.model.coupled_builtins import get_coupled_model
 from kbm.errors import ModelError, OrderError, ParameterError, UnsupportedTermError
 from kbm.symbols import mu
 
@@ -54,7 +56,7 @@ def test_one_degree_of_freedom_to_high_orders(name, order):
 
 
 def test_order_limits_depend_on_the_degrees_of_freedom():
-    from kbm.coupled.engine import MAX_ORDER, MAX_ORDER_ONE
+    from kbm.expansion.coupled import MAX_ORDER, MAX_ORDER_ONE
     from kbm.errors import CostError
 
     with pytest.raises(OrderError, match=f"from 1 to {MAX_ORDER_ONE} for 1 degree of"):

@@ -1,7 +1,7 @@
 """Forced coupled systems: the forcing angle theta = nu t as one more angle of the coupled
 recursion.
 
-- N = 1 with forcing is the forced recursion of kbm.forced (its own two-angle engine),
+- N = 1 with forcing is the forced recursion of kbm.expansion.forced (its own two-angle engine),
   exactly to order 3, for every polynomial forced built-in (primary, superharmonic,
   parametric resonances): one model type for one degree of freedom, forced or not;
 - the saturation of quadratic coupling in 1:2 internal resonance forced near the higher
@@ -21,16 +21,18 @@ import pytest
 import sympy as sp
 from scipy.optimize import fsolve
 
-from kbm.coupled import amplitudes, derive_coupled
-from kbm.forced import derive_forced, get_forced_model
-from numerics.coupled import forced_response
+from kbm.model.coupled import amplitudes
+from kbm.expansion.coupled import derive_coupled
+from kbm.expansion.forced import derive_forced
+from kbm.model.forced_builtins import get_forced_model
+from numerics.shooting.coupled_orbit import forced_response
 
 
 @pytest.mark.parametrize("name", ["duffing-forced", "duffing-super", "mathieu", "vdp-forced",
                                   "parametric", "mathieu-2", "mathieu-3",
                                   "duffing-super-hard", "duffing-sub-hard"])
 def test_forced_one_dof_is_the_forced_recursion(name):
-    """gamma = q theta - p psi of the coupled engine is -p phi of kbm.forced; with a hard
+    """gamma = q theta - p psi of the coupled engine is -p phi of kbm.expansion.forced; with a hard
     forcing (N&M 4.1.2-4.1.3) both shift x by Lambda cos(theta) (Lambda1 here)."""
     fm = get_forced_model(name)
     f = derive_forced(name, 3)
@@ -48,7 +50,7 @@ def test_hard_forcing_of_coupled_systems():
     """Two Duffings, the first hard-forced near nu = omega1/3 (superharmonic): N = 2 with
     the second oscillator uncoupled gives the first's rates of the one-degree-of-freedom
     forced engine; a hard forcing at its mode's frequency, or without nu0, is refused."""
-    from kbm.coupled import CoupledOscillators
+    from kbm.model.coupled import CoupledOscillators
     from kbm.errors import ModelError, ParameterError
 
     two = CoupledOscillators("two", ("-2*zeta*xdot1 - alpha*x1**3",

@@ -27,9 +27,9 @@ import pytest
 import sympy as sp
 from scipy.optimize import fsolve
 
-from kbm.coupled import derive_coupled
-from kbm.coupled.result import amplitudes
-from numerics.coupled import forced_response
+from kbm.expansion.coupled import derive_coupled
+from kbm.expansion.coupled_result import amplitudes
+from numerics.shooting.coupled_orbit import forced_response
 
 VALS = {"zeta1": sp.Rational(1, 10), "zeta2": sp.Rational(1, 10), "alpha1": 1, "alpha2": 1,
         "k": 1}

@@ -1,4 +1,4 @@
-"""Friction laws of pulled chains of sliders (numerics.coupled.friction, issue 23).
+"""Friction laws of pulled chains of sliders (numerics.sliding.chain_friction, issue 23).
 
 References: with kappa = 0 the chain is N independent stage-attached SEDF sliders, whose
 friction law numerics.sliding.friction.friction_point computes by another route (its own
@@ -12,7 +12,7 @@ import json
 
 import pytest
 
-from numerics.coupled.friction import chain_friction_law, chain_friction_point
+from numerics.sliding.chain_friction import chain_friction_law, chain_friction_point
 from numerics.sliding.friction import friction_point
 
 P = {"mu": 0.1, "Delta": 3, "lam": 1, "beta": 1}

@@ -1,7 +1,7 @@
-"""The coupled numeric backend beyond the first order (kbm.coupled.jets, issue 23) against
+"""The coupled numeric backend beyond the first order (kbm.backend.jets, issue 23) against
 independent references.
 
-- The exact engine (kbm.coupled.derive_coupled: exact multi-angle Fourier series with
+- The exact engine (kbm.expansion.coupled.derive_coupled: exact multi-angle Fourier series with
   Laurent coefficients, its amplitude derivatives symbolic) on the polynomial built-ins at
   orders 1 to 3: coupled-vdp (1:1), duffing-1-3 (1:3 and forced; Nayfeh & Mook sec. 6.6),
   quadratic-1-2 (1:2 with a declared detuning, forced; N&M sec. 6.5), a non-resonant pair.
@@ -9,7 +9,7 @@ independent references.
   harmonics of sin(k x), paper eq. 3's SEDF) at orders 1 to 4, as the case N = 1.
 - A coupling the exact engine cannot take, c sin(x2 - x1), against the exact engine on its
   Taylor polynomial (degree 7), within the bound of the Taylor remainder.
-- The first-order FFT average of kbm.coupled.numeric (a second method at order 1).
+- The first-order FFT average of kbm.backend.coupled (a second method at order 1).
 - Invariants: a conservative F never changes the amplitude, at any order (hypothesis).
 """
 
@@ -23,16 +23,17 @@ import pytest
 import sympy as sp
 from hypothesis import given, settings, strategies as st
 
-from kbm.coupled import coupled_custom, derive_coupled
-from kbm.coupled.builtins import get_coupled_model
-from kbm.coupled.jets import MAX_ORDER_JETS, jet_expansion
-from kbm.coupled.model import CoupledOscillators
-from kbm.coupled.numeric import numeric_average
-from kbm.coupled.resonance import UndeclaredResonanceError
-from kbm.coupled.result import amplitudes
+from kbm.model.coupled_builtins import coupled_custom
+from kbm.expansion.coupled import derive_coupled
+from kbm.model.coupled_builtins import get_coupled_model
+from kbm.backend.jets import MAX_ORDER_JETS, jet_expansion
+from kbm.model.coupled import CoupledOscillators
+from kbm.backend.coupled import numeric_average
+from kbm.expansion.resonance import UndeclaredResonanceError
+from kbm.expansion.coupled_result import amplitudes
 from kbm.errors import ModelError, OrderError, ParameterError
-from kbm.models import get_model
-from kbm.pointwise import derive_values
+from kbm.model.builtins import get_model
+from kbm.backend.pointwise import derive_values
 
 #: frequencies 1 and 7/2: the nearest resonance 7 omega1 = 2 omega2 needs harmonics of
 #: degree 9, beyond those of a cubic F to order 3 (2 n + 1 = 7)
@@ -134,7 +135,7 @@ def test_a_smooth_coupling_equals_the_exact_engine_on_its_taylor_polynomial():
             assert ex.A[i][n - 1] == pytest.approx(float(r.A[i][n].subs(sub)), abs=bound)
             assert ex.B[i][n - 1] == pytest.approx(float(r.B[i][n].subs(sub)),
                                                    abs=bound / a[i])
-    # order 1 by the FFT average of kbm.coupled.numeric (a second method)
+    # order 1 by the FFT average of kbm.backend.coupled (a second method)
     A1, B1, _ = numeric_average(smooth, {"c": c}).rates(a, g)
     assert np.allclose(A1, [ex.A[0][0], ex.A[1][0]], atol=1e-15)
     assert np.allclose(B1, [ex.B[0][0], ex.B[1][0]], atol=1e-15)
@@ -217,10 +218,10 @@ def test_kbm_derive_numeric_at_order_3(capsys):
 def test_locking_edges_at_order_2_for_a_sine_coupling():
     """Two van der Pol oscillators coupled through sin(x2 - x1), detuned by sigma: the edges
     of 1:1 locking from the order-2 slow flow (numeric backend on jets, the exact engine
-    cannot take sin) against the true edges (numerics.coupled.locking.true_edges: where the
+    cannot take sin) against the true edges (numerics.locking.mutual.true_edges: where the
     locked cycle of the full system ceases to exist).  Order 1's error falls like mu (its
     edges do not depend on mu); order 2's like mu^2, and is 50 times smaller at mu = 0.05."""
-    from numerics.coupled.locking import averaged_edges, true_edges
+    from numerics.locking.mutual import averaged_edges, true_edges
 
     m = coupled_custom(["(1 - x1**2)*xdot1 + c*sin(x2 - x1)",
                         "(1 - x2**2)*xdot2 + c*sin(x1 - x2) - 2*sigma*x2"],

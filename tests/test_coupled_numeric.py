@@ -1,7 +1,7 @@
-"""First-order averaging of coupled systems with any smooth F (kbm.coupled.numeric, issue
+"""First-order averaging of coupled systems with any smooth F (kbm.backend.coupled, issue
 23) against independent references.
 
-- The exact engine (kbm.coupled.derive_coupled, exact multi-angle Fourier algebra) on the
+- The exact engine (kbm.expansion.coupled.derive_coupled, exact multi-angle Fourier algebra) on the
   polynomial built-ins: 1:1 (coupled-vdp), 1:3 forced (duffing-1-3), 1:2 forced with a
   declared detuning (quadratic-1-2), and a non-resonant pair: the grid average equals it to
   rounding.
@@ -22,9 +22,10 @@ import sympy as sp
 from hypothesis import given, settings, strategies as st
 from scipy.special import j1
 
-from kbm.coupled import coupled_custom, derive_coupled
-from kbm.coupled.numeric import numeric_average
-from kbm.coupled.result import amplitudes
+from kbm.model.coupled_builtins import coupled_custom
+from kbm.expansion.coupled import derive_coupled
+from kbm.backend.coupled import numeric_average
+from kbm.expansion.coupled_result import amplitudes
 from kbm.errors import ModelError, ParameterError
 
 CASES = [("coupled-vdp", {"c": 0.3, "sigma": 0.7}),
@@ -140,8 +141,8 @@ def test_locking_of_sine_coupled_van_der_pol_oscillators():
     """Two van der Pol oscillators coupled through sin(x2 - x1) (the exact engine cannot take
     it): the order-1 locking edges from the numeric backend's slow flow (the same in sigma
     for every mu) against the true edges (where the locked cycle of the full system ceases
-    to exist, numerics.coupled.locking.true_edges): the error falls like mu."""
-    from numerics.coupled.locking import averaged_edges, true_edges
+    to exist, numerics.locking.mutual.true_edges): the error falls like mu."""
+    from numerics.locking.mutual import averaged_edges, true_edges
 
     m = coupled_custom(["(1 - x1**2)*xdot1 + c*sin(x2 - x1)",
                         "(1 - x2**2)*xdot2 + c*sin(x1 - x2) - 2*sigma*x2"],
@@ -160,11 +161,11 @@ def test_locking_of_sine_coupled_van_der_pol_oscillators():
 
 def test_an_undeclared_resonance_is_refused_as_by_the_exact_engine():
     """The first order is the first order of the one recursion on the sampled algebra
-    (kbm.coupled.jets.first_order): a harmonic of F at an exact internal resonance that
+    (kbm.backend.jets.first_order): a harmonic of F at an exact internal resonance that
     was not declared (1:1, (x1 - x2)**3 holds psi2 - psi1) has a vanishing divisor, and the
     numeric average refuses it as derive_coupled does (Bogoliubov & Mitropolsky 1961,
     ch. 5: the resonant combination must be kept as a slow phase); declared, it averages."""
-    from kbm.coupled.resonance import UndeclaredResonanceError
+    from kbm.expansion.resonance import UndeclaredResonanceError
 
     m = coupled_custom(["-c*(x1 - x2)**3", "-c*(x2 - x1)**3"], "1,1")
     with pytest.raises(UndeclaredResonanceError):

@@ -1,7 +1,8 @@
-"""The limit-cycle series on the cycle itself (kbm.cycle_series, kbm.numeric_series, kbm.resum)
-against independent references: the KBM averaged route (kbm.series, method='kbm'), a plain
-Fraction Lindstedt expansion (tests/reference/lindstedt_fraction.py), Andersen & Geer's
-published coefficients and radius, and the true cycles of numerics."""
+"""The limit-cycle series on the cycle itself (kbm.slowflow.cycle_series,
+kbm.slowflow.numeric_series, kbm.slowflow.resum) against independent references: the KBM averaged
+route (kbm.slowflow.series, method='kbm'), a plain Fraction Lindstedt expansion
+(tests/reference/lindstedt_fraction.py), Andersen & Geer's published coefficients and radius, and
+the true cycles of numerics."""
 
 from __future__ import annotations
 
@@ -15,10 +16,10 @@ from hypothesis import given, settings, strategies as st
 from kbm import OrderError, ParameterError, custom_model, limit_cycle_series
 from kbm.algebra import zfourier
 from kbm.algebra.zfourier import ZSeries, arithmetic
-from kbm.cycle_series import lindstedt_series, polynomial_terms
+from kbm.slowflow.cycle_series import lindstedt_series, polynomial_terms
 from kbm.errors import AveragedCycleError
-from kbm.numeric_series import numeric_cycle_series
-from kbm.resum import nearest_singularity, pade_resum
+from kbm.slowflow.numeric_series import numeric_cycle_series
+from kbm.slowflow.resum import nearest_singularity, pade_resum
 from kbm.symbols import x, xdot
 
 from reference.andersen_geer import OMEGA_VDP, RADIUS_MU2

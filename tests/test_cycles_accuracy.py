@@ -85,7 +85,7 @@ def test_negative_mu_finds_the_unstable_cycle():
 
 
 def test_non_isolated_orbit_of_a_conservative_custom_model_is_refused():
-    from kbm.models import custom_model
+    from kbm.model.builtins import custom_model
 
     with pytest.raises(KBMError, match="not isolated|not a cycle|no isolated"):
         limit_cycle(custom_model("-x**3"), {"mu": 1})

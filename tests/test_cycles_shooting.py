@@ -174,7 +174,7 @@ def test_non_smooth_model_is_a_clear_error(capsys):
     """F with sign(x') (Coulomb friction) has no classical variational equations: a
     ModelError that names the smooth replacement, and one line with exit 2 on the CLI."""
     from kbm.errors import ModelError
-    from kbm.models import custom_model
+    from kbm.model.builtins import custom_model
 
     with pytest.raises(ModelError, match="tanh"):
         limit_cycle(custom_model("-sign(xdot) + (1 - x**2)*xdot"), {"mu": 0.5})

@@ -136,9 +136,9 @@ def test_plane_maps_physical_axes_to_scaled_ones():
     """--vary Delta=0:1 at mu = 0.1 is delta = Delta/mu in [0, 10]; lam=0.5:2 is k = 2 pi/lam
     in [pi, 4 pi] (increasing); the points go back to Delta and lam.  Delta fixed with mu
     varied, or a range where the scaled value is not finite, is refused in -p/--vary terms."""
-    from kbm.coupled import get_coupled_model
+    from kbm.model.coupled_builtins import get_coupled_model
     from kbm.errors import ParameterError
-    from numerics.cli._plane import Plane
+    from numerics.cli.params.plane import Plane
 
     model = get_coupled_model("sedf-dimer")
     p = Plane.of(model, {"mu": "0.1"}, ("Delta", "kappa"), {"Delta": (0, 1), "kappa": (0.1, 1)})
@@ -191,9 +191,10 @@ def test_sedf_dimer_slow_flow_bessel_against_mpmath():
     sympy's own evaluation (mpmath) to 1e-13, and the averaged edges are computed."""
     import sympy as sp
 
-    from kbm.coupled import amplitudes, derive_coupled
-    from numerics.coupled.locking import _slow_flow, _split, averaged_edges
-    from numerics.coupled.flow import bind_coupled
+    from kbm.model.coupled import amplitudes
+    from kbm.expansion.coupled import derive_coupled
+    from numerics.locking.mutual import _slow_flow, _split, averaged_edges
+    from numerics.flow.coupled_flow import bind_coupled
     from numerics.errors import NumericsError
 
     model, values = bind_coupled("sedf-dimer", {"mu": 0.1, "Delta": 0.5, "kappa": 0.3,

@@ -15,7 +15,7 @@ import sympy as sp
 from hypothesis import given, settings, strategies as st
 
 import kbm
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from kbm.errors import OrderError
 from numerics.energy import average, phase_portrait, predict_cycles
 

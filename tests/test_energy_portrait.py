@@ -10,9 +10,9 @@ import pytest
 import sympy as sp
 from scipy.special import ellipk
 
-from kbm.conservative import ConservativeSplit, NotConfiningError, split_conservative
+from kbm.model.conservative import ConservativeSplit, NotConfiningError, split_conservative
 from kbm.errors import ModelError, NonAutonomousError, ParameterError
-from kbm.models import get_model
+from kbm.model.builtins import get_model
 from kbm.symbols import x, xdot
 from numerics.energy import Annulus, phase_portrait, sample_orbits
 from numerics.energy.balance import harmonics

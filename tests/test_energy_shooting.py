@@ -15,7 +15,7 @@ from scipy.integrate import solve_ivp
 
 import kbm
 import numerics
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from numerics.energy import phase_portrait, position_cycle, predict_cycles
 
 CASES = [(1.5, 1.0), (3.0, 1.0), (1.5, 0.25)]

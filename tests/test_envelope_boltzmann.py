@@ -22,7 +22,7 @@ from scipy.integrate import quad
 from scipy.optimize import brentq
 from scipy.special import erf
 
-from kbm.models import Oscillator
+from kbm.model.builtins import Oscillator
 from kbm.symbols import x, xdot
 from numerics.escape import boltzmann_moment, energy_envelope
 

@@ -7,16 +7,16 @@ its 17th digit on whether the small-Delta case ran first in the same process
 (0.11242551688761435 after it, 0.11242551688761417 alone).
 
 Where that state lives: sympy's global counter of ``Dummy`` symbols.
-:func:`kbm.evaluate.numpy_function` stands a ``Dummy`` in for each infinite Bessel sum; a
+:func:`kbm.output.evaluate.numpy_function` stands a ``Dummy`` in for each infinite Bessel sum; a
 ``Dummy`` argument makes ``lambdify`` rename every argument ``Dummy_<counter>`` and print the
 terms of a sum in the order of those names as strings, so the order in which the sums of
 ``u_2`` are added (``Dummy_97 + ... + Dummy_103`` against ``Dummy_100 + ... + Dummy_99``) follows
 how many ``Dummy`` symbols the process had made before.  Running another case first moved the
 counter across a power of ten.  Now each case's expansion is derived and compiled at the
 same point of a fresh process whatever the order of the cases (the paper's derivation is one
-constant, :func:`kbm.paper.engine_expansion`, its functions kept on it); the dependence of
+constant, :func:`kbm.output.paper.engine_expansion`, its functions kept on it); the dependence of
 ``numpy_function`` on the counter itself is the last test (it failed, strictly, until
-``kbm.evaluate`` named the sums' stand-ins and the summation indices with fixed names).
+``kbm.output.evaluate`` named the sums' stand-ins and the summation indices with fixed names).
 """
 
 from __future__ import annotations
@@ -66,8 +66,8 @@ def test_numpy_function_does_not_depend_on_sympys_dummy_counter():
     """``u_2`` of the paper's sedf expansion (seven infinite Bessel sums, eq. 9's corrected
     form) compiled with sympy's ``Dummy`` counter at different values, among them some at
     which the names of its arguments cross a power of ten: the same values, bit for bit."""
-    from kbm import paper
-    from kbm.evaluate import numpy_function
+    from kbm.output import paper
+    from kbm.output.evaluate import numpy_function
 
     res = paper.engine_expansion()
     args = (paper.a, paper.psi, *(sp.Symbol(p) for p in res.params))

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from kbm.errors import ParameterError
 from numerics.escape.report import NO_RATE_BARRIER_OVER_KT, escape_report
 

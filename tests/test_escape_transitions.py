@@ -23,7 +23,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from numerics.cli import main
 from numerics.escape.transitions import WellBoltzmann, simulated_transitions
 from numerics.fokker_planck import kramers_escape

@@ -1,5 +1,5 @@
 """Numerical evaluation of the infinite Bessel sums: the stated tolerance is met, and a sum
-that cannot meet it within its term budget says so (kbm.evaluate)."""
+that cannot meet it within its term budget says so (kbm.output.evaluate)."""
 
 from __future__ import annotations
 

@@ -13,7 +13,7 @@ import math
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from kbm.models import custom_model
+from kbm.model.builtins import custom_model
 from numerics import limit_cycles
 
 
@@ -70,7 +70,7 @@ def test_homotopy_finds_the_cycle_near_the_separatrix_without_symmetry():
     (0.1, 1.5, 1.3345) (its basin near the separatrix is narrower than the prediction's
     error); the homotopy in the dissipative part (no use of the symmetry) finds it, and the
     symmetry checks it: the same period as the left cycle, x_max = -(left minimum)."""
-    from kbm.bound import bind
+    from kbm.parameters.bound import bind
     from numerics.cycles.every_cycle import _from_smaller_mu
     from numerics.energy import predict_cycles
 

@@ -1,11 +1,11 @@
 """One model type (issues 23, 35): every model is an instance of
-kbm.coupled.CoupledOscillators with the number of degrees of freedom and the forcing as
+kbm.model.coupled.CoupledOscillators with the number of degrees of freedom and the forcing as
 properties (the one-degree-of-freedom and forced built-ins are its cases N = 1), and every
-instance binds its values through kbm.bound.bind.
+instance binds its values through kbm.parameters.bound.bind.
 
 References: the definitions themselves (N = len(F), forced = a forcing angle), the
 general form of a case N = 1 written out by hand (x -> x1), and the coupled numerics' own
-reading of the values (numerics.coupled.flow.bind_coupled), whose floats the bound form
+reading of the values (numerics.flow.coupled_flow.bind_coupled), whose floats the bound form
 must give.
 """
 
@@ -17,15 +17,16 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from kbm.bound import bind
-from kbm.coupled import COUPLED_MODELS, CoupledOscillators, get_coupled_model
+from kbm.parameters.bound import bind
+from kbm.model.coupled_builtins import COUPLED_MODELS, get_coupled_model
+from kbm.model.coupled import CoupledOscillators
 from kbm.errors import ModelError, ParameterError
-from kbm.forced import FORCED_MODELS, get_forced_model
-from kbm.models import MODELS, custom_model, get_model
+from kbm.model.forced_builtins import FORCED_MODELS, get_forced_model
+from kbm.model.builtins import MODELS, custom_model, get_model
 from kbm.symbols import x, xdot
 
 X1, V1 = sp.symbols("x1 xdot1")
-from numerics.coupled.flow import bind_coupled
+from numerics.flow.coupled_flow import bind_coupled
 
 
 @pytest.mark.parametrize("name", sorted(MODELS))
@@ -87,7 +88,7 @@ def test_derive_takes_every_member():
     """kbm.derive of a coupled member is the general engine's expansion; of an oscillator,
     the one-degree-of-freedom engine's (unchanged)."""
     import kbm
-    from kbm.coupled import derive_coupled
+    from kbm.expansion.coupled import derive_coupled
 
     a = kbm.derive("coupled-vdp", 2)
     b = derive_coupled("coupled-vdp", 2)
@@ -114,9 +115,9 @@ def test_a_case_equals_the_system_written_in_the_general_form(terms):
 
 def test_every_engine_takes_either_form():
     """A cycle of one degree of freedom by either shooting (two codes: numerics.cycles and
-    numerics.coupled) of the one instance: the paper's SEDF (eq. 3) at rest."""
+    numerics.shooting.coupled_orbit) of the one instance: the paper's SEDF (eq. 3) at rest."""
     from numerics import limit_cycle
-    from numerics.coupled.cycle import coupled_cycle
+    from numerics.shooting.coupled_orbit import coupled_cycle
 
     sedf = get_model("sedf")
     p = {"mu": 0.1, "Delta": 1.5, "beta": 1, "lam": 1}
@@ -127,7 +128,7 @@ def test_every_engine_takes_either_form():
 
 
 def test_the_forced_engine_takes_either_form():
-    from numerics.forced.system import ForcedSystem
+    from numerics.flow.forced_system import ForcedSystem
 
     m = get_forced_model("duffing-forced")
     vals = {"mu": 0.1, "alpha": 1, "h": 2, "zeta": 0.5}

@@ -3,7 +3,7 @@
 - :mod:`kbm` (engine and its symbolic commands) never imports :mod:`numerics`;
 - inside :mod:`numerics` a module imports only its own floor and the floors below:
   base (``errors``, ``_memo``, ``_show``, ``_plot``, ``executor``, ``store``) < ``flow`` < ``shooting`` < ``noise`` < ``energy`` < ``cycles`` <
-  ``forced`` < ``coupled`` < ``comparison`` < ``sliding`` < ``fokker_planck`` < ``escape`` < ``thermal`` <
+  ``locking`` < ``comparison`` < ``sliding`` < ``fokker_planck`` < ``escape`` < ``thermal`` <
   ``spectrum`` < ``bifurcation`` < ``paper`` < ``cli``;
 - only the command line (``numerics.cli``) imports ``kbm.cli``;
 - ``kbm --help`` lists every command, and a command module that fails to import is an
@@ -25,7 +25,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 #: the floors of numerics, bottom up (a module's floor is its first package component)
-FLOORS = ("base", "flow", "shooting", "noise", "energy", "cycles", "forced", "coupled", "comparison", "sliding",
+FLOORS = ("base", "flow", "shooting", "noise", "energy", "cycles", "locking", "comparison", "sliding",
           "fokker_planck", "escape", "thermal", "spectrum", "bifurcation", "paper",
           "cli")
 BASE = {"errors", "_memo", "_show", "_plot", "executor", "store", "__init__"}

@@ -18,7 +18,7 @@ import sympy as sp
 from hypothesis import given, settings, strategies as st
 from scipy.integrate import solve_ivp
 
-from kbm.models import custom_model
+from kbm.model.builtins import custom_model
 from numerics import IntegrationError, limit_cycle
 from numerics.flow import (JIT_METHOD, Method, compile_model, flow, model_template,
                            template_flow)

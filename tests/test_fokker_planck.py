@@ -4,7 +4,7 @@ to averaging or to simulation").
 References: the Boltzmann density ``exp(-H/kT)`` for linear damping (Gibbs; Risken, *The
 Fokker-Planck Equation*, sec. 10.1) by adaptive quadrature; the virial theorem
 ``<x g(x)> = <x'^2>`` of any stationary state; first-order stochastic averaging
-(Stratonovich-Khasminskii, :mod:`kbm.stochastic`), whose error is ``O(mu)`` relative at fixed
+(Stratonovich-Khasminskii, :mod:`kbm.noise.stochastic`), whose error is ``O(mu)`` relative at fixed
 ``D/mu`` (the density's correction is of order ``mu``; for the van der Pol oscillator the
 odd-order term vanishes in ``<a^2>``, leaving ``mu^2``); a fixed-seed Langevin ensemble.
 """
@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from kbm.conservative import split_conservative
-from kbm.stochastic import stochastic_average
+from kbm.model.conservative import split_conservative
+from kbm.noise.stochastic import stochastic_average
 from numerics.escape import boltzmann_moment
 from numerics.fokker_planck import stationary_kramers, velocity_terms
 

@@ -12,7 +12,7 @@ import pytest
 import scipy.sparse as sps
 from hypothesis import given, settings, strategies as st
 
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from numerics.fokker_planck import kramers_operator
 from numerics.fokker_planck._blocks import (BlockTridiagonalLU, TermBlocks,
                                             hermite_bandwidth, one_blas_thread)

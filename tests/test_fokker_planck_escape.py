@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from numerics.escape import averaged_escape, energy_envelope
 from numerics.escape.simulate import simulated_escape
 from numerics.fokker_planck import kramers_escape

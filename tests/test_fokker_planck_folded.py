@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from numerics.fokker_planck import kramers_escape
 from numerics.fokker_planck._bases import cheb_centred
 from numerics.fokker_planck._folded import FoldedLU, FoldedRungs, FoldedTermBlocks

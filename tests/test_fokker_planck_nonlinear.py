@@ -34,8 +34,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.optimize import brentq
 
-from kbm.conservative import split_conservative
-from kbm.models import custom_model
+from kbm.model.conservative import split_conservative
+from kbm.model.builtins import custom_model
 from numerics.fokker_planck import kramers_escape
 from numerics.fokker_planck._bases import cheb, hermite_matrices
 from numerics.fokker_planck._orthonormal import (orthonormal_matrices, orthonormal_slowest,
@@ -110,10 +110,11 @@ def _independent_rate(model, params, D, fac, nh, nc):
 def test_sedf_escape_converges_against_a_second_discretisation():
     """SEDF mu = 0.3, D = 0.15: the default ladder's rate (stated truncation, scale and
     Chebyshev errors <= 1e-8 of it) equals the rate on plain Chebyshev points (192
-    intervals) at 0.7 times the velocity scale within its stated errors plus 1e-9."""
+    intervals) at 0.7 times the velocity scale within its stated errors plus 1e-9 (both with
+    the first sink: ``sink_tol=inf``; the sink ladders' limit is tested below)."""
     params = dict(SEDF, mu=0.3)
     ref, saddles = _independent_rate("sedf", params, 0.15, 0.7, 90, 192)
-    fp = kramers_escape("sedf", params, 0.15, saddles)
+    fp = kramers_escape("sedf", params, 0.15, saddles, sink_tol=math.inf)  # the first sink
     numerical = fp.truncation_error + fp.chebyshev_error
     assert numerical <= 1e-8 * fp.rate
     assert fp.scale_error <= fp.truncation_error
@@ -132,9 +133,10 @@ def test_nonlinear_escape_six_digits(model, params, D):
     """Three SEDFs and a Rayleigh damping in the same potential (velocity powers to 3): the
     rate with stated numerical errors <= 1e-7 of it, equal to a second discretisation
     (plain points, 256 intervals, 0.7 times the scale, 128 functions) within those errors
-    plus 2e-9; the old ladder failed here (SEDF mu = 0.1: 1448 functions 3e-5 apart)."""
+    plus 2e-9; the old ladder failed here (SEDF mu = 0.1: 1448 functions 3e-5 apart).  Both
+    with the first sink (``sink_tol=inf``)."""
     ref, saddles = _independent_rate(model, params, D, 0.7, 128, 256)
-    fp = kramers_escape(model, params, D, saddles)
+    fp = kramers_escape(model, params, D, saddles, sink_tol=math.inf)  # the first sink
     numerical = fp.truncation_error + fp.chebyshev_error
     assert numerical <= 1e-7 * fp.rate
     assert abs(fp.rate - ref) <= numerical + 2e-9 * ref
@@ -165,6 +167,49 @@ def test_sedf_escape_against_simulated_transitions():
     rate = k / float(np.sum(tau[alive] - t0))
     assert k > 500
     assert abs(rate - fp.rate) < 3 * rate / math.sqrt(k)
+
+
+@pytest.mark.slow
+def test_sedf_sink_ladders_bracket_against_a_finer_solve():
+    """SEDF mu = 0.3, D = 0.15 (the two sinks 3.5e-6 of the rate apart): the sink ladders of
+    linear damping run (numerics/fokker_planck/_sink.py): the rising one rises, the falling
+    one falls, the rate is the midpoint of their top rungs with half their gap as the sink
+    error (within 1e-6 of the rate, where the first sink stated 3.5e-6), and the top rungs
+    solved again on 1.75 times the intervals with sqrt 2 more Hermite functions (another
+    discretisation of the same sinks) move the midpoint by less than the stated Chebyshev
+    and truncation errors together plus 1e-9 of the rate."""
+    from numerics.fokker_planck._bases import cheb_centred
+    from numerics.fokker_planck._sink import WEIGHT, sink_rung
+    from numerics.fokker_planck.escape import ALPHA, SADDLES
+
+    params = dict(SEDF, mu=0.3)
+    split = split_conservative("sedf", params)
+    saddles = _saddles(split)
+    fp = kramers_escape("sedf", params, 0.15, saddles)
+    n = len(fp.sink_ladder) // 2
+    low, high = fp.sink_ladder[:n], fp.sink_ladder[n:]
+    assert n >= 2
+    assert all(b > a for a, b in zip(low, low[1:]))
+    assert all(b < a for a, b in zip(high, high[1:]))
+    assert low[-1] <= fp.rate <= high[-1]
+    assert fp.sink_error == pytest.approx((high[-1] - low[-1]) / 2)
+    assert fp.sink_error <= 1e-6 * fp.rate
+    _, wells, half, kappa0, width = escape_problem(split, 0.15, saddles)
+    top = n - 1
+    n_c, n_h = 2 * round(0.875 * (fp.chebyshev - 1)), 2 * round(fp.hermite / math.sqrt(2))
+    rates = []
+    for offset in fp.sink_offsets[top]:
+        c, kap, w = sink_rung(wells, kappa0, width, top, offset)
+
+        def pts(m, c=c, w=w):
+            return cheb_centred(m, half, ALPHA, tuple(saddles) + c,
+                                (-saddles[0] / 2, saddles[1] / 2, 2.5 * w, 2.5 * w),
+                                (SADDLES, SADDLES, WEIGHT, WEIGHT))
+
+        rates.append(orthonormal_slowest(split, 0.15, fp.velocity_scale, pts, n_h, n_c,
+                                         lambda xs, c=c, kap=kap, w=w: _sink(xs, c, kap, w)))
+    stated = fp.chebyshev_error + fp.truncation_error
+    assert abs(sum(rates) / 2 - fp.rate) <= stated + 1e-9 * fp.rate
 
 
 def test_van_der_pol_stationary_moments_to_eight_digits():

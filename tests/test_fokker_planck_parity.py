@@ -17,7 +17,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 from scipy.integrate import quad
 
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from numerics.fokker_planck import stationary_kramers
 from numerics.fokker_planck._bases import cheb_centred
 from numerics.fokker_planck._orthonormal import orthonormal_terms

@@ -19,7 +19,7 @@ import scipy.sparse as sps
 import scipy.sparse.linalg as spla
 from hypothesis import given, settings, strategies as st
 
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from numerics.fokker_planck import stationary_kramers
 from numerics.fokker_planck._bases import cheb_mapped
 from numerics.fokker_planck._blocks import BlockTridiagonalLU, TermBlocks

@@ -33,13 +33,14 @@ from hypothesis import given, settings, strategies as st
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from numerics.fokker_planck import kramers_escape
 from numerics.fokker_planck._bases import cheb_centred
 from numerics.fokker_planck._rungs import FractionRungs
-from numerics.fokker_planck._sink import (OFFSET, RAMP, SINK_HERMITE, SINK_INTERVALS, UPPER,
-                                          WEIGHT, bracket_error, falling_offset,
-                                          rung_intervals, sink_bracket, sink_rung)
+from numerics.fokker_planck._sink import (DRIFT, OFFSET, RAMP, SINK_HERMITE, SINK_INTERVALS,
+                                          TRACK, UPPER, WEIGHT, bracket_error, falling_offset,
+                                          ladder_offsets, rung_intervals, sink_bracket,
+                                          sink_rung, step_zero)
 from numerics.fokker_planck.escape import ALPHA, _sink, escape_problem, kT_gamma
 
 PARAMS = {"Delta": 3, "lam": 1, "Omega": 1}
@@ -73,8 +74,9 @@ def test_a_broken_bracket_states_the_whole_gap_and_the_last_steps():
 
 
 def test_sink_bracket_stops_within_its_stated_error():
-    """Two geometric terms each side (ratios 1/2.4, 1/6 and 1/2.9): the bracket's rate lies
-    within its stated error of the exact one, and the error reaches 1e-7 of it."""
+    """Two geometric terms each side (ratios 1/2.4, 1/6 and 1/2.9; the ladders at fixed
+    offsets): the bracket's rate lies within its stated error of the exact one, and the
+    error reaches 1e-7 of it."""
     exact = 0.0387
 
     def rates(j, offset):
@@ -82,10 +84,53 @@ def test_sink_bracket_stops_within_its_stated_error():
             return exact - 1e-4 * 2.4**-j + 3e-5 * 6.0**-j
         return exact + 2e-4 * 2.9**-j
 
-    out = sink_bracket(rates, max_rungs=30)
+    out = sink_bracket(rates, max_rungs=30,
+                       offsets=lambda history: (OFFSET, falling_offset(len(history))))
     assert abs(out["rate"] - exact) <= out["sink_error"]
     assert out["sink_error"] <= 1e-7 * exact
     assert out["rungs"][-1] < exact < out["upper"][-1]
+
+
+def _linear_model(r, a, o0, k):
+    """The rates of rung ``j`` at the offset ``o``: ``r - a w_j (o - o0 - k j)``, ``w_j =
+    2^-j`` (the module docstring's straight line with a critical offset growing by ``k``)."""
+    return lambda j, o: r - a * 2.0**-j * (o - o0 - k * j)
+
+
+@settings(max_examples=50, deadline=None)
+@given(r=st.floats(0.01, 1.0), a=st.floats(1e-4, 1e-1), o0=st.floats(-1.0, 3.0),
+       k=st.floats(0.0, 0.5), j=st.integers(0, 8), oa=st.floats(-1, 3), ob=st.floats(-1, 3))
+def test_step_zero_is_the_critical_offset_one_rung_back(r, a, o0, k, j, oa, ob):
+    """On the straight lines ``r - a w_j (o - o*_j)``, ``o*_j = o0 + k j`` (closed form), the
+    rates of rungs ``j`` and ``j + 1`` are equal at ``o*_{j-1}``, whichever two offsets each
+    rung was solved at."""
+    if abs(oa - ob) < 0.05:
+        return
+    rate = _linear_model(r, a, o0, k)
+    rungs = [(oa, ob, rate(i, oa), rate(i, ob)) for i in (j, j + 1)]
+    assert step_zero(*rungs) == pytest.approx(o0 + k * (j - 1), abs=1e-6 * (1 + abs(o0)) / a)
+
+
+@settings(max_examples=50, deadline=None)
+@given(r=st.floats(0.01, 1.0), a=st.floats(1e-3, 1e-1), o0=st.floats(0.5, 2.5),
+       k=st.floats(0.01, DRIFT))
+def test_ladders_bracket_a_growing_critical_offset(r, a, o0, k):
+    """Rates ``r - a w_j (o - o0 - k j)`` (a critical offset growing by ``k`` per rung, at
+    most :data:`DRIFT`; closed form): from rung :data:`TRACK` on the rising ladder's offset
+    lies past the critical offset of its rung and the falling ladder's short of it, the
+    ladders are monotone from there, and the bracket holds ``r`` within its stated error."""
+    rate = _linear_model(r, a, o0, k)
+    history = []
+    for j in range(12):
+        o_low, o_high = ladder_offsets(history)
+        if j >= TRACK:
+            assert o_low > o0 + k * j > o_high
+        history.append((o_low, o_high, rate(j, o_low), rate(j, o_high)))
+    low = [h[2] for h in history[TRACK:]]
+    high = [h[3] for h in history[TRACK:]]
+    err = bracket_error(low, high)
+    assert err == pytest.approx((high[-1] - low[-1]) / 2)
+    assert abs((low[-1] + high[-1]) / 2 - r) <= err * (1 + 1e-9)
 
 
 def test_rungs_sharpen():
@@ -101,7 +146,10 @@ def test_rungs_sharpen():
 
 def test_falling_offsets_and_rung_grids():
     """The falling ladder starts on the bottoms and moves out by RAMP per rung to UPPER,
-    short of the rising ladder's OFFSET; the rungs' grids are even and never shrink."""
+    short of the rising ladder's OFFSET (the rule before TRACK, and the reference ladders');
+    the rungs' grids are even and never shrink."""
+    assert [ladder_offsets([None] * j) for j in range(TRACK)] == [
+        (OFFSET, RAMP * j) for j in range(TRACK)]
     offs = [falling_offset(j) for j in range(12)]
     assert offs[0] == 0.0 and max(offs) == UPPER < OFFSET
     assert all(0 <= b - a <= RAMP for a, b in zip(offs, offs[1:]))
@@ -171,9 +219,10 @@ def test_moderate_friction_reaches_the_absorbing_limit(moderate):
 @pytest.mark.slow
 def test_moderate_friction_another_sink(moderate):
     """mu = 1: a third ladder, centred one width past the bottoms (solved by the pair's
-    rungs on its own points), ends within the stated errors and its own last step of the
-    rate."""
-    other = _other_ladder(1.0, 1.0, 7)
+    rungs on its own points, ten rungs on the code's grids: at the seventh its steps still
+    fell only 1.7 times per rung, so its last step understated its distance to the limit),
+    ends within the stated errors and its own last step of the rate."""
+    other = _other_ladder(1.0, 1.0, [(j, rung_intervals(SINK_INTERVALS, j)) for j in range(10)])
     tol = (moderate.sink_error + moderate.truncation_error + moderate.chebyshev_error
            + abs(other[-1] - other[-2]))
     assert abs(other[-1] - moderate.rate) <= tol
@@ -217,8 +266,40 @@ def test_high_friction_below_smoluchowski():
         assert fp.sink_error <= 5e-6 * fp.rate
         top, n_c = n - 1, 2 * round(0.875 * (fp.chebyshev - 1))
         n_h = 2 * round(fp.hermite / math.sqrt(2))
-        lo = _other_ladder(mu, OFFSET, [(top, n_c)], nh=n_h)[0]
-        hi = _other_ladder(mu, falling_offset(top), [(top, n_c)], nh=n_h)[0]
+        o_low, o_high = fp.sink_offsets[top]
+        lo = _other_ladder(mu, o_low, [(top, n_c)], nh=n_h)[0]
+        hi = _other_ladder(mu, o_high, [(top, n_c)], nh=n_h)[0]
         assert abs((lo + hi) / 2 - fp.rate) < fp.chebyshev_error + fp.truncation_error
         ratios.append(fp.rate / _smoluchowski_rate(mu))
     assert ratios[0] < ratios[1] < 1
+
+
+def _independent_top(fp, mu):
+    """The midpoint of the top rungs of both ladders solved again (the pair's rungs on their
+    own points) on 1.75 times the grid with sqrt 2 more Hermite functions."""
+    top = len(fp.sink_offsets) - 1
+    n_c, n_h = 2 * round(0.875 * (fp.chebyshev - 1)), 2 * round(fp.hermite / math.sqrt(2))
+    o_low, o_high = fp.sink_offsets[top]
+    lo = _other_ladder(mu, o_low, [(top, n_c)], nh=n_h)[0]
+    hi = _other_ladder(mu, o_high, [(top, n_c)], nh=n_h)[0]
+    return (lo + hi) / 2
+
+
+@pytest.mark.slow
+def test_highest_friction_bracket_holds():
+    """mu = 10 (gamma/omega_b = 2.4; the critical offset grows by 0.1 per rung, past
+    h-sink2's falling ladder at 1.6 from the seventh rung): the rising ladder rises, the
+    falling one falls, the rate lies between their top rungs and the stated sink error is
+    half their gap (no broken bracket), within 1e-5 of the rate; the midpoint of the top
+    rungs solved independently (1.75 times the grid, sqrt 2 more Hermite functions) moves
+    by less than the stated Chebyshev and truncation errors together."""
+    mu = 10.0
+    fp = kramers_escape("cdc", dict(PARAMS, mu=mu), KT * mu, _saddles())
+    n = len(fp.sink_ladder) // 2
+    low, high = fp.sink_ladder[:n], fp.sink_ladder[n:]
+    assert all(b > a for a, b in zip(low, low[1:]))
+    assert all(b < a for a, b in zip(high, high[1:]))
+    assert low[-1] <= fp.rate <= high[-1]
+    assert fp.sink_error == pytest.approx((high[-1] - low[-1]) / 2)
+    assert fp.sink_error <= 1e-5 * fp.rate
+    assert abs(_independent_top(fp, mu) - fp.rate) < fp.chebyshev_error + fp.truncation_error

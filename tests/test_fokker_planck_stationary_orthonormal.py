@@ -21,7 +21,7 @@ from hypothesis import given, settings, strategies as st
 from numpy.polynomial.hermite import hermval
 from scipy.integrate import quad
 
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from numerics.fokker_planck import stationary_kramers
 from numerics.fokker_planck._stationary_orthonormal import (
     hermite_function_values, hermite_integrals, orthonormal_band_masses)
@@ -155,7 +155,7 @@ def test_van_der_pol_against_risken_pair():
 
 def _sedf_identities(sol):
     """``(<x g>, <v^2>, mu <(x^2 - 1) v^2>)`` of a SEDF solution (beta = 1)."""
-    from kbm.conservative import split_conservative
+    from kbm.model.conservative import split_conservative
 
     from numerics.fokker_planck._stationary_orthonormal import hermite_integrals
 
@@ -243,8 +243,6 @@ def test_sedf_six_digits_at_low_friction(mu):
     for a, b in ((sol.x2, big.x2), (sol.v2, big.v2)):
         assert abs(a - b) <= sol.hermite_change * abs(b)
     if mu == 0.03:
-        from kbm.conservative import split_conservative
-
         g = split_conservative("sedf", params).numpy_functions()[0]
         xg = float(np.sum(sol.weights * sol.x * g(sol.x) * sol.marginal()))
         assert xg == pytest.approx(sol.v2, rel=1e-7)

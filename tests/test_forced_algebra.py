@@ -1,4 +1,4 @@
-"""The two-angle Fourier algebra (kbm.forced.two_angle) against pointwise evaluation."""
+"""The two-angle Fourier algebra (kbm.algebra.two_angle) against pointwise evaluation."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from kbm.algebra.laurent import LaurentRing
-from kbm.forced.two_angle import TwoAngle, canonical
+from kbm.algebra.two_angle import TwoAngle, canonical
 from kbm.symbols import a, psi
 
 theta = sp.Symbol("theta")

@@ -1,7 +1,7 @@
-"""The forced KBM engine (kbm.forced): exactness checks and independent references.
+"""The forced KBM engine (kbm.expansion.forced): exactness checks and independent references.
 
 - Duffing primary resonance at first order against Nayfeh & Mook (1979), sec. 4.1.1;
-- a model without forcing reproduces the autonomous engine (kbm.averaging) at every order,
+- a model without forcing reproduces the autonomous engine (kbm.expansion.one_dof) at every order,
   whatever resonance is declared (a conservative F gives no amplitude change);
 - the linear forced damped oscillator: the order-N steady amplitude equals the exact
   linear response expanded in mu through mu^(N-1), for N = 1..5;
@@ -17,11 +17,13 @@ import sympy as sp
 from hypothesis import given
 from hypothesis import strategies as st
 
-from kbm.averaging import derive
+from kbm.expansion.one_dof import derive
 from kbm.errors import ModelError, OrderError, ParameterError, UnsupportedTermError
-from kbm.forced import (ForcedOscillator, NonPeriodicError, Resonance, SmallDivisorError,
-                        add_forcing, derive_forced, get_forced_model, phi, sigma, theta)
-from kbm.models import custom_model
+from kbm.model.forced import (ForcedOscillator, NonPeriodicError, Resonance, add_forcing, phi,
+                              sigma, theta)
+from kbm.expansion.forced import SmallDivisorError, derive_forced
+from kbm.model.forced_builtins import get_forced_model
+from kbm.model.builtins import custom_model
 from kbm.symbols import a, mu, x, xdot
 
 W, Z, AL, H = sp.symbols("w zeta alpha h")  # the plain symbols the parser makes
@@ -201,7 +203,7 @@ def test_hard_superharmonic_first_order_is_nayfeh_mook():
     (N&M 4.1.2 with Lambda_NM = Lambda/2, sigma_NM = 3 sigma): A1 = -zeta a +
     alpha Lambda^3 sin(phi)/8, B1 = 3 alpha (a^2 + 2 Lambda^2)/8 + alpha Lambda^3 cos(phi)/(8a),
     so that [zeta^2 + (3 sigma - 3 alpha (a^2 + 2 Lambda^2)/8)^2] a^2 = alpha^2 Lambda^6/64."""
-    from kbm.forced import LAMBDA
+    from kbm.model.forced import LAMBDA
 
     r = derive_forced("duffing-super-hard", 1)
     L = LAMBDA
@@ -214,7 +216,7 @@ def test_hard_superharmonic_first_order_is_nayfeh_mook():
 def test_hard_subharmonic_first_order():
     """Near nu = 3: the resonant term of -alpha (y + Lambda cos theta)^3 is
     -(3/4) alpha Lambda a^2 cos(2 psi - theta) (from 3 y^2 Lambda cos theta)."""
-    from kbm.forced import LAMBDA
+    from kbm.model.forced import LAMBDA
 
     r = derive_forced("duffing-sub-hard", 1)
     assert sp.expand(r.A[0] - (-Z * a + 3 * LAMBDA * AL * a**2 * sp.sin(3 * phi) / 8)) == 0

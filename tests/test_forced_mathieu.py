@@ -17,9 +17,9 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 from scipy.special import mathieu_a, mathieu_b
 
-from kbm.forced import derive_forced
-from kbm.forced.tongues import epsilon, mathieu_transition, transition_curves
-from numerics.forced.convergence import slope
+from kbm.expansion.forced import derive_forced
+from kbm.slowflow.tongues import epsilon, mathieu_transition, transition_curves
+from numerics.comparison.response_convergence import slope
 
 q = sp.Symbol("q")
 #: A&S 20.2.25 (the characteristic values with q small)
@@ -91,7 +91,7 @@ def test_kbm_tongue_against_floquet_numerics(curves6):
 def test_inside_the_tongue_trivial_state_unstable():
     """The slow flow's trivial state is unstable inside the first-order tongue |sigma| < 1
     (with damping: parametric model, alpha = 0) and stable outside it."""
-    from kbm.forced.steady import trivial_state
+    from kbm.slowflow.steady import trivial_state
 
     r = derive_forced("parametric", 1, {"alpha": 0})
     sf = r.slow_flow({"mu": 0.1, "zeta": 0.1, "h": 1})
@@ -142,7 +142,7 @@ def test_damped_tongue_sigma_of_h_against_floquet():
 def test_undamped_trivial_state_neutral_outside_unstable_inside():
     """Without damping the trivial state is a centre outside the tongue (neutral, not
     'stable') and a saddle inside; the edges at order 3 match the transition curves."""
-    from kbm.forced.steady import trivial_state
+    from kbm.slowflow.steady import trivial_state
 
     r = derive_forced("mathieu", 3)
     sf = r.slow_flow({"mu": 0.1})
@@ -159,7 +159,7 @@ def test_tongue_opening_at_second_order_is_refused_at_first_order_with_reason():
     """x'' + x = -mu x cos(t) (delta = 1): no resonant term at first order; the tongue
     opens at order 2, which order 1 cannot reach (orders >= 2: tests/test_forced_tongues)."""
     from kbm.errors import ModelError
-    from kbm.forced import ForcedOscillator
+    from kbm.model.forced import ForcedOscillator
 
     r = derive_forced(ForcedOscillator("m1", "-x*cos(theta)", resonance="1/1"), 1)
     with pytest.raises(ModelError, match="the tongue opens at order 2"):

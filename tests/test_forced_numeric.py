@@ -1,6 +1,6 @@
-"""The numeric forced KBM backend (kbm.forced.numeric) against independent references.
+"""The numeric forced KBM backend (kbm.backend.forced) against independent references.
 
-- polynomial F: the exact rational engine (kbm.forced.derive_forced), a different
+- polynomial F: the exact rational engine (kbm.expansion.forced.derive_forced), a different
   algebra (exact two-angle Fourier series, no grid, no FFT);
 - the slider seen from its stage, F = (1 - beta x^2)(x' + nu/k) - delta sin(k x + theta):
   first order against the Jacobi-Anger closed form (A&S 9.1.44-45, 9.1.27) and against
@@ -23,9 +23,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from kbm.errors import ModelError, OrderError, ParameterError, UnsupportedTermError
-from kbm.forced import (ForcedOscillator, derive_forced, forced_expansion,
-                        numeric_derive_forced)
-from kbm.forced.model import nu, phi, sigma, theta
+from kbm.model.forced import ForcedOscillator
+from kbm.expansion.forced import derive_forced
+from kbm.backend.forced import forced_expansion, numeric_derive_forced
+from kbm.model.forced import nu, phi, sigma, theta
 from kbm.symbols import a, x, xdot
 
 SLIDER = {"delta": 0.8, "k": 1.3, "beta": 1, "Omega": 1.5}
@@ -143,7 +144,7 @@ _SHIFT_BASE = numeric_derive_forced(
 def test_slider_error_against_shooting_falls_like_mu_to_the_order():
     """The order-N amplitude of the locked slider differs from the true periodic response
     (shooting, Floquet) by O(mu**N): fitted slopes near 1, 2, 3."""
-    from numerics.forced.convergence import amplitude_study
+    from numerics.comparison.response_convergence import amplitude_study
 
     t = amplitude_study("slider", {"delta": 0.5, "k": 1, "beta": 1}, 0.1, [0.01, 0.02, 0.04],
                         (1, 2, 3), amplitudes=(0.5, 3))

@@ -1,4 +1,4 @@
-"""True periodic responses of forced oscillators (numerics.forced) and the KBM predictions.
+"""True periodic responses of forced oscillators (numerics.shooting) and the KBM predictions.
 
 Independent references: the exact response and Floquet multipliers of the linear damped
 forced oscillator; a hand-written scipy solve_ivp shooting; long simulations (locking).
@@ -13,12 +13,15 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from kbm.errors import ParameterError
-from kbm.forced import ForcedOscillator, derive_forced
-from kbm.forced.steady import response_curve
+from kbm.model.forced import ForcedOscillator
+from kbm.expansion.forced import derive_forced
+from kbm.slowflow.steady import response_curve
 from numerics.errors import ConvergenceError
-from numerics.forced import ForcedSystem, numeric_response, periodic_response
-from numerics.forced.convergence import amplitude_study, fold_study, slope
-from numerics.forced.locking import (locked_by_simulation, predicted_boundary, start_orbit,
+from numerics.flow.forced_system import ForcedSystem
+from numerics.shooting.forced_branch import numeric_response
+from numerics.shooting.forced_orbit import periodic_response
+from numerics.comparison.response_convergence import amplitude_study, fold_study, slope
+from numerics.locking.entrainment import (locked_by_simulation, predicted_boundary, start_orbit,
                                      true_boundary)
 
 DUFF = {"zeta": 0.1, "alpha": 1, "h": 0.5}
@@ -67,8 +70,8 @@ def test_duffing_responses_agree_with_handwritten_solve_ivp_shooting():
     """At sigma = 1 (three responses) the compiled shooting and a scipy one agree."""
     sys_ = ForcedSystem("duffing-forced", {**DUFF, "mu": 0.05})
     sf = derive_forced("duffing-forced", 2).slow_flow({**DUFF, "mu": 0.05})
-    from kbm.forced.steady import fixed_points
-    from numerics.forced.response import guess_from
+    from kbm.slowflow.steady import fixed_points
+    from numerics.shooting.forced_branch import guess_from
 
     fps = fixed_points(sf, 1.0, (1e-3, 4))
     assert len(fps) == 3
@@ -124,7 +127,7 @@ def test_parametric_duffing_amplitude_orders():
     """Principal parametric resonance of x'' + x = mu (-2 zeta x' - x^3 - h x cos nu t) at
     sigma = 0.8: both nontrivial responses (a saddle and a node) by shooting; the order-N
     amplitudes' errors fall with slopes ~N (N = 1, 2, 3)."""
-    from numerics.forced.diagram import steady_states
+    from numerics.comparison.response_diagram import steady_states
 
     vals = {"zeta": 0.05, "alpha": 1, "h": 1}
     mus = [0.01, 0.02, 0.04]
@@ -178,7 +181,7 @@ def test_subharmonic_response_of_period_three_forcing_periods():
     """Duffing near nu = 3 omega0 (resonance 3): the subharmonic pair (a saddle and a node)
     of period 6 pi/nu appears at order 2 (weak forcing); shooting finds both, and the
     order-3 amplitudes are closer (in sum) than the order-2 ones."""
-    from numerics.forced.diagram import steady_states
+    from numerics.comparison.response_diagram import steady_states
 
     m = ForcedOscillator("sub", "-2*zeta*xdot - x**3 + h*cos(theta)", resonance="3")
     vals = {"mu": 0.04, "zeta": 0.001, "h": 3}
@@ -204,7 +207,7 @@ def test_hard_superharmonic_amplitude_slopes():
 def test_hard_subharmonic_pair_against_shooting():
     """Hard subharmonic resonance (nu near 3, K = 2): the saddle-node pair of period
     6 pi/nu; order 3 within 1e-5 of shooting at mu = 0.02, order 1 within 2e-3."""
-    from numerics.forced.diagram import steady_states
+    from numerics.comparison.response_diagram import steady_states
 
     vals = {"mu": 0.02, "zeta": 0.01, "alpha": 1, "K": 2}
     s1 = steady_states("duffing-sub-hard", vals, 1.0, order=1, amplitudes=(1e-3, 3))

@@ -1,4 +1,4 @@
-"""Period doublings on a forced branch (numerics.forced.special, issue 25) against plain
+"""Period doublings on a forced branch (numerics.shooting.special, issue 25) against plain
 shooting.
 
 The Duffing oscillator x'' + x = mu (-2 zeta x' - alpha x^3 + h cos nu t) at mu = 1,
@@ -20,10 +20,10 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from numerics.forced import ForcedSystem
-from numerics.forced.response import continue_response
-from numerics.forced.shooting import periodic_response
-from numerics.forced.special import detect_special
+from numerics.flow.forced_system import ForcedSystem
+from numerics.shooting.forced_branch import continue_response
+from numerics.shooting.forced_orbit import periodic_response
+from numerics.shooting.special import detect_special
 from _references import duffing_lambda_min
 
 VALS = {"mu": 1, "zeta": 0.05, "alpha": 1, "h": 20}
@@ -54,7 +54,7 @@ def _averaged_hopf(order, mu, h, a0, s0):
     import sympy as sp
     from scipy.optimize import fsolve
 
-    from kbm.forced import derive_forced
+    from kbm.expansion.forced import derive_forced
 
     a, phi, sig, m = sp.symbols("a phi sigma mu")
     r = derive_forced("vdp-forced", order)
@@ -75,8 +75,8 @@ def test_neimark_sacker_of_the_forced_van_der_pol_against_the_averaged_hopf():
     stability to a torus (a complex pair through the unit circle); averaged, the slow flow's
     fixed point has a Hopf bifurcation there.  The true points (continuation + test
     function) against the averaged ones at orders 1 and 2: errors fall like mu and mu^2."""
-    from kbm.forced import derive_forced
-    from numerics.forced import numeric_response
+    from kbm.expansion.forced import derive_forced
+    from numerics.shooting.forced_branch import numeric_response
 
     errors = {}
     for mu in (0.05, 0.025):
@@ -104,10 +104,11 @@ def test_neimark_sacker_on_the_driven_slider():
     mu ((1 - x^2)(x' + nu) - delta sin(x + nu t)), k = 1, mu = 0.05, delta = 1): the
     self-oscillation locked to the washboard loses stability to a torus at the edge of
     locking.  Located by two continuations with their own test functions (the coupled
-    family's, N = 1, and numerics.forced's), and checked by direct integration (scipy):
+    family's, N = 1, and numerics.shooting.forced_branch's), and checked by direct
+    integration (scipy):
     0.01 inside, the stroboscopic samples converge to the locked response; 0.01 outside,
     they spread over the torus."""
-    from numerics.coupled.continuation import continue_coupled
+    from numerics.shooting.coupled_branch import continue_coupled
 
     vals = {"mu": 0.05, "delta": 1, "k": 1}
     br = continue_coupled("slider", {**vals, "sigma": 0.03}, "sigma", (0.03, 0.13))

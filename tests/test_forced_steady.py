@@ -1,4 +1,4 @@
-"""Steady states of the forced slow flow (kbm.forced.steady) against closed forms.
+"""Steady states of the forced slow flow (kbm.slowflow.steady) against closed forms.
 
 Duffing primary resonance at first order (Nayfeh & Mook 4.1.1):
 sigma = 3 alpha a^2/8 +- sqrt(h^2/(4 a^2) - zeta^2) (omega0 = 1), the backbone
@@ -15,8 +15,8 @@ from hypothesis import strategies as st
 from scipy.optimize import brentq
 
 from kbm.errors import ParameterError
-from kbm.forced import derive_forced
-from kbm.forced.steady import backbone, fixed_points, response_curve
+from kbm.expansion.forced import derive_forced
+from kbm.slowflow.steady import backbone, fixed_points, response_curve
 
 Z, AL, H = 0.1, 1.0, 0.5
 
@@ -123,8 +123,8 @@ def test_all_fixed_points_found(s, h, z):
 def test_vdp_locked_states_form_a_closed_curve():
     """Forced van der Pol (h = 0.4): the large-amplitude steady states form a closed curve
     (traced once, recognised modulo 2 pi in phi) whose folds are the locking boundary
-    (the edges of the stable range found by bisection, numerics.forced.locking)."""
-    from numerics.forced.locking import predicted_boundary
+    (the edges of the stable range found by bisection, numerics.locking.entrainment)."""
+    from numerics.locking.entrainment import predicted_boundary
 
     sf = derive_forced("vdp-forced", 1).slow_flow({"mu": 0.1, "h": 0.4})
     rc = response_curve(sf, (-0.5, 0.5), (1e-3, 3), n_points=200)
@@ -146,7 +146,7 @@ def test_vdp_locked_states_form_a_closed_curve():
 def test_scan_finds_every_fixed_point_of_the_resultant(name, vals, sig, order):
     """The grid scan against elimination by resultants (exact rational arithmetic, every
     root of a polynomial in a): the same fixed points inside the amplitude window."""
-    from kbm.forced.resultant import fixed_points_resultant
+    from kbm.slowflow.resultant import fixed_points_resultant
 
     sf = derive_forced(name, order).slow_flow(vals)
     exact = [f for f in fixed_points_resultant(sf, sig) if f.amplitude < 4]

@@ -30,10 +30,11 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from kbm.errors import ModelError
-from kbm.forced import ForcedOscillator, derive_forced
-from kbm.forced.tongues import epsilon, mathieu_transition, transition_curves
+from kbm.model.forced import ForcedOscillator
+from kbm.expansion.forced import derive_forced
+from kbm.slowflow.tongues import epsilon, mathieu_transition, transition_curves
 from kbm.symbols import mu
-from numerics.forced.convergence import slope
+from numerics.comparison.response_convergence import slope
 
 q = sp.Symbol("q")
 R = sp.Rational

@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 from scipy.linalg import solve_discrete_lyapunov
 
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from kbm.errors import KBMError, ParameterError
 from numerics.errors import NumericsError
 from numerics.escape.envelope import boltzmann_moment
@@ -153,7 +153,7 @@ def test_divergence_is_reported():
 
 
 def test_model_with_a_parameter_named_D():
-    from kbm.models import custom_model
+    from kbm.model.builtins import custom_model
 
     m = custom_model("-D*xdot - x**3")
     with pytest.raises(KBMError, match="named D"):

@@ -12,7 +12,7 @@ import pytest
 import sympy as sp
 
 from kbm import derive, latex, limit_cycle_series
-from kbm.latex import equation_lines, visible_width
+from kbm.output.latex import equation_lines, visible_width
 
 parse_latex = pytest.importorskip("sympy.parsing.latex").parse_latex
 pytest.importorskip("antlr4")

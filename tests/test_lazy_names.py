@@ -13,7 +13,7 @@ import types
 import pytest
 
 
-@pytest.mark.parametrize("package", ["kbm", "kbm.forced", "numerics"])
+@pytest.mark.parametrize("package", ["kbm", "kbm.model.forced", "numerics"])
 def test_every_public_name_is_the_object_not_a_module(package):
     pkg = importlib.import_module(package)
     for name in pkg.__all__:
@@ -25,8 +25,8 @@ def test_every_public_name_is_the_object_not_a_module(package):
 
 
 def test_a_submodule_of_the_same_name_does_not_shadow_the_function():
-    """``kbm.latex`` is a module and a function: the package keeps the function."""
-    code = ("import kbm.latex, kbm; import types; "
+    """``kbm.latex`` is the function, also once its module (``kbm.output.latex``) is imported."""
+    code = ("import kbm.output.latex, kbm; import types; "
             "print(isinstance(kbm.latex, types.ModuleType), callable(kbm.latex))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout.split()
@@ -36,8 +36,8 @@ def test_a_submodule_of_the_same_name_does_not_shadow_the_function():
 def test_the_command_line_imports_only_what_it_uses():
     """``import numerics.cli`` (every ``kbm`` command's start) leaves the averaging engine,
     the comparisons and the paper unimported."""
-    code = ("import sys, numerics.cli; print(' '.join(m for m in ('kbm.averaging', "
-            "'numerics.comparison', 'numerics.paper', 'kbm.forced.numeric') if m in "
+    code = ("import sys, numerics.cli; print(' '.join(m for m in ('kbm.expansion.one_dof', "
+            "'numerics.comparison', 'numerics.paper', 'kbm.backend.forced') if m in "
             "sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout.strip()

@@ -1,6 +1,6 @@
 """The stored forms of issue 39's warm ``kbm branch`` against what they stand for: a line
 card (:mod:`numerics.flow.line_card`) against the line bound from the symbolic model
-(:class:`kbm.bound.ParameterLine`, :class:`numerics.flow.CompiledLine`), and the stored
+(:class:`kbm.parameters.bound.ParameterLine`, :class:`numerics.flow.CompiledLine`), and the stored
 seeds of :func:`numerics.cycles.limit_cycles` (:mod:`numerics.cycles.seeds`) against the
 energy-balance prediction computed anew.  The slow route is the reference: the same exact
 rationals, the same floats, the same cycles."""
@@ -73,13 +73,14 @@ def test_the_line_from_its_card_is_the_bound_line(cards, model, params, vary, at
 @given(value=st.floats(-50.0, 50.0).filter(lambda v: abs(v) > 1e-9))
 def test_card_rationals_are_the_lines_for_any_value(value):
     """``delta = Delta/mu`` (paper eq. 3) from the card's stored expression tree in exact
-    rationals (:mod:`kbm.rational_values`) equals :meth:`kbm.bound.ParameterLine.floats`
-    and sympy's own exact rational of the expression (a second method), correctly rounded,
-    for any ``Delta``, and ``mu`` varied (``delta = Delta/mu`` with ``Delta = 2``) too."""
+    rationals (:mod:`kbm.parameters.rational_values`) equals
+    :meth:`kbm.parameters.bound.ParameterLine.floats` and sympy's own exact rational of the
+    expression (a second method), correctly rounded, for any ``Delta``, and ``mu`` varied
+    (``delta = Delta/mu`` with ``Delta = 2``) too."""
     import sympy as sp
 
-    from kbm.bound import ParameterLine
-    from kbm.rational_values import rational_tree, tree_value
+    from kbm.parameters.bound import ParameterLine
+    from kbm.parameters.rational_values import rational_tree, tree_value
     from fractions import Fraction
 
     for params, vary in (({"mu": "0.1", "beta": "1", "lam": "1"}, "Delta"),
@@ -122,7 +123,7 @@ def test_the_stored_seeds_are_the_prediction(shared_cards):
     on the first call, read on the second) finds the cycles it finds with the cards off, to the last bit, and
     the stored seeds are the energy-balance prediction's ``(x_max, period)``
     (:func:`numerics.energy.predict_cycles`, computed anew)."""
-    from kbm.bound import bind
+    from kbm.parameters.bound import bind
     from numerics._memo import clear_caches
     from numerics.cycles import limit_cycles
     from numerics.cycles.seeds import StoredPrediction

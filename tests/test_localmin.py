@@ -83,7 +83,7 @@ def test_integral_of_the_sedf_force_is_quads():
     integrated from 0 to points past the saddles: the rule and ``quad`` agree to 1e-13."""
     from scipy.integrate import quad
 
-    from kbm.bound import bind
+    from kbm.parameters.bound import bind
     from numerics.flow import compile_model
 
     cm = compile_model(bind("sedf", {"mu": 0.1, "beta": 1, "lam": 1, "Delta": 2}))

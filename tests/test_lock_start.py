@@ -1,5 +1,5 @@
 """``kbm lock`` follows the locked state from inside the asked interval
-(numerics.coupled.lock_start), against independent references.
+(numerics.locking.start), against independent references.
 
 Before, the state was followed from 0 whatever the interval: ``kbm lock sedf-dimer -p
 mu=0.1 -p Delta=0.5 --vary kappa=0.1:1 --vary beta=0.5:1.5`` exited 2 with "no locked
@@ -30,11 +30,11 @@ from hypothesis import strategies as st
 
 from _references import section_cycle
 from numerics.cli import main
-from kbm.coupled import get_coupled_model
+from kbm.model.coupled_builtins import get_coupled_model
 from kbm.errors import ParameterError
-from kbm.params import PhysicalAxis
-from numerics.coupled.lock_start import followed_axis, side_limits, start_values
-from numerics.coupled.locking import locking_region
+from kbm.parameters.names import PhysicalAxis
+from numerics.locking.start import followed_axis, side_limits, start_values
+from numerics.locking.mutual import locking_region
 
 #: the true upper edge of coupled-vdp at mu = 0.08, c = 0.2 by scipy (the reference of
 #: tests/test_shooting_acceptance.py, which recomputes it)

@@ -1,6 +1,6 @@
 """``kbm lock``'s follow of the locked state in steps scaled to the interval, its amplitude
-death's ``checked_at``, and which names are couplings (numerics.coupled.lock_start,
-numerics.coupled.locking), against independent references.
+death's ``checked_at``, and which names are couplings (numerics.locking.start,
+numerics.locking.mutual), against independent references.
 
 - ``coupled-vdp`` at first order: the phase equation ``gamma' = mu (sigma - c sin gamma)``
   (equal amplitudes) locks for ``|sigma| <= c`` exactly (``c < 1``), the closed-form tongue;
@@ -22,13 +22,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import numerics.coupled.locking as locking
-from kbm.coupled import get_coupled_model
+import numerics.locking.mutual as locking
+from kbm.model.coupled_builtins import get_coupled_model
 from numerics.cli import main
 from numerics.cli.lock import _split
-from numerics.cli._params import parse_vary
-from numerics.coupled.lock_start import follow_steps
-from numerics.coupled.locking import averaged_edges, coupling_names
+from numerics.cli.params.values import parse_vary
+from numerics.locking.start import follow_steps
+from numerics.locking.mutual import averaged_edges, coupling_names
 
 
 def test_steps_of_the_unit_span_are_the_absolute_steps_of_before():
@@ -121,7 +121,7 @@ def test_true_edge_from_a_wide_interval_is_the_scipy_fold():
     first step 0.4, growing to 2): its upper edge is the fold of
     ``tests/test_shooting_acceptance.py`` (scipy DOP853 with variational equations,
     0.20160636567730025) within the stated error and 1e-11."""
-    from numerics.coupled.locking import true_edges
+    from numerics.locking.mutual import true_edges
 
     fold = 0.20160636567730025
     edge = true_edges("coupled-vdp", {"mu": 0.08, "c": 0.2}, tol=1e-9,
@@ -135,7 +135,7 @@ def test_true_follow_across_a_wide_locked_interval_in_few_shots(monkeypatch):
     folds at -2.66 and 3.38, ``kbm lock ... --vary sigma=-4:4``), and no averaged edge lies
     in it to guess from.  The follow crosses it in steps growing to 0.25: 26 shots, where
     the absolute 0.02 took 250."""
-    import numerics.coupled.fold as fold
+    import numerics.locking.fold as fold
 
     shots = []
     real = fold._shoot

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import pytest
 
-from kbm.models import custom_model
+from kbm.model.builtins import custom_model
 from numerics.cycles.manifolds import connection_gap, saddle_connection
 from numerics.errors import ConvergenceError
 
@@ -58,7 +58,7 @@ def test_saddles_from_the_compiled_force_equal_the_portraits(params, vary, at, s
     import numpy as np
 
     import numerics.shooting.planar as arc
-    from kbm.bound import bind
+    from kbm.parameters.bound import bind
     from numerics.cycles.homoclinic import saddles_passed
 
     model = "sedf" if "lam" in params else MODEL

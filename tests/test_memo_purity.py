@@ -30,7 +30,7 @@ import sympy as sp
 
 import kbm
 from kbm import averaged_rates, derive
-from kbm.values import FrozenMap
+from kbm.parameters.values import FrozenMap
 
 KBM = Path(kbm.__file__).parent
 
@@ -38,14 +38,15 @@ KBM = Path(kbm.__file__).parent
 #: from a fresh one (each also says "Pure-function memo" in its docstring)
 MEMOS = {
     ("kbm.algebra.multi_angle", "_sum_difference"): "integer tuples to integer tuples",
-    ("kbm.coupled.jets", "_lattice"): "frozen resonances to a lattice with its own pure memo",
-    ("kbm.coupled.jets", "_slow_terms"): "integer tuples to read-only arrays",
-    ("kbm.coupled.jets", "_table"): "an expression to a table with its own pure memo",
-    ("kbm.coupled.jets", "symbolic_rhs"): "a frozen model to tuples of expressions",
-    ("kbm.coupled.jet_algebra", "torus"): "integers to read-only arrays",
-    ("kbm.coupled.jet_algebra", "_harmonics"): "frequencies to read-only arrays",
-    ("kbm.coupled.jet_algebra", "_mode_table"): "frequencies, resonances to read-only arrays",
-    ("kbm.paper", "engine_expansion"): "no argument: the fixed derivation of the built-in sedf",
+    ("kbm.backend.jets", "_lattice"): "frozen resonances to a lattice with its own pure memo",
+    ("kbm.backend.jets", "_slow_terms"): "integer tuples to read-only arrays",
+    ("kbm.backend.jets", "_table"): "an expression to a table with its own pure memo",
+    ("kbm.backend.jets", "symbolic_rhs"): "a frozen model to tuples of expressions",
+    ("kbm.algebra.coupled_jets", "torus"): "integers to read-only arrays",
+    ("kbm.algebra.coupled_jets", "_harmonics"): "frequencies to read-only arrays",
+    ("kbm.algebra.coupled_jets", "_mode_table"): "frequencies, resonances to read-only arrays",
+    ("kbm.output.paper", "engine_expansion"):
+        "no argument: the fixed derivation of the built-in sedf",
 }
 
 #: values that hold a memo of their own, a function of what they were built from (their
@@ -143,10 +144,10 @@ def recorded(monkeypatch):
             return _memo(*args)
         spy.__wrapped__ = memo  # type: ignore[attr-defined]
         monkeypatch.setattr(mod, name, spy)
-    from kbm import paper
-    from kbm.coupled import derive_coupled
-    from kbm.coupled.builtins import get_coupled_model
-    from kbm.coupled.jets import jet_expansion
+    from kbm.output import paper
+    from kbm.expansion.coupled import derive_coupled
+    from kbm.model.coupled_builtins import get_coupled_model
+    from kbm.backend.jets import jet_expansion
 
     paper.corrected("6")
     derive_coupled(get_coupled_model("coupled-vdp"), 2)
@@ -190,7 +191,7 @@ def test_numerics_derivation_memos_equal_a_fresh_call():
     assert prediction.derived(kbm.get_model("vdp"), 2) is res
     assert res == derive("vdp", 2)
     assert prediction.derived("sedf", 2) is importlib.import_module(
-        "kbm.paper").engine_expansion()
+        "kbm.output.paper").engine_expansion()
     tpl = model_template("sedf")
     d, f_rest, odd = autonomous._derivatives(tpl.model, tpl.names)
     d2, f_rest2, odd2 = autonomous._derivatives.__wrapped__(tpl.model, tpl.names)

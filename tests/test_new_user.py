@@ -7,7 +7,7 @@ import re
 
 import pytest
 
-from kbm.models import model_names
+from kbm.model.builtins import model_names
 from numerics.cli import main
 
 

@@ -22,7 +22,7 @@ import pytest
 from scipy.integrate import quad
 
 from kbm.errors import ParameterError
-from kbm.models import custom_model
+from kbm.model.builtins import custom_model
 from numerics.noise import langevin_system
 import numpy as np
 

@@ -20,7 +20,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 from scipy.integrate import quad
 
-from kbm.models import custom_model
+from kbm.model.builtins import custom_model
 from numerics.noise import langevin_system
 from numerics.noise import _pair_kernels as pk
 from numerics.noise.ensemble import stationary_ensemble

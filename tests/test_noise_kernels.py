@@ -21,7 +21,7 @@ import math
 import numpy as np
 import pytest
 
-from kbm.models import custom_model
+from kbm.model.builtins import custom_model
 from numerics.noise import langevin_system
 from numerics.noise.seeds import trajectory_states
 

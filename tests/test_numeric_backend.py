@@ -1,6 +1,6 @@
-"""The one numeric backend of one degree of freedom (:mod:`kbm.forced.backend`, issue 35: "the
+"""The one numeric backend of one degree of freedom (:mod:`kbm.backend.sampled`, issue 35: "the
 single numeric backend for any smooth F ... forced or not"), through both its cases:
-:func:`kbm.numeric_derive` (no forcing angle) and :func:`kbm.forced.numeric_derive_forced`
+:func:`kbm.numeric_derive` (no forcing angle) and :func:`kbm.backend.forced.numeric_derive_forced`
 (a declared resonance).
 
 The references are independent of the backend: the exact symbolic engine :func:`kbm.derive`
@@ -19,10 +19,10 @@ import sympy as sp
 from kbm import custom_model, derive, numeric_derive
 from kbm.algebra.smooth import TaylorTable
 from kbm.errors import UnsupportedTermError
-from kbm.forced.backend import measure, sampled_expansion
-from kbm.forced.model import ForcedOscillator
-from kbm.forced.numeric import numeric_derive_forced
-from kbm.models import get_model
+from kbm.backend.sampled import measure, sampled_expansion
+from kbm.model.forced import ForcedOscillator
+from kbm.backend.forced import numeric_derive_forced
+from kbm.model.builtins import get_model
 from kbm.symbols import x, xdot
 
 AA = np.linspace(0.5, 2.0, 13)

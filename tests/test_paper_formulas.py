@@ -1,4 +1,5 @@
-"""The paper's eqs. (6)-(9) as printed (kbm.paper), their errata, and the numerical evidence."""
+"""The paper's eqs. (6)-(9) as printed (kbm.output.paper), their errata, and the numerical
+evidence."""
 
 from __future__ import annotations
 
@@ -8,8 +9,8 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from kbm import paper
-from kbm.evaluate import numpy_function
+from kbm.output import paper
+from kbm.output.evaluate import numpy_function
 
 SYMS = [paper.mu, paper.beta, paper.Delta, paper.k]
 
@@ -26,7 +27,7 @@ def test_errata_rows():
 
 
 def test_printed_eq6_and_eq7_against_a_second_reading():
-    """The printed eqs. (6) and (7) of kbm.paper equal the paper's formulas read again and
+    """The printed eqs. (6) and (7) of kbm.output.paper equal the paper's formulas read again and
     typed here multiplied out: (1 - beta a^2/4)(1/3 - beta a^2/4) = 1/3 - beta a^2/3 +
     beta^2 a^4/16, and (7) term by term."""
     mu, beta, D, k, a = paper.mu, paper.beta, paper.Delta, paper.k, paper.a
@@ -39,7 +40,7 @@ def test_printed_eq6_and_eq7_against_a_second_reading():
 
 
 def test_printed_eq8_and_eq9_against_a_second_reading():
-    """The printed f and g of kbm.paper equal the paper's eqs. (8), (9) read again: the sum
+    """The printed f and g of kbm.output.paper equal the paper's eqs. (8), (9) read again: the sum
     of (8) over all n >= 0 minus its n = 1 term (the printed "n != 1"), and (9) multiplied
     out; compared numerically (the sums are infinite)."""
     mu, beta, D, k, a, psi = paper.mu, paper.beta, paper.Delta, paper.k, paper.a, paper.psi

@@ -123,7 +123,7 @@ def test_claims_are_checked_against_independent_numbers(monkeypatch):
     not integrate is integrated here), not from a second integration of the same runs.
     """
     import numerics.paper.claims as claims_module
-    from kbm.paper import FIG5
+    from kbm.output.paper import FIG5
     from numerics import check_claims, slide
 
     t_end = 700.0

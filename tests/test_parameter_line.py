@@ -1,6 +1,7 @@
-"""A model bound along one parameter (kbm.bound.ParameterLine, numerics.flow.CompiledLine)
-against binding from scratch (kbm.bound.bind, numerics.flow.compile_model), and the keyed source
-of a compiled flow against the source printed from its expressions.
+"""A model bound along one parameter (kbm.parameters.bound.ParameterLine,
+numerics.flow.CompiledLine) against binding from scratch (kbm.parameters.bound.bind,
+numerics.flow.compile_model), and the keyed source of a compiled flow against the source printed
+from its expressions.
 
 The continuation of cycles binds its model thousands of times along the varied parameter;
 the line is a faster route to the same object, so the reference is the slow route itself:
@@ -13,7 +14,7 @@ import pytest
 import sympy as sp
 from hypothesis import given, settings, strategies as st
 
-from kbm.bound import ParameterLine, bind
+from kbm.parameters.bound import ParameterLine, bind
 from kbm.errors import ParameterError
 from numerics.flow import CompiledLine, compile_model, model_template
 
@@ -96,7 +97,7 @@ def test_coupled_flow_at_equals_a_new_binding(name, params, vary):
     field."""
     import numpy as np
 
-    from numerics.coupled.flow import coupled_flow
+    from numerics.flow.coupled_flow import coupled_flow
 
     base = coupled_flow(name, params)
     for value in (0.07, 0.9):
@@ -119,11 +120,11 @@ SPLIT_CASES = [
 
 @pytest.mark.parametrize("case", SPLIT_CASES)
 def test_split_line_equals_split_conservative(case):
-    """kbm.conservative.SplitLine (the energy branch splits once along the parameter)
+    """kbm.model.conservative.SplitLine (the energy branch splits once along the parameter)
     against split_conservative at each value: the same g, h, G, values and functions."""
     import numpy as np
 
-    from kbm.conservative import SplitLine, split_conservative
+    from kbm.model.conservative import SplitLine, split_conservative
 
     model, params, vary = case
     line = SplitLine(model, params, vary, 0.5)
@@ -146,7 +147,7 @@ def test_split_line_refuses_what_split_conservative_refuses():
     """A potential that stops confining along the line is refused at that value, as from
     scratch (NotConfiningError)."""
     from kbm import custom_model
-    from kbm.conservative import NotConfiningError, SplitLine, split_conservative
+    from kbm.model.conservative import NotConfiningError, SplitLine, split_conservative
 
     model = custom_model("-c*x + (1 - x**2)*xdot", name="softening-c")
     line = SplitLine(model, {"mu": 0.1}, "c", 0.5)
@@ -164,7 +165,7 @@ def test_energy_branch_with_the_split_line_equals_splitting_each_value(monkeypat
     the predicted cycles of the SEDF's energy balance (paper eq. 3) agree to rounding."""
     import numpy as np
 
-    import kbm.conservative as cons
+    import kbm.model.conservative as cons
     from kbm.errors import KBMError
     from numerics.comparison.branches import energy_branch
 

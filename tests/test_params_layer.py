@@ -1,6 +1,6 @@
 """The one parameter and option layer (issue 35, items 1, 2, 3, 5, 6; issue 40, items 1, 2, 5,
-6, 7, 8): every command reads ``-p`` and ``--vary`` through :mod:`numerics.cli._params` and
-:mod:`kbm.params`, refuses unknown names with the valid ones listed, converts the paper's
+6, 7, 8): every command reads ``-p`` and ``--vary`` through :mod:`numerics.cli.params.values` and
+:mod:`kbm.parameters.names`, refuses unknown names with the valid ones listed, converts the paper's
 physical parameters to the scaled ones and back (eqs. 3 and 12: ``delta = Delta/mu``,
 ``k = 2 pi/lam``), takes ``D`` or ``T = D/mu`` wherever noise applies, and speaks in
 command-line terms.  Each test is the command as a user types it."""
@@ -17,9 +17,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from kbm.errors import ParameterError
-from kbm.params import names_of, noise_from, to_physical
+from kbm.parameters.names import names_of, noise_from, to_physical
 from numerics.cli import main
-from numerics.cli._params import parse_vary
+from numerics.cli.params.values import parse_vary
 
 VALID = ("mu", "Delta", "lam", "delta", "k", "Omega", "D", "T")
 
@@ -91,7 +91,7 @@ def test_slide_takes_the_scaled_names(capsys):
 def test_physical_and_scaled_round_trip(Delta, lam, mu):
     """resolve (physical -> scaled) and to_physical (scaled -> physical) are inverse, exactly
     (delta = Delta/mu, k = 2 pi/lam)."""
-    from kbm.models import get_model
+    from kbm.model.builtins import get_model
 
     model = get_model("cdc")
     names = names_of(model)
@@ -157,8 +157,9 @@ def test_noise_from_converts_T_exactly():
 
 def test_derive_forced_coupled_system_from_the_command_line(capsys):
     """A forced coupled system with theta in --rhs derives with --nu0: the JSON equals the
-    Python API's (kbm.coupled.derive_coupled of coupled_custom(..., nu0=1))."""
-    from kbm.coupled import coupled_custom, derive_coupled
+    Python API's (kbm.expansion.coupled.derive_coupled of coupled_custom(..., nu0=1))."""
+    from kbm.model.coupled_builtins import coupled_custom
+    from kbm.expansion.coupled import derive_coupled
 
     rhs = ["-x1**3 + h*cos(theta) - 2*zeta*xdot1", "-2*zeta*xdot2 - x2**3 + c*x1**3"]
     internal = ["1:3", "1:1@1,F"]
@@ -378,7 +379,7 @@ VARIED = [c for c in COMMANDS if "--vary" in COMMANDS[c]]
 @pytest.mark.parametrize("command", VARIED)
 def test_every_vary_has_one_grammar(command, bad, words, capsys):
     """A malformed or downward ``--vary`` of the name each command varies: the same message
-    from every command (one grammar, :func:`numerics.cli._params.parse_vary`)."""
+    from every command (one grammar, :func:`numerics.cli.params.values.parse_vary`)."""
     argv = list(COMMANDS[command])
     i = argv.index("--vary") + 1
     name = argv[i].split("=")[0]
@@ -437,7 +438,7 @@ def test_shared_options_have_one_definition_in_every_command():
     command does not say what it does there (issue 35: "the same names everywhere")."""
     from kbm.cli._common import OPTIONS
     from numerics.cli import COMMANDS as NUMERIC
-    from numerics.cli._options import ENSEMBLE
+    from numerics.cli.params.options import ENSEMBLE
 
     seen = 0
     for command in ("derive", "series", *NUMERIC):
@@ -494,13 +495,13 @@ def test_out_json_file_is_the_printed_json(tmp_path, capsys):
 def test_a_bounded_option_is_refused_in_one_wording(argv, capsys):
     """``--max-points`` out of range: the same words from every command (before, ``kbm
     diagram`` said "must be 2 to 100000" and ``kbm branch`` "must be between 2 and
-    100000"; :func:`numerics.cli._params.within`)."""
+    100000"; :func:`numerics.cli.params.values.within`)."""
     assert main(argv) == 2
     assert _err(capsys).endswith("error: --max-points must be between 2 and 100000, got 1")
 
 
 def test_within_names_the_bounds_as_typed():
-    from numerics.cli._params import within
+    from numerics.cli.params.values import within
 
     for value, flag, lo, hi, words in ((0.0, "--rtol", 1e-15, 1e-3, "between 1e-15 and 1e-3"),
                                        (2e6, "--transient", 0, 1e6, "between 0 and 1e6"),

@@ -14,7 +14,7 @@ import pytest
 import sympy as sp
 
 from kbm import ModelError, parse
-from kbm.models import custom_model
+from kbm.model.builtins import custom_model
 from numerics.cli import main
 
 ATTACKS = [

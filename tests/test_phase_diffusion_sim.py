@@ -17,7 +17,7 @@ import math
 import numpy as np
 import pytest
 
-from kbm.models import custom_model
+from kbm.model.builtins import custom_model
 from numerics.escape.phase import phase_diffusion
 from numerics.noise import langevin_system
 

@@ -1,4 +1,4 @@
-"""The one physical-axis binding (:func:`kbm.params.physical_axis`) of ``kbm lock`` and
+"""The one physical-axis binding (:func:`kbm.parameters.names.physical_axis`) of ``kbm lock`` and
 ``kbm diagram``, against the closed forms of the built-in maps (paper eqs. 3 and 12):
 ``delta = Delta/mu`` (inverse ``Delta = mu delta``) and ``k = 2 pi/lam`` (inverse
 ``lam = 2 pi/k``), and against the elementary inverses of maps that sympy gives no single
@@ -19,8 +19,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from kbm.models import get_model
-from kbm.params import physical_axis
+from kbm.model.builtins import get_model
+from kbm.parameters.names import physical_axis
 
 PHYSICAL = dict(get_model("sedf").physical)  # {delta: Delta/mu, k: 2 pi/lam}
 MUS = st.sampled_from(["0.01", "0.05", "0.08", "0.1", "0.3", "1"])

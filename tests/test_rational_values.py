@@ -1,4 +1,4 @@
-"""Exact values of rational expressions without sympy (kbm/rational_values.py).
+"""Exact values of rational expressions without sympy (kbm/parameters/rational_values.py).
 
 Reference: sympy's own exact rational arithmetic on the same expression (a second method);
 the float of an exact rational is correctly rounded either way.
@@ -17,7 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from kbm.errors import ParameterError
-from kbm.rational_values import line_floats, rational_tree, tree_value
+from kbm.parameters.rational_values import line_floats, rational_tree, tree_value
 
 ROOT = Path(__file__).resolve().parents[1]
 A, B = sp.symbols("A B")
@@ -78,7 +78,7 @@ def test_line_floats_of_delta_equals_Delta_over_mu():
 
 def test_the_module_imports_no_sympy():
     """The line cards' warm path (numerics/flow/line_card.py) uses it without sympy."""
-    code = "import sys, kbm.rational_values; print('sympy' in sys.modules)"
+    code = "import sys, kbm.parameters.rational_values; print('sympy' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          cwd=ROOT, timeout=120)
     assert out.returncode == 0, out.stderr

@@ -1,6 +1,6 @@
-"""The one JSON layer of results (:mod:`kbm.strict_json`, issue 35): its rules give strict JSON
-that reads back to itself, and :class:`~kbm.strict_json.Rendered` renders the branch records
-(numerics.shooting.branch_result) by their layouts."""
+"""The one JSON layer of results (:mod:`kbm.output.strict_json`, issue 35): its rules give strict
+JSON that reads back to itself, and :class:`~kbm.output.strict_json.Rendered` renders the branch
+records (numerics.shooting.branch_result) by their layouts."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
 
-from kbm.strict_json import Rendered, complex_json, json_fields, jsonable
+from kbm.output.strict_json import Rendered, complex_json, json_fields, jsonable
 from numerics.shooting.branch_result import Branch, BranchPoint, SpecialPoint
 from numerics.shooting.orbit import multiplier_json
 
@@ -63,7 +63,7 @@ def _reference(value):
        st.dictionaries(st.sampled_from(["mu", "beta", "Delta", "c"]), _floats))
 def test_rendered_renders_a_branch_in_its_layouts(points, params):
     """Branch, BranchPoint and SpecialPoint (numerics.shooting.branch_result) through
-    kbm.strict_json.Rendered give their layouts' keys in order, by the rules written out in
+    kbm.output.strict_json.Rendered give their layouts' keys in order, by the rules written out in
     :func:`_reference` (mappings as floats by sorted key, multipliers as numbers or pairs)."""
     special = (SpecialPoint("fold", 0.5, float("nan"), 6.3, "bisected"),)
     br = Branch("m", "nu", (0.0, 1.0), tuple(points), special, ("end",), 7, params=params)

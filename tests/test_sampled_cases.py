@@ -1,13 +1,13 @@
-"""The numeric backend of any ``N`` (Taylor jets on the torus, :mod:`kbm.coupled.jets`) at
+"""The numeric backend of any ``N`` (Taylor jets on the torus, :mod:`kbm.backend.jets`) at
 ``N = 1`` is the one-degree-of-freedom numeric backends' expansion.
 
 Issue 35 asks for one numeric backend for any smooth ``F``, any ``N``, forced or not, with
 one degree of freedom a case of it.  The jets (any ``N``, at one point ``a*``, exact
 derivatives in ``a``) and the one-degree backends (Chebyshev grids in ``a``:
-:func:`kbm.numeric_derive`, :func:`kbm.forced.numeric_derive_forced`; Jacobi-Anger jets at
+:func:`kbm.numeric_derive`, :func:`kbm.backend.forced.numeric_derive_forced`; Jacobi-Anger jets at
 given amplitudes: :func:`kbm.derive_values`) run the one recursion
-(:func:`kbm.recursion.kbm_recursion`) over different sampled algebras, so each is a second
-method for the other: Bogoliubov & Mitropolsky's ``A_n``, ``B_n`` of the same ``F`` agree
+(:func:`kbm.expansion.recursion.kbm_recursion`) over different sampled algebras, so each is a
+second method for the other: Bogoliubov & Mitropolsky's ``A_n``, ``B_n`` of the same ``F`` agree
 to rounding.
 """
 
@@ -16,8 +16,8 @@ from __future__ import annotations
 import pytest
 
 from kbm import custom_model, derive_values, numeric_derive
-from kbm.coupled.numeric import numeric_average
-from kbm.forced.numeric import numeric_derive_forced
+from kbm.backend.coupled import numeric_average
+from kbm.backend.forced import numeric_derive_forced
 
 
 @pytest.mark.parametrize("model,params,order", [
@@ -51,7 +51,8 @@ def test_one_degree_bessel_values():
 
 def test_forced_one_degree():
     """Forced Duffing at the primary resonance, order 3: the jets' slow phase is
-    ``gamma = theta - psi = -phi`` of :mod:`kbm.forced` (``A_1 = -zeta a - h sin(phi)/2``)."""
+    ``gamma = theta - psi = -phi`` of :mod:`kbm.expansion.forced`
+    (``A_1 = -zeta a - h sin(phi)/2``)."""
     vals = {"zeta": 0.1, "alpha": 1, "h": 1}
     ex = numeric_average("duffing-forced", {**vals, "sigma": 0.2}).expansion([1.2], [0.3], 3)
     ref = numeric_derive_forced("duffing-forced", 3, (0.5, 2), vals)
@@ -67,7 +68,7 @@ def test_autonomous_is_the_forced_grid_without_theta():
     (the same grid algebra without the forcing angle) and to the closed form
     ``A_1 = a(1 - a^2/4)/2``, ``B_2 = -(1 - a^2 + 7a^4/32)/8`` (Nayfeh & Mook 1979, §4.2)."""
     import numpy as np
-    from kbm.forced.model import ForcedOscillator
+    from kbm.model.forced import ForcedOscillator
     from kbm.symbols import x, xdot
 
     forced = numeric_derive_forced(ForcedOscillator("vdp-as-forced", (1 - x**2) * xdot), 3,

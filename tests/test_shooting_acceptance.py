@@ -1,5 +1,5 @@
 """The one acceptance standard of shooting (numerics.shooting.acceptance) and the locking edge
-at the fold of the locked cycle (numerics.coupled.fold), issue 35 defect 4.
+at the fold of the locked cycle (numerics.locking.fold), issue 35 defect 4.
 
 The reference fold is computed here by a second method, independent of kbm's integrator,
 Newton and continuation: scipy's DOP853 (``solve_ivp``, rtol 1e-12) with the variational
@@ -23,10 +23,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
-from kbm.models import custom_model
-from numerics.coupled import coupled_cycle
+from kbm.model.builtins import custom_model
+from numerics.shooting.coupled_orbit import coupled_cycle
 from numerics.cycles import continue_cycles, limit_cycle
-from numerics.coupled.locking import true_edges
+from numerics.locking.mutual import true_edges
 from numerics.shooting.acceptance import (RESIDUAL_FACTOR, accepted, correction_tolerance,
                                         residual_tolerance, trivial_ok)
 from numerics.errors import ConvergenceError

@@ -19,12 +19,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from kbm.coupled import coupled_custom
-from kbm.user_model import custom_model
+from kbm.model.coupled_builtins import coupled_custom
+from kbm.model.user_model import custom_model
 from numerics.shooting.branch_result import (Branch, BranchPoint, CoupledBranch,
                                              CoupledBranchPoint, CoupledSpecialPoint,
                                              OrbitBranch, SpecialPoint)
-from numerics.coupled.continuation import CoupledContinuation, continue_coupled
+from numerics.shooting.coupled_branch import CoupledContinuation, continue_coupled
 from numerics.cycles.continuation import CycleContinuation, continue_cycles
 from numerics.shooting.continuation import Continuation
 

@@ -1,5 +1,5 @@
 """The one locator of special points (numerics.shooting.locate) and the forced response
-continued by the one driver under the one acceptance standard (numerics.forced.response).
+continued by the one driver under the one acceptance standard (numerics.shooting.forced_branch).
 
 Independent references: the exact roots of scalar test functions (bisection and the
 Illinois method, Dahlquist and Bjorck, *Numerical Methods*, sec. 6.2); a hand-written
@@ -20,9 +20,9 @@ from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
 from numerics.errors import ConvergenceError
-from numerics.forced import ForcedSystem
-from numerics.forced.response import continue_response
-from numerics.forced.shooting import periodic_response
+from numerics.flow.forced_system import ForcedSystem
+from numerics.shooting.forced_branch import continue_response
+from numerics.shooting.forced_orbit import periodic_response
 from numerics.shooting.locate import locate_zero
 
 

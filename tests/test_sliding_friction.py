@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 from kbm.errors import ParameterError
-from kbm.models import get_model
+from kbm.model.builtins import get_model
 from kbm.symbols import t, x, xdot
 
 from numerics.sliding.friction import FrictionSettings, friction_point

@@ -11,7 +11,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import pytest
 
-from kbm.strict_json import finite
+from kbm.output.strict_json import finite
 from numerics.cli import main
 from numerics.errors import NumericsError
 from numerics.executor import SchedulerError, chunk, connect, map_chunks

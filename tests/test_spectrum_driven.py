@@ -3,7 +3,7 @@
 References: the damped linear oscillator's exact spectrum ``S(w) = (2 D/pi)/((omega0^2 -
 w^2)^2 + (2 mu zeta w)^2)`` (one-sided, angular; e.g. Risken, *The Fokker-Planck Equation*,
 sec. 10.1) with variance ``D/(2 mu zeta omega0^2)``; the first-order slow flow of the forced
-Duffing oscillator (kbm.forced, Nayfeh & Mook sec. 4.1.1); Liouville's formula for the
+Duffing oscillator (kbm.expansion.forced, Nayfeh & Mook sec. 4.1.1); Liouville's formula for the
 Floquet multipliers; the simulated PSD within its standard errors.
 """
 
@@ -90,10 +90,11 @@ def test_averaged_route_is_first_order(offsets):
 
 
 def test_averaged_states_are_the_kbm_fixed_points():
-    """The Cartesian averaged flow's stable states are kbm.forced's first-order fixed points
-    (amplitude and phase), both branches of the bistable Duffing."""
-    from kbm.forced import derive_forced, get_forced_model
-    from kbm.forced.steady import fixed_points
+    """The Cartesian averaged flow's stable states are kbm.slowflow.steady's first-order fixed
+    points (amplitude and phase), both branches of the bistable Duffing."""
+    from kbm.expansion.forced import derive_forced
+    from kbm.model.forced_builtins import get_forced_model
+    from kbm.slowflow.steady import fixed_points
 
     p = {"mu": 0.1, "zeta": 0.25, "alpha": 1, "h": 1}
     sf = derive_forced(get_forced_model("duffing-forced"), 1).slow_flow(p)

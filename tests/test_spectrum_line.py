@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 import pytest
-from kbm.models import custom_model
+from kbm.model.builtins import custom_model
 from numerics.cli import main
 from numerics.errors import NoCycleError
 from numerics.spectrum.phase_diffusion import line_theory

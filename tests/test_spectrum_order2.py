@@ -16,9 +16,9 @@ import json
 import numpy as np
 import pytest
 import sympy as sp
-from kbm.averaging import derive
-from kbm.models import custom_model
-from kbm.phase_diffusion import linewidth_series, phase_response
+from kbm.expansion.one_dof import derive
+from kbm.model.builtins import custom_model
+from kbm.noise.phase_diffusion import linewidth_series, phase_response
 from kbm.symbols import a, mu, psi
 from numerics.cli import main
 from numerics.spectrum.phase_diffusion import line_theory

@@ -6,7 +6,7 @@ Theory of Random Noise* II, ch. 9); a finite-volume solution of the stationary
 Fokker-Planck equation (a second method, with a phase-dependent diffusion); direct
 Euler-Maruyama counts of the Adler SDE; the first-order averaged coupled van der Pol pair
 (Adler's Delta = mu sigma, K = mu c) and its locking edges
-(numerics.coupled.locking.averaged_edges).
+(numerics.locking.mutual.averaged_edges).
 """
 
 from __future__ import annotations
@@ -116,7 +116,7 @@ def test_adler_coefficients_of_coupled_vdp():
 def test_reduced_locking_edge_is_the_averaged_edge(order):
     """The reduction keeps the averaged flow's fixed points: the detuning where the reduced
     drift stops changing sign is averaged_edges' fold at the same order."""
-    from numerics.coupled.locking import averaged_edges
+    from numerics.locking.mutual import averaged_edges
 
     p = {"mu": 0.1, "c": 0.3}
     edge = max(e.sigma for e in averaged_edges("coupled-vdp", p, order))

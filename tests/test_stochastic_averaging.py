@@ -1,4 +1,4 @@
-"""First-order stochastic averaging of the amplitude (kbm.stochastic; issue 22, part 1).
+"""First-order stochastic averaging of the amplitude (kbm.noise.stochastic; issue 22, part 1).
 
 Independent references:
 
@@ -29,8 +29,8 @@ from scipy.integrate import quad
 from scipy.linalg import solve_continuous_lyapunov
 
 from kbm.errors import KBMError, ModelError, NonAutonomousError, ParameterError
-from kbm.models import custom_model, get_model
-from kbm.stochastic import NOISE, stochastic_average
+from kbm.model.builtins import custom_model, get_model
+from kbm.noise.stochastic import NOISE, stochastic_average
 from kbm.symbols import a, mu, x, xdot
 
 psi = sp.Symbol("psi")
@@ -124,7 +124,7 @@ def test_numpy_equals_mpmath_equals_sympy(amp, m, Dv, beta):
 
 
 def test_latex_same_bytes_under_any_hash_seed():
-    code = ("from kbm.stochastic import stochastic_average as s;"
+    code = ("from kbm.noise.stochastic import stochastic_average as s;"
             "print(s('sedf').latex()); print(s('vdp').latex())")
     outs = {subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                            env={"PYTHONHASHSEED": str(seed), "PATH": "/usr/bin:/bin"},

@@ -1,4 +1,4 @@
-"""Second-order stochastic averaging (kbm.stochastic_order2; issue 36, second-order part).
+"""Second-order stochastic averaging (kbm.noise.stochastic_order2; issue 36, second-order part).
 
 Independent references:
 
@@ -26,9 +26,9 @@ import sympy as sp
 from scipy.integrate import quad
 
 from kbm.errors import ModelError, ParameterError
-from kbm.models import custom_model
-from kbm.stochastic import stochastic_average
-from kbm.stochastic_order2 import KAPPA, stochastic_average_order2
+from kbm.model.builtins import custom_model
+from kbm.noise.stochastic import stochastic_average
+from kbm.noise.stochastic_order2 import KAPPA, stochastic_average_order2
 from kbm.symbols import a
 
 QUARTIC = custom_model("-xdot - x**3", name="quartic")

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from kbm.models import get_model
+from kbm.model.builtins import get_model
 from kbm.symbols import xdot
 
 from numerics.flow import template_cache as tc
@@ -29,7 +29,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def _like(model, **changes):
     """``model`` built anew through the constructor with some arguments changed."""
-    from kbm.models import Oscillator
+    from kbm.model.builtins import Oscillator
 
     args = dict(name=model.name, F=model.F, omega0=model.omega0, description=model.description,
                 physical=dict(model.physical), defaults=dict(model.defaults))
@@ -117,7 +117,7 @@ def test_the_coupled_names_are_the_catalogue():
     """:func:`kbm.cli.derive.is_coupled` reads a list of names (no sympy); it is the
     catalogue's."""
     from kbm.cli.derive import COUPLED_NAMES
-    from kbm.coupled.builtins import COUPLED_MODELS
+    from kbm.model.coupled_builtins import COUPLED_MODELS
 
     assert COUPLED_NAMES == frozenset(COUPLED_MODELS)
 
@@ -126,7 +126,8 @@ def _cycle(env) -> subprocess.CompletedProcess:
     code = ("import sys, runpy; sys.argv = ['kbm', 'cycle', 'vdp', '-p', 'mu=1']\n"
             "try:\n    runpy.run_module('numerics.cli', run_name='__main__')\n"
             "finally:\n    print('MODULES', *sorted(m for m in ('scipy.special', "
-            "'scipy.integrate', 'scipy.optimize', 'kbm.coupled.builtins') if m in sys.modules), "
+            "'scipy.integrate', 'scipy.optimize', 'kbm.model.coupled_builtins') "
+            "if m in sys.modules), "
             "file=sys.stderr)")
     return subprocess.run([sys.executable, "-c", code], capture_output=True, cwd=ROOT,
                           env=env, timeout=600, check=True)
@@ -152,8 +153,8 @@ def test_cycle_gives_the_same_bytes_with_a_cold_and_a_warm_template_cache(tmp_pa
     assert cold.stdout == warm.stdout
     assert b"limit cycle of vdp" in warm.stdout
     modules = warm.stderr.decode().splitlines()[-1].split()
-    # the coupled catalogue is not read (kbm.coupled.model is: the one model type lives there)
-    assert "scipy.integrate" not in modules and "kbm.coupled.builtins" not in modules
+    # the coupled catalogue is not read (kbm.model.coupled is: the one model type lives there)
+    assert "scipy.integrate" not in modules and "kbm.model.coupled_builtins" not in modules
     assert "scipy.special" not in modules and "scipy.optimize" not in modules
 
 

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from scipy.special import erf
 
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from numerics.escape import energy_envelope
 
 PARAMS = {"mu": 0.1, "Delta": 3, "lam": 1, "Omega": 1}

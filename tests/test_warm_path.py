@@ -67,12 +67,12 @@ def test_brentq_finds_sqrt2_to_the_tolerance():
 def test_guess_equals_the_averaged_cycles_of_kbm(name, params, tmp_path, monkeypatch):
     """The guess from the stored rates (cold: built, stored, read back; warm: read) is the
     stable first-order cycle of :meth:`kbm.AveragedRates.cycles` (rates lambdified anew from
-    the symbolic derivation; both search with :func:`kbm.roots.amplitude_roots`, whose Brent
-    steps equal scipy's brentq, tested above) to the last bit; van der Pol's first-order
+    the symbolic derivation; both search with :func:`kbm.slowflow.roots.amplitude_roots`, whose
+    Brent steps equal scipy's brentq, tested above) to the last bit; van der Pol's first-order
     amplitude is 2 (the textbook result, Nayfeh and Mook, *Nonlinear Oscillations*,
     sec. 3.3)."""
     from kbm import averaged_rates, derive
-    from kbm.bound import bind
+    from kbm.parameters.bound import bind
 
     from numerics._memo import clear_caches
 
@@ -93,7 +93,7 @@ def test_guess_equals_the_averaged_cycles_of_kbm(name, params, tmp_path, monkeyp
 
 
 def test_a_damaged_rates_record_is_rebuilt(tmp_path, monkeypatch):
-    from kbm.bound import bind
+    from kbm.parameters.bound import bind
 
     from numerics._memo import clear_caches
 
@@ -133,10 +133,10 @@ def _modules_of_cycle(env, args=("vdp", "-p", "mu=1")) -> tuple[bytes, list[str]
 def test_the_warm_cycle_imports_no_scipy_optimize_special_or_integrate():
     """``kbm cycle vdp -p mu=1`` with the cache in use warm (a first run warms it, building
     the flows ahead of time once per machine): no ``scipy.optimize``, ``scipy.special`` or
-    ``scipy.integrate``, no KBM derivation (:mod:`kbm.averaging`, :mod:`kbm.averaged`) and,
-    where a C compiler built the flows ahead of time, no numba; the output is the first
-    run's, byte for byte (the just-in-time code's where the first run built the flows; the
-    two codes' flows are compared bit for bit in ``tests/test_flow_aot.py``)."""
+    ``scipy.integrate``, no KBM derivation (:mod:`kbm.expansion.one_dof`,
+    :mod:`kbm.slowflow.averaged`) and, where a C compiler built the flows ahead of time, no numba;
+    the output is the first run's, byte for byte (the just-in-time code's where the first run built
+    the flows; the two codes' flows are compared bit for bit in ``tests/test_flow_aot.py``)."""
     env = {**os.environ, "PYTHONPATH": str(ROOT), "KBM_COMPILE_NOTICE": "0", "KBM_AOT": "1"}
     first, _ = _modules_of_cycle(env)
     out, modules = _modules_of_cycle(env)
@@ -183,7 +183,7 @@ def test_the_warm_branch_imports_no_sympy_scipy_or_numba():
     seeds' record, :mod:`numerics.flow.line_card`, :mod:`numerics.cycles.seeds`): no sympy
     (no symbolic model is built), no ``scipy`` at all (the homoclinic end's minimiser and
     energies by :mod:`numerics.cycles.localmin`, tested against scipy in
-    ``tests/test_localmin.py``; the roots by :func:`kbm.roots.brentq`), no mpmath (the
+    ``tests/test_localmin.py``; the roots by :func:`kbm.slowflow.roots.brentq`), no mpmath (the
     stored energy's rationals are floats, :func:`numerics.flow.template_cache.lambdify_light`)
     and, where a C compiler built the flows ahead of time, no numba; the JSON is the first
     run's."""

@@ -1,21 +1,21 @@
 """The contracts between the KBM recursion and its algebras of Fourier series.
 
-The one recursion (:func:`kbm.recursion.kbm_recursion`) never looks inside a Fourier series
-or a rate: it asks a :class:`RecursionAlgebra` (``N`` modes, an optional forcing angle) for
+The one recursion (:func:`kbm.expansion.recursion.kbm_recursion`) never looks inside a Fourier
+series or a rate: it asks a :class:`RecursionAlgebra` (``N`` modes, an optional forcing angle) for
 the few operations it names.  Its algebras are
 
 - the exact multi-angle algebra of coupled systems
-  (:class:`kbm.coupled.algebra.CoupledAlgebra`: Laurent coefficients, the slow lattice of
+  (:class:`kbm.algebra.coupled.CoupledAlgebra`: Laurent coefficients, the slow lattice of
   the declared resonances, Jacobi-Anger at order one);
 - the exact two-angle algebra of a forced oscillator
-  (:class:`kbm.forced.resonant.ResonantAlgebra`);
-- the sampled ones: one or two angles on a grid (:class:`kbm.forced.grid.SampledAlgebra`,
+  (:class:`kbm.algebra.forced.ResonantAlgebra`);
+- the sampled ones: one or two angles on a grid (:class:`kbm.algebra.grid.SampledAlgebra`,
   forced or not) and
-  ``N`` angles with Taylor jets in the amplitudes (:class:`kbm.coupled.jet_algebra.JetAlgebra`,
+  ``N`` angles with Taylor jets in the amplitudes (:class:`kbm.algebra.coupled_jets.JetAlgebra`,
   forced or not; one unforced mode at a batch of amplitudes, with Jacobi-Anger series for
   ``sin(k x)``, is the evaluated backend :func:`kbm.derive_values`);
 - every one-angle :class:`FourierAlgebra` below, through the adapter
-  :class:`kbm.recursion.OneAngle` (the case ``N = 1`` without forcing, whose rates are
+  :class:`kbm.expansion.recursion.OneAngle` (the case ``N = 1`` without forcing, whose rates are
   coefficients ``c(a)`` rather than series).
 
 The one-angle contract :class:`FourierAlgebra` is answered by two exact algebras
@@ -147,7 +147,8 @@ class FourierAlgebra(Protocol[S, C]):
 
 @runtime_checkable
 class RecursionAlgebra(Protocol[S, C]):
-    """What the one KBM recursion (:func:`kbm.recursion.kbm_recursion`) asks of an algebra.
+    """What the one KBM recursion (:func:`kbm.expansion.recursion.kbm_recursion`) asks of an
+    algebra.
 
     The series ``S`` are functions of the amplitudes ``a_1..a_N``, the phases
     ``psi_1..psi_N`` and, for a forced system, the forcing angle ``theta``; the rates ``C``

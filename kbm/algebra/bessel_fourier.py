@@ -11,7 +11,7 @@ indices, so order 2 meets double sums; the coefficient of one harmonic of a
 double sum is a single sum along a lattice line, found exactly with the
 extended Euclidean algorithm (:mod:`~kbm.algebra.lattice`).  Nothing is
 truncated here: truncation happens only when a result is evaluated numerically
-(:mod:`kbm.evaluate`).
+(:mod:`kbm.output.evaluate`).
 
 :class:`SymAlgebra` offers these series to the recursion through the
 :class:`~kbm.algebra.base.FourierAlgebra` protocol; :func:`tidy` and
@@ -31,7 +31,7 @@ from ..symbols import a, psi
 from .lattice import line_points_exist, line_sum, linear_form
 
 if TYPE_CHECKING:  # the models sit above the algebra; only their type is named here
-    from ..models import Oscillator
+    from ..model.builtins import Oscillator
 
 __all__ = ["SymFourier", "SymAlgebra", "jacobi_anger", "tidy", "tidy_sums",
            "INDEX", "DISPLAY_INDEX", "COS", "SIN"]

@@ -1,6 +1,6 @@
 """Chebyshev points, differentiation, coefficients and interpolation on an interval.
 
-The numeric KBM backend (:mod:`kbm.numeric_kbm`) samples every function of the
+The numeric KBM backend (:mod:`kbm.backend.one_dof`) samples every function of the
 amplitude ``a`` at the Chebyshev extreme points of ``[lo, hi]``; this module holds the
 four things done with such samples, each spectrally accurate for a function analytic
 near the interval (Trefethen, *Approximation Theory and Approximation Practice*,

@@ -1,9 +1,9 @@
 """What the sampled algebras share: values on a grid with their ring operations.
 
 :class:`Samples` is the base of every sampled series: the grid algebra's
-:class:`kbm.forced.grid.SampledSeries` (Chebyshev points in the amplitude: the numeric
+:class:`kbm.algebra.grid.SampledSeries` (Chebyshev points in the amplitude: the numeric
 backends of one degree of freedom, forced or not) and the jets of
-:class:`kbm.coupled.jet_algebra.JetSeries` (Taylor coefficients at given amplitudes: ``N``
+:class:`kbm.algebra.coupled_jets.JetSeries` (Taylor coefficients at given amplitudes: ``N``
 modes, forced or not, and one mode at a batch of amplitudes for :func:`kbm.derive_values`).
 """
 
@@ -17,8 +17,8 @@ __all__ = ["Samples"]
 class Samples:
     """Values on a grid, ``values is None`` the exact zero, with the ring operations that act
     value by value: the base of every sampled series (the forced grid's
-    :class:`kbm.forced.grid.SampledSeries`, the jets'
-    :class:`kbm.coupled.jet_algebra.JetSeries`).  Each gives its product; one that carries
+    :class:`kbm.algebra.grid.SampledSeries`, the jets'
+    :class:`kbm.algebra.coupled_jets.JetSeries`).  Each gives its product; one that carries
     more than its values (a degree, a cap) gives :meth:`_new` and, when a sum is not the sum
     of the values, :meth:`_plus`."""
 

@@ -1,7 +1,7 @@
 """Jacobi-Anger series with Taylor jets in the amplitude: ``sin``, ``cos`` of ``c a cos psi``.
 
 For ``F`` with ``sin(k x)``, ``cos(k x)`` the evaluated recursion
-(:func:`kbm.derive_values`, on the jets of :mod:`kbm.coupled.jet_algebra` with one mode)
+(:func:`kbm.derive_values`, on the jets of :mod:`kbm.algebra.coupled_jets` with one mode)
 needs ``g(c x_0)`` and its derivatives along ``x_0 = a cos psi`` at given amplitudes ``a_q``,
 each as a truncated Taylor series (a *jet*) in ``h = a - a_q``:
 

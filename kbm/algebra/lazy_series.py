@@ -171,7 +171,7 @@ def unsupported_message(term: sp.Expr) -> str:
 
     A non-smooth term gets its smooth replacement; any other the numeric backend.
     """
-    from ..smooth_terms import non_smooth_message, non_smooth_term
+    from ..model.smooth_terms import non_smooth_message, non_smooth_term
 
     bad = non_smooth_term(term)
     if bad is not None:

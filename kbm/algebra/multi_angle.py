@@ -4,10 +4,10 @@
 ``h`` (the first nonzero entry positive, or ``h = 0``); each coefficient is a
 :class:`~kbm.algebra.laurent.Laurent` polynomial in the amplitudes, the parameters and
 the detunings.  It is the representation of the coupled KBM recursion
-(:mod:`kbm.coupled.engine`): ``psi = (psi_1, ..., psi_N)`` are the phases of the ``N``
+(:mod:`kbm.expansion.coupled`): ``psi = (psi_1, ..., psi_N)`` are the phases of the ``N``
 oscillators.  Products use the product-to-sum formulas, ``d/dpsi_l`` acts on the indices
 and ``d/da_l`` on the coefficients; no integral is ever done.  The two-angle series of the
-forced recursion (:mod:`kbm.forced.two_angle`) is the case ``n = 2`` with one of the
+forced recursion (:mod:`kbm.algebra.two_angle`) is the case ``n = 2`` with one of the
 angles the forcing's.
 
 The series satisfies the ring protocol the lazy eps-series of

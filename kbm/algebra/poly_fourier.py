@@ -23,7 +23,7 @@ from .laurent import (Laurent, LaurentRing, Q, _fmpq_poly, _fmpz_poly, accumulat
                       term_product)
 
 if TYPE_CHECKING:  # the models sit above the algebra; only their type is named here
-    from ..models import Oscillator
+    from ..model.builtins import Oscillator
 
 __all__ = ["PolyFourier", "PolyAlgebra", "ring_generators"]
 

@@ -143,7 +143,7 @@ class TaylorOf(Node):
 
 class SmoothBuilder:
     """Makes the lazy series of ``F(x_0 + Dx, v_0 + Dv, theta)`` over the grid algebra
-    (:class:`kbm.forced.grid.SampledAlgebra`, forced or not).  Only :meth:`build` is asked
+    (:class:`kbm.algebra.grid.SampledAlgebra`, forced or not).  Only :meth:`build` is asked
     for by the recursion; ``F`` is the table's, ``extra`` the samples of its further
     arguments (the forcing angle ``theta``); the leaves' samples are their ``sigma**0``
     rows.

@@ -7,7 +7,7 @@ of real polynomials ``P_re(z) = sum Re(c_k) z**(k+K)`` and ``P_im(z) = sum Im(c_
 z**(k+K)`` with the offset ``K``.  Then a product of two series is three products
 of polynomials (Karatsuba's form of ``(a + i b)(c + i d)``), ``d/dtau`` is
 ``c_k -> i k c_k`` and no trigonometric identity is ever used.  This is the
-arithmetic of the direct limit-cycle series (:mod:`kbm.cycle_series`).
+arithmetic of the direct limit-cycle series (:mod:`kbm.slowflow.cycle_series`).
 
 The polynomials come from one of several *kinds* (:func:`arithmetic`):
 
@@ -186,7 +186,7 @@ def arithmetic(kind: str = "exact", *, prec: int | None = None,
     -----
     The ``"mp"`` kind sets the global working precision of python-flint
     (``flint.ctx.prec``) or of mpmath (``mpmath.mp.prec``); the caller restores it
-    (see :func:`kbm.cycle_series.lindstedt_series`).
+    (see :func:`kbm.slowflow.cycle_series.lindstedt_series`).
     """
     flint_ok = HAVE_FLINT if use_flint is None else (use_flint and HAVE_FLINT)
     if kind == "float":

@@ -5,7 +5,7 @@ Every option that several commands take is defined once, in :data:`OPTIONS` (its
 type, default, metavar and help); a command adds it with :func:`add_options`, naming what
 differs there (a default, or a help that says what the option does in that command).  The
 numerical commands' ensemble options (``--trajectories``, ``--seed``, ``--workers``,
-``--store``, ``--resume``, ``--budget``) are in :mod:`numerics.cli._options`.
+``--store``, ``--resume``, ``--budget``) are in :mod:`numerics.cli.params.options`.
 """
 
 from __future__ import annotations
@@ -17,10 +17,10 @@ from collections.abc import Iterable, Mapping
 from typing import TYPE_CHECKING, Any
 
 from ..errors import ModelError, ParameterError
-from ..strict_json import finite
+from ..output.strict_json import finite
 
 if TYPE_CHECKING:
-    from ..values import ParameterNames
+    from ..parameters.values import ParameterNames
 
 __all__ = ["OPTIONS", "ONE_DOF", "add_command", "add_options", "parse_params", "check",
            "checked_params", "emit_json", "show", "write_json", "add_model_arguments",
@@ -109,7 +109,7 @@ def parse_params(items: list[str]) -> dict[str, str]:
 
 def checked_params(items: list[str], model: object) -> dict[str, str]:
     """``-p NAME=VALUE`` options read (:func:`parse_params`) and checked (:func:`check`)
-    against the names ``model`` takes (:class:`kbm.params.ParameterNames`: ``mu``, the
+    against the names ``model`` takes (:class:`kbm.parameters.names.ParameterNames`: ``mu``, the
     physical names such as ``Delta``, ``lam``, the scaled ones such as ``delta = Delta/mu``,
     ``k = 2 pi/lam``).
 
@@ -122,8 +122,8 @@ def checked_params(items: list[str], model: object) -> dict[str, str]:
         For an unknown name (the closest valid one and every valid one named, in ``-p``
         terms), or a scaled name given with the physical one it is computed from.
     """
-    from ..models import Oscillator
-    from ..params import lookup
+    from ..model.builtins import Oscillator
+    from ..parameters.names import lookup
 
     params = parse_params(items)
     if isinstance(model, str):
@@ -151,8 +151,8 @@ def check(model: object, params: Mapping[str, object], varied: Iterable[str] = (
     kbm.errors.ParameterError
         Naming the wrong name, the close valid one and every valid one.
     """
-    from ..params import names_of  # sympy: on use, not at import (issue 39)
-    from ..values import ParameterNames
+    from ..parameters.names import names_of  # sympy: on use, not at import (issue 39)
+    from ..parameters.values import ParameterNames
 
     models = model if isinstance(model, tuple) else (model,)
     names = names_of(models[0], extra=extra, noise=noise)
@@ -214,7 +214,7 @@ def write_json(path: Any, obj: Any) -> Any:
     kbm.errors.OutputError
         If the file cannot be written (with the reason).
     """
-    from ..files import write_file
+    from ..output.files import write_file
 
     return write_file(path, json.dumps(finite(obj), indent=2, allow_nan=False) + "\n")
 
@@ -269,7 +269,7 @@ def model_spec(args: argparse.Namespace):
     kbm.errors.ModelError
         If neither or both are given, or ``--omega0`` comes with a model name.
     """
-    from ..models import custom_model
+    from ..model.builtins import custom_model
 
     check_model_flags(args)
     if getattr(args, "rhs", None):
@@ -287,7 +287,7 @@ def describe_params(model, given: Mapping[str, object], resolved: Mapping[str, o
     """
     import sympy as sp
 
-    from ..models import get_model
+    from ..model.builtins import get_model
 
     if isinstance(model, str):
         try:

@@ -23,9 +23,9 @@ def register(sub) -> None:
                     "omega0^2 x = mu F(x, x') to order N: symbolic for polynomial F (any order) "
                     "and sin/cos of x (order <= 2); evaluated at numeric parameters on --a-range "
                     "above that; with --numeric for any smooth F.")
-    from ..models import model_names
+    from ..model.builtins import model_names
 
-    from ..coupled import coupled_model_names
+    from ..model.coupled_builtins import coupled_model_names
 
     add_model_arguments(p, f"{', '.join(model_names())}; coupled: "
                            f"{', '.join(coupled_model_names())}", coupled=True)
@@ -67,8 +67,8 @@ def model_from_args(args: argparse.Namespace, *, series: bool = False):
         For an unknown name (:func:`kbm.cli._common.checked_params`) or ``-p mu`` that
         sets nothing.
     """
-    from ..models import get_model
-    from ..params import names_of
+    from ..model.builtins import get_model
+    from ..parameters.names import names_of
 
     spec = model_spec(args)  # a built-in's name, or the --rhs model
     params = checked_params(args.param, spec)
@@ -91,7 +91,7 @@ def _mu_sets_something(names, params: dict, series: bool) -> None:
 
 
 def _amplitudes(args: argparse.Namespace, why: str) -> tuple[tuple[float, float], np.ndarray]:
-    from ..sampling import parse_a_range
+    from ..backend.sampling import parse_a_range
 
     if args.a_range is None:
         raise ParameterError(f"{why}: give the amplitudes with --a-range AMIN:AMAX "
@@ -128,7 +128,7 @@ def _print_table(title: list[str], a: np.ndarray, order: int, A, B, errors=None)
 
 
 def _run_numeric(args, model) -> int:
-    from ..numeric_kbm import DEFAULT_TOL, numeric_derive
+    from ..backend.one_dof import DEFAULT_TOL, numeric_derive
 
     if args.latex:
         raise ParameterError("--latex prints symbolic results; --numeric gives tables "
@@ -150,7 +150,7 @@ def _run_numeric(args, model) -> int:
 
 
 def _run_values(args, model, limit: int) -> int:
-    from ..pointwise import DEFAULT_TOL, derive_values
+    from ..backend.pointwise import DEFAULT_TOL, derive_values
 
     if args.latex:
         raise ParameterError(f"order {args.order} of {model.name!r} is evaluated, not "
@@ -184,7 +184,7 @@ def is_coupled(args: argparse.Namespace) -> bool:
                                            or name.startswith("sedf-chain-"))))
 
 
-#: the names of the coupled built-ins (:data:`kbm.coupled.builtins.COUPLED_MODELS`, whose
+#: the names of the coupled built-ins (:data:`kbm.model.coupled_builtins.COUPLED_MODELS`, whose
 #: systems are built with sympy at import): :func:`is_coupled` of a one-degree-of-freedom
 #: command then imports no sympy (issue 39); ``tests/test_template_cache.py`` checks the
 #: list against the catalogue
@@ -195,7 +195,7 @@ COUPLED_NAMES = frozenset({"coupled-vdp", "duffing-1-3", "quadratic-1-2", "sedf-
 def coupled_model(args: argparse.Namespace):
     """The coupled system of the command line: a built-in (coupled, or one degree of
     freedom as ``N = 1``) or the ``--rhs`` list with ``--omega0``."""
-    from ..coupled import coupled_custom, get_coupled_model
+    from ..model.coupled_builtins import coupled_custom, get_coupled_model
 
     check_model_flags(args)
     if args.rhs:
@@ -204,7 +204,7 @@ def coupled_model(args: argparse.Namespace):
 
 
 def _run_coupled(args: argparse.Namespace) -> int:
-    from ..coupled import derive_coupled
+    from ..expansion.coupled import derive_coupled
 
     if args.numeric:
         return _run_coupled_numeric(args)
@@ -218,11 +218,11 @@ def _run_coupled(args: argparse.Namespace) -> int:
 
 def _run_coupled_numeric(args: argparse.Namespace) -> int:
     """The rates of a coupled system with any smooth F at one point: order 1 by the FFT
-    average on the torus, higher orders by the recursion on jets (kbm.coupled.jets)."""
+    average on the torus, higher orders by the recursion on jets (kbm.backend.jets)."""
     import math
 
-    from ..coupled.jets import MAX_ORDER_JETS
-    from ..coupled.numeric import numeric_average
+    from ..backend.jets import MAX_ORDER_JETS
+    from ..backend.coupled import numeric_average
 
     if not 1 <= args.order <= MAX_ORDER_JETS:
         raise ParameterError(f"the numeric backend of coupled systems takes --order 1 to "
@@ -308,7 +308,7 @@ def _emit(res, args: argparse.Namespace) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..averaging import MAX_ORDER, check_cost, derive, symbolic_order_limit
+    from ..expansion.one_dof import MAX_ORDER, check_cost, derive, symbolic_order_limit
 
     if is_coupled(args):
         return _run_coupled(args)

@@ -49,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _exact(args, model) -> int:
-    from ..series import limit_cycle_series
+    from ..slowflow.series import limit_cycle_series
 
     s = limit_cycle_series(model, args.order, root=args.root, method=args.method)
     if args.json:
@@ -65,7 +65,7 @@ def _exact(args, model) -> int:
 def _floating(args, model) -> int:
     import mpmath
 
-    from ..numeric_series import numeric_cycle_series
+    from ..slowflow.numeric_series import numeric_cycle_series
 
     s = numeric_cycle_series(model, args.order, digits=args.digits, root=args.root)
     shown = 17 if args.digits is None else args.digits

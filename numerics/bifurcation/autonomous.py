@@ -215,12 +215,12 @@ def _on_grid(f_rest, f, xs: np.ndarray, pv) -> np.ndarray:
 
 
 def _plane(model, params: Mapping, axes: tuple[str, str], at: tuple[float, float], template):
-    """``(line along a at b0, kbm.bound.ParameterLine along b at a0)``: the model bound
+    """``(line along a at b0, kbm.parameters.bound.ParameterLine along b at a0)``: the model bound
     once, each point's values from the two lines (no sympy), where no value of the template
     depends on both axes (``delta = Delta/mu`` over ``(Delta, mu)`` does) and the line's
     template is the model's; else ``None`` (:func:`numerics.flow.compile_model` at each
     point)."""
-    from kbm.bound import ParameterLine
+    from kbm.parameters.bound import ParameterLine
     from numerics.flow import CompiledLine
 
     try:
@@ -238,7 +238,7 @@ def _on_plane(plane, model, values: Mapping, key: tuple[float, float]):
     :func:`numerics.flow.compile_model`'s; ``None`` where the plane cannot give it."""
     if plane is None:
         return None
-    from kbm.bound import bind
+    from kbm.parameters.bound import bind
 
     line_a, line_b = plane
     try:

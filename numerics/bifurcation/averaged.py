@@ -34,7 +34,7 @@ ENERGY_ORDER = 1
 
 
 def _split(model, params, a_name, b_name, a, b):
-    from kbm.conservative import split_conservative
+    from kbm.model.conservative import split_conservative
 
     return split_conservative(model, {**params, a_name: a, b_name: b})
 

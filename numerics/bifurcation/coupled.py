@@ -2,7 +2,7 @@
 
 A locked state of ``x_i'' + omega_i**2 x_i = mu F_i(x, x')`` (``coupled-vdp``) is a cycle;
 the edges of the locking region are its folds (saddle-nodes of cycles on the torus,
-:mod:`numerics.coupled.fold`).  In two parameters (the detuning and the coupling, or the
+:mod:`numerics.locking.fold`).  In two parameters (the detuning and the coupling, or the
 detuning and ``mu``) they are curves, continued here by
 :func:`numerics.bifurcation.curve.continue_curve` on the defining system
 
@@ -16,14 +16,14 @@ component of the solution of ``[[M, b], [c^T, 0]] (v, g) = (0, 1)``, zero exactl
 cycles; Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., sec. 10.2.2 for
 bordered test functions).  ``b`` and ``c`` are the singular vectors of ``M``'s smallest
 singular value at the seed.  The seeds are the folds of the one-parameter branches
-(:func:`numerics.coupled.fold.locate_fold`) from the locked cycle, followed on each seed
+(:func:`numerics.locking.fold.locate_fold`) from the locked cycle, followed on each seed
 line from where ``kbm lock`` starts (:func:`line_start`: 0 when the range holds it, else
 the first value from the middle out with a stable locked state of the order-1 slow flow).
 
 The averaged tongue: the folds of the slow flow's locked fixed point
-(:func:`kbm.coupled.derive_coupled` at orders 1..N, both axes kept as symbols),
+(:func:`kbm.expansion.coupled.derive_coupled` at orders 1..N, both axes kept as symbols),
 ``f(a, gamma) = 0``, ``det df/d(a, gamma) = 0``, continued the same way and seeded from
-:func:`numerics.coupled.locking.averaged_edges`.
+:func:`numerics.locking.mutual.averaged_edges`.
 """
 
 from __future__ import annotations
@@ -49,7 +49,7 @@ class LockedCycleFold:
     Parameters
     ----------
     model
-        A coupled built-in's name or a :class:`kbm.coupled.CoupledOscillators`.
+        A coupled built-in's name or a :class:`kbm.model.coupled.CoupledOscillators`.
     values
         Every other parameter's value (``mu`` included).
     axes
@@ -60,7 +60,7 @@ class LockedCycleFold:
 
     def __init__(self, model, values: Mapping[str, float], axes: tuple[str, str],
                  rtol: float = 1e-11):
-        from numerics.coupled import coupled_flow
+        from numerics.flow.coupled_flow import coupled_flow
 
         self.axes = tuple(axes)
         self.values = {k: float(v) for k, v in values.items() if k not in self.axes}
@@ -132,7 +132,7 @@ def _seed_axis(axes: tuple[str, str]) -> int:
 def line_start(model, params: Mapping[str, float], s_name: str, o_name: str, o: float,
                span: tuple[float, float]) -> float:
     """Where the locked state is followed from on the seed line ``o_name = o``: ``kbm
-    lock``'s start (:func:`numerics.coupled.lock_start.locked_start` at order 1), 0 when
+    lock``'s start (:func:`numerics.locking.start.locked_start` at order 1), 0 when
     ``span`` holds it, else the first value from the middle out at which the order-1 slow
     flow has a stable locked state (``mu`` followed, which the slow flow does not take as
     its parameter, or a model without an order-1 slow flow: the first of those values).
@@ -142,7 +142,7 @@ def line_start(model, params: Mapping[str, float], s_name: str, o_name: str, o: 
     numerics.errors.NoCycleError
         If the slow flow has no stable locked state at any value tried.
     """
-    from numerics.coupled.lock_start import locked_start, start_values
+    from numerics.locking.start import locked_start, start_values
 
     if s_name != "mu":
         try:
@@ -168,9 +168,9 @@ def coupled_true_folds(model, params: Mapping[str, float], axes: tuple[str, str]
     "from": start, "to": [lo, hi], "folds": [...], "period": T, "cycle": error}`` (the
     locked cycle at ``from`` and its period, or why there is none, and the folds met going
     both ways to the range's ends: a diagram without curves says why from these)."""
-    from numerics.coupled import coupled_cycle
-    from numerics.coupled.fold import locate_fold
-    from numerics.coupled.lock_start import start_values
+    from numerics.shooting.coupled_orbit import coupled_cycle
+    from numerics.locking.fold import locate_fold
+    from numerics.locking.start import start_values
 
     s_i = _seed_axis(axes)
     s_name, o_name = axes[s_i], axes[1 - s_i]
@@ -242,7 +242,8 @@ def coupled_true_folds(model, params: Mapping[str, float], axes: tuple[str, str]
 
 
 def _averaged_fold_system(model, values: Mapping[str, float], axes: tuple[str, str], order: int):
-    from kbm.coupled import amplitudes, derive_coupled
+    from kbm.model.coupled import amplitudes
+    from kbm.expansion.coupled import derive_coupled
 
     fixed = {k: sp.nsimplify(v, rational=True) for k, v in values.items()
              if k not in axes and k != "mu"}
@@ -264,8 +265,8 @@ def coupled_averaged_folds(model, params: Mapping[str, float], axes: tuple[str, 
     """The averaged tongue: the slow flow's fold curves of its locked state at ``orders``;
     ``dropped`` receives a record of each order the engine does not take, each seed line
     without a locked state and each seed that gave no curve."""
-    from numerics.coupled.flow import bind_coupled
-    from numerics.coupled.locking import averaged_edges
+    from numerics.flow.coupled_flow import bind_coupled
+    from numerics.locking.mutual import averaged_edges
 
     s_i = _seed_axis(axes)
     s_name, o_name = axes[s_i], axes[1 - s_i]

@@ -6,7 +6,7 @@ stroboscopic map ``y0 -> y(T)``.  Their codim-1 bifurcations are continued in tw
 parameters (one of them the detuning ``sigma``) by :func:`numerics.bifurcation.curve.
 continue_curve` on the defining systems (unknowns ``z = (x(0), x'(0), p1, p2)``; the flow
 and its monodromy ``Phi(T)`` from one compiled integration,
-:meth:`numerics.coupled.flow.CoupledFlow.monodromy`):
+:meth:`numerics.flow.coupled_flow.CoupledFlow.monodromy`):
 
 - **fold** (saddle-node of responses, the jump points): ``y(T) - y0 = 0`` and
   ``det(Phi - I) = 0`` (a multiplier +1);
@@ -30,15 +30,16 @@ points are zeros of test functions along the curves, located to convergence:
   (``det Phi = -1``).
 
 **Averaged curves.**  The slow flow ``a' = A(a, phi)``, ``phi' = B(a, phi)`` of
-:func:`kbm.forced.derive_forced` at orders 1..3 (the parameters of both axes kept as
+:func:`kbm.expansion.forced.derive_forced` at orders 1..3 (the parameters of both axes kept as
 symbols): its folds ``A = B = det d(A, B)/d(a, phi) = 0`` (the averaged fold curves, with
 their cusp) and its Hopf points ``A = B = tr d(A, B)/d(a, phi) = 0``, ``det > 0`` (the
 averaged Neimark–Sacker curves).  Their distance to the true curves is reported.
 
 Seeds: the one-parameter true response curves in ``sigma`` at a few values of the other
-parameter (:func:`numerics.forced.numeric_response`, started from the KBM fixed points) give
+parameter (:func:`numerics.shooting.forced_branch.numeric_response`, started from the KBM
+fixed points) give
 the folds and the sign changes of the period-doubling and Neimark–Sacker tests; the
-averaged response curves (:func:`kbm.forced.steady.response_curve`) give the averaged seeds.
+averaged response curves (:func:`kbm.slowflow.steady.response_curve`) give the averaged seeds.
 """
 
 from __future__ import annotations
@@ -76,7 +77,7 @@ class DrivenProblem:
     Parameters
     ----------
     model
-        A built-in forced model's name or a :class:`kbm.forced.ForcedOscillator`.
+        A built-in forced model's name or a :class:`kbm.model.forced.ForcedOscillator`.
     values
         Every other parameter's value (``mu`` included).
     axes
@@ -87,8 +88,8 @@ class DrivenProblem:
 
     def __init__(self, model, values: Mapping[str, float], axes: tuple[str, str],
                  rtol: float = 1e-11):
-        from kbm.forced import get_forced_model
-        from numerics.coupled import coupled_flow
+        from kbm.model.forced_builtins import get_forced_model
+        from numerics.flow.coupled_flow import coupled_flow
 
         self.forced = get_forced_model(model) if isinstance(model, str) else model
         if getattr(self.forced, "resonance", None) is None:
@@ -107,7 +108,7 @@ class DrivenProblem:
         vals = {self.axes[0]: float(p1), self.axes[1]: float(p2)}
         if self._direct:
             return self.flow.at(**vals)
-        from numerics.coupled import coupled_flow
+        from numerics.flow.coupled_flow import coupled_flow
 
         return coupled_flow(self.system, {**self.values, **vals})
 
@@ -188,8 +189,9 @@ def forced_seeds(prob: DrivenProblem, sigma_range: tuple[float, float], others: 
     ``sigma`` at each value in ``others`` of the other axis: its folds, and the sign changes
     of ``det(Phi + I)`` (period doubling) and of ``det Phi - 1`` with a complex pair
     (Neimark–Sacker) between neighbouring responses (interpolated)."""
-    from kbm.forced import derive_forced
-    from numerics.forced import ForcedSystem, numeric_response
+    from kbm.expansion.forced import derive_forced
+    from numerics.flow.forced_system import ForcedSystem
+    from numerics.shooting.forced_branch import numeric_response
 
     s_idx = prob.axes.index("sigma")
     o_name = prob.axes[1 - s_idx]

@@ -1,12 +1,13 @@
 """The averaged counterparts of a forced oscillator's two-parameter curves (issue 38).
 
-The slow flow ``a' = A(a, phi)``, ``phi' = B(a, phi)`` of :func:`kbm.forced.derive_forced`
-at orders 1..3, the parameters of both axes kept as symbols (the rates divided by ``mu``:
-the same zeros): its folds ``A = B = det d(A, B)/d(a, phi) = 0`` (the averaged fold
-curves, with their cusps and Bogdanov–Takens points, ``tr = 0`` on a fold) and its Hopf
-points ``A = B = tr d(A, B)/d(a, phi) = 0`` with ``det > 0`` (the averaged Neimark–Sacker
-curves, ended where ``det`` reaches 0).  The seeds are the folds and the sign changes of
-the trace on the averaged response curves (:func:`kbm.forced.steady.response_curve`).
+The slow flow ``a' = A(a, phi)``, ``phi' = B(a, phi)`` of
+:func:`kbm.expansion.forced.derive_forced` at orders 1..3, the parameters of both axes kept as
+symbols (the rates divided by ``mu``: the same zeros): its folds
+``A = B = det d(A, B)/d(a, phi) = 0`` (the averaged fold curves, with their cusps and
+Bogdanov–Takens points, ``tr = 0`` on a fold) and its Hopf points
+``A = B = tr d(A, B)/d(a, phi) = 0`` with ``det > 0`` (the averaged Neimark–Sacker curves, ended
+where ``det`` reaches 0).  The seeds are the folds and the sign changes of the trace on the
+averaged response curves (:func:`kbm.slowflow.steady.response_curve`).
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from collections.abc import Callable, Mapping, Sequence
 import numpy as np
 import sympy as sp
 
-from kbm.evaluate import numpy_array_function
+from kbm.output.evaluate import numpy_array_function
 from numerics.bifurcation.result import Codim2Point, Curve
 from numerics.bifurcation.twoway import (FD_STEP, Task, both_ways, codim2_points,
                                          dropped_seed, joined, on_known, trimmed, why_short)
@@ -28,8 +29,8 @@ __all__ = ["rates_system", "averaged_fold_curves"]
 def _averaged_system(forced, values: Mapping[str, float], axes: tuple[str, str], order: int):
     """``G(z)``, ``G'(z)`` of the order-``order`` slow flow's fold and Hopf curves,
     ``z = (a, phi, p1, p2)``, the rates divided by ``mu`` (the same zeros)."""
-    from kbm.forced import derive_forced
-    from kbm.forced.model import phi as phi_s
+    from kbm.expansion.forced import derive_forced
+    from kbm.model.forced import phi as phi_s
     from kbm.symbols import a as a_s
 
     res = derive_forced(forced, order)
@@ -89,8 +90,8 @@ def averaged_fold_curves(forced, values: Mapping[str, float], axes: tuple[str, s
     curves (the averaged Neimark–Sacker curves, ``det > 0``) at each order, seeded from the
     averaged response curves in ``sigma`` at the values ``others`` of the other axis;
     ``dropped`` receives a record of each seed that gave no curve."""
-    from kbm.forced import derive_forced
-    from kbm.forced.steady import response_curve
+    from kbm.expansion.forced import derive_forced
+    from kbm.slowflow.steady import response_curve
 
     s_idx = axes.index("sigma")
     o_name = axes[1 - s_idx]

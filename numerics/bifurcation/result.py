@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
 
-from kbm.strict_json import Rendered, jsonable
+from kbm.output.strict_json import Rendered, jsonable
 
 __all__ = ["Curve", "Codim2Point", "Diagram"]
 
@@ -30,7 +30,7 @@ def _frozen(mapping: Mapping | None) -> Mapping:
 
 class _Detailed(Rendered):
     """A result rendered as its :attr:`layout` then the keys of its ``detail`` the layout
-    does not hold (mappings as given, :func:`kbm.strict_json.jsonable`)."""
+    does not hold (mappings as given, :func:`kbm.output.strict_json.jsonable`)."""
 
     mappings_as_given = True
 

@@ -15,9 +15,9 @@ NEAR_ZERO = 0.05
 
 
 def run_chain(args: argparse.Namespace) -> int:
-    from numerics.cli._options import check_ensemble
-    from numerics.cli._params import check, given, parse_vary
-    from numerics.coupled.friction import chain_friction_law
+    from numerics.cli.params.options import check_ensemble
+    from numerics.cli.params.values import check, given, parse_vary
+    from numerics.sliding.chain_friction import chain_friction_law
     from numerics.executor import connect
     from numerics.sliding.maps import axis_values
 
@@ -86,7 +86,7 @@ def run_chain(args: argparse.Namespace) -> int:
 def _physical_header(names, values: dict, typed: dict) -> str:
     """The chain's parameters in the physical names the user typed (``Delta = 3, lam = 1``
     for ``delta = 30, k = 2 pi``), then the others, the stage velocity left out."""
-    from kbm.params import to_physical
+    from kbm.parameters.names import to_physical
 
     vals = {k: v for k, v in values.items() if k != "v"}
     scaled = [k for k in names.physical if k in vals and k not in typed]

@@ -1,6 +1,6 @@
 """``kbm branch`` and ``kbm response`` for coupled systems (``N`` degrees of freedom, or a
 built-in of one degree of freedom as ``N = 1``): the true branch by pseudo-arclength
-continuation of the shooting problem (:func:`numerics.coupled.continue_coupled`);
+continuation of the shooting problem (:func:`numerics.shooting.coupled_branch.continue_coupled`);
 :func:`run_coupled_response` is ``kbm response`` of a forced coupled built-in or ``--rhs``
 list."""
 
@@ -23,7 +23,7 @@ def shown(points: list) -> list:
 def _start(text: str | None, dof: int):
     if text is None:
         return None
-    from numerics.cli._params import numbers
+    from numerics.cli.params.values import numbers
 
     start = numbers(text, "--start")
     if not all(math.isfinite(v) for v in start) or len(start) != 2 * dof:
@@ -37,13 +37,13 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
     """Continue the periodic orbits of the command line's coupled system (or ``model``) in
     ``name`` over ``[lo, hi]`` (from ``-p NAME=VALUE`` if given, else from ``lo``)."""
     from kbm.cli.derive import coupled_model
-    from numerics.coupled.continuation import continue_coupled
+    from numerics.shooting.coupled_branch import continue_coupled
 
     model = coupled_model(args) if model is None else model
     if what == "response" and not model.forced:
         raise ParameterError(f"{model.name!r} has no forcing (theta); its branches of cycles "
                              "are kbm branch")
-    from numerics.cli._params import check, given as read, within
+    from numerics.cli.params.values import check, given as read, within
 
     given = read(args.param)
     check(model, given, [name], start=True)
@@ -81,7 +81,7 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
 def run_coupled_response(args: argparse.Namespace) -> int:
     """A forced coupled built-in: the true response branch in its detuning."""
     from kbm.cli.derive import coupled_model
-    from numerics.cli._forced_args import named_range
+    from numerics.cli.params.forced import named_range
 
     extra = [f for f, v in (("--forcing", args.forcing),
                             ("--hard", args.hard), ("--resonance", args.resonance),
@@ -98,7 +98,7 @@ def run_coupled_response(args: argparse.Namespace) -> int:
         raise ParameterError("give the range of the detuning (or another parameter): --vary "
                              "NAME=FROM:TO")
     if args.rhs:
-        from kbm.coupled import coupled_custom
+        from kbm.model.coupled_builtins import coupled_custom
 
         if args.model:
             raise ParameterError("give either a model name or --rhs, not both")

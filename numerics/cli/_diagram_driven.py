@@ -32,8 +32,8 @@ _DEFAULT_ORDER = {"forced": 3, "coupled": 2}
 
 def is_driven(name: str | None) -> str | None:
     """``"forced"``, ``"coupled"`` or ``None`` for a model name."""
-    from kbm.coupled import COUPLED_MODELS
-    from kbm.forced import FORCED_MODELS
+    from kbm.model.coupled_builtins import COUPLED_MODELS
+    from kbm.model.forced_builtins import FORCED_MODELS
 
     if name in FORCED_MODELS:
         return "forced"
@@ -70,10 +70,10 @@ def _point(rec: dict, plane):
 
 
 def _setup(args: argparse.Namespace, kind: str):
-    from numerics.cli._params import check, given, parse_vary
+    from numerics.cli.params.values import check, given, parse_vary
 
     if kind == "forced":
-        from kbm.forced import get_forced_model
+        from kbm.model.forced_builtins import get_forced_model
 
         model = get_forced_model(args.model)
     elif getattr(args, "rhs", None):
@@ -81,7 +81,7 @@ def _setup(args: argparse.Namespace, kind: str):
 
         model = coupled_model(args)
     else:
-        from kbm.coupled import get_coupled_model
+        from kbm.model.coupled_builtins import get_coupled_model
 
         model = get_coupled_model(args.model)
     name = model.name
@@ -102,7 +102,7 @@ def _setup(args: argparse.Namespace, kind: str):
     if kind == "forced" and "sigma" not in axes:
         raise ParameterError(f"a forced diagram varies the detuning and one other parameter: "
                              f"--vary sigma=FROM:TO --vary {axes[0]}=FROM:TO")
-    from numerics.cli._plane import Plane
+    from numerics.cli.params.plane import Plane
 
     # a physical axis (Delta) is computed as its scaled one (delta = Delta/mu), as -p binds it
     plane = Plane.of(model, params, axes, ranges)
@@ -257,7 +257,7 @@ def run_driven(args: argparse.Namespace) -> int:
     """
     from numerics.bifurcation.twoway import distances, merged
     from numerics.bifurcation.result import Diagram
-    from numerics.cli._params import within
+    from numerics.cli.params.values import within
 
     kind = "coupled" if getattr(args, "rhs", None) else is_driven(getattr(args, "model", None))
     if kind is None:
@@ -303,7 +303,7 @@ def run_driven(args: argparse.Namespace) -> int:
                           if "seed_lines" in t_more else {})})
     if getattr(args, "out", None):
         from kbm.cli._common import write_json
-        from kbm.files import output_folder
+        from kbm.output.files import output_folder
 
         folder = output_folder(args.out)
         write_json(folder / "diagram.json", diagram.to_json())

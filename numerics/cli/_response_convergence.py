@@ -7,15 +7,15 @@ import argparse
 
 from kbm.cli._common import emit_json
 from kbm.errors import ParameterError
-from numerics.cli._forced_args import (amplitude_window, checked_values, forced_model,
+from numerics.cli.params.forced import (amplitude_window, checked_values, forced_model,
                                        sigma_range)
 
 
 def convergence_mus(text: str) -> list[float]:
     """The values of ``--convergence``: at least 3, positive, finite and distinct."""
-    from numerics.forced.convergence import check_mus
+    from numerics.comparison.response_convergence import check_mus
 
-    from numerics.cli._params import numbers
+    from numerics.cli.params.values import numbers
 
     try:
         return list(check_mus(numbers(text, "--convergence"), minimum=3))
@@ -29,9 +29,9 @@ def run_convergence(args: argparse.Namespace) -> int:
     import sys
     from pathlib import Path
 
-    from kbm.forced import forced_expansion
-    from numerics.cli._params import within
-    from numerics.forced.convergence import amplitude_study, fold_study
+    from kbm.backend.forced import forced_expansion
+    from numerics.cli.params.values import within
+    from numerics.comparison.response_convergence import amplitude_study, fold_study
 
     refused = [name for name, on in (("--nu", args.nu is not None),
                                      ("--no-numeric", args.no_numeric)) if on]
@@ -74,7 +74,7 @@ def run_convergence(args: argparse.Namespace) -> int:
                            amplitudes=amplitudes, result=result, **kw)
     figure = None
     if args.out:
-        from numerics.forced.figures import plot_convergence
+        from numerics.paper.figures.forced import plot_convergence
 
         figure = plot_convergence(table, Path(args.out) / "convergence.png")
     if args.json:

@@ -5,7 +5,7 @@ detuning, :mod:`numerics.spectrum.driven_sim`) and :func:`run_slips` (an autonom
 pair: the slip rate, :mod:`numerics.spectrum.slips`) take the ``argparse`` namespace of
 ``kbm spectrum`` (``model``, ``param``, ``vary``, ``json``, ``out``, ``trajectories``,
 ``duration``, ``seed``, ``workers``, ``store``, ``resume``, ``order``; a missing attribute
-is its default).  The parameters go through the one layer (:mod:`numerics.cli._params`):
+is its default).  The parameters go through the one layer (:mod:`numerics.cli.params.values`):
 unknown names refused, ``D`` or ``T = D/mu``.
 """
 
@@ -31,9 +31,9 @@ def _opt(args, name, default=None):
 
 def _bind(args, kind: str):
     """``(model name, params without D and the detuning, D, detuning name, detunings)``."""
-    from kbm.params import lookup
-    from kbm.values import parameter_value
-    from numerics.cli._params import check, given, noise_params, parse_vary, without_noise
+    from kbm.parameters.names import lookup
+    from kbm.parameters.values import parameter_value
+    from numerics.cli.params.values import check, given, noise_params, parse_vary, without_noise
 
     if _opt(args, "rhs") or not _opt(args, "model"):
         names = "duffing-forced, parametric, duffing-1-3, ..." if kind == "forced" else \
@@ -48,7 +48,7 @@ def _bind(args, kind: str):
     if len(vary) > 1:
         raise ParameterError("--vary takes one detuning range here (e.g. --vary sigma=0.5:1.5)")
     if kind == "forced":
-        from kbm.coupled import get_coupled_model
+        from kbm.model.coupled_builtins import get_coupled_model
 
         name = get_coupled_model(args.model).nu_detuning or "sigma"
     else:
@@ -82,7 +82,7 @@ def _bind(args, kind: str):
 def run_driven(args) -> int:
     """``kbm spectrum FORCED-MODEL -p ... -p D=... [--vary sigma=A:B]``: the averaged,
     Floquet and simulated noise spectra about every stable state at each detuning."""
-    from numerics.cli._options import stored
+    from numerics.cli.params.options import stored
     from numerics.spectrum.driven_sim import response_spectra
 
     model, params, D, name, detunings = _bind(args, "forced")
@@ -169,7 +169,7 @@ def _figures_driven(specs, model, out: Path) -> list[Path]:
 def run_slips(args) -> int:
     """``kbm spectrum coupled-vdp -p ... -p D=... [--vary sigma=A:B]``: the phase-slip rate
     and the effective frequency difference, Stratonovich's formula against counts."""
-    from numerics.cli._options import stored
+    from numerics.cli.params.options import stored
     from numerics.spectrum.slips import slip_report
 
     model, params, D, name, detunings = _bind(args, "coupled")

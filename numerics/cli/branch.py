@@ -7,7 +7,7 @@ import math
 
 from kbm.cli._common import check_model_flags, emit_json, model_spec, single_well
 from kbm.errors import ParameterError
-from numerics.cli._options import command, options
+from numerics.cli.params.options import command, options
 
 
 def register(sub) -> None:
@@ -39,8 +39,8 @@ def register(sub) -> None:
 def _checked(args: argparse.Namespace, params: dict, name: str):
     """The model of the command line (a built-in name or the ``--rhs`` model), its names
     and, with ``--follow-period``, its saddle checked."""
-    from kbm.params import lookup
-    from numerics.cli._params import check
+    from kbm.parameters.names import lookup
+    from numerics.cli.params.values import check
 
     spec = model_spec(args)
     model = lookup(spec, ("one",)) if isinstance(spec, str) else spec
@@ -76,14 +76,14 @@ def _checked_key(args: argparse.Namespace, params: dict) -> str | None:
         return None
     from numerics.flow.line_card import source_digest
 
-    code = source_digest("numerics/cli/branch.py", "numerics/cli/_params.py")  # the checks
+    code = source_digest("numerics/cli/branch.py", "numerics/cli/params/values.py")  # the checks
     return card_key(args.model, {**params, "--branch": f"{args.vary}|{code}|"
                                                        f"{args.follow_period is not None}"})
 
 
 def _run(args: argparse.Namespace) -> int:
     from numerics.cli._coupled_branch import shown
-    from numerics.cli._params import given, orders, parse_vary, within
+    from numerics.cli.params.values import given, orders, parse_vary, within
     from numerics.comparison.diagram import branch_diagram
     from numerics.flow.template_cache import FORMAT, read_record, write_record
 
@@ -96,7 +96,7 @@ def _run(args: argparse.Namespace) -> int:
     key = _checked_key(args, params)
     checked = key is not None and read_record(key, "branch") is not None
     if args.model and not args.rhs and not checked:
-        from kbm.params import lookup
+        from kbm.parameters.names import lookup
 
         lookup(args.model, ("one", "coupled"), rhs=True)
     if is_coupled(args):

@@ -7,7 +7,7 @@ import argparse
 from kbm.cli._common import (ONE_DOF, checked_params, describe_params, emit_json, model_spec,
                              parse_params, show)
 from kbm.errors import ModelError, ParameterError
-from numerics.cli._options import command, options
+from numerics.cli.params.options import command, options
 
 
 def register(sub) -> None:
@@ -52,7 +52,7 @@ VALUES = {"--convergence": "MU1,MU2,...", "--fixed-delta": "DELTA1,..."}
 
 def _check_modes(args: argparse.Namespace, params: dict) -> None:
     """Refuse flags the chosen mode would ignore (no silently dropped option)."""
-    from numerics.cli._params import within
+    from numerics.cli.params.values import within
 
     within(args.x_start, "--x-start")
     modes = [f for f in ("--errata", "--validity", "--convergence", "--fixed-delta",
@@ -87,7 +87,7 @@ def _fixed_scaled(model: str, params: dict) -> dict:
     kbm.errors.ParameterError
         For ``-p mu`` or a physical name, naming the scaled one to give instead.
     """
-    from kbm.params import names_of
+    from kbm.parameters.names import names_of
 
     if "mu" in params:
         raise ParameterError("--convergence gives the values of mu (MU1,MU2,...); leave "
@@ -104,7 +104,7 @@ def _fixed_scaled(model: str, params: dict) -> dict:
 
 
 def run(args: argparse.Namespace) -> int:
-    from numerics.cli._params import numbers, orders
+    from numerics.cli.params.values import numbers, orders
     from numerics.comparison import compare, energy_prediction
     from numerics.paper import paper_prediction
 

@@ -7,7 +7,7 @@ import argparse
 from kbm.cli._common import checked_params, describe_params, emit_json, model_spec, parse_params
 from kbm.errors import ParameterError
 from numerics._show import multipliers_text
-from numerics.cli._options import command, options
+from numerics.cli.params.options import command, options
 
 
 def register(sub) -> None:
@@ -39,7 +39,7 @@ def register(sub) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from kbm.cli.derive import is_coupled
-    from numerics.cli._params import within
+    from numerics.cli.params.values import within
     from numerics.flow.aot import allow_builds
 
     allow_builds()  # start-up is what this command is waited for (issue 39)
@@ -204,8 +204,8 @@ def _run_coupled(args: argparse.Namespace) -> int:
     import math
 
     from kbm.cli.derive import coupled_model
-    from numerics.cli._params import numbers, within
-    from numerics.coupled import coupled_cycle
+    from numerics.cli.params.values import numbers, within
+    from numerics.shooting.coupled_orbit import coupled_cycle
 
     if args.all or args.digits is not None or args.method != "auto":
         raise ParameterError("--all, --digits and --method are for one degree of freedom; a "
@@ -243,7 +243,7 @@ def _run_coupled(args: argparse.Namespace) -> int:
 def _run_forced(model, given, start, args) -> int:
     import math
 
-    from numerics.coupled import forced_response
+    from numerics.shooting.coupled_orbit import forced_response
 
     periods = None
     if args.transient is not None:

@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from numerics.cli._options import command
+from numerics.cli.params.options import command
 
 
 def register(sub) -> None:
@@ -20,8 +20,8 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from kbm.derivations import write_derivations
-    from kbm.files import output_folder
+    from kbm.output.derivations import write_derivations
+    from kbm.output.files import output_folder
     from numerics.paper import errata_rows
 
     output_folder(args.out, "--out")  # before any computation
@@ -31,7 +31,7 @@ def run(args: argparse.Namespace) -> int:
     for p in paths:
         print(p)
     if args.pdf:
-        from kbm.derivations import compile_pdf
+        from kbm.output.derivations import compile_pdf
 
         pdf = compile_pdf(Path(args.out) / "main.tex")
         print(pdf)

@@ -15,7 +15,7 @@ import sys
 
 from kbm.cli._common import emit_json, model_spec, write_json
 from kbm.errors import ParameterError
-from numerics.cli._options import command, options
+from numerics.cli.params.options import command, options
 
 
 def register(sub) -> None:
@@ -56,14 +56,14 @@ def _driven(args) -> bool:
     if is_coupled(args):
         return True
     if args.model and not args.rhs:
-        from kbm.forced.builtins import FORCED_MODELS
+        from kbm.model.forced_builtins import FORCED_MODELS
 
         return args.model in FORCED_MODELS
     return False
 
 
 def _axes(args):
-    from numerics.cli._params import parse_vary
+    from numerics.cli.params.values import parse_vary
 
     if len(args.vary) != 2:
         raise ParameterError(f"kbm diagram draws a plane of two parameters: give two --vary "
@@ -95,8 +95,8 @@ def run(args: argparse.Namespace) -> int:
         from numerics.cli._diagram_driven import run_driven
 
         return run_driven(args)
-    from kbm.params import lookup
-    from numerics.cli._params import check, given, within
+    from kbm.parameters.names import lookup
+    from numerics.cli.params.values import check, given, within
 
     params = given(args.param)
     axes, ranges = _axes(args)
@@ -153,7 +153,7 @@ def _run_autonomous(args, model, params, axes, ranges, order) -> int:
 
 
 def _write(args, d) -> None:
-    from kbm.files import output_folder
+    from kbm.output.files import output_folder
 
     data = d.to_json()
     if args.out:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from kbm.cli._common import emit_json, single_well
 from kbm.errors import ModelError
-from numerics.cli._options import command, options
+from numerics.cli.params.options import command, options
 
 
 def register(sub) -> None:
@@ -42,9 +42,9 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from kbm.params import lookup, names_of
-    from numerics.cli._options import check_ensemble
-    from numerics.cli._params import noisy_model
+    from kbm.parameters.names import lookup, names_of
+    from numerics.cli.params.options import check_ensemble
+    from numerics.cli.params.values import noisy_model
     from numerics.escape.report import escape_report
 
     check_ensemble(args)

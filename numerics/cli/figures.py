@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from numerics.cli._options import command
+from numerics.cli.params.options import command
 
 
 def register(sub) -> None:
@@ -24,13 +24,13 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from kbm.files import output_folder
+    from kbm.output.files import output_folder
     from numerics.paper.figures import FIGURES, write_figures
 
     if args.list:
         print("\n".join(FIGURES))
         return 0
-    from numerics.cli._params import within
+    from numerics.cli.params.values import within
     from numerics.paper.figures.friction import friction_figures
 
     within(args.friction_size, "--friction-size", 2, 32)

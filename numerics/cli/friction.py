@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 
 from kbm.errors import ModelError, ParameterError
-from numerics.cli._options import command, options
-from numerics.cli._params import MAX_POINTS
+from numerics.cli.params.options import command, options
+from numerics.cli.params.values import MAX_POINTS
 
 __all__ = ["register", "run"]
 
@@ -91,10 +91,10 @@ SLIDERS = ("sedf_comoving", "cdc", "sedf")
 
 
 def run(args: argparse.Namespace) -> int:
-    from kbm.models import parameter_value
-    from kbm.params import closest
-    from numerics.cli._options import check_ensemble, stored
-    from numerics.cli._params import check, given, parse_vary, physical
+    from kbm.model.builtins import parameter_value
+    from kbm.parameters.names import closest
+    from numerics.cli.params.options import check_ensemble, stored
+    from numerics.cli.params.values import check, given, parse_vary, physical
     from numerics.executor import connect
     from numerics.sliding.friction import FrictionSettings
     from numerics.sliding.maps import axis_values, friction_map

@@ -6,11 +6,11 @@ import argparse
 
 from kbm.cli._common import emit_json
 from kbm.errors import ParameterError
-from numerics.cli._options import command, options
+from numerics.cli.params.options import command, options
 
 #: the names a coupling parameter goes by (the others varied are detunings); a model's
 #: couplings are those of its parameters that no physical name sets
-#: (:func:`numerics.coupled.locking.coupling_names`: the sliders' ``k = 2 pi/lam`` is none)
+#: (:func:`numerics.locking.mutual.coupling_names`: the sliders' ``k = 2 pi/lam`` is none)
 COUPLINGS = ("c", "k", "kappa")
 
 
@@ -42,7 +42,7 @@ def _split(varies, model) -> tuple:
     """``(detuning, coupling or None)`` among the ``--vary`` (in either order): the
     coupling is the one named as one of the model's couplings (c, k or kappa, unless a
     physical name sets it: the sliders' wavenumber k = 2 pi/lam is followed like lam)."""
-    from numerics.coupled.locking import coupling_names
+    from numerics.locking.mutual import coupling_names
 
     names = coupling_names(model) or COUPLINGS
     couplings = [v for v in varies if v.name in names]
@@ -61,9 +61,9 @@ def _split(varies, model) -> tuple:
 
 
 def run(args: argparse.Namespace) -> int:
-    from kbm.files import output_folder, write_file
-    from numerics.cli._params import within
-    from numerics.coupled.locking import locking_region, plot_locking
+    from kbm.output.files import output_folder, write_file
+    from numerics.cli.params.values import within
+    from numerics.locking.mutual import locking_region, plot_locking
 
     if len(args.vary) > 2:
         raise ParameterError("give at most two --vary: the detuning, then the coupling")
@@ -77,7 +77,7 @@ def run(args: argparse.Namespace) -> int:
     within(args.order, "--order", 1, 4)
     within(args.points, "--points", 2, 200)
     within(args.tol, "--tol", 1e-12, 1e-2)
-    from numerics.cli._params import check, given, parse_vary
+    from numerics.cli.params.values import check, given, parse_vary
 
     params = given(args.param)
     varies = [parse_vary(text) for text in args.vary]

@@ -7,7 +7,7 @@ import math
 from pathlib import Path
 
 from kbm.cli._common import emit_json, write_json
-from numerics.cli._options import command, options
+from numerics.cli.params.options import command, options
 
 
 def register(sub) -> None:
@@ -34,8 +34,8 @@ def register(sub) -> None:
                          "averaged answer is given alone"))
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the amplitude averaging (default 1; 2 adds the O(mu) and "
-                        "O(mu^2) corrections at fixed D/mu, kbm.stochastic_order2; polynomial "
-                        "F only)")
+                        "O(mu^2) corrections at fixed D/mu, kbm.noise.stochastic_order2; "
+                        "polynomial F only)")
     p.add_argument("--method", choices=("averaging", "fokker-planck"), default="averaging",
                    help="the prediction beside the simulation: stochastic averaging (default; "
                         "a model at rest also gets the stationary Fokker-Planck moments when "
@@ -71,8 +71,8 @@ def _fp_format(rep: dict) -> str:
 
 
 def run(args) -> int:
-    from numerics.cli._options import check_ensemble, stored
-    from numerics.cli._params import given, noisy_model
+    from numerics.cli.params.options import check_ensemble, stored
+    from numerics.cli.params.values import given, noisy_model
 
     check_ensemble(args)
     params, noise = noisy_model(args.model, args.param)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from kbm.cli._common import ONE_DOF, checked_params, describe_params, emit_json, model_spec
-from numerics.cli._options import command, options
+from numerics.cli.params.options import command, options
 
 
 def register(sub) -> None:

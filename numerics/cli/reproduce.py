@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from numerics.cli._options import command
+from numerics.cli.params.options import command
 
 
 def register(sub) -> None:
@@ -17,7 +17,7 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from kbm.files import output_folder
+    from kbm.output.files import output_folder
     from numerics.paper.reproduce import reproduce
 
     output_folder(args.out, "--out")  # before any computation

@@ -1,7 +1,7 @@
 """``kbm response``: the frequency-response curve of a forced oscillator, KBM and shooting.
 
 This module holds the options and the curve, the steady states at one detuning and the
-non-resonant expansion; the forced model and its values are :mod:`numerics.cli._forced_args`,
+non-resonant expansion; the forced model and its values are :mod:`numerics.cli.params.forced`,
 ``--convergence`` is :mod:`numerics.cli._response_convergence`, and coupled systems are
 :func:`numerics.cli._coupled_branch.run_coupled_response`."""
 
@@ -11,10 +11,10 @@ import argparse
 
 from kbm.cli._common import ONE_DOF, emit_json
 from kbm.errors import ParameterError
-from numerics.cli._forced_args import (amplitude_window, checked_values, forced_model,
+from numerics.cli.params.forced import (amplitude_window, checked_values, forced_model,
                                        sigma_range)
 from numerics._show import multipliers_text
-from numerics.cli._options import command, options
+from numerics.cli.params.options import command, options
 
 
 def register(sub) -> None:
@@ -88,10 +88,10 @@ def register(sub) -> None:
 def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from kbm.coupled import COUPLED_MODELS
+    from kbm.model.coupled_builtins import COUPLED_MODELS
 
-    from numerics.cli._params import within
-    from numerics.forced.diagram import response_diagram
+    from numerics.cli.params.values import within
+    from numerics.comparison.response_diagram import response_diagram
 
     if args.rhs is not None and len(args.rhs) > 1:
         from numerics.cli._coupled_branch import run_coupled_response
@@ -134,7 +134,7 @@ def run(args: argparse.Namespace) -> int:
                          order=args.order, n_points=400 if n is None else n, resonance=args.resonance,
                          amplitudes=args.window, numeric=not args.no_numeric)
     if args.out:
-        from numerics.forced.figures import plot_response
+        from numerics.paper.figures.forced import plot_response
 
         plot_response(d, Path(args.out) / "response.png")
     if args.json:
@@ -185,8 +185,8 @@ def _intervals(trivial) -> list[tuple[float, float, str]]:
 
 
 def _run_one(model, args: argparse.Namespace) -> int:
-    from numerics.cli._params import within
-    from numerics.forced.diagram import steady_states
+    from numerics.cli.params.values import within
+    from numerics.comparison.response_diagram import steady_states
 
     within(args.detuning, "--detuning")
     if args.out:
@@ -213,7 +213,7 @@ def _run_one(model, args: argparse.Namespace) -> int:
 
 
 def _run_nonresonant(args: argparse.Namespace) -> int:
-    from kbm.forced import derive_forced
+    from kbm.expansion.forced import derive_forced
 
     if args.vary or args.detuning is not None or args.resonance or args.out:
         raise ParameterError("--nu (a fixed, non-resonant forcing frequency) goes without "

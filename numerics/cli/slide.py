@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from kbm.cli._common import emit_json
-from numerics.cli._options import command
+from numerics.cli.params.options import command
 
 
 def register(sub) -> None:
@@ -23,9 +23,9 @@ def register(sub) -> None:
 def run(args: argparse.Namespace) -> int:
     from numerics import analyze, slide
 
-    from kbm.models import parameter_value
+    from kbm.model.builtins import parameter_value
 
-    from numerics.cli._params import check, given, physical
+    from numerics.cli.params.values import check, given, physical
 
     typed = given(args.param)
     names = check(args.model, typed, extra=("v",))

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from kbm.cli._common import emit_json, write_json
 from kbm.errors import ParameterError
-from numerics.cli._options import command, options
+from numerics.cli.params.options import command, options
 
 
 def register(sub) -> None:
@@ -59,13 +59,13 @@ def _kind(args) -> str:
     if args.rhs and len(args.rhs) == 1 and "theta" in args.rhs[0]:
         return "forced"
     if args.model and not args.rhs:
-        from kbm.forced import FORCED_MODELS
+        from kbm.model.forced_builtins import FORCED_MODELS
 
         if args.model in FORCED_MODELS:
             return "forced"
     if is_coupled(args):
         if args.model and not args.rhs:
-            from kbm.coupled import get_coupled_model
+            from kbm.model.coupled_builtins import get_coupled_model
 
             if get_coupled_model(args.model).forced:
                 return "forced"
@@ -80,9 +80,9 @@ def _bind(args):
     import math
 
     from kbm.cli._common import check_model_flags
-    from kbm.models import custom_model
-    from kbm.values import parameter_value
-    from numerics.cli._params import noisy_model, parse_vary, without_noise
+    from kbm.model.builtins import custom_model
+    from kbm.parameters.values import parameter_value
+    from numerics.cli.params.values import noisy_model, parse_vary, without_noise
 
     check_model_flags(args)
     if len(args.vary) > 1:
@@ -110,7 +110,7 @@ def _bind(args):
 
 
 def run(args) -> int:
-    from numerics.cli._options import check_ensemble, stored
+    from numerics.cli.params.options import check_ensemble, stored
 
     check_ensemble(args)
     kind = _kind(args)

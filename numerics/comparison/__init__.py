@@ -1,4 +1,5 @@
-"""Floor 3 of :mod:`numerics`: approximations of limit cycles against the true ones.
+"""A floor of :mod:`numerics`: approximations of limit cycles, forced responses and
+backbones against the true ones.
 
 - :mod:`numerics.comparison.prediction`: what an approximation predicts
   (:class:`Prediction`, :func:`kbm_prediction`) and the true values
@@ -12,7 +13,13 @@
   method next to classical KBM;
 - :mod:`numerics.comparison.branches`: analytic branches of cycles over a parameter
   (KBM roots and energy balance, with folds); :mod:`numerics.comparison.diagram`:
-  :func:`branch_diagram`, every numerical branch next to them.
+  :func:`branch_diagram`, every numerical branch next to them;
+- :mod:`numerics.comparison.response_diagram`: the frequency-response diagram of a forced
+  oscillator, the order-``N`` curve next to the true one (``kbm response``), and
+  :mod:`numerics.comparison.response_convergence`: its errors against ``mu`` with fitted
+  slopes (``kbm response --convergence``);
+- :mod:`numerics.comparison.backbone`: backbone curves of conservative coupled oscillators
+  in internal resonance, averaged and true.
 """
 
 from kbm._lazy import keep_objects, lazy_names

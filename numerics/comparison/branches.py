@@ -2,14 +2,14 @@
 
 - :func:`kbm_branch`: the roots ``a*(p)`` of the averaged amplitude equation
   ``A(a) = sum_{n<=N} mu**n A_n(a) = 0`` (classical KBM of order ``N``,
-  :func:`kbm.derive`, :mod:`kbm.averaged`) on a grid of the parameter, with the folds
+  :func:`kbm.derive`, :mod:`kbm.slowflow.averaged`) on a grid of the parameter, with the folds
   located by solving ``A/a = 0`` and ``d(A/a)/da = 0`` together (Newton in ``(a, p)``;
   at a root of ``A/a`` this is ``dA/da = 0``);
 - :func:`energy_branch`: the cycles of the energy balance ``Gamma(E) = 0``
   (:func:`numerics.energy.predict_cycles`, order 1) on the same grid, its folds
   located by bisection on the number of cycles.
 
-``p`` may be any name :func:`kbm.bound.bind` accepts (``mu``, a model parameter, a
+``p`` may be any name :func:`kbm.parameters.bound.bind` accepts (``mu``, a model parameter, a
 physical one such as ``Delta``): each grid value is bound afresh.
 """
 
@@ -22,12 +22,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm import derive
-from kbm.averaged import averaged_rates
+from kbm.slowflow.averaged import averaged_rates
 from kbm.errors import KBMError
-from kbm.bound import bind
-from kbm.models import Oscillator
+from kbm.parameters.bound import bind
+from kbm.model.builtins import Oscillator
 
-from kbm.strict_json import finite
+from kbm.output.strict_json import finite
 from numerics.errors import ConvergenceError
 
 __all__ = ["AnalyticCurve", "AnalyticFold", "kbm_branch", "energy_branch"]
@@ -124,7 +124,7 @@ def kbm_branch(model: Oscillator | str, params: Mapping[str, object] | None, var
     model, params
         The model and the other parameter values (``mu`` included).
     vary : str
-        The parameter to vary (any name :func:`kbm.bound.bind` accepts).
+        The parameter to vary (any name :func:`kbm.parameters.bound.bind` accepts).
     bounds : tuple of float
         ``(FROM, TO)``.
     order : int
@@ -132,7 +132,7 @@ def kbm_branch(model: Oscillator | str, params: Mapping[str, object] | None, var
     n : int
         Grid points.
     a_max : float
-        Largest amplitude looked for (:meth:`kbm.averaged.AveragedRates.cycles`).
+        Largest amplitude looked for (:meth:`kbm.slowflow.averaged.AveragedRates.cycles`).
 
     Returns
     -------
@@ -175,7 +175,7 @@ def kbm_branch(model: Oscillator | str, params: Mapping[str, object] | None, var
 
 
 def _is_builtin(name: str) -> bool:
-    from kbm.models import model_names
+    from kbm.model.builtins import model_names
 
     return name in model_names()
 
@@ -184,7 +184,8 @@ def _energy_fold(line, vary: str, lo: float, hi: float, pair) -> float | None:
     """The fold of the energy balance: the ``p`` in ``[lo, hi]`` where the extremum of
     ``q = Gamma`` (``Gamma/(E - E_c)`` in a well) between the merging pair's energies is 0.
     ``None`` when the bracket does not hold a sign change of that extremum.  ``line`` is
-    the branch's :class:`kbm.conservative.SplitLine` (the model split once along ``vary``)."""
+    the branch's :class:`kbm.model.conservative.SplitLine` (the model split once along
+    ``vary``)."""
     from scipy.optimize import brentq, minimize_scalar
 
     from numerics.energy.balance import gamma_function
@@ -238,7 +239,7 @@ def energy_branch(model: Oscillator | str, params: Mapping[str, object] | None, 
     AnalyticCurve
         Method ``"energy"``; ``amplitude`` is the largest ``x`` of the predicted cycle.
     """
-    from kbm.conservative import SplitLine
+    from kbm.model.conservative import SplitLine
     from numerics.energy.predict import predict_cycles  # scipy.integrate: on use (issue 39)
 
     params = dict(params or {})

@@ -21,10 +21,10 @@ from dataclasses import dataclass
 
 from kbm import KBMFunctions, KBMResult
 from kbm.errors import ParameterError
-from kbm.bound import BoundModel, bind
-from kbm.models import Oscillator
+from kbm.parameters.bound import BoundModel, bind
+from kbm.model.builtins import Oscillator
 
-from kbm.strict_json import finite
+from kbm.output.strict_json import finite
 from numerics.comparison.prediction import (ERROR_KEYS, Prediction, derived,
                                             kbm_prediction, numeric_value)
 from numerics.cycles import LimitCycle, limit_cycle
@@ -155,7 +155,7 @@ def compare(model: Oscillator | str | BoundModel, params: Mapping[str, object] |
     Parameters
     ----------
     model
-        A built-in name or an :class:`~kbm.models.Oscillator` (autonomous).
+        A built-in name or an :class:`~kbm.model.builtins.Oscillator` (autonomous).
     params
         Parameter values, including ``mu`` (physical names such as ``Delta`` allowed).
     orders

@@ -53,8 +53,8 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from kbm.models import Oscillator, get_model
-from kbm.strict_json import jsonable
+from kbm.model.builtins import Oscillator, get_model
+from kbm.output.strict_json import jsonable
 from kbm.symbols import xdot as V
 
 from numerics.comparison.comparison import Comparison, compare

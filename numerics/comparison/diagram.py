@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 
 from kbm.errors import ParameterError
 
-from kbm.strict_json import finite
+from kbm.output.strict_json import finite
 from numerics.cycles.branch_result import Branch
 from numerics.cycles.continuation import _check_vary, continue_cycles
 from numerics.cycles.every_cycle import limit_cycles
@@ -25,7 +25,7 @@ from numerics.cycles.shooting import limit_cycle
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 
 if TYPE_CHECKING:  # imported on use: the symbolic model and the KBM derivation (issue 39)
-    from kbm.models import Oscillator
+    from kbm.model.builtins import Oscillator
     from numerics.comparison.branches import AnalyticCurve
 
 __all__ = ["BranchDiagram", "branch_diagram"]

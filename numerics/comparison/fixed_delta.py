@@ -36,7 +36,7 @@ import numpy as np
 
 from kbm.errors import KBMError
 
-from kbm.strict_json import Rendered, jsonable
+from kbm.output.strict_json import Rendered, jsonable
 from numerics.comparison.comparison import compare
 from numerics.comparison.convergence import by_pair, fit_slope
 from numerics.comparison.predict import energy_prediction

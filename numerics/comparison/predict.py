@@ -30,10 +30,10 @@ from collections.abc import Mapping
 import numpy as np
 
 from kbm import averaged_cycles, derive
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from kbm.errors import KBMError, ParameterError
-from kbm.bound import BoundModel, bind
-from kbm.models import Oscillator
+from kbm.parameters.bound import BoundModel, bind
+from kbm.model.builtins import Oscillator
 
 from numerics.comparison.prediction import Prediction, reconstruct
 from numerics.energy import EnergyPrediction, PredictedCycle, predict_cycles
@@ -123,7 +123,7 @@ def predict(model: Oscillator | str | BoundModel, params: Mapping[str, object] |
         The order of the approximation (``>= 1``).
     potential
         For ``"energy"``: the potential of the conservative part, if not the
-        ``x``-only part of the force (:func:`kbm.conservative.split_conservative`).
+        ``x``-only part of the force (:func:`kbm.model.conservative.split_conservative`).
 
     Returns
     -------

@@ -38,9 +38,9 @@ from scipy.optimize import minimize_scalar
 
 from kbm import KBMFunctions, KBMResult, averaged_cycles
 from kbm.errors import KBMError, ParameterError
-from kbm.bound import BoundModel
-from kbm.models import Oscillator
-from kbm.strict_json import json_fields
+from kbm.parameters.bound import BoundModel
+from kbm.model.builtins import Oscillator
+from kbm.output.strict_json import json_fields
 from kbm.symbols import x as X, xdot as V
 
 from numerics.cycles import LimitCycle
@@ -147,9 +147,9 @@ def derived(model: Oscillator | str, order: int) -> KBMResult:
     result is frozen, so a cached result is equal to a fresh one (``tests/test_memo_purity.py``).
     What is computed from the result (its compiled functions, its averaged rates) is kept on
     the result itself (:meth:`kbm.KBMResult.functions`); the built-in ``sedf`` to order 2 is
-    :func:`kbm.paper.engine_expansion`, the one object the errata evidence compares too."""
+    :func:`kbm.output.paper.engine_expansion`, the one object the errata evidence compares too."""
     if isinstance(model, str):
-        from kbm.models import get_model
+        from kbm.model.builtins import get_model
 
         try:
             model = get_model(model)
@@ -160,8 +160,9 @@ def derived(model: Oscillator | str, order: int) -> KBMResult:
 
 @memo(maxsize=16)
 def _derived(model, order: int) -> KBMResult:
-    from kbm import derive, paper
-    from kbm.models import get_model
+    from kbm import derive
+    from kbm.output import paper
+    from kbm.model.builtins import get_model
 
     if order == 2 and model == get_model("sedf"):  # the paper's derivation: one object, the
         return paper.engine_expansion()  # errata's, so its functions are compiled once
@@ -185,7 +186,7 @@ def numeric_value(cycle: LimitCycle, key: str) -> float:
 
 def dissipation_functions(model: Oscillator, values: Mapping[str, sp.Expr]):
     """``(plus(x, v), minus(x, v), factor)`` with ``Gamma`` integrand ``factor*plus - minus``
-    (:meth:`kbm.models.Oscillator.dissipation_parts`) at the given values."""
+    (:meth:`kbm.model.builtins.Oscillator.dissipation_parts`) at the given values."""
     plus, minus, factor = model.dissipation_parts()
     subs = {sp.Symbol(k): v for k, v in values.items()}
     fp = sp.lambdify((X, V), plus.subs(subs), modules="numpy")
@@ -253,7 +254,7 @@ def kbm_prediction(result: KBMResult, values: Mapping[str, object] | BoundModel,
         A :class:`kbm.KBMResult` (its model may keep parameters symbolic).
     values
         ``mu`` and every parameter of the model (scaled or physical names), or a
-        :class:`~kbm.bound.BoundModel` of the same model.
+        :class:`~kbm.parameters.bound.BoundModel` of the same model.
     order
         KBM order ``N <= result.order`` (default ``result.order``).
     target_amplitude

@@ -49,7 +49,7 @@ from numerics.shooting.continuation import Continuation
 from numerics.shooting.locate import fold_on_arc
 
 if TYPE_CHECKING:  # the symbolic model is bound on use (a model card: issue 39)
-    from kbm.models import Oscillator
+    from kbm.model.builtins import Oscillator
 
 __all__ = ["continue_cycles", "TRIVIAL_TOL", "CycleContinuation"]
 
@@ -173,7 +173,7 @@ def _check_vary(model, params: dict, vary: str, bounds) -> tuple[float, float, f
     key = card_key(model, {**params, "--vary": f"{vary}|{lo!r}|{hi!r}|{p0!r}|{code}"})
     if key is not None and read_record(key, "vary") is not None:
         return lo, hi, p0  # checked by an earlier run (a model card's key: issue 39)
-    from kbm.bound import bind
+    from kbm.parameters.bound import bind
 
     try:
         b1 = bind(model, {**params, vary: p0})
@@ -207,7 +207,7 @@ def continue_cycles(model: Oscillator | str, params: Mapping[str, object] | None
         ``vary`` in it, if any, is where the branch starts (default: ``bounds[0]``).
     vary : str
         The parameter to vary: ``mu``, a parameter of the model, or a physical one
-        (``Delta``, bound per point by :func:`kbm.bound.bind`).
+        (``Delta``, bound per point by :func:`kbm.parameters.bound.bind`).
     bounds : tuple of float
         ``(FROM, TO)`` with ``FROM < TO``: the branch stops where it leaves them.
     start : LimitCycle or tuple of float, optional
@@ -263,7 +263,8 @@ def continue_cycles(model: Oscillator | str, params: Mapping[str, object] | None
     """
     import sys
 
-    bound_types = sys.modules.get("kbm.bound")  # not imported: no bound model (issue 39)
+    # not imported: no bound model (issue 39)
+    bound_types = sys.modules.get("kbm.parameters.bound")
     params = dict(params or {})
     if bound_types is not None and isinstance(model, bound_types.BoundModel):
         raise ParameterError("continue_cycles needs the model and its parameters separately, "

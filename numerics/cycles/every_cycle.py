@@ -22,8 +22,8 @@ from numerics.cycles.shooting import limit_cycle
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 
 if TYPE_CHECKING:  # the symbolic model is bound on use (a model card: issue 39)
-    from kbm.bound import BoundModel
-    from kbm.models import Oscillator
+    from kbm.parameters.bound import BoundModel
+    from kbm.model.builtins import Oscillator
 
 __all__ = ["limit_cycles", "CycleList"]
 
@@ -96,7 +96,7 @@ def _bound_and_shooting(model, params, cycle_kwargs):
         _bound_and_compiled(model, params, None)  # bound, compiled and the card stored
         carded = card_model(model, params)  # the first run as the later ones
     if carded is None:
-        from kbm.bound import bind
+        from kbm.parameters.bound import bind
 
         bound = bind(model, params)
     else:
@@ -111,7 +111,8 @@ def _bound_and_shooting(model, params, cycle_kwargs):
 
 
 def _full(bound):
-    """The :class:`kbm.bound.BoundModel` of a model card's bound model (its exact values)."""
+    """The :class:`kbm.parameters.bound.BoundModel` of a model card's bound model (its exact
+    values)."""
     return bound.full() if hasattr(bound, "full") else bound
 
 
@@ -179,7 +180,7 @@ def _from_smaller_mu(bound: BoundModel, p, cycle_kwargs) -> LimitCycle | None:
     """
     import sympy as sp
 
-    from kbm.models import Oscillator
+    from kbm.model.builtins import Oscillator
     from kbm.symbols import xdot as V
     from numerics.cycles.continuation import continue_cycles
 

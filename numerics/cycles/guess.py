@@ -26,13 +26,13 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 from kbm.errors import KBMError
-from kbm.roots import amplitude_roots, brentq
+from kbm.slowflow.roots import amplitude_roots, brentq
 
 from numerics._memo import memo
 
 if TYPE_CHECKING:
-    from kbm.bound import BoundModel
-    from kbm.models import Oscillator
+    from kbm.parameters.bound import BoundModel
+    from kbm.model.builtins import Oscillator
 
 __all__ = ["kbm_guess", "energy_guesses", "energy_cycles", "brentq", "FirstOrderRates",
            "rates_key"]
@@ -144,7 +144,7 @@ def _derived(model: Oscillator, key: str | None = None) -> tuple[FirstOrderRates
 
 
 def _from_record(record) -> FirstOrderRates:
-    from kbm.evaluate import vectorised
+    from kbm.output.evaluate import vectorised
     from numerics.flow.template_cache import function_from_record
 
     params = tuple(record["params"])

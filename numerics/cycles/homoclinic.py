@@ -160,7 +160,7 @@ def saddles_passed(bound, x_lo: float, x_hi: float, x_turn: float, force=None,
     where it falls (on ``[-L, L]`` over the span and its margin, the grid doubled until the
     count is stable, as the portrait's), the energies ``G(x) = int_0^x g`` by adaptive
     quadrature.  Without it they come from the conservative phase portrait
-    (:func:`kbm.conservative.split_conservative`, :func:`numerics.energy.phase_portrait`);
+    (:func:`kbm.model.conservative.split_conservative`, :func:`numerics.energy.phase_portrait`);
     both are compared in ``tests/test_manifolds.py``.  ``compiled``, the compiled model
     at the bound values (:class:`numerics.flow.CompiledLine`'s), gives the eigenvalues
     without ``bound``.
@@ -192,7 +192,7 @@ def _saddles_from_portrait(bound, x_turn: float):
     or ``None``."""
     import sympy as sp
 
-    from kbm.conservative import split_conservative
+    from kbm.model.conservative import split_conservative
 
     from ..energy.portrait import phase_portrait
 
@@ -303,7 +303,7 @@ def end_estimate(prob, points: list):
         return None
     force = prob.force(last.parameter)
     if force is None:
-        from kbm.bound import bind
+        from kbm.parameters.bound import bind
 
         bound, compiled = bind(prob.model, {**prob.params, prob.vary: last.parameter}), None
     else:  # the compiled force and the line's model: no symbolic model (issue 39)

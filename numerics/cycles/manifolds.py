@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm.roots import brentq
+from kbm.slowflow.roots import brentq
 
 from numerics.errors import ConvergenceError
 from numerics.flow import compile_model, template_flow
@@ -160,7 +160,7 @@ def saddle_connection(model, params: Mapping[str, object], parameter: str,
     if dlo * dhi > 0:
         raise ConvergenceError(f"no saddle connection in {parameter} = [{lo:g}, {hi:g}]: the "
                                f"manifolds' velocity gap is {dlo:.3g} and {dhi:.3g} at the ends")
-    # scipy.optimize.brentq's steps and floats (kbm.roots), without importing scipy
+    # scipy.optimize.brentq's steps and floats (kbm.slowflow.roots), without importing scipy
     root = brentq(d, lo, hi, xtol=xtol, rtol=4 * float(np.finfo(float).eps))
     slope = abs(dhi - dlo) / (hi - lo)
     _, xs, xt = connection_gap(model, {**dict(params), parameter: root}, x_from, x_to, leave,

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from kbm.values import FrozenMap
+from kbm.parameters.values import FrozenMap
 from numerics._show import html_table, num, params_text
 
 __all__ = ["Dissipation", "LimitCycle"]

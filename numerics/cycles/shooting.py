@@ -38,8 +38,8 @@ from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
 from numerics.flow import Method, ModelTemplate, choose_method, compile_model, solve
 
 if TYPE_CHECKING:  # the symbolic model is built on use (a model card: issue 39)
-    from kbm.bound import BoundModel
-    from kbm.models import Oscillator
+    from kbm.parameters.bound import BoundModel
+    from kbm.model.builtins import Oscillator
 
 __all__ = ["limit_cycle", "NEWTON_MAX_STEPS"]
 
@@ -55,8 +55,8 @@ def limit_cycle(model: Oscillator | str | BoundModel, params: Mapping[str, objec
     Parameters
     ----------
     model
-        An :class:`~kbm.models.Oscillator`, a built-in name, or a
-        :class:`~kbm.bound.BoundModel` (then ``params`` is ``None``).
+        An :class:`~kbm.model.builtins.Oscillator`, a built-in name, or a
+        :class:`~kbm.parameters.bound.BoundModel` (then ``params`` is ``None``).
     params
         Parameter values (physical names such as ``Delta``, ``lam`` or the
         scaled ones), including ``mu``.
@@ -163,7 +163,7 @@ def _bound_and_compiled(model, params, template):
         found = card_model(model, params)
         if found is not None:
             return found
-    from kbm.bound import bind
+    from kbm.parameters.bound import bind
 
     key, model = card_key(model, params), model_of(model)
 

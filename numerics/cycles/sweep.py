@@ -18,7 +18,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from kbm.errors import KBMError
-from kbm.bound import bind
+from kbm.parameters.bound import bind
 
 from numerics.executor import chunk, map_chunks
 from numerics.cycles.result import LimitCycle
@@ -101,7 +101,7 @@ def sweep(model, points: Iterable[Mapping[str, object]], *,
     Parameters
     ----------
     model
-        A built-in model name or an :class:`~kbm.models.Oscillator`.
+        A built-in model name or an :class:`~kbm.model.builtins.Oscillator`.
     points
         Parameter sets (e.g. from :func:`grid`), merged over ``fixed``.
     workers

@@ -1,6 +1,6 @@
 """Strongly nonlinear (energy-balance) averaging about the conservative orbits.
 
-The model is split as ``x'' = -g(x) + mu h(x, x')`` (:mod:`kbm.conservative`);
+The model is split as ``x'' = -g(x) + mu h(x, x')`` (:mod:`kbm.model.conservative`);
 the whole conservative force ``g`` (e.g. the slider's ``Omega**2 x + Delta
 sin(k x)``) is kept, only ``h`` is averaged (energy balance, energy-angle
 averaging) or integrated along the cycle (position scheme).

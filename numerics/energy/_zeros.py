@@ -7,10 +7,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from kbm.roots import brentq  # scipy.optimize.brentq's floats, no scipy (issue 39)
+from kbm.slowflow.roots import brentq  # scipy.optimize.brentq's floats, no scipy (issue 39)
 
 if TYPE_CHECKING:
-    from kbm.conservative import ConservativeSplit
+    from kbm.model.conservative import ConservativeSplit
 
 
 def _bracket(g: Callable, split: "ConservativeSplit") -> float:
@@ -22,7 +22,7 @@ def _bracket(g: Callable, split: "ConservativeSplit") -> float:
         if np.all(g(far) > 0) and np.all(g(-far) < 0):
             return L
         L *= 2.0
-    from kbm.conservative import NotConfiningError
+    from kbm.model.conservative import NotConfiningError
 
     raise NotConfiningError(f"g(x) = {split.g} keeps changing sign out to |x| = {L:.3g}: "
                             "the potential does not confine")

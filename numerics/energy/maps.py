@@ -33,8 +33,8 @@ from dataclasses import replace
 import numpy as np
 import sympy as sp
 
-from kbm.conservative import split_conservative
-from kbm.bound import bind
+from kbm.model.conservative import split_conservative
+from kbm.parameters.bound import bind
 from kbm.symbols import x as _x, xdot as _xdot
 
 from .balance import balance_cycles
@@ -71,7 +71,7 @@ def predict_along_mu(model, params: Mapping[str, object], mu: Sequence[float], *
 
     Parameters
     ----------
-    model : kbm.models.Oscillator or str
+    model : kbm.model.builtins.Oscillator or str
     params : Mapping[str, object]
         The other parameters, in the names kept fixed (physical ones such as ``Delta``).
     mu : sequence of float

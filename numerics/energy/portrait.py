@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from kbm.conservative import ConservativeSplit
+from kbm.model.conservative import ConservativeSplit
 
 from . import _turning
 from ._zeros import _bracket, _zeros
@@ -239,7 +239,7 @@ class Portrait:
 
     Attributes
     ----------
-    split : kbm.conservative.ConservativeSplit
+    split : kbm.model.conservative.ConservativeSplit
     equilibria : tuple of Equilibrium
         Sorted by ``x``.
     separatrix_energies : tuple of float
@@ -292,7 +292,7 @@ def phase_portrait(split: ConservativeSplit) -> Portrait:
 
     Parameters
     ----------
-    split : kbm.conservative.ConservativeSplit
+    split : kbm.model.conservative.ConservativeSplit
 
     Returns
     -------
@@ -300,7 +300,7 @@ def phase_portrait(split: ConservativeSplit) -> Portrait:
 
     Raises
     ------
-    kbm.conservative.NotConfiningError
+    kbm.model.conservative.NotConfiningError
         If ``g`` has no bracket outside of which it pushes back to the origin.
     """
     fun = split.numpy_functions()

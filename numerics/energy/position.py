@@ -293,7 +293,7 @@ def position_cycle(annulus: Annulus, functions, hv, mu: float, energy: float,
     annulus : Annulus
         The period annulus of the energy-balance root.
     functions : tuple
-        ``(g, g', G, h)`` from :meth:`kbm.conservative.ConservativeSplit.numpy_functions`.
+        ``(g, g', G, h)`` from :meth:`kbm.model.conservative.ConservativeSplit.numpy_functions`.
     hv : callable
         ``dh/dv(x, v)``, vectorised.
     mu : float
@@ -325,7 +325,7 @@ def position_cycle(annulus: Annulus, functions, hv, mu: float, energy: float,
     Van der Pol (``h = (1 - x**2) x'``) at ``mu = 0.1``; shooting gives
     ``T = 6.287111``, ``max x = 2.000104``:
 
-    >>> from kbm.conservative import split_conservative
+    >>> from kbm.model.conservative import split_conservative
     >>> from numerics.energy import phase_portrait
     >>> s = split_conservative("vdp", {"mu": 0.1})
     >>> (a,) = phase_portrait(s).annuli

@@ -1,7 +1,7 @@
 """Every limit cycle of a model predicted by strongly nonlinear averaging.
 
 :func:`predict_cycles` splits the model into ``x'' = -g(x) + mu h(x, x')``
-(:mod:`kbm.conservative`), finds the period annuli of ``x'' + g(x) = 0``
+(:mod:`kbm.model.conservative`), finds the period annuli of ``x'' + g(x) = 0``
 (:mod:`~numerics.energy.portrait`), the roots of the energy balance
 ``Gamma(E) = 0`` on each (:mod:`~numerics.energy.balance`, order 1) and, for
 ``order >= 2``, refines each either by successive approximation of the energy
@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from kbm.conservative import ConservativeSplit, split_conservative
+from kbm.model.conservative import ConservativeSplit, split_conservative
 from kbm.errors import OrderError
 from kbm.symbols import xdot as _xdot
 
@@ -250,7 +250,7 @@ def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: 
 
     Parameters
     ----------
-    model : kbm.models.Oscillator or str
+    model : kbm.model.builtins.Oscillator or str
         An autonomous model (or a built-in name).
     params : Mapping[str, object]
         ``mu`` and the model's parameters (physical names such as ``Delta``,
@@ -263,7 +263,7 @@ def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: 
         the energy-angle ``rate_order = 2``).
     potential : str or sympy.Expr, optional
         A potential ``V(x)`` for the conservative part (see
-        :func:`kbm.conservative.split_conservative`).
+        :func:`kbm.model.conservative.split_conservative`).
     n_energy : int
         Chebyshev nodes in energy (energy-angle scheme).
     scheme : {"position", "energy-angle"}, optional
@@ -275,9 +275,9 @@ def predict_cycles(model, params: Mapping[str, object] | None = None, *, order: 
         energy-angle variables (:mod:`~numerics.energy.averaging`), the KBM
         normal form for linear ``g``; its series in ``mu`` diverges when
         ``period_sensitivity`` exceeds about 1.
-    split : kbm.conservative.ConservativeSplit, optional
+    split : kbm.model.conservative.ConservativeSplit, optional
         The split of ``model`` at ``params`` if already made (e.g. by a
-        :class:`kbm.conservative.SplitLine` along a parameter); else it is made here.
+        :class:`kbm.model.conservative.SplitLine` along a parameter); else it is made here.
     rate_order : int, optional
         Order of the averaged rate ``sum mu**n M_n`` whose root gives ``eps*``
         (``order >= 2`` only; default ``order + 1``).  With the first-harmonic

@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from kbm.errors import ModelError, ParameterError
 
 from ..energy.portrait import Annulus, Portrait, phase_portrait

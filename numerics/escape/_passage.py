@@ -36,7 +36,7 @@ def first_passages(split, D: float, saddles, *, trajectories: int, t_end: float,
 
     Parameters
     ----------
-    split : kbm.conservative.ConservativeSplit
+    split : kbm.model.conservative.ConservativeSplit
     D : float
     saddles : (x_l, x_r)
         The lines (the saddles, or the next wells' bottoms).

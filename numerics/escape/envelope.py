@@ -1,7 +1,7 @@
 """Energy-envelope stochastic averaging about the conservative orbits.
 
 The noisy model ``x'' = -g(x) + mu h(x, x') + sqrt(2 D) xi(t)`` (unit mass,
-``<xi(t) xi(t')> = delta(t - t')``) is split as in :mod:`kbm.conservative`.  With
+``<xi(t) xi(t')> = delta(t - t')``) is split as in :mod:`kbm.model.conservative`.  With
 ``H = x'**2/2 + G(x)``, Ito's formula gives
 
 ``dH = [mu h x' + D] dt + sqrt(2 D) x' dW``.
@@ -41,7 +41,7 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
-from kbm.conservative import ConservativeSplit
+from kbm.model.conservative import ConservativeSplit
 from kbm.errors import ModelError
 
 from ..energy.portrait import Portrait
@@ -61,7 +61,7 @@ class EnergyEnvelope:
 
     Attributes
     ----------
-    split : kbm.conservative.ConservativeSplit
+    split : kbm.model.conservative.ConservativeSplit
     portrait : numerics.energy.portrait.Portrait
     D : float
         The noise intensity.
@@ -176,7 +176,7 @@ def energy_envelope(model, params: dict, D: object, *, tol: float = 1e-12,
 
     Parameters
     ----------
-    model : str or kbm.models.Oscillator
+    model : str or kbm.model.builtins.Oscillator
         An autonomous model (the sliders at ``v = 0``).
     params : dict
         Its parameters, ``mu`` included (``D`` is taken apart if present).

@@ -76,7 +76,7 @@ def phase_diffusion(model, params: dict, D: object) -> PhaseDiffusion:
 
     Parameters
     ----------
-    model : str or kbm.models.Oscillator
+    model : str or kbm.model.builtins.Oscillator
     params : dict
         Parameter values, ``mu`` included (``D`` is taken apart if present).
     D : float
@@ -97,7 +97,7 @@ def phase_diffusion(model, params: dict, D: object) -> PhaseDiffusion:
     PhaseDiffusion(a0=2, D_phi=0.00125)
     """
     import kbm
-    from kbm.models import get_model
+    from kbm.model.builtins import get_model
 
     D = noise_level(D)
     m = get_model(model) if isinstance(model, str) else model

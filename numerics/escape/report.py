@@ -201,7 +201,7 @@ def _check_barrier(model: str, params: dict, D: float) -> None:
     """
     import sympy as sp
 
-    from kbm.conservative import split_conservative
+    from kbm.model.conservative import split_conservative
     from kbm.symbols import xdot
 
     from ..energy.portrait import phase_portrait

@@ -87,7 +87,7 @@ def simulated_escape(split, D: float, saddles, *, trajectories: int, t_end: floa
 
     Parameters
     ----------
-    split : kbm.conservative.ConservativeSplit
+    split : kbm.model.conservative.ConservativeSplit
         The model (``x'' = -g + mu h + sqrt(2 D) xi``).
     D : float
         Noise intensity.

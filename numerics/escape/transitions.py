@@ -97,7 +97,7 @@ def simulated_transitions(split, D: float, saddles, *, kT: float | None, traject
 
     Parameters
     ----------
-    split : kbm.conservative.ConservativeSplit
+    split : kbm.model.conservative.ConservativeSplit
     D : float
         Noise intensity.
     saddles : (x_l, x_r)

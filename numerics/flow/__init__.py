@@ -16,7 +16,12 @@
 - :mod:`numerics.flow.aot`: the same flows compiled ahead of time into extension
   modules, which a warm run imports without numba;
 - :mod:`numerics.flow.integrate`: the method enum, the one stiffness policy and
-  the doors :func:`flow`, :func:`solve`, :func:`integrate`.
+  the doors :func:`flow`, :func:`solve`, :func:`integrate`;
+- :mod:`numerics.flow.coupled_flow`: the compiled flow of ``N`` coupled oscillators with its
+  variational equations (:func:`~numerics.flow.coupled_flow.coupled_flow`: state, monodromy,
+  divergence);
+- :mod:`numerics.flow.forced_system`: a forced model compiled once, ``sigma`` free, as a
+  flow over one response period (:class:`~numerics.flow.forced_system.ForcedSystem`).
 """
 
 from numerics.flow.compiled import (N_EXTENDED, CompiledLine, CompiledModel, ModelTemplate, compile_model,

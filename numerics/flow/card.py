@@ -3,8 +3,8 @@
 
 A card holds, for one built-in name and one set of parameter values as given: the model's
 name, the float values of its parameters in the template's order (and of every bound value,
-from :func:`kbm.values.scaled_values` by way of :func:`kbm.bound.bind`), the key of its
-template's record (:mod:`numerics.flow.template_cache`), the keys of its compiled flows
+from :func:`kbm.parameters.values.scaled_values` by way of :func:`kbm.parameters.bound.bind`), the
+key of its template's record (:mod:`numerics.flow.template_cache`), the keys of its compiled flows
 (the extended flow, the harmonics' quadrature), whether it is autonomous and whether its
 acceleration holds ``mu`` (``mu = 0``: conservative), and what the commands add (the key of
 the first-order rates, the text of the parameters).  Its name is the SHA-256 of the format,
@@ -72,16 +72,16 @@ _SPECS: dict[int, tuple] = {}
 
 
 def name_model(model: object, spec: tuple) -> None:
-    """Card ``model`` (built by :func:`kbm.user_model.custom_model` from ``spec``,
+    """Card ``model`` (built by :func:`kbm.model.user_model.custom_model` from ``spec``,
     ``("--rhs", RHS, OMEGA0)``) under its spec."""
     _SPECS[id(model)] = (model, spec)
 
 
 def model_of(spec: object) -> object:
-    """What :func:`kbm.bound.bind` takes for a card's spec: a built-in name as it is, the
-    model of ``("--rhs", RHS, OMEGA0)`` built (with sympy)."""
+    """What :func:`kbm.parameters.bound.bind` takes for a card's spec: a built-in name as it is,
+    the model of ``("--rhs", RHS, OMEGA0)`` built (with sympy)."""
     if isinstance(spec, tuple):
-        from kbm.user_model import custom_model
+        from kbm.model.user_model import custom_model
 
         return custom_model(spec[1], omega0=spec[2])
     return spec
@@ -125,7 +125,7 @@ def read_card(key: str | None) -> dict | None:
 
 
 def write_card(key: str | None, bound: Any, cm: Any, **more: object) -> None:
-    """Store the card of ``bound`` (a :class:`kbm.bound.BoundModel`) and ``cm`` (its
+    """Store the card of ``bound`` (a :class:`kbm.parameters.bound.BoundModel`) and ``cm`` (its
     :class:`numerics.flow.compiled.CompiledModel`) under ``key``, with ``more`` entries;
     nothing where the template's record is not stored (its functions cannot be kept)."""
     if key is None:
@@ -212,7 +212,7 @@ class CardTemplate:
 
 class CardBound:
     """A bound model read from a card: its ``name``, float ``values`` and ``has_mu``; the
-    :class:`kbm.bound.BoundModel` itself built on use (:meth:`full`)."""
+    :class:`kbm.parameters.bound.BoundModel` itself built on use (:meth:`full`)."""
 
     def __init__(self, card: Mapping, rebuild: Callable[[], Any]):
         self.name = str(card["name"])
@@ -227,7 +227,7 @@ class CardBound:
         return self.full().model
 
     def full(self):
-        """The :class:`kbm.bound.BoundModel` (imports sympy)."""
+        """The :class:`kbm.parameters.bound.BoundModel` (imports sympy)."""
         if "_full" not in self.__dict__:
             self._full = self._rebuild()
         return self._full
@@ -245,7 +245,7 @@ def card_model(name: object, params: Mapping[str, object] | None):
     from numerics.flow.template_cache import read_record
 
     def bind_now():
-        from kbm.bound import bind
+        from kbm.parameters.bound import bind
 
         return bind(model_of(name), params)
 

@@ -27,8 +27,8 @@ from numerics.flow.template import (ModelTemplate, _build_template, model_templa
 if TYPE_CHECKING:  # sympy and the symbolic models imported on use (issue 39)
     import sympy as sp
 
-    from kbm.bound import BoundModel
-    from kbm.models import Oscillator
+    from kbm.parameters.bound import BoundModel
+    from kbm.model.builtins import Oscillator
 
 __all__ = ["CompiledLine", "CompiledModel", "ModelTemplate", "compile_model", "model_template",
            "template_flow", "extended_state", "N_EXTENDED"]
@@ -76,7 +76,7 @@ class CompiledModel:
     exact_values
         The parameter values as given (exact where they were exact; a property).
     bound
-        The :class:`kbm.bound.BoundModel` these functions evaluate (a property: a
+        The :class:`kbm.parameters.bound.BoundModel` these functions evaluate (a property: a
         continuation along a parameter binds it only when asked).
     acceleration_expr, dissipation_expr
         Symbolic acceleration and dissipation integrand at these values (properties).
@@ -99,7 +99,7 @@ class CompiledModel:
 
     @cached_property
     def bound(self) -> BoundModel:
-        """The :class:`kbm.bound.BoundModel` these functions evaluate."""
+        """The :class:`kbm.parameters.bound.BoundModel` these functions evaluate."""
         return self.binding()
 
     @property
@@ -132,7 +132,7 @@ def compile_model(model: Oscillator | str | BoundModel,
     ----------
     model, params
         A bound model, or a model (or built-in name) and its parameter values
-        (:func:`kbm.bound.bind`).
+        (:func:`kbm.parameters.bound.bind`).
     template
         A :class:`ModelTemplate` of the same model, to skip the lambdification.
 
@@ -141,7 +141,7 @@ def compile_model(model: Oscillator | str | BoundModel,
     kbm.errors.ParameterError
         If a parameter is missing or not a finite real number.
     """
-    from kbm.bound import bind
+    from kbm.parameters.bound import bind
 
     bound = bind(model, params)
     model = bound.model
@@ -198,7 +198,7 @@ class CompiledLine:
     """:func:`compile_model` along one parameter: ``line(p)`` equals
     ``compile_model(model, {**params, vary: p})``.
 
-    The model is bound (:class:`kbm.bound.ParameterLine`), lambdified and checked once;
+    The model is bound (:class:`kbm.parameters.bound.ParameterLine`), lambdified and checked once;
     per value only the entries that depend on ``vary`` are converted, which a
     continuation does thousands of times.
 
@@ -211,7 +211,7 @@ class CompiledLine:
     """
 
     def __init__(self, model, params: Mapping[str, object] | None, vary: str, at: float):
-        from kbm.bound import ParameterLine
+        from kbm.parameters.bound import ParameterLine
 
         self.line = ParameterLine(model, params, vary, at)
         base = self.line.base

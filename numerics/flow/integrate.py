@@ -37,8 +37,8 @@ from numerics.errors import IntegrationError
 from numerics.flow.compiled import CompiledModel, compile_model, template_flow
 
 if TYPE_CHECKING:
-    from kbm.bound import BoundModel
-    from kbm.models import Oscillator
+    from kbm.parameters.bound import BoundModel
+    from kbm.model.builtins import Oscillator
 
 __all__ = ["Method", "choose_method", "flow", "solve", "integrate", "stiffness",
            "STIFF_THRESHOLD", "JIT_STIFF_THRESHOLD", "JIT_METHOD"]

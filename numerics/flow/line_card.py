@@ -2,7 +2,7 @@
 a warm ``kbm branch`` neither builds the symbolic model nor imports sympy.
 
 :class:`numerics.flow.compiled.CompiledLine` binds a model once along the varied
-parameter (:class:`kbm.bound.ParameterLine`) and converts per value only what changes.
+parameter (:class:`kbm.parameters.bound.ParameterLine`) and converts per value only what changes.
 What it reads of the symbolic model is a fixed function of the built-in name, the values
 as given, the varied name and the start value: the template (its record in
 :mod:`numerics.flow.template_cache`), the float values, the names that change, the
@@ -10,8 +10,8 @@ derived scaled values as exact rational expressions (``delta = Delta/mu``), thei
 (lambdified), whether the values are affine in the parameter, whether the field is odd,
 and the keys of the compiled flows (the extended flow, the nine-state flow with the
 Newton corrector).  A line card holds these; :class:`CardLine` answers as the
-:class:`kbm.bound.ParameterLine` did (the exact values by the same code,
-:func:`kbm.rational_values.line_floats`, on the same expression trees: the same floats).
+:class:`kbm.parameters.bound.ParameterLine` did (the exact values by the same code,
+:func:`kbm.parameters.rational_values.line_floats`, on the same expression trees: the same floats).
 
 Cards are read and written only where :func:`numerics.flow.card.use_cards` turns them on
 (``kbm branch``); the name is the model card's key (:func:`numerics.flow.card.card_key`:
@@ -29,7 +29,7 @@ from collections.abc import Callable, Mapping
 from fractions import Fraction
 from typing import Any
 
-from kbm.rational_values import line_floats
+from kbm.parameters.rational_values import line_floats
 
 __all__ = ["compiled_line", "source_digest", "line_key", "read_line", "write_line", "CardLine", "remember"]
 
@@ -68,7 +68,7 @@ def _from_card(card: Mapping, model, params, vary: str, at: float):
     from numerics.flow.template_cache import read_record
 
     def build():
-        from kbm.bound import ParameterLine
+        from kbm.parameters.bound import ParameterLine
 
         return ParameterLine(model, params, vary, at)
 
@@ -171,7 +171,7 @@ def remember(key: str | None, **more: object) -> None:
 
 class _CardBase:
     """The bound model at the start value as a line card knows it: ``name``, float
-    ``values``; the :class:`kbm.bound.BoundModel` itself on use."""
+    ``values``; the :class:`kbm.parameters.bound.BoundModel` itself on use."""
 
     def __init__(self, name: str, values: Mapping[str, float], full: Callable[[], Any]):
         self.name, self.values, self._full = name, dict(values), full
@@ -183,7 +183,7 @@ class _CardBase:
 
 
 class CardLine:
-    """A :class:`kbm.bound.ParameterLine` read from a line card: :meth:`floats`,
+    """A :class:`kbm.parameters.bound.ParameterLine` read from a line card: :meth:`floats`,
     :meth:`rates`, ``affine``, ``changed``, ``vary`` and ``base`` without sympy; anything
     else (a value bound exactly, :meth:`__call__`) from the line built on use
     (:meth:`full`)."""
@@ -205,20 +205,20 @@ class CardLine:
         self.base = _CardBase(str(record["name"]), record["fvals"], self.full)
 
     def full(self):
-        """The :class:`kbm.bound.ParameterLine` itself (imports sympy)."""
+        """The :class:`kbm.parameters.bound.ParameterLine` itself (imports sympy)."""
         if "_line" not in self.__dict__:
             self._line = self._build()
         return self._line
 
     def floats(self, value: float) -> dict[str, float]:
-        """As :meth:`kbm.bound.ParameterLine.floats`: the float values of :attr:`changed`
-        (the same code, :func:`kbm.rational_values.line_floats`, on the card's trees); an
-        undefined value raises the symbolic line's message."""
+        """As :meth:`kbm.parameters.bound.ParameterLine.floats`: the float values of
+        :attr:`changed` (the same code, :func:`kbm.parameters.rational_values.line_floats`, on the
+        card's trees); an undefined value raises the symbolic line's message."""
         return line_floats(self.vary, value, self._fractions, self._direct, self._derived,
                            lambda _: self.full().floats(value))[0]
 
     def rates(self, value: float) -> dict[str, float]:
-        """As :meth:`kbm.bound.ParameterLine.rates`."""
+        """As :meth:`kbm.parameters.bound.ParameterLine.rates`."""
         env = dict(self._given)
         env[self.vary] = float(value)
         out = {self.vary: 1.0} if self._direct else {}

@@ -18,7 +18,7 @@ from numerics._memo import memo
 if TYPE_CHECKING:  # sympy and the symbolic models imported on use (issue 39)
     import sympy as sp
 
-    from kbm.models import Oscillator
+    from kbm.model.builtins import Oscillator
 
 __all__ = ["ModelTemplate", "model_template", "template_flow"]
 
@@ -63,7 +63,7 @@ def model_template(model: Oscillator | str) -> ModelTemplate:
     the time, never the result.
     """
     if isinstance(model, str):
-        from kbm.models import get_model
+        from kbm.model.builtins import get_model
 
         model = get_model(model)
     return _template(model)
@@ -79,7 +79,7 @@ def _template(model: Oscillator) -> ModelTemplate:
 def _build_template(model: Oscillator) -> ModelTemplate:
     import sympy as sp
 
-    from kbm.family import one_degree_form
+    from kbm.model.family import one_degree_form
     from kbm.symbols import t as T, x as X, xdot as V
 
     if getattr(model, "dof", 1) != 1:

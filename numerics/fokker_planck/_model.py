@@ -11,7 +11,7 @@ import math
 import numpy as np
 import sympy as sp
 
-from kbm.conservative import ConservativeSplit
+from kbm.model.conservative import ConservativeSplit
 from kbm.errors import ModelError, ParameterError
 from kbm.symbols import x as X, xdot as V
 

@@ -43,7 +43,8 @@ import numpy as np
 import scipy.sparse as sps
 
 from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
-from ._model import grid_check, velocity_terms
+from ._ladder import hermite_chebyshev_ladder
+from ._model import velocity_terms
 
 __all__ = ["orthonormal_matrices", "orthonormal_terms", "velocity_scale",
            "orthonormal_slowest", "nonlinear_escape", "OTHER_SCALE"]
@@ -171,30 +172,12 @@ def nonlinear_escape(split, D: float, saddles, half: float, sink, points, ladder
                 split, D, s * scale, points, n, nc, lambda xs: sink(xs, sharp))
         return memo[n, nc, scale, sharp]
 
-    table = []
-    start = int(n_hermite)
-    while True:  # (the list is rungs: the ladder on a finer grid calls ladder() again)
-        rungs = [n for n in ladder(start, max(int(max_hermite), 2 * start))
-                 if fits(n, nc)] or ladder(start, 2 * start)[:2]
-        if len(rungs) < 2:
-            rungs = ladder(start, 2 * start)[:2]
-        rates, scale_err = [], math.inf
-        for n in rungs:
-            rates.append(solve(n, nc))
-            table.append((n, nc, rates[-1]))
-            if len(rates) > 1 and abs(rates[-1] - rates[-2]) <= tol * abs(rates[-1]):
-                scale_err = abs(solve(n, nc, OTHER_SCALE) - rates[-1])
-                if scale_err <= tol * abs(rates[-1]):
-                    break
-        if not math.isfinite(scale_err):
-            scale_err = abs(solve(rungs[len(rates) - 1], nc, OTHER_SCALE) - rates[-1])
-        cheb_err, done, finer, k, prev = grid_check(rungs, rates, nc, 1.2, fits, solve,
-                                                    table, tol, max_cheb)
-        if done:
-            break
-        nc, start = finer, rungs[prev]
-    r_sharp = solve(rungs[prev], nc, sharp=2)
-    return dict(rate=rates[-1], sink_error=abs(r_sharp - rates[prev]),
-                truncation_error=max(abs(rates[-1] - rates[prev]), scale_err),
-                hermite=rungs[k], chebyshev=nc + 1, ladder=tuple(table),
-                chebyshev_error=cheb_err, scale_error=scale_err, velocity_scale=s)
+    def other_scale(n, nc, rate):  # the basis's check: the rate at another scale
+        return abs(solve(n, nc, OTHER_SCALE) - rate)
+
+    out = hermite_chebyshev_ladder(solve, ladder, fits, start=int(n_hermite), n_cheb=nc,
+                                   tol=tol, max_hermite=max_hermite, max_cheb=max_cheb,
+                                   check=other_scale)
+    scale_err = out.pop("check_error")
+    return dict(out, truncation_error=max(out["truncation_error"], scale_err),
+                scale_error=scale_err, velocity_scale=s)

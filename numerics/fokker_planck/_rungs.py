@@ -14,7 +14,7 @@ import numpy as np
 
 from ._blocks import one_blas_thread
 from ._fraction import EscapeFraction, parity_maps
-from ._model import grid_check
+from ._ladder import hermite_chebyshev_ladder
 
 __all__ = ["FractionRungs", "chebyshev_interpolation", "pair_escape"]
 
@@ -52,7 +52,7 @@ class FractionRungs:
 
     Parameters
     ----------
-    split : kbm.conservative.ConservativeSplit
+    split : kbm.model.conservative.ConservativeSplit
     sigma, gamma : float
         The Hermite scale ``sqrt(kT)`` and the friction.
     wells : (float, float)
@@ -142,7 +142,7 @@ def pair_escape(split, sigma: float, gamma: float, wells, sink, points, ladder, 
     stop)``, :func:`.escape.hermite_ladder`) until two successive rates agree to ``tol``,
     then the rate at the top rung on 1.2 times the intervals (:func:`._model.grid_check`;
     when it moves by more than ``tol`` the ladder runs again there) and one rung below with
-    ``sink(xs, 2)``.  One :class:`FractionRungs` factorisation per grid and sink, extended
+    ``sink(xs, 2)`` (the loop of :func:`._ladder.hermite_chebyshev_ladder`).  One :class:`FractionRungs` factorisation per grid and sink, extended
     up the ladder; the factors keep ``n m^2`` numbers at most ``3 max_cost`` (``m`` the
     points, about ``n_cheb/2`` folded).
 
@@ -167,25 +167,7 @@ def pair_escape(split, sigma: float, gamma: float, wells, sink, points, ladder, 
             memo[n, nc, sharp] = rungs.rate(n, nc, sharp, capacity=top)
         return memo[n, nc, sharp]
 
-    table = []
-    while True:
-        steps = [n for n in ladder(start, max(int(max_hermite), 2 * start))
-                 if fits(n, nc)] or [start]
-        if len(steps) < 2:
-            steps = ladder(start, 2 * start)[:2]
-        rates = []
-        for n in steps:
-            rates.append(solve(n, nc))
-            if (n, nc, rates[-1]) not in table:
-                table.append((n, nc, rates[-1]))
-            if len(rates) > 1 and abs(rates[-1] - rates[-2]) <= tol * abs(rates[-1]):
-                break
-        cheb_err, done, finer, k, prev = grid_check(steps, rates, nc, 1.2, fits, solve,
-                                                    table, tol, max_cheb)
-        if done:
-            break
-        nc, start = finer, steps[prev]
-    r_sharp = solve(steps[prev], nc, sharp=2)
-    return dict(rate=rates[-1], sink_error=abs(r_sharp - rates[prev]),
-                truncation_error=abs(rates[-1] - rates[prev]), hermite=steps[k],
-                chebyshev=nc + 1, ladder=tuple(table), chebyshev_error=cheb_err)
+    out = hermite_chebyshev_ladder(solve, ladder, fits, start=start, n_cheb=nc, tol=tol,
+                                   max_hermite=max_hermite, max_cheb=max_cheb)
+    del out["check_error"]
+    return out

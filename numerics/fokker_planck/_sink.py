@@ -19,27 +19,35 @@ the stated ``sink_error`` was 7 times smaller than the distance to the limit at 
 (4.7e-7 against 3.4e-6) and 3.5 times at mu = 5.
 
 The ladders: rung ``j`` has the width ``w_j = w/2^j`` and the strength ``kappa_j = kappa 4^j``
-(the optical depth doubles), so the line where absorption happens lies ``(o - o_c) w_j``
-past ``x_w`` for a centre ``o + j ln(2)/2`` widths past it (``o_c`` about half the log of
-the first optical depth).  The rates of a ladder then approach the limit like ``(o - o_c)
-w_j`` plus terms in ``w_j^2``: from below if ``o`` is beyond the critical offset, from
-above if it is short of it.  The rising ladder is centred :data:`OFFSET` widths out; the
-falling one starts on the bottoms (offset 0) and moves out by :data:`RAMP` per rung to
-:data:`UPPER` (short of the critical offset, which grows from about 1.4 at the fifth rung to
-1.75 at the ninth at mu = 5; at a fixed offset 1.5 the rates rise until the seventh rung
-there, at offset 0 they fall only 1.7 times per rung, where the gap
-halves).  The gap between the ladders is ``(OFFSET - UPPER) w_j`` in line position: a
-fifth of the gap of offsets 2 and 0.  :func:`sink_bracket` climbs both ladders until the
-half-gap is within :data:`BRACKET_TOL` of the rate (or :data:`MAX_RUNGS`; past
-:data:`FINE_RUNG` the grid grows with the rung, :func:`rung_intervals`): the rate is their
-midpoint and the stated ``sink_error`` half their gap, a bracket of the limit while the
-lower ladder rises and the upper falls (checked at every rung; where it fails the error is
-the whole gap plus the last steps).  CDC Delta = 3, kT = 0.35: half-gaps 2.8e-7 (mu = 1, eighth
-rung), 9.0e-7 (mu = 2, tenth) and 4.3e-6 (mu = 5, tenth) of the rate, where offsets 2 and 0
-left 2.8e-6, 3.5e-5 and 1.7e-4 at the seventh.  At mu = 10 the critical offset
-is below 1.6 from the seventh rung on: the falling ladder is not monotone, and the stated
-error is the whole gap plus the last steps (2.6e-5 of the rate; docs/noise.rst).  No value
-is extrapolated.
+(the optical depth doubles), so the line where a particle of speed ``v`` is absorbed lies
+``(o - o_c) w_j`` past ``x_w`` for a centre ``o + j ln(2)/2`` widths past it (``o_c`` about
+half the log of the first optical depth).  At each rung the rate is then a straight line
+in the offset, ``r_j(o) = r - a w_j (o - o*_j)`` (``a > 0``; a sink moved out is smaller
+everywhere, so the rate falls with ``o``, Feynman-Kac; CDC mu = 10, offsets 0.5 to 2: the
+slope halves per rung to 1e-3 and the curvature is 5e-5 of it): the rung's rate lies below
+the limit ``r`` past the critical offset ``o*_j`` and above it short of it.  ``o*_j`` is not
+constant (the slow particles are not absorbed ballistically): it grows about linearly with
+the rung, ``o*_j = o_0 + k j`` (CDC Delta = 3, kT = 0.35: ``k`` = 0.10-0.11 per rung at mu = 5
+and 10 up to the tenth rung; at mu = 1 0.16 at the first rungs, levelling off at 1.9 by the
+ninth), so every fixed offset is passed (h-sink2's falling ladder at 1.6 rose from the
+seventh rung at mu = 10).  The step between rungs ``j`` and ``j + 1`` at the offset ``o`` is
+``a w_j [(o - o*_j) + k]/2``: it vanishes at ``o*_j - k = o*_{j-1}`` (:func:`step_zero`),
+which both ladders measure, the straight line of each rung through their two rates.  From
+rung :data:`TRACK` on (:func:`ladder_offsets`) the falling ladder sits at ``s + k``, ``s``
+the last zero of the step and ``k`` its last growth (the critical offset of two rungs back:
+short of the current one while it grows) and the rising one :data:`MARGIN` past ``s + 3 k``
+(the current one where it grows linearly; past it where it levels off), never short of
+:data:`OFFSET`; before, the rising ladder is centred :data:`OFFSET` widths out and the
+falling one ``RAMP j`` (h-sink2's rule).
+:func:`sink_bracket` climbs both ladders until the half-gap is within :data:`BRACKET_TOL`
+of the rate (or :data:`MAX_RUNGS`; past :data:`FINE_RUNG` the grid grows with the rung,
+:func:`rung_intervals`): the rate is their midpoint and the stated ``sink_error`` half their
+gap, a bracket of the limit while the lower ladder rises and the upper falls (checked at
+every rung; where it fails the error is the whole gap plus the last steps).  No value is
+extrapolated: the predicted ``o*`` only places the sinks.  CDC Delta = 3, kT = 0.35 (relative
+half-gaps; h-sink2 in brackets): mu = 1 2.6e-7 at the eighth rung (2.8e-7), mu = 2 6.1e-7
+(9.0e-7), mu = 5 3.4e-6 (4.3e-6), mu = 10 5.2e-6 (no bracket: 2.6e-5 stated), each at the
+tenth rung; docs/noise.rst.
 """
 
 from __future__ import annotations
@@ -48,23 +56,34 @@ import math
 
 import numpy as np
 
-__all__ = ["SINK_TOL", "BRACKET_TOL", "OFFSET", "UPPER", "RAMP", "WEIGHT", "MAX_RUNGS",
-           "SINK_INTERVALS", "SINK_HERMITE", "FINE_RUNG", "GRID_GROWTH", "tanh_sink",
-           "sink_rung", "falling_offset", "rung_intervals", "bracket_error", "sink_bracket",
-           "absorbing_limit"]
+__all__ = ["SINK_TOL", "BRACKET_TOL", "OFFSET", "UPPER", "RAMP", "TRACK", "MARGIN", "DRIFT",
+           "WEIGHT", "MAX_RUNGS", "SINK_INTERVALS", "SINK_HERMITE", "FINE_RUNG", "GRID_GROWTH",
+           "tanh_sink", "sink_rung", "falling_offset", "step_zero", "ladder_offsets",
+           "rung_intervals", "bracket_error", "sink_bracket", "absorbing_limit"]
 
 #: the relative change between the two sinks above which the ladders run (and the default
 #: target of :func:`sink_bracket`)
 SINK_TOL = 1e-7
 #: the bracket's half-width (relative) at which :func:`absorbing_limit` stops climbing (CDC
-#: mu = 0.5 stops at the third rung with 2.9e-7, mu = 1 at the eighth with 2.8e-7; at 1e-7
+#: mu = 0.5 stops at the third rung with 2.9e-7, mu = 1 at the eighth with 2.6e-7; at 1e-7
 #: mu = 1 climbs to the tenth rung, whose grid error is 1.5e-8 of the rate)
 BRACKET_TOL = 5e-7
-#: the rising ladder's first centre past the next wells' bottoms, in sink widths
+#: the rising ladder's centre past the next wells' bottoms (in widths, beyond ``j ln2/2``)
+#: at the rungs before :data:`TRACK`, and its least centre after
 OFFSET = 2.0
-#: the falling ladder's centre past the bottoms (in widths, beyond ``j ln2/2``) from rung
-#: ``UPPER/RAMP`` on, reached by ``RAMP`` per rung from 0 (:func:`falling_offset`)
-UPPER, RAMP = 1.6, 0.25
+#: the falling ladder's centre at rung ``j < TRACK``: ``RAMP j`` widths (0 on the bottoms)
+RAMP = 0.25
+#: from rung ``TRACK`` on both ladders follow the critical offset (:func:`ladder_offsets`)
+TRACK = 6
+#: the rising ladder's distance past the predicted critical offset, in widths, from rung
+#: :data:`TRACK` on (:func:`ladder_offsets`)
+MARGIN = 0.1
+#: the largest growth of the critical offset per rung that :func:`ladder_offsets` predicts
+#: (measured: 0.03-0.16 at CDC mu = 1, 0.09-0.11 at mu = 5 and 10)
+DRIFT = 0.2
+#: the offset of the falling ladder at the rungs past :data:`TRACK` where no prediction is
+#: given (:func:`falling_offset`, the rule of h-sink2 kept for the tests' third ladder)
+UPPER = 1.6
 #: the share of the points crowded at each sink's centre (:func:`._bases.cheb_centred`)
 WEIGHT = 0.15
 #: the rungs of each ladder at most (the width falls to ``w/2^(MAX_RUNGS - 1)``)
@@ -73,8 +92,7 @@ MAX_RUNGS = 10
 
 def sink_rung(wells, kappa0: float, width: float, j: int, offset: float = OFFSET) -> tuple:
     """``(centres, kappa, w)`` of rung ``j``: width ``width/2^j``, strength ``kappa0 4^j``,
-    centres ``offset + j ln(2)/2`` widths past the bottoms ``wells`` (:data:`OFFSET`: the
-    rising ladder; :func:`falling_offset`: the falling one)."""
+    centres ``offset + j ln(2)/2`` widths past the bottoms ``wells``."""
     w = width / 2**j
     kappa = kappa0 * 4.0**j
     c = (offset + j * math.log(2.0) / 2) * w
@@ -82,8 +100,40 @@ def sink_rung(wells, kappa0: float, width: float, j: int, offset: float = OFFSET
 
 
 def falling_offset(j: int) -> float:
-    """The falling ladder's offset at rung ``j``: ``min(UPPER, RAMP j)`` widths."""
+    """The falling ladder's offset of h-sink2 at rung ``j``: ``min(UPPER, RAMP j)`` widths
+    (the tests' reference ladders; :func:`ladder_offsets` is the code's rule)."""
     return min(UPPER, RAMP * j)
+
+
+def step_zero(a: tuple, b: tuple) -> float:
+    """The offset at which the rates of two successive rungs are equal: the root of
+    ``r_b(o) - r_a(o)``, each rung's rate ``r(o)`` the straight line through its two
+    ladders' rates ``a = (o_low, o_high, r_low, r_high)`` (the rate is linear in the offset
+    at each rung to 1e-4 of its change over 0.5 widths: CDC mu = 10; module docstring)."""
+    def line(r):
+        slope = (r[3] - r[2]) / (r[1] - r[0])
+        return slope, r[2] - slope * r[0]
+
+    (sa, ia), (sb, ib) = line(a), line(b)
+    return (ib - ia) / (sa - sb)
+
+
+def ladder_offsets(history) -> tuple:
+    """``(o_low, o_high)``: the offsets of the rising and the falling ladder at the next
+    rung ``J``, from ``history``, the ``(o_low, o_high, r_low, r_high)`` of the rungs so far.
+
+    Before :data:`TRACK`: :data:`OFFSET` and ``RAMP J``.  Then, with ``s`` the last zero of
+    the step (:func:`step_zero` of rungs ``J - 2`` and ``J - 1``: the critical offset of
+    rung ``J - 3`` where it grows linearly with the rung, closer to rung ``J``'s where it
+    levels off; module docstring) and ``k`` its last growth (within ``[0, DRIFT]``): the
+    falling ladder at ``s + k`` (short of rung ``J``'s critical offset ``s + 3 k`` by
+    ``2 k``), the rising one at ``s + 3 k + MARGIN``, and at :data:`OFFSET` at least."""
+    j = len(history)
+    if j < TRACK:
+        return OFFSET, RAMP * j
+    s_prev, s = (step_zero(a, b) for a, b in list(zip(history, history[1:]))[-2:])
+    k = min(max(s - s_prev, 0.0), DRIFT)
+    return max(OFFSET, s + 3 * k + MARGIN), s + k
 
 
 def bracket_error(low, high) -> float:
@@ -99,26 +149,31 @@ def bracket_error(low, high) -> float:
     return abs(gap) + steps
 
 
-def sink_bracket(solve, *, tol: float = SINK_TOL, max_rungs: int = MAX_RUNGS) -> dict:
-    """The rate of the perfectly absorbing sink between the rising ladder ``solve(j,
-    OFFSET)`` and the falling one ``solve(j, falling_offset(j))`` (the rates with the sinks
-    of :func:`sink_rung`), climbed until the half-gap is within ``tol`` of the rate.
+def sink_bracket(solve, *, tol: float = SINK_TOL, max_rungs: int = MAX_RUNGS,
+                 offsets=ladder_offsets) -> dict:
+    """The rate of the perfectly absorbing sink between the rising ladder and the falling
+    one (``solve(j, offset)``: the rate with the sinks of :func:`sink_rung`; the offsets of
+    each rung ``offsets(history)``, :func:`ladder_offsets`), climbed until the half-gap is
+    within ``tol`` of the rate.
 
     Returns
     -------
     dict
         ``rate`` (the midpoint of the top rungs), ``sink_error`` (:func:`bracket_error`),
-        ``rungs`` (the rising ladder's rates) and ``upper`` (the falling ladder's).
+        ``rungs`` (the rising ladder's rates), ``upper`` (the falling ladder's) and
+        ``offsets`` (each rung's ``(o_low, o_high)``).
     """
-    low, high = [], []
+    low, high, history = [], [], []
     for j in range(max_rungs):
-        low.append(solve(j, OFFSET))
-        high.append(solve(j, falling_offset(j)))
+        o_low, o_high = offsets(history)
+        low.append(solve(j, o_low))
+        high.append(solve(j, o_high))
+        history.append((o_low, o_high, low[-1], high[-1]))
         err = bracket_error(low, high)
         if j >= 1 and err <= tol * abs(low[-1] + high[-1]) / 2:
             break
     return dict(rate=(low[-1] + high[-1]) / 2, sink_error=err, rungs=tuple(low),
-                upper=tuple(high))
+                upper=tuple(high), offsets=tuple(h[:2] for h in history))
 
 
 def tanh_sink(xs, wells, kappa0: float, width: float) -> np.ndarray:
@@ -143,9 +198,13 @@ def tanh_sink(xs, wells, kappa0: float, width: float) -> np.ndarray:
 #: and by 1.8e-9 from 180 to 256 (mu = 5: 1.5e-8, 1.7e-9, 1e-10)
 SINK_INTERVALS, SINK_HERMITE = 280, 256
 #: past rung ``FINE_RUNG`` the intervals grow by ``GRID_GROWTH`` per rung (the crowded points
-#: follow the width, but the sharper sinks need more of them): CDC mu = 2, rung j = 8, 280
-#: and 400 intervals 8.5e-9 apart; j = 9, 400 and 560 1.1e-8; j = 10, 400 and 560 9e-8
-FINE_RUNG, GRID_GROWTH = 8, 1.4
+#: follow the width, but the sharper sinks need more of them).  CDC kT = 0.35, offset 1.5-1.6
+#: (rungs counted from 0): mu = 5, rung 8 on 280 and 392 intervals 3.7e-8 apart (1.2e-6 of
+#: the rate), 392 and 560 2.3e-9; rung 9 392 and 560 2.7e-8, 560 and 784 2.2e-9; mu = 10,
+#: rung 8 280 and 392 3.5e-8, 392 and 560 2e-9; rung 9 560 and 784 2e-9; rung 10 784 and
+#: 1100 8e-10 (growth from rung 8 left grid errors of 1e-6 of the rate in the ladders'
+#: steps, which the critical offset's measure (:func:`step_zero`) cannot afford)
+FINE_RUNG, GRID_GROWTH = 7, 1.4
 
 
 def rung_intervals(n_cheb: int, j: int) -> int:
@@ -154,7 +213,7 @@ def rung_intervals(n_cheb: int, j: int) -> int:
     return 2 * int(round(n_cheb * GRID_GROWTH ** max(0, j - FINE_RUNG) / 2))
 
 
-def absorbing_limit(out: dict, rung) -> dict:
+def absorbing_limit(out: dict, rung, least: tuple = (SINK_HERMITE, SINK_INTERVALS)) -> dict:
     """``out`` with the rate of the perfectly absorbing sink between the rising and the
     falling sink ladders (:func:`sink_bracket` to :data:`BRACKET_TOL`) at the ladders' Hermite
     truncation and grid (at least :data:`SINK_HERMITE` and :data:`SINK_INTERVALS`, the grid
@@ -163,17 +222,21 @@ def absorbing_limit(out: dict, rung) -> dict:
     the larger of the first sink's and the midpoint's change when both top rungs are solved
     on 1.5 times the top rung's intervals, or with the Hermite truncation below (``sqrt 2``
     fewer); ``hermite`` and ``chebyshev`` the top rungs' sizes; ``sink_ladder`` the rising
-    ladder's rates, then the falling one's."""
-    nh = max(int(out["hermite"]), SINK_HERMITE)
-    nc = max(int(out["chebyshev"]) - 1, SINK_INTERVALS)
+    ladder's rates, then the falling one's, and ``sink_offsets`` each rung's offsets.
+    ``least``: the Hermite functions and intervals at least (linear damping; nonlinear
+    damping's unfolded orthonormal solves keep the sizes of its own ladder)."""
+    nh = max(int(out["hermite"]), int(least[0]))
+    nc = max(int(out["chebyshev"]) - 1, int(least[1]))
     lim = sink_bracket(lambda j, offset: rung(j, offset, rung_intervals(nc, j), nh),
                        tol=BRACKET_TOL)
     low, high = lim["rungs"], lim["upper"]
     top = len(low) - 1
     nt = rung_intervals(nc, top)
 
+    o_low, o_high = lim["offsets"][top]
+
     def moved(n_c, n_h):  # the midpoint's change with both top rungs on another grid
-        lo, hi = rung(top, OFFSET, n_c, n_h), rung(top, falling_offset(top), n_c, n_h)
+        lo, hi = rung(top, o_low, n_c, n_h), rung(top, o_high, n_c, n_h)
         return abs((lo + hi) / 2 - lim["rate"])
 
     cheb = moved(2 * int(round(1.5 * nt / 2)), nh)
@@ -181,5 +244,6 @@ def absorbing_limit(out: dict, rung) -> dict:
     return {**out, "rate": lim["rate"], "sink_error": lim["sink_error"],
             "chebyshev_error": max(out["chebyshev_error"], cheb),
             "truncation_error": max(out["truncation_error"], trunc),
-            "sink_ladder": low + high, "hermite": nh, "chebyshev": nt + 1}
+            "sink_ladder": low + high, "sink_offsets": lim["offsets"], "hermite": nh,
+            "chebyshev": nt + 1}
 

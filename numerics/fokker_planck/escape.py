@@ -40,8 +40,8 @@ depend on the sink's sharpness to 1e-7 at mu = 0.02.
 The Hermite truncation grows by ``sqrt 2`` until two successive rates agree to ``tol``; the
 last change is ``truncation_error``, the change on a finer position grid
 ``chebyshev_error`` and the change under the sharper sink (three times stronger, half as
-wide) ``sink_error``.  For linear damping, where that change exceeds ``1e-7`` of the rate
-(higher friction: the density near the next wells' bottoms goes back to the saddle, and
+wide) ``sink_error``.  Where that change exceeds ``1e-7`` of the rate (any damping;
+higher friction: the density near the next wells' bottoms goes back to the saddle, and
 the rate depends on where the absorption happens), the rate of first passages to ``x =
 +-x_w`` lies between two ladders of sharpening sinks, one rising and one falling
 (:mod:`._sink`): the rate is the midpoint of their top rungs and ``sink_error`` half
@@ -60,7 +60,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sps
 
-from kbm.conservative import split_conservative
+from kbm.model.conservative import split_conservative
 from kbm.errors import ModelError, ParameterError
 
 from ._bases import cheb_centred, cheb_mapped
@@ -70,7 +70,8 @@ from ._fraction import EscapeFraction
 from ._orthonormal import nonlinear_escape, orthonormal_slowest
 from ._rungs import FractionRungs, pair_escape
 from ._model import next_wells
-from ._sink import SINK_TOL, WEIGHT, absorbing_limit, sink_rung, tanh_sink as _sink
+from ._sink import (SINK_HERMITE, SINK_INTERVALS, SINK_TOL, WEIGHT, absorbing_limit,
+                    sink_rung, tanh_sink as _sink)
 from .kramers import _linear_temperature, kramers_operator, kramers_terms, velocity_terms
 
 __all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder",
@@ -140,6 +141,9 @@ class KramersEscape:
         falling one's (each half): :attr:`rate` is then the midpoint of their top rungs,
         which bracket a perfectly absorbing sink's rate, and :attr:`sink_error` half their
         gap; empty where the first sink's rate is kept.
+    sink_offsets : tuple of (float, float)
+        The sinks' offsets ``(rising, falling)`` of each rung of :attr:`sink_ladder`
+        (:func:`._sink.ladder_offsets`).
     """
 
     rate: float
@@ -154,6 +158,7 @@ class KramersEscape:
     scale_error: float = float("nan")
     velocity_scale: float = float("nan")
     sink_ladder: tuple = ()
+    sink_offsets: tuple = ()
 
     def __repr__(self) -> str:
         return (f"KramersEscape(rate={self.rate:.7g} +- {self.sink_error:.2g} (sink) +- "
@@ -255,7 +260,7 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
 
     Parameters
     ----------
-    model : str or kbm.models.Oscillator
+    model : str or kbm.model.builtins.Oscillator
         An autonomous model with a well at the origin (a slider at ``v = 0``).
     params : dict
         Its parameters with ``mu``.
@@ -300,9 +305,9 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         damping where ``8 omega_b/gamma <= PAIR_HERMITE`` (:data:`PAIR_HERMITE`, higher
         friction) or the potential is not even, else orthonormal.
     sink_tol : float, optional
-        Linear damping: the relative change between the two sinks above which the rate is
-        the sink ladder's limit (:mod:`._sink`; default :data:`._sink.SINK_TOL`, 1e-7;
-        ``inf``: the first sink's rate and change, as for nonlinear damping).
+        The relative change between the two sinks above which the rate is the sink
+        ladders' limit (:mod:`._sink`; default :data:`._sink.SINK_TOL`, 1e-7; ``inf``: the
+        first sink's rate and change).
 
     Returns
     -------
@@ -361,11 +366,10 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         out = pair_escape(split, sigma, gamma, wells, sink, points, hermite_ladder,
                           start=start, n_cheb=max(int(n_cheb), by_layer), tol=tol,
                           max_hermite=max_hermite, max_cheb=max_cheb, max_cost=max_cost)
-    # linear damping: the sink ladder where the two sinks disagree (nonlinear damping keeps
-    # the first sink and states the change: SEDF mu = 0.1, 2e-6 of the rate, where the
-    # ladder's unfolded orthonormal solves on 280 intervals would cost minutes)
+    # the sink ladders where the two sinks disagree; nonlinear damping (unfolded orthonormal
+    # solves) on the sizes of its own ladder, not the pair's SINK_HERMITE x SINK_INTERVALS
     sink_tol = SINK_TOL if sink_tol is None else float(sink_tol)
-    if linear and out["sink_error"] > sink_tol * abs(out["rate"]):
+    if out["sink_error"] > sink_tol * abs(out["rate"]):
 
         def rung(j, offset, nc, nh):  # the rate with the sink of rung j (._sink)
             centres, kap, w = sink_rung(wells, kappa0, width, j, offset)
@@ -383,5 +387,6 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
             solver = FoldedRungs(nh) if fold else orthonormal_slowest
             return solver(split, D, out["velocity_scale"], pts, nh, nc, snk)
 
-        out = absorbing_limit(out, rung)
+        out = absorbing_limit(out, rung, least=(SINK_HERMITE, SINK_INTERVALS) if linear
+                              else (0, 0))
     return KramersEscape(saddles=(xl, xr), wells=wells, **out)

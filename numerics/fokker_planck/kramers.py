@@ -49,7 +49,7 @@ import numpy as np
 import scipy.sparse as sps
 import sympy as sp
 
-from kbm.conservative import ConservativeSplit, split_conservative
+from kbm.model.conservative import ConservativeSplit, split_conservative
 from kbm.errors import ModelError, ParameterError
 
 from ._bases import cheb, clenshaw_curtis, hermite_matrices
@@ -115,7 +115,7 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
 
     Parameters
     ----------
-    model : str or kbm.models.Oscillator
+    model : str or kbm.model.builtins.Oscillator
         An autonomous model (a slider at ``v = 0``) whose damping is polynomial in ``x'``.
     params : dict
         Its parameters with ``mu`` (``D`` apart).

@@ -18,7 +18,7 @@ from pathlib import Path
 import sympy as sp
 
 from kbm.errors import ModelError, ParameterError
-from kbm.models import SLIDERS, Oscillator, get_model
+from kbm.model.builtins import SLIDERS, Oscillator, get_model
 from kbm.symbols import t as T, x as X, xdot as V
 
 from .._memo import memo

@@ -4,7 +4,7 @@
 and independent white noises ``<xi_i(t) xi_j(t')> = delta_ij delta(t - t')`` (the
 convention of :mod:`numerics.noise.langevin`: ``kT = D/mu`` for a damping ``mu x'``).  The
 right-hand sides come from the one symbolic definition
-(:meth:`kbm.coupled.CoupledOscillators.accelerations`): lambdified with their Jacobian for
+(:meth:`kbm.model.coupled.CoupledOscillators.accelerations`): lambdified with their Jacobian for
 the deterministic routes, and printed with every parameter an argument into the module of
 :func:`numerics.noise.codegen.vector_module`, whose ``vector_paths`` is the scheme of
 :mod:`numerics.noise._kernels` (Kloeden & Platen eq. 15.1.3, weak order 2) for ``N``
@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from kbm.coupled import CoupledOscillators
+from kbm.model.coupled import CoupledOscillators
 from kbm.errors import ParameterError
 from kbm.symbols import t as t_symbol
 
@@ -43,7 +43,7 @@ class NoisySystem:
 
     Attributes
     ----------
-    model : kbm.coupled.CoupledOscillators
+    model : kbm.model.coupled.CoupledOscillators
     values : dict
         Every parameter's value, ``mu`` and the detuning included.
     D : float

@@ -130,7 +130,7 @@ def stationary_ensemble(model, params: dict, D: float, *, trajectories: int, t_e
 
     Parameters
     ----------
-    model : str or kbm.models.Oscillator
+    model : str or kbm.model.builtins.Oscillator
     params : dict
         Parameter values (``mu`` included, ``D`` apart).
     D : float

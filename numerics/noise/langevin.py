@@ -27,10 +27,10 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from kbm.bound import BoundModel, bind
+from kbm.parameters.bound import BoundModel, bind
 from kbm.errors import ParameterError
-from kbm.models import SLIDERS, Oscillator
-from kbm.values import parameter_value
+from kbm.model.builtins import SLIDERS, Oscillator
+from kbm.parameters.values import parameter_value
 
 from .codegen import SCHEMES, _STAGE_V, _compiled, _scheme, _symbolic  # noqa: F401
 from .seeds import trajectory_states
@@ -88,7 +88,7 @@ class LangevinSystem:
 
     Attributes
     ----------
-    bound : kbm.bound.BoundModel
+    bound : kbm.parameters.bound.BoundModel
         The model and its parameter values (``mu`` included).
     D : float
         The noise intensity.
@@ -176,7 +176,7 @@ def langevin_system(model: Oscillator | str, params: Mapping[str, object] | None
 
     Parameters
     ----------
-    model : str or kbm.models.Oscillator
+    model : str or kbm.model.builtins.Oscillator
         A built-in name (a slider's stage velocity ``v`` is a parameter) or a model.
     params : mapping
         Parameter values, ``mu`` included; ``D`` among them when not given apart.

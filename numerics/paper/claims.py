@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm.paper import FIG5
+from kbm.output.paper import FIG5
 
 from numerics.sliding.potential import saddle_node
 from numerics.sliding.reference import slide

@@ -1,8 +1,8 @@
-"""Numerical evidence for the errata of the paper's eqs. (6)-(9) (:data:`kbm.paper.ERRATA`).
+"""Numerical evidence for the errata of the paper's eqs. (6)-(9) (:data:`kbm.output.paper.ERRATA`).
 
 For each erratum, the quantity it affects is computed three ways at the same
 parameters: from the formula as printed, from the engine's corrected formula
-(:func:`kbm.paper.corrected`, derived at call time), and from the true limit
+(:func:`kbm.output.paper.corrected`, derived at call time), and from the true limit
 cycle (:func:`numerics.limit_cycle`).  Formulas that are functions of ``a`` are
 evaluated at the *true* first-harmonic amplitude, so that each row isolates one
 equation:
@@ -30,8 +30,8 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from kbm.paper import ERRATA_CASES
-from kbm.strict_json import Rendered
+from kbm.output.paper import ERRATA_CASES
+from kbm.output.strict_json import Rendered
 
 __all__ = ["ErratumEvidence", "errata_evidence", "errata_rows", "evidence_table", "CASES"]
 
@@ -101,7 +101,7 @@ def _root(fun, target: float, a_max: float = 20.0, n: int = 20000) -> tuple[floa
 
 def errata_evidence(cases: Sequence[tuple[str, Mapping[str, float]]] = CASES,
                     *, n_samples: int = 1024) -> list[ErratumEvidence]:
-    """Printed vs corrected vs true values for each erratum of :data:`kbm.paper.ERRATA`.
+    """Printed vs corrected vs true values for each erratum of :data:`kbm.output.paper.ERRATA`.
 
     Parameters
     ----------
@@ -121,8 +121,8 @@ def errata_evidence(cases: Sequence[tuple[str, Mapping[str, float]]] = CASES,
     >>> row.corrected_error < row.printed_error
     True
     """
-    from kbm import paper
-    from kbm.evaluate import numpy_function
+    from kbm.output import paper
+    from kbm.output.evaluate import numpy_function
 
     from numerics.comparison import compare
     from numerics.paper.printed import paper_prediction
@@ -187,14 +187,14 @@ def evidence_table(rows: Sequence[ErratumEvidence]) -> str:
 
 
 def errata_rows(evidence: Sequence[ErratumEvidence] | None = None) -> list:
-    """The errata of :data:`kbm.paper.ERRATA` with their numerical evidence, as the rows of
-    the errata table of :func:`kbm.derivations.write_derivations`.
+    """The errata of :data:`kbm.output.paper.ERRATA` with their numerical evidence, as the rows of
+    the errata table of :func:`kbm.output.derivations.write_derivations`.
 
     Each erratum collects the evidence rows of the equations it names
-    (:attr:`kbm.paper.Erratum.evidence_equations`, default its own).
+    (:attr:`kbm.output.paper.Erratum.evidence_equations`, default its own).
     """
-    from kbm.derivations import ErratumRow
-    from kbm.paper import ERRATA
+    from kbm.output.derivations import ErratumRow
+    from kbm.output.paper import ERRATA
 
     evidence = errata_evidence() if evidence is None else evidence
     rows = []

@@ -8,7 +8,7 @@ the excitability (:mod:`numerics.sliding`):
   (``mu = 0.1``, ``beta = 1``, ``lam = 1``, ``Omega = 1``);
 - the maps SEDF/CDC over ``(v, Delta)`` at ``beta = 1`` and over ``(v, beta)`` at
   ``Delta = 3``, with the stage-attached SEDF (the paper's own SEDF has no steady state:
-  its damping ``mu beta x^2`` grows with the distance slid, :mod:`kbm.models`).
+  its damping ``mu beta x^2`` grows with the distance slid, :mod:`kbm.model.builtins`).
 
 :meth:`FrictionStudy.table` is the table of ``kbm reproduce`` (``tables/friction.md``).
 """

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm.strict_json import finite, json_fields
+from kbm.output.strict_json import finite, json_fields
 from numerics.comparison.prediction import numeric_value
 from numerics.energy import map_predictions
 from numerics.paper.validity import (VALIDITY_KEYS, error_grid, sedf_sweep, short_reason,

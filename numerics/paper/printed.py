@@ -1,6 +1,6 @@
 """The paper's own KBM formulas, eqs. (5)-(9) as printed, as a predicted cycle.
 
-:func:`paper_prediction` takes :mod:`kbm.paper` literally: ``a*`` is a root of
+:func:`paper_prediction` takes :mod:`kbm.output.paper` literally: ``a*`` is a root of
 eq. (7), the frequency eq. (6) at ``a*``, the orbit ``x = a cos psi + mu f + mu^2
 g`` (eqs. 5, 8, 9).  It is one of the ``extra`` rows of :func:`numerics.compare`.
 
@@ -17,11 +17,11 @@ import numpy as np
 import sympy as sp
 from scipy.optimize import brentq
 
-from kbm import paper
+from kbm.output import paper
 from kbm.errors import ParameterError
-from kbm.evaluate import numpy_function
-from kbm.bound import BoundModel
-from kbm.models import Oscillator, get_model
+from kbm.output.evaluate import numpy_function
+from kbm.parameters.bound import BoundModel
+from kbm.model.builtins import Oscillator, get_model
 
 from numerics.comparison.prediction import (Prediction, cycle_measures, dissipation_functions,
                                             reconstruct)
@@ -44,7 +44,7 @@ def paper_prediction(values: Mapping[str, object] | BoundModel, *,
                      target_amplitude: float | None = None,
                      n_samples: int = 1024, n_harmonics: int = 16, a_max: float = 20.0,
                      n_grid: int = 20000) -> Prediction:
-    """The cycle of the paper's eqs. (5)-(9) taken literally (:mod:`kbm.paper`), for sedf.
+    """The cycle of the paper's eqs. (5)-(9) taken literally (:mod:`kbm.output.paper`), for sedf.
 
     ``a*`` is the root of eq. (7) closest to ``target_amplitude``, the frequency
     is eq. (6) at ``a*``, ``x = a cos psi + mu f + mu^2 g`` (eqs. 5, 8, 9) and the

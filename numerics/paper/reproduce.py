@@ -14,11 +14,11 @@ import sys
 import time
 from pathlib import Path
 
-from kbm.derivations import compile_pdf, write_derivations
-from kbm.files import output_folder
-from kbm.paper import COMPARISON_CASES
+from kbm.output.derivations import compile_pdf, write_derivations
+from kbm.output.files import output_folder
+from kbm.output.paper import COMPARISON_CASES
 
-from kbm.strict_json import finite
+from kbm.output.strict_json import finite
 from numerics.comparison import compare, convergence_study, energy_prediction
 from numerics.comparison.fixed_delta import fixed_delta_convergence
 from numerics.paper.claims import check_claims
@@ -52,7 +52,7 @@ class _Progress:
 
 
 def _strict_json(obj) -> str:
-    """Valid JSON: NaN and infinities as ``null`` (:func:`kbm.strict_json.finite`)."""
+    """Valid JSON: NaN and infinities as ``null`` (:func:`kbm.output.strict_json.finite`)."""
     return json.dumps(finite(obj), indent=2, allow_nan=False)
 
 

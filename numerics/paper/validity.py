@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kbm.strict_json import json_fields
+from kbm.output.strict_json import json_fields
 
 from numerics.comparison.prediction import derived, kbm_prediction, numeric_value
 from numerics.cycles.sweep import grid, sweep

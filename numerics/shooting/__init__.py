@@ -16,5 +16,21 @@ or forced with the period fixed by the drive).
   parameter sensitivity, half-period shooting and the compiled corrector;
 - :mod:`numerics.shooting.floquet`: the multipliers of a planar cycle (Liouville);
 - :mod:`numerics.shooting.locate`: :func:`~numerics.shooting.locate.locate_zero`, the one
-  locator of folds and other special points between two points of a branch.
+  locator of folds and other special points between two points of a branch;
+  :mod:`numerics.shooting.special`: the period doublings and Neimark-Sacker points of a
+  branch of forced responses located by it.
+
+Its cases for ``N`` coupled oscillators (the flow of :mod:`numerics.flow.coupled_flow`) and
+for one forced oscillator (the flow of :mod:`numerics.flow.forced_system`):
+
+- :mod:`numerics.shooting.coupled_orbit`: :func:`~numerics.shooting.coupled_orbit.coupled_cycle`
+  and :func:`~numerics.shooting.coupled_orbit.forced_response`, the periodic orbits of ``N``
+  coupled oscillators with all ``2N`` Floquet multipliers;
+- :mod:`numerics.shooting.coupled_branch`: their branches in one parameter
+  (:func:`~numerics.shooting.coupled_branch.continue_coupled`, ``kbm branch`` and
+  ``kbm response`` of ``N`` degrees of freedom);
+- :mod:`numerics.shooting.forced_orbit`: the response of a forced oscillator at the fixed
+  period ``2 pi p/nu`` (:func:`~numerics.shooting.forced_orbit.periodic_response`);
+- :mod:`numerics.shooting.forced_branch`: its frequency-response curve continued in the
+  detuning (:func:`~numerics.shooting.forced_branch.numeric_response`).
 """

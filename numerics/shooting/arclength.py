@@ -7,8 +7,8 @@ numerical analysis of nonlinear equations*, sec. 2), the pieces of the one branc
   with its bound on the correction); :mod:`numerics.flow._shooting_corrector` is its
   compiled twin for one degree of freedom;
 - :func:`null_vector` (the tangent) and :func:`predict` (Euler or cubic Hermite);
-- :func:`walk`: the one driver of the steps along a branch (:func:`kbm.arclength.walk`,
-  which also follows the slow-flow curves of :mod:`kbm.forced.arclength`).
+- :func:`walk`: the one driver of the steps along a branch (:func:`kbm.slowflow.arclength.walk`,
+  which also follows the slow-flow curves of :mod:`kbm.slowflow.continuation`).
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from typing import Callable
 
 import numpy as np
 
-from kbm.arclength import walk as _walk
+from kbm.slowflow.arclength import walk as _walk
 from kbm.errors import ParameterError
 from numerics.errors import ConvergenceError, IntegrationError
 
@@ -110,8 +110,8 @@ def predict(u: np.ndarray, t: np.ndarray, ds: float, previous=None) -> np.ndarra
 
 def walk(first, ds: float, **options):
     """Follow a branch from ``first`` by pseudo-arclength steps (the one driver,
-    :func:`kbm.arclength.walk`, whose options these are), a step failing on the errors of a
-    shooting step (:data:`FAIL`) unless ``failures`` says otherwise."""
+    :func:`kbm.slowflow.arclength.walk`, whose options these are), a step failing on the errors of
+    a shooting step (:data:`FAIL`) unless ``failures`` says otherwise."""
     options.setdefault("failures", FAIL)
     return _walk(first, ds, **options)
 

@@ -13,7 +13,7 @@ case gives the residual, its Jacobian, the test and the point:
   point has all ``2N`` multipliers;
 - :class:`numerics.shooting.planar.PlanarProblem`, ``N = 1`` with the section ``xdot = 0``
   eliminated, ``u = (x0, T, p)``, and its compiled corrector;
-- the forced response of one degree of freedom (:mod:`numerics.forced.response`).
+- the forced response of one degree of freedom (:mod:`numerics.shooting.forced_branch`).
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from numerics.shooting.arclength import correct_on_hyperplane, null_vector, pred
 from numerics.shooting.orbit import multipliers, peak
 
 if TYPE_CHECKING:  # the symbolic model: imported on use (issue 39)
-    from kbm.coupled import CoupledOscillators
+    from kbm.model.coupled import CoupledOscillators
 
 __all__ = ["BranchProblem", "OrbitProblem", "OrbitPoint"]
 
@@ -93,7 +93,7 @@ class OrbitProblem(BranchProblem):
     def __init__(self, model: CoupledOscillators, params: dict, vary: str, rtol: float,
                  make_flow: Callable):
         self.model, self.params, self.vary, self.rtol = model, params, vary, rtol
-        #: ``(model, values) -> flow`` (:func:`numerics.coupled.flow.coupled_flow`): the flow
+        #: ``(model, values) -> flow`` (:func:`numerics.flow.coupled_flow.coupled_flow`): the flow
         #: with ``monodromy``, ``rhs``, ``states``, ``nu`` and ``at(**values)``
         self.make_flow = make_flow
         self.n = model.dof

@@ -1,9 +1,9 @@
 """The one result of a branch of periodic orbits of ``N`` degrees of freedom
 (:mod:`numerics.shooting.continuation`): :class:`OrbitBranch`, its points
 :class:`OrbitBranchPoint` and special points :class:`OrbitSpecialPoint`, rendered as JSON by
-:class:`kbm.strict_json.Rendered` in one of two layouts: ``N``'s (also named :class:`CoupledBranch`,
+:class:`kbm.output.strict_json.Rendered` in one of two layouts: ``N``'s (also named :class:`CoupledBranch`,
 :class:`CoupledBranchPoint`, :class:`CoupledSpecialPoint`; ``kbm branch`` and ``kbm response``
-of a coupled system, :mod:`numerics.coupled.continuation`) and that of one degree of freedom
+of a coupled system, :mod:`numerics.shooting.coupled_branch`) and that of one degree of freedom
 on the section ``x' = 0``, the case ``N = 1`` (:class:`Branch`, :class:`BranchPoint`,
 :class:`SpecialPoint`; ``kbm branch`` of an oscillator, also as
 :mod:`numerics.cycles.branch_result`)."""
@@ -15,8 +15,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from kbm.strict_json import Rendered
-from kbm.values import FrozenMap
+from kbm.output.strict_json import Rendered
+from kbm.parameters.values import FrozenMap
 
 __all__ = ["Rendered", "OrbitBranch", "OrbitBranchPoint", "OrbitSpecialPoint", "BranchPoint",
            "SpecialPoint", "Branch", "SPECIAL_KINDS", "branch_point", "CoupledBranch",

@@ -6,7 +6,7 @@ Doedel, *Lecture notes on numerical analysis of nonlinear equations*, sec. 2).
 (:mod:`numerics.shooting.branch_problem`, whose corrector accepts every point by the one
 standard, :mod:`numerics.shooting.acceptance`).  Its cases are one degree of freedom
 (:class:`numerics.cycles.continuation.CycleContinuation`) and ``N``
-(:class:`numerics.coupled.continuation.CoupledContinuation`); the results are those of
+(:class:`numerics.shooting.coupled_branch.CoupledContinuation`); the results are those of
 :mod:`numerics.shooting.branch_result`.
 """
 

@@ -16,7 +16,7 @@ from typing import Callable
 
 import numpy as np
 
-from kbm.strict_json import complex_json
+from kbm.output.strict_json import complex_json
 from numerics.shooting.acceptance import orbit_scale, shoot_newton
 
 __all__ = ["shoot", "multipliers", "peak", "multiplier_json", "NEWTON_MAX_STEPS"]

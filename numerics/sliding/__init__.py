@@ -12,7 +12,9 @@
   (:func:`friction_law`); the window's measures in :mod:`numerics.sliding.window`, the
   settings and the point in :mod:`numerics.sliding.friction_records`;
 - :mod:`numerics.sliding.maps`: friction maps over two parameters on any executor
-  (:func:`friction_map`), SEDF against CDC.
+  (:func:`friction_map`), SEDF against CDC;
+- :mod:`numerics.sliding.chain_friction`: the friction laws of pulled chains of sliders
+  (``sedf-dimer``, ``sedf-chain-N``) on the flow of :mod:`numerics.flow.coupled_flow`.
 """
 
 from numerics.sliding.driven import DrivenSystem, driven_system

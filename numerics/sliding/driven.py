@@ -1,6 +1,6 @@
 """The driven slider, compiled: long stick-slip runs with their work and dissipation integrals.
 
-A slider model of :mod:`kbm.models` (``sedf``, ``cdc``, ``sedf_comoving``) pulled by its
+A slider model of :mod:`kbm.model.builtins` (``sedf``, ``cdc``, ``sedf_comoving``) pulled by its
 stage at velocity ``v`` is, with the time kept as a state ``tau``, the autonomous system
 
 ``x' = x_dot``, ``x_dot' = a(x, x_dot, tau)``, ``tau' = 1``,
@@ -34,8 +34,8 @@ import numpy as np
 import sympy as sp
 
 from kbm.errors import ParameterError
-from kbm.bound import bind
-from kbm.models import SLIDERS, Oscillator, get_model
+from kbm.parameters.bound import bind
+from kbm.model.builtins import SLIDERS, Oscillator, get_model
 from kbm.symbols import t as T, x as X, xdot as V
 
 from numerics._memo import memo
@@ -127,7 +127,7 @@ class DrivenSystem:
     Attributes
     ----------
     model
-        The slider's name (:data:`kbm.models.SLIDERS`).
+        The slider's name (:data:`kbm.model.builtins.SLIDERS`).
     params
         Every parameter value as a float (physical names: ``mu, Delta, lam, Omega, v``
         and ``beta`` where the model has it).

@@ -16,7 +16,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
 
 from kbm.errors import ParameterError
-from kbm.strict_json import Rendered
+from kbm.output.strict_json import Rendered
 
 from numerics._show import num, params_text
 
@@ -95,7 +95,7 @@ class FrictionSettings:
 @dataclass(frozen=True)
 class FrictionPoint(Rendered):
     """The friction measures of one steady sliding state (NaN where a measure does not
-    apply); its JSON form every field (:class:`~kbm.strict_json.Rendered`).
+    apply); its JSON form every field (:class:`~kbm.output.strict_json.Rendered`).
 
     Attributes
     ----------

@@ -22,8 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm.errors import KBMError, ParameterError
-from kbm.models import get_model
-from kbm.strict_json import json_fields
+from kbm.model.builtins import get_model
+from kbm.output.strict_json import json_fields
 
 from numerics.errors import NumericsError
 from numerics.executor import chunk, map_chunks

@@ -28,8 +28,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from kbm.errors import ParameterError
-from kbm.models import SLIDERS, get_model
-from kbm.paper import FIXED
+from kbm.model.builtins import SLIDERS, get_model
+from kbm.output.paper import FIXED
 
 from numerics.errors import IntegrationError
 from numerics.sliding.driven import slider_equations
@@ -124,7 +124,7 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
     ----------
     model
         ``"sedf"`` (paper eq. 3), ``"cdc"`` (paper eq. 12) or ``"sedf_comoving"``
-        (:mod:`kbm.models`: the self-excitation attached to the stage).
+        (:mod:`kbm.model.builtins`: the self-excitation attached to the stage).
     params
         Physical parameters ``mu, beta, Delta, lam, Omega, v`` (``mu = 0.1``,
         ``Omega = 1``, ``lam = 1`` by default, as in the paper).

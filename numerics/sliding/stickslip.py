@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.strict_json import Rendered, json_fields
+from kbm.output.strict_json import Rendered, json_fields
 
 from numerics.sliding.potential import saddle_node
 from numerics.sliding.reference import SlideResult

@@ -8,7 +8,7 @@ The noisy model is the paper's eq. (1) with ``sqrt(2 D) xi(t)`` added (the conve
 - :mod:`numerics.spectrum.phase_diffusion`: the averaged theory of a self-excited
   oscillator evaluated at the stable cycle (amplitude relaxation rate, phase diffusion,
   nonisochronicity, effective linewidth, noise-induced frequency shift, the Lorentzian
-  lines of x(t) at the fundamental and its harmonics), from :mod:`kbm.phase_diffusion`;
+  lines of x(t) at the fundamental and its harmonics), from :mod:`kbm.noise.phase_diffusion`;
 - :mod:`numerics.spectrum.linewidth`: the linewidth and mean frequency measured on
   sampled trajectories (phase of the analytic signal, phase-variance growth, a
   Lorentzian fit);

@@ -15,8 +15,8 @@ sin(Omega_i t)``, ``x_i' = -omega_i (u_i sin + v_i cos)`` (van der Pol's variabl
 ``x = a cos(psi)``, ``x' = -a omega_i sin(psi)`` with ``u + i v = a e^{i phi}``) the
 first-order averaged flow ``U' = f(U)`` is the time average of the equations over the
 response period, the mismatch ``Omega_i - omega_i = O(mu)`` a rotation of ``(u_i, v_i)``
-(the same slow flow as :func:`kbm.forced.derive_forced` at order 1, in Cartesian form); the
-noise enters as ``du_i = ... - (sin(Omega_i t)/omega_i) sqrt(2 D) dW_i`` and ``dv_i = ... -
+(the same slow flow as :func:`kbm.expansion.forced.derive_forced` at order 1, in Cartesian form);
+the noise enters as ``du_i = ... - (sin(Omega_i t)/omega_i) sqrt(2 D) dW_i`` and ``dv_i = ... -
 (cos/omega_i) sqrt(2D) dW_i``, whose average covariance is ``Q = (D/omega_i^2) I`` (Stratonovich, *Topics in the Theory of Random Noise* II, ch. 9).  About a
 stable fixed point with Jacobian ``J`` the fluctuations are an Ornstein-Uhlenbeck process
 with the matrix spectrum ``S_U(w) = (1/2 pi) (i w - J)^-1 Q (i w - J)^-H``.  The lab frame
@@ -358,7 +358,7 @@ def detuning_name(model) -> str:
     kbm.errors.ParameterError
         For a model without a forcing detuning.
     """
-    from kbm.coupled import get_coupled_model
+    from kbm.model.coupled_builtins import get_coupled_model
 
     m = get_coupled_model(model) if isinstance(model, str) else model
     if not m.forced or not m.nu_detuning:

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.strict_json import complex_pairs, jsonable
+from kbm.output.strict_json import complex_pairs, jsonable
 
 from numerics.errors import ConvergenceError
 from numerics.noise.coupled import CHUNK, NoisySystem, bound_system, positive_noise
@@ -34,7 +34,7 @@ _SYSTEMS: dict = {}
 
 def noisy_system(model, params: Mapping[str, object], D: float) -> NoisySystem:
     """The noisy system of ``model`` at ``params`` (bound by
-    :func:`numerics.coupled.flow.bind_coupled`; :func:`numerics.noise.coupled.bound_system`).
+    :func:`numerics.flow.coupled_flow.bind_coupled`; :func:`numerics.noise.coupled.bound_system`).
 
     Raises
     ------
@@ -42,7 +42,7 @@ def noisy_system(model, params: Mapping[str, object], D: float) -> NoisySystem:
         For an unknown name or a missing value, ``D <= 0``, or a model whose force depends
         on ``t`` other than through ``theta`` (a pulled slider).
     """
-    from numerics.coupled.flow import bind_coupled
+    from numerics.flow.coupled_flow import bind_coupled
 
     positive_noise(D)
     return bound_system(*bind_coupled(model, params), D)

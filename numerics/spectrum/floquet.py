@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from kbm.bound import bind
+from kbm.parameters.bound import bind
 from kbm.symbols import mu, x, xdot
 
 from ..errors import NoCycleError

@@ -1,6 +1,6 @@
 """The averaged line of a noisy self-excited oscillator, evaluated at numbers.
 
-:mod:`kbm.phase_diffusion` gives the averaged Ito equations of amplitude and phase,
+:mod:`kbm.noise.phase_diffusion` gives the averaged Ito equations of amplitude and phase,
 
 ``da = [A(a) + D/(2 omega0^2 a)] dt + (sqrt(D)/omega0) dW_1``,
 ``dphi = B(a) dt + (sqrt(D)/(omega0 a)) dW_2``,
@@ -25,13 +25,13 @@ that part of ``P`` carries nothing measurable).
 
 At order 2 the line is also corrected by one power of ``mu``: the small-noise linewidth
 ``D <Z_v^2>`` of the phase response pulled back through the first-order near-identity
-transform (:func:`kbm.phase_diffusion.phase_response`; error ``O(mu^2)`` against the true
+transform (:func:`kbm.noise.phase_diffusion.phase_response`; error ``O(mu^2)`` against the true
 cycle's, :mod:`numerics.spectrum.floquet`) replaces Lax's ``D_eff`` as the scale of the
 stationary-density line: ``D_eff(order 2) = D_eff(quadrature) * D <Z_v^2>/D_eff(Lax)``.
 
 The spectrum of ``x`` is a sum of lines at ``k Omega``: a Lorentzian of half width
 ``k^2 D_eff`` carrying the coherent power ``<r_k>^2/2`` of harmonic ``k`` (``x = sum_k
-r_k(a) cos(k psi + theta_k)``, from :attr:`kbm.phase_diffusion.PhaseDiffusion.displacement`)
+r_k(a) cos(k psi + theta_k)``, from :attr:`kbm.noise.phase_diffusion.PhaseDiffusion.displacement`)
 and a pedestal of half width ``lambda + k^2 D_eff`` carrying ``var(r_k)/2`` (the amplitude
 fluctuations, relaxing at ``lambda``).
 """
@@ -46,8 +46,8 @@ import numpy as np
 import sympy as sp
 
 from kbm.errors import ParameterError
-from kbm.phase_diffusion import phase_diffusion
-from kbm.stochastic import NOISE
+from kbm.noise.phase_diffusion import phase_diffusion
+from kbm.noise.stochastic import NOISE
 from kbm.symbols import a, mu, psi
 
 from ..errors import NoCycleError
@@ -105,7 +105,7 @@ class LineTheory:
     frequency_cycle : float
         ``omega0 + B(a*)``: the deterministic cycle's frequency at this order.
     small_noise : float
-        ``D <Z_v^2>`` at ``a*`` (:func:`kbm.phase_diffusion.phase_response`): Lax's
+        ``D <Z_v^2>`` at ``a*`` (:func:`kbm.noise.phase_diffusion.phase_response`): Lax's
         ``D_eff`` at order 1, with its ``O(mu)`` correction at order 2.
     mean_amplitude : float
         ``<a>`` over ``P``.
@@ -218,14 +218,14 @@ def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1
 
     Parameters
     ----------
-    model : str or kbm.models.Oscillator
+    model : str or kbm.model.builtins.Oscillator
         An autonomous model of one degree of freedom.
     params : mapping
         ``mu`` and the model's parameters.
     D : float
         Noise intensity of ``sqrt(2 D) xi`` (``> 0``).
     order : {1, 2}
-        KBM order of the deterministic rates (:func:`kbm.phase_diffusion.phase_diffusion`).
+        KBM order of the deterministic rates (:func:`kbm.noise.phase_diffusion.phase_diffusion`).
     harmonics : int
         How many harmonics get a line.
 
@@ -244,7 +244,7 @@ def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1
     """
     if not (isinstance(D, (int, float)) and math.isfinite(D) and D > 0):
         raise ParameterError(f"D = {D!r}: the linewidth needs noise, D > 0")
-    from kbm.bound import bind
+    from kbm.parameters.bound import bind
 
     bm = bind(model, {k: v for k, v in dict(params).items() if k != "D"})
     bm.require(what="the averaged line")

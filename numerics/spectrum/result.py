@@ -48,7 +48,7 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
 
     Parameters
     ----------
-    model : str or kbm.models.Oscillator
+    model : str or kbm.model.builtins.Oscillator
     params : dict
         ``mu`` and the model's parameters (``D`` apart).
     D : float

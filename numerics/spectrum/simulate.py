@@ -107,7 +107,7 @@ def simulate_line(model, params: dict, D: float, *, trajectories: int, duration:
 
     Parameters
     ----------
-    model : str or kbm.models.Oscillator
+    model : str or kbm.model.builtins.Oscillator
     params : dict
         ``mu`` and the model's parameters.
     D : float

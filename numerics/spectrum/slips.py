@@ -2,17 +2,17 @@
 
 Two oscillators of a coupled system in ``1:1`` resonance (``coupled-vdp``) with the noise
 ``sqrt(2 D) xi_i`` on each mode, ``x_i = a_i cos(t + phi_i)``.  The averaged flow of
-:func:`kbm.coupled.derive_coupled` (order 1 or 2) is in ``(a_1, a_2, gamma)``, ``gamma =
+:func:`kbm.expansion.coupled.derive_coupled` (order 1 or 2) is in ``(a_1, a_2, gamma)``, ``gamma =
 phi_2 - phi_1`` the phase difference.  The amplitudes relax to the values ``a*(gamma)``
 that zero their rates at fixed ``gamma`` (adiabatic elimination: the fixed points of the
 reduced equation are those of the averaged flow, so its locking edges are the averaged
-edges of :func:`numerics.coupled.locking.averaged_edges`), which leaves the noisy Adler
+edges of :func:`numerics.locking.mutual.averaged_edges`), which leaves the noisy Adler
 equation
 
 ``d gamma = g(gamma) dt + sqrt(2 Q(gamma)) dW``,  ``g(gamma) = gamma-rate at a*(gamma)``,
 
 ``Q = (D/2) sum_i 1/(omega_i^2 a_i*^2)`` (the phase diffusion of each oscillator, ``D/(2
-omega^2 a^2)``, :mod:`kbm.stochastic`).  For ``coupled-vdp`` at order 1 ``g = mu (sigma -
+omega^2 a^2)``, :mod:`kbm.noise.stochastic`).  For ``coupled-vdp`` at order 1 ``g = mu (sigma -
 (c/2)(a_1/a_2 + a_2/a_1) sin gamma)``: Adler's ``-Delta + K sin``-form with ``Delta = mu
 sigma``, ``K = mu c``, derived, not assumed.
 
@@ -90,7 +90,8 @@ class AdlerReduction:
 def _averaged_flow(model, fixed: tuple, order: int, detuning: str):
     """The averaged flow ``f(y, sigma, mu)`` and the amplitude rates' Jacobian (memoised:
     a derivation per model, fixed values and order)."""
-    from kbm.coupled import amplitudes, derive_coupled
+    from kbm.model.coupled import amplitudes
+    from kbm.expansion.coupled import derive_coupled
 
     res = derive_coupled(model, order, dict(fixed))
     if len(res.gammas) != 1:
@@ -122,7 +123,7 @@ def adler_reduction(model, params: Mapping[str, object], D: float, *, order: int
         For a model without one phase combination, or amplitudes that cannot follow the
         phase difference (no positive root of the amplitude rates at some ``gamma``).
     """
-    from numerics.coupled.flow import bind_coupled
+    from numerics.flow.coupled_flow import bind_coupled
 
     model, values = bind_coupled(model, params)
     n = model.dof

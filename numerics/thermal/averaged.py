@@ -2,7 +2,7 @@
 
 Two averaging methods apply to the autonomous models:
 
-* **amplitude averaging** (first-order Stratonovich-Khasminskii, :mod:`kbm.stochastic`)
+* **amplitude averaging** (first-order Stratonovich-Khasminskii, :mod:`kbm.noise.stochastic`)
   for ``x'' + omega0^2 x = mu F + sqrt(2 D) xi`` with ``D`` of order ``mu``: the
   stationary amplitude density ``P(a)``; ``<a^2>`` and ``<x^2> = <a^2>/2`` (the phase
   is uniform);
@@ -25,7 +25,7 @@ from typing import Callable
 import numpy as np
 
 from kbm.errors import KBMError, ModelError
-from kbm.models import SLIDERS
+from kbm.model.builtins import SLIDERS
 
 from ..escape.envelope import NoStationaryState
 
@@ -70,7 +70,7 @@ class AveragedStationary:
 
 
 def _amplitude(model, params: dict, D: float) -> AveragedStationary:
-    from kbm.stochastic import stochastic_average
+    from kbm.noise.stochastic import stochastic_average
 
     sa = stochastic_average(model, params)
     name = model if isinstance(model, str) else model.name
@@ -106,7 +106,7 @@ def _amplitude(model, params: dict, D: float) -> AveragedStationary:
 
 
 def _energy(model, params: dict, D: float, omega0: float) -> AveragedStationary:
-    from kbm.conservative import NotConfiningError
+    from kbm.model.conservative import NotConfiningError
     from numerics.escape.envelope import energy_envelope
 
     try:
@@ -128,7 +128,7 @@ def _boltzmann(model, params: dict, D: float) -> float | None:
     """``<x^2>`` of ``exp(-G/kT)`` when the damping is linear (``h = -c x'``, ``kT = D/(mu c)``)."""
     import sympy as sp
 
-    from kbm.conservative import split_conservative
+    from kbm.model.conservative import split_conservative
     from kbm.symbols import xdot
 
     from ..escape.envelope import boltzmann_moment
@@ -149,7 +149,7 @@ def averaged_stationary(model, params: dict, D: float, omega0: float,
 
     Parameters
     ----------
-    model : str or kbm.models.Oscillator
+    model : str or kbm.model.builtins.Oscillator
     params : dict
         Parameter values (``D`` apart).
     D : float

@@ -20,7 +20,7 @@ import numpy as np
 from scipy.optimize import curve_fit
 
 from kbm.errors import ParameterError
-from kbm.strict_json import Rendered
+from kbm.output.strict_json import Rendered
 
 __all__ = ["MuserFit", "fit_muser"]
 

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.strict_json import Rendered
+from kbm.output.strict_json import Rendered
 
 from ..executor import CHUNKS, map_chunks
 from ..noise.ensemble import Estimate

@@ -1,6 +1,6 @@
 """The second-order amplitude averaging in the stationary report (``kbm noise --order 2``).
 
-:mod:`kbm.stochastic_order2` expands the stationary Fokker-Planck equation in ``mu`` at fixed
+:mod:`kbm.noise.stochastic_order2` expands the stationary Fokker-Planck equation in ``mu`` at fixed
 ``D/mu``; this module puts its moments and density where :func:`numerics.thermal.stationary.
 noise_report` reports the first-order ones, so that the validity flag, the figure and the
 JSON all speak of the order that is reported (``averaged_order``).
@@ -20,7 +20,7 @@ def second_order(model, params: dict, D: float, avg) -> tuple[object | None, dic
 
     Parameters
     ----------
-    model : str or kbm.models.Oscillator
+    model : str or kbm.model.builtins.Oscillator
     params : dict
         The model's parameters, without ``D``.
     D : float
@@ -31,12 +31,12 @@ def second_order(model, params: dict, D: float, avg) -> tuple[object | None, dic
     Returns
     -------
     tuple
-        ``(so, values, message)``: the :class:`kbm.stochastic_order2.SecondOrderAveraging`
+        ``(so, values, message)``: the :class:`kbm.noise.stochastic_order2.SecondOrderAveraging`
         and the parameter values it is evaluated at, or ``None`` with the reason the first
         order is kept.
     """
     from kbm.errors import KBMError
-    from kbm.stochastic_order2 import stochastic_average_order2
+    from kbm.noise.stochastic_order2 import stochastic_average_order2
 
     if avg is None:
         return None, {}, "no averaged prediction to correct"

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.models import SLIDERS
+from kbm.model.builtins import SLIDERS
 
 from ..escape.envelope import check_mu
 from ..escape.report import SLIDER_DEFAULTS
@@ -159,7 +159,7 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
 
     Parameters
     ----------
-    model : str or kbm.models.Oscillator
+    model : str or kbm.model.builtins.Oscillator
     params : dict
         Parameters with ``D``.
     trajectories, t_end, burn_in, dt, seed :
@@ -177,7 +177,7 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
         Report ``moments.*.fokker_planck`` for a model at rest (``None`` with the reason in
         ``fokker_planck_message`` otherwise).
     order : {1, 2}
-        The order of the amplitude averaging (:mod:`kbm.stochastic_order2` for 2, where it
+        The order of the amplitude averaging (:mod:`kbm.noise.stochastic_order2` for 2, where it
         applies; the first order is kept otherwise, with the reason in ``message``).
     extrapolate : bool
         Also report the two-level Richardson value ``E_dt + (4/3)(E_{dt/2} - E_dt)``

@@ -5,6 +5,12 @@ map of where classical KBM and the energy method hold (``methods_map``, the head
 ``FIGURES`` maps a name to a function ``f(out_dir) -> list[Path]``;
 :func:`write_figures` runs them (all, or those named).  matplotlib is imported
 lazily inside the drawing modules (Agg backend), never by :mod:`kbm`.
+
+The figures of forced oscillators (``docs/forced.rst``: response curves, Mathieu tongues,
+entrainment) are :mod:`numerics.paper.figures.forced`, written by
+``python -m numerics.paper.figures.forced DIR``; its
+:func:`~numerics.paper.figures.forced.plot_response` and
+:func:`~numerics.paper.figures.forced.plot_convergence` draw ``kbm response --out``.
 """
 
 from __future__ import annotations

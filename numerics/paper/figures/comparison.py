@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from kbm.paper import POINTS
+from kbm.output.paper import POINTS
 from numerics._plot import pyplot as _plt
 
 __all__ = ["COMPARISON_FIGURES", "comparison_figures", "convergence_figure",

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from kbm.paper import FIG4, FIG5
+from kbm.output.paper import FIG4, FIG5
 from numerics.paper.friction import (LAW_PARAMS, LAW_V, MAIN_JOB_SIZE, MAP_BETA, MAP_DELTA,
                                      MAP_V, FrictionStudy, friction_study)
 from numerics._plot import pyplot as _plt

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from kbm.paper import FIG4, FIG5
+from kbm.output.paper import FIG4, FIG5
 from numerics.sliding.potential import potential
 from numerics.sliding.reference import slide
 from numerics.sliding.stickslip import analyze
@@ -41,7 +41,7 @@ def fig3_phase_portraits(out_dir: Path) -> list[Path]:
     limit cycles by shooting, a transient from x = 0.1, and (dashed) the cycle the energy
     balance predicts: the conservative orbit v = +-sqrt(2 (E* - G(x))) with Gamma(E*) = 0
     (paper eq. 10 as the cycle condition, :func:`numerics.predict`)."""
-    from kbm.conservative import split_conservative
+    from kbm.model.conservative import split_conservative
     from numerics.comparison.predict import predict
     from numerics.cycles.shooting import limit_cycle
     from numerics.sliding.reference import slide as _slide

@@ -1,0 +1,84 @@
+"""The Hermite and Chebyshev ladders of the escape rate (:func:`.escape.kramers_escape`),
+one loop for both velocity bases: :func:`.\\_rungs.pair_escape` (Risken's pair, linear
+damping) and :func:`.\\_orthonormal.nonlinear_escape` (orthonormal Hermite functions, every
+damping) differ only in the solve of one rung and in the orthonormal basis's second
+velocity scale, which they pass in.
+
+The Hermite truncation grows by ``sqrt 2`` (``ladder(start, stop)``,
+:func:`.escape.hermite_ladder`) until two successive rates agree to ``tol`` (and the
+basis's check, where it has one); the rate is then recomputed on 1.2 times the intervals
+(:func:`._model.grid_check`), and where it moves by more than ``tol`` the ladder runs
+again there.  The last change is ``truncation_error``, the grid's ``chebyshev_error``, and
+the change under the sharper sink one rung below the top ``sink_error``.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ._model import grid_check
+
+__all__ = ["hermite_chebyshev_ladder"]
+
+
+def hermite_chebyshev_ladder(solve, ladder, fits, *, start: int, n_cheb: int, tol: float,
+                             max_hermite: int, max_cheb: int, check=None) -> dict:
+    """The escape rate's Hermite ladder on a growing position grid.
+
+    Parameters
+    ----------
+    solve : callable
+        ``solve(n, nc, sharp=1)``: the rate with ``n`` Hermite functions on ``nc`` position
+        intervals, with the first sink (``sharp = 1``) or the sharper one (``2``).
+    ladder : callable
+        ``ladder(start, stop)``: the truncations (:func:`.escape.hermite_ladder`).
+    fits : callable
+        ``fits(n, nc)``: whether the solve is affordable (the factorisation's storage).
+    start, n_cheb : int
+        The first truncation and intervals.
+    tol : float
+        The relative change at which the ladders stop.
+    max_hermite, max_cheb : int
+        The ladders' tops.
+    check : callable, optional
+        ``check(n, nc, rate)``: the basis's own error of a converged rung (the orthonormal
+        functions' change at another velocity scale); the ladder stops only where it is
+        within ``tol`` too, and it is evaluated at the last rung where no rung passed.
+
+    Returns
+    -------
+    dict
+        ``rate``, ``sink_error``, ``truncation_error`` (the last change), ``hermite``,
+        ``chebyshev`` (points), ``ladder`` (``(n, nc, rate)`` of every solve, each once),
+        ``chebyshev_error`` and ``check_error`` (``check``'s value; ``nan`` without one).
+    """
+    nc = int(n_cheb)
+    table: list = []
+    extra = math.inf
+    while True:  # the ladder on a finer grid calls ladder() again
+        steps = [n for n in ladder(start, max(int(max_hermite), 2 * start)) if fits(n, nc)]
+        if len(steps) < 2:
+            steps = ladder(start, 2 * start)[:2]
+        rates, extra = [], math.inf
+        for n in steps:
+            rates.append(solve(n, nc))
+            if (n, nc, rates[-1]) not in table:
+                table.append((n, nc, rates[-1]))
+            if len(rates) > 1 and abs(rates[-1] - rates[-2]) <= tol * abs(rates[-1]):
+                if check is None:
+                    break
+                extra = check(n, nc, rates[-1])
+                if extra <= tol * abs(rates[-1]):
+                    break
+        if check is not None and not math.isfinite(extra):
+            extra = check(steps[len(rates) - 1], nc, rates[-1])
+        cheb_err, done, finer, k, prev = grid_check(steps, rates, nc, 1.2, fits, solve,
+                                                    table, tol, max_cheb)
+        if done:
+            break
+        nc, start = finer, steps[prev]
+    r_sharp = solve(steps[prev], nc, sharp=2)
+    return dict(rate=rates[-1], sink_error=abs(r_sharp - rates[prev]),
+                truncation_error=abs(rates[-1] - rates[prev]), hermite=steps[k],
+                chebyshev=nc + 1, ladder=tuple(table), chebyshev_error=cheb_err,
+                check_error=extra if check is not None else math.nan)

@@ -220,7 +220,6 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
                                       tuple(map(float, weight)))
 
 
-
 #: the change below which the Hermite ladder leaves room for two finer grids
 SIX_DIGITS = 1e-6
 #: the first Hermite truncation of the ladder (:func:`.escape.hermite_ladder`)

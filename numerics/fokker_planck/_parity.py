@@ -9,8 +9,8 @@ with ``R P(x, v) = P(-x, -v)``, and so does its collocation on points symmetric 
 (``x_{m-1-j} = -x_j``, the Chebyshev matrix ``D_{m-1-i, m-1-j} = -D_{ij}``).  Its
 stationary density, the one eigenvector of the eigenvalue nearest zero, is then even under
 ``R``; since ``h_n(-xi) = (-1)^n h_n(xi)``, its coefficients have the parity of their order,
-``c_n(-x) = (-1)^n c_n(x)`` (Risken, *The Fokker-Planck Equation*, 2nd ed., sec. 10.4 folds
-the periodic case the same way).
+``c_n(-x) = (-1)^n c_n(x)`` (:mod:`._folded` folds the escape's matrix by the same
+parity).
 
 Folded: the unknowns are ``c_n`` at the points ``x_j >= 0`` (``j <= J``, ``x_J = 0`` for an
 even number of intervals) and the equations those at the same points.  A dense term
@@ -18,12 +18,15 @@ even number of intervals) and the equations those at the same points.  A dense t
 ``kron(H E_odd, X^-)`` with ``E_even``/``E_odd`` the projections on the even and odd
 columns and ``X^p_{ij} = X_{ij} + p X_{i, m-1-j}`` for ``j < J``, ``X^p_{iJ} = X_{iJ}``; a
 term diagonal in the points keeps its first ``J + 1`` values.  For odd orders the value at
-``x = 0`` is an unknown of its own, which the equations at ``x = 0`` set to zero (the
-operator at ``x = 0`` restricted to odd orders is that of an Ornstein-Uhlenbeck process,
-not singular).  The folded system is the restriction of the whole one to its even
-subspace, so both give the same density to rounding (tests/test_fokker_planck_parity.py)
-at an eighth of the factorisation's work (``(m/2)^3`` per order) and a quarter of its
-memory.  The Clenshaw-Curtis weights fold to ``w_j + w_{m-1-j}`` (``w_J`` once).
+``x = 0`` stays an unknown, with the equations at ``x = 0``: on even densities those
+equations hold identically (``g(0) = 0``, the derivative of an even function vanishes
+there), so the even density solves the folded system with those values zero, and
+:func:`unfold` sets them to their exact 0.  On even densities the folded system is the
+whole one's rows at ``x >= 0`` (tests/test_fokker_planck_parity.py, hypothesis), and
+both give the same moments to rounding (SEDF 128 x 266: 1.4e-11 in the coefficients) at
+an eighth of the factorisation's work (``(m/2)^3`` per order) and a quarter of its memory
+(SEDF 128 x 266: 0.99 s to 0.24 s).  The Clenshaw-Curtis weights fold to
+``w_j + w_{m-1-j}`` (``w_J`` once).
 """
 
 from __future__ import annotations

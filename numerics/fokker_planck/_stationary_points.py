@@ -20,8 +20,8 @@ without.  (The wider layers of the error sit on the flanks of the side wells, wh
 separatrices are steep in the phase plane: a grid in ``x`` and ``v`` resolves a layer
 slanted across both only with both fine, which is why no map of the points alone did.)
 
-Other remedies judged by measurement: five other point maps and four widths of the saddle
-layers (the last session) moved the error by factors below 3; lower saddle weights
+Other remedies judged by measurement: five other point maps and four other scales (the
+fifteenth session) did not help; lower saddle weights
 (0.6, 0.9 of 1.2) did no better (-2.1e-5 and -7.4e-6 at 334 intervals against -8.0e-6).
 A multi-domain (patched) Chebyshev grid does not lower the work: the order-by-order LU
 (:mod:`._pentadiagonal`) fills each order's Schur complement whatever the sparsity of

@@ -37,8 +37,8 @@ from kbm.model.conservative import split_conservative
 from numerics.fokker_planck import kramers_escape
 from numerics.fokker_planck._bases import cheb_centred
 from numerics.fokker_planck._rungs import FractionRungs
-from numerics.fokker_planck._sink import (DRIFT, OFFSET, RAMP, SINK_HERMITE, SINK_INTERVALS,
-                                          TRACK, UPPER, WEIGHT, bracket_error, falling_offset,
+from numerics.fokker_planck._sink import (CAP, DRIFT, OFFSET, RAMP, SINK_HERMITE,
+                                          SINK_INTERVALS, TRACK, UPPER, WEIGHT, bracket_error, falling_offset,
                                           ladder_offsets, rung_intervals, sink_bracket,
                                           sink_rung, step_zero)
 from numerics.fokker_planck.escape import ALPHA, _sink, escape_problem, kT_gamma
@@ -133,6 +133,32 @@ def test_ladders_bracket_a_growing_critical_offset(r, a, o0, k):
     assert abs((low[-1] + high[-1]) / 2 - r) <= err * (1 + 1e-9)
 
 
+@settings(max_examples=50, deadline=None)
+@given(r=st.floats(0.01, 1.0), a=st.floats(1e-3, 1e-1), o0=st.floats(0.6, 1.0),
+       k=st.floats(0.01, 0.18))
+def test_falling_ladder_stops_short_of_a_near_critical_offset(r, a, o0, k):
+    """Rates ``r - a w_j (o - o0 - k j)`` with a critical offset near the ramp ``RAMP j``
+    (closed form; CDC mu = 20 and 50 measured 0.9-1.3 over the first rungs, where the ramp
+    reached it at the fifth rung and the falling ladder rose): from rung :data:`CAP` on
+    the falling ladder stops short of the critical offset, so at every rung it lies short
+    of it and the rising one past it, both ladders are monotone from the first rung, and
+    the bracket holds ``r`` within its stated error."""
+    rate = _linear_model(r, a, o0, k)
+    history = []
+    for j in range(12):
+        o_low, o_high = ladder_offsets(history)
+        assert o_low > o0 + k * j > o_high
+        if j < TRACK:  # the ramp, capped from rung CAP on
+            assert o_high <= RAMP * j and (o_high == RAMP * j or j >= CAP)
+        history.append((o_low, o_high, rate(j, o_low), rate(j, o_high)))
+    low, high = [h[2] for h in history], [h[3] for h in history]
+    assert all(b > a_ for a_, b in zip(low, low[1:]))
+    assert all(b < a_ for a_, b in zip(high, high[1:]))
+    err = bracket_error(low, high)
+    assert err == pytest.approx((high[-1] - low[-1]) / 2)
+    assert abs((low[-1] + high[-1]) / 2 - r) <= err * (1 + 1e-9)
+
+
 def test_rungs_sharpen():
     """Each rung halves the width, quadruples the strength and keeps the centre outside the
     bottoms (``(2 + j ln2/2) w_j`` past them)."""
@@ -147,9 +173,15 @@ def test_rungs_sharpen():
 def test_falling_offsets_and_rung_grids():
     """The falling ladder starts on the bottoms and moves out by RAMP per rung to UPPER,
     short of the rising ladder's OFFSET (the rule before TRACK, and the reference ladders');
-    the rungs' grids are even and never shrink."""
-    assert [ladder_offsets([None] * j) for j in range(TRACK)] == [
-        (OFFSET, RAMP * j) for j in range(TRACK)]
+    the rungs' grids are even and never shrink.  (The histories: rates of a critical offset
+    ``2.5 + 0.1 j`` (closed form), past the ramp, which the cap from rung :data:`CAP`
+    leaves alone; the early cap: :func:`test_falling_ladder_stops_short_of_a_near_critical_offset`.)"""
+    rate = _linear_model(0.04, 1e-3, 2.5, 0.1)
+    history = []
+    for j in range(TRACK):
+        o_low, o_high = ladder_offsets(history)
+        history.append((o_low, o_high, rate(j, o_low), rate(j, o_high)))
+    assert [h[:2] for h in history] == [(OFFSET, RAMP * j) for j in range(TRACK)]
     offs = [falling_offset(j) for j in range(12)]
     assert offs[0] == 0.0 and max(offs) == UPPER < OFFSET
     assert all(0 <= b - a <= RAMP for a, b in zip(offs, offs[1:]))
@@ -303,3 +335,69 @@ def test_highest_friction_bracket_holds():
     assert fp.sink_error == pytest.approx((high[-1] - low[-1]) / 2)
     assert fp.sink_error <= 1e-5 * fp.rate
     assert abs(_independent_top(fp, mu) - fp.rate) < fp.chebyshev_error + fp.truncation_error
+
+
+@settings(max_examples=12, deadline=None)
+@given(mu=st.floats(0.5, 50.0), kT=st.floats(0.25, 0.5), offset=st.floats(0.0, 2.0),
+       j=st.integers(0, 3))
+def test_pair_rungs_folded_equal_unfolded(mu, kT, offset, j):
+    """The rungs of Risken's pair (:class:`._fraction.EscapeFraction`, what
+    :class:`FractionRungs` solves for the sink ladders) folded onto ``x >= 0`` give the
+    unfolded slowest rate to 1e-11, and the unfolded slowest mode is even under ``(x, v)
+    -> (-x, -v)``, ``c_n(-x) = (-1)^n c_n(x)`` (the symmetry of an even potential with
+    the sinks at both next wells; the quasi-stationary density is the operator's positive
+    principal mode, unique, and its reflection is another, so it is invariant).  CDC
+    Delta = 3 on 40 intervals, 24 Hermite functions."""
+    from numerics.fokker_planck._blocks import one_blas_thread
+    from numerics.fokker_planck._fraction import EscapeFraction
+
+    split = split_conservative("cdc", dict(PARAMS, mu=mu))
+    xl, xr = _saddles()
+    sigma, wells, half, kappa0, width = escape_problem(split, kT * mu, (xl, xr))
+    c, kap, w = sink_rung(wells, kappa0, width, j, offset)
+    x, Dx = cheb_centred(40, half, ALPHA, (xl, xr) + c, (-xl / 2, xr / 2, 2.5 * w, 2.5 * w),
+                         (0.0, 0.0, WEIGHT, WEIGHT))
+    assert np.array_equal(x, -x[::-1])
+    g = np.asarray(split.numpy_functions()[0](x), float)
+    rates, modes = [], []
+    with one_blas_thread():
+        for fold in (True, False):
+            frac = EscapeFraction(Dx, g, _sink(x, c, kap, w), math.sqrt(kT), mu, 24, fold)
+            # unfolded: from a start of no parity (c_0 = 1 would keep Arnoldi in the even
+            # sector), so the mode found is the slowest of the whole operator
+            rng = np.random.default_rng(j)
+            rates.append(frac.slowest(tol=1e-14, start=None if fold else [
+                rng.standard_normal(x.size) for _ in range(24)]))
+            modes.append(frac.mode)
+    assert rates[0] == pytest.approx(rates[1], rel=1e-11, abs=0)
+    assert modes[1] is not None
+    if True:
+        top = max(float(np.max(np.abs(cn))) for cn in modes[1])
+        for n, cn in enumerate(modes[1]):
+            assert np.max(np.abs(cn[::-1] - (-1) ** n * cn)) <= 1e-8 * top
+
+
+@pytest.mark.slow
+def test_overdamped_bracket_holds_below_smoluchowski():
+    """mu = 20 and 50 (gamma/omega_b = 4.7, 12; the critical offset 0.9-1.3 widths over the
+    first rungs, where h-sink3's falling ladder, at ``RAMP j`` up to the sixth rung, passed
+    it and rose: 4.0e-5 stated at mu = 20): both ladders are monotone, the rate lies
+    between their top rungs and the stated sink error is half their gap, within 2e-5 of
+    the rate; the midpoint of the top rungs solved independently (1.75 times the grid,
+    sqrt 2 more Hermite functions) moves by less than the stated Chebyshev and truncation
+    errors together; and the rate is below Smoluchowski's for the same line, its ratio to
+    it growing toward 1 with the friction (Kramers' factor, module docstring)."""
+    ratios = []
+    for mu in (20.0, 50.0):
+        fp = kramers_escape("cdc", dict(PARAMS, mu=mu), KT * mu, _saddles())
+        n = len(fp.sink_ladder) // 2
+        low, high = fp.sink_ladder[:n], fp.sink_ladder[n:]
+        assert all(b > a for a, b in zip(low, low[1:]))
+        assert all(b < a for a, b in zip(high, high[1:]))
+        assert low[-1] <= fp.rate <= high[-1]
+        assert fp.sink_error == pytest.approx((high[-1] - low[-1]) / 2)
+        assert fp.sink_error <= 2e-5 * fp.rate
+        assert (abs(_independent_top(fp, mu) - fp.rate)
+                < fp.chebyshev_error + fp.truncation_error)
+        ratios.append(fp.rate / _smoluchowski_rate(mu))
+    assert ratios[0] < ratios[1] < 1

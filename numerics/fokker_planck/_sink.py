@@ -56,8 +56,8 @@ import math
 
 import numpy as np
 
-__all__ = ["SINK_TOL", "BRACKET_TOL", "OFFSET", "UPPER", "RAMP", "TRACK", "MARGIN", "DRIFT",
-           "WEIGHT", "MAX_RUNGS", "SINK_INTERVALS", "SINK_HERMITE", "FINE_RUNG", "GRID_GROWTH",
+__all__ = ["SINK_TOL", "BRACKET_TOL", "OFFSET", "UPPER", "RAMP", "CAP", "TRACK", "MARGIN",
+           "DRIFT", "WEIGHT", "MAX_RUNGS", "SINK_INTERVALS", "SINK_HERMITE", "FINE_RUNG", "GRID_GROWTH",
            "tanh_sink", "sink_rung", "falling_offset", "step_zero", "ladder_offsets",
            "rung_intervals", "bracket_error", "sink_bracket", "absorbing_limit"]
 
@@ -73,6 +73,10 @@ BRACKET_TOL = 5e-7
 OFFSET = 2.0
 #: the falling ladder's centre at rung ``j < TRACK``: ``RAMP j`` widths (0 on the bottoms)
 RAMP = 0.25
+#: from rung ``CAP`` on the falling ladder's ramp stops at the measured critical offset
+#: (:func:`ladder_offsets`): CDC mu = 20 and 50 (step zeros 0.91-1.15 and 1.0-1.26 at the
+#: first rungs) passed it at ``RAMP j`` by the fifth rung, and the falling ladder rose
+CAP = 3
 #: from rung ``TRACK`` on both ladders follow the critical offset (:func:`ladder_offsets`)
 TRACK = 6
 #: the rising ladder's distance past the predicted critical offset, in widths, from rung
@@ -129,10 +133,12 @@ def ladder_offsets(history) -> tuple:
     falling ladder at ``s + k`` (short of rung ``J``'s critical offset ``s + 3 k`` by
     ``2 k``), the rising one at ``s + 3 k + MARGIN``, and at :data:`OFFSET` at least."""
     j = len(history)
-    if j < TRACK:
+    if j < CAP:
         return OFFSET, RAMP * j
     s_prev, s = (step_zero(a, b) for a, b in list(zip(history, history[1:]))[-2:])
     k = min(max(s - s_prev, 0.0), DRIFT)
+    if j < TRACK:
+        return OFFSET, min(RAMP * j, s + k)
     return max(OFFSET, s + 3 * k + MARGIN), s + k
 
 

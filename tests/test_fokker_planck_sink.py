@@ -38,7 +38,8 @@ from numerics.fokker_planck import kramers_escape
 from numerics.fokker_planck._bases import cheb_centred
 from numerics.fokker_planck._rungs import FractionRungs
 from numerics.fokker_planck._sink import (CAP, DRIFT, OFFSET, RAMP, SINK_HERMITE,
-                                          SINK_INTERVALS, TRACK, UPPER, WEIGHT, bracket_error, falling_offset,
+                                          SINK_INTERVALS, TRACK, UPPER, WEIGHT,
+                                          bracket_error, falling_offset,
                                           ladder_offsets, rung_intervals, sink_bracket,
                                           sink_rung, step_zero)
 from numerics.fokker_planck.escape import ALPHA, _sink, escape_problem, kT_gamma
@@ -175,7 +176,7 @@ def test_falling_offsets_and_rung_grids():
     short of the rising ladder's OFFSET (the rule before TRACK, and the reference ladders');
     the rungs' grids are even and never shrink.  (The histories: rates of a critical offset
     ``2.5 + 0.1 j`` (closed form), past the ramp, which the cap from rung :data:`CAP`
-    leaves alone; the early cap: :func:`test_falling_ladder_stops_short_of_a_near_critical_offset`.)"""
+    leaves alone; the early cap: the test below, a critical offset near the ramp.)"""
     rate = _linear_model(0.04, 1e-3, 2.5, 0.1)
     history = []
     for j in range(TRACK):

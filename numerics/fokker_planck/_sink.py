@@ -38,7 +38,10 @@ the last zero of the step and ``k`` its last growth (the critical offset of two 
 short of the current one while it grows) and the rising one :data:`MARGIN` past ``s + 3 k``
 (the current one where it grows linearly; past it where it levels off), never short of
 :data:`OFFSET`; before, the rising ladder is centred :data:`OFFSET` widths out and the
-falling one ``RAMP j`` (h-sink2's rule).
+falling one ``RAMP j`` (h-sink2's rule), but from rung :data:`CAP` no further out than
+``s + k`` (at mu = 20 and 50 the critical offset is 0.9-1.3 widths over the first rungs,
+and ``RAMP j`` passed it by the fifth: the falling ladder rose at the sixth, 4.0e-5 and
+5.3e-5 of the rate stated; capped, both ladders are monotone, 7.9e-6 and 1.1e-5).
 :func:`sink_bracket` climbs both ladders until the half-gap is within :data:`BRACKET_TOL`
 of the rate (or :data:`MAX_RUNGS`; past :data:`FINE_RUNG` the grid grows with the rung,
 :func:`rung_intervals`): the rate is their midpoint and the stated ``sink_error`` half their
@@ -57,7 +60,8 @@ import math
 import numpy as np
 
 __all__ = ["SINK_TOL", "BRACKET_TOL", "OFFSET", "UPPER", "RAMP", "CAP", "TRACK", "MARGIN",
-           "DRIFT", "WEIGHT", "MAX_RUNGS", "SINK_INTERVALS", "SINK_HERMITE", "FINE_RUNG", "GRID_GROWTH",
+           "DRIFT", "WEIGHT", "MAX_RUNGS", "SINK_INTERVALS", "SINK_HERMITE", "FINE_RUNG",
+           "GRID_GROWTH",
            "tanh_sink", "sink_rung", "falling_offset", "step_zero", "ladder_offsets",
            "rung_intervals", "bracket_error", "sink_bracket", "absorbing_limit"]
 
@@ -126,12 +130,14 @@ def ladder_offsets(history) -> tuple:
     """``(o_low, o_high)``: the offsets of the rising and the falling ladder at the next
     rung ``J``, from ``history``, the ``(o_low, o_high, r_low, r_high)`` of the rungs so far.
 
-    Before :data:`TRACK`: :data:`OFFSET` and ``RAMP J``.  Then, with ``s`` the last zero of
-    the step (:func:`step_zero` of rungs ``J - 2`` and ``J - 1``: the critical offset of
-    rung ``J - 3`` where it grows linearly with the rung, closer to rung ``J``'s where it
-    levels off; module docstring) and ``k`` its last growth (within ``[0, DRIFT]``): the
-    falling ladder at ``s + k`` (short of rung ``J``'s critical offset ``s + 3 k`` by
-    ``2 k``), the rising one at ``s + 3 k + MARGIN``, and at :data:`OFFSET` at least."""
+    Before :data:`CAP`: :data:`OFFSET` and ``RAMP J``; from :data:`CAP` to :data:`TRACK`
+    the falling ladder at ``RAMP J`` or ``s + k`` (below), whichever is smaller (at high
+    friction the critical offset is near the ramp: CDC mu = 20 and 50).  Then, with ``s``
+    the last zero of the step (:func:`step_zero` of rungs ``J - 2`` and ``J - 1``: the
+    critical offset of rung ``J - 3`` where it grows linearly with the rung, closer to
+    rung ``J``'s where it levels off; module docstring) and ``k`` its last growth (within
+    ``[0, DRIFT]``): the falling ladder at ``s + k`` (short of rung ``J``'s critical
+    offset ``s + 3 k`` by ``2 k``), the rising one at ``s + 3 k + MARGIN``, and at :data:`OFFSET` at least."""
     j = len(history)
     if j < CAP:
         return OFFSET, RAMP * j

@@ -137,7 +137,8 @@ def ladder_offsets(history) -> tuple:
     critical offset of rung ``J - 3`` where it grows linearly with the rung, closer to
     rung ``J``'s where it levels off; module docstring) and ``k`` its last growth (within
     ``[0, DRIFT]``): the falling ladder at ``s + k`` (short of rung ``J``'s critical
-    offset ``s + 3 k`` by ``2 k``), the rising one at ``s + 3 k + MARGIN``, and at :data:`OFFSET` at least."""
+    offset ``s + 3 k`` by ``2 k``), the rising one at ``s + 3 k + MARGIN``, and at
+    :data:`OFFSET` at least."""
     j = len(history)
     if j < CAP:
         return OFFSET, RAMP * j

@@ -16,8 +16,14 @@ References, none produced by the sink ladder under test:
   not run there, so the rate is the one of the Hermite and Chebyshev ladders alone);
 * Smoluchowski's mean first-passage time to ``x = +-x_w`` (Gardiner, *Handbook of
   Stochastic Methods*, eq. 5.2.158, by quadrature) times the friction, which the rate
-  times the friction approaches from below as the friction grows past the barrier
-  frequency (Kramers' factor ``(gamma^2/4 + omega_b^2)^(1/2) - gamma/2 < omega_b^2/gamma``).
+  times the friction stays below at mu = 2 and 5 (Kramers' factor ``(gamma^2/4 +
+  omega_b^2)^(1/2) - gamma/2 < omega_b^2/gamma``);
+* the lowest eigenvalue of Smoluchowski's equation absorbing at ``x = +-x_w`` (Chebyshev
+  collocation), the limit the rate times the friction approaches from below as the
+  friction grows (mu = 20, 50; the reciprocal of the mean first passage from the bottom,
+  above, is not that limit at E_b/kT = 3.1: the rate passes it by mu = 20);
+* the pair's rungs unfolded, from a start of no parity: the folded rate to 1e-11 and an
+  even slowest mode (hypothesis).
 
 The CDC at rest (paper eq. 12), Delta = 3, lam = 1, kT = 0.35 (the issue's case: the next
 wells' bottoms 1.65 kT under the saddles).

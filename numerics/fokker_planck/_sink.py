@@ -49,7 +49,8 @@ gap, a bracket of the limit while the lower ladder rises and the upper falls (ch
 every rung; where it fails the error is the whole gap plus the last steps).  No value is
 extrapolated: the predicted ``o*`` only places the sinks.  CDC Delta = 3, kT = 0.35 (relative
 half-gaps; h-sink2 in brackets): mu = 1 2.6e-7 at the eighth rung (2.8e-7), mu = 2 6.1e-7
-(9.0e-7), mu = 5 3.4e-6 (4.3e-6), mu = 10 5.2e-6 (no bracket: 2.6e-5 stated), each at the
+(9.0e-7), mu = 5 3.4e-6 (4.3e-6), mu = 10 5.2e-6 (no bracket: 2.6e-5 stated), mu = 20
+7.9e-6 and mu = 50 1.1e-5 (h-sink3: no bracket, 4.0e-5 and 5.3e-5 stated), each at the
 tenth rung; docs/noise.rst.
 """
 

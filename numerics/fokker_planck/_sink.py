@@ -39,9 +39,10 @@ short of the current one while it grows) and the rising one :data:`MARGIN` past 
 (the current one where it grows linearly; past it where it levels off), never short of
 :data:`OFFSET`; before, the rising ladder is centred :data:`OFFSET` widths out and the
 falling one ``RAMP j`` (h-sink2's rule), but from rung :data:`CAP` no further out than
-``s + k`` (at mu = 20 and 50 the critical offset is 0.9-1.3 widths over the first rungs,
-and ``RAMP j`` passed it by the fifth: the falling ladder rose at the sixth, 4.0e-5 and
-5.3e-5 of the rate stated; capped, both ladders are monotone, 7.9e-6 and 1.1e-5).
+``s + k`` (at mu = 20 and 50 the critical offset is 0.9-1.3 widths over the first rungs;
+``RAMP j`` came within 0.1 widths of it (mu = 20) or past it (mu = 50) at rung 5, and the
+falling ladder rose at rung 6: 4.0e-5 and 5.3e-5 of the rate stated; capped, both ladders
+are monotone, 7.9e-6 and 1.1e-5).
 :func:`sink_bracket` climbs both ladders until the half-gap is within :data:`BRACKET_TOL`
 of the rate (or :data:`MAX_RUNGS`; past :data:`FINE_RUNG` the grid grows with the rung,
 :func:`rung_intervals`): the rate is their midpoint and the stated ``sink_error`` half their
@@ -80,7 +81,8 @@ OFFSET = 2.0
 RAMP = 0.25
 #: from rung ``CAP`` on the falling ladder's ramp stops at the measured critical offset
 #: (:func:`ladder_offsets`): CDC mu = 20 and 50 (step zeros 0.91-1.15 and 1.0-1.26 at the
-#: first rungs) passed it at ``RAMP j`` by the fifth rung, and the falling ladder rose
+#: first rungs) came within 0.1 widths of it or past it at ``RAMP j`` by rung 5, and the
+#: falling ladder rose at rung 6
 CAP = 3
 #: from rung ``TRACK`` on both ladders follow the critical offset (:func:`ladder_offsets`)
 TRACK = 6

@@ -267,6 +267,19 @@ def test_moderate_friction_another_sink(moderate):
     assert abs(other[-1] - moderate.rate) <= tol
 
 
+def _assert_bracket(fp, bound: float) -> None:
+    """The rising ladder rises, the falling one falls, the rate lies between their top rungs
+    and the stated sink error is half their gap (no broken bracket), within ``bound`` of the
+    rate."""
+    n = len(fp.sink_ladder) // 2
+    low, high = fp.sink_ladder[:n], fp.sink_ladder[n:]
+    assert all(b > a for a, b in zip(low, low[1:]))
+    assert all(b < a for a, b in zip(high, high[1:]))
+    assert low[-1] <= fp.rate <= high[-1]
+    assert fp.sink_error == pytest.approx((high[-1] - low[-1]) / 2)
+    assert fp.sink_error <= bound * fp.rate
+
+
 def _smoluchowski_rate(mu):
     """``1/T(0)``: Smoluchowski's mean first-passage time from the bottom to ``x = +-x_w``
     (reflecting at 0 by symmetry, Gardiner eq. 5.2.158), by adaptive quadrature."""
@@ -296,19 +309,9 @@ def test_high_friction_below_smoluchowski():
     ratios = []
     for mu in (2.0, 5.0):
         fp = kramers_escape("cdc", dict(PARAMS, mu=mu), KT * mu, _saddles())
-        n = len(fp.sink_ladder) // 2
-        low, high = fp.sink_ladder[:n], fp.sink_ladder[n:]
-        assert all(b > a for a, b in zip(low, low[1:]))
-        assert all(b < a for a, b in zip(high, high[1:]))
-        assert low[-1] <= fp.rate <= high[-1]
-        assert fp.sink_error == pytest.approx((high[-1] - low[-1]) / 2)
-        assert fp.sink_error <= 5e-6 * fp.rate
-        top, n_c = n - 1, 2 * round(0.875 * (fp.chebyshev - 1))
-        n_h = 2 * round(fp.hermite / math.sqrt(2))
-        o_low, o_high = fp.sink_offsets[top]
-        lo = _other_ladder(mu, o_low, [(top, n_c)], nh=n_h)[0]
-        hi = _other_ladder(mu, o_high, [(top, n_c)], nh=n_h)[0]
-        assert abs((lo + hi) / 2 - fp.rate) < fp.chebyshev_error + fp.truncation_error
+        _assert_bracket(fp, 5e-6)
+        assert (abs(_independent_top(fp, mu) - fp.rate)
+                < fp.chebyshev_error + fp.truncation_error)
         ratios.append(fp.rate / _smoluchowski_rate(mu))
     assert ratios[0] < ratios[1] < 1
 
@@ -334,13 +337,7 @@ def test_highest_friction_bracket_holds():
     by less than the stated Chebyshev and truncation errors together."""
     mu = 10.0
     fp = kramers_escape("cdc", dict(PARAMS, mu=mu), KT * mu, _saddles())
-    n = len(fp.sink_ladder) // 2
-    low, high = fp.sink_ladder[:n], fp.sink_ladder[n:]
-    assert all(b > a for a, b in zip(low, low[1:]))
-    assert all(b < a for a, b in zip(high, high[1:]))
-    assert low[-1] <= fp.rate <= high[-1]
-    assert fp.sink_error == pytest.approx((high[-1] - low[-1]) / 2)
-    assert fp.sink_error <= 1e-5 * fp.rate
+    _assert_bracket(fp, 1e-5)
     assert abs(_independent_top(fp, mu) - fp.rate) < fp.chebyshev_error + fp.truncation_error
 
 
@@ -421,13 +418,7 @@ def test_overdamped_bracket_holds_below_smoluchowski():
     ratios = []
     for mu in (20.0, 50.0):
         fp = kramers_escape("cdc", dict(PARAMS, mu=mu), KT * mu, _saddles())
-        n = len(fp.sink_ladder) // 2
-        low, high = fp.sink_ladder[:n], fp.sink_ladder[n:]
-        assert all(b > a for a, b in zip(low, low[1:]))
-        assert all(b < a for a, b in zip(high, high[1:]))
-        assert low[-1] <= fp.rate <= high[-1]
-        assert fp.sink_error == pytest.approx((high[-1] - low[-1]) / 2)
-        assert fp.sink_error <= 2e-5 * fp.rate
+        _assert_bracket(fp, 2e-5)
         assert (abs(_independent_top(fp, mu) - fp.rate)
                 < fp.chebyshev_error + fp.truncation_error)
         ratios.append(fp.rate * mu / _smoluchowski_eigenvalue())

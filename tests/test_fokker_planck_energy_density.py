@@ -105,3 +105,45 @@ def test_sedf_energy_density_within_its_stated_change():
     assert rep["change_peak"] <= 1e-6
     assert np.max(np.abs(P - ref)) <= rep["change_peak"] * np.max(ref)
     assert len(rep["separatrices"]) == 3
+
+
+def test_noise_json_reports_the_energy_density(capsys):
+    """``kbm noise cdc ... --method fokker-planck --json`` reports P(E) under
+    ``fokker_planck.energy_density`` (E, P, change, change_peak, separatrices; the existing
+    keys stay), equal to Boltzmann times the period to 1e-8 at the energies more than 0.1
+    from the separatrix and the near-inflection, with a stated change below 1e-6 of the
+    peak; no advice at six digits."""
+    import json
+
+    from numerics.cli import main
+
+    code = main(["noise", "cdc", "-p", "mu=0.15", "-p", "Delta=2", "-p", "lam=1.3", "-p",
+                 "Omega=1", "-p", "D=0.09", "--budget", "1", "--method", "fokker-planck",
+                 "--json"])
+    out = capsys.readouterr().out
+    assert code == 0
+    fp = json.loads(out)["fokker_planck"]
+    assert {"hermite_change", "chebyshev_change", "basis", "v2"} <= set(fp)
+    rep = fp["energy_density"]
+    assert set(rep) == {"E", "P", "change", "change_peak", "separatrices"}
+    assert rep["separatrices"] == [pytest.approx(1.0635, abs=1e-4)]
+    assert rep["change_peak"] <= 1e-6 and fp["advice"] == ""
+    checked = 0
+    for E, p in zip(rep["E"], rep["P"]):
+        if abs(E - 1.0635) > 0.1 and abs(E - 3.0) > 0.1 and E < 6:
+            assert p == pytest.approx(boltzmann_energy_density(CDC, 0.6, E), rel=1e-8)
+            checked += 1
+    assert checked >= 10
+
+
+def test_advice_when_six_digits_are_past_the_budget():
+    """Above a stated 1e-6 (or unmeasured) the Fokker-Planck record says what to do: the
+    sizes about 1.4 times the solve's (SEDF mu = 0.01: 182 x 740 states 9.6e-6; 256 x 1026
+    is within 4e-7 of 256 x 1282 and 362 x 1026)."""
+    from numerics.thermal._kramers_outputs import fp_advice
+
+    rec = {"hermite_change": 9.6e-6, "hermite": 182, "chebyshev": 741}
+    text = fp_advice(rec, 2.5e7)
+    assert "n_hermite=254, n_cheb=1036" in text and "2.5e+07" in text
+    assert fp_advice(dict(rec, hermite_change=None), 2.5e7) == text
+    assert fp_advice(dict(rec, hermite_change=5e-7), 2.5e7) == ""

@@ -48,7 +48,10 @@ def _velocity_edges(sol, n: int, U: np.ndarray) -> np.ndarray:
 
 def _stretches(sol, E: float) -> list:
     """The intervals ``(a, b)`` of ``[-L, L]`` where ``G < E``."""
-    from ._solution import _root
+    from scipy.optimize import brentq
+
+    def _root(G, E, a, b):
+        return brentq(lambda z: float(G(np.array(z))) - E, a, b, xtol=1e-15, rtol=1e-15)
 
     L = float(sol.x[0])
     if "grid" not in sol._cache:
@@ -104,7 +107,7 @@ def _stretch_density(sol, coefs, E: float, a: float, b: float, n: int) -> float:
     return float(np.sum(w * jac * np.sum(c * edge, axis=0) / U)) / sol.sigma**2
 
 
-def energy_density(sol, energies, rtol: float = 1e-9, nodes: int = 64, most: int = 2048,
+def energy_density(sol, energies, rtol: float = 1e-8, nodes: int = 64, most: int = 2048,
                    quadrature: bool = False):
     """``P(E)`` of the stationary solution ``sol`` at each of ``energies`` (module
     docstring): Gauss-Legendre rules of ``nodes``, doubled on each stretch until two agree

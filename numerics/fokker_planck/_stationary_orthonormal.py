@@ -2,7 +2,7 @@
 functions of the velocity (:func:`orthonormal_stationary`, what
 :func:`.kramers.stationary_kramers` runs when the damping is not ``-gamma x'``), and the
 integrals of those functions that give the moments and ``P(E)``
-(:class:`OrthonormalKramersSolution`).
+(:class:`OrthonormalKramersSolution`; the functions themselves in :mod:`._hermite_functions`).
 
 Why this basis: :mod:`._orthonormal` (Risken's pair ``He_n(u) exp(-u^2/2)`` grows every high
 order where the local friction is negative; the SEDF at rest, mu = 0.1, Delta = 3,
@@ -225,7 +225,9 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        mu = 0.02 on 656 intervals, 128 -> 182 functions moved <x^2> by 3.7e-5 but
        182 -> 256 by 1e-9); unfolded, the previous rung on the last points.  The
        solution's ``hermite_change`` is the larger of the Hermite and last Chebyshev
-       changes and :data:`ROUNDING` (``chebyshev_change`` the second).
+       changes and :data:`ROUNDING` (``chebyshev_change`` the second).  The pairs of
+       solutions of those two changes are kept as its ``refinements`` (the same change of
+       ``P(E)`` is its stated error, :mod:`._energy_density`).
 
     Each solve factorises order by order (:mod:`._pentadiagonal`) when the damping is
     linear in the velocity, else by pairs of orders (:mod:`._blocks`).

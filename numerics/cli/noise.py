@@ -114,6 +114,8 @@ def run(args) -> int:
                   f"of the Hermite functions or the grid moved them by {change:.2g} (relative; "
                   f"the solve stops at 1e-8 or at its cost budget); only the digits this "
                   f"supports are shown")
+        if f.get("advice"):
+            print(f"  {f['advice']}")
     elif rep.get("fokker_planck_message"):
         print(f"  Fokker-Planck: -- ({rep['fokker_planck_message']})")
     print(f"  {'':6}{'averaged':>12}  {'simulated':>12}  {'stderr':>9}  (avg-sim)/stderr"

@@ -47,6 +47,11 @@ class KramersSolution:
     chebyshev_change : float
         The relative change of ``<x^2>`` and ``<v^2>`` when the Chebyshev intervals last
         grew (nonlinear damping; ``nan`` when not measured).
+    refinements : tuple
+        The pairs ``(coarse, fine)`` of solutions whose change of the moments is the stated
+        error (the Hermite and the Chebyshev step of the ladders; empty when not kept): the
+        same change of ``P(E)`` is its stated error
+        (:func:`._energy_density.energy_density_change`).
     """
 
     x: np.ndarray
@@ -58,6 +63,7 @@ class KramersSolution:
     residual: float
     hermite_change: float = math.nan
     chebyshev_change: float = math.nan
+    refinements: tuple = field(default=(), repr=False, compare=False)
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __repr__(self) -> str:
@@ -150,6 +156,13 @@ class KramersSolution:
     def _band(self, n: int, U) -> np.ndarray:
         """``int_{-U}^{U}`` of each velocity function (rows) at each ``U``."""
         return band_masses(n, U)
+
+    def energy_density(self, energies) -> np.ndarray:
+        """The density ``P(E)`` of ``H = v^2/2 + G(x)`` at each of ``energies`` (the
+        derivative of :meth:`mass_below`, :func:`._energy_density.energy_density`)."""
+        from ._energy_density import energy_density
+
+        return energy_density(self, energies)
 
     def energy_bins(self, edges) -> np.ndarray:
         """The density of ``E`` averaged over each bin of ``edges``."""

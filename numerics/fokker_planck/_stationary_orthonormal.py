@@ -2,7 +2,7 @@
 functions of the velocity (:func:`orthonormal_stationary`, what
 :func:`.kramers.stationary_kramers` runs when the damping is not ``-gamma x'``), and the
 integrals of those functions that give the moments and ``P(E)``
-(:class:`OrthonormalKramersSolution`).
+(:class:`OrthonormalKramersSolution`; the functions themselves in :mod:`._hermite_functions`).
 
 Why this basis: :mod:`._orthonormal` (Risken's pair ``He_n(u) exp(-u^2/2)`` grows every high
 order where the local friction is negative; the SEDF at rest, mu = 0.1, Delta = 3,
@@ -19,19 +19,8 @@ for a damping of higher powers of the velocity) (the next eigenvalue, the slowes
 relaxation, is ``O(mu)`` or the escape rate, far from ``lambda_0``).  ``|lambda_0|`` is
 reported as the solution's ``residual``.
 
-The integrals (generating function ``sum H_n t^n/n! = exp(2 xi t - t^2)``, whose integral
-against ``exp(-xi^2/2)`` is ``sqrt(2 pi) exp(t^2)``):
-
-* ``m_n = int h_n dxi = 0`` for odd ``n``, ``m_{2k} = sqrt(2) pi^(1/4) sqrt((2k)!)/(2^k k!)``
-  (``m_{2k+2} = m_{2k} sqrt((2k+1)/(2k+2))``), so the marginal of ``x`` is
-  ``sum_n m_n c_n(x)``;
-* ``int xi^2 h_n dxi = (X^2 m)_n`` with ``X`` the tridiagonal multiplication by ``xi``, so
-  ``<v^2> = s^2 int sum_n (X^2 m)_n c_n dx``;
-* ``B_n(U) = int_{-U}^{U} h_n dxi``: ``B_0 = pi^(-1/4) sqrt(2 pi) erf(U/sqrt 2)``, odd
-  ``B_n = 0``, and from ``h_n' = sqrt(n/2) h_{n-1} - sqrt((n+1)/2) h_{n+1}`` integrated over
-  ``[-U, U]`` (``h_n`` odd for odd ``n``):
-  ``B_{n+1} = sqrt(n/(n+1)) B_{n-1} - 2 sqrt(2/(n+1)) h_n(U)`` for odd ``n``
-  (the factor ``sqrt(n/(n+1)) < 1``: stable upward).
+The integrals of those functions (the marginal, ``<v^2>``, the mass below an energy)
+are in :mod:`._hermite_functions`.
 """
 
 from __future__ import annotations
@@ -42,61 +31,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._hermite_functions import (hermite_function_values, hermite_integrals,
+                                orthonormal_band_masses)
 from ._solution import KramersSolution
 from ._stationary_points import ALPHA, stationary_points
 
 __all__ = ["hermite_function_values", "hermite_integrals", "orthonormal_band_masses",
            "OrthonormalKramersSolution", "orthonormal_stationary", "stationary_orthonormal"]
-
-
-def hermite_function_values(n: int, xi) -> np.ndarray:
-    """``h_k(xi)`` for ``k < n`` (rows), by the recurrence
-    ``h_{k+1} = sqrt(2/(k+1)) xi h_k - sqrt(k/(k+1)) h_{k-1}`` run on
-    ``h_k exp(xi^2/2)`` with the scale carried as an exponent (no underflow at large
-    ``|xi|``)."""
-    xi = np.asarray(xi, float)
-    out = np.zeros((n,) + xi.shape)
-    logscale = -0.5 * xi * xi  # log of the factor still to apply
-    prev = np.zeros(xi.shape)
-    cur = np.full(xi.shape, math.pi ** -0.25)
-    for k in range(n):
-        out[k] = cur * np.exp(logscale)
-        nxt = math.sqrt(2.0 / (k + 1)) * xi * cur - math.sqrt(k / (k + 1.0)) * prev
-        big = np.abs(nxt) > 1e150
-        if big.any():
-            nxt = np.where(big, nxt * 1e-150, nxt)
-            cur = np.where(big, cur * 1e-150, cur)
-            logscale = np.where(big, logscale + 150 * math.log(10.0), logscale)
-        prev, cur = cur, nxt
-    return out
-
-
-def hermite_integrals(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """``(m, q)``: ``m_k = int h_k dxi`` and ``q_k = int xi^2 h_k dxi`` for ``k < n``
-    (module docstring)."""
-    from ._orthonormal import orthonormal_matrices
-
-    big = n + 2
-    m = np.zeros(big)
-    m[0] = math.sqrt(2.0) * math.pi ** 0.25
-    for k in range(2, big, 2):
-        m[k] = m[k - 2] * math.sqrt((k - 1.0) / k)
-    X, _ = orthonormal_matrices(big)
-    q = X @ (X @ m)
-    return m[:n], q[:n]
-
-
-def orthonormal_band_masses(n: int, U) -> np.ndarray:
-    """``B_k(U) = int_{-U}^{U} h_k dxi`` for ``k < n`` (rows) at each ``U >= 0``."""
-    from scipy.special import erf
-
-    U = np.asarray(U, float)
-    h = hermite_function_values(max(n - 1, 1), U)
-    out = np.zeros((n,) + U.shape)
-    out[0] = math.pi ** -0.25 * math.sqrt(2 * math.pi) * erf(U / math.sqrt(2))
-    for k in range(1, n - 1, 2):
-        out[k + 1] = math.sqrt(k / (k + 1.0)) * out[k - 1] - 2 * math.sqrt(2.0 / (k + 1)) * h[k]
-    return out
 
 
 @dataclass(frozen=True, eq=False, repr=False)  # the base class's short repr
@@ -284,7 +225,9 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        mu = 0.02 on 656 intervals, 128 -> 182 functions moved <x^2> by 3.7e-5 but
        182 -> 256 by 1e-9); unfolded, the previous rung on the last points.  The
        solution's ``hermite_change`` is the larger of the Hermite and last Chebyshev
-       changes and :data:`ROUNDING` (``chebyshev_change`` the second).
+       changes and :data:`ROUNDING` (``chebyshev_change`` the second).  The pairs of
+       solutions of those two changes are kept as its ``refinements`` (the same change of
+       ``P(E)`` is its stated error, :mod:`._energy_density`).
 
     Each solve factorises order by order (:mod:`._pentadiagonal`) when the damping is
     linear in the velocity, else by pairs of orders (:mod:`._blocks`).
@@ -334,6 +277,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     sol = solve(nh, nc)
     change = cheb_change = math.nan
     prev = nh
+    pairs = []
     if n_hermite is None:
         change = math.inf
         first = nh
@@ -351,6 +295,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
             if n * room**2 > min(max_cost, HERMITE_COST):  # rungs the first grid resolves
                 break
             new = solve(n, nc)
+            pairs = [(sol, new)]  # the Hermite step (replaced below when the grid grows)
             change, sol, prev, nh = moved(sol, new), new, nh, n
             if change <= tol:
                 break
@@ -381,17 +326,21 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
             cheb_change, sol, nc = moved(sol, new), new, finer
             if cheb_change <= tol:
                 break
+        pairs = [(rungs[max(rungs)], sol)] if rungs else []  # the last grid step
         up = 2 * int(round(nh * math.sqrt(2) / 2))
         fits = [k for k in rungs if cost(up, k) <= max_cost]
         if n_hermite is None and folds and fits:
             # the next rung up on the finest grid of the ladder that affords it (step 6)
             k = max(fits)
-            change = moved(rungs[k], solve(up, k))
+            pairs.append((rungs[k], solve(up, k)))
+            change = moved(*pairs[-1])
         elif n_hermite is None and prev < nh:  # the Hermite change again on the last points
             same = lower is not None and lower.x.size == nc + 1
-            change = moved(lower if same else solve(prev, nc), sol)
+            pairs.append((lower if same else solve(prev, nc), sol))
+            change = moved(*pairs[-1])
     stated = max(change, cheb_change, ROUNDING) if n_hermite is None else math.nan
-    return dataclasses.replace(sol, hermite_change=stated, chebyshev_change=cheb_change)
+    return dataclasses.replace(sol, hermite_change=stated, chebyshev_change=cheb_change,
+                               refinements=tuple(pairs) if n_hermite is None else ())
 
 
 def _finer(nc: int) -> int:

@@ -13,6 +13,7 @@ from kbm.model.builtins import SLIDERS
 from ..escape.envelope import check_mu
 from ..escape.report import SLIDER_DEFAULTS
 from .averaged import AMPLITUDE, averaged_stationary
+from ._kramers_outputs import energy_density_output, fp_advice
 from .order2 import order2_bins, second_order
 from ..noise.ensemble import MIN_TRAJECTORIES, stationary_ensemble
 from ..noise.langevin import langevin_system, measured_step, natural_step, split_noise
@@ -126,7 +127,8 @@ def fokker_planck_moments(model, params: dict, D: float, omega0: float,
                                      omega0=omega0,
                                      max_cost=FP_BUDGET if required else FP_DEFAULT_BUDGET)
             change = sol.hermite_change  # inf: a second truncation passed the budget
-            return {"x2": sol.x2, "a2": sol.a2, "v2": sol.v2, "hermite": sol.coef.shape[0],
+            return {"energy_density": (energy_density_output(sol, model, params, D, omega0)
+                                       if required else None),"x2": sol.x2, "a2": sol.a2, "v2": sol.v2, "hermite": sol.coef.shape[0],
                     "chebyshev": sol.x.size, "half_width": float(sol.x[0]),
                     "sigma": sol.sigma, "solution": sol, "basis": sol.basis,
                     "hermite_change": change if math.isfinite(change) else None,
@@ -238,7 +240,8 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
             "method": FOKKER_PLANCK, "hermite": fp["hermite"], "chebyshev": fp["chebyshev"],
             "half_width": fp["half_width"], "sigma": fp["sigma"], "v2": fp["v2"],
             "hermite_change": fp["hermite_change"], "basis": fp["basis"],
-            "chebyshev_change": fp["chebyshev_change"]},
+            "chebyshev_change": fp["chebyshev_change"],
+            "energy_density": fp["energy_density"], "advice": fp_advice(fp, FP_BUDGET)},
         "fokker_planck_message": fp_why,
         "density": None, "steps": steps, "message": why, "scheme": system.scheme,
         "validity": {"z": {"a2": None, "x2": None}, "flagged": False, "threshold": Z_FLAG,

@@ -1,0 +1,41 @@
+"""What ``kbm noise --json`` reports of the stationary Kramers solution beside its moments
+(:mod:`.stationary`): the density of the energy ``P(E)`` with its stated error
+(:func:`energy_density_output`) and what to do when the moments' stated error exceeds six
+digits (:func:`fp_advice`)."""
+
+from __future__ import annotations
+
+import math
+
+__all__ = ["energy_density_output", "fp_advice"]
+
+
+def fp_advice(fp: dict, budget: float) -> str:
+    """What to do when the Kramers moments' stated error (``fp``: the record of
+    :func:`.stationary.fokker_planck_moments`) exceeds six digits at the cost ``budget``
+    (``""`` else)."""
+    change, n, m = fp["hermite_change"], fp["hermite"], fp["chebyshev"] - 1
+    if change is not None and change <= 1e-6:
+        return ""
+    return (f"six digits need more than kbm noise's Fokker-Planck budget ({budget:.2g}) "
+            "affords (at low friction: the Hermite functions of x' and the points at the "
+            "saddles; SEDF mu = 0.01, D = 0.005: 182 x 740 states 9.6e-6, 256 x 1026 is "
+            "within 4e-7 of larger solves, about a minute with its check); for more digits "
+            "call numerics.fokker_planck.stationary_kramers(model, params, D, "
+            f"n_hermite={2 * round(0.7 * n)}, n_cheb={2 * round(0.7 * m)}) and compare")
+
+
+def energy_density_output(sol, model, params: dict, D: float, omega0: float) -> dict:
+    """``P(E)`` of the Kramers solution with its stated error
+    (:func:`numerics.fokker_planck._energy_density.energy_density_report`; for linear
+    damping, whose moments' error is not measured, the change on 1.25 times the intervals)."""
+    from ..fokker_planck import stationary_kramers
+    from ..fokker_planck._energy_density import energy_density_report
+
+    finer = None
+    if sol.basis == "risken":
+        finer = stationary_kramers(model, {k: v for k, v in params.items() if k != "v"}, D,
+                                   omega0=omega0, n_hermite=sol.coef.shape[0],
+                                   n_cheb=2 * math.ceil(0.625 * (sol.x.size - 1)),
+                                   sigma=sol.sigma, L=float(sol.x[0]))
+    return energy_density_report(sol, finer)

@@ -1,0 +1,149 @@
+"""The density of the energy ``P(E)`` of the stationary Kramers solution
+(numerics/fokker_planck/_energy_density.py; issue 36: "Outputs: <x^2>, <a^2>, P(E) ... to 6
+or more digits").
+
+References: for linear damping the stationary density is Boltzmann's ``exp(-H/kT)/Z``
+(Gibbs; Risken, *The Fokker-Planck Equation*, sec. 10.1), so the density of ``H`` is
+``P(E) = T(E) exp(-E/kT)/Z`` with the period ``T(E) = sum 2 int_a^b dx/(2 (E - G))^(1/2)``
+over the stretches ``a < x < b`` where ``G < E`` and ``Z = (2 pi kT)^(1/2) int exp(-G/kT) dx``,
+both by adaptive quadrature (QUADPACK, the period in ``x = a + (b - a)(1 - cos theta)/2``,
+which removes the square-root ends); the derivative of the mass below ``E`` (a second
+evaluation, :meth:`KramersSolution.mass_below`); for the SEDF an independent larger solve.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+from scipy.integrate import quad
+from scipy.optimize import brentq
+
+from kbm.model.conservative import split_conservative
+from numerics.fokker_planck import stationary_kramers
+
+CDC = {"mu": 0.15, "Delta": 2, "lam": 1.3, "Omega": 1}
+#: energies away from the CDC's separatrix (1.0635) and near-inflection (G ~ 3 at x ~ 2.25)
+ENERGIES = (0.3, 0.8, 1.5, 2.0, 4.0, 6.0)
+
+
+def boltzmann_energy_density(params: dict, kT: float, E: float) -> float:
+    """``T(E) exp(-E/kT)/Z`` by quadrature (module docstring)."""
+    G = split_conservative("cdc", params).numpy_functions()[2]
+
+    def g(z):
+        return float(G(np.array(z)))
+
+    Z = math.sqrt(2 * math.pi * kT) * quad(lambda z: math.exp(-g(z) / kT), -12, 12,
+                                           points=[-2.25, 0, 2.25], limit=800, epsabs=0,
+                                           epsrel=1e-13)[0]
+    z = np.linspace(-12, 12, 24001)
+    d = np.asarray(G(z), float) - E
+    roots = [brentq(lambda q: g(q) - E, z[i], z[i + 1], xtol=1e-15, rtol=1e-15)
+             for i in np.flatnonzero(np.sign(d[:-1]) != np.sign(d[1:]))]
+    assert len(roots) % 2 == 0 and d[0] > 0
+    T = 0.0
+    for a, b in zip(roots[::2], roots[1::2]):
+        def f(th):
+            x = a + 0.5 * (b - a) * (1 - math.cos(th))
+            return 0.5 * (b - a) * math.sin(th) / math.sqrt(max(2 * (E - g(x)), 1e-300))
+        T += 2 * quad(f, 0, math.pi, limit=400, epsabs=0, epsrel=1e-12)[0]
+    return T * math.exp(-E / kT) / Z
+
+
+@pytest.fixture(scope="module")
+def cdc_sol():
+    return stationary_kramers("cdc", CDC, 0.09)
+
+
+def test_linear_damping_energy_density_is_boltzmann_times_period(cdc_sol):
+    """CDC at rest (paper eq. 12), kT = 0.6: P(E) = T(E) exp(-E/kT)/Z to 1e-8 relative
+    below and above the separatrix (measured 6e-11 to 5e-10)."""
+    P = cdc_sol.energy_density(ENERGIES)
+    for E, p in zip(ENERGIES, P):
+        assert p == pytest.approx(boltzmann_energy_density(CDC, 0.6, E), rel=1e-8)
+
+
+def test_energy_density_is_the_derivative_of_the_mass_below(cdc_sol):
+    """P(E) = d/dE of the mass below E (a central difference of step 1e-4, whose error is
+    about 1e-8 here), at the separatrix's sides too."""
+    h = 1e-4
+    for E in (0.5, 1.0, 1.2, 3.05):
+        fd = (cdc_sol.mass_below(E + h) - cdc_sol.mass_below(E - h)) / (2 * h)
+        assert cdc_sol.energy_density([E])[0] == pytest.approx(fd, rel=1e-6)
+
+
+@settings(max_examples=3, deadline=None, derandomize=True)
+@given(kT=st.floats(0.35, 1.2))
+def test_energy_density_is_boltzmann_at_any_temperature(kT):
+    """Hypothesis over the temperature (D = mu kT): P(E) = T(E) exp(-E/kT)/Z to 1e-8."""
+    sol = stationary_kramers("cdc", CDC, CDC["mu"] * kT)
+    P = sol.energy_density(ENERGIES[:4])
+    for E, p in zip(ENERGIES[:4], P):
+        assert p == pytest.approx(boltzmann_energy_density(CDC, kT, E), rel=1e-8)
+
+
+@pytest.mark.slow
+def test_sedf_energy_density_within_its_stated_change():
+    """SEDF at rest, mu = 0.1, Delta = 3, D = 0.05 (kbm noise's budget, 128 x 448): P(E) on
+    its grid lies within its stated change (the same refinements that state the moments'
+    error) of an independent solve on 256 functions x 1026 intervals (its own velocity
+    scale) at every energy, and the largest change is below 1e-6 of the peak (measured:
+    stated 7.9e-7, off by 5e-8 of the peak, 1.6e-6 relative at most, in the tail)."""
+    from numerics.fokker_planck._energy_density import energy_density_report
+    from numerics.thermal.stationary import FP_BUDGET
+
+    params = {"mu": 0.1, "Delta": 3, "beta": 1, "lam": 1}
+    sol = stationary_kramers("sedf", params, 0.05, max_cost=FP_BUDGET)
+    rep = energy_density_report(sol)
+    big = stationary_kramers("sedf", params, 0.05, n_hermite=256, n_cheb=1026, max_cost=1e9)
+    ref = big.energy_density(rep["E"])
+    P = np.array(rep["P"])
+    assert np.all(np.abs(P - ref) <= np.array(rep["change"]) * np.abs(ref))
+    assert rep["change_peak"] <= 1e-6
+    assert np.max(np.abs(P - ref)) <= rep["change_peak"] * np.max(ref)
+    assert len(rep["separatrices"]) == 3
+
+
+def test_noise_json_reports_the_energy_density(capsys):
+    """``kbm noise cdc ... --method fokker-planck --json`` reports P(E) under
+    ``fokker_planck.energy_density`` (E, P, change, change_peak, separatrices; the existing
+    keys stay), equal to Boltzmann times the period to 1e-8 at the energies more than 0.1
+    from the separatrix and the near-inflection, with a stated change below 1e-6 of the
+    peak; no advice at six digits."""
+    import json
+
+    from numerics.cli import main
+
+    code = main(["noise", "cdc", "-p", "mu=0.15", "-p", "Delta=2", "-p", "lam=1.3", "-p",
+                 "Omega=1", "-p", "D=0.09", "--budget", "1", "--method", "fokker-planck",
+                 "--json"])
+    out = capsys.readouterr().out
+    assert code == 0
+    fp = json.loads(out)["fokker_planck"]
+    assert {"hermite_change", "chebyshev_change", "basis", "v2"} <= set(fp)
+    rep = fp["energy_density"]
+    assert set(rep) == {"E", "P", "change", "change_peak", "separatrices"}
+    assert rep["separatrices"] == [pytest.approx(1.0635, abs=1e-4)]
+    assert rep["change_peak"] <= 1e-6 and fp["advice"] == ""
+    checked = 0
+    for E, p in zip(rep["E"], rep["P"]):
+        if abs(E - 1.0635) > 0.1 and abs(E - 3.0) > 0.1 and E < 6:
+            assert p == pytest.approx(boltzmann_energy_density(CDC, 0.6, E), rel=1e-8)
+            checked += 1
+    assert checked >= 10
+
+
+def test_advice_when_six_digits_are_past_the_budget():
+    """Above a stated 1e-6 (or unmeasured) the Fokker-Planck record says what to do: the
+    sizes about 1.4 times the solve's (SEDF mu = 0.01: 182 x 740 states 9.6e-6; 256 x 1026
+    is within 4e-7 of 256 x 1282 and 362 x 1026)."""
+    from numerics.thermal._kramers_outputs import fp_advice
+
+    rec = {"hermite_change": 9.6e-6, "hermite": 182, "chebyshev": 741}
+    text = fp_advice(rec, 2.5e7)
+    assert "n_hermite=254, n_cheb=1036" in text and "2.5e+07" in text
+    assert fp_advice(dict(rec, hermite_change=None), 2.5e7) == text
+    assert fp_advice(dict(rec, hermite_change=5e-7), 2.5e7) == ""

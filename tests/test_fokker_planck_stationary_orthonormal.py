@@ -23,7 +23,7 @@ from scipy.integrate import quad
 
 from kbm.model.conservative import split_conservative
 from numerics.fokker_planck import stationary_kramers
-from numerics.fokker_planck._stationary_orthonormal import (
+from numerics.fokker_planck._hermite_functions import (
     hermite_function_values, hermite_integrals, orthonormal_band_masses)
 
 SEDF = {"mu": 0.1, "Delta": 3, "beta": 1, "lam": 1}
@@ -157,7 +157,7 @@ def _sedf_identities(sol):
     """``(<x g>, <v^2>, mu <(x^2 - 1) v^2>)`` of a SEDF solution (beta = 1)."""
     from kbm.model.conservative import split_conservative
 
-    from numerics.fokker_planck._stationary_orthonormal import hermite_integrals
+    from numerics.fokker_planck._hermite_functions import hermite_integrals
 
     g = split_conservative("sedf", SEDF).numpy_functions()[0]
     _, q = hermite_integrals(sol.coef.shape[0])

@@ -36,8 +36,7 @@ from ._hermite_functions import (hermite_function_values, hermite_integrals,
 from ._solution import KramersSolution
 from ._stationary_points import ALPHA, stationary_points
 
-__all__ = ["hermite_function_values", "hermite_integrals", "orthonormal_band_masses",
-           "OrthonormalKramersSolution", "orthonormal_stationary", "stationary_orthonormal"]
+__all__ = ["OrthonormalKramersSolution", "orthonormal_stationary", "stationary_orthonormal"]
 
 
 @dataclass(frozen=True, eq=False, repr=False)  # the base class's short repr

@@ -137,7 +137,7 @@ def test_parity_maps_extend_even_and_odd_functions(nc, seed):
     Hermite orders) and an odd one (odd orders, zero at ``x = 0``): ``F`` reproduces
     ``f(x) +- f(-x)`` sampled on the points kept."""
     from numerics.fokker_planck._bases import cheb
-    from numerics.fokker_planck._fraction import parity_maps
+    from numerics.fokker_planck._parity import parity_maps
 
     x, _ = cheb(nc, 1.0)
     assert np.allclose(x, -x[::-1], atol=1e-15)

@@ -18,11 +18,12 @@ and the diffusion at a scale other than ``sqrt(kT)``), so the block LU
 **Parity.**  For an even potential, a symmetric sink and a damping that is invariant under
 ``(x, v) -> (-x, -v)`` (linear damping) the slowest mode is invariant too:
 ``c_n(-x) = (-1)^n c_n(x)`` (``h_n(-xi) = (-1)^n h_n(xi)``).  Each order keeps the points
-``x >= 0`` only (:func:`._fraction.parity_maps`; ``c_n(0) = 0`` for odd ``n``), the
+``x >= 0`` only (:func:`._parity.parity_maps`; ``c_n(0) = 0`` for odd ``n``), the
 operator is the restriction ``R A F`` of the full one (``F`` the extension by parity), and
 the elimination costs an eighth.  The odd orders have one point fewer on a grid with a
 point at 0; their blocks are padded by one decoupled row and column (an identity row
-outside the mass matrix: no eigenvalue of the escape).
+outside the mass matrix: no eigenvalue of the escape; :mod:`._parity` says why the
+stationary solve keeps that point instead).
 """
 
 from __future__ import annotations
@@ -30,24 +31,16 @@ from __future__ import annotations
 import numpy as np
 
 from ._blocks import TermBlocks, one_blas_thread
-from ._fraction import parity_maps
 from ._orthonormal import orthonormal_terms
+from ._parity import parity_maps
 
-__all__ = ["FoldedTermBlocks", "FoldedLU", "FoldedRungs", "folded_slowest", "symmetric"]
-
-
-def symmetric(xs: np.ndarray, g: np.ndarray, wells) -> bool:
-    """Whether the points ``xs`` (decreasing), the force ``g`` at them and the next wells'
-    bottoms are symmetric under ``x -> -x`` (``g`` odd): the fold applies."""
-    return (abs(wells[0] + wells[1]) <= 1e-12 * wells[1]
-            and np.array_equal(xs, -xs[::-1])
-            and np.allclose(g, -g[::-1], rtol=0, atol=1e-13 * np.max(np.abs(g))))
+__all__ = ["FoldedTermBlocks", "FoldedLU", "FoldedRungs", "folded_slowest"]
 
 
 class FoldedTermBlocks(TermBlocks):
     """The blocks of :class:`._blocks.TermBlocks` (every order's ends pinned, ``shift``
     subtracted) restricted to the even-odd parity of the slowest mode: ``mm`` rows per
-    order, the points ``x >= 0`` of :func:`._fraction.parity_maps` (even orders first
+    order, the points ``x >= 0`` of :func:`._parity.parity_maps` (even orders first
     row ``x = L``), odd orders padded by a decoupled last row where they have one point
     fewer.
 

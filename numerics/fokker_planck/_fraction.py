@@ -27,9 +27,11 @@ eigenvalue iteration stops at 1e-10.
 **Parity.**  For an even potential (``g`` odd), the symmetric sink and linear damping the
 operator commutes with ``(x, v) -> (-x, -v)``, and the slowest mode is invariant under it:
 ``c_n(-x) = (-1)^n c_n(x)``.  The coefficients are then kept on the points ``x >= 0`` only
-(``c_n(0) = 0`` for odd ``n``), which halves the blocks and cuts the work of the
+(``c_n(0) = 0`` for odd ``n``, dropped), which halves the blocks and cuts the work of the
 elimination eightfold; the folded operator is the restriction ``R A F`` of the full one,
-``F`` the extension by parity.
+``F`` the extension by parity (:func:`._parity.parity_maps`, the maps and symmetry test
+shared with the stationary solve; the odd orders have one point fewer, which the
+elimination's per-order sizes take).
 
 The rate is the smallest eigenvalue of ``-(A)`` in the metric that leaves out the pinned
 rows (``c_n(+-L) = 0`` for ``n >= 2``): the largest eigenvalue of ``A^{-1} K``, by
@@ -44,27 +46,9 @@ import math
 
 import numpy as np
 
-__all__ = ["EscapeFraction", "parity_maps"]
+from ._parity import parity_maps
 
-
-def parity_maps(m: int, fold: bool) -> list:
-    """``[(idx, F)]`` for even and odd Hermite orders: the points kept and the extension
-    ``F`` (``m x len(idx)``) from them to all ``m`` points of a symmetric grid (decreasing,
-    ``x_{m-1-i} = -x_i``), even for even orders and odd for odd ones; without ``fold``
-    every point is kept and ``F`` is the identity."""
-    if not fold:
-        return [(np.arange(m), None), (np.arange(m), None)]
-    nc = m - 1
-    h = nc // 2
-    out = []
-    for sign in (1.0, -1.0):
-        idx = np.arange(h + 1 if (sign > 0 and nc % 2 == 0) else (nc + 1) // 2)
-        F = np.zeros((m, idx.size))
-        F[idx, np.arange(idx.size)] = 1.0
-        mirror = nc - idx
-        F[mirror, np.arange(idx.size)] += sign * (mirror != idx)
-        out.append((idx, F))
-    return out
+__all__ = ["EscapeFraction"]
 
 
 class EscapeFraction:

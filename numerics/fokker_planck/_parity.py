@@ -1,32 +1,51 @@
-"""The stationary Kramers equation of a model symmetric under ``(x, v) -> (-x, -v)`` folded
-onto ``x >= 0`` (what :func:`._stationary_orthonormal.orthonormal_stationary` solves when
-:func:`reflection_symmetric` holds).
+"""The fold of the Kramers operator onto ``x >= 0`` for a model symmetric under
+``(x, v) -> (-x, -v)``: the symmetry tests and the restriction/extension maps, for every
+solver that folds (the stationary solve of :mod:`._stationary_orthonormal`, the escape of
+:mod:`._fraction` and :mod:`._folded`, the pair's rungs of :mod:`._rungs`).
 
 When the force is odd, ``g(-x) = -g(x)``, and the damping ``mu h(x, v) = sum_k a_k(x) v^k``
-is odd under the reflection, ``a_k(-x) = (-1)^(k+1) a_k(x)`` (the SEDF's
-``mu (beta x^2 - 1) v`` and van der Pol's ``mu (1 - x^2) v``), the Kramers operator commutes
-with ``R P(x, v) = P(-x, -v)``, and so does its collocation on points symmetric about 0
-(``x_{m-1-j} = -x_j``, the Chebyshev matrix ``D_{m-1-i, m-1-j} = -D_{ij}``).  Its
-stationary density, the one eigenvector of the eigenvalue nearest zero, is then even under
-``R``; since ``h_n(-xi) = (-1)^n h_n(xi)``, its coefficients have the parity of their order,
-``c_n(-x) = (-1)^n c_n(x)`` (:mod:`._folded` folds the escape's matrix by the same
-parity).
+is odd under the reflection, ``a_k(-x) = (-1)^(k+1) a_k(x)`` (linear damping, the SEDF's
+``mu (beta x^2 - 1) v`` and van der Pol's ``mu (1 - x^2) v``), the Kramers operator
+commutes with ``R P(x, v) = P(-x, -v)``, and so does its collocation on points symmetric
+about 0 (``x_{m-1-j} = -x_j``, the Chebyshev matrix ``D_{m-1-i, m-1-j} = -D_{ij}``); with
+an escape sink it does when the sink is even too (the next wells symmetric).  The
+stationary density and the slowest escape mode are then even under ``R``; since
+``h_n(-xi) = (-1)^n h_n(xi)``, their coefficients have the parity of their order,
+``c_n(-x) = (-1)^n c_n(x)``.
 
-Folded: the unknowns are ``c_n`` at the points ``x_j >= 0`` (``j <= J``, ``x_J = 0`` for an
-even number of intervals) and the equations those at the same points.  A dense term
-``kron(H, X)`` (the derivative in ``x``) becomes two, ``kron(H E_even, X^+)`` and
-``kron(H E_odd, X^-)`` with ``E_even``/``E_odd`` the projections on the even and odd
-columns and ``X^p_{ij} = X_{ij} + p X_{i, m-1-j}`` for ``j < J``, ``X^p_{iJ} = X_{iJ}``; a
-term diagonal in the points keeps its first ``J + 1`` values.  For odd orders the value at
-``x = 0`` stays an unknown, with the equations at ``x = 0``: on even densities those
-equations hold identically (``g(0) = 0``, the derivative of an even function vanishes
-there), so the even density solves the folded system with those values zero, and
-:func:`unfold` sets them to their exact 0.  On even densities the folded system is the
-whole one's rows at ``x >= 0`` (tests/test_fokker_planck_parity.py, hypothesis), and
-both give the same moments to rounding (SEDF 128 x 266: 1.4e-11 in the coefficients) at
-an eighth of the factorisation's work (``(m/2)^3`` per order) and a quarter of its memory
-(SEDF 128 x 266: 0.99 s to 0.24 s).  The Clenshaw-Curtis weights fold to
-``w_j + w_{m-1-j}`` (``w_J`` once).
+**The maps** (:func:`parity_maps`).  Per parity of the Hermite order, the points kept
+``idx`` (the first ones, ``x >= 0``) and the extension ``F`` (``m x len(idx)``) from their
+values to all ``m`` points, even for even orders and odd for odd ones.  The folded
+operator is the restriction ``R A F`` of the whole one: a dense position matrix ``X``
+between the orders of parities ``p`` (rows) and ``q`` (columns) becomes ``X[idx_p] @ F_q``,
+``X^q_{ij} = X_{ij} + q X_{i, m-1-j}`` for ``j < J``, ``X^q_{iJ} = X_{iJ}`` at ``x_J = 0``;
+a diagonal keeps its values at ``idx_p``.
+
+**The value at x = 0 of the odd orders** is exactly 0 on the symmetric mode.  The two
+kinds of solver treat it differently, and the maps have a switch, ``keep_zero``, for it:
+
+* ``keep_zero=False`` (the escape: :mod:`._fraction`, :mod:`._folded`, :mod:`._rungs`):
+  the odd orders drop it, one point fewer than the even ones on a grid with a point at 0.
+  The pair's elimination (:class:`._fraction.EscapeFraction`) takes a size per order, and
+  the folded orthonormal blocks (:class:`._folded.FoldedTermBlocks`) pad the odd orders by
+  a decoupled row outside the mass matrix, whose Arnoldi iteration then never sees it.
+* ``keep_zero=True`` (the stationary solve: :func:`fold_terms`): the odd orders keep it as
+  an unknown, with the equations at ``x = 0``.  Its LUs
+  (:class:`._pentadiagonal.HermitePentadiagonalLU`, :class:`._blocks.TermBlocks`) take one
+  number of points for every order, and inverse iteration needs no mass matrix to hide a
+  padding row.  On even densities those equations hold identically (``g(0) = 0``, the
+  derivative of an even function vanishes there), so the even density solves the folded
+  system with those values zero, and :func:`unfold` (the extension of ``keep_zero=False``)
+  sets them to their exact 0.
+
+Both are the same restriction of the same operator to the even sector; they differ only
+in whether the ``J + 1``-th unknown of the odd orders is carried (as zero) or dropped.  On
+even densities the folded system is the whole one's rows at ``x >= 0``
+(tests/test_fokker_planck_parity.py, hypothesis), and both give the same moments to
+rounding (SEDF 128 x 266: 1.4e-11 in the coefficients) at an eighth of the factorisation's
+work (``(m/2)^3`` per order) and a quarter of its memory (SEDF 128 x 266: 0.99 s to
+0.24 s).  The Clenshaw-Curtis weights fold to ``w_j + w_{m-1-j}`` (``w_J`` once):
+``F_even^T w``.
 """
 
 from __future__ import annotations
@@ -34,7 +53,41 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sps
 
-__all__ = ["reflection_symmetric", "fold_terms", "fold_weights", "unfold"]
+__all__ = ["parity_maps", "reflection_symmetric", "symmetric", "fold_terms", "fold_weights",
+           "unfold"]
+
+
+def parity_maps(m: int, fold: bool, keep_zero: bool = False) -> list:
+    """``[(idx, F)]`` for even and odd Hermite orders: the points kept and the extension
+    ``F`` (``m x len(idx)``) from them to all ``m`` points of a symmetric grid (decreasing,
+    ``x_{m-1-i} = -x_i``), even for even orders and odd for odd ones; without ``fold``
+    every point is kept and ``F`` is ``None`` (the identity).  ``keep_zero``: the odd
+    orders keep the point ``x = 0`` too (its column of ``F`` is the unit vector there; the
+    module docstring)."""
+    if not fold:
+        return [(np.arange(m), None), (np.arange(m), None)]
+    nc = m - 1
+    h = nc // 2
+    out = []
+    for sign in (1.0, -1.0):
+        even = sign > 0 or keep_zero
+        idx = np.arange(h + 1 if (even and nc % 2 == 0) else (nc + 1) // 2)
+        F = np.zeros((m, idx.size))
+        F[idx, np.arange(idx.size)] = 1.0
+        mirror = nc - idx
+        F[mirror, np.arange(idx.size)] += sign * (mirror != idx)
+        out.append((idx, F))
+    return out
+
+
+def symmetric(g: np.ndarray, wells, xs: np.ndarray | None = None) -> bool:
+    """Whether the force ``g`` at a grid's points is odd and the next wells' bottoms (the
+    escape sink's centres) are symmetric, and, given ``xs`` (decreasing), the points are
+    exactly antisymmetric: the escape's fold applies (linear damping)."""
+    g = np.asarray(g, float)
+    return (abs(wells[0] + wells[1]) <= 1e-12 * wells[1]
+            and (xs is None or np.array_equal(xs, -xs[::-1]))
+            and np.allclose(g, -g[::-1], rtol=0, atol=1e-13 * np.max(np.abs(g))))
 
 
 def reflection_symmetric(split, xs: np.ndarray, rtol: float = 1e-13) -> bool:
@@ -61,48 +114,44 @@ def reflection_symmetric(split, xs: np.ndarray, rtol: float = 1e-13) -> bool:
 
 def fold_terms(terms, m: int) -> list:
     """The terms ``(H, X)`` of :func:`._orthonormal.orthonormal_terms` on ``m`` symmetric
-    points folded onto the first ``m // 2 + 1`` (module docstring)."""
-    half = m // 2 + 1
-    mid = m // 2
+    points folded onto the first ``m // 2 + 1`` (:func:`parity_maps` with ``keep_zero``):
+    a dense ``kron(H, X)`` becomes ``kron(H E_even, X[idx] F_even)`` and
+    ``kron(H E_odd, X[idx] F_odd)``, ``E_even``/``E_odd`` the projections on the even and
+    odd columns; a diagonal keeps its values at ``idx``."""
+    maps = parity_maps(m, True, keep_zero=True)
+    idx = maps[0][0]
     out = []
     for H, X in terms:
         H = sps.csr_matrix(H)
         X = np.asarray(X, float)
         if X.ndim == 1:
-            out.append((H, X[:half].copy()))
+            out.append((H, X[idx].copy()))
             continue
         n = H.shape[1]
         par = np.where(np.arange(n) % 2 == 0, 1.0, 0.0)
-        for p, sel in ((1.0, par), (-1.0, 1.0 - par)):
+        for (_, F), sel in zip(maps, (par, 1.0 - par)):
             Hp = sps.csr_matrix(H @ sps.diags(sel))
             Hp.eliminate_zeros()
             if Hp.nnz == 0:
                 continue
-            Xp = X[:half, :half].copy()
-            Xp[:, :mid] += p * X[:half, ::-1][:, :mid]
-            out.append((Hp, Xp))
+            out.append((Hp, X[idx] @ F))
     return out
 
 
 def fold_weights(w: np.ndarray) -> np.ndarray:
-    """Quadrature weights of an even function on the folded points: ``w_j + w_{m-1-j}``
-    for ``j < J``, ``w_J`` at ``x = 0``."""
+    """Quadrature weights of an even function on the folded points, ``F_even^T w``:
+    ``w_j + w_{m-1-j}`` for ``j < J``, ``w_J`` at ``x = 0``."""
     w = np.asarray(w, float)
-    mid = w.size // 2
-    out = w[:mid + 1].copy()
-    out[:mid] += w[::-1][:mid]
-    return out
+    return parity_maps(w.size, True)[0][1].T @ w
 
 
 def unfold(c: np.ndarray, m: int) -> np.ndarray:
-    """The coefficients ``c_n`` (orders x folded points) on all ``m`` points:
-    ``c_n(-x) = (-1)^n c_n(x)``; the odd orders' value at ``x = 0`` is set to its exact 0."""
+    """The coefficients ``c_n`` (orders x folded points, :func:`fold_terms`) on all ``m``
+    points: the extension of :func:`parity_maps`, ``c_n(-x) = (-1)^n c_n(x)``; the odd
+    orders' value at ``x = 0`` (carried by the folded solve) is dropped, i.e. set to its
+    exact 0."""
     c = np.asarray(c, float)
-    n, half = c.shape
-    mid = m // 2
-    out = np.empty((n, m))
-    out[:, :half] = c
-    sign = np.where(np.arange(n) % 2 == 0, 1.0, -1.0)[:, None]
-    out[:, half:] = sign * c[:, :mid][:, ::-1]
-    out[1::2, mid] = 0.0
+    out = np.empty((c.shape[0], m))
+    for p, (idx, F) in enumerate(parity_maps(m, True)):
+        out[p::2] = c[p::2, :idx.size] @ F.T
     return out

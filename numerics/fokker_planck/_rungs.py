@@ -13,8 +13,9 @@ from __future__ import annotations
 import numpy as np
 
 from ._blocks import one_blas_thread
-from ._fraction import EscapeFraction, parity_maps
+from ._fraction import EscapeFraction
 from ._ladder import hermite_chebyshev_ladder
+from ._parity import parity_maps, symmetric
 
 __all__ = ["FractionRungs", "chebyshev_interpolation", "pair_escape"]
 
@@ -82,9 +83,7 @@ class FractionRungs:
             return self._frac
         xs, Dx = self.points(nc)
         g = np.asarray(self.g(xs), float)
-        w = self.wells
-        fold = (abs(w[0] + w[1]) <= 1e-12 * w[1]
-                and np.allclose(g, -g[::-1], rtol=0, atol=1e-13 * np.max(np.abs(g))))
+        fold = symmetric(g, self.wells)
         cap = max(n, capacity, 2)
         mm = parity_maps(nc + 1, fold)[0][0].size
         # the last factors' pages hold the new ones when large enough, else they are freed

@@ -65,9 +65,10 @@ from kbm.errors import ModelError, ParameterError
 
 from ._bases import cheb_centred, cheb_mapped
 from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
-from ._folded import FoldedRungs, symmetric
+from ._folded import FoldedRungs
 from ._fraction import EscapeFraction
 from ._orthonormal import nonlinear_escape, orthonormal_slowest
+from ._parity import symmetric
 from ._rungs import FractionRungs, pair_escape
 from ._model import next_wells
 from ._sink import (SINK_HERMITE, SINK_INTERVALS, SINK_TOL, WEIGHT, absorbing_limit,
@@ -182,8 +183,7 @@ def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width, solver="block"
         gamma = kT_gamma(split, D)[1]
         xs, Dx = cheb_mapped(nc, half, alpha)
         g = np.asarray(split.numpy_functions()[0](xs), float)
-        fold = (abs(wells[0] + wells[1]) <= 1e-12 * wells[1]
-                and np.allclose(g, -g[::-1], rtol=0, atol=1e-13 * np.max(np.abs(g))))
+        fold = symmetric(g, wells)
         with one_blas_thread():
             lu = EscapeFraction(Dx, g, _sink(xs, wells, kappa0, width), sigma, gamma, nh,
                                 fold)
@@ -349,7 +349,7 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         return _sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp)
 
     xs = points(64)[0]
-    fold = linear and symmetric(xs, np.asarray(split.numpy_functions()[0](xs), float), wells)
+    fold = linear and symmetric(split.numpy_functions()[0](xs), wells, xs)
     if basis == "auto":  # the pair where its ladder is short (docs/noise.rst: faster there)
         basis = ("orthonormal" if not linear or (fold and 8 * wb / gamma > PAIR_HERMITE)
                  else "pair")

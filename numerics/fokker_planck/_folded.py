@@ -15,15 +15,11 @@ functions give the rate of the pair basis' 4096 on the same 262 intervals to 1e-
 and the diffusion at a scale other than ``sqrt(kT)``), so the block LU
 (:class:`._blocks.BlockTridiagonalLU`) groups two orders.
 
-**Parity.**  For an even potential, a symmetric sink and a damping that is invariant under
-``(x, v) -> (-x, -v)`` (linear damping) the slowest mode is invariant too:
-``c_n(-x) = (-1)^n c_n(x)`` (``h_n(-xi) = (-1)^n h_n(xi)``).  Each order keeps the points
-``x >= 0`` only (:func:`._parity.parity_maps`; ``c_n(0) = 0`` for odd ``n``), the
-operator is the restriction ``R A F`` of the full one (``F`` the extension by parity), and
-the elimination costs an eighth.  The odd orders have one point fewer on a grid with a
-point at 0; their blocks are padded by one decoupled row and column (an identity row
-outside the mass matrix: no eigenvalue of the escape; :mod:`._parity` says why the
-stationary solve keeps that point instead).
+**Parity.**  For an even potential, a symmetric sink and linear damping the slowest mode
+is even under ``(x, v) -> (-x, -v)``: each order keeps the points ``x >= 0`` only
+(:mod:`._parity`), and the elimination costs an eighth.  The odd orders have one point
+fewer on a grid with a point at 0; their blocks are padded by one decoupled row and column
+(an identity row outside the mass matrix: no eigenvalue of the escape).
 """
 
 from __future__ import annotations

@@ -24,14 +24,10 @@ tail blocks carry ``-n gamma``); the rates of the two agree to 3e-11 at mu = 0.0
 2048 Hermite functions (docs/noise.rst), five orders below the ladder's 1e-6, and the
 eigenvalue iteration stops at 1e-10.
 
-**Parity.**  For an even potential (``g`` odd), the symmetric sink and linear damping the
-operator commutes with ``(x, v) -> (-x, -v)``, and the slowest mode is invariant under it:
-``c_n(-x) = (-1)^n c_n(x)``.  The coefficients are then kept on the points ``x >= 0`` only
-(``c_n(0) = 0`` for odd ``n``, dropped), which halves the blocks and cuts the work of the
-elimination eightfold; the folded operator is the restriction ``R A F`` of the full one,
-``F`` the extension by parity (:func:`._parity.parity_maps`, the maps and symmetry test
-shared with the stationary solve; the odd orders have one point fewer, which the
-elimination's per-order sizes take).
+**Parity.**  For an even potential, a symmetric sink and linear damping the slowest mode
+is even under ``(x, v) -> (-x, -v)``: the coefficients are kept on ``x >= 0`` only
+(:mod:`._parity`, the odd orders without ``x = 0``), which halves the blocks and cuts the
+work of the elimination eightfold.
 
 The rate is the smallest eigenvalue of ``-(A)`` in the metric that leaves out the pinned
 rows (``c_n(+-L) = 0`` for ``n >= 2``): the largest eigenvalue of ``A^{-1} K``, by

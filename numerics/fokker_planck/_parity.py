@@ -1,51 +1,37 @@
 """The fold of the Kramers operator onto ``x >= 0`` for a model symmetric under
-``(x, v) -> (-x, -v)``: the symmetry tests and the restriction/extension maps, for every
-solver that folds (the stationary solve of :mod:`._stationary_orthonormal`, the escape of
-:mod:`._fraction` and :mod:`._folded`, the pair's rungs of :mod:`._rungs`).
+``(x, v) -> (-x, -v)``: the symmetry tests and the restriction/extension maps of every
+solver that folds (the stationary solve, :mod:`._stationary_orthonormal`; the escape,
+:mod:`._fraction`, :mod:`._folded`, :mod:`._rungs`).
 
 When the force is odd, ``g(-x) = -g(x)``, and the damping ``mu h(x, v) = sum_k a_k(x) v^k``
 is odd under the reflection, ``a_k(-x) = (-1)^(k+1) a_k(x)`` (linear damping, the SEDF's
-``mu (beta x^2 - 1) v`` and van der Pol's ``mu (1 - x^2) v``), the Kramers operator
-commutes with ``R P(x, v) = P(-x, -v)``, and so does its collocation on points symmetric
-about 0 (``x_{m-1-j} = -x_j``, the Chebyshev matrix ``D_{m-1-i, m-1-j} = -D_{ij}``); with
-an escape sink it does when the sink is even too (the next wells symmetric).  The
-stationary density and the slowest escape mode are then even under ``R``; since
-``h_n(-xi) = (-1)^n h_n(xi)``, their coefficients have the parity of their order,
-``c_n(-x) = (-1)^n c_n(x)``.
+``mu (beta x^2 - 1) v``, van der Pol's ``mu (1 - x^2) v``), the Kramers operator (with an
+escape sink: an even one) commutes with ``R P(x, v) = P(-x, -v)``, and so does its
+collocation on points symmetric about 0 (``x_{m-1-j} = -x_j``, the Chebyshev matrix
+``D_{m-1-i, m-1-j} = -D_{ij}``).  The stationary density and the slowest escape mode are
+then even under ``R``; since ``h_n(-xi) = (-1)^n h_n(xi)``, their coefficients have the
+parity of their order, ``c_n(-x) = (-1)^n c_n(x)``.  :func:`parity_maps` gives per parity
+the points kept ``idx`` (``x >= 0``) and the extension ``F`` from them to all points; the
+folded operator is the restriction ``R A F``: a dense position matrix ``X`` from the
+orders of parity ``q`` to those of ``p`` becomes ``X[idx_p] @ F_q``
+(``X_{ij} + q X_{i, m-1-j}`` for ``j < J``, ``X_{iJ}`` at ``x_J = 0``), a diagonal keeps
+its values at ``idx_p``.
 
-**The maps** (:func:`parity_maps`).  Per parity of the Hermite order, the points kept
-``idx`` (the first ones, ``x >= 0``) and the extension ``F`` (``m x len(idx)``) from their
-values to all ``m`` points, even for even orders and odd for odd ones.  The folded
-operator is the restriction ``R A F`` of the whole one: a dense position matrix ``X``
-between the orders of parities ``p`` (rows) and ``q`` (columns) becomes ``X[idx_p] @ F_q``,
-``X^q_{ij} = X_{ij} + q X_{i, m-1-j}`` for ``j < J``, ``X^q_{iJ} = X_{iJ}`` at ``x_J = 0``;
-a diagonal keeps its values at ``idx_p``.
-
-**The value at x = 0 of the odd orders** is exactly 0 on the symmetric mode.  The two
-kinds of solver treat it differently, and the maps have a switch, ``keep_zero``, for it:
-
-* ``keep_zero=False`` (the escape: :mod:`._fraction`, :mod:`._folded`, :mod:`._rungs`):
-  the odd orders drop it, one point fewer than the even ones on a grid with a point at 0.
-  The pair's elimination (:class:`._fraction.EscapeFraction`) takes a size per order, and
-  the folded orthonormal blocks (:class:`._folded.FoldedTermBlocks`) pad the odd orders by
-  a decoupled row outside the mass matrix, whose Arnoldi iteration then never sees it.
-* ``keep_zero=True`` (the stationary solve: :func:`fold_terms`): the odd orders keep it as
-  an unknown, with the equations at ``x = 0``.  Its LUs
-  (:class:`._pentadiagonal.HermitePentadiagonalLU`, :class:`._blocks.TermBlocks`) take one
-  number of points for every order, and inverse iteration needs no mass matrix to hide a
-  padding row.  On even densities those equations hold identically (``g(0) = 0``, the
-  derivative of an even function vanishes there), so the even density solves the folded
-  system with those values zero, and :func:`unfold` (the extension of ``keep_zero=False``)
-  sets them to their exact 0.
-
-Both are the same restriction of the same operator to the even sector; they differ only
-in whether the ``J + 1``-th unknown of the odd orders is carried (as zero) or dropped.  On
-even densities the folded system is the whole one's rows at ``x >= 0``
-(tests/test_fokker_planck_parity.py, hypothesis), and both give the same moments to
-rounding (SEDF 128 x 266: 1.4e-11 in the coefficients) at an eighth of the factorisation's
-work (``(m/2)^3`` per order) and a quarter of its memory (SEDF 128 x 266: 0.99 s to
-0.24 s).  The Clenshaw-Curtis weights fold to ``w_j + w_{m-1-j}`` (``w_J`` once):
-``F_even^T w``.
+**The odd orders' value at x = 0**, exactly 0 on the even mode, is the one difference
+between the two kinds of solver (``keep_zero``).  The escape drops it (one point fewer
+than the even orders): its elimination (:class:`._fraction.EscapeFraction`) takes a size
+per order, and its orthonormal blocks (:class:`._folded.FoldedTermBlocks`) pad the odd
+orders by a decoupled row outside the mass matrix, which Arnoldi never sees.  The
+stationary solve (:func:`fold_terms`) keeps it as an unknown, with the equations at
+``x = 0``: its LUs (:class:`._pentadiagonal.HermitePentadiagonalLU`,
+:class:`._blocks.TermBlocks`) take one number of points for every order, and its inverse
+iteration has no mass matrix to hide a padding row.  Those equations hold identically on
+even densities (``g(0) = 0``, an even function's derivative vanishes there), so the even
+density solves the folded system with the values zero, and :func:`unfold` (the extension
+that drops them) sets them to their exact 0.  On even densities the folded system is the
+whole one's rows at ``x >= 0`` (tests/test_fokker_planck_parity.py, hypothesis), with the
+same moments to rounding (SEDF 128 x 266: 1.4e-11 in the coefficients) at an eighth of the
+factorisation's work and a quarter of its memory (SEDF 128 x 266: 0.99 s to 0.24 s).
 """
 
 from __future__ import annotations

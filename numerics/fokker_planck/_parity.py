@@ -66,14 +66,19 @@ def parity_maps(m: int, fold: bool, keep_zero: bool = False) -> list:
     return out
 
 
+def _has_parity(f, p: float, rtol: float = 1e-13) -> bool:
+    """Whether ``f(-x) = p f(x)`` at symmetric points to ``rtol`` of ``max |f|``."""
+    f = np.asarray(f, float)
+    size = float(np.max(np.abs(f)))
+    return not size > 0 or float(np.max(np.abs(f[::-1] - p * f))) <= rtol * size
+
+
 def symmetric(g: np.ndarray, wells, xs: np.ndarray | None = None) -> bool:
     """Whether the force ``g`` at a grid's points is odd and the next wells' bottoms (the
     escape sink's centres) are symmetric, and, given ``xs`` (decreasing), the points are
     exactly antisymmetric: the escape's fold applies (linear damping)."""
-    g = np.asarray(g, float)
     return (abs(wells[0] + wells[1]) <= 1e-12 * wells[1]
-            and (xs is None or np.array_equal(xs, -xs[::-1]))
-            and np.allclose(g, -g[::-1], rtol=0, atol=1e-13 * np.max(np.abs(g))))
+            and (xs is None or np.array_equal(xs, -xs[::-1])) and _has_parity(g, -1.0))
 
 
 def reflection_symmetric(split, xs: np.ndarray, rtol: float = 1e-13) -> bool:
@@ -85,17 +90,9 @@ def reflection_symmetric(split, xs: np.ndarray, rtol: float = 1e-13) -> bool:
     xs = np.asarray(xs, float)
     if xs.size % 2 == 0 or xs.size < 3:
         return False
-    scale = float(np.max(np.abs(xs)))
-    if np.max(np.abs(xs + xs[::-1])) > rtol * scale:
-        return False
-    g = split.numpy_functions()[0]
-    pairs = [(np.asarray(g(xs), float), -1.0)]
-    pairs += [(np.asarray(a(xs), float), (-1.0) ** (k + 1)) for k, a in velocity_terms(split)]
-    for f, p in pairs:
-        size = float(np.max(np.abs(f)))
-        if size > 0 and np.max(np.abs(f[::-1] - p * f)) > rtol * size:
-            return False
-    return True
+    pairs = [(xs, -1.0), (split.numpy_functions()[0](xs), -1.0)]
+    pairs += [(a(xs), (-1.0) ** (k + 1)) for k, a in velocity_terms(split)]
+    return all(_has_parity(f, p, rtol) for f, p in pairs)
 
 
 def fold_terms(terms, m: int) -> list:

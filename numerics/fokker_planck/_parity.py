@@ -95,14 +95,23 @@ def reflection_symmetric(split, xs: np.ndarray, rtol: float = 1e-13) -> bool:
     return all(_has_parity(f, p, rtol) for f, p in pairs)
 
 
+def _fold_columns(X: np.ndarray, idx: np.ndarray, sign: float) -> np.ndarray:
+    """``X @ F`` along the last axis, ``F`` the extension of :func:`parity_maps` from the
+    points ``idx`` with the parity ``sign`` (no dense ``F`` formed)."""
+    mirror = X.shape[-1] - 1 - idx
+    off = mirror != idx
+    out = X[..., idx].copy()
+    out[..., off] += sign * X[..., mirror[off]]
+    return out
+
+
 def fold_terms(terms, m: int) -> list:
     """The terms ``(H, X)`` of :func:`._orthonormal.orthonormal_terms` on ``m`` symmetric
     points folded onto the first ``m // 2 + 1`` (:func:`parity_maps` with ``keep_zero``):
     a dense ``kron(H, X)`` becomes ``kron(H E_even, X[idx] F_even)`` and
     ``kron(H E_odd, X[idx] F_odd)``, ``E_even``/``E_odd`` the projections on the even and
     odd columns; a diagonal keeps its values at ``idx``."""
-    maps = parity_maps(m, True, keep_zero=True)
-    idx = maps[0][0]
+    idx = parity_maps(m, True, keep_zero=True)[0][0]
     out = []
     for H, X in terms:
         H = sps.csr_matrix(H)
@@ -112,12 +121,12 @@ def fold_terms(terms, m: int) -> list:
             continue
         n = H.shape[1]
         par = np.where(np.arange(n) % 2 == 0, 1.0, 0.0)
-        for (_, F), sel in zip(maps, (par, 1.0 - par)):
+        for sign, sel in ((1.0, par), (-1.0, 1.0 - par)):
             Hp = sps.csr_matrix(H @ sps.diags(sel))
             Hp.eliminate_zeros()
             if Hp.nnz == 0:
                 continue
-            out.append((Hp, X[idx] @ F))
+            out.append((Hp, _fold_columns(X[idx], idx, sign)))
     return out
 
 
@@ -125,16 +134,19 @@ def fold_weights(w: np.ndarray) -> np.ndarray:
     """Quadrature weights of an even function on the folded points, ``F_even^T w``:
     ``w_j + w_{m-1-j}`` for ``j < J``, ``w_J`` at ``x = 0``."""
     w = np.asarray(w, float)
-    return parity_maps(w.size, True)[0][1].T @ w
+    return _fold_columns(w, parity_maps(w.size, True)[0][0], 1.0)
 
 
 def unfold(c: np.ndarray, m: int) -> np.ndarray:
     """The coefficients ``c_n`` (orders x folded points, :func:`fold_terms`) on all ``m``
-    points: the extension of :func:`parity_maps`, ``c_n(-x) = (-1)^n c_n(x)``; the odd
-    orders' value at ``x = 0`` (carried by the folded solve) is dropped, i.e. set to its
-    exact 0."""
+    points: the extension ``F`` of :func:`parity_maps`, ``c_n(-x) = (-1)^n c_n(x)``; the
+    odd orders' value at ``x = 0`` (carried by the folded solve) is dropped, i.e. set to
+    its exact 0."""
     c = np.asarray(c, float)
-    out = np.empty((c.shape[0], m))
-    for p, (idx, F) in enumerate(parity_maps(m, True)):
-        out[p::2] = c[p::2, :idx.size] @ F.T
+    out = np.zeros((c.shape[0], m))
+    for p, ((idx, _), sign) in enumerate(zip(parity_maps(m, True), (1.0, -1.0))):
+        mirror = m - 1 - idx
+        off = mirror != idx
+        out[p::2, idx] = c[p::2, :idx.size]
+        out[p::2, mirror[off]] = sign * c[p::2, :idx.size][:, off]
     return out

@@ -130,24 +130,6 @@ def test_one_blas_thread_restores_the_count():
     assert counts() == before
 
 
-@settings(max_examples=20, deadline=None)
-@given(nc=st.integers(2, 40), seed=st.integers(0, 2**31 - 1))
-def test_parity_maps_extend_even_and_odd_functions(nc, seed):
-    """The folded unknowns extend to the whole symmetric grid as an even function (even
-    Hermite orders) and an odd one (odd orders, zero at ``x = 0``): ``F`` reproduces
-    ``f(x) +- f(-x)`` sampled on the points kept."""
-    from numerics.fokker_planck._bases import cheb
-    from numerics.fokker_planck._parity import parity_maps
-
-    x, _ = cheb(nc, 1.0)
-    assert np.allclose(x, -x[::-1], atol=1e-15)
-    f = np.random.default_rng(seed).standard_normal(x.size)
-    for (idx, F), sign in zip(parity_maps(x.size, True), (1.0, -1.0)):
-        sym = f + sign * f[::-1]
-        assert np.all(x[idx] > (-1e-15 if sign > 0 else 1e-15))
-        np.testing.assert_allclose(F @ sym[idx], sym, atol=1e-14)
-
-
 def test_closed_form_blocks_equal_the_assembled_escape_matrix():
     """The escape matrix of linear damping from its closed-form blocks (Risken eqs.
     10.51-10.53; numerics.fokker_planck._fraction), whole and folded by parity, has the

@@ -21,8 +21,8 @@ from kbm.model.conservative import split_conservative
 from numerics.fokker_planck import stationary_kramers
 from numerics.fokker_planck._bases import cheb_centred
 from numerics.fokker_planck._orthonormal import orthonormal_terms
-from numerics.fokker_planck._parity import (fold_terms, fold_weights, reflection_symmetric,
-                                            unfold)
+from numerics.fokker_planck._parity import (fold_terms, fold_weights, parity_maps,
+                                            reflection_symmetric, unfold)
 from numerics.fokker_planck._stationary_orthonormal import orthonormal_stationary
 
 
@@ -52,6 +52,24 @@ def test_folded_operator_is_the_restriction(mu, Delta, nh, half, seed):
     w = np.random.default_rng(seed + 1).random(nc + 1)
     w = w + w[::-1]
     assert fold_weights(w).sum() == pytest.approx(w.sum(), rel=1e-14)
+
+
+@settings(max_examples=20, deadline=None)
+@given(nc=st.integers(2, 40), seed=st.integers(0, 2**31 - 1), keep_zero=st.booleans())
+def test_parity_maps_extend_even_and_odd_functions(nc, seed, keep_zero):
+    """The folded unknowns extend to the whole symmetric grid as an even function (even
+    Hermite orders) and an odd one (odd orders, zero at ``x = 0``): ``F`` reproduces
+    ``f(x) +- f(-x)`` sampled on the points kept, with ``x = 0`` kept for the odd orders
+    (``keep_zero``, the stationary solve's fold) or not (the escape's)."""
+    from numerics.fokker_planck._bases import cheb
+
+    x, _ = cheb(nc, 1.0)
+    assert np.allclose(x, -x[::-1], atol=1e-15)
+    f = np.random.default_rng(seed).standard_normal(x.size)
+    for (idx, F), sign in zip(parity_maps(x.size, True, keep_zero), (1.0, -1.0)):
+        sym = f + sign * f[::-1]
+        assert np.all(x[idx] > (-1e-15 if sign > 0 or keep_zero else 1e-15))
+        np.testing.assert_allclose(F @ sym[idx], sym, atol=1e-14)
 
 
 def test_asymmetric_models_are_not_folded():

@@ -301,11 +301,12 @@ def test_high_friction_below_smoluchowski():
     is below Smoluchowski's for the same line, and its ratio to it grows toward 1 with the
     friction (the inertial correction, O(omega_b^2/gamma^2) for large gamma); the rate lies
     between the two ladders' top rungs, the rising one below the falling one (their half
-    gap, the stated sink error, within 5e-6 of the rate: 9.0e-7 at mu = 2 and 4.3e-6 at
+    gap, the stated sink error, within 5e-6 of the rate: 6.1e-7 at mu = 2 and 3.4e-6 at
     mu = 5, where offsets 2 and 0 left 3.5e-5 and 1.7e-4); the midpoint of the top rungs
     solved again (the pair's rungs on their own points) on 1.75 times the grid with sqrt 2
     more Hermite functions moves by less than the stated Chebyshev and truncation errors
-    together (measured: 2.1e-8 against 6.2e-8 at mu = 2, 2.8e-9 against 7.9e-8 at mu = 5)."""
+    together (measured, relative to the rate: 6.6e-7 against 1.3e-6 at mu = 2, 6.5e-7
+    against 1.8e-6 at mu = 5)."""
     ratios = []
     for mu in (2.0, 5.0):
         fp = kramers_escape("cdc", dict(PARAMS, mu=mu), KT * mu, _saddles())

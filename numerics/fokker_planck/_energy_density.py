@@ -3,7 +3,8 @@
 (:func:`energy_density_change`, the change under the refinements that state the moments'
 error).
 
-``P(E)`` is the derivative of the mass below ``E`` (:meth:`._solution.KramersSolution.mass_below`):
+``P(E)`` is the derivative of the mass below ``E`` (:meth:`._solution.KramersSolution.mass_below`,
+over the same stretches, :meth:`._solution.KramersSolution.stretches`):
 with ``P(x, v) = sum_n c_n(x) f_n(v/s)/s`` and ``U(x) = (2 (E - G(x)))^(1/2)/s``,
 
 ``P(E) = int_{G < E} dx sum_n c_n(x) b_n(U)/(s^2 U)``, ``b_n(U) = f_n(U) + f_n(-U)``,
@@ -44,32 +45,6 @@ def _velocity_edges(sol, n: int, U: np.ndarray) -> np.ndarray:
 
         f = hermite_functions(n, U) * (np.exp(-0.5 * U * U) / math.sqrt(2 * math.pi))
     return 2.0 * f[::2]
-
-
-def _stretches(sol, E: float) -> list:
-    """The intervals ``(a, b)`` of ``[-L, L]`` where ``G < E``."""
-    from scipy.optimize import brentq
-
-    def _root(G, E, a, b):
-        return brentq(lambda z: float(G(np.array(z))) - E, a, b, xtol=1e-15, rtol=1e-15)
-
-    L = float(sol.x[0])
-    if "grid" not in sol._cache:
-        grid = np.linspace(-L, L, 4097)
-        sol._cache["grid"] = (grid, np.asarray(sol.G(grid), float))
-    grid, Gg = sol._cache["grid"]
-    inside = Gg < E
-    if not inside.any():
-        return []
-    edges = np.flatnonzero(np.diff(inside.astype(int)))
-    starts = ([0] if inside[0] else []) + [i + 1 for i in edges if not inside[i]]
-    ends = [i for i in edges if inside[i]] + ([grid.size - 1] if inside[-1] else [])
-    out = []
-    for i0, i1 in zip(starts, ends):
-        a = _root(sol.G, E, grid[i0 - 1], grid[i0]) if i0 > 0 else -L
-        b = _root(sol.G, E, grid[i1], grid[i1 + 1]) if i1 < grid.size - 1 else L
-        out.append((a, b))
-    return out
 
 
 @functools.lru_cache(maxsize=16)
@@ -134,7 +109,7 @@ def energy_density(sol, energies, rtol: float = 1e-8, nodes: int = 64, most: int
     out, err = [], []
     for E in np.atleast_1d(np.asarray(energies, float)):
         total = miss = 0.0
-        for a, b in _stretches(sol, float(E)):
+        for a, b in sol.stretches(float(E)):
             n, last = nodes, None
             while True:
                 val = _stretch_density(sol, coefs, float(E), a, b, n)
@@ -201,7 +176,8 @@ def energy_density_report(sol, finer=None, points: int = ENERGY_POINTS) -> dict:
     solution without refinements, linear damping, the change to ``finer``, a solve on a
     finer grid; ``None`` without either; plus the quadrature's estimate; the largest of
     each energy's and its two neighbours'), ``change_peak`` (the largest change, before
-    that, relative to the peak of ``P``) and ``separatrices`` (where ``P`` is logarithmically singular)."""
+    that, relative to the peak of ``P``) and ``separatrices`` (where ``P`` is
+    logarithmically singular)."""
     E = energy_grid(sol, points)
     P, quad = energy_density(sol, E, quadrature=True)
     if not getattr(sol, "refinements", ()) and finer is not None:

@@ -101,19 +101,8 @@ class KramersSolution:
         """
         L = float(self.x[0])
         coefs = self._series()
-        grid = np.linspace(-L, L, 4097)
-        d = self.G(grid) - E
-        inside = d < 0
-        if not inside.any():
-            return 0.0
         total = 0.0
-        edges = np.flatnonzero(np.diff(inside.astype(int)))
-        starts = [0] if inside[0] else []
-        starts += [i + 1 for i in edges if not inside[i]]
-        ends = [i for i in edges if inside[i]] + ([grid.size - 1] if inside[-1] else [])
-        for i0, i1 in zip(starts, ends):
-            a = _root(self.G, E, grid[i0 - 1], grid[i0]) if i0 > 0 else -L
-            b = _root(self.G, E, grid[i1], grid[i1 + 1]) if i1 < grid.size - 1 else L
+        for a, b in self.stretches(E):
             n, last = nodes, None
             while True:  # Gauss-Legendre doubled until two rules agree
                 val = self._stretch(coefs, L, E, a, b, n)
@@ -122,6 +111,25 @@ class KramersSolution:
                 last, n = val, 2 * n
             total += val
         return total
+
+    def stretches(self, E: float) -> list:
+        """The intervals ``(a, b)`` of ``[-L, L]`` where ``G < E`` (their ends by Brent's
+        method from a 4097-point grid of ``G``, computed once), the ranges of the outer
+        integrals of :meth:`mass_below` and of ``P(E)``."""
+        L = float(self.x[0])
+        if "grid" not in self._cache:
+            grid = np.linspace(-L, L, 4097)
+            self._cache["grid"] = (grid, np.asarray(self.G(grid), float))
+        grid, Gg = self._cache["grid"]
+        inside = Gg < E
+        if not inside.any():
+            return []
+        edges = np.flatnonzero(np.diff(inside.astype(int)))
+        starts = ([0] if inside[0] else []) + [i + 1 for i in edges if not inside[i]]
+        ends = [i for i in edges if inside[i]] + ([grid.size - 1] if inside[-1] else [])
+        return [(_root(self.G, E, grid[i0 - 1], grid[i0]) if i0 > 0 else -L,
+                 _root(self.G, E, grid[i1], grid[i1 + 1]) if i1 < grid.size - 1 else L)
+                for i0, i1 in zip(starts, ends)]
 
     def _series(self) -> np.ndarray:
         """Chebyshev coefficients of every ``c_n`` on ``[-L, L]`` (from the values at the

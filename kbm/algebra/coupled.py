@@ -17,7 +17,7 @@ from fractions import Fraction
 import sympy as sp
 
 from .laurent import LaurentRing, Q
-from .lazy_series import Const, Node, Product, Scaled, Sum
+from .lazy_series import Builder, Node, Scaled
 from .multi_angle import MultiAngle, forcing_harmonics
 from ..errors import ModelError, UnsupportedTermError
 from ..expansion.recursion import SlowRates
@@ -144,49 +144,27 @@ class CoupledAlgebra(AngleCalculus):
         return rest.map_coefficients(divide)
 
 
-class MultiBuilder:
-    """The lazy-series tree of a polynomial ``F_i`` along the leaves ``x_l``, ``xdot_l``."""
+class MultiBuilder(Builder):
+    """The lazy-series tree of a polynomial ``F_i`` along the leaves ``x_l``, ``xdot_l``
+    (the skeleton of :meth:`kbm.algebra.lazy_series.Builder.build`), with Jacobi-Anger
+    (``bessel``) for ``sin`` and ``cos`` of a position at order one."""
 
     def __init__(self, alg: CoupledAlgebra, leaves: dict, bessel: JacobiAnger | None = None):
         self.alg, self.leaves, self.bessel = alg, leaves, bessel
         self.zero = alg.zero
         self._pow: dict = {}
+        self._state = set(leaves)
 
-    def power(self, base_expr: sp.Expr, e: int) -> Node:
-        if e == 1:
-            return self.build(base_expr)
-        key = (base_expr, e)
-        if key not in self._pow:
-            half = self.power(base_expr, e // 2)
-            node = Product(self.zero, half, half)
-            if e % 2:
-                node = Product(self.zero, node, self.build(base_expr))
-            self._pow[key] = node
-        return self._pow[key]
+    def varies(self, expr: sp.Expr) -> bool:
+        return bool(expr.free_symbols & self._state)
 
-    def build(self, expr: sp.Expr) -> Node:
-        if expr in self.leaves:
-            return self.leaves[expr]
-        if self.bessel is not None and isinstance(expr, (sp.sin, sp.cos)) \
-                and expr.free_symbols & set(self.leaves):
+    def scaled(self, node: Node, const: sp.Expr) -> Node:
+        c = self.alg.const(const)
+        return Scaled(self.zero, node, lambda s, c=c: s * c)
+
+    def other(self, expr: sp.Expr) -> Node:
+        if self.bessel is not None and isinstance(expr, (sp.sin, sp.cos)):
             return self.bessel.series(self.alg, expr)  # Jacobi-Anger, order one
-        if not expr.free_symbols & set(self.leaves):
-            return Const(self.zero, self.alg.const(expr))
-        if expr.is_Add:
-            return Sum(self.zero, [self.build(term) for term in expr.args])
-        if expr.is_Mul:
-            state = set(self.leaves)
-            const = [f for f in expr.args if not f.free_symbols & state]
-            var = [f for f in expr.args if f.free_symbols & state]
-            node = self.build(var[0])
-            for f in var[1:]:
-                node = Product(self.zero, node, self.build(f))
-            if const:
-                c = self.alg.const(sp.Mul(*const))
-                node = Scaled(self.zero, node, lambda s, c=c: s * c)
-            return node
-        if expr.is_Pow and expr.exp.is_Integer and expr.exp > 0:
-            return self.power(expr.base, int(expr.exp))
         raise UnsupportedTermError(
             f"the term {expr} is not supported by the exact coupled averaging: it takes "
             "polynomials in the state and, at order one, sin(c x_i + d) and cos(c x_i + d) "

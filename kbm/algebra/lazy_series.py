@@ -200,6 +200,7 @@ class Builder:
 
     def __init__(self, alg: FourierAlgebra, X: Leaf, V: Leaf):
         self.alg, self.X, self.V = alg, X, V
+        self.leaves = {x: X, xdot: V}
         self.zero = alg.zero
         self._pow: dict[tuple, Node] = {}
         self._delta: Node | None = None
@@ -224,27 +225,38 @@ class Builder:
         return self._delta
 
     def build(self, expr: sp.Expr) -> Node:
-        """The node of the sympy expression ``expr`` in ``x`` and ``xdot``."""
-        if expr == x:
-            return self.X
-        if expr == xdot:
-            return self.V
-        if not expr.has(x, xdot):
+        """The node of the sympy expression ``expr`` in the leaves (``x`` and ``xdot``):
+        the skeleton of every exact builder (:class:`kbm.algebra.coupled.MultiBuilder` too);
+        the leaves' test (:meth:`varies`), a constant factor (:meth:`scaled`) and the terms
+        that are no sum, product or power (:meth:`other`) are the builder's."""
+        if expr in self.leaves:
+            return self.leaves[expr]
+        if not self.varies(expr):
             return Const(self.zero, self.alg.const(expr))
         if expr.is_Add:
             return Sum(self.zero, [self.build(t) for t in expr.args])
         if expr.is_Mul:
-            const = [f for f in expr.args if not f.has(x, xdot)]
-            var = [f for f in expr.args if f.has(x, xdot)]
+            const = [f for f in expr.args if not self.varies(f)]
+            var = [f for f in expr.args if self.varies(f)]
             node = self.build(var[0])
             for f in var[1:]:
                 node = Product(self.zero, node, self.build(f))
-            if const:
-                c = self.alg.coef(sp.Mul(*const))
-                node = Scaled(self.zero, node, lambda s, c=c: self.alg.scale(s, c))
-            return node
+            return self.scaled(node, sp.Mul(*const)) if const else node
         if expr.is_Pow and expr.exp.is_Integer and expr.exp > 0:
             return self.power(expr.base, self.build(expr.base), int(expr.exp))
+        return self.other(expr)
+
+    def varies(self, expr: sp.Expr) -> bool:
+        """Whether ``expr`` holds ``x`` or ``xdot``."""
+        return expr.has(x, xdot)
+
+    def scaled(self, node: Node, const: sp.Expr) -> Node:
+        """``node`` times the factor ``const``, free of the leaves."""
+        c = self.alg.coef(const)
+        return Scaled(self.zero, node, lambda s, c=c: self.alg.scale(s, c))
+
+    def other(self, expr: sp.Expr) -> Node:
+        """``sin`` or ``cos`` of ``k x + phase`` (:meth:`trig`); anything else is refused."""
         if isinstance(expr, (sp.sin, sp.cos)):
             return self.trig(expr)
         raise UnsupportedTermError(unsupported_message(expr))

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 from kbm.errors import ParameterError
 
 from kbm.output.strict_json import finite
-from numerics.cycles.branch_result import Branch
+from numerics.shooting.branch_result import Branch
 from numerics.cycles.continuation import _check_vary, continue_cycles
 from numerics.cycles.every_cycle import limit_cycles
 from numerics.cycles.shooting import limit_cycle

@@ -21,7 +21,7 @@
   (:func:`continue_cycles`: the case ``N = 1`` of the one driver,
   :mod:`numerics.shooting.continuation`, with folds, Hopf and homoclinic ends; the
   shooting problem of a branch in :mod:`numerics.shooting.planar`, results in
-  :mod:`numerics.cycles.branch_result`; Brent's bounded minimiser and a Gauss--Legendre rule
+  :mod:`numerics.shooting.branch_result`; Brent's bounded minimiser and a Gauss--Legendre rule
   without scipy in :mod:`numerics.cycles.localmin`).
 """
 
@@ -30,7 +30,7 @@ from kbm._lazy import keep_objects, lazy_names
 #: the public names, each imported from its module on first use (PEP 562): ``kbm cycle``
 #: imports the shooting, not the continuation, the sweeps or mpmath (issue 39)
 _LAZY = {
-    **dict.fromkeys(("Branch", "BranchPoint", "SpecialPoint"), "numerics.cycles.branch_result"),
+    **dict.fromkeys(("Branch", "BranchPoint", "SpecialPoint"), "numerics.shooting.branch_result"),
     "continue_cycles": "numerics.cycles.continuation",
     **dict.fromkeys(("floquet_multipliers", "nontrivial_multiplier"), "numerics.shooting.floquet"),
     "limit_cycle_mp": "numerics.cycles.highprec",

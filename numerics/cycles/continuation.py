@@ -37,7 +37,7 @@ import numpy as np
 from kbm.errors import ParameterError
 
 from numerics.shooting.planar import TRIVIAL_TOL, PlanarPoint, PlanarProblem
-from numerics.cycles.branch_result import Branch, SpecialPoint, branch_point
+from numerics.shooting.branch_result import Branch, SpecialPoint, branch_point
 from numerics.cycles.homoclinic import aitken, end_estimate, homoclinic_reason, long_period_points
 from numerics.cycles.result import LimitCycle
 from numerics.cycles.shooting import limit_cycle

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from numerics.cycles.branch_result import BranchPoint
+from numerics.shooting.branch_result import BranchPoint
 from numerics.cycles.localmin import fminbound, integral
 from numerics.shooting.arclength import FAIL
 

@@ -5,8 +5,7 @@
 :class:`CoupledBranchPoint`, :class:`CoupledSpecialPoint`; ``kbm branch`` and ``kbm response``
 of a coupled system, :mod:`numerics.shooting.coupled_branch`) and that of one degree of freedom
 on the section ``x' = 0``, the case ``N = 1`` (:class:`Branch`, :class:`BranchPoint`,
-:class:`SpecialPoint`; ``kbm branch`` of an oscillator, also as
-:mod:`numerics.cycles.branch_result`)."""
+:class:`SpecialPoint`; ``kbm branch`` of an oscillator)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""Phase diffusion of a noisy limit cycle (numerics.escape.phase) and ``kbm escape``.
+"""Phase diffusion of a noisy limit cycle
+(numerics.spectrum.phase_diffusion.cycle_phase_diffusion) and ``kbm escape``.
 
 References: Stratonovich, Topics in the Theory of Random Noise II, ch. 9; Lax, Phys. Rev.
 160 (1967) 290 (amplitude-phase coupling); Kramers' low-friction rate (Hanggi, Talkner,
@@ -16,7 +17,7 @@ from hypothesis import given, settings, strategies as st
 import kbm
 from kbm.errors import ModelError
 from numerics.cli import main
-from numerics.escape.phase import phase_diffusion
+from numerics.spectrum.phase_diffusion import cycle_phase_diffusion as phase_diffusion
 
 
 @settings(max_examples=10, deadline=None)

@@ -1,7 +1,7 @@
 """Phase diffusion of a noisy limit cycle against simulation (issue 22: the linewidth).
 
-:func:`numerics.escape.phase.phase_diffusion` predicts ``Var psi(t) ~ 2 D_phi t``; for the
-van der Pol oscillator ``D_phi = D/8`` (first-order stochastic averaging, Stratonovich vol. 2
+:func:`numerics.spectrum.phase_diffusion.cycle_phase_diffusion` predicts ``Var psi(t) ~ 2 D_phi
+t``; for the van der Pol oscillator ``D_phi = D/8`` (first-order stochastic averaging, Stratonovich vol. 2
 ch. 9; the cycle's frequency does not depend on the amplitude at first order).  The
 simulation unwraps the phase ``atan2(-x', x)`` of Langevin paths started on the cycle and
 compares the variance of its increment over ``T`` with ``2 D_phi T`` within three standard
@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from kbm.model.builtins import custom_model
-from numerics.escape.phase import phase_diffusion
+from numerics.spectrum.phase_diffusion import cycle_phase_diffusion as phase_diffusion
 from numerics.noise import langevin_system
 
 

@@ -1,6 +1,6 @@
 """Noise on the strongly nonlinear side: energy-envelope stochastic averaging, escape
-rates from the well at the origin (averaged MFPT, Kramers, Mel'nikov-Meshkov),
-phase diffusion of noisy limit cycles.
+rates from the well at the origin (averaged MFPT, Kramers, Mel'nikov-Meshkov) (the phase
+diffusion of noisy limit cycles: :mod:`numerics.spectrum.phase_diffusion`).
 
 Convention: ``x'' + ... = sqrt(2 D) xi(t)``, unit mass, ``<xi(t) xi(t')> = delta(t - t')``;
 for linear damping ``mu`` the temperature is ``kT = D/mu``.

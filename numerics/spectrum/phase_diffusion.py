@@ -34,6 +34,8 @@ The spectrum of ``x`` is a sum of lines at ``k Omega``: a Lorentzian of half wid
 r_k(a) cos(k psi + theta_k)``, from :attr:`kbm.noise.phase_diffusion.PhaseDiffusion.displacement`)
 and a pedestal of half width ``lambda + k^2 D_eff`` carrying ``var(r_k)/2`` (the amplitude
 fluctuations, relaxing at ``lambda``).
+
+The first-order linearised phase diffusion alone: :func:`cycle_phase_diffusion`.
 """
 
 from __future__ import annotations
@@ -45,14 +47,15 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from kbm.errors import ParameterError
+from kbm.errors import ModelError, ParameterError
 from kbm.noise.phase_diffusion import phase_diffusion
 from kbm.noise.stochastic import NOISE
 from kbm.symbols import a, mu, psi
 
 from ..errors import NoCycleError
 
-__all__ = ["Line", "LineTheory", "line_theory"]
+__all__ = ["Line", "LineTheory", "line_theory", "PhaseDiffusion",
+           "cycle_phase_diffusion"]
 
 _GRID = 20001  # quadrature points in a
 _CUT = 60.0  # ln P below its peak where the quadrature stops
@@ -212,6 +215,30 @@ def _stable_cycle(A, dA, a_max: float = 50.0) -> float:
                        "a self-excited model or parameters with a stable cycle")
 
 
+def _linear(model, params: Mapping[str, object], D: float, order: int) -> tuple:
+    """The linearised line at the stable cycle ``a*`` (:func:`line_theory`,
+    :func:`cycle_phase_diffusion`): ``(pd, subs, mu, omega0, A, B, a*, lambda, g, D_phi,
+    D_eff, omega0 + B(a*))``, ``A`` and ``B`` as numpy functions of ``(a, psi)``."""
+    from kbm.parameters.bound import bind
+
+    bm = bind(model, {k: v for k, v in dict(params).items() if k != "D"})
+    bm.require(what="the averaged line")
+    fixed = dict(bm.values)
+    m_val = float(fixed.pop("mu"))
+    if not m_val > 0:
+        raise ParameterError(f"mu = {m_val:g} must be > 0 for a self-excited cycle")
+    pd = phase_diffusion(bm.model, order, fixed or None)
+    subs = {**_numbers(fixed), mu: sp.Float(m_val, 30), NOISE: sp.Float(D, 30)}
+    w0 = float(sp.sympify(pd.model.omega0).subs(subs))
+    A, dA = _fn(pd.A, subs), _fn(-pd.relaxation, subs)
+    B = _fn(pd.B, subs)
+    a_star = _stable_cycle(A, dA)
+    lam = float(pd.relaxation.subs(subs).subs(a, a_star))
+    g = float(pd.shear.subs(subs).subs(a, a_star))
+    return (pd, subs, m_val, w0, A, B, a_star, lam, g, D / (2 * w0**2 * a_star**2),
+            float(pd.linewidth.subs(subs).subs(a, a_star)), w0 + float(B(a_star, 0.0)))
+
+
 def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1,
                 harmonics: int = 3) -> LineTheory:
     """The averaged linewidth, frequency and lines of ``x`` at parameter values.
@@ -244,25 +271,8 @@ def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1
     """
     if not (isinstance(D, (int, float)) and math.isfinite(D) and D > 0):
         raise ParameterError(f"D = {D!r}: the linewidth needs noise, D > 0")
-    from kbm.parameters.bound import bind
-
-    bm = bind(model, {k: v for k, v in dict(params).items() if k != "D"})
-    bm.require(what="the averaged line")
-    fixed = dict(bm.values)
-    m_val = float(fixed.pop("mu"))
-    if not m_val > 0:
-        raise ParameterError(f"mu = {m_val:g} must be > 0 for a self-excited cycle")
-    pd = phase_diffusion(bm.model, order, fixed or None)
-    subs = {**_numbers(fixed), mu: sp.Float(m_val, 30), NOISE: sp.Float(D, 30)}
-    w0 = float(sp.sympify(pd.model.omega0).subs(subs))
-    A, dA = _fn(pd.A, subs), _fn(-pd.relaxation, subs)
-    B = _fn(pd.B, subs)
-    a_star = _stable_cycle(A, dA)
-    lam = float(pd.relaxation.subs(subs).subs(a, a_star))
-    g = float(pd.shear.subs(subs).subs(a, a_star))
-    d_phi = D / (2 * w0**2 * a_star**2)
-    lw_lin = float(pd.linewidth.subs(subs).subs(a, a_star))
-    f_cyc = w0 + float(B(a_star, 0.0))
+    pd, subs, m_val, w0, A, B, a_star, lam, g, d_phi, lw_lin, f_cyc = _linear(
+        model, params, D, order)
     f_lin = f_cyc + float(pd.frequency_shift.subs(subs).subs(a, a_star))
 
     # the stationary density on a grid that holds all but exp(-60) of it
@@ -320,3 +330,70 @@ def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1
     name = model if isinstance(model, str) else pd.model.name
     return LineTheory(name, order, m_val, float(D), w0, a_star, lam, g, d_phi, lw_lin, f_lin,
                       lw, freq, f_cyc, mean_a, tuple(lines), small)
+
+
+@dataclass(frozen=True)
+class PhaseDiffusion:
+    """First-order phase diffusion of a noisy limit cycle.
+
+    Attributes
+    ----------
+    amplitude : float
+        ``a_0``, the stable root of ``A_1``.
+    frequency : float
+        ``omega0 + mu B_1(a_0)``.
+    relaxation : float
+        ``lambda = -mu A_1'(a_0)``.
+    shear : float
+        ``a_0 B_1'(a_0)/A_1'(a_0)`` (zero when the frequency does not depend on ``a``).
+    D_phi : float
+        Phase diffusion coefficient: ``Var psi ~ 2 D_phi t``.
+    D_phi_direct : float
+        Its direct part ``D/(2 omega0**2 a_0**2)``.
+    """
+
+    amplitude: float
+    frequency: float
+    relaxation: float
+    shear: float
+    D_phi: float
+    D_phi_direct: float
+
+    def __repr__(self) -> str:
+        return f"PhaseDiffusion(a0={self.amplitude:.4g}, D_phi={self.D_phi:.4g})"
+
+
+def cycle_phase_diffusion(model, params: Mapping[str, object], D: object) -> PhaseDiffusion:
+    """Phase diffusion coefficient of the stable first-order averaged cycle: the linearised
+    line of :func:`line_theory` at order 1 (also for ``D = 0``).
+
+    Parameters
+    ----------
+    model : str or kbm.model.builtins.Oscillator
+    params : dict
+        Parameter values, ``mu`` included (``D`` is taken apart if present).
+    D : float
+        Noise intensity ``>= 0``.
+
+    Returns
+    -------
+    PhaseDiffusion
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        No stable first-order cycle.
+
+    Examples
+    --------
+    >>> cycle_phase_diffusion("vdp", {"mu": 0.05}, 0.01)
+    PhaseDiffusion(a0=2, D_phi=0.00125)
+    """
+    from ..escape.envelope import noise_level
+
+    try:
+        *_, a0, lam, g, direct, d_phi, f_cyc = _linear(model, params, noise_level(D), 1)
+    except NoCycleError:
+        raise ModelError("the first-order amplitude equation mu A_1(a) has no stable root "
+                         "in 0 < a < 50: no limit cycle whose phase could diffuse") from None
+    return PhaseDiffusion(a0, f_cyc, lam, -a0 * g / lam, d_phi, direct)

@@ -7,8 +7,8 @@ near the interval (Trefethen, *Approximation Theory and Approximation Practice*,
 SIAM 2013, chs. 2, 5, 21):
 
 - :func:`points`: ``a_j = (lo + hi)/2 - (hi - lo)/2 cos(j pi/(P - 1))``, ascending;
-- :func:`diff_matrix`: the matrix ``D`` with ``(D f)_j = f'(a_j)`` for the polynomial
-  interpolant ``f`` of the samples;
+- :func:`differentiate`: the derivative of the polynomial interpolant ``f`` of the samples
+  (by its coefficients);
 - :func:`coefficients`: the Chebyshev coefficients of that interpolant (an FFT of the
   even extension), whose decay measures how well the samples resolve ``f``;
 - :func:`interpolate`: the barycentric formula of the second kind at any points of the
@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["points", "diff_matrix", "coefficients", "interpolate", "barycentric_matrix"]
+__all__ = ["points", "coefficients", "interpolate", "barycentric_matrix"]
 
 
 def _unit_points(P: int) -> np.ndarray:
@@ -40,23 +40,6 @@ def _weights(P: int) -> np.ndarray:
     w[0] *= 0.5
     w[-1] *= 0.5
     return w
-
-
-def diff_matrix(lo: float, hi: float, P: int) -> np.ndarray:
-    """The ``P x P`` Chebyshev differentiation matrix of ``[lo, hi]``.
-
-    Off the diagonal ``D_ij = (w_j/w_i)/(x_i - x_j)`` with the barycentric weights
-    ``w``; the diagonal makes every row sum to zero (the derivative of a constant is
-    exactly zero), which is the accurate form in floating point.
-    """
-    x = _unit_points(P)
-    w = _weights(P)
-    dx = x[:, None] - x[None, :]
-    np.fill_diagonal(dx, 1.0)
-    D = (w[None, :] / w[:, None]) / dx
-    np.fill_diagonal(D, 0.0)
-    np.fill_diagonal(D, -D.sum(axis=1))
-    return D * (2.0 / (hi - lo))
 
 
 def coefficients(values: np.ndarray, axis: int = 0) -> np.ndarray:

@@ -95,6 +95,19 @@ def _moment(coarse: np.ndarray, fine: np.ndarray) -> RichardsonMoment:
                             float(corr.std(ddof=1) / math.sqrt(m)))
 
 
+def _run(system: LangevinSystem, kernel: str, h: float, n_burn: int, n_run: int,
+         states) -> np.ndarray:
+    """The per-trajectory sums of the compiled kernel ``kernel`` (``step_pair_stats``,
+    ``step_antithetic_stats``, ``step_gauss_stats``) from rest; a diverged trajectory
+    raises :class:`numerics.errors.NumericsError`."""
+    rows = getattr(system.kernels, kernel)(system._p(), system.sigma,
+                                           np.zeros((len(states), 2)), 0.0, float(h), n_burn,
+                                           n_run, states, system.omega0)
+    if not np.all(np.isfinite(rows)):
+        raise NumericsError(f"a trajectory diverged at h = {h:g}: take a smaller step")
+    return rows
+
+
 def richardson_moments(system: LangevinSystem, h: float, *, trajectories: int, t_end: float,
                        burn_in: float, seed: int = 0) -> dict[str, RichardsonMoment]:
     """``<x^2>`` and ``<a^2>`` at the steps ``h`` and ``h/2`` and extrapolated (weak order 4
@@ -134,12 +147,8 @@ def richardson_moments(system: LangevinSystem, h: float, *, trajectories: int, t
                              "standard error")
     n_run = steps_of(t_end, h)
     n_burn = 0 if burn_in == 0 else steps_of(burn_in, h)
-    states = trajectory_states(seed, 0, trajectories)
-    rows = system.kernels.step_pair_stats(system._p(), system.sigma,
-                                          np.zeros((trajectories, 2)), 0.0, float(h), n_burn,
-                                          n_run, states, system.omega0)
-    if not np.all(np.isfinite(rows)):
-        raise NumericsError(f"a trajectory diverged at h = {h:g}: take a smaller step")
+    rows = _run(system, "step_pair_stats", h, n_burn, n_run,
+                trajectory_states(seed, 0, trajectories))
     return {"x2": _moment(rows[:, 0], rows[:, 2]), "a2": _moment(rows[:, 1], rows[:, 3])}
 
 
@@ -173,11 +182,8 @@ def _pair_rows(system: LangevinSystem, h: float, n_burn: int, n_run: int, seed: 
                first: int, count: int) -> np.ndarray:
     """The per-trajectory corrections ``(4/3)(E_{h/2} - E_h)`` (columns ``x^2``, ``a^2``) of
     trajectories ``first .. first+count-1`` of the correction stream."""
-    states = trajectory_states(seed, first, count, stream=(CORRECTION_STREAM,))
-    rows = system.kernels.step_pair_stats(system._p(), system.sigma, np.zeros((count, 2)),
-                                          0.0, float(h), n_burn, n_run, states, system.omega0)
-    if not np.all(np.isfinite(rows)):
-        raise NumericsError(f"a trajectory diverged at h = {h:g}: take a smaller step")
+    rows = _run(system, "step_pair_stats", h, n_burn, n_run,
+                trajectory_states(seed, first, count, stream=(CORRECTION_STREAM,)))
     return 4.0 / 3.0 * (rows[:, 2:4] - rows[:, 0:2])
 
 
@@ -186,12 +192,8 @@ def _antithetic_rows(system: LangevinSystem, h: float, n_burn: int, n_run: int, 
     """The per-trajectory antithetic corrections ``(4/3)((E_{h/2} + E'_{h/2})/2 - E_h)``
     (columns ``x^2``, ``a^2``; ``E'`` the run with each coarse step's two fine increments
     swapped) of trajectories ``first .. first+count-1`` of the correction stream."""
-    states = trajectory_states(seed, first, count, stream=(CORRECTION_STREAM,))
-    rows = system.kernels.step_antithetic_stats(system._p(), system.sigma,
-                                                np.zeros((count, 2)), 0.0, float(h), n_burn,
-                                                n_run, states, system.omega0)
-    if not np.all(np.isfinite(rows)):
-        raise NumericsError(f"a trajectory diverged at h = {h:g}: take a smaller step")
+    rows = _run(system, "step_antithetic_stats", h, n_burn, n_run,
+                trajectory_states(seed, first, count, stream=(CORRECTION_STREAM,)))
     return 4.0 / 3.0 * (0.5 * (rows[:, 2:4] + rows[:, 4:6]) - rows[:, 0:2])
 
 
@@ -276,12 +278,8 @@ def two_level_moments(system: LangevinSystem, h: float, *, trajectories: int, t_
     n_burn = 0 if burn_in == 0 else steps_of(burn_in, h)
     keys = ("x2", "a2")
     if coarse is None:
-        states = trajectory_states(seed, 0, trajectories)
-        sums = system.kernels.step_gauss_stats(system._p(), system.sigma,
-                                               np.zeros((trajectories, 2)), 0.0, float(h),
-                                               n_burn, n_run, states, system.omega0)
-        if not np.all(np.isfinite(sums)):
-            raise NumericsError(f"a trajectory diverged at h = {h:g}: take a smaller step")
+        sums = _run(system, "step_gauss_stats", h, n_burn, n_run,
+                    trajectory_states(seed, 0, trajectories))
         coarse = {k: (float(sums[:, c].mean()),
                       float(sums[:, c].std(ddof=1) / math.sqrt(trajectories)))
                   for c, k in enumerate(keys)}

@@ -47,7 +47,7 @@ from numerics.fokker_planck._sink import (CAP, DRIFT, OFFSET, RAMP, SINK_HERMITE
                                           SINK_INTERVALS, TRACK, UPPER, WEIGHT,
                                           bracket_error, falling_offset,
                                           ladder_offsets, rung_intervals, sink_bracket,
-                                          sink_rung, step_zero)
+                                          sink_grading, sink_rung, sink_scale, step_zero)
 from numerics.fokker_planck.escape import ALPHA, _sink, escape_problem, kT_gamma
 
 PARAMS = {"Delta": 3, "lam": 1, "Omega": 1}
@@ -317,15 +317,33 @@ def test_high_friction_below_smoluchowski():
     assert ratios[0] < ratios[1] < 1
 
 
-def _independent_top(fp, mu):
-    """The midpoint of the top rungs of both ladders solved again (the pair's rungs on their
-    own points) on 1.75 times the grid with sqrt 2 more Hermite functions."""
+def _independent_top(fp, mu, scale=0.55):
+    """The midpoint of the top rungs of both ladders solved again in orthonormal Hermite
+    functions at another velocity scale (``scale sqrt(kT)``; the code's is
+    :func:`sink_scale`, 0.5 at the top rungs) with ``sqrt 2`` more of them, on 1.5 times the
+    grid (folded, :class:`._folded.FoldedRungs`; the points crowded at the sink on the
+    scales of :func:`sink_grading`)."""
+    from numerics.fokker_planck._folded import FoldedRungs
+
     top = len(fp.sink_offsets) - 1
-    n_c, n_h = 2 * round(0.875 * (fp.chebyshev - 1)), 2 * round(fp.hermite / math.sqrt(2))
-    o_low, o_high = fp.sink_offsets[top]
-    lo = _other_ladder(mu, o_low, [(top, n_c)], nh=n_h)[0]
-    hi = _other_ladder(mu, o_high, [(top, n_c)], nh=n_h)[0]
-    return (lo + hi) / 2
+    n_c, n_h = 2 * round(0.75 * (fp.chebyshev - 1)), 2 * round(fp.hermite / math.sqrt(2))
+    split = split_conservative("cdc", dict(PARAMS, mu=mu))
+    xl, xr = _saddles()
+    _, wells, half, kappa0, width = escape_problem(split, KT * mu, (xl, xr))
+    grading = sink_grading(top)
+    rates = []
+    for offset in fp.sink_offsets[top]:
+        c, kap, w = sink_rung(wells, kappa0, width, top, offset)
+
+        def pts(m, c=c, w=w):
+            return cheb_centred(m, half, ALPHA, (xl, xr) + c * len(grading),
+                                (-xl / 2, xr / 2) + tuple(f * w for f, _ in grading
+                                                         for _ in (0, 1)),
+                                (0.0, 0.0) + tuple(q for _, q in grading for _ in (0, 1)))
+
+        rates.append(FoldedRungs(n_h)(split, KT * mu, scale * math.sqrt(KT), pts, n_h, n_c,
+                                      lambda xs, c=c, kap=kap, w=w: _sink(xs, c, kap, w)))
+    return sum(rates) / 2
 
 
 @pytest.mark.slow

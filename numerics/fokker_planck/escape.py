@@ -72,7 +72,7 @@ from ._parity import symmetric
 from ._rungs import FractionRungs, pair_escape
 from ._model import next_wells
 from ._sink import (SINK_HERMITE, SINK_INTERVALS, SINK_TOL, WEIGHT, absorbing_limit,
-                    sink_rung, tanh_sink as _sink)
+                    sink_grading, sink_rung, sink_scale, tanh_sink as _sink)
 from .kramers import _linear_temperature, kramers_operator, kramers_terms, velocity_terms
 
 __all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder",
@@ -371,22 +371,33 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
     sink_tol = SINK_TOL if sink_tol is None else float(sink_tol)
     if out["sink_error"] > sink_tol * abs(out["rate"]):
 
+        adaptive = linear and fold  # orthonormal functions at SINK_SCALE sqrt(kT) (._sink)
+        solvers: dict = {}  # the factors of the current rung's two sinks (and grids)
+
         def rung(j, offset, nc, nh):  # the rate with the sink of rung j (._sink)
             centres, kap, w = sink_rung(wells, kappa0, width, j, offset)
+            grading = sink_grading(j) if adaptive else ((2.5, WEIGHT),)
 
             def pts(m):
-                return cheb_centred(m, half, ALPHA, (xl, xr) + centres,
-                                    (-xl / 2, xr / 2, 2.5 * w, 2.5 * w),
-                                    (crowd, crowd, WEIGHT, WEIGHT))
+                return cheb_centred(m, half, ALPHA, (xl, xr) + centres * len(grading),
+                                    (-xl / 2, xr / 2) + tuple(f * w for f, _ in grading
+                                                             for _ in (0, 1)),
+                                    (crowd, crowd) + tuple(q for _, q in grading
+                                                           for _ in (0, 1)))
 
             def snk(xs, sharp=1):
                 return _sink(xs, centres, kap, w)
 
+            if adaptive:  # one factorisation per sink and grid, extended up the truncations
+                for key in [k for k in solvers if k[0] != j or k[2] != nc]:
+                    del solvers[key]  # the factors of another rung or grid freed first
+                solver = solvers.setdefault((j, offset, nc), FoldedRungs(4 * nh))
+                return solver(split, D, sink_scale(j) * math.sqrt(kT), pts, nh, nc, snk)
             if basis == "pair":
                 return FractionRungs(split, sigma, gamma, centres, snk, pts).rate(nh, nc)
             solver = FoldedRungs(nh) if fold else orthonormal_slowest
             return solver(split, D, out["velocity_scale"], pts, nh, nc, snk)
 
         out = absorbing_limit(out, rung, least=(SINK_HERMITE, SINK_INTERVALS) if linear
-                              else (0, 0))
+                              else (0, 0), adaptive=adaptive)
     return KramersEscape(saddles=(xl, xr), wells=wells, **out)

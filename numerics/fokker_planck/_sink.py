@@ -44,15 +44,23 @@ falling one ``RAMP j`` (h-sink2's rule), but from rung :data:`CAP` no further ou
 falling ladder rose at rung 6: 4.0e-5 and 5.3e-5 of the rate stated; capped, both ladders
 are monotone, 7.9e-6 and 1.1e-5).
 :func:`sink_bracket` climbs both ladders until the half-gap is within :data:`BRACKET_TOL`
-of the rate (or :data:`MAX_RUNGS`; past :data:`FINE_RUNG` the grid grows with the rung,
+of the rate (or :data:`MAX_RUNGS`; the grid grows at the rungs of :data:`GRID_STEPS`,
 :func:`rung_intervals`): the rate is their midpoint and the stated ``sink_error`` half their
 gap, a bracket of the limit while the lower ladder rises and the upper falls (checked at
 every rung; where it fails the error is the whole gap plus the last steps).  No value is
-extrapolated: the predicted ``o*`` only places the sinks.  CDC Delta = 3, kT = 0.35 (relative
-half-gaps; h-sink2 in brackets): mu = 1 2.6e-7 at the eighth rung (2.8e-7), mu = 2 6.1e-7
-(9.0e-7), mu = 5 3.4e-6 (4.3e-6), mu = 10 5.2e-6 (no bracket: 2.6e-5 stated), mu = 20
-7.9e-6 and mu = 50 1.1e-5 (h-sink3: no bracket, 4.0e-5 and 5.3e-5 stated), each at the
-tenth rung; docs/noise.rst.
+extrapolated: the predicted ``o*`` only places the sinks (its error, measured against the
+limit at rungs 5-9, is -0.22 to +0.27 widths over mu = 2-50, as large as the margins, so
+closer ladders would not stay on their sides).  Linear damping in an even potential
+(h-sink5, ``adaptive``): the rungs in orthonormal Hermite functions at a fraction of the
+thermal speed (:data:`SINK_SCALE`, :func:`sink_scale`; Risken's pair at ``sqrt(kT)`` was
+1e-6 off at rung 9 with 256 functions), each rung's truncation grown until
+``1/sqrt 2`` of it moves the rate by :data:`HERMITE_TOL` at most, on points crowded at
+the sink on four-fold scales (:func:`sink_grading`), and from rung 9 the ladders stop at
+:data:`LOOSE_TOL`.  CDC Delta = 3, kT = 0.35 (relative: half-gap + grid + truncation, top
+rung; h-sink4's in brackets): mu = 1 2.7e-7 + 1.3e-10 + 2.7e-8, rung 8 (4.2e-7, rung 8);
+mu = 2 7.5e-7 + 2e-10 + 8e-9, rung 9 (1.9e-6, rung 9); mu = 5 8.7e-7 + 7.2e-8 + 6e-9,
+rung 11 (5.2e-6); mu = 10 6.7e-7 + 9e-9 + 4.9e-8, rung 12 (6e-6); mu = 20 7.6e-7 + 4e-9 +
+1.3e-8 (8e-6) and mu = 50 7.8e-7 + 1.3e-9 + 4e-10 (1.1e-5), rung 12; docs/noise.rst.
 """
 
 from __future__ import annotations
@@ -61,12 +69,13 @@ import math
 
 import numpy as np
 
-__all__ = ["SINK_TOL", "BRACKET_TOL", "OFFSET", "UPPER", "RAMP", "CAP", "TRACK", "MARGIN",
-           "DRIFT", "WEIGHT", "MAX_RUNGS", "SINK_INTERVALS", "SINK_HERMITE",
-           "GRID_STEPS", "RUNG_INTERVALS", "SINK_SCALE", "LOOSE_TOL", "sink_scale", "RUNG_HERMITE", "GRID_HERMITE",
-           "HERMITE_TOL",
-           "MAX_HERMITE", "GRID_CHECK", "tanh_sink", "sink_grading", "sink_rung", "falling_offset", "step_zero", "ladder_offsets",
-           "rung_intervals", "bracket_error", "sink_bracket", "absorbing_limit"]
+__all__ = ["SINK_TOL", "BRACKET_TOL", "LOOSE_TOL", "OFFSET", "UPPER", "RAMP", "CAP", "TRACK",
+           "MARGIN", "DRIFT", "WEIGHT", "MAX_RUNGS", "SINK_INTERVALS", "SINK_HERMITE",
+           "SINK_SCALE", "LOW_SCALE", "RUNG_HERMITE", "MAX_HERMITE", "GRID_HERMITE",
+           "HERMITE_TOL", "GRID_STEPS", "RUNG_INTERVALS", "GRID_CHECK", "GRID_FACTOR",
+           "tanh_sink", "sink_scale", "sink_grading", "sink_rung", "falling_offset",
+           "step_zero", "ladder_offsets", "rung_intervals", "bracket_error", "sink_bracket",
+           "absorbing_limit"]
 
 #: the relative change between the two sinks above which the ladders run (and the default
 #: target of :func:`sink_bracket`)
@@ -192,9 +201,10 @@ def sink_bracket(solve, *, tol: float = SINK_TOL, max_rungs: int = MAX_RUNGS,
         high.append(solve(j, o_high))
         history.append((o_low, o_high, low[-1], high[-1]))
         err = bracket_error(low, high)
-        if j >= 1 and err <= tol * abs(low[-1] + high[-1]) / 2:
+        rate = abs(low[-1] + high[-1]) / 2
+        if j >= 1 and err <= tol * rate:
             break
-        if loose is not None and j >= loose[1] and err <= loose[0] * abs(low[-1] + high[-1]) / 2:
+        if loose is not None and j >= loose[1] and err <= loose[0] * rate:
             break
     return dict(rate=(low[-1] + high[-1]) / 2, sink_error=err, rungs=tuple(low),
                 upper=tuple(high), offsets=tuple(h[:2] for h in history))
@@ -229,7 +239,7 @@ SINK_INTERVALS, SINK_HERMITE = 280, 256
 #: speeds (the absorbing wall's: the density of the particles coming back is nil at the
 #: wall) whose width falls with the sink's, and functions at half the scale resolve twice
 #: as fine while still reaching the Maxwellian's tail (it takes about 90 of them, the
-#: ratio 0.6 per two orders).  CDC Delta = 3, kT = 0.35, mu = 5, the tenth rung on 548
+#: ratio 0.6 per two orders).  CDC Delta = 3, kT = 0.35, mu = 5, rung 9 on 548
 #: intervals: 182 functions give the rate to 3e-9 and 256 to 4e-10 (the pair at
 #: ``sqrt(kT)``: 1e-6 off at 256, 2.9e-7 at 362); a third of the scale does not reach the
 #: tail (4e-3 off at 128)
@@ -240,11 +250,6 @@ SINK_SCALE = 0.5
 #: 0.6 sqrt(kT) 2e-12), where at rung 12 0.6 was 1.3e-6 off at 128 and 0.5 2e-7
 LOW_SCALE = 0.6
 
-
-def sink_scale(j: int) -> float:
-    """The velocity scale of rung ``j``'s orthonormal functions, in units of ``sqrt(kT)``:
-    :data:`LOW_SCALE` below rung 9, then :data:`SINK_SCALE`."""
-    return LOW_SCALE if j < GRID_STEPS[1][0] else SINK_SCALE
 #: the least Hermite functions of a rung (``adaptive``) below rung 9 (at :data:`LOW_SCALE`:
 #: 90 give the rate to 2e-12 of 128 at the first rung, mu = 10) and from rung 9 (at
 #: :data:`SINK_SCALE`: 128 were 1.6e-7 off at mu = 10), and the most
@@ -267,10 +272,18 @@ HERMITE_TOL = 5e-8
 GRID_STEPS = ((7, 1.4), (9, 1.96), (12, 2.35), (14, 2.74))
 #: the least intervals of the rungs of linear damping in an even potential (``adaptive``)
 RUNG_INTERVALS = 200
-#: the top rungs' grid check (``adaptive``): both solved on this many times the intervals
-#: with :data:`RUNG_HERMITE` functions, against the same functions on the rung's grid
-#: (whose factors the rung's solve left)
-GRID_CHECK = 1.25
+#: the top rungs' grid check (``adaptive``): both solved on ``GRID_CHECK`` times the
+#: intervals with :data:`GRID_HERMITE` functions, against the same functions on the rung's
+#: grid (whose factors the rung's solve left); the stated error is ``GRID_FACTOR`` times the
+#: change, the error of the coarser grid where the finer one's is at most a third of it
+#: (measured: about 50 times smaller per 1.25 times the intervals, CDC mu = 5, rung 10)
+GRID_CHECK, GRID_FACTOR = 1.25, 1.5
+
+
+def sink_scale(j: int) -> float:
+    """The velocity scale of rung ``j``'s orthonormal functions, in units of ``sqrt(kT)``:
+    :data:`LOW_SCALE` below rung 9, then :data:`SINK_SCALE`."""
+    return LOW_SCALE if j < GRID_STEPS[1][0] else SINK_SCALE
 
 
 def sink_grading(j: int) -> tuple:
@@ -280,8 +293,9 @@ def sink_grading(j: int) -> tuple:
     ``4^i`` stays within ``2^j/8`` (the widths up to about a third of the first sink's).
     Between the sink's width and the Milne layer's ``sqrt(kT)/gamma`` the density near an
     absorbing wall has structure on every scale: crowded on one scale (``2.5 w_j``, weight
-    0.15, :data:`WEIGHT`), CDC mu = 5 at the tenth rung on 392 intervals was 8.2e-7 of the
-    rate off, on the four scales of this rule 4.7e-9 (12th rung: 2.3e-8 on five scales)."""
+    0.15, :data:`WEIGHT`), CDC mu = 5 at rung 9 on 392 intervals was 8.2e-7 of the rate
+    off, on the four scales of this rule 1e-10 (rung 11: 4.7e-9; mu = 50, rung 12, five
+    scales: 2.3e-8; relative to 548 or 768 intervals)."""
     out, i = [], 0
     while i == 0 or 4 ** i <= 2 ** j / 8:
         out.append((2.5 * 4 ** i, max(0.1, 0.25 - 0.05 * i)))
@@ -322,8 +336,9 @@ def absorbing_limit(out: dict, rung, least: tuple = (SINK_HERMITE, SINK_INTERVAL
     functions at :data:`SINK_SCALE`, folded): each rung from :data:`RUNG_HERMITE` functions
     (never fewer than the rung below) grown by ``sqrt 2`` while the rate moves by more than
     :data:`HERMITE_TOL` from ``1/sqrt 2`` of them (the truncation error: the top rungs'
-    midpoint's change), and the grid's change on :data:`GRID_CHECK` times the top rung's
-    intervals at ``1/sqrt 2`` of the functions."""
+    midpoint's change), and the grid's error :data:`GRID_FACTOR` times the midpoint's
+    change on :data:`GRID_CHECK` times the top rung's intervals at :data:`GRID_HERMITE`
+    functions."""
     if not adaptive:
         nh = max(int(out["hermite"]), int(least[0]))
         nc = max(int(out["chebyshev"]) - 1, int(least[1]))
@@ -371,7 +386,8 @@ def absorbing_limit(out: dict, rung, least: tuple = (SINK_HERMITE, SINK_INTERVAL
         trunc = abs((lo_l + hi_l) / 2 - lim["rate"])
         n_fine, nb = 2 * int(round(GRID_CHECK * nt / 2)), GRID_HERMITE
         here = (rung(top, o_low, nt, nb) + rung(top, o_high, nt, nb)) / 2  # factors kept
-        cheb = abs((rung(top, o_low, n_fine, nb) + rung(top, o_high, n_fine, nb)) / 2 - here)
+        fine = (rung(top, o_low, n_fine, nb) + rung(top, o_high, n_fine, nb)) / 2
+        cheb = GRID_FACTOR * abs(fine - here)
     return {**out, "rate": lim["rate"], "sink_error": lim["sink_error"],
             "chebyshev_error": max(out["chebyshev_error"], cheb),
             "truncation_error": max(out["truncation_error"], trunc),

@@ -46,7 +46,9 @@ the rate depends on where the absorption happens), the rate of first passages to
 +-x_w`` lies between two ladders of sharpening sinks, one rising and one falling
 (:mod:`._sink`): the rate is the midpoint of their top rungs and ``sink_error`` half
 their gap, and the other two errors include the midpoint's changes on a finer grid and
-one Hermite truncation lower.  Compared
+one Hermite truncation lower (linear damping in an even potential: the rungs in
+orthonormal functions at a fraction of the thermal speed, folded, on points crowded at the
+sink on several scales, :func:`._sink.absorbing_limit` with ``adaptive``).  Compared
 (tests/test_fokker_planck_escape.py, docs/noise.rst) with simulated first passages,
 Kramers' spatial-diffusion rate, the Mel'nikov-Meshkov rate and the energy-diffusion MFPT
 of the averaged energy.
@@ -366,8 +368,8 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         out = pair_escape(split, sigma, gamma, wells, sink, points, hermite_ladder,
                           start=start, n_cheb=max(int(n_cheb), by_layer), tol=tol,
                           max_hermite=max_hermite, max_cheb=max_cheb, max_cost=max_cost)
-    # the sink ladders where the two sinks disagree; nonlinear damping (unfolded orthonormal
-    # solves) on the sizes of its own ladder, not the pair's SINK_HERMITE x SINK_INTERVALS
+    # the sink ladders where the two sinks disagree (._sink; nonlinear damping on the sizes
+    # of its own ladder)
     sink_tol = SINK_TOL if sink_tol is None else float(sink_tol)
     if out["sink_error"] > sink_tol * abs(out["rate"]):
 
@@ -378,12 +380,12 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
             centres, kap, w = sink_rung(wells, kappa0, width, j, offset)
             grading = sink_grading(j) if adaptive else ((2.5, WEIGHT),)
 
+            widths = tuple(f * w for f, _ in grading for _ in (0, 1))
+            weights = tuple(q for _, q in grading for _ in (0, 1))
+
             def pts(m):
                 return cheb_centred(m, half, ALPHA, (xl, xr) + centres * len(grading),
-                                    (-xl / 2, xr / 2) + tuple(f * w for f, _ in grading
-                                                             for _ in (0, 1)),
-                                    (crowd, crowd) + tuple(q for _, q in grading
-                                                           for _ in (0, 1)))
+                                    (-xl / 2, xr / 2) + widths, (crowd, crowd) + weights)
 
             def snk(xs, sharp=1):
                 return _sink(xs, centres, kap, w)

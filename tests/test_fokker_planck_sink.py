@@ -9,9 +9,11 @@ References, none produced by the sink ladder under test:
   code are centred two widths past and (from the bottoms out to 1.6 widths) short of the
   critical offset: its top rung agrees with the rate within the stated errors and its own
   last step;
-* the rates at the top rungs solved again on 1.75 times the grid with sqrt 2 more Hermite
-  functions: the midpoint moves by less than the stated Chebyshev and truncation errors
-  together;
+* the rates at the top rungs solved again in orthonormal Hermite functions at another
+  velocity scale, sqrt 2 more of them, on 1.5 times the grid: the midpoint moves by less
+  than the stated Chebyshev and truncation errors together;
+* closed-form rungs (straight lines in the offset plus spectrally converging Hermite and
+  grid errors): the adaptive rungs state errors that bound the true ones (hypothesis);
 * the first sink's rate at low friction, where the sink does not matter (the ladder does
   not run there, so the rate is the one of the Hermite and Chebyshev ladders alone);
 * Smoluchowski's mean first-passage time to ``x = +-x_w`` (Gardiner, *Handbook of

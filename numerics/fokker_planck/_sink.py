@@ -330,11 +330,12 @@ def absorbing_limit(out: dict, rung, least: tuple = (SINK_HERMITE, SINK_INTERVAL
 
     ``rung(j, offset, nc, nh)``: the rate of rung ``j`` on ``nc`` intervals with ``nh``
     Hermite functions.  ``adaptive=False`` (Risken's pair, nonlinear damping): at least
-    ``least`` = (Hermite functions, intervals), the grid growing past :data:`FINE_RUNG`
+    ``least`` = (Hermite functions, intervals), the grid growing at :data:`GRID_STEPS`
     (:func:`rung_intervals`), the grid's change on 1.5 times the top rung's intervals and
     the truncation's with ``sqrt 2`` fewer functions.  ``adaptive=True`` (orthonormal
-    functions at :data:`SINK_SCALE`, folded): each rung from :data:`RUNG_HERMITE` functions
-    (never fewer than the rung below) grown by ``sqrt 2`` while the rate moves by more than
+    functions at :func:`sink_scale`, folded, on :data:`RUNG_INTERVALS` at least): each
+    rung from :data:`RUNG_HERMITE` functions (never fewer than the rung below) grown by
+    ``sqrt 2`` while the rate moves by more than
     :data:`HERMITE_TOL` from ``1/sqrt 2`` of them (the truncation error: the top rungs'
     midpoint's change), and the grid's error :data:`GRID_FACTOR` times the midpoint's
     change on :data:`GRID_CHECK` times the top rung's intervals at :data:`GRID_HERMITE`

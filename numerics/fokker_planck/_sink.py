@@ -44,15 +44,23 @@ falling one ``RAMP j`` (h-sink2's rule), but from rung :data:`CAP` no further ou
 falling ladder rose at rung 6: 4.0e-5 and 5.3e-5 of the rate stated; capped, both ladders
 are monotone, 7.9e-6 and 1.1e-5).
 :func:`sink_bracket` climbs both ladders until the half-gap is within :data:`BRACKET_TOL`
-of the rate (or :data:`MAX_RUNGS`; past :data:`FINE_RUNG` the grid grows with the rung,
+of the rate (or :data:`MAX_RUNGS`; the grid grows at the rungs of :data:`GRID_STEPS`,
 :func:`rung_intervals`): the rate is their midpoint and the stated ``sink_error`` half their
 gap, a bracket of the limit while the lower ladder rises and the upper falls (checked at
 every rung; where it fails the error is the whole gap plus the last steps).  No value is
-extrapolated: the predicted ``o*`` only places the sinks.  CDC Delta = 3, kT = 0.35 (relative
-half-gaps; h-sink2 in brackets): mu = 1 2.6e-7 at the eighth rung (2.8e-7), mu = 2 6.1e-7
-(9.0e-7), mu = 5 3.4e-6 (4.3e-6), mu = 10 5.2e-6 (no bracket: 2.6e-5 stated), mu = 20
-7.9e-6 and mu = 50 1.1e-5 (h-sink3: no bracket, 4.0e-5 and 5.3e-5 stated), each at the
-tenth rung; docs/noise.rst.
+extrapolated: the predicted ``o*`` only places the sinks (its error, measured against the
+limit at rungs 5-9, is -0.22 to +0.27 widths over mu = 2-50, as large as the margins, so
+closer ladders would not stay on their sides).  Linear damping in an even potential
+(h-sink5, ``adaptive``): the rungs in orthonormal Hermite functions at a fraction of the
+thermal speed (:data:`SINK_SCALE`, :func:`sink_scale`; Risken's pair at ``sqrt(kT)`` was
+1e-6 off at rung 9 with 256 functions), each rung's truncation grown until
+``1/sqrt 2`` of it moves the rate by :data:`HERMITE_TOL` at most, on points crowded at
+the sink on four-fold scales (:func:`sink_grading`), and from rung 9 the ladders stop at
+:data:`LOOSE_TOL`.  CDC Delta = 3, kT = 0.35 (relative: half-gap + grid + truncation, top
+rung; h-sink4's in brackets): mu = 1 2.7e-7 + 1.3e-10 + 2.7e-8, rung 8 (4.2e-7, rung 8);
+mu = 2 7.5e-7 + 2e-10 + 8e-9, rung 9 (1.9e-6, rung 9); mu = 5 8.7e-7 + 7.2e-8 + 6e-9,
+rung 11 (5.2e-6); mu = 10 6.7e-7 + 9e-9 + 4.9e-8, rung 12 (6e-6); mu = 20 7.6e-7 + 4e-9 +
+1.3e-8 (8e-6) and mu = 50 7.8e-7 + 1.3e-9 + 4e-10 (1.1e-5), rung 12; docs/noise.rst.
 """
 
 from __future__ import annotations
@@ -61,11 +69,13 @@ import math
 
 import numpy as np
 
-__all__ = ["SINK_TOL", "BRACKET_TOL", "OFFSET", "UPPER", "RAMP", "CAP", "TRACK", "MARGIN",
-           "DRIFT", "WEIGHT", "MAX_RUNGS", "SINK_INTERVALS", "SINK_HERMITE", "FINE_RUNG",
-           "GRID_GROWTH",
-           "tanh_sink", "sink_rung", "falling_offset", "step_zero", "ladder_offsets",
-           "rung_intervals", "bracket_error", "sink_bracket", "absorbing_limit"]
+__all__ = ["SINK_TOL", "BRACKET_TOL", "LOOSE_TOL", "OFFSET", "UPPER", "RAMP", "CAP", "TRACK",
+           "MARGIN", "DRIFT", "WEIGHT", "MAX_RUNGS", "SINK_INTERVALS", "SINK_HERMITE",
+           "SINK_SCALE", "LOW_SCALE", "RUNG_HERMITE", "MAX_HERMITE", "GRID_HERMITE",
+           "HERMITE_TOL", "GRID_STEPS", "RUNG_INTERVALS", "GRID_CHECK", "GRID_FACTOR",
+           "tanh_sink", "sink_scale", "sink_grading", "sink_rung", "falling_offset",
+           "step_zero", "ladder_offsets", "rung_intervals", "bracket_error", "sink_bracket",
+           "absorbing_limit"]
 
 #: the relative change between the two sinks above which the ladders run (and the default
 #: target of :func:`sink_bracket`)
@@ -74,6 +84,10 @@ SINK_TOL = 1e-7
 #: mu = 0.5 stops at the third rung with 2.9e-7, mu = 1 at the eighth with 2.6e-7; at 1e-7
 #: mu = 1 climbs to the tenth rung, whose grid error is 1.5e-8 of the rate)
 BRACKET_TOL = 5e-7
+#: from the rung of the second grid step (:data:`GRID_STEPS`, rung 9; each rung then costs
+#: about 2.5 times the last) the ladders of linear damping in an even potential stop at this
+#: half-width (``adaptive``; with the top rungs' Hermite and grid errors, 1e-6 at most)
+LOOSE_TOL = 9e-7
 #: the rising ladder's centre past the next wells' bottoms (in widths, beyond ``j ln2/2``)
 #: at the rungs before :data:`TRACK`, and its least centre after
 OFFSET = 2.0
@@ -98,7 +112,7 @@ UPPER = 1.6
 #: the share of the points crowded at each sink's centre (:func:`._bases.cheb_centred`)
 WEIGHT = 0.15
 #: the rungs of each ladder at most (the width falls to ``w/2^(MAX_RUNGS - 1)``)
-MAX_RUNGS = 10
+MAX_RUNGS = 15
 
 
 def sink_rung(wells, kappa0: float, width: float, j: int, offset: float = OFFSET) -> tuple:
@@ -166,11 +180,12 @@ def bracket_error(low, high) -> float:
 
 
 def sink_bracket(solve, *, tol: float = SINK_TOL, max_rungs: int = MAX_RUNGS,
-                 offsets=ladder_offsets) -> dict:
+                 offsets=ladder_offsets, loose: tuple | None = None) -> dict:
     """The rate of the perfectly absorbing sink between the rising ladder and the falling
     one (``solve(j, offset)``: the rate with the sinks of :func:`sink_rung`; the offsets of
     each rung ``offsets(history)``, :func:`ladder_offsets`), climbed until the half-gap is
-    within ``tol`` of the rate.
+    within ``tol`` of the rate (or, with ``loose = (tol2, j2)``, within ``tol2`` from rung
+    ``j2`` on).
 
     Returns
     -------
@@ -186,7 +201,10 @@ def sink_bracket(solve, *, tol: float = SINK_TOL, max_rungs: int = MAX_RUNGS,
         high.append(solve(j, o_high))
         history.append((o_low, o_high, low[-1], high[-1]))
         err = bracket_error(low, high)
-        if j >= 1 and err <= tol * abs(low[-1] + high[-1]) / 2:
+        rate = abs(low[-1] + high[-1]) / 2
+        if j >= 1 and err <= tol * rate:
+            break
+        if loose is not None and j >= loose[1] and err <= loose[0] * rate:
             break
     return dict(rate=(low[-1] + high[-1]) / 2, sink_error=err, rungs=tuple(low),
                 upper=tuple(high), offsets=tuple(h[:2] for h in history))
@@ -207,59 +225,172 @@ def tanh_sink(xs, wells, kappa0: float, width: float) -> np.ndarray:
 
 
 #: the position intervals and Hermite functions of the sink ladder at least
-#: (:func:`absorbing_limit`).  CDC Delta = 3, kT = 0.35, mu = 1: the rate of the seventh rung
-#: moves by 1.2e-9 from 200 to 280 intervals and by 1e-13 from 280 to 400; the sharper
-#: sinks need more Hermite functions (the absorbing wall's layer at small speeds): at the
-#: sixth rung the rate moves by 1.5e-8 from 90 to 128 functions, by 5.7e-9 from 128 to 180
-#: and by 1.8e-9 from 180 to 256 (mu = 5: 1.5e-8, 1.7e-9, 1e-10)
+#: (:func:`absorbing_limit`) in Risken's pair (linear damping in a potential that is not
+#: even).  CDC Delta = 3, kT = 0.35, mu = 1: the rate of the seventh rung moves by 1.2e-9
+#: from 200 to 280 intervals and by 1e-13 from 280 to 400; the sharper sinks need more
+#: Hermite functions (the absorbing wall's layer at small speeds): at the sixth rung the
+#: rate moves by 1.5e-8 from 90 to 128 functions, by 5.7e-9 from 128 to 180 and by 1.8e-9
+#: from 180 to 256 (mu = 5: 1.5e-8, 1.7e-9, 1e-10); at the tenth (mu = 5) 256 functions
+#: were still 1e-6 of the rate off
 SINK_INTERVALS, SINK_HERMITE = 280, 256
-#: past rung ``FINE_RUNG`` the intervals grow by ``GRID_GROWTH`` per rung (the crowded points
-#: follow the width, but the sharper sinks need more of them).  CDC kT = 0.35, offset 1.5-1.6
-#: (rungs counted from 0): mu = 5, rung 8 on 280 and 392 intervals 3.7e-8 apart (1.2e-6 of
-#: the rate), 392 and 560 2.3e-9; rung 9 392 and 560 2.7e-8, 560 and 784 2.2e-9; mu = 10,
-#: rung 8 280 and 392 3.5e-8, 392 and 560 2e-9; rung 9 560 and 784 2e-9; rung 10 784 and
-#: 1100 8e-10 (growth from rung 8 left grid errors of 1e-6 of the rate in the ladders'
-#: steps, which the critical offset's measure (:func:`step_zero`) cannot afford)
-FINE_RUNG, GRID_GROWTH = 7, 1.4
+#: linear damping in an even potential (:func:`absorbing_limit` with ``adaptive``): the
+#: rungs in orthonormal Hermite functions of ``v/s`` at ``s = SINK_SCALE sqrt(kT)``
+#: (:mod:`._folded`), half the thermal speed: the sharper sinks leave a layer at small
+#: speeds (the absorbing wall's: the density of the particles coming back is nil at the
+#: wall) whose width falls with the sink's, and functions at half the scale resolve twice
+#: as fine while still reaching the Maxwellian's tail (it takes about 90 of them, the
+#: ratio 0.6 per two orders).  CDC Delta = 3, kT = 0.35, mu = 5, rung 9 on 548
+#: intervals: 182 functions give the rate to 3e-9 and 256 to 4e-10 (the pair at
+#: ``sqrt(kT)``: 1e-6 off at 256, 2.9e-7 at 362); a third of the scale does not reach the
+#: tail (4e-3 off at 128)
+SINK_SCALE = 0.5
+#: below the rung ``GRID_STEPS[1][0]`` (9) the rungs' scale is ``LOW_SCALE sqrt(kT)``: their
+#: layer is wide, and at half the thermal speed the Maxwellian's own expansion needed 128
+#: functions at mu = 10 (the rate moved by 1.6e-7 from 90 to 128 at the first rung; at
+#: 0.6 sqrt(kT) 2e-12), where at rung 12 0.6 was 1.3e-6 off at 128 and 0.5 2e-7
+LOW_SCALE = 0.6
+
+#: the least Hermite functions of a rung (``adaptive``) below rung 9 (at :data:`LOW_SCALE`:
+#: 90 give the rate to 2e-12 of 128 at the first rung, mu = 10) and from rung 9 (at
+#: :data:`SINK_SCALE`: 128 were 1.6e-7 off at mu = 10), and the most
+RUNG_HERMITE, MAX_HERMITE = (90, 182), 724
+#: the Hermite functions of the top rungs' grid check (``adaptive``)
+GRID_HERMITE = 128
+#: a rung's truncation grows by ``sqrt 2`` while its rate moves by more than this (relative)
+#: from ``1/sqrt 2`` of its functions (the smaller truncation costs no factorisation: the
+#: elimination runs upward, :class:`._folded.FoldedLU`)
+HERMITE_TOL = 5e-8
+#: ``(rung, factor)``: from each of these rungs on the intervals are ``factor`` times the
+#: first rung's (:func:`rung_intervals`; for linear damping the points crowd at the sink on
+#: the scales of :func:`sink_grading`).  CDC kT = 0.35, orthonormal functions at
+#: :data:`SINK_SCALE` (relative changes of the rate): rung 6 on 200 intervals 1.8e-9 from
+#: 280 (mu = 5; 160 intervals 4.6e-8 at mu = 10), rung 7 4e-9 (mu = 50); mu = 5, rung 9 on
+#: 280 9e-8 from 392 and 548; rung 10 280 5e-7, 392 1.2e-9 from 548; rung 12 392 2.3e-7
+#: from 548; mu = 50, rung 11 280 5.4e-7, 392 4e-9 from 548; rung 12 392 2.3e-8; rung 13
+#: 392 2.3e-7, 548 1.3e-9 from 768.  (Crowded at one scale, ``2.5 w_j``, rung 9 at mu = 5
+#: needed 548 intervals for 6e-8.)
+GRID_STEPS = ((7, 1.4), (9, 1.96), (12, 2.35), (14, 2.74))
+#: the least intervals of the rungs of linear damping in an even potential (``adaptive``)
+RUNG_INTERVALS = 200
+#: the top rungs' grid check (``adaptive``): both solved on ``GRID_CHECK`` times the
+#: intervals with :data:`GRID_HERMITE` functions, against the same functions on the rung's
+#: grid (whose factors the rung's solve left); the stated error is ``GRID_FACTOR`` times the
+#: change, the error of the coarser grid where the finer one's is at most a third of it
+#: (measured: about 50 times smaller per 1.25 times the intervals, CDC mu = 5, rung 10)
+GRID_CHECK, GRID_FACTOR = 1.25, 1.5
+
+
+def sink_scale(j: int) -> float:
+    """The velocity scale of rung ``j``'s orthonormal functions, in units of ``sqrt(kT)``:
+    :data:`LOW_SCALE` below rung 9, then :data:`SINK_SCALE`."""
+    return LOW_SCALE if j < GRID_STEPS[1][0] else SINK_SCALE
+
+
+def sink_grading(j: int) -> tuple:
+    """``((width, weight), ...)``: the scales (in units of rung ``j``'s width ``w_j``) and
+    shares of the points crowded at each sink's centre (:func:`._bases.cheb_centred`) for
+    linear damping: ``2.5 w_j 4^i`` with the weights 0.25, 0.2, 0.15 and 0.1 after, while
+    ``4^i`` stays within ``2^j/8`` (the widths up to about a third of the first sink's).
+    Between the sink's width and the Milne layer's ``sqrt(kT)/gamma`` the density near an
+    absorbing wall has structure on every scale: crowded on one scale (``2.5 w_j``, weight
+    0.15, :data:`WEIGHT`), CDC mu = 5 at rung 9 on 392 intervals was 8.2e-7 of the rate
+    off, on the four scales of this rule 1e-10 (rung 11: 4.7e-9; mu = 50, rung 12, five
+    scales: 2.3e-8; relative to 548 or 768 intervals)."""
+    out, i = [], 0
+    while i == 0 or 4 ** i <= 2 ** j / 8:
+        out.append((2.5 * 4 ** i, max(0.1, 0.25 - 0.05 * i)))
+        i += 1
+    return tuple(out)
 
 
 def rung_intervals(n_cheb: int, j: int) -> int:
-    """The position intervals of rung ``j`` (even): ``n_cheb`` up to :data:`FINE_RUNG`, then
-    :data:`GRID_GROWTH` times more per rung."""
-    return 2 * int(round(n_cheb * GRID_GROWTH ** max(0, j - FINE_RUNG) / 2))
+    """The position intervals of rung ``j`` (even): ``n_cheb`` times the factor of the last
+    of :data:`GRID_STEPS` at or below ``j``."""
+    factor = max([f for k, f in GRID_STEPS if j >= k], default=1.0)
+    return 2 * int(round(n_cheb * factor / 2))
 
 
-def absorbing_limit(out: dict, rung, least: tuple = (SINK_HERMITE, SINK_INTERVALS)) -> dict:
+def _up(n: int) -> int:
+    return 2 * int(round(n * math.sqrt(2) / 2))
+
+
+def _down(n: int) -> int:
+    return 2 * int(round(n / math.sqrt(2) / 2))
+
+
+def absorbing_limit(out: dict, rung, least: tuple = (SINK_HERMITE, SINK_INTERVALS),
+                    adaptive: bool = False) -> dict:
     """``out`` with the rate of the perfectly absorbing sink between the rising and the
-    falling sink ladders (:func:`sink_bracket` to :data:`BRACKET_TOL`) at the ladders' Hermite
-    truncation and grid (at least :data:`SINK_HERMITE` and :data:`SINK_INTERVALS`, the grid
-    growing past :data:`FINE_RUNG`, :func:`rung_intervals`), and its errors:
+    falling sink ladders (:func:`sink_bracket` to :data:`BRACKET_TOL`) and its errors:
     ``sink_error`` the bracket's half-width, ``chebyshev_error`` and ``truncation_error``
     the larger of the first sink's and the midpoint's change when both top rungs are solved
-    on 1.5 times the top rung's intervals, or with the Hermite truncation below (``sqrt 2``
-    fewer); ``hermite`` and ``chebyshev`` the top rungs' sizes; ``sink_ladder`` the rising
-    ladder's rates, then the falling one's, and ``sink_offsets`` each rung's offsets.
-    ``least``: the Hermite functions and intervals at least (linear damping; nonlinear
-    damping's unfolded orthonormal solves keep the sizes of its own ladder)."""
-    nh = max(int(out["hermite"]), int(least[0]))
-    nc = max(int(out["chebyshev"]) - 1, int(least[1]))
-    lim = sink_bracket(lambda j, offset: rung(j, offset, rung_intervals(nc, j), nh),
-                       tol=BRACKET_TOL)
+    on a finer grid or with fewer Hermite functions; ``hermite`` and ``chebyshev`` the top
+    rungs' sizes; ``sink_ladder`` the rising ladder's rates, then the falling one's, and
+    ``sink_offsets`` each rung's offsets.
+
+    ``rung(j, offset, nc, nh)``: the rate of rung ``j`` on ``nc`` intervals with ``nh``
+    Hermite functions.  ``adaptive=False`` (Risken's pair, nonlinear damping): at least
+    ``least`` = (Hermite functions, intervals), the grid growing at :data:`GRID_STEPS`
+    (:func:`rung_intervals`), the grid's change on 1.5 times the top rung's intervals and
+    the truncation's with ``sqrt 2`` fewer functions.  ``adaptive=True`` (orthonormal
+    functions at :func:`sink_scale`, folded, on :data:`RUNG_INTERVALS` at least): each
+    rung from :data:`RUNG_HERMITE` functions (never fewer than the rung below) grown by
+    ``sqrt 2`` while the rate moves by more than
+    :data:`HERMITE_TOL` from ``1/sqrt 2`` of them (the truncation error: the top rungs'
+    midpoint's change), and the grid's error :data:`GRID_FACTOR` times the midpoint's
+    change on :data:`GRID_CHECK` times the top rung's intervals at :data:`GRID_HERMITE`
+    functions."""
+    if not adaptive:
+        nh = max(int(out["hermite"]), int(least[0]))
+        nc = max(int(out["chebyshev"]) - 1, int(least[1]))
+    else:  # the rungs' own points, crowded at the sink (the first sink's grid is not theirs)
+        nh, nc = RUNG_HERMITE[0], RUNG_INTERVALS
+    size = {"nh": nh}
+    low_rates: dict = {}
+
+    def solve(j, offset):
+        n_c = rung_intervals(nc, j)
+        if not adaptive:
+            return rung(j, offset, n_c, nh)
+        size["nh"] = max(size["nh"], RUNG_HERMITE[j >= GRID_STEPS[1][0]])
+        while True:
+            n = size["nh"]
+            r, r_low = rung(j, offset, n_c, n), rung(j, offset, n_c, _down(n))
+            if abs(r - r_low) <= HERMITE_TOL * abs(r) or _up(n) > MAX_HERMITE:
+                low_rates[j, offset] = (n, r, r_low)
+                return r
+            size["nh"] = _up(n)
+
+    lim = sink_bracket(solve, tol=BRACKET_TOL,
+                       loose=(LOOSE_TOL, GRID_STEPS[1][0]) if adaptive else None)
     low, high = lim["rungs"], lim["upper"]
     top = len(low) - 1
     nt = rung_intervals(nc, top)
-
     o_low, o_high = lim["offsets"][top]
+    nh = size["nh"]
 
-    def moved(n_c, n_h):  # the midpoint's change with both top rungs on another grid
-        lo, hi = rung(top, o_low, n_c, n_h), rung(top, o_high, n_c, n_h)
-        return abs((lo + hi) / 2 - lim["rate"])
+    if not adaptive:
+        def moved(n_c, n_h):  # the midpoint's change with both top rungs on another grid
+            lo, hi = rung(top, o_low, n_c, n_h), rung(top, o_high, n_c, n_h)
+            return abs((lo + hi) / 2 - lim["rate"])
 
-    cheb = moved(2 * int(round(1.5 * nt / 2)), nh)
-    trunc = moved(nt, 2 * int(round(nh / math.sqrt(2) / 2)))
+        cheb = moved(2 * int(round(1.5 * nt / 2)), nh)
+        trunc = moved(nt, _down(nh))
+    else:
+        if low_rates[top, o_low][0] != nh:  # the rising rung before the truncation grew
+            lo = rung(top, o_low, nt, nh)
+            low = low[:-1] + (lo,)
+            lim = dict(lim, rungs=low, rate=(lo + high[-1]) / 2,
+                       sink_error=bracket_error(low, high))
+        nl = _down(nh)
+        lo_l, hi_l = rung(top, o_low, nt, nl), rung(top, o_high, nt, nl)
+        trunc = abs((lo_l + hi_l) / 2 - lim["rate"])
+        n_fine, nb = 2 * int(round(GRID_CHECK * nt / 2)), GRID_HERMITE
+        here = (rung(top, o_low, nt, nb) + rung(top, o_high, nt, nb)) / 2  # factors kept
+        fine = (rung(top, o_low, n_fine, nb) + rung(top, o_high, n_fine, nb)) / 2
+        cheb = GRID_FACTOR * abs(fine - here)
     return {**out, "rate": lim["rate"], "sink_error": lim["sink_error"],
             "chebyshev_error": max(out["chebyshev_error"], cheb),
             "truncation_error": max(out["truncation_error"], trunc),
             "sink_ladder": low + high, "sink_offsets": lim["offsets"], "hermite": nh,
             "chebyshev": nt + 1}
-

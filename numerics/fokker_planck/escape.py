@@ -46,7 +46,9 @@ the rate depends on where the absorption happens), the rate of first passages to
 +-x_w`` lies between two ladders of sharpening sinks, one rising and one falling
 (:mod:`._sink`): the rate is the midpoint of their top rungs and ``sink_error`` half
 their gap, and the other two errors include the midpoint's changes on a finer grid and
-one Hermite truncation lower.  Compared
+one Hermite truncation lower (linear damping in an even potential: the rungs in
+orthonormal functions at a fraction of the thermal speed, folded, on points crowded at the
+sink on several scales, :func:`._sink.absorbing_limit` with ``adaptive``).  Compared
 (tests/test_fokker_planck_escape.py, docs/noise.rst) with simulated first passages,
 Kramers' spatial-diffusion rate, the Mel'nikov-Meshkov rate and the energy-diffusion MFPT
 of the averaged energy.
@@ -72,7 +74,7 @@ from ._parity import symmetric
 from ._rungs import FractionRungs, pair_escape
 from ._model import next_wells
 from ._sink import (SINK_HERMITE, SINK_INTERVALS, SINK_TOL, WEIGHT, absorbing_limit,
-                    sink_rung, tanh_sink as _sink)
+                    sink_grading, sink_rung, sink_scale, tanh_sink as _sink)
 from .kramers import _linear_temperature, kramers_operator, kramers_terms, velocity_terms
 
 __all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder",
@@ -366,27 +368,38 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         out = pair_escape(split, sigma, gamma, wells, sink, points, hermite_ladder,
                           start=start, n_cheb=max(int(n_cheb), by_layer), tol=tol,
                           max_hermite=max_hermite, max_cheb=max_cheb, max_cost=max_cost)
-    # the sink ladders where the two sinks disagree; nonlinear damping (unfolded orthonormal
-    # solves) on the sizes of its own ladder, not the pair's SINK_HERMITE x SINK_INTERVALS
+    # the sink ladders where the two sinks disagree (._sink; nonlinear damping on the sizes
+    # of its own ladder)
     sink_tol = SINK_TOL if sink_tol is None else float(sink_tol)
     if out["sink_error"] > sink_tol * abs(out["rate"]):
 
+        adaptive = linear and fold  # orthonormal functions at SINK_SCALE sqrt(kT) (._sink)
+        solvers: dict = {}  # the factors of the current rung's two sinks (and grids)
+
         def rung(j, offset, nc, nh):  # the rate with the sink of rung j (._sink)
             centres, kap, w = sink_rung(wells, kappa0, width, j, offset)
+            grading = sink_grading(j) if adaptive else ((2.5, WEIGHT),)
+
+            widths = tuple(f * w for f, _ in grading for _ in (0, 1))
+            weights = tuple(q for _, q in grading for _ in (0, 1))
 
             def pts(m):
-                return cheb_centred(m, half, ALPHA, (xl, xr) + centres,
-                                    (-xl / 2, xr / 2, 2.5 * w, 2.5 * w),
-                                    (crowd, crowd, WEIGHT, WEIGHT))
+                return cheb_centred(m, half, ALPHA, (xl, xr) + centres * len(grading),
+                                    (-xl / 2, xr / 2) + widths, (crowd, crowd) + weights)
 
             def snk(xs, sharp=1):
                 return _sink(xs, centres, kap, w)
 
+            if adaptive:  # one factorisation per sink and grid, extended up the truncations
+                for key in [k for k in solvers if k[0] != j or k[2] != nc]:
+                    del solvers[key]  # the factors of another rung or grid freed first
+                solver = solvers.setdefault((j, offset, nc), FoldedRungs(4 * nh))
+                return solver(split, D, sink_scale(j) * math.sqrt(kT), pts, nh, nc, snk)
             if basis == "pair":
                 return FractionRungs(split, sigma, gamma, centres, snk, pts).rate(nh, nc)
             solver = FoldedRungs(nh) if fold else orthonormal_slowest
             return solver(split, D, out["velocity_scale"], pts, nh, nc, snk)
 
         out = absorbing_limit(out, rung, least=(SINK_HERMITE, SINK_INTERVALS) if linear
-                              else (0, 0))
+                              else (0, 0), adaptive=adaptive)
     return KramersEscape(saddles=(xl, xr), wells=wells, **out)

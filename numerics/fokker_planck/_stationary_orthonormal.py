@@ -172,6 +172,10 @@ GRID_BOUND = 0.1
 #: mu = 0.03, D = 0.015 on 266 intervals: <x^2> moved by 2.9e-6 from 128 to 182 functions,
 #: by 2.9e-5 to 256, by 2e-3 to 362, and 512 lost the solution)
 HERMITE_COST = 2.5e7
+#: the budget of step 7 (the Hermite rung up when the check of step 6 exceeds six digits),
+#: in units of ``max_cost``: with kbm noise's 2.5e7 the SEDF at mu = 0.01, D = 0.005 climbs
+#: to 258 functions on 1040 intervals (folded cost 6.8e7)
+CLIMB_COST = 2.8
 #: the floor of the stated change: the rounding of the moments of one solve (vdp mu = 0.03,
 #: D = 0.015: 90 x 120 and 136 x 180 differ by 1.2e-11 where the ladders moved by 9e-12)
 ROUNDING = 1e-10
@@ -267,8 +271,20 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     if n_hermite is None and cost(2 * nh, _finer(nc) if n_cheb is None else nc) <= max_cost:
         nh *= 2  # the same rungs from 64 on (at 32 and 46 the SEDF and vdp cases never stop)
 
-    def solve(n, m):
-        return orthonormal_stationary(split, D, float(sigma), half, n, m, G, omega0, **points)
+    memo = {}
+
+    def solve(n, m, well=False):
+        """One solve (each once: step 6's check may come inside the grid ladder)."""
+        if well and "well" not in memo:
+            memo["well"] = stationary_points(split, D, G, half, v2, sigma, well=True)[1]
+        if (n, m, well) not in memo:
+            at = memo["well"] if well else points
+            memo[n, m, well] = orthonormal_stationary(split, D, float(sigma), half, n, m, G,
+                                                      omega0, **at)
+        return memo[n, m, well]
+
+    def solve_well(n, m):  # step 7's points
+        return solve(n, m, True)
 
     def moved(a, b):
         return max(abs(b.x2 - a.x2) / abs(b.x2), abs(b.v2 - a.v2) / abs(b.v2))
@@ -303,6 +319,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
         lower = None  # the previous rung on the last points, once solved
         rungs = {}  # the coarser grids' solutions at the last number of functions
         plan = []
+        climbed = None  # step 7's result
         if folds:  # 1.25 steps down from the largest grid within the budget (step 5)
             top = 2 * int(math.sqrt(max_cost / nh))  # cost(nh, top) <= max_cost
             while top >= 1.25 * nc:  # every step a whole one
@@ -320,6 +337,14 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
                         change, sol, nh, rungs = hc, lower, prev, {}
                         continue
                 break
+            up = 2 * int(round(nh * math.sqrt(2) / 2))
+            if n_hermite is None and folds and cost(up, nc) <= max_cost < cost(up, finer):
+                # step 6's check comes on this grid: climbing now saves the finer grids
+                hc = moved(sol, solve(up, nc))
+                climbed = _climb(solve, solve_well, moved, cost, [(sol, solve(up, nc))], up,
+                                 nc, hc, nc, CLIMB_COST * max_cost)
+                if climbed is not None:
+                    break
             new = solve(nh, finer)
             rungs[nc] = sol
             cheb_change, sol, nc = moved(sol, new), new, finer
@@ -328,11 +353,17 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
         pairs = [(rungs[max(rungs)], sol)] if rungs else []  # the last grid step
         up = 2 * int(round(nh * math.sqrt(2) / 2))
         fits = [k for k in rungs if cost(up, k) <= max_cost]
-        if n_hermite is None and folds and fits:
+        if climbed is not None:
+            sol, change, cheb_change, pairs = climbed
+        elif n_hermite is None and folds and fits:
             # the next rung up on the finest grid of the ladder that affords it (step 6)
             k = max(fits)
             pairs.append((rungs[k], solve(up, k)))
             change = moved(*pairs[-1])
+            climbed = _climb(solve, solve_well, moved, cost, pairs, up, k, change, nc,
+                             CLIMB_COST * max_cost)
+            if climbed is not None:
+                sol, change, cheb_change, pairs = climbed
         elif n_hermite is None and prev < nh:  # the Hermite change again on the last points
             same = lower is not None and lower.x.size == nc + 1
             pairs.append((lower if same else solve(prev, nc), sol))
@@ -340,6 +371,28 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     stated = max(change, cheb_change, ROUNDING) if n_hermite is None else math.nan
     return dataclasses.replace(sol, hermite_change=stated, chebyshev_change=cheb_change,
                                refinements=tuple(pairs) if n_hermite is None else ())
+
+
+def _climb(solve, solve_well, moved, cost, pairs, up: int, k: int, change: float, nc: int,
+           max_cost: float):
+    """Step 7 of :func:`stationary_orthonormal`: when the Hermite change of step 6
+    (``up`` functions against the last rung on ``k`` intervals, the last pair of
+    ``pairs``) exceeds :data:`SIX_DIGITS`, the rung ``up`` on the largest grid within
+    ``max_cost`` and the one 1.25 times coarser (both finer than the last grid ``nc``),
+    and the rung above ``up`` on ``k``.  Returns ``(solution, hermite change, chebyshev
+    change, pairs)``, or ``None`` when the Hermite change is within six digits or the
+    grids are not affordable."""
+    if not change > SIX_DIGITS:
+        return None
+    top = 2 * int(math.sqrt(max_cost / up))
+    below = 2 * int(top / 2.5)
+    up2 = 2 * int(round(up * math.sqrt(2) / 2))
+    if below <= nc or cost(up2, k) > max_cost:
+        return None
+    coarse, fine = solve_well(up, below), solve_well(up, top)
+    above = solve(up2, k)
+    pair = (pairs[-1][1], above)
+    return fine, moved(*pair), moved(coarse, fine), [(coarse, fine), pair]
 
 
 def _finer(nc: int) -> int:

@@ -298,6 +298,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
         """One solve (each once: step 6's check may come inside the grid ladder)."""
         if well and "well" not in memo:
             memo["well"] = stationary_points(split, D, G, half, v2, sigma, well=True)[1]
+        well = well and memo["well"] != points  # no saddles: the same points
         if (n, m, well) not in memo:
             at = memo["well"] if well else points
             memo[n, m, well] = orthonormal_stationary(split, D, float(sigma), half, n, m, G,

@@ -34,6 +34,7 @@ import numpy as np
 from ._hermite_functions import (hermite_function_values, hermite_integrals,
                                 orthonormal_band_masses)
 from ._solution import KramersSolution
+from ._stationary_climb import climb_grid, climb_rung, finer_intervals
 from ._stationary_points import ALPHA, stationary_points
 
 __all__ = ["OrthonormalKramersSolution", "orthonormal_stationary", "stationary_orthonormal"]
@@ -231,7 +232,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        changes and :data:`ROUNDING` (``chebyshev_change`` the second).  The pairs of
        solutions of those two changes are kept as its ``refinements`` (the same change of
        ``P(E)`` is its stated error, :mod:`._energy_density`).
-    7. The climb (folded, :func:`_climb`): when that Hermite change exceeds
+    7. The climb (folded, :mod:`._stationary_climb`): when that Hermite change exceeds
        :data:`SIX_DIGITS`, the functions were too few, not the grid.  The check is then
        made as soon as the grid ladder reaches its grid (the finer grids at ``N`` are not
        solved), and the rung ``N 2^(1/2)`` is solved on the largest grid within
@@ -244,13 +245,14 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        on 592: 1.3e-8), 1.3e-8 and 4e-9 in <x^2> and <v^2> from 362 x 1602, 26-32 s CPU
        (182 x 740 stated 9.6e-6 and was 7.1e-6 off).  The Hermite change of 256 against
        362 functions is 1e-8 to 6e-8 on every grid from 592 to 1282 intervals, so the
-       coarse grid of the check does not understate it.  (Without the well's points, 820 ->
-       1026 intervals at 256 functions moved <v^2> by 1.5e-6; at mu = 0.1 those points cost 448 -> 704
-       intervals for the same tol, so the first ladder keeps its points.)  When the
-       Hermite change is within six digits but the grid's is not, the same ``N`` on the
-       last grid and one 1.25 times finer, with the well's points (:func:`_finer_grid`;
-       mu = 0.015, D = 0.0075: 182 x 740 stated 2.5e-6, the grid's 592 against 740; now
-       182 x 926, stated 3.9e-7, the Hermite change, 1.4e-7 and 1.8e-7 in <x^2> and
+       coarse grid of the check does not understate it.  (Without the well's points,
+       820 -> 1026 intervals at 256 functions moved <v^2> by 1.5e-6; at mu = 0.1 those
+       points cost 448 -> 704 intervals for the same tol, so the first ladder keeps its
+       points.)  When the Hermite change is within six digits but the grid's is not, the
+       same ``N`` on the last grid and one 1.25 times finer, with the well's points
+       (:func:`._stationary_climb.climb_grid`; mu = 0.015, D = 0.0075: 182 x 740 stated
+       2.5e-6, the grid's 592 against 740; now 182 x 926, stated 3.9e-7, the Hermite
+       change, 1.4e-7 and 1.8e-7 in <x^2> and
        <v^2> from 258 x 1282, 18 s CPU).
 
     Each solve factorises order by order (:mod:`._pentadiagonal`) when the damping is
@@ -289,7 +291,8 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
         raise ModelError(f"the Kramers solve needs {nh} Hermite functions x {nc + 1} Chebyshev "
                          f"points (cost {cost(nh, nc):.3g} > {max_cost:.3g}): not affordable "
                          "here")
-    if n_hermite is None and cost(2 * nh, _finer(nc) if n_cheb is None else nc) <= max_cost:
+    if n_hermite is None and \
+            cost(2 * nh, finer_intervals(nc) if n_cheb is None else nc) <= max_cost:
         nh *= 2  # the same rungs from 64 on (at 32 and 46 the SEDF and vdp cases never stop)
 
     memo = {}
@@ -328,7 +331,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
             room = nc
             if n_cheb is None:
                 for _ in range(grids):
-                    room = _finer(room)
+                    room = finer_intervals(room)
             if n * room**2 > min(max_cost, HERMITE_COST):  # rungs the first grid resolves
                 break
             new = solve(n, nc)
@@ -348,7 +351,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
                 plan.insert(0, top)
                 top = 2 * int(top / 2.5)
         while True:
-            finer = plan.pop(0) if plan else _finer(nc)
+            finer = plan.pop(0) if plan else finer_intervals(nc)
             if cost(nh, finer) > max_cost:
                 if n_hermite is None and prev < nh and lower is None and not folds \
                         and cost(prev, finer) <= max_cost:
@@ -363,8 +366,10 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
             if n_hermite is None and folds and cost(up, nc) <= max_cost < cost(up, finer):
                 # step 6's check comes on this grid: climbing now saves the finer grids
                 hc = moved(sol, solve(up, nc))
-                climbed = _climb(solve, solve_well, moved, cost, [(sol, solve(up, nc))], up,
-                                 nc, hc, nc, CLIMB_COST * max_cost)
+                if hc > SIX_DIGITS:
+                    climbed = climb_rung(solve, solve_well, moved, cost,
+                                         [(sol, solve(up, nc))], up, nc, hc, nc,
+                                         CLIMB_COST * max_cost)
                 if climbed is not None:
                     break
             new = solve(nh, finer)
@@ -382,10 +387,11 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
             k = max(fits)
             pairs.append((rungs[k], solve(up, k)))
             change = moved(*pairs[-1])
-            climbed = _climb(solve, solve_well, moved, cost, pairs, up, k, change, nc,
-                             CLIMB_COST * max_cost)
+            if change > SIX_DIGITS:
+                climbed = climb_rung(solve, solve_well, moved, cost, pairs, up, k, change,
+                                     nc, CLIMB_COST * max_cost)
             if climbed is None and cheb_change > SIX_DIGITS and rungs:
-                climbed = _finer_grid(solve_well, moved, cost, pairs, nh, nc, change,
+                climbed = climb_grid(solve_well, moved, cost, pairs, nh, nc, change,
                                       CLIMB_COST * max_cost)
             if climbed is not None:
                 sol, change, cheb_change, pairs = climbed
@@ -396,44 +402,3 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     stated = max(change, cheb_change, ROUNDING) if n_hermite is None else math.nan
     return dataclasses.replace(sol, hermite_change=stated, chebyshev_change=cheb_change,
                                refinements=tuple(pairs) if n_hermite is None else ())
-
-
-def _climb(solve, solve_well, moved, cost, pairs, up: int, k: int, change: float, nc: int,
-           max_cost: float):
-    """Step 7 of :func:`stationary_orthonormal`: when the Hermite change of step 6
-    (``up`` functions against the last rung on ``k`` intervals, the last pair of
-    ``pairs``) exceeds :data:`SIX_DIGITS`, the rung ``up`` on the largest grid within
-    ``max_cost`` and the one 1.25 times coarser (both finer than the last grid ``nc``),
-    and the rung above ``up`` on ``k``.  Returns ``(solution, hermite change, chebyshev
-    change, pairs)``, or ``None`` when the Hermite change is within six digits or the
-    grids are not affordable."""
-    if not change > SIX_DIGITS:
-        return None
-    top = 2 * int(math.sqrt(max_cost / up))
-    below = 2 * int(top / 2.5)
-    up2 = 2 * int(round(up * math.sqrt(2) / 2))
-    if below <= nc or cost(up2, k) > max_cost:
-        return None
-    coarse, fine = solve_well(up, below), solve_well(up, top)
-    above = solve(up2, k)
-    pair = (pairs[-1][1], above)
-    return fine, moved(*pair), moved(coarse, fine), [(coarse, fine), pair]
-
-
-def _finer_grid(solve_well, moved, cost, pairs, n: int, nc: int, change: float,
-                max_cost: float):
-    """Step 7 of :func:`stationary_orthonormal` when the grid's change, not the Hermite
-    change of step 6 (``change``, the last pair of ``pairs``), exceeds :data:`SIX_DIGITS`:
-    the ``n`` functions on the last grid ``nc`` and on one 1.25 times finer, both with the
-    points at the deepest well.  Returns as :func:`_climb`, or ``None`` when the finer
-    grid costs more than ``max_cost``."""
-    finer = _finer(nc)
-    if cost(n, finer) > max_cost:
-        return None
-    coarse, fine = solve_well(n, nc), solve_well(n, finer)
-    return fine, change, moved(coarse, fine), [(coarse, fine), pairs[-1]]
-
-
-def _finer(nc: int) -> int:
-    """The Chebyshev ladder's next number of intervals: 1.25 times, even."""
-    return 2 * math.ceil(0.625 * nc)

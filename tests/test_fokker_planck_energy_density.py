@@ -138,8 +138,9 @@ def test_noise_json_reports_the_energy_density(capsys):
 
 def test_advice_when_six_digits_are_past_the_budget():
     """Above a stated 1e-6 (or unmeasured) the Fokker-Planck record says what to do: the
-    sizes about 1.4 times the solve's (SEDF mu = 0.01: 182 x 740 states 9.6e-6; 256 x 1026
-    is within 4e-7 of 256 x 1282 and 362 x 1026)."""
+    sizes about 1.4 times the solve's (the record of SEDF mu = 0.01 before the ladder's
+    climb: 182 x 740 stated 9.6e-6; 256 x 1026 is within 4e-7 of 256 x 1282 and
+    362 x 1026)."""
     from numerics.thermal._kramers_outputs import fp_advice
 
     rec = {"hermite_change": 9.6e-6, "hermite": 182, "chebyshev": 741}

@@ -12,7 +12,8 @@ linear damping at low friction, folded by parity and eliminated upward, and
 :mod:`._stationary_orthonormal` its stationary density in the same functions, factorised
 order by order by :mod:`._pentadiagonal` when the damping is linear in the velocity, on
 the points chosen by :mod:`._stationary_points` and folded by :mod:`._parity` when the
-model is symmetric under ``(x, v) -> (-x, -v)``; :mod:`._hermite_functions` holds those
+model is symmetric under ``(x, v) -> (-x, -v)``, its ladder's last step in
+:mod:`._stationary_climb`; :mod:`._hermite_functions` holds those
 functions' values and integrals, :mod:`._energy_density` the density of the energy ``P(E)``
 of a stationary solution with its stated error."""
 

@@ -105,21 +105,28 @@ def energy_density(sol, energies, rtol: float = 1e-8, nodes: int = 64, most: int
     if key in sol._cache:  # a coarse solution shared by two refinements is evaluated once
         P, miss = sol._cache[key]
         return (P.copy(), miss.copy()) if quadrature else P.copy()
-    coefs = sol._series()[:, ::2]  # the odd orders have b_n = 0
+    from ._blocks import one_blas_thread
+
+    # the odd orders have b_n = 0; contiguous, and one BLAS thread: the products are small
+    # (SEDF mu = 0.01, 1041 points, 129 even orders: 64 nodes took 20 ms a stretch, 4x the
+    # product's work with a strided array on two threads under load)
+    coefs = np.ascontiguousarray(sol._series()[:, ::2])
     out, err = [], []
-    for E in np.atleast_1d(np.asarray(energies, float)):
-        total = miss = 0.0
-        for a, b in sol.stretches(float(E)):
-            n, last = nodes, None
-            while True:
-                val = _stretch_density(sol, coefs, float(E), a, b, n)
-                if last is not None and (abs(val - last) <= rtol * abs(val) or n >= most):
-                    break
-                last, n = val, 2 * n
-            total += val
-            miss += abs(val - last)
-        out.append(total)
-        err.append(miss)
+    with one_blas_thread():
+        for E in np.atleast_1d(np.asarray(energies, float)):
+            total = miss = 0.0
+            for a, b in sol.stretches(float(E)):
+                n, last = nodes, None
+                while True:
+                    val = _stretch_density(sol, coefs, float(E), a, b, n)
+                    if last is not None and (abs(val - last) <= rtol * abs(val)
+                                             or n >= most):
+                        break
+                    last, n = val, 2 * n
+                total += val
+                miss += abs(val - last)
+            out.append(total)
+            err.append(miss)
     sol._cache[key] = (np.array(out), np.array(err))
     return (np.array(out), np.array(err)) if quadrature else np.array(out)
 

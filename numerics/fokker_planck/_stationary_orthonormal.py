@@ -34,6 +34,7 @@ import numpy as np
 from ._hermite_functions import (hermite_function_values, hermite_integrals,
                                 orthonormal_band_masses)
 from ._solution import KramersSolution
+from ._stationary_climb import climb_grid, climb_rung, finer_intervals
 from ._stationary_points import ALPHA, stationary_points
 
 __all__ = ["OrthonormalKramersSolution", "orthonormal_stationary", "stationary_orthonormal"]
@@ -172,6 +173,10 @@ GRID_BOUND = 0.1
 #: mu = 0.03, D = 0.015 on 266 intervals: <x^2> moved by 2.9e-6 from 128 to 182 functions,
 #: by 2.9e-5 to 256, by 2e-3 to 362, and 512 lost the solution)
 HERMITE_COST = 2.5e7
+#: the budget of step 7 (the Hermite rung up when the check of step 6 exceeds six digits),
+#: in units of ``max_cost``: with kbm noise's 2.5e7 the SEDF at mu = 0.01, D = 0.005 climbs
+#: to 258 functions on 1040 intervals (folded cost 6.8e7)
+CLIMB_COST = 2.8
 #: the floor of the stated change: the rounding of the moments of one solve (vdp mu = 0.03,
 #: D = 0.015: 90 x 120 and 136 x 180 differ by 1.2e-11 where the ladders moved by 9e-12)
 ROUNDING = 1e-10
@@ -227,6 +232,28 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        changes and :data:`ROUNDING` (``chebyshev_change`` the second).  The pairs of
        solutions of those two changes are kept as its ``refinements`` (the same change of
        ``P(E)`` is its stated error, :mod:`._energy_density`).
+    7. The climb (folded, :mod:`._stationary_climb`): when that Hermite change exceeds
+       :data:`SIX_DIGITS`, the functions were too few, not the grid.  The check is then
+       made as soon as the grid ladder reaches its grid (the finer grids at ``N`` are not
+       solved), and the rung ``N 2^(1/2)`` is solved on the largest grid within
+       :data:`CLIMB_COST` ``max_cost`` and the one 1.25 times coarser, with points at the
+       bottom of the deepest well too (:func:`._stationary_points.stationary_points` with
+       ``well``); the rung above it on the check's grid states the Hermite change.  SEDF
+       at rest, Delta = 3, D = 0.005 (mu = 0.01), kbm noise's budget: 182 functions
+       against 258 on 592 intervals moved <x^2> by 3.6e-6; the climb gives
+       258 x 1040, stated 2.9e-7 (the grid's 832 against 1040; 258 against 364 functions
+       on 592: 1.3e-8), 1.3e-8 and 4e-9 in <x^2> and <v^2> from 362 x 1602, 26-32 s CPU
+       (182 x 740 stated 9.6e-6 and was 7.1e-6 off).  The Hermite change of 256 against
+       362 functions is 1e-8 to 6e-8 on every grid from 592 to 1282 intervals, so the
+       coarse grid of the check does not understate it.  (Without the well's points,
+       820 -> 1026 intervals at 256 functions moved <v^2> by 1.5e-6; at mu = 0.1 those
+       points cost 448 -> 704 intervals for the same tol, so the first ladder keeps its
+       points.)  When the Hermite change is within six digits but the grid's is not, the
+       same ``N`` on the last grid and one 1.25 times finer, with the well's points
+       (:func:`._stationary_climb.climb_grid`; mu = 0.015, D = 0.0075: 182 x 740 stated
+       2.5e-6, the grid's 592 against 740; now 182 x 926, stated 3.9e-7, the Hermite
+       change, 1.4e-7 and 1.8e-7 in <x^2> and
+       <v^2> from 258 x 1282, 18 s CPU).
 
     Each solve factorises order by order (:mod:`._pentadiagonal`) when the damping is
     linear in the velocity, else by pairs of orders (:mod:`._blocks`).
@@ -264,11 +291,25 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
         raise ModelError(f"the Kramers solve needs {nh} Hermite functions x {nc + 1} Chebyshev "
                          f"points (cost {cost(nh, nc):.3g} > {max_cost:.3g}): not affordable "
                          "here")
-    if n_hermite is None and cost(2 * nh, _finer(nc) if n_cheb is None else nc) <= max_cost:
+    if n_hermite is None and \
+            cost(2 * nh, finer_intervals(nc) if n_cheb is None else nc) <= max_cost:
         nh *= 2  # the same rungs from 64 on (at 32 and 46 the SEDF and vdp cases never stop)
 
-    def solve(n, m):
-        return orthonormal_stationary(split, D, float(sigma), half, n, m, G, omega0, **points)
+    memo = {}
+
+    def solve(n, m, well=False):
+        """One solve (each once: step 6's check may come inside the grid ladder)."""
+        if well and "well" not in memo:
+            memo["well"] = stationary_points(split, D, G, half, v2, sigma, well=True)[1]
+        well = well and memo["well"] != points  # no saddles: the same points
+        if (n, m, well) not in memo:
+            at = memo["well"] if well else points
+            memo[n, m, well] = orthonormal_stationary(split, D, float(sigma), half, n, m, G,
+                                                      omega0, **at)
+        return memo[n, m, well]
+
+    def solve_well(n, m):  # step 7's points
+        return solve(n, m, True)
 
     def moved(a, b):
         return max(abs(b.x2 - a.x2) / abs(b.x2), abs(b.v2 - a.v2) / abs(b.v2))
@@ -290,7 +331,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
             room = nc
             if n_cheb is None:
                 for _ in range(grids):
-                    room = _finer(room)
+                    room = finer_intervals(room)
             if n * room**2 > min(max_cost, HERMITE_COST):  # rungs the first grid resolves
                 break
             new = solve(n, nc)
@@ -303,13 +344,14 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
         lower = None  # the previous rung on the last points, once solved
         rungs = {}  # the coarser grids' solutions at the last number of functions
         plan = []
+        climbed = None  # step 7's result
         if folds:  # 1.25 steps down from the largest grid within the budget (step 5)
             top = 2 * int(math.sqrt(max_cost / nh))  # cost(nh, top) <= max_cost
             while top >= 1.25 * nc:  # every step a whole one
                 plan.insert(0, top)
                 top = 2 * int(top / 2.5)
         while True:
-            finer = plan.pop(0) if plan else _finer(nc)
+            finer = plan.pop(0) if plan else finer_intervals(nc)
             if cost(nh, finer) > max_cost:
                 if n_hermite is None and prev < nh and lower is None and not folds \
                         and cost(prev, finer) <= max_cost:
@@ -320,6 +362,16 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
                         change, sol, nh, rungs = hc, lower, prev, {}
                         continue
                 break
+            up = 2 * int(round(nh * math.sqrt(2) / 2))
+            if n_hermite is None and folds and cost(up, nc) <= max_cost < cost(up, finer):
+                # step 6's check comes on this grid: climbing now saves the finer grids
+                hc = moved(sol, solve(up, nc))
+                if hc > SIX_DIGITS:
+                    climbed = climb_rung(solve, solve_well, moved, cost,
+                                         [(sol, solve(up, nc))], up, nc, hc, nc,
+                                         CLIMB_COST * max_cost)
+                if climbed is not None:
+                    break
             new = solve(nh, finer)
             rungs[nc] = sol
             cheb_change, sol, nc = moved(sol, new), new, finer
@@ -328,11 +380,21 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
         pairs = [(rungs[max(rungs)], sol)] if rungs else []  # the last grid step
         up = 2 * int(round(nh * math.sqrt(2) / 2))
         fits = [k for k in rungs if cost(up, k) <= max_cost]
-        if n_hermite is None and folds and fits:
+        if climbed is not None:
+            sol, change, cheb_change, pairs = climbed
+        elif n_hermite is None and folds and fits:
             # the next rung up on the finest grid of the ladder that affords it (step 6)
             k = max(fits)
             pairs.append((rungs[k], solve(up, k)))
             change = moved(*pairs[-1])
+            if change > SIX_DIGITS:
+                climbed = climb_rung(solve, solve_well, moved, cost, pairs, up, k, change,
+                                     nc, CLIMB_COST * max_cost)
+            if climbed is None and cheb_change > SIX_DIGITS and rungs:
+                climbed = climb_grid(solve_well, moved, cost, pairs, nh, nc, change,
+                                      CLIMB_COST * max_cost)
+            if climbed is not None:
+                sol, change, cheb_change, pairs = climbed
         elif n_hermite is None and prev < nh:  # the Hermite change again on the last points
             same = lower is not None and lower.x.size == nc + 1
             pairs.append((lower if same else solve(prev, nc), sol))
@@ -340,8 +402,3 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     stated = max(change, cheb_change, ROUNDING) if n_hermite is None else math.nan
     return dataclasses.replace(sol, hermite_change=stated, chebyshev_change=cheb_change,
                                refinements=tuple(pairs) if n_hermite is None else ())
-
-
-def _finer(nc: int) -> int:
-    """The Chebyshev ladder's next number of intervals: 1.25 times, even."""
-    return 2 * math.ceil(0.625 * nc)

@@ -149,7 +149,11 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         Largest ``n_hermite * n_cheb^2`` (the nonzeros of the operator, about; the sparse
         LU's work grows with it): beyond it the solve is refused with the sizes.  For a
         model symmetric under ``(x, v) -> (-x, -v)`` in orthonormal functions, solved on
-        ``x >= 0`` (:mod:`._parity`), ``n_hermite * (n_cheb/2)^2``.
+        ``x >= 0`` (:mod:`._parity`), ``n_hermite * (n_cheb/2)^2``; its ladder may climb
+        one Hermite rung more on grids of up to
+        :data:`._stationary_orthonormal.CLIMB_COST` times it when the functions, not the
+        grid, limit six digits (step 7 of
+        :func:`._stationary_orthonormal.stationary_orthonormal`).
     basis : {None, "orthonormal", "risken"}
         The velocity functions.  Default: Risken's pair (:mod:`._bases`) for linear
         damping, where ``sigma^2 = kT`` makes the Maxwellian one function; the orthonormal

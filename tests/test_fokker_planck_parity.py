@@ -23,7 +23,7 @@ from numerics.fokker_planck._bases import cheb_centred
 from numerics.fokker_planck._orthonormal import orthonormal_terms
 from numerics.fokker_planck._parity import (fold_terms, fold_weights, parity_maps,
                                             reflection_symmetric, unfold)
-from numerics.fokker_planck._stationary_orthonormal import orthonormal_stationary
+from numerics.fokker_planck._stationary_solve import orthonormal_stationary
 
 
 def _apply(terms, c):

@@ -5,7 +5,7 @@ damping) differ only in the solve of one rung and in the orthonormal basis's sec
 velocity scale, which they pass in.
 
 The Hermite truncation grows by ``sqrt 2`` (``ladder(start, stop)``,
-:func:`.escape.hermite_ladder`) until two successive rates agree to ``tol`` (and the
+:func:`._problem.hermite_ladder`) until two successive rates agree to ``tol`` (and the
 basis's check, where it has one); the rate is then recomputed on 1.2 times the intervals
 (:func:`._model.grid_check`), and where it moves by more than ``tol`` the ladder runs
 again there.  The last change is ``truncation_error``, the grid's ``chebyshev_error``, and
@@ -31,7 +31,7 @@ def hermite_chebyshev_ladder(solve, ladder, fits, *, start: int, n_cheb: int, to
         ``solve(n, nc, sharp=1)``: the rate with ``n`` Hermite functions on ``nc`` position
         intervals, with the first sink (``sharp = 1``) or the sharper one (``2``).
     ladder : callable
-        ``ladder(start, stop)``: the truncations (:func:`.escape.hermite_ladder`).
+        ``ladder(start, stop)``: the truncations (:func:`._problem.hermite_ladder`).
     fits : callable
         ``fits(n, nc)``: whether the solve is affordable (the factorisation's storage).
     start, n_cheb : int

@@ -137,7 +137,7 @@ def nonlinear_escape(split, D: float, saddles, half: float, sink, points, ladder
     ``sink(xs, sharp)`` is the sink at the points (``sharp = 2``: the sharper one of
     ``sink_error``), ``points(nc)`` the points and differentiation matrix on ``nc``
     intervals of ``[-half, half]``, ``ladder(start, stop)`` the Hermite truncations
-    (:func:`.escape.hermite_ladder`).  The Hermite truncation grows by ``sqrt 2`` from ``n_hermite`` at the
+    (:func:`._problem.hermite_ladder`).  The Hermite truncation grows by ``sqrt 2`` from ``n_hermite`` at the
     scale of :func:`velocity_scale` until two successive rates and the rate at the scale
     :data:`OTHER_SCALE` times larger (the last truncation) agree to ``tol``; the position
     intervals start at ``n_cheb`` or ``layer_intervals L/l`` (``l = delta/omega_b``, the layer's width

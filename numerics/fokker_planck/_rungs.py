@@ -138,7 +138,7 @@ def pair_escape(split, sigma: float, gamma: float, wells, sink, points, ladder, 
                 max_cost: float) -> dict:
     """The Hermite and Chebyshev ladders of :func:`.escape.kramers_escape` in Risken's pair
     (``basis="pair"``): the truncation grows by ``sqrt 2`` from ``start`` (``ladder(start,
-    stop)``, :func:`.escape.hermite_ladder`) until two successive rates agree to ``tol``,
+    stop)``, :func:`._problem.hermite_ladder`) until two successive rates agree to ``tol``,
     then the rate at the top rung on 1.2 times the intervals (:func:`._model.grid_check`;
     when it moves by more than ``tol`` the ladder runs again there) and one rung below with
     ``sink(xs, 2)`` (the loop of :func:`._ladder.hermite_chebyshev_ladder`).  One :class:`FractionRungs` factorisation per grid and sink, extended

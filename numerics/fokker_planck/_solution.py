@@ -25,7 +25,7 @@ class KramersSolution:
     coef : numpy.ndarray
         ``c_n(x_i)``, shape ``(N, len(x))``; ``P = sum c_n phi_n(v/sigma)/sigma`` in
         Risken's pair (``basis == "risken"``); in the orthonormal functions ``h_n`` for
-        :class:`._stationary_orthonormal.OrthonormalKramersSolution` (``basis ==
+        :class:`._stationary_solve.OrthonormalKramersSolution` (``basis ==
         "orthonormal"``, a nonlinear damping), whose marginal is ``sum m_n c_n``.
     sigma : float
         The velocity scale of the Hermite functions.

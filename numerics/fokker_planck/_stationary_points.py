@@ -99,7 +99,7 @@ def separatrix_turning_points(G, saddles, half: float) -> list:
 def stationary_points(split, D: float, G, half: float, v2: float,
                       sigma: float | None = None, well: bool = False) -> tuple[float, dict]:
     """``(sigma, points)``: the velocity scale and the keywords of the position points of
-    :func:`._stationary_orthonormal.orthonormal_stationary` (steps 2 and 3 of
+    :func:`._stationary_solve.orthonormal_stationary` (steps 2 and 3 of
     :func:`._stationary_orthonormal.stationary_orthonormal`).
 
     ``sigma`` (unless given) resolves the reach ``V = 5 <v^2>^(1/2)`` and the velocity

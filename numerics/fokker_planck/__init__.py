@@ -1,8 +1,8 @@
 """Fokker-Planck (Kramers) equation of the one-degree-of-freedom models at rest: the
 stationary density (:mod:`.kramers`) and the escape rate from the well at the origin
 (:mod:`.escape`, its setup in :mod:`._problem`), solved numerically in Hermite functions of
-the velocity times Chebyshev points in the position; :mod:`._bases` holds the two bases, :mod:`._solution` the
-stationary density's class, :mod:`._blocks` the block tridiagonal LU of the Kramers matrix
+the velocity times Chebyshev points in the position; :mod:`._bases` holds the two bases,
+:mod:`._solution` the stationary density's class, :mod:`._blocks` the block tridiagonal LU of the Kramers matrix
 in the Hermite index, :mod:`._fraction` the escape matrix of a linearly damped model in
 closed-form blocks, folded by parity (the matrix continued fraction in LU form, eliminated
 upward), :mod:`._sweeps` its compiled solve sweeps, :mod:`._rungs` the escape ladder's

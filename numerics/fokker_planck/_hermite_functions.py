@@ -33,18 +33,21 @@ def hermite_function_values(n: int, xi) -> np.ndarray:
     ``h_k exp(xi^2/2)`` with the scale carried as an exponent (no underflow at large
     ``|xi|``)."""
     xi = np.asarray(xi, float)
-    out = np.zeros((n,) + xi.shape)
+    out = np.empty((n,) + xi.shape)
     logscale = -0.5 * xi * xi  # log of the factor still to apply
+    factor = np.exp(logscale)  # recomputed only when a rescaling changes it (the same bits)
     prev = np.zeros(xi.shape)
     cur = np.full(xi.shape, math.pi ** -0.25)
+    mag = np.empty(xi.shape)
     for k in range(n):
-        out[k] = cur * np.exp(logscale)
+        out[k] = cur * factor
         nxt = math.sqrt(2.0 / (k + 1)) * xi * cur - math.sqrt(k / (k + 1.0)) * prev
-        big = np.abs(nxt) > 1e150
-        if big.any():
+        if np.abs(nxt, out=mag).max(initial=0.0) > 1e150:
+            big = mag > 1e150
             nxt = np.where(big, nxt * 1e-150, nxt)
             cur = np.where(big, cur * 1e-150, cur)
             logscale = np.where(big, logscale + 150 * math.log(10.0), logscale)
+            factor = np.exp(logscale)
         prev, cur = cur, nxt
     return out
 

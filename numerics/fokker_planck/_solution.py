@@ -52,6 +52,10 @@ class KramersSolution:
         error (the Hermite and the Chebyshev step of the ladders; empty when not kept): the
         same change of ``P(E)`` is its stated error
         (:func:`._energy_density.energy_density_change`).
+    refine : callable or None
+        The same solve on one grid step more (1.25 times the intervals, the same functions
+        and points), called by :func:`._energy_density.energy_density_report` for ``P(E)``
+        (whose grid error is larger than the moments'); ``None`` when not kept.
     """
 
     x: np.ndarray
@@ -64,6 +68,7 @@ class KramersSolution:
     hermite_change: float = math.nan
     chebyshev_change: float = math.nan
     refinements: tuple = field(default=(), repr=False, compare=False)
+    refine: object = field(default=None, repr=False, compare=False)
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __repr__(self) -> str:

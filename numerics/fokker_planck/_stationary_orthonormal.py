@@ -8,6 +8,7 @@ the inverse iteration are described there), and step 7 in :mod:`._stationary_cli
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 
 from ._stationary_climb import climb_grid, climb_rung, finer_intervals
@@ -256,5 +257,15 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
             pairs.append((lower if same else solve(prev, nc), sol))
             change = moved(*pairs[-1])
     stated = max(change, cheb_change, ROUNDING) if n_hermite is None else math.nan
+    refine = None
+    if n_hermite is None and pairs and pairs[0][1] is sol \
+            and pairs[0][0].coef.shape[0] == sol.coef.shape[0] \
+            and pairs[0][0].x.size < sol.x.size:
+        # the grid step beyond the last, for P(E) (:func:`._energy_density.energy_density_report`)
+        refine = functools.partial(
+            orthonormal_stationary, split, D, float(sol.sigma), half, sol.coef.shape[0],
+            finer_intervals(sol.x.size - 1), G, omega0, alpha=sol.alpha, centres=sol.centres,
+            widths=sol.widths, weight=sol.weight)
     return dataclasses.replace(sol, hermite_change=stated, chebyshev_change=cheb_change,
-                               refinements=tuple(pairs) if n_hermite is None else ())
+                               refinements=tuple(pairs) if n_hermite is None else (),
+                               refine=refine)

@@ -107,6 +107,54 @@ def test_sedf_energy_density_within_its_stated_change():
     assert len(rep["separatrices"]) == 3
 
 
+@pytest.mark.parametrize("mu", [0.1, 0.3])
+def test_refine_is_the_solve_one_grid_step_finer(mu):
+    """The solve that P(E) takes at low friction (``refine``): the same functions, scale and
+    points on 1.25 times the intervals (the ladders' step), whose moments lie within the
+    ladder's stated error of the solution's (the grid converges geometrically: vdp,
+    D/mu = 0.5, stated 1e-10 and 1.8e-9, moved by 8e-13 and 1.3e-11); the ladder's grid
+    pair is the first of ``refinements``."""
+    sol = stationary_kramers("vdp", {"mu": mu}, mu / 2)
+    coarse, fine = sol.refinements[0]
+    assert fine.coef is sol.coef and coarse.coef.shape[0] == sol.coef.shape[0]
+    assert coarse.x.size < sol.x.size
+    finer = sol.refine()
+    assert finer.coef.shape[0] == sol.coef.shape[0] and finer.sigma == sol.sigma
+    assert finer.x.size - 1 == 2 * math.ceil(0.625 * (sol.x.size - 1))
+    assert (finer.centres, finer.widths, finer.alpha) == (sol.centres, sol.widths, sol.alpha)
+    for name in ("x2", "v2"):
+        a, b = getattr(sol, name), getattr(finer, name)
+        assert abs(b - a) <= sol.hermite_change * abs(a)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("mu, sigma", [(0.03, 0.25), (0.02, 0.225)])
+def test_sedf_energy_density_six_digits_at_low_friction(mu, sigma):
+    """SEDF at rest, Delta = 3, D = mu/2 (kbm noise's budget, 182 x 740): the ladder's last
+    grid step changes P(E) by more than 1e-6 of its peak (1.6e-6, 8.5e-6), so P comes
+    from the solve one grid step finer (182 x 926) and change_peak is the grid ladder's
+    geometric tail.  Against an independent solve of 362 functions x 1282 intervals at
+    another velocity scale (the ladder's own is 0.255, 0.234) and on other points:
+    change_peak <= 1e-6 (measured 7.7e-8, 4.2e-7), the largest distance within it
+    (6.8e-9, 2.7e-7 of the peak), and each energy's within its stated change up to
+    1e-8 of the peak (at mu = 0.02 the last energy, where P is 6e-5 of its peak, is off
+    by 1.5e-9 of the peak against a change of 1.2e-9)."""
+    from numerics.fokker_planck._energy_density import energy_density_report
+    from numerics.thermal.stationary import FP_BUDGET
+
+    params = {"mu": mu, "Delta": 3, "beta": 1, "lam": 1}
+    sol = stationary_kramers("sedf", params, mu / 2, max_cost=FP_BUDGET)
+    rep = energy_density_report(sol)
+    ref = stationary_kramers("sedf", params, mu / 2, n_hermite=362, n_cheb=1282,
+                             sigma=sigma, max_cost=1e9).energy_density(rep["E"])
+    P, peak = np.array(rep["P"]), float(np.max(ref))
+    assert rep["change_peak"] <= 1e-6
+    assert np.max(np.abs(P - ref)) <= rep["change_peak"] * peak
+    assert np.all(np.abs(P - ref) <= np.array(rep["change"]) * np.abs(ref) + 1e-8 * peak)
+    # P is not the ladder's solution's: that one is further off (2.4e-7, 1.4e-6)
+    assert np.max(np.abs(sol.energy_density(rep["E"]) - ref)) > np.max(np.abs(P - ref))
+
+
 def test_noise_json_reports_the_energy_density(capsys):
     """``kbm noise cdc ... --method fokker-planck --json`` reports P(E) under
     ``fokker_planck.energy_density`` (E, P, change, change_peak, separatrices; the existing

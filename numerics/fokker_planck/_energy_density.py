@@ -1,7 +1,8 @@
 """The density of the energy ``P(E)`` of a stationary Kramers solution
 (:func:`energy_density`), its grid (:func:`energy_grid`) and its stated error
 (:func:`energy_density_change`, the change under the refinements that state the moments'
-error).
+error; at low friction :func:`energy_density_report` takes ``P`` from one grid step more,
+since the grid's error moves ``P(E)`` more than the moments).
 
 ``P(E)`` is the derivative of the mass below ``E`` (:meth:`._solution.KramersSolution.mass_below`,
 over the same stretches, :meth:`._solution.KramersSolution.stretches`):

@@ -88,7 +88,9 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        solution's ``hermite_change`` is the larger of the Hermite and last Chebyshev
        changes and :data:`ROUNDING` (``chebyshev_change`` the second).  The pairs of
        solutions of those two changes are kept as its ``refinements`` (the same change of
-       ``P(E)`` is its stated error, :mod:`._energy_density`).
+       ``P(E)`` is its stated error, :mod:`._energy_density`), and the same solve on one
+       grid step more as its ``refine`` (called only for ``P(E)`` when that change
+       exceeds six digits: the grid's error moves ``P(E)`` more than the moments).
     7. The climb (folded, :mod:`._stationary_climb`): when that Hermite change exceeds
        :data:`SIX_DIGITS`, the functions were too few, not the grid.  The check is then
        made as soon as the grid ladder reaches its grid (the finer grids at ``N`` are not
@@ -261,7 +263,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     if n_hermite is None and pairs and pairs[0][1] is sol \
             and pairs[0][0].coef.shape[0] == sol.coef.shape[0] \
             and pairs[0][0].x.size < sol.x.size:
-        # the grid step beyond the last, for P(E) (:func:`._energy_density.energy_density_report`)
+        # the grid step beyond the last, for P(E) (._energy_density.energy_density_report)
         refine = functools.partial(
             orthonormal_stationary, split, D, float(sol.sigma), half, sol.coef.shape[0],
             finer_intervals(sol.x.size - 1), G, omega0, alpha=sol.alpha, centres=sol.centres,

@@ -65,6 +65,16 @@ def test_no_stationary_state_refused_before_simulation(model, params, match):
         noise_report(model, params, trajectories=8, budget=1, fokker_planck=False)
 
 
+def test_anti_damping_message_says_infinity_in_words():
+    """linear_damping with zeta = -1: A_1 = a grows without bound (A_1 -> +infinity as
+    a -> infinity), and the message says so in words, not in sympy's ``oo``."""
+    with pytest.raises(ModelError) as err:
+        noise_report("linear_damping", {"mu": 0.1, "zeta": -1, "D": 0.01}, trajectories=8,
+                     budget=1, fokker_planck=False)
+    assert "tends to +infinity at large amplitude" in str(err.value)
+    assert " oo " not in str(err.value)
+
+
 def test_cli_one_line_errors():
     for args, text in ((("noise", "vdp", "-p", "mu=-0.1", "-p", "D=0.01"), "mu > 0"),
                        (("noise", "vdp", "-p", "mu=0.1", "-p", "D=inf"), "finite"),

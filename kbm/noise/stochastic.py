@@ -188,7 +188,8 @@ def _confines(A1: sp.Expr) -> tuple[bool, str]:
     except (NotImplementedError, ValueError):
         return True, ""
     if lim in (sp.oo,) or (lim.is_number and lim.is_finite and lim >= 0):
-        return False, (f"the averaged drift mu A_1 = mu*({A1}) tends to {lim} at large "
+        limit = "+infinity" if lim == sp.oo else str(lim)
+        return False, (f"the averaged drift mu A_1 = mu*({A1}) tends to {limit} at large "
                        "amplitude: it does not confine the noisy amplitude")
     return True, ""
 

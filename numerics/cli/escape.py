@@ -84,8 +84,10 @@ def run(args) -> int:
               f"{rep['stderr_wells']:.2g} ({w['escaped']}/{rep['trajectories']} from the "
               + ("well's Boltzmann state" if w["start"] == "boltzmann" else "well bottom")
               + f" reached x = {w['wells'][0]:.6g} or "
-              f"{w['wells'][1]:.6g} by t = {w['t_end']:.6g}); Fokker-Planck - simulated = "
-              f"{rep['z_fokker_planck']:+.2f} standard errors")
+              f"{w['wells'][1]:.6g} by t = {w['t_end']:.6g}"
+              + (f"; the rate from the {w['settled']} still in the well at t = "
+                 f"{w['settle']:.3g}" if w.get("settle") else "")
+              + f"); Fokker-Planck - simulated = {rep['z_fokker_planck']:+.2f} standard errors")
     if rep["rate_simulated"] is not None:
         print(f"  simulated:                 rate = {rep['rate_simulated']:.6g} +- "
               f"{rep['stderr']:.2g} ({rep['escaped']}/{rep['trajectories']} escaped by "

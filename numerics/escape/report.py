@@ -188,6 +188,7 @@ def _simulate_wells(out: dict, split, D: float, esc, fp, **run) -> None:
                z_fokker_planck=(fp.rate - sim.rate) / math.hypot(sim.stderr, fp_err))
     out["simulated_wells"] = {"escaped": sim.escaped, "censored": sim.censored,
                               "t_end": sim.t_end, "start": sim.start,
+                              "settle": sim.settle, "settled": sim.settled,
                               "wells": [float(w) for w in fp.wells],
                               "stream": list(WELLS_STREAM)}
 

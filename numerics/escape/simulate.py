@@ -45,6 +45,11 @@ class SimulatedEscape:
     start : str
         Where the trajectories start: ``"bottom"`` (``x = x' = 0``) or ``"boltzmann"`` (the
         well's Boltzmann density, :mod:`numerics.escape.transitions`).
+    settle : float
+        The rate counts the waiting times after ``t = settle`` of the trajectories still
+        in the well then (0: from the start; :mod:`numerics.escape.transitions`).
+    settled : int or None
+        How many trajectories were still in the well at ``settle``.
     """
 
     rate: float
@@ -56,6 +61,8 @@ class SimulatedEscape:
     dt: float
     seed: int
     start: str = "bottom"
+    settle: float = 0.0
+    settled: int | None = None
 
     def __repr__(self) -> str:
         return (f"SimulatedEscape(rate={self.rate:.4g} +- {self.stderr:.2g}, "

@@ -55,6 +55,12 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
+#: how the text names the sources of :mod:`numerics.thermal.averaged_error`
+_ERROR_SOURCES = {"fokker-planck": "against the Fokker-Planck solution",
+                  "next order": "the next order's correction",
+                  "simulation": "|averaged - simulated| + 2 stderr"}
+
+
 def _num(value, fmt="#.6g") -> str:
     return "--" if value is None else format(value, fmt)
 
@@ -127,6 +133,12 @@ def run(args) -> int:
         print(f"  <{key[0]}^2> {_num(m['averaged']):>12}  {_num(m['simulated']):>12}  "
               f"{_num(m['stderr'], '.2g'):>9}  {z:>16}  "
               f"{_num(m.get('fokker_planck'), _fp_format(rep)):>13}")
+    errs = [(k, rep["moments"][k]) for k in ("a2", "x2")
+            if rep["moments"][k].get("averaged_error") is not None]
+    if errs:
+        print(f"  expected error of the averaged values (order {rep['averaged_order']}): "
+              + ", ".join(f"<{k[0]}^2> +- {m['averaged_error']:.2g} "
+                          f"({_ERROR_SOURCES[m['averaged_error_source']]})" for k, m in errs))
     ext = rep.get("extrapolation")
     if ext and ext.get("applied"):
         for key in ("a2", "x2"):

@@ -13,6 +13,7 @@ from kbm.model.builtins import SLIDERS
 from ..escape.envelope import check_mu
 from ..escape.report import SLIDER_DEFAULTS
 from .averaged import AMPLITUDE, averaged_stationary
+from .averaged_error import state_averaged_errors
 from ._kramers_outputs import energy_density_output, fp_advice
 from .order2 import order2_bins, second_order
 from ..noise.ensemble import MIN_TRAJECTORIES, stationary_ensemble
@@ -197,8 +198,10 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
         ``model, params, D, trajectories, t_end, burn_in, dt, seed, method, moments,
         density, steps, message`` (``moments.a2``/``moments.x2`` with ``averaged``,
         ``simulated``, ``stderr``; ``moments.x2.boltzmann`` for linear damping),
-        ``averaged_order`` (the order of ``moments.*.averaged``, ``None`` without it) and
-        ``validity`` (the gap to the simulation, flagged beyond ``|z| > 4``).
+        ``averaged_order`` (the order of ``moments.*.averaged``, ``None`` without it),
+        ``moments.*.averaged_error`` and ``averaged_error_source`` (its expected error and
+        where it comes from, :mod:`.averaged_error`) and ``validity`` (the gap to the
+        simulation, flagged beyond ``|z| > 4``).
     """
     check_mu(dict(params))
     params, D = split_noise(params)
@@ -256,6 +259,12 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
         out["method"] = avg.method.replace("first order", "second order")
         out["moments"]["a2"]["averaged"] = so.moment(2, so_values)
         out["moments"]["x2"]["averaged"] = so.x2(so_values)
+    nxt = None  # the next order, the expected error's reference without Fokker-Planck
+    if fp is None and so is None and avg is not None and avg.method == AMPLITUDE:
+        so1, values1, _ = second_order(model, params, D, avg)
+        if so1 is not None:
+            nxt = {"a2": so1.moment(2, values1), "x2": so1.x2(values1)}
+    state_averaged_errors(out, nxt)
     if steps > budget:
         out["message"] = (f"simulation refused: {trajectories} trajectories x "
                           f"{(run + burn) / h:.3g} steps = {steps:.3g} steps > budget "
@@ -278,6 +287,7 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
     out["validity"] = validity({k: out["moments"][k] for k in ("a2", "x2")},
                                out["averaged_order"] or 1,
                                avg is not None and avg.method == AMPLITUDE)
+    state_averaged_errors(out, nxt)
     if fp is not None:
         out["validity"]["z_fokker_planck"] = {
             k: (fp[k] - out["moments"][k]["simulated"]) / out["moments"][k]["stderr"]

@@ -1,0 +1,89 @@
+"""The expected error of each averaged moment of ``kbm noise`` (issue 36: "each averaged
+number states its order and its expected error"; :mod:`numerics.thermal.averaged_error`).
+
+The references are independent of the averaging: the stationary Kramers equation solved
+numerically (:func:`numerics.thermal.stationary.fokker_planck_moments`, stated error
+<= 2e-9 for van der Pol), the truth against which each stated error is judged.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+from numerics.thermal.averaged_error import averaged_error
+from numerics.thermal.stationary import fokker_planck_moments, noise_report
+
+
+def _truth(mu: float) -> dict:
+    fp, why = fokker_planck_moments("vdp", {"mu": mu}, mu / 2, 1.0)
+    assert fp is not None, why
+    return fp
+
+
+@pytest.mark.parametrize("mu", [0.05, 0.1, 0.3])
+def test_next_order_estimates_the_first_order_error(mu):
+    """Van der Pol, D/mu = 0.5, first order without the Fokker-Planck solution: the stated
+    error is the second order's correction |A_2 - A_1| (the first omitted term of the
+    series), and it is the true error |A_1 - FP| within 20 % at mu = 0.05, 0.1 and 0.3
+    (measured: 1.00, 1.02, 1.16 times it for <a^2>)."""
+    rep = noise_report("vdp", {"mu": mu, "D": mu / 2}, trajectories=8, t_end=20,
+                       fokker_planck=False)
+    fp = _truth(mu)
+    assert rep["averaged_order"] == 1
+    for key in ("a2", "x2"):
+        m = rep["moments"][key]
+        assert m["averaged_error_source"] == "next order"
+        true = abs(m["averaged"] - fp[key])
+        assert 0.95 * true <= m["averaged_error"] <= 1.2 * true, (key, m, fp[key])
+
+
+def test_fokker_planck_error_and_next_order_agree():
+    """Two independent routes to the first order's error at vdp mu = 0.1: measured against
+    the Fokker-Planck solution (the default where it is affordable) and estimated by the next
+    order agree within 5 %; the measured one bounds |averaged - FP|."""
+    with_fp = noise_report("vdp", {"mu": 0.1, "D": 0.05}, trajectories=8, t_end=20)
+    without = noise_report("vdp", {"mu": 0.1, "D": 0.05}, trajectories=8, t_end=20,
+                           fokker_planck=False)
+    for key in ("a2", "x2"):
+        m, n = with_fp["moments"][key], without["moments"][key]
+        assert m["averaged_error_source"] == "fokker-planck"
+        assert m["averaged_error"] >= abs(m["averaged"] - m["fokker_planck"])
+        assert n["averaged_error"] == pytest.approx(m["averaged_error"], rel=0.05)
+
+
+def test_simulation_bound_holds_at_second_order():
+    """At second order (no next order) and without the Fokker-Planck solution the stated
+    error is |averaged - simulated| + 2 stderr; at vdp mu = 0.3 (seed 3, 64 trajectories)
+    it bounds the true error of A_2 against the independent Kramers solution."""
+    rep = noise_report("vdp", {"mu": 0.3, "D": 0.15}, trajectories=64, t_end=100, seed=3,
+                       fokker_planck=False, order=2)
+    fp = _truth(0.3)
+    assert rep["averaged_order"] == 2
+    for key in ("a2", "x2"):
+        m = rep["moments"][key]
+        assert m["averaged_error_source"] == "simulation"
+        assert m["averaged_error"] == pytest.approx(
+            abs(m["averaged"] - m["simulated"]) + 2 * m["stderr"])
+        assert abs(m["averaged"] - fp[key]) <= m["averaged_error"]
+
+
+def test_no_reference_is_said():
+    """Without an averaged value, or with no reference at all, the error is None and the
+    source says "none" (never a guess)."""
+    assert averaged_error({"averaged": None}) == (None, "none")
+    assert averaged_error({"averaged": 1.0, "simulated": None, "stderr": None}) == (None, "none")
+    # an unmeasured Fokker-Planck error is not used: the next reference is
+    assert averaged_error({"averaged": 1.0, "fokker_planck": 1.1}, None, 1.05)[1] == "next order"
+
+
+def test_text_states_the_expected_error():
+    """``kbm noise`` prints the expected error with the order and its source."""
+    r = subprocess.run([sys.executable, "-m", "numerics.cli", "noise", "vdp", "-p", "mu=0.1",
+                        "-p", "D=0.05", "--trajectories", "8", "--t-end", "20"],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    assert "expected error of the averaged values (order 1): <a^2> +- " in r.stdout
+    assert "against the Fokker-Planck solution" in r.stdout

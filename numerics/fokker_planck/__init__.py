@@ -1,22 +1,22 @@
-"""Fokker-Planck (Kramers) equation of the one-degree-of-freedom models at rest: the
-stationary density (:mod:`.kramers`) and the escape rate from the well at the origin
-(:mod:`.escape`, its setup in :mod:`._problem`), solved numerically in Hermite functions of
-the velocity times Chebyshev points in the position; :mod:`._bases` holds the two bases,
-:mod:`._solution` the stationary density's class, :mod:`._blocks` the block tridiagonal LU of the Kramers matrix
-in the Hermite index, :mod:`._fraction` the escape matrix of a linearly damped model in
-closed-form blocks, folded by parity (the matrix continued fraction in LU form, eliminated
-upward), :mod:`._sweeps` its compiled solve sweeps, :mod:`._rungs` the escape ladder's
-solves sharing one factorisation per grid, :mod:`._orthonormal` the escape of a
-nonlinearly damped model in orthonormal Hermite functions, :mod:`._folded` the same for
-linear damping at low friction, folded by parity and eliminated upward, and
+"""Fokker-Planck (Kramers) equation of the one-degree-of-freedom models at rest: the stationary
+density (:mod:`.kramers`) and the escape rate from the well at the origin (:mod:`.escape`,
+its setup in :mod:`._problem`), solved numerically in Hermite functions of the velocity
+times Chebyshev points in the position; :mod:`._bases` holds the two bases,
+:mod:`._solution` the stationary density's class, :mod:`._blocks` the block tridiagonal LU
+of the Kramers matrix in the Hermite index, :mod:`._fraction` the escape matrix of a
+linearly damped model in closed-form blocks, folded by parity (the matrix continued fraction
+in LU form, eliminated upward), :mod:`._sweeps` its compiled solve sweeps, :mod:`._rungs`
+the escape ladder's solves sharing one factorisation per grid, :mod:`._orthonormal` the
+escape of a nonlinearly damped model in orthonormal Hermite functions, :mod:`._folded` the
+same for linear damping at low friction, folded by parity and eliminated upward, and
 :mod:`._stationary_solve` its stationary density in the same functions (one solve; the
 ladders that choose and measure its sizes in :mod:`._stationary_orthonormal`), factorised
-order by order by :mod:`._pentadiagonal` when the damping is linear in the velocity, on
-the points chosen by :mod:`._stationary_points` and folded by :mod:`._parity` when the
-model is symmetric under ``(x, v) -> (-x, -v)``, its ladder's last step in
-:mod:`._stationary_climb`; :mod:`._hermite_functions` holds those
-functions' values and integrals, :mod:`._energy_density` the density of the energy ``P(E)``
-of a stationary solution with its stated error."""
+order by order by :mod:`._pentadiagonal` when the damping is linear in the velocity, on the
+points chosen by :mod:`._stationary_points` and folded by :mod:`._parity` when the model is
+symmetric under ``(x, v) -> (-x, -v)``, its ladder's last step in :mod:`._stationary_climb`;
+:mod:`._hermite_functions` holds those functions' values and integrals,
+:mod:`._energy_density` the density of the energy ``P(E)`` of a stationary solution with its
+stated error."""
 
 from .escape import KramersEscape, kramers_escape
 from .kramers import KramersSolution, kramers_operator, stationary_kramers, velocity_terms

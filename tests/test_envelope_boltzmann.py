@@ -48,8 +48,8 @@ def _mass_below(G, E, kT, L, crit=()):
     grid, then ``brentq``) and the critical points ``crit`` of ``G``: at a separatrix
     energy ``E = E_s`` the level touches ``G`` at the saddle, a double root that no grid
     sees, where the integrand has the kink ``|x - x_s|``.  Without that break point
-    QUADPACK stops on round-off there and is off by 1.7e-9 (CDC Delta = 4, lam = 0.7,
-    kT = 0.6, E_s = 2.4672: the 1.9e-8 of the peak once read as an error of the
+    QUADPACK stops on round-off there with the mass 0.9e-9 relative low (CDC Delta = 4,
+    lam = 0.7, kT = 0.6, E_s = 2.4672: the 1.9e-8 of the peak once read as an error of the
     envelope, :func:`test_bins_ending_at_a_separatrix`); a quadrature warning fails.
     """
     grid = np.linspace(-L, L, 4001)
@@ -133,7 +133,7 @@ def test_bins_ending_at_a_separatrix(kT, a):
     wells (and the bin above it) against the mass below ``E`` in 30 digits
     (:func:`_mpmath_mass`), to 1e-10 of the peak; the float reference of :func:`_check`
     agrees with it to 1e-12 there.  (The float reference without the saddles as break
-    points was 1.7e-9 off at ``E_s``, 1.87e-8 and 1.76e-8 of the peak, which an
+    points was 0.9e-9 and 4.7e-9 low at ``E_s``, 1.87e-8 and 1.76e-8 of the peak, which an
     independent re-measurement took for an error of the envelope; the envelope was within
     1e-11 and 2.4e-10 of the peak on every bin of :func:`_check` then as now.)"""
     env = energy_envelope("cdc", {"mu": 0.15, "Delta": 4.0, "lam": 0.7, "Omega": 1}, 0.15 * kT)

@@ -4,6 +4,7 @@ that no worker outlives it (not tests themselves)."""
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -33,11 +34,21 @@ def alive(pid: int) -> bool:
         return False
 
 
+def _default_sigint() -> None:
+    """In the child before it runs: SIGINT back to its default (Python then installs its
+    KeyboardInterrupt handler)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def start_with_workers(argv: list[str], settle: float, what: str):
     """``kbm argv`` started, once it has worker processes (within 60 s) and ``settle``
     seconds more: ``(process, its children)``; the test fails when none start."""
+    # Ctrl-C's default disposition in the command, however the test run was started: a
+    # background job of a non-interactive shell (a CI script's `cmd &`) ignores SIGINT,
+    # and an ignored SIGINT is inherited, so Python would never raise KeyboardInterrupt
     proc = subprocess.Popen([sys.executable, "-m", "numerics.cli", *argv],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=_default_sigint)
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline and proc.poll() is None:
         if children(proc.pid):

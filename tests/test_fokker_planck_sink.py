@@ -274,6 +274,22 @@ def test_loose_stop_from_its_rung(r, a, o0, k):
     assert len(loose["rungs"]) == min(want, len(strict["rungs"]) - 1) + 1
 
 
+def _six_digit_rates(mus, ratio) -> list:
+    """The CDC escape at each friction of ``mus`` with its bracket, a total stated error
+    within 1e-6 of the rate and the independent top rungs within the stated Chebyshev and
+    truncation errors (:func:`_independent_top`); ``ratio(fp, mu)`` of each, to compare
+    with its high-friction limit."""
+    ratios = []
+    for mu in mus:
+        fp = kramers_escape("cdc", dict(PARAMS, mu=mu), KT * mu, _saddles())
+        _assert_bracket(fp, 1e-6)
+        assert fp.sink_error + fp.chebyshev_error + fp.truncation_error <= 1e-6 * fp.rate
+        assert (abs(_independent_top(fp, mu) - fp.rate)
+                < fp.chebyshev_error + fp.truncation_error)
+        ratios.append(ratio(fp, mu))
+    return ratios
+
+
 def _other_ladder(mu, offset, rungs, nh=SINK_HERMITE, nc=SINK_INTERVALS):
     """The rates of the sink ladder centred ``offset (+ j ln2/2)`` widths past the bottoms,
     solved here with the pair's rungs (:class:`FractionRungs`) on its own points."""
@@ -388,14 +404,7 @@ def test_high_friction_below_smoluchowski():
     Hermite functions moves by less than the stated Chebyshev and truncation errors
     together (measured, relative to the rate: 7.1e-10 against 8.6e-9 at mu = 2, 4.9e-8
     against 7.8e-8 at mu = 5)."""
-    ratios = []
-    for mu in (2.0, 5.0):
-        fp = kramers_escape("cdc", dict(PARAMS, mu=mu), KT * mu, _saddles())
-        _assert_bracket(fp, 1e-6)
-        assert fp.sink_error + fp.chebyshev_error + fp.truncation_error <= 1e-6 * fp.rate
-        assert (abs(_independent_top(fp, mu) - fp.rate)
-                < fp.chebyshev_error + fp.truncation_error)
-        ratios.append(fp.rate / _smoluchowski_rate(mu))
+    ratios = _six_digit_rates((2.0, 5.0), lambda fp, mu: fp.rate / _smoluchowski_rate(mu))
     assert ratios[0] < ratios[1] < 1
 
 
@@ -521,12 +530,6 @@ def test_overdamped_bracket_holds_below_smoluchowski():
     ``1/T(0)`` (:func:`_smoluchowski_rate`): at E_b/kT = 3.1 the mean first passage from
     the bottom is longer than from the quasi-stationary density, whose exit rate the
     eigenvalue is, so the rate passes ``1/T(0)`` (3 % above it at mu = 20)."""
-    ratios = []
-    for mu in (20.0, 50.0):
-        fp = kramers_escape("cdc", dict(PARAMS, mu=mu), KT * mu, _saddles())
-        _assert_bracket(fp, 1e-6)
-        assert fp.sink_error + fp.chebyshev_error + fp.truncation_error <= 1e-6 * fp.rate
-        assert (abs(_independent_top(fp, mu) - fp.rate)
-                < fp.chebyshev_error + fp.truncation_error)
-        ratios.append(fp.rate * mu / _smoluchowski_eigenvalue())
+    ratios = _six_digit_rates((20.0, 50.0),
+                              lambda fp, mu: fp.rate * mu / _smoluchowski_eigenvalue())
     assert 0.95 < ratios[0] < ratios[1] < 1

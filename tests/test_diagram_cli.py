@@ -13,6 +13,7 @@ from contextlib import redirect_stdout
 
 import pytest
 
+from _proc import _default_sigint
 from numerics.cli import main
 
 HOPF = "(nu - x**2)*xdot - c*x"
@@ -101,7 +102,10 @@ def _subprocess(argv, sigint_after=None):
     else:
         env["KBM_TEST_SIGINT_AFTER"] = str(sigint_after)
         cmd = [sys.executable, "-c", _INTERRUPT_AFTER, *argv]
-    return subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=600)
+    # SIGINT at its default in the command (tests/_proc.py: a suite launched as a background
+    # job of a non-interactive shell ignores SIGINT, and the ignore is inherited)
+    return subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=600,
+                          preexec_fn=_default_sigint)
 
 
 @pytest.mark.slow

@@ -147,3 +147,58 @@ def test_escape_cli_reports_the_turnover():
     assert "turnover, two exits:       rate = " in text
     assert "(lambda_+/omega_b) 2 A(delta/2) (omega0/2 pi) exp(-E_b/kT)" in text
     assert "(one exit: A(delta) (omega0/2 pi) exp(-E_b/kT))" in text
+
+
+def _against_fokker_planck(mu: float, kT: float) -> dict:
+    """``kbm escape cdc -p Delta=3 --method fokker-planck --no-simulation`` as a dict, with
+    the Fokker-Planck rate's stated errors below 1e-5 of it (far below the asymptotic
+    formulas' deviations measured here)."""
+    from numerics.escape.report import escape_report
+
+    rep = escape_report("cdc", {"mu": repr(mu), "Delta": "3", "D": repr(kT * mu)},
+                        simulate=False, method="fokker-planck")
+    f = rep["fokker_planck"]
+    assert f["sink_error"] + f["truncation_error"] + f["chebyshev_error"] < (
+        1e-5 * rep["rate_fokker_planck"])
+    return rep
+
+
+@pytest.mark.slow
+def test_turnover_tends_to_the_fokker_planck_rate():
+    """CDC Delta = 3 against the exact Fokker-Planck transition rate at E_b/kT = 3.11 and
+    6.04 (kT = 0.35, 0.18).  The formula is asymptotic in E_b/kT; docs/noise-escape.rst
+    tabulates ``|ratio - 1| E_b/kT`` over E_b/kT = 3.1, 6.0, 9.1.
+
+    * High friction, mu = 50 (gamma/omega_b = 12): ``rate_turnover`` over the FP rate is
+      1.238 and 1.138; ``|ratio - 1| E_b/kT`` = 0.74, 0.83, 0.75 (0.46, 0.48, 0.42 at mu =
+      5): an O(kT/E_b) correction with a coefficient below 1.  Asserted: below 1 at E_b/kT
+      = 6.04, and the gap falls by at least 1.4 times as E_b/kT doubles (2 for a pure
+      kT/E_b, 1.7 measured).
+    * The two-exit depopulation factor at the turnover, delta = mu I/kT = 1.124 (mu = 0.2,
+      then 0.1029: delta held, so E_b/kT grows along the formula's own asymptotics).  Its
+      own error is isolated from Kramers' energy-diffusion rate's, whose finite-barrier
+      correction is of order (kT/E_b) ln(E_b/kT) (Mel'nikov, Phys. Rev. E 48 (1993) 3271;
+      r_K is 2.19 and 2.27 times the FP rate, the exact averaged-energy MFPT rate 1.44 and
+      1.59 times): the MFPT rate times ``rate_turnover/rate_kramers`` is 0.763 and 0.852 of
+      the FP rate, ``|ratio - 1| E_b/kT`` = 0.74, 0.90 (0.87 at 9.06).  Asserted below 1 at
+      both barriers.  One exit's ``A(delta)`` in its place gives 0.595 and 0.664 (2.03 at
+      6.04, 2.67 at 9.06: no O(kT/E_b) convergence); asserted above 1.5 at 6.04."""
+    gaps = []
+    for kT in (0.35, 0.18):
+        rep = _against_fokker_planck(50.0, kT)
+        ratio = rep["rate_turnover"] / rep["rate_fokker_planck"]
+        gaps.append(abs(ratio - 1))
+        assert rep["barrier_over_kT"] == pytest.approx(1.0870 / kT, rel=1e-3)
+    assert gaps[1] * 1.0870 / 0.18 < 1
+    assert gaps[0] / gaps[1] > 1.4
+    for kT, mu in ((0.35, 0.2), (0.18, 0.2 * 0.18 / 0.35)):
+        rep = _against_fokker_planck(mu, kT)
+        b = rep["barrier_over_kT"]
+        depleted = rep["rate_turnover"] / rep["rate_kramers"]
+        assert abs(rep["rate_averaged"] * depleted / rep["rate_fokker_planck"] - 1) * b < 1
+        lam = spatial_diffusion_factor(mu, rep["omega_b"])
+        delta = mu * rep["action_at_barrier"] / rep["kT"]
+        assert delta == pytest.approx(1.124, rel=1e-3)
+        one_exit = rep["rate_averaged"] * lam * melnikov_meshkov_factor(delta) / delta
+        if kT == 0.18:
+            assert abs(one_exit / rep["rate_fokker_planck"] - 1) * b > 1.5

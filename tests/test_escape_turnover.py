@@ -42,16 +42,24 @@ CDC = {"Delta": 3, "lam": 1, "Omega": 1}
 @settings(max_examples=40, deadline=None)
 @given(st.floats(1e-4, 1e3), st.floats(0.1, 10))
 def test_spatial_factor_is_the_saddles_unstable_eigenvalue(gamma, omega_b):
-    """``lambda_+`` is the positive eigenvalue of ``[[0, 1], [omega_b^2, -gamma]]``."""
-    lam = max(np.linalg.eigvals(np.array([[0.0, 1.0], [omega_b ** 2, -gamma]])).real)
-    assert spatial_diffusion_factor(gamma, omega_b) * omega_b == pytest.approx(lam, rel=1e-9)
+    """``lambda_+`` is the positive eigenvalue of ``[[0, 1], [omega_b^2, -gamma]]``, taken
+    as ``-omega_b^2/lambda_-`` (the determinant) from numpy's ``lambda_-``, the eigenvalue
+    of largest size (accurate to rounding; ``lambda_+`` itself is not, where ``gamma >>
+    omega_b``); the characteristic polynomial vanishes there."""
+    eig = np.linalg.eigvals(np.array([[0.0, 1.0], [omega_b ** 2, -gamma]])).real
+    lam = -omega_b ** 2 / min(eig)
+    factor = spatial_diffusion_factor(gamma, omega_b)
+    assert factor * omega_b == pytest.approx(lam, rel=1e-12)
+    got = factor * omega_b
+    assert abs(got * got + gamma * got - omega_b ** 2) < 1e-13 * (gamma * got + omega_b ** 2)
 
 
 def test_spatial_factor_limits():
     """``1 - gamma/(2 omega_b) + O(gamma^2)`` at low friction, ``omega_b/gamma (1 -
     omega_b^2/gamma^2 + ...)`` at high friction (no cancellation at gamma = 1e8)."""
     assert spatial_diffusion_factor(1e-6, 2.0) == pytest.approx(1 - 0.25e-6, abs=1e-12)
-    assert spatial_diffusion_factor(1e8, 2.0) == pytest.approx(2e-8 * (1 - 4e-16), rel=1e-14)
+    assert spatial_diffusion_factor(1e8, 2.0) == pytest.approx(2e-8 * (1 - 4e-16),
+                                                               rel=1e-14)
 
 
 @pytest.mark.parametrize("delta", [1e-6, 1e-4, 1e-3, 1e-2, 0.1])

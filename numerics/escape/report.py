@@ -144,8 +144,8 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         out["warnings"].append(
             f"E_b/kT = {ratio:.3g} < {MIN_BARRIER_OVER_KT:g}: the barrier is not high against "
             "the noise, so the escape rate formulas (averaged MFPT, Kramers, Mel'nikov-"
-            "Meshkov) do not apply (they assume E_b >> kT); lower D or use the simulated "
-            "first-passage rate")
+            "Meshkov, turnover) do not apply (they assume E_b >> kT); lower D or use the "
+            "simulated first-passage rate")
     if not simulate:
         out["message"] = "simulation not requested (--no-simulation)"
         return out

@@ -11,9 +11,11 @@ def register(sub) -> None:
     p = command(sub, "escape", "The rate of escape from the well at the origin of x'' + ... = "
                 "sqrt(2 D) xi(t) (unit mass; kT = D/mu for linear damping mu): 1/MFPT of the "
                 "averaged energy diffusion (energy-envelope stochastic averaging, underdamped "
-                "regime), Kramers' low-friction rate and the Mel'nikov-Meshkov rate for linear "
-                "damping, against first passages of simulated trajectories started at the well "
-                "bottom (escape: |x| reaches the saddle bounding the well).  With --method "
+                "regime), Kramers' low-friction rate, the Mel'nikov-Meshkov rate (one exit) and "
+                "the turnover rate of the well's two exits (Kramers' spatial-diffusion factor "
+                "times Mel'nikov-Meshkov's two-exit depopulation factor, any friction) for "
+                "linear damping, against first passages of simulated trajectories started at "
+                "the well bottom (escape: |x| reaches the saddle bounding the well).  With --method "
                 "fokker-planck also the exact transition rate to the next wells and its like "
                 "quantity: first passages to the next wells' bottoms from the well's Boltzmann "
                 "state, compared in standard errors.  Where the expected "
@@ -75,7 +77,12 @@ def run(args) -> int:
           f"(MFPT {rep['mfpt_averaged']:.6g})")
     if rep["rate_kramers"] is not None:
         print(f"  Kramers low friction:      rate = {rep['rate_kramers']:.6g}")
-        print(f"  Mel'nikov-Meshkov:         rate = {rep['rate_melnikov']:.6g}")
+        print(f"  Mel'nikov-Meshkov:         rate = {rep['rate_melnikov']:.6g} "
+              "(one exit: A(delta) (omega0/2 pi) exp(-E_b/kT))")
+    if rep.get("rate_turnover") is not None:
+        print(f"  turnover, two exits:       rate = {rep['rate_turnover']:.6g} "
+              "((lambda_+/omega_b) 2 A(delta/2) (omega0/2 pi) exp(-E_b/kT), Kramers x "
+              f"Mel'nikov-Meshkov; omega_b = {rep['omega_b']:.6g})")
     if rep.get("rate_fokker_planck") is not None:
         print(fokker_planck_line(rep))
     if rep.get("rate_simulated_wells") is not None:

@@ -1,5 +1,6 @@
 """Noise on the strongly nonlinear side: energy-envelope stochastic averaging, escape
-rates from the well at the origin (averaged MFPT, Kramers, Mel'nikov-Meshkov) (the phase
+rates from the well at the origin (averaged MFPT, Kramers, Mel'nikov-Meshkov, the turnover
+of a well with two exits: :mod:`numerics.escape.turnover`) (the phase
 diffusion of noisy limit cycles: :mod:`numerics.spectrum.phase_diffusion`).
 
 Convention: ``x'' + ... = sqrt(2 D) xi(t)``, unit mass, ``<xi(t) xi(t')> = delta(t - t')``;
@@ -10,9 +11,11 @@ from .envelope import (AnnulusEnvelope, EnergyEnvelope, boltzmann_moment, energy
                        noise_level)
 from .rate import (EscapeRate, averaged_escape, central_well, kramers_low_friction,
                    melnikov_meshkov_factor, separatrix_action)
+from .turnover import spatial_diffusion_factor, turnover_rate, two_exit_factor
 
 __all__ = [
     "energy_envelope", "EnergyEnvelope", "AnnulusEnvelope", "noise_level", "boltzmann_moment",
     "averaged_escape", "EscapeRate", "central_well", "kramers_low_friction",
-    "melnikov_meshkov_factor", "separatrix_action",
+    "melnikov_meshkov_factor", "separatrix_action", "spatial_diffusion_factor",
+    "two_exit_factor", "turnover_rate",
 ]

@@ -23,7 +23,12 @@ to Kramers' low-friction (energy-diffusion) rate
 damping the population near the barrier is depleted within one cycle; the
 Mel'nikov-Meshkov factor ``A(delta)/delta`` (``delta = mu I(E_b)/kT``; V. I. Mel'nikov
 and S. V. Meshkov, J. Chem. Phys. 85 (1986) 1018; Hanggi et al. eq. 4.49)
-corrects for it: ``r_MM = A(delta) (omega_0/2 pi) exp(-E_b/kT)``.
+corrects for it: ``r_MM = A(delta) (omega_0/2 pi) exp(-E_b/kT)`` (``rate_melnikov``: one
+exit, no spatial-diffusion factor).  The well at the origin of the CDC/SEDF has two equal
+exits; the rate across the whole turnover is ``rate_turnover``, ``(lambda_+/omega_b) 2
+A(delta/2) (omega_0/2 pi) exp(-E_b/kT)`` (:mod:`numerics.escape.turnover`: derivation,
+limits), which tends to ``r_K`` at low friction and to Kramers' spatial-diffusion rate over
+both saddles at high friction.
 """
 
 from __future__ import annotations
@@ -38,9 +43,10 @@ from kbm.errors import ModelError
 
 from ._panels import Piecewise
 from .envelope import EnergyEnvelope
+from .turnover import melnikov_meshkov_factor, turnover_rate
 
 __all__ = ["EscapeRate", "averaged_escape", "separatrix_action", "kramers_low_friction",
-           "melnikov_meshkov_factor", "central_well"]
+           "melnikov_meshkov_factor", "central_well", "barrier_frequencies"]
 
 
 def central_well(env: EnergyEnvelope):
@@ -80,15 +86,6 @@ def kramers_low_friction(mu: float, kT: float, Eb: float, action: float, omega0:
     return mu * action / kT * omega0 / (2 * math.pi) * math.exp(-Eb / kT)
 
 
-def melnikov_meshkov_factor(delta: float) -> float:
-    """``A(delta) = exp[(1/2 pi) int_R ln(1 - exp(-delta (y^2 + 1/4))) dy/(y^2 + 1/4)]``
-    (Mel'nikov and Meshkov 1986; ``A -> delta`` as ``delta -> 0``)."""
-    def f(y):
-        return math.log(-math.expm1(-delta * (y * y + 0.25))) / (y * y + 0.25)
-    val = quad(f, 0, math.inf, limit=400, epsrel=1e-12)[0] * 2
-    return math.exp(val / (2 * math.pi))
-
-
 @dataclass(frozen=True)
 class EscapeRate:
     """Escape from the well at the origin by energy diffusion.
@@ -110,7 +107,15 @@ class EscapeRate:
     kT : float or None
         ``D/mu`` for linear damping, else ``None``.
     rate_kramers, rate_melnikov : float or None
-        Kramers' low-friction rate and the Mel'nikov-Meshkov rate (linear damping only).
+        Kramers' low-friction rate and the Mel'nikov-Meshkov rate ``A(delta) (omega_0/2 pi)
+        exp(-E_b/kT)`` of a well with one exit (linear damping only).
+    omega_b : float or None
+        ``sqrt(-g'(x_s))`` at the saddles, where both have the barrier's energy and the
+        same curvature (else ``None``).
+    rate_turnover : float or None
+        ``(lambda_+/omega_b) 2 A(delta/2) (omega_0/2 pi) exp(-E_b/kT)``: two equal exits,
+        any friction (:func:`numerics.escape.turnover.turnover_rate`; linear damping and
+        ``omega_b`` only).
     """
 
     rate_averaged: float
@@ -122,6 +127,8 @@ class EscapeRate:
     kT: float | None
     rate_kramers: float | None
     rate_melnikov: float | None
+    omega_b: float | None = None
+    rate_turnover: float | None = None
 
     def __repr__(self) -> str:
         return (f"EscapeRate(averaged={self.rate_averaged:.4g}, barrier={self.barrier:.4g}, "
@@ -169,10 +176,38 @@ def averaged_escape(env: EnergyEnvelope) -> EscapeRate:
     # the separatrix loop: turning points at E_b on each side (one is the saddle)
     xm, xp = p.annulus.turning_points(np.array([Eb * (1 - 1e-14)]))
     action = separatrix_action(split, Eb, float(xm[0]), float(xp[0]))
-    kT = rk = rmm = None
+    omega_b = barrier_frequencies(split, (xl, xr), Eb - E0)
+    kT = rk = rmm = rt = None
     if _linear_damping(env):
         kT = D / mu
         rk = kramers_low_friction(mu, kT, Eb - E0, action, omega0)
         rmm = melnikov_meshkov_factor(mu * action / kT) * omega0 / (2 * math.pi) * math.exp(
             -(Eb - E0) / kT)
-    return EscapeRate(1.0 / tau, tau, Eb - E0, (xl, xr), action, omega0, kT, rk, rmm)
+        if omega_b is not None:
+            rt = turnover_rate(mu, kT, Eb - E0, action, omega0, omega_b)
+    return EscapeRate(1.0 / tau, tau, Eb - E0, (xl, xr), action, omega0, kT, rk, rmm,
+                      omega_b, rt)
+
+
+def barrier_frequencies(split, saddles, barrier: float) -> float | None:
+    """``omega_b = sqrt(-g'(x_s))`` where the two saddles bounding the well are equal exits:
+    both finite, at the same energy and curvature (to 1e-9 relative), as in an even
+    potential; else ``None`` (the two-exit turnover formula does not apply).
+
+    Parameters
+    ----------
+    split : the conservative split of the model
+    saddles : (float, float)
+        ``(x_l, x_r)``.
+    barrier : float
+        ``E_b - E_0``, the scale of the energies' agreement.
+    """
+    if not all(math.isfinite(s) for s in saddles):
+        return None
+    _, dg, G, _ = split.numpy_functions()
+    curv = [-float(dg(np.array(s))) for s in saddles]
+    energy = [float(G(np.array(s))) for s in saddles]
+    if min(curv) <= 0 or abs(curv[0] - curv[1]) > 1e-9 * max(curv) or (
+            abs(energy[0] - energy[1]) > 1e-9 * barrier):
+        return None
+    return math.sqrt(curv[1])

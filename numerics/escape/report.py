@@ -67,9 +67,16 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
     -------
     dict
         Keys ``rate_averaged``, ``rate_simulated``, ``stderr``, ``barrier`` and the
-        details (``rate_kramers``, ``rate_melnikov``, ``kT``, ``barrier_over_kT``,
-        ``mfpt_averaged``, ``trajectories``, ``escaped``, ``t_end``, ``dt``, ``seed``,
-        ``estimated_steps`` (of both runs with ``fokker-planck``), ``message``).
+        details (``rate_kramers``, ``rate_melnikov``, ``rate_turnover``, ``omega_b``,
+        ``kT``, ``barrier_over_kT``, ``mfpt_averaged``, ``trajectories``, ``escaped``,
+        ``t_end``, ``dt``, ``seed``, ``estimated_steps`` (of both runs with
+        ``fokker-planck``), ``message``).  ``rate_melnikov`` is Mel'nikov-Meshkov's
+        ``A(delta) (omega_0/2 pi) exp(-E_b/kT)`` for a well with one exit and no
+        spatial-diffusion factor (kept as it was); ``rate_turnover`` is the rate of the
+        well's two equal exits at any friction, ``(lambda_+/omega_b) 2 A(delta/2)
+        (omega_0/2 pi) exp(-E_b/kT)`` (:mod:`numerics.escape.turnover`), the formula to
+        compare with ``rate_fokker_planck``; ``omega_b`` is the saddles' barrier
+        frequency (``None`` with ``rate_turnover`` where the two saddles differ).
     """
     params = dict(params)
     if method not in ("averaging", "fokker-planck"):
@@ -110,6 +117,7 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         "kT": esc.kT, "barrier_over_kT": None if esc.kT is None else esc.barrier / esc.kT,
         "rate_averaged": esc.rate_averaged, "mfpt_averaged": esc.mfpt,
         "rate_kramers": esc.rate_kramers, "rate_melnikov": esc.rate_melnikov,
+        "rate_turnover": esc.rate_turnover, "omega_b": esc.omega_b,
         "action_at_barrier": esc.action, "omega0": esc.omega0,
         "rate_simulated": None, "stderr": None, "trajectories": trajectories,
         "escaped": None, "censored": None, "t_end": run, "dt": h, "seed": seed,
@@ -136,8 +144,8 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         out["warnings"].append(
             f"E_b/kT = {ratio:.3g} < {MIN_BARRIER_OVER_KT:g}: the barrier is not high against "
             "the noise, so the escape rate formulas (averaged MFPT, Kramers, Mel'nikov-"
-            "Meshkov) do not apply (they assume E_b >> kT); lower D or use the simulated "
-            "first-passage rate")
+            "Meshkov, turnover) do not apply (they assume E_b >> kT); lower D or use the "
+            "simulated first-passage rate")
     if not simulate:
         out["message"] = "simulation not requested (--no-simulation)"
         return out

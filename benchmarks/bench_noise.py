@@ -15,7 +15,7 @@ for part 3, about 15 minutes at effort 3 on a loaded machine).
    first written and 1, 2, 3, 4 and 6 trajectories a loop with the O part's noise factor
    folded into the increments (what a competent hand loop does: independent chains fill
    the core); the toolkit's ``final_states`` runs the lanes its code generator chose
-   (:func:`numerics.noise.codegen.lanes_source`: 3 for a force with one ``sin``).  All end
+   (:func:`numerics.noise.lanes.lane_count`: 3 for a force with one ``sin``).  All end
    in the same states to the bit.  The BAOAB loops are timed in 41 interleaved rounds (the
    order reversed every other round), by CPU time of the thread (the machine is shared:
    the wall clock counts the time others hold the core) and by the wall clock; the ratios

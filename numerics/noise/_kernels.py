@@ -197,7 +197,7 @@ def _finite(x, v):
 def final_states(p, sigma, y0, t0, h, n, states):
     """The states after ``n`` steps from ``y0[i]`` (``NaN`` once a state is non-finite);
     trajectories ``LANES`` at a time in one loop (``_advance_lanes``, printed for the model
-    by :func:`numerics.noise.codegen.lanes_source`), the rest two at a time
+    by :func:`numerics.noise.lanes.lanes_source`), the rest two at a time
     (:func:`_advance2`), the last of an odd number beside its twin: each trajectory's
     numbers are those it has alone."""
     m = y0.shape[0]

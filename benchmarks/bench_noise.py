@@ -11,11 +11,17 @@ for part 3, about 15 minutes at effort 3 on a loaded machine).
    against hand-written numba loops that use **the same generator** (the toolkit's
    xoshiro256** and three-point increments, called from the hand loop): a BAOAB loop
    with the force carried over and an Euler-Maruyama loop.  Target: toolkit BAOAB >= 1x
-   the hand BAOAB loop.  One trajectory a loop, the toolkit's machine code is the hand
-   loop's (one multiplication fewer); its kernels run two trajectories a loop, which a hand
-   loop written that way matches (timed too).  Each scheme's ``<x^2>`` at the timed step is
-   printed against Boltzmann's (exact by quadrature), so that no rate is quoted for a wrong
-   answer.
+   the fastest hand BAOAB loop.  The hand BAOAB loop is timed one trajectory a loop as
+   first written and 1, 2, 3, 4 and 6 trajectories a loop with the O part's noise factor
+   folded into the increments (what a competent hand loop does: independent chains fill
+   the core); the toolkit's ``final_states`` runs the lanes its code generator chose
+   (:func:`numerics.noise.lanes.lane_count`: 3 for a force with one ``sin``).  All end
+   in the same states to the bit.  The BAOAB loops are timed in 41 interleaved rounds (the
+   order reversed every other round), by CPU time of the thread (the machine is shared:
+   the wall clock counts the time others hold the core) and by the wall clock; the ratios
+   are the medians of the rounds' ratios, with their quartiles.  Each scheme's ``<x^2>``
+   at the timed step is printed against Boltzmann's (exact by quadrature), so that no rate
+   is quoted for a wrong answer.
 2. **Force evaluations for equal weak error** on ``x'' + x = -x' - x^3 + sqrt(2 D) xi``
    (linear damping, quartic potential, D = kT = 1; ``<x^2>`` exact by quadrature of
    ``exp(-(x^2/2 + x^4/4)/kT)``).  The weak errors are exact, not sampled: BAOAB's own
@@ -49,6 +55,7 @@ for part 3, about 15 minutes at effort 3 on a loaded machine).
 from __future__ import annotations
 
 import math
+import os
 import sys
 import time
 
@@ -115,35 +122,36 @@ def _hand_loops(inc):
             out[i, 0], out[i, 1] = (sx / n, 0.0) if average else (x, v)
         return out
 
-    @njit(cache=False)
-    def baoab_two(states, n, h, sigma, mu, delta, k):
-        """The BAOAB loop with two trajectories a loop (what the toolkit's kernels do)."""
-        out = np.empty((states.shape[0], 2))
-        r3 = math.sqrt(3.0 * h)
-        e = math.exp(-mu * h)
-        c = math.sqrt((1.0 - e * e) / (2.0 * mu * h))
-        for i in range(0, states.shape[0], 2):
-            s, q = states[i].copy(), states[i + 1].copy()
-            x, v, y, w = 0.0, 0.0, 0.0, 0.0
-            f = -x - delta * math.sin(k * x)
-            g = f
-            for _ in range(n):
-                v += 0.5 * h * f
-                w += 0.5 * h * g
-                x += 0.5 * h * v
-                y += 0.5 * h * w
-                v = e * v + c * sigma * inc(s, r3)
-                w = e * w + c * sigma * inc(q, r3)
-                x += 0.5 * h * v
-                y += 0.5 * h * w
-                f = -x - delta * math.sin(k * x)
-                g = -y - delta * math.sin(k * y)
-                v += 0.5 * h * f
-                w += 0.5 * h * g
-            out[i, 0], out[i, 1], out[i + 1, 0], out[i + 1, 1] = x, v, y, w
-        return out
+    return baoab, euler
 
-    return baoab, euler, baoab_two
+
+def _hand_lanes(inc, lanes: int):
+    """The hand BAOAB loop written ``lanes`` trajectories a loop (scalar states, each
+    trajectory its generator ``inc``, the O part's noise factor folded into the increments'
+    amplitude as the toolkit folds it): what a competent hand loop does to fill the core;
+    the number of trajectories must be a multiple of ``lanes``."""
+    src = ["def baoab_lanes(states, n, h, sigma, mu, delta, k):",
+           "    out = np.empty((states.shape[0], 2))",
+           "    e = math.exp(-mu * h)",
+           "    amp = math.sqrt((1.0 - e * e) / (2.0 * mu * h)) * sigma * math.sqrt(3.0 * h)",
+           f"    for i in range(0, states.shape[0], {lanes}):"]
+    for j in range(lanes):
+        src += [f"        s{j} = states[i + {j}].copy()",
+                f"        x{j}, v{j} = 0.0, 0.0",
+                f"        f{j} = -x{j} - delta * math.sin(k * x{j})"]
+    src += ["        for _ in range(n):"]
+    for j in range(lanes):
+        src += [f"            v{j} += 0.5 * h * f{j}",
+                f"            x{j} += 0.5 * h * v{j}",
+                f"            v{j} = e * v{j} + inc(s{j}, amp)",
+                f"            x{j} += 0.5 * h * v{j}",
+                f"            f{j} = -x{j} - delta * math.sin(k * x{j})",
+                f"            v{j} += 0.5 * h * f{j}"]
+    src += [f"        out[i + {j}, 0], out[i + {j}, 1] = x{j}, v{j}" for j in range(lanes)]
+    src += ["    return out"]
+    space = {"np": np, "math": math, "inc": inc}
+    exec("\n".join(src), space)  # noqa: S102 - the benchmark's own text
+    return njit(cache=False)(space["baoab_lanes"])
 
 
 def _best_rate(fn, steps: int, repeats: int = 3) -> float:
@@ -156,17 +164,36 @@ def _best_rate(fn, steps: int, repeats: int = 3) -> float:
     return steps / best
 
 
+def _rounds(fns: dict, rounds: int = 11) -> tuple[dict, dict]:
+    """Wall-clock and CPU (thread) seconds of each ``fns[name]()``, the functions timed in
+    turn, ``rounds`` times each, the order reversed every other round (who goes first
+    alternates; the machine is shared)."""
+    names = list(fns)
+    wall = {n: [] for n in names}
+    cpu = {n: [] for n in names}
+    for rep in range(rounds):
+        for name in (names if rep % 2 == 0 else names[::-1]):
+            t0, c0 = time.perf_counter(), time.thread_time()
+            fns[name]()
+            cpu[name].append(time.thread_time() - c0)
+            wall[name].append(time.perf_counter() - t0)
+    return ({n: np.array(v) for n, v in wall.items()}, {n: np.array(v) for n, v in cpu.items()})
+
+
 def rates() -> None:
     params = {"mu": MU, "Delta": DELTA, "lam": 1, "Omega": 1}
     exact = _boltzmann_x2(lambda x: x * x / 2 + DELTA / K * (1 - math.cos(K * x)), D / MU)
     sig = math.sqrt(2 * D)
-    m, t_rate, t_answer = 16, 2000.0, 20000.0
+    m, t_rate, t_answer = 24, 2000.0, 20000.0  # 24: whole loops of 1, 2, 3, 4, 6 lanes
     st = trajectory_states(1, 0, m)
     y0 = np.zeros((m, 2))
     kits = {sch: langevin_system("cdc", params, D, sch) for sch in ("baoab", "kp")}
-    hand_baoab, hand_euler, hand_two = _hand_loops(kits["baoab"].kernels._increment)
-    print("1. raw step rate on the CDC at rest (one core, warm; the BAOAB pair below best of 11 "
-          f"interleaved); Boltzmann <x^2> = {exact:.5f} (kT = 1)")
+    inc = kits["baoab"].kernels._increment
+    hand_baoab, hand_euler = _hand_loops(inc)
+    lanes = kits["baoab"].kernels.LANES
+    print("1. raw step rate on the CDC at rest (one core, warm; the BAOAB loops below best and "
+          f"median of 41 interleaved rounds); Boltzmann <x^2> = {exact:.5f} (kT = 1); load "
+          "average {:.2f} {:.2f} {:.2f} on {} cores".format(*os.getloadavg(), os.cpu_count()))
     rows = []
     for name, h in (("toolkit baoab", 0.01), ("toolkit kp", 0.005), ("hand BAOAB", 0.01),
                     ("hand Euler-Maruyama", 0.0005)):
@@ -174,7 +201,7 @@ def rates() -> None:
         if name.startswith("toolkit"):
             s = kits[name.split()[1]]
             k, p = s.kernels, s._p()
-            k.final_states(p, s.sigma, y0[:2], 0.0, h, 10, st[:2])
+            k.final_states(p, s.sigma, y0[:7], 0.0, h, 10, st[:7])
             rate = _best_rate(lambda: k.final_states(p, s.sigma, y0, 0.0, h, n, st), m * n)
             if name == "toolkit baoab":
                 kit_final = k.final_states(p, s.sigma, y0, 0.0, h, n, st)
@@ -189,55 +216,64 @@ def rates() -> None:
                 same = float(np.max(np.abs(fn(st, n, h, sig, MU, DELTA, K, False) - kit_final)))
             x2 = fn(st, n_ans, h, sig, MU, DELTA, K, True)[:, 0]
         rows.append((name, h, rate, x2.mean(), x2.std(ddof=1) / math.sqrt(m)))
-    # the machine is shared: time the BAOAB loops in turn, eleven times each, the order
-    # reversed every other round (who goes first alternates)
     s = kits["baoab"]
     k, p, h = s.kernels, s._p(), 0.01
-    n = round(t_rate / h)
-    fns = (lambda: k.final_states(p, s.sigma, y0, 0.0, h, n, st),
-           lambda: hand_baoab(st, n, h, sig, MU, DELTA, K, False),
-           lambda: hand_two(st, n, h, sig, MU, DELTA, K))
-    hand_two(st[:2], 10, h, sig, MU, DELTA, K)
-    same2 = float(np.max(np.abs(hand_two(st, n, h, sig, MU, DELTA, K) - kit_final)))
-    took_all = [[], [], []]
-    for rep in range(11):
-        for j in ((0, 1, 2) if rep % 2 == 0 else (2, 1, 0)):
-            t0 = time.perf_counter()
-            fns[j]()
-            took_all[j].append(time.perf_counter() - t0)
-    tk = np.array(took_all)
-    pairs = tk[1] / tk[0]
-    rows[0] = (rows[0][0], h, m * n / tk[0].min(), *rows[0][3:])
-    rows[2] = (rows[2][0], h, m * n / tk[1].min(), *rows[2][3:])
+    n_cmp, n = round(t_rate / h), round(500.0 / h)  # short timed runs, many rounds
+    fns = {f"toolkit BAOAB ({lanes} a loop)":
+           lambda: k.final_states(p, s.sigma, y0, 0.0, h, n, st),
+           "hand BAOAB, 1 a loop": lambda: hand_baoab(st, n, h, sig, MU, DELTA, K, False)}
+    diffs = []
+    for w in (1, 2, 3, 4, 6):
+        fn = _hand_lanes(inc, w)
+        fn(st[:w], 10, h, sig, MU, DELTA, K)
+        diffs.append(float(np.max(np.abs(fn(st, n_cmp, h, sig, MU, DELTA, K) - kit_final))))
+        fns[f"hand BAOAB, {w} a loop, folded"] = (
+            lambda fn=fn: fn(st, n, h, sig, MU, DELTA, K))
+    wall, cpu = _rounds(fns, 41)
+    tool = next(iter(fns))
     print(f"   {'scheme':22} {'h':>7} {'M steps/s':>10} {'<x^2>':>9}  (<x^2> - exact)/exact")
     for name, hr, rate, x2, se in rows:
         print(f"   {name:22} {hr:7.4g} {rate / 1e6:10.2f} {x2:9.5f}  {x2 / exact - 1:+.2e} "
               f"+- {se / exact:.0e}")
-    print(f"   the toolkit's BAOAB and the hand BAOAB end in the same states (largest "
-          f"difference {same:g})")
-    med = [m * n / float(np.median(tk[j])) / 1e6 for j in (0, 1, 2)]
-    print(f"   ratio toolkit BAOAB / hand BAOAB (same generator) = {rows[0][2] / rows[2][2]:.2f}"
-          f" best of 11 interleaved, {float(np.median(pairs)):.2f} median of the 11 rounds' "
-          f"ratios, {min(pairs):.2f}-{max(pairs):.2f} (target >= 1); median rates "
-          f"{med[0]:.2f} and {med[1]:.2f} M steps/s: {med[0] / med[1]:.2f}")
-    print(f"   the toolkit's kernels run two trajectories a loop (two independent chains of "
-          f"dependent operations, each step's force a libm call); one trajectory a loop their "
-          f"machine code is the hand loop's.  The hand loop written two to a loop (same "
-          f"states: largest difference {same2:g}), in the same rounds: {med[2]:.2f} M steps/s "
-          f"median; toolkit / it = {float(np.median(tk[2] / tk[0])):.2f} median of the rounds' "
-          "ratios")
+    print("   (wall clock, best of 3; the BAOAB loops in interleaved rounds below)")
+    print(f"   the toolkit's BAOAB and every hand BAOAB loop end in the same states (largest "
+          f"difference {max([same, *diffs]):g}); the hand loops call the toolkit's generator "
+          "(xoshiro256**, three-point increments); 'folded': the O part's noise factor in the "
+          "increments' amplitude, as the toolkit folds it")
+    print(f"   {'BAOAB loop, 24 trajectories':34} {'M steps/s:':>10} {'CPU best':>8} "
+          f"{'median':>7} {'wall best':>9} {'median':>7}   toolkit / it: CPU median "
+          "(quartiles), wall median")
+    for name in fns:
+        rc = m * n / cpu[name] / 1e6
+        rw = m * n / wall[name] / 1e6
+        q = np.percentile(cpu[name] / cpu[tool], [25, 50, 75])
+        print(f"   {name:34} {'':10} {rc.max():8.2f} {float(np.median(rc)):7.2f} "
+              f"{rw.max():9.2f} {float(np.median(rw)):7.2f}   {'':14}{q[1]:5.2f} "
+              f"({q[0]:.2f}-{q[2]:.2f}), {float(np.median(wall[name] / wall[tool])):.2f}")
+    hands = [name for name in fns if name != tool]
+    best = min(hands, key=lambda name: float(np.median(cpu[name])))
+    q = np.percentile(cpu[best] / cpu[tool], [25, 50, 75])
+    print(f"   the fastest hand loop (median CPU time): {best}; toolkit / it (target >= 1) = "
+          f"{q[1]:.2f} median of the 41 rounds' ratios (quartiles {q[0]:.2f}-{q[2]:.2f}), "
+          f"{cpu[best].min() / cpu[tool].min():.2f} best against best (CPU time); wall clock "
+          f"{float(np.median(wall[best] / wall[tool])):.2f} median, "
+          f"{wall[best].min() / wall[tool].min():.2f} best against best")
+    q = np.percentile(cpu["hand BAOAB, 1 a loop"] / cpu[tool], [25, 50, 75])
+    print(f"   ratio toolkit BAOAB / hand BAOAB one a loop as first written (same generator) = "
+          f"{q[1]:.2f} median (quartiles {q[0]:.2f}-{q[2]:.2f}, CPU time)")
     print(f"   ratio toolkit KP / hand Euler-Maruyama, per step = {rows[1][2] / rows[3][2]:.2f} "
           "(Euler-Maruyama needs a 20x smaller step)")
     took = [[], []]
     for rep in range(7):
         for j in ((0, 1) if rep % 2 == 0 else (1, 0)):
             fn = (k.stationary_stats, k.stationary_stats4)[j]
-            t0 = time.perf_counter()
+            t0 = time.thread_time()
             fn(p, s.sigma, y0, 0.0, h, 0, n, st, s.omega0, 0, 0.0, 4.0, 40)
-            took[j].append(time.perf_counter() - t0)
+            took[j].append(time.thread_time() - t0)
     print(f"   the stationary run's kernel (four-point increments) / the three-point kernel (the "
           f"same loop, two trajectories a loop): time x"
-          f"{float(np.median(took[1]) / np.median(took[0])):.2f} (medians of 7 interleaved)")
+          f"{float(np.median(took[1]) / np.median(took[0])):.2f} (medians of 7 interleaved, "
+          "CPU time)")
 
 
 def _crossing(hs, errs, target: float) -> float:

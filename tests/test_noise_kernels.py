@@ -84,6 +84,37 @@ def test_final_states_equal_the_scheme_stepped_in_python(scheme):
         assert _same([x, v], got[i])
 
 
+@pytest.mark.parametrize("model, scheme, lanes", [(QUARTIC, "baoab", 6), (QUARTIC, "kp", 6),
+                                                   ("cdc", "baoab", 3), ("cdc", "kp", 2)])
+def test_final_states_in_lanes_equal_the_scheme_stepped_in_python(model, scheme, lanes):
+    """final_states on ``2 lanes + 3`` trajectories (two loops of ``lanes`` trajectories, a
+    pair, the last beside its twin; one trajectory of the second loop started at NaN)
+    against each trajectory stepped in Python with the compiled one-step map and the
+    generator's three-point increments (Kloeden & Platen eq. 14.2.8): the same bytes, the
+    NaN start a NaN row.  The lane count is the printed one: 6 with no library call a step,
+    3 with one (BAOAB's force on the CDC, paper eq. 12), 2 with two (Kloeden-Platen)."""
+    params = {"mu": 1.0} if model is QUARTIC else {"mu": 0.1, "Delta": 3, "lam": 1,
+                                                   "Omega": 1}
+    s = langevin_system(model, params, 1.0 if model is QUARTIC else 0.1, scheme)
+    k, p = s.kernels, s._p()
+    assert k.LANES == lanes
+    m, h, n = 2 * lanes + 3, 0.05, 150
+    y0 = np.linspace(-1.0, 0.8, 2 * m).reshape(m, 2)
+    y0[lanes + 1] = [np.nan, 0.0]
+    st = trajectory_states(3, 0, m)
+    got = k.final_states(p, s.sigma, y0, 0.0, h, n, st)
+    amp = s.sigma * k._noise_factor(p, h) * math.sqrt(3.0 * h)
+    for i in range(m):
+        gen = st[i].copy()
+        x, v = y0[i]
+        f = k._first(0.0, x, v, p)
+        for j in range(n):
+            x, v, f = k._step(j * h, x, v, f, h, k._increment(gen, amp), p)
+        want = [x, v] if math.isfinite(x + v) else [math.nan, math.nan]
+        assert _same(want, got[i]), i
+    assert np.isnan(got[lanes + 1]).all() and np.isfinite(np.delete(got, lanes + 1, 0)).all()
+
+
 @pytest.mark.parametrize("scheme", ["baoab", "kp"])
 def test_first_passages_in_pairs_equal_first_passages_alone(scheme):
     """first_passages on nine trajectories (pairs run together until one leaves, the other

@@ -186,14 +186,27 @@ def _advance2(p, xa, va, sa, xb, vb, sb, t0, h, n, amp):
 
 
 @njit(cache=True)
+def _finite(x, v):
+    """``(x, v)``, or NaNs when either is non-finite."""
+    if math.isfinite(x + v):
+        return x, v
+    return math.nan, math.nan
+
+
+@njit(cache=True)
 def final_states(p, sigma, y0, t0, h, n, states):
     """The states after ``n`` steps from ``y0[i]`` (``NaN`` once a state is non-finite);
-    trajectories two at a time (:func:`_advance2`), the last of an odd number beside its
-    twin."""
+    trajectories ``LANES`` at a time in one loop (``_advance_lanes``, printed for the model
+    by :func:`numerics.noise.lanes.lanes_source`), the rest two at a time
+    (:func:`_advance2`), the last of an odd number beside its twin: each trajectory's
+    numbers are those it has alone."""
     m = y0.shape[0]
     out = np.empty((m, 2))
     amp = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)
-    for i in range(0, m, 2):
+    whole = m - m % LANES  # noqa: F821 - set by the printed model above
+    for i in range(0, whole, LANES):  # noqa: F821
+        _advance_lanes(p, y0, t0, h, n, states, i, amp, out)  # noqa: F821
+    for i in range(whole, m, 2):
         j = min(i + 1, m - 1)
         sa = states[i].copy()
         sb = states[j].copy()

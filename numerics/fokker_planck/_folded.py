@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._blocks import TermBlocks, one_blas_thread
+from ._folded_orders import FoldedOrderLU
 from ._orthonormal import orthonormal_terms
 from ._parity import parity_maps
 
@@ -227,10 +228,15 @@ class FoldedRungs:
     ----------
     capacity : int
         The largest Hermite truncation to come (the terms are built for it once).
+    by_order : bool, optional
+        Factorise order by order (:class:`._folded_orders.FoldedOrderLU`, 2.15 times fewer
+        operations) where the Hermite bandwidth is 2, instead of in pairs of orders
+        (:class:`FoldedLU`; the rates agree to rounding).
     """
 
-    def __init__(self, capacity: int):
+    def __init__(self, capacity: int, by_order: bool = False):
         self.capacity = int(capacity)
+        self.by_order = bool(by_order)
         self._key, self._lu, self._keep = None, None, None
 
     @staticmethod
@@ -254,7 +260,10 @@ class FoldedRungs:
                 cap = max(self.capacity, nh)
                 A = FoldedTermBlocks(orthonormal_terms(split, D, s, xs, Dx, cap), xs.size,
                                      kappa)
-                self._lu, self._keep = FoldedLU(A, 0, A.bandwidth()), A.keep()
+                b = A.bandwidth()
+                self._lu = (FoldedOrderLU(A, 0) if self.by_order and b == 2
+                            else FoldedLU(A, 0, b))
+                self._keep = A.keep()
                 self._key = key
             lu = self._lu
             nh = -(-int(nh) // lu.b) * lu.b

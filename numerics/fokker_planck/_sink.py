@@ -383,7 +383,12 @@ def absorbing_limit(out: dict, rung, least: tuple = (SINK_HERMITE, SINK_INTERVAL
             lim = dict(lim, rungs=low, rate=(lo + high[-1]) / 2,
                        sink_error=bracket_error(low, high))
         nl = _down(nh)
-        lo_l, hi_l = rung(top, o_low, nt, nl), rung(top, o_high, nt, nl)
+
+        def smaller(o):  # the top rung with 1/sqrt 2 of its functions (solved by solve())
+            n, _, r_low = low_rates.get((top, o), (None, None, None))
+            return r_low if n == nh else rung(top, o, nt, nl)
+
+        lo_l, hi_l = smaller(o_low), smaller(o_high)
         trunc = abs((lo_l + hi_l) / 2 - lim["rate"])
         n_fine, nb = 2 * int(round(GRID_CHECK * nt / 2)), GRID_HERMITE
         here = (rung(top, o_low, nt, nb) + rung(top, o_high, nt, nb)) / 2  # factors kept

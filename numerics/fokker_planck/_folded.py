@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._blocks import TermBlocks, one_blas_thread
-from ._folded_orders import FoldedOrderLU
+from ._folded_orders import FoldedOrderLU, dominant_ritz
 from ._orthonormal import orthonormal_terms
 from ._parity import parity_maps
 
@@ -237,7 +237,7 @@ class FoldedRungs:
     def __init__(self, capacity: int, by_order: bool = False):
         self.capacity = int(capacity)
         self.by_order = bool(by_order)
-        self._key, self._lu, self._keep = None, None, None
+        self._key, self._lu, self._keep, self._vec = None, None, None, None
 
     @staticmethod
     def numbers(nh: int, nc: int) -> int:
@@ -256,7 +256,7 @@ class FoldedRungs:
         key = (float(s), int(nc), kappa.tobytes())
         with one_blas_thread():
             if key != self._key or nh > self._lu.A.n_orders:
-                self._key, self._lu = None, None  # the last factors freed first
+                self._key, self._lu, self._vec = None, None, None  # the last factors freed first
                 cap = max(self.capacity, nh)
                 A = FoldedTermBlocks(orthonormal_terms(split, D, s, xs, Dx, cap), xs.size,
                                      kappa)
@@ -270,6 +270,16 @@ class FoldedRungs:
             if nh > lu.n:
                 lu.extend(nh)
             keep = self._keep[:nh * lu.A.mm]
+            if isinstance(lu, FoldedOrderLU):  # from the last slowest mode on these factors
+                v0 = keep.copy()
+                if self._vec is not None:
+                    v0 = np.zeros(keep.size)
+                    n = min(v0.size, self._vec.size)
+                    v0[:n] = self._vec[:n]
+                theta, vec = dominant_ritz(lambda v: lu.solve(keep * v, nh), v0)
+                if theta is not None:
+                    self._vec = vec
+                    return float(-(1.0 / theta).real)
             op = spla.LinearOperator((keep.size,) * 2,
                                      matvec=lambda v: lu.solve(keep * v, nh), dtype=float)
             # one Ritz value from six vectors: the gap to the next decay rate (an intra-well

@@ -58,6 +58,23 @@ class FoldedOrderLU:
         self._state = None  # the frontier: S(p, p), S(p, p+1), S(p+1, p), S(p+1, p+1)
         self.extend(n_orders)
 
+    def _entries_of(self, B: np.ndarray):
+        """A dense position matrix ``B`` as ``(rows, columns, values)`` where it has few
+        entries (a diagonal between orders of the two parities), else ``B`` padded to
+        ``mm x mm`` in Fortran order (kept per matrix: every order shares them)."""
+        key = id(B)
+        if key not in self._sparse:
+            mm = self.A.mm
+            nz = np.nonzero(B)
+            if nz[0].size <= 2 * mm:
+                self._sparse[key] = nz + (B[nz],)
+            else:
+                full = np.zeros((mm, mm), order="F")
+                full[:B.shape[0], :B.shape[1]] = B
+                self._sparse[key] = full
+            self._held.append(B)  # the id stays this matrix's
+        return self._sparse[key]
+
     def _block(self, n: int, k: int, dense: bool = True):
         """The folded block of the orders ``(n, k)`` (:meth:`._folded.FoldedTermBlocks.block`,
         Fortran order), or with ``dense=False`` its diagonal where every term's position
@@ -67,21 +84,23 @@ class FoldedOrderLU:
         A, mm = self.A, self.A.mm
         entries = list(A._entries(n, n + 1, k, k + 1))
         if dense or any(diag is None for *_, diag in entries):
-            out = np.zeros((mm, mm), order="F")
+            out = None  # the first product written in place (the sums in block()'s order)
             for _, _, v, B, diag in entries:
+                if diag is None:
+                    B = self._entries_of(B)
+                    if out is None and not isinstance(B, tuple):
+                        out = np.multiply(B, v, out=np.empty((mm, mm), order="F"))
+                        continue
+                if out is None:
+                    out = np.zeros((mm, mm), order="F")
                 if diag is not None:
                     out[np.arange(diag.size), np.arange(diag.size)] += v * diag
-                    continue
-                sparse = self._sparse.get(id(B))
-                if sparse is None:
-                    nz = np.nonzero(B)
-                    sparse = (nz + (B[nz],)) if nz[0].size <= 2 * mm else B
-                    self._sparse[id(B)] = sparse
-                    self._held.append(B)  # the id stays this matrix's
-                if isinstance(sparse, tuple):
-                    out[sparse[0], sparse[1]] += v * sparse[2]
+                elif isinstance(B, tuple):
+                    out[B[0], B[1]] += v * B[2]
                 else:
-                    out[:B.shape[0], :B.shape[1]] += v * B
+                    out += v * B
+            if out is None:
+                out = np.zeros((mm, mm), order="F")
             out[0, :] = 0.0  # the pinned end x = L (x = -L is its mirror)
             if n == k:
                 p = n % 2
@@ -140,9 +159,14 @@ class FoldedOrderLU:
             # the same rate to 2e-15, the same backward error of a solve)
             inv = lapack.dgetri(lu, piv)[0]
             W = np.empty((mm, 2 * mm) if u2 is not None else (mm, mm), order="F")
-            W[:, :mm] = blas.dgemm(1.0, inv, U1)
+            W1 = blas.dgemm(1.0, inv, U1, c=W[:, :mm], overwrite_c=True)
+            if not np.shares_memory(W1, W):
+                W[:, :mm] = W1
             if u2 is not None:
-                W[:, mm:] = inv * u2[None, :] if u2.ndim == 1 else inv @ u2
+                if u2.ndim == 1:
+                    np.multiply(inv, u2[None, :], out=W[:, mm:])
+                else:
+                    W[:, mm:] = inv @ u2
             W1 = W[:, :mm]
             P_next = blas.dgemm(-1.0, L1, W1, beta=1.0, c=np.asfortranarray(Q),
                                 overwrite_c=True)

@@ -8,7 +8,8 @@ linearly damped model in closed-form blocks, folded by parity (the matrix contin
 in LU form, eliminated upward), :mod:`._sweeps` its compiled solve sweeps, :mod:`._rungs`
 the escape ladder's solves sharing one factorisation per grid, :mod:`._orthonormal` the
 escape of a nonlinearly damped model in orthonormal Hermite functions, :mod:`._folded` the
-same for linear damping at low friction, folded by parity and eliminated upward, and
+same for linear damping at low friction, folded by parity and eliminated upward (order by
+order in the sink ladders' rungs, :mod:`._folded_orders`), and
 :mod:`._stationary_solve` its stationary density in the same functions (one solve; the
 ladders that choose and measure its sizes in :mod:`._stationary_orthonormal`), factorised
 order by order by :mod:`._pentadiagonal` when the damping is linear in the velocity, on the

@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._blocks import TermBlocks, one_blas_thread
+from ._folded_orders import FoldedOrderLU, dominant_ritz
 from ._orthonormal import orthonormal_terms
 from ._parity import parity_maps
 
@@ -227,11 +228,16 @@ class FoldedRungs:
     ----------
     capacity : int
         The largest Hermite truncation to come (the terms are built for it once).
+    by_order : bool, optional
+        Factorise order by order (:class:`._folded_orders.FoldedOrderLU`, 2.15 times fewer
+        operations) where the Hermite bandwidth is 2, instead of in pairs of orders
+        (:class:`FoldedLU`; the rates agree to rounding).
     """
 
-    def __init__(self, capacity: int):
+    def __init__(self, capacity: int, by_order: bool = False):
         self.capacity = int(capacity)
-        self._key, self._lu, self._keep = None, None, None
+        self.by_order = bool(by_order)
+        self._key, self._lu, self._keep, self._vec = None, None, None, None
 
     @staticmethod
     def numbers(nh: int, nc: int) -> int:
@@ -250,17 +256,30 @@ class FoldedRungs:
         key = (float(s), int(nc), kappa.tobytes())
         with one_blas_thread():
             if key != self._key or nh > self._lu.A.n_orders:
-                self._key, self._lu = None, None  # the last factors freed first
+                self._key, self._lu, self._vec = None, None, None  # the last factors freed first
                 cap = max(self.capacity, nh)
                 A = FoldedTermBlocks(orthonormal_terms(split, D, s, xs, Dx, cap), xs.size,
                                      kappa)
-                self._lu, self._keep = FoldedLU(A, 0, A.bandwidth()), A.keep()
+                b = A.bandwidth()
+                self._lu = (FoldedOrderLU(A, 0) if self.by_order and b == 2
+                            else FoldedLU(A, 0, b))
+                self._keep = A.keep()
                 self._key = key
             lu = self._lu
             nh = -(-int(nh) // lu.b) * lu.b
             if nh > lu.n:
                 lu.extend(nh)
             keep = self._keep[:nh * lu.A.mm]
+            if isinstance(lu, FoldedOrderLU):  # from the last slowest mode on these factors
+                v0 = keep.copy()
+                if self._vec is not None:
+                    v0 = np.zeros(keep.size)
+                    n = min(v0.size, self._vec.size)
+                    v0[:n] = self._vec[:n]
+                theta, vec = dominant_ritz(lambda v: lu.solve(keep * v, nh), v0)
+                if theta is not None:
+                    self._vec = vec
+                    return float(-(1.0 / theta).real)
             op = spla.LinearOperator((keep.size,) * 2,
                                      matvec=lambda v: lu.solve(keep * v, nh), dtype=float)
             # one Ritz value from six vectors: the gap to the next decay rate (an intra-well

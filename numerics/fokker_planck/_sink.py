@@ -258,7 +258,7 @@ RUNG_HERMITE, MAX_HERMITE = (90, 182), 724
 GRID_HERMITE = 128
 #: a rung's truncation grows by ``sqrt 2`` while its rate moves by more than this (relative)
 #: from ``1/sqrt 2`` of its functions (the smaller truncation costs no factorisation: the
-#: elimination runs upward, :class:`._folded.FoldedLU`)
+#: elimination runs upward, order by order, :class:`._folded_orders.FoldedOrderLU`)
 HERMITE_TOL = 5e-8
 #: ``(rung, factor)``: from each of these rungs on the intervals are ``factor`` times the
 #: first rung's (:func:`rung_intervals`; for linear damping the points crowd at the sink on
@@ -382,8 +382,9 @@ def absorbing_limit(out: dict, rung, least: tuple = (SINK_HERMITE, SINK_INTERVAL
             low = low[:-1] + (lo,)
             lim = dict(lim, rungs=low, rate=(lo + high[-1]) / 2,
                        sink_error=bracket_error(low, high))
-        nl = _down(nh)
-        lo_l, hi_l = rung(top, o_low, nt, nl), rung(top, o_high, nt, nl)
+        nl = _down(nh)  # the top rungs at 1/sqrt 2 of the functions (solve()'s, if at nh)
+        lo_l, hi_l = (low_rates[top, o][2] if low_rates.get((top, o), (0,))[0] == nh
+                      else rung(top, o, nt, nl) for o in (o_low, o_high))
         trunc = abs((lo_l + hi_l) / 2 - lim["rate"])
         n_fine, nb = 2 * int(round(GRID_CHECK * nt / 2)), GRID_HERMITE
         here = (rung(top, o_low, nt, nb) + rung(top, o_high, nt, nb)) / 2  # factors kept

@@ -357,7 +357,7 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
             if adaptive:  # one factorisation per sink and grid, extended up the truncations
                 for key in [k for k in solvers if k[0] != j or k[2] != nc]:
                     del solvers[key]  # the factors of another rung or grid freed first
-                solver = solvers.setdefault((j, offset, nc), FoldedRungs(4 * nh))
+                solver = solvers.setdefault((j, offset, nc), FoldedRungs(4 * nh, by_order=True))
                 return solver(split, D, sink_scale(j) * math.sqrt(kT), pts, nh, nc, snk)
             if basis == "pair":
                 return FractionRungs(split, sigma, gamma, centres, snk, pts).rate(nh, nc)

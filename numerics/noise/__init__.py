@@ -14,7 +14,8 @@ stationary averages of the BAOAB chain (its weak error without sampling);
 its compiled ensemble paths (the same scheme and streams).  The compiled
 source: :mod:`numerics.noise.codegen` prints the model, :mod:`numerics.noise._kernels`,
 :mod:`numerics.noise._passage_kernels` (first passages, pulled sliders) and
-:mod:`numerics.noise._pair_kernels` hold the kernels, :mod:`numerics.noise.seeds` the streams.
+:mod:`numerics.noise._pair_kernels` hold the kernels, :mod:`numerics.noise.seeds` the streams,
+:mod:`numerics.noise._pilot` the measured default step (the step pilot).
 """
 
 from .langevin import LangevinSystem, langevin_system, noise_intensity, split_noise

@@ -127,6 +127,25 @@ def test_refine_is_the_solve_one_grid_step_finer(mu):
         assert abs(b - a) <= sol.hermite_change * abs(a)
 
 
+def test_shared_nodes_give_the_same_bits():
+    """The solutions of one P(E) report share their nodes and velocity functions
+    (``shared``): P of van der Pol (mu = 0.3, D = 0.15) on two Hermite truncations, the
+    larger first, then the smaller from the larger's rows, equals each computed alone, to
+    the last bit."""
+    from numerics.fokker_planck._energy_density import energy_density, energy_grid
+
+    small = stationary_kramers("vdp", {"mu": 0.3}, 0.15, n_hermite=64, n_cheb=120,
+                               sigma=0.9)
+    big = stationary_kramers("vdp", {"mu": 0.3}, 0.15, n_hermite=90, n_cheb=120, sigma=0.9)
+    E = energy_grid(small)
+    alone = [energy_density(stationary_kramers("vdp", {"mu": 0.3}, 0.15, n_hermite=n,
+                                               n_cheb=120, sigma=0.9), E) for n in (90, 64)]
+    shared: dict = {}
+    assert np.array_equal(energy_density(big, E, shared=shared), alone[0])
+    assert np.array_equal(energy_density(small, E, shared=shared), alone[1])
+    assert shared
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("mu, sigma", [(0.03, 0.25), (0.02, 0.225)])
 def test_sedf_energy_density_six_digits_at_low_friction(mu, sigma):

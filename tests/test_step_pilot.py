@@ -89,7 +89,7 @@ def test_low_friction_step_is_the_rule_s_without_the_pilot():
 def test_noise_json_states_the_pilot(capsys):
     """``kbm noise --json``: ``step_pilot`` with the rule's step ``h0``, the pilot's
     ``outcome`` and its record (vdp at mu = 0.01: the probe's 11 trajectories cannot
-    resolve 2e-4; ``--dt``: not run), the other keys as before."""
+    resolve 2e-4; ``--dt``: not run), the other keys as before; the text says so."""
     from numerics.cli import main
 
     base = ["noise", "vdp", "-p", "mu=0.01", "-p", "D=0.005", "--trajectories", "8",
@@ -104,3 +104,5 @@ def test_noise_json_states_the_pilot(capsys):
     assert main(base + ["--dt", "0.01"]) == 0
     pilot = json.loads(capsys.readouterr().out)["step_pilot"]
     assert pilot == {"h0": 0.01, "outcome": "not run", "reason": "--dt given"}
+    assert main(base[:-1]) == 0  # the text says the step is unmeasured
+    assert "dt is the heating rule's, unmeasured" in capsys.readouterr().out

@@ -99,6 +99,24 @@ def test_issue_case_cdc_at_rest():
     _check("cdc", {"mu": 0.15, "Delta": 2, "lam": 1.3, "Omega": 1}, 0.6)
 
 
+def test_energy_bins_are_the_bin_by_bin_integrals():
+    """``EnergyEnvelope.energy_bins`` evaluates every bin's rule of an annulus at once (kbm
+    noise places its histogram with 2000 bins: 3.4 s -> 0.3 s at SEDF mu = 0.01): the
+    same numbers, to the last bit, as each bin integrated by parts on its own
+    (``_by_parts``), over bins that cross the separatrix and the annuli's ends."""
+    env = energy_envelope("cdc", {"mu": 0.15, "Delta": 2, "lam": 1.3, "Omega": 1}, 0.09)
+    lo = min(p.lo for p in env.pieces)
+    hi = max(p.hi for p in env.pieces)
+    edges = np.linspace(lo - 0.1, hi, 301)
+    want = np.zeros(edges.size - 1)
+    for p in env.pieces:
+        a, b = np.clip(edges[:-1], p.lo, p.hi), np.clip(edges[1:], p.lo, p.hi)
+        for j in np.nonzero(b > a)[0]:
+            want[j] += env._by_parts(p, p.action, float(a[j]), float(b[j]))
+    want /= env.partition() * np.diff(edges)
+    assert np.array_equal(env.energy_bins(edges), want)
+
+
 def _mpmath_mass(split, E, kT, L, crit, dps=30):
     """:func:`_mass_below` again in ``dps`` digits: ``mpmath.quad`` (tanh-sinh, which takes
     the kinks and square-root ends at the break points) of the sympy ``G``, its turning

@@ -107,6 +107,14 @@ def run(args) -> int:
     print(f"  simulated: {rep['trajectories']} trajectories x t = {rep['t_end']:.6g} after a "
           f"burn-in of {rep['burn_in']:.4g} ({round(rep['burn_in'] / rep['dt'])} steps), "
           f"dt = {rep['dt']:.4g}, seed {rep['seed']}")
+    pilot = rep.get("step_pilot") or {}
+    if pilot.get("outcome") == "unresolved":
+        print(f"  dt is the heating rule's, unmeasured: the step pilot cannot resolve its bias "
+              f"tolerance {pilot['tolerance']:.2g} within its budget of "
+              f"{pilot['budget']:.2g} steps")
+    elif pilot.get("outcome") == "shrunk":
+        print(f"  dt is the step pilot's: the heating rule's {pilot['h0']:.4g} had a measured "
+              f"bias beyond {pilot['tolerance']:.2g}")
     if rep.get("fokker_planck"):
         f = rep["fokker_planck"]
         print(f"  Fokker-Planck: stationary Kramers equation, {f['hermite']} Hermite functions "

@@ -18,6 +18,8 @@ Reference: L. N. Trefethen, *Approximation Theory and Approximation Practice* (S
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from numpy.polynomial import Chebyshev
 
@@ -84,9 +86,19 @@ class Piecewise:
         return cls(breaks, pieces)
 
 
+@functools.lru_cache(maxsize=8)
+def _legendre(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """numpy's ``n``-point Gauss-Legendre rule, computed once (an eigenvalue problem: it was
+    a third of the 2000 bins of :meth:`numerics.escape.envelope.EnergyEnvelope.energy_bins`
+    that ``kbm noise`` evaluates)."""
+    x, w = np.polynomial.legendre.leggauss(n)
+    x.flags.writeable = w.flags.writeable = False
+    return x, w
+
+
 def gauss_on(breaks, n: int = 32) -> tuple[np.ndarray, np.ndarray]:
     """Composite ``n``-point Gauss-Legendre rule on the panels ``breaks``."""
-    x, w = np.polynomial.legendre.leggauss(n)
+    x, w = _legendre(n)
     b = np.asarray(breaks, float)
     half = 0.5 * np.diff(b)
     nodes = (b[:-1, None] + half[:, None] * (x[None, :] + 1)).ravel()

@@ -148,14 +148,26 @@ class EnergyEnvelope:
 
     def energy_bins(self, edges) -> np.ndarray:
         """The stationary density of ``E = x'^2/2 + G(x)`` averaged over each bin of ``edges``:
-        ``sum_k int_bin T_k f_k dE / (Z width)``, by parts on each bin (``T = dI/dE``)."""
+        ``sum_k int_bin T_k f_k dE / (Z width)``, by parts on each bin (``T = dI/dE``; the
+        bins' rules evaluated together, each bin's sum as :meth:`_by_parts`'s)."""
         edges = np.asarray(edges, float)
         out = np.zeros(edges.size - 1)
         for p in self.pieces:
             a = np.clip(edges[:-1], p.lo, p.hi)
             b = np.clip(edges[1:], p.lo, p.hi)
-            for j in np.nonzero(b > a)[0]:
-                out[j] += self._by_parts(p, p.action, float(a[j]), float(b[j]))
+            bins = np.nonzero(b > a)[0]
+            if not bins.size:
+                continue
+            rules = [p.rule(float(a[j]), float(b[j])) for j in bins]
+            E = np.concatenate([r[0] for r in rules])
+            w = np.concatenate([r[1] for r in rules])
+            ends = np.concatenate([a[bins], b[bins]])
+            at = p.action(ends) * np.exp(p.log_f(ends))
+            terms = w * p.action(E) * p.gamma(E) / p.action(E) * np.exp(p.log_f(E))
+            cut = np.cumsum([0] + [r[0].size for r in rules])
+            for i, j in enumerate(bins):
+                out[j] += float(at[i + bins.size] - at[i]) - self.mu / self.D * float(
+                    np.sum(terms[cut[i]:cut[i + 1]]))
         return out / (self.partition() * np.diff(edges))
 
     def stationary_moment_x2(self) -> float:

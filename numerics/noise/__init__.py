@@ -16,7 +16,7 @@ source: :mod:`numerics.noise.codegen` prints the model, :mod:`numerics.noise._ke
 :mod:`numerics.noise._passage_kernels` (first passages, pulled sliders) and
 :mod:`numerics.noise._pair_kernels` hold the kernels, :mod:`numerics.noise.lanes` prints the
 loop of ``final_states`` over several trajectories at once, :mod:`numerics.noise.seeds`
-holds the streams.
+holds the streams, :mod:`numerics.noise._pilot` the measured default step (the step pilot).
 """
 
 from .langevin import LangevinSystem, langevin_system, noise_intensity, split_noise

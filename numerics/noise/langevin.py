@@ -33,17 +33,16 @@ from kbm.model.builtins import SLIDERS, Oscillator
 from kbm.parameters.values import parameter_value
 
 from .codegen import SCHEMES, _STAGE_V, _compiled, _scheme, _symbolic  # noqa: F401
+from ._pilot import BIAS_TOLERANCE, PILOT_FLOOR, measured_step, reachable_stderr
 from .seeds import trajectory_states
 
 __all__ = ["LangevinSystem", "langevin_system", "noise_intensity", "split_noise", "natural_step",
-           "measured_step", "HEATING_TOLERANCE", "BIAS_TOLERANCE"]
+           "measured_step", "reachable_stderr", "HEATING_TOLERANCE", "BIAS_TOLERANCE",
+           "PILOT_FLOOR"]
 
 #: the relative error of the temperature that the default step allows (:func:`natural_step`)
 HEATING_TOLERANCE = 1e-3
 
-#: the relative bias of the stationary <x^2> and <a^2> that the measured step allows
-#: (:func:`measured_step`): 0.15 standard errors of a 1000-trajectory default run
-BIAS_TOLERANCE = 2e-4
 
 
 def noise_intensity(D: object) -> float:
@@ -244,74 +243,3 @@ def natural_step(system: LangevinSystem, *, per_period: int = 50,
     if mu > 0:
         h = min(h, (4 * mu * tolerance / w**4) ** (1 / 3))
     return h
-
-
-def measured_step(system: LangevinSystem, h0: float, *, tolerance: float = BIAS_TOLERANCE,
-                  trajectories: int = 256, seed: int = 0, rounds: int = 3,
-                  budget: float = 1e7) -> tuple[float, dict]:
-    """The step whose measured bias of the stationary ``<x^2>`` and ``<a^2>`` stays below
-    ``tolerance`` (relative), starting from ``h0`` (:func:`natural_step`).
-
-    A pilot ensemble (``trajectories`` trajectories, ``10/mu`` burn-in and ``40/mu`` of
-    averaging) runs at ``h`` and at ``h/2`` on the same Brownian path
-    (``step_pair_stats``: Gaussian increments, the two fine ones summing to the coarse one),
-    so the per-trajectory difference of the two time averages has a small variance.  The
-    scheme is of weak order 2, so the bias at ``h`` is ``b(h) = (4/3) (E_h - E_{h/2})``
-    (Richardson); with its standard error ``se``, the step is accepted unless ``|b| >
-    tolerance |E| + 2 se`` for one of the moments (a bias measured beyond the tolerance),
-    else shrunk to ``0.9 h sqrt(tolerance |E|/|b|)`` (at most by 2) and measured again,
-    ``rounds`` times at most.  The paths at ``h`` and ``h/2`` drift apart in phase (and
-    between wells), so ``se`` does not vanish with ``h``: the pilot shrinks the step only
-    on a bias it resolves.  The pilot measures the Gaussian scheme's bias; the stationary
-    ensembles run four-point Gauss-Hermite increments (``stationary_stats4``), whose moments
-    are the Gaussian's up to the seventh, so that their ``h^2`` coefficient is the one the
-    pilot measures (the three-point increments' is about 1.5 times it: BAOAB on ``x'' + x =
-    -x' - x^3 + sqrt(2) xi``, -7.55e-3 against -4.86e-3 at h = 0.4;
-    ``tests/test_noise_extrapolation.py``).  The heating rule
-    of :func:`natural_step` bounds the linear part only: van der Pol at mu = 0.3 (its
-    nonlinear damping) was 0.56 % low at its step.
-
-    Returns
-    -------
-    (float, dict)
-        The step and the last pilot's ``{"h", "bias_x2", "bias_a2", "stderr_x2",
-        "stderr_a2", "accepted"}`` (relative values).
-    """
-    from .seeds import trajectory_states as _states
-
-    mu = abs(system.bound.mu or 0.0)
-    if mu == 0 or system.D == 0:
-        return h0, {"h": h0, "accepted": True}
-    p = system._p()
-    if system.scheme == "baoab":  # one force evaluation per step: the same work as KP at h0
-        h0 = h0 / 2
-    # the pilot's steps (h and h/2: three per coarse step) stay within the budget
-    per = 3 * 50 / mu / h0
-    trajectories = int(min(trajectories, max(32, budget // per)))
-    y0 = np.zeros((trajectories, 2))
-    states = _states(seed, 0, trajectories, stream=(2**31 - 1,))
-    h = float(h0)
-    info: dict = {}
-    for _ in range(rounds):
-        n_burn = max(1, math.ceil(10 / mu / h))
-        n_run = max(1, math.ceil(40 / mu / h))
-        rows = system.kernels.step_pair_stats(p, system.sigma, y0, 0.0, h, n_burn, n_run,
-                                              states, system.omega0)
-        if not np.all(np.isfinite(rows)):
-            h /= 4
-            continue
-        worst = 0.0
-        info = {"h": h}
-        for name, c, f in (("x2", 0, 2), ("a2", 1, 3)):
-            d = 4.0 / 3.0 * (rows[:, c] - rows[:, f])
-            ref = float(np.mean(rows[:, f]))
-            b = float(np.mean(d)) / ref
-            se = float(np.std(d, ddof=1) / math.sqrt(d.size)) / ref
-            info[f"bias_{name}"], info[f"stderr_{name}"] = b, se
-            if abs(b) > tolerance + 2 * se:
-                worst = max(worst, abs(b) / tolerance)
-        info["accepted"] = worst == 0.0
-        if info["accepted"]:
-            return h, info
-        h *= max(0.5, 0.9 / math.sqrt(worst))
-    return h, info

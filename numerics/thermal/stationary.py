@@ -34,20 +34,29 @@ BINS = 40
 
 
 def default_times(system, t_end: float | None, burn_in: float | None,
-                  dt: float | None, measure: bool = True) -> tuple[float, float, float]:
+                  dt: float | None, measure: bool = True,
+                  pilot: dict | None = None) -> tuple[float, float, float]:
     """``(t_end, burn_in, dt)``: ``dt`` from :func:`numerics.noise.langevin.natural_step` (the
     fastest linear period / 50, smaller when the numerical heating needs it), then
     :func:`numerics.noise.langevin.measured_step` (smaller when a pilot at ``dt`` and
     ``dt/2`` measures a bias of the moments beyond 2e-4; skipped with ``measure=False``,
     which gives the largest step the rule can choose), the burn-in
-    20 and the run 400 relaxation times ``1/|mu|``, each a whole number of steps."""
+    20 and the run 400 relaxation times ``1/|mu|``, each a whole number of steps.
+    ``pilot`` (a dict, ``kbm noise --json``'s ``step_pilot``) receives ``h0``, the rule's
+    step or ``--dt``, and the pilot's record (:func:`numerics.noise.langevin.measured_step`;
+    ``outcome`` ``"not run"`` and the ``reason`` when it does not run)."""
     mu = system.bound.mu
     if not mu:
         raise ParameterError("mu = 0: without damping the noise heats the oscillator without "
                              "bound and there is no stationary state; give mu != 0")
     h = float(dt) if dt is not None else natural_step(system, per_period=STEPS_PER_PERIOD)
     if dt is None and measure:
-        h = measured_step(system, h)[0]
+        h0 = h
+        h, info = measured_step(system, h)
+        if pilot is not None:
+            pilot.update(h0=h0, **info)
+    elif pilot is not None:
+        pilot.update(h0=h, outcome="not run", reason="--dt given" if dt else "measure=False")
     if not (math.isfinite(h) and h > 0):
         raise ParameterError(f"--dt must be a positive number, got {dt}")
     run = 400 / abs(mu) if t_end is None else float(t_end)
@@ -96,9 +105,8 @@ def validity(moments: dict, order: int = 1, can_raise_order: bool = True) -> dic
 #: ``kbm noise`` (:func:`fokker_planck_moments`; ``n_Hermite (n_Chebyshev/2)^2`` for a
 #: model solved folded, :mod:`numerics.fokker_planck._parity`): the SEDF at rest,
 #: Delta = 3, D = mu/2, states six digits there (mu = 0.1: 1.1e-8 on 128 x 448, 3 s CPU;
-#: mu = 0.02: 5.4e-7 on 182 x 740, 10 s CPU; mu = 0.01: 2.9e-7 on 258 x 1040, 26-32 s CPU,
-#: the ladder's climb up to 2.8 times this budget,
-#: numerics.fokker_planck._stationary_orthonormal.CLIMB_COST)
+#: mu = 0.02: 5.4e-7 on 182 x 740, 10 s; mu = 0.01: 2.9e-7 on 258 x 1040, 26-32 s, the
+#: climb up to 2.8 times this budget, numerics.fokker_planck._stationary_orthonormal)
 FP_BUDGET = 2.5e7
 #: the same without ``--method fokker-planck`` (the moments are reported when affordable)
 FP_DEFAULT_BUDGET = 2.5e7
@@ -216,8 +224,10 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
     # the budget is checked at the largest step the rule can choose before the pilot that
     # measures the step runs (a run refused for its size costs no pilot)
     run, burn, h = default_times(system, t_end, burn_in, dt, measure=False)
+    pilot = {"h0": h, "outcome": "not run", "reason": "the simulation is refused (budget)"}
     if trajectories * (run + burn) / h <= budget:
-        run, burn, h = default_times(system, t_end, burn_in, dt)
+        pilot = {}
+        run, burn, h = default_times(system, t_end, burn_in, dt, pilot=pilot)
     if method not in METHODS:
         raise ParameterError(f"--method {method!r}: choose one of {', '.join(METHODS)}")
     if order not in (1, 2):
@@ -247,8 +257,8 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
             "hermite_change": fp["hermite_change"], "basis": fp["basis"],
             "chebyshev_change": fp["chebyshev_change"],
             "energy_density": fp["energy_density"], "advice": fp_advice(fp, FP_BUDGET)},
-        "fokker_planck_message": fp_why,
-        "density": None, "steps": steps, "message": why, "scheme": system.scheme,
+        "fokker_planck_message": fp_why, "density": None, "steps": steps,
+        "step_pilot": pilot, "message": why, "scheme": system.scheme,
         "validity": {"z": {"a2": None, "x2": None}, "flagged": False, "threshold": Z_FLAG,
                      "advice": ""},
         "averaged_order": None if avg is None else 1,

@@ -279,7 +279,7 @@ RUNG_INTERVALS = 200
 #: at most a third of it (measured: about 50 times smaller per 1.25 times the intervals, CDC
 #: mu = 5, rung 10).  The two top rungs differ only by their centres, 0.33 widths apart,
 #: each on points crowded at its own centre on the same scales, and their grids' changes
-#: agree (CDC Delta = 3, kT = 0.35: 1.4912e-9 both at mu = 5, 1.1360e-10 both at mu = 10,
+#: agree (CDC Delta = 3, kT = 0.35, absolute: 1.4912e-9 both at mu = 5, 1.1360e-10 both at mu = 10,
 #: 3.70e-12 and 3.69e-12 at mu = 50): the midpoint's is the rising rung's (both: 2.9 s of 15)
 GRID_CHECK, GRID_FACTOR = 1.25, 1.5
 

@@ -62,6 +62,23 @@ def test_trajectories_in_pairs_equal_trajectories_alone(scheme):
     assert hist[0].sum() == pytest.approx(1.0, abs=0.2)  # most steps inside [-2, 2)
 
 
+def _stepped_in_python(s, y0, st, h: float, n: int) -> list:
+    """Each trajectory of ``y0`` stepped ``n`` times in Python with the compiled one-step map
+    (``_first``, ``_step``) and the generator's three-point increments (``_increment``) from
+    a copy of its stream in ``st``: the final ``[x, v]`` of each."""
+    k, p = s.kernels, s._p()
+    amp = s.sigma * k._noise_factor(p, h) * math.sqrt(3.0 * h)
+    out = []
+    for i in range(len(y0)):
+        gen = st[i].copy()
+        x, v = y0[i]
+        f = k._first(0.0, x, v, p)
+        for j in range(n):
+            x, v, f = k._step(j * h, x, v, f, h, k._increment(gen, amp), p)
+        out.append([x, v])
+    return out
+
+
 @pytest.mark.parametrize("scheme", ["baoab", "kp"])
 def test_final_states_equal_the_scheme_stepped_in_python(scheme):
     """final_states on three trajectories (a pair, and the last beside its twin) against each
@@ -74,14 +91,8 @@ def test_final_states_equal_the_scheme_stepped_in_python(scheme):
     y0 = np.linspace(-1.0, 0.8, 2 * m).reshape(m, 2)
     st = trajectory_states(7, 0, m)
     got = k.final_states(p, s.sigma, y0, 0.0, h, n, st)
-    amp = s.sigma * k._noise_factor(p, h) * math.sqrt(3.0 * h)
-    for i in range(m):
-        gen = st[i].copy()
-        x, v = y0[i]
-        f = k._first(0.0, x, v, p)
-        for j in range(n):
-            x, v, f = k._step(j * h, x, v, f, h, k._increment(gen, amp), p)
-        assert _same([x, v], got[i])
+    for i, want in enumerate(_stepped_in_python(s, y0, st, h, n)):
+        assert _same(want, got[i])
 
 
 @pytest.mark.parametrize("model, scheme, lanes", [(QUARTIC, "baoab", 6), (QUARTIC, "kp", 6),
@@ -103,13 +114,7 @@ def test_final_states_in_lanes_equal_the_scheme_stepped_in_python(model, scheme,
     y0[lanes + 1] = [np.nan, 0.0]
     st = trajectory_states(3, 0, m)
     got = k.final_states(p, s.sigma, y0, 0.0, h, n, st)
-    amp = s.sigma * k._noise_factor(p, h) * math.sqrt(3.0 * h)
-    for i in range(m):
-        gen = st[i].copy()
-        x, v = y0[i]
-        f = k._first(0.0, x, v, p)
-        for j in range(n):
-            x, v, f = k._step(j * h, x, v, f, h, k._increment(gen, amp), p)
+    for i, (x, v) in enumerate(_stepped_in_python(s, y0, st, h, n)):
         want = [x, v] if math.isfinite(x + v) else [math.nan, math.nan]
         assert _same(want, got[i]), i
     assert np.isnan(got[lanes + 1]).all() and np.isfinite(np.delete(got, lanes + 1, 0)).all()

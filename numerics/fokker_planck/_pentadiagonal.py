@@ -88,18 +88,29 @@ class HermitePentadiagonalLU:
         idx = np.arange(m)
 
         def coupling(k: int, d: int, dense: bool):
-            """The original block ``(k, k + d)``: dense, or its diagonal (``dense=False``)."""
-            out = np.zeros((m, m)) if dense else np.zeros(m)
+            """The original block ``(k, k + d)``: dense, or its diagonal (``dense=False``).
+            The first dense term is written into the block, not added to zeros (one pass
+            over ``m^2`` numbers fewer, the same sums)."""
+            out = None
             for dg, X in diags:
                 c = dg[d][k]
                 if c == 0.0:
                     continue
                 if X.ndim == 2:
-                    out += c * X
+                    if out is None:
+                        out = np.multiply(X, c)
+                    else:
+                        out += c * X
                 elif dense:
-                    out[idx, idx] += c * X
+                    if out is None:
+                        out = np.zeros((m, m))
+                    out.ravel()[::m + 1] += c * X
+                elif out is None:
+                    out = c * X
                 else:
                     out += c * X
+            if out is None:
+                out = np.zeros((m, m)) if dense else np.zeros(m)
             if pinned.size:
                 if dense:
                     out[pinned, :] = 0.0
@@ -120,6 +131,7 @@ class HermitePentadiagonalLU:
         a1k = coupling(n - 2, 1, True) if n > 1 else None
         a11 = coupling(n - 2, 0, True) if n > 1 else None
         a12 = coupling(n - 2, -1, True) if n > 2 else None
+        tmp = np.empty((m, m))  # the products, written in place (no new array per order)
         for k in range(n - 1, -1, -1):
             if k == 0:  # the nearly singular last complement (inverse iteration's): an LU
                 lu = lu_factor(akk, overwrite_a=True, check_finite=False)
@@ -132,15 +144,19 @@ class HermitePentadiagonalLU:
             if not np.all(np.isfinite(sinv)):
                 raise np.linalg.LinAlgError("a singular Schur complement in the order-by-order LU")
             x1 = sinv @ ak1  # S^-1 A(k, k-1)
-            a11 -= a1k @ x1
+            a11 -= np.matmul(a1k, x1, out=tmp)
             self._inv[k], self._x1[k], self._p[k] = sinv, x1, a1k
             if k >= 2:
                 d2 = coupling(k, -2, False)  # A(k, k-2), diagonal
                 q2 = coupling(k - 2, 2, False)  # A(k-2, k), diagonal
-                x2 = sinv * d2  # S^-1 A(k, k-2)
-                a12 -= a1k @ x2
-                a21 = coupling(k - 2, 1, True) - q2[:, None] * x1  # A(k-2, k-1)
-                a22 = coupling(k - 2, 0, True) - q2[:, None] * x2  # A(k-2, k-2)
+                # S^-1 A(k, k-2), in S's array when the inverse did not overwrite it
+                x2 = np.multiply(sinv, d2, out=None if np.shares_memory(sinv, akk) else akk)
+                a12 -= np.matmul(a1k, x2, out=tmp)
+                a21 = coupling(k - 2, 1, True)  # A(k-2, k-1)
+                a21 -= np.multiply(q2[:, None], x1, out=tmp)
+                # A(k-2, k-2): its original block is diagonal, so -q2 x2 plus that diagonal
+                a22 = np.multiply(x2, -q2[:, None])
+                a22.ravel()[::m + 1] += coupling(k - 2, 0, False)
                 self._d2[k], self._q2[k] = d2, q2
                 a23 = coupling(k - 2, -1, True) if k >= 3 else None
             else:

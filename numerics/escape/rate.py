@@ -46,7 +46,7 @@ from .envelope import EnergyEnvelope
 from .turnover import melnikov_meshkov_factor, turnover_rate
 
 __all__ = ["EscapeRate", "averaged_escape", "separatrix_action", "kramers_low_friction",
-           "melnikov_meshkov_factor", "central_well", "barrier_frequencies"]
+           "melnikov_meshkov_factor", "central_well", "barrier_frequency"]
 
 
 def central_well(env: EnergyEnvelope):
@@ -176,7 +176,7 @@ def averaged_escape(env: EnergyEnvelope) -> EscapeRate:
     # the separatrix loop: turning points at E_b on each side (one is the saddle)
     xm, xp = p.annulus.turning_points(np.array([Eb * (1 - 1e-14)]))
     action = separatrix_action(split, Eb, float(xm[0]), float(xp[0]))
-    omega_b = barrier_frequencies(split, (xl, xr), Eb - E0)
+    omega_b = barrier_frequency(split, (xl, xr), Eb - E0)
     kT = rk = rmm = rt = None
     if _linear_damping(env):
         kT = D / mu
@@ -189,7 +189,7 @@ def averaged_escape(env: EnergyEnvelope) -> EscapeRate:
                       omega_b, rt)
 
 
-def barrier_frequencies(split, saddles, barrier: float) -> float | None:
+def barrier_frequency(split, saddles, barrier: float) -> float | None:
     """``omega_b = sqrt(-g'(x_s))`` where the two saddles bounding the well are equal exits:
     both finite, at the same energy and curvature (to 1e-9 relative), as in an even
     potential; else ``None`` (the two-exit turnover formula does not apply).

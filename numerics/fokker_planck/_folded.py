@@ -271,8 +271,9 @@ class FoldedRungs:
                 lu.extend(nh)
             keep = self._keep[:nh * lu.A.mm]
             if isinstance(lu, FoldedOrderLU):  # from the last slowest mode on these factors
-                v0 = keep.copy()
-                if self._vec is not None:
+                if self._vec is None:
+                    v0 = keep.copy()
+                else:
                     v0 = np.zeros(keep.size)
                     n = min(v0.size, self._vec.size)
                     v0[:n] = self._vec[:n]

@@ -31,9 +31,9 @@ Methods*):
   ``continue_curve(..., resume=path)`` continue from the last point and its tangent.
 
 The records (:class:`PathPoint`, :class:`TestEvent`, :class:`CurvePath`) live in
-:mod:`numerics.bifurcation.path`, the corrector (:func:`correct`, :func:`tangent_at`,
-:func:`numerical_jacobian`) in :mod:`numerics.bifurcation.corrector`; both are re-exported
-here.
+:mod:`numerics.bifurcation.path`, the corrector (:func:`correct`, :func:`numerical_jacobian`)
+in :mod:`numerics.bifurcation.corrector`, the tangent (:func:`null_vector`) in
+:mod:`numerics.shooting.arclength`; all are re-exported here.
 """
 
 from __future__ import annotations
@@ -45,12 +45,12 @@ import numpy as np
 
 from kbm.slowflow.arclength import walk
 
-from numerics.bifurcation.corrector import (FAILURES, _jac, correct, numerical_jacobian,
-                                             tangent_at)
+from numerics.bifurcation.corrector import FAILURES, _jac, correct, numerical_jacobian
 from numerics.bifurcation.path import CurvePath, PathPoint, TestEvent
 from numerics.errors import ConvergenceError, NumericsError
+from numerics.shooting.arclength import null_vector
 
-__all__ = ["PathPoint", "TestEvent", "CurvePath", "continue_curve", "correct", "tangent_at",
+__all__ = ["PathPoint", "TestEvent", "CurvePath", "continue_curve", "correct", "null_vector",
            "numerical_jacobian"]
 
 
@@ -90,7 +90,7 @@ def _locate(G, jac, name, fn, a: PathPoint, b: PathPoint, fa, fb, kw, test_tol) 
             s = 0.5 * (s0 + s1)
         zp = a.z + s * chord
         z, res, _, J = correct(G, zp, row, float(row @ zp), jac=jac, **kw)
-        t = tangent_at(J, a.tangent)
+        t = null_vector(J, a.tangent)
         f = float(fn(z) if _arity(fn) == 1 else fn(z, t))
         best = (z, f, res)
         if abs(f) <= test_tol or (s1 - s0) <= 1e-12:
@@ -187,11 +187,11 @@ def continue_curve(G: Callable, z0, *, jac: Callable | None = None, tangent=None
         if not wpath.points:
             w = z0 / sc
             J0 = _jac(Gw, jw, w, None, fd_step)
-            t0 = tangent_at(J0, None if tangent is None else np.asarray(tangent) / sc)
+            t0 = null_vector(J0, None if tangent is None else np.asarray(tangent) / sc)
             w, res, k, J = correct(Gw, w, t0, float(t0 @ w), jac=jw, **kw)
             if _outside(w, wbounds) is not None:  # a seed on the box's edge corrected to
                 w, res, k, J = _onto_edge(Gw, jw, w, wbounds, kw, (w, res, k, J))  # outside
-            wpt = PathPoint(w, tangent_at(J, t0), res, k)
+            wpt = PathPoint(w, null_vector(J, t0), res, k)
             wpt.tests = _evaluate_tests(wtests, wpt)
             wpath.points.append(wpt)
             wpath.ds = ds
@@ -211,7 +211,7 @@ def continue_curve(G: Callable, z0, *, jac: Callable | None = None, tangent=None
         def advance(last, h):  # predictor and corrector; a failure halves the step
             wp = last.z + h * last.tangent
             w, res, k, J = correct(Gw, wp, last.tangent, float(last.tangent @ wp), jac=jw, **kw)
-            t = tangent_at(J, last.tangent)
+            t = null_vector(J, last.tangent)
             turn = math.acos(max(-1.0, min(1.0, float(t @ last.tangent))))
             if turn > max_turn or float((w - last.z) @ last.tangent) <= 0:
                 raise ConvergenceError(f"the tangent turned by {turn:.3f} rad")
@@ -236,7 +236,7 @@ def continue_curve(G: Callable, z0, *, jac: Callable | None = None, tangent=None
                     if h * 0.5 >= ds_min:
                         return last, h * 0.5, ""
                     return last, h, ("step", "the box's edge could not be reached by Newton")
-                wpt = PathPoint(w, tangent_at(J, last.tangent), res, k)
+                wpt = PathPoint(w, null_vector(J, last.tangent), res, k)
             wpt.tests = _evaluate_tests(wtests, wpt)
             wpath.points.append(wpt)
             wpath.ds = h

@@ -4,7 +4,8 @@ diagram's result types (:mod:`numerics.bifurcation.result`), against closed form
 - a circle ``x^2 + y^2 = 1``: every point on it to 1e-12, the zeros of the test functions
   ``x`` and ``y`` at ``(0, +-1)``, ``(-1, 0)`` exactly, the path closes on itself;
 - the box: the path ends exactly on the edge, at the circle's crossing ``x = -1/2,
-  y = sqrt(3)/2``; resuming a stored path reaches the same end;
+  y = sqrt(3)/2``; resuming a stored path reaches the same end; the other ends (at most
+  ``max_points``, ``stop``, the step collapsed at the cusp of ``y^2 = x^3``);
 - the cusp of the fold curve of ``f = a + b x - x^3``: the defining system
   ``f = f_x = 0`` continued in ``(x, a, b)`` gives ``a = -2 x^3, b = 3 x^2`` (the
   textbook fold curve ``27 a^2 = 4 b^3``, Kuznetsov section 8.2) and the zero of
@@ -63,6 +64,24 @@ def test_interrupt_keeps_the_points():
 
     path = continue_curve(_circle, [1.0, 0.0], ds=0.1, progress=progress)
     assert path.end == "interrupted" and len(path.points) == 4
+
+
+def test_the_other_ends_max_points_stopped_and_a_collapsed_step():
+    """The ends the driver (:func:`kbm.slowflow.arclength.walk`) reports besides the box and
+    the closing: ``max_points`` points on the circle; ``stop`` at the first point above
+    ``y = 1/2``; on the semicubical parabola ``y^2 = x^3`` the step falls below ``ds_min``
+    at its cusp ``(0, 0)``, where the tangent reverses."""
+    path = continue_curve(_circle, [1.0, 0.01], tangent=[0, 1], ds=0.05, max_points=7)
+    assert path.end == "max_points" and len(path.points) == 7
+    assert max(abs(math.hypot(*p.z) - 1) for p in path.points) < 1e-9
+    path = continue_curve(_circle, [1.0, 0.01], tangent=[0, 1], ds=0.05, ds_max=0.2,
+                          stop=lambda pt, p: "above" if pt.z[1] > 0.5 else None)
+    assert (path.end, path.message) == ("stopped", "above")
+    assert path.points[-1].z[1] > 0.5 >= path.points[-2].z[1]
+    path = continue_curve(lambda z: np.array([z[1] ** 2 - z[0] ** 3]), [1.0, 1.0],
+                          tangent=[-1, -1], ds=0.1, ds_max=0.3, ds_min=0.02)
+    assert path.end == "step" and "fell below 0.02" in path.message
+    assert np.linalg.norm(path.points[-1].z) < 5 * 0.02
 
 
 def test_cusp_of_a_fold_curve():

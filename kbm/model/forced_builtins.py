@@ -38,7 +38,7 @@ from ..errors import ModelError
 from ..symbols import x, xdot
 from .forced import ForcedOscillator, Resonance, theta
 
-__all__ = ["FORCED_MODELS", "forced_model_names", "get_forced_model"]
+__all__ = ["FORCED_MODELS", "get_forced_model"]
 
 _zeta, _alpha, _h, _K = sp.symbols("zeta alpha h K")
 _beta, _delta, _k, _Omega = sp.symbols("beta delta k Omega")
@@ -102,11 +102,6 @@ FORCED_MODELS = {
         description="constant-damping slider (eq. 12) seen from its stage: x'' + Omega^2 x "
                     "= mu (-(x' + v) - delta sin(k x + theta)), nu = k v"),
 }
-
-
-def forced_model_names() -> tuple[str, ...]:
-    """Names of the built-in forced models."""
-    return tuple(FORCED_MODELS)
 
 
 def get_forced_model(name: str, params: Mapping[str, object] | None = None) -> ForcedOscillator:

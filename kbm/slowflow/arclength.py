@@ -3,8 +3,9 @@ numerical analysis of nonlinear equations*, sec. 2).
 
 :func:`walk` follows a branch step by step, halving a failed step; what a step is
 (predictor and corrector) and what is done at an accepted point are the caller's.  It
-drives the slow-flow curves of :func:`kbm.slowflow.continuation.trace` and the periodic-orbit
-branches of :mod:`numerics` (:func:`numerics.shooting.arclength.walk`).
+drives the slow-flow curves of :func:`kbm.slowflow.continuation.trace`, the periodic-orbit
+branches of :mod:`numerics` (:func:`numerics.shooting.arclength.walk`) and the codim-1
+curves of its diagrams (:func:`numerics.bifurcation.curve.continue_curve`).
 """
 
 from __future__ import annotations

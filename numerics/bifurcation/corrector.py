@@ -1,7 +1,7 @@
 """The corrector of a pseudo-arclength continuation (:mod:`numerics.bifurcation.curve`):
 Newton's method on a defining system ``G: R^(n+1) -> R^n`` bordered by one linear row
-(:func:`correct`), the tangent as the null vector of ``G'`` (:func:`tangent_at`), and
-``G'`` by central differences (:func:`numerical_jacobian`).
+(:func:`correct`) and ``G'`` by central differences (:func:`numerical_jacobian`); the
+tangent is the null vector of ``G'`` (:func:`numerics.shooting.arclength.null_vector`).
 
 Re-exported by :mod:`numerics.bifurcation.curve`.
 """
@@ -14,7 +14,7 @@ import numpy as np
 
 from numerics.errors import ConvergenceError, IntegrationError
 
-__all__ = ["FAILURES", "correct", "tangent_at", "numerical_jacobian"]
+__all__ = ["FAILURES", "correct", "numerical_jacobian"]
 
 #: exceptions that mean "no point here" (the step is cut), not a bug
 FAILURES = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, FloatingPointError,
@@ -37,16 +37,6 @@ def numerical_jacobian(G: Callable, z: np.ndarray, g0: np.ndarray | None = None,
 def _jac(G, jac, z, g=None, h=1e-7):
     return np.atleast_2d(np.asarray(jac(z), dtype=float)) if jac is not None else \
         numerical_jacobian(G, z, g, h)
-
-
-def tangent_at(J: np.ndarray, orient: np.ndarray | None = None) -> np.ndarray:
-    """The unit null vector of the ``n x (n+1)`` matrix ``J`` (its last right singular
-    vector), with ``t . orient >= 0``."""
-    _, _, vt = np.linalg.svd(J)
-    t = vt[-1]
-    if orient is not None and float(np.dot(t, orient)) < 0:
-        t = -t
-    return t / np.linalg.norm(t)
 
 
 def correct(G: Callable, z: np.ndarray, row: np.ndarray, rhs: float, *, jac=None,

@@ -31,9 +31,9 @@ Methods*):
   ``continue_curve(..., resume=path)`` continue from the last point and its tangent.
 
 The records (:class:`PathPoint`, :class:`TestEvent`, :class:`CurvePath`) live in
-:mod:`numerics.bifurcation.path`, the corrector (:func:`correct`, :func:`tangent_at`,
-:func:`numerical_jacobian`) in :mod:`numerics.bifurcation.corrector`; both are re-exported
-here.
+:mod:`numerics.bifurcation.path`, the corrector (:func:`correct`, :func:`numerical_jacobian`)
+in :mod:`numerics.bifurcation.corrector`, the tangent (:func:`null_vector`) in
+:mod:`numerics.shooting.arclength`; all are re-exported here.
 """
 
 from __future__ import annotations
@@ -43,12 +43,14 @@ from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
-from numerics.bifurcation.corrector import (FAILURES, _jac, correct, numerical_jacobian,
-                                             tangent_at)
+from kbm.slowflow.arclength import walk
+
+from numerics.bifurcation.corrector import FAILURES, _jac, correct, numerical_jacobian
 from numerics.bifurcation.path import CurvePath, PathPoint, TestEvent
 from numerics.errors import ConvergenceError, NumericsError
+from numerics.shooting.arclength import null_vector
 
-__all__ = ["PathPoint", "TestEvent", "CurvePath", "continue_curve", "correct", "tangent_at",
+__all__ = ["PathPoint", "TestEvent", "CurvePath", "continue_curve", "correct", "null_vector",
            "numerical_jacobian"]
 
 
@@ -88,7 +90,7 @@ def _locate(G, jac, name, fn, a: PathPoint, b: PathPoint, fa, fb, kw, test_tol) 
             s = 0.5 * (s0 + s1)
         zp = a.z + s * chord
         z, res, _, J = correct(G, zp, row, float(row @ zp), jac=jac, **kw)
-        t = tangent_at(J, a.tangent)
+        t = null_vector(J, a.tangent)
         f = float(fn(z) if _arity(fn) == 1 else fn(z, t))
         best = (z, f, res)
         if abs(f) <= test_tol or (s1 - s0) <= 1e-12:
@@ -185,11 +187,11 @@ def continue_curve(G: Callable, z0, *, jac: Callable | None = None, tangent=None
         if not wpath.points:
             w = z0 / sc
             J0 = _jac(Gw, jw, w, None, fd_step)
-            t0 = tangent_at(J0, None if tangent is None else np.asarray(tangent) / sc)
+            t0 = null_vector(J0, None if tangent is None else np.asarray(tangent) / sc)
             w, res, k, J = correct(Gw, w, t0, float(t0 @ w), jac=jw, **kw)
             if _outside(w, wbounds) is not None:  # a seed on the box's edge corrected to
                 w, res, k, J = _onto_edge(Gw, jw, w, wbounds, kw, (w, res, k, J))  # outside
-            wpt = PathPoint(w, tangent_at(J, t0), res, k)
+            wpt = PathPoint(w, null_vector(J, t0), res, k)
             wpt.tests = _evaluate_tests(wtests, wpt)
             wpath.points.append(wpt)
             wpath.ds = ds
@@ -202,69 +204,65 @@ def continue_curve(G: Callable, z0, *, jac: Callable | None = None, tangent=None
         step = ds if not math.isfinite(wpath.ds) else wpath.ds
         if resume is not None and len(wpath.points) > 1:  # the step the run would take next
             step = _next_step(step, wpath.points[-1].steps, ds_max)
-        while len(wpath.points) < max_points:
-            last = wpath.points[-1]
-            if step < ds_min:
-                path.end = "step"
-                path.message = f"the step fell below {ds_min:g} at z = {last.z * sc}"
-                break
-            wp = last.z + step * last.tangent
-            try:
-                w, res, k, J = correct(Gw, wp, last.tangent, float(last.tangent @ wp), jac=jw,
-                                       **kw)
-                t = tangent_at(J, last.tangent)
-                turn = math.acos(max(-1.0, min(1.0, float(t @ last.tangent))))
-                if turn > max_turn or float((w - last.z) @ last.tangent) <= 0:
-                    raise ConvergenceError(f"the tangent turned by {turn:.3f} rad")
-            except FAILURES:
-                step *= 0.5
-                continue
-            edge = _outside(w, wbounds, last.z)
-            if edge is not None and last.z[edge[0]] == edge[1]:  # started on this edge
-                path.end = "bounds"
-                path.message = f"on the edge z[{edge[0]}] = {edge[1] * sc[edge[0]]:g}"
-                break
+
+        def collapsed(last, exc=None):
+            return "step", f"the step fell below {ds_min:g} at z = {last.z * sc}"
+
+        def advance(last, h):  # predictor and corrector; a failure halves the step
+            wp = last.z + h * last.tangent
+            w, res, k, J = correct(Gw, wp, last.tangent, float(last.tangent @ wp), jac=jw, **kw)
+            t = null_vector(J, last.tangent)
+            turn = math.acos(max(-1.0, min(1.0, float(t @ last.tangent))))
+            if turn > max_turn or float((w - last.z) @ last.tangent) <= 0:
+                raise ConvergenceError(f"the tangent turned by {turn:.3f} rad")
+            return PathPoint(w, t, res, k)
+
+        def visit(last, wpt, h):
+            edge = _outside(wpt.z, wbounds, last.z)
             if edge is not None:
                 i, value = edge
-                row = np.zeros_like(w)
+                if last.z[i] == value:  # started on this edge
+                    return last, h, ("bounds", f"on the edge z[{i}] = {value * sc[i]:g}")
+                row = np.zeros_like(wpt.z)
                 row[i] = 1.0
                 # from the secant's crossing of the edge: Newton with w_i fixed
-                span = w[i] - last.z[i]
+                w, span = wpt.z, wpt.z[i] - last.z[i]
                 start = w if abs(span) < 1e-300 else \
                     last.z + (value - last.z[i]) / span * (w - last.z)
                 try:
                     w, res, k, J = correct(Gw, start, row, value, jac=jw, **kw)
                     w[i] = value
                 except FAILURES:
-                    step *= 0.5
-                    if step >= ds_min:
-                        continue
-                    path.end = "step"
-                    path.message = "the box's edge could not be reached by Newton"
-                    break
-                t = tangent_at(J, last.tangent)
-            wpt = PathPoint(w, t, res, k)
+                    if h * 0.5 >= ds_min:
+                        return last, h * 0.5, ""
+                    return last, h, ("step", "the box's edge could not be reached by Newton")
+                wpt = PathPoint(w, null_vector(J, last.tangent), res, k)
             wpt.tests = _evaluate_tests(wtests, wpt)
             wpath.points.append(wpt)
-            wpath.ds = step
+            wpath.ds = h
             for ev in _find_events(Gw, jw, wtests, wpath, kw, test_tol):
                 ev.z = ev.z * sc
                 path.events.append(ev)
             pt = emit(wpt)
             if edge is not None:
-                path.end = "bounds"
-                path.message = f"on the edge z[{edge[0]}] = {edge[1] * sc[edge[0]]:g}"
-                break
-            if stop is not None:
-                why = stop(pt, path)
-                if why:
-                    path.end, path.message = "stopped", str(why)
-                    break
-            if closed_check and _closed(wpath, step):
-                path.end = "closed"
-                path.message = "the curve closed on its first point"
-                break
-            step = _next_step(step, k, ds_max)
+                return wpt, h, ("bounds", f"on the edge z[{i}] = {value * sc[i]:g}")
+            why = stop(pt, path) if stop is not None else None
+            if why:
+                return wpt, h, ("stopped", str(why))
+            if closed_check and _closed(wpath, h):
+                return wpt, h, ("closed", "the curve closed on its first point")
+            h = _next_step(h, wpt.steps, ds_max)
+            return wpt, h, (collapsed(wpt) if h < ds_min and not full() else "")
+
+        def full():
+            return ("max_points", "") if len(wpath.points) >= max_points else None
+
+        # the one pseudo-arclength driver (kbm.slowflow.arclength.walk): the turn of the
+        # tangent is tested in radians by advance, the box's edges by visit
+        path.end, path.message = full() or (
+            collapsed(wpath.points[-1]) if step < ds_min else
+            walk(wpath.points[-1], step, step=advance, visit=visit, collapsed=collapsed,
+                 ds_min=ds_min, max_turn=-2.0, full=full, failures=FAILURES))
     except KeyboardInterrupt:
         path.end = "interrupted"
         path.message = "stopped by Ctrl-C; the points found are kept"
@@ -272,8 +270,6 @@ def continue_curve(G: Callable, z0, *, jac: Callable | None = None, tangent=None
         if not path.points:
             raise
         path.end, path.message = "step", str(exc)
-    if not path.end:
-        path.end = "max_points"
     return path
 
 

@@ -8,11 +8,11 @@ analysis.
   (:mod:`numerics.flow.template_cache`), so a warm run neither derives nor imports
   sympy's printers or scipy; the roots are found by :func:`brentq`, Brent's method
   as :func:`scipy.optimize.brentq` runs it (the same steps, the same floats), ~0.1 ms;
-- :func:`energy_guesses`: the stable cycles of the energy-balance averaging about
-  the conservative orbit (:func:`numerics.energy.predict_cycles`, order 1), as
-  ``(x_max, period)``, largest first: right where the potential is strong and
-  classical KBM fails (the paper's ``Delta = 3``), at ~50-150 ms; :func:`energy_cycles`:
-  all of them, each with its stability (one prediction for the stable and unstable starts).
+- :func:`energy_cycles`: the cycles of the energy-balance averaging about the
+  conservative orbit (:func:`numerics.energy.predict_cycles`, order 1), as ``(x_max,
+  period, stable)``, largest first: right where the potential is strong and classical KBM
+  fails (the paper's ``Delta = 3``), at ~50-150 ms (one prediction for the stable and
+  unstable starts).
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     from kbm.parameters.bound import BoundModel
     from kbm.model.builtins import Oscillator
 
-__all__ = ["kbm_guess", "energy_guesses", "energy_cycles", "brentq", "FirstOrderRates",
+__all__ = ["kbm_guess", "energy_cycles", "brentq", "FirstOrderRates",
            "rates_key"]
 
 #: the record kind and the options of the first-order rates in the template cache
@@ -214,19 +214,11 @@ def _kbm_guess(bound, stable: bool) -> tuple[float, float] | None:
     return amplitude, period
 
 
-def energy_guesses(bound: BoundModel, *, stable_only: bool = True) -> list[tuple[float, float]]:
-    """The first-order energy-balance cycles as ``(x_max, period)``, largest ``x_max`` first.
-
-    Empty when the model cannot be split into a confining conservative part and a
-    perturbation, or has no cycle (:func:`numerics.energy.predict_cycles`).
-    """
-    return [(x, T) for x, T, stable in energy_cycles(bound) if stable or not stable_only]
-
-
 def energy_cycles(bound: BoundModel) -> list[tuple[float, float, bool]]:
     """Every first-order energy-balance cycle as ``(x_max, period, stable)``, largest
-    ``x_max`` first: :func:`energy_guesses` before the choice of the stable ones (the
-    shooting's starts take both from one prediction)."""
+    ``x_max`` first (the shooting's starts take the stable and the unstable ones from one
+    prediction); empty when the model cannot be split into a confining conservative part
+    and a perturbation, or has no cycle (:func:`numerics.energy.predict_cycles`)."""
     from numerics.energy import predict_cycles  # imported on use: scipy.integrate (issue 39)
 
     bound = bound.full() if hasattr(bound, "full") else bound  # a model card's: the model

@@ -27,9 +27,9 @@ from pathlib import Path
 
 import numpy as np
 
-from numerics._memo import memo
 from numerics.errors import IntegrationError
 from numerics.flow.compiled import CompiledModel, ModelTemplate
+from numerics.flow.template import jit_memo
 
 __all__ = ["N_SENSITIVITY", "sensitivity_flow", "sensitivity_state", "flow_with_sensitivity",
            "shooting_corrector"]
@@ -47,23 +47,15 @@ def sensitivity_state(x0: float, v0: float = 0.0) -> list[float]:
     return [float(x0), float(v0), 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]
 
 
+@jit_memo
 def sensitivity_flow(template: ModelTemplate):
     """The compiled flow of the nine states, or ``None`` (no numba, ``KBM_NO_JIT``, or a
     function of the model without a :mod:`math` form).
 
     Its parameter vector is the template's values followed by their rates
     ``d p_k/d p`` (the same order, :attr:`ModelTemplate.names`).  Memoised per template
-    and per the state of the ``KBM_NO_JIT`` switch (time only).
+    and per the state of the ``KBM_NO_JIT`` switch (:func:`numerics.flow.template.jit_memo`).
     """
-    from numerics.flow.jit import jit_available
-
-    return _sensitivity_flow(template, jit_available())
-
-
-@memo(maxsize=32)
-def _sensitivity_flow(template: ModelTemplate, enabled: bool):
-    if not enabled:
-        return None
     key = getattr(template, "sensitivity_key", None)  # a template read from a line card
     if key is not None:
         from numerics.flow.jit import cached_flow

@@ -8,6 +8,7 @@ re-exports these names.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Callable
 
@@ -20,7 +21,7 @@ if TYPE_CHECKING:  # sympy and the symbolic models imported on use (issue 39)
 
     from kbm.model.builtins import Oscillator
 
-__all__ = ["ModelTemplate", "model_template", "template_flow"]
+__all__ = ["ModelTemplate", "model_template", "template_flow", "jit_memo"]
 
 
 @dataclass(frozen=True)
@@ -129,21 +130,27 @@ def _build_template(model: Oscillator) -> ModelTemplate:
                          f"{' '.join(str(exc).split()[:30])}") from None
 
 
+def jit_memo(build: Callable) -> Callable:
+    """``build(template)`` under :func:`~numerics._memo.memo` (32 entries) per template and
+    per the state of the ``KBM_NO_JIT`` switch (:func:`numerics.flow.jit.jit_available`),
+    ``None`` where it is off: the compiled flows, which change the time, never the result."""
+    cached = memo(maxsize=32)(lambda template, enabled: build(template) if enabled else None)
+
+    @functools.wraps(build)
+    def flow(template):
+        from numerics.flow.jit import jit_available
+
+        return cached(template, jit_available())
+    return flow
+
+
+@jit_memo
 def template_flow(template: ModelTemplate):
     """The compiled DOP853 flow of the template's extended system, or ``None``.
 
     See :mod:`numerics.flow.jit`; memoised per template and per the state of the
-    ``KBM_NO_JIT`` switch (it changes the time, never the result).
+    ``KBM_NO_JIT`` switch (:func:`jit_memo`).
     """
-    from numerics.flow.jit import jit_available
-
-    return _template_flow(template, jit_available())
-
-
-@memo(maxsize=32)
-def _template_flow(template: ModelTemplate, enabled: bool):
-    if not enabled:
-        return None
     quick = getattr(template, "cached_flow", None)  # a template read from a model card
     if quick is not None:
         built = quick()

@@ -11,6 +11,7 @@ import dataclasses
 import functools
 import math
 
+from ._energy_density import SIX_DIGITS
 from ._stationary_climb import climb_grid, climb_rung, finer_intervals
 from ._stationary_points import ALPHA, stationary_points
 from ._stationary_solve import OrthonormalKramersSolution, orthonormal_stationary
@@ -18,8 +19,6 @@ from ._stationary_solve import OrthonormalKramersSolution, orthonormal_stationar
 __all__ = ["stationary_orthonormal"]
 
 
-#: the change below which the Hermite ladder leaves room for two finer grids
-SIX_DIGITS = 1e-6
 #: the first Hermite truncation of the ladder (:func:`._problem.hermite_ladder`)
 FIRST_HERMITE = 32
 #: the share of the last Chebyshev change below which the Hermite change of the previous

@@ -79,10 +79,13 @@ def correct_on_hyperplane(evaluate: Callable, u0, row, target: float, *, max_ite
                            f"(|R| = {np.max(np.abs(R)):.2e})")
 
 
-def null_vector(J: np.ndarray) -> np.ndarray:
-    """The unit null vector of the ``k x (k+1)`` matrix ``J`` (the branch's tangent)."""
+def null_vector(J: np.ndarray, orient: np.ndarray | None = None) -> np.ndarray:
+    """The unit null vector of the ``k x (k+1)`` matrix ``J`` (its last right singular
+    vector: the branch's tangent), with ``t . orient >= 0`` when ``orient`` is given."""
     _, _, vt = np.linalg.svd(J)
     t = vt[-1]
+    if orient is not None and float(np.dot(t, orient)) < 0:
+        t = -t
     return t / np.linalg.norm(t)
 
 

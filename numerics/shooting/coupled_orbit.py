@@ -159,8 +159,17 @@ def _shoot(fl: CoupledFlow, y0, T: float, section: int | None, rtol: float, max_
         yT, Phi, _ = fl.monodromy(y, T, rtol=rtol)
         return yT, Phi, None
 
+    def at_rest(z, R, state):
+        # Newton on an equilibrium: phi_T(y) = y for every T and the field vanishes, so the
+        # shooting matrix is singular and its correction is round-off; returned as it is
+        # for the caller's check (coupled_cycle names it an equilibrium)
+        if section is None:
+            return False
+        y = np.insert(np.asarray(z[:-1], dtype=float), section, 0.0)
+        return float(np.max(np.abs(fl.rhs(y)))) <= 1e-9 * max(1.0, float(np.max(np.abs(y))))
+
     y0, T, it, _, _ = shoot(monodromy, y0, T, section=section, rtol=rtol, max_iter=max_iter,
-                            rhs=lambda yT, T: fl.rhs(yT), **kw)
+                            rhs=lambda yT, T: fl.rhs(yT), degenerate=at_rest, **kw)
     yT, Phi, div = fl.monodromy(y0, T, rtol=rtol)
     return y0, T, it, Phi, div, float(np.max(np.abs(yT - y0)))
 

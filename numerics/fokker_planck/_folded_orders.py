@@ -53,7 +53,7 @@ class FoldedOrderLU:
     def __init__(self, A, n_orders: int):
         self.A, self.b = A, 1
         self.n = 0
-        self._lu, self._lower, self._upper, self._l2, self._u2 = [], [], [], [], []
+        self._inv, self._lower, self._upper, self._l2, self._u2 = [], [], [], [], []
         self._sparse, self._held, self._eye = {}, [], None
         self._state = None  # the frontier: S(p, p), S(p, p+1), S(p+1, p), S(p+1, p+1)
         self.extend(n_orders)
@@ -131,7 +131,7 @@ class FoldedOrderLU:
         if n_orders > N:
             raise ValueError(f"n_orders = {n_orders}: at most {N}")
         mm = A.mm
-        for p in range(len(self._lu), n_orders):
+        for p in range(len(self._inv), n_orders):
             if self._state is None:  # the first order: nothing eliminated yet
                 P = self._block(0, 0)
                 U1 = self._block(0, 1) if N > 1 else None
@@ -143,9 +143,16 @@ class FoldedOrderLU:
             if info != 0 or not np.all(np.isfinite(np.diagonal(lu))):
                 raise np.linalg.LinAlgError("a singular Schur complement in the folded escape "
                                             f"matrix at Hermite order {p}")
+            # S(p,p)^-1 by getrs on the identity (np.linalg.inv's way): OpenBLAS's getri is
+            # reference LAPACK, 2.3 times slower (197 rows, one thread: 1.50 against
+            # 0.66 ms; the order's getrf 0.28, a product 0.39)
+            if self._eye is None or self._eye.shape[0] != mm:
+                self._eye = np.eye(mm, order="F")
+            inv = lapack.dgetrs(lu, piv, self._eye)[0]
+            del lu
             u2 = self._block(p, p + 2, False) if p + 2 < N else None
             l2 = self._block(p + 2, p, False) if p + 2 < N else None
-            self._lu.append((lu, piv))
+            self._inv.append(inv)
             self._upper.append(U1)
             self._lower.append(L1)
             self._u2.append(u2)
@@ -156,13 +163,7 @@ class FoldedOrderLU:
             # W = S(p,p)^-1 [S(p,p+1), A(p,p+2)] (the updates of the orders p+1 and p+2) by
             # the inverse: A(p,p+2) is diagonal, so S^-1 A(p,p+2) scales its columns (the
             # solve with 2 mm right-hand sides cost twice as much; CDC mu = 5, rung 10:
-            # the same rate to 2e-15, the same backward error of a solve).  The inverse by
-            # getrs on the identity (np.linalg.inv's way): OpenBLAS's getri is reference
-            # LAPACK, 2.3 times slower (197 rows, one thread: 1.50 against 0.66 ms; the
-            # order's getrf 0.28, a product 0.39)
-            if self._eye is None or self._eye.shape[0] != mm:
-                self._eye = np.eye(mm, order="F")
-            inv = lapack.dgetrs(lu, piv, self._eye)[0]
+            # the same rate to 2e-15, the same backward error of a solve)
             W = np.empty((mm, 2 * mm) if u2 is not None else (mm, mm), order="F")
             W1 = blas.dgemm(1.0, inv, U1, c=W[:, :mm], overwrite_c=True)
             if not np.shares_memory(W1, W):
@@ -202,24 +203,26 @@ class FoldedOrderLU:
     def solve(self, rhs: np.ndarray, n: int) -> np.ndarray:
         """``A^{-1} rhs`` of the truncation at the first ``n`` orders (``rhs`` of length
         ``n mm``): the forward sweep up the orders, then the back substitution down."""
-        from scipy.linalg import lapack
+        from scipy.linalg import blas
 
         mm = self.A.mm
         y = np.array(rhs, float).reshape(n, mm)
+        gemv = blas.dgemv
+        r = np.empty(mm)
         for p in range(n):  # y_p = S_p^-1 (r_p - S(p,p-1) y_{p-1} - A(p,p-2) y_{p-2})
-            r = y[p]
+            r[:] = y[p]
             if p >= 1:
-                r = r - self._lower[p - 1] @ y[p - 1]
+                gemv(-1.0, self._lower[p - 1], y[p - 1], beta=1.0, y=r, overwrite_y=True)
             if p >= 2:
                 l2 = self._l2[p - 2]
-                r = r - (l2 * y[p - 2] if l2.ndim == 1 else l2 @ y[p - 2])
-            y[p] = lapack.dgetrs(*self._lu[p], r)[0]
+                r -= l2 * y[p - 2] if l2.ndim == 1 else l2 @ y[p - 2]
+            y[p] = gemv(1.0, self._inv[p], r)
         for p in range(n - 2, -1, -1):  # x_p = y_p - S_p^-1 (S(p,p+1) x_{p+1} + A(p,p+2) x_{p+2})
-            w = self._upper[p] @ y[p + 1]
+            w = gemv(1.0, self._upper[p], y[p + 1])
             if p + 2 < n:
                 u2 = self._u2[p]
                 w += u2 * y[p + 2] if u2.ndim == 1 else u2 @ y[p + 2]
-            y[p] -= lapack.dgetrs(*self._lu[p], w)[0]
+            y[p] = gemv(-1.0, self._inv[p], w, beta=1.0, y=y[p])
         return y.reshape(-1)
 
 

@@ -213,7 +213,7 @@ class FoldedOrderLU:
                 L_next -= W1
                 W2 *= -l2[:, None]
                 if Q_next.ndim == 1:
-                    W2[np.diag_indices(mm)] += Q_next
+                    _diagonal(W2)[:] += Q_next
                     Q_next = W2
                 else:
                     Q_next += W2

@@ -23,6 +23,15 @@ order).  As in :class:`._folded.FoldedLU` the factors of a truncation at ``N`` o
 the first ones of every larger truncation (the Galerkin blocks of the first ``N`` orders
 do not depend on the truncation), so the Hermite ladder of a rung factorises its largest
 truncation only.
+
+What is kept per order: the inverse of its Schur complement (formed for the updates; by
+``getrs`` on the identity, 2.3 times faster than OpenBLAS's ``getri``) with the couplings
+``S(p, p+1)`` and ``S(p+1, p)``, ``3 m^2`` numbers as with the LU, and a solve is four
+matrix-vector products per order (memory-bound: 116 against 150 us per order with
+``getrs`` at 197 rows).  CDC Delta = 3, kT = 0.35, mu = 5 (the rungs of 101-197 rows,
+3616 orders factorised, one thread): the factorisations 9.8 -> 6.2 s, the solves 3.6 ->
+2.5 s (with the first start of each rung from the last rung's mode,
+:func:`._folded.carried_mode`: 272 -> 234 solves); the rate moved by 6e-13 of itself.
 """
 
 from __future__ import annotations
@@ -53,8 +62,8 @@ class FoldedOrderLU:
     def __init__(self, A, n_orders: int):
         self.A, self.b = A, 1
         self.n = 0
-        self._lu, self._lower, self._upper, self._l2, self._u2 = [], [], [], [], []
-        self._sparse, self._held = {}, []
+        self._inv, self._lower, self._upper, self._l2, self._u2 = [], [], [], [], []
+        self._sparse, self._held, self._eye, self._rows = {}, [], None, None
         self._state = None  # the frontier: S(p, p), S(p, p+1), S(p+1, p), S(p+1, p+1)
         self.extend(n_orders)
 
@@ -75,6 +84,21 @@ class FoldedOrderLU:
             self._held.append(B)  # the id stays this matrix's
         return self._sparse[key]
 
+    def _coupling(self, n: int, k: int) -> list:
+        """``[(v, B, diag), ...]``: the terms' entries ``v`` coupling the orders ``(n, k)``
+        with their folded position matrices (:meth:`._folded.FoldedTermBlocks._entries`,
+        in its order), from the terms' rows held as Python lists (the sparse matrices'
+        scalars cost a microsecond each: 18 000 blocks at CDC mu = 5)."""
+        if self._rows is None:
+            self._rows = [(H.indptr.tolist(), H.indices.tolist(), H.data.tolist())
+                          for H, _ in self.A.terms]
+        out = []
+        for t, (ptr, cols, vals) in enumerate(self._rows):
+            for i in range(ptr[n], ptr[n + 1]):
+                if cols[i] == k:
+                    out.append((vals[i],) + self.A._fold(t, n % 2, k % 2))
+        return out
+
     def _block(self, n: int, k: int, dense: bool = True):
         """The folded block of the orders ``(n, k)`` (:meth:`._folded.FoldedTermBlocks.block`,
         Fortran order), or with ``dense=False`` its diagonal where every term's position
@@ -82,10 +106,10 @@ class FoldedOrderLU:
         block).  The position matrices with few entries (a diagonal between orders of
         the two parities) are added by their entries."""
         A, mm = self.A, self.A.mm
-        entries = list(A._entries(n, n + 1, k, k + 1))
+        entries = self._coupling(n, k)
         if dense or any(diag is None for *_, diag in entries):
             out = None  # the first product written in place (the sums in block()'s order)
-            for _, _, v, B, diag in entries:
+            for v, B, diag in entries:
                 if diag is None:
                     B = self._entries_of(B)
                     if out is None and not isinstance(B, tuple):
@@ -94,7 +118,7 @@ class FoldedOrderLU:
                 if out is None:
                     out = np.zeros((mm, mm), order="F")
                 if diag is not None:
-                    out[np.arange(diag.size), np.arange(diag.size)] += v * diag
+                    _diagonal(out)[:diag.size] += v * diag
                 elif isinstance(B, tuple):
                     out[B[0], B[1]] += v * B[2]
                 else:
@@ -104,14 +128,13 @@ class FoldedOrderLU:
             out[0, :] = 0.0  # the pinned end x = L (x = -L is its mirror)
             if n == k:
                 p = n % 2
-                a = np.arange(1, A.sizes[p])
-                out[a, a] -= A.shift[A.maps[p][0][1:]]
+                _diagonal(out)[1:A.sizes[p]] -= A.shift[A.maps[p][0][1:]]
                 out[0, 0] = 1.0
                 if A.sizes[p] < mm:  # the padding: decoupled
                     out[mm - 1, mm - 1] = 1.0
             return out
         out = np.zeros(mm)
-        for _, _, v, _, diag in entries:
+        for v, _, diag in entries:
             out[:diag.size] += v * diag
         out[0] = 0.0  # the pinned end x = L
         if n == k:
@@ -131,7 +154,7 @@ class FoldedOrderLU:
         if n_orders > N:
             raise ValueError(f"n_orders = {n_orders}: at most {N}")
         mm = A.mm
-        for p in range(len(self._lu), n_orders):
+        for p in range(len(self._inv), n_orders):
             if self._state is None:  # the first order: nothing eliminated yet
                 P = self._block(0, 0)
                 U1 = self._block(0, 1) if N > 1 else None
@@ -143,9 +166,16 @@ class FoldedOrderLU:
             if info != 0 or not np.all(np.isfinite(np.diagonal(lu))):
                 raise np.linalg.LinAlgError("a singular Schur complement in the folded escape "
                                             f"matrix at Hermite order {p}")
+            # S(p,p)^-1 by getrs on the identity (np.linalg.inv's way): OpenBLAS's getri is
+            # reference LAPACK, 2.3 times slower (197 rows, one thread: 1.50 against
+            # 0.66 ms; the order's getrf 0.28, a product 0.39)
+            if self._eye is None or self._eye.shape[0] != mm:
+                self._eye = np.eye(mm, order="F")
+            inv = lapack.dgetrs(lu, piv, self._eye)[0]
+            del lu
             u2 = self._block(p, p + 2, False) if p + 2 < N else None
             l2 = self._block(p + 2, p, False) if p + 2 < N else None
-            self._lu.append((lu, piv))
+            self._inv.append(inv)
             self._upper.append(U1)
             self._lower.append(L1)
             self._u2.append(u2)
@@ -157,7 +187,6 @@ class FoldedOrderLU:
             # the inverse: A(p,p+2) is diagonal, so S^-1 A(p,p+2) scales its columns (the
             # solve with 2 mm right-hand sides cost twice as much; CDC mu = 5, rung 10:
             # the same rate to 2e-15, the same backward error of a solve)
-            inv = lapack.dgetri(lu, piv)[0]
             W = np.empty((mm, 2 * mm) if u2 is not None else (mm, mm), order="F")
             W1 = blas.dgemm(1.0, inv, U1, c=W[:, :mm], overwrite_c=True)
             if not np.shares_memory(W1, W):
@@ -184,7 +213,7 @@ class FoldedOrderLU:
                 L_next -= W1
                 W2 *= -l2[:, None]
                 if Q_next.ndim == 1:
-                    W2[np.diag_indices(mm)] += Q_next
+                    _diagonal(W2)[:] += Q_next
                     Q_next = W2
                 else:
                     Q_next += W2
@@ -197,25 +226,33 @@ class FoldedOrderLU:
     def solve(self, rhs: np.ndarray, n: int) -> np.ndarray:
         """``A^{-1} rhs`` of the truncation at the first ``n`` orders (``rhs`` of length
         ``n mm``): the forward sweep up the orders, then the back substitution down."""
-        from scipy.linalg import lapack
+        from scipy.linalg import blas
 
         mm = self.A.mm
         y = np.array(rhs, float).reshape(n, mm)
+        gemv = blas.dgemv
+        r = np.empty(mm)
         for p in range(n):  # y_p = S_p^-1 (r_p - S(p,p-1) y_{p-1} - A(p,p-2) y_{p-2})
-            r = y[p]
+            r[:] = y[p]
             if p >= 1:
-                r = r - self._lower[p - 1] @ y[p - 1]
+                gemv(-1.0, self._lower[p - 1], y[p - 1], beta=1.0, y=r, overwrite_y=True)
             if p >= 2:
                 l2 = self._l2[p - 2]
-                r = r - (l2 * y[p - 2] if l2.ndim == 1 else l2 @ y[p - 2])
-            y[p] = lapack.dgetrs(*self._lu[p], r)[0]
+                r -= l2 * y[p - 2] if l2.ndim == 1 else l2 @ y[p - 2]
+            y[p] = gemv(1.0, self._inv[p], r)
         for p in range(n - 2, -1, -1):  # x_p = y_p - S_p^-1 (S(p,p+1) x_{p+1} + A(p,p+2) x_{p+2})
-            w = self._upper[p] @ y[p + 1]
+            w = gemv(1.0, self._upper[p], y[p + 1])
             if p + 2 < n:
                 u2 = self._u2[p]
                 w += u2 * y[p + 2] if u2.ndim == 1 else u2 @ y[p + 2]
-            y[p] -= lapack.dgetrs(*self._lu[p], w)[0]
+            y[p] = gemv(-1.0, self._inv[p], w, beta=1.0, y=y[p])
         return y.reshape(-1)
+
+
+def _diagonal(a: np.ndarray) -> np.ndarray:
+    """The diagonal of a square array as a writable view."""
+    return np.lib.stride_tricks.as_strided(a, shape=(min(a.shape),),
+                                           strides=(a.strides[0] + a.strides[1],))
 
 
 def dominant_ritz(op, v0: np.ndarray, tol: float = 1e-12, max_vectors: int = 12):

@@ -339,6 +339,7 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
 
         adaptive = linear and fold  # orthonormal functions at SINK_SCALE sqrt(kT) (._sink)
         solvers: dict = {}  # the factors of the current rung's two sinks (and grids)
+        last: list = [None]  # the last rung's slowest mode: the next factors' first start
 
         def rung(j, offset, nc, nh):  # the rate with the sink of rung j (._sink)
             centres, kap, w = sink_rung(wells, kappa0, width, j, offset)
@@ -357,8 +358,13 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
             if adaptive:  # one factorisation per sink and grid, extended up the truncations
                 for key in [k for k in solvers if k[0] != j or k[2] != nc]:
                     del solvers[key]  # the factors of another rung or grid freed first
-                solver = solvers.setdefault((j, offset, nc), FoldedRungs(4 * nh, by_order=True))
-                return solver(split, D, sink_scale(j) * math.sqrt(kT), pts, nh, nc, snk)
+                solver = solvers.get((j, offset, nc))
+                if solver is None:
+                    solver = solvers[j, offset, nc] = FoldedRungs(4 * nh, by_order=True,
+                                                                  start=last[0])
+                rate = solver(split, D, sink_scale(j) * math.sqrt(kT), pts, nh, nc, snk)
+                last[0] = solver.mode
+                return rate
             if basis == "pair":
                 return FractionRungs(split, sigma, gamma, centres, snk, pts).rate(nh, nc)
             solver = FoldedRungs(nh) if fold else orthonormal_slowest

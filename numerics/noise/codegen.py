@@ -27,7 +27,7 @@ from ..errors import NumericsError
 from ..flow.jit import _announce_compile, _load, jit_available
 from .lanes import lane_count, lanes_source
 
-__all__ = ["SCHEMES", "vector_module"]
+__all__ = ["SCHEMES", "vector_module", "python_accel"]
 
 #: version of the generated source (part of its hash)
 _VERSION = "3"
@@ -66,7 +66,9 @@ def _affine_in_velocity(model: Oscillator) -> bool:
 SCHEMES = {"kp": 0, "baoab": 1}
 
 
-def _source(model: Oscillator, names: tuple[str, ...]) -> str:
+def _printer(names: tuple[str, ...], decorator: str = "@njit(cache=True)"):
+    """``fn(signature, expr)``: the lines of a function returning ``float(expr)`` (the
+    model's symbols renamed, common subexpressions shared) under ``decorator``."""
     from sympy.printing.pycode import PythonCodePrinter
 
     ren = {T: sp.Symbol("t_"), X: sp.Symbol("x_"), V: sp.Symbol("v_")}
@@ -77,10 +79,32 @@ def _source(model: Oscillator, names: tuple[str, ...]) -> str:
     def fn(signature: str, expr: sp.Expr) -> list[str]:
         e = sp.sympify(expr).xreplace(ren)
         repl, (red,) = sp.cse([e], symbols=sp.numbered_symbols("w_"), order="canonical")
-        return (["@njit(cache=True)", f"def {signature}:"] + head
+        return ([decorator] if decorator else []) + ([f"def {signature}:"] + head
                 + [f"    {pr.doprint(s)} = {pr.doprint(v)}" for s, v in repl]
                 + [f"    return float({pr.doprint(red)})", "", ""])
 
+    return fn
+
+
+def python_accel(model: Oscillator, names: tuple[str, ...]):
+    """``accel(t_, x_, v_, p)`` of the compiled module (:func:`_compiled`) as plain Python:
+    the same printed source without numba, for the few calls that need no compilation (the
+    default step of :func:`numerics.noise.langevin.natural_step`: loading the compiled
+    module from numba's cache takes about 0.8 s)."""
+    from sympy.printing.codeprinter import PrintMethodNotImplementedError
+
+    try:
+        lines = _printer(names, "")("accel(t_, x_, v_, p)", model.acceleration())
+    except PrintMethodNotImplementedError as exc:
+        raise ModelError(f"model {model.name!r} has a term with no math-module equivalent "
+                         f"({exc}); the Langevin integrator cannot compile it") from None
+    space: dict = {}
+    exec(compile("import math\n\n" + "\n".join(lines), "<python_accel>", "exec"), space)
+    return space["accel"]
+
+
+def _source(model: Oscillator, names: tuple[str, ...]) -> str:
+    fn = _printer(names)
     G = _potential(model)
     acc = model.acceleration()
     lines = fn("accel(t_, x_, v_, p)", acc)

@@ -32,7 +32,7 @@ from kbm.errors import ParameterError
 from kbm.model.builtins import SLIDERS, Oscillator
 from kbm.parameters.values import parameter_value
 
-from .codegen import SCHEMES, _STAGE_V, _compiled, _scheme, _symbolic  # noqa: F401
+from .codegen import SCHEMES, _STAGE_V, _compiled, _scheme, _symbolic, python_accel  # noqa: F401
 from ._pilot import BIAS_TOLERANCE, PILOT_FLOOR, measured_step, reachable_stderr
 from .seeds import trajectory_states
 
@@ -234,9 +234,9 @@ def natural_step(system: LangevinSystem, *, per_period: int = 50,
     when it is smaller.
     """
     p = system._p()
-    k = system.kernels
+    accel = python_accel(system.symbolic, system.names)  # the compiled accel's source, uncompiled
     eps = 1e-6
-    stiff = -(k.accel(0.0, eps, 0.0, p) - k.accel(0.0, -eps, 0.0, p)) / (2 * eps)
+    stiff = -(accel(0.0, eps, 0.0, p) - accel(0.0, -eps, 0.0, p)) / (2 * eps)
     w = max(system.omega0, math.sqrt(max(stiff, 0.0)))
     h = 2 * math.pi / w / per_period
     mu = abs(system.bound.mu or 0.0)

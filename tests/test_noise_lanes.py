@@ -12,6 +12,7 @@ previous crossing.  The kernels must give the same bytes.
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -37,14 +38,22 @@ def _amp(s, h: float) -> float:
     return s.sigma * s.kernels._noise_factor(s._p(), h) * math.sqrt(3.0 * h)
 
 
+def _path(s, x: float, v: float, gen, h: float, t_first: float, time):
+    """The trajectory from ``(x, v)`` stepped in Python with the compiled one-step map
+    (carried force ``_first`` at ``t_first``, step ``j`` at ``time(j)``, its increments
+    drawn from the generator ``gen``, updated): ``(x, v)`` after each step."""
+    k, p = s.kernels, s._p()
+    amp = _amp(s, h)
+    f = k._first(t_first, x, v, p)
+    for j in itertools.count():
+        x, v, f = k._step(time(j), x, v, f, h, k._increment(gen, amp), p)
+        yield x, v
+
+
 def _passage_in_python(s, y0, state, h: float, n_max: int, xl: float, xr: float):
     """One trajectory stepped in Python until it leaves ``(xl, xr)``: ``(time, hit)``."""
-    k, p = s.kernels, s._p()
-    amp, gen = _amp(s, h), state.copy()
-    x, v = y0
-    f = k._first(0.0, x, v, p)
-    for j in range(n_max):
-        x, v, f = k._step(j * h, x, v, f, h, k._increment(gen, amp), p)
+    path = _path(s, *y0, state.copy(), h, 0.0, lambda j: j * h)
+    for j, (x, _) in zip(range(n_max), path):
         if x <= xl or x >= xr or not math.isfinite(x):
             return (j + 1) * h, True
     return n_max * h, False
@@ -81,24 +90,20 @@ def test_first_passages_in_lanes_equal_the_scheme_stepped_in_python(model, schem
 def _slips_in_python(s, y0, state, h, n_burn, n_run, lam, min_gap, v_stage) -> list:
     """One slider trajectory stepped in Python: burn-in, then the records of
     :func:`slip_stats` from their definitions (NaN row when ``x + x'`` is not finite)."""
-    k, p = s.kernels, s._p()
-    amp, gen = _amp(s, h), state.copy()
-    x, v = y0
-    f = k._first(0.0, x, v, p)
-    for j in range(n_burn):
-        x, v, f = k._step(j * h, x, v, f, h, k._increment(gen, amp), p)
+    gen, (x, v) = state.copy(), y0
+    for _, (x, v) in zip(range(n_burn), _path(s, x, v, gen, h, 0.0, lambda j: j * h)):
+        pass
     if not math.isfinite(x + v):
         return [math.nan] * 7
     t1 = n_burn * h
-    f = k._first(t1, x, v, p)
     well, last, top = float(math.floor(x / lam + 0.5)), -1e300, -1e300
     force = slips = fs = fs2 = back = ls = ls2 = 0.0
-    for j in range(n_run):
+    run = _path(s, x, v, gen, h, t1, lambda j: (t1 + (j + 1) * h) - h)
+    for j, (x, v) in zip(range(n_run), run):
         t = t1 + (j + 1) * h
-        x, v, f = k._step(t - h, x, v, f, h, k._increment(gen, amp), p)
         if not math.isfinite(x + v):
             return [math.nan] * 7
-        spring = k.spring(t, x, v, p)
+        spring = s.kernels.spring(t, x, v, s._p())
         force += spring
         top = max(top, spring)
         w = math.floor(x / lam + 0.5)

@@ -69,14 +69,19 @@ _START = ("s{j} = states[r{j}].copy()", "x{j}, v{j} = y0[r{j}, 0], y0[r{j}, 1]",
           "f{j} = _first(t0, x{j}, v{j}, p)")
 
 
+def _head(name: str, args: str, doc: str, lanes: int, row: str, n: str) -> list[str]:
+    """The start of a loop function ``name(args)``: lane ``j`` at trajectory ``row`` (an
+    expression in ``j``), then ``n`` steps of every lane from ``t0`` (unchecked)."""
+    return (["@njit(cache=True)", f"def {name}({args}):", f'    """{doc}"""']
+            + _each(lanes, "    r{j} = " + row, *("    " + s for s in _START))
+            + [f"    for k in range({n}):", "        t = t0 + k * h"]
+            + _each(lanes, "        " + _STEP.replace("{t}", "t")))
+
+
 def _final(lanes: int) -> list[str]:
-    return (["@njit(cache=True)",
-             "def _advance_lanes(p, y0, t0, h, n, states, i, amp, out):",
-             f'    """Trajectories ``i .. i + {lanes - 1}`` of ``final_states``, {lanes} a '
-             'loop."""']
-            + _each(lanes, "    r{j} = i + {j}", *("    " + s for s in _START))
-            + ["    for k in range(n):", "        t = t0 + k * h"]
-            + _each(lanes, "        " + _STEP.replace("{t}", "t"))
+    return (_head("_advance_lanes", "p, y0, t0, h, n, states, i, amp, out",
+                  f"Trajectories ``i .. i + {lanes - 1}`` of ``final_states``, {lanes} a loop.",
+                  lanes, "i + {j}", "n")
             + _each(lanes, "    out[r{j}, 0], out[r{j}, 1] = _finite(x{j}, v{j})"))
 
 
@@ -109,14 +114,9 @@ def _slips(lanes: int) -> list[str]:
     (:func:`_slip_record`); False (rows not written) as soon as a lane's state is not
     finite."""
     finite = " and ".join(f"math.isfinite(x{j} + v{j})" for j in range(lanes))
-    return (["@njit(cache=True)",
-             "def _slips_lanes(p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap, "
-             "v_stage, out, i, last):",
-             f'    """Rows ``i .. min(i + {lanes - 1}, last)`` of ``slip_stats``, {lanes} a '
-             'loop."""']
-            + _each(lanes, "    r{j} = min(i + {j}, last)", *("    " + s for s in _START))
-            + ["    for k in range(n_burn):", "        t = t0 + k * h"]
-            + _each(lanes, "        " + _STEP.replace("{t}", "t"))
+    return (_head("_slips_lanes", "p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap, "
+                  "v_stage, out, i, last", f"Rows ``i .. min(i + {lanes - 1}, last)`` of "
+                  f"``slip_stats``, {lanes} a loop.", lanes, "min(i + {j}, last)", "n_burn")
             + [f"    if not ({finite}):", "        return False", "    t1 = t0 + n_burn * h"]
             + _each(lanes, "    f{j} = _first(t1, x{j}, v{j}, p)",
                     "    acc{j} = _slip_init(x{j}, lam)")

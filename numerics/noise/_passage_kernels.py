@@ -62,41 +62,39 @@ def first_passages(p, sigma, y0, t0, h, n_max, xl, xr, states):
 
 @njit(cache=True)
 def _slip_init(x, lam):
-    """The running record of :func:`slip_stats` for one trajectory at ``x``: the well, the
-    time of the last crossing, the largest spring force since, then the sums (force,
-    slips, slip force and its square, backward jumps, stage position at the slip and its
-    square)."""
-    acc = np.zeros(10)
-    acc[0] = math.floor(x / lam + 0.5)
-    acc[1] = -1e300
-    acc[2] = -1e300
-    return acc
+    """The running record of :func:`slip_stats` for one trajectory at ``x``, a tuple (a
+    lane's record stays in registers): the well, the time of the last crossing, the
+    largest spring force since, then the sums (force, slips, slip force and its square,
+    backward jumps, stage position at the slip and its square)."""
+    return (float(math.floor(x / lam + 0.5)), -1e300, -1e300, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+            0.0)
 
 
 @njit(cache=True)
 def _slip_record(acc, t, x, v, p, lam, min_gap, v_stage):
-    """One step's end ``(t, x, v)`` into the record ``acc`` (:func:`_slip_init`)."""
+    """The record ``acc`` (:func:`_slip_init`) with one step's end ``(t, x, v)``."""
+    well, last, top, force, slips, fs, fs2, back, ls, ls2 = acc
     f = spring(t, x, v, p)  # noqa: F821
-    acc[3] += f
-    if f > acc[2]:
-        acc[2] = f
-    w = math.floor(x / lam + 0.5)
-    if w > acc[0]:
-        if t - acc[1] > min_gap:
-            acc[4] += 1.0
-            acc[5] += acc[2]
-            acc[6] += acc[2] * acc[2]
-            rel = v_stage * t - acc[0] * lam
-            acc[8] += rel
-            acc[9] += rel * rel
-        acc[1] = t
-        acc[2] = f
-    elif w < acc[0]:
-        if t - acc[1] > min_gap:
-            acc[7] += 1.0
-        acc[1] = t
-        acc[2] = f
-    acc[0] = w
+    force += f
+    if f > top:
+        top = f
+    w = float(math.floor(x / lam + 0.5))
+    if w > well:
+        if t - last > min_gap:
+            slips += 1.0
+            fs += top
+            fs2 += top * top
+            rel = v_stage * t - well * lam
+            ls += rel
+            ls2 += rel * rel
+        last = t
+        top = f
+    elif w < well:
+        if t - last > min_gap:
+            back += 1.0
+        last = t
+        top = f
+    return w, last, top, force, slips, fs, fs2, back, ls, ls2
 
 
 @njit(cache=True)

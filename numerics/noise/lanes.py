@@ -123,7 +123,8 @@ def _slips(lanes: int) -> list[str]:
             + ["    for k in range(n_run):", "        t = t1 + (k + 1) * h"]
             + _each(lanes, "        " + _STEP.replace("{t}", "t - h"))
             + [f"        if not ({finite}):", "            return False"]
-            + _each(lanes, "        _slip_record(acc{j}, t, x{j}, v{j}, p, lam, min_gap, v_stage)")
+            + _each(lanes, "        acc{j} = _slip_record(acc{j}, t, x{j}, v{j}, p, lam, min_gap, "
+                    "v_stage)")
             + _each(lanes, "    _slip_row(out, r{j}, acc{j}, n_run)")
             + ["    return True"])
 

@@ -561,6 +561,13 @@ def increments_of_passages(effort: float = 1.0) -> None:
                   f"{se_r:.1e} ({res.mean() / se_r:+.1f} s.e.)")
 
 
+def _kick_drift(j: int, force: str) -> list[str]:
+    """A hand BAOAB step of lane ``j`` (noise factor folded), ``force`` in ``x{j}``."""
+    return [f"            v{j} += 0.5 * h * f{j}", f"            x{j} += 0.5 * h * v{j}",
+            f"            v{j} = e * v{j} + inc(s{j}, amp)", f"            x{j} += 0.5 * h * v{j}",
+            f"            f{j} = " + force.format(j=j), f"            v{j} += 0.5 * h * f{j}"]
+
+
 def _hand_events(inc, lanes: int):
     """Hand BAOAB loops (the O part's noise factor folded in, the toolkit's generator
     ``inc``), ``lanes`` trajectories a loop: first passages of the CDC at rest (a loop runs
@@ -580,11 +587,7 @@ def _hand_events(inc, lanes: int):
                 f"        f{j} = -x{j} - c * math.sin(k * x{j})"]
     src += ["        for n in range(n_max):"]
     for j in js:
-        src += [f"            v{j} += 0.5 * h * f{j}", f"            x{j} += 0.5 * h * v{j}",
-                f"            v{j} = e * v{j} + inc(s{j}, amp)",
-                f"            x{j} += 0.5 * h * v{j}",
-                f"            f{j} = -x{j} - c * math.sin(k * x{j})",
-                f"            v{j} += 0.5 * h * f{j}"]
+        src += _kick_drift(j, "-x{j} - c * math.sin(k * x{j})")
     for j in js:
         src += [f"            if a{j} and (x{j} <= xl or x{j} >= xr):",
                 f"                a{j} = False",
@@ -602,11 +605,7 @@ def _hand_events(inc, lanes: int):
     src += ["        for n in range(n_burn + n_run):",  # the times as the toolkit forms them
             "            t = n * h if n < n_burn else (t1 + (n - n_burn + 1) * h) - h"]
     for j in js:
-        src += [f"            v{j} += 0.5 * h * f{j}", f"            x{j} += 0.5 * h * v{j}",
-                f"            v{j} = e * v{j} + inc(s{j}, amp)",
-                f"            x{j} += 0.5 * h * v{j}",
-                f"            f{j} = -c * math.sin(k * x{j}) + vs * (t + h) * w0 - w0 * x{j}",
-                f"            v{j} += 0.5 * h * f{j}"]
+        src += _kick_drift(j, "-c * math.sin(k * x{j}) + vs * (t + h) * w0 - w0 * x{j}")
     src += ["            if n == n_burn - 1:"]
     for j in js:
         src += [f"                wl{j} = math.floor(x{j} / lam + 0.5)",

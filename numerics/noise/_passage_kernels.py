@@ -63,22 +63,23 @@ def first_passages(p, sigma, y0, t0, h, n_max, xl, xr, states):
 @njit(cache=True)
 def _slip_init(x, lam):
     """The running record of :func:`slip_stats` for one trajectory at ``x``, a tuple (a
-    lane's record stays in registers): the well, the time of the last crossing, the
+    lane's record stays in registers): the well (``floor(x/lam + 1/2)``, a float: the same
+    number as the integer for ``|x| < 2^63 lam``), the time of the last crossing, the
     largest spring force since, then the sums (force, slips, slip force and its square,
     backward jumps, stage position at the slip and its square)."""
-    return (float(math.floor(x / lam + 0.5)), -1e300, -1e300, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-            0.0)
+    return (np.floor(x / lam + 0.5), -1e300, -1e300, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 @njit(cache=True)
 def _slip_record(acc, t, x, v, p, lam, min_gap, v_stage):
-    """The record ``acc`` (:func:`_slip_init`) with one step's end ``(t, x, v)``."""
+    """The record ``acc`` (:func:`_slip_init`) with one step's end ``(t, x, v)`` (garbage,
+    never NaN-trapping, when ``x`` is not finite: the caller then drops the record)."""
     well, last, top, force, slips, fs, fs2, back, ls, ls2 = acc
     f = spring(t, x, v, p)  # noqa: F821
     force += f
     if f > top:
         top = f
-    w = float(math.floor(x / lam + 0.5))
+    w = np.floor(x / lam + 0.5)  # a float: no integer of a non-finite x
     if w > well:
         if t - last > min_gap:
             slips += 1.0

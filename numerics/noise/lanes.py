@@ -111,8 +111,10 @@ def _passages(lanes: int) -> list[str]:
 def _slips(lanes: int) -> list[str]:
     """``slip_stats``' loop: trajectories ``i .. last`` (``last`` repeated in the lanes past
     it), the burn-in unchecked, then the run with each step's records
-    (:func:`_slip_record`); False (rows not written) as soon as a lane's state is not
-    finite."""
+    (:func:`_slip_record`); False (rows not written) when a lane's state was not finite
+    after the burn-in or at a step of the run.  The run's test is a flag, no exit: a branch
+    out of the loop each step cost 10 % (CPU time, the CDC slider, BAOAB, two lanes: 63
+    against 68 M steps/s, the hand loop with no test 70)."""
     finite = " and ".join(f"math.isfinite(x{j} + v{j})" for j in range(lanes))
     return (_head("_slips_lanes", "p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap, "
                   "v_stage, out, i, last", f"Rows ``i .. min(i + {lanes - 1}, last)`` of "
@@ -120,11 +122,12 @@ def _slips(lanes: int) -> list[str]:
             + [f"    if not ({finite}):", "        return False", "    t1 = t0 + n_burn * h"]
             + _each(lanes, "    f{j} = _first(t1, x{j}, v{j}, p)",
                     "    acc{j} = _slip_init(x{j}, lam)")
-            + ["    for k in range(n_run):", "        t = t1 + (k + 1) * h"]
+            + ["    ok = True", "    for k in range(n_run):", "        t = t1 + (k + 1) * h"]
             + _each(lanes, "        " + _STEP.replace("{t}", "t - h"))
-            + [f"        if not ({finite}):", "            return False"]
+            + [f"        ok = ok & {finite.replace(' and ', ' & ')}"]
             + _each(lanes, "        acc{j} = _slip_record(acc{j}, t, x{j}, v{j}, p, lam, min_gap, "
                     "v_stage)")
+            + ["    if not ok:", "        return False"]
             + _each(lanes, "    _slip_row(out, r{j}, acc{j}, n_run)")
             + ["    return True"])
 

@@ -41,8 +41,8 @@ def lane_count(model: Oscillator, scheme: str, events: bool = False) -> int:
     trajectories in tasks of 13) 106, 131, 117, 89 (Kloeden-Platen), 138, 163, 159, 132
     (BAOAB); of the CDC (``kbm escape cdc -p mu=0.2 -p Delta=3 -p D=0.1``) 39, 34, 29, 22
     (Kloeden-Platen), 59, 54, 48, 37 (BAOAB); the CDC slider's records (``kbm friction
-    cdc``, mu = 1, T = 0.01, v = 1e-3) 40, 33, 33, 33 (Kloeden-Platen), 66, 58, 59, 59
-    (BAOAB), the quartic well's 97, 105, 104, 105 and 125, 132, 132, 126 (load 3-6 on 2
+    cdc``, mu = 1, T = 0.01, v = 1e-3) 42, 35, 35, 34 (Kloeden-Platen), 71, 60, 61, 59
+    (BAOAB), the quartic well's 108, 123, 121, 128 and 148, 161, 169, 153 (load 3-5 on 2
     cores)."""
     acc = model.acceleration()
     calls = len(sp.sympify(acc.subs(V, 0) if scheme == "baoab" else acc).atoms(sp.Function))

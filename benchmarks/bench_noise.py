@@ -3,7 +3,7 @@
 Run: ``python benchmarks/bench_noise.py [effort [seed [parts]]]`` (effort 1 by default: about
 two minutes on one core; the standard errors of part 2 fall like ``1/sqrt(effort)``; ``seed``
 the root seed of part 2d, 17 by default; ``parts`` "12" by default, "1" or "2" for one; "3"
-for part 3, about 15 minutes at effort 3 on a loaded machine).
+for part 3, about 15 minutes at effort 3 on a loaded machine; "4" for part 4).
 
 1. **Raw step rate** on the CDC at rest (paper eq. 12 with noise: ``x'' + mu x' + Delta
    sin(2 pi x) + x = sqrt(2 D) xi``, mu = 0.1, Delta = 3, D = 0.1, kT = 1), one core, warm:
@@ -50,6 +50,9 @@ for part 3, about 15 minutes at effort 3 on a loaded machine).
 3. **The increments of first passages and friction runs** (:func:`increments_of_passages`):
    three-point, four-point and Gaussian, against the exact Kramers-equation escape rate and
    the exact power balance of a pulled slider, at the default steps and larger ones.
+4. **The event kernels** (:func:`events`, parts "4", about a minute): ``first_passages``
+   and ``slip_stats`` in their lanes against hand BAOAB loops on the same generator, one
+   and two trajectories a loop, the same times and records.
 """
 
 from __future__ import annotations
@@ -558,6 +561,150 @@ def increments_of_passages(effort: float = 1.0) -> None:
                   f"{se_r:.1e} ({res.mean() / se_r:+.1f} s.e.)")
 
 
+def _kick_drift(j: int, force: str) -> list[str]:
+    """A hand BAOAB step of lane ``j`` (noise factor folded), ``force`` in ``x{j}``."""
+    return [f"            v{j} += 0.5 * h * f{j}", f"            x{j} += 0.5 * h * v{j}",
+            f"            v{j} = e * v{j} + inc(s{j}, amp)", f"            x{j} += 0.5 * h * v{j}",
+            f"            f{j} = " + force.format(j=j), f"            v{j} += 0.5 * h * f{j}"]
+
+
+def _hand_events(inc, lanes: int):
+    """Hand BAOAB loops (the O part's noise factor folded in, the toolkit's generator
+    ``inc``), ``lanes`` trajectories a loop: first passages of the CDC at rest (a loop runs
+    until all its trajectories have left: a pair written out by hand) and the pulled CDC
+    slider's records (mean spring force, slips and their slip force, backward jumps, in
+    scalars).  The force and the times in the toolkit's order of operations, so that the
+    paths are the toolkit's (a rounding of a time apart, a slider's path soon is another)."""
+    js = range(lanes)
+    src = ["def passages(states, n_max, h, amp, e, c, k, xl, xr):",
+           "    m = states.shape[0]",
+           "    times = np.full(m, n_max * h)",
+           "    hit = np.zeros(m, dtype=np.bool_)",
+           f"    for i in range(0, m, {lanes}):"]
+    for j in js:
+        src += [f"        r{j} = min(i + {j}, m - 1)", f"        s{j} = states[r{j}].copy()",
+                f"        x{j}, v{j}, a{j} = 0.0, 0.0, True",
+                f"        f{j} = -x{j} - c * math.sin(k * x{j})"]
+    src += ["        for n in range(n_max):"]
+    for j in js:
+        src += _kick_drift(j, "-x{j} - c * math.sin(k * x{j})")
+    for j in js:
+        src += [f"            if a{j} and (x{j} <= xl or x{j} >= xr):",
+                f"                a{j} = False",
+                f"                times[r{j}], hit[r{j}] = (n + 1) * h, True"]
+    src += ["            if not (" + " or ".join(f"a{j}" for j in js) + "):",
+            "                break",
+            "    return times, hit", "",
+            "def slider(states, n_burn, n_run, h, amp, e, c, k, w0, vs, lam, gap):",
+            "    m = states.shape[0]", "    out = np.zeros((m, 5))", "    t1 = n_burn * h",
+            f"    for i in range(0, m, {lanes}):"]
+    for j in js:
+        src += [f"        r{j} = min(i + {j}, m - 1)", f"        s{j} = states[r{j}].copy()",
+                f"        x{j}, v{j} = 0.0, 0.0",
+                f"        f{j} = -c * math.sin(k * x{j}) - w0 * x{j}"]
+    src += ["        for n in range(n_burn + n_run):",  # the times as the toolkit forms them
+            "            t = n * h if n < n_burn else (t1 + (n - n_burn + 1) * h) - h"]
+    for j in js:
+        src += _kick_drift(j, "-c * math.sin(k * x{j}) + vs * (t + h) * w0 - w0 * x{j}")
+    src += ["            if n == n_burn - 1:"]
+    for j in js:
+        src += [f"                wl{j} = math.floor(x{j} / lam + 0.5)",
+                f"                tl{j}, top{j} = -1e300, -1e300",
+                f"                sf{j}, sl{j}, fs{j}, fs2{j}, bk{j} = 0.0, 0.0, 0.0, 0.0, 0.0",
+                f"                f{j} = -c * math.sin(k * x{j}) + vs * t1 * w0 - w0 * x{j}"]
+    src += ["            if n >= n_burn:", "                t = t1 + (n - n_burn + 1) * h"]
+    for j in js:
+        src += [f"                g{j} = vs * t * w0 - w0 * x{j}", f"                sf{j} += g{j}",
+                f"                top{j} = max(top{j}, g{j})",
+                f"                u{j} = math.floor(x{j} / lam + 0.5)",
+                f"                if u{j} != wl{j}:",
+                f"                    if t - tl{j} > gap and u{j} > wl{j}:",
+                f"                        sl{j} += 1.0", f"                        fs{j} += top{j}",
+                f"                        fs2{j} += top{j} * top{j}",
+                f"                    elif t - tl{j} > gap:",
+                f"                        bk{j} += 1.0",
+                f"                    tl{j}, top{j} = t, g{j}", f"                wl{j} = u{j}"]
+    for j in js:
+        src += [f"        out[r{j}, 0], out[r{j}, 1], out[r{j}, 2] = sf{j} / n_run, sl{j}, fs{j}",
+                f"        out[r{j}, 3], out[r{j}, 4] = fs2{j}, bk{j}"]
+    src += ["    return out"]
+    space = {"np": np, "math": math, "inc": inc}
+    exec("\n".join(src), space)  # noqa: S102 - the benchmark's own text
+    return njit(cache=False)(space["passages"]), njit(cache=False)(space["slider"])
+
+
+def events(effort: float = 1.0) -> None:
+    """Part 4: the event kernels' steps per second (CPU time of the thread, 21 interleaved
+    rounds, medians) against hand BAOAB loops on the same generator, one and two
+    trajectories a loop (:func:`_hand_events`).  First passages: the CDC at rest (mu =
+    0.2, Delta = 3, D = 0.1; the step and lines of ``kbm escape cdc -p mu=0.2 -p Delta=3``),
+    200 trajectories in tasks of 13 as ``kbm escape`` cuts them; the toolkit's
+    ``first_passages`` runs ``EVENT_LANES`` a loop, a lane taking the next trajectory when
+    its own leaves.  Records: the CDC slider (mu = 1, Delta = 3, v = 1e-3, T = 0.01, the
+    step of ``kbm friction cdc``; a burn-in of 50 for 50/v), 10 trajectories (a block of
+    ``kbm friction``)."""
+    from numerics.thermal.friction import _times
+
+    print("4. event kernels against hand BAOAB loops (same generator, noise factor folded); "
+          "load average {:.2f} {:.2f} {:.2f} on {} cores".format(*os.getloadavg(),
+                                                                  os.cpu_count()))
+    s = langevin_system("cdc", {"mu": 0.2, "Delta": 3, "lam": 1, "Omega": 1}, 0.1, "baoab")
+    k, p = s.kernels, s._p()
+    h, xs = 0.012662791779414857, 0.5281669331486846
+    n_max, m, per = round(200 * effort / h), 200, 13
+    st, y0 = trajectory_states(0, 0, m), np.zeros((m, 2))
+    amp = s.sigma * k._noise_factor(p, h) * math.sqrt(3.0 * h)
+    e, c = math.exp(-p[3] * h), p[1] * p[3]
+    hands = {w: _hand_events(k._increment, w) for w in (1, 2)}
+
+    def tasks(fn):
+        out = [fn(i) for i in range(0, m, per)]
+        return np.concatenate([o[0] for o in out]), np.concatenate([o[1] for o in out])
+
+    fns = {f"toolkit first_passages ({k.EVENT_LANES} lanes)": lambda: tasks(
+        lambda i: k.first_passages(p, s.sigma, y0[i:i + per], 0.0, h, n_max, -xs, xs,
+                                   st[i:i + per]))}
+    for w, (hp, _) in hands.items():
+        fns[f"hand, {w} a loop"] = lambda hp=hp: tasks(
+            lambda i: hp(st[i:i + per], n_max, h, amp, e, c, p[2], -xs, xs))
+    ref = next(iter(fns.values()))()
+    same = all(np.array_equal(f()[0], ref[0]) for f in fns.values())
+    steps = float(np.sum(np.round(ref[0] / h)))
+    _event_table(fns, steps, f"   a. first passages, {m} trajectories, {steps:.3g} steps (all "
+                 f"loops give the same times: {same})")
+    v, T = 1e-3, 0.01
+    s = langevin_system("cdc", {"mu": 1.0, "Delta": 3, "lam": 1, "Omega": 1, "v": v}, T,
+                        "baoab")
+    k, p = s.kernels, s._p()
+    run, _, h = _times(s, v, 1.0, 0.2 * effort)
+    nb, nr, m = round(50 / h), round(run / h), 10
+    st, y0 = trajectory_states(0, 0, m), np.zeros((m, 2))
+    amp = s.sigma * k._noise_factor(p, h) * math.sqrt(3.0 * h)
+    e, c, w0 = math.exp(-p[3] * h), p[1] * p[3], p[0] ** 2
+    fns = {f"toolkit slip_stats ({k.EVENT_LANES} lanes)": lambda: k.slip_stats(
+        p, s.sigma, y0, 0.0, h, nb, nr, st, 1.0, 2 * math.pi, v)}
+    for w, (_, hs) in hands.items():
+        fns[f"hand, {w} a loop"] = lambda hs=hs: hs(st, nb, nr, h, amp, e, c, p[2], w0, v,
+                                                    1.0, 2 * math.pi)
+    rows = [f() for f in fns.values()]
+    diff = max(float(np.max(np.abs(r[:, 0] - rows[0][:, 0]) / np.abs(rows[0][:, 0])))
+               for r in rows[1:])
+    slips = all(np.array_equal(r[:, 1], rows[0][:, 1]) for r in rows[1:])
+    _event_table(fns, m * (nb + nr), f"   b. the slider's records, {m} trajectories x {nb} + "
+                 f"{nr} steps (the same slips: {slips}; mean forces within {diff:.0e})")
+
+
+def _event_table(fns: dict, steps: float, title: str) -> None:
+    """``fns`` timed in 21 interleaved rounds (CPU time): M steps/s and toolkit / it."""
+    _, cpu = _rounds(fns, 21)
+    print(f"{title}; M steps/s, CPU median (toolkit / it):")
+    tool = next(iter(fns))
+    for name in fns:
+        q = np.percentile(cpu[name] / cpu[tool], [25, 50, 75])
+        print(f"      {name:40} {steps / np.median(cpu[name]) / 1e6:7.2f}   {q[1]:.2f} "
+              f"({q[0]:.2f}-{q[2]:.2f})")
+
+
 if __name__ == "__main__":
     eff = float(sys.argv[1]) if len(sys.argv) > 1 else 1.0
     root = int(sys.argv[2]) if len(sys.argv) > 2 else 17
@@ -568,3 +715,5 @@ if __name__ == "__main__":
         equal_error(eff, root)
     if "3" in parts:
         increments_of_passages(eff)
+    if "4" in parts:
+        events(eff)

@@ -1,8 +1,8 @@
 """The compiled Langevin kernels compute each trajectory alone, however they are grouped.
 
 Issue 36: the kernels (stationary runs, final states, first passages, pulled sliders) run
-trajectories two to a loop (two independent chains of dependent operations keep the core
-busy), and the synchronous pair and the antithetic triple of the two-level estimator share
+trajectories two or more to a loop (independent chains of dependent operations keep the
+core busy; :mod:`numerics.noise.lanes`), and the synchronous pair and the antithetic triple of the two-level estimator share
 one loop with the coupling chosen at compile time.  Neither may change a number.  Independent references:
 
 - a trajectory run alone (the kernel called with one row: the trajectory beside its twin, or

@@ -15,7 +15,8 @@ its compiled ensemble paths (the same scheme and streams).  The compiled
 source: :mod:`numerics.noise.codegen` prints the model, :mod:`numerics.noise._kernels`,
 :mod:`numerics.noise._passage_kernels` (first passages, pulled sliders) and
 :mod:`numerics.noise._pair_kernels` hold the kernels, :mod:`numerics.noise.lanes` prints the
-loop of ``final_states`` over several trajectories at once, :mod:`numerics.noise.seeds`
+loops of ``final_states``, ``first_passages`` and ``slip_stats`` over several trajectories at
+once, :mod:`numerics.noise.seeds`
 holds the streams, :mod:`numerics.noise._pilot` the measured default step (the step pilot).
 """
 

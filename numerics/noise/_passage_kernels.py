@@ -1,12 +1,13 @@
 """Compiled first-passage and pulled-slider kernels of :mod:`numerics.noise`, appended as
-source after :mod:`numerics.noise._kernels` (whose ``_step``, ``_first``, ``_increment``,
-``_pair_start``, ``_advance2`` and ``_noise_factor`` they call) to a printed model.
+source after :mod:`numerics.noise._kernels` (whose ``_first`` and ``_noise_factor`` they
+call, and whose ``_step`` and ``_increment`` their loops call) to a printed model.
 
 ``first_passages`` gives the escape times of :mod:`numerics.escape` and ``slip_stats`` the
-friction runs of :mod:`numerics.thermal.friction`; both run trajectories two to a loop (two
-independent chains of dependent operations fill the core; the numbers are those of one
-trajectory at a time) with three-point increments (why not four-point ones:
-``docs/noise.rst``, measured by ``benchmarks/bench_noise.py`` part 3).
+friction runs of :mod:`numerics.thermal.friction`; both run trajectories ``EVENT_LANES``
+to a loop (independent chains of dependent operations fill the core; the loops are printed
+for the model by :mod:`numerics.noise.lanes`, the numbers are those of one trajectory at a
+time) with three-point increments (why not four-point ones: ``docs/noise.rst``, measured
+by ``benchmarks/bench_noise.py`` part 3).
 """
 
 import math
@@ -16,95 +17,85 @@ from numba import njit
 
 
 @njit(cache=True)
-def _passage(p, x, v, f, t0, k0, h, n_max, xl, xr, s, amp):
-    """Steps ``k0 .. n_max - 1`` of one trajectory (state ``(x, v)``, carried force ``f``)
-    until ``x <= xl`` or ``x >= xr`` (or non-finite): ``(time, hit)``, the time the step's
-    end, ``n_max h`` when it never happens."""
-    for k in range(k0, n_max):
-        x, v, f = _step(t0 + k * h, x, v, f, h, _increment(s, amp), p)  # noqa: F821
-        if x <= xl or x >= xr or not math.isfinite(x):
-            return (k + 1) * h, True
-    return n_max * h, False
+def _passage_take(p, y0, t0, states, r):
+    """A lane of :func:`first_passages` at trajectory ``r``'s start: ``(r, generator, x, v,
+    carried force)``; ``r >= m``: no trajectory left, ``(-1, ...)`` at the last one's start
+    (a lane that runs on, unread)."""
+    m = y0.shape[0]
+    live = r < m
+    r = min(r, m - 1)
+    x, v = y0[r, 0], y0[r, 1]
+    return (r if live else -1), states[r].copy(), x, v, _first(t0, x, v, p)  # noqa: F821
+
+
+@njit(cache=True)
+def _passage_end(r, k, x, h, n_max, xl, xr, times, hit):
+    """Whether trajectory ``r`` (``-1``: none) has ended after ``k`` steps at ``x``: left
+    (``x <= xl`` or ``x >= xr`` or non-finite; its time ``k h``) or censored (``k = n_max``,
+    time ``n_max h``); written to ``times``, ``hit``."""
+    if r < 0:
+        return False
+    if x <= xl or x >= xr or not math.isfinite(x):
+        times[r], hit[r] = k * h, True
+        return True
+    if k >= n_max:
+        times[r], hit[r] = n_max * h, False
+        return True
+    return False
 
 
 @njit(cache=True)
 def first_passages(p, sigma, y0, t0, h, n_max, xl, xr, states):
     """Per trajectory: the first time ``x <= xl`` or ``x >= xr`` (the step's end; ``n_max h``
-    when it never happens) and whether it happened.  Trajectories run two to a loop (see
-    :func:`_advance2`) until one of them leaves, the other then alone (:func:`_passage`):
-    the same numbers as one at a time."""
+    when it never happens) and whether it happened.  Trajectories run ``EVENT_LANES`` to a
+    loop (``_passages_lanes``, printed for the model by
+    :func:`numerics.noise.lanes.lanes_source`), a lane taking the next trajectory when its
+    own ends: the same numbers as one at a time."""
     m = y0.shape[0]
-    times = np.empty(m)
+    times = np.full(m, n_max * h)
     hit = np.zeros(m, dtype=np.bool_)
     amp = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)  # noqa: F821
-    for i in range(0, m - 1, 2):
-        sa, xa, va, fa, sb, xb, vb, fb = _pair_start(p, y0, t0, states, i, i + 1)  # noqa: F821
-        done = n_max
-        out_a = False
-        out_b = False
-        for k in range(n_max):
-            t = t0 + k * h
-            xa, va, fa = _step(t, xa, va, fa, h, _increment(sa, amp), p)  # noqa: F821
-            xb, vb, fb = _step(t, xb, vb, fb, h, _increment(sb, amp), p)  # noqa: F821
-            out_a = xa <= xl or xa >= xr or not math.isfinite(xa)
-            out_b = xb <= xl or xb >= xr or not math.isfinite(xb)
-            if out_a or out_b:
-                done = k + 1
-                break
-        if out_a:
-            times[i], hit[i] = done * h, True
-        else:
-            times[i], hit[i] = _passage(p, xa, va, fa, t0, done, h, n_max, xl, xr, sa, amp)
-        if out_b:
-            times[i + 1], hit[i + 1] = done * h, True
-        else:
-            times[i + 1], hit[i + 1] = _passage(p, xb, vb, fb, t0, done, h, n_max, xl, xr, sb,
-                                                amp)
-    if m % 2:
-        s = states[m - 1].copy()
-        x, v = y0[m - 1, 0], y0[m - 1, 1]
-        f = _first(t0, x, v, p)  # noqa: F821
-        times[m - 1], hit[m - 1] = _passage(p, x, v, f, t0, 0, h, n_max, xl, xr, s, amp)
+    if m > 0 and n_max > 0:
+        _passages_lanes(p, y0, t0, h, n_max, xl, xr, states, amp, times, hit)  # noqa: F821
     return times, hit
 
 
 @njit(cache=True)
 def _slip_init(x, lam):
-    """The running record of :func:`slip_stats` for one trajectory at ``x``: the well, the
-    time of the last crossing, the largest spring force since, then the sums (force,
-    slips, slip force and its square, backward jumps, stage position at the slip and its
-    square)."""
-    acc = np.zeros(10)
-    acc[0] = math.floor(x / lam + 0.5)
-    acc[1] = -1e300
-    acc[2] = -1e300
-    return acc
+    """The running record of :func:`slip_stats` for one trajectory at ``x``, a tuple (a
+    lane's record stays in registers): the well (``floor(x/lam + 1/2)``, a float: the same
+    number as the integer for ``|x| < 2^63 lam``), the time of the last crossing, the
+    largest spring force since, then the sums (force, slips, slip force and its square,
+    backward jumps, stage position at the slip and its square)."""
+    return (np.floor(x / lam + 0.5), -1e300, -1e300, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 @njit(cache=True)
 def _slip_record(acc, t, x, v, p, lam, min_gap, v_stage):
-    """One step's end ``(t, x, v)`` into the record ``acc`` (:func:`_slip_init`)."""
+    """The record ``acc`` (:func:`_slip_init`) with one step's end ``(t, x, v)`` (garbage,
+    never NaN-trapping, when ``x`` is not finite: the caller then drops the record)."""
+    well, last, top, force, slips, fs, fs2, back, ls, ls2 = acc
     f = spring(t, x, v, p)  # noqa: F821
-    acc[3] += f
-    if f > acc[2]:
-        acc[2] = f
-    w = math.floor(x / lam + 0.5)
-    if w > acc[0]:
-        if t - acc[1] > min_gap:
-            acc[4] += 1.0
-            acc[5] += acc[2]
-            acc[6] += acc[2] * acc[2]
-            rel = v_stage * t - acc[0] * lam
-            acc[8] += rel
-            acc[9] += rel * rel
-        acc[1] = t
-        acc[2] = f
-    elif w < acc[0]:
-        if t - acc[1] > min_gap:
-            acc[7] += 1.0
-        acc[1] = t
-        acc[2] = f
-    acc[0] = w
+    force += f
+    if f > top:
+        top = f
+    w = np.floor(x / lam + 0.5)  # a float: no integer of a non-finite x
+    if w > well:
+        if t - last > min_gap:
+            slips += 1.0
+            fs += top
+            fs2 += top * top
+            rel = v_stage * t - well * lam
+            ls += rel
+            ls2 += rel * rel
+        last = t
+        top = f
+    elif w < well:
+        if t - last > min_gap:
+            back += 1.0
+        last = t
+        top = f
+    return w, last, top, force, slips, fs, fs2, back, ls, ls2
 
 
 @njit(cache=True)
@@ -120,36 +111,6 @@ def _slip_row(out, i, acc, n_run):
 
 
 @njit(cache=True)
-def _slip_two(p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage, out, ia, ib):
-    """Rows ``ia`` and ``ib`` of :func:`slip_stats`, the two trajectories in one loop (see
-    :func:`_advance2`), each exactly as it runs alone (``ib == ia``: trajectory ``ia``
-    beside its twin); False (nothing written) when a state turns non-finite: the caller
-    then runs each beside its twin."""
-    sa = states[ia].copy()
-    sb = states[ib].copy()
-    xa, va, xb, vb = _advance2(  # noqa: F821
-        p, y0[ia, 0], y0[ia, 1], sa, y0[ib, 0], y0[ib, 1], sb, t0, h, n_burn, amp)
-    if not (math.isfinite(xa) and math.isfinite(xb)):
-        return False
-    t1 = t0 + n_burn * h
-    fa = _first(t1, xa, va, p)  # noqa: F821
-    fb = _first(t1, xb, vb, p)  # noqa: F821
-    acc_a = _slip_init(xa, lam)
-    acc_b = _slip_init(xb, lam)
-    for k in range(n_run):
-        t = t1 + (k + 1) * h
-        xa, va, fa = _step(t - h, xa, va, fa, h, _increment(sa, amp), p)  # noqa: F821
-        xb, vb, fb = _step(t - h, xb, vb, fb, h, _increment(sb, amp), p)  # noqa: F821
-        if not (math.isfinite(xa + va) and math.isfinite(xb + vb)):
-            return False
-        _slip_record(acc_a, t, xa, va, p, lam, min_gap, v_stage)
-        _slip_record(acc_b, t, xb, vb, p, lam, min_gap, v_stage)
-    _slip_row(out, ia, acc_a, n_run)
-    _slip_row(out, ib, acc_b, n_run)
-    return True
-
-
-@njit(cache=True)
 def slip_stats(p, sigma, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage):
     """Per trajectory of a pulled slider, over ``n_run`` steps after ``n_burn``: the mean
     spring force; the slips (a forward crossing of a barrier top ``x = (n + 1/2) lam``
@@ -159,19 +120,21 @@ def slip_stats(p, sigma, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage
     relative to the well left, ``v t - n lam``; the backward jumps (a backward crossing more
     than ``min_gap`` after the previous crossing: not the ringing of a slip).  Columns:
     ``mean force, slips, sum F_slip, sum F_slip^2, backward, sum L_slip, sum L_slip^2``; NaN
-    rows for a diverged trajectory.  Trajectories run two to a loop (:func:`_slip_two`), the
-    last of an odd number and each of a pair with a diverged one beside its twin: the same
-    numbers either way."""
+    rows for a trajectory whose ``x + x'`` is not finite at the end of the burn-in or at
+    any step of the run.  Trajectories run ``EVENT_LANES`` to a loop (``_slips_lanes``,
+    printed for the model by :func:`numerics.noise.lanes.lanes_source`; the last loop of a
+    block repeats its last trajectory; when a state turns non-finite, each trajectory of
+    the loop alone, in every lane): the same numbers as one at a time."""
     m = y0.shape[0]
     out = np.zeros((m, 7))
     amp = sigma * _noise_factor(p, h) * math.sqrt(3.0 * h)  # noqa: F821
-    for i in range(0, m, 2):
-        j = min(i + 1, m - 1)
-        if _slip_two(p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage, out, i,
-                     j):
+    for i in range(0, m, EVENT_LANES):  # noqa: F821 - set by the printed model above
+        last = min(i + EVENT_LANES, m) - 1  # noqa: F821
+        if _slips_lanes(p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap,  # noqa: F821
+                        v_stage, out, i, last):
             continue
-        for r in range(i, j + 1):
-            if j == i or not _slip_two(p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap,
-                                       v_stage, out, r, r):
+        for r in range(i, last + 1):  # a state turned non-finite: each alone
+            if not _slips_lanes(p, amp, y0, t0, h, n_burn, n_run, states, lam,  # noqa: F821
+                                min_gap, v_stage, out, r, r):
                 out[r, :] = math.nan
     return out

@@ -3,12 +3,14 @@
 A Langevin step is a chain of dependent operations (the kick waits for the force at the
 new ``x``, the next position for the kick), so one trajectory a loop leaves the core mostly
 idle; ``lanes`` independent trajectories in one loop body fill it.  numba has no register
-arrays, so the loop of ``final_states`` is written out lane by lane as source
-(:func:`lanes_source`) and appended by :mod:`numerics.noise.codegen` after the kernels it
-calls (:mod:`numerics.noise._kernels`).  Each lane performs the operations of its
-trajectory alone, on its own generator, so every number is the one the trajectory has
-alone (``tests/test_noise_kernels.py``).  The number of lanes is chosen from the library
-calls of one step (:func:`lane_count`).
+arrays, so the loops of ``final_states``, ``first_passages`` and ``slip_stats`` are written
+out lane by lane as source (:func:`lanes_source`; one line template per lane,
+:func:`_each`) and appended by :mod:`numerics.noise.codegen` after the kernels they call
+(:mod:`numerics.noise._kernels`, :mod:`numerics.noise._passage_kernels`).  Each lane
+performs the operations of its trajectory alone, on its own generator, so every number is
+the one the trajectory has alone (``tests/test_noise_kernels.py``,
+``tests/test_noise_lanes.py``).  The number of lanes is chosen from the library calls of
+one step (:func:`lane_count`).
 """
 
 from __future__ import annotations
@@ -21,42 +23,131 @@ from kbm.symbols import xdot as V
 __all__ = ["lane_count", "lanes_source"]
 
 
-def lane_count(model: Oscillator, scheme: str) -> int:
+def lane_count(model: Oscillator, scheme: str, events: bool = False) -> int:
     """Trajectories per loop by the library calls (``sin``, ``exp``, ...) of one step (BAOAB
-    one force, Kloeden-Platen two accelerations): none, 6 (polynomial forces: each chain a
-    few arithmetic latencies, six fill the core); one, 3 (three chains hide a call's
-    latency, a fourth spills more than it gains); more, 2.  Measured on one core of a shared
-    machine (CPU time, medians; ``benchmarks/bench_noise.py``): BAOAB on the CDC at rest
-    with 2, 3, 4, 6 lanes 47, 52, 45, 44 M steps/s; on the quartic oscillator ``x'' = -x' -
-    x - x^3`` 136, 203, 221, 298; Kloeden-Platen on the CDC 37, 34, 34, 33."""
+    one force, Kloeden-Platen two accelerations).
+
+    ``final_states``: none, 6 (polynomial forces: each chain a few arithmetic latencies, six
+    fill the core); one, 3 (three chains hide a call's latency, a fourth spills more than it
+    gains); more, 2.  Measured on one core of a shared machine (CPU time, medians;
+    ``benchmarks/bench_noise.py``): BAOAB on the CDC at rest with 2, 3, 4, 6 lanes 47, 52,
+    45, 44 M steps/s; on the quartic oscillator ``x'' = -x' - x - x^3`` 136, 203, 221, 298;
+    Kloeden-Platen on the CDC 37, 34, 34, 33.
+
+    ``events`` (``first_passages``, ``slip_stats``: loops that test every step for an event,
+    an exit or a crossing): none, 3; else 2 (a call clobbers every vector register, so each
+    lane's state and tests are spilled around it).  Measured the same way, 2, 3, 4, 6
+    lanes (M steps/s): first passages in the well ``x'' = -(x' + x + x^3)/2`` (200
+    trajectories in tasks of 13) 106, 131, 117, 89 (Kloeden-Platen), 138, 163, 159, 132
+    (BAOAB); of the CDC (``kbm escape cdc -p mu=0.2 -p Delta=3 -p D=0.1``) 39, 34, 29, 22
+    (Kloeden-Platen), 59, 54, 48, 37 (BAOAB); the CDC slider's records (``kbm friction
+    cdc``, mu = 1, T = 0.01, v = 1e-3) 42, 35, 35, 34 (Kloeden-Platen), 71, 60, 61, 59
+    (BAOAB), the quartic well's 108, 123, 121, 128 and 148, 161, 169, 153 (load 3-5 on 2
+    cores)."""
     acc = model.acceleration()
     calls = len(sp.sympify(acc.subs(V, 0) if scheme == "baoab" else acc).atoms(sp.Function))
     calls *= 2 if scheme == "kp" else 1
+    if events:
+        return 3 if calls == 0 else 2
     return 6 if calls == 0 else 3 if calls == 1 else 2
 
 
+def _each(lanes: int, *templates: str) -> list[str]:
+    """The lines ``templates`` once per lane, ``{j}`` the lane (lane 0's lines first)."""
+    return [t.format(j=j) for j in range(lanes) for t in templates]
+
+
+def _any(lanes: int, template: str) -> str:
+    """``(template for lane 0) or (... lane 1) or ...``."""
+    return " or ".join(f"({template.format(j=j)})" for j in range(lanes))
+
+
+#: one step of lane ``j`` at ``t`` (its own generator ``s{j}``, state and carried force)
+_STEP = "x{j}, v{j}, f{j} = _step({t}, x{j}, v{j}, f{j}, h, _increment(s{j}, amp), p)"
+#: lane ``j`` at trajectory ``r{j}``'s start
+_START = ("s{j} = states[r{j}].copy()", "x{j}, v{j} = y0[r{j}, 0], y0[r{j}, 1]",
+          "f{j} = _first(t0, x{j}, v{j}, p)")
+
+
+def _head(name: str, args: str, doc: str, lanes: int, row: str, n: str) -> list[str]:
+    """The start of a loop function ``name(args)``: lane ``j`` at trajectory ``row`` (an
+    expression in ``j``), then ``n`` steps of every lane from ``t0`` (unchecked)."""
+    return (["@njit(cache=True)", f"def {name}({args}):", f'    """{doc}"""']
+            + _each(lanes, "    r{j} = " + row, *("    " + s for s in _START))
+            + [f"    for k in range({n}):", "        t = t0 + k * h"]
+            + _each(lanes, "        " + _STEP.replace("{t}", "t")))
+
+
 def _final(lanes: int) -> list[str]:
-    js = range(lanes)
-    lines = ["@njit(cache=True)",
-             "def _advance_lanes(p, y0, t0, h, n, states, i, amp, out):",
-             f'    """Trajectories ``i .. i + {lanes - 1}`` of ``final_states``, {lanes} a '
-             'loop."""']
-    for j in js:
-        lines += [f"    s{j} = states[i + {j}].copy()",
-                  f"    x{j}, v{j} = y0[i + {j}, 0], y0[i + {j}, 1]",
-                  f"    f{j} = _first(t0, x{j}, v{j}, p)"]
-    lines += ["    for k in range(n):", "        t = t0 + k * h"]
-    lines += [f"        x{j}, v{j}, f{j} = _step(t, x{j}, v{j}, f{j}, h, _increment(s{j}, amp), p)"
-              for j in js]
-    lines += [f"    out[i + {j}, 0], out[i + {j}, 1] = _finite(x{j}, v{j})" for j in js]
-    return lines
+    return (_head("_advance_lanes", "p, y0, t0, h, n, states, i, amp, out",
+                  f"Trajectories ``i .. i + {lanes - 1}`` of ``final_states``, {lanes} a loop.",
+                  lanes, "i + {j}", "n")
+            + _each(lanes, "    out[r{j}, 0], out[r{j}, 1] = _finite(x{j}, v{j})"))
 
 
-def lanes_source(lanes: int) -> str:
-    """The source of ``LANES`` and of ``_advance_lanes(p, y0, t0, h, n, states, i, amp,
-    out)``: ``n`` steps of trajectories ``i .. i + lanes - 1`` of ``final_states`` in one
-    loop, every lane with its own generator (a copy of ``states[i + j]``) and scalar state,
-    the final states written to ``out`` (NaN when non-finite).
+def _passages(lanes: int) -> list[str]:
+    """``first_passages``' loop: each lane takes the next trajectory when its own leaves or
+    is censored (:func:`_passage_take`, :func:`_passage_end` of the kernels); the lanes run
+    together, each at its own step ``k{j}``, until one of them leaves or the nearest
+    censoring; a lane with no trajectory left (``r{j} = -1``) runs on, unread."""
+    out = _any(lanes, "r{j} >= 0 and (x{j} <= xl or x{j} >= xr or not math.isfinite(x{j}))")
+    return (["@njit(cache=True)",
+             "def _passages_lanes(p, y0, t0, h, n_max, xl, xr, states, amp, times, hit):",
+             f'    """``first_passages``, {lanes} trajectories a loop (n_max >= 1)."""']
+            + _each(lanes, "    r{j}, s{j}, x{j}, v{j}, f{j} = _passage_take(p, y0, t0, states, "
+                    "{j})", "    k{j} = 0")
+            + [f"    nxt = {lanes}", "    while True:", "        top = -1"]
+            + _each(lanes, "        if r{j} >= 0 and k{j} > top:", "            top = k{j}")
+            + ["        if top < 0:", "            return", "        done = n_max - top",
+               "        for c in range(n_max - top):"]
+            + _each(lanes, "            " + _STEP.replace("{t}", "t0 + (k{j} + c) * h"))
+            + [f"            if {out}:", "                done = c + 1", "                break"]
+            + _each(lanes, "        k{j} += done",
+                    "        if _passage_end(r{j}, k{j}, x{j}, h, n_max, xl, xr, times, hit):",
+                    "            r{j}, s{j}, x{j}, v{j}, f{j} = _passage_take(p, y0, t0, states, "
+                    "nxt)", "            k{j} = 0", "            nxt += 1"))
+
+
+def _slips(lanes: int) -> list[str]:
+    """``slip_stats``' loop: trajectories ``i .. last`` (``last`` repeated in the lanes past
+    it), the burn-in unchecked, then the run with each step's records
+    (:func:`_slip_record`); False (rows not written) when a lane's state was not finite
+    after the burn-in or at a step of the run.  The run's test is a flag, no exit: a branch
+    out of the loop each step cost 10 % (CPU time, the CDC slider, BAOAB, two lanes: 63
+    against 68 M steps/s, the hand loop with no test 70)."""
+    finite = " and ".join(f"math.isfinite(x{j} + v{j})" for j in range(lanes))
+    return (_head("_slips_lanes", "p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap, "
+                  "v_stage, out, i, last", f"Rows ``i .. min(i + {lanes - 1}, last)`` of "
+                  f"``slip_stats``, {lanes} a loop.", lanes, "min(i + {j}, last)", "n_burn")
+            + [f"    if not ({finite}):", "        return False", "    t1 = t0 + n_burn * h"]
+            + _each(lanes, "    f{j} = _first(t1, x{j}, v{j}, p)",
+                    "    acc{j} = _slip_init(x{j}, lam)")
+            + ["    ok = True", "    for k in range(n_run):", "        t = t1 + (k + 1) * h"]
+            + _each(lanes, "        " + _STEP.replace("{t}", "t - h"))
+            + [f"        ok = ok & {finite.replace(' and ', ' & ')}"]
+            + _each(lanes, "        acc{j} = _slip_record(acc{j}, t, x{j}, v{j}, p, lam, min_gap, "
+                    "v_stage)")
+            + ["    if not ok:", "        return False"]
+            + _each(lanes, "    _slip_row(out, r{j}, acc{j}, n_run)")
+            + ["    return True"])
+
+
+def lanes_source(lanes: int, events: int | None = None) -> str:
+    """The source of ``LANES`` (``lanes``), ``EVENT_LANES`` (``events``, by default
+    ``lanes``) and of the loops over that many trajectories at once (``final_states``'
+    ``lanes``, the others ``events``: :func:`lane_count`), every lane with its own
+    generator (a copy of ``states[r]``) and scalar state:
+
+    - ``_advance_lanes(p, y0, t0, h, n, states, i, amp, out)``: ``n`` steps of
+      trajectories ``i .. i + lanes - 1`` of ``final_states``, the final states written to
+      ``out`` (NaN when non-finite);
+    - ``_passages_lanes(p, y0, t0, h, n_max, xl, xr, states, amp, times, hit)``: every
+      trajectory of ``first_passages``, a lane taking the next trajectory as soon as its
+      own leaves (a pair run together until one left, as before, ran the other alone);
+    - ``_slips_lanes(p, amp, y0, t0, h, n_burn, n_run, states, lam, min_gap, v_stage, out,
+      i, last)``: rows ``i .. min(i + lanes - 1, last)`` of ``slip_stats`` (``last``
+      repeated in the lanes past it: a block's remainder in one loop, or one trajectory
+      alone), False with no row written when a state turns non-finite.
 
     The stationary kernels (``_stats`` of :mod:`numerics.noise._pair_kernels`) stay two a
     loop: written out the same way in six lanes for van der Pol (Kloeden-Platen) and three
@@ -66,8 +157,11 @@ def lanes_source(lanes: int) -> str:
     Raises
     ------
     ValueError
-        For ``lanes < 1``.
+        For ``lanes < 1`` or ``events < 1``.
     """
-    if lanes < 1:
-        raise ValueError(f"lanes must be >= 1, got {lanes}")
-    return f"LANES = {lanes}\n\n\n" + "\n".join(_final(lanes)) + "\n"
+    events = lanes if events is None else events
+    if min(lanes, events) < 1:
+        raise ValueError(f"lanes must be >= 1, got {lanes} and {events}")
+    loops = (_final(lanes), _passages(events), _slips(events))
+    return (f"LANES = {lanes}\nEVENT_LANES = {events}\n\n\n"
+            + "\n\n\n".join("\n".join(f) for f in loops) + "\n")

@@ -279,32 +279,3 @@ def test_sedf_six_digits_below_mu_002(mu, functions):
     g = split_conservative("sedf", params).numpy_functions()[0]
     xg = float(np.sum(sol.weights * sol.x * g(sol.x) * sol.marginal()))
     assert xg == pytest.approx(sol.v2, rel=1e-7)
-
-
-def test_grid_step_started_from_the_coarser_solve():
-    """The inverse iteration started from a coarser grid's solution (interpolated in the
-    map's variable, the ladders' grid steps) finds the eigenvector of the cold start from
-    the Maxwellian (a second run of the same iteration) to 1e-12 of the largest
-    coefficient; the interpolation reproduces a polynomial of the old points' degree
-    exactly (T_7 on 9 -> 21 Lobatto points) and pads the added orders with zeros."""
-    from numerics.fokker_planck._stationary_solve import (interpolated_start,
-                                                          orthonormal_stationary, same_map)
-
-    split = split_conservative("sedf", SEDF)
-    G = split.numpy_functions()[2]
-    coarse = stationary_kramers("sedf", SEDF, 0.05, n_hermite=64, n_cheb=150)
-    half = float(coarse.x[0])
-    at = dict(alpha=coarse.alpha, centres=coarse.centres, widths=coarse.widths,
-              weight=coarse.weight)
-    assert same_map(coarse, coarse.sigma, half, **at)  # the start is taken
-    assert not same_map(coarse, 1.1 * coarse.sigma, half, **at)
-    cold, warm = (orthonormal_stationary(split, 0.05, coarse.sigma, half, 64, 190, G,
-                                         coarse.omega0, start=start, **at)
-                  for start in (None, coarse))
-    assert np.max(np.abs(warm.coef - cold.coef)) <= 1e-12 * np.max(np.abs(cold.coef))
-    assert warm.x2 == pytest.approx(cold.x2, rel=1e-12)
-    t8, t20 = (np.cos(np.pi * np.arange(n + 1) / n) for n in (8, 20))
-    seven = np.cos(7 * np.arccos(t8))
-    out = interpolated_start(np.vstack([seven, t8]), 3, 20)
-    assert out[0] == pytest.approx(np.cos(7 * np.arccos(t20)), abs=1e-13)
-    assert out[1] == pytest.approx(t20, abs=1e-14) and not np.any(out[2])

@@ -163,12 +163,8 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
         well = well and memo["well"] != points  # no saddles: the same points
         if (n, m, well) not in memo:
             at = memo["well"] if well else points
-            # the inverse iteration starts from the last solve of as many functions on the
-            # same points' map (a grid step: one iteration fewer of three or four; not from
-            # fewer functions, whose first grid's solves stop at the iterations' cap)
-            last = [v for k, v in memo.items() if isinstance(k, tuple) and k[::2] == (n, well)]
             memo[n, m, well] = orthonormal_stationary(split, D, float(sigma), half, n, m, G,
-                                                      omega0, start=(last or [None])[-1], **at)
+                                                      omega0, **at)
         return memo[n, m, well]
 
     def solve_well(n, m):  # step 7's points
@@ -271,7 +267,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
         refine = functools.partial(
             orthonormal_stationary, split, D, float(sol.sigma), half, sol.coef.shape[0],
             finer_intervals(sol.x.size - 1), G, omega0, alpha=sol.alpha, centres=sol.centres,
-            widths=sol.widths, weight=sol.weight, start=sol)
+            widths=sol.widths, weight=sol.weight)
     return dataclasses.replace(sol, hermite_change=stated, chebyshev_change=cheb_change,
                                refinements=tuple(pairs) if n_hermite is None else (),
                                refine=refine)

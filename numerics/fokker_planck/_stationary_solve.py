@@ -97,9 +97,7 @@ class OrthonormalKramersSolution(KramersSolution):
 def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: int, G,
                            omega0: float, *, alpha: float = 0.95, centres=(), widths=(),
                            weight=0.0, iterations: int = 8, rtol: float = 1e-14,
-                           fold: bool | None = None,
-                           start: OrthonormalKramersSolution | None = None
-                           ) -> OrthonormalKramersSolution:
+                           fold: bool | None = None) -> OrthonormalKramersSolution:
     """One stationary solve in ``nh`` orthonormal Hermite functions of ``v/s`` times
     ``nc + 1`` Chebyshev points on ``[-half, half]``: inverse iteration on the Galerkin
     operator (every ``c_n(+-half) = 0``) from the Maxwellian ``exp(-G/s^2)`` in ``h_0``,
@@ -107,10 +105,7 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
     ``iterations`` solves).  The residual is the eigenvalue estimate ``|lambda_0|``.
     ``fold`` (default: whenever :func:`._parity.reflection_symmetric` holds) solves on the
     points ``x >= 0`` only (:mod:`._parity`: the same density, an eighth of the work);
-    ``weight`` is one number or one per centre.  ``start``: a solution on the same points'
-    map and scale (:func:`same_map`) to start the inverse iteration from instead of the
-    Maxwellian, interpolated in the map's variable (:func:`interpolated_start`; the same
-    eigenvector to ``rtol``, fewer iterations)."""
+    ``weight`` is one number or one per centre."""
     from ._bases import cheb_centred, cheb_mapped, clenshaw_curtis
     from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
     from ._orthonormal import orthonormal_terms
@@ -137,10 +132,7 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
     mass, _ = hermite_integrals(nh)
     Gx = np.asarray(G(xs[:m]), float)
     c = np.zeros(nh * m)
-    if start is not None and same_map(start, s, half, alpha, centres, widths, weight):
-        c = interpolated_start(start.coef, nh, nc)[:, :m].ravel()
-    else:
-        c[:m] = np.exp(-(Gx - Gx.min()) / s**2)
+    c[:m] = np.exp(-(Gx - Gx.min()) / s**2)
     c *= keep
     c /= float(np.sum(wq * (mass @ c.reshape(nh, m))))
     lam = math.nan
@@ -163,34 +155,3 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
                                       alpha=float(alpha), centres=centres, widths=widths,
                                       weight=float(weight) if np.ndim(weight) == 0 else
                                       tuple(map(float, weight)))
-
-
-def same_map(sol, s: float, half: float, alpha: float, centres: tuple, widths: tuple,
-             weight) -> bool:
-    """Whether ``sol`` has the velocity scale ``s`` and the points' map (range, ``alpha``,
-    centres, widths and weights) of a solve with these keywords: then its coefficients
-    are functions of the same map variable ``t`` and of the same velocity functions."""
-    w = tuple(map(float, np.atleast_1d(weight))) if np.ndim(weight) else (float(weight),)
-    sw = (tuple(map(float, np.atleast_1d(sol.weight))) if np.ndim(sol.weight)
-          else (float(sol.weight),))
-    return (isinstance(sol, OrthonormalKramersSolution) and float(sol.sigma) == float(s)
-            and float(sol.x[0]) == float(half) and float(sol.alpha) == float(alpha)
-            and tuple(sol.centres) == tuple(map(float, centres))
-            and tuple(sol.widths) == tuple(map(float, widths)) and sw == w)
-
-
-def interpolated_start(coef: np.ndarray, nh: int, nc: int) -> np.ndarray:
-    """``coef`` (orders x Chebyshev-Lobatto points ``t_j = cos(pi j/n)``) on ``nh`` orders
-    (cut, or zeros above) and ``nc + 1`` points: the interpolating polynomial in ``t`` of
-    each order (its Chebyshev series by the discrete cosine transform, Trefethen,
-    *Spectral Methods in MATLAB*, ch. 8), evaluated at the new points; a start vector."""
-    k = min(nh, coef.shape[0])
-    n = coef.shape[1] - 1
-    j = np.arange(n + 1)
-    half = np.where((j == 0) | (j == n), 0.5, 1.0)
-    modes = (2.0 / n) * (coef[:k] * half) @ np.cos(np.pi * np.outer(j, j) / n)
-    modes[:, [0, n]] /= 2
-    keep = min(n, nc) + 1
-    out = np.zeros((nh, nc + 1))
-    out[:k] = modes[:, :keep] @ np.cos(np.outer(np.arange(keep), np.pi * np.arange(nc + 1) / nc))
-    return out

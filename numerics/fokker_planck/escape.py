@@ -66,7 +66,7 @@ from kbm.model.conservative import split_conservative
 from kbm.errors import ModelError, ParameterError
 
 from ._bases import cheb_centred, cheb_mapped
-from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
+from ._blocks import BlockTridiagonalLU, TermBlocks, on_one_blas_thread, one_blas_thread
 from ._folded import FoldedRungs
 from ._fraction import EscapeFraction
 from ._orthonormal import nonlinear_escape, orthonormal_slowest
@@ -220,6 +220,7 @@ def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width, solver="block"
     return float(-lam[0].real)
 
 
+@on_one_blas_thread
 def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: int = 64,
                    n_cheb: int = 128, margin: float | None = None, tol: float | None = None,
                    max_hermite: int = 4096, max_cheb: int = 720,

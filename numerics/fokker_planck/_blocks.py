@@ -19,10 +19,13 @@ the rates agree with the sparse LU's to round-off (docs/noise.rst).
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import scipy.sparse as sps
 
-__all__ = ["BlockTridiagonalLU", "TermBlocks", "hermite_bandwidth", "one_blas_thread"]
+__all__ = ["BlockTridiagonalLU", "TermBlocks", "hermite_bandwidth", "one_blas_thread",
+           "on_one_blas_thread"]
 
 def one_blas_thread():
     """Context manager: the BLAS on one thread (:func:`threadpoolctl.threadpool_limits`; the
@@ -31,6 +34,22 @@ def one_blas_thread():
     from threadpoolctl import threadpool_limits
 
     return threadpool_limits(limits=1, user_api="blas")
+
+
+def on_one_blas_thread(func):
+    """Decorator: ``func`` runs inside :func:`one_blas_thread`.  On the entry points of the
+    Kramers solutions (and the solutions' products) it makes their bits independent of the
+    BLAS's thread count: OpenBLAS splits a ``gemm`` or ``gemv`` among its threads and the
+    split changes the rounding (SEDF mu = 0.01, ``kbm noise --json``: ``P(E)`` moved by
+    2e-15 and its stated ``change_peak`` by 4e-10 relative between ``OPENBLAS_NUM_THREADS``
+    1 and 2, from products outside the solves' own ``one_blas_thread``)."""
+
+    @functools.wraps(func)
+    def pinned(*args, **kwargs):
+        with one_blas_thread():
+            return func(*args, **kwargs)
+
+    return pinned
 
 
 def hermite_bandwidth(A, m: int, rtol: float = 1e-14) -> int:

@@ -27,6 +27,8 @@ import math
 
 import numpy as np
 
+from ._blocks import on_one_blas_thread
+
 __all__ = ["energy_density", "energy_grid", "energy_density_change", "energy_density_report",
            "separatrix_energies",
            "ENERGY_POINTS"]
@@ -225,6 +227,7 @@ def energy_density_change(sol, energies, values=None,
     return worst
 
 
+@on_one_blas_thread
 def energy_density_report(sol, finer=None, points: int = ENERGY_POINTS) -> dict:
     """``P(E)`` on :func:`energy_grid` of ``sol`` with its stated error, for JSON: ``E``,
     ``P``, ``change`` (per energy, relative; the largest of each energy's and its two

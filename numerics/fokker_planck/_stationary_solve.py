@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._blocks import on_one_blas_thread
 from ._hermite_functions import hermite_integrals, orthonormal_band_masses
 from ._solution import KramersSolution
 
@@ -76,6 +77,7 @@ class OrthonormalKramersSolution(KramersSolution):
             self._cache["integrals"] = hermite_integrals(self.coef.shape[0])
         return self._cache["integrals"]
 
+    @on_one_blas_thread
     def marginal(self) -> np.ndarray:
         """The density of ``x`` at the points :attr:`x`."""
         return self._integrals()[0] @ self.coef
@@ -86,6 +88,7 @@ class OrthonormalKramersSolution(KramersSolution):
         return float(np.sum(self.weights * self.x**2 * self.marginal()))
 
     @property
+    @on_one_blas_thread
     def v2(self) -> float:
         """``<v^2> = sigma^2 int sum_n q_n c_n dx``."""
         return float(self.sigma**2 * np.sum(self.weights * (self._integrals()[1] @ self.coef)))
@@ -94,6 +97,7 @@ class OrthonormalKramersSolution(KramersSolution):
         return orthonormal_band_masses(n, U)
 
 
+@on_one_blas_thread
 def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: int, G,
                            omega0: float, *, alpha: float = 0.95, centres=(), widths=(),
                            weight=0.0, iterations: int = 8, rtol: float = 1e-14,

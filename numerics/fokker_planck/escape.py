@@ -66,7 +66,7 @@ from kbm.model.conservative import split_conservative
 from kbm.errors import ModelError, ParameterError
 
 from ._bases import cheb_centred, cheb_mapped
-from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
+from ._blocks import BlockTridiagonalLU, TermBlocks, on_one_blas_thread, one_blas_thread
 from ._folded import FoldedRungs
 from ._fraction import EscapeFraction
 from ._orthonormal import nonlinear_escape, orthonormal_slowest
@@ -210,12 +210,17 @@ def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width, solver="block"
             lu = spla.splu((sps.diags(keep) @ A + C).tocsc())
         op = spla.LinearOperator((nh * m, nh * m), matvec=lambda v: lu.solve(keep * v),
                                  dtype=float)
-        theta = spla.eigs(op, k=3, which="LM", return_eigenvectors=False, tol=1e-12)
+        # a fixed start (the marginal c = 1 in every order, as :mod:`._orthonormal`): without
+        # v0 ARPACK draws one from a seed it keeps between calls, so the rate's last bits
+        # depended on how many Arnoldi runs the process had made before
+        theta = spla.eigs(op, k=3, which="LM", return_eigenvectors=False, tol=1e-12,
+                          v0=keep.copy())
     lam = 1.0 / theta
     lam = lam[np.argsort(np.abs(lam))]
     return float(-lam[0].real)
 
 
+@on_one_blas_thread
 def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: int = 64,
                    n_cheb: int = 128, margin: float | None = None, tol: float | None = None,
                    max_hermite: int = 4096, max_cheb: int = 720,

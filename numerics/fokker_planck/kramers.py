@@ -53,6 +53,7 @@ from kbm.model.conservative import ConservativeSplit, split_conservative
 from kbm.errors import ModelError, ParameterError
 
 from ._bases import cheb, clenshaw_curtis, hermite_matrices
+from ._blocks import on_one_blas_thread
 from ._model import _chebyshev_size, _half_width, lobatto_coefficients, velocity_terms
 from ._solution import KramersSolution
 from ._stationary_orthonormal import stationary_orthonormal
@@ -106,6 +107,7 @@ def kramers_terms(split: ConservativeSplit, D: float, sigma: float, L: float,
     return out, xs, clenshaw_curtis(n_cheb, L)
 
 
+@on_one_blas_thread
 def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None = None,
                        n_cheb: int | None = None, sigma: float | None = None,
                        L: float | None = None, omega0: float | None = None,

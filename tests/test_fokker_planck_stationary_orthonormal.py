@@ -279,3 +279,24 @@ def test_sedf_six_digits_below_mu_002(mu, functions):
     g = split_conservative("sedf", params).numpy_functions()[0]
     xg = float(np.sum(sol.weights * sol.x * g(sol.x) * sol.marginal()))
     assert xg == pytest.approx(sol.v2, rel=1e-7)
+
+
+@pytest.mark.parametrize("iterations", [1, 2, 3])
+def test_an_unfinished_inverse_iteration_states_its_change(iterations):
+    """Inverse iteration for the stationary Kramers density (the eigenvector of the
+    eigenvalue nearest zero): stopped early, the solve's ``iteration_change`` (its last
+    relative change of the coefficients, which the ladders count as a change of the
+    moments) is at least the distance of its <x^2> and <v^2> from the same solve run to
+    convergence, and the converged solve's is at the round-off floor (SEDF at rest,
+    mu = 0.1, Delta = 3, kT = 0.5, 32 x 161)."""
+    from numerics.fokker_planck._stationary_solve import orthonormal_stationary
+
+    mu, kT = 0.1, 0.5
+    split = split_conservative("sedf", {"mu": mu, "Delta": 3, "beta": 1, "lam": 1})
+    G = split.numpy_functions()[2]
+    args = (split, mu * kT, math.sqrt(kT), 7.0, 32, 160, G, 1.0)
+    done = orthonormal_stationary(*args)
+    early = orthonormal_stationary(*args, iterations=iterations)
+    distance = max(abs(early.x2 - done.x2) / done.x2, abs(early.v2 - done.v2) / done.v2)
+    assert done.iteration_change < 1e-13
+    assert early.iteration_change >= distance > 1e-8

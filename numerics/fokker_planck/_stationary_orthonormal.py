@@ -170,7 +170,11 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
         return solve(n, m, True)
 
     def moved(a, b):
-        return max(abs(b.x2 - a.x2) / abs(b.x2), abs(b.v2 - a.v2) / abs(b.v2))
+        """The moments' relative change, at least either inverse iteration's last change
+        (an unconverged solve never ends a ladder: SEDF mu = 0.02, D = 0.01, 64 x 134
+        stopped at 8 iterations with a change of 9.3e-4)."""
+        return max(abs(b.x2 - a.x2) / abs(b.x2), abs(b.v2 - a.v2) / abs(b.v2),
+                   a.iteration_change, b.iteration_change)
 
     sol = solve(nh, nc)
     change = cheb_change = math.nan

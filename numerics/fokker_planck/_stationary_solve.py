@@ -50,6 +50,9 @@ class OrthonormalKramersSolution(KramersSolution):
     centres: tuple = ()
     widths: tuple = ()
     weight: float = 0.0
+    #: the inverse iteration's last relative change of the coefficients (at most the
+    #: solve's ``rtol`` when it converged; larger when it stopped at its ``iterations``)
+    iteration_change: float = 0.0
     basis = "orthonormal"
 
     def _t(self, xs: np.ndarray) -> np.ndarray:
@@ -106,7 +109,10 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
     ``nc + 1`` Chebyshev points on ``[-half, half]``: inverse iteration on the Galerkin
     operator (every ``c_n(+-half) = 0``) from the Maxwellian ``exp(-G/s^2)`` in ``h_0``,
     until the normalised coefficients change by less than ``rtol`` (at most
-    ``iterations`` solves).  The residual is the eigenvalue estimate ``|lambda_0|``.
+    ``iterations`` solves; the last change is the solution's ``iteration_change``, which
+    the ladders of :mod:`._stationary_orthonormal` count as a change of the moments, so
+    that an iteration that did not converge never ends a ladder).  The residual is the
+    eigenvalue estimate ``|lambda_0|``.
     ``fold`` (default: whenever :func:`._parity.reflection_symmetric` holds) solves on the
     points ``x >= 0`` only (:mod:`._parity`: the same density, an eighth of the work);
     ``weight`` is one number or one per centre."""
@@ -139,7 +145,7 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
     c[:m] = np.exp(-(Gx - Gx.min()) / s**2)
     c *= keep
     c /= float(np.sum(wq * (mass @ c.reshape(nh, m))))
-    lam = math.nan
+    lam = last = math.nan
     with one_blas_thread():
         if pentadiagonal_applies(terms):
             lu = HermitePentadiagonalLU(terms, m, pins)
@@ -150,12 +156,14 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
             norm = float(np.sum(wq * (mass @ new.reshape(nh, m))))
             new /= norm
             lam = 1.0 / norm  # A new = c / norm, both normalised: A c ~ lam c
-            done = float(np.max(np.abs(new - c))) <= rtol * float(np.max(np.abs(new)))
+            last = float(np.max(np.abs(new - c))) / float(np.max(np.abs(new)))
+            done = last <= rtol
             c = new
             if done:
                 break
     c = unfold(c.reshape(nh, m), full) if fold else c.reshape(nh, m)
     return OrthonormalKramersSolution(xs, w, c, s, G, float(omega0), abs(lam),
                                       alpha=float(alpha), centres=centres, widths=widths,
+                                      iteration_change=last,
                                       weight=float(weight) if np.ndim(weight) == 0 else
                                       tuple(map(float, weight)))

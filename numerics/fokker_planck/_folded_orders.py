@@ -25,7 +25,8 @@ do not depend on the truncation), so the Hermite ladder of a rung factorises its
 truncation only.
 
 What is kept per order: the inverse of its Schur complement (formed for the updates; by
-``getrs`` on the identity, 2.3 times faster than OpenBLAS's ``getri``) with the couplings
+``getrs`` on the identity, 2.3 times faster than scipy's raw ``lapack.dgetri`` at its
+default workspace, which runs unblocked) with the couplings
 ``S(p, p+1)`` and ``S(p+1, p)``, ``3 m^2`` numbers as with the LU, and a solve is four
 matrix-vector products per order (memory-bound: 116 against 150 us per order with
 ``getrs`` at 197 rows).  CDC Delta = 3, kT = 0.35, mu = 5 (the rungs of 101-197 rows,
@@ -166,9 +167,10 @@ class FoldedOrderLU:
             if info != 0 or not np.all(np.isfinite(np.diagonal(lu))):
                 raise np.linalg.LinAlgError("a singular Schur complement in the folded escape "
                                             f"matrix at Hermite order {p}")
-            # S(p,p)^-1 by getrs on the identity (np.linalg.inv's way): OpenBLAS's getri is
-            # reference LAPACK, 2.3 times slower (197 rows, one thread: 1.50 against
-            # 0.66 ms; the order's getrf 0.28, a product 0.39)
+            # S(p,p)^-1 by getrs on the identity (np.linalg.inv's way): scipy's raw
+            # lapack.dgetri at its default workspace (lwork = m) runs unblocked, 2.3 times
+            # slower (197 rows, one thread: 1.50 against 0.66 ms; with the optimal lwork
+            # as scipy.linalg.inv, used by ._pentadiagonal, it is as fast as getrs)
             if self._eye is None or self._eye.shape[0] != mm:
                 self._eye = np.eye(mm, order="F")
             inv = lapack.dgetrs(lu, piv, self._eye)[0]

@@ -61,6 +61,10 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     (["friction", "cdc", "--vary", "Delta=1,2", "--no-progress"], "give --vary v=..."),
     # a negative D is a plain number, not a Python string ("D = '-1'")
     (["noise", "vdp", "-p", "mu=0.1", "-p", "D=-1"], "D = -1 is negative"),
+    # no noise, no stationary density: refused, not 100 trajectories resting at the origin
+    # with <a^2> = 0 +- 0 reported (van der Pol's attractor is the cycle a = 2)
+    (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0"], "the noise is zero"),
+    (["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "T=0"], "give D > 0 or T > 0"),
     (["derive", "coupled-vdp", "--order", "1", "--numeric", "--a-range", "1:2"],
      "--a-range is not for the coupled numeric backend"),
 ])

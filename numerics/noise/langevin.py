@@ -66,19 +66,24 @@ def noise_intensity(D: object) -> float:
     return value
 
 
-def split_noise(params: Mapping[str, object] | None) -> tuple[dict, float]:
-    """``(params without D, D)`` from a parameter mapping that holds ``D``.
+def split_noise(params: Mapping[str, object] | None,
+                need: str | None = None) -> tuple[dict, float]:
+    """``(params without D, D)`` from a parameter mapping that holds ``D``; ``need``: why
+    ``D = 0`` is refused (``None``: it is accepted, the deterministic model).
 
     Raises
     ------
     kbm.errors.ParameterError
-        When ``D`` is missing or not a number ``>= 0``.
+        When ``D`` is missing or not a number ``>= 0``, or is 0 and ``need`` is given.
     """
     params = dict(params or {})
     if "D" not in params:
         raise ParameterError("give the noise intensity: -p D=VALUE (x'' + ... = sqrt(2 D) xi, "
                              "D >= 0)")
-    return params, noise_intensity(params.pop("D"))
+    D = noise_intensity(params.pop("D"))
+    if D == 0 and need is not None:
+        raise ParameterError(f"the noise is zero (D = T mu = 0): {need}; give D > 0 or T > 0")
+    return params, D
 
 
 @dataclass(frozen=True)

@@ -174,13 +174,13 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
     ----------
     model : str or kbm.model.builtins.Oscillator
     params : dict
-        Parameters with ``D``.
+        Parameters with ``D > 0``.
     trajectories, t_end, burn_in, dt, seed :
-        The ensemble (:func:`numerics.noise.ensemble.stationary_ensemble`); ``None`` times
-        take :func:`default_times`.
+        The ensemble (:func:`~numerics.noise.ensemble.stationary_ensemble`); ``None``: as
+        :func:`default_times`.
     budget : float
-        Largest number of integration steps; beyond it the simulation is refused with the
-        estimate and the averaged answer is given alone (the rare-event guard).
+        Largest number of integration steps; beyond it the simulation is refused (the
+        rare-event guard) with the estimate, and the averaged answer is given alone.
     figure : path, optional
         Where to draw the averaged density over the histogram.
     method : {"averaging", "fokker-planck"}
@@ -212,7 +212,7 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
         simulation, flagged beyond ``|z| > 4``).
     """
     check_mu(dict(params))
-    params, D = split_noise(params)
+    params, D = split_noise(params, "without noise there is no stationary density")
     name = model if isinstance(model, str) else model.name
     if isinstance(model, str) and model in SLIDERS:
         for k, val in SLIDER_DEFAULTS.items():

@@ -203,7 +203,7 @@ def test_lobatto_coefficients_recover_the_polynomial(n, seed):
     system, to rounding."""
     from numpy.polynomial import chebyshev as C
 
-    from numerics.fokker_planck.kramers import lobatto_coefficients
+    from numerics.fokker_planck._model import lobatto_coefficients
 
     coef = np.random.default_rng(seed).standard_normal(n + 1)
     t = np.cos(np.pi * np.arange(n + 1) / n)

@@ -109,15 +109,16 @@ def test_low_friction_converges_to_six_digits(low_friction):
     1e-6, and a second discretisation agrees to 1e-6: plain Chebyshev points (no map) on
     384 intervals and 2048 Hermite functions (docs/noise.rst: the plain points converge
     more slowly, 2.5e-6 off at 288)."""
-    from numerics.fokker_planck.escape import _slowest, escape_problem
+    from numerics.fokker_planck.escape import escape_problem
+    from test_fokker_planck_blocks import escape_matrix_rate
 
     _, fp = low_friction
     assert fp.truncation_error < 1e-6 * fp.rate
     assert fp.chebyshev_error < 1e-6 * fp.rate
     split = split_conservative("cdc", dict(PARAMS, mu=0.02))
     sigma, wells, half, kappa0, width = escape_problem(split, KT * 0.02, fp.saddles)
-    plain = _slowest(split, KT * 0.02, sigma, wells, half, 2048, 384, kappa0, width,
-                     solver="fraction", alpha=0.0)
+    plain = escape_matrix_rate(split, KT * 0.02, sigma, wells, half, 2048, 384, kappa0,
+                               width, solver="fraction", alpha=0.0)
     assert plain == pytest.approx(fp.rate, rel=1e-6)
 
 

@@ -24,7 +24,9 @@ import sys
 import numpy as np
 import scipy.sparse.linalg as spla
 
-from numerics.fokker_planck.escape import _slowest
+from numerics.fokker_planck._bases import cheb
+from numerics.fokker_planck._orthonormal import orthonormal_slowest
+from numerics.fokker_planck.escape import _sink
 
 from test_fokker_planck_blocks import _cdc_wells
 
@@ -67,13 +69,16 @@ def test_stationary_density_bytes_do_not_depend_on_blas_threads():
 
 
 def test_escape_rate_bits_do_not_depend_on_earlier_arnoldi_runs():
-    """The slowest decay rate with the sink (CDC mu = 1, 32 Hermite x 96 Chebyshev, block
-    LU) is the same to the bit before and after an unrelated Arnoldi run in the process."""
+    """The slowest decay rate with the sink (CDC mu = 1, 32 orthonormal Hermite functions x
+    96 Chebyshev intervals, block LU and shift-invert Arnoldi,
+    :func:`numerics.fokker_planck._orthonormal.orthonormal_slowest`) is the same to the bit
+    before and after an unrelated Arnoldi run in the process."""
     mu, kT = 1.0, 0.15
     split, g, xs, wells = _cdc_wells(mu)
-    args = (split, kT * mu, math.sqrt(kT), wells, 1.2 * wells[1], 32, 96, 5.0,
-            0.1 * (wells[1] - xs))
-    first = _slowest(*args, solver="block")
+    half, width = 1.2 * wells[1], 0.1 * (wells[1] - xs)
+    args = (split, kT * mu, math.sqrt(kT), lambda n: cheb(n, half), 32, 96,
+            lambda x: _sink(x, wells, 5.0, width))
+    first = orthonormal_slowest(*args)
     spla.eigs(np.diag(np.arange(1.0, 21.0)), k=2, which="LM", return_eigenvectors=False)
     assert first > 0
-    assert _slowest(*args, solver="block") == first
+    assert orthonormal_slowest(*args) == first

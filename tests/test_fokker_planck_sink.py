@@ -46,8 +46,7 @@ from numerics.fokker_planck import kramers_escape
 from numerics.fokker_planck._bases import cheb_centred
 from numerics.fokker_planck._rungs import FractionRungs
 from numerics.fokker_planck._sink import (CAP, DRIFT, OFFSET, RAMP, SINK_HERMITE,
-                                          SINK_INTERVALS, TRACK, UPPER, WEIGHT,
-                                          bracket_error, falling_offset,
+                                          SINK_INTERVALS, TRACK, WEIGHT, bracket_error,
                                           ladder_offsets, rung_intervals, sink_bracket,
                                           sink_grading, sink_rung, sink_scale, step_zero)
 from numerics.fokker_planck.escape import ALPHA, _sink, escape_problem, kT_gamma
@@ -93,8 +92,8 @@ def test_sink_bracket_stops_within_its_stated_error():
             return exact - 1e-4 * 2.4**-j + 3e-5 * 6.0**-j
         return exact + 2e-4 * 2.9**-j
 
-    out = sink_bracket(rates, max_rungs=30,
-                       offsets=lambda history: (OFFSET, falling_offset(len(history))))
+    out = sink_bracket(rates, max_rungs=30,  # the falling ladder moves out to 1.6 widths
+                       offsets=lambda history: (OFFSET, min(1.6, RAMP * len(history))))
     assert abs(out["rate"] - exact) <= out["sink_error"]
     assert out["sink_error"] <= 1e-7 * exact
     assert out["rungs"][-1] < exact < out["upper"][-1]
@@ -180,20 +179,17 @@ def test_rungs_sharpen():
 
 
 def test_falling_offsets_and_rung_grids():
-    """The falling ladder starts on the bottoms and moves out by RAMP per rung to UPPER,
-    short of the rising ladder's OFFSET (the rule before TRACK, and the reference ladders');
-    the rungs' grids are even and never shrink.  (The histories: rates of a critical offset
-    ``2.5 + 0.1 j`` (closed form), past the ramp, which the cap from rung :data:`CAP`
-    leaves alone; the early cap: the test below, a critical offset near the ramp.)"""
+    """The falling ladder starts on the bottoms and moves out by RAMP per rung (the rule
+    before TRACK); the rungs' grids are even and never shrink.  (The histories: rates of a
+    critical offset ``2.5 + 0.1 j`` (closed form), past the ramp, which the cap from rung
+    :data:`CAP` leaves alone; the early cap: the test below, a critical offset near the
+    ramp.)"""
     rate = _linear_model(0.04, 1e-3, 2.5, 0.1)
     history = []
     for j in range(TRACK):
         o_low, o_high = ladder_offsets(history)
         history.append((o_low, o_high, rate(j, o_low), rate(j, o_high)))
     assert [h[:2] for h in history] == [(OFFSET, RAMP * j) for j in range(TRACK)]
-    offs = [falling_offset(j) for j in range(12)]
-    assert offs[0] == 0.0 and max(offs) == UPPER < OFFSET
-    assert all(0 <= b - a <= RAMP for a, b in zip(offs, offs[1:]))
     grids = [rung_intervals(280, j) for j in range(12)]
     assert grids[0] == 280 and all(n % 2 == 0 for n in grids)
     assert all(b >= a for a, b in zip(grids, grids[1:]))

@@ -5,7 +5,6 @@ record is rebuilt, never trusted; the same bytes of output from a cold and a war
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import os
 import shutil
@@ -21,7 +20,7 @@ from kbm.model.builtins import get_model
 from kbm.symbols import xdot
 
 from numerics.flow import template_cache as tc
-from numerics.flow.compiled import ModelTemplate, _build_template
+from numerics.flow.template import ModelTemplate, _build_template
 from numerics.flow.jit import cache_dir
 
 ROOT = Path(__file__).resolve().parents[1]

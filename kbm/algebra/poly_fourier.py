@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 import sympy as sp
 
 from ..errors import UnsupportedTermError
-from ..symbols import a, psi, x, xdot
+from ..symbols import a, psi
 from .laurent import (Laurent, LaurentRing, Q, _fmpq_poly, _fmpz_poly, accumulate, merged,
                       term_product)
 

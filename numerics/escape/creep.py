@@ -164,7 +164,7 @@ class CreepFit:
         ``C(T)`` refitted at the common ``b``.
     b, b_err : float
         The velocity exponent (2/3): the mean of the per-temperature fits and its
-        standard error (their spread over sqrt(n)), or the single fit's error.
+        standard error (their spread over sqrt(n)).
     b_each : tuple of float
         ``b`` at each temperature.
     c : float
@@ -190,7 +190,11 @@ def fit_creep(v, kT, F, Fc: float) -> CreepFit:
     """Fit the creep law of Sang et al. (PRL 87, 174301) to slip forces ``F(v_i, kT_i)``.
 
     At each temperature ``ln(F_c - F) = ln C + b ln|ln v - ln v_c|`` is fitted by least
-    squares (three parameters, at least four velocities); then ``ln C = ln c + a ln T``.
+    squares (three parameters, at least four velocities); then ``C`` is refitted at the
+    mean ``b`` and ``ln C = ln c + a ln T`` fitted by a straight line.  Every fit is
+    unweighted (the points' standard errors are not taken): ``b_err`` is the spread of the
+    per-temperature ``b`` over ``sqrt(n)`` and ``a_err`` the straight line's standard error
+    from its residuals (NaN with two temperatures).
     Give only points in the creep window (``F_c - F`` small against ``F_c`` but above the
     athermal regime ``v > v_c``).
     """
@@ -202,16 +206,15 @@ def fit_creep(v, kT, F, Fc: float) -> CreepFit:
     def model(lv, lnC, b, lnvc):
         return lnC + b * np.log(np.abs(lv - lnvc))
 
-    lnC, bs, berr, vcs, rms = [], [], [], [], []
+    lnC, bs, vcs, rms = [], [], [], []
     for T in temps:
         m = kT == T
         if np.count_nonzero(m) < 4:
             raise ParameterError(f"fit_creep needs four velocities at least at kT = {T}")
         lv, y = np.log(v[m]), np.log(Fc - F[m])
-        p, cov = curve_fit(model, lv, y, p0=(0.0, 2 / 3, float(np.max(lv)) + 2), maxfev=20000)
+        p, _ = curve_fit(model, lv, y, p0=(0.0, 2 / 3, float(np.max(lv)) + 2), maxfev=20000)
         lnC.append(p[0])
         bs.append(p[1])
-        berr.append(math.sqrt(cov[1, 1]))
         vcs.append(math.exp(p[2]))
         rms.append(float(np.sqrt(np.mean((y - model(lv, *p))**2))))
     b = float(np.mean(bs))
@@ -227,6 +230,6 @@ def fit_creep(v, kT, F, Fc: float) -> CreepFit:
         (a, lnc), cov = np.polyfit(np.log(temps), lnC, 1, cov=True)
     else:
         (a, lnc), cov = np.polyfit(np.log(temps), lnC, 1), np.full((2, 2), np.nan)
-    b_err = float(np.std(bs, ddof=1) / math.sqrt(len(bs))) if len(bs) > 1 else berr[0]
+    b_err = float(np.std(bs, ddof=1) / math.sqrt(len(bs)))  # two temperatures at least
     return CreepFit(float(a), float(math.sqrt(cov[0, 0])), b, b_err, tuple(map(float, bs)),
                     float(math.exp(lnc)), tuple(vcs), float(max(rms)), int(len(F)))

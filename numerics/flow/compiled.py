@@ -21,8 +21,7 @@ import numpy as np
 
 from kbm.errors import ParameterError
 
-from numerics.flow.template import (ModelTemplate, _build_template, model_template,  # noqa: F401
-                                    template_flow)
+from numerics.flow.template import ModelTemplate, model_template, template_flow
 
 if TYPE_CHECKING:  # sympy and the symbolic models imported on use (issue 39)
     import sympy as sp

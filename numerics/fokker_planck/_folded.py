@@ -31,7 +31,7 @@ from ._folded_orders import FoldedOrderLU, dominant_ritz
 from ._orthonormal import orthonormal_terms
 from ._parity import parity_maps
 
-__all__ = ["FoldedTermBlocks", "FoldedLU", "FoldedRungs", "folded_slowest", "carried_mode"]
+__all__ = ["FoldedTermBlocks", "FoldedLU", "FoldedRungs", "carried_mode"]
 
 
 class FoldedTermBlocks(TermBlocks):
@@ -321,8 +321,3 @@ def carried_mode(mode: tuple, rows: list, mm: int, nh: int) -> np.ndarray:
         x, y = x0[n % 2], old[n, :x0[n % 2].size]
         out[n, :rows[n % 2].size] = np.interp(rows[n % 2], x[::-1], y[::-1])
     return out.reshape(-1)
-
-
-def folded_slowest(split, D: float, s: float, points, nh: int, nc: int, sink) -> float:
-    """The rate of :class:`FoldedRungs` for one truncation (no ladder)."""
-    return FoldedRungs(nh)(split, D, s, points, nh, nc, sink)

@@ -97,7 +97,6 @@ class HermitePentadiagonalLU:
         self.m, self.n = m, n
         diags = _diagonals(terms, n)
         pinned = np.asarray(pinned, int)
-        idx = np.arange(m)
 
         def coupling(k: int, d: int, dense: bool):
             """The original block ``(k, k + d)``: dense, or its diagonal (``dense=False``).

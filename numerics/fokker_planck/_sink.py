@@ -69,11 +69,11 @@ import math
 
 import numpy as np
 
-__all__ = ["SINK_TOL", "BRACKET_TOL", "LOOSE_TOL", "OFFSET", "UPPER", "RAMP", "CAP", "TRACK",
+__all__ = ["SINK_TOL", "BRACKET_TOL", "LOOSE_TOL", "OFFSET", "RAMP", "CAP", "TRACK",
            "MARGIN", "DRIFT", "WEIGHT", "MAX_RUNGS", "SINK_INTERVALS", "SINK_HERMITE",
            "SINK_SCALE", "LOW_SCALE", "RUNG_HERMITE", "MAX_HERMITE", "GRID_HERMITE",
            "HERMITE_TOL", "GRID_STEPS", "RUNG_INTERVALS", "GRID_CHECK", "GRID_FACTOR",
-           "tanh_sink", "sink_scale", "sink_grading", "sink_rung", "falling_offset",
+           "tanh_sink", "sink_scale", "sink_grading", "sink_rung",
            "step_zero", "ladder_offsets", "rung_intervals", "bracket_error", "sink_bracket",
            "absorbing_limit"]
 
@@ -106,9 +106,6 @@ MARGIN = 0.1
 #: the largest growth of the critical offset per rung that :func:`ladder_offsets` predicts
 #: (measured: 0.03-0.16 at CDC mu = 1, 0.09-0.11 at mu = 5 and 10)
 DRIFT = 0.2
-#: the offset of the falling ladder at the rungs past :data:`TRACK` where no prediction is
-#: given (:func:`falling_offset`, the rule of h-sink2 kept for the tests' third ladder)
-UPPER = 1.6
 #: the share of the points crowded at each sink's centre (:func:`._bases.cheb_centred`)
 WEIGHT = 0.15
 #: the rungs of each ladder at most (the width falls to ``w/2^(MAX_RUNGS - 1)``)
@@ -122,12 +119,6 @@ def sink_rung(wells, kappa0: float, width: float, j: int, offset: float = OFFSET
     kappa = kappa0 * 4.0**j
     c = (offset + j * math.log(2.0) / 2) * w
     return (wells[0] - c, wells[1] + c), kappa, w
-
-
-def falling_offset(j: int) -> float:
-    """The falling ladder's offset of h-sink2 at rung ``j``: ``min(UPPER, RAMP j)`` widths
-    (the tests' reference ladders; :func:`ladder_offsets` is the code's rule)."""
-    return min(UPPER, RAMP * j)
 
 
 def step_zero(a: tuple, b: tuple) -> float:

@@ -60,15 +60,13 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sps
 
 from kbm.model.conservative import split_conservative
 from kbm.errors import ModelError, ParameterError
 
-from ._bases import cheb_centred, cheb_mapped
-from ._blocks import BlockTridiagonalLU, TermBlocks, on_one_blas_thread, one_blas_thread
+from ._bases import cheb_centred
+from ._blocks import on_one_blas_thread
 from ._folded import FoldedRungs
-from ._fraction import EscapeFraction
 from ._orthonormal import nonlinear_escape, orthonormal_slowest
 from ._parity import symmetric
 from ._rungs import FractionRungs, pair_escape
@@ -76,7 +74,6 @@ from ._model import next_wells
 from ._problem import escape_problem, hermite_ladder, kT_gamma
 from ._sink import (SINK_HERMITE, SINK_INTERVALS, SINK_TOL, WEIGHT, absorbing_limit,
                     sink_grading, sink_rung, sink_scale, tanh_sink as _sink)
-from .kramers import kramers_operator, kramers_terms
 
 __all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder",
            "escape_problem"]
@@ -167,57 +164,6 @@ class KramersEscape:
     def __repr__(self) -> str:
         return (f"KramersEscape(rate={self.rate:.7g} +- {self.sink_error:.2g} (sink) +- "
                 f"{self.truncation_error:.2g} (truncation) +- {self.chebyshev_error:.2g} (Chebyshev))")
-
-
-def _slowest(split, D, sigma, wells, half, nh, nc, kappa0, width, solver="block",
-             alpha: float = 0.0, modes: dict | None = None):
-    """The smallest decay rate of the Kramers operator with the sink :func:`_sink` centred on
-    the next wells' bottoms ``wells``.
-
-    ``solver``: ``"fraction"`` (linear damping only: the closed-form blocks of
-    :mod:`._fraction`, folded by parity when the potential and the wells are symmetric,
-    on the points of :func:`._bases.cheb_mapped` with ``alpha``), ``"block"`` (the
-    blocks assembled from :func:`.kramers.kramers_terms`, :mod:`._blocks`) or ``"splu"``
-    (SuperLU of the global sparse matrix); the last two on Chebyshev points.  ``modes``
-    (``"fraction"``): the last slowest mode on each grid, the next solve's start."""
-    import scipy.sparse.linalg as spla
-
-    if solver == "fraction":
-        gamma = kT_gamma(split, D)[1]
-        xs, Dx = cheb_mapped(nc, half, alpha)
-        g = np.asarray(split.numpy_functions()[0](xs), float)
-        fold = symmetric(g, wells)
-        with one_blas_thread():
-            lu = EscapeFraction(Dx, g, _sink(xs, wells, kappa0, width), sigma, gamma, nh,
-                                fold)
-            rate = lu.slowest(start=None if modes is None else modes.get(nc))
-        if modes is not None and lu.mode is not None:
-            modes[nc] = lu.mode
-        return rate
-    terms, xs, _ = kramers_terms(split, D, sigma, half, nh, nc)
-    m = xs.size
-    kappa = _sink(xs, wells, kappa0, width)
-    keep = np.ones(nh * m)
-    ends = np.concatenate([[k * m, k * m + m - 1] for k in range(2, nh)])
-    keep[ends] = 0.0
-    with one_blas_thread():
-        if solver == "block":  # block tridiagonal in the Hermite index (._blocks)
-            lu = BlockTridiagonalLU(TermBlocks(terms, m, kappa, (0, m - 1)), m)
-        else:
-            A = kramers_operator(split, D, sigma, half, nh, nc)[0]
-            A = A - sps.kron(sps.identity(nh), sps.diags(kappa))
-            C = sps.csr_matrix((np.ones(ends.size), (ends, ends)), shape=A.shape)
-            lu = spla.splu((sps.diags(keep) @ A + C).tocsc())
-        op = spla.LinearOperator((nh * m, nh * m), matvec=lambda v: lu.solve(keep * v),
-                                 dtype=float)
-        # a fixed start (the marginal c = 1 in every order, as :mod:`._orthonormal`): without
-        # v0 ARPACK draws one from a seed it keeps between calls, so the rate's last bits
-        # depended on how many Arnoldi runs the process had made before
-        theta = spla.eigs(op, k=3, which="LM", return_eigenvectors=False, tol=1e-12,
-                          v0=keep.copy())
-    lam = 1.0 / theta
-    lam = lam[np.argsort(np.abs(lam))]
-    return float(-lam[0].real)
 
 
 @on_one_blas_thread

@@ -54,7 +54,7 @@ from kbm.errors import ModelError, ParameterError
 
 from ._bases import cheb, clenshaw_curtis, hermite_matrices
 from ._blocks import on_one_blas_thread
-from ._model import _chebyshev_size, _half_width, lobatto_coefficients, velocity_terms
+from ._model import _chebyshev_size, _half_width, velocity_terms
 from ._solution import KramersSolution
 from ._stationary_orthonormal import stationary_orthonormal
 

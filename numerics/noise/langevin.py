@@ -32,7 +32,7 @@ from kbm.errors import ParameterError
 from kbm.model.builtins import SLIDERS, Oscillator
 from kbm.parameters.values import parameter_value
 
-from .codegen import SCHEMES, _STAGE_V, _compiled, _scheme, _symbolic, python_accel  # noqa: F401
+from .codegen import _STAGE_V, _compiled, _scheme, _symbolic, python_accel
 from ._pilot import BIAS_TOLERANCE, PILOT_FLOOR, measured_step, reachable_stderr
 from .seeds import trajectory_states
 

@@ -20,10 +20,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["SOURCES", "averaged_error", "state_averaged_errors"]
-
-#: the sources of the stated error, best first
-SOURCES = ("fokker-planck", "next order", "simulation", "none")
+__all__ = ["averaged_error", "state_averaged_errors"]
 
 
 def averaged_error(moment: dict, fp_change: float | None = None,

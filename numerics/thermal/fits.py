@@ -6,9 +6,12 @@
 * Sang, Dube and Grant, PRL 87 (2001) 174301: the creep law of the slip force, ``F_c - F =
   c T^a |ln(v/v_c)|^b`` (:func:`numerics.escape.creep.fit_creep`, theory ``a = b = 2/3``).
 
-Every fit is weighted by the standard errors of the simulated points and returns the
-parameters with their standard errors (the covariance of the weighted least squares,
-scaled by the reduced chi-square when it exceeds 1).
+Muser's fit (:func:`fit_muser`) is weighted by the standard errors of the simulated points
+and returns the parameters with their standard errors (the covariance of the weighted least
+squares, scaled by the reduced chi-square when it exceeds 1).  The creep fit
+(:func:`numerics.escape.creep.fit_creep`) takes no standard errors: unweighted least squares
+in logarithms, its errors from the spread of the per-temperature exponents and the
+residuals of ``ln C`` against ``ln T``.
 """
 
 from __future__ import annotations

@@ -217,7 +217,7 @@ def locking_figure(out: Path) -> Path:
     ax.set_ylabel(r"locking boundary $\sigma$")
     ax.set_title(rf"forced van der Pol, $\mu = {mu}$: locked for $|\sigma| <$ boundary "
                  "(symmetric)", fontsize=9)
-    return _save(plt, fig, ax, Path(out) / "forced_vdp_locking.png")
+    return _save_ax(fig, ax, Path(out) / "forced_vdp_locking.png")
 
 
 def vdp_response_figure(out: Path) -> Path:

@@ -62,6 +62,7 @@ def energy_balance_curves(model, params: Mapping, axes, ranges, *, n: int = 41,
     if b_name == "mu" or a_name == "mu":
         return [], "the energy balance is first order in mu: no curve in a plane with mu"
     rows: dict = {}
+    note = ""
     for a in np.linspace(a0, a1, n):
         if progress is not None:
             progress()
@@ -69,7 +70,7 @@ def energy_balance_curves(model, params: Mapping, axes, ranges, *, n: int = 41,
             s0 = _split(model, params, a_name, b_name, a, b0)
             s1 = _split(model, params, a_name, b_name, a, b1)
         except Exception as exc:  # noqa: BLE001 - no split here: no averaged curve at a
-            note = f"no conservative split at {a_name} = {a:g}: {exc}"
+            note = note or f"no conservative split at {a_name} = {a:g}: {exc}"
             continue
         if (s0.g - s1.g).simplify() != 0:
             return [], f"the conservative force depends on {b_name}: no energy-balance curve"
@@ -105,7 +106,7 @@ def energy_balance_curves(model, params: Mapping, axes, ranges, *, n: int = 41,
                 detail["energies"] = [e for _, _, e in seg]
             curves.append(Curve(kind, [(a, b) for a, b, _ in seg], "averaged", ENERGY_ORDER,
                                 detail))
-    return curves, ""
+    return curves, "" if curves else note
 
 
 def _clip(segs, b0, b1):

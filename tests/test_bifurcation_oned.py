@@ -18,7 +18,6 @@ curve checked against an independent computation:
 
 from __future__ import annotations
 
-import json
 import math
 
 import numpy as np

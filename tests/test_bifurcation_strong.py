@@ -100,7 +100,7 @@ def test_forced_vdp_rotation_angle_grows_to_the_resonances(ns_curves):
     Bogdanov-Takens point, and on sigma < 0 the 1:3 point beyond the 1:4 one.  The true
     curves are not mirror images (nu = 1 + mu sigma): the angle grows faster for sigma < 0,
     where the drive is slower than the free oscillation."""
-    (ev_m, m), (ev_p, p) = ns_curves[-1], ns_curves[1]
+    (_, m), (_, p) = ns_curves[-1], ns_curves[1]
     assert abs(m["bogdanov-takens"][0]) < abs(m["1:4 resonance"][0]) < abs(m["1:3 resonance"][0])
     assert m["bogdanov-takens"][1] < m["1:4 resonance"][1] < m["1:3 resonance"][1]
     assert abs(p["bogdanov-takens"][0]) < abs(p["1:4 resonance"][0])

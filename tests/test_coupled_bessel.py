@@ -35,7 +35,6 @@ from kbm.model.coupled import CoupledOscillators
 from kbm.model.coupled_builtins import coupled_custom, get_coupled_model
 from kbm.expansion.coupled import derive_coupled
 from kbm.backend.jets import jet_expansion
-from kbm.model.coupled import CoupledOscillators
 from kbm.errors import ModelError, OrderError, ParameterError, UnsupportedTermError
 from kbm.model.builtins import custom_model, get_model
 

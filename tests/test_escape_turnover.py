@@ -31,7 +31,6 @@ from scipy.optimize import brentq
 from scipy.special import zeta
 
 from kbm.errors import ParameterError
-from kbm.model.conservative import split_conservative
 from numerics.escape import (averaged_escape, kramers_low_friction, melnikov_meshkov_factor,
                              spatial_diffusion_factor, turnover_rate, two_exit_factor)
 from numerics.escape.envelope import origin_well_envelope

@@ -18,7 +18,6 @@ from hypothesis import given, settings, strategies as st
 from scipy.integrate import quad
 
 from kbm.model.conservative import split_conservative
-from numerics.fokker_planck import stationary_kramers
 from numerics.fokker_planck._bases import cheb_centred
 from numerics.fokker_planck._orthonormal import orthonormal_terms
 from numerics.fokker_planck._parity import (fold_terms, fold_weights, parity_maps,

@@ -19,7 +19,7 @@ import sympy as sp
 from kbm.expansion.one_dof import derive
 from kbm.model.builtins import custom_model
 from kbm.noise.phase_diffusion import linewidth_series, phase_response
-from kbm.symbols import a, mu, psi
+from kbm.symbols import a, psi
 from numerics.cli import main
 from numerics.spectrum.phase_diffusion import line_theory
 

@@ -84,16 +84,21 @@ def test_a_hopeless_check_stops_the_ladder():
 
 def test_advice_states_the_digits_and_the_least_sizes():
     """Beyond a stated 1e-5 the advice says how many digits the solve has and the least
-    sizes six digits need (``k = ceil(log10(e/1e-6))`` steps of 2^(1/2) functions and
-    1.25 intervals each): e = 1.5e-4 on 258 x 1040 has about 3 digits and needs 3 steps,
-    730 x 2032 at the least; within a digit of six the earlier advice (1.4 times both)."""
+    sizes six digits need (``ceil(log10(e/5e-7))`` steps of 2^(1/2) functions and of 1.25
+    intervals, ``e`` each ladder's part of the stated error): e = 1.5e-4 on 258 x 1040
+    with no grid part has about 3 digits and needs 3 steps of each, 730 x 2032 at the
+    least; SEDF mu = 0.005's 1.8e-5, 1.5e-5 of it the grid's, needs one step of the
+    functions and two of the grid; within a digit of six the earlier advice (1.4 times
+    both)."""
     from numerics.thermal._kramers_outputs import fp_advice
 
     rec = {"hermite_change": 1.5e-4, "hermite": 258, "chebyshev": 1041}
     text = fp_advice(rec, 2.5e7)
-    assert "about 3 digits" in text and "3 steps of each" in text
+    assert "about 3 digits" in text and "3 steps of the functions and 3 of the grid" in text
     assert "n_hermite=730, n_cheb=2032" in text
     assert math.isclose(730 / 258, 2 ** 1.5, rel_tol=3e-3)
     assert math.isclose(2032 / 1040, 1.25**3, rel_tol=3e-3)
+    low = fp_advice(dict(rec, hermite_change=1.8e-5, chebyshev_change=1.5e-5), 2.5e7)
+    assert "about 4 digits" in low and "n_hermite=364, n_cheb=1624" in low
     near = fp_advice(dict(rec, hermite_change=9e-6), 2.5e7)
     assert "n_hermite=362, n_cheb=1456" in near and "about" not in near

@@ -133,11 +133,12 @@ def stationary_points(split, D: float, G, half: float, v2: float,
     layer ``delta = (D/omega)^(1/2)``, ``omega^2`` the largest ``|g'|`` on the range:
     ``sigma = (delta V/(2 pi))^(1/2)``, and at least ``TOP_REACH (<v^2>/(2 TOP_FUNCTIONS))
     ^(1/2)`` (the module docstring: below mu = 0.01 the functions that rule needs are
-    beyond the budget, and the ladder's last rung must reach the density).  The points crowd at the saddles (maxima of ``G``,
-    each ``12 l`` wide, ``l = delta_b/omega_b``) and at their separatrices' outer turning
-    points (:func:`separatrix_turning_points`, the same width), and with ``well`` at the
-    bottom of the deepest well too (:data:`WELL_WEIGHT`, as wide as the distance to the
-    nearest saddle); without saddles the Kosloff-Tal-Ezer map alone."""
+    beyond the budget, and the ladder's last rung must reach the density).  The points
+    crowd at the saddles (maxima of ``G``, each ``12 l`` wide, ``l = delta_b/omega_b``) and
+    at their separatrices' outer turning points (:func:`separatrix_turning_points`, the
+    same width), and with ``well`` at the bottom of the deepest well too
+    (:data:`WELL_WEIGHT`, as wide as the distance to the nearest saddle); without saddles
+    the Kosloff-Tal-Ezer map alone."""
     from scipy.optimize import brentq
 
     g, gp = split.numpy_functions()[:2]

@@ -87,3 +87,17 @@ def test_text_states_the_expected_error():
     assert r.returncode == 0, r.stderr
     assert "expected error of the averaged values (order 1): <a^2> +- " in r.stdout
     assert "against the Fokker-Planck solution" in r.stdout
+
+
+def test_an_uncertain_fokker_planck_reference_is_passed_over():
+    """A Fokker-Planck solve whose own error ``e |FP|`` exceeds the next source's estimate
+    is not the reference (main's SEDF mu = 0.002 solve stated e = 0.14 and gave
+    <a^2> = 3.669 against the averaged 4.006): the next order, else the simulation, is;
+    a certain one still is."""
+    m = {"averaged": 4.006, "fokker_planck": 3.669, "simulated": 4.00, "stderr": 0.01}
+    assert averaged_error(m, 0.14) == (pytest.approx(0.026), "simulation")
+    assert averaged_error(m, 0.14, 4.010) == (pytest.approx(0.004), "next order")
+    err, source = averaged_error(dict(m, fokker_planck=4.0053), 1.5e-4)
+    assert source == "fokker-planck" and err == pytest.approx(0.0007 + 1.5e-4 * 4.0053)
+    assert averaged_error({"averaged": 4.006, "fokker_planck": 3.669}, 0.14)[1] == \
+        "fokker-planck"  # no other estimate: the stated one, with its error in it

@@ -124,10 +124,10 @@ def run(args) -> int:
             print("  WARNING: the Fokker-Planck moments' truncation error is not measured (a "
                   "second Hermite truncation passes the cost budget); only 2 digits are shown")
         elif change > 1e-6:
-            print(f"  WARNING: the Fokker-Planck moments are not converged: the last refinement "
-                  f"of the Hermite functions or the grid moved them by {change:.2g} (relative; "
-                  f"the solve stops at 1e-8 or at its cost budget); only the digits this "
-                  f"supports are shown")
+            print(f"  WARNING: the Fokker-Planck moments are not converged: the last "
+                  f"refinements of the Hermite functions and the grid moved them by "
+                  f"{change:.2g} (relative; the solve stops at 1e-8 or at its cost budget); "
+                  f"only the digits this supports are shown")
         if f.get("advice"):
             print(f"  {f['advice']}")
     elif rep.get("fokker_planck_message"):

@@ -36,6 +36,13 @@ CLIMB_COST = 2.8
 #: the floor of the stated change: the rounding of the moments of one solve (vdp mu = 0.03,
 #: D = 0.015: 90 x 120 and 136 x 180 differ by 1.2e-11 where the ladders moved by 9e-12)
 ROUNDING = 1e-10
+#: the Hermite change of step 7's check beyond which the climb is not made: no digits of use
+#: are within the budget (SEDF at rest, Delta = 3, mu = 0.002, D = 0.001, at the scale of
+#: the resolution rule alone, 0.136: 182 against 258 functions on 592 intervals moved
+#: <v^2> by 0.36; main's climb to 258 x 1040 then spent 67 s and 2.9 GB in kbm noise on a
+#: stated 0.14, <a^2> = 3.669 against 4.005; stopped at the check, 8.6 s CPU, 0.7 GB);
+#: the solve keeps no ``refine`` then (no grid step more for P(E))
+HOPELESS = 1e-2
 #: the fewest position intervals of the Hermite ladder: on fewer the grid's own error
 #: moves the moments and the ladder climbs for nothing (vdp mu = 0.3, D = 0.15: on 64
 #: intervals it went to 1448 functions, on 88 it stops at 512)
@@ -58,7 +65,10 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        velocity structure of width ``delta = (D/omega)^(1/2)``, ``omega^2`` the largest
        ``|g'|`` on the range; both are resolved at ``s = (delta V/(2 pi))^(1/2)``.  (With
        ``V = 6 <v^2>^(1/2)`` the SEDF at mu = 0.1, Delta = 3, D = 0.05 moved by 7e-6 from
-       90 to 128 functions, with 5 by 3e-7.)
+       90 to 128 functions, with 5 by 3e-7.)  At least ``2.8 (<v^2>/516)^(1/2)``: below
+       mu = 0.01 the rule's functions are beyond the budget and the 258 of the last rung
+       must still reach the density (:data:`._stationary_points.TOP_REACH`; SEDF
+       mu = 0.002: <a^2> 3.669 at the rule's 0.136, 4.00536 at the floor's 0.191).
     3. The points: :func:`._bases.cheb_centred` around the saddles and their separatrices'
        outer turning points (:mod:`._stationary_points`), else :func:`._bases.cheb_mapped`;
        half the number of :func:`.kramers._chebyshev_size` on ``exp(-G mu/D)``, at least
@@ -85,7 +95,10 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        mu = 0.02 on 656 intervals, 128 -> 182 functions moved <x^2> by 3.7e-5 but
        182 -> 256 by 1e-9); unfolded, the previous rung on the last points.  The
        solution's ``hermite_change`` is the larger of the Hermite and last Chebyshev
-       changes and :data:`ROUNDING` (``chebyshev_change`` the second).  The pairs of
+       changes and :data:`ROUNDING` (``chebyshev_change`` the second), and their sum when
+       the larger exceeds :data:`SIX_DIGITS` (both errors are in the solve: SEDF
+       mu = 0.002, 258 x 1040, the larger, 1.5e-4, is 1.1e-4 to 1.6e-4 from 362 x 1200 at
+       two scales and 300 x 1100; the sum is 2.9e-4).  The pairs of
        solutions of those two changes are kept as its ``refinements`` (the same change of
        ``P(E)`` is its stated error, :mod:`._energy_density`), and the same solve on one
        grid step more as its ``refine`` (called only for ``P(E)`` when that change
@@ -111,7 +124,11 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        (:func:`._stationary_climb.climb_grid`; mu = 0.015, D = 0.0075: 182 x 740 stated
        2.5e-6, the grid's 592 against 740; now 182 x 926, stated 3.9e-7, the Hermite
        change, 1.4e-7 and 1.8e-7 in <x^2> and
-       <v^2> from 258 x 1282, 18 s CPU).
+       <v^2> from 258 x 1282, 18 s CPU).  When the rung above the climbed one moves the
+       moments by more than six digits on the check's grid, it is solved again on the
+       coarser climb grid (:func:`._stationary_climb.climb_rung`).  When step 7's check
+       exceeds :data:`HOPELESS`, the ladder stops there (no climb, no finer grid) and
+       states that change.
 
     Each solve factorises order by order (:mod:`._pentadiagonal`) when the damping is
     linear in the velocity, else by pairs of orders (:mod:`._blocks`).
@@ -207,6 +224,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
         rungs = {}  # the coarser grids' solutions at the last number of functions
         plan = []
         climbed = None  # step 7's result
+        hopeless = None  # step 7's check when it exceeds HOPELESS
         if folds:  # 1.25 steps down from the largest grid within the budget (step 5)
             top = 2 * int(math.sqrt(max_cost / nh))  # cost(nh, top) <= max_cost
             while top >= 1.25 * nc:  # every step a whole one
@@ -228,6 +246,9 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
             if n_hermite is None and folds and cost(up, nc) <= max_cost < cost(up, finer):
                 # step 6's check comes on this grid: climbing now saves the finer grids
                 hc = moved(sol, solve(up, nc))
+                if hc > HOPELESS:  # no digits of use within the budget: stop here
+                    hopeless = hc
+                    break
                 if hc > SIX_DIGITS:
                     climbed = climb_rung(solve, solve_well, moved, cost,
                                          [(sol, solve(up, nc))], up, nc, hc, nc,
@@ -242,17 +263,21 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
         pairs = [(rungs[max(rungs)], sol)] if rungs else []  # the last grid step
         up = 2 * int(round(nh * math.sqrt(2) / 2))
         fits = [k for k in rungs if cost(up, k) <= max_cost]
-        if climbed is not None:
+        if hopeless is not None:
+            change = hopeless
+            pairs.append((sol, solve(up, nc)))
+            cheb_change = cheb_change if math.isfinite(cheb_change) else math.nan
+        elif climbed is not None:
             sol, change, cheb_change, pairs = climbed
         elif n_hermite is None and folds and fits:
             # the next rung up on the finest grid of the ladder that affords it (step 6)
             k = max(fits)
             pairs.append((rungs[k], solve(up, k)))
             change = moved(*pairs[-1])
-            if change > SIX_DIGITS:
+            if SIX_DIGITS < change <= HOPELESS:
                 climbed = climb_rung(solve, solve_well, moved, cost, pairs, up, k, change,
                                      nc, CLIMB_COST * max_cost)
-            if climbed is None and cheb_change > SIX_DIGITS and rungs:
+            if climbed is None and cheb_change > SIX_DIGITS and rungs and change <= HOPELESS:
                 climbed = climb_grid(solve_well, moved, cost, pairs, nh, nc, change,
                                       CLIMB_COST * max_cost)
             if climbed is not None:
@@ -261,9 +286,12 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
             same = lower is not None and lower.x.size == nc + 1
             pairs.append((lower if same else solve(prev, nc), sol))
             change = moved(*pairs[-1])
-    stated = max(change, cheb_change, ROUNDING) if n_hermite is None else math.nan
+    parts = [c for c in (change, cheb_change) if not math.isnan(c)]
+    stated = max(ROUNDING, *parts) if n_hermite is None else math.nan
+    if stated > SIX_DIGITS and len(parts) == 2:  # both errors are in the solve: their sum
+        stated = sum(parts)
     refine = None
-    if n_hermite is None and pairs and pairs[0][1] is sol \
+    if n_hermite is None and pairs and pairs[0][1] is sol and stated <= HOPELESS \
             and pairs[0][0].coef.shape[0] == sol.coef.shape[0] \
             and pairs[0][0].x.size < sol.x.size:
         # the grid step beyond the last, for P(E) (._energy_density.energy_density_report)

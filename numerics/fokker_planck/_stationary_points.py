@@ -33,6 +33,24 @@ seven wells' bottoms did worse (3.9e-7 in <v^2> on 820), as did a weight of 0.25
 (6.2e-7).  At mu = 0.1 the centre moved 128 functions on 448 intervals from 1e-9 to
 2.3e-8 off (the points it takes from the saddles), so only the climb uses it.
 
+The floor of the velocity scale (:data:`TOP_REACH`).  The rule ``s = (delta V/(2 pi))^(1/2)``
+resolves the reach ``V`` and the layer ``delta`` with ``N = pi V/delta`` functions, which
+grows like ``mu^(-1/2)``: about 900 at mu = 0.005, 1400 at mu = 0.002, where the budget
+stops the ladder at 258.  Those 258 functions then reach ``s (2N)^(1/2)`` = 3.1 at
+mu = 0.002 (``s`` = 0.136) of a density with ``<v^2>^(1/2)`` = 1.37: <a^2> came out 3.669
+(the first-order averaging's 4.0051, whose error is O(mu); stated 0.14).  Measured on the
+SEDF at rest, Delta = 3, D = mu/2, mu = 0.005, on 800 intervals against 362 functions at
+the scales 0.157 and 0.2 (which agree to 2e-7 in <x^2> and <v^2>), 258 functions are off
+in <x^2>, <v^2> by -1.3e-5, -1.8e-5 at ``s`` = 0.17 (the rule's 0.171), +1.0e-6, +1.5e-6
+at 0.185, -5.8e-6, -7e-6 at 0.2, -1.9e-5, -1.8e-5 at 0.22 and -1.9e-5, +3e-4 at 0.3; 182
+functions are -4.9e-5, -2.9e-5 off at 0.2 and 2.6 %, 3.6 % at 0.17.  The best scale
+makes the 258 functions reach ``2.8 <v^2>^(1/2)`` of the pilot (whose ``<v^2>`` = 2.41 is
+30 % above the converged 1.86; 0.191 at mu = 0.005 and 0.002), so the scale is at least
+that: ``s >= 2.8 (<v^2>/(2 * 258))^(1/2)``.  Above mu = 0.01 the rule is larger (0.2027
+at mu = 0.01 against the floor's 0.190) and nothing changes.  At mu = 0.002 the route then
+gives <a^2> = 4.00536 on 258 x 1040 (30 s CPU against main's 67 s), within 1.3e-4 of the
+averaging.
+
 Other remedies judged by measurement: five other point maps and four other scales (the
 fifteenth session) did not help; lower saddle weights
 (0.6, 0.9 of 1.2) did no better (-2.1e-5 and -7.4e-6 at 334 intervals against -8.0e-6).
@@ -52,7 +70,8 @@ import math
 import numpy as np
 
 __all__ = ["ALPHA", "SADDLE_WEIGHT", "LAYER_WIDTHS", "TURNING_WEIGHT", "WELL_WEIGHT",
-           "VELOCITY_REACH", "separatrix_turning_points", "stationary_points"]
+           "VELOCITY_REACH", "TOP_REACH", "TOP_FUNCTIONS", "separatrix_turning_points",
+           "stationary_points"]
 
 #: the Kosloff-Tal-Ezer parameter of the position points (:func:`._bases.cheb_mapped`)
 ALPHA = 0.95
@@ -73,6 +92,14 @@ TURNING_WEIGHT = 0.1
 WELL_WEIGHT = 0.3
 #: the density's reach in the velocity, in units of ``<v^2>^(1/2)`` (the scale's rule)
 VELOCITY_REACH = 5.0
+#: the reach the Hermite functions of the ladder's top rung at low friction
+#: (:data:`TOP_FUNCTIONS`) keep at least, in units of the pilot's ``<v^2>^(1/2)``: the
+#: floor of the scale (:func:`stationary_points`)
+TOP_REACH = 2.8
+#: the Hermite functions of the ladder's last rung at low friction within kbm noise's
+#: budget (the climb of :func:`._stationary_orthonormal.stationary_orthonormal` to
+#: 258 functions at mu = 0.01, 0.005, 0.002)
+TOP_FUNCTIONS = 258
 
 
 def separatrix_turning_points(G, saddles, half: float) -> list:
@@ -104,11 +131,14 @@ def stationary_points(split, D: float, G, half: float, v2: float,
 
     ``sigma`` (unless given) resolves the reach ``V = 5 <v^2>^(1/2)`` and the velocity
     layer ``delta = (D/omega)^(1/2)``, ``omega^2`` the largest ``|g'|`` on the range:
-    ``sigma = (delta V/(2 pi))^(1/2)``.  The points crowd at the saddles (maxima of ``G``,
-    each ``12 l`` wide, ``l = delta_b/omega_b``) and at their separatrices' outer turning
-    points (:func:`separatrix_turning_points`, the same width), and with ``well`` at the
-    bottom of the deepest well too (:data:`WELL_WEIGHT`, as wide as the distance to the
-    nearest saddle); without saddles the Kosloff-Tal-Ezer map alone."""
+    ``sigma = (delta V/(2 pi))^(1/2)``, and at least ``TOP_REACH (<v^2>/(2 TOP_FUNCTIONS))
+    ^(1/2)`` (the module docstring: below mu = 0.01 the functions that rule needs are
+    beyond the budget, and the ladder's last rung must reach the density).  The points
+    crowd at the saddles (maxima of ``G``, each ``12 l`` wide, ``l = delta_b/omega_b``) and
+    at their separatrices' outer turning points (:func:`separatrix_turning_points`, the
+    same width), and with ``well`` at the bottom of the deepest well too
+    (:data:`WELL_WEIGHT`, as wide as the distance to the nearest saddle); without saddles
+    the Kosloff-Tal-Ezer map alone."""
     from scipy.optimize import brentq
 
     g, gp = split.numpy_functions()[:2]
@@ -118,7 +148,9 @@ def stationary_points(split, D: float, G, half: float, v2: float,
                for i in np.flatnonzero((gz[:-1] > 0) & (gz[1:] <= 0))]
     wmax = math.sqrt(float(np.max(np.abs(gp(z)))))
     if sigma is None:
-        sigma = math.sqrt(math.sqrt(D / wmax) * VELOCITY_REACH * math.sqrt(v2) / (2 * math.pi))
+        sigma = max(math.sqrt(math.sqrt(D / wmax) * VELOCITY_REACH * math.sqrt(v2)
+                              / (2 * math.pi)),
+                    TOP_REACH * math.sqrt(v2 / (2 * TOP_FUNCTIONS)))
     if not saddles:
         return float(sigma), dict(alpha=ALPHA)
     wb = [math.sqrt(abs(float(gp(np.array(c))))) for c in saddles]

@@ -13,17 +13,45 @@ __all__ = ["energy_density_output", "fp_advice"]
 def fp_advice(fp: dict, budget: float) -> str:
     """What to do when the Kramers moments' stated error (``fp``: the record of
     :func:`.stationary.fokker_planck_moments`) exceeds six digits at the cost ``budget``
-    (``""`` else): the sizes about 1.4 times this solve's, to compare (SEDF mu = 0.01,
-    D = 0.005, before the ladder climbed a Hermite rung: 182 x 740 stated 9.6e-6; the
-    climb now states 2.9e-7 on 258 x 1040 and prints no advice)."""
+    (``""`` else).
+
+    Within a digit of six (a stated error up to 1e-5, or unmeasured): the sizes about 1.4
+    times this solve's, to compare (SEDF mu = 0.01, D = 0.005, before the ladder climbed a
+    Hermite rung: 182 x 740 stated 9.6e-6; the climb now states 2.9e-7 on 258 x 1040 and
+    prints no advice).  Beyond it, the digits the solve has and the sizes six digits need at
+    the least: ``ceil(log10(e/5e-7))`` steps of each ladder (1.4 times the functions, 1.25
+    times the intervals), ``e`` its part of the stated error (``chebyshev_change`` the
+    grid's, the rest the functions'; both the whole when the record has no grid part), as
+    if each step gained a whole digit, which the grid's steps did not at low friction
+    (SEDF at rest, Delta = 3, D = mu/2, 258 functions: 592 -> 832 -> 1040 intervals moved
+    <v^2> by 8.9e-5, 1.5e-5 at mu = 0.005, by 2.3e-4, 1.3e-4 at mu = 0.002; the functions'
+    182 -> 258 -> 364 by 4.4e-4, 2.7e-6 at mu = 0.005, by 4.5e-4, 1.5e-4 at mu = 0.002), with
+    the memory (``N m^2``) and time (``N m^3``) of those sizes against this solve's."""
     change, n, m = fp["hermite_change"], fp["hermite"], fp["chebyshev"] - 1
     if change is not None and change <= 1e-6:
         return ""
-    return (f"six digits need more than kbm noise's Fokker-Planck budget ({budget:.2g}) "
-            f"affords (this solve: {n} Hermite functions of x' x {m} Chebyshev intervals; "
-            "at low friction both must grow); for more digits call "
-            "numerics.fokker_planck.stationary_kramers(model, params, D, "
-            f"n_hermite={2 * round(0.7 * n)}, n_cheb={2 * round(0.7 * m)}) and compare")
+    if change is None or change <= 1e-5:
+        return (f"six digits need more than kbm noise's Fokker-Planck budget ({budget:.2g}) "
+                f"affords (this solve: {n} Hermite functions of x' x {m} Chebyshev intervals; "
+                "at low friction both must grow); for more digits call "
+                "numerics.fokker_planck.stationary_kramers(model, params, D, "
+                f"n_hermite={2 * round(0.7 * n)}, n_cheb={2 * round(0.7 * m)}) and compare")
+    grid = fp.get("chebyshev_change")
+    parts = (change, change) if grid is None else (max(change - grid, 0.0), grid)
+    kh, kc = (max(0, math.ceil(math.log10(e / 5e-7) - 1e-9)) if e > 5e-7 else 0
+              for e in parts)
+    n6, m6 = 2 * round(n * 2 ** (kh / 2) / 2), 2 * round(m * 1.25**kc / 2)
+    digits = max(0, math.floor(-math.log10(change)))
+    return (f"the Fokker-Planck moments have about {digits} digits (stated relative "
+            f"error {change:.2g}: the last refinements of the Hermite functions and the grid "
+            f"moved them by that much, {n} Hermite functions of x' x {m} Chebyshev intervals, "
+            f"within kbm noise's budget {budget:.2g}); six digits are out of reach of this "
+            f"solve: even if each step gained a digit (the grid's steps did not in the SEDF at "
+            f"low friction), they need {kh} step{'s' * (kh != 1)} of the functions and {kc} of "
+            f"the grid, at "
+            f"least {n6} x {m6} (n_hermite={n6}, n_cheb={m6}), "
+            f"{(n6 / n) * (m6 / m) ** 2:.0f} times this solve's memory and "
+            f"{(n6 / n) * (m6 / m) ** 3:.0f} times its time")
 
 
 def energy_density_output(sol, model, params: dict, D: float, omega0: float) -> dict:

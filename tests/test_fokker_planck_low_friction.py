@@ -28,7 +28,7 @@ def test_sedf_mu_0002_against_averaging_and_another_scale():
     """mu = 0.002, kbm noise's budget: <a^2> within 1e-3 of the first-order
     energy-envelope averaging (:func:`numerics.thermal.averaged.averaged_stationary`; its
     gap to the route falls like mu: 6.8e-4, 3.7e-4, 6e-5 at mu = 0.01, 0.005, 0.002),
-    where main's route was 8 % low (3.669 against 4.005),
+    where the route without the scale's floor was 8 % low (3.669 against 4.005),
     and <x^2>, <v^2> within the stated error (which is above six digits: this friction is
     beyond the budget; above six digits the sum of the Hermite and grid changes) of an
     independent solve: 300 functions at the scale 0.82 times the route's (another basis)

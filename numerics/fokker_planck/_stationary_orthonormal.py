@@ -39,9 +39,9 @@ ROUNDING = 1e-10
 #: the Hermite change of step 7's check beyond which the climb is not made: no digits of use
 #: are within the budget (SEDF at rest, Delta = 3, mu = 0.002, D = 0.001, at the scale of
 #: the resolution rule alone, 0.136: 182 against 258 functions on 592 intervals moved
-#: <v^2> by 0.36; main's climb to 258 x 1040 then spent 67 s and 2.9 GB in kbm noise on a
-#: stated 0.14, <a^2> = 3.669 against 4.005; stopped at the check, 8.6 s CPU, 0.7 GB);
-#: the solve keeps no ``refine`` then (no grid step more for P(E))
+#: <v^2> by 0.36; the climb without the scale's floor to 258 x 1040 then spent 67 s and
+#: 2.9 GB in kbm noise on a stated 0.14, <a^2> = 3.669 against 4.005; stopped at the
+#: check, 8.6 s CPU, 0.7 GB); the solve keeps no ``refine`` then (no grid step more for P(E))
 HOPELESS = 1e-2
 #: the fewest position intervals of the Hermite ladder: on fewer the grid's own error
 #: moves the moments and the ladder climbs for nothing (vdp mu = 0.3, D = 0.15: on 64

@@ -48,8 +48,8 @@ makes the 258 functions reach ``2.8 <v^2>^(1/2)`` of the pilot (whose ``<v^2>`` 
 30 % above the converged 1.86; 0.191 at mu = 0.005 and 0.002), so the scale is at least
 that: ``s >= 2.8 (<v^2>/(2 * 258))^(1/2)``.  Above mu = 0.01 the rule is larger (0.2027
 at mu = 0.01 against the floor's 0.190) and nothing changes.  At mu = 0.002 the route then
-gives <a^2> = 4.00536 on 258 x 1040 (30 s CPU against main's 67 s), within 1.3e-4 of the
-averaging.
+gives <a^2> = 4.00536 on 258 x 1040 (30 s CPU, where the route without the floor took
+67 s), within 1.3e-4 of the averaging.
 
 Other remedies judged by measurement: five other point maps and four other scales (the
 fifteenth session) did not help; lower saddle weights

@@ -7,7 +7,7 @@ has, in this order:
    stated relative error (``fokker_planck.hermite_change``).  A measured error, used
    unless the solve's own error ``e |FP|`` exceeds the estimate of the next source that
    applies (a reference less certain than the error it would measure: the SEDF at rest,
-   Delta = 3, D = mu/2, at mu = 0.002 states ``e`` = 1e-4 to 1e-3, and on main before this
+   Delta = 3, D = mu/2, at mu = 0.002 states ``e`` = 1e-4 to 1e-3, and before this
    rule a 258 x 1040 solve stated 0.14 and gave <a^2> = 3.669 against 4.006).
 2. ``"next order"``: at first order, where the second order of the stochastic averaging
    applies (:mod:`kbm.noise.stochastic_order2`), the size of the next order's correction,

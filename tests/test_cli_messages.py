@@ -67,6 +67,34 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     (["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "T=0"], "give D > 0 or T > 0"),
     (["derive", "coupled-vdp", "--order", "1", "--numeric", "--a-range", "1:2"],
      "--a-range is not for the coupled numeric backend"),
+    # kbm spectrum: a ZeroDivisionError traceback, an OOM kill after 40 s, a MemoryError
+    # traceback, options the forced and coupled runs dropped without a word
+    (["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--resolution", "0"],
+     "--resolution must be a positive number, got 0"),
+    (["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--duration", "-1"],
+     "--duration must be a positive number"),
+    (["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--trajectories", "1000000000"],
+     "integration steps, above the limit 2e+09: give fewer --trajectories"),
+    (["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--duration", "1e12"],
+     "integration steps, above the limit"),
+    (["spectrum", "vdp", "-p", "mu=0.1", "--vary", "D=0.005:0.02:100000"],
+     "shared by 100000 runs of the sweep"),
+    (["spectrum", "coupled-vdp", "-p", "mu=0.1", "-p", "c=0.3", "-p", "D=0.02", "--vary",
+      "sigma=0.2,0.3", "--trajectories", "1000000000"], "integration steps, above the limit"),
+    (["spectrum", "coupled-vdp", "-p", "mu=0.1", "-p", "c=0.3", "-p", "D=0.02", "--vary",
+      "sigma=0.2,0.3", "--no-simulation"], "would ignore it: leave out --no-simulation"),
+    (["spectrum", "duffing-forced", "-p", "mu=0.05", "-p", "zeta=0.5", "-p", "alpha=1", "-p",
+      "h=2", "-p", "D=0.001", "--vary", "sigma=0.8,1.1", "--floquet"],
+     "would ignore it: leave out --floquet"),
+    (["spectrum", "duffing-forced", "-p", "mu=0.05", "-p", "zeta=0.5", "-p", "alpha=1", "-p",
+      "h=2", "-p", "D=0.001", "--vary", "sigma=0.8:1.1:5000"], "the limit is 200"),
+    # a TypeError traceback ('Mul' object is not iterable)
+    (["lock", "vdp", "-p", "mu=0.05", "--vary", "sigma=-1:1"], "vdp has one degree of freedom"),
+    # --budget nan ran with no budget at all
+    (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--budget", "nan"], "--budget must be"),
+    # E_b/kT = 2e7: two RuntimeWarnings and "came out as nan ... check mu > 0 and D > 0"
+    (["escape", "cdc", "-p", "mu=0.02", "-p", "Delta=3", "-p", "D=1e-9", "--no-simulation"],
+     "raise D to 3.11e-05 or more"),
 ])
 def test_messages_speak_the_command_line(argv, says, capsys):
     """Each message as the user meets it: one line, exit 2, the option named as typed and no

@@ -1,0 +1,35 @@
+"""Defects a new user met at the seams of ``kbm`` (session 20's user pass), each pinned.
+
+The one-line messages are in :mod:`tests.test_cli_messages`; here the outputs and the
+limits that are not a message of the command line alone.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from kbm.errors import ParameterError
+from numerics.cli import main
+from numerics.spectrum._cost import MEMORY_LIMIT, STEP_LIMIT, check_cost
+
+
+def test_friction_table_prints_no_nan_for_a_sliding_state(capsys):
+    """A steady sliding state (SEDF at rest, Delta = 3, v = 0.2: self-oscillating sliding)
+    never sticks, so it has no static (peak) friction and no wells per slip: the table
+    printed ``nan`` in both columns; it prints ``--`` (the JSON has ``null``)."""
+    assert main(["friction", "sedf_comoving", "-p", "Delta=3", "-p", "beta=1", "--vary",
+                 "v=0.2"]) == 0
+    row = capsys.readouterr().out.strip().splitlines()[-1]
+    assert "sliding" in row and "nan" not in row
+    assert row.split()[-5:-3] == ["--", "0.000"] and row.split()[-3] == "--"
+
+
+def test_spectrum_cost_refuses_steps_and_memory_with_the_numbers():
+    """:func:`check_cost`: the product trajectories x steps against the step limit (shared
+    by the runs of a sweep), the bytes held against the memory limit."""
+    check_cost(64, STEP_LIMIT / 64, MEMORY_LIMIT)  # exactly at both limits: runs
+    with pytest.raises(ParameterError, match=r"64 trajectories x 3.12e\+07 steps = 2e\+09 "
+                                             r"integration steps, above the limit 1e\+09"):
+        check_cost(64, STEP_LIMIT / 64, 0.0, budget=STEP_LIMIT / 2, shared=2)
+    with pytest.raises(ParameterError, match=r"hold 3 GB of recorded samples"):
+        check_cost(8, 1e3, 3e9)

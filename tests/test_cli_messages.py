@@ -90,6 +90,17 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
       "h=2", "-p", "D=0.001", "--vary", "sigma=0.8:1.1:5000"], "the limit is 200"),
     # a TypeError traceback ('Mul' object is not iterable)
     (["lock", "vdp", "-p", "mu=0.05", "--vary", "sigma=-1:1"], "vdp has one degree of freedom"),
+    # the last --vary silently replaced the first (then "needs values for Delta")
+    (["branch", "sedf", "-p", "mu=0.1", "-p", "beta=1", "-p", "lam=1", "--vary", "Delta=0:4",
+      "--vary", "beta=0:1"], "give one --vary (got Delta, beta)"),
+    (["response", "duffing-forced", "-p", "mu=0.05", "-p", "zeta=0.1", "-p", "alpha=1", "-p",
+      "h=0.5", "--vary", "h=0.1:1", "--vary", "sigma=-1:3"], "give one --vary (got h, sigma)"),
+    # a ZeroDivisionError traceback (exact), a* = 0 printed as a cycle (--method kbm)
+    (["series", "vdp", "--order", "4", "--root", "0"], "a0 = 0 is the rest state"),
+    (["series", "vdp", "--order", "4", "--root", "0", "--method", "kbm"],
+     "choose one with --root A0"),
+    # RankWarnings and slopes fitted to one point
+    (["compare", "vdp", "--convergence", "0.1,0.1,0.1"], "at least two distinct values of mu"),
     # --budget nan ran with no budget at all
     (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--budget", "nan"], "--budget must be"),
     # E_b/kT = 2e7: two RuntimeWarnings and "came out as nan ... check mu > 0 and D > 0"

@@ -101,6 +101,11 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
      "choose one with --root A0"),
     # RankWarnings and slopes fitted to one point
     (["compare", "vdp", "--convergence", "0.1,0.1,0.1"], "at least two distinct values of mu"),
+    # the method won silently over the contradicting flag
+    (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--method", "fokker-planck",
+      "--no-fokker-planck"], "--no-fokker-planck contradicts --method fokker-planck"),
+    # an empty --only wrote nothing and exited 0
+    (["figures", "--only"], "give at least one, or leave out --only"),
     # --budget nan ran with no budget at all
     (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--budget", "nan"], "--budget must be"),
     # E_b/kT = 2e7: two RuntimeWarnings and "came out as nan ... check mu > 0 and D > 0"

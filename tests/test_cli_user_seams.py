@@ -33,3 +33,27 @@ def test_spectrum_cost_refuses_steps_and_memory_with_the_numbers():
         check_cost(64, STEP_LIMIT / 64, 0.0, budget=STEP_LIMIT / 2, shared=2)
     with pytest.raises(ParameterError, match=r"hold 3 GB of recorded samples"):
         check_cost(8, 1e3, 3e9)
+
+
+@pytest.mark.parametrize("option, says", [
+    ("--out", "cannot write to --out = '{bad}'"),
+    ("--netcdf", "cannot write to --netcdf's folder = '{bad}'"),
+])
+def test_friction_refuses_an_unwritable_output_before_the_map(option, says, tmp_path,
+                                                               capsys, monkeypatch):
+    """An unwritable ``--out`` or ``--netcdf`` failed only after the whole map was computed
+    (hours for a large one): now before the first point (the map is never started)."""
+    import numerics.sliding.maps as maps
+
+    def never(*a, **k):
+        raise AssertionError("the map ran before the output was checked")
+
+    monkeypatch.setattr(maps, "friction_map", never)
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    bad = blocker / "sub"  # a folder inside a regular file: cannot be created
+    target = str(bad / "map.nc") if option == "--netcdf" else str(bad)
+    assert main(["friction", "cdc", "-p", "Delta=3", "--vary", "v=0.1", option, target,
+                 "--no-progress"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and says.format(bad=bad) in err[0], err

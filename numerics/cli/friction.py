@@ -90,6 +90,22 @@ def _save_netcdf(path: str, first, second) -> None:
 SLIDERS = ("sedf_comoving", "cdc", "sedf")
 
 
+def _check_outputs(args: argparse.Namespace) -> None:
+    """``--out`` and ``--netcdf``'s folder writable before the map is computed (an
+    unwritable one failed after the whole map: "cannot access '/proc/x'")."""
+    from pathlib import Path
+
+    from kbm.output.files import output_folder
+
+    if args.out:
+        output_folder(args.out, "--out")
+    if args.netcdf:
+        path = Path(args.netcdf)
+        if path.is_dir():
+            raise ParameterError(f"--netcdf {args.netcdf} is a folder; name a file")
+        output_folder(path.parent, "--netcdf's folder")
+
+
 def run(args: argparse.Namespace) -> int:
     from kbm.model.builtins import parameter_value
     from kbm.parameters.names import closest
@@ -142,6 +158,7 @@ def run(args: argparse.Namespace) -> int:
     params = {"mu": 0.1, "lam": 1.0, "Omega": 1.0, **params}
     settings = FrictionSettings(slips=args.slips)
     check_ensemble(args)
+    _check_outputs(args)
     with stored(args, "map") as store:
         client = connect(args.scheduler, args.scheduler_timeout) if args.scheduler else None
         kw = dict(settings=settings, engine=args.engine, executor=client, workers=args.workers,

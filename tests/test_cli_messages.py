@@ -36,7 +36,7 @@ def test_translation_table(library, cli):
 #: words of the Python API that no command-line message may hold (issue 35, item 6)
 API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.float64",
              "potential=", "`potential`", "root=", "t_end", "rtol", "in params", "averaged_cycles",
-             "D = '")
+             "D = '", "internal=", "trajectories = ")
 
 
 @pytest.mark.parametrize("argv, says", [
@@ -61,6 +61,8 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     (["friction", "cdc", "--vary", "Delta=1,2", "--no-progress"], "give --vary v=..."),
     # a negative D is a plain number, not a Python string ("D = '-1'")
     (["noise", "vdp", "-p", "mu=0.1", "-p", "D=-1"], "D = -1 is negative"),
+    (["noise", "vdp", "-p", "mu=0.1", "-p", "D=inf"], "D = inf must be finite"),
+    (["escape", "cdc", "-p", "mu=0.02", "-p", "Delta=3", "-p", "D=-1"], "D = -1: the noise"),
     # no noise, no stationary density: refused, not 100 trajectories resting at the origin
     # with <a^2> = 0 +- 0 reported (van der Pol's attractor is the cycle a = 2)
     (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0"], "the noise is zero"),
@@ -104,6 +106,11 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     # the method won silently over the contradicting flag
     (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--method", "fokker-planck",
       "--no-fokker-planck"], "--no-fokker-planck contradicts --method fokker-planck"),
+    # "declare it: --internal 1:3 (internal=['1:3'])": the flag and the API argument
+    (["derive", "--rhs", "-x1**2*x2", "--rhs", "-x1**3", "--omega0", "1,3", "--order", "1"],
+     "declare it: --internal 1:3, with the frequencies"),
+    (["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--trajectories", "1"],
+     "--trajectories 1: at least 8"),
     # an empty --only wrote nothing and exited 0
     (["figures", "--only"], "give at least one, or leave out --only"),
     # --budget nan ran with no budget at all

@@ -57,3 +57,28 @@ def test_friction_refuses_an_unwritable_output_before_the_map(option, says, tmp_
                  "--no-progress"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and says.format(bad=bad) in err[0], err
+
+
+@pytest.mark.parametrize("argv", [
+    ["diagram", "sedf", "-p", "mu=0.1", "-p", "lam=1", "--vary", "Delta=0:6", "--vary",
+     "beta=0.3:1.6"],
+    ["lock", "coupled-vdp", "-p", "mu=0.05", "-p", "c=0.3", "--vary", "sigma=-1:1"],
+    ["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01"],
+    ["response", "duffing-forced", "-p", "mu=0.05", "-p", "zeta=0.1", "-p", "alpha=1", "-p",
+     "h=0.5", "--vary", "sigma=-1:3"],
+])
+def test_an_unwritable_out_is_refused_before_the_computation(argv, tmp_path, capsys):
+    """``--out`` under a regular file: these commands computed first (a diagram for minutes,
+    a spectrum's 64 trajectories) and failed when writing ("cannot access", "out = ...").
+    Now refused at once (well under a second), in one line naming ``--out``, and nothing is
+    created."""
+    import time
+
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    t0 = time.process_time()
+    assert main([*argv, "--out", str(blocker / "sub")]) == 2
+    assert time.process_time() - t0 < 1.0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"cannot write to --out = '{blocker / 'sub'}'" in err[0], err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a-file"]

@@ -213,6 +213,16 @@ def cli_message(message: str) -> str:
     return msg
 
 
+def _check_out(args: argparse.Namespace) -> None:
+    """An unwritable ``--out DIR`` refused before the command computes anything (it failed
+    after the computation: minutes of a diagram, a whole spectrum)."""
+    out = getattr(args, "out", None)
+    if isinstance(out, str) and out:
+        from ..output.files import check_folder
+
+        check_folder(out, "--out")
+
+
 def run_command(parser: argparse.ArgumentParser | Callable[[list[str]], argparse.ArgumentParser],
                 argv: Sequence[str] | None = None) -> int:
     """Parse ``argv`` and run the command; returns the exit status.
@@ -227,6 +237,7 @@ def run_command(parser: argparse.ArgumentParser | Callable[[list[str]], argparse
     received: list[int] = []
     previous = _on_sigterm(received)
     try:
+        _check_out(args)
         status = args.func(args)
     except KBMError as exc:
         print(f"kbm {args.command}: error: {cli_message(exc)}", file=sys.stderr)

@@ -111,6 +111,9 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
      "declare it: --internal 1:3, with the frequencies"),
     (["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--trajectories", "1"],
      "--trajectories 1: at least 8"),
+    # ran without end: the largest step is a quarter of lam/v = 1e-9
+    (["slide", "sedf", "-p", "Delta=3", "-p", "beta=1", "-p", "v=1e9", "--t-end", "15"],
+     "--t-end 15 needs at least 6e+10 steps"),
     # an empty --only wrote nothing and exited 0
     (["figures", "--only"], "give at least one, or leave out --only"),
     # --budget nan ran with no budget at all

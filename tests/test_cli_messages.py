@@ -36,7 +36,7 @@ def test_translation_table(library, cli):
 #: words of the Python API that no command-line message may hold (issue 35, item 6)
 API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.float64",
              "potential=", "`potential`", "root=", "t_end", "rtol", "in params", "averaged_cycles",
-             "D = '", "internal=", "trajectories = ")
+             "D = '", "internal=", "trajectories = ", "resonance='")
 
 
 @pytest.mark.parametrize("argv, says", [
@@ -109,6 +109,8 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     # "declare it: --internal 1:3 (internal=['1:3'])": the flag and the API argument
     (["derive", "--rhs", "-x1**2*x2", "--rhs", "-x1**3", "--omega0", "1,3", "--order", "1"],
      "declare it: --internal 1:3, with the frequencies"),
+    (["response", "duffing", "--forcing", "h*cos(theta)", "-p", "mu=0.05", "-p", "h=0.5",
+      "--nu", "1"], "declare it: --resonance 1/1 with the detuning"),
     (["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--trajectories", "1"],
      "--trajectories 1: at least 8"),
     # ran without end: the largest step is a quarter of lam/v = 1e-9

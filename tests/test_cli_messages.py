@@ -36,7 +36,7 @@ def test_translation_table(library, cli):
 #: words of the Python API that no command-line message may hold (issue 35, item 6)
 API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.float64",
              "potential=", "`potential`", "root=", "t_end", "rtol", "in params", "averaged_cycles",
-             "D = '")
+             "D = '", "internal=", "trajectories = ", "resonance='")
 
 
 @pytest.mark.parametrize("argv, says", [
@@ -61,12 +61,68 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     (["friction", "cdc", "--vary", "Delta=1,2", "--no-progress"], "give --vary v=..."),
     # a negative D is a plain number, not a Python string ("D = '-1'")
     (["noise", "vdp", "-p", "mu=0.1", "-p", "D=-1"], "D = -1 is negative"),
+    (["noise", "vdp", "-p", "mu=0.1", "-p", "D=inf"], "D = inf must be finite"),
+    (["escape", "cdc", "-p", "mu=0.02", "-p", "Delta=3", "-p", "D=-1"], "D = -1: the noise"),
     # no noise, no stationary density: refused, not 100 trajectories resting at the origin
     # with <a^2> = 0 +- 0 reported (van der Pol's attractor is the cycle a = 2)
     (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0"], "the noise is zero"),
     (["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "T=0"], "give D > 0 or T > 0"),
     (["derive", "coupled-vdp", "--order", "1", "--numeric", "--a-range", "1:2"],
      "--a-range is not for the coupled numeric backend"),
+    # kbm spectrum: a ZeroDivisionError traceback, an OOM kill after 40 s, a MemoryError
+    # traceback, options the forced and coupled runs dropped without a word
+    (["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--resolution", "0"],
+     "--resolution must be a positive number, got 0"),
+    (["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--duration", "-1"],
+     "--duration must be a positive number"),
+    (["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--trajectories", "1000000000"],
+     "integration steps, above the limit 2e+09: give fewer --trajectories"),
+    (["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--duration", "1e12"],
+     "integration steps, above the limit"),
+    (["spectrum", "vdp", "-p", "mu=0.1", "--vary", "D=0.005:0.02:100000"],
+     "shared by 100000 runs of the sweep"),
+    (["spectrum", "coupled-vdp", "-p", "mu=0.1", "-p", "c=0.3", "-p", "D=0.02", "--vary",
+      "sigma=0.2,0.3", "--trajectories", "1000000000"], "integration steps, above the limit"),
+    (["spectrum", "coupled-vdp", "-p", "mu=0.1", "-p", "c=0.3", "-p", "D=0.02", "--vary",
+      "sigma=0.2,0.3", "--no-simulation"], "would ignore it: leave out --no-simulation"),
+    (["spectrum", "duffing-forced", "-p", "mu=0.05", "-p", "zeta=0.5", "-p", "alpha=1", "-p",
+      "h=2", "-p", "D=0.001", "--vary", "sigma=0.8,1.1", "--floquet"],
+     "would ignore it: leave out --floquet"),
+    (["spectrum", "duffing-forced", "-p", "mu=0.05", "-p", "zeta=0.5", "-p", "alpha=1", "-p",
+      "h=2", "-p", "D=0.001", "--vary", "sigma=0.8:1.1:5000"], "the limit is 200"),
+    # a TypeError traceback ('Mul' object is not iterable)
+    (["lock", "vdp", "-p", "mu=0.05", "--vary", "sigma=-1:1"], "vdp has one degree of freedom"),
+    # the last --vary silently replaced the first (then "needs values for Delta")
+    (["branch", "sedf", "-p", "mu=0.1", "-p", "beta=1", "-p", "lam=1", "--vary", "Delta=0:4",
+      "--vary", "beta=0:1"], "give one --vary (got Delta, beta)"),
+    (["response", "duffing-forced", "-p", "mu=0.05", "-p", "zeta=0.1", "-p", "alpha=1", "-p",
+      "h=0.5", "--vary", "h=0.1:1", "--vary", "sigma=-1:3"], "give one --vary (got h, sigma)"),
+    # a ZeroDivisionError traceback (exact), a* = 0 printed as a cycle (--method kbm)
+    (["series", "vdp", "--order", "4", "--root", "0"], "a0 = 0 is the rest state"),
+    (["series", "vdp", "--order", "4", "--root", "0", "--method", "kbm"],
+     "choose one with --root A0"),
+    # RankWarnings and slopes fitted to one point
+    (["compare", "vdp", "--convergence", "0.1,0.1,0.1"], "at least two distinct values of mu"),
+    # the method won silently over the contradicting flag
+    (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--method", "fokker-planck",
+      "--no-fokker-planck"], "--no-fokker-planck contradicts --method fokker-planck"),
+    # "declare it: --internal 1:3 (internal=['1:3'])": the flag and the API argument
+    (["derive", "--rhs", "-x1**2*x2", "--rhs", "-x1**3", "--omega0", "1,3", "--order", "1"],
+     "declare it: --internal 1:3, with the frequencies"),
+    (["response", "duffing", "--forcing", "h*cos(theta)", "-p", "mu=0.05", "-p", "h=0.5",
+      "--nu", "1"], "declare it: --resonance 1/1 with the detuning"),
+    (["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--trajectories", "1"],
+     "--trajectories 1: at least 8"),
+    # ran without end: the largest step is a quarter of lam/v = 1e-9
+    (["slide", "sedf", "-p", "Delta=3", "-p", "beta=1", "-p", "v=1e9", "--t-end", "15"],
+     "--t-end 15 needs at least 6e+10 steps"),
+    # an empty --only wrote nothing and exited 0
+    (["figures", "--only"], "give at least one, or leave out --only"),
+    # --budget nan ran with no budget at all
+    (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--budget", "nan"], "--budget must be"),
+    # E_b/kT = 2e7: two RuntimeWarnings and "came out as nan ... check mu > 0 and D > 0"
+    (["escape", "cdc", "-p", "mu=0.02", "-p", "Delta=3", "-p", "D=1e-9", "--no-simulation"],
+     "raise D to 3.11e-05 or more"),
 ])
 def test_messages_speak_the_command_line(argv, says, capsys):
     """Each message as the user meets it: one line, exit 2, the option named as typed and no

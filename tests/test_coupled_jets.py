@@ -183,7 +183,7 @@ def test_bad_input_gets_one_line_errors():
         jet_expansion(vdp, {"sigma": 0.1}, 2, [1, 1], [0])
     # 1:3 frequencies with a cubic coupling, the resonance not declared: named
     undeclared = coupled_custom(["-x1**3 - x1**2*x2", "-x2**3 - x1**3"], "1,3")
-    with pytest.raises(UndeclaredResonanceError, match="--internal 1:3"):
+    with pytest.raises(UndeclaredResonanceError, match=r"internal=\['1:3'\]"):
         jet_expansion(undeclared, {}, 2, [1, 1], [])
     # a forcing frequency in F puts mu into F
     forced_nu = CoupledOscillators("f", ("-x1**3 + cos(theta)*nu",), (1,), nu0=1,

@@ -158,7 +158,7 @@ class ResonantAlgebra(SlowRates):
             f"nu = {near} omega0: the harmonic cos({arg}) of R_{n} has the small "
             f"divisor omega0^2 (1 - ({m} + {k} nu/omega0)^2) and the non-resonant expansion "
             f"breaks down; declare it: resonance='{near.numerator}/{near.denominator}' "
-            f"(--resonance {near.numerator}/{near.denominator}) with the detuning "
+            f"with the detuning "
             f"sigma = (nu - {near} omega0)/mu")
 
 

@@ -179,6 +179,8 @@ _TRANSLATIONS = tuple((re.compile(pattern), repl) for pattern, repl in (
     (r"raise max_wells or max_periods|raise mu, v or max_wells/max_periods",
      "raise mu or v (a run stops after 3000 stage periods lam/v or 30000 natural periods)"),
     (r"\bgive nu0 \(", "give --nu0 NU0 ("),
+    (r"\bdeclare it: internal=\['([^']*)'\]", r"declare it: --internal \1"),
+    (r"\bdeclare it: resonance='([^']*)'", r"declare it: --resonance \1"),
     (r"\bcustom_model\b", "--rhs EXPR"),
     (r"\(x_start\)", "(--x-start)"),
     (r"\(potential=\.\.\.\)", "(--potential EXPR)"),
@@ -193,6 +195,7 @@ _TRANSLATIONS = tuple((re.compile(pattern), repl) for pattern, repl in (
      "use kbm predict --method kbm for them"),
     (r"\b(lower|raise) rtol\b", r"\1 --rtol"),
     (r"^rtol must", "--rtol must"),
+    (r"^trajectories = (\d+):", r"--trajectories \1:"),
     (r"^the seed must", "--seed must"),
     (r"\bt_end = ", "--t-end "),
     (r"\bt_end\b", "--t-end"),
@@ -211,6 +214,16 @@ def cli_message(message: str) -> str:
     return msg
 
 
+def _check_out(args: argparse.Namespace) -> None:
+    """An unwritable ``--out DIR`` refused before the command computes anything (it failed
+    after the computation: minutes of a diagram, a whole spectrum)."""
+    out = getattr(args, "out", None)
+    if isinstance(out, str) and out:
+        from ..output.files import check_folder
+
+        check_folder(out, "--out")
+
+
 def run_command(parser: argparse.ArgumentParser | Callable[[list[str]], argparse.ArgumentParser],
                 argv: Sequence[str] | None = None) -> int:
     """Parse ``argv`` and run the command; returns the exit status.
@@ -225,6 +238,7 @@ def run_command(parser: argparse.ArgumentParser | Callable[[list[str]], argparse
     received: list[int] = []
     previous = _on_sigterm(received)
     try:
+        _check_out(args)
         status = args.func(args)
     except KBMError as exc:
         print(f"kbm {args.command}: error: {cli_message(exc)}", file=sys.stderr)

@@ -203,7 +203,7 @@ def resonant_harmonic(h: tuple[int, ...], i: int, n: int, omega: tuple, lattice:
         return k, s
     what = "exactly" if gap == 0 else f"within {float(gap):.3g} omega{i + 1} of"
     decl = declaration(k, forced)
-    hint = (f"declare it: --internal {decl} (internal=['{decl}']), with the frequencies "
+    hint = (f"declare it: internal=['{decl}'], with the frequencies "
             f"in the exact ratio and any detuning written in F"
             if decl else "a combination resonance of more than two modes, which kbm "
                          "does not average yet; change the frequencies")

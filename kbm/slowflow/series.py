@@ -283,4 +283,7 @@ def _first_order_root(A1: sp.Expr, root: object | None) -> sp.Expr:
     a0 = sp.nsimplify(parse(root) if isinstance(root, str) else root)
     if sp.simplify(A1.subs(a, a0)) != 0:
         raise ParameterError(f"a0 = {a0} is not a root of A_1 = {A1}")
+    if a0 == 0:  # a root of every A_1: a ZeroDivisionError traceback, or a* = 0 printed
+        raise AveragedCycleError(f"a0 = 0 is the rest state, not a limit cycle; the cycles "
+                                 f"are the positive roots of A_1 = {A1}: choose one with root=")
     return a0

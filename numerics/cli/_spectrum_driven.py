@@ -22,6 +22,10 @@ __all__ = ["run_driven", "run_slips", "DEFAULT_TRAJECTORIES", "DEFAULT_DETUNINGS
 DEFAULT_TRAJECTORIES = 32
 #: detunings of a range ``--vary sigma=A:B`` without ``:N``
 DEFAULT_DETUNINGS = 3
+#: detunings of one run at most: each is a whole ensemble, and the stable states of every
+#: detuning are found before the first is simulated (``--vary sigma=0.8:1.1:5000`` ran on
+#: without a word)
+MAX_DETUNINGS = 200
 
 
 def _opt(args, name, default=None):
@@ -68,6 +72,10 @@ def _bind(args, kind: str):
                              "-p D=VALUE with D > 0 (or the temperature -p T=VALUE > 0)")
     if v is not None:
         values = [float(x) for x in v.values(DEFAULT_DETUNINGS)]
+        if len(values) > MAX_DETUNINGS:
+            raise ParameterError(f"--vary {v.text}: {len(values)} detunings, each a whole "
+                                 f"ensemble of trajectories; the limit is {MAX_DETUNINGS}: give "
+                                 "fewer values")
     elif name in params:
         values = [float(params[name])]
     else:

@@ -18,7 +18,7 @@ def register(sub) -> None:
                 "amplitude equation and of the energy balance.", "param", "vary", "orders",
                 models="vdp, rayleigh, sedf, cdc, ...; coupled: coupled-vdp, sedf-dimer, ...",
                 coupled=True, vary=dict(
-        action="store", required=True, default=None,
+        required=True,
         help="the parameter and its range, e.g. --vary Delta=0:4; the branch starts at --param "
              "NAME=VALUE if given, else at FROM"), orders=dict(
         default="1", metavar="N,...",
@@ -53,6 +53,11 @@ def _checked(args: argparse.Namespace, params: dict, name: str):
 
 
 def run(args: argparse.Namespace) -> int:
+    if len(args.vary) > 1:  # the last --vary silently replaced the others
+        raise ParameterError(f"kbm branch follows one parameter: give one --vary (got "
+                             f"{', '.join(v.split('=')[0] for v in args.vary)}); kbm diagram "
+                             "draws a plane of two")
+    args.vary = args.vary[0]
     from numerics.flow.aot import allow_builds
 
     allow_builds()  # start-up is what this command is waited for (issue 39)

@@ -6,6 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from kbm.errors import ParameterError
 from numerics.cli.params.options import command
 
 
@@ -34,6 +35,9 @@ def run(args: argparse.Namespace) -> int:
     from numerics.paper.figures.friction import friction_figures
 
     within(args.friction_size, "--friction-size", 2, 32)
+    if args.only == []:  # wrote nothing and exited 0
+        raise ParameterError(f"--only names the figures to write (of {', '.join(FIGURES)}); "
+                             "give at least one, or leave out --only for all")
     output_folder(args.out, "--out")  # before any computation
     names = list(FIGURES) if args.only is None else list(args.only)
     import time

@@ -90,6 +90,22 @@ def _save_netcdf(path: str, first, second) -> None:
 SLIDERS = ("sedf_comoving", "cdc", "sedf")
 
 
+def _check_outputs(args: argparse.Namespace) -> None:
+    """``--out`` and ``--netcdf``'s folder writable before the map is computed (an
+    unwritable one failed after the whole map: "cannot access '/proc/x'")."""
+    from pathlib import Path
+
+    from kbm.output.files import output_folder
+
+    if args.out:
+        output_folder(args.out, "--out")
+    if args.netcdf:
+        path = Path(args.netcdf)
+        if path.is_dir():
+            raise ParameterError(f"--netcdf {args.netcdf} is a folder; name a file")
+        output_folder(path.parent, "--netcdf's folder")
+
+
 def run(args: argparse.Namespace) -> int:
     from kbm.model.builtins import parameter_value
     from kbm.parameters.names import closest
@@ -142,6 +158,7 @@ def run(args: argparse.Namespace) -> int:
     params = {"mu": 0.1, "lam": 1.0, "Omega": 1.0, **params}
     settings = FrictionSettings(slips=args.slips)
     check_ensemble(args)
+    _check_outputs(args)
     with stored(args, "map") as store:
         client = connect(args.scheduler, args.scheduler_timeout) if args.scheduler else None
         kw = dict(settings=settings, engine=args.engine, executor=client, workers=args.workers,
@@ -168,6 +185,14 @@ def _ratios(first, second) -> dict:
             "dissipation_ratio": comp.dissipation_ratio.tolist()}
 
 
+def _cell(x: float, fmt: str) -> str:
+    """``x`` in ``fmt``, or ``--`` in its width where it has no value (a sliding state has no
+    static friction and no slips: the table printed ``nan``; the JSON has ``null``)."""
+    import math
+
+    return format(x, fmt) if math.isfinite(x) else format("--", f">{fmt.split('.')[0]}")
+
+
 def _print(m) -> None:
     from kbm.cli import cli_message
 
@@ -182,8 +207,8 @@ def _print(m) -> None:
             print(f"{vals}  failed: {cli_message(p.error)}")
             continue
         print(f"{vals} {p.regime:>24s} {p.mean_force:10.5g} {p.dissipation_per_distance:10.5g} "
-              f"{p.static_force:9.4g} {p.stuck_fraction:6.3f} {p.wells_per_slip:6.3g} "
-              f"{p.eta:6.3g} {'yes' if p.steady else 'no'}")
+              f"{_cell(p.static_force, '9.4g')} {p.stuck_fraction:6.3f} "
+              f"{_cell(p.wells_per_slip, '6.3g')} {p.eta:6.3g} {'yes' if p.steady else 'no'}")
         if p.note:
             print(f"{'':{10 * len(names)}s}  ({cli_message(p.note)})")
 

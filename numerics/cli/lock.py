@@ -70,6 +70,11 @@ def run(args: argparse.Namespace) -> int:
     from kbm.cli.derive import coupled_model
 
     model = coupled_model(args)
+    if not isinstance(model.F, (tuple, list)) or len(model.F) < 2:
+        # a one-degree-of-freedom built-in came here as itself (vdp: a TypeError traceback)
+        raise ParameterError(f"kbm lock needs coupled oscillators; {model.name} has one degree "
+                             "of freedom: choose a coupled built-in (coupled-vdp, sedf-dimer) "
+                             "or give one --rhs per oscillator")
     if args.internal:
         model = model.with_internal(args.internal)
     if args.order is None:  # the numeric backend of a smooth F is first order

@@ -7,6 +7,7 @@ import math
 from pathlib import Path
 
 from kbm.cli._common import emit_json, write_json
+from kbm.errors import ParameterError
 from numerics.cli.params.options import command, options
 
 
@@ -81,6 +82,9 @@ def run(args) -> int:
     from numerics.cli.params.values import given, noisy_model
 
     check_ensemble(args)
+    if args.method == "fokker-planck" and args.no_fokker_planck:  # the method won silently
+        raise ParameterError("--no-fokker-planck contradicts --method fokker-planck, which "
+                             "requires the Fokker-Planck moments: give one of them")
     params, noise = noisy_model(args.model, args.param)
     from numerics.thermal.stationary import noise_report  # after the input is checked
     figure = None

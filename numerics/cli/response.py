@@ -49,7 +49,7 @@ def register(sub) -> None:
                    help="the declared resonance nu ~ (p/q) omega0 (1/1 primary, 1/3 "
                         "superharmonic, 3 subharmonic, 2 parametric); default the model's")
     options(p, "param", "vary", vary=dict(
-        action="store", default=None, metavar="sigma=FROM:TO[:N]",
+        default=None, metavar="sigma=FROM:TO[:N]",
         help="the detuning range and about N points per branch (default 400)"))
     p.add_argument("--detuning", type=float, metavar="SIGMA",
                    help="instead of --vary: every steady response at this one detuning")
@@ -93,6 +93,11 @@ def run(args: argparse.Namespace) -> int:
     from numerics.cli.params.values import within
     from numerics.comparison.response_diagram import response_diagram
 
+    if args.vary is not None:  # the last --vary silently replaced the others
+        if len(args.vary) > 1:
+            raise ParameterError(f"kbm response varies the detuning alone: give one --vary "
+                                 f"(got {', '.join(v.split('=')[0] for v in args.vary)})")
+        args.vary = args.vary[0]
     if args.rhs is not None and len(args.rhs) > 1:
         from numerics.cli._coupled_branch import run_coupled_response
 

@@ -109,11 +109,33 @@ def _bind(args):
     return model, params, values, noise
 
 
+#: the options of a self-excited line that the other kinds do not use
+_LINE_ONLY = {"forced": ("floquet", "no_simulation"),
+              "coupled": ("floquet", "no_simulation", "resolution")}
+
+
+def _check_options(args, kind: str) -> None:
+    """Refuse a non-positive ``--duration`` or ``--resolution`` (``--resolution 0`` ended in
+    a ``ZeroDivisionError``) and an option this kind of model would ignore."""
+    from numerics.cli.params.values import positive
+
+    positive(args.duration, "--duration")
+    positive(args.resolution, "--resolution")
+    what = {"forced": "response spectra of a forced model",
+            "coupled": "phase-slip rate of coupled oscillators"}.get(kind)
+    for name in _LINE_ONLY.get(kind, ()):
+        if getattr(args, name) not in (None, False):
+            flag = "--" + name.replace("_", "-")
+            raise ParameterError(f"{flag} is for the line of a self-excited model; the {what} "
+                                 f"would ignore it: leave out {flag}")
+
+
 def run(args) -> int:
     from numerics.cli.params.options import check_ensemble, stored
 
     check_ensemble(args)
     kind = _kind(args)
+    _check_options(args, kind)
     if kind == "forced":
         from numerics.cli._spectrum_driven import run_driven
 
@@ -133,7 +155,7 @@ def run(args) -> int:
                 trajectories=args.trajectories or DEFAULT_TRAJECTORIES,
                 duration=args.duration, resolution=args.resolution, seed=args.seed,
                 workers=args.workers, store=store, progress=not args.json,
-                simulate=not args.no_simulation, floquet=args.floquet))
+                simulate=not args.no_simulation, floquet=args.floquet, shared=len(values)))
     rep = dict(reports[0])
     if len(reports) > 1:
         rep["sweep"] = [{"D": r["D"], "linewidth": r["linewidth"], "frequency": r["frequency"]}

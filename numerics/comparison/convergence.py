@@ -47,12 +47,14 @@ Non-Linear Oscillations* (1961), ch. 1, sec. 2 (error of the N-th approximation)
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
 
+from kbm.errors import ParameterError
 from kbm.model.builtins import Oscillator, get_model
 from kbm.output.strict_json import jsonable
 from kbm.symbols import xdot as V
@@ -199,6 +201,12 @@ def convergence_study(model: str, eps: Sequence[float], *, orders: Sequence[int]
     >>> round(s.slopes[(1, "frequency")])
     2
     """
+    values = [float(e) for e in eps]
+    if len(set(values)) < 2 or not all(math.isfinite(e) and e > 0 for e in values):
+        # 0.1,0.1,0.1 printed RankWarnings and slopes fitted to one point
+        raise ParameterError("a convergence study needs at least two distinct values of "
+                             "mu > 0 (the slope of log|error| against log mu), got "
+                             f"{', '.join(f'{e:g}' for e in values)}")
     fixed = dict(fixed or {})
     orders = tuple(sorted(int(n) for n in orders))
     res = derived(model, orders[-1])

@@ -33,7 +33,7 @@ def noise_level(D: object) -> float:
     except (TypeError, ValueError):
         raise ParameterError(f"D must be a number, got {D!r} (e.g. -p D=0.01)") from None
     if not math.isfinite(val) or val < 0:
-        raise ParameterError(f"D = {D!r}: the noise intensity must be finite and >= 0 "
+        raise ParameterError(f"D = {val:g}: the noise intensity must be finite and >= 0 "
                              "(x'' + ... = sqrt(2 D) xi(t); e.g. -p D=0.01)")
     return val
 
@@ -61,7 +61,7 @@ def check_mu(params: dict) -> None:
         if not math.isfinite(val):
             what = ("finite and >= 0 (the noise intensity of sqrt(2 D) xi)" if key == "D"
                     else "a finite number > 0")
-            raise ParameterError(f"{key} = {params[key]!r} must be {what}; e.g. -p {key}=0.1")
+            raise ParameterError(f"{key} = {params[key]} must be {what}; e.g. -p {key}=0.1")
         if key == "mu" and val <= 0:
             raise ParameterError(
                 f"mu = {params[key]}: the small parameter must be > 0 (x'' + omega0^2 x = mu "

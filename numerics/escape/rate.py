@@ -162,11 +162,14 @@ def averaged_escape(env: EnergyEnvelope) -> EscapeRate:
     J = Piecewise.sample(p.action.breaks,
                          lambda z: p.gamma(z) * np.exp(p.log_f(z) - ref)).integ()
     y, wy = p.rule()
-    integrand = 1.0 - mu / D * J(y) / (p.action(y) * np.exp(p.log_f(y) - ref))
-    tau = float(np.sum(wy * integrand)) / D
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):  # said below
+        integrand = 1.0 - mu / D * J(y) / (p.action(y) * np.exp(p.log_f(y) - ref))
+        tau = float(np.sum(wy * integrand)) / D
     if not (math.isfinite(tau) and tau > 0):
         raise ModelError(f"the mean first-passage time came out as {tau}: the averaged "
-                         "energy process does not reach the barrier (check mu > 0 and D > 0)")
+                         "energy process does not reach the barrier (check mu > 0 and D > 0), "
+                         "or the barrier is several hundred times D/mu and the MFPT "
+                         "overflows double precision (raise D)")
     split = env.split
     sad = [e.x for e in env.portrait.equilibria if e.kind == "saddle"]
     xl = max([s for s in sad if s < 0], default=-math.inf)

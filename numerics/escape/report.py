@@ -23,6 +23,11 @@ MIN_BARRIER_OVER_KT = 2.0
 #: averaged envelope (cut ``40 D/mu`` above the well) would span hundreds of barriers
 #: (``kbm escape cdc -p mu=0.1 -p Delta=3 -p D=100``, ``E_b/kT = 1e-3``, ran for minutes)
 NO_RATE_BARRIER_OVER_KT = 0.1
+#: above this barrier in units of kT the rate exp(-E_b/kT) is below 1e-304 and the averaged
+#: MFPT overflows double precision (``kbm escape cdc -p mu=0.02 -p Delta=3 -p D=1e-9``
+#: printed two RuntimeWarnings and "the mean first-passage time came out as nan ... check
+#: mu > 0 and D > 0"; E_b/kT = 701 still gives 5e-304)
+MAX_BARRIER_OVER_KT = 700.0
 
 
 def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=None, dt=None,
@@ -225,10 +230,16 @@ def _check_barrier(model: str, params: dict, D: float) -> None:
     mu = float(split.mu)
     barrier = wells[0].energy_max - wells[0].energy_min
     scale = D / mu
-    if barrier / scale >= NO_RATE_BARRIER_OVER_KT:
-        return
     what = ("kT = D/mu" if sp.simplify(split.h + xdot) == 0
             else "D/mu (the noise's energy scale; the damping is not linear)")
+    if barrier / scale > MAX_BARRIER_OVER_KT:
+        raise ParameterError(
+            f"E_b/kT = {barrier / scale:.3g} > {MAX_BARRIER_OVER_KT:g} (barrier E_b - E_0 = "
+            f"{barrier:.4g}, {what} = {scale:.4g}): the escape rate ~ exp(-E_b/kT) is below "
+            "1e-304, beyond double precision and any simulation; raise D to "
+            f"{barrier * mu / MAX_BARRIER_OVER_KT:.3g} or more")
+    if barrier / scale >= NO_RATE_BARRIER_OVER_KT:
+        return
     raise ParameterError(
         f"E_b/kT = {barrier / scale:.3g} < {NO_RATE_BARRIER_OVER_KT:g} (barrier E_b - E_0 = "
         f"{barrier:.4g}, {what} = {scale:.4g}): the barrier is far below the thermal energy, "

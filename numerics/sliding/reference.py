@@ -39,6 +39,10 @@ __all__ = ["SlideResult", "slide", "MAX_PERIODS"]
 #: bound on the length of a run, in natural periods ``2 pi/Omega`` (a run of this length
 #: takes about half a minute and keeps its dense output in memory)
 MAX_PERIODS = 5_000
+#: bound on the integration steps a run's largest step (a quarter of its shortest time scale)
+#: allows at the least: ``kbm slide sedf -p v=1e9 --t-end 15`` (the stage crosses a well every
+#: 1e-9) ran without end; a run of MAX_PERIODS periods at the paper's values takes 1e5
+MAX_STEPS = 2_000_000
 
 
 @dataclass(frozen=True, eq=False)
@@ -172,6 +176,12 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
     scale = min(2 * math.pi / Om, p["lam"] / max(abs(v), 1e-12),
                 2 * math.pi / math.sqrt(Om**2 + p["Delta"] * k))
     ms = max_step if max_step is not None else scale / 4
+    if t_end / ms > MAX_STEPS:
+        why = ("the stage crosses a well every lam/v" if scale == p["lam"] / max(abs(v), 1e-12)
+               else "the shortest period of the slider is")
+        raise ParameterError(f"t_end = {t_end:g} needs at least {t_end / ms:.3g} steps ({why} "
+                             f"= {scale:.3g}, at most a quarter of it per step); the limit is "
+                             f"{MAX_STEPS:.0e}: lower v or t_end")
     n = n_samples or max(2000, int(20 * t_end * Om / (2 * math.pi)))
     with np.errstate(all="ignore"):
         sol = solve_ivp(rhs, (0.0, t_end), [x0, v0, 0.0, 0.0, 0.0, 0.0, 0.0], method=method,

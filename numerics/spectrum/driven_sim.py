@@ -70,14 +70,21 @@ def _fluct_task(task) -> list:
 def simulate_fluctuations(model, params: Mapping[str, object], D: float, y0, *, dt: float,
                           burn_in_steps: int, samples: int, stride: int, mode: int = 0,
                           trajectories: int = 32, seed: int = 0, workers: int | None = None,
-                          store=None, progress: bool = False) -> np.ndarray:
+                          store=None, progress: bool = False, shared: int = 1) -> np.ndarray:
     """``x_mode(t) - x_p(t)`` of ``trajectories`` paths of the full SDE started at ``y0``
     (``trajectories x samples``, sampled every ``stride`` steps after ``burn_in_steps``).
 
     ``x_p`` is the noise-free lane of the same scheme, so the coherent response is removed
     to the scheme's accuracy; the chunks (:data:`numerics.noise.coupled.CHUNK` paths) and
-    the seeds make the array the same on any executor and worker count."""
+    the seeds make the array the same on any executor and worker count.  A run above the
+    step or memory limit, shared by ``shared`` runs of a sweep, is refused
+    (:func:`numerics.spectrum._cost.check_cost`: the array of ``trajectories x samples``)."""
     from numerics.executor import chunk, map_chunks
+    from numerics.spectrum._cost import STEP_LIMIT, check_cost
+
+    steps = int(burn_in_steps) + int(samples) * int(stride)
+    check_cost(trajectories, steps, 8.0 * int(trajectories) * int(samples),
+               budget=STEP_LIMIT / shared, shared=shared)
 
     params = {k: float(v) for k, v in params.items()}
     idx = list(range(int(trajectories)))
@@ -219,7 +226,7 @@ def response_spectra(model, params: Mapping[str, object], D: float, detunings: S
                                        burn_in_steps=plan["burn"], samples=plan["samples"],
                                        stride=plan["stride"], mode=mode,
                                        trajectories=trajectories, seed=seed, workers=workers,
-                                       store=store, progress=progress)
+                                       store=store, progress=progress, shared=len(cases))
             q = int(round(W * flow.period / (2 * math.pi)))
             dx, shift = coherent_part(dx, plan["per_period"], q)
             sim = ensemble_psd(dx, plan["dt"] * plan["stride"], nperseg=plan["nperseg"])

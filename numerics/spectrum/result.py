@@ -43,7 +43,7 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
                 trajectories: int = DEFAULT_TRAJECTORIES, duration: float | None = None,
                 resolution: float | None = None, seed: int = 0, workers: int | None = None,
                 store=None, progress: bool = False, simulate: bool = True,
-                floquet: bool = False) -> dict:
+                floquet: bool = False, shared: int = 1) -> dict:
     """The averaged and simulated linewidth, frequency and PSD of a self-excited model.
 
     Parameters
@@ -62,6 +62,8 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
     floquet : bool
         Add ``linewidth.floquet`` and ``frequency.floquet``: the small-noise linewidth
         ``D <Z_v^2>`` and the frequency of the true cycle (:mod:`numerics.spectrum.floquet`).
+    shared : int
+        Runs of a sweep the step limit is shared by (:mod:`numerics.spectrum._cost`).
 
     Raises
     ------
@@ -75,6 +77,10 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
     if not (isinstance(D, (int, float)) and math.isfinite(D) and D > 0):
         raise ParameterError(f"D = {D!r}: a linewidth needs noise; give -p D=VALUE with D > 0 "
                              "(or the temperature -p T=VALUE > 0)")
+    for name, val in (("duration", duration), ("resolution", resolution)):
+        if val is not None and not (isinstance(val, (int, float)) and math.isfinite(val)
+                                    and val > 0):
+            raise ParameterError(f"{name} must be a positive number, got {val!r}")
     th = line_theory(model, params, D, order=order)
     G = th.linewidth
     if resolution is None:
@@ -106,7 +112,7 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
                         trajectories=trajectories, duration=float(duration),
                         burn_in=10.0 / th.relaxation, window=window, resolution=resolution,
                         tau_min=5.0 / th.relaxation, amplitude=th.amplitude, seed=seed,
-                        workers=workers, store=store, progress=progress)
+                        workers=workers, store=store, progress=progress, shared=shared)
     fit = fit_lorentzian(sim.psd, sim.frequency.value, G)
     rep["linewidth"].update(simulated=sim.linewidth.value, stderr=sim.linewidth.stderr,
                             fit=fit.hwhm if fit.success else None,

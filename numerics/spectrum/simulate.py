@@ -29,6 +29,7 @@ from ..executor import chunk, map_chunks
 from ..noise.ensemble import MIN_TRAJECTORIES, Estimate
 from ..noise.langevin import langevin_system
 from ..noise.seeds import check_seed, trajectory_states
+from ._cost import STEP_LIMIT, check_cost
 from .linewidth import increment_sums, phase_growth, unwrapped_phase
 from .psd import PSD, ResolutionError, combine, resolution_of, welch_rows
 
@@ -102,7 +103,7 @@ def simulate_line(model, params: dict, D: float, *, trajectories: int, duration:
                   tau_min: float, amplitude: float, dt: float | None = None,
                   sample: float | None = None, seed: int = 0, workers: int | None = None,
                   executor=None, store=None, progress: bool = False,
-                  confidence: float = 0.95) -> SimulatedLine:
+                  confidence: float = 0.95, shared: int = 1) -> SimulatedLine:
     """Simulate the ensemble and measure its line.
 
     Parameters
@@ -131,13 +132,15 @@ def simulate_line(model, params: dict, D: float, *, trajectories: int, duration:
         four times the window's top).
     seed, workers, executor, store, progress :
         As :func:`numerics.noise.ensemble.stationary_ensemble`.
+    shared : int
+        Runs of a sweep the step limit is shared by (:func:`numerics.spectrum._cost.check_cost`).
 
     Raises
     ------
     numerics.spectrum.psd.ResolutionError
         ``duration`` shorter than one segment of the requested resolution.
     kbm.errors.ParameterError
-        Too few trajectories, a bad time.
+        Too few trajectories, a bad time, a run above the step or memory limit.
     numerics.errors.NumericsError
         Diverged trajectories.
     """
@@ -159,6 +162,9 @@ def simulate_line(model, params: dict, D: float, *, trajectories: int, duration:
     n_run = int(round(duration / sample)) * stride
     n_burn = int(math.ceil(burn_in / sample)) * stride if burn_in > 0 else 0
     samples = n_run // stride + 1
+    # a trajectory's path (burn-in included) is recorded whole before it is reduced
+    check_cost(trajectories, n_burn + n_run, 16.0 * ((n_burn + n_run) // stride + 1),
+               budget=STEP_LIMIT / shared, shared=shared)
     nperseg = int(math.ceil(2 * math.pi / (resolution * sample) - 1e-9))
     if nperseg > samples:
         raise ResolutionError(

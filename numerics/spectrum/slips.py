@@ -266,16 +266,18 @@ def _slip_task(task) -> list:
 def simulate_slips(model, params: Mapping[str, object], D: float, *, duration: float,
                    burn_in: float, trajectories: int = 32, seed: int = 0,
                    workers: int | None = None, store=None, progress: bool = False,
-                   dt: float | None = None) -> dict:
+                   dt: float | None = None, shared: int = 1) -> dict:
     """Slip counts of the full noisy system (module docstring): ``{"rate", "stderr",
     "frequency", "frequency_stderr", "forward", "backward", "duration", ...}``.
 
     Raises
     ------
     kbm.errors.ParameterError
-        For a bad time, ``D <= 0``, or fewer than 2 trajectories.
+        For a bad time, ``D <= 0``, fewer than 2 trajectories, or a run above the step or
+        memory limit (shared by ``shared`` runs of a sweep, :mod:`numerics.spectrum._cost`).
     """
     from numerics.executor import chunk, map_chunks
+    from numerics.spectrum._cost import STEP_LIMIT, check_cost
 
     if trajectories < 2:
         raise ParameterError(f"--trajectories {trajectories}: a standard error needs at least 2")
@@ -289,6 +291,10 @@ def simulate_slips(model, params: Mapping[str, object], D: float, *, duration: f
     stride = max(1, int(0.5 / top / dt))  # a sample every half radian at least
     n_run = int(round(duration / dt / stride)) * stride
     n_burn = int(round(burn_in / dt / stride)) * stride
+    # a chunk of CHUNK paths is recorded whole (all 2 dof coordinates) before it is reduced
+    check_cost(trajectories, n_burn + n_run, 8.0 * min(int(trajectories), CHUNK)
+               * 2 * system.dof * ((n_burn + n_run) // stride + 1), budget=STEP_LIMIT / shared,
+               shared=shared)
     y0 = tuple([2.0] * system.dof + [0.0] * system.dof)
     groups = chunk(list(range(int(trajectories))), size=CHUNK)
     tasks = [(model, params, float(D), y0, float(dt), n_burn, n_run, stride, int(seed), g[0],
@@ -319,6 +325,7 @@ def slip_report(model, params: Mapping[str, object], D: float, detunings, *, ord
     "frequency_difference": {...}, "adler": {tilt, coupling}, ...}``.
 
     The default duration is ``400/mu`` after a burn-in of ``20/mu``."""
+    detunings = list(detunings)
     out = []
     for s in detunings:
         p = {**dict(params), detuning: float(s)}
@@ -337,7 +344,7 @@ def slip_report(model, params: Mapping[str, object], D: float, detunings, *, ord
             T = duration if duration is not None else 400 / mu
             sim = simulate_slips(model, p, D, duration=T, burn_in=20 / mu,
                                  trajectories=trajectories, seed=seed, workers=workers,
-                                 store=store, progress=progress)
+                                 store=store, progress=progress, shared=len(detunings))
             row["slip_rate"].update(simulated=sim["rate"], stderr=sim["stderr"])
             row["frequency_difference"].update(simulated=sim["frequency"],
                                                stderr=sim["frequency_stderr"])

@@ -71,7 +71,8 @@ def command(sub, name: str, description: str, *names: str, models: str | None = 
 
 
 def check_ensemble(args: argparse.Namespace) -> None:
-    """Refuse a negative ``--seed`` and a ``--workers`` outside 1..1024 (where given).
+    """Refuse a negative ``--seed``, a ``--workers`` outside 1..1024 and a ``--budget`` that
+    is negative or NaN (where given; ``--budget nan`` ran with no budget at all).
 
     Raises
     ------
@@ -84,6 +85,10 @@ def check_ensemble(args: argparse.Namespace) -> None:
     if seed is not None and seed < 0:
         raise ParameterError(f"--seed must be >= 0, got {seed}")
     within(getattr(args, "workers", None), "--workers", 1, 1024)
+    budget = getattr(args, "budget", None)
+    if budget is not None and not budget >= 0:
+        raise ParameterError(f"--budget must be a number of integration steps >= 0, got "
+                             f"{budget:g}")
 
 
 @contextmanager

@@ -43,7 +43,7 @@ from kbm.cli._common import parse_params as given
 from kbm.errors import OrderError, ParameterError
 from kbm.parameters.values import ParameterNames
 
-__all__ = ["DEFAULT_POINTS", "MAX_POINTS", "Vary", "parse_vary", "given", "check",
+__all__ = ["DEFAULT_POINTS", "MAX_POINTS", "Vary", "parse_vary", "given", "check", "positive",
            "noise_params", "without_noise", "open_store", "numbers", "orders", "within", "USAGE"]
 
 #: values of a range without ``:N``
@@ -172,6 +172,19 @@ def within(value: float | None, flag: str, lo: float | None = None,
     elif not lo <= value <= hi:
         raise ParameterError(f"{flag} must be between {_bound(lo)} and {_bound(hi)}, got "
                              f"{value}")
+
+
+def positive(value: float | None, flag: str) -> None:
+    """Refuse a value of the option ``flag`` that is not a positive finite number (``None``,
+    the option not given, passes).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        ``"{flag} must be a positive number, got {value}"``.
+    """
+    if value is not None and not (math.isfinite(value) and value > 0):
+        raise ParameterError(f"{flag} must be a positive number, got {value:g}")
 
 
 def _bound(x: float) -> str:

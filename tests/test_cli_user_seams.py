@@ -1,0 +1,84 @@
+"""Defects a new user met at the seams of ``kbm`` (session 20's user pass), each pinned.
+
+The one-line messages are in :mod:`tests.test_cli_messages`; here the outputs and the
+limits that are not a message of the command line alone.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from kbm.errors import ParameterError
+from numerics.cli import main
+from numerics.spectrum._cost import MEMORY_LIMIT, STEP_LIMIT, check_cost
+
+
+def test_friction_table_prints_no_nan_for_a_sliding_state(capsys):
+    """A steady sliding state (SEDF at rest, Delta = 3, v = 0.2: self-oscillating sliding)
+    never sticks, so it has no static (peak) friction and no wells per slip: the table
+    printed ``nan`` in both columns; it prints ``--`` (the JSON has ``null``)."""
+    assert main(["friction", "sedf_comoving", "-p", "Delta=3", "-p", "beta=1", "--vary",
+                 "v=0.2"]) == 0
+    row = capsys.readouterr().out.strip().splitlines()[-1]
+    assert "sliding" in row and "nan" not in row
+    assert row.split()[-5:-3] == ["--", "0.000"] and row.split()[-3] == "--"
+
+
+def test_spectrum_cost_refuses_steps_and_memory_with_the_numbers():
+    """:func:`check_cost`: the product trajectories x steps against the step limit (shared
+    by the runs of a sweep), the bytes held against the memory limit."""
+    check_cost(64, STEP_LIMIT / 64, MEMORY_LIMIT)  # exactly at both limits: runs
+    with pytest.raises(ParameterError, match=r"64 trajectories x 3.12e\+07 steps = 2e\+09 "
+                                             r"integration steps, above the limit 1e\+09"):
+        check_cost(64, STEP_LIMIT / 64, 0.0, budget=STEP_LIMIT / 2, shared=2)
+    with pytest.raises(ParameterError, match=r"hold 3 GB of recorded samples"):
+        check_cost(8, 1e3, 3e9)
+
+
+@pytest.mark.parametrize("option, says", [
+    ("--out", "cannot write to --out = '{bad}'"),
+    ("--netcdf", "cannot write to --netcdf's folder = '{bad}'"),
+])
+def test_friction_refuses_an_unwritable_output_before_the_map(option, says, tmp_path,
+                                                               capsys, monkeypatch):
+    """An unwritable ``--out`` or ``--netcdf`` failed only after the whole map was computed
+    (hours for a large one): now before the first point (the map is never started)."""
+    import numerics.sliding.maps as maps
+
+    def never(*a, **k):
+        raise AssertionError("the map ran before the output was checked")
+
+    monkeypatch.setattr(maps, "friction_map", never)
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    bad = blocker / "sub"  # a folder inside a regular file: cannot be created
+    target = str(bad / "map.nc") if option == "--netcdf" else str(bad)
+    assert main(["friction", "cdc", "-p", "Delta=3", "--vary", "v=0.1", option, target,
+                 "--no-progress"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and says.format(bad=bad) in err[0], err
+
+
+@pytest.mark.parametrize("argv", [
+    ["diagram", "sedf", "-p", "mu=0.1", "-p", "lam=1", "--vary", "Delta=0:6", "--vary",
+     "beta=0.3:1.6"],
+    ["lock", "coupled-vdp", "-p", "mu=0.05", "-p", "c=0.3", "--vary", "sigma=-1:1"],
+    ["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01"],
+    ["response", "duffing-forced", "-p", "mu=0.05", "-p", "zeta=0.1", "-p", "alpha=1", "-p",
+     "h=0.5", "--vary", "sigma=-1:3"],
+])
+def test_an_unwritable_out_is_refused_before_the_computation(argv, tmp_path, capsys):
+    """``--out`` under a regular file: these commands computed first (a diagram for minutes,
+    a spectrum's 64 trajectories) and failed when writing ("cannot access", "out = ...").
+    Now refused at once (well under a second), in one line naming ``--out``, and nothing is
+    created."""
+    import time
+
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    t0 = time.process_time()
+    assert main([*argv, "--out", str(blocker / "sub")]) == 2
+    assert time.process_time() - t0 < 1.0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"cannot write to --out = '{blocker / 'sub'}'" in err[0], err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a-file"]

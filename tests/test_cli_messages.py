@@ -66,6 +66,10 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     # no noise, no stationary density: refused, not 100 trajectories resting at the origin
     # with <a^2> = 0 +- 0 reported (van der Pol's attractor is the cycle a = 2)
     (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0"], "the noise is zero"),
+    (["derive", "vdp", "--order", "2", "--numeric", "--a-range", "2:1"],
+     "--a-range needs a_min < a_max, got 2:1"),
+    (["response", "duffing-forced", "--resonance", "0/1", "--vary", "sigma=-1:1", "--order",
+      "1"], "--resonance p/q must be positive, got '0/1'"),
     (["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "T=0"], "give D > 0 or T > 0"),
     (["derive", "coupled-vdp", "--order", "1", "--numeric", "--a-range", "1:2"],
      "--a-range is not for the coupled numeric backend"),

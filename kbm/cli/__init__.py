@@ -197,6 +197,8 @@ _TRANSLATIONS = tuple((re.compile(pattern), repl) for pattern, repl in (
     (r"^rtol must", "--rtol must"),
     (r"^trajectories = (\d+):", r"--trajectories \1:"),
     (r"^the seed must", "--seed must"),
+    (r"^the a-range needs", "--a-range needs"),
+    (r"^the resonance p/q must", "--resonance p/q must"),
     (r"\bt_end = ", "--t-end "),
     (r"\bt_end\b", "--t-end"),
     (r"\bmethod='(\w+)'", r"--method \1"),

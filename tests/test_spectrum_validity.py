@@ -94,3 +94,20 @@ def test_no_simulation_nothing_to_flag(capsys):
                  "threshold": Z_FLAG, "advice": ""}
     assert main(argv) == 0
     assert "WARNING" not in capsys.readouterr().out
+
+
+def test_sweep_flags_each_noise_level(capsys):
+    """--vary D: every run of the sweep carries its own record, and the text warns for each
+    flagged run (mu = 10: the averaged centre 1 against a relaxation oscillation)."""
+    argv = ["spectrum", "vdp", "-p", "mu=10", "--vary", "D=0.01:0.02:2", "--trajectories",
+            "8", "--duration", "700", "--resolution", "0.01", "--workers", "1"]
+    assert main([*argv, "--json"]) == 0
+    rep = json.loads(capsys.readouterr().out)
+    assert [s["D"] for s in rep["sweep"]] == pytest.approx([0.01, 0.02])
+    for s in rep["sweep"]:
+        _check_flag_follows_z(s)
+        assert s["validity"]["flagged"]
+    assert rep["sweep"][0]["validity"] == rep["validity"]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert out.count("  WARNING: ") == 1 and out.count("  WARNING (D = 0.02): ") == 1

@@ -158,8 +158,8 @@ def run(args) -> int:
                 simulate=not args.no_simulation, floquet=args.floquet, shared=len(values)))
     rep = dict(reports[0])
     if len(reports) > 1:
-        rep["sweep"] = [{"D": r["D"], "linewidth": r["linewidth"], "frequency": r["frequency"]}
-                        for r in reports]
+        rep["sweep"] = [{"D": r["D"], "linewidth": r["linewidth"], "frequency": r["frequency"],
+                         "validity": r["validity"]} for r in reports]
     name = reports[0]["model"]
     if args.out:
         out = Path(args.out)
@@ -205,8 +205,12 @@ def _print(rep: dict, reports: list[dict]) -> None:
     if rep["frequency"].get("step_bias"):
         print(f"  the scheme's frequency bias omega0 (omega0 dt)^2/6 = "
               f"{rep['frequency']['step_bias']:.2g}")
+    if rep.get("validity", {}).get("flagged"):
+        print(f"  WARNING: {rep['validity']['advice']}")
     for r in reports[1:]:
         print(f"  D = {r['D']:g}: HWHM averaged {r['linewidth']['averaged']:.6g}, simulated "
               f"{_num(r['linewidth']['simulated'])} +- {_num(r['linewidth']['stderr'], '.2g')}")
+        if r.get("validity", {}).get("flagged"):
+            print(f"  WARNING (D = {r['D']:g}): {r['validity']['advice']}")
     for p in rep.get("figures", []):
         print(f"  wrote {p}")

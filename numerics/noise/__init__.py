@@ -17,7 +17,9 @@ source: :mod:`numerics.noise.codegen` prints the model, :mod:`numerics.noise._ke
 :mod:`numerics.noise._pair_kernels` hold the kernels, :mod:`numerics.noise.lanes` prints the
 loops of ``final_states``, ``first_passages`` and ``slip_stats`` over several trajectories at
 once, :mod:`numerics.noise.seeds`
-holds the streams, :mod:`numerics.noise._pilot` the measured default step (the step pilot).
+holds the streams, :mod:`numerics.noise._pilot` the measured default step (the step pilot);
+:mod:`numerics.noise.validity` the gap averaged - simulated in standard errors and its flag
+``|z| > 4`` (``kbm noise``, ``kbm spectrum``).
 """
 
 from .langevin import LangevinSystem, langevin_system, noise_intensity, split_noise

@@ -8,7 +8,9 @@ depend on:
 
 - ``linewidth: {averaged, simulated, stderr}``: the HWHM of the fundamental (angular);
 - ``frequency: {averaged, simulated, stderr}``: the mean angular frequency;
-- ``psd: {omega, averaged, simulated, lower, upper}``: near the fundamental.
+- ``psd: {omega, averaged, simulated, lower, upper}``: near the fundamental;
+- ``validity: {z, flagged, threshold, advice}``: the gaps of the two in standard errors
+  and the flag ``|z| > 4`` (:func:`line_validity`, as ``kbm noise``).
 
 :func:`write_figures` draws the PSD (averaged over the simulated band) and the linewidth
 against ``D`` (matplotlib imported there only).
@@ -26,8 +28,9 @@ from kbm.errors import ParameterError
 from .linewidth import fit_lorentzian
 from .phase_diffusion import LineTheory, line_theory
 from .simulate import simulate_line
+from ..noise.validity import Z_FLAG, gap_z
 
-__all__ = ["line_report", "write_figures", "DEFAULT_TRAJECTORIES"]
+__all__ = ["line_report", "line_validity", "write_figures", "DEFAULT_TRAJECTORIES"]
 
 #: trajectories of a run without --trajectories
 DEFAULT_TRAJECTORIES = 64
@@ -107,6 +110,7 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
         omega = np.linspace(*window, 401)
         rep["psd"] = {"omega": omega.tolist(), "averaged": th.psd(omega).tolist(),
                       "simulated": None, "lower": None, "upper": None}
+        rep["validity"] = line_validity(rep)
         return rep
     sim = simulate_line(model, {k: v for k, v in params.items()}, D,
                         trajectories=trajectories, duration=float(duration),
@@ -129,7 +133,50 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
     rep["simulation"] = {"trajectories": sim.trajectories, "duration": sim.duration,
                          "burn_in": sim.burn_in, "dt": sim.dt, "sample": sim.sample,
                          "seed": sim.seed, "resolution": p.resolution}
+    rep["validity"] = line_validity(rep)
     return rep
+
+
+#: the names of the compared quantities in the advice
+_LABELS = {"linewidth": "half width (HWHM)", "frequency": "line centre Omega"}
+
+
+def line_validity(rep: dict) -> dict:
+    """The gap ``(averaged - simulated)/stderr`` of the linewidth and of the frequency
+    (the simulated frequency less the scheme's ``step_bias``, which the averaging does not
+    have) and the flag ``|z| > 4`` (:func:`numerics.noise.validity.gap_z`), with what to do.
+
+    Parameters
+    ----------
+    rep : dict
+        A :func:`line_report` (``order``, ``params``, ``linewidth``, ``frequency``).
+
+    Returns
+    -------
+    dict
+        ``z`` (``linewidth``, ``frequency``; ``None`` without a simulation), ``flagged``,
+        ``threshold`` and ``advice`` (``""`` unless flagged).
+    """
+    fr = dict(rep["frequency"])
+    if fr["simulated"] is not None:
+        fr["simulated"] -= fr.get("step_bias") or 0.0
+    z, bad = gap_z({"linewidth": rep["linewidth"], "frequency": fr})
+    advice = ""
+    if bad:
+        worst = max(bad, key=lambda k: abs(z[k]))
+        order = rep["order"]
+        remedy = ("--order 2 (second-order averaging) or --floquet (the true cycle's line, "
+                  "exact in mu)" if order == 1 else "--floquet (the true cycle's line, "
+                  "exact in mu)")
+        bias = " (the scheme's frequency bias removed)" if worst == "frequency" else ""
+        advice = (f"the averaged {_LABELS[worst]} is {z[worst]:+.1f} standard errors from the "
+                  f"simulated one{bias} (|z| > {Z_FLAG:g}): the "
+                  f"{'first' if order == 1 else 'second'}-order averaging is not accurate enough "
+                  f"at mu = {rep['params'].get('mu', float('nan')):g} (mu too large for this "
+                  f"order, or D too large for the small-noise line); use {remedy}; a gap near "
+                  f"{Z_FLAG:g} may be the statistics: a longer --duration or more "
+                  "--trajectories shrink the standard error")
+    return {"z": z, "flagged": bool(bad), "threshold": Z_FLAG, "advice": advice}
 
 
 def write_figures(reports: list[dict], out: Path, name: str) -> list[Path]:

@@ -18,12 +18,10 @@ from ._kramers_outputs import energy_density_output, fp_advice
 from .order2 import order2_bins, second_order
 from ..noise.ensemble import MIN_TRAJECTORIES, stationary_ensemble
 from ..noise.langevin import langevin_system, measured_step, natural_step, split_noise
+from ..noise.validity import Z_FLAG, gap_z
 
 __all__ = ["noise_report", "default_times", "validity", "STEPS_PER_PERIOD",
            "DEFAULT_BUDGET", "Z_FLAG"]
-
-#: a gap |averaged - simulated|/stderr above this is flagged
-Z_FLAG = 4.0
 
 #: steps per period of the fastest linear oscillation (well bottom or omega0)
 STEPS_PER_PERIOD = 50
@@ -81,12 +79,7 @@ def validity(moments: dict, order: int = 1, can_raise_order: bool = True) -> dic
         ``z`` (per moment, ``None`` when a number is missing), ``flagged`` (bool),
         ``threshold`` and ``advice`` (what to do when flagged, else ``""``).
     """
-    z = {}
-    for key, m in moments.items():
-        ok = m.get("averaged") is not None and m.get("simulated") is not None and m.get(
-            "stderr")
-        z[key] = (m["averaged"] - m["simulated"]) / m["stderr"] if ok else None
-    bad = [k for k, v in z.items() if v is not None and abs(v) > Z_FLAG]
+    z, bad = gap_z(moments)
     advice = ""
     if bad:
         worst = max(bad, key=lambda k: abs(z[k]))

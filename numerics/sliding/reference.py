@@ -48,8 +48,10 @@ MAX_STEPS = 2_000_000
 #: bound on the steps the stiffness of the damping needs (:mod:`numerics.sliding.stiffness`,
 #: DOP853 takes about 0.3 ms a step: ``kbm slide sedf -p Delta=3 -p beta=1 -p mu=1e6 -p
 #: v=0.1 --t-end 15`` and ``t_end = 31000`` at ``v = 0.01`` ran for minutes); the
-#: integration itself stops after ``max(4 x the estimate, 2e5)`` steps, at most this
-MAX_STIFF_STEPS = 500_000
+#: integration itself stops after ``max(4 x the estimate, 2e5)`` steps, at most GUARD_STEPS
+MAX_STIFF_STEPS = 250_000
+#: bound on the steps of the integration itself (about three minutes)
+GUARD_STEPS = 600_000
 
 
 @dataclass(frozen=True, eq=False)
@@ -157,7 +159,7 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
         :data:`MAX_STIFF_STEPS` steps).
     numerics.errors.IntegrationError
         If the integrator fails or takes more steps than the estimate allows (4 times it,
-        at least 2e5, at most :data:`MAX_STIFF_STEPS`).
+        at least 2e5, at most :data:`GUARD_STEPS`).
 
     Examples
     --------
@@ -198,11 +200,11 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
     if stiff > MAX_STIFF_STEPS:
         raise ParameterError(
             f"t_end = {t_end:g} needs about {stiff:.3g} steps of {method}: the damping's "
-            f"|dD/dx'| <= mu (beta x^2 + 1) grows with |x| <= v t + Delta/Omega^2 "
-            f"(mu = {p['mu']:g}) and an explicit step is stable only below about 6/|dD/dx'|; "
-            f"the limit is {MAX_STIFF_STEPS:.0e}: lower mu or t_end (t_end <= "
+            f"|dD/dx'| = mu |beta x^2 - 1| (mu = {p['mu']:g}) grows with |x| ~ v t and an "
+            "explicit step is stable only below about 6/|dD/dx'|; "
+            f"the limit is {MAX_STIFF_STEPS:.3g}: lower mu or t_end (t_end <= "
             f"{stiff_t_end(model, p, method, MAX_STIFF_STEPS, t_end):.4g})")
-    guard = StepGuard(rhs, min(MAX_STIFF_STEPS, max(4 * (stiff + t_end / ms), 200_000)),
+    guard = StepGuard(rhs, min(GUARD_STEPS, max(4 * (stiff + t_end / ms), 200_000)),
                       method)
     n = n_samples or max(2000, int(20 * t_end * Om / (2 * math.pi)))
     with np.errstate(all="ignore"):

@@ -64,3 +64,15 @@ def test_the_step_guard_stops_a_stiff_integration_with_the_numbers():
                   lambda t, x: lam)
     t_stop = float(str(e.value).split("stopped at t = ")[1].split(" ")[0])
     assert 0 < t_stop <= 1.5 * 100 * STABILITY_INTERVAL["DOP853"] / lam
+
+
+def test_slide_stops_with_the_numbers_when_its_step_budget_is_spent(monkeypatch):
+    """slide's own integration is bounded: SEDF at mu = 1e3, T = 15 takes ~4900 DOP853 steps;
+    with the budget lowered to 1000 it stops early with the damping mu |beta x^2 - 1| there."""
+    import numerics.sliding.reference as reference
+
+    monkeypatch.setattr(reference, "GUARD_STEPS", 1000)
+    with pytest.raises(IntegrationError, match=r"stopped at t = ([0-9.e-]+) of t_end = 15 "
+                                              r"after about 1e\+03 steps.*\|dD/dx'\| = ") as e:
+        slide("sedf", {"Delta": 3.0, "beta": 1.0, "mu": 1e3, "v": 0.1}, t_end=15.0)
+    assert float(str(e.value).split("stopped at t = ")[1].split(" ")[0]) < 15.0

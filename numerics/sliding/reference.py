@@ -33,16 +33,25 @@ from kbm.output.paper import FIXED
 
 from numerics.errors import IntegrationError
 from numerics.sliding.driven import slider_equations
+from numerics.sliding.stiffness import StepGuard, damping_rate, stiff_steps, stiff_t_end
 
 __all__ = ["SlideResult", "slide", "MAX_PERIODS"]
 
-#: bound on the length of a run, in natural periods ``2 pi/Omega`` (a run of this length
-#: takes about half a minute and keeps its dense output in memory)
+#: bound on the length of a run, in natural periods ``2 pi/Omega`` (for the CDC a run of this
+#: length takes about half a minute and keeps its dense output in memory; the SEDF's damping
+#: grows like ``(v t)^2`` and its cost is bounded by :data:`MAX_STIFF_STEPS`)
 MAX_PERIODS = 5_000
 #: bound on the integration steps a run's largest step (a quarter of its shortest time scale)
 #: allows at the least: ``kbm slide sedf -p v=1e9 --t-end 15`` (the stage crosses a well every
 #: 1e-9) ran without end; a run of MAX_PERIODS periods at the paper's values takes 1e5
 MAX_STEPS = 2_000_000
+#: bound on the steps the stiffness of the damping needs (:mod:`numerics.sliding.stiffness`,
+#: DOP853 takes about 0.3 ms a step: ``kbm slide sedf -p Delta=3 -p beta=1 -p mu=1e6 -p
+#: v=0.1 --t-end 15`` and ``t_end = 31000`` at ``v = 0.01`` ran for minutes); the
+#: integration itself stops after ``max(4 x the estimate, 2e5)`` steps, at most GUARD_STEPS
+MAX_STIFF_STEPS = 250_000
+#: bound on the steps of the integration itself (about three minutes)
+GUARD_STEPS = 600_000
 
 
 @dataclass(frozen=True, eq=False)
@@ -145,7 +154,12 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
     ------
     kbm.errors.ParameterError
         For ``lam <= 0``, ``Omega <= 0``, ``v < 0``, ``t_end <= 0``, NaN, etc., or a
-        run longer than :data:`MAX_PERIODS` natural periods.
+        run longer than :data:`MAX_PERIODS` natural periods, or one whose damping is too
+        stiff for an explicit method (:mod:`numerics.sliding.stiffness`: more than
+        :data:`MAX_STIFF_STEPS` steps).
+    numerics.errors.IntegrationError
+        If the integrator fails or takes more steps than the estimate allows (4 times it,
+        at least 2e5, at most :data:`GUARD_STEPS`).
 
     Examples
     --------
@@ -182,10 +196,21 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
         raise ParameterError(f"t_end = {t_end:g} needs at least {t_end / ms:.3g} steps ({why} "
                              f"= {scale:.3g}, at most a quarter of it per step); the limit is "
                              f"{MAX_STEPS:.0e}: lower v or t_end")
+    stiff = stiff_steps(model, p, t_end, method)
+    if stiff > MAX_STIFF_STEPS:
+        raise ParameterError(
+            f"t_end = {t_end:g} needs about {stiff:.3g} steps of {method}: the damping's "
+            f"|dD/dx'| = mu |beta x^2 - 1| (mu = {p['mu']:g}) grows with |x| ~ v t and an "
+            "explicit step is stable only below about 6/|dD/dx'|; "
+            f"the limit is {MAX_STIFF_STEPS:.3g}: lower mu or t_end (t_end <= "
+            f"{stiff_t_end(model, p, method, MAX_STIFF_STEPS, t_end):.4g})")
+    guard = StepGuard(rhs, min(GUARD_STEPS, max(4 * (stiff + t_end / ms), 200_000)),
+                      method)
     n = n_samples or max(2000, int(20 * t_end * Om / (2 * math.pi)))
     with np.errstate(all="ignore"):
-        sol = solve_ivp(rhs, (0.0, t_end), [x0, v0, 0.0, 0.0, 0.0, 0.0, 0.0], method=method,
-                        rtol=rtol, atol=atol, dense_output=True, max_step=ms)
+        sol = guard.run(lambda fun: solve_ivp(
+            fun, (0.0, t_end), [x0, v0, 0.0, 0.0, 0.0, 0.0, 0.0], method=method, rtol=rtol,
+            atol=atol, dense_output=True, max_step=ms), t_end, damping_rate(model, p))
     if sol.status != 0 or not np.all(np.isfinite(sol.y[:, -1])):
         raise IntegrationError(f"{method} failed at t = {sol.t[-1]:.6g}: {sol.message}; the "
                                "motion may have diverged (try a smaller t_end)")

@@ -104,3 +104,22 @@ def test_escape_warns_below_two_kT(capsys):
     ok = json.loads(run("escape", "cdc", "-p", "mu=0.1", "-p", "Delta=2", "-p", "D=0.02",
                         "--no-simulation", "--json"))
     assert ok["barrier_over_kT"] > 2 and ok["warnings"] == []
+
+
+def test_a_density_wider_than_the_quadrature_is_not_called_unnormalisable():
+    """The first-order amplitude density of noisy van der Pol (x'' + x = mu (1 - x^2) x' +
+    sqrt(2 D) xi), P(a) ~ a exp((mu/D)(a^2/2 - a^4/16)) (Stratonovich's stochastic
+    averaging), is normalisable at every D > 0; at large D/mu its peak is at
+    a^4 = 4 D/mu.  At D = 1e20, mu = 0.1 that is a = 2.51e5, and the density is still above
+    exp(-80) of its peak at a = 1e6, the quadrature's end: the message names the peak and
+    what to change, not 'not normalisable'."""
+    import re
+
+    from numerics.thermal.averaged import averaged_stationary
+
+    with pytest.raises(ModelError) as err:
+        averaged_stationary("vdp", {"mu": 0.1}, 1e20, 1.0)
+    msg = str(err.value)
+    peak = float(re.search(r"peaks at a = ([0-9.e+]+)", msg).group(1))
+    assert abs(peak / (4 * 1e20 / 0.1) ** 0.25 - 1) < 0.01, msg
+    assert "lower the noise D" in msg and "not normalisable" not in msg

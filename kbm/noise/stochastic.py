@@ -220,8 +220,14 @@ def _support(f) -> tuple[list, object]:
             return [0, peak / 2, peak, (peak + end) / 2, end], vals[i]
         top *= 2
         if top > 1e6:
+            if i < len(grid) - 1 and vals[-1] < vals[i]:
+                raise ModelError(f"the stationary amplitude density peaks at a = "
+                                 f"{float(grid[i]):.3g} and is still above exp(-80) of its "
+                                 "peak at a = 1e6, beyond what the quadrature covers; lower "
+                                 "the noise D")
             raise ModelError("the stationary amplitude density does not decay up to "
-                             "a = 1e6: no normalisable P(a) at these values")
+                             "a = 1e6: it is not normalisable at these values, or it peaks "
+                             "beyond a = 1e6 (then lower the noise D)")
 
 
 def quadratures(f, weights) -> list:

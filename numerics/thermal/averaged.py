@@ -82,7 +82,7 @@ def _amplitude(model, params: dict, D: float) -> AveragedStationary:
     try:
         a2 = float(sa.moment(2, vals))
     except ModelError as exc:
-        raise NoStationaryState(f"{name} has no stationary state with noise at these values: "
+        raise NoStationaryState(f"{name}: no averaged stationary state at these values: "
                                 f"{exc}") from None
     # the support: where P(a) is above 1e-12 of its largest value on a wide grid
     hi = 4.0 * math.sqrt(a2) + 1.0

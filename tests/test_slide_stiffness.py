@@ -76,3 +76,13 @@ def test_slide_stops_with_the_numbers_when_its_step_budget_is_spent(monkeypatch)
                                               r"after about 1e\+03 steps.*\|dD/dx'\| = ") as e:
         slide("sedf", {"Delta": 3.0, "beta": 1.0, "mu": 1e3, "v": 0.1}, t_end=15.0)
     assert float(str(e.value).split("stopped at t = ")[1].split(" ")[0]) < 15.0
+
+
+def test_the_cdc_refusal_names_its_own_damping():
+    """The CDC's damping mu x' (paper eq. 12) has the constant |dD/dx'| = mu: a run refused
+    for its stiffness (mu t_end/6 = 2.5e6 steps of DOP853) says so, not the SEDF's
+    mu |beta x^2 - 1|."""
+    with pytest.raises(ParameterError) as err:
+        slide("cdc", {"mu": 1e3, "Delta": 3, "v": 0.1}, t_end=15000.0)
+    msg = str(err.value)
+    assert "|dD/dx'| = mu (mu = 1000)" in msg and "beta" not in msg

@@ -33,7 +33,8 @@ from kbm.output.paper import FIXED
 
 from numerics.errors import IntegrationError
 from numerics.sliding.driven import slider_equations
-from numerics.sliding.stiffness import StepGuard, damping_rate, stiff_steps, stiff_t_end
+from numerics.sliding.stiffness import (STABILITY_INTERVAL, StepGuard, damping_rate,
+                                        damping_text, stiff_steps, stiff_t_end)
 
 __all__ = ["SlideResult", "slide", "MAX_PERIODS"]
 
@@ -200,8 +201,8 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
     if stiff > MAX_STIFF_STEPS:
         raise ParameterError(
             f"t_end = {t_end:g} needs about {stiff:.3g} steps of {method}: the damping's "
-            f"|dD/dx'| = mu |beta x^2 - 1| (mu = {p['mu']:g}) grows with |x| ~ v t and an "
-            "explicit step is stable only below about 6/|dD/dx'|; "
+            f"{damping_text(model)} (mu = {p['mu']:g}) and an explicit step is stable only "
+            f"below about {STABILITY_INTERVAL[method]:g}/|dD/dx'|; "
             f"the limit is {MAX_STIFF_STEPS:.3g}: lower mu or t_end (t_end <= "
             f"{stiff_t_end(model, p, method, MAX_STIFF_STEPS, t_end):.4g})")
     guard = StepGuard(rhs, min(GUARD_STEPS, max(4 * (stiff + t_end / ms), 200_000)),

@@ -27,7 +27,8 @@ from collections.abc import Callable, Mapping
 
 from numerics.errors import IntegrationError
 
-__all__ = ["STABILITY_INTERVAL", "stiff_steps", "stiff_t_end", "StepGuard", "damping_rate"]
+__all__ = ["STABILITY_INTERVAL", "stiff_steps", "stiff_t_end", "StepGuard", "damping_rate",
+           "damping_text"]
 
 #: length of the real stability interval of the explicit methods (step ``h <= c/|lambda|``)
 STABILITY_INTERVAL = {"DOP853": 6.0, "RK45": 3.3, "RK23": 2.5}
@@ -115,7 +116,17 @@ class StepGuard:
                 f"the integration stopped at t = {e.t:.6g} of t_end = {t_end:g} after about "
                 f"{self.steps:.3g} steps (the limit of this run): at x = {x:.4g} the damping "
                 f"has |dD/dx'| = {lam:.3g}, so an explicit step is at most about "
-                f"{STABILITY_INTERVAL.get(self.method, 6.0) / max(lam, 1e-300):.3g}; lower mu or t_end") from None
+                f"{STABILITY_INTERVAL.get(self.method, 6.0) / max(lam, 1e-300):.3g}; lower mu "
+                "or t_end") from None
+
+
+def damping_text(model: str) -> str:
+    """``|dD/dx'|`` of ``model`` in words, for the messages (the CDC's is constant)."""
+    if model == "cdc":
+        return "|dD/dx'| = mu"
+    if model == "sedf_comoving":
+        return "|dD/dx'| = mu |beta (x - v t)^2 - 1|"
+    return "|dD/dx'| = mu |beta x^2 - 1| (growing with |x| ~ v t)"
 
 
 def damping_rate(model: str, p: Mapping[str, float]) -> Callable[[float, float], float]:

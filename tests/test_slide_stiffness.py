@@ -132,8 +132,8 @@ def test_a_model_without_a_branch_gets_its_estimate():
     """Two sliders no code names: (a) a positive damping growing with the position, D = mu
     (1 + beta x^2) x': no cycle (A = 0), x^2 <= (v t)^2, so N = mu (beta v^2 T^3/3 + T)/c;
     (b) a Rayleigh slider, D = -mu (1 - x'^2/3) x', whose cycle has the velocity amplitude
-    A omega0 = 2 (Rayleigh's, the van der Pol amplitude of x'): |dD/dx'| = mu |x'^2 - 1| <=
-    mu (v^2 + 4 + 1), so N = mu (v^2 + 5) T/c."""
+    A omega0 = 2 (Rayleigh's, the van der Pol amplitude of x'): |dD/dx'| = mu |x'^2 - 1| is
+    largest at x'^2 = v^2 + 4, so N = mu (v^2 + 3) T/c."""
     beta = sp.Symbol("beta")
     grow = _slider("grow", -(1 + beta * X**2) * XDOT)
     rayleigh = _slider("rayleigh_slider", (1 - XDOT**2 / 3) * XDOT)
@@ -144,7 +144,7 @@ def test_a_model_without_a_branch_gets_its_estimate():
             mu * (b * v * v * T**3 / 3 + T) / c, rel=1e-12)
         q = {k: w for k, w in p.items() if k != "beta"}
         assert stiff_steps(rayleigh, q, T, "DOP853") == pytest.approx(
-            mu * (v * v + 5) * T / c, rel=1e-12)
+            mu * (v * v + 3) * T / c, rel=1e-12)
     assert damping_text(grow) == "|dD/dx'| = mu |beta x^2 + 1| (growing with |x| ~ v t)"
     assert damping_text(rayleigh) == "|dD/dx'| = mu |xdot^2 - 1|"
 
@@ -183,3 +183,55 @@ def test_a_model_without_a_branch_is_bounded_along_its_run():
     p = {"mu": mu, "beta": b, "Delta": Delta, "Omega": 1.0, "lam": 1.0, "v": v}
     assert stiff_steps(grow, p, T, "DOP853") >= needed
     assert np.all(damping_envelope(grow, p)(sol.t[:-1]) >= lam)
+
+
+@given(mu=st.floats(0.01, 1e4), beta=st.floats(0.1, 10.0), v=st.floats(0.0, 1.0),
+       T=st.floats(0.1, 3000.0), Omega=st.floats(0.5, 2.0))
+def test_the_sedf_estimate_is_its_closed_form(mu, beta, v, T, Omega):
+    """SEDF (eq. 3): |dD/dx'| = mu |beta x^2 - 1| is largest at x^2 = (v t)^2 + A^2 with the
+    van der Pol amplitude A = 2/sqrt(beta), so N = mu (beta v^2 T^3/3 + 3 T)/c."""
+    p = {"mu": mu, "beta": beta, "Delta": 3.0, "Omega": Omega, "lam": 1.0, "v": v}
+    assert stiff_steps("sedf", p, T, "DOP853") == pytest.approx(
+        mu * (beta * v * v * T**3 / 3 + 3 * T) / STABILITY_INTERVAL["DOP853"], rel=1e-9)
+
+
+@given(mu=st.floats(0.01, 1e4), beta=st.floats(0.1, 10.0), v=st.floats(1e-3, 1.0),
+       Delta=st.floats(0.0, 10.0), Omega=st.floats(0.5, 2.0), T=st.floats(0.1, 3000.0))
+def test_the_sedf_comoving_estimate_is_its_closed_form(mu, beta, v, Delta, Omega, T):
+    """sedf_comoving: the spring pulls the slider through D = mu (beta z^2 - 1) x' at the
+    stage velocity iff max over the lag z of Omega^2 |z| - mu v (beta z^2 - 1) =
+    Omega^4/(4 mu beta v) + mu v reaches the pinning force Delta; then |z| <= max(Delta/Omega^2,
+    A = 2/sqrt(beta)) and N = mu (beta max(d, A)^2 - 1) T/c, else the SEDF's closed form."""
+    p = {"mu": mu, "beta": beta, "Delta": Delta, "Omega": Omega, "lam": 1.0, "v": v}
+    pull = Omega**4 / (4 * mu * beta * v) + mu * v
+    if abs(pull - Delta) < 1e-2 * Delta:  # the grid of lags resolves the maximum to 1e-2
+        return
+    c = STABILITY_INTERVAL["DOP853"]
+    if pull >= Delta:
+        z = max(Delta / Omega**2, 2 / math.sqrt(beta))
+        want = mu * (beta * z * z - 1) * T / c
+    else:
+        want = mu * (beta * v * v * T**3 / 3 + 3 * T) / c
+    assert stiff_steps("sedf_comoving", p, T, "DOP853") == pytest.approx(want, rel=1e-9)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("mu, v, t_end, held", [(10.0, 0.1, 100.0, True),
+                                                (3.0, 0.1, 100.0, True),
+                                                (0.1, 0.1, 300.0, False)])
+def test_sedf_comoving_estimate_covers_its_run(mu, v, t_end, held):
+    """sedf_comoving at Delta = 3, beta = 1: a run takes at least int mu |beta (x - v t)^2 - 1|
+    dt / c steps (Hairer & Wanner IV.2) and the estimate is above that integral.  At mu = 10
+    and 3 (v = 0.1) the spring cannot pull the slider through its damping (max over the lag
+    of Omega^2 |z| - mu v (beta z^2 - 1) = Omega^4/(4 mu beta v) + mu v < Delta), the lag grows
+    with v t, and the stage-frame bound |x - v t| <= max(Delta/Omega^2, 2/sqrt(beta)) was
+    2.7 and 1.2 times below the integral; at mu = 0.1 the slider follows the stage."""
+    p = {"Delta": 3.0, "beta": 1.0, "mu": mu, "v": v}
+    r = slide("sedf_comoving", p, t_end=t_end)
+    t, x = r.sol.t, r.sol.y[0]
+    lam = mu * np.abs((x[:-1] - v * t[:-1]) ** 2 - 1)
+    needed = float(np.sum(lam * np.diff(t))) / STABILITY_INTERVAL["DOP853"]
+    assert len(t) - 1 >= 0.9 * needed
+    assert stiff_steps("sedf_comoving", r.params, t_end, "DOP853") >= needed
+    frame = mu * (max(3.0, 2.0) ** 2 + 1) * t_end / STABILITY_INTERVAL["DOP853"]
+    assert (frame < needed) == held

@@ -35,6 +35,7 @@ __all__ = ["DampingDerivative", "damping_derivative", "damping_text", "damping_r
 _Z = sp.Symbol("x_rel")
 _A, _C, _S = sp.symbols("a c s")
 
+
 @dataclass(frozen=True, eq=False)
 class DampingDerivative:
     """``dD/dx' = -mu dF/dx'`` of one slider model, split by frame, with its envelope's pieces.

@@ -6,16 +6,22 @@ the real stability interval (about 6 for DOP853), so a run through a damping wit
 ``|dD/dx'| = lambda(t)`` takes at least ``int lambda dt / c`` steps.
 """
 
+import math
 import time
 
 import numpy as np
 import pytest
+import sympy as sp
+from hypothesis import given, strategies as st
 from scipy.integrate import solve_ivp
 
 from kbm.errors import ParameterError
+from kbm.model.builtins import Oscillator
+from kbm.symbols import mu as MU, x as X, xdot as XDOT
 from numerics.errors import IntegrationError
 from numerics.sliding.reference import MAX_STIFF_STEPS, slide
-from numerics.sliding.stiffness import STABILITY_INTERVAL, StepGuard, stiff_steps, stiff_t_end
+from numerics.sliding.stiffness import (STABILITY_INTERVAL, StepGuard, damping_envelope,
+                                        damping_rate, damping_text, stiff_steps, stiff_t_end)
 
 
 def test_steps_follow_the_stability_law_and_the_bound_covers_them():
@@ -86,3 +92,146 @@ def test_the_cdc_refusal_names_its_own_damping():
         slide("cdc", {"mu": 1e3, "Delta": 3, "v": 0.1}, t_end=15000.0)
     msg = str(err.value)
     assert "|dD/dx'| = mu (mu = 1000)" in msg and "beta" not in msg
+
+
+_pos = st.floats(0.01, 100.0)
+_num = st.floats(-50.0, 50.0)
+
+
+@given(mu=_pos, beta=_pos, v=st.floats(0.0, 10.0), t=st.floats(0.0, 100.0), x=_num, xd=_num)
+def test_the_derived_damping_rate_is_the_closed_form(mu, beta, v, t, x, xd):
+    """|dD/dx'| derived by sympy from each slider's F equals the closed forms of the paper's
+    damping forces at random states: the SEDF's D = mu (beta x^2 - 1) x' (eq. 3) has
+    mu |beta x^2 - 1|, the CDC's D = mu x' (eq. 12) mu, sedf_comoving's
+    mu |beta (x - v t)^2 - 1|."""
+    p = {"mu": mu, "beta": beta, "Delta": 3.0, "Omega": 1.0, "lam": 1.0, "v": v}
+    y = (x, xd, t)
+    closed = {"sedf": mu * abs(beta * x * x - 1), "cdc": mu,
+              "sedf_comoving": mu * abs(beta * (x - v * t) ** 2 - 1)}
+    for model, want in closed.items():
+        q = {k: w for k, w in p.items() if not (model == "cdc" and k == "beta")}
+        assert damping_rate(model, q)(t, y) == pytest.approx(want, rel=1e-12, abs=1e-12 * mu)
+
+
+def test_the_damping_texts_are_printed_from_the_derivative():
+    """The messages' |dD/dx'| of eqs. 3 and 12, and of the stage-attached SEDF."""
+    assert damping_text("cdc") == "|dD/dx'| = mu"
+    assert damping_text("sedf") == "|dD/dx'| = mu |beta x^2 - 1| (growing with |x| ~ v t)"
+    assert damping_text("sedf_comoving") == "|dD/dx'| = mu |beta (x - v t)^2 - 1|"
+
+
+def _slider(name: str, F: sp.Expr) -> Oscillator:
+    """A slider of the paper's form with the damping of ``F`` (not a built-in)."""
+    beta, delta, k, Omega, Delta, lam = sp.symbols("beta delta k Omega Delta lam")
+    return Oscillator(name, F - delta * sp.sin(k * X), omega0=Omega,
+                      physical={"delta": Delta / MU, "k": 2 * sp.pi / lam},
+                      defaults={"Omega": 1})
+
+
+def test_a_model_without_a_branch_gets_its_estimate():
+    """Two sliders no code names: (a) a positive damping growing with the position, D = mu
+    (1 + beta x^2) x': no cycle (A = 0), x^2 <= (v t)^2, so N = mu (beta v^2 T^3/3 + T)/c;
+    (b) a Rayleigh slider, D = -mu (1 - x'^2/3) x', whose cycle has the velocity amplitude
+    A omega0 = 2 (Rayleigh's, the van der Pol amplitude of x'): |dD/dx'| = mu |x'^2 - 1| is
+    largest at x'^2 = v^2 + 4, so N = mu (v^2 + 3) T/c."""
+    beta = sp.Symbol("beta")
+    grow = _slider("grow", -(1 + beta * X**2) * XDOT)
+    rayleigh = _slider("rayleigh_slider", (1 - XDOT**2 / 3) * XDOT)
+    c = STABILITY_INTERVAL["DOP853"]
+    for mu, b, v, T, Om in [(1e3, 1.0, 0.1, 15.0, 1.0), (0.1, 2.5, 0.01, 3000.0, 2.0)]:
+        p = {"mu": mu, "beta": b, "Delta": 3.0, "Omega": Om, "lam": 1.0, "v": v}
+        assert stiff_steps(grow, p, T, "DOP853") == pytest.approx(
+            mu * (b * v * v * T**3 / 3 + T) / c, rel=1e-12)
+        q = {k: w for k, w in p.items() if k != "beta"}
+        assert stiff_steps(rayleigh, q, T, "DOP853") == pytest.approx(
+            mu * (v * v + 3) * T / c, rel=1e-12)
+    assert damping_text(grow) == "|dD/dx'| = mu |beta x^2 + 1| (growing with |x| ~ v t)"
+    assert damping_text(rayleigh) == "|dD/dx'| = mu |xdot^2 - 1|"
+
+
+def test_a_damping_that_is_not_a_polynomial_is_bounded_on_a_grid():
+    """D = mu (2 + sin x) x' (not a polynomial: the largest |dD/dx'| on a grid of the envelope
+    |x| <= v t, which holds x = v t): for v T <= pi/2 the bound is mu (2 + sin(v t)), so N =
+    mu (2 T + (1 - cos(v T))/v)/c; without damping N = 0."""
+    wavy = _slider("wavy", -(2 + sp.sin(X)) * XDOT)
+    mu, v, T = 1e3, 0.1, 15.0
+    p = {"mu": mu, "Delta": 3.0, "Omega": 1.0, "lam": 1.0, "v": v}
+    assert stiff_steps(wavy, p, T, "DOP853") == pytest.approx(
+        mu * (2 * T + (1 - math.cos(v * T)) / v) / STABILITY_INTERVAL["DOP853"], rel=1e-6)
+    assert damping_text(wavy) == "|dD/dx'| = mu |sin(x) + 2| (growing with |x| ~ v t)"
+    assert stiff_steps(_slider("free", sp.Integer(0)), p, T, "DOP853") == 0.0
+
+
+def test_a_model_without_a_branch_is_bounded_along_its_run():
+    """The estimate for D = mu (1 + beta x^2) x' (no hand branch) covers the stability law
+    along the run itself: x'' + mu (1 + beta x^2) x' + Delta sin(2 pi x) + (x - v t) = 0
+    integrated here with DOP853 takes at least 0.9 int mu (1 + beta x^2) dt / c steps (Hairer &
+    Wanner IV.2), and the estimate is above that integral; at every step the envelope's
+    bound mu (1 + beta (v t)^2) is above the damping there (the slider stays behind the
+    stage, |x| <= v t)."""
+    beta = sp.Symbol("beta")
+    grow = _slider("grow", -(1 + beta * X**2) * XDOT)
+    mu, b, Delta, v, T = 1e3, 1.0, 3.0, 0.1, 15.0
+
+    def rhs(t, y):
+        x, xd = y
+        return [xd, -mu * (1 + b * x * x) * xd - Delta * math.sin(2 * math.pi * x) - (x - v * t)]
+    sol = solve_ivp(rhs, (0.0, T), [0.0, 0.0], method="DOP853", rtol=1e-10, atol=1e-12)
+    lam = mu * (1 + b * sol.y[0][:-1] ** 2)
+    needed = float(np.sum(lam * np.diff(sol.t))) / STABILITY_INTERVAL["DOP853"]
+    assert len(sol.t) - 1 >= 0.9 * needed
+    p = {"mu": mu, "beta": b, "Delta": Delta, "Omega": 1.0, "lam": 1.0, "v": v}
+    assert stiff_steps(grow, p, T, "DOP853") >= needed
+    assert np.all(damping_envelope(grow, p)(sol.t[:-1]) >= lam)
+
+
+@given(mu=st.floats(0.01, 1e4), beta=st.floats(0.1, 10.0), v=st.floats(0.0, 1.0),
+       T=st.floats(0.1, 3000.0), Omega=st.floats(0.5, 2.0))
+def test_the_sedf_estimate_is_its_closed_form(mu, beta, v, T, Omega):
+    """SEDF (eq. 3): |dD/dx'| = mu |beta x^2 - 1| is largest at x^2 = (v t)^2 + A^2 with the
+    van der Pol amplitude A = 2/sqrt(beta), so N = mu (beta v^2 T^3/3 + 3 T)/c."""
+    p = {"mu": mu, "beta": beta, "Delta": 3.0, "Omega": Omega, "lam": 1.0, "v": v}
+    assert stiff_steps("sedf", p, T, "DOP853") == pytest.approx(
+        mu * (beta * v * v * T**3 / 3 + 3 * T) / STABILITY_INTERVAL["DOP853"], rel=1e-9)
+
+
+@given(mu=st.floats(0.01, 1e4), beta=st.floats(0.1, 10.0), v=st.floats(1e-3, 1.0),
+       Delta=st.floats(0.0, 10.0), Omega=st.floats(0.5, 2.0), T=st.floats(0.1, 3000.0))
+def test_the_sedf_comoving_estimate_is_its_closed_form(mu, beta, v, Delta, Omega, T):
+    """sedf_comoving: the spring pulls the slider through D = mu (beta z^2 - 1) x' at the
+    stage velocity iff max over the lag z of Omega^2 |z| - mu v (beta z^2 - 1) =
+    Omega^4/(4 mu beta v) + mu v reaches the pinning force Delta; then |z| <= max(Delta/Omega^2,
+    A = 2/sqrt(beta)) and N = mu (beta max(d, A)^2 - 1) T/c, else the SEDF's closed form."""
+    p = {"mu": mu, "beta": beta, "Delta": Delta, "Omega": Omega, "lam": 1.0, "v": v}
+    pull = Omega**4 / (4 * mu * beta * v) + mu * v
+    if abs(pull - Delta) < 1e-2 * Delta:  # the grid of lags resolves the maximum to 1e-2
+        return
+    c = STABILITY_INTERVAL["DOP853"]
+    if pull >= Delta:
+        z = max(Delta / Omega**2, 2 / math.sqrt(beta))
+        want = mu * (beta * z * z - 1) * T / c
+    else:
+        want = mu * (beta * v * v * T**3 / 3 + 3 * T) / c
+    assert stiff_steps("sedf_comoving", p, T, "DOP853") == pytest.approx(want, rel=1e-9)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("mu, v, t_end, held", [(10.0, 0.1, 100.0, True),
+                                                (3.0, 0.1, 100.0, True),
+                                                (0.1, 0.1, 300.0, False)])
+def test_sedf_comoving_estimate_covers_its_run(mu, v, t_end, held):
+    """sedf_comoving at Delta = 3, beta = 1: a run takes at least int mu |beta (x - v t)^2 - 1|
+    dt / c steps (Hairer & Wanner IV.2) and the estimate is above that integral.  At mu = 10
+    and 3 (v = 0.1) the spring cannot pull the slider through its damping (max over the lag
+    of Omega^2 |z| - mu v (beta z^2 - 1) = Omega^4/(4 mu beta v) + mu v < Delta), the lag grows
+    with v t, and the stage-frame bound |x - v t| <= max(Delta/Omega^2, 2/sqrt(beta)) was
+    2.7 and 1.2 times below the integral; at mu = 0.1 the slider follows the stage."""
+    p = {"Delta": 3.0, "beta": 1.0, "mu": mu, "v": v}
+    r = slide("sedf_comoving", p, t_end=t_end)
+    t, x = r.sol.t, r.sol.y[0]
+    lam = mu * np.abs((x[:-1] - v * t[:-1]) ** 2 - 1)
+    needed = float(np.sum(lam * np.diff(t))) / STABILITY_INTERVAL["DOP853"]
+    assert len(t) - 1 >= 0.9 * needed
+    assert stiff_steps("sedf_comoving", r.params, t_end, "DOP853") >= needed
+    frame = mu * (max(3.0, 2.0) ** 2 + 1) * t_end / STABILITY_INTERVAL["DOP853"]
+    assert (frame < needed) == held

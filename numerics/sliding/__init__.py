@@ -4,7 +4,9 @@
   saddle-node of the stick state and the quasi-static slip energy;
 - :mod:`numerics.sliding.reference`: a driven run through :func:`scipy.integrate.solve_ivp`
   with dense output (:func:`slide`), and :mod:`numerics.sliding.stickslip`: its slip
-  events located on the dense output (:func:`analyze`);
+  events located on the dense output (:func:`analyze`); the cost of a run with an explicit
+  method and its refusal in :mod:`numerics.sliding.stiffness`, from the damping's
+  ``dD/dx'`` that :mod:`numerics.sliding.damping` derives from the model;
 - :mod:`numerics.sliding.driven`: the same equations compiled (numba DOP853), run
   block after block with the impulse, work and dissipation integrals;
 - :mod:`numerics.sliding.friction`: the steady sliding state of one parameter set and

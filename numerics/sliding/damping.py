@@ -8,9 +8,10 @@ differentiates its ``F`` with respect to the velocity, splits the result by fram
 measured by the spring's extension ``x - v t``), lambdifies it once per model
 (:func:`numerics._memo.memo`, as :mod:`numerics.sliding.driven` does for the equations) and
 prints it for the messages.  It also derives the pieces of the envelope: the first-order KBM
-amplitude ``A`` of the self-excited cycle (the root of the cycle-averaged power of the
-dissipative force, ``<cos^m phi sin^n phi> = (m-1)!! (n-1)!!/(m+n)!!``), the largest pinning
-force, and whether the spring can pull the slider through its stage-attached damping.
+amplitude ``A`` of the self-excited cycle (the stable positive root of the first-order
+amplitude rate ``A_1(a)`` of :func:`kbm.derive`, the toolkit's one recursion), the largest
+pinning force, and whether the spring can pull the slider through its stage-attached
+damping.
 """
 
 from __future__ import annotations
@@ -21,10 +22,11 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from kbm.errors import ParameterError
+from kbm import derive
+from kbm.errors import KBMError, ParameterError
 from kbm.model.builtins import Oscillator, get_model
 from kbm.parameters.bound import bind
-from kbm.symbols import mu as MU, x as X, xdot as V
+from kbm.symbols import a as _A, mu as MU, x as X, xdot as V
 
 from numerics._memo import memo
 
@@ -33,7 +35,6 @@ __all__ = ["DampingDerivative", "damping_derivative", "damping_text", "damping_r
 
 #: the spring's extension ``x - v t`` (the variable of a stage-attached damping)
 _Z = sp.Symbol("x_rel")
-_A, _C, _S = sp.symbols("a c s")
 
 
 @dataclass(frozen=True, eq=False)
@@ -55,8 +56,10 @@ class DampingDerivative:
         ``grid(values, x, xdot, x - v t)``: ``|dD/dx'|`` on numpy arrays, and whether it
         depends on each of ``x, xdot, x - v t``.
     power
-        The coefficients (highest power first) of the mean power ``<mu F_diss x'>`` of the
-        dissipative force on the cycle ``x = a cos phi``, a polynomial in ``a`` (empty if not).
+        The coefficients (highest power first) of the first-order amplitude rate ``A_1(a)``
+        of :func:`kbm.derive` (``a' = mu A_1(a)``; ``A_1 = -<F sin phi>/omega0`` on the cycle
+        ``x = a cos phi``, whose positive roots are those of the mean power of the
+        dissipative force), a polynomial in ``a`` (empty if not).
     omega, pinning, stage_force
         The spring's ``omega0``, the largest pinning force (``sin``, ``cos`` at 1) and
         ``stage_force(values, z, xdot)``: the stage-attached part of ``mu F`` at the spring's
@@ -87,14 +90,6 @@ def _lambdified(expr: sp.Expr) -> Callable[[Mapping], float]:
             raise ParameterError(f"the damping's estimate needs the parameter {e.args[0]}; "
                                  f"give it with -p {e.args[0]}=VALUE") from None
     return value
-
-
-def _average(expr: sp.Expr) -> sp.Expr:
-    """The mean over ``phi`` of a polynomial in ``c = cos phi, s = sin phi`` (``<c^m s^n> =
-    (m-1)!! (n-1)!!/(m+n)!!`` for even ``m, n``, else 0)."""
-    poly = sp.Poly(sp.expand(expr), _C, _S)
-    return sp.Add(*(k * sp.factorial2(m - 1) * sp.factorial2(n - 1) / sp.factorial2(m + n)
-                    for (m, n), k in poly.terms() if m % 2 == 0 and n % 2 == 0))
 
 
 def _text(lab: sp.Expr, stage: sp.Expr) -> str:
@@ -138,11 +133,10 @@ def damping_derivative(model: str | Oscillator) -> DampingDerivative:
     lab = sp.expand(-MU * sp.diff(m.F - rel, V))
     stage = sp.expand(-MU * sp.diff(rel, V)).subs(X, _Z)
     w = m.omega0
-    gain = sp.expand(m.dissipative_force().subs({X: _A * _C, V: -_A * w * _S}) * (-_A * w * _S))
     try:
-        mean = sp.Poly(_average(gain), _A)
-        power = tuple(_lambdified(k) for k in mean.all_coeffs())
-    except sp.PolynomialError:
+        rate = sp.Poly(sp.expand(derive(m, 1).A[1]), _A)
+        power = tuple(_lambdified(k) for k in rate.all_coeffs())
+    except (sp.PolynomialError, KBMError):
         power = ()
     cons = m.conservative_force().replace(lambda e: isinstance(e, (sp.sin, sp.cos)),
                                           lambda e: sp.Integer(1))

@@ -9,6 +9,7 @@ from pathlib import Path
 from kbm.cli._common import emit_json, write_json
 from kbm.errors import ParameterError
 from numerics.cli.params.options import command, options
+from numerics.noise.validity import ERROR_SOURCES
 
 
 def register(sub) -> None:
@@ -55,11 +56,6 @@ def register(sub) -> None:
                                                 "over the histogram) and noise-MODEL.json"))
     p.set_defaults(func=run)
 
-
-#: how the text names the sources of :mod:`numerics.thermal.averaged_error`
-_ERROR_SOURCES = {"fokker-planck": "against the Fokker-Planck solution",
-                  "next order": "the next order's correction",
-                  "simulation": "|averaged - simulated| + 2 stderr"}
 
 
 def _num(value, fmt="#.6g") -> str:
@@ -150,7 +146,7 @@ def run(args) -> int:
     if errs:
         print(f"  expected error of the averaged values (order {rep['averaged_order']}): "
               + ", ".join(f"<{k[0]}^2> +- {m['averaged_error']:.2g} "
-                          f"({_ERROR_SOURCES[m['averaged_error_source']]})" for k, m in errs))
+                          f"({ERROR_SOURCES[m['averaged_error_source']]})" for k, m in errs))
     ext = rep.get("extrapolation")
     if ext and ext.get("applied"):
         for key in ("a2", "x2"):

@@ -87,6 +87,16 @@ def test_transcendental_force_skips_the_second_order():
     assert rep["linewidth"]["expected_error"] is None
 
 
+def test_a_failing_second_order_leaves_the_first_order_its_run():
+    """F = (1 - x^2) x' - x^5 at mu = 0.1: the second-order line fails to evaluate (its
+    density grid comes out empty); the first order still runs and, without a simulation,
+    states no error rather than failing."""
+    model = custom_model("(1-x**2)*xdot-x**5", omega0=1)
+    rep = line_report(model, {"mu": 0.1}, 0.01, simulate=False)
+    assert rep["linewidth"]["averaged"] > 0
+    assert rep["frequency"]["expected_error_source"] == "none"
+
+
 def test_json_and_text_state_the_error(capsys):
     """``--json`` holds the keys (also in each row of a ``--vary`` sweep); the text prints
     the line "expected error of the averaged values (order 1)" under the table."""

@@ -9,6 +9,7 @@ from pathlib import Path
 from kbm.cli._common import emit_json, write_json
 from kbm.errors import ParameterError
 from numerics.cli.params.options import command, options
+from numerics.noise.budget import BUDGET_TEXT
 from numerics.noise.validity import ERROR_SOURCES
 
 
@@ -32,8 +33,8 @@ def register(sub) -> None:
              "heating would exceed 1e-3 of kT, halved for BAOAB, then halved again while a "
              "pilot at dt and dt/2 measures a bias of the moments beyond 2e-4, and shortened "
              "so that --t-end is a whole number of steps; the run prints the step used)"),
-        budget=dict(help="largest number of integration steps (default 2e9); beyond it the "
-                         "averaged answer is given alone"))
+        budget=dict(help=f"largest number of integration steps (default {BUDGET_TEXT}); "
+                         "beyond it the averaged answer is given alone"))
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the amplitude averaging (default 1; 2 adds the O(mu) and "
                         "O(mu^2) corrections at fixed D/mu, kbm.noise.stochastic_order2; "

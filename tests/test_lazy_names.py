@@ -13,7 +13,7 @@ import types
 import pytest
 
 
-@pytest.mark.parametrize("package", ["kbm", "kbm.model.forced", "numerics"])
+@pytest.mark.parametrize("package", ["kbm", "kbm.model.forced", "numerics", "numerics.noise"])
 def test_every_public_name_is_the_object_not_a_module(package):
     pkg = importlib.import_module(package)
     for name in pkg.__all__:

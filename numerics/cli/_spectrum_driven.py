@@ -106,12 +106,18 @@ def run_driven(args) -> int:
                                  workers=_opt(args, "workers"), store=store,
                                  progress=not _opt(args, "json", False),
                                  resolution=_opt(args, "resolution"))
+    from numerics.noise.validity import averaged_error
+
     first = specs[0]
+    # the response frequency ratio * nu of the first stable state (no simulated value
+    # and no second order of the response spectra: the rule's "none")
+    frequency = {"averaged": first.Omega, "simulated": None, "stderr": None,
+                 "averaged_order": 1}
+    frequency["expected_error"], frequency["expected_error_source"] = averaged_error(frequency)
     rep = {"model": model, "params": params, "D": D, "detuning": name,
            "detunings": detunings, "kind": "forced",
            "response_spectra": [s.to_json() for s in specs],
-           "linewidth": None, "frequency": {"averaged": first.Omega, "simulated": None,
-                                            "stderr": None},
+           "linewidth": None, "frequency": frequency,
            "psd": {"omega": list(map(float, first.omega)),
                    "averaged": list(map(float, first.averaged)),
                    "floquet": None if first.floquet is None else list(map(float, first.floquet)),
@@ -174,6 +180,11 @@ def _figures_driven(specs, model, out: Path) -> list[Path]:
     return paths
 
 
+#: the keys of ``slip_rate`` and ``frequency_difference`` in the report's top level
+_SLIP_KEYS = ("averaged", "simulated", "stderr", "averaged_order", "expected_error",
+              "expected_error_source")
+
+
 def run_slips(args) -> int:
     """``kbm spectrum coupled-vdp -p ... -p D=... [--vary sigma=A:B]``: the phase-slip rate
     and the effective frequency difference, Stratonovich's formula against counts."""
@@ -195,9 +206,8 @@ def run_slips(args) -> int:
 
     rep = {"model": model, "params": params, "D": D, "detuning": name,
            "detunings": detunings, "kind": "coupled", "slips": rows,
-           "slip_rate": {k: col("slip_rate", k) for k in ("averaged", "simulated", "stderr")},
-           "frequency_difference": {k: col("frequency_difference", k)
-                                    for k in ("averaged", "simulated", "stderr")},
+           "slip_rate": {k: col("slip_rate", k) for k in _SLIP_KEYS},
+           "frequency_difference": {k: col("frequency_difference", k) for k in _SLIP_KEYS},
            "linewidth": None, "frequency": None, "psd": None}
     if _opt(args, "out"):
         rep["figures"] = [str(_figure_slips(rows, model, name, Path(args.out)))]

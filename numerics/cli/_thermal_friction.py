@@ -12,10 +12,11 @@ from pathlib import Path
 
 from kbm.cli import cli_message
 from kbm.errors import ParameterError
+from numerics.noise.budget import STEP_BUDGET
 
 #: the options of the noisy runs (default None on the parser, so that "given" is told
 #: from "default"; refused without noise) and their values when not given
-NOISE_FLAGS = {"trajectories": 16, "wells": 50.0, "seed": 0, "budget": 2e9}
+NOISE_FLAGS = {"trajectories": 16, "wells": 50.0, "seed": 0, "budget": STEP_BUDGET}
 
 
 def wanted(params: dict, axes: dict) -> bool:

@@ -5,6 +5,7 @@ from __future__ import annotations
 from kbm.cli._common import emit_json, single_well
 from kbm.errors import ModelError
 from numerics.cli.params.options import command, options
+from numerics.noise.budget import BUDGET_TEXT
 
 
 def register(sub) -> None:
@@ -32,7 +33,8 @@ def register(sub) -> None:
                 dt=dict(help="time step (default: the well's period/40, smaller where the "
                              "numerical heating would exceed 1e-3 of kT: "
                              "numerics.noise.langevin.natural_step)"),
-                budget=dict(help="largest expected number of integration steps (default 2e9)"),
+                budget=dict(help="largest expected number of integration steps (default "
+                                 f"{BUDGET_TEXT})"),
                 no_simulation=dict(help="the averaged rate only"))
     p.add_argument("--method", choices=("averaging", "fokker-planck"), default="averaging",
                    help="fokker-planck: also the slowest decay rate of the Kramers equation "

@@ -11,6 +11,7 @@ import numpy as np
 from kbm.errors import ModelError, ParameterError
 from numerics.cli.params.options import command, options
 from numerics.cli.params.values import MAX_POINTS
+from numerics.noise.budget import BUDGET_TEXT
 
 __all__ = ["register", "run"]
 
@@ -65,7 +66,8 @@ def register(sub) -> None:
         default=None, help="with noise: root seed (one SeedSequence child per trajectory; "
                            "default 0); a chain's initial spread"), budget=dict(
         default=None, help="with noise: largest number of integration steps of the run "
-                           "(default 2e9); a larger run is refused before it starts"))
+                           f"(default {BUDGET_TEXT}); a larger run is refused before it "
+                           "starts"))
     options(p, "json", "out", out=dict(help="write the figures into DIR"))
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=run)

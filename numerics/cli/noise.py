@@ -9,6 +9,8 @@ from pathlib import Path
 from kbm.cli._common import emit_json, write_json
 from kbm.errors import ParameterError
 from numerics.cli.params.options import command, options
+from numerics.noise.budget import BUDGET_TEXT
+from numerics.noise.validity import ERROR_SOURCES
 
 
 def register(sub) -> None:
@@ -31,8 +33,8 @@ def register(sub) -> None:
              "heating would exceed 1e-3 of kT, halved for BAOAB, then halved again while a "
              "pilot at dt and dt/2 measures a bias of the moments beyond 2e-4, and shortened "
              "so that --t-end is a whole number of steps; the run prints the step used)"),
-        budget=dict(help="largest number of integration steps (default 2e9); beyond it the "
-                         "averaged answer is given alone"))
+        budget=dict(help=f"largest number of integration steps (default {BUDGET_TEXT}); "
+                         "beyond it the averaged answer is given alone"))
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the amplitude averaging (default 1; 2 adds the O(mu) and "
                         "O(mu^2) corrections at fixed D/mu, kbm.noise.stochastic_order2; "
@@ -55,11 +57,6 @@ def register(sub) -> None:
                                                 "over the histogram) and noise-MODEL.json"))
     p.set_defaults(func=run)
 
-
-#: how the text names the sources of :mod:`numerics.thermal.averaged_error`
-_ERROR_SOURCES = {"fokker-planck": "against the Fokker-Planck solution",
-                  "next order": "the next order's correction",
-                  "simulation": "|averaged - simulated| + 2 stderr"}
 
 
 def _num(value, fmt="#.6g") -> str:
@@ -150,7 +147,7 @@ def run(args) -> int:
     if errs:
         print(f"  expected error of the averaged values (order {rep['averaged_order']}): "
               + ", ".join(f"<{k[0]}^2> +- {m['averaged_error']:.2g} "
-                          f"({_ERROR_SOURCES[m['averaged_error_source']]})" for k, m in errs))
+                          f"({ERROR_SOURCES[m['averaged_error_source']]})" for k, m in errs))
     ext = rep.get("extrapolation")
     if ext and ext.get("applied"):
         for key in ("a2", "x2"):

@@ -14,6 +14,7 @@ from pathlib import Path
 from kbm.cli._common import emit_json, write_json
 from kbm.errors import ParameterError
 from numerics.cli.params.options import command, options
+from numerics.noise.validity import ERROR_SOURCES
 
 
 def register(sub) -> None:
@@ -195,6 +196,12 @@ def _print(rep: dict, reports: list[dict]) -> None:
              else f"{(r['averaged'] - r['simulated']) / r['stderr']:+.2f}")
         print(f"  {label:10}{_num(r['averaged'], '.8g'):>12}  {_num(r['linearised'], '.8g'):>12}"
               f"  {_num(r['simulated'], '.8g'):>12}  {_num(r['stderr'], '.2g'):>9}  {z:>16}")
+    errs = [(label, rep[key]) for key, label in (("linewidth", "HWHM"), ("frequency", "Omega"))
+            if rep[key].get("expected_error") is not None]
+    if errs:
+        print(f"  expected error of the averaged values (order {rep['order']}): "
+              + ", ".join(f"{label} +- {r['expected_error']:.2g} "
+                          f"({ERROR_SOURCES[r['expected_error_source']]})" for label, r in errs))
     lw = rep["linewidth"]
     if lw.get("floquet") is not None:
         print(f"  true cycle (adjoint Floquet, first order in D): HWHM = {lw['floquet']:.6g}, "

@@ -6,6 +6,7 @@ import math
 
 from kbm.errors import ParameterError
 
+from ..noise.budget import STEP_BUDGET
 from .envelope import check_mu, noise_level, origin_well_envelope
 from .rate import averaged_escape
 
@@ -31,7 +32,7 @@ MAX_BARRIER_OVER_KT = 700.0
 
 
 def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=None, dt=None,
-                  seed: int = 0, budget: float = 2e9, simulate: bool = True,
+                  seed: int = 0, budget: float = STEP_BUDGET, simulate: bool = True,
                   method: str = "averaging") -> dict:
     """Averaged, Kramers and (within ``budget``) simulated escape rates.
 

@@ -19,11 +19,19 @@ loops of ``final_states``, ``first_passages`` and ``slip_stats`` over several tr
 once, :mod:`numerics.noise.seeds`
 holds the streams, :mod:`numerics.noise._pilot` the measured default step (the step pilot);
 :mod:`numerics.noise.validity` the gap averaged - simulated in standard errors and its flag
-``|z| > 4`` (``kbm noise``, ``kbm spectrum``).
+``|z| > 4`` and the expected error of an averaged number (``kbm noise``, ``kbm spectrum``);
+:mod:`numerics.noise.budget` the step budget every noisy command shares.
 """
 
-from .langevin import LangevinSystem, langevin_system, noise_intensity, split_noise
-from .seeds import trajectory_states
+from kbm._lazy import lazy_names
 
 __all__ = ["LangevinSystem", "langevin_system", "noise_intensity", "split_noise",
            "trajectory_states"]
+
+#: the public names, each imported from its module on first use (PEP 562): the command
+#: line's option table reads :mod:`numerics.noise.budget` without sympy and numba
+_LAZY = {**dict.fromkeys(("LangevinSystem", "langevin_system", "noise_intensity",
+                          "split_noise"), "numerics.noise.langevin"),
+         "trajectory_states": "numerics.noise.seeds"}
+
+__getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)

@@ -11,10 +11,13 @@ from __future__ import annotations
 
 from kbm.errors import ParameterError
 
+from ..noise.budget import STEP_BUDGET
+
 __all__ = ["STEP_LIMIT", "MEMORY_LIMIT", "check_cost"]
 
-#: integration steps of one simulated spectrum at most (``kbm noise``'s default budget)
-STEP_LIMIT = 2e9
+#: integration steps of one simulated spectrum at most (the noisy runs' one budget,
+#: :data:`numerics.noise.budget.STEP_BUDGET`, as ``kbm noise --budget``'s default)
+STEP_LIMIT = STEP_BUDGET
 #: bytes of recorded samples held in memory at once at most
 MEMORY_LIMIT = 2e9
 

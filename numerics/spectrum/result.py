@@ -10,7 +10,10 @@ depend on:
 - ``frequency: {averaged, simulated, stderr}``: the mean angular frequency;
 - ``psd: {omega, averaged, simulated, lower, upper}``: near the fundamental;
 - ``validity: {z, flagged, threshold, advice}``: the gaps of the two in standard errors
-  and the flag ``|z| > 4`` (:func:`line_validity`, as ``kbm noise``).
+  and the flag ``|z| > 4`` (:func:`line_validity`, as ``kbm noise``);
+- ``linewidth`` and ``frequency`` each also hold ``averaged_order`` and the averaged
+  number's expected error, ``expected_error`` and ``expected_error_source``
+  (:func:`line_errors`).
 
 :func:`write_figures` draws the PSD (averaged over the simulated band) and the linewidth
 against ``D`` (matplotlib imported there only).
@@ -28,9 +31,10 @@ from kbm.errors import ParameterError
 from .linewidth import fit_lorentzian
 from .phase_diffusion import LineTheory, line_theory
 from .simulate import simulate_line
-from ..noise.validity import Z_FLAG, gap_z
+from ..noise.validity import Z_FLAG, averaged_error, gap_z
 
-__all__ = ["line_report", "line_validity", "write_figures", "DEFAULT_TRAJECTORIES"]
+__all__ = ["line_report", "line_validity", "line_errors", "next_line", "write_figures",
+           "DEFAULT_TRAJECTORIES"]
 
 #: trajectories of a run without --trajectories
 DEFAULT_TRAJECTORIES = 64
@@ -85,6 +89,7 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
                                     and val > 0):
             raise ParameterError(f"{name} must be a positive number, got {val!r}")
     th = line_theory(model, params, D, order=order)
+    nxt = next_line(model, params, D, order)
     G = th.linewidth
     if resolution is None:
         resolution = G / 4
@@ -98,7 +103,7 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
                          "averaged_order": order, "small_noise": th.small_noise},
            "frequency": {"averaged": th.frequency, "simulated": None, "stderr": None,
                          "linearised": th.frequency_linear, "cycle": th.frequency_cycle,
-                         "step_bias": None},
+                         "step_bias": None, "averaged_order": order},
            "theory": th.as_dict()}
     if floquet:
         from .floquet import phase_response
@@ -111,7 +116,7 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
         rep["psd"] = {"omega": omega.tolist(), "averaged": th.psd(omega).tolist(),
                       "simulated": None, "lower": None, "upper": None}
         rep["validity"] = line_validity(rep)
-        return rep
+        return line_errors(rep, nxt)
     sim = simulate_line(model, {k: v for k, v in params.items()}, D,
                         trajectories=trajectories, duration=float(duration),
                         burn_in=10.0 / th.relaxation, window=window, resolution=resolution,
@@ -134,7 +139,7 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
                          "burn_in": sim.burn_in, "dt": sim.dt, "sample": sim.sample,
                          "seed": sim.seed, "resolution": p.resolution}
     rep["validity"] = line_validity(rep)
-    return rep
+    return line_errors(rep, nxt)
 
 
 #: the names of the compared quantities in the advice
@@ -157,10 +162,7 @@ def line_validity(rep: dict) -> dict:
         ``z`` (``linewidth``, ``frequency``; ``None`` without a simulation), ``flagged``,
         ``threshold`` and ``advice`` (``""`` unless flagged).
     """
-    fr = dict(rep["frequency"])
-    if fr["simulated"] is not None:
-        fr["simulated"] -= fr.get("step_bias") or 0.0
-    z, bad = gap_z({"linewidth": rep["linewidth"], "frequency": fr})
+    z, bad = gap_z(_compared(rep))
     advice = ""
     if bad:
         worst = max(bad, key=lambda k: abs(z[k]))
@@ -177,6 +179,74 @@ def line_validity(rep: dict) -> dict:
                   f"{Z_FLAG:g} may be the statistics: a longer --duration or more "
                   "--trajectories shrink the standard error")
     return {"z": z, "flagged": bool(bad), "threshold": Z_FLAG, "advice": advice}
+
+
+def _compared(rep: dict) -> dict:
+    """The linewidth and frequency entries as the averaging predicts them: the simulated
+    frequency less the scheme's ``step_bias`` (:mod:`numerics.spectrum.simulate`), which
+    the averaged equations do not have."""
+    fr = dict(rep["frequency"])
+    if fr["simulated"] is not None:
+        fr["simulated"] -= fr.get("step_bias") or 0.0
+    return {"linewidth": rep["linewidth"], "frequency": fr}
+
+
+def next_line(model, params: dict, D: float, order: int) -> LineTheory | None:
+    """The averaged line one order up, the reference of the first order's expected error
+    (:func:`line_errors`), where the second order applies: at ``order == 1`` for a force
+    ``F`` polynomial in ``x`` and ``x'`` (there the symbolic second order takes a tenth of
+    a second: van der Pol 0.12 s, Rayleigh 0.08 s of CPU), whose averaged cycle persists at
+    second order.  ``None`` otherwise: at order 2 (no third order), and for a
+    transcendental ``F`` (the SEDF's ``sin(k x)``: its second-order line ran 310 s of CPU
+    and then failed), whose first order states the simulation's bound instead."""
+    if order != 1:
+        return None
+    from kbm.errors import KBMError
+    from kbm.parameters.bound import bind
+    from kbm.symbols import x, xdot
+
+    try:
+        if not bind(model, params).model.F.is_polynomial(x, xdot):
+            return None
+        return line_theory(model, params, D, order=2)
+    except (KBMError, ArithmeticError, ValueError, IndexError):
+        # no second-order cycle, a value the second order lacks, or its line failing to
+        # evaluate (F = (1 - x^2) x' - x^5, mu = 0.1: the order-2 density grid came out
+        # empty, an IndexError of --order 2 itself): the first order keeps the next source
+        return None
+
+
+def line_errors(rep: dict, nxt: LineTheory | None = None) -> dict:
+    """``rep`` (a :func:`line_report`) with ``expected_error`` and
+    ``expected_error_source`` in ``linewidth`` and ``frequency``: the rule of
+    :func:`numerics.noise.validity.averaged_error` (as ``kbm noise``'s moments), with
+
+    - ``"next order"``: at order 1 where :func:`next_line` applies, ``|X_2 - X_1|``;
+    - ``"simulation"``: otherwise ``|averaged - simulated| + 2 stderr``, the simulated
+      frequency less the scheme's ``step_bias`` (as :func:`line_validity`);
+    - ``None`` with ``"none"``: at order 2 without a simulation (``--no-simulation``).
+
+    How good the "next order" is, stated/true (tests/test_spectrum_expected_error.py):
+
+    - van der Pol's line centre: 1.0035 times the first approximation's error ``mu^2/16``
+      (Bogoliubov-Mitropolsky's second approximation, ``1 - mu^2/16``) at mu = 0.05, 0.1,
+      0.2 and D/mu = 1e-3 (the 0.35 % is the noise-induced shift), 1.004-1.007 times the
+      true cycle's error (:mod:`numerics.spectrum.floquet`, exact in mu) at mu = 0.025-0.2;
+    - the cubic stiffness ``F = (1 - x^2) x' - x^3`` (first-order line off by O(mu)), against
+      the true cycle at D/mu = 1e-3: line width 1.015, 1.028, 1.062, 1.086 and line centre
+      1.05, 1.10, 1.18, 1.32 at mu = 0.025, 0.05, 0.1, 0.2; against a simulation at mu =
+      0.1, D = 0.01 (64 trajectories): 1.05 and 1.10;
+    - van der Pol's line width has no O(mu) error, and the second order's change, of
+      O(mu^2) as the error, overstates it about five times (4.9-7.8 at D/mu = 1e-4): an
+      upper estimate.
+    """
+    entries = _compared(rep)
+    values = {"linewidth": None, "frequency": None} if nxt is None else \
+        {"linewidth": nxt.linewidth, "frequency": nxt.frequency}
+    for key, entry in entries.items():
+        err, source = averaged_error(entry, None, values[key])
+        rep[key]["expected_error"], rep[key]["expected_error_source"] = err, source
+    return rep
 
 
 def write_figures(reports: list[dict], out: Path, name: str) -> list[Path]:

@@ -48,6 +48,7 @@ from kbm.errors import ParameterError
 
 from numerics._memo import memo
 from numerics.noise.coupled import CHUNK
+from numerics.noise.validity import averaged_error
 from .driven_sim import noisy_system
 
 __all__ = ["AdlerReduction", "adler_reduction", "stratonovich_rate", "simulate_slips",
@@ -324,6 +325,18 @@ def slip_report(model, params: Mapping[str, object], D: float, detunings, *, ord
     difference, ``{"detuning", "locked", "slip_rate": {averaged, simulated, stderr},
     "frequency_difference": {...}, "adler": {tilt, coupling}, ...}``.
 
+    Each of the two also holds ``averaged_order`` and its expected error,
+    ``expected_error`` and ``expected_error_source`` (the rule of
+    :func:`numerics.noise.validity.averaged_error`, as ``kbm spectrum``'s line): the
+    simulation's bound ``|averaged - simulated| + 2 stderr`` (``"simulation"``; ``None``
+    and ``"none"`` without a simulation), at either order.  The second order's
+    correction is not used as the first order's error here: the rate's error is mostly the
+    reduction's (one Adler equation, amplitudes slaved, at finite ``D/mu``), which the
+    next order of the averaging leaves as it is.  Measured (``coupled-vdp``, ``mu =
+    0.05``, ``c = 0.3``, ``D/mu = 0.1``, 32 trajectories over 8000): ``|J_2 - J_1|`` is
+    5.4e-5 and 2.8e-5 at ``sigma`` = 0.45 and 0.3, the simulated first-order gap (1.4 +-
+    0.4)e-4 and (1.3 +- 0.4)e-4, three to five times more.
+
     The default duration is ``400/mu`` after a burn-in of ``20/mu``."""
     detunings = list(detunings)
     out = []
@@ -334,9 +347,10 @@ def slip_report(model, params: Mapping[str, object], D: float, detunings, *, ord
         row = {"detuning": float(s), "locked": red.locked,
                "adler": {"tilt": red.tilt, "coupling": red.coupling,
                          "diffusion_mean": float(red.diffusion.mean())},
-               "slip_rate": {"averaged": J, "simulated": None, "stderr": None},
+               "slip_rate": {"averaged": J, "simulated": None, "stderr": None,
+                             "averaged_order": order},
                "frequency_difference": {"averaged": 2 * math.pi * J, "simulated": None,
-                                        "stderr": None}}
+                                        "stderr": None, "averaged_order": order}}
         if simulate:
             mu = float(p.get("mu", 0) or 0)
             if not mu > 0:
@@ -350,5 +364,7 @@ def slip_report(model, params: Mapping[str, object], D: float, detunings, *, ord
                                                stderr=sim["frequency_stderr"])
             row["simulation"] = {k: sim[k] for k in ("forward", "backward", "duration",
                                                      "burn_in", "dt", "trajectories", "seed")}
+        for entry in (row["slip_rate"], row["frequency_difference"]):
+            entry["expected_error"], entry["expected_error_source"] = averaged_error(entry)
         out.append(row)
     return out

@@ -18,48 +18,16 @@ has, in this order:
    of the ensemble (a Monte Carlo statement).
 4. ``None`` with the source ``"none"``: no reference (no Fokker-Planck solution, no next
    order, no simulation), said so rather than guessed.
+
+The rule itself, :func:`averaged_error`, is shared with ``kbm spectrum``
+(:func:`numerics.noise.validity.averaged_error`, imported here so that this path stays).
 """
 
 from __future__ import annotations
 
-import math
+from ..noise.validity import averaged_error
 
 __all__ = ["averaged_error", "state_averaged_errors"]
-
-
-def averaged_error(moment: dict, fp_change: float | None = None,
-                   next_order: float | None = None) -> tuple[float | None, str]:
-    """``(error, source)``: the expected absolute error of ``moment["averaged"]`` (a moment
-    of the report of :func:`.stationary.noise_report`) and where it comes from (the module
-    docstring): ``fp_change`` the Fokker-Planck solve's stated relative error (``None``:
-    not measured), ``next_order`` the moment at the next order of the averaging (``None``:
-    not available).  The Fokker-Planck reference is passed over when its own error
-    ``fp_change |FP|`` exceeds the next source's estimate.
-
-    Examples
-    --------
-    >>> averaged_error({"averaged": 1.0, "fokker_planck": 1.25}, 0.0)
-    (0.25, 'fokker-planck')
-    >>> averaged_error({"averaged": 1.0, "simulated": 1.5, "stderr": 0.125})
-    (0.75, 'simulation')
-    >>> averaged_error({"averaged": 1.0, "fokker_planck": 1.25, "simulated": 1.0,
-    ...                 "stderr": 0.125}, 0.5)
-    (0.25, 'simulation')
-    """
-    avg = moment.get("averaged")
-    if avg is None:
-        return None, "none"
-    other = (None, "none")
-    sim, se = moment.get("simulated"), moment.get("stderr")
-    if next_order is not None and math.isfinite(next_order):
-        other = abs(next_order - avg), "next order"
-    elif sim is not None and se is not None and math.isfinite(se):
-        other = abs(avg - sim) + 2.0 * se, "simulation"
-    fp = moment.get("fokker_planck")
-    if fp is not None and fp_change is not None and math.isfinite(fp_change) \
-            and (other[0] is None or fp_change * abs(fp) <= other[0]):
-        return abs(avg - fp) + fp_change * abs(fp), "fokker-planck"
-    return other
 
 
 def state_averaged_errors(out: dict, next_order: dict | None = None) -> dict:

@@ -39,6 +39,7 @@ from kbm.output.strict_json import Rendered
 
 from ..executor import CHUNKS, map_chunks
 from ..noise.ensemble import Estimate
+from ..noise.budget import STEP_BUDGET
 from ..noise.langevin import langevin_system, natural_step, noise_intensity
 from ..noise.seeds import check_seed, trajectory_states
 
@@ -52,8 +53,8 @@ STEPS_PER_PERIOD = 160
 #: fewest trajectories per point
 MIN_TRAJECTORIES = 4
 #: the largest number of integration steps run without ``budget`` (``--budget``), as for
-#: ``kbm noise`` and ``kbm escape``
-DEFAULT_BUDGET = 2e9
+#: ``kbm noise`` and ``kbm escape`` (the noisy runs' one budget)
+DEFAULT_BUDGET = STEP_BUDGET
 
 
 @dataclass(frozen=True)

@@ -16,6 +16,7 @@ from .averaged import AMPLITUDE, averaged_stationary
 from .averaged_error import state_averaged_errors
 from ._kramers_outputs import energy_density_output, fp_advice
 from .order2 import order2_bins, second_order
+from ..noise.budget import STEP_BUDGET
 from ..noise.ensemble import MIN_TRAJECTORIES, stationary_ensemble
 from ..noise.langevin import langevin_system, measured_step, natural_step, split_noise
 from ..noise.validity import Z_FLAG, gap_z
@@ -25,8 +26,8 @@ __all__ = ["noise_report", "default_times", "validity", "STEPS_PER_PERIOD",
 
 #: steps per period of the fastest linear oscillation (well bottom or omega0)
 STEPS_PER_PERIOD = 50
-#: the largest number of integration steps run without --budget
-DEFAULT_BUDGET = 2e9
+#: the largest number of integration steps run without --budget (the noisy runs' one budget)
+DEFAULT_BUDGET = STEP_BUDGET
 #: histogram bins
 BINS = 40
 

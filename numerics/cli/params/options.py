@@ -19,6 +19,7 @@ from typing import Any
 
 from kbm.cli._common import OPTIONS, add_options
 from kbm.errors import ParameterError
+from numerics.noise.budget import STEP_BUDGET
 
 __all__ = ["ENSEMBLE", "command", "options", "check_ensemble", "stored"]
 
@@ -36,7 +37,7 @@ ENSEMBLE: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
     "resume": (("--resume",), dict(
         action="store_true", help="with --store: continue the run kept in FILE (the same "
                                   "numbers as an uninterrupted run)")),
-    "budget": (("--budget",), dict(type=float, default=2e9, metavar="STEPS")),
+    "budget": (("--budget",), dict(type=float, default=STEP_BUDGET, metavar="STEPS")),
 }
 
 

@@ -15,19 +15,29 @@ points, 5.8 GB; mu = 0.002 about 730 x 2032, 18 GB), while the operation count,
 solutions are bit for bit those of the factors in memory (tests), and the memory is the
 frontier of the elimination, a few ``m^2`` numbers.
 
-Measured (SEDF at rest, Delta = 3, mu = 0.01, D = 0.005, the ladder's 258 functions x
-1040 intervals, 3 inverse iteration solves of 2 sweeps; one BLAS thread, load 4 on
-2 cores): in memory 1.79 GB peak RSS, 12.4 s CPU; on disk 0.16 GB, 13.8 s CPU (1.1 GB
-written in 0.5 s, 13 GB read by the 12 sweeps in 1.9 s from the page cache), the same
-coefficients bit for bit.  The alternatives, not taken: checkpointing the elimination
-(Griewank's revolve, the frontier every ``K`` orders, a segment refactorised in the back
-substitution) costs about two factorisations per sweep, and the inverse iteration makes
-6 sweeps (3 solves with one step of refinement each: the start, the eigenvector, the
-check of convergence), about 11 factorisations for 1, where the factorisation is 90 % of
-a solve; the right-hand side carried along the factorisation saves only the first
-forward sweep (its right-hand side is the Maxwellian, in the order 0 alone), since the
-back substitution needs the factors in the reverse order and every later solve needs
-them again.
+Measured (SEDF at rest, Delta = 3, one BLAS thread, load 3 to 6 on 2 cores): at
+mu = 0.01, D = 0.005, the ladder's 258 functions x 1040 intervals (3 inverse iteration
+solves of 2 sweeps), in memory 1.79 GB peak RSS and 11.4-11.5 s CPU, on disk 0.17 GB and
+13.1-13.6 s CPU (two interleaved pairs; 1.1 GB written in 0.5 s, 13 GB read by the 12
+sweeps in 1.9 s from the page cache), the same moments and coefficients bit for bit.  At
+mu = 0.005, D = 0.0025, the sizes the ladder's advice names for six digits, 364 x 1624
+(5.8 GB in memory): 0.23 GB peak RSS, 3.8 GB on disk, 61 s CPU (7 s of it the system's,
+the copies from the page cache); 512 x 1624 (8.1 GB in memory): 0.26 GB, 80 s.  There
+``<x^2>``, ``<x'^2>`` moved by 3.5e-7, 6.4e-8 from 1300 to 1624 intervals, by 7.3e-8,
+5.3e-8 from 364 to 512 functions and by 6.1e-8, 3.8e-8 from the scale 0.191 to 0.17:
+six digits.  Without the page cache (the file not held in free memory) the sweeps read
+at the disk's rate (here 0.77 GB/s, ``dd`` with direct I/O): 46 GB at 364 x 1624, about
+a minute of waiting more.
+
+The alternatives, not taken: checkpointing the elimination (Griewank's revolve, the
+frontier every ``K`` orders, a segment refactorised in the back substitution) costs about
+two factorisations per sweep, and the inverse iteration makes 6 sweeps (3 solves with one
+step of refinement each, counted at 258 x 1040 and 364 x 1624: the start, the
+eigenvector, the check of convergence), about 11 factorisations for 1, where the sweeps
+are 10 % of a solve (:mod:`._pentadiagonal`); the right-hand side carried along the
+factorisation saves only the first forward sweep (its right-hand side is the Maxwellian,
+in the order 0 alone), since the back substitution needs the factors in the reverse order
+and every later solve needs them again.
 """
 
 from __future__ import annotations

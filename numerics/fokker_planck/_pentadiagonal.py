@@ -98,41 +98,9 @@ class HermitePentadiagonalLU:
         diags = _diagonals(terms, n)
         pinned = np.asarray(pinned, int)
 
-        def coupling(k: int, d: int, dense: bool):
-            """The original block ``(k, k + d)``: dense, or its diagonal (``dense=False``).
-            The first dense term is written into the block, not added to zeros (one pass
-            over ``m^2`` numbers fewer, the same sums)."""
-            out = None
-            for dg, X in diags:
-                c = dg[d][k]
-                if c == 0.0:
-                    continue
-                if X.ndim == 2:
-                    if out is None:
-                        out = np.multiply(X, c)
-                    else:
-                        out += c * X
-                elif dense:
-                    if out is None:
-                        out = np.zeros((m, m))
-                    out.ravel()[::m + 1] += c * X
-                elif out is None:
-                    out = c * X
-                else:
-                    out += c * X
-            if out is None:
-                out = np.zeros((m, m)) if dense else np.zeros(m)
-            if pinned.size:
-                if dense:
-                    out[pinned, :] = 0.0
-                    if d == 0:
-                        out[pinned, pinned] = 1.0
-                else:
-                    out[pinned] = 1.0 if d == 0 else 0.0
-            return out
-
         self._terms = [(sps.csr_matrix(H), X) for (H, _), (_, X) in zip(terms, diags)]
-        self._pinned = pinned
+        self._diags, self._pinned = diags, pinned
+        coupling = self._coupling
         self._inv, self._x1, self._p, self._q2 = [None] * n, [None] * n, [None] * n, [None] * n
         self._d2 = [None] * n
         # the current blocks of the frontier: (k, k), (k, k - 1), (k - 1, k), (k - 1, k - 1)
@@ -156,7 +124,7 @@ class HermitePentadiagonalLU:
                 raise np.linalg.LinAlgError("a singular Schur complement in the order-by-order LU")
             x1 = sinv @ ak1  # S^-1 A(k, k-1)
             a11 -= np.matmul(a1k, x1, out=tmp)
-            self._inv[k], self._x1[k], self._p[k] = sinv, x1, a1k
+            self._keep(k, sinv, x1, a1k)
             if k >= 2:
                 d2 = coupling(k, -2, False)  # A(k, k-2), diagonal
                 q2 = coupling(k - 2, 2, False)  # A(k-2, k), diagonal
@@ -174,6 +142,56 @@ class HermitePentadiagonalLU:
                 a21 = a22 = a23 = None
             akk, ak1, a1k, a11, a12 = a11, a12, a21, a22, a23
         self.shape = (n * m, n * m)
+
+    def _coupling(self, k: int, d: int, dense: bool) -> np.ndarray:
+        """The original block ``(k, k + d)``: dense, or its diagonal (``dense=False``).
+        The first dense term is written into the block, not added to zeros (one pass
+        over ``m^2`` numbers fewer, the same sums)."""
+        m, pinned = self.m, self._pinned
+        out = None
+        for dg, X in self._diags:
+            c = dg[d][k]
+            if c == 0.0:
+                continue
+            if X.ndim == 2:
+                if out is None:
+                    out = np.multiply(X, c)
+                else:
+                    out += c * X
+            elif dense:
+                if out is None:
+                    out = np.zeros((m, m))
+                out.ravel()[::m + 1] += c * X
+            elif out is None:
+                out = c * X
+            else:
+                out += c * X
+        if out is None:
+            out = np.zeros((m, m)) if dense else np.zeros(m)
+        if pinned.size:
+            if dense:
+                out[pinned, :] = 0.0
+                if d == 0:
+                    out[pinned, pinned] = 1.0
+            else:
+                out[pinned] = 1.0 if d == 0 else 0.0
+        return out
+
+    def _keep(self, k: int, sinv: np.ndarray, x1: np.ndarray, p: np.ndarray) -> None:
+        """Keep the factors of the order ``k``: ``S^-1``, ``S^-1 A(k, k-1)`` and the
+        eliminated ``A(k-1, k)`` (in memory here; on disk in
+        :class:`._pentadiagonal_disk.DiskPentadiagonalLU`)."""
+        self._inv[k], self._x1[k], self._p[k] = sinv, x1, p
+
+    def _forward_factors(self, k: int):
+        """``(S^-1, A(k-1, k))`` of the order ``k``, in the forward sweep's order (the
+        factorisation's, from the top)."""
+        return self._inv[k], self._p[k]
+
+    def _back_factors(self, k: int):
+        """``(S^-1 A(k, k-1), S^-1)`` of the order ``k``, in the back substitution's order
+        (from the bottom)."""
+        return self._x1[k], self._inv[k]
 
     def matvec(self, x: np.ndarray) -> np.ndarray:
         """``A x`` from the terms: ``sum_j H_j X x_j`` with ``x`` as orders x points (the
@@ -201,18 +219,21 @@ class HermitePentadiagonalLU:
         b = np.array(rhs, float).reshape(n, m)
         y = np.empty((n, m))
         for k in range(n - 1, -1, -1):
-            y[k] = (lu_solve(self._lu, b[k], check_finite=False) if k == 0
-                    else self._inv[k] @ b[k])
-            if k >= 1:
-                b[k - 1] -= self._p[k] @ y[k]
+            if k == 0:
+                y[k] = lu_solve(self._lu, b[k], check_finite=False)
+            else:
+                sinv, p = self._forward_factors(k)
+                y[k] = sinv @ b[k]
+                b[k - 1] -= p @ y[k]
             if k >= 2:
                 b[k - 2] -= self._q2[k] * y[k]
         x = np.empty((n, m))
         for k in range(n):
             r = y[k]
             if k >= 1:
-                r = r - self._x1[k] @ x[k - 1]
+                x1, sinv = self._back_factors(k)
+                r = r - x1 @ x[k - 1]
             if k >= 2:
-                r = r - self._inv[k] @ (self._d2[k] * x[k - 2])
+                r = r - sinv @ (self._d2[k] * x[k - 2])
             x[k] = r
         return x.reshape(-1)

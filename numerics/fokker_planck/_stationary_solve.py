@@ -14,7 +14,8 @@ same functions (Galerkin), every ``c_n`` zero at ``x = +-L``.
 The truncated Galerkin operator does not conserve the mass exactly (the constant is not in
 the span of ``h_0 .. h_{N-1}``), so it is not singular: its eigenvalue nearest zero is a
 truncation error, ``lambda_0``, and the stationary density is its eigenvector, found by
-inverse iteration with the LU of :mod:`._pentadiagonal` (order by order; :mod:`._blocks`
+inverse iteration with the LU of :mod:`._pentadiagonal` (order by order, its factors on
+disk when they would exceed a memory cap, :mod:`._pentadiagonal_disk`; :mod:`._blocks`
 for a damping of higher powers of the velocity) (the next eigenvalue, the slowest
 relaxation, is ``O(mu)`` or the escape rate, far from ``lambda_0``).  ``|lambda_0|`` is
 reported as the solution's ``residual``.
@@ -120,7 +121,8 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
     from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
     from ._orthonormal import orthonormal_terms
     from ._parity import fold_terms, fold_weights, reflection_symmetric, unfold
-    from ._pentadiagonal import HermitePentadiagonalLU, pentadiagonal_applies
+    from ._pentadiagonal import pentadiagonal_applies
+    from ._pentadiagonal_disk import pentadiagonal_lu
 
     centres, widths = tuple(map(float, centres)), tuple(map(float, widths))
     if centres:
@@ -148,7 +150,7 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
     lam = last = math.nan
     with one_blas_thread():
         if pentadiagonal_applies(terms):
-            lu = HermitePentadiagonalLU(terms, m, pins)
+            lu = pentadiagonal_lu(terms, m, pins)
         else:
             lu = BlockTridiagonalLU(TermBlocks(terms, m, None, pins, 0), m)
         for _ in range(iterations):

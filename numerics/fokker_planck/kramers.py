@@ -155,7 +155,9 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         one Hermite rung more on grids of up to
         :data:`._stationary_orthonormal.CLIMB_COST` times it when the functions, not the
         grid, limit six digits (step 7 of
-        :func:`._stationary_orthonormal.stationary_orthonormal`).
+        :func:`._stationary_orthonormal.stationary_orthonormal`); a solve whose factors
+        would exceed :data:`._pentadiagonal_disk.FACTOR_MEMORY` bytes in memory keeps them
+        on disk (the same solution; the budget then bounds the time, not the memory).
     basis : {None, "orthonormal", "risken"}
         The velocity functions.  Default: Risken's pair (:mod:`._bases`) for linear
         damping, where ``sigma^2 = kT`` makes the Maxwellian one function; the orthonormal

@@ -89,7 +89,9 @@ def test_advice_states_the_digits_and_the_least_sizes():
     with no grid part has about 3 digits and needs 3 steps of each, 730 x 2032 at the
     least; SEDF mu = 0.005's 1.8e-5, 1.5e-5 of it the grid's, needs one step of the
     functions and two of the grid; within a digit of six the earlier advice (1.4 times
-    both)."""
+    both).  The call it names carries ``max_cost`` at least ``N m^2`` (the unfolded cost,
+    the larger), without which ``stationary_kramers`` refuses those sizes at its default
+    cost 2e7 ("not affordable here")."""
     from numerics.thermal._kramers_outputs import fp_advice
 
     rec = {"hermite_change": 1.5e-4, "hermite": 258, "chebyshev": 1041}
@@ -102,3 +104,6 @@ def test_advice_states_the_digits_and_the_least_sizes():
     assert "about 4 digits" in low and "n_hermite=364, n_cheb=1624" in low
     near = fp_advice(dict(rec, hermite_change=9e-6), 2.5e7)
     assert "n_hermite=362, n_cheb=1456" in near and "about" not in near
+    for advice, (n, m) in ((text, (730, 2032)), (low, (364, 1624)), (near, (362, 1456))):
+        stated = float(advice.split("max_cost=")[1].split(")")[0])
+        assert stated >= 0.99 * n * m**2 > 2e7

@@ -26,16 +26,21 @@ def fp_advice(fp: dict, budget: float) -> str:
     (SEDF at rest, Delta = 3, D = mu/2, 258 functions: 592 -> 832 -> 1040 intervals moved
     <v^2> by 8.9e-5, 1.5e-5 at mu = 0.005, by 2.3e-4, 1.3e-4 at mu = 0.002; the functions'
     182 -> 258 -> 364 by 4.4e-4, 2.7e-6 at mu = 0.005, by 4.5e-4, 1.5e-4 at mu = 0.002), with
-    the memory (``N m^2``) and time (``N m^3``) of those sizes against this solve's."""
+    the memory (``N m^2``) and time (``N m^3``) of those sizes against this solve's.  The
+    call it names passes ``max_cost = N m^2`` (the solve's cost without the parity fold, an
+    upper bound), without which :func:`numerics.fokker_planck.stationary_kramers` refuses
+    those sizes as not affordable at its default cost; beyond ``FACTOR_MEMORY``
+    (:mod:`numerics.fokker_planck._pentadiagonal_disk`) the factors are kept on disk."""
     change, n, m = fp["hermite_change"], fp["hermite"], fp["chebyshev"] - 1
     if change is not None and change <= 1e-6:
         return ""
     if change is None or change <= 1e-5:
+        nb, mb = 2 * round(0.7 * n), 2 * round(0.7 * m)
         return (f"six digits need more than kbm noise's Fokker-Planck budget ({budget:.2g}) "
                 f"affords (this solve: {n} Hermite functions of x' x {m} Chebyshev intervals; "
                 "at low friction both must grow); for more digits call "
                 "numerics.fokker_planck.stationary_kramers(model, params, D, "
-                f"n_hermite={2 * round(0.7 * n)}, n_cheb={2 * round(0.7 * m)}) and compare")
+                f"n_hermite={nb}, n_cheb={mb}, max_cost={nb * mb**2:.2g}) and compare")
     grid = fp.get("chebyshev_change")
     parts = (change, change) if grid is None else (max(change - grid, 0.0), grid)
     kh, kc = (max(0, math.ceil(math.log10(e / 5e-7) - 1e-9)) if e > 5e-7 else 0
@@ -49,7 +54,7 @@ def fp_advice(fp: dict, budget: float) -> str:
             f"solve: even if each step gained a digit (the grid's steps did not in the SEDF at "
             f"low friction), they need {kh} step{'s' * (kh != 1)} of the functions and {kc} of "
             f"the grid, at "
-            f"least {n6} x {m6} (n_hermite={n6}, n_cheb={m6}), "
+            f"least {n6} x {m6} (n_hermite={n6}, n_cheb={m6}, max_cost={n6 * m6**2:.2g}), "
             f"{(n6 / n) * (m6 / m) ** 2:.0f} times this solve's memory and "
             f"{(n6 / n) * (m6 / m) ** 3:.0f} times its time")
 

@@ -82,3 +82,36 @@ def test_an_unwritable_out_is_refused_before_the_computation(argv, tmp_path, cap
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and f"cannot write to --out = '{blocker / 'sub'}'" in err[0], err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a-file"]
+
+
+def test_noise_refuses_before_the_step_pilot_without_a_warning(capsys):
+    """vdp at D = 1e300: the averaged amplitude density ``P(a) ~ a exp((mu/D)(a^2/2 -
+    a^4/16))`` peaks at ``a^4 = 4 D/mu``, far beyond the quadrature's a = 1e6, and the
+    averaging refuses; the step pilot ran first and its variance of the squared moments
+    overflowed (a numpy RuntimeWarning on stderr before the error).  With warnings as
+    errors the refusal is the one line."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert main(["noise", "vdp", "-p", "mu=0.1", "-p", "D=1e300"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no averaged stationary state" in err[0], err
+
+
+def test_ill_conditioned_kramers_solve_warns_through_its_flag_only():
+    """vdp at mu = D = 1e-6 (``kbm noise vdp -p mu=1e-6 -p D=1e-6``): the Schur complements
+    of the order-by-order LU have rcond ~ 1e-26 and scipy printed a LinAlgWarning per
+    order; the unconverged solve is reported by its refinements (``hermite_change``, the
+    command's "not converged" line), not by raw warnings.  32 functions x 301 points (a
+    size that met such a complement) with LinAlgWarning as an error."""
+    import warnings
+
+    from scipy.linalg import LinAlgWarning
+
+    from numerics.fokker_planck import stationary_kramers
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LinAlgWarning)
+        sol = stationary_kramers("vdp", {"mu": 1e-6}, 1e-6, n_hermite=32, n_cheb=301)
+    assert sol.coef.shape == (32, 302)

@@ -107,6 +107,20 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
      "choose one with --root A0"),
     # RankWarnings and slopes fitted to one point
     (["compare", "vdp", "--convergence", "0.1,0.1,0.1"], "at least two distinct values of mu"),
+    # a list that starts with a minus sign: argparse's "expected one argument" (it read
+    # -0.1,0.05,0.1 as an option); then "needs at least two distinct values", given two
+    (["compare", "vdp", "--convergence", "-0.1,0.05,0.1"],
+     "--convergence needs values of mu > 0 (the slope of log|error| against log mu), got -0.1"),
+    (["response", "duffing-forced", "-p", "mu=0.05", "-p", "zeta=0.1", "-p", "alpha=1", "-p",
+      "h=0.5", "--vary", "sigma=-1:1", "--convergence", "-0.1,0.05,0.1"],
+     "the values of mu must be positive and finite, got -0.1"),
+    (["compare", "vdp", "--orders", "-1,2"], "--orders must list orders >= 1, got '-1,2'"),
+    (["compare", "vdp", "--energy-orders", "-1,2"], "--energy-orders must list orders >= 1"),
+    (["compare", "--fixed-delta", "-1,2"], "--fixed-delta takes values 0 < Delta < 100"),
+    (["diagram", "sedf", "-p", "mu=0.1", "-p", "lam=1", "--vary", "Delta=0:6", "--vary",
+      "beta=0.3:1.6", "--grid", "-3,4"], "--grid NA,NB must be 3 to 400 each, got '-3,4'"),
+    (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--t-end", "-1e3"],
+     "--t-end must be a positive number, got -1000"),
     # the method won silently over the contradicting flag
     (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--method", "fokker-planck",
       "--no-fokker-planck"], "--no-fokker-planck contradicts --method fokker-planck"),
@@ -137,6 +151,24 @@ def test_messages_speak_the_command_line(argv, says, capsys):
     assert says in err[0], err[0]
     bare = re.sub(r"--[\w-]+", "", err[0])  # the options named as typed
     assert not [w for w in API_WORDS if w in bare], err[0]
+
+
+def test_negative_values_reach_their_options(capsys):
+    """A value that starts with a minus sign and is no plain decimal (``-1e-1``, a list
+    ``-1,0,0,0``) was read by argparse as an unknown option ("expected one argument"); now
+    it is the option's value.  van der Pol's cycle from x = -0.1 at mu = 0.1 has the
+    Lindstedt period ``2 pi/omega``, ``omega = 1 - mu^2/16 + 17 mu^4/3072 + O(mu^6)``."""
+    import json
+    import math
+
+    assert main(["cycle", "vdp", "-p", "mu=0.1", "--x-start", "-1e-1", "--json"]) == 0
+    mu = 0.1
+    omega = 1 - mu**2 / 16 + 17 * mu**4 / 3072
+    assert json.loads(capsys.readouterr().out)["period"] == pytest.approx(2 * math.pi / omega,
+                                                                         rel=1e-7)
+    assert main(["cycle", "coupled-vdp", "-p", "mu=0.1", "-p", "c=0.3", "--start", "-1,0,0,0",
+                 "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["success"] is True
 
 
 @pytest.mark.parametrize("model", ["vdp", "rayleigh"])

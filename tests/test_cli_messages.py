@@ -36,7 +36,8 @@ def test_translation_table(library, cli):
 #: words of the Python API that no command-line message may hold (issue 35, item 6)
 API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.float64",
              "potential=", "`potential`", "root=", "t_end", "rtol", "in params", "averaged_cycles",
-             "D = '", "internal=", "trajectories = ", "resonance='")
+             "D = '", "internal=", "trajectories = ", "resonance='", "a_min", "a-range",
+             "order must", "order <=", "nu must", "tol must", "friction setting")
 
 
 @pytest.mark.parametrize("argv, says", [
@@ -67,7 +68,25 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     # with <a^2> = 0 +- 0 reported (van der Pol's attractor is the cycle a = 2)
     (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0"], "the noise is zero"),
     (["derive", "vdp", "--order", "2", "--numeric", "--a-range", "2:1"],
-     "--a-range needs a_min < a_max, got 2:1"),
+     "--a-range needs AMIN < AMAX, got 2:1"),
+    # the library's words on the command line (issue 35): "the a-range must lie in a > 0
+    # ..., got a_min = -1", "the order must be", "nu must be", "tol must be", "friction
+    # setting slips must be", "ask for order <= 20"
+    (["derive", "vdp", "--order", "2", "--numeric", "--a-range", "-1:2"],
+     "--a-range must lie in a > 0"),
+    (["derive", "vdp", "--order", "2", "--numeric", "--a-range", "1:2:3"],
+     "--a-range must be 'AMIN:AMAX'"),
+    (["derive", "vdp", "--order", "0"], "--order must be an integer >= 1, got 0"),
+    (["series", "vdp", "--order", "-1"], "--order must be an integer >= 0, got -1"),
+    (["predict", "vdp", "-p", "mu=0.1", "--order", "0"], "--order must be an integer >= 1"),
+    (["derive", "vdp", "--order", "40", "--numeric", "--a-range", "1:2"],
+     "--order 40 is above the limit 20 of the numeric backend; ask for --order <= 20"),
+    (["derive", "vdp", "--order", "2", "--numeric", "--a-range", "1:2", "--tol", "2"],
+     "--tol must be between 1e-15 and 1"),
+    (["response", "duffing", "--forcing", "h*cos(theta)", "-p", "mu=0.05", "-p", "h=0.5",
+      "--nu", "0"], "--nu must be a positive number"),
+    (["friction", "cdc", "-p", "Delta=3", "-p", "D=0.01", "--vary", "v=0.1", "--slips", "0",
+      "--no-progress"], "--slips must be an integer >= 1, got 0"),
     (["response", "duffing-forced", "--resonance", "0/1", "--vary", "sigma=-1:1", "--order",
       "1"], "--resonance p/q must be positive, got '0/1'"),
     (["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "T=0"], "give D > 0 or T > 0"),

@@ -115,3 +115,36 @@ def test_ill_conditioned_kramers_solve_warns_through_its_flag_only():
         warnings.simplefilter("error", LinAlgWarning)
         sol = stationary_kramers("vdp", {"mu": 1e-6}, 1e-6, n_hermite=32, n_cheb=301)
     assert sol.coef.shape == (32, 302)
+
+
+
+def test_a_negative_energy_density_is_reported_not_silent():
+    """``kbm noise --method fokker-planck --json``'s ``P(E)`` at low friction (SEDF at rest,
+    Delta = 3, mu = 0.002, D = 0.001) held eleven negative values in the tail (-2.9e-6 of a
+    0.41 peak at E = 8.26, each within its stated change) without a word.  The spectral
+    solution is not positive by construction; where it is negative the report says so
+    (``negative``: the energies and values, the mass ``int max(-P, 0) dE`` on the grid's
+    equal bins, and whether zero lies within each value's stated change, ``change >= 1``).
+    By hand: P = 0.5, -0.1, 0.2, -0.05 on bins of 0.5 has the negative mass 0.075, and the
+    last value's change 0.5 does not reach zero.  A coarse SEDF solve (mu = 0.05, D = 0.025,
+    cost 1e6: 32 x 267) has such a tail; where ``P`` is positive (the CDC at rest, Boltzmann
+    times the period, eq. 12) the report keeps its keys (its bytes)."""
+    import numpy as np
+
+    from numerics.fokker_planck import stationary_kramers
+    from numerics.fokker_planck._energy_density import energy_density_report, negative_part
+
+    hand = negative_part(np.array([0.0, 0.5, 1.0, 1.5]), np.array([0.5, -0.1, 0.2, -0.05]),
+                         np.array([0.1, 2.0, 0.1, 0.5]))
+    assert hand["E"] == [0.5, 1.5] and hand["P"] == [-0.1, -0.05]
+    assert hand["mass"] == pytest.approx(0.075) and hand["within_change"] is False
+    params = {"mu": 0.05, "Delta": 3, "beta": 1, "lam": 1}
+    rep = energy_density_report(stationary_kramers("sedf", params, 0.025, max_cost=1e6))
+    P, E, change = (np.array(rep[k]) for k in ("P", "E", "change"))
+    neg = rep["negative"]
+    assert neg["E"] == list(E[P < 0]) and len(neg["E"]) > 0
+    assert neg["within_change"] is bool(np.all(change[P < 0] >= 1))
+    cdc = energy_density_report(stationary_kramers("cdc", {"mu": 0.15, "Delta": 2, "lam": 1.3,
+                                                           "Omega": 1}, 0.09))
+    assert min(cdc["P"]) > 0
+    assert set(cdc) == {"E", "P", "change", "change_peak", "separatrices"}

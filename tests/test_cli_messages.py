@@ -153,6 +153,11 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     # ran without end: the largest step is a quarter of lam/v = 1e-9
     (["slide", "sedf", "-p", "Delta=3", "-p", "beta=1", "-p", "v=1e9", "--t-end", "15"],
      "--t-end 15 needs at least 6e+10 steps"),
+    # a Pade value at mu = 1e300 printed without a word (0.1757, where the true omega* is
+    # ~4e-300); the series' radius |mu^2| = 3.42 (Andersen & Geer), the reach 10 radii
+    (["series", "vdp", "--order", "80", "--float", "--at", "1e300"],
+     "times the series' radius of convergence 3.4"),
+    (["series", "vdp", "--order", "80", "--float", "--at", "7"], "give --at with |MU| <= 5.8"),
     # an empty --only wrote nothing and exited 0
     (["figures", "--only"], "give at least one, or leave out --only"),
     # --budget nan ran with no budget at all
@@ -188,6 +193,26 @@ def test_negative_values_reach_their_options(capsys):
     assert main(["cycle", "coupled-vdp", "-p", "mu=0.1", "-p", "c=0.3", "--start", "-1,0,0,0",
                  "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["success"] is True
+
+
+def test_series_warns_beyond_the_radius(capsys):
+    """``kbm series vdp --float --at 5``: mu^2 = 25 is 7.3 times the radius |mu^2| = 3.42
+    (Andersen & Geer), within the reach; the value is printed with the note that its +- (the
+    approximants' agreement) understates the error there (order 80: 6.7e-4 off the true
+    omega* = 0.541083 of numerics' cycle, 5.2e-8 stated).  Within the radius (mu = 1) no
+    note; the JSON states ``radius_multiple`` = mu^2/R."""
+    import json
+
+    assert main(["series", "vdp", "--order", "80", "--float", "--at", "5", "--at", "1"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    notes = [i for i, line in enumerate(out) if "beyond the radius of convergence" in line]
+    assert len(notes) == 1 and out[notes[0] - 1].startswith("mu = 5:")
+    assert "(mu**2 = 7.31 times 3.4" in out[notes[0]]
+    assert main(["series", "vdp", "--order", "80", "--float", "--at", "5", "--at", "1",
+                 "--json"]) == 0
+    pade = json.loads(capsys.readouterr().out)["pade"]
+    assert [p["radius_multiple"] for p in pade] == pytest.approx([25 / 3.42, 1 / 3.42],
+                                                                 rel=2e-3)
 
 
 @pytest.mark.parametrize("model", ["vdp", "rayleigh"])

@@ -148,3 +148,17 @@ def test_a_negative_energy_density_is_reported_not_silent():
                                                            "Omega": 1}, 0.09))
     assert min(cdc["P"]) > 0
     assert set(cdc) == {"E", "P", "change", "change_peak", "separatrices"}
+
+
+def test_series_progress_counts_every_power_of_mu():
+    """``kbm series --float --order 1000`` ran for minutes without a sign of life; the
+    recursion now reports each power of ``mu`` (the command's tqdm bar on a terminal): the
+    recursion to ``mu**N`` fixes ``a_N`` at ``mu**(N+1)``, N + 1 steps, and the series it
+    returns is the same (van der Pol: omega* = 1 - mu^2/16 + 17 mu^4/3072 - ...)."""
+    from kbm.slowflow.numeric_series import numeric_cycle_series
+
+    steps = []
+    s = numeric_cycle_series("vdp", 10, progress=steps.append)
+    assert sum(steps) == 11
+    assert s.omega[:5] == pytest.approx((1, 0, -1 / 16, 0, 17 / 3072), abs=1e-15)
+    assert s.omega == numeric_cycle_series("vdp", 10).omega

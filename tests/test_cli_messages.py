@@ -36,7 +36,8 @@ def test_translation_table(library, cli):
 #: words of the Python API that no command-line message may hold (issue 35, item 6)
 API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.float64",
              "potential=", "`potential`", "root=", "t_end", "rtol", "in params", "averaged_cycles",
-             "D = '", "internal=", "trajectories = ", "resonance='")
+             "D = '", "internal=", "trajectories = ", "resonance='", "a_min", "a-range",
+             "order must", "order <=", "nu must", "tol must", "friction setting")
 
 
 @pytest.mark.parametrize("argv, says", [
@@ -67,7 +68,25 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     # with <a^2> = 0 +- 0 reported (van der Pol's attractor is the cycle a = 2)
     (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0"], "the noise is zero"),
     (["derive", "vdp", "--order", "2", "--numeric", "--a-range", "2:1"],
-     "--a-range needs a_min < a_max, got 2:1"),
+     "--a-range needs AMIN < AMAX, got 2:1"),
+    # the library's words on the command line (issue 35): "the a-range must lie in a > 0
+    # ..., got a_min = -1", "the order must be", "nu must be", "tol must be", "friction
+    # setting slips must be", "ask for order <= 20"
+    (["derive", "vdp", "--order", "2", "--numeric", "--a-range", "-1:2"],
+     "--a-range must lie in a > 0"),
+    (["derive", "vdp", "--order", "2", "--numeric", "--a-range", "1:2:3"],
+     "--a-range must be 'AMIN:AMAX'"),
+    (["derive", "vdp", "--order", "0"], "--order must be an integer >= 1, got 0"),
+    (["series", "vdp", "--order", "-1"], "--order must be an integer >= 0, got -1"),
+    (["predict", "vdp", "-p", "mu=0.1", "--order", "0"], "--order must be an integer >= 1"),
+    (["derive", "vdp", "--order", "40", "--numeric", "--a-range", "1:2"],
+     "--order 40 is above the limit 20 of the numeric backend; ask for --order <= 20"),
+    (["derive", "vdp", "--order", "2", "--numeric", "--a-range", "1:2", "--tol", "2"],
+     "--tol must be between 1e-15 and 1"),
+    (["response", "duffing", "--forcing", "h*cos(theta)", "-p", "mu=0.05", "-p", "h=0.5",
+      "--nu", "0"], "--nu must be a positive number"),
+    (["friction", "cdc", "-p", "Delta=3", "-p", "D=0.01", "--vary", "v=0.1", "--slips", "0",
+      "--no-progress"], "--slips must be an integer >= 1, got 0"),
     (["response", "duffing-forced", "--resonance", "0/1", "--vary", "sigma=-1:1", "--order",
       "1"], "--resonance p/q must be positive, got '0/1'"),
     (["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "T=0"], "give D > 0 or T > 0"),
@@ -107,6 +126,20 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
      "choose one with --root A0"),
     # RankWarnings and slopes fitted to one point
     (["compare", "vdp", "--convergence", "0.1,0.1,0.1"], "at least two distinct values of mu"),
+    # a list that starts with a minus sign: argparse's "expected one argument" (it read
+    # -0.1,0.05,0.1 as an option); then "needs at least two distinct values", given two
+    (["compare", "vdp", "--convergence", "-0.1,0.05,0.1"],
+     "--convergence needs values of mu > 0 (the slope of log|error| against log mu), got -0.1"),
+    (["response", "duffing-forced", "-p", "mu=0.05", "-p", "zeta=0.1", "-p", "alpha=1", "-p",
+      "h=0.5", "--vary", "sigma=-1:1", "--convergence", "-0.1,0.05,0.1"],
+     "the values of mu must be positive and finite, got -0.1"),
+    (["compare", "vdp", "--orders", "-1,2"], "--orders must list orders >= 1, got '-1,2'"),
+    (["compare", "vdp", "--energy-orders", "-1,2"], "--energy-orders must list orders >= 1"),
+    (["compare", "--fixed-delta", "-1,2"], "--fixed-delta takes values 0 < Delta < 100"),
+    (["diagram", "sedf", "-p", "mu=0.1", "-p", "lam=1", "--vary", "Delta=0:6", "--vary",
+      "beta=0.3:1.6", "--grid", "-3,4"], "--grid NA,NB must be 3 to 400 each, got '-3,4'"),
+    (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--t-end", "-1e3"],
+     "--t-end must be a positive number, got -1000"),
     # the method won silently over the contradicting flag
     (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--method", "fokker-planck",
       "--no-fokker-planck"], "--no-fokker-planck contradicts --method fokker-planck"),
@@ -120,6 +153,11 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     # ran without end: the largest step is a quarter of lam/v = 1e-9
     (["slide", "sedf", "-p", "Delta=3", "-p", "beta=1", "-p", "v=1e9", "--t-end", "15"],
      "--t-end 15 needs at least 6e+10 steps"),
+    # a Pade value at mu = 1e300 printed without a word (0.1757, where the true omega* is
+    # ~4e-300); the series' radius |mu^2| = 3.42 (Andersen & Geer), the reach 10 radii
+    (["series", "vdp", "--order", "80", "--float", "--at", "1e300"],
+     "times the series' radius of convergence 3.4"),
+    (["series", "vdp", "--order", "80", "--float", "--at", "7"], "give --at with |MU| <= 5.8"),
     # an empty --only wrote nothing and exited 0
     (["figures", "--only"], "give at least one, or leave out --only"),
     # --budget nan ran with no budget at all
@@ -137,6 +175,44 @@ def test_messages_speak_the_command_line(argv, says, capsys):
     assert says in err[0], err[0]
     bare = re.sub(r"--[\w-]+", "", err[0])  # the options named as typed
     assert not [w for w in API_WORDS if w in bare], err[0]
+
+
+def test_negative_values_reach_their_options(capsys):
+    """A value that starts with a minus sign and is no plain decimal (``-1e-1``, a list
+    ``-1,0,0,0``) was read by argparse as an unknown option ("expected one argument"); now
+    it is the option's value.  van der Pol's cycle from x = -0.1 at mu = 0.1 has the
+    Lindstedt period ``2 pi/omega``, ``omega = 1 - mu^2/16 + 17 mu^4/3072 + O(mu^6)``."""
+    import json
+    import math
+
+    assert main(["cycle", "vdp", "-p", "mu=0.1", "--x-start", "-1e-1", "--json"]) == 0
+    mu = 0.1
+    omega = 1 - mu**2 / 16 + 17 * mu**4 / 3072
+    assert json.loads(capsys.readouterr().out)["period"] == pytest.approx(2 * math.pi / omega,
+                                                                         rel=1e-7)
+    assert main(["cycle", "coupled-vdp", "-p", "mu=0.1", "-p", "c=0.3", "--start", "-1,0,0,0",
+                 "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["success"] is True
+
+
+def test_series_warns_beyond_the_radius(capsys):
+    """``kbm series vdp --float --at 5``: mu^2 = 25 is 7.3 times the radius |mu^2| = 3.42
+    (Andersen & Geer), within the reach; the value is printed with the note that its +- (the
+    approximants' agreement) understates the error there (order 80: 6.7e-4 off the true
+    omega* = 0.541083 of numerics' cycle, 5.2e-8 stated).  Within the radius (mu = 1) no
+    note; the JSON states ``radius_multiple`` = mu^2/R."""
+    import json
+
+    assert main(["series", "vdp", "--order", "80", "--float", "--at", "5", "--at", "1"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    notes = [i for i, line in enumerate(out) if "beyond the radius of convergence" in line]
+    assert len(notes) == 1 and out[notes[0] - 1].startswith("mu = 5:")
+    assert "(mu**2 = 7.31 times 3.4" in out[notes[0]]
+    assert main(["series", "vdp", "--order", "80", "--float", "--at", "5", "--at", "1",
+                 "--json"]) == 0
+    pade = json.loads(capsys.readouterr().out)["pade"]
+    assert [p["radius_multiple"] for p in pade] == pytest.approx([25 / 3.42, 1 / 3.42],
+                                                                 rel=2e-3)
 
 
 @pytest.mark.parametrize("model", ["vdp", "rayleigh"])

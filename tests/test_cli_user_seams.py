@@ -82,3 +82,83 @@ def test_an_unwritable_out_is_refused_before_the_computation(argv, tmp_path, cap
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and f"cannot write to --out = '{blocker / 'sub'}'" in err[0], err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a-file"]
+
+
+def test_noise_refuses_before_the_step_pilot_without_a_warning(capsys):
+    """vdp at D = 1e300: the averaged amplitude density ``P(a) ~ a exp((mu/D)(a^2/2 -
+    a^4/16))`` peaks at ``a^4 = 4 D/mu``, far beyond the quadrature's a = 1e6, and the
+    averaging refuses; the step pilot ran first and its variance of the squared moments
+    overflowed (a numpy RuntimeWarning on stderr before the error).  With warnings as
+    errors the refusal is the one line."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert main(["noise", "vdp", "-p", "mu=0.1", "-p", "D=1e300"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no averaged stationary state" in err[0], err
+
+
+def test_ill_conditioned_kramers_solve_warns_through_its_flag_only():
+    """vdp at mu = D = 1e-6 (``kbm noise vdp -p mu=1e-6 -p D=1e-6``): the Schur complements
+    of the order-by-order LU have rcond ~ 1e-26 and scipy printed a LinAlgWarning per
+    order; the unconverged solve is reported by its refinements (``hermite_change``, the
+    command's "not converged" line), not by raw warnings.  32 functions x 301 points (a
+    size that met such a complement) with LinAlgWarning as an error."""
+    import warnings
+
+    from scipy.linalg import LinAlgWarning
+
+    from numerics.fokker_planck import stationary_kramers
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LinAlgWarning)
+        sol = stationary_kramers("vdp", {"mu": 1e-6}, 1e-6, n_hermite=32, n_cheb=301)
+    assert sol.coef.shape == (32, 302)
+
+
+
+def test_a_negative_energy_density_is_reported_not_silent():
+    """``kbm noise --method fokker-planck --json``'s ``P(E)`` at low friction (SEDF at rest,
+    Delta = 3, mu = 0.002, D = 0.001) held eleven negative values in the tail (-2.9e-6 of a
+    0.41 peak at E = 8.26, each within its stated change) without a word.  The spectral
+    solution is not positive by construction; where it is negative the report says so
+    (``negative``: the energies and values, the mass ``int max(-P, 0) dE`` on the grid's
+    equal bins, and whether zero lies within each value's stated change, ``change >= 1``).
+    By hand: P = 0.5, -0.1, 0.2, -0.05 on bins of 0.5 has the negative mass 0.075, and the
+    last value's change 0.5 does not reach zero.  A coarse SEDF solve (mu = 0.05, D = 0.025,
+    cost 1e6: 32 x 267) has such a tail; where ``P`` is positive (the CDC at rest, Boltzmann
+    times the period, eq. 12) the report keeps its keys (its bytes)."""
+    import numpy as np
+
+    from numerics.fokker_planck import stationary_kramers
+    from numerics.fokker_planck._energy_density import energy_density_report, negative_part
+
+    hand = negative_part(np.array([0.0, 0.5, 1.0, 1.5]), np.array([0.5, -0.1, 0.2, -0.05]),
+                         np.array([0.1, 2.0, 0.1, 0.5]))
+    assert hand["E"] == [0.5, 1.5] and hand["P"] == [-0.1, -0.05]
+    assert hand["mass"] == pytest.approx(0.075) and hand["within_change"] is False
+    params = {"mu": 0.05, "Delta": 3, "beta": 1, "lam": 1}
+    rep = energy_density_report(stationary_kramers("sedf", params, 0.025, max_cost=1e6))
+    P, E, change = (np.array(rep[k]) for k in ("P", "E", "change"))
+    neg = rep["negative"]
+    assert neg["E"] == list(E[P < 0]) and len(neg["E"]) > 0
+    assert neg["within_change"] is bool(np.all(change[P < 0] >= 1))
+    cdc = energy_density_report(stationary_kramers("cdc", {"mu": 0.15, "Delta": 2, "lam": 1.3,
+                                                           "Omega": 1}, 0.09))
+    assert min(cdc["P"]) > 0
+    assert set(cdc) == {"E", "P", "change", "change_peak", "separatrices"}
+
+
+def test_series_progress_counts_every_power_of_mu():
+    """``kbm series --float --order 1000`` ran for minutes without a sign of life; the
+    recursion now reports each power of ``mu`` (the command's tqdm bar on a terminal): the
+    recursion to ``mu**N`` fixes ``a_N`` at ``mu**(N+1)``, N + 1 steps, and the series it
+    returns is the same (van der Pol: omega* = 1 - mu^2/16 + 17 mu^4/3072 - ...)."""
+    from kbm.slowflow.numeric_series import numeric_cycle_series
+
+    steps = []
+    s = numeric_cycle_series("vdp", 10, progress=steps.append)
+    assert sum(steps) == 11
+    assert s.omega[:5] == pytest.approx((1, 0, -1 / 16, 0, 17 / 3072), abs=1e-15)
+    assert s.omega == numeric_cycle_series("vdp", 10).omega

@@ -73,7 +73,7 @@ def parse_a_range(a_range) -> tuple[float, float]:
     if lo <= 0:
         raise ParameterError(f"the a-range must lie in a > 0 (a = 0 is the fixed point, "
                              f"where B_n has a 1/a and the phase is undefined), got "
-                             f"a_min = {lo:g}; start it above 0, e.g. 0.05:{hi:g}")
+                             f"{lo:g}:{hi:g}; start it above 0, e.g. 0.05:{hi:g}")
     if hi <= lo:
         raise ParameterError(f"the a-range needs a_min < a_max, got {lo:g}:{hi:g}")
     return lo, hi

@@ -148,13 +148,28 @@ def symbolic_commands() -> dict[str, tuple[str, str]]:
 EXPRESSION_OPTIONS = ("--rhs", "--potential", "--omega0", "--root")
 
 
+#: a value that starts with a minus sign and a number (no option of kbm does): ``-0.1``,
+#: ``-1e-3``, ``-inf``, and lists and ranges ``-0.1,0.05,0.1``, ``-1:2``
+_NEGATIVE_VALUE = re.compile(r"-(?:\.?\d|inf\b|nan\b)", re.IGNORECASE)
+
+
 def _join_negative_values(argv: Sequence[str]) -> list[str]:
-    """``["--rhs", "-x**3"]`` -> ``["--rhs=-x**3"]``: argparse would read ``-x**3`` as an option."""
+    """``["--rhs", "-x**3"]`` -> ``["--rhs=-x**3"]``: argparse would read ``-x**3`` as an option.
+
+    The same for any option followed by a value that starts with a minus sign and a number
+    (``--convergence -0.1,0.05,0.1``, ``--detuning -1e-3``): argparse takes ``-0.1`` and
+    ``-.5`` for values but ``-0.1,0.05`` or ``-1e-3`` for an unknown option ("expected one
+    argument").  The option then checks the value in its own terms.
+    """
     out: list[str] = []
     items = list(argv)
     i = 0
     while i < len(items):
-        if (items[i] in EXPRESSION_OPTIONS and i + 1 < len(items)
+        if i + 1 < len(items) and items[i].startswith("-") and items[i] != "--" \
+                and "=" not in items[i] and _NEGATIVE_VALUE.match(items[i + 1]):
+            out.append(f"{items[i]}={items[i + 1]}")
+            i += 2
+        elif (items[i] in EXPRESSION_OPTIONS and i + 1 < len(items)
                 and items[i + 1].startswith("-") and not items[i + 1].startswith("--")):
             out.append(f"{items[i]}={items[i + 1]}")
             i += 2
@@ -197,7 +212,15 @@ _TRANSLATIONS = tuple((re.compile(pattern), repl) for pattern, repl in (
     (r"^rtol must", "--rtol must"),
     (r"^trajectories = (\d+):", r"--trajectories \1:"),
     (r"^the seed must", "--seed must"),
-    (r"^the a-range needs", "--a-range needs"),
+    (r"^the a-range\b", "--a-range"),
+    (r"^--a-range needs a_min < a_max", "--a-range needs AMIN < AMAX"),
+    (r"^(?:the )?(?:series )?order must be", "--order must be"),
+    (r"^order (\d+) is above the limit (.*); ask for order <=",
+     r"--order \1 is above the limit \2; ask for --order <="),
+    (r"^nu must be", "--nu must be"),
+    (r"^tol must be", "--tol must be"),
+    (r"^friction setting slips must", "--slips must"),
+    (r"^a convergence study needs values", "--convergence needs values"),
     (r"^the resonance p/q must", "--resonance p/q must"),
     (r"\bt_end = ", "--t-end "),
     (r"\bt_end\b", "--t-end"),

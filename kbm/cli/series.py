@@ -13,8 +13,9 @@ from ._common import add_command, add_model_arguments, add_options, emit_json
 def register(sub) -> None:
     p = add_command(sub, "series", "Expand the limit-cycle frequency omega* and first-harmonic "
                     "amplitude a* in powers of mu: exact rationals (to mu^200), or with --float "
-                    "in floating point to high order (to mu^1000), with the radius of convergence "
-                    "and Pade resummation.")
+                    "in floating point to high order (to mu^1000; van der Pol: order 300 in about "
+                    "13 s, 1000 in about 9 min CPU, with a progress bar on a terminal), with the "
+                    "radius of convergence and Pade resummation.")
     add_model_arguments(p, model=dict(help="built-in model with polynomial F (e.g. vdp)"),
                         rhs=dict(help="your own polynomial F"))
     add_options(p, "order", order=dict(required=True, help="highest power of mu"))
@@ -30,7 +31,8 @@ def register(sub) -> None:
     add_options(p, "digits", digits=dict(help="with --float: decimal digits of an mpmath "
                                                "computation (5..1000; slow, order <= 200)"))
     p.add_argument("--at", type=float, action="append", default=[], metavar="MU",
-                   help="with --float: Pade-resummed omega* and a* at this mu (repeatable)")
+                   help="with --float: Pade-resummed omega* and a* at this mu (repeatable; "
+                        "within 10 radii of convergence, with a note beyond the radius)")
     add_options(p, "param", "json", json=dict(help="print JSON (rationals as strings)"))
     p.set_defaults(func=run)
 
@@ -67,7 +69,17 @@ def _floating(args, model) -> int:
 
     from ..slowflow.numeric_series import numeric_cycle_series
 
-    s = numeric_cycle_series(model, args.order, digits=args.digits, root=args.root)
+    import sys
+
+    from tqdm.auto import tqdm
+
+    # the recursion's step to mu**n costs about n times the first (van der Pol in double
+    # precision: order 300 in ~13 s, 1000 in 563 s CPU, 99.5 % the recursion, 65 % numpy's
+    # convolutions of its Cauchy products): a bar on stderr, on a terminal only
+    with tqdm(total=args.order + 1, file=sys.stderr, unit="order", desc="kbm series",
+              disable=None, leave=False) as bar:
+        s = numeric_cycle_series(model, args.order, digits=args.digits, root=args.root,
+                                 progress=bar.update)
     shown = 17 if args.digits is None else args.digits
 
     def fmt(v) -> str:
@@ -77,6 +89,7 @@ def _floating(args, model) -> int:
         sing = s.singularity()
     except ValueError:  # too few coefficients for an estimate
         sing = None
+    reach = {mu: _pade_reach(s, sing, mu) for mu in args.at}  # refuses beyond PADE_REACH
     pades = {mu: (s.pade(mu, "omega"), s.pade(mu, "amplitude")) for mu in args.at}
     if args.json:
         return emit_json({
@@ -87,7 +100,8 @@ def _floating(args, model) -> int:
                 "radius": sing.radius, "angle": sing.angle, "radius_last": sing.radius_last,
                 "pole_radius": sing.pole_radius, "pole_angle": sing.pole_angle},
             "pade": [{"mu": mu, "omega": fmt(w.value), "omega_error": float(w.error),
-                      "amplitude": fmt(a.value), "amplitude_error": float(a.error)}
+                      "amplitude": fmt(a.value), "amplitude_error": float(a.error),
+                      "radius_multiple": reach[mu]}
                      for mu, (w, a) in pades.items()]})
     prec = "double precision" if args.digits is None else f"{args.digits} digits"
     print(f"{model.name}: mu-series to order {s.order} ({prec}), in {s.variable}")
@@ -106,4 +120,53 @@ def _floating(args, model) -> int:
     for mu, (w, a) in pades.items():
         print(f"mu = {mu:g}: Pade omega* = {fmt(w.value)} (+- {mpmath.nstr(w.error, 2)}), "
               f"a* = {fmt(a.value)} (+- {mpmath.nstr(a.error, 2)})")
+        if reach[mu] is not None and reach[mu] > 1:
+            print(f"  beyond the radius of convergence ({s.variable} = {reach[mu]:.3g} times "
+                  f"{sing.radius:.4g}): the +- is the agreement of successive Pade "
+                  "approximants, which can understate the error there by orders of "
+                  "magnitude (van der Pol at mu = 5, 7.3 radii, against the true cycle: 7 "
+                  "times at order 40, 1.3e4 at 80, 13 at 160, 15 at 300)")
     return 0
+
+
+#: how far beyond the radius of convergence ``R`` (in the series' variable) ``--at`` goes:
+#: the Pade continuation is checked against the true cycles to ``mu = 5``, ``mu^2 = 7.3 R``
+#: for van der Pol (docs/theory.rst).  Measured there (order 300 against numerics'
+#: cycles): its error is 7, 15, 26, 43, 91 and 160 times the stated one (the approximants'
+#: agreement) at ``mu^2`` = 2.6, 7.3, 14, 29, 117 and 731 ``R`` (mu = 3, 5, 7, 10, 20, 50),
+#: 2 % at mu = 10; at mu = 5, 7 times at order 40, 1.3e4 at 80 (6.7e-4 against a stated
+#: 5.2e-8), 13 at 160.  The approximants tend to a constant as ``mu -> oo`` (0.1757 for
+#: ``omega*`` at order 300), where the true ``omega*`` falls like
+#: ``2 pi/((3 - 2 ln 2) mu)``.
+PADE_REACH = 10.0
+
+
+def _pade_reach(s, sing, mu: float) -> float | None:
+    """``|t|/R`` of ``--at mu`` (``t`` the series' variable, ``R`` the ratio estimates'
+    radius); ``None`` without an estimate of ``R``.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Beyond :data:`PADE_REACH` radii, or for a ``mu`` that is not finite.
+    """
+    import math
+
+    if not math.isfinite(mu):
+        raise ParameterError(f"--at must be a finite number, got {mu}")
+    if sing is None or not (math.isfinite(sing.radius) and sing.radius > 0):
+        return None
+    import mpmath
+
+    t = mpmath.mpf(abs(mu)) ** (2 if s.even else 1)  # mu = 1e300: no float overflow
+    ratio = t / sing.radius
+    if ratio > PADE_REACH:
+        top = (PADE_REACH * sing.radius) ** (0.5 if s.even else 1)
+        raise ParameterError(
+            f"--at {mu:g}: {s.variable} = {mpmath.nstr(t, 3)} is {mpmath.nstr(ratio, 3)} "
+            f"times the series' radius of convergence {sing.radius:.4g}; the Pade "
+            f"continuation is checked to {PADE_REACH:g} times it (van der Pol against the true "
+            "cycle: its error 15 times the stated at mu = 5, 2 % at mu = 10 with 0.05 % "
+            "stated, and it tends to a constant as mu grows): give --at with |MU| <= "
+            f"{top:.3g}, or kbm cycle for the true cycle")
+    return float(ratio)

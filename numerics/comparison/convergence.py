@@ -202,7 +202,13 @@ def convergence_study(model: str, eps: Sequence[float], *, orders: Sequence[int]
     2
     """
     values = [float(e) for e in eps]
-    if len(set(values)) < 2 or not all(math.isfinite(e) and e > 0 for e in values):
+    bad = [e for e in values if not (math.isfinite(e) and e > 0)]
+    if bad:  # -0.1,0.05,0.1 said "needs at least two distinct values", given two
+        raise ParameterError("a convergence study needs values of mu > 0 (the slope of "
+                             "log|error| against log mu), got "
+                             f"{', '.join(f'{e:g}' for e in bad)}: leave "
+                             f"{'it' if len(bad) == 1 else 'them'} out")
+    if len(set(values)) < 2:
         # 0.1,0.1,0.1 printed RankWarnings and slopes fitted to one point
         raise ParameterError("a convergence study needs at least two distinct values of "
                              "mu > 0 (the slope of log|error| against log mu), got "

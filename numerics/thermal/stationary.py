@@ -218,15 +218,17 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
     # the budget is checked at the largest step the rule can choose before the pilot that
     # measures the step runs (a run refused for its size costs no pilot)
     run, burn, h = default_times(system, t_end, burn_in, dt, measure=False)
-    pilot = {"h0": h, "outcome": "not run", "reason": "the simulation is refused (budget)"}
-    if trajectories * (run + burn) / h <= budget:
-        pilot = {}
-        run, burn, h = default_times(system, t_end, burn_in, dt, pilot=pilot)
     if method not in METHODS:
         raise ParameterError(f"--method {method!r}: choose one of {', '.join(METHODS)}")
     if order not in (1, 2):
         raise ParameterError(f"--order {order}: the stochastic averaging is of order 1 or 2")
+    # the averaging's refusal (no stationary state) before the step pilot: vdp at D = 1e300
+    # ran the pilot first, whose variance overflowed, then refused
     avg, why = averaged_stationary(model, params, D, system.omega0)
+    pilot = {"h0": h, "outcome": "not run", "reason": "the simulation is refused (budget)"}
+    if trajectories * (run + burn) / h <= budget:
+        pilot = {}
+        run, burn, h = default_times(system, t_end, burn_in, dt, pilot=pilot)
     so, so_values, so_why = second_order(model, params, D, avg) if order == 2 else (None, {}, "")
     if so_why:
         why = f"{why}; {so_why}" if why else so_why

@@ -158,6 +158,9 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     (["series", "vdp", "--order", "80", "--float", "--at", "1e300"],
      "times the series' radius of convergence 3.4"),
     (["series", "vdp", "--order", "80", "--float", "--at", "7"], "give --at with |MU| <= 5.8"),
+    # --at on one degree of freedom was ignored silently (the table printed as without it)
+    (["derive", "vdp", "--order", "2", "--at", "1.5"],
+     "--at is the point of a coupled system's --numeric rates"),
     # an empty --only wrote nothing and exited 0
     (["figures", "--only"], "give at least one, or leave out --only"),
     # --budget nan ran with no budget at all

@@ -312,6 +312,10 @@ def run(args: argparse.Namespace) -> int:
 
     if is_coupled(args):
         return _run_coupled(args)
+    if args.at is not None:  # one degree of freedom: --at would be ignored silently
+        raise ParameterError("--at is the point of a coupled system's --numeric rates; for "
+                             "one degree of freedom give the amplitudes with --a-range "
+                             "AMIN:AMAX (with --numeric, or above the symbolic order limit)")
     model = model_from_args(args)
     if args.numeric:
         return _run_numeric(args, model)

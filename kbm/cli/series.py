@@ -117,9 +117,15 @@ def _floating(args, model) -> int:
             f"+-{sing.pole_angle:.4f}")
         print(f"nearest singularities of omega*: |{s.variable}| = {sing.radius:.4f} at angle "
               f"+-{sing.angle:.4f} rad (ratio estimates extrapolated){pole}")
+    def pm(err) -> str:
+        """The error column: the agreement of successive approximants, or why there is none."""
+        return "+- unmeasured" if mpmath.isinf(err) else f"+- {mpmath.nstr(err, 2)}"
     for mu, (w, a) in pades.items():
-        print(f"mu = {mu:g}: Pade omega* = {fmt(w.value)} (+- {mpmath.nstr(w.error, 2)}), "
-              f"a* = {fmt(a.value)} (+- {mpmath.nstr(a.error, 2)})")
+        print(f"mu = {mu:g}: Pade omega* = {fmt(w.value)} ({pm(w.error)}), "
+              f"a* = {fmt(a.value)} ({pm(a.error)})")
+        if mpmath.isinf(w.error) or mpmath.isinf(a.error):
+            print(f"  the +- is unmeasured: at --order {s.order} one Pade degree is formed, "
+                  "and the error is the agreement of two; raise --order")
         if reach[mu] is not None and reach[mu] > 1:
             print(f"  beyond the radius of convergence ({s.variable} = {reach[mu]:.3g} times "
                   f"{sing.radius:.4g}): the +- is the agreement of successive Pade "

@@ -158,6 +158,10 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     (["series", "vdp", "--order", "80", "--float", "--at", "1e300"],
      "times the series' radius of convergence 3.4"),
     (["series", "vdp", "--order", "80", "--float", "--at", "7"], "give --at with |MU| <= 5.8"),
+    # a RuntimeWarning (overflow in square) and stderr = inf in the table, exit 0
+    (["noise", "sedf", "-p", "mu=0.1", "-p", "Delta=3", "-p", "beta=1", "-p", "v=0.1", "-p",
+      "D=1e300", "--trajectories", "8", "--t-end", "10", "--burn-in", "1", "--json"],
+     "the ensemble's moments reach"),
     # --at on one degree of freedom was ignored silently (the table printed as without it)
     (["derive", "vdp", "--order", "2", "--at", "1.5"],
      "--at is the point of a coupled system's --numeric rates"),

@@ -39,6 +39,10 @@ MIN_TRAJECTORIES = 8
 #: the histogrammed observables and their kernel codes
 OBSERVABLES = {"a": 0, "x": 1, "E": 2}
 
+#: the largest per-trajectory moment whose standard error is formed (its square, ~1e300,
+#: stays below double precision's 1.8e308)
+HUGE_MOMENT = 1e150
+
 
 @dataclass(frozen=True)
 class Estimate:
@@ -198,6 +202,12 @@ def stationary_ensemble(model, params: dict, D: float, *, trajectories: int, t_e
                             f"trajectory {bad[0]}): the state became non-finite; with this "
                             f"noise the model has no stationary state, or dt = {dt:g} is too "
                             "large")
+    top = float(np.max(np.abs(sums[:, :4])))
+    if top > HUGE_MOMENT:  # the standard errors square them: inf and a RuntimeWarning
+        raise NumericsError(f"the ensemble's moments reach {top:.3g}, beyond the {HUGE_MOMENT:g} "
+                            "whose spread double precision can hold (their squares overflow): "
+                            "the noise is too strong for a meaningful stationary state in "
+                            "floating point; lower D")
     width = (hi - lo) / nbins
     dens = hist / width
     return StationaryEnsemble(

@@ -130,3 +130,37 @@ def test_cubic_order_2_matches_the_simulated_line():
     th1 = line_theory(custom_model(CUBIC), {"mu": 0.05, "alpha": 1}, 0.005)
     e1 = th1.linewidth / lw["simulated"] - 1
     assert e1 > 3 * rel_se and abs(e2) < e1 / 3
+
+
+@pytest.mark.parametrize("power, a_u", [(5, "2.57"), (7, "2.264")])
+def test_order_2_refused_where_the_noise_escapes_its_spurious_cycle(power, a_u, capsys):
+    """F = (1 - x^2) x' - x^5 (or x^7), mu = 0.1, D = 0.01: mu^2 A_2 holds a^7 (a^9) with a
+    positive sign, so the second-order amplitude rate turns positive again at a_u (an
+    unstable cycle of the truncated series, the root of a^6 - 5.33 a^4 - 21.3 a^2 + 85.3
+    for x^5) and the stationary density ``P = a exp((2/D) int A)`` grows without bound
+    beyond it (the density grid came out empty: IndexError).  Here ln P falls by less than
+    the quadrature's cut of 60 between a* and a_u: refused with the numbers, one line, no
+    traceback; the stated D bound gives a line."""
+    from numerics.errors import NoCycleError
+
+    rhs = f"(1-x**2)*xdot - x**{power}"
+    with pytest.raises(NoCycleError, match=f"unstable cycle at a = {a_u}") as exc:
+        line_theory(custom_model(rhs, omega0=1), {"mu": 0.1}, 0.01, order=2)
+    assert "--order 1" in str(exc.value)
+    bound = float(str(exc.value).split("give D below about ")[1].split(",")[0])
+    assert line_theory(custom_model(rhs, omega0=1), {"mu": 0.1}, bound / 2,
+                       order=2).linewidth > 0
+    argv = ["spectrum", "--rhs", rhs, "-p", "mu=0.1", "-p", "D=0.01", "--order", "2",
+            "--no-simulation"]
+    assert main(argv) != 0
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_order_2_density_below_the_spurious_cycle_has_the_small_noise_limit():
+    """Where the barrier holds (D << 0.01), the density confined below a_u gives the order-2
+    line, which tends to its small-noise form D <Z_v^2> (the phase response through the
+    near-identity transform, a second computation) as D -> 0: within 1e-3 at D = 1e-5."""
+    th = line_theory(custom_model("(1-x**2)*xdot - x**5", omega0=1), {"mu": 0.1}, 1e-5,
+                     order=2)
+    assert th.linewidth == pytest.approx(th.small_noise, rel=1e-3)

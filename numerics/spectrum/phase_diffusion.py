@@ -53,12 +53,11 @@ from kbm.noise.stochastic import NOISE
 from kbm.symbols import a, mu, psi
 
 from ..errors import NoCycleError
+from .density import stationary_density
 
 __all__ = ["Line", "LineTheory", "line_theory", "PhaseDiffusion",
            "cycle_phase_diffusion"]
 
-_GRID = 20001  # quadrature points in a
-_CUT = 60.0  # ln P below its peak where the quadrature stops
 _PSI = 512  # points in psi for <Z_v^2> (a trigonometric rational: spectral accuracy)
 
 
@@ -276,21 +275,7 @@ def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1
     f_lin = f_cyc + float(pd.frequency_shift.subs(subs).subs(a, a_star))
 
     # the stationary density on a grid that holds all but exp(-60) of it
-    sig = math.sqrt(D / (2 * w0**2 * lam))
-    hi = a_star + 12 * sig
-    while True:
-        grid = np.linspace(0.0, hi, _GRID)
-        with np.errstate(all="ignore"):
-            Av = np.asarray(A(grid, 0.0), float) * np.ones_like(grid)
-        Av[0] = 0.0 if not np.isfinite(Av[0]) else Av[0]
-        cum = np.concatenate([[0.0], np.cumsum(0.5 * (Av[1:] + Av[:-1]) * np.diff(grid))])
-        with np.errstate(divide="ignore"):
-            lnp = np.log(grid) + 2 * w0**2 * cum / D
-        if lnp[-1] < np.max(lnp) - _CUT or hi > 1e3:
-            break
-        hi *= 1.5
-    keep = lnp > np.max(lnp) - _CUT
-    ag, lnp = grid[keep], lnp[keep]
+    ag, lnp = stationary_density(A, a_star, lam, w0, D, order)
     da = ag[1] - ag[0]
     p = np.exp(lnp - lnp.max())
     p /= np.trapezoid(p, ag)

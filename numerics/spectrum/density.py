@@ -91,4 +91,10 @@ def stationary_density(A: Callable, a_star: float, lam: float, w0: float, D: flo
             break
         hi *= 1.5
     keep = lnp > np.max(lnp) - CUT
+    while np.count_nonzero(keep) < GRID // 10:
+        # a narrow density (small D/mu): the grid again, on its range (one step wider)
+        i, j = np.flatnonzero(keep)[[0, -1]]
+        grid = np.linspace(grid[max(i - 1, 1)], grid[min(j + 1, grid.size - 1)], GRID)
+        lnp = _log_density(A, grid, w0, D)[1]
+        keep = lnp > np.max(lnp) - CUT
     return grid[keep], lnp[keep]

@@ -284,6 +284,10 @@ def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1
     mean_b = float(np.trapezoid(p * Bv, ag))
     fp = (Bv - mean_b) * p
     F = np.concatenate([[0.0], np.cumsum(0.5 * (fp[1:] + fp[:-1]) * da)])
+    # above the peak, F = -int_a^inf (B - <B>) P: summed from the top, F/P stays accurate
+    # where P is exp(-60) of its peak (from below it is a difference of O(1) numbers)
+    Fr = -np.concatenate([np.cumsum((0.5 * (fp[1:] + fp[:-1]) * da)[::-1])[::-1], [0.0]])
+    F = np.where(np.arange(F.size) > np.argmax(p), Fr, F)
     s = D / w0**2
     sigma2 = float(np.trapezoid(4 * F**2 / (s * p), ag))
     lw = D / (2 * w0**2) * inv_a2 + sigma2 / 2

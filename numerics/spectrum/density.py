@@ -44,8 +44,8 @@ def _barrier(lnp: np.ndarray, a_u: float, a_star: float, D: float, order: int) -
     drop = float(lnp[top] - np.min(lnp[top:]))
     if drop > CUT:
         return
-    where = ("its second-order rate mu A_1 + mu^2 A_2 (the truncated series' higher powers "
-             "of a)" if order >= 2 else "its rate A")
+    where = ("its second-order rate mu A_1 + mu^2 A_2, a truncated series in mu,"
+             if order >= 2 else "its rate A")
     raise NoCycleError(
         f"the averaged amplitude equation has an unstable cycle at a = {a_u:.4g} beyond the "
         f"stable one a* = {a_star:.4g} ({where} turns positive again), and the noise D = "

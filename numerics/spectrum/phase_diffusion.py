@@ -179,22 +179,36 @@ def _numbers(params: Mapping[str, object]) -> dict:
     return out
 
 
-def _finite(expr, terms: int = 80):
+def _finite(expr, terms: int = 80, expand: bool = True):
     """Infinite sums (Jacobi-Anger's Bessel series) cut after ``terms`` terms: ``J_m(k a)``
-    falls faster than any power once ``m > e k a/2``."""
+    falls faster than any power once ``m > e k a/2``.  ``expand``: written out term by term
+    (order 1's short series, as before); otherwise left as finite sums that numpy adds up
+    (order 2's summands are products of series, whose symbolic expansion ran for minutes:
+    ``kbm spectrum sedf --order 2``)."""
     def cut(f, *limits):
-        (n, lo, hi), = limits
-        return sp.Sum(f, (n, lo, sp.Min(hi, lo + terms))).doit()
+        finite = sp.Sum(f, *((n, lo, sp.Min(hi, lo + terms)) for n, lo, hi in limits))
+        return finite.doit() if expand else finite
 
     return expr.replace(lambda e: isinstance(e, sp.Sum), lambda e: cut(e.function, *e.limits))
 
 
-def _fn(expr, subs):
-    e = _finite(sp.sympify(expr).subs(subs))
+def _fn(expr, subs, expand: bool = True):
+    e = _finite(sp.sympify(expr).subs(subs), expand=expand)
     free = e.free_symbols - {a, psi}
     if free:
         raise ParameterError(f"give values for {', '.join(sorted(s.name for s in free))}")
     return sp.lambdify((a, psi), e, modules=["numpy", "scipy"])
+
+
+def _at(expr, subs, a_val: float) -> float:
+    """``expr`` at ``a = a_val``; an infinite (Bessel) series summed in numpy after 80 terms
+    (sympy's ``evalf`` of the ``Sum`` took minutes for the SEDF's second order: ``float`` of
+    the noise-induced shift alone ran over 100 s of CPU)."""
+    e = sp.sympify(expr).subs(subs)
+    if not e.has(sp.Sum):
+        return float(e.subs(a, a_val))
+    e = _finite(e.subs(a, sp.Float(a_val, 30)), expand=False)
+    return float(np.real(sp.lambdify((), e, modules=["numpy", "scipy"])()))
 
 
 def _stable_cycle(A, dA, a_max: float = 50.0) -> float:
@@ -229,13 +243,12 @@ def _linear(model, params: Mapping[str, object], D: float, order: int) -> tuple:
     pd = phase_diffusion(bm.model, order, fixed or None)
     subs = {**_numbers(fixed), mu: sp.Float(m_val, 30), NOISE: sp.Float(D, 30)}
     w0 = float(sp.sympify(pd.model.omega0).subs(subs))
-    A, dA = _fn(pd.A, subs), _fn(-pd.relaxation, subs)
-    B = _fn(pd.B, subs)
+    A, dA = _fn(pd.A, subs, order == 1), _fn(-pd.relaxation, subs, order == 1)
+    B = _fn(pd.B, subs, order == 1)
     a_star = _stable_cycle(A, dA)
-    lam = float(pd.relaxation.subs(subs).subs(a, a_star))
-    g = float(pd.shear.subs(subs).subs(a, a_star))
+    lam, g = _at(pd.relaxation, subs, a_star), _at(pd.shear, subs, a_star)
     return (pd, subs, m_val, w0, A, B, a_star, lam, g, D / (2 * w0**2 * a_star**2),
-            float(pd.linewidth.subs(subs).subs(a, a_star)), w0 + float(B(a_star, 0.0)))
+            _at(pd.linewidth, subs, a_star), w0 + float(B(a_star, 0.0)))
 
 
 def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1,
@@ -272,7 +285,7 @@ def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1
         raise ParameterError(f"D = {D!r}: the linewidth needs noise, D > 0")
     pd, subs, m_val, w0, A, B, a_star, lam, g, d_phi, lw_lin, f_cyc = _linear(
         model, params, D, order)
-    f_lin = f_cyc + float(pd.frequency_shift.subs(subs).subs(a, a_star))
+    f_lin = f_cyc + _at(pd.frequency_shift, subs, a_star)
 
     # the stationary density on a grid that holds all but exp(-60) of it
     ag, lnp = stationary_density(A, a_star, lam, w0, D, order)
@@ -291,7 +304,7 @@ def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1
     s = D / w0**2
     sigma2 = float(np.trapezoid(4 * F**2 / (s * p), ag))
     lw = D / (2 * w0**2) * inv_a2 + sigma2 / 2
-    Zv = _fn(pd.phase_response, subs)
+    Zv = _fn(pd.phase_response, subs, order == 1)
     ps = 2 * math.pi * np.arange(_PSI) / _PSI
     small = D * float(np.mean(np.asarray(Zv(a_star, ps), float) ** 2))
     if order >= 2:
@@ -299,10 +312,15 @@ def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1
         # stationary-density line, whose finite-D/mu part is of the first order
         lw *= small / lw_lin
     freq = w0 + mean_b
+    if not freq > 0:
+        raise NoCycleError(f"the averaged line centre Omega = {freq:.4g} at order {order} is "
+                           f"not positive (cycle a* = {a_star:.4g}): the averaging's series in "
+                           "mu does not hold at these values; give a smaller mu or forcing"
+                           + (", or use --order 1" if order >= 2 else ""))
     mean_a = float(np.trapezoid(p * ag, ag))
 
     # harmonics of x(a, psi) on a coarser amplitude grid
-    X = _fn(pd.displacement, subs)
+    X = _fn(pd.displacement, subs, order == 1)
     n_psi = max(64, 8 * harmonics)
     ps = 2 * math.pi * np.arange(n_psi) / n_psi
     sub = np.linspace(0, ag.size - 1, min(ag.size, 801)).round().astype(int)

@@ -171,7 +171,7 @@ def test_bessel_series_at_a_point_is_summed_in_numpy():
     minutes (kbm spectrum sedf --order 2 ran 310 s); they are cut after 80 terms and summed
     in numpy: Neumann's J_0(z) + 2 sum_{n>=1} J_2n(z) = 1 (Abramowitz & Stegun 9.1.46)."""
     from kbm.symbols import a
-    from numerics.spectrum.phase_diffusion import _at
+    from numerics.spectrum._evaluate import at as _at
 
     n = sp.Symbol("n", integer=True, positive=True)
     series = sp.besselj(0, a) + 2 * sp.Sum(sp.besselj(2 * n, a), (n, 1, sp.oo))

@@ -50,9 +50,10 @@ import sympy as sp
 from kbm.errors import ModelError, ParameterError
 from kbm.noise.phase_diffusion import phase_diffusion
 from kbm.noise.stochastic import NOISE
-from kbm.symbols import a, mu, psi
+from kbm.symbols import mu
 
 from ..errors import NoCycleError
+from ._evaluate import at as _at, fn as _fn, numbers as _numbers
 from .density import stationary_density
 
 __all__ = ["Line", "LineTheory", "line_theory", "PhaseDiffusion",
@@ -167,48 +168,6 @@ class LineTheory:
                 "linewidth_small_noise": self.small_noise,
                 "lines": [{"k": ln.k, "omega": ln.omega, "hwhm": ln.hwhm, "power": ln.power,
                            "pedestal": ln.pedestal} for ln in self.lines]}
-
-
-def _numbers(params: Mapping[str, object]) -> dict:
-    out = {}
-    for k, v in params.items():
-        try:
-            out[sp.Symbol(k)] = sp.Float(sp.N(sp.sympify(v), 30), 30)
-        except (TypeError, ValueError, sp.SympifyError):
-            raise ParameterError(f"{k} = {v!r} is not a number") from None
-    return out
-
-
-def _finite(expr, terms: int = 80, expand: bool = True):
-    """Infinite sums (Jacobi-Anger's Bessel series) cut after ``terms`` terms: ``J_m(k a)``
-    falls faster than any power once ``m > e k a/2``.  ``expand``: written out term by term
-    (order 1's short series, as before); otherwise left as finite sums that numpy adds up
-    (order 2's summands are products of series, whose symbolic expansion ran for minutes:
-    ``kbm spectrum sedf --order 2``)."""
-    def cut(f, *limits):
-        finite = sp.Sum(f, *((n, lo, sp.Min(hi, lo + terms)) for n, lo, hi in limits))
-        return finite.doit() if expand else finite
-
-    return expr.replace(lambda e: isinstance(e, sp.Sum), lambda e: cut(e.function, *e.limits))
-
-
-def _fn(expr, subs, expand: bool = True):
-    e = _finite(sp.sympify(expr).subs(subs), expand=expand)
-    free = e.free_symbols - {a, psi}
-    if free:
-        raise ParameterError(f"give values for {', '.join(sorted(s.name for s in free))}")
-    return sp.lambdify((a, psi), e, modules=["numpy", "scipy"])
-
-
-def _at(expr, subs, a_val: float) -> float:
-    """``expr`` at ``a = a_val``; an infinite (Bessel) series summed in numpy after 80 terms
-    (sympy's ``evalf`` of the ``Sum`` took minutes for the SEDF's second order: ``float`` of
-    the noise-induced shift alone ran over 100 s of CPU)."""
-    e = sp.sympify(expr).subs(subs)
-    if not e.has(sp.Sum):
-        return float(e.subs(a, a_val))
-    e = _finite(e.subs(a, sp.Float(a_val, 30)), expand=False)
-    return float(np.real(sp.lambdify((), e, modules=["numpy", "scipy"])()))
 
 
 def _stable_cycle(A, dA, a_max: float = 50.0) -> float:

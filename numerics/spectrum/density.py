@@ -90,6 +90,10 @@ def stationary_density(A: Callable, a_star: float, lam: float, w0: float, D: flo
         if lnp[-1] < np.max(lnp) - CUT or hi > 1e3:
             break
         hi *= 1.5
+    if not np.isfinite(np.max(lnp)):
+        raise NoCycleError(f"the averaged amplitude's density P(a) is not finite on 0 < a < "
+                           f"{grid[-1]:.4g} (cycle a* = {a_star:.4g}, D = {D:g}): its rate A "
+                           "is not a number there; no line at this order")
     keep = lnp > np.max(lnp) - CUT
     while np.count_nonzero(keep) < GRID // 10:
         # a narrow density (small D/mu): the grid again, on its range (one step wider)

@@ -118,7 +118,7 @@ def test_cubic_order_2_matches_the_simulated_line():
     error): the simulated HWHM (phase-variance growth) is within 8 % plus three standard
     errors of the order-2 averaged line (-5 %), where the order-1 line is more than three
     standard errors too wide (+30 %; docs/spectra.rst, 256 trajectories: 0.00473 +- 0.00016
-    against 0.0066277 at order 1 and 0.0048527 at order 2)."""
+    against 0.0066272 at order 1 and 0.0048527 at order 2)."""
     from numerics.spectrum.result import line_report
 
     r = line_report(custom_model(CUBIC), {"mu": 0.05, "alpha": 1}, 0.005, order=2, seed=3,

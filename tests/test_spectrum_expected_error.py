@@ -88,9 +88,9 @@ def test_transcendental_force_skips_the_second_order():
 
 
 def test_a_failing_second_order_leaves_the_first_order_its_run():
-    """F = (1 - x^2) x' - x^5 at mu = 0.1: the second-order line fails to evaluate (its
-    density grid comes out empty); the first order still runs and, without a simulation,
-    states no error rather than failing."""
+    """F = (1 - x^2) x' - x^5 at mu = 0.1, D = 0.01: the second-order line is refused (the
+    noise escapes over the truncated series' unstable cycle); the first order still runs
+    and, without a simulation, states no error rather than failing."""
     model = custom_model("(1-x**2)*xdot-x**5", omega0=1)
     rep = line_report(model, {"mu": 0.1}, 0.01, simulate=False)
     assert rep["linewidth"]["averaged"] > 0

@@ -118,7 +118,7 @@ def test_cubic_order_2_matches_the_simulated_line():
     error): the simulated HWHM (phase-variance growth) is within 8 % plus three standard
     errors of the order-2 averaged line (-5 %), where the order-1 line is more than three
     standard errors too wide (+30 %; docs/spectra.rst, 256 trajectories: 0.00473 +- 0.00016
-    against 0.0066277 at order 1 and 0.0048527 at order 2)."""
+    against 0.0066272 at order 1 and 0.0048527 at order 2)."""
     from numerics.spectrum.result import line_report
 
     r = line_report(custom_model(CUBIC), {"mu": 0.05, "alpha": 1}, 0.005, order=2, seed=3,
@@ -130,3 +130,83 @@ def test_cubic_order_2_matches_the_simulated_line():
     th1 = line_theory(custom_model(CUBIC), {"mu": 0.05, "alpha": 1}, 0.005)
     e1 = th1.linewidth / lw["simulated"] - 1
     assert e1 > 3 * rel_se and abs(e2) < e1 / 3
+
+
+@pytest.mark.parametrize("power, a_u", [(5, "2.57"), (7, "2.264")])
+def test_order_2_refused_where_the_noise_escapes_its_spurious_cycle(power, a_u, capsys):
+    """F = (1 - x^2) x' - x^5 (or x^7), mu = 0.1, D = 0.01: mu^2 A_2 holds a^7 (a^9) with a
+    positive sign, so the second-order amplitude rate turns positive again at a_u (an
+    unstable cycle of the truncated series, the root of a^6 - 5.33 a^4 - 21.3 a^2 + 85.3
+    for x^5) and the stationary density ``P = a exp((2/D) int A)`` grows without bound
+    beyond it (the density grid came out empty: IndexError).  Here ln P falls by less than
+    the quadrature's cut of 60 between a* and a_u: refused with the numbers, one line, no
+    traceback; the stated D bound gives a line."""
+    from numerics.errors import NoCycleError
+
+    rhs = f"(1-x**2)*xdot - x**{power}"
+    with pytest.raises(NoCycleError, match=f"unstable cycle at a = {a_u}") as exc:
+        line_theory(custom_model(rhs, omega0=1), {"mu": 0.1}, 0.01, order=2)
+    assert "--order 1" in str(exc.value)
+    bound = float(str(exc.value).split("give D below about ")[1].split(",")[0])
+    assert line_theory(custom_model(rhs, omega0=1), {"mu": 0.1}, bound / 2,
+                       order=2).linewidth > 0
+    argv = ["spectrum", "--rhs", rhs, "-p", "mu=0.1", "-p", "D=0.01", "--order", "2",
+            "--no-simulation"]
+    assert main(argv) != 0
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_order_2_density_below_the_spurious_cycle_has_the_small_noise_limit():
+    """Where the barrier holds (D << 0.01), the density confined below a_u gives the order-2
+    line, which tends to its small-noise form D <Z_v^2> (the phase response through the
+    near-identity transform, a second computation) as D -> 0: within 1e-3 at D = 1e-5."""
+    th = line_theory(custom_model("(1-x**2)*xdot - x**5", omega0=1), {"mu": 0.1}, 1e-5,
+                     order=2)
+    assert th.linewidth == pytest.approx(th.small_noise, rel=1e-3)
+
+
+def test_bessel_series_at_a_point_is_summed_in_numpy():
+    """The SEDF's rates hold Jacobi-Anger Bessel series, which sympy's evalf summed for
+    minutes (kbm spectrum sedf --order 2 ran 310 s); they are cut after 80 terms and summed
+    in numpy: Neumann's J_0(z) + 2 sum_{n>=1} J_2n(z) = 1 (Abramowitz & Stegun 9.1.46)."""
+    from kbm.symbols import a
+    from numerics.spectrum._evaluate import at as _at
+
+    n = sp.Symbol("n", integer=True, positive=True)
+    series = sp.besselj(0, a) + 2 * sp.Sum(sp.besselj(2 * n, a), (n, 1, sp.oo))
+    for z in (0.3, 3.7, 11.0):
+        assert _at(series, {}, z) == pytest.approx(1.0, abs=1e-13)
+
+
+@pytest.mark.slow
+def test_sedf_order_2_refused_in_seconds_with_the_reason(capsys):
+    """``kbm spectrum sedf -p mu=0.1 -p Delta=3 -p beta=1 -p lam=1 -p D=0.05 --order 2``
+    ran about 5 minutes in sympy's evalf of the Bessel series and ended in a ValueError
+    traceback; now (8 s of CPU) one line: the second-order cycle a* = 0.88 has an unstable
+    one at a = 1.31 only 0.52 below it in ln P."""
+    argv = ["spectrum", "sedf", "-p", "mu=0.1", "-p", "Delta=3", "-p", "beta=1", "-p",
+            "lam=1", "-p", "D=0.05", "--order", "2", "--no-simulation"]
+    assert main(argv) != 0
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "unstable cycle at a = 1.308" in err
+    assert "--order 1" in err
+
+
+@pytest.mark.slow
+def test_sedf_order_2_against_the_true_cycle():
+    """The SEDF (F = (1 - beta x^2) x' - delta sin(k x), a Bessel series at order 2) at mu =
+    0.02, Delta = 0.06, D = 1e-5: the order-2 small-noise linewidth D <Z_v^2> is nearer the
+    true cycle's (adjoint Floquet, exact in mu) than order 1's (measured relative errors
+    0.0009 against 0.0032); at mu = 0.1, Delta = 3 (not small) the second order's line
+    centre comes out negative and is refused."""
+    from numerics.errors import NoCycleError
+    from numerics.spectrum.floquet import phase_response
+
+    p = {"mu": 0.02, "Delta": 0.06, "beta": 1, "lam": 1}
+    true = phase_response("sedf", p).linewidth(1e-5)
+    e1, e2 = (abs(line_theory("sedf", p, 1e-5, order=o).small_noise / true - 1)
+              for o in (1, 2))
+    assert e2 < 0.5 * e1 and e2 < 2e-3
+    with pytest.raises(NoCycleError, match="Omega = -1.658 at order 2 is not positive"):
+        line_theory("sedf", {"mu": 0.1, "Delta": 3, "beta": 1, "lam": 1}, 1e-4, order=2)

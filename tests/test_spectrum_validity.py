@@ -83,6 +83,11 @@ def test_relaxation_oscillation_flagged_in_text_and_json(capsys):
     warn = [ln for ln in lines if "WARNING" in ln]
     assert warn == [f"  WARNING: {rep['validity']['advice']}"]
     assert lines[-1] == warn[0] and any(ln.startswith("  Omega") for ln in lines)
+    # the table's (avg-sim)/stderr is the record's gap: Omega's less the step bias
+    for label, key in (("HWHM", "linewidth"), ("Omega", "frequency")):
+        row, = (ln for ln in lines if ln.startswith(f"  {label} "))
+        assert row.split()[-1] == f"{_z(rep, key):+.2f}"
+    assert any("removed from the simulated Omega in (avg-sim)/stderr" in ln for ln in lines)
 
 
 def test_no_simulation_nothing_to_flag(capsys):

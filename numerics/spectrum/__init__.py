@@ -9,6 +9,8 @@ The noisy model is the paper's eq. (1) with ``sqrt(2 D) xi(t)`` added (the conve
   oscillator evaluated at the stable cycle (amplitude relaxation rate, phase diffusion,
   nonisochronicity, effective linewidth, noise-induced frequency shift, the Lorentzian
   lines of x(t) at the fundamental and its harmonics), from :mod:`kbm.noise.phase_diffusion`;
+- :mod:`numerics.spectrum.density`: the stationary density of the averaged amplitude on a
+  grid fitted to its width (refused where the noise escapes over an unstable averaged cycle);
 - :mod:`numerics.spectrum.linewidth`: the linewidth and mean frequency measured on
   sampled trajectories (phase of the analytic signal, phase-variance growth, a
   Lorentzian fit);

@@ -50,15 +50,15 @@ import sympy as sp
 from kbm.errors import ModelError, ParameterError
 from kbm.noise.phase_diffusion import phase_diffusion
 from kbm.noise.stochastic import NOISE
-from kbm.symbols import a, mu, psi
+from kbm.symbols import mu
 
 from ..errors import NoCycleError
+from ._evaluate import at as _at, fn as _fn, numbers as _numbers
+from .density import stationary_density
 
 __all__ = ["Line", "LineTheory", "line_theory", "PhaseDiffusion",
            "cycle_phase_diffusion"]
 
-_GRID = 20001  # quadrature points in a
-_CUT = 60.0  # ln P below its peak where the quadrature stops
 _PSI = 512  # points in psi for <Z_v^2> (a trigonometric rational: spectral accuracy)
 
 
@@ -170,34 +170,6 @@ class LineTheory:
                            "pedestal": ln.pedestal} for ln in self.lines]}
 
 
-def _numbers(params: Mapping[str, object]) -> dict:
-    out = {}
-    for k, v in params.items():
-        try:
-            out[sp.Symbol(k)] = sp.Float(sp.N(sp.sympify(v), 30), 30)
-        except (TypeError, ValueError, sp.SympifyError):
-            raise ParameterError(f"{k} = {v!r} is not a number") from None
-    return out
-
-
-def _finite(expr, terms: int = 80):
-    """Infinite sums (Jacobi-Anger's Bessel series) cut after ``terms`` terms: ``J_m(k a)``
-    falls faster than any power once ``m > e k a/2``."""
-    def cut(f, *limits):
-        (n, lo, hi), = limits
-        return sp.Sum(f, (n, lo, sp.Min(hi, lo + terms))).doit()
-
-    return expr.replace(lambda e: isinstance(e, sp.Sum), lambda e: cut(e.function, *e.limits))
-
-
-def _fn(expr, subs):
-    e = _finite(sp.sympify(expr).subs(subs))
-    free = e.free_symbols - {a, psi}
-    if free:
-        raise ParameterError(f"give values for {', '.join(sorted(s.name for s in free))}")
-    return sp.lambdify((a, psi), e, modules=["numpy", "scipy"])
-
-
 def _stable_cycle(A, dA, a_max: float = 50.0) -> float:
     """The smallest positive root of ``A`` with ``A' < 0``."""
     from scipy.optimize import brentq
@@ -230,13 +202,12 @@ def _linear(model, params: Mapping[str, object], D: float, order: int) -> tuple:
     pd = phase_diffusion(bm.model, order, fixed or None)
     subs = {**_numbers(fixed), mu: sp.Float(m_val, 30), NOISE: sp.Float(D, 30)}
     w0 = float(sp.sympify(pd.model.omega0).subs(subs))
-    A, dA = _fn(pd.A, subs), _fn(-pd.relaxation, subs)
-    B = _fn(pd.B, subs)
+    A, dA = _fn(pd.A, subs, order == 1), _fn(-pd.relaxation, subs, order == 1)
+    B = _fn(pd.B, subs, order == 1)
     a_star = _stable_cycle(A, dA)
-    lam = float(pd.relaxation.subs(subs).subs(a, a_star))
-    g = float(pd.shear.subs(subs).subs(a, a_star))
+    lam, g = _at(pd.relaxation, subs, a_star), _at(pd.shear, subs, a_star)
     return (pd, subs, m_val, w0, A, B, a_star, lam, g, D / (2 * w0**2 * a_star**2),
-            float(pd.linewidth.subs(subs).subs(a, a_star)), w0 + float(B(a_star, 0.0)))
+            _at(pd.linewidth, subs, a_star), w0 + float(B(a_star, 0.0)))
 
 
 def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1,
@@ -273,24 +244,10 @@ def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1
         raise ParameterError(f"D = {D!r}: the linewidth needs noise, D > 0")
     pd, subs, m_val, w0, A, B, a_star, lam, g, d_phi, lw_lin, f_cyc = _linear(
         model, params, D, order)
-    f_lin = f_cyc + float(pd.frequency_shift.subs(subs).subs(a, a_star))
+    f_lin = f_cyc + _at(pd.frequency_shift, subs, a_star)
 
     # the stationary density on a grid that holds all but exp(-60) of it
-    sig = math.sqrt(D / (2 * w0**2 * lam))
-    hi = a_star + 12 * sig
-    while True:
-        grid = np.linspace(0.0, hi, _GRID)
-        with np.errstate(all="ignore"):
-            Av = np.asarray(A(grid, 0.0), float) * np.ones_like(grid)
-        Av[0] = 0.0 if not np.isfinite(Av[0]) else Av[0]
-        cum = np.concatenate([[0.0], np.cumsum(0.5 * (Av[1:] + Av[:-1]) * np.diff(grid))])
-        with np.errstate(divide="ignore"):
-            lnp = np.log(grid) + 2 * w0**2 * cum / D
-        if lnp[-1] < np.max(lnp) - _CUT or hi > 1e3:
-            break
-        hi *= 1.5
-    keep = lnp > np.max(lnp) - _CUT
-    ag, lnp = grid[keep], lnp[keep]
+    ag, lnp = stationary_density(A, a_star, lam, w0, D, order)
     da = ag[1] - ag[0]
     p = np.exp(lnp - lnp.max())
     p /= np.trapezoid(p, ag)
@@ -299,10 +256,14 @@ def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1
     mean_b = float(np.trapezoid(p * Bv, ag))
     fp = (Bv - mean_b) * p
     F = np.concatenate([[0.0], np.cumsum(0.5 * (fp[1:] + fp[:-1]) * da)])
+    # above the peak, F = -int_a^inf (B - <B>) P: summed from the top, F/P stays accurate
+    # where P is exp(-60) of its peak (from below it is a difference of O(1) numbers)
+    Fr = -np.concatenate([np.cumsum((0.5 * (fp[1:] + fp[:-1]) * da)[::-1])[::-1], [0.0]])
+    F = np.where(np.arange(F.size) > np.argmax(p), Fr, F)
     s = D / w0**2
     sigma2 = float(np.trapezoid(4 * F**2 / (s * p), ag))
     lw = D / (2 * w0**2) * inv_a2 + sigma2 / 2
-    Zv = _fn(pd.phase_response, subs)
+    Zv = _fn(pd.phase_response, subs, order == 1)
     ps = 2 * math.pi * np.arange(_PSI) / _PSI
     small = D * float(np.mean(np.asarray(Zv(a_star, ps), float) ** 2))
     if order >= 2:
@@ -310,10 +271,15 @@ def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1
         # stationary-density line, whose finite-D/mu part is of the first order
         lw *= small / lw_lin
     freq = w0 + mean_b
+    if not freq > 0:
+        raise NoCycleError(f"the averaged line centre Omega = {freq:.4g} at order {order} is "
+                           f"not positive (cycle a* = {a_star:.4g}): the averaging's series in "
+                           "mu does not hold at these values; give a smaller mu or forcing"
+                           + (", or use --order 1" if order >= 2 else ""))
     mean_a = float(np.trapezoid(p * ag, ag))
 
     # harmonics of x(a, psi) on a coarser amplitude grid
-    X = _fn(pd.displacement, subs)
+    X = _fn(pd.displacement, subs, order == 1)
     n_psi = max(64, 8 * harmonics)
     ps = 2 * math.pi * np.arange(n_psi) / n_psi
     sub = np.linspace(0, ag.size - 1, min(ag.size, 801)).round().astype(int)

@@ -133,7 +133,8 @@ def fokker_planck_moments(model, params: dict, D: float, omega0: float,
                                      max_cost=FP_BUDGET if required else FP_DEFAULT_BUDGET)
             change = sol.hermite_change  # inf: a second truncation passed the budget
             return {"energy_density": (energy_density_output(sol, model, params, D, omega0)
-                                       if required else None),"x2": sol.x2, "a2": sol.a2, "v2": sol.v2, "hermite": sol.coef.shape[0],
+                                       if required else None),
+                    "x2": sol.x2, "a2": sol.a2, "v2": sol.v2, "hermite": sol.coef.shape[0],
                     "chebyshev": sol.x.size, "half_width": float(sol.x[0]),
                     "sigma": sol.sigma, "solution": sol, "basis": sol.basis,
                     "hermite_change": change if math.isfinite(change) else None,

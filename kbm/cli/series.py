@@ -117,6 +117,7 @@ def _floating(args, model) -> int:
             f"+-{sing.pole_angle:.4f}")
         print(f"nearest singularities of omega*: |{s.variable}| = {sing.radius:.4f} at angle "
               f"+-{sing.angle:.4f} rad (ratio estimates extrapolated){pole}")
+
     def pm(err) -> str:
         """The error column: the agreement of successive approximants, or why there is none."""
         return "+- unmeasured" if mpmath.isinf(err) else f"+- {mpmath.nstr(err, 2)}"

@@ -24,9 +24,9 @@ points a side, its ends included), in mean squares:
   ``z^2 <~ R^2``;
 - the velocity: ``x'^2 <~ v^2 + (A omega0)^2``.
 
-``A`` is the first-order KBM amplitude of the cycle: the positive root where the mean power
-of the dissipative force ``<mu F_diss x'>`` over ``x = a cos phi, x' = -a omega0 sin phi``
-turns from gain to loss (0 for none).  For the SEDF (paper eq. 3) ``|dD/dx'| = mu |beta x^2 -
+``A`` is the first-order KBM amplitude of the cycle: the stable positive root of the
+first-order amplitude rate ``A_1(a)`` of :func:`kbm.derive` (where the mean power of the
+dissipative force over ``x = a cos phi`` turns from gain to loss; 0 for none).  For the SEDF (paper eq. 3) ``|dD/dx'| = mu |beta x^2 -
 1|`` is largest at ``|x| = R`` and ``A = 2/sqrt(beta)``, so
 
 ``N = int_0^T mu (beta (v t)^2 + 3) dt / c = mu (beta v^2 T^3/3 + 3 T) / c``;

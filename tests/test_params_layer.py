@@ -510,3 +510,17 @@ def test_within_names_the_bounds_as_typed():
             within(value, flag, lo, hi)
     within(None, "--digits", 1, 200)  # the option not given
     within(1e-3, "--rtol", 1e-15, 1e-3)  # a bound is inside
+
+
+@pytest.mark.parametrize("text, words", [
+    ("-1:3", "cannot read --internal -1:3: write P:Q"),
+    ("1:0", "--internal 1:0 has a zero in its ratio"),
+    ("1:1@2,F", "--internal 1:1@2,F names the forcing (F), but the system has no forcing"),
+    ("1:1@1,5", "--internal 1:1@1,5 needs two different modes among 1..2"),
+])
+def test_a_bad_internal_resonance_names_the_option(text, words, capsys):
+    """``--internal`` that cannot be read is refused in the option's name (before: "cannot
+    read the internal resonance '-1:3'", the library's words)."""
+    assert main(["lock", "coupled-vdp", "--internal", text, "-p", "mu=0.1", "-p", "c=0.2",
+                 "--vary", "sigma=-1:1"]) == 2
+    assert words in _err(capsys)

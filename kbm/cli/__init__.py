@@ -195,6 +195,8 @@ _TRANSLATIONS = tuple((re.compile(pattern), repl) for pattern, repl in (
      "raise mu or v (a run stops after 3000 stage periods lam/v or 30000 natural periods)"),
     (r"\bgive nu0 \(", "give --nu0 NU0 ("),
     (r"\bdeclare it: internal=\['([^']*)'\]", r"declare it: --internal \1"),
+    (r"\b(?:the )?internal resonance '([^']*)'", r"--internal \1"),
+    (r"^the resonance '([^']*)' names the forcing", r"--internal \1 names the forcing"),
     (r"\bdeclare it: resonance='([^']*)'", r"declare it: --resonance \1"),
     (r"\bcustom_model\b", "--rhs EXPR"),
     (r"\(x_start\)", "(--x-start)"),

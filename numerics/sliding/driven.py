@@ -41,6 +41,7 @@ from kbm.symbols import t as T, x as X, xdot as V
 from numerics._memo import memo
 from numerics.errors import IntegrationError
 from numerics.flow.jit import jit_available, jit_flow
+from numerics.sliding.damping import damping_derivative
 
 __all__ = ["DrivenSystem", "Block", "driven_system", "slider_equations", "ENGINES",
            "N_STATES"]
@@ -81,7 +82,6 @@ class _Template:
     f_energy: Callable
     f_factor: Callable
     f_omega: Callable
-    f_damping: Callable
 
 
 @memo(maxsize=8)
@@ -100,15 +100,12 @@ def _template(name: str) -> _Template:
     periodic = -sp.integrate(cons, (s, 0, X), conds="none")
     energy = (V**2 / 2 + periodic + (model.omega0**2 * X - model.drive)**2
               / (2 * model.omega0**2)).subs(es)
-    mods = ["numpy", "scipy"]
     return _Template(
         model=model, names=names, exprs=exprs, states=y,
         f_rhs=sp.lambdify((T, y, *P), list(exprs), modules="math", cse=True),
-        f_energy=sp.lambdify((y, *P), energy, modules=mods),
+        f_energy=sp.lambdify((y, *P), energy, modules=["numpy", "scipy"]),
         f_factor=sp.lambdify(P, factor, modules="math"),
-        f_omega=sp.lambdify(P, model.omega0, modules="math"),
-        f_damping=sp.lambdify((y, *P), -sp.diff(model.acceleration(), V).subs(es),
-                              modules=mods))
+        f_omega=sp.lambdify(P, model.omega0, modules="math"))
 
 
 @memo(maxsize=8)
@@ -171,10 +168,13 @@ class DrivenSystem:
         return np.asarray(self._tp.f_energy(y.T, *self.pvec), dtype=float)
 
     def damping(self, y: np.ndarray) -> np.ndarray:
-        """The local damping rate ``-d x_dot'/d x_dot`` at states ``y`` (rows)."""
+        """The local damping rate ``-d x_dot'/d x_dot`` at states ``y`` (rows): the model's one
+        derivative :func:`~numerics.sliding.damping.damping_derivative`, its stage-attached
+        part at the spring's extension ``x - v tau``."""
         y = np.atleast_2d(y)
-        return np.broadcast_to(np.asarray(self._tp.f_damping(y.T, *self.pvec), dtype=float),
-                               (len(y),))
+        rate = damping_derivative(self.model).grid(dict(zip(self._tp.names, self.pvec)),
+                                                   y[:, 0], y[:, 1], y[:, 0] - self.v * y[:, 2])
+        return np.broadcast_to(np.asarray(rate, dtype=float), (len(y),))
 
     def gamma(self, y: np.ndarray) -> np.ndarray:
         """The dissipation ``Gamma = gain_factor G_+ - G_-`` of states ``y`` (rows)."""

@@ -43,8 +43,8 @@ from numerics.errors import IntegrationError
 from numerics.flow.jit import jit_available, jit_flow
 from numerics.sliding.damping import damping_derivative
 
-__all__ = ["DrivenSystem", "Block", "driven_system", "slider_equations", "ENGINES",
-           "N_STATES"]
+__all__ = ["DrivenSystem", "Block", "driven_system", "slider_equations", "physical_values",
+           "ENGINES", "N_STATES"]
 
 #: the two integration paths: numba-compiled DOP853, and scipy's solve_ivp (reference)
 ENGINES = ("compiled", "scipy")
@@ -257,18 +257,10 @@ def driven_system(model: str, params: Mapping[str, object], *, engine: str = "co
     for name, val in (("rtol", rtol), ("atol", atol)):
         if not (isinstance(val, (int, float)) and 1e-14 <= val <= 1e-3):
             raise ParameterError(f"{name} must be between 1e-14 and 1e-3, got {val!r}")
-    p = {k: _number(k, v) for k, v in params.items()}
-    p.setdefault("Omega", 1.0)
-    if "v" not in p:
+    if "v" not in params:
         raise ParameterError("the stage velocity is missing: give params={'v': 0.01} (v > 0)")
-    checks = (("v", "> 0 (the stage pulls forward; mirror x for the other direction)"),
-              ("lam", "> 0 (the period of the potential)"), ("Omega", "> 0 (the spring)"),
-              ("mu", "> 0"))
-    for name, what in checks:
-        if name in p and not p[name] > 0:
-            raise ParameterError(f"{name} must be {what}, got {p[name]:g}")
-    if p.get("Delta", 0.0) < 0:
-        raise ParameterError(f"Delta must be >= 0, got {p['Delta']:g}")
+    p = physical_values(params)
+    p.setdefault("Omega", 1.0)
     tp, pvec = slider_equations(model, p)
     flow = _compiled(model, jit_available()) if engine == "compiled" else None
     return DrivenSystem(model=model, params=p, engine="compiled" if flow else "scipy",
@@ -298,6 +290,28 @@ def slider_equations(model: str, params: Mapping[str, float]) -> tuple[_Template
     bound = bind(tp.model, params)
     bound.require(tp.names, what="the driven slider")
     return tp, tuple(float(bound.values[n]) for n in tp.names)
+
+
+def physical_values(params: Mapping[str, object], *, standing: bool = False
+                    ) -> dict[str, float]:
+    """A slider's physical parameters as finite floats, checked: ``v > 0`` (``v >= 0`` with
+    ``standing``: the stage may rest), ``lam, Omega, mu > 0``, ``Delta >= 0`` where given;
+    shared by :func:`driven_system` and :func:`numerics.sliding.reference.slide`.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Naming the parameter, the rule and the value given.
+    """
+    p = {k: _number(k, v) for k, v in params.items()}
+    rules = (("v", standing, "the stage pulls forward; mirror x for the other direction"),
+             ("lam", False, "the period of the potential"), ("Omega", False, "the spring"),
+             ("mu", False, ""), ("Delta", True, ""))
+    for name, zero, why in rules:
+        if name in p and not (p[name] >= 0 if zero else p[name] > 0):
+            raise ParameterError(f"{name} must be {'>=' if zero else '>'} 0"
+                                 f"{f' ({why})' if why else ''}, got {p[name]:g}")
+    return p
 
 
 def _number(name: str, value: object) -> float:

@@ -19,6 +19,7 @@ from kbm.errors import ParameterError
 from kbm.model.builtins import Oscillator
 from kbm.symbols import mu as MU, x as X, xdot as XDOT
 from numerics.errors import IntegrationError
+from numerics.sliding.driven import driven_system
 from numerics.sliding.reference import MAX_STIFF_STEPS, slide
 from numerics.sliding.stiffness import (STABILITY_INTERVAL, StepGuard, damping_envelope,
                                         damping_rate, damping_text, stiff_steps, stiff_t_end)
@@ -111,6 +112,23 @@ def test_the_derived_damping_rate_is_the_closed_form(mu, beta, v, t, x, xd):
     for model, want in closed.items():
         q = {k: w for k, w in p.items() if not (model == "cdc" and k == "beta")}
         assert damping_rate(model, q)(t, y) == pytest.approx(want, rel=1e-12, abs=1e-12 * mu)
+
+
+def test_the_driven_systems_damping_is_the_signed_closed_form():
+    """The friction map's runaway rate (DrivenSystem.damping, from the same derivative with
+    the stage-attached part at x - v tau) is the signed -d x''/d x' of eqs. 3 and 12:
+    mu (beta x^2 - 1), mu and mu (beta (x - v tau)^2 - 1), on rows (x, x', tau, ...)."""
+    mu, beta, v = 0.7, 1.3, 0.3
+    y = np.random.default_rng(5).normal(scale=4.0, size=(40, 7))
+    y[:, 2] = np.abs(y[:, 2]) * 50
+    x, z = y[:, 0], y[:, 0] - v * y[:, 2]
+    closed = {"sedf": mu * (beta * x * x - 1), "cdc": mu + 0 * x,
+              "sedf_comoving": mu * (beta * z * z - 1)}
+    for model, want in closed.items():
+        p = {"mu": mu, "Delta": 3.0, "lam": 1.0, "v": v} | ({} if model == "cdc" else
+                                                           {"beta": beta})
+        got = driven_system(model, p, engine="scipy").damping(y)
+        np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * mu)
 
 
 def test_the_damping_texts_are_printed_from_the_derivative():

@@ -62,7 +62,7 @@ __all__ = ["Oscillator", "FrozenMap", "MODELS", "SLIDERS", "get_model",
 
 
 # ----------------------------------------------------------------------------- built-ins
-_beta, _delta, _k, _Omega, _v = sp.symbols("beta delta k Omega v")
+_beta, _delta, _k, _Omega = sp.symbols("beta delta k Omega")
 _zeta, _kappa, _Delta, _lam = sp.symbols("zeta kappa Delta lam")
 _PHYSICAL = {"delta": _Delta / mu, "k": 2 * sp.pi / _lam}
 _EXCITATION = -(_beta * x**2 - 1) * xdot  # the SEDF's, attached to the stage in sedf_comoving

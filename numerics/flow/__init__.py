@@ -24,13 +24,13 @@
   flow over one response period (:class:`~numerics.flow.forced_system.ForcedSystem`).
 """
 
-from numerics.flow.compiled import (N_EXTENDED, CompiledLine, CompiledModel, ModelTemplate, compile_model,
+from numerics.flow.compiled import (CompiledLine, CompiledModel, ModelTemplate, compile_model,
                                     extended_state, model_template, template_flow)
 from numerics.flow.integrate import (JIT_METHOD, JIT_STIFF_THRESHOLD, STIFF_THRESHOLD, Method,
                                      choose_method, flow, integrate, solve, stiffness)
 from numerics.flow.jit import FlowResult, jit_available, jit_flow
 
-__all__ = ["CompiledLine", "CompiledModel", "ModelTemplate", "compile_model", "model_template", "template_flow",
-           "extended_state", "N_EXTENDED", "Method", "choose_method", "flow", "solve",
+__all__ = ["CompiledLine", "CompiledModel", "ModelTemplate", "compile_model", "model_template",
+           "template_flow", "extended_state", "Method", "choose_method", "flow", "solve",
            "integrate", "stiffness", "STIFF_THRESHOLD", "JIT_STIFF_THRESHOLD", "JIT_METHOD",
            "FlowResult", "jit_available", "jit_flow"]

@@ -30,10 +30,7 @@ if TYPE_CHECKING:  # sympy and the symbolic models imported on use (issue 39)
     from kbm.model.builtins import Oscillator
 
 __all__ = ["CompiledLine", "CompiledModel", "ModelTemplate", "compile_model", "model_template",
-           "template_flow", "extended_state", "N_EXTENDED"]
-
-#: size of the extended state ``(x, v, Phi11, Phi21, Phi12, Phi22, int div f, G_plus, G_minus)``
-N_EXTENDED = 9
+           "template_flow", "extended_state"]
 
 
 def extended_state(x0: float, v0: float = 0.0) -> list[float]:

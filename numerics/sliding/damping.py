@@ -1,5 +1,6 @@
 """The damping's derivative ``dD/dx' = -mu dF/dx'`` of a slider model, derived once from its
-symbolic ``F`` (sympy), for the stiffness estimate of :mod:`numerics.sliding.stiffness`.
+symbolic ``F`` (sympy), for the stiffness estimate of :mod:`numerics.sliding.stiffness` and
+the runaway rate of the friction map (:meth:`numerics.sliding.driven.DrivenSystem.damping`).
 
 The model is defined once, in :mod:`kbm` (:func:`kbm.model.builtins.get_model`, or any
 :class:`~kbm.model.oscillator.Oscillator` with a spring ``omega0``); this module
@@ -53,8 +54,8 @@ class DampingDerivative:
         ``rate(values, x, xdot, x - v t)``: ``|dD/dx'|`` at a state (``values`` the scaled
         parameters).
     grid, states
-        ``grid(values, x, xdot, x - v t)``: ``|dD/dx'|`` on numpy arrays, and whether it
-        depends on each of ``x, xdot, x - v t``.
+        ``grid(values, x, xdot, x - v t)``: ``dD/dx'`` (signed) on numpy arrays, and whether
+        it depends on each of ``x, xdot, x - v t``.
     power
         The coefficients (highest power first) of the first-order amplitude rate ``A_1(a)``
         of :func:`kbm.derive` (``a' = mu A_1(a)``; ``A_1 = -<F sin phi>/omega0`` on the cycle
@@ -157,7 +158,7 @@ def damping_derivative(model: str | Oscillator) -> DampingDerivative:
         return abs(float(f(x, xdot, z, *(vals[n] for n in names))))
 
     def grid(vals: Mapping[str, float], x, xdot, z) -> np.ndarray:
-        return np.abs(f_np(x, xdot, z, *(vals[n] for n in names)))
+        return f_np(x, xdot, z, *(vals[n] for n in names))
     return DampingDerivative(lab=lab, stage=stage, text=_text(lab, stage), rate=rate,
                              grid=grid, states=tuple(s in g.free_symbols for s in (X, V, _Z)),
                              power=power, omega=_lambdified(w), pinning=_lambdified(pin),

@@ -41,9 +41,10 @@ from kbm.symbols import t as T, x as X, xdot as V
 from numerics._memo import memo
 from numerics.errors import IntegrationError
 from numerics.flow.jit import jit_available, jit_flow
+from numerics.sliding.damping import damping_derivative
 
-__all__ = ["DrivenSystem", "Block", "driven_system", "slider_equations", "ENGINES",
-           "N_STATES"]
+__all__ = ["DrivenSystem", "Block", "driven_system", "slider_equations", "physical_values",
+           "ENGINES", "N_STATES"]
 
 #: the two integration paths: numba-compiled DOP853, and scipy's solve_ivp (reference)
 ENGINES = ("compiled", "scipy")
@@ -81,7 +82,6 @@ class _Template:
     f_energy: Callable
     f_factor: Callable
     f_omega: Callable
-    f_damping: Callable
 
 
 @memo(maxsize=8)
@@ -100,15 +100,12 @@ def _template(name: str) -> _Template:
     periodic = -sp.integrate(cons, (s, 0, X), conds="none")
     energy = (V**2 / 2 + periodic + (model.omega0**2 * X - model.drive)**2
               / (2 * model.omega0**2)).subs(es)
-    mods = ["numpy", "scipy"]
     return _Template(
         model=model, names=names, exprs=exprs, states=y,
         f_rhs=sp.lambdify((T, y, *P), list(exprs), modules="math", cse=True),
-        f_energy=sp.lambdify((y, *P), energy, modules=mods),
+        f_energy=sp.lambdify((y, *P), energy, modules=["numpy", "scipy"]),
         f_factor=sp.lambdify(P, factor, modules="math"),
-        f_omega=sp.lambdify(P, model.omega0, modules="math"),
-        f_damping=sp.lambdify((y, *P), -sp.diff(model.acceleration(), V).subs(es),
-                              modules=mods))
+        f_omega=sp.lambdify(P, model.omega0, modules="math"))
 
 
 @memo(maxsize=8)
@@ -171,10 +168,13 @@ class DrivenSystem:
         return np.asarray(self._tp.f_energy(y.T, *self.pvec), dtype=float)
 
     def damping(self, y: np.ndarray) -> np.ndarray:
-        """The local damping rate ``-d x_dot'/d x_dot`` at states ``y`` (rows)."""
+        """The local damping rate ``-d x_dot'/d x_dot`` at states ``y`` (rows): the model's one
+        derivative :func:`~numerics.sliding.damping.damping_derivative`, its stage-attached
+        part at the spring's extension ``x - v tau``."""
         y = np.atleast_2d(y)
-        return np.broadcast_to(np.asarray(self._tp.f_damping(y.T, *self.pvec), dtype=float),
-                               (len(y),))
+        rate = damping_derivative(self.model).grid(dict(zip(self._tp.names, self.pvec)),
+                                                   y[:, 0], y[:, 1], y[:, 0] - self.v * y[:, 2])
+        return np.broadcast_to(np.asarray(rate, dtype=float), (len(y),))
 
     def gamma(self, y: np.ndarray) -> np.ndarray:
         """The dissipation ``Gamma = gain_factor G_+ - G_-`` of states ``y`` (rows)."""
@@ -257,18 +257,10 @@ def driven_system(model: str, params: Mapping[str, object], *, engine: str = "co
     for name, val in (("rtol", rtol), ("atol", atol)):
         if not (isinstance(val, (int, float)) and 1e-14 <= val <= 1e-3):
             raise ParameterError(f"{name} must be between 1e-14 and 1e-3, got {val!r}")
-    p = {k: _number(k, v) for k, v in params.items()}
-    p.setdefault("Omega", 1.0)
-    if "v" not in p:
+    if "v" not in params:
         raise ParameterError("the stage velocity is missing: give params={'v': 0.01} (v > 0)")
-    checks = (("v", "> 0 (the stage pulls forward; mirror x for the other direction)"),
-              ("lam", "> 0 (the period of the potential)"), ("Omega", "> 0 (the spring)"),
-              ("mu", "> 0"))
-    for name, what in checks:
-        if name in p and not p[name] > 0:
-            raise ParameterError(f"{name} must be {what}, got {p[name]:g}")
-    if p.get("Delta", 0.0) < 0:
-        raise ParameterError(f"Delta must be >= 0, got {p['Delta']:g}")
+    p = physical_values(params)
+    p.setdefault("Omega", 1.0)
     tp, pvec = slider_equations(model, p)
     flow = _compiled(model, jit_available()) if engine == "compiled" else None
     return DrivenSystem(model=model, params=p, engine="compiled" if flow else "scipy",
@@ -298,6 +290,28 @@ def slider_equations(model: str, params: Mapping[str, float]) -> tuple[_Template
     bound = bind(tp.model, params)
     bound.require(tp.names, what="the driven slider")
     return tp, tuple(float(bound.values[n]) for n in tp.names)
+
+
+def physical_values(params: Mapping[str, object], *, standing: bool = False
+                    ) -> dict[str, float]:
+    """A slider's physical parameters as finite floats, checked: ``v > 0`` (``v >= 0`` with
+    ``standing``: the stage may rest), ``lam, Omega, mu > 0``, ``Delta >= 0`` where given;
+    shared by :func:`driven_system` and :func:`numerics.sliding.reference.slide`.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Naming the parameter, the rule and the value given.
+    """
+    p = {k: _number(k, v) for k, v in params.items()}
+    rules = (("v", standing, "the stage pulls forward; mirror x for the other direction"),
+             ("lam", False, "the period of the potential"), ("Omega", False, "the spring"),
+             ("mu", False, ""), ("Delta", True, ""))
+    for name, zero, why in rules:
+        if name in p and not (p[name] >= 0 if zero else p[name] > 0):
+            raise ParameterError(f"{name} must be {'>=' if zero else '>'} 0"
+                                 f"{f' ({why})' if why else ''}, got {p[name]:g}")
+    return p
 
 
 def _number(name: str, value: object) -> float:

@@ -32,7 +32,7 @@ from kbm.model.builtins import SLIDERS, get_model
 from kbm.output.paper import FIXED
 
 from numerics.errors import IntegrationError
-from numerics.sliding.driven import slider_equations
+from numerics.sliding.driven import physical_values, slider_equations
 from numerics.sliding.stiffness import (STABILITY_INTERVAL, StepGuard, damping_rate,
                                         damping_text, stiff_steps, stiff_t_end)
 
@@ -102,22 +102,7 @@ class SlideResult:
 
 
 def _validate(params: Mapping[str, float], t_end: float) -> dict[str, float]:
-    p = dict(FIXED)
-    p.update({k: float(v) for k, v in params.items()})
-    for k, v in p.items():
-        if not math.isfinite(v):
-            raise ParameterError(f"parameter {k} must be finite, got {v}")
-    if p.get("lam", 1.0) <= 0:
-        raise ParameterError(f"the period of the potential lam must be > 0, got {p['lam']}")
-    if p.get("Omega", 1.0) <= 0:
-        raise ParameterError(f"Omega must be > 0 (the spring pulls the slider), got {p['Omega']}")
-    if p.get("v", 0.0) < 0:
-        raise ParameterError(f"the stage velocity v must be >= 0 (the stage pulls forward), "
-                             f"got {p['v']}; mirror x for the other direction")
-    if p.get("mu", 0.1) <= 0:
-        raise ParameterError(f"mu must be > 0, got {p['mu']}")
-    if p.get("Delta", 0.0) < 0:
-        raise ParameterError(f"Delta must be >= 0, got {p['Delta']}")
+    p = physical_values({**FIXED, **params}, standing=True)
     if not (math.isfinite(t_end) and t_end > 0):
         raise ParameterError(f"t_end must be a positive number, got {t_end}")
     periods = t_end * p.get("Omega", 1.0) / (2 * math.pi)

@@ -124,7 +124,7 @@ def damping_envelope(model: str | Oscillator, p: Mapping[str, float]
         r = np.sqrt((v * np.asarray(t, dtype=float)) ** 2 + amp**2)[:, None, None, None]
         rz = max(d.pinning(vals) / w**2, amp) if follows else r
         x, xdot, z = (r * u[0][:, None, None], vel * u[1][:, None], rz * u[2])
-        vals_grid = np.broadcast_to(d.grid(vals, x, xdot, z), np.broadcast_shapes(
+        vals_grid = np.broadcast_to(np.abs(d.grid(vals, x, xdot, z)), np.broadcast_shapes(
             x.shape, np.shape(xdot), z.shape))
         return vals_grid.reshape(len(r), -1).max(axis=1)
     return bound

@@ -47,7 +47,7 @@ FIGURES: dict[str, Callable[[Path], list[Path]]] = {
     "validity_map": _figure("comparison", "validity_figure"),
     "phase_fig3_kbm": _figure("comparison", "phase_fig3_figure"),
     "phase_small_kbm": _figure("comparison", "phase_small_figure"),
-    "sedf_branches": _figure("paper", "sedf_branches"),
+    "sedf_branches": _figure("branches", "sedf_branches"),
     "friction": _figure("friction", "friction_figures"),
 }
 

@@ -23,8 +23,7 @@ import numpy as np
 from kbm.output.paper import POINTS
 from numerics._plot import pyplot as _plt
 
-__all__ = ["COMPARISON_FIGURES", "comparison_figures", "convergence_figure",
-           "validity_figure", "phase_fig3_figure", "phase_small_figure"]
+__all__ = ["convergence_figure", "validity_figure", "phase_fig3_figure", "phase_small_figure"]
 
 #: the paper's parameters, marked on the validity map (mu, Delta)
 PAPER_POINTS = POINTS
@@ -241,19 +240,3 @@ def phase_small_figure(out_dir: Path, *, quick: bool = False) -> list[Path]:
     fig.tight_layout()
     return [_save(fig, out_dir, "kbm_phase_small.png")]
 
-
-#: name -> function(out_dir) -> list of paths (for the figures registry)
-COMPARISON_FIGURES = {
-    "kbm_convergence": convergence_figure,
-    "kbm_validity": validity_figure,
-    "kbm_phase_fig3": phase_fig3_figure,
-    "kbm_phase_small": phase_small_figure,
-}
-
-
-def comparison_figures(out_dir: Path, *, quick: bool = False) -> list[Path]:
-    """Write every comparison figure to ``out_dir``; returns the paths."""
-    paths: list[Path] = []
-    for fn in COMPARISON_FIGURES.values():
-        paths += fn(Path(out_dir), quick=quick)
-    return paths

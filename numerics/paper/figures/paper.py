@@ -18,7 +18,7 @@ from numerics.sliding.stickslip import analyze
 from numerics._plot import pyplot as _plt, save_png_pdf
 
 __all__ = ["fig2_potential", "fig3_phase_portraits", "fig4_sliding", "fig5_sedf_vs_cdc",
-           "fig6_kinetic_friction", "sedf_branches"]
+           "fig6_kinetic_friction"]
 
 
 def fig2_potential(out_dir: Path) -> list[Path]:
@@ -162,10 +162,3 @@ def fig6_kinetic_friction(out_dir: Path) -> list[Path]:
     ax.legend(fontsize=8)
     return save_png_pdf(fig, out_dir / "fig6_kinetic_friction")
 
-
-def sedf_branches(out_dir: Path) -> list[Path]:
-    """The SEDF's branches of cycles against Delta and beta
-    (:func:`numerics.paper.figures.branches.sedf_branches`)."""
-    from numerics.paper.figures.branches import sedf_branches as draw
-
-    return draw(Path(out_dir))

@@ -64,24 +64,38 @@ def _any(lanes: int, template: str) -> str:
 
 #: one step of lane ``j`` at ``t`` (its own generator ``s{j}``, state and carried force)
 _STEP = "x{j}, v{j}, f{j} = _step({t}, x{j}, v{j}, f{j}, h, _increment(s{j}, amp), p)"
+#: :data:`_STEP` in its parts (``_open``, ``_last``, ``_close`` of the kernels), each part
+#: printed for every lane before the next: the calls of the model (``sin``, ...) follow
+#: each other with every lane's arithmetic before them, where lane by lane a call came
+#: between one lane's step and the next lane's (LLVM's scheduler does not move work across
+#: a call); the same operations of each lane in the same order, so the same numbers
+_PHASES = ("w{j} = _increment(s{j}, amp)",
+           "x{j}, v{j}, xb{j}, vb{j}, a{j} = _open(t, x{j}, v{j}, f{j}, h, w{j}, p)",
+           "g{j} = _last(t, xb{j}, vb{j}, h, p)",
+           "x{j}, v{j}, f{j} = _close(x{j}, v{j}, xb{j}, vb{j}, a{j}, g{j}, h, w{j})")
 #: lane ``j`` at trajectory ``r{j}``'s start
 _START = ("s{j} = states[r{j}].copy()", "x{j}, v{j} = y0[r{j}, 0], y0[r{j}, 1]",
           "f{j} = _first(t0, x{j}, v{j}, p)")
 
 
-def _head(name: str, args: str, doc: str, lanes: int, row: str, n: str) -> list[str]:
+def _head(name: str, args: str, doc: str, lanes: int, row: str, n: str,
+          step: tuple[str, ...] = (_STEP.replace("{t}", "t"),)) -> list[str]:
     """The start of a loop function ``name(args)``: lane ``j`` at trajectory ``row`` (an
-    expression in ``j``), then ``n`` steps of every lane from ``t0`` (unchecked)."""
+    expression in ``j``), then ``n`` steps of every lane from ``t0`` (unchecked), each line
+    of ``step`` printed for every lane before the next line."""
     return (["@njit(cache=True)", f"def {name}({args}):", f'    """{doc}"""']
             + _each(lanes, "    r{j} = " + row, *("    " + s for s in _START))
             + [f"    for k in range({n}):", "        t = t0 + k * h"]
-            + _each(lanes, "        " + _STEP.replace("{t}", "t")))
+            + [ln for line in step for ln in _each(lanes, "        " + line)])
 
 
-def _final(lanes: int) -> list[str]:
+def _final(lanes: int, in_parts: bool) -> list[str]:
+    """``final_states``' loop, each step in its parts (:data:`_PHASES`) if ``in_parts``,
+    else lane by lane."""
+    step = _PHASES if in_parts else (_STEP.replace("{t}", "t"),)
     return (_head("_advance_lanes", "p, y0, t0, h, n, states, i, amp, out",
                   f"Trajectories ``i .. i + {lanes - 1}`` of ``final_states``, {lanes} a loop.",
-                  lanes, "i + {j}", "n")
+                  lanes, "i + {j}", "n", step)
             + _each(lanes, "    out[r{j}, 0], out[r{j}, 1] = _finite(x{j}, v{j})"))
 
 
@@ -132,7 +146,7 @@ def _slips(lanes: int) -> list[str]:
             + ["    return True"])
 
 
-def lanes_source(lanes: int, events: int | None = None) -> str:
+def lanes_source(lanes: int, events: int | None = None, in_parts: bool = True) -> str:
     """The source of ``LANES`` (``lanes``), ``EVENT_LANES`` (``events``, by default
     ``lanes``) and of the loops over that many trajectories at once (``final_states``'
     ``lanes``, the others ``events``: :func:`lane_count`), every lane with its own
@@ -162,6 +176,6 @@ def lanes_source(lanes: int, events: int | None = None) -> str:
     events = lanes if events is None else events
     if min(lanes, events) < 1:
         raise ValueError(f"lanes must be >= 1, got {lanes} and {events}")
-    loops = (_final(lanes), _passages(events), _slips(events))
+    loops = (_final(lanes, in_parts), _passages(events), _slips(events))
     return (f"LANES = {lanes}\nEVENT_LANES = {events}\n\n\n"
             + "\n\n\n".join("\n".join(f) for f in loops) + "\n")

@@ -5,8 +5,9 @@ new ``x``, the next position for the kick), so one trajectory a loop leaves the 
 idle; ``lanes`` independent trajectories in one loop body fill it.  numba has no register
 arrays, so the loops of ``final_states``, ``first_passages`` and ``slip_stats`` are written
 out lane by lane as source (:func:`lanes_source`; one line template per lane,
-:func:`_each`) and appended by :mod:`numerics.noise.codegen` after the kernels they call
-(:mod:`numerics.noise._kernels`, :mod:`numerics.noise._passage_kernels`).  Each lane
+:func:`_each`; ``final_states``' step in its parts, each part for every lane) and appended
+by :mod:`numerics.noise.codegen` after the kernels they call (:mod:`numerics.noise._kernels`,
+:mod:`numerics.noise._passage_kernels`).  Each lane
 performs the operations of its trajectory alone, on its own generator, so every number is
 the one the trajectory has alone (``tests/test_noise_kernels.py``,
 ``tests/test_noise_lanes.py``).  The number of lanes is chosen from the library calls of
@@ -28,11 +29,13 @@ def lane_count(model: Oscillator, scheme: str, events: bool = False) -> int:
     one force, Kloeden-Platen two accelerations).
 
     ``final_states``: none, 6 (polynomial forces: each chain a few arithmetic latencies, six
-    fill the core); one, 3 (three chains hide a call's latency, a fourth spills more than it
-    gains); more, 2.  Measured on one core of a shared machine (CPU time, medians;
-    ``benchmarks/bench_noise.py``): BAOAB on the CDC at rest with 2, 3, 4, 6 lanes 47, 52,
-    45, 44 M steps/s; on the quartic oscillator ``x'' = -x' - x - x^3`` 136, 203, 221, 298;
-    Kloeden-Platen on the CDC 37, 34, 34, 33.
+    fill the core); one, 3 (three chains hide a call's latency; four and six gain nothing);
+    more, 2.  Measured on one core of a shared machine (CPU time, medians;
+    ``benchmarks/bench_noise.py``), each step in its parts (:func:`lanes_source`), 2, 3, 4,
+    6 lanes: BAOAB on the CDC at rest 54.6, 56.6, 56.2, 56.5 M steps/s (lane by lane, as
+    before, 47, 52, 45, 44); on the quartic oscillator ``x'' = -x' - x - x^3`` 171, 232,
+    299, 320 (BAOAB) and 144, 200, 202, 221 (Kloeden-Platen); Kloeden-Platen on the CDC
+    32.2, 30.3, 29.9, 29.5 (load 3-9 on 2 cores).
 
     ``events`` (``first_passages``, ``slip_stats``: loops that test every step for an event,
     an exit or a crossing): none, 3; else 2 (a call clobbers every vector register, so each
@@ -162,6 +165,17 @@ def lanes_source(lanes: int, events: int | None = None, in_parts: bool = True) -
       i, last)``: rows ``i .. min(i + lanes - 1, last)`` of ``slip_stats`` (``last``
       repeated in the lanes past it: a block's remainder in one loop, or one trajectory
       alone), False with no row written when a state turns non-finite.
+
+    ``in_parts``: ``final_states``' loop runs each step in its parts (:data:`_PHASES`:
+    every lane's increment, then every lane's ``_open``, ``_last`` and ``_close`` of the
+    kernels), so that the step's last call of the model (BAOAB's force, Kloeden-Platen's
+    second acceleration) comes for every lane after all the lanes' arithmetic before it;
+    else lane by lane.  Against lane by lane (the same bytes; 11 interleaved rounds, CPU
+    time, load 4 on 2 cores): BAOAB on the CDC at rest 1.12x (56.4 against 50.4 M steps/s,
+    three lanes), on the quartic oscillator 1.05x; Kloeden-Platen 1.00x on the CDC, 1.10x
+    on the quartic oscillator; lane by lane is kept where BAOAB's friction depends on the
+    state (its O part an ``exp`` call in the middle of the step: van der Pol in parts 0.91x,
+    with the O part a part of its own 0.97x).
 
     The stationary kernels (``_stats`` of :mod:`numerics.noise._pair_kernels`) stay two a
     loop: written out the same way in six lanes for van der Pol (Kloeden-Platen) and three

@@ -25,7 +25,7 @@ from kbm.symbols import t as T, x as X, xdot as V
 from .._memo import memo
 from ..errors import NumericsError
 from ..flow.jit import _announce_compile, _load, jit_available
-from .lanes import lane_count, lanes_source
+from .lanes import lane_count, lanes_source, steps_in_parts
 
 __all__ = ["SCHEMES", "vector_module", "python_accel"]
 
@@ -143,7 +143,7 @@ def _compiled(model: Oscillator, names: tuple[str, ...], scheme: str = "kp"):
               + _HEADER + f"SCHEME = {SCHEMES[scheme]}\n\n\n" + body
               + "\n" + _KERNELS + "\n\n" + lanes_source(
                   lane_count(model, scheme), lane_count(model, scheme, events=True),
-                  in_parts=scheme == "kp" or _friction_const(model)))
+                  steps_in_parts(model, scheme, _friction_const(model))))
     _announce_compile(source)
     return _load(source)
 

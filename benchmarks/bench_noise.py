@@ -24,25 +24,25 @@ for part 3, about 15 minutes at effort 3 on a loaded machine; "4" for part 4).
    by the wall clock; the ratios are the medians of the rounds' ratios, with their
    quartiles.  Each scheme's ``<x^2>`` at the timed step is printed against Boltzmann's
    (exact by quadrature), so that no rate is quoted for a wrong answer.  Measured (effort
-   1, load 7.4-8.3 on 2 cores, two runs; CPU time, M steps/s medians, toolkit / it)::
+   1, load 7.4-9.1 on 2 cores, three runs; CPU time, M steps/s medians, toolkit / it)::
 
-       toolkit BAOAB (3 a loop)                56.1  56.3
-       hand, 1 a loop                          33.5  33.6   1.68  1.68
-       hand, 2 a loop, folded                  53.3  53.6   1.05  1.05
-       hand, 3 a loop, folded                  51.3  51.6   1.09  1.09
-       hand, 4 a loop, folded                  50.2  50.3   1.12  1.12
-       hand, 6 a loop, folded                  49.7  49.9   1.13  1.13
-       hand, 2 a loop, folded, in parts        54.0  54.4   1.04  1.03
-       hand, 3 a loop, folded, in parts        56.7  57.0   0.99  0.99 (quartiles 0.98-0.99)
+       toolkit BAOAB (3 a loop)                56.1  56.3  56.6
+       hand, 1 a loop                          33.5  33.6  33.7   1.68  1.68  1.68
+       hand, 2 a loop, folded                  53.3  53.6  53.9   1.05  1.05  1.05
+       hand, 3 a loop, folded                  51.3  51.6  51.9   1.09  1.09  1.09
+       hand, 4 a loop, folded                  50.2  50.3  50.5   1.12  1.12  1.12
+       hand, 6 a loop, folded                  49.7  49.9  50.1   1.13  1.13  1.13
+       hand, 2 a loop, folded, in parts        54.0  54.4  54.6   1.04  1.03  1.04
+       hand, 3 a loop, folded, in parts        56.7  57.0  57.3   0.99  0.99  0.99
 
    The toolkit is 1.05x the fastest hand loop written lane by lane (quartiles 1.05-1.06;
    before its loop ran in parts: 0.94x, 51 M steps/s) and at parity with a hand loop
    written in its own order: the same instructions but one ``vmulsd`` for a ``vxorpd`` per
    lane (``-Omega^2 x`` for ``-x``) and two more moves, 153 a three-lane iteration
-   against 151;
-   the last 1 % is not that multiplication (the force printed as ``-x`` ran as fast) and
-   moved by 1.5 % between other orders of the same parts; a hand loop's rate moved by up
-   to 10 % between runs (compilations): the hand loop 3 a loop in parts at 51.3 in a third.
+   against 151; the last 1 % is not that multiplication (the force printed as ``-x`` ran
+   as fast) and moved by 1.5 % between other orders of the same parts; a hand loop's rate
+   moved by up to 10 % between runs (compilations): the hand loop 3 a loop in parts at
+   51.3 in a fourth run (load 6.1).
 2. **Force evaluations for equal weak error** on ``x'' + x = -x' - x^3 + sqrt(2 D) xi``
    (linear damping, quartic potential, D = kT = 1; ``<x^2>`` exact by quadrature of
    ``exp(-(x^2/2 + x^4/4)/kT)``).  The weak errors are exact, not sampled: BAOAB's own

@@ -95,20 +95,26 @@ def test_final_states_equal_the_scheme_stepped_in_python(scheme):
         assert _same(want, got[i])
 
 
-@pytest.mark.parametrize("model, scheme, lanes", [(QUARTIC, "baoab", 6), (QUARTIC, "kp", 6),
-                                                   ("cdc", "baoab", 3), ("cdc", "kp", 2)])
-def test_final_states_in_lanes_equal_the_scheme_stepped_in_python(model, scheme, lanes):
+@pytest.mark.parametrize("model, scheme, lanes, parts", [
+    (QUARTIC, "baoab", 6, True), (QUARTIC, "kp", 6, True), ("cdc", "baoab", 3, True),
+    ("cdc", "kp", 2, False), ("vdp", "baoab", 6, False)])
+def test_final_states_in_lanes_equal_the_scheme_stepped_in_python(model, scheme, lanes, parts):
     """final_states on ``2 lanes + 3`` trajectories (two loops of ``lanes`` trajectories, a
     pair, the last beside its twin; one trajectory of the second loop started at NaN)
     against each trajectory stepped in Python with the compiled one-step map and the
     generator's three-point increments (Kloeden & Platen eq. 14.2.8): the same bytes, the
     NaN start a NaN row.  The lane count is the printed one: 6 with no library call a step,
-    3 with one (BAOAB's force on the CDC, paper eq. 12), 2 with two (Kloeden-Platen)."""
-    params = {"mu": 1.0} if model is QUARTIC else {"mu": 0.1, "Delta": 3, "lam": 1,
-                                                   "Omega": 1}
+    3 with one (BAOAB's force on the CDC, paper eq. 12), 2 with two (Kloeden-Platen).  The
+    loop runs each step in its parts (``_open`` of every lane, then ``_last``, then
+    ``_close``) where every call of a step is in its last part, else lane by lane
+    (Kloeden-Platen's ``sin`` in both accelerations; van der Pol's BAOAB, whose O part
+    calls ``exp``: its friction depends on ``x``)."""
+    params = ({"mu": 1.0} if model is QUARTIC else {"mu": 0.3} if model == "vdp"
+              else {"mu": 0.1, "Delta": 3, "lam": 1, "Omega": 1})
     s = langevin_system(model, params, 1.0 if model is QUARTIC else 0.1, scheme)
     k, p = s.kernels, s._p()
     assert k.LANES == lanes
+    assert ("_open(t, x0" in open(k.__file__).read()) == parts
     m, h, n = 2 * lanes + 3, 0.05, 150
     y0 = np.linspace(-1.0, 0.8, 2 * m).reshape(m, 2)
     y0[lanes + 1] = [np.nan, 0.0]

@@ -81,16 +81,6 @@ def _increment(s, root3h):
 
 
 @njit(cache=True)
-def _step_kp(t, x, v, h, sdw, p):
-    """One step of Kloeden-Platen (15.1.3); ``sdw = sigma * dW``."""
-    a0 = accel(t, x, v, p)  # noqa: F821 - defined by the printed model above
-    xb = x + v * h
-    vb = v + a0 * h + sdw
-    a1 = accel(t + h, xb, vb, p)  # noqa: F821
-    return x + 0.5 * (v + vb) * h, v + 0.5 * (a0 + a1) * h + sdw
-
-
-@njit(cache=True)
 def _ou(gh):
     """The O part's factors ``(e^(-gh), sqrt((1 - e^(-2gh))/(2 gh)))`` by exp alone (an LLVM
     intrinsic), the second by its series where the difference would cancel (error below
@@ -113,23 +103,46 @@ def _noise_factor(p, h):
 
 
 @njit(cache=True)
-def _step_baoab(t, x, v, f, h, sdw, p):
-    """One BAOAB step (Leimkuhler & Matthews 2013) with a position-dependent friction:
-    ``v' = force(t, x) - gamma(t, x) v + sigma xi`` with the O part solved exactly at the
-    frozen midpoint position; ``f`` is ``force(t, x)`` of the previous step's end (one new
-    force evaluation per step), ``sdw = sigma * dW``, times ``_noise_factor(p, h)`` (the O
-    part's noise factor when the friction is constant)."""
-    v = v + 0.5 * h * f
-    x = x + 0.5 * h * v
-    if FRICTION_CONST:  # noqa: F821 - 1 when gamma depends on no state: hoisted from loops
-        e = math.exp(-friction(0.0, 0.0, p) * h)  # noqa: F821 - the printed model above
-        v = e * v + sdw
-    else:
-        e, c = _ou(friction(t + 0.5 * h, x, p) * h)  # noqa: F821
-        v = e * v + c * sdw
-    x = x + 0.5 * h * v
-    f = force(t + h, x, p)  # noqa: F821
-    return x, v + 0.5 * h * f, f
+def _open(t, x, v, f, h, sdw, p):
+    """A step up to its last evaluation of the model (``sdw = sigma * dW``): ``(x, v, xb,
+    vb, a0)``.  BAOAB (Leimkuhler & Matthews 2013; ``v' = force(t, x) - gamma(t, x) v + sigma
+    xi``): B, A, O, A, the O part solved exactly at the frozen midpoint position, ``f`` the
+    force at the previous step's end (one new force evaluation per step) and ``sdw`` times
+    ``_noise_factor(p, h)`` (the O part's noise factor when the friction is constant);
+    ``(xb, vb)`` is the state before the last B.  Kloeden-Platen (15.1.3): ``a0 =
+    a(t, x, v)`` and the predictor ``(xb, vb)``; ``f`` unused."""
+    if SCHEME == 1:  # noqa: F821 - set by the printed model above
+        v = v + 0.5 * h * f
+        x = x + 0.5 * h * v
+        if FRICTION_CONST:  # noqa: F821 - 1 when gamma depends on no state: hoisted from loops
+            e = math.exp(-friction(0.0, 0.0, p) * h)  # noqa: F821 - the printed model above
+            v = e * v + sdw
+        else:
+            e, c = _ou(friction(t + 0.5 * h, x, p) * h)  # noqa: F821
+            v = e * v + c * sdw
+        x = x + 0.5 * h * v
+        return x, v, x, v, 0.0
+    a0 = accel(t, x, v, p)  # noqa: F821 - defined by the printed model above
+    return x, v, x + v * h, v + a0 * h + sdw, a0
+
+
+@njit(cache=True)
+def _last(t, xb, vb, h, p):
+    """The step's last evaluation of the model: BAOAB's force at the new position, or
+    Kloeden-Platen's ``a(t + h, xb, vb)`` at the predictor."""
+    if SCHEME == 1:  # noqa: F821
+        return force(t + h, xb, p)  # noqa: F821
+    return accel(t + h, xb, vb, p)  # noqa: F821
+
+
+@njit(cache=True)
+def _close(x, v, xb, vb, a0, a1, h, sdw):
+    """The step's end from :func:`_open`'s ``(x, v, xb, vb, a0)`` and :func:`_last`'s ``a1``:
+    ``(x, v, f)`` (BAOAB's last B, ``f = a1`` carried to the next step; Kloeden-Platen's
+    corrector, ``f = 0``)."""
+    if SCHEME == 1:  # noqa: F821
+        return xb, vb + 0.5 * h * a1, a1
+    return x + 0.5 * (v + vb) * h, v + 0.5 * (a0 + a1) * h + sdw, 0.0
 
 
 @njit(cache=True)
@@ -142,11 +155,12 @@ def _first(t, x, v, p):
 
 @njit(cache=True)
 def _step(t, x, v, f, h, sdw, p):
-    """One step of the model's scheme (``SCHEME``: 0 Kloeden-Platen, 1 BAOAB): ``(x, v, f)``."""
-    if SCHEME == 1:  # noqa: F821
-        return _step_baoab(t, x, v, f, h, sdw, p)
-    x, v = _step_kp(t, x, v, h, sdw, p)
-    return x, v, f
+    """One step of the model's scheme (``SCHEME``: 0 Kloeden-Platen, 1 BAOAB): ``(x, v, f)``,
+    :func:`_open`, :func:`_last` and :func:`_close` in turn (the loops over several
+    trajectories run each part for every lane before the next part:
+    :mod:`numerics.noise.lanes`)."""
+    x, v, xb, vb, a0 = _open(t, x, v, f, h, sdw, p)
+    return _close(x, v, xb, vb, a0, _last(t, xb, vb, h, p), h, sdw)
 
 
 @njit(cache=True)

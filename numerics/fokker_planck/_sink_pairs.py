@@ -5,21 +5,25 @@ the rates at the rising and the falling ladder's offsets from the rate and its s
 their midpoint (:func:`paired_rates`).
 
 At each rung the rate is a straight line in the sink's offset (:mod:`._sink`), ``r_j(o) = r
-- a w_j (o - o*_j)``, and it depends on the offset through ``o w_j`` only, so its
-curvature falls like ``w_j^2``, four times per rung.  The slope at the midpoint ``o_m`` of
-the two offsets is the first-order change of the slowest decay rate as the sinks move out
+- a w_j (o - o*_j)``, and it depends on the offset through ``o w_j`` only, so its curvature
+falls like ``w_j^2``, four times per rung.  The slope at the midpoint ``o_m`` of the two
+offsets is the first-order change of the slowest decay rate as the sinks move out
 (:meth:`._folded.FoldedRungs.slope`: the left and the right slowest modes on the one
 factorisation, the left one by Arnoldi on the transposed sweeps), and ``r(o_m) +- r'(o_m)
 (o_high - o_low)/2`` are the two rungs' rates, their midpoint up to ``r'' (o_high -
 o_low)^2/8`` and their half-gap up to ``r''' (o_high - o_low)^3/48``, and the grids'
-difference (each rung on points crowded at its own centre, here both on the midpoint's).  CDC Delta = 3, kT = 0.35, mu = 5 (relative to the rate; the two sides each
-solved on its own grid against the pair): rung 9 (182 functions, 392 intervals, offsets
-2.12 and 1.80) sides 3.4e-10 and 7.4e-11, the midpoint 2.1e-10; rung 11 (364, 392, 2.36
-and 2.03) sides +-3.8e-8 (the stated grid error there is 7.2e-8), the midpoint 1.3e-11; at
-rung 6 (200 intervals, offsets 2 and 1.25) the midpoint is 6.9e-8 off and at rung 0
-(offsets 2 and 0) 2.1e-3, so the pairs start at :data:`PAIRED`, where each rung's two
-factorisations are dearest (rung 9's grid step).  One factorisation and two Arnoldi runs
-(about ten solves) instead of two factorisations: at rung 11 1.45 + 0.2 s against 2.9 s.
+difference (each rung on points crowded at its own centre, here both on the midpoint's).
+CDC Delta = 3, kT = 0.35, mu = 5 (relative to the rate; the two sides each solved on its
+own grid against the pair): rung 9 (182 functions, 392 intervals, offsets 2.12 and 1.80)
+sides 3.4e-10 and 7.4e-11, the midpoint 2.1e-10; rung 11 (364, 392, 2.36 and 2.03) sides
++-3.8e-8 (the stated grid error there is 7.2e-8), the midpoint 1.3e-11; at rung 6 (200
+intervals, offsets 2 and 1.25) the midpoint is 6.9e-8 off and at rung 0 (offsets 2 and 0)
+2.1e-3; at rungs 7 and 8 (280 intervals) 5.7e-9 and 8.3e-10, but there the left mode's
+Arnoldi (0.19 and 0.27 s) costs what the second factorisation does.  So the pairs start at
+:data:`PAIRED`, where each rung's two factorisations are dearest (rung 9's grid step), and
+the ladders that stop before it (mu <= 1) keep their bits.  One factorisation and two
+Arnoldi runs (about ten solves) instead of two factorisations: at rung 11 1.45 + 0.3 s
+against 2.9 s.
 """
 
 from __future__ import annotations

@@ -48,7 +48,9 @@ the rate depends on where the absorption happens), the rate of first passages to
 their gap, and the other two errors include the midpoint's changes on a finer grid and
 one Hermite truncation lower (linear damping in an even potential: the rungs in
 orthonormal functions at a fraction of the thermal speed, folded, on points crowded at the
-sink on several scales, :func:`._sink.absorbing_limit` with ``adaptive``).  Compared
+sink on several scales, :func:`._sink.absorbing_limit` with ``adaptive``; from rung 9
+both sinks of a rung from one factorisation at their midpoint and the rate's slope there,
+:mod:`._sink_pairs`).  Compared
 (tests/test_fokker_planck_escape.py, docs/noise.rst) with simulated first passages,
 Kramers' spatial-diffusion rate, the Mel'nikov-Meshkov rate and the energy-diffusion MFPT
 of the averaged energy.

@@ -249,6 +249,7 @@ class FoldedRungs:
         self.by_order = bool(by_order)
         self._key, self._lu, self._keep, self._vec = None, None, None, None
         self._start, self.mode = start, None
+        self._xs, self._nh, self._left = None, 0, None
 
     @staticmethod
     def numbers(nh: int, nc: int) -> int:
@@ -268,6 +269,7 @@ class FoldedRungs:
         with one_blas_thread():
             if key != self._key or nh > self._lu.A.n_orders:
                 self._key, self._lu, self._vec = None, None, None  # the last factors freed first
+                self._left = None
                 cap = max(self.capacity, nh)
                 A = FoldedTermBlocks(orthonormal_terms(split, D, s, xs, Dx, cap), xs.size,
                                      kappa)
@@ -294,9 +296,10 @@ class FoldedRungs:
                     v0[:n] = self._vec[:n]
                 theta, vec = dominant_ritz(lambda v: lu.solve(keep * v, nh), v0)
                 if theta is not None:
-                    self._vec = vec
+                    self._vec, self._xs, self._nh = vec, xs, nh
                     self.mode = (float(s), rows, vec)
                     return float(-(1.0 / theta).real)
+            self._nh = 0  # no mode for slope()
             op = spla.LinearOperator((keep.size,) * 2,
                                      matvec=lambda v: lu.solve(keep * v, nh), dtype=float)
             # one Ritz value from six vectors: the gap to the next decay rate (an intra-well
@@ -305,6 +308,35 @@ class FoldedRungs:
             theta = spla.eigs(op, k=1, ncv=6, which="LM", return_eigenvectors=False,
                               tol=1e-12, v0=keep.copy())
         return float(-(1.0 / theta[0]).real)
+
+    def slope(self, dsink) -> float | None:
+        """``dr/dt`` of the last rate where the sink changes by ``dsink(xs)`` per unit
+        ``t`` on the same points: the first-order change of a simple eigenvalue of ``A x =
+        mu K x``, ``d mu = y^T dA x / y^T K x`` with ``y`` the left slowest mode (Arnoldi
+        on ``A^{-T} K``, the same factors) and ``dA = -d kappa`` on every order's unpinned
+        rows (Kato, *Perturbation Theory for Linear Operators*, II.2; Wilkinson, *The
+        Algebraic Eigenvalue Problem*, 2.8); ``None`` where the last rate was not from
+        the order-by-order factors or the left mode did not converge."""
+        lu, nh = self._lu, self._nh
+        if not isinstance(lu, FoldedOrderLU) or nh == 0:
+            return None
+        keep, x = self._keep[:nh * lu.A.mm], self._vec
+        v0 = keep * x  # or the last left mode on these factors (a larger truncation's)
+        if self._left is not None:
+            v0 = np.zeros(keep.size)
+            n = min(v0.size, self._left.size)
+            v0[:n] = self._left[:n]
+        with one_blas_thread():
+            theta, y = dominant_ritz(lambda v: lu.solve_transposed(keep * v, nh), v0)
+        if theta is None:
+            return None
+        self._left = y
+        dk = np.asarray(dsink(self._xs), float)
+        dK = np.zeros((nh, lu.A.mm))
+        for n in range(nh):
+            idx = lu.A.maps[n % 2][0]
+            dK[n, 1:idx.size] = dk[idx[1:]]
+        return float(np.sum(y * dK.reshape(-1) * x) / np.sum(y * keep * x))
 
 
 def carried_mode(mode: tuple, rows: list, mm: int, nh: int) -> np.ndarray:

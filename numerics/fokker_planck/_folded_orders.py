@@ -250,6 +250,35 @@ class FoldedOrderLU:
             y[p] = gemv(-1.0, self._inv[p], w, beta=1.0, y=y[p])
         return y.reshape(-1)
 
+    def solve_transposed(self, rhs: np.ndarray, n: int) -> np.ndarray:
+        """``A^{-T} rhs`` of the truncation at the first ``n`` orders: with ``A = (S + L)
+        S^{-1} (S + U)`` (``S`` the Schur complements, ``L`` and ``U`` the couplings below
+        and above them that :meth:`solve` applies), ``A^T = (S + U)^T S^{-T} (S + L)^T``:
+        the same sweeps with the transposed blocks (the left slowest mode of
+        :meth:`._folded.FoldedRungs.slope`)."""
+        from scipy.linalg import blas
+
+        mm = self.A.mm
+        y = np.array(rhs, float).reshape(n, mm)
+        gemv = blas.dgemv
+        r = np.empty(mm)
+        for p in range(n):  # (S + U)^T y = rhs, up the orders
+            r[:] = y[p]
+            if p >= 1:
+                gemv(-1.0, self._upper[p - 1], y[p - 1], beta=1.0, y=r, overwrite_y=True,
+                     trans=1)
+            if p >= 2:
+                u2 = self._u2[p - 2]
+                r -= u2 * y[p - 2] if u2.ndim == 1 else u2.T @ y[p - 2]
+            y[p] = gemv(1.0, self._inv[p], r, trans=1)
+        for p in range(n - 2, -1, -1):  # S^{-T} (S + L)^T x = y, down the orders
+            w = gemv(1.0, self._lower[p], y[p + 1], trans=1)
+            if p + 2 < n:
+                l2 = self._l2[p]
+                w += l2 * y[p + 2] if l2.ndim == 1 else l2.T @ y[p + 2]
+            y[p] = gemv(-1.0, self._inv[p], w, beta=1.0, y=y[p], trans=1)
+        return y.reshape(-1)
+
 
 def _diagonal(a: np.ndarray) -> np.ndarray:
     """The diagonal of a square array as a writable view."""

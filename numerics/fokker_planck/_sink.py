@@ -69,6 +69,8 @@ import math
 
 import numpy as np
 
+from ._sink_pairs import PAIRED, paired_rates, tanh_sink
+
 __all__ = ["SINK_TOL", "BRACKET_TOL", "LOOSE_TOL", "OFFSET", "RAMP", "CAP", "TRACK",
            "MARGIN", "DRIFT", "WEIGHT", "MAX_RUNGS", "SINK_INTERVALS", "SINK_HERMITE",
            "SINK_SCALE", "LOW_SCALE", "RUNG_HERMITE", "MAX_HERMITE", "GRID_HERMITE",
@@ -171,12 +173,12 @@ def bracket_error(low, high) -> float:
 
 
 def sink_bracket(solve, *, tol: float = SINK_TOL, max_rungs: int = MAX_RUNGS,
-                 offsets=ladder_offsets, loose: tuple | None = None) -> dict:
+                 offsets=ladder_offsets, loose: tuple | None = None, pair=None) -> dict:
     """The rate of the perfectly absorbing sink between the rising ladder and the falling
     one (``solve(j, offset)``: the rate with the sinks of :func:`sink_rung`; the offsets of
     each rung ``offsets(history)``, :func:`ladder_offsets`), climbed until the half-gap is
     within ``tol`` of the rate (or, with ``loose = (tol2, j2)``, within ``tol2`` from rung
-    ``j2`` on).
+    ``j2`` on; ``pair(j, o_low, o_high)``, where given and not ``None``, both rates).
 
     Returns
     -------
@@ -188,8 +190,10 @@ def sink_bracket(solve, *, tol: float = SINK_TOL, max_rungs: int = MAX_RUNGS,
     low, high, history = [], [], []
     for j in range(max_rungs):
         o_low, o_high = offsets(history)
-        low.append(solve(j, o_low))
-        high.append(solve(j, o_high))
+        both = None if pair is None else pair(j, o_low, o_high)
+        lo, hi = both if both is not None else (solve(j, o_low), solve(j, o_high))
+        low.append(lo)
+        high.append(hi)
         history.append((o_low, o_high, low[-1], high[-1]))
         err = bracket_error(low, high)
         rate = abs(low[-1] + high[-1]) / 2
@@ -199,20 +203,6 @@ def sink_bracket(solve, *, tol: float = SINK_TOL, max_rungs: int = MAX_RUNGS,
             break
     return dict(rate=(low[-1] + high[-1]) / 2, sink_error=err, rungs=tuple(low),
                 upper=tuple(high), offsets=tuple(h[:2] for h in history))
-
-
-def tanh_sink(xs, wells, kappa0: float, width: float) -> np.ndarray:
-    """The sink at the points ``xs``: ``kappa0 [1 + tanh((|x| - |x_w|)/width)]/2``, and nine
-    times as strong from ``2.5 width`` past the bottom ``|x_w|`` (the same profile): what
-    gets past the bottom is gone long before the end of the range (``5 width`` past it by
-    default), where the pinned rows ``c_n(+-L) = 0`` are no boundary condition of the
-    Kramers equation (with the first stage alone the rate converged like ``1/n_cheb`` and
-    moved by 1e-5 with the range at mu = 1; docs/noise.rst)."""
-    edge = np.where(xs > 0, wells[1], -wells[0])
-    far = edge + 2.5 * width
-    r = np.abs(xs)
-    return kappa0 * 0.5 * ((1 + np.tanh((r - edge) / width))
-                           + 9 * (1 + np.tanh((r - far) / width)))
 
 
 #: the position intervals and Hermite functions of the sink ladder at least
@@ -314,7 +304,7 @@ def _down(n: int) -> int:
 
 
 def absorbing_limit(out: dict, rung, least: tuple = (SINK_HERMITE, SINK_INTERVALS),
-                    adaptive: bool = False) -> dict:
+                    adaptive: bool = False, paired: bool = False) -> dict:
     """``out`` with the rate of the perfectly absorbing sink between the rising and the
     falling sink ladders (:func:`sink_bracket` to :data:`BRACKET_TOL`) and its errors:
     ``sink_error`` the bracket's half-width, ``chebyshev_error`` and ``truncation_error``
@@ -334,7 +324,11 @@ def absorbing_limit(out: dict, rung, least: tuple = (SINK_HERMITE, SINK_INTERVAL
     :data:`HERMITE_TOL` from ``1/sqrt 2`` of them (the truncation error: the top rungs'
     midpoint's change), and the grid's error :data:`GRID_FACTOR` times the rising top
     rung's change on :data:`GRID_CHECK` times its intervals at :data:`GRID_HERMITE`
-    functions (the falling one's is the same: :data:`GRID_CHECK`)."""
+    functions (the falling one's is the same: :data:`GRID_CHECK`).  ``paired`` (with
+    ``adaptive``): from rung :data:`._sink_pairs.PAIRED` on both rates of a rung from one
+    factorisation at the midpoint offset (:func:`._sink_pairs.paired_rates`; ``rung(j,
+    offset, nc, nh, slope=True)`` gives ``(rate, slope)``, ``slope()`` the rate's
+    derivative in the offset), whose grid change stands for both."""
     if not adaptive:
         nh = max(int(out["hermite"]), int(least[0]))
         nc = max(int(out["chebyshev"]) - 1, int(least[1]))
@@ -356,7 +350,20 @@ def absorbing_limit(out: dict, rung, least: tuple = (SINK_HERMITE, SINK_INTERVAL
                 return r
             size["nh"] = _up(n)
 
-    lim = sink_bracket(solve, tol=BRACKET_TOL,
+    def pair(j, o_low, o_high):  # from rung PAIRED on: one factorisation (._sink_pairs)
+        if not (adaptive and paired) or j < PAIRED:
+            return None
+        out = paired_rates(rung, j, o_low, o_high, rung_intervals(nc, j),
+                           max(size["nh"], RUNG_HERMITE[1]),
+                           hermite=(HERMITE_TOL, _up, _down, MAX_HERMITE))
+        if out is None:
+            return None
+        size["nh"], r, r_low = out
+        for o, a, b in zip((o_low, o_high), r, r_low):
+            low_rates[j, o] = (size["nh"], a, b)
+        return r
+
+    lim = sink_bracket(solve, tol=BRACKET_TOL, pair=pair,
                        loose=(LOOSE_TOL, GRID_STEPS[1][0]) if adaptive else None)
     low, high = lim["rungs"], lim["upper"]
     top = len(low) - 1
@@ -382,8 +389,9 @@ def absorbing_limit(out: dict, rung, least: tuple = (SINK_HERMITE, SINK_INTERVAL
                       else rung(top, o, nt, nl) for o in (o_low, o_high))
         trunc = abs((lo_l + hi_l) / 2 - lim["rate"])
         n_fine, nb = 2 * int(round(GRID_CHECK * nt / 2)), GRID_HERMITE
-        here = rung(top, o_low, nt, nb)  # the factors kept; the rising rung stands for both
-        cheb = GRID_FACTOR * abs(rung(top, o_low, n_fine, nb) - here)  # (GRID_CHECK)
+        o_grid = o_low if top < PAIRED else (o_low + o_high) / 2  # the factors kept
+        here = rung(top, o_grid, nt, nb)  # one rung stands for both
+        cheb = GRID_FACTOR * abs(rung(top, o_grid, n_fine, nb) - here)  # (GRID_CHECK)
     return {**out, "rate": lim["rate"], "sink_error": lim["sink_error"],
             "chebyshev_error": max(out["chebyshev_error"], cheb),
             "truncation_error": max(out["truncation_error"], trunc),

@@ -48,7 +48,9 @@ the rate depends on where the absorption happens), the rate of first passages to
 their gap, and the other two errors include the midpoint's changes on a finer grid and
 one Hermite truncation lower (linear damping in an even potential: the rungs in
 orthonormal functions at a fraction of the thermal speed, folded, on points crowded at the
-sink on several scales, :func:`._sink.absorbing_limit` with ``adaptive``).  Compared
+sink on several scales, :func:`._sink.absorbing_limit` with ``adaptive``; from rung 9
+both sinks of a rung from one factorisation at their midpoint and the rate's slope there,
+:mod:`._sink_pairs`).  Compared
 (tests/test_fokker_planck_escape.py, docs/noise.rst) with simulated first passages,
 Kramers' spatial-diffusion rate, the Mel'nikov-Meshkov rate and the energy-diffusion MFPT
 of the averaged energy.
@@ -72,6 +74,7 @@ from ._parity import symmetric
 from ._rungs import FractionRungs, pair_escape
 from ._model import next_wells
 from ._problem import escape_problem, hermite_ladder, kT_gamma
+from ._sink_pairs import tanh_sink_slope
 from ._sink import (SINK_HERMITE, SINK_INTERVALS, SINK_TOL, WEIGHT, absorbing_limit,
                     sink_grading, sink_rung, sink_scale, tanh_sink as _sink)
 
@@ -292,7 +295,7 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         solvers: dict = {}  # the factors of the current rung's two sinks (and grids)
         last: list = [None]  # the last rung's slowest mode: the next factors' first start
 
-        def rung(j, offset, nc, nh):  # the rate with the sink of rung j (._sink)
+        def rung(j, offset, nc, nh, slope=False):  # the rate with rung j's sink (._sink)
             centres, kap, w = sink_rung(wells, kappa0, width, j, offset)
             grading = sink_grading(j) if adaptive else ((2.5, WEIGHT),)
 
@@ -315,6 +318,9 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
                                                                   start=last[0])
                 rate = solver(split, D, sink_scale(j) * math.sqrt(kT), pts, nh, nc, snk)
                 last[0] = solver.mode
+                if slope:  # and dr/d(offset) on demand (._sink_pairs)
+                    return rate, lambda: solver.slope(
+                        lambda xs: tanh_sink_slope(xs, centres, kap, w))
                 return rate
             if basis == "pair":
                 return FractionRungs(split, sigma, gamma, centres, snk, pts).rate(nh, nc)
@@ -322,5 +328,5 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
             return solver(split, D, out["velocity_scale"], pts, nh, nc, snk)
 
         out = absorbing_limit(out, rung, least=(SINK_HERMITE, SINK_INTERVALS) if linear
-                              else (0, 0), adaptive=adaptive)
+                              else (0, 0), adaptive=adaptive, paired=adaptive)
     return KramersEscape(saddles=(xl, xr), wells=wells, **out)

@@ -100,3 +100,19 @@ def test_branch_points_are_the_cycles_shot_from_scratch():
     for p in br.points[::5]:
         c = limit_cycle("sedf", {**params, "Delta": p.parameter}, rtol=1e-12, atol=1e-12)
         assert p.period == pytest.approx(c.period, rel=1e-10)
+
+
+def test_acceleration_jacobian_of_van_der_pol_and_its_refusal():
+    """The one Jacobian of the variational equations (template, nine-state flow, adjoint
+    Floquet, fold system): Van der Pol ``x'' = -x + mu (1 - x^2) x'`` has, by hand,
+    ``d/dx = -1 - 2 mu x x'`` and ``d/dx' = mu (1 - x^2)``; ``sign(x')`` has none."""
+    from kbm.errors import ModelError
+    from kbm.symbols import mu, x, xdot
+    from numerics.flow.template import acceleration_jacobian
+
+    acc = -x + mu * (1 - x**2) * xdot
+    jx, jv = acceleration_jacobian(acc, "vdp")
+    assert sp.expand(jx - (-1 - 2 * mu * x * xdot)) == 0
+    assert sp.expand(jv - mu * (1 - x**2)) == 0
+    with pytest.raises(ModelError, match="'coulomb'.*x'.*tanh"):
+        acceleration_jacobian(-x - mu * sp.sign(xdot), "coulomb")

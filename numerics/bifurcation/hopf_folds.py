@@ -44,6 +44,7 @@ from scipy.integrate._ivp import dop853_coefficients as _dop
 
 from numerics.bifurcation.curve import correct, numerical_jacobian
 from numerics.errors import ConvergenceError
+from numerics.flow.template import acceleration_jacobian
 
 __all__ = ["ScaledFold", "bautin_point", "into_bautin"]
 
@@ -88,8 +89,9 @@ class ScaledFold:
         X, V = sp.Symbol("x"), sp.Symbol("xdot")
         syms = [sp.Symbol(n) for n in kit.template.names]
         self._f = sp.lambdify((X, V, *syms), acc, modules="numpy")
-        self._fv = sp.lambdify((X, V, *syms), sp.diff(acc, V), modules="numpy")
-        self._fx = sp.lambdify((X, V, *syms), sp.diff(acc, X), modules="numpy")
+        fx, fv = acceleration_jacobian(acc, kit.template.model.name)
+        self._fv = sp.lambdify((X, V, *syms), fv, modules="numpy")
+        self._fx = sp.lambdify((X, V, *syms), fx, modules="numpy")
         # the Taylor coefficients d^(i+j) f / dx^i dv^j / (i! j!) at (x_e, 0), 1 <= i+j <= K
         self._taylor = []
         for n in range(1, TAYLOR_ORDER + 1):

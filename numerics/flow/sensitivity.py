@@ -29,7 +29,7 @@ import numpy as np
 
 from numerics.errors import IntegrationError
 from numerics.flow.compiled import CompiledModel, ModelTemplate
-from numerics.flow.template import jit_memo
+from numerics.flow.template import acceleration_jacobian, jit_memo
 
 __all__ = ["N_SENSITIVITY", "sensitivity_flow", "sensitivity_state", "flow_with_sensitivity",
            "shooting_corrector"]
@@ -77,7 +77,7 @@ def sensitivity_flow(template: ModelTemplate):
     def exprs():
         acc = template.model.acceleration()
         es = {X: y[0], V: y[1]}
-        jx, jv = sp.diff(acc, X).subs(es), sp.diff(acc, V).subs(es)
+        jx, jv = (d.subs(es) for d in acceleration_jacobian(acc, template.model.name))
         forcing = sum((sp.diff(acc, p).subs(es) * r for p, r in zip(names, rates)),
                       sp.Integer(0))
         ext = [e.xreplace(dict(zip(template.ext_symbols, y))) for e in template.ext_exprs[:7]]

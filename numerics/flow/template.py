@@ -21,7 +21,8 @@ if TYPE_CHECKING:  # sympy and the symbolic models imported on use (issue 39)
 
     from kbm.model.builtins import Oscillator
 
-__all__ = ["ModelTemplate", "model_template", "template_flow", "jit_memo"]
+__all__ = ["ModelTemplate", "model_template", "template_flow", "jit_memo",
+           "acceleration_jacobian"]
 
 
 @dataclass(frozen=True)
@@ -77,6 +78,34 @@ def _template(model: Oscillator) -> ModelTemplate:
     return cached_template(model, _build_template, ModelTemplate)
 
 
+def acceleration_jacobian(acc: sp.Expr, name: str) -> tuple[sp.Expr, sp.Expr]:
+    """``(d acc/dx, d acc/dx')``: the Jacobian of ``x'' = acc(x, x')`` in the variational
+    equations ``dy' = J dy`` (the template's flow and Jacobian, the nine-state flow of
+    :mod:`numerics.flow.sensitivity`, the adjoint ``Z' = -J^T Z`` of
+    :mod:`numerics.spectrum.floquet`, the fold system of :mod:`numerics.bifurcation`).
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        If a derivative has no closed form (``sign(xdot)``, ``Abs(xdot)``): the message
+        names model ``name`` and smooth replacements.
+    """
+    import sympy as sp
+
+    from kbm.symbols import x as X, xdot as V
+
+    dadx, dadv = sp.diff(acc, X), sp.diff(acc, V)
+    for var, d in (("x", dadx), ("x'", dadv)):
+        if d.has(sp.Derivative, sp.DiracDelta):
+            raise ModelError(
+                f"model {name!r}: the derivative of the acceleration with respect to "
+                f"{var} has no closed form ({d}); the variational equations (Floquet "
+                "multipliers, Newton) need a smooth F: replace non-differentiable terms such "
+                "as sign(xdot) or Abs(xdot) by smooth ones, e.g. tanh(xdot/0.01) or "
+                "sqrt(xdot**2 + 0.01**2)")
+    return dadx, dadv
+
+
 def _build_template(model: Oscillator) -> ModelTemplate:
     import sympy as sp
 
@@ -88,15 +117,7 @@ def _build_template(model: Oscillator) -> ModelTemplate:
     names = tuple(sorted(set(model.parameters) | {"mu"}))
     P = [sp.Symbol(n) for n in names]
     acc = model.acceleration()
-    dadx, dadv = sp.diff(acc, X), sp.diff(acc, V)
-    for name, d in (("x", dadx), ("x'", dadv)):
-        if d.has(sp.Derivative, sp.DiracDelta):
-            raise ModelError(
-                f"model {model.name!r}: the derivative of the acceleration with respect to "
-                f"{name} has no closed form ({d}); the variational equations (Floquet "
-                "multipliers, Newton) need a smooth F: replace non-differentiable terms such "
-                "as sign(xdot) or Abs(xdot) by smooth ones, e.g. tanh(xdot/0.01) or "
-                "sqrt(xdot**2 + 0.01**2)")
+    dadx, dadv = acceleration_jacobian(acc, model.name)
     plus, minus, factor = model.dissipation_parts()
     s = sp.Dummy("s")
     cons = model.conservative_force().subs(X, s)

@@ -24,6 +24,7 @@ from kbm.parameters.bound import bind
 from kbm.symbols import mu, x, xdot
 
 from ..errors import NoCycleError
+from ..flow.template import acceleration_jacobian
 
 __all__ = ["PhaseResponse", "phase_response"]
 
@@ -75,7 +76,7 @@ def phase_response(model, params: dict, *, samples: int = 2048) -> PhaseResponse
     subs = bm.subs()
     m = bm.model
     acc = sp.sympify(-m.omega0**2 * x + mu * m.F).subs(subs)
-    jx, jv = sp.diff(acc, x), sp.diff(acc, xdot)
+    jx, jv = acceleration_jacobian(acc, m.name)
     fa, fx, fv = (sp.lambdify((x, xdot), e, modules=["numpy", "scipy"]) for e in (acc, jx, jv))
     T = float(cyc.period)
     y0 = [float(cyc.x[0]), float(cyc.xdot[0])]

@@ -109,3 +109,32 @@ def test_advice_states_the_digits_and_the_least_sizes():
         budget = float(advice.split("--fp-budget ")[1].split()[0])
         assert budget == pytest.approx(2.5e7 * n * m**2 / (258 * 1040**2), rel=0.05)
         assert budget > 2.5e7
+
+@pytest.mark.slow
+def test_sedf_mu_0005_six_digits_within_a_raised_budget():
+    """mu = 0.005, D = 0.0025 with the budget kbm noise's advice names at its default
+    (``--fp-budget 8.6e7``: 2.5e7 times the cost ratio of 364 x 1624 to the default's
+    258 x 1040, stated 1.8e-5): the Hermite rung 258 moved the moments by 2.4e-6 against
+    364 on the climb's coarser grid, so the rung 364 climbs in turn
+    (:func:`numerics.fokker_planck._stationary_climb._climb_again`), and the stated error
+    is below six digits; <x^2> and <v^2> lie within it of an independent finer solve, 456
+    functions at 1.1 times the velocity scale (another basis, reaching farther and
+    resolving the velocity as finely) on 1800 intervals with the well's points (the
+    climb's 258 x 1544 was 2.4e-6 from it in <x^2>, 364 x 1544 5.6e-8)."""
+    from kbm.model.conservative import split_conservative
+
+    from numerics.fokker_planck._stationary_points import stationary_points
+    from numerics.fokker_planck._stationary_solve import orthonormal_stationary
+
+    mu = 0.005
+    params = dict(SEDF, mu=mu)
+    sol = stationary_kramers("sedf", params, mu / 2, max_cost=8.6e7)
+    assert sol.coef.shape[0] >= 364 and sol.hermite_change < 1e-6
+    split = split_conservative("sedf", params)
+    G = split.numpy_functions()[2]
+    half = float(sol.x[0])
+    s = 1.1 * sol.sigma
+    _, points = stationary_points(split, mu / 2, G, half, 2.4, s, well=True)
+    other = orthonormal_stationary(split, mu / 2, s, half, 456, 1800, G, 1.0, **points)
+    for a, b in ((sol.x2, other.x2), (sol.v2, other.v2)):
+        assert abs(a - b) <= sol.hermite_change * abs(b)

@@ -135,7 +135,11 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        change, 1.4e-7 and 1.8e-7 in <x^2> and
        <v^2> from 258 x 1282, 18 s CPU).  When the rung above the climbed one moves the
        moments by more than six digits on the check's grid, it is solved again on the
-       coarser climb grid (:func:`._stationary_climb.climb_rung`).  When step 7's check
+       coarser climb grid (:func:`._stationary_climb.climb_rung`); when that change too
+       exceeds six digits and the last two Hermite changes extrapolate geometrically to
+       within six digits, that rung climbs in turn, checked one rung up, and the solution
+       of the smaller stated error is kept (the climb of a raised ``--fp-budget`` at
+       mu = 0.005; :func:`._stationary_climb._climb_again`).  When step 7's check
        exceeds :data:`HOPELESS`, the ladder stops there (no climb, no finer grid) and
        states that change.  When the first grid's last Hermite step moved the moments by
        more than :data:`EARLY_CHECK`, the check is made before the grid ladder, on its

@@ -104,7 +104,8 @@ def run(args) -> int:
                            budget=args.budget, workers=args.workers, progress=not args.json,
                            figure=figure, store=store, method=args.method,
                            fokker_planck=not args.no_fokker_planck, order=args.order,
-                           extrapolate=args.extrapolate, fp_budget=args.fp_budget)
+                           extrapolate=args.extrapolate, fp_budget=args.fp_budget,
+                           energy_density=bool(args.json or args.out))  # P(E): not printed
     if args.out:
         write_json(Path(args.out) / f"noise-{args.model}.json", rep)
     if args.json:

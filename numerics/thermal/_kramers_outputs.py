@@ -25,15 +25,16 @@ FP_DEFAULT_BUDGET = 2.5e7
 
 
 def fokker_planck_moments(model, params: dict, D: float, omega0: float,
-                          required: bool = False,
-                          budget: float | None = None) -> tuple[dict | None, str]:
+                          required: bool = False, budget: float | None = None,
+                          energy_density: bool = True) -> tuple[dict | None, str]:
     """``<x^2>``, ``<a^2>`` of the stationary Kramers equation, or ``None`` and why.
 
     Applies to the one-degree-of-freedom models at rest (a slider at ``v = 0``) whose damping
     is polynomial in ``x'`` (:mod:`numerics.fokker_planck`).  With ``required`` the reason
     is raised instead (``--method fokker-planck``).  ``budget`` is the solve's ``max_cost``
     (``kbm noise --fp-budget``; default :data:`FP_BUDGET` with ``required``, else
-    :data:`FP_DEFAULT_BUDGET`); the record keeps it as ``budget``.
+    :data:`FP_DEFAULT_BUDGET`); the record keeps it as ``budget``.  ``P(E)``
+    (:func:`energy_density_output`) with ``required`` and ``energy_density`` only.
     """
     from kbm.errors import KBMError
 
@@ -51,7 +52,7 @@ def fokker_planck_moments(model, params: dict, D: float, omega0: float,
                                      omega0=omega0, max_cost=budget)
             change = sol.hermite_change  # inf: a second truncation passed the budget
             return {"energy_density": (energy_density_output(sol, model, params, D, omega0)
-                                       if required else None),
+                                       if required and energy_density else None),
                     "x2": sol.x2, "a2": sol.a2, "v2": sol.v2, "hermite": sol.coef.shape[0],
                     "chebyshev": sol.x.size, "half_width": float(sol.x[0]),
                     "sigma": sol.sigma, "solution": sol, "basis": sol.basis, "budget": budget,

@@ -143,6 +143,18 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     # the method won silently over the contradicting flag
     (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--method", "fokker-planck",
       "--no-fokker-planck"], "--no-fokker-planck contradicts --method fokker-planck"),
+    # the Fokker-Planck cost budget: a positive number, with a Fokker-Planck solve to bound
+    (["noise", "sedf", "-p", "mu=0.01", "-p", "D=0.005", "--method", "fokker-planck",
+      "--fp-budget", "-1e8"], "--fp-budget must be a positive number, got -1e+08"),
+    (["noise", "sedf", "-p", "mu=0.01", "-p", "D=0.005", "--fp-budget", "nan"],
+     "--fp-budget must be a positive number, got nan"),
+    (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--fp-budget", "1e8",
+      "--no-fokker-planck"], "--fp-budget contradicts --no-fokker-planck"),
+    (["escape", "cdc", "-p", "mu=0.1", "-p", "D=0.05", "--fp-budget", "1e8"],
+     "--fp-budget is the budget of the Fokker-Planck solve: give it with --method "
+     "fokker-planck"),
+    (["escape", "cdc", "-p", "mu=0.1", "-p", "D=0.05", "--method", "fokker-planck",
+      "--fp-budget", "0"], "--fp-budget must be a positive number, got 0"),
     # "declare it: --internal 1:3 (internal=['1:3'])": the flag and the API argument
     (["derive", "--rhs", "-x1**2*x2", "--rhs", "-x1**3", "--omega0", "1,3", "--order", "1"],
      "declare it: --internal 1:3, with the frequencies"),

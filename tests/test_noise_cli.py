@@ -138,6 +138,47 @@ def test_noise_rare_event_guard():
     assert "simulation refused" in rep["message"] and "budget" in rep["message"]
 
 
+def test_noise_fp_budget_bounds_the_fokker_planck_solve(capsys):
+    """``--fp-budget`` is the Kramers solve's ``max_cost``: van der Pol's first solve (32
+    Hermite functions on at least 96 Chebyshev intervals, folded by parity: a cost of at
+    least 32 x 48^2 = 7.4e4) is refused at a budget of 1e4 with that cost in the message,
+    and solved at the default, where ``<a^2>`` agrees with first-order stochastic averaging
+    (an independent method) within 1 % (its error is O(mu), 0.21 % here, issue 36)."""
+    args = ("noise", "vdp", "-p", "mu=0.1", "-p", "D=0.05", "--budget", "0", "--json")
+    code, out, _ = kbm_in_process(capsys, *args, "--fp-budget", "1e4")
+    rep = json.loads(out)
+    assert code == 0 and rep["moments"]["a2"]["fokker_planck"] is None
+    msg = rep["fokker_planck_message"]
+    assert "not affordable" in msg and "> 1e+04" in msg
+    assert float(msg.split("(cost ")[1].split()[0]) >= 0.995 * 32 * 48**2  # printed .3g
+    code, out, _ = kbm_in_process(capsys, *args)
+    a2 = json.loads(out)["moments"]["a2"]
+    assert a2["fokker_planck"] == pytest.approx(a2["averaged"], rel=0.01)
+
+
+def test_noise_text_skips_p_of_e_and_prints_the_same_moments(capsys):
+    """``P(E)`` is reported in JSON only (the text prints none, and its grid step beyond
+    the moments' is 18 s of 50 at the SEDF's mu = 0.01): the text run computes none and
+    prints the JSON's Fokker-Planck moments to the digits its stated error supports."""
+    args = ("noise", "vdp", "-p", "mu=0.1", "-p", "D=0.05", "--budget", "0", "--method",
+            "fokker-planck")
+    code, out, _ = kbm_in_process(capsys, *args, "--json")
+    rep = json.loads(out)
+    assert code == 0 and rep["fokker_planck"]["energy_density"]["P"]
+    code, text, _ = kbm_in_process(capsys, *args)
+    assert code == 0
+    for key in ("a2", "x2"):
+        line = next(row for row in text.splitlines() if row.strip().startswith(f"<{key[0]}^2>"))
+        printed = float(line.split()[-1])
+        assert printed == pytest.approx(rep["moments"][key]["fokker_planck"], rel=1e-6)
+    from numerics.thermal.stationary import noise_report
+
+    api = noise_report("vdp", {"mu": 0.1, "D": 0.05}, budget=0, method="fokker-planck",
+                       energy_density=False)
+    assert api["fokker_planck"]["energy_density"] is None
+    assert api["moments"]["x2"]["fokker_planck"] == rep["moments"]["x2"]["fokker_planck"]
+
+
 def test_escape_json_simulated():
     """kbm escape's contract with a simulation (the CDC, E_b/kT = 3)."""
     D = 0.1 * 1.0869519157903051 / 3

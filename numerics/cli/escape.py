@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from kbm.cli._common import emit_json, single_well
-from kbm.errors import ModelError
+from kbm.errors import ModelError, ParameterError
 from numerics.cli.params.options import command, options
 from numerics.noise.budget import BUDGET_TEXT
 
@@ -41,7 +41,10 @@ def register(sub) -> None:
                         "with a sink at the next wells' bottoms (the transition rate, any "
                         "damping; with its sink and truncation errors), and the simulated "
                         "transitions to the next wells from the well's Boltzmann state")
-    options(p, "json")
+    options(p, "fp_budget", "json", fp_budget=dict(
+        help="with --method fokker-planck: the largest cost of the escape rate's Kramers "
+             "solves (default 3e7; the factorisation keeps about 3 times it in numbers, "
+             "numerics.fokker_planck.kramers_escape's max_cost); larger solves are skipped"))
     p.set_defaults(func=run)
 
 
@@ -52,6 +55,9 @@ def run(args) -> int:
     from numerics.escape.report import escape_report
 
     check_ensemble(args)
+    if args.fp_budget is not None and args.method != "fokker-planck":
+        raise ParameterError("--fp-budget is the budget of the Fokker-Planck solve: give it "
+                             "with --method fokker-planck")
     params, _ = noisy_model(args.model, args.param)
     if single_well(lookup(args.model, ("one",))):
         raise ModelError(f"{args.model} has no barrier to escape over at any parameter values: "
@@ -61,7 +67,8 @@ def run(args) -> int:
     try:
         rep = escape_report(args.model, params, trajectories=args.trajectories,
                             t_end=args.t_end, dt=args.dt, seed=args.seed, budget=args.budget,
-                            simulate=not args.no_simulation, method=args.method)
+                            simulate=not args.no_simulation, method=args.method,
+                            fp_budget=args.fp_budget)
     except ModelError as exc:
         if "Delta" in names_of(args.model).valid or "(e.g. a larger Delta)" not in str(exc):
             raise

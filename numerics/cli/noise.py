@@ -11,6 +11,7 @@ from kbm.errors import ParameterError
 from numerics.cli.params.options import command, options
 from numerics.noise.budget import BUDGET_TEXT
 from numerics.noise.validity import ERROR_SOURCES
+from numerics.thermal._kramers_outputs import FP_BUDGET
 
 
 def register(sub) -> None:
@@ -45,6 +46,11 @@ def register(sub) -> None:
                         "they are affordable), or fokker-planck: the stationary Kramers "
                         "equation solved numerically, required (an error when the model is "
                         "driven or its damping is not polynomial in x')")
+    options(p, "fp_budget", fp_budget=dict(
+        help=f"largest cost N_Hermite x N_Chebyshev^2 of the Fokker-Planck solve (default "
+             f"{FP_BUDGET:.2g}; N_Chebyshev/2 for a model symmetric under (x, x') -> (-x, -x'), "
+             "whose last Hermite rung may take up to 2.8 times it); raise it for more "
+             "digits at low friction (time about cost x N_Chebyshev, memory about cost)"))
     p.add_argument("--no-fokker-planck", action="store_true",
                    help="skip the Fokker-Planck moments (moments.*.fokker_planck = null)")
     p.add_argument("--extrapolate", action="store_true",
@@ -82,6 +88,9 @@ def run(args) -> int:
     if args.method == "fokker-planck" and args.no_fokker_planck:  # the method won silently
         raise ParameterError("--no-fokker-planck contradicts --method fokker-planck, which "
                              "requires the Fokker-Planck moments: give one of them")
+    if args.fp_budget is not None and args.no_fokker_planck:
+        raise ParameterError("--fp-budget contradicts --no-fokker-planck, which skips the "
+                             "Fokker-Planck solve: give one of them")
     params, noise = noisy_model(args.model, args.param)
     from numerics.thermal.stationary import noise_report  # after the input is checked
     figure = None
@@ -95,7 +104,8 @@ def run(args) -> int:
                            budget=args.budget, workers=args.workers, progress=not args.json,
                            figure=figure, store=store, method=args.method,
                            fokker_planck=not args.no_fokker_planck, order=args.order,
-                           extrapolate=args.extrapolate)
+                           extrapolate=args.extrapolate, fp_budget=args.fp_budget,
+                           energy_density=bool(args.json or args.out))  # P(E): not printed
     if args.out:
         write_json(Path(args.out) / f"noise-{args.model}.json", rep)
     if args.json:

@@ -33,7 +33,7 @@ MAX_BARRIER_OVER_KT = 700.0
 
 def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=None, dt=None,
                   seed: int = 0, budget: float = STEP_BUDGET, simulate: bool = True,
-                  method: str = "averaging") -> dict:
+                  method: str = "averaging", fp_budget: float | None = None) -> dict:
     """Averaged, Kramers and (within ``budget``) simulated escape rates.
 
     Parameters
@@ -68,6 +68,9 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         (1.05 times at mu = 1, 1.35 at mu = 5 in docs/noise.rst's case), towards twice it
         when the friction is much larger than the barrier frequency (a particle at the
         saddle then goes on or falls back with equal chance).
+    fp_budget : float, optional
+        The Fokker-Planck solve's ``max_cost`` (``kbm escape --fp-budget``; default that of
+        :func:`numerics.fokker_planck.kramers_escape`).
 
     Returns
     -------
@@ -132,7 +135,8 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
     if method == "fokker-planck":
         from ..fokker_planck import kramers_escape
 
-        fp = kramers_escape(model, params, D, esc.saddles)
+        fp = kramers_escape(model, params, D, esc.saddles,
+                            **({} if fp_budget is None else {"max_cost": fp_budget}))
         out["rate_fokker_planck"] = fp.rate
         out["fokker_planck"] = {"sink_error": fp.sink_error,
                                 "truncation_error": fp.truncation_error,

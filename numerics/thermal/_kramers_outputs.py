@@ -1,13 +1,69 @@
-"""What ``kbm noise --json`` reports of the stationary Kramers solution beside its moments
-(:mod:`.stationary`): the density of the energy ``P(E)`` with its stated error
-(:func:`energy_density_output`) and what to do when the moments' stated error exceeds six
-digits (:func:`fp_advice`)."""
+"""What ``kbm noise --json`` reports of the stationary Kramers solution: its moments
+within a cost budget (:func:`fokker_planck_moments`, for :mod:`.stationary`), the density
+of the energy ``P(E)`` with its stated error (:func:`energy_density_output`) and what to
+do when the moments' stated error exceeds six digits (:func:`fp_advice`)."""
 
 from __future__ import annotations
 
 import math
 
-__all__ = ["energy_density_output", "fp_advice"]
+from kbm.errors import ParameterError
+from kbm.model.builtins import SLIDERS
+
+__all__ = ["energy_density_output", "fokker_planck_moments", "fp_advice", "FP_BUDGET",
+           "FP_DEFAULT_BUDGET"]
+
+#: the largest cost ``n_Hermite n_Chebyshev^2`` of the stationary Kramers solve of
+#: ``kbm noise`` (:func:`fokker_planck_moments`; ``n_Hermite (n_Chebyshev/2)^2`` for a
+#: model solved folded, :mod:`numerics.fokker_planck._parity`): the SEDF at rest,
+#: Delta = 3, D = mu/2, states six digits there (mu = 0.1: 1.1e-8 on 128 x 448, 3 s CPU;
+#: mu = 0.02: 5.4e-7 on 182 x 740, 10 s; mu = 0.01: 2.9e-7 on 258 x 1040, 26-32 s, the
+#: climb up to 2.8 times this budget, numerics.fokker_planck._stationary_orthonormal)
+FP_BUDGET = 2.5e7
+#: the same without ``--method fokker-planck`` (the moments are reported when affordable)
+FP_DEFAULT_BUDGET = 2.5e7
+
+
+def fokker_planck_moments(model, params: dict, D: float, omega0: float,
+                          required: bool = False, budget: float | None = None,
+                          energy_density: bool = True) -> tuple[dict | None, str]:
+    """``<x^2>``, ``<a^2>`` of the stationary Kramers equation, or ``None`` and why.
+
+    Applies to the one-degree-of-freedom models at rest (a slider at ``v = 0``) whose damping
+    is polynomial in ``x'`` (:mod:`numerics.fokker_planck`).  With ``required`` the reason
+    is raised instead (``--method fokker-planck``).  ``budget`` is the solve's ``max_cost``
+    (``kbm noise --fp-budget``; default :data:`FP_BUDGET` with ``required``, else
+    :data:`FP_DEFAULT_BUDGET`); the record keeps it as ``budget``.  ``P(E)``
+    (:func:`energy_density_output`) with ``required`` and ``energy_density`` only.
+    """
+    from kbm.errors import KBMError
+
+    from ..fokker_planck import stationary_kramers
+
+    if budget is None:
+        budget = FP_BUDGET if required else FP_DEFAULT_BUDGET
+    name = model if isinstance(model, str) else model.name
+    why = ""
+    if name in SLIDERS and float(params.get("v", 0)) != 0:
+        why = "the driven slider (v != 0) is not at rest: no stationary Kramers equation"
+    else:
+        try:
+            sol = stationary_kramers(model, {k: v for k, v in params.items() if k != "v"}, D,
+                                     omega0=omega0, max_cost=budget)
+            change = sol.hermite_change  # inf: a second truncation passed the budget
+            return {"energy_density": (energy_density_output(sol, model, params, D, omega0)
+                                       if required and energy_density else None),
+                    "x2": sol.x2, "a2": sol.a2, "v2": sol.v2, "hermite": sol.coef.shape[0],
+                    "chebyshev": sol.x.size, "half_width": float(sol.x[0]),
+                    "sigma": sol.sigma, "solution": sol, "basis": sol.basis, "budget": budget,
+                    "hermite_change": change if math.isfinite(change) else None,
+                    "chebyshev_change": (sol.chebyshev_change
+                                         if math.isfinite(sol.chebyshev_change) else None)}, ""
+        except KBMError as exc:
+            why = f"no Fokker-Planck solution: {exc}"
+    if required:
+        raise ParameterError(f"--method fokker-planck: {why}")
+    return None, why
 
 
 def fp_advice(fp: dict, budget: float) -> str:
@@ -26,21 +82,23 @@ def fp_advice(fp: dict, budget: float) -> str:
     (SEDF at rest, Delta = 3, D = mu/2, 258 functions: 592 -> 832 -> 1040 intervals moved
     <v^2> by 8.9e-5, 1.5e-5 at mu = 0.005, by 2.3e-4, 1.3e-4 at mu = 0.002; the functions'
     182 -> 258 -> 364 by 4.4e-4, 2.7e-6 at mu = 0.005, by 4.5e-4, 1.5e-4 at mu = 0.002), with
-    the memory (``N m^2``) and time (``N m^3``) of those sizes against this solve's.  The
-    call it names passes ``max_cost = N m^2`` (the solve's cost without the parity fold, an
-    upper bound), without which :func:`numerics.fokker_planck.stationary_kramers` refuses
-    those sizes as not affordable at its default cost; beyond ``FACTOR_MEMORY``
+    the memory (``N m^2``) and time (``N m^3``) of those sizes against this solve's.  Both
+    name ``kbm noise --fp-budget`` with ``budget`` times the ratio of the costs ``N m^2``
+    of those sizes and this solve's, the least raise that affords them (the ladders choose
+    their sizes within it, :mod:`numerics.fokker_planck._stationary_orthonormal`, and state
+    what they reach; before, the advice named a call of
+    :func:`numerics.fokker_planck.stationary_kramers` with ``n_hermite``, ``n_cheb`` and
+    ``max_cost``, the one way to more digits); beyond ``FACTOR_MEMORY``
     (:mod:`numerics.fokker_planck._pentadiagonal_disk`) the factors are kept on disk."""
     change, n, m = fp["hermite_change"], fp["hermite"], fp["chebyshev"] - 1
     if change is not None and change <= 1e-6:
         return ""
     if change is None or change <= 1e-5:
         nb, mb = 2 * round(0.7 * n), 2 * round(0.7 * m)
-        return (f"six digits need more than kbm noise's Fokker-Planck budget ({budget:.2g}) "
+        return (f"six digits need more than the Fokker-Planck budget ({budget:.2g}) "
                 f"affords (this solve: {n} Hermite functions of x' x {m} Chebyshev intervals; "
-                "at low friction both must grow); for more digits call "
-                "numerics.fokker_planck.stationary_kramers(model, params, D, "
-                f"n_hermite={nb}, n_cheb={mb}, max_cost={nb * mb**2:.2g}) and compare")
+                f"at low friction both must grow); for more digits (about {nb} x {mb}) rerun "
+                f"with --fp-budget {budget * (nb / n) * (mb / m) ** 2:.2g} and compare")
     grid = fp.get("chebyshev_change")
     parts = (change, change) if grid is None else (max(change - grid, 0.0), grid)
     kh, kc = (max(0, math.ceil(math.log10(e / 5e-7) - 1e-9)) if e > 5e-7 else 0
@@ -50,13 +108,13 @@ def fp_advice(fp: dict, budget: float) -> str:
     return (f"the Fokker-Planck moments have about {digits} digits (stated relative "
             f"error {change:.2g}: the last refinements of the Hermite functions and the grid "
             f"moved them by that much, {n} Hermite functions of x' x {m} Chebyshev intervals, "
-            f"within kbm noise's budget {budget:.2g}); six digits are out of reach of this "
-            f"solve: even if each step gained a digit (the grid's steps did not in the SEDF at "
-            f"low friction), they need {kh} step{'s' * (kh != 1)} of the functions and {kc} of "
-            f"the grid, at "
-            f"least {n6} x {m6} (n_hermite={n6}, n_cheb={m6}, max_cost={n6 * m6**2:.2g}), "
+            f"within the Fokker-Planck budget {budget:.2g}); six digits are out of reach of "
+            f"this solve: even if each step gained a digit (the grid's steps did not in the "
+            f"SEDF at low friction), they need {kh} step{'s' * (kh != 1)} of the functions and "
+            f"{kc} of the grid, at least {n6} x {m6}, "
             f"{(n6 / n) * (m6 / m) ** 2:.0f} times this solve's memory and "
-            f"{(n6 / n) * (m6 / m) ** 3:.0f} times its time")
+            f"{(n6 / n) * (m6 / m) ** 3:.0f} times its time: rerun with --fp-budget "
+            f"{budget * (n6 / n) * (m6 / m) ** 2:.2g}")
 
 
 def energy_density_output(sol, model, params: dict, D: float, omega0: float) -> dict:

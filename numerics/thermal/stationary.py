@@ -14,7 +14,9 @@ from ..escape.envelope import check_mu
 from ..escape.report import SLIDER_DEFAULTS
 from .averaged import AMPLITUDE, averaged_stationary
 from .averaged_error import state_averaged_errors
-from ._kramers_outputs import energy_density_output, fp_advice
+# the budgets' and fokker_planck_moments' home was here (scripts and tests import them)
+from ._kramers_outputs import (FP_BUDGET, FP_DEFAULT_BUDGET,  # noqa: F401
+                               fokker_planck_moments, fp_advice)
 from .order2 import order2_bins, second_order
 from ..noise.budget import STEP_BUDGET
 from ..noise.ensemble import MIN_TRAJECTORIES, stationary_ensemble
@@ -95,56 +97,9 @@ def validity(moments: dict, order: int = 1, can_raise_order: bool = True) -> dic
     return {"z": z, "flagged": bool(bad), "threshold": Z_FLAG, "advice": advice}
 
 
-#: the largest cost ``n_Hermite n_Chebyshev^2`` of the stationary Kramers solve of
-#: ``kbm noise`` (:func:`fokker_planck_moments`; ``n_Hermite (n_Chebyshev/2)^2`` for a
-#: model solved folded, :mod:`numerics.fokker_planck._parity`): the SEDF at rest,
-#: Delta = 3, D = mu/2, states six digits there (mu = 0.1: 1.1e-8 on 128 x 448, 3 s CPU;
-#: mu = 0.02: 5.4e-7 on 182 x 740, 10 s; mu = 0.01: 2.9e-7 on 258 x 1040, 26-32 s, the
-#: climb up to 2.8 times this budget, numerics.fokker_planck._stationary_orthonormal)
-FP_BUDGET = 2.5e7
-#: the same without ``--method fokker-planck`` (the moments are reported when affordable)
-FP_DEFAULT_BUDGET = 2.5e7
-
 #: the method names of ``kbm noise --method``
 METHODS = ("averaging", "fokker-planck")
 FOKKER_PLANCK = "Fokker-Planck (stationary Kramers equation, Hermite x Chebyshev spectral)"
-
-
-def fokker_planck_moments(model, params: dict, D: float, omega0: float,
-                          required: bool = False) -> tuple[dict | None, str]:
-    """``<x^2>``, ``<a^2>`` of the stationary Kramers equation, or ``None`` and why.
-
-    Applies to the one-degree-of-freedom models at rest (a slider at ``v = 0``) whose damping
-    is polynomial in ``x'`` (:mod:`numerics.fokker_planck`).  With ``required`` the reason
-    is raised instead (``--method fokker-planck``).
-    """
-    from kbm.errors import KBMError
-
-    from ..fokker_planck import stationary_kramers
-
-    name = model if isinstance(model, str) else model.name
-    why = ""
-    if name in SLIDERS and float(params.get("v", 0)) != 0:
-        why = "the driven slider (v != 0) is not at rest: no stationary Kramers equation"
-    else:
-        try:
-            sol = stationary_kramers(model, {k: v for k, v in params.items() if k != "v"}, D,
-                                     omega0=omega0,
-                                     max_cost=FP_BUDGET if required else FP_DEFAULT_BUDGET)
-            change = sol.hermite_change  # inf: a second truncation passed the budget
-            return {"energy_density": (energy_density_output(sol, model, params, D, omega0)
-                                       if required else None),
-                    "x2": sol.x2, "a2": sol.a2, "v2": sol.v2, "hermite": sol.coef.shape[0],
-                    "chebyshev": sol.x.size, "half_width": float(sol.x[0]),
-                    "sigma": sol.sigma, "solution": sol, "basis": sol.basis,
-                    "hermite_change": change if math.isfinite(change) else None,
-                    "chebyshev_change": (sol.chebyshev_change
-                                         if math.isfinite(sol.chebyshev_change) else None)}, ""
-        except KBMError as exc:
-            why = f"no Fokker-Planck solution: {exc}"
-    if required:
-        raise ParameterError(f"--method fokker-planck: {why}")
-    return None, why
 
 
 def _pilot_range(system, burn: float, h: float, seed: int) -> tuple[float, float]:
@@ -162,7 +117,8 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
                  dt=None, seed: int = 0, budget: float = DEFAULT_BUDGET, executor=None,
                  workers: int | None = None, progress: bool = False, store=None,
                  figure: str | Path | None = None, method: str = "averaging",
-                 fokker_planck: bool = True, order: int = 1, extrapolate: bool = False) -> dict:
+                 fokker_planck: bool = True, order: int = 1, extrapolate: bool = False,
+                 fp_budget: float | None = None, energy_density: bool = True) -> dict:
     """The stationary moments and density: averaged prediction against an ensemble.
 
     Parameters
@@ -184,6 +140,14 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
     fokker_planck : bool
         Report ``moments.*.fokker_planck`` for a model at rest (``None`` with the reason in
         ``fokker_planck_message`` otherwise).
+    fp_budget : float, optional
+        The Fokker-Planck solve's cost budget (``kbm noise --fp-budget``; default
+        :data:`FP_BUDGET` with ``method="fokker-planck"``, else :data:`FP_DEFAULT_BUDGET`).
+    energy_density : bool
+        With ``method="fokker-planck"``: ``fokker_planck.energy_density``, ``P(E)`` with its
+        stated error (``None`` without it; ``kbm noise`` prints no ``P(E)`` and asks for it
+        with ``--json`` or ``--out`` only: its grid step beyond the moments' is 18 s of
+        the 50 s CPU of the SEDF at mu = 0.01).
     order : {1, 2}
         The order of the amplitude averaging (:mod:`kbm.noise.stochastic_order2` for 2, where it
         applies; the first order is kept otherwise, with the reason in ``message``).
@@ -234,7 +198,8 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
     if so_why:
         why = f"{why}; {so_why}" if why else so_why
     fp, fp_why = (fokker_planck_moments(model, params, D, system.omega0,
-                                        required=method == "fokker-planck")
+                                        required=method == "fokker-planck", budget=fp_budget,
+                                        energy_density=energy_density)
                   if fokker_planck or method == "fokker-planck" else (None, "not requested"))
     steps = trajectories * (run + burn) / h
     out = {
@@ -253,7 +218,7 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
             "half_width": fp["half_width"], "sigma": fp["sigma"], "v2": fp["v2"],
             "hermite_change": fp["hermite_change"], "basis": fp["basis"],
             "chebyshev_change": fp["chebyshev_change"],
-            "energy_density": fp["energy_density"], "advice": fp_advice(fp, FP_BUDGET)},
+            "energy_density": fp["energy_density"], "advice": fp_advice(fp, fp["budget"])},
         "fokker_planck_message": fp_why, "density": None, "steps": steps,
         "step_pilot": pilot, "message": why, "scheme": system.scheme,
         "validity": {"z": {"a2": None, "x2": None}, "flagged": False, "threshold": Z_FLAG,

@@ -2,7 +2,8 @@
 model and shared options (:func:`command`, :func:`options`), the ensemble options of the
 noisy runs (:data:`ENSEMBLE`: ``--trajectories``, ``--seed``, ``--workers``, ``--store``,
 ``--resume``, ``--budget``, taken by ``kbm spectrum``, ``noise``, ``escape`` and
-``friction``), their checks (:func:`check_ensemble`) and the store of a run
+``friction``; ``--fp-budget``, the cost budget of the Fokker-Planck solves of ``noise`` and
+``escape``), their checks (:func:`check_ensemble`) and the store of a run
 (:func:`stored`).
 
 The shared options of every command (``-p``, ``--vary``, ``--order``, ``--json``,
@@ -38,6 +39,9 @@ ENSEMBLE: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
         action="store_true", help="with --store: continue the run kept in FILE (the same "
                                   "numbers as an uninterrupted run)")),
     "budget": (("--budget",), dict(type=float, default=STEP_BUDGET, metavar="STEPS")),
+    # the cost budget of the Fokker-Planck solves of --method fokker-planck (its default is
+    # the solve's own, so None here)
+    "fp_budget": (("--fp-budget",), dict(type=float, default=None, metavar="COST")),
 }
 
 
@@ -72,15 +76,16 @@ def command(sub, name: str, description: str, *names: str, models: str | None = 
 
 
 def check_ensemble(args: argparse.Namespace) -> None:
-    """Refuse a negative ``--seed``, a ``--workers`` outside 1..1024 and a ``--budget`` that
-    is negative or NaN (where given; ``--budget nan`` ran with no budget at all).
+    """Refuse a negative ``--seed``, a ``--workers`` outside 1..1024, a ``--budget`` that
+    is negative or NaN (where given; ``--budget nan`` ran with no budget at all) and an
+    ``--fp-budget`` that is not a positive finite number.
 
     Raises
     ------
     kbm.errors.ParameterError
         Naming the option and the value given.
     """
-    from numerics.cli.params.values import within
+    from numerics.cli.params.values import positive, within
 
     seed = getattr(args, "seed", None)
     if seed is not None and seed < 0:
@@ -90,6 +95,7 @@ def check_ensemble(args: argparse.Namespace) -> None:
     if budget is not None and not budget >= 0:
         raise ParameterError(f"--budget must be a number of integration steps >= 0, got "
                              f"{budget:g}")
+    positive(getattr(args, "fp_budget", None), "--fp-budget")
 
 
 @contextmanager

@@ -189,7 +189,6 @@ def pytest_collection_modifyitems(config, items):
 HEAVY_FIRST = (
     "tests/test_fokker_planck.py",  # 47
     "tests/test_noise_cli.py",  # 32
-    "tests/test_paper_methods_figures.py",  # 26
     "tests/test_derivations.py",  # 22
     "tests/test_thermal_averaged.py",  # 22
     "tests/test_bifurcation_pd.py",  # 18

@@ -62,7 +62,8 @@ SLOW = {
     "test_one_slider_above_the_first_order_in_the_general_form": 3.6,
     # (then 5:04 for 1501: five more, with their siblings: the first harmonic's value at
     # mu = 20 (test_vdp_mu20_first_harmonic_value); the Ctrl-C case of test_interrupt; the
-    # scipy-checked doublings of test_coupled_branch; the Duffing fold's error slopes in
+    # scipy-checked doublings of test_coupled_branch (slow since the twenty-second session: those
+    # of tests/test_bifurcation_pd.py); the Duffing fold's error slopes in
     # test_forced_numerics; test_coupled_cli's lock contract)
     "tests/test_cycles_accuracy.py::"
     "test_first_harmonic_of_relaxation_cycles_matches_taylor_reference[20]": 11.3,
@@ -155,6 +156,52 @@ SLOW = {
     # at mu = 0.2 and the small ladders' bracket
     # (test_fokker_planck_sink::test_small_ladders_bracket_their_limit)
     "tests/test_fokker_planck_escape.py::test_turnover_converges_and_ignores_the_range[1.0]": 17,
+    # (twenty-second session, 1849 tests in 15:52 on two cores loaded 7-11-fold, 536 CPU
+    # seconds: seconds in that run, about a fourth on quiet cores; issue 35, "its time does
+    # not grow").  Each keeps a faster sibling of its check in the default run:
+    # - the 30-digit mpmath masses at the bins that end on a separatrix: the envelope against
+    #   the float quadrature with the saddles as break points, across the separatrix, to 1e-8
+    #   of the peak (test_envelope_boltzmann::test_issue_case_cdc_at_rest; the kT = 2 case of
+    #   this test was slow already);
+    # - A_n = 0 for random conservative F on the exact engine: Duffing's A_n = 0
+    #   (test_kbm_engine::test_duffing_textbook), the linear stiffness to order 6
+    #   (test_linear_stiffness_exact_every_order), random conservative F with sines on the
+    #   numeric engine to order 5 (test_numeric_kbm::test_conservative_F_has_no_amplitude_drift);
+    # - vdp's series to mu^24 by three routes: Andersen & Geer's published coefficients
+    #   (test_vdp_frequency_matches_andersen_geer_published_coefficients), the Lindstedt and KBM
+    #   routes equal to mu^16 (test_lindstedt_equals_kbm_route), float against exact to mu^40;
+    # - vdp mu = 1 at 25 against 34 digits: the same Taylor integrator through ``kbm cycle
+    #   --digits 20``, its period to 15 digits (test_cycles_shooting::test_cli_cycle_json);
+    # - the isola's four doublings by scipy's Brent on lambda_min + 1: the same scipy check at
+    #   the four doublings of h = 15.9, and the one-parameter doublings of continue_coupled at
+    #   h = 20 and 25 met by the period-doubling curve (tests/test_bifurcation_pd.py);
+    # - the SEDF case of the origin well's MFPT: its two CDC cases, the same assertions;
+    # - the averaged energy density against Boltzmann at kT = 1 within 2 %: the same test at
+    #   kT = 0.25, and the envelope's bins against Boltzmann to 1e-8 of the peak across the
+    #   separatrix (test_envelope_boltzmann::test_issue_case_cdc_at_rest);
+    # - N = 1 of the coupled recursion to order 30 for Duffing: the same test to order 20 for
+    #   van der Pol, and order 5 for four models (test_one_degree_of_freedom_is_the_one_dof_
+    #   recursion);
+    # - the note beyond the series' radius (vdp --float --at 5): the same radius multiple in
+    #   the refusal at --at 1e300 and the reach at --at 7 (test_cli_messages::test_messages_
+    #   speak_the_command_line), the radius and Pade values in the JSON (test_cycle_series::
+    #   test_cli_float_mode);
+    # - SEDF's step at low friction is the rule's when the probe cannot resolve: the same
+    #   outcome through kbm noise --json at vdp mu = 0.01 ('unresolved', the rule's dt, steps
+    #   within 1.5 budgets; test_step_pilot::test_noise_json_states_the_pilot) and the floor
+    #   pilot's step and numbers (test_a_probe_that_resolves_runs_the_floor_pilot)
+    "tests/test_envelope_boltzmann.py::test_bins_ending_at_a_separatrix[0.6-2.4]": 27.0,
+    "tests/test_kbm_engine.py::test_conservative_force_never_changes_the_amplitude": 16.9,
+    "tests/test_cycle_series.py::test_vdp_through_eps24_three_independent_routes": 11.2,
+    "tests/test_cycles_shooting.py::test_vdp_mu1_high_precision_digit_by_digit": 17.1,
+    "tests/test_coupled_branch.py::"
+    "test_forced_duffing_period_doublings_against_scipy_shooting": 10.4,
+    "tests/test_escape_averaged.py::"
+    "test_origin_well_envelope_gives_the_same_mfpt[sedf-params2-0.05]": 9.6,
+    "tests/test_thermal_averaged.py::test_energy_density_is_boltzmann[1.0]": 10.3,
+    "tests/test_coupled_engine.py::test_one_degree_of_freedom_to_high_orders[duffing-30]": 5.6,
+    "tests/test_cli_messages.py::test_series_warns_beyond_the_radius": 12.7,
+    "tests/test_step_pilot.py::test_low_friction_step_is_the_rule_s_without_the_pilot": 13.6,
 }
 
 
@@ -189,7 +236,6 @@ def pytest_collection_modifyitems(config, items):
 HEAVY_FIRST = (
     "tests/test_fokker_planck.py",  # 47
     "tests/test_noise_cli.py",  # 32
-    "tests/test_paper_methods_figures.py",  # 26
     "tests/test_derivations.py",  # 22
     "tests/test_thermal_averaged.py",  # 22
     "tests/test_bifurcation_pd.py",  # 18

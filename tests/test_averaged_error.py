@@ -8,8 +8,7 @@ numerically (:func:`numerics.thermal.stationary.fokker_planck_moments`, stated e
 
 from __future__ import annotations
 
-import subprocess
-import sys
+import functools
 
 import pytest
 
@@ -17,10 +16,21 @@ from numerics.thermal.averaged_error import averaged_error
 from numerics.thermal.stationary import fokker_planck_moments, noise_report
 
 
+@functools.lru_cache(maxsize=None)
 def _truth(mu: float) -> dict:
+    """The Kramers solution's moments at D = mu/2, solved once per mu in this module (the
+    tests read them, never change them)."""
     fp, why = fokker_planck_moments("vdp", {"mu": mu}, mu / 2, 1.0)
     assert fp is not None, why
     return fp
+
+
+@functools.lru_cache(maxsize=None)
+def _first_order_without_fp(mu: float) -> dict:
+    """``noise_report`` of vdp at D = mu/2, 8 trajectories to t = 20, without the
+    Fokker-Planck solution: computed once per mu in this module (read, never changed)."""
+    return noise_report("vdp", {"mu": mu, "D": mu / 2}, trajectories=8, t_end=20,
+                        fokker_planck=False)
 
 
 @pytest.mark.parametrize("mu", [0.05, 0.1, 0.3])
@@ -29,8 +39,7 @@ def test_next_order_estimates_the_first_order_error(mu):
     error is the second order's correction |A_2 - A_1| (the first omitted term of the
     series), and it is the true error |A_1 - FP| within 20 % at mu = 0.05, 0.1 and 0.3
     (measured: 1.00, 1.02, 1.16 times it for <a^2>)."""
-    rep = noise_report("vdp", {"mu": mu, "D": mu / 2}, trajectories=8, t_end=20,
-                       fokker_planck=False)
+    rep = _first_order_without_fp(mu)
     fp = _truth(mu)
     assert rep["averaged_order"] == 1
     for key in ("a2", "x2"):
@@ -45,8 +54,7 @@ def test_fokker_planck_error_and_next_order_agree():
     the Fokker-Planck solution (the default where it is affordable) and estimated by the next
     order agree within 5 %; the measured one bounds |averaged - FP|."""
     with_fp = noise_report("vdp", {"mu": 0.1, "D": 0.05}, trajectories=8, t_end=20)
-    without = noise_report("vdp", {"mu": 0.1, "D": 0.05}, trajectories=8, t_end=20,
-                           fokker_planck=False)
+    without = _first_order_without_fp(0.1)
     for key in ("a2", "x2"):
         m, n = with_fp["moments"][key], without["moments"][key]
         assert m["averaged_error_source"] == "fokker-planck"
@@ -79,14 +87,18 @@ def test_no_reference_is_said():
     assert averaged_error({"averaged": 1.0, "fokker_planck": 1.1}, None, 1.05)[1] == "next order"
 
 
-def test_text_states_the_expected_error():
-    """``kbm noise`` prints the expected error with the order and its source."""
-    r = subprocess.run([sys.executable, "-m", "numerics.cli", "noise", "vdp", "-p", "mu=0.1",
-                        "-p", "D=0.05", "--trajectories", "8", "--t-end", "20"],
-                       capture_output=True, text=True, timeout=300)
-    assert r.returncode == 0, r.stderr
-    assert "expected error of the averaged values (order 1): <a^2> +- " in r.stdout
-    assert "against the Fokker-Planck solution" in r.stdout
+def test_text_states_the_expected_error(capsys):
+    """``kbm noise`` prints the expected error with the order and its source.  The command
+    runs in-process (its ``main``, the status it returns and what it prints; starting a
+    process is checked by tests/test_startup.py and the bad-input catalogue)."""
+    from numerics.cli import main
+
+    code = main(["noise", "vdp", "-p", "mu=0.1", "-p", "D=0.05", "--trajectories", "8",
+                 "--t-end", "20"])
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    assert "expected error of the averaged values (order 1): <a^2> +- " in out.out
+    assert "against the Fokker-Planck solution" in out.out
 
 
 def test_an_uncertain_fokker_planck_reference_is_passed_over():

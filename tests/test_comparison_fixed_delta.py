@@ -8,7 +8,9 @@ import json
 import numpy as np
 import pytest
 
-from numerics.comparison.fixed_delta import fixed_delta_study
+from numerics.comparison.fixed_delta import FixedDeltaConvergence, fixed_delta_study
+from numerics.paper.figures import FIGURES
+from numerics.paper.figures.methods import fixed_delta_figure
 
 EPS = (0.1, 0.05, 0.025, 0.0125)
 
@@ -77,3 +79,17 @@ def test_cli_fixed_delta_and_methods_map_flags(capsys):
         assert main(argv) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and err[0].startswith("kbm compare: error:")
+
+
+def test_fixed_delta_figure_registered_and_written(study, tmp_path):
+    """'fixed_delta_convergence' is in the figure registry; drawn from a computed study (as
+    ``kbm reproduce`` draws it: the module's study, its errors checked above) it is a PNG of
+    more than 10 kB in the folder asked for.  (It was drawn from a second study of three of
+    these mu in tests/test_paper_methods_figures.py.)"""
+    assert "fixed_delta_convergence" in FIGURES
+    paths = fixed_delta_figure(tmp_path, conv=FixedDeltaConvergence((study,)))
+    assert [p.name for p in paths] == ["fixed_delta_convergence.png"]
+    for p in paths:
+        assert p.parent == tmp_path
+        data = p.read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000, p

@@ -73,9 +73,14 @@ def test_boltzmann_start_is_the_well_boltzmann_density():
 def test_transitions_match_fokker_planck_moderate_friction():
     """mu = 1 (the default run's sibling of the three-friction test below): the FP rate on
     16 Hermite functions x 64 Chebyshev intervals (6.6263e-4, within 2e-5 of the converged
-    6.6262e-4) is within three standard errors of 400 simulated transitions (seed 0)."""
+    6.6262e-4) is within three standard errors of 400 simulated transitions (seed 0).  The
+    first sink's rate and change (``sink_tol=inf``: the rates above are the first sink's;
+    the sink ladders' limit, 3.6e-4 lower, is checked in test_fokker_planck_sink.py and
+    cost 3 s more here): its change, 9.4e-4 of the rate, enters ``_z`` beside the 5 %
+    standard error (z = -0.53; -0.54 on the limit)."""
     split, saddles, dt = _case(1.0)
-    fp = kramers_escape("cdc", dict(PARAMS, mu=1.0), KT, saddles, n_hermite=16, n_cheb=64)
+    fp = kramers_escape("cdc", dict(PARAMS, mu=1.0), KT, saddles, n_hermite=16, n_cheb=64,
+                        sink_tol=math.inf)
     sim = simulated_transitions(split, KT, saddles, kT=KT, wells=fp.wells, trajectories=400,
                                 t_end=5 / fp.rate, dt=dt, seed=0, workers=1)
     assert sim.start == "boltzmann" and sim.escaped > 390

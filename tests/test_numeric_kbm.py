@@ -116,8 +116,12 @@ def _tanh_average_series(a: float, eps: float, w: float) -> mpmath.mpf:
 
 
 def test_tanh_friction_first_order_average_is_the_closed_form():
+    """A_1 of F = -tanh(x'/0.05) against its series (:func:`_tanh_average_series`) and a
+    30-digit quadrature, to 1e-12.  Derived to order 1, the order checked: A_1 does not
+    depend on the order derived (the order-2 run this test made gave the same A_1, bit for
+    bit, at the five points; 1.6 s against 0.6 s)."""
     eps, w = 0.05, 1.0
-    num = numeric_derive(custom_model(f"-tanh(xdot/{eps})"), 2, (0.1, 4.0))
+    num = numeric_derive(custom_model(f"-tanh(xdot/{eps})"), 1, (0.1, 4.0))
     for a in (0.1, 0.37, 1.0, 2.5, 4.0):
         with mpmath.workdps(30):
             series = float(_tanh_average_series(a, eps, w))

@@ -8,7 +8,11 @@ import json
 import numpy as np
 import pytest
 
+from numerics.paper.figures import FIGURES
+from numerics.paper.figures.methods import methods_figure
 from numerics.paper.methods import METHODS, methods_map
+
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 
 @pytest.fixture(scope="module")
@@ -58,3 +62,18 @@ def test_friction_table_says_runaway_instead_of_nan():
     from numerics.paper.friction import _force_text
 
     assert _force_text(float("nan")) == "none (runaway)" and _force_text(1.2345) == "1.23"
+
+
+def test_methods_figure_registered_and_written(mmap, tmp_path):
+    """'methods_map' (the headline map, next to the kept 'validity_map') is in the figure
+    registry; drawn from a computed map (as ``kbm reproduce`` draws it: the module's map,
+    its point without a true cycle included) it is a PNG of more than 10 kB in the folder
+    asked for.  (It was drawn from a second, smaller map in
+    tests/test_paper_methods_figures.py.)"""
+    assert {"methods_map", "validity_map"} <= set(FIGURES)
+    paths = methods_figure(tmp_path, mmap=mmap)
+    assert [p.name for p in paths] == ["methods_map.png"]
+    for p in paths:
+        assert p.parent == tmp_path
+        data = p.read_bytes()
+        assert data[:8] == PNG_MAGIC and len(data) > 10_000, p

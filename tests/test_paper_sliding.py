@@ -57,10 +57,20 @@ def test_quasi_static_slip_energy_one_well():
         assert s.energy_dissipated == pytest.approx(a.delta_W, rel=0.01)
 
 
-def test_multi_well_regime_is_reported():
+def test_multi_well_regime_is_reported(claims_and_runs):
     """At the paper's parameters (mu = 0.1, Omega = 1, Delta = 3) a CDC slip crosses several
-    wells: reported as such, with more energy than the one-well Delta W."""
-    r = slide("cdc", {"Delta": 3.0, "v": 0.01}, t_end=700.0)
+    wells: reported as such, with more energy than the one-well Delta W.  The run to
+    t = 700 is the one :func:`numerics.paper.claims.check_claims` integrated at Fig. 5's
+    parameters (those of ``slide("cdc", {"Delta": 3.0, "v": 0.01}, t_end=700.0)``, whose
+    defaults are mu = 0.1, lam = 1, Omega = 1: the run's own parameters are checked here),
+    not a second integration of the same run."""
+    from kbm.output.paper import FIG5
+
+    _, runs = claims_and_runs
+    params = {p: v for p, v in FIG5.items() if p != "beta"}
+    assert params == {"mu": 0.1, "Delta": 3.0, "v": 0.01, "lam": 1.0, "Omega": 1.0}
+    r = runs[("cdc", tuple(sorted(params.items())), (("t_end", 700.0),))]
+    assert r.params == params
     a = analyze(r)
     assert a.slips and all(s.wells >= 2 for s in a.slips)
     sn = saddle_node(3.0, 1.0, 1.0)
@@ -107,7 +117,28 @@ def test_cli_slide_json(capsys):
     assert json.loads(capsys.readouterr().out)["delta_W"] is None
 
 
-def test_claims_are_checked_against_independent_numbers(monkeypatch):
+@pytest.fixture(scope="module")
+def claims_and_runs():
+    """:func:`numerics.paper.claims.check_claims` at t_end = 700, with the trajectories it
+    integrated recorded (key: model, sorted params, sorted keywords): computed once for the
+    claims' test and the multi-well test (they only read them)."""
+    import numerics.paper.claims as claims_module
+    from numerics import check_claims
+
+    runs = {}
+
+    def recording_slide(model, params, **kw):
+        r = slide(model, params, **kw)
+        runs[(model, tuple(sorted(params.items())), tuple(sorted(kw.items())))] = r
+        return r
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(claims_module, "slide", recording_slide)
+        claims = {c.key: c for c in check_claims(t_end=700.0)}
+    return claims, runs
+
+
+def test_claims_are_checked_against_independent_numbers(claims_and_runs):
     """Each paper claim gets a verdict with numbers, and the verdicts rest on numbers that
     independent references confirm:
 
@@ -122,21 +153,10 @@ def test_claims_are_checked_against_independent_numbers(monkeypatch):
     (recorded as :func:`numerics.paper.claims.check_claims` computes them; a slider it did
     not integrate is integrated here), not from a second integration of the same runs.
     """
-    import numerics.paper.claims as claims_module
     from kbm.output.paper import FIG5
-    from numerics import check_claims, slide
 
     t_end = 700.0
-    runs = {}
-
-    def recording_slide(model, params, **kw):
-        r = slide(model, params, **kw)
-        runs[(model, tuple(sorted(params.items())), tuple(sorted(kw.items())))] = r
-        return r
-
-    monkeypatch.setattr(claims_module, "slide", recording_slide)
-    claims = {c.key: c for c in check_claims(t_end=t_end)}
-    monkeypatch.undo()
+    claims, runs = claims_and_runs
     assert len(claims) == 6
     assert all(c.verdict in ("holds", "does not hold", "partly") for c in claims.values())
     D, Om, lam = FIG5["Delta"], FIG5["Omega"], FIG5["lam"]

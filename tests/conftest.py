@@ -163,10 +163,6 @@ SLOW = {
     #   the float quadrature with the saddles as break points, across the separatrix, to 1e-8
     #   of the peak (test_envelope_boltzmann::test_issue_case_cdc_at_rest; the kT = 2 case of
     #   this test was slow already);
-    # - A_n = 0 for random conservative F on the exact engine: Duffing's A_n = 0
-    #   (test_kbm_engine::test_duffing_textbook), the linear stiffness to order 6
-    #   (test_linear_stiffness_exact_every_order), random conservative F with sines on the
-    #   numeric engine to order 5 (test_numeric_kbm::test_conservative_F_has_no_amplitude_drift);
     # - vdp's series to mu^24 by three routes: Andersen & Geer's published coefficients
     #   (test_vdp_frequency_matches_andersen_geer_published_coefficients), the Lindstedt and KBM
     #   routes equal to mu^16 (test_lindstedt_equals_kbm_route), float against exact to mu^40;
@@ -181,17 +177,8 @@ SLOW = {
     #   separatrix (test_envelope_boltzmann::test_issue_case_cdc_at_rest);
     # - N = 1 of the coupled recursion to order 30 for Duffing: the same test to order 20 for
     #   van der Pol, and order 5 for four models (test_one_degree_of_freedom_is_the_one_dof_
-    #   recursion);
-    # - the note beyond the series' radius (vdp --float --at 5): the same radius multiple in
-    #   the refusal at --at 1e300 and the reach at --at 7 (test_cli_messages::test_messages_
-    #   speak_the_command_line), the radius and Pade values in the JSON (test_cycle_series::
-    #   test_cli_float_mode);
-    # - SEDF's step at low friction is the rule's when the probe cannot resolve: the same
-    #   outcome through kbm noise --json at vdp mu = 0.01 ('unresolved', the rule's dt, steps
-    #   within 1.5 budgets; test_step_pilot::test_noise_json_states_the_pilot) and the floor
-    #   pilot's step and numbers (test_a_probe_that_resolves_runs_the_floor_pilot)
+    #   recursion)
     "tests/test_envelope_boltzmann.py::test_bins_ending_at_a_separatrix[0.6-2.4]": 27.0,
-    "tests/test_kbm_engine.py::test_conservative_force_never_changes_the_amplitude": 16.9,
     "tests/test_cycle_series.py::test_vdp_through_eps24_three_independent_routes": 11.2,
     "tests/test_cycles_shooting.py::test_vdp_mu1_high_precision_digit_by_digit": 17.1,
     "tests/test_coupled_branch.py::"
@@ -200,8 +187,6 @@ SLOW = {
     "test_origin_well_envelope_gives_the_same_mfpt[sedf-params2-0.05]": 9.6,
     "tests/test_thermal_averaged.py::test_energy_density_is_boltzmann[1.0]": 10.3,
     "tests/test_coupled_engine.py::test_one_degree_of_freedom_to_high_orders[duffing-30]": 5.6,
-    "tests/test_cli_messages.py::test_series_warns_beyond_the_radius": 12.7,
-    "tests/test_step_pilot.py::test_low_friction_step_is_the_rule_s_without_the_pilot": 13.6,
 }
 
 

@@ -9,9 +9,15 @@ import warnings
 import pytest
 from hypothesis import HealthCheck, settings
 
-settings.register_profile("kbm", deadline=None, max_examples=25,
+#: the default run draws the same examples every time (``derandomize``): CI on a clean clone
+#: must not pass or fail by the draw (two edge cases that random draws found failed a CI run;
+#: they are ``@example``s of their tests now); ``HYPOTHESIS_PROFILE=explore`` draws anew (100
+#: examples where a test sets no number), to look for more
+settings.register_profile("kbm", deadline=None, max_examples=25, derandomize=True,
                           suppress_health_check=[HealthCheck.too_slow])
-settings.load_profile("kbm")
+settings.register_profile("explore", deadline=None, max_examples=100,
+                          suppress_health_check=[HealthCheck.too_slow])
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "kbm"))
 
 #: the flows built ahead of time (:mod:`numerics.flow.aot`) cost a compilation of 10-20 s
 #: per flow in each new cache folder, and many tests use one: off in the test run (and the

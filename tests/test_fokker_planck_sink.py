@@ -260,9 +260,12 @@ def test_adaptive_rungs_state_their_errors(r, a, o0, k, bh, lh, bg, lg):
 @settings(max_examples=30, deadline=None)
 @given(r=st.floats(0.01, 1.0), a=st.floats(1e-3, 1e-1), o0=st.floats(0.6, 1.2),
        k=st.floats(0.05, 0.15))
+@example(r=0.75, a=0.0625, o0=1.2, k=0.15)
 def test_loose_stop_from_its_rung(r, a, o0, k):
     """``loose = (tol2, j2)``: on closed-form straight lines the ladders stop at the first
-    rung from ``j2`` on whose half-gap is within ``tol2`` of the rate (else at ``tol``)."""
+    rung from ``j2`` on whose half-gap is within ``tol2`` of the rate (else at ``tol``).  The
+    example: rungs 5 and 6 of the rising ladder equal but for one ulp (0.74990234375,
+    0.7499023437499999), once read as a reversal."""
     rate = _linear_model(r, a, o0, k)
     strict = sink_bracket(rate, tol=1e-9, max_rungs=20)
     loose = sink_bracket(rate, tol=1e-9, max_rungs=20, loose=(1e-5, 9))

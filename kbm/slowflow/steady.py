@@ -142,6 +142,13 @@ def fixed_points(sf: SlowFlow, sigma: float, amplitudes: tuple[float, float] = (
                              f"({lo}, {hi})")
     per = _period(sf)
     A = np.linspace(lo, hi, n_a)
+    if A[1] > 2 * lo:
+        # a window over decades: the first cell refined geometrically (ratio 1.1), where the
+        # small responses far from resonance sit (forced Duffing, zeta = 0.02, alpha = 5,
+        # h = 0.0128: a = 0.002..0.006 over sigma in [-1, 3] lay in the first linear cell
+        # (1e-3, 0.026) and no fixed point was found, so no branch and no fold)
+        k = math.ceil(math.log(A[1] / lo) / math.log(1.1))
+        A = np.concatenate([np.geomspace(lo, A[1], k + 1)[:-1], A[1:]])
     P = np.linspace(0.0, per, n_phi + 1)
     AA, PP = np.meshgrid(A, P, indexing="ij")
     with np.errstate(all="ignore"):

@@ -161,11 +161,12 @@ def ladder_offsets(history) -> tuple:
 
 def bracket_error(low, high) -> float:
     """The stated error of the midpoint of the ladders' top rungs: half their gap while
-    ``low`` rises and ``high`` falls with ``low[-1] <= high[-1]`` (the limit between them);
-    else the whole gap plus both last steps."""
+    ``low`` rises and ``high`` falls (to 8 ulps) with ``low[-1] <= high[-1]`` (the limit
+    between them); else the whole gap plus both last steps."""
     gap = high[-1] - low[-1]
-    monotone = (all(b > a for a, b in zip(low, low[1:]))
-                and all(b < a for a, b in zip(high, high[1:])))
+    ulps = 8 * np.finfo(float).eps  # rungs equal to rounding are no reversal
+    monotone = (all(b > a - ulps * abs(a) for a, b in zip(low, low[1:]))
+                and all(b < a + ulps * abs(a) for a, b in zip(high, high[1:])))
     if monotone and gap >= 0:
         return gap / 2
     steps = (abs(low[-1] - low[-2]) + abs(high[-1] - high[-2])) if len(low) > 1 else 0.0

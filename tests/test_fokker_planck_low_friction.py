@@ -34,10 +34,6 @@ def test_sedf_mu_0002_against_averaging_and_another_scale():
     independent solve: 300 functions at the scale 0.82 times the route's (another basis)
     on 1100 intervals with the well's points (1.6e-4 from the route; 362 x 1200 at the
     scales 0.157 and 0.191 are 1.1e-4 to 1.4e-4 from it and agree to 4e-5)."""
-    from kbm.model.conservative import split_conservative
-
-    from numerics.fokker_planck._stationary_points import stationary_points
-    from numerics.fokker_planck._stationary_solve import orthonormal_stationary
     from numerics.thermal.averaged import averaged_stationary
     from numerics.thermal.stationary import FP_BUDGET
 
@@ -48,14 +44,7 @@ def test_sedf_mu_0002_against_averaging_and_another_scale():
     assert avg is not None, why
     assert sol.a2 == pytest.approx(avg.a2, rel=1e-3)
     assert 1e-6 < sol.hermite_change < 1e-2
-    split = split_conservative("sedf", params)
-    G = split.numpy_functions()[2]
-    half = float(sol.x[0])
-    s = 0.82 * sol.sigma
-    _, points = stationary_points(split, mu / 2, G, half, 2.4, s, well=True)
-    other = orthonormal_stationary(split, mu / 2, s, half, 300, 1100, G, 1.0, **points)
-    for a, b in ((sol.x2, other.x2), (sol.v2, other.v2)):
-        assert abs(a - b) <= sol.hermite_change * abs(b)
+    _assert_within_its_change(sol, params, 0.82, 300, 1100)
 
 
 def test_a_hopeless_check_stops_the_ladder():
@@ -110,6 +99,7 @@ def test_advice_states_the_digits_and_the_least_sizes():
         assert budget == pytest.approx(2.5e7 * n * m**2 / (258 * 1040**2), rel=0.05)
         assert budget > 2.5e7
 
+
 @pytest.mark.slow
 def test_sedf_mu_0005_six_digits_within_a_raised_budget():
     """mu = 0.005, D = 0.0025 with the budget kbm noise's advice names at its default
@@ -121,20 +111,30 @@ def test_sedf_mu_0005_six_digits_within_a_raised_budget():
     functions at 1.1 times the velocity scale (another basis, reaching farther and
     resolving the velocity as finely) on 1800 intervals with the well's points (the
     climb's 258 x 1544 was 2.4e-6 from it in <x^2>, 364 x 1544 5.6e-8)."""
-    from kbm.model.conservative import split_conservative
-
-    from numerics.fokker_planck._stationary_points import stationary_points
-    from numerics.fokker_planck._stationary_solve import orthonormal_stationary
 
     mu = 0.005
     params = dict(SEDF, mu=mu)
     sol = stationary_kramers("sedf", params, mu / 2, max_cost=8.6e7)
     assert sol.coef.shape[0] >= 364 and sol.hermite_change < 1e-6
+    _assert_within_its_change(sol, params, 1.1, 456, 1800)
+
+
+def _assert_within_its_change(sol, params, scale: float, n_hermite: int, n_intervals: int):
+    """``<x^2>`` and ``<v^2>`` of ``sol`` within its stated Hermite change of an independent
+    solve: ``n_hermite`` functions at ``scale`` times its velocity scale on ``n_intervals``
+    intervals with the well's points (another basis and grid)."""
+    from kbm.model.conservative import split_conservative
+
+    from numerics.fokker_planck._stationary_points import stationary_points
+    from numerics.fokker_planck._stationary_solve import orthonormal_stationary
+
+    mu = params["mu"]
     split = split_conservative("sedf", params)
     G = split.numpy_functions()[2]
     half = float(sol.x[0])
-    s = 1.1 * sol.sigma
+    s = scale * sol.sigma
     _, points = stationary_points(split, mu / 2, G, half, 2.4, s, well=True)
-    other = orthonormal_stationary(split, mu / 2, s, half, 456, 1800, G, 1.0, **points)
+    other = orthonormal_stationary(split, mu / 2, s, half, n_hermite, n_intervals, G, 1.0,
+                                   **points)
     for a, b in ((sol.x2, other.x2), (sol.v2, other.v2)):
         assert abs(a - b) <= sol.hermite_change * abs(b)

@@ -38,6 +38,14 @@ def test_a_command_imports_what_it_uses():
     assert _imported_by(["cycle", "--help"]) == set()
 
 
+@pytest.mark.parametrize("command", ["noise", "escape"])
+def test_fp_budget_default_in_help_imports_no_solver(command):
+    """The help of ``--fp-budget`` prints the Fokker-Planck solves' default budgets, which
+    sit in :mod:`numerics.noise.budget`: ``kbm noise --help`` had imported
+    ``numerics.thermal`` for it (numpy, scipy and sympy, about 1 s)."""
+    assert _imported_by([command, "--help"]) == set()
+
+
 def _registered_help() -> dict[str, str]:
     from numerics.cli import build_parser
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from kbm.cli._common import emit_json, single_well
 from kbm.errors import ModelError, ParameterError
 from numerics.cli.params.options import command, options
-from numerics.noise.budget import BUDGET_TEXT
+from numerics.noise.budget import BUDGET_TEXT, ESCAPE_FP_BUDGET
 
 
 def register(sub) -> None:
@@ -43,7 +43,7 @@ def register(sub) -> None:
                         "transitions to the next wells from the well's Boltzmann state")
     options(p, "fp_budget", "json", fp_budget=dict(
         help="with --method fokker-planck: the largest cost of the escape rate's Kramers "
-             "solves (default 3e7; the factorisation keeps about 3 times it in numbers, "
+             f"solves (default {ESCAPE_FP_BUDGET:.2g}; the factorisation keeps about 3 times it in numbers, "
              "numerics.fokker_planck.kramers_escape's max_cost); larger solves are skipped"))
     p.set_defaults(func=run)
 

@@ -9,9 +9,8 @@ from pathlib import Path
 from kbm.cli._common import emit_json, write_json
 from kbm.errors import ParameterError
 from numerics.cli.params.options import command, options
-from numerics.noise.budget import BUDGET_TEXT
+from numerics.noise.budget import BUDGET_TEXT, FP_BUDGET
 from numerics.noise.validity import ERROR_SOURCES
-from numerics.thermal._kramers_outputs import FP_BUDGET
 
 
 def register(sub) -> None:

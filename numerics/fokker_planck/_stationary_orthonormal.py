@@ -250,10 +250,10 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
             up = 2 * int(round(nh * math.sqrt(2) / 2))
             at = [k for k, f in zip([nc] + plan, plan) if cost(up, k) <= max_cost < cost(up, f)]
             if at and at[0] > nc:
-                hc = moved(solve(nh, at[0]), solve(up, at[0]))
+                check = (solve(nh, at[0]), solve(up, at[0]))
+                hc = moved(*check)
                 if SIX_DIGITS < hc <= HOPELESS:
-                    climbed = climb_rung(solve, solve_well, moved, cost,
-                                         [(solve(nh, at[0]), solve(up, at[0]))], up, at[0],
+                    climbed = climb_rung(solve, solve_well, moved, cost, [check], up, at[0],
                                          hc, at[0], CLIMB_COST * max_cost)
         while climbed is None:
             finer = plan.pop(0) if plan else finer_intervals(nc)

@@ -66,6 +66,7 @@ import numpy as np
 from kbm.model.conservative import split_conservative
 from kbm.errors import ModelError, ParameterError
 
+from ..noise.budget import ESCAPE_FP_BUDGET
 from ._bases import cheb_centred
 from ._blocks import on_one_blas_thread
 from ._folded import FoldedRungs
@@ -173,7 +174,7 @@ class KramersEscape:
 def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: int = 64,
                    n_cheb: int = 128, margin: float | None = None, tol: float | None = None,
                    max_hermite: int = 4096, max_cheb: int = 720,
-                   max_cost: float = 3e7, basis: str = "auto",
+                   max_cost: float = ESCAPE_FP_BUDGET, basis: str = "auto",
                    sink_tol: float | None = None) -> KramersEscape:
     """The rate of transitions out of the well at the origin from the Kramers equation with
     a sink at the next wells' bottoms.

@@ -10,18 +10,10 @@ import math
 from kbm.errors import ParameterError
 from kbm.model.builtins import SLIDERS
 
+from ..noise.budget import FP_BUDGET, FP_DEFAULT_BUDGET
+
 __all__ = ["energy_density_output", "fokker_planck_moments", "fp_advice", "FP_BUDGET",
            "FP_DEFAULT_BUDGET"]
-
-#: the largest cost ``n_Hermite n_Chebyshev^2`` of the stationary Kramers solve of
-#: ``kbm noise`` (:func:`fokker_planck_moments`; ``n_Hermite (n_Chebyshev/2)^2`` for a
-#: model solved folded, :mod:`numerics.fokker_planck._parity`): the SEDF at rest,
-#: Delta = 3, D = mu/2, states six digits there (mu = 0.1: 1.1e-8 on 128 x 448, 3 s CPU;
-#: mu = 0.02: 5.4e-7 on 182 x 740, 10 s; mu = 0.01: 2.9e-7 on 258 x 1040, 26-32 s, the
-#: climb up to 2.8 times this budget, numerics.fokker_planck._stationary_orthonormal)
-FP_BUDGET = 2.5e7
-#: the same without ``--method fokker-planck`` (the moments are reported when affordable)
-FP_DEFAULT_BUDGET = 2.5e7
 
 
 def fokker_planck_moments(model, params: dict, D: float, omega0: float,

@@ -64,7 +64,8 @@ def _from_card(card: Mapping, model, params, vary: str, at: float):
     as ``__init__`` sets them from the symbolic line), or ``None`` if the card or its
     template's record is damaged (then the line is built)."""
     from numerics.flow.card import CardTemplate
-    from numerics.flow.compiled import CompiledLine, model_template
+    from numerics.flow.compiled import CompiledLine
+    from numerics.flow.template import model_template
     from numerics.flow.template_cache import read_record
 
     def build():

@@ -2,8 +2,7 @@
 arguments (:class:`ModelTemplate`), lambdified once per model (:func:`model_template`), and
 the compiled extended flow of a template (:func:`template_flow`).
 
-Split from :mod:`numerics.flow.compiled`, which binds a template to parameter values and
-re-exports these names.
+Split from :mod:`numerics.flow.compiled`, which binds a template to parameter values.
 """
 
 from __future__ import annotations

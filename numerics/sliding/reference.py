@@ -33,8 +33,8 @@ from kbm.output.paper import FIXED
 
 from numerics.errors import IntegrationError
 from numerics.sliding.driven import physical_values, slider_equations
-from numerics.sliding.stiffness import (STABILITY_INTERVAL, StepGuard, damping_rate,
-                                        damping_text, stiff_steps, stiff_t_end)
+from numerics.sliding.stiffness import STABILITY_INTERVAL, StepGuard, stiff_steps, stiff_t_end
+from numerics.sliding.damping import damping_rate, damping_text
 
 __all__ = ["SlideResult", "slide", "MAX_PERIODS"]
 

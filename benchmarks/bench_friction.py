@@ -27,7 +27,8 @@ from collections import Counter
 import numpy as np
 
 from kbm.output.strict_json import finite
-from numerics.sliding.friction import FrictionSettings, friction_point
+from numerics.sliding.friction import friction_point
+from numerics.sliding.friction_records import FrictionSettings
 from numerics.sliding.maps import friction_map
 
 FIXED = {"mu": 0.1, "lam": 1.0, "Omega": 1.0, "beta": 1.0}

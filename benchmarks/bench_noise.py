@@ -545,7 +545,7 @@ def increments_of_passages(effort: float = 1.0) -> None:
     formula for ``E = x'^2/2 + G(x) + Omega^2 (x - v t)^2/2``), at the friction runs'
     step and 4x it.  Kloeden-Platen, as both run."""
     from numerics.escape.simulate import censored_rate
-    from numerics.flow.jit import _load
+    from numerics.flow.numba_cache import _load
     from numerics.noise.langevin import natural_step
 
     fp_rate, xw = 4.5110e-4, 1.17063

@@ -107,7 +107,7 @@ IMPORTS = ("numpy", "sympy", "numba", "scipy.special", "scipy.optimize", "scipy.
 FLOW_CALL = """
 import sys, time
 from numerics.flow import compile_model
-from numerics.flow.compiled import template_flow
+from numerics.flow.template import template_flow
 cm = compile_model("vdp", {"mu": 1})
 had = "numba" in sys.modules
 t0 = time.perf_counter()

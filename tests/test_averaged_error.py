@@ -12,8 +12,9 @@ import functools
 
 import pytest
 
-from numerics.thermal.averaged_error import averaged_error
-from numerics.thermal.stationary import fokker_planck_moments, noise_report
+from numerics.noise.validity import averaged_error
+from numerics.thermal.stationary import noise_report
+from numerics.thermal._kramers_outputs import fokker_planck_moments
 
 
 @functools.lru_cache(maxsize=None)

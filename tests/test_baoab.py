@@ -27,7 +27,8 @@ from scipy.linalg import solve_discrete_lyapunov
 from kbm.errors import ParameterError
 from numerics.noise import langevin_system
 from numerics.noise.ensemble import stationary_ensemble
-from numerics.noise.langevin import measured_step, natural_step
+from numerics.noise.langevin import natural_step
+from numerics.noise._pilot import measured_step
 from numerics.noise.seeds import trajectory_states
 
 

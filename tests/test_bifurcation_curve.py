@@ -21,7 +21,8 @@ import numpy as np
 import pytest
 from hypothesis import given, strategies as st
 
-from numerics.bifurcation.curve import CurvePath, continue_curve
+from numerics.bifurcation.curve import continue_curve
+from numerics.bifurcation.path import CurvePath
 from numerics.bifurcation.result import Codim2Point, Curve, Diagram
 
 

@@ -28,9 +28,10 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from numerics.bifurcation.curve import correct
-from numerics.bifurcation.forced import (DrivenProblem, averaged_fold_curves, forced_seeds,
-                                         forced_true_curves, joined)
+from numerics.bifurcation.corrector import correct
+from numerics.bifurcation.forced import DrivenProblem, forced_seeds, forced_true_curves
+from numerics.bifurcation.forced_averaged import averaged_fold_curves
+from numerics.bifurcation.twoway import joined
 
 DUFFING = {"mu": 0.1, "zeta": 0.1, "alpha": 1.0}
 AXES = ("sigma", "h")

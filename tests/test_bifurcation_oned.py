@@ -153,7 +153,8 @@ def test_sedf_heteroclinic_curves_shot_independently():
 
 @pytest.mark.slow
 def test_fold_model_against_one_parameter_folds_and_kbm():
-    from numerics.bifurcation.oned import Settings, autonomous_diagram
+    from numerics.bifurcation.oned import autonomous_diagram
+    from numerics.bifurcation.run import Settings
     from numerics.cycles import continue_cycles
 
     model = custom_model("(-nu + x**2 - x**4)*xdot")
@@ -220,7 +221,8 @@ def test_neutral_saddle_loop_located():
     fold of cycles ends (Kuznetsov sec. 6.2), is at ``nu = 0``; there the Melnikov
     integral on ``x = sqrt(2) sech t`` gives ``c = 8/7`` to first order in mu.  The
     located point's manifolds are shot here by scipy (turning points)."""
-    from numerics.bifurcation.oned import Settings, autonomous_diagram
+    from numerics.bifurcation.oned import autonomous_diagram
+    from numerics.bifurcation.run import Settings
 
     model = custom_model("k*(2*x - x**3) + (nu + c*x**2 - x**4)*xdot")
     d = autonomous_diagram(model, {"mu": "0.1", "k": "10"}, ("nu", "c"),
@@ -392,7 +394,8 @@ def test_diagram_names_the_located_saddle_change():
     on the shared machine; that test is its fast sibling): the loops of the saddles near
     ``-1`` and ``+1`` both end at the one ``saddle-change`` point, located at ``s = 0``
     (exact, by symmetry) with both legs' gaps at most GAP_TOL and shot here by scipy."""
-    from numerics.bifurcation.oned import Settings, autonomous_diagram
+    from numerics.bifurcation.oned import autonomous_diagram
+    from numerics.bifurcation.run import Settings
 
     model = custom_model("k*(x**3 + s) + (b - x**2)*xdot")
     d = autonomous_diagram(model, {"mu": "0.1", "k": "10"}, ("s", "b"),

@@ -31,8 +31,9 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from numerics.bifurcation.curve import correct
-from numerics.bifurcation.forced import DrivenProblem, forced_true_curves, joined
+from numerics.bifurcation.corrector import correct
+from numerics.bifurcation.forced import DrivenProblem, forced_true_curves
+from numerics.bifurcation.twoway import joined
 from numerics.shooting.coupled_branch import continue_coupled
 from _references import duffing_floquet
 

@@ -155,7 +155,8 @@ def test_diagram_reports_the_located_saddle_node_loop():
     ``-sqrt(r)`` followed to within ``1e-5`` of the fold (``b ~ -0.49 sqrt(r)`` there:
     tangent to it), and the ``saddle-node-loop`` reported at the located ``(0, 0)``, not at
     the curve's last point."""
-    from numerics.bifurcation.oned import Settings, autonomous_diagram
+    from numerics.bifurcation.oned import autonomous_diagram
+    from numerics.bifurcation.run import Settings
 
     d = autonomous_diagram(custom_model(EXACT), {"mu": "1"}, ("r", "b"),
                            {"r": (-0.02, 0.05), "b": (-0.1, 0.1)},

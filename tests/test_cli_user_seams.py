@@ -10,7 +10,8 @@ import pytest
 
 from kbm.errors import ParameterError
 from numerics.cli import main
-from numerics.spectrum._cost import MEMORY_LIMIT, STEP_LIMIT, check_cost
+from numerics.noise.budget import STEP_BUDGET
+from numerics.spectrum._cost import MEMORY_LIMIT, check_cost
 
 
 def test_friction_table_prints_no_nan_for_a_sliding_state(capsys):
@@ -27,10 +28,10 @@ def test_friction_table_prints_no_nan_for_a_sliding_state(capsys):
 def test_spectrum_cost_refuses_steps_and_memory_with_the_numbers():
     """:func:`check_cost`: the product trajectories x steps against the step limit (shared
     by the runs of a sweep), the bytes held against the memory limit."""
-    check_cost(64, STEP_LIMIT / 64, MEMORY_LIMIT)  # exactly at both limits: runs
+    check_cost(64, STEP_BUDGET / 64, MEMORY_LIMIT)  # exactly at both limits: runs
     with pytest.raises(ParameterError, match=r"64 trajectories x 3.12e\+07 steps = 2e\+09 "
                                              r"integration steps, above the limit 1e\+09"):
-        check_cost(64, STEP_LIMIT / 64, 0.0, budget=STEP_LIMIT / 2, shared=2)
+        check_cost(64, STEP_BUDGET / 64, 0.0, budget=STEP_BUDGET / 2, shared=2)
     with pytest.raises(ParameterError, match=r"hold 3 GB of recorded samples"):
         check_cost(8, 1e3, 3e9)
 

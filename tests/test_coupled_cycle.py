@@ -30,7 +30,8 @@ from kbm.errors import ParameterError
 from numerics import limit_cycle
 from numerics.shooting.coupled_orbit import coupled_cycle
 from numerics.flow.coupled_flow import coupled_flow
-from numerics.locking.mutual import amplitude_death, averaged_edges, true_edges
+from numerics.locking.mutual import amplitude_death, averaged_edges
+from numerics.locking.fold import true_edges
 
 P = {"mu": 0.02, "c": 0.3, "sigma": 0.1}
 

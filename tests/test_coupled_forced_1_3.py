@@ -28,7 +28,7 @@ import sympy as sp
 from scipy.optimize import fsolve
 
 from kbm.expansion.coupled import derive_coupled
-from kbm.expansion.coupled_result import amplitudes
+from kbm.model.variables import amplitudes
 from numerics.shooting.coupled_orbit import forced_response
 
 VALS = {"zeta1": sp.Rational(1, 10), "zeta2": sp.Rational(1, 10), "alpha1": 1, "alpha2": 1,

@@ -30,7 +30,7 @@ from kbm.backend.jets import MAX_ORDER_JETS, jet_expansion
 from kbm.model.coupled import CoupledOscillators
 from kbm.backend.coupled import numeric_average
 from kbm.expansion.resonance import UndeclaredResonanceError
-from kbm.expansion.coupled_result import amplitudes
+from kbm.model.variables import amplitudes
 from kbm.errors import ModelError, OrderError, ParameterError
 from kbm.model.builtins import get_model
 from kbm.backend.pointwise import derive_values
@@ -218,10 +218,11 @@ def test_kbm_derive_numeric_at_order_3(capsys):
 def test_locking_edges_at_order_2_for_a_sine_coupling():
     """Two van der Pol oscillators coupled through sin(x2 - x1), detuned by sigma: the edges
     of 1:1 locking from the order-2 slow flow (numeric backend on jets, the exact engine
-    cannot take sin) against the true edges (numerics.locking.mutual.true_edges: where the
+    cannot take sin) against the true edges (numerics.locking.fold.true_edges: where the
     locked cycle of the full system ceases to exist).  Order 1's error falls like mu (its
     edges do not depend on mu); order 2's like mu^2, and is 50 times smaller at mu = 0.05."""
-    from numerics.locking.mutual import averaged_edges, true_edges
+    from numerics.locking.mutual import averaged_edges
+    from numerics.locking.fold import true_edges
 
     m = coupled_custom(["(1 - x1**2)*xdot1 + c*sin(x2 - x1)",
                         "(1 - x2**2)*xdot2 + c*sin(x1 - x2) - 2*sigma*x2"],

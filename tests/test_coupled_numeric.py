@@ -25,7 +25,7 @@ from scipy.special import j1
 from kbm.model.coupled_builtins import coupled_custom
 from kbm.expansion.coupled import derive_coupled
 from kbm.backend.coupled import numeric_average
-from kbm.expansion.coupled_result import amplitudes
+from kbm.model.variables import amplitudes
 from kbm.errors import ModelError, ParameterError
 
 CASES = [("coupled-vdp", {"c": 0.3, "sigma": 0.7}),
@@ -141,8 +141,9 @@ def test_locking_of_sine_coupled_van_der_pol_oscillators():
     """Two van der Pol oscillators coupled through sin(x2 - x1) (the exact engine cannot take
     it): the order-1 locking edges from the numeric backend's slow flow (the same in sigma
     for every mu) against the true edges (where the locked cycle of the full system ceases
-    to exist, numerics.locking.mutual.true_edges): the error falls like mu."""
-    from numerics.locking.mutual import averaged_edges, true_edges
+    to exist, numerics.locking.fold.true_edges): the error falls like mu."""
+    from numerics.locking.mutual import averaged_edges
+    from numerics.locking.fold import true_edges
 
     m = coupled_custom(["(1 - x1**2)*xdot1 + c*sin(x2 - x1)",
                         "(1 - x2**2)*xdot2 + c*sin(x1 - x2) - 2*sigma*x2"],

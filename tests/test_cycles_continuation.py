@@ -20,7 +20,8 @@ from kbm import custom_model
 from kbm.errors import ParameterError
 from numerics import limit_cycle
 from numerics.comparison.branches import kbm_branch
-from numerics.cycles.continuation import TRIVIAL_TOL, continue_cycles
+from numerics.cycles.continuation import continue_cycles
+from numerics.shooting.acceptance import TRIVIAL_TOL
 from numerics.errors import NoCycleError
 
 FOLD = "(-nu + x**2 - x**4)*xdot"

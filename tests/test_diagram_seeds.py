@@ -98,7 +98,7 @@ def test_vdp_forced_averaged_right_neimark_sacker_orders_1_to_3():
     (orders 2, 3 were lost at the edge): order 1 on h^2 = 1/2 + 8 sigma^2, ending at its
     Bogdanov-Takens point (1/4, 1); orders 2 and 3 each end within 1e-3 of the true BT point
     (0.248476, 1.018636, the true curve's end)."""
-    from numerics.bifurcation.forced import averaged_fold_curves
+    from numerics.bifurcation.forced_averaged import averaged_fold_curves
 
     dropped: list = []
     curves, pts = averaged_fold_curves("vdp-forced", {"mu": MU}, ("sigma", "h"), VDP_RANGES,
@@ -193,7 +193,8 @@ def test_sedf_dimer_slow_flow_bessel_against_mpmath():
 
     from kbm.model.coupled import amplitudes
     from kbm.expansion.coupled import derive_coupled
-    from numerics.locking.mutual import _slow_flow, _split, averaged_edges
+    from numerics.locking.mutual import averaged_edges
+    from numerics.locking.slow_flow import _slow_flow, _split
     from numerics.flow.coupled_flow import bind_coupled
     from numerics.errors import NumericsError
 

@@ -212,7 +212,7 @@ def test_noise_that_dwarfs_the_barriers_is_refused_with_the_numbers():
     import time
 
     from kbm.errors import ModelError
-    from numerics.escape.envelope import MAX_INFLECTIONS
+    from numerics.escape._annulus import MAX_INFLECTIONS
 
     Delta, lam, mu, D = 3.0, 1.3, 0.1, 100.0
     k = 2 * math.pi / lam

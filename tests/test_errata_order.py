@@ -34,9 +34,10 @@ ROOT = Path(__file__).resolve().parents[1]
 
 SCRIPT = """
 import json, sys
-from numerics.paper.errata import CASES, errata_evidence
-rows = errata_evidence([CASES[int(i)] for i in sys.argv[1].split(",")])
-for name, _ in CASES:
+from kbm.output.paper import ERRATA_CASES
+from numerics.paper.errata import errata_evidence
+rows = errata_evidence([ERRATA_CASES[int(i)] for i in sys.argv[1].split(",")])
+for name, _ in ERRATA_CASES:
     print(json.dumps([r.to_json() for r in rows if r.case == name], sort_keys=True))
 """
 

@@ -18,7 +18,8 @@ from scipy.integrate import quad
 from kbm.errors import KBMError, ModelError, ParameterError
 from numerics.escape import (averaged_escape, boltzmann_moment, central_well, energy_envelope,
                              melnikov_meshkov_factor)
-from numerics.escape.envelope import NoStationaryState, origin_well_envelope
+from numerics.escape.envelope import origin_well_envelope
+from numerics.escape.noise_params import NoStationaryState
 
 CDC = {"mu": 0.05, "Delta": 3, "lam": 1, "Omega": 1}
 

@@ -9,8 +9,8 @@ import pytest
 
 from numerics._memo import clear_caches
 from numerics.flow import aot, compile_model, jit_available
-from numerics.flow.compiled import template_flow
-from numerics.flow.jit import _load, cache_dir
+from numerics.flow.template import template_flow
+from numerics.flow.numba_cache import _load, cache_dir
 
 pytestmark = pytest.mark.skipif(not jit_available(), reason="numba not installed")
 

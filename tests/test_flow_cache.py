@@ -17,9 +17,9 @@ import sympy as sp
 
 from kbm.symbols import t as T
 
-from numerics.flow.jit import (_source_by_key, compile_notice, flow_cache_key, jit_available,
-                               jit_flow)
-from numerics.flow.compiled import model_template
+from numerics.flow.jit import _source_by_key, flow_cache_key, jit_available, jit_flow
+from numerics.flow.numba_cache import compile_notice
+from numerics.flow.template import model_template
 
 ROOT = Path(__file__).resolve().parents[1]
 X, V = sp.symbols("y0 y1")
@@ -108,7 +108,7 @@ def test_the_notice_shows_when_numba_compiles_and_not_when_it_has_the_code(capsy
 
 
 def _cache():
-    from numerics.flow.jit import cache_dir
+    from numerics.flow.numba_cache import cache_dir
 
     return cache_dir()
 

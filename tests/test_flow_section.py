@@ -26,7 +26,7 @@ from scipy.optimize import brentq
 
 from kbm import custom_model
 from numerics.flow import compile_model, jit_available
-from numerics.flow.compiled import template_flow
+from numerics.flow.template import template_flow
 
 pytestmark = pytest.mark.skipif(not jit_available(), reason="numba not installed")
 

@@ -181,7 +181,7 @@ def test_noise_json_reports_the_kramers_moments(capsys):
                          "--t-end", "40", "--json")
     assert code == 0, err
     rep = json.loads(out)
-    from numerics.thermal.stationary import FP_DEFAULT_BUDGET
+    from numerics.noise.budget import FP_DEFAULT_BUDGET
 
     sol = stationary_kramers("vdp", {"mu": 0.1}, 0.05, omega0=1.0,
                              max_cost=FP_DEFAULT_BUDGET)  # its budget

@@ -17,14 +17,16 @@ from numerics.fokker_planck import kramers_operator
 from numerics.fokker_planck._blocks import (BlockTridiagonalLU, TermBlocks,
                                             hermite_bandwidth, one_blas_thread)
 from numerics.fokker_planck.kramers import kramers_terms
-from numerics.fokker_planck.escape import _sink, kT_gamma, next_wells
+from numerics.fokker_planck._model import next_wells
+from numerics.fokker_planck._problem import kT_gamma
+from numerics.fokker_planck._sink_pairs import tanh_sink
 
 PARAMS = {"Delta": 2, "lam": 1.3, "Omega": 1}
 
 
 def escape_matrix_rate(split, D, sigma, wells, half, nh, nc, kappa0, width, solver="block",
                        alpha: float = 0.0):
-    """The smallest decay rate of the Kramers operator with the sink ``_sink`` centred on
+    """The smallest decay rate of the Kramers operator with the sink ``tanh_sink`` centred on
     the next wells' bottoms ``wells`` (Hanggi, Talkner and Borkovec 1990, sec. II.C: the
     rate as the lowest nonvanishing eigenvalue): the second method of these tests (the
     code's ladders use ``numerics.fokker_planck._orthonormal``, ``._folded`` and
@@ -46,11 +48,11 @@ def escape_matrix_rate(split, D, sigma, wells, half, nh, nc, kappa0, width, solv
         xs, Dx = cheb_mapped(nc, half, alpha)
         g = np.asarray(split.numpy_functions()[0](xs), float)
         with one_blas_thread():
-            return EscapeFraction(Dx, g, _sink(xs, wells, kappa0, width), sigma, gamma, nh,
+            return EscapeFraction(Dx, g, tanh_sink(xs, wells, kappa0, width), sigma, gamma, nh,
                                   symmetric(g, wells)).slowest()
     terms, xs, _ = kramers_terms(split, D, sigma, half, nh, nc)
     m = xs.size
-    kappa = _sink(xs, wells, kappa0, width)
+    kappa = tanh_sink(xs, wells, kappa0, width)
     keep = np.ones(nh * m)
     ends = np.concatenate([[k * m, k * m + m - 1] for k in range(2, nh)])
     keep[ends] = 0.0
@@ -193,7 +195,7 @@ def test_closed_form_blocks_equal_the_assembled_escape_matrix():
     ref = escape_matrix_rate(split, kT * mu, math.sqrt(kT), wells, half, 40, 48, 5.0, width,
                              solver="block")
     x, Dx = cheb(48, half)
-    kappa = _sink(x, wells, 5.0, width)
+    kappa = tanh_sink(x, wells, 5.0, width)
     with one_blas_thread():
         for fold in (False, True):
             rate = EscapeFraction(Dx, np.asarray(g(x), float), kappa, math.sqrt(kT), mu, 40,
@@ -215,7 +217,7 @@ def test_upward_elimination_solves_and_extends():
     split, g, xs, wells = _cdc_wells(mu)
     half, width = 1.25 * wells[1], 0.1 * (wells[1] - xs)
     terms, x, _ = kramers_terms(split, kT * mu, math.sqrt(kT), half, nh, nc)
-    kappa = _sink(x, wells, 5.0, width)
+    kappa = tanh_sink(x, wells, 5.0, width)
     m = x.size
     A = TermBlocks(terms, m, kappa, (0, m - 1)).block(0, nh, 0, nh)
     rhs = np.random.default_rng(7).standard_normal(nh * m)
@@ -342,7 +344,7 @@ def test_factors_in_a_used_buffer_are_those_of_a_fresh_one():
     split, g, xs, wells = _cdc_wells(mu)
     half, width = 1.25 * wells[1], 0.1 * (wells[1] - xs)
     x, Dx = cheb(nc, half)
-    args = (Dx, np.asarray(g(x), float), _sink(x, wells, 5.0, width), math.sqrt(kT), mu)
+    args = (Dx, np.asarray(g(x), float), tanh_sink(x, wells, 5.0, width), math.sqrt(kT), mu)
     rhs = [np.random.default_rng(3).standard_normal(s) for s in
            EscapeFraction(*args, nh, False).sizes]
     with one_blas_thread():
@@ -357,7 +359,7 @@ def test_factors_in_a_used_buffer_are_those_of_a_fresh_one():
                            fresh.solve([r[:s] for r, s in zip(rhs, sizes)])))
 
         def sink(pts, sharp):
-            return _sink(pts, wells, 5.0 * (3 if sharp > 1 else 1), width / sharp)
+            return tanh_sink(pts, wells, 5.0 * (3 if sharp > 1 else 1), width / sharp)
 
         rungs = FractionRungs(split, math.sqrt(kT), mu, wells, sink, lambda n: cheb(n, half))
         for n, m, sharp in ((nh, nc, 1), (2 * nh, nc, 1), (nh, 30, 1), (nh, nc, 2)):

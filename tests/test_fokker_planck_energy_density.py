@@ -93,7 +93,7 @@ def test_sedf_energy_density_within_its_stated_change():
     scale) at every energy, and the largest change is below 1e-6 of the peak (measured:
     stated 7.9e-7, off by 5e-8 of the peak, 1.6e-6 relative at most, in the tail)."""
     from numerics.fokker_planck._energy_density import energy_density_report
-    from numerics.thermal.stationary import FP_BUDGET
+    from numerics.noise.budget import FP_BUDGET
 
     params = {"mu": 0.1, "Delta": 3, "beta": 1, "lam": 1}
     sol = stationary_kramers("sedf", params, 0.05, max_cost=FP_BUDGET)
@@ -194,7 +194,7 @@ def _six_digits(mu: float, sigma: float, n_cheb: int, margin: float = 1.0) -> No
     the largest distance, each energy within its change up to 1e-8 of the peak, and P
     closer than the ladder's own solution's."""
     from numerics.fokker_planck._energy_density import energy_density_report
-    from numerics.thermal.stationary import FP_BUDGET
+    from numerics.noise.budget import FP_BUDGET
 
     params = {"mu": mu, "Delta": 3, "beta": 1, "lam": 1}
     sol = stationary_kramers("sedf", params, mu / 2, max_cost=FP_BUDGET)

@@ -30,7 +30,8 @@ from kbm.model.conservative import split_conservative
 from numerics.escape import averaged_escape, energy_envelope
 from numerics.escape.simulate import simulated_escape
 from numerics.fokker_planck import kramers_escape
-from numerics.fokker_planck.escape import hermite_ladder, next_wells
+from numerics.fokker_planck._model import next_wells
+from numerics.fokker_planck._problem import hermite_ladder
 from numerics.noise.langevin import langevin_system, natural_step
 
 PARAMS = {"Delta": 2, "lam": 1.3, "Omega": 1}
@@ -109,7 +110,7 @@ def test_low_friction_converges_to_six_digits(low_friction):
     1e-6, and a second discretisation agrees to 1e-6: plain Chebyshev points (no map) on
     384 intervals and 2048 Hermite functions (docs/noise.rst: the plain points converge
     more slowly, 2.5e-6 off at 288)."""
-    from numerics.fokker_planck.escape import escape_problem
+    from numerics.fokker_planck._problem import escape_problem
     from test_fokker_planck_blocks import escape_matrix_rate
 
     _, fp = low_friction

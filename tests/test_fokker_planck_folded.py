@@ -31,7 +31,9 @@ from numerics.fokker_planck._folded import FoldedLU, FoldedRungs, FoldedTermBloc
 from numerics.fokker_planck._folded_orders import FoldedOrderLU, dominant_ritz
 from numerics.fokker_planck._orthonormal import (orthonormal_slowest, orthonormal_terms,
                                                  velocity_scale)
-from numerics.fokker_planck.escape import ALPHA, SADDLES, WELLS, _sink, escape_problem
+from numerics.fokker_planck.escape import ALPHA, SADDLES, WELLS
+from numerics.fokker_planck._problem import escape_problem
+from numerics.fokker_planck._sink_pairs import tanh_sink
 
 KT = 0.35
 SADDLE = 0.5281669331486846  # the CDC's at Delta = 3, lam = 1 (|g| < 1e-15 there)
@@ -48,7 +50,7 @@ def _problem(mu, crowd=SADDLES):
                             (crowd, crowd, WELLS, WELLS))
 
     s = velocity_scale(split, D, (-SADDLE, SADDLE))[0]
-    return split, D, s, points, lambda xs: _sink(xs, wells, kappa0, width)
+    return split, D, s, points, lambda xs: tanh_sink(xs, wells, kappa0, width)
 
 
 def test_cdc_saddle():
@@ -122,7 +124,7 @@ def test_order_by_order_lu_extends_and_solves(sharp):
     split, D, s, points, _ = _problem(0.2)
     sigma, wells, half, kappa0, width = escape_problem(split, D, (-SADDLE, SADDLE))
     xs, Dx = points(24)
-    kappa = _sink(xs, wells, kappa0 * sharp ** 2, width / sharp)
+    kappa = tanh_sink(xs, wells, kappa0 * sharp ** 2, width / sharp)
     A = FoldedTermBlocks(orthonormal_terms(split, D, s, xs, Dx, 16), xs.size, kappa)
     assert A.bandwidth() == 2
     lu = FoldedOrderLU(A, 7)

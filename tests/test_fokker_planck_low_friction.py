@@ -35,7 +35,7 @@ def test_sedf_mu_0002_against_averaging_and_another_scale():
     on 1100 intervals with the well's points (1.6e-4 from the route; 362 x 1200 at the
     scales 0.157 and 0.191 are 1.1e-4 to 1.4e-4 from it and agree to 4e-5)."""
     from numerics.thermal.averaged import averaged_stationary
-    from numerics.thermal.stationary import FP_BUDGET
+    from numerics.noise.budget import FP_BUDGET
 
     mu = 0.002
     params = dict(SEDF, mu=mu)

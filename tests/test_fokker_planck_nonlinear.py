@@ -40,7 +40,8 @@ from numerics.fokker_planck import kramers_escape
 from numerics.fokker_planck._bases import cheb, hermite_matrices
 from numerics.fokker_planck._orthonormal import (orthonormal_matrices, orthonormal_slowest,
                                                  velocity_scale)
-from numerics.fokker_planck.escape import _sink, escape_problem
+from numerics.fokker_planck._problem import escape_problem
+from numerics.fokker_planck._sink_pairs import tanh_sink
 
 SEDF = {"Delta": 3, "beta": 1, "lam": 1}
 
@@ -104,7 +105,7 @@ def _independent_rate(model, params, D, fac, nh, nc):
     _, wells, half, kappa0, width = escape_problem(split, D, saddles)
     s, _ = velocity_scale(split, D, saddles)
     return orthonormal_slowest(split, D, fac * s, lambda n: cheb(n, half), nh, nc,
-                               lambda xs: _sink(xs, wells, kappa0, width)), saddles
+                               lambda xs: tanh_sink(xs, wells, kappa0, width)), saddles
 
 
 def test_sedf_escape_converges_against_a_second_discretisation():
@@ -207,7 +208,7 @@ def test_sedf_sink_ladders_bracket_against_a_finer_solve():
                                 (SADDLES, SADDLES, WEIGHT, WEIGHT))
 
         rates.append(orthonormal_slowest(split, 0.15, fp.velocity_scale, pts, n_h, n_c,
-                                         lambda xs, c=c, kap=kap, w=w: _sink(xs, c, kap, w)))
+                                         lambda xs, c=c, kap=kap, w=w: tanh_sink(xs, c, kap, w)))
     stated = fp.chebyshev_error + fp.truncation_error
     assert abs(sum(rates) / 2 - fp.rate) <= stated + 1e-9 * fp.rate
 

@@ -98,7 +98,7 @@ def test_sedf_six_digits_at_the_default_budget():
     """Issue 36's six digits for the SEDF at rest (mu = 0.1, Delta = 3, D = 0.05) at the
     budget of ``kbm noise``: the stated change is below 1e-6, bounds the distance to the
     high-budget reference, and the virial theorem <x g(x)> = <x'^2> holds to it."""
-    from numerics.thermal.stationary import FP_BUDGET
+    from numerics.noise.budget import FP_BUDGET
 
     sol = stationary_kramers("sedf", SEDF, 0.05, max_cost=FP_BUDGET)
     assert sol.hermite_change <= 1e-6

@@ -94,7 +94,7 @@ def test_sedf_ladder_on_disk_has_six_digits(monkeypatch):
     """Issue 36's six digits with every factorisation of the ladder on disk (SEDF at rest,
     mu = 0.1, Delta = 3, D = 0.05, ``kbm noise``'s budget): the stated change is below
     1e-6 and bounds the distance to the high-budget reference."""
-    from numerics.thermal.stationary import FP_BUDGET
+    from numerics.noise.budget import FP_BUDGET
 
     monkeypatch.setattr(disk, "FACTOR_MEMORY", 0)
     sol = stationary_kramers("sedf", SEDF, 0.05, max_cost=FP_BUDGET)

@@ -26,7 +26,7 @@ import scipy.sparse.linalg as spla
 
 from numerics.fokker_planck._bases import cheb
 from numerics.fokker_planck._orthonormal import orthonormal_slowest
-from numerics.fokker_planck.escape import _sink
+from numerics.fokker_planck._sink_pairs import tanh_sink
 
 from test_fokker_planck_blocks import _cdc_wells
 
@@ -77,7 +77,7 @@ def test_escape_rate_bits_do_not_depend_on_earlier_arnoldi_runs():
     split, g, xs, wells = _cdc_wells(mu)
     half, width = 1.2 * wells[1], 0.1 * (wells[1] - xs)
     args = (split, kT * mu, math.sqrt(kT), lambda n: cheb(n, half), 32, 96,
-            lambda x: _sink(x, wells, 5.0, width))
+            lambda x: tanh_sink(x, wells, 5.0, width))
     first = orthonormal_slowest(*args)
     spla.eigs(np.diag(np.arange(1.0, 21.0)), k=2, which="LM", return_eigenvectors=False)
     assert first > 0

@@ -49,7 +49,9 @@ from numerics.fokker_planck._sink import (CAP, DRIFT, OFFSET, RAMP, SINK_HERMITE
                                           SINK_INTERVALS, TRACK, WEIGHT, bracket_error,
                                           ladder_offsets, rung_intervals, sink_bracket,
                                           sink_grading, sink_rung, sink_scale, step_zero)
-from numerics.fokker_planck.escape import ALPHA, _sink, escape_problem, kT_gamma
+from numerics.fokker_planck.escape import ALPHA
+from numerics.fokker_planck._problem import escape_problem, kT_gamma
+from numerics.fokker_planck._sink_pairs import tanh_sink
 
 PARAMS = {"Delta": 3, "lam": 1, "Omega": 1}
 KT = 0.35
@@ -228,7 +230,7 @@ def test_adaptive_rungs_state_their_errors(r, a, o0, k, bh, lh, bg, lg):
     ``r``, and each stated discretisation error bounds the true one of the midpoint.
 
     The slope is at least a hundredth of the rate (the physical ones are about half of it:
-    CDC mu = 10, ``_sink``'s docstring): the ladders' placement measures the critical offset
+    CDC mu = 10, ``tanh_sink``'s docstring): the ladders' placement measures the critical offset
     from the steps between rungs, and where the sink's signal ``a w_j`` is not much larger
     than the rung-to-rung changes of the discretisation errors that measure fails (found by
     this test in a CI run: ``r`` = 0.375, ``a`` = 1e-3, ``k`` = 0.125, ``bh`` = 0.0039, ``lh``
@@ -310,7 +312,7 @@ def _other_ladder(mu, offset, rungs, nh=SINK_HERMITE, nc=SINK_INTERVALS):
                                                                 2.5 * w),
                                 (0.0, 0.0, WEIGHT, WEIGHT))
 
-        return FractionRungs(split, sigma, gamma, c, lambda xs, s=1: _sink(xs, c, kap, w),
+        return FractionRungs(split, sigma, gamma, c, lambda xs, s=1: tanh_sink(xs, c, kap, w),
                              pts).rate(nh, nc)
 
     if isinstance(rungs, int):
@@ -435,7 +437,7 @@ def _independent_top(fp, mu, scale=0.55):
                                 (0.0, 0.0) + tuple(q for _, q in grading for _ in (0, 1)))
 
         rates.append(FoldedRungs(n_h)(split, KT * mu, scale * math.sqrt(KT), pts, n_h, n_c,
-                                      lambda xs, c=c, kap=kap, w=w: _sink(xs, c, kap, w)))
+                                      lambda xs, c=c, kap=kap, w=w: tanh_sink(xs, c, kap, w)))
     return sum(rates) / 2
 
 
@@ -481,7 +483,7 @@ def test_pair_rungs_folded_equal_unfolded(mu, kT, offset, j):
     rates, modes = [], []
     with one_blas_thread():
         for fold in (True, False):
-            frac = EscapeFraction(Dx, g, _sink(x, c, kap, w), math.sqrt(kT), mu, 24, fold)
+            frac = EscapeFraction(Dx, g, tanh_sink(x, c, kap, w), math.sqrt(kT), mu, 24, fold)
             # unfolded: from a start of no parity (c_0 = 1 would keep Arnoldi in the even
             # sector), so the mode found is the slowest of the whole operator
             rng = np.random.default_rng(j)

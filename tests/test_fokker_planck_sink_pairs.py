@@ -22,7 +22,8 @@ from numerics.fokker_planck._folded_orders import FoldedOrderLU
 from numerics.fokker_planck._orthonormal import orthonormal_terms
 from numerics.fokker_planck._sink import absorbing_limit, sink_grading, sink_rung
 from numerics.fokker_planck._sink_pairs import PAIRED, tanh_sink, tanh_sink_slope
-from numerics.fokker_planck.escape import ALPHA, escape_problem
+from numerics.fokker_planck.escape import ALPHA
+from numerics.fokker_planck._problem import escape_problem
 
 KT = 0.35
 SADDLE = 0.5281669331486846  # the CDC's at Delta = 3, lam = 1

@@ -208,7 +208,7 @@ def test_van_der_pol_low_friction_ladder():
     """vdp mu = 0.03, D = 0.015: the default ladders (budget of ``kbm noise``) state a
     change below 1e-7, and <x^2> agrees within it with a solve on about 1.5 times both
     sizes (136 functions x 182 intervals), <x^2> = <x'^2> (virial theorem, g = x) to 1e-9."""
-    from numerics.thermal.stationary import FP_BUDGET
+    from numerics.noise.budget import FP_BUDGET
 
     sol = stationary_kramers("vdp", {"mu": 0.03}, 0.015, max_cost=FP_BUDGET)
     assert sol.hermite_change < 1e-7
@@ -230,7 +230,7 @@ def test_sedf_six_digits_at_low_friction(mu):
     fifteenth session's test of the unfolded ladder, which stated 7e-6 on 128 x 418): the
     virial theorem <x g(x)> = <x'^2> holds to 1e-7 and the energy balance
     mu <(x^2 - 1) x'^2> = D to 1e-5."""
-    from numerics.thermal.stationary import FP_BUDGET
+    from numerics.noise.budget import FP_BUDGET
 
     params = dict(SEDF, mu=mu)
     sol = stationary_kramers("sedf", params, mu / 2, max_cost=FP_BUDGET)
@@ -264,7 +264,7 @@ def test_sedf_six_digits_below_mu_002(mu, functions):
     and an independent solve, 1.4 times the functions on 1282 intervals at 1.13 times the
     velocity scale and on the first ladder's points (no centre at the well), lies within
     it for <x^2> and <v^2>.  The virial theorem <x g(x)> = <x'^2> holds to 1e-7."""
-    from numerics.thermal.stationary import FP_BUDGET
+    from numerics.noise.budget import FP_BUDGET
 
     params = dict(SEDF, mu=mu)
     sol = stationary_kramers("sedf", params, mu / 2, max_cost=FP_BUDGET)

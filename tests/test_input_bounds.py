@@ -1,6 +1,6 @@
 """Bounds on the work of reading input and of the symbolic expansion (issue 21, item 3).
 
-The size estimate of :func:`kbm.expansion.one_dof.expansion_cost` is read from the expression's
+The size estimate of :func:`kbm.expansion.cost.expansion_cost` is read from the expression's
 tree without expanding it; it must bound the true degree and number of monomials, which
 the reference computes by expanding with :class:`sympy.Poly`.
 """
@@ -11,7 +11,7 @@ import pytest
 import sympy as sp
 from hypothesis import given, settings, strategies as st
 
-from kbm.expansion.one_dof import COST_BUDGET, expansion_cost
+from kbm.expansion.cost import COST_BUDGET, expansion_cost
 from kbm.errors import InputSizeError, NonFiniteError
 from kbm.symbols import MAX_DIGITS, MAX_EXPONENT, parse, x, xdot
 

@@ -35,7 +35,7 @@ def cards(tmp_path, monkeypatch):
     """The cards on (as ``kbm branch`` turns them on) in a cache folder of the test's own,
     holding the compiled flows of the shared one (so that only the cards are cold)."""
     from numerics._memo import clear_caches
-    from numerics.flow.jit import cache_dir
+    from numerics.flow.numba_cache import cache_dir
 
     for p in cache_dir().iterdir():
         if p.name.startswith(("kbm_src_", "kbm_aot_")):  # the flows built ahead of time

@@ -121,7 +121,7 @@ def test_true_edge_from_a_wide_interval_is_the_scipy_fold():
     first step 0.4, growing to 2): its upper edge is the fold of
     ``tests/test_shooting_acceptance.py`` (scipy DOP853 with variational equations,
     0.20160636567730025) within the stated error and 1e-11."""
-    from numerics.locking.mutual import true_edges
+    from numerics.locking.fold import true_edges
 
     fold = 0.20160636567730025
     edge = true_edges("coupled-vdp", {"mu": 0.08, "c": 0.2}, tol=1e-9,

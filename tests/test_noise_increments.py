@@ -25,7 +25,7 @@ from numerics.noise import langevin_system
 from numerics.noise import _pair_kernels as pk
 from numerics.noise.ensemble import stationary_ensemble
 from numerics.noise.invariant import baoab_stationary_averages
-from numerics.noise.langevin import measured_step
+from numerics.noise._pilot import measured_step
 from numerics.noise.seeds import trajectory_states
 
 QUARTIC = custom_model("-xdot - x**3", name="quartic")

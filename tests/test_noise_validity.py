@@ -16,7 +16,8 @@ import sys
 import pytest
 
 from kbm.errors import ModelError, ParameterError
-from numerics.thermal.stationary import Z_FLAG, noise_report, validity
+from numerics.thermal.stationary import noise_report, validity
+from numerics.noise.validity import Z_FLAG
 
 
 def kbm(*args: str) -> subprocess.CompletedProcess:

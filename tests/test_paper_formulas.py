@@ -137,9 +137,10 @@ def test_errata_evidence_small_delta():
     """At mu = 0.05, Delta = 0.1 (KBM valid) the corrected formulas are closer to the true
     cycle than the printed ones for every erratum (eqs. 6-10), and the printed eq. (7)
     calls the stable cycle unstable."""
-    from numerics.paper.errata import CASES, errata_evidence
+    from kbm.output.paper import ERRATA_CASES
+    from numerics.paper.errata import errata_evidence
 
-    rows = errata_evidence(CASES[:1])
+    rows = errata_evidence(ERRATA_CASES[:1])
     assert {r.equation for r in rows} == {"6", "7", "8", "9", "10"}
     for r in rows:
         assert r.success

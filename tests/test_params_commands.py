@@ -1,6 +1,6 @@
 """The parameter layer in ``kbm cycle``, ``predict``, ``compare``, ``series`` and ``derive``
 (issue 35, "one parameter and option layer for every command"): ``-p`` is read by
-:func:`kbm.cli._common.checked_params` against :class:`kbm.parameters.names.ParameterNames`, as in
+:func:`kbm.cli._common.checked_params` against :class:`kbm.parameters.values.ParameterNames`, as in
 ``kbm friction``, ``noise``, ``branch`` and ``lock``: an unknown name is refused with the
 closest valid one and every valid one, in ``-p`` terms; the paper's physical names are
 taken and converted to the scaled ones (eq. 3: ``delta = Delta/mu``, ``k = 2 pi/lam``).

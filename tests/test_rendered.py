@@ -11,9 +11,8 @@ import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
 
-from kbm.output.strict_json import Rendered, complex_json, json_fields, jsonable
+from kbm.output.strict_json import Rendered, json_fields, jsonable
 from numerics.shooting.branch_result import Branch, BranchPoint, SpecialPoint
-from numerics.shooting.orbit import multiplier_json
 
 _floats = st.floats(allow_nan=True, allow_infinity=True)
 _leaves = st.one_of(_floats, st.integers(-10**6, 10**6), st.text(max_size=5), st.booleans(),
@@ -32,11 +31,6 @@ def test_jsonable_is_strict_json_that_reads_back_to_itself(value):
     out = jsonable(value)
     assert json.loads(json.dumps(out, allow_nan=False)) == out
     assert jsonable(out) == out
-
-
-@given(st.complex_numbers(allow_nan=False, allow_infinity=False))
-def test_complex_json_is_the_multipliers_rendering(z):
-    assert complex_json(z) == multiplier_json(z)
 
 
 _point = st.builds(BranchPoint, _floats, _floats, _floats, _floats,

@@ -26,7 +26,7 @@ from scipy.integrate import solve_ivp
 from kbm.model.builtins import custom_model
 from numerics.shooting.coupled_orbit import coupled_cycle
 from numerics.cycles import continue_cycles, limit_cycle
-from numerics.locking.mutual import true_edges
+from numerics.locking.fold import true_edges
 from numerics.shooting.acceptance import (RESIDUAL_FACTOR, accepted, correction_tolerance,
                                         residual_tolerance, trivial_ok)
 from numerics.errors import ConvergenceError

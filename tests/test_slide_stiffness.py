@@ -22,7 +22,8 @@ from numerics.errors import IntegrationError
 from numerics.sliding.driven import driven_system
 from numerics.sliding.reference import MAX_STIFF_STEPS, slide
 from numerics.sliding.stiffness import (STABILITY_INTERVAL, StepGuard, damping_envelope,
-                                        damping_rate, damping_text, stiff_steps, stiff_t_end)
+                                        stiff_steps, stiff_t_end)
+from numerics.sliding.damping import damping_rate, damping_text
 
 
 def test_steps_follow_the_stability_law_and_the_bound_covers_them():

@@ -26,7 +26,8 @@ from kbm.errors import ParameterError
 from kbm.model.builtins import get_model
 from kbm.symbols import t, x, xdot
 
-from numerics.sliding.friction import FrictionSettings, friction_point
+from numerics.sliding.friction import friction_point
+from numerics.sliding.friction_records import FrictionSettings
 from numerics.sliding.maps import friction_law, friction_map
 from numerics.sliding.potential import saddle_node
 

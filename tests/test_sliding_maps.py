@@ -15,7 +15,7 @@ from kbm.output.strict_json import finite
 from numerics.cli import main
 from numerics.errors import NumericsError
 from numerics.executor import SchedulerError, chunk, connect, map_chunks
-from numerics.sliding.friction import FrictionSettings
+from numerics.sliding.friction_records import FrictionSettings
 from numerics.sliding.maps import compare_sliders, friction_map
 
 FAST = FrictionSettings(slips=4, sliding_wells=10)

@@ -218,6 +218,17 @@ def test_cli_vary_temperature_sweep(tmp_path, capsys):
     assert (tmp_path / "spectrum-vdp-linewidth.png").exists()
 
 
+def test_floquet_phase_response_refuses_a_driven_model():
+    """The phase response is that of an autonomous cycle: the model's one acceleration
+    (drive included) of a slider pulled at ``v != 0`` has no limit cycle, refused with the
+    package's error before any integration."""
+    from kbm.errors import NonAutonomousError
+    from numerics.spectrum.floquet import phase_response
+
+    with pytest.raises(NonAutonomousError, match="stage velocity"):
+        phase_response("sedf", {"mu": 0.1, "Delta": 1.5, "beta": 1.3, "lam": 1, "v": 0.1})
+
+
 @pytest.mark.slow
 def test_floquet_phase_response_limits():
     """The adjoint Floquet route (exact in mu, first order in D): van der Pol's <Z_v^2>

@@ -24,7 +24,8 @@ import numpy as np
 import pytest
 
 from numerics.noise import langevin_system
-from numerics.noise.langevin import PILOT_FLOOR, measured_step, natural_step, reachable_stderr
+from numerics.noise.langevin import natural_step
+from numerics.noise._pilot import PILOT_FLOOR, measured_step, reachable_stderr
 
 SEDF = {"Delta": 3, "beta": 1, "lam": 1, "v": 0}
 

@@ -21,7 +21,7 @@ from kbm.symbols import xdot
 
 from numerics.flow import template_cache as tc
 from numerics.flow.template import ModelTemplate, _build_template
-from numerics.flow.jit import cache_dir
+from numerics.flow.numba_cache import cache_dir
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -20,6 +20,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from kbm.slowflow import roots
 from numerics.cycles import guess
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -47,19 +48,19 @@ def test_brentq_is_scipys_brentq_to_the_last_bit(coefs, a, b, tols):
         expected = brentq(f, a, b, xtol=tols[0], rtol=tols[1])
     except RuntimeError:  # scipy's 100 steps not enough (e.g. x**3 at xtol 2e-12): so too here
         with pytest.raises(RuntimeError, match="did not converge"):
-            guess.brentq(f, a, b, *tols)
+            roots.brentq(f, a, b, *tols)
         return
-    assert guess.brentq(f, a, b, *tols) == expected
+    assert roots.brentq(f, a, b, *tols) == expected
 
 
 def test_brentq_refuses_a_bracket_without_a_sign_change():
     with pytest.raises(ValueError, match="different signs"):
-        guess.brentq(lambda x: x * x + 1.0, -1.0, 1.0)
+        roots.brentq(lambda x: x * x + 1.0, -1.0, 1.0)
 
 
 def test_brentq_finds_sqrt2_to_the_tolerance():
     """The positive root of ``x^2 - 2`` (exact: sqrt 2) to ``xtol``."""
-    assert abs(guess.brentq(lambda x: x * x - 2.0, 0.0, 2.0, 1e-15, 1e-14) - math.sqrt(2)) \
+    assert abs(roots.brentq(lambda x: x * x - 2.0, 0.0, 2.0, 1e-15, 1e-14) - math.sqrt(2)) \
         < 1e-14
 
 
@@ -325,7 +326,7 @@ def test_the_cycle_from_a_card_equals_the_cycle_bound_anew(tmp_path, monkeypatch
     from numerics._memo import clear_caches
     from numerics.flow import card
 
-    from numerics.flow.jit import cache_dir
+    from numerics.flow.numba_cache import cache_dir
 
     for p in cache_dir().iterdir():  # the compiled flows, so that only the card is cold
         if p.name.startswith(("kbm_flow_", "kbm_src_", "kbm_aot_")) or p.name == "__pycache__":

@@ -41,12 +41,11 @@ from .sampling import check_order, check_tol, parse_a_range, require_values
 from ..symbols import x, xdot
 from ..model.forced_builtins import get_forced_model
 from ..expansion.forced import derive_forced
-from .sampled import SampledRun, resolve, resolved_angles, sampled_expansion
+from .sampled import SampledRun, sampled_expansion
 from ..model.forced import ForcedOscillator, Resonance, nu, theta
 from .forced_result import NumericForcedExpansion, SlowSeries
 
-__all__ = ["numeric_derive_forced", "forced_expansion", "NumericForcedExpansion", "SlowSeries",
-           "resolved_angles", "resolve", "DEFAULT_TOL", "MAX_ORDER_NUMERIC"]
+__all__ = ["numeric_derive_forced", "forced_expansion", "DEFAULT_TOL", "MAX_ORDER_NUMERIC"]
 
 #: default tolerance, relative to the size of each order's quantities on the interval
 DEFAULT_TOL = 1e-9

@@ -109,7 +109,7 @@ def parse_params(items: list[str]) -> dict[str, str]:
 
 def checked_params(items: list[str], model: object) -> dict[str, str]:
     """``-p NAME=VALUE`` options read (:func:`parse_params`) and checked (:func:`check`)
-    against the names ``model`` takes (:class:`kbm.parameters.names.ParameterNames`: ``mu``, the
+    against the names ``model`` takes (:class:`kbm.parameters.values.ParameterNames`: ``mu``, the
     physical names such as ``Delta``, ``lam``, the scaled ones such as ``delta = Delta/mu``,
     ``k = 2 pi/lam``).
 

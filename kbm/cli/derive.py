@@ -308,7 +308,8 @@ def _emit(res, args: argparse.Namespace) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..expansion.one_dof import MAX_ORDER, check_cost, derive, symbolic_order_limit
+    from ..expansion.one_dof import MAX_ORDER, derive, symbolic_order_limit
+    from ..expansion.cost import check_cost
 
     if is_coupled(args):
         return _run_coupled(args)

@@ -129,7 +129,7 @@ def derive_coupled(model: CoupledOscillators | str, order: int,
         For an order outside ``1..MAX_ORDER`` (``1..MAX_ORDER_ONE`` for one degree of
         freedom).
     kbm.errors.CostError
-        For one degree of freedom, an expansion above :data:`kbm.expansion.one_dof.COST_BUDGET`.
+        For one degree of freedom, an expansion above :data:`kbm.expansion.cost.COST_BUDGET`.
     kbm.expansion.resonance.UndeclaredResonanceError
         For a (near) resonance that was not declared (it is named).
     kbm.errors.ModelError

@@ -44,7 +44,7 @@ from ..algebra.bessel_fourier import SymAlgebra
 from ..algebra.laurent import LaurentRing
 from ..algebra.lazy_series import trig_argument_message, unsupported_message
 from ..algebra.poly_fourier import PolyAlgebra
-from .cost import COST_BUDGET, check_cost, expansion_cost
+from .cost import check_cost
 from ..errors import NonAutonomousError, OrderError, UnsupportedTermError
 from ..model.builtins import Oscillator, get_model
 from ..model.oscillator import TO_ONE
@@ -56,7 +56,7 @@ if TYPE_CHECKING:  # the coupled engine imports this module
     from .coupled_result import CoupledKBMResult
     from ..model.coupled import CoupledOscillators
 
-__all__ = ["derive", "run_recursion", "RawExpansion", "MAX_ORDER_TRIG", "MAX_ORDER", "COST_BUDGET", "expansion_cost", "check_cost",
+__all__ = ["derive", "run_recursion", "RawExpansion", "MAX_ORDER_TRIG", "MAX_ORDER",
            "symbolic_order_limit"]
 
 #: highest order kept symbolic for F with sin(k x) or cos(k x) (any order is evaluated

@@ -241,7 +241,7 @@ class CoupledOscillators:
                 use_defaults: bool = True) -> dict[str, sp.Expr]:
         """Exact values of the model's parameters (and ``mu``) from the given ones, physical
         names converted (``delta = Delta/mu``) and the defaults filled in: the one binding
-        layer, :func:`kbm.parameters.names.scaled_values` (:func:`kbm.parameters.bound.bind` binds
+        layer, :func:`kbm.parameters.values.scaled_values` (:func:`kbm.parameters.bound.bind` binds
         its result).
 
         Raises

@@ -24,7 +24,7 @@ of any instance, a case ``N = 1`` included (``tests/test_family.py``), and the g
 engine gives the same expansion as the special one (``tests/test_coupled_engine.py``:
 :func:`kbm.derive` to order 5, and :func:`kbm.expansion.forced.derive_forced` to order 3 on every
 polynomial forced built-in).  Every instance binds its parameter values through one layer:
-:func:`kbm.parameters.values.scaled_values` (re-exported by :mod:`kbm.parameters.names`) turns
+:func:`kbm.parameters.values.scaled_values` turns
 physical names into scaled ones (``delta = Delta/mu``) and :func:`kbm.parameters.bound.bind` binds
 them.  The engines of one degree of freedom stay for what the general one does not do (the Bessel
 sums of ``sin(k x)`` above the first order, :mod:`kbm.algebra.coupled_bessel`) and for the

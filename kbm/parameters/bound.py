@@ -17,7 +17,7 @@ import sympy as sp
 
 from ..errors import ParameterError
 from ..model.builtins import MODELS, Oscillator, _drive_variant, get_model
-from .rational_values import line_floats, rational_tree, tree_value
+from .rational_values import line_floats, line_rates, rational_tree, tree_value
 from .values import FrozenMap, parameter_value
 
 if TYPE_CHECKING:  # the coupled package imports this module
@@ -283,12 +283,8 @@ class ParameterLine:
         if self._slow:
             raise ParameterError(f"{self.vary} changes the model itself; its rates are not "
                                  "those of parameter values")
-        env = {k: float(v) for k, v in self._given.items()}
-        env[self.vary] = float(value)
-        out = {self.vary: 1.0} if self._direct else {}
-        for scaled, f, need in self._rates:
-            out[scaled] = float(f(*(env[n] for n in need)))
-        return out
+        return line_rates(self.vary, value, {k: float(v) for k, v in self._given.items()},
+                          self._direct, self._rates)
 
     def __call__(self, value: float) -> BoundModel:
         """The model bound with ``vary = value`` (the other values as given)."""

@@ -7,9 +7,9 @@ the physical ones of the paper map to the scaled ones the engines use (eqs. 3 an
 ``D`` or as the temperature ``T = kT = D/mu`` of a linearly damped oscillator
 (fluctuation-dissipation, Kubo 1966: ``<x'^2> = kT`` for unit mass).
 
-:class:`ParameterNames` is what a command checks the user's names against
-(:meth:`ParameterNames.check`), and :func:`scaled_values` the one binding layer of every
-model (both defined in :mod:`kbm.parameters.values`, below the model types, and re-exported here);
+:class:`kbm.parameters.values.ParameterNames` is what a command checks the user's names against,
+and :func:`kbm.parameters.values.scaled_values` the one binding layer of every model (both
+defined in :mod:`kbm.parameters.values`, below the model types);
 :func:`lookup` finds a built-in model of any kind by name (the one-degree-of-freedom, forced and
 coupled ones) with a message that lists them all.  :func:`physical_axis` binds a ``--vary`` range
 given in a physical name (``Delta=0:1``) to the scaled parameter it is computed as (``delta`` over
@@ -25,13 +25,13 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ..errors import ModelError, ParameterError
-from .values import NOISE_NAMES, ParameterNames, closest, parameter_value, scaled_values
+from .values import ParameterNames, closest, parameter_value
 
 if TYPE_CHECKING:
     import sympy as sp
 
-__all__ = ["NOISE_NAMES", "ParameterNames", "names_of", "lookup", "builtin_model",
-           "builtin_names", "to_physical", "noise_from", "closest", "scaled_values",
+__all__ = ["names_of", "lookup", "builtin_model",
+           "builtin_names", "to_physical", "noise_from",
            "PhysicalAxis", "physical_axis", "MONOTONE_POINTS"]
 
 

@@ -19,7 +19,7 @@ from typing import Any
 
 from ..errors import ParameterError
 
-__all__ = ["rational_tree", "tree_value", "line_floats"]
+__all__ = ["rational_tree", "tree_value", "line_floats", "line_rates"]
 
 
 def rational_tree(expr: Any) -> list | None:
@@ -110,3 +110,15 @@ def line_floats(vary: str, value: float, fractions: Mapping[str, Fraction], dire
         env[scaled] = new
         out[scaled] = float(new)
     return out, env
+
+
+def line_rates(vary: str, value: float, given: Mapping[str, float], direct: bool,
+               rates: Sequence[tuple[str, Callable, Sequence[str]]]) -> dict[str, float]:
+    """``d(value)/d(vary)`` at ``vary = value`` of the values that change along a line (1 for
+    ``vary`` where ``direct``; ``f(*need)`` of each ``(scaled, f, need)``): line and card alike."""
+    env = dict(given)
+    env[vary] = float(value)
+    out = {vary: 1.0} if direct else {}
+    for scaled, f, need in rates:
+        out[scaled] = float(f(*(env[n] for n in need)))
+    return out

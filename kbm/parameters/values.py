@@ -1,8 +1,7 @@
 """Parameter values and names: exact reading of user input (:func:`parameter_value`), the
 read-only mapping models hold (:class:`FrozenMap`), the names a model's values may be given in
 (:class:`ParameterNames`: scaled, physical, noise ``D`` or ``T = D/mu``) and the one binding
-layer of every model, :func:`scaled_values` (physical names turned into scaled ones); all of
-them re-exported by :mod:`kbm.parameters.names`."""
+layer of every model, :func:`scaled_values` (physical names turned into scaled ones)."""
 
 from __future__ import annotations
 

@@ -2,8 +2,6 @@
 Newton's method on a defining system ``G: R^(n+1) -> R^n`` bordered by one linear row
 (:func:`correct`) and ``G'`` by central differences (:func:`numerical_jacobian`); the
 tangent is the null vector of ``G'`` (:func:`numerics.shooting.arclength.null_vector`).
-
-Re-exported by :mod:`numerics.bifurcation.curve`.
 """
 
 from __future__ import annotations

@@ -30,10 +30,10 @@ Methods*):
 - resume: :meth:`CurvePath.to_records` / :meth:`CurvePath.from_records` and
   ``continue_curve(..., resume=path)`` continue from the last point and its tangent.
 
-The records (:class:`PathPoint`, :class:`TestEvent`, :class:`CurvePath`) live in
-:mod:`numerics.bifurcation.path`, the corrector (:func:`correct`, :func:`numerical_jacobian`)
-in :mod:`numerics.bifurcation.corrector`, the tangent (:func:`null_vector`) in
-:mod:`numerics.shooting.arclength`; all are re-exported here.
+The records (:class:`~numerics.bifurcation.path.PathPoint`, :class:`~numerics.bifurcation.path.TestEvent`,
+:class:`~numerics.bifurcation.path.CurvePath`) live in :mod:`numerics.bifurcation.path`, the
+corrector (:func:`~numerics.bifurcation.corrector.correct`) in :mod:`numerics.bifurcation.corrector`,
+the tangent (:func:`~numerics.shooting.arclength.null_vector`) in :mod:`numerics.shooting.arclength`.
 """
 
 from __future__ import annotations
@@ -45,13 +45,12 @@ import numpy as np
 
 from kbm.slowflow.arclength import walk
 
-from numerics.bifurcation.corrector import FAILURES, _jac, correct, numerical_jacobian
+from numerics.bifurcation.corrector import FAILURES, _jac, correct
 from numerics.bifurcation.path import CurvePath, PathPoint, TestEvent
 from numerics.errors import ConvergenceError, NumericsError
 from numerics.shooting.arclength import null_vector
 
-__all__ = ["PathPoint", "TestEvent", "CurvePath", "continue_curve", "correct", "null_vector",
-           "numerical_jacobian"]
+__all__ = ["continue_curve"]
 
 
 def _evaluate_tests(tests, pt: PathPoint) -> dict:

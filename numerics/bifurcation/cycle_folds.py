@@ -18,7 +18,8 @@ import math
 
 import numpy as np
 
-from numerics.bifurcation.curve import CurvePath, continue_curve
+from numerics.bifurcation.curve import continue_curve
+from numerics.bifurcation.path import CurvePath
 from numerics.bifurcation.result import Curve
 from numerics.errors import NumericsError
 

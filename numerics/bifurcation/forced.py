@@ -50,14 +50,12 @@ from collections.abc import Callable, Mapping, Sequence
 import numpy as np
 
 from kbm.errors import ParameterError
-from numerics.bifurcation.forced_averaged import averaged_fold_curves
 from numerics.bifurcation.result import Codim2Point, Curve
 from numerics.bifurcation.twoway import (FD_STEP, Task, both_ways, codim2_points, dropped_seed,
                                          interruptible, joined, on_known, trimmed, why_short)
 from numerics.errors import NumericsError
 
-__all__ = ["DrivenProblem", "MAP_TESTS", "forced_seeds", "forced_true_curves",
-           "averaged_fold_curves", "joined"]
+__all__ = ["DrivenProblem", "MAP_TESTS", "forced_seeds", "forced_true_curves"]
 #: kinds of codim-1 curves of the stroboscopic map and their test functions
 MAP_TESTS = {
     "fold": {"bogdanov-takens": lambda tr, det: det - 1.0,

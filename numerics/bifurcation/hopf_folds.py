@@ -42,7 +42,7 @@ import numpy as np
 import sympy as sp
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
-from numerics.bifurcation.curve import correct, numerical_jacobian
+from numerics.bifurcation.corrector import correct, numerical_jacobian
 from numerics.errors import ConvergenceError
 from numerics.flow.template import acceleration_jacobian
 

@@ -34,17 +34,14 @@ import numpy as np
 
 from numerics.bifurcation import connections as C
 from numerics.bifurcation.autonomous import OneDof
-from numerics.bifurcation.curve import correct
+from numerics.bifurcation.corrector import correct
 from numerics.bifurcation.cycle_folds import families, fold_curves
 from numerics.bifurcation.result import Curve, Diagram
 from numerics.bifurcation.run import Interrupted, Run, Settings, distances, near, runs
 from numerics.bifurcation.store import PathStore
 from numerics.errors import NumericsError
 
-# Run was _Run here; the old names kept for callers
-_Run = Run
-
-__all__ = ["Settings", "Interrupted", "autonomous_diagram"]
+__all__ = ["autonomous_diagram"]
 
 
 def _scale(run: Run, n_state: int, state_scale=1.0) -> np.ndarray:

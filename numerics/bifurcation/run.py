@@ -12,7 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from numerics.bifurcation.curve import CurvePath, continue_curve
+from numerics.bifurcation.curve import continue_curve
+from numerics.bifurcation.path import CurvePath
 from numerics.bifurcation.result import Codim2Point, Curve, Diagram
 from numerics.bifurcation.store import PathStore
 from numerics.errors import NumericsError

@@ -14,7 +14,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from numerics.bifurcation.curve import CurvePath, continue_curve
+from numerics.bifurcation.curve import continue_curve
+from numerics.bifurcation.path import CurvePath
 from numerics.bifurcation.result import Codim2Point, Curve
 
 __all__ = ["interruptible", "FD_STEP", "Task", "both_ways", "joined", "trimmed",

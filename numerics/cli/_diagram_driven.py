@@ -166,9 +166,9 @@ def _forced_parts(model, values, axes, ranges, order, store, progress, max_point
     """The forced diagram's parts, each kept in ``store`` when finished (``true``,
     ``averaged``), and the paths of true task ``k`` (``task-k``) as they are when it ends or
     Ctrl-C stops it."""
-    from numerics.bifurcation.curve import CurvePath
-    from numerics.bifurcation.forced import (DrivenProblem, averaged_fold_curves,
-                                             forced_seeds, forced_true_curves)
+    from numerics.bifurcation.path import CurvePath
+    from numerics.bifurcation.forced import DrivenProblem, forced_seeds, forced_true_curves
+    from numerics.bifurcation.forced_averaged import averaged_fold_curves
 
     from numerics.bifurcation.twoway import seed_levels
 

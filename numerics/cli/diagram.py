@@ -118,7 +118,8 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run_autonomous(args, model, params, axes, ranges, order) -> int:
-    from numerics.bifurcation.oned import Interrupted, Settings, autonomous_diagram
+    from numerics.bifurcation.oned import autonomous_diagram
+    from numerics.bifurcation.run import Interrupted, Settings
     from numerics.bifurcation.store import PathStore
 
     settings = Settings(L=args.x_range, grid=_grid(args.grid), max_points=args.max_points,

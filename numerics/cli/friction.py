@@ -110,11 +110,11 @@ def _check_outputs(args: argparse.Namespace) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from kbm.model.builtins import parameter_value
-    from kbm.parameters.names import closest
+    from kbm.parameters.values import closest
     from numerics.cli.params.options import check_ensemble, stored
     from numerics.cli.params.values import check, given, parse_vary, physical
     from numerics.executor import connect
-    from numerics.sliding.friction import FrictionSettings
+    from numerics.sliding.friction_records import FrictionSettings
     from numerics.sliding.maps import axis_values, friction_map
 
     if args.model.startswith(("sedf-dimer", "sedf-chain")):

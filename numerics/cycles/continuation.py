@@ -18,7 +18,7 @@ Special points, each labelled with its parameter value:
   (the cycle reaches a separatrix; :meth:`CycleContinuation.homoclinic`);
 - ``end``: the step fell below ``ds_min`` (with the reason).
 
-Every integration is bounded (:data:`numerics.cycles.shooting.NEWTON_MAX_STEPS`),
+Every integration is bounded (:data:`numerics.shooting.orbit.NEWTON_MAX_STEPS`),
 every loop too (``max_points``, ``max_iter``, ``ds_min``): the continuation never hangs.
 
 References
@@ -36,7 +36,7 @@ import numpy as np
 
 from kbm.errors import ParameterError
 
-from numerics.shooting.planar import TRIVIAL_TOL, PlanarPoint, PlanarProblem
+from numerics.shooting.planar import PlanarPoint, PlanarProblem
 from numerics.shooting.branch_result import Branch, SpecialPoint, branch_point
 from numerics.cycles.homoclinic import aitken, end_estimate, homoclinic_reason, long_period_points
 from numerics.cycles.result import LimitCycle
@@ -51,7 +51,7 @@ from numerics.shooting.locate import fold_on_arc
 if TYPE_CHECKING:  # the symbolic model is bound on use (a model card: issue 39)
     from kbm.model.builtins import Oscillator
 
-__all__ = ["continue_cycles", "TRIVIAL_TOL", "CycleContinuation"]
+__all__ = ["continue_cycles", "CycleContinuation"]
 
 
 class CycleContinuation(Continuation):

@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 from kbm.errors import KBMError
-from kbm.slowflow.roots import amplitude_roots, brentq
+from kbm.slowflow.roots import amplitude_roots
 
 from numerics._memo import memo
 
@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     from kbm.parameters.bound import BoundModel
     from kbm.model.builtins import Oscillator
 
-__all__ = ["kbm_guess", "energy_cycles", "brentq", "FirstOrderRates",
+__all__ = ["kbm_guess", "energy_cycles", "FirstOrderRates",
            "rates_key"]
 
 #: the record kind and the options of the first-order rates in the template cache

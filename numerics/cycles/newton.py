@@ -15,7 +15,7 @@ from numerics.shooting.orbit import NEWTON_MAX_STEPS, shoot
 from numerics.errors import ConvergenceError, NoCycleError
 from numerics.flow import extended_state, flow
 
-__all__ = ["NEWTON_MAX_STEPS", "newton", "check_nontrivial"]
+__all__ = ["newton", "check_nontrivial"]
 
 
 

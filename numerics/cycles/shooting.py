@@ -31,7 +31,7 @@ from kbm.errors import NonAutonomousError
 
 from numerics.cycles.finalpass import final_pass
 from numerics.cycles.guess import energy_cycles, kbm_guess
-from numerics.cycles.newton import NEWTON_MAX_STEPS, check_nontrivial, newton
+from numerics.cycles.newton import check_nontrivial, newton
 from numerics.cycles.result import LimitCycle
 from numerics.cycles.transient import transient
 from numerics.errors import ConvergenceError, IntegrationError, NoCycleError
@@ -41,7 +41,7 @@ if TYPE_CHECKING:  # the symbolic model is built on use (a model card: issue 39)
     from kbm.parameters.bound import BoundModel
     from kbm.model.builtins import Oscillator
 
-__all__ = ["limit_cycle", "NEWTON_MAX_STEPS"]
+__all__ = ["limit_cycle"]
 
 
 def limit_cycle(model: Oscillator | str | BoundModel, params: Mapping[str, object] | None = None,

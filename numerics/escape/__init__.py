@@ -7,10 +7,11 @@ Convention: ``x'' + ... = sqrt(2 D) xi(t)``, unit mass, ``<xi(t) xi(t')> = delta
 for linear damping ``mu`` the temperature is ``kT = D/mu``.
 """
 
-from .envelope import (AnnulusEnvelope, EnergyEnvelope, boltzmann_moment, energy_envelope,
-                       noise_level)
-from .rate import (EscapeRate, averaged_escape, central_well, kramers_low_friction,
-                   melnikov_meshkov_factor, separatrix_action)
+from .envelope import EnergyEnvelope, boltzmann_moment, energy_envelope
+from ._annulus import AnnulusEnvelope
+from .noise_params import noise_level
+from .rate import EscapeRate, averaged_escape, central_well, kramers_low_friction, separatrix_action
+from .turnover import melnikov_meshkov_factor
 from .turnover import spatial_diffusion_factor, turnover_rate, two_exit_factor
 
 __all__ = [

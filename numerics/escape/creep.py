@@ -32,7 +32,7 @@ from scipy.optimize import brentq, curve_fit
 from kbm.errors import ParameterError
 
 from ..sliding.potential import saddle_node
-from .rate import melnikov_meshkov_factor
+from .turnover import melnikov_meshkov_factor
 
 __all__ = ["SlipForce", "slip_force", "CreepFit", "fit_creep", "barrier_at"]
 

@@ -45,14 +45,10 @@ from kbm.model.conservative import ConservativeSplit
 from kbm.errors import ModelError
 
 from ..energy.portrait import Portrait
-from ._annulus import (MAX_INFLECTIONS, AnnulusEnvelope, check_drift, fitted, orbit_values,
-                       prepared)
+from ._annulus import AnnulusEnvelope, check_drift, fitted, orbit_values, prepared
 from ._orbits import interior_saddles
-from .noise_params import NoStationaryState, check_mu, noise_level
 
-__all__ = ["EnergyEnvelope", "AnnulusEnvelope", "energy_envelope", "origin_well_envelope",
-           "noise_level", "boltzmann_moment", "NoStationaryState", "check_mu",
-           "MAX_INFLECTIONS"]
+__all__ = ["EnergyEnvelope", "energy_envelope", "origin_well_envelope", "boltzmann_moment"]
 
 
 @dataclass(frozen=True, eq=False)

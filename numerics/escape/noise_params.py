@@ -1,6 +1,5 @@
 """The noise level and the small parameter of a noisy model, checked before any work, and the
-exception of a model with no stationary state (split from :mod:`numerics.escape.envelope`,
-which re-exports these names).
+exception of a model with no stationary state (split from :mod:`numerics.escape.envelope`).
 
 Convention: ``x'' + ... = sqrt(2 D) xi(t)``, ``<xi(t) xi(t')> = delta(t - t')``.
 """

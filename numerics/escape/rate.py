@@ -45,8 +45,7 @@ from ._panels import Piecewise
 from .envelope import EnergyEnvelope
 from .turnover import melnikov_meshkov_factor, turnover_rate
 
-__all__ = ["EscapeRate", "averaged_escape", "separatrix_action", "kramers_low_friction",
-           "melnikov_meshkov_factor", "central_well", "barrier_frequency"]
+__all__ = ["EscapeRate", "averaged_escape", "separatrix_action", "kramers_low_friction", "central_well", "barrier_frequency"]
 
 
 def central_well(env: EnergyEnvelope):

@@ -7,7 +7,8 @@ import math
 from kbm.errors import ParameterError
 
 from ..noise.budget import STEP_BUDGET
-from .envelope import check_mu, noise_level, origin_well_envelope
+from .envelope import origin_well_envelope
+from .noise_params import check_mu, noise_level
 from .rate import averaged_escape
 
 __all__ = ["escape_report", "MIN_TRAJECTORIES"]

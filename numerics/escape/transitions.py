@@ -121,7 +121,7 @@ def simulated_transitions(split, D: float, saddles, *, kT: float | None, traject
     seed : int
     wells : (x_wl, x_wr), optional
         The lines; by default the next wells' bottoms
-        (:func:`numerics.fokker_planck.escape.next_wells`, where the FP sink sits).
+        (:func:`numerics.fokker_planck._model.next_wells`, where the FP sink sits).
     workers : int, optional
     settle : float, optional
         Count the waiting times after this time only (of the trajectories still in the well
@@ -141,7 +141,7 @@ def simulated_transitions(split, D: float, saddles, *, kT: float | None, traject
     if trajectories < 2:
         raise ParameterError("at least 2 trajectories are needed for a standard error")
     if wells is None:
-        from ..fokker_planck.escape import next_wells
+        from ..fokker_planck._model import next_wells
 
         wells = next_wells(split.numpy_functions()[0], saddles)
     wl, wr = map(float, wells)

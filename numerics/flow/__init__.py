@@ -24,8 +24,8 @@
   flow over one response period (:class:`~numerics.flow.forced_system.ForcedSystem`).
 """
 
-from numerics.flow.compiled import (CompiledLine, CompiledModel, ModelTemplate, compile_model,
-                                    extended_state, model_template, template_flow)
+from numerics.flow.compiled import CompiledLine, CompiledModel, compile_model, extended_state
+from numerics.flow.template import ModelTemplate, model_template, template_flow
 from numerics.flow.integrate import (JIT_METHOD, JIT_STIFF_THRESHOLD, STIFF_THRESHOLD, Method,
                                      choose_method, flow, integrate, solve, stiffness)
 from numerics.flow.jit import FlowResult, jit_available, jit_flow

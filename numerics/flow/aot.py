@@ -147,7 +147,7 @@ def build(folder: Path, source: str, module: ModuleType, what: str = "the model'
     numba) ahead of time into ``folder``; ``False`` where that fails (no C compiler, no
     ``numba.pycc``): the just-in-time code is then used, at its speed.  With ``notice``
     announced on standard error as numba's compilations are
-    (:func:`numerics.flow.jit.compile_notice` decides when)."""
+    (:func:`numerics.flow.numba_cache.compile_notice` decides when)."""
     name = module_name(source)
     failed = folder / f"{name}.failed"
     if not builds_wanted() or _path(folder, name).exists() or failed.exists():

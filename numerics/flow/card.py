@@ -250,7 +250,7 @@ def card_model(name: object, params: Mapping[str, object] | None):
         return bind(model_of(name), params)
 
     def template_now():
-        from numerics.flow.compiled import model_template
+        from numerics.flow.template import model_template
 
         return model_template(bind_now().model)
 

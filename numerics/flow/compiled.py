@@ -5,8 +5,8 @@ The model is defined once, in :mod:`kbm`; here its acceleration
 (Jacobian, divergence) and lambdified together with the dissipation integrand
 and the potential energy, for given parameter values.
 
-The template (:class:`ModelTemplate`, :func:`model_template`, :func:`template_flow`) lives
-in :mod:`numerics.flow.template` and is re-exported here.
+The template (:class:`~numerics.flow.template.ModelTemplate`,
+:func:`~numerics.flow.template.model_template`) lives in :mod:`numerics.flow.template`.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ import numpy as np
 
 from kbm.errors import ParameterError
 
-from numerics.flow.template import ModelTemplate, model_template, template_flow
+from numerics.flow.template import ModelTemplate, model_template
 
 if TYPE_CHECKING:  # sympy and the symbolic models imported on use (issue 39)
     import sympy as sp
@@ -29,8 +29,7 @@ if TYPE_CHECKING:  # sympy and the symbolic models imported on use (issue 39)
     from kbm.parameters.bound import BoundModel
     from kbm.model.builtins import Oscillator
 
-__all__ = ["CompiledLine", "CompiledModel", "ModelTemplate", "compile_model", "model_template",
-           "template_flow", "extended_state"]
+__all__ = ["CompiledLine", "CompiledModel", "compile_model", "extended_state"]
 
 
 def extended_state(x0: float, v0: float = 0.0) -> list[float]:

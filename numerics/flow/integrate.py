@@ -34,7 +34,8 @@ import numpy as np
 from kbm.errors import ParameterError
 
 from numerics.errors import IntegrationError
-from numerics.flow.compiled import CompiledModel, compile_model, template_flow
+from numerics.flow.compiled import CompiledModel, compile_model
+from numerics.flow.template import template_flow
 
 if TYPE_CHECKING:
     from kbm.parameters.bound import BoundModel

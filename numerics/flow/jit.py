@@ -38,14 +38,12 @@ from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
-from numerics.flow.numba_cache import (COMPILE_SECONDS, _announce_compile, _load,
-                                       _notice_wanted, cache_dir, compile_notice)
+from numerics.flow.numba_cache import _announce_compile, _load, _notice_wanted, cache_dir
 
 if TYPE_CHECKING:
     import sympy as sp
 
-__all__ = ["jit_flow", "jit_available", "cache_dir", "FlowResult", "flow_cache_key",
-           "compile_notice", "cached_flow", "COMPILE_SECONDS"]
+__all__ = ["jit_flow", "jit_available", "FlowResult", "flow_cache_key", "cached_flow"]
 
 #: version of the generated source (part of the file's hash)
 _VERSION = "4"

@@ -29,7 +29,7 @@ from collections.abc import Callable, Mapping
 from fractions import Fraction
 from typing import Any
 
-from kbm.parameters.rational_values import line_floats
+from kbm.parameters.rational_values import line_floats, line_rates
 
 __all__ = ["compiled_line", "source_digest", "line_key", "read_line", "write_line", "CardLine", "remember"]
 
@@ -64,7 +64,8 @@ def _from_card(card: Mapping, model, params, vary: str, at: float):
     as ``__init__`` sets them from the symbolic line), or ``None`` if the card or its
     template's record is damaged (then the line is built)."""
     from numerics.flow.card import CardTemplate
-    from numerics.flow.compiled import CompiledLine, model_template
+    from numerics.flow.compiled import CompiledLine
+    from numerics.flow.template import model_template
     from numerics.flow.template_cache import read_record
 
     def build():
@@ -218,13 +219,9 @@ class CardLine:
                            lambda _: self.full().floats(value))[0]
 
     def rates(self, value: float) -> dict[str, float]:
-        """As :meth:`kbm.parameters.bound.ParameterLine.rates`."""
-        env = dict(self._given)
-        env[self.vary] = float(value)
-        out = {self.vary: 1.0} if self._direct else {}
-        for scaled, f, need in self._rates:
-            out[scaled] = float(f(*(env[n] for n in need)))
-        return out
+        """As :meth:`kbm.parameters.bound.ParameterLine.rates` (the same code,
+        :func:`kbm.parameters.rational_values.line_rates`)."""
+        return line_rates(self.vary, value, self._given, self._direct, self._rates)
 
     def __call__(self, value: float):
         """The model bound at ``vary = value`` (builds the line: sympy)."""

@@ -1,5 +1,5 @@
 """The cache folder of the generated flow modules, their import, and the first-run notice of
-numba's compilation (split from :mod:`numerics.flow.jit`, which re-exports these names).
+numba's compilation (split from :mod:`numerics.flow.jit`).
 
 The folder is ``$KBM_CACHE_DIR``, else ``$XDG_CACHE_HOME/kbm`` or ``~/.cache/kbm`` (a
 temporary folder if that is not writable); a generated module is kept there under the

@@ -28,7 +28,8 @@ from pathlib import Path
 import numpy as np
 
 from numerics.errors import IntegrationError
-from numerics.flow.compiled import CompiledModel, ModelTemplate
+from numerics.flow.compiled import CompiledModel
+from numerics.flow.template import ModelTemplate
 from numerics.flow.template import acceleration_jacobian, jit_memo
 
 __all__ = ["N_SENSITIVITY", "sensitivity_flow", "sensitivity_state", "flow_with_sensitivity",
@@ -68,7 +69,8 @@ def sensitivity_flow(template: ModelTemplate):
     import sympy as sp
 
     from kbm.symbols import t as T, x as X, xdot as V
-    from numerics.flow.jit import COMPILE_SECONDS, jit_flow
+    from numerics.flow.jit import jit_flow
+    from numerics.flow.numba_cache import COMPILE_SECONDS
 
     names = [sp.Symbol(n) for n in template.names]
     rates = [sp.Symbol(f"rate_{n}") for n in template.names]

@@ -2,8 +2,7 @@
 arguments (:class:`ModelTemplate`), lambdified once per model (:func:`model_template`), and
 the compiled extended flow of a template (:func:`template_flow`).
 
-Split from :mod:`numerics.flow.compiled`, which binds a template to parameter values and
-re-exports these names.
+Split from :mod:`numerics.flow.compiled`, which binds a template to parameter values.
 """
 
 from __future__ import annotations
@@ -22,7 +21,7 @@ if TYPE_CHECKING:  # sympy and the symbolic models imported on use (issue 39)
     from kbm.model.builtins import Oscillator
 
 __all__ = ["ModelTemplate", "model_template", "template_flow", "jit_memo",
-           "acceleration_jacobian"]
+           "acceleration_jacobian", "conservative_potential"]
 
 
 @dataclass(frozen=True)
@@ -106,6 +105,20 @@ def acceleration_jacobian(acc: sp.Expr, name: str) -> tuple[sp.Expr, sp.Expr]:
     return dadx, dadv
 
 
+def conservative_potential(model: Oscillator) -> sp.Expr | None:
+    """``-int_0^x F_c(s) ds`` of the conservative force ``F_c`` (without ``omega0^2 x``), or
+    ``None`` where ``F_c`` depends on ``t``: the template's energy and the sliders' energy and
+    energy audit (:mod:`numerics.sliding.driven`)."""
+    import sympy as sp
+
+    from kbm.symbols import t as T, x as X
+    s = sp.Dummy("s")
+    cons = model.conservative_force().subs(X, s)
+    if cons.has(T):
+        return None
+    return -sp.integrate(cons, (s, 0, X), conds="none")
+
+
 def _build_template(model: Oscillator) -> ModelTemplate:
     import sympy as sp
 
@@ -119,12 +132,7 @@ def _build_template(model: Oscillator) -> ModelTemplate:
     acc = model.acceleration()
     dadx, dadv = acceleration_jacobian(acc, model.name)
     plus, minus, factor = model.dissipation_parts()
-    s = sp.Dummy("s")
-    cons = model.conservative_force().subs(X, s)
-    if cons.has(T):
-        U = model.omega0**2 * X**2 / 2
-    else:
-        U = model.omega0**2 * X**2 / 2 - sp.integrate(cons, (s, 0, X), conds="none")
+    U = model.omega0**2 * X**2 / 2 + (conservative_potential(model) or 0)
     energy_expr = V**2 / 2 + U
     y = sp.symbols("y0:9")
     es = {X: y[0], V: y[1]}

@@ -19,7 +19,7 @@ The cache changes the time, never the result: the cold run builds the record and
 uses the functions made from it exactly as a warm run does (:func:`cached_template`), so
 both run the same code with the same globals.  Functions whose globals are not module
 attributes or numbers are not stored, and the template is used as built.  The folder is
-:func:`numerics.flow.jit.cache_dir` (``$KBM_CACHE_DIR``), the folder of the compiled flows.
+:func:`numerics.flow.numba_cache.cache_dir` (``$KBM_CACHE_DIR``), the folder of the compiled flows.
 """
 
 from __future__ import annotations
@@ -277,7 +277,7 @@ def template_from_record(model: object, record: Mapping,
 
 
 def _path(key: str, kind: str = "template") -> Path:
-    from numerics.flow.jit import cache_dir
+    from numerics.flow.numba_cache import cache_dir
 
     return cache_dir() / f"kbm_{kind}_{key}.json"
 

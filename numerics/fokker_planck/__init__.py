@@ -21,7 +21,9 @@ symmetric under ``(x, v) -> (-x, -v)``, its ladder's last step in :mod:`._statio
 stated error."""
 
 from .escape import KramersEscape, kramers_escape
-from .kramers import KramersSolution, kramers_operator, stationary_kramers, velocity_terms
+from .kramers import kramers_operator, stationary_kramers
+from ._model import velocity_terms
+from ._solution import KramersSolution
 
 __all__ = ["KramersSolution", "kramers_operator", "stationary_kramers", "velocity_terms",
            "KramersEscape", "kramers_escape"]

@@ -10,7 +10,8 @@ import math
 import numpy as np
 
 from ._model import next_wells
-from .kramers import _linear_temperature, velocity_terms
+from .kramers import _linear_temperature
+from ._model import velocity_terms
 
 __all__ = ["kT_gamma", "hermite_ladder", "escape_problem"]
 
@@ -37,7 +38,7 @@ def escape_problem(split, D: float, saddles: tuple, margin: float | None = None)
     """``(sigma, wells, half, kappa0, width)``: the Hermite scale (``sqrt(kT)`` for linear
     damping, else ``sqrt(D/mu)``), the next wells' bottoms, the half-width of the range
     (``margin`` past the farther bottom, default half the larger saddle-to-bottom
-    distance), and the sink's strength and width (:func:`._sink.tanh_sink`): absorbed
+    distance), and the sink's strength and width (:func:`._sink_pairs.tanh_sink`): absorbed
     within a tenth of the saddle-to-bottom distance at the speed of the bottom."""
     xl, xr = saddles
     kT = kT_gamma(split, D)[0]

@@ -52,7 +52,7 @@ def tanh_sink(xs, wells, kappa0: float, width: float) -> np.ndarray:
 
 
 def tanh_sink_slope(xs, centres, kappa: float, width: float) -> np.ndarray:
-    """``d kappa/d o`` of :func:`._sink.tanh_sink` at the points ``xs`` as the centres move
+    """``d kappa/d o`` of :func:`._sink_pairs.tanh_sink` at the points ``xs`` as the centres move
     out by ``width`` per unit offset ``o`` (``._sink.sink_rung``): ``-(kappa/2)
     [sech^2((|x| - c)/w) + 9 sech^2((|x| - c - 2.5 w)/w)]``."""
     edge = np.where(xs > 0, centres[1], -centres[0])

@@ -2,7 +2,7 @@
 rate of the density when everything that reaches a neighbouring well is removed.
 
 At the bottoms ``x_wl < x_l < 0 < x_r < x_wr`` of the next wells beyond the saddles a sink
-``kappa(x)`` (:func:`_sink`: ``kappa_0 [1 + tanh((|x| - |x_w|)/w)]/2``, ten times stronger
+``kappa(x)`` (:func:`._sink_pairs.tanh_sink`: ``kappa_0 [1 + tanh((|x| - |x_w|)/w)]/2``, ten times stronger
 from ``2.5 w`` past the bottoms) is added to the Kramers operator (:mod:`.kramers`); ``w``
 is a tenth of the saddle-to-bottom distance and ``kappa_0`` absorbs a particle arriving at
 the bottom's speed ``sqrt(2 (E_b - G(x_w)))`` within ``w``.  The population of the well
@@ -73,14 +73,12 @@ from ._folded import FoldedRungs
 from ._orthonormal import nonlinear_escape, orthonormal_slowest
 from ._parity import symmetric
 from ._rungs import FractionRungs, pair_escape
-from ._model import next_wells
 from ._problem import escape_problem, hermite_ladder, kT_gamma
-from ._sink_pairs import tanh_sink_slope
-from ._sink import (SINK_HERMITE, SINK_INTERVALS, SINK_TOL, WEIGHT, absorbing_limit,
-                    sink_grading, sink_rung, sink_scale, tanh_sink as _sink)
+from ._sink_pairs import tanh_sink, tanh_sink_slope
+from ._sink import (SINK_HERMITE, SINK_INTERVALS, SINK_TOL, WEIGHT, absorbing_limit, sink_grading,
+                    sink_rung, sink_scale)
 
-__all__ = ["KramersEscape", "kramers_escape", "next_wells", "hermite_ladder",
-           "escape_problem"]
+__all__ = ["KramersEscape", "kramers_escape"]
 
 #: the Kosloff-Tal-Ezer parameter of the position grid for linear damping
 #: (:func:`._bases.cheb_mapped`): at mu = 0.02 (docs/noise.rst) 288 mapped intervals give
@@ -267,7 +265,7 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
                             (crowd, crowd, WELLS, WELLS))
 
     def sink(xs, sharp):  # sharp = 2: the sharper sink of sink_error
-        return _sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp)
+        return tanh_sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp)
 
     xs = points(64)[0]
     fold = linear and symmetric(split.numpy_functions()[0](xs), wells, xs)
@@ -308,7 +306,7 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
                                     (-xl / 2, xr / 2) + widths, (crowd, crowd) + weights)
 
             def snk(xs, sharp=1):
-                return _sink(xs, centres, kap, w)
+                return tanh_sink(xs, centres, kap, w)
 
             if adaptive:  # one factorisation per sink and grid, extended up the truncations
                 for key in [k for k in solvers if k[0] != j or k[2] != nc]:

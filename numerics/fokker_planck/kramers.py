@@ -58,8 +58,7 @@ from ._model import _chebyshev_size, _half_width, velocity_terms
 from ._solution import KramersSolution
 from ._stationary_orthonormal import stationary_orthonormal
 
-__all__ = ["KramersSolution", "kramers_operator", "kramers_terms", "stationary_kramers",
-           "velocity_terms"]
+__all__ = ["kramers_operator", "kramers_terms", "stationary_kramers"]
 
 
 def kramers_operator(split: ConservativeSplit, D: float, sigma: float, L: float,

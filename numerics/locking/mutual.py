@@ -37,10 +37,10 @@ from numerics.errors import NoCycleError
 from numerics.flow.coupled_flow import bind_coupled
 from numerics.locking.fold import LockingEdge, true_edges
 from numerics.locking.start import AMPLITUDE_FLOOR, follow_steps, followed_axis, locked_start, side_limits, start_values
-from numerics.locking.slow_flow import _newton, _slow_flow, _split  # noqa: F401 - _slow_flow: tests
+from numerics.locking.slow_flow import _newton, _slow_flow, _split
 
-__all__ = ["LockingEdge", "LockingRegion", "averaged_edges", "true_edges", "amplitude_death",
-           "locking_region", "locked_start", "plot_locking", "check_lockable",
+__all__ = ["LockingRegion", "averaged_edges", "amplitude_death",
+           "locking_region", "plot_locking", "check_lockable",
            "COUPLING_NAMES", "coupling_names"]
 
 #: the names a coupling parameter goes by (``c`` of ``coupled-vdp``, ``kappa`` of the

@@ -3,7 +3,7 @@ after :mod:`numerics.noise._kernels` (whose ``_step``, ``_first``, ``_uniform`` 
 ``_noise_factor`` they call) to a printed model.
 
 The Richardson extrapolation (:mod:`numerics.noise.extrapolate`) and the measured default
-step (:func:`numerics.noise.langevin.measured_step`) run the scheme at ``h`` and ``h/2`` on one
+step (:func:`numerics.noise._pilot.measured_step`) run the scheme at ``h`` and ``h/2`` on one
 Brownian path (``step_pair_stats``), each coarse Gaussian increment the sum of the two fine
 ones, so that the runs stay close and their difference has a small variance;
 ``step_antithetic_stats`` adds the fine run with each coarse step's two increments swapped

@@ -4,12 +4,9 @@ constant, one place").
 ``kbm noise``, ``kbm escape`` and ``kbm friction`` (``--budget``'s default) and ``kbm
 spectrum`` (its step limit, :mod:`numerics.spectrum._cost`) refuse a run of more
 integration steps than :data:`STEP_BUDGET` before it starts.  It sits here, in the lowest
-floor of the noisy code, so that each of them imports the one value.  Before, six places
-held a ``2e9`` of their own (``numerics.thermal.stationary.DEFAULT_BUDGET``,
-``numerics.thermal.friction.DEFAULT_BUDGET``, ``numerics.spectrum._cost.STEP_LIMIT``, the
-``--budget`` option's default, the thermal friction's flags and
-``numerics.escape.report.escape_report``'s default) and three help texts "2e9"; the names
-stay, bound to this constant, and the help texts print :data:`BUDGET_TEXT`.  The cost
+floor of the noisy code, so that each of them imports the one value (before, six places
+held a ``2e9`` of their own and three help texts "2e9"); the help texts print
+:data:`BUDGET_TEXT`.  The cost
 budgets of the Fokker-Planck solves (``--fp-budget``'s defaults) sit here too, so that
 the command line prints them without importing the solvers.
 """

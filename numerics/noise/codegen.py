@@ -8,7 +8,7 @@ of ``final_states``, ``first_passages`` and ``slip_stats`` over several trajecto
 (:mod:`numerics.noise.lanes`); or ``N`` coupled accelerations as one vector function
 ``accel_n(t_, y, p, out)`` followed by :mod:`numerics.noise._kernels` (whose
 ``vector_paths`` integrates them: :mod:`numerics.noise.coupled`).  The machine code is
-cached on disk under the SHA-256 of the source (:func:`numerics.flow.jit.cache_dir`); the
+cached on disk under the SHA-256 of the source (:func:`numerics.flow.numba_cache.cache_dir`); the
 choice of scheme (Kloeden-Platen or BAOAB) is made here too.
 """
 
@@ -24,7 +24,8 @@ from kbm.symbols import t as T, x as X, xdot as V
 
 from .._memo import memo
 from ..errors import NumericsError
-from ..flow.jit import _announce_compile, _load, jit_available
+from ..flow.jit import jit_available
+from ..flow.numba_cache import _announce_compile, _load
 from .lanes import lane_count, lanes_source, steps_in_parts
 
 __all__ = ["SCHEMES", "vector_module", "python_accel"]

@@ -5,7 +5,7 @@ over which the time averages of ``x^2``, ``a^2 = x^2 + (x'/omega0)^2``, ``x'^2``
 spring force are taken, and a histogram of one observable (the amplitude ``a``, ``x``
 or the energy ``E = x'^2/2 + G(x)``), with four-point Gauss-Hermite increments (their
 moments the Gaussian's up to the seventh: the ``h^2`` coefficient of the bias is the one the
-step pilot :func:`numerics.noise.langevin.measured_step` measures with Gaussian increments;
+step pilot :func:`numerics.noise._pilot.measured_step` measures with Gaussian increments;
 kernel ``stationary_stats4`` of :mod:`numerics.noise._pair_kernels`).  The estimate is the
 mean over trajectories;
 its standard error is their standard deviation over ``sqrt(N)`` (the trajectories

@@ -12,7 +12,7 @@ them once) are printed into a small module with every parameter an argument (the
 stage velocity ``v`` of the sliders too, so one compilation serves a whole friction
 map) and the kernels of :mod:`numerics.noise._kernels`; numba compiles it, and the
 machine code is cached on disk under the SHA-256 of the source
-(:func:`numerics.flow.jit.cache_dir`; the printing and compiling:
+(:func:`numerics.flow.numba_cache.cache_dir`; the printing and compiling:
 :mod:`numerics.noise.codegen`).  The scheme is Kloeden and Platen's explicit
 order-2.0 weak scheme for additive noise, eq. (15.1.3); its weak order is measured
 in ``tests/test_langevin.py``.
@@ -33,12 +33,9 @@ from kbm.model.builtins import SLIDERS, Oscillator
 from kbm.parameters.values import parameter_value
 
 from .codegen import _STAGE_V, _compiled, _scheme, _symbolic, python_accel
-from ._pilot import BIAS_TOLERANCE, PILOT_FLOOR, measured_step, reachable_stderr
 from .seeds import trajectory_states
 
-__all__ = ["LangevinSystem", "langevin_system", "noise_intensity", "split_noise", "natural_step",
-           "measured_step", "reachable_stderr", "HEATING_TOLERANCE", "BIAS_TOLERANCE",
-           "PILOT_FLOOR"]
+__all__ = ["LangevinSystem", "langevin_system", "noise_intensity", "split_noise", "natural_step", "HEATING_TOLERANCE"]
 
 #: the relative error of the temperature that the default step allows (:func:`natural_step`)
 HEATING_TOLERANCE = 1e-3

@@ -18,7 +18,7 @@ equation:
   the paper's formulas reconstruct, over the order-2 KBM orbit, and over the true
   cycle (0 to integration accuracy), relative to ``Gamma_-``.
 
-:data:`CASES`: a case where the expansion is valid (``mu = 0.05, Delta = 0.1``,
+:data:`kbm.output.paper.ERRATA_CASES`: a case where the expansion is valid (``mu = 0.05, Delta = 0.1``,
 ``Delta/mu = 2``) and the paper's Fig. 3 case (``mu = 0.1, Delta = 1.5``).
 """
 
@@ -33,10 +33,8 @@ import sympy as sp
 from kbm.output.paper import ERRATA_CASES
 from kbm.output.strict_json import Rendered
 
-__all__ = ["ErratumEvidence", "errata_evidence", "errata_rows", "evidence_table", "CASES"]
+__all__ = ["ErratumEvidence", "errata_evidence", "errata_rows", "evidence_table"]
 
-#: (name, physical parameters of sedf)
-CASES = ERRATA_CASES
 
 
 @dataclass(frozen=True)
@@ -99,7 +97,7 @@ def _root(fun, target: float, a_max: float = 20.0, n: int = 20000) -> tuple[floa
     return r, float((fun(r + h) - fun(r - h)) / (2 * h))
 
 
-def errata_evidence(cases: Sequence[tuple[str, Mapping[str, float]]] = CASES,
+def errata_evidence(cases: Sequence[tuple[str, Mapping[str, float]]] = ERRATA_CASES,
                     *, n_samples: int = 1024) -> list[ErratumEvidence]:
     """Printed vs corrected vs true values for each erratum of :data:`kbm.output.paper.ERRATA`.
 
@@ -116,7 +114,7 @@ def errata_evidence(cases: Sequence[tuple[str, Mapping[str, float]]] = CASES,
 
     Examples
     --------
-    >>> ev = errata_evidence(CASES[:1])
+    >>> ev = errata_evidence(ERRATA_CASES[:1])
     >>> row = next(r for r in ev if r.equation == "6")
     >>> row.corrected_error < row.printed_error
     True
@@ -193,7 +191,7 @@ def errata_rows(evidence: Sequence[ErratumEvidence] | None = None) -> list:
     Each erratum collects the evidence rows of the equations it names
     (:attr:`kbm.output.paper.Erratum.evidence_equations`, default its own).
     """
-    from kbm.output.derivations import ErratumRow
+    from kbm.output.errata_tex import ErratumRow
     from kbm.output.paper import ERRATA
 
     evidence = errata_evidence() if evidence is None else evidence

@@ -69,7 +69,6 @@ def screen_summary(summary: list[str], claims_md: str) -> str:
                       "the paper's claims:", *verdicts])
 
 
-_md_table = md_table
 
 
 def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
@@ -108,7 +107,7 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
              "corrected" if r.corrected_error < r.printed_error else
              ("printed" if r.printed_error < r.corrected_error else "equal")]
             for r in evidence]
-    errata_md = _md_table(["eq.", "case", "quantity", "printed", "corrected", "true",
+    errata_md = md_table(["eq.", "case", "quantity", "printed", "corrected", "true",
                            "closer to the truth"], rows)
     (out / "tables" / "errata.md").write_text(errata_md)
     (out / "tables" / "errata.txt").write_text(evidence_table(evidence) + "\n")
@@ -169,7 +168,7 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
 
     prog.stage("the paper's sliding experiments and claims (SEDF versus CDC)")
     claims = check_claims()
-    claims_md = _md_table(["claim", "the paper says", "measured", "verdict"],
+    claims_md = md_table(["claim", "the paper says", "measured", "verdict"],
                           [c.row() for c in claims])
     (out / "tables" / "claims.md").write_text(claims_md)
     prog.done(", ".join(f"{c.key}: {c.verdict}" for c in claims))

@@ -17,7 +17,7 @@ import numpy as np
 from kbm.output.strict_json import Rendered
 from kbm.parameters.values import FrozenMap
 
-__all__ = ["Rendered", "OrbitBranch", "OrbitBranchPoint", "OrbitSpecialPoint", "BranchPoint",
+__all__ = ["OrbitBranch", "OrbitBranchPoint", "OrbitSpecialPoint", "BranchPoint",
            "SpecialPoint", "Branch", "SPECIAL_KINDS", "branch_point", "CoupledBranch",
            "CoupledBranchPoint", "CoupledSpecialPoint"]
 

@@ -33,7 +33,7 @@ from numerics.shooting.branch_problem import OrbitPoint, OrbitProblem
 from numerics.shooting.continuation import Continuation
 from numerics.shooting.locate import zero_on_chord
 
-__all__ = ["CoupledBranch", "CoupledBranchPoint", "CoupledSpecialPoint", "continue_coupled",
+__all__ = ["continue_coupled",
            "CoupledContinuation"]
 
 

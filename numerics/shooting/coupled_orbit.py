@@ -23,9 +23,10 @@ import numpy as np
 
 from kbm.model.coupled import CoupledOscillators
 from kbm.errors import ParameterError
+from kbm.output.strict_json import complex_json
 from numerics.errors import ConvergenceError, NoCycleError
 from numerics.shooting.acceptance import trivial_ok
-from numerics.shooting.orbit import multiplier_json, multipliers, shoot
+from numerics.shooting.orbit import multipliers, shoot
 from numerics.flow.coupled_flow import CoupledFlow, coupled_flow
 
 __all__ = ["CoupledCycle", "coupled_cycle", "section_start", "ForcedCoupledResponse",
@@ -86,7 +87,7 @@ class CoupledCycle:
             "state": [float(v) for v in self.state],
             "amplitudes": [float(v) for v in self.amplitudes],
             "phases": [float(v) for v in self.phases],
-            "floquet_multipliers": [multiplier_json(z) for z in self.floquet_multipliers],
+            "floquet_multipliers": [complex_json(z) for z in self.floquet_multipliers],
             "floquet_moduli": [float(abs(z)) for z in self.floquet_multipliers],
             "stable": self.stable,
             "liouville": {"det_monodromy": self.liouville[0],
@@ -279,7 +280,7 @@ class ForcedCoupledResponse:
                 "period": self.period, "multiple": self.multiple,
                 "state": [float(v) for v in self.state],
                 "amplitudes": [float(v) for v in self.amplitudes],
-                "floquet_multipliers": [multiplier_json(z) for z in self.floquet_multipliers],
+                "floquet_multipliers": [complex_json(z) for z in self.floquet_multipliers],
                 "stable": self.stable,
                 "liouville": {"det_monodromy": self.liouville[0],
                               "exp_divergence_integral": self.liouville[1]},

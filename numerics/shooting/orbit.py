@@ -16,10 +16,9 @@ from typing import Callable
 
 import numpy as np
 
-from kbm.output.strict_json import complex_json
 from numerics.shooting.acceptance import orbit_scale, shoot_newton
 
-__all__ = ["shoot", "multipliers", "peak", "multiplier_json", "NEWTON_MAX_STEPS"]
+__all__ = ["shoot", "multipliers", "peak", "NEWTON_MAX_STEPS"]
 
 #: bound on the compiled integrator's steps over one period inside Newton's method
 NEWTON_MAX_STEPS = 5 * 10**4
@@ -109,5 +108,3 @@ def peak(y: np.ndarray) -> float:
     return float(b - (a - c) ** 2 / (8 * den)) if den < 0 else float(b)
 
 
-#: a multiplier in JSON: a real one a number, a complex one ``[re, im]``
-multiplier_json = complex_json

@@ -28,12 +28,7 @@ from numerics.flow.line_card import compiled_line
 from numerics.flow.sensitivity import (flow_with_sensitivity, sensitivity_flow, sensitivity_state,
                                        shooting_corrector)
 
-#: a printed branch point passes the convergence test |trivial multiplier - 1| <= TRIVIAL_TOL
-#: of the acceptance standard (:mod:`numerics.shooting.acceptance`); the corrector iterates on
-#: until its points pass it
-TRIVIAL_TOL = _acceptance.TRIVIAL_TOL
-
-__all__ = ["PlanarProblem", "PlanarPoint", "TRIVIAL_TOL"]
+__all__ = ["PlanarProblem", "PlanarPoint"]
 
 
 class PlanarProblem(BranchProblem):
@@ -314,7 +309,7 @@ def _correct_compiled(prob: PlanarProblem, u_pred, row, target: float,
         u, np.asarray(row, dtype=float), float(target),
         np.asarray(prob.line(p_ref).pvec, dtype=float), prob.rates_ref, p_ref, bool(prob.half),
         rtol, 32, NEWTON_MAX_STEPS, max_iter, _acceptance.residual_tolerance(rtol, scale),
-        _acceptance.correction_tolerance(rtol, scale), tol_u, TRIVIAL_TOL,
+        _acceptance.correction_tolerance(rtol, scale), tol_u, _acceptance.TRIVIAL_TOL,
         _acceptance.NOISE_RTOL)
     prob.evaluations += it + 1
     if status == 0:

@@ -41,6 +41,7 @@ from kbm.symbols import t as T, x as X, xdot as V
 from numerics._memo import memo
 from numerics.errors import IntegrationError
 from numerics.flow.jit import jit_available, jit_flow
+from numerics.flow.template import conservative_potential
 from numerics.sliding.damping import damping_derivative
 
 __all__ = ["DrivenSystem", "Block", "driven_system", "slider_equations", "physical_values",
@@ -80,6 +81,7 @@ class _Template:
     states: tuple[sp.Symbol, ...]
     f_rhs: Callable
     f_energy: Callable
+    f_potential: Callable
     f_factor: Callable
     f_omega: Callable
 
@@ -95,15 +97,14 @@ def _template(name: str) -> _Template:
     plus, minus, factor = model.dissipation_parts()
     exprs = (y[1], model.acceleration().subs(es), sp.Integer(1), plus.subs(es), minus.subs(es),
              spring * y[1], spring)
-    s = sp.Dummy("s")
-    cons = get_model(name).conservative_force().subs(X, s)
-    periodic = -sp.integrate(cons, (s, 0, X), conds="none")
+    periodic = conservative_potential(get_model(name))  # the substrate's, Delta/k (1 - cos k x)
     energy = (V**2 / 2 + periodic + (model.omega0**2 * X - model.drive)**2
               / (2 * model.omega0**2)).subs(es)
     return _Template(
         model=model, names=names, exprs=exprs, states=y,
         f_rhs=sp.lambdify((T, y, *P), list(exprs), modules="math", cse=True),
         f_energy=sp.lambdify((y, *P), energy, modules=["numpy", "scipy"]),
+        f_potential=sp.lambdify((X, *P), periodic, modules="math"),
         f_factor=sp.lambdify(P, factor, modules="math"),
         f_omega=sp.lambdify(P, model.omega0, modules="math"))
 

@@ -70,11 +70,11 @@ import numpy as np
 from kbm.errors import KBMError, ParameterError
 
 from numerics.sliding.driven import DrivenSystem, driven_system
-from numerics.sliding.friction_records import (REGIMES, FrictionPoint, FrictionSettings, eta,
+from numerics.sliding.friction_records import (FrictionPoint, FrictionSettings, eta,
                                                _static_quasistatic)
 from numerics.sliding.window import _Run, _sliding, _stick_slip, _stuck_intervals
 
-__all__ = ["FrictionSettings", "FrictionPoint", "friction_point", "eta", "REGIMES", "V_RANGE"]
+__all__ = ["friction_point", "V_RANGE"]
 
 #: the stage velocities measured, in units of Omega lam (the samples and the run lengths stay
 #: bounded: at most ~2 million samples, 30000 natural periods)

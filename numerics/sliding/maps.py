@@ -28,7 +28,8 @@ from kbm.output.strict_json import json_fields
 from numerics.errors import NumericsError
 from numerics.executor import chunk, map_chunks
 from numerics.sliding.driven import driven_system
-from numerics.sliding.friction import FrictionPoint, FrictionSettings, eta, friction_point
+from numerics.sliding.friction import friction_point
+from numerics.sliding.friction_records import FrictionPoint, FrictionSettings, eta
 from numerics._show import num, params_text
 
 __all__ = ["FrictionMap", "friction_map", "friction_law", "SliderComparison",
@@ -74,7 +75,7 @@ class FrictionMap:
     axes
         ``{name: values}`` in grid order.
     points
-        :class:`~numerics.sliding.friction.FrictionPoint` per grid point, flattened.
+        :class:`~numerics.sliding.friction_records.FrictionPoint` per grid point, flattened.
     """
 
     model: str

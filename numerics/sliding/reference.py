@@ -33,8 +33,8 @@ from kbm.output.paper import FIXED
 
 from numerics.errors import IntegrationError
 from numerics.sliding.driven import physical_values, slider_equations
-from numerics.sliding.stiffness import (STABILITY_INTERVAL, StepGuard, damping_rate,
-                                        damping_text, stiff_steps, stiff_t_end)
+from numerics.sliding.stiffness import STABILITY_INTERVAL, StepGuard, stiff_steps, stiff_t_end
+from numerics.sliding.damping import damping_rate, damping_text
 
 __all__ = ["SlideResult", "slide", "MAX_PERIODS"]
 
@@ -205,11 +205,11 @@ def slide(model: str, params: Mapping[str, float], t_end: float, *, x0: float = 
     xs, vs = ys[0], ys[1]
     Gp, Gm, W = ys[3], ys[4], ys[5]
     G = beta * Gp - Gm
-    Dk = p["Delta"]
     yend = sol.y[:, -1]
     G_end = beta * yend[3] - yend[4]
-    resid = yend[5] - (yend[1]**2 / 2 - v0**2 / 2) - (-Dk / k * math.cos(k * yend[0])
-                                                      + Dk / k * math.cos(k * x0)) - G_end
+    # the substrate's potential as the template derives it (-int F_c dx: Delta/k (1 - cos k x))
+    resid = yend[5] - (yend[1]**2 / 2 - v0**2 / 2) - (tp.f_potential(yend[0], *pvec)
+                                                      - tp.f_potential(x0, *pvec)) - G_end
     return SlideResult(model=model, params=p, t=tt, x=xs, xdot=vs, force=Om**2 * (v * tt - xs),
                        gamma_plus=Gp, gamma_minus=Gm, gamma=G, work=W,
                        energy_residual=float(resid), method=method, rtol=rtol, sol=sol,

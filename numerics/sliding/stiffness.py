@@ -78,11 +78,9 @@ import numpy as np
 from kbm.model.builtins import Oscillator
 
 from numerics.errors import IntegrationError
-from numerics.sliding.damping import (DampingDerivative, amplitude, damping_derivative,
-                                      damping_rate, damping_text, follows_stage, scaled_values)
+from numerics.sliding.damping import amplitude, damping_derivative, follows_stage, scaled_values
 
-__all__ = ["STABILITY_INTERVAL", "stiff_steps", "stiff_t_end", "StepGuard", "damping_rate",
-           "damping_text", "damping_derivative", "DampingDerivative", "damping_envelope"]
+__all__ = ["STABILITY_INTERVAL", "stiff_steps", "stiff_t_end", "StepGuard", "damping_envelope"]
 
 #: length of the real stability interval of the explicit methods (step ``h <= c/|lambda|``)
 STABILITY_INTERVAL = {"DOP853": 6.0, "RK45": 3.3, "RK23": 2.5}

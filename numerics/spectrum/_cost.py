@@ -3,7 +3,7 @@
 ``kbm spectrum --trajectories 1000000000`` made a list of 1e9 indices and was killed by
 the kernel after 40 s; ``--duration 1e12`` ended in a ``MemoryError`` traceback.  Each
 simulation of :mod:`numerics.spectrum` now counts its integration steps and the samples it
-holds in memory first, and refuses a run above :data:`STEP_LIMIT` or :data:`MEMORY_LIMIT`
+holds in memory first, and refuses a run above :data:`numerics.noise.budget.STEP_BUDGET` or :data:`MEMORY_LIMIT`
 with the numbers (the same step budget as ``kbm noise --budget``'s default).
 """
 
@@ -13,16 +13,13 @@ from kbm.errors import ParameterError
 
 from ..noise.budget import STEP_BUDGET
 
-__all__ = ["STEP_LIMIT", "MEMORY_LIMIT", "check_cost"]
+__all__ = ["MEMORY_LIMIT", "check_cost"]
 
-#: integration steps of one simulated spectrum at most (the noisy runs' one budget,
-#: :data:`numerics.noise.budget.STEP_BUDGET`, as ``kbm noise --budget``'s default)
-STEP_LIMIT = STEP_BUDGET
 #: bytes of recorded samples held in memory at once at most
 MEMORY_LIMIT = 2e9
 
 
-def check_cost(trajectories: int, steps: float, held: float, *, budget: float = STEP_LIMIT,
+def check_cost(trajectories: int, steps: float, held: float, *, budget: float = STEP_BUDGET,
                shared: int = 1) -> None:
     """Refuse a simulation of ``trajectories`` paths of ``steps`` integration steps each that
     holds ``held`` bytes of samples at once.
@@ -35,7 +32,7 @@ def check_cost(trajectories: int, steps: float, held: float, *, budget: float = 
     held : float
         Bytes of recorded samples in memory at once.
     budget : float
-        The step limit of this run (:data:`STEP_LIMIT` over ``shared``).
+        The step limit of this run (:data:`numerics.noise.budget.STEP_BUDGET` over ``shared``).
     shared : int
         Runs the limit is shared by (the values of a ``--vary`` sweep), named in the message.
 
@@ -45,7 +42,7 @@ def check_cost(trajectories: int, steps: float, held: float, *, budget: float = 
         Naming the steps or bytes needed, the limit and what to change.
     """
     total = float(trajectories) * float(steps)
-    among, sweep = (f" (the limit {STEP_LIMIT:.0e} shared by {shared} runs of the sweep)",
+    among, sweep = (f" (the limit {STEP_BUDGET:.0e} shared by {shared} runs of the sweep)",
                     ", or fewer values of --vary") if shared > 1 else ("", "")
     if total > budget:
         raise ParameterError(

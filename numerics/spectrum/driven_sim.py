@@ -80,11 +80,12 @@ def simulate_fluctuations(model, params: Mapping[str, object], D: float, y0, *, 
     step or memory limit, shared by ``shared`` runs of a sweep, is refused
     (:func:`numerics.spectrum._cost.check_cost`: the array of ``trajectories x samples``)."""
     from numerics.executor import chunk, map_chunks
-    from numerics.spectrum._cost import STEP_LIMIT, check_cost
+    from numerics.noise.budget import STEP_BUDGET
+    from numerics.spectrum._cost import check_cost
 
     steps = int(burn_in_steps) + int(samples) * int(stride)
     check_cost(trajectories, steps, 8.0 * int(trajectories) * int(samples),
-               budget=STEP_LIMIT / shared, shared=shared)
+               budget=STEP_BUDGET / shared, shared=shared)
 
     params = {k: float(v) for k, v in params.items()}
     idx = list(range(int(trajectories)))

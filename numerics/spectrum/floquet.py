@@ -21,7 +21,7 @@ import numpy as np
 import sympy as sp
 
 from kbm.parameters.bound import bind
-from kbm.symbols import mu, x, xdot
+from kbm.symbols import x, xdot
 
 from ..errors import NoCycleError
 from ..flow.template import acceleration_jacobian
@@ -58,6 +58,8 @@ def phase_response(model, params: dict, *, samples: int = 2048) -> PhaseResponse
 
     Raises
     ------
+    kbm.errors.NonAutonomousError
+        For a driven model (a stage velocity ``v != 0``, a forcing): no limit cycle.
     numerics.errors.NoCycleError
         No stable cycle found by shooting.
 
@@ -75,7 +77,7 @@ def phase_response(model, params: dict, *, samples: int = 2048) -> PhaseResponse
                            "no line to speak of")
     subs = bm.subs()
     m = bm.model
-    acc = sp.sympify(-m.omega0**2 * x + mu * m.F).subs(subs)
+    acc = m.acceleration().subs(subs)  # autonomous: limit_cycle refused a drive
     jx, jv = acceleration_jacobian(acc, m.name)
     fa, fx, fv = (sp.lambdify((x, xdot), e, modules=["numpy", "scipy"]) for e in (acc, jx, jv))
     T = float(cyc.period)

@@ -30,7 +30,7 @@ from ..noise.ensemble import Estimate
 from .psd import PSD
 
 __all__ = ["unwrapped_phase", "increment_sums", "phase_growth", "LorentzianFit",
-           "fit_lorentzian", "Estimate"]
+           "fit_lorentzian"]
 
 
 def unwrapped_phase(x: np.ndarray, v: np.ndarray, omega0: float) -> np.ndarray:

@@ -355,7 +355,7 @@ def cycle_phase_diffusion(model, params: Mapping[str, object], D: object) -> Pha
     >>> cycle_phase_diffusion("vdp", {"mu": 0.05}, 0.01)
     PhaseDiffusion(a0=2, D_phi=0.00125)
     """
-    from ..escape.envelope import noise_level
+    from ..escape.noise_params import noise_level
 
     try:
         *_, a0, lam, g, direct, d_phi, f_cyc = _linear(model, params, noise_level(D), 1)

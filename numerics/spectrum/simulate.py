@@ -29,7 +29,8 @@ from ..executor import chunk, map_chunks
 from ..noise.ensemble import MIN_TRAJECTORIES, Estimate
 from ..noise.langevin import langevin_system
 from ..noise.seeds import check_seed, trajectory_states
-from ._cost import STEP_LIMIT, check_cost
+from ..noise.budget import STEP_BUDGET
+from ._cost import check_cost
 from .linewidth import increment_sums, phase_growth, unwrapped_phase
 from .psd import PSD, ResolutionError, combine, resolution_of, welch_rows
 
@@ -164,7 +165,7 @@ def simulate_line(model, params: dict, D: float, *, trajectories: int, duration:
     samples = n_run // stride + 1
     # a trajectory's path (burn-in included) is recorded whole before it is reduced
     check_cost(trajectories, n_burn + n_run, 16.0 * ((n_burn + n_run) // stride + 1),
-               budget=STEP_LIMIT / shared, shared=shared)
+               budget=STEP_BUDGET / shared, shared=shared)
     nperseg = int(math.ceil(2 * math.pi / (resolution * sample) - 1e-9))
     if nperseg > samples:
         raise ResolutionError(

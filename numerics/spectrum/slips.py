@@ -278,7 +278,8 @@ def simulate_slips(model, params: Mapping[str, object], D: float, *, duration: f
         memory limit (shared by ``shared`` runs of a sweep, :mod:`numerics.spectrum._cost`).
     """
     from numerics.executor import chunk, map_chunks
-    from numerics.spectrum._cost import STEP_LIMIT, check_cost
+    from numerics.noise.budget import STEP_BUDGET
+    from numerics.spectrum._cost import check_cost
 
     if trajectories < 2:
         raise ParameterError(f"--trajectories {trajectories}: a standard error needs at least 2")
@@ -294,7 +295,7 @@ def simulate_slips(model, params: Mapping[str, object], D: float, *, duration: f
     n_burn = int(round(burn_in / dt / stride)) * stride
     # a chunk of CHUNK paths is recorded whole (all 2 dof coordinates) before it is reduced
     check_cost(trajectories, n_burn + n_run, 8.0 * min(int(trajectories), CHUNK)
-               * 2 * system.dof * ((n_burn + n_run) // stride + 1), budget=STEP_LIMIT / shared,
+               * 2 * system.dof * ((n_burn + n_run) // stride + 1), budget=STEP_BUDGET / shared,
                shared=shared)
     y0 = tuple([2.0] * system.dof + [0.0] * system.dof)
     groups = chunk(list(range(int(trajectories))), size=CHUNK)

@@ -12,8 +12,7 @@ from kbm.model.builtins import SLIDERS
 
 from ..noise.budget import FP_BUDGET, FP_DEFAULT_BUDGET
 
-__all__ = ["energy_density_output", "fokker_planck_moments", "fp_advice", "FP_BUDGET",
-           "FP_DEFAULT_BUDGET"]
+__all__ = ["energy_density_output", "fokker_planck_moments", "fp_advice"]
 
 
 def fokker_planck_moments(model, params: dict, D: float, omega0: float,

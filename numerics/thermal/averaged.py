@@ -27,10 +27,9 @@ import numpy as np
 from kbm.errors import KBMError, ModelError
 from kbm.model.builtins import SLIDERS
 
-from ..escape.envelope import NoStationaryState
+from ..escape.noise_params import NoStationaryState
 
-__all__ = ["AveragedStationary", "averaged_stationary", "AMPLITUDE", "ENERGY",
-           "NoStationaryState"]
+__all__ = ["AveragedStationary", "averaged_stationary", "AMPLITUDE", "ENERGY"]
 
 AMPLITUDE = "amplitude averaging (Stratonovich-Khasminskii, first order)"
 ENERGY = "energy-envelope averaging (Stratonovich-Khasminskii, Freidlin-Wentzell)"

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from ..noise.validity import averaged_error
 
-__all__ = ["averaged_error", "state_averaged_errors"]
+__all__ = ["state_averaged_errors"]
 
 
 def state_averaged_errors(out: dict, next_order: dict | None = None) -> dict:

@@ -44,7 +44,7 @@ from ..noise.langevin import langevin_system, natural_step, noise_intensity
 from ..noise.seeds import check_seed, trajectory_states
 
 __all__ = ["ThermalFrictionPoint", "ThermalFrictionMap", "thermal_friction_point",
-           "thermal_friction_map", "STEPS_PER_PERIOD", "DEFAULT_BUDGET"]
+           "thermal_friction_map", "STEPS_PER_PERIOD"]
 
 #: steps per period of the well-bottom oscillation.  A slip of the lightly damped CDC
 #: crosses several wells and how many is decided by its energy: at 40 steps the D = 0
@@ -52,9 +52,6 @@ __all__ = ["ThermalFrictionPoint", "ThermalFrictionMap", "thermal_friction_point
 STEPS_PER_PERIOD = 160
 #: fewest trajectories per point
 MIN_TRAJECTORIES = 4
-#: the largest number of integration steps run without ``budget`` (``--budget``), as for
-#: ``kbm noise`` and ``kbm escape`` (the noisy runs' one budget)
-DEFAULT_BUDGET = STEP_BUDGET
 
 
 @dataclass(frozen=True)
@@ -213,7 +210,7 @@ def _ratio(sums, counts, N: int) -> Estimate:
 
 def thermal_friction_point(model: str, params: Mapping[str, object], *, trajectories: int = 16,
                            wells: float = 20, seed: int = 0,
-                           budget: float = DEFAULT_BUDGET) -> ThermalFrictionPoint:
+                           budget: float = STEP_BUDGET) -> ThermalFrictionPoint:
     """The friction of ``model`` pulled at ``params['v']`` with noise ``params['D']``.
 
     Parameters
@@ -264,7 +261,7 @@ def thermal_friction_map(model: str, params: Mapping[str, object],
                          axes: Mapping[str, Sequence[float]], *, trajectories: int = 16,
                          wells: float = 20, seed: int = 0, executor=None,
                          workers: int | None = None, progress: bool = False,
-                         store=None, budget: float = DEFAULT_BUDGET) -> ThermalFrictionMap:
+                         store=None, budget: float = STEP_BUDGET) -> ThermalFrictionMap:
     """Thermal friction laws and maps: every grid point an ensemble (on the executor).
 
     Parameters

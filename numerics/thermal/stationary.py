@@ -10,26 +10,22 @@ import numpy as np
 from kbm.errors import ParameterError
 from kbm.model.builtins import SLIDERS
 
-from ..escape.envelope import check_mu
+from ..escape.noise_params import check_mu
 from ..escape.report import SLIDER_DEFAULTS
 from .averaged import AMPLITUDE, averaged_stationary
 from .averaged_error import state_averaged_errors
-# the budgets' and fokker_planck_moments' home was here (scripts and tests import them)
-from ._kramers_outputs import (FP_BUDGET, FP_DEFAULT_BUDGET,  # noqa: F401
-                               fokker_planck_moments, fp_advice)
+from ._kramers_outputs import fokker_planck_moments, fp_advice
 from .order2 import order2_bins, second_order
 from ..noise.budget import STEP_BUDGET
 from ..noise.ensemble import MIN_TRAJECTORIES, stationary_ensemble
-from ..noise.langevin import langevin_system, measured_step, natural_step, split_noise
+from ..noise.langevin import langevin_system, natural_step, split_noise
+from ..noise._pilot import measured_step
 from ..noise.validity import Z_FLAG, gap_z
 
-__all__ = ["noise_report", "default_times", "validity", "STEPS_PER_PERIOD",
-           "DEFAULT_BUDGET", "Z_FLAG"]
+__all__ = ["noise_report", "default_times", "validity", "STEPS_PER_PERIOD"]
 
 #: steps per period of the fastest linear oscillation (well bottom or omega0)
 STEPS_PER_PERIOD = 50
-#: the largest number of integration steps run without --budget (the noisy runs' one budget)
-DEFAULT_BUDGET = STEP_BUDGET
 #: histogram bins
 BINS = 40
 
@@ -39,12 +35,12 @@ def default_times(system, t_end: float | None, burn_in: float | None,
                   pilot: dict | None = None) -> tuple[float, float, float]:
     """``(t_end, burn_in, dt)``: ``dt`` from :func:`numerics.noise.langevin.natural_step` (the
     fastest linear period / 50, smaller when the numerical heating needs it), then
-    :func:`numerics.noise.langevin.measured_step` (smaller when a pilot at ``dt`` and
+    :func:`numerics.noise._pilot.measured_step` (smaller when a pilot at ``dt`` and
     ``dt/2`` measures a bias of the moments beyond 2e-4; skipped with ``measure=False``,
     which gives the largest step the rule can choose), the burn-in
     20 and the run 400 relaxation times ``1/|mu|``, each a whole number of steps.
     ``pilot`` (a dict, ``kbm noise --json``'s ``step_pilot``) receives ``h0``, the rule's
-    step or ``--dt``, and the pilot's record (:func:`numerics.noise.langevin.measured_step`;
+    step or ``--dt``, and the pilot's record (:func:`numerics.noise._pilot.measured_step`;
     ``outcome`` ``"not run"`` and the ``reason`` when it does not run)."""
     mu = system.bound.mu
     if not mu:
@@ -114,7 +110,7 @@ def _pilot_range(system, burn: float, h: float, seed: int) -> tuple[float, float
 
 
 def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, burn_in=None,
-                 dt=None, seed: int = 0, budget: float = DEFAULT_BUDGET, executor=None,
+                 dt=None, seed: int = 0, budget: float = STEP_BUDGET, executor=None,
                  workers: int | None = None, progress: bool = False, store=None,
                  figure: str | Path | None = None, method: str = "averaging",
                  fokker_planck: bool = True, order: int = 1, extrapolate: bool = False,

@@ -4,7 +4,7 @@ Every command reads its parameters and ranges here, so that the names, the gramm
 the messages are the same everywhere:
 
 * ``-p NAME=VALUE``: :func:`given` reads them; :func:`check` refuses a name the model
-  does not have, with the valid ones listed (:class:`kbm.parameters.names.ParameterNames`: ``mu``,
+  does not have, with the valid ones listed (:class:`kbm.parameters.values.ParameterNames`: ``mu``,
   the physical names ``Delta``, ``lam``, the scaled ``delta = Delta/mu``,
   ``k = 2 pi/lam``, and ``D`` or ``T = D/mu`` where noise applies);
 * ``--vary``: one grammar, :func:`parse_vary`::

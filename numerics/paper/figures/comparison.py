@@ -25,8 +25,6 @@ from numerics._plot import pyplot as _plt
 
 __all__ = ["convergence_figure", "validity_figure", "phase_fig3_figure", "phase_small_figure"]
 
-#: the paper's parameters, marked on the validity map (mu, Delta)
-PAPER_POINTS = POINTS
 
 #: the error contours of the maps, one convention for every figure: (log10 level, style)
 CONTOUR_LEVELS = ((-3, "--"), (-2, "-"))
@@ -133,7 +131,7 @@ def validity_figure(out_dir: Path, *, quick: bool = False, vmap=None) -> list[Pa
             bad = np.isnan(err)
             for (r, c) in zip(*np.nonzero(bad)):
                 ax.plot(mus[c], Ds[r], "rx", ms=6)
-            for (m0, D0) in PAPER_POINTS:
+            for (m0, D0) in POINTS:
                 ax.plot(m0, D0, "r*", ms=13, mec="k")
             ax.set_title(f"KBM order {N}, beta = {b:g}", fontsize=10)
             ax.set_xlabel("mu")

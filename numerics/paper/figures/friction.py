@@ -25,12 +25,11 @@ from pathlib import Path
 import numpy as np
 
 from kbm.output.paper import FIG4, FIG5
-from numerics.paper.friction import (LAW_PARAMS, LAW_V, MAIN_JOB_SIZE, MAP_BETA, MAP_DELTA,
-                                     MAP_V, FrictionStudy, friction_study)
+from numerics.paper.friction import MAIN_JOB_SIZE, FrictionStudy, friction_study
 from numerics._plot import pyplot as _plt
 
 __all__ = ["draw_law", "law_figure", "map_figure", "friction_maps_from", "study_figures",
-           "friction_figures", "LAW_PARAMS", "LAW_V", "MAP_V", "MAP_DELTA", "MAP_BETA"]
+           "friction_figures"]
 
 _REGIME_MARK = {"stick-slip": "o", "smooth sliding": "s", "self-oscillating sliding": "^",
                 "oscillating sliding": "v", "runaway": "x"}

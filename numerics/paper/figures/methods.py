@@ -14,8 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from numerics.paper.figures.comparison import (CONTOURS, PAPER_POINTS, _edges, _plt, _save,
-                                               error_contours)
+from kbm.output.paper import POINTS
+from numerics.paper.figures.comparison import CONTOURS, _edges, _save, error_contours
+from numerics._plot import pyplot as _plt
 
 __all__ = ["methods_figure", "fixed_delta_figure"]
 
@@ -83,7 +84,7 @@ def methods_figure(out_dir: Path, *, quick: bool = False, mmap=None) -> list[Pat
             ax.set_ylabel("Delta", fontsize=11)
             ax.tick_params(labelsize=10)
         for ax in axes[i][1:]:  # the first panel frames the paper's cells (labels stay clear)
-            for (m0, D0) in PAPER_POINTS:
+            for (m0, D0) in POINTS:
                 ax.plot(m0, D0, "r*", ms=12, mec="k")
     fig.suptitle("SEDF: classical KBM (K1, K2) and the energy method (E1, E2) against the "
                  "true cycle; error = max relative error of a, max x, frequency\n"
@@ -104,7 +105,7 @@ def _frame_paper_cells(ax, mus: np.ndarray, Ds: np.ndarray) -> None:
     from matplotlib.patches import Rectangle
 
     em, eD = _edges(mus), _edges(Ds)
-    for (m0, D0) in PAPER_POINTS:
+    for (m0, D0) in POINTS:
         c, r = np.nonzero(np.isclose(mus, m0))[0], np.nonzero(np.isclose(Ds, D0))[0]
         if len(c) and len(r):
             c, r = c[0], r[0]

@@ -13,6 +13,7 @@ from kbm.model.builtins import SLIDERS
 from ..escape.envelope import check_mu
 from ..escape.report import SLIDER_DEFAULTS
 from .averaged import AMPLITUDE, averaged_stationary
+from .advice import fokker_planck_route, validity
 from .averaged_error import state_averaged_errors
 # the budgets' and fokker_planck_moments' home was here (scripts and tests import them)
 from ._kramers_outputs import (FP_BUDGET, FP_DEFAULT_BUDGET,  # noqa: F401
@@ -69,32 +70,6 @@ def default_times(system, t_end: float | None, burn_in: float | None,
     h = run / n
     burn = h * math.ceil(burn / h - 1e-9)
     return run, burn, h
-
-
-def validity(moments: dict, order: int = 1, can_raise_order: bool = True) -> dict:
-    """The gap ``(averaged - simulated)/stderr`` of each moment and the flag ``|z| > 4``
-    (``order``: the averaging's order, named in the advice; ``can_raise_order``: whether
-    ``--order 2`` applies, i.e. the amplitude averaging, to be advised).
-
-    Returns
-    -------
-    dict
-        ``z`` (per moment, ``None`` when a number is missing), ``flagged`` (bool),
-        ``threshold`` and ``advice`` (what to do when flagged, else ``""``).
-    """
-    z, bad = gap_z(moments)
-    advice = ""
-    if bad:
-        worst = max(bad, key=lambda k: abs(z[k]))
-        remedy = ("use --order 2 (second-order averaging) or --method fokker-planck (the "
-                  "exact stationary state of a model at rest)"
-                  if order == 1 and can_raise_order else
-                  "use --method fokker-planck (the exact stationary state of a model at rest)")
-        advice = (f"the averaged <{worst[0]}^2> is {z[worst]:+.1f} standard errors from the "
-                  f"simulated one (|z| > {Z_FLAG:g}): the {'first' if order == 1 else 'second'}"
-                  "-order averaging does not hold here (mu or D/mu too large, or a strong "
-                  f"nonlinearity); {remedy}")
-    return {"z": z, "flagged": bool(bad), "threshold": Z_FLAG, "advice": advice}
 
 
 #: the method names of ``kbm noise --method``
@@ -256,14 +231,16 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
                               progress=progress, store=store, scheme=system.scheme)
     out["moments"]["a2"].update(simulated=ens.a2.value, stderr=ens.a2.stderr)
     out["moments"]["x2"].update(simulated=ens.x2.value, stderr=ens.x2.stderr)
-    out["validity"] = validity({k: out["moments"][k] for k in ("a2", "x2")},
-                               out["averaged_order"] or 1,
-                               avg is not None and avg.method == AMPLITUDE)
+    compared = {k: out["moments"][k] for k in ("a2", "x2")}
+    raise_order = fp_route = False  # what the advice may name, looked up when flagged
+    if gap_z(compared)[1]:
+        raise_order = (out["averaged_order"] == 1 and order == 1 and avg.method == AMPLITUDE
+                       and (nxt is not None or second_order(model, params, D, avg)[0]
+                            is not None))
+        fp_route = None if fp is not None else fokker_planck_route(model, params, fp_why)
+    out["validity"] = validity(compared, out["averaged_order"] or 1, raise_order,
+                               fp_route or None)
     state_averaged_errors(out, nxt)
-    if fp is not None:
-        out["validity"]["z_fokker_planck"] = {
-            k: (fp[k] - out["moments"][k]["simulated"]) / out["moments"][k]["stderr"]
-            for k in ("a2", "x2")}
     averaged = (order2_bins(so, so_values, ens.edges) if so is not None
                 else avg.bins(ens.edges) if avg is not None else None)
     out["density"] = {

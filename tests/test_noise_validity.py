@@ -217,3 +217,24 @@ def test_noise_text_states_the_fokker_planck_error(capsys, tmp_path):
     for k in ("a2", "x2"):
         pm = float(stated.split(f"<{k[0]}^2> +- ")[1].split(",")[0].split()[0])
         assert pm == pytest.approx(change * rep["moments"][k]["fokker_planck"], rel=0.05)
+
+
+def test_escape_low_barrier_advice_runs_on_the_command_line(capsys):
+    """CDC at E_b/kT = 0.39: the warning's "use the simulated first-passage rate" says how
+    where the run has none: drop --no-simulation, or raise --budget when the simulation is
+    refused for its cost; with a simulation, neither.  The --fp-budget help names no Python
+    parameter (it named kramers_escape's max_cost)."""
+    from numerics.cli import main
+
+    args = ["escape", "cdc", "-p", "mu=0.1", "-p", "Delta=2", "-p", "D=0.2", "--json"]
+    warned = {}
+    for extra in (["--no-simulation"], ["--budget", "0"], ["--trajectories", "20",
+                                                          "--t-end", "20"]):
+        assert main(args + extra) == 0
+        warned[extra[0]] = json.loads(capsys.readouterr().out)["warnings"][0]
+    assert warned["--no-simulation"].endswith("(drop --no-simulation)")
+    assert warned["--budget"].endswith("(raise --budget)")
+    assert warned["--trajectories"].endswith("simulated first-passage rate")
+    with pytest.raises(SystemExit):
+        main(["escape", "--help"])
+    assert "max_cost" not in capsys.readouterr().out

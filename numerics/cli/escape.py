@@ -43,8 +43,8 @@ def register(sub) -> None:
                         "transitions to the next wells from the well's Boltzmann state")
     options(p, "fp_budget", "json", fp_budget=dict(
         help="with --method fokker-planck: the largest cost of the escape rate's Kramers "
-             f"solves (default {ESCAPE_FP_BUDGET:.2g}; the factorisation keeps about 3 times it in numbers, "
-             "numerics.fokker_planck.kramers_escape's max_cost); larger solves are skipped"))
+             f"solves, N_Hermite x N_Chebyshev^2 (default {ESCAPE_FP_BUDGET:.2g}; the "
+             "factorisation keeps about 3 times it in numbers); larger solves are skipped"))
     p.set_defaults(func=run)
 
 

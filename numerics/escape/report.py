@@ -155,7 +155,9 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
             f"E_b/kT = {ratio:.3g} < {MIN_BARRIER_OVER_KT:g}: the barrier is not high against "
             "the noise, so the escape rate formulas (averaged MFPT, Kramers, Mel'nikov-"
             "Meshkov, turnover) do not apply (they assume E_b >> kT); lower D or use the "
-            "simulated first-passage rate")
+            "simulated first-passage rate" + (" (drop --no-simulation)" if not simulate
+                                              else " (raise --budget)" if steps > budget
+                                              else ""))
     if not simulate:
         out["message"] = "simulation not requested (--no-simulation)"
         return out

@@ -150,6 +150,7 @@ def test_noise_fp_budget_bounds_the_fokker_planck_solve(capsys):
     assert code == 0 and rep["moments"]["a2"]["fokker_planck"] is None
     msg = rep["fokker_planck_message"]
     assert "not affordable" in msg and "> 1e+04" in msg
+    assert msg.endswith("(raise --fp-budget above that cost)")  # the option that affords it
     assert float(msg.split("(cost ")[1].split()[0]) >= 0.995 * 32 * 48**2  # printed .3g
     code, out, _ = kbm_in_process(capsys, *args)
     a2 = json.loads(out)["moments"]["a2"]

@@ -229,3 +229,18 @@ def test_friction_with_noise_cli():
     bad = kbm("friction", "cdc", "-p", "Delta=3", "-p", "D=0.1", "-p", "T=1", "--vary",
               "v=0.1", check=False)
     assert bad.returncode == 2 and "not both" in bad.stderr
+
+
+def test_friction_with_noise_prints_no_nan(capsys):
+    """A point without slips (the CDC pulled at v = 0.01 for one stage period, kT = 1e-3 far
+    below its barrier) has no slip force or position: the JSON says null, and the text
+    "--" with the reason, not Python's "nan"."""
+    args = ("friction", "cdc", "-p", "Delta=3", "-p", "D=0.0001", "--vary", "v=0.01:3:2",
+            "--trajectories", "4", "--wells", "1", "--no-progress")
+    code, out, _ = kbm_in_process(capsys, *args, "--json")
+    slow = json.loads(out)["points"][0]
+    assert code == 0 and slow["slips"] == 0 and slow["slip_force"] is None
+    code, text, _ = kbm_in_process(capsys, *args)
+    assert code == 0 and "nan" not in text and "--: no slip in the run" in text
+    row = next(line.split() for line in text.splitlines() if line.split()[:1] == ["0.01"])
+    assert row[5:9] == ["--"] * 4 and row[9] == "0"

@@ -244,3 +244,21 @@ def test_friction_with_noise_prints_no_nan(capsys):
     assert code == 0 and "nan" not in text and "--: no slip in the run" in text
     row = next(line.split() for line in text.splitlines() if line.split()[:1] == ["0.01"])
     assert row[5:9] == ["--"] * 4 and row[9] == "0"
+
+
+def test_noise_driven_slider_says_its_moments_are_not_stationary(capsys):
+    """A pulled CDC's x follows the stage, x ~ v t: its simulated <x^2> grows with --t-end
+    (the stage's mean (v t)^2 over [10, 210] is v^2 (210^3 - 10^3)/600 = 38.6 at v = 0.05;
+    over [10, 50] 2.6), so the report must not present it as a stationary moment; before,
+    the message said only "no averaged stationary state"."""
+    x2 = {}
+    for t_end in ("40", "200"):
+        code, out, err = kbm_in_process(capsys, "noise", "cdc", *CDC, "-p", "v=0.05", "-p",
+                                        "D=0.01", "--trajectories", "8", "--t-end", t_end,
+                                        "--burn-in", "10", "--json")
+        assert code == 0, err
+        rep = json.loads(out)
+        x2[t_end] = rep["moments"]["x2"]["simulated"]
+        assert "grow with --t-end" in rep["message"] and "kbm friction" in rep["message"]
+    stage = 0.05**2 * (210**3 - 10**3) / 600
+    assert x2["200"] > 10 * x2["40"] and stage / 2 < x2["200"] < 2 * stage

@@ -238,3 +238,16 @@ def test_escape_low_barrier_advice_runs_on_the_command_line(capsys):
     with pytest.raises(SystemExit):
         main(["escape", "--help"])
     assert "max_cost" not in capsys.readouterr().out
+
+
+def test_escape_names_the_missing_values_as_noise_does(capsys):
+    """kbm escape sedf without beta and Delta said "give values for beta, delta" (the scaled
+    delta = Delta/mu, which -p does not take for a slider's example): it now names the
+    values as kbm noise does, Delta with --param Delta=1."""
+    from numerics.cli import main
+
+    for command in ("escape", "noise"):
+        assert main([command, "sedf", "-p", "mu=0.1", "-p", "D=0.05"]) == 2
+        err = capsys.readouterr().err
+        assert "beta, Delta (delta = Delta/mu" in err and "--param Delta=1" in err, err
+        assert len(err.strip().splitlines()) == 1

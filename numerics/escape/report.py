@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 from kbm.errors import ParameterError
+from kbm.parameters.bound import bind
 
 from ..noise.budget import STEP_BUDGET
 from .envelope import check_mu, noise_level, origin_well_envelope
@@ -105,6 +106,9 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
     if model in ("sedf", "cdc", "sedf_comoving"):
         for name, val in SLIDER_DEFAULTS.items():
             params.setdefault(name, val)
+    # the missing values named as the user gives them (Delta, not the scaled delta)
+    bind(model, {k: val for k, val in params.items() if k != "v"}).require(
+        what="the escape rate")
     _check_barrier(model, params, D)
     env = origin_well_envelope(model, params, D)  # the MFPT needs the well alone
     esc = averaged_escape(env)

@@ -251,3 +251,24 @@ def test_escape_names_the_missing_values_as_noise_does(capsys):
         err = capsys.readouterr().err
         assert "beta, Delta (delta = Delta/mu" in err and "--param Delta=1" in err, err
         assert len(err.strip().splitlines()) == 1
+
+
+def test_missing_noise_and_bad_times_in_the_command_line_words(capsys):
+    """A missing D said "D >= 0" although kbm noise, escape and spectrum refuse D = 0; a
+    bad --dt/--t-end/--burn-in echoed Python's float (-1.0 for -1)."""
+    from numerics.cli import main
+
+    for command in ("noise", "spectrum"):
+        assert main([command, "vdp", "-p", "mu=0.1"]) == 2
+        missing = capsys.readouterr().err
+        assert "-p D=VALUE" in missing and ">= 0" not in missing
+        assert main([command, "vdp", "-p", "mu=0.1", "-p", "D=0"]) == 2  # D = 0 refused
+        capsys.readouterr()
+    for command, flag in (("noise", "--dt"), ("noise", "--t-end"), ("noise", "--burn-in"),
+                          ("escape", "--dt"), ("escape", "--t-end")):
+        model = ["vdp", "-p", "mu=0.1"] if command == "noise" else ["cdc", "-p", "mu=0.1",
+                                                                    "-p", "Delta=3"]
+        assert main([command, *model, "-p", "D=0.1", flag, "-1", "--no-simulation"
+                     if command == "escape" else "--budget=0"]) == 2
+        assert capsys.readouterr().err.strip().endswith(f"{flag} must be a positive number, "
+                                                        "got -1")

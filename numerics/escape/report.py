@@ -102,7 +102,7 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
                              "needed for a meaningful standard error")
     for name, val in (("t-end", t_end), ("dt", dt)):
         if val is not None and not (math.isfinite(val) and val > 0):
-            raise ParameterError(f"--{name} must be a positive number, got {val}")
+            raise ParameterError(f"--{name} must be a positive number, got {val:g}")
     if model in ("sedf", "cdc", "sedf_comoving"):
         for name, val in SLIDER_DEFAULTS.items():
             params.setdefault(name, val)

@@ -60,12 +60,12 @@ def default_times(system, t_end: float | None, burn_in: float | None,
     elif pilot is not None:
         pilot.update(h0=h, outcome="not run", reason="--dt given" if dt else "measure=False")
     if not (math.isfinite(h) and h > 0):
-        raise ParameterError(f"--dt must be a positive number, got {dt}")
+        raise ParameterError(f"--dt must be a positive number, got {h:g}")
     run = 400 / abs(mu) if t_end is None else float(t_end)
     burn = 20 / abs(mu) if burn_in is None else float(burn_in)
     for name, val in (("t-end", run), ("burn-in", burn)):
         if not (math.isfinite(val) and val >= 0) or (name == "t-end" and val <= 0):
-            raise ParameterError(f"--{name} must be a positive number, got {val}")
+            raise ParameterError(f"--{name} must be a positive number, got {val:g}")
     n = max(1, math.ceil(run / h - 1e-9))
     h = run / n
     burn = h * math.ceil(burn / h - 1e-9)

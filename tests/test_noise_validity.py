@@ -272,3 +272,22 @@ def test_missing_noise_and_bad_times_in_the_command_line_words(capsys):
                      if command == "escape" else "--budget=0"]) == 2
         assert capsys.readouterr().err.strip().endswith(f"{flag} must be a positive number, "
                                                         "got -1")
+
+
+def test_escape_fp_budget_help_says_what_it_bounds(capsys):
+    """kbm escape --fp-budget said "larger solves are skipped", yet at a budget of 10 the
+    CDC's Kramers escape still solves 90 Hermite functions x 129 Chebyshev points (each
+    ladder's first two rungs and its grid and sink checks run whatever they cost,
+    numerics.fokker_planck._ladder): the help says so."""
+    from numerics.cli import main
+
+    assert main(["escape", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "D=0.1", "--method",
+                 "fokker-planck", "--fp-budget", "10", "--no-simulation", "--json"]) == 0
+    fp = json.loads(capsys.readouterr().out)["fokker_planck"]
+    assert fp["hermite"] * fp["chebyshev"] ** 2 > 10
+    with pytest.raises(SystemExit):
+        main(["escape", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "larger solves are skipped" not in text
+    assert "first two rungs and the checks of the grid and the sink run whatever they cost" \
+        in text

@@ -44,7 +44,9 @@ def register(sub) -> None:
     options(p, "fp_budget", "json", fp_budget=dict(
         help="with --method fokker-planck: the largest cost of the escape rate's Kramers "
              f"solves, N_Hermite x N_Chebyshev^2 (default {ESCAPE_FP_BUDGET:.2g}; the "
-             "factorisation keeps about 3 times it in numbers); larger solves are skipped"))
+             "factorisation keeps about 3 times it in numbers): the ladders climb while their "
+             "solves fit, but the first two rungs and the checks of the grid and the sink run "
+             "whatever they cost (the sizes reached are printed)"))
     p.set_defaults(func=run)
 
 

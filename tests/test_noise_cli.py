@@ -262,3 +262,22 @@ def test_noise_driven_slider_says_its_moments_are_not_stationary(capsys):
         assert "grow with --t-end" in rep["message"] and "kbm friction" in rep["message"]
     stage = 0.05**2 * (210**3 - 10**3) / 600
     assert x2["200"] > 10 * x2["40"] and stage / 2 < x2["200"] < 2 * stage
+
+
+def test_noise_budget_refusal_keeps_the_reason_and_says_what_is_given(capsys):
+    """--budget 0 replaced the message: a pulled slider (no averaged state) then said "the
+    averaged answer is given alone" beside an empty averaged column, and --order 2 on the
+    SEDF lost "first order given".  The refusal now follows the reason and says what is
+    given."""
+    code, out, _ = kbm_in_process(capsys, "noise", "cdc", *CDC, "-p", "v=0.05", "-p",
+                                  "D=0.01", "--budget", "0", "--json")
+    rep = json.loads(out)
+    assert code == 0 and rep["moments"]["x2"]["averaged"] is None
+    assert "not autonomous" in rep["message"] and "simulation refused" in rep["message"]
+    assert "the averaged answer is given alone" not in rep["message"]
+    code, out, _ = kbm_in_process(capsys, "noise", "sedf", "-p", "mu=0.1", "-p", "Delta=3",
+                                  "-p", "beta=1", "-p", "D=0.05", "--order", "2", "--budget",
+                                  "0", "--no-fokker-planck", "--json")
+    rep = json.loads(out)
+    assert code == 0 and rep["averaged_order"] == 1
+    assert "first order given" in rep["message"] and "simulation refused" in rep["message"]

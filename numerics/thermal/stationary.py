@@ -213,10 +213,12 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
             nxt = {"a2": so1.moment(2, values1), "x2": so1.x2(values1)}
     state_averaged_errors(out, nxt)
     if steps > budget:
-        out["message"] = (f"simulation refused: {trajectories} trajectories x "
-                          f"{(run + burn) / h:.3g} steps = {steps:.3g} steps > budget "
-                          f"{budget:.3g}; the averaged answer is given alone (raise --budget, "
-                          "or fewer --trajectories / a shorter --t-end)")
+        refusal = (f"simulation refused: {trajectories} trajectories x "
+                   f"{(run + burn) / h:.3g} steps = {steps:.3g} steps > budget {budget:.3g}; "
+                   + ("the averaged answer is given alone" if avg is not None else
+                      "without an averaged state there is no answer")
+                   + " (raise --budget, or fewer --trajectories / a shorter --t-end)")
+        out["message"] = f"{why}; {refusal}" if why else refusal  # why: kept, not replaced
         return out
     if avg is not None:
         variable, (lo, hi) = avg.variable, avg.support

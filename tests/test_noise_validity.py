@@ -291,3 +291,17 @@ def test_escape_fp_budget_help_says_what_it_bounds(capsys):
     assert "larger solves are skipped" not in text
     assert "first two rungs and the checks of the grid and the sink run whatever they cost" \
         in text
+
+
+@pytest.mark.parametrize("command", ["noise", "escape", "spectrum", "friction"])
+def test_noisy_commands_help_names_no_python_module(command, capsys):
+    """The help spoke Python: kbm noise --order named kbm.noise.stochastic_order2 and kbm
+    escape --dt numerics.noise.langevin.natural_step; the help names the documentation."""
+    import re
+
+    from numerics.cli import main
+
+    with pytest.raises(SystemExit):
+        main([command, "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert not re.search(r"\b(?:kbm|numerics)\.[a-z_]+\.", text), text

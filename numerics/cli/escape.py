@@ -31,8 +31,7 @@ def register(sub) -> None:
                            help="longest run per trajectory (default: 5 averaged MFPTs; runs "
                                 "still in the well at T are censored)"),
                 dt=dict(help="time step (default: the well's period/40, smaller where the "
-                             "numerical heating would exceed 1e-3 of kT: "
-                             "numerics.noise.langevin.natural_step)"),
+                             "numerical heating would exceed 1e-3 of kT; docs/noise.rst)"),
                 budget=dict(help="largest expected number of integration steps (default "
                                  f"{BUDGET_TEXT})"),
                 no_simulation=dict(help="the averaged rate only"))

@@ -37,7 +37,7 @@ def register(sub) -> None:
                          "beyond it the averaged answer is given alone"))
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the amplitude averaging (default 1; 2 adds the O(mu) and "
-                        "O(mu^2) corrections at fixed D/mu, kbm.noise.stochastic_order2; "
+                        "O(mu^2) corrections at fixed D/mu, docs/noise.rst; "
                         "polynomial F only)")
     p.add_argument("--method", choices=("averaging", "fokker-planck"), default="averaging",
                    help="the prediction beside the simulation: stochastic averaging (default; "

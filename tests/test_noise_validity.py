@@ -204,12 +204,14 @@ def test_noise_cli_flag_with_fokker_planck_shown(capsys, tmp_path):
 def test_noise_text_states_the_fokker_planck_error(capsys, tmp_path):
     """The text states the Fokker-Planck values' error (before: the JSON alone had it, as
     the relative ``fokker_planck.hermite_change``): ``+-`` that change times each moment
-    (van der Pol mu = 0.1, D = 0.05, the Kramers solve alone: --budget 0)."""
+    (van der Pol mu = 0.1, D = 0.05, the Kramers solve alone: --budget 0, whose refused
+    simulation the text no longer calls "simulated")."""
     from numerics.cli import main
 
     assert main(["noise", "vdp", "-p", "mu=0.1", "-p", "D=0.05", "--budget", "0",
                  "--out", str(tmp_path)]) == 0
     text = capsys.readouterr().out
+    assert "  not simulated (refused, below): 100 trajectories" in text  # not "simulated:"
     rep = json.loads((tmp_path / "noise-vdp.json").read_text())
     stated = next(row for row in text.splitlines() if "stated error of the Fokker-Planck" in row)
     change = rep["fokker_planck"]["hermite_change"]

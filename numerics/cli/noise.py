@@ -132,7 +132,8 @@ def run(args) -> int:
     print(f"  averaging: {rep['method'] or '-- (' + rep['message'] + ')'}"
           + (f", order {rep['averaged_order']}" if rep.get("averaged_order") else ""))
     # the burn-in is a whole number of steps (numerics.thermal.stationary.default_times)
-    print(f"  simulated: {rep['trajectories']} trajectories x t = {rep['t_end']:.6g} after a "
+    ran = "simulated" if rep["density"] is not None else "not simulated (refused, below)"
+    print(f"  {ran}: {rep['trajectories']} trajectories x t = {rep['t_end']:.6g} after a "
           f"burn-in of {rep['burn_in']:.4g} ({round(rep['burn_in'] / rep['dt'])} steps), "
           f"dt = {rep['dt']:.4g}, seed {rep['seed']}")
     pilot = rep.get("step_pilot") or {}

@@ -307,3 +307,20 @@ def test_noisy_commands_help_names_no_python_module(command, capsys):
         main([command, "--help"])
     text = " ".join(capsys.readouterr().out.split())
     assert not re.search(r"\b(?:kbm|numerics)\.[a-z_]+\.", text), text
+
+
+def test_an_unconverged_fokker_planck_column_is_not_called_the_reference():
+    """A Fokker-Planck column whose stated error (SEDF at --fp-budget 1e6: relative 0.3,
+    <a^2> +- 0.95) exceeds the simulation's standard error, or is not measured, is no
+    sharper than the simulation: the advice asks for --fp-budget instead of naming it the
+    reference; within the standard error it stays the reference."""
+    moments = {"a2": {"averaged": 4.0, "simulated": 4.02, "stderr": 0.013,
+                      "fokker_planck": 3.2},
+               "x2": {"averaged": 2.11486, "simulated": 2.32239, "stderr": 0.0087,
+                      "fokker_planck": 2.1}}
+    for error in ({"a2": 0.95, "x2": 0.61}, {"a2": None, "x2": None}):
+        advice = validity(moments, 1, False, None, error)["advice"]
+        assert "reference" not in advice and "raise --fp-budget" in advice
+        assert "--method fokker-planck" not in advice
+    sharp = validity(moments, 1, False, None, {"a2": 1e-8, "x2": 1e-8})["advice"]
+    assert "is the reference" in sharp and "--fp-budget" not in sharp

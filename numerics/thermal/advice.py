@@ -56,7 +56,7 @@ def fokker_planck_route(model, params: Mapping, why: str) -> str | None:
 
 
 def validity(moments: Mapping, order: int = 1, can_raise_order: bool = True,
-             fp_route: str | None = FP_ROUTE) -> dict:
+             fp_route: str | None = FP_ROUTE, fp_error: Mapping | None = None) -> dict:
     """The gap ``(averaged - simulated)/stderr`` of each moment, the flag ``|z| > 4`` and
     what to do.
 
@@ -73,6 +73,11 @@ def validity(moments: Mapping, order: int = 1, can_raise_order: bool = True,
     fp_route : str or None
         Where the moments have no ``fokker_planck`` value: how to obtain it
         (:func:`fokker_planck_route`), ``None`` where it does not apply.
+    fp_error : mapping, optional
+        The Fokker-Planck values' stated absolute error per moment (``None`` for a moment:
+        not measured).  Where one exceeds the simulation's standard error, or is not
+        measured, the column is no sharper than the simulation and is not called the
+        reference: the advice asks for more of its digits (``--fp-budget``) instead.
 
     Returns
     -------
@@ -96,7 +101,17 @@ def validity(moments: Mapping, order: int = 1, can_raise_order: bool = True,
     worst = max(bad, key=lambda k: abs(z[k]))
     raise_order = ("--order 2 (second-order averaging)" if can_raise_order and order == 1
                    else None)
-    if fp_shown:
+    loose = fp_shown and fp_error is not None and any(
+        fp_error.get(k) is None or fp_error[k] > moments[k]["stderr"] for k in ("a2", "x2"))
+    if loose:
+        stated = ", ".join(f"{_NAMES[k]} +- {fp_error[k]:.2g}" if fp_error.get(k) is not None
+                           else f"{_NAMES[k]} not measured" for k in ("a2", "x2"))
+        remedy = ("the Fokker-Planck column is no sharper than the simulation here (its stated "
+                  f"error: {stated}; the simulation's standard error is smaller): raise "
+                  "--fp-budget for more of its digits")
+        if raise_order:
+            remedy += f"; for the averaged values, use {raise_order}"
+    elif fp_shown:
         zf = out["z_fokker_planck"]
         remedy = ("the Fokker-Planck column (the stationary Kramers equation, which owes "
                   "nothing to averaging) is the reference: its <a^2> and <x^2> are "

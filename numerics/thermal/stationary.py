@@ -240,8 +240,11 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
                        and (nxt is not None or second_order(model, params, D, avg)[0]
                             is not None))
         fp_route = None if fp is not None else fokker_planck_route(model, params, fp_why)
+    change = None if fp is None else fp["hermite_change"]
     out["validity"] = validity(compared, out["averaged_order"] or 1, raise_order,
-                               fp_route or None)
+                               fp_route or None, None if fp is None else {
+                                   k: None if change is None else change * abs(fp[k])
+                                   for k in ("a2", "x2")})
     state_averaged_errors(out, nxt)
     averaged = (order2_bins(so, so_values, ens.edges) if so is not None
                 else avg.bins(ens.edges) if avg is not None else None)

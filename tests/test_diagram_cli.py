@@ -132,3 +132,13 @@ def test_ctrl_c_keeps_the_points_and_resume_finishes(tmp_path):
     resumed = _subprocess([*ARGS, "--json", "--store", str(tmp_path / "part"), "--resume"])
     assert resumed.returncode == 0, resumed.stderr
     assert resumed.stdout == whole.stdout
+
+
+def test_header_without_fixed_parameters_has_no_empty_parentheses():
+    """Every parameter of the --rhs model an axis: the header printed "custom ()"; it names
+    the fixed parameters only when there are some."""
+    status, out = _run(["diagram", "--rhs", "(-nu + x**2 - x**4)*xdot", "--vary",
+                        "nu=0.1:0.15", "--vary", "mu=0.05:0.3", "--grid", "5,3",
+                        "--max-points", "20", "--no-averaged"])
+    assert status == 0
+    assert out.splitlines()[0].startswith("bifurcation diagram of custom over nu in [0.1, ")

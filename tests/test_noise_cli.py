@@ -150,6 +150,7 @@ def test_noise_fp_budget_bounds_the_fokker_planck_solve(capsys):
     assert code == 0 and rep["moments"]["a2"]["fokker_planck"] is None
     msg = rep["fokker_planck_message"]
     assert "not affordable" in msg and "> 1e+04" in msg
+    assert msg.endswith("(raise --fp-budget above that cost)")  # the option that affords it
     assert float(msg.split("(cost ")[1].split()[0]) >= 0.995 * 32 * 48**2  # printed .3g
     code, out, _ = kbm_in_process(capsys, *args)
     a2 = json.loads(out)["moments"]["a2"]
@@ -228,3 +229,55 @@ def test_friction_with_noise_cli():
     bad = kbm("friction", "cdc", "-p", "Delta=3", "-p", "D=0.1", "-p", "T=1", "--vary",
               "v=0.1", check=False)
     assert bad.returncode == 2 and "not both" in bad.stderr
+
+
+def test_friction_with_noise_prints_no_nan(capsys):
+    """A point without slips (the CDC pulled at v = 0.01 for one stage period, kT = 1e-3 far
+    below its barrier) has no slip force or position: the JSON says null, and the text
+    "--" with the reason, not Python's "nan"."""
+    args = ("friction", "cdc", "-p", "Delta=3", "-p", "D=0.0001", "--vary", "v=0.01:3:2",
+            "--trajectories", "4", "--wells", "1", "--no-progress")
+    code, out, _ = kbm_in_process(capsys, *args, "--json")
+    slow = json.loads(out)["points"][0]
+    assert code == 0 and slow["slips"] == 0 and slow["slip_force"] is None
+    code, text, _ = kbm_in_process(capsys, *args)
+    assert code == 0 and "nan" not in text and "--: no slip in the run" in text
+    row = next(line.split() for line in text.splitlines() if line.split()[:1] == ["0.01"])
+    assert row[5:9] == ["--"] * 4 and row[9] == "0"
+
+
+def test_noise_driven_slider_says_its_moments_are_not_stationary(capsys):
+    """A pulled CDC's x follows the stage, x ~ v t: its simulated <x^2> grows with --t-end
+    (the stage's mean (v t)^2 over [10, 210] is v^2 (210^3 - 10^3)/600 = 38.6 at v = 0.05;
+    over [10, 50] 2.6), so the report must not present it as a stationary moment; before,
+    the message said only "no averaged stationary state"."""
+    x2 = {}
+    for t_end in ("40", "200"):
+        code, out, err = kbm_in_process(capsys, "noise", "cdc", *CDC, "-p", "v=0.05", "-p",
+                                        "D=0.01", "--trajectories", "8", "--t-end", t_end,
+                                        "--burn-in", "10", "--json")
+        assert code == 0, err
+        rep = json.loads(out)
+        x2[t_end] = rep["moments"]["x2"]["simulated"]
+        assert "grow with --t-end" in rep["message"] and "kbm friction" in rep["message"]
+    stage = 0.05**2 * (210**3 - 10**3) / 600
+    assert x2["200"] > 10 * x2["40"] and stage / 2 < x2["200"] < 2 * stage
+
+
+def test_noise_budget_refusal_keeps_the_reason_and_says_what_is_given(capsys):
+    """--budget 0 replaced the message: a pulled slider (no averaged state) then said "the
+    averaged answer is given alone" beside an empty averaged column, and --order 2 on the
+    SEDF lost "first order given".  The refusal now follows the reason and says what is
+    given."""
+    code, out, _ = kbm_in_process(capsys, "noise", "cdc", *CDC, "-p", "v=0.05", "-p",
+                                  "D=0.01", "--budget", "0", "--json")
+    rep = json.loads(out)
+    assert code == 0 and rep["moments"]["x2"]["averaged"] is None
+    assert "not autonomous" in rep["message"] and "simulation refused" in rep["message"]
+    assert "the averaged answer is given alone" not in rep["message"]
+    code, out, _ = kbm_in_process(capsys, "noise", "sedf", "-p", "mu=0.1", "-p", "Delta=3",
+                                  "-p", "beta=1", "-p", "D=0.05", "--order", "2", "--budget",
+                                  "0", "--no-fokker-planck", "--json")
+    rep = json.loads(out)
+    assert code == 0 and rep["averaged_order"] == 1
+    assert "first order given" in rep["message"] and "simulation refused" in rep["message"]

@@ -193,3 +193,22 @@ def test_run_slips_bad_input(change, words):
     with pytest.raises(KBMError) as exc:
         run_slips(Namespace(**base))
     assert words in str(exc.value) and "\n" not in str(exc.value)
+
+
+def test_slip_table_speaks_the_command_line(capsys):
+    """kbm spectrum coupled-vdp's table said Python's True/False in its "locked" column; it
+    says yes/no as the JSON's ``locked`` (c = 0.3: locked at sigma = 0.1 < c, slipping at
+    0.45 > c, Adler's edge sigma = c at first order)."""
+    import json
+
+    from numerics.cli import main
+
+    argv = ["spectrum", "coupled-vdp", "-p", "mu=0.1", "-p", "c=0.3", "-p", "D=0.001",
+            "--vary", "sigma=0.1,0.45", "--trajectories", "8", "--duration", "300",
+            "--workers", "1"]
+    assert main(argv + ["--json"]) == 0
+    rep = json.loads(capsys.readouterr().out)
+    assert [r["locked"] for r in rep["slips"]] == [True, False]
+    assert main(argv) == 0
+    rows = [ln.split() for ln in capsys.readouterr().out.splitlines()[2:]]
+    assert [r[1] for r in rows] == ["yes", "no"]

@@ -116,3 +116,38 @@ def test_sweep_flags_each_noise_level(capsys):
     assert main(argv) == 0
     out = capsys.readouterr().out
     assert out.count("  WARNING: ") == 1 and out.count("  WARNING (D = 0.02): ") == 1
+
+
+def test_advice_does_not_name_floquet_when_its_line_is_shown(capsys):
+    """--floquet given: a flagged gap no longer says "use ... --floquet"; it gives the true
+    cycle's line's own gap to the simulation, (floquet - simulated)/stderr (Omega's less
+    the scheme's bias), computed here from the JSON.  vdp at mu = 0.2, D = 0.02 (the first
+    order's centre misses -mu^2/16): --order 2 is still advised (F polynomial)."""
+    argv = ["spectrum", "vdp", "-p", "mu=0.2", "-p", "D=0.02", "--trajectories", "16",
+            "--duration", "2400", "--resolution", "0.006", "--workers", "1", "--floquet",
+            "--json"]
+    assert main(argv) == 0
+    rep = json.loads(capsys.readouterr().out)
+    advice = rep["validity"]["advice"]
+    assert rep["validity"]["flagged"] and "--floquet" not in advice
+    assert "use --order 2" in advice
+    lw, fr = rep["linewidth"], rep["frequency"]
+    z_lw = (lw["floquet"] - lw["simulated"]) / lw["stderr"]
+    z_fr = (fr["floquet"] - fr["simulated"] + fr["step_bias"]) / fr["stderr"]
+    assert f"{z_lw:+.1f} (HWHM) and {z_fr:+.1f} (Omega) standard errors" in advice
+
+
+def test_order_2_advised_only_where_it_applies():
+    """The SEDF's F has sin(k x): no second-order line (next_line is None; its symbolic
+    second order ran 310 s and failed), so a flagged first order advises --floquet alone;
+    van der Pol's polynomial F gets --order 2 too."""
+    from numerics.spectrum.result import line_validity, next_line
+
+    assert next_line("sedf", {"mu": 0.1, "Delta": 0.5, "beta": 1, "lam": 1, "Omega": 1},
+                     0.01, 1) is None
+    rep = {"order": 1, "params": {"mu": 0.1},
+           "linewidth": {"averaged": 1e-3, "simulated": 1e-3, "stderr": 1e-4},
+           "frequency": {"averaged": 1.0, "simulated": 0.99, "stderr": 1e-4, "step_bias": 0.0}}
+    sedf, vdp = line_validity(rep, False)["advice"], line_validity(rep, True)["advice"]
+    assert "--order 2" not in sedf and "use --floquet" in sedf
+    assert "use --order 2 (second-order averaging) or --floquet" in vdp

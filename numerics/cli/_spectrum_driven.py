@@ -217,9 +217,10 @@ def run_slips(args) -> int:
              f"{'z':>6}  {'<dgamma/dt> avg':>15} {'simulated':>11}"]
     for r in rows:
         s, f = r["slip_rate"], r["frequency_difference"]
-        z = (s["averaged"] - s["simulated"]) / s["stderr"] if s["stderr"] else float("nan")
-        lines.append(f"  {r['detuning']:8.4g} {str(r['locked']):>7} {s['averaged']:11.4g} "
-                     f"{s['simulated']:11.4g} {s['stderr']:9.2g} {z:+6.2f}  "
+        z = (f"{(s['averaged'] - s['simulated']) / s['stderr']:+6.2f}" if s["stderr"]
+             else "--")  # no spread of the counts: no gap in standard errors
+        lines.append(f"  {r['detuning']:8.4g} {'yes' if r['locked'] else 'no':>7} "
+                     f"{s['averaged']:11.4g} {s['simulated']:11.4g} {s['stderr']:9.2g} {z:>6}  "
                      f"{f['averaged']:15.4g} {f['simulated']:11.4g}")
     return _emit(args, rep, lines)
 

@@ -166,7 +166,8 @@ def _write(args, d) -> None:
         return
     a, b = d.axes
     fixed = ", ".join(f"{k}={v}" for k, v in d.params.items())
-    print(f"bifurcation diagram of {d.model} ({fixed}) over {a} in [{d.ranges[a][0]:g}, "
+    fixed = f" ({fixed})" if fixed else ""  # every parameter an axis: no empty "()"
+    print(f"bifurcation diagram of {d.model}{fixed} over {a} in [{d.ranges[a][0]:g}, "
           f"{d.ranges[a][1]:g}] and {b} in [{d.ranges[b][0]:g}, {d.ranges[b][1]:g}]")
     for c in d.curves:
         src = "true" if c.method == "true" else f"averaged order {c.order}"

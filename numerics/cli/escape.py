@@ -31,8 +31,7 @@ def register(sub) -> None:
                            help="longest run per trajectory (default: 5 averaged MFPTs; runs "
                                 "still in the well at T are censored)"),
                 dt=dict(help="time step (default: the well's period/40, smaller where the "
-                             "numerical heating would exceed 1e-3 of kT: "
-                             "numerics.noise.langevin.natural_step)"),
+                             "numerical heating would exceed 1e-3 of kT; docs/noise.rst)"),
                 budget=dict(help="largest expected number of integration steps (default "
                                  f"{BUDGET_TEXT})"),
                 no_simulation=dict(help="the averaged rate only"))
@@ -43,8 +42,10 @@ def register(sub) -> None:
                         "transitions to the next wells from the well's Boltzmann state")
     options(p, "fp_budget", "json", fp_budget=dict(
         help="with --method fokker-planck: the largest cost of the escape rate's Kramers "
-             f"solves (default {ESCAPE_FP_BUDGET:.2g}; the factorisation keeps about 3 times it in numbers, "
-             "numerics.fokker_planck.kramers_escape's max_cost); larger solves are skipped"))
+             f"solves, N_Hermite x N_Chebyshev^2 (default {ESCAPE_FP_BUDGET:.2g}; the "
+             "factorisation keeps about 3 times it in numbers): the ladders climb while their "
+             "solves fit, but the first two rungs and the checks of the grid and the sink run "
+             "whatever they cost (the sizes reached are printed)"))
     p.set_defaults(func=run)
 
 

@@ -37,7 +37,7 @@ def register(sub) -> None:
                          "beyond it the averaged answer is given alone"))
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the amplitude averaging (default 1; 2 adds the O(mu) and "
-                        "O(mu^2) corrections at fixed D/mu, kbm.noise.stochastic_order2; "
+                        "O(mu^2) corrections at fixed D/mu, docs/noise.rst; "
                         "polynomial F only)")
     p.add_argument("--method", choices=("averaging", "fokker-planck"), default="averaging",
                    help="the prediction beside the simulation: stochastic averaging (default; "
@@ -76,7 +76,25 @@ def _fp_format(rep: dict) -> str:
     change = fp.get("hermite_change", 0.0)
     if change is None:
         return "#.2g"
-    return ".10g" if change <= 1e-10 else f"#.{min(10, max(2, int(-math.log10(change))))}g"
+    return "#.10g" if change <= 1e-10 else f"#.{min(10, max(2, int(-math.log10(change))))}g"
+
+
+def _fp_stated(rep: dict) -> str:
+    """The text line of the Fokker-Planck moments' stated error (``""`` without them, or
+    when it is not measured: a warning says so): ``fokker_planck.hermite_change`` (relative)
+    times each moment, the ``+-`` of the digits the column prints."""
+    fp = rep.get("fokker_planck") or {}
+    change = fp.get("hermite_change")
+    if not fp or change is None:
+        return ""
+    if change == 0:  # numerics.fokker_planck.kramers: linear damping, sigma^2 = kT
+        return ("stated error of the Fokker-Planck values: none from the Hermite functions "
+                "(linear damping: the Maxwellian is one of them), the grid resolves "
+                "exp(-G/kT) to 1e-9")
+    return ("stated error of the Fokker-Planck values: " + ", ".join(
+        f"<{k[0]}^2> +- {change * abs(rep['moments'][k]['fokker_planck']):.2g}"
+        for k in ("a2", "x2")) + f" (relative {change:.2g}: the change under the last "
+        "refinements of the Hermite functions and the grid)")
 
 
 def run(args) -> int:
@@ -114,7 +132,8 @@ def run(args) -> int:
     print(f"  averaging: {rep['method'] or '-- (' + rep['message'] + ')'}"
           + (f", order {rep['averaged_order']}" if rep.get("averaged_order") else ""))
     # the burn-in is a whole number of steps (numerics.thermal.stationary.default_times)
-    print(f"  simulated: {rep['trajectories']} trajectories x t = {rep['t_end']:.6g} after a "
+    ran = "simulated" if rep["density"] is not None else "not simulated (refused, below)"
+    print(f"  {ran}: {rep['trajectories']} trajectories x t = {rep['t_end']:.6g} after a "
           f"burn-in of {rep['burn_in']:.4g} ({round(rep['burn_in'] / rep['dt'])} steps), "
           f"dt = {rep['dt']:.4g}, seed {rep['seed']}")
     pilot = rep.get("step_pilot") or {}
@@ -151,6 +170,9 @@ def run(args) -> int:
         print(f"  <{key[0]}^2> {_num(m['averaged']):>12}  {_num(m['simulated']):>12}  "
               f"{_num(m['stderr'], '.2g'):>9}  {z:>16}  "
               f"{_num(m.get('fokker_planck'), _fp_format(rep)):>13}")
+    stated = _fp_stated(rep)
+    if stated:
+        print(f"  {stated}")
     errs = [(k, rep["moments"][k]) for k in ("a2", "x2")
             if rep["moments"][k].get("averaged_error") is not None]
     if errs:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 from kbm.errors import ParameterError
+from kbm.parameters.bound import bind
 
 from ..noise.budget import STEP_BUDGET
 from .envelope import origin_well_envelope
@@ -102,10 +103,13 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
                              "needed for a meaningful standard error")
     for name, val in (("t-end", t_end), ("dt", dt)):
         if val is not None and not (math.isfinite(val) and val > 0):
-            raise ParameterError(f"--{name} must be a positive number, got {val}")
+            raise ParameterError(f"--{name} must be a positive number, got {val:g}")
     if model in ("sedf", "cdc", "sedf_comoving"):
         for name, val in SLIDER_DEFAULTS.items():
             params.setdefault(name, val)
+    # the missing values named as the user gives them (Delta, not the scaled delta)
+    bind(model, {k: val for k, val in params.items() if k != "v"}).require(
+        what="the escape rate")
     _check_barrier(model, params, D)
     env = origin_well_envelope(model, params, D)  # the MFPT needs the well alone
     esc = averaged_escape(env)
@@ -156,7 +160,9 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
             f"E_b/kT = {ratio:.3g} < {MIN_BARRIER_OVER_KT:g}: the barrier is not high against "
             "the noise, so the escape rate formulas (averaged MFPT, Kramers, Mel'nikov-"
             "Meshkov, turnover) do not apply (they assume E_b >> kT); lower D or use the "
-            "simulated first-passage rate")
+            "simulated first-passage rate" + (" (drop --no-simulation)" if not simulate
+                                              else " (raise --budget)" if steps > budget
+                                              else ""))
     if not simulate:
         out["message"] = "simulation not requested (--no-simulation)"
         return out

@@ -216,7 +216,8 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         n_hermite n_cheb^2`` for the block LU in orthonormal functions (``2 n_hermite
         (n_cheb/2 + 1)^2`` folded by parity, :class:`._folded.FoldedRungs`), ``n_hermite
         n_points^2`` in Risken's pair (``n_points`` about ``n_cheb/2`` when folded by
-        parity); larger solves are skipped.
+        parity); larger solves are skipped, but each ladder's first two rungs and its
+        grid and sink checks run whatever they cost (:mod:`._ladder`).
     basis : {"auto", "orthonormal", "pair"}
         The velocity's functions: orthonormal Hermite functions (every damping), or
         Risken's pair at ``sqrt(kT)`` (linear damping only; the ladder of 2896 functions

@@ -115,7 +115,7 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
         omega = np.linspace(*window, 401)
         rep["psd"] = {"omega": omega.tolist(), "averaged": th.psd(omega).tolist(),
                       "simulated": None, "lower": None, "upper": None}
-        rep["validity"] = line_validity(rep)
+        rep["validity"] = line_validity(rep, nxt is not None)
         return line_errors(rep, nxt)
     sim = simulate_line(model, {k: v for k, v in params.items()}, D,
                         trajectories=trajectories, duration=float(duration),
@@ -138,7 +138,7 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
     rep["simulation"] = {"trajectories": sim.trajectories, "duration": sim.duration,
                          "burn_in": sim.burn_in, "dt": sim.dt, "sample": sim.sample,
                          "seed": sim.seed, "resolution": p.resolution}
-    rep["validity"] = line_validity(rep)
+    rep["validity"] = line_validity(rep, nxt is not None)
     return line_errors(rep, nxt)
 
 
@@ -146,7 +146,7 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
 _LABELS = {"linewidth": "half width (HWHM)", "frequency": "line centre Omega"}
 
 
-def line_validity(rep: dict) -> dict:
+def line_validity(rep: dict, raise_order: bool = True) -> dict:
     """The gap ``(averaged - simulated)/stderr`` of the linewidth and of the frequency
     (the simulated frequency less the scheme's ``step_bias``, which the averaging does not
     have) and the flag ``|z| > 4`` (:func:`numerics.noise.validity.gap_z`), with what to do.
@@ -155,6 +155,11 @@ def line_validity(rep: dict) -> dict:
     ----------
     rep : dict
         A :func:`line_report` (``order``, ``params``, ``linewidth``, ``frequency``).
+    raise_order : bool
+        Whether ``--order 2`` applies (:func:`next_line` has a second-order line): advised
+        only then, and only at order 1.  ``--floquet`` is advised only when the report has
+        no true cycle's line; with it, the advice gives that line's gap to the simulation
+        instead (Omega's less the scheme's bias).
 
     Returns
     -------
@@ -162,20 +167,32 @@ def line_validity(rep: dict) -> dict:
         ``z`` (``linewidth``, ``frequency``; ``None`` without a simulation), ``flagged``,
         ``threshold`` and ``advice`` (``""`` unless flagged).
     """
-    z, bad = gap_z(_compared(rep))
+    compared = _compared(rep)
+    z, bad = gap_z(compared)
     advice = ""
     if bad:
         worst = max(bad, key=lambda k: abs(z[k]))
         order = rep["order"]
-        remedy = ("--order 2 (second-order averaging) or --floquet (the true cycle's line, "
-                  "exact in mu)" if order == 1 else "--floquet (the true cycle's line, "
-                  "exact in mu)")
+        floquet = {k: {"averaged": m.get("floquet"), "simulated": m["simulated"],
+                       "stderr": m["stderr"]} for k, m in compared.items()}
+        zf = gap_z(floquet)[0]
+        options = (["--order 2 (second-order averaging)"] if order == 1 and raise_order
+                   else [])
+        if any(v is None for v in zf.values()):
+            options.append("--floquet (the true cycle's line, exact in mu)")
+        remedy = "use " + " or ".join(options) if options else ""
+        if all(v is not None for v in zf.values()):
+            remedy += ("; " if remedy else "") + (
+                f"the true cycle's line (adjoint Floquet, exact in mu, first order in D) is "
+                f"{zf['linewidth']:+.1f} (HWHM) and {zf['frequency']:+.1f} (Omega) standard "
+                "errors from the simulated one")
         bias = " (the scheme's frequency bias removed)" if worst == "frequency" else ""
+        mu = rep["params"].get("mu")
         advice = (f"the averaged {_LABELS[worst]} is {z[worst]:+.1f} standard errors from the "
                   f"simulated one{bias} (|z| > {Z_FLAG:g}): the "
-                  f"{'first' if order == 1 else 'second'}-order averaging is not accurate enough "
-                  f"at mu = {rep['params'].get('mu', float('nan')):g} (mu too large for this "
-                  f"order, or D too large for the small-noise line); use {remedy}; a gap near "
+                  f"{'first' if order == 1 else 'second'}-order averaging is not accurate enough"
+                  + ("" if mu is None else f" at mu = {mu:g}") + " (mu too large for this "
+                  f"order, or D too large for the small-noise line); {remedy}; a gap near "
                   f"{Z_FLAG:g} may be the statistics: a longer --duration or more "
                   "--trajectories shrink the standard error")
     return {"z": z, "flagged": bool(bad), "threshold": Z_FLAG, "advice": advice}

@@ -51,7 +51,8 @@ def fokker_planck_moments(model, params: dict, D: float, omega0: float,
                     "chebyshev_change": (sol.chebyshev_change
                                          if math.isfinite(sol.chebyshev_change) else None)}, ""
         except KBMError as exc:
-            why = f"no Fokker-Planck solution: {exc}"
+            why = f"no Fokker-Planck solution: {exc}" + (
+                " (raise --fp-budget above that cost)" if "not affordable" in str(exc) else "")
     if required:
         raise ParameterError(f"--method fokker-planck: {why}")
     return None, why

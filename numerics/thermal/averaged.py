@@ -167,7 +167,9 @@ def averaged_stationary(model, params: dict, D: float, omega0: float,
     v = params.get("v", 0)
     if name in SLIDERS and float(v) != 0:
         return None, (f"v = {v}: the driven slider is not autonomous; no averaged stationary "
-                      "state (the simulation alone)")
+                      "state (the simulation alone; its x follows the stage, x ~ v t, so the "
+                      "simulated <x^2> and <a^2> grow with --t-end and the burn-in: no "
+                      "stationary moments; the steady sliding state is kbm friction's)")
     try:
         if name in SLIDERS:
             return _energy(name, {k: val for k, val in params.items() if k != "v"}, D,

@@ -13,6 +13,7 @@ from kbm.model.builtins import SLIDERS
 from ..escape.noise_params import check_mu
 from ..escape.report import SLIDER_DEFAULTS
 from .averaged import AMPLITUDE, averaged_stationary
+from .advice import fokker_planck_route, validity
 from .averaged_error import state_averaged_errors
 from ._kramers_outputs import fokker_planck_moments, fp_advice
 from .order2 import order2_bins, second_order
@@ -55,42 +56,16 @@ def default_times(system, t_end: float | None, burn_in: float | None,
     elif pilot is not None:
         pilot.update(h0=h, outcome="not run", reason="--dt given" if dt else "measure=False")
     if not (math.isfinite(h) and h > 0):
-        raise ParameterError(f"--dt must be a positive number, got {dt}")
+        raise ParameterError(f"--dt must be a positive number, got {h:g}")
     run = 400 / abs(mu) if t_end is None else float(t_end)
     burn = 20 / abs(mu) if burn_in is None else float(burn_in)
     for name, val in (("t-end", run), ("burn-in", burn)):
         if not (math.isfinite(val) and val >= 0) or (name == "t-end" and val <= 0):
-            raise ParameterError(f"--{name} must be a positive number, got {val}")
+            raise ParameterError(f"--{name} must be a positive number, got {val:g}")
     n = max(1, math.ceil(run / h - 1e-9))
     h = run / n
     burn = h * math.ceil(burn / h - 1e-9)
     return run, burn, h
-
-
-def validity(moments: dict, order: int = 1, can_raise_order: bool = True) -> dict:
-    """The gap ``(averaged - simulated)/stderr`` of each moment and the flag ``|z| > 4``
-    (``order``: the averaging's order, named in the advice; ``can_raise_order``: whether
-    ``--order 2`` applies, i.e. the amplitude averaging, to be advised).
-
-    Returns
-    -------
-    dict
-        ``z`` (per moment, ``None`` when a number is missing), ``flagged`` (bool),
-        ``threshold`` and ``advice`` (what to do when flagged, else ``""``).
-    """
-    z, bad = gap_z(moments)
-    advice = ""
-    if bad:
-        worst = max(bad, key=lambda k: abs(z[k]))
-        remedy = ("use --order 2 (second-order averaging) or --method fokker-planck (the "
-                  "exact stationary state of a model at rest)"
-                  if order == 1 and can_raise_order else
-                  "use --method fokker-planck (the exact stationary state of a model at rest)")
-        advice = (f"the averaged <{worst[0]}^2> is {z[worst]:+.1f} standard errors from the "
-                  f"simulated one (|z| > {Z_FLAG:g}): the {'first' if order == 1 else 'second'}"
-                  "-order averaging does not hold here (mu or D/mu too large, or a strong "
-                  f"nonlinearity); {remedy}")
-    return {"z": z, "flagged": bool(bad), "threshold": Z_FLAG, "advice": advice}
 
 
 #: the method names of ``kbm noise --method``
@@ -234,10 +209,12 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
             nxt = {"a2": so1.moment(2, values1), "x2": so1.x2(values1)}
     state_averaged_errors(out, nxt)
     if steps > budget:
-        out["message"] = (f"simulation refused: {trajectories} trajectories x "
-                          f"{(run + burn) / h:.3g} steps = {steps:.3g} steps > budget "
-                          f"{budget:.3g}; the averaged answer is given alone (raise --budget, "
-                          "or fewer --trajectories / a shorter --t-end)")
+        refusal = (f"simulation refused: {trajectories} trajectories x "
+                   f"{(run + burn) / h:.3g} steps = {steps:.3g} steps > budget {budget:.3g}; "
+                   + ("the averaged answer is given alone" if avg is not None else
+                      "without an averaged state there is no answer")
+                   + " (raise --budget, or fewer --trajectories / a shorter --t-end)")
+        out["message"] = f"{why}; {refusal}" if why else refusal  # why: kept, not replaced
         return out
     if avg is not None:
         variable, (lo, hi) = avg.variable, avg.support
@@ -252,14 +229,19 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
                               progress=progress, store=store, scheme=system.scheme)
     out["moments"]["a2"].update(simulated=ens.a2.value, stderr=ens.a2.stderr)
     out["moments"]["x2"].update(simulated=ens.x2.value, stderr=ens.x2.stderr)
-    out["validity"] = validity({k: out["moments"][k] for k in ("a2", "x2")},
-                               out["averaged_order"] or 1,
-                               avg is not None and avg.method == AMPLITUDE)
+    compared = {k: out["moments"][k] for k in ("a2", "x2")}
+    raise_order = fp_route = False  # what the advice may name, looked up when flagged
+    if gap_z(compared)[1]:
+        raise_order = (out["averaged_order"] == 1 and order == 1 and avg.method == AMPLITUDE
+                       and (nxt is not None or second_order(model, params, D, avg)[0]
+                            is not None))
+        fp_route = None if fp is not None else fokker_planck_route(model, params, fp_why)
+    change = None if fp is None else fp["hermite_change"]
+    out["validity"] = validity(compared, out["averaged_order"] or 1, raise_order,
+                               fp_route or None, None if fp is None else {
+                                   k: None if change is None else change * abs(fp[k])
+                                   for k in ("a2", "x2")})
     state_averaged_errors(out, nxt)
-    if fp is not None:
-        out["validity"]["z_fokker_planck"] = {
-            k: (fp[k] - out["moments"][k]["simulated"]) / out["moments"][k]["stderr"]
-            for k in ("a2", "x2")}
     averaged = (order2_bins(so, so_values, ens.edges) if so is not None
                 else avg.bins(ens.edges) if avg is not None else None)
     out["density"] = {

@@ -242,8 +242,8 @@ def noise_params(params: Mapping[str, str]) -> tuple[dict[str, str], str | None]
 
     rest, D, name = noise_from(params)
     if D is None:
-        raise ParameterError("give the noise intensity: -p D=VALUE (x'' + ... = sqrt(2 D) xi, "
-                             "D >= 0) or the temperature -p T=VALUE (T = kT = D/mu)")
+        raise ParameterError("give the noise intensity: -p D=VALUE (x'' + ... = sqrt(2 D) xi) "
+                             "or the temperature -p T=VALUE (T = kT = D/mu)")
     return {**rest, "D": D if name == "D" else repr(float(D))}, name
 
 

@@ -16,7 +16,8 @@ import sys
 import pytest
 
 from kbm.errors import ModelError, ParameterError
-from numerics.thermal.stationary import noise_report, validity
+from numerics.thermal.advice import validity
+from numerics.thermal.stationary import noise_report
 from numerics.noise.validity import Z_FLAG
 
 

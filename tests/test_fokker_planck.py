@@ -121,7 +121,7 @@ def test_orthonormal_truncation_error_is_stated():
 
 
 def test_noise_text_shows_the_digits_the_truncation_supports():
-    """``kbm noise`` prints the Fokker-Planck moments to ten digits when the Hermite
+    """``kbm noise`` prints the Fokker-Planck moments to ten digits (trailing zeros kept) when the Hermite
     truncation's stated change is below 1e-10, else to the digits it supports (two at
     least), and to two when it could not be measured."""
     from numerics.cli.noise import _fp_format
@@ -129,7 +129,7 @@ def test_noise_text_shows_the_digits_the_truncation_supports():
     def fmt(change):
         return _fp_format({"fokker_planck": {"hermite_change": change}})
 
-    assert fmt(0.0) == fmt(3e-11) == ".10g"
+    assert fmt(0.0) == fmt(3e-11) == "#.10g"
     assert fmt(2e-7) == "#.6g"
     assert fmt(1.7e-2) == fmt(None) == fmt(0.5) == "#.2g"
     assert format(4.04, fmt(0.1)) == "4.0"

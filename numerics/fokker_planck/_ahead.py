@@ -14,10 +14,11 @@ Why processes, not threads (measured, 2-core AMD EPYC, scipy 1.17, OpenBLAS 0.3.
 ``scipy.linalg.inv`` (the order-by-order factorisation's ``S^-1``, :mod:`._pentadiagonal`)
 holds the GIL for the whole call, as do the f2py ``lapack.dgetri`` and ``blas.dgemm``
 (``getrf``, ``getrs`` and numpy's products release it); two solves on two threads
-(SEDF mu = 0.02, 90 x 300 and 90 x 360) took 30 s against 0.9 s one after the other,
-their ``P`` 1e-16 apart (the limit of :func:`._blocks.one_blas_thread` did not hold in
-the second thread), and with ``OPENBLAS_NUM_THREADS=1`` the same bits but 0.9-1.0 s (no
-overlap).  The data a forked solve moves is its solution, ``N m`` numbers (2 MB at
+(SEDF mu = 0.02, 90 x 300 and 90 x 360) took 20-30 s against 0.9 s one after the other,
+their coefficients 1e-16 apart, under :func:`._blocks.one_blas_thread` (OpenBLAS limited
+at run time; one solve alone in a second thread gives the same bits: the concurrent calls
+differ); with ``OPENBLAS_NUM_THREADS=1`` from the start the same bits but 0.9-1.0 s, no
+overlap.  The data a forked solve moves is its solution, ``N m`` numbers (2 MB at
 258 x 1041), against seconds of work.
 
 ``KBM_FP_WORKERS`` (environment) sets the processes: 1 keeps every solve in this process

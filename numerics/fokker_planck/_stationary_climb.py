@@ -27,15 +27,15 @@ def climb_rung(solve, solve_well, moved, cost, pairs, up: int, k: int, change: f
     solved again on the coarser climb grid (the well's points), whose change is stated;
     when that change too exceeds six digits, the rung above may climb in turn
     (:func:`_climb_again`), and the solution is the one of the smaller stated error.
-    ``start(n, m, well)``, where given, begins a solve in a second process
+    ``start(n, m, well, replace)``, where given, begins a solve in a second process
     (:mod:`._ahead`): the largest grid's, beside the coarser one and the rung above."""
     top = 2 * int(math.sqrt(max_cost / up))
     below = 2 * int(top / 2.5)
     up2 = 2 * int(round(up * math.sqrt(2) / 2))
     if below <= nc or cost(up2, k) > max_cost:
         return None
-    if start is not None:
-        start(up, top, True)
+    if start is not None:  # (a solve started for the ladder that climbs is stopped)
+        start(up, top, True, replace=True)
     coarse = solve_well(up, below)
     above = solve(up2, k)
     pair = (pairs[-1][1], above)

@@ -150,7 +150,10 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        grid, and a climb skips the coarser grids at ``N`` (the same climb, fewer solves).
 
     Each solve factorises order by order (:mod:`._pentadiagonal`) when the damping is
-    linear in the velocity, else by pairs of orders (:mod:`._blocks`).
+    linear in the velocity, else by pairs of orders (:mod:`._blocks`).  Solves that do not
+    depend on each other (step 7's check pair, the climb's largest grid beside its coarser
+    one and the rung above, step 6's check beside the grid step it would follow) run side
+    by side in a second process (:mod:`._ahead`, ``KBM_FP_WORKERS``; the same bits).
     """
     with Ahead(orthonormal_stationary, G=G) as ahead:  # solves beside others (._ahead)
         return _ladder(split, D, G, omega0, ahead, n_hermite=n_hermite, n_cheb=n_cheb,

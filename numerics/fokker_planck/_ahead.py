@@ -31,6 +31,7 @@ from __future__ import annotations
 import dataclasses
 import multiprocessing
 import os
+import signal
 import warnings
 
 from kbm.errors import ParameterError
@@ -106,6 +107,11 @@ class Ahead:
         func = self.func
 
         def child():
+            # stopped by the parent alone: SIGTERM ends it at once (not the parent's handler,
+            # kbm's CLI turns it into KeyboardInterrupt), Ctrl-C reaches the parent, which
+            # stops it (as numerics.executor's workers)
+            signal.signal(signal.SIGTERM, signal.SIG_DFL)
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
             try:
                 sol = func(*args, **kwargs)
                 out = ("ok", type(sol), {f.name: getattr(sol, f.name)

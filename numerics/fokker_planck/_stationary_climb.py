@@ -16,7 +16,7 @@ __all__ = ["climb_rung", "climb_grid", "finer_intervals"]
 
 
 def climb_rung(solve, solve_well, moved, cost, pairs, up: int, k: int, change: float,
-               nc: int, max_cost: float):
+               nc: int, max_cost: float, start=None):
     """The climb of a Hermite rung: when the Hermite change of step 6 (``up`` functions
     against the last rung on ``k`` intervals, the last pair of ``pairs``) exceeds six
     digits (the caller's test), the rung ``up`` on the largest grid within ``max_cost``
@@ -26,12 +26,16 @@ def climb_rung(solve, solve_well, moved, cost, pairs, up: int, k: int, change: f
     affordable.  When that rung above moves the moments by more than six digits, it is
     solved again on the coarser climb grid (the well's points), whose change is stated;
     when that change too exceeds six digits, the rung above may climb in turn
-    (:func:`_climb_again`), and the solution is the one of the smaller stated error."""
+    (:func:`_climb_again`), and the solution is the one of the smaller stated error.
+    ``start(n, m, well, replace)``, where given, begins a solve in a second process
+    (:mod:`._ahead`): the largest grid's, beside the coarser one and the rung above."""
     top = 2 * int(math.sqrt(max_cost / up))
     below = 2 * int(top / 2.5)
     up2 = 2 * int(round(up * math.sqrt(2) / 2))
     if below <= nc or cost(up2, k) > max_cost:
         return None
+    if start is not None:  # (a solve started for the ladder that climbs is stopped)
+        start(up, top, True, replace=True)
     coarse = solve_well(up, below)
     above = solve(up2, k)
     pair = (pairs[-1][1], above)

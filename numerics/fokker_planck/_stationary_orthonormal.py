@@ -12,6 +12,7 @@ import functools
 import math
 
 from ._energy_density import SIX_DIGITS
+from ._ahead import Ahead
 from ._stationary_climb import climb_grid, climb_rung, finer_intervals
 from ._stationary_points import ALPHA, stationary_points
 from ._stationary_solve import OrthonormalKramersSolution, orthonormal_stationary
@@ -52,6 +53,9 @@ HOPELESS = 1e-2
 #: mu = 0.02, whose check does not climb).  It saves those grids' solves, 1.7 s of 50 at
 #: mu = 0.01, the same solution and bytes
 EARLY_CHECK = 1e-3
+#: the last grid step's change within which the ladder starts step 6's check beside the
+#: next grid's solve (:mod:`._ahead`; the check is wasted if the ladder goes on)
+AHEAD = 10
 #: the fewest position intervals of the Hermite ladder: on fewer the grid's own error
 #: moves the moments and the ladder climbs for nothing (vdp mu = 0.3, D = 0.15: on 64
 #: intervals it went to 1448 functions, on 88 it stops at 512)
@@ -146,8 +150,20 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        grid, and a climb skips the coarser grids at ``N`` (the same climb, fewer solves).
 
     Each solve factorises order by order (:mod:`._pentadiagonal`) when the damping is
-    linear in the velocity, else by pairs of orders (:mod:`._blocks`).
+    linear in the velocity, else by pairs of orders (:mod:`._blocks`).  Solves that do not
+    depend on each other (step 7's check pair, the climb's largest grid beside its coarser
+    one and the rung above, step 6's check beside the grid step it would follow) run side
+    by side in a second process (:mod:`._ahead`, ``KBM_FP_WORKERS``; the same bits).
     """
+    with Ahead(orthonormal_stationary, G=G) as ahead:  # solves beside others (._ahead)
+        return _ladder(split, D, G, omega0, ahead, n_hermite=n_hermite, n_cheb=n_cheb,
+                       sigma=sigma, L=L, tol=tol, max_cost=max_cost)
+
+
+def _ladder(split, D: float, G, omega0: float, ahead, *, n_hermite, n_cheb, sigma, L, tol,
+            max_cost) -> OrthonormalKramersSolution:
+    """The body of :func:`stationary_orthonormal`, with ``ahead`` (:class:`._ahead.Ahead`)
+    for the solves started beside others."""
     from ._bases import cheb_centred, cheb_mapped
     from ._model import _chebyshev_size, _half_width
     from ._parity import reflection_symmetric
@@ -187,16 +203,23 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
 
     memo = {}
 
-    def solve(n, m, well=False):
-        """One solve (each once: step 6's check may come inside the grid ladder)."""
+    def solve(n, m, well=False, start=False, replace=False):
+        """One solve (each once: step 6's check may come inside the grid ladder); with
+        ``start`` begun in the second process, for a later call (:mod:`._ahead`)."""
         if well and "well" not in memo:
             memo["well"] = stationary_points(split, D, G, half, v2, sigma, well=True)[1]
         well = well and memo["well"] != points  # no saddles: the same points
+        at = memo["well"] if well else points
+        args = (split, D, float(sigma), half, n, m, G, omega0)
+        if start:
+            return (n, m, well) not in memo and ahead.start((n, m, well), *args,
+                                                            replace=replace, **at)
         if (n, m, well) not in memo:
-            at = memo["well"] if well else points
-            memo[n, m, well] = orthonormal_stationary(split, D, float(sigma), half, n, m, G,
-                                                      omega0, **at)
+            memo[n, m, well] = ahead.result((n, m, well), *args, **at)
         return memo[n, m, well]
+
+    def start(n, m, well=False, replace=False):
+        return solve(n, m, well, start=True, replace=replace)
 
     def solve_well(n, m):  # step 7's points
         return solve(n, m, True)
@@ -250,11 +273,12 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
             up = 2 * int(round(nh * math.sqrt(2) / 2))
             at = [k for k, f in zip([nc] + plan, plan) if cost(up, k) <= max_cost < cost(up, f)]
             if at and at[0] > nc:
+                start(up, at[0])  # the pair of the check side by side
                 check = (solve(nh, at[0]), solve(up, at[0]))
                 hc = moved(*check)
                 if SIX_DIGITS < hc <= HOPELESS:
                     climbed = climb_rung(solve, solve_well, moved, cost, [check], up, at[0],
-                                         hc, at[0], CLIMB_COST * max_cost)
+                                         hc, at[0], CLIMB_COST * max_cost, start)
         while climbed is None:
             finer = plan.pop(0) if plan else finer_intervals(nc)
             if cost(nh, finer) > max_cost:
@@ -270,6 +294,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
             up = 2 * int(round(nh * math.sqrt(2) / 2))
             if n_hermite is None and folds and cost(up, nc) <= max_cost < cost(up, finer):
                 # step 6's check comes on this grid: climbing now saves the finer grids
+                start(nh, finer)  # the next grid beside it (stopped if the check climbs)
                 hc = moved(sol, solve(up, nc))
                 if hc > HOPELESS:  # no digits of use within the budget: stop here
                     hopeless = hc
@@ -277,9 +302,14 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
                 if hc > SIX_DIGITS:
                     climbed = climb_rung(solve, solve_well, moved, cost,
                                          [(sol, solve(up, nc))], up, nc, hc, nc,
-                                         CLIMB_COST * max_cost)
+                                         CLIMB_COST * max_cost, start)
                 if climbed is not None:
                     break
+            fit = [k for k in [*rungs, nc] if cost(up, k) <= max_cost]
+            if n_hermite is None and folds and fit and cheb_change <= AHEAD * tol \
+                    and not ahead.running((nh, finer, False)):
+                start(up, max(fit), replace=True)  # step 6's check if the ladder stops at
+                # ``finer`` (an earlier one of a coarser grid stopped)
             new = solve(nh, finer)
             rungs[nc] = sol
             cheb_change, sol, nc = moved(sol, new), new, finer
@@ -301,7 +331,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
             change = moved(*pairs[-1])
             if SIX_DIGITS < change <= HOPELESS:
                 climbed = climb_rung(solve, solve_well, moved, cost, pairs, up, k, change,
-                                     nc, CLIMB_COST * max_cost)
+                                     nc, CLIMB_COST * max_cost, start)
             if climbed is None and cheb_change > SIX_DIGITS and rungs and change <= HOPELESS:
                 climbed = climb_grid(solve_well, moved, cost, pairs, nh, nc, change,
                                       CLIMB_COST * max_cost)

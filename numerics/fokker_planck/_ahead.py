@@ -1,0 +1,169 @@
+"""Solves of the stationary ladder started ahead in a second process
+(:class:`Ahead`): where the ladders of :mod:`._stationary_orthonormal` and
+:mod:`._stationary_climb` will need two solves that do not depend on each other (the
+check of a Hermite rung beside the next grid, the climb's largest grid beside its
+coarser one and the rung above, the grid step of ``P(E)`` beside the evaluation of the
+others, :mod:`._energy_density`), the one is computed in a forked copy of this process
+while this process computes the other.  The solves and their order are those of the
+sequential ladder, the forked copy computes the same function of the same numbers with
+the same libraries on one BLAS thread, and its solution comes back whole (pickled), so
+the results are the same bits whatever the number of processes; a solve started ahead
+that the ladder does not use is stopped.
+
+Why processes, not threads (measured, 2-core AMD EPYC, scipy 1.17, OpenBLAS 0.3.30):
+``scipy.linalg.inv`` (the order-by-order factorisation's ``S^-1``, :mod:`._pentadiagonal`)
+holds the GIL for the whole call, as do the f2py ``lapack.dgetri`` and ``blas.dgemm``
+(``getrf``, ``getrs`` and numpy's products release it); two solves on two threads
+(SEDF mu = 0.02, 90 x 300 and 90 x 360) took 20-30 s against 0.9 s one after the other,
+their coefficients 1e-16 apart, under :func:`._blocks.one_blas_thread` (OpenBLAS limited
+at run time; one solve alone in a second thread gives the same bits: the concurrent calls
+differ); with ``OPENBLAS_NUM_THREADS=1`` from the start the same bits but 0.9-1.0 s, no
+overlap.  The data a forked solve moves is its solution, ``N m`` numbers (2 MB at
+258 x 1041), against seconds of work.
+
+``KBM_FP_WORKERS`` (environment) sets the processes: 1 keeps every solve in this process
+(the sequential ladder); default 2; never more than the CPUs this process may run on
+(:func:`os.sched_getaffinity`), and 1 where ``fork`` is not available.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import multiprocessing
+import os
+import signal
+import warnings
+
+from kbm.errors import ParameterError
+
+__all__ = ["Ahead", "ENV", "fp_workers"]
+
+#: the environment variable of the number of processes of the Fokker-Planck solves
+ENV = "KBM_FP_WORKERS"
+#: the fields of a solution that stay in this process (the potential is the caller's; the
+#: refinements and caches are not the solve's)
+_LOCAL = ("G", "refinements", "refine", "_cache")
+
+
+def fp_workers() -> int:
+    """The processes the stationary ladder may use: ``$KBM_FP_WORKERS`` (default 2), at most
+    the CPUs of this process's affinity, 1 without ``fork``.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        ``KBM_FP_WORKERS`` is not a whole number ``>= 1``.
+    """
+    raw = os.environ.get(ENV, "").strip()
+    n = 2
+    if raw:
+        try:
+            n = int(raw)
+        except ValueError:
+            n = 0
+        if n < 1:
+            raise ParameterError(f"{ENV}={raw!r}: give a whole number of processes >= 1 "
+                                 "(1: every Fokker-Planck solve in this process)")
+    try:
+        cpus = len(os.sched_getaffinity(0))
+    except AttributeError:  # no affinity on this platform
+        cpus = os.cpu_count() or 1
+    if "fork" not in multiprocessing.get_all_start_methods():
+        return 1
+    return max(1, min(n, cpus))
+
+
+class Ahead:
+    """Calls of ``func`` (returning a :class:`.KramersSolution`) started ahead in forked
+    processes, at most ``workers - 1`` at a time, and collected by key.
+
+    Parameters
+    ----------
+    func : callable
+        The solve.
+    workers : int, optional
+        Default :func:`fp_workers`; 1 starts nothing (:meth:`result` calls ``func``).
+    **local
+        The fields of the solution that are not sent back (the potential ``G``).
+    """
+
+    def __init__(self, func, workers: int | None = None, **local):
+        self.func = func
+        self.workers = fp_workers() if workers is None else int(workers)
+        self.local = local
+        self._jobs: dict = {}
+
+    def start(self, key, *args, replace: bool = False, **kwargs) -> bool:
+        """``func(*args, **kwargs)`` in a forked process under ``key``, when a worker is
+        free (``replace``: the other keys' processes stopped first) and ``key`` is not
+        running; whether it started."""
+        if replace:
+            for k in [k for k in self._jobs if k != key]:
+                self.cancel(k)
+        if self.workers < 2 or key in self._jobs or len(self._jobs) >= self.workers - 1:
+            return False
+        ctx = multiprocessing.get_context("fork")
+        recv, send = ctx.Pipe(duplex=False)
+        func = self.func
+
+        def child():
+            # stopped by the parent alone: SIGTERM ends it at once (not the parent's handler,
+            # kbm's CLI turns it into KeyboardInterrupt), Ctrl-C reaches the parent, which
+            # stops it (as numerics.executor's workers)
+            signal.signal(signal.SIGTERM, signal.SIG_DFL)
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+            try:
+                sol = func(*args, **kwargs)
+                out = ("ok", type(sol), {f.name: getattr(sol, f.name)
+                                         for f in dataclasses.fields(sol)
+                                         if f.name not in _LOCAL})
+            except BaseException as exc:  # the caller solves again here and raises
+                out = ("error", repr(exc), None)
+            send.send(out)
+            send.close()
+
+        proc = ctx.Process(target=child, daemon=True)
+        with warnings.catch_warnings():  # Python >= 3.12 warns of fork with threads alive
+            warnings.simplefilter("ignore", DeprecationWarning)
+            proc.start()
+        send.close()
+        self._jobs[key] = (proc, recv)
+        return True
+
+    def running(self, key) -> bool:
+        """Whether ``key`` was started and not collected."""
+        return key in self._jobs
+
+    def result(self, key, *args, **kwargs):
+        """The solution of ``key``: from its process when started (waiting for it), else
+        ``func(*args, **kwargs)`` here (also when the process failed: the same call, so
+        the same solution or exception)."""
+        job = self._jobs.pop(key, None)
+        if job is not None:
+            proc, recv = job
+            try:
+                status, cls, fields = recv.recv()
+            except (EOFError, OSError):
+                status = "lost"
+            finally:
+                recv.close()
+                proc.join()
+            if status == "ok":
+                return cls(**fields, **self.local)
+        return self.func(*args, **kwargs)
+
+    def cancel(self, key=None) -> None:
+        """Stop the process of ``key`` (default: every one)."""
+        for k in [key] if key is not None else list(self._jobs):
+            job = self._jobs.pop(k, None)
+            if job is not None:
+                proc, recv = job
+                proc.terminate()
+                proc.join()
+                recv.close()
+
+    def __enter__(self) -> Ahead:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.cancel()

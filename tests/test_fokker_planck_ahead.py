@@ -1,0 +1,143 @@
+"""The stationary ladder's solves started ahead in a second process
+(numerics/fokker_planck/_ahead.py; issue 36: "the Fokker-Planck route ... in seconds"):
+the moments, ``P(E)`` and the stated changes are the same bits with one process
+(``KBM_FP_WORKERS=1``, the sequential ladder) and two, and they are right.
+
+Reference: for linear damping the stationary density is Boltzmann's ``exp(-H/kT)/Z``
+(Gibbs; Risken, *The Fokker-Planck Equation*, sec. 10.1), so ``<x^2>`` is the quadrature
+of ``x^2 exp(-G/kT)`` (:func:`numerics.escape.boltzmann_moment`) and ``<v^2> = kT``; the
+CDC is solved here in the orthonormal Hermite functions (``basis="orthonormal"``, the
+ladder of the nonlinear dampings), folded, whose ladder starts solves ahead.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import numerics.fokker_planck._ahead as ahead_mod
+import numerics.fokker_planck._energy_density as ed
+from kbm.errors import ParameterError
+from kbm.model.conservative import split_conservative
+from numerics.escape import boltzmann_moment
+from numerics.fokker_planck import stationary_kramers
+from numerics.fokker_planck._ahead import Ahead, fp_workers
+from numerics.fokker_planck._stationary_solve import orthonormal_stationary
+
+CDC = {"mu": 0.15, "Delta": 2, "lam": 1.3, "Omega": 1}
+D = 0.0525  # kT = 0.35
+
+
+class _Counted:
+    """Counts the solutions :class:`Ahead` collected from its processes."""
+
+    def __init__(self, monkeypatch):
+        self.collected = 0
+        result = Ahead.result
+
+        def counted(inner, key, *args, **kwargs):
+            self.collected += inner.running(key)
+            return result(inner, key, *args, **kwargs)
+
+        monkeypatch.setattr(Ahead, "result", counted)
+
+
+def _solve(monkeypatch, workers: int, max_cost: float):
+    monkeypatch.setenv(ahead_mod.ENV, str(workers))
+    return stationary_kramers("cdc", CDC, D, basis="orthonormal", max_cost=max_cost)
+
+
+def _same(a, b) -> bool:
+    """The same bits: coefficients, points, moments, stated changes and refinements."""
+    pairs = len(a.refinements) == len(b.refinements) and all(
+        np.array_equal(p.coef, q.coef) for pa, pb in zip(a.refinements, b.refinements)
+        for p, q in zip(pa, pb))
+    return (np.array_equal(a.coef, b.coef) and np.array_equal(a.x, b.x) and pairs
+            and (a.x2, a.v2, a.residual, a.sigma) == (b.x2, b.v2, b.residual, b.sigma)
+            and np.array_equal([a.hermite_change, a.chebyshev_change],
+                               [b.hermite_change, b.chebyshev_change], equal_nan=True))
+
+
+@pytest.mark.slow
+def test_ladder_in_two_processes_is_the_sequential_ladder_and_boltzmann(monkeypatch):
+    """CDC at kT = 0.35 in the orthonormal functions: with two processes the ladder takes
+    solves from the second (counted), and the solution is the one-process solution to the
+    bit; its ``<x^2>`` is Boltzmann's quadrature within the stated change and ``<v^2>``
+    is ``kT``."""
+    if fp_workers() < 2 and len(_affinity()) < 2:
+        pytest.skip("one CPU: the ladder never starts a second process")
+    counted = _Counted(monkeypatch)
+    two = _solve(monkeypatch, 2, 5e6)
+    assert counted.collected >= 1
+    collected = counted.collected
+    one = _solve(monkeypatch, 1, 5e6)
+    assert counted.collected == collected  # none from the sequential ladder
+    assert _same(one, two)
+    ref = boltzmann_moment(split_conservative("cdc", CDC), D / CDC["mu"])
+    stated = max(two.hermite_change, 1e-9)
+    assert two.x2 == pytest.approx(ref, rel=10 * stated)
+    assert two.v2 == pytest.approx(D / CDC["mu"], rel=10 * stated)
+
+
+@pytest.mark.slow
+def test_energy_density_grid_step_ahead_is_the_sequential_one(monkeypatch):
+    """``P(E)``'s grid step (``sol.refine``) started beside the evaluation that decides it
+    (here always: :data:`._energy_density.REFINE_AHEAD` 0) gives the report of the
+    sequential run to the bit."""
+    sol = _solve(monkeypatch, 1, 2e6)
+    assert sol.refine is not None
+    monkeypatch.setattr(ed, "REFINE_AHEAD", 0.0)
+    monkeypatch.setattr(ed, "SIX_DIGITS", 0.0)  # the step is taken
+    monkeypatch.setenv(ahead_mod.ENV, "1")
+    seq = ed.energy_density_report(sol)
+    fresh = _solve(monkeypatch, 1, 2e6)  # no cached P: the refine solved again
+    monkeypatch.setenv(ahead_mod.ENV, "2")
+    counted = _Counted(monkeypatch)
+    par = ed.energy_density_report(fresh)
+    assert counted.collected == (1 if fp_workers() > 1 else 0)
+    assert par == seq
+
+
+def _affinity():
+    try:
+        import os
+
+        return os.sched_getaffinity(0)
+    except AttributeError:
+        return {0}
+
+
+def test_ahead_returns_the_direct_solution_and_stops_the_unused():
+    """A solve collected from the second process is the direct call's to the bit (a small
+    SEDF solve, 24 functions x 64 intervals); one not collected is stopped."""
+    split = split_conservative("sedf", {"mu": 0.1, "Delta": 3, "beta": 1, "Omega": 1,
+                                        "lam": 1})
+    G = split.numpy_functions()[2]
+    args = (split, 0.05, 0.4, 6.0, 24, 64, G, 1.0)
+    direct = orthonormal_stationary(*args)
+    with Ahead(orthonormal_stationary, workers=2, G=G) as ahead:
+        assert ahead.start("a", *args)
+        assert not ahead.start("b", *args)  # one worker beside this process
+        got = ahead.result("a", *args)
+        assert ahead.start("c", *args)
+        proc = ahead._jobs["c"][0]
+    assert not proc.is_alive() and not ahead.running("c")
+    assert np.array_equal(got.coef, direct.coef) and got.residual == direct.residual
+    assert got.G is G and math.isfinite(got.x2)
+
+
+def test_workers_setting(monkeypatch):
+    """``KBM_FP_WORKERS``: 1 starts nothing; never more than the affinity's CPUs; a bad
+    value is refused with what to give."""
+    monkeypatch.setenv(ahead_mod.ENV, "1")
+    assert fp_workers() == 1
+    assert not Ahead(orthonormal_stationary).start("a")
+    monkeypatch.setenv(ahead_mod.ENV, "64")
+    monkeypatch.setattr(ahead_mod.os, "sched_getaffinity", lambda pid: {0}, raising=False)
+    assert fp_workers() == 1
+    for bad in ("0", "two", "-1"):
+        monkeypatch.setenv(ahead_mod.ENV, bad)
+        with pytest.raises(ParameterError, match="KBM_FP_WORKERS"):
+            fp_workers()

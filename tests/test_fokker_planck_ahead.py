@@ -141,3 +141,20 @@ def test_workers_setting(monkeypatch):
         monkeypatch.setenv(ahead_mod.ENV, bad)
         with pytest.raises(ParameterError, match="KBM_FP_WORKERS"):
             fp_workers()
+
+
+def _workers_in_pool_worker(_):
+    return fp_workers()
+
+
+def test_no_second_process_from_a_daemonic_worker(monkeypatch):
+    """A :class:`multiprocessing.pool.Pool` worker is daemonic and may not start children
+    (``AssertionError: daemonic processes are not allowed to have children``): the ladder
+    there solves in its own process."""
+    import multiprocessing
+
+    monkeypatch.setenv(ahead_mod.ENV, "2")
+    monkeypatch.setattr(ahead_mod.os, "sched_getaffinity", lambda pid: {0, 1}, raising=False)
+    assert fp_workers() == 2
+    with multiprocessing.get_context("fork").Pool(1) as pool:
+        assert pool.map(_workers_in_pool_worker, [0]) == [1]

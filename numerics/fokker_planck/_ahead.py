@@ -23,7 +23,9 @@ overlap.  The data a forked solve moves is its solution, ``N m`` numbers (2 MB a
 
 ``KBM_FP_WORKERS`` (environment) sets the processes: 1 keeps every solve in this process
 (the sequential ladder); default 2; never more than the CPUs this process may run on
-(:func:`os.sched_getaffinity`), and 1 where ``fork`` is not available.
+(:func:`os.sched_getaffinity`), and 1 where ``fork`` is not available or in a daemonic
+process (a :mod:`multiprocessing` pool's worker, which may not have children); a process
+that cannot be started (out of memory or processes) leaves the solve to this process.
 """
 
 from __future__ import annotations
@@ -47,7 +49,7 @@ _LOCAL = ("G", "refinements", "refine", "_cache")
 
 def fp_workers() -> int:
     """The processes the stationary ladder may use: ``$KBM_FP_WORKERS`` (default 2), at most
-    the CPUs of this process's affinity, 1 without ``fork``.
+    the CPUs of this process's affinity, 1 without ``fork`` or in a daemonic process.
 
     Raises
     ------
@@ -69,6 +71,8 @@ def fp_workers() -> int:
     except AttributeError:  # no affinity on this platform
         cpus = os.cpu_count() or 1
     if "fork" not in multiprocessing.get_all_start_methods():
+        return 1
+    if multiprocessing.current_process().daemon:  # a pool's worker may have no children
         return 1
     return max(1, min(n, cpus))
 
@@ -125,7 +129,12 @@ class Ahead:
         proc = ctx.Process(target=child, daemon=True)
         with warnings.catch_warnings():  # Python >= 3.12 warns of fork with threads alive
             warnings.simplefilter("ignore", DeprecationWarning)
-            proc.start()
+            try:
+                proc.start()
+            except (OSError, AssertionError):  # no process to be had: solved here instead
+                recv.close()
+                send.close()
+                return False
         send.close()
         self._jobs[key] = (proc, recv)
         return True

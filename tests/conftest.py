@@ -32,6 +32,9 @@ os.environ.setdefault("KBM_AOT", "0")
 #: and applied by threadpoolctl where numpy was imported already.
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
+#: and the stationary Kramers ladder in one process (numerics.fokker_planck._ahead): the
+#: workers already fill the cores; tests/test_fokker_planck_ahead.py sets two processes
+os.environ.setdefault("KBM_FP_WORKERS", "1")
 from threadpoolctl import threadpool_limits  # noqa: E402
 
 threadpool_limits(1)

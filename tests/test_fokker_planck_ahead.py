@@ -158,3 +158,25 @@ def test_no_second_process_from_a_daemonic_worker(monkeypatch):
     assert fp_workers() == 2
     with multiprocessing.get_context("fork").Pool(1) as pool:
         assert pool.map(_workers_in_pool_worker, [0]) == [1]
+
+
+def test_workers_bound_the_processes(monkeypatch):
+    """``workers`` (``kbm noise --workers``) bounds the processes of the ladder and of P(E)'s
+    grid step: with 1 nothing is started (the sequential ladder's bits), with the default
+    the second process is used (two CPUs here)."""
+    monkeypatch.setenv(ahead_mod.ENV, "2")
+    monkeypatch.setattr(ahead_mod.os, "sched_getaffinity", lambda pid: {0, 1}, raising=False)
+    assert fp_workers(1) == 1 and fp_workers(8) == 2 and fp_workers() == 2
+    made = []
+    init = Ahead.__init__
+
+    def recorded(self, func, workers=None, **local):
+        init(self, func, workers, **local)
+        made.append(self.workers)
+
+    monkeypatch.setattr(Ahead, "__init__", recorded)
+    one = stationary_kramers("cdc", CDC, D, basis="orthonormal", max_cost=4e5, workers=1)
+    assert made and set(made) == {1}
+    made.clear()
+    two = stationary_kramers("cdc", CDC, D, basis="orthonormal", max_cost=4e5)
+    assert set(made) == {2} and _same(one, two)

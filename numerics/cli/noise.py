@@ -34,7 +34,10 @@ def register(sub) -> None:
              "pilot at dt and dt/2 measures a bias of the moments beyond 2e-4, and shortened "
              "so that --t-end is a whole number of steps; the run prints the step used)"),
         budget=dict(help=f"largest number of integration steps (default {BUDGET_TEXT}); "
-                         "beyond it the averaged answer is given alone"))
+                         "beyond it the averaged answer is given alone"),
+        workers=dict(help="worker processes of the ensemble (default: all cores), and at most "
+                          "this many for the Fokker-Planck solve (default 2, the environment's "
+                          "KBM_FP_WORKERS); the numbers do not depend on it"))
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the amplitude averaging (default 1; 2 adds the O(mu) and "
                         "O(mu^2) corrections at fixed D/mu, docs/noise.rst; "

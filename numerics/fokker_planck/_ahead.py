@@ -47,9 +47,10 @@ ENV = "KBM_FP_WORKERS"
 _LOCAL = ("G", "refinements", "refine", "_cache")
 
 
-def fp_workers() -> int:
+def fp_workers(limit: int | None = None) -> int:
     """The processes the stationary ladder may use: ``$KBM_FP_WORKERS`` (default 2), at most
-    the CPUs of this process's affinity, 1 without ``fork`` or in a daemonic process.
+    the CPUs of this process's affinity and ``limit`` (a command's ``--workers``), 1
+    without ``fork`` or in a daemonic process.
 
     Raises
     ------
@@ -66,6 +67,8 @@ def fp_workers() -> int:
         if n < 1:
             raise ParameterError(f"{ENV}={raw!r}: give a whole number of processes >= 1 "
                                  "(1: every Fokker-Planck solve in this process)")
+    if limit is not None:
+        n = min(n, max(1, int(limit)))
     try:
         cpus = len(os.sched_getaffinity(0))
     except AttributeError:  # no affinity on this platform

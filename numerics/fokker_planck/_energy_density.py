@@ -234,7 +234,8 @@ def energy_density_change(sol, energies, values=None,
 
 
 @on_one_blas_thread
-def energy_density_report(sol, finer=None, points: int = ENERGY_POINTS) -> dict:
+def energy_density_report(sol, finer=None, points: int = ENERGY_POINTS,
+                          workers: int | None = None) -> dict:
     """``P(E)`` on :func:`energy_grid` of ``sol`` with its stated error, for JSON: ``E``,
     ``P``, ``change`` (per energy, relative; the largest of each energy's and its two
     neighbours'), ``change_peak`` (relative to the peak of ``P``) and ``separatrices``
@@ -262,13 +263,16 @@ def energy_density_report(sol, finer=None, points: int = ENERGY_POINTS) -> dict:
     5.0e-5, 1.3e-5, 2.5e-6, 7.3e-7 of the peak from 362 x 1602; ``q`` = 0.15 at
     mu = 0.02, where the finer solve's error is 0.2 of the step, hence the safety,
     measured at mu = 0.01 to 0.03 as its comment says.)
+
+    The grid step may start in a second process (:mod:`._ahead`; at most ``workers``
+    processes, :func:`._ahead.fp_workers`), the same bits.
     """
-    from ._ahead import Ahead
+    from ._ahead import Ahead, fp_workers
 
     pairs = getattr(sol, "refinements", ())
     grid = [p for p in pairs if p[1].coef is sol.coef
             and p[0].coef.shape[0] == sol.coef.shape[0] and p[0].x.size < sol.x.size]
-    with Ahead(lambda: sol.refine(), G=sol.G) as ahead:
+    with Ahead(lambda: sol.refine(), workers=fp_workers(workers), G=sol.G) as ahead:
         if grid and getattr(sol, "refine", None) is not None \
                 and sol.hermite_change >= REFINE_AHEAD:
             ahead.start("refine")  # the grid step beside the evaluations below (._ahead)

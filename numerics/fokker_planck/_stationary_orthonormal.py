@@ -12,7 +12,7 @@ import functools
 import math
 
 from ._energy_density import SIX_DIGITS
-from ._ahead import Ahead
+from ._ahead import Ahead, fp_workers
 from ._stationary_climb import climb_grid, climb_rung, finer_intervals
 from ._stationary_points import ALPHA, stationary_points
 from ._stationary_solve import OrthonormalKramersSolution, orthonormal_stationary
@@ -64,7 +64,8 @@ MIN_INTERVALS = 96
 
 def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int | None,
                            n_cheb: int | None, sigma: float | None, L: float | None,
-                           tol: float, max_cost: float) -> OrthonormalKramersSolution:
+                           tol: float, max_cost: float,
+                           workers: int | None = None) -> OrthonormalKramersSolution:
     """The stationary Kramers solve of a nonlinear damping with its sizes chosen and
     measured (what :func:`.kramers.stationary_kramers` runs for it).
 
@@ -153,9 +154,11 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     linear in the velocity, else by pairs of orders (:mod:`._blocks`).  Solves that do not
     depend on each other (step 7's check pair, the climb's largest grid beside its coarser
     one and the rung above, step 6's check beside the grid step it would follow) run side
-    by side in a second process (:mod:`._ahead`, ``KBM_FP_WORKERS``; the same bits).
+    by side in a second process (:mod:`._ahead`, ``KBM_FP_WORKERS``, at most ``workers``
+    processes; the same bits).
     """
-    with Ahead(orthonormal_stationary, G=G) as ahead:  # solves beside others (._ahead)
+    # the solves beside others (._ahead)
+    with Ahead(orthonormal_stationary, workers=fp_workers(workers), G=G) as ahead:
         return _ladder(split, D, G, omega0, ahead, n_hermite=n_hermite, n_cheb=n_cheb,
                        sigma=sigma, L=L, tol=tol, max_cost=max_cost)
 

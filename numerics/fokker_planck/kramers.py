@@ -111,7 +111,7 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
                        n_cheb: int | None = None, sigma: float | None = None,
                        L: float | None = None, omega0: float | None = None,
                        tol: float = 1e-8, max_cost: float = 2e7,
-                       basis: str | None = None) -> KramersSolution:
+                       basis: str | None = None, workers: int | None = None) -> KramersSolution:
     """The stationary solution of the Kramers equation.
 
     Parameters
@@ -166,6 +166,10 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         (:mod:`._orthonormal`; the SEDF at mu = 0.1, Delta = 3, D = 0.05 gave
         ``<x^2>`` = 2.2164, 2.2770, 2.3148 at 64, 128, 256 functions).  ``"risken"``
         forces the old discretisation (a second method for comparisons).
+    workers : int, optional
+        At most this many processes for the orthonormal ladder's independent solves
+        (:mod:`._ahead`; default :func:`._ahead.fp_workers`, ``KBM_FP_WORKERS`` or 2); the
+        solution is the same bits whatever it is.
 
     Returns
     -------
@@ -198,7 +202,7 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
     if basis == "orthonormal" or (basis is None and kT is None):
         return stationary_orthonormal(split, D, G, float(omega0), n_hermite=n_hermite,
                                       n_cheb=n_cheb, sigma=sigma, L=L, tol=tol,
-                                      max_cost=max_cost)
+                                      max_cost=max_cost, workers=workers)
     if sigma is not None:
         s2 = float(sigma) ** 2
     elif kT is not None:

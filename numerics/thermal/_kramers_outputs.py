@@ -17,7 +17,8 @@ __all__ = ["energy_density_output", "fokker_planck_moments", "fp_advice"]
 
 def fokker_planck_moments(model, params: dict, D: float, omega0: float,
                           required: bool = False, budget: float | None = None,
-                          energy_density: bool = True) -> tuple[dict | None, str]:
+                          energy_density: bool = True,
+                          workers: int | None = None) -> tuple[dict | None, str]:
     """``<x^2>``, ``<a^2>`` of the stationary Kramers equation, or ``None`` and why.
 
     Applies to the one-degree-of-freedom models at rest (a slider at ``v = 0``) whose damping
@@ -26,6 +27,7 @@ def fokker_planck_moments(model, params: dict, D: float, omega0: float,
     (``kbm noise --fp-budget``; default :data:`FP_BUDGET` with ``required``, else
     :data:`FP_DEFAULT_BUDGET`); the record keeps it as ``budget``.  ``P(E)``
     (:func:`energy_density_output`) with ``required`` and ``energy_density`` only.
+    ``workers`` bounds the solve's processes (``kbm noise --workers``; the same bits).
     """
     from kbm.errors import KBMError
 
@@ -40,9 +42,10 @@ def fokker_planck_moments(model, params: dict, D: float, omega0: float,
     else:
         try:
             sol = stationary_kramers(model, {k: v for k, v in params.items() if k != "v"}, D,
-                                     omega0=omega0, max_cost=budget)
+                                     omega0=omega0, max_cost=budget, workers=workers)
             change = sol.hermite_change  # inf: a second truncation passed the budget
-            return {"energy_density": (energy_density_output(sol, model, params, D, omega0)
+            return {"energy_density": (energy_density_output(sol, model, params, D, omega0,
+                                                              workers)
                                        if required and energy_density else None),
                     "x2": sol.x2, "a2": sol.a2, "v2": sol.v2, "hermite": sol.coef.shape[0],
                     "chebyshev": sol.x.size, "half_width": float(sol.x[0]),
@@ -109,7 +112,8 @@ def fp_advice(fp: dict, budget: float) -> str:
             f"{budget * (n6 / n) * (m6 / m) ** 2:.2g}")
 
 
-def energy_density_output(sol, model, params: dict, D: float, omega0: float) -> dict:
+def energy_density_output(sol, model, params: dict, D: float, omega0: float,
+                          workers: int | None = None) -> dict:
     """``P(E)`` of the Kramers solution with its stated error
     (:func:`numerics.fokker_planck._energy_density.energy_density_report`; for linear
     damping, whose moments' error is not measured, the change on 1.25 times the intervals)."""
@@ -122,4 +126,4 @@ def energy_density_output(sol, model, params: dict, D: float, omega0: float) -> 
                                    omega0=omega0, n_hermite=sol.coef.shape[0],
                                    n_cheb=2 * math.ceil(0.625 * (sol.x.size - 1)),
                                    sigma=sol.sigma, L=float(sol.x[0]))
-    return energy_density_report(sol, finer)
+    return energy_density_report(sol, finer, workers=workers)

@@ -170,7 +170,7 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
         why = f"{why}; {so_why}" if why else so_why
     fp, fp_why = (fokker_planck_moments(model, params, D, system.omega0,
                                         required=method == "fokker-planck", budget=fp_budget,
-                                        energy_density=energy_density)
+                                        energy_density=energy_density, workers=workers)
                   if fokker_planck or method == "fokker-planck" else (None, "not requested"))
     steps = trajectories * (run + burn) / h
     out = {

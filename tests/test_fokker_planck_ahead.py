@@ -12,6 +12,7 @@ ladder of the nonlinear dampings), folded, whose ladder starts solves ahead.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -180,3 +181,56 @@ def test_workers_bound_the_processes(monkeypatch):
     made.clear()
     two = stationary_kramers("cdc", CDC, D, basis="orthonormal", max_cost=4e5)
     assert set(made) == {2} and _same(one, two)
+
+
+@dataclasses.dataclass
+class _Big:
+    values: np.ndarray
+
+
+def _slow_big():
+    import time
+
+    time.sleep(0.6)
+    return _Big(np.zeros(300_000))  # 2.4 MB: more than a pipe holds
+
+
+def test_interrupt_while_waiting_stops_the_child():
+    """Ctrl-C while :meth:`Ahead.result` waits: the exception reaches the caller at once and
+    the forked solve is stopped.  (It hung: the child blocked writing its 2.4 MB solution into
+    the pipe, which it held open itself, while the parent's ``join`` waited for it.)"""
+    import signal
+    import time
+
+    class _Ctrl(Exception):
+        pass
+
+    class _Hung(Exception):
+        pass
+
+    calls = []
+
+    def interrupt(signum, frame):  # first Ctrl-C, then (5 s on) the end of a hang
+        calls.append(signum)
+        if len(calls) == 1:
+            signal.setitimer(signal.ITIMER_REAL, 5.0)
+            raise _Ctrl
+        raise _Hung
+
+    ahead = Ahead(_slow_big, workers=2)
+    if not ahead.start("big"):
+        pytest.skip("no second process here")
+    proc = ahead._jobs["big"][0]
+    old = signal.signal(signal.SIGALRM, interrupt)
+    t0 = time.monotonic()
+    try:
+        signal.setitimer(signal.ITIMER_REAL, 0.2)
+        with pytest.raises(_Ctrl):
+            ahead.result("big")
+        assert time.monotonic() - t0 < 5
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+        ahead.cancel()
+    proc.join(5)
+    assert not proc.is_alive()

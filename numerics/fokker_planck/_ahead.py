@@ -119,6 +119,7 @@ class Ahead:
             # stops it (as numerics.executor's workers)
             signal.signal(signal.SIGTERM, signal.SIG_DFL)
             signal.signal(signal.SIGINT, signal.SIG_IGN)
+            recv.close()  # the parent's end: were it held here too, a write would never fail
             try:
                 sol = func(*args, **kwargs)
                 out = ("ok", type(sol), {f.name: getattr(sol, f.name)
@@ -157,6 +158,9 @@ class Ahead:
                 status, cls, fields = recv.recv()
             except (EOFError, OSError):
                 status = "lost"
+            except BaseException:  # Ctrl-C while waiting: the child may be writing into a
+                proc.terminate()   # full pipe, which a join alone would wait on for ever
+                raise
             finally:
                 recv.close()
                 proc.join()

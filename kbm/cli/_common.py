@@ -24,7 +24,7 @@ if TYPE_CHECKING:
 
 __all__ = ["OPTIONS", "ONE_DOF", "add_command", "add_options", "parse_params", "check",
            "checked_params", "emit_json", "show", "write_json", "add_model_arguments",
-           "model_spec", "check_model_flags", "single_well"]
+           "model_spec", "check_model_flags", "single_well", "table_cell"]
 
 
 #: the options several commands take: name -> (flags, argparse keywords); a command names
@@ -317,3 +317,12 @@ def describe_params(model, given: Mapping[str, object], resolved: Mapping[str, o
         word = "default" if all(n in defaults for n in names) else "also"
         text += f"; {word}: " + ", ".join(rest)
     return text
+
+
+def table_cell(x: float, fmt: str) -> str:
+    """``x`` in ``fmt``, or ``--`` in its width where it is not a number (the JSON's ``null``:
+    a sliding state has no static friction and no slips, a noisy run without slips no slip
+    statistics; tables printed ``nan``)."""
+    import math
+
+    return format(x, fmt) if math.isfinite(x) else format("--", f">{fmt.split('.')[0]}")

@@ -7,11 +7,11 @@ Called by :mod:`numerics.cli.friction` when the noise ``D`` (or the CDC's temper
 
 from __future__ import annotations
 
-import math
 import sys
 from pathlib import Path
 
 from kbm.cli import cli_message
+from kbm.cli._common import table_cell
 from kbm.errors import ParameterError
 from numerics.noise.budget import STEP_BUDGET
 
@@ -82,22 +82,17 @@ def _print(m) -> None:
         if p.error:
             print(f"{vals}{p.params['D']:10.4g}{kT:>9s}  failed: {cli_message(p.error)}")
             continue
-        print(f"{vals}{p.params['D']:10.4g}{kT:>9s} {_cell(p.mean_force.value, 10, '.5g')} "
-              f"{_cell(p.mean_force.stderr, 8, '.2g')} {_cell(p.slip_force.value, 9, '.5g')} "
-              f"{_cell(p.slip_force.stderr, 8, '.2g')} {_cell(p.slip_position.value, 9, '.5g')} "
-              f"{_cell(p.slip_position.stderr, 8, '.2g')} {p.slips:6d} {p.backward:5d}")
+        cells = " ".join(table_cell(value, fmt) for value, fmt in (
+            (p.mean_force.value, "10.5g"), (p.mean_force.stderr, "8.2g"),
+            (p.slip_force.value, "9.5g"), (p.slip_force.stderr, "8.2g"),
+            (p.slip_position.value, "9.5g"), (p.slip_position.stderr, "8.2g")))
+        print(f"{vals}{p.params['D']:10.4g}{kT:>9s} {cells} {p.slips:6d} {p.backward:5d}")
     print("(slip F: the peak spring force before each slip; L slip: the stage position at the "
           "slip relative to the well left, v t - n lam"
           + ("; --: no slip in the run" if any(not p.error and p.slips == 0
                                                    for p in m.points) else "") + ")")
     if m.note:
         print(f"note: {m.note}")
-
-
-def _cell(value: float, width: int, fmt: str) -> str:
-    """``value`` in ``width`` characters, ``--`` where it is not a number (the JSON's
-    ``null``: a slip statistic of a run without slips)."""
-    return f"{value:{width}{fmt}}" if math.isfinite(value) else f"{'--':>{width}}"
 
 
 def _noise_label(m, D: float) -> str:

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from kbm.cli._common import table_cell
 from kbm.errors import ModelError, ParameterError
 from numerics.cli.params.options import command, options
 from numerics.cli.params.values import MAX_POINTS
@@ -187,14 +188,6 @@ def _ratios(first, second) -> dict:
             "dissipation_ratio": comp.dissipation_ratio.tolist()}
 
 
-def _cell(x: float, fmt: str) -> str:
-    """``x`` in ``fmt``, or ``--`` in its width where it has no value (a sliding state has no
-    static friction and no slips: the table printed ``nan``; the JSON has ``null``)."""
-    import math
-
-    return format(x, fmt) if math.isfinite(x) else format("--", f">{fmt.split('.')[0]}")
-
-
 def _print(m) -> None:
     from kbm.cli import cli_message
 
@@ -209,8 +202,8 @@ def _print(m) -> None:
             print(f"{vals}  failed: {cli_message(p.error)}")
             continue
         print(f"{vals} {p.regime:>24s} {p.mean_force:10.5g} {p.dissipation_per_distance:10.5g} "
-              f"{_cell(p.static_force, '9.4g')} {p.stuck_fraction:6.3f} "
-              f"{_cell(p.wells_per_slip, '6.3g')} {p.eta:6.3g} {'yes' if p.steady else 'no'}")
+              f"{table_cell(p.static_force, '9.4g')} {p.stuck_fraction:6.3f} "
+              f"{table_cell(p.wells_per_slip, '6.3g')} {p.eta:6.3g} {'yes' if p.steady else 'no'}")
         if p.note:
             print(f"{'':{10 * len(names)}s}  ({cli_message(p.note)})")
 

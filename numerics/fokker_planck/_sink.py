@@ -74,7 +74,8 @@ from ._sink_pairs import PAIRED, paired_rates
 __all__ = ["SINK_TOL", "BRACKET_TOL", "LOOSE_TOL", "OFFSET", "RAMP", "CAP", "TRACK",
            "MARGIN", "DRIFT", "WEIGHT", "MAX_RUNGS", "SINK_INTERVALS", "SINK_HERMITE",
            "SINK_SCALE", "LOW_SCALE", "RUNG_HERMITE", "MAX_HERMITE", "GRID_HERMITE",
-           "HERMITE_TOL", "GRID_STEPS", "RUNG_INTERVALS", "GRID_CHECK", "GRID_FACTOR", "sink_scale", "sink_grading", "sink_rung",
+           "HERMITE_TOL", "GRID_STEPS", "RUNG_INTERVALS", "GRID_CHECK", "GRID_FACTOR",
+           "sink_scale", "sink_grading", "sink_rung",
            "step_zero", "ladder_offsets", "rung_intervals", "bracket_error", "sink_bracket",
            "absorbing_limit"]
 

@@ -21,8 +21,8 @@ STEP_BUDGET = 2e9
 BUDGET_TEXT = f"{STEP_BUDGET:.0e}".replace("e+0", "e")
 
 #: the largest cost ``n_Hermite n_Chebyshev^2`` of the stationary Kramers solve of
-#: ``kbm noise`` (:func:`numerics.thermal._kramers_outputs.fokker_planck_moments`; ``n_Hermite (n_Chebyshev/2)^2`` for a
-#: model solved folded, :mod:`numerics.fokker_planck._parity`): the SEDF at rest,
+#: ``kbm noise`` (:func:`numerics.thermal._kramers_outputs.fokker_planck_moments`;
+#: ``n_Hermite (n_Chebyshev/2)^2`` for a model solved folded, :mod:`numerics.fokker_planck._parity`): the SEDF at rest,
 #: Delta = 3, D = mu/2, states six digits there (mu = 0.1: 1.1e-8 on 128 x 448, 3 s CPU;
 #: mu = 0.02: 5.4e-7 on 182 x 740, 10 s; mu = 0.01: 2.9e-7 on 258 x 1040, 26-32 s, the
 #: climb up to 2.8 times this budget, numerics.fokker_planck._stationary_orthonormal)

@@ -36,7 +36,6 @@ from kbm.output.strict_json import Rendered
 __all__ = ["ErratumEvidence", "errata_evidence", "errata_rows", "evidence_table"]
 
 
-
 @dataclass(frozen=True)
 class ErratumEvidence(Rendered):
     """One quantity of one erratum at one case: printed, corrected and true values.

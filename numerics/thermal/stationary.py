@@ -23,7 +23,7 @@ from ..noise.langevin import langevin_system, natural_step, split_noise
 from ..noise._pilot import measured_step
 from ..noise.validity import Z_FLAG, gap_z
 
-__all__ = ["noise_report", "default_times", "validity", "STEPS_PER_PERIOD"]
+__all__ = ["noise_report", "default_times", "STEPS_PER_PERIOD"]
 
 #: steps per period of the fastest linear oscillation (well bottom or omega0)
 STEPS_PER_PERIOD = 50

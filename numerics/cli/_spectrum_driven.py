@@ -212,16 +212,19 @@ def run_slips(args) -> int:
     if _opt(args, "out"):
         rep["figures"] = [str(_figure_slips(rows, model, name, Path(args.out)))]
     lines = [f"phase slips of {model}, D = {D:g} on each mode (net slips per unit time, "
-             f"Stratonovich's formula for the reduced Adler equation vs counts)",
+             f"Stratonovich's formula for the reduced Adler equation vs counts by its mean "
+             f"phase; slips +/-: forward/backward turns counted)",
              f"  {name:>8} {'locked':>7} {'averaged':>11} {'simulated':>11} {'stderr':>9} "
-             f"{'z':>6}  {'<dgamma/dt> avg':>15} {'simulated':>11}"]
+             f"{'z':>6}  {'<dgamma/dt> avg':>15} {'simulated':>11} {'slips +/-':>11}"]
     for r in rows:
-        s, f = r["slip_rate"], r["frequency_difference"]
-        z = (f"{(s['averaged'] - s['simulated']) / s['stderr']:+6.2f}" if s["stderr"]
-             else "--")  # no spread of the counts: no gap in standard errors
+        s, f, sim = r["slip_rate"], r["frequency_difference"], r["simulation"]
+        # no spread, or no turn counted (the spread is the motion in the well): no z
+        z = (f"{(s['averaged'] - s['simulated']) / s['stderr']:+6.2f}"
+             if s["stderr"] and sim["bound"] is None else "--")
+        counts = f"{sim['forward_slips']}/{sim['backward_slips']}"
         lines.append(f"  {r['detuning']:8.4g} {'yes' if r['locked'] else 'no':>7} "
                      f"{s['averaged']:11.4g} {s['simulated']:11.4g} {s['stderr']:9.2g} {z:>6}  "
-                     f"{f['averaged']:15.4g} {f['simulated']:11.4g}")
+                     f"{f['averaged']:15.4g} {f['simulated']:11.4g} {counts:>11}")
     return _emit(args, rep, lines)
 
 

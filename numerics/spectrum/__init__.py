@@ -22,9 +22,10 @@ The noisy model is the paper's eq. (1) with ``sqrt(2 D) xi(t)`` added (the conve
   simulated) and its JSON;
 - :mod:`numerics.spectrum.driven`: the linear-response and noise spectra of driven steady
   states (slow-flow Jacobian and Floquet);
-- :mod:`numerics.spectrum.slips`: the phase-slip rate of noisy locked pairs (noisy Adler
-  equation, Stratonovich's formula); both simulate the full noisy system of
-  :mod:`numerics.noise.coupled`.
+- :mod:`numerics.spectrum.adler`: the noisy Adler equation of a locked pair (the averaged
+  flow with slaved amplitudes), Stratonovich's slip rate and the mean phase;
+- :mod:`numerics.spectrum.slips`: the phase-slip rate of noisy locked pairs, counted by the
+  mean phase; both simulate the full noisy system of :mod:`numerics.noise.coupled`.
 """
 
 from .psd import PSD, ensemble_psd

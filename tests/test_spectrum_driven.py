@@ -142,6 +142,15 @@ def test_simulated_psd_matches_floquet_within_stderr():
     assert abs(b["relative"]) < 3 * b["relative_stderr"]
     assert abs(b["mean_z"]) < 4 * b["mean_z_stderr"]
     assert np.sqrt(np.mean(z**2)) < 1.6
+    # issue 36, validity in every output: at mu = 0.2 the first-order averaged spectrum is
+    # many standard errors off (rms over the bins), flagged, and the advice points to the
+    # Floquet spectrum, which is within the statistics
+    v = sp.validity()
+    za = (sp.averaged - sp.simulated) / sp.stderr
+    assert v["z_rms"]["averaged"] == pytest.approx(np.sqrt(np.mean(za**2)), rel=1e-12)
+    assert v["z_rms"]["floquet"] == pytest.approx(np.sqrt(np.mean(z**2)), rel=1e-12)
+    assert v["flagged"] and v["z_rms"]["averaged"] > 4 and "Floquet" in v["advice"]
+    assert sp.to_json()["validity"]["flagged"]
 
 
 def _welch_correlation(nperseg: int, segments: int, lag: int) -> float:

@@ -124,9 +124,16 @@ def run_driven(args) -> int:
                    "simulated": list(map(float, first.simulated)),
                    "lower": list(map(float, first.lower)),
                    "upper": list(map(float, first.upper))}}
+    checks = [s.validity() for s in specs]
+    flagged = [v for v in checks if v is not None and v["flagged"]]
+    if all(v is not None for v in checks):
+        rep["validity"] = {"z_rms": [v["z_rms"] for v in checks], "flagged": bool(flagged),
+                           "threshold": checks[0]["threshold"] if checks else None,
+                           "advice": flagged[0]["advice"] if flagged else ""}
     if _opt(args, "out"):
         rep["figures"] = [str(p) for p in _figures_driven(specs, model, Path(args.out))]
-    return _emit(args, rep, _lines_driven(rep, specs))
+    lines = _lines_driven(rep, specs) + [f"  WARNING: {v['advice']}" for v in flagged]
+    return _emit(args, rep, lines)
 
 
 def _lines_driven(rep, specs) -> list[str]:
@@ -209,6 +216,12 @@ def run_slips(args) -> int:
            "slip_rate": {k: col("slip_rate", k) for k in _SLIP_KEYS},
            "frequency_difference": {k: col("frequency_difference", k) for k in _SLIP_KEYS},
            "linewidth": None, "frequency": None, "psd": None}
+    flagged = [r for r in rows if r.get("validity", {}).get("flagged")]
+    if all("validity" in r for r in rows):  # (each detuning's in "slips"; here the first
+        # flagged one's advice and every detuning's gap, as the other columns)
+        rep["validity"] = {"z": col("validity", "z"), "flagged": bool(flagged),
+                           "threshold": rows[0]["validity"]["threshold"],
+                           "advice": flagged[0]["validity"]["advice"] if flagged else ""}
     if _opt(args, "out"):
         rep["figures"] = [str(_figure_slips(rows, model, name, Path(args.out)))]
     lines = [f"phase slips of {model}, D = {D:g} on each mode (net slips per unit time, "
@@ -225,6 +238,7 @@ def run_slips(args) -> int:
         lines.append(f"  {r['detuning']:8.4g} {'yes' if r['locked'] else 'no':>7} "
                      f"{s['averaged']:11.4g} {s['simulated']:11.4g} {s['stderr']:9.2g} {z:>6}  "
                      f"{f['averaged']:15.4g} {f['simulated']:11.4g} {counts:>11}")
+    lines += [f"  WARNING: {r['validity']['advice']}" for r in flagged]
     return _emit(args, rep, lines)
 
 

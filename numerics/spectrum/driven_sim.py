@@ -134,9 +134,51 @@ class ResponseSpectrum:
         return {"frequencies": [float(self.Omega + e.imag) for e in lam],
                 "decay_rates": [float(-e.real) for e in lam]}
 
+    def validity(self) -> dict | None:
+        """The root-mean-square gap ``(theory - simulated)/stderr`` over the bins of the
+        averaged spectrum (first order in mu and in D) and of the Floquet spectrum (the
+        exact linearisation about the true response, first order in D), and the flag
+        ``rms |z| > 4`` of the averaged one (issue 36: validity in every output; the
+        threshold of :data:`numerics.noise.validity.Z_FLAG`), with what to do:
+        ``{"z_rms": {"averaged", "floquet"}, "flagged", "threshold", "advice"}``; ``None``
+        without a simulation.  (duffing-forced, mu = 0.05, zeta = 0.1, alpha = 1, h = 0.5,
+        sigma = 1, D = 1e-4, 32 trajectories: the averaged spectra 4.1 and 8.2 rms about
+        the two stable states, the Floquet spectra 1.5 and 1.8.)"""
+        from numerics.noise.validity import Z_FLAG
+
+        if self.simulated is None or self.stderr is None:
+            return None
+        ok = self.stderr > 0
+
+        def rms(theory):
+            if theory is None or not np.any(ok):
+                return None
+            z = (theory[ok] - self.simulated[ok]) / self.stderr[ok]
+            return float(np.sqrt(np.mean(z**2)))
+
+        z = {"averaged": rms(self.averaged), "floquet": rms(self.floquet)}
+        bad = z["averaged"] is not None and z["averaged"] > Z_FLAG
+        advice = ""
+        if bad:
+            advice = (f"the averaged spectrum about the state of amplitude "
+                      f"{self.state.amplitudes()[0]:.4g} at the detuning {self.detuning:g} is "
+                      f"{z['averaged']:.1f} standard errors (rms over the bins) from the "
+                      f"simulated one (> {Z_FLAG:g}): first-order averaging is not accurate "
+                      "enough here (mu too large)")
+            if z["floquet"] is None:
+                advice += "; a smaller mu"
+            elif z["floquet"] <= Z_FLAG:
+                advice += (f"; the Floquet spectrum (exact linearisation about the true "
+                           f"response) is {z['floquet']:.1f}: use it (the JSON's floquet)")
+            else:
+                advice += (f"; the Floquet spectrum, exact in mu, is {z['floquet']:.1f} too: "
+                           "D is too large for the linear noise theory (a smaller D), or "
+                           "the statistics (more --trajectories, a longer --duration)")
+        return {"z_rms": z, "flagged": bool(bad), "threshold": Z_FLAG, "advice": advice}
+
     def to_json(self) -> dict:
-        """The state, the spectra at ``omega`` and :attr:`extra` (NaN as ``None``); the
-        eigenvalues and multipliers as ``[re, im]``."""
+        """The state, the spectra at ``omega``, :attr:`extra` (NaN as ``None``) and
+        :meth:`validity`; the eigenvalues and multipliers as ``[re, im]``."""
         st = self.state
         return jsonable({
             "detuning": self.detuning, "state": {"amplitudes": st.amplitudes(), "U": st.U,
@@ -145,7 +187,8 @@ class ResponseSpectrum:
             "multipliers": None if self.orbit is None else complex_pairs(self.orbit.multipliers),
             "decay_rate": self.decay_rate(), "sidebands": self.sidebands(), "omega": self.omega,
             "averaged": self.averaged, "floquet": self.floquet, "simulated": self.simulated,
-            "lower": self.lower, "upper": self.upper, "stderr": self.stderr, **self.extra})
+            "lower": self.lower, "upper": self.upper, "stderr": self.stderr, **self.extra,
+            "validity": self.validity()})
 
 
 @dataclass(frozen=True)

@@ -60,6 +60,31 @@ def test_escape_cli_averaged_json(capsys):
     assert out["barrier"] == pytest.approx(xs**2 / 2 + 3 / k * (1 - math.cos(k * xs)),
                                            rel=1e-12)
     assert abs(xs + 3 * math.sin(k * xs)) < 1e-9   # g(x_s) = x + Delta sin(k x) = 0
+    # no simulation: the averaged rate states its order, no error and no gap
+    v = out["validity"]
+    assert (v["averaged_order"], v["z"], v["flagged"], v["expected_error"],
+            v["expected_error_source"]) == (1, None, False, None, "none")
+
+
+def test_escape_averaged_rate_beyond_low_friction_is_flagged(capsys):
+    """Issue 36, validity in every output: the averaged (energy-diffusion) rate is the
+    low-friction limit (Kramers 1940; Hanggi, Talkner, Borkovec 1990, sec. IV.A), valid for
+    delta = mu I(E_b)/kT << 1.  At mu = 0.2 (CDC, Delta = 3, kT = 0.35: delta = 1.1) it is
+    far above the simulated first passages to the saddles, the same quantity; the gap is
+    flagged in the JSON and printed as a WARNING with what to do."""
+    argv = ["escape", "cdc", "-p", "mu=0.2", "-p", "Delta=3", "-p", "D=0.07"]
+    assert main(argv + ["--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    v = out["validity"]
+    z = (out["rate_averaged"] - out["rate_simulated"]) / out["stderr"]
+    assert v["z"] == pytest.approx(z, rel=1e-12) and z > 4 and v["flagged"]
+    assert v["expected_error"] == pytest.approx(
+        abs(out["rate_averaged"] - out["rate_simulated"]) + 2 * out["stderr"], rel=1e-12)
+    delta = 0.2 * out["action_at_barrier"] / out["kT"]
+    assert delta > 1 and f"{delta:.3g}" in v["advice"] and "--method fokker-planck" in v["advice"]
+    assert v["advice"] in out["warnings"]
+    assert main(argv) == 0
+    assert f"WARNING: {v['advice']}" in capsys.readouterr().out
 
 
 @pytest.mark.parametrize("extra, text", [

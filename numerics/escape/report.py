@@ -88,6 +88,9 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
         (omega_0/2 pi) exp(-E_b/kT)`` (:mod:`numerics.escape.turnover`), the formula to
         compare with ``rate_fokker_planck``; ``omega_b`` is the saddles' barrier
         frequency (``None`` with ``rate_turnover`` where the two saddles differ).
+        ``validity`` (:func:`_validity`) states the averaged rate's order and expected
+        error and its gap to ``rate_simulated``, flagged beyond four standard errors (the
+        advice then among ``warnings``).
     """
     params = dict(params)
     if method not in ("averaging", "fokker-planck"):
@@ -165,7 +168,7 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
                                               else ""))
     if not simulate:
         out["message"] = "simulation not requested (--no-simulation)"
-        return out
+        return _checked(out, params, method)
     if steps > budget:
         out["message"] = (f"simulation refused: about {steps:.3g} steps expected "
                           f"({trajectories} trajectories x MFPT {esc.mfpt:.3g} / dt {h:.3g}"
@@ -174,7 +177,7 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
                           + ") "
                           f"> budget {budget:.3g}; the averaged rate is the answer "
                           "(raise --budget to simulate anyway)")
-        return out
+        return _checked(out, params, method)
     from ..errors import NumericsError
     from .simulate import simulated_escape
 
@@ -183,13 +186,57 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
                                t_end=run, dt=h, seed=seed)
     except NumericsError as exc:
         out["message"] = f"simulation: {exc}"
-        return out
+        return _checked(out, params, method)
     out.update(rate_simulated=sim.rate, stderr=sim.stderr, escaped=sim.escaped,
                censored=sim.censored)
     if method == "fokker-planck":
         _simulate_wells(out, env.split, D, esc, fp, trajectories=trajectories,
                         t_end=_wells_end(fp, t_end), dt=h, seed=seed)
+    return _checked(out, params, method)
+
+
+def _checked(out: dict, params: dict, method: str) -> dict:
+    """``out`` with its ``validity`` (:func:`_validity`), the flag's advice among the
+    warnings."""
+    out["validity"] = _validity(out, float(params["mu"]), method == "fokker-planck")
+    if out["validity"]["flagged"]:
+        out["warnings"].append(out["validity"]["advice"])
     return out
+
+
+def _validity(out: dict, mu: float, fokker_planck: bool) -> dict:
+    """The averaged (energy-diffusion) rate against the simulated first passages to the
+    saddles, the same quantity: ``{"z", "flagged", "threshold", "advice", "averaged_order",
+    "expected_error", "expected_error_source"}`` (issue 36: each averaged number states its
+    order and expected error, :func:`numerics.noise.validity.averaged_error`'s rule; a gap
+    beyond four standard errors is flagged, :func:`numerics.noise.validity.gap_z`).
+
+    The averaged rate is the low-friction limit (first order in mu): it needs the energy
+    lost per cycle at the barrier small against kT, ``delta = mu I(E_b)/kT << 1`` (CDC,
+    Delta = 3, kT = 0.35: at mu = 0.2, delta = 1.1, the averaged rate 0.0235 against the
+    simulated 0.0155 +- 0.0011, +7.3 standard errors; at mu = 0.02, delta = 0.11, +2.6).
+    The Fokker-Planck rate is not its reference: it is the transition rate to the next
+    wells, up to twice smaller at high friction."""
+    from ..noise.validity import Z_FLAG, averaged_error, gap_z
+
+    rate = {"averaged": out["rate_averaged"], "simulated": out["rate_simulated"],
+            "stderr": out["stderr"]}
+    z, bad = gap_z({"rate": rate})
+    error, source = averaged_error(rate)
+    advice = ""
+    if bad:
+        kT, action = out["kT"], out["action_at_barrier"]
+        delta = (f" (delta = mu I(E_b)/kT = {mu * action / kT:.3g})"
+                 if kT is not None and action is not None else "")
+        advice = (f"the averaged energy-diffusion rate is {z['rate']:+.1f} standard errors from "
+                  f"the simulated one (|z| > {Z_FLAG:g}): it is the low-friction limit and "
+                  f"needs the energy lost per cycle at the barrier small against kT{delta}; "
+                  f"at mu = {mu:g} take the simulated rate, "
+                  + ("or the Fokker-Planck rate (the transitions to the next wells)"
+                     if fokker_planck else "or --method fokker-planck (the Kramers equation "
+                     "at any friction; the transitions to the next wells)"))
+    return {"z": z["rate"], "flagged": bool(bad), "threshold": Z_FLAG, "advice": advice,
+            "averaged_order": 1, "expected_error": error, "expected_error_source": source}
 
 
 def _wells_end(fp, t_end) -> float:

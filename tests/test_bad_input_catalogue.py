@@ -32,6 +32,10 @@ SEDF = ["-p", "mu=0.1", "-p", "beta=1", "-p", "Delta=0.5"]
 
 # (command line, fragment of the error line); "{file}" is an existing regular file
 CLI_CASES = [
+    # a built-in of another kind is named as such, not as unknown
+    ("noise coupled-vdp -p mu=0.1 -p D=0.01", "'coupled-vdp' is a coupled model, and this "
+     "command takes one degree of freedom: vdp"),
+    ("escape duffing-forced -p mu=0.1 -p D=0.01", "'duffing-forced' is a forced model"),
     # derive
     ("derive", "required: --order"),
     ("derive vdp --order 0", "integer >= 1"),

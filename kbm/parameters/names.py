@@ -90,8 +90,14 @@ def lookup(name: str, kinds: Iterable[str] = ("one", "forced", "coupled"), *,
     if ok:
         return found
     every = [n for k in kinds for n in table[k]]
-    near = closest(name, every)
     lists = "; ".join(f"{_KIND_WORDS[k]}: {', '.join(table[k])}" for k in kinds)
+    if found is not None:  # a built-in of another kind: not unknown, the wrong command
+        kind = next(k for k, ns in builtin_names(("one", "forced", "coupled")).items()
+                    if name in ns or (k == "coupled" and name.startswith("sedf-chain-")))
+        raise ModelError(f"{name!r} is a {_KIND_WORDS[kind].split(' (')[0]} model, and this "
+                         f"command takes {lists}"
+                         + (" (or your own F with --rhs EXPR)" if rhs else ""))
+    near = closest(name, every)
     raise ModelError(f"unknown model {name!r}" + (f" (did you mean {near}?)" if near else "")
                      + f"; the built-in models are {lists}"
                      + (" (or give your own F with --rhs EXPR)" if rhs else ""))

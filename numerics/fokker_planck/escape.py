@@ -65,6 +65,7 @@ import numpy as np
 
 from kbm.model.conservative import split_conservative
 from kbm.errors import ModelError, ParameterError
+from kbm.parameters.names import noise_intensity
 
 from ..noise.budget import ESCAPE_FP_BUDGET
 from ._bases import cheb_centred
@@ -233,8 +234,7 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
     -------
     KramersEscape
     """
-    if not (math.isfinite(D) and D > 0):
-        raise ParameterError(f"D = {D}: the escape needs noise D > 0")
+    D = noise_intensity(D, "the escape needs noise")
     xl, xr = map(float, saddles)
     if not (math.isfinite(xl) and math.isfinite(xr) and xl < 0 < xr):
         raise ModelError(f"saddles {saddles}: need x_l < 0 < x_r (a well at the origin "

@@ -150,6 +150,8 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
                                 "wells": list(fp.wells),
                                 "hermite": fp.hermite, "chebyshev": fp.chebyshev,
                                 "sink_ladder": list(fp.sink_ladder)}
+        if fp.budget_note:  # a sink ladder stopped by --fp-budget
+            out["warnings"].append(fp.budget_note)
     if method == "fokker-planck":  # the simulated transitions to the next wells too
         steps += trajectories * min(1.0 / fp.rate, _wells_end(fp, t_end)) / h
         out["estimated_steps"] = steps

@@ -6,9 +6,10 @@ residuals), so that a failed computation is information, not a mystery.
 
 from __future__ import annotations
 
-from kbm.errors import KBMError
+from kbm.errors import KBMError, ParameterError
 
-__all__ = ["NumericsError", "NoCycleError", "ConvergenceError", "IntegrationError"]
+__all__ = ["NumericsError", "NoCycleError", "ConvergenceError", "IntegrationError",
+           "BudgetError"]
 
 
 class NumericsError(KBMError):
@@ -26,3 +27,8 @@ class ConvergenceError(NumericsError):
 
 class IntegrationError(NumericsError):
     """The integrator failed (step size underflow, non-finite state)."""
+
+
+class BudgetError(ParameterError):
+    """A solve above its cost budget, refused before it starts (``kbm escape
+    --fp-budget``): the message gives the sizes, their cost and the budget to give."""

@@ -61,12 +61,13 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
       "--no-progress"], "--seed must be"),
     (["friction", "cdc", "--vary", "Delta=1,2", "--no-progress"], "give --vary v=..."),
     # a negative D is a plain number, not a Python string ("D = '-1'")
-    (["noise", "vdp", "-p", "mu=0.1", "-p", "D=-1"], "D = -1 is negative"),
-    (["noise", "vdp", "-p", "mu=0.1", "-p", "D=inf"], "D = inf must be finite"),
-    (["escape", "cdc", "-p", "mu=0.02", "-p", "Delta=3", "-p", "D=-1"], "D = -1: the noise"),
+    (["noise", "vdp", "-p", "mu=0.1", "-p", "D=-1"], "D = -1: give the noise intensity"),
+    (["noise", "vdp", "-p", "mu=0.1", "-p", "D=inf"], "D = inf: give"),
+    (["escape", "cdc", "-p", "mu=0.02", "-p", "Delta=3", "-p", "D=-1"], "D = -1: give"),
     # no noise, no stationary density: refused, not 100 trajectories resting at the origin
     # with <a^2> = 0 +- 0 reported (van der Pol's attractor is the cycle a = 2)
-    (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0"], "the noise is zero"),
+    (["noise", "vdp", "-p", "mu=0.1", "-p", "D=0"],
+     "D > 0 and finite (without noise there is no stationary density"),
     (["derive", "vdp", "--order", "2", "--numeric", "--a-range", "2:1"],
      "--a-range needs AMIN < AMAX, got 2:1"),
     # the library's words on the command line (issue 35): "the a-range must lie in a > 0
@@ -89,7 +90,9 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
       "--no-progress"], "--slips must be an integer >= 1, got 0"),
     (["response", "duffing-forced", "--resonance", "0/1", "--vary", "sigma=-1:1", "--order",
       "1"], "--resonance p/q must be positive, got '0/1'"),
-    (["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "T=0"], "give D > 0 or T > 0"),
+    (["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "T=0"],
+     "D > 0 and finite (without noise there is no stationary density; or the temperature -p "
+     "T=VALUE > 0"),
     (["derive", "coupled-vdp", "--order", "1", "--numeric", "--a-range", "1:2"],
      "--a-range is not for the coupled numeric backend"),
     # kbm spectrum: a ZeroDivisionError traceback, an OOM kill after 40 s, a MemoryError

@@ -88,8 +88,8 @@ def test_escape_averaged_rate_beyond_low_friction_is_flagged(capsys):
 
 
 @pytest.mark.parametrize("extra, text", [
-    (["-p", "D=-1"], "finite and >= 0"),
-    (["-p", "D=nan"], "finite and >= 0"),
+    (["-p", "D=-1"], "D = -1: give the noise intensity of sqrt(2 D) xi as -p D=VALUE with D > 0"),
+    (["-p", "D=nan"], "D = nan: give the noise intensity"),
     (["-p", "D=0"], "D > 0"),
     (["-p", "D=0.01", "--trajectories", "5"], "at least 20"),
     ([], "-p D=VALUE"),

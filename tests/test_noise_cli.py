@@ -114,7 +114,7 @@ def test_noise_figure(tmp_path):
 
 
 @pytest.mark.parametrize("args, message", [
-    (["-p", "D=-0.1"], "negative"),
+    (["-p", "D=-0.1"], "D = -0.1: give the noise intensity"),
     (["-p", "D=nan"], "finite"),
     (["-p", "D=0.1", "--trajectories", "2"], "at least 8"),
     ([], "give the noise intensity"),

@@ -278,23 +278,24 @@ def test_missing_noise_and_bad_times_in_the_command_line_words(capsys):
                                                         "got -1")
 
 
-def test_escape_fp_budget_help_says_what_it_bounds(capsys):
+def test_escape_fp_budget_is_a_bound_and_the_help_says_so(capsys):
     """kbm escape --fp-budget said "larger solves are skipped", yet at a budget of 10 the
-    CDC's Kramers escape still solves 90 Hermite functions x 129 Chebyshev points (each
-    ladder's first two rungs and its grid and sink checks run whatever they cost,
-    numerics.fokker_planck._ladder): the help says so."""
+    CDC's Kramers escape solved 90 Hermite functions x 129 Chebyshev points (the first two
+    rungs and the grid and sink checks ran whatever they cost); it now bounds every solve:
+    the run is refused before solving, with the costs (folded orthonormal functions:
+    ``2 n (nc/2 + 1)^2 / 3``, 90 x 129 points: 2.54e5), and the help says so."""
     from numerics.cli import main
 
     assert main(["escape", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "D=0.1", "--method",
-                 "fokker-planck", "--fp-budget", "10", "--no-simulation", "--json"]) == 0
-    fp = json.loads(capsys.readouterr().out)["fokker_planck"]
-    assert fp["hermite"] * fp["chebyshev"] ** 2 > 10
+                 "fokker-planck", "--fp-budget", "10", "--no-simulation", "--json"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"90 x 129 ({2 * 90 * 65**2 / 3:.3g})" in err[0], err
+    assert "above --fp-budget 10; raise --fp-budget to" in err[0]
     with pytest.raises(SystemExit):
         main(["escape", "--help"])
     text = " ".join(capsys.readouterr().out.split())
-    assert "larger solves are skipped" not in text
-    assert "first two rungs and the checks of the grid and the sink run whatever they cost" \
-        in text
+    assert "larger solves are skipped" not in text and "whatever they cost" not in text
+    assert "a bound on every solve: refused before solving" in text
 
 
 @pytest.mark.parametrize("command", ["noise", "escape", "spectrum", "friction"])

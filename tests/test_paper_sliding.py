@@ -44,6 +44,25 @@ def test_saddle_node_closed_form():
     assert saddle_node(0.1, 1.0, 1.0) is None  # Delta k < Omega^2: no stick-slip
 
 
+def test_eq4_is_derived_from_the_model():
+    """The potential derived from the symbolic CDC (numerics.sliding.potential.eq4) is the
+    paper's eq. (4), U = Omega^2 (x - L)^2/2 - (Delta/k) cos kx, typed here from the paper:
+    the same expression, and the same values to the last bit (the paper's order of the
+    operations is kept)."""
+    import sympy as sp
+
+    from numerics.sliding.potential import eq4
+
+    x, L, Delta, k, Omega = sp.symbols("x L Delta k Omega")
+    paper = Omega**2 * (x - L)**2 / 2 - Delta / k * sp.cos(k * x)
+    assert sp.simplify(eq4().expr - paper) == 0
+    D, lam, Om = 2.5, 0.8, 1.3
+    kk = 2 * math.pi / lam
+    xs = np.linspace(-4, 4, 2001)
+    typed = Om**2 * (xs - 0.3)**2 / 2 - D / kk * np.cos(kk * xs)
+    assert np.array_equal(potential(xs, 0.3, Delta=D, lam=lam, Omega=Om), typed)
+
+
 def test_quasi_static_slip_energy_one_well():
     """CDC with strong damping (mu = 3, Omega = 2, Delta = 3): each slip crosses one well and
     dissipates Delta W of the saddle-node formula within 1% as v -> 0 (v = 5e-4).  The

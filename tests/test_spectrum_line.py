@@ -128,7 +128,7 @@ def test_too_short_run_names_the_resolution():
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["vdp", "-p", "mu=0.1", "-p", "D=0"], "D = 0: a linewidth needs noise"),
+    (["vdp", "-p", "mu=0.1", "-p", "D=0"], "D > 0 and finite (a linewidth needs noise"),
     (["vdp", "-p", "mu=0.1", "-p", "D=-0.5"], "D = -0.5"),
     (["linear_damping", "-p", "mu=0.1", "-p", "zeta=1", "-p", "D=0.01"], "no limit cycle"),
     (["vdp", "-p", "mu=0.1", "-p", "D=0.01", "--duration", "100"],

@@ -174,7 +174,7 @@ def test_stratonovich_rate_weak_noise_limit(Q):
 
 @pytest.mark.parametrize("change, words", [
     ({"param": ["mu=0.1", "c=0.3", "D=0"]}, "D > 0"),
-    ({"param": ["mu=0.1", "c=0.3", "D=-1"]}, "negative"),
+    ({"param": ["mu=0.1", "c=0.3", "D=-1"]}, "D = -1: give the noise intensity"),
     ({"param": ["mu=0.1", "c=0.3", "D=0.01", "zeta=1"]}, "unknown parameter 'zeta'"),
     ({"vary": ["c=0.1:0.3"]}, "vary the detuning sigma"),
     ({"param": ["mu=0.1", "c=0.3"]}, "noise intensity"),

@@ -132,8 +132,8 @@ def test_latex_same_bytes_under_any_hash_seed():
     assert len(outs) == 1
 
 
-@pytest.mark.parametrize("D, message", [(-0.1, "> 0"), (float("nan"), "finite"),
-                                        ("abc", "not a number")])
+@pytest.mark.parametrize("D, message", [(-0.1, "D = -0.1: .* D > 0"), (float("nan"), "finite"),
+                                        ("abc", "D = abc: give")])
 def test_bad_noise(D, message):
     with pytest.raises(ParameterError, match=message):
         stochastic_average("vdp").moment(2, {"mu": 0.1, "D": D})

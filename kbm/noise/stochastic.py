@@ -45,6 +45,7 @@ import sympy as sp
 from ..expansion.one_dof import derive
 from ..errors import ModelError, ParameterError
 from ..output.latex import latex
+from ..parameters.names import noise_intensity
 from ..model.builtins import Oscillator, get_model
 from ..symbols import a, mu
 
@@ -111,6 +112,10 @@ class StochasticAveraging:
 
         vals = {}
         for k, v in dict(params).items():
+            if k == "D":
+                vals[NOISE] = sp.Float(noise_intensity(v, "a stationary density needs noise"),
+                                       30)
+                continue
             try:
                 val = float(v)  # "inf" and "nan" are numbers, refused below
             except (TypeError, ValueError):
@@ -122,14 +127,12 @@ class StochasticAveraging:
                 raise ParameterError(f"{k} = {v!r} is not a number") from None
             if not math.isfinite(val):
                 raise ParameterError(f"{k} = {v!r} must be a finite number")
-            vals[NOISE if k == "D" else sp.Symbol(k)] = sp.Float(val, 30)
+            vals[sp.Symbol(k)] = sp.Float(val, 30)
         if NOISE not in vals:
             raise ParameterError("give the noise intensity D (x'' + ... = sqrt(2 D) xi)")
         if mu in vals and not vals[mu] > 0:
             raise ParameterError(f"mu = {vals[mu]} must be > 0 (mu < 0 turns the damping "
                                  "into a drive: no stationary density)")
-        if not vals[NOISE] > 0:
-            raise ParameterError(f"D = {vals[NOISE]} must be > 0 for a stationary density")
         return vals
 
     def _log_density_of(self, params):

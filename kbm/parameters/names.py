@@ -31,7 +31,7 @@ if TYPE_CHECKING:
     import sympy as sp
 
 __all__ = ["names_of", "lookup", "builtin_model",
-           "builtin_names", "to_physical", "noise_from",
+           "builtin_names", "to_physical", "noise_from", "noise_intensity",
            "PhysicalAxis", "physical_axis", "MONOTONE_POINTS"]
 
 
@@ -164,7 +164,7 @@ def noise_from(values: Mapping[str, object]) -> tuple[dict[str, object], sp.Expr
     rest = dict(values)
     if "D" in rest and "T" in rest:
         raise ParameterError("give the noise as D or as T = D/mu, not both")
-    if "D" in rest:  # read and checked where it is used (its own messages)
+    if "D" in rest:  # read and checked where it is used (:func:`noise_intensity`)
         return rest, rest.pop("D"), "D"
     if "T" in rest:
         raw = rest.pop("T")
@@ -181,6 +181,47 @@ def noise_from(values: Mapping[str, object]) -> tuple[dict[str, object], sp.Expr
                                  f"needs mu > 0, got mu = {rest['mu']}; give -p D=VALUE")
         return rest, val * mu, "T"
     return rest, None, ""
+
+
+def noise_intensity(D: object, need: str | None = None) -> float:
+    """The noise intensity ``D`` of ``x'' + ... = sqrt(2 D) xi(t)`` as a float, checked.
+
+    The one check of ``D`` for every command and function with noise: a finite number
+    ``>= 0`` (``D = 0`` is the deterministic model), or ``> 0`` where ``need`` says why the
+    noise cannot be zero.  Read as :func:`kbm.parameters.values.parameter_value` reads any
+    value (``"0.01"``, ``"1/100"``, ``0.01``).
+
+    Parameters
+    ----------
+    D : object
+        The value as given (a string of the command line or a number).
+    need : str, optional
+        Why ``D = 0`` is refused (``"without noise nothing escapes the well"``); ``None``:
+        ``D = 0`` is accepted.
+
+    Returns
+    -------
+    float
+        ``D``, read exactly and rounded once.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        ``"D = VALUE: give the noise intensity of sqrt(2 D) xi as -p D=VALUE with D > 0
+        and finite (...)"`` (``D >= 0`` where ``need`` is ``None``) for a value that is no
+        number, NaN, infinite, negative, or zero where refused.
+    """
+    try:
+        value = float(parameter_value("D", D))
+    except ParameterError:
+        value = None
+    if value is not None and (value > 0 or (value == 0 and need is None)):
+        return value
+    shown = str(D).strip() if value is None else f"{value:g}"
+    rule = ("D >= 0 and finite (D = 0: the deterministic model)" if need is None else
+            f"D > 0 and finite ({need}; or the temperature -p T=VALUE > 0, T = D/mu)")
+    raise ParameterError(f"D = {shown}: give the noise intensity of sqrt(2 D) xi as "
+                         f"-p D=VALUE with {rule}")
 
 
 #: points of the grid on which a physical axis's map is checked finite and strictly monotone

@@ -11,7 +11,6 @@ unknown names refused, ``D`` or ``T = D/mu``.
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 from kbm.errors import ParameterError
@@ -38,6 +37,7 @@ def _bind(args, kind: str):
     from kbm.parameters.names import lookup
     from kbm.parameters.values import parameter_value
     from numerics.cli.params.values import check, given, noise_params, parse_vary, without_noise
+    from numerics.noise.coupled import NOISE_NEED
 
     if _opt(args, "rhs") or not _opt(args, "model"):
         names = "duffing-forced, parametric, duffing-1-3, ..." if kind == "forced" else \
@@ -63,13 +63,8 @@ def _bind(args, kind: str):
                              f"{name}=FROM:TO)")
     check(args.model, params, [v.name] if v else [], noise=True,
           extra=(name,) if kind == "forced" else ())
-    params, noise = noise_params(params)
-    params, D = without_noise(params)
-    if not (math.isfinite(D) and D > 0):
-        what = "zero" if D == 0 else "negative" if D < 0 else "not finite"
-        given = " (from T = D/mu)" if noise == "T" else ""
-        raise ParameterError(f"D = {D:g}{given} is {what}: a noise spectrum needs noise; give "
-                             "-p D=VALUE with D > 0 (or the temperature -p T=VALUE > 0)")
+    params, _ = noise_params(params)
+    params, D = without_noise(params, NOISE_NEED)
     if v is not None:
         values = [float(x) for x in v.values(DEFAULT_DETUNINGS)]
         if len(values) > MAX_DETUNINGS:

@@ -43,9 +43,10 @@ def register(sub) -> None:
     options(p, "fp_budget", "json", fp_budget=dict(
         help="with --method fokker-planck: the largest cost of the escape rate's Kramers "
              f"solves, N_Hermite x N_Chebyshev^2 (default {ESCAPE_FP_BUDGET:.2g}; the "
-             "factorisation keeps about 3 times it in numbers): the ladders climb while their "
-             "solves fit, but the first two rungs and the checks of the grid and the sink run "
-             "whatever they cost (the sizes reached are printed)"))
+             "factorisation keeps about 3 times it in numbers), a bound on every solve: "
+             "refused before solving, with the costs, where the first two rungs or the "
+             "first grid check exceed it; the ladders stop at their last solve that fits, "
+             "their stated errors (and a warning for the sink ladder) say so"))
     p.set_defaults(func=run)
 
 

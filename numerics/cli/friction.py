@@ -111,6 +111,7 @@ def _check_outputs(args: argparse.Namespace) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from kbm.model.builtins import parameter_value
+    from kbm.parameters.names import noise_intensity
     from kbm.parameters.values import closest
     from numerics.cli.params.options import check_ensemble, stored
     from numerics.cli.params.values import check, given, parse_vary, physical
@@ -137,16 +138,15 @@ def run(args: argparse.Namespace) -> int:
     models = (args.model,) + ((args.against,) if args.against else ())
     names = check(models, params, [v.name for v in varies], extra=("v",), noise=True)
     axes = {v.name: v.values() for v in varies}
-    for name in ("T", "D"):  # named as typed (T = D/mu is converted later)
-        values = list(axes.get(name, ()))
-        if name in params:
-            values.append(float(parameter_value(name, params[name])))
-        bad = [x for x in values if x < 0]
-        if bad:
-            what = "the temperature kT = D/mu" if name == "T" else \
-                "the noise intensity of sqrt(2 D) xi"
-            raise ParameterError(f"{name} = {bad[0]:g} is negative; {what} must be >= 0 "
-                                 f"({name} = 0 is the deterministic slider)")
+    for x in list(axes.get("D", ())) + ([params["D"]] if "D" in params else []):
+        noise_intensity(x)  # D = 0 is the deterministic slider
+    temperatures = list(axes.get("T", ()))  # named as typed (T = D/mu is converted later)
+    if "T" in params:
+        temperatures.append(float(parameter_value("T", params["T"])))
+    bad = [x for x in temperatures if x < 0]
+    if bad:
+        raise ParameterError(f"T = {bad[0]:g} is negative; the temperature kT = D/mu must be "
+                             ">= 0 (T = 0 is the deterministic slider)")
     fixed, axes = physical(names, params, axes, "0.1")
     axes = {k: axis_values(k, v) for k, v in axes.items()}
     from numerics.cli._thermal_friction import emit_maps, run_thermal, wanted

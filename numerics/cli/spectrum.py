@@ -78,10 +78,10 @@ def _kind(args) -> str:
 
 def _bind(args):
     """``(model, params without D, D values, noise name)`` of a self-excited run."""
-    import math
-
     from kbm.cli._common import check_model_flags
     from kbm.model.builtins import custom_model
+    from kbm.parameters.names import noise_intensity
+    from numerics.spectrum.phase_diffusion import LINEWIDTH_NEED
     from kbm.parameters.values import parameter_value
     from numerics.cli.params.values import noisy_model, parse_vary, without_noise
 
@@ -96,17 +96,14 @@ def _bind(args):
     model = custom_model(args.rhs[0], omega0=1 if args.omega0 is None else args.omega0) \
         if args.rhs else args.model
     params, noise = noisy_model(model, items)
-    params, D0 = without_noise(params)
+    params, D0 = without_noise(params, LINEWIDTH_NEED)
     if "mu" not in params:
         raise ParameterError("give the small parameter: -p mu=VALUE")
     mu = float(parameter_value("mu", params["mu"]))
     values = [D0]
     if vary is not None:
-        values = [float(v) * (mu if vary.name == "T" else 1.0) for v in vary.values(3)]
-    for D in values:
-        if not (math.isfinite(D) and D > 0):
-            raise ParameterError(f"D = {D:g}: a linewidth needs noise; give -p D=VALUE with "
-                                 "D > 0 (or the temperature -p T=VALUE > 0)")
+        values = [noise_intensity(float(v) * (mu if vary.name == "T" else 1.0), LINEWIDTH_NEED)
+                  for v in vary.values(3)]
     return model, params, values, noise
 
 

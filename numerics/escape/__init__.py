@@ -9,13 +9,12 @@ for linear damping ``mu`` the temperature is ``kT = D/mu``.
 
 from .envelope import EnergyEnvelope, boltzmann_moment, energy_envelope
 from ._annulus import AnnulusEnvelope
-from .noise_params import noise_level
 from .rate import EscapeRate, averaged_escape, central_well, kramers_low_friction, separatrix_action
 from .turnover import melnikov_meshkov_factor
 from .turnover import spatial_diffusion_factor, turnover_rate, two_exit_factor
 
 __all__ = [
-    "energy_envelope", "EnergyEnvelope", "AnnulusEnvelope", "noise_level", "boltzmann_moment",
+    "energy_envelope", "EnergyEnvelope", "AnnulusEnvelope", "boltzmann_moment",
     "averaged_escape", "EscapeRate", "central_well", "kramers_low_friction",
     "melnikov_meshkov_factor", "separatrix_action", "spatial_diffusion_factor",
     "two_exit_factor", "turnover_rate",

@@ -11,11 +11,12 @@ from dataclasses import dataclass
 import numpy as np
 from kbm.model.conservative import split_conservative
 from kbm.errors import ModelError, ParameterError
+from kbm.parameters.names import noise_intensity
 
 from ..energy.portrait import Annulus, Portrait, phase_portrait
 from ._orbits import graded_orbit_integrals, interior_saddles
 from ._panels import Piecewise, adaptive_panels, gauss_on
-from .noise_params import NoStationaryState, noise_level
+from .noise_params import NoStationaryState
 
 __all__ = ["AnnulusEnvelope", "MAX_INFLECTIONS", "prepared", "fitted", "orbit_values",
            "check_drift"]
@@ -123,9 +124,7 @@ def _check_outer_cost(split, portrait: Portrait, top: float, kT: float) -> None:
 def prepared(model, params: dict, D: object, outer_span: float) -> tuple:
     """``(split, portrait, h, mu, D)`` after the checks of
     :func:`numerics.escape.envelope.energy_envelope`."""
-    D = noise_level(D)
-    if D == 0:
-        raise ParameterError("D = 0: the averaged energy process needs noise; give D > 0")
+    D = noise_intensity(D, "the averaged energy process needs noise")
     params = {k: v for k, v in dict(params).items() if k != "D"}
     split = split_conservative(model, params)
     if split.conservative:

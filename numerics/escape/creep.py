@@ -2,7 +2,8 @@
 rate theory: the creep law of the slip force.
 
 The stage at ``L`` holds the slider in a well of ``U(x, L) = Omega^2 (x - L)^2/2 -
-(Delta/k) cos(k x)`` (paper eq. 4).  Pulled slowly (``dL/dt = v``), the forward barrier
+(Delta/k) cos(k x)`` (paper eq. 4, derived from the symbolic CDC once:
+:func:`numerics.sliding.potential.eq4`).  Pulled slowly (``dL/dt = v``), the forward barrier
 ``E_b(L)`` shrinks and vanishes at the saddle node ``L_0``, where the athermal slider
 slips at the static force ``F_c = Omega^2 (L_0 - x_0)``
 (:func:`numerics.sliding.potential.saddle_node`).  With noise the slider leaves earlier,
@@ -31,7 +32,7 @@ from scipy.optimize import brentq, curve_fit
 
 from kbm.errors import ParameterError
 
-from ..sliding.potential import saddle_node
+from ..sliding.potential import eq4, saddle_node
 from .turnover import melnikov_meshkov_factor
 
 __all__ = ["SlipForce", "slip_force", "CreepFit", "fit_creep", "barrier_at"]
@@ -43,17 +44,18 @@ def barrier_at(L: float, *, Delta: float, lam: float = 1.0, Omega: float = 1.0):
     k = 2 * math.pi / lam
     sn = saddle_node(Delta=Delta, lam=lam, Omega=Omega)
     xc = sn.x0
+    f = eq4()
 
     def g(z):
-        return Omega**2 * (z - L) + Delta * math.sin(k * z)
+        return f.dU(z, L, Delta, k, Omega)
 
     def U(z):
-        return Omega**2 * (z - L)**2 / 2 - Delta / k * math.cos(k * z)
+        return f.U(z, L, Delta, k, Omega)
 
     xw = brentq(g, -xc, xc, xtol=1e-15)
     xs = brentq(g, xc, lam - xc, xtol=1e-15)
     Eb = U(xs) - U(xw)
-    ww = math.sqrt(Omega**2 + Delta * k * math.cos(k * xw))
+    ww = math.sqrt(f.d2U(xw, L, Delta, k, Omega))
     # the other turning point of the separatrix loop: scan left from the well until U
     # exceeds the forward saddle's value (the backward barrier is higher for L >= 0)
     Us, step, lo = U(xs), lam / 512, xw
@@ -78,7 +80,7 @@ def _ramp(Delta: float, lam: float, Omega: float, n: int):
     s = np.linspace(0, 1, n)
     L = sn.L0 * (1 - (1 - s)**3)[:-1]
     rows = np.array([barrier_at(float(Li), Delta=Delta, lam=lam, Omega=Omega) for Li in L])
-    F = Omega**2 * (L - rows[:, 0])
+    F = eq4("numpy").spring_force(rows[:, 0], L, Delta, 2 * math.pi / lam, Omega)
     return L, F, rows[:, 2], rows[:, 3], rows[:, 4], float(sn.L0), float(sn.static_force)
 
 

@@ -1,5 +1,6 @@
-"""The noise level and the small parameter of a noisy model, checked before any work, and the
-exception of a model with no stationary state (split from :mod:`numerics.escape.envelope`).
+"""The small parameter of a noisy model, checked before any work (the noise intensity ``D``:
+:func:`kbm.parameters.names.noise_intensity`), and the exception of a model with no
+stationary state (split from :mod:`numerics.escape.envelope`).
 
 Convention: ``x'' + ... = sqrt(2 D) xi(t)``, ``<xi(t) xi(t')> = delta(t - t')``.
 """
@@ -11,7 +12,7 @@ import math
 import sympy as sp
 from kbm.errors import ModelError, ParameterError
 
-__all__ = ["NoStationaryState", "noise_level", "check_mu"]
+__all__ = ["NoStationaryState", "check_mu"]
 
 
 class NoStationaryState(ModelError):
@@ -20,25 +21,8 @@ class NoStationaryState(ModelError):
     before any simulation, with the reason."""
 
 
-def noise_level(D: object) -> float:
-    """``D`` as a float, refused when negative or not finite.
-
-    Raises
-    ------
-    kbm.errors.ParameterError
-    """
-    try:
-        val = float(D)
-    except (TypeError, ValueError):
-        raise ParameterError(f"D must be a number, got {D!r} (e.g. -p D=0.01)") from None
-    if not math.isfinite(val) or val < 0:
-        raise ParameterError(f"D = {val:g}: the noise intensity must be finite and >= 0 "
-                             "(x'' + ... = sqrt(2 D) xi(t); e.g. -p D=0.01)")
-    return val
-
-
 def check_mu(params: dict) -> None:
-    """Refuse ``mu <= 0`` (and a ``D`` that is infinite or NaN) before any work.
+    """Refuse ``mu <= 0`` before any work (``D``: :func:`kbm.parameters.names.noise_intensity`).
 
     ``mu`` is the small parameter of ``x'' + omega0^2 x = mu F``: ``mu < 0`` turns the
     damping into a drive (no stationary state), ``mu = 0`` leaves the noise unbalanced.
@@ -47,22 +31,19 @@ def check_mu(params: dict) -> None:
     ------
     kbm.errors.ParameterError
     """
-    for key in ("D", "mu"):
-        if key not in params:
-            continue
+    if "mu" not in params:
+        return
+    try:
+        val = float(params["mu"])  # "inf", "nan" included
+    except (TypeError, ValueError):
         try:
-            val = float(params[key])  # "inf", "nan" included
-        except (TypeError, ValueError):
-            try:
-                val = float(sp.sympify(params[key]))
-            except (TypeError, ValueError, sp.SympifyError):
-                continue  # the parser of the model says what is wrong
-        if not math.isfinite(val):
-            what = ("finite and >= 0 (the noise intensity of sqrt(2 D) xi)" if key == "D"
-                    else "a finite number > 0")
-            raise ParameterError(f"{key} = {params[key]} must be {what}; e.g. -p {key}=0.1")
-        if key == "mu" and val <= 0:
-            raise ParameterError(
-                f"mu = {params[key]}: the small parameter must be > 0 (x'' + omega0^2 x = mu "
-                "F; mu < 0 turns the damping into a drive and mu = 0 leaves the noise "
-                "unbalanced: no stationary state); give mu > 0")
+            val = float(sp.sympify(params["mu"]))
+        except (TypeError, ValueError, sp.SympifyError):
+            return  # the parser of the model says what is wrong
+    if not math.isfinite(val):
+        raise ParameterError(f"mu = {params['mu']} must be a finite number > 0; e.g. -p mu=0.1")
+    if val <= 0:
+        raise ParameterError(
+            f"mu = {params['mu']}: the small parameter must be > 0 (x'' + omega0^2 x = mu "
+            "F; mu < 0 turns the damping into a drive and mu = 0 leaves the noise "
+            "unbalanced: no stationary state); give mu > 0")

@@ -6,10 +6,11 @@ import math
 
 from kbm.errors import ParameterError
 from kbm.parameters.bound import bind
+from kbm.parameters.names import noise_intensity
 
 from ..noise.budget import STEP_BUDGET
 from .envelope import origin_well_envelope
-from .noise_params import check_mu, noise_level
+from .noise_params import check_mu
 from .rate import averaged_escape
 
 __all__ = ["escape_report", "MIN_TRAJECTORIES"]
@@ -98,9 +99,7 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
     check_mu(params)
     if "D" not in params:
         raise ParameterError("give the noise intensity: -p D=VALUE (x'' + ... = sqrt(2 D) xi)")
-    D = noise_level(params.pop("D"))
-    if D == 0:
-        raise ParameterError("D = 0: without noise nothing escapes the well; give D > 0")
+    D = noise_intensity(params.pop("D"), "without noise nothing escapes the well")
     if not isinstance(trajectories, int) or trajectories < MIN_TRAJECTORIES:
         raise ParameterError(f"--trajectories {trajectories}: at least {MIN_TRAJECTORIES} are "
                              "needed for a meaningful standard error")
@@ -154,6 +153,8 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
                                 "wells": list(fp.wells),
                                 "hermite": fp.hermite, "chebyshev": fp.chebyshev,
                                 "sink_ladder": list(fp.sink_ladder)}
+        if fp.budget_note:  # a sink ladder stopped by --fp-budget
+            out["warnings"].append(fp.budget_note)
     if method == "fokker-planck":  # the simulated transitions to the next wells too
         steps += trajectories * min(1.0 / fp.rate, _wells_end(fp, t_end)) / h
         out["estimated_steps"] = steps

@@ -10,19 +10,48 @@ basis's check, where it has one); the rate is then recomputed on 1.2 times the i
 (:func:`._model.grid_check`), and where it moves by more than ``tol`` the ladder runs
 again there.  The last change is ``truncation_error``, the grid's ``chebyshev_error``, and
 the change under the sharper sink one rung below the top ``sink_error``.
+
+The budget bounds every solve (``kbm escape --fp-budget``): the first two rungs and the
+first grid check are refused before anything is solved when they exceed it
+(:class:`numerics.errors.BudgetError`, with their costs); a ladder stops at the last rung
+that fits, and a grid that cannot grow within it ends the ladder with the change it last
+measured as ``chebyshev_error``.
 """
 
 from __future__ import annotations
 
 import math
 
+from ..errors import BudgetError
 from ._model import grid_check
 
-__all__ = ["hermite_chebyshev_ladder"]
+__all__ = ["hermite_chebyshev_ladder", "GROW", "budget_to_give"]
+
+#: the position grid's growth per check (:func:`._model.grid_check`)
+GROW = 1.2
+
+
+def budget_to_give(cost: float) -> str:
+    """``cost`` rounded up to two significant digits, as ``--fp-budget`` takes it (``1.07e6``
+    gives ``"1.1e+06"``, never a budget below the cost)."""
+    step = 10.0 ** (math.floor(math.log10(cost)) - 1)
+    return f"{math.ceil(cost / step) * step:.2g}"
+
+
+def _refuse(first: tuple, nc: int, finer: int, cost, budget: float) -> BudgetError:
+    """The refusal of a ladder whose first two rungs or first grid check exceed the budget."""
+    sizes = [(first[0], nc), (first[1], nc), (first[0], finer)]
+    need = max(cost(n, m) for n, m in sizes)
+    said = ", ".join(f"{n} x {m + 1} ({cost(n, m):.3g})" for n, m in sizes)
+    return BudgetError(f"the escape rate's Kramers solves cost {need:.3g} at least (Hermite "
+                       f"functions x Chebyshev points (cost): the first two rungs and the "
+                       f"grid's check, {said}), above --fp-budget {budget:.3g}; raise "
+                       f"--fp-budget to {budget_to_give(need)} or more")
 
 
 def hermite_chebyshev_ladder(solve, ladder, fits, *, start: int, n_cheb: int, tol: float,
-                             max_hermite: int, max_cheb: int, check=None) -> dict:
+                             max_hermite: int, max_cheb: int, check=None, cost=None,
+                             budget: float = math.inf) -> dict:
     """The escape rate's Hermite ladder on a growing position grid.
 
     Parameters
@@ -44,6 +73,16 @@ def hermite_chebyshev_ladder(solve, ladder, fits, *, start: int, n_cheb: int, to
         ``check(n, nc, rate)``: the basis's own error of a converged rung (the orthonormal
         functions' change at another velocity scale); the ladder stops only where it is
         within ``tol`` too, and it is evaluated at the last rung where no rung passed.
+    cost : callable, optional
+        ``cost(n, nc)``: the solve's cost in the budget's units (``fits`` is ``cost <=
+        budget``), for the refusal's message.
+    budget : float
+        The budget ``fits`` holds to (the refusal's message).
+
+    Raises
+    ------
+    numerics.errors.BudgetError
+        Before any solve, when the first two rungs or the first grid check do not fit.
 
     Returns
     -------
@@ -55,10 +94,13 @@ def hermite_chebyshev_ladder(solve, ladder, fits, *, start: int, n_cheb: int, to
     nc = int(n_cheb)
     table: list = []
     extra = math.inf
+    first = ladder(start, 2 * start)[:2]
+    finer = 2 * int(round(GROW * nc / 2))
+    if not (fits(first[0], nc) and fits(first[1], nc) and fits(first[0], finer)):
+        raise _refuse(first, nc, finer, cost or (lambda n, m: math.nan), budget)
+    cheb_err = math.nan
     while True:  # the ladder on a finer grid calls ladder() again
         steps = [n for n in ladder(start, max(int(max_hermite), 2 * start)) if fits(n, nc)]
-        if len(steps) < 2:
-            steps = ladder(start, 2 * start)[:2]
         rates, extra = [], math.inf
         for n in steps:
             rates.append(solve(n, nc))
@@ -72,10 +114,15 @@ def hermite_chebyshev_ladder(solve, ladder, fits, *, start: int, n_cheb: int, to
                     break
         if check is not None and not math.isfinite(extra):
             extra = check(steps[len(rates) - 1], nc, rates[-1])
-        cheb_err, done, finer, k, prev = grid_check(steps, rates, nc, 1.2, fits, solve,
+        k = len(rates) - 1
+        prev = max(k - 1, 0)
+        finer = 2 * int(round(GROW * nc / 2))
+        if not any(fits(n, finer) for n in steps[:k + 1]):
+            break  # no check of this grid fits: the change last measured stands
+        cheb_err, done, finer, k, prev = grid_check(steps, rates, nc, GROW, fits, solve,
                                                     table, tol, max_cheb)
-        if done:
-            break
+        if done or not all(fits(n, finer) for n in ladder(steps[prev], 2 * steps[prev])[:2]):
+            break  # converged, or the finer grid's first two rungs do not fit
         nc, start = finer, steps[prev]
     r_sharp = solve(steps[prev], nc, sharp=2)
     return dict(rate=rates[-1], sink_error=abs(r_sharp - rates[prev]),

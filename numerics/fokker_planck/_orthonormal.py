@@ -163,6 +163,9 @@ def nonlinear_escape(split, D: float, saddles, half: float, sink, points, ladder
     # the numbers the factorisation keeps (its blocks: lower, upper and LU of b m rows)
     numbers = getattr(slowest, "numbers", lambda n, nc: 3 * n * nc * nc)
 
+    def cost(n, nc):  # in the budget's units: a third of the numbers kept
+        return numbers(n, nc) / 3
+
     def fits(n, nc):
         return numbers(n, nc) <= 3 * max_cost
 
@@ -177,7 +180,7 @@ def nonlinear_escape(split, D: float, saddles, half: float, sink, points, ladder
 
     out = hermite_chebyshev_ladder(solve, ladder, fits, start=int(n_hermite), n_cheb=nc,
                                    tol=tol, max_hermite=max_hermite, max_cheb=max_cheb,
-                                   check=other_scale)
+                                   check=other_scale, cost=cost, budget=max_cost)
     scale_err = out.pop("check_error")
     return dict(out, truncation_error=max(out["truncation_error"], scale_err),
                 scale_error=scale_err, velocity_scale=s)

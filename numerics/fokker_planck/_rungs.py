@@ -154,6 +154,10 @@ def pair_escape(split, sigma: float, gamma: float, wells, sink, points, ladder, 
     memo = {}
     folds = abs(wells[0] + wells[1]) <= 1e-12 * wells[1]  # about: EscapeFraction decides
 
+    def cost(n, nc):  # in the budget's units: a third of the numbers kept
+        m = nc // 2 + 1 if folds else nc + 1
+        return n * m * m / 3
+
     def fits(n, nc):
         m = nc // 2 + 1 if folds else nc + 1
         return n * m * m <= 3 * max_cost
@@ -167,6 +171,7 @@ def pair_escape(split, sigma: float, gamma: float, wells, sink, points, ladder, 
         return memo[n, nc, sharp]
 
     out = hermite_chebyshev_ladder(solve, ladder, fits, start=start, n_cheb=nc, tol=tol,
-                                   max_hermite=max_hermite, max_cheb=max_cheb)
+                                   max_hermite=max_hermite, max_cheb=max_cheb, cost=cost,
+                                   budget=max_cost)
     del out["check_error"]
     return out

@@ -65,11 +65,13 @@ import numpy as np
 
 from kbm.model.conservative import split_conservative
 from kbm.errors import ModelError, ParameterError
+from kbm.parameters.names import noise_intensity
 
 from ..noise.budget import ESCAPE_FP_BUDGET
 from ._bases import cheb_centred
 from ._blocks import on_one_blas_thread
 from ._folded import FoldedRungs
+from ._ladder import budget_to_give
 from ._orthonormal import nonlinear_escape, orthonormal_slowest
 from ._parity import symmetric
 from ._rungs import FractionRungs, pair_escape
@@ -144,6 +146,10 @@ class KramersEscape:
         falling one's (each half): :attr:`rate` is then the midpoint of their top rungs,
         which bracket a perfectly absorbing sink's rate, and :attr:`sink_error` half their
         gap; empty where the first sink's rate is kept.
+    budget_note : str
+        Where a rung of the sink ladders exceeded the budget ``max_cost``: which, its cost
+        and the budget to give (the rate is then the first sink's, with the two sinks'
+        change as its ``sink_error``); ``""`` otherwise.
     sink_offsets : tuple of (float, float)
         The sinks' offsets ``(rising, falling)`` of each rung of :attr:`sink_ladder`
         (:func:`._sink.ladder_offsets`).
@@ -162,6 +168,7 @@ class KramersEscape:
     velocity_scale: float = float("nan")
     sink_ladder: tuple = ()
     sink_offsets: tuple = ()
+    budget_note: str = ""
 
     def __repr__(self) -> str:
         return (f"KramersEscape(rate={self.rate:.7g} +- {self.sink_error:.2g} (sink) +- "
@@ -216,8 +223,10 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         n_hermite n_cheb^2`` for the block LU in orthonormal functions (``2 n_hermite
         (n_cheb/2 + 1)^2`` folded by parity, :class:`._folded.FoldedRungs`), ``n_hermite
         n_points^2`` in Risken's pair (``n_points`` about ``n_cheb/2`` when folded by
-        parity); larger solves are skipped, but each ladder's first two rungs and its
-        grid and sink checks run whatever they cost (:mod:`._ladder`).
+        parity), ``max_cost`` a third of it: no solve exceeds it.  The Hermite ladder stops
+        at its last rung that fits, the grid's check and growth where they do not fit
+        (:mod:`._ladder`), the sink ladders at their first rung that does not
+        (``budget_note``).
     basis : {"auto", "orthonormal", "pair"}
         The velocity's functions: orthonormal Hermite functions (every damping), or
         Risken's pair at ``sqrt(kT)`` (linear damping only; the ladder of 2896 functions
@@ -232,9 +241,14 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
     Returns
     -------
     KramersEscape
+
+    Raises
+    ------
+    numerics.errors.BudgetError
+        Before any solve, when the first two rungs of the Hermite ladder or its first grid
+        check exceed ``max_cost`` (the message gives their costs).
     """
-    if not (math.isfinite(D) and D > 0):
-        raise ParameterError(f"D = {D}: the escape needs noise D > 0")
+    D = noise_intensity(D, "the escape needs noise")
     xl, xr = map(float, saddles)
     if not (math.isfinite(xl) and math.isfinite(xr) and xl < 0 < xr):
         raise ModelError(f"saddles {saddles}: need x_l < 0 < x_r (a well at the origin "
@@ -295,7 +309,15 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         solvers: dict = {}  # the factors of the current rung's two sinks (and grids)
         last: list = [None]  # the last rung's slowest mode: the next factors' first start
 
+        def rung_cost(nh, nc):  # in the budget's units, as the ladders' (numbers kept / 3)
+            if basis == "pair" and not adaptive:
+                m = nc // 2 + 1 if fold else nc + 1
+                return nh * m * m / 3
+            return (FoldedRungs.numbers(nh, nc) if adaptive or fold else 3 * nh * nc**2) / 3
+
         def rung(j, offset, nc, nh, slope=False):  # the rate with rung j's sink (._sink)
+            if rung_cost(nh, nc) > max_cost:
+                raise _OverBudget(j, nh, nc, rung_cost(nh, nc))
             centres, kap, w = sink_rung(wells, kappa0, width, j, offset)
             grading = sink_grading(j) if adaptive else ((2.5, WEIGHT),)
 
@@ -327,6 +349,19 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
             solver = FoldedRungs(nh) if fold else orthonormal_slowest
             return solver(split, D, out["velocity_scale"], pts, nh, nc, snk)
 
-        out = absorbing_limit(out, rung, least=(SINK_HERMITE, SINK_INTERVALS) if linear
-                              else (0, 0), adaptive=adaptive, paired=adaptive)
+        try:
+            out = absorbing_limit(out, rung, least=(SINK_HERMITE, SINK_INTERVALS) if linear
+                                  else (0, 0), adaptive=adaptive, paired=adaptive)
+        except _OverBudget as over:
+            j, nh, nc, c = over.args
+            out = dict(out, budget_note=(
+                f"the sink ladder's rung {j} needs {nh} Hermite functions x {nc + 1} Chebyshev "
+                f"points (cost {c:.3g}), above --fp-budget {max_cost:.3g}: the rate is the "
+                "first sink's and its sink error the change between two sinks; raise "
+                f"--fp-budget to {budget_to_give(c)} or more for the perfectly absorbing "
+                "limit"))
     return KramersEscape(saddles=(xl, xr), wells=wells, **out)
+
+
+class _OverBudget(Exception):
+    """A rung of the sink ladders above the budget: ``(rung, n_hermite, n_cheb, cost)``."""

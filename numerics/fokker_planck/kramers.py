@@ -51,6 +51,7 @@ import sympy as sp
 
 from kbm.model.conservative import ConservativeSplit, split_conservative
 from kbm.errors import ModelError, ParameterError
+from kbm.parameters.names import noise_intensity
 
 from ._bases import cheb, clenshaw_curtis, hermite_matrices
 from ._blocks import on_one_blas_thread
@@ -182,8 +183,7 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
     kbm.errors.ModelError
         A driven or non-confining model, or a damping not polynomial in ``x'``.
     """
-    if not (math.isfinite(D) and D > 0):
-        raise ParameterError(f"D = {D}: the Kramers equation needs noise D > 0")
+    D = noise_intensity(D, "the Kramers equation needs noise")
     params = {k: v for k, v in dict(params).items() if k != "D"}
     split = split_conservative(model, params)
     mu = float(split.mu)

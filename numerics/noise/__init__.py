@@ -25,13 +25,12 @@ holds the streams, :mod:`numerics.noise._pilot` the measured default step (the s
 
 from kbm._lazy import lazy_names
 
-__all__ = ["LangevinSystem", "langevin_system", "noise_intensity", "split_noise",
-           "trajectory_states"]
+__all__ = ["LangevinSystem", "langevin_system", "split_noise", "trajectory_states"]
 
 #: the public names, each imported from its module on first use (PEP 562): the command
 #: line's option table reads :mod:`numerics.noise.budget` without sympy and numba
-_LAZY = {**dict.fromkeys(("LangevinSystem", "langevin_system", "noise_intensity",
-                          "split_noise"), "numerics.noise.langevin"),
+_LAZY = {**dict.fromkeys(("LangevinSystem", "langevin_system", "split_noise"),
+                         "numerics.noise.langevin"),
          "trajectory_states": "numerics.noise.seeds"}
 
 __getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)

@@ -24,12 +24,16 @@ import sympy as sp
 
 from kbm.model.coupled import CoupledOscillators
 from kbm.errors import ParameterError
+from kbm.parameters.names import noise_intensity
 from kbm.symbols import t as t_symbol
 
 from .codegen import vector_module
 from .seeds import trajectory_states
 
-__all__ = ["NoisySystem", "bound_system", "positive_noise", "CHUNK"]
+__all__ = ["NoisySystem", "bound_system", "NOISE_NEED", "CHUNK"]
+
+#: why a noise spectrum refuses ``D = 0`` (:func:`kbm.parameters.names.noise_intensity`)
+NOISE_NEED = "a noise spectrum needs noise"
 
 #: trajectories per chunk of the executor (fixed: the arithmetic does not depend on workers)
 CHUNK = 16
@@ -111,20 +115,6 @@ class NoisySystem:
                                    states)
 
 
-def positive_noise(D: object) -> float:
-    """``D`` as a float, refused unless finite and positive.
-
-    Raises
-    ------
-    kbm.errors.ParameterError
-    """
-    D = float(D)
-    if not (math.isfinite(D) and D > 0):
-        raise ParameterError(f"D = {D:g}: a noise spectrum needs noise, give D > 0 "
-                             "(x'' + ... = sqrt(2 D) xi)")
-    return D
-
-
 def bound_system(model: CoupledOscillators, values: Mapping[str, float],
                  D: float) -> NoisySystem:
     """The noisy system of ``model`` at ``values`` (every parameter's value, ``mu``
@@ -136,7 +126,7 @@ def bound_system(model: CoupledOscillators, values: Mapping[str, float],
         For ``D <= 0``, or a model whose force depends on ``t`` other than through
         ``theta`` (a pulled slider).
     """
-    D = positive_noise(D)
+    D = noise_intensity(D, NOISE_NEED)
     if model.drives or any(f.has(t_symbol) for f in model.rhs):
         raise ParameterError(f"{model.name!r} depends on t other than through the forcing "
                              "angle theta; the spectra here are for forced or autonomous "

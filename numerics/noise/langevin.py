@@ -28,6 +28,7 @@ import numpy as np
 import sympy as sp
 
 from kbm.parameters.bound import BoundModel, bind
+from kbm.parameters.names import noise_intensity
 from kbm.errors import ParameterError
 from kbm.model.builtins import SLIDERS, Oscillator
 from kbm.parameters.values import parameter_value
@@ -35,32 +36,10 @@ from kbm.parameters.values import parameter_value
 from .codegen import _STAGE_V, _compiled, _scheme, _symbolic, python_accel
 from .seeds import trajectory_states
 
-__all__ = ["LangevinSystem", "langevin_system", "noise_intensity", "split_noise", "natural_step", "HEATING_TOLERANCE"]
+__all__ = ["LangevinSystem", "langevin_system", "split_noise", "natural_step", "HEATING_TOLERANCE"]
 
 #: the relative error of the temperature that the default step allows (:func:`natural_step`)
 HEATING_TOLERANCE = 1e-3
-
-
-
-def noise_intensity(D: object) -> float:
-    """``D`` as a float; refused when negative, NaN or infinite.
-
-    Raises
-    ------
-    kbm.errors.ParameterError
-    """
-    try:
-        value = float(sp.sympify(D)) if isinstance(D, str) else float(D)
-    except (TypeError, ValueError, sp.SympifyError):
-        raise ParameterError(f"D = {D!r} is not a number; give the noise intensity as "
-                             "-p D=VALUE with VALUE >= 0") from None
-    if not math.isfinite(value):
-        raise ParameterError(f"D = {D} must be a finite number >= 0 (the noise intensity "
-                             "of sqrt(2 D) xi)")
-    if value < 0:
-        raise ParameterError(f"D = {D} is negative; the noise intensity of sqrt(2 D) xi must "
-                             "be >= 0 (D = 0 is the deterministic model)")
-    return value
 
 
 def split_noise(params: Mapping[str, object] | None,
@@ -77,10 +56,7 @@ def split_noise(params: Mapping[str, object] | None,
     if "D" not in params:
         raise ParameterError("give the noise intensity: -p D=VALUE (x'' + ... = sqrt(2 D) xi, "
                              "D >= 0)")
-    D = noise_intensity(params.pop("D"))
-    if D == 0 and need is not None:
-        raise ParameterError(f"the noise is zero (D = T mu = 0): {need}; give D > 0 or T > 0")
-    return params, D
+    return params, noise_intensity(params.pop("D"), need)
 
 
 @dataclass(frozen=True)

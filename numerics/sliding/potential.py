@@ -9,6 +9,14 @@ minimum for every ``L``: smooth sliding, no stick-slip).  In a quasi-static
 slip the slider jumps from ``x0`` to a minimum ``x1`` of ``U(., L0)`` further on
 and the energy ``Delta W = U(x0, L0) - U(x1, L0)`` is dissipated.
 
+None of these formulas is typed here: :func:`eq4` derives ``U``, its derivatives, the
+saddle node's ``x0`` and ``L0`` and the spring force once from the symbolic CDC
+(:mod:`kbm.model.builtins`): the substrate is the model's conservative potential
+(:func:`numerics.flow.template.conservative_potential`, the one derivation the flow
+template and ``kbm slide``'s energy audit use) in the physical ``Delta = mu delta``, the
+spring the one to the stage's drive ``Omega^2 v t`` at ``L = v t``; ``x0`` and ``L0`` are
+sympy's roots of ``d^2U/dx^2 = 0`` and ``dU/dx = 0``.
+
 References
 ----------
 M. D'Acunto, eq. (4) and Section 2; the Prandtl-Tomlinson model (Tomlinson 1929).
@@ -16,7 +24,9 @@ M. D'Acunto, eq. (4) and Section 2; the Prandtl-Tomlinson model (Tomlinson 1929)
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,7 +34,93 @@ from scipy.optimize import brentq
 
 from kbm.errors import ParameterError
 
-__all__ = ["potential", "SaddleNode", "saddle_node", "slip_energy"]
+__all__ = ["potential", "SaddleNode", "saddle_node", "slip_energy", "Eq4", "eq4"]
+
+
+@dataclass(frozen=True)
+class Eq4:
+    """The paper's eq. (4) and what follows from it, as numerical functions of
+    ``(x, L, Delta, k, Omega)`` (``x0`` of ``(Delta, k, Omega)``, ``L0`` of
+    ``(x, Delta, k, Omega)``).
+
+    Attributes
+    ----------
+    U, dU, d2U
+        ``U(x, L)`` and its first two derivatives in ``x``.
+    x0
+        The root of ``d^2U/dx^2 = 0`` on the rising flank of the well at 0 (the saddle
+        node's slider position; defined where ``Delta k > Omega^2``).
+    L0
+        The stage position at which ``x`` is an equilibrium (``dU/dx = 0``).
+    spring_force
+        ``-d/dx`` of the spring's part of ``U``: the force on the slider pulled to ``L``.
+    expr
+        ``U`` as a sympy expression (its symbols ``x, L, Delta, k, Omega``).
+    """
+
+    U: Callable
+    dU: Callable
+    d2U: Callable
+    x0: Callable
+    L0: Callable
+    spring_force: Callable
+    expr: object
+
+
+def _product_sum(expr, args: tuple, modules: str) -> Callable:
+    """``expr``, a sum of products ``c(Delta, k, Omega) f(x, L, k)``, lambdified with each
+    ``c`` evaluated apart before it multiplies ``f``: the order of the operations of eq. (4)
+    written as ``Omega^2 (x - L)^2/2 - (Delta/k) cos(k x)``, so that the values keep their
+    last bits (sympy would print ``-Delta*cos(k*x)/k``)."""
+    import sympy as sp
+
+    x, L = args[:2]
+    grouped = []
+    for term in sp.Add.make_args(expr):
+        coef, factor = term.as_independent(x, L, as_Add=False)
+        grouped.append(sp.UnevaluatedExpr(coef) * factor)
+    return sp.lambdify(args, sp.Add(*grouped), modules)
+
+
+@functools.lru_cache(maxsize=2)
+def eq4(modules: str = "math") -> Eq4:
+    """Eq. (4) derived once from the symbolic CDC (the module's docstring), lambdified with
+    ``modules`` (``"math"`` for scalars, ``"numpy"`` for arrays).
+
+    Examples
+    --------
+    >>> eq4().expr
+    -Delta*cos(k*x)/k + Omega**2*(-L + x)**2/2
+    """
+    import sympy as sp
+
+    from kbm.model.builtins import get_model
+    from kbm.parameters.names import names_of
+    from kbm.symbols import t as T, x as X
+
+    from ..flow.template import conservative_potential
+
+    model = get_model("cdc")
+    L, v = sp.Symbol("L"), sp.Dummy("v")
+    delta = sp.Symbol("delta")
+    substrate = conservative_potential(model).subs(delta, names_of("cdc").physical["delta"])
+    # eq. (4)'s zero of energy: the additive constant of int_0^x dropped
+    substrate = sp.Add(*[u for u in sp.Add.make_args(sp.expand(substrate)) if u.has(X)])
+    drive = model.with_stage_velocity(v).drive.subs(T, L / v)
+    spring = sp.factor((model.omega0**2 * X - drive)**2 / (2 * model.omega0**2))
+    U = spring + substrate
+    args = (X, L) + tuple(sp.Symbol(n) for n in ("Delta", "k", "Omega"))
+    dU, d2U = sp.diff(U, X), sp.diff(U, X, 2)
+    # the root on the rising flank of the well at 0, in (0, lam/2): at Delta = 3, lam = 1,
+    # Omega = 1 (the paper's) acos(.)/k, not 2 pi/k minus it
+    paper = dict(zip(args[2:], (3, 2 * sp.pi, 1)))
+    (x0,) = [r for r in sp.solve(d2U, X) if 0 < r.subs(paper) < sp.Rational(1, 2)]
+    (L0,) = sp.solve(dU, L)
+    return Eq4(U=_product_sum(U, args, modules),
+               dU=sp.lambdify(args, dU, modules), d2U=sp.lambdify(args, d2U, modules),
+               x0=sp.lambdify(args[2:], x0, modules),
+               L0=sp.lambdify((X,) + args[2:], L0, modules),
+               spring_force=sp.lambdify(args, -sp.diff(spring, X), modules), expr=U)
 
 
 def _check(Delta: float, lam: float, Omega: float) -> float:
@@ -41,10 +137,11 @@ def _check(Delta: float, lam: float, Omega: float) -> float:
 
 
 def potential(x, L, *, Delta: float, lam: float = 1.0, Omega: float = 1.0):
-    """``U(x, L) = Omega^2 (x - L)^2/2 - (Delta lam/2 pi) cos(2 pi x/lam)`` (paper eq. 4)."""
+    """``U(x, L) = Omega^2 (x - L)^2/2 - (Delta lam/2 pi) cos(2 pi x/lam)`` (paper eq. 4,
+    :func:`eq4`)."""
     k = _check(Delta, lam, Omega)
     x = np.asarray(x, dtype=float)
-    return Omega**2 * (x - L)**2 / 2 - Delta / k * np.cos(k * x)
+    return eq4("numpy").U(x, L, Delta, k, Omega)
 
 
 @dataclass(frozen=True, eq=False)
@@ -85,15 +182,16 @@ def saddle_node(Delta: float, lam: float = 1.0, Omega: float = 1.0, *,
     (2.995775, 2.583491)
     """
     k = _check(Delta, lam, Omega)
-    r = Omega**2 / (Delta * k) if Delta > 0 else math.inf
-    if r >= 1:
+    f = eq4()
+    # d^2U/dx^2 = Omega^2 + Delta k cos(k x) has a root (x0's arccos is defined) only here
+    if not (Delta > 0 and f.d2U(math.pi / k, 0.0, Delta, k, Omega) < 0):
         return None
-    x0 = math.acos(-r) / k  # on the rising flank of the well at 0
-    L0 = x0 + Delta * math.sin(k * x0) / Omega**2
-    force = Omega**2 * (L0 - x0)
+    x0 = f.x0(Delta, k, Omega)  # on the rising flank of the well at 0
+    L0 = f.L0(x0, Delta, k, Omega)
+    force = f.spring_force(x0, L0, Delta, k, Omega)
 
     def dU(x):
-        return Omega**2 * (x - L0) + Delta * math.sin(k * x)
+        return f.dU(x, L0, Delta, k, Omega)
 
     minima = []
     lo = x0 + 1e-9 * lam

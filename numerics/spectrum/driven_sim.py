@@ -20,9 +20,10 @@ import numpy as np
 
 from kbm.errors import ParameterError
 from kbm.output.strict_json import complex_pairs, jsonable
+from kbm.parameters.names import noise_intensity
 
 from numerics.errors import ConvergenceError
-from numerics.noise.coupled import CHUNK, NoisySystem, bound_system, positive_noise
+from numerics.noise.coupled import CHUNK, NOISE_NEED, NoisySystem, bound_system
 from .driven import (AveragedFlow, Orbit, SteadyState, averaged_flow, averaged_spectrum,
                      detuning_name, floquet_spectrum, periodic_orbit, stable_states)
 
@@ -44,7 +45,7 @@ def noisy_system(model, params: Mapping[str, object], D: float) -> NoisySystem:
     """
     from numerics.flow.coupled_flow import bind_coupled
 
-    positive_noise(D)
+    noise_intensity(D, NOISE_NEED)
     return bound_system(*bind_coupled(model, params), D)
 
 

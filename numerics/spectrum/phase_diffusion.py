@@ -50,6 +50,7 @@ import sympy as sp
 from kbm.errors import ModelError, ParameterError
 from kbm.noise.phase_diffusion import phase_diffusion
 from kbm.noise.stochastic import NOISE
+from kbm.parameters.names import noise_intensity
 from kbm.symbols import mu
 
 from ..errors import NoCycleError
@@ -57,9 +58,12 @@ from ._evaluate import at as _at, fn as _fn, numbers as _numbers
 from .density import stationary_density
 
 __all__ = ["Line", "LineTheory", "line_theory", "PhaseDiffusion",
-           "cycle_phase_diffusion"]
+           "cycle_phase_diffusion", "LINEWIDTH_NEED"]
 
 _PSI = 512  # points in psi for <Z_v^2> (a trigonometric rational: spectral accuracy)
+
+#: why a linewidth refuses ``D = 0`` (:func:`kbm.parameters.names.noise_intensity`)
+LINEWIDTH_NEED = "a linewidth needs noise"
 
 
 @dataclass(frozen=True)
@@ -240,8 +244,7 @@ def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1
     >>> round(th.amplitude, 12), round(th.linewidth_linear / 0.001, 12)
     (2.0, 0.125)
     """
-    if not (isinstance(D, (int, float)) and math.isfinite(D) and D > 0):
-        raise ParameterError(f"D = {D!r}: the linewidth needs noise, D > 0")
+    D = noise_intensity(D, LINEWIDTH_NEED)
     pd, subs, m_val, w0, A, B, a_star, lam, g, d_phi, lw_lin, f_cyc = _linear(
         model, params, D, order)
     f_lin = f_cyc + _at(pd.frequency_shift, subs, a_star)
@@ -355,10 +358,8 @@ def cycle_phase_diffusion(model, params: Mapping[str, object], D: object) -> Pha
     >>> cycle_phase_diffusion("vdp", {"mu": 0.05}, 0.01)
     PhaseDiffusion(a0=2, D_phi=0.00125)
     """
-    from ..escape.noise_params import noise_level
-
     try:
-        *_, a0, lam, g, direct, d_phi, f_cyc = _linear(model, params, noise_level(D), 1)
+        *_, a0, lam, g, direct, d_phi, f_cyc = _linear(model, params, noise_intensity(D), 1)
     except NoCycleError:
         raise ModelError("the first-order amplitude equation mu A_1(a) has no stable root "
                          "in 0 < a < 50: no limit cycle whose phase could diffuse") from None

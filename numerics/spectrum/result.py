@@ -27,9 +27,10 @@ from pathlib import Path
 import numpy as np
 
 from kbm.errors import ParameterError
+from kbm.parameters.names import noise_intensity
 
 from .linewidth import fit_lorentzian
-from .phase_diffusion import LineTheory, line_theory
+from .phase_diffusion import LINEWIDTH_NEED, LineTheory, line_theory
 from .simulate import simulate_line
 from ..noise.validity import Z_FLAG, averaged_error, gap_z
 
@@ -81,9 +82,7 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
     numerics.spectrum.psd.ResolutionError
         A run too short for the resolution (the message gives the resolution it would give).
     """
-    if not (isinstance(D, (int, float)) and math.isfinite(D) and D > 0):
-        raise ParameterError(f"D = {D!r}: a linewidth needs noise; give -p D=VALUE with D > 0 "
-                             "(or the temperature -p T=VALUE > 0)")
+    D = noise_intensity(D, LINEWIDTH_NEED)
     for name, val in (("duration", duration), ("resolution", resolution)):
         if val is not None and not (isinstance(val, (int, float)) and math.isfinite(val)
                                     and val > 0):

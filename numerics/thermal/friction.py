@@ -36,11 +36,12 @@ import numpy as np
 
 from kbm.errors import ParameterError
 from kbm.output.strict_json import Rendered
+from kbm.parameters.names import noise_intensity
 
 from ..executor import CHUNKS, map_chunks
 from ..noise.ensemble import Estimate
 from ..noise.budget import STEP_BUDGET
-from ..noise.langevin import langevin_system, natural_step, noise_intensity
+from ..noise.langevin import langevin_system, natural_step
 from ..noise.seeds import check_seed, trajectory_states
 
 __all__ = ["ThermalFrictionPoint", "ThermalFrictionMap", "thermal_friction_point",

@@ -247,12 +247,15 @@ def noise_params(params: Mapping[str, str]) -> tuple[dict[str, str], str | None]
     return {**rest, "D": D if name == "D" else repr(float(D))}, name
 
 
-def without_noise(params: Mapping[str, str]) -> tuple[dict[str, str], float]:
-    """``(params without D, D as a number)`` of the values :func:`noise_params` returns."""
-    from kbm.parameters.values import parameter_value
+def without_noise(params: Mapping[str, str],
+                  need: str | None = None) -> tuple[dict[str, str], float]:
+    """``(params without D, D as a number)`` of the values :func:`noise_params` returns,
+    checked by :func:`kbm.parameters.names.noise_intensity` (``need``: why ``D = 0`` is
+    refused)."""
+    from kbm.parameters.names import noise_intensity
 
     rest = dict(params)
-    return rest, float(parameter_value("D", rest.pop("D")))
+    return rest, noise_intensity(rest.pop("D"), need)
 
 
 def open_store(path: str | None, resume: bool, what: str = "run"):

@@ -43,8 +43,10 @@ __all__ = ["bordered_inverse_iteration", "fgmres", "MIXED_POINTS", "RESIDUAL",
 
 #: the points per order (after the fold) from which the stationary solve takes this route:
 #: below it the factorisation is too small a share of the solve to pay for the iterations
-#: (SEDF at rest, mu = 0.01, 258 functions: 1.2 times faster at 297 points, 1.5 at 521)
-MIXED_POINTS = 400
+#: (SEDF at rest, D = mu/2, CPU time against the direct solve: 258 functions at mu = 0.01
+#: 1.2 times faster on 297 points, 1.6-1.8 on 521 and 651; 182 at mu = 0.02 1.4-1.7 on 371,
+#: 1.5-1.7 on 464)
+MIXED_POINTS = 350
 #: the bordered residual's 2-norm within which a step of inverse iteration is solved
 RESIDUAL = 1e-13
 #: the GMRES iterations of one step (the SEDF took 6-7) before the direct solve is taken

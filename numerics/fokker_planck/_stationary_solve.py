@@ -195,7 +195,8 @@ def _mixed(terms, m: int, pins, c: np.ndarray, keep: np.ndarray, wq: np.ndarray,
 
     nh = c.size // m
     try:
-        single = HermitePentadiagonalLU(terms, m, pins, single=True)
+        with np.errstate(over="ignore", invalid="ignore"):  # judged by the finite check
+            single = HermitePentadiagonalLU(terms, m, pins, single=True)
     except np.linalg.LinAlgError:
         return None
     return bordered_inverse_iteration(

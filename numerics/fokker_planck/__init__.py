@@ -13,7 +13,8 @@ order in the sink ladders' rungs, :mod:`._folded_orders`), and
 :mod:`._stationary_solve` its stationary density in the same functions (one solve; the
 ladders that choose and measure its sizes in :mod:`._stationary_orthonormal`), factorised
 order by order by :mod:`._pentadiagonal` when the damping is linear in the velocity (its
-factors on disk beyond a memory cap, :mod:`._pentadiagonal_disk`), on the
+factors on disk beyond a memory cap, :mod:`._pentadiagonal_disk`; on the largest grids in
+single precision, the preconditioner of GMRES in :mod:`._bordered`), on the
 points chosen by :mod:`._stationary_points` and folded by :mod:`._parity` when the model is
 symmetric under ``(x, v) -> (-x, -v)``, its ladder's last step in :mod:`._stationary_climb`;
 :mod:`._hermite_functions` holds those functions' values and integrals,

@@ -105,7 +105,8 @@ class OrthonormalKramersSolution(KramersSolution):
 def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: int, G,
                            omega0: float, *, alpha: float = 0.95, centres=(), widths=(),
                            weight=0.0, iterations: int = 8, rtol: float = 1e-14,
-                           fold: bool | None = None) -> OrthonormalKramersSolution:
+                           fold: bool | None = None,
+                           mixed: bool | None = None) -> OrthonormalKramersSolution:
     """One stationary solve in ``nh`` orthonormal Hermite functions of ``v/s`` times
     ``nc + 1`` Chebyshev points on ``[-half, half]``: inverse iteration on the Galerkin
     operator (every ``c_n(+-half) = 0``) from the Maxwellian ``exp(-G/s^2)`` in ``h_0``,
@@ -116,13 +117,17 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
     eigenvalue estimate ``|lambda_0|``.
     ``fold`` (default: whenever :func:`._parity.reflection_symmetric` holds) solves on the
     points ``x >= 0`` only (:mod:`._parity`: the same density, an eighth of the work);
-    ``weight`` is one number or one per centre."""
+    ``weight`` is one number or one per centre.  ``mixed`` (default: from
+    :data:`._bordered.MIXED_POINTS` points per order on, factors in memory) solves by the
+    single-precision factorisation and GMRES of :mod:`._bordered` where the LU is order by
+    order, the direct solve when that does not converge."""
     from ._bases import cheb_centred, cheb_mapped, clenshaw_curtis
     from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
     from ._orthonormal import orthonormal_terms
     from ._parity import fold_terms, fold_weights, reflection_symmetric, unfold
     from ._pentadiagonal import pentadiagonal_applies
-    from ._pentadiagonal_disk import pentadiagonal_lu
+    from ._bordered import MIXED_POINTS
+    from ._pentadiagonal_disk import FACTOR_MEMORY, factor_bytes, pentadiagonal_lu
 
     centres, widths = tuple(map(float, centres)), tuple(map(float, widths))
     if centres:
@@ -149,7 +154,15 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
     c /= float(np.sum(wq * (mass @ c.reshape(nh, m))))
     lam = last = math.nan
     with one_blas_thread():
-        if pentadiagonal_applies(terms):
+        penta = pentadiagonal_applies(terms)
+        if mixed is None:
+            mixed = m >= MIXED_POINTS and factor_bytes(nh, m) <= FACTOR_MEMORY
+        done = _mixed(terms, m, pins, c, keep, wq, mass, iterations, rtol) \
+            if mixed and penta else None
+        if done is not None:
+            c, lam, last = done
+            iterations = 0
+        elif penta:
             lu = pentadiagonal_lu(terms, m, pins)
         else:
             lu = BlockTridiagonalLU(TermBlocks(terms, m, None, pins, 0), m)
@@ -169,3 +182,23 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
                                       iteration_change=last,
                                       weight=float(weight) if np.ndim(weight) == 0 else
                                       tuple(map(float, weight)))
+
+
+def _mixed(terms, m: int, pins, c: np.ndarray, keep: np.ndarray, wq: np.ndarray, mass,
+           iterations: int, rtol: float):
+    """The inverse iteration of :func:`orthonormal_stationary` by
+    :func:`._bordered.bordered_inverse_iteration` on the single-precision order-by-order
+    LU: ``(c, lambda_0, last change)``, or ``None`` (the direct solve then) when it did not
+    converge or a single-precision Schur complement was singular."""
+    from ._bordered import bordered_inverse_iteration
+    from ._pentadiagonal import HermitePentadiagonalLU
+
+    nh = c.size // m
+    try:
+        with np.errstate(over="ignore", invalid="ignore"):  # judged by the finite check
+            single = HermitePentadiagonalLU(terms, m, pins, single=True)
+    except np.linalg.LinAlgError:
+        return None
+    return bordered_inverse_iteration(
+        single._sweeps, single.matvec, c, keep,
+        lambda v: float(np.sum(wq * (mass @ v.reshape(nh, m)))), iterations, rtol)

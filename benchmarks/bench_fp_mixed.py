@@ -1,0 +1,82 @@
+"""Time the stationary Kramers solve's two routes on the largest grids of the ladder: the
+direct inverse iteration on the double-precision order-by-order LU
+(:mod:`numerics.fokker_planck._pentadiagonal`) against GMRES on the single-precision one
+(:mod:`numerics.fokker_planck._bordered`), interleaved, in CPU time, with their agreement.
+
+Run: ``python benchmarks/bench_fp_mixed.py [mu [rounds]]`` (mu 0.01 by default, the SEDF
+at rest, Delta = 3, beta = 1, D = mu/2; 1 round).  The ladder of ``kbm noise``'s budget
+runs once in this process (``KBM_FP_WORKERS=1``) and records the arguments of its two
+largest solves (at mu = 0.01 the climb's top grid, 258 functions x 1041 points, and
+P(E)'s grid step, 258 x 1301); each is then solved by both routes, the order reversed
+every other round.  Measured (mu = 0.01, one BLAS thread, CPU s, direct / GMRES)::
+
+    258 x 1041    10.04 / 6.30    10.27 / 5.82    (1.59x, 1.76x; load 3-4.5 on 2 cores)
+                  10.31 / 6.39    10.74 / 6.76    (1.61x, 1.59x; this script, load 0.9)
+    258 x 1301    17.93 / 11.17   18.11 / 9.91    (1.61x, 1.83x; load 3-4.5)
+                  17.98 / 11.06                   (1.63x; this script, load 0.9)
+
+the moments within 3.2e-13 and the coefficients within 6.4e-13 of the direct solve's.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+
+os.environ["KBM_FP_WORKERS"] = "1"
+
+import numpy as np  # noqa: E402
+
+
+def record(mu: float) -> list:
+    """The arguments of every stationary solve of the ladder at ``kbm noise``'s budget and
+    of P(E)'s grid step (the solution's ``refine``, not solved here)."""
+    import numerics.fokker_planck._stationary_orthonormal as so
+    from numerics.fokker_planck import stationary_kramers
+    from numerics.noise.budget import FP_BUDGET
+
+    calls, inner = [], so.orthonormal_stationary
+
+    def spy(*args, **kwargs):
+        calls.append((args, kwargs))
+        return inner(*args, **kwargs)
+
+    so.orthonormal_stationary = spy
+    try:
+        sol = stationary_kramers("sedf", {"mu": mu, "Delta": 3, "beta": 1, "lam": 1},
+                                 mu / 2, max_cost=FP_BUDGET)
+    finally:
+        so.orthonormal_stationary = inner
+    if sol.refine is not None:
+        calls.append((sol.refine.args, sol.refine.keywords))
+    return calls
+
+
+def main(argv: list) -> None:
+    from numerics.fokker_planck._stationary_solve import orthonormal_stationary
+
+    mu = float(argv[0]) if argv else 0.01
+    rounds = int(argv[1]) if len(argv) > 1 else 1
+    calls = record(mu)
+    biggest = sorted(calls, key=lambda c: c[0][4] * c[0][5] ** 2)[-2:]
+    print(f"SEDF at rest, mu = {mu}, D = {mu / 2}; load {os.getloadavg()[0]:.2f}")
+    for args, kwargs in biggest:
+        for r in range(rounds):
+            order = (False, True) if r % 2 == 0 else (True, False)
+            sols, cpu = {}, {}
+            for mixed in order:
+                t = time.process_time()
+                sols[mixed] = orthonormal_stationary(*args, **kwargs, mixed=mixed)
+                cpu[mixed] = time.process_time() - t
+            a, b = sols[True], sols[False]
+            moments = max(abs(a.x2 / b.x2 - 1), abs(a.v2 / b.v2 - 1), abs(a.a2 / b.a2 - 1))
+            coef = float(np.max(np.abs(a.coef - b.coef)) / np.max(np.abs(b.coef)))
+            print(f"{args[4]} x {args[5] + 1}: direct {cpu[False]:.2f} s, GMRES "
+                  f"{cpu[True]:.2f} s ({cpu[False] / cpu[True]:.2f}x); moments "
+                  f"{moments:.1e}, coefficients {coef:.1e} apart; load "
+                  f"{os.getloadavg()[0]:.2f}", flush=True)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

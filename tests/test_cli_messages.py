@@ -91,6 +91,8 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     (["response", "duffing-forced", "--resonance", "0/1", "--vary", "sigma=-1:1", "--order",
       "1"], "--resonance p/q must be positive, got '0/1'"),
     (["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "T=0"],
+     "T = 0 is the deterministic model, without noise: give a temperature T > 0 (-p T=VALUE"),
+    (["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "D=0"],
      "D > 0 and finite (without noise there is no stationary density; or the temperature -p "
      "T=VALUE > 0"),
     (["derive", "coupled-vdp", "--order", "1", "--numeric", "--a-range", "1:2"],

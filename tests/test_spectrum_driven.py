@@ -247,7 +247,7 @@ def _args(**kw):
 
 @pytest.mark.parametrize("change, words", [
     ({"param": ["mu=0.05", "zeta=0.5", "alpha=1", "h=2", "D=0"]}, "D > 0"),
-    ({"param": ["mu=0.05", "zeta=0.5", "alpha=1", "h=2", "T=0"]}, "D > 0"),
+    ({"param": ["mu=0.05", "zeta=0.5", "alpha=1", "h=2", "T=0"]}, "T = 0 is the deterministic"),
     ({"param": ["mu=0.05", "zeta=0.5", "alpha=1", "h=2", "D=0.01", "beta=1"]},
      "unknown parameter 'beta'"),
     ({"duration": 500.0}, "too short for the resolution"),

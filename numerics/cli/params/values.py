@@ -236,7 +236,8 @@ def noise_params(params: Mapping[str, str]) -> tuple[dict[str, str], str | None]
     Raises
     ------
     kbm.errors.ParameterError
-        For neither given (naming both), both, or a negative value named as given.
+        For neither given (naming both), both, a negative value named as given, or
+        ``T = 0`` (the commands that read their noise here need it).
     """
     from kbm.parameters.names import noise_from
 
@@ -244,6 +245,10 @@ def noise_params(params: Mapping[str, str]) -> tuple[dict[str, str], str | None]
     if D is None:
         raise ParameterError("give the noise intensity: -p D=VALUE (x'' + ... = sqrt(2 D) xi) "
                              "or the temperature -p T=VALUE (T = kT = D/mu)")
+    if name == "T" and float(D) == 0:  # named as given (the check of D would say D = 0)
+        raise ParameterError("T = 0 is the deterministic model, without noise: give a "
+                             "temperature T > 0 (-p T=VALUE, T = kT = D/mu) or a noise "
+                             "intensity D > 0 (-p D=VALUE)")
     return {**rest, "D": D if name == "D" else repr(float(D))}, name
 
 

@@ -119,7 +119,7 @@ def run_driven(args) -> int:
                    "simulated": list(map(float, first.simulated)),
                    "lower": list(map(float, first.lower)),
                    "upper": list(map(float, first.upper))}}
-    checks = [s.validity() for s in specs]
+    checks = [r["validity"] for r in rep["response_spectra"]]  # (ResponseSpectrum.validity)
     flagged = [v for v in checks if v is not None and v["flagged"]]
     if all(v is not None for v in checks):
         rep["validity"] = {"z_rms": [v["z_rms"] for v in checks], "flagged": bool(flagged),

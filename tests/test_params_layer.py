@@ -292,6 +292,26 @@ def test_resume_with_another_run_says_so(tmp_path, capsys):
     assert main([*base, "--vary", "v=0.5", "--resume"]) == 0
 
 
+def test_resume_of_a_command_of_several_runs_continues_its_later_runs(tmp_path):
+    """A command of several runs (kbm spectrum coupled-vdp over detunings, one run each)
+    interrupted in its first run has nothing of its later ones: resumed, the first run is
+    tested against the file and the later ones start from scratch (they were refused as
+    "another run", and the resumed command failed; a file of another command is still
+    refused at its first run)."""
+    from numerics.cli.params.values import open_store
+    from numerics.store import StoreError
+
+    path = str(tmp_path / "runs.sqlite")
+    with open_store(path, False) as store:
+        store.run("detuning 0.2", 2).save(0, [1.0])  # interrupted in the first run
+    with open_store(path, True) as store:
+        first = store.run("detuning 0.2", 2)
+        assert first.load() == {0: [1.0]}
+        assert store.run("detuning 0.45", 2).load() == {}  # the second, from scratch
+    with open_store(path, True) as store, pytest.raises(StoreError, match="another run"):
+        store.run("another command", 2)
+
+
 def test_against_the_same_model_names_it_once(capsys):
     """``--against cdc`` on cdc: the valid names are cdc's, said once ("for cdc", not "for
     cdc or cdc"); against another model, a name of either is valid."""

@@ -267,7 +267,11 @@ def open_store(path: str | None, resume: bool, what: str = "run"):
     """The :class:`numerics.store.PointStore` of ``--store FILE`` (``None`` without it).
 
     With ``--resume``, a file that holds finished chunks of other runs and none of this
-    one is refused: nothing of it can be resumed (another model, parameters or grid).
+    one is refused: nothing of it can be resumed (another model, parameters or grid).  The
+    test is made at the command's first run only: a command of several runs (``kbm
+    spectrum coupled-vdp`` over detunings) interrupted in its first leaves nothing of the
+    later ones, which resume from scratch (before, the second detuning's run was refused
+    as "another run" and the resumed command failed).
 
     Raises
     ------
@@ -281,11 +285,14 @@ def open_store(path: str | None, resume: bool, what: str = "run"):
     from numerics.store import PointStore, StoreError
 
     class _Store(PointStore):
+        first = True  # (per store: the command's first run is the one tested)
+
         def run(self, definition: str, chunks: int):
             record = super().run(definition, chunks)
             count = "SELECT COUNT(*) FROM chunks WHERE run {} ?"
-            if self.resume and not self._db.execute(count.format("="),
-                                                    (record.key,)).fetchone()[0]:
+            first, self.first = self.first, False
+            if self.resume and first and not self._db.execute(count.format("="),
+                                                              (record.key,)).fetchone()[0]:
                 others = self._db.execute(count.format("!="), (record.key,)).fetchone()[0]
                 if others:
                     raise StoreError(

@@ -26,14 +26,19 @@ reference the run has, in this order:
 
 How close each estimate came to the true error is measured where it is used: the module
 docstrings of :mod:`numerics.thermal.averaged_error` and :mod:`numerics.spectrum.result`.
+
+:func:`validity_entry` builds the ``validity`` entry of every output (``kbm noise``, ``kbm
+spectrum``'s line, response spectra and phase slips, ``kbm escape``), and
+:func:`joined_validity` the one entry of several runs; only the advice differs.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 
-__all__ = ["Z_FLAG", "gap_z", "averaged_error", "ERROR_SOURCES"]
+__all__ = ["Z_FLAG", "gap_z", "validity_entry", "joined_validity", "averaged_error",
+           "ERROR_SOURCES"]
 
 #: a gap |averaged - simulated|/stderr above this is flagged
 Z_FLAG = 4.0
@@ -66,6 +71,42 @@ def gap_z(entries: Mapping[str, Mapping]) -> tuple[dict, list[str]]:
             "stderr")
         z[key] = (m["averaged"] - m["simulated"]) / m["stderr"] if ok else None
     return z, [k for k, v in z.items() if v is not None and abs(v) > Z_FLAG]
+
+
+def validity_entry(z, flagged, advise: Callable[[], str] | None = None, *, key: str = "z",
+                   **extra) -> dict:
+    """The ``validity`` entry of an output: ``{key: z, "flagged", "threshold", "advice",
+    **extra}``, in this order of keys.
+
+    Parameters
+    ----------
+    z : object
+        The gap or gaps (:func:`gap_z`'s, one of them, or a root mean square over bins).
+    flagged : object
+        Truthy where the gap is beyond :data:`Z_FLAG` (the flagged names, or a bool).
+    advise : callable, optional
+        What to do, called only when flagged (the advice is ``""`` otherwise).
+    key : str
+        The name of the gap's entry (``"z"``; ``"z_rms"`` for a spectrum's bins).
+    **extra
+        Further entries, after ``advice``.
+
+    Examples
+    --------
+    >>> validity_entry(*gap_z({"rate": {"averaged": 2.0, "simulated": 1.0, "stderr": 0.2}}),
+    ...                lambda: "a smaller mu")
+    {'z': {'rate': 5.0}, 'flagged': True, 'threshold': 4.0, 'advice': 'a smaller mu'}
+    """
+    return {key: z, "flagged": bool(flagged), "threshold": Z_FLAG,
+            "advice": advise() if flagged and advise is not None else "", **extra}
+
+
+def joined_validity(checks: Sequence[Mapping], z, key: str = "z") -> dict:
+    """One :func:`validity_entry` for several runs' (``checks``, each a validity entry): the
+    gaps ``z`` as the caller lists them, flagged where any run is, with the first flagged
+    run's advice."""
+    flagged = [v for v in checks if v["flagged"]]
+    return validity_entry(z, flagged, lambda: flagged[0]["advice"], key=key)
 
 
 def averaged_error(moment: Mapping, fp_change: float | None = None,

@@ -189,6 +189,7 @@ def run_slips(args) -> int:
     """``kbm spectrum coupled-vdp -p ... -p D=... [--vary sigma=A:B]``: the phase-slip rate
     and the effective frequency difference, Stratonovich's formula against counts."""
     from numerics.cli.params.options import stored
+    from numerics._show import cell
     from numerics.noise.validity import joined_validity
     from numerics.spectrum.slips import slip_report
 
@@ -223,9 +224,9 @@ def run_slips(args) -> int:
              f"{'z':>6}  {'<dgamma/dt> avg':>15} {'simulated':>11} {'slips +/-':>11}"]
     for r in rows:
         s, f, sim = r["slip_rate"], r["frequency_difference"], r["simulation"]
-        # no spread, or no turn counted (the spread is the motion in the well): no z
-        z = (f"{(s['averaged'] - s['simulated']) / s['stderr']:+6.2f}"
-             if s["stderr"] and sim["bound"] is None else "--")
+        # the validity record's gap (none without spread, or where no turn was counted: the
+        # spread is then the motion in the well)
+        z = cell(r["validity"]["z"], "+6.2f")
         counts = f"{sim['forward_slips']}/{sim['backward_slips']}"
         lines.append(f"  {r['detuning']:8.4g} {'yes' if r['locked'] else 'no':>7} "
                      f"{s['averaged']:11.4g} {s['simulated']:11.4g} {s['stderr']:9.2g} {z:>6}  "

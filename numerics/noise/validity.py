@@ -76,20 +76,9 @@ def gap_z(entries: Mapping[str, Mapping]) -> tuple[dict, list[str]]:
 def validity_entry(z, flagged, advise: Callable[[], str] | None = None, *, key: str = "z",
                    **extra) -> dict:
     """The ``validity`` entry of an output: ``{key: z, "flagged", "threshold", "advice",
-    **extra}``, in this order of keys.
-
-    Parameters
-    ----------
-    z : object
-        The gap or gaps (:func:`gap_z`'s, one of them, or a root mean square over bins).
-    flagged : object
-        Truthy where the gap is beyond :data:`Z_FLAG` (the flagged names, or a bool).
-    advise : callable, optional
-        What to do, called only when flagged (the advice is ``""`` otherwise).
-    key : str
-        The name of the gap's entry (``"z"``; ``"z_rms"`` for a spectrum's bins).
-    **extra
-        Further entries, after ``advice``.
+    **extra}`` in this order, ``advice`` being ``advise()`` where ``flagged`` is truthy
+    (the flagged names, or a bool), else ``""``; ``z`` is :func:`gap_z`'s gaps, one of
+    them, or (``key="z_rms"``) a root mean square over a spectrum's bins.
 
     Examples
     --------

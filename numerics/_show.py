@@ -23,13 +23,7 @@ def num(value: object, digits: int = 10) -> str:
 
 def cell(value: float | None, fmt: str) -> str:
     """A table cell: ``value`` in ``fmt``, or ``--`` where it is ``None`` (the JSON's
-    ``null``: no simulation, no gap).
-
-    Examples
-    --------
-    >>> cell(0.25, "+.2f"), cell(None, ".6g")
-    ('+0.25', '--')
-    """
+    ``null``: no simulation, no gap)."""
     return "--" if value is None else format(value, fmt)
 
 

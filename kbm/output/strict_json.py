@@ -34,14 +34,9 @@ def finite(obj: Any) -> Any:
 
 
 def strict_text(obj: Any) -> str:
-    r"""``obj`` as the toolkit writes JSON (printed or to a file): :func:`finite`, strict
-    (``allow_nan=False``), indented by 2, keys in their order as built, ending in a newline.
-
-    Examples
-    --------
-    >>> strict_text({"z": [0.5, float("nan")]})
-    '{\n  "z": [\n    0.5,\n    null\n  ]\n}\n'
-    """
+    """``obj`` as the toolkit writes JSON (printed or to a file): :func:`finite`, strict
+    (``allow_nan=False``), indented by 2, keys in their order as built, ending in a newline
+    (tests/test_strict_json.py)."""
     return json.dumps(finite(obj), indent=2, allow_nan=False) + "\n"
 
 

@@ -73,10 +73,10 @@ def gap_z(entries: Mapping[str, Mapping]) -> tuple[dict, list[str]]:
     return z, [k for k, v in z.items() if v is not None and abs(v) > Z_FLAG]
 
 
-def validity_entry(z, flagged, advise: Callable[[], str] | None = None, *, key: str = "z",
+def validity_entry(z, flagged, advice: str | Callable[[], str] = "", *, key: str = "z",
                    **extra) -> dict:
     """The ``validity`` entry of an output: ``{key: z, "flagged", "threshold", "advice",
-    **extra}`` in this order, ``advice`` being ``advise()`` where ``flagged`` is truthy
+    **extra}`` in this order, ``advice`` (called if callable) where ``flagged`` is truthy
     (the flagged names, or a bool), else ``""``; ``z`` is :func:`gap_z`'s gaps, one of
     them, or (``key="z_rms"``) a root mean square over a spectrum's bins.
 
@@ -87,7 +87,7 @@ def validity_entry(z, flagged, advise: Callable[[], str] | None = None, *, key: 
     {'z': {'rate': 5.0}, 'flagged': True, 'threshold': 4.0, 'advice': 'a smaller mu'}
     """
     return {key: z, "flagged": bool(flagged), "threshold": Z_FLAG,
-            "advice": advise() if flagged and advise is not None else "", **extra}
+            "advice": (advice() if callable(advice) else advice) if flagged else "", **extra}
 
 
 def joined_validity(checks: Sequence[Mapping], z, key: str = "z") -> dict:

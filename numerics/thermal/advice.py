@@ -91,18 +91,11 @@ def validity(moments: Mapping, order: int = 1, can_raise_order: bool = True,
     fp_shown = all(moments[k].get("fokker_planck") is not None
                    and moments[k].get("simulated") is not None and moments[k].get("stderr")
                    for k in ("a2", "x2"))
-    zf = {k: (moments[k]["fokker_planck"] - moments[k]["simulated"]) / moments[k]["stderr"]
-          for k in ("a2", "x2")} if fp_shown else None
-    extra = {} if zf is None else {"z_fokker_planck": zf}
-    return validity_entry(z, bad, lambda: _advice(moments, z, bad, zf, order, can_raise_order,
-                                                  fp_route, fp_error), **extra)
-
-
-def _advice(moments: Mapping, z: dict, bad: list[str], zf: dict | None, order: int,
-            can_raise_order: bool, fp_route: str | None, fp_error: Mapping | None) -> str:
-    """:func:`validity`'s advice where a moment is flagged (``zf``: the Fokker-Planck
-    column's gaps where it is shown)."""
-    fp_shown = zf is not None
+    extra = {"z_fokker_planck": {
+        k: (moments[k]["fokker_planck"] - moments[k]["simulated"]) / moments[k]["stderr"]
+        for k in ("a2", "x2")}} if fp_shown else {}
+    if not bad:
+        return validity_entry(z, bad, **extra)
     worst = max(bad, key=lambda k: abs(z[k]))
     raise_order = ("--order 2 (second-order averaging)" if can_raise_order and order == 1
                    else None)
@@ -117,6 +110,7 @@ def _advice(moments: Mapping, z: dict, bad: list[str], zf: dict | None, order: i
         if raise_order:
             remedy += f"; for the averaged values, use {raise_order}"
     elif fp_shown:
+        zf = extra["z_fokker_planck"]
         remedy = ("the Fokker-Planck column (the stationary Kramers equation, which owes "
                   "nothing to averaging) is the reference: its <a^2> and <x^2> are "
                   f"{zf['a2']:+.1f} and {zf['x2']:+.1f} standard errors from the simulated ones")
@@ -132,7 +126,8 @@ def _advice(moments: Mapping, z: dict, bad: list[str], zf: dict | None, order: i
             r for r in (fp_route,) if r and not r.startswith("--")]
         remedy = (" or ".join(routes) if routes else
                   "no other prediction applies here: the simulated values are the answer")
-    return (f"the averaged {_NAMES[worst]} is {z[worst]:+.1f} standard errors from "
-            f"the simulated one (|z| > {Z_FLAG:g}): the "
-            f"{'first' if order == 1 else 'second'}-order averaging does not hold "
-            f"here (mu or D/mu too large, or a strong nonlinearity); {remedy}")
+    return validity_entry(z, bad, f"the averaged {_NAMES[worst]} is {z[worst]:+.1f} standard "
+                          f"errors from the simulated one (|z| > {Z_FLAG:g}): the "
+                          f"{'first' if order == 1 else 'second'}-order averaging does not "
+                          f"hold here (mu or D/mu too large, or a strong nonlinearity); "
+                          f"{remedy}", **extra)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
-__all__ = ["params_text", "num", "html_table", "multipliers_text"]
+__all__ = ["params_text", "num", "cell", "html_table", "multipliers_text"]
 
 
 def num(value: object, digits: int = 10) -> str:
@@ -19,6 +19,12 @@ def num(value: object, digits: int = 10) -> str:
     except (TypeError, ValueError):
         return str(value)
     return "nan" if math.isnan(v) else f"{v:.{digits}g}"
+
+
+def cell(value: float | None, fmt: str) -> str:
+    """A table cell: ``value`` in ``fmt``, or ``--`` where it is ``None`` (the JSON's
+    ``null``: no simulation, no gap)."""
+    return "--" if value is None else format(value, fmt)
 
 
 def multipliers_text(values, digits: int = 6) -> str:

@@ -8,7 +8,7 @@ import math
 import pytest
 
 from kbm.cli._common import emit_json
-from numerics.paper.reproduce import _strict_json
+from kbm.output.strict_json import strict_text
 
 
 def _strict_loads(text: str):
@@ -24,7 +24,8 @@ def test_emit_json_writes_null_for_non_finite_numbers(capsys):
 
 
 def test_reproduce_tables_are_strict_json():
-    assert _strict_loads(_strict_json({"x": [math.nan, 2.0]})) == {"x": [None, 2.0]}
+    """The text of every JSON table and file (numerics.paper.reproduce, kbm lock --out)."""
+    assert _strict_loads(strict_text({"x": [math.nan, 2.0]})) == {"x": [None, 2.0]}
 
 
 @pytest.mark.parametrize("argv", [

@@ -11,13 +11,12 @@ numerical commands' ensemble options (``--trajectories``, ``--seed``, ``--worker
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from collections.abc import Iterable, Mapping
 from typing import TYPE_CHECKING, Any
 
 from ..errors import ModelError, ParameterError
-from ..output.strict_json import finite
+from ..output.strict_json import strict_text
 
 if TYPE_CHECKING:
     from ..parameters.values import ParameterNames
@@ -192,8 +191,7 @@ def single_well(model) -> bool:
 def emit_json(obj: Any) -> int:
     """Print ``obj`` as strict JSON (keys in a fixed order, as built; NaN and infinities
     become ``null``, so that every JSON parser reads it); returns the exit status 0."""
-    json.dump(finite(obj), sys.stdout, indent=2, allow_nan=False)
-    sys.stdout.write("\n")
+    sys.stdout.write(strict_text(obj))
     return 0
 
 
@@ -216,7 +214,7 @@ def write_json(path: Any, obj: Any) -> Any:
     """
     from ..output.files import write_file
 
-    return write_file(path, json.dumps(finite(obj), indent=2, allow_nan=False) + "\n")
+    return write_file(path, strict_text(obj))
 
 
 #: the built-ins of one degree of freedom, as the model argument's help names them

@@ -1,17 +1,19 @@
 """The one JSON layer of results (both packages): :func:`finite`, strict JSON (NaN and
-infinities as ``null``, also the command line's JSON output); :class:`Rendered`, a result
+infinities as ``null``, also the command line's JSON output) and :func:`strict_text`, its
+text as every command and file writes it; :class:`Rendered`, a result
 whose ``to_json`` is declared by a layout of its attributes; :func:`json_fields` and
 :func:`jsonable`, the same rules for a ``to_json`` that adds computed keys;
 :func:`complex_json` and :func:`complex_pairs`, complex numbers (multipliers, eigenvalues)."""
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Mapping
 from dataclasses import fields
 from typing import Any, ClassVar
 
-__all__ = ["finite", "json_fields", "jsonable", "Rendered", "complex_json", "complex_pairs"]
+__all__ = ["finite", "strict_text", "json_fields", "jsonable", "Rendered", "complex_json", "complex_pairs"]
 
 
 def finite(obj: Any) -> Any:
@@ -29,6 +31,13 @@ def finite(obj: Any) -> Any:
     if isinstance(obj, float) and not math.isfinite(obj):
         return None
     return obj
+
+
+def strict_text(obj: Any) -> str:
+    """``obj`` as the toolkit writes JSON (printed or to a file): :func:`finite`, strict
+    (``allow_nan=False``), indented by 2, keys in their order as built, ending in a newline
+    (tests/test_strict_json.py)."""
+    return json.dumps(finite(obj), indent=2, allow_nan=False) + "\n"
 
 
 def complex_json(z: complex) -> float | list[float]:

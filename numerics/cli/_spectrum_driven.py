@@ -101,7 +101,7 @@ def run_driven(args) -> int:
                                  workers=_opt(args, "workers"), store=store,
                                  progress=not _opt(args, "json", False),
                                  resolution=_opt(args, "resolution"))
-    from numerics.noise.validity import averaged_error
+    from numerics.noise.validity import averaged_error, joined_validity
 
     first = specs[0]
     # the response frequency ratio * nu of the first stable state (no simulated value
@@ -121,10 +121,8 @@ def run_driven(args) -> int:
                    "upper": list(map(float, first.upper))}}
     checks = [r["validity"] for r in rep["response_spectra"]]  # (ResponseSpectrum.validity)
     flagged = [v for v in checks if v is not None and v["flagged"]]
-    if all(v is not None for v in checks):
-        rep["validity"] = {"z_rms": [v["z_rms"] for v in checks], "flagged": bool(flagged),
-                           "threshold": checks[0]["threshold"] if checks else None,
-                           "advice": flagged[0]["advice"] if flagged else ""}
+    if all(v is not None for v in checks):  # (specs[0] exists: checks is not empty)
+        rep["validity"] = joined_validity(checks, [v["z_rms"] for v in checks], key="z_rms")
     if _opt(args, "out"):
         rep["figures"] = [str(p) for p in _figures_driven(specs, model, Path(args.out))]
     lines = _lines_driven(rep, specs) + [f"  WARNING: {v['advice']}" for v in flagged]
@@ -191,6 +189,8 @@ def run_slips(args) -> int:
     """``kbm spectrum coupled-vdp -p ... -p D=... [--vary sigma=A:B]``: the phase-slip rate
     and the effective frequency difference, Stratonovich's formula against counts."""
     from numerics.cli.params.options import stored
+    from numerics._show import cell
+    from numerics.noise.validity import joined_validity
     from numerics.spectrum.slips import slip_report
 
     model, params, D, name, detunings = _bind(args, "coupled")
@@ -214,9 +214,7 @@ def run_slips(args) -> int:
     flagged = [r for r in rows if r.get("validity", {}).get("flagged")]
     if all("validity" in r for r in rows):  # (each detuning's in "slips"; here the first
         # flagged one's advice and every detuning's gap, as the other columns)
-        rep["validity"] = {"z": col("validity", "z"), "flagged": bool(flagged),
-                           "threshold": rows[0]["validity"]["threshold"],
-                           "advice": flagged[0]["validity"]["advice"] if flagged else ""}
+        rep["validity"] = joined_validity([r["validity"] for r in rows], col("validity", "z"))
     if _opt(args, "out"):
         rep["figures"] = [str(_figure_slips(rows, model, name, Path(args.out)))]
     lines = [f"phase slips of {model}, D = {D:g} on each mode (net slips per unit time, "
@@ -226,9 +224,9 @@ def run_slips(args) -> int:
              f"{'z':>6}  {'<dgamma/dt> avg':>15} {'simulated':>11} {'slips +/-':>11}"]
     for r in rows:
         s, f, sim = r["slip_rate"], r["frequency_difference"], r["simulation"]
-        # no spread, or no turn counted (the spread is the motion in the well): no z
-        z = (f"{(s['averaged'] - s['simulated']) / s['stderr']:+6.2f}"
-             if s["stderr"] and sim["bound"] is None else "--")
+        # the validity record's gap (none without spread, or where no turn was counted: the
+        # spread is then the motion in the well)
+        z = cell(r["validity"]["z"], "+6.2f")
         counts = f"{sim['forward_slips']}/{sim['backward_slips']}"
         lines.append(f"  {r['detuning']:8.4g} {'yes' if r['locked'] else 'no':>7} "
                      f"{s['averaged']:11.4g} {s['simulated']:11.4g} {s['stderr']:9.2g} {z:>6}  "

@@ -13,6 +13,7 @@ from pathlib import Path
 from kbm.cli import cli_message
 from kbm.cli._common import table_cell
 from kbm.errors import ParameterError
+from numerics._show import cell
 from numerics.noise.budget import STEP_BUDGET
 
 #: the options of the noisy runs (default None on the parser, so that "given" is told
@@ -78,7 +79,7 @@ def _print(m) -> None:
           f"{'L slip':>9s} {'+-':>8s} {'slips':>6s} {'back':>5s}")
     for p in m.points:
         vals = "".join(f"{p.params[n]:10.4g}" for n in names if n not in ("D", "T"))
-        kT = "--" if p.kT is None else f"{p.kT:.4g}"
+        kT = cell(p.kT, ".4g")
         if p.error:
             print(f"{vals}{p.params['D']:10.4g}{kT:>9s}  failed: {cli_message(p.error)}")
             continue

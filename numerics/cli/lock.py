@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from kbm.cli._common import emit_json
+from kbm.cli._common import emit_json, write_json
 from kbm.errors import ParameterError
 from numerics.cli.params.options import command, options
 
@@ -61,7 +61,7 @@ def _split(varies, model) -> tuple:
 
 
 def run(args: argparse.Namespace) -> int:
-    from kbm.output.files import output_folder, write_file
+    from kbm.output.files import output_folder
     from numerics.cli.params.values import within
     from numerics.locking.mutual import locking_region, plot_locking
 
@@ -102,9 +102,7 @@ def run(args: argparse.Namespace) -> int:
     data = {**region.to_json(), "params_given": params}
     if args.out:
         folder = output_folder(args.out)
-        import json
-
-        write_file(folder / "lock.json", json.dumps(data, indent=2) + "\n")
+        write_json(folder / "lock.json", data)
         plot_locking(region, folder / "lock.png")
     if args.json:
         return emit_json(data)

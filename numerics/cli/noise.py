@@ -8,6 +8,7 @@ from pathlib import Path
 
 from kbm.cli._common import emit_json, write_json
 from kbm.errors import ParameterError
+from numerics._show import cell
 from numerics.cli.params.options import command, options
 from numerics.noise.budget import BUDGET_TEXT, FP_BUDGET
 from numerics.noise.validity import ERROR_SOURCES
@@ -65,10 +66,6 @@ def register(sub) -> None:
                                                 "over the histogram) and noise-MODEL.json"))
     p.set_defaults(func=run)
 
-
-
-def _num(value, fmt="#.6g") -> str:
-    return "--" if value is None else format(value, fmt)
 
 
 def _fp_format(rep: dict) -> str:
@@ -167,12 +164,11 @@ def run(args) -> int:
     print(f"  {'':6}{'averaged':>12}  {'simulated':>12}  {'stderr':>9}  (avg-sim)/stderr"
           f"  {'Fokker-Planck':>13}")
     for key in ("a2", "x2"):
-        m = rep["moments"][key]
-        z = ("--" if m["averaged"] is None or m["simulated"] is None
-             else f"{(m['averaged'] - m['simulated']) / m['stderr']:+.2f}")
-        print(f"  <{key[0]}^2> {_num(m['averaged']):>12}  {_num(m['simulated']):>12}  "
-              f"{_num(m['stderr'], '.2g'):>9}  {z:>16}  "
-              f"{_num(m.get('fokker_planck'), _fp_format(rep)):>13}")
+        m = rep["moments"][key]  # the gap: the validity record's (gap_z)
+        print(f"  <{key[0]}^2> {cell(m['averaged'], '#.6g'):>12}  "
+              f"{cell(m['simulated'], '#.6g'):>12}  {cell(m['stderr'], '.2g'):>9}  "
+              f"{cell(rep['validity']['z'][key], '+.2f'):>16}  "
+              f"{cell(m.get('fokker_planck'), _fp_format(rep)):>13}")
     stated = _fp_stated(rep)
     if stated:
         print(f"  {stated}")
@@ -188,13 +184,13 @@ def run(args) -> int:
             m = rep["moments"][key]
             print(f"  <{key[0]}^2> extrapolated (two-level Richardson, order {ext['order']}, "
                   f"{ext['trajectories']['coarse']} + {ext['trajectories']['correction']} "
-                  f"trajectories): {_num(m['extrapolated'])} +- "
-                  f"{_num(m['extrapolated_stderr'], '.2g')}")
+                  f"trajectories): {cell(m['extrapolated'], '#.6g')} +- "
+                  f"{cell(m['extrapolated_stderr'], '.2g')}")
     elif ext:
         print(f"  extrapolation: -- ({ext['reason']})")
     if rep["moments"]["x2"]["boltzmann"] is not None:
         print(f"  Boltzmann <x^2> (exact, exp(-G/kT) by quadrature): "
-              f"{_num(rep['moments']['x2']['boltzmann'])}")
+              f"{cell(rep['moments']['x2']['boltzmann'], '#.6g')}")
     if rep.get("validity", {}).get("flagged"):
         print(f"  WARNING: {rep['validity']['advice']}")
     if rep["message"] and rep["method"]:

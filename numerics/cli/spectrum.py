@@ -13,6 +13,7 @@ from pathlib import Path
 
 from kbm.cli._common import emit_json, write_json
 from kbm.errors import ParameterError
+from numerics._show import cell
 from numerics.cli.params.options import command, options
 from numerics.noise.validity import ERROR_SOURCES
 
@@ -169,10 +170,6 @@ def run(args) -> int:
     return 0
 
 
-def _num(v, fmt=".6g") -> str:
-    return "--" if v is None else format(v, fmt)
-
-
 def _print(rep: dict, reports: list[dict]) -> None:
     th = rep["theory"]
     print(f"spectrum of {rep['model']} with noise sqrt(2 D) xi, D = {rep['D']:g}, mu = "
@@ -191,9 +188,9 @@ def _print(rep: dict, reports: list[dict]) -> None:
     for key, label in (("linewidth", "HWHM"), ("frequency", "Omega")):
         r = rep[key]
         # the validity record's gap: Omega's with the scheme's step bias removed
-        z = "--" if gaps.get(key) is None else f"{gaps[key]:+.2f}"
-        print(f"  {label:10}{_num(r['averaged'], '.8g'):>12}  {_num(r['linearised'], '.8g'):>12}"
-              f"  {_num(r['simulated'], '.8g'):>12}  {_num(r['stderr'], '.2g'):>9}  {z:>16}")
+        print(f"  {label:10}{cell(r['averaged'], '.8g'):>12}  {cell(r['linearised'], '.8g'):>12}"
+              f"  {cell(r['simulated'], '.8g'):>12}  {cell(r['stderr'], '.2g'):>9}  "
+              f"{cell(gaps.get(key), '+.2f'):>16}")
     errs = [(label, rep[key]) for key, label in (("linewidth", "HWHM"), ("frequency", "Omega"))
             if rep[key].get("expected_error") is not None]
     if errs:
@@ -215,7 +212,7 @@ def _print(rep: dict, reports: list[dict]) -> None:
         print(f"  WARNING: {rep['validity']['advice']}")
     for r in reports[1:]:
         print(f"  D = {r['D']:g}: HWHM averaged {r['linewidth']['averaged']:.6g}, simulated "
-              f"{_num(r['linewidth']['simulated'])} +- {_num(r['linewidth']['stderr'], '.2g')}")
+              f"{cell(r['linewidth']['simulated'], '.6g')} +- {cell(r['linewidth']['stderr'], '.2g')}")
         if r.get("validity", {}).get("flagged"):
             print(f"  WARNING (D = {r['D']:g}): {r['validity']['advice']}")
     for p in rep.get("figures", []):

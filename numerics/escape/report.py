@@ -218,26 +218,26 @@ def _validity(out: dict, mu: float, fokker_planck: bool) -> dict:
     simulated 0.0155 +- 0.0011, +7.3 standard errors; at mu = 0.02, delta = 0.11, +2.6).
     The Fokker-Planck rate is not its reference: it is the transition rate to the next
     wells, up to twice smaller at high friction."""
-    from ..noise.validity import Z_FLAG, averaged_error, gap_z
+    from ..noise.validity import Z_FLAG, averaged_error, gap_z, validity_entry
 
     rate = {"averaged": out["rate_averaged"], "simulated": out["rate_simulated"],
             "stderr": out["stderr"]}
     z, bad = gap_z({"rate": rate})
     error, source = averaged_error(rate)
-    advice = ""
-    if bad:
+
+    def advise() -> str:
         kT, action = out["kT"], out["action_at_barrier"]
         delta = (f" (delta = mu I(E_b)/kT = {mu * action / kT:.3g})"
                  if kT is not None and action is not None else "")
-        advice = (f"the averaged energy-diffusion rate is {z['rate']:+.1f} standard errors from "
-                  f"the simulated one (|z| > {Z_FLAG:g}): it is the low-friction limit and "
-                  f"needs the energy lost per cycle at the barrier small against kT{delta}; "
-                  f"at mu = {mu:g} take the simulated rate, "
-                  + ("or the Fokker-Planck rate (the transitions to the next wells)"
-                     if fokker_planck else "or --method fokker-planck (the Kramers equation "
-                     "at any friction; the transitions to the next wells)"))
-    return {"z": z["rate"], "flagged": bool(bad), "threshold": Z_FLAG, "advice": advice,
-            "averaged_order": 1, "expected_error": error, "expected_error_source": source}
+        return (f"the averaged energy-diffusion rate is {z['rate']:+.1f} standard errors from "
+                f"the simulated one (|z| > {Z_FLAG:g}): it is the low-friction limit and "
+                f"needs the energy lost per cycle at the barrier small against kT{delta}; "
+                f"at mu = {mu:g} take the simulated rate, "
+                + ("or the Fokker-Planck rate (the transitions to the next wells)"
+                   if fokker_planck else "or --method fokker-planck (the Kramers equation "
+                   "at any friction; the transitions to the next wells)"))
+    return validity_entry(z["rate"], bad, advise, averaged_order=1, expected_error=error,
+                          expected_error_source=source)
 
 
 def _wells_end(fp, t_end) -> float:

@@ -26,14 +26,19 @@ reference the run has, in this order:
 
 How close each estimate came to the true error is measured where it is used: the module
 docstrings of :mod:`numerics.thermal.averaged_error` and :mod:`numerics.spectrum.result`.
+
+:func:`validity_entry` builds the ``validity`` entry of every output (``kbm noise``, ``kbm
+spectrum``'s line, response spectra and phase slips, ``kbm escape``), and
+:func:`joined_validity` the one entry of several runs; only the advice differs.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 
-__all__ = ["Z_FLAG", "gap_z", "averaged_error", "ERROR_SOURCES"]
+__all__ = ["Z_FLAG", "gap_z", "validity_entry", "joined_validity", "averaged_error",
+           "ERROR_SOURCES"]
 
 #: a gap |averaged - simulated|/stderr above this is flagged
 Z_FLAG = 4.0
@@ -66,6 +71,31 @@ def gap_z(entries: Mapping[str, Mapping]) -> tuple[dict, list[str]]:
             "stderr")
         z[key] = (m["averaged"] - m["simulated"]) / m["stderr"] if ok else None
     return z, [k for k, v in z.items() if v is not None and abs(v) > Z_FLAG]
+
+
+def validity_entry(z, flagged, advice: str | Callable[[], str] = "", *, key: str = "z",
+                   **extra) -> dict:
+    """The ``validity`` entry of an output: ``{key: z, "flagged", "threshold", "advice",
+    **extra}`` in this order, ``advice`` (called if callable) where ``flagged`` is truthy
+    (the flagged names, or a bool), else ``""``; ``z`` is :func:`gap_z`'s gaps, one of
+    them, or (``key="z_rms"``) a root mean square over a spectrum's bins.
+
+    Examples
+    --------
+    >>> validity_entry(*gap_z({"rate": {"averaged": 2.0, "simulated": 1.0, "stderr": 0.2}}),
+    ...                lambda: "a smaller mu")
+    {'z': {'rate': 5.0}, 'flagged': True, 'threshold': 4.0, 'advice': 'a smaller mu'}
+    """
+    return {key: z, "flagged": bool(flagged), "threshold": Z_FLAG,
+            "advice": (advice() if callable(advice) else advice) if flagged else "", **extra}
+
+
+def joined_validity(checks: Sequence[Mapping], z, key: str = "z") -> dict:
+    """One :func:`validity_entry` for several runs' (``checks``, each a validity entry): the
+    gaps ``z`` as the caller lists them, flagged where any run is, with the first flagged
+    run's advice."""
+    flagged = [v for v in checks if v["flagged"]]
+    return validity_entry(z, flagged, lambda: flagged[0]["advice"], key=key)
 
 
 def averaged_error(moment: Mapping, fp_change: float | None = None,

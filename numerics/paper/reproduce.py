@@ -8,7 +8,6 @@ claims, writes every figure, and writes a summary.  ``kbm reproduce`` calls it.
 
 from __future__ import annotations
 
-import json
 import shutil
 import sys
 import time
@@ -18,7 +17,7 @@ from kbm.output.derivations import compile_pdf, write_derivations
 from kbm.output.files import output_folder
 from kbm.output.paper import COMPARISON_CASES
 
-from kbm.output.strict_json import finite
+from kbm.output.strict_json import strict_text
 from numerics.comparison import compare, convergence_study, energy_prediction
 from numerics.comparison.fixed_delta import fixed_delta_convergence
 from numerics.paper.claims import check_claims
@@ -49,11 +48,6 @@ class _Progress:
         dt = time.perf_counter() - self.t
         print(f"      done in {dt:.1f} s{': ' + detail if detail else ''}", file=sys.stderr,
               flush=True)
-
-
-def _strict_json(obj) -> str:
-    """Valid JSON: NaN and infinities as ``null`` (:func:`kbm.output.strict_json.finite`)."""
-    return json.dumps(finite(obj), indent=2, allow_nan=False)
 
 
 def screen_summary(summary: list[str], claims_md: str) -> str:
@@ -135,7 +129,7 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
         comp_json.append({"case": label, **c.to_json()})
         cases.append((label, c))
     (out / "tables" / "comparison.md").write_text("\n".join(comp_md))
-    (out / "tables" / "comparison.json").write_text(_strict_json(comp_json) + "\n")
+    (out / "tables" / "comparison.json").write_text(strict_text(comp_json))
     prog.done(f"{len(COMPARISON_CASES)} cases")
 
     prog.stage("convergence orders of the KBM errors")
@@ -149,21 +143,19 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     prog.stage("averaging about the conservative orbit at fixed Delta: errors against mu")
     fixed = fixed_delta_convergence()
     (out / "tables" / "fixed_delta.md").write_text("```\n" + fixed.table() + "\n```\n")
-    (out / "tables" / "fixed_delta.json").write_text(
-        json.dumps(fixed.to_json(), indent=2, allow_nan=False) + "\n")
+    (out / "tables" / "fixed_delta.json").write_text(strict_text(fixed.to_json()))
     prog.done(f"{len(fixed.studies)} (Delta, beta) cases")
 
     prog.stage("where classical KBM and the energy method hold (sweep on all cores)")
     mm = methods_map(progress=False)
     (out / "tables" / "methods.md").write_text("```\n" + mm.table() + "\n```\n")
-    (out / "tables" / "methods.json").write_text(
-        json.dumps(mm.to_json(), indent=2, allow_nan=False) + "\n")
+    (out / "tables" / "methods.json").write_text(strict_text(mm.to_json()))
     prog.done()
 
     prog.stage("validity map of KBM orders 1 and 2 for the SEDF (sweep on all cores)")
     vm = validity_map(progress=False)
     (out / "tables" / "validity.md").write_text("```\n" + vm.table() + "\n```\n")
-    (out / "tables" / "validity.json").write_text(_strict_json(vm.to_json()) + "\n")
+    (out / "tables" / "validity.json").write_text(strict_text(vm.to_json()))
     prog.done()
 
     prog.stage("the paper's sliding experiments and claims (SEDF versus CDC)")
@@ -176,7 +168,7 @@ def reproduce(out: str | Path = "out", *, pdf: bool = True) -> Path:
     prog.stage("friction laws and maps: does self-excitation lower friction? (all cores)")
     study = friction_study(**MAIN_JOB_SIZE)
     (out / "tables" / "friction.md").write_text(study.table())
-    (out / "tables" / "friction.json").write_text(_strict_json(study.to_json()) + "\n")
+    (out / "tables" / "friction.json").write_text(strict_text(study.to_json()))
     prog.done()
 
     prog.stage("figures")

@@ -145,7 +145,7 @@ class ResponseSpectrum:
         without a simulation.  (duffing-forced, mu = 0.05, zeta = 0.1, alpha = 1, h = 0.5,
         sigma = 1, D = 1e-4, 32 trajectories: the averaged spectra 4.1 and 8.2 rms about
         the two stable states, the Floquet spectra 1.5 and 1.8.)"""
-        from numerics.noise.validity import Z_FLAG
+        from numerics.noise.validity import Z_FLAG, validity_entry
 
         if self.simulated is None or self.stderr is None:
             return None
@@ -159,8 +159,8 @@ class ResponseSpectrum:
 
         z = {"averaged": rms(self.averaged), "floquet": rms(self.floquet)}
         bad = z["averaged"] is not None and z["averaged"] > Z_FLAG
-        advice = ""
-        if bad:
+
+        def advise() -> str:
             advice = (f"the averaged spectrum about the state of amplitude "
                       f"{self.state.amplitudes()[0]:.4g} at the detuning {self.detuning:g} is "
                       f"{z['averaged']:.1f} standard errors (rms over the bins) from the "
@@ -175,7 +175,8 @@ class ResponseSpectrum:
                 advice += (f"; the Floquet spectrum, exact in mu, is {z['floquet']:.1f} too: "
                            "D is too large for the linear noise theory (a smaller D), or "
                            "the statistics (more --trajectories, a longer --duration)")
-        return {"z_rms": z, "flagged": bool(bad), "threshold": Z_FLAG, "advice": advice}
+            return advice
+        return validity_entry(z, bad, advise, key="z_rms")
 
     def to_json(self) -> dict:
         """The state, the spectra at ``omega``, :attr:`extra` (NaN as ``None``) and

@@ -32,7 +32,7 @@ from kbm.parameters.names import noise_intensity
 from .linewidth import fit_lorentzian
 from .phase_diffusion import LINEWIDTH_NEED, LineTheory, line_theory
 from .simulate import simulate_line
-from ..noise.validity import Z_FLAG, averaged_error, gap_z
+from ..noise.validity import Z_FLAG, averaged_error, gap_z, validity_entry
 
 __all__ = ["line_report", "line_validity", "line_errors", "next_line", "write_figures",
            "DEFAULT_TRAJECTORIES"]
@@ -168,8 +168,8 @@ def line_validity(rep: dict, raise_order: bool = True) -> dict:
     """
     compared = _compared(rep)
     z, bad = gap_z(compared)
-    advice = ""
-    if bad:
+
+    def advise() -> str:
         worst = max(bad, key=lambda k: abs(z[k]))
         order = rep["order"]
         floquet = {k: {"averaged": m.get("floquet"), "simulated": m["simulated"],
@@ -187,14 +187,14 @@ def line_validity(rep: dict, raise_order: bool = True) -> dict:
                 "errors from the simulated one")
         bias = " (the scheme's frequency bias removed)" if worst == "frequency" else ""
         mu = rep["params"].get("mu")
-        advice = (f"the averaged {_LABELS[worst]} is {z[worst]:+.1f} standard errors from the "
-                  f"simulated one{bias} (|z| > {Z_FLAG:g}): the "
-                  f"{'first' if order == 1 else 'second'}-order averaging is not accurate enough"
-                  + ("" if mu is None else f" at mu = {mu:g}") + " (mu too large for this "
-                  f"order, or D too large for the small-noise line); {remedy}; a gap near "
-                  f"{Z_FLAG:g} may be the statistics: a longer --duration or more "
-                  "--trajectories shrink the standard error")
-    return {"z": z, "flagged": bool(bad), "threshold": Z_FLAG, "advice": advice}
+        return (f"the averaged {_LABELS[worst]} is {z[worst]:+.1f} standard errors from the "
+                f"simulated one{bias} (|z| > {Z_FLAG:g}): the "
+                f"{'first' if order == 1 else 'second'}-order averaging is not accurate enough"
+                + ("" if mu is None else f" at mu = {mu:g}") + " (mu too large for this "
+                f"order, or D too large for the small-noise line); {remedy}; a gap near "
+                f"{Z_FLAG:g} may be the statistics: a longer --duration or more "
+                "--trajectories shrink the standard error")
+    return validity_entry(z, bad, advise)
 
 
 def _compared(rep: dict) -> dict:

@@ -35,7 +35,7 @@ import numpy as np
 from kbm.errors import ParameterError
 
 from numerics.noise.coupled import CHUNK
-from numerics.noise.validity import Z_FLAG, averaged_error, gap_z
+from numerics.noise.validity import Z_FLAG, averaged_error, gap_z, validity_entry
 from .adler import AdlerReduction, adler_reduction, mean_phase, stratonovich_rate
 from .driven_sim import noisy_system
 
@@ -268,16 +268,16 @@ def slip_validity(row: Mapping, mu: float | None = None, detuning: str = "sigma"
     rate = row["slip_rate"]
     counted = row.get("simulation", {}).get("bound") is None
     z, bad = gap_z({"slip_rate": rate if counted else {**rate, "simulated": None}})
-    advice = ""
-    if bad:
+
+    def advise() -> str:
         order = rate["averaged_order"]
         at = "" if mu is None else f" at mu = {mu:g}"
         remedy = ("use --order 2 (second-order averaging) or a smaller mu" if order == 1
                   else "a smaller mu")
-        advice = (f"the averaged slip rate is {z['slip_rate']:+.1f} standard errors from the "
-                  f"counted one (|z| > {Z_FLAG:g}) at {detuning} = {row['detuning']:g}: the "
-                  f"{'first' if order == 1 else 'second'}-order averaging and the reduction to "
-                  f"one Adler equation are not accurate enough{at}; {remedy}; a gap near "
-                  f"{Z_FLAG:g} may be the statistics: a longer --duration or more "
-                  "--trajectories shrink the standard error")
-    return {"z": z["slip_rate"], "flagged": bool(bad), "threshold": Z_FLAG, "advice": advice}
+        return (f"the averaged slip rate is {z['slip_rate']:+.1f} standard errors from the "
+                f"counted one (|z| > {Z_FLAG:g}) at {detuning} = {row['detuning']:g}: the "
+                f"{'first' if order == 1 else 'second'}-order averaging and the reduction to "
+                f"one Adler equation are not accurate enough{at}; {remedy}; a gap near "
+                f"{Z_FLAG:g} may be the statistics: a longer --duration or more "
+                "--trajectories shrink the standard error")
+    return validity_entry(z["slip_rate"], bad, advise)

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from ..noise.validity import Z_FLAG, gap_z
+from ..noise.validity import Z_FLAG, gap_z, validity_entry
 
 __all__ = ["validity", "fokker_planck_route", "FP_ROUTE"]
 
@@ -88,16 +88,14 @@ def validity(moments: Mapping, order: int = 1, can_raise_order: bool = True,
         (``(FP - simulated)/stderr`` per moment).
     """
     z, bad = gap_z(moments)
-    out = {"z": z, "flagged": bool(bad), "threshold": Z_FLAG, "advice": ""}
     fp_shown = all(moments[k].get("fokker_planck") is not None
                    and moments[k].get("simulated") is not None and moments[k].get("stderr")
                    for k in ("a2", "x2"))
-    if fp_shown:
-        out["z_fokker_planck"] = {
-            k: (moments[k]["fokker_planck"] - moments[k]["simulated"]) / moments[k]["stderr"]
-            for k in ("a2", "x2")}
+    extra = {"z_fokker_planck": {
+        k: (moments[k]["fokker_planck"] - moments[k]["simulated"]) / moments[k]["stderr"]
+        for k in ("a2", "x2")}} if fp_shown else {}
     if not bad:
-        return out
+        return validity_entry(z, bad, **extra)
     worst = max(bad, key=lambda k: abs(z[k]))
     raise_order = ("--order 2 (second-order averaging)" if can_raise_order and order == 1
                    else None)
@@ -112,7 +110,7 @@ def validity(moments: Mapping, order: int = 1, can_raise_order: bool = True,
         if raise_order:
             remedy += f"; for the averaged values, use {raise_order}"
     elif fp_shown:
-        zf = out["z_fokker_planck"]
+        zf = extra["z_fokker_planck"]
         remedy = ("the Fokker-Planck column (the stationary Kramers equation, which owes "
                   "nothing to averaging) is the reference: its <a^2> and <x^2> are "
                   f"{zf['a2']:+.1f} and {zf['x2']:+.1f} standard errors from the simulated ones")
@@ -128,8 +126,8 @@ def validity(moments: Mapping, order: int = 1, can_raise_order: bool = True,
             r for r in (fp_route,) if r and not r.startswith("--")]
         remedy = (" or ".join(routes) if routes else
                   "no other prediction applies here: the simulated values are the answer")
-    out["advice"] = (f"the averaged {_NAMES[worst]} is {z[worst]:+.1f} standard errors from "
-                     f"the simulated one (|z| > {Z_FLAG:g}): the "
-                     f"{'first' if order == 1 else 'second'}-order averaging does not hold "
-                     f"here (mu or D/mu too large, or a strong nonlinearity); {remedy}")
-    return out
+    return validity_entry(z, bad, f"the averaged {_NAMES[worst]} is {z[worst]:+.1f} standard "
+                          f"errors from the simulated one (|z| > {Z_FLAG:g}): the "
+                          f"{'first' if order == 1 else 'second'}-order averaging does not "
+                          f"hold here (mu or D/mu too large, or a strong nonlinearity); "
+                          f"{remedy}", **extra)

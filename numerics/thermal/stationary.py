@@ -21,7 +21,7 @@ from ..noise.budget import STEP_BUDGET
 from ..noise.ensemble import MIN_TRAJECTORIES, stationary_ensemble
 from ..noise.langevin import langevin_system, natural_step, split_noise
 from ..noise._pilot import measured_step
-from ..noise.validity import Z_FLAG, gap_z
+from ..noise.validity import gap_z, validity_entry
 
 __all__ = ["noise_report", "default_times", "STEPS_PER_PERIOD"]
 
@@ -192,8 +192,7 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
             "energy_density": fp["energy_density"], "advice": fp_advice(fp, fp["budget"])},
         "fokker_planck_message": fp_why, "density": None, "steps": steps,
         "step_pilot": pilot, "message": why, "scheme": system.scheme,
-        "validity": {"z": {"a2": None, "x2": None}, "flagged": False, "threshold": Z_FLAG,
-                     "advice": ""},
+        "validity": validity_entry({"a2": None, "x2": None}, False),
         "averaged_order": None if avg is None else 1,
         "extrapolation": None,
     }

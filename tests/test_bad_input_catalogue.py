@@ -36,6 +36,17 @@ CLI_CASES = [
     ("noise coupled-vdp -p mu=0.1 -p D=0.01", "'coupled-vdp' is a coupled model, and this "
      "command takes one degree of freedom: vdp"),
     ("escape duffing-forced -p mu=0.1 -p D=0.01", "'duffing-forced' is a forced model"),
+    # an AttributeError traceback (ForcedOscillator has no 'acceleration'), and "use the
+    # coupled ones (kbm.expansion.coupled.derive_coupled; ...)": the Python API's words
+    ("predict duffing-forced -p mu=0.1", "'duffing-forced' is a forced model, and this "
+     "command takes one degree of freedom: vdp"),
+    ("predict coupled-vdp -p mu=0.1", "'coupled-vdp' is a coupled model, and this "
+     "command takes one degree of freedom: vdp"),
+    ("compare duffing-forced -p mu=0.1", "'duffing-forced' is a forced model"),
+    ("compare coupled-vdp -p mu=0.1", "'coupled-vdp' is a coupled model, and this "
+     "command takes one degree of freedom: vdp"),
+    ("cycle duffing-forced -p mu=0.1", "'duffing-forced' is a forced model, and this "
+     "command takes one degree of freedom: vdp"),
     # derive
     ("derive", "required: --order"),
     ("derive vdp --order 0", "integer >= 1"),

@@ -67,6 +67,10 @@ def _run_one(args: argparse.Namespace, kw: dict) -> int:
     from numerics import limit_cycle
 
     card = None if args.all else _card(args)
+    if card is None and isinstance(args.model, str) and not getattr(args, "rhs", None):
+        from kbm.parameters.names import lookup  # a forced built-in: refused, no traceback
+
+        lookup(args.model, ("one", "coupled"), rhs=True)
     if args.all:
         from numerics import limit_cycles
 

@@ -47,6 +47,10 @@ CLI_CASES = [
      "command takes one degree of freedom: vdp"),
     ("cycle duffing-forced -p mu=0.1", "'duffing-forced' is a forced model, and this "
      "command takes one degree of freedom: vdp"),
+    # "unknown model 'duffing-forced'; the built-in models are vdp, ...": a built-in
+    ("derive duffing-forced --order 2", "'duffing-forced' is a forced model"),
+    ("series duffing-forced --order 2", "'duffing-forced' is a forced model"),
+    ("series coupled-vdp --order 2", "'coupled-vdp' is a coupled model"),
     # derive
     ("derive", "required: --order"),
     ("derive vdp --order 0", "integer >= 1"),

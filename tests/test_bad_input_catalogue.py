@@ -51,6 +51,11 @@ CLI_CASES = [
     ("derive duffing-forced --order 2", "'duffing-forced' is a forced model"),
     ("series duffing-forced --order 2", "'duffing-forced' is a forced model"),
     ("series coupled-vdp --order 2", "'coupled-vdp' is a coupled model"),
+    # an option the command does not take: "usage: kbm [-h] [--version] COMMAND ..." and
+    # "kbm: error: unrecognized arguments", which named neither the command nor its options
+    ("lock coupled-vdp -p mu=0.05 -p c=0.3 --vary sigma=-1:1 --trajectories 3",
+     "kbm lock: error: unrecognized arguments: --trajectories 3"),
+    ("cycle vdp -p mu=1 extra", "kbm cycle: error: unrecognized arguments: extra"),
     # derive
     ("derive", "required: --order"),
     ("derive vdp --order 0", "integer >= 1"),

@@ -36,6 +36,13 @@ CLI_CASES = [
     ("noise coupled-vdp -p mu=0.1 -p D=0.01", "'coupled-vdp' is a coupled model, and this "
      "command takes one degree of freedom: vdp"),
     ("escape duffing-forced -p mu=0.1 -p D=0.01", "'duffing-forced' is a forced model"),
+    # "the model has no damping (h = 0)" and "(g'(0) <= 0)": the library's symbols, and
+    # nothing to change
+    ("escape duffing -p mu=0.02 -p D=0.007", "duffing has no damping (its F does not depend "
+     "on x'): with noise its energy grows without bound, so there is no stationary state and "
+     "no escape rate; choose a model with damping"),
+    ("escape cdc -p mu=0.02 -p Delta=-3 -p D=0.007", "no well at the origin to escape from; "
+     "choose parameters with x = 0 a stable rest point (the sliders: Delta >= 0 and lam > 0)"),
     # an AttributeError traceback (ForcedOscillator has no 'acceleration'), and "use the
     # coupled ones (kbm.expansion.coupled.derive_coupled; ...)": the Python API's words
     ("predict duffing-forced -p mu=0.1", "'duffing-forced' is a forced model, and this "

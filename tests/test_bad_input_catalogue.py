@@ -63,6 +63,13 @@ CLI_CASES = [
     ("lock coupled-vdp -p mu=0.05 -p c=0.3 --vary sigma=-1:1 --trajectories 3",
      "kbm lock: error: unrecognized arguments: --trajectories 3"),
     ("cycle vdp -p mu=1 extra", "kbm cycle: error: unrecognized arguments: extra"),
+    # mu <= 0 was searched, then "no locked state ...; ask another interval of sigma"; an
+    # uncoupled pair (c = 0) was sent to another interval alone
+    ("lock coupled-vdp -p mu=0 -p c=0.3 --vary sigma=-1:1", "mu = 0: kbm lock follows the "
+     "locked cycles"),
+    ("lock coupled-vdp -p mu=-0.05 -p c=0.3 --vary sigma=-1:1", "give -p mu=VALUE > 0"),
+    ("lock coupled-vdp -p mu=0.05 -p c=0 --vary sigma=-1:1", "ask another interval of sigma "
+     "or other values of -p (a stronger coupling)"),
     # derive
     ("derive", "required: --order"),
     ("derive vdp --order 0", "integer >= 1"),

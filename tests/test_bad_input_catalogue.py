@@ -70,6 +70,12 @@ CLI_CASES = [
     ("lock coupled-vdp -p mu=-0.05 -p c=0.3 --vary sigma=-1:1", "give -p mu=VALUE > 0"),
     ("lock coupled-vdp -p mu=0.05 -p c=0 --vary sigma=-1:1", "ask another interval of sigma "
      "or other values of -p (a stronger coupling)"),
+    # a stage velocity outside the friction laws' range: a failed row and exit 0, and with
+    # noise an integration without end (0 of 4 trajectories after 60 s)
+    ("friction cdc -p Delta=3 --vary v=1e-6,0.1 --no-progress", "v = 1e-06 is outside the "
+     "range of the friction laws, 0.0001 to 1000 times Omega lam = 1"),
+    ("friction cdc -p Delta=3 -p Omega=2 -p T=0.1 --vary v=1e9 --trajectories 4 --wells 2 "
+     "--no-progress", "give --vary v within 0.0002:2000"),
     # derive
     ("derive", "required: --order"),
     ("derive vdp --order 0", "integer >= 1"),

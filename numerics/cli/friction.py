@@ -170,6 +170,9 @@ def run(args: argparse.Namespace) -> int:
         try:
             if noisy:
                 return run_thermal(args, params, axes, store, client)
+            # a default of mu, lam or Omega is no fixed value where it is an axis (the map
+            # refused it: "lam is both fixed and an axis", though typed once)
+            params = {k: v for k, v in params.items() if k not in axes}
             first = friction_map(args.model, params, axes, **kw)
             second = friction_map(args.against, params, axes, **kw) if args.against else None
         finally:

@@ -249,7 +249,26 @@ def noise_params(params: Mapping[str, str]) -> tuple[dict[str, str], str | None]
         raise ParameterError("T = 0 is the deterministic model, without noise: give a "
                              "temperature T > 0 (-p T=VALUE, T = kT = D/mu) or a noise "
                              "intensity D > 0 (-p D=VALUE)")
+    rest = {k: _decimal(k, v) for k, v in rest.items()}
     return {**rest, "D": D if name == "D" else repr(float(D))}, name
+
+
+def _decimal(name: str, text: object) -> object:
+    """A ``-p`` value as typed where ``float`` reads it, else (``1/50``, ``pi/4``) its value
+    as a decimal string: the noisy commands read their values with ``float`` (``-p
+    mu=1/50`` was a ValueError traceback in ``kbm escape``, ``kbm spectrum``; ``D`` is
+    read by :func:`kbm.parameters.names.noise_intensity`, which takes fractions)."""
+    from kbm.errors import KBMError
+    from kbm.parameters.values import parameter_value
+
+    try:
+        float(text)
+    except (TypeError, ValueError):
+        try:
+            return repr(float(parameter_value(name, text)))
+        except KBMError:  # no number: said where the value is checked, as before
+            return text
+    return text
 
 
 def without_noise(params: Mapping[str, str],

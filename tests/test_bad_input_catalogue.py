@@ -76,6 +76,12 @@ CLI_CASES = [
      "range of the friction laws, 0.0001 to 1000 times Omega lam = 1"),
     ("friction cdc -p Delta=3 -p Omega=2 -p T=0.1 --vary v=1e9 --trajectories 4 --wells 2 "
      "--no-progress", "give --vary v within 0.0002:2000"),
+    # "within -1 s (ValueError: could not convert string to float: '1-1.0')", and for nan a
+    # KeyError traceback of dask ("Invalid time unit: nans")
+    ("friction cdc -p Delta=3 --vary v=0.1 --scheduler tcp://127.0.0.1:1 --scheduler-timeout "
+     "-1", "--scheduler-timeout must be a positive number, got -1"),
+    ("friction sedf-dimer -p Delta=3 --vary v=0.1 --scheduler tcp://127.0.0.1:1 "
+     "--scheduler-timeout nan", "--scheduler-timeout must be a positive number, got nan"),
     # derive
     ("derive", "required: --order"),
     ("derive vdp --order 0", "integer >= 1"),

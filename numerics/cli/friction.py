@@ -119,6 +119,9 @@ def run(args: argparse.Namespace) -> int:
     from numerics.sliding.friction_records import FrictionSettings
     from numerics.sliding.maps import axis_values, friction_map
 
+    from numerics.cli.params.values import positive
+
+    positive(args.scheduler_timeout, "--scheduler-timeout")  # nan: a KeyError of dask
     if args.model.startswith(("sedf-dimer", "sedf-chain")):
         from numerics.cli._chain_friction import run_chain
 

@@ -82,6 +82,16 @@ CLI_CASES = [
      "-1", "--scheduler-timeout must be a positive number, got -1"),
     ("friction sedf-dimer -p Delta=3 --vary v=0.1 --scheduler tcp://127.0.0.1:1 "
      "--scheduler-timeout nan", "--scheduler-timeout must be a positive number, got nan"),
+    # a chain of sliders: a ZeroDivisionError traceback (k = 0), a ValueError (math domain
+    # error: lam < 0, Delta < 0), and points failed at the step limit with exit 0 (25 s)
+    ("friction sedf-dimer -p Delta=3 -p kappa=1 -p beta=1 -p k=0 --vary v=0.1 --no-progress",
+     "the wavenumber of the potential k = 2 pi/lam must be > 0, got -p k=0"),
+    ("friction sedf-dimer -p Delta=3 -p kappa=1 -p beta=1 -p lam=-1 --vary v=0.1 "
+     "--no-progress", "the period of the potential lam must be > 0, got -p lam=-1"),
+    ("friction sedf-dimer -p Delta=-3 -p kappa=1 -p beta=1 --vary v=0.1 --no-progress",
+     "the strength of the potential Delta must be >= 0"),
+    ("friction sedf-dimer -p Delta=3 -p kappa=1 -p beta=1 --vary v=1e-6,5000 --no-progress",
+     "v = 1e-06 is outside the range of the friction laws"),
     # derive
     ("derive", "required: --order"),
     ("derive vdp --order 0", "integer >= 1"),

@@ -45,6 +45,7 @@ def run_chain(args: argparse.Namespace) -> int:
         raise ParameterError("a chain's friction law varies the stage velocity: give it as "
                              "--vary v=..., not -p v")
     params = {"mu": "0.1", **given_params}
+    _check_chain(given_params, velocities)
     client = connect(args.scheduler, args.scheduler_timeout) if args.scheduler else None
     try:
         points = chain_friction_law(args.model, params, velocities, seed=args.seed,
@@ -81,6 +82,32 @@ def run_chain(args: argparse.Namespace) -> int:
               "(spread), where one slider alone would stick and slip (docs/coupled.rst, friction of "
               "pulled chains)")
     return 0
+
+
+def _check_chain(given_params: dict, velocities) -> None:
+    """Refuse a period ``lam`` (or wavenumber ``k``) that is not positive, a negative
+    strength ``Delta`` (or ``delta``), and stage velocities outside the friction laws'
+    range, ``1e-4`` to ``1e3`` times ``Omega lam`` (``Omega = 1`` in a chain, ``lam``
+    default 1), as for one slider: ``-p k=0`` was a ZeroDivisionError traceback, ``-p
+    lam=-1`` and ``-p Delta=-3`` a ValueError (math domain error), and ``--vary
+    v=1e-6,5000`` failed at the step limit after 25 s with exit status 0."""
+    import math
+
+    from kbm.parameters.values import parameter_value
+    from numerics.cli.friction import _check_velocities
+
+    vals = {n: float(parameter_value(n, v)) for n, v in given_params.items()
+            if n in ("lam", "k", "Delta", "delta")}
+    for name, what in (("lam", "the period of the potential lam"),
+                       ("k", "the wavenumber of the potential k = 2 pi/lam")):
+        if name in vals and not vals[name] > 0:
+            raise ParameterError(f"{what} must be > 0, got -p {name}={given_params[name]}")
+    for name in ("Delta", "delta"):
+        if name in vals and vals[name] < 0:
+            raise ParameterError(f"the strength of the potential {name} must be >= 0, got -p "
+                                 f"{name}={given_params[name]}")
+    lam = vals["lam"] if "lam" in vals else 2 * math.pi / vals["k"] if "k" in vals else 1.0
+    _check_velocities({"Omega": 1.0, "lam": lam}, {"v": velocities})
 
 
 def _physical_header(names, values: dict, typed: dict) -> str:

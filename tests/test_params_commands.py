@@ -149,3 +149,25 @@ def test_noise_prints_a_temperature_given_as_a_fraction(capsys):
                  "--t-end", "200", "--no-fokker-planck"]) == 0
     head = capsys.readouterr().out.splitlines()[0]
     assert head.endswith("D = 0.01 (T = D/mu = 0.2)"), head
+
+
+@pytest.mark.parametrize("command, key", [
+    (["escape", "cdc", "-p", "mu=0.02", "-p", "Delta=3", "-p", "D=0.007", "--no-simulation"],
+     ("rate_averaged",)),
+    (["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "D=0.05", "--trajectories", "8",
+      "--t-end", "100", "--no-fokker-planck"], ("moments", "x2", "averaged")),
+])
+def test_noisy_commands_take_the_scaled_wavenumber(command, key, capsys):
+    """``-p k=...`` (the scaled name of ``lam``, one of each pair) was refused by ``kbm
+    escape cdc`` and ``kbm noise cdc`` with "give either k or lam, not both": the command
+    had put its default ``lam = 1`` beside it.  ``k = 2 pi/lam`` (paper eq. 3): ``k = 2 pi``
+    gives the values of ``lam = 1``."""
+    import math
+
+    def value(extra):
+        data = _json([*command, "-p", extra], capsys)
+        for k in key:
+            data = data[k]
+        return data
+
+    assert value(f"k={2 * math.pi!r}") == pytest.approx(value("lam=1"), rel=1e-9)

@@ -92,6 +92,14 @@ CLI_CASES = [
      "the strength of the potential Delta must be >= 0"),
     ("friction sedf-dimer -p Delta=3 -p kappa=1 -p beta=1 --vary v=1e-6,5000 --no-progress",
      "v = 1e-06 is outside the range of the friction laws"),
+    # k = 0 (no finite lam = 2 pi/k): a ZeroDivisionError traceback in the potential of the
+    # shooting commands, a KeyError ('ComplexInfinity') in kbm response (kbm slide refused it)
+    ("cycle sedf -p mu=0.1 -p Delta=1.5 -p beta=1.3 -p k=0", "k = 0 gives no finite lam"),
+    ("compare sedf -p mu=0.1 -p Delta=3 -p beta=1 -p k=0", "give the wavenumber -p k=VALUE "
+     "!= 0, or the period -p lam=VALUE"),
+    ("branch sedf -p mu=0.1 -p beta=1 -p k=0 --vary Delta=0:4", "k = 0 gives no finite lam"),
+    ("response slider -p mu=0.05 -p delta=1 -p k=0 --vary sigma=-0.3:0.3",
+     "k = 0 gives no finite lam"),
     # derive
     ("derive", "required: --order"),
     ("derive vdp --order 0", "integer >= 1"),

@@ -40,11 +40,12 @@ def _checked(args: argparse.Namespace, params: dict, name: str):
     """The model of the command line (a built-in name or the ``--rhs`` model), its names
     and, with ``--follow-period``, its saddle checked."""
     from kbm.parameters.names import lookup
-    from numerics.cli.params.values import check
+    from numerics.cli.params.values import check, wavenumber
 
     spec = model_spec(args)
     model = lookup(spec, ("one",)) if isinstance(spec, str) else spec
     check(model, params, [name], start=True)
+    wavenumber(model, params)
     if args.follow_period is not None and single_well(model):
         raise ParameterError(f"--follow-period follows a branch to a homoclinic end, and "
                              f"{model.name} has none: its only equilibrium is the origin, "

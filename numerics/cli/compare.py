@@ -154,6 +154,9 @@ def run(args: argparse.Namespace) -> int:
 
         lookup(args.model, ("one",), rhs=True)
     params = checked_params(args.param, model_spec(args))
+    from numerics.cli.params.values import wavenumber
+
+    wavenumber(model_spec(args), params)
     comp = compare(model_spec(args), params, orders=orders(args.orders), extra=extra, **kw)
     if args.json:
         emit_json({**comp.to_json(), "params_given": params})

@@ -100,6 +100,10 @@ CLI_CASES = [
     ("branch sedf -p mu=0.1 -p beta=1 -p k=0 --vary Delta=0:4", "k = 0 gives no finite lam"),
     ("response slider -p mu=0.05 -p delta=1 -p k=0 --vary sigma=-0.3:0.3",
      "k = 0 gives no finite lam"),
+    # a coupled diagram at mu <= 0: exit 0 with "no fold curve ... no locked state"
+    ("diagram coupled-vdp -p mu=0 --vary sigma=0:1 --vary c=0:1", "mu = 0: the locking "
+     "tongue is that of"),
+    ("diagram coupled-vdp -p mu=-0.1 --vary sigma=0:1 --vary c=0:1", "give -p mu=VALUE > 0"),
     # derive
     ("derive", "required: --order"),
     ("derive vdp --order 0", "integer >= 1"),

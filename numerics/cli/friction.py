@@ -162,7 +162,9 @@ def run(args: argparse.Namespace) -> int:
         raise ParameterError(f"the grid has {size} points; the limit is {MAX_POINTS}")
     params = {k: float(parameter_value(k, v)) for k, v in fixed.items()}
     params = {"mu": 0.1, "lam": 1.0, "Omega": 1.0, **params}
-    _check_velocities(params, axes)
+    from numerics.cli._chain_friction import check_velocities
+
+    check_velocities(params, axes)
     settings = FrictionSettings(slips=args.slips)
     check_ensemble(args)
     _check_outputs(args)
@@ -184,33 +186,6 @@ def run(args: argparse.Namespace) -> int:
     if args.netcdf:
         _save_netcdf(args.netcdf, first, second)
     return emit_maps(args, first, second, _print, _figures, _ratios)
-
-
-def _check_velocities(params: dict, axes: dict) -> None:
-    """Refuse a stage velocity outside :data:`numerics.sliding.friction.V_RANGE` times
-    ``Omega lam`` before the map (where ``Omega`` and ``lam`` are fixed): the points were
-    printed as failed rows with exit status 0, and the runs with noise integrated without
-    end (``--vary v=1e9 -p T=0.1``).
-
-    Raises
-    ------
-    kbm.errors.ParameterError
-        Naming the value and the range of ``--vary v``.
-    """
-    from numerics.sliding.friction import V_RANGE
-
-    if "lam" in axes or "Omega" in axes:
-        return
-    scale = params["Omega"] * params["lam"]
-    lo, hi = (bound * scale for bound in V_RANGE)
-    speeds = list(axes.get("v", ())) + ([params["v"]] if "v" in params else [])
-    bad = [v for v in speeds if not lo <= v <= hi]
-    if bad:
-        raise ParameterError(
-            f"v = {bad[0]:g} is outside the range of the friction laws, {V_RANGE[0]:g} to "
-            f"{V_RANGE[1]:g} times Omega lam = {scale:g} (below it one stage period lam/v "
-            "spans more than 10^5 natural periods, the quasi-static limit; above it the "
-            f"slider slides smoothly with F = mu v): give --vary v within {lo:g}:{hi:g}")
 
 
 def _ratios(first, second) -> dict:

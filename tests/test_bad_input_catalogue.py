@@ -36,6 +36,74 @@ CLI_CASES = [
     ("noise coupled-vdp -p mu=0.1 -p D=0.01", "'coupled-vdp' is a coupled model, and this "
      "command takes one degree of freedom: vdp"),
     ("escape duffing-forced -p mu=0.1 -p D=0.01", "'duffing-forced' is a forced model"),
+    # "the model has no damping (h = 0)" and "(g'(0) <= 0)": the library's symbols, and
+    # nothing to change
+    ("escape duffing -p mu=0.02 -p D=0.007", "duffing has no damping (its F does not depend "
+     "on x'): with noise its energy grows without bound, so there is no stationary state and "
+     "no escape rate; choose a model with damping"),
+    ("escape cdc -p mu=0.02 -p Delta=-3 -p D=0.007", "no well at the origin to escape from; "
+     "choose parameters with x = 0 a stable rest point (the sliders: Delta >= 0 and lam > 0)"),
+    # an AttributeError traceback (ForcedOscillator has no 'acceleration'), and "use the
+    # coupled ones (kbm.expansion.coupled.derive_coupled; ...)": the Python API's words
+    ("predict duffing-forced -p mu=0.1", "'duffing-forced' is a forced model, and this "
+     "command takes one degree of freedom: vdp"),
+    ("predict coupled-vdp -p mu=0.1", "'coupled-vdp' is a coupled model, and this "
+     "command takes one degree of freedom: vdp"),
+    ("compare duffing-forced -p mu=0.1", "'duffing-forced' is a forced model"),
+    ("compare coupled-vdp -p mu=0.1", "'coupled-vdp' is a coupled model, and this "
+     "command takes one degree of freedom: vdp"),
+    ("cycle duffing-forced -p mu=0.1", "'duffing-forced' is a forced model, and this "
+     "command takes one degree of freedom: vdp"),
+    # "unknown model 'duffing-forced'; the built-in models are vdp, ...": a built-in
+    ("derive duffing-forced --order 2", "'duffing-forced' is a forced model"),
+    ("series duffing-forced --order 2", "'duffing-forced' is a forced model"),
+    ("series coupled-vdp --order 2", "'coupled-vdp' is a coupled model"),
+    # an option the command does not take: "usage: kbm [-h] [--version] COMMAND ..." and
+    # "kbm: error: unrecognized arguments", which named neither the command nor its options
+    ("lock coupled-vdp -p mu=0.05 -p c=0.3 --vary sigma=-1:1 --trajectories 3",
+     "kbm lock: error: unrecognized arguments: --trajectories 3"),
+    ("cycle vdp -p mu=1 extra", "kbm cycle: error: unrecognized arguments: extra"),
+    # mu <= 0 was searched, then "no locked state ...; ask another interval of sigma"; an
+    # uncoupled pair (c = 0) was sent to another interval alone
+    ("lock coupled-vdp -p mu=0 -p c=0.3 --vary sigma=-1:1", "mu = 0: kbm lock follows the "
+     "locked cycles"),
+    ("lock coupled-vdp -p mu=-0.05 -p c=0.3 --vary sigma=-1:1", "give -p mu=VALUE > 0"),
+    ("lock coupled-vdp -p mu=0.05 -p c=0 --vary sigma=-1:1", "ask another interval of sigma "
+     "or other values of -p (a stronger coupling)"),
+    # a stage velocity outside the friction laws' range: a failed row and exit 0, and with
+    # noise an integration without end (0 of 4 trajectories after 60 s)
+    ("friction cdc -p Delta=3 --vary v=1e-6,0.1 --no-progress", "v = 1e-06 is outside the "
+     "range of the friction laws, 0.0001 to 1000 times Omega lam = 1"),
+    ("friction cdc -p Delta=3 -p Omega=2 -p T=0.1 --vary v=1e9 --trajectories 4 --wells 2 "
+     "--no-progress", "give --vary v within 0.0002:2000"),
+    # "within -1 s (ValueError: could not convert string to float: '1-1.0')", and for nan a
+    # KeyError traceback of dask ("Invalid time unit: nans")
+    ("friction cdc -p Delta=3 --vary v=0.1 --scheduler tcp://127.0.0.1:1 --scheduler-timeout "
+     "-1", "--scheduler-timeout must be a positive number, got -1"),
+    ("friction sedf-dimer -p Delta=3 --vary v=0.1 --scheduler tcp://127.0.0.1:1 "
+     "--scheduler-timeout nan", "--scheduler-timeout must be a positive number, got nan"),
+    # a chain of sliders: a ZeroDivisionError traceback (k = 0), a ValueError (math domain
+    # error: lam < 0, Delta < 0), and points failed at the step limit with exit 0 (25 s)
+    ("friction sedf-dimer -p Delta=3 -p kappa=1 -p beta=1 -p k=0 --vary v=0.1 --no-progress",
+     "the wavenumber of the potential k = 2 pi/lam must be > 0, got -p k=0"),
+    ("friction sedf-dimer -p Delta=3 -p kappa=1 -p beta=1 -p lam=-1 --vary v=0.1 "
+     "--no-progress", "the period of the potential lam must be > 0, got -p lam=-1"),
+    ("friction sedf-dimer -p Delta=-3 -p kappa=1 -p beta=1 --vary v=0.1 --no-progress",
+     "the strength of the potential Delta must be >= 0"),
+    ("friction sedf-dimer -p Delta=3 -p kappa=1 -p beta=1 --vary v=1e-6,5000 --no-progress",
+     "v = 1e-06 is outside the range of the friction laws"),
+    # k = 0 (no finite lam = 2 pi/k): a ZeroDivisionError traceback in the potential of the
+    # shooting commands, a KeyError ('ComplexInfinity') in kbm response (kbm slide refused it)
+    ("cycle sedf -p mu=0.1 -p Delta=1.5 -p beta=1.3 -p k=0", "k = 0 gives no finite lam"),
+    ("compare sedf -p mu=0.1 -p Delta=3 -p beta=1 -p k=0", "give the wavenumber -p k=VALUE "
+     "!= 0, or the period -p lam=VALUE"),
+    ("branch sedf -p mu=0.1 -p beta=1 -p k=0 --vary Delta=0:4", "k = 0 gives no finite lam"),
+    ("response slider -p mu=0.05 -p delta=1 -p k=0 --vary sigma=-0.3:0.3",
+     "k = 0 gives no finite lam"),
+    # a coupled diagram at mu <= 0: exit 0 with "no fold curve ... no locked state"
+    ("diagram coupled-vdp -p mu=0 --vary sigma=0:1 --vary c=0:1", "mu = 0: the locking "
+     "tongue is that of"),
+    ("diagram coupled-vdp -p mu=-0.1 --vary sigma=0:1 --vary c=0:1", "give -p mu=VALUE > 0"),
     # derive
     ("derive", "required: --order"),
     ("derive vdp --order 0", "integer >= 1"),

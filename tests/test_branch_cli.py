@@ -49,11 +49,27 @@ def test_json_contract(fold_json):
     (["branch", "vdp", "--vary", "mu=1:2", "--orders", "0"], "--orders"),
     (["branch", "linear_damping", "-p", "mu=0.1", "--vary", "zeta=0.1:1"],
      "no limit cycle at zeta = 0.1"),
+    # "mu = 0: there is no perturbation to average; give mu != 0", where mu = 0 was FROM
+    (["branch", "vdp", "--vary", "mu=0:1"], "--vary mu=0:1 starts the branch at mu = 0"),
+    (["branch", "vdp", "--vary", "mu=-1:1", "-p", "mu=0"], "-p mu=0 starts the branch"),
 ])
 def test_errors_one_line(capsys, argv, words):
     assert main(argv) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("kbm branch: error: ") and words in err[0]
+
+
+def test_a_start_value_as_a_fraction(capsys):
+    """``-p nu=1/20`` as the start of ``--vary nu=...`` was a ValueError traceback (``could
+    not convert string to float: '1/20'``), though ``-p`` reads fractions everywhere.  The
+    branch from it has the fold of ``(-nu + x^2 - x^4) x'``, ``A_1 = 0`` with
+    ``dA_1/da = 0``: ``nu = 1/8`` (energy balance: ``-nu + a^2/4 - a^4/8 = 0`` is double at
+    ``a^2 = 1``)."""
+    assert main(["branch", "--rhs", FOLD, "-p", "mu=0.1", "-p", "nu=1/20", "--vary",
+                 "nu=0:0.2", "--orders", "none", "--no-energy", "--json"]) == 0
+    js = json.loads(capsys.readouterr().out)
+    (fold,) = [s for s in js["special"] if s["kind"] == "fold"]
+    assert abs(fold["parameter"] - 0.125) < 1e-5
 
 
 def test_text_output(capsys):

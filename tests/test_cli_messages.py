@@ -283,3 +283,16 @@ def test_series_says_when_its_error_is_unmeasured(capsys):
     assert "unmeasured" not in line
     omega = float(line.split("omega* = ")[1].split(" ")[0])
     assert abs(omega - (1 - 0.01 / 16 + 17e-4 / 3072)) < 1e-8
+
+
+def test_an_option_the_command_does_not_take_gets_the_commands_usage(capsys):
+    """``kbm slide ... --vary v=0.1:1`` printed the top-level usage (``usage: kbm [-h]
+    [--version] COMMAND ...``) and ``kbm: error: unrecognized arguments``: neither the
+    command nor the options it does take.  Now the command's usage and its name."""
+    with pytest.raises(SystemExit) as exc:
+        main(["slide", "cdc", "-p", "Delta=3", "--t-end", "10", "--vary", "v=0.1:1"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert err.startswith("usage: kbm slide") and "--t-end" in err, err
+    assert err.strip().splitlines()[-1] == ("kbm slide: error: unrecognized arguments: "
+                                            "--vary v=0.1:1")

@@ -163,3 +163,23 @@ def test_series_progress_counts_every_power_of_mu():
     assert sum(steps) == 11
     assert s.omega[:5] == pytest.approx((1, 0, -1 / 16, 0, 17 / 3072), abs=1e-15)
     assert s.omega == numeric_cycle_series("vdp", 10).omega
+
+
+@pytest.mark.parametrize("axis, values", [("lam", (0.5, 1.0)), ("Omega", (1.0, 2.0))])
+def test_friction_maps_over_a_parameter_with_a_default(axis, values, capsys):
+    """``kbm friction cdc -p Delta=3 --vary v=0.1 --vary lam=0.5,1`` (or ``Omega``, ``mu``)
+    was refused, "lam is both fixed and an axis: give it once", though typed once: the
+    command's default ``lam = 1`` went to the map as a fixed value.  The map's ``eta`` is
+    the paper's ratio ``2 pi Delta/(Omega^2 lam)`` at each value of the axis."""
+    import json
+    import math
+
+    assert main(["friction", "cdc", "-p", "Delta=3", "--vary", "v=0.1", "--vary",
+                 f"{axis}={values[0]},{values[1]}", "--json", "--no-progress"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["axes"][axis] == list(values) and axis not in data["params"]
+    lam = dict(lam=values, Omega=(1.0, 1.0))[axis]
+    omega = dict(lam=(1.0, 1.0), Omega=values)[axis]
+    expected = [2 * math.pi * 3 / (w**2 * lm) for w, lm in zip(omega, lam)]
+    assert data["eta"][0] == pytest.approx(expected, rel=1e-12)
+    assert data["error"] == [[None, None]]

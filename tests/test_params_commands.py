@@ -124,3 +124,50 @@ def test_mu_that_sets_nothing_is_refused(argv, says, capsys):
     assert main(argv) == 2
     err = _err(capsys)
     assert "-p mu sets nothing here" in err and says in err
+
+
+@pytest.mark.parametrize("fraction, decimal", [
+    # a ValueError traceback (could not convert string to float: '1/50'), exit 1
+    (["escape", "cdc", "-p", "mu=1/50", "-p", "Delta=3", "-p", "D=7/1000", "--no-simulation"],
+     ["escape", "cdc", "-p", "mu=0.02", "-p", "Delta=3", "-p", "D=0.007", "--no-simulation"]),
+    (["spectrum", "vdp", "-p", "mu=1/10", "-p", "D=1/100", "--no-simulation"],
+     ["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--no-simulation"]),
+])
+def test_noisy_commands_read_fractions_as_every_command_does(fraction, decimal, capsys):
+    """``-p mu=1/50`` is read as ``kbm cycle`` reads it: the double nearest 1/50 is
+    ``float('0.02')``, so the JSON is the decimal input's, byte for byte."""
+    assert main([*fraction, "--json"]) == 0
+    got = capsys.readouterr().out
+    assert main([*decimal, "--json"]) == 0
+    assert got == capsys.readouterr().out
+
+
+def test_noise_prints_a_temperature_given_as_a_fraction(capsys):
+    """``kbm noise vdp -p mu=1/20 -p T=1/5`` ran its ensemble, then died on printing ``T``
+    (a ValueError traceback, exit 1).  ``D = mu T = 1/100``."""
+    assert main(["noise", "vdp", "-p", "mu=1/20", "-p", "T=1/5", "--trajectories", "8",
+                 "--t-end", "200", "--no-fokker-planck"]) == 0
+    head = capsys.readouterr().out.splitlines()[0]
+    assert head.endswith("D = 0.01 (T = D/mu = 0.2)"), head
+
+
+@pytest.mark.parametrize("command, key", [
+    (["escape", "cdc", "-p", "mu=0.02", "-p", "Delta=3", "-p", "D=0.007", "--no-simulation"],
+     ("rate_averaged",)),
+    (["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "D=0.05", "--trajectories", "8",
+      "--t-end", "100", "--no-fokker-planck"], ("moments", "x2", "averaged")),
+])
+def test_noisy_commands_take_the_scaled_wavenumber(command, key, capsys):
+    """``-p k=...`` (the scaled name of ``lam``, one of each pair) was refused by ``kbm
+    escape cdc`` and ``kbm noise cdc`` with "give either k or lam, not both": the command
+    had put its default ``lam = 1`` beside it.  ``k = 2 pi/lam`` (paper eq. 3): ``k = 2 pi``
+    gives the values of ``lam = 1``."""
+    import math
+
+    def value(extra):
+        data = _json([*command, "-p", extra], capsys)
+        for k in key:
+            data = data[k]
+        return data
+
+    assert value(f"k={2 * math.pi!r}") == pytest.approx(value("lam=1"), rel=1e-9)

@@ -261,7 +261,10 @@ def run_command(parser: argparse.ArgumentParser | Callable[[list[str]], argparse
     argv = _join_negative_values(sys.argv[1:] if argv is None else argv)
     if not isinstance(parser, argparse.ArgumentParser):
         parser = parser(argv)
-    args = parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra:
+        _command_parser(parser, getattr(args, "command", None)).error(
+            f"unrecognized arguments: {' '.join(extra)}")
     received: list[int] = []
     previous = _on_sigterm(received)
     try:
@@ -294,6 +297,19 @@ def run_command(parser: argparse.ArgumentParser | Callable[[list[str]], argparse
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
     return int(status or 0)
+
+
+def _command_parser(parser: argparse.ArgumentParser,
+                    name: str | None) -> argparse.ArgumentParser:
+    """The parser of the command ``name`` (``parser`` itself if there is none), so that an
+    option the command does not take is refused with the command's usage and ``kbm NAME:
+    error: unrecognized arguments: ...`` (argparse refuses it with the top-level usage,
+    ``usage: kbm [-h] [--version] COMMAND ...``, which lists no option of the command)."""
+    for action in parser._actions:  # the sub-parsers' action (argparse has no public getter)
+        choices = getattr(action, "choices", None)
+        if isinstance(action, argparse._SubParsersAction) and name in choices:
+            return choices[name]
+    return parser
 
 
 def _interruption(exc: BaseException) -> KeyboardInterrupt | None:

@@ -45,6 +45,7 @@ def run_chain(args: argparse.Namespace) -> int:
         raise ParameterError("a chain's friction law varies the stage velocity: give it as "
                              "--vary v=..., not -p v")
     params = {"mu": "0.1", **given_params}
+    _check_chain(given_params, velocities)
     client = connect(args.scheduler, args.scheduler_timeout) if args.scheduler else None
     try:
         points = chain_friction_law(args.model, params, velocities, seed=args.seed,
@@ -83,6 +84,31 @@ def run_chain(args: argparse.Namespace) -> int:
     return 0
 
 
+def _check_chain(given_params: dict, velocities) -> None:
+    """Refuse a period ``lam`` (or wavenumber ``k``) that is not positive, a negative
+    strength ``Delta`` (or ``delta``), and stage velocities outside the friction laws'
+    range, ``1e-4`` to ``1e3`` times ``Omega lam`` (``Omega = 1`` in a chain, ``lam``
+    default 1), as for one slider: ``-p k=0`` was a ZeroDivisionError traceback, ``-p
+    lam=-1`` and ``-p Delta=-3`` a ValueError (math domain error), and ``--vary
+    v=1e-6,5000`` failed at the step limit after 25 s with exit status 0."""
+    import math
+
+    from kbm.parameters.values import parameter_value
+
+    vals = {n: float(parameter_value(n, v)) for n, v in given_params.items()
+            if n in ("lam", "k", "Delta", "delta")}
+    for name, what in (("lam", "the period of the potential lam"),
+                       ("k", "the wavenumber of the potential k = 2 pi/lam")):
+        if name in vals and not vals[name] > 0:
+            raise ParameterError(f"{what} must be > 0, got -p {name}={given_params[name]}")
+    for name in ("Delta", "delta"):
+        if name in vals and vals[name] < 0:
+            raise ParameterError(f"the strength of the potential {name} must be >= 0, got -p "
+                                 f"{name}={given_params[name]}")
+    lam = vals["lam"] if "lam" in vals else 2 * math.pi / vals["k"] if "k" in vals else 1.0
+    check_velocities({"Omega": 1.0, "lam": lam}, {"v": velocities})
+
+
 def _physical_header(names, values: dict, typed: dict) -> str:
     """The chain's parameters in the physical names the user typed (``Delta = 3, lam = 1``
     for ``delta = 30, k = 2 pi``), then the others, the stage velocity left out."""
@@ -95,3 +121,31 @@ def _physical_header(names, values: dict, typed: dict) -> str:
     out.update({k: v for k, v in vals.items() if k not in names.physical and k != "mu"})
     out.update({k: v for k, v in vals.items() if k in typed})
     return ", ".join(f"{k} = {float(v):g}" for k, v in out.items())
+
+
+def check_velocities(params: dict, axes: dict) -> None:
+    """Refuse a stage velocity outside :data:`numerics.sliding.friction.V_RANGE` times
+    ``Omega lam`` before the map (where ``Omega`` and ``lam`` are fixed), for one slider
+    (:mod:`numerics.cli.friction`) and a chain (:func:`run_chain`): the points were
+    printed as failed rows with exit status 0, and the runs with noise integrated without
+    end (``--vary v=1e9 -p T=0.1``).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Naming the value and the range of ``--vary v``.
+    """
+    from numerics.sliding.friction import V_RANGE
+
+    if "lam" in axes or "Omega" in axes:
+        return
+    scale = params["Omega"] * params["lam"]
+    lo, hi = (bound * scale for bound in V_RANGE)
+    speeds = list(axes.get("v", ())) + ([params["v"]] if "v" in params else [])
+    bad = [v for v in speeds if not lo <= v <= hi]
+    if bad:
+        raise ParameterError(
+            f"v = {bad[0]:g} is outside the range of the friction laws, {V_RANGE[0]:g} to "
+            f"{V_RANGE[1]:g} times Omega lam = {scale:g} (below it one stage period lam/v "
+            "spans more than 10^5 natural periods, the quasi-static limit; above it the "
+            f"slider slides smoothly with F = mu v): give --vary v within {lo:g}:{hi:g}")

@@ -40,11 +40,12 @@ def _checked(args: argparse.Namespace, params: dict, name: str):
     """The model of the command line (a built-in name or the ``--rhs`` model), its names
     and, with ``--follow-period``, its saddle checked."""
     from kbm.parameters.names import lookup
-    from numerics.cli.params.values import check
+    from numerics.cli.params.values import check, wavenumber
 
     spec = model_spec(args)
     model = lookup(spec, ("one",)) if isinstance(spec, str) else spec
     check(model, params, [name], start=True)
+    wavenumber(model, params)
     if args.follow_period is not None and single_well(model):
         raise ParameterError(f"--follow-period follows a branch to a homoclinic end, and "
                              f"{model.name} has none: its only equilibrium is the origin, "
@@ -126,6 +127,16 @@ def _run(args: argparse.Namespace) -> int:
                              "or several --rhs)")
     within(args.rtol, "--rtol", 1e-14, 1e-4)
     within(args.max_points, "--max-points", 2, 100000)
+    if name == "mu":  # the library said "give mu != 0", which was never typed
+        from kbm.parameters.values import parameter_value
+
+        start = parameter_value("mu", params["mu"]) if "mu" in params else lo
+        if start == 0:
+            where = f"-p mu={params['mu']}" if "mu" in params else f"--vary {vary.text}"
+            raise ParameterError(f"{where} starts the branch at mu = 0, where there is no "
+                                 "perturbation and no isolated cycle: start it at mu != 0, "
+                                 "with -p mu=VALUE inside the range or a range with FROM "
+                                 "!= 0")
     if checked:  # checked by an earlier run: no symbolic model (issue 39)
         check_model_flags(args)
         spec = args.model

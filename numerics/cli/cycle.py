@@ -65,12 +65,18 @@ def run(args: argparse.Namespace) -> int:
 def _run_one(args: argparse.Namespace, kw: dict) -> int:
     """One degree of freedom: the cycle (or ``--all``), printed."""
     from numerics import limit_cycle
+    from numerics.cli.params.values import wavenumber
 
     card = None if args.all else _card(args)
+    if card is None and isinstance(args.model, str) and not getattr(args, "rhs", None):
+        from kbm.parameters.names import lookup  # a forced built-in: refused, no traceback
+
+        lookup(args.model, ("one", "coupled"), rhs=True)
     if args.all:
         from numerics import limit_cycles
 
         params = checked_params(args.param, model_spec(args))
+        wavenumber(model_spec(args), params)
         return _run_all(limit_cycles(model_spec(args), params, **kw), args)
     if card is not None:  # a warm run: no sympy (the names were checked by a cold one)
         params = parse_params(args.param)
@@ -80,6 +86,7 @@ def _run_one(args: argparse.Namespace, kw: dict) -> int:
 
         model = model_spec(args)
         params = checked_params(args.param, model)
+        wavenumber(model, params)
         if getattr(args, "rhs", None):
             name_model(model, _spec(args))
         cyc = limit_cycle(model, params, x_start=args.x_start, **kw)

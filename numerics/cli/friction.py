@@ -119,6 +119,9 @@ def run(args: argparse.Namespace) -> int:
     from numerics.sliding.friction_records import FrictionSettings
     from numerics.sliding.maps import axis_values, friction_map
 
+    from numerics.cli.params.values import positive
+
+    positive(args.scheduler_timeout, "--scheduler-timeout")  # nan: a KeyError of dask
     if args.model.startswith(("sedf-dimer", "sedf-chain")):
         from numerics.cli._chain_friction import run_chain
 
@@ -159,6 +162,9 @@ def run(args: argparse.Namespace) -> int:
         raise ParameterError(f"the grid has {size} points; the limit is {MAX_POINTS}")
     params = {k: float(parameter_value(k, v)) for k, v in fixed.items()}
     params = {"mu": 0.1, "lam": 1.0, "Omega": 1.0, **params}
+    from numerics.cli._chain_friction import check_velocities
+
+    check_velocities(params, axes)
     settings = FrictionSettings(slips=args.slips)
     check_ensemble(args)
     _check_outputs(args)
@@ -169,6 +175,9 @@ def run(args: argparse.Namespace) -> int:
         try:
             if noisy:
                 return run_thermal(args, params, axes, store, client)
+            # a default of mu, lam or Omega is no fixed value where it is an axis (the map
+            # refused it: "lam is both fixed and an axis", though typed once)
+            params = {k: v for k, v in params.items() if k not in axes}
             first = friction_map(args.model, params, axes, **kw)
             second = friction_map(args.against, params, axes, **kw) if args.against else None
         finally:

@@ -87,6 +87,14 @@ def run(args: argparse.Namespace) -> int:
     params = given(args.param)
     varies = [parse_vary(text) for text in args.vary]
     check(model, params, [v.name for v in varies])
+    if "mu" in params:  # mu <= 0 was searched and reported as "ask another interval"
+        from kbm.parameters.values import parameter_value
+
+        if not parameter_value("mu", params["mu"]) > 0:
+            raise ParameterError(f"mu = {params['mu']}: kbm lock follows the locked cycles of "
+                                 "x_i'' + omega_i^2 x_i = mu F_i with the small parameter "
+                                 "mu > 0 (mu = 0 leaves the oscillators uncoupled); give "
+                                 "-p mu=VALUE > 0")
     dv, cv = _split(varies, model)
     dv.interval("the search for the edges", points=False)
     if dv.name == "mu":

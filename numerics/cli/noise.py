@@ -99,6 +99,7 @@ def _fp_stated(rep: dict) -> str:
 
 def run(args) -> int:
     from numerics.cli.params.options import check_ensemble, stored
+    from kbm.parameters.values import parameter_value
     from numerics.cli.params.values import given, noisy_model
 
     check_ensemble(args)
@@ -127,7 +128,8 @@ def run(args) -> int:
         write_json(Path(args.out) / f"noise-{args.model}.json", rep)
     if args.json:
         return emit_json(rep)
-    temp = f" (T = D/mu = {float(given(args.param)['T']):g})" if noise == "T" else ""
+    temp = (f" (T = D/mu = {float(parameter_value('T', given(args.param)['T'])):g})"
+            if noise == "T" else "")
     print(f"stationary state of {args.model} with noise sqrt(2 D) xi, D = {rep['D']:g}{temp}")
     print(f"  averaging: {rep['method'] or '-- (' + rep['message'] + ')'}"
           + (f", order {rep['averaged_order']}" if rep.get("averaged_order") else ""))

@@ -128,8 +128,11 @@ def prepared(model, params: dict, D: object, outer_span: float) -> tuple:
     params = {k: v for k, v in dict(params).items() if k != "D"}
     split = split_conservative(model, params)
     if split.conservative:
-        raise NoStationaryState("the model has no damping (h = 0): with noise its energy grows "
-                         "without bound and there is no stationary state")
+        name = model if isinstance(model, str) else getattr(model, "name", "the model")
+        raise NoStationaryState(f"{name} has no damping (its F does not depend on x'): with "
+                                "noise its energy grows without bound, so there is no "
+                                "stationary state and no escape rate; choose a model with "
+                                "damping (cdc, or sedf at v = 0)")
     mu = float(split.mu)
     if not mu > 0:
         raise ParameterError(f"mu = {mu:g}: the small parameter of x'' = -g(x) + mu h must "

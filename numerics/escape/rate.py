@@ -58,8 +58,10 @@ def central_well(env: EnergyEnvelope):
     """
     centres = [e for e in env.portrait.equilibria if e.kind == "center" and abs(e.x) < 1e-9]
     if not centres:
-        raise ModelError("the origin is not the bottom of a well (g'(0) <= 0): there is no "
-                         "well at the origin to escape from")
+        raise ModelError("the origin is not the bottom of a well (the potential's curvature "
+                         "g'(0) there is <= 0): there is no well at the origin to escape from; "
+                         "choose parameters with x = 0 a stable rest point (the sliders: "
+                         "Delta >= 0 and lam > 0)")
     for p in env.pieces:
         if 0.0 in [round(w, 9) for w in p.annulus.wells] and len(p.annulus.wells) == 1:
             if not p.annulus.bounded:

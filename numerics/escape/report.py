@@ -108,7 +108,8 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
             raise ParameterError(f"--{name} must be a positive number, got {val:g}")
     if model in ("sedf", "cdc", "sedf_comoving"):
         for name, val in SLIDER_DEFAULTS.items():
-            params.setdefault(name, val)
+            if not (name == "lam" and "k" in params):  # k = 2 pi/lam given: no default lam
+                params.setdefault(name, val)
     # the missing values named as the user gives them (Delta, not the scaled delta)
     bind(model, {k: val for k, val in params.items() if k != "v"}).require(
         what="the escape rate")

@@ -148,7 +148,8 @@ def locked_start(model: CoupledOscillators, params: Mapping[str, object], order:
                            + (f", {where}" if where else "") + f", mu = {mu:g}): the "
                            f"order-{order} slow flow has no stable locked state at "
                            f"{ax.user} = {at}; ask another interval of {ax.user}"
-                           + (" or other coupling values" if where else ""))
+                           + (" or other coupling values" if where else
+                              " or other values of -p (a stronger coupling)"))
     return got[0]
 
 

@@ -128,7 +128,9 @@ def parameter_range(vary: str, bounds, params) -> tuple[float, float, float]:
         raise ParameterError(f"the range of {vary} must be finite, got {lo:g}:{hi:g}")
     if not lo < hi:
         raise ParameterError(f"empty range {lo:g}:{hi:g} for {vary}: give FROM < TO")
-    p0 = float(params[vary]) if vary in params else lo
+    from kbm.parameters.values import parameter_value  # "3/2", as -p reads every value
+
+    p0 = float(parameter_value(vary, params[vary])) if vary in params else lo
     if not lo <= p0 <= hi:
         raise ParameterError(f"the start value {vary} = {p0:g} is outside the range "
                              f"{lo:g}:{hi:g}")

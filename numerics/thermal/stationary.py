@@ -146,7 +146,8 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
     name = model if isinstance(model, str) else model.name
     if isinstance(model, str) and model in SLIDERS:
         for k, val in SLIDER_DEFAULTS.items():
-            params.setdefault(k, val)
+            if not (k == "lam" and "k" in params):  # k = 2 pi/lam given: no default lam
+                params.setdefault(k, val)
     if not isinstance(trajectories, int) or trajectories < MIN_TRAJECTORIES:
         raise ParameterError(f"--trajectories {trajectories}: at least {MIN_TRAJECTORIES} are "
                              "needed for a meaningful standard error")

@@ -41,13 +41,14 @@ def checked_values(model, args: argparse.Namespace,
     kbm.errors.ParameterError
         For an unknown name (the valid ones listed) or ``-p sigma``.
     """
-    from numerics.cli.params.values import check, given
+    from numerics.cli.params.values import check, given, wavenumber
 
     params = given(args.param)
     if "sigma" in params and not varied:
         raise ParameterError(f"sigma is the detuning: give it as --detuning {params['sigma']}"
                              " or a range --vary sigma=FROM:TO, not -p sigma")
     check(model, params, varied, extra=("sigma",) if varied else ())
+    wavenumber(model, params)
     return params
 
 

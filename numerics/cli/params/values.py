@@ -40,11 +40,12 @@ import numpy as np
 
 from kbm.cli._common import check
 from kbm.cli._common import parse_params as given
-from kbm.errors import OrderError, ParameterError
-from kbm.parameters.values import ParameterNames
+from kbm.errors import KBMError, OrderError, ParameterError
+from kbm.parameters.values import ParameterNames, parameter_value
 
 __all__ = ["DEFAULT_POINTS", "MAX_POINTS", "Vary", "parse_vary", "given", "check", "positive",
-           "noise_params", "without_noise", "open_store", "numbers", "orders", "within", "USAGE"]
+           "wavenumber", "noise_params", "without_noise", "open_store", "numbers", "orders",
+           "within", "USAGE"]
 
 #: values of a range without ``:N``
 DEFAULT_POINTS = 8
@@ -153,6 +154,28 @@ def parse_vary(text: str) -> Vary:
     return Vary(name, text, lo, hi, n, log)
 
 
+def wavenumber(model: object, params: Mapping[str, object]) -> None:
+    """Refuse ``-p k=0`` where ``k`` is a slider's wavenumber ``2 pi/lam`` or divides in ``F``
+    (``nu/k``): ``kbm cycle``, ``compare``, ``branch``, ``response`` died with a traceback.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+    """
+    if "k" not in params:
+        return
+    from sympy import Pow, Symbol
+
+    from kbm.parameters.names import lookup, names_of
+
+    obj = lookup(model) if isinstance(model, str) else model
+    F = obj.F if isinstance(obj.F, (tuple, list)) else (obj.F,)
+    divides = any(p.base == Symbol("k") and p.exp.is_negative for f in F for p in f.atoms(Pow))
+    if ("k" in names_of(obj).physical or divides) and parameter_value("k", params["k"]) == 0:
+        raise ParameterError(f"k = {params['k']} gives no finite lam (k = 2*pi/lam): give the "
+                             "wavenumber -p k=VALUE != 0, or the period -p lam=VALUE")
+
+
 def within(value: float | None, flag: str, lo: float | None = None,
            hi: float | None = None) -> None:
     """Refuse the value of the option ``flag`` outside ``[lo, hi]``, or not finite where no
@@ -249,7 +272,21 @@ def noise_params(params: Mapping[str, str]) -> tuple[dict[str, str], str | None]
         raise ParameterError("T = 0 is the deterministic model, without noise: give a "
                              "temperature T > 0 (-p T=VALUE, T = kT = D/mu) or a noise "
                              "intensity D > 0 (-p D=VALUE)")
+    rest = {k: _decimal(k, v) for k, v in rest.items()}
     return {**rest, "D": D if name == "D" else repr(float(D))}, name
+
+
+def _decimal(name: str, text: object) -> object:
+    """A ``-p`` value as typed where ``float`` reads it, else (``1/50``) its decimal value:
+    ``float('1/50')`` was a ValueError traceback in ``kbm escape``, ``kbm spectrum``."""
+    try:
+        float(text)
+    except (TypeError, ValueError):
+        try:
+            return repr(float(parameter_value(name, text)))
+        except KBMError:  # no number: said where the value is checked, as before
+            return text
+    return text
 
 
 def without_noise(params: Mapping[str, str],

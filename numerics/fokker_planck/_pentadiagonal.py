@@ -41,6 +41,8 @@ import numpy as np
 import scipy.sparse as sps
 from scipy.linalg import LinAlgWarning, inv, lu_factor, lu_solve
 
+from ._single_products import single_matvec
+
 __all__ = ["HermitePentadiagonalLU", "pentadiagonal_applies"]
 
 
@@ -88,9 +90,12 @@ class HermitePentadiagonalLU:
         Chebyshev points.
     pinned : sequence of int
     single : bool
-        Eliminate in single precision (the inverses and products at about twice the rate,
-        the factors kept in double): then :meth:`solve` is a preconditioner, within about
-        ``1e-3`` relative at the SEDF's largest grids, for :mod:`._bordered`, not a solve.
+        Eliminate in single precision (the inverses and products at about twice the rate)
+        and keep the factors in single precision (half the memory, ``12 N m^2`` bytes); the
+        sweeps multiply them with double-precision vectors, summed in double
+        (:func:`._single_products.single_matvec`): then :meth:`solve` is a preconditioner,
+        within about ``1e-3`` relative at the SEDF's largest grids, for :mod:`._bordered`,
+        not a solve.
 
     Raises
     ------
@@ -194,8 +199,9 @@ class HermitePentadiagonalLU:
     def _keep(self, k: int, sinv: np.ndarray, x1: np.ndarray, p: np.ndarray) -> None:
         """Keep the factors of the order ``k``: ``S^-1``, ``S^-1 A(k, k-1)`` and the
         eliminated ``A(k-1, k)`` (in memory here; on disk in
-        :class:`._pentadiagonal_disk.DiskPentadiagonalLU`), in double precision."""
-        self._inv[k], self._x1[k], self._p[k] = (np.asarray(a, float) for a in (sinv, x1, p))
+        :class:`._pentadiagonal_disk.DiskPentadiagonalLU`), in the elimination's precision
+        (none of the three is written again by the elimination)."""
+        self._inv[k], self._x1[k], self._p[k] = sinv, x1, p
 
     def _forward_factors(self, k: int):
         """``(S^-1, A(k-1, k))`` of the order ``k``, in the forward sweep's order (the
@@ -230,6 +236,7 @@ class HermitePentadiagonalLU:
         """``A^{-1} rhs`` by the factors: the forward sweep from the top order down, then
         the back substitution upward."""
         m, n = self.m, self.n
+        mv = single_matvec  # a @ x summed in double; numpy's product for double factors
         b = np.array(rhs, float).reshape(n, m)
         y = np.empty((n, m))
         for k in range(n - 1, -1, -1):
@@ -237,8 +244,8 @@ class HermitePentadiagonalLU:
                 y[k] = lu_solve(self._lu, b[k], check_finite=False)
             else:
                 sinv, p = self._forward_factors(k)
-                y[k] = sinv @ b[k]
-                b[k - 1] -= p @ y[k]
+                y[k] = mv(sinv, b[k])
+                b[k - 1] -= mv(p, y[k])
             if k >= 2:
                 b[k - 2] -= self._q2[k] * y[k]
         x = np.empty((n, m))
@@ -246,8 +253,8 @@ class HermitePentadiagonalLU:
             r = y[k]
             if k >= 1:
                 x1, sinv = self._back_factors(k)
-                r = r - x1 @ x[k - 1]
+                r = r - mv(x1, x[k - 1])
             if k >= 2:
-                r = r - sinv @ (self._d2[k] * x[k - 2])
+                r = r - mv(sinv, self._d2[k] * x[k - 2])
             x[k] = r
         return x.reshape(-1)

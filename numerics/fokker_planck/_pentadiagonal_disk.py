@@ -61,21 +61,22 @@ __all__ = ["DiskPentadiagonalLU", "FACTOR_MEMORY", "factor_bytes", "pentadiagona
 FACTOR_MEMORY = 3e9
 
 
-def factor_bytes(n: int, m: int) -> int:
+def factor_bytes(n: int, m: int, single: bool = False) -> int:
     """The bytes :class:`._pentadiagonal.HermitePentadiagonalLU` keeps for ``n`` orders of
-    ``m`` points: three ``m x m`` blocks per order."""
-    return 24 * int(n) * int(m) ** 2
+    ``m`` points: three ``m x m`` blocks per order, of 8 bytes (4 with ``single``)."""
+    return (12 if single else 24) * int(n) * int(m) ** 2
 
 
-def pentadiagonal_lu(terms, m: int, pinned=()) -> HermitePentadiagonalLU:
-    """The order-by-order LU of ``terms``: in memory
+def pentadiagonal_lu(terms, m: int, pinned=(), single: bool = False) -> HermitePentadiagonalLU:
+    """The order-by-order LU of ``terms`` (in single precision with ``single``, the
+    preconditioner of :mod:`._bordered`): in memory
     (:class:`._pentadiagonal.HermitePentadiagonalLU`) when :func:`factor_bytes` is at most
     :data:`FACTOR_MEMORY`, else on disk (:class:`DiskPentadiagonalLU`, the same
     solutions)."""
     n = terms[0][0].shape[0]
-    if factor_bytes(n, m) <= FACTOR_MEMORY:
-        return HermitePentadiagonalLU(terms, m, pinned)
-    return DiskPentadiagonalLU(terms, m, pinned)
+    if factor_bytes(n, m, single) <= FACTOR_MEMORY:
+        return HermitePentadiagonalLU(terms, m, pinned, single=single)
+    return DiskPentadiagonalLU(terms, m, pinned, single=single)
 
 
 class DiskPentadiagonalLU(HermitePentadiagonalLU):
@@ -85,8 +86,9 @@ class DiskPentadiagonalLU(HermitePentadiagonalLU):
 
     Parameters
     ----------
-    terms, m, pinned
-        As :class:`._pentadiagonal.HermitePentadiagonalLU`.
+    terms, m, pinned, single
+        As :class:`._pentadiagonal.HermitePentadiagonalLU` (``single``: the records in
+        single precision, ``8 N m^2`` bytes).
     directory : str, optional
         Where the file goes (default :func:`tempfile.gettempdir`, ``TMPDIR``).
 
@@ -98,23 +100,25 @@ class DiskPentadiagonalLU(HermitePentadiagonalLU):
         As :class:`._pentadiagonal.HermitePentadiagonalLU`.
     """
 
-    def __init__(self, terms, m: int, pinned=(), directory: str | None = None):
+    def __init__(self, terms, m: int, pinned=(), directory: str | None = None,
+                 single: bool = False):
         from kbm.errors import ModelError
 
         n = terms[0][0].shape[0]
+        dtype = np.dtype(np.float32 if single else np.float64)
         directory = tempfile.gettempdir() if directory is None else directory
-        need, free = 16 * n * m * m, shutil.disk_usage(directory).free
+        need, free = 2 * dtype.itemsize * n * m * m, shutil.disk_usage(directory).free
         if need > free:
             raise ModelError(f"the Kramers solve's factors ({n} orders x {m} points) need "
                              f"{need / 1e9:.3g} GB on disk in {directory}, which has "
                              f"{free / 1e9:.3g} GB free: set TMPDIR to a directory with "
                              "more space, or take fewer functions or points")
-        self._record = 2 * m * m * 8  # S^-1, then X1, one record per order from the top
+        self._record = 2 * m * m * dtype.itemsize  # S^-1, then X1, per order from the top
         self._file = tempfile.TemporaryFile(dir=directory)
-        self._buffers = np.empty((2, 2, m, m))  # two records: this order's, the one above
-        self._tmp = np.empty((m, m))
+        self._buffers = np.empty((2, 2, m, m), dtype)  # this order's record, the one above
+        self._tmp = np.empty((m, m), dtype)
         self._above = -1  # the order whose X1 is in the second buffer
-        super().__init__(terms, m, pinned)
+        super().__init__(terms, m, pinned, single=single)
         self._file.flush()
 
     def _keep(self, k: int, sinv: np.ndarray, x1: np.ndarray, p: np.ndarray) -> None:

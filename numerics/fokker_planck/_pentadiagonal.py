@@ -131,6 +131,8 @@ class HermitePentadiagonalLU:
         pinned = np.asarray(pinned, int)
 
         self._terms = [(sps.csr_matrix(H), X) for (H, _), (_, X) in zip(terms, diags)]
+        if single:  # the dense blocks built in single precision (matvec keeps the doubles)
+            diags = [(dg, X.astype(np.float32) if X.ndim == 2 else X) for dg, X in diags]
         self._diags, self._pinned = diags, pinned
         coupling = self._coupling
         self._inv, self._x1, self._p, self._q2 = [None] * n, [None] * n, [None] * n, [None] * n
@@ -179,7 +181,8 @@ class HermitePentadiagonalLU:
     def _coupling(self, k: int, d: int, dense: bool) -> np.ndarray:
         """The original block ``(k, k + d)``: dense, or its diagonal (``dense=False``).
         The first dense term is written into the block, not added to zeros (one pass
-        over ``m^2`` numbers fewer, the same sums)."""
+        over ``m^2`` numbers fewer, the same sums); with ``single`` the dense blocks are
+        summed in single precision (half the bytes, no conversion of the block)."""
         m, pinned = self.m, self._pinned
         out = None
         for dg, X in self._diags:
@@ -187,20 +190,21 @@ class HermitePentadiagonalLU:
             if c == 0.0:
                 continue
             if X.ndim == 2:
+                c = X.dtype.type(c)  # in X's precision
                 if out is None:
                     out = np.multiply(X, c)
                 else:
                     out += c * X
             elif dense:
                 if out is None:
-                    out = np.zeros((m, m))
+                    out = np.zeros((m, m), self._dtype)
                 out.ravel()[::m + 1] += c * X
             elif out is None:
                 out = c * X
             else:
                 out += c * X
         if out is None:
-            out = np.zeros((m, m)) if dense else np.zeros(m)
+            out = np.zeros((m, m), self._dtype) if dense else np.zeros(m)
         out = out.astype(self._dtype, copy=False)
         if pinned.size:
             if dense:

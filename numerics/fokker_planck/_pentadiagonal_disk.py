@@ -32,6 +32,11 @@ functions).  Without the page cache (the file not held in free memory) the sweep
 at the disk's rate (here 0.77 GB/s, ``dd`` with direct I/O): 46 GB at 364 x 1624, about
 a minute of waiting more.
 
+The single-precision factorisation that preconditions GMRES (:mod:`._bordered`) keeps its
+factors in single precision, ``12 N m^2`` bytes in memory and ``8 N m^2`` on disk
+(``single``), so at mu = 0.005, 364 x 1624 (2.9 GB) it stays in memory; the direct solve,
+its fallback, keeps the double factors and goes to disk by the same cap.
+
 The alternatives, not taken: checkpointing the elimination (Griewank's revolve, the
 frontier every ``K`` orders, a segment refactorised in the back substitution) costs about
 two factorisations per sweep, and the inverse iteration makes 6 sweeps (3 solves with one
@@ -56,8 +61,8 @@ __all__ = ["DiskPentadiagonalLU", "FACTOR_MEMORY", "factor_bytes", "pentadiagona
 
 #: the largest factors (bytes, :func:`factor_bytes`) kept in memory; beyond it
 #: :func:`pentadiagonal_lu` keeps them on disk.  Above the largest solve of ``kbm noise``
-#: at mu >= 0.01 (SEDF at rest, mu = 0.01, D = 0.005: 258 x 1300 for ``P(E)``, 2.6 GB),
-#: whose solves stay in memory.
+#: at mu >= 0.01 (SEDF at rest, mu = 0.01, D = 0.005: 258 x 1300 for ``P(E)``, 2.6 GB in
+#: double, 1.3 GB in single precision), whose solves stay in memory.
 FACTOR_MEMORY = 3e9
 
 

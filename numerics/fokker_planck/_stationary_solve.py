@@ -203,5 +203,5 @@ def _mixed(terms, m: int, pins, c: np.ndarray, keep: np.ndarray, wq: np.ndarray,
     except np.linalg.LinAlgError:
         return None
     return bordered_inverse_iteration(
-        single._sweeps, single.matvec, c, keep,
+        lambda r: single.solve(r, refine=False), single.matvec, c, keep,
         lambda v: float(np.sum(wq * (mass @ v.reshape(nh, m)))), iterations, rtol)

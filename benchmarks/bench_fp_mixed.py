@@ -12,7 +12,7 @@ routes, the order reversed every other round, and the bytes of each route's fact
 (:func:`numerics.fokker_planck._pentadiagonal_disk.factor_bytes`) are printed with where
 they go (memory, or disk beyond ``FACTOR_MEMORY``).  Measured (mu = 0.01, one BLAS
 thread, CPU s, direct / GMRES), the factors of single precision kept in double (before
-the twenty-first session)::
+they were kept in single precision)::
 
     258 x 1041    10.04 / 6.30    10.27 / 5.82    (1.59x, 1.76x; load 3-4.5 on 2 cores)
                   10.31 / 6.39    10.74 / 6.76    (1.61x, 1.59x; this script, load 0.9)

@@ -27,7 +27,7 @@ precision is about 3e-14 at 1041 points, and at 1e-13 the coefficients came with
 alone (an eigenvector within 2e-4).  The sweeps of single precision (factors and
 vectors) took 160-260 iterations at 258 x 593: the factors are kept in single precision
 but the vectors and the sums of the sweeps in double
-(:func:`._single_products.single_matvec`; until the twenty-first session the factors were
+(:func:`._single_products.single_matvec`; the factors were formerly
 kept in double, the same operator to the rounding of a double sum, twice the memory), in
 memory up to :data:`._pentadiagonal_disk.FACTOR_MEMORY` and on disk beyond it.
 

@@ -55,7 +55,7 @@ def test_fgmres_against_a_dense_solve(seed):
 def test_single_precision_factorisation_is_an_approximate_inverse():
     """The single-precision order-by-order LU (SEDF, 24 functions x 61 points) solves a
     system within 1e-3 of the double-precision LU's solution, and not to 1e-9 (its
-    rounding is single precision's), the factors kept in double."""
+    rounding is single precision's), the factors kept in single precision."""
     split = split_conservative("sedf", SEDF)
     xs, Dx = cheb_mapped(60, 5.0, 0.95)
     terms = orthonormal_terms(split, 0.05, 0.5, xs, Dx, 24)
@@ -63,7 +63,7 @@ def test_single_precision_factorisation_is_an_approximate_inverse():
     b = np.random.default_rng(3).standard_normal(24 * m)
     ref = HermitePentadiagonalLU(terms, m, (0, m - 1)).solve(b)
     single = HermitePentadiagonalLU(terms, m, (0, m - 1), single=True)
-    assert single._inv[5].dtype == np.float64
+    assert single._inv[5].dtype == np.float32
     err = np.max(np.abs(single.solve(b) - ref)) / np.max(np.abs(ref))
     assert 1e-12 < err <= 1e-3
 

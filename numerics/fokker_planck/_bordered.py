@@ -25,7 +25,11 @@ precision is about 3e-14 at 1041 points, and at 1e-13 the coefficients came with
 3.2e-13 (1041 points) and 6.4e-13 (1301) of the direct solve's, the moments within
 3e-13, with 6-7 iterations from two sweeps of inverse iteration with the preconditioner
 alone (an eigenvector within 2e-4).  The sweeps of single precision (factors and
-vectors) took 160-260 iterations at 258 x 593: the factors are kept in double.
+vectors) took 160-260 iterations at 258 x 593: the factors are kept in single precision
+but the vectors and the sums of the sweeps in double
+(:func:`._single_products.single_matvec`; the factors were formerly
+kept in double, the same operator to the rounding of a double sum, twice the memory), in
+memory up to :data:`._pentadiagonal_disk.FACTOR_MEMORY` and on disk beyond it.
 
 When GMRES does not reach the tolerance within :data:`MAX_ITERATIONS`, or the iteration
 does not settle within the caller's ``iterations``, :func:`bordered_inverse_iteration`

@@ -35,11 +35,11 @@ order and sweep).
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 import scipy.sparse as sps
-from scipy.linalg import LinAlgWarning, inv, lu_factor, lu_solve
+from scipy.linalg import get_lapack_funcs, lu_factor, lu_solve
+
+from ._single_products import single_matvec
 
 __all__ = ["HermitePentadiagonalLU", "pentadiagonal_applies"]
 
@@ -61,6 +61,28 @@ def _diagonals(terms, n: int):
             diags[d] = v
         out.append((diags, np.asarray(X, float)))
     return out
+
+
+def _inverse(a: np.ndarray) -> np.ndarray:
+    """``a^-1`` by LAPACK's ``getrf`` and ``getri`` (the same bits as
+    :func:`scipy.linalg.inv`, which calls them too, without its structure test and
+    condition estimate: an ill-conditioned complement, vdp at mu = 1e-6, D = 1e-6 with
+    rcond ~ 1e-26, is judged by the solve's refinements, ``hermite_change`` and
+    ``chebyshev_change``, not by a warning per order; measured 20-25 % less time at
+    ``m = 521`` in single and double precision), C-contiguous for the sweeps' products.
+
+    Raises
+    ------
+    numpy.linalg.LinAlgError
+        When ``a`` is singular (a zero pivot)."""
+    getrf, getri, lwork = get_lapack_funcs(("getrf", "getri", "getri_lwork"), (a,))
+    lu, piv, info = getrf(a, overwrite_a=True)
+    if info == 0:
+        work = int(np.real(lwork(a.shape[0])[0]))
+        out, info = getri(lu, piv, lwork=max(work, a.shape[0]), overwrite_lu=True)
+    if info != 0:
+        raise np.linalg.LinAlgError("a singular Schur complement in the order-by-order LU")
+    return np.ascontiguousarray(out)
 
 
 def pentadiagonal_applies(terms) -> bool:
@@ -88,9 +110,12 @@ class HermitePentadiagonalLU:
         Chebyshev points.
     pinned : sequence of int
     single : bool
-        Eliminate in single precision (the inverses and products at about twice the rate,
-        the factors kept in double): then :meth:`solve` is a preconditioner, within about
-        ``1e-3`` relative at the SEDF's largest grids, for :mod:`._bordered`, not a solve.
+        Eliminate in single precision (the inverses and products at about twice the rate)
+        and keep the factors in single precision (half the memory, ``12 N m^2`` bytes); the
+        sweeps multiply them with double-precision vectors, summed in double
+        (:func:`._single_products.single_matvec`): then :meth:`solve` is a preconditioner,
+        within about ``1e-3`` relative at the SEDF's largest grids, for :mod:`._bordered`,
+        not a solve.
 
     Raises
     ------
@@ -106,6 +131,8 @@ class HermitePentadiagonalLU:
         pinned = np.asarray(pinned, int)
 
         self._terms = [(sps.csr_matrix(H), X) for (H, _), (_, X) in zip(terms, diags)]
+        if single:  # the dense blocks built in single precision (matvec keeps the doubles)
+            diags = [(dg, X.astype(np.float32) if X.ndim == 2 else X) for dg, X in diags]
         self._diags, self._pinned = diags, pinned
         coupling = self._coupling
         self._inv, self._x1, self._p, self._q2 = [None] * n, [None] * n, [None] * n, [None] * n
@@ -127,12 +154,7 @@ class HermitePentadiagonalLU:
                                                 "order-by-order LU")
                 self._lu = (np.asarray(lu[0], float), lu[1])
                 break
-            with warnings.catch_warnings():
-                # an ill-conditioned complement (vdp at mu = 1e-6, D = 1e-6: rcond ~ 1e-26)
-                # is judged by the solve's refinements (hermite_change, chebyshev_change,
-                # the flag of kbm noise), not by a LinAlgWarning per order on stderr
-                warnings.simplefilter("ignore", LinAlgWarning)
-                sinv = inv(akk, overwrite_a=True, check_finite=False)
+            sinv = _inverse(akk)
             if not np.all(np.isfinite(sinv)):
                 raise np.linalg.LinAlgError("a singular Schur complement in the order-by-order LU")
             x1 = sinv @ ak1  # S^-1 A(k, k-1)
@@ -159,7 +181,8 @@ class HermitePentadiagonalLU:
     def _coupling(self, k: int, d: int, dense: bool) -> np.ndarray:
         """The original block ``(k, k + d)``: dense, or its diagonal (``dense=False``).
         The first dense term is written into the block, not added to zeros (one pass
-        over ``m^2`` numbers fewer, the same sums)."""
+        over ``m^2`` numbers fewer, the same sums); with ``single`` the dense blocks are
+        summed in single precision (half the bytes, no conversion of the block)."""
         m, pinned = self.m, self._pinned
         out = None
         for dg, X in self._diags:
@@ -167,20 +190,21 @@ class HermitePentadiagonalLU:
             if c == 0.0:
                 continue
             if X.ndim == 2:
+                c = X.dtype.type(c)  # in X's precision
                 if out is None:
                     out = np.multiply(X, c)
                 else:
                     out += c * X
             elif dense:
                 if out is None:
-                    out = np.zeros((m, m))
+                    out = np.zeros((m, m), self._dtype)
                 out.ravel()[::m + 1] += c * X
             elif out is None:
                 out = c * X
             else:
                 out += c * X
         if out is None:
-            out = np.zeros((m, m)) if dense else np.zeros(m)
+            out = np.zeros((m, m), self._dtype) if dense else np.zeros(m)
         out = out.astype(self._dtype, copy=False)
         if pinned.size:
             if dense:
@@ -194,8 +218,9 @@ class HermitePentadiagonalLU:
     def _keep(self, k: int, sinv: np.ndarray, x1: np.ndarray, p: np.ndarray) -> None:
         """Keep the factors of the order ``k``: ``S^-1``, ``S^-1 A(k, k-1)`` and the
         eliminated ``A(k-1, k)`` (in memory here; on disk in
-        :class:`._pentadiagonal_disk.DiskPentadiagonalLU`), in double precision."""
-        self._inv[k], self._x1[k], self._p[k] = (np.asarray(a, float) for a in (sinv, x1, p))
+        :class:`._pentadiagonal_disk.DiskPentadiagonalLU`), in the elimination's precision
+        (none of the three is written again by the elimination)."""
+        self._inv[k], self._x1[k], self._p[k] = sinv, x1, p
 
     def _forward_factors(self, k: int):
         """``(S^-1, A(k-1, k))`` of the order ``k``, in the forward sweep's order (the
@@ -231,6 +256,7 @@ class HermitePentadiagonalLU:
         """``A^{-1} rhs`` by the factors: the forward sweep from the top order down, then
         the back substitution upward."""
         m, n = self.m, self.n
+        mv = single_matvec  # a @ x summed in double; numpy's product for double factors
         b = np.array(rhs, float).reshape(n, m)
         y = np.empty((n, m))
         for k in range(n - 1, -1, -1):
@@ -238,8 +264,8 @@ class HermitePentadiagonalLU:
                 y[k] = lu_solve(self._lu, b[k], check_finite=False)
             else:
                 sinv, p = self._forward_factors(k)
-                y[k] = sinv @ b[k]
-                b[k - 1] -= p @ y[k]
+                y[k] = mv(sinv, b[k])
+                b[k - 1] -= mv(p, y[k])
             if k >= 2:
                 b[k - 2] -= self._q2[k] * y[k]
         x = np.empty((n, m))
@@ -247,8 +273,8 @@ class HermitePentadiagonalLU:
             r = y[k]
             if k >= 1:
                 x1, sinv = self._back_factors(k)
-                r = r - x1 @ x[k - 1]
+                r = r - mv(x1, x[k - 1])
             if k >= 2:
-                r = r - sinv @ (self._d2[k] * x[k - 2])
+                r = r - mv(sinv, self._d2[k] * x[k - 2])
             x[k] = r
         return x.reshape(-1)

@@ -32,6 +32,11 @@ functions).  Without the page cache (the file not held in free memory) the sweep
 at the disk's rate (here 0.77 GB/s, ``dd`` with direct I/O): 46 GB at 364 x 1624, about
 a minute of waiting more.
 
+The single-precision factorisation that preconditions GMRES (:mod:`._bordered`) keeps its
+factors in single precision, ``12 N m^2`` bytes in memory and ``8 N m^2`` on disk
+(``single``), so at mu = 0.005, 364 x 1624 (2.9 GB) it stays in memory; the direct solve,
+its fallback, keeps the double factors and goes to disk by the same cap.
+
 The alternatives, not taken: checkpointing the elimination (Griewank's revolve, the
 frontier every ``K`` orders, a segment refactorised in the back substitution) costs about
 two factorisations per sweep, and the inverse iteration makes 6 sweeps (3 solves with one
@@ -56,26 +61,27 @@ __all__ = ["DiskPentadiagonalLU", "FACTOR_MEMORY", "factor_bytes", "pentadiagona
 
 #: the largest factors (bytes, :func:`factor_bytes`) kept in memory; beyond it
 #: :func:`pentadiagonal_lu` keeps them on disk.  Above the largest solve of ``kbm noise``
-#: at mu >= 0.01 (SEDF at rest, mu = 0.01, D = 0.005: 258 x 1300 for ``P(E)``, 2.6 GB),
-#: whose solves stay in memory.
+#: at mu >= 0.01 (SEDF at rest, mu = 0.01, D = 0.005: 258 x 1300 for ``P(E)``, 2.6 GB in
+#: double, 1.3 GB in single precision), whose solves stay in memory.
 FACTOR_MEMORY = 3e9
 
 
-def factor_bytes(n: int, m: int) -> int:
+def factor_bytes(n: int, m: int, single: bool = False) -> int:
     """The bytes :class:`._pentadiagonal.HermitePentadiagonalLU` keeps for ``n`` orders of
-    ``m`` points: three ``m x m`` blocks per order."""
-    return 24 * int(n) * int(m) ** 2
+    ``m`` points: three ``m x m`` blocks per order, of 8 bytes (4 with ``single``)."""
+    return (12 if single else 24) * int(n) * int(m) ** 2
 
 
-def pentadiagonal_lu(terms, m: int, pinned=()) -> HermitePentadiagonalLU:
-    """The order-by-order LU of ``terms``: in memory
+def pentadiagonal_lu(terms, m: int, pinned=(), single: bool = False) -> HermitePentadiagonalLU:
+    """The order-by-order LU of ``terms`` (in single precision with ``single``, the
+    preconditioner of :mod:`._bordered`): in memory
     (:class:`._pentadiagonal.HermitePentadiagonalLU`) when :func:`factor_bytes` is at most
     :data:`FACTOR_MEMORY`, else on disk (:class:`DiskPentadiagonalLU`, the same
     solutions)."""
     n = terms[0][0].shape[0]
-    if factor_bytes(n, m) <= FACTOR_MEMORY:
-        return HermitePentadiagonalLU(terms, m, pinned)
-    return DiskPentadiagonalLU(terms, m, pinned)
+    if factor_bytes(n, m, single) <= FACTOR_MEMORY:
+        return HermitePentadiagonalLU(terms, m, pinned, single=single)
+    return DiskPentadiagonalLU(terms, m, pinned, single=single)
 
 
 class DiskPentadiagonalLU(HermitePentadiagonalLU):
@@ -85,8 +91,9 @@ class DiskPentadiagonalLU(HermitePentadiagonalLU):
 
     Parameters
     ----------
-    terms, m, pinned
-        As :class:`._pentadiagonal.HermitePentadiagonalLU`.
+    terms, m, pinned, single
+        As :class:`._pentadiagonal.HermitePentadiagonalLU` (``single``: the records in
+        single precision, ``8 N m^2`` bytes).
     directory : str, optional
         Where the file goes (default :func:`tempfile.gettempdir`, ``TMPDIR``).
 
@@ -98,23 +105,25 @@ class DiskPentadiagonalLU(HermitePentadiagonalLU):
         As :class:`._pentadiagonal.HermitePentadiagonalLU`.
     """
 
-    def __init__(self, terms, m: int, pinned=(), directory: str | None = None):
+    def __init__(self, terms, m: int, pinned=(), directory: str | None = None,
+                 single: bool = False):
         from kbm.errors import ModelError
 
         n = terms[0][0].shape[0]
+        dtype = np.dtype(np.float32 if single else np.float64)
         directory = tempfile.gettempdir() if directory is None else directory
-        need, free = 16 * n * m * m, shutil.disk_usage(directory).free
+        need, free = 2 * dtype.itemsize * n * m * m, shutil.disk_usage(directory).free
         if need > free:
             raise ModelError(f"the Kramers solve's factors ({n} orders x {m} points) need "
                              f"{need / 1e9:.3g} GB on disk in {directory}, which has "
                              f"{free / 1e9:.3g} GB free: set TMPDIR to a directory with "
                              "more space, or take fewer functions or points")
-        self._record = 2 * m * m * 8  # S^-1, then X1, one record per order from the top
+        self._record = 2 * m * m * dtype.itemsize  # S^-1, then X1, per order from the top
         self._file = tempfile.TemporaryFile(dir=directory)
-        self._buffers = np.empty((2, 2, m, m))  # two records: this order's, the one above
-        self._tmp = np.empty((m, m))
+        self._buffers = np.empty((2, 2, m, m), dtype)  # this order's record, the one above
+        self._tmp = np.empty((m, m), dtype)
         self._above = -1  # the order whose X1 is in the second buffer
-        super().__init__(terms, m, pinned)
+        super().__init__(terms, m, pinned, single=single)
         self._file.flush()
 
     def _keep(self, k: int, sinv: np.ndarray, x1: np.ndarray, p: np.ndarray) -> None:

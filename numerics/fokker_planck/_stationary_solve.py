@@ -118,16 +118,18 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
     ``fold`` (default: whenever :func:`._parity.reflection_symmetric` holds) solves on the
     points ``x >= 0`` only (:mod:`._parity`: the same density, an eighth of the work);
     ``weight`` is one number or one per centre.  ``mixed`` (default: from
-    :data:`._bordered.MIXED_POINTS` points per order on, factors in memory) solves by the
-    single-precision factorisation and GMRES of :mod:`._bordered` where the LU is order by
-    order, the direct solve when that does not converge."""
+    :data:`._bordered.MIXED_POINTS` points per order on) solves by the single-precision
+    factorisation and GMRES of :mod:`._bordered` where the LU is order by order (its
+    factors in single precision, on disk beyond
+    :data:`._pentadiagonal_disk.FACTOR_MEMORY`), the direct solve when that does not
+    converge."""
     from ._bases import cheb_centred, cheb_mapped, clenshaw_curtis
     from ._blocks import BlockTridiagonalLU, TermBlocks, one_blas_thread
     from ._orthonormal import orthonormal_terms
     from ._parity import fold_terms, fold_weights, reflection_symmetric, unfold
     from ._pentadiagonal import pentadiagonal_applies
     from ._bordered import MIXED_POINTS
-    from ._pentadiagonal_disk import FACTOR_MEMORY, factor_bytes, pentadiagonal_lu
+    from ._pentadiagonal_disk import pentadiagonal_lu
 
     centres, widths = tuple(map(float, centres)), tuple(map(float, widths))
     if centres:
@@ -156,7 +158,7 @@ def orthonormal_stationary(split, D: float, s: float, half: float, nh: int, nc: 
     with one_blas_thread():
         penta = pentadiagonal_applies(terms)
         if mixed is None:
-            mixed = m >= MIXED_POINTS and factor_bytes(nh, m) <= FACTOR_MEMORY
+            mixed = m >= MIXED_POINTS
         done = _mixed(terms, m, pins, c, keep, wq, mass, iterations, rtol) \
             if mixed and penta else None
         if done is not None:
@@ -188,15 +190,16 @@ def _mixed(terms, m: int, pins, c: np.ndarray, keep: np.ndarray, wq: np.ndarray,
            iterations: int, rtol: float):
     """The inverse iteration of :func:`orthonormal_stationary` by
     :func:`._bordered.bordered_inverse_iteration` on the single-precision order-by-order
-    LU: ``(c, lambda_0, last change)``, or ``None`` (the direct solve then) when it did not
+    LU (in memory or on disk, :func:`._pentadiagonal_disk.pentadiagonal_lu`):
+    ``(c, lambda_0, last change)``, or ``None`` (the direct solve then) when it did not
     converge or a single-precision Schur complement was singular."""
     from ._bordered import bordered_inverse_iteration
-    from ._pentadiagonal import HermitePentadiagonalLU
+    from ._pentadiagonal_disk import pentadiagonal_lu
 
     nh = c.size // m
     try:
         with np.errstate(over="ignore", invalid="ignore"):  # judged by the finite check
-            single = HermitePentadiagonalLU(terms, m, pins, single=True)
+            single = pentadiagonal_lu(terms, m, pins, single=True)
     except np.linalg.LinAlgError:
         return None
     return bordered_inverse_iteration(

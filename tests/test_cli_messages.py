@@ -189,6 +189,12 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     # E_b/kT = 2e7: two RuntimeWarnings and "came out as nan ... check mu > 0 and D > 0"
     (["escape", "cdc", "-p", "mu=0.02", "-p", "Delta=3", "-p", "D=1e-9", "--no-simulation"],
      "raise D to 3.11e-05 or more"),
+    # a negative T was told "T >= 0", then T = 0 was refused: the range these commands
+    # take is T > 0 (kbm friction keeps T >= 0, T = 0 its deterministic slider)
+    (["noise", "vdp", "-p", "mu=0.05", "-p", "T=-0.01"], "give -p T=VALUE with T > 0"),
+    (["escape", "sedf", "-p", "mu=0.05", "-p", "T=-0.01"], "give -p T=VALUE with T > 0"),
+    (["friction", "sedf", "-p", "mu=0.1", "-p", "T=-1", "--vary", "v=0.1:1"],
+     "must be >= 0 (T = 0 is the deterministic slider)"),
 ])
 def test_messages_speak_the_command_line(argv, says, capsys):
     """Each message as the user meets it: one line, exit 2, the option named as typed and no

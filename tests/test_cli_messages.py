@@ -195,6 +195,9 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     (["escape", "sedf", "-p", "mu=0.05", "-p", "T=-0.01"], "give -p T=VALUE with T > 0"),
     (["friction", "sedf", "-p", "mu=0.1", "-p", "T=-1", "--vary", "v=0.1:1"],
      "must be >= 0 (T = 0 is the deterministic slider)"),
+    # without -p v the stage stood still, v = 0 (not a documented default): zeros, 0 slips
+    (["slide", "sedf", "-p", "Delta=3", "-p", "beta=1", "--t-end", "100"],
+     "give the stage velocity -p v=VALUE"),
 ])
 def test_messages_speak_the_command_line(argv, says, capsys):
     """Each message as the user meets it: one line, exit 2, the option named as typed and no

@@ -204,6 +204,14 @@ CLI_CASES = [
     ("slide cdc -p Delta=1 -p v=0.01 -p mu=0 --t-end 10", "mu must be > 0"),
     ("slide cdc -p Delta=-1 -p v=0.01 --t-end 10", "Delta must be >= 0"),
     ("slide cdc -p foo=1 --t-end 10", "unknown parameter 'foo'"),
+    # --store F --resume with F missing started a fresh run without a word
+    ("noise vdp -p mu=0.1 -p D=0.01 --store {dir}/s.db --resume", "does not exist: nothing "
+     "to resume; drop --resume to start a run"),
+    ("spectrum vdp -p mu=0.1 -p D=0.01 --store {dir}/s.db --resume", "nothing to resume"),
+    ("friction sedf -p Delta=3 -p beta=1 --vary v=0.1:1:3 --store {dir}/s.db --resume",
+     "nothing to resume"),
+    ("diagram duffing-forced -p mu=0.1 --vary sigma=-1:1 --vary h=0:1 --store {dir} --resume",
+     "nothing to resume"),
     # ran quietly at v = 0 (a stage at rest: zero force, 0 slips); each case above gives v
     ("slide cdc -p Delta=1 --t-end 10", "give the stage velocity -p v=VALUE"),
     # predict

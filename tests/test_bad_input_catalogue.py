@@ -204,6 +204,9 @@ CLI_CASES = [
     ("slide cdc -p Delta=1 -p v=0.01 -p mu=0 --t-end 10", "mu must be > 0"),
     ("slide cdc -p Delta=-1 -p v=0.01 --t-end 10", "Delta must be >= 0"),
     ("slide cdc -p foo=1 --t-end 10", "unknown parameter 'foo'"),
+    # --scheduler-timeout without --scheduler was ignored without a word
+    ("friction cdc -p Delta=3 --vary v=0.1 --scheduler-timeout 5",
+     "--scheduler-timeout is the wait for --scheduler ADDRESS: give --scheduler"),
     # --store F --resume with F missing started a fresh run without a word
     ("noise vdp -p mu=0.1 -p D=0.01 --store {dir}/s.db --resume", "does not exist: nothing "
      "to resume; drop --resume to start a run"),

@@ -198,6 +198,13 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     # without -p v the stage stood still, v = 0 (not a documented default): zeros, 0 slips
     (["slide", "sedf", "-p", "Delta=3", "-p", "beta=1", "--t-end", "100"],
      "give the stage velocity -p v=VALUE"),
+    # only "unknown parameter 'v'": the escape (and noise's stationary state) is at rest
+    (["escape", "sedf", "-p", "v=0.1", "-p", "mu=0.1", "-p", "D=0.05", "-p", "beta=1", "-p",
+      "Delta=3"], "at rest, v = 0 (the stage not pulling: the potential's barrier is fixed), "
+     "so -p v is not taken"),
+    (["noise", "sedf", "-p", "v=0.1", "-p", "mu=0.1", "-p", "D=0.05", "-p", "beta=1", "-p",
+      "Delta=3", "--method", "fokker-planck"], "the stationary state is computed at rest, "
+     "v = 0, and -p v is not taken"),
 ])
 def test_messages_speak_the_command_line(argv, says, capsys):
     """Each message as the user meets it: one line, exit 2, the option named as typed and no

@@ -205,6 +205,13 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     (["noise", "sedf", "-p", "v=0.1", "-p", "mu=0.1", "-p", "D=0.05", "-p", "beta=1", "-p",
       "Delta=3", "--method", "fokker-planck"], "the stationary state is computed at rest, "
      "v = 0, and -p v is not taken"),
+    # "--vary beta=-1:1" was offered as sedf-dimer's detuning: its sliders are identical
+    # (no detuning), and beta <= 0 has no cycle; docs/coupled.rst follows beta=0.5:1.5
+    (["lock", "sedf-dimer", "--vary", "kappa=0:0.5"], "sedf-dimer has no detuning (its "
+     "oscillators are identical): give the interval of the parameter its locked state is "
+     "followed in, e.g. --vary beta=0.5:1.5"),
+    # duffing-1-3's detuning is sigma (nu = 3 + mu sigma), not its first parameter alpha1
+    (["lock", "duffing-1-3", "--vary", "k=0:0.5"], "--vary sigma=FROM:TO (e.g. sigma=-1:1)"),
 ])
 def test_messages_speak_the_command_line(argv, says, capsys):
     """Each message as the user meets it: one line, exit 2, the option named as typed and no

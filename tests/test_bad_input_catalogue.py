@@ -215,6 +215,8 @@ CLI_CASES = [
      "nothing to resume"),
     ("diagram duffing-forced -p mu=0.1 --vary sigma=-1:1 --vary h=0:1 --store {dir} --resume",
      "nothing to resume"),
+    ("diagram sedf -p Delta=3 --vary mu=0.1:1 --vary beta=0.5:2 --store {dir} --resume",
+     "nothing to resume"),
     # ran quietly at v = 0 (a stage at rest: zero force, 0 slips); each case above gives v
     ("slide cdc -p Delta=1 --t-end 10", "give the stage velocity -p v=VALUE"),
     # predict

@@ -91,6 +91,9 @@ def _grid(text: str) -> tuple[int, int]:
 def run(args: argparse.Namespace) -> int:
     if args.resume and not args.store:
         raise ParameterError("--resume continues a diagram kept by --store DIR: give the folder")
+    from numerics.cli.params.options import nothing_to_resume
+
+    nothing_to_resume(args.store, args.resume)  # a fresh run started without a word
     if _driven(args):
         from numerics.cli._diagram_driven import run_driven
 

@@ -212,6 +212,9 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
      "followed in, e.g. --vary beta=0.5:1.5"),
     # duffing-1-3's detuning is sigma (nu = 3 + mu sigma), not its first parameter alpha1
     (["lock", "duffing-1-3", "--vary", "k=0:0.5"], "--vary sigma=FROM:TO (e.g. sigma=-1:1)"),
+    # named "Delta = 3", the plane's centre, never typed: delta = Delta/mu at mu = 0
+    (["diagram", "sedf", "-p", "mu=0", "--vary", "Delta=0:6", "--vary", "beta=0.5:2"],
+     "delta = Delta/mu is undefined for mu = 0 at every Delta = 0:6 of --vary: give mu != 0"),
 ])
 def test_messages_speak_the_command_line(argv, says, capsys):
     """Each message as the user meets it: one line, exit 2, the option named as typed and no

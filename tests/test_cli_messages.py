@@ -189,6 +189,32 @@ API_WORDS = ("params=", "axes=", "resume=True", "max_wells", "max_periods", "np.
     # E_b/kT = 2e7: two RuntimeWarnings and "came out as nan ... check mu > 0 and D > 0"
     (["escape", "cdc", "-p", "mu=0.02", "-p", "Delta=3", "-p", "D=1e-9", "--no-simulation"],
      "raise D to 3.11e-05 or more"),
+    # a negative T was told "T >= 0", then T = 0 was refused: the range these commands
+    # take is T > 0 (kbm friction keeps T >= 0, T = 0 its deterministic slider)
+    (["noise", "vdp", "-p", "mu=0.05", "-p", "T=-0.01"], "give -p T=VALUE with T > 0"),
+    (["escape", "sedf", "-p", "mu=0.05", "-p", "T=-0.01"], "give -p T=VALUE with T > 0"),
+    (["friction", "sedf", "-p", "mu=0.1", "-p", "T=-1", "--vary", "v=0.1:1"],
+     "must be >= 0 (T = 0 is the deterministic slider)"),
+    # without -p v the stage stood still, v = 0 (not a documented default): zeros, 0 slips
+    (["slide", "sedf", "-p", "Delta=3", "-p", "beta=1", "--t-end", "100"],
+     "give the stage velocity -p v=VALUE"),
+    # only "unknown parameter 'v'": the escape (and noise's stationary state) is at rest
+    (["escape", "sedf", "-p", "v=0.1", "-p", "mu=0.1", "-p", "D=0.05", "-p", "beta=1", "-p",
+      "Delta=3"], "at rest, v = 0 (the stage not pulling: the potential's barrier is fixed), "
+     "so -p v is not taken"),
+    (["noise", "sedf", "-p", "v=0.1", "-p", "mu=0.1", "-p", "D=0.05", "-p", "beta=1", "-p",
+      "Delta=3", "--method", "fokker-planck"], "the stationary state is computed at rest, "
+     "v = 0, and -p v is not taken"),
+    # "--vary beta=-1:1" was offered as sedf-dimer's detuning: its sliders are identical
+    # (no detuning), and beta <= 0 has no cycle; docs/coupled.rst follows beta=0.5:1.5
+    (["lock", "sedf-dimer", "--vary", "kappa=0:0.5"], "sedf-dimer has no detuning (its "
+     "oscillators are identical): give the interval of the parameter its locked state is "
+     "followed in, e.g. --vary beta=0.5:1.5"),
+    # duffing-1-3's detuning is sigma (nu = 3 + mu sigma), not its first parameter alpha1
+    (["lock", "duffing-1-3", "--vary", "k=0:0.5"], "--vary sigma=FROM:TO (e.g. sigma=-1:1)"),
+    # named "Delta = 3", the plane's centre, never typed: delta = Delta/mu at mu = 0
+    (["diagram", "sedf", "-p", "mu=0", "--vary", "Delta=0:6", "--vary", "beta=0.5:2"],
+     "delta = Delta/mu is undefined for mu = 0 at every Delta = 0:6 of --vary: give mu != 0"),
 ])
 def test_messages_speak_the_command_line(argv, says, capsys):
     """Each message as the user meets it: one line, exit 2, the option named as typed and no

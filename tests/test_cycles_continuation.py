@@ -144,6 +144,27 @@ def test_homoclinic_end_sedf():
     assert 0 < conn - 3.2494301 < 1e-5
 
 
+def test_vdp_relaxation_has_no_homoclinic_end():
+    """van der Pol has no saddle: its period grows like a power of mu, not like
+    -log|mu - mu_h|, so its branch has no homoclinic end (it had one 'near mu = 50.92',
+    Aitken's limit of the last three points, after the period passed 8 times its start).
+    The relaxation period (Dorodnitsyn 1947; Grasman, *Asymptotic Methods for Relaxation
+    Oscillations*, 1987): T = (3 - 2 ln 2) mu + 3 alpha mu^(-1/3) + O(log(mu)/mu), alpha =
+    2.338107 the magnitude of the first zero of Ai; the leading term alone within 5 % at
+    mu >= 50, the two terms within 1e-3."""
+    br = continue_cycles("vdp", {"mu": 0.1}, "mu", (0.1, 1e6), directions=(1,),
+                         max_points=30)
+    assert "homoclinic" not in [s.kind for s in br.special]
+    assert br.points[-1].parameter > 100  # on past the false end at 50.92
+    lead = 3 - 2 * np.log(2)
+    far = [p for p in br.points if p.parameter >= 50]
+    assert len(far) >= 5
+    for p in far:
+        mu = p.parameter
+        assert abs(p.period / (lead * mu) - 1) < 0.05
+        assert abs(p.period / (lead * mu + 3 * 2.338107 * mu ** (-1 / 3)) - 1) < 1e-3
+
+
 def test_bad_input(fold_model):
     with pytest.raises(ParameterError, match="cannot vary 'nope'"):
         continue_cycles("vdp", {"mu": 1}, "nope", (0, 1))

@@ -132,7 +132,8 @@ def test_cli_slide_json(capsys):
     assert set(data["slips"][0]) == {"t_start", "t_end", "wells", "peak_force",
                                      "energy_dissipated", "complete"}
     assert main(["slide", "cdc", "--param", "Omega=0", "--t-end", "10"]) == 2
-    assert main(["slide", "cdc", "--param", "Delta=0.1", "--t-end", "50", "--json"]) == 0
+    assert main(["slide", "cdc", "--param", "Delta=0.1", "--param", "v=0", "--t-end", "50",
+                 "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["delta_W"] is None
 
 

@@ -149,12 +149,15 @@ def to_physical(names: ParameterNames, values: Mapping[str, object]) -> dict[str
     return out
 
 
-def noise_from(values: Mapping[str, object]) -> tuple[dict[str, object], sp.Expr | None, str]:
+def noise_from(values: Mapping[str, object],
+               need: str | None = None) -> tuple[dict[str, object], sp.Expr | None, str]:
     """``(values without the noise, D, the name given)`` from ``D`` or ``T = D/mu``.
 
     ``D`` is ``None`` when neither is given, and as given (unread) when given as ``D``;
     ``T`` is read here, and needs ``mu > 0`` (the temperature of the linear damping
-    ``mu x'``).
+    ``mu x'``).  ``need`` says, as in :func:`noise_intensity`, why the caller refuses
+    ``T = 0``: a negative ``T`` is then told the range ``T > 0`` the caller accepts, not
+    ``T >= 0``.
 
     Raises
     ------
@@ -170,8 +173,10 @@ def noise_from(values: Mapping[str, object]) -> tuple[dict[str, object], sp.Expr
         raw = rest.pop("T")
         val = parameter_value("T", raw)
         if val < 0:
+            rule = ("finite and >= 0 (T = 0 is the deterministic model)" if need is None
+                    else f"finite and > 0 ({need}); give -p T=VALUE with T > 0")
             raise ParameterError(f"T = {raw} is negative; the temperature kT = D/mu must be "
-                                 "finite and >= 0 (T = 0 is the deterministic model)")
+                                 + rule)
         if "mu" not in rest:
             raise ParameterError("T = D/mu needs mu: give -p mu=VALUE, or the noise as "
                                  "-p D=VALUE")

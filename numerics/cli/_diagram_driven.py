@@ -156,6 +156,9 @@ class _Records:
         if resume and not folder:
             raise ParameterError("--resume continues a diagram kept by --store DIR: give the "
                                  "folder")
+        from numerics.cli.params.options import nothing_to_resume
+
+        nothing_to_resume(folder, resume)
         self.store = PathStore(folder, definition, resume)
 
     def get(self, key: str):

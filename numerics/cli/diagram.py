@@ -78,6 +78,29 @@ def _axes(args):
     return (varies[0].name, varies[1].name), ranges
 
 
+def _defined(model, params, ranges) -> None:
+    """Refuse a ``-p`` value at which a scaled parameter of an axis is undefined for every
+    value of the axis (``-p mu=0`` with ``--vary Delta=0:6``: ``delta = Delta/mu``), naming
+    the values typed (the message named the plane's centre, ``Delta = 3``, never typed)."""
+    import sympy as sp
+    from kbm.model.builtins import parameter_value
+
+    for scaled, expr in getattr(model, "physical", {}).items():
+        needs = {s.name for s in expr.free_symbols}
+        on = [n for n in ranges if n in needs]
+        fixed = {n: parameter_value(n, params[n]) for n in needs if n in params}
+        if not on or not fixed:
+            continue
+        value = sp.sympify(expr).subs({sp.Symbol(n): v for n, v in fixed.items()})
+        if value.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
+            zero = [n for n, v in fixed.items() if v == 0]
+            span = ", ".join(f"{n} = {ranges[n][0]:g}:{ranges[n][1]:g}" for n in on)
+            raise ParameterError(f"{scaled} = {expr} is undefined for "
+                                 + ", ".join(f"{n} = {params[n]}" for n in sorted(fixed))
+                                 + f" at every {span} of --vary"
+                                 + (f": give {' and '.join(zero)} != 0" if zero else ""))
+
+
 def _grid(text: str) -> tuple[int, int]:
     try:
         na, nb = (int(s) for s in text.split(","))
@@ -91,6 +114,9 @@ def _grid(text: str) -> tuple[int, int]:
 def run(args: argparse.Namespace) -> int:
     if args.resume and not args.store:
         raise ParameterError("--resume continues a diagram kept by --store DIR: give the folder")
+    from numerics.cli.params.options import nothing_to_resume
+
+    nothing_to_resume(args.store, args.resume)  # a fresh run started without a word
     if _driven(args):
         from numerics.cli._diagram_driven import run_driven
 
@@ -109,6 +135,7 @@ def run(args: argparse.Namespace) -> int:
         return run_driven(args)
     if "mu" not in params and "mu" not in axes:
         raise ParameterError("give the small parameter: -p mu=VALUE (or vary it)")
+    _defined(model, params, ranges)
     within(args.max_points, "--max-points", 2, 100000)
     if not 0 < args.x_range <= 1e4:
         raise ParameterError(f"--x-range must be positive (at most 1e4), got {args.x_range}")

@@ -61,6 +61,11 @@ def run(args) -> int:
         raise ParameterError("--fp-budget is the budget of the Fokker-Planck solve: give it "
                              "with --method fokker-planck")
     params, _ = noisy_model(args.model, args.param)
+    if "v" in params:  # a slider's v (noisy_model takes it): "unknown parameter 'v'" before
+        raise ParameterError(f"kbm escape computes the escape of {args.model} at rest, v = 0 "
+                             "(the stage not pulling: the potential's barrier is fixed), so "
+                             "-p v is not taken: leave it out (kbm noise or kbm friction "
+                             "simulate the pulled slider)")
     if single_well(lookup(args.model, ("one",))):
         raise ModelError(f"{args.model} has no barrier to escape over at any parameter values: "
                          "its F at x' = 0 does not depend on x, so its potential is the single "

@@ -46,7 +46,7 @@ def register(sub) -> None:
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on the Dask scheduler at ADDRESS (e.g. tcp://host:8786; needs "
                         "pip install 'kbm[dask]')")
-    p.add_argument("--scheduler-timeout", type=float, default=10.0, metavar="SECONDS",
+    p.add_argument("--scheduler-timeout", type=float, default=None, metavar="SECONDS",
                    help="how long to wait for the scheduler (default 10)")
     options(p, "store", "resume", store=dict(
         help="keep every finished chunk of points in the SQLite file FILE, so that an "
@@ -122,6 +122,11 @@ def run(args: argparse.Namespace) -> int:
     from numerics.cli.params.values import positive
 
     positive(args.scheduler_timeout, "--scheduler-timeout")  # nan: a KeyError of dask
+    if args.scheduler_timeout is None:
+        args.scheduler_timeout = 10.0
+    elif not args.scheduler:  # was ignored without a word
+        raise ParameterError("--scheduler-timeout is the wait for --scheduler ADDRESS: give "
+                             "--scheduler, or leave out --scheduler-timeout")
     if args.model.startswith(("sedf-dimer", "sedf-chain")):
         from numerics.cli._chain_friction import run_chain
 

@@ -48,11 +48,20 @@ def _split(varies, model) -> tuple:
     couplings = [v for v in varies if v.name in names]
     detunings = [v for v in varies if v.name not in names]
     if not detunings:
-        det = next((p for p in model.parameters if p not in names), "sigma")
-        raise ParameterError(f"kbm lock looks for the edges of the locking region in a "
-                             f"detuning: give its interval, --vary {det}=FROM:TO (e.g. "
-                             f"{det}=-1:1)" + (f", with --vary {couplings[0].text} for the "
-                                               f"coupling's values" if couplings else ""))
+        with_c = (f", with --vary {couplings[0].text} for the coupling's values"
+                  if couplings else "")
+        sigma = [p for p in model.parameters if p.startswith("sigma")]
+        if sigma or not [p for p in model.parameters if p not in names]:
+            det = (sigma or ["sigma"])[0]
+            raise ParameterError(f"kbm lock looks for the edges of the locking region in a "
+                                 f"detuning: give its interval, --vary {det}=FROM:TO (e.g. "
+                                 f"{det}=-1:1)" + with_c)
+        # identical oscillators (sedf-dimer): no detuning; a parameter's interval around
+        # its value is followed instead (docs/coupled.rst: the dimer's in-phase state in beta)
+        other = next(p for p in model.parameters if p not in names)
+        raise ParameterError(f"{model.name} has no detuning (its oscillators are identical): "
+                             f"give the interval of the parameter its locked state is "
+                             f"followed in, e.g. --vary {other}=0.5:1.5" + with_c)
     if len(detunings) > 1 or len(couplings) > 1:
         raise ParameterError("give one --vary for the detuning (its interval) and at most one "
                              f"for the coupling ({', '.join(names)}); got "

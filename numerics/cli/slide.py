@@ -23,12 +23,16 @@ def register(sub) -> None:
 def run(args: argparse.Namespace) -> int:
     from numerics import analyze, slide
 
+    from kbm.errors import ParameterError
     from kbm.model.builtins import parameter_value
 
     from numerics.cli.params.values import check, given, physical
 
     typed = given(args.param)
     names = check(args.model, typed, extra=("v",))
+    if "v" not in typed:  # ran quietly at v = 0, a stage at rest: zero force, 0 slips
+        raise ParameterError("give the stage velocity -p v=VALUE (v > 0 pulls the stage, "
+                             "e.g. -p v=0.01; -p v=0 leaves it at rest)")
     fixed, _ = physical(names, typed, {}, None)
     params = {k: float(parameter_value(k, v)) for k, v in fixed.items()}
     res = slide(args.model, params, args.t_end, rtol=args.rtol)

@@ -15,7 +15,10 @@ Special points, each labelled with its parameter value:
   (:func:`numerics.shooting.locate.fold_on_arc`);
 - ``hopf``: the amplitude tends to 0; ``p`` extrapolated with ``p - p_H ~ x0^2``;
 - ``homoclinic``: the period grows beyond ``period_factor`` times its start value
-  (the cycle reaches a separatrix; :meth:`CycleContinuation.homoclinic`);
+  (the cycle reaches a separatrix; :meth:`CycleContinuation.homoclinic`) and either the
+  cycle passes a saddle of the flow or its period grows like ``-log|p - p_h|``
+  (:func:`numerics.cycles.homoclinic.log_law`); a long period of another kind (van der
+  Pol's relaxation oscillations, ``T ~ (3 - 2 ln 2) mu``) is followed on;
 - ``end``: the step fell below ``ds_min`` (with the reason).
 
 Every integration is bounded (:data:`numerics.shooting.orbit.NEWTON_MAX_STEPS`),
@@ -38,7 +41,8 @@ from kbm.errors import ParameterError
 
 from numerics.shooting.planar import PlanarPoint, PlanarProblem
 from numerics.shooting.branch_result import Branch, SpecialPoint, branch_point
-from numerics.cycles.homoclinic import aitken, end_estimate, homoclinic_reason, long_period_points
+from numerics.cycles.homoclinic import (aitken, end_estimate, homoclinic_reason, log_law,
+                                        long_period_points)
 from numerics.cycles.result import LimitCycle
 from numerics.cycles.shooting import limit_cycle
 from numerics.errors import ConvergenceError, NoCycleError
@@ -131,7 +135,8 @@ class CycleContinuation(Continuation):
 
     def homoclinic(self, new: PlanarPoint) -> str:
         """Why the branch ends at a separatrix at ``new`` (``""``: it does not, see
-        :func:`homoclinic_reason`), its special point added: the parameter from the period
+        :func:`homoclinic_reason`; nor without a saddle passed or a period ~ -log|p - p_h|,
+        :func:`log_law`), its special point added: the parameter from the period
         law fitted to the points (:mod:`numerics.cycles.homoclinic`, refined by the
         manifolds) or else Aitken's extrapolation; on request the cycles followed in their
         period beyond the last point (:mod:`numerics.cycles.long_period`) join the points."""
@@ -144,6 +149,12 @@ class CycleContinuation(Continuation):
         est = end_estimate(self.prob, points)
         if est is not None:
             ph, where = est.best[0], est.text(name)
+        elif not log_law([p.parameter for p in points] + [new.u[2]],
+                         [p.period for p in points] + [new.u[1]]):
+            # no saddle approached and no period ~ -log|p - p_h|: a long period of another
+            # kind (van der Pol's relaxation oscillations, T ~ (3 - 2 ln 2) mu) goes on
+            self.recent = self.recent[-1:]
+            return ""
         else:
             ps = [r.u[2] for r in self.recent[-3:]]
             ph = aitken(ps)

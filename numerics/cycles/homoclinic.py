@@ -242,6 +242,22 @@ def homoclinic_reason(recent: list, T0: float, factor: float, width: float, n: i
     return ""
 
 
+def log_law(ps: list, Ts: list, n: int = 4, shrink: float = 0.5) -> bool:
+    """Whether the period grows like ``T ~ -b log|p - p_h|`` toward a finite ``p_h`` over the
+    last ``n`` points (parameters ``ps``, periods ``Ts``): near a homoclinic orbit the
+    parameter per unit period, ``|dp/dT| = |p - p_h|/b``, shrinks toward zero, here by at
+    least the factor ``shrink`` over the points (Kuznetsov, *Elements of Applied
+    Bifurcation Theory*, sec. 6.2).  A period growing like a power of ``p`` keeps it steady
+    (van der Pol's relaxation oscillations, ``T ~ (3 - 2 ln 2) mu``: ``|dp/dT| -> 0.62``)."""
+    if len(ps) < n:
+        return False
+    dp, dT = np.diff(np.asarray(ps[-n:], float)), np.diff(np.asarray(Ts[-n:], float))
+    if not np.all(dT > 0):
+        return False
+    w = np.abs(dp / dT)
+    return bool(w[-1] < shrink * w[0])
+
+
 def aitken(ps: list) -> float:
     """Limit of a geometric sequence from its last three terms (``p - p_h ~ exp(-k T)``)."""
     if len(ps) < 3:

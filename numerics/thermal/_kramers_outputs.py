@@ -57,6 +57,10 @@ def fokker_planck_moments(model, params: dict, D: float, omega0: float,
             why = f"no Fokker-Planck solution: {exc}" + (
                 " (raise --fp-budget above that cost)" if "not affordable" in str(exc) else "")
     if required:
+        if why.startswith("the driven slider"):  # named as the escape names it
+            why += ("; the stationary state is computed at rest, v = 0, and -p v is not "
+                    "taken by --method fokker-planck: leave out -p v, or leave out --method "
+                    "fokker-planck to simulate the pulled slider")
         raise ParameterError(f"--method fokker-planck: {why}")
     return None, why
 

@@ -22,7 +22,7 @@ from kbm.cli._common import OPTIONS, add_options
 from kbm.errors import ParameterError
 from numerics.noise.budget import STEP_BUDGET
 
-__all__ = ["ENSEMBLE", "command", "options", "check_ensemble", "stored"]
+__all__ = ["ENSEMBLE", "command", "options", "check_ensemble", "stored", "nothing_to_resume"]
 
 #: the options of an ensemble of trajectories: name -> (flags, argparse keywords)
 ENSEMBLE: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
@@ -98,13 +98,31 @@ def check_ensemble(args: argparse.Namespace) -> None:
     positive(getattr(args, "fp_budget", None), "--fp-budget")
 
 
+def nothing_to_resume(path: str | None, resume: bool) -> None:
+    """Refuse ``--store PATH --resume`` for a ``PATH`` that does not exist (a fresh run
+    started without a word).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        ``"PATH does not exist: nothing to resume; drop --resume to start a run"``.
+    """
+    from pathlib import Path
+
+    if resume and path and not Path(path).exists():
+        raise ParameterError(f"{path} does not exist: nothing to resume; drop --resume to "
+                             "start a run")
+
+
 @contextmanager
 def stored(args: argparse.Namespace, what: str = "run") -> Iterator[object]:
     """The store of ``--store FILE [--resume]`` (:func:`numerics.cli.params.values.open_store`;
     ``None`` without ``--store``), closed when the run ends."""
     from numerics.cli.params.values import open_store
 
-    store = open_store(getattr(args, "store", None), bool(getattr(args, "resume", False)), what)
+    path, resume = getattr(args, "store", None), bool(getattr(args, "resume", False))
+    nothing_to_resume(path, resume)
+    store = open_store(path, resume, what)
     try:
         yield store
     finally:

@@ -264,7 +264,7 @@ def noise_params(params: Mapping[str, str]) -> tuple[dict[str, str], str | None]
     """
     from kbm.parameters.names import noise_from
 
-    rest, D, name = noise_from(params)
+    rest, D, name = noise_from(params, "T = 0 is the deterministic model, without noise")
     if D is None:
         raise ParameterError("give the noise intensity: -p D=VALUE (x'' + ... = sqrt(2 D) xi) "
                              "or the temperature -p T=VALUE (T = kT = D/mu)")

@@ -128,9 +128,9 @@ def _run(args: argparse.Namespace) -> int:
     within(args.rtol, "--rtol", 1e-14, 1e-4)
     within(args.max_points, "--max-points", 2, 100000)
     if name == "mu":  # the library said "give mu != 0", which was never typed
-        from kbm.parameters.values import parameter_value
+        from numerics.shooting.arclength import start_value
 
-        start = parameter_value("mu", params["mu"]) if "mu" in params else lo
+        start = start_value("mu", params["mu"]) if "mu" in params else lo
         if start == 0:
             where = f"-p mu={params['mu']}" if "mu" in params else f"--vary {vary.text}"
             raise ParameterError(f"{where} starts the branch at mu = 0, where there is no "

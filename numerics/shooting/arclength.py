@@ -22,7 +22,7 @@ from kbm.slowflow.arclength import walk as _walk
 from kbm.errors import ParameterError
 from numerics.errors import ConvergenceError, IntegrationError
 
-__all__ = ["correct_on_hyperplane", "null_vector", "predict", "walk", "parameter_range", "FAIL"]
+__all__ = ["correct_on_hyperplane", "null_vector", "predict", "walk", "parameter_range", "start_value", "FAIL"]
 
 #: the failures of a step after which it is halved (or a bisection stops)
 FAIL = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, ValueError)
@@ -128,10 +128,21 @@ def parameter_range(vary: str, bounds, params) -> tuple[float, float, float]:
         raise ParameterError(f"the range of {vary} must be finite, got {lo:g}:{hi:g}")
     if not lo < hi:
         raise ParameterError(f"empty range {lo:g}:{hi:g} for {vary}: give FROM < TO")
-    from kbm.parameters.values import parameter_value  # "3/2", as -p reads every value
-
-    p0 = float(parameter_value(vary, params[vary])) if vary in params else lo
+    p0 = start_value(vary, params[vary]) if vary in params else lo
     if not lo <= p0 <= hi:
         raise ParameterError(f"the start value {vary} = {p0:g} is outside the range "
                              f"{lo:g}:{hi:g}")
     return lo, hi, p0
+
+
+def start_value(name: str, raw: object) -> float:
+    """The start value ``raw`` of ``name`` as a float: a number or a decimal text directly,
+    a fraction or an expression (``"3/2"``, as ``-p`` reads every value) through
+    :func:`kbm.parameters.values.parameter_value`, which imports sympy (the warm path of
+    ``kbm branch`` with decimal values imports none, ``tests/test_warm_path.py``)."""
+    try:
+        return float(raw)
+    except (TypeError, ValueError):
+        from kbm.parameters.values import parameter_value
+
+        return float(parameter_value(name, raw))

@@ -171,3 +171,16 @@ def test_noisy_commands_take_the_scaled_wavenumber(command, key, capsys):
         return data
 
     assert value(f"k={2 * math.pi!r}") == pytest.approx(value("lam=1"), rel=1e-9)
+
+
+def test_spectrum_of_a_slider_takes_the_stage_defaults_as_noise_and_escape(capsys):
+    """``kbm spectrum sedf`` without ``lam`` and ``Omega`` asked for ``lam`` ("needs values for
+    lam"), where ``kbm noise`` and ``kbm escape`` take the paper's ``Omega = 1``, ``lam = 1``
+    (eq. 3, :data:`kbm.model.builtins.SLIDER_DEFAULTS`): now the same line as with them
+    typed."""
+    argv = ["spectrum", "sedf", "-p", "mu=0.1", "-p", "Delta=3", "-p", "beta=1", "-p", "D=0.01",
+            "--trajectories", "8"]
+    bare = _json(argv, capsys)
+    typed = _json([*argv, "-p", "lam=1", "-p", "Omega=1"], capsys)
+    assert bare.pop("params") == typed.pop("params")  # the same values (dicts: any order)
+    assert bare == typed

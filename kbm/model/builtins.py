@@ -56,7 +56,7 @@ from ..symbols import mu, x, xdot
 from .user_model import STATE_LIKE_NAMES, check_state_names, custom_model
 from ..parameters.values import FrozenMap, parameter_value
 
-__all__ = ["Oscillator", "FrozenMap", "MODELS", "SLIDERS", "get_model",
+__all__ = ["Oscillator", "FrozenMap", "MODELS", "SLIDERS", "SLIDER_DEFAULTS", "with_slider_defaults", "get_model",
            "custom_model", "check_state_names", "STATE_LIKE_NAMES", "parameter_value",
            "model_names"]
 
@@ -105,6 +105,29 @@ MODELS = {
 
 #: the built-in models that have a stage (their spring can be pulled at a velocity v)
 SLIDERS = ("sedf", "cdc", "sedf_comoving")
+#: the values of a slider's stage that ``kbm noise``, ``kbm escape`` and ``kbm spectrum``
+#: take when they are not given (the paper's Omega = 1 and lam = 1)
+SLIDER_DEFAULTS = {"Omega": "1", "lam": "1"}
+
+
+def with_slider_defaults(model, params: Mapping) -> dict:
+    """``params`` with :data:`SLIDER_DEFAULTS` where not given, for a built-in slider
+    (:data:`SLIDERS`, by name; any other model's ``params`` unchanged), no ``lam`` where the
+    wavenumber ``k = 2 pi/lam`` is given.
+
+    Examples
+    --------
+    >>> with_slider_defaults("sedf", {"mu": "0.1", "k": "6.283"})
+    {'mu': '0.1', 'k': '6.283', 'Omega': '1'}
+    >>> with_slider_defaults("vdp", {"mu": "0.1"})
+    {'mu': '0.1'}
+    """
+    out = dict(params)
+    if isinstance(model, str) and model in SLIDERS:
+        for name, value in SLIDER_DEFAULTS.items():
+            if not (name == "lam" and "k" in out):
+                out.setdefault(name, value)
+    return out
 
 
 def _drive_variant(model: Oscillator, v: object) -> Oscillator:

@@ -80,7 +80,7 @@ def _kind(args) -> str:
 def _bind(args):
     """``(model, params without D, D values, noise name)`` of a self-excited run."""
     from kbm.cli._common import check_model_flags
-    from kbm.model.builtins import custom_model
+    from kbm.model.builtins import custom_model, with_slider_defaults
     from kbm.parameters.names import noise_intensity
     from numerics.spectrum.phase_diffusion import LINEWIDTH_NEED
     from kbm.parameters.values import parameter_value
@@ -97,7 +97,7 @@ def _bind(args):
     model = custom_model(args.rhs[0], omega0=1 if args.omega0 is None else args.omega0) \
         if args.rhs else args.model
     params, noise = noisy_model(model, items)
-    params, D0 = without_noise(params, LINEWIDTH_NEED)
+    params, D0 = without_noise(with_slider_defaults(model, params), LINEWIDTH_NEED)
     if "mu" not in params:
         raise ParameterError("give the small parameter: -p mu=VALUE")
     mu = float(parameter_value("mu", params["mu"]))

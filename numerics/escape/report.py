@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 from kbm.errors import ParameterError
+from kbm.model.builtins import with_slider_defaults
 from kbm.parameters.bound import bind
 from kbm.parameters.names import noise_intensity
 
@@ -16,7 +17,6 @@ from .rate import averaged_escape
 __all__ = ["escape_report", "MIN_TRAJECTORIES"]
 
 #: the paper's values, used for a slider when not given (as in ``kbm friction``)
-SLIDER_DEFAULTS = {"Omega": "1", "lam": "1"}
 
 #: fewer trajectories give no meaningful standard error
 MIN_TRAJECTORIES = 20
@@ -106,10 +106,7 @@ def escape_report(model: str, params: dict, *, trajectories: int = 200, t_end=No
     for name, val in (("t-end", t_end), ("dt", dt)):
         if val is not None and not (math.isfinite(val) and val > 0):
             raise ParameterError(f"--{name} must be a positive number, got {val:g}")
-    if model in ("sedf", "cdc", "sedf_comoving"):
-        for name, val in SLIDER_DEFAULTS.items():
-            if not (name == "lam" and "k" in params):  # k = 2 pi/lam given: no default lam
-                params.setdefault(name, val)
+    params = with_slider_defaults(model, params)
     # the missing values named as the user gives them (Delta, not the scaled delta)
     bind(model, {k: val for k, val in params.items() if k != "v"}).require(
         what="the escape rate")

@@ -8,10 +8,9 @@ from pathlib import Path
 import numpy as np
 
 from kbm.errors import ParameterError
-from kbm.model.builtins import SLIDERS
+from kbm.model.builtins import with_slider_defaults
 
 from ..escape.noise_params import check_mu
-from ..escape.report import SLIDER_DEFAULTS
 from .averaged import AMPLITUDE, averaged_stationary
 from .advice import fokker_planck_route, validity
 from .averaged_error import state_averaged_errors
@@ -144,10 +143,7 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
     check_mu(dict(params))
     params, D = split_noise(params, "without noise there is no stationary density")
     name = model if isinstance(model, str) else model.name
-    if isinstance(model, str) and model in SLIDERS:
-        for k, val in SLIDER_DEFAULTS.items():
-            if not (k == "lam" and "k" in params):  # k = 2 pi/lam given: no default lam
-                params.setdefault(k, val)
+    params = with_slider_defaults(model, params)
     if not isinstance(trajectories, int) or trajectories < MIN_TRAJECTORIES:
         raise ParameterError(f"--trajectories {trajectories}: at least {MIN_TRAJECTORIES} are "
                              "needed for a meaningful standard error")

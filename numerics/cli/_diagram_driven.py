@@ -97,13 +97,10 @@ def _setup(args: argparse.Namespace, kind: str):
           extra=("sigma",) if kind == "forced" else ())
     if "mu" not in params and "mu" not in [v.name for v in varies]:
         raise ParameterError("give the small parameter: -p mu=VALUE (e.g. -p mu=0.1)")
-    if kind == "coupled" and "mu" in params:  # as kbm lock: mu <= 0 drew an empty tongue
-        from kbm.parameters.values import parameter_value
+    if kind == "coupled":  # as kbm lock: mu <= 0 drew an empty tongue
+        from numerics.cli.lock import coupled_mu
 
-        if not parameter_value("mu", params["mu"]) > 0:
-            raise ParameterError(f"mu = {params['mu']}: the locking tongue is that of x_i'' + "
-                                 "omega_i^2 x_i = mu F_i with the small parameter mu > 0 (mu = "
-                                 "0 leaves the oscillators uncoupled); give -p mu=VALUE > 0")
+        coupled_mu(params, "the locking tongue is that")
     ranges = {v.name: v.interval("a two-parameter diagram", points=False) for v in varies}
     axes = (varies[0].name, varies[1].name)
     if kind == "forced" and "sigma" not in axes:

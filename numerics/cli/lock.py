@@ -69,6 +69,26 @@ def _split(varies, model) -> tuple:
     return detunings[0], (couplings[0] if couplings else None)
 
 
+def coupled_mu(params, what: str) -> None:
+    """Refuse ``-p mu`` <= 0 for a coupled system (``kbm lock``, ``kbm diagram``'s locking
+    tongue): ``what`` names the command's object.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        ``"mu = VALUE: WHAT of x_i'' + omega_i^2 x_i = mu F_i with the small parameter mu >
+        0 ...; give -p mu=VALUE > 0"``.
+    """
+    if "mu" not in params:
+        return
+    from kbm.parameters.values import parameter_value
+
+    if not parameter_value("mu", params["mu"]) > 0:
+        raise ParameterError(f"mu = {params['mu']}: {what} of x_i'' + omega_i^2 x_i = mu F_i "
+                             "with the small parameter mu > 0 (mu = 0 leaves the oscillators "
+                             "uncoupled); give -p mu=VALUE > 0")
+
+
 def run(args: argparse.Namespace) -> int:
     from kbm.output.files import output_folder
     from numerics.cli.params.values import within
@@ -96,14 +116,8 @@ def run(args: argparse.Namespace) -> int:
     params = given(args.param)
     varies = [parse_vary(text) for text in args.vary]
     check(model, params, [v.name for v in varies])
-    if "mu" in params:  # mu <= 0 was searched and reported as "ask another interval"
-        from kbm.parameters.values import parameter_value
-
-        if not parameter_value("mu", params["mu"]) > 0:
-            raise ParameterError(f"mu = {params['mu']}: kbm lock follows the locked cycles of "
-                                 "x_i'' + omega_i^2 x_i = mu F_i with the small parameter "
-                                 "mu > 0 (mu = 0 leaves the oscillators uncoupled); give "
-                                 "-p mu=VALUE > 0")
+    coupled_mu(params, "kbm lock follows the locked cycles")  # was searched, then "ask
+    # another interval"
     dv, cv = _split(varies, model)
     dv.interval("the search for the edges", points=False)
     if dv.name == "mu":

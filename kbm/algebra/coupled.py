@@ -12,6 +12,7 @@ order one), :func:`coupled_rhs` the right-hand sides of every mode for the recur
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 
 import sympy as sp
@@ -82,6 +83,13 @@ class CoupledAlgebra(AngleCalculus):
         self.wf = [Fraction(int(w.p), int(w.q)) for w in self.omega]
         self.a_inv = [self.ring.gen(i, -1) for i in range(dof)]
         self.detuned = self.sig is not None
+        # integer frequencies (over their common denominator) and, per mode, the exact bound
+        # of |h . omega| - omega_i beyond which a harmonic is not resonant (tolerance times
+        # omega_i): the quick test of _resonant
+        den = math.lcm(*(w.denominator for w in self.wf))
+        self._w_int = [int(w * den) for w in self.wf]
+        self._bound = [Fraction(tolerance) * w for w in self._w_int]
+        self._memo: dict = {}
 
     # -- the ring protocol of the lazy series --------------------------------------------
     def zero(self) -> MultiAngle:
@@ -124,8 +132,17 @@ class CoupledAlgebra(AngleCalculus):
     # -- resonance structure ----------------------------------------------------------
     def _resonant(self, h: tuple, i: int, n: int) -> tuple[tuple, int] | None:
         """``(k, s)`` with ``h . psi = s (psi_i + k . psi)``, ``k`` slow, or ``None``;
-        raises for an undeclared (near) resonance (:func:`resonant_harmonic`)."""
-        return resonant_harmonic(h, i, n, self.omega, self.lattice, self.tol, self.forced)
+        raises for an undeclared (near) resonance (:func:`resonant_harmonic`, asked only
+        when ``h . omega`` is within the tolerance of ``+-omega_i``; its answers kept)."""
+        key = (h, i)
+        if key in self._memo:
+            return self._memo[key]
+        f = sum(w * v for w, v in zip(self._w_int, h))
+        out = None
+        if abs(abs(f) - self._w_int[i]) <= self._bound[i]:
+            out = resonant_harmonic(h, i, n, self.omega, self.lattice, self.tol, self.forced)
+        self._memo[key] = out
+        return out
 
     def secular(self, R: MultiAngle, i: int, n: int) -> tuple[MultiAngle, MultiAngle]:
         """``(A_{i,n}, B_{i,n})``: the resonant part of ``R_{i,n}`` as slow series."""

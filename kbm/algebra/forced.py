@@ -21,8 +21,10 @@ from ..expansion.resonance import UndeclaredResonanceError
 __all__ = ["ForcedAlgebra", "SmallDivisorError"]
 
 
-class SmallDivisorError(ModelError):
-    """A harmonic of the expansion is (nearly) resonant but the resonance was not declared."""
+class SmallDivisorError(UndeclaredResonanceError):
+    """A harmonic of the expansion is (nearly) resonant but the resonance was not declared
+    (the coupled engine's :class:`~kbm.expansion.resonance.UndeclaredResonanceError`, in the
+    words of one forced oscillator)."""
 
 
 class ForcedAlgebra(CoupledAlgebra):

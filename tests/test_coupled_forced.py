@@ -1,9 +1,12 @@
 """Forced coupled systems: the forcing angle theta = nu t as one more angle of the coupled
 recursion.
 
-- N = 1 with forcing is the forced recursion of kbm.expansion.forced (its own two-angle engine),
-  exactly to order 3, for every polynomial forced built-in (primary, superharmonic,
-  parametric resonances): one model type for one degree of freedom, forced or not;
+- N = 1 with forcing is the forced recursion of kbm.expansion.forced, exactly to order 3, for
+  every polynomial forced built-in (primary, superharmonic, parametric resonances): both run
+  the coupled algebra, derive_coupled through its own hard-forcing shift (_hard_shifted),
+  resonance declaration and gamma = q theta - p psi, derive_forced through the model's
+  shift and its result in phi; the forced engine's own references (closed forms, Nayfeh &
+  Mook) are in tests/test_forced_engine.py and tests/test_forced_mathieu.py;
 - the saturation of quadratic coupling in 1:2 internal resonance forced near the higher
   mode (Nayfeh & Mook 1979, sec. 6.5.1): the directly excited mode's amplitude is
   a2 = (2 omega1/alpha1) sqrt(4 zeta1^2 + s^2), s = (nu - 2 omega1)/mu, whatever the

@@ -45,6 +45,8 @@ MEMOS = {
     ("kbm.algebra.coupled_jets", "torus"): "integers to read-only arrays",
     ("kbm.algebra.coupled_jets", "_harmonics"): "frequencies to read-only arrays",
     ("kbm.algebra.coupled_jets", "_mode_table"): "frequencies, resonances to read-only arrays",
+    ("kbm.expansion.resonance", "_independent"): "integer tuples to a bool",
+    ("kbm.expansion.resonance", "_coords"): "integer tuples to integer tuples or None",
     ("kbm.output.paper", "engine_expansion"):
         "no argument: the fixed derivation of the built-in sedf",
 }

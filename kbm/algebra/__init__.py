@@ -26,8 +26,8 @@ imports it.  Every algebra of the one recursion is here, exact and sampled.
 - :mod:`~kbm.algebra.lazy_series`: lazy power series in the small parameter and
   the :class:`~kbm.algebra.lazy_series.Builder` that evaluates ``F`` along
   ``x = sum mu**n X_n``;
-- the forced algebra: :mod:`~kbm.algebra.two_angle`, exact Fourier series in ``(psi,
-  theta)``, and :mod:`~kbm.algebra.forced`, their algebra with the resonance structure;
+- the forced algebra: :mod:`~kbm.algebra.forced`, the coupled algebra for one oscillator
+  and its forcing angle (series in ``(psi, theta)``) with the forced engine's refusals;
   :mod:`~kbm.algebra.power_series`, truncated power series with sympy coefficients (the
   series reversion of the transition curves);
 - the coupled algebra: :mod:`~kbm.algebra.coupled`, ``N``-angle series with the resonance

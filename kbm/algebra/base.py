@@ -7,8 +7,8 @@ the few operations it names.  Its algebras are
 - the exact multi-angle algebra of coupled systems
   (:class:`kbm.algebra.coupled.CoupledAlgebra`: Laurent coefficients, the slow lattice of
   the declared resonances, Jacobi-Anger at order one);
-- the exact two-angle algebra of a forced oscillator
-  (:class:`kbm.algebra.forced.ResonantAlgebra`);
+- its case of one forced oscillator, two angles ``(psi, theta)``
+  (:class:`kbm.algebra.forced.ForcedAlgebra`);
 - the sampled ones: one or two angles on a grid (:class:`kbm.algebra.grid.SampledAlgebra`,
   forced or not) and
   ``N`` angles with Taylor jets in the amplitudes (:class:`kbm.algebra.coupled_jets.JetAlgebra`,

@@ -12,6 +12,7 @@ order one), :func:`coupled_rhs` the right-hand sides of every mode for the recur
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 
 import sympy as sp
@@ -54,19 +55,41 @@ class CoupledAlgebra(AngleCalculus):
     multi-angle :class:`~kbm.algebra.base.RecursionAlgebra`)."""
 
     def __init__(self, model: CoupledOscillators, lattice: SlowLattice, gens: list[sp.Symbol],
-                 tolerance: float):
+                 tolerance: float, *, nu0: sp.Expr | None = None,
+                 detuning: sp.Symbol | None = None, amplitude_symbols=None):
+        """``nu0``, ``detuning`` and ``amplitude_symbols`` replace the model's forcing
+        frequency, its detuning and the amplitudes ``a_i`` (the forced oscillator's
+        declared resonance or fixed ``nu``, and its ``a``: :mod:`kbm.algebra.forced`).  The
+        frequencies are rational, or rational multiples of one symbol (a symbolic
+        ``omega0``), which then scales ``L0`` and the divisors."""
         dof = model.dof
         self.forced = model.forced
         n = dof + (1 if self.forced else 0)  # the forcing angle theta is the last one
         self.n, self.dof, self.model, self.lattice, self.tol = n, dof, model, lattice, tolerance
-        self.omega = model.omegas + ((model.nu0,) if self.forced else ())
-        self.ring = LaurentRing([*amplitudes(dof), *gens])
-        self.sig = (self.ring.gen(self.ring.gens.index(sp.Symbol(model.nu_detuning)))
-                    if self.forced and model.nu_detuning else None)
+        if self.forced and nu0 is None:
+            nu0 = model.nu0
+            detuning = sp.Symbol(model.nu_detuning) if model.nu_detuning else None
+        omega = model.omegas + ((nu0,) if self.forced else ())
+        self.ring = LaurentRing([*(amplitude_symbols or amplitudes(dof)), *gens])
+        self.sig = self.ring.gen(self.ring.gens.index(detuning)) if detuning else None
+        scale = next((w.free_symbols.pop() for w in omega if not w.is_Rational), None)
+        self.unit = None
+        if scale is not None:  # omega_l = r_l * scale: L0 and the divisors carry the scale
+            omega = tuple(w / scale for w in omega)
+            k = self.ring.gens.index(scale)
+            self.unit, self.unit_inv = self.ring.gen(k), self.ring.gen(k, -1)
+        self.omega = omega
         self.wq = [Q(int(w.p), int(w.q)) for w in self.omega]
         self.wf = [Fraction(int(w.p), int(w.q)) for w in self.omega]
         self.a_inv = [self.ring.gen(i, -1) for i in range(dof)]
         self.detuned = self.sig is not None
+        # integer frequencies (over their common denominator) and, per mode, the exact bound
+        # of |h . omega| - omega_i beyond which a harmonic is not resonant (tolerance times
+        # omega_i): the quick test of _resonant
+        den = math.lcm(*(w.denominator for w in self.wf))
+        self._w_int = [int(w * den) for w in self.wf]
+        self._bound = [Fraction(tolerance) * w for w in self._w_int]
+        self._memo: dict = {}
 
     # -- the ring protocol of the lazy series --------------------------------------------
     def zero(self) -> MultiAngle:
@@ -104,13 +127,22 @@ class CoupledAlgebra(AngleCalculus):
         out = self.zero()
         for l, w in enumerate(self.wq):
             out = out + f.d_angle(l).scale_q(w)
-        return out
+        return out if self.unit is None else out.scale(self.unit)
 
     # -- resonance structure ----------------------------------------------------------
     def _resonant(self, h: tuple, i: int, n: int) -> tuple[tuple, int] | None:
         """``(k, s)`` with ``h . psi = s (psi_i + k . psi)``, ``k`` slow, or ``None``;
-        raises for an undeclared (near) resonance (:func:`resonant_harmonic`)."""
-        return resonant_harmonic(h, i, n, self.omega, self.lattice, self.tol, self.forced)
+        raises for an undeclared (near) resonance (:func:`resonant_harmonic`, asked only
+        when ``h . omega`` is within the tolerance of ``+-omega_i``; its answers kept)."""
+        key = (h, i)
+        if key in self._memo:
+            return self._memo[key]
+        f = sum(w * v for w, v in zip(self._w_int, h))
+        out = None
+        if abs(abs(f) - self._w_int[i]) <= self._bound[i]:
+            out = resonant_harmonic(h, i, n, self.omega, self.lattice, self.tol, self.forced)
+        self._memo[key] = out
+        return out
 
     def secular(self, R: MultiAngle, i: int, n: int) -> tuple[MultiAngle, MultiAngle]:
         """``(A_{i,n}, B_{i,n})``: the resonant part of ``R_{i,n}`` as slow series."""
@@ -130,6 +162,8 @@ class CoupledAlgebra(AngleCalculus):
                     Qs = Qs + MultiAngle.harmonic(ring, k, cs, "cos")
                     P = P + MultiAngle.harmonic(ring, k, cs, "sin")
         half = Q(-1, 2) / self.wq[i]
+        if self.unit is not None:
+            Qs, P = Qs.scale(self.unit_inv), P.scale(self.unit_inv)
         return Qs.scale_q(half), P.scale(self.a_inv[i]).scale_q(half)
 
     def solve(self, R: MultiAngle, i: int, n: int) -> MultiAngle:
@@ -141,7 +175,8 @@ class CoupledAlgebra(AngleCalculus):
             d = w2 - frequency(h, self.omega) ** 2
             return c.scale(Q(d.denominator, d.numerator))
 
-        return rest.map_coefficients(divide)
+        out = rest.map_coefficients(divide)
+        return out if self.unit is None else out.scale(self.unit_inv * self.unit_inv)
 
 
 class MultiBuilder(Builder):

@@ -5,10 +5,10 @@
 :class:`~kbm.algebra.laurent.Laurent` polynomial in the amplitudes, the parameters and
 the detunings.  It is the representation of the coupled KBM recursion
 (:mod:`kbm.expansion.coupled`): ``psi = (psi_1, ..., psi_N)`` are the phases of the ``N``
-oscillators.  Products use the product-to-sum formulas, ``d/dpsi_l`` acts on the indices
-and ``d/da_l`` on the coefficients; no integral is ever done.  The two-angle series of the
-forced recursion (:mod:`kbm.algebra.two_angle`) is the case ``n = 2`` with one of the
-angles the forcing's.
+oscillators (and the forcing angle ``theta`` last, when forced).  Products use the
+product-to-sum formulas, ``d/dpsi_l`` acts on the indices and ``d/da_l`` on the
+coefficients; no integral is ever done.  The forced recursion of one oscillator
+(:mod:`kbm.expansion.forced`) is the case ``n = 2``, ``(psi, theta)``.
 
 The series satisfies the ring protocol the lazy eps-series of
 :mod:`kbm.algebra.lazy_series` need (``+``, ``-``, ``*``, ``scale``, ``scale_q``,

@@ -22,10 +22,12 @@ Without a declared resonance (``nu`` given, not near one) the same recursion kee
 ``(m, k) = (1, 0)`` secular; a harmonic whose divisor is small (within ``tolerance`` of a
 resonance) is refused with the resonance named (:class:`SmallDivisorError`).
 
-The loop is the one recursion (:func:`kbm.expansion.recursion.kbm_recursion`, the case ``N = 1``
-with a forcing angle).  All arithmetic is exact: two-angle Fourier series
-(:mod:`kbm.algebra.two_angle`) with Laurent-polynomial coefficients over Q in ``a``, the
-parameters and ``sigma``.
+The engine is the coupled one at ``N = 1`` with a forcing angle: the one recursion
+(:func:`kbm.expansion.recursion.kbm_recursion`) over the exact algebra of
+:mod:`kbm.expansion.coupled` (:class:`~kbm.algebra.forced.ForcedAlgebra`, a
+:class:`~kbm.algebra.coupled.CoupledAlgebra`): Fourier series in ``(psi, theta)``
+(:mod:`kbm.algebra.multi_angle`) with Laurent-polynomial coefficients over Q in ``a``, the
+parameters and ``sigma``, on the slow lattice of the declared resonance.
 
 References
 ----------
@@ -40,18 +42,20 @@ from fractions import Fraction
 
 import sympy as sp
 
-from ..algebra.lazy_series import Builder
+from ..algebra.coupled import coupled_rhs
+from ..algebra.multi_angle import MultiAngle
 from ..errors import OrderError, ParameterError, UnsupportedTermError
 from .recursion import kbm_recursion
-from ..symbols import mu, psi
+from ..symbols import a, mu, psi, x, xdot
 from ..parameters.values import parameter_value
 from ..model.forced_builtins import get_forced_model
 from ..model.forced_checks import polynomial_message
+from ..model.oscillator import TO_GENERAL
 from ..model.forced import ForcedOscillator, Resonance, phi, sigma, theta
 from ..model.forced import nu as nu_symbol
-from ..algebra.forced import ResonantAlgebra, SmallDivisorError
+from ..algebra.forced import ForcedAlgebra, SmallDivisorError
 from .forced_result import ForcedKBMResult
-from ..algebra.two_angle import TwoAngle
+from .resonance import InternalResonance, SlowLattice
 
 __all__ = ["derive_forced", "SmallDivisorError", "MAX_ORDER"]
 
@@ -59,7 +63,7 @@ __all__ = ["derive_forced", "SmallDivisorError", "MAX_ORDER"]
 MAX_ORDER = 12
 
 
-def _slow_expr(f: TwoAngle) -> sp.Expr:
+def _slow_expr(f: MultiAngle) -> sp.Expr:
     """A slow series (harmonics ``(j p, -j q)``, i.e. of ``j p phi``) in ``a`` and ``phi``."""
     parts = []
     for kind, table in (("cos", f.cos), ("sin", f.sin)):
@@ -150,15 +154,19 @@ def derive_forced(model: ForcedOscillator | str, order: int, params: dict | None
         + (mu * sigma if res is not None else 0)
     Fmu = sp.Poly(sp.expand(model.shifted(freq).subs(nu_symbol, freq)), mu)
     F = [sp.expand(Fmu.coeff_monomial(mu**k)) for k in range(Fmu.degree() + 1)]
-    alg = ResonantAlgebra(model, res, ratio, tolerance, F)
-
-    def rhs(X, V):  # F[k]: the coefficient of mu**k (a hard forcing or nu in F give them)
-        builder = Builder(alg, X[0], V[0])
-        return [[(k, builder.build(Fk)) for k, Fk in enumerate(F)]]
-
-    (A,), (B,), (U,) = kbm_recursion(alg, rhs, order)  # N = 1 with the forcing angle
+    syms = set().union(*[f.free_symbols for f in F]) | model.omega0.free_symbols
+    gens = sorted(syms - {x, xdot, theta, sigma, mu}, key=lambda s: s.name)
+    internal = (InternalResonance(1, 2, res.q, res.p, forcing=True),) if res else ()
+    # the coupled algebra of N = 1 with the forcing angle; the declared resonance is exact,
+    # so no other harmonic nears it (tolerance 0), a fixed nu checks its small divisors
+    alg = ForcedAlgebra(model, SlowLattice(2, internal), gens + ([sigma] if res else []),
+                        0 if res else tolerance, ratio=ratio,
+                        nu0=sp.Rational(ratio.numerator, ratio.denominator) * model.omega0,
+                        detuning=sigma if res else None, amplitude_symbols=(a,))
+    rhs = coupled_rhs(alg, [[f.xreplace(TO_GENERAL) for f in F]])
+    (A,), (B,), (U,) = kbm_recursion(alg, rhs, order)
     return ForcedKBMResult(
         model=model, order=order, resonance=res, nu_ratio=ratio,
         A=tuple(_slow_expr(f) for f in A),
         B=tuple(_slow_expr(f) for f in B),
-        u=tuple(f.as_expr(psi, theta) for f in U))
+        u=tuple(f.as_expr((psi, theta)) for f in U))

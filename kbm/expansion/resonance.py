@@ -14,6 +14,7 @@ import itertools
 import re
 from dataclasses import dataclass
 from fractions import Fraction
+from functools import lru_cache
 from math import gcd
 
 import numpy as np
@@ -116,31 +117,44 @@ class SlowLattice:
     def __init__(self, dof: int, resonances: tuple[InternalResonance, ...]):
         self.dof = dof
         self.generators = tuple(r.vector(dof) for r in resonances)
-        self._memo: dict = {}
-        if self.generators:
-            M = sp.Matrix([list(g) for g in self.generators]).T
-            if M.rank() < len(self.generators):
-                raise ModelError(f"the declared internal resonances "
-                                 f"{', '.join(map(str, resonances))} are not independent: "
-                                 "declare each once")
-            self._M = M
+        if self.generators and not _independent(self.generators):
+            raise ModelError(f"the declared internal resonances "
+                             f"{', '.join(map(str, resonances))} are not independent: "
+                             "declare each once")
 
     def coords(self, k: tuple[int, ...]) -> tuple[int, ...] | None:
         """Integer ``c`` with ``k = sum_r c_r g_r``, or ``None``."""
-        if k in self._memo:
-            return self._memo[k]
-        out = None
-        if not any(k):
-            out = (0,) * len(self.generators)
-        elif self.generators:
-            try:
-                sol, params = self._M.gauss_jordan_solve(sp.Matrix(list(k)))
-            except ValueError:
-                sol = None
-            if sol is not None and not params.shape[0] and all(v.is_Integer for v in sol):
-                out = tuple(int(v) for v in sol)
-        self._memo[k] = out
-        return out
+        return _coords(self.generators, k)
+
+
+@lru_cache(maxsize=256)
+def _independent(generators: tuple) -> bool:
+    """Whether the lattice's generators are linearly independent.
+
+    Pure-function memo (every expansion builds its lattice): the key is a tuple of integer
+    tuples, the value a ``bool`` computed from it alone."""
+    return sp.Matrix([list(g) for g in generators]).T.rank() == len(generators)
+
+
+@lru_cache(maxsize=1 << 14)
+def _coords(generators: tuple, k: tuple) -> tuple[int, ...] | None:
+    """:meth:`SlowLattice.coords`.
+
+    Pure-function memo (the same harmonics are classified by every order and expansion; the
+    Gauss-Jordan solve is slow): the key is tuples of integers, the value a tuple of
+    integers or ``None`` computed from them alone."""
+    if not any(k):
+        return (0,) * len(generators)
+    if not generators:
+        return None
+    M = sp.Matrix([list(g) for g in generators]).T
+    try:
+        sol, params = M.gauss_jordan_solve(sp.Matrix(list(k)))
+    except ValueError:
+        return None
+    if not params.shape[0] and all(v.is_Integer for v in sol):
+        return tuple(int(v) for v in sol)
+    return None
 
 
 def frequency(k: tuple[int, ...], omega: tuple) -> Fraction:

@@ -14,7 +14,8 @@ unchanged:
 - :class:`~kbm.model.oscillator.Oscillator`: ``dof`` 1, not forced; its engine
   :func:`kbm.derive` (Bessel sums, any order);
 - :class:`~kbm.model.forced.ForcedOscillator`: ``dof`` 1, forced; its engine
-  :func:`~kbm.expansion.forced.derive_forced`;
+  :func:`~kbm.expansion.forced.derive_forced` (the coupled algebra at ``N = 1`` with the
+  forcing angle, its result in the resonant phase ``phi``);
 - :class:`~kbm.model.coupled.CoupledOscillators`: ``dof`` N, forced or not; its engine
   :func:`~kbm.expansion.coupled.derive_coupled`.
 
@@ -22,13 +23,16 @@ No conversion stands between a model and an engine: every engine of ``N`` degree
 freedom reads the general accessors (``rhs``, ``omegas``, ``drives``, ``hards``, ``nu0``)
 of any instance, a case ``N = 1`` included (``tests/test_family.py``), and the general
 engine gives the same expansion as the special one (``tests/test_coupled_engine.py``:
-:func:`kbm.derive` to order 5, and :func:`kbm.expansion.forced.derive_forced` to order 3 on every
-polynomial forced built-in).  Every instance binds its parameter values through one layer:
-:func:`kbm.parameters.values.scaled_values` turns
-physical names into scaled ones (``delta = Delta/mu``) and :func:`kbm.parameters.bound.bind` binds
-them.  The engines of one degree of freedom stay for what the general one does not do (the Bessel
-sums of ``sin(k x)`` above the first order, :mod:`kbm.algebra.coupled_bessel`) and for the
-byte-stable derivations, in their faster one- and two-angle algebras; all of them run one recursion
+:func:`kbm.derive` to order 5; ``tests/test_coupled_forced.py``:
+:func:`kbm.expansion.forced.derive_forced` to order 3 on every polynomial forced built-in).
+Every instance binds its parameter values through one layer:
+:func:`kbm.parameters.values.scaled_values` turns physical names into scaled ones (``delta =
+Delta/mu``) and :func:`kbm.parameters.bound.bind` binds them.  The forced engine is the
+general one's algebra at ``N = 1`` with the forcing angle
+(:class:`kbm.algebra.forced.ForcedAlgebra`); the unforced engine of one degree of freedom
+stays for what the general one does not do (the Bessel sums of ``sin(k x)`` above the first
+order, :mod:`kbm.algebra.coupled_bessel`) and for the byte-stable derivations, in its faster
+one-angle algebras; all of them run one recursion
 (:func:`kbm.expansion.recursion.kbm_recursion`) over the algebra protocol
 :class:`kbm.algebra.base.RecursionAlgebra`.
 

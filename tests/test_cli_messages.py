@@ -322,3 +322,27 @@ def test_an_option_the_command_does_not_take_gets_the_commands_usage(capsys):
     assert err.startswith("usage: kbm slide") and "--t-end" in err, err
     assert err.strip().splitlines()[-1] == ("kbm slide: error: unrecognized arguments: "
                                             "--vary v=0.1:1")
+
+
+@pytest.mark.parametrize("argv, says", [
+    # "give -p T=VALUE": the user typed --vary, not -p
+    (["spectrum", "vdp", "-p", "mu=0.1", "--vary", "T=-0.01:0.01"],
+     "--vary T=-0.01:0.01: T = -0.01 is negative; the temperature kT = D/mu must be > 0"),
+    # a later value was told as D = mu T: "D = -0.001: ... -p D=VALUE"
+    (["spectrum", "vdp", "-p", "mu=0.1", "--vary", "T=0.01,-0.01"],
+     "--vary T=0.01,-0.01: T = -0.01 is negative"),
+    (["spectrum", "vdp", "-p", "mu=0.1", "--vary", "D=0.01,0"],
+     "--vary D=0.01,0: D = 0 is no noise; the noise intensity of sqrt(2 D) xi must be > 0"),
+    # "D = -0.04: give ... as -p D=VALUE"
+    (["friction", "cdc", "-p", "Delta=3", "--vary", "D=0.01,-0.04", "--vary", "v=0.1"],
+     "--vary D=0.01,-0.04: D = -0.04 is negative"),
+    (["friction", "cdc", "-p", "Delta=3", "--vary", "T=-0.01,0.04", "--vary", "v=0.1"],
+     "--vary T=-0.01,0.04: T = -0.01 is negative; the temperature kT = D/mu must be >= 0"),
+])
+def test_a_noise_axis_is_refused_as_typed(argv, says, capsys):
+    """A bad value of ``--vary D`` or ``--vary T`` is refused naming the ``--vary`` typed
+    and its value as typed (``T``, not ``D = mu T``), never an option not given (``-p``)."""
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and says in err[0], err
+    assert "-p " not in err[0], err[0]

@@ -214,8 +214,10 @@ def _print(m) -> None:
         if not p.ok:
             print(f"{vals}  failed: {cli_message(p.error)}")
             continue
-        print(f"{vals} {p.regime:>24s} {p.mean_force:10.5g} {p.dissipation_per_distance:10.5g} "
-              f"{table_cell(p.static_force, '9.4g')} {p.stuck_fraction:6.3f} "
+        # a runaway has no mean force, dissipation or stuck fraction (JSON null): "--"
+        print(f"{vals} {p.regime:>24s} {table_cell(p.mean_force, '10.5g')} "
+              f"{table_cell(p.dissipation_per_distance, '10.5g')} "
+              f"{table_cell(p.static_force, '9.4g')} {table_cell(p.stuck_fraction, '6.3f')} "
               f"{table_cell(p.wells_per_slip, '6.3g')} {p.eta:6.3g} {'yes' if p.steady else 'no'}")
         if p.note:
             print(f"{'':{10 * len(names)}s}  ({cli_message(p.note)})")

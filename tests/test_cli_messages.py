@@ -371,3 +371,24 @@ def test_series_refuses_far_beyond_a_radius_it_cannot_estimate(capsys):
     assert main(["series", "vdp", "--order", "3", "--float", "--at", "0.1"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "no Pade approximant" in err[0] and "raise --order" in err[0]
+
+
+@pytest.mark.parametrize("argv, says", [
+    # "T = D/mu needs mu: give -p mu=VALUE, or the noise as -p D=VALUE"
+    (["spectrum", "vdp", "--vary", "T=0.01,0.02"],
+     "--vary T=0.01,0.02: T = D/mu needs mu: give -p mu=VALUE, or the noise as --vary D="),
+    # "... got mu = -0.1; give -p D=VALUE"
+    (["spectrum", "vdp", "-p", "mu=-0.1", "--vary", "T=0.01,0.02"],
+     "needs mu > 0, got mu = -0.1; give -p mu=VALUE > 0, or the noise as --vary D="),
+    # "parameter 'D' is given twice", though typed once as -p and once as --vary
+    (["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--vary", "D=0.01,0.02"],
+     "D is both varied (--vary) and given (-p); give it once"),
+])
+def test_a_noise_axis_without_its_mu_is_refused_as_typed(argv, says, capsys):
+    """``--vary T`` (``T = D/mu``, the temperature of the damping ``mu x'``) without ``mu >
+    0``, and the noise given both as ``-p`` and as ``--vary``: the message names the
+    ``--vary`` and offers ``--vary D``, not ``-p D=VALUE``."""
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and says in err[0], err
+    assert "-p D=" not in err[0], err[0]

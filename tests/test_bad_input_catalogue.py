@@ -357,3 +357,22 @@ def test_inputs_that_hung_fail_within_5_s_in_a_fresh_process(line):
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and "error:" in lines[0] and "Traceback" not in proc.stderr
     assert used < 5.0
+
+
+def test_checked_params_refuses_a_builtin_of_another_kind():
+    """The one guard of ``kbm predict``, ``compare``, ``cycle`` and ``derive`` (before, each
+    command's own three-line ``lookup(spec, kinds, rhs=True)``): with ``kinds`` a built-in of
+    another kind or an unknown name is refused with the built-ins those kinds hold and
+    ``--rhs``; without, an unknown name is left to the command (its ``-p`` read)."""
+    from kbm.cli._common import checked_params
+
+    with pytest.raises(ModelError, match=r"'duffing-forced' is a forced model, and this "
+                                         r"command takes .* \(or your own F with --rhs EXPR\)"):
+        checked_params(["mu=0.1"], "duffing-forced", ("one",))
+    with pytest.raises(ModelError, match="'coupled-vdp' is a coupled model"):
+        checked_params(["mu=0.1"], "coupled-vdp", ("one",))
+    assert checked_params(["mu=0.1", "c=0.3"], "coupled-vdp", ("one", "coupled")) == {
+        "mu": "0.1", "c": "0.3"}
+    with pytest.raises(ModelError, match="unknown model 'nosuch'.*--rhs EXPR"):
+        checked_params(["mu=0.1"], "nosuch", ("one",))
+    assert checked_params(["mu=0.1"], "nosuch") == {"mu": "0.1"}

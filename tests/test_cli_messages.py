@@ -6,6 +6,7 @@ The same missing parameter is reported by the library as ``params={'beta': ...}`
 
 from __future__ import annotations
 
+import math
 import re
 
 import pytest
@@ -322,3 +323,72 @@ def test_an_option_the_command_does_not_take_gets_the_commands_usage(capsys):
     assert err.startswith("usage: kbm slide") and "--t-end" in err, err
     assert err.strip().splitlines()[-1] == ("kbm slide: error: unrecognized arguments: "
                                             "--vary v=0.1:1")
+
+
+@pytest.mark.parametrize("argv, says", [
+    # "give -p T=VALUE": the user typed --vary, not -p
+    (["spectrum", "vdp", "-p", "mu=0.1", "--vary", "T=-0.01:0.01"],
+     "--vary T=-0.01:0.01: T = -0.01 is negative; the temperature kT = D/mu must be > 0"),
+    # a later value was told as D = mu T: "D = -0.001: ... -p D=VALUE"
+    (["spectrum", "vdp", "-p", "mu=0.1", "--vary", "T=0.01,-0.01"],
+     "--vary T=0.01,-0.01: T = -0.01 is negative"),
+    (["spectrum", "vdp", "-p", "mu=0.1", "--vary", "D=0.01,0"],
+     "--vary D=0.01,0: D = 0 is no noise; the noise intensity of sqrt(2 D) xi must be > 0"),
+    # "D = -0.04: give ... as -p D=VALUE"
+    (["friction", "cdc", "-p", "Delta=3", "--vary", "D=0.01,-0.04", "--vary", "v=0.1"],
+     "--vary D=0.01,-0.04: D = -0.04 is negative"),
+    (["friction", "cdc", "-p", "Delta=3", "--vary", "T=-0.01,0.04", "--vary", "v=0.1"],
+     "--vary T=-0.01,0.04: T = -0.01 is negative; the temperature kT = D/mu must be >= 0"),
+])
+def test_a_noise_axis_is_refused_as_typed(argv, says, capsys):
+    """A bad value of ``--vary D`` or ``--vary T`` is refused naming the ``--vary`` typed
+    and its value as typed (``T``, not ``D = mu T``), never an option not given (``-p``)."""
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and says in err[0], err
+    assert "-p " not in err[0], err[0]
+
+
+def test_series_refuses_far_beyond_a_radius_it_cannot_estimate(capsys):
+    """``kbm series vdp --order 5 --float --at 1e9`` printed omega* = 0.294 "+- unmeasured"
+    (the true omega* ~ 2 pi/((3 - 2 ln 2) mu) = 3.9e-9): at an order too low to estimate
+    the radius of convergence, the reach of 10 radii that --order 80 enforces was skipped.
+    The radius is then taken from the ratio of the last two coefficients of van der Pol's
+    omega* = 1 - mu^2/16 + 17 mu^4/3072 (Lindstedt; Andersen & Geer), |mu^2| = 3072/(16 17),
+    so --at is taken to |mu| <= sqrt(10 x 3072/272) = 10.63.  Within it the value is the
+    diagonal Pade [1/1] of those three terms, (1 + 5 t/192)/(1 + 17 t/192), t = mu^2.  At
+    --order 3 (c_0, c_2 only) no [1/1] exists: an ArithmeticError traceback before."""
+    top = math.sqrt(10 * 3072 / (16 * 17))
+    assert main(["series", "vdp", "--order", "5", "--float", "--at", "1e9"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"give --at with |MU| <= {top:.3g}" in err[0], err
+    assert "too few coefficients to estimate its radius of convergence" in err[0]
+    assert main(["series", "vdp", "--order", "5", "--float", "--at", "10.6"]) == 0
+    line = capsys.readouterr().out.splitlines()[-2]
+    t = 10.6**2
+    omega = float(line.split("omega* = ")[1].split(" ")[0])
+    assert omega == pytest.approx((1 + 5 * t / 192) / (1 + 17 * t / 192), rel=1e-14)
+    assert main(["series", "vdp", "--order", "3", "--float", "--at", "0.1"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no Pade approximant" in err[0] and "raise --order" in err[0]
+
+
+@pytest.mark.parametrize("argv, says", [
+    # "T = D/mu needs mu: give -p mu=VALUE, or the noise as -p D=VALUE"
+    (["spectrum", "vdp", "--vary", "T=0.01,0.02"],
+     "--vary T=0.01,0.02: T = D/mu needs mu: give -p mu=VALUE, or the noise as --vary D="),
+    # "... got mu = -0.1; give -p D=VALUE"
+    (["spectrum", "vdp", "-p", "mu=-0.1", "--vary", "T=0.01,0.02"],
+     "needs mu > 0, got mu = -0.1; give -p mu=VALUE > 0, or the noise as --vary D="),
+    # "parameter 'D' is given twice", though typed once as -p and once as --vary
+    (["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--vary", "D=0.01,0.02"],
+     "D is both varied (--vary) and given (-p); give it once"),
+])
+def test_a_noise_axis_without_its_mu_is_refused_as_typed(argv, says, capsys):
+    """``--vary T`` (``T = D/mu``, the temperature of the damping ``mu x'``) without ``mu >
+    0``, and the noise given both as ``-p`` and as ``--vary``: the message names the
+    ``--vary`` and offers ``--vary D``, not ``-p D=VALUE``."""
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and says in err[0], err
+    assert "-p D=" not in err[0], err[0]

@@ -148,3 +148,19 @@ def test_kbm_response_takes_rhs_lists(capsys):
     i = argv.index("--nu0")
     code, out, err = run_cli(capsys, *(argv[:i] + argv[i + 2:]))
     assert code == 2 and "--nu0" in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_branch_started_at_an_end_of_its_range_holds_its_start_once():
+    """``kbm response quadratic-1-2 ... --vary sigma2=0.8:1.2`` (README) starts at FROM: the
+    direction towards smaller sigma2 leaves the range at once, and its end placed on the
+    bound is the start itself, which the table printed twice ("0.8 6.2333188 ..." in its
+    first two rows, 30 points).  Now each point once: the parameters strictly increase from
+    FROM, and the other direction's points are the same as before (the branch is one
+    curve: the direction towards larger sigma2 alone gives them)."""
+    params = {"mu": 0.02, "zeta1": 0.5, "zeta2": 0.5, "alpha1": 1, "alpha2": 1, "sigma1": 0,
+              "h": 2, "sigma2": 0.8}
+    both = continue_coupled("quadratic-1-2", params, "sigma2", (0.8, 1.2))
+    up = continue_coupled("quadratic-1-2", params, "sigma2", (0.8, 1.2), directions=(1,))
+    p = np.array([pt.parameter for pt in both.points])
+    assert p[0] == 0.8 and np.all(np.diff(p) > 0), p[:3]
+    assert [pt.parameter for pt in up.points] == p.tolist()

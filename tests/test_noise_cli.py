@@ -281,3 +281,23 @@ def test_noise_budget_refusal_keeps_the_reason_and_says_what_is_given(capsys):
     rep = json.loads(out)
     assert code == 0 and rep["averaged_order"] == 1
     assert "first order given" in rep["message"] and "simulation refused" in rep["message"]
+
+
+def test_friction_with_noise_states_no_default_for_an_axis(capsys):
+    """``--vary mu=0.1,1`` with ``-p T=0.05``: the header said "mu = 0.1" (the library's
+    default) and the JSON ``params.mu`` 0.1.  Now the header names no mu, the JSON keeps the
+    key with ``null`` (the values are in ``axes``), and each point's ``D = mu T`` (the
+    temperature of the damping mu x', paper eq. 12) uses its own mu.  Without ``v`` the
+    refusal says what to give, not "got None"."""
+    args = ("friction", "cdc", "-p", "Delta=3", "-p", "T=0.05", "-p", "v=0.5", "--vary",
+            "mu=0.1,1", "--trajectories", "4", "--wells", "2", "--no-progress")
+    code, text, _ = kbm_in_process(capsys, *args)
+    head = text.splitlines()[0]
+    assert code == 0 and "mu =" not in head and "T = 0.05" in head, head
+    code, out, _ = kbm_in_process(capsys, *args, "--json")
+    rep = json.loads(out)
+    assert code == 0 and "mu" in rep["params"] and rep["params"]["mu"] is None
+    assert rep["params"]["lam"] == 1.0 and rep["axes"]["mu"] == [0.1, 1.0]
+    assert [p["D"] for p in rep["points"]] == pytest.approx([0.1 * 0.05, 1.0 * 0.05])
+    code, _, err = kbm_in_process(capsys, *args[:6], *args[8:])
+    assert code == 2 and "got None" not in err and "give -p v=VALUE" in err, err

@@ -160,3 +160,27 @@ def test_bad_settings_are_refused():
         FrictionSettings(slips=0)
     with pytest.raises(ParameterError, match="steady_tol"):
         FrictionSettings(steady_tol=float("nan"))
+
+
+def test_friction_table_prints_no_nan_for_a_runaway(capsys):
+    """The stage-attached SEDF pulled at v = 2 runs away (its spring force grows without
+    bound; :func:`friction_point` says ``runaway``): it has no mean force, dissipation per
+    distance or stuck fraction, ``null`` in the JSON.  The table printed ``nan`` in those
+    columns (``kbm friction sedf_comoving ... --vary v=1e-3:3:log24``, README); now ``--``
+    as in the static-force column and in the noisy table, the reason on the next line."""
+    import json
+
+    from numerics.cli import main
+
+    args = ["friction", "sedf_comoving", "-p", "Delta=3", "-p", "beta=1", "--vary", "v=2",
+            "--no-progress"]
+    assert main(args + ["--json"]) == 0
+    rep = json.loads(capsys.readouterr().out)
+    assert rep["regime"] == ["runaway"]
+    assert rep["mean_force"] == rep["dissipation_per_distance"] == rep["stuck_fraction"] == [
+        None]
+    assert main(args) == 0
+    text = capsys.readouterr().out
+    row = next(line.split() for line in text.splitlines() if line.split()[:1] == ["2"])
+    assert "nan" not in text and row[1:6] == ["runaway", "--", "--", "--", "--"], row
+    assert "no bounded sliding state" in text

@@ -106,17 +106,23 @@ def parse_params(items: list[str]) -> dict[str, str]:
     return out
 
 
-def checked_params(items: list[str], model: object) -> dict[str, str]:
+def checked_params(items: list[str], model: object,
+                   kinds: Iterable[str] | None = None) -> dict[str, str]:
     """``-p NAME=VALUE`` options read (:func:`parse_params`) and checked (:func:`check`)
     against the names ``model`` takes (:class:`kbm.parameters.values.ParameterNames`: ``mu``, the
     physical names such as ``Delta``, ``lam``, the scaled ones such as ``delta = Delta/mu``,
     ``k = 2 pi/lam``).
 
     ``model`` is a model, or a built-in name; a name that is no built-in is left to the
-    command, which names the unknown model.
+    command, which names the unknown model, unless ``kinds`` names the kinds of built-in the
+    command takes (``("one",)``, ``("one", "coupled")``): then a name of another kind or no
+    built-in is refused first (:func:`kbm.parameters.names.lookup`, ``--rhs`` offered).
 
     Raises
     ------
+    kbm.errors.ModelError
+        With ``kinds``: a built-in of another kind (no traceback further on) or an unknown
+        name, the built-ins the command takes listed.
     kbm.errors.ParameterError
         For an unknown name (the closest valid one and every valid one named, in ``-p``
         terms), or a scaled name given with the physical one it is computed from.
@@ -124,6 +130,8 @@ def checked_params(items: list[str], model: object) -> dict[str, str]:
     from ..model.builtins import Oscillator
     from ..parameters.names import lookup
 
+    if isinstance(model, str) and kinds is not None:
+        model = lookup(model, kinds, rhs=True)
     params = parse_params(items)
     if isinstance(model, str):
         try:

@@ -71,11 +71,8 @@ def model_from_args(args: argparse.Namespace, *, series: bool = False):
     from ..parameters.names import names_of
 
     spec = model_spec(args)  # a built-in's name, or the --rhs model
-    if isinstance(spec, str):  # a forced built-in is of another kind, not unknown
-        from ..parameters.names import lookup
-
-        lookup(spec, ("one",) if series else ("one", "coupled"), rhs=True)
-    params = checked_params(args.param, spec)
+    # a forced built-in is of another kind, not unknown
+    params = checked_params(args.param, spec, ("one",) if series else ("one", "coupled"))
     model = (get_model(spec, params) if isinstance(spec, str)
              else spec.substitute(params) if params else spec)
     _mu_sets_something(names_of(spec), params, series)

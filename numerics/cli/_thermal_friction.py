@@ -71,7 +71,7 @@ def emit_maps(args, first, second, printer, figures, ratios=None) -> int:
 def _print(m) -> None:
     names = list(m.axes)
     print(f"{m.model} with noise sqrt(2 D) xi: "
-          + ", ".join(f"{k} = {v:g}" for k, v in m.params.items())
+          + ", ".join(f"{k} = {v:g}" for k, v in m.params.items() if k not in m.axes)
           + f"; {m.trajectories} trajectories x {m.wells:g} stage periods per point, "
             f"seed {m.seed}")
     head = "".join(f"{n:>10s}" for n in names if n not in ("D", "T"))
@@ -99,7 +99,7 @@ def _print(m) -> None:
 def _noise_label(m, D: float) -> str:
     """The legend of one noise level: ``kT = D/mu`` when the noise was given as ``T`` (an
     axis or a parameter), else ``D``."""
-    if "T" in m.axes or "T" in m.params:
+    if ("T" in m.axes or "T" in m.params) and m.params["mu"] is not None:  # mu no axis
         return f"{m.model}, kT = {D / m.params['mu']:.4g}"
     return f"{m.model}, D = {D:.4g}"
 

@@ -149,11 +149,8 @@ def run(args: argparse.Namespace) -> int:
     energy_orders = "1,2" if args.energy_orders is None else args.energy_orders
     if energy_orders.strip().lower() != "none":
         extra += [energy_prediction(n) for n in orders(energy_orders, "--energy-orders")]
-    if isinstance(model_spec(args), str):  # a forced or coupled built-in: refused, no
-        from kbm.parameters.names import lookup  # traceback and no words of the Python API
-
-        lookup(args.model, ("one",), rhs=True)
-    params = checked_params(args.param, model_spec(args))
+    # a forced or coupled built-in: refused, no traceback and no words of the Python API
+    params = checked_params(args.param, model_spec(args), ("one",))
     from numerics.cli.params.values import wavenumber
 
     wavenumber(model_spec(args), params)

@@ -68,14 +68,11 @@ def _run_one(args: argparse.Namespace, kw: dict) -> int:
     from numerics.cli.params.values import wavenumber
 
     card = None if args.all else _card(args)
-    if card is None and isinstance(args.model, str) and not getattr(args, "rhs", None):
-        from kbm.parameters.names import lookup  # a forced built-in: refused, no traceback
-
-        lookup(args.model, ("one", "coupled"), rhs=True)
+    kinds = ("one", "coupled")  # a forced built-in: refused, no traceback
     if args.all:
         from numerics import limit_cycles
 
-        params = checked_params(args.param, model_spec(args))
+        params = checked_params(args.param, model_spec(args), kinds)
         wavenumber(model_spec(args), params)
         return _run_all(limit_cycles(model_spec(args), params, **kw), args)
     if card is not None:  # a warm run: no sympy (the names were checked by a cold one)
@@ -85,7 +82,7 @@ def _run_one(args: argparse.Namespace, kw: dict) -> int:
         from numerics.flow.card import name_model
 
         model = model_spec(args)
-        params = checked_params(args.param, model)
+        params = checked_params(args.param, model, kinds)
         wavenumber(model, params)
         if getattr(args, "rhs", None):
             name_model(model, _spec(args))

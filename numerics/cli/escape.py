@@ -53,7 +53,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from kbm.parameters.names import lookup, names_of
     from numerics.cli.params.options import check_ensemble
-    from numerics.cli.params.values import noisy_model
+    from numerics.cli.params.noise import noisy_model
     from numerics.escape.report import escape_report
 
     check_ensemble(args)

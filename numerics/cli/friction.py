@@ -113,6 +113,7 @@ def run(args: argparse.Namespace) -> int:
     from kbm.model.builtins import parameter_value
     from kbm.parameters.names import noise_intensity
     from kbm.parameters.values import closest
+    from numerics.cli.params.noise import noise_axis
     from numerics.cli.params.options import check_ensemble, stored
     from numerics.cli.params.values import check, given, parse_vary, physical
     from numerics.executor import connect
@@ -145,15 +146,13 @@ def run(args: argparse.Namespace) -> int:
         _check_figures([v.name for v in varies], args.against)  # before the names' checks
     models = (args.model,) + ((args.against,) if args.against else ())
     names = check(models, params, [v.name for v in varies], extra=("v",), noise=True)
-    axes = {v.name: v.values() for v in varies}
-    for x in list(axes.get("D", ())) + ([params["D"]] if "D" in params else []):
-        noise_intensity(x)  # D = 0 is the deterministic slider
-    temperatures = list(axes.get("T", ()))  # named as typed (T = D/mu is converted later)
-    if "T" in params:
-        temperatures.append(float(parameter_value("T", params["T"])))
-    bad = [x for x in temperatures if x < 0]
-    if bad:
-        raise ParameterError(f"T = {bad[0]:g} is negative; the temperature kT = D/mu must be "
+    # a noise axis is checked as typed (T = D/mu is converted later); D = 0, T = 0 are the
+    # deterministic slider
+    axes = {v.name: noise_axis(v) if v.name in ("D", "T") else v.values() for v in varies}
+    if "D" in params:
+        noise_intensity(params["D"])
+    if "T" in params and (t := float(parameter_value("T", params["T"]))) < 0:
+        raise ParameterError(f"T = {t:g} is negative; the temperature kT = D/mu must be "
                              ">= 0 (T = 0 is the deterministic slider)")
     fixed, axes = physical(names, params, axes, "0.1")
     axes = {k: axis_values(k, v) for k, v in axes.items()}
@@ -215,8 +214,10 @@ def _print(m) -> None:
         if not p.ok:
             print(f"{vals}  failed: {cli_message(p.error)}")
             continue
-        print(f"{vals} {p.regime:>24s} {p.mean_force:10.5g} {p.dissipation_per_distance:10.5g} "
-              f"{table_cell(p.static_force, '9.4g')} {p.stuck_fraction:6.3f} "
+        # a runaway has no mean force, dissipation or stuck fraction (JSON null): "--"
+        print(f"{vals} {p.regime:>24s} {table_cell(p.mean_force, '10.5g')} "
+              f"{table_cell(p.dissipation_per_distance, '10.5g')} "
+              f"{table_cell(p.static_force, '9.4g')} {table_cell(p.stuck_fraction, '6.3f')} "
               f"{table_cell(p.wells_per_slip, '6.3g')} {p.eta:6.3g} {'yes' if p.steady else 'no'}")
         if p.note:
             print(f"{'':{10 * len(names)}s}  ({cli_message(p.note)})")

@@ -100,7 +100,8 @@ def _fp_stated(rep: dict) -> str:
 def run(args) -> int:
     from numerics.cli.params.options import check_ensemble, stored
     from kbm.parameters.values import parameter_value
-    from numerics.cli.params.values import given, noisy_model
+    from numerics.cli.params.noise import noisy_model
+    from numerics.cli.params.values import given
 
     check_ensemble(args)
     if args.method == "fokker-planck" and args.no_fokker_planck:  # the method won silently

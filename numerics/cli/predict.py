@@ -30,11 +30,7 @@ def run(args: argparse.Namespace) -> int:
     from numerics.comparison.predict import KBM_TERM_LIMIT
 
     spec = model_spec(args)
-    if isinstance(spec, str):  # a forced or coupled built-in: refused, no traceback
-        from kbm.parameters.names import lookup
-
-        lookup(spec, ("one",), rhs=True)
-    given = checked_params(args.param, spec)
+    given = checked_params(args.param, spec, ("one",))  # a forced or coupled one refused
     pred = predict(spec, given, method=args.method, order=args.order, potential=args.potential)
     if args.json:
         return emit_json({**pred.to_json(), "params_given": given})

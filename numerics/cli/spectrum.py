@@ -84,7 +84,8 @@ def _bind(args):
     from kbm.parameters.names import noise_intensity
     from numerics.spectrum.phase_diffusion import LINEWIDTH_NEED
     from kbm.parameters.values import parameter_value
-    from numerics.cli.params.values import noisy_model, parse_vary, without_noise
+    from numerics.cli.params.noise import noise_axis_model, noisy_model
+    from numerics.cli.params.values import parse_vary, without_noise
 
     check_model_flags(args)
     if len(args.vary) > 1:
@@ -93,10 +94,12 @@ def _bind(args):
     if vary is not None and vary.name not in ("D", "T"):
         raise ParameterError(f"--vary {vary.name}: a self-excited model's spectrum varies the "
                              "noise only: --vary D=FROM:TO[:N] or --vary T=FROM:TO[:N]")
-    items = list(args.param) + ([f"{vary.name}={float(vary.values(3)[0])!r}"] if vary else [])
     model = custom_model(args.rhs[0], omega0=1 if args.omega0 is None else args.omega0) \
         if args.rhs else args.model
-    params, noise = noisy_model(model, items)
+    if vary is None:
+        params, noise = noisy_model(model, args.param)
+    else:  # refused naming the --vary typed
+        params, noise, axis = noise_axis_model(model, args.param, vary, 3, LINEWIDTH_NEED)
     params, D0 = without_noise(with_slider_defaults(model, params), LINEWIDTH_NEED)
     if "mu" not in params:
         raise ParameterError("give the small parameter: -p mu=VALUE")
@@ -104,7 +107,7 @@ def _bind(args):
     values = [D0]
     if vary is not None:
         values = [noise_intensity(float(v) * (mu if vary.name == "T" else 1.0), LINEWIDTH_NEED)
-                  for v in vary.values(3)]
+                  for v in axis]
     return model, params, values, noise
 
 

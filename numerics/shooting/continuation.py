@@ -79,6 +79,8 @@ class Continuation:
             return b, ds_next, self.end(a, b, ds)
 
         def edge(a, b, p):
+            if len(self.points) == 1 and p == float(pt.u[-1]):  # the start, at an end of the
+                return self.edge_text.format(name=self.name, edge=p)  # range: not twice
             try:
                 end = self.prob.at_parameter(a, b, p)
                 self.at_edge(a, end)

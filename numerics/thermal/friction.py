@@ -232,10 +232,15 @@ def thermal_friction_point(model: str, params: Mapping[str, object], *, trajecto
 
 @dataclass(frozen=True, eq=False)
 class ThermalFrictionMap(Rendered):
-    """Thermal friction on a grid of ``v`` and ``D`` (or ``T``)."""
+    """Thermal friction on a grid of ``v`` and ``D`` (or ``T``).
+
+    ``params`` holds the fixed values, the defaults ``mu = 0.1``, ``lam = 1``, ``Omega = 1``
+    included, and ``None`` (JSON ``null``) for a default that is an axis (``mu`` of ``--vary
+    mu=...``): its values are in ``axes``.
+    """
 
     model: str
-    params: Mapping[str, float]
+    params: Mapping[str, float | None]
     axes: Mapping[str, np.ndarray]
     points: tuple
     trajectories: int
@@ -314,8 +319,9 @@ def thermal_friction_map(model: str, params: Mapping[str, object],
                                  "--vary D=... / T=...)")
         q["D"] = noise_intensity(q["D"])
         if "v" not in q or not (math.isfinite(q["v"]) and q["v"] > 0):
-            raise ParameterError(f"the stage velocity v must be > 0 (got {q.get('v')}): give "
-                                 "-p v=VALUE or --vary v=...")
+            got = f" (got {q['v']:g})" if "v" in q else ""  # not "got None"
+            raise ParameterError(f"the stage velocity v must be > 0{got}: give -p v=VALUE or "
+                                 "--vary v=...")
         pts.append(q)
     langevin_system(model, {k: v for k, v in pts[0].items() if k != "D"}, pts[0]["D"])
     N = int(trajectories)
@@ -340,7 +346,9 @@ def thermal_friction_map(model: str, params: Mapping[str, object],
     note = ("the paper's SEDF (eq. 3) has no steady sliding state: its damping mu beta x^2 "
             "grows with the distance slid, so these are averages over the window, not a "
             "friction law (use sedf_comoving)") if model == "sedf" else ""
-    return ThermalFrictionMap(model, base, {k: np.asarray(v, float) for k, v in axes.items()},
+    # a default (mu = 0.1, lam, Omega) is no fixed value where it is an axis: None (null)
+    fixed = {k: None if k in axes else v for k, v in base.items()}
+    return ThermalFrictionMap(model, fixed, {k: np.asarray(v, float) for k, v in axes.items()},
                               points, int(trajectories), float(wells), seed, note)
 
 

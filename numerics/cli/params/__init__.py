@@ -5,6 +5,9 @@
   with errors in command-line terms;
 - :mod:`numerics.cli.params.options`: the options of the numerical commands defined once
   (the command's parser, the ensemble options, their checks, the store of a run);
+- :mod:`numerics.cli.params.noise`: the values of the commands with noise (``kbm noise``,
+  ``escape``, ``spectrum``) and the noise as an axis, ``--vary D=`` or ``--vary T=``, its
+  refusals naming the ``--vary`` typed;
 - :mod:`numerics.cli.params.forced`: the forced model of ``kbm response`` and its values,
   the detuning's range and the amplitude window;
 - :mod:`numerics.cli.params.plane`: the two ``--vary`` axes of a forced or coupled

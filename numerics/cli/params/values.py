@@ -377,23 +377,3 @@ def physical(names: ParameterNames, params: Mapping[str, object],
         new_axes[phys] = np.array([float(c[phys]) for c in conv])
     return out, new_axes
 
-
-def noisy_model(model: "str | object", items: Iterable[str]) -> tuple[dict[str, str], str | None]:
-    """The ``-p`` values of ``kbm noise``, ``kbm escape`` and ``kbm spectrum``: ``model`` a
-    built-in of one degree of freedom (or a model, ``--rhs``), every name one of its
-    (physical or scaled), ``mu``, the stage velocity ``v`` of a slider, and ``D`` or ``T =
-    D/mu``; returns ``(values with D, the noise's name as given)``.
-
-    Raises
-    ------
-    kbm.errors.ModelError, kbm.errors.ParameterError
-        For an unknown model (the built-ins listed) or name (the valid ones listed).
-    """
-    from kbm.model.builtins import SLIDERS
-    from kbm.parameters.names import lookup
-
-    if isinstance(model, str):
-        lookup(model, ("one",))
-    params = given(items)
-    check(model, params, extra=("v",) if model in SLIDERS else (), noise=True)
-    return noise_params(params)

@@ -156,7 +156,7 @@ def test_even_order_values_are_the_chebyshev_series():
     ladder's mapped points)."""
     from numpy.polynomial import chebyshev as C
 
-    from numerics.fokker_planck._energy_density import even_order_values
+    from numerics.fokker_planck._energy_quadrature import even_order_values
 
     rng = np.random.default_rng(7)
     for sol in (stationary_kramers("vdp", {"mu": 0.3}, 0.15, n_hermite=90, n_cheb=120,

@@ -170,8 +170,9 @@ def _stretch_densities(sol, tasks: list, n: int, shared: dict | None) -> np.ndar
 def energy_density(sol, energies, rtol: float = 1e-8, nodes: int = 64, most: int = 2048,
                    quadrature: bool = False, shared: dict | None = None):
     """``P(E)`` of the stationary solution ``sol`` at each of ``energies`` (module
-    docstring): Gauss-Legendre rules of ``nodes``, doubled on each stretch until two agree
-    to ``rtol`` (relative) or ``most`` nodes (near a separatrix energy, whose logarithmic
+    docstring): Gauss-Legendre rules of ``nodes``, or of the power of two at or above the
+    solution's points in the stretch if more, doubled on each stretch until two agree to
+    ``rtol`` (relative) or ``most`` nodes (near a separatrix energy, whose logarithmic
     singularity converges slowly).
 
     Parameters

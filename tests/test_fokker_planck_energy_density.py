@@ -271,7 +271,8 @@ def test_energy_density_quadrature_against_quadpack():
     cos theta)/2``, which removes the turning points' ``1/U``), with ``c_n`` summed by
     numpy's Clenshaw recurrence and ``h_n`` by scipy's Hermite polynomials: the SEDF at
     rest, mu = 0.1, D = 0.05 (90 x 499), below and above the separatrices (1.09, 2.14,
-    4.27), to 1e-9 relative (measured 5e-12, 3e-10 and 1.5e-11 at E = 0.6, 2.6, 5.0; QUADPACK at 1e-10)."""
+    4.27), to 1e-9 relative (measured 5e-12, 3e-10 and 1.5e-11 at E = 0.6, 2.6, 5.0;
+    QUADPACK asked for 1e-10)."""
     import warnings
 
     from numpy.polynomial import chebyshev as C

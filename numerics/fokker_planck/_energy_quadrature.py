@@ -66,7 +66,7 @@ def _oversampled(sol) -> tuple[np.ndarray, int]:
     the Chebyshev variable ``t = cos theta`` (``M`` = :data:`OVERSAMPLE` times the solution's
     degree ``m``), from its Chebyshev series zero-padded, by one type-I discrete cosine
     transform (``c(cos theta) = sum_k a_k cos(k theta)`` sampled exactly, up to rounding;
-    computed once per solution)."""
+    kept in the solution's cache until :func:`energy_density` ends)."""
     if "oversampled" not in sol._cache:
         from scipy.fft import dct
 
@@ -225,6 +225,7 @@ def energy_density(sol, energies, rtol: float = 1e-8, nodes: int = 64, most: int
         out[i] += v
         err[i] += miss
     sol._cache[key] = (out, err)
+    sol._cache.pop("oversampled", None)  # 19 MB at 364 functions x 1601 points, not kept
     return (out.copy(), err.copy()) if quadrature else out.copy()
 
 

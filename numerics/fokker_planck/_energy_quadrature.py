@@ -208,7 +208,10 @@ def energy_density(sol, energies, rtol: float = 1e-8, nodes: int = 64, most: int
     # cannot resolve it, and two such rules may agree by chance: SEDF mu = 0.02, 182 x 927,
     # E = 1.59, the rules of 64 and 128 nodes agreed to 1e-9 and were both 1.2e-7 off)
     inside = [int(np.count_nonzero((sol.x > a) & (sol.x < b))) for _, a, b in tasks]
-    start = [max(nodes, 1 << max(0, c - 1).bit_length()) for c in inside]
+    # (at most half ``most``, so that no rule exceeds it: the ends' rounding of ``E - G``
+    # grows with the square of the nodes; SEDF mu = 0.01, 258 x 1301, 975 points at most)
+    start = [min(max(nodes, 1 << max(0, c - 1).bit_length()), max(nodes, most // 2))
+             for c in inside]
     n, active = nodes, list(range(len(tasks)))
     with one_blas_thread():
         while active:  # every stretch's rule doubled until two agree (all stretches at once)

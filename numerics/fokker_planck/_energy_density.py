@@ -152,9 +152,7 @@ def _report(sol, finer, points: int, pairs, grid, ahead) -> dict:
     shared: dict = {}  # the nodes and velocity functions, for every solution of the report
     widest = max([sol] + [s for pair in pairs for s in pair], key=lambda s: s.coef.shape[0])
     if widest is not sol:  # first: its velocity functions' rows serve the others' (the
-        # same numbers; SEDF mu = 0.01, 258 and 364 functions: 195 evaluations, not 376;
-        # with _chebyshev_values' step, P of the solution and its refinements 4.5 s CPU,
-        # not 6.2)
+        # same numbers; SEDF mu = 0.01, 258 and 364 functions: each rule's recurrence once)
         energy_density(widest, E, shared=shared)
     P, quad = energy_density(sol, E, quadrature=True, shared=shared)
     if not pairs and finer is not None:

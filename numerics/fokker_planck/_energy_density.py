@@ -12,22 +12,18 @@ with ``P(x, v) = sum_n c_n(x) f_n(v/s)/s`` and ``U(x) = (2 (E - G(x)))^(1/2)/s``
 
 i.e. ``int dx (P(x, v) + P(x, -v))/|v|`` at ``|v| = (2 (E - G))^(1/2)``: ``b_n = 2 f_n(U)``
 for even ``n`` and ``0`` for odd ``n`` (``f_n`` the orthonormal Hermite functions ``h_n``,
-or Risken's ``He_n(u) exp(-u^2/2)/(2 pi n!)^(1/2)``).  On each stretch ``a < x < b`` where
-``G < E`` the substitution ``x = (a + b)/2 + (b - a)/2 sin(pi t/2)`` makes the ends'
-``1/U ~ (b - x)^(-1/2)`` smooth, and Gauss-Legendre rules in ``t`` are doubled until two
-agree.  At a separatrix energy ``E_s`` (a saddle's ``G``) ``P`` has a logarithmic
+or Risken's ``He_n(u) exp(-u^2/2)/(2 pi n!)^(1/2)``), by the quadrature of
+:mod:`._energy_quadrature`.  At a separatrix energy ``E_s`` (a saddle's ``G``) ``P`` has a logarithmic
 singularity (the period ``T(E)`` does: for linear damping ``P(E) = T(E) exp(-E/kT)/Z``,
 the Boltzmann density times the period, ``Z = (2 pi kT)^(1/2) int exp(-G/kT) dx``).
 """
 
 from __future__ import annotations
 
-import functools
-import math
-
 import numpy as np
 
 from ._blocks import on_one_blas_thread
+from ._energy_quadrature import energy_density
 
 __all__ = ["energy_density", "energy_grid", "energy_density_change", "energy_density_report",
            "separatrix_energies", "negative_part",
@@ -54,136 +50,6 @@ REFINE_AHEAD = 1e-7
 #: 8.9 times the true one (9.9e-7, 3.3e-7, 6.0e-8 of the peak against 7.3e-7, 2.7e-7,
 #: 6.8e-9); 1.5 stated 1.3e-6 at mu = 0.01, over six digits where they are met.
 TAIL_SAFETY = 1.2
-
-
-def _velocity_edges(sol, n: int, U: np.ndarray) -> np.ndarray:
-    """``b_k(U) = f_k(U) + f_k(-U)`` for the even ``k < n`` (rows, ``k = 0, 2, ...``)."""
-    if sol.basis == "orthonormal":
-        from ._hermite_functions import hermite_function_values
-
-        f = hermite_function_values(n, U)
-    else:
-        from ._bases import hermite_functions
-
-        f = hermite_functions(n, U) * (np.exp(-0.5 * U * U) / math.sqrt(2 * math.pi))
-    return 2.0 * f[::2]
-
-
-@functools.lru_cache(maxsize=16)
-def _gauss_legendre(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """The ``n``-point Gauss-Legendre rule (scipy's, whose large rules cost ``O(n)``, not
-    the ``O(n^3)`` eigenvalues of numpy's)."""
-    from scipy.special import roots_legendre
-
-    return roots_legendre(n)
-
-
-def _chebyshev_values(t: np.ndarray, n: int, block: int = 32) -> np.ndarray:
-    """``T_k(t)`` for ``k < n`` (columns): ``T_0 .. T_block`` by ``T_{k+1} = 2 t T_k -
-    T_{k-1}``, then ``block`` rows at a time by the same recurrence with the step
-    ``block``, ``T_{m+b} = 2 T_b T_m - T_{m-b}`` (``T_{-j} = T_j``; from ``cos((m +- b)
-    theta)``, ``t = cos theta``): one vector operation per ``block`` degrees, not per
-    degree (SEDF mu = 0.01, 1041 and 1301 points: 920 stretches of mostly 64 or 128 nodes
-    took 2.5 s of Python loop per degree).  The same values to a few ulps (the step
-    recurrence is that of ``T_k(T_b)``, as stable)."""
-    out = np.empty((n, t.size))
-    out[0] = 1.0
-    if n > 1:
-        out[1] = t
-    two_t = 2 * t
-    first = min(n, block + 1)
-    for k in range(1, first - 1):
-        np.multiply(two_t, out[k], out=out[k + 1])
-        out[k + 1] -= out[k - 1]
-    if n > first:
-        two_tb = 2 * out[block]
-        m = block + 1  # T_m = 2 T_b T_{m-b} - T_{2b-m} for b < m < 2b
-        top = min(n, 2 * block)
-        out[m:top] = two_tb * out[1:top - block] - out[2 * block - m:2 * block - top:-1]
-        for m in range(2 * block, n, block):
-            top = min(n, m + block)
-            np.multiply(two_tb, out[m - block:top - block], out=out[m:top])
-            out[m:top] -= out[m - 2 * block:top - 2 * block]
-    return out.T
-
-
-def _stretch_density(sol, coefs, E: float, a: float, b: float, n: int,
-                     shared: dict | None = None) -> float:
-    """The stretch's share of ``P(E)`` by the ``n``-point rule (``coefs``: the Chebyshev
-    series of the even orders, columns; the values of ``T_k`` times them, one matrix
-    product).  ``shared`` keeps the nodes and the velocity functions' values, which
-    depend on the solution only through its basis, scale and number of functions (the
-    first ``k`` rows of the recurrence are the same for any number): the solutions of
-    one :func:`energy_density_report` compute them once."""
-    key = (sol.basis, sol.sigma, E, a, b, n)
-    rows = coefs.shape[1]
-    if shared is not None and key in shared and shared[key][3].shape[0] >= rows:
-        w, jac, xs, edge, U = shared[key]
-        edge = edge[:rows]
-    else:
-        t, w = _gauss_legendre(n)
-        xs = 0.5 * (a + b) + 0.5 * (b - a) * np.sin(0.5 * np.pi * t)
-        jac = 0.25 * np.pi * (b - a) * np.cos(0.5 * np.pi * t)
-        U = np.sqrt(np.maximum(2 * (E - np.asarray(sol.G(xs), float)), 1e-300)) / sol.sigma
-        edge = _velocity_edges(sol, 2 * rows, U)
-        if shared is not None:
-            shared[key] = (w, jac, xs, edge, U)
-    c = (_chebyshev_values(sol._t(xs), coefs.shape[0]) @ coefs).T  # even orders, rows
-    return float(np.sum(w * jac * np.sum(c * edge, axis=0) / U)) / sol.sigma**2
-
-
-def energy_density(sol, energies, rtol: float = 1e-8, nodes: int = 64, most: int = 2048,
-                   quadrature: bool = False, shared: dict | None = None):
-    """``P(E)`` of the stationary solution ``sol`` at each of ``energies`` (module
-    docstring): Gauss-Legendre rules of ``nodes``, doubled on each stretch until two agree
-    to ``rtol`` (relative) or ``most`` nodes (near a separatrix energy, whose logarithmic
-    singularity converges slowly).
-
-    Parameters
-    ----------
-    sol : KramersSolution
-    energies : array_like
-    quadrature : bool
-        Also return the quadrature's error estimate (the last two rules' difference, summed
-        over the stretches).
-    shared : dict, optional
-        The nodes and velocity functions computed for other solutions of the same scale
-        (:func:`_stretch_density`; the same numbers).
-
-    Returns
-    -------
-    numpy.ndarray, or (numpy.ndarray, numpy.ndarray) with ``quadrature``
-    """
-    key = ("energy_density", np.asarray(energies, float).tobytes(), rtol, nodes, most)
-    if key in sol._cache:  # a coarse solution shared by two refinements is evaluated once
-        P, miss = sol._cache[key]
-        return (P.copy(), miss.copy()) if quadrature else P.copy()
-    from ._blocks import one_blas_thread
-
-    # the odd orders have b_n = 0; contiguous, and one BLAS thread: the products are small
-    # (SEDF mu = 0.01, 1041 points, 129 even orders: 64 nodes took 20 ms a stretch, 4x the
-    # product's work with a strided array on two threads under load)
-    coefs = np.ascontiguousarray(sol._series()[:, ::2])
-    out, err = [], []
-    with one_blas_thread():
-        for E in np.atleast_1d(np.asarray(energies, float)):
-            total = miss = 0.0
-            for a, b in sol.stretches(float(E)):
-                n, last = nodes, None
-                while True:
-                    val = _stretch_density(sol, coefs, float(E), a, b, n, shared)
-                    if last is not None and (abs(val - last) <= rtol * abs(val)
-                                             or n >= most):
-                        break
-                    last, n = val, 2 * n
-                total += val
-                miss += abs(val - last)
-            out.append(total)
-            err.append(miss)
-    sol._cache[key] = (np.array(out), np.array(err))
-    return (np.array(out), np.array(err)) if quadrature else np.array(out)
-
-
 def separatrix_energies(sol) -> list:
     """``G`` at the saddles (interior maxima of ``G``) on the solution's range, increasing."""
     grid = np.linspace(-float(sol.x[0]), float(sol.x[0]), 20001)
@@ -286,9 +152,7 @@ def _report(sol, finer, points: int, pairs, grid, ahead) -> dict:
     shared: dict = {}  # the nodes and velocity functions, for every solution of the report
     widest = max([sol] + [s for pair in pairs for s in pair], key=lambda s: s.coef.shape[0])
     if widest is not sol:  # first: its velocity functions' rows serve the others' (the
-        # same numbers; SEDF mu = 0.01, 258 and 364 functions: 195 evaluations, not 376;
-        # with _chebyshev_values' step, P of the solution and its refinements 4.5 s CPU,
-        # not 6.2)
+        # same numbers; SEDF mu = 0.01, 258 and 364 functions: each rule's recurrence once)
         energy_density(widest, E, shared=shared)
     P, quad = energy_density(sol, E, quadrature=True, shared=shared)
     if not pairs and finer is not None:

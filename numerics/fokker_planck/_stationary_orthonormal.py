@@ -14,6 +14,7 @@ import math
 from ._energy_density import SIX_DIGITS
 from ._ahead import Ahead, fp_workers
 from ._stationary_climb import climb_grid, climb_rung, finer_intervals
+from ._stationary_direct import GRID_RULE, direct_grid
 from ._stationary_points import ALPHA, stationary_points
 from ._stationary_solve import OrthonormalKramersSolution, orthonormal_stationary
 
@@ -282,7 +283,13 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, n_hermite, n_cheb, sigm
                 if SIX_DIGITS < hc <= HOPELESS:
                     climbed = climb_rung(solve, solve_well, moved, cost, [check], up, at[0],
                                          hc, at[0], CLIMB_COST * max_cost, start)
-        while climbed is None:
+        if folds and n_hermite is None and "centres" in points and plan \
+                and change <= EARLY_CHECK and climbed is None:
+            # step 5 predicted: straight to the grid of the rule, its check pair beside it
+            plan, sol, nc, cheb_change, rungs = direct_grid(
+                solve, start, moved, cost, plan, sol, nh, nc,
+                GRID_RULE * half / min(points["widths"]), max_cost)
+        while climbed is None and cheb_change > tol:
             finer = plan.pop(0) if plan else finer_intervals(nc)
             if cost(nh, finer) > max_cost:
                 if n_hermite is None and prev < nh and lower is None and not folds \
@@ -316,8 +323,6 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, n_hermite, n_cheb, sigm
             new = solve(nh, finer)
             rungs[nc] = sol
             cheb_change, sol, nc = moved(sol, new), new, finer
-            if cheb_change <= tol:
-                break
         pairs = [(rungs[max(rungs)], sol)] if rungs else []  # the last grid step
         up = 2 * int(round(nh * math.sqrt(2) / 2))
         fits = [k for k in rungs if cost(up, k) <= max_cost]

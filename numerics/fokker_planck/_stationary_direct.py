@@ -1,0 +1,69 @@
+"""Step 5 of the stationary ladder of
+:func:`._stationary_orthonormal.stationary_orthonormal` predicted (:func:`direct_grid`):
+for a folded model with saddles whose Hermite ladder on the first grid has come within
+:data:`._stationary_orthonormal.EARLY_CHECK`, the grid is chosen by the layers'
+resolution rule (:data:`GRID_RULE`) and solved at once with its check pair beside it,
+instead of every grid 1.25 times finer in turn.
+
+The rule.  The error of the grid sits in the separatrices' layers
+(:mod:`._stationary_points`), of width ``l = (D/omega_b)^(1/2)/omega_b`` at a saddle of
+frequency ``omega_b``; the map of the points puts a fixed share of them within a few
+``l`` of each saddle, so the intervals for a given error grow like ``L/l``.  The grids
+of the 1.25 ladder that first moved ``<x^2>`` and ``<v^2>`` by less than ``tol = 1e-8``
+(SEDF at rest, Delta = 3, D = mu/2, the ladder of the fiftieth session): mu = 0.1,
+128 functions, 448 intervals (6.5e-9 from 358), ``L/l`` = 258; mu = 0.05, 704 (6.3e-9
+from 562; 562 moved them by 5.0e-8), ``L/l`` = 365; mu = 0.02, beyond the budget's 740
+(5.4e-7 from 592), ``L/l`` = 577.  ``GRID_RULE`` ``L/(12 l)`` (``12 l``, the width the
+map gives a saddle, :data:`._stationary_points.LAYER_WIDTHS`) is 430, 608 and 961
+intervals there: the grids 448, 704 and (the budget's) 740 of the ladder, each solved
+with the grid 1.25 times coarser (the Chebyshev change) and the next Hermite rung on the
+finest grid below it that the budget affords (the Hermite change), the same three
+solves the ladder ended with, so the same solution and bytes.  The prediction does not
+state the error: when the Chebyshev change exceeds ``tol`` the ladder goes on from there
+as before (one grid 1.25 times finer at a time), and the checks of step 6 and the climbs
+of step 7 follow as they did.
+
+Cost (2-core AMD EPYC, workers 2, SEDF mu = 0.02, D = 0.01): the grids 376 and 472
+(2.3 s CPU) are not solved, and the Hermite check (258 x 592, 3.6 s) runs beside the
+solution (182 x 740) and its coarser grid (182 x 592) instead of after them.
+"""
+
+from __future__ import annotations
+
+import math
+
+__all__ = ["GRID_RULE", "direct_grid"]
+
+#: the intervals of the predicted grid per width the map gives a saddle's layer
+#: (``12 l``, :data:`._stationary_points.LAYER_WIDTHS`) in the half-range ``L``: the
+#: module docstring's fit of the grids where the SEDF's ladder met ``tol = 1e-8``
+GRID_RULE = 20.0
+
+
+def direct_grid(solve, start, moved, cost, plan: list, sol, nh: int, nc: int,
+                m_rule: float, max_cost: float):
+    """The grid of the rule and its checks: ``(plan, sol, nc, cheb_change, rungs)`` for
+    the ladder of :func:`._stationary_orthonormal.stationary_orthonormal` to go on with.
+
+    ``plan`` (the folded ladder's grids above the first, ``nc``, 1.25 apart) gives the
+    grid: the first at least ``m_rule`` (the last when none is).  ``nh`` functions are
+    solved there and on the grid below it (the Chebyshev change, ``cheb_change``), and on
+    the finest grid below it where ``nh 2^(1/2)`` functions are affordable too, whose
+    solve (the Hermite check of step 6, collected by the caller) starts first in the
+    second process (``start``, :mod:`._ahead`).  ``rungs`` maps those grids to their
+    ``nh``-function solutions; ``plan`` keeps the grids above the chosen one.
+    ``solve(n, m)``, ``moved(coarse, fine)`` and ``cost(n, m)`` are the caller's;
+    ``sol`` is the solution on ``nc``."""
+    grids = [nc] + list(plan)
+    i = max(1, next((j for j, g in enumerate(grids) if g >= m_rule), len(grids) - 1))
+    m, below = grids[i], grids[i - 1]
+    up = 2 * int(round(nh * math.sqrt(2) / 2))
+    fit = [g for g in grids[:i] if cost(up, g) <= max_cost]
+    if fit:
+        start(up, max(fit))  # the largest solve, beside the two below
+    fine = solve(nh, m)
+    coarse = solve(nh, below) if below != nc else sol
+    rungs = {below: coarse}
+    if fit and max(fit) != below:
+        rungs[max(fit)] = solve(nh, max(fit)) if max(fit) != nc else sol
+    return grids[i + 1:], fine, m, moved(coarse, fine), rungs

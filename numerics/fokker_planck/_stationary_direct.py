@@ -32,12 +32,18 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["GRID_RULE", "direct_grid"]
+__all__ = ["GRID_RULE", "FUNCTION_RULE", "direct_grid", "direct_climb"]
 
 #: the intervals of the predicted grid per width the map gives a saddle's layer
 #: (``12 l``, :data:`._stationary_points.LAYER_WIDTHS`) in the half-range ``L``: the
 #: module docstring's fit of the grids where the SEDF's ladder met ``tol = 1e-8``
 GRID_RULE = 20.0
+#: the share of the rule's ``pi V/delta`` functions (:func:`._stationary_points.rule_functions`,
+#: at the pilot's ``<v^2>``) from which the Hermite change of the next rung is within six
+#: digits (SEDF at rest, Delta = 3, D = mu/2: the rungs 182, 258, 364 at mu = 0.02, 0.01,
+#: 0.005 are 0.38, 0.36 and 0.35 of it, and the rung below each moved the moments by
+#: 8e-5, 1e-5 and 2.7e-6); the predicted climb takes the first rung at least this share
+FUNCTION_RULE = 0.34
 
 
 def direct_grid(solve, start, moved, cost, plan: list, sol, nh: int, nc: int,
@@ -67,3 +73,63 @@ def direct_grid(solve, start, moved, cost, plan: list, sol, nh: int, nc: int,
     if fit and max(fit) != below:
         rungs[max(fit)] = solve(nh, max(fit)) if max(fit) != nc else sol
     return grids[i + 1:], fine, m, moved(coarse, fine), rungs
+
+
+def _rung(n: int) -> int:
+    """The Hermite rung above ``n``: ``n 2^(1/2)``, even."""
+    return 2 * int(round(n * math.sqrt(2) / 2))
+
+
+def direct_climb(solve_well, start, moved, cost, nh: int, nc: int, n_rule: float,
+                 max_cost: float, stated):
+    """Step 7 predicted: when the first grid's last Hermite step moved the moments by
+    more than :data:`._stationary_orthonormal.EARLY_CHECK` (the functions are far from
+    six digits), the rung of the rule, the first of ``nh 2^(k/2)`` (``k`` = 1 or 2) at
+    least :data:`FUNCTION_RULE` ``n_rule``, solved at once as :func:`._stationary_climb.
+    climb_rung` would end: on the largest grid within ``max_cost`` (the climb's budget)
+    and the one 1.25 times coarser (the Chebyshev change), with the well's points
+    (``solve_well``), and the next rung on the finest grid of 1.25 steps down from that
+    coarser one it affords, against the rung there (the Hermite change; the next rung's
+    solve starts first, in the second process).  When that Hermite change exceeds six
+    digits the prediction was short: the next rung is solved so in turn where affordable,
+    and the solution of the smaller ``stated(hermite, grid)`` is kept.
+
+    Returns ``(solution, hermite change, chebyshev change, pairs)`` as
+    :func:`._stationary_climb.climb_rung`, or ``None`` (the ladder then checks and climbs
+    as before) when the rule's rung is more than two above ``nh`` (a friction whose six
+    digits are beyond the budget) or its grids are not finer than ``nc``."""
+    from ._energy_density import SIX_DIGITS
+
+    n = _rung(nh)
+    if n < FUNCTION_RULE * n_rule:
+        n = _rung(n)
+        if n < FUNCTION_RULE * n_rule:
+            return None
+    best = None
+    for _ in range(2):
+        here = _climbed(solve_well, start, moved, cost, n, nc, max_cost)
+        if here is None:
+            break
+        if best is None or stated(here[1], here[2]) < stated(best[1], best[2]):
+            best = here
+        if here[1] <= SIX_DIGITS:
+            break
+        n = _rung(n)
+    return best
+
+
+def _climbed(solve_well, start, moved, cost, n: int, nc: int, max_cost: float):
+    """``n`` functions on the largest grid within ``max_cost`` and the one 1.25 times
+    coarser, and the next rung's check (:func:`direct_climb`), or ``None``."""
+    top = 2 * int(math.sqrt(max_cost / n))
+    below = 2 * int(top / 2.5)
+    up = _rung(n)
+    k = below
+    while k > nc and cost(up, k) > max_cost:
+        k = 2 * int(k / 2.5)
+    if below <= nc or k <= nc:
+        return None
+    start(up, k, True)  # the largest solve, beside the others
+    fine, coarse = solve_well(n, top), solve_well(n, below)
+    pair = (coarse if k == below else solve_well(n, k), solve_well(up, k))
+    return fine, moved(*pair), moved(coarse, fine), [(coarse, fine), pair]

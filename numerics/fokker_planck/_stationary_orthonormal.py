@@ -13,9 +13,9 @@ import math
 
 from ._energy_density import SIX_DIGITS
 from ._ahead import Ahead, fp_workers
-from ._stationary_climb import climb_grid, climb_rung, finer_intervals
-from ._stationary_direct import GRID_RULE, direct_grid
-from ._stationary_points import ALPHA, stationary_points
+from ._stationary_climb import stated_error, climb_grid, climb_rung, finer_intervals
+from ._stationary_direct import GRID_RULE, direct_climb, direct_grid
+from ._stationary_points import ALPHA, rule_functions, stationary_points
 from ._stationary_solve import OrthonormalKramersSolution, orthonormal_stationary
 
 __all__ = ["stationary_orthonormal"]
@@ -273,6 +273,11 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, n_hermite, n_cheb, sigm
                 plan.insert(0, top)
                 top = 2 * int(top / 2.5)
         if folds and n_hermite is None and EARLY_CHECK < change < math.inf:
+            climbed = direct_climb(solve_well, start, moved, cost, nh, nc,
+                                   rule_functions(split, D, half, v2),
+                                   CLIMB_COST * max_cost, stated_error)
+        if folds and n_hermite is None and EARLY_CHECK < change < math.inf \
+                and climbed is None:
             # step 6's check first, on the grid where the ladder would make it (step 7)
             up = 2 * int(round(nh * math.sqrt(2) / 2))
             at = [k for k, f in zip([nc] + plan, plan) if cost(up, k) <= max_cost < cost(up, f)]

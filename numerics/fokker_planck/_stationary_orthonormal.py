@@ -151,6 +151,15 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        more than :data:`EARLY_CHECK`, the check is made before the grid ladder, on its
        grid, and a climb skips the coarser grids at ``N`` (the same climb, fewer solves).
 
+    Steps 5 and 7 predicted (folded with saddles, :mod:`._stationary_direct`): with the
+    first grid's last Hermite step within :data:`EARLY_CHECK`, the grid of the layers'
+    rule (:data:`._stationary_direct.GRID_RULE`) is solved at once with its coarser grid
+    and step 6's check, and the ladder goes on from there only when its change exceeds
+    ``tol``; beyond :data:`EARLY_CHECK` the rung of the rule
+    (:data:`._stationary_direct.FUNCTION_RULE`, at most two above ``N``) goes straight to
+    the climb's grids and its check one rung up, instead of the check and the climb.  The
+    same solutions (SEDF at rest, Delta = 3, D = mu/2, mu = 0.1 to 0.005), fewer solves.
+
     Each solve factorises order by order (:mod:`._pentadiagonal`) when the damping is
     linear in the velocity, else by pairs of orders (:mod:`._blocks`).  Solves that do not
     depend on each other (step 7's check pair, the climb's largest grid beside its coarser
@@ -272,7 +281,8 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, n_hermite, n_cheb, sigm
             while top >= 1.25 * nc:  # every step a whole one
                 plan.insert(0, top)
                 top = 2 * int(top / 2.5)
-        if folds and n_hermite is None and EARLY_CHECK < change < math.inf:
+        if folds and n_hermite is None and "centres" in points \
+                and EARLY_CHECK < change < math.inf:
             climbed = direct_climb(solve_well, start, moved, cost, nh, nc,
                                    rule_functions(split, D, half, v2),
                                    CLIMB_COST * max_cost, stated_error)

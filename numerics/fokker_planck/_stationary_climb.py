@@ -84,8 +84,8 @@ def _climb_again(solve_well, moved, cost, pair, up: int, k: int, before: float, 
 
 def stated_error(hermite: float, grid: float) -> float:
     """The stated error of two changes, as :func:`._stationary_orthonormal.stationary_orthonormal`
-    states it: the larger, their sum beyond six digits."""
-    return hermite + grid if max(hermite, grid) > SIX_DIGITS else max(hermite, grid)
+    states it: their sum (both errors are in the solve)."""
+    return hermite + grid
 
 
 def climb_grid(solve_well, moved, cost, pairs, n: int, nc: int, change: float,

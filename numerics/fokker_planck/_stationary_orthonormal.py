@@ -109,11 +109,12 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        the ladder that affords it (at low friction the rung below is too few: SEDF
        mu = 0.02 on 656 intervals, 128 -> 182 functions moved <x^2> by 3.7e-5 but
        182 -> 256 by 1e-9); unfolded, the previous rung on the last points.  The
-       solution's ``hermite_change`` is the larger of the Hermite and last Chebyshev
-       changes and :data:`ROUNDING` (``chebyshev_change`` the second), and their sum when
-       the larger exceeds :data:`SIX_DIGITS` (both errors are in the solve: SEDF
-       mu = 0.002, 258 x 1040, the larger, 1.5e-4, is 1.1e-4 to 1.6e-4 from 362 x 1200 at
-       two scales and 300 x 1100; the sum is 2.9e-4).  The pairs of
+       solution's ``hermite_change`` is the sum of the Hermite and last Chebyshev
+       changes, at least :data:`ROUNDING` (``chebyshev_change`` the second): both errors
+       are in the solve (SEDF mu = 0.002, 258 x 1040, the larger, 1.5e-4, is 1.1e-4 to
+       1.6e-4 from 362 x 1200 at two scales and 300 x 1100; the sum is 2.9e-4; mu = 0.05,
+       128 x 704: <v^2> is 3.1e-8 from 256 x 1200, the Hermite change 2.5e-8 and the
+       grid's 6.3e-9, the sum 3.2e-8; before, the larger alone within six digits).  The pairs of
        solutions of those two changes are kept as its ``refinements`` (the same change of
        ``P(E)`` is its stated error, :mod:`._energy_density`), and the same solve on one
        grid step more as its ``refine`` (called only for ``P(E)`` when that change
@@ -365,9 +366,7 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, n_hermite, n_cheb, sigm
             pairs.append((lower if same else solve(prev, nc), sol))
             change = moved(*pairs[-1])
     parts = [c for c in (change, cheb_change) if not math.isnan(c)]
-    stated = max(ROUNDING, *parts) if n_hermite is None else math.nan
-    if stated > SIX_DIGITS and len(parts) == 2:  # both errors are in the solve: their sum
-        stated = sum(parts)
+    stated = max(ROUNDING, sum(parts)) if n_hermite is None else math.nan  # both errors
     refine = None
     if n_hermite is None and pairs and pairs[0][1] is sol and stated <= HOPELESS \
             and pairs[0][0].coef.shape[0] == sol.coef.shape[0] \

@@ -40,10 +40,12 @@ __all__ = ["GRID_RULE", "FUNCTION_RULE", "direct_grid", "direct_climb"]
 GRID_RULE = 20.0
 #: the share of the rule's ``pi V/delta`` functions (:func:`._stationary_points.rule_functions`,
 #: at the pilot's ``<v^2>``) from which the Hermite change of the next rung is within six
-#: digits (SEDF at rest, Delta = 3, D = mu/2: the rungs 182, 258, 364 at mu = 0.02, 0.01,
-#: 0.005 are 0.38, 0.36 and 0.35 of it, and the rung below each moved the moments by
-#: 8e-5, 1e-5 and 2.7e-6); the predicted climb takes the first rung at least this share
-FUNCTION_RULE = 0.34
+#: digits (SEDF at rest, Delta = 3, D = mu/2: the rungs 182, 258, 364 at mu = 0.015,
+#: 0.01, 0.005 are 0.32, 0.36 and 0.35 of it and their changes to the next rung within
+#: six digits; the rungs below, 182 and 258 at mu = 0.01 and 0.005, 0.25 of it, moved
+#: the moments by 1e-5 and 2.7e-6); the predicted climb takes the first rung at least
+#: this share, halfway between
+FUNCTION_RULE = 0.28
 
 
 def direct_grid(solve, start, moved, cost, plan: list, sol, nh: int, nc: int,
@@ -97,9 +99,12 @@ def direct_climb(solve_well, start, moved, cost, nh: int, nc: int, n_rule: float
     Returns ``(solution, hermite change, chebyshev change, pairs)`` as
     :func:`._stationary_climb.climb_rung`, or ``None`` (the ladder then checks and climbs
     as before) when the rule's rung is more than two above ``nh`` (a friction whose six
-    digits are beyond the budget) or its grids are not finer than ``nc``."""
+    digits are beyond the budget) or ``nh`` itself (the ladder's check at ``nh``, the
+    climb of a grid: SEDF mu = 0.015) or its grids are not finer than ``nc``."""
     from ._energy_density import SIX_DIGITS
 
+    if nh >= FUNCTION_RULE * n_rule:  # the rule's rung is ``nh``: the ladder's check
+        return None
     n = _rung(nh)
     if n < FUNCTION_RULE * n_rule:
         n = _rung(n)

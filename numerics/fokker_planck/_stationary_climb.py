@@ -12,7 +12,7 @@ import math
 
 from ._energy_density import SIX_DIGITS
 
-__all__ = ["climb_rung", "climb_grid", "finer_intervals"]
+__all__ = ["climb_rung", "climb_grid", "finer_intervals", "stated_error"]
 
 
 def climb_rung(solve, solve_well, moved, cost, pairs, up: int, k: int, change: float,
@@ -47,11 +47,11 @@ def climb_rung(solve, solve_well, moved, cost, pairs, up: int, k: int, change: f
         # lost the solution, and by 1.5e-4 on 832 with the well's points)
         pair = (coarse, solve_well(up2, below))
         again = _climb_again(solve_well, moved, cost, pair, up2, below, change, nc, max_cost)
-        if again is not None and _stated(again[1], again[2]) < moved(*pair):
+        if again is not None and stated_error(again[1], again[2]) < moved(*pair):
             return again  # below the least error the rung ``up`` can state
     fine = solve_well(up, top)
     here = fine, moved(*pair), moved(coarse, fine), [(coarse, fine), pair]
-    if again is not None and _stated(again[1], again[2]) < _stated(here[1], here[2]):
+    if again is not None and stated_error(again[1], again[2]) < stated_error(here[1], here[2]):
         return again
     return here
 
@@ -82,10 +82,10 @@ def _climb_again(solve_well, moved, cost, pair, up: int, k: int, before: float, 
     return fine, moved(*check), moved(coarse, fine), [(coarse, fine), check]
 
 
-def _stated(hermite: float, grid: float) -> float:
+def stated_error(hermite: float, grid: float) -> float:
     """The stated error of two changes, as :func:`._stationary_orthonormal.stationary_orthonormal`
-    states it: the larger, their sum beyond six digits."""
-    return hermite + grid if max(hermite, grid) > SIX_DIGITS else max(hermite, grid)
+    states it: their sum (both errors are in the solve)."""
+    return hermite + grid
 
 
 def climb_grid(solve_well, moved, cost, pairs, n: int, nc: int, change: float,

@@ -13,8 +13,9 @@ import math
 
 from ._energy_density import SIX_DIGITS
 from ._ahead import Ahead, fp_workers
-from ._stationary_climb import climb_grid, climb_rung, finer_intervals
-from ._stationary_points import ALPHA, stationary_points
+from ._stationary_climb import stated_error, climb_grid, climb_rung, finer_intervals
+from ._stationary_direct import GRID_RULE, direct_climb, direct_grid
+from ._stationary_points import ALPHA, rule_functions, stationary_points
 from ._stationary_solve import OrthonormalKramersSolution, orthonormal_stationary
 
 __all__ = ["stationary_orthonormal"]
@@ -108,11 +109,12 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        the ladder that affords it (at low friction the rung below is too few: SEDF
        mu = 0.02 on 656 intervals, 128 -> 182 functions moved <x^2> by 3.7e-5 but
        182 -> 256 by 1e-9); unfolded, the previous rung on the last points.  The
-       solution's ``hermite_change`` is the larger of the Hermite and last Chebyshev
-       changes and :data:`ROUNDING` (``chebyshev_change`` the second), and their sum when
-       the larger exceeds :data:`SIX_DIGITS` (both errors are in the solve: SEDF
-       mu = 0.002, 258 x 1040, the larger, 1.5e-4, is 1.1e-4 to 1.6e-4 from 362 x 1200 at
-       two scales and 300 x 1100; the sum is 2.9e-4).  The pairs of
+       solution's ``hermite_change`` is the sum of the Hermite and last Chebyshev
+       changes, at least :data:`ROUNDING` (``chebyshev_change`` the second): both errors
+       are in the solve (SEDF mu = 0.002, 258 x 1040, the larger, 1.5e-4, is 1.1e-4 to
+       1.6e-4 from 362 x 1200 at two scales and 300 x 1100; the sum is 2.9e-4; mu = 0.05,
+       128 x 704: <v^2> is 3.1e-8 from 256 x 1200, the Hermite change 2.5e-8 and the
+       grid's 6.3e-9, the sum 3.2e-8; before, the larger alone within six digits).  The pairs of
        solutions of those two changes are kept as its ``refinements`` (the same change of
        ``P(E)`` is its stated error, :mod:`._energy_density`), and the same solve on one
        grid step more as its ``refine`` (called only for ``P(E)`` when that change
@@ -149,6 +151,15 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
        states that change.  When the first grid's last Hermite step moved the moments by
        more than :data:`EARLY_CHECK`, the check is made before the grid ladder, on its
        grid, and a climb skips the coarser grids at ``N`` (the same climb, fewer solves).
+
+    Steps 5 and 7 predicted (folded with saddles, :mod:`._stationary_direct`): with the
+    first grid's last Hermite step within :data:`EARLY_CHECK`, the grid of the layers'
+    rule (:data:`._stationary_direct.GRID_RULE`) is solved at once with its coarser grid
+    and step 6's check, and the ladder goes on from there only when its change exceeds
+    ``tol``; beyond :data:`EARLY_CHECK` the rung of the rule
+    (:data:`._stationary_direct.FUNCTION_RULE`, at most two above ``N``) goes straight to
+    the climb's grids and its check one rung up, instead of the check and the climb.  The
+    same solutions (SEDF at rest, Delta = 3, D = mu/2, mu = 0.1 to 0.005), fewer solves.
 
     Each solve factorises order by order (:mod:`._pentadiagonal`) when the damping is
     linear in the velocity, else by pairs of orders (:mod:`._blocks`).  Solves that do not
@@ -271,7 +282,13 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, n_hermite, n_cheb, sigm
             while top >= 1.25 * nc:  # every step a whole one
                 plan.insert(0, top)
                 top = 2 * int(top / 2.5)
-        if folds and n_hermite is None and EARLY_CHECK < change < math.inf:
+        if folds and n_hermite is None and "centres" in points \
+                and EARLY_CHECK < change < math.inf:
+            climbed = direct_climb(solve_well, start, moved, cost, nh, nc,
+                                   rule_functions(split, D, half, v2),
+                                   CLIMB_COST * max_cost, stated_error)
+        if folds and n_hermite is None and EARLY_CHECK < change < math.inf \
+                and climbed is None:
             # step 6's check first, on the grid where the ladder would make it (step 7)
             up = 2 * int(round(nh * math.sqrt(2) / 2))
             at = [k for k, f in zip([nc] + plan, plan) if cost(up, k) <= max_cost < cost(up, f)]
@@ -282,7 +299,13 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, n_hermite, n_cheb, sigm
                 if SIX_DIGITS < hc <= HOPELESS:
                     climbed = climb_rung(solve, solve_well, moved, cost, [check], up, at[0],
                                          hc, at[0], CLIMB_COST * max_cost, start)
-        while climbed is None:
+        if folds and n_hermite is None and "centres" in points and plan \
+                and change <= EARLY_CHECK and climbed is None:
+            # step 5 predicted: straight to the grid of the rule, its check pair beside it
+            plan, sol, nc, cheb_change, rungs = direct_grid(
+                solve, start, moved, cost, plan, sol, nh, nc,
+                GRID_RULE * half / min(points["widths"]), max_cost)
+        while climbed is None and cheb_change > tol:
             finer = plan.pop(0) if plan else finer_intervals(nc)
             if cost(nh, finer) > max_cost:
                 if n_hermite is None and prev < nh and lower is None and not folds \
@@ -316,8 +339,6 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, n_hermite, n_cheb, sigm
             new = solve(nh, finer)
             rungs[nc] = sol
             cheb_change, sol, nc = moved(sol, new), new, finer
-            if cheb_change <= tol:
-                break
         pairs = [(rungs[max(rungs)], sol)] if rungs else []  # the last grid step
         up = 2 * int(round(nh * math.sqrt(2) / 2))
         fits = [k for k in rungs if cost(up, k) <= max_cost]
@@ -345,9 +366,7 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, n_hermite, n_cheb, sigm
             pairs.append((lower if same else solve(prev, nc), sol))
             change = moved(*pairs[-1])
     parts = [c for c in (change, cheb_change) if not math.isnan(c)]
-    stated = max(ROUNDING, *parts) if n_hermite is None else math.nan
-    if stated > SIX_DIGITS and len(parts) == 2:  # both errors are in the solve: their sum
-        stated = sum(parts)
+    stated = max(ROUNDING, sum(parts)) if n_hermite is None else math.nan  # both errors
     refine = None
     if n_hermite is None and pairs and pairs[0][1] is sol and stated <= HOPELESS \
             and pairs[0][0].coef.shape[0] == sol.coef.shape[0] \

@@ -71,7 +71,7 @@ import numpy as np
 
 __all__ = ["ALPHA", "SADDLE_WEIGHT", "LAYER_WIDTHS", "TURNING_WEIGHT", "WELL_WEIGHT",
            "VELOCITY_REACH", "TOP_REACH", "TOP_FUNCTIONS", "separatrix_turning_points",
-           "stationary_points"]
+           "stationary_points", "rule_functions"]
 
 #: the Kosloff-Tal-Ezer parameter of the position points (:func:`._bases.cheb_mapped`)
 ALPHA = 0.95
@@ -146,7 +146,7 @@ def stationary_points(split, D: float, G, half: float, v2: float,
     gz = np.asarray(g(z), float)
     saddles = [brentq(g, z[i], z[i + 1], xtol=1e-14)
                for i in np.flatnonzero((gz[:-1] > 0) & (gz[1:] <= 0))]
-    wmax = math.sqrt(float(np.max(np.abs(gp(z)))))
+    wmax = _largest_frequency(gp, z)
     if sigma is None:
         sigma = max(math.sqrt(math.sqrt(D / wmax) * VELOCITY_REACH * math.sqrt(v2)
                               / (2 * math.pi)),
@@ -163,6 +163,20 @@ def stationary_points(split, D: float, G, half: float, v2: float,
         widths=tuple(layers) + tuple(layers[i] for _, i in turns) + tuple(reach),
         weight=(SADDLE_WEIGHT / len(saddles),) * len(saddles) + (TURNING_WEIGHT,) * len(turns)
         + (WELL_WEIGHT,) * len(bottoms))
+
+
+def rule_functions(split, D: float, half: float, v2: float) -> float:
+    """``N = pi V/delta``: the Hermite functions that resolve the reach ``V = 5 <v^2>^(1/2)``
+    and the velocity layer ``delta = (D/omega)^(1/2)`` at the scale of the rule
+    (:func:`stationary_points`; ``omega^2`` the largest ``|g'|`` on ``(-half, half)``)."""
+    gp = split.numpy_functions()[1]
+    delta = math.sqrt(D / _largest_frequency(gp, np.linspace(-half, half, 20001)))
+    return math.pi * VELOCITY_REACH * math.sqrt(v2) / delta
+
+
+def _largest_frequency(gp, z: np.ndarray) -> float:
+    """``max |g'|^(1/2)`` at the points ``z``."""
+    return math.sqrt(float(np.max(np.abs(gp(z)))))
 
 
 def _deepest_wells(g, G, z: np.ndarray, gz: np.ndarray) -> list:

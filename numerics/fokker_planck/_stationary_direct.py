@@ -10,7 +10,7 @@ The rule.  The error of the grid sits in the separatrices' layers
 frequency ``omega_b``; the map of the points puts a fixed share of them within a few
 ``l`` of each saddle, so the intervals for a given error grow like ``L/l``.  The grids
 of the 1.25 ladder that first moved ``<x^2>`` and ``<v^2>`` by less than ``tol = 1e-8``
-(SEDF at rest, Delta = 3, D = mu/2, the ladder of the fiftieth session): mu = 0.1,
+(SEDF at rest, Delta = 3, D = mu/2, the 1.25 ladder before this prediction): mu = 0.1,
 128 functions, 448 intervals (6.5e-9 from 358), ``L/l`` = 258; mu = 0.05, 704 (6.3e-9
 from 562; 562 moved them by 5.0e-8), ``L/l`` = 365; mu = 0.02, beyond the budget's 740
 (5.4e-7 from 592), ``L/l`` = 577.  ``GRID_RULE`` ``L/(12 l)`` (``12 l``, the width the

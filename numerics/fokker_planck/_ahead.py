@@ -8,7 +8,11 @@ while this process computes the other.  The solves and their order are those of 
 sequential ladder, the forked copy computes the same function of the same numbers with
 the same libraries on one BLAS thread, and its solution comes back whole (pickled), so
 the results are the same bits whatever the number of processes; a solve started ahead
-that the ladder does not use is stopped.
+that the ladder does not use is stopped.  A process may go on with a solve for later after
+its first (``then`` of :meth:`Ahead.start`): after the climb's largest grid, that grid's
+step for ``P(E)``, which the ladder hands on (:meth:`Ahead.hand_on`, in ``sol.refine``,
+:class:`Later`) and :func:`._energy_density.energy_density_report` collects
+(:meth:`Ahead.adopt`) or stops; it gives way to any solve the ladder starts after it.
 
 Why processes, not threads (measured, 2-core AMD EPYC, scipy 1.17, OpenBLAS 0.3.30):
 ``scipy.linalg.inv`` (the order-by-order factorisation's ``S^-1``, :mod:`._pentadiagonal`)

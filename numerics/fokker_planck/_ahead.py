@@ -8,7 +8,11 @@ while this process computes the other.  The solves and their order are those of 
 sequential ladder, the forked copy computes the same function of the same numbers with
 the same libraries on one BLAS thread, and its solution comes back whole (pickled), so
 the results are the same bits whatever the number of processes; a solve started ahead
-that the ladder does not use is stopped.
+that the ladder does not use is stopped.  A process may go on with a solve for later after
+its first (``then`` of :meth:`Ahead.start`): after the climb's largest grid, that grid's
+step for ``P(E)``, which the ladder hands on (:meth:`Ahead.hand_on`, in ``sol.refine``,
+:class:`Later`) and :func:`._energy_density.energy_density_report` collects
+(:meth:`Ahead.adopt`) or stops; it gives way to any solve the ladder starts after it.
 
 Why processes, not threads (measured, 2-core AMD EPYC, scipy 1.17, OpenBLAS 0.3.30):
 ``scipy.linalg.inv`` (the order-by-order factorisation's ``S^-1``, :mod:`._pentadiagonal`)
@@ -38,7 +42,7 @@ import warnings
 
 from kbm.errors import ParameterError
 
-__all__ = ["Ahead", "ENV", "fp_workers"]
+__all__ = ["Ahead", "ENV", "Handed", "Later", "fp_workers"]
 
 #: the environment variable of the number of processes of the Fokker-Planck solves
 ENV = "KBM_FP_WORKERS"
@@ -80,9 +84,73 @@ def fp_workers(limit: int | None = None) -> int:
     return max(1, min(n, cpus))
 
 
+class _Job:
+    """One forked process: the keys of its solves, in the order it sends them, and the
+    solutions read from its pipe before their key was asked for."""
+
+    def __init__(self, proc, recv):
+        self.proc, self.recv, self.got = proc, recv, {}
+
+    def take(self, key):
+        """``(status, cls, fields)`` of ``key``, reading the pipe in order."""
+        while key not in self.got:
+            k, *msg = self.recv.recv()
+            self.got[k] = msg
+        return self.got.pop(key)
+
+    def stop(self) -> None:
+        """End the process (at once when still solving) and close the pipe."""
+        if self.proc.is_alive():
+            self.proc.terminate()
+        self.proc.join()
+        self.recv.close()
+
+
+class Handed:
+    """A solve started by one :class:`Ahead` and handed on (:meth:`Ahead.hand_on`) for
+    another to collect (:meth:`Ahead.adopt`): the ladder's grid step of ``P(E)``, started in
+    the ladder's second process and collected by :func:`._energy_density.energy_density_report`.
+    Stopped when adopted by none (:meth:`stop`; a daemonic process ends with this one)."""
+
+    def __init__(self, job: _Job, key, local: dict):
+        self.job, self.key, self.local = job, key, local
+
+    def claim(self):
+        """This once the job (``None`` after: its solution is collected once)."""
+        job, self.job = self.job, None
+        return job
+
+    def stop(self) -> None:
+        job = self.claim()
+        if job is not None:
+            job.stop()
+
+    def __del__(self):
+        try:
+            self.stop()
+        except Exception:  # at interpreter exit the process may be gone already
+            pass
+
+
+class Later:
+    """``func()`` (a solve for later, ``sol.refine``) with the process that may be solving
+    it already (:class:`Handed`, or ``None``); called, it solves here (the same call)."""
+
+    def __init__(self, func, handed: Handed | None = None):
+        self.func, self.handed = func, handed
+
+    def __call__(self):
+        return self.func()
+
+
 class Ahead:
     """Calls of ``func`` (returning a :class:`.KramersSolution`) started ahead in forked
     processes, at most ``workers - 1`` at a time, and collected by key.
+
+    A process may go on with further calls after the first (``then`` of :meth:`start`,
+    solves for later: the grid step of ``P(E)`` after the climb's largest grid); those
+    give way to a new :meth:`start` and may be handed on to another :class:`Ahead`
+    (:meth:`hand_on`, :meth:`adopt`).
 
     Parameters
     ----------
@@ -98,36 +166,60 @@ class Ahead:
         self.func = func
         self.workers = fp_workers() if workers is None else int(workers)
         self.local = local
-        self._jobs: dict = {}
+        self._jobs: dict = {}  # key -> _Job (a process may hold several keys)
+        self._later: set = set()  # the keys started with ``then`` (they give way)
+        self._names: dict = {}  # key -> the key its process sends it under (adopted)
 
-    def start(self, key, *args, replace: bool = False, **kwargs) -> bool:
+    def _busy(self) -> int:
+        return len({id(j) for j in self._jobs.values()})
+
+    def start(self, key, *args, replace: bool = False, then=(), **kwargs) -> bool:
         """``func(*args, **kwargs)`` in a forked process under ``key``, when a worker is
-        free (``replace``: the other keys' processes stopped first) and ``key`` is not
-        running; whether it started."""
+        free (``replace``: the other keys' processes stopped first; a process left with
+        solves for later alone is stopped) and ``key`` is not running; whether it
+        started.  ``then``: ``(key, args, kwargs)`` of calls the process makes after,
+        for later (each sent as it is solved, while the next is solved)."""
         if replace:
             for k in [k for k in self._jobs if k != key]:
                 self.cancel(k)
-        if self.workers < 2 or key in self._jobs or len(self._jobs) >= self.workers - 1:
+        if self.workers < 2 or key in self._jobs:
+            return False
+        for job in {id(j): j for j in self._jobs.values()}.values():
+            if self._busy() >= self.workers - 1 and \
+                    all(k in self._later for k, j in self._jobs.items() if j is job):
+                self._drop(job)  # solves for later give way to one needed now
+        if self._busy() >= self.workers - 1:
             return False
         ctx = multiprocessing.get_context("fork")
         recv, send = ctx.Pipe(duplex=False)
         func = self.func
+        calls = [(key, args, kwargs), *then]
 
         def child():
             # stopped by the parent alone: SIGTERM ends it at once (not the parent's handler,
             # kbm's CLI turns it into KeyboardInterrupt), Ctrl-C reaches the parent, which
             # stops it (as numerics.executor's workers)
+            import threading
+
             signal.signal(signal.SIGTERM, signal.SIG_DFL)
             signal.signal(signal.SIGINT, signal.SIG_IGN)
             recv.close()  # the parent's end: were it held here too, a write would never fail
-            try:
-                sol = func(*args, **kwargs)
-                out = ("ok", type(sol), {f.name: getattr(sol, f.name)
-                                         for f in dataclasses.fields(sol)
-                                         if f.name not in _LOCAL})
-            except BaseException as exc:  # the caller solves again here and raises
-                out = ("error", repr(exc), None)
-            send.send(out)
+            sender = None
+            for k, a, kw in calls:
+                try:
+                    sol = func(*a, **kw)
+                    out = (k, "ok", type(sol), {f.name: getattr(sol, f.name)
+                                                for f in dataclasses.fields(sol)
+                                                if f.name not in _LOCAL})
+                except BaseException as exc:  # the caller solves again here and raises
+                    out = (k, "error", repr(exc), None)
+                if sender is not None:
+                    sender.join()
+                # sent beside the next call: the pipe holds less than a solution, and the
+                # parent reads it only when it asks for it
+                sender = threading.Thread(target=send.send, args=(out,), daemon=True)
+                sender.start()
+            sender.join()
             send.close()
 
         proc = ctx.Process(target=child, daemon=True)
@@ -140,7 +232,10 @@ class Ahead:
                 send.close()
                 return False
         send.close()
-        self._jobs[key] = (proc, recv)
+        job = _Job(proc, recv)
+        for k, _, _ in calls:
+            self._jobs[k] = job
+        self._later.update(k for k, _, _ in then)
         return True
 
     def running(self, key) -> bool:
@@ -152,31 +247,56 @@ class Ahead:
         ``func(*args, **kwargs)`` here (also when the process failed: the same call, so
         the same solution or exception)."""
         job = self._jobs.pop(key, None)
+        self._later.discard(key)
+        name = self._names.pop(key, key)
         if job is not None:
-            proc, recv = job
             try:
-                status, cls, fields = recv.recv()
+                status, cls, fields = job.take(name)
             except (EOFError, OSError):
                 status = "lost"
             except BaseException:  # Ctrl-C while waiting: the child may be writing into a
-                proc.terminate()   # full pipe, which a join alone would wait on for ever
+                self._drop(job)    # full pipe, which a join alone would wait on for ever
                 raise
-            finally:
-                recv.close()
-                proc.join()
+            if job not in self._jobs.values():
+                job.stop()  # done: its last solution read
             if status == "ok":
                 return cls(**fields, **self.local)
         return self.func(*args, **kwargs)
 
+    def hand_on(self, key) -> Handed | None:
+        """The process solving ``key`` (its other keys dropped), no longer this one's to
+        stop, for another :class:`Ahead` to :meth:`adopt`; ``None`` when not running."""
+        job = self._jobs.get(key)
+        if job is None:
+            return None
+        for k in [k for k, j in self._jobs.items() if j is job]:
+            del self._jobs[k]
+            self._later.discard(k)
+        return Handed(job, self._names.pop(key, key), self.local)
+
+    def adopt(self, key, handed: Handed | None) -> bool:
+        """Collect ``handed`` (:meth:`hand_on`) as ``key``: :meth:`result` waits for it,
+        :meth:`cancel` stops it; whether there was one (it is collected once)."""
+        job = None if handed is None or key in self._jobs else handed.claim()
+        if job is None:
+            return False
+        self._jobs[key] = job
+        self._names[key] = handed.key
+        return True
+
+    def _drop(self, job: _Job) -> None:
+        for k in [k for k, j in self._jobs.items() if j is job]:
+            del self._jobs[k]
+            self._later.discard(k)
+            self._names.pop(k, None)
+        job.stop()
+
     def cancel(self, key=None) -> None:
-        """Stop the process of ``key`` (default: every one)."""
+        """Stop the process of ``key`` (and its solves for later; default: every one)."""
         for k in [key] if key is not None else list(self._jobs):
-            job = self._jobs.pop(k, None)
+            job = self._jobs.get(k)
             if job is not None:
-                proc, recv = job
-                proc.terminate()
-                proc.join()
-                recv.close()
+                self._drop(job)
 
     def __enter__(self) -> Ahead:
         return self

@@ -131,7 +131,9 @@ def energy_density_report(sol, finer=None, points: int = ENERGY_POINTS,
     measured at mu = 0.01 to 0.03 as its comment says.)
 
     The grid step may start in a second process (:mod:`._ahead`; at most ``workers``
-    processes, :func:`._ahead.fp_workers`), the same bits.
+    processes, :func:`._ahead.fp_workers`), the same bits, or come from the ladder's,
+    which started it after the climb's largest grid (``sol.refine.handed``); stopped when
+    not needed.
     """
     from ._ahead import Ahead, fp_workers
 
@@ -139,6 +141,8 @@ def energy_density_report(sol, finer=None, points: int = ENERGY_POINTS,
     grid = [p for p in pairs if p[1].coef is sol.coef
             and p[0].coef.shape[0] == sol.coef.shape[0] and p[0].x.size < sol.x.size]
     with Ahead(lambda: sol.refine(), workers=fp_workers(workers), G=sol.G) as ahead:
+        # the ladder's second process may be solving it already (._ahead.Later)
+        ahead.adopt("refine", getattr(sol.refine, "handed", None))
         if grid and getattr(sol, "refine", None) is not None \
                 and sol.hermite_change >= REFINE_AHEAD:
             ahead.start("refine")  # the grid step beside the evaluations below (._ahead)

@@ -12,7 +12,7 @@ import functools
 import math
 
 from ._energy_density import SIX_DIGITS
-from ._ahead import Ahead, fp_workers
+from ._ahead import Ahead, Later, fp_workers
 from ._stationary_climb import stated_error, climb_grid, climb_rung, finer_intervals
 from ._stationary_direct import GRID_RULE, direct_climb, direct_grid
 from ._stationary_points import ALPHA, rule_functions, stationary_points
@@ -65,8 +65,8 @@ MIN_INTERVALS = 96
 
 def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int | None,
                            n_cheb: int | None, sigma: float | None, L: float | None,
-                           tol: float, max_cost: float,
-                           workers: int | None = None) -> OrthonormalKramersSolution:
+                           tol: float, max_cost: float, workers: int | None = None,
+                           refine_ahead: bool = False) -> OrthonormalKramersSolution:
     """The stationary Kramers solve of a nonlinear damping with its sizes chosen and
     measured (what :func:`.kramers.stationary_kramers` runs for it).
 
@@ -166,16 +166,21 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     depend on each other (step 7's check pair, the climb's largest grid beside its coarser
     one and the rung above, step 6's check beside the grid step it would follow) run side
     by side in a second process (:mod:`._ahead`, ``KBM_FP_WORKERS``, at most ``workers``
-    processes; the same bits).
+    processes; the same bits).  With ``refine_ahead`` (``P(E)`` will be wanted) the
+    process of a climb's largest grid goes on with its grid step (``refine``), handed on
+    in ``refine`` (:class:`._ahead.Later`) for :func:`._energy_density.energy_density_report`
+    (SEDF at rest, Delta = 3, mu = 0.01: 258 x 1302 beside the climb's other solves and
+    ``P(E)``'s evaluation instead of after the ladder).
     """
     # the solves beside others (._ahead)
     with Ahead(orthonormal_stationary, workers=fp_workers(workers), G=G) as ahead:
         return _ladder(split, D, G, omega0, ahead, n_hermite=n_hermite, n_cheb=n_cheb,
-                       sigma=sigma, L=L, tol=tol, max_cost=max_cost)
+                       sigma=sigma, L=L, tol=tol, max_cost=max_cost,
+                       refine_ahead=refine_ahead)
 
 
 def _ladder(split, D: float, G, omega0: float, ahead, *, n_hermite, n_cheb, sigma, L, tol,
-            max_cost) -> OrthonormalKramersSolution:
+            max_cost, refine_ahead=False) -> OrthonormalKramersSolution:
     """The body of :func:`stationary_orthonormal`, with ``ahead`` (:class:`._ahead.Ahead`)
     for the solves started beside others."""
     from ._bases import cheb_centred, cheb_mapped
@@ -216,18 +221,26 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, n_hermite, n_cheb, sigm
         nh *= 2  # the same rungs from 64 on (at 32 and 46 the SEDF and vdp cases never stop)
 
     memo = {}
+    later = {}  # the grid steps of P(E) started after a climb's largest grid
 
     def solve(n, m, well=False, start=False, replace=False):
         """One solve (each once: step 6's check may come inside the grid ladder); with
-        ``start`` begun in the second process, for a later call (:mod:`._ahead`)."""
+        ``start`` begun in the second process, for a later call (:mod:`._ahead`), the
+        well's (a climb's largest grid) followed there by its grid step with
+        ``refine_ahead``."""
         if well and "well" not in memo:
             memo["well"] = stationary_points(split, D, G, half, v2, sigma, well=True)[1]
         well = well and memo["well"] != points  # no saddles: the same points
         at = memo["well"] if well else points
         args = (split, D, float(sigma), half, n, m, G, omega0)
         if start:
+            then = []
+            if refine_ahead and well:
+                step = args[:5] + (finer_intervals(m),) + args[6:]
+                later["P(E)", n, m, well] = (step, at)
+                then = [(("P(E)", n, m, well), step, at)]
             return (n, m, well) not in memo and ahead.start((n, m, well), *args,
-                                                            replace=replace, **at)
+                                                            replace=replace, then=then, **at)
         if (n, m, well) not in memo:
             memo[n, m, well] = ahead.result((n, m, well), *args, **at)
         return memo[n, m, well]
@@ -376,6 +389,9 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, n_hermite, n_cheb, sigm
             orthonormal_stationary, split, D, float(sol.sigma), half, sol.coef.shape[0],
             finer_intervals(sol.x.size - 1), G, omega0, alpha=sol.alpha, centres=sol.centres,
             widths=sol.widths, weight=sol.weight)
+        same = [k for k, (a, at) in later.items() if a == refine.args and at == {
+            f: refine.keywords[f] for f in at}]  # the same call started ahead
+        refine = Later(refine, ahead.hand_on(same[0]) if same else None)
     return dataclasses.replace(sol, hermite_change=stated, chebyshev_change=cheb_change,
                                refinements=tuple(pairs) if n_hermite is None else (),
                                refine=refine)

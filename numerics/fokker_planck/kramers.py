@@ -112,7 +112,8 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
                        n_cheb: int | None = None, sigma: float | None = None,
                        L: float | None = None, omega0: float | None = None,
                        tol: float = 1e-8, max_cost: float = 2e7,
-                       basis: str | None = None, workers: int | None = None) -> KramersSolution:
+                       basis: str | None = None, workers: int | None = None,
+                       refine_ahead: bool = False) -> KramersSolution:
     """The stationary solution of the Kramers equation.
 
     Parameters
@@ -171,6 +172,10 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         At most this many processes for the orthonormal ladder's independent solves
         (:mod:`._ahead`; default :func:`._ahead.fp_workers`, ``KBM_FP_WORKERS`` or 2); the
         solution is the same bits whatever it is.
+    refine_ahead : bool
+        ``P(E)`` will be wanted (:func:`._energy_density.energy_density_report`): the
+        orthonormal ladder may start its grid step early, in its second process (the same
+        bits; the solution's ``refine`` hands it on).
 
     Returns
     -------
@@ -202,7 +207,8 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
     if basis == "orthonormal" or (basis is None and kT is None):
         return stationary_orthonormal(split, D, G, float(omega0), n_hermite=n_hermite,
                                       n_cheb=n_cheb, sigma=sigma, L=L, tol=tol,
-                                      max_cost=max_cost, workers=workers)
+                                      max_cost=max_cost, workers=workers,
+                                      refine_ahead=refine_ahead)
     if sigma is not None:
         s2 = float(sigma) ** 2
     elif kT is not None:

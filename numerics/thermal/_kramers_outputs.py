@@ -42,7 +42,8 @@ def fokker_planck_moments(model, params: dict, D: float, omega0: float,
     else:
         try:
             sol = stationary_kramers(model, {k: v for k, v in params.items() if k != "v"}, D,
-                                     omega0=omega0, max_cost=budget, workers=workers)
+                                     omega0=omega0, max_cost=budget, workers=workers,
+                                     refine_ahead=required and energy_density)
             change = sol.hermite_change  # inf: a second truncation passed the budget
             return {"energy_density": (energy_density_output(sol, model, params, D, omega0,
                                                               workers)

@@ -112,8 +112,8 @@ class Handed:
     the ladder's second process and collected by :func:`._energy_density.energy_density_report`.
     Stopped when adopted by none (:meth:`stop`; a daemonic process ends with this one)."""
 
-    def __init__(self, job: _Job, key, local: dict):
-        self.job, self.key, self.local = job, key, local
+    def __init__(self, job: _Job, key):
+        self.job, self.key = job, key
 
     def claim(self):
         """This once the job (``None`` after: its solution is collected once)."""
@@ -269,10 +269,9 @@ class Ahead:
         job = self._jobs.get(key)
         if job is None:
             return None
-        for k in [k for k, j in self._jobs.items() if j is job]:
-            del self._jobs[k]
-            self._later.discard(k)
-        return Handed(job, self._names.pop(key, key), self.local)
+        name = self._names.get(key, key)
+        self._forget(job)
+        return Handed(job, name)
 
     def adopt(self, key, handed: Handed | None) -> bool:
         """Collect ``handed`` (:meth:`hand_on`) as ``key``: :meth:`result` waits for it,
@@ -284,11 +283,15 @@ class Ahead:
         self._names[key] = handed.key
         return True
 
-    def _drop(self, job: _Job) -> None:
+    def _forget(self, job: _Job) -> None:
+        """Every key of ``job`` removed (its process left running)."""
         for k in [k for k, j in self._jobs.items() if j is job]:
             del self._jobs[k]
             self._later.discard(k)
             self._names.pop(k, None)
+
+    def _drop(self, job: _Job) -> None:
+        self._forget(job)
         job.stop()
 
     def cancel(self, key=None) -> None:

@@ -11,11 +11,11 @@ of options the user never gave.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 import numpy as np
 
 from kbm.errors import ParameterError
-
-from collections.abc import Iterable
 
 from .values import DEFAULT_POINTS, Vary, check, given, noise_params
 

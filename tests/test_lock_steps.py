@@ -48,22 +48,23 @@ def test_steps_scale_with_the_span(span):
     assert largest < span
 
 
-def _count_newton(monkeypatch):
+def _count_calls(monkeypatch, module, name: str) -> list:
+    """A list that grows by one at each call of ``module.name`` (the call itself unchanged)."""
     calls = []
-    real = locking._newton
+    real = getattr(module, name)
 
     def counted(*a, **k):
         calls.append(1)
         return real(*a, **k)
 
-    monkeypatch.setattr(locking, "_newton", counted)
+    monkeypatch.setattr(module, name, counted)
     return calls
 
 
 @pytest.mark.parametrize("width", [1.0, 10.0, 100.0])
 def test_order1_edges_are_the_closed_form_tongue_whatever_the_width(width, monkeypatch):
     """|sigma| = c (c = 0.2) from intervals of every width, in a bounded number of steps."""
-    calls = _count_newton(monkeypatch)
+    calls = _count_calls(monkeypatch, locking, "_newton")
     edges = averaged_edges("coupled-vdp", {"mu": 0.08, "c": 0.2}, 1, "sigma",
                            limits={-1: width, 1: width})
     assert sorted(e.sigma for e in edges) == pytest.approx([-0.2, 0.2], abs=1e-9)
@@ -74,7 +75,7 @@ def test_order1_edge_where_the_locked_state_dies_into_the_origin(monkeypatch):
     """c = 5: the edge is |sigma| = sqrt(2c - 1) = 3 (the origin's first-order eigenvalue
     through 0), reached from sigma=-40:40 in fewer slow-flow solves than the absolute steps
     took (0.02 growing to 0.1: over 30 per side before the bracket)."""
-    calls = _count_newton(monkeypatch)
+    calls = _count_calls(monkeypatch, locking, "_newton")
     edges = averaged_edges("coupled-vdp", {"mu": 0.08, "c": 5.0}, 1, "sigma",
                            limits={-1: 4.0, 1: 4.0})
     assert sorted(e.sigma for e in edges) == pytest.approx([-3.0, 3.0], abs=1e-6)
@@ -137,14 +138,7 @@ def test_true_follow_across_a_wide_locked_interval_in_few_shots(monkeypatch):
     the absolute 0.02 took 250."""
     import numerics.locking.fold as fold
 
-    shots = []
-    real = fold._shoot
-
-    def counted(*a, **k):
-        shots.append(1)
-        return real(*a, **k)
-
-    monkeypatch.setattr(fold, "_shoot", counted)
+    shots = _count_calls(monkeypatch, fold, "_shoot")
     edges = fold.true_edges("coupled-vdp", {"mu": 0.08, "c": 5.0}, tol=1e-7,
                             limits={-1: 2.5, 1: 2.5})
     assert [e.sigma for e in edges] == [-math.inf, math.inf]

@@ -12,6 +12,8 @@ from numerics.paper.figures import FIGURES
 from numerics.paper.figures.methods import methods_figure
 from numerics.paper.methods import METHODS, methods_map
 
+from _maps import point_at
+
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 
@@ -20,14 +22,10 @@ def mmap():
     return methods_map([0.02, 0.2], [0.01, 1.5, 3.0], [1.0], workers=2, progress=False)
 
 
-def _point(mm, mu, Delta):
-    return next(p for p in mm.points if p.params["mu"] == mu and p.params["Delta"] == Delta)
-
-
 def test_small_delta_both_methods_within_1e3(mmap):
     """Delta = 0.01, mu = 0.02 (beta = 1): KBM order 2 and energy order 2 are both
     within 1e-3 of the true cycle (largest relative error of a, max x, frequency)."""
-    p = _point(mmap, 0.02, 0.01)
+    p = point_at(mmap, 0.02, 0.01)
     assert p.errors["KBM order 2"] < 1e-3 and p.errors["energy order 2"] < 1e-3
 
 
@@ -35,7 +33,7 @@ def test_large_delta_small_mu_energy_only(mmap):
     """Delta = 1.5 and 3 at mu = 0.02: the energy method's order 2 is within 1e-6 and
     order 1 within 1e-3, while neither classical KBM order is within 1 %."""
     for D in (1.5, 3.0):
-        p = _point(mmap, 0.02, D)
+        p = point_at(mmap, 0.02, D)
         assert p.errors["energy order 2"] < 1e-6 and p.errors["energy order 1"] < 1e-3
         assert min(p.errors["KBM order 1"], p.errors["KBM order 2"]) > 1e-2
     assert {(q.params["mu"], q.params["Delta"]) for q in mmap.within(1e-2, "KBM order 2")} \
@@ -46,7 +44,7 @@ def test_missing_true_cycle_and_strict_json(mmap):
     """Delta = 3, mu = 0.2, beta = 1 has no true cycle (the motion settles on the
     equilibrium x = 1.89): the point says so with nan errors, null in the strict JSON;
     the summary counts the points within 1 % per method."""
-    p = _point(mmap, 0.2, 3.0)
+    p = point_at(mmap, 0.2, 3.0)
     assert not p.success and "equilibrium" in p.message
     assert all(np.isnan(p.errors[m]) for m in METHODS)
     doc = json.loads(json.dumps(mmap.to_json(), allow_nan=False))

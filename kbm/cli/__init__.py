@@ -344,6 +344,3 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the symbolic commands; returns the exit status."""
     return run_command(lambda items: lazy_parser(items, symbolic_commands()), argv)
 
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())

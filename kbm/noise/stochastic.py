@@ -139,13 +139,7 @@ class StochasticAveraging:
         if self.log_density is None:
             raise ModelError(f"no stationary amplitude density for {self.model.name!r}: "
                              f"{self.reason}")
-        vals = self._values(params)
-        expr = self.log_density.subs(vals)
-        free = expr.free_symbols - {a}
-        if free:
-            raise ParameterError(f"model {self.model.name!r} needs values for "
-                                 f"{', '.join(sorted(s.name for s in free))}")
-        return sp.lambdify(a, expr, modules="mpmath")
+        return amplitude_function(self.log_density.subs(self._values(params)), self.model.name)
 
     def moment(self, k: int, params: Mapping[str, object]) -> float:
         """``<a^k>`` of the normalised stationary density (mpmath quadrature, 30 digits).
@@ -231,6 +225,16 @@ def _support(f) -> tuple[list, object]:
             raise ModelError("the stationary amplitude density does not decay up to "
                              "a = 1e6: it is not normalisable at these values, or it peaks "
                              "beyond a = 1e6 (then lower the noise D)")
+
+
+def amplitude_function(expr: sp.Expr, model: str):
+    """``expr`` as an mpmath function of ``a`` (the amplitude densities of both orders of the
+    averaging), or a :class:`ParameterError` naming the values it still needs."""
+    free = expr.free_symbols - {a}
+    if free:
+        raise ParameterError(f"model {model!r} needs values for "
+                             f"{', '.join(sorted(s.name for s in free))}")
+    return sp.lambdify(a, expr, modules="mpmath")
 
 
 def quadratures(f, weights) -> list:

@@ -56,8 +56,8 @@ import sympy as sp
 
 from ..errors import ModelError, ParameterError
 from ..model.builtins import Oscillator
-from .stochastic import (NOISE, StochasticAveraging, density_on, noisy_model, quadratures,
-                         stochastic_average)
+from .stochastic import (NOISE, StochasticAveraging, amplitude_function, density_on,
+                         noisy_model, quadratures, stochastic_average)
 from ..symbols import a, mu, x, xdot
 
 __all__ = ["SecondOrderAveraging", "stochastic_average_order2", "KAPPA"]
@@ -197,12 +197,7 @@ class SecondOrderAveraging:
         logp = self.first._log_density_of(params)
         exprs = [sp.sympify(1 + mu * self.q[0] + mu**2 * self.q[1]).subs(sub),
                  sp.sympify(mu * self.h2[0] + mu**2 * self.h2[1]).subs(sub)]
-        for e in exprs:
-            free = e.free_symbols - {a}
-            if free:
-                raise ParameterError(f"model {self.first.model.name!r} needs values for "
-                                     f"{', '.join(sorted(s.name for s in free))}")
-        h0, h2 = (sp.lambdify(a, e, modules="mpmath") for e in exprs)
+        h0, h2 = (amplitude_function(e, self.first.model.name) for e in exprs)
         return logp, h0, h2
 
     def _integrals(self, params, weights) -> list:

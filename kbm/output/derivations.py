@@ -163,7 +163,7 @@ def _energy_file() -> DerivationFile:
     jump = sp.factor(h.subs(xdot, v) - h.subs(xdot, -v))
     gamma = sp.Integral(jump, (x, xm, xp))
     period = sp.Integral(2 / v, (x, xm, xp))
-    gc, hc, Gc = _energy_split("cdc")
+    _, hc, _ = _energy_split("cdc")
     jump_c = sp.factor(hc.subs(xdot, v) - hc.subs(xdot, -v))
     body = [r"\section{Averaging about the conservative orbit: the energy balance}"
             r"\label{sec:energy}",

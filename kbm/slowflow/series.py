@@ -128,7 +128,7 @@ def limit_cycle_series(model, order: int, *, root: object | None = None,
                          "use method='kbm'")
     if fast and method != "kbm":
         return _lindstedt_exact(model, terms, a0, order)
-    return _kbm_series(model, A1, a0, order)
+    return _kbm_series(model, a0, order)
 
 
 def first_order_cycle(model, root: object | None = None) -> tuple[Oscillator, sp.Expr, sp.Expr]:
@@ -182,7 +182,7 @@ def _rational(v) -> sp.Rational:
     return sp.Rational(int(p), int(v.denominator))
 
 
-def _kbm_series(model: Oscillator, A1: sp.Expr, a0: sp.Expr, order: int) -> LimitCycleSeries:
+def _kbm_series(model: Oscillator, a0: sp.Expr, order: int) -> LimitCycleSeries:
     """The root of the averaged equations expanded in ``mu`` (the reference route)."""
     if order >= MAX_ORDER:
         raise OrderError(f"series order {order} is above the limit {MAX_ORDER - 1} of the "

@@ -121,12 +121,12 @@ def section_gap(model, params, x_from: float, x_to: float, leave: int, arrive: i
     acc, fx, fv = _field(model, params, compiled)
     xs, lu, _ = _saddle(acc, fx, fv, x_from)
     xt, _, ls = _saddle(acc, fx, fv, x_to)
-    return manifolds_on_section(compiled, acc, [xs + leave * EPS, leave * EPS * lu],
+    return manifolds_on_section(compiled, [xs + leave * EPS, leave * EPS * lu],
                                 [xt + arrive * EPS, arrive * EPS * ls], xt + arrive * SECTION,
                                 arrive, t_max), xs, xt
 
 
-def manifolds_on_section(compiled, acc, yu, ys, xsec: float, arrive: int,
+def manifolds_on_section(compiled, yu, ys, xsec: float, arrive: int,
                          t_max: float = 200.0) -> float:
     """The gap of :func:`section_gap` from given starts: ``x'`` where the orbit from ``yu``
     (forward, the compiled flow) first crosses ``x = xsec`` moving towards ``-arrive``,

@@ -19,8 +19,7 @@ FAILURES = (ConvergenceError, IntegrationError, np.linalg.LinAlgError, FloatingP
             ValueError, ArithmeticError)
 
 
-def numerical_jacobian(G: Callable, z: np.ndarray, g0: np.ndarray | None = None,
-                       h: float = 1e-7) -> np.ndarray:
+def numerical_jacobian(G: Callable, z: np.ndarray, h: float = 1e-7) -> np.ndarray:
     """``G'(z)`` by central differences with steps ``h (1 + |z_i|)`` (error O(h^2))."""
     z = np.asarray(z, dtype=float)
     cols = []
@@ -32,9 +31,9 @@ def numerical_jacobian(G: Callable, z: np.ndarray, g0: np.ndarray | None = None,
     return np.column_stack(cols)
 
 
-def _jac(G, jac, z, g=None, h=1e-7):
+def _jac(G, jac, z, h=1e-7):
     return np.atleast_2d(np.asarray(jac(z), dtype=float)) if jac is not None else \
-        numerical_jacobian(G, z, g, h)
+        numerical_jacobian(G, z, h)
 
 
 def correct(G: Callable, z: np.ndarray, row: np.ndarray, rhs: float, *, jac=None,
@@ -51,7 +50,7 @@ def correct(G: Callable, z: np.ndarray, row: np.ndarray, rhs: float, *, jac=None
         g = np.atleast_1d(np.asarray(G(z), dtype=float))
         if not np.all(np.isfinite(g)):
             raise ConvergenceError(f"the defining system is not finite at z = {z}")
-        J = _jac(G, jac, z, g, h)
+        J = _jac(G, jac, z, h)
         A = np.vstack([J, row])
         b = -np.concatenate([g, [float(row @ z) - rhs]])
         dz = np.linalg.solve(A, b)

@@ -185,7 +185,7 @@ def continue_curve(G: Callable, z0, *, jac: Callable | None = None, tangent=None
     try:
         if not wpath.points:
             w = z0 / sc
-            J0 = _jac(Gw, jw, w, None, fd_step)
+            J0 = _jac(Gw, jw, w, fd_step)
             t0 = null_vector(J0, None if tangent is None else np.asarray(tangent) / sc)
             w, res, k, J = correct(Gw, w, t0, float(t0 @ w), jac=jw, **kw)
             if _outside(w, wbounds) is not None:  # a seed on the box's edge corrected to

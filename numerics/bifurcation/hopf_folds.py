@@ -177,7 +177,7 @@ def bautin_point(kit, guess: Sequence[float]) -> np.ndarray:
     z = np.asarray(guess, dtype=float)
     for _ in range(40):
         r = H(z)
-        dz = np.linalg.solve(numerical_jacobian(H, z, r, 1e-6), -r)
+        dz = np.linalg.solve(numerical_jacobian(H, z, 1e-6), -r)
         z = z + dz
         if np.max(np.abs(dz)) < 1e-14 * (1 + np.max(np.abs(z))):
             break
@@ -222,7 +222,7 @@ def into_bautin(kit, fold_point: Sequence[float], bautin: Sequence[float], *, ep
         r = cycle(cyc)
         if float(np.max(np.abs(r))) < 1e-14:
             break
-        cyc = cyc - np.linalg.solve(numerical_jacobian(cycle, cyc, r), r)
+        cyc = cyc - np.linalg.solve(numerical_jacobian(cycle, cyc), r)
     z = np.array([cyc[0], z[1], cyc[1], z[3], cyc[2]])
     while True:
         guess = z if not points else zb + (z - zb) * (eps / z[1]) ** 2

@@ -133,7 +133,7 @@ def saddle_node_gap(kit, loop: Loop, x_sn: float, a: float, b: float,
     params = {**kit.params, kit.axes[0]: a, kit.axes[1]: b}
     acc, _, _ = _field(kit.model, params, cm)
     if loop.section:
-        return manifolds_on_section(cm, acc, yu, ys, x_t + loop.arrive * SECTION, loop.arrive,
+        return manifolds_on_section(cm, yu, ys, x_t + loop.arrive * SECTION, loop.arrive,
                                     t_max)
     return _to_turn(acc, yu, 1.0, t_max) - _to_turn(acc, ys, -1.0, t_max)
 

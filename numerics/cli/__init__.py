@@ -68,6 +68,3 @@ def main(argv: Sequence[str] | None = None) -> int:
         os._exit(status)
     return status
 
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())

@@ -87,7 +87,7 @@ def _check_isolated(other: complex, x0: float, T: float, rtol: float) -> None:
             "if the cycle is this weakly attracting, lower rtol")
 
 
-def _weak_highprec(cm, x0, T, other, rel, meth):
+def _weak_highprec(cm, x0, T, other, rel):
     """High-precision period, maximum and first harmonic of a weakly attracting cycle, or
     ``None`` (with the reason) when that path does not apply or fails."""
     contraction = abs(1.0 - abs(other))
@@ -151,7 +151,7 @@ def final_pass(cm, converged, meth, source, st, digits, n_samples, n_harmonics) 
     if not success:
         msg = (f"Newton stalled: |(x(T) - x0, x'(T))| = {residual:.2e} after {it} iterations "
                f"(floor {floor:.1e})")
-    hp, note = _weak_highprec(cm, x0, T, other, rel, meth) if digits is None else (None, "")
+    hp, note = _weak_highprec(cm, x0, T, other, rel) if digits is None else (None, "")
     if hp is not None:
         x0, T, first = float(hp["amplitude_max"]), float(hp["period"]), \
             float(hp["amplitude_first_harmonic"])

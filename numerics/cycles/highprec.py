@@ -232,7 +232,7 @@ def limit_cycle_mp(acceleration: sp.Expr, digits: int, x0_guess: float, period_g
         wq = sp.Float(mpmath.nstr(w, mpmath.mp.dps + 5), mpmath.mp.dps + 5)
         sys2 = TaylorSystem([X, V, qc, qs], [V, acceleration, X * sp.cos(wq * TIME),
                                               X * sp.sin(wq * TIME)])
-        T2, y2 = _return(sys2, x0, T, order, extra0=(mpmath.mpf(0), mpmath.mpf(0)))
+        _, y2 = _return(sys2, x0, T, order, extra0=(mpmath.mpf(0), mpmath.mpf(0)))
         a1 = 2 * mpmath.sqrt(y2[2]**2 + y2[3]**2) / T
         return {"period": +T, "amplitude_max": +x0, "amplitude_first_harmonic": +a1,
                 "frequency": +w, "iterations": it, "residual": history[-1],

@@ -42,8 +42,6 @@ class AnnulusEnvelope:
     action, gamma, x2action : numerics.escape._panels.Piecewise
         ``I(E)``, ``Gamma(E)`` and ``K(E) = oint x^2 x' dx``: interpolants of the exact
         orbit quadratures on adaptive panels, graded towards a separatrix end.
-    period_ : callable
-        ``T(E)`` by orbit quadrature (logarithmic at a separatrix: never integrated).
     log_f : numerics.escape._panels.Piecewise
         ``ln f(E)`` (up to the constant fixed by the gluing).
     error : float
@@ -56,7 +54,6 @@ class AnnulusEnvelope:
     action: Piecewise
     gamma: Piecewise
     x2action: Piecewise
-    period_: object
     log_f: Piecewise
     error: float
 
@@ -153,7 +150,7 @@ def fitted(a: Annulus, portrait: Portrait, h, mu: float, D: float, outer_span: f
     breaks, (I, Gam, K, r) = adaptive_panels(
         values, lo, hi, singular_lo=len(a.wells) > 1, singular_hi=a.bounded, tol=tol)
     return AnnulusEnvelope(a, lo, hi, Piecewise(breaks, I), Piecewise(breaks, Gam),
-                           Piecewise(breaks, K), a.period, Piecewise(breaks, r).integ(), worst[0])
+                           Piecewise(breaks, K), Piecewise(breaks, r).integ(), worst[0])
 
 
 def check_drift(rate: float, E: float) -> None:

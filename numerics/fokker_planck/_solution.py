@@ -105,13 +105,12 @@ class KramersSolution:
         (:func:`numerics.fokker_planck._bases.band_masses`); the outer one runs over the
         stretches where ``G < E`` with the substitution that removes the square-root ends.
         """
-        L = float(self.x[0])
         coefs = self._series()
         total = 0.0
         for a, b in self.stretches(E):
             n, last = nodes, None
             while True:  # Gauss-Legendre doubled until two rules agree
-                val = self._stretch(coefs, L, E, a, b, n)
+                val = self._stretch(coefs, E, a, b, n)
                 if last is not None and (abs(val - last) <= 1e-13 or n >= 4096):
                     break
                 last, n = val, 2 * n
@@ -156,7 +155,7 @@ class KramersSolution:
             self._cache["series"] = c
         return self._cache["series"]
 
-    def _stretch(self, coefs, L: float, E: float, a: float, b: float, n: int) -> float:
+    def _stretch(self, coefs, E: float, a: float, b: float, n: int) -> float:
         """The mass of ``H < E`` over ``a < x < b`` with ``n`` Gauss-Legendre nodes in
         ``x = (a + b)/2 + (b - a)/2 sin(pi s/2)`` (square-root ends become smooth)."""
         from numpy.polynomial import chebyshev as C

@@ -36,7 +36,7 @@ from numerics.shooting.branch_problem import OrbitPoint, OrbitProblem
 from numerics.shooting.coupled_branch import CoupledContinuation
 from numerics.shooting.coupled_orbit import coupled_cycle
 from numerics.flow.coupled_flow import bind_coupled, coupled_flow
-from numerics.locking.start import follow_steps
+from numerics.locking.start import follow_steps, march_out
 
 __all__ = ["Fold", "locate_fold", "LockingEdge", "true_edges", "FOLD_BRACKET"]
 
@@ -160,31 +160,25 @@ def true_edges(model: CoupledOscillators | str, params: Mapping[str, object],
 
 
 def _shoot(model, params, parameter, s, cyc):
+    """The stable locked cycle at ``s`` shot from ``cyc``, or ``None``."""
     try:
-        return coupled_cycle(model, {**dict(params), parameter: s}, start=cyc.state,
-                             transient=0, period=cyc.period, max_iter=12)
+        nxt = coupled_cycle(model, {**dict(params), parameter: s}, start=cyc.state,
+                            transient=0, period=cyc.period, max_iter=12)
     except (ConvergenceError, NoCycleError, IntegrationError):
         return None  # no locked cycle found there (Newton left it, or the orbit ran away)
+    return nxt if nxt.stable else None
 
 
 def _true_edge(model, params, parameter, base, side, limit, tol, guess,
                at: float = 0.0) -> LockingEdge:
-    s, cyc = at, base
     first, largest, smallest = follow_steps(limit)  # scaled to the span followed
-    # an estimate of the edge sets the scale: 0.3 of the way to it (no less than 0.02)
+    # an estimate of the edge sets the scale: 0.3 of the way to it (no less than 0.02); the
+    # steps then do not grow
     step = first if guess is None else max(min(first, 0.02), 0.3 * abs(guess - at))
-    while True:
-        if abs(s - at) >= limit:
-            return LockingEdge(math.copysign(math.inf, side), 0.0, side, tuple(cyc.state))
-        nxt = _shoot(model, params, parameter, s + side * step, cyc)
-        if nxt is None or not nxt.stable:  # past the edge, or too long a step for Newton
-            if step <= smallest:
-                break
-            step /= 2
-            continue
-        s, cyc = s + side * step, nxt
-        if guess is None:  # no estimate of the edge: the steps grow
-            step = min(step * 1.5, largest)
+    s, cyc, step = march_out(lambda s, c: _shoot(model, params, parameter, s, c), at, base,
+                             side, limit, step, largest, smallest, grow=guess is None)
+    if step is None:
+        return LockingEdge(math.copysign(math.inf, side), 0.0, side, tuple(cyc.state))
     lo, hi = s, s + side * step
     coarse = True
     while abs(hi - lo) > tol:
@@ -197,7 +191,7 @@ def _true_edge(model, params, parameter, base, side, limit, tol, guess,
                 return LockingEdge(fold.parameter, fold.error, side, fold.state)
         mid = 0.5 * (lo + hi)
         nxt = _shoot(model, params, parameter, mid, cyc)
-        if nxt is not None and nxt.stable:
+        if nxt is not None:
             lo, cyc = mid, nxt
         else:
             hi = mid

@@ -36,7 +36,7 @@ from kbm.output.strict_json import complex_pairs, jsonable
 from numerics.errors import NoCycleError
 from numerics.flow.coupled_flow import bind_coupled
 from numerics.locking.fold import LockingEdge, true_edges
-from numerics.locking.start import AMPLITUDE_FLOOR, follow_steps, followed_axis, locked_start, side_limits, start_values
+from numerics.locking.start import AMPLITUDE_FLOOR, follow_steps, followed_axis, march_out, locked_start, side_limits, start_values
 from numerics.locking.slow_flow import _newton, _slow_flow, _split
 
 __all__ = ["LockingRegion", "averaged_edges", "amplitude_death",
@@ -118,20 +118,12 @@ def _averaged_edge(f, jac, y, side, mu, limit, at=0.0) -> LockingEdge:
         return trial if np.all(ev.real < 0) else None
 
     floor = AMPLITUDE_FLOOR * float(np.max(np.abs(y[:-1])))
-    step, largest, smallest = follow_steps(limit)  # scaled to the span followed
-    last = (at, y)
-    while True:  # march out until the locked state is lost ...
-        if abs(last[0] - at) >= limit:
-            return LockingEdge(math.copysign(math.inf, side), 0.0, side, tuple(last[1]))
-        trial = locked(last[0] + side * step, last[1])
-        if trial is None:  # past the fold, or too long a step to follow the state
-            if step <= smallest:
-                break
-            step /= 2
-            continue
-        last = (last[0] + side * step, trial)
-        step = min(step * 1.5, largest)
-    lo, hi = last[0], last[0] + side * step
+    # march out until the locked state is lost ...
+    s, held, step = march_out(locked, at, y, side, limit, *follow_steps(limit))
+    if step is None:
+        return LockingEdge(math.copysign(math.inf, side), 0.0, side, tuple(held))
+    last = (s, held)
+    lo, hi = s, s + side * step
     while abs(hi - lo) > 1e-4:  # ... bracket the fold (the augmented Newton ends it) ...
         mid = 0.5 * (lo + hi)
         trial = locked(mid, last[1])

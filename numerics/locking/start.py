@@ -36,7 +36,7 @@ from numerics.flow.coupled_flow import bind_coupled
 from numerics.locking.slow_flow import _newton, _slow_flow, _split
 
 __all__ = ["start_values", "side_limits", "first_locked", "locked_start", "followed_axis",
-           "follow_steps", "AMPLITUDE_FLOOR", "GRID_POINTS", "STABILITY_MARGIN", "FIRST_STEP", "LARGEST_STEP",
+           "follow_steps", "march_out", "AMPLITUDE_FLOOR", "GRID_POINTS", "STABILITY_MARGIN", "FIRST_STEP", "LARGEST_STEP",
            "SMALLEST_STEP"]
 
 #: points of the grid over the asked interval at which a locked state is looked for
@@ -96,6 +96,26 @@ def follow_steps(span: float) -> tuple[float, float, float]:
     if not (math.isfinite(span) and span > 0.0):
         span = 1.0
     return FIRST_STEP * span, LARGEST_STEP * span, min(SMALLEST_STEP, FIRST_STEP * span)
+
+
+def march_out(locked: Callable, at: float, state, side: int, limit: float, step: float,
+              largest: float, smallest: float, *, grow: bool = True):
+    """``(s, state, step)``: the last point held following ``locked(s, state)`` (the state at
+    ``s`` from ``state``, or ``None``) from ``at`` on ``side`` in the steps of
+    :func:`follow_steps` (growing where ``grow``), and the step that failed from it (``None``
+    where ``limit`` from ``at`` was reached)."""
+    s = at
+    while abs(s - at) < limit:
+        nxt = locked(s + side * step, state)
+        if nxt is None:  # past the edge, or too long a step to follow the state
+            if step <= smallest:
+                return s, state, step
+            step /= 2
+            continue
+        s, state = s + side * step, nxt
+        if grow:
+            step = min(step * 1.5, largest)
+    return s, state, None
 
 
 def first_locked(f: Callable, jac: Callable, y0: np.ndarray, values: list[float], mu: float,

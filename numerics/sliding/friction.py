@@ -188,7 +188,7 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionP
         if len(onsets) >= need_slips + 1 or (last and len(onsets) >= 3):
             pt = _stick_slip(run, base, stuck, onsets[-(need_slips + 1):], dt, s)
         elif tail >= 0 and all(e < tail for _, e in stuck):
-            pt = _sliding(run, base, need_wells, extra, dt, s)
+            pt = _sliding(run, base, need_wells, extra, s)
         if pt is not None:
             cap = s.max_doublings if pt.regime == "stick-slip" else s.max_doublings_sliding
             if pt.steady or last or attempt >= cap:

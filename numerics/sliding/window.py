@@ -136,8 +136,7 @@ def _stick_slip(run: _Run, base: dict, stuck, onsets: list[int], dt: float,
                          steps=run.steps, **m)
 
 
-def _sliding(run: _Run, base: dict, wells: int, extra: int, dt: float,
-             s: FrictionSettings) -> FrictionPoint:
+def _sliding(run: _Run, base: dict, wells: int, extra: int, s: FrictionSettings) -> FrictionPoint:
     pw = run.per_well
     i0 = len(run.y) - 1 - (wells + extra) * pw
     ends = np.arange(i0 + wells * pw, i0 + (wells + extra) * pw + 1, pw)

@@ -33,7 +33,7 @@ The options themselves (flags, defaults, help) are defined once in
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np

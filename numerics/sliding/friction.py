@@ -12,8 +12,11 @@ block after block until its steady state has been seen long enough, then measure
    ``transient_slips`` slips.
 2. *Stick and slip.*  The slider is *stuck* while ``|x_dot| < v_stick = min(v/2,
    0.02 Omega lam)`` for at least half a natural period ``pi/Omega`` (a velocity
-   reversal of an oscillation is not a stick); a *slip* runs from the end of one
-   stuck interval to the start of the next.
+   reversal of an oscillation is not a stick); two stuck intervals are one stick when the
+   motion between them ends in the well it left (an oscillation in the well, such as the
+   stage-attached SEDF's, self-excited while the stage passes within ``1/sqrt(beta)``,
+   crosses no well); a *slip* runs from the end of one stick to the start of the next,
+   in another well.
 3. *Window.*  With stick-slip: from the onset of one slip to the onset of the slip
    ``slips`` later (both at the same point of the stick-slip cycle, so whole wells are
    crossed in between).  Without any stuck interval: ``max(sliding_wells,

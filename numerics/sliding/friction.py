@@ -68,7 +68,6 @@ import math
 from collections.abc import Mapping
 from dataclasses import replace
 
-
 from kbm.errors import KBMError, ParameterError
 
 from numerics.sliding.driven import DrivenSystem, driven_system

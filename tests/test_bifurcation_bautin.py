@@ -129,3 +129,18 @@ def test_extended_precision_runge_kutta_on_the_harmonic_oscillator():
         assert abs(r[2]) < 4 * w * w * np.spacing(T)  # T is a float: w(T) = -w^2 u dT
         r = ScaledFold(kit, 400).G([0.0, eps, 2 * math.pi / w * (1 + 1e-9), 0.0, 4.0])
         assert np.max(np.abs(r)) > 1e-9  # a period off by 1e-9 is seen
+
+
+def test_no_bautin_point_is_said_in_plain_numbers():
+    """``x'' + x = mu ((c - x^2) - g^2 x^2) x'``: on its Hopf line c = 0 (x_e = 0) the first
+    Lyapunov coefficient has the sign of ``F_xxv = -2 mu (1 + g^2) < 0`` for every g
+    (Guckenheimer & Holmes (3.4.11), no quadratic terms), so Newton finds no Bautin point;
+    the message gives the guess as plain numbers (it printed ``[np.float64(0.0), ...]``)."""
+    from kbm.errors import KBMError
+
+    model = custom_model("(c - x**2)*xdot - g**2*x**2*xdot", name="no_bautin")
+    kit = OneDof(model, {"mu": "0.1"}, ("c", "g"), (0.0, 1.0))
+    with pytest.raises(KBMError, match=r"no Bautin point near \(x_e, a, b\) = \(0, 0, 1\): "
+                                       r"residual [0-9.e-]+ ") as err:
+        bautin_point(kit, [np.float64(0.0), np.float64(0.0), np.float64(1.0)])
+    assert "np." not in str(err.value) and "[" not in str(err.value)

@@ -107,6 +107,23 @@ def test_kbm_branch_and_response_take_coupled_systems(capsys):
         assert p["amplitudes"][1] == pytest.approx(lin, rel=0.05)
 
 
+def test_mode_at_rest_is_printed_as_zero(capsys):
+    """Below the saturation threshold x1 = 0 is an invariant solution (x1'' = -2 zeta1 x1' -
+    alpha1 x1 x2 vanishes with x1; Nayfeh & Mook 6.5): the table prints max|x1| as 0, not
+    the shooting's round-off (4.4e-19), with the bound it is under, the residual the
+    acceptance standard takes, 100 rtol max(1, |state|); the JSON keeps the numbers."""
+    argv = ["response", "quadratic-1-2", "-p", "mu=0.02", "-p", "zeta1=0.5", "-p", "zeta2=0.5",
+            "-p", "sigma1=0", "-p", "h=2", "--vary", "sigma2=0.8:1.2:10"]
+    code, out, err = run_cli(capsys, *argv)
+    assert code == 0, err
+    rows = [line.split() for line in out.splitlines() if line.split()[-1:] == ["stable"]]
+    assert rows and all(r[2] == "0" and float(r[3]) > 0.3 for r in rows), out
+    assert "(0: below the accuracy of the orbit" in out and "rtol = 1e-11" in out
+    code, out, err = run_cli(capsys, *argv, "--json")
+    amps = [p["amplitudes"] for p in json.loads(out)["points"]]
+    assert all(0 <= a1 < 100 * 1e-11 and a2 > 0.3 for a1, a2 in amps)
+
+
 @pytest.mark.parametrize("argv, words", [
     (["response", "quadratic-1-2", "-p", "mu=0.02", "--detuning", "1"], "--detuning"),
     (["response", "coupled-vdp", "-p", "mu=0.1", "--vary", "c=0:1"], "no forcing"),

@@ -184,6 +184,20 @@ def test_asymmetric_series_is_not_even():
     assert s.amplitude == pytest.approx([float(c) for c in ex.amplitude], rel=1e-12, abs=1e-15)
 
 
+def test_coefficients_in_the_series_variable():
+    """The public coefficients: van der Pol's omega* in mu**2 (Andersen & Geer's even
+    coefficients, lowest first); the asymmetric model's amplitude in every power of mu (the
+    exact Lindstedt route)."""
+    s = numeric_cycle_series("vdp", 8)
+    assert s.coefficients() == pytest.approx(
+        [float(OMEGA_VDP[n]) for n in range(0, 9, 2)], rel=1e-12)
+    model = custom_model("(1 - x**2)*xdot + x**2/2 - x*xdot**2/5")
+    assert numeric_cycle_series(model, 6).coefficients("amplitude") == pytest.approx(
+        [float(c) for c in limit_cycle_series(model, 6).amplitude], rel=1e-12, abs=1e-15)
+    with pytest.raises(ParameterError, match="'omega' or 'amplitude'"):
+        s.coefficients("phase")
+
+
 @pytest.fixture(scope="module")
 def vdp_160():
     """The double-precision vdp series to mu^160 (3-4 s), computed once for the radius and

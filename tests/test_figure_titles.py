@@ -45,6 +45,17 @@ def test_thermal_friction_legend_in_kT_when_T_was_the_axis(t_map):
     assert "T =" not in title.split("\n")[0].split(":", 1)[1]  # the axis is in the legend
 
 
+def test_thermal_friction_title_names_a_fixed_temperature():
+    """-p T=0.05 with mu an axis: the legend names D = mu kT (0.025, 0.05), so the fixed
+    T is said in the title (it was left out, as if it were an axis)."""
+    m = thermal_friction_map("cdc", {"Delta": 3.0, "T": 0.05}, {"mu": [0.5, 1.0], "v": [0.01]},
+                             trajectories=4, wells=1, workers=1)
+    assert sorted(_noise_label(m, d) for d in {p.params["D"] for p in m.points}) == [
+        "cdc, D = 0.025", "cdc, D = 0.05"]
+    fixed = _title(m, None).split("\n")[0].split(":", 1)[1]
+    assert "T = 0.05" in fixed and "Delta = 3" in fixed and "mu =" not in fixed
+
+
 def test_error_contours_one_convention():
     """Level -2 (1 %) solid, level -3 (1e-3) dashed.  matplotlib draws a one-colour negative
     level dashed by default, which made kbm_validity.png's 1 % contour dashed."""

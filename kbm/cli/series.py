@@ -205,7 +205,7 @@ def _within_terms(s, mu: float, t) -> None:
 
     bounds = []
     for which in ("omega", "amplitude"):
-        nz = [(k, mpmath.mpf(c)) for k, c in enumerate(s._coeffs(which)) if c != 0]
+        nz = [(k, mpmath.mpf(c)) for k, c in enumerate(s.coefficients(which)) if c != 0]
         if len(nz) >= 2:
             (i, ci), (j, cj) = nz[-2:]
             bounds.append((abs(ci / cj) ** (mpmath.mpf(1) / (j - i)), i, j))

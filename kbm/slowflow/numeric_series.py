@@ -59,7 +59,16 @@ class NumericCycleSeries:
     digits: int | None
     even: bool
 
-    def _coeffs(self, which: str) -> list:
+    def coefficients(self, which: str = "omega") -> list:
+        """The coefficients of ``omega*`` (or ``a*``) in the series' variable
+        (:attr:`variable`): every power of ``mu``, or of ``mu**2`` for an even series (its
+        even coefficients only), lowest power first.
+
+        Raises
+        ------
+        kbm.errors.ParameterError
+            If ``which`` is neither ``"omega"`` nor ``"amplitude"``.
+        """
         if which not in ("omega", "amplitude"):
             raise ParameterError(f"which must be 'omega' or 'amplitude', got {which!r}")
         c = list(getattr(self, which))
@@ -72,7 +81,7 @@ class NumericCycleSeries:
 
     def partial_sum(self, mu: float, which: str = "omega") -> mpmath.mpf:
         """The truncated series at ``mu`` (diverges beyond the radius of convergence)."""
-        c = self._coeffs(which)
+        c = self.coefficients(which)
         t = mpmath.mpf(mu) ** (2 if self.even else 1)
         return mpmath.polyval(c[::-1], t)
 
@@ -80,12 +89,12 @@ class NumericCycleSeries:
         """``omega*(mu)`` (or ``a*``) by diagonal Pade approximants in the series' variable
         (:func:`kbm.slowflow.resum.pade_resum`; keyword arguments go there)."""
         t = mpmath.mpf(mu) ** (2 if self.even else 1)
-        return pade_resum(self._coeffs(which), t, **kwargs)
+        return pade_resum(self.coefficients(which), t, **kwargs)
 
     def singularity(self, which: str = "omega", **kwargs) -> Singularity:
         """The nearest singularities in the series' variable
         (:func:`kbm.slowflow.resum.nearest_singularity`)."""
-        return nearest_singularity(self._coeffs(which), variable=self.variable, **kwargs)
+        return nearest_singularity(self.coefficients(which), variable=self.variable, **kwargs)
 
 
 def numeric_cycle_series(model, order: int, *, digits: int | None = None,

@@ -42,6 +42,7 @@ import numpy as np
 import sympy as sp
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
+from numerics._show import num
 from numerics.bifurcation.corrector import correct, numerical_jacobian
 from numerics.errors import ConvergenceError
 from numerics.flow.template import acceleration_jacobian
@@ -182,7 +183,10 @@ def bautin_point(kit, guess: Sequence[float]) -> np.ndarray:
         if np.max(np.abs(dz)) < 1e-14 * (1 + np.max(np.abs(z))):
             break
     if not np.max(np.abs(H(z))) < 1e-11:
-        raise ConvergenceError(f"no Bautin point near {guess}: residual {H(z)}")
+        near = ", ".join(num(g, 6) for g in np.asarray(guess, dtype=float))
+        raise ConvergenceError(f"no Bautin point near (x_e, a, b) = ({near}): residual "
+                               f"{num(np.max(np.abs(H(z))), 3)} (Hopf conditions and l1 = 0; "
+                               "1e-11 needed)")
     return z
 
 

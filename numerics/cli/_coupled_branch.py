@@ -37,6 +37,7 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
     """Continue the periodic orbits of the command line's coupled system (or ``model``) in
     ``name`` over ``[lo, hi]`` (from ``-p NAME=VALUE`` if given, else from ``lo``)."""
     from kbm.cli.derive import coupled_model
+    from numerics.shooting.acceptance import RESIDUAL_FACTOR, orbit_scale, residual_tolerance
     from numerics.shooting.coupled_branch import continue_coupled
 
     model = coupled_model(args) if model is None else model
@@ -63,12 +64,18 @@ def run_coupled_branch(args: argparse.Namespace, name: str, lo: float, hi: float
           "period with the monodromy")
     amp = "  ".join(f"{f'max|x{i + 1}|':>12s}" for i in range(br.dof))
     print(f"  {name:>14s} {'period':>12s}  {amp}  {'|multiplier| max':>16s}")
+    zeros = False
     for p in shown(br.points):
         rest = p.floquet_multipliers if br.forced else p.floquet_multipliers[1:]
         big = max(abs(z) for z in rest)
-        amps = "  ".join(f"{a:12.8g}" for a in p.amplitudes)
+        floor = residual_tolerance(rtol, orbit_scale(p.state))
+        zeros |= min(p.amplitudes) < floor
+        amps = "  ".join(f"{a:12.8g}" if a >= floor else f"{0:12d}" for a in p.amplitudes)
         print(f"  {p.parameter:14.8g} {p.period:12.8g}  {amps}  {big:16.6g} "
               f"{'stable' if p.stable else 'UNSTABLE'}")
+    if zeros:
+        print(f"  (0: below the accuracy of the orbit, the residual accepted, "
+              f"{RESIDUAL_FACTOR:g} rtol max(1, |state|) with rtol = {rtol:g})")
     for s in br.special:
         mult = multipliers_text(s.floquet_multipliers)
         print(f"  {s.kind}: {name} = {s.parameter:.10g} (bracket {s.bracket[0]:.10g} .. "

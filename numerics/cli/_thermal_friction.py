@@ -105,9 +105,10 @@ def _noise_label(m, D: float) -> str:
 
 
 def _title(first, second) -> str:
-    """The fixed parameters (the axes and the noise are in the legend) and the ensemble."""
-    fixed = ", ".join(f"{k} = {v:.4g}" for k, v in first.params.items()
-                      if k not in first.axes and k not in ("D", "T"))
+    """The fixed parameters, the noise among them when it is fixed (``D``, or ``T`` as given:
+    with ``mu`` an axis the legend can only name ``D = mu T``), and the ensemble; the axes
+    are in the legend and on the abscissa."""
+    fixed = ", ".join(f"{k} = {v:.4g}" for k, v in first.params.items() if k not in first.axes)
     models = first.model + (f" (o) against {second.model} (s)" if second is not None else "")
     return (f"{models} with noise sqrt(2 D) xi: {fixed}\n{first.trajectories} trajectories x "
             f"{first.wells:g} stage periods per point, seed {first.seed}")

@@ -12,8 +12,11 @@ block after block until its steady state has been seen long enough, then measure
    ``transient_slips`` slips.
 2. *Stick and slip.*  The slider is *stuck* while ``|x_dot| < v_stick = min(v/2,
    0.02 Omega lam)`` for at least half a natural period ``pi/Omega`` (a velocity
-   reversal of an oscillation is not a stick); a *slip* runs from the end of one
-   stuck interval to the start of the next.
+   reversal of an oscillation is not a stick); two stuck intervals are one stick when the
+   motion between them ends in the well it left (an oscillation in the well, such as the
+   stage-attached SEDF's, self-excited while the stage passes within ``1/sqrt(beta)``,
+   crosses no well); a *slip* runs from the end of one stick to the start of the next,
+   in another well.
 3. *Window.*  With stick-slip: from the onset of one slip to the onset of the slip
    ``slips`` later (both at the same point of the stick-slip cycle, so whole wells are
    crossed in between).  Without any stuck interval: ``max(sliding_wells,
@@ -65,14 +68,12 @@ import math
 from collections.abc import Mapping
 from dataclasses import replace
 
-import numpy as np
-
 from kbm.errors import KBMError, ParameterError
 
 from numerics.sliding.driven import DrivenSystem, driven_system
 from numerics.sliding.friction_records import (FrictionPoint, FrictionSettings, eta,
                                                _static_quasistatic)
-from numerics.sliding.window import _Run, _sliding, _stick_slip, _stuck_intervals
+from numerics.sliding.window import _Run, _sliding, _stick_phases, _stick_slip
 
 __all__ = ["friction_point", "V_RANGE"]
 
@@ -180,8 +181,9 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionP
         stop = _runaway(run, base, limits)
         if stop is not None:
             return stop
-        stuck = _stuck_intervals(np.abs(run.y[:, 1]) < v_stick, min_stuck)
-        onsets = [e for (_, e) in stuck if e < len(run.y) - 1][s.transient_slips:]
+        stuck = _stick_phases(run, v_stick, min_stuck)
+        # a phase's end is a slip's onset once the next phase has begun in another well
+        onsets = [e for (_, e) in stuck[:-1]][s.transient_slips:]
         tail = len(run.y) - 1 - (need_wells + extra) * per_well
         last = done >= longest
         pt = None
@@ -203,8 +205,21 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionP
         if last:
             return FrictionPoint(**base, steps=run.steps,
                                  error=f"no steady state within {done} stage periods lam/v "
-                                       f"= {done * Tw:.4g} time units ({len(onsets)} slips "
-                                       f"after the transient); raise max_wells or max_periods")
+                                       f"= {done * Tw:.4g} time units "
+                                       f"({_slips_seen(run, stuck, len(onsets), need_slips)}); "
+                                       "raise max_wells or max_periods")
+
+
+def _slips_seen(run: _Run, stuck: list[tuple[int, int]], after: int, need: int) -> str:
+    """How many slips a run too short for a window saw, and, with two or more, how far
+    apart they were and how long a run the window would need."""
+    text = f"{after} slip{'' if after == 1 else 's'} after the transient"
+    ends = [run.y[e, 2] for _, e in stuck[:-1]]
+    if len(ends) < 2:
+        return text
+    apart = (ends[-1] - ends[0]) / (len(ends) - 1) * run.system.v / run.system.lam
+    return (f"{text}; the slips come {apart:.3g} stage periods lam/v apart, so {need} slips need "
+            f"about {need * apart:.3g}")
 
 
 def _runaway(run: _Run, base: dict, limits: tuple[float, float]) -> FrictionPoint | None:

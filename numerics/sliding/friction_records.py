@@ -121,7 +121,8 @@ class FrictionPoint(Rendered):
         energy flow per distance (criterion 4); the power balance's integration error
         ``|v Delta J - Delta Gamma - Delta E|/Delta Gamma``.
     stuck_fraction, wells_per_slip, slips
-        Fraction of the window stuck; mean wells crossed per slip; slips in the window.
+        Fraction of the window stuck (in one well: an oscillation in the well between two
+        stuck intervals counts as stuck); mean wells crossed per slip; slips in the window.
     halves
         Mean force of the window's two halves.
     window

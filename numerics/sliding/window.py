@@ -62,6 +62,25 @@ def _stuck_intervals(mask: np.ndarray, min_len: int) -> list[tuple[int, int]]:
     return [(int(a), int(b)) for a, b in zip(starts, ends) if b - a + 1 >= min_len]
 
 
+def _stick_phases(run: _Run, v_stick: float, min_len: int) -> list[tuple[int, int]]:
+    """The stick phases of the run: ``(start, end)`` sample indices of the intervals with
+    ``|x_dot| < v_stick`` for at least ``min_len`` samples, two of them joined when the
+    motion between them ends in the well it started from (``round(x/lam)`` the same at
+    both ends).  Such a motion is an oscillation in the well, not a slip: the in-well
+    oscillation of the stage-attached SEDF, self-excited while the stage passes within
+    ``1/sqrt(beta)``, or one whose amplitude hovers at ``v_stick``, crosses no well; counted
+    as slips they would enter the mean static force and the wells per slip (criterion 2)."""
+    stuck = _stuck_intervals(np.abs(run.y[:, 1]) < v_stick, min_len)
+    well = np.round(run.y[:, 0] / run.system.lam)
+    phases: list[tuple[int, int]] = []
+    for a, e in stuck:
+        if phases and well[phases[-1][1]] == well[a]:
+            phases[-1] = (phases[-1][0], e)
+        else:
+            phases.append((a, e))
+    return phases
+
+
 def _force(run: _Run) -> np.ndarray:
     Om2 = run.system.omega**2
     return Om2 * (run.system.v * run.y[:, 2] - run.y[:, 0])

@@ -201,8 +201,18 @@ class Oscillator(OneDegree):
         return mu * self.F.subs(xdot, 0)
 
     def dissipative_force(self) -> sp.Expr:
-        """The part of ``mu F`` that vanishes at ``x' = 0`` (damping and self-excitation)."""
-        return sp.expand(mu * self.F - self.conservative_force())
+        """The part of ``mu F`` that vanishes at ``x' = 0`` (damping and self-excitation).
+
+        A sum of terms, powers of sums kept whole: the stage-attached excitation of
+        ``sedf_comoving`` pulled at ``v`` stays ``-beta mu (x - v t)^2 x'``.
+
+        Examples
+        --------
+        >>> from kbm.model.builtins import get_model
+        >>> get_model("sedf").dissipative_force()
+        -beta*mu*x**2*xdot + mu*xdot
+        """
+        return sp.expand(mu * self.F - self.conservative_force(), multinomial=False)
 
     def dissipation_parts(self) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
         """The dissipation integrand ``-D x'`` split by the sign of its terms' coefficients.
@@ -220,8 +230,7 @@ class Oscillator(OneDegree):
         """
         # powers of sums stay whole (multinomial=False): the stage-attached excitation
         # beta (x - v t)^2 x'^2 is one energy-supplying term, not three of mixed signs
-        damping = mu * self.F - self.conservative_force()
-        integrand = sp.expand(-damping * xdot, multinomial=False)
+        integrand = sp.expand(-self.dissipative_force() * xdot, multinomial=False)
         plus, minus = [], []
         for term in sp.Add.make_args(integrand):
             coeff = term.as_coeff_Mul()[0]

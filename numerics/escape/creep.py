@@ -35,7 +35,7 @@ from kbm.errors import ParameterError
 from ..sliding.potential import eq4, saddle_node
 from .turnover import melnikov_meshkov_factor
 
-__all__ = ["SlipForce", "slip_force", "CreepFit", "fit_creep", "barrier_at"]
+__all__ = ["SlipForce", "slip_force", "CreepFit", "fit_creep", "barrier_at", "law_points"]
 
 
 def barrier_at(L: float, *, Delta: float, lam: float = 1.0, Omega: float = 1.0):
@@ -70,6 +70,39 @@ def barrier_at(L: float, *, Delta: float, lam: float = 1.0, Omega: float = 1.0):
         lo = nxt
     I = 2 * quad(lambda z: math.sqrt(max(2 * (U(xs) - U(z)), 0.0)), xt, xs, limit=200)[0]
     return xw, xs, Eb, ww, I
+
+
+def law_points(fit: str, columns: dict, positive: tuple = ()) -> list:
+    """The columns of a friction law's points as float arrays, checked for a fit.
+
+    Each column must be a 1-D sequence of finite numbers, all of one length, and the
+    columns named in ``positive`` (those fitted in logarithms: ``v``, ``kT``) above zero.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Naming ``fit``, the column and the first offending point.
+    """
+    try:
+        arrays = [np.asarray(z, float) for z in columns.values()]
+    except (TypeError, ValueError) as exc:
+        raise ParameterError(f"{fit}: {', '.join(columns)} must be sequences of numbers "
+                             f"({exc})") from None
+    lengths = [a.shape[0] if a.ndim == 1 else None for a in arrays]
+    if None in lengths or len(set(lengths)) != 1:
+        got = ", ".join(f"{n} {a.shape}" for n, a in zip(columns, arrays))
+        raise ParameterError(f"{fit}: {', '.join(columns)} must be 1-D sequences of the same "
+                             f"length (one entry per point), got shapes {got}")
+    for name, a in zip(columns, arrays):
+        bad = np.flatnonzero(~np.isfinite(a))
+        if bad.size:
+            raise ParameterError(f"{fit}: {name} must be finite, got {a[bad[0]]} at point "
+                                 f"{bad[0]} (drop the failed points)")
+        if name in positive and np.any(a <= 0):
+            i = int(np.flatnonzero(a <= 0)[0])
+            raise ParameterError(f"{fit}: {name} must be > 0 (it is fitted in logarithms), got "
+                                 f"{a[i]:g} at point {i}")
+    return arrays
 
 
 @functools.lru_cache(maxsize=16)
@@ -163,7 +196,8 @@ class CreepFit:
     ----------
     a, a_err : float
         The temperature exponent (Sang et al.: 2/3) from ``ln C`` against ``ln T``, with
-        ``C(T)`` refitted at the common ``b``.
+        ``C(T)`` refitted at the common ``b``; ``a_err`` includes the error ``b`` passes
+        on to every ``C(T)`` (:func:`fit_creep`).
     b, b_err : float
         The velocity exponent (2/3): the mean of the per-temperature fits and its
         standard error (their spread over sqrt(n)).
@@ -188,6 +222,29 @@ class CreepFit:
     points: int
 
 
+def _creep_model(lv, lnC, b, lnvc):
+    """``ln(F_c - F) = ln C + b ln|ln v - ln v_c|`` (Sang et al.)."""
+    return lnC + b * np.log(np.abs(lv - lnvc))
+
+
+def _temperature_law(v, kT, F, Fc: float, temps, b: float) -> tuple[float, float, float]:
+    """``(a, ln c, a's standard error from the line's residuals)``: ``ln C(T)`` refitted at
+    the common ``b`` (``C`` and ``v_c`` trade off against each other when ``b`` is free),
+    then the straight line ``ln C = ln c + a ln T`` (its error NaN with two temperatures)."""
+    lnC = []
+    for T in temps:
+        m = kT == T
+        lv, y = np.log(v[m]), np.log(Fc - F[m])
+        p, _ = curve_fit(lambda z, c0, lvc: _creep_model(z, c0, b, lvc), lv, y,
+                         p0=(0.0, float(np.max(lv)) + 2), maxfev=20000)
+        lnC.append(p[0])
+    if len(temps) > 2:
+        (a, lnc), cov = np.polyfit(np.log(temps), lnC, 1, cov=True)
+        return float(a), float(lnc), float(math.sqrt(cov[0, 0]))
+    a, lnc = np.polyfit(np.log(temps), lnC, 1)
+    return float(a), float(lnc), math.nan
+
+
 def fit_creep(v, kT, F, Fc: float) -> CreepFit:
     """Fit the creep law of Sang et al. (PRL 87, 174301) to slip forces ``F(v_i, kT_i)``.
 
@@ -195,19 +252,32 @@ def fit_creep(v, kT, F, Fc: float) -> CreepFit:
     squares (three parameters, at least four velocities); then ``C`` is refitted at the
     mean ``b`` and ``ln C = ln c + a ln T`` fitted by a straight line.  Every fit is
     unweighted (the points' standard errors are not taken): ``b_err`` is the spread of the
-    per-temperature ``b`` over ``sqrt(n)`` and ``a_err`` the straight line's standard error
-    from its residuals (NaN with two temperatures).
+    per-temperature ``b`` over ``sqrt(n)``; ``a_err`` adds in quadrature the straight line's
+    standard error from its residuals (NaN with two temperatures) and ``|da/db| b_err``, the
+    error every ``ln C`` takes from the common ``b`` (without it, on seeded data of the law,
+    ``(a - 2/3)/a_err`` had a spread of 3 instead of 1).
     Give only points in the creep window (``F_c - F`` small against ``F_c`` but above the
     athermal regime ``v > v_c``).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Fewer than two temperatures or four velocities at one of them; columns of different
+        lengths, not finite, ``v`` or ``kT`` not positive; a force not below ``Fc``.
     """
-    v, kT, F = (np.asarray(z, float) for z in (v, kT, F))
+    v, kT, F = law_points("fit_creep", {"v": v, "kT": kT, "F": F}, positive=("v", "kT"))
+    if not math.isfinite(Fc):
+        raise ParameterError(f"fit_creep: the static force Fc must be a finite number, got {Fc}")
+    if not np.all(F < Fc):
+        i = int(np.argmax(F))
+        raise ParameterError(f"fit_creep: every slip force F must be below the static force "
+                             f"Fc = {Fc:g} (the law is fitted in ln(Fc - F)), got F = {F[i]:g} "
+                             f"at point {i}: give only points in the creep window")
     temps = np.unique(kT)
     if len(temps) < 2:
         raise ParameterError("fit_creep needs slip forces at two temperatures at least")
 
-    def model(lv, lnC, b, lnvc):
-        return lnC + b * np.log(np.abs(lv - lnvc))
-
+    model = _creep_model
     lnC, bs, vcs, rms = [], [], [], []
     for T in temps:
         m = kT == T
@@ -220,18 +290,13 @@ def fit_creep(v, kT, F, Fc: float) -> CreepFit:
         vcs.append(math.exp(p[2]))
         rms.append(float(np.sqrt(np.mean((y - model(lv, *p))**2))))
     b = float(np.mean(bs))
-    # C(T) and v_c(T) trade off against each other when b is free: C at the common b
-    lnC = []
-    for T in temps:
-        m = kT == T
-        lv, y = np.log(v[m]), np.log(Fc - F[m])
-        p, _ = curve_fit(lambda z, c0, lvc: model(z, c0, b, lvc), lv, y,
-                         p0=(0.0, float(np.max(lv)) + 2), maxfev=20000)
-        lnC.append(p[0])
-    if len(temps) > 2:
-        (a, lnc), cov = np.polyfit(np.log(temps), lnC, 1, cov=True)
-    else:
-        (a, lnc), cov = np.polyfit(np.log(temps), lnC, 1), np.full((2, 2), np.nan)
     b_err = float(np.std(bs, ddof=1) / math.sqrt(len(bs)))  # two temperatures at least
-    return CreepFit(float(a), float(math.sqrt(cov[0, 0])), b, b_err, tuple(map(float, bs)),
+    a, lnc, a_line = _temperature_law(v, kT, F, Fc, temps, b)
+    # every ln C(T) is refitted at the one estimated b, so b's error shifts them together
+    # and is no residual of the line: propagated (delta method, da/db by central difference)
+    db = max(b_err, 1e-6 * abs(b), 1e-12)
+    dadb = (_temperature_law(v, kT, F, Fc, temps, b + db)[0]
+            - _temperature_law(v, kT, F, Fc, temps, b - db)[0]) / (2 * db)
+    a_err = math.sqrt(a_line**2 + (dadb * b_err)**2)
+    return CreepFit(float(a), float(a_err), b, b_err, tuple(map(float, bs)),
                     float(math.exp(lnc)), tuple(vcs), float(max(rms)), int(len(F)))

@@ -25,6 +25,8 @@ from scipy.optimize import curve_fit
 from kbm.errors import ParameterError
 from kbm.output.strict_json import Rendered
 
+from ..escape.creep import law_points
+
 __all__ = ["MuserFit", "fit_muser"]
 
 
@@ -59,9 +61,16 @@ def fit_muser(kT, v, F, F_err) -> MuserFit:
     Raises
     ------
     kbm.errors.ParameterError
-        Fewer than two temperatures or three velocities at one of them.
+        Fewer than two temperatures or three velocities at one of them; columns of
+        different lengths, not finite, ``kT`` or ``v`` not positive, ``F_err`` negative; a
+        fitted prefactor ``a(T) <= 0`` (no power law ``c T^alpha``).
     """
-    kT, v, F, F_err = (np.asarray(z, float) for z in (kT, v, F, F_err))
+    kT, v, F, F_err = law_points("fit_muser", {"kT": kT, "v": v, "F": F, "F_err": F_err},
+                                 positive=("kT", "v"))
+    if np.any(F_err < 0):
+        i = int(np.flatnonzero(F_err < 0)[0])
+        raise ParameterError(f"fit_muser: the standard errors F_err must be >= 0, got "
+                             f"{F_err[i]:g} at point {i}")
     temps = np.unique(kT)
     if temps.size < 2:
         raise ParameterError("Muser's fit needs two temperatures at least")
@@ -88,6 +97,11 @@ def fit_muser(kT, v, F, F_err) -> MuserFit:
         out["v_c_err"].append(float(math.exp(p[1]) * math.sqrt(cov[1, 1])))
         out["chi2"].append(chi2)
     a, ae = np.array(out["a"]), np.array(out["a_err"])
+    if np.any(a <= 0):
+        i = int(np.flatnonzero(a <= 0)[0])
+        raise ParameterError(f"Muser's fit: the prefactor a = {a[i]:g} at kT = {temps[i]:g} "
+                             "is not positive (the forces do not grow with v), so there is no "
+                             "power law a = c T^alpha to fit")
     w = (a / ae) ** 2  # var(ln a) = (ae/a)^2
     X = np.vstack([np.ones_like(temps), np.log(temps)]).T
     cov = np.linalg.inv(X.T @ (w[:, None] * X))

@@ -225,7 +225,15 @@ def thermal_friction_point(model: str, params: Mapping[str, object], *, trajecto
     seed : int
     budget : float
         Largest number of integration steps (:func:`thermal_friction_map`).
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        No ``v`` in ``params``, and as :func:`thermal_friction_map`.
     """
+    if "v" not in params:
+        raise ParameterError("thermal_friction_point needs the stage velocity: give params['v'] "
+                             "(> 0), or call thermal_friction_map with an axis of v")
     return thermal_friction_map(model, params, {"v": [params["v"]]}, trajectories=trajectories,
                                 wells=wells, seed=seed, budget=budget, workers=1).points[0]
 

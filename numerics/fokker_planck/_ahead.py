@@ -255,6 +255,21 @@ class Ahead:
         """Whether ``key`` was started and not collected."""
         return key in self._jobs
 
+    def ready(self, key) -> bool:
+        """Whether the solution of ``key`` (started, not collected) has come back: the
+        pipe read as far as it holds, without waiting."""
+        job = self._jobs.get(key)
+        if job is None:
+            return False
+        name = self._names.get(key, key)
+        try:
+            while name not in job.got and job.recv.poll():
+                k, *msg = job.recv.recv()
+                job.got[k] = msg
+        except (EOFError, OSError):  # the process is gone: result() calls here
+            return True
+        return name in job.got
+
     def result(self, key, *args, **kwargs):
         """The solution of ``key``: from its process when started (waiting for it), else
         ``func(*args, **kwargs)`` here (also when the process failed: the same call, so

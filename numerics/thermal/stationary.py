@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from pathlib import Path
 
@@ -13,7 +14,7 @@ from kbm.model.builtins import with_slider_defaults
 
 from ..escape.noise_params import check_mu
 from .averaged import AMPLITUDE, averaged_stationary
-from ._beside import Beside, Tabulated, histogram_edges
+from ._beside import Averaged, Stepped, Tabulated, beside, histogram_edges
 from .advice import fokker_planck_route, validity
 from .averaged_error import state_averaged_errors
 from ._kramers_outputs import fokker_planck_moments, fp_advice
@@ -85,13 +86,10 @@ def _pilot_range(system, burn: float, h: float, seed: int) -> tuple[float, float
     return lo - pad, hi + pad
 
 
-def averaged_and_step(model, params: dict, D: float, system, *, trajectories: int,
-                      times: tuple, t_end, burn_in, dt, budget: float) -> Beside:
-    """The averaged stationary state (:func:`.averaged.averaged_stationary`), then the step
-    pilot (:func:`default_times`) when the ensemble of ``trajectories`` at ``times`` (the
-    largest step's) is within ``budget`` steps, as :func:`noise_report` made them before
-    its Fokker-Planck solve; the averaged density tabulated on the histogram's edges
-    (:class:`._beside.Tabulated`).  Started beside that solve (:mod:`._beside`).
+def averaged_tabulated(model, params: dict, D: float, system) -> Averaged:
+    """The averaged stationary state (:func:`.averaged.averaged_stationary`) with its
+    density tabulated on the histogram's edges (:class:`._beside.Tabulated`), made beside
+    the Fokker-Planck solve (:func:`._beside.beside`).
 
     Raises
     ------
@@ -100,15 +98,22 @@ def averaged_and_step(model, params: dict, D: float, system, *, trajectories: in
         whose variance overflowed, then refused).
     """
     avg, why = averaged_stationary(model, params, D, system.omega0)
+    if avg is not None:
+        edges = histogram_edges(avg, BINS)
+        avg = dataclasses.replace(avg, bins=Tabulated(edges, np.asarray(avg.bins(edges))))
+    return Averaged(avg, why)
+
+
+def step_pilot(system, *, trajectories: int, times: tuple, t_end, burn_in, dt,
+               budget: float) -> Stepped:
+    """The step pilot (:func:`default_times`) when the ensemble of ``trajectories`` at
+    ``times`` (the largest step's) is within ``budget`` steps, else its record of why not."""
     run, burn, h = times
     pilot = {"h0": h, "outcome": "not run", "reason": "the simulation is refused (budget)"}
     if trajectories * (run + burn) / h <= budget:
         pilot = {}
         run, burn, h = default_times(system, t_end, burn_in, dt, pilot=pilot)
-    if avg is not None:
-        edges = histogram_edges(avg, BINS)
-        avg = dataclasses.replace(avg, bins=Tabulated(edges, np.asarray(avg.bins(edges))))
-    return Beside(avg, why, pilot, (run, burn, h))
+    return Stepped(pilot, (run, burn, h))
 
 
 def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, burn_in=None,
@@ -184,31 +189,20 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
     if order not in (1, 2):
         raise ParameterError(f"--order {order}: the stochastic averaging is of order 1 or 2")
     # the averaging and the step pilot beside the Fokker-Planck solve where it is made
-    # (._beside)
-    from ..fokker_planck._ahead import Ahead, Alarm, fp_workers
+    # (._beside); the averaging's refusal first, then the pilot's errors
+    from ..fokker_planck._ahead import fp_workers
 
     solve = fokker_planck or method == "fokker-planck"
-    call = ((model, params, D, system), dict(
-        trajectories=trajectories, times=(run, burn, h), t_end=t_end, burn_in=burn_in,
-        dt=dt, budget=budget))
-    with Alarm() as alarm, Ahead(averaged_and_step, fp_workers(workers) if solve else 1,
-                                 alarm=alarm.signum, raises=True) as ahead:
-        beside = ahead.start("beside", *call[0], **call[1])
-        before = None if beside else ahead.result("beside", *call[0], **call[1])
-        try:  # a refusal of the averaging stops the solve (Alarmed) and is raised
-            fp, fp_why = (fokker_planck_moments(
-                model, params, D, system.omega0, required=method == "fokker-planck",
-                budget=fp_budget, energy_density=energy_density, workers=workers)
-                if solve else (None, "not requested"))
-        except Exception:  # the averaging's refusal first, as when it was made before
-            if beside:
-                alarm.disarm()
-                ahead.result("beside", *call[0], **call[1])
-            raise
-        if beside:
-            alarm.disarm()
-            before = ahead.result("beside", *call[0], **call[1])
-    avg, why, pilot, (run, burn, h) = before.avg, before.why, before.pilot, before.times
+    (fp, fp_why), averaged, stepped = beside(
+        lambda: (fokker_planck_moments(
+            model, params, D, system.omega0, required=method == "fokker-planck",
+            budget=fp_budget, energy_density=energy_density, workers=workers)
+            if solve else (None, "not requested")),
+        functools.partial(averaged_tabulated, model, params, D, system),
+        functools.partial(step_pilot, system, trajectories=trajectories, times=(run, burn, h),
+                          t_end=t_end, burn_in=burn_in, dt=dt, budget=budget),
+        fp_workers(workers) if solve else 1)
+    avg, why, pilot, (run, burn, h) = averaged.avg, averaged.why, stepped.pilot, stepped.times
     so, so_values, so_why = second_order(model, params, D, avg) if order == 2 else (None, {}, "")
     if so_why:
         why = f"{why}; {so_why}" if why else so_why

@@ -25,6 +25,12 @@ differ); with ``OPENBLAS_NUM_THREADS=1`` from the start the same bits but 0.9-1.
 overlap.  The data a forked solve moves is its solution, ``N m`` numbers (2 MB at
 258 x 1041), against seconds of work.
 
+Not only solves: ``kbm noise`` computes its averaging and step pilot beside the whole
+Fokker-Planck solve (:mod:`numerics.thermal._beside`), with an :class:`Alarm` (a failure
+there stops this process's solve at once), ``raises`` (the exception comes back whole
+instead of a second call here) and :meth:`Ahead.ready` (whether a result is back, without
+waiting).
+
 ``KBM_FP_WORKERS`` (environment) sets the processes: 1 keeps every solve in this process
 (the sequential ladder); default 2; never more than the CPUs this process may run on
 (:func:`os.sched_getaffinity`), and 1 where ``fork`` is not available or in a daemonic
@@ -232,6 +238,7 @@ class Ahead:
                 if failed and alarm is not None:
                     sender.join()  # the error is in the pipe before the parent is told
                     os.kill(os.getppid(), alarm)
+                    break  # the calls after it are the parent's to make or not
             sender.join()
             send.close()
 

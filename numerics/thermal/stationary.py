@@ -193,6 +193,10 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
     from ..fokker_planck._ahead import fp_workers
 
     solve = fokker_planck or method == "fokker-planck"
+    try:
+        processes = fp_workers(workers) if solve else 1
+    except ParameterError:  # a bad KBM_FP_WORKERS: the solve says so, as before
+        processes = 1
     (fp, fp_why), averaged, stepped = beside(
         lambda: (fokker_planck_moments(
             model, params, D, system.omega0, required=method == "fokker-planck",
@@ -200,8 +204,7 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
             if solve else (None, "not requested")),
         functools.partial(averaged_tabulated, model, params, D, system),
         functools.partial(step_pilot, system, trajectories=trajectories, times=(run, burn, h),
-                          t_end=t_end, burn_in=burn_in, dt=dt, budget=budget),
-        fp_workers(workers) if solve else 1)
+                          t_end=t_end, burn_in=burn_in, dt=dt, budget=budget), processes)
     avg, why, pilot, (run, burn, h) = averaged.avg, averaged.why, stepped.pilot, stepped.times
     so, so_values, so_why = second_order(model, params, D, avg) if order == 2 else (None, {}, "")
     if so_why:

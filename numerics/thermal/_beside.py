@@ -91,9 +91,9 @@ def beside(solve, averaged, pilot, workers: int) -> tuple:
     here in the order ``averaged``, ``pilot``, ``solve`` (that of before).  The errors
     come in that order too: a refusal of ``averaged`` stops ``solve`` at once
     (:class:`numerics.fokker_planck._ahead.Alarm`) and is raised, then ``pilot``'s.  When
-    ``solve`` ends first and the forked process has not ended ``pilot``, it is made here
-    too (this process is free while the other still averages: SEDF mu = 0.1, 1.1 s), its
-    warnings shown once ``averaged`` has not refused (vdp at D = 1e300: none, as before)."""
+    ``solve`` ends first and the forked process is still averaging, ``pilot`` is made here
+    too (this process is free: SEDF mu = 0.1, 1.1 s), its warnings shown once ``averaged``
+    has not refused (vdp at D = 1e300: none, as before)."""
     import warnings
 
     from ..fokker_planck._ahead import Ahead, Alarm
@@ -110,7 +110,7 @@ def beside(solve, averaged, pilot, workers: int) -> tuple:
             ahead.result("pilot", pilot)
             raise
         alarm.disarm()
-        if ahead.ready("pilot"):
+        if ahead.ready("pilot") or ahead.ready("averaged"):  # (the pilot under way there)
             return out, ahead.result("averaged", averaged), ahead.result("pilot", pilot)
         try:
             with warnings.catch_warnings(record=True) as caught:

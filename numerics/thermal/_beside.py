@@ -85,6 +85,12 @@ def _call(func, *args, **kwargs):
     return func(*args, **kwargs)
 
 
+def _unless_taken(taken, pilot) -> Stepped:
+    """``pilot()``, or an empty record when the caller has taken it on (``taken``, shared
+    memory set by :func:`beside`: the forked process does not make it a second time)."""
+    return Stepped({}, ()) if taken.value else pilot()
+
+
 def beside(solve, averaged, pilot, workers: int) -> tuple:
     """``(solve(), averaged(), pilot())``, the last two in a forked process beside the
     first where ``workers`` allows (:class:`numerics.fokker_planck._ahead.Ahead`), else
@@ -94,12 +100,15 @@ def beside(solve, averaged, pilot, workers: int) -> tuple:
     ``solve`` ends first and the forked process is still averaging, ``pilot`` is made here
     too (this process is free: SEDF mu = 0.1, 1.1 s), its warnings shown once ``averaged``
     has not refused (vdp at D = 1e300: none, as before)."""
+    import multiprocessing
     import warnings
 
     from ..fokker_planck._ahead import Ahead, Alarm
 
+    taken = multiprocessing.get_context().RawValue("b", 0)  # the pilot made here
     with Alarm() as alarm, Ahead(_call, workers, alarm=alarm.signum, raises=True) as ahead:
-        if not ahead.start("averaged", averaged, then=[("pilot", (pilot,), {})]):
+        if not ahead.start("averaged", averaged,
+                           then=[("pilot", (_unless_taken, taken, pilot), {})]):
             first, second = averaged(), pilot()
             return solve(), first, second
         try:
@@ -112,6 +121,7 @@ def beside(solve, averaged, pilot, workers: int) -> tuple:
         alarm.disarm()
         if ahead.ready("pilot") or ahead.ready("averaged"):  # (the pilot under way there)
             return out, ahead.result("averaged", averaged), ahead.result("pilot", pilot)
+        taken.value = 1
         try:
             with warnings.catch_warnings(record=True) as caught:
                 second = pilot()

@@ -37,7 +37,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import quad
 
 from kbm.errors import ModelError
 
@@ -75,6 +74,8 @@ def central_well(env: EnergyEnvelope):
 def separatrix_action(split, Eb: float, xl: float, xr: float) -> float:
     """``I(E_b) = oint x' dx = 2 int_{xl}^{xr} sqrt(2 (E_b - G)) dx`` by adaptive quadrature
     (``xl < 0 < xr`` the turning points of the separatrix loop around the origin)."""
+    from scipy.integrate import quad  # here: kbm noise imports this module, not quad
+
     G = split.numpy_functions()[2]
     val = quad(lambda z: math.sqrt(max(2 * (Eb - float(G(np.array(z)))), 0.0)), xl, xr,
                limit=400, epsabs=0, epsrel=1e-12)[0]

@@ -54,7 +54,6 @@ from __future__ import annotations
 
 import math
 
-from scipy.integrate import quad
 
 from kbm.errors import ParameterError
 
@@ -65,6 +64,8 @@ __all__ = ["melnikov_meshkov_factor", "spatial_diffusion_factor", "two_exit_fact
 def melnikov_meshkov_factor(delta: float) -> float:
     """``A(delta) = exp[(1/2 pi) int_R ln(1 - exp(-delta (y^2 + 1/4))) dy/(y^2 + 1/4)]``
     (Mel'nikov and Meshkov 1986; ``A -> delta`` as ``delta -> 0``)."""
+    from scipy.integrate import quad  # here: kbm noise imports this module, not quad
+
     def f(y):
         return math.log(-math.expm1(-delta * (y * y + 0.25))) / (y * y + 0.25)
     val = quad(f, 0, math.inf, limit=400, epsrel=1e-12)[0] * 2

@@ -25,6 +25,12 @@ differ); with ``OPENBLAS_NUM_THREADS=1`` from the start the same bits but 0.9-1.
 overlap.  The data a forked solve moves is its solution, ``N m`` numbers (2 MB at
 258 x 1041), against seconds of work.
 
+Not only solves: ``kbm noise`` computes its averaging and step pilot beside the whole
+Fokker-Planck solve (:mod:`numerics.thermal._beside`), with an :class:`Alarm` (a failure
+there stops this process's solve at once), ``raises`` (the exception comes back whole
+instead of a second call here) and :meth:`Ahead.ready` (whether a result is back, without
+waiting).
+
 ``KBM_FP_WORKERS`` (environment) sets the processes: 1 keeps every solve in this process
 (the sequential ladder); default 2; never more than the CPUs this process may run on
 (:func:`os.sched_getaffinity`), and 1 where ``fork`` is not available or in a daemonic
@@ -37,12 +43,14 @@ from __future__ import annotations
 import dataclasses
 import multiprocessing
 import os
+import pickle
 import signal
+import threading
 import warnings
 
 from kbm.errors import ParameterError
 
-__all__ = ["Ahead", "ENV", "Handed", "Later", "fp_workers"]
+__all__ = ["Ahead", "Alarm", "Alarmed", "ENV", "Handed", "Later", "fp_workers"]
 
 #: the environment variable of the number of processes of the Fokker-Planck solves
 ENV = "KBM_FP_WORKERS"
@@ -155,17 +163,26 @@ class Ahead:
     Parameters
     ----------
     func : callable
-        The solve.
+        The solve (any call that returns a dataclass).
     workers : int, optional
         Default :func:`fp_workers`; 1 starts nothing (:meth:`result` calls ``func``).
+    alarm : int, optional
+        A signal the forked process sends this one when its call raises
+        (:class:`Alarm`: this process stops what it is doing and asks for the result).
+    raises : bool
+        :meth:`result` raises the forked call's exception, sent back (pickled), instead
+        of calling ``func`` again here (where it does not survive pickling, the call is
+        made again).
     **local
         The fields of the solution that are not sent back (the potential ``G``).
     """
 
-    def __init__(self, func, workers: int | None = None, **local):
+    def __init__(self, func, workers: int | None = None, *, alarm: int | None = None,
+                 raises: bool = False, **local):
         self.func = func
         self.workers = fp_workers() if workers is None else int(workers)
         self.local = local
+        self.alarm, self.raises = alarm, raises
         self._jobs: dict = {}  # key -> _Job (a process may hold several keys)
         self._later: set = set()  # the keys started with ``then`` (they give way)
         self._names: dict = {}  # key -> the key its process sends it under (adopted)
@@ -192,33 +209,36 @@ class Ahead:
             return False
         ctx = multiprocessing.get_context("fork")
         recv, send = ctx.Pipe(duplex=False)
-        func = self.func
+        func, alarm, raises = self.func, self.alarm, self.raises
         calls = [(key, args, kwargs), *then]
 
         def child():
             # stopped by the parent alone: SIGTERM ends it at once (not the parent's handler,
             # kbm's CLI turns it into KeyboardInterrupt), Ctrl-C reaches the parent, which
             # stops it (as numerics.executor's workers)
-            import threading
-
             signal.signal(signal.SIGTERM, signal.SIG_DFL)
             signal.signal(signal.SIGINT, signal.SIG_IGN)
             recv.close()  # the parent's end: were it held here too, a write would never fail
             sender = None
             for k, a, kw in calls:
+                failed = False
                 try:
                     sol = func(*a, **kw)
                     out = (k, "ok", type(sol), {f.name: getattr(sol, f.name)
                                                 for f in dataclasses.fields(sol)
                                                 if f.name not in _LOCAL})
                 except BaseException as exc:  # the caller solves again here and raises
-                    out = (k, "error", repr(exc), None)
+                    out, failed = (k, "error", repr(exc), _portable(exc) if raises else None), True
                 if sender is not None:
                     sender.join()
                 # sent beside the next call: the pipe holds less than a solution, and the
                 # parent reads it only when it asks for it
                 sender = threading.Thread(target=send.send, args=(out,), daemon=True)
                 sender.start()
+                if failed and alarm is not None:
+                    sender.join()  # the error is in the pipe before the parent is told
+                    os.kill(os.getppid(), alarm)
+                    break  # the calls after it are the parent's to make or not
             sender.join()
             send.close()
 
@@ -242,6 +262,21 @@ class Ahead:
         """Whether ``key`` was started and not collected."""
         return key in self._jobs
 
+    def ready(self, key) -> bool:
+        """Whether the solution of ``key`` (started, not collected) has come back: the
+        pipe read as far as it holds, without waiting."""
+        job = self._jobs.get(key)
+        if job is None:
+            return False
+        name = self._names.get(key, key)
+        try:
+            while name not in job.got and job.recv.poll():
+                k, *msg = job.recv.recv()
+                job.got[k] = msg
+        except (EOFError, OSError):  # the process is gone: result() calls here
+            return True
+        return name in job.got
+
     def result(self, key, *args, **kwargs):
         """The solution of ``key``: from its process when started (waiting for it), else
         ``func(*args, **kwargs)`` here (also when the process failed: the same call, so
@@ -261,6 +296,8 @@ class Ahead:
                 job.stop()  # done: its last solution read
             if status == "ok":
                 return cls(**fields, **self.local)
+            if status == "error" and isinstance(fields, BaseException):
+                raise fields
         return self.func(*args, **kwargs)
 
     def hand_on(self, key) -> Handed | None:
@@ -306,3 +343,48 @@ class Ahead:
 
     def __exit__(self, *exc) -> None:
         self.cancel()
+
+
+def _portable(exc: BaseException) -> BaseException | None:
+    """``exc`` when it comes back whole through pickle (its class and message), else
+    ``None`` (:meth:`Ahead.result` then calls again)."""
+    try:
+        back = pickle.loads(pickle.dumps(exc))
+    except Exception:
+        return None
+    return exc if type(back) is type(exc) and str(back) == str(exc) else None
+
+
+class Alarmed(Exception):
+    """Raised in this process by :class:`Alarm` when a forked call failed: the caller
+    stops its own work and collects the failure (:meth:`Ahead.result`)."""
+
+
+class Alarm:
+    """``SIGUSR1`` from a forked call that failed (:class:`Ahead`'s ``alarm``), raised
+    as :class:`Alarmed` here while armed, ignored once :meth:`disarm` is called (the
+    caller is collecting the result).  A context manager: ``signum`` is ``None`` (no
+    alarm) outside the main thread or without ``SIGUSR1``; the previous handler comes
+    back on exit, after the :class:`Ahead` inside it has stopped its processes."""
+
+    def __init__(self):
+        self.signum, self.armed, self._old = None, True, None
+
+    def __enter__(self) -> Alarm:
+        signum = getattr(signal, "SIGUSR1", None)
+        if signum is not None and threading.current_thread() is threading.main_thread():
+            self._old = signal.signal(signum, self._handler)
+            self.signum = signum
+        return self
+
+    def _handler(self, signum, frame) -> None:
+        if self.armed:
+            self.armed = False
+            raise Alarmed("a call started ahead failed")
+
+    def disarm(self) -> None:
+        self.armed = False
+
+    def __exit__(self, *exc) -> None:
+        if self.signum is not None:
+            signal.signal(self.signum, signal.SIG_DFL if self._old is None else self._old)

@@ -136,6 +136,11 @@ def _boltzmann(model, params: dict, D: float) -> float | None:
         split = split_conservative(model, params)
     except KBMError:
         return None
+    c = sp.cancel(-split.h / xdot)
+    if c.free_symbols and c.is_polynomial(*c.free_symbols):
+        # a polynomial not constant (cancel's canonical form: the SEDF's beta x^2 - 1) stays
+        # so; sp.simplify (which imports sympy.physics, 0.5 s) for the other forms
+        return None
     c = sp.simplify(-split.h / xdot)
     if c.free_symbols or not c.is_number or not (c > 0) or split.mu <= 0:
         return None

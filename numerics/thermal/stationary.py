@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
 from pathlib import Path
 
@@ -12,6 +14,7 @@ from kbm.model.builtins import with_slider_defaults
 
 from ..escape.noise_params import check_mu
 from .averaged import AMPLITUDE, averaged_stationary
+from ._beside import Averaged, Stepped, Tabulated, beside, histogram_edges
 from .advice import fokker_planck_route, validity
 from .averaged_error import state_averaged_errors
 from ._kramers_outputs import fokker_planck_moments, fp_advice
@@ -81,6 +84,36 @@ def _pilot_range(system, burn: float, h: float, seed: int) -> tuple[float, float
     lo, hi = float(np.min(x)), float(np.max(x))
     pad = 0.25 * (hi - lo) + 1e-9
     return lo - pad, hi + pad
+
+
+def averaged_tabulated(model, params: dict, D: float, system) -> Averaged:
+    """The averaged stationary state (:func:`.averaged.averaged_stationary`) with its
+    density tabulated on the histogram's edges (:class:`._beside.Tabulated`), made beside
+    the Fokker-Planck solve (:func:`._beside.beside`).
+
+    Raises
+    ------
+    numerics.escape.noise_params.NoStationaryState
+        The averaging's refusal (before the pilot: vdp at D = 1e300 ran the pilot first,
+        whose variance overflowed, then refused).
+    """
+    avg, why = averaged_stationary(model, params, D, system.omega0)
+    if avg is not None:
+        edges = histogram_edges(avg, BINS)
+        avg = dataclasses.replace(avg, bins=Tabulated(edges, np.asarray(avg.bins(edges))))
+    return Averaged(avg, why)
+
+
+def step_pilot(system, *, trajectories: int, times: tuple, t_end, burn_in, dt,
+               budget: float) -> Stepped:
+    """The step pilot (:func:`default_times`) when the ensemble of ``trajectories`` at
+    ``times`` (the largest step's) is within ``budget`` steps, else its record of why not."""
+    run, burn, h = times
+    pilot = {"h0": h, "outcome": "not run", "reason": "the simulation is refused (budget)"}
+    if trajectories * (run + burn) / h <= budget:
+        pilot = {}
+        run, burn, h = default_times(system, t_end, burn_in, dt, pilot=pilot)
+    return Stepped(pilot, (run, burn, h))
 
 
 def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, burn_in=None,
@@ -155,20 +188,27 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
         raise ParameterError(f"--method {method!r}: choose one of {', '.join(METHODS)}")
     if order not in (1, 2):
         raise ParameterError(f"--order {order}: the stochastic averaging is of order 1 or 2")
-    # the averaging's refusal (no stationary state) before the step pilot: vdp at D = 1e300
-    # ran the pilot first, whose variance overflowed, then refused
-    avg, why = averaged_stationary(model, params, D, system.omega0)
-    pilot = {"h0": h, "outcome": "not run", "reason": "the simulation is refused (budget)"}
-    if trajectories * (run + burn) / h <= budget:
-        pilot = {}
-        run, burn, h = default_times(system, t_end, burn_in, dt, pilot=pilot)
+    # the averaging and the step pilot beside the Fokker-Planck solve where it is made
+    # (._beside); the averaging's refusal first, then the pilot's errors
+    from ..fokker_planck._ahead import fp_workers
+
+    solve = fokker_planck or method == "fokker-planck"
+    try:
+        processes = fp_workers(workers) if solve else 1
+    except ParameterError:  # a bad KBM_FP_WORKERS: the solve says so, as before
+        processes = 1
+    (fp, fp_why), averaged, stepped = beside(
+        lambda: (fokker_planck_moments(
+            model, params, D, system.omega0, required=method == "fokker-planck",
+            budget=fp_budget, energy_density=energy_density, workers=workers)
+            if solve else (None, "not requested")),
+        functools.partial(averaged_tabulated, model, params, D, system),
+        functools.partial(step_pilot, system, trajectories=trajectories, times=(run, burn, h),
+                          t_end=t_end, burn_in=burn_in, dt=dt, budget=budget), processes)
+    avg, why, pilot, (run, burn, h) = averaged.avg, averaged.why, stepped.pilot, stepped.times
     so, so_values, so_why = second_order(model, params, D, avg) if order == 2 else (None, {}, "")
     if so_why:
         why = f"{why}; {so_why}" if why else so_why
-    fp, fp_why = (fokker_planck_moments(model, params, D, system.omega0,
-                                        required=method == "fokker-planck", budget=fp_budget,
-                                        energy_density=energy_density, workers=workers)
-                  if fokker_planck or method == "fokker-planck" else (None, "not requested"))
     steps = trajectories * (run + burn) / h
     out = {
         "model": name, "params": {k: str(v) for k, v in params.items()}, "D": D,

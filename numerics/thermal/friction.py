@@ -7,12 +7,14 @@ After a burn-in of ``max(5 lam/v, 20/mu)`` each trajectory runs ``wells`` stage 
 ``lam/v``; per trajectory are taken
 
 * the mean spring force ``Omega^2 <v t - x>`` (the kinetic friction);
-* the slip force: the largest spring force since the previous slip, at each slip (a
-  forward crossing of a barrier top ``x = (n + 1/2) lam`` more than one natural period
-  ``2 pi/Omega`` after the previous crossing);
-* the backward jumps (crossings of a barrier top against the pull more than a natural
-  period after the previous crossing, so not the ringing of a slip), the thermally
-  activated events that make friction linear in ``v`` as ``v -> 0`` (thermolubricity).
+* the slip force: at each slip, the largest spring force during the stay in the well it
+  leaves.  Crossings of barrier tops ``x = (n + 1/2) lam`` less than one natural period
+  ``2 pi/Omega`` apart form one run (the wells of a slip, its ringing); a slip is a run
+  that ends, a natural period in one well, ahead of the well it left;
+* the backward jumps (runs that end behind the well they left), the thermally activated
+  events that make friction linear in ``v`` as ``v -> 0`` (thermolubricity).  A run that
+  ends in the well it left (an oscillation in the well, a barrier top recrossed: the
+  comoving SEDF's swings) is neither (``tests/test_thermal_friction_slips.py``).
 
 Each estimate is the mean over trajectories with its standard error (their standard
 deviation over ``sqrt(N)``); slip forces are pooled over all slips with the

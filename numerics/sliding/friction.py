@@ -68,12 +68,15 @@ import math
 from collections.abc import Mapping
 from dataclasses import replace
 
+import numpy as np
+
 from kbm.errors import KBMError, ParameterError
 
 from numerics.sliding.driven import DrivenSystem, driven_system
 from numerics.sliding.friction_records import (FrictionPoint, FrictionSettings, eta,
                                                _static_quasistatic)
-from numerics.sliding.window import _Run, _sliding, _stick_phases, _stick_slip
+from numerics.sliding.window import (_Run, _force, _settling, _slip_pattern, _sliding,
+                                     _stick_phases, _stick_slip)
 
 __all__ = ["friction_point", "V_RANGE"]
 
@@ -175,6 +178,7 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionP
     slide_wells = max(s.sliding_wells, math.ceil(20 * Tn / Tw))
     extra = max(1, math.ceil(2 * Tn / Tw))
     need_slips, need_wells, attempt, previous = s.slips, slide_wells, 0, None
+    previous_settling = 0
     while True:
         run.extend(block)
         done += block
@@ -182,8 +186,12 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionP
         if stop is not None:
             return stop
         stuck = _stick_phases(run, v_stick, min_stuck)
-        # a phase's end is a slip's onset once the next phase has begun in another well
+        # a phase's end is a slip's onset once the next phase has begun in another well;
+        # the first slips dropped, then those before the slip pattern repeats
         onsets = [e for (_, e) in stuck[:-1]][s.transient_slips:]
+        settling = _settling(_slip_pattern(run, stuck)[s.transient_slips:],
+                             _onset_tol(run, stuck, s, 2 * Om**2 * v * dt))
+        onsets = onsets[settling:]
         tail = len(run.y) - 1 - (need_wells + extra) * per_well
         last = done >= longest
         pt = None
@@ -194,14 +202,14 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionP
         if pt is not None:
             cap = s.max_doublings if pt.regime == "stick-slip" else s.max_doublings_sliding
             if pt.steady or last or attempt >= cap:
-                return _noted(pt, need_slips, done, Tw, s)
+                return _noted(pt, need_slips, done, Tw, s, settling)
             # not steady yet: what was measured counts as transient; twice as long next
             attempt, need_slips, need_wells = attempt + 1, 2 * need_slips, 2 * need_wells
-            previous = pt
+            previous, previous_settling = pt, settling
             run.discard()
             continue
         if last and previous is not None:
-            return _noted(previous, need_slips, done, Tw, s)
+            return _noted(previous, need_slips, done, Tw, s, previous_settling)
         if last:
             return FrictionPoint(**base, steps=run.steps,
                                  error=f"no steady state within {done} stage periods lam/v "
@@ -244,10 +252,27 @@ def _runaway(run: _Run, base: dict, limits: tuple[float, float]) -> FrictionPoin
                               "rest (the friction grows without bound)")
 
 
+def _onset_tol(run: _Run, stuck: list[tuple[int, int]], s: FrictionSettings,
+               resolution: float) -> float:
+    """How close two slips' onset forces are when the slip pattern repeats: ``steady_tol``
+    of the largest onset force, at least ``resolution`` (the force's growth over two
+    samples of a stick)."""
+    F = _force(run)
+    ends = [e for _, e in stuck[:-1]]
+    largest = float(np.max(np.abs(F[ends]))) if ends else 0.0
+    return max(s.steady_tol * largest, resolution)
+
+
 def _noted(pt: FrictionPoint, slips: int, done: int, Tw: float,
-           s: FrictionSettings) -> FrictionPoint:
-    """The point with a note when it is not steady or has fewer slips than asked."""
+           s: FrictionSettings, settling: int = 0) -> FrictionPoint:
+    """The point with a note when it is not steady, has fewer slips than asked, or had a
+    transient longer than the fixed one (``settling`` more slips dropped)."""
     notes = []
+    if pt.regime == "stick-slip" and settling:
+        notes.append(f"{s.transient_slips + settling} slips dropped as transient after the "
+                     f"fixed drop of whole stage periods, {settling} more than the "
+                     f"{s.transient_slips} of the default: the slip pattern (wells crossed, "
+                     "onset force) repeats only after them")
     if pt.regime == "stick-slip" and pt.slips < slips:
         notes.append(f"only {pt.slips} slips by the longest run")
     if not pt.steady:

@@ -9,7 +9,13 @@ block after block until its steady state has been seen long enough, then measure
 
 1. *Transient.*  The first ``max(transient_wells lam/v, transient_damping/mu)`` of the
    run is dropped (whole stage periods ``lam/v``), and then the first
-   ``transient_slips`` slips.
+   ``transient_slips`` slips, and then any slips before the slip pattern repeats: the
+   smallest cycle of ``p <= 8`` slips for which each slip from some slip on matches the
+   one ``p`` later (the same wells crossed, onset forces within ``steady_tol`` of the
+   largest onset force, or two samples' growth of the force in a stick) over at least
+   three cycles (and four slips) to the last slip; no such cycle (an irregular
+   stick-slip), nothing more is dropped.  The point's note says how many slips were
+   dropped when more than ``transient_slips``.
 2. *Stick and slip.*  The slider is *stuck* while ``|x_dot| < v_stick = min(v/2,
    0.02 Omega lam)`` for at least half a natural period ``pi/Omega`` (a velocity
    reversal of an oscillation is not a stick); two stuck intervals are one stick when the

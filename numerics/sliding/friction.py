@@ -74,15 +74,13 @@ import math
 from collections.abc import Mapping
 from dataclasses import replace
 
-import numpy as np
-
 from kbm.errors import KBMError, ParameterError
 
 from numerics.sliding.driven import DrivenSystem, driven_system
 from numerics.sliding.friction_records import (FrictionPoint, FrictionSettings, eta,
                                                _static_quasistatic)
-from numerics.sliding.window import (_Run, _force, _settling, _slip_pattern, _sliding,
-                                     _stick_phases, _stick_slip)
+from numerics.sliding.window import (_Run, _settling, _slip_pattern, _sliding, _stick_phases,
+                                     _stick_slip)
 
 __all__ = ["friction_point", "V_RANGE"]
 
@@ -195,8 +193,9 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionP
         # a phase's end is a slip's onset once the next phase has begun in another well;
         # the first slips dropped, then those before the slip pattern repeats
         onsets = [e for (_, e) in stuck[:-1]][s.transient_slips:]
-        settling = _settling(_slip_pattern(run, stuck)[s.transient_slips:],
-                             _onset_tol(run, stuck, s, 2 * Om**2 * v * dt))
+        pattern = _slip_pattern(run, stuck)
+        settling = _settling(pattern[s.transient_slips:],
+                             _onset_tol(pattern, s, 2 * Om**2 * v * dt))
         onsets = onsets[settling:]
         tail = len(run.y) - 1 - (need_wells + extra) * per_well
         last = done >= longest
@@ -258,14 +257,12 @@ def _runaway(run: _Run, base: dict, limits: tuple[float, float]) -> FrictionPoin
                               "rest (the friction grows without bound)")
 
 
-def _onset_tol(run: _Run, stuck: list[tuple[int, int]], s: FrictionSettings,
+def _onset_tol(pattern: list[tuple[int, float]], s: FrictionSettings,
                resolution: float) -> float:
     """How close two slips' onset forces are when the slip pattern repeats: ``steady_tol``
-    of the largest onset force, at least ``resolution`` (the force's growth over two
-    samples of a stick)."""
-    F = _force(run)
-    ends = [e for _, e in stuck[:-1]]
-    largest = float(np.max(np.abs(F[ends]))) if ends else 0.0
+    of the largest onset force of the run's slips, at least ``resolution`` (the force's
+    growth over two samples of a stick)."""
+    largest = max((abs(f) for _, f in pattern), default=0.0)
     return max(s.steady_tol * largest, resolution)
 
 

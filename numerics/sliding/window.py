@@ -84,9 +84,11 @@ def _stick_phases(run: _Run, v_stick: float, min_len: int) -> list[tuple[int, in
 def _slip_pattern(run: _Run, stuck: list[tuple[int, int]]) -> list[tuple[int, float]]:
     """The slips of the run, one per stick phase but the last: the wells each crosses (to
     the next phase) and the spring force at its onset (the phase's end)."""
-    x, F, lam = run.y[:, 0], _force(run), run.system.lam
-    return [(round(x[nxt] / lam) - round(x[e] / lam), float(F[e]))
-            for (_, e), (nxt, _) in zip(stuck[:-1], stuck[1:])]
+    y, sys_ = run.y, run.system
+    ends = [e for _, e in stuck[:-1]]
+    F = sys_.omega**2 * (sys_.v * y[ends, 2] - y[ends, 0])
+    return [(round(y[nxt, 0] / sys_.lam) - round(y[e, 0] / sys_.lam), float(f))
+            for e, (nxt, _), f in zip(ends, stuck[1:], F)]
 
 
 def _settling(pattern: list[tuple[int, float]], force_tol: float, max_period: int = 8,

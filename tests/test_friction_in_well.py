@@ -123,36 +123,55 @@ def test_against_an_independent_lab_frame_integration(measured):
 LONG_TRANSIENT = {"mu": 0.01, "beta": 1.0, "Delta": 3.0, "lam": 1.0, "Omega": 1.0, "v": 1e-4}
 
 
-@pytest.mark.slow
-def test_a_transient_longer_than_the_fixed_drop_is_dropped_by_its_slips():
-    """The friction point at mu = 0.01, v = 1e-4 (default settings) against solve_ivp on the
-    lab-frame equation over 8 stage periods (rtol = atol = 1e-10; its transient, a
-    backward slip, ends within 3): the slips of its last five stage periods each cross one
-    well, one stage period apart (the slider follows the stage), their sticks peak at the
-    same force; the mean force over them (the spring's impulse over whole cycles) and the
-    peak force against the point's (1e-4; 5e-3 for the peak, which comes when x' = v,
-    after the point's onset at |x'| = v/2, as above), and the peak at the quasi-static
-    saddle node ``Delta sqrt(1 - 1/eta^2)`` (0.5 %)."""
-    p = friction_point("sedf_comoving", LONG_TRANSIENT)
+def _one_well_slips_as_in_the_lab_frame(params: dict, periods: int):
+    """The friction point at ``params`` (default settings) against solve_ivp on the
+    lab-frame equation over ``periods`` stage periods (rtol = atol = 1e-10): the slips of
+    its last five stage periods each cross one well, one stage period apart (the slider
+    follows the stage), their sticks peak at the same force; the mean force over them (the
+    spring's impulse over whole cycles) and the peak force against the point's (1e-4; 5e-3
+    for the peak, which comes when x' = v, after the point's onset at |x'| = v/2, as
+    above), and the peak at the quasi-static saddle node ``Delta sqrt(1 - 1/eta^2)``
+    (0.5 %).  Returns the point."""
+    p = friction_point("sedf_comoving", params)
     assert p.regime == "stick-slip" and p.steady and not p.error, (p.error, p.note)
-    assert "slips dropped as transient" in p.note, p.note
-    v, lam, Om = (LONG_TRANSIENT[k] for k in ("v", "lam", "Omega"))
+    v, lam, Om = (params[k] for k in ("v", "lam", "Omega"))
     Tw = lam / v
-    ts, x, J = _lab_frame(LONG_TRANSIENT, 8 * Tw, atol=1e-10)
+    ts, x, J = _lab_frame(params, periods * Tw, atol=1e-10)
     well = np.round(x / lam)
     settled = [(a, b) for a, b in _slips(ts, well, 0.5 * Tw) if ts[a] > ts[-1] - 5 * Tw]
     assert len(settled) == 5, [ts[a] / Tw for a, _ in settled]
     assert [well[b] - well[a - 1] for a, b in settled] == [1] * 5
     onsets = [a for a, _ in settled]
     assert np.allclose(np.diff(ts[onsets]), Tw, rtol=1e-3)
-    assert p.wells_per_slip == 1.0
     F_bar = (J[onsets[-1]] - J[onsets[0]]) / (ts[onsets[-1]] - ts[onsets[0]])
     assert p.mean_force == pytest.approx(F_bar, rel=1e-4)
+    assert p.wells_per_slip == 1.0
     force = Om**2 * (v * ts - x)
     peaks = [float(np.max(force[b + 1:a])) for (_, b), (a, _) in zip(settled[:-1], settled[1:])]
     assert np.ptp(peaks) < 1e-6 * peaks[0], peaks
     assert p.static_force == pytest.approx(peaks[0], rel=5e-3)
     assert peaks[0] == pytest.approx(p.static_quasistatic, rel=5e-3)
+    return p
+
+
+@pytest.mark.slow
+def test_a_transient_longer_than_the_fixed_drop_is_dropped_by_its_slips():
+    """mu = 0.01, v = 1e-4: the point's run settles after about 11 stage periods (the lab
+    frame's after 3), the slips before dropped and said in the note; the lab frame over 8
+    stage periods (:func:`_one_well_slips_as_in_the_lab_frame`)."""
+    p = _one_well_slips_as_in_the_lab_frame(LONG_TRANSIENT, 8)
+    assert "slips dropped as transient" in p.note, p.note
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason=(
+    "at v = 2e-4 the compiled run (rtol 1e-9) spends its 38 stage periods in slips of 3-5 "
+    "wells at onset forces near 0, no repeating pattern, and reports mean force -0.81, "
+    "3.5 wells per slip, steady; the lab frame settles after 7 stage periods on one-well "
+    "slips, mean force 2.5144 (the compiled run at rtol 1e-10 or 1e-11 too: 2.51444)"))
+def test_a_transient_without_a_repeating_pattern_is_not_yet_recognised():
+    """mu = 0.01, v = 2e-4 against the lab frame over 12 stage periods."""
+    _one_well_slips_as_in_the_lab_frame({**LONG_TRANSIENT, "v": 2e-4}, 12)
 
 
 @pytest.mark.parametrize("pattern, dropped", [

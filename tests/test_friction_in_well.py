@@ -29,6 +29,7 @@ import pytest
 
 from numerics.sliding.friction import friction_point
 from numerics.sliding.friction_records import FrictionSettings
+from numerics.sliding.window import _settling
 
 #: one six-well slip every 2000 time units, an in-well oscillation between (mu = 0.1 keeps
 #: the runs short; mu = 0.001, v = 1e-4 of the report is the same motion, 30 times slower)
@@ -60,9 +61,10 @@ def test_a_run_too_short_says_how_far_apart_the_slips_come(measured):
     assert f"20 slips need about {20 * measured.wells_per_slip:.3g}" in p.error, p.error
 
 
-def _lab_frame(params: dict, t_end: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _lab_frame(params: dict, t_end: float, atol: float = 1e-12
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Times, positions and the spring's impulse ``J = int Omega^2 (v t - x) dt`` of the
-    lab-frame equation from rest, sampled every 0.05 (DOP853, rtol 1e-10)."""
+    lab-frame equation from rest, sampled every 0.05 (DOP853, rtol 1e-10, atol ``atol``)."""
     from scipy.integrate import solve_ivp
 
     mu, beta, D, lam, Om, v = (params[k] for k in ("mu", "beta", "Delta", "lam", "Omega", "v"))
@@ -76,9 +78,21 @@ def _lab_frame(params: dict, t_end: float) -> tuple[np.ndarray, np.ndarray, np.n
 
     ts = np.arange(0.0, t_end, 0.05)
     sol = solve_ivp(rhs, (0.0, t_end), [0.0, 0.0, 0.0], method="DOP853", rtol=1e-10,
-                    atol=1e-12, t_eval=ts)
+                    atol=atol, t_eval=ts)
     assert sol.status == 0, sol.message
     return ts, sol.y[0], sol.y[2]
+
+
+def _slips(ts: np.ndarray, well: np.ndarray, apart: float) -> list[tuple[int, int]]:
+    """``(first, last)`` sample indices of the changes of the well, changes closer than
+    ``apart`` one slip (the in-well oscillation after a slip crosses ``round(x/lam)``)."""
+    slips: list[list[int]] = []
+    for i in np.nonzero(np.diff(well))[0] + 1:
+        if slips and ts[i] - ts[slips[-1][1]] < apart:
+            slips[-1][1] = i
+        else:
+            slips.append([i, i])
+    return [(a, b) for a, b in slips]
 
 
 @pytest.mark.slow
@@ -91,13 +105,7 @@ def test_against_an_independent_lab_frame_integration(measured):
     v, lam, Om = POINT["v"], POINT["lam"], POINT["Omega"]
     ts, x, J = _lab_frame(POINT, 6600.0)
     well = np.round(x / lam)
-    slips: list[list[int]] = []
-    for i in np.nonzero(np.diff(well))[0] + 1:
-        if slips and ts[i] - ts[slips[-1][1]] < 0.5 * lam / v:
-            slips[-1][1] = i
-        else:
-            slips.append([i, i])
-    slips = slips[1:]  # the first, from rest, is the transient
+    slips = _slips(ts, well, 0.5 * lam / v)[1:]  # the first, from rest, is the transient
     assert len(slips) == 3
     wells = [well[b] - well[a - 1] for a, b in slips]
     assert measured.wells_per_slip == wells[0] == wells[1] == wells[2] == 6
@@ -107,3 +115,79 @@ def test_against_an_independent_lab_frame_integration(measured):
     force = Om**2 * (v * ts - x)
     peak = float(np.max(force[slips[0][1]:onsets[1]]))
     assert measured.static_force == pytest.approx(peak, rel=5e-3)
+
+
+#: at mu = 0.01 the stage-attached SEDF's transient (in-well oscillations, slips of two
+#: wells each way) outlasts the fixed drop of 3 stage periods: the slip pattern settles on
+#: one one-well slip per stage period only after about 11 of them in the point's run
+LONG_TRANSIENT = {"mu": 0.01, "beta": 1.0, "Delta": 3.0, "lam": 1.0, "Omega": 1.0, "v": 1e-4}
+
+
+def _one_well_slips_as_in_the_lab_frame(params: dict, periods: int):
+    """The friction point at ``params`` (default settings) against solve_ivp on the
+    lab-frame equation over ``periods`` stage periods (rtol = atol = 1e-10): the slips of
+    its last five stage periods each cross one well, one stage period apart (the slider
+    follows the stage), their sticks peak at the same force; the mean force over them (the
+    spring's impulse over whole cycles) and the peak force against the point's (1e-4; 5e-3
+    for the peak, which comes when x' = v, after the point's onset at |x'| = v/2, as
+    above), and the peak at the quasi-static saddle node ``Delta sqrt(1 - 1/eta^2)``
+    (0.5 %).  Returns the point."""
+    p = friction_point("sedf_comoving", params)
+    assert p.regime == "stick-slip" and p.steady and not p.error, (p.error, p.note)
+    v, lam, Om = (params[k] for k in ("v", "lam", "Omega"))
+    Tw = lam / v
+    ts, x, J = _lab_frame(params, periods * Tw, atol=1e-10)
+    well = np.round(x / lam)
+    settled = [(a, b) for a, b in _slips(ts, well, 0.5 * Tw) if ts[a] > ts[-1] - 5 * Tw]
+    assert len(settled) == 5, [ts[a] / Tw for a, _ in settled]
+    assert [well[b] - well[a - 1] for a, b in settled] == [1] * 5
+    onsets = [a for a, _ in settled]
+    assert np.allclose(np.diff(ts[onsets]), Tw, rtol=1e-3)
+    F_bar = (J[onsets[-1]] - J[onsets[0]]) / (ts[onsets[-1]] - ts[onsets[0]])
+    assert p.mean_force == pytest.approx(F_bar, rel=1e-4)
+    assert p.wells_per_slip == 1.0
+    force = Om**2 * (v * ts - x)
+    peaks = [float(np.max(force[b + 1:a])) for (_, b), (a, _) in zip(settled[:-1], settled[1:])]
+    assert np.ptp(peaks) < 1e-6 * peaks[0], peaks
+    assert p.static_force == pytest.approx(peaks[0], rel=5e-3)
+    assert peaks[0] == pytest.approx(p.static_quasistatic, rel=5e-3)
+    return p
+
+
+@pytest.mark.slow
+def test_a_transient_longer_than_the_fixed_drop_is_dropped_by_its_slips():
+    """mu = 0.01, v = 1e-4: the point's run settles after about 11 stage periods (the lab
+    frame's after 3), the slips before dropped and said in the note; the lab frame over 8
+    stage periods (:func:`_one_well_slips_as_in_the_lab_frame`)."""
+    p = _one_well_slips_as_in_the_lab_frame(LONG_TRANSIENT, 8)
+    assert "slips dropped as transient" in p.note, p.note
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason=(
+    "at v = 2e-4 the compiled run (rtol 1e-9) spends its 38 stage periods in slips of 3-5 "
+    "wells at onset forces near 0, no repeating pattern, and reports mean force -0.81, "
+    "3.5 wells per slip, steady; the lab frame settles after 7 stage periods on one-well "
+    "slips, mean force 2.5144 (the compiled run at rtol 1e-10 or 1e-11 too: 2.51444)"))
+def test_a_transient_without_a_repeating_pattern_is_not_yet_recognised():
+    """mu = 0.01, v = 2e-4 against the lab frame over 12 stage periods."""
+    _one_well_slips_as_in_the_lab_frame({**LONG_TRANSIENT, "v": 2e-4}, 12)
+
+
+@pytest.mark.parametrize("pattern, dropped", [
+    # the mu = 0.01 transient: two-well slips ahead of the stage, one back, then one well
+    ([(2, -0.35), (2, -0.33), (-2, -0.33)] + [(1, 2.9958)] * 6, 3),
+    # a settled two-slip cycle (one well, then two) from the start, and after a transient
+    ([(1, 2.9), (2, 2.5)] * 4, 0),
+    ([(3, 1.0), (1, 2.0)] + [(1, 2.9), (2, 2.5)] * 3, 2),
+    # onset forces within the tolerance (0.05) are the same slip; irregular slips drop none
+    ([(1, 2.0)] + [(1, 2.9), (1, 2.93), (1, 2.91), (1, 2.94)], 1),
+    ([(1, 2.0), (2, 2.9), (1, 2.5), (3, 2.6), (1, 2.2), (2, 2.7), (1, 2.8)], 0),
+    # a repeat shorter than three cycles is no evidence: nothing dropped
+    ([(2, 1.0), (-1, 0.5), (1, 2.9), (1, 2.9)], 0),
+])
+def test_the_transient_ends_where_the_slip_pattern_repeats(pattern, dropped):
+    """The rule of criterion 1 on slip patterns (wells crossed, onset force) built by
+    hand: the first slips before a cycle of at most 8 slips repeats over three cycles to
+    the last slip are transient."""
+    assert _settling(pattern, 0.05) == dropped

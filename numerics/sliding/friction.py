@@ -9,7 +9,13 @@ block after block until its steady state has been seen long enough, then measure
 
 1. *Transient.*  The first ``max(transient_wells lam/v, transient_damping/mu)`` of the
    run is dropped (whole stage periods ``lam/v``), and then the first
-   ``transient_slips`` slips.
+   ``transient_slips`` slips, and then any slips before the slip pattern repeats: the
+   smallest cycle of ``p <= 8`` slips for which each slip from some slip on matches the
+   one ``p`` later (the same wells crossed, onset forces within ``steady_tol`` of the
+   largest onset force, or two samples' growth of the force in a stick) over at least
+   three cycles (and four slips) to the last slip; no such cycle (an irregular
+   stick-slip), nothing more is dropped.  The point's note says how many slips were
+   dropped when more than ``transient_slips``.
 2. *Stick and slip.*  The slider is *stuck* while ``|x_dot| < v_stick = min(v/2,
    0.02 Omega lam)`` for at least half a natural period ``pi/Omega`` (a velocity
    reversal of an oscillation is not a stick); two stuck intervals are one stick when the
@@ -73,7 +79,8 @@ from kbm.errors import KBMError, ParameterError
 from numerics.sliding.driven import DrivenSystem, driven_system
 from numerics.sliding.friction_records import (FrictionPoint, FrictionSettings, eta,
                                                _static_quasistatic)
-from numerics.sliding.window import _Run, _sliding, _stick_phases, _stick_slip
+from numerics.sliding.window import (_Run, _settling, _slip_pattern, _sliding, _stick_phases,
+                                     _stick_slip)
 
 __all__ = ["friction_point", "V_RANGE"]
 
@@ -175,6 +182,7 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionP
     slide_wells = max(s.sliding_wells, math.ceil(20 * Tn / Tw))
     extra = max(1, math.ceil(2 * Tn / Tw))
     need_slips, need_wells, attempt, previous = s.slips, slide_wells, 0, None
+    previous_settling = 0
     while True:
         run.extend(block)
         done += block
@@ -182,8 +190,13 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionP
         if stop is not None:
             return stop
         stuck = _stick_phases(run, v_stick, min_stuck)
-        # a phase's end is a slip's onset once the next phase has begun in another well
+        # a phase's end is a slip's onset once the next phase has begun in another well;
+        # the first slips dropped, then those before the slip pattern repeats
         onsets = [e for (_, e) in stuck[:-1]][s.transient_slips:]
+        pattern = _slip_pattern(run, stuck)
+        settling = _settling(pattern[s.transient_slips:],
+                             _onset_tol(pattern, s, 2 * Om**2 * v * dt))
+        onsets = onsets[settling:]
         tail = len(run.y) - 1 - (need_wells + extra) * per_well
         last = done >= longest
         pt = None
@@ -194,14 +207,14 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionP
         if pt is not None:
             cap = s.max_doublings if pt.regime == "stick-slip" else s.max_doublings_sliding
             if pt.steady or last or attempt >= cap:
-                return _noted(pt, need_slips, done, Tw, s)
+                return _noted(pt, need_slips, done, Tw, s, settling)
             # not steady yet: what was measured counts as transient; twice as long next
             attempt, need_slips, need_wells = attempt + 1, 2 * need_slips, 2 * need_wells
-            previous = pt
+            previous, previous_settling = pt, settling
             run.discard()
             continue
         if last and previous is not None:
-            return _noted(previous, need_slips, done, Tw, s)
+            return _noted(previous, need_slips, done, Tw, s, previous_settling)
         if last:
             return FrictionPoint(**base, steps=run.steps,
                                  error=f"no steady state within {done} stage periods lam/v "
@@ -244,10 +257,25 @@ def _runaway(run: _Run, base: dict, limits: tuple[float, float]) -> FrictionPoin
                               "rest (the friction grows without bound)")
 
 
+def _onset_tol(pattern: list[tuple[int, float]], s: FrictionSettings,
+               resolution: float) -> float:
+    """How close two slips' onset forces are when the slip pattern repeats: ``steady_tol``
+    of the largest onset force of the run's slips, at least ``resolution`` (the force's
+    growth over two samples of a stick)."""
+    largest = max((abs(f) for _, f in pattern), default=0.0)
+    return max(s.steady_tol * largest, resolution)
+
+
 def _noted(pt: FrictionPoint, slips: int, done: int, Tw: float,
-           s: FrictionSettings) -> FrictionPoint:
-    """The point with a note when it is not steady or has fewer slips than asked."""
+           s: FrictionSettings, settling: int = 0) -> FrictionPoint:
+    """The point with a note when it is not steady, has fewer slips than asked, or had a
+    transient longer than the fixed one (``settling`` more slips dropped)."""
     notes = []
+    if pt.regime == "stick-slip" and settling:
+        notes.append(f"{s.transient_slips + settling} slips dropped as transient after the "
+                     f"fixed drop of whole stage periods, {settling} more than the "
+                     f"{s.transient_slips} of the default: the slip pattern (wells crossed, "
+                     "onset force) repeats only after them")
     if pt.regime == "stick-slip" and pt.slips < slips:
         notes.append(f"only {pt.slips} slips by the longest run")
     if not pt.steady:

@@ -36,7 +36,9 @@ class FrictionSettings:
     slips
         Slips averaged over in stick-slip.
     transient_slips, transient_wells, transient_damping
-        The transient dropped: slips, stage periods ``lam/v``, times ``1/mu``.
+        The transient dropped: slips, stage periods ``lam/v``, times ``1/mu`` (then the
+        slips before the slip pattern repeats, criterion 1 of
+        :mod:`numerics.sliding.friction`).
     sliding_wells
         Whole stage periods averaged over when the slider never sticks (at least 20
         natural periods ``2 pi/Omega``).

@@ -81,6 +81,38 @@ def _stick_phases(run: _Run, v_stick: float, min_len: int) -> list[tuple[int, in
     return phases
 
 
+def _slip_pattern(run: _Run, stuck: list[tuple[int, int]]) -> list[tuple[int, float]]:
+    """The slips of the run, one per stick phase but the last: the wells each crosses (to
+    the next phase) and the spring force at its onset (the phase's end)."""
+    y, sys_ = run.y, run.system
+    ends = [e for _, e in stuck[:-1]]
+    F = sys_.omega**2 * (sys_.v * y[ends, 2] - y[ends, 0])
+    return [(round(y[nxt, 0] / sys_.lam) - round(y[e, 0] / sys_.lam), float(f))
+            for e, (nxt, _), f in zip(ends, stuck[1:], F)]
+
+
+def _settling(pattern: list[tuple[int, float]], force_tol: float, max_period: int = 8,
+              cycles: int = 3) -> int:
+    """How many of the first slips of ``pattern`` (wells crossed, onset force) come before
+    the motion repeats: the smallest period ``p <= max_period`` slips for which the slips
+    from some index on each match the slip ``p`` later (the same wells, onset forces within
+    ``force_tol``) over at least ``cycles`` periods reaching the last slip; that index, or
+    0 when no period repeats (an irregular stick-slip: nothing dropped)."""
+    n = len(pattern)
+
+    def same(a: tuple[int, float], b: tuple[int, float]) -> bool:
+        return a[0] == b[0] and abs(a[1] - b[1]) <= force_tol
+
+    for p in range(1, max_period + 1):
+        i = n - 1
+        while i - p >= 0 and same(pattern[i], pattern[i - p]):
+            i -= 1
+        start = max(0, i - p + 1)
+        if n - start >= max(cycles * p, p + cycles):
+            return start
+    return 0
+
+
 def _force(run: _Run) -> np.ndarray:
     Om2 = run.system.omega**2
     return Om2 * (run.system.v * run.y[:, 2] - run.y[:, 0])

@@ -84,10 +84,10 @@ def _stick_phases(run: _Run, v_stick: float, min_len: int) -> list[tuple[int, in
 def _slip_pattern(run: _Run, stuck: list[tuple[int, int]]) -> list[tuple[int, float]]:
     """The slips of the run, one per stick phase but the last: the wells each crosses (to
     the next phase) and the spring force at its onset (the phase's end)."""
-    y, sys_ = run.y, run.system
+    y, lam = run.y, run.system.lam
     ends = [e for _, e in stuck[:-1]]
-    F = sys_.omega**2 * (sys_.v * y[ends, 2] - y[ends, 0])
-    return [(round(y[nxt, 0] / sys_.lam) - round(y[e, 0] / sys_.lam), float(f))
+    F = _force(run, ends)
+    return [(round(y[nxt, 0] / lam) - round(y[e, 0] / lam), float(f))
             for e, (nxt, _), f in zip(ends, stuck[1:], F)]
 
 
@@ -113,9 +113,10 @@ def _settling(pattern: list[tuple[int, float]], force_tol: float, max_period: in
     return 0
 
 
-def _force(run: _Run) -> np.ndarray:
+def _force(run: _Run, at=slice(None)) -> np.ndarray:
+    """The spring force ``Omega^2 (v t - x)`` at the samples ``at`` (all by default)."""
     Om2 = run.system.omega**2
-    return Om2 * (run.system.v * run.y[:, 2] - run.y[:, 0])
+    return Om2 * (run.system.v * run.y[at, 2] - run.y[at, 0])
 
 
 def _window_means(run: _Run, i0: int, i1: int) -> dict:

@@ -84,6 +84,19 @@ CLI_CASES = [
      "--scheduler-timeout nan", "--scheduler-timeout must be a positive number, got nan"),
     # a chain of sliders: a ZeroDivisionError traceback (k = 0), a ValueError (math domain
     # error: lam < 0, Delta < 0), and points failed at the step limit with exit 0 (25 s)
+    # lam, Omega <= 0 blamed on v ("0.0001 to 1000 times Omega lam = -1 ... within
+    # -0.0001:-1000"); with noise mu <= 0 blamed on D or delta, and Delta < 0 accepted (the
+    # slips' L counted from the wrong wells)
+    ("friction cdc -p Delta=3 -p lam=-1 --vary v=0.01 --no-progress",
+     "lam must be > 0 (the period of the potential), got -1"),
+    ("friction cdc -p Delta=3 -p Omega=0 -p T=0.01 --vary v=0.01 --no-progress",
+     "Omega must be > 0 (the spring), got 0"),
+    ("friction cdc -p Delta=3 -p mu=-0.1 -p T=0.01 --vary v=0.01 --no-progress",
+     "mu must be > 0, got -0.1"),
+    ("friction cdc -p Delta=3 -p mu=0 -p T=0.01 --vary v=0.01 --no-progress",
+     "mu must be > 0, got 0"),
+    ("friction cdc -p Delta=-3 -p T=0.01 --vary v=0.01 --no-progress",
+     "Delta must be >= 0, got -3"),
     ("friction sedf-dimer -p Delta=3 -p kappa=1 -p beta=1 -p k=0 --vary v=0.1 --no-progress",
      "the wavenumber of the potential k = 2 pi/lam must be > 0, got -p k=0"),
     ("friction sedf-dimer -p Delta=3 -p kappa=1 -p beta=1 -p lam=-1 --vary v=0.1 "

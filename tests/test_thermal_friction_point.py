@@ -52,6 +52,10 @@ def test_with_noise_the_mean_force_stays_viscous_within_its_standard_errors():
     ({"v": 0.0, "D": 0.01}, "v must be > 0"),
     ({"v": 1.0, "D": -0.01}, "D >= 0"),
     ({"v": 1.0}, "needs the noise"),
+    # as the deterministic slider: mu <= 0 was blamed on D, Delta < 0 accepted
+    ({"v": 1.0, "D": 0.01, "mu": -0.1}, "mu must be > 0, got -0.1"),
+    ({"v": 1.0, "D": 0.01, "Delta": -3.0}, "Delta must be >= 0, got -3"),
+    ({"v": 1.0, "D": 0.01, "lam": 0.0}, "lam must be > 0"),
 ])
 def test_bad_parameters_are_refused_with_what_to_change(params, words):
     with pytest.raises(ParameterError, match=words):

@@ -167,7 +167,9 @@ def run(args: argparse.Namespace) -> int:
     params = {k: float(parameter_value(k, v)) for k, v in fixed.items()}
     params = {"mu": 0.1, "lam": 1.0, "Omega": 1.0, **params}
     from numerics.cli._chain_friction import check_velocities
+    from numerics.sliding.driven import physical_values
 
+    physical_values(params)  # lam, Omega <= 0 were blamed on v, Delta < 0 passed with noise
     check_velocities(params, axes)
     settings = FrictionSettings(slips=args.slips)
     check_ensemble(args)

@@ -45,6 +45,7 @@ from ..noise.ensemble import Estimate
 from ..noise.budget import STEP_BUDGET
 from ..noise.langevin import langevin_system, natural_step
 from ..noise.seeds import check_seed, trajectory_states
+from ..sliding.driven import physical_values
 
 __all__ = ["ThermalFrictionPoint", "ThermalFrictionMap", "thermal_friction_point",
            "thermal_friction_map", "STEPS_PER_PERIOD"]
@@ -320,6 +321,8 @@ def thermal_friction_map(model: str, params: Mapping[str, object],
     pts = []
     for vals in zip(*[g.ravel() for g in grids]):
         q = dict(base, **dict(zip(names, map(float, vals))))
+        # as the deterministic slider (mu <= 0 was blamed on D, Delta < 0 passed)
+        physical_values({k: q[k] for k in ("lam", "Omega", "mu", "Delta") if k in q})
         if "T" in q:
             if "D" in params or "D" in axes:
                 raise ParameterError("give the noise as D or as T = D/mu, not both")

@@ -72,11 +72,12 @@ def barrier_at(L: float, *, Delta: float, lam: float = 1.0, Omega: float = 1.0):
     return xw, xs, Eb, ww, I
 
 
-def law_points(fit: str, columns: dict, positive: tuple = ()) -> list:
+def law_points(fit: str, columns: dict, positive: tuple = (), errors: tuple = ()) -> list:
     """The columns of a friction law's points as float arrays, checked for a fit.
 
-    Each column must be a 1-D sequence of finite numbers, all of one length, and the
-    columns named in ``positive`` (those fitted in logarithms: ``v``, ``kT``) above zero.
+    Each column must be a 1-D sequence of finite numbers, all of one length, the columns
+    named in ``positive`` (those fitted in logarithms: ``v``, ``kT``) above zero, and those
+    named in ``errors`` (standard errors) not below zero.
 
     Raises
     ------
@@ -101,6 +102,10 @@ def law_points(fit: str, columns: dict, positive: tuple = ()) -> list:
         if name in positive and np.any(a <= 0):
             i = int(np.flatnonzero(a <= 0)[0])
             raise ParameterError(f"{fit}: {name} must be > 0 (it is fitted in logarithms), got "
+                                 f"{a[i]:g} at point {i}")
+        if name in errors and np.any(a < 0):
+            i = int(np.flatnonzero(a < 0)[0])
+            raise ParameterError(f"{fit}: the standard errors {name} must be >= 0, got "
                                  f"{a[i]:g} at point {i}")
     return arrays
 

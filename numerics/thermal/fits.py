@@ -66,11 +66,7 @@ def fit_muser(kT, v, F, F_err) -> MuserFit:
         fitted prefactor ``a(T) <= 0`` (no power law ``c T^alpha``).
     """
     kT, v, F, F_err = law_points("fit_muser", {"kT": kT, "v": v, "F": F, "F_err": F_err},
-                                 positive=("kT", "v"))
-    if np.any(F_err < 0):
-        i = int(np.flatnonzero(F_err < 0)[0])
-        raise ParameterError(f"fit_muser: the standard errors F_err must be >= 0, got "
-                             f"{F_err[i]:g} at point {i}")
+                                 positive=("kT", "v"), errors=("F_err",))
     temps = np.unique(kT)
     if temps.size < 2:
         raise ParameterError("Muser's fit needs two temperatures at least")

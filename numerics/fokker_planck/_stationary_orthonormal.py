@@ -171,7 +171,7 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     :func:`._energy_density.energy_density_report`), this process makes that grid and the
     climb's other solves (SEDF at rest, Delta = 3, D = mu/2, CPU per process, mu = 0.01:
     12.6 s beside 16.7 s, where the step after its grid was 19.7 s beside 9.6 s; 0.005,
-    ``--fp-budget 8.6e7``: 82 s beside 75 s, was 112 s beside 45 s).
+    ``--fp-budget 8.6e7``: 82-89 s beside 75-77 s, was 112 s beside 45 s).
     """
     # the solves beside others (._ahead)
     with Ahead(orthonormal_stationary, workers=fp_workers(workers), G=G) as ahead:

@@ -236,18 +236,25 @@ def test_interrupt_while_waiting_stops_the_child():
     assert not proc.is_alive()
 
 
+def _small_solve_and_step():
+    """``(G, args, step, direct)``: a small SEDF solve's arguments (mu = 0.1, Delta = 3,
+    D = 0.05, 24 functions x 64 intervals), its grid step's (80 intervals) and that
+    step's direct solution (this process, one call)."""
+    split = split_conservative("sedf", {"mu": 0.1, "Delta": 3, "beta": 1, "Omega": 1,
+                                        "lam": 1})
+    G = split.numpy_functions()[2]
+    args = (split, 0.05, 0.4, 6.0, 24, 64, G, 1.0)
+    step = args[:5] + (80,) + args[6:]
+    return G, args, step, orthonormal_stationary(*step)
+
+
 def test_solve_for_later_handed_on_is_the_direct_solution():
     """A process goes on with a solve for later (``then``; the ladder's grid step of P(E)):
     handed on (:meth:`Ahead.hand_on`) and adopted by another :class:`Ahead` (as
     :func:`._energy_density.energy_density_report` does), its solution is the direct
     call's to the bit; a new start needing the worker stops a solve for later, and one
     handed on but never adopted is stopped with its holder."""
-    split = split_conservative("sedf", {"mu": 0.1, "Delta": 3, "beta": 1, "Omega": 1,
-                                        "lam": 1})
-    G = split.numpy_functions()[2]
-    args = (split, 0.05, 0.4, 6.0, 24, 64, G, 1.0)
-    step = args[:5] + (80,) + args[6:]
-    direct = orthonormal_stationary(*step)
+    G, args, step, direct = _small_solve_and_step()
     with Ahead(orthonormal_stationary, workers=2, G=G) as ahead:
         if not ahead.start("a", *args, then=[("later", step, {})]):
             pytest.skip("no second process here")
@@ -275,6 +282,31 @@ def test_solve_for_later_handed_on_is_the_direct_solution():
     del kept  # never adopted: stopped
     proc.join(5)
     assert not proc.is_alive()
+
+
+def test_solve_started_for_later_alone_gives_way_and_is_handed_on_whole():
+    """A solve started alone as one for later (``later=True``: the ladder's grid step of
+    P(E), begun before the climb's other solves, which this process makes): its solution,
+    handed on and adopted, is the direct call's to the bit (the same function of the same
+    numbers), and a new start needing the worker stops it as it stops the solves of
+    ``then``."""
+    G, args, step, direct = _small_solve_and_step()
+    with Ahead(orthonormal_stationary, workers=2, G=G) as ahead:
+        if not ahead.start("later", *step, later=True):
+            pytest.skip("no second process here")
+        here = orthonormal_stationary(*args)  # this process's solve beside it
+        handed = ahead.hand_on("later")
+    with Ahead(lambda: orthonormal_stationary(*step), workers=2, G=G) as other:
+        assert other.adopt("refine", handed)
+        got = other.result("refine")
+    assert np.array_equal(got.coef, direct.coef) and got.residual == direct.residual
+    assert np.array_equal(here.coef, orthonormal_stationary(*args).coef)
+    with Ahead(orthonormal_stationary, workers=2, G=G) as ahead:
+        assert ahead.start("later", *step, later=True)
+        proc = ahead._jobs["later"].proc
+        assert ahead.start("b", *args)  # the solve for later gives way
+        assert not proc.is_alive() and not ahead.running("later")
+        assert np.array_equal(ahead.result("b", *args).coef, here.coef)
 
 
 @pytest.mark.slow

@@ -9,10 +9,11 @@ sequential ladder, the forked copy computes the same function of the same number
 the same libraries on one BLAS thread, and its solution comes back whole (pickled), so
 the results are the same bits whatever the number of processes; a solve started ahead
 that the ladder does not use is stopped.  A process may go on with a solve for later after
-its first (``then`` of :meth:`Ahead.start`): after the climb's largest grid, that grid's
-step for ``P(E)``, which the ladder hands on (:meth:`Ahead.hand_on`, in ``sol.refine``,
-:class:`Later`) and :func:`._energy_density.energy_density_report` collects
-(:meth:`Ahead.adopt`) or stops; it gives way to any solve the ladder starts after it.
+its first (``then`` of :meth:`Ahead.start`), or begin with one (``later``): the ladder
+begins the climb's largest grid's step for ``P(E)`` so (the grid itself solved in the
+first process), hands it on (:meth:`Ahead.hand_on`, in ``sol.refine``, :class:`Later`)
+and :func:`._energy_density.energy_density_report` collects it (:meth:`Ahead.adopt`) or
+stops it; a solve for later gives way to any solve the ladder starts after it.
 
 Why processes, not threads (measured, 2-core AMD EPYC, scipy 1.17, OpenBLAS 0.3.30):
 ``scipy.linalg.inv`` (the order-by-order factorisation's ``S^-1``, :mod:`._pentadiagonal`)
@@ -156,9 +157,10 @@ class Ahead:
     processes, at most ``workers - 1`` at a time, and collected by key.
 
     A process may go on with further calls after the first (``then`` of :meth:`start`,
-    solves for later: the grid step of ``P(E)`` after the climb's largest grid); those
-    give way to a new :meth:`start` and may be handed on to another :class:`Ahead`
-    (:meth:`hand_on`, :meth:`adopt`).
+    solves for later), or a call may be one for later itself (``later`` of :meth:`start`:
+    the grid step of ``P(E)`` of the climb's largest grid); those give way to a new
+    :meth:`start` and may be handed on to another :class:`Ahead` (:meth:`hand_on`,
+    :meth:`adopt`).
 
     Parameters
     ----------
@@ -184,18 +186,20 @@ class Ahead:
         self.local = local
         self.alarm, self.raises = alarm, raises
         self._jobs: dict = {}  # key -> _Job (a process may hold several keys)
-        self._later: set = set()  # the keys started with ``then`` (they give way)
+        self._later: set = set()  # the keys for later (``then``, ``later``: they give way)
         self._names: dict = {}  # key -> the key its process sends it under (adopted)
 
     def _busy(self) -> int:
         return len({id(j) for j in self._jobs.values()})
 
-    def start(self, key, *args, replace: bool = False, then=(), **kwargs) -> bool:
+    def start(self, key, *args, replace: bool = False, then=(), later: bool = False,
+              **kwargs) -> bool:
         """``func(*args, **kwargs)`` in a forked process under ``key``, when a worker is
         free (``replace``: the other keys' processes stopped first; a process left with
         solves for later alone is stopped) and ``key`` is not running; whether it
         started.  ``then``: ``(key, args, kwargs)`` of calls the process makes after,
-        for later (each sent as it is solved, while the next is solved)."""
+        for later (each sent as it is solved, while the next is solved); ``later``:
+        ``key`` itself is a solve for later (it gives way to a new start as those do)."""
         if replace:
             for k in [k for k in self._jobs if k != key]:
                 self.cancel(k)
@@ -256,6 +260,8 @@ class Ahead:
         for k, _, _ in calls:
             self._jobs[k] = job
         self._later.update(k for k, _, _ in then)
+        if later:
+            self._later.add(key)
         return True
 
     def running(self, key) -> bool:

@@ -132,8 +132,8 @@ def energy_density_report(sol, finer=None, points: int = ENERGY_POINTS,
 
     The grid step may start in a second process (:mod:`._ahead`; at most ``workers``
     processes, :func:`._ahead.fp_workers`), the same bits, or come from the ladder's,
-    which started it after the climb's largest grid (``sol.refine.handed``); stopped when
-    not needed.
+    which started it with the climb's solves (``sol.refine.handed``); stopped when not
+    needed.
     """
     from ._ahead import Ahead, fp_workers
 

@@ -166,11 +166,12 @@ def stationary_orthonormal(split, D: float, G, omega0: float, *, n_hermite: int 
     depend on each other (step 7's check pair, the climb's largest grid beside its coarser
     one and the rung above, step 6's check beside the grid step it would follow) run side
     by side in a second process (:mod:`._ahead`, ``KBM_FP_WORKERS``, at most ``workers``
-    processes; the same bits).  With ``refine_ahead`` (``P(E)`` will be wanted) the
-    process of a climb's largest grid goes on with its grid step (``refine``), handed on
-    in ``refine`` (:class:`._ahead.Later`) for :func:`._energy_density.energy_density_report`
-    (SEDF at rest, Delta = 3, mu = 0.01: 258 x 1302 beside the climb's other solves and
-    ``P(E)``'s evaluation instead of after the ladder).
+    processes; the same bits).  With ``refine_ahead`` (``P(E)`` will be wanted) the second
+    process begins with the grid step of a climb's largest grid (``refine``, handed on for
+    :func:`._energy_density.energy_density_report`), this process makes that grid and the
+    climb's other solves (SEDF at rest, Delta = 3, D = mu/2, CPU per process, mu = 0.01:
+    12.6 s beside 16.7 s, where the step after its grid was 19.7 s beside 9.6 s; 0.005,
+    ``--fp-budget 8.6e7``: 82-89 s beside 75-77 s, was 112 s beside 45 s).
     """
     # the solves beside others (._ahead)
     with Ahead(orthonormal_stationary, workers=fp_workers(workers), G=G) as ahead:
@@ -221,26 +222,25 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, n_hermite, n_cheb, sigm
         nh *= 2  # the same rungs from 64 on (at 32 and 46 the SEDF and vdp cases never stop)
 
     memo = {}
-    later = {}  # the grid steps of P(E) started after a climb's largest grid
+    later = {}  # the grid steps of P(E) started for a climb's largest grid
 
     def solve(n, m, well=False, start=False, replace=False):
         """One solve (each once: step 6's check may come inside the grid ladder); with
-        ``start`` begun in the second process, for a later call (:mod:`._ahead`), the
-        well's (a climb's largest grid) followed there by its grid step with
-        ``refine_ahead``."""
+        ``start`` begun in the second process, for a later call (:mod:`._ahead`), but for
+        the well's (a climb's largest grid) with ``refine_ahead``: then its grid step is
+        begun there instead, and the grid itself is solved here when asked for."""
         if well and "well" not in memo:
             memo["well"] = stationary_points(split, D, G, half, v2, sigma, well=True)[1]
         well = well and memo["well"] != points  # no saddles: the same points
         at = memo["well"] if well else points
         args = (split, D, float(sigma), half, n, m, G, omega0)
         if start:
-            then = []
-            if refine_ahead and well:
-                step = args[:5] + (finer_intervals(m),) + args[6:]
-                later["P(E)", n, m, well] = (step, at)
-                then = [(("P(E)", n, m, well), step, at)]
+            if refine_ahead and well and (n, m, well) not in memo:  # the step, not the grid
+                later["P(E)", n, m, well] = step = (*args[:5], finer_intervals(m), *args[6:]), at
+                return ahead.start(("P(E)", n, m, well), *step[0], replace=replace,
+                                   later=True, **at) and False
             return (n, m, well) not in memo and ahead.start((n, m, well), *args,
-                                                            replace=replace, then=then, **at)
+                                                            replace=replace, **at)
         if (n, m, well) not in memo:
             memo[n, m, well] = ahead.result((n, m, well), *args, **at)
         return memo[n, m, well]

@@ -331,3 +331,25 @@ def test_slip_gap_beyond_four_standard_errors_is_flagged(capsys):
     second = json.loads(capsys.readouterr().out)["slips"][1]
     assert second["slip_rate"]["averaged"] < rate["averaged"]
     assert "--order 2" not in second["validity"]["advice"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("c", [0.5, 0.6, 1.0])
+def test_reduction_refuses_amplitude_death_in_one_line(c, capsys):
+    """The first-order slaved amplitudes of coupled-vdp, a^2 = 4 (1 - c (1 - cos gamma))
+    (the zero of a/2 (1 - a^2/4) + (c/2)(a cos gamma - a), by hand), vanish at cos gamma =
+    1 - 1/c for c >= 1/2: no phase equation past that gamma.  ``kbm spectrum coupled-vdp -p
+    c=0.5`` ended in numpy's LinAlgError traceback (a singular Newton step) instead of the
+    one-line refusal, which names an angle just past the closed-form zero (Newton loses
+    the root within a few grid steps of it)."""
+    from numerics.cli import main
+
+    status = main(["spectrum", "coupled-vdp", "-p", "mu=0.05", "-p", f"c={c}", "-p",
+                   "D=0.001", "-p", "sigma=0.3", "--duration", "100", "--trajectories", "8",
+                   "--workers", "1"])
+    assert status == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "amplitude death" in err and "weaken the coupling" in err
+    gamma = float(err.split("gamma = ")[1].split()[0])
+    edge = math.acos(1 - 1 / c)  # the closed-form zero of a^2
+    assert edge <= gamma + 1e-3 and gamma < edge + 0.05

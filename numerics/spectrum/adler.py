@@ -145,7 +145,11 @@ def adler_reduction(model, params: Mapping[str, object], D: float, *, order: int
     for k, gm in enumerate(grid):
         for _ in range(60):
             r = np.asarray(f([*a, gm])[:-1], dtype=float)
-            da = np.linalg.solve(np.asarray(J([*a, gm]), dtype=float), -r)
+            try:
+                da = np.linalg.solve(np.asarray(J([*a, gm]), dtype=float), -r)
+            except np.linalg.LinAlgError:  # a singular Jacobian: no root to follow
+                a = np.full(n, math.nan)
+                break
             a = a + da
             if np.max(np.abs(da)) < 1e-13 * (1 + np.max(np.abs(a))):
                 break
@@ -154,7 +158,8 @@ def adler_reduction(model, params: Mapping[str, object], D: float, *, order: int
         if not (np.all(np.isfinite(a)) and np.all(a > 0)):
             raise ParameterError(f"the amplitudes of {model.name!r} do not follow the phase "
                                  f"difference at gamma = {gm:.4g} (no positive stationary "
-                                 "amplitudes: amplitude death?); no phase equation")
+                                 "amplitudes: amplitude death?); no phase equation: "
+                                 "weaken the coupling")
         amps[k] = a
         drift[k] = float(f([*a, gm])[-1])
     Q = 0.5 * D * np.sum(1.0 / (omegas[None, :] ** 2 * amps**2), axis=1)

@@ -164,14 +164,16 @@ def test_a_transient_longer_than_the_fixed_drop_is_dropped_by_its_slips():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason=(
-    "at v = 2e-4 the compiled run (rtol 1e-9) spends its 38 stage periods in slips of 3-5 "
-    "wells at onset forces near 0, no repeating pattern, and reports mean force -0.81, "
-    "3.5 wells per slip, steady; the lab frame settles after 7 stage periods on one-well "
-    "slips, mean force 2.5144 (the compiled run at rtol 1e-10 or 1e-11 too: 2.51444)"))
-def test_a_transient_without_a_repeating_pattern_is_not_yet_recognised():
-    """mu = 0.01, v = 2e-4 against the lab frame over 12 stage periods."""
-    _one_well_slips_as_in_the_lab_frame({**LONG_TRANSIENT, "v": 2e-4}, 12)
+def test_a_transient_without_a_repeating_pattern_is_measured_again_tighter():
+    """mu = 0.01, v = 2e-4 against the lab frame over 12 stage periods: at rtol 1e-9 the
+    compiled run spends its 38 stage periods in slips of 3-5 wells without a repeating
+    pattern (mean force -0.81, 3.5 wells per slip), fed by the integration error the
+    self-excitation amplifies by ``exp(2 mu/(3 v sqrt(beta))) = e^33`` each time the stage
+    passes the slider; measured again at rtol 1e-11 (criterion 6) it settles on the lab
+    frame's one-well slips, and the note gives the first run's numbers."""
+    p = _one_well_slips_as_in_the_lab_frame({**LONG_TRANSIENT, "v": 2e-4}, 12)
+    assert "no repeating pattern at rtol 1e-09" in p.note, p.note
+    assert "at rtol 1e-11, atol 1e-11 they repeat" in p.note, p.note
 
 
 @pytest.mark.parametrize("pattern, dropped", [
@@ -180,14 +182,16 @@ def test_a_transient_without_a_repeating_pattern_is_not_yet_recognised():
     # a settled two-slip cycle (one well, then two) from the start, and after a transient
     ([(1, 2.9), (2, 2.5)] * 4, 0),
     ([(3, 1.0), (1, 2.0)] + [(1, 2.9), (2, 2.5)] * 3, 2),
-    # onset forces within the tolerance (0.05) are the same slip; irregular slips drop none
+    # onset forces within the tolerance (0.05) are the same slip; irregular slips drop
+    # none, and say so (None: the point is measured again at tighter tolerances)
     ([(1, 2.0)] + [(1, 2.9), (1, 2.93), (1, 2.91), (1, 2.94)], 1),
-    ([(1, 2.0), (2, 2.9), (1, 2.5), (3, 2.6), (1, 2.2), (2, 2.7), (1, 2.8)], 0),
-    # a repeat shorter than three cycles is no evidence: nothing dropped
-    ([(2, 1.0), (-1, 0.5), (1, 2.9), (1, 2.9)], 0),
+    ([(1, 2.0), (2, 2.9), (1, 2.5), (3, 2.6), (1, 2.2), (2, 2.7), (1, 2.8)], None),
+    # a repeat shorter than three cycles is no evidence: nothing dropped, no repeat
+    ([(2, 1.0), (-1, 0.5), (1, 2.9), (1, 2.9)], None),
 ])
 def test_the_transient_ends_where_the_slip_pattern_repeats(pattern, dropped):
     """The rule of criterion 1 on slip patterns (wells crossed, onset force) built by
     hand: the first slips before a cycle of at most 8 slips repeats over three cycles to
-    the last slip are transient."""
+    the last slip are transient; without such a cycle there is no settled pattern
+    (``None``; a 0 here took irregular slips for a settled pattern)."""
     assert _settling(pattern, 0.05) == dropped

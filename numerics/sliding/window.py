@@ -92,12 +92,14 @@ def _slip_pattern(run: _Run, stuck: list[tuple[int, int]]) -> list[tuple[int, fl
 
 
 def _settling(pattern: list[tuple[int, float]], force_tol: float, max_period: int = 8,
-              cycles: int = 3) -> int:
+              cycles: int = 3) -> int | None:
     """How many of the first slips of ``pattern`` (wells crossed, onset force) come before
     the motion repeats: the smallest period ``p <= max_period`` slips for which the slips
     from some index on each match the slip ``p`` later (the same wells, onset forces within
     ``force_tol``) over at least ``cycles`` periods reaching the last slip; that index, or
-    0 when no period repeats (an irregular stick-slip: nothing dropped)."""
+    ``None`` when no period repeats (an irregular stick-slip, or too few slips to tell:
+    nothing dropped, and :func:`numerics.sliding.friction.friction_point` checks the point
+    at a tighter tolerance)."""
     n = len(pattern)
 
     def same(a: tuple[int, float], b: tuple[int, float]) -> bool:
@@ -110,7 +112,7 @@ def _settling(pattern: list[tuple[int, float]], force_tol: float, max_period: in
         start = max(0, i - p + 1)
         if n - start >= max(cycles * p, p + cycles):
             return start
-    return 0
+    return None
 
 
 def _force(run: _Run, at=slice(None)) -> np.ndarray:

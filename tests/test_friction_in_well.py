@@ -164,14 +164,56 @@ def test_a_transient_longer_than_the_fixed_drop_is_dropped_by_its_slips():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason=(
-    "at v = 2e-4 the compiled run (rtol 1e-9) spends its 38 stage periods in slips of 3-5 "
-    "wells at onset forces near 0, no repeating pattern, and reports mean force -0.81, "
-    "3.5 wells per slip, steady; the lab frame settles after 7 stage periods on one-well "
-    "slips, mean force 2.5144 (the compiled run at rtol 1e-10 or 1e-11 too: 2.51444)"))
-def test_a_transient_without_a_repeating_pattern_is_not_yet_recognised():
-    """mu = 0.01, v = 2e-4 against the lab frame over 12 stage periods."""
-    _one_well_slips_as_in_the_lab_frame({**LONG_TRANSIENT, "v": 2e-4}, 12)
+def test_a_transient_without_a_repeating_pattern_is_measured_again_tighter():
+    """mu = 0.01, v = 2e-4 against the lab frame over 12 stage periods: at rtol 1e-9 the
+    compiled run spends its 38 stage periods in slips of 3-5 wells without a repeating
+    pattern (mean force -0.81, 3.5 wells per slip), fed by the integration error the
+    self-excitation amplifies by ``exp(2 mu/(3 v sqrt(beta))) = e^33`` each time the stage
+    passes the slider; measured again at rtol 1e-11 (criterion 6) it settles on the lab
+    frame's one-well slips, and the note gives the first run's numbers.  Over 200 stage
+    periods the irregular slips end within 52 at every rtol from 1e-8 to 1e-12 (not an
+    attractor: after a slip that lands the slider more than ``2/sqrt(beta)`` ahead of the
+    stage the exact motion damps the in-well oscillation by more than ``e^33``)."""
+    p = _one_well_slips_as_in_the_lab_frame({**LONG_TRANSIENT, "v": 2e-4}, 12)
+    assert "no repeating pattern at rtol 1e-09" in p.note, p.note
+    assert "at rtol 1e-11, atol 1e-11, each block from the state moved back" in p.note, p.note
+    assert "they repeat" in p.note, p.note
+
+
+#: mu = 0.1, v = 2.5e-3: slips from the saddle node cross six wells and land the slider
+#: ~3 ahead of the stage; the rtol 1e-9 run, its error growing with |x| = v t, turns to
+#: irregular self-excited slips after ~20 stage periods and never repeats
+SIX_WELLS = {**POINT, "v": 2.5e-3}
+
+
+@pytest.mark.slow
+def test_irregular_slips_of_a_growing_error_give_way_to_the_lab_frames_cycle():
+    """mu = 0.1, v = 2.5e-3 against solve_ivp on the lab-frame equation over 40 stage
+    periods: one six-well slip every six stage periods (the slider follows the stage), the
+    peak force of each stick at the quasi-static saddle node ``Delta sqrt(1 - 1/eta^2)``
+    and at the point's static force (0.5 %), and the mean force over whole cycles (the
+    spring's impulse) against the point's (1e-4).  The point's first run (rtol 1e-9) shows
+    slips of 2.7 wells on average and no repeating pattern; criterion 6's second run
+    (rtol 1e-11, the state moved back by whole wells) has the lab frame's cycle."""
+    p = friction_point("sedf_comoving", SIX_WELLS)
+    assert p.regime == "stick-slip" and p.steady and not p.error, (p.error, p.note)
+    assert "no repeating pattern at rtol 1e-09" in p.note and "they repeat" in p.note, p.note
+    v, lam, Om = SIX_WELLS["v"], SIX_WELLS["lam"], SIX_WELLS["Omega"]
+    Tw = lam / v
+    ts, x, J = _lab_frame(SIX_WELLS, 40 * Tw, atol=1e-10)
+    well = np.round(x / lam)
+    slips = _slips(ts, well, 0.5 * Tw)[1:]  # the first, from rest, is the transient
+    assert len(slips) >= 6
+    assert [well[b] - well[a - 1] for a, b in slips] == [6] * len(slips)
+    assert p.wells_per_slip == 6
+    onsets = [a for a, _ in slips]
+    assert np.allclose(np.diff(ts[onsets]), 6 * Tw, rtol=1e-3)
+    force = Om**2 * (v * ts - x)
+    peaks = [float(np.max(force[b + 1:a])) for (_, b), (a, _) in zip(slips[:-1], slips[1:])]
+    assert np.allclose(peaks, p.static_quasistatic, rtol=5e-3), peaks
+    assert p.static_force == pytest.approx(peaks[0], rel=5e-3)
+    F_bar = (J[onsets[-1]] - J[onsets[0]]) / (ts[onsets[-1]] - ts[onsets[0]])
+    assert p.mean_force == pytest.approx(F_bar, rel=1e-4)
 
 
 @pytest.mark.parametrize("pattern, dropped", [
@@ -180,14 +222,16 @@ def test_a_transient_without_a_repeating_pattern_is_not_yet_recognised():
     # a settled two-slip cycle (one well, then two) from the start, and after a transient
     ([(1, 2.9), (2, 2.5)] * 4, 0),
     ([(3, 1.0), (1, 2.0)] + [(1, 2.9), (2, 2.5)] * 3, 2),
-    # onset forces within the tolerance (0.05) are the same slip; irregular slips drop none
+    # onset forces within the tolerance (0.05) are the same slip; irregular slips drop
+    # none, and say so (None: the point is measured again at tighter tolerances)
     ([(1, 2.0)] + [(1, 2.9), (1, 2.93), (1, 2.91), (1, 2.94)], 1),
-    ([(1, 2.0), (2, 2.9), (1, 2.5), (3, 2.6), (1, 2.2), (2, 2.7), (1, 2.8)], 0),
-    # a repeat shorter than three cycles is no evidence: nothing dropped
-    ([(2, 1.0), (-1, 0.5), (1, 2.9), (1, 2.9)], 0),
+    ([(1, 2.0), (2, 2.9), (1, 2.5), (3, 2.6), (1, 2.2), (2, 2.7), (1, 2.8)], None),
+    # a repeat shorter than three cycles is no evidence: nothing dropped, no repeat
+    ([(2, 1.0), (-1, 0.5), (1, 2.9), (1, 2.9)], None),
 ])
 def test_the_transient_ends_where_the_slip_pattern_repeats(pattern, dropped):
     """The rule of criterion 1 on slip patterns (wells crossed, onset force) built by
     hand: the first slips before a cycle of at most 8 slips repeats over three cycles to
-    the last slip are transient."""
+    the last slip are transient; without such a cycle there is no settled pattern
+    (``None``; a 0 here took irregular slips for a settled pattern)."""
     assert _settling(pattern, 0.05) == dropped

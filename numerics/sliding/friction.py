@@ -41,6 +41,16 @@ block after block until its steady state has been seen long enough, then measure
 5. *Runaway.*  A spring force above ``runaway_force (Delta + Omega^2 lam + mu v)``, or
    a damping rate above ``runaway_damping`` well frequencies, ends the run: there is no
    bounded sliding state from rest.
+6. *Irregular stick-slip.*  A stick-slip whose slips show no repeating cycle (criterion
+   1) is measured again with :data:`TIGHTER` times smaller ``rtol`` and ``atol``, each
+   block integrated from the state moved back by whole wells (``x - n lam, tau - n
+   lam/v``, a symmetry of ``sedf_comoving`` and ``cdc``: the integrator's error, relative to
+   ``|x|`` and ``tau``, then does not grow with the distance slid): if they repeat there,
+   that point is reported (the irregular slips were integration error, which the
+   stage-attached SEDF's self-excitation multiplies by ``exp(2 mu/(3 v sqrt(beta)))`` each
+   time the stage passes the stuck slider); if not, it is steady only when its mean force
+   is within ``steady_tol`` of the first run's.  The note gives the first run's mean force
+   and wells per slip.
 
 **Measures** over the window: the mean spring force ``F_bar = Delta J/Delta t`` (the
 kinetic friction; ``J`` the spring's impulse, integrated), its standard deviation, the
@@ -79,8 +89,8 @@ from kbm.errors import KBMError, ParameterError
 from numerics.sliding.driven import DrivenSystem, driven_system
 from numerics.sliding.friction_records import (FrictionPoint, FrictionSettings, eta,
                                                _static_quasistatic)
-from numerics.sliding.window import (_Run, _settling, _slip_pattern, _sliding, _stick_phases,
-                                     _stick_slip)
+from numerics.sliding.window import (_TRANSLATION_INVARIANT, _Run, _settling, _slip_pattern,
+                                     _sliding, _stick_phases, _stick_slip)
 
 __all__ = ["friction_point", "V_RANGE"]
 
@@ -89,6 +99,10 @@ __all__ = ["friction_point", "V_RANGE"]
 V_RANGE = (1e-4, 1e3)
 #: the most samples in one stage period (a strong potential at a slow stage)
 MAX_SAMPLES_PER_WELL = 500_000
+#: a stick-slip without a repeating slip pattern is measured again at tolerances this many
+#: times smaller (criterion 6), down to MIN_TOL (the smallest the driven slider takes)
+TIGHTER = 100
+MIN_TOL = 1e-14
 
 
 def friction_point(model: str, params: Mapping[str, object], *,
@@ -135,14 +149,67 @@ def friction_point(model: str, params: Mapping[str, object], *,
     base = dict(model=model, params=dict(system.params), eta=eta(system.params),
                 static_quasistatic=_static_quasistatic(system.params))
     try:
-        return _measure(system, settings, base)
+        pt, repeats = _measure(system, settings, base)
     except ParameterError:
         raise
     except KBMError as exc:
         return FrictionPoint(**base, error=str(exc))
+    if pt.ok and pt.regime == "stick-slip" and not repeats:
+        return _irregular(system, settings, base, pt)
+    return pt
 
 
-def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionPoint:
+def _irregular(system: DrivenSystem, s: FrictionSettings, base: dict,
+               loose: FrictionPoint) -> FrictionPoint:
+    """Criterion 6: a stick-slip whose slips show no repeating pattern, measured again at
+    :data:`TIGHTER` times smaller tolerances, the state moved back by whole wells.  A
+    pattern that repeats there was integration error (the stage-attached SEDF amplifies it
+    by ``exp(2 mu/(3 v sqrt(beta)))`` each time the stage passes the slider): the tighter
+    point is reported.  Irregular at both, the tighter point is steady only if its mean
+    force agrees with the first within ``steady_tol``; the note gives both."""
+    said = (f"the slips show no repeating pattern at rtol {system.rtol:g}, atol "
+            f"{system.atol:g} (mean force {loose.mean_force:.6g}, "
+            f"{loose.wells_per_slip:.3g} wells per slip over {loose.slips} slips)")
+    rtol, atol = system.rtol / TIGHTER, system.atol / TIGHTER
+    if min(rtol, atol) < MIN_TOL:
+        return _add_note(replace(loose, steady=False),
+                         f"{said}; not steady: not checked at {TIGHTER} times tighter "
+                         f"tolerances (below {MIN_TOL:g})")
+    try:
+        tight, repeats = _measure(replace(system, rtol=rtol, atol=atol), s, base, True)
+    except KBMError as exc:
+        tight, repeats = FrictionPoint(**base, error=str(exc)), False
+    tight = replace(tight, steps=tight.steps + loose.steps)
+    where = f"at rtol {rtol:g}, atol {atol:g}" + (
+        ", each block from the state moved back by whole wells"
+        if system.model in _TRANSLATION_INVARIANT else "")
+    if not tight.ok:
+        return _add_note(replace(loose, steady=False),
+                         f"{said}; not steady: the run {where} failed: {tight.error}")
+    if tight.regime == "stick-slip" and repeats:
+        return _add_note(tight, f"{said}; {where}, they repeat (the irregular slips were "
+                                "integration error): the point as measured there")
+    F1, F2 = loose.mean_force, tight.mean_force
+    agree = (tight.regime == "stick-slip"
+             and abs(F1 - F2) <= s.steady_tol * max(abs(F1), abs(F2)))
+    if agree:
+        return _add_note(tight, f"{said}; {where}, they do not repeat either (irregular "
+                                f"stick-slip): mean force {F2:.6g}, within {s.steady_tol:g} of "
+                                "the first")
+    return _add_note(replace(tight, steady=False),
+                     f"{said}; not steady: {where}, the {tight.regime} has mean force "
+                     f"{F2:.6g} (tolerance {s.steady_tol:g})")
+
+
+def _add_note(pt: FrictionPoint, text: str) -> FrictionPoint:
+    return replace(pt, note=f"{pt.note}; {text}" if pt.note else text)
+
+
+def _measure(system: DrivenSystem, s: FrictionSettings, base: dict, recentre: bool = False
+             ) -> tuple[FrictionPoint, bool]:
+    """The point (criteria 1-5), and whether its slips repeat (criterion 1's cycle found;
+    ``True`` for every other point); with ``recentre`` each block integrated from the state
+    moved back by whole wells (:class:`~numerics.sliding.window._Run`)."""
     p = system.params
     v, lam, Om, mu = system.v, system.lam, system.omega, p["mu"]
     k = 2 * math.pi / lam
@@ -164,8 +231,8 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionP
             f"the transient max({s.transient_wells:g} lam/v, {s.transient_damping:g}/mu) = "
             f"{skip * Tw:.4g} time units is not shorter than the longest run "
             f"({longest} stage periods lam/v = {longest * Tw:.4g}); raise mu, v or "
-            "max_wells/max_periods"))
-    run = _Run(system, per_well, system.initial_state(), 0, t_fast)
+            "max_wells/max_periods")), True
+    run = _Run(system, per_well, system.initial_state(), 0, t_fast, recentre)
     v_stick = min(v / 2, 0.02 * Om * lam)
     min_stuck = max(1, math.ceil(0.5 * Tn / dt))
     limits = (s.runaway_force * (p.get("Delta", 0.0) + Om**2 * lam + mu * v),
@@ -177,7 +244,7 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionP
         done += n
         stop = _runaway(run, base, limits)
         if stop is not None:
-            return stop
+            return stop, True
         run.discard()
     slide_wells = max(s.sliding_wells, math.ceil(20 * Tn / Tw))
     extra = max(1, math.ceil(2 * Tn / Tw))
@@ -188,7 +255,7 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionP
         done += block
         stop = _runaway(run, base, limits)
         if stop is not None:
-            return stop
+            return stop, True
         stuck = _stick_phases(run, v_stick, min_stuck)
         # a phase's end is a slip's onset once the next phase has begun in another well;
         # the first slips dropped, then those before the slip pattern repeats
@@ -207,20 +274,21 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict) -> FrictionP
         if pt is not None:
             cap = s.max_doublings if pt.regime == "stick-slip" else s.max_doublings_sliding
             if pt.steady or last or attempt >= cap:
-                return _noted(pt, need_slips, done, Tw, s, settling)
+                return _noted(pt, need_slips, done, Tw, s, settling), settling is not None
             # not steady yet: what was measured counts as transient; twice as long next
             attempt, need_slips, need_wells = attempt + 1, 2 * need_slips, 2 * need_wells
             previous, previous_settling = pt, settling
             run.discard()
             continue
         if last and previous is not None:
-            return _noted(previous, need_slips, done, Tw, s, previous_settling)
+            return (_noted(previous, need_slips, done, Tw, s, previous_settling),
+                    previous_settling is not None)
         if last:
             return FrictionPoint(**base, steps=run.steps,
                                  error=f"no steady state within {done} stage periods lam/v "
                                        f"= {done * Tw:.4g} time units "
                                        f"({_slips_seen(run, stuck, len(onsets), need_slips)}); "
-                                       "raise max_wells or max_periods")
+                                       "raise max_wells or max_periods"), True
 
 
 def _slips_seen(run: _Run, stuck: list[tuple[int, int]], after: int, need: int) -> str:
@@ -267,7 +335,7 @@ def _onset_tol(pattern: list[tuple[int, float]], s: FrictionSettings,
 
 
 def _noted(pt: FrictionPoint, slips: int, done: int, Tw: float,
-           s: FrictionSettings, settling: int = 0) -> FrictionPoint:
+           s: FrictionSettings, settling: int | None = 0) -> FrictionPoint:
     """The point with a note when it is not steady, has fewer slips than asked, or had a
     transient longer than the fixed one (``settling`` more slips dropped)."""
     notes = []

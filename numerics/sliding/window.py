@@ -19,17 +19,28 @@ from numerics.sliding.driven import DrivenSystem
 from numerics.sliding.friction_records import FrictionPoint, FrictionSettings
 
 
+#: the sliders invariant under ``x -> x + lam, tau -> tau + lam/v`` (the paper's SEDF is not)
+_TRANSLATION_INVARIANT = ("sedf_comoving", "cdc")
+
+
 class _Run:
     """The samples kept after the transient (rows ``(x, x_dot, tau, G_+, G_-, W, J)``), in a
-    buffer that doubles when full."""
+    buffer that doubles when full.
+
+    With ``recentre`` (a translation-invariant slider) each block is integrated from the
+    last state moved back by whole wells, ``x - n lam, tau - n lam/v``, and the samples moved
+    forward again: the integrator's error, relative to ``|x|`` and ``tau``, then does not
+    grow with the distance slid (criterion 6 of :mod:`numerics.sliding.friction`)."""
 
     def __init__(self, system: DrivenSystem, per_well: int, y0: np.ndarray, steps: int,
-                 t_fast: float):
+                 t_fast: float, recentre: bool = False):
         self.system, self.per_well, self.steps, self.t_fast = system, per_well, steps, t_fast
         self.failure = ""
         self._buf = np.empty((64 * per_well + 1, len(y0)))
         self._buf[0] = y0
         self._n = 1
+        self.recentre = recentre and system.model in _TRANSLATION_INVARIANT
+        self._own = (np.array(y0, dtype=float), 0)  # the integrator's last state, its shift
 
     @property
     def y(self) -> np.ndarray:
@@ -41,11 +52,25 @@ class _Run:
         self._n = 1
 
     def extend(self, wells: int) -> None:
-        duration = wells * self.system.lam / self.system.v
-        blk = self.system.run(self._buf[self._n - 1], duration, wells * self.per_well,
+        lam, v = self.system.lam, self.system.v
+        duration = wells * lam / v
+        start, shift = self._buf[self._n - 1], 0
+        if self.recentre:
+            own, shift = self._own
+            start = own.copy()
+            n = round(start[0] / lam)
+            start[0] -= n * lam
+            start[2] -= n * lam / v
+            shift += n
+        blk = self.system.run(start, duration, wells * self.per_well,
                               max_steps=_step_limit(duration, self.t_fast), partial=True)
         self.failure = blk.message if blk.status else ""
         new = blk.y[1:][np.isfinite(blk.y[1:, 0])]
+        if self.recentre and len(new):
+            self._own = (new[-1].copy(), shift)
+            new = new.copy()
+            new[:, 0] += shift * lam
+            new[:, 2] += shift * lam / v
         if self._n + len(new) > len(self._buf):
             grown = np.empty((2 * (self._n + len(new)), self._buf.shape[1]))
             grown[:self._n] = self._buf[:self._n]
@@ -92,12 +117,14 @@ def _slip_pattern(run: _Run, stuck: list[tuple[int, int]]) -> list[tuple[int, fl
 
 
 def _settling(pattern: list[tuple[int, float]], force_tol: float, max_period: int = 8,
-              cycles: int = 3) -> int:
+              cycles: int = 3) -> int | None:
     """How many of the first slips of ``pattern`` (wells crossed, onset force) come before
     the motion repeats: the smallest period ``p <= max_period`` slips for which the slips
     from some index on each match the slip ``p`` later (the same wells, onset forces within
     ``force_tol``) over at least ``cycles`` periods reaching the last slip; that index, or
-    0 when no period repeats (an irregular stick-slip: nothing dropped)."""
+    ``None`` when no period repeats (an irregular stick-slip, or too few slips to tell:
+    nothing dropped, and :func:`numerics.sliding.friction.friction_point` checks the point
+    at a tighter tolerance)."""
     n = len(pattern)
 
     def same(a: tuple[int, float], b: tuple[int, float]) -> bool:
@@ -110,7 +137,7 @@ def _settling(pattern: list[tuple[int, float]], force_tol: float, max_period: in
         start = max(0, i - p + 1)
         if n - start >= max(cycles * p, p + cycles):
             return start
-    return 0
+    return None
 
 
 def _force(run: _Run, at=slice(None)) -> np.ndarray:

@@ -297,7 +297,9 @@ def line_errors(rep: dict, nxt: LineTheory | None = None,
     With ``true_small``, the true cycle's small-noise line ``D <Z_v^2>``
     (:func:`true_cycle`), the order-2 width states ``"true cycle"``: ``|averaged| |1 -
     true_small/small_noise|``, the averaged line's error were its phase response the true
-    one, unless the simulation's bound is larger.
+    one, unless the simulation's bound is larger (the small-noise part's error: the
+    stationary density's finite-``D/mu`` widening has its own, which only a simulation
+    measures).
     """
     entries = _compared(rep)
     values = {"linewidth": None, "frequency": None} if nxt is None else \

@@ -96,28 +96,26 @@ def test_cli_order_2_json_keeps_every_key(capsys, monkeypatch):
     widening of the stationary density (6 % at D/mu = 0.1) is the same factor at both
     orders.  The true cycle's phase response (``--floquet``) depends on the model and its
     parameters, not on the averaging order: both runs ask for it, and the second gets the
-    first's (memoised here by F and the parameters; two thirds of the test's time went to
-    computing it twice)."""
+    first's (:func:`numerics.spectrum.result.true_cycle` keeps it; computing it twice took
+    two thirds of the test's time)."""
     import numerics.spectrum.floquet as floquet
+    import numerics.spectrum.result as result
 
-    real, memo, calls = floquet.phase_response, {}, []
+    real, calls = floquet.phase_response, []
 
-    def once(model, params, **kw):
-        key = (repr(getattr(model, "F", model)), repr(sorted(dict(params).items())),
-               repr(sorted(kw.items())))
-        calls.append(key)
-        if key not in memo:
-            memo[key] = real(model, params, **kw)
-        return memo[key]
+    def counted(model, params, **kw):
+        calls.append(1)
+        return real(model, params, **kw)
 
-    monkeypatch.setattr(floquet, "phase_response", once)
+    monkeypatch.setattr(floquet, "phase_response", counted)
+    monkeypatch.setattr(result, "_TRUE", {})
     argv = ["spectrum", "--rhs", CUBIC, "-p", "alpha=1", "-p", "mu=0.1", "-p", "D=0.01",
             "--no-simulation", "--json", "--floquet"]
     assert main(argv) == 0
     r1 = json.loads(capsys.readouterr().out)
     assert main(argv + ["--order", "2"]) == 0
     r2 = json.loads(capsys.readouterr().out)
-    assert len(calls) == 2 and len(memo) == 1  # both runs asked, with the same model
+    assert len(calls) == 1  # both runs asked, with the same model and parameters
     assert set(r1) == set(r2) and set(r1["linewidth"]) == set(r2["linewidth"])
     l1, l2 = r1["linewidth"], r2["linewidth"]
     assert (l1["averaged_order"], l2["averaged_order"]) == (1, 2)

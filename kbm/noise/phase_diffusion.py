@@ -227,7 +227,12 @@ def phase_response(res, order: int) -> sp.Expr:
     At order 1 it is Lax's ``D/(2 omega0^2) (1/a^2 + g^2/lambda^2)``; at order 2 it carries
     the ``O(mu)`` corrections (the transform's ``mu u_1``, the second-order rates in
     ``g/lambda``, and ``a*`` from ``A_1 + mu A_2``), with an error ``O(mu^2)`` against the
-    true cycle's ``D <Z_v^2>``.
+    true cycle's ``D <Z_v^2>``.  Its own ``mu^2`` terms (from the exact inverse) are not the
+    true ones, and may be further off than order 1: van der Pol's ``<Z_v^2>`` is ``1/8 - 69
+    mu^2/512`` here, the true cycle's ``1/8 + 7 mu^2/256``; the missing ``mu^2`` terms are
+    those of the second-order transform (``u_2``: ``+40/512``; ``v``'s ``mu^2 (A_2 d_a + B_2
+    d_psi) u_0 + mu^2 (A_1 d_a + B_1 d_psi) u_1``: ``+44/512``) and ``a*``'s shift by ``A_3``
+    (``-1/512``; tests/test_spectrum_order2_vdp.py).
 
     Parameters
     ----------

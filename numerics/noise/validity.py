@@ -24,6 +24,11 @@ reference the run has, in this order:
    of the ensemble (a Monte Carlo statement);
 4. ``None`` with the source ``"none"``: no reference, said so rather than guessed.
 
+``kbm spectrum``'s order-2 line width adds ``"true cycle"`` (its error against the true
+cycle's phase response, where larger than the simulation's bound;
+:func:`numerics.spectrum.result.line_errors`): no averaged term states the size of its
+``O(mu^2)`` error.
+
 How close each estimate came to the true error is measured where it is used: the module
 docstrings of :mod:`numerics.thermal.averaged_error` and :mod:`numerics.spectrum.result`.
 
@@ -45,7 +50,8 @@ Z_FLAG = 4.0
 #: how the text output names each source of :func:`averaged_error`
 ERROR_SOURCES = {"fokker-planck": "against the Fokker-Planck solution",
                  "next order": "the next order's correction",
-                 "simulation": "|averaged - simulated| + 2 stderr"}
+                 "simulation": "|averaged - simulated| + 2 stderr",
+                 "true cycle": "against the true cycle's phase response"}
 
 
 def gap_z(entries: Mapping[str, Mapping]) -> tuple[dict, list[str]]:

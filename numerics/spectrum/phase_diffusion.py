@@ -28,6 +28,9 @@ At order 2 the line is also corrected by one power of ``mu``: the small-noise li
 transform (:func:`kbm.noise.phase_diffusion.phase_response`; error ``O(mu^2)`` against the true
 cycle's, :mod:`numerics.spectrum.floquet`) replaces Lax's ``D_eff`` as the scale of the
 stationary-density line: ``D_eff(order 2) = D_eff(quadrature) * D <Z_v^2>/D_eff(Lax)``.
+Right to ``O(mu)`` only: its ``mu^2`` terms are not the true ones (van der Pol: ``1/8 - 69
+mu^2/512`` against ``1/8 + 7 mu^2/256``, six times order 1's error), so the order-2 width
+states its error against the true cycle (:func:`numerics.spectrum.result.line_errors`).
 
 The spectrum of ``x`` is a sum of lines at ``k Omega``: a Lorentzian of half width
 ``k^2 D_eff`` carrying the coherent power ``<r_k>^2/2`` of harmonic ``k`` (``x = sum_k

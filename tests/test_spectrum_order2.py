@@ -108,7 +108,7 @@ def test_cli_order_2_json_keeps_every_key(capsys, monkeypatch):
         return real(model, params, **kw)
 
     monkeypatch.setattr(floquet, "phase_response", counted)
-    monkeypatch.setattr(result, "_TRUE", {})
+    result._true_cycle.cache_clear()
     argv = ["spectrum", "--rhs", CUBIC, "-p", "alpha=1", "-p", "mu=0.1", "-p", "D=0.01",
             "--no-simulation", "--json", "--floquet"]
     assert main(argv) == 0

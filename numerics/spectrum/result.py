@@ -34,6 +34,7 @@ from kbm.parameters.names import noise_intensity
 from .linewidth import fit_lorentzian
 from .phase_diffusion import LINEWIDTH_NEED, LineTheory, line_theory
 from .simulate import simulate_line
+from .._memo import memo
 from ..noise.validity import Z_FLAG, averaged_error, gap_z, validity_entry
 
 if TYPE_CHECKING:
@@ -237,32 +238,29 @@ def next_line(model, params: dict, D: float, order: int) -> LineTheory | None:
         return None
 
 
-#: the true cycle's phase response per model and parameters (a sweep in D reuses it)
-_TRUE: dict = {}
-
-
 def true_cycle(model, params: dict, *, required: bool = True) -> PhaseResponse | None:
     """The phase response of the true cycle (:func:`numerics.spectrum.floquet.phase_response`,
-    exact in ``mu``), computed once per model and parameters.
+    exact in ``mu``), computed once per model and parameters (:func:`numerics._memo.memo`: a
+    sweep in ``D`` reuses it).
 
     ``required=False`` (the order-2 line's expected error, :func:`line_errors`, when
     ``--floquet`` was not asked for): ``None`` where no stable cycle is found instead of the
     error."""
     from kbm.errors import KBMError
 
+    try:
+        return _true_cycle(model, tuple(sorted(params.items())))
+    except (KBMError, ArithmeticError, ValueError):
+        if required:
+            raise
+        return None
+
+
+@memo(maxsize=8)
+def _true_cycle(model, params: tuple) -> PhaseResponse:
     from .floquet import phase_response
 
-    key = (model if isinstance(model, str) else (model.name, str(model.F),
-                                                 str(model.omega0)),
-           tuple(sorted((k, str(v)) for k, v in params.items())))
-    if key not in _TRUE:
-        try:
-            _TRUE[key] = phase_response(model, params)
-        except (KBMError, ArithmeticError, ValueError):
-            if required:
-                raise
-            return None
-    return _TRUE[key]
+    return phase_response(model, dict(params))
 
 
 def line_errors(rep: dict, nxt: LineTheory | None = None,

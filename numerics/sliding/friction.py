@@ -50,7 +50,9 @@ block after block until its steady state has been seen long enough, then measure
    stage-attached SEDF's self-excitation multiplies by ``exp(2 mu/(3 v sqrt(beta)))`` each
    time the stage passes the stuck slider); if not, it is steady only when its mean force
    is within ``steady_tol`` of the first run's.  The note gives the first run's mean force
-   and wells per slip.
+   and wells per slip, and for a stage-attached SEDF whose rounding :data:`ROUNDING` times
+   that gain exceeds :data:`UNRESOLVED` wells, that its motion is not resolved in double
+   precision (:func:`_unresolved`).
 
 **Measures** over the window: the mean spring force ``F_bar = Delta J/Delta t`` (the
 kinetic friction; ``J`` the spring's impulse, integrated), its standard deviation, the
@@ -103,6 +105,12 @@ MAX_SAMPLES_PER_WELL = 500_000
 #: times smaller (criterion 6), down to MIN_TOL (the smallest the driven slider takes)
 TIGHTER = 100
 MIN_TOL = 1e-14
+#: double precision's rounding, relative (the least error of any run of the compiled slider)
+ROUNDING = 2.0**-52
+#: the stage-attached SEDF's rounding, amplified by ``exp(2 mu/(3 v sqrt(beta)))`` each time
+#: the stage passes the stuck slider, above this many ``lam``: irregular slips at both
+#: tolerances may be rounding error (criterion 6)
+UNRESOLVED = 1e-3
 
 
 def friction_point(model: str, params: Mapping[str, object], *,
@@ -195,10 +203,30 @@ def _irregular(system: DrivenSystem, s: FrictionSettings, base: dict,
     if agree:
         return _add_note(tight, f"{said}; {where}, they do not repeat either (irregular "
                                 f"stick-slip): mean force {F2:.6g}, within {s.steady_tol:g} of "
-                                "the first")
+                                f"the first{_unresolved(system)}")
     return _add_note(replace(tight, steady=False),
                      f"{said}; not steady: {where}, the {tight.regime} has mean force "
-                     f"{F2:.6g} (tolerance {s.steady_tol:g})")
+                     f"{F2:.6g} (tolerance {s.steady_tol:g}){_unresolved(system)}")
+
+
+def _unresolved(system: DrivenSystem) -> str:
+    """For the stage-attached SEDF whose rounding, amplified by its self-excitation each
+    time the stage passes the stuck slider, exceeds :data:`UNRESOLVED` wells: why its
+    irregular slips may be rounding error (its slips land the slider near ``2/sqrt(beta)``
+    ahead of the stage, where the damping until the stage arrives equals that gain, so the
+    exact in-well oscillation falls to about ``e^-G`` of its size at landing, below double
+    precision's rounding when ``G`` is large); otherwise nothing."""
+    p = system.params
+    if system.model != "sedf_comoving":
+        return ""
+    G = 2 * p["mu"] / (3 * system.v * math.sqrt(p["beta"]))
+    amplified = ROUNDING * math.exp(min(G, 700.0))
+    if amplified < UNRESOLVED:
+        return ""
+    return (f"; not resolved in double precision: the self-excitation multiplies the "
+            f"integration error, at least the rounding {ROUNDING:.2g}, by exp(2 mu/(3 v "
+            f"sqrt(beta))) = {math.exp(min(G, 700.0)):.2g} each time the stage passes the "
+            f"stuck slider ({amplified:.2g} lam): the irregular slips may be rounding error")
 
 
 def _add_note(pt: FrictionPoint, text: str) -> FrictionPoint:

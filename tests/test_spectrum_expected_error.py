@@ -69,23 +69,24 @@ def test_first_order_errors_of_the_cubic_stiffness_against_simulation():
 
 
 def test_second_order_without_a_simulation_states_the_true_cycles_error(capsys):
-    """Order 2 has no third order to compare with: without a simulation the line centre's
-    error is unknown, and said so (null, "none"), never guessed; the line width's is
-    measured against the true cycle's phase response (its O(mu^2) error is not the size of
-    any averaged term: tests/test_spectrum_order2_vdp.py), in the JSON and the text."""
+    """Order 2 has no third order to compare with: without a simulation the line width's
+    error is measured against the true cycle's phase response (its O(mu^2) error is not the
+    size of any averaged term: tests/test_spectrum_order2_vdp.py) and the line centre's
+    against the true cycle's frequency (the cycle's part; the series check is in
+    tests/test_spectrum_order2_frequency.py), in the JSON and the text."""
     rep = line_report("vdp", {"mu": 0.1}, 0.01, order=2, simulate=False)
     for key in ("linewidth", "frequency"):
         assert rep[key]["averaged_order"] == 2
-    assert rep["frequency"]["expected_error"] is None
-    assert rep["frequency"]["expected_error_source"] == "none"
-    assert rep["linewidth"]["expected_error_source"] == "true cycle"
+        assert rep[key]["expected_error_source"] == "true cycle"
+    # van der Pol's 17 mu^4/3072 (Andersen & Geer's series; order 2 stops at 1 - mu^2/16)
+    assert abs(rep["frequency"]["expected_error"] / (17e-4 / 3072) - 1) < 0.01
     assert 0.01 * rep["linewidth"]["averaged"] < rep["linewidth"]["expected_error"] \
         < 0.02 * rep["linewidth"]["averaged"]  # van der Pol's -1.3 % at mu = 0.1
     assert main(["spectrum", "vdp", "-p", "mu=0.1", "-p", "D=0.01", "--order", "2",
                  "--no-simulation"]) == 0
     line = [ln for ln in capsys.readouterr().out.splitlines() if "expected error" in ln]
     assert line[0].strip().startswith("expected error of the averaged values (order 2): HWHM")
-    assert line[0].endswith("(against the true cycle's phase response)")
+    assert line[0].endswith("Omega +- 5.5e-07 (against the true cycle's phase response)")
 
 
 def test_transcendental_force_skips_the_second_order():

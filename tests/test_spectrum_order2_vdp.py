@@ -106,14 +106,15 @@ def test_order_2_stated_error_covers_the_true_error(m):
     """``--order 2 --no-simulation``: the line width states its error against the true cycle
     (before: null), and it is the true error, the averaged line with the closed-form phase
     response in place of its own, within 1 % (measured 1.0005 and 1.004); at mu = 0.3 it is
-    the 10.7 % by which order 2 is too narrow.  The frequency keeps "none"."""
+    the 10.7 % by which order 2 is too narrow.  The frequency states its error against the
+    true cycle's frequency too (tests/test_spectrum_order2_frequency.py)."""
     D = 1e-3 * m
     rep = line_report("vdp", {"mu": m}, D, order=2, simulate=False)
     lw = rep["linewidth"]
     assert lw["expected_error_source"] == "true cycle"
     true = abs(lw["averaged"]) * abs(1 - D * _closed_form(m) / lw["small_noise"])
     assert lw["expected_error"] == pytest.approx(true, rel=0.01)
-    assert rep["frequency"]["expected_error_source"] == "none"
+    assert rep["frequency"]["expected_error_source"] == "true cycle"
 
 
 @pytest.mark.slow

@@ -24,10 +24,10 @@ reference the run has, in this order:
    of the ensemble (a Monte Carlo statement);
 4. ``None`` with the source ``"none"``: no reference, said so rather than guessed.
 
-``kbm spectrum``'s order-2 line width adds ``"true cycle"`` (its error against the true
-cycle's phase response, where larger than the simulation's bound;
-:func:`numerics.spectrum.result.line_errors`): no averaged term states the size of its
-``O(mu^2)`` error.
+``kbm spectrum``'s order-2 line width and line centre add ``"true cycle"`` (the error of
+their small-noise part against the true cycle's phase response and frequency, where larger
+than the simulation's bound; :func:`numerics.spectrum.result.line_errors`): no averaged
+term states the size of their next-order error.
 
 How close each estimate came to the true error is measured where it is used: the module
 docstrings of :mod:`numerics.thermal.averaged_error` and :mod:`numerics.spectrum.result`.

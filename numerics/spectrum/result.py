@@ -13,8 +13,9 @@ depend on:
   and the flag ``|z| > 4`` (:func:`line_validity`, as ``kbm noise``);
 - ``linewidth`` and ``frequency`` each also hold ``averaged_order`` and the averaged
   number's expected error, ``expected_error`` and ``expected_error_source``
-  (:func:`line_errors`; at order 2 the line width's against the true cycle's phase
-  response, :func:`true_cycle`, computed for it when ``--floquet`` was not asked for).
+  (:func:`line_errors`; at order 2 the line width's and the line centre's against the
+  true cycle's phase response and frequency, :func:`true_cycle`, computed for them when
+  ``--floquet`` was not asked for).
 
 :func:`write_figures` draws the PSD (averaged over the simulated band) and the linewidth
 against ``D`` (matplotlib imported there only).
@@ -115,12 +116,13 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
         rep["linewidth"]["floquet"] = pr.linewidth(D)
         rep["frequency"]["floquet"] = pr.frequency
     true_small = None if pr is None else pr.linewidth(D)
+    true_freq = None if pr is None else pr.frequency
     if not simulate:
         omega = np.linspace(*window, 401)
         rep["psd"] = {"omega": omega.tolist(), "averaged": th.psd(omega).tolist(),
                       "simulated": None, "lower": None, "upper": None}
         rep["validity"] = line_validity(rep, nxt is not None)
-        return line_errors(rep, nxt, true_small)
+        return line_errors(rep, nxt, true_small, true_freq)
     sim = simulate_line(model, {k: v for k, v in params.items()}, D,
                         trajectories=trajectories, duration=float(duration),
                         burn_in=10.0 / th.relaxation, window=window, resolution=resolution,
@@ -143,7 +145,7 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
                          "burn_in": sim.burn_in, "dt": sim.dt, "sample": sim.sample,
                          "seed": sim.seed, "resolution": p.resolution}
     rep["validity"] = line_validity(rep, nxt is not None)
-    return line_errors(rep, nxt, true_small)
+    return line_errors(rep, nxt, true_small, true_freq)
 
 
 #: the names of the compared quantities in the advice
@@ -264,7 +266,7 @@ def _true_cycle(model, params: tuple) -> PhaseResponse:
 
 
 def line_errors(rep: dict, nxt: LineTheory | None = None,
-                true_small: float | None = None) -> dict:
+                true_small: float | None = None, true_freq: float | None = None) -> dict:
     """``rep`` (a :func:`line_report`) with ``expected_error`` and
     ``expected_error_source`` in ``linewidth`` and ``frequency``: the rule of
     :func:`numerics.noise.validity.averaged_error` (as ``kbm noise``'s moments), with
@@ -272,7 +274,8 @@ def line_errors(rep: dict, nxt: LineTheory | None = None,
     - ``"next order"``: at order 1 where :func:`next_line` applies, ``|X_2 - X_1|``;
     - ``"simulation"``: otherwise ``|averaged - simulated| + 2 stderr``, the simulated
       frequency less the scheme's ``step_bias`` (as :func:`line_validity`);
-    - ``None`` with ``"none"``: at order 2 without a simulation (``--no-simulation``).
+    - ``None`` with ``"none"``: at order 2 without a simulation (``--no-simulation``) nor
+      a true cycle.
 
     How good the "next order" is, stated/true (tests/test_spectrum_expected_error.py):
 
@@ -298,18 +301,32 @@ def line_errors(rep: dict, nxt: LineTheory | None = None,
     one, unless the simulation's bound is larger (the small-noise part's error: the
     stationary density's finite-``D/mu`` widening has its own, which only a simulation
     measures).
+
+    The order-2 line centre likewise: with ``true_freq``, the true cycle's frequency, it
+    states ``"true cycle"``: ``|frequency.cycle - true_freq|``, the error of the averaged
+    cycle's frequency ``omega0 + B(a*)`` (the small-noise part of ``Omega = omega0 +
+    <B>``), unless the simulation's bound is larger.  The noise-induced shift ``<B> -
+    B(a*)`` has an error of its own that only a simulation measures (van der Pol: the true
+    cycle's frequency is ``1 - mu^2/16 + 17 mu^4/3072 + O(mu^6)``, order 2's ``1 -
+    mu^2/16``, so the stated error is ``17 mu^4/3072``, 5.5e-07 at mu = 0.1, while the shift
+    at D = 0.01 is -2.2e-04; tests/test_spectrum_order2_frequency.py).
     """
     entries = _compared(rep)
     values = {"linewidth": None, "frequency": None} if nxt is None else \
         {"linewidth": nxt.linewidth, "frequency": nxt.frequency}
+    second = nxt is None and rep.get("order", 1) >= 2
     for key, entry in entries.items():
         err, source = averaged_error(entry, None, values[key])
         small = entry.get("small_noise")
-        if key == "linewidth" and nxt is None and rep.get("order", 1) >= 2 \
-                and true_small is not None and small and math.isfinite(small):
+        cyc = None
+        if key == "linewidth" and second and true_small is not None and small \
+                and math.isfinite(small):
             cyc = abs(entry["averaged"]) * abs(1.0 - true_small / small)
-            if err is None or cyc > err:
-                err, source = cyc, "true cycle"
+        elif key == "frequency" and second and true_freq is not None \
+                and entry.get("cycle") is not None:
+            cyc = abs(entry["cycle"] - true_freq)
+        if cyc is not None and (err is None or cyc > err):
+            err, source = cyc, "true cycle"
         rep[key]["expected_error"], rep[key]["expected_error_source"] = err, source
     return rep
 

@@ -42,10 +42,13 @@ def test_order_2_line_centre_states_the_true_error(m):
     """``--order 2 --no-simulation``: the line centre's stated error (was null, "none") is
     its true error ``|averaged - series|`` within 1 % (17 mu^4/3072 = 5.5e-07, 8.9e-06,
     4.5e-05), and it is the error of the cycle's frequency ``frequency.cycle`` exactly as
-    the series states it (within its ``O(mu^8)`` remainder)."""
+    the series states it (within its ``O(mu^8)`` remainder), plus the noise-induced shift
+    counted whole (about -7 mu D/32: 0.4 % of it at D/mu = 1e-6)."""
     rep = line_report("vdp", {"mu": m}, 1e-6 * m, order=2, simulate=False)
     fr = rep["frequency"]
     assert fr["expected_error_source"] == "true cycle"
     true_error = abs(fr["averaged"] - _series(m))
     assert abs(fr["expected_error"] / true_error - 1) < 0.01, (fr, true_error)
-    assert abs(fr["expected_error"] - abs(fr["cycle"] - _series(m))) < 2e-4 * m**8
+    # the cycle's part plus the whole (here negligible) noise-induced shift
+    stated = abs(fr["cycle"] - _series(m)) + abs(fr["averaged"] - fr["cycle"])
+    assert abs(fr["expected_error"] - stated) < 2e-4 * m**8

@@ -92,8 +92,8 @@ def test_second_order_without_a_simulation_states_the_true_cycles_error(capsys):
                  "--no-simulation"]) == 0
     line = [ln for ln in capsys.readouterr().out.splitlines() if "expected error" in ln]
     assert line[0].strip().startswith("expected error of the averaged values (order 2): HWHM")
-    assert line[0].endswith("Omega +- 0.00022 (against the true cycle, plus the noise-induced "
-                            "part)")
+    assert line[0].endswith("Omega +- 0.00022 (against the true cycle; without a simulation "
+                            "plus the noise-induced part)")
 
 
 def test_transcendental_force_skips_the_second_order():

@@ -25,8 +25,8 @@ reference the run has, in this order:
 4. ``None`` with the source ``"none"``: no reference, said so rather than guessed.
 
 ``kbm spectrum``'s order-2 line width and line centre add ``"true cycle"`` (the error of
-their small-noise part against the true cycle's phase response and frequency, plus the whole
-noise-induced part, where larger than the simulation's bound; :func:`numerics.spectrum.result.line_errors`): no averaged
+their small-noise part against the true cycle's phase response and frequency, where larger
+than the simulation's bound; without a simulation plus the whole noise-induced part; :func:`numerics.spectrum.result.line_errors`): no averaged
 term states the size of their next-order error.
 
 How close each estimate came to the true error is measured where it is used: the module
@@ -51,7 +51,8 @@ Z_FLAG = 4.0
 ERROR_SOURCES = {"fokker-planck": "against the Fokker-Planck solution",
                  "next order": "the next order's correction",
                  "simulation": "|averaged - simulated| + 2 stderr",
-                 "true cycle": "against the true cycle, plus the noise-induced part"}
+                 "true cycle": "against the true cycle; without a simulation plus the "
+                               "noise-induced part"}
 
 
 def gap_z(entries: Mapping[str, Mapping]) -> tuple[dict, list[str]]:

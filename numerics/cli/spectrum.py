@@ -208,8 +208,10 @@ def _print(rep: dict, reports: list[dict]) -> None:
         print(f"  true cycle (adjoint Floquet, first order in D): HWHM = {lw['floquet']:.6g}, "
               f"Omega = {rep['frequency']['floquet']:.8g}")
     if lw.get("fit") is not None:
+        src = lw.get("fit_stderr_source") or ""
         print(f"  Lorentzian fit to the simulated PSD: HWHM = {lw['fit']:.4g} +- "
-              f"{lw['fit_stderr']:.2g}")
+              f"{lw['fit_stderr']:.2g}"
+              + ("" if src.startswith("jackknife") else f" (standard error by {src})"))
     if rep["frequency"].get("step_bias"):
         print(f"  the scheme's frequency bias omega0 (omega0 dt)^2/6 = "
               f"{rep['frequency']['step_bias']:.2g} (removed from the simulated Omega in "

@@ -81,6 +81,10 @@ class LorentzianFit:
     hwhm, hwhm_stderr, centre, power, background : float
     success : bool
     message : str
+    stderr_source : str
+        How ``hwhm_stderr`` was found: the jackknife over trajectories, or the least-squares
+        covariance and why (fewer than :data:`JACKKNIFE_MIN` trajectories, or a refit of the
+        jackknife failed); that covariance takes the correlated Welch bins as independent.
     """
 
     hwhm: float
@@ -90,6 +94,14 @@ class LorentzianFit:
     background: float
     success: bool = True
     message: str = ""
+    stderr_source: str = ""
+
+
+#: the trajectories below which the fit's standard error is the least-squares one
+JACKKNIFE_MIN = 8
+#: what the least-squares standard error leaves out
+_LEAST_SQUARES = ("least squares, which takes the correlated Welch bins as independent "
+                  "(about 1.5 times too small)")
 
 
 def fit_lorentzian(psd: PSD, centre: float, hwhm: float, *, span: float = 8.0
@@ -123,20 +135,27 @@ def fit_lorentzian(psd: PSD, centre: float, hwhm: float, *, span: float = 8.0
     except (RuntimeError, ValueError) as exc:
         return LorentzianFit(math.nan, math.nan, centre, math.nan, math.nan, False, str(exc))
     se = math.sqrt(pcov[1, 1]) if np.all(np.isfinite(pcov)) else math.nan
-    if psd.rows is not None and len(psd.rows) >= 8:
-        se = _jackknife_hwhm(psd.rows[:, sel], w, err, model, popt, se)
+    n = 0 if psd.rows is None else len(psd.rows)
+    source = (f"{_LEAST_SQUARES}: {n} trajectories, the jackknife needs {JACKKNIFE_MIN}"
+              if n < JACKKNIFE_MIN else "jackknife over trajectories")
+    if n >= JACKKNIFE_MIN:
+        jack = _jackknife_hwhm(psd.rows[:, sel], w, err, model, popt)
+        if isinstance(jack, str):
+            source = f"{_LEAST_SQUARES}: {jack}"
+        else:
+            se = jack
     return LorentzianFit(abs(float(popt[1])), float(se), float(popt[0]), float(popt[2]),
-                         float(popt[3]))
+                         float(popt[3]), stderr_source=source)
 
 
-def _jackknife_hwhm(rows, w, err, model, popt, fallback: float) -> float:
+def _jackknife_hwhm(rows, w, err, model, popt) -> float | str:
     """The delete-one jackknife standard error of the fitted half width over the
     trajectories (``rows``, trajectories x bins): the fit refitted to the mean of every
     ``N - 1`` of them, weighted by their own standard errors (the weights vary with the
     data as the estimate's do).  Neighbouring Welch bins are correlated (Hann: ``4/9`` one bin
     apart, half overlap adds more), which the least-squares covariance, taking the bins as
     independent, leaves out: it understated the scatter of the half width about 1.5 times
-    (a phase-diffusion line, 40 ensembles).  ``fallback`` where a refit fails."""
+    (a phase-diffusion line, 40 ensembles).  Where a refit fails, what failed (a string)."""
     from scipy.optimize import curve_fit
 
     n = len(rows)
@@ -150,7 +169,7 @@ def _jackknife_hwhm(rows, w, err, model, popt, fallback: float) -> float:
             pj, _ = curve_fit(model, w, mean, p0=popt,
                               sigma=np.where(se > 0, se, err), absolute_sigma=True,
                               maxfev=20000)
-        except (RuntimeError, ValueError):
-            return fallback
+        except (RuntimeError, ValueError) as exc:
+            return f"the jackknife's refit without trajectory {j} failed ({exc})"
         widths[j] = abs(pj[1])
     return float(math.sqrt((n - 1) / n * np.sum((widths - widths.mean()) ** 2)))

@@ -106,6 +106,7 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
            "params": {k: float(v) for k, v in params.items()}, "D": float(D),
            "linewidth": {"averaged": G, "simulated": None, "stderr": None,
                          "linearised": th.linewidth_linear, "fit": None, "fit_stderr": None,
+                         "fit_stderr_source": None,
                          "averaged_order": order, "small_noise": th.small_noise},
            "frequency": {"averaged": th.frequency, "simulated": None, "stderr": None,
                          "linearised": th.frequency_linear, "cycle": th.frequency_cycle,
@@ -131,7 +132,8 @@ def line_report(model, params: dict, D: float, *, order: int = 1,
     fit = fit_lorentzian(sim.psd, sim.frequency.value, G)
     rep["linewidth"].update(simulated=sim.linewidth.value, stderr=sim.linewidth.stderr,
                             fit=fit.hwhm if fit.success else None,
-                            fit_stderr=fit.hwhm_stderr if fit.success else None)
+                            fit_stderr=fit.hwhm_stderr if fit.success else None,
+                            fit_stderr_source=fit.stderr_source if fit.success else None)
     rep["frequency"].update(simulated=sim.frequency.value, stderr=sim.frequency.stderr,
                             step_bias=sim.step_bias)
     p = sim.psd

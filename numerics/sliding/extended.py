@@ -188,8 +188,24 @@ def section(system: DrivenSystem) -> float | None:
 def stick_slip_cycles(system: DrivenSystem, dt: float, v_stick: float, cycles: int = CYCLES,
                       max_steps: int = MAX_STEPS) -> Cycles | str:
     """``cycles`` consecutive cycles between ``cycles + 1`` crossings of the section (the
-    module docstring), sampled at the multiples of ``dt``; or why not (more than
-    ``max_steps`` Taylor steps, or no section)."""
+    module docstring), sampled at the multiples of ``dt``; or why not.
+
+    Parameters
+    ----------
+    system
+        A ``sedf_comoving`` slider (:func:`~numerics.sliding.driven.driven_system`).
+    dt
+        The samples' spacing (the friction point's, a whole fraction of ``lam/v``).
+    v_stick
+        ``|x'|`` below it at a crossing: stuck (criterion 2).
+    cycles, max_steps
+        The cycles integrated; the most Taylor steps (:data:`MAX_STEPS`).
+
+    Returns
+    -------
+    Cycles or str
+        The cycles, or why there are none: no section (:func:`section`), or more than
+        ``max_steps`` steps."""
     sc = section(system)
     if sc is None:
         return "the slider does not stick beyond the self-excited zone |s| < 1/sqrt(beta)"
@@ -241,7 +257,22 @@ def extended_point(system: DrivenSystem, s: FrictionSettings, base: dict, dt: fl
     The window runs from the first section to the last; the mean force, dissipation and
     power balance are those of the sections' long-double integrals, the stuck intervals
     (criterion 2, :func:`~numerics.sliding.window._stick_phases`), static and peak force and
-    the force's fluctuation those of the samples at the multiples of ``dt``."""
+    the force's fluctuation those of the samples at the multiples of ``dt``.
+
+    Parameters
+    ----------
+    system, s, base
+        The slider, the criterion, the point's fixed fields (``model, params, eta,
+        static_quasistatic``).
+    dt, v_stick, min_stuck
+        The samples' spacing, the stick velocity and the fewest samples of a stuck interval
+        (criterion 2 of :mod:`numerics.sliding.friction`).
+
+    Returns
+    -------
+    FrictionPoint or str
+        The stick-slip point (steady when the cycles repeat, criterion 4; its note says
+        how they compare), or why it was not measured (:func:`stick_slip_cycles`)."""
     cyc = stick_slip_cycles(system, dt, v_stick)
     if isinstance(cyc, str):
         return cyc
@@ -323,7 +354,24 @@ def beyond_double(system: DrivenSystem, s: FrictionSettings, base: dict, pt: Fri
 
     Its slips land the slider near ``2/sqrt(beta)`` ahead of the stage, where the damping
     until the stage arrives equals that gain, so the exact in-well oscillation falls to
-    about ``e^-G`` of its size at landing, below the rounding when ``G`` is large."""
+    about ``e^-G`` of its size at landing, below the rounding when ``G`` is large.
+
+    Parameters
+    ----------
+    system, s, base
+        The slider, the criterion, the point's fixed fields.
+    pt
+        The point as criterion 6 measured it in double precision (its note written).
+    said
+        What the two compiled runs showed, the start of the note of a point measured here.
+    dt, v_stick, min_stuck
+        As for :func:`extended_point`.
+
+    Returns
+    -------
+    FrictionPoint
+        ``pt`` itself (another slider, or ``G`` small), ``pt`` with the reason it is not
+        resolved appended to its note, or the point in long double."""
     G = gain(system)
     if G is None or ROUNDING * math.exp(min(G, 700.0)) < UNRESOLVED:
         return pt

@@ -12,7 +12,9 @@
 - :mod:`numerics.sliding.friction`: the steady sliding state of one parameter set and
   its friction measures (:func:`friction_point`), friction laws over the stage velocity
   (:func:`friction_law`); the window's measures in :mod:`numerics.sliding.window`, the
-  settings and the point in :mod:`numerics.sliding.friction_records`;
+  settings and the point in :mod:`numerics.sliding.friction_records`; the stage-attached
+  SEDF's stick-slip cycle in long double, where double precision cannot resolve it, in
+  :mod:`numerics.sliding.extended`;
 - :mod:`numerics.sliding.maps`: friction maps over two parameters on any executor
   (:func:`friction_map`), SEDF against CDC;
 - :mod:`numerics.sliding.chain_friction`: the friction laws of pulled chains of sliders

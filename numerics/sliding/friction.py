@@ -52,7 +52,9 @@ block after block until its steady state has been seen long enough, then measure
    is within ``steady_tol`` of the first run's.  The note gives the first run's mean force
    and wells per slip, and for a stage-attached SEDF whose rounding :data:`ROUNDING` times
    that gain exceeds :data:`UNRESOLVED` wells, that its motion is not resolved in double
-   precision (:func:`_unresolved`).
+   precision; such a point is measured in long double instead, over two consecutive
+   stick-slip cycles (:func:`numerics.sliding.extended.beyond_double`), where long
+   double's rounding times the gain stays below :data:`UNRESOLVED`.
 
 **Measures** over the window: the mean spring force ``F_bar = Delta J/Delta t`` (the
 kinetic friction; ``J`` the spring's impulse, integrated), its standard deviation, the
@@ -89,12 +91,13 @@ from dataclasses import replace
 from kbm.errors import KBMError, ParameterError
 
 from numerics.sliding.driven import DrivenSystem, driven_system
+from numerics.sliding.extended import ROUNDING, UNRESOLVED, beyond_double
 from numerics.sliding.friction_records import (FrictionPoint, FrictionSettings, eta,
                                                _static_quasistatic)
 from numerics.sliding.window import (_TRANSLATION_INVARIANT, _Run, _settling, _slip_pattern,
                                      _sliding, _stick_phases, _stick_slip)
 
-__all__ = ["friction_point", "V_RANGE"]
+__all__ = ["friction_point", "V_RANGE", "ROUNDING", "UNRESOLVED"]
 
 #: the stage velocities measured, in units of Omega lam (the samples and the run lengths stay
 #: bounded: at most ~2 million samples, 30000 natural periods)
@@ -105,12 +108,6 @@ MAX_SAMPLES_PER_WELL = 500_000
 #: times smaller (criterion 6), down to MIN_TOL (the smallest the driven slider takes)
 TIGHTER = 100
 MIN_TOL = 1e-14
-#: double precision's rounding, relative (the least error of any run of the compiled slider)
-ROUNDING = 2.0**-52
-#: the stage-attached SEDF's rounding, amplified by ``exp(2 mu/(3 v sqrt(beta)))`` each time
-#: the stage passes the stuck slider, above this many ``lam``: irregular slips at both
-#: tolerances may be rounding error (criterion 6)
-UNRESOLVED = 1e-3
 
 
 def friction_point(model: str, params: Mapping[str, object], *,
@@ -174,7 +171,9 @@ def _irregular(system: DrivenSystem, s: FrictionSettings, base: dict,
     pattern that repeats there was integration error (the stage-attached SEDF amplifies it
     by ``exp(2 mu/(3 v sqrt(beta)))`` each time the stage passes the slider): the tighter
     point is reported.  Irregular at both, the tighter point is steady only if its mean
-    force agrees with the first within ``steady_tol``; the note gives both."""
+    force agrees with the first within ``steady_tol``; the note gives both.  Where double
+    precision's rounding times that gain is too large, the cycle measured in long double
+    instead (:func:`numerics.sliding.extended.beyond_double`)."""
     said = (f"the slips show no repeating pattern at rtol {system.rtol:g}, atol "
             f"{system.atol:g} (mean force {loose.mean_force:.6g}, "
             f"{loose.wells_per_slip:.3g} wells per slip over {loose.slips} slips)")
@@ -201,36 +200,37 @@ def _irregular(system: DrivenSystem, s: FrictionSettings, base: dict,
     agree = (tight.regime == "stick-slip"
              and abs(F1 - F2) <= s.steady_tol * max(abs(F1), abs(F2)))
     if agree:
-        return _add_note(tight, f"{said}; {where}, they do not repeat either (irregular "
-                                f"stick-slip): mean force {F2:.6g}, within {s.steady_tol:g} of "
-                                f"the first{_unresolved(system)}")
-    return _add_note(replace(tight, steady=False),
-                     f"{said}; not steady: {where}, the {tight.regime} has mean force "
-                     f"{F2:.6g} (tolerance {s.steady_tol:g}){_unresolved(system)}")
-
-
-def _unresolved(system: DrivenSystem) -> str:
-    """For the stage-attached SEDF whose rounding, amplified by its self-excitation each
-    time the stage passes the stuck slider, exceeds :data:`UNRESOLVED` wells: why its
-    irregular slips may be rounding error (its slips land the slider near ``2/sqrt(beta)``
-    ahead of the stage, where the damping until the stage arrives equals that gain, so the
-    exact in-well oscillation falls to about ``e^-G`` of its size at landing, below double
-    precision's rounding when ``G`` is large); otherwise nothing."""
-    p = system.params
-    if system.model != "sedf_comoving":
-        return ""
-    G = 2 * p["mu"] / (3 * system.v * math.sqrt(p["beta"]))
-    amplified = ROUNDING * math.exp(min(G, 700.0))
-    if amplified < UNRESOLVED:
-        return ""
-    return (f"; not resolved in double precision: the self-excitation multiplies the "
-            f"integration error, at least the rounding {ROUNDING:.2g}, by exp(2 mu/(3 v "
-            f"sqrt(beta))) = {math.exp(min(G, 700.0)):.2g} each time the stage passes the "
-            f"stuck slider ({amplified:.2g} lam): the irregular slips may be rounding error")
+        pt = _add_note(tight, f"{said}; {where}, they do not repeat either (irregular "
+                              f"stick-slip): mean force {F2:.6g}, within {s.steady_tol:g} of "
+                              "the first")
+    else:
+        pt = _add_note(replace(tight, steady=False),
+                       f"{said}; not steady: {where}, the {tight.regime} has mean force "
+                       f"{F2:.6g} (tolerance {s.steady_tol:g})")
+    _, _, dt, v_stick, min_stuck = _grid(system, s)
+    return beyond_double(system, s, base, pt, f"{said}; {where}, they do not repeat either "
+                         f"(the {tight.regime} has mean force {F2:.6g})", dt, v_stick, min_stuck)
 
 
 def _add_note(pt: FrictionPoint, text: str) -> FrictionPoint:
     return replace(pt, note=f"{pt.note}; {text}" if pt.note else text)
+
+
+def _grid(system: DrivenSystem, s: FrictionSettings) -> tuple[float, int, float, float, int]:
+    """The well's period ``t_fast``, the samples per stage period and their spacing ``dt``,
+    the stick velocity ``v_stick`` and the fewest samples of a stuck interval (criterion 2)."""
+    v, lam, Om = system.v, system.lam, system.omega
+    Tw = lam / v
+    t_fast = 2 * math.pi / math.sqrt(Om**2 + system.params.get("Delta", 0.0) * (2 * math.pi / lam))
+    per_well = max(1, math.ceil(Tw / (t_fast / s.samples_per_period)))
+    if per_well > MAX_SAMPLES_PER_WELL:
+        raise ParameterError(
+            f"one stage period lam/v = {Tw:.4g} holds {per_well} samples of the well's "
+            f"oscillation (period {t_fast:.3g}); the limit is {MAX_SAMPLES_PER_WELL}: raise v "
+            "or lower Delta")
+    dt = Tw / per_well
+    return (t_fast, per_well, dt, min(v / 2, 0.02 * Om * lam),
+            max(1, math.ceil(0.5 * (2 * math.pi / Om) / dt)))
 
 
 def _measure(system: DrivenSystem, s: FrictionSettings, base: dict, recentre: bool = False
@@ -240,17 +240,9 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict, recentre: bo
     moved back by whole wells (:class:`~numerics.sliding.window._Run`)."""
     p = system.params
     v, lam, Om, mu = system.v, system.lam, system.omega, p["mu"]
-    k = 2 * math.pi / lam
     Tn = 2 * math.pi / Om
     Tw = lam / v
-    t_fast = 2 * math.pi / math.sqrt(Om**2 + p.get("Delta", 0.0) * k)
-    per_well = max(1, math.ceil(Tw / (t_fast / s.samples_per_period)))
-    if per_well > MAX_SAMPLES_PER_WELL:
-        raise ParameterError(
-            f"one stage period lam/v = {Tw:.4g} holds {per_well} samples of the well's "
-            f"oscillation (period {t_fast:.3g}); the limit is {MAX_SAMPLES_PER_WELL}: raise v "
-            "or lower Delta")
-    dt = Tw / per_well
+    t_fast, per_well, dt, v_stick, min_stuck = _grid(system, s)
     block = max(1, math.ceil(50 * Tn / Tw))  # wells per block: >= 50 natural periods
     skip = math.ceil(max(s.transient_wells * Tw, s.transient_damping / mu) / Tw)
     longest = min(s.max_wells, math.ceil(s.max_periods * Tn / Tw))
@@ -261,8 +253,6 @@ def _measure(system: DrivenSystem, s: FrictionSettings, base: dict, recentre: bo
             f"({longest} stage periods lam/v = {longest * Tw:.4g}); raise mu, v or "
             "max_wells/max_periods")), True
     run = _Run(system, per_well, system.initial_state(), 0, t_fast, recentre)
-    v_stick = min(v / 2, 0.02 * Om * lam)
-    min_stuck = max(1, math.ceil(0.5 * Tn / dt))
     limits = (s.runaway_force * (p.get("Delta", 0.0) + Om**2 * lam + mu * v),
               s.runaway_damping * 2 * math.pi / t_fast)
     done = 0

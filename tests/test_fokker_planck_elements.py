@@ -7,6 +7,7 @@ Hermite x Chebyshev solver of ._stationary_orthonormal."""
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -14,10 +15,11 @@ from scipy.integrate import quad
 from scipy.special import erf
 
 from kbm.model.conservative import split_conservative
+from kbm.errors import ParameterError
 from numerics.fokker_planck import stationary_kramers
 from numerics.fokker_planck._elements import (ElementOperator, element_edges, element_nodes,
                                               gll)
-from numerics.fokker_planck._elements_solve import element_kramers
+from numerics.fokker_planck._elements_solve import ElementKramersSolution, element_kramers
 from numerics.fokker_planck._orthonormal import orthonormal_terms
 
 CDC = {"mu": 0.15, "Delta": 2, "lam": 1.3, "Omega": 1}
@@ -83,12 +85,13 @@ def test_linear_damping_is_boltzmann(mu, D, elements):
     Equation*, sec. 10.1), so ``<x^2>`` is the quadrature of ``x^2 exp(-G/kT)`` to 1e-9,
     ``<v^2> = kT`` and the mass below an energy is the quadrature of
     ``exp(-G/kT) erf(((E - G)/kT)^(1/2))`` over ``G < E``; at mu = 0.15 and at the low
-    friction mu = 0.01 (elements of degree 13, the velocity scale ``kT^(1/2)``)."""
+    friction mu = 0.01 (elements of degree 13 by ``stationary_kramers(elements=...)``,
+    whose velocity scale for a linear damping is ``kT^(1/2)``)."""
     params = dict(CDC, mu=mu)
     kT = D / mu
     G, Z, x2 = _boltzmann(params, kT)
-    sol = element_kramers("cdc", params, D, n_hermite=4, elements=elements, degree=13,
-                          sigma=math.sqrt(kT), well=False)
+    sol = stationary_kramers("cdc", params, D, n_hermite=4, elements=(elements, 13))
+    assert isinstance(sol, ElementKramersSolution) and math.isnan(sol.hermite_change)
     assert sol.x2 == pytest.approx(x2, rel=1e-9)
     assert sol.v2 == pytest.approx(kT, rel=1e-9)
     for E in (0.5, 2.0):
@@ -97,6 +100,18 @@ def test_linear_damping_is_boltzmann(mu, D, elements):
                     * erf(math.sqrt(max(E - float(G(x)), 0.0) / kT)), a, b,
                     epsabs=0.0, epsrel=1e-12, limit=200)[0] / Z
         assert sol.mass_below(E) == pytest.approx(mass, abs=1e-8)
+
+
+@pytest.mark.parametrize("elements, n_hermite, words", [
+    ((41, 11), 64, "even number"), ((40, 12), 64, "odd degree"), ((40, 11), None, "n_hermite"),
+    ("forty", 64, "(number of elements, degree)")])
+def test_elements_bad_sizes_say_what_to_change(elements, n_hermite, words):
+    """``stationary_kramers(elements=...)`` refuses sizes the element solve cannot use
+    (an odd number of elements, an even degree, no Hermite functions given) with a
+    ``ParameterError`` that names the fix."""
+    with pytest.raises(ParameterError, match=re.escape(words)):
+        stationary_kramers("sedf", dict(SEDF, mu=0.1), 0.05, n_hermite=n_hermite,
+                           elements=elements)
 
 
 def _element_pair(mu: float, coarse: tuple, fine: tuple):
@@ -143,9 +158,9 @@ def test_sedf_low_friction_agrees_with_the_chebyshev_ladder(mu, coarse, fine):
 def test_sedf_low_friction_against_the_reference_solve():
     """SEDF at rest, mu = 0.01, D = 0.005: ``<x^2>`` against 2.1574351299, the Hermite x
     Chebyshev solve of 364 functions on 1300 intervals (the present route's ladder gives
-    2.1574350902 and states 3.0e-7), within the element solve's own change (258 x 100
-    elements of degree 11 against 364 x 120) plus 1e-8."""
-    sol, change = _element_pair(0.01, (258, 100, 11), (364, 120, 11))
+    2.1574350902 and states 3.0e-7), within the element solve's own change (258 functions
+    on 100 elements of degree 13 against 364 on 120) plus 1e-8."""
+    sol, change = _element_pair(0.01, (258, 100, 13), (364, 120, 13))
     assert change <= 1e-6
     assert abs(sol.x2 - 2.1574351299) <= (change + 1e-8) * 2.1574351299
 
@@ -156,8 +171,9 @@ def test_sedf_lowest_friction_against_the_present_route():
     route's (``kbm noise sedf -p mu=0.005 -p Delta=3 -p beta=1 -p D=0.0025 --method
     fokker-planck --fp-budget 8.6e7``: 364 functions x 1627 points, <x^2> = 2.1430565722,
     <v^2> = 1.8635864626, stated 5.6e-7; 146 s CPU) within the sum of both stated
-    errors (the elements': 364 x 140 elements of degree 13 against 258 x 120)."""
-    sol, change = _element_pair(0.005, (258, 120, 13), (364, 140, 13))
+    errors (the elements': 364 functions on 120 elements of degree 13 against 440 on
+    140)."""
+    sol, change = _element_pair(0.005, (364, 120, 13), (440, 140, 13))
     bound = 5.6e-7 + change
     assert change <= 1e-6
     assert abs(sol.x2 - 2.1430565722) <= bound * 2.1430565722

@@ -18,7 +18,7 @@ from ._elements import ElementOperator, element_edges, element_nodes, gll
 from ._hermite_functions import hermite_integrals
 from ._stationary_solve import OrthonormalKramersSolution
 
-__all__ = ["ElementKramersSolution", "element_stationary", "element_kramers"]
+__all__ = ["ElementKramersSolution", "element_stationary", "element_kramers", "element_sizes"]
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -109,12 +109,7 @@ def element_stationary(split, D: float, s: float, half: float, nh: int, elements
     from ._orthonormal import orthonormal_terms
     from ._parity import reflection_symmetric
 
-    E, p = int(elements), int(degree)
-    if E < 2 or E % 2:
-        raise ValueError(f"elements = {E}: an even number >= 2 (x = 0 an interface node)")
-    if p < 3 or p % 2 == 0:
-        raise ValueError(f"degree = {p}: an odd number >= 3 (:mod:`._elements`: an even "
-                         "degree makes each element's interior derivative singular)")
+    E, p = element_sizes((elements, degree), nh)
     edges = element_edges(E, half, alpha, centres, widths, weight)
     x, W = element_nodes(edges, p)
     if fold is None:
@@ -171,15 +166,47 @@ def element_stationary(split, D: float, s: float, half: float, nh: int, elements
         degree=p, edges=tuple(map(float, edges)))
 
 
-def element_kramers(model, params: dict, D: float, *, n_hermite: int, elements: int,
+def element_sizes(elements, n_hermite) -> tuple[int, int]:
+    """``(E, p)`` from ``elements = (E, p)``, checked with ``n_hermite``.
+
+    Raises
+    ------
+    kbm.errors.ParameterError
+        Unless ``E`` is even and at least 2 (``x = 0`` an interface node), ``p`` odd and
+        at least 3 (:mod:`._elements`: an even degree makes each element's interior
+        derivative singular) and ``n_hermite`` at least 2."""
+    from kbm.errors import ParameterError
+
+    try:
+        E, p = (int(v) for v in elements)
+    except (TypeError, ValueError):
+        raise ParameterError(f"elements = {elements!r}: give (number of elements, "
+                             "degree), e.g. (100, 13)") from None
+    if E < 2 or E % 2:
+        raise ParameterError(f"elements: {E} elements; give an even number >= 2 (x = 0 "
+                             "is then an interface node)")
+    if p < 3 or p % 2 == 0:
+        raise ParameterError(f"elements: degree {p}; give an odd degree >= 3 (an even one "
+                             "makes each element's interior derivative singular)")
+    if n_hermite is None or int(n_hermite) < 2:
+        raise ParameterError(f"n_hermite = {n_hermite}: the element solve needs the number "
+                             "of Hermite functions (>= 2), e.g. n_hermite=258")
+    return E, p
+
+
+def element_kramers(model, params: dict | None, D: float, *, n_hermite: int, elements: int,
                     degree: int, sigma: float | None = None, L: float | None = None,
-                    well: bool = True, **kw) -> ElementKramersSolution:
+                    well: bool = True, omega0: float | None = None,
+                    **kw) -> ElementKramersSolution:
     """:func:`element_stationary` of a model at rest with the range ``L``
     (:func:`._model._half_width`), the velocity scale and the centres of the points of
     :func:`._stationary_points.stationary_points` (from the pilot solve of
     :func:`._stationary_orthonormal.stationary_orthonormal`, 32 functions; with ``well``
     the deepest well's centre too, as the ladder's last rungs), unless ``sigma`` and ``L``
-    are given; ``kw`` go to :func:`element_stationary`."""
+    are given; ``model`` a name with its ``params``, or a split model
+    (:func:`kbm.model.conservative.split_conservative`) with ``params`` ``None``;
+    ``omega0`` by default the model's (else ``g'(0)^(1/2)``); ``kw`` go to
+    :func:`element_stationary`."""
     import sympy as sp
 
     from kbm.model.conservative import split_conservative
@@ -188,16 +215,21 @@ def element_kramers(model, params: dict, D: float, *, n_hermite: int, elements: 
     from ._stationary_points import ALPHA, stationary_points
     from ._stationary_solve import orthonormal_stationary
 
-    split = split_conservative(model, {k: v for k, v in dict(params).items() if k != "D"})
+    split = model if params is None else split_conservative(
+        model, {k: v for k, v in dict(params).items() if k != "D"})
     mu = float(split.mu)
     G = split.numpy_functions()[2]
-    w0 = sp.sympify(split.model.omega0).subs({sp.Symbol(k): v for k, v in split.params.items()})
-    omega0 = float(w0) if w0.is_number else math.sqrt(float(split.numpy_functions()[1](
-        np.array(0.0))))
+    if omega0 is None:
+        w0 = sp.sympify(split.model.omega0).subs({sp.Symbol(k): v
+                                                  for k, v in split.params.items()})
+        omega0 = float(w0) if w0.is_number else math.sqrt(float(split.numpy_functions()[1](
+            np.array(0.0))))
     half = _half_width(G, D / mu) if L is None else float(L)
-    nc = max(MIN_INTERVALS, 2 * math.ceil(_chebyshev_size(G, D / mu, half) / 4))
-    pilot = orthonormal_stationary(split, D, math.sqrt(D / mu), half, FIRST_HERMITE, nc, G,
-                                   omega0, alpha=ALPHA)
-    s, points = stationary_points(split, D, G, half, pilot.v2, sigma, well=well)
+    v2 = math.nan  # the pilot's <v^2> sets the scale only when none is given
+    if sigma is None:
+        nc = max(MIN_INTERVALS, 2 * math.ceil(_chebyshev_size(G, D / mu, half) / 4))
+        v2 = orthonormal_stationary(split, D, math.sqrt(D / mu), half, FIRST_HERMITE, nc, G,
+                                    omega0, alpha=ALPHA).v2
+    s, points = stationary_points(split, D, G, half, v2, sigma, well=well)
     return element_stationary(split, D, s, half, n_hermite, elements, degree, G, omega0,
                               **points, **kw)

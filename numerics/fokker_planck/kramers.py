@@ -192,7 +192,8 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
     Raises
     ------
     kbm.errors.ParameterError
-        ``D <= 0`` or ``mu <= 0``.
+        ``D <= 0`` or ``mu <= 0``; ``elements`` the element solve cannot use (an odd
+        number of elements, an even degree) or without ``n_hermite``.
     kbm.errors.ModelError
         A driven or non-confining model, or a damping not polynomial in ``x'``.
     """

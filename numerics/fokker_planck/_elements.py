@@ -251,8 +251,8 @@ class ElementOperator:
         G, b, q, N = self.G, self.b, self.q, self.N
         Ep, R = y.shape[1], y.shape[-1]
         # sum over each element's interior points first (a q-th of the numbers), then H_D
-        z = np.einsum("si,geriz->egrsz", self._rows, y.reshape(G, Ep, b, q, R),
-                      optimize=True).reshape(Ep, G * b, 2, R)[:, :N]
+        z = np.matmul(self._rows, y.reshape(G, Ep, b, q, R))  # (G, E', b, 2, R)
+        z = z.transpose(1, 0, 2, 3, 4).reshape(Ep, G * b, 2, R)[:, :N]
         out = np.zeros((Ep, N, 2, R))
         for d, v in self._hd_diagonals:  # (H_D z)[n] = sum_d H_D[n, n + d] z[n + d]
             if d >= 0:

@@ -19,7 +19,10 @@ points chosen by :mod:`._stationary_points` and folded by :mod:`._parity` when t
 symmetric under ``(x, v) -> (-x, -v)``, its ladder's last step in :mod:`._stationary_climb`;
 :mod:`._hermite_functions` holds those functions' values and integrals,
 :mod:`._energy_density` the density of the energy ``P(E)`` of a stationary solution with its
-stated error (its quadrature in :mod:`._energy_quadrature`)."""
+stated error (its quadrature in :mod:`._energy_quadrature`).  A second discretisation of the
+stationary solve in ``x``, spectral elements factorised by static condensation
+(:mod:`._elements`, :mod:`._elements_lu`, one solve in :mod:`._elements_solve`), is reached
+by ``stationary_kramers(elements=(E, p), n_hermite=N)`` at given sizes (no ladder yet)."""
 
 from .escape import KramersEscape, kramers_escape
 from .kramers import kramers_operator, stationary_kramers

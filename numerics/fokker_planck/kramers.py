@@ -113,7 +113,8 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
                        L: float | None = None, omega0: float | None = None,
                        tol: float = 1e-8, max_cost: float = 2e7,
                        basis: str | None = None, workers: int | None = None,
-                       refine_ahead: bool = False) -> KramersSolution:
+                       refine_ahead: bool = False,
+                       elements: tuple[int, int] | None = None) -> KramersSolution:
     """The stationary solution of the Kramers equation.
 
     Parameters
@@ -176,6 +177,13 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         ``P(E)`` will be wanted (:func:`._energy_density.energy_density_report`): the
         orthonormal ladder may start its grid step early, in its second process (the same
         bits; the solution's ``refine`` hands it on).
+    elements : (int, int), optional
+        ``(E, p)``: instead, one solve on ``E`` spectral elements of the odd degree ``p``
+        in the position (:mod:`._elements`, :func:`._elements_solve.element_stationary`)
+        times ``n_hermite`` orthonormal Hermite functions (required), with the scale,
+        range and element centres of the orthonormal ladder's first steps (``sigma^2 =
+        kT`` for linear damping); no ladder: its ``hermite_change`` is ``nan`` (no stated
+        error) and its ``P(E)`` is not available.  Default ``None``: the routes above.
 
     Returns
     -------
@@ -184,7 +192,8 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
     Raises
     ------
     kbm.errors.ParameterError
-        ``D <= 0`` or ``mu <= 0``.
+        ``D <= 0`` or ``mu <= 0``; ``elements`` the element solve cannot use (an odd
+        number of elements, an even degree) or without ``n_hermite``.
     kbm.errors.ModelError
         A driven or non-confining model, or a damping not polynomial in ``x'``.
     """
@@ -204,6 +213,13 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
     kT = _linear_temperature(terms, D)
     if basis not in (None, "orthonormal", "risken"):
         raise ParameterError(f"basis = {basis!r}: use 'orthonormal' or 'risken'")
+    if elements is not None:
+        from ._elements_solve import element_kramers, element_sizes
+
+        E, p = element_sizes(elements, n_hermite)
+        return element_kramers(split, None, D, n_hermite=int(n_hermite), elements=E, degree=p,
+                               sigma=math.sqrt(kT) if sigma is None and kT is not None
+                               else sigma, L=L, omega0=float(omega0), well=kT is None)
     if basis == "orthonormal" or (basis is None and kT is None):
         return stationary_orthonormal(split, D, G, float(omega0), n_hermite=n_hermite,
                                       n_cheb=n_cheb, sigma=sigma, L=L, tol=tol,

@@ -54,7 +54,7 @@ from kbm.errors import ModelError, ParameterError
 from kbm.noise.phase_diffusion import phase_diffusion
 from kbm.noise.stochastic import NOISE
 from kbm.parameters.names import noise_intensity
-from kbm.symbols import mu
+from kbm.symbols import a, mu
 
 from ..errors import NoCycleError
 from ._evaluate import at as _at, fn as _fn, numbers as _numbers
@@ -194,6 +194,30 @@ def _stable_cycle(A, dA, a_max: float = 50.0) -> float:
                        "a self-excited model or parameters with a stable cycle")
 
 
+def _response_cycle(pd, subs: Mapping, a_star: float, order: int) -> float:
+    """The cycle of the phase response's rate (``A`` to ``A_3`` at order 2), by Newton's
+    method from the averaged cycle ``a*``: ``mu^3 A_3`` moves it by ``O(mu^2)`` (van der
+    Pol: ``2 + mu^2/64``).  ``a*`` itself where the phase response has the order's rate."""
+    if pd.response_order <= order:
+        return a_star
+    rate = _fn(pd.response_rate, subs, False)
+    slope = _fn(sp.diff(pd.response_rate, a), subs, False)
+    r = a_star
+    for _ in range(50):
+        step = float(rate(r, 0.0)) / float(slope(r, 0.0))
+        r -= step
+        if not (math.isfinite(r) and 0.5 * a_star < r < 2 * a_star):
+            break
+        if abs(step) <= 1e-15 * r:
+            if float(slope(r, 0.0)) < 0:
+                return r
+            break
+    raise NoCycleError(f"the third-order amplitude rate mu A_1 + mu^2 A_2 + mu^3 A_3 (the "
+                       f"phase response's) has no stable cycle near a* = {a_star:.4g}: the "
+                       "averaging's series in mu does not hold at these values; give a "
+                       "smaller mu, or use --order 1")
+
+
 def _linear(model, params: Mapping[str, object], D: float, order: int) -> tuple:
     """The linearised line at the stable cycle ``a*`` (:func:`line_theory`,
     :func:`cycle_phase_diffusion`): ``(pd, subs, mu, omega0, A, B, a*, lambda, g, D_phi,
@@ -271,10 +295,12 @@ def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1
     lw = D / (2 * w0**2) * inv_a2 + sigma2 / 2
     Zv = _fn(pd.phase_response, subs, order == 1)
     ps = 2 * math.pi * np.arange(_PSI) / _PSI
-    small = D * float(np.mean(np.asarray(Zv(a_star, ps), float) ** 2))
+    a_z = _response_cycle(pd, subs, a_star, order)
+    small = D * float(np.mean(np.asarray(Zv(a_z, ps), float) ** 2))
     if order >= 2:
-        # the O(mu) correction of the phase response (the transform's mu u_1) scales the
-        # stationary-density line, whose finite-D/mu part is of the first order
+        # the phase response's corrections (through mu^2: the transform's u_1, u_2, the
+        # rates to A_3, B_3, the cycle's shift by A_3) scale the stationary-density line,
+        # whose finite-D/mu part is of the first order
         lw *= small / lw_lin
     freq = w0 + mean_b
     if not freq > 0:

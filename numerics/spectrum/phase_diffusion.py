@@ -23,14 +23,18 @@ logarithmically at ``a = 0``, where the phase is undefined and the averaging doe
 the integrals start where ``P`` has fallen to ``exp(-60)`` of its peak (for a limit cycle
 that part of ``P`` carries nothing measurable).
 
-At order 2 the line is also corrected by one power of ``mu``: the small-noise linewidth
-``D <Z_v^2>`` of the phase response pulled back through the first-order near-identity
-transform (:func:`kbm.noise.phase_diffusion.phase_response`; error ``O(mu^2)`` against the true
-cycle's, :mod:`numerics.spectrum.floquet`) replaces Lax's ``D_eff`` as the scale of the
-stationary-density line: ``D_eff(order 2) = D_eff(quadrature) * D <Z_v^2>/D_eff(Lax)``.
-Right to ``O(mu)`` only: its ``mu^2`` terms are not the true ones (van der Pol: ``1/8 - 69
-mu^2/512`` against ``1/8 + 7 mu^2/256``, six times order 1's error), so the order-2 width
-states its error against the true cycle (:func:`numerics.spectrum.result.line_errors`).
+At order 2 the line is also corrected through ``mu^2``: the small-noise linewidth ``D
+<Z_v^2>`` of the phase response pulled back through the second-order near-identity
+transform (``u_1``, ``u_2``, ``x'`` along the averaged flow to ``mu^2``, the rates to
+``A_3``, ``B_3``; :func:`kbm.noise.phase_response.phase_response` of order 3), taken at the
+cycle of ``A`` to ``A_3``, replaces Lax's ``D_eff`` as the scale of the stationary-density
+line: ``D_eff(order 2) = D_eff(quadrature) * D <Z_v^2>/D_eff(Lax)``.  Its error against the
+true cycle's (:mod:`numerics.spectrum.floquet`) is ``O(mu^3)`` (``O(mu^4)`` for ``F`` odd
+in ``x'``: van der Pol's ``1/8 + 7 mu^2/256``, 1.7e-5 off at ``mu = 0.1``; before, with the
+first-order transform, ``1/8 - 69 mu^2/512``, six times order 1's error).  A transcendental
+``F`` (the SEDF), whose expansion stops at order 2, keeps the first-order transform, right to
+``O(mu)``.  The order-2 width states its error against the true cycle
+(:func:`numerics.spectrum.result.line_errors`).
 
 The spectrum of ``x`` is a sum of lines at ``k Omega``: a Lorentzian of half width
 ``k^2 D_eff`` carrying the coherent power ``<r_k>^2/2`` of harmonic ``k`` (``x = sum_k
@@ -54,11 +58,11 @@ from kbm.errors import ModelError, ParameterError
 from kbm.noise.phase_diffusion import phase_diffusion
 from kbm.noise.stochastic import NOISE
 from kbm.parameters.names import noise_intensity
-from kbm.symbols import a, mu
+from kbm.symbols import mu
 
 from ..errors import NoCycleError
 from ._evaluate import at as _at, fn as _fn, numbers as _numbers
-from .density import stationary_density
+from .density import response_cycle as _response_cycle, stationary_density
 
 __all__ = ["Line", "LineTheory", "line_theory", "PhaseDiffusion",
            "cycle_phase_diffusion", "LINEWIDTH_NEED"]
@@ -115,8 +119,9 @@ class LineTheory:
     frequency_cycle : float
         ``omega0 + B(a*)``: the deterministic cycle's frequency at this order.
     small_noise : float
-        ``D <Z_v^2>`` at ``a*`` (:func:`kbm.noise.phase_diffusion.phase_response`): Lax's
-        ``D_eff`` at order 1, with its ``O(mu)`` correction at order 2.
+        ``D <Z_v^2>`` at the cycle (:func:`kbm.noise.phase_response.phase_response`): Lax's
+        ``D_eff`` at order 1, right through ``mu^2`` at order 2 (through ``mu`` for a
+        transcendental ``F``).
     mean_amplitude : float
         ``<a>`` over ``P``.
     lines : tuple of Line
@@ -192,30 +197,6 @@ def _stable_cycle(A, dA, a_max: float = 50.0) -> float:
     raise NoCycleError("the averaged amplitude equation A(a) = 0 has no stable root a* > 0 "
                        f"(up to a = {a_max:g}): no limit cycle, so no line to speak of; give "
                        "a self-excited model or parameters with a stable cycle")
-
-
-def _response_cycle(pd, subs: Mapping, a_star: float, order: int) -> float:
-    """The cycle of the phase response's rate (``A`` to ``A_3`` at order 2), by Newton's
-    method from the averaged cycle ``a*``: ``mu^3 A_3`` moves it by ``O(mu^2)`` (van der
-    Pol: ``2 + mu^2/64``).  ``a*`` itself where the phase response has the order's rate."""
-    if pd.response_order <= order:
-        return a_star
-    rate = _fn(pd.response_rate, subs, False)
-    slope = _fn(sp.diff(pd.response_rate, a), subs, False)
-    r = a_star
-    for _ in range(50):
-        step = float(rate(r, 0.0)) / float(slope(r, 0.0))
-        r -= step
-        if not (math.isfinite(r) and 0.5 * a_star < r < 2 * a_star):
-            break
-        if abs(step) <= 1e-15 * r:
-            if float(slope(r, 0.0)) < 0:
-                return r
-            break
-    raise NoCycleError(f"the third-order amplitude rate mu A_1 + mu^2 A_2 + mu^3 A_3 (the "
-                       f"phase response's) has no stable cycle near a* = {a_star:.4g}: the "
-                       "averaging's series in mu does not hold at these values; give a "
-                       "smaller mu, or use --order 1")
 
 
 def _linear(model, params: Mapping[str, object], D: float, order: int) -> tuple:

@@ -51,6 +51,25 @@ def test_closed_forms_of_the_correction():
     assert (a0, c0, c1) == (2, sp.Rational(5, 4), sp.Rational(-67, 8))
 
 
+def test_order_2_phase_response_order_and_its_fall_back():
+    """``--order 2`` takes the phase response through the third-order transform where the
+    symbolic expansion reaches order 3 (polynomial F within the cost budget of
+    :mod:`kbm.expansion.cost`: ``(x + 1)^40 x'`` is estimated at 1.8e6 terms at order 3,
+    ``(x + 1)^45 x'`` at 2.6e6, over the 2e6), else through the first-order one (the SEDF's
+    sin(k x): Bessel sums symbolic to order 2 only, kbm.expansion.one_dof.MAX_ORDER_TRIG).
+    Order 1 is Lax's."""
+    from kbm.expansion.cost import COST_BUDGET, expansion_cost
+    from kbm.model.builtins import get_model
+    from kbm.noise.phase_response import response_order
+
+    assert [response_order(get_model("vdp"), o) for o in (1, 2)] == [1, 3]
+    assert [response_order(get_model("sedf"), o) for o in (1, 2)] == [1, 2]
+    for power, want in ((40, 3), (45, 2)):
+        m = custom_model(f"(x + 1)**{power}*xdot")
+        assert (expansion_cost(m.F, 3)[0] <= COST_BUDGET) == (want == 3)
+        assert response_order(m, 2) == want
+
+
 def test_vdp_order_2_moves_the_line_by_mu_squared_only():
     """Van der Pol: order 2 changes the small-noise linewidth by O(mu^2) (no O(mu) term),
     by the true cycle's 7 mu^2/256 (<Z_v^2> = 1/8 + 7 mu^2/256 + O(mu^4):

@@ -179,12 +179,12 @@ def test_closed_form_from_the_third_order_transform():
     """The closed form itself: the mean over psi of the third-order ``Z_v^2``, expanded in
     mu (no odd powers), at ``a* = 2 + mu^2/64`` (``A_3(2) = 1/64``, ``A_1'(2) = -1``) is ``1/8
     + 7 mu^2/256`` (15 s of sympy)."""
-    from kbm.noise.phase_diffusion import _mean_psi
+    from kbm.noise.phase_response import mean_psi
 
     Z, rate_a = _third_order_phase_response()
     assert sp.expand(sp.series(rate_a.subs(a, 2 + mu**2 / 64), mu, 0, 3).removeO()) == 0
     z = sp.series(Z, mu, 0, 3).removeO()
     z2 = sp.expand(sp.series(z**2, mu, 0, 3).removeO())
-    mean = sum(mu**k * _mean_psi(z2.coeff(mu, k)) for k in range(3))
+    mean = sum(mu**k * mean_psi(z2.coeff(mu, k)) for k in range(3))
     at_cycle = sp.expand(sp.series(mean.subs(a, 2 + mu**2 / 64), mu, 0, 3).removeO())
     assert at_cycle == sp.Rational(1, 8) + sp.Rational(7, 256) * mu**2

@@ -66,8 +66,6 @@ from ..symbols import a, mu, psi
 
 __all__ = ["PhaseDiffusion", "phase_diffusion", "phase_response", "linewidth_series"]
 
-_mean_psi = mean_psi  # the name the tests import
-
 _CACHE: dict = {}  # one derivation per model, order and fixed parameters
 
 

@@ -70,6 +70,28 @@ def test_order_2_phase_response_order_and_its_fall_back():
         assert response_order(m, 2) == want
 
 
+def test_order_2_phase_response_cycle_and_its_refusal():
+    """The cycle of the phase response's rate ``mu A_1 + mu^2 A_2 + mu^3 A_3``: van der Pol's
+    ``a* = 2 + mu^2/64 + O(mu^4)`` (Bogoliubov-Mitropolsky's third approximation; A_2 = 0,
+    A_3(2) = 1/64 mu^3 against A_1'(2) = -mu) from the second-order cycle a* = 2; a rate
+    without a stable root near a* is refused in one sentence that says what to do."""
+    from types import SimpleNamespace
+
+    from kbm.noise.phase_diffusion import phase_diffusion
+    from kbm.symbols import mu
+    from numerics.errors import NoCycleError
+    from numerics.spectrum.density import response_cycle
+
+    pd = phase_diffusion("vdp", 2)
+    for m in (0.1, 0.2):
+        r = response_cycle(pd, {mu: m}, 2.0, 2)
+        assert abs(r - (2 + m**2 / 64)) < m**4 / 10, (m, r)
+    assert response_cycle(phase_diffusion("vdp", 1), {mu: 0.1}, 2.0, 1) == 2.0
+    flat = SimpleNamespace(response_order=3, response_rate=mu * (1 + a**2))
+    with pytest.raises(NoCycleError, match="no stable cycle near a\\* = 2.*--order 1"):
+        response_cycle(flat, {mu: 0.1}, 2.0, 2)
+
+
 def test_vdp_order_2_moves_the_line_by_mu_squared_only():
     """Van der Pol: order 2 changes the small-noise linewidth by O(mu^2) (no O(mu) term),
     by the true cycle's 7 mu^2/256 (<Z_v^2> = 1/8 + 7 mu^2/256 + O(mu^4):

@@ -55,7 +55,7 @@ SLOW = {
     # the same fold test; the duffing-1-3 case of the same jets test; the other branches of
     # test_cycles_continuation; the pointwise Bessel sums; tests/test_sampled_cases' N = 1)
     "tests/test_spectrum_order2.py::"
-    "test_order_2_error_against_the_true_cycle_falls_like_mu_squared": 6.6,
+    "test_order_2_error_against_the_true_cycle_falls_like_mu_cubed": 6.6,
     "tests/test_escape_averaged.py::test_averaged_rate_tends_to_kramers": 6.5,
     "tests/test_paper_sliding.py::test_results_do_not_depend_on_the_integrator": 5.0,
     "tests/test_forced_engine.py::test_linear_forced_oscillator_exact_at_every_order[4]": 4.5,

@@ -59,6 +59,8 @@ from ..expansion.one_dof import derive
 from ..errors import ParameterError
 from ..output.latex import equation_lines, latex
 from ..model.builtins import Oscillator
+from .phase_response import (cycle_coefficients, mean_psi, phase_response, response_order,
+                             response_parts, taylor)
 from .stochastic import NOISE, noisy_model
 from ..symbols import a, mu, psi
 
@@ -98,10 +100,20 @@ class PhaseDiffusion:
         ``x(a, psi) = a cos psi + sum_n mu^n u_n``: the harmonics' weights.
     phase_response : sympy.Expr
         ``Z_v(a, psi)``: the velocity component of the gradient of the asymptotic phase
-        ``theta = psi + h(a)``, ``h'(a*) = g/lambda``, through the near-identity transform of
-        order ``order - 1`` (:func:`phase_response`); ``D <Z_v^2>`` over ``psi`` at ``a*`` is
-        the small-noise linewidth, Lax's ``D_eff`` at order 1 and with its ``O(mu)``
-        correction at order 2.
+        ``theta = psi + h(a)``, ``h'(a*) = g/lambda``, through the near-identity transform
+        (:func:`kbm.noise.phase_response.phase_response` of order ``response_order``);
+        ``D <Z_v^2>`` over ``psi`` at the stable root of ``response_rate`` is the
+        small-noise linewidth: Lax's ``D_eff`` at order 1, right through ``mu^2`` at order 2
+        (through ``mu`` only where the expansion stops at order 2).
+    response_order : int
+        The phase response's order (:func:`kbm.noise.phase_response.response_order`): 1 at
+        order 1; at order 2, 3 (``u_1``, ``u_2``, ``v`` to ``mu^2``, the rates to
+        ``A_3``, ``B_3``) for a polynomial ``F``, else 2 (``u_1``, the rates to ``A_2``,
+        ``B_2``; the SEDF's ``sin(k x)``).
+    response_rate : sympy.Expr
+        ``sum_n mu^n A_n`` to ``n = response_order``: its stable root (near ``a*``) is the
+        cycle at which ``<Z_v^2>`` is taken (at order 2, ``a*`` shifted by ``mu^3 A_3``,
+        ``O(mu^2)``; van der Pol: ``2 + mu^2/64``).
     """
 
     model: Oscillator
@@ -117,6 +129,8 @@ class PhaseDiffusion:
     frequency_shift: sp.Expr
     displacement: sp.Expr
     phase_response: sp.Expr = sp.S.Zero
+    response_order: int = 1
+    response_rate: sp.Expr = sp.S.Zero
 
     def __repr__(self) -> str:
         return f"PhaseDiffusion({self.model.name}, order {self.order}: D_eff = {self.linewidth})"
@@ -190,7 +204,9 @@ def phase_diffusion(model: Oscillator | str, order: int = 1,
            tuple(sorted((k, str(v)) for k, v in fixed.items())))
     if key in _CACHE:
         return _CACHE[key]
-    res = derive(m, order, fixed or None)
+    n_z = response_order(m, order)
+    # one derivation: its lower orders are those of the order asked for
+    res = derive(m, max(order, n_z), fixed or None)
     w0 = res.model.omega0
     A = sp.expand(sum(mu**n * res.A[n] for n in range(1, order + 1)))
     B = sp.expand(sum(mu**n * res.B[n] for n in range(1, order + 1)))
@@ -204,90 +220,28 @@ def phase_diffusion(model: Oscillator | str, order: int = 1,
     x_of = res.u[0] + sum(mu**n * res.u[n] for n in range(1, order + 1))
     out = PhaseDiffusion(res.model, order, A, B, lam, g, d_phi, d_a,
                          d_phi + g**2 * d_a / lam**2, shift_a, shift_w, x_of,
-                         phase_response(res, order))
+                         phase_response(res, n_z), n_z,
+                         sp.expand(sum(mu**n * res.A[n] for n in range(1, n_z + 1))))
     _CACHE[key] = out
     return out
 
 
-def phase_response(res, order: int) -> sp.Expr:
-    """``Z_v(a, psi)``: the phase response to a velocity kick, through the KBM transform.
+def linewidth_series(model: Oscillator | str, params: dict | None = None,
+                     terms: int = 2) -> tuple[sp.Expr, ...]:
+    """The small-noise linewidth as a series in ``mu``: ``D_eff = D (c_0 + mu c_1 + mu^2 c_2)
+    + O(mu^terms D)``, in closed form.
 
-    The averaged flow ``a' = A(a)``, ``psi' = omega0 + B(a)`` (rates of order ``order``) has
-    the asymptotic phase ``theta = psi + h(a)``, ``h' = -(B(a) - B(a*))/A(a)``, so ``h'(a*) =
-    g/lambda`` (the ratio ``B'/(-A')`` kept whole, not expanded in ``mu``).  The near-identity
-    transform ``x = a cos psi + mu u_1``, ``v = dx/dt`` along the averaged flow (``v =
-    omega0 d_psi x + mu (A_1 d_a + B_1 d_psi) a cos psi``; order 2 keeps ``u_1`` and ``A_1,
-    B_1``, order 1 only ``a cos psi``) has the Jacobian ``J = d(x, v)/d(a, psi)``; the
-    phase gradient is ``J^{-T} (h', 1)``, whose ``v`` component is
+    With ``a_0`` the stable root of ``A_1`` and ``a* = a_0 + mu a_1 + mu^2 a_2`` the cycle
+    of ``A_1 + mu A_2 + mu^2 A_3`` (powers of ``mu`` matched: ``a_1 = -A_2(a_0)/A_1'(a_0)``),
+    and ``Z_v(a*, psi) = z_0 + mu z_1 + mu^2 z_2 + ..`` (:func:`phase_response` of order
+    ``terms``, expanded at the cycle; ``z_0 = -(cos psi + (g_1/lambda_1) a sin psi)/(omega0
+    a)`` for ``u_0 = a cos psi``),
 
-    ``Z_v = (J_xa - h' J_xpsi)/det J``  (exact 2x2 inverse, no expansion).
+    ``c_0 = <z_0^2>`` (Lax: ``(1/a_0^2 + g_1^2/lambda_1^2)/(2 omega0^2)``),
+    ``c_1 = <2 z_0 z_1>``, ``c_2 = <z_1^2 + 2 z_0 z_2>``.
 
-    On the cycle ``a = a*`` the phase ``theta`` advances uniformly with ``psi``, so the
-    small-noise linewidth (Kuramoto 1984, sec. 3.2; Demir et al. 2000) is ``D <Z_v^2>_psi``.
-    At order 1 it is Lax's ``D/(2 omega0^2) (1/a^2 + g^2/lambda^2)``; at order 2 it carries
-    the ``O(mu)`` corrections (the transform's ``mu u_1``, the second-order rates in
-    ``g/lambda``, and ``a*`` from ``A_1 + mu A_2``), with an error ``O(mu^2)`` against the
-    true cycle's ``D <Z_v^2>``.  Its own ``mu^2`` terms (from the exact inverse) are not the
-    true ones, and may be further off than order 1: van der Pol's ``<Z_v^2>`` is ``1/8 - 69
-    mu^2/512`` here, the true cycle's ``1/8 + 7 mu^2/256``; the missing ``mu^2`` terms are
-    those of the second-order transform (``u_2``: ``+40/512``; ``v``'s ``mu^2 (A_2 d_a + B_2
-    d_psi) u_0 + mu^2 (A_1 d_a + B_1 d_psi) u_1``: ``+44/512``) and ``a*``'s shift by ``A_3``
-    (``-1/512``; tests/test_spectrum_order2_vdp.py).
-
-    Parameters
-    ----------
-    res : kbm.expansion.one_dof.KBMResult
-        A derivation of order ``>= order`` (``u``, ``A``, ``B``).
-    order : {1, 2}
-
-    Returns
-    -------
-    sympy.Expr
-        ``Z_v`` in ``a``, ``psi``, ``mu``.
-
-    Examples
-    --------
-    Van der Pol at order 1: ``Z_v = -cos(psi)/a``, ``<Z_v^2> = 1/(2 a^2)``:
-
-    >>> from kbm.expansion.one_dof import derive
-    >>> sp.simplify(phase_response(derive("vdp", 1), 1))
-    -cos(psi)/a
-    """
-    w0 = res.model.omega0
-    u0 = res.u[0]
-    # the rates over mu, so that h' stays finite at mu = 0
-    A = sum(mu**(n - 1) * res.A[n] for n in range(1, order + 1))
-    B = sum(mu**(n - 1) * res.B[n] for n in range(1, order + 1))
-    h = -sp.diff(B, a) / sp.diff(A, a)
-    x_of = u0
-    v_of = w0 * sp.diff(u0, psi)
-    if order >= 2:
-        x_of = u0 + mu * res.u[1]
-        v_of = v_of + mu * (res.A[1] * sp.diff(u0, a) + res.B[1] * sp.diff(u0, psi)
-                            + w0 * sp.diff(res.u[1], psi))
-    jxa, jxp = sp.diff(x_of, a), sp.diff(x_of, psi)
-    jva, jvp = sp.diff(v_of, a), sp.diff(v_of, psi)
-    return (jxa - h * jxp) / (jxa * jvp - jxp * jva)
-
-
-def _mean_psi(expr: sp.Expr) -> sp.Expr:
-    """The mean over ``psi`` of a trigonometric polynomial in ``psi``."""
-    e = sp.expand(sp.expand(expr).rewrite(sp.exp))
-    terms = e.args if isinstance(e, sp.Add) else (e,)
-    return sp.factor(sp.Add(*[t for t in terms if not t.has(psi)]))
-
-
-def linewidth_series(model: Oscillator | str,
-                     params: dict | None = None) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
-    """The small-noise linewidth to one power of ``mu`` beyond Lax: ``D_eff = D (c_0 + mu
-    c_1) + O(mu^2 D)``, in closed form.
-
-    With ``a_0`` the stable root of ``A_1``, ``a* = a_0 + mu a_1``, ``a_1 = -A_2(a_0)/A_1'(a_0)``,
-    and ``Z_v = z_0 + mu z_1 + O(mu^2)`` (:func:`phase_response` at order 2, expanded;
-    ``z_0 = -(cos psi + (g_1/lambda_1) a sin psi)/(omega0 a)`` for ``u_0 = a cos psi``),
-
-    ``c_0 = <z_0^2>(a_0)`` (Lax: ``(1/a_0^2 + g_1^2/lambda_1^2)/(2 omega0^2)``),
-    ``c_1 = <2 z_0 z_1>(a_0) + a_1 d<z_0^2>/da(a_0)``.
+    ``c_2`` needs the third-order transform (``u_2``, ``A_3``, ``B_3``): the phase response
+    of ``kbm spectrum --order 2`` (:func:`kbm.noise.phase_response.response_order`).
 
     Parameters
     ----------
@@ -295,43 +249,52 @@ def linewidth_series(model: Oscillator | str,
         A polynomial autonomous model (``A_1 = 0`` solved exactly).
     params : dict, optional
         Model parameters, exact numbers (``mu`` stays symbolic).
+    terms : {2, 3}
+        How many coefficients: ``c_0, c_1`` or ``c_0, c_1, c_2``.
 
     Returns
     -------
-    a0, c0, c1 : sympy.Expr
+    a0, c0, c1[, c2] : sympy.Expr
 
     Raises
     ------
     kbm.errors.ParameterError
-        ``A_1`` has no stable positive root in closed form.
+        ``terms`` not 2 or 3, ``terms = 3`` for a model whose expansion stops at order 2,
+        or ``A_1`` has no stable positive root in closed form.
 
     Examples
     --------
-    Van der Pol has no ``O(mu)`` correction (``F`` odd in ``x'``); the cubic stiffness
+    Van der Pol has no ``O(mu)`` correction (``F`` odd in ``x'``) and ``7 mu^2/256`` (the
+    adjoint Floquet cycle's, tests/test_spectrum_order2_vdp.py); the cubic stiffness
     ``-alpha x^3`` at ``alpha = 1`` narrows the line by ``67 mu/8`` of ``D``:
 
-    >>> linewidth_series("vdp")
-    (2, 1/8, 0)
+    >>> linewidth_series("vdp", terms=3)
+    (2, 1/8, 0, 7/256)
     >>> from kbm.model.builtins import custom_model
     >>> linewidth_series(custom_model("(1 - x**2)*xdot - alpha*x**3"), {"alpha": 1})
     (2, 5/4, -67/8)
     """
-    pd = phase_diffusion(model, 2, params)
-    A = sp.expand(pd.A)
-    A1, A2 = A.coeff(mu, 1), A.coeff(mu, 2)
+    if terms not in (2, 3):
+        raise ParameterError(f"terms = {terms!r}: the linewidth series has 2 or 3 terms")
+    m, fixed = noisy_model(model, params, "the linewidth series")
+    if response_order(m, 2) < terms:
+        raise ParameterError(f"the expansion of {m.name!r} stops at order 2 (a transcendental "
+                             "F), so its linewidth series has 2 terms: give terms=2")
+    res = derive(m, terms, fixed or None)
+    num, det, rate = response_parts(res, terms)
+    A1 = res.A[1]
     roots = [r for r in sp.solve(A1, a) if r.is_positive and sp.diff(A1, a).subs(a, r) < 0]
     if not roots:
         raise ParameterError("A_1(a) = 0 has no stable positive root in closed form: give "
                              "numbers for the model's parameters or evaluate numerically "
                              "(numerics.spectrum.phase_diffusion)")
     a0 = min(roots)
-    Z = pd.phase_response
-    # no simplify of z0, z1: _mean_psi expands them in exponentials of psi anyway
-    # (simplifying them first took 80 % of the time)
-    z0 = Z.subs(mu, 0)
-    z1 = sp.diff(Z, mu).subs(mu, 0)
-    m0 = _mean_psi(z0**2)
-    m1 = _mean_psi(2 * z0 * z1)
-    a1 = -A2.subs(a, a0) / sp.diff(A1, a).subs(a, a0)
-    c1 = sp.nsimplify(sp.simplify(m1.subs(a, a0) + a1 * sp.diff(m0, a).subs(a, a0)))
-    return a0, sp.simplify(m0.subs(a, a0)), c1
+    a_mu = sum(mu**k * c for k, c in enumerate(cycle_coefficients(rate, a0, terms)))
+    # Z_v = num/det at the cycle, term by term; det's first term is -omega0 a_0 for u_0 =
+    # a cos psi (no psi), so every z_k is a trigonometric polynomial in psi
+    p, q = taylor(num.subs(a, a_mu), terms), taylor(det.subs(a, a_mu), terms)
+    z: list = []
+    for k in range(terms):
+        z.append(sp.expand((p[k] - sum(z[j] * q[k - j] for j in range(k))) / q[0]))
+    return (a0, *[sp.simplify(mean_psi(sum(z[j] * z[k - j] for j in range(k + 1))))
+                  for k in range(terms)])

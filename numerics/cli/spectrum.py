@@ -42,11 +42,10 @@ def register(sub) -> None:
     options(p, "seed", "workers", "store", "resume")
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the averaging (default 1; 2 adds the second-order KBM rates "
-                        "mu^2 A_2, mu^2 B_2 and the O(mu) correction of the phase response "
-                        "through the near-identity transform to the linewidth, right to "
-                        "O(mu) only: where order 1 has no O(mu) error, as for van der Pol, "
-                        "order 2's width is the further off; its stated error is measured "
-                        "against the true cycle)")
+                        "mu^2 A_2, mu^2 B_2 and the corrections of the phase response through "
+                        "the near-identity transform to the linewidth, right through mu^2 "
+                        "(through mu for a transcendental F such as the SEDF's); its stated "
+                        "error is measured against the true cycle)")
     p.add_argument("--floquet", action="store_true",
                    help="self-excited: add the small-noise linewidth D <Z_v^2> and frequency "
                         "of the true cycle (phase response by the adjoint Floquet problem; "

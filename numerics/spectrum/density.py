@@ -7,18 +7,19 @@ its Fokker-Planck equation; Gardiner, *Handbook of Stochastic Methods*, sec. 5.2
 spans where ``P`` is within ``exp(-CUT)`` of its peak: a density of width
 ``sigma = (D/(2 omega0^2 lambda))^(1/2)`` about the cycle ``a*`` is regridded onto its own
 range, so that a narrow one (small ``D/mu``) is resolved as finely as a wide one.
+:func:`response_cycle` finds the cycle at which the order-2 phase response is taken.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 
 import numpy as np
 
 from ..errors import NoCycleError
 
-__all__ = ["GRID", "CUT", "stationary_density"]
+__all__ = ["GRID", "CUT", "stationary_density", "response_cycle"]
 
 GRID = 20001  # quadrature points in a
 CUT = 60.0  # ln P below its peak where the quadrature stops
@@ -102,3 +103,32 @@ def stationary_density(A: Callable, a_star: float, lam: float, w0: float, D: flo
         lnp = _log_density(A, grid, w0, D)[1]
         keep = lnp > np.max(lnp) - CUT
     return grid[keep], lnp[keep]
+
+
+def response_cycle(pd, subs: Mapping, a_star: float, order: int) -> float:
+    """The cycle of the phase response's rate (``A`` to ``A_3`` at order 2), by Newton's
+    method from the averaged cycle ``a*``: ``mu^3 A_3`` moves it by ``O(mu^2)`` (van der
+    Pol: ``2 + mu^2/64``).  ``a*`` itself where the phase response has the order's rate."""
+    import sympy as sp
+    from kbm.symbols import a
+
+    from ._evaluate import fn
+
+    if pd.response_order <= order:
+        return a_star
+    rate = fn(pd.response_rate, subs, False)
+    slope = fn(sp.diff(pd.response_rate, a), subs, False)
+    r = a_star
+    for _ in range(50):
+        step = float(rate(r, 0.0)) / float(slope(r, 0.0))
+        r -= step
+        if not (math.isfinite(r) and 0.5 * a_star < r < 2 * a_star):
+            break
+        if abs(step) <= 1e-15 * r:
+            if float(slope(r, 0.0)) < 0:
+                return r
+            break
+    raise NoCycleError(f"the third-order amplitude rate mu A_1 + mu^2 A_2 + mu^3 A_3 (the "
+                       f"phase response's) has no stable cycle near a* = {a_star:.4g}: the "
+                       "averaging's series in mu does not hold at these values; give a "
+                       "smaller mu, or use --order 1")

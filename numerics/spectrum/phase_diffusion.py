@@ -23,14 +23,18 @@ logarithmically at ``a = 0``, where the phase is undefined and the averaging doe
 the integrals start where ``P`` has fallen to ``exp(-60)`` of its peak (for a limit cycle
 that part of ``P`` carries nothing measurable).
 
-At order 2 the line is also corrected by one power of ``mu``: the small-noise linewidth
-``D <Z_v^2>`` of the phase response pulled back through the first-order near-identity
-transform (:func:`kbm.noise.phase_diffusion.phase_response`; error ``O(mu^2)`` against the true
-cycle's, :mod:`numerics.spectrum.floquet`) replaces Lax's ``D_eff`` as the scale of the
-stationary-density line: ``D_eff(order 2) = D_eff(quadrature) * D <Z_v^2>/D_eff(Lax)``.
-Right to ``O(mu)`` only: its ``mu^2`` terms are not the true ones (van der Pol: ``1/8 - 69
-mu^2/512`` against ``1/8 + 7 mu^2/256``, six times order 1's error), so the order-2 width
-states its error against the true cycle (:func:`numerics.spectrum.result.line_errors`).
+At order 2 the line is also corrected through ``mu^2``: the small-noise linewidth ``D
+<Z_v^2>`` of the phase response pulled back through the second-order near-identity
+transform (``u_1``, ``u_2``, ``x'`` along the averaged flow to ``mu^2``, the rates to
+``A_3``, ``B_3``; :func:`kbm.noise.phase_response.phase_response` of order 3), taken at the
+cycle of ``A`` to ``A_3``, replaces Lax's ``D_eff`` as the scale of the stationary-density
+line: ``D_eff(order 2) = D_eff(quadrature) * D <Z_v^2>/D_eff(Lax)``.  Its error against the
+true cycle's (:mod:`numerics.spectrum.floquet`) is ``O(mu^3)`` (``O(mu^4)`` for ``F`` odd
+in ``x'``: van der Pol's ``1/8 + 7 mu^2/256``, 1.7e-5 off at ``mu = 0.1``; before, with the
+first-order transform, ``1/8 - 69 mu^2/512``, six times order 1's error).  A transcendental
+``F`` (the SEDF), whose expansion stops at order 2, keeps the first-order transform, right to
+``O(mu)``.  The order-2 width states its error against the true cycle
+(:func:`numerics.spectrum.result.line_errors`).
 
 The spectrum of ``x`` is a sum of lines at ``k Omega``: a Lorentzian of half width
 ``k^2 D_eff`` carrying the coherent power ``<r_k>^2/2`` of harmonic ``k`` (``x = sum_k
@@ -58,7 +62,7 @@ from kbm.symbols import mu
 
 from ..errors import NoCycleError
 from ._evaluate import at as _at, fn as _fn, numbers as _numbers
-from .density import stationary_density
+from .density import response_cycle as _response_cycle, stationary_density
 
 __all__ = ["Line", "LineTheory", "line_theory", "PhaseDiffusion",
            "cycle_phase_diffusion", "LINEWIDTH_NEED"]
@@ -115,8 +119,9 @@ class LineTheory:
     frequency_cycle : float
         ``omega0 + B(a*)``: the deterministic cycle's frequency at this order.
     small_noise : float
-        ``D <Z_v^2>`` at ``a*`` (:func:`kbm.noise.phase_diffusion.phase_response`): Lax's
-        ``D_eff`` at order 1, with its ``O(mu)`` correction at order 2.
+        ``D <Z_v^2>`` at the cycle (:func:`kbm.noise.phase_response.phase_response`): Lax's
+        ``D_eff`` at order 1, right through ``mu^2`` at order 2 (through ``mu`` for a
+        transcendental ``F``).
     mean_amplitude : float
         ``<a>`` over ``P``.
     lines : tuple of Line
@@ -271,10 +276,12 @@ def line_theory(model, params: Mapping[str, object], D: float, *, order: int = 1
     lw = D / (2 * w0**2) * inv_a2 + sigma2 / 2
     Zv = _fn(pd.phase_response, subs, order == 1)
     ps = 2 * math.pi * np.arange(_PSI) / _PSI
-    small = D * float(np.mean(np.asarray(Zv(a_star, ps), float) ** 2))
+    a_z = _response_cycle(pd, subs, a_star, order)
+    small = D * float(np.mean(np.asarray(Zv(a_z, ps), float) ** 2))
     if order >= 2:
-        # the O(mu) correction of the phase response (the transform's mu u_1) scales the
-        # stationary-density line, whose finite-D/mu part is of the first order
+        # the phase response's corrections (through mu^2: the transform's u_1, u_2, the
+        # rates to A_3, B_3, the cycle's shift by A_3) scale the stationary-density line,
+        # whose finite-D/mu part is of the first order
         lw *= small / lw_lin
     freq = w0 + mean_b
     if not freq > 0:

@@ -286,25 +286,31 @@ def line_errors(rep: dict, nxt: LineTheory | None = None,
       0.2 and D/mu = 1e-3 (the 0.35 % is the noise-induced shift), 1.004-1.007 times the
       true cycle's error (:mod:`numerics.spectrum.floquet`, exact in mu) at mu = 0.025-0.2;
     - the cubic stiffness ``F = (1 - x^2) x' - x^3`` (first-order line off by O(mu)), against
-      the true cycle at D/mu = 1e-3: line width 1.015, 1.028, 1.062, 1.086 and line centre
-      1.05, 1.10, 1.18, 1.32 at mu = 0.025, 0.05, 0.1, 0.2; against a simulation at mu =
-      0.1, D = 0.01 (64 trajectories): 1.05 and 1.10;
-    - van der Pol's line width has no O(mu) error, and the second order's change, of
-      O(mu^2) as the error, overstates it about five times (4.9-7.8 at D/mu = 1e-4): an
-      upper estimate.
+      the true cycle at D/mu = 1e-3: line width 0.996, 0.995, 0.988, 0.973 (1.019-1.086
+      while the order-2 phase response was right to O(mu) only) and line centre 1.05, 1.10,
+      1.18, 1.32 at mu = 0.025, 0.05, 0.1, 0.2; against simulations at mu = 0.1, D = 0.01,
+      the line width 0.84 and 1.24 (32 trajectories, seed 1; 64, seed 0);
+    - van der Pol's line width has no O(mu) error, and the second order's change is its
+      true ``7 mu^2/256`` of ``D``: 1.10, 1.03, 1.04 times the true error at mu = 0.05, 0.1,
+      0.2 and D/mu = 1e-4 (1.58 at mu = 0.025, where the widening of O(D/mu) is as large;
+      4.9-7.8 times while order 2's ``mu^2`` term was the first-order transform's wrong
+      one).
 
-    At order 2 the line width's error is ``O(mu^2)``, and nothing in the averaging states its
-    size: the unexpanded phase response carries ``mu^2`` terms that are not the true ones
-    (van der Pol: ``<Z_v^2> = 1/8 - 69 mu^2/512`` against the true cycle's ``1/8 + 7
-    mu^2/256``, so order 2 is six times further off than order 1's ``1/8``; docs/spectra.rst).
-    With ``true_small``, the true cycle's small-noise line ``D <Z_v^2>``
+    At order 2 the line width's small-noise part is right through ``mu^2`` (the phase
+    response through the third-order transform, :func:`kbm.noise.phase_response.phase_response`:
+    van der Pol's ``<Z_v^2> = 1/8 + 7 mu^2/256 + O(mu^4)``, the true cycle's; the cubic
+    stiffness' error falls like ``mu^3``), and nothing in the averaging states the size of
+    its remainder.  With ``true_small``, the true cycle's small-noise line ``D <Z_v^2>``
     (:func:`true_cycle`), the order-2 width states ``"true cycle"``: ``|averaged| |1 -
     true_small/small_noise|``, the averaged line's error were its phase response the true
     one, unless the simulation's bound is larger; without a simulation plus the whole
     finite-``D/mu`` widening ``|averaged - small_noise|`` (the stationary density's part,
-    whose own error only a simulation measures: counted whole, an upper estimate; vdp mu =
-    0.1, D = 0.01: 9.3e-05, of which the widening 7.6e-05, against a true error within 3e-05
-    by simulation).
+    whose own error only a simulation measures: counted whole, an upper estimate).  So the
+    widening is now nearly all of it: vdp mu = 0.1, D = 0.01: 7.7e-05, the small-noise part
+    2.2e-08 (1.7e-5 of the line), against a true error of 1.0e-05 +- 3.2e-05 by a
+    256-trajectory simulation; before 9.3e-05, of which the first-order transform's 1.3 %
+    1.7e-05.  (A transcendental ``F``, whose expansion stops at order 2, keeps the
+    first-order transform, right to O(mu).)
 
     The order-2 line centre likewise: with ``true_freq``, the true cycle's frequency, it
     states ``"true cycle"``: ``|frequency.cycle - true_freq|``, the error of the averaged

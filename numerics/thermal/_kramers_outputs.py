@@ -50,6 +50,7 @@ def fokker_planck_moments(model, params: dict, D: float, omega0: float,
                                        if required and energy_density else None),
                     "x2": sol.x2, "a2": sol.a2, "v2": sol.v2, "hermite": sol.coef.shape[0],
                     "chebyshev": sol.x.size, "half_width": float(sol.x[0]),
+                    "elements": len(sol.edges) - 1 if hasattr(sol, "edges") else None,
                     "sigma": sol.sigma, "solution": sol, "basis": sol.basis, "budget": budget,
                     "hermite_change": change if math.isfinite(change) else None,
                     "chebyshev_change": (sol.chebyshev_change

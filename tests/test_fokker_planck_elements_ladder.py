@@ -2,7 +2,8 @@
 _elements_ladder.py, the default route of a multi-well SEDF) and its ``P(E)``
 (_energy_quadrature.py on elements) against a second discretisation it does not produce:
 the Hermite x Chebyshev ladder of ._stationary_orthonormal (``basis="orthonormal"``), and
-reference solves of that discretisation at low friction."""
+reference solves of that discretisation at low friction; and the advice of an element
+solve beyond six digits (thermal/_kramers_outputs.py)."""
 
 from __future__ import annotations
 
@@ -32,7 +33,7 @@ def _moments_agree(sol, ref) -> None:
 def test_sedf_routes_to_the_element_ladder_and_agrees_with_chebyshev():
     """SEDF at rest, Delta = 3, mu = 0.1, D = 0.05 (Risken ch. 10's Kramers equation, the
     multi-well potential): the default route is the element ladder, which states six digits
-    (128 functions on 42 elements, 1.4e-7), and its moments agree with the Chebyshev
+    (128 functions on 58 elements, 9.1e-9), and its moments agree with the Chebyshev
     ladder's (``basis="orthonormal"`` at the budget 2e6, 90 x 499, stated 1.1e-6) within
     the sum of the stated errors; the ``refinements`` are a Hermite and an element step."""
     params = dict(SEDF, mu=0.1)
@@ -132,3 +133,20 @@ def test_sedf_lowest_friction_element_ladder_against_the_reference_solves():
     assert abs(sol.x2 - 2.1430565722) <= bound * 2.1430565722
     assert abs(sol.v2 - 1.8635864626) <= bound * 1.8635864626
     assert dataclasses.is_dataclass(sol) and len(sol.refinements) == 2
+
+
+def test_element_advice_names_the_sizes_and_budget_six_digits_need():
+    """Beyond six digits the advice of an element solve (``fp_advice``) counts the steps of
+    each ladder as digits of its part of the stated error above 5e-7 (SEDF mu = 0.002:
+    2.0e-4 stated, 9.5e-7 the elements': 3 steps of the functions, 1 of the elements),
+    362 * 2^(3/2) = 1024 functions x 332 * 1.2 = 400 elements, and the budget in ``N^2 E``:
+    (1024/362)^2 * 400/332 = 9.64 times 2.5e7; within six digits it says nothing."""
+    from numerics.thermal._kramers_outputs import fp_advice
+
+    rec = {"hermite_change": 2.0e-4, "chebyshev_change": 9.5e-7, "hermite": 362,
+           "chebyshev": 4317, "elements": 332}
+    text = fp_advice(rec, 2.5e7)
+    assert "1024 x 400 spectral" not in text and "at least 1024 x 400" in text
+    assert "3 steps of the functions and 1 of the elements" in text
+    assert f"--fp-budget {2.5e7 * (1024 / 362) ** 2 * 400 / 332:.2g}" in text
+    assert fp_advice(dict(rec, hermite_change=5e-7), 2.5e7) == ""

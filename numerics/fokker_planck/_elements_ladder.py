@@ -46,7 +46,18 @@ The element step of the last rung is started beside that rung in a second proces
 :func:`._energy_density.energy_density_report`): the same solves and bits, less wall
 time.  The budget: ``N^2 E`` (the interface LU keeps about
 ``13 N^2`` numbers per element, :mod:`._elements_lu`; ``E/2`` when folded, :mod:`._parity`)
-at most ``max_cost`` (512 functions on 72 folded elements: 1.9e7, about 1.9 GB).
+at most ``max_cost`` (512 functions on 72 folded elements: 1.9e7, about 1.9 GB); the
+``refine`` of ``P(E)``, one element step beyond the last, may exceed it by that step, as
+the Chebyshev ladder's grid step does (mu = 0.005: 512 x 210, 2.75e7; ``kbm noise`` peaked
+at 2.3 GB).
+
+Measured (SEDF at rest, Delta = 3, D = mu/2, against the Chebyshev ladder at the same
+budget 2.5e7, both within the sum of the stated errors; CPU of the ladder and ``P(E)``
+with the second process, load 4-6): mu = 0.1, 128 x 58 stated 9.1e-9 (Chebyshev 128 x 448,
+1.8e-8), 3 s each; mu = 0.02, 256 x 90, 4.5e-8, 12 s (182 x 740, 5.5e-7, 15 s);
+mu = 0.01, 362 x 124, 4.4e-8, 32 s (258 x 1040, 3.0e-7, 31 s); mu = 0.005, 512 x 176,
+3.2e-7 and ``P(E)`` 9.7e-7 of its peak, 90 s (364 x 876, 3.9e-6 and 5.9e-5, 90 s; six
+digits took it ``--fp-budget 8.6e7``, 146-173 s and 3.1 GB).
 """
 
 from __future__ import annotations

@@ -12,7 +12,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from kbm.errors import ParameterError
+from kbm.errors import ModelError, ParameterError
 from numerics.fokker_planck import stationary_kramers
 from numerics.fokker_planck._elements_solve import ElementKramersSolution
 from numerics.fokker_planck._energy_density import (energy_density, energy_density_change,
@@ -87,7 +87,8 @@ def test_element_ladder_same_bits_with_one_and_two_processes(monkeypatch):
 def test_other_models_keep_their_routes_and_bad_sizes_say_what_to_change():
     """vdp (no saddle) keeps the Chebyshev ladder, an explicit ``basis="elements"`` runs
     the element ladder on it (its moments within the sum of both stated errors of the
-    Chebyshev ladder's), and ``basis="elements"`` with sizes is refused naming the fix."""
+    Chebyshev ladder's), ``basis="elements"`` with sizes is refused naming the fix, and a
+    budget below the first rung (``N^2 E/2`` folded) is refused with that cost."""
     vdp = stationary_kramers("vdp", {"mu": 0.3}, 0.15, max_cost=2e6)
     assert isinstance(vdp, OrthonormalKramersSolution)
     assert not isinstance(vdp, ElementKramersSolution)
@@ -98,6 +99,9 @@ def test_other_models_keep_their_routes_and_bad_sizes_say_what_to_change():
         stationary_kramers("sedf", dict(SEDF, mu=0.1), 0.05, basis="elements", n_cheb=200)
     with pytest.raises(ParameterError, match="'elements'"):
         stationary_kramers("sedf", dict(SEDF, mu=0.1), 0.05, basis="cells")
+    # the first rung's cost, 64^2 x 48/2 = 9.8e4 (folded), is refused at a budget below it
+    with pytest.raises(ModelError, match=r"64 Hermite functions x 48 elements \(cost 9.83e\+04"):
+        stationary_kramers("sedf", dict(SEDF, mu=0.1), 0.05, max_cost=5e4)
 
 
 @pytest.mark.slow

@@ -30,15 +30,22 @@ def _moments_agree(sol, ref) -> None:
         assert abs(getattr(sol, k) - getattr(ref, k)) <= bound * abs(getattr(ref, k)), k
 
 
-def test_sedf_routes_to_the_element_ladder_and_agrees_with_chebyshev():
+@pytest.fixture(scope="module")
+def sedf_pair():
+    """SEDF at rest, mu = 0.1, D = 0.05: the default route's solution and the Chebyshev
+    ladder's (``basis="orthonormal"`` at the budget 2e6), solved once for this module."""
+    params = dict(SEDF, mu=0.1)
+    return (stationary_kramers("sedf", params, 0.05),
+            stationary_kramers("sedf", params, 0.05, basis="orthonormal", max_cost=2e6))
+
+
+def test_sedf_routes_to_the_element_ladder_and_agrees_with_chebyshev(sedf_pair):
     """SEDF at rest, Delta = 3, mu = 0.1, D = 0.05 (Risken ch. 10's Kramers equation, the
     multi-well potential): the default route is the element ladder, which states six digits
     (128 functions on 58 elements, 9.1e-9), and its moments agree with the Chebyshev
     ladder's (``basis="orthonormal"`` at the budget 2e6, 90 x 499, stated 1.1e-6) within
     the sum of the stated errors; the ``refinements`` are a Hermite and an element step."""
-    params = dict(SEDF, mu=0.1)
-    sol = stationary_kramers("sedf", params, 0.05)
-    ref = stationary_kramers("sedf", params, 0.05, basis="orthonormal", max_cost=2e6)
+    sol, ref = sedf_pair
     assert isinstance(sol, ElementKramersSolution)
     assert not isinstance(ref, ElementKramersSolution)
     assert sol.hermite_change <= 1e-6
@@ -49,15 +56,13 @@ def test_sedf_routes_to_the_element_ladder_and_agrees_with_chebyshev():
     _moments_agree(sol, ref)
 
 
-def test_sedf_energy_density_on_elements_agrees_with_chebyshev():
+def test_sedf_energy_density_on_elements_agrees_with_chebyshev(sedf_pair):
     """``P(E)`` of the element ladder's solution (SEDF mu = 0.1, D = 0.05; the
     report takes it from one element step more when its change exceeds six digits, as
     for the Chebyshev grid) against ``P(E)`` of the Chebyshev ladder at the same energies,
     within the element report's stated change plus the Chebyshev solution's change under
     its own refinements (and its quadrature's), relative to the peak."""
-    params = dict(SEDF, mu=0.1)
-    sol = stationary_kramers("sedf", params, 0.05)
-    ref = stationary_kramers("sedf", params, 0.05, basis="orthonormal", max_cost=2e6)
+    sol, ref = sedf_pair
     rep = energy_density_report(sol)
     E, P = np.array(rep["E"]), np.array(rep["P"])
     peak = float(np.max(np.abs(P)))

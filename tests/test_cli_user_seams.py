@@ -140,7 +140,8 @@ def test_a_negative_energy_density_is_reported_not_silent():
     assert hand["E"] == [0.5, 1.5] and hand["P"] == [-0.1, -0.05]
     assert hand["mass"] == pytest.approx(0.075) and hand["within_change"] is False
     params = {"mu": 0.05, "Delta": 3, "beta": 1, "lam": 1}
-    rep = energy_density_report(stationary_kramers("sedf", params, 0.025, max_cost=1e6))
+    rep = energy_density_report(stationary_kramers("sedf", params, 0.025, max_cost=1e6,
+                                                   basis="orthonormal"))
     P, E, change = (np.array(rep[k]) for k in ("P", "E", "change"))
     neg = rep["negative"]
     assert neg["E"] == list(E[P < 0]) and len(neg["E"]) > 0

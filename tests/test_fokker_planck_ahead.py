@@ -323,12 +323,14 @@ def test_grid_step_of_p_started_in_the_ladder_is_the_sequential_report(monkeypat
 
     params = {"mu": 0.01, "Delta": 3.0, "beta": 1.0, "Omega": 1.0, "lam": 1.0}
     monkeypatch.setenv(ahead_mod.ENV, "2")
-    two = stationary_kramers("sedf", params, 0.005, max_cost=FP_BUDGET, refine_ahead=True)
+    two = stationary_kramers("sedf", params, 0.005, basis="orthonormal", max_cost=FP_BUDGET,
+                             refine_ahead=True)
     assert two.refine.handed is not None and two.refine.handed.job is not None
     par = ed.energy_density_report(two)
     assert two.refine.handed.job is None  # collected
     monkeypatch.setenv(ahead_mod.ENV, "1")
-    one = stationary_kramers("sedf", params, 0.005, max_cost=FP_BUDGET, refine_ahead=True)
+    one = stationary_kramers("sedf", params, 0.005, basis="orthonormal", max_cost=FP_BUDGET,
+                             refine_ahead=True)
     assert one.refine.handed is None and _same(one, two)
     assert ed.energy_density_report(one) == par
     assert par["change_peak"] < 1e-5

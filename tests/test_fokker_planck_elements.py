@@ -125,8 +125,9 @@ def _element_pair(mu: float, coarse: tuple, fine: tuple):
 
 def _against_ladder(mu: float, coarse: tuple, fine: tuple, **ladder) -> None:
     """``<x^2>`` and ``<v^2>`` of the element solve against the Hermite x Chebyshev
-    ladder of ``stationary_kramers`` within the sum of both stated errors."""
-    ref = stationary_kramers("sedf", dict(SEDF, mu=mu), mu / 2, **ladder)
+    ladder of ``stationary_kramers`` (``basis="orthonormal"``: the SEDF's default is now
+    the element ladder) within the sum of both stated errors."""
+    ref = stationary_kramers("sedf", dict(SEDF, mu=mu), mu / 2, basis="orthonormal", **ladder)
     sol, change = _element_pair(mu, coarse, fine)
     bound = ref.hermite_change + change
     assert change <= 1e-6

@@ -96,7 +96,7 @@ def test_sedf_energy_density_within_its_stated_change():
     from numerics.noise.budget import FP_BUDGET
 
     params = {"mu": 0.1, "Delta": 3, "beta": 1, "lam": 1}
-    sol = stationary_kramers("sedf", params, 0.05, max_cost=FP_BUDGET)
+    sol = stationary_kramers("sedf", params, 0.05, basis="orthonormal", max_cost=FP_BUDGET)
     rep = energy_density_report(sol)
     big = stationary_kramers("sedf", params, 0.05, n_hermite=256, n_cheb=1026, max_cost=1e9)
     ref = big.energy_density(rep["E"])
@@ -162,7 +162,7 @@ def test_even_order_values_are_the_chebyshev_series():
     for sol in (stationary_kramers("vdp", {"mu": 0.3}, 0.15, n_hermite=90, n_cheb=120,
                                    sigma=0.9),
                 stationary_kramers("sedf", {"mu": 0.1, "Delta": 3, "beta": 1, "lam": 1},
-                                   0.05, max_cost=2e6)):
+                                   0.05, basis="orthonormal", max_cost=2e6)):
         L = float(sol.x[0])
         xs = np.concatenate([rng.uniform(-L, L, 400), L * (1 - rng.uniform(0, 1e-4, 50)),
                              -L * (1 - rng.uniform(0, 1e-4, 50)), sol.x[:5]])
@@ -206,7 +206,7 @@ def _six_digits(mu: float, sigma: float, n_cheb: int, margin: float = 1.0) -> No
     from numerics.noise.budget import FP_BUDGET
 
     params = {"mu": mu, "Delta": 3, "beta": 1, "lam": 1}
-    sol = stationary_kramers("sedf", params, mu / 2, max_cost=FP_BUDGET)
+    sol = stationary_kramers("sedf", params, mu / 2, basis="orthonormal", max_cost=FP_BUDGET)
     rep = energy_density_report(sol)
     ref = stationary_kramers("sedf", params, mu / 2, n_hermite=362, n_cheb=n_cheb,
                              sigma=sigma, max_cost=1e9).energy_density(rep["E"])
@@ -280,7 +280,7 @@ def test_energy_density_quadrature_against_quadpack():
     from scipy.special import eval_hermite, gammaln
 
     sol = stationary_kramers("sedf", {"mu": 0.1, "Delta": 3, "beta": 1, "lam": 1}, 0.05,
-                             max_cost=2e6)
+                             basis="orthonormal", max_cost=2e6)
     series = sol._series()[:, ::2]
     k = np.arange(0, sol.coef.shape[0], 2)
     norm = np.exp(-0.5 * (k * math.log(2.0) + gammaln(k + 1.0)) - 0.25 * math.log(math.pi))

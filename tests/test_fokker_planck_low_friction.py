@@ -39,7 +39,7 @@ def test_sedf_mu_0002_against_averaging_and_another_scale():
 
     mu = 0.002
     params = dict(SEDF, mu=mu)
-    sol = stationary_kramers("sedf", params, mu / 2, max_cost=FP_BUDGET)
+    sol = stationary_kramers("sedf", params, mu / 2, basis="orthonormal", max_cost=FP_BUDGET)
     avg, why = averaged_stationary("sedf", params, mu / 2, 1.0)
     assert avg is not None, why
     assert sol.a2 == pytest.approx(avg.a2, rel=1e-3)
@@ -61,7 +61,8 @@ def test_a_hopeless_check_stops_the_ladder():
 
     mu = 0.002
     params = dict(SEDF, mu=mu)
-    sol = stationary_kramers("sedf", params, mu / 2, max_cost=2.5e6, sigma=0.136)
+    sol = stationary_kramers("sedf", params, mu / 2, basis="orthonormal", max_cost=2.5e6,
+                             sigma=0.136)
     assert sol.hermite_change > HOPELESS and sol.refine is None
     n, m = sol.coef.shape[0], sol.x.size - 1
     assert n * (m / 2) ** 2 <= 2.5e6
@@ -114,7 +115,7 @@ def test_sedf_mu_0005_six_digits_within_a_raised_budget():
 
     mu = 0.005
     params = dict(SEDF, mu=mu)
-    sol = stationary_kramers("sedf", params, mu / 2, max_cost=8.6e7)
+    sol = stationary_kramers("sedf", params, mu / 2, basis="orthonormal", max_cost=8.6e7)
     assert sol.coef.shape[0] >= 364 and sol.hermite_change < 1e-6
     _assert_within_its_change(sol, params, 1.1, 456, 1800)
 

@@ -233,7 +233,7 @@ def test_sedf_six_digits_at_low_friction(mu):
     from numerics.noise.budget import FP_BUDGET
 
     params = dict(SEDF, mu=mu)
-    sol = stationary_kramers("sedf", params, mu / 2, max_cost=FP_BUDGET)
+    sol = stationary_kramers("sedf", params, mu / 2, basis="orthonormal", max_cost=FP_BUDGET)
     assert sol.hermite_change < 1e-5
     assert sol.hermite_change <= 1e-6
     n, m = sol.coef.shape[0], sol.x.size - 1
@@ -267,7 +267,7 @@ def test_sedf_six_digits_below_mu_002(mu, functions):
     from numerics.noise.budget import FP_BUDGET
 
     params = dict(SEDF, mu=mu)
-    sol = stationary_kramers("sedf", params, mu / 2, max_cost=FP_BUDGET)
+    sol = stationary_kramers("sedf", params, mu / 2, basis="orthonormal", max_cost=FP_BUDGET)
     assert sol.hermite_change <= 1e-6
     n, m = sol.coef.shape[0], sol.x.size - 1
     assert n == functions and len(sol.refinements) == 2

@@ -149,8 +149,10 @@ def run(args) -> int:
               f"bias beyond {pilot['tolerance']:.2g}")
     if rep.get("fokker_planck"):
         f = rep["fokker_planck"]
+        points = ("points of spectral elements" if "elements" in f.get("method", "")
+                  else "Chebyshev points")
         print(f"  Fokker-Planck: stationary Kramers equation, {f['hermite']} Hermite functions "
-              f"of x' x {f['chebyshev']} Chebyshev points on |x| <= {f['half_width']:.4g}")
+              f"of x' x {f['chebyshev']} {points} on |x| <= {f['half_width']:.4g}")
         change = f.get("hermite_change", 0.0)
         if change is None:
             print("  WARNING: the Fokker-Planck moments' truncation error is not measured (a "

@@ -21,8 +21,13 @@ symmetric under ``(x, v) -> (-x, -v)``, its ladder's last step in :mod:`._statio
 :mod:`._energy_density` the density of the energy ``P(E)`` of a stationary solution with its
 stated error (its quadrature in :mod:`._energy_quadrature`).  A second discretisation of the
 stationary solve in ``x``, spectral elements factorised by static condensation
-(:mod:`._elements`, :mod:`._elements_lu`, one solve in :mod:`._elements_solve`), is reached
-by ``stationary_kramers(elements=(E, p), n_hermite=N)`` at given sizes (no ladder yet)."""
+(:mod:`._elements`, :mod:`._elements_lu`, one solve in :mod:`._elements_solve`), is the
+default for a nonlinear damping whose potential has saddles on the range (the multi-well
+SEDF), with its own ladder of Hermite functions and elements and its stated error
+(:mod:`._elements_ladder`; ``basis="orthonormal"`` keeps the Chebyshev ladder there,
+``basis="elements"`` asks for the element ladder elsewhere), and ``P(E)`` on each element
+(:meth:`._elements_solve.ElementKramersSolution.pieces`); one solve at given sizes by
+``stationary_kramers(elements=(E, p), n_hermite=N)``."""
 
 from .escape import KramersEscape, kramers_escape
 from .kramers import kramers_operator, stationary_kramers

@@ -26,8 +26,9 @@ class ElementKramersSolution(OrthonormalKramersSolution):
     """:class:`._stationary_solve.OrthonormalKramersSolution` on the nodes of spectral
     elements (:attr:`x` descending from ``L``, :attr:`weights` the assembled GLL weights):
     the moments and :meth:`mass_below` as there, the values between the nodes by each
-    element's Lagrange polynomial.  ``P(E)`` by :meth:`energy_density` is not available
-    (its quadrature, :mod:`._energy_quadrature`, is written for one Chebyshev grid)."""
+    element's Lagrange polynomial.  ``P(E)`` by :meth:`energy_density`
+    (:mod:`._energy_quadrature`) on each element's piece of a stretch (:meth:`pieces`),
+    the even orders' values by :meth:`even_order_values`."""
 
     degree: int = 0
     edges: tuple = ()
@@ -37,10 +38,15 @@ class ElementKramersSolution(OrthonormalKramersSolution):
                 f"{self.coef.shape[0]} Hermite x {len(self.edges) - 1} elements of degree "
                 f"{self.degree})")
 
-    def values(self, xs) -> np.ndarray:
-        """``c_n`` at the positions ``xs`` (rows ``n``), by the Lagrange polynomial of the
-        element holding each (barycentric form on its GLL nodes)."""
-        xs = np.atleast_1d(np.asarray(xs, float))
+    #: the first Gauss-Legendre rule of ``P(E)`` on each element's piece of a stretch
+    #: (:func:`._energy_quadrature.energy_density`; the integrand there is a polynomial of
+    #: the degree times a smooth function of ``x``)
+    quadrature_nodes = 16
+
+    def _lagrange(self, xs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(lag, idx)``: the Lagrange weights ``(len(xs), p + 1)`` of each position on its
+        element's GLL nodes (barycentric form) and those nodes' indices in ascending
+        order."""
         p, edges = self.degree, np.asarray(self.edges)
         r, _, _ = gll(p)
         bary = 1.0 / np.prod(np.where(np.eye(p + 1, dtype=bool), 1.0,
@@ -54,9 +60,43 @@ class ElementKramersSolution(OrthonormalKramersSolution):
         lag = bary / d
         lag = np.where(hit.any(axis=1)[:, None], hit.astype(float), lag)
         lag /= lag.sum(axis=1, keepdims=True)
+        return lag, e[:, None] * p + np.arange(p + 1)[None, :]
+
+    def values(self, xs) -> np.ndarray:
+        """``c_n`` at the positions ``xs`` (rows ``n``), by the Lagrange polynomial of the
+        element holding each (barycentric form on its GLL nodes)."""
+        xs = np.atleast_1d(np.asarray(xs, float))
+        lag, idx = self._lagrange(xs)
         asc = self.coef[:, ::-1]  # ascending nodes
-        idx = e[:, None] * p + np.arange(p + 1)[None, :]
         return np.einsum("nkj,kj->nk", asc[:, idx], lag)
+
+    def even_order_values(self, xs) -> np.ndarray:
+        """``c_n`` of the even orders (columns) at the positions ``xs`` (rows), as
+        :meth:`values` (one sparse product: what
+        :func:`._energy_quadrature.even_order_values` is for one Chebyshev grid)."""
+        import scipy.sparse as sps
+
+        xs = np.atleast_1d(np.asarray(xs, float))
+        lag, idx = self._lagrange(xs)
+        if "even" not in self._cache:
+            self._cache["even"] = np.ascontiguousarray(self.coef[::2, ::-1].T)
+        V = self._cache["even"]
+        S = sps.csr_matrix((lag.ravel(), idx.ravel(), np.arange(0, lag.size + 1, lag.shape[1])),
+                           shape=(xs.size, V.shape[0]))
+        return S @ V
+
+    def pieces(self, E: float) -> list:
+        """The stretches of :meth:`._solution.KramersSolution.stretches` cut at the ends of
+        the elements, the ranges of ``P(E)``'s rules (:mod:`._energy_quadrature`): the
+        values are piecewise polynomials, and one Gauss-Legendre rule across an element's
+        end converges only algebraically (as :meth:`_stretch` cuts them for
+        :meth:`mass_below`)."""
+        edges = np.asarray(self.edges)
+        out = []
+        for a, b in self.stretches(E):
+            cuts = [a, *edges[(edges > a) & (edges < b)].tolist(), b]
+            out.extend(zip(cuts[:-1], cuts[1:]))
+        return out
 
     def _series(self):
         return None
@@ -76,17 +116,6 @@ class ElementKramersSolution(OrthonormalKramersSolution):
         U = np.sqrt(np.maximum(2 * (E - self.G(xs)), 0.0)) / self.sigma
         c = self.values(xs)
         return float(np.sum(jac * np.sum(c * self._band(c.shape[0], U), axis=0)))
-
-    def energy_density(self, energies) -> np.ndarray:
-        """Not available on elements (class docstring).
-
-        Raises
-        ------
-        NotImplementedError
-        """
-        raise NotImplementedError("P(E) of the spectral-element solve is not written: its "
-                                  "quadrature (._energy_quadrature) assumes one Chebyshev "
-                                  "grid; use energy_bins (differences of mass_below)")
 
 
 @on_one_blas_thread

@@ -15,6 +15,13 @@ the solutions of one report, 8 s CPU); :func:`even_order_values` interpolates th
 samples eight times finer than the degree in the angle of the Chebyshev variable, ``O(12)``
 a value, to rounding.  The stretches of every energy are evaluated together, a batch of
 nodes at a time (one velocity recurrence and one sparse product each).
+
+On a spectral-element solution (:mod:`._elements_solve`) the stretches are cut at the
+elements' ends (its ``pieces``: the values are piecewise polynomials, continuous but not
+smooth across an end), the first rule of each piece has its ``quadrature_nodes`` (16), and
+the values come from its own ``even_order_values`` (each element's Lagrange polynomial,
+one sparse product): SEDF at rest, mu = 0.01, 362 functions on 124 elements, 0.7 s CPU,
+2342 pieces, 474 of them doubled past 32 nodes.
 """
 
 from __future__ import annotations
@@ -108,6 +115,18 @@ def even_order_values(sol, xs: np.ndarray) -> np.ndarray:
     return S @ V
 
 
+def _even_orders(sol) -> int:
+    """The number of even orders ``0, 2, ...`` of the solution's Hermite functions."""
+    return (sol.coef.shape[0] + 1) // 2
+
+
+def _even_values(sol, xs: np.ndarray) -> np.ndarray:
+    """:func:`even_order_values`, or the solution's own (``sol.even_order_values``: the
+    elements' Lagrange polynomials, :mod:`._elements_solve`)."""
+    own = getattr(sol, "even_order_values", None)
+    return own(xs) if own is not None else even_order_values(sol, xs)
+
+
 def _rules(sol, tasks: list, n: int, shared: dict | None) -> list:
     """For each stretch ``(E, a, b)`` of ``tasks``, the ``n``-point rule's ``(w jac/U,
     edge)``: its weights times the Jacobian over ``U`` and the velocity functions' values
@@ -117,7 +136,7 @@ def _rules(sol, tasks: list, n: int, shared: dict | None) -> list:
     one :func:`energy_density_report` compute them once.  The stretches without them are
     computed together, in batches of about :data:`BATCH` nodes (one recurrence each, not
     one per stretch)."""
-    rows = _oversampled(sol)[0].shape[1]
+    rows = _even_orders(sol)
     out, todo = {}, []
     for task in tasks:
         key = (sol.basis, sol.sigma, *task, n)
@@ -152,7 +171,7 @@ def _stretch_densities(sol, tasks: list, n: int, shared: dict | None) -> np.ndar
     if not tasks:
         return np.empty(0)
     rules = _rules(sol, tasks, n, shared)
-    rows = _oversampled(sol)[0].shape[1]
+    rows = _even_orders(sol)
     t = _gauss_legendre(n)[0]
     xs = np.concatenate([0.5 * (a + b) + 0.5 * (b - a) * np.sin(0.5 * np.pi * t)
                          for _, a, b in tasks])
@@ -160,17 +179,19 @@ def _stretch_densities(sol, tasks: list, n: int, shared: dict | None) -> np.ndar
     out = np.empty(len(tasks))
     step = max(1, BATCH // n)
     for i in range(0, len(tasks), step):
-        c = even_order_values(sol, xs[i * n:(i + step) * n])  # nodes, even orders
+        c = _even_values(sol, xs[i * n:(i + step) * n])  # nodes, even orders
         edge = np.concatenate([r[1][:, :rows] for r in rules[i:i + step]])
         f = weight[i * n:(i + step) * n] * np.einsum("ij,ij->i", c, edge)
         out[i:i + step] = f.reshape(-1, n).sum(axis=1)
     return out / sol.sigma**2
 
 
-def energy_density(sol, energies, rtol: float = 1e-8, nodes: int = 64, most: int = 2048,
+def energy_density(sol, energies, rtol: float = 1e-8, nodes: int | None = None,
+                   most: int = 2048,
                    quadrature: bool = False, shared: dict | None = None):
     """``P(E)`` of the stationary solution ``sol`` at each of ``energies`` (module
-    docstring): Gauss-Legendre rules of ``nodes``, or of the power of two at or above the
+    docstring): Gauss-Legendre rules of ``nodes`` (default the solution's
+    ``quadrature_nodes``, else 64), or of the power of two at or above the
     solution's points in the stretch if more, doubled on each stretch until two agree to
     ``rtol`` (relative) or ``most`` nodes (near a separatrix energy, whose logarithmic
     singularity converges slowly).
@@ -190,6 +211,8 @@ def energy_density(sol, energies, rtol: float = 1e-8, nodes: int = 64, most: int
     -------
     numpy.ndarray, or (numpy.ndarray, numpy.ndarray) with ``quadrature``
     """
+    if nodes is None:  # 64; 16 on each element of an element solution (._elements_solve)
+        nodes = getattr(sol, "quadrature_nodes", 64)
     key = ("energy_density", np.asarray(energies, float).tobytes(), rtol, nodes, most)
     if key in sol._cache:  # a coarse solution shared by two refinements is evaluated once
         P, miss = sol._cache[key]
@@ -233,11 +256,12 @@ def energy_density(sol, energies, rtol: float = 1e-8, nodes: int = 64, most: int
 
 
 def stretches_shared(sol, E: float, shared: dict | None) -> list:
-    """``sol.stretches(E)``, kept in ``shared`` for the other solutions of the same
-    potential and range (the same roots)."""
+    """``sol.stretches(E)`` (an element solution's ``pieces``), kept in ``shared`` for the
+    other solutions of the same potential and range (the same roots; the same elements)."""
+    ranges = getattr(sol, "pieces", sol.stretches)  # an element solution's: cut at its ends
     if shared is None:
-        return sol.stretches(E)
-    key = ("stretches", sol.G, float(sol.x[0]), E)
+        return ranges(E)
+    key = ("stretches", sol.G, float(sol.x[0]), E, getattr(sol, "edges", ()))
     if key not in shared:
-        shared[key] = sol.stretches(E)
+        shared[key] = ranges(E)
     return shared[key]

@@ -111,7 +111,7 @@ def kramers_terms(split: ConservativeSplit, D: float, sigma: float, L: float,
 def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None = None,
                        n_cheb: int | None = None, sigma: float | None = None,
                        L: float | None = None, omega0: float | None = None,
-                       tol: float = 1e-8, max_cost: float = 2e7,
+                       tol: float | None = None, max_cost: float = 2e7,
                        basis: str | None = None, workers: int | None = None,
                        refine_ahead: bool = False,
                        elements: tuple[int, int] | None = None) -> KramersSolution:
@@ -132,7 +132,9 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         :func:`._stationary_orthonormal.stationary_orthonormal` (Hermite functions
         ``32 * 2^(k/2)``, then the intervals by 1.25, each until ``<x^2>`` and ``<v^2>``
         change by less than ``tol`` or the budget ends); the larger last change is the
-        solution's ``hermite_change``, its stated truncation error.  With
+        solution's ``hermite_change``, its stated truncation error.  For a nonlinear
+        damping whose potential has saddles on the range (the multi-well SEDF) with
+        neither given, the element ladder (``basis="elements"``).  With
         ``basis="risken"`` the number of functions is doubled from 32 and the last solve
         runs on 1.5 times the intervals (the previous method).
     sigma, L : float, optional
@@ -142,9 +144,11 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         ``L`` where ``G mu/D`` exceeds 45 above its minimum).
     omega0 : float, optional
         The frequency of ``a^2`` (default the model's ``omega0``, else ``sqrt(g'(0))``).
-    tol : float
+    tol : float, optional
         Relative change of ``<x^2>`` and ``<v^2>`` at which the Hermite (and, in the
-        orthonormal functions, the Chebyshev) ladder stops.
+        orthonormal functions, the Chebyshev) ladder stops (default 1e-8; the element
+        ladder's :data:`._elements_ladder.TOL`, 1e-7, a tenth of six digits, as its stated
+        error is the sum of its two last changes).
         (It tested ``<a^2>`` alone and stopped at 128 functions whatever the change: for the
         SEDF at mu = 0.1, Delta = 3, D = 0.05 ``<a^2>`` moved by 5e-5 from 128 to 256
         functions while ``<x^2>`` moved by 1.7e-2, and 2.2764 was printed to ten digits
@@ -160,7 +164,9 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         :func:`._stationary_orthonormal.stationary_orthonormal`); a solve whose factors
         would exceed :data:`._pentadiagonal_disk.FACTOR_MEMORY` bytes in memory keeps them
         on disk (the same solution; the budget then bounds the time, not the memory).
-    basis : {None, "orthonormal", "risken"}
+        The element ladder's cost is ``n_hermite^2 E`` (``E/2`` folded), about the
+        numbers its interface LU keeps over 13.
+    basis : {None, "orthonormal", "risken", "elements"}
         The velocity functions.  Default: Risken's pair (:mod:`._bases`) for linear
         damping, where ``sigma^2 = kT`` makes the Maxwellian one function; the orthonormal
         Hermite functions with Galerkin projection (:mod:`._stationary_orthonormal`, its
@@ -168,9 +174,16 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         pair grows every high order wherever the local friction is negative
         (:mod:`._orthonormal`; the SEDF at mu = 0.1, Delta = 3, D = 0.05 gave
         ``<x^2>`` = 2.2164, 2.2770, 2.3148 at 64, 128, 256 functions).  ``"risken"``
-        forces the old discretisation (a second method for comparisons).
+        forces the old discretisation (a second method for comparisons).  For a
+        nonlinear damping whose potential has saddles on the range (the multi-well SEDF)
+        and no sizes given, the default is ``"elements"``: the orthonormal functions
+        times spectral elements in ``x``, with the ladder of
+        :func:`._elements_ladder.element_ladder` (SEDF at rest, Delta = 3, D = mu/2,
+        mu = 0.005: six digits in 37 s CPU where the Chebyshev ladder took 146 s and
+        3.1 GB).  ``"orthonormal"`` keeps the Chebyshev ladder there.
     workers : int, optional
-        At most this many processes for the orthonormal ladder's independent solves
+        At most this many processes for the orthonormal and element ladders' independent
+        solves
         (:mod:`._ahead`; default :func:`._ahead.fp_workers`, ``KBM_FP_WORKERS`` or 2); the
         solution is the same bits whatever it is.
     refine_ahead : bool
@@ -183,7 +196,7 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         times ``n_hermite`` orthonormal Hermite functions (required), with the scale,
         range and element centres of the orthonormal ladder's first steps (``sigma^2 =
         kT`` for linear damping); no ladder: its ``hermite_change`` is ``nan`` (no stated
-        error) and its ``P(E)`` is not available.  Default ``None``: the routes above.
+        error).  Default ``None``: the routes above.
 
     Returns
     -------
@@ -193,7 +206,9 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
     ------
     kbm.errors.ParameterError
         ``D <= 0`` or ``mu <= 0``; ``elements`` the element solve cannot use (an odd
-        number of elements, an even degree) or without ``n_hermite``.
+        number of elements, an even degree) or without ``n_hermite``; ``basis`` not one
+        of those named, or ``"elements"`` with ``n_hermite`` or ``n_cheb`` but no
+        ``elements``.
     kbm.errors.ModelError
         A driven or non-confining model, or a damping not polynomial in ``x'``.
     """
@@ -211,8 +226,13 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
                   else math.sqrt(float(split.numpy_functions()[1](np.array(0.0)))))
     terms = velocity_terms(split)
     kT = _linear_temperature(terms, D)
-    if basis not in (None, "orthonormal", "risken"):
-        raise ParameterError(f"basis = {basis!r}: use 'orthonormal' or 'risken'")
+    if basis not in (None, "orthonormal", "risken", "elements"):
+        raise ParameterError(f"basis = {basis!r}: use 'orthonormal', 'risken' or 'elements'")
+    if basis == "elements" and elements is None and (n_hermite is not None
+                                                     or n_cheb is not None):
+        raise ParameterError("basis = 'elements' chooses its own sizes: leave out n_hermite "
+                             "and n_cheb, or give elements=(E, p) with n_hermite for one "
+                             "solve at those sizes")
     if elements is not None:
         from ._elements_solve import element_kramers, element_sizes
 
@@ -220,6 +240,13 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         return element_kramers(split, None, D, n_hermite=int(n_hermite), elements=E, degree=p,
                                sigma=math.sqrt(kT) if sigma is None and kT is not None
                                else sigma, L=L, omega0=float(omega0), well=kT is None)
+    if basis == "elements" or (basis is None and kT is None and n_hermite is None
+                               and n_cheb is None and _has_saddles(split, G, D, L)):
+        from ._elements_ladder import element_ladder
+
+        return element_ladder(split, D, G, float(omega0), sigma=sigma, L=L, tol=tol,
+                              max_cost=max_cost, workers=workers, refine_ahead=refine_ahead)
+    tol = 1e-8 if tol is None else float(tol)
     if basis == "orthonormal" or (basis is None and kT is None):
         return stationary_orthonormal(split, D, G, float(omega0), n_hermite=n_hermite,
                                       n_cheb=n_cheb, sigma=sigma, L=L, tol=tol,
@@ -267,6 +294,16 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         # the intervals (vdp mu = 0.3, D = 0.15: <x^2> 1.1e-6 low on 88, 6e-10 on 132)
         sol = _solve(split, D, math.sqrt(s2), half, nh, finer, G, omega0)
     return dataclasses.replace(sol, hermite_change=change)
+
+
+def _has_saddles(split, G, D: float, L: float | None) -> bool:
+    """Whether ``G`` has an interior maximum (``g`` turns from positive to negative) on the
+    range ``[-L, L]`` (default :func:`._model._half_width` at ``D/mu``): the multi-well
+    potentials, whose separatrices' layers the element ladder resolves
+    (:mod:`._elements_ladder`)."""
+    half = _half_width(G, D / float(split.mu)) if L is None else float(L)
+    gz = np.asarray(split.numpy_functions()[0](np.linspace(-half, half, 20001)), float)
+    return bool(np.any((gz[:-1] > 0) & (gz[1:] <= 0)))
 
 
 def _linear_temperature(terms, D: float) -> float | None:

@@ -50,6 +50,7 @@ def fokker_planck_moments(model, params: dict, D: float, omega0: float,
                                        if required and energy_density else None),
                     "x2": sol.x2, "a2": sol.a2, "v2": sol.v2, "hermite": sol.coef.shape[0],
                     "chebyshev": sol.x.size, "half_width": float(sol.x[0]),
+                    "elements": len(sol.edges) - 1 if hasattr(sol, "edges") else None,
                     "sigma": sol.sigma, "solution": sol, "basis": sol.basis, "budget": budget,
                     "hermite_change": change if math.isfinite(change) else None,
                     "chebyshev_change": (sol.chebyshev_change
@@ -93,6 +94,8 @@ def fp_advice(fp: dict, budget: float) -> str:
     change, n, m = fp["hermite_change"], fp["hermite"], fp["chebyshev"] - 1
     if change is not None and change <= 1e-6:
         return ""
+    if fp.get("elements"):
+        return _element_advice(fp, budget)
     if change is None or change <= 1e-5:
         nb, mb = 2 * round(0.7 * n), 2 * round(0.7 * m)
         return (f"six digits need more than the Fokker-Planck budget ({budget:.2g}) "
@@ -132,3 +135,26 @@ def energy_density_output(sol, model, params: dict, D: float, omega0: float,
                                    n_cheb=2 * math.ceil(0.625 * (sol.x.size - 1)),
                                    sigma=sol.sigma, L=float(sol.x[0]))
     return energy_density_report(sol, finer, workers=workers)
+
+
+def _element_advice(fp: dict, budget: float) -> str:
+    """:func:`fp_advice` of the element ladder (:mod:`numerics.fokker_planck._elements_ladder`,
+    ``fp["elements"]`` elements): the steps of each ladder its part of the stated error
+    asks for, as if each gained a digit (functions by ``2^(1/2)``, elements by 1.2), and
+    the budget ``N^2 E`` of those sizes against this solve's."""
+    change, n, e = fp["hermite_change"], fp["hermite"], fp["elements"]
+    grid = fp.get("chebyshev_change")
+    if change is None:
+        kh, ke = 1, 1
+    else:
+        parts = (change, change) if grid is None else (max(change - grid, 0.0), grid)
+        kh, ke = (max(0, math.ceil(math.log10(p / 5e-7) - 1e-9)) if p > 5e-7 else 0
+                  for p in parts)
+    n6, e6 = 2 * round(n * 2 ** (kh / 2) / 2), 2 * math.ceil(e * 1.2**ke / 2)
+    ratio = (n6 / n) ** 2 * (e6 / e)
+    stated = "not measured" if change is None else f"{change:.2g}"
+    return (f"six digits need more than the Fokker-Planck budget ({budget:.2g}) affords "
+            f"(stated relative error {stated}: {n} Hermite functions of x' x {e} spectral "
+            f"elements); they need {kh} step{'s' * (kh != 1)} of the functions and {ke} of "
+            f"the elements, at least {n6} x {e6}, about {ratio:.0f} times this solve's "
+            f"memory: rerun with --fp-budget {budget * ratio:.2g}")

@@ -73,6 +73,10 @@ def default_times(system, t_end: float | None, burn_in: float | None,
 #: the method names of ``kbm noise --method``
 METHODS = ("averaging", "fokker-planck")
 FOKKER_PLANCK = "Fokker-Planck (stationary Kramers equation, Hermite x Chebyshev spectral)"
+#: the same on spectral elements in ``x`` (numerics.fokker_planck._elements_ladder, the
+#: multi-well SEDF): ``fokker_planck.chebyshev`` is then the number of their nodes
+FOKKER_PLANCK_ELEMENTS = ("Fokker-Planck (stationary Kramers equation, Hermite x spectral "
+                          "elements)")
 
 
 def _pilot_range(system, burn: float, h: float, seed: int) -> tuple[float, float]:
@@ -222,7 +226,8 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
                    "fokker_planck": fp["x2"] if fp else None},
         },
         "fokker_planck": None if fp is None else {
-            "method": FOKKER_PLANCK, "hermite": fp["hermite"], "chebyshev": fp["chebyshev"],
+            "method": FOKKER_PLANCK_ELEMENTS if fp.get("elements") else FOKKER_PLANCK,
+            "hermite": fp["hermite"], "chebyshev": fp["chebyshev"],
             "half_width": fp["half_width"], "sigma": fp["sigma"], "v2": fp["v2"],
             "hermite_change": fp["hermite_change"], "basis": fp["basis"],
             "chebyshev_change": fp["chebyshev_change"],

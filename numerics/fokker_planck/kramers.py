@@ -252,6 +252,10 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
                                       n_cheb=n_cheb, sigma=sigma, L=L, tol=tol,
                                       max_cost=max_cost, workers=workers,
                                       refine_ahead=refine_ahead)
+    if kT is not None and basis is None and n_hermite is None and n_cheb is None:
+        from ._linear_elements import linear_stationary
+
+        return linear_stationary(split, D, kT, G, float(omega0), L=L, sigma=sigma, tol=tol)
     if sigma is not None:
         s2 = float(sigma) ** 2
     elif kT is not None:

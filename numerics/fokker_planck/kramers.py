@@ -25,7 +25,11 @@ The stationary equation's ``n = 0`` block says that the current ``sigma c_1`` is
 it is replaced by ``c_1 = 0`` (no current through the far ends, where the density is below
 ``exp(-45)``) at all points but one, and the normalisation ``int c_0 dx = 1``.
 
-That is the discretisation of a linear damping.  A nonlinear damping is solved in
+That is Risken's pair on one Chebyshev grid (``basis="risken"``), until the twenty-ninth
+session the route of a linear damping; it is now solved on spectral elements with its error
+measured (:mod:`._linear_elements`: the pair's grid residual, amplified by ``1/mu``, put
+the CDC at mu = 0.001 1.1e-5 off Boltzmann with a stated error of 0; the elements are
+1e-15 off at mu = 0.15 to 1e-4).  A nonlinear damping is solved in
 orthonormal Hermite functions with Galerkin projection (:mod:`._stationary_orthonormal`):
 in Risken's pair every high order grows wherever the local friction is negative
 (:mod:`._orthonormal`), and the SEDF at rest (mu = 0.1, Delta = 3, D = 0.05) did not
@@ -127,8 +131,10 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         Noise intensity, ``> 0``.
     n_hermite, n_cheb : int, optional
         Hermite functions of the velocity and Chebyshev intervals in the position.
-        Default for linear damping: 12 functions, ``n_cheb`` resolves ``exp(-G/kT)`` to
-        1e-9.  For a nonlinear damping the ladders of
+        Default for linear damping: :func:`._linear_elements.linear_stationary` (12
+        functions on the elements that resolve ``exp(-G/kT)``, the error the change on
+        1.25 times the elements); given either, Risken's pair with 12 functions and
+        ``n_cheb`` that resolves ``exp(-G/kT)`` to 1e-9.  For a nonlinear damping the ladders of
         :func:`._stationary_orthonormal.stationary_orthonormal` (Hermite functions
         ``32 * 2^(k/2)``, then the intervals by 1.25, each until ``<x^2>`` and ``<v^2>``
         change by less than ``tol`` or the budget ends); the larger last change is the
@@ -167,8 +173,10 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         The element ladder's cost is ``n_hermite^2 E`` (``E/2`` folded), about the
         numbers its interface LU keeps over 13.
     basis : {None, "orthonormal", "risken", "elements"}
-        The velocity functions.  Default: Risken's pair (:mod:`._bases`) for linear
-        damping, where ``sigma^2 = kT`` makes the Maxwellian one function; the orthonormal
+        The velocity functions.  Default: for linear damping, where ``sigma^2 = kT``
+        makes the Maxwellian one function, the orthonormal functions on spectral elements
+        (:mod:`._linear_elements`; Risken's pair, :mod:`._bases`, when sizes are given or
+        with ``"risken"``); the orthonormal
         Hermite functions with Galerkin projection (:mod:`._stationary_orthonormal`, its
         own choice of ``sigma``, points and sizes) for a nonlinear damping, where Risken's
         pair grows every high order wherever the local friction is negative

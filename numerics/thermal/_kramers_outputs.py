@@ -123,8 +123,9 @@ def fp_advice(fp: dict, budget: float) -> str:
 def energy_density_output(sol, model, params: dict, D: float, omega0: float,
                           workers: int | None = None) -> dict:
     """``P(E)`` of the Kramers solution with its stated error
-    (:func:`numerics.fokker_planck._energy_density.energy_density_report`; for linear
-    damping, whose moments' error is not measured, the change on 1.25 times the intervals)."""
+    (:func:`numerics.fokker_planck._energy_density.energy_density_report`: the change under
+    the solution's refinements; for Risken's pair, whose moments' error is not measured,
+    the change on 1.25 times the intervals)."""
     from ..fokker_planck import stationary_kramers
     from ..fokker_planck._energy_density import energy_density_report
 

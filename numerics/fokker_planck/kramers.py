@@ -187,8 +187,10 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         and no sizes given, the default is ``"elements"``: the orthonormal functions
         times spectral elements in ``x``, with the ladder of
         :func:`._elements_ladder.element_ladder` (SEDF at rest, Delta = 3, D = mu/2,
-        mu = 0.005: six digits in 37 s CPU where the Chebyshev ladder took 146 s and
-        3.1 GB).  ``"orthonormal"`` keeps the Chebyshev ladder there.
+        mu = 0.005 at ``max_cost`` 2.5e7, ``kbm noise``'s budget: stated 3.2e-7 on 512
+        functions x 176 elements in 48 s user + 16 s system CPU, 2.0 GB (measured in the
+        twenty-ninth session), where the Chebyshev ladder states 3.9e-6 at that budget and
+        took 164 s CPU and 3.2 GB at 8.6e7 for 5.6e-7).  ``"orthonormal"`` keeps the Chebyshev ladder there.
     workers : int, optional
         At most this many processes for the orthonormal and element ladders' independent
         solves

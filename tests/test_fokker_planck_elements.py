@@ -135,6 +135,7 @@ def _against_ladder(mu: float, coarse: tuple, fine: tuple, **ladder) -> None:
     assert abs(sol.v2 - ref.v2) <= bound * ref.v2
 
 
+@pytest.mark.slow  # the element ladder's default test compares the same case
 def test_sedf_agrees_with_the_chebyshev_ladder():
     """SEDF at rest, Delta = 3, beta = 1, mu = 0.1, D = 0.05: ``<x^2>`` and ``<v^2>`` of
     the element solve against the Hermite x Chebyshev ladder of ``stationary_kramers``

@@ -66,6 +66,7 @@ import dataclasses
 import functools
 import math
 
+from ._solution import moments_moved
 from ._ahead import Ahead, Later, fp_workers
 from ._elements_solve import ElementKramersSolution, element_stationary
 
@@ -186,10 +187,7 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, sigma, L, tol: float,
             memo[n, e] = ahead.result((n, e), *args(n, e), **points)
         return memo[n, e]
 
-    def moved(a, b) -> float:
-        """The moments' relative change, at least either inverse iteration's last change."""
-        return max(abs(b.x2 - a.x2) / abs(b.x2), abs(b.v2 - a.v2) / abs(b.v2),
-                   a.iteration_change, b.iteration_change)
+    moved = moments_moved
 
     def functions(k: int) -> int:
         return 2 * int(round(FIRST_FUNCTIONS * 2 ** (k / 2) / 2))

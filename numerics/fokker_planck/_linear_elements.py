@@ -35,6 +35,7 @@ import math
 
 from ._elements_solve import ElementKramersSolution, element_stationary
 from ._model import _chebyshev_size, _half_width
+from ._solution import moments_moved
 
 __all__ = ["linear_stationary", "DEGREE", "HERMITE", "MAX_STEPS"]
 
@@ -48,10 +49,6 @@ MAX_STEPS = 4
 
 def _finer(E: int) -> int:
     return 2 * math.ceil(1.25 * E / 2)
-
-
-def _change(a: ElementKramersSolution, b: ElementKramersSolution) -> float:
-    return max(abs(b.x2 - a.x2) / abs(b.x2), abs(b.v2 - a.v2) / abs(b.v2))
 
 
 def linear_stationary(split, D: float, kT: float, G, omega0: float, *, L: float | None = None,
@@ -90,7 +87,7 @@ def linear_stationary(split, D: float, kT: float, G, omega0: float, *, L: float 
     sol = solve(E)
     for _ in range(MAX_STEPS + 1):
         fine = solve(_finer(E))
-        change = _change(sol, fine)
+        change = moments_moved(sol, fine)
         if change <= tol:
             break
         sol, E = fine, _finer(E)

@@ -12,7 +12,7 @@ import numpy as np
 from ._bases import band_masses
 from ._blocks import one_blas_thread
 
-__all__ = ["KramersSolution"]
+__all__ = ["KramersSolution", "moments_moved"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -193,3 +193,13 @@ def _root(G, E, a, b):
     from scipy.optimize import brentq
 
     return brentq(lambda z: float(G(np.array(z))) - E, a, b, xtol=1e-15, rtol=1e-15)
+
+
+def moments_moved(a, b) -> float:
+    """The relative change of ``<x^2>`` and ``<v^2>`` from the solve ``a`` to ``b``, at least
+    either inverse iteration's last change (an unconverged solve never ends a ladder: SEDF
+    mu = 0.02, D = 0.01, 64 x 134 stopped at 8 iterations with a change of 9.3e-4); the
+    measure of the stationary ladders (:mod:`._stationary_orthonormal`,
+    :mod:`._elements_ladder`, :mod:`._linear_elements`)."""
+    return max(abs(b.x2 - a.x2) / abs(b.x2), abs(b.v2 - a.v2) / abs(b.v2),
+               a.iteration_change, b.iteration_change)

@@ -11,6 +11,7 @@ import dataclasses
 import functools
 import math
 
+from ._solution import moments_moved
 from ._energy_density import SIX_DIGITS
 from ._ahead import Ahead, Later, fp_workers
 from ._stationary_climb import stated_error, climb_grid, climb_rung, finer_intervals
@@ -251,12 +252,7 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, n_hermite, n_cheb, sigm
     def solve_well(n, m):  # step 7's points
         return solve(n, m, True)
 
-    def moved(a, b):
-        """The moments' relative change, at least either inverse iteration's last change
-        (an unconverged solve never ends a ladder: SEDF mu = 0.02, D = 0.01, 64 x 134
-        stopped at 8 iterations with a change of 9.3e-4)."""
-        return max(abs(b.x2 - a.x2) / abs(b.x2), abs(b.v2 - a.v2) / abs(b.v2),
-                   a.iteration_change, b.iteration_change)
+    moved = moments_moved
 
     sol = solve(nh, nc)
     change = cheb_change = math.nan

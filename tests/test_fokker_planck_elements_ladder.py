@@ -73,9 +73,9 @@ def test_sedf_energy_density_on_elements_agrees_with_chebyshev(sedf_pair):
 
 
 def test_element_ladder_same_bits_with_one_and_two_processes(monkeypatch):
-    """The element ladder's solution is the same bits whether its element step runs beside
-    the last Hermite rung in a second process or here (KBM_FP_WORKERS = 2, 1; SEDF
-    mu = 0.05, D = 0.025, where the step is started ahead)."""
+    """The element ladder's solution is the same bits whether its solve runs beside the
+    element pair in a second process or here (KBM_FP_WORKERS = 2, 1; SEDF mu = 0.05,
+    D = 0.025, where it is started ahead)."""
     from numerics.fokker_planck import _ahead
 
     params = dict(SEDF, mu=0.05)

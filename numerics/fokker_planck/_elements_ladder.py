@@ -58,7 +58,7 @@ rung costs half.  And the Hermite pair is measured on the solution's own element
 Why ``P(E)`` needs more elements than the moments.  ``P`` samples the density along one
 orbit, the moments average it over the plane: mu = 0.01, 362 functions on 82, 98, 118,
 142, 170 elements, against 512 on 200, ``P`` was 8.2e-6, 2.9e-6, 9.9e-7, 2.4e-7, 3.6e-8
-off (at energies 4.4 to 6.1, above the saddles), the moments 1.9e-8, 1.4e-9, 1.4e-10 and
+off (at energies 4.4 to 6.1, above the saddles), the moments 2.3e-8, 1.4e-9, 1.4e-10 and
 below; weighting the map's centres less (0.6, 0.35 of their weights) did not help
 (256 functions on 142: 2.6e-7, 3.3e-7).  ``ENERGY_RULE`` 2.5 starts the ladder of
 ``P`` at its pair 142 -> 172 at mu = 0.01 (moved ``P`` by 2.6e-7); at mu = 0.005 the

@@ -29,10 +29,10 @@ larger of ``<x^2>`` and ``<v^2>``; ``P`` is of its peak):
    :data:`FUNCTION_SHARE` of the rule's ``N = pi V/delta``
    (:func:`._stationary_points.rule_functions` at the pilot's ``<v^2>``: 187, 480, 723,
    1029 at mu = 0.1, 0.02, 0.01, 0.005), lowered while the rung above it on the element
-   step would exceed the budget.  The rungs whose change to the next was within 1e-7
-   were 90, 182, 256, 362 there (0.48, 0.38, 0.35, 0.35 of the rule), the rungs below
-   them moved the moments by 1.5e-4, 3.8e-5, 7.5e-6, 1.2e-6: 0.33 starts at 64, 182,
-   256, 362.  (Before, the functions climbed every rung from 64 on the first elements:
+   step would exceed the budget.  The rungs whose change to the next was within six
+   digits were 90, 182, 256, 362 there (0.48, 0.38, 0.35, 0.35 of the rule; changes
+   7e-9, 4.5e-8, 4.3e-8, 3.2e-7), the rungs below them moved the moments by 1.5e-4,
+   5.8e-5, 1.1e-5, 1.2e-6: 0.33 starts at 64, 182, 256, 362.  (Before, the functions climbed every rung from 64 on the first elements:
    at mu = 0.005 seven solves, 64 to 512, where three suffice.)
 4. The element ladder at that rung, ``E`` times :data:`ELEMENT_STEP` (even), until the
    moments' change is within ``tol`` (default :data:`TOL`, a tenth of six digits: the

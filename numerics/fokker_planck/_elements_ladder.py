@@ -1,8 +1,8 @@
 """The stationary Kramers solve on spectral elements with its sizes chosen and measured
 (:func:`element_ladder`, what :func:`.kramers.stationary_kramers` runs for a nonlinear
 damping whose potential has saddles on the range, the multi-well SEDF): a ladder of
-Hermite truncations on a generous number of elements, then a ladder of elements at the
-last truncation, over the single solves of :func:`._elements_solve.element_stationary`
+elements at a predicted Hermite truncation, then a ladder of Hermite truncations on the
+last elements, over the single solves of :func:`._elements_solve.element_stationary`
 (the discretisation in :mod:`._elements`).
 
 Why elements there.  The Chebyshev ladder of :mod:`._stationary_orthonormal` needs one
@@ -14,60 +14,102 @@ condensation, ``~ N^3`` per interface node: the same six digits in seconds (the 
 docs/noise.rst).
 
 The ladder (measured, SEDF at rest, Delta = 3, D = mu/2; the changes are relative, the
-larger of ``<x^2>`` and ``<v^2>``):
+larger of ``<x^2>`` and ``<v^2>``; ``P`` is of its peak):
 
 1. The range, the velocity scale and the centres of the element ends as the Chebyshev
    ladder's steps 1 to 3 (:func:`._stationary_points.stationary_points` with the deepest
    well, a pilot of 32 functions measuring ``<v^2>``).
-2. ``E`` = :data:`ELEMENT_RULE` times ``L/l``, ``l`` the narrowest layer's width (even;
-   without saddles a tenth of the Chebyshev ladder's first intervals), at least
-   :data:`FEWEST`, degree :data:`DEGREE`.  ``L/l`` is 21.5, 68, 96 at mu = 0.1, 0.01, 0.005, where the moments
-   were within 1e-7 of the converged ones on about 34, 84 and 140 elements.
-3. The Hermite ladder ``64 * 2^(k/2)`` on those elements until two rungs' moments agree
-   to ``tol`` (default :data:`TOL`, a tenth of six digits: the stated error is the sum of
-   two changes) or the next rung with the element step of 4. would exceed the budget.
-4. The element ladder at that truncation, ``E`` times :data:`ELEMENT_STEP` (even), until
-   the change is within ``tol`` or the budget ends.
-5. The stated error (``hermite_change``) is the sum of the last Hermite change (step 3,
-   on the first elements) and the last element change (step 4, ``chebyshev_change``), at
-   least :data:`ROUNDING`; the two pairs are the solution's ``refinements`` (their change
-   of ``P(E)`` is its stated error, :mod:`._energy_density`), and the solve one element
-   step finer its ``refine``: ``P(E)`` samples the separatrices' layers along one orbit
-   and moves more than the moments under the element step (mu = 0.1: 128 functions on
-   34 -> 42 elements moved ``P`` by 3.3e-6 of its peak near the separatrix energy, the
-   moments by 6.4e-8), and :func:`._energy_density.energy_density_report` takes ``P``
-   from that solve when its stated change exceeds six digits, as for the Chebyshev
-   ladder's grid step.
+2. The elements: ``E`` = :data:`ELEMENT_RULE` times ``L/l``, ``l`` the narrowest
+   layer's width (without saddles a tenth of the Chebyshev ladder's first intervals), at
+   least :data:`FEWEST`, degree :data:`DEGREE`, the ladder starting one element step
+   below it; when ``P(E)`` is wanted (``refine_ahead``) :data:`ENERGY_RULE` times ``L/l``
+   as far as the budget affords the last solve.  ``L/l`` is 21.5, 48, 68, 96 at
+   mu = 0.1, 0.02, 0.01, 0.005.
+3. The first rung of the functions: the first ``64 * 2^(k/2)`` (even) at least
+   :data:`FUNCTION_SHARE` of the rule's ``N = pi V/delta``
+   (:func:`._stationary_points.rule_functions` at the pilot's ``<v^2>``: 187, 480, 723,
+   1029 at mu = 0.1, 0.02, 0.01, 0.005), lowered while the rung above it on the element
+   step would exceed the budget.  The rungs whose change to the next was within six
+   digits were 90, 182, 256, 362 there (0.48, 0.38, 0.35, 0.35 of the rule; changes
+   7e-9, 4.5e-8, 4.3e-8, 3.2e-7), the rungs below them moved the moments by 1.5e-4,
+   5.8e-5, 1.1e-5, 1.2e-6: 0.33 starts at 64, 182, 256, 362.  (Before, the functions climbed every rung from 64 on the first elements:
+   at mu = 0.005 seven solves, 64 to 512, where three suffice.)
+4. The element ladder at that rung, ``E`` times :data:`ELEMENT_STEP` (even), until the
+   moments' change is within ``tol`` (default :data:`TOL`, a tenth of six digits: the
+   stated error is the sum of two changes) and, when ``P(E)`` is wanted, ``P``'s change
+   within :data:`ENERGY_TOL`, or the rung above on the next step would exceed the budget.
+5. The Hermite ladder on those elements, ``2^(1/2)`` times the functions, until the
+   change is within ``tol`` or the budget ends; when it climbed more than one rung, the
+   last element step is solved again at the coarser rung of the last Hermite pair.
+6. The stated error (``hermite_change``) is the sum of the last element change (step 4,
+   ``chebyshev_change``) and the last Hermite change (step 5), at least
+   :data:`ROUNDING` (``inf`` when either was not measured): two measured changes between
+   two solves, the solution the finest of both pairs.  The two pairs are its
+   ``refinements``: the sum of their changes of ``P(E)`` is ``P``'s stated error
+   (:func:`._energy_density.energy_density_change`), with no further solve (``refine``
+   is ``None``).
 
-The element step of the last rung is started beside that rung in a second process
-(:mod:`._ahead`) when the last two Hermite changes extrapolate geometrically to within
-``tol`` (the rung is then likely the last; the step is stopped when it is not), with
-``refine_ahead`` followed there by the step after it (``refine``, handed on to
-:func:`._energy_density.energy_density_report`): the same solves and bits, less wall
-time.  The budget: ``N^2 E`` (the interface LU keeps about
-``13 N^2`` numbers per element, :mod:`._elements_lu`; ``E/2`` when folded, :mod:`._parity`)
-at most ``max_cost`` (512 functions on 72 folded elements: 1.9e7, about 1.9 GB); the
-``refine`` of ``P(E)``, one element step beyond the last, may exceed it by that step, as
-the Chebyshev ladder's grid step does (mu = 0.005: 512 x 210, 2.75e7; ``kbm noise`` peaked
-at 2.3 GB).
+Why the elements are refined at the lower rung.  Once the functions resolve the
+velocity, the element step moves the solution the same at either rung: mu = 0.01,
+98 -> 118 elements moved ``P`` by 2.65e-6 at 256 and at 362 functions (the same to three
+digits), the moments by 7.9e-9 and 1.5e-9, below ``tol`` at both; a solve at the lower
+rung costs half.  And the Hermite pair is measured on the solution's own elements.
 
-Measured (SEDF at rest, Delta = 3, D = mu/2, against the Chebyshev ladder at the same
-budget 2.5e7, both within the sum of the stated errors; CPU of the ladder and ``P(E)``
-with the second process, load 4-6): mu = 0.1, 128 x 58 stated 9.1e-9 (Chebyshev 128 x 448,
-1.8e-8), 3 s each; mu = 0.02, 256 x 90, 4.5e-8, 12 s (182 x 740, 5.5e-7, 15 s);
-mu = 0.01, 362 x 124, 4.4e-8, 32 s (258 x 1040, 3.0e-7, 31 s); mu = 0.005, 512 x 176,
-3.2e-7 and ``P(E)`` 9.7e-7 of its peak, 90 s (364 x 876, 3.9e-6 and 5.9e-5, 90 s; six
-digits took it ``--fp-budget 8.6e7``, 146-173 s and 3.1 GB).
+Why ``P(E)`` needs more elements than the moments.  ``P`` samples the density along one
+orbit, the moments average it over the plane: mu = 0.01, 362 functions on 82, 98, 118,
+142, 170 elements, against 512 on 200, ``P`` was 8.2e-6, 2.9e-6, 9.9e-7, 2.4e-7, 3.6e-8
+off (at energies 4.4 to 6.1, above the saddles), the moments 2.3e-8, 1.4e-9, 1.4e-10 and
+below; weighting the map's centres less (0.6, 0.35 of their weights) did not help
+(256 functions on 142: 2.6e-7, 3.3e-7).  ``ENERGY_RULE`` 2.5 starts the ladder of
+``P`` at its pair 142 -> 172 at mu = 0.01 (moved ``P`` by 2.6e-7); at mu = 0.005 the
+budget stops it at 158 -> 190 (512 functions on 240 elements would cost 3.1e7).
+
+Before, ``P(E)`` took the max of the two pairs' changes (the moments' error is their
+sum) and, beyond six digits, came from one element step more with the step's change
+times ``r/(1 - r)``, an extrapolation of the geometric tail.
+
+The solve of the answer, ``n 2^(1/2)`` functions on the element step, starts in a second
+process (:mod:`._ahead`) beside the element pair at ``n``, and each element step's rung
+above beside it (stopped when the ladder goes on): the same solves and bits, less wall
+time.  The budget: ``N^2 E`` (the interface LU keeps about ``13 N^2`` numbers per element,
+:mod:`._elements_lu`; ``E/2`` when folded, :mod:`._parity`) at most ``max_cost`` (512
+functions on 72 folded elements: 1.9e7, about 1.9 GB).
+
+Measured (SEDF at rest, Delta = 3, D = mu/2, ``max_cost`` 2.5e7, ``P(E)`` wanted; one
+process, CPU of the ladder and ``P(E)``, load 3-5 on two cores; "off" against a finer
+element solve, 256 x 100, 362 x 170, 512 x 220, 512 x 256 at mu = 0.1, 0.02, 0.01, 0.005,
+the moments the larger of ``<x^2>``, ``<v^2>``, ``P`` of its peak):
+
+=====  ==============================  ===============================  ==================
+mu     now: sizes, stated, P stated,   before: sizes, stated, P stated  CPU now, before
+       off (moments; P)                (P from), off (moments; P)
+=====  ==============================  ===============================  ==================
+0.1    128 x 58, 5.7e-8, 5.0e-7;       128 x 58, 9.1e-9, 5.0e-7;        2.8 s, 2.9 s
+       2.2e-9; 1.7e-8                  2.2e-9; 1.7e-8
+0.02   256 x 120, 5.7e-8, 7.7e-8;      256 x 90, 4.5e-8, 1.6e-7;        7.5 s, 13.2 s
+       2.2e-10; 3.2e-8                 2.5e-10; 1.4e-7
+0.01   362 x 172, 5.5e-8, 2.6e-7;      362 x 124, 4.4e-8, 5.4e-7        21 s, 29-32 s
+       9.3e-11; 5.5e-8                 (x 150); 1.2e-10; 2.1e-7
+0.005  512 x 190, 3.4e-7, 3.7e-6;      512 x 176, 3.2e-7, 9.7e-7        45 s, 83-86 s
+       4.6e-10; 9.7e-7                 (x 212); 7.6e-10; 3.7e-7
+=====  ==============================  ===============================  ==================
+
+The solves now (``N x E``): mu = 0.01, 256 x 142 and 256 x 172 (the element pair, ``P``
+moved by 2.6e-7), 362 x 172 (the Hermite pair, 5.7e-8); before, 64 to 362 on 102, 362 x
+124 and ``P``'s 362 x 150.  At mu = 0.005 the budget stops the elements at 362 x 158 ->
+190 (``P`` moved by 3.7e-6; the pair 202 -> 240, which moved it by 5.5e-7 at 362
+functions, would cost 3.1e7 at 512), the stated ``P`` is beyond six digits; before, ``P`` came from
+512 x 212 beyond the budget with ``r/(1 - r)`` times the step.  Its moments are 8.0e-8
+and 3.9e-8 from the Chebyshev route's at ``--fp-budget 8.6e7`` (stated 5.6e-7).
 """
 
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
 
 from ._solution import moments_moved
-from ._ahead import Ahead, Later, fp_workers
+from ._ahead import Ahead, fp_workers
 from ._elements_solve import ElementKramersSolution, element_stationary
 
 __all__ = ["element_ladder", "ELEMENT_RULE", "ELEMENT_STEP", "DEGREE", "TOL"]
@@ -89,6 +131,15 @@ ROUNDING = 1e-10
 #: moved ``P`` by 3.3e-6 of its peak near the separatrix energy, the moments by 6.4e-8, and
 #: the report stated 1.6e-6 from 50; 48 -> 58 moved ``P`` by 5.0e-7, stated 5.0e-7)
 FEWEST = 48
+#: the first rung of the functions: the first ``64 * 2^(k/2)`` at least this share of
+#: :func:`._stationary_points.rule_functions` (``pi V/delta`` at the pilot's ``<v^2>``;
+#: module docstring, step 3)
+FUNCTION_SHARE = 0.33
+#: the elements per ``L/l`` that ``P(E)`` needs (the last of its element pair; step 3)
+ENERGY_RULE = 2.5
+#: the change of ``P(E)`` (of its peak) at which the element ladder stops when ``P(E)``
+#: is wanted (half of six digits: the functions' change and the quadrature's add to it)
+ENERGY_TOL = 5e-7
 
 
 def element_ladder(split, D: float, G, omega0: float, *, sigma: float | None = None,
@@ -117,14 +168,17 @@ def element_ladder(split, D: float, G, omega0: float, *, sigma: float | None = N
     workers : int, optional
         At most this many processes (:func:`._ahead.fp_workers`; the same bits).
     refine_ahead : bool
-        ``P(E)`` will be wanted: the process of the element step started ahead goes on
-        with the step after it (``refine``, handed on; the same bits).
+        ``P(E)`` will be wanted: the elements start from :data:`ENERGY_RULE` and their
+        ladder goes on until ``P`` changes by at most :data:`ENERGY_TOL` of its peak too
+        (steps 2 and 4 of the module docstring), so that ``P`` of the solution itself
+        has its error measured.
 
     Returns
     -------
     ElementKramersSolution
-        With ``hermite_change`` the stated error, ``chebyshev_change`` the element change
-        and ``refinements`` the two pairs.
+        With ``hermite_change`` the stated error, ``chebyshev_change`` the element change,
+        ``refinements`` the two pairs (the Hermite pair, then the element pair) and
+        ``refine`` ``None``.
 
     Raises
     ------
@@ -138,14 +192,17 @@ def element_ladder(split, D: float, G, omega0: float, *, sigma: float | None = N
 
 
 def _sizes(split, D: float, G, omega0: float, sigma, L):
-    """``(half, s, points, E, folds)``: steps 1 and 2 of the module docstring."""
+    """``(half, s, points, E, folds, rule, reach)``: steps 1 and 2 of the module docstring
+    (``rule`` the functions of :func:`._stationary_points.rule_functions` at the pilot's
+    ``<v^2>``, ``nan`` when ``sigma`` is given; ``reach`` ``L/l``, ``nan`` without
+    saddles)."""
     from kbm.errors import ModelError
 
     from ._bases import cheb_mapped
     from ._model import _chebyshev_size, _half_width
     from ._parity import reflection_symmetric
     from ._stationary_orthonormal import FIRST_HERMITE, MIN_INTERVALS
-    from ._stationary_points import ALPHA, stationary_points
+    from ._stationary_points import ALPHA, rule_functions, stationary_points
     from ._stationary_solve import orthonormal_stationary
 
     mu = float(split.mu)
@@ -159,12 +216,27 @@ def _sizes(split, D: float, G, omega0: float, sigma, L):
             raise ModelError(f"the coarse Kramers solve gave <v^2> = {v2}: no stationary "
                              "density (check that the damping confines the motion)")
     s, points = stationary_points(split, D, G, half, v2, sigma, well=True)
+    reach = math.nan
     if "centres" in points:
-        E = 2 * math.ceil(ELEMENT_RULE * half / min(points["widths"]) / 2)
+        reach = half / min(points["widths"])
+        E = 2 * math.ceil(ELEMENT_RULE * reach / 2)
     else:
         E = 2 * math.ceil(0.05 * nc)
     folds = reflection_symmetric(split, cheb_mapped(nc, half, ALPHA)[0])
-    return half, s, points, max(FEWEST, E), folds
+    rule = rule_functions(split, D, half, v2) if sigma is None else math.nan
+    return half, s, points, max(FEWEST, E), folds, rule, reach
+
+
+def _energy_moved(a, b) -> float:
+    """The largest change of ``P(E)`` from the solve ``a`` to ``b`` on
+    :func:`._energy_density.energy_grid` of ``b``, relative to the peak of ``b``'s."""
+    import numpy as np
+
+    from ._energy_density import energy_density, energy_grid
+
+    E = energy_grid(b)
+    Pb = energy_density(b, E)
+    return float(np.max(np.abs(Pb - energy_density(a, E)))) / float(np.max(np.abs(Pb)))
 
 
 def _ladder(split, D: float, G, omega0: float, ahead, *, sigma, L, tol: float,
@@ -173,7 +245,7 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, sigma, L, tol: float,
     :func:`._elements_solve.element_stationary`)."""
     from kbm.errors import ModelError
 
-    half, s, points, E, folds = _sizes(split, D, G, omega0, sigma, L)
+    half, s, points, E_rule, folds, rule, reach = _sizes(split, D, G, omega0, sigma, L)
     memo: dict = {}
 
     def cost(n: int, e: int) -> float:
@@ -189,50 +261,66 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, sigma, L, tol: float,
 
     moved = moments_moved
 
+    def rung(n: int) -> int:  # the next rung of 64 * 2^(k/2)
+        k = 0
+        while functions(k) <= n:
+            k += 1
+        return functions(k)
+
     def functions(k: int) -> int:
         return 2 * int(round(FIRST_FUNCTIONS * 2 ** (k / 2) / 2))
 
     def finer(e: int) -> int:
         return 2 * math.ceil(ELEMENT_STEP * e / 2)
 
+    # steps 2 and 3: the elements one step below the rule's, the first rung predicted
+    E = max(FEWEST, 2 * round(E_rule / ELEMENT_STEP / 2))
     k = 0
-    if cost(functions(0), E) > max_cost:
-        raise ModelError(f"the Kramers solve needs {functions(0)} Hermite functions x {E} "
-                         f"elements (cost {cost(functions(0), E):.3g} > {max_cost:.3g}): "
+    while math.isfinite(rule) and functions(k) < FUNCTION_SHARE * rule:
+        k += 1
+    while k > 0 and cost(functions(k + 1), finer(E)) > max_cost:
+        k -= 1  # the budget: the rung above on the element step affordable
+    n = functions(k)
+    if refine_ahead and math.isfinite(reach):  # P(E)'s elements, as far as affordable
+        want = 2 * round(ENERGY_RULE * reach / ELEMENT_STEP / 2)
+        while E < want and cost(rung(n), finer(E + 2)) <= max_cost:
+            E += 2
+    if cost(n, E) > max_cost:
+        raise ModelError(f"the Kramers solve needs {n} Hermite functions x {E} "
+                         f"elements (cost {cost(n, E):.3g} > {max_cost:.3g}): "
                          "not affordable here")
-    sol = solve(functions(0), E)
-    hermite = math.inf
-    before = math.inf  # the Hermite change before the last
-    hermite_pair = ahead_key = None
-    while hermite > tol:  # step 3
-        up = functions(k + 1)
-        if cost(up, finer(E)) > max_cost:
-            break
-        if math.isfinite(before) and hermite * hermite / before <= tol:
-            ahead_key = (up, finer(E))  # likely the last rung: its element step beside it
-            then = (up, finer(finer(E)))  # and the step after it, for P(E)
-            ahead.start(ahead_key, *args(*ahead_key), replace=True, **points,
-                        then=[(then, args(*then), points)] if refine_ahead else ())
-        new = solve(up, E)
-        hermite_pair = (sol, new)
-        before, hermite, sol, k = hermite, moved(sol, new), new, k + 1
-    n = sol.coef.shape[0]
-    if ahead_key is not None and ahead_key != (n, finer(E)):
-        ahead.cancel()  # started for a rung that was not the last
-    element = math.nan
+    if cost(rung(n), finer(E)) <= max_cost:  # the predicted answer, beside its pairs
+        ahead.start((rung(n), finer(E)), *args(rung(n), finer(E)), **points)
+    sol = solve(n, E)
+    element = energy = math.inf
     element_pair = None
-    while not element <= tol and cost(n, finer(E)) <= max_cost:  # step 4
+    while (element > tol or (refine_ahead and energy > ENERGY_TOL)) \
+            and cost(rung(n), finer(E)) <= max_cost:  # step 4: the elements at n
+        ahead.start((rung(n), finer(E)), *args(rung(n), finer(E)), replace=True, **points)
         E = finer(E)
         new = solve(n, E)
         element_pair = (sol, new)
         element, sol = moved(sol, new), new
-    refine = None
-    if element_pair is not None:  # the element step beyond the last, for P(E)
-        refine = Later(functools.partial(element_stationary, *args(n, finer(E)), **points),
-                       ahead.hand_on((n, finer(E))))
+        if refine_ahead:
+            energy = _energy_moved(*element_pair)
+    hermite = math.inf
+    hermite_pair = None
+    while hermite > tol and cost(rung(n), E) <= max_cost:  # step 5: the functions at E
+        up = rung(n)
+        if not ahead.running((up, E)):
+            ahead.cancel()
+        new = solve(up, E)
+        hermite_pair = (sol, new)
+        hermite, sol, n = moved(sol, new), new, up
     ahead.cancel()
-    parts = [c for c in (hermite, element) if not math.isnan(c)]  # inf: not measured
-    stated = max(ROUNDING, sum(parts))
+    if hermite_pair is not None and element_pair is not None \
+            and element_pair[1].coef.shape[0] != hermite_pair[0].coef.shape[0]:
+        # the functions climbed past the first rung: the element step again at the
+        # coarser rung of the last pair (step 5)
+        m = hermite_pair[0].coef.shape[0]
+        element_pair = (solve(m, len(element_pair[0].edges) - 1), hermite_pair[0])
+        element = moved(*element_pair)
+    stated = max(ROUNDING, hermite + element)
     pairs = tuple(p for p in (hermite_pair, element_pair) if p is not None)
     return dataclasses.replace(sol, hermite_change=stated, chebyshev_change=element,
-                               refinements=pairs, refine=refine)
+                               refinements=pairs, refine=None)

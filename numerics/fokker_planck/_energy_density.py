@@ -82,20 +82,27 @@ def energy_grid(sol, points: int = ENERGY_POINTS, floor: float = 1e-5) -> np.nda
 
 def energy_density_change(sol, energies, values=None,
                           shared: dict | None = None) -> np.ndarray | None:
-    """``|P_fine(E) - P_coarse(E)|/|P(E)|`` at each energy, the largest over the pairs of
-    solutions whose change of the moments states ``sol``'s error (``sol.refinements``:
-    the Hermite and the Chebyshev step of :func:`._stationary_orthonormal.stationary_orthonormal`,
-    or a finer grid for linear damping); ``None`` when none was kept."""
+    """``|P_fine(E) - P_coarse(E)|/|P(E)|`` at each energy over the pairs of solutions
+    whose change of the moments states ``sol``'s error (``sol.refinements``: the Hermite
+    and the Chebyshev step of :func:`._stationary_orthonormal.stationary_orthonormal`, or
+    a finer grid for linear damping), combined as the moments' changes are: the largest
+    for the Chebyshev ladder, whose stated error is the larger of its two changes, the sum
+    for a solution on elements (:mod:`._elements_ladder`, whose stated error is the sum
+    of the element and the Hermite change: either step alone leaves the other's error in
+    ``P``); ``None`` when none was kept."""
     pairs = getattr(sol, "refinements", ())
     if not pairs:
         return None
     P = (energy_density(sol, energies, shared=shared) if values is None
          else np.asarray(values, float))
+    from ._elements_solve import ElementKramersSolution
+
+    summed = isinstance(sol, ElementKramersSolution)
     worst = np.zeros(len(P))
     for coarse, fine in pairs:
         d = np.abs(energy_density(fine, energies, shared=shared)
-                   - energy_density(coarse, energies, shared=shared))
-        worst = np.maximum(worst, d / np.abs(P))
+                   - energy_density(coarse, energies, shared=shared)) / np.abs(P)
+        worst = worst + d if summed else np.maximum(worst, d)
     return worst
 
 
@@ -113,7 +120,9 @@ def energy_density_report(sol, finer=None, points: int = ENERGY_POINTS,
     the largest, before the neighbours', relative to the peak.
 
     When that exceeds :data:`SIX_DIGITS` and ``sol`` keeps its grid step (``sol.refine``
-    and a grid pair in ``sol.refinements``, the nonlinear dampings' ladders), ``P`` is
+    and a grid pair in ``sol.refinements``, the Chebyshev ladder; the element ladder keeps
+    none, its ``P`` is the solution's own with the sum of the two pairs' changes, and its
+    elements are chosen for ``P`` when ``P`` is wanted, :mod:`._elements_ladder`), ``P`` is
     that of the solve one grid step finer, 1.25 times ``sol``'s intervals: the grid's
     error sits in the separatrices' layers (:mod:`._stationary_points`), which ``P(E)``
     samples along one orbit where the moments average it over the plane (SEDF mu = 0.01:

@@ -187,10 +187,11 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         and no sizes given, the default is ``"elements"``: the orthonormal functions
         times spectral elements in ``x``, with the ladder of
         :func:`._elements_ladder.element_ladder` (SEDF at rest, Delta = 3, D = mu/2,
-        mu = 0.005 at ``max_cost`` 2.5e7, ``kbm noise``'s budget: stated 3.2e-7 on 512
-        functions x 176 elements in 48 s user + 16 s system CPU, 2.0 GB (measured in the
-        twenty-ninth session), where the Chebyshev ladder states 3.9e-6 at that budget and
-        took 164 s CPU and 3.2 GB at 8.6e7 for 5.6e-7).  ``"orthonormal"`` keeps the Chebyshev ladder there.
+        mu = 0.005 at ``max_cost`` 2.5e7, ``kbm noise``'s budget: stated 3.9e-7 on 512
+        functions x 148 elements in 27 s user + 8 s system CPU, 1.8 GB, one process
+        (3.4e-7 on 512 x 190 with ``refine_ahead``, 60 s CPU with ``P(E)``), where the
+        Chebyshev ladder states 3.9e-6 at that budget and took 164 s CPU and 3.2 GB at
+        8.6e7 for 5.6e-7).  ``"orthonormal"`` keeps the Chebyshev ladder there.
     workers : int, optional
         At most this many processes for the orthonormal and element ladders' independent
         solves
@@ -199,7 +200,8 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
     refine_ahead : bool
         ``P(E)`` will be wanted (:func:`._energy_density.energy_density_report`): the
         orthonormal ladder may start its grid step early, in its second process (the same
-        bits; the solution's ``refine`` hands it on).
+        bits; the solution's ``refine`` hands it on); the element ladder chooses its
+        elements for ``P(E)`` too (:func:`._elements_ladder.element_ladder`).
     elements : (int, int), optional
         ``(E, p)``: instead, one solve on ``E`` spectral elements of the odd degree ``p``
         in the position (:mod:`._elements`, :func:`._elements_solve.element_stationary`)

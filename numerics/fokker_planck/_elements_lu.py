@@ -21,23 +21,23 @@ all instead of ``8 N (E p)^3`` (Karniadakis and Sherwin, *Spectral/hp Element Me
 ed., sec. 4.2.3; Golub and Van Loan, *Matrix Computations*, 4th ed., sec. 4.5).
 
 The interface system is factorised by the LU with partial pivoting of the block
-tridiagonal matrix (Golub and Van Loan, sec. 4.3.5 on band matrices with pivoting): node
-``k``'s ``N`` columns hold nonzeros in the rows of the nodes ``k`` and ``k + 1`` only, so
-each step is LAPACK's ``dgetrf`` on that ``2 N x N`` panel, its row interchanges applied
-to those rows' columns of the nodes ``k + 1`` and ``k + 2`` (the interchanges fill the
-second), ``dtrsm`` for the rows of ``U`` and one ``dgemm`` updating node ``k + 1``'s rows:
-``10/3 + 2 + 4 = 28/3 N^3`` operations per node, the pivots those of LAPACK's band LU
-``dgbtrf`` with ``2 N - 1`` subdiagonals on the same matrix (it searches the same ``2 N``
-rows; it took ``16 N^3`` per node in level-2 steps and a band array of ``6 N^2`` numbers
-per node where the blocks keep ``4 N^2``).  Without pivoting its Schur complements are
-those of the half-line ``[-L, x_k]`` with every velocity of ``c(x_k, v)`` prescribed, which
-is not well posed for a kinetic equation (only the incoming half of the velocities is): on
+tridiagonal matrix (Golub and Van Loan, sec. 4.3, band LU with pivoting): node ``k``'s
+``N`` columns hold nonzeros in the rows of the nodes ``k`` and ``k + 1`` only, so each step
+is LAPACK's ``dgetrf`` on that ``2 N x N`` panel, its row interchanges applied to those
+rows' columns of the nodes ``k + 1`` and ``k + 2`` (the interchanges fill the second),
+``dtrsm`` for the rows of ``U`` and one ``dgemm`` for node ``k + 1``'s rows:
+``10/3 + 2 + 4 = 28/3 N^3`` operations per node.  Its pivots are searched among the same
+rows as those of LAPACK's band LU ``dgbtrf`` with ``2 N - 1`` sub- and superdiagonals (the
+factorisation before: about ``16 N^3`` per node on a band array of ``6 N^2`` numbers per
+node, where the blocks keep ``4 N^2``).  Without pivoting its Schur complements are those
+of the half-line ``[-L, x_k]`` with every velocity of ``c(x_k, v)`` prescribed, which is
+not well posed for a kinetic equation (only the incoming half of the velocities is): on
 the SEDF at rest, mu = 0.1, D = 0.05, 256 functions on 56 elements of degree 11, their
 pivots fell to 1e-16 of the largest, the solve's residual was 1e16 times the right-hand
-side and ``<x^2>`` came out 2.33900 (not converged) against 2.3285219 pivoted; a
-block LU eliminated toward the deepest well from both ends did no better.  Each
-element alone is short enough: its order-group complements stay within ``||T^-1|| < 70``
-there, so the interiors are eliminated without pivoting across groups.
+side and ``<x^2>`` came out 2.33900 (not converged) against 2.3285219 pivoted; a block LU
+eliminated toward the deepest well from both ends did no better.  Each element alone is
+short enough: its order-group complements stay within ``||T^-1|| < 70`` there, so the
+interiors are eliminated without pivoting across groups.
 
 Memory and time.  The elements' right-hand sides are kept transposed, ``(R, b q)`` per
 group (the long side first: OpenBLAS ran ``(2N x 24) (24 x 24)`` products 1.5 times as
@@ -251,8 +251,8 @@ class CondensedLU:
                   triangular: bool = False) -> None:
         """``y <- A_II^-1 y`` for the elements ``els``, ``y`` of shape ``(G, E', R, bq)``
         (the right-hand sides transposed: row ``j`` of ``y[g, e]`` is column ``j``), and
-        the end rows' values ``z`` ``(E', R, G b, 2)``: ``z[e, j, m, side]`` the sum over the
-        interior points of order ``m`` with ``rows[side]``.  The sweep down from the top
+        the end rows' values ``z`` ``(E', R, G b, 2)``: ``z[e, j, m, side]`` the sum over
+        the interior points of order ``m`` with ``rows[side]``.  The sweep down from the top
         group (``T_g^-1``, then the coupling to the group below), the sweep up.
         ``triangular``: ``y`` is set here, group by group, to the interleaved ``C_in^T``
         (:attr:`_cin`): its rows ``2 n + side`` are zero in the groups above that of

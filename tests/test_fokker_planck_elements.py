@@ -55,26 +55,44 @@ def test_gll_rule_closed_forms(p):
     assert np.max(np.abs(w[:, None] * D + (w[:, None] * D).T - B)) <= 1e-13
 
 
-def test_condensed_lu_is_the_dense_solve():
-    """The static condensation (element interiors by order groups, the interfaces by the
-    pivoted band LU) solves the element matrix of the SEDF at rest as numpy's dense
-    ``solve`` of the same matrix, assembled column by column from the operator's
-    product (mu = 0.1, D = 0.05, 8 functions, 6 elements of degree 5: 1e-10 of the
-    solution)."""
+def _condensed_and_dense(N: int, E: int, p: int, seed: int, first_pins=None):
+    """The static condensation's solution and numpy's dense ``solve`` of the element
+    matrix of the SEDF at rest (mu = 0.1, D = 0.05, on ``[-6, 6]``), assembled column by
+    column from the operator's product, with the rows of the last node and of the first
+    node's pinned orders (all unless ``first_pins``) replaced by the identity's, for a
+    random right-hand side 0 there."""
     split = split_conservative("sedf", dict(SEDF, mu=0.1))
-    N, E, p, L = 8, 6, 5, 6.0
-    edges = element_edges(E, L)
+    edges = element_edges(E, 6.0)
     x, _ = element_nodes(edges, p)
     op = ElementOperator(orthonormal_terms(split, 0.05, 0.5, x, None, N), edges, p, x)
     M = x.size
     A = np.column_stack([op.matvec(e.reshape(N, M)).ravel() for e in np.eye(N * M)])
-    for i in [n * M for n in range(N)] + [n * M + M - 1 for n in range(N)]:
+    first = np.arange(N) if first_pins is None else np.asarray(first_pins)
+    b = np.random.default_rng(seed).standard_normal((N, M))
+    b[:, -1] = 0.0
+    b[first, 0] = 0.0
+    for i in [n * M for n in first] + [n * M + M - 1 for n in range(N)]:
         A[i] = 0.0
         A[i, i] = 1.0
-    b = np.random.default_rng(3).standard_normal((N, M))
-    b[:, [0, -1]] = 0.0
     dense = np.linalg.solve(A, b.ravel()).reshape(N, M)
-    got = op.join(*op.factor().solve(*op.split(b)))
+    return op.join(*op.factor(first_pins=first_pins).solve(*op.split(b))), dense
+
+
+def test_condensed_lu_is_the_dense_solve():
+    """The static condensation (element interiors by order groups, the interfaces by the
+    block LU with partial pivoting) solves the element matrix of the SEDF at rest as
+    numpy's dense ``solve`` of the same matrix, assembled column by column from the
+    operator's product (mu = 0.1, D = 0.05, 8 functions, 6 elements of degree 5: 1e-10
+    of the solution)."""
+    got, dense = _condensed_and_dense(8, 6, 5, 3)
+    assert np.max(np.abs(got - dense)) <= 1e-10 * np.max(np.abs(dense))
+
+
+def test_condensed_lu_with_pinned_orders_at_the_first_node_is_the_dense_solve():
+    """As :func:`test_condensed_lu_is_the_dense_solve` with the first node solved for but
+    for its odd orders, pinned to 0 (the fold of ._parity at ``x = 0``, ``first_pins``):
+    9 functions, 6 elements of degree 7, 1e-10 of the solution."""
+    got, dense = _condensed_and_dense(9, 6, 7, 5, first_pins=np.arange(1, 9, 2))
     assert np.max(np.abs(got - dense)) <= 1e-10 * np.max(np.abs(dense))
 
 

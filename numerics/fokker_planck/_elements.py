@@ -198,19 +198,22 @@ class ElementOperator:
             return H4[np.arange(G), :, np.arange(G), :], H4[g, :, g + 1, :], H4[g + 1, :, g, :]
 
         QI = Q[1:p, 1:p]
+        ar = np.arange(q)
         blocks = []
         for k in range(3):  # groups first: a group's blocks of all elements contiguous
             gd = grouped(HD)[k]
-            out = np.zeros((gd.shape[0], E, b, b, q, q))
-            out += np.einsum("grs,ij->grsij", gd, QI)[:, None]
-            flat = out.reshape(gd.shape[0], E, b, b, q * q)
-            for H, f in F:
-                flat[..., ::q + 1] += np.einsum("grs,ei->gersi", grouped(H)[k], f[:, 1:p])
-            if k == 0:  # the padded orders beyond N: identity (decoupled)
-                for n in range(N, G * b):
-                    flat[n // b, :, n % b, n % b, ::q + 1] = 1.0
-            blocks.append(np.ascontiguousarray(
-                out.transpose(0, 1, 2, 4, 3, 5).reshape(gd.shape[0], E, b * q, b * q)))
+            gf = [(grouped(H)[k], f[:, 1:p]) for H, f in F]
+            out = np.empty((gd.shape[0], E, b, q, b, q))  # rows (r, i), columns (s, j)
+            view = out.transpose(0, 1, 2, 4, 3, 5)  # (group, element, r, s, i, j)
+            base = np.einsum("grs,ij->grsij", gd, QI)
+            for g in range(gd.shape[0]):  # a group at a time: no temporary of all
+                view[g] = base[g]
+                for Hg, fi in gf:
+                    view[g][..., ar, ar] += np.einsum("rs,ei->ersi", Hg[g], fi)
+                if k == 0:  # the padded orders beyond N: identity (decoupled)
+                    for n in range(max(N, g * b), (g + 1) * b):
+                        view[g][:, n % b, n % b, ar, ar] = 1.0
+            blocks.append(out.reshape(gd.shape[0], E, b * q, b * q))
         self.inner = tuple(blocks)
         # interior rows to the two ends: H_D[n, n'] Q[i, end]
         HDp = np.zeros((G * b, N))
@@ -220,7 +223,11 @@ class ElementOperator:
         self.couple_in = cin.reshape(G, b, q, 2 * N).reshape(G, b * q, 2 * N)
         self._rows = np.stack([Q[0, 1:p], Q[p, 1:p]])  # the ends' rows to the interior
         self._F = F
-        self._dense = [HD.toarray()] + [H.toarray() for H, _ in F]
+        self._coo = []  # (rows, cols, values) of H_D and of each function's H
+        for H in [HD] + [H for H, _ in F]:
+            coo = sps.coo_matrix(H)
+            coo.sum_duplicates()
+            self._coo.append((coo.row, coo.col, coo.data))
         # H_D by its diagonals: entry n of diagonal d is H_D[n, n + d]
         offsets = np.unique(sps.coo_matrix(HD).col - sps.coo_matrix(HD).row)
         self._hd_diagonals = []
@@ -233,33 +240,21 @@ class ElementOperator:
                 v[-d:] = dv
             self._hd_diagonals.append((int(d), v))
 
-    def ends(self, els: slice) -> np.ndarray:
-        """The end nodes' own blocks of the elements ``els``, ``(E', 2 N, 2 N)``: rows
-        ``(side, n)``, columns ``(side', n')``."""
-        Q, p, N, HDd = self._Q, self.p, self.N, self._dense[0]
+    def ends(self, els: slice) -> list:
+        """The end nodes' own blocks of the elements ``els``: ``[(a, c, rows, cols,
+        vals)]``, the entries ``vals`` ``(E', nnz)`` at ``(rows, cols)`` of the block from
+        the end ``c`` to the end ``a`` (``Q[k_a, k_c] H_D``, and on ``a = c`` the functions
+        of ``x`` at that end times their ``H``)."""
+        Q, p = self._Q, self.p
         E = len(range(self.E)[els])
-        out = np.zeros((E, 2, N, 2, N))
-        for s, ks in enumerate((0, p)):
+        r, c, v = self._coo[0]
+        out = []
+        for a, ka in enumerate((0, p)):
             for t, kt in enumerate((0, p)):
-                out[:, s, :, t, :] += Q[ks, kt] * HDd
-            for Hd, (_, f) in zip(self._dense[1:], self._F):
-                out[:, s, :, s, :] += f[els, ks, None, None] * Hd[None]
-        return out.reshape(E, 2 * N, 2 * N)
-
-    def couple_out(self, y: np.ndarray, els: slice) -> np.ndarray:
-        """The ends' rows times interior values ``y`` ``(G, E', bq, R)``: ``(E', 2, N, R)``."""
-        G, b, q, N = self.G, self.b, self.q, self.N
-        Ep, R = y.shape[1], y.shape[-1]
-        # sum over each element's interior points first (a q-th of the numbers), then H_D
-        z = np.matmul(self._rows, y.reshape(G, Ep, b, q, R))  # (G, E', b, 2, R)
-        z = z.transpose(1, 0, 2, 3, 4).reshape(Ep, G * b, 2, R)[:, :N]
-        out = np.zeros((Ep, N, 2, R))
-        for d, v in self._hd_diagonals:  # (H_D z)[n] = sum_d H_D[n, n + d] z[n + d]
-            if d >= 0:
-                out[:, :N - d] += v[:N - d, None, None] * z[:, d:]
-            else:
-                out[:, -d:] += v[-d:, None, None] * z[:, :N + d]
-        return out.transpose(0, 2, 1, 3)
+                out.append((a, t, r, c, np.broadcast_to(Q[ka, kt] * v, (E, v.size))))
+            for (hr, hc, hv), (_, f) in zip(self._coo[1:], self._F):
+                out.append((a, a, hr, hc, f[els, ka, None] * hv[None]))
+        return out
 
     def matvec(self, c: np.ndarray) -> np.ndarray:
         """The Galerkin operator (mass-weighted rows) on ``c`` ``(N, E p + 1)``."""
@@ -287,6 +282,10 @@ class ElementOperator:
         return c
 
     def factor(self, chunk: int = 2, first_pins=None) -> CondensedLU:
-        """:class:`._elements_lu.CondensedLU` of the operator (``first_pins`` there)."""
-        return CondensedLU(self.inner, self.couple_in, self.couple_out, self.ends, self.b,
-                           chunk, first_pins)
+        """:class:`._elements_lu.CondensedLU` of the operator (``first_pins`` there), once:
+        the interior blocks are factorised in place and dropped from :attr:`inner`."""
+        if self.inner is None:
+            raise RuntimeError("ElementOperator.factor: the blocks were factorised already")
+        inner, self.inner = self.inner, None
+        return CondensedLU(inner, self.couple_in, (self._rows, self._hd_diagonals),
+                           self.ends, self.b, chunk, first_pins)

@@ -95,9 +95,7 @@ def energy_density_change(sol, energies, values=None,
         return None
     P = (energy_density(sol, energies, shared=shared) if values is None
          else np.asarray(values, float))
-    from ._elements_solve import ElementKramersSolution
-
-    summed = isinstance(sol, ElementKramersSolution)
+    summed = getattr(sol, "changes_add", False)
     worst = np.zeros(len(P))
     for coarse, fine in pairs:
         d = np.abs(energy_density(fine, energies, shared=shared)

@@ -133,6 +133,7 @@ def test_pd_curve_meets_the_one_parameter_period_doublings(pd_curve):
         assert got == pytest.approx(ref, abs=1e-7), (h, got, ref)
 
 
+@pytest.mark.slow  # 4-7 s; the default run keeps its siblings (five-minute rule)
 def test_pd_curve_wavy_bottom_against_scipy_brent(pd_curve):
     """Below the isola's reach (h = 15.9, where the branch of ``kbm branch`` from sigma = 1
     is another orbit) the curve crosses the line four times; each is a zero of scipy's

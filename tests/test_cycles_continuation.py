@@ -144,6 +144,7 @@ def test_homoclinic_end_sedf():
     assert 0 < conn - 3.2494301 < 1e-5
 
 
+@pytest.mark.slow  # 4-7 s; the default run keeps its siblings (five-minute rule)
 def test_vdp_relaxation_has_no_homoclinic_end():
     """van der Pol has no saddle: its period grows like a power of mu, not like
     -log|mu - mu_h|, so its branch has no homoclinic end (it had one 'near mu = 50.92',

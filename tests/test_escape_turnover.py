@@ -139,6 +139,7 @@ def test_averaged_escape_barrier_frequency_and_turnover():
         * math.exp(-esc.barrier / kT), rel=1e-12)
 
 
+@pytest.mark.slow  # 4-7 s; the default run keeps its siblings (five-minute rule)
 def test_escape_cli_reports_the_turnover():
     """``kbm escape`` keeps every key and adds ``rate_turnover`` and ``omega_b``; the text
     names the formula of each line."""

@@ -108,6 +108,7 @@ def _independent_rate(model, params, D, fac, nh, nc):
                                lambda xs: tanh_sink(xs, wells, kappa0, width)), saddles
 
 
+@pytest.mark.slow  # 4-7 s; the default run keeps its siblings (five-minute rule)
 def test_sedf_escape_converges_against_a_second_discretisation():
     """SEDF mu = 0.3, D = 0.15: the default ladder's rate (stated truncation, scale and
     Chebyshev errors <= 1e-8 of it) equals the rate on plain Chebyshev points (192

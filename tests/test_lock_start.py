@@ -98,6 +98,7 @@ def _difference_mode_multiplier(beta: float, mu: float, delta: float, k: float,
     return float(m[np.argmin(np.abs(m - 1))].real)
 
 
+@pytest.mark.slow  # 4-7 s; the default run keeps its siblings (five-minute rule)
 def test_sedf_dimer_edge_in_beta_against_the_difference_mode():
     """The reported case (``--vary beta`` on an interval without 0) at kappa = 0.1, on
     [0.65, 0.75]: the middle 0.7 and the grid's 0.6875, 0.7125, 0.675 are past the order-1

@@ -115,6 +115,7 @@ def _tanh_average_series(a: float, eps: float, w: float) -> mpmath.mpf:
     return -2 * s / (w * b)
 
 
+@pytest.mark.slow  # 4-7 s; the default run keeps its siblings (five-minute rule)
 def test_tanh_friction_first_order_average_is_the_closed_form():
     """A_1 of F = -tanh(x'/0.05) against its series (:func:`_tanh_average_series`) and a
     30-digit quadrature, to 1e-12.  Derived to order 1, the order checked: A_1 does not

@@ -39,7 +39,10 @@ larger of ``<x^2>`` and ``<v^2>``; ``P`` is of its peak):
    stated error is the sum of two changes) and, when ``P(E)`` is wanted, ``P``'s change
    within :data:`ENERGY_TOL`, or the rung above on the next step would exceed the budget.
 5. The Hermite ladder on those elements, ``2^(1/2)`` times the functions, until the
-   change is within ``tol`` or the budget ends; when it climbed more than one rung, the
+   change is within ``tol``, or the stated sum (step 6) within :data:`ENOUGH` times
+   ``tol`` (six digits, with room for the rest: mu = 0.005, 362 -> 512 moved the moments
+   by 3.3e-7, and 512 -> 724, 27 s more CPU, would buy digits nobody asked for), or the
+   budget ends; when it climbed more than one rung, the
    last element step is solved again at the coarser rung of the last Hermite pair.
 6. The stated error (``hermite_change``) is the sum of the last element change (step 4,
    ``chebyshev_change``) and the last Hermite change (step 5), at least
@@ -61,8 +64,9 @@ orbit, the moments average it over the plane: mu = 0.01, 362 functions on 82, 98
 off (at energies 4.4 to 6.1, above the saddles), the moments 2.3e-8, 1.4e-9, 1.4e-10 and
 below; weighting the map's centres less (0.6, 0.35 of their weights) did not help
 (256 functions on 142: 2.6e-7, 3.3e-7).  ``ENERGY_RULE`` 2.5 starts the ladder of
-``P`` at its pair 142 -> 172 at mu = 0.01 (moved ``P`` by 2.6e-7); at mu = 0.005 the
-budget stops it at 158 -> 190 (512 functions on 240 elements would cost 3.1e7).
+``P`` at its pair 142 -> 172 at mu = 0.01 (moved ``P`` by 2.6e-7) and 200 -> 240 at
+mu = 0.005 (5.0e-9 of the moments; with the ``N^2 E`` of the band LU before, the budget
+stopped it at 158 -> 190, ``P`` 3.7e-6).
 
 Before, ``P(E)`` took the max of the two pairs' changes (the moments' error is their
 sum) and, beyond six digits, came from one element step more with the step's change
@@ -71,9 +75,12 @@ times ``r/(1 - r)``, an extrapolation of the geometric tail.
 The solve of the answer, ``n 2^(1/2)`` functions on the element step, starts in a second
 process (:mod:`._ahead`) beside the element pair at ``n``, and each element step's rung
 above beside it (stopped when the ladder goes on): the same solves and bits, less wall
-time.  The budget: ``N^2 E`` (the interface LU keeps about ``13 N^2`` numbers per element,
-:mod:`._elements_lu`; ``E/2`` when folded, :mod:`._parity`) at most ``max_cost`` (512
-functions on 72 folded elements: 1.9e7, about 1.9 GB).
+time.  The budget: :data:`COST_SHARE` times ``N^2 E`` (``E/2`` when folded,
+:mod:`._parity`) at most ``max_cost``, so that ``max_cost`` 2.5e7 (``kbm noise``'s) is
+about 2.5 GB, as it was when the interface LU kept a band of ``6 N^2`` numbers per node;
+it keeps ``4 N^2`` now and the interiors are factorised in place (:mod:`._elements_lu`):
+one solve of 512 functions on 176 elements, folded, peaked at 1.39 GB (``N^2 E/2`` =
+2.3e7), on 240 at 1.88 GB (3.1e7).
 
 Measured (SEDF at rest, Delta = 3, D = mu/2, ``max_cost`` 2.5e7, ``P(E)`` wanted; one
 process, CPU of the ladder and ``P(E)``, load 3-5 on two cores; "off" against a finer
@@ -92,6 +99,8 @@ mu     now: sizes, stated, P stated,   before: sizes, stated, P stated  CPU now,
        9.3e-11; 5.5e-8                 (x 150); 1.2e-10; 2.1e-7
 0.005  512 x 190, 3.4e-7, 3.7e-6;      512 x 176, 3.2e-7, 9.7e-7        45 s, 83-86 s
        4.6e-10; 9.7e-7                 (x 212); 7.6e-10; 3.7e-7
+0.005  512 x 240, 3.0e-7, 5.0e-7;      (:data:`COST_SHARE` and the      42 s (load 1-2.5)
+       3.7e-10; 2.1e-7 (off 512 x 300) one-node LU, below)
 =====  ==============================  ===============================  ==================
 
 The solves now (``N x E``): mu = 0.01, 256 x 142 and 256 x 172 (the element pair, ``P``
@@ -101,6 +110,14 @@ moved by 2.6e-7), 362 x 172 (the Hermite pair, 5.7e-8); before, 64 to 362 on 102
 functions, would cost 3.1e7 at 512), the stated ``P`` is beyond six digits; before, ``P`` came from
 512 x 212 beyond the budget with ``r/(1 - r)`` times the step.  Its moments are 8.0e-8
 and 3.9e-8 from the Chebyshev route's at ``--fp-budget 8.6e7`` (stated 5.6e-7).
+
+Since the interface LU of one node at a time (:mod:`._elements_lu`, 1.39 against 1.96 GB
+at 512 x 176) the cost counts :data:`COST_SHARE` of ``N^2 E``, so that the budget stays
+about 2.5 GB, and at mu = 0.005 the elements of ``P`` reach 200 -> 240 at 362 functions,
+then 512 on 240: stated 3.0e-7 (the element change 5.0e-9), ``P`` 5.0e-7, 3.7e-10 and
+2.1e-7 off 512 x 300, 42 s CPU and 1.88 GB in one process with ``P(E)``.  At mu = 0.002
+it reaches 512 x 316, stated 2.8e-5 (the functions': 362 against 512), ``P`` 8.1e-5,
+56 s and 2.34 GB: six digits there need 724 functions, beyond the budget.
 """
 
 from __future__ import annotations
@@ -137,6 +154,12 @@ FEWEST = 48
 FUNCTION_SHARE = 0.33
 #: the elements per ``L/l`` that ``P(E)`` needs (the last of its element pair; step 3)
 ENERGY_RULE = 2.5
+#: the Hermite ladder also stops when the stated sum is within this many ``tol`` (step 5)
+ENOUGH = 5
+#: the budget's share of ``N^2 E`` (``E/2`` folded): the peak memory of one solve is
+#: about 60 bytes per unit of ``N^2 E`` (512 x 176 folded: 1.39 GB; 512 x 240: 1.88 GB),
+#: so that ``max_cost`` counts about 100 bytes (module docstring)
+COST_SHARE = 0.6
 #: the change of ``P(E)`` (of its peak) at which the element ladder stops when ``P(E)``
 #: is wanted (half of six digits: the functions' change and the quadrature's add to it)
 ENERGY_TOL = 5e-7
@@ -249,7 +272,7 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, sigma, L, tol: float,
     memo: dict = {}
 
     def cost(n: int, e: int) -> float:
-        return n * n * (e / 2 if folds else e)
+        return COST_SHARE * n * n * (e / 2 if folds else e)
 
     def args(n, e):
         return (split, D, s, half, n, e, DEGREE, G, omega0)
@@ -305,7 +328,8 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, sigma, L, tol: float,
             energy = _energy_moved(*element_pair)
     hermite = math.inf
     hermite_pair = None
-    while hermite > tol and cost(rung(n), E) <= max_cost:  # step 5: the functions at E
+    while hermite > tol and hermite + element > ENOUGH * tol \
+            and cost(rung(n), E) <= max_cost:  # step 5: the functions at E
         up = rung(n)
         if not ahead.running((up, E)):
             ahead.cancel()

@@ -170,8 +170,9 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         :func:`._stationary_orthonormal.stationary_orthonormal`); a solve whose factors
         would exceed :data:`._pentadiagonal_disk.FACTOR_MEMORY` bytes in memory keeps them
         on disk (the same solution; the budget then bounds the time, not the memory).
-        The element ladder's cost is ``n_hermite^2 E`` (``E/2`` folded), about the
-        numbers its interface LU keeps over 13.
+        The element ladder's cost is 0.6 ``n_hermite^2 E`` (``E/2`` folded), about its
+        peak memory in units of 100 bytes
+        (:data:`._elements_ladder.COST_SHARE`).
     basis : {None, "orthonormal", "risken", "elements"}
         The velocity functions.  Default: for linear damping, where ``sigma^2 = kT``
         makes the Maxwellian one function, the orthonormal functions on spectral elements
@@ -188,8 +189,8 @@ def stationary_kramers(model, params: dict, D: float, *, n_hermite: int | None =
         times spectral elements in ``x``, with the ladder of
         :func:`._elements_ladder.element_ladder` (SEDF at rest, Delta = 3, D = mu/2,
         mu = 0.005 at ``max_cost`` 2.5e7, ``kbm noise``'s budget: stated 3.9e-7 on 512
-        functions x 148 elements in 27 s user + 8 s system CPU, 1.8 GB, one process
-        (3.4e-7 on 512 x 190 with ``refine_ahead``, 60 s CPU with ``P(E)``), where the
+        functions x 148 elements in 25 s user + 6 s system CPU, 1.33 GB, one process
+        (3.0e-7 on 512 x 240 with ``refine_ahead``, 42 s CPU with ``P(E)``, 1.88 GB), where the
         Chebyshev ladder states 3.9e-6 at that budget and took 164 s CPU and 3.2 GB at
         8.6e7 for 5.6e-7).  ``"orthonormal"`` keeps the Chebyshev ladder there.
     workers : int, optional

@@ -246,6 +246,7 @@ def test_negative_values_reach_their_options(capsys):
     assert json.loads(capsys.readouterr().out)["success"] is True
 
 
+@pytest.mark.slow  # 4-8 s; kept out of the default run (five-minute rule)
 def test_series_warns_beyond_the_radius(capsys):
     """``kbm series vdp --float --at 5``: mu^2 = 25 is 7.3 times the radius |mu^2| = 3.42
     (Andersen & Geer), within the reach; the value is printed with the note that its +- (the

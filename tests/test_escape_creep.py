@@ -13,6 +13,7 @@ from numerics.sliding.potential import saddle_node
 PT = dict(Delta=3.0, lam=1.0, Omega=1.0)
 
 
+@pytest.mark.slow  # 4-8 s; kept out of the default run (five-minute rule)
 def test_barrier_closes_like_three_halves():
     """Saddle-node normal form: E_b ~ (L_0 - L)^{3/2} as the stage nears the slip point."""
     L, F, Eb, ww, I, L0, Fc = _ramp(3.0, 1.0, 1.0, 4000)

@@ -92,6 +92,7 @@ def test_van_der_pol_virial_and_averaging_limit():
     assert 3.0 < gaps[1] / gaps[0] < 5.0
 
 
+@pytest.mark.slow  # 4-8 s; kept out of the default run (five-minute rule)
 def test_hermite_truncation_error_is_stated():
     """The Hermite doubling (Risken, sec. 10.3's truncation of the velocity expansion) stops
     on ``<x^2>`` and ``<v^2>`` both, and the change it states bounds the error found by an

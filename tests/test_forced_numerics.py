@@ -116,6 +116,7 @@ def test_amplitude_error_slopes_duffing():
     assert all(e2 < e1 for e1, e2 in zip(t.errors[1], t.errors[2]))
 
 
+@pytest.mark.slow  # 4-8 s; kept out of the default run (five-minute rule)
 def test_fold_error_slopes_duffing():
     """The lower jump point's detuning: errors of orders 1, 2, 3 with slopes ~1, 2, 3."""
     t = fold_study("duffing-forced", DUFF, (0.0, 1.2), [0.01, 0.02, 0.04], (1, 2, 3))

@@ -138,6 +138,7 @@ def test_noise_rare_event_guard():
     assert "simulation refused" in rep["message"] and "budget" in rep["message"]
 
 
+@pytest.mark.slow  # 4-8 s; kept out of the default run (five-minute rule)
 def test_noise_fp_budget_bounds_the_fokker_planck_solve(capsys):
     """``--fp-budget`` is the Kramers solve's ``max_cost``: van der Pol's first solve (32
     Hermite functions on at least 96 Chebyshev intervals, folded by parity: a cost of at
@@ -157,6 +158,7 @@ def test_noise_fp_budget_bounds_the_fokker_planck_solve(capsys):
     assert a2["fokker_planck"] == pytest.approx(a2["averaged"], rel=0.01)
 
 
+@pytest.mark.slow  # 4-8 s; kept out of the default run (five-minute rule)
 def test_noise_text_skips_p_of_e_and_prints_the_same_moments(capsys):
     """``P(E)`` is reported in JSON only (the text prints none, and its grid step beyond
     the moments' is 18 s of 50 at the SEDF's mu = 0.01): the text run computes none and
@@ -264,6 +266,7 @@ def test_noise_driven_slider_says_its_moments_are_not_stationary(capsys):
     assert x2["200"] > 10 * x2["40"] and stage / 2 < x2["200"] < 2 * stage
 
 
+@pytest.mark.slow  # 4-8 s; kept out of the default run (five-minute rule)
 def test_noise_budget_refusal_keeps_the_reason_and_says_what_is_given(capsys):
     """--budget 0 replaced the message: a pulled slider (no averaged state) then said "the
     averaged answer is given alone" beside an empty averaged column, and --order 2 on the

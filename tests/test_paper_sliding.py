@@ -19,6 +19,7 @@ from numerics.sliding.potential import potential
 @settings(max_examples=6)
 @given(model=st.sampled_from(["sedf", "cdc"]), Delta=st.floats(0.5, 3.0),
        v=st.floats(0.005, 0.2), mu=st.floats(0.05, 1.0), beta=st.floats(0.2, 1.0))
+@pytest.mark.slow  # 4-8 s; kept out of the default run (five-minute rule)
 def test_energy_audit_closes(model, Delta, v, mu, beta):
     """Work of the spring = change of kinetic + periodic potential energy + Gamma (eq. 10),
     to integration accuracy, for random parameters of both sliders."""

@@ -173,6 +173,7 @@ def test_noisy_commands_take_the_scaled_wavenumber(command, key, capsys):
     assert value(f"k={2 * math.pi!r}") == pytest.approx(value("lam=1"), rel=1e-9)
 
 
+@pytest.mark.slow  # 4-8 s; kept out of the default run (five-minute rule)
 def test_spectrum_of_a_slider_takes_the_stage_defaults_as_noise_and_escape(capsys):
     """``kbm spectrum sedf`` without ``lam`` and ``Omega`` asked for ``lam`` ("needs values for
     lam"), where ``kbm noise`` and ``kbm escape`` take the paper's ``Omega = 1``, ``lam = 1``

@@ -94,6 +94,7 @@ def test_amplitude_convergence_json(capsys, tmp_path):
     assert (tmp_path / "convergence.png").stat().st_size > 10_000
 
 
+@pytest.mark.slow  # 4-8 s; kept out of the default run (five-minute rule)
 def test_fold_convergence_text(capsys):
     """The lower jump point's detuning (fold 0 in sigma 0..1.2): slopes ~1 and ~2 printed,
     the order-1 errors against the closed-form first-order jump."""

@@ -86,6 +86,7 @@ def test_dask_and_the_local_pool_give_identical_maps():
     assert v == [float(a) for a in np.repeat(AXES["v"], 10)]
 
 
+@pytest.mark.slow  # 4-8 s; kept out of the default run (five-minute rule)
 def test_a_scheduler_address_runs_the_map_as_the_command_line_does():
     """``--scheduler ADDRESS``: :func:`connect` makes a client that is not the default one
     (as on the command line); the map runs on it and equals the local result."""

@@ -68,6 +68,7 @@ def test_first_order_errors_of_the_cubic_stiffness_against_simulation():
         assert abs(entry["expected_error"] - gap) < 0.2 * gap + 3 * se, (key, entry)
 
 
+@pytest.mark.slow  # 4-8 s; kept out of the default run (five-minute rule)
 def test_second_order_without_a_simulation_states_the_true_cycles_error(capsys):
     """Order 2 has no third order to compare with: without a simulation the line width's
     error is measured against the true cycle's phase response (its small-noise part is

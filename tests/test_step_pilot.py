@@ -64,6 +64,7 @@ def test_a_probe_that_resolves_runs_the_floor_pilot():
     assert info["steps"] == ref["steps"]
 
 
+@pytest.mark.slow  # 4-8 s; kept out of the default run (five-minute rule)
 def test_low_friction_step_is_the_rule_s_without_the_pilot():
     """SEDF at rest, Delta = 3, D = mu/2.  At mu = 0.01 the budget affords one trajectory
     (no standard error): the step is the rule's (BAOAB: half the Kloeden-Platen step),

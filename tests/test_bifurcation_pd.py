@@ -165,6 +165,7 @@ def test_period_two_orbit_just_past_the_curve_long_run(pd_curve):
     assert d1 < 1e-6 and d2 < 1e-6
 
 
+@pytest.mark.slow  # 3-4 s; kept out of the default run (five-minute rule)
 def test_period_two_orbit_past_the_curve(pd_curve):
     """The fast sibling of the long run: 0.02 on either side of the curve, 80 periods (past
     it the alternation is 1.6 while two periods apart the map has come within 1e-2; before

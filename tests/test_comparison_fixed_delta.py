@@ -81,6 +81,7 @@ def test_cli_fixed_delta_and_methods_map_flags(capsys):
         assert len(err) == 1 and err[0].startswith("kbm compare: error:")
 
 
+@pytest.mark.slow  # 3-4 s; kept out of the default run (five-minute rule)
 def test_fixed_delta_figure_registered_and_written(study, tmp_path):
     """'fixed_delta_convergence' is in the figure registry; drawn from a computed study (as
     ``kbm reproduce`` draws it: the module's study, its errors checked above) it is a PNG of

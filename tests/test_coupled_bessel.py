@@ -41,7 +41,8 @@ from kbm.model.builtins import custom_model, get_model
 A1 = sp.Symbol("a1")
 
 
-@pytest.mark.parametrize("F", ["sedf", "cdc", "(1 - x**2)*xdot - delta*x**2*cos(k*x)",
+@pytest.mark.parametrize("F", ["sedf", pytest.param("cdc", marks=pytest.mark.slow),
+                               "(1 - x**2)*xdot - delta*x**2*cos(k*x)",
                                "-delta*x*cos(k*x) - 2*zeta*xdot",
                                "(1 - x**2)*xdot - delta*xdot*sin(k*x)",
                                "-delta*x**3*sin(2*k*x) + xdot"])

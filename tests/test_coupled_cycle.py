@@ -112,6 +112,7 @@ def test_anti_phase_cycle_is_unstable():
     assert max(abs(anti.floquet_multipliers[1:])) > 1
 
 
+@pytest.mark.slow  # 3-4 s; kept out of the default run (five-minute rule)
 def test_locking_edges_converge_like_mu_to_the_order():
     """Averaged order n against the true edge at mu and mu/2: the error falls by 2**n."""
     errs = {}

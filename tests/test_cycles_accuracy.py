@@ -35,6 +35,7 @@ def test_first_harmonic_of_relaxation_cycles_matches_taylor_reference(mu):
     assert c.accuracy["amplitude_first_harmonic"] < 1e-10
 
 
+@pytest.mark.slow  # 3-4 s; kept out of the default run (five-minute rule)
 def test_vdp_mu20_first_harmonic_value():
     # 2.14447449099 (30-digit Taylor path); the 1024-sample FFT gave 2.14447429638
     c = limit_cycle("vdp", {"mu": 20})

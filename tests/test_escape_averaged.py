@@ -129,7 +129,8 @@ def test_driven_refused():
 
 
 @pytest.mark.parametrize("model, params, D", [
-    ("cdc", {"mu": 0.02, "Delta": 3, "lam": 1, "Omega": 1}, 0.007),
+    pytest.param("cdc", {"mu": 0.02, "Delta": 3, "lam": 1, "Omega": 1}, 0.007,
+                 marks=pytest.mark.slow),
     ("cdc", {"mu": 0.02, "Delta": 2, "lam": 1.3, "Omega": 1}, 0.003),
     ("sedf", {"mu": 0.1, "Delta": 3, "beta": 1, "lam": 1, "Omega": 1}, 0.05)])
 def test_origin_well_envelope_gives_the_same_mfpt(model, params, D):

@@ -47,6 +47,7 @@ def test_sedf_mu_0002_against_averaging_and_another_scale():
     _assert_within_its_change(sol, params, 0.82, 300, 1100)
 
 
+@pytest.mark.slow  # 3-4 s; kept out of the default run (five-minute rule)
 def test_a_hopeless_check_stops_the_ladder():
     """With the velocity scale of the resolution rule alone at mu = 0.002 (0.136) and a
     tenth of kbm noise's budget, step 7's check (the rung up on the grid where the climb

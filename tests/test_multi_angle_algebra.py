@@ -41,7 +41,7 @@ def _value(f: MultiAngle) -> float:
     return float(f.as_expr(ANGLES[f.n]).subs(POINT))
 
 
-@pytest.mark.parametrize("n", [2, 3])
+@pytest.mark.parametrize("n", [2, pytest.param(3, marks=pytest.mark.slow)])
 @given(f=_series, g=_series)
 def test_product_and_sum_pointwise(n, f, g):
     F, G = _build(f, n), _build(g, n)

@@ -85,7 +85,7 @@ def test_random_polynomial_F_agrees_with_the_exact_engine(coeffs):
     _against_exact(numeric_derive(model, 3, (0.3, 3.0)), derive(model, 3), 3, 1e-10)
 
 
-@pytest.mark.parametrize("name", ["sedf", "cdc"])
+@pytest.mark.parametrize("name", [pytest.param("sedf", marks=pytest.mark.slow), "cdc"])
 def test_sliders_at_order_2_agree_with_the_bessel_sums(name):
     params = {"beta": 1.3, "delta": 0.7, "k": 2.1, "Omega": 1.2}
     if name == "cdc":

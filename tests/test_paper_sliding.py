@@ -64,6 +64,7 @@ def test_eq4_is_derived_from_the_model():
     assert np.array_equal(potential(xs, 0.3, Delta=D, lam=lam, Omega=Om), typed)
 
 
+@pytest.mark.slow  # 3-4 s; kept out of the default run (five-minute rule)
 def test_quasi_static_slip_energy_one_well():
     """CDC with strong damping (mu = 3, Omega = 2, Delta = 3): each slip crosses one well and
     dissipates Delta W of the saddle-node formula within 1% as v -> 0 (v = 5e-4).  The

@@ -159,6 +159,7 @@ def test_split_line_refuses_what_split_conservative_refuses():
             line(bad)
 
 
+@pytest.mark.slow  # 3-4 s; kept out of the default run (five-minute rule)
 def test_energy_branch_with_the_split_line_equals_splitting_each_value(monkeypatch):
     """numerics.comparison.energy_branch splits the model once along the parameter
     (SplitLine); against splitting at every value (split_conservative, the line disabled)

@@ -88,6 +88,7 @@ def test_low_friction_step_is_the_rule_s_without_the_pilot():
     assert ref_h == h and ref["accepted"] and ref["trajectories"] == PILOT_FLOOR
 
 
+@pytest.mark.slow  # 3-4 s; kept out of the default run (five-minute rule)
 def test_noise_json_states_the_pilot(capsys):
     """``kbm noise --json``: ``step_pilot`` with the rule's step ``h0``, the pilot's
     ``outcome`` and its record (vdp at mu = 0.01: the probe's 11 trajectories cannot

@@ -39,7 +39,7 @@ def _boltzmann_bins(edges, kT):
     return np.array([mass(a, b) for a, b in zip(edges[:-1], edges[1:])]) / Z / np.diff(edges)
 
 
-@pytest.mark.parametrize("kT", [0.25, 1.0])
+@pytest.mark.parametrize("kT", [pytest.param(0.25, marks=pytest.mark.slow), 1.0])
 def test_energy_density_is_boltzmann(kT):
     """Bin by bin within 2 % over the bins holding 1 % of the peak or more (1e-4 below the
     highest separatrix; above it the degree-64 Chebyshev fit of the action over the outer

@@ -43,11 +43,6 @@ class ElementKramersSolution(OrthonormalKramersSolution):
     #: the degree times a smooth function of ``x``)
     quadrature_nodes = 16
 
-    #: the stated error is the sum of the element and the Hermite change
-    #: (:mod:`._elements_ladder`), so ``P(E)``'s is the sum of the two pairs' changes
-    #: (:func:`._energy_density.energy_density_change`)
-    changes_add = True
-
     def _lagrange(self, xs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(lag, idx)``: the Lagrange weights ``(len(xs), p + 1)`` of each position on its
         element's GLL nodes (barycentric form) and those nodes' indices in ascending

@@ -40,16 +40,8 @@ SIX_DIGITS = 1e-6
 #: rest, Delta = 3, D = mu/2: stated 2.9e-7 and 5.4e-7 at mu = 0.01 and 0.02, where the
 #: step is taken; 1.1e-8 and 2.5e-8 at mu = 0.1 and 0.05, where it is not)
 REFINE_AHEAD = 1e-7
-#: the factor on the measured contraction ``q`` of the grid step in the geometric tail of
-#: :func:`energy_density_report`.  Measured, SEDF at rest, Delta = 3, D = mu/2, against
-#: solves of 362 functions x 1602 (mu = 0.01) and 1282 intervals (0.02, 0.03) at another
-#: velocity scale: the factor at which the tail would equal the finer solve's true error
-#: (less the Hermite pair's part) is 0.98, 1.10 and 0.19 at mu = 0.01, 0.02, 0.03 (``q`` =
-#: 0.219, 0.154, 0.149; the bare ratio understates at mu = 0.02, where the error's worst
-#: energy, 0.955, is not the step's, 4.14).  With 1.2 the stated error is 1.35, 1.22 and
-#: 8.9 times the true one (9.9e-7, 3.3e-7, 6.0e-8 of the peak against 7.3e-7, 2.7e-7,
-#: 6.8e-9); 1.5 stated 1.3e-6 at mu = 0.01, over six digits where they are met.
-TAIL_SAFETY = 1.2
+
+
 def separatrix_energies(sol) -> list:
     """``G`` at the saddles (interior maxima of ``G``) on the solution's range, increasing."""
     grid = np.linspace(-float(sol.x[0]), float(sol.x[0]), 20001)
@@ -82,25 +74,21 @@ def energy_grid(sol, points: int = ENERGY_POINTS, floor: float = 1e-5) -> np.nda
 
 def energy_density_change(sol, energies, values=None,
                           shared: dict | None = None) -> np.ndarray | None:
-    """``|P_fine(E) - P_coarse(E)|/|P(E)|`` at each energy over the pairs of solutions
-    whose change of the moments states ``sol``'s error (``sol.refinements``: the Hermite
-    and the Chebyshev step of :func:`._stationary_orthonormal.stationary_orthonormal`, or
-    a finer grid for linear damping), combined as the moments' changes are: the largest
-    for the Chebyshev ladder, whose stated error is the larger of its two changes, the sum
-    for a solution on elements (:mod:`._elements_ladder`, whose stated error is the sum
-    of the element and the Hermite change: either step alone leaves the other's error in
-    ``P``); ``None`` when none was kept."""
+    """``|P_fine(E) - P_coarse(E)|/|P(E)|`` at each energy, summed over the pairs of
+    solutions whose change of the moments states ``sol``'s error (``sol.refinements``: the
+    Hermite and the Chebyshev step of :func:`._stationary_orthonormal.stationary_orthonormal`,
+    the Hermite and the element step of :func:`._elements_ladder.element_ladder`, or a finer
+    grid for linear damping), as the moments' changes are summed: either step alone leaves
+    the other's error in ``P``; ``None`` when none was kept."""
     pairs = getattr(sol, "refinements", ())
     if not pairs:
         return None
     P = (energy_density(sol, energies, shared=shared) if values is None
          else np.asarray(values, float))
-    summed = getattr(sol, "changes_add", False)
     worst = np.zeros(len(P))
     for coarse, fine in pairs:
-        d = np.abs(energy_density(fine, energies, shared=shared)
-                   - energy_density(coarse, energies, shared=shared)) / np.abs(P)
-        worst = worst + d if summed else np.maximum(worst, d)
+        worst = worst + np.abs(energy_density(fine, energies, shared=shared)
+                               - energy_density(coarse, energies, shared=shared)) / np.abs(P)
     return worst
 
 
@@ -125,17 +113,16 @@ def energy_density_report(sol, finer=None, points: int = ENERGY_POINTS,
     error sits in the separatrices' layers (:mod:`._stationary_points`), which ``P(E)``
     samples along one orbit where the moments average it over the plane (SEDF mu = 0.01:
     the last grid step moved ``P`` by 1.2e-5 of its peak, the moments by 2.9e-7).  Then
-    ``change`` is that step's change (``sol``'s error, more than the finer solve's) or
-    the Hermite pair's of ``sol.refinements``, whichever is larger, plus the quadrature's;
-    ``change_peak`` states the finer solve's error as the geometric tail of the grid
-    ladder, the step's largest change times ``r/(1 - r)`` with ``r`` :data:`TAIL_SAFETY`
-    times the ratio ``q`` of that change to the ladder's last (times 1 when ``r > 1/2``),
-    plus the Hermite pair's and the quadrature's largest.  (SEDF at rest, Delta = 3,
-    D = mu/2: ``q`` = 0.22 at mu = 0.01, where the changes of the grids 666 -> 833 ->
-    1041 -> 1302 at 258 functions fall by 0.23 and 0.22 per step and the solves are
-    5.0e-5, 1.3e-5, 2.5e-6, 7.3e-7 of the peak from 362 x 1602; ``q`` = 0.15 at
-    mu = 0.02, where the finer solve's error is 0.2 of the step, hence the safety,
-    measured at mu = 0.01 to 0.03 as its comment says.)
+    ``change`` is the sum of that step's change, the Hermite pair's of ``sol.refinements``
+    and the quadrature's, and ``change_peak`` its largest: measured changes between solves,
+    the step's that of ``sol``, an upper estimate of the finer solve's error (SEDF at rest,
+    Delta = 3, D = mu/2, ``basis="orthonormal"``: stated 2.7e-6, 1.3e-6, 2.4e-7 of the peak
+    at mu = 0.01, 0.02, 0.03, 3.7, 4.9 and 36 times the distance to solves of 362
+    functions x 1602 and 1282 intervals; docs/noise.rst).  (Before, ``change_peak`` was the step's
+    change times ``r/(1 - r)``, ``r`` 1.2 times its ratio to the ladder's last step: an
+    extrapolation of the geometric tail, 1.35 times the true error at mu = 0.01; and the
+    pairs' changes were combined by their largest, where the moments' stated error is their
+    sum.)
 
     The grid step may start in a second process (:mod:`._ahead`; at most ``workers``
     processes, :func:`._ahead.fp_workers`), the same bits, or come from the ladder's,
@@ -178,17 +165,13 @@ def _report(sol, finer, points: int, pairs, grid, ahead) -> dict:
         here = P
         P, quad = energy_density(ahead.result("refine"), E, quadrature=True, shared=shared)
         step = np.abs(P - here)
-        before = float(np.max(np.abs(here - energy_density(grid[0][0], E, shared=shared))))
         hermite = np.zeros(len(P))
         for coarse, fine in pairs:
             if fine.coef.shape[0] != coarse.coef.shape[0]:
-                hermite = np.maximum(hermite, np.abs(energy_density(fine, E, shared=shared)
-                                                     - energy_density(coarse, E,
-                                                                      shared=shared)))
-        r = TAIL_SAFETY * float(np.max(step)) / before if before > 0 else 1.0
-        tail = r / (1 - r) if r <= 0.5 else 1.0
-        change = (np.maximum(step, hermite) + quad) / np.abs(P)
-        absolute = tail * float(np.max(step)) + float(np.max(hermite)) + float(np.max(quad))
+                hermite = hermite + np.abs(energy_density(fine, E, shared=shared)
+                                           - energy_density(coarse, E, shared=shared))
+        change = (step + hermite + quad) / np.abs(P)
+        absolute = float(np.max(change * np.abs(P)))
     if change is not None:  # the largest of each energy's and its neighbours' (a change
         # that crosses zero between two rungs says nothing there: SEDF mu = 0.1 at E = 2.16,
         # 1.3e-9 stated and 3.5e-8 from a 256 x 1026 solve, 1.6e-7 and 1.9e-6 beside it)

@@ -149,6 +149,23 @@ def test_origin_well_envelope_gives_the_same_mfpt(model, params, D):
         env.stationary_moment_x2()
 
 
+def test_no_well_at_the_origin_is_refused_before_any_annulus_is_fitted(monkeypatch):
+    """``kbm escape cdc -p Delta=-3`` (g'(0) = 1 - 2 pi Delta/lam < 0: the origin a saddle,
+    paper eq. 12's potential) and ``-p Delta=0.1`` (a single well, no barrier): the reason
+    comes from the phase portrait, before the envelope's annuli are fitted (on e8c4642 the
+    whole envelope was built first, 6-7 s, to say it)."""
+    import numerics.escape.envelope as envelope
+
+    def fail(*args, **kwargs):
+        raise AssertionError("an annulus was fitted")
+
+    monkeypatch.setattr(envelope, "fitted", fail)
+    with pytest.raises(ModelError, match="not the bottom of a well"):
+        envelope.origin_well_envelope("cdc", {**CDC, "Delta": -3}, 0.01)
+    with pytest.raises(ModelError, match="no barrier"):
+        envelope.origin_well_envelope("cdc", {**CDC, "Delta": 0.1}, 0.01)
+
+
 def test_origin_well_envelope_refuses_as_the_whole_one():
     """No well at the origin: the same reason; growing energy: no stationary state (the
     outer annulus' drift at its top, from one orbit quadrature)."""

@@ -216,3 +216,21 @@ def test_lobatto_coefficients_recover_the_polynomial(n, seed):
     scale = np.sum(np.abs(coef))
     assert np.allclose(got, coef, rtol=0, atol=1e-13 * scale)
     assert np.allclose(got, C.chebfit(t, f, n), rtol=0, atol=1e-12 * scale)
+
+
+def test_a_driven_slider_is_refused_before_the_averaging(monkeypatch):
+    """``kbm noise sedf -p v=0.1 ... --method fokker-planck``: a slider pulled at v != 0
+    (paper eq. 3 with the stage moving) has no stationary Kramers equation, and the refusal
+    comes at once, before the averaging and the step pilot that run beside the solve (on
+    e8c4642 it came after them, 10 s of a 12 s refusal)."""
+    import numerics.thermal.stationary as stationary
+    from kbm.errors import ParameterError
+
+    def fail(*args, **kwargs):
+        raise AssertionError("the averaging ran")
+
+    monkeypatch.setattr(stationary, "averaged_tabulated", fail)
+    monkeypatch.setattr(stationary, "step_pilot", fail)
+    with pytest.raises(ParameterError, match="not at rest.*-p v is not taken"):
+        stationary.noise_report("sedf", {"mu": 0.1, "Delta": 3, "beta": 1, "v": 0.1,
+                                         "D": 0.05}, method="fokker-planck")

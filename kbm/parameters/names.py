@@ -216,10 +216,14 @@ def noise_intensity(D: object, need: str | None = None) -> float:
         and finite (...)"`` (``D >= 0`` where ``need`` is ``None``) for a value that is no
         number, NaN, infinite, negative, or zero where refused.
     """
-    try:
-        value = float(parameter_value("D", D))
-    except ParameterError:
-        value = None
+    if isinstance(D, float) and math.isfinite(D):  # (numpy's too) the exact read rounds
+        value = float(D) + 0.0  # back to the same float (-0.0: 0.0): no sympy (a sweep of
+        # 1e5 values took 10 s)
+    else:
+        try:
+            value = float(parameter_value("D", D))
+        except ParameterError:
+            value = None
     if value is not None and (value > 0 or (value == 0 and need is None)):
         return value
     shown = str(D).strip() if value is None else f"{value:g}"

@@ -48,7 +48,8 @@ from ..energy.portrait import Portrait
 from ._annulus import AnnulusEnvelope, check_drift, fitted, orbit_values, prepared
 from ._orbits import interior_saddles
 
-__all__ = ["EnergyEnvelope", "energy_envelope", "origin_well_envelope", "boltzmann_moment"]
+__all__ = ["EnergyEnvelope", "energy_envelope", "origin_well_envelope", "no_origin_well",
+           "boltzmann_moment"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -238,8 +239,13 @@ def origin_well_envelope(model, params: dict, D: object, *, tol: float = 1e-12,
     :func:`energy_envelope` (the outer annulus' drift at its top from one orbit
     quadrature), the same interpolants of the well's orbit integrals; the other annuli
     (the bands over the saddles, the costly ones: 2.3 of 2.5 s for the CDC at Delta = 3)
-    are not built.  Without a bounded well at the origin it is :func:`energy_envelope`
-    (which :func:`numerics.escape.rate.central_well` then explains).
+    are not built.
+
+    Raises
+    ------
+    kbm.errors.ModelError
+        Without a bounded well at the origin, the reason of :func:`no_origin_well`, before
+        any annulus is fitted; a growing energy as :func:`energy_envelope`.
 
     Returns
     -------
@@ -249,14 +255,27 @@ def origin_well_envelope(model, params: dict, D: object, *, tol: float = 1e-12,
     split, portrait, h, mu, D = prepared(model, params, D, outer_span)
     well = [a for a in portrait.annuli if a.bounded and len(a.wells) == 1
             and round(a.wells[0], 9) == 0.0]
-    if not well:
-        return energy_envelope(model, params, D, tol=tol, outer_span=outer_span)
     outer = portrait.outer
     top = outer.energy_min + outer_span * D / mu
     values, _ = orbit_values(outer, interior_saddles(outer, portrait.equilibria), h, mu, D)
     check_drift(float(np.ravel(values(np.array([top]))[3])[0]), top)
+    if not well:  # before any annulus is fitted (the whole envelope took 6-7 s to say it)
+        raise no_origin_well(portrait)
     piece = fitted(well[0], portrait, h, mu, D, outer_span, tol)
     return EnergyEnvelope(split, portrait, D, (piece,), complete=False)
+
+
+def no_origin_well(portrait: Portrait) -> ModelError:
+    """Why the phase portrait has no bounded well at the origin, in one line: no centre
+    there, or the well around it reaches infinity (no barrier)."""
+    if not [e for e in portrait.equilibria if e.kind == "center" and abs(e.x) < 1e-9]:
+        return ModelError("the origin is not the bottom of a well (the potential's curvature "
+                          "g'(0) there is <= 0): there is no well at the origin to escape "
+                          "from; choose parameters with x = 0 a stable rest point (the "
+                          "sliders: Delta >= 0 and lam > 0)")
+    return ModelError("the well at the origin has no barrier (the potential has a single "
+                      "well): nothing to escape over; choose parameters with side wells "
+                      "(e.g. a larger Delta)")
 
 
 def boltzmann_moment(split: ConservativeSplit, kT: float, power: int = 2) -> float:

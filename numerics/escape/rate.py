@@ -41,7 +41,7 @@ import numpy as np
 from kbm.errors import ModelError
 
 from ._panels import Piecewise
-from .envelope import EnergyEnvelope
+from .envelope import EnergyEnvelope, no_origin_well
 from .turnover import melnikov_meshkov_factor, turnover_rate
 
 __all__ = ["EscapeRate", "averaged_escape", "separatrix_action", "kramers_low_friction", "central_well", "barrier_frequency"]
@@ -55,20 +55,12 @@ def central_well(env: EnergyEnvelope):
     kbm.errors.ModelError
         No centre at ``x = 0``, or the well reaches infinity (no barrier).
     """
-    centres = [e for e in env.portrait.equilibria if e.kind == "center" and abs(e.x) < 1e-9]
-    if not centres:
-        raise ModelError("the origin is not the bottom of a well (the potential's curvature "
-                         "g'(0) there is <= 0): there is no well at the origin to escape from; "
-                         "choose parameters with x = 0 a stable rest point (the sliders: "
-                         "Delta >= 0 and lam > 0)")
     for p in env.pieces:
         if 0.0 in [round(w, 9) for w in p.annulus.wells] and len(p.annulus.wells) == 1:
             if not p.annulus.bounded:
                 break
             return p
-    raise ModelError("the well at the origin has no barrier (the potential has a single "
-                     "well): nothing to escape over; choose parameters with side wells "
-                     "(e.g. a larger Delta)")
+    raise no_origin_well(env.portrait)
 
 
 def separatrix_action(split, Eb: float, xl: float, xr: float) -> float:

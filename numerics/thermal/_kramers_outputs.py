@@ -35,10 +35,9 @@ def fokker_planck_moments(model, params: dict, D: float, omega0: float,
 
     if budget is None:
         budget = FP_BUDGET if required else FP_DEFAULT_BUDGET
-    name = model if isinstance(model, str) else model.name
     why = ""
-    if name in SLIDERS and float(params.get("v", 0)) != 0:
-        why = "the driven slider (v != 0) is not at rest: no stationary Kramers equation"
+    if driven(model, params):
+        why = DRIVEN
     else:
         try:
             sol = stationary_kramers(model, {k: v for k, v in params.items() if k != "v"}, D,
@@ -59,12 +58,26 @@ def fokker_planck_moments(model, params: dict, D: float, omega0: float,
             why = f"no Fokker-Planck solution: {exc}" + (
                 " (raise --fp-budget above that cost)" if "not affordable" in str(exc) else "")
     if required:
-        if why.startswith("the driven slider"):  # named as the escape names it
-            why += ("; the stationary state is computed at rest, v = 0, and -p v is not "
-                    "taken by --method fokker-planck: leave out -p v, or leave out --method "
-                    "fokker-planck to simulate the pulled slider")
+        if why == DRIVEN:  # named as the escape names it
+            why += DRIVEN_REQUIRED
         raise ParameterError(f"--method fokker-planck: {why}")
     return None, why
+
+
+#: why a pulled slider has no stationary Kramers solution
+DRIVEN = "the driven slider (v != 0) is not at rest: no stationary Kramers equation"
+#: and what to do when ``--method fokker-planck`` asks for one
+DRIVEN_REQUIRED = ("; the stationary state is computed at rest, v = 0, and -p v is not taken "
+                   "by --method fokker-planck: leave out -p v, or leave out --method "
+                   "fokker-planck to simulate the pulled slider")
+
+
+def driven(model, params: dict) -> bool:
+    """Whether ``model`` is a slider pulled at ``v != 0`` (no stationary Kramers equation:
+    :func:`fokker_planck_moments` gives its reason, :func:`.stationary.noise_report`
+    refuses ``--method fokker-planck`` for it before any averaging or simulation)."""
+    name = model if isinstance(model, str) else model.name
+    return name in SLIDERS and float(params.get("v", 0)) != 0
 
 
 def fp_advice(fp: dict, budget: float) -> str:

@@ -17,7 +17,7 @@ from .averaged import AMPLITUDE, averaged_stationary
 from ._beside import Averaged, Stepped, Tabulated, beside, histogram_edges
 from .advice import fokker_planck_route, validity
 from .averaged_error import state_averaged_errors
-from ._kramers_outputs import fokker_planck_moments, fp_advice
+from ._kramers_outputs import DRIVEN, DRIVEN_REQUIRED, driven, fokker_planck_moments, fp_advice
 from .order2 import order2_bins, second_order
 from ..noise.budget import STEP_BUDGET
 from ..noise.ensemble import MIN_TRAJECTORIES, stationary_ensemble
@@ -192,6 +192,8 @@ def noise_report(model, params: dict, *, trajectories: int = 100, t_end=None, bu
         raise ParameterError(f"--method {method!r}: choose one of {', '.join(METHODS)}")
     if order not in (1, 2):
         raise ParameterError(f"--order {order}: the stochastic averaging is of order 1 or 2")
+    if method == "fokker-planck" and driven(model, params):  # before the averaging beside
+        raise ParameterError(f"--method fokker-planck: {DRIVEN}{DRIVEN_REQUIRED}")
     # the averaging and the step pilot beside the Fokker-Planck solve where it is made
     # (._beside); the averaging's refusal first, then the pilot's errors
     from ..fokker_planck._ahead import fp_workers

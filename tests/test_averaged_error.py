@@ -34,7 +34,7 @@ def _first_order_without_fp(mu: float) -> dict:
                         fokker_planck=False)
 
 
-@pytest.mark.parametrize("mu", [0.05, 0.1, 0.3])
+@pytest.mark.parametrize("mu", [0.05, 0.1, pytest.param(0.3, marks=pytest.mark.slow)])  # 0.3: 7 s
 def test_next_order_estimates_the_first_order_error(mu):
     """Van der Pol, D/mu = 0.5, first order without the Fokker-Planck solution: the stated
     error is the second order's correction |A_2 - A_1| (the first omitted term of the

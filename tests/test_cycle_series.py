@@ -270,6 +270,7 @@ def test_pade_mu300_against_30_digit_true_cycles(mu, tol):
 
 
 # ----------------------------------------------------------------------------- command line
+@pytest.mark.slow  # 4-8 s; kept out of the default run (five-minute rule)
 def test_cli_float_mode(capsys):
     """kbm series vdp --float --json: coefficients, the singularity and Pade values."""
     import json

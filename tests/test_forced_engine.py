@@ -83,7 +83,7 @@ def test_conservative_unforced_part_gives_no_amplitude_change(terms, order):
     assert all(sp.expand(A) == 0 for A in r.A)
 
 
-@pytest.mark.parametrize("order", [1, 2, 3, 4, 5])
+@pytest.mark.parametrize("order", [1, 2, pytest.param(3, marks=pytest.mark.slow), 4, 5])
 def test_linear_forced_oscillator_exact_at_every_order(order):
     """x'' + x = mu (h cos nu t - 2 zeta x'), nu = 1 + mu sigma: the exact steady response has
     amplitude X = h/sqrt((2 sigma + mu sigma^2)^2 + 4 zeta^2 (1 + mu sigma)^2) (mu h over

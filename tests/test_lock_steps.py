@@ -103,6 +103,7 @@ def test_sliders_k_is_followed_like_lam():
     assert det.name == "lam" and cpl is None
 
 
+@pytest.mark.slow  # 4-8 s; kept out of the default run (five-minute rule)
 def test_amplitude_death_says_where_it_was_checked(capsys):
     """Each ``amplitude_death`` entry's ``checked_at``: the start of the follow (sigma = 0,
     the interval holds it) and the coupling; the eigenvalues there are those of

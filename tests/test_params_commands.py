@@ -154,8 +154,9 @@ def test_noise_prints_a_temperature_given_as_a_fraction(capsys):
 @pytest.mark.parametrize("command, key", [
     (["escape", "cdc", "-p", "mu=0.02", "-p", "Delta=3", "-p", "D=0.007", "--no-simulation"],
      ("rate_averaged",)),
-    (["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "D=0.05", "--budget", "0",
-      "--no-fokker-planck"], ("moments", "x2", "averaged")),
+    pytest.param(["noise", "cdc", "-p", "mu=0.1", "-p", "Delta=3", "-p", "D=0.05", "--budget",
+                  "0", "--no-fokker-planck"], ("moments", "x2", "averaged"),
+                 marks=pytest.mark.slow),  # 7 s (the CDC's envelope); escape's in the default run
 ])
 def test_noisy_commands_take_the_scaled_wavenumber(command, key, capsys):
     """``-p k=...`` (the scaled name of ``lam``, one of each pair) was refused by ``kbm

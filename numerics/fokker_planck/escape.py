@@ -73,7 +73,7 @@ from ._blocks import on_one_blas_thread
 from ._folded import FoldedRungs
 from ._ladder import budget_to_give
 from ._orthonormal import nonlinear_escape, orthonormal_slowest
-from ._parity import symmetric
+from ._parity import reflection_symmetric, symmetric
 from ._rungs import FractionRungs, pair_escape
 from ._problem import escape_problem, hermite_ladder, kT_gamma
 from ._sink_pairs import tanh_sink, tanh_sink_slope
@@ -147,9 +147,11 @@ class KramersEscape:
         which bracket a perfectly absorbing sink's rate, and :attr:`sink_error` half their
         gap; empty where the first sink's rate is kept.
     budget_note : str
-        Where a rung of the sink ladders exceeded the budget ``max_cost``: which, its cost
-        and the budget to give (the rate is then the first sink's, with the two sinks'
-        change as its ``sink_error``); ``""`` otherwise.
+        Where the Hermite and grid ladders stopped (the budget ``max_cost`` or their tops)
+        with a measured change above ``tol`` of the rate: the changes and the next rung's
+        cost (:func:`._ladder.hermite_chebyshev_ladder`); where a rung of the sink ladders
+        exceeded the budget: which, its cost and the budget to give (the rate is then the
+        first sink's, with the two sinks' change as its ``sink_error``); ``""`` otherwise.
     sink_offsets : tuple of (float, float)
         The sinks' offsets ``(rising, falling)`` of each rung of :attr:`sink_ladder`
         (:func:`._sink.ladder_offsets`).
@@ -283,7 +285,10 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         return tanh_sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp)
 
     xs = points(64)[0]
-    fold = linear and symmetric(split.numpy_functions()[0](xs), wells, xs)
+    # folded by parity (._folded) wherever (x, v) -> (-x, -v) maps the model, the points and
+    # the sink onto themselves: linear damping in an even potential, and the SEDF at rest
+    fold = (symmetric(split.numpy_functions()[0](xs), wells, xs)
+            and (linear or reflection_symmetric(split, xs)))
     if basis == "auto":  # the pair where its ladder is short (docs/noise.rst: faster there)
         basis = ("orthonormal" if not linear or (fold and 8 * wb / gamma > PAIR_HERMITE)
                  else "pair")
@@ -354,12 +359,12 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
                                   else (0, 0), adaptive=adaptive, paired=adaptive)
         except _OverBudget as over:
             j, nh, nc, c = over.args
-            out = dict(out, budget_note=(
+            out = dict(out, budget_note="; ".join(filter(None, [out.get("budget_note", ""), (
                 f"the sink ladder's rung {j} needs {nh} Hermite functions x {nc + 1} Chebyshev "
                 f"points (cost {c:.3g}), above --fp-budget {max_cost:.3g}: the rate is the "
                 "first sink's and its sink error the change between two sinks; raise "
                 f"--fp-budget to {budget_to_give(c)} or more for the perfectly absorbing "
-                "limit"))
+                "limit")])))
     return KramersEscape(saddles=(xl, xr), wells=wells, **out)
 
 

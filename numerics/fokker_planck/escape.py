@@ -17,9 +17,13 @@ Hermite functions of the velocity at the scale ``s`` of
 :func:`._orthonormal.velocity_scale` (in Risken's pair the high orders grow where the
 damping is negative, and the ladder did not converge), the blocks assembled from the terms
 (:mod:`._blocks`) and shift-invert Arnoldi, on Kosloff-Tal-Ezer points crowded at the
-saddles and the sink (:func:`._bases.cheb_centred`).  For linear damping in an even
-potential the operator is folded by parity and eliminated from the lowest orders up, one
-factorisation for the whole Hermite ladder (:mod:`._folded`).  Linear damping in Risken's
+saddles and the sink (:func:`._bases.cheb_centred`).  Where ``(x, v) -> (-x, -v)`` maps
+the model onto itself (linear damping in an even potential; the SEDF at rest, whose
+``mu (beta x^2 - 1)`` is even, :func:`._parity.reflection_symmetric`) the operator is
+folded by parity and eliminated from the lowest orders up, one factorisation for the
+whole Hermite ladder (:mod:`._folded`; the SEDF, Delta = 3, D = 0.2 mu: mu = 0.02 10 s of
+CPU against 47 s unfolded, the same rate to 6e-16, and mu = 0.005 within the default
+budget, docs/noise-escape.rst).  Linear damping in Risken's
 pair at ``sigma = sqrt(kT)`` (``basis="pair"``, :mod:`._fraction`, :mod:`._rungs`): the
 matrix is block tridiagonal with blocks known in closed form, eliminated the same way; the
 independent check of the orthonormal rate.

@@ -127,3 +127,35 @@ def test_low_friction_against_elements(model):
     stated = fp.truncation_error + fp.chebyshev_error + fp.sink_error
     assert stated <= 1e-6 * fp.rate and not fp.budget_note
     assert abs(fp.rate - ref) <= stated + 1e-8 * ref
+
+
+def test_element_rungs_against_the_chebyshev_route():
+    """CDC mu = 0.05: with ``max_cheb=200`` below the layer's 221 intervals the ladder runs
+    on spectral elements (:mod:`numerics.fokker_planck._escape_elements`, 400 intervals: 46
+    elements of degree 9); its rate equals the default Chebyshev route's (collocation on
+    mapped points, 128 functions x 221 points, stated 1.2e-8) within the two stated errors
+    (measured 3e-9 apart)."""
+    params, split, saddles = _setup("cdc", 0.05)
+    cheb = kramers_escape("cdc", params, KT * 0.05, saddles)
+    el = kramers_escape("cdc", params, KT * 0.05, saddles, n_cheb=400, max_cheb=200)
+    assert el.chebyshev == 401 and not el.sink_ladder and not el.budget_note
+    stated = sum(f.truncation_error + f.chebyshev_error + f.sink_error for f in (cheb, el))
+    assert stated <= 1e-7 * cheb.rate
+    assert abs(el.rate - cheb.rate) <= stated
+
+
+@pytest.mark.slow  # about 45 s of CPU
+def test_cdc_mu_0002_on_elements_within_the_default_budget():
+    """CDC mu = 0.002 (the layer's 1094 intervals beyond the Chebyshev grid's top): main's
+    Chebyshev ladder stopped at 128 functions within the default budget with a rate 5.8
+    times too large; the element ladder reaches 362 functions and is within 1e-6 of the
+    spectral elements' converged rate (512 functions x 240 elements of degree 9: 1e-10 from
+    724, 1e-17 from 320 of degree 11; at mu >= 0.005 the same reference agrees with the
+    Chebyshev route to 1e-9, the tests above), its stated change (256 to 362 functions,
+    4e-4) above the true 1.6e-7, with the warning that it is not converged to 1e-6."""
+    params, split, saddles = _setup("cdc", 0.002)
+    fp = kramers_escape("cdc", params, KT * 0.002, saddles)
+    ref = element_rate(split, KT * 0.002, saddles, 512, 240, 9)
+    assert abs(fp.rate - ref) <= 1e-6 * ref
+    assert abs(fp.rate - ref) <= fp.truncation_error + fp.chebyshev_error
+    assert fp.hermite == 362 and "not converged to 1e-06" in fp.budget_note

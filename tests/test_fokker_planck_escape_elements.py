@@ -11,7 +11,12 @@ collocates on mapped Chebyshev points and eliminates order by order; the same si
 = lambda W c`` (``W`` the GLL mass) by shift-invert Arnoldi at 0 (the rate is the smallest
 ``|lambda|``, Hanggi, Talkner and Borkovec, Rev. Mod. Phys. 62 (1990) 251, sec. II.C).  Its
 own convergence (docs/noise-escape.rst): CDC Delta = 3, kT = 0.2, mu = 0.02, 182 functions
-on 120 elements of degree 9 against 256 on 160 of degree 11: 1.2e-11 of the rate.
+on 120 elements of degree 9 against 256 on 160 of degree 11: 1.2e-11 of the rate.  The
+solve is the escape's own element route's
+(:class:`numerics.fokker_planck._escape_elements.ElementRungs`, which runs where the saddle
+layer's points exceed the Chebyshev grid's top): a reference for the Chebyshev route, and
+that route is the reference of the element route (``test_element_rungs_against_the_
+chebyshev_route``).
 """
 
 from __future__ import annotations
@@ -20,15 +25,12 @@ import math
 
 import numpy as np
 import pytest
-import scipy.sparse as sps
-import scipy.sparse.linalg as spla
 from scipy.optimize import brentq
 
 from kbm.model.conservative import split_conservative
 from numerics.fokker_planck import kramers_escape
-from numerics.fokker_planck._blocks import one_blas_thread
-from numerics.fokker_planck._elements import ElementOperator, element_edges, element_nodes
-from numerics.fokker_planck._orthonormal import orthonormal_terms, velocity_scale
+from numerics.fokker_planck._escape_elements import ElementRungs
+from numerics.fokker_planck._orthonormal import velocity_scale
 from numerics.fokker_planck._problem import escape_problem
 from numerics.fokker_planck._sink_pairs import tanh_sink
 
@@ -47,38 +49,15 @@ def _setup(model, mu):
 def element_rate(split, D: float, saddles, nh: int, elements: int, degree: int) -> float:
     """The slowest decay rate in ``nh`` orthonormal Hermite functions (the velocity scale of
     :func:`velocity_scale`) times ``elements`` spectral elements of ``degree`` on the
-    escape's range, folded by parity (``x >= 0``, the odd orders 0 at ``x = 0``)."""
+    escape's range, crowded at the saddles only, folded by parity
+    (:class:`numerics.fokker_planck._escape_elements.ElementRungs`, whose solve is the
+    reference here)."""
     _, wells, half, kappa0, width = escape_problem(split, D, saddles)
     s, _ = velocity_scale(split, D, saddles)
     xr = saddles[1]
-    edges = element_edges(elements, half, 0.95, (-xr, xr), (xr / 2, xr / 2), 1.0)
-    edges = edges[elements // 2:]
-    xs, W = element_nodes(edges, degree)
-    terms = orthonormal_terms(split, D, s, xs, None, nh)
-    terms.append((-sps.identity(nh, format="csr"), tanh_sink(xs, wells, kappa0, width)))
-    with one_blas_thread():
-        op = ElementOperator(terms, edges, degree, xs)
-        lu = op.factor(2, np.arange(1, nh, 2))
-
-        def pin(c):
-            c[:, -1] = 0.0
-            c[1::2, 0] = 0.0
-            return c
-
-        def solve(r):  # one step of iterative refinement, as element_stationary
-            x = op.join(*lu.solve(*op.split(r)))
-            return x + op.join(*lu.solve(*op.split(pin(r - op.matvec(x)))))
-
-        size = nh * xs.size
-        inv = spla.LinearOperator(
-            (size, size), dtype=float,
-            matvec=lambda v: solve(pin(v.reshape(nh, -1) * W)).reshape(-1))
-        v0 = np.zeros((nh, xs.size))
-        v0[0] = 1.0
-        theta = spla.eigs(inv, k=3, which="LM", return_eigenvectors=False, tol=1e-13,
-                          v0=pin(v0).reshape(-1))
-    lam = 1.0 / theta
-    return float(-lam[np.argmin(np.abs(lam))].real)
+    rungs = ElementRungs(half, (-xr, xr), (xr / 2, xr / 2), (1.0, 1.0), degree)
+    return rungs(split, D, s, None, nh, elements * degree,
+                 lambda xs: tanh_sink(xs, wells, kappa0, width))
 
 
 def test_sedf_folded_within_a_budget_the_unfolded_solve_exceeds():
@@ -149,10 +128,11 @@ def test_cdc_mu_0002_on_elements_within_the_default_budget():
     """CDC mu = 0.002 (the layer's 1094 intervals beyond the Chebyshev grid's top): main's
     Chebyshev ladder stopped at 128 functions within the default budget with a rate 5.8
     times too large; the element ladder reaches 362 functions and is within 1e-6 of the
-    spectral elements' converged rate (512 functions x 240 elements of degree 9: 1e-10 from
-    724, 1e-17 from 320 of degree 11; at mu >= 0.005 the same reference agrees with the
-    Chebyshev route to 1e-9, the tests above), its stated change (256 to 362 functions,
-    4e-4) above the true 1.6e-7, with the warning that it is not converged to 1e-6."""
+    spectral elements' converged rate (512 functions x 240 elements of degree 9 crowded at
+    the saddles only: 1e-10 from 724, 1e-17 from 320 of degree 11; a convergence check of
+    the same discretisation: its independence from the Chebyshev route is the tests above,
+    1e-9 apart at mu >= 0.005), its stated change (256 to 362 functions, 4e-4) above the
+    true 9.3e-8, with the warning that it is not converged to 1e-6."""
     params, split, saddles = _setup("cdc", 0.002)
     fp = kramers_escape("cdc", params, KT * 0.002, saddles)
     ref = element_rate(split, KT * 0.002, saddles, 512, 240, 9)

@@ -157,5 +157,5 @@ def _short_note(out: dict, steps: list, k: int, nc: int, ladder, tol: float,
     return (f"the escape rate is not converged to {tol:g}: its last Hermite change is "
             f"{trunc / rate:.2g} and its grid change "
             f"{f'{grid / rate:.2g}' if math.isfinite(grid) else 'unmeasured'} of the rate at "
-            f"{out['hermite']} Hermite functions x {nc + 1} Chebyshev points, where the "
+            f"{out['hermite']} Hermite functions x {nc + 1} position points, where the "
             f"ladders stopped at {why}; the rate is uncertain by about that much")

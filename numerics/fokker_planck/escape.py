@@ -17,9 +17,15 @@ Hermite functions of the velocity at the scale ``s`` of
 :func:`._orthonormal.velocity_scale` (in Risken's pair the high orders grow where the
 damping is negative, and the ladder did not converge), the blocks assembled from the terms
 (:mod:`._blocks`) and shift-invert Arnoldi, on Kosloff-Tal-Ezer points crowded at the
-saddles and the sink (:func:`._bases.cheb_centred`).  For linear damping in an even
-potential the operator is folded by parity and eliminated from the lowest orders up, one
-factorisation for the whole Hermite ladder (:mod:`._folded`).  Linear damping in Risken's
+saddles and the sink (:func:`._bases.cheb_centred`).  Where ``(x, v) -> (-x, -v)`` maps
+the model onto itself (linear damping in an even potential; the SEDF at rest, whose
+``mu (beta x^2 - 1)`` is even, :func:`._parity.reflection_symmetric`) the operator is
+folded by parity and eliminated from the lowest orders up, one factorisation for the
+whole Hermite ladder (:mod:`._folded`; the SEDF, Delta = 3, D = 0.2 mu: mu = 0.02 10 s of
+CPU against 47 s unfolded, the same rate to 6e-16, and mu = 0.005 within the default
+budget, docs/noise-escape.rst).  Where the layer's ``2.2 L/l`` intervals exceed
+``max_cheb`` (low friction) a folded model's ladder runs on spectral elements instead
+(:mod:`._escape_elements`, ``chebyshev`` then counts their intervals).  Linear damping in Risken's
 pair at ``sigma = sqrt(kT)`` (``basis="pair"``, :mod:`._fraction`, :mod:`._rungs`): the
 matrix is block tridiagonal with blocks known in closed form, eliminated the same way; the
 independent check of the orthonormal rate.
@@ -70,10 +76,11 @@ from kbm.parameters.names import noise_intensity
 from ..noise.budget import ESCAPE_FP_BUDGET
 from ._bases import cheb_centred
 from ._blocks import on_one_blas_thread
+from ._escape_elements import ElementRungs
 from ._folded import FoldedRungs
 from ._ladder import budget_to_give
 from ._orthonormal import nonlinear_escape, orthonormal_slowest
-from ._parity import symmetric
+from ._parity import reflection_symmetric, symmetric
 from ._rungs import FractionRungs, pair_escape
 from ._problem import escape_problem, hermite_ladder, kT_gamma
 from ._sink_pairs import tanh_sink, tanh_sink_slope
@@ -105,6 +112,13 @@ SADDLES, WELLS = 1.0, 0.05
 #: about 9 against 2.8 s: the orthonormal blocks hold two orders (4 times the work per
 #: order) and the scale check adds a factorisation, against far fewer orders
 PAIR_HERMITE = 256
+#: the grid's top on spectral elements (``basis="auto"`` where the layer's ``2.2 L/l``
+#: intervals exceed ``max_cheb``, :mod:`._escape_elements`), in units of ``2.2 L/l``
+ELEMENT_TOP = 4
+#: the weight of the sink's centres in the elements' map (the saddles' is 1): CDC mu = 0.05
+#: with ``max_cheb=200`` (elements), the two sinks 4.8e-7 of the rate apart with none (the
+#: sink ladders then ran), where the Chebyshev points' end crowding gives 4e-9
+WELL_ELEMENTS = 0.15
 #: the first number of position intervals for linear damping, in units of ``L/l``
 #: (``l`` the layer's width in ``x``, :func:`kramers_escape`)
 LAYER_INTERVALS = 2.2
@@ -147,9 +161,11 @@ class KramersEscape:
         which bracket a perfectly absorbing sink's rate, and :attr:`sink_error` half their
         gap; empty where the first sink's rate is kept.
     budget_note : str
-        Where a rung of the sink ladders exceeded the budget ``max_cost``: which, its cost
-        and the budget to give (the rate is then the first sink's, with the two sinks'
-        change as its ``sink_error``); ``""`` otherwise.
+        Where the Hermite and grid ladders stopped (the budget ``max_cost`` or their tops)
+        with a measured change above ``tol`` of the rate: the changes and the next rung's
+        cost (:func:`._ladder.hermite_chebyshev_ladder`); where a rung of the sink ladders
+        exceeded the budget: which, its cost and the budget to give (the rate is then the
+        first sink's, with the two sinks' change as its ``sink_error``); ``""`` otherwise.
     sink_offsets : tuple of (float, float)
         The sinks' offsets ``(rising, falling)`` of each rung of :attr:`sink_ladder`
         (:func:`._sink.ladder_offsets`).
@@ -283,7 +299,17 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         return tanh_sink(xs, wells, kappa0 * (3 if sharp > 1 else 1), width / sharp)
 
     xs = points(64)[0]
-    fold = linear and symmetric(split.numpy_functions()[0](xs), wells, xs)
+    # folded by parity (._folded) wherever (x, v) -> (-x, -v) maps the model, the points and
+    # the sink onto themselves: linear damping in an even potential, and the SEDF at rest
+    fold = (symmetric(split.numpy_functions()[0](xs), wells, xs)
+            and (linear or reflection_symmetric(split, xs)))
+    slowest = FoldedRungs(max_hermite) if fold else None
+    if basis == "auto" and fold and by_layer > max_cheb:  # the layer's points beyond the
+        # Chebyshev grid's top: spectral elements (._escape_elements), the grid's top theirs
+        slowest = ElementRungs(half, (xl, xr) + tuple(wells),
+                               (-xl / 2, xr / 2, 2.5 * width, 2.5 * width),
+                               (1.0, 1.0, WELL_ELEMENTS, WELL_ELEMENTS))
+        max_cheb = ELEMENT_TOP * by_layer
     if basis == "auto":  # the pair where its ladder is short (docs/noise.rst: faster there)
         basis = ("orthonormal" if not linear or (fold and 8 * wb / gamma > PAIR_HERMITE)
                  else "pair")
@@ -291,8 +317,7 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
         out = nonlinear_escape(
             split, D, (xl, xr), half, sink, points, hermite_ladder, n_hermite=n_hermite, n_cheb=n_cheb, tol=tol,
             max_hermite=max_hermite, max_cheb=max_cheb, max_cost=max_cost,
-            layer_intervals=LAYER_INTERVALS,
-            slowest=FoldedRungs(max_hermite) if fold else None)
+            layer_intervals=LAYER_INTERVALS, slowest=slowest)
     else:  # Risken's pair (._rungs): the first truncation from the saddle's layer
         start = next(n for n in hermite_ladder(int(n_hermite),
                                                2 * int(n_hermite) + 16 * wb / gamma)
@@ -354,12 +379,12 @@ def kramers_escape(model, params: dict, D: float, saddles: tuple, *, n_hermite: 
                                   else (0, 0), adaptive=adaptive, paired=adaptive)
         except _OverBudget as over:
             j, nh, nc, c = over.args
-            out = dict(out, budget_note=(
+            out = dict(out, budget_note="; ".join(filter(None, [out.get("budget_note", ""), (
                 f"the sink ladder's rung {j} needs {nh} Hermite functions x {nc + 1} Chebyshev "
                 f"points (cost {c:.3g}), above --fp-budget {max_cost:.3g}: the rate is the "
                 "first sink's and its sink error the change between two sinks; raise "
                 f"--fp-budget to {budget_to_give(c)} or more for the perfectly absorbing "
-                "limit"))
+                "limit")])))
     return KramersEscape(saddles=(xl, xr), wells=wells, **out)
 
 

@@ -42,11 +42,13 @@ def register(sub) -> None:
                         "transitions to the next wells from the well's Boltzmann state")
     options(p, "fp_budget", "json", fp_budget=dict(
         help="with --method fokker-planck: the largest cost of the escape rate's Kramers "
-             f"solves, N_Hermite x N_Chebyshev^2 (default {ESCAPE_FP_BUDGET:.2g}; the "
-             "factorisation keeps about 3 times it in numbers), a bound on every solve: "
+             f"solves (default {ESCAPE_FP_BUDGET:.2g}): N_Hermite x N_Chebyshev^2 on the "
+             "Chebyshev grid (the factorisation keeps about 3 times it in numbers), 7.5 "
+             "N_Hermite^2 x elements/2 numbers on the spectral elements that low friction "
+             "takes for a symmetric model; a bound on every solve: "
              "refused before solving, with the costs, where the first two rungs or the "
              "first grid check exceed it; the ladders stop at their last solve that fits, "
-             "their stated errors (and a warning for the sink ladder) say so"))
+             "their stated errors and a warning say so"))
     p.set_defaults(func=run)
 
 

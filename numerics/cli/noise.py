@@ -50,10 +50,12 @@ def register(sub) -> None:
                         "equation solved numerically, required (an error when the model is "
                         "driven or its damping is not polynomial in x')")
     options(p, "fp_budget", fp_budget=dict(
-        help=f"largest cost N_Hermite x N_Chebyshev^2 of the Fokker-Planck solve (default "
-             f"{FP_BUDGET:.2g}; N_Chebyshev/2 for a model symmetric under (x, x') -> (-x, -x'), "
-             "whose last Hermite rung may take up to 2.8 times it); raise it for more "
-             "digits at low friction (time about cost x N_Chebyshev, memory about cost)"))
+        help=f"largest cost of a Fokker-Planck solve (default {FP_BUDGET:.2g}): N_Hermite x "
+             "N_Chebyshev^2 on the Chebyshev grid (time about cost x N_Chebyshev, memory about "
+             "cost numbers; its last Hermite rung may take up to 2.8 times it), 0.6 "
+             "N_Hermite^2 x elements on the spectral elements of a multi-well slider (about "
+             "100 bytes per unit); N_Chebyshev and the elements halved for a model symmetric "
+             "under (x, x') -> (-x, -x'); raise it for more digits at low friction"))
     p.add_argument("--no-fokker-planck", action="store_true",
                    help="skip the Fokker-Planck moments (moments.*.fokker_planck = null)")
     p.add_argument("--extrapolate", action="store_true",

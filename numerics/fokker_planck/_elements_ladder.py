@@ -127,6 +127,13 @@ then 512 on 240: stated 3.0e-7 (the element change 5.0e-9), ``P`` 5.0e-7, 3.7e-1
 2.1e-7 off 512 x 300, 42 s CPU and 1.88 GB in one process with ``P(E)``.  At mu = 0.002
 it reaches 512 x 316, stated 2.8e-5 (the functions': 362 against 512), ``P`` 8.1e-5,
 56 s and 2.34 GB: six digits there need 724 functions, beyond the budget.
+
+Since the buffer of :mod:`._workspace` and the answer's ``P(E)`` evaluated once (mu = 0.005,
+interleaved, load 4-5): one process, 39.5 s CPU (the ladder 35.8 s, 3.2 s of it system;
+``P(E)`` 3.7 s) against 47.2 s (44.0 s, 9.1 s; 3.1 s), peak 1.91 against 1.88 GB;
+``kbm noise`` in two processes (its command in :mod:`._elements_lu`; four runs each,
+interleaved, load 2-7) 8.0-9.2 s system CPU against 10.9-12.5 s, user 42.8-46.6 s against
+40.5-44.9 s, the wall within the load's noise (52-111 s against 76-89 s); the same bytes.
 """
 
 from __future__ import annotations

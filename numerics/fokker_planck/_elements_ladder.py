@@ -82,8 +82,9 @@ at mu = 0.005 the first process evaluates the element pair's ``P`` (4.8 s CPU) w
 second evaluates the answer's (3.5 s), and the report after the ladder, which took 4.5 s
 CPU (the answer's ``P`` twice: the returned solution's and the pair's), takes 0.01 s.  The
 solves of each process take their large arrays from one buffer (:mod:`._workspace`,
-:data:`WORKSPACE`): 7.0, 8.3 and 17.7 s CPU for the three solves at mu = 0.005, against
-9.6, 10.6 and 22.7 s with fresh arrays (each solve's process CPU in ``kbm noise``, load 2-5).
+:data:`WORKSPACE`): 6.1, 7.7 and 16.5 s CPU (user and system) for the three solves at
+mu = 0.005, the first two in one process, against 8.9, 9.3 and 19.2 s with fresh arrays
+(interleaved, load 2.5).
 
 The budget: :data:`COST_SHARE` times ``N^2 E`` (``E/2`` when folded, :mod:`._parity`) at
 most ``max_cost``, so that ``max_cost`` 2.5e7 (``kbm noise``'s) is about 2.5 GB, as it was

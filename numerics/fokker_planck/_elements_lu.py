@@ -55,8 +55,8 @@ The whole ``kbm noise sedf -p mu=0.005 -p Delta=3 -p beta=1 -p D=0.0025 --method
 fokker-planck --trajectories 8 --t-end 40 --json`` (its element ladder ends at 512 x 176):
 55 s user + 14 s system, 48 s wall, 1.70 GB (before 78 s + 25 s, 74 s, 2.33 GB; load 1.5).
 Within the element ladder the largest arrays (the interiors' blocks, the interface blocks,
-``y`` and ``z`` here) come from the buffer of :mod:`._workspace`, in the default pages and
-reused by the next solve: 512 x 240 alone 16.3 s + 2.2 s against 16.0 s + 5.9 s fresh.
+``y`` and ``z`` here) come from the buffer of :mod:`._workspace`, cheaper to touch and
+reused by the next solve: 512 x 240 alone 15.2 s + 1.3 s against 14.9 s + 4.3 s fresh.
 """
 
 from __future__ import annotations

@@ -3,15 +3,16 @@ interface LU's blocks and the condensation's work arrays of :mod:`._elements_lu`
 from one buffer of the process (:func:`workspace`, :func:`solve`, :func:`empty`,
 :func:`zeros`), which the element ladder (:mod:`._elements_ladder`) holds while it runs.
 
-Why (measured on this machine, a 2-core VM, load 3-5).  Fresh large arrays cost system
-time where they are first written: numpy's (``malloc``'s ``mmap``, advised into huge pages)
-1.5-3 s per GB, an anonymous mapping in the default pages 0.8 s per GB (0.5 GB written in a
-fresh process: 0.74-1.55 s against 0.38-0.44 s), and pages given back cost as much again a
+Why (measured on this machine, a 2-core VM).  Fresh large arrays cost system time where
+they are first written: numpy's (``malloc``'s ``mmap``, advised into huge pages) 0.6-3 s
+per GB, a private anonymous mapping without advice about 0.5 s per GB (0.5 GB written in a
+fresh process: 0.32-1.55 s against 0.24-0.26 s), and pages given back cost as much again a
 second or two later.  One solve of :func:`._elements_solve.element_stationary`, SEDF at
-rest, Delta = 3, mu = 0.005, folded, fresh arrays against the buffer (user + system CPU):
-362 x 200 elements 6.9 + 2.9 s against 7.2 + 0.75 s; then 362 x 240 in the same process
-8.7 + 1.7 s against 8.4 + 0.17 s (the first solve's pages again); 512 x 240 alone
-16.0 + 5.9 s against 16.3 + 2.2 s, peak 1.80 against 1.86 GB.
+rest, Delta = 3, mu = 0.005, folded, fresh arrays against the buffer (user + system CPU,
+interleaved, load 2.5): 362 x 200 elements 6.4 + 2.5 s against 5.6 + 0.5 s; then 362 x 240
+in the same process 7.9 + 1.4 s against 7.6 + 0.1 s (the first solve's pages again);
+512 x 240 alone 14.9 + 4.3 s against 15.2 + 1.3 s, peak 1.80 against 1.86 GB (``y`` and
+``z`` of :mod:`._elements_lu` stay in the buffer).
 
 The buffer is one reservation (pages never touched cost nothing) from which each solve
 takes its arrays in order from the start; what does not fit is fresh.  The arrays are views
@@ -64,10 +65,11 @@ class _Buffer:
 
 
 def _reserve(nbytes: int) -> np.ndarray:
-    """``nbytes`` of anonymous memory in pages of the system's default size, not inherited
-    by a forked process (were it, this process's first write to each page after the fork
-    would copy it; the forked process keeps the object, never its pages: :func:`solve`)."""
-    mm = mmap.mmap(-1, nbytes)
+    """``nbytes`` of private anonymous memory (no advice: huge pages only where the system
+    makes them unasked), not inherited by a forked process (were it, this process's first
+    write to each page after the fork would copy it; the forked process keeps the object,
+    never its pages: :func:`solve`)."""
+    mm = mmap.mmap(-1, nbytes, flags=mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS)
     with contextlib.suppress(AttributeError, OSError):
         mm.madvise(mmap.MADV_DONTFORK)
     return np.frombuffer(mm, dtype=np.uint8)

@@ -129,12 +129,14 @@ then 512 on 240: stated 3.0e-7 (the element change 5.0e-9), ``P`` 5.0e-7, 3.7e-1
 it reaches 512 x 316, stated 2.8e-5 (the functions': 362 against 512), ``P`` 8.1e-5,
 56 s and 2.34 GB: six digits there need 724 functions, beyond the budget.
 
-Since the buffer of :mod:`._workspace` and the answer's ``P(E)`` evaluated once (mu = 0.005,
-interleaved, load 4-5): one process, 39.5 s CPU (the ladder 35.8 s, 3.2 s of it system;
-``P(E)`` 3.7 s) against 47.2 s (44.0 s, 9.1 s; 3.1 s), peak 1.91 against 1.88 GB;
-``kbm noise`` in two processes (its command in :mod:`._elements_lu`; four runs each,
-interleaved, load 2-7) 8.0-9.2 s system CPU against 10.9-12.5 s, user 42.8-46.6 s against
-40.5-44.9 s, the wall within the load's noise (52-111 s against 76-89 s); the same bytes.
+Since the buffer of :mod:`._workspace` and the answer's ``P(E)`` evaluated once (mu = 0.005):
+one process, 39.5 s CPU (the ladder 35.8 s, 3.2 s of it system; ``P(E)`` 3.7 s) against
+47.2 s (44.0 s, 9.1 s; 3.1 s), peak 1.91 against 1.88 GB (load 4-5); ``kbm noise`` in two
+processes (its command in :mod:`._elements_lu`; two interleaved pairs, load 2-4) 48.5 and
+49.9 s wall against 58.1 and 61.3 s, 50.4 and 48.6 s CPU (6.7 and 6.2 s system) against
+59.7 and 59.6 s (13.8 and 13.3 s), peak 1.79 against 1.73 GB; at mu = 0.01 (D = 0.005,
+load 4-4.5) 23.7 and 27.4 s wall against 27.5 and 25.2 s, 23.1 and 25.8 s CPU against 26.6
+and 24.5 s.  The same bytes with one process and two.
 """
 
 from __future__ import annotations

@@ -1,19 +1,19 @@
-"""Solves of the stationary ladder started ahead in a second process
-(:class:`Ahead`): where the ladders of :mod:`._stationary_orthonormal` and
-:mod:`._stationary_climb` will need two solves that do not depend on each other (the
-check of a Hermite rung beside the next grid, the climb's largest grid beside its
-coarser one and the rung above, the grid step of ``P(E)`` beside the evaluation of the
-others, :mod:`._energy_density`), the one is computed in a forked copy of this process
-while this process computes the other.  The solves and their order are those of the
-sequential ladder, the forked copy computes the same function of the same numbers with
-the same libraries on one BLAS thread, and its solution comes back whole (pickled), so
-the results are the same bits whatever the number of processes; a solve started ahead
-that the ladder does not use is stopped.  A process may go on with a solve for later after
-its first (``then`` of :meth:`Ahead.start`), or begin with one (``later``): the ladder
-begins the climb's largest grid's step for ``P(E)`` so (the grid itself solved in the
-first process), hands it on (:meth:`Ahead.hand_on`, in ``sol.refine``, :class:`Later`)
-and :func:`._energy_density.energy_density_report` collects it (:meth:`Ahead.adopt`) or
-stops it; a solve for later gives way to any solve the ladder starts after it.
+"""Solves of the stationary ladder started ahead in a second process (:class:`Ahead`): where
+the ladders of :mod:`._stationary_orthonormal` and :mod:`._stationary_climb` will need two
+solves that do not depend on each other (the check of a Hermite rung beside the next grid,
+the climb's largest grid beside its coarser one and the rung above, the grid step of ``P(E)``
+beside the evaluation of the others, :mod:`._energy_density`), the one is computed in a
+forked copy of this process while this process computes the other.  The solves and their
+order are those of the sequential ladder, the forked copy computes the same function of the
+same numbers with the same libraries on one BLAS thread, and its solution comes back whole
+(pickled), so the results are the same bits whatever the number of processes; a solve started
+ahead that the ladder does not use is stopped.  A process may go on with a solve for later
+after its first (``then`` of :meth:`Ahead.start`), or begin with one (``later``): the ladder
+begins the climb's largest grid's step for ``P(E)`` so (the grid itself solved in the first
+process), hands it on (:meth:`Ahead.hand_on`, in ``sol.refine``, :class:`Later`) and
+:func:`._energy_density.energy_density_report` collects it (:meth:`Ahead.adopt`) or stops it;
+a solve for later gives way to any solve the ladder starts after it.  The element ladder's
+predicted answer comes back with its ``P(E)`` (``keep`` of :class:`Ahead`).
 
 Why processes, not threads (measured, 2-core AMD EPYC, scipy 1.17, OpenBLAS 0.3.30):
 ``scipy.linalg.inv`` (the order-by-order factorisation's ``S^-1``, :mod:`._pentadiagonal`)
@@ -86,9 +86,8 @@ def fp_workers(limit: int | None = None) -> int:
         cpus = len(os.sched_getaffinity(0))
     except AttributeError:  # no affinity on this platform
         cpus = os.cpu_count() or 1
-    if "fork" not in multiprocessing.get_all_start_methods():
-        return 1
-    if multiprocessing.current_process().daemon:  # a pool's worker may have no children
+    if "fork" not in multiprocessing.get_all_start_methods() \
+            or multiprocessing.current_process().daemon:  # a pool's worker: no children
         return 1
     return max(1, min(n, cpus))
 
@@ -175,16 +174,18 @@ class Ahead:
         :meth:`result` raises the forked call's exception, sent back (pickled), instead
         of calling ``func`` again here (where it does not survive pickling, the call is
         made again).
+    keep : tuple
+        The solution's cache entries sent back with it: keys ``(name, ...)``, ``name`` in it.
     **local
         The fields of the solution that are not sent back (the potential ``G``).
     """
 
     def __init__(self, func, workers: int | None = None, *, alarm: int | None = None,
-                 raises: bool = False, **local):
+                 raises: bool = False, keep: tuple = (), **local):
         self.func = func
         self.workers = fp_workers() if workers is None else int(workers)
         self.local = local
-        self.alarm, self.raises = alarm, raises
+        self.alarm, self.raises, self.keep = alarm, raises, tuple((k,) for k in keep)
         self._jobs: dict = {}  # key -> _Job (a process may hold several keys)
         self._later: set = set()  # the keys for later (``then``, ``later``: they give way)
         self._names: dict = {}  # key -> the key its process sends it under (adopted)
@@ -213,7 +214,7 @@ class Ahead:
             return False
         ctx = multiprocessing.get_context("fork")
         recv, send = ctx.Pipe(duplex=False)
-        func, alarm, raises = self.func, self.alarm, self.raises
+        func, alarm, raises, keep = self.func, self.alarm, self.raises, self.keep
         calls = [(key, args, kwargs), *then]
 
         def child():
@@ -231,6 +232,8 @@ class Ahead:
                     out = (k, "ok", type(sol), {f.name: getattr(sol, f.name)
                                                 for f in dataclasses.fields(sol)
                                                 if f.name not in _LOCAL})
+                    if keep:  # the cache's entries asked for (a key's first item in keep)
+                        out[3]["_cache"] = {c: sol._cache[c] for c in sol._cache if c[:1] in keep}
                 except BaseException as exc:  # the caller solves again here and raises
                     out, failed = (k, "error", repr(exc), _portable(exc) if raises else None), True
                 if sender is not None:

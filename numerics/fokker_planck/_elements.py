@@ -58,6 +58,7 @@ import numpy as np
 import scipy.sparse as sps
 
 from ._elements_lu import CondensedLU
+from ._workspace import empty
 
 __all__ = ["gll", "element_edges", "element_nodes", "ElementOperator"]
 
@@ -203,7 +204,7 @@ class ElementOperator:
         for k in range(3):  # groups first: a group's blocks of all elements contiguous
             gd = grouped(HD)[k]
             gf = [(grouped(H)[k], f[:, 1:p]) for H, f in F]
-            out = np.empty((gd.shape[0], E, b, q, b, q))  # rows (r, i), columns (s, j)
+            out = empty((gd.shape[0], E, b, q, b, q))  # rows (r, i), columns (s, j)
             view = out.transpose(0, 1, 2, 4, 3, 5)  # (group, element, r, s, i, j)
             base = np.einsum("grs,ij->grsij", gd, QI)
             for g in range(gd.shape[0]):  # a group at a time: no temporary of all

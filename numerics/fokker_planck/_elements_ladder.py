@@ -75,12 +75,22 @@ times ``r/(1 - r)``, an extrapolation of the geometric tail.
 The solve of the answer, ``n 2^(1/2)`` functions on the element step, starts in a second
 process (:mod:`._ahead`) beside the element pair at ``n``, and each element step's rung
 above beside it (stopped when the ladder goes on): the same solves and bits, less wall
-time.  The budget: :data:`COST_SHARE` times ``N^2 E`` (``E/2`` when folded,
-:mod:`._parity`) at most ``max_cost``, so that ``max_cost`` 2.5e7 (``kbm noise``'s) is
-about 2.5 GB, as it was when the interface LU kept a band of ``6 N^2`` numbers per node;
-it keeps ``4 N^2`` now and the interiors are factorised in place (:mod:`._elements_lu`):
-one solve of 512 functions on 176 elements, folded, peaked at 1.39 GB (``N^2 E/2`` =
-2.3e7), on 240 at 1.88 GB (3.1e7).
+time.  With ``P(E)`` wanted that process evaluates the answer's ``P(E)`` on its own grid
+after the solve and sends it back with it (:func:`_solve`; the returned solution shares the
+cache of the Hermite pair's, where :func:`._energy_density.energy_density_report` finds it):
+at mu = 0.005 the first process evaluates the element pair's ``P`` (4.8 s CPU) while the
+second evaluates the answer's (3.5 s), and the report after the ladder, which took 4.5 s
+CPU (the answer's ``P`` twice: the returned solution's and the pair's), takes 0.01 s.  The
+solves of each process take their large arrays from one buffer (:mod:`._workspace`,
+:data:`WORKSPACE`): 6.1, 7.7 and 16.5 s CPU (user and system) for the three solves at
+mu = 0.005, the first two in one process, against 8.9, 9.3 and 19.2 s with fresh arrays
+(interleaved, load 2.5).
+
+The budget: :data:`COST_SHARE` times ``N^2 E`` (``E/2`` when folded, :mod:`._parity`) at
+most ``max_cost``, so that ``max_cost`` 2.5e7 (``kbm noise``'s) is about 2.5 GB, as it was
+when the interface LU kept a band of ``6 N^2`` numbers per node; it keeps ``4 N^2`` now and
+the interiors are factorised in place (:mod:`._elements_lu`): one solve of 512 functions on
+176 elements, folded, peaked at 1.39 GB (``N^2 E/2`` = 2.3e7), on 240 at 1.88 GB (3.1e7).
 
 Measured (SEDF at rest, Delta = 3, D = mu/2, ``max_cost`` 2.5e7, ``P(E)`` wanted; one
 process, CPU of the ladder and ``P(E)``, load 3-5 on two cores; "off" against a finer
@@ -118,6 +128,15 @@ then 512 on 240: stated 3.0e-7 (the element change 5.0e-9), ``P`` 5.0e-7, 3.7e-1
 2.1e-7 off 512 x 300, 42 s CPU and 1.88 GB in one process with ``P(E)``.  At mu = 0.002
 it reaches 512 x 316, stated 2.8e-5 (the functions': 362 against 512), ``P`` 8.1e-5,
 56 s and 2.34 GB: six digits there need 724 functions, beyond the budget.
+
+Since the buffer of :mod:`._workspace` and the answer's ``P(E)`` evaluated once (mu = 0.005):
+one process, 39.5 s CPU (the ladder 35.8 s, 3.2 s of it system; ``P(E)`` 3.7 s) against
+47.2 s (44.0 s, 9.1 s; 3.1 s), peak 1.91 against 1.88 GB (load 4-5); ``kbm noise`` in two
+processes (its command in :mod:`._elements_lu`; two interleaved pairs, load 2-4) 48.5 and
+49.9 s wall against 58.1 and 61.3 s, 50.4 and 48.6 s CPU (6.7 and 6.2 s system) against
+59.7 and 59.6 s (13.8 and 13.3 s), peak 1.79 against 1.73 GB; at mu = 0.01 (D = 0.005,
+load 4-4.5) 23.7 and 27.4 s wall against 27.5 and 25.2 s, 23.1 and 25.8 s CPU against 26.6
+and 24.5 s.  The same bytes with one process and two.
 """
 
 from __future__ import annotations
@@ -126,6 +145,7 @@ import dataclasses
 import math
 
 from ._solution import moments_moved
+from . import _workspace
 from ._ahead import Ahead, fp_workers
 from ._elements_solve import ElementKramersSolution, element_stationary
 
@@ -160,6 +180,11 @@ ENOUGH = 5
 #: about 60 bytes per unit of ``N^2 E`` (512 x 176 folded: 1.39 GB; 512 x 240: 1.88 GB),
 #: so that ``max_cost`` counts about 100 bytes (module docstring)
 COST_SHARE = 0.6
+#: the buffer of the solves of each process (:mod:`._workspace`; reserved, its pages
+#: untouched until used): this many bytes per unit of the largest affordable ``N^2 E``
+#: (``max_cost/COST_SHARE``); a solve's arrays take about ``32 N^2 E + 7 10^3 N E`` bytes
+#: (``E/2`` folded; 512 x 240: 1.5 GB)
+WORKSPACE = 64
 #: the change of ``P(E)`` (of its peak) at which the element ladder stops when ``P(E)``
 #: is wanted (half of six digits: the functions' change and the quadrature's add to it)
 ENERGY_TOL = 5e-7
@@ -208,10 +233,26 @@ def element_ladder(split, D: float, G, omega0: float, *, sigma: float | None = N
     kbm.errors.ModelError
         The first solve exceeds ``max_cost``, or the pilot finds no stationary density.
     """
-    with Ahead(element_stationary, workers=fp_workers(workers), G=G) as ahead:
+    with Ahead(_solve, workers=fp_workers(workers), G=G, keep=("energy_density",)) as ahead, \
+            _workspace.workspace(WORKSPACE * max_cost / COST_SHARE):
         return _ladder(split, D, G, omega0, ahead, sigma=sigma, L=L,
                        tol=TOL if tol is None else float(tol), max_cost=max_cost,
                        refine_ahead=refine_ahead)
+
+
+def _solve(*args, density: bool = False, **kwargs) -> ElementKramersSolution:
+    """:func:`._elements_solve.element_stationary`; with ``density`` then ``P(E)`` on the
+    solution's :func:`._energy_density.energy_grid`, kept in its cache: the answer solved
+    ahead comes back with it (``keep`` of :class:`._ahead.Ahead`), computed in the second
+    process while this one evaluates the element pair, and
+    :func:`._energy_density.energy_density_report` finds it there (the same bits)."""
+    with _workspace.solve():
+        sol = element_stationary(*args, **kwargs)
+    if density:
+        from ._energy_density import energy_density, energy_grid
+
+        energy_density(sol, energy_grid(sol))
+    return sol
 
 
 def _sizes(split, D: float, G, omega0: float, sigma, L):
@@ -313,13 +354,15 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, sigma, L, tol: float,
                          f"elements (cost {cost(n, E):.3g} > {max_cost:.3g}): "
                          "not affordable here")
     if cost(rung(n), finer(E)) <= max_cost:  # the predicted answer, beside its pairs
-        ahead.start((rung(n), finer(E)), *args(rung(n), finer(E)), **points)
+        ahead.start((rung(n), finer(E)), *args(rung(n), finer(E)), density=refine_ahead,
+                    **points)
     sol = solve(n, E)
     element = energy = math.inf
     element_pair = None
     while (element > tol or (refine_ahead and energy > ENERGY_TOL)) \
             and cost(rung(n), finer(E)) <= max_cost:  # step 4: the elements at n
-        ahead.start((rung(n), finer(E)), *args(rung(n), finer(E)), replace=True, **points)
+        ahead.start((rung(n), finer(E)), *args(rung(n), finer(E)), replace=True,
+                    density=refine_ahead, **points)
         E = finer(E)
         new = solve(n, E)
         element_pair = (sol, new)
@@ -347,4 +390,4 @@ def _ladder(split, D: float, G, omega0: float, ahead, *, sigma, L, tol: float,
     stated = max(ROUNDING, hermite + element)
     pairs = tuple(p for p in (hermite_pair, element_pair) if p is not None)
     return dataclasses.replace(sol, hermite_change=stated, chebyshev_change=element,
-                               refinements=pairs, refine=None)
+                               refinements=pairs, refine=None, _cache=sol._cache)

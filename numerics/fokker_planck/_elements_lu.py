@@ -54,6 +54,9 @@ mu = 0.005, 512 x 176 elements: 10.5-12.1 s + 2.6-3.6 s, 1.39 GB (before 15.5-16
 The whole ``kbm noise sedf -p mu=0.005 -p Delta=3 -p beta=1 -p D=0.0025 --method
 fokker-planck --trajectories 8 --t-end 40 --json`` (its element ladder ends at 512 x 176):
 55 s user + 14 s system, 48 s wall, 1.70 GB (before 78 s + 25 s, 74 s, 2.33 GB; load 1.5).
+Within the element ladder the largest arrays (the interiors' blocks, the interface blocks,
+``y`` and ``z`` here) come from the buffer of :mod:`._workspace`, cheaper to touch and
+reused by the next solve: 512 x 240 alone 15.2 s + 1.3 s against 14.9 s + 4.3 s fresh.
 """
 
 from __future__ import annotations
@@ -61,6 +64,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.linalg.blas import dgemm, dtrsm, dtrsv
 from scipy.linalg.lapack import dgetrf
+
+from ._workspace import empty, zeros
 
 __all__ = ["CondensedLU"]
 
@@ -143,13 +148,13 @@ class CondensedLU:
         # _lu[k] is D_k^T, then LAPACK's LU of the panel's top in _lu[k].T; _l21[k] is
         # A[k + 1, k]^T, then L's rows below in _l21[k].T; _u12[k][:N] is A[k, k + 1]^T,
         # then U's rows right of the diagonal block in _u12[k].reshape(N, 2 N)
-        self._lu = np.zeros((nn, N, N))
-        self._l21 = np.zeros((nn, N, N))
-        self._u12 = np.zeros((nn, 2 * N, N))
+        self._lu = zeros((nn, N, N))  # (from the ladder's buffer, ._workspace)
+        self._l21 = zeros((nn, N, N))
+        self._u12 = zeros((nn, 2 * N, N))
         chunk = max(1, min(int(chunk), E))
-        y = np.empty((G, chunk, 2 * N, bq))
+        y = empty((G, chunk, 2 * N, bq))
         self._work = np.empty((chunk, 2 * N, bq))
-        z = np.empty((chunk, 2 * N, G * b, 2))
+        z = empty((chunk, 2 * N, G * b, 2))
         tmp = np.empty((N, N))
         for e0 in range(0, E, chunk):
             e1 = min(E, e0 + chunk)

@@ -156,10 +156,6 @@ def element_stationary(split, D: float, s: float, half: float, nh: int, elements
         op = ElementOperator(terms, edges, p, xs)
         lu = op.factor(chunk, pins)
 
-        def solve(r):
-            inner, nodes = op.split(r)
-            return op.join(*lu.solve(inner, nodes))
-
         def pin(c):
             c[:, ends] = 0.0
             if fold:
@@ -172,9 +168,7 @@ def element_stationary(split, D: float, s: float, half: float, nh: int, elements
         c /= float(Ws @ (mass @ c))
         lam = last = math.nan
         for _ in range(iterations):
-            rhs = c * Ws
-            new = solve(rhs)
-            new += solve(pin(rhs - op.matvec(new)))
+            new = refined_solve(op, lu, pin, c * Ws)
             norm = float(Ws @ (mass @ new))
             new /= norm
             lam = 1.0 / norm
@@ -193,6 +187,15 @@ def element_stationary(split, D: float, s: float, half: float, nh: int, elements
         widths=tuple(map(float, widths)), iteration_change=last,
         weight=float(weight) if np.ndim(weight) == 0 else tuple(map(float, weight)),
         degree=p, edges=tuple(map(float, edges)))
+
+
+def refined_solve(op, lu, pin, r: np.ndarray) -> np.ndarray:
+    """``A^-1 r`` by the factors ``lu`` of ``op`` (:class:`._elements.ElementOperator`,
+    :class:`._elements_lu.CondensedLU`) with one step of iterative refinement, the residual
+    pinned by ``pin`` (the boundary and fold conditions): the solve of the stationary
+    inverse iteration here and of the escape's shift-invert (:mod:`._escape_elements`)."""
+    x = op.join(*lu.solve(*op.split(r)))
+    return x + op.join(*lu.solve(*op.split(pin(r - op.matvec(x)))))
 
 
 def element_sizes(elements, n_hermite) -> tuple[int, int]:

@@ -30,6 +30,7 @@ import scipy.sparse as sps
 
 from ._blocks import one_blas_thread
 from ._elements import ElementOperator, element_edges, element_nodes
+from ._elements_solve import refined_solve
 from ._orthonormal import orthonormal_terms
 
 __all__ = ["ElementRungs", "DEGREE", "WORDS"]
@@ -91,14 +92,11 @@ class ElementRungs:
                 c[1::2, 0] = 0.0
                 return c
 
-            def solve(r):  # one step of iterative refinement, as element_stationary
-                x = op.join(*lu.solve(*op.split(r)))
-                return x + op.join(*lu.solve(*op.split(pin(r - op.matvec(x)))))
-
             size = nh * xs.size
             inv = spla.LinearOperator(
                 (size, size), dtype=float,
-                matvec=lambda v: solve(pin(v.reshape(nh, -1) * W)).reshape(-1))
+                matvec=lambda v: refined_solve(op, lu, pin,
+                                               pin(v.reshape(nh, -1) * W)).reshape(-1))
             v0 = np.zeros((nh, xs.size))
             v0[0] = 1.0
             theta = spla.eigs(inv, k=1, ncv=6, which="LM", return_eigenvectors=False,
